@@ -1,0 +1,132 @@
+# rps3 - one plain Makefile.  `make paper` and `make check` are the two
+# commands a new user needs; both install what is missing first.
+
+# ---------------------------------------------------------------- settings
+CC ?= cc
+OPT ?= -O2
+WARN = -std=c99 -pedantic -Wall -Wextra -Werror -Wshadow -Wstrict-prototypes \
+       -Wmissing-prototypes -Wwrite-strings -Wdouble-promotion
+CPPFLAGS_ALL = -Iinclude -Isrc -D_POSIX_C_SOURCE=200809L
+# recursive (=) so that they are read when a recipe runs, after `deps`
+GSL_CFLAGS = $(shell gsl-config --cflags 2>/dev/null)
+GSL_LIBS = $(shell gsl-config --libs 2>/dev/null)
+HDF5_CFLAGS = $(shell pkg-config --cflags hdf5 2>/dev/null)
+HDF5_LIBS = $(shell pkg-config --libs hdf5 2>/dev/null) -lhdf5_hl
+YAML_LIBS = -lyaml
+CMOCKA_LIBS = -lcmocka
+SAN = -fsanitize=address,undefined -fno-omit-frame-pointer -fno-sanitize-recover=all
+PYTHON ?= python3
+VENV = .venv
+VPY = $(VENV)/bin/python
+
+# Debian packages the build, the tests and the figures need
+DEB_PKGS = gcc make pkg-config libgsl-dev libhdf5-dev libyaml-dev \
+           libcmocka-dev python3-venv libopenmpi-dev openmpi-bin valgrind
+
+B = build
+LIB_SRC = $(wildcard src/*.c)
+LIB_OBJ = $(LIB_SRC:src/%.c=$(B)/obj/%.o)
+LIB_PIC = $(LIB_SRC:src/%.c=$(B)/pic/%.o)
+LIB_SAN = $(LIB_SRC:src/%.c=$(B)/san/%.o)
+TEST_SRC = $(wildcard tests/test_*.c)
+TEST_BIN = $(TEST_SRC:tests/%.c=$(B)/tests/%)
+TEST_SAN = $(TEST_SRC:tests/%.c=$(B)/tests-san/%)
+RUN_MAINS = runner/main_run.c runner/main_study.c
+RUN_COMMON = $(filter-out $(RUN_MAINS),$(wildcard runner/*.c))
+RUN_OBJ = $(RUN_COMMON:runner/%.c=$(B)/runner/%.o)
+
+.PHONY: all lib runner study-bin check check-c check-san check-py paper \
+        study bench deps venv clean
+
+all: lib runner
+
+# ------------------------------------------------------------ dependencies
+# Installs missing Debian packages when run as root; otherwise stops with the
+# exact command to run.
+deps: $(B)/.deps
+$(B)/.deps:
+	@missing=""; for p in $(DEB_PKGS); do \
+	  dpkg-query -W -f='$${Status}' $$p 2>/dev/null | grep -q "install ok installed" \
+	    || missing="$$missing $$p"; done; \
+	if [ -n "$$missing" ]; then \
+	  if [ "$$(id -u)" = 0 ] && command -v apt-get >/dev/null; then \
+	    echo "installing Debian packages:$$missing"; \
+	    apt-get update -qq && DEBIAN_FRONTEND=noninteractive \
+	      apt-get install -y -qq --no-install-recommends $$missing >/dev/null || exit 1; \
+	  else \
+	    echo "missing Debian packages:$$missing"; \
+	    echo "run:  sudo apt-get install -y$$missing"; exit 1; \
+	  fi; \
+	fi
+	@mkdir -p $(B) && touch $@
+
+venv: $(VENV)/.ok
+$(VENV)/.ok: analysis/requirements.txt | $(B)/.deps
+	$(PYTHON) -m venv $(VENV)
+	$(VPY) -m pip install -q --disable-pip-version-check -r analysis/requirements.txt
+	@touch $@
+
+# ----------------------------------------------------------------- library
+lib: $(B)/librps3.a $(B)/librps3.so
+
+$(B)/obj/%.o: src/%.c | $(B)/.deps
+	@mkdir -p $(@D)
+	$(CC) $(CPPFLAGS_ALL) $(GSL_CFLAGS) $(WARN) $(OPT) -MMD -MP -c $< -o $@
+$(B)/pic/%.o: src/%.c | $(B)/.deps
+	@mkdir -p $(@D)
+	$(CC) $(CPPFLAGS_ALL) $(GSL_CFLAGS) $(WARN) $(OPT) -fPIC -MMD -MP -c $< -o $@
+$(B)/san/%.o: src/%.c | $(B)/.deps
+	@mkdir -p $(@D)
+	$(CC) $(CPPFLAGS_ALL) $(GSL_CFLAGS) $(WARN) -O1 -g $(SAN) -MMD -MP -c $< -o $@
+
+$(B)/librps3.a: $(LIB_OBJ)
+	ar rcs $@ $^
+$(B)/librps3.so: $(LIB_PIC)
+	$(CC) -shared -o $@ $^ $(GSL_LIBS)
+$(B)/librps3-san.a: $(LIB_SAN)
+	ar rcs $@ $^
+
+# ------------------------------------------------------------------ runner
+runner: $(B)/rps3-run
+
+$(B)/runner/%.o: runner/%.c | $(B)/.deps
+	@mkdir -p $(@D)
+	$(CC) $(CPPFLAGS_ALL) -Irunner $(GSL_CFLAGS) $(HDF5_CFLAGS) $(WARN) $(OPT) -MMD -MP -c $< -o $@
+$(B)/rps3-run: $(B)/runner/main_run.o $(RUN_OBJ) $(B)/librps3.a
+	$(CC) -o $@ $^ $(HDF5_LIBS) $(YAML_LIBS) $(GSL_LIBS) -lpthread -lm
+$(B)/rps3-study: $(B)/runner/main_study.o $(RUN_OBJ) $(B)/librps3.a
+	$(CC) -o $@ $^ $(HDF5_LIBS) $(YAML_LIBS) $(GSL_LIBS) -lpthread -lm
+
+# ------------------------------------------------------------------- tests
+$(B)/tests/%: tests/%.c $(B)/librps3.a tests/testutil.h
+	@mkdir -p $(@D)
+	$(CC) $(CPPFLAGS_ALL) -Itests $(GSL_CFLAGS) $(WARN) $(OPT) -g $< -o $@ \
+	  $(B)/librps3.a $(CMOCKA_LIBS) $(GSL_LIBS)
+$(B)/tests-san/%: tests/%.c $(B)/librps3-san.a tests/testutil.h
+	@mkdir -p $(@D)
+	$(CC) $(CPPFLAGS_ALL) -Itests -DRPS3_SANITIZE $(GSL_CFLAGS) $(WARN) -O1 -g $(SAN) $< -o $@ \
+	  $(B)/librps3-san.a $(CMOCKA_LIBS) $(GSL_LIBS)
+
+check-c: $(TEST_BIN)
+	@set -e; for t in $(TEST_BIN); do echo "== $$t"; $$t; done
+
+check-san: $(TEST_SAN)
+	@set -e; for t in $(TEST_SAN); do echo "== $$t (asan+ubsan)"; \
+	  ASAN_OPTIONS=detect_leaks=1:abort_on_error=1 UBSAN_OPTIONS=print_stacktrace=1 $$t; done
+
+check-py: all venv
+	$(VPY) -m pytest -q tests
+
+check: lib runner check-c check-san check-py
+
+# ------------------------------------------------------------------- paper
+paper: all venv
+	@mkdir -p out
+	$(B)/rps3-run configs/paper.yaml -o out/paper.h5
+	$(VPY) analysis/figures.py out/paper.h5 out
+	$(VPY) analysis/check_paper.py out/paper.h5
+
+clean:
+	rm -rf $(B) out
+
+-include $(wildcard $(B)/obj/*.d $(B)/pic/*.d $(B)/san/*.d $(B)/runner/*.d)

@@ -1,0 +1,499 @@
+/*
+ * rps3.h - kinematics and inverse dynamics of the 3-DOF in-parallel actuated
+ * manipulator of Lee & Shah (IEEE J. Robotics and Automation, 1988): three
+ * extensible links pinned to a base, ball-jointed to a moving platform.
+ *
+ * This header is the documentation of the API.  Equation numbers "(n)" refer
+ * to the paper; "errata" refers to the reading notes kept with the project.
+ *
+ * Conventions
+ *   - SI units everywhere: metres, kilograms, seconds, newtons, radians.
+ *   - Base frame XYZ: origin at the base centre, Z up, X towards pin joint 1.
+ *     Pin i sits at R (cos psi_i, sin psi_i, 0), psi_i = 0, 2pi/3, 4pi/3.
+ *   - Platform frame xyz: origin at the platform centre, x towards ball
+ *     joint 1.  Orientation Rz(alpha) Ry(beta) Rz(-alpha) (Z-Y-Z Euler angles
+ *     with spin gamma = -alpha, eq. (2)).
+ *   - theta_i is the angle between link i and the base plane, 0 < theta < pi
+ *     (eq. (8)-(10) branch); theta < pi/2 leans the link inwards.
+ *   - F_i > 0 extends link i (pushes the platform away from pin i).
+ *   - Gravity acts along -Z.
+ *
+ * Model / data split
+ *   rps3_model is filled by the caller (start from rps3_model_default()),
+ *   validated once by rps3_model_init(), and then only read (const).
+ *   rps3_data holds every input of a point, every result and all scratch; it
+ *   is allocated once by rps3_data_alloc().  After that no function of this
+ *   library allocates, prints, exits or aborts.  Use one rps3_data per thread.
+ *
+ * GSL
+ *   The library validates its arguments before every GSL call and checks
+ *   every GSL status, so it never reaches GSL's error handler on purpose.  It
+ *   never changes that (process-global) handler: an embedding program should
+ *   call gsl_set_error_handler_off() once at start-up, from its main thread.
+ */
+#ifndef RPS3_H
+#define RPS3_H
+
+#include <stddef.h>
+
+#ifdef __cplusplus
+extern "C" {
+#endif
+
+/* ---------------------------------------------------------------- version */
+
+#define RPS3_VERSION_MAJOR 0
+#define RPS3_VERSION_MINOR 1
+#define RPS3_VERSION_PATCH 0
+#define RPS3_VERSION_STRING "0.1.0"
+
+/* Version string of the compiled library; compare with RPS3_VERSION_STRING. */
+const char *rps3_version(void);
+
+/* ----------------------------------------------------------- status codes */
+
+/*
+ * Every function that can fail returns one of these.  Positive codes are
+ * point-level outcomes: a sweep records them and moves on to the next point.
+ * Negative codes are caller errors (bad arguments, out of memory).
+ */
+enum rps3_status {
+  RPS3_OK = 0,       /* success */
+  RPS3_EREACH = 1,   /* pose unreachable: a link length <= 0 or a ball joint
+                        not above the base plane (theta outside (0, pi)) */
+  RPS3_ENOCONV = 2,  /* theta solve did not converge within max_iter, or the
+                        solver stopped making progress */
+  RPS3_EBRANCH = 3,  /* theta solve converged outside 0 < theta < pi */
+  RPS3_ESING = 4,    /* singular configuration: the constraint Jacobian
+                        d f / d theta (the lambda system) has condition number
+                        above opt.cond_max, or a zero pivot */
+  RPS3_EDOMAIN = 5,  /* a trajectory was evaluated outside its time span */
+  RPS3_EINVAL = -1,  /* invalid argument: non-finite or out-of-range value,
+                        NULL pointer, unknown enum value */
+  RPS3_ENOMEM = -2,  /* allocation failed (rps3_data_alloc only) */
+  RPS3_EGSL = -3,    /* a GSL routine returned an unexpected error */
+  RPS3_ESTATE = -4   /* a stage was called before the stage it reads from */
+};
+
+/* Short static description of a status code (never NULL). */
+const char *rps3_strerror(int status);
+
+/* Warning bits in rps3_data.warn: the result is returned, but look at it. */
+enum rps3_warning {
+  RPS3_WARN_ILLCOND = 1,    /* cond of the lambda system > opt.cond_warn */
+  RPS3_WARN_ALPHA = 2       /* forward kinematics: beta ~ 0, so alpha is not
+                               defined; alpha was set to 0 */
+};
+
+/* ---------------------------------------------------------------- effects */
+
+/*
+ * Physical effects a scene may select (bit flags, combine with |).  Only the
+ * selected effects are computed, and rps3_data.F_effect holds the share of
+ * each one in the actuating force; the shares sum to rps3_data.F.
+ */
+enum rps3_effect {
+  RPS3_EFF_PLATFORM_GRAVITY = 1 << 0, /* weight of the platform, M g */
+  RPS3_EFF_LINK_GRAVITY = 1 << 1,     /* weight of the links, term of (22) */
+  RPS3_EFF_PLATFORM_INERTIA = 1 << 2, /* platform translation, rotation and
+                                         gyroscopic terms, from (21) */
+  RPS3_EFF_LINK_INERTIA = 1 << 3,     /* links swinging about their pins (21) */
+  RPS3_EFF_PAYLOAD = 1 << 4,          /* payload rigidly fixed to the platform:
+                                         its weight and its inertia */
+  RPS3_EFF_PIN_FRICTION = 1 << 5      /* viscous + Coulomb torque at the pins,
+                                         the T_{i-3} of (23) (zero in paper) */
+};
+#define RPS3_NEFFECT 6
+#define RPS3_EFF_ALL ((1 << RPS3_NEFFECT) - 1)
+/* default selection: all but payload and friction, as in the paper */
+#define RPS3_EFF_DEFAULT                                                      \
+  (RPS3_EFF_PLATFORM_GRAVITY | RPS3_EFF_LINK_GRAVITY |                        \
+   RPS3_EFF_PLATFORM_INERTIA | RPS3_EFF_LINK_INERTIA)
+/* effects that need velocities and accelerations */
+#define RPS3_EFF_DYNAMIC                                                      \
+  (RPS3_EFF_PLATFORM_INERTIA | RPS3_EFF_LINK_INERTIA | RPS3_EFF_PAYLOAD |     \
+   RPS3_EFF_PIN_FRICTION)
+
+/* Name of effect index k (0 <= k < RPS3_NEFFECT), e.g. "platform_gravity";
+   index k is the bit 1 << k.  NULL for k out of range. */
+const char *rps3_effect_name(int k);
+
+/* Index of the effect with this name, or -1 if there is none. */
+int rps3_effect_index(const char *name);
+
+/* ---------------------------------------------------------------- options */
+
+/* How theta is obtained in rps3_inverse(). */
+typedef enum {
+  RPS3_THETA_CLOSED_FORM = 0, /* from the pose, eq. (39) (atan2 form) */
+  RPS3_THETA_MULTIROOT = 1    /* from the link lengths, eqs. (8)-(10), GSL */
+} rps3_theta_route;
+
+/* Formulation of the inverse dynamics. */
+typedef enum {
+  RPS3_LAGRANGE = 0,     /* the paper's: coordinates (l_i, theta_i),
+                            multipliers lambda, eqs. (21)-(24), (34) */
+  RPS3_NEWTON_EULER = 1  /* platform and links as free bodies, ball-joint
+                            forces solved directly; independent check */
+} rps3_method;
+
+/* GSL multiroot solver for the theta solve.  The first four use the
+   analytic Jacobian (fdfsolver).  newton and gnewton allocate inside every
+   iteration in GSL 2.7, and the derivative-free ones use finite-difference
+   Jacobians: keep them for studies; hybridsj is the default. */
+typedef enum {
+  RPS3_SOLVER_HYBRIDSJ = 0,
+  RPS3_SOLVER_HYBRIDJ = 1,
+  RPS3_SOLVER_NEWTON = 2,
+  RPS3_SOLVER_GNEWTON = 3,
+  RPS3_SOLVER_HYBRIDS = 4,
+  RPS3_SOLVER_HYBRID = 5,
+  RPS3_SOLVER_DNEWTON = 6,
+  RPS3_SOLVER_BROYDEN = 7
+} rps3_solver;
+#define RPS3_NSOLVER 8
+
+/* Name of a solver ("hybridsj", ...), NULL if out of range. */
+const char *rps3_solver_name(int solver);
+
+/* Solver with this name, or -1 if there is none. */
+int rps3_solver_index(const char *name);
+
+typedef struct {
+  int effects;             /* selected effects, RPS3_EFF_* bits */
+  rps3_method method;      /* formulation of the dynamics */
+  rps3_theta_route theta;  /* closed form or multiroot in rps3_inverse */
+  rps3_solver solver;      /* multiroot solver */
+  double tol;              /* theta solve stops when max_k |f_k| <= tol,
+                              f_k the dimensionless (8)-(10) (lengths in
+                              units of R); also stops when the step is below
+                              tol rad.  Default 1e-12 */
+  int max_iter;            /* theta solve iteration limit, default 50 */
+  int warm_start;          /* 1: theta solve starts from the data's last
+                              solution when it has one; 0: always cold */
+  int certify;             /* 1: compute the energy-rate residual (needs
+                              rates even for a static scene); default 1 */
+  double cond_warn;        /* set RPS3_WARN_ILLCOND above this 1-norm
+                              condition number of the lambda system (1e6) */
+  double cond_max;         /* RPS3_ESING above this (1e13) */
+} rps3_options;
+
+/* ------------------------------------------------------------------ model */
+
+/* A rigid payload fixed to the platform. */
+typedef struct {
+  double mass;       /* [kg] */
+  double com[3];     /* centre of mass in platform axes, from the platform
+                        centre [m] */
+  double inertia[3]; /* principal moments about the payload's centre of mass,
+                        principal axes parallel to the platform axes
+                        [kg m^2] */
+} rps3_payload;
+
+/* Pin-joint friction, a torque about each pin axis opposing theta-dot:
+   T = -(viscous * dtheta + coulomb * sign(dtheta)), sign(0) = 0. */
+typedef struct {
+  double viscous;    /* [N m s / rad] */
+  double coulomb;    /* [N m] */
+} rps3_friction;
+
+typedef struct {
+  /* mechanism, Table II */
+  double R;          /* base radius: centre to pin joints [m] */
+  double rho;        /* r / R, r the platform radius to the ball joints [-] */
+  double M;          /* platform mass, a uniform disc of radius r [kg] */
+  double m;          /* mass of each link [kg] */
+  double d;          /* pin joint to link centroid, constant [m] */
+  double link_Ic;    /* moment of inertia of a link about its centroid, about
+                        the pin direction [kg m^2]; 0 in the paper (point
+                        mass) */
+  double g;          /* gravitational acceleration, along -Z [m/s^2] */
+  rps3_payload payload;   /* used when RPS3_EFF_PAYLOAD is selected */
+  rps3_friction friction; /* used when RPS3_EFF_PIN_FRICTION is selected */
+  rps3_options opt;
+
+  /* derived by rps3_model_init(); do not set */
+  double r;          /* platform radius rho R [m] */
+  double Ip[3];      /* platform principal moments (21): Mr^2/4, Mr^2/4,
+                        Mr^2/2 [kg m^2] */
+  double Jlink;      /* m d^2 + link_Ic [kg m^2] */
+  double pin[3][3];  /* pin joint positions P_i [m] */
+  double radial[3][3]; /* unit radial direction of pin i, (cos, sin, 0) */
+  double axis[3][3]; /* pin axes phi_zi, eq. (30), unit */
+  double body[3][3]; /* ball joints in platform axes, r_i of (27) [m] */
+  int valid;         /* 1 after a successful rps3_model_init() */
+} rps3_model;
+
+/* Fill m with the paper's Table II (R = 0.2286 m, rho = 0.5, M = 0.18 kg,
+   m/M = 0.5, d = 0.1524 m, g = 9.80665 m/s^2), no payload, no friction and
+   the default options.  Call rps3_model_init() afterwards. */
+void rps3_model_default(rps3_model *m);
+
+/* Fill opt with the default options. */
+void rps3_options_default(rps3_options *opt);
+
+/*
+ * Validate m and compute its derived fields.  Returns RPS3_OK, or
+ * RPS3_EINVAL with a message naming the offending field in err (err may be
+ * NULL; errsz is its size in bytes).  Rejected: non-finite values, R <= 0,
+ * rho <= 0, negative masses, inertias or friction, d < 0, g < 0, payload
+ * inertia violating the triangle inequality, unknown enum values,
+ * tol <= 0, max_iter < 1, cond_warn < 1, cond_max < cond_warn.
+ */
+int rps3_model_init(rps3_model *m, char *err, size_t errsz);
+
+/* ------------------------------------------------------------------- data */
+
+/* Where the last error was raised (per data, so thread-safe). */
+typedef struct {
+  int code;          /* rps3_status */
+  const char *func;  /* function that raised it */
+  const char *file;
+  int line;
+  char msg[256];     /* what went wrong, with the values involved */
+} rps3_error;
+
+struct rps3_solver_state; /* internal: GSL solver and its vectors */
+
+/* stages completed for the current point (rps3_data.stage bits) */
+enum rps3_stage {
+  RPS3_STAGE_POS = 1,  /* positions: rps3_ik, rps3_fk or rps3_theta_solve */
+  RPS3_STAGE_VEL = 2,  /* rps3_velocity or rps3_joint_velocity */
+  RPS3_STAGE_ACC = 4,  /* rps3_acceleration or rps3_joint_acceleration */
+  RPS3_STAGE_DYN = 8   /* rps3_invdyn */
+};
+
+typedef struct {
+  /* inputs of a point, set by the caller */
+  double pose[3];      /* (alpha, beta, z_c) [rad, rad, m] */
+  double dpose[3];     /* time derivative [rad/s, rad/s, m/s] */
+  double ddpose[3];    /* second derivative [rad/s^2, rad/s^2, m/s^2] */
+
+  /* positions; set by rps3_ik (from pose) or rps3_fk (from l) */
+  double c[3];         /* platform centre (x_c, y_c, z_c), (3)-(4), (11) [m] */
+  double rot[3][3];    /* platform orientation, columns n, o, a of (1) */
+  double b[3][3];      /* ball joints b_i, (12)-(17) [m] */
+  double l[3];         /* link lengths, (5)-(7) [m]; input of rps3_fk */
+  double theta[3];     /* link angles, (39) or (8)-(10) [rad] */
+  double phi[3][3];    /* unit vector along link i, (29) */
+  double dphi[3][3];   /* d phi_i / d theta_i, unit, normal to the link */
+  int solve_niter;     /* iterations of the last theta solve */
+  double solve_resid;  /* max |f_k| after the last theta solve [-] */
+  int have_theta;      /* theta holds a solution usable as a warm start */
+
+  /* velocities; rps3_velocity (from dpose) or rps3_joint_velocity (dl) */
+  double dl[3];        /* link extension rates [m/s]; input of
+                          rps3_joint_velocity */
+  double dtheta[3];    /* [rad/s] */
+  double vc[3];        /* platform centre velocity, (25) [m/s] */
+  double omega[3];     /* platform angular velocity, base axes [rad/s] */
+
+  /* accelerations; rps3_acceleration or rps3_joint_acceleration */
+  double ddl[3];       /* [m/s^2]; input of rps3_joint_acceleration */
+  double ddtheta[3];   /* [rad/s^2] */
+  double ac[3];        /* platform centre acceleration [m/s^2] */
+  double domega[3];    /* angular acceleration, base axes [rad/s^2] */
+
+  /* dynamics; rps3_invdyn */
+  double F[3];         /* actuating forces, (34) [N], > 0 extends */
+  double F_effect[RPS3_NEFFECT][3]; /* share of effect k in F [N]; zero for
+                                       effects not selected */
+  double lambda[3];    /* multipliers of (8)-(10) written in metres,
+                          f_k = |b_i - b_j|^2 - 3 r^2 [N/m]; Lagrange only
+                          (0 under Newton-Euler, see has_lambda) */
+  int has_lambda;      /* 1 when lambda was computed (Lagrange) */
+  double cond;         /* 1-norm condition number of the lambda system
+                          (df/dtheta), both methods [-] */
+  double power;        /* actuator power sum F_i dl_i [W] (certify) */
+  double dTdt;         /* rate of kinetic energy of the selected effects [W] */
+  double dPdt;         /* rate of potential energy of the selected effects [W] */
+  double friction_power; /* power of the pin friction torques (<= 0) [W] */
+  double energy_residual; /* power + friction_power - dTdt - dPdt [W]; zero
+                             up to rounding when the forces are right;
+                             NaN-free; 0 when certify is off */
+  double energy_scale; /* sum of the magnitudes of the terms above [W], to
+                          make the residual relative */
+
+  int warn;            /* RPS3_WARN_* bits of the last point */
+  int stage;           /* RPS3_STAGE_* bits completed for this point */
+  rps3_error err;      /* last error */
+  struct rps3_solver_state *solver; /* internal */
+} rps3_data;
+
+/*
+ * Allocate a workspace for model m (which must have passed rps3_model_init)
+ * into *out.  This is the only allocation of the library: the GSL multiroot
+ * solver of m->opt.solver and its vectors.  Returns RPS3_OK, RPS3_EINVAL
+ * (m NULL or not initialised, out NULL) or RPS3_ENOMEM (nothing leaks).
+ */
+int rps3_data_alloc(const rps3_model *m, rps3_data **out);
+
+/* Free a workspace; NULL is accepted. */
+void rps3_data_free(rps3_data *d);
+
+/* Forget the current point and the warm start (have_theta = 0). */
+void rps3_data_reset(rps3_data *d);
+
+/* ------------------------------------------------------------- kinematics */
+
+/*
+ * Inverse kinematics, eqs. (2)-(7) and (39): from d->pose = (alpha, beta,
+ * z_c) compute c (3)-(4), rot (1), b, l, theta in closed form, phi, dphi.
+ * Returns RPS3_OK, RPS3_EINVAL (non-finite pose) or RPS3_EREACH (a link of
+ * zero length or a ball joint not above the base plane).
+ */
+int rps3_ik(const rps3_model *m, rps3_data *d);
+
+/*
+ * Cold starting guess for the theta solve from d->l alone: the theta each
+ * link would have with the platform level (beta = 0), clamped into (0, pi).
+ * Writes d->theta.  Returns RPS3_OK or RPS3_EINVAL (non-finite or
+ * non-positive length).
+ */
+int rps3_theta_guess(const rps3_model *m, rps3_data *d);
+
+/*
+ * Solve the constraints (8)-(10) for theta given the link lengths d->l, with
+ * the GSL multiroot solver m->opt.solver (analytic Jacobian for the fdf
+ * solvers), starting from d->theta when m->opt.warm_start and d->have_theta,
+ * else from rps3_theta_guess().  Stops when max_k |f_k| <= opt.tol or the
+ * step is below opt.tol; writes d->theta, solve_niter, solve_resid, and the
+ * positions b, c, rot, phi, dphi via (11)-(20).
+ * Returns RPS3_OK, RPS3_EINVAL, RPS3_ENOCONV, RPS3_EBRANCH (a root with
+ * theta outside (0, pi)) or RPS3_EGSL.
+ */
+int rps3_theta_solve(const rps3_model *m, rps3_data *d);
+
+/*
+ * Forward kinematics: link lengths d->l -> theta (rps3_theta_solve) ->
+ * platform position (11) and orientation (18)-(20) -> d->pose = (alpha,
+ * beta, z_c), with beta in [0, pi) and alpha in (-pi, pi].  When beta is
+ * below 1e-9 rad alpha is not defined: it is set to 0 and RPS3_WARN_ALPHA is
+ * raised.  Returns the status of rps3_theta_solve.
+ */
+int rps3_fk(const rps3_model *m, rps3_data *d);
+
+/* The homogeneous transform (1) of the current platform pose. */
+void rps3_transform(const rps3_data *d, double T[4][4]);
+
+/*
+ * Velocities from pose rates: from d->dpose (after a position stage) compute
+ * vc, omega, and the joint rates dl, dtheta (the map (alpha-dot, beta-dot,
+ * z-dot) -> (l-dot, theta-dot)).  Returns RPS3_OK, RPS3_EINVAL or
+ * RPS3_ESTATE.
+ */
+int rps3_velocity(const rps3_model *m, rps3_data *d);
+
+/*
+ * Accelerations from pose accelerations: from d->ddpose (after
+ * rps3_velocity) compute ac, domega, ddl, ddtheta.
+ */
+int rps3_acceleration(const rps3_model *m, rps3_data *d);
+
+/*
+ * Velocities from link rates, eqs. (25)-(30): from d->dl (after a position
+ * stage) compute dtheta through the constraint Jacobian
+ * (df/dtheta) dtheta = -(df/dl) dl, then vc (25) and omega from the ball
+ * joint velocities (26)-(28).  Also fills d->dpose.  Returns RPS3_OK,
+ * RPS3_EINVAL, RPS3_ESTATE or RPS3_ESING.
+ */
+int rps3_joint_velocity(const rps3_model *m, rps3_data *d);
+
+/*
+ * The same one order higher: from d->ddl (after rps3_joint_velocity)
+ * compute ddtheta, ac, domega and d->ddpose.
+ */
+int rps3_joint_acceleration(const rps3_model *m, rps3_data *d);
+
+/*
+ * Body-frame angular velocity (omega_x, omega_y, omega_z) by the paper's
+ * (31)-(33) with the two printing errors corrected (errata), from the
+ * current positions, dl, dtheta and vc.  A second formulation of omega,
+ * kept for checking: rot^T omega must equal it.
+ */
+void rps3_omega_paper(const rps3_model *m, const rps3_data *d,
+                      double omega_body[3]);
+
+/* ---------------------------------------------------------------- dynamics */
+
+/*
+ * Inverse dynamics of the selected effects (m->opt.effects) by
+ * m->opt.method, after the position stage and, when a dynamic effect is
+ * selected (or opt.certify), the velocity and acceleration stages.
+ * Writes F, F_effect, lambda (Lagrange), cond, warn and, with
+ * opt.certify, the energy-rate certificate.  Returns RPS3_OK, RPS3_ESTATE
+ * or RPS3_ESING.
+ */
+int rps3_invdyn(const rps3_model *m, rps3_data *d);
+
+/*
+ * Whole pipeline for one point: the caller sets d->pose, d->dpose,
+ * d->ddpose; theta comes from opt.theta (closed form, or multiroot warm
+ * started from the previous point of the same data); velocities and
+ * accelerations are computed only when a selected effect or certify needs
+ * them.  Returns the first failing stage's status.
+ */
+int rps3_inverse(const rps3_model *m, rps3_data *d);
+
+/* -------------------------------------------------------------- trajectory */
+
+typedef enum {
+  RPS3_TRAJ_HELIX = 1, /* the paper's section VI helix, Tables I-II */
+  RPS3_TRAJ_SINE = 2   /* each pose coordinate a sinusoid */
+} rps3_traj_kind;
+
+/* Helix (35): radius r*, pitch h, start z_i, one pitch in T* seconds; phi(t)
+   linear with parabolic blends of length t_a at both ends, peak rate
+   2 pi / (T* - t_a) so that phi(T*) = 2 pi; alpha = -phi/2 + pi/2 (36),
+   cos beta = 1 - 2 r*/r (37, errata), z_c = z_i + h t / T*. */
+typedef struct {
+  double radius;  /* r* [m], 0 <= r* < r/2 */
+  double pitch;   /* h [m] */
+  double z0;      /* z_i [m] */
+  double period;  /* T* [s] */
+  double blend;   /* t_a [s], 0 < t_a <= T*/2; t_b = T* - t_a */
+} rps3_helix;
+
+/* pose_k(t) = mean_k + amp_k sin(2 pi freq_k t + phase_k), k = alpha, beta,
+   z_c, for 0 <= t <= duration. */
+typedef struct {
+  double mean[3];   /* [rad, rad, m] */
+  double amp[3];    /* [rad, rad, m] */
+  double freq[3];   /* [Hz] */
+  double phase[3];  /* [rad] */
+  double duration;  /* [s] */
+} rps3_sine;
+
+typedef struct {
+  rps3_traj_kind kind;
+  rps3_helix helix;   /* used when kind == RPS3_TRAJ_HELIX */
+  rps3_sine sine;     /* used when kind == RPS3_TRAJ_SINE */
+} rps3_traj;
+
+/* The paper's helix of Table II. */
+void rps3_traj_default(rps3_traj *tr);
+
+/* Validate tr for model m (initialised).  RPS3_OK or RPS3_EINVAL with a
+   message naming the field. */
+int rps3_traj_check(const rps3_model *m, const rps3_traj *tr, char *err,
+                    size_t errsz);
+
+/* Time span of the trajectory [s] (T* for the helix). */
+double rps3_traj_duration(const rps3_traj *tr);
+
+/*
+ * Pose, rate and acceleration at time t in [0, duration], exact.  The helix
+ * acceleration jumps at the blend corners t_a and t_b: a sample exactly on a
+ * corner takes the value of the segment that starts there (right limit),
+ * except t = T*, which takes the left limit.  Any output may be NULL.
+ * Returns RPS3_OK, RPS3_EINVAL (bad arguments) or RPS3_EDOMAIN (t outside
+ * the span).
+ */
+int rps3_traj_eval(const rps3_model *m, const rps3_traj *tr, double t,
+                   double pose[3], double dpose[3], double ddpose[3]);
+
+#ifdef __cplusplus
+}
+#endif
+
+#endif /* RPS3_H */
