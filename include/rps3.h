@@ -166,8 +166,7 @@ typedef struct {
   rps3_solver solver;      /* multiroot solver */
   double tol;              /* theta solve stops when max_k |f_k| <= tol,
                               f_k the dimensionless (8)-(10) (lengths in
-                              units of R); also stops when the step is below
-                              tol rad.  Default 1e-12 */
+                              units of R).  Default 1e-12 */
   int max_iter;            /* theta solve iteration limit, default 50 */
   int warm_start;          /* 1: theta solve starts from the data's last
                               solution when it has one; 0: always cold */
@@ -356,8 +355,8 @@ int rps3_theta_guess(const rps3_model *m, rps3_data *d);
  * Solve the constraints (8)-(10) for theta given the link lengths d->l, with
  * the GSL multiroot solver m->opt.solver (analytic Jacobian for the fdf
  * solvers), starting from d->theta when m->opt.warm_start and d->have_theta,
- * else from rps3_theta_guess().  Stops when max_k |f_k| <= opt.tol or the
- * step is below opt.tol; writes d->theta, solve_niter, solve_resid, and the
+ * else from rps3_theta_guess().  Converged when max_k |f_k| <= opt.tol;
+ * writes d->theta, solve_niter, solve_resid, and the
  * positions b, c, rot, phi, dphi via (11)-(20).
  * Returns RPS3_OK, RPS3_EINVAL, RPS3_ENOCONV, RPS3_EBRANCH (a root with
  * theta outside (0, pi)) or RPS3_EGSL.
@@ -445,13 +444,13 @@ typedef enum {
 /* Helix (35): radius r*, pitch h, start z_i, one pitch in T* seconds; phi(t)
    linear with parabolic blends of length t_a at both ends, peak rate
    2 pi / (T* - t_a) so that phi(T*) = 2 pi; alpha = -phi/2 + pi/2 (36),
-   cos beta = 1 - 2 r*/r (37, errata), z_c = z_i + h t / T*. */
+   cos beta = 1 - 2 r* / r (37, errata), z_c = z_i + h t / T*. */
 typedef struct {
   double radius;  /* r* [m], 0 <= r* < r/2 */
   double pitch;   /* h [m] */
   double z0;      /* z_i [m] */
   double period;  /* T* [s] */
-  double blend;   /* t_a [s], 0 < t_a <= T*/2; t_b = T* - t_a */
+  double blend;   /* t_a [s], 0 < t_a <= T* / 2; t_b = T* - t_a */
 } rps3_helix;
 
 /* pose_k(t) = mean_k + amp_k sin(2 pi freq_k t + phase_k), k = alpha, beta,

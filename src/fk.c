@@ -1,0 +1,271 @@
+/*
+ * fk.c - the theta solve of (8)-(10) with GSL multiroot, and forward
+ * kinematics l -> theta -> pose, (11)-(20).
+ *
+ * The solver and its vectors are allocated once, in rps3_data_alloc().  For
+ * the default hybridsj (and hybridj) GSL 2.7 allocates only in _alloc, so a
+ * warm-started solve allocates nothing; newton and gnewton allocate inside
+ * every iteration and are offered for studies only.
+ */
+#include <stdlib.h>
+
+#include <gsl/gsl_errno.h>
+#include <gsl/gsl_multiroots.h>
+
+#include "internal.h"
+#include "linalg.h"
+
+/* parameters of (8)-(10) in the paper's normalized form, L = l / R */
+typedef struct {
+  double L[3];
+  double k;   /* 3 - 3 rho^2 */
+} theta_params;
+
+struct rps3_solver_state {
+  int fdf;                          /* 1: fdfsolver (analytic Jacobian) */
+  gsl_multiroot_fdfsolver *sfdf;
+  gsl_multiroot_fsolver *sf;
+  gsl_vector *x;                    /* starting point */
+  gsl_multiroot_function_fdf fn_fdf;
+  gsl_multiroot_function fn_f;
+  theta_params p;
+};
+
+/* (8)-(10) and their analytic Jacobian; J may be NULL */
+static void constraints(const theta_params *p, const double th[3],
+                        double f[3], double J[3][3]) {
+  double c[3], s[3];
+  int k;
+  for (k = 0; k < 3; k++) {
+    c[k] = cos(th[k]);
+    s[k] = sin(th[k]);
+  }
+  for (k = 0; k < 3; k++) {
+    int i = k, j = (k + 1) % 3;
+    double Li = p->L[i], Lj = p->L[j], LL = Li * Lj;
+    f[k] = Li * Li + Lj * Lj + p->k + LL * c[i] * c[j] -
+           2.0 * LL * s[i] * s[j] - 3.0 * Li * c[i] - 3.0 * Lj * c[j];
+    if (J != NULL) {
+      J[k][0] = J[k][1] = J[k][2] = 0.0;
+      J[k][i] = -LL * s[i] * c[j] - 2.0 * LL * c[i] * s[j] + 3.0 * Li * s[i];
+      J[k][j] = -LL * c[i] * s[j] - 2.0 * LL * s[i] * c[j] + 3.0 * Lj * s[j];
+    }
+  }
+}
+
+static int gsl_f(const gsl_vector *x, void *params, gsl_vector *f) {
+  double th[3], fv[3];
+  int k;
+  for (k = 0; k < 3; k++) th[k] = gsl_vector_get(x, (size_t)k);
+  if (!v3_finite(th)) return GSL_EBADFUNC;
+  constraints((const theta_params *)params, th, fv, NULL);
+  for (k = 0; k < 3; k++) gsl_vector_set(f, (size_t)k, fv[k]);
+  return GSL_SUCCESS;
+}
+
+static int gsl_fdf(const gsl_vector *x, void *params, gsl_vector *f,
+                   gsl_matrix *J) {
+  double th[3], fv[3], Jv[3][3];
+  int k, q;
+  for (k = 0; k < 3; k++) th[k] = gsl_vector_get(x, (size_t)k);
+  if (!v3_finite(th)) return GSL_EBADFUNC;
+  constraints((const theta_params *)params, th, fv, Jv);
+  for (k = 0; k < 3; k++) {
+    if (f != NULL) gsl_vector_set(f, (size_t)k, fv[k]);
+    if (J != NULL)
+      for (q = 0; q < 3; q++) gsl_matrix_set(J, (size_t)k, (size_t)q, Jv[k][q]);
+  }
+  return GSL_SUCCESS;
+}
+
+static int gsl_df(const gsl_vector *x, void *params, gsl_matrix *J) {
+  return gsl_fdf(x, params, NULL, J);
+}
+
+static int gsl_f_only(const gsl_vector *x, void *params, gsl_vector *f) {
+  return gsl_fdf(x, params, f, NULL);
+}
+
+int rps3_solver_alloc(const rps3_model *m, struct rps3_solver_state **out) {
+  struct rps3_solver_state *s;
+  const gsl_multiroot_fdfsolver_type *tfdf = NULL;
+  const gsl_multiroot_fsolver_type *tf = NULL;
+  *out = NULL;
+  switch (m->opt.solver) {
+  case RPS3_SOLVER_HYBRIDSJ: tfdf = gsl_multiroot_fdfsolver_hybridsj; break;
+  case RPS3_SOLVER_HYBRIDJ: tfdf = gsl_multiroot_fdfsolver_hybridj; break;
+  case RPS3_SOLVER_NEWTON: tfdf = gsl_multiroot_fdfsolver_newton; break;
+  case RPS3_SOLVER_GNEWTON: tfdf = gsl_multiroot_fdfsolver_gnewton; break;
+  case RPS3_SOLVER_HYBRIDS: tf = gsl_multiroot_fsolver_hybrids; break;
+  case RPS3_SOLVER_HYBRID: tf = gsl_multiroot_fsolver_hybrid; break;
+  case RPS3_SOLVER_DNEWTON: tf = gsl_multiroot_fsolver_dnewton; break;
+  case RPS3_SOLVER_BROYDEN: tf = gsl_multiroot_fsolver_broyden; break;
+  default: return RPS3_EINVAL;
+  }
+  s = (struct rps3_solver_state *)calloc(1, sizeof(*s));
+  if (s == NULL) return RPS3_ENOMEM;
+  s->fdf = (tfdf != NULL);
+  s->x = gsl_vector_alloc(3);
+  if (s->fdf)
+    s->sfdf = gsl_multiroot_fdfsolver_alloc(tfdf, 3);
+  else
+    s->sf = gsl_multiroot_fsolver_alloc(tf, 3);
+  if (s->x == NULL || (s->fdf ? (void *)s->sfdf : (void *)s->sf) == NULL) {
+    rps3_solver_free(s);
+    return RPS3_ENOMEM;
+  }
+  /* the functions point at s->p, which lives as long as the solver */
+  s->fn_fdf.f = gsl_f_only;
+  s->fn_fdf.df = gsl_df;
+  s->fn_fdf.fdf = gsl_fdf;
+  s->fn_fdf.n = 3;
+  s->fn_fdf.params = &s->p;
+  s->fn_f.f = gsl_f;
+  s->fn_f.n = 3;
+  s->fn_f.params = &s->p;
+  *out = s;
+  return RPS3_OK;
+}
+
+void rps3_solver_free(struct rps3_solver_state *s) {
+  if (s == NULL) return;
+  if (s->sfdf != NULL) gsl_multiroot_fdfsolver_free(s->sfdf);
+  if (s->sf != NULL) gsl_multiroot_fsolver_free(s->sf);
+  if (s->x != NULL) gsl_vector_free(s->x);
+  free(s);
+}
+
+int rps3_theta_guess(const rps3_model *m, rps3_data *d) {
+  int i;
+  if (m == NULL || d == NULL || !m->valid) return RPS3_EINVAL;
+  for (i = 0; i < 3; i++) {
+    double cth;
+    if (!isfinite(d->l[i]) || !(d->l[i] > 0.0))
+      RPS3_ERROR(d, RPS3_EINVAL, "link %d length %g m: needs finite and > 0",
+                 i + 1, d->l[i]);
+    /* level platform: the ball joint sits R - r inwards of the pin */
+    cth = (m->R - m->r) / d->l[i];
+    if (cth > 0.999) cth = 0.999;
+    if (cth < -0.999) cth = -0.999;
+    d->theta[i] = acos(cth);
+  }
+  return RPS3_OK;
+}
+
+/* the analytic Jacobian at th is too ill-conditioned to take a Newton step:
+   GSL's LU would report a singular matrix through its error handler */
+static int newton_unsafe(const rps3_model *m, const theta_params *p,
+                         const double th[3]) {
+  double f[3], J[3][3], A[9], LU[9];
+  int perm[3], i, k;
+  constraints(p, th, f, J);
+  for (i = 0; i < 3; i++)
+    for (k = 0; k < 3; k++) A[3 * i + k] = LU[3 * i + k] = J[i][k];
+  if (rps3_lu_factor(3, LU, perm) != 0) return 1;
+  return !(rps3_lu_cond1(3, A, LU, perm) <= m->opt.cond_max);
+}
+
+int rps3_theta_solve(const rps3_model *m, rps3_data *d) {
+  struct rps3_solver_state *s;
+  double th[3], f[3];
+  int i, iter, status, newton_like;
+  if (m == NULL || d == NULL || !m->valid) return RPS3_EINVAL;
+  s = d->solver;
+  d->stage = 0;
+  d->warn = 0;
+  d->solve_niter = 0;
+  d->solve_resid = 0.0;
+  for (i = 0; i < 3; i++)
+    if (!isfinite(d->l[i]) || !(d->l[i] > 0.0))
+      RPS3_ERROR(d, RPS3_EINVAL, "link %d length %g m: needs finite and > 0",
+                 i + 1, d->l[i]);
+  /* starting point: explicit warm start, else the level-platform guess */
+  if (!(m->opt.warm_start && d->have_theta && v3_finite(d->theta))) {
+    status = rps3_theta_guess(m, d);
+    if (status != RPS3_OK) return status;
+  }
+  for (i = 0; i < 3; i++) {
+    s->p.L[i] = d->l[i] / m->R;
+    gsl_vector_set(s->x, (size_t)i, d->theta[i]);
+  }
+  s->p.k = 3.0 - 3.0 * m->rho * m->rho;
+  newton_like = (m->opt.solver == RPS3_SOLVER_NEWTON ||
+                 m->opt.solver == RPS3_SOLVER_GNEWTON ||
+                 m->opt.solver == RPS3_SOLVER_DNEWTON ||
+                 m->opt.solver == RPS3_SOLVER_BROYDEN);
+  if (newton_like && newton_unsafe(m, &s->p, d->theta))
+    RPS3_ERROR(d, RPS3_ENOCONV,
+               "singular constraint Jacobian at the starting point");
+
+  /* initialize */
+  status = s->fdf ? gsl_multiroot_fdfsolver_set(s->sfdf, &s->fn_fdf, s->x)
+                  : gsl_multiroot_fsolver_set(s->sf, &s->fn_f, s->x);
+  if (status != GSL_SUCCESS)
+    RPS3_ERROR(d, RPS3_EGSL, "gsl multiroot set: %s", gsl_strerror(status));
+
+  /* iterate / test: residual first, so that an exact start costs nothing */
+  iter = 0;
+  for (;;) {
+    const gsl_vector *xv = s->fdf ? s->sfdf->x : s->sf->x;
+    const gsl_vector *fv = s->fdf ? s->sfdf->f : s->sf->f;
+    double resid = 0.0;
+    for (i = 0; i < 3; i++) {
+      th[i] = gsl_vector_get(xv, (size_t)i);
+      f[i] = gsl_vector_get(fv, (size_t)i);
+      if (fabs(f[i]) > resid || !isfinite(f[i])) resid = fabs(f[i]);
+    }
+    d->solve_niter = iter;
+    d->solve_resid = resid;
+    if (resid <= m->opt.tol) break;
+    if (iter >= m->opt.max_iter)
+      RPS3_ERROR(d, RPS3_ENOCONV,
+                 "no convergence in %d iterations (residual %.3g > tol %.3g)",
+                 iter, resid, m->opt.tol);
+    if (newton_like && newton_unsafe(m, &s->p, th))
+      RPS3_ERROR(d, RPS3_ENOCONV,
+                 "singular constraint Jacobian after %d iterations", iter);
+    status = s->fdf ? gsl_multiroot_fdfsolver_iterate(s->sfdf)
+                    : gsl_multiroot_fsolver_iterate(s->sf);
+    iter++;
+    if (status != GSL_SUCCESS) {
+      d->solve_niter = iter;
+      RPS3_ERROR(d, RPS3_ENOCONV, "solver stopped after %d iterations: %s",
+                 iter, gsl_strerror(status));
+    }
+  }
+
+  /* the branch 0 < theta < pi, after folding whole turns */
+  for (i = 0; i < 3; i++) {
+    double t = remainder(th[i], 2.0 * RPS3_PI);
+    if (!(t > 0.0 && t < RPS3_PI))
+      RPS3_ERROR(d, RPS3_EBRANCH,
+                 "link %d: theta = %.6g rad is outside (0, pi)", i + 1, t);
+    d->theta[i] = t;
+  }
+  rps3_links_from_joints(m, d);
+  rps3_frame_from_balls(m, d);
+  d->have_theta = 1;
+  d->stage = RPS3_STAGE_POS;
+  return RPS3_OK;
+}
+
+int rps3_fk(const rps3_model *m, rps3_data *d) {
+  double a1, a2, a3, sb;
+  int status = rps3_theta_solve(m, d);
+  if (status != RPS3_OK) return status;
+  /* a = rot e_z = (sin b cos a, sin b sin a, cos b) for Rz(a) Ry(b) Rz(-a) */
+  a1 = d->rot[0][2];
+  a2 = d->rot[1][2];
+  a3 = d->rot[2][2];
+  sb = hypot(a1, a2);
+  d->pose[1] = atan2(sb, a3);
+  if (d->pose[1] < 1e-9) {
+    /* alpha is a free gauge at beta = 0: report 0 and say so */
+    d->pose[0] = 0.0;
+    d->warn |= RPS3_WARN_ALPHA;
+  } else {
+    d->pose[0] = atan2(a2, a1);
+  }
+  d->pose[2] = d->c[2];
+  return RPS3_OK;
+}

@@ -1,0 +1,134 @@
+/*
+ * ik.c - inverse kinematics, eqs. (2)-(7) and (39), and the geometry shared
+ * with forward kinematics: ball joints from (l, theta) (12)-(14), the
+ * platform frame from the ball joints (11), (18)-(20), and the constraint
+ * Jacobian of (8)-(10).
+ */
+#include "internal.h"
+
+int rps3_ik(const rps3_model *m, rps3_data *d) {
+  double alpha, beta, ca, sa, vb, sb, cb, s2a, c2a;
+  int i;
+  if (m == NULL || d == NULL || !m->valid) return RPS3_EINVAL;
+  d->stage = 0;
+  d->warn = 0;
+  if (!v3_finite(d->pose))
+    RPS3_ERROR(d, RPS3_EINVAL, "pose (%g, %g, %g) is not finite", d->pose[0],
+               d->pose[1], d->pose[2]);
+  alpha = d->pose[0];
+  beta = d->pose[1];
+  ca = cos(alpha);
+  sa = sin(alpha);
+  sb = sin(beta);
+  cb = cos(beta);
+  /* 1 - cos(beta) as 2 sin^2(beta/2): no cancellation as beta -> 0 */
+  vb = 2.0 * sin(0.5 * beta) * sin(0.5 * beta);
+  c2a = ca * ca - sa * sa;
+  s2a = 2.0 * sa * ca;
+
+  /* orientation Rz(alpha) Ry(beta) Rz(-alpha), spin gamma = -alpha (2) */
+  d->rot[0][0] = 1.0 - vb * ca * ca;
+  d->rot[0][1] = -vb * ca * sa;
+  d->rot[0][2] = sb * ca;
+  d->rot[1][0] = -vb * ca * sa;
+  d->rot[1][1] = 1.0 - vb * sa * sa;
+  d->rot[1][2] = sb * sa;
+  d->rot[2][0] = -sb * ca;
+  d->rot[2][1] = -sb * sa;
+  d->rot[2][2] = cb;
+
+  /* centre (3)-(4): the only x, y the three pin planes allow */
+  d->c[0] = -0.5 * m->r * vb * c2a;
+  d->c[1] = 0.5 * m->r * vb * s2a;
+  d->c[2] = d->pose[2];
+
+  /* ball joints (15)-(17), link lengths (5)-(7) and angles (39) */
+  for (i = 0; i < 3; i++) {
+    double v[3], radial, vz;
+    m3_mulv(d->b[i], M3C(d->rot), m->body[i]);
+    v3_axpy(d->b[i], d->c, 1.0, d->b[i]);
+    v3_sub(v, d->b[i], m->pin[i]);
+    d->l[i] = v3_norm(v);
+    radial = v3_dot(v, m->radial[i]);
+    vz = v[2];
+    if (!(d->l[i] > 0.0) || !(vz > 0.0))
+      RPS3_ERROR(d, RPS3_EREACH,
+                 "link %d: length %.6g m, ball joint height %.6g m (needs "
+                 "length > 0 and height > 0) at pose (%.6g, %.6g, %.6g)",
+                 i + 1, d->l[i], vz, d->pose[0], d->pose[1], d->pose[2]);
+    /* (39) with atan2, so that theta > pi/2 is found too */
+    d->theta[i] = atan2(vz, -radial);
+  }
+  /* the link directions come from theta, so that phi, dphi and the pin axis
+     are orthonormal to the last bit; b stays as the pose gives it */
+  rps3_link_dirs(m, d);
+  d->have_theta = 1;
+  d->stage = RPS3_STAGE_POS;
+  return RPS3_OK;
+}
+
+void rps3_link_dirs(const rps3_model *m, rps3_data *d) {
+  int i;
+  for (i = 0; i < 3; i++) {
+    double ct = cos(d->theta[i]), st = sin(d->theta[i]);
+    const double *u = m->radial[i];
+    /* (29): phi_l = -cos(theta) u_i + sin(theta) K; dphi = axis x phi */
+    d->phi[i][0] = -ct * u[0];
+    d->phi[i][1] = -ct * u[1];
+    d->phi[i][2] = st;
+    d->dphi[i][0] = st * u[0];
+    d->dphi[i][1] = st * u[1];
+    d->dphi[i][2] = ct;
+  }
+}
+
+void rps3_links_from_joints(const rps3_model *m, rps3_data *d) {
+  int i;
+  rps3_link_dirs(m, d);
+  for (i = 0; i < 3; i++) v3_axpy(d->b[i], m->pin[i], d->l[i], d->phi[i]); /* (12)-(14) */
+}
+
+void rps3_frame_from_balls(const rps3_model *m, rps3_data *d) {
+  double n[3], o[3], a[3];
+  int k;
+  for (k = 0; k < 3; k++) {
+    /* centre (11) */
+    d->c[k] = (d->b[0][k] + d->b[1][k] + d->b[2][k]) / 3.0;
+    /* n from ball 1 (18), o from balls 2 and 3 (19) */
+    n[k] = (d->b[0][k] - d->c[k]) / m->r;
+    o[k] = (d->b[1][k] - d->b[2][k]) / (RPS3_SQRT3 * m->r);
+  }
+  v3_cross(a, n, o); /* (20) */
+  for (k = 0; k < 3; k++) {
+    d->rot[k][0] = n[k];
+    d->rot[k][1] = o[k];
+    d->rot[k][2] = a[k];
+  }
+}
+
+void rps3_constraint_jacobian(const rps3_data *d, double Jl[3][3],
+                              double Jt[3][3]) {
+  int k;
+  for (k = 0; k < 3; k++) {
+    /* f_k = |b_i - b_j|^2 - 3 r^2 for the pairs (1,2), (2,3), (3,1) of
+       (8)-(10); d b_i / d l_i = phi_i, d b_i / d theta_i = l_i dphi_i */
+    int i = k, j = (k + 1) % 3, q;
+    double D[3];
+    v3_sub(D, d->b[i], d->b[j]);
+    for (q = 0; q < 3; q++) Jl[k][q] = Jt[k][q] = 0.0;
+    Jl[k][i] = 2.0 * v3_dot(D, d->phi[i]);
+    Jl[k][j] = -2.0 * v3_dot(D, d->phi[j]);
+    Jt[k][i] = 2.0 * d->l[i] * v3_dot(D, d->dphi[i]);
+    Jt[k][j] = -2.0 * d->l[j] * v3_dot(D, d->dphi[j]);
+  }
+}
+
+void rps3_transform(const rps3_data *d, double T[4][4]) {
+  int i, j;
+  for (i = 0; i < 3; i++) {
+    for (j = 0; j < 3; j++) T[i][j] = d->rot[i][j];
+    T[i][3] = d->c[i];
+    T[3][i] = 0.0;
+  }
+  T[3][3] = 1.0;
+}

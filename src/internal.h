@@ -1,0 +1,125 @@
+/*
+ * internal.h - helpers shared by the library's source files; not installed.
+ */
+#ifndef RPS3_INTERNAL_H
+#define RPS3_INTERNAL_H
+
+#include <math.h>
+#include <stdio.h>
+
+#include "rps3.h"
+
+#define RPS3_SQRT3 1.7320508075688772935
+#define RPS3_PI 3.14159265358979323846
+
+/* C99 does not convert double (*)[3] to const double (*)[3] implicitly */
+#define M3C(A) ((const double(*)[3])(A))
+
+/*
+ * Record an error in d->err and return its code from the calling function.
+ * snprintf writes into the fixed buffer of the data: no allocation, no I/O.
+ */
+#define RPS3_ERROR(d, code_, ...)                                             \
+  do {                                                                        \
+    (d)->err.code = (code_);                                                  \
+    (d)->err.func = __func__;                                                 \
+    (d)->err.file = __FILE__;                                                 \
+    (d)->err.line = __LINE__;                                                 \
+    snprintf((d)->err.msg, sizeof((d)->err.msg), __VA_ARGS__);                \
+    rps3_error_hook((d)->err.code);                                           \
+    return (code_);                                                           \
+  } while (0)
+
+/* An empty function to put a breakpoint on: every error passes here. */
+void rps3_error_hook(int code);
+
+/* internal state of the theta solve, owned by rps3_data */
+struct rps3_solver_state;
+int rps3_solver_alloc(const rps3_model *m, struct rps3_solver_state **out);
+void rps3_solver_free(struct rps3_solver_state *s);
+
+/* positions of the ball joints b_i and the link unit vectors from (l, theta),
+   eqs. (12)-(14) and (29); then the platform frame from b, (11), (18)-(20) */
+void rps3_link_dirs(const rps3_model *m, rps3_data *d);
+void rps3_links_from_joints(const rps3_model *m, rps3_data *d);
+void rps3_frame_from_balls(const rps3_model *m, rps3_data *d);
+
+/* constraint Jacobian blocks of f_k = |b_i - b_j|^2 - 3 r^2 (8)-(10):
+   Jl[k][i] = d f_k / d l_i, Jt[k][i] = d f_k / d theta_i */
+void rps3_constraint_jacobian(const rps3_data *d, double Jl[3][3],
+                              double Jt[3][3]);
+
+/* ----------------------------------------------------------- 3-vectors */
+
+static inline double v3_dot(const double a[3], const double b[3]) {
+  return a[0] * b[0] + a[1] * b[1] + a[2] * b[2];
+}
+
+static inline void v3_cross(double res[3], const double a[3],
+                            const double b[3]) {
+  double t0 = a[1] * b[2] - a[2] * b[1];
+  double t1 = a[2] * b[0] - a[0] * b[2];
+  double t2 = a[0] * b[1] - a[1] * b[0];
+  res[0] = t0;
+  res[1] = t1;
+  res[2] = t2;
+}
+
+/* res = a + s b */
+static inline void v3_axpy(double res[3], const double a[3], double s,
+                           const double b[3]) {
+  res[0] = a[0] + s * b[0];
+  res[1] = a[1] + s * b[1];
+  res[2] = a[2] + s * b[2];
+}
+
+static inline void v3_scale(double res[3], double s, const double a[3]) {
+  res[0] = s * a[0];
+  res[1] = s * a[1];
+  res[2] = s * a[2];
+}
+
+static inline void v3_sub(double res[3], const double a[3],
+                          const double b[3]) {
+  res[0] = a[0] - b[0];
+  res[1] = a[1] - b[1];
+  res[2] = a[2] - b[2];
+}
+
+static inline void v3_copy(double res[3], const double a[3]) {
+  res[0] = a[0];
+  res[1] = a[1];
+  res[2] = a[2];
+}
+
+static inline double v3_norm(const double a[3]) {
+  return sqrt(v3_dot(a, a));
+}
+
+/* res = A v */
+static inline void m3_mulv(double res[3], const double A[3][3],
+                           const double v[3]) {
+  double t0 = A[0][0] * v[0] + A[0][1] * v[1] + A[0][2] * v[2];
+  double t1 = A[1][0] * v[0] + A[1][1] * v[1] + A[1][2] * v[2];
+  double t2 = A[2][0] * v[0] + A[2][1] * v[1] + A[2][2] * v[2];
+  res[0] = t0;
+  res[1] = t1;
+  res[2] = t2;
+}
+
+/* res = A^T v */
+static inline void m3_mulvt(double res[3], const double A[3][3],
+                            const double v[3]) {
+  double t0 = A[0][0] * v[0] + A[1][0] * v[1] + A[2][0] * v[2];
+  double t1 = A[0][1] * v[0] + A[1][1] * v[1] + A[2][1] * v[2];
+  double t2 = A[0][2] * v[0] + A[1][2] * v[1] + A[2][2] * v[2];
+  res[0] = t0;
+  res[1] = t1;
+  res[2] = t2;
+}
+
+static inline int v3_finite(const double a[3]) {
+  return isfinite(a[0]) && isfinite(a[1]) && isfinite(a[2]);
+}
+
+#endif /* RPS3_INTERNAL_H */

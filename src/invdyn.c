@@ -1,0 +1,449 @@
+/*
+ * invdyn.c - inverse dynamics, sections III and V, by two independent
+ * formulations, and the energy-rate certificate.
+ *
+ * Both formulations are linear in the loads of the effects, so each selected
+ * effect is solved on its own right-hand side with one shared factorization;
+ * the shares sum to the total force exactly up to rounding.
+ *
+ * Lagrange (the paper's form, (21)-(24), (34)).  Coordinates q = (l, theta),
+ * constraints f_k = |b_i - b_j|^2 - 3 r^2 ((8)-(10) in metres).  A body
+ * fixed to the platform is a mass distribution x = c + E s, with E = [n o a]
+ * the frame of (18)-(20) written through the ball joints b_i(l_i, theta_i):
+ * c = (b1+b2+b3)/3, n = (2 b1 - b2 - b3)/(3r), o = (b2 - b3)/(sqrt3 r),
+ * a = n x o.  This extends T off the constraint manifold holonomically, so
+ *   d/dt dT/dq' - dT/dq = integral (dx/dq) . x'' dm
+ * exactly, and with first moment h and second moment S of the body in
+ * platform axes
+ *   Q_j = mB dc_j . c'' + dc_j . (E'' h) + (dE_j h) . c''
+ *         + sum_ab S_ab dE_j,a . E''_b.
+ * F does not depend on how T is extended off the manifold (the difference
+ * lies in the span of the constraint gradients and moves only lambda);
+ * lambda does, and is reported for this extension.  Links are point masses
+ * at d from the pin (21), plus an optional centroidal moment.
+ *
+ * Newton-Euler.  The platform (and payload) is a free rigid body loaded by
+ * the ball-joint forces f_i; each link balances moments about its pin axis,
+ * which fixes the component of f_i along dphi_i; the actuator carries the
+ * component along the link, F_i = phi_i . f_i (massless piston).  The six
+ * remaining unknowns (F_i and the component along the pin axis) come from
+ * the platform's six equations.  It uses the Cartesian velocities (vc,
+ * omega) where the Lagrange route uses the joint rates.
+ */
+#include <string.h>
+
+#include "internal.h"
+#include "linalg.h"
+
+/* kinematic quantities of the Lagrange route, per point (on the stack) */
+typedef struct {
+  double bd[3][3], bdd[3][3];       /* ball joint velocity, acceleration */
+  double n[3], o[3], a[3];          /* frame columns */
+  double cdd[3], ndd[3], odd[3], add[3]; /* second time derivatives */
+  double dc[6][3], dn[6][3], dod[6][3], da[6][3]; /* partials wrt q_j */
+} lag_kin;
+
+static const double WN[3] = {2.0, -1.0, -1.0}; /* n = sum WN_i b_i / (3r) */
+static const double WO[3] = {0.0, 1.0, -1.0};  /* o = sum WO_i b_i/(sqrt3 r) */
+
+static void lagrange_kinematics(const rps3_model *m, const rps3_data *d,
+                                lag_kin *k, int need_a, int need_acc) {
+  double nd[3] = {0, 0, 0}, od[3] = {0, 0, 0}, t[3];
+  const double cn = 1.0 / (3.0 * m->r), co = 1.0 / (RPS3_SQRT3 * m->r);
+  int i, j;
+  for (i = 0; i < 3; i++) {
+    k->n[i] = d->rot[i][0];
+    k->o[i] = d->rot[i][1];
+    k->a[i] = d->rot[i][2];
+    k->cdd[i] = k->ndd[i] = k->odd[i] = 0.0;
+  }
+  /* a static scene reads no rates: they are not computed for it */
+  for (i = 0; i < 3 && need_acc; i++) {
+    double l = d->l[i], ld = d->dl[i], th = d->dtheta[i];
+    /* b' = l' phi + l th' dphi; b'' = (l'' - l th'^2) phi + (2 l' th' + l
+       th'') dphi, from (12)-(14) */
+    v3_scale(k->bd[i], ld, d->phi[i]);
+    v3_axpy(k->bd[i], k->bd[i], l * th, d->dphi[i]);
+    v3_scale(k->bdd[i], d->ddl[i] - l * th * th, d->phi[i]);
+    v3_axpy(k->bdd[i], k->bdd[i], 2.0 * ld * th + l * d->ddtheta[i],
+            d->dphi[i]);
+    v3_axpy(k->cdd, k->cdd, 1.0 / 3.0, k->bdd[i]);
+    v3_axpy(k->ndd, k->ndd, WN[i] * cn, k->bdd[i]);
+    v3_axpy(k->odd, k->odd, WO[i] * co, k->bdd[i]);
+    v3_axpy(nd, nd, WN[i] * cn, k->bd[i]);
+    v3_axpy(od, od, WO[i] * co, k->bd[i]);
+  }
+  /* partials: q_j = l_j (j < 3) moves b_j along phi_j, q_j = theta_{j-3}
+     along l dphi */
+  for (j = 0; j < 6; j++) {
+    int i3 = j % 3;
+    double dl[3];
+    if (j < 3)
+      v3_copy(dl, d->phi[i3]);
+    else
+      v3_scale(dl, d->l[i3], d->dphi[i3]);
+    v3_scale(k->dc[j], 1.0 / 3.0, dl);
+    v3_scale(k->dn[j], WN[i3] * cn, dl);
+    v3_scale(k->dod[j], WO[i3] * co, dl);
+    if (need_a) {
+      v3_cross(k->da[j], k->dn[j], k->o);
+      v3_cross(t, k->n, k->dod[j]);
+      v3_axpy(k->da[j], k->da[j], 1.0, t);
+    }
+  }
+  if (need_a && need_acc) {
+    /* a'' = n'' x o + 2 n' x o' + n x o'' */
+    v3_cross(k->add, k->ndd, k->o);
+    v3_cross(t, nd, od);
+    v3_axpy(k->add, k->add, 2.0, t);
+    v3_cross(t, k->n, k->odd);
+    v3_axpy(k->add, k->add, 1.0, t);
+  }
+}
+
+/* generalized inertial (and gravity) load of a body fixed to the platform:
+   mass mb, first moment h, second moment S (platform axes) */
+static void body_load(const lag_kin *k, double mb, const double h[3],
+                      const double S[3][3], double g, int inertia,
+                      int gravity, double w[6]) {
+  const double *E2[3] = {k->ndd, k->odd, k->add};
+  double Eh[3];
+  int j, p, q;
+  /* E'' h */
+  for (p = 0; p < 3; p++)
+    Eh[p] = k->ndd[p] * h[0] + k->odd[p] * h[1] + k->add[p] * h[2];
+  for (j = 0; j < 6; j++) {
+    const double *dE[3] = {k->dn[j], k->dod[j], k->da[j]};
+    double dEh[3], s = 0.0;
+    for (p = 0; p < 3; p++)
+      dEh[p] = dE[0][p] * h[0] + dE[1][p] * h[1] + dE[2][p] * h[2];
+    if (inertia) {
+      s += mb * v3_dot(k->dc[j], k->cdd) + v3_dot(k->dc[j], Eh) +
+           v3_dot(dEh, k->cdd);
+      for (p = 0; p < 3; p++)
+        for (q = 0; q < 3; q++)
+          if (S[p][q] != 0.0) s += S[p][q] * v3_dot(dE[p], E2[q]);
+    }
+    if (gravity) s += g * (mb * k->dc[j][2] + dEh[2]);
+    w[j] = s;
+  }
+}
+
+/* payload first and second moments about the platform centre, platform axes */
+static void payload_moments(const rps3_model *m, double h[3], double S[3][3]) {
+  const rps3_payload *p = &m->payload;
+  double tr = 0.5 * (p->inertia[0] + p->inertia[1] + p->inertia[2]);
+  int i, j;
+  for (i = 0; i < 3; i++) {
+    h[i] = p->mass * p->com[i];
+    for (j = 0; j < 3; j++)
+      S[i][j] = p->mass * p->com[i] * p->com[j] + (i == j ? tr - p->inertia[i] : 0.0);
+  }
+}
+
+static double sgn(double x) { return (x > 0) - (x < 0); }
+
+/* friction torque about pin axis i, opposing theta-dot (T_{i-3} of (23)) */
+static double friction_torque(const rps3_model *m, double dtheta) {
+  return -(m->friction.viscous * dtheta + m->friction.coulomb * sgn(dtheta));
+}
+
+/*
+ * The loads of effect e as the left-hand side of (23): w[0..2] on l_i,
+ * w[3..5] on theta_i (generalized applied torques enter with a minus sign).
+ */
+static void lagrange_effect(const rps3_model *m, const rps3_data *d,
+                            const lag_kin *k, int e, double w[6]) {
+  static const double zero3[3] = {0, 0, 0};
+  double S[3][3] = {{0, 0, 0}, {0, 0, 0}, {0, 0, 0}}, h[3];
+  int i;
+  memset(w, 0, 6 * sizeof(double));
+  switch (1 << e) {
+  case RPS3_EFF_PLATFORM_GRAVITY:
+    /* (22): M g z_c */
+    body_load(k, m->M, zero3, M3C(S), m->g, 0, 1, w);
+    break;
+  case RPS3_EFF_PLATFORM_INERTIA:
+    /* (21): uniform disc, second moments Mr^2/4 in its plane, 0 across */
+    S[0][0] = S[1][1] = 0.25 * m->M * m->r * m->r;
+    body_load(k, m->M, zero3, M3C(S), 0.0, 1, 0, w);
+    break;
+  case RPS3_EFF_PAYLOAD:
+    payload_moments(m, h, S);
+    body_load(k, m->payload.mass, h, M3C(S), m->g, 1, 1, w);
+    break;
+  case RPS3_EFF_LINK_GRAVITY:
+    /* (22): m g d sin(theta_i) */
+    for (i = 0; i < 3; i++) w[3 + i] = m->m * m->g * m->d * cos(d->theta[i]);
+    break;
+  case RPS3_EFF_LINK_INERTIA:
+    /* (21): (m d^2 + I_c) theta'' */
+    for (i = 0; i < 3; i++) w[3 + i] = m->Jlink * d->ddtheta[i];
+    break;
+  case RPS3_EFF_PIN_FRICTION:
+    for (i = 0; i < 3; i++) w[3 + i] = -friction_torque(m, d->dtheta[i]);
+    break;
+  default:
+    break;
+  }
+}
+
+static int lagrange(const rps3_model *m, rps3_data *d, double Jl[3][3],
+                    double LU[9], const int perm[3]) {
+  lag_kin k;
+  int e, i, q;
+  int eff = m->opt.effects;
+  lagrange_kinematics(m, d, &k, (eff & RPS3_EFF_PAYLOAD) != 0,
+                      (eff & (RPS3_EFF_PLATFORM_INERTIA | RPS3_EFF_PAYLOAD)) != 0);
+  for (e = 0; e < RPS3_NEFFECT; e++) {
+    double w[6], lam[3];
+    if (!(eff & (1 << e))) continue;
+    lagrange_effect(m, d, &k, e, w);
+    /* theta rows of (23): (df/dtheta)^T lambda = -w_theta */
+    for (i = 0; i < 3; i++) lam[i] = -w[3 + i];
+    rps3_lu_solve(3, LU, perm, lam);
+    /* l rows, (34): F_i = w_l,i + sum_k lambda_k df_k/dl_i */
+    for (i = 0; i < 3; i++) {
+      double f = w[i];
+      for (q = 0; q < 3; q++) f += lam[q] * Jl[q][i];
+      d->F_effect[e][i] = f;
+      d->F[i] += f;
+      d->lambda[i] += lam[i];
+    }
+  }
+  d->has_lambda = 1;
+  return RPS3_OK;
+}
+
+/* world inertia tensor rot diag(I) rot^T applied to v */
+static void inertia_world(double res[3], const double rot[3][3],
+                          const double I[3], const double v[3]) {
+  double t[3];
+  m3_mulvt(t, M3C(rot), v);
+  t[0] *= I[0];
+  t[1] *= I[1];
+  t[2] *= I[2];
+  m3_mulv(res, M3C(rot), t);
+}
+
+/* Euler: I w' + w x I w, world axes */
+static void euler_moment(double res[3], const double rot[3][3],
+                         const double I[3], const double w[3],
+                         const double dw[3]) {
+  double Iw[3], t[3];
+  inertia_world(res, rot, I, dw);
+  inertia_world(Iw, rot, I, w);
+  v3_cross(t, w, Iw);
+  v3_axpy(res, res, 1.0, t);
+}
+
+/* payload centre of mass offset (world) and its acceleration */
+static void payload_kin(const rps3_model *m, const rps3_data *d,
+                        double rg[3], double vg[3], double ag[3]) {
+  double t[3];
+  m3_mulv(rg, M3C(d->rot), m->payload.com);
+  v3_cross(t, d->omega, rg);
+  v3_axpy(vg, d->vc, 1.0, t);
+  v3_cross(ag, d->domega, rg);
+  v3_axpy(ag, ag, 1.0, d->ac);
+  v3_cross(t, d->omega, rg);
+  v3_cross(t, d->omega, t);
+  v3_axpy(ag, ag, 1.0, t);
+}
+
+/*
+ * Newton-Euler loads of effect e: the wrench (force wf, moment wm about the
+ * centre) the links must apply to the platform, and the component s_i of
+ * each ball force along dphi_i fixed by link i's moment balance about its
+ * pin:  Jlink theta'' = -l s - m g d cos(theta) + T_fric.
+ */
+static void ne_effect(const rps3_model *m, const rps3_data *d, int e,
+                      double wf[3], double wm[3], double s[3]) {
+  double rg[3], vg[3], ag[3];
+  int i;
+  for (i = 0; i < 3; i++) wf[i] = wm[i] = s[i] = 0.0;
+  switch (1 << e) {
+  case RPS3_EFF_PLATFORM_GRAVITY:
+    wf[2] = m->M * m->g;
+    break;
+  case RPS3_EFF_PLATFORM_INERTIA:
+    v3_scale(wf, m->M, d->ac);
+    euler_moment(wm, M3C(d->rot), m->Ip, d->omega, d->domega);
+    break;
+  case RPS3_EFF_PAYLOAD:
+    payload_kin(m, d, rg, vg, ag);
+    v3_scale(wf, m->payload.mass, ag);
+    wf[2] += m->payload.mass * m->g;
+    v3_cross(wm, rg, wf);
+    {
+      double t[3];
+      euler_moment(t, M3C(d->rot), m->payload.inertia, d->omega, d->domega);
+      v3_axpy(wm, wm, 1.0, t);
+    }
+    break;
+  case RPS3_EFF_LINK_GRAVITY:
+    for (i = 0; i < 3; i++)
+      s[i] = -m->m * m->g * m->d * cos(d->theta[i]) / d->l[i];
+    break;
+  case RPS3_EFF_LINK_INERTIA:
+    for (i = 0; i < 3; i++) s[i] = -m->Jlink * d->ddtheta[i] / d->l[i];
+    break;
+  case RPS3_EFF_PIN_FRICTION:
+    for (i = 0; i < 3; i++) s[i] = friction_torque(m, d->dtheta[i]) / d->l[i];
+    break;
+  default:
+    break;
+  }
+}
+
+static int newton_euler(const rps3_model *m, rps3_data *d) {
+  double A[36], LU[36], rho[3][3], t[3];
+  int perm[6], i, e, r;
+  int eff = m->opt.effects;
+  /* unknowns x = (F_1, F_2, F_3, tau_1, tau_2, tau_3): f_i = F_i phi_i +
+     s_i dphi_i + tau_i axis_i; rows: force (3), moment about c (3) */
+  for (i = 0; i < 3; i++) {
+    v3_sub(rho[i], d->b[i], d->c);
+    for (r = 0; r < 3; r++) {
+      A[6 * r + i] = d->phi[i][r];
+      A[6 * r + 3 + i] = m->axis[i][r];
+    }
+    v3_cross(t, rho[i], d->phi[i]);
+    for (r = 0; r < 3; r++) A[6 * (3 + r) + i] = t[r];
+    v3_cross(t, rho[i], m->axis[i]);
+    for (r = 0; r < 3; r++) A[6 * (3 + r) + 3 + i] = t[r];
+  }
+  memcpy(LU, A, sizeof(A));
+  if (rps3_lu_factor(6, LU, perm) != 0)
+    RPS3_ERROR(d, RPS3_ESING, "Newton-Euler system is singular");
+  for (e = 0; e < RPS3_NEFFECT; e++) {
+    double wf[3], wm[3], s[3], x[6];
+    if (!(eff & (1 << e))) continue;
+    ne_effect(m, d, e, wf, wm, s);
+    for (i = 0; i < 3; i++) {
+      v3_axpy(wf, wf, -s[i], d->dphi[i]);
+      v3_cross(t, rho[i], d->dphi[i]);
+      v3_axpy(wm, wm, -s[i], t);
+    }
+    for (r = 0; r < 3; r++) {
+      x[r] = wf[r];
+      x[3 + r] = wm[r];
+    }
+    rps3_lu_solve(6, LU, perm, x);
+    for (i = 0; i < 3; i++) {
+      d->F_effect[e][i] = x[i];
+      d->F[i] += x[i];
+    }
+  }
+  d->has_lambda = 0;
+  return RPS3_OK;
+}
+
+/*
+ * Energy-rate certificate: sum F_i l_i' + sum T_i theta_i' = d(T + P)/dt,
+ * with T and P of the selected effects written from the Cartesian motion
+ * (vc, omega, their derivatives) and the link rates, independently of the
+ * force computation.
+ */
+static void certify(const rps3_model *m, rps3_data *d) {
+  int eff = m->opt.effects, i;
+  double dT = 0.0, dP = 0.0, fp = 0.0, pw = 0.0, scale = 0.0, t[3];
+  for (i = 0; i < 3; i++) {
+    pw += d->F[i] * d->dl[i];
+    scale += fabs(d->F[i] * d->dl[i]);
+  }
+  if (eff & RPS3_EFF_PLATFORM_GRAVITY) {
+    double v = m->M * m->g * d->vc[2];
+    dP += v;
+    scale += fabs(v);
+  }
+  if (eff & RPS3_EFF_PLATFORM_INERTIA) {
+    double v1 = m->M * v3_dot(d->vc, d->ac), v2;
+    inertia_world(t, M3C(d->rot), m->Ip, d->domega);
+    v2 = v3_dot(d->omega, t);
+    dT += v1 + v2;
+    scale += fabs(v1) + fabs(v2);
+  }
+  if (eff & RPS3_EFF_PAYLOAD) {
+    double rg[3], vg[3], ag[3], v1, v2, v3;
+    payload_kin(m, d, rg, vg, ag);
+    v1 = m->payload.mass * v3_dot(vg, ag);
+    inertia_world(t, M3C(d->rot), m->payload.inertia, d->domega);
+    v2 = v3_dot(d->omega, t);
+    v3 = m->payload.mass * m->g * vg[2];
+    dT += v1 + v2;
+    dP += v3;
+    scale += fabs(v1) + fabs(v2) + fabs(v3);
+  }
+  for (i = 0; i < 3; i++) {
+    if (eff & RPS3_EFF_LINK_GRAVITY) {
+      double v = m->m * m->g * m->d * cos(d->theta[i]) * d->dtheta[i];
+      dP += v;
+      scale += fabs(v);
+    }
+    if (eff & RPS3_EFF_LINK_INERTIA) {
+      double v = m->Jlink * d->dtheta[i] * d->ddtheta[i];
+      dT += v;
+      scale += fabs(v);
+    }
+    if (eff & RPS3_EFF_PIN_FRICTION) {
+      double v = friction_torque(m, d->dtheta[i]) * d->dtheta[i];
+      fp += v;
+      scale += fabs(v);
+    }
+  }
+  d->power = pw;
+  d->dTdt = dT;
+  d->dPdt = dP;
+  d->friction_power = fp;
+  d->energy_residual = pw + fp - dT - dP;
+  d->energy_scale = scale;
+}
+
+int rps3_invdyn(const rps3_model *m, rps3_data *d) {
+  double Jl[3][3], Jt[3][3], A[9], LU[9];
+  int perm[3], i, k, status, need_rates;
+  if (m == NULL || d == NULL || !m->valid) return RPS3_EINVAL;
+  if (!(d->stage & RPS3_STAGE_POS))
+    RPS3_ERROR(d, RPS3_ESTATE, "inverse dynamics needs positions");
+  need_rates = (m->opt.effects & RPS3_EFF_DYNAMIC) || m->opt.certify;
+  if (need_rates && (d->stage & (RPS3_STAGE_VEL | RPS3_STAGE_ACC)) !=
+                        (RPS3_STAGE_VEL | RPS3_STAGE_ACC))
+    RPS3_ERROR(d, RPS3_ESTATE,
+               "the selected effects (or certify) need velocities and "
+               "accelerations");
+  d->stage &= ~RPS3_STAGE_DYN;
+  memset(d->F, 0, sizeof(d->F));
+  memset(d->F_effect, 0, sizeof(d->F_effect));
+  memset(d->lambda, 0, sizeof(d->lambda));
+  d->warn &= ~RPS3_WARN_ILLCOND;
+
+  /* the lambda system (df/dtheta)^T: its conditioning flags singular
+     configurations for both formulations */
+  rps3_constraint_jacobian(d, Jl, Jt);
+  for (i = 0; i < 3; i++)
+    for (k = 0; k < 3; k++) A[3 * i + k] = LU[3 * i + k] = Jt[k][i];
+  if (rps3_lu_factor(3, LU, perm) != 0) {
+    d->cond = HUGE_VAL;
+    RPS3_ERROR(d, RPS3_ESING,
+               "lambda system singular (zero pivot) at theta = (%.6g, %.6g, "
+               "%.6g)", d->theta[0], d->theta[1], d->theta[2]);
+  }
+  d->cond = rps3_lu_cond1(3, A, LU, perm);
+  if (!(d->cond <= m->opt.cond_max))
+    RPS3_ERROR(d, RPS3_ESING,
+               "lambda system condition number %.3g exceeds cond_max %.3g",
+               d->cond, m->opt.cond_max);
+  if (d->cond > m->opt.cond_warn) d->warn |= RPS3_WARN_ILLCOND;
+
+  status = (m->opt.method == RPS3_LAGRANGE) ? lagrange(m, d, Jl, LU, perm)
+                                            : newton_euler(m, d);
+  if (status != RPS3_OK) return status;
+  if (m->opt.certify)
+    certify(m, d);
+  else
+    d->power = d->dTdt = d->dPdt = d->friction_power = d->energy_residual =
+        d->energy_scale = 0.0;
+  d->stage |= RPS3_STAGE_DYN;
+  return RPS3_OK;
+}

@@ -1,0 +1,18 @@
+/* linalg.h - small dense LU with partial pivoting (n <= RPS3_LU_NMAX). */
+#ifndef RPS3_LINALG_H
+#define RPS3_LINALG_H
+
+#define RPS3_LU_NMAX 6
+
+/* Factor the row-major n x n matrix A in place (L unit lower, U upper) with
+   row swaps perm.  Returns 0, or -1 on a zero or non-finite pivot. */
+int rps3_lu_factor(int n, double *A, int *perm);
+
+/* Solve with a factorization from rps3_lu_factor; x holds b on entry. */
+void rps3_lu_solve(int n, const double *LU, const int *perm, double *x);
+
+/* 1-norm condition number of A, given A and its factorization. */
+double rps3_lu_cond1(int n, const double *A, const double *LU,
+                     const int *perm);
+
+#endif

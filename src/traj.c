@@ -1,0 +1,142 @@
+/*
+ * traj.c - trajectories with exact first and second derivatives.  The
+ * paper's helix (section VI, Tables I-II) and a sinusoid per pose
+ * coordinate.  A new kind adds a struct to rps3_traj, a check and an eval.
+ */
+#include <string.h>
+
+#include "internal.h"
+
+void rps3_traj_default(rps3_traj *tr) {
+  memset(tr, 0, sizeof(*tr));
+  tr->kind = RPS3_TRAJ_HELIX;
+  /* Table II (r* = 0.266 mm, see the errata) */
+  tr->helix.radius = 0.266e-3;
+  tr->helix.pitch = 0.03048;
+  tr->helix.z0 = 0.3048;
+  tr->helix.period = 10.0;
+  tr->helix.blend = 1.0;
+}
+
+static int bad(char *err, size_t errsz, const char *field, double v,
+               const char *why) {
+  if (err != NULL && errsz > 0)
+    snprintf(err, errsz, "%s = %.17g: %s", field, v, why);
+  return RPS3_EINVAL;
+}
+
+int rps3_traj_check(const rps3_model *m, const rps3_traj *tr, char *err,
+                    size_t errsz) {
+  int k;
+  if (m == NULL || tr == NULL || !m->valid) {
+    if (err != NULL && errsz > 0)
+      snprintf(err, errsz, "model not initialised or trajectory NULL");
+    return RPS3_EINVAL;
+  }
+  if (tr->kind == RPS3_TRAJ_HELIX) {
+    const rps3_helix *h = &tr->helix;
+    if (!(isfinite(h->radius) && h->radius >= 0 && h->radius < 0.5 * m->r))
+      return bad(err, errsz, "trajectory.radius", h->radius,
+                 "needs 0 <= r* < r/2 = rho R / 2 (cos beta = 1 - 2 r* / r)");
+    if (!isfinite(h->pitch))
+      return bad(err, errsz, "trajectory.pitch", h->pitch, "must be finite");
+    if (!(isfinite(h->z0) && h->z0 > 0))
+      return bad(err, errsz, "trajectory.z0", h->z0, "must be finite and > 0");
+    if (!(isfinite(h->period) && h->period > 0))
+      return bad(err, errsz, "trajectory.period", h->period,
+                 "must be finite and > 0");
+    if (!(isfinite(h->blend) && h->blend > 0 && h->blend <= 0.5 * h->period))
+      return bad(err, errsz, "trajectory.blend", h->blend,
+                 "needs 0 < t_a <= T* / 2");
+    return RPS3_OK;
+  }
+  if (tr->kind == RPS3_TRAJ_SINE) {
+    const rps3_sine *s = &tr->sine;
+    static const char *const names[4][3] = {
+        {"trajectory.mean[0]", "trajectory.mean[1]", "trajectory.mean[2]"},
+        {"trajectory.amp[0]", "trajectory.amp[1]", "trajectory.amp[2]"},
+        {"trajectory.freq[0]", "trajectory.freq[1]", "trajectory.freq[2]"},
+        {"trajectory.phase[0]", "trajectory.phase[1]", "trajectory.phase[2]"}};
+    for (k = 0; k < 3; k++) {
+      if (!isfinite(s->mean[k])) return bad(err, errsz, names[0][k], s->mean[k], "must be finite");
+      if (!isfinite(s->amp[k])) return bad(err, errsz, names[1][k], s->amp[k], "must be finite");
+      if (!(isfinite(s->freq[k]) && s->freq[k] >= 0))
+        return bad(err, errsz, names[2][k], s->freq[k], "must be finite and >= 0");
+      if (!isfinite(s->phase[k])) return bad(err, errsz, names[3][k], s->phase[k], "must be finite");
+    }
+    if (!(isfinite(s->duration) && s->duration > 0))
+      return bad(err, errsz, "trajectory.duration", s->duration,
+                 "must be finite and > 0");
+    return RPS3_OK;
+  }
+  return bad(err, errsz, "trajectory.kind", (double)tr->kind, "unknown kind");
+}
+
+double rps3_traj_duration(const rps3_traj *tr) {
+  if (tr == NULL) return 0.0;
+  if (tr->kind == RPS3_TRAJ_HELIX) return tr->helix.period;
+  if (tr->kind == RPS3_TRAJ_SINE) return tr->sine.duration;
+  return 0.0;
+}
+
+/* phi(t) of Table I: linear segment with parabolic blends, phi(T*) = 2 pi.
+   A sample on a corner takes the segment that starts there; t = T* the
+   last segment's end. */
+static void helix_phi(const rps3_helix *h, double t, double out[3]) {
+  double ta = h->blend, T = h->period, tb = T - ta;
+  double wmax = 2.0 * RPS3_PI / (T - ta); /* Table II: 2 pi / 9 rad/s */
+  double acc = wmax / ta;
+  if (t < ta) {
+    out[0] = 0.5 * acc * t * t;
+    out[1] = acc * t;
+    out[2] = acc;
+  } else if (t < tb) {
+    out[0] = wmax * (t - 0.5 * ta);
+    out[1] = wmax;
+    out[2] = 0.0;
+  } else {
+    double tau = T - t;
+    out[0] = 2.0 * RPS3_PI - 0.5 * acc * tau * tau;
+    out[1] = acc * tau;
+    out[2] = -acc;
+  }
+}
+
+int rps3_traj_eval(const rps3_model *m, const rps3_traj *tr, double t,
+                   double pose[3], double dpose[3], double ddpose[3]) {
+  double q[3], dq[3], ddq[3];
+  int k;
+  if (m == NULL || tr == NULL || !m->valid || !isfinite(t)) return RPS3_EINVAL;
+  if (t < 0.0 || t > rps3_traj_duration(tr)) return RPS3_EDOMAIN;
+  if (tr->kind == RPS3_TRAJ_HELIX) {
+    const rps3_helix *h = &tr->helix;
+    double phi[3];
+    helix_phi(h, t, phi);
+    /* Table I: alpha = -phi/2 + pi/2 (36) with n = 1 */
+    q[0] = -0.5 * phi[0] + 0.5 * RPS3_PI;
+    dq[0] = -0.5 * phi[1];
+    ddq[0] = -0.5 * phi[2];
+    /* (37) corrected: 1 - cos(beta) = 2 r* / r, i.e. sin(beta/2) = sqrt(r* / r) */
+    q[1] = 2.0 * asin(sqrt(h->radius / m->r));
+    dq[1] = ddq[1] = 0.0;
+    q[2] = h->z0 + h->pitch * t / h->period;
+    dq[2] = h->pitch / h->period;
+    ddq[2] = 0.0;
+  } else if (tr->kind == RPS3_TRAJ_SINE) {
+    const rps3_sine *s = &tr->sine;
+    for (k = 0; k < 3; k++) {
+      double w = 2.0 * RPS3_PI * s->freq[k], ph = w * t + s->phase[k];
+      q[k] = s->mean[k] + s->amp[k] * sin(ph);
+      dq[k] = s->amp[k] * w * cos(ph);
+      ddq[k] = -s->amp[k] * w * w * sin(ph);
+    }
+  } else {
+    return RPS3_EINVAL;
+  }
+  for (k = 0; k < 3; k++) {
+    if (pose != NULL) pose[k] = q[k];
+    if (dpose != NULL) dpose[k] = dq[k];
+    if (ddpose != NULL) ddpose[k] = ddq[k];
+  }
+  return RPS3_OK;
+}

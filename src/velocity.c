@@ -1,0 +1,282 @@
+/*
+ * velocity.c - velocities and accelerations, section IV, eqs. (25)-(33),
+ * by two routes: from the pose rates (alpha, beta, z_c) and from the link
+ * rates through the constraint Jacobian.  Tests check one against the other
+ * and both against central differences of positions.
+ */
+#include "internal.h"
+#include "linalg.h"
+
+/*
+ * Angular velocity (or acceleration) of the platform from the motion of its
+ * three ball joints relative to the centre: u_i = omega x rho_i.  For three
+ * points at 120 degrees in the plane normal to a,
+ *   sum rho_i x u_i = (3 r^2 / 2) (omega + (a . omega) a),
+ * which inverts in closed form.  This is (26)-(28) solved for omega.
+ */
+static void omega_from_balls(double omega[3], const double rho[3][3],
+                             const double u[3][3], const double a[3],
+                             double r) {
+  double w[3] = {0, 0, 0}, t[3], s;
+  int i;
+  for (i = 0; i < 3; i++) {
+    v3_cross(t, rho[i], u[i]);
+    v3_axpy(w, w, 1.0, t);
+  }
+  v3_scale(w, 2.0 / (3.0 * r * r), w);
+  s = 0.5 * v3_dot(a, w);
+  v3_axpy(omega, w, -s, a);
+}
+
+/* solve (df/dtheta) x = rhs; RPS3_ESING when singular */
+static int solve_jt(const rps3_model *m, rps3_data *d, double Jt[3][3],
+                    double x[3]) {
+  double LU[9];
+  int perm[3], i, k;
+  for (i = 0; i < 3; i++)
+    for (k = 0; k < 3; k++) LU[3 * i + k] = Jt[i][k];
+  if (rps3_lu_factor(3, LU, perm) != 0)
+    RPS3_ERROR(d, RPS3_ESING, "constraint Jacobian df/dtheta is singular");
+  (void)m;
+  rps3_lu_solve(3, LU, perm, x);
+  return RPS3_OK;
+}
+
+int rps3_velocity(const rps3_model *m, rps3_data *d) {
+  double ca, sa, sb, vb, C, S, da, db, dvb, w[3], rho[3], bd[3];
+  int i;
+  if (m == NULL || d == NULL || !m->valid) return RPS3_EINVAL;
+  if (!(d->stage & RPS3_STAGE_POS))
+    RPS3_ERROR(d, RPS3_ESTATE, "velocity needs positions (rps3_ik or rps3_fk)");
+  if (!v3_finite(d->dpose))
+    RPS3_ERROR(d, RPS3_EINVAL, "dpose (%g, %g, %g) is not finite",
+               d->dpose[0], d->dpose[1], d->dpose[2]);
+  d->stage &= RPS3_STAGE_POS;
+  ca = cos(d->pose[0]);
+  sa = sin(d->pose[0]);
+  sb = sin(d->pose[1]);
+  vb = 2.0 * sin(0.5 * d->pose[1]) * sin(0.5 * d->pose[1]);
+  C = ca * ca - sa * sa;
+  S = 2.0 * sa * ca;
+  da = d->dpose[0];
+  db = d->dpose[1];
+
+  /* omega of Rz(alpha) Ry(beta) Rz(-alpha): alpha-dot (e_z - a) plus
+     beta-dot about the node line e_beta = (-sin a, cos a, 0) */
+  w[0] = -da * sb * ca - db * sa;
+  w[1] = -da * sb * sa + db * ca;
+  w[2] = da * vb;
+  v3_copy(d->omega, w);
+
+  /* centre velocity: derivative of (3)-(4), then z_c */
+  dvb = sb * db;
+  d->vc[0] = -0.5 * m->r * (dvb * C - 2.0 * vb * S * da);
+  d->vc[1] = 0.5 * m->r * (dvb * S + 2.0 * vb * C * da);
+  d->vc[2] = d->dpose[2];
+
+  /* ball joints (26), then the joint rates from (28) */
+  for (i = 0; i < 3; i++) {
+    v3_sub(rho, d->b[i], d->c);
+    v3_cross(bd, d->omega, rho);
+    v3_axpy(bd, bd, 1.0, d->vc);
+    d->dl[i] = v3_dot(d->phi[i], bd);
+    d->dtheta[i] = v3_dot(d->dphi[i], bd) / d->l[i];
+  }
+  d->stage |= RPS3_STAGE_VEL;
+  return RPS3_OK;
+}
+
+int rps3_acceleration(const rps3_model *m, rps3_data *d) {
+  double ca, sa, sb, cb, vb, C, S, da, db, dda, ddb, dvb, ddvb, dC, dS, ddC,
+      ddS, a[3], ez_a[3], adot[3], t[3], rho[3], bdd[3];
+  int i;
+  if (m == NULL || d == NULL || !m->valid) return RPS3_EINVAL;
+  if (!(d->stage & RPS3_STAGE_VEL))
+    RPS3_ERROR(d, RPS3_ESTATE, "acceleration needs rps3_velocity first");
+  if (!v3_finite(d->ddpose))
+    RPS3_ERROR(d, RPS3_EINVAL, "ddpose (%g, %g, %g) is not finite",
+               d->ddpose[0], d->ddpose[1], d->ddpose[2]);
+  d->stage &= RPS3_STAGE_POS | RPS3_STAGE_VEL;
+  ca = cos(d->pose[0]);
+  sa = sin(d->pose[0]);
+  sb = sin(d->pose[1]);
+  cb = cos(d->pose[1]);
+  vb = 2.0 * sin(0.5 * d->pose[1]) * sin(0.5 * d->pose[1]);
+  C = ca * ca - sa * sa;
+  S = 2.0 * sa * ca;
+  da = d->dpose[0];
+  db = d->dpose[1];
+  dda = d->ddpose[0];
+  ddb = d->ddpose[1];
+
+  /* d/dt of omega = da (e_z - a) + db e_beta */
+  a[0] = sb * ca;
+  a[1] = sb * sa;
+  a[2] = cb;
+  ez_a[0] = -a[0];
+  ez_a[1] = -a[1];
+  ez_a[2] = vb;
+  v3_cross(adot, d->omega, a);
+  d->domega[0] = dda * ez_a[0] - da * adot[0] - ddb * sa - db * da * ca;
+  d->domega[1] = dda * ez_a[1] - da * adot[1] + ddb * ca - db * da * sa;
+  d->domega[2] = dda * ez_a[2] - da * adot[2];
+
+  /* centre: second derivative of (3)-(4) */
+  dvb = sb * db;
+  ddvb = cb * db * db + sb * ddb;
+  dC = -2.0 * S * da;
+  dS = 2.0 * C * da;
+  ddC = -4.0 * C * da * da - 2.0 * S * dda;
+  ddS = -4.0 * S * da * da + 2.0 * C * dda;
+  d->ac[0] = -0.5 * m->r * (ddvb * C + 2.0 * dvb * dC + vb * ddC);
+  d->ac[1] = 0.5 * m->r * (ddvb * S + 2.0 * dvb * dS + vb * ddS);
+  d->ac[2] = d->ddpose[2];
+
+  /* ball joints, then joint accelerations: b'' = (l'' - l th'^2) phi +
+     (2 l' th' + l th'') dphi */
+  for (i = 0; i < 3; i++) {
+    v3_sub(rho, d->b[i], d->c);
+    v3_cross(bdd, d->domega, rho);
+    v3_cross(t, d->omega, rho);
+    v3_cross(t, d->omega, t);
+    v3_axpy(bdd, bdd, 1.0, t);
+    v3_axpy(bdd, bdd, 1.0, d->ac);
+    d->ddl[i] = v3_dot(d->phi[i], bdd) + d->l[i] * d->dtheta[i] * d->dtheta[i];
+    d->ddtheta[i] =
+        (v3_dot(d->dphi[i], bdd) - 2.0 * d->dl[i] * d->dtheta[i]) / d->l[i];
+  }
+  d->stage |= RPS3_STAGE_ACC;
+  return RPS3_OK;
+}
+
+/* pose rates from omega and vc; alpha-dot is not defined at beta = 0 */
+static void pose_rates(rps3_data *d) {
+  double ca = cos(d->pose[0]), sa = sin(d->pose[0]), sb = sin(d->pose[1]);
+  double vb = 2.0 * sin(0.5 * d->pose[1]) * sin(0.5 * d->pose[1]);
+  double ez_a[3] = {-sb * ca, -sb * sa, vb};
+  d->dpose[1] = -d->omega[0] * sa + d->omega[1] * ca;
+  if (vb > 1e-18) {
+    d->dpose[0] = v3_dot(d->omega, ez_a) / (2.0 * vb);
+  } else {
+    d->dpose[0] = 0.0;
+    d->warn |= RPS3_WARN_ALPHA;
+  }
+  d->dpose[2] = d->vc[2];
+}
+
+int rps3_joint_velocity(const rps3_model *m, rps3_data *d) {
+  double Jl[3][3], Jt[3][3], x[3], bd[3][3], rho[3][3], u[3][3], a[3];
+  int i, status;
+  if (m == NULL || d == NULL || !m->valid) return RPS3_EINVAL;
+  if (!(d->stage & RPS3_STAGE_POS))
+    RPS3_ERROR(d, RPS3_ESTATE, "joint velocity needs positions");
+  if (!v3_finite(d->dl))
+    RPS3_ERROR(d, RPS3_EINVAL, "dl (%g, %g, %g) is not finite", d->dl[0],
+               d->dl[1], d->dl[2]);
+  d->stage &= RPS3_STAGE_POS;
+  /* theta-dot from the constraint rates: Jt theta' = -Jl l' */
+  rps3_constraint_jacobian(d, Jl, Jt);
+  m3_mulv(x, M3C(Jl), d->dl);
+  v3_scale(x, -1.0, x);
+  status = solve_jt(m, d, Jt, x);
+  if (status != RPS3_OK) return status;
+  v3_copy(d->dtheta, x);
+  /* ball joint velocities (28) and the centre velocity (25) */
+  d->vc[0] = d->vc[1] = d->vc[2] = 0.0;
+  for (i = 0; i < 3; i++) {
+    v3_scale(bd[i], d->dl[i], d->phi[i]);
+    v3_axpy(bd[i], bd[i], d->l[i] * d->dtheta[i], d->dphi[i]);
+    v3_axpy(d->vc, d->vc, 1.0 / 3.0, bd[i]);
+  }
+  for (i = 0; i < 3; i++) {
+    v3_sub(rho[i], d->b[i], d->c);
+    v3_sub(u[i], bd[i], d->vc);
+  }
+  for (i = 0; i < 3; i++) a[i] = d->rot[i][2];
+  omega_from_balls(d->omega, M3C(rho), M3C(u), a, m->r);
+  pose_rates(d);
+  d->stage |= RPS3_STAGE_VEL;
+  return RPS3_OK;
+}
+
+int rps3_joint_acceleration(const rps3_model *m, rps3_data *d) {
+  double Jl[3][3], Jt[3][3], x[3], bd[3][3], known[3][3], bdd[3][3],
+      rho[3][3], u[3][3], a[3], t[3];
+  int i, k, status;
+  if (m == NULL || d == NULL || !m->valid) return RPS3_EINVAL;
+  if (!(d->stage & RPS3_STAGE_VEL))
+    RPS3_ERROR(d, RPS3_ESTATE, "joint acceleration needs the velocities");
+  if (!v3_finite(d->ddl))
+    RPS3_ERROR(d, RPS3_EINVAL, "ddl (%g, %g, %g) is not finite", d->ddl[0],
+               d->ddl[1], d->ddl[2]);
+  d->stage &= RPS3_STAGE_POS | RPS3_STAGE_VEL;
+  for (i = 0; i < 3; i++) {
+    double th = d->dtheta[i];
+    v3_scale(bd[i], d->dl[i], d->phi[i]);
+    v3_axpy(bd[i], bd[i], d->l[i] * th, d->dphi[i]);
+    /* b'' without its theta'' part */
+    v3_scale(known[i], d->ddl[i] - d->l[i] * th * th, d->phi[i]);
+    v3_axpy(known[i], known[i], 2.0 * d->dl[i] * th, d->dphi[i]);
+  }
+  /* second derivative of (8)-(10): D.D'' + |D'|^2 = 0 for D = b_i - b_j */
+  rps3_constraint_jacobian(d, Jl, Jt);
+  for (k = 0; k < 3; k++) {
+    int p = k, q = (k + 1) % 3;
+    double D[3], Dd[3], Kd[3];
+    v3_sub(D, d->b[p], d->b[q]);
+    v3_sub(Dd, bd[p], bd[q]);
+    v3_sub(Kd, known[p], known[q]);
+    x[k] = -2.0 * (v3_dot(Dd, Dd) + v3_dot(D, Kd));
+  }
+  status = solve_jt(m, d, Jt, x);
+  if (status != RPS3_OK) return status;
+  v3_copy(d->ddtheta, x);
+  d->ac[0] = d->ac[1] = d->ac[2] = 0.0;
+  for (i = 0; i < 3; i++) {
+    v3_axpy(bdd[i], known[i], d->l[i] * d->ddtheta[i], d->dphi[i]);
+    v3_axpy(d->ac, d->ac, 1.0 / 3.0, bdd[i]);
+  }
+  /* omega-dot x rho_i = b_i'' - ac - omega x (omega x rho_i) */
+  for (i = 0; i < 3; i++) {
+    v3_sub(rho[i], d->b[i], d->c);
+    v3_cross(t, d->omega, rho[i]);
+    v3_cross(t, d->omega, t);
+    v3_sub(u[i], bdd[i], d->ac);
+    v3_sub(u[i], u[i], t);
+  }
+  for (i = 0; i < 3; i++) a[i] = d->rot[i][2];
+  omega_from_balls(d->domega, M3C(rho), M3C(u), a, m->r);
+  d->stage |= RPS3_STAGE_ACC;
+  return RPS3_OK;
+}
+
+void rps3_omega_paper(const rps3_model *m, const rps3_data *d,
+                      double omega_body[3]) {
+  /* literally (31)-(33) in the paper's normalized variables (lengths in
+     units of R), with the errata's two corrections */
+  const double rho = m->rho, h = 0.5 * RPS3_SQRT3;
+  double L1 = d->l[0] / m->R, L2 = d->l[1] / m->R;
+  double dL1 = d->dl[0] / m->R, dL2 = d->dl[1] / m->R;
+  double c1 = cos(d->theta[0]), s1 = sin(d->theta[0]);
+  double c2 = cos(d->theta[1]), s2 = sin(d->theta[1]);
+  double t1 = d->dtheta[0], t2 = d->dtheta[1];
+  double Xd = d->vc[0] / m->R, Yd = d->vc[1] / m->R, Zd = d->vc[2] / m->R;
+  double o1 = d->rot[0][1], o2 = d->rot[1][1], o3 = d->rot[2][1];
+  double a1 = d->rot[0][2], a2 = d->rot[1][2], a3 = d->rot[2][2];
+  /* velocity of ball joint 2 relative to the centre, components (13) */
+  double e1 = 0.5 * dL2 * c2 - 0.5 * L2 * s2 * t2 - Xd;
+  double e2 = -h * dL2 * c2 + h * L2 * s2 * t2 - Yd;
+  double e3 = dL2 * s2 + L2 * c2 * t2 - Zd;
+  double wy, wx, wz;
+  /* (32) */
+  wy = -(1.0 / rho) * (a1 * (-dL1 * c1 + L1 * s1 * t1 - Xd) - a2 * Yd +
+                       a3 * (dL1 * s1 + L1 * c1 * t1 - Zd));
+  /* (31) */
+  wx = (2.0 / RPS3_SQRT3) * (1.0 / rho) *
+       (a1 * e1 + a2 * e2 + a3 * e3 - 0.5 * rho * wy);
+  /* (33) */
+  wz = -(2.0 / rho) * (o1 * e1 + o2 * e2 + o3 * e3);
+  omega_body[0] = wx;
+  omega_body[1] = wy;
+  omega_body[2] = wz;
+}
