@@ -71,7 +71,6 @@ enum rps3_status {
   RPS3_EINVAL = -1,  /* invalid argument: non-finite or out-of-range value,
                         NULL pointer, unknown enum value */
   RPS3_ENOMEM = -2,  /* allocation failed (rps3_data_alloc only) */
-  RPS3_EGSL = -3,    /* a GSL routine returned an unexpected error */
   RPS3_ESTATE = -4   /* a stage was called before the stage it reads from */
 };
 
@@ -358,8 +357,10 @@ int rps3_theta_guess(const rps3_model *m, rps3_data *d);
  * else from rps3_theta_guess().  Converged when max_k |f_k| <= opt.tol;
  * writes d->theta, solve_niter, solve_resid, and the
  * positions b, c, rot, phi, dphi via (11)-(20).
- * Returns RPS3_OK, RPS3_EINVAL, RPS3_ENOCONV, RPS3_EBRANCH (a root with
- * theta outside (0, pi)) or RPS3_EGSL.
+ * Returns RPS3_OK, RPS3_EINVAL (bad lengths, or constraints that do not
+ * evaluate to finite numbers), RPS3_ENOCONV (including any failure GSL
+ * reports while iterating, with its message) or RPS3_EBRANCH (a root with
+ * theta outside (0, pi)).
  */
 int rps3_theta_solve(const rps3_model *m, rps3_data *d);
 

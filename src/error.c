@@ -20,7 +20,6 @@ const char *rps3_strerror(int status) {
   case RPS3_EDOMAIN: return "time outside the trajectory span";
   case RPS3_EINVAL: return "invalid argument";
   case RPS3_ENOMEM: return "out of memory";
-  case RPS3_EGSL: return "unexpected GSL error";
   case RPS3_ESTATE: return "stage called before the stage it depends on";
   default: return "unknown status";
   }

@@ -59,6 +59,7 @@ static int gsl_f(const gsl_vector *x, void *params, gsl_vector *f) {
   for (k = 0; k < 3; k++) th[k] = gsl_vector_get(x, (size_t)k);
   if (!v3_finite(th)) return GSL_EBADFUNC;
   constraints((const theta_params *)params, th, fv, NULL);
+  if (!v3_finite(fv)) return GSL_EBADFUNC;
   for (k = 0; k < 3; k++) gsl_vector_set(f, (size_t)k, fv[k]);
   return GSL_SUCCESS;
 }
@@ -70,6 +71,7 @@ static int gsl_fdf(const gsl_vector *x, void *params, gsl_vector *f,
   for (k = 0; k < 3; k++) th[k] = gsl_vector_get(x, (size_t)k);
   if (!v3_finite(th)) return GSL_EBADFUNC;
   constraints((const theta_params *)params, th, fv, Jv);
+  if (!v3_finite(fv)) return GSL_EBADFUNC;
   for (k = 0; k < 3; k++) {
     if (f != NULL) gsl_vector_set(f, (size_t)k, fv[k]);
     if (J != NULL)
@@ -197,11 +199,23 @@ int rps3_theta_solve(const rps3_model *m, rps3_data *d) {
     RPS3_ERROR(d, RPS3_ENOCONV,
                "singular constraint Jacobian at the starting point");
 
+  /* GSL's hybrid solvers ignore the status of the first evaluation in
+     _set, so a starting point where (8)-(10) overflow would look converged
+     with f = 0: check it here */
+  constraints(&s->p, d->theta, f, NULL);
+  if (!v3_finite(f))
+    RPS3_ERROR(d, RPS3_EINVAL,
+               "constraints (8)-(10) do not evaluate at the starting point "
+               "(lengths %g, %g, %g m)", d->l[0], d->l[1], d->l[2]);
+
   /* initialize */
   status = s->fdf ? gsl_multiroot_fdfsolver_set(s->sfdf, &s->fn_fdf, s->x)
                   : gsl_multiroot_fsolver_set(s->sf, &s->fn_f, s->x);
   if (status != GSL_SUCCESS)
-    RPS3_ERROR(d, RPS3_EGSL, "gsl multiroot set: %s", gsl_strerror(status));
+    RPS3_ERROR(d, RPS3_EINVAL,
+               "constraints (8)-(10) do not evaluate at the starting point "
+               "(lengths %g, %g, %g m): %s", d->l[0], d->l[1], d->l[2],
+               gsl_strerror(status));
 
   /* iterate / test: residual first, so that an exact start costs nothing */
   iter = 0;
@@ -217,6 +231,9 @@ int rps3_theta_solve(const rps3_model *m, rps3_data *d) {
     d->solve_niter = iter;
     d->solve_resid = resid;
     if (resid <= m->opt.tol) break;
+    if (!isfinite(resid))
+      RPS3_ERROR(d, RPS3_ENOCONV,
+                 "constraints not finite after %d iterations: diverged", iter);
     if (iter >= m->opt.max_iter)
       RPS3_ERROR(d, RPS3_ENOCONV,
                  "no convergence in %d iterations (residual %.3g > tol %.3g)",

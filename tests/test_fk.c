@@ -1,0 +1,174 @@
+/* test_fk.c - the multiroot theta solve of (8)-(10) and forward kinematics
+   (11)-(20): round trips, every solver, warm starts, error codes. */
+#include "testutil.h"
+
+static int setup_model(rps3_model *m, rps3_solver s) {
+  model_entropy(m);
+  m->opt.solver = s;
+  return rps3_model_init(m, NULL, 0);
+}
+
+/* IK -> lengths -> FK closes on random reachable poses (cold starts) */
+static void round_trip(void **state) {
+  rps3_model m;
+  rps3_data *d;
+  uint64_t seed = 91;
+  int n, k, tried = 0;
+  (void)state;
+  assert_int_equal(setup_model(&m, RPS3_SOLVER_HYBRIDSJ), RPS3_OK);
+  m.opt.warm_start = 0;
+  assert_int_equal(rps3_data_alloc(&m, &d), RPS3_OK);
+  for (n = 0; n < 400; n++) {
+    double pose[3], c[3], T[4][4], T2[4][4];
+    pose[0] = rnd_uniform(&seed, -3.1, 3.1);
+    pose[1] = rnd_uniform(&seed, 0.01, 0.45);
+    pose[2] = rnd_uniform(&seed, 0.15, 0.45);
+    memcpy(d->pose, pose, sizeof pose);
+    if (rps3_ik(&m, d) != RPS3_OK) continue;
+    tried++;
+    memcpy(c, d->c, sizeof c);
+    rps3_transform(d, T);
+    d->pose[0] = d->pose[1] = d->pose[2] = 0.0; /* FK must find them */
+    assert_int_equal(rps3_fk(&m, d), RPS3_OK);
+    /* theta is found to ~tol * cond; the pose inherits it */
+    CHECK_REL(remainder(d->pose[0] - pose[0], 2 * PI), 0.0, 1e-9, 1.0, "alpha %d", n);
+    CHECK_REL(d->pose[1], pose[1], 1e-9, 1.0, "beta %d", n);
+    CHECK_REL(d->pose[2], pose[2], 1e-9, 1.0, "z %d", n);
+    rps3_transform(d, T2);
+    for (k = 0; k < 16; k++)
+      CHECK_REL(T2[k / 4][k % 4], T[k / 4][k % 4], 1e-9, 1.0, "T[%d]", k);
+    for (k = 0; k < 3; k++) CHECK_REL(d->c[k], c[k], 1e-9, m.R, "c");
+    assert_true(d->solve_resid <= m.opt.tol);
+    assert_true(d->solve_niter >= 1);
+  }
+  assert_true(tried > 300);
+  rps3_data_free(d);
+}
+
+/* every solver converges to the closed-form theta (39) */
+static void all_solvers_agree(void **state) {
+  int s;
+  (void)state;
+  for (s = 0; s < RPS3_NSOLVER; s++) {
+    rps3_model m;
+    rps3_data *d;
+    double th[3];
+    int k;
+    assert_int_equal(setup_model(&m, (rps3_solver)s), RPS3_OK);
+    m.opt.warm_start = 0;
+    m.opt.tol = 1e-13;
+    assert_int_equal(rps3_data_alloc(&m, &d), RPS3_OK);
+    d->pose[0] = 0.7385;
+    d->pose[1] = 0.2113;
+    d->pose[2] = 0.3117;
+    assert_int_equal(rps3_ik(&m, d), RPS3_OK);
+    memcpy(th, d->theta, sizeof th);
+    if (rps3_theta_solve(&m, d) != RPS3_OK)
+      fail_msg("solver %s: %s", rps3_solver_name(s), d->err.msg);
+    for (k = 0; k < 3; k++)
+      CHECK_REL(d->theta[k], th[k], 1e-11, 1.0, "%s theta%d",
+                rps3_solver_name(s), k + 1);
+    rps3_data_free(d);
+  }
+}
+
+/* a warm start from a nearby sample needs fewer iterations than cold */
+static void warm_start_pays(void **state) {
+  rps3_model m;
+  rps3_data *d;
+  int cold, warm;
+  double l[3];
+  (void)state;
+  assert_int_equal(setup_model(&m, RPS3_SOLVER_HYBRIDSJ), RPS3_OK);
+  assert_int_equal(rps3_data_alloc(&m, &d), RPS3_OK);
+  d->pose[0] = 1.1;
+  d->pose[1] = 0.3;
+  d->pose[2] = 0.29;
+  assert_int_equal(rps3_ik(&m, d), RPS3_OK);
+  d->pose[0] += 1e-3; /* next sample */
+  assert_int_equal(rps3_ik(&m, d), RPS3_OK);
+  memcpy(l, d->l, sizeof l);
+  d->theta[0] += 2e-3; /* previous solution, a little off */
+  d->theta[1] -= 1e-3;
+  assert_int_equal(rps3_theta_solve(&m, d), RPS3_OK);
+  warm = d->solve_niter;
+  d->have_theta = 0;
+  memcpy(d->l, l, sizeof l);
+  assert_int_equal(rps3_theta_solve(&m, d), RPS3_OK);
+  cold = d->solve_niter;
+  assert_true(warm < cold);
+  rps3_data_free(d);
+}
+
+static void error_codes(void **state) {
+  rps3_model m;
+  rps3_data *d;
+  double th[3];
+  int k;
+  (void)state;
+  assert_int_equal(setup_model(&m, RPS3_SOLVER_HYBRIDSJ), RPS3_OK);
+  m.opt.max_iter = 1;
+  m.opt.warm_start = 1;
+  assert_int_equal(rps3_data_alloc(&m, &d), RPS3_OK);
+  d->pose[0] = -2.2;
+  d->pose[1] = 0.4;
+  d->pose[2] = 0.27;
+  assert_int_equal(rps3_ik(&m, d), RPS3_OK);
+  memcpy(th, d->theta, sizeof th);
+
+  /* one iteration from the cold guess is not enough */
+  d->have_theta = 0;
+  assert_int_equal(rps3_theta_solve(&m, d), RPS3_ENOCONV);
+  assert_non_null(strstr(d->err.msg, "iterations"));
+  assert_int_equal(d->solve_niter, 1);
+
+  /* the mirror image below the base satisfies (8)-(10) exactly: the solver
+     stops there at once and the branch check must refuse it */
+  for (k = 0; k < 3; k++) d->theta[k] = -th[k];
+  d->have_theta = 1;
+  assert_int_equal(rps3_theta_solve(&m, d), RPS3_EBRANCH);
+  assert_non_null(strstr(d->err.msg, "outside (0, pi)"));
+  assert_int_equal(d->stage, 0);
+
+  /* bad lengths */
+  d->l[1] = -0.3;
+  assert_int_equal(rps3_theta_solve(&m, d), RPS3_EINVAL);
+  d->l[1] = NAN;
+  assert_int_equal(rps3_theta_guess(&m, d), RPS3_EINVAL);
+  d->l[1] = 1e200; /* finite, but (8)-(10) overflow */
+  d->have_theta = 0;
+  assert_int_equal(rps3_theta_solve(&m, d), RPS3_EINVAL);
+  assert_non_null(strstr(d->err.msg, "do not evaluate"));
+  rps3_data_free(d);
+}
+
+/* beta = 0: alpha is a free gauge; FK says so and stays finite */
+static void level_platform(void **state) {
+  rps3_model m;
+  rps3_data *d;
+  (void)state;
+  assert_int_equal(setup_model(&m, RPS3_SOLVER_HYBRIDSJ), RPS3_OK);
+  assert_int_equal(rps3_data_alloc(&m, &d), RPS3_OK);
+  d->pose[0] = 0.9;
+  d->pose[1] = 0.0;
+  d->pose[2] = 0.3;
+  assert_int_equal(rps3_ik(&m, d), RPS3_OK);
+  assert_int_equal(rps3_fk(&m, d), RPS3_OK);
+  assert_true(d->warn & RPS3_WARN_ALPHA);
+  assert_true(d->pose[0] == 0.0);
+  assert_true(d->pose[1] >= 0.0 && d->pose[1] < 1e-7);
+  CHECK_REL(d->pose[2], 0.3, 1e-12, 1.0, "z");
+  rps3_data_free(d);
+}
+
+int main(void) {
+  const struct CMUnitTest tests[] = {
+      cmocka_unit_test(round_trip),
+      cmocka_unit_test(all_solvers_agree),
+      cmocka_unit_test(warm_start_pays),
+      cmocka_unit_test(error_codes),
+      cmocka_unit_test(level_platform),
+  };
+  gsl_set_error_handler_off();
+  return cmocka_run_group_tests(tests, NULL, NULL);
+}

@@ -1,0 +1,132 @@
+/* test_model.c - model defaults, validation, names, workspace life cycle. */
+#include "testutil.h"
+
+static void defaults_are_table_ii(void **state) {
+  rps3_model m;
+  char err[128];
+  (void)state;
+  rps3_model_default(&m);
+  assert_int_equal(rps3_model_init(&m, err, sizeof err), RPS3_OK);
+  assert_true(m.valid);
+  assert_true(m.R == 0.2286 && m.rho == 0.5 && m.M == 0.18);
+  assert_true(m.m == 0.09 && m.d == 0.1524); /* m/M = 0.5 */
+  CHECK_REL(m.r, 0.1143, 1e-15, 0.0, "r = rho R");
+  /* disc of (21): Ixx = Iyy = Izz / 2 = M r^2 / 4 */
+  CHECK_REL(m.Ip[0], 0.25 * 0.18 * 0.1143 * 0.1143, 1e-15, 0.0, "Ixx");
+  CHECK_REL(m.Ip[2], 2.0 * m.Ip[1], 1e-15, 0.0, "Izz");
+  assert_int_equal(m.opt.effects, RPS3_EFF_DEFAULT);
+}
+
+/* each bad field is rejected, and the message names it */
+#define BAD(field_text, stmt)                                                 \
+  do {                                                                        \
+    rps3_model m;                                                             \
+    char err[160];                                                            \
+    rps3_model_default(&m);                                                   \
+    stmt;                                                                     \
+    assert_int_equal(rps3_model_init(&m, err, sizeof err), RPS3_EINVAL);      \
+    assert_false(m.valid);                                                    \
+    if (strncmp(err, field_text " = ", strlen(field_text " = ")) != 0)      \
+      fail_msg("message '%s' does not start with '%s = '", err, field_text);  \
+  } while (0)
+
+static void rejects_each_field(void **state) {
+  (void)state;
+  BAD("R", m.R = 0.0);
+  BAD("R", m.R = NAN);
+  BAD("R", m.R = -0.2);
+  BAD("rho", m.rho = 0.0);
+  BAD("rho", m.rho = INFINITY);
+  BAD("M", m.M = -1e-3);
+  BAD("m", m.m = NAN);
+  BAD("d", m.d = -0.1);
+  BAD("link_Ic", m.link_Ic = -1.0);
+  BAD("g", m.g = -9.8);
+  BAD("payload.mass", m.payload.mass = -0.5);
+  BAD("payload.com[1]", m.payload.com[1] = NAN);
+  BAD("payload.inertia[2]", m.payload.inertia[2] = -1.0);
+  BAD("payload.inertia", (m.payload.inertia[0] = 1.0, m.payload.inertia[1] = 0.2,
+                   m.payload.inertia[2] = 0.3));
+  BAD("pin_friction.viscous", m.friction.viscous = -0.1);
+  BAD("pin_friction.coulomb", m.friction.coulomb = NAN);
+  BAD("opt.effects", m.opt.effects = 1 << 9);
+  BAD("opt.method", m.opt.method = (rps3_method)7);
+  BAD("opt.theta", m.opt.theta = (rps3_theta_route)3);
+  BAD("opt.solver", m.opt.solver = (rps3_solver)RPS3_NSOLVER);
+  BAD("opt.tol", m.opt.tol = 0.0);
+  BAD("opt.max_iter", m.opt.max_iter = 0);
+  BAD("opt.cond_warn", m.opt.cond_warn = 0.5);
+  BAD("opt.cond_max", m.opt.cond_max = 10.0);
+  BAD("rho", (m.R = 1e300, m.rho = 1e300));
+  assert_int_equal(rps3_model_init(NULL, NULL, 0), RPS3_EINVAL);
+}
+
+static void names_round_trip(void **state) {
+  int k;
+  (void)state;
+  for (k = 0; k < RPS3_NEFFECT; k++)
+    assert_int_equal(rps3_effect_index(rps3_effect_name(k)), k);
+  assert_null(rps3_effect_name(RPS3_NEFFECT));
+  assert_null(rps3_effect_name(-1));
+  assert_int_equal(rps3_effect_index("gravity"), -1);
+  assert_int_equal(rps3_effect_index(NULL), -1);
+  assert_string_equal(rps3_effect_name(4), "payload");
+  for (k = 0; k < RPS3_NSOLVER; k++)
+    assert_int_equal(rps3_solver_index(rps3_solver_name(k)), k);
+  assert_int_equal(rps3_solver_index("lm"), -1);
+  assert_null(rps3_solver_name(RPS3_NSOLVER));
+  assert_string_equal(rps3_version(), RPS3_VERSION_STRING);
+}
+
+static void every_status_has_a_message(void **state) {
+  static const int codes[] = {RPS3_OK,     RPS3_EREACH, RPS3_ENOCONV,
+                              RPS3_EBRANCH, RPS3_ESING, RPS3_EDOMAIN,
+                              RPS3_EINVAL, RPS3_ENOMEM, RPS3_ESTATE};
+  size_t i, j;
+  (void)state;
+  for (i = 0; i < sizeof codes / sizeof codes[0]; i++) {
+    assert_non_null(rps3_strerror(codes[i]));
+    assert_string_not_equal(rps3_strerror(codes[i]), "unknown status");
+    for (j = 0; j < i; j++)
+      assert_string_not_equal(rps3_strerror(codes[i]), rps3_strerror(codes[j]));
+  }
+  assert_string_equal(rps3_strerror(12345), "unknown status");
+}
+
+static void data_life_cycle(void **state) {
+  rps3_model m;
+  rps3_data *d = NULL;
+  int s;
+  (void)state;
+  rps3_model_default(&m);
+  /* not initialised yet */
+  assert_int_equal(rps3_data_alloc(&m, &d), RPS3_EINVAL);
+  assert_null(d);
+  assert_int_equal(rps3_model_init(&m, NULL, 0), RPS3_OK);
+  assert_int_equal(rps3_data_alloc(&m, NULL), RPS3_EINVAL);
+  assert_int_equal(rps3_data_alloc(NULL, &d), RPS3_EINVAL);
+  for (s = 0; s < RPS3_NSOLVER; s++) {
+    m.opt.solver = (rps3_solver)s;
+    assert_int_equal(rps3_model_init(&m, NULL, 0), RPS3_OK);
+    assert_int_equal(rps3_data_alloc(&m, &d), RPS3_OK);
+    d->have_theta = 1;
+    d->theta[0] = 1.234;
+    rps3_data_reset(d);
+    assert_int_equal(d->have_theta, 0);
+    assert_true(d->theta[0] == 0.0);
+    rps3_data_free(d);
+  }
+  rps3_data_free(NULL);
+}
+
+int main(void) {
+  const struct CMUnitTest tests[] = {
+      cmocka_unit_test(defaults_are_table_ii),
+      cmocka_unit_test(rejects_each_field),
+      cmocka_unit_test(names_round_trip),
+      cmocka_unit_test(every_status_has_a_message),
+      cmocka_unit_test(data_life_cycle),
+  };
+  gsl_set_error_handler_off();
+  return cmocka_run_group_tests(tests, NULL, NULL);
+}
