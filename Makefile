@@ -119,6 +119,18 @@ check-py: all venv
 
 check: lib runner check-c check-san check-py
 
+# ------------------------------------------------------------------- bench
+# rps3-bench (tests/bench/): per-call medians of every stage, a table on
+# stdout and out/bench.h5.  -O2, no sanitizers; timings are never asserted.
+BENCH_SRC = $(wildcard tests/bench/*.c)
+$(B)/rps3-bench: $(BENCH_SRC) $(wildcard tests/bench/*.h) $(B)/librps3.a
+	@mkdir -p $(@D)
+	$(CC) $(CPPFLAGS_ALL) $(GSL_CFLAGS) $(HDF5_CFLAGS) $(WARN) -O2 $(BENCH_SRC) \
+	  -o $@ $(B)/librps3.a $(HDF5_LIBS) $(GSL_LIBS) -lm
+bench: $(B)/rps3-bench
+	@mkdir -p out
+	$(B)/rps3-bench -o out/bench.h5
+
 # ------------------------------------------------------------------- paper
 paper: all venv
 	@mkdir -p out

@@ -1,0 +1,498 @@
+/*
+ * bench.c - rps3-bench: how long one call of each stage takes.
+ *
+ *   rps3-bench [-o out/bench.h5] [-n BATCHES] [-c CALLS]
+ *
+ * Every case loops over points of the paper's helix (Table II) sampled at
+ * 1 kHz, the rate of a control loop.  Cases that start from a pose (ik, the
+ * theta solve, the whole pipeline) walk the trajectory point after point, so
+ * that a warm-started theta solve starts from the previous sample, exactly
+ * as in a control loop or a sweep; the walk turns back at the ends instead
+ * of jumping.  Cases that need the earlier stages done (rates, dynamics)
+ * cycle over RING snapshots taken along the trajectory, so that the timed
+ * call is the stage alone.
+ *
+ * One batch is CALLS calls timed together with CLOCK_MONOTONIC; the batches
+ * of all cases are interleaved round-robin, so that a noisy spell of the
+ * (shared) machine hits every case alike.  The table gives the median over
+ * the batches of the per-call time, the 10th-90th percentile spread, and
+ * the ratio to the target where the issue sets one.  Nothing is asserted:
+ * the numbers are what this machine did.
+ */
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <time.h>
+
+#include <gsl/gsl_errno.h>
+
+#include "bench.h"
+#include "rps3.h"
+
+#define RING 16         /* snapshots the stage-only cases cycle over */
+#define RATE_HZ 1000.0  /* sampling of the trajectory */
+#define TARGET_INVDYN_NS 250.0   /* issue 5: closed-form theta, full scene */
+#define TARGET_PIPELINE_NS 1500.0 /* issue 5: warm multiroot pipeline */
+
+/* the points every case loops over */
+typedef struct {
+  int n;
+  double (*pose)[3], (*dpose)[3], (*ddpose)[3];
+  double (*l)[3];  /* link lengths by rps3_ik, input of the theta solve */
+} points;
+
+typedef enum {
+  K_IK,       /* rps3_ik along the trajectory */
+  K_THETA,    /* rps3_theta_solve along the trajectory */
+  K_INVERSE,  /* rps3_inverse along the trajectory */
+  K_VEL,      /* rps3_velocity on the ring */
+  K_ACC,      /* rps3_acceleration on the ring */
+  K_JVEL,     /* rps3_joint_velocity on the ring */
+  K_JACC,     /* rps3_joint_acceleration on the ring */
+  K_INVDYN    /* rps3_invdyn on the ring */
+} case_kind;
+
+typedef struct {
+  const char *name;
+  const char *doc;
+  case_kind kind;
+  rps3_model m;
+  double target_ns;
+  int count_iter;          /* report theta-solve iterations */
+  /* state while running */
+  rps3_data *d;            /* the walking data */
+  rps3_data ring[RING];    /* snapshots for the stage-only cases */
+  int cursor, dir;         /* position of the walk */
+  long iter, solves, failures;
+  double *per_call;        /* ns per call of each batch */
+} bench_case;
+
+static double now_ns(void) {
+  struct timespec ts;
+  clock_gettime(CLOCK_MONOTONIC, &ts);
+  return (double)ts.tv_sec * 1e9 + (double)ts.tv_nsec;
+}
+
+/* next point of the walk: 0, 1, ..., n-1, n-2, ..., 0, 1, ... */
+static int walk(bench_case *c, int n) {
+  int p = c->cursor;
+  c->cursor += c->dir;
+  if (c->cursor >= n) {
+    c->cursor = n - 2;
+    c->dir = -1;
+  } else if (c->cursor < 0) {
+    c->cursor = 1;
+    c->dir = 1;
+  }
+  return p;
+}
+
+static void copy3(double dst[3], const double src[3]) {
+  dst[0] = src[0];
+  dst[1] = src[1];
+  dst[2] = src[2];
+}
+
+/* one batch of ncalls calls; the loop of each kind is kept tight */
+static void run_batch(bench_case *c, const points *pt, long ncalls) {
+  const rps3_model *m = &c->m;
+  rps3_data *d = c->d;
+  long i;
+  int p;
+  switch (c->kind) {
+  case K_IK:
+    for (i = 0; i < ncalls; i++) {
+      p = walk(c, pt->n);
+      copy3(d->pose, pt->pose[p]);
+      if (rps3_ik(m, d) != RPS3_OK) c->failures++;
+    }
+    break;
+  case K_THETA:
+    for (i = 0; i < ncalls; i++) {
+      p = walk(c, pt->n);
+      copy3(d->l, pt->l[p]);
+      if (rps3_theta_solve(m, d) != RPS3_OK) c->failures++;
+      c->iter += d->solve_niter;
+    }
+    c->solves += ncalls;
+    break;
+  case K_INVERSE:
+    for (i = 0; i < ncalls; i++) {
+      p = walk(c, pt->n);
+      copy3(d->pose, pt->pose[p]);
+      copy3(d->dpose, pt->dpose[p]);
+      copy3(d->ddpose, pt->ddpose[p]);
+      if (rps3_inverse(m, d) != RPS3_OK) c->failures++;
+      c->iter += d->solve_niter;
+    }
+    c->solves += ncalls;
+    break;
+  case K_VEL:
+    for (i = 0; i < ncalls; i++)
+      if (rps3_velocity(m, &c->ring[i % RING]) != RPS3_OK) c->failures++;
+    break;
+  case K_ACC:
+    for (i = 0; i < ncalls; i++)
+      if (rps3_acceleration(m, &c->ring[i % RING]) != RPS3_OK) c->failures++;
+    break;
+  case K_JVEL:
+    for (i = 0; i < ncalls; i++)
+      if (rps3_joint_velocity(m, &c->ring[i % RING]) != RPS3_OK)
+        c->failures++;
+    break;
+  case K_JACC:
+    for (i = 0; i < ncalls; i++)
+      if (rps3_joint_acceleration(m, &c->ring[i % RING]) != RPS3_OK)
+        c->failures++;
+    break;
+  case K_INVDYN:
+    for (i = 0; i < ncalls; i++)
+      if (rps3_invdyn(m, &c->ring[i % RING]) != RPS3_OK) c->failures++;
+    break;
+  }
+}
+
+/* ---------------------------------------------------------------- scenes */
+
+typedef enum { SCENE_FULL, SCENE_GRAVITY } scene;
+
+static const char *const scene_full_doc =
+    "all six effects: platform and link gravity and inertia, a payload "
+    "(0.05 kg at (0.01, -0.02, 0.03) m, moments (2e-5, 3e-5, 4e-5) kg m^2), "
+    "pin friction (viscous 0.01 N m s, Coulomb 0.005 N m); certify on "
+    "(the default) unless the row says otherwise";
+static const char *const scene_gravity_doc =
+    "platform_gravity + link_gravity, certify off: a static scene, no rates";
+
+/* the paper's mechanism (Table II) with a scene's effects */
+static void make_model(rps3_model *m, scene s, rps3_method method,
+                       rps3_theta_route theta, int warm, int certify) {
+  char err[256];
+  rps3_model_default(m);
+  if (s == SCENE_FULL) {
+    m->opt.effects = RPS3_EFF_ALL;
+    m->payload.mass = 0.05;
+    m->payload.com[0] = 0.01;
+    m->payload.com[1] = -0.02;
+    m->payload.com[2] = 0.03;
+    m->payload.inertia[0] = 2e-5;
+    m->payload.inertia[1] = 3e-5;
+    m->payload.inertia[2] = 4e-5;
+    m->friction.viscous = 0.01;
+    m->friction.coulomb = 0.005;
+  } else {
+    m->opt.effects = RPS3_EFF_PLATFORM_GRAVITY | RPS3_EFF_LINK_GRAVITY;
+  }
+  m->opt.method = method;
+  m->opt.theta = theta;
+  m->opt.warm_start = warm;
+  m->opt.certify = certify;
+  if (rps3_model_init(m, err, sizeof(err)) != RPS3_OK) {
+    fprintf(stderr, "rps3-bench: model: %s\n", err);
+    exit(2);
+  }
+}
+
+/* the paper's helix at RATE_HZ, with the link lengths of every point */
+static void make_points(points *pt) {
+  rps3_model m;
+  rps3_traj tr;
+  rps3_data *d = NULL;
+  double T;
+  int p;
+  make_model(&m, SCENE_FULL, RPS3_LAGRANGE, RPS3_THETA_CLOSED_FORM, 1, 1);
+  rps3_traj_default(&tr);
+  T = rps3_traj_duration(&tr);
+  pt->n = (int)floor(T * RATE_HZ + 0.5) + 1;
+  pt->pose = malloc((size_t)pt->n * sizeof(*pt->pose));
+  pt->dpose = malloc((size_t)pt->n * sizeof(*pt->dpose));
+  pt->ddpose = malloc((size_t)pt->n * sizeof(*pt->ddpose));
+  pt->l = malloc((size_t)pt->n * sizeof(*pt->l));
+  if (!pt->pose || !pt->dpose || !pt->ddpose || !pt->l ||
+      rps3_data_alloc(&m, &d) != RPS3_OK) {
+    fprintf(stderr, "rps3-bench: out of memory\n");
+    exit(2);
+  }
+  for (p = 0; p < pt->n; p++) {
+    double t = T * (double)p / (double)(pt->n - 1);
+    if (rps3_traj_eval(&m, &tr, t, pt->pose[p], pt->dpose[p],
+                       pt->ddpose[p]) != RPS3_OK) {
+      fprintf(stderr, "rps3-bench: trajectory at t = %g\n", t);
+      exit(2);
+    }
+    copy3(d->pose, pt->pose[p]);
+    if (rps3_ik(&m, d) != RPS3_OK) {
+      fprintf(stderr, "rps3-bench: ik at t = %g: %s\n", t, d->err.msg);
+      exit(2);
+    }
+    copy3(pt->l[p], d->l);
+  }
+  rps3_data_free(d);
+}
+
+/* fill the ring with snapshots after the whole pipeline of c's model,
+   evenly spaced along the trajectory */
+static void fill_ring(bench_case *c, const points *pt) {
+  int k;
+  for (k = 0; k < RING; k++) {
+    int p = (int)((long)k * (pt->n - 1) / (RING - 1));
+    rps3_data_reset(c->d);
+    copy3(c->d->pose, pt->pose[p]);
+    copy3(c->d->dpose, pt->dpose[p]);
+    copy3(c->d->ddpose, pt->ddpose[p]);
+    if (rps3_inverse(&c->m, c->d) != RPS3_OK) {
+      fprintf(stderr, "rps3-bench: %s: snapshot %d: %s\n", c->name, k,
+              c->d->err.msg);
+      exit(2);
+    }
+    c->ring[k] = *c->d;
+  }
+  rps3_data_reset(c->d);
+}
+
+/* ------------------------------------------------------------ statistics */
+
+static int cmp_double(const void *a, const void *b) {
+  double x = *(const double *)a, y = *(const double *)b;
+  return (x > y) - (x < y);
+}
+
+/* linear interpolation between order statistics of sorted x[0..n-1] */
+static double quantile(const double *x, long n, double q) {
+  double pos = q * (double)(n - 1);
+  long i = (long)floor(pos);
+  double f = pos - (double)i;
+  if (i + 1 >= n) return x[n - 1];
+  return x[i] + f * (x[i + 1] - x[i]);
+}
+
+static void summarize(bench_case *c, long calls, long batches, bench_row *r) {
+  qsort(c->per_call, (size_t)batches, sizeof(double), cmp_double);
+  r->name = c->name;
+  r->doc = c->doc;
+  r->median_ns = quantile(c->per_call, batches, 0.5);
+  r->p10_ns = quantile(c->per_call, batches, 0.1);
+  r->p90_ns = quantile(c->per_call, batches, 0.9);
+  r->min_ns = c->per_call[0];
+  r->max_ns = c->per_call[batches - 1];
+  r->target_ns = c->target_ns;
+  r->mean_iter = (c->count_iter && c->solves > 0)
+                     ? (double)c->iter / (double)c->solves
+                     : BENCH_NONE;
+  r->calls = calls;
+  r->batches = batches;
+  r->failures = c->failures;
+}
+
+/* CPU model name, as lscpu prints it */
+static void machine_name(char *buf, size_t sz) {
+  FILE *f = fopen("/proc/cpuinfo", "r");
+  char line[512];
+  snprintf(buf, sz, "unknown");
+  if (f == NULL) return;
+  while (fgets(line, sizeof(line), f) != NULL) {
+    if (strncmp(line, "model name", 10) == 0) {
+      char *v = strchr(line, ':');
+      if (v != NULL) {
+        v++;
+        while (*v == ' ' || *v == '\t') v++;
+        v[strcspn(v, "\n")] = '\0';
+        snprintf(buf, sz, "%s", v);
+      }
+      break;
+    }
+  }
+  fclose(f);
+}
+
+/* ------------------------------------------------------------------ main */
+
+#define NCASE_MAX 32
+
+static void usage(void) {
+  fprintf(stderr, "usage: rps3-bench [-o FILE.h5] [-n BATCHES] [-c CALLS]\n"
+                  "  -o  HDF5 output (default out/bench.h5; '-' for none)\n"
+                  "  -n  timed batches per case (default 101)\n"
+                  "  -c  calls per batch (default 2000)\n");
+}
+
+int main(int argc, char **argv) {
+  static bench_case cases[NCASE_MAX];
+  static bench_row rows[NCASE_MAX];
+  const char *out = "out/bench.h5";
+  long batches = 101, calls = 2000, b;
+  int ncase = 0, i, fail = 0;
+  points pt;
+  char machine[256], trajdoc[256];
+  bench_info info;
+
+  for (i = 1; i < argc; i++) {
+    if (strcmp(argv[i], "-o") == 0 && i + 1 < argc) {
+      out = argv[++i];
+    } else if (strcmp(argv[i], "-n") == 0 && i + 1 < argc) {
+      batches = atol(argv[++i]);
+    } else if (strcmp(argv[i], "-c") == 0 && i + 1 < argc) {
+      calls = atol(argv[++i]);
+    } else {
+      usage();
+      return 2;
+    }
+  }
+  if (batches < 1 || calls < 1) {
+    usage();
+    return 2;
+  }
+  gsl_set_error_handler_off();
+  make_points(&pt);
+
+  /* the cases, in the order of the table */
+#define CASE(name_, doc_, kind_, scene_, method_, theta_, warm_, certify_,   \
+             target_, iter_)                                                 \
+  do {                                                                       \
+    bench_case *c_ = &cases[ncase++];                                        \
+    c_->name = name_;                                                        \
+    c_->doc = doc_;                                                          \
+    c_->kind = kind_;                                                        \
+    make_model(&c_->m, scene_, method_, theta_, warm_, certify_);            \
+    c_->target_ns = target_;                                                 \
+    c_->count_iter = iter_;                                                  \
+  } while (0)
+  CASE("ik", "rps3_ik: pose -> rot, c, b, l and theta by the closed form "
+       "(39), link directions", K_IK, SCENE_FULL, RPS3_LAGRANGE,
+       RPS3_THETA_CLOSED_FORM, 1, 1, BENCH_NONE, 0);
+  CASE("theta_multiroot_cold", "rps3_theta_solve from l, hybridsj, cold "
+       "start (level-platform guess), tol 1e-12", K_THETA, SCENE_FULL,
+       RPS3_LAGRANGE, RPS3_THETA_MULTIROOT, 0, 1, BENCH_NONE, 1);
+  CASE("theta_multiroot_warm", "rps3_theta_solve from l, hybridsj, warm "
+       "start from the previous 1 ms sample, tol 1e-12", K_THETA, SCENE_FULL,
+       RPS3_LAGRANGE, RPS3_THETA_MULTIROOT, 1, 1, BENCH_NONE, 1);
+  CASE("velocity", "rps3_velocity: pose rates -> vc, omega, dl, dtheta",
+       K_VEL, SCENE_FULL, RPS3_LAGRANGE, RPS3_THETA_CLOSED_FORM, 1, 1, BENCH_NONE, 0);
+  CASE("acceleration", "rps3_acceleration: pose accelerations -> ac, "
+       "domega, ddl, ddtheta", K_ACC, SCENE_FULL, RPS3_LAGRANGE,
+       RPS3_THETA_CLOSED_FORM, 1, 1, BENCH_NONE, 0);
+  CASE("joint_velocity", "rps3_joint_velocity: dl -> dtheta, vc, omega, "
+       "dpose (3x3 solve)", K_JVEL, SCENE_FULL, RPS3_LAGRANGE,
+       RPS3_THETA_CLOSED_FORM, 1, 1, BENCH_NONE, 0);
+  CASE("joint_acceleration", "rps3_joint_acceleration: ddl -> ddtheta, ac, "
+       "domega, ddpose (3x3 solve)", K_JACC, SCENE_FULL, RPS3_LAGRANGE,
+       RPS3_THETA_CLOSED_FORM, 1, 1, BENCH_NONE, 0);
+  CASE("invdyn_lagrange_gravity", "rps3_invdyn, Lagrange, gravity-only "
+       "scene (certify off)", K_INVDYN, SCENE_GRAVITY, RPS3_LAGRANGE,
+       RPS3_THETA_CLOSED_FORM, 1, 0, BENCH_NONE, 0);
+  CASE("invdyn_newton_euler_gravity", "rps3_invdyn, Newton-Euler, "
+       "gravity-only scene (certify off)", K_INVDYN, SCENE_GRAVITY,
+       RPS3_NEWTON_EULER, RPS3_THETA_CLOSED_FORM, 1, 0, BENCH_NONE, 0);
+  CASE("invdyn_lagrange_full", "rps3_invdyn, Lagrange, full scene, certify "
+       "on", K_INVDYN, SCENE_FULL, RPS3_LAGRANGE, RPS3_THETA_CLOSED_FORM, 1,
+       1, BENCH_NONE, 0);
+  CASE("invdyn_newton_euler_full", "rps3_invdyn, Newton-Euler, full scene, "
+       "certify on", K_INVDYN, SCENE_FULL, RPS3_NEWTON_EULER,
+       RPS3_THETA_CLOSED_FORM, 1, 1, BENCH_NONE, 0);
+  CASE("invdyn_lagrange_full_nocert", "rps3_invdyn, Lagrange, full scene, "
+       "certify off", K_INVDYN, SCENE_FULL, RPS3_LAGRANGE,
+       RPS3_THETA_CLOSED_FORM, 1, 0, BENCH_NONE, 0);
+  CASE("invdyn_newton_euler_full_nocert", "rps3_invdyn, Newton-Euler, full "
+       "scene, certify off", K_INVDYN, SCENE_FULL, RPS3_NEWTON_EULER,
+       RPS3_THETA_CLOSED_FORM, 1, 0, BENCH_NONE, 0);
+  CASE("pipeline_closed_gravity", "rps3_inverse, closed-form theta, "
+       "gravity-only scene (no rates), Lagrange", K_INVERSE, SCENE_GRAVITY,
+       RPS3_LAGRANGE, RPS3_THETA_CLOSED_FORM, 1, 0, BENCH_NONE, 0);
+  CASE("pipeline_closed_lagrange_full", "rps3_inverse, closed-form theta, "
+       "full scene, Lagrange: ik + velocity + acceleration + invdyn",
+       K_INVERSE, SCENE_FULL, RPS3_LAGRANGE, RPS3_THETA_CLOSED_FORM, 1, 1,
+       TARGET_INVDYN_NS, 0);
+  CASE("pipeline_closed_newton_euler_full", "rps3_inverse, closed-form "
+       "theta, full scene, Newton-Euler", K_INVERSE, SCENE_FULL,
+       RPS3_NEWTON_EULER, RPS3_THETA_CLOSED_FORM, 1, 1, TARGET_INVDYN_NS, 0);
+  CASE("pipeline_warm_lagrange_full", "rps3_inverse, multiroot theta "
+       "(hybridsj) warm from the previous sample, full scene, Lagrange",
+       K_INVERSE, SCENE_FULL, RPS3_LAGRANGE, RPS3_THETA_MULTIROOT, 1, 1,
+       TARGET_PIPELINE_NS, 1);
+  CASE("pipeline_warm_newton_euler_full", "rps3_inverse, multiroot theta "
+       "(hybridsj) warm from the previous sample, full scene, Newton-Euler",
+       K_INVERSE, SCENE_FULL, RPS3_NEWTON_EULER, RPS3_THETA_MULTIROOT, 1, 1,
+       TARGET_PIPELINE_NS, 1);
+#undef CASE
+
+  /* workspaces, snapshots and the batch-time arrays */
+  for (i = 0; i < ncase; i++) {
+    bench_case *c = &cases[i];
+    c->per_call = malloc((size_t)batches * sizeof(double));
+    if (c->per_call == NULL || rps3_data_alloc(&c->m, &c->d) != RPS3_OK) {
+      fprintf(stderr, "rps3-bench: out of memory\n");
+      return 2;
+    }
+    fill_ring(c, &pt);
+    c->dir = 1;
+    /* warm-up batch: caches, branch predictors, the walk's warm start */
+    run_batch(c, &pt, calls);
+    c->iter = c->solves = c->failures = 0;
+  }
+
+  /* timed batches, round-robin over the cases */
+  for (b = 0; b < batches; b++)
+    for (i = 0; i < ncase; i++) {
+      double t0 = now_ns(), t1;
+      run_batch(&cases[i], &pt, calls);
+      t1 = now_ns();
+      cases[i].per_call[b] = (t1 - t0) / (double)calls;
+    }
+  for (i = 0; i < ncase; i++) summarize(&cases[i], calls, batches, &rows[i]);
+
+  /* the table */
+  machine_name(machine, sizeof(machine));
+  printf("rps3-bench: %s; %ld batches x %ld calls per case; helix of "
+         "Table II at %.0f Hz (%d points)\n",
+         machine, batches, calls, RATE_HZ, pt.n);
+  printf("%-34s %10s %19s %6s %9s %7s\n", "case", "median ns", "p10 - p90 ns",
+         "iter", "target ns", "ratio");
+  for (i = 0; i < ncase; i++) {
+    const bench_row *r = &rows[i];
+    char it[16] = "", tg[16] = "", ra[16] = "";
+    if (!isnan(r->mean_iter)) snprintf(it, sizeof(it), "%.2f", r->mean_iter);
+    if (!isnan(r->target_ns)) {
+      snprintf(tg, sizeof(tg), "%.0f", r->target_ns);
+      snprintf(ra, sizeof(ra), "%.2f", r->median_ns / r->target_ns);
+    }
+    printf("%-34s %10.1f %9.1f - %7.1f %6s %9s %7s%s\n", r->name,
+           r->median_ns, r->p10_ns, r->p90_ns, it, tg, ra,
+           r->failures ? "  FAILED CALLS" : "");
+    if (r->failures) fail = 1;
+  }
+  printf("ratio = median / target (<= 1 meets the target); one core, "
+         "single thread\n");
+
+  snprintf(trajdoc, sizeof(trajdoc),
+           "helix of Table II sampled at %.0f Hz (%d points), walked forward "
+           "and back; stage-only cases cycle over %d snapshots along it",
+           RATE_HZ, pt.n, RING);
+  info.machine = machine;
+  info.compiler =
+#ifdef __VERSION__
+      __VERSION__;
+#else
+      "unknown";
+#endif
+  info.trajectory = trajdoc;
+  info.scene_full = scene_full_doc;
+  info.scene_gravity = scene_gravity_doc;
+  info.clock = "clock_gettime(CLOCK_MONOTONIC) around each batch";
+  if (strcmp(out, "-") != 0) {
+    if (bench_write_h5(out, &info, rows, ncase) != 0)
+      fail = 1;
+    else
+      printf("wrote %s\n", out);
+  }
+
+  for (i = 0; i < ncase; i++) {
+    rps3_data_free(cases[i].d);
+    free(cases[i].per_call);
+  }
+  free(pt.pose);
+  free(pt.dpose);
+  free(pt.ddpose);
+  free(pt.l);
+  return fail;
+}
