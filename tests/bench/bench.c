@@ -1,7 +1,7 @@
 /*
  * bench.c - rps3-bench: how long one call of each stage takes.
  *
- *   rps3-bench [-o out/bench.h5] [-n BATCHES] [-c CALLS]
+ *   rps3-bench [-o out/bench.h5] [-n BATCHES] [-c CALLS] [-k CASE]
  *
  * Every case loops over points of the paper's helix (Table II) sampled at
  * 1 kHz, the rate of a control loop.  Cases that start from a pose (ik, the
@@ -311,16 +311,18 @@ static void machine_name(char *buf, size_t sz) {
 #define NCASE_MAX 32
 
 static void usage(void) {
-  fprintf(stderr, "usage: rps3-bench [-o FILE.h5] [-n BATCHES] [-c CALLS]\n"
-                  "  -o  HDF5 output (default out/bench.h5; '-' for none)\n"
-                  "  -n  timed batches per case (default 101)\n"
-                  "  -c  calls per batch (default 2000)\n");
+  fprintf(stderr,
+          "usage: rps3-bench [-o FILE.h5] [-n BATCHES] [-c CALLS] [-k CASE]\n"
+          "  -o  HDF5 output (default out/bench.h5; '-' for none)\n"
+          "  -n  timed batches per case (default 101)\n"
+          "  -c  calls per batch (default 2000)\n"
+          "  -k  run only the cases whose name contains CASE (profiling)\n");
 }
 
 int main(int argc, char **argv) {
   static bench_case cases[NCASE_MAX];
   static bench_row rows[NCASE_MAX];
-  const char *out = "out/bench.h5";
+  const char *out = "out/bench.h5", *only = NULL;
   long batches = 101, calls = 2000, b;
   int ncase = 0, i, fail = 0;
   points pt;
@@ -334,6 +336,8 @@ int main(int argc, char **argv) {
       batches = atol(argv[++i]);
     } else if (strcmp(argv[i], "-c") == 0 && i + 1 < argc) {
       calls = atol(argv[++i]);
+    } else if (strcmp(argv[i], "-k") == 0 && i + 1 < argc) {
+      only = argv[++i];
     } else {
       usage();
       return 2;
@@ -415,6 +419,18 @@ int main(int argc, char **argv) {
        K_INVERSE, SCENE_FULL, RPS3_NEWTON_EULER, RPS3_THETA_MULTIROOT, 1, 1,
        TARGET_PIPELINE_NS, 1);
 #undef CASE
+
+  /* -k: keep the matching cases only */
+  if (only != NULL) {
+    int kept = 0;
+    for (i = 0; i < ncase; i++)
+      if (strstr(cases[i].name, only) != NULL) cases[kept++] = cases[i];
+    ncase = kept;
+    if (ncase == 0) {
+      fprintf(stderr, "rps3-bench: no case matches '%s'\n", only);
+      return 2;
+    }
+  }
 
   /* workspaces, snapshots and the batch-time arrays */
   for (i = 0; i < ncase; i++) {
