@@ -28,16 +28,21 @@ static void omega_from_balls(double omega[3], const double rho[3][3],
   v3_axpy(omega, w, -s, a);
 }
 
-/* solve (df/dtheta) x = rhs; RPS3_ESING when singular */
+/* solve (df/dtheta) x = rhs; RPS3_ESING when singular or conditioned worse
+   than opt.cond_max (the same test as the lambda system of rps3_invdyn) */
 static int solve_jt(const rps3_model *m, rps3_data *d, double Jt[3][3],
                     double x[3]) {
-  double LU[9];
+  double A[9], LU[9], cond;
   int perm[3], i, k;
   for (i = 0; i < 3; i++)
-    for (k = 0; k < 3; k++) LU[3 * i + k] = Jt[i][k];
+    for (k = 0; k < 3; k++) A[3 * i + k] = LU[3 * i + k] = Jt[i][k];
   if (rps3_lu_factor(3, LU, perm) != 0)
     RPS3_ERROR(d, RPS3_ESING, "constraint Jacobian df/dtheta is singular");
-  (void)m;
+  cond = rps3_lu_cond1(3, A, LU, perm);
+  if (!(cond <= m->opt.cond_max))
+    RPS3_ERROR(d, RPS3_ESING,
+               "constraint Jacobian df/dtheta: condition number %.3g exceeds "
+               "cond_max %.3g", cond, m->opt.cond_max);
   rps3_lu_solve(3, LU, perm, x);
   return RPS3_OK;
 }

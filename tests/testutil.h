@@ -104,4 +104,24 @@ static inline void copy_motion(rps3_data *dst, const rps3_data *src) {
   memcpy(dst->ddpose, src->ddpose, sizeof(src->ddpose));
 }
 
+/*
+ * Tilt beta* at which link 1 lies in the platform plane for alpha = 0 and
+ * height z (theta_1 = beta): the lambda system is singular there.  Found by
+ * bisection on theta_1(beta) - beta to the last bit, between lo and hi.
+ */
+static inline double singular_beta(const rps3_model *m, rps3_data *d,
+                                   double z, double lo, double hi) {
+  int it;
+  for (it = 0; it < 200 && lo < hi; it++) {
+    double mid = 0.5 * (lo + hi);
+    if (mid <= lo || mid >= hi) break;
+    d->pose[0] = 0.0;
+    d->pose[1] = mid;
+    d->pose[2] = z;
+    if (rps3_ik(m, d) != RPS3_OK) return NAN;
+    if (d->theta[0] - mid > 0) lo = mid; else hi = mid;
+  }
+  return lo;
+}
+
 #endif

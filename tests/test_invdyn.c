@@ -1,0 +1,263 @@
+/* test_invdyn.c - inverse dynamics (21)-(24), (34): energy rate, Lagrange =
+   Newton-Euler, separability of effects, a static closed form, errors. */
+#include "testutil.h"
+
+static void run_point(const rps3_model *m, rps3_data *d, const rps3_traj *tr,
+                      double t) {
+  assert_int_equal(rps3_traj_eval(m, tr, t, d->pose, d->dpose, d->ddpose),
+                   RPS3_OK);
+  if (rps3_inverse(m, d) != RPS3_OK)
+    fail_msg("t = %g: %s", t, d->err.msg);
+}
+
+static double fscale(const rps3_data *d) {
+  return fabs(d->F[0]) + fabs(d->F[1]) + fabs(d->F[2]);
+}
+
+/*
+ * Along a trajectory: the energy-rate residual is zero, and the two
+ * formulations agree, for method-independent data.
+ */
+static void check_trajectory(const rps3_model *base, const rps3_traj *tr,
+                             int samples) {
+  rps3_model ml = *base, mn = *base;
+  rps3_data *dl, *dn;
+  int k, i, e;
+  ml.opt.method = RPS3_LAGRANGE;
+  mn.opt.method = RPS3_NEWTON_EULER;
+  assert_int_equal(rps3_model_init(&ml, NULL, 0), RPS3_OK);
+  assert_int_equal(rps3_model_init(&mn, NULL, 0), RPS3_OK);
+  assert_int_equal(rps3_data_alloc(&ml, &dl), RPS3_OK);
+  assert_int_equal(rps3_data_alloc(&mn, &dn), RPS3_OK);
+  for (k = 0; k <= samples; k++) {
+    double t = rps3_traj_duration(tr) * k / samples, s;
+    run_point(&ml, dl, tr, t);
+    run_point(&mn, dn, tr, t);
+    assert_true(dl->has_lambda && !dn->has_lambda);
+    CHECK_REL(dl->energy_residual, 0.0, TOL_PHYS, dl->energy_scale,
+              "Lagrange energy residual at t = %g", t);
+    CHECK_REL(dn->energy_residual, 0.0, TOL_PHYS, dn->energy_scale,
+              "Newton-Euler energy residual at t = %g", t);
+    s = fscale(dl);
+    for (i = 0; i < 3; i++) {
+      double sum = 0.0;
+      CHECK_REL(dn->F[i], dl->F[i], TOL_PHYS, s, "F%d L vs NE at t = %g", i, t);
+      for (e = 0; e < RPS3_NEFFECT; e++) {
+        CHECK_REL(dn->F_effect[e][i], dl->F_effect[e][i], TOL_PHYS, s,
+                  "%s share L vs NE", rps3_effect_name(e));
+        sum += dl->F_effect[e][i];
+        if (!(base->opt.effects & (1 << e)))
+          assert_true(dl->F_effect[e][i] == 0.0);
+      }
+      CHECK_REL(sum, dl->F[i], TOL_EXACT, s, "shares sum to F");
+    }
+  }
+  rps3_data_free(dl);
+  rps3_data_free(dn);
+}
+
+static void paper_trajectory(void **state) {
+  rps3_model m;
+  rps3_traj tr;
+  (void)state;
+  rps3_model_default(&m);
+  rps3_traj_default(&tr);
+  check_trajectory(&m, &tr, 400);
+  m.opt.effects = RPS3_EFF_ALL;
+  m.payload.mass = 0.05;
+  m.payload.com[2] = 0.02;
+  m.payload.inertia[0] = m.payload.inertia[1] = 2e-5;
+  m.payload.inertia[2] = 3e-5;
+  m.friction.viscous = 0.01;
+  check_trajectory(&m, &tr, 400);
+}
+
+static void random_trajectories(void **state) {
+  rps3_model m;
+  rps3_traj tr;
+  uint64_t seed = 60221;
+  int n;
+  (void)state;
+  model_entropy(&m);
+  for (n = 0; n < 12; n++) {
+    traj_random(&tr, &seed);
+    check_trajectory(&m, &tr, 60);
+  }
+}
+
+/* a run with one effect gives that effect's share of the all-effects run */
+static void effects_separate(void **state) {
+  rps3_model all, one;
+  rps3_data *da, *d1;
+  rps3_traj tr;
+  uint64_t seed = 8812;
+  int e, k, i;
+  (void)state;
+  model_entropy(&all);
+  assert_int_equal(rps3_model_init(&all, NULL, 0), RPS3_OK);
+  assert_int_equal(rps3_data_alloc(&all, &da), RPS3_OK);
+  traj_random(&tr, &seed);
+  for (e = 0; e < RPS3_NEFFECT; e++) {
+    one = all;
+    one.opt.effects = 1 << e;
+    assert_int_equal(rps3_model_init(&one, NULL, 0), RPS3_OK);
+    assert_int_equal(rps3_data_alloc(&one, &d1), RPS3_OK);
+    for (k = 0; k <= 20; k++) {
+      double t = 0.1 * k;
+      run_point(&all, da, &tr, t);
+      run_point(&one, d1, &tr, t);
+      /* and each effect alone satisfies its own energy balance */
+      CHECK_REL(d1->energy_residual, 0.0, TOL_PHYS, d1->energy_scale,
+                "%s alone: energy", rps3_effect_name(e));
+      for (i = 0; i < 3; i++)
+        CHECK_REL(d1->F[i], da->F_effect[e][i], TOL_EXACT, fscale(da),
+                  "%s alone vs share", rps3_effect_name(e));
+    }
+    rps3_data_free(d1);
+  }
+  rps3_data_free(da);
+}
+
+/*
+ * Static symmetric pose, beta = 0, no motion.  By symmetry each ball joint
+ * carries M g / 3 upwards and no tangential force; link i's moment balance
+ * about its pin fixes the ball force component along dphi, s = -m g d
+ * cos(theta) / l; the vertical balance F sin(theta) + s cos(theta) = M g/3
+ * then gives F = (M g / 3 + m g d cos^2(theta) / l) / sin(theta), with
+ * l^2 = (R - r)^2 + z^2 and cos(theta) = (R - r) / l.  Virtual work gives the
+ * same: 3 F dl = M g dz + 3 m g d cos(theta) dtheta.  A payload at the
+ * centre adds m_p g / (3 sin(theta)).
+ */
+static void static_closed_form(void **state) {
+  int method, certify;
+  (void)state;
+  for (method = 0; method < 2; method++)
+    for (certify = 0; certify < 2; certify++) {
+      rps3_model m;
+      rps3_data *d;
+      double z = 0.2713, l, ct, st, F, Fp;
+      int i;
+      model_entropy(&m);
+      memset(m.payload.com, 0, sizeof m.payload.com);
+      m.opt.method = (rps3_method)method;
+      m.opt.certify = certify;
+      m.opt.effects = RPS3_EFF_ALL; /* inertia and friction vanish at rest */
+      assert_int_equal(rps3_model_init(&m, NULL, 0), RPS3_OK);
+      assert_int_equal(rps3_data_alloc(&m, &d), RPS3_OK);
+      d->pose[0] = 0.917; /* any alpha: a gauge at beta = 0 */
+      d->pose[1] = 0.0;
+      d->pose[2] = z;
+      assert_int_equal(rps3_inverse(&m, d), RPS3_OK);
+      l = sqrt((m.R - m.r) * (m.R - m.r) + z * z);
+      ct = (m.R - m.r) / l;
+      st = z / l;
+      F = (m.M * m.g / 3.0 + m.m * m.g * m.d * ct * ct / l) / st;
+      Fp = m.payload.mass * m.g / (3.0 * st);
+      for (i = 0; i < 3; i++) {
+        CHECK_REL(d->l[i], l, TOL_EXACT, 0.0, "l");
+        CHECK_REL(d->F[i], F + Fp, TOL_EXACT, 0.0, "F%d method %d", i, method);
+        CHECK_REL(d->F_effect[4][i], Fp, TOL_EXACT, 0.0, "payload share");
+        CHECK_REL(d->F_effect[2][i], 0.0, TOL_EXACT, F, "no inertia at rest");
+        CHECK_REL(d->F_effect[5][i], 0.0, 0.0, 1.0, "no friction at rest");
+      }
+      rps3_data_free(d);
+    }
+}
+
+/* a static scene computes no rates: rps3_invdyn runs on positions alone */
+static void static_scene_needs_no_rates(void **state) {
+  rps3_model m;
+  rps3_data *d;
+  (void)state;
+  rps3_model_default(&m);
+  m.opt.effects = RPS3_EFF_PLATFORM_GRAVITY | RPS3_EFF_LINK_GRAVITY;
+  m.opt.certify = 0;
+  assert_int_equal(rps3_model_init(&m, NULL, 0), RPS3_OK);
+  assert_int_equal(rps3_data_alloc(&m, &d), RPS3_OK);
+  assert_int_equal(rps3_invdyn(&m, d), RPS3_ESTATE);
+  d->pose[0] = 0.4;
+  d->pose[1] = 0.2;
+  d->pose[2] = 0.3;
+  d->dpose[0] = NAN; /* never read */
+  assert_int_equal(rps3_inverse(&m, d), RPS3_OK);
+  assert_int_equal(d->stage & (RPS3_STAGE_VEL | RPS3_STAGE_ACC), 0);
+  assert_true(isfinite(d->F[0]) && d->F[0] > 0);
+  /* a dynamic scene refuses to run on positions alone */
+  m.opt.effects = RPS3_EFF_DEFAULT;
+  assert_int_equal(rps3_model_init(&m, NULL, 0), RPS3_OK);
+  assert_int_equal(rps3_ik(&m, d), RPS3_OK);
+  assert_int_equal(rps3_invdyn(&m, d), RPS3_ESTATE);
+  assert_non_null(strstr(d->err.msg, "velocities"));
+  rps3_data_free(d);
+}
+
+/* towards link 1 lying in the platform plane: cond grows, a warning is
+   raised past cond_warn, and the singular pose itself is an error */
+static void singular_configuration(void **state) {
+  rps3_model m;
+  rps3_data *d;
+  double bs, prev = 0.0, delta;
+  int i;
+  (void)state;
+  rps3_model_default(&m);
+  assert_int_equal(rps3_model_init(&m, NULL, 0), RPS3_OK);
+  assert_int_equal(rps3_data_alloc(&m, &d), RPS3_OK);
+  bs = singular_beta(&m, d, 0.25, 0.6, 1.0);
+  assert_true(isfinite(bs));
+  for (delta = 1e-1; delta > 1e-9; delta /= 10) {
+    d->pose[0] = 0.0;
+    d->pose[1] = bs - delta;
+    d->pose[2] = 0.25;
+    d->dpose[0] = 0.1;
+    d->dpose[1] = d->dpose[2] = d->ddpose[0] = d->ddpose[1] = d->ddpose[2] = 0;
+    assert_int_equal(rps3_inverse(&m, d), RPS3_OK);
+    assert_true(d->cond > prev); /* grows monotonically, ~1/delta */
+    prev = d->cond;
+    for (i = 0; i < 3; i++) assert_true(isfinite(d->F[i]));
+    assert_int_equal((d->warn & RPS3_WARN_ILLCOND) != 0, d->cond > m.opt.cond_warn);
+  }
+  assert_true(d->warn & RPS3_WARN_ILLCOND);
+  d->pose[1] = bs;
+  assert_int_equal(rps3_inverse(&m, d), RPS3_ESING);
+  assert_non_null(strstr(d->err.msg, "condition number"));
+  assert_int_equal(d->stage & RPS3_STAGE_DYN, 0);
+  rps3_data_free(d);
+}
+
+/* Coulomb friction: sign(0) = 0, and it opposes theta-dot */
+static void friction_opposes_motion(void **state) {
+  rps3_model m;
+  rps3_data *d;
+  int i;
+  (void)state;
+  rps3_model_default(&m);
+  m.opt.effects = RPS3_EFF_PIN_FRICTION;
+  m.friction.coulomb = 0.0371;
+  assert_int_equal(rps3_model_init(&m, NULL, 0), RPS3_OK);
+  assert_int_equal(rps3_data_alloc(&m, &d), RPS3_OK);
+  d->pose[0] = 0.3;
+  d->pose[1] = 0.15;
+  d->pose[2] = 0.31;
+  assert_int_equal(rps3_inverse(&m, d), RPS3_OK);
+  for (i = 0; i < 3; i++) assert_true(d->F[i] == 0.0);
+  d->dpose[2] = 0.05; /* rising: the actuators must also beat friction */
+  assert_int_equal(rps3_inverse(&m, d), RPS3_OK);
+  assert_true(d->friction_power < 0.0);
+  assert_true(d->power > 0.0);
+  CHECK_REL(d->power, -d->friction_power, TOL_EXACT, 0.0, "power balance");
+  rps3_data_free(d);
+}
+
+int main(void) {
+  const struct CMUnitTest tests[] = {
+      cmocka_unit_test(paper_trajectory),
+      cmocka_unit_test(random_trajectories),
+      cmocka_unit_test(effects_separate),
+      cmocka_unit_test(static_closed_form),
+      cmocka_unit_test(static_scene_needs_no_rates),
+      cmocka_unit_test(singular_configuration),
+      cmocka_unit_test(friction_opposes_motion),
+  };
+  gsl_set_error_handler_off();
+  return cmocka_run_group_tests(tests, NULL, NULL);
+}
