@@ -1,0 +1,148 @@
+/*
+ * output.h - the HDF5 file of a sweep: its schema and a streaming writer.
+ *
+ * RPS3_OUTPUT_FIELDS is the one table of what a file holds per case and per
+ * sample.  It drives the tile buffers, dataset creation, the writes and the
+ * units/description attributes.  The coordinates (case, time, link, effect,
+ * constraint, the swept keys, case_time) are written by output.c itself.
+ *
+ * The file is written in tiles: a tile is a run of whole cases, or one
+ * window of samples of a single long case.  A tile is one hyperslab write
+ * per field, so memory is bounded by the tile size, whatever the sweep size.
+ */
+#ifndef RPS3_RUNNER_OUTPUT_H
+#define RPS3_RUNNER_OUTPUT_H
+
+#include <stddef.h>
+#include <stdint.h>
+
+#include "scene.h"
+
+/* shapes: C [case], CT [case, time], CTL [case, time, link],
+   CTK [case, time, constraint], CTEL [case, time, effect, link] */
+typedef enum { OUT_C, OUT_CT, OUT_CTL, OUT_CTK, OUT_CTEL } out_shape;
+
+/* element types: double (NaN for missing), int32 (-1 for missing), string */
+typedef enum { OUT_F64, OUT_I32, OUT_STR } out_type;
+
+/* X(name, shape, type, units, description) */
+#define RPS3_OUTPUT_FIELDS(X)                                                  \
+  X(force, OUT_CTL, OUT_F64, "N",                                              \
+    "total actuating force F_i along link i, eq. (34); positive extends the "  \
+    "link")                                                                    \
+  X(force_by_effect, OUT_CTEL, OUT_F64, "N",                                   \
+    "share of each selected effect in the actuating force; the shares sum "    \
+    "to force")                                                                \
+  X(length, OUT_CTL, OUT_F64, "m", "link length l_i = R L_i, eqs. (5)-(7)")    \
+  X(length_rate, OUT_CTL, OUT_F64, "m/s",                                      \
+    "link extension rate dl_i/dt (NaN when no effect needs rates)")            \
+  X(length_accel, OUT_CTL, OUT_F64, "m/s^2",                                   \
+    "link extension acceleration d2l_i/dt2 (NaN when no effect needs it)")     \
+  X(theta, OUT_CTL, OUT_F64, "rad",                                            \
+    "angle theta_i between link i and the base plane, eq. (39) or (8)-(10)")   \
+  X(alpha, OUT_CT, OUT_F64, "rad",                                             \
+    "precession angle alpha of the platform (Z-Y-Z Euler angles, eq. (2))")    \
+  X(beta, OUT_CT, OUT_F64, "rad", "nutation angle beta of the platform")       \
+  X(z_c, OUT_CT, OUT_F64, "m", "height z_c of the platform centre")            \
+  X(x_c, OUT_CT, OUT_F64, "m", "platform centre x_c, eq. (3) times R")         \
+  X(y_c, OUT_CT, OUT_F64, "m", "platform centre y_c, eq. (4) times R")         \
+  X(lambda, OUT_CTK, OUT_F64, "N/m",                                           \
+    "Lagrange multipliers lambda_k of the constraints (8)-(10) written in "    \
+    "metres (f_k = |b_i - b_j|^2 - 3 r^2), eq. (34); NaN under newton_euler, " \
+    "which does not compute them")                                             \
+  X(energy_residual, OUT_CT, OUT_F64, "W",                                     \
+    "actuator power + friction power - dT/dt - dP/dt; zero up to rounding "    \
+    "when the forces are right (0 when solver.certify is false)")              \
+  X(energy_scale, OUT_CT, OUT_F64, "W",                                        \
+    "sum of the magnitudes of the terms of energy_residual, its scale")        \
+  X(condition, OUT_CT, OUT_F64, "1",                                           \
+    "1-norm condition number of the constraint Jacobian df/dtheta")            \
+  X(solve_niter, OUT_CT, OUT_I32, "1",                                         \
+    "iterations of the multiroot theta solve (0 for closed_form; -1 missing)") \
+  X(solve_resid, OUT_CT, OUT_F64, "1",                                         \
+    "max |f_k| after the theta solve, lengths in units of R")                  \
+  X(warn, OUT_CT, OUT_I32, "1",                                                \
+    "warning bits: 1 ill-conditioned lambda system, 2 alpha undefined "        \
+    "(-1 missing)")                                                            \
+  X(status, OUT_C, OUT_I32, "1",                                               \
+    "0 = ok, else the rps3_status code of the first failing sample")           \
+  X(failed_at, OUT_C, OUT_I32, "1",                                            \
+    "time index of the first failing sample, -1 if none")                      \
+  X(message, OUT_C, OUT_STR, "1",                                              \
+    "why the case failed, empty if it did not")                                \
+  X(scene_resolved, OUT_C, OUT_STR, "1",                                       \
+    "the case's full scene as YAML (no sweep): rerun it alone with rps3-run")
+
+#define OUT_FIELD_ID(name, ...) OUT_##name,
+typedef enum { RPS3_OUTPUT_FIELDS(OUT_FIELD_ID) OUT_NFIELD } out_field;
+#undef OUT_FIELD_ID
+
+/*
+ * The buffers of one tile: up to `cases` cases of up to `points` samples.
+ * Each field's buffer is [cases][points][columns] (C order, the layout of
+ * the hyperslab), strings are one pointer per case.  Samples of slot s,
+ * time index k (counted from the tile's first sample) and column j are at
+ * field[(s * points + k) * columns + j].
+ */
+typedef struct {
+  size_t cases;           /* case slots */
+  size_t points;          /* samples per slot */
+  int neffect;            /* effects in force_by_effect */
+  int effect[RPS3_NEFFECT]; /* their effect indices, in file order */
+#define OUT_BLOCK_MEMBER(name, shape, type, ...) void *name;
+  RPS3_OUTPUT_FIELDS(OUT_BLOCK_MEMBER)
+#undef OUT_BLOCK_MEMBER
+  double *t;              /* time of each sample [cases][points] */
+  scene_text *yaml;       /* per slot: scene_resolved's storage */
+  char (*msg)[320];       /* per slot: message's storage */
+} out_block;
+
+/* columns of a shape per (case, sample) */
+size_t out_columns(out_shape shape, int neffect);
+
+/* Allocate a block; returns 0, or -1 (out of memory, nothing leaks). */
+int out_block_alloc(out_block *b, size_t cases, size_t points,
+                    int effects);
+
+/* Free a block's buffers; a zeroed block is accepted. */
+void out_block_free(out_block *b);
+
+/* Fill slot s from sample k on with the missing values (NaN, -1). */
+void out_block_blank(out_block *b, size_t slot, size_t k);
+
+/* what the file says about the run */
+typedef struct {
+  const char *command_line;
+  int gzip;               /* deflate level 1-9, 0 for none */
+} out_meta;
+
+typedef struct out_file out_file;
+
+/*
+ * Create the file at `path` (truncating it) for the cases of s: all
+ * datasets, dimension scales, attributes, the scene text, the swept keys
+ * and, when the grid is common to all cases (grid_common), the time axis
+ * from `first`.  nt is the largest number of samples of any case; chunks
+ * are [tile_cases, tile_points, ...].  Returns NULL with a message in err.
+ */
+out_file *out_create(const char *path, const scene *s,
+                     const scene_case *first, size_t nt, int grid_common,
+                     const out_block *b, const out_meta *meta, char *err,
+                     size_t errsz);
+
+/*
+ * Write a tile: slots [0, nc) of b hold cases c0 .. c0 + nc - 1, samples
+ * [k0, k0 + nk).  Per-case fields (status, message, ...) are written only
+ * when with_case is 1.  Returns 0 or -1 with err set.
+ */
+int out_write(out_file *f, const out_block *b, size_t c0, size_t nc,
+              size_t k0, size_t nk, int with_case, char *err, size_t errsz);
+
+/* Flush and close the file; returns 0 or -1 with err set.  f is freed
+   either way; NULL is accepted. */
+int out_close(out_file *f, char *err, size_t errsz);
+
+/* print the schema (markdown) on stdout: name, dimensions, units, doc */
+void out_schema_print(void);
+
+#endif /* RPS3_RUNNER_OUTPUT_H */

@@ -1,0 +1,31 @@
+/*
+ * progress.h - progress of a sweep on stderr: a bar with cases done, rate
+ * and ETA on a terminal, a plain line every few seconds otherwise, nothing
+ * when quiet.
+ */
+#ifndef RPS3_RUNNER_PROGRESS_H
+#define RPS3_RUNNER_PROGRESS_H
+
+#include <stddef.h>
+
+typedef enum { PROGRESS_QUIET, PROGRESS_BAR, PROGRESS_LINES } progress_mode;
+
+typedef struct {
+  progress_mode mode;
+  size_t ncase;       /* cases in the sweep */
+  double t0;          /* start [s, monotonic] */
+  double shown;       /* time of the last output [s] */
+  double interval;    /* seconds between outputs */
+} progress;
+
+/* Start; mode from quiet and whether stderr is a terminal. */
+void progress_start(progress *p, size_t ncase, int quiet);
+
+/* Report cases_done cases and points_done samples so far (rate-limited). */
+void progress_update(progress *p, size_t cases_done, size_t points_done);
+
+/* Final line: cases, failures, samples, elapsed time and rate. */
+void progress_finish(progress *p, size_t cases_done, size_t points_done,
+                     size_t nfailed);
+
+#endif /* RPS3_RUNNER_PROGRESS_H */

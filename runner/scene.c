@@ -1,0 +1,1438 @@
+/*
+ * scene.c - parse a scene file with libyaml's document API, expand its
+ * sweep, build each case and write it back as YAML.
+ *
+ * Parsing is table driven: SCENE_KEYS (scene.h) names every leaf key with
+ * its type, range and unit.  Each error carries the libyaml mark of the node
+ * it is about, so that the runner can print FILE:LINE:COLUMN: key: what.
+ */
+#include "scene.h"
+
+#include <ctype.h>
+#include <errno.h>
+#include <math.h>
+#include <stdarg.h>
+#include <stddef.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include <yaml.h>
+
+/* ------------------------------------------------------------- key table */
+
+#define KEY_ROW(ID, PATH, TYPE, FIELD, FOR, REQ, LO, LO_OPEN, HI, UNIT, SYM,  \
+                DOC)                                                          \
+  {PATH, TYPE, offsetof(scene_values, FIELD), FOR, REQ, LO, LO_OPEN, HI,      \
+   UNIT, SYM, DOC},
+static const scene_key_info keys[SCENE_NKEY] = {SCENE_KEYS(KEY_ROW)};
+#undef KEY_ROW
+
+/* mapping sections; the index is the slot in scene.section */
+static const char *const sections[] = {"", "manipulator", "trajectory",
+                                       "solver", "manipulator.payload",
+                                       "manipulator.pin_friction"};
+#define NSECTION (sizeof sections / sizeof sections[0])
+
+/* a value counts as equal to a whole number within this many ulps of its
+   size: used for the range expansion and for span / dt */
+#define WHOLE_RTOL 1e-9
+
+/* the most cases a sweep may expand to */
+#define MAX_CASES 1000000000.0
+
+const scene_key_info *scene_key_get(int k)
+{
+  return (k >= 0 && k < SCENE_NKEY) ? &keys[k] : NULL;
+}
+
+int scene_key_find(const char *path)
+{
+  int k;
+  for (k = 0; k < SCENE_NKEY; k++)
+    if (strcmp(keys[k].path, path) == 0)
+      return k;
+  return -1;
+}
+
+static int section_find(const char *path)
+{
+  size_t i;
+  for (i = 1; i < NSECTION; i++)
+    if (strcmp(sections[i], path) == 0)
+      return (int)i;
+  return -1;
+}
+
+/* last component of a dotted path */
+static const char *leaf(const char *path)
+{
+  const char *p = strrchr(path, '.');
+  return p ? p + 1 : path;
+}
+
+/* ---------------------------------------------------------- enum names */
+
+static const char *const kind_names[] = {NULL, "helix", "sine"};
+static const char *const theta_names[] = {"closed_form", "multiroot"};
+static const char *const method_names[] = {"lagrange", "newton_euler"};
+
+const char *scene_enum_name(int k, int value)
+{
+  switch (k) {
+  case K_KIND:
+    return (value == RPS3_TRAJ_HELIX || value == RPS3_TRAJ_SINE)
+               ? kind_names[value]
+               : NULL;
+  case K_THETA:
+    return (value == 0 || value == 1) ? theta_names[value] : NULL;
+  case K_METHOD:
+    return (value == 0 || value == 1) ? method_names[value] : NULL;
+  case K_SOLVER:
+    return rps3_solver_name(value);
+  default:
+    return NULL;
+  }
+}
+
+/* range of enum values of key k: [*lo, *hi] */
+static void enum_range(int k, int *lo, int *hi)
+{
+  *lo = (k == K_KIND) ? 1 : 0;
+  *hi = (k == K_KIND) ? 2 : (k == K_SOLVER) ? RPS3_NSOLVER - 1 : 1;
+}
+
+static int enum_find(int k, const char *name)
+{
+  int v, lo, hi;
+  enum_range(k, &lo, &hi);
+  for (v = lo; v <= hi; v++) {
+    const char *n = scene_enum_name(k, v);
+    if (n && strcmp(n, name) == 0)
+      return v;
+  }
+  return -1;
+}
+
+/* "a, b or c" list of the names of key k into buf */
+static void enum_list(int k, char *buf, size_t sz)
+{
+  int v, lo, hi;
+  size_t len = 0;
+  enum_range(k, &lo, &hi);
+  buf[0] = '\0';
+  for (v = lo; v <= hi && len < sz; v++)
+    len += (size_t)snprintf(buf + len, sz - len, "%s%s",
+                            v == lo ? "" : (v == hi ? " or " : ", "),
+                            scene_enum_name(k, v));
+}
+
+static void effect_list(char *buf, size_t sz)
+{
+  int e;
+  size_t len = 0;
+  buf[0] = '\0';
+  for (e = 0; e < RPS3_NEFFECT && len < sz; e++)
+    len += (size_t)snprintf(buf + len, sz - len, "%s%s", e ? ", " : "",
+                            rps3_effect_name(e));
+}
+
+/* -------------------------------------------------------------- values */
+
+static double *real_at(scene_values *v, int k)
+{
+  return (double *)(void *)((char *)v + keys[k].offset);
+}
+
+static int *int_at(scene_values *v, int k)
+{
+  return (int *)(void *)((char *)v + keys[k].offset);
+}
+
+/* set key k (component comp of a KEY_REAL3) to x */
+static void value_set(scene_values *v, int k, int comp, double x)
+{
+  switch (keys[k].type) {
+  case KEY_REAL:
+    *real_at(v, k) = x;
+    break;
+  case KEY_REAL3:
+    real_at(v, k)[comp] = x;
+    break;
+  default:
+    *int_at(v, k) = (int)x;
+    break;
+  }
+}
+
+/* defaults: the library's Table II model, options and helix */
+static void values_default(scene_values *v)
+{
+  rps3_model m;
+  rps3_traj tr;
+  int i;
+  memset(v, 0, sizeof *v);
+  rps3_model_default(&m);
+  rps3_traj_default(&tr);
+  v->R = m.R;
+  v->rho = m.rho;
+  v->M = m.M;
+  v->m = m.m;
+  v->m_over_M = m.M > 0 ? m.m / m.M : 0;
+  v->d = m.d;
+  v->g = m.g;
+  v->link_Ic = m.link_Ic;
+  v->payload_mass = m.payload.mass;
+  for (i = 0; i < 3; i++) {
+    v->payload_com[i] = m.payload.com[i];
+    v->payload_inertia[i] = m.payload.inertia[i];
+    v->mean[i] = tr.sine.mean[i];
+    v->amp[i] = tr.sine.amp[i];
+    v->freq[i] = tr.sine.freq[i];
+    v->phase[i] = tr.sine.phase[i];
+  }
+  v->viscous = m.friction.viscous;
+  v->coulomb = m.friction.coulomb;
+  v->kind = (int)tr.kind;
+  v->radius = tr.helix.radius;
+  v->pitch = tr.helix.pitch;
+  v->z0 = tr.helix.z0;
+  v->period = tr.helix.period;
+  v->blend = tr.helix.blend;
+  v->duration = tr.sine.duration;
+  v->effects = m.opt.effects;
+  v->theta = (int)m.opt.theta;
+  v->method = (int)m.opt.method;
+  v->solver = (int)m.opt.solver;
+  v->tolerance = m.opt.tol;
+  v->max_iter = m.opt.max_iter;
+  v->warm_start = m.opt.warm_start;
+  v->certify = m.opt.certify;
+  v->cond_warn = m.opt.cond_warn;
+  v->cond_max = m.opt.cond_max;
+}
+
+/* the library's model and trajectory for values v; the link mass comes from
+   m_over_M when by_ratio, else from m */
+static void values_apply(const scene_values *v, int by_ratio, rps3_model *m,
+                         rps3_traj *tr)
+{
+  int i;
+  rps3_model_default(m);
+  rps3_traj_default(tr);
+  m->R = v->R;
+  m->rho = v->rho;
+  m->M = v->M;
+  m->m = by_ratio ? v->m_over_M * v->M : v->m;
+  m->d = v->d;
+  m->g = v->g;
+  m->link_Ic = v->link_Ic;
+  m->payload.mass = v->payload_mass;
+  for (i = 0; i < 3; i++) {
+    m->payload.com[i] = v->payload_com[i];
+    m->payload.inertia[i] = v->payload_inertia[i];
+    tr->sine.mean[i] = v->mean[i];
+    tr->sine.amp[i] = v->amp[i];
+    tr->sine.freq[i] = v->freq[i];
+    tr->sine.phase[i] = v->phase[i];
+  }
+  m->friction.viscous = v->viscous;
+  m->friction.coulomb = v->coulomb;
+  m->opt.effects = v->effects;
+  m->opt.theta = (rps3_theta_route)v->theta;
+  m->opt.method = (rps3_method)v->method;
+  m->opt.solver = (rps3_solver)v->solver;
+  m->opt.tol = v->tolerance;
+  m->opt.max_iter = v->max_iter;
+  m->opt.warm_start = v->warm_start;
+  m->opt.certify = v->certify;
+  m->opt.cond_warn = v->cond_warn;
+  m->opt.cond_max = v->cond_max;
+  tr->kind = (rps3_traj_kind)v->kind;
+  tr->helix.radius = v->radius;
+  tr->helix.pitch = v->pitch;
+  tr->helix.z0 = v->z0;
+  tr->helix.period = v->period;
+  tr->helix.blend = v->blend;
+  tr->sine.duration = v->duration;
+}
+
+/* ---------------------------------------------------------------- errors */
+
+static void error_set(scene_error *err, scene_mark mark, const char *path,
+                      const char *fmt, ...)
+{
+  va_list ap;
+  err->mark = mark;
+  snprintf(err->path, sizeof err->path, "%s", path);
+  va_start(ap, fmt);
+  vsnprintf(err->what, sizeof err->what, fmt, ap);
+  va_end(ap);
+}
+
+void scene_error_print(const char *file, const scene_error *err)
+{
+  if (err->mark.line > 0)
+    fprintf(stderr, "%s:%d:%d: %s: %s\n", file, err->mark.line,
+            err->mark.column, err->path, err->what);
+  else
+    fprintf(stderr, "%s: %s: %s\n", file, err->path, err->what);
+}
+
+static scene_mark mark_of(const yaml_mark_t *m)
+{
+  scene_mark r;
+  r.line = (int)m->line + 1;
+  r.column = (int)m->column + 1;
+  return r;
+}
+
+/* ---------------------------------------------------------------- parse */
+
+typedef struct {
+  yaml_document_t *doc;
+  scene *s;
+  scene_error *err;
+  int sweep_node; /* node id of the sweep mapping, 0 if none */
+} parse_ctx;
+
+static yaml_node_t *node_get(parse_ctx *c, int id)
+{
+  return yaml_document_get_node(c->doc, id);
+}
+
+static const char *scalar_text(const yaml_node_t *n)
+{
+  return (const char *)n->data.scalar.value;
+}
+
+/* a null scalar: empty plain, "~" or "null" */
+static int is_null(const yaml_node_t *n)
+{
+  const char *t;
+  if (n->type != YAML_SCALAR_NODE ||
+      n->data.scalar.style != YAML_PLAIN_SCALAR_STYLE)
+    return 0;
+  t = scalar_text(n);
+  return t[0] == '\0' || strcmp(t, "~") == 0 || strcmp(t, "null") == 0;
+}
+
+static const char *node_kind(const yaml_node_t *n)
+{
+  if (n->type == YAML_MAPPING_NODE)
+    return "a mapping";
+  if (n->type == YAML_SEQUENCE_NODE)
+    return "a list";
+  if (is_null(n))
+    return "nothing";
+  if (n->data.scalar.style != YAML_PLAIN_SCALAR_STYLE)
+    return "a quoted string";
+  return "a scalar";
+}
+
+/* a plain scalar as a number; 0 or -1 with the error set */
+static int parse_number(parse_ctx *c, const yaml_node_t *n, const char *path,
+                        int integer, double *out)
+{
+  const char *t, *p;
+  char *end;
+  scene_mark mk = mark_of(&n->start_mark);
+  if (n->type != YAML_SCALAR_NODE || is_null(n) ||
+      n->data.scalar.style != YAML_PLAIN_SCALAR_STYLE) {
+    error_set(c->err, mk, path, "expected %s, got %s",
+              integer ? "an integer" : "a number", node_kind(n));
+    return -1;
+  }
+  t = scalar_text(n);
+  /* only decimal notation: strtod would also take hex, inf and nan */
+  for (p = t; *p; p++)
+    if (!(isdigit((unsigned char)*p) || *p == '+' || *p == '-' ||
+          (!integer && (*p == '.' || *p == 'e' || *p == 'E')))) {
+      error_set(c->err, mk, path, "expected %s, got '%s'",
+                integer ? "an integer" : "a finite number", t);
+      return -1;
+    }
+  errno = 0;
+  *out = integer ? (double)strtol(t, &end, 10) : strtod(t, &end);
+  if (end == t || *end != '\0') {
+    error_set(c->err, mk, path, "expected %s, got '%s'",
+              integer ? "an integer" : "a number", t);
+    return -1;
+  }
+  if (errno == ERANGE || !isfinite(*out)) {
+    error_set(c->err, mk, path, "'%s' is out of range", t);
+    return -1;
+  }
+  return 0;
+}
+
+/* x against the range of key k */
+static int check_range(parse_ctx *c, int k, double x, scene_mark mk,
+                       const char *path)
+{
+  const scene_key_info *ki = &keys[k];
+  if (ki->lo_open ? !(x > ki->lo) : !(x >= ki->lo)) {
+    error_set(c->err, mk, path, "must be %s %.17g, got %.17g",
+              ki->lo_open ? ">" : ">=", ki->lo, x);
+    return -1;
+  }
+  if (!(x <= ki->hi)) {
+    error_set(c->err, mk, path, "must be <= %.17g, got %.17g", ki->hi, x);
+    return -1;
+  }
+  return 0;
+}
+
+/* one scalar value of key k (not a list key) as a number: the value itself,
+   an integer, 0/1 for a bool, the enum value for a name */
+static int parse_scalar(parse_ctx *c, int k, const yaml_node_t *n,
+                        const char *path, double *out)
+{
+  char list[256];
+  scene_mark mk = mark_of(&n->start_mark);
+  const char *t;
+  int v;
+  switch (keys[k].type) {
+  case KEY_REAL:
+  case KEY_REAL3:
+    if (parse_number(c, n, path, 0, out))
+      return -1;
+    return check_range(c, k, *out, mk, path);
+  case KEY_INT:
+    if (parse_number(c, n, path, 1, out))
+      return -1;
+    return check_range(c, k, *out, mk, path);
+  case KEY_BOOL:
+    if (n->type == YAML_SCALAR_NODE &&
+        n->data.scalar.style == YAML_PLAIN_SCALAR_STYLE) {
+      t = scalar_text(n);
+      if (strcmp(t, "true") == 0 || strcmp(t, "false") == 0) {
+        *out = t[0] == 't';
+        return 0;
+      }
+    }
+    error_set(c->err, mk, path, "expected true or false, got %s%s%s%s",
+              n->type == YAML_SCALAR_NODE ? "'" : "",
+              n->type == YAML_SCALAR_NODE ? scalar_text(n) : node_kind(n),
+              n->type == YAML_SCALAR_NODE ? "'" : "", "");
+    return -1;
+  case KEY_ENUM:
+    enum_list(k, list, sizeof list);
+    if (n->type != YAML_SCALAR_NODE || is_null(n)) {
+      error_set(c->err, mk, path, "expected one of %s, got %s", list,
+                node_kind(n));
+      return -1;
+    }
+    v = enum_find(k, scalar_text(n));
+    if (v < 0) {
+      error_set(c->err, mk, path, "unknown value '%s'; expected %s",
+                scalar_text(n), list);
+      return -1;
+    }
+    *out = v;
+    return 0;
+  case KEY_EFFECTS:
+  default:
+    error_set(c->err, mk, path, "not a scalar key");
+    return -1;
+  }
+}
+
+/* the value node n of key k into v (the whole key, lists included) */
+static int parse_value(parse_ctx *c, int k, const yaml_node_t *n,
+                       scene_values *v)
+{
+  const char *path = keys[k].path;
+  scene_mark mk = mark_of(&n->start_mark);
+  char sub[160], list[256];
+  yaml_node_item_t *it;
+  double x;
+  int i, e, bits;
+
+  if (keys[k].type == KEY_REAL3) {
+    if (n->type != YAML_SEQUENCE_NODE ||
+        n->data.sequence.items.top - n->data.sequence.items.start != 3) {
+      error_set(c->err, mk, path, "expected a list of 3 numbers, got %s",
+                n->type == YAML_SEQUENCE_NODE ? "a list of another length"
+                                              : node_kind(n));
+      return -1;
+    }
+    for (i = 0, it = n->data.sequence.items.start; i < 3; i++, it++) {
+      snprintf(sub, sizeof sub, "%s[%d]", path, i);
+      if (parse_scalar(c, k, node_get(c, *it), sub, &x))
+        return -1;
+      real_at(v, k)[i] = x;
+    }
+    return 0;
+  }
+  if (keys[k].type == KEY_EFFECTS) {
+    effect_list(list, sizeof list);
+    if (n->type != YAML_SEQUENCE_NODE ||
+        n->data.sequence.items.top == n->data.sequence.items.start) {
+      error_set(c->err, mk, path, "expected a non-empty list of %s, got %s",
+                list,
+                n->type == YAML_SEQUENCE_NODE ? "an empty list"
+                                              : node_kind(n));
+      return -1;
+    }
+    bits = 0;
+    for (it = n->data.sequence.items.start; it < n->data.sequence.items.top;
+         it++) {
+      const yaml_node_t *item = node_get(c, *it);
+      scene_mark im = mark_of(&item->start_mark);
+      e = (item->type == YAML_SCALAR_NODE && !is_null(item))
+              ? rps3_effect_index(scalar_text(item))
+              : -1;
+      if (e < 0) {
+        error_set(c->err, im, path, "unknown effect %s%s%s; expected %s",
+                  item->type == YAML_SCALAR_NODE ? "'" : "",
+                  item->type == YAML_SCALAR_NODE ? scalar_text(item)
+                                                 : node_kind(item),
+                  item->type == YAML_SCALAR_NODE ? "'" : "", list);
+        return -1;
+      }
+      if (bits & (1 << e)) {
+        error_set(c->err, im, path, "effect '%s' listed twice",
+                  rps3_effect_name(e));
+        return -1;
+      }
+      bits |= 1 << e;
+    }
+    v->effects = bits;
+    return 0;
+  }
+  if (parse_scalar(c, k, n, path, &x))
+    return -1;
+  value_set(v, k, -1, x);
+  return 0;
+}
+
+/* "a, b, c" of the keys and sections directly under prefix */
+static void keys_under(const char *prefix, char *buf, size_t sz)
+{
+  size_t plen = strlen(prefix), len = 0, i;
+  int k;
+  buf[0] = '\0';
+  if (plen == 0) {
+    snprintf(buf, sz, "manipulator, trajectory, effects, solver, sweep");
+    return;
+  }
+  for (k = 0; k < SCENE_NKEY && len < sz; k++) {
+    const char *p = keys[k].path;
+    if (strncmp(p, prefix, plen) == 0 && p[plen] == '.' &&
+        !strchr(p + plen + 1, '.'))
+      len += (size_t)snprintf(buf + len, sz - len, "%s%s", len ? ", " : "",
+                              p + plen + 1);
+  }
+  for (i = 1; i < NSECTION && len < sz; i++) {
+    const char *p = sections[i];
+    if (strncmp(p, prefix, plen) == 0 && p[plen] == '.' &&
+        !strchr(p + plen + 1, '.'))
+      len += (size_t)snprintf(buf + len, sz - len, "%s%s", len ? ", " : "",
+                              p + plen + 1);
+  }
+}
+
+/* the keys of a mapping must be plain scalars and appear once */
+static int mapping_key(parse_ctx *c, const yaml_node_t *map,
+                       const yaml_node_pair_t *pair, const char *prefix,
+                       const char **name)
+{
+  const yaml_node_t *kn = node_get(c, pair->key);
+  const yaml_node_pair_t *q;
+  scene_mark mk = mark_of(&kn->start_mark);
+  if (kn->type != YAML_SCALAR_NODE || is_null(kn)) {
+    error_set(c->err, mk, prefix[0] ? prefix : "(root)",
+              "a key must be a name, got %s", node_kind(kn));
+    return -1;
+  }
+  *name = scalar_text(kn);
+  for (q = map->data.mapping.pairs.start; q < pair; q++) {
+    const yaml_node_t *other = node_get(c, q->key);
+    if (other->type == YAML_SCALAR_NODE &&
+        strcmp(scalar_text(other), *name) == 0) {
+      scene_mark om = mark_of(&other->start_mark);
+      char full[160];
+      snprintf(full, sizeof full, "%s%s%s", prefix, prefix[0] ? "." : "",
+               *name);
+      error_set(c->err, mk, full, "duplicate key (first given at %d:%d)",
+                om.line, om.column);
+      return -1;
+    }
+  }
+  return 0;
+}
+
+/* walk a mapping section, storing each key it holds into the base values */
+static int walk_section(parse_ctx *c, const yaml_node_t *map,
+                        const char *prefix)
+{
+  yaml_node_pair_t *pair;
+  char full[160], list[512];
+  scene *s = c->s;
+  for (pair = map->data.mapping.pairs.start; pair < map->data.mapping.pairs.top;
+       pair++) {
+    const char *name;
+    const yaml_node_t *val = node_get(c, pair->value);
+    int k, sec;
+    if (mapping_key(c, map, pair, prefix, &name))
+      return -1;
+    snprintf(full, sizeof full, "%s%s%s", prefix, prefix[0] ? "." : "",
+             name);
+    if (prefix[0] == '\0' && strcmp(name, "sweep") == 0) {
+      c->sweep_node = pair->value;
+      continue;
+    }
+    sec = section_find(full);
+    if (sec > 0) {
+      if (val->type != YAML_MAPPING_NODE) {
+        error_set(c->err, mark_of(&val->start_mark), full,
+                  "expected a mapping of keys, got %s", node_kind(val));
+        return -1;
+      }
+      if (sec < 4)
+        s->section[sec] = mark_of(&val->start_mark);
+      if (walk_section(c, val, full))
+        return -1;
+      continue;
+    }
+    k = scene_key_find(full);
+    if (k < 0) {
+      keys_under(prefix, list, sizeof list);
+      error_set(c->err, mark_of(&node_get(c, pair->key)->start_mark), full,
+                "unknown key; expected one of %s", list);
+      return -1;
+    }
+    if (parse_value(c, k, val, &s->base))
+      return -1;
+    s->given[k] = 1;
+    s->mark[k] = mark_of(&val->start_mark);
+  }
+  return 0;
+}
+
+/* ---------------------------------------------------------------- sweep */
+
+/* one value of a {from, to, ...} range mapping, or NULL */
+static const yaml_node_t *range_get(parse_ctx *c, const yaml_node_t *map,
+                                    const char *name)
+{
+  yaml_node_pair_t *p;
+  for (p = map->data.mapping.pairs.start; p < map->data.mapping.pairs.top;
+       p++) {
+    const yaml_node_t *kn = node_get(c, p->key);
+    if (kn->type == YAML_SCALAR_NODE && strcmp(scalar_text(kn), name) == 0)
+      return node_get(c, p->value);
+  }
+  return NULL;
+}
+
+/* expand a {from, to, num} or {from, to, step} mapping into ax */
+static int sweep_range(parse_ctx *c, scene_axis *ax, const yaml_node_t *map)
+{
+  const scene_key_info *ki = &keys[ax->key];
+  scene_mark mk = mark_of(&map->start_mark);
+  const yaml_node_t *nf, *nt, *nn, *ns;
+  yaml_node_pair_t *p;
+  double from, to, num = 0, step = 0, span;
+  int integer = ki->type == KEY_INT;
+  size_t i, n;
+  char sub[160];
+
+  if (ki->type != KEY_REAL && ki->type != KEY_REAL3 && !integer) {
+    error_set(c->err, mk, ax->path,
+              "a range needs a numeric key; give a list of values");
+    return -1;
+  }
+  for (p = map->data.mapping.pairs.start; p < map->data.mapping.pairs.top;
+       p++) {
+    const char *name;
+    if (mapping_key(c, map, p, ax->path, &name))
+      return -1;
+    if (strcmp(name, "from") && strcmp(name, "to") && strcmp(name, "num") &&
+        strcmp(name, "step")) {
+      snprintf(sub, sizeof sub, "%s.%s", ax->path, name);
+      error_set(c->err, mark_of(&node_get(c, p->key)->start_mark), sub,
+                "unknown key; expected from, to and num or step");
+      return -1;
+    }
+  }
+  nf = range_get(c, map, "from");
+  nt = range_get(c, map, "to");
+  nn = range_get(c, map, "num");
+  ns = range_get(c, map, "step");
+  if (!nf || !nt || (!nn == !ns)) {
+    error_set(c->err, mk, ax->path,
+              "a range needs from, to and exactly one of num and step");
+    return -1;
+  }
+  snprintf(sub, sizeof sub, "%s.from", ax->path);
+  if (parse_number(c, nf, sub, integer, &from))
+    return -1;
+  snprintf(sub, sizeof sub, "%s.to", ax->path);
+  if (parse_number(c, nt, sub, integer, &to))
+    return -1;
+  span = to - from;
+  if (nn) {
+    snprintf(sub, sizeof sub, "%s.num", ax->path);
+    if (parse_number(c, nn, sub, 1, &num))
+      return -1;
+    if (num < 1 || num > MAX_CASES || (num == 1 && from != to)) {
+      error_set(c->err, mark_of(&nn->start_mark), sub,
+                "must be >= 2 (or 1 with from == to), got %.17g", num);
+      return -1;
+    }
+    n = (size_t)num;
+  } else {
+    double q;
+    snprintf(sub, sizeof sub, "%s.step", ax->path);
+    if (parse_number(c, ns, sub, integer, &step))
+      return -1;
+    q = span / step;
+    if (step == 0 || q < 0) {
+      error_set(c->err, mark_of(&ns->start_mark), sub,
+                "must be non-zero with the sign of to - from, got %.17g",
+                step);
+      return -1;
+    }
+    if (q + 1 > MAX_CASES) {
+      error_set(c->err, mark_of(&ns->start_mark), sub,
+                "gives more than %.0f values", MAX_CASES);
+      return -1;
+    }
+    n = (size_t)floor(q + WHOLE_RTOL) + 1;
+  }
+  ax->n = n;
+  ax->val = malloc(n * sizeof *ax->val);
+  ax->mark = malloc(n * sizeof *ax->mark);
+  if (!ax->val || !ax->mark) {
+    error_set(c->err, mk, ax->path, "out of memory for %zu values", n);
+    return -1;
+  }
+  for (i = 0; i < n; i++) {
+    double x;
+    if (nn)
+      x = (i + 1 == n) ? to : from + span * (double)i / (double)(n - 1);
+    else
+      x = from + (double)i * step;
+    /* the last step lands on `to` up to rounding: take `to` itself */
+    if (!nn && i + 1 == n && fabs(x - to) <= WHOLE_RTOL * fabs(step))
+      x = to;
+    if (integer && x != floor(x)) {
+      error_set(c->err, mk, ax->path,
+                "value %zu of the range, %.17g, is not an integer", i, x);
+      return -1;
+    }
+    if (check_range(c, ax->key, x, mk, ax->path))
+      return -1;
+    ax->val[i] = x;
+    ax->mark[i] = mk;
+  }
+  return 0;
+}
+
+/* parse the sweep mapping into s->axis */
+static int parse_sweep(parse_ctx *c, const yaml_node_t *map)
+{
+  scene *s = c->s;
+  yaml_node_pair_t *pair;
+  size_t a, npair;
+  double ncase = 1;
+
+  if (map->type != YAML_MAPPING_NODE ||
+      map->data.mapping.pairs.top == map->data.mapping.pairs.start) {
+    error_set(c->err, mark_of(&map->start_mark), "sweep",
+              "expected a mapping of dotted keys to values, got %s",
+              map->type == YAML_MAPPING_NODE ? "an empty mapping"
+                                             : node_kind(map));
+    return -1;
+  }
+  npair = (size_t)(map->data.mapping.pairs.top - map->data.mapping.pairs.start);
+  s->axis = calloc(npair, sizeof *s->axis);
+  if (!s->axis) {
+    error_set(c->err, mark_of(&map->start_mark), "sweep", "out of memory");
+    return -1;
+  }
+  for (pair = map->data.mapping.pairs.start; pair < map->data.mapping.pairs.top;
+       pair++) {
+    const yaml_node_t *kn = node_get(c, pair->key);
+    const yaml_node_t *val = node_get(c, pair->value);
+    scene_mark km = mark_of(&kn->start_mark);
+    /* counted at once, so that scene_free frees a half-built axis */
+    scene_axis *ax = &s->axis[s->naxis++];
+    const scene_key_info *ki;
+    const char *name, *br;
+    char base[80];
+    if (mapping_key(c, map, pair, "sweep", &name))
+      return -1;
+    if (strlen(name) >= sizeof ax->path) {
+      error_set(c->err, km, "sweep", "key '%.40s...' is too long", name);
+      return -1;
+    }
+    snprintf(ax->path, sizeof ax->path, "%s", name);
+    ax->comp = -1;
+    /* "key[k]" picks component k of a list key */
+    br = strchr(name, '[');
+    snprintf(base, sizeof base, "%.*s",
+             (int)(br ? (size_t)(br - name) : strlen(name)), name);
+    ax->key = scene_key_find(base);
+    if (ax->key < 0) {
+      error_set(c->err, km, name, "not a scene key; see rps3-run --keys");
+      return -1;
+    }
+    ki = &keys[ax->key];
+    if (br) {
+      if (ki->type != KEY_REAL3 || !(br[1] >= '0' && br[1] <= '2') ||
+          strcmp(br + 2, "]") != 0) {
+        error_set(c->err, km, name,
+                  ki->type == KEY_REAL3
+                      ? "component must be [0], [1] or [2]"
+                      : "only a list key takes a component [k]");
+        return -1;
+      }
+      ax->comp = br[1] - '0';
+    } else if (ki->type == KEY_REAL3) {
+      error_set(c->err, km, name,
+                "a list key: sweep one component, as %s[0], [1] or [2]",
+                name);
+      return -1;
+    }
+    if (ki->type == KEY_EFFECTS || ax->key == K_KIND) {
+      error_set(c->err, km, name,
+                "cannot be swept (it decides what a case computes); write "
+                "one scene per value");
+      return -1;
+    }
+    if (ki->kind != FOR_ALL && ki->kind != s->base.kind) {
+      error_set(c->err, km, name, "not a key of a %s trajectory",
+                kind_names[s->base.kind]);
+      return -1;
+    }
+    for (a = 0; a + 1 < s->naxis; a++)
+      if (s->axis[a].key == ax->key && s->axis[a].comp == ax->comp) {
+        error_set(c->err, km, name, "swept twice (also as %s)",
+                  s->axis[a].path);
+        return -1;
+      }
+    if (val->type == YAML_SEQUENCE_NODE) {
+      yaml_node_item_t *it;
+      size_t i, n = (size_t)(val->data.sequence.items.top -
+                             val->data.sequence.items.start);
+      if (n == 0) {
+        error_set(c->err, mark_of(&val->start_mark), name,
+                  "empty list of values");
+        return -1;
+      }
+      ax->n = n;
+      ax->val = malloc(n * sizeof *ax->val);
+      ax->mark = malloc(n * sizeof *ax->mark);
+      if (!ax->val || !ax->mark) {
+        error_set(c->err, km, name, "out of memory");
+        return -1;
+      }
+      for (i = 0, it = val->data.sequence.items.start; i < n; i++, it++) {
+        const yaml_node_t *item = node_get(c, *it);
+        if (parse_scalar(c, ax->key, item, name, &ax->val[i]))
+          return -1;
+        ax->mark[i] = mark_of(&item->start_mark);
+      }
+    } else if (val->type == YAML_MAPPING_NODE) {
+      if (sweep_range(c, ax, val))
+        return -1;
+    } else {
+      error_set(c->err, mark_of(&val->start_mark), name,
+                "expected a list of values, {from, to, num} or "
+                "{from, to, step}, got %s",
+                node_kind(val));
+      return -1;
+    }
+    ncase *= (double)ax->n;
+    if (ncase > MAX_CASES) {
+      error_set(c->err, km, name, "the sweep has more than %.0f cases",
+                MAX_CASES);
+      return -1;
+    }
+    /* a swept key counts as given; its mark is its first value */
+    s->given[ax->key] = 1;
+    if (s->mark[ax->key].line == 0)
+      s->mark[ax->key] = ax->mark[0];
+  }
+  s->ncase = (size_t)ncase;
+  return 0;
+}
+
+/* required keys, keys of the other trajectory kind, one-of pairs */
+static int check_keys(parse_ctx *c)
+{
+  scene *s = c->s;
+  int k, pair;
+  if (s->section[1].line == 0 || s->section[2].line == 0) {
+    error_set(c->err, s->section[0],
+              s->section[1].line == 0 ? "manipulator" : "trajectory",
+              "missing required section");
+    return -1;
+  }
+  for (k = 0; k < SCENE_NKEY; k++) {
+    const scene_key_info *ki = &keys[k];
+    int applies = ki->kind == FOR_ALL || ki->kind == s->base.kind;
+    int sec = strncmp(ki->path, "manipulator", 11) == 0 ? 1 : 2;
+    if (!applies && s->given[k]) {
+      error_set(c->err, s->mark[k], ki->path, "not a key of a %s trajectory",
+                kind_names[s->base.kind]);
+      return -1;
+    }
+    if (applies && ki->req == REQ_YES && !s->given[k]) {
+      error_set(c->err, s->section[sec], ki->path, "missing required key");
+      return -1;
+    }
+  }
+  for (pair = 0; pair < 2; pair++) {
+    int a = pair ? K_SAMPLES : K_M_OVER_M, b = pair ? K_DT : K_MASS;
+    if (!s->given[a] && !s->given[b]) {
+      error_set(c->err, s->section[pair ? 2 : 1], keys[a].path,
+                "missing: give %s or %s", leaf(keys[a].path),
+                leaf(keys[b].path));
+      return -1;
+    }
+    if (s->given[a] && s->given[b]) {
+      int later = (s->mark[a].line > s->mark[b].line ||
+                   (s->mark[a].line == s->mark[b].line &&
+                    s->mark[a].column > s->mark[b].column))
+                      ? a
+                      : b;
+      int other = later == a ? b : a;
+      error_set(c->err, s->mark[later], keys[later].path,
+                "give either %s or %s, not both (%s is at %d:%d)",
+                leaf(keys[a].path), leaf(keys[b].path), keys[other].path,
+                s->mark[other].line, s->mark[other].column);
+      return -1;
+    }
+  }
+  return 0;
+}
+
+static int read_file(scene *s, const char *path, scene_error *err)
+{
+  FILE *f = fopen(path, "rb");
+  scene_mark none = {0, 0};
+  size_t cap = 4096, len = 0, got;
+  char *buf;
+  if (!f) {
+    error_set(err, none, "(file)", "cannot open: %s", strerror(errno));
+    return -1;
+  }
+  buf = malloc(cap + 1);
+  while (buf && (got = fread(buf + len, 1, cap - len, f)) > 0) {
+    len += got;
+    if (len == cap) {
+      char *nb = realloc(buf, 2 * cap + 1);
+      if (!nb) {
+        free(buf);
+        buf = NULL;
+        break;
+      }
+      buf = nb;
+      cap *= 2;
+    }
+  }
+  if (!buf || ferror(f)) {
+    error_set(err, none, "(file)", "cannot read: %s",
+              buf ? strerror(errno) : "out of memory");
+    free(buf);
+    fclose(f);
+    return -1;
+  }
+  fclose(f);
+  buf[len] = '\0';
+  if (strlen(buf) != len) {
+    error_set(err, none, "(file)", "contains a NUL byte; not a text file");
+    free(buf);
+    return -1;
+  }
+  s->text = buf;
+  s->text_len = len;
+  return 0;
+}
+
+int scene_load(scene *s, const char *path, scene_error *err)
+{
+  yaml_parser_t parser;
+  yaml_document_t doc, extra;
+  yaml_node_t *root;
+  parse_ctx c;
+  int rc = -1;
+
+  memset(s, 0, sizeof *s);
+  memset(err, 0, sizeof *err);
+  values_default(&s->base);
+  s->ncase = 1;
+  s->file = malloc(strlen(path) + 1);
+  if (!s->file) {
+    error_set(err, s->section[0], "(file)", "out of memory");
+    return -1;
+  }
+  strcpy(s->file, path);
+  if (read_file(s, path, err))
+    goto fail;
+
+  if (!yaml_parser_initialize(&parser)) {
+    error_set(err, s->section[0], "yaml", "cannot initialise libyaml");
+    goto fail;
+  }
+  yaml_parser_set_input_string(&parser, (const unsigned char *)s->text,
+                               s->text_len);
+  if (!yaml_parser_load(&parser, &doc)) {
+    error_set(err, mark_of(&parser.problem_mark), "yaml", "%s%s%s",
+              parser.problem ? parser.problem : "syntax error",
+              parser.context ? " " : "", parser.context ? parser.context : "");
+    yaml_parser_delete(&parser);
+    goto fail;
+  }
+  root = yaml_document_get_root_node(&doc);
+  memset(&c, 0, sizeof c);
+  c.doc = &doc;
+  c.s = s;
+  c.err = err;
+  s->section[0].line = 1;
+  s->section[0].column = 1;
+  if (!root) {
+    error_set(err, s->section[0], "(root)", "empty scene");
+  } else if (root->type != YAML_MAPPING_NODE) {
+    error_set(err, mark_of(&root->start_mark), "(root)",
+              "expected a mapping of sections, got %s", node_kind(root));
+  } else {
+    /* a second document would be silently ignored: refuse it */
+    if (!yaml_parser_load(&parser, &extra)) {
+      error_set(err, mark_of(&parser.problem_mark), "yaml", "%s",
+                parser.problem ? parser.problem : "syntax error");
+    } else {
+      yaml_node_t *r2 = yaml_document_get_root_node(&extra);
+      if (r2)
+        error_set(err, mark_of(&r2->start_mark), "(root)",
+                  "a second YAML document; a scene is one document");
+      else {
+        s->section[0] = mark_of(&root->start_mark);
+        if (walk_section(&c, root, "") == 0 &&
+            (c.sweep_node == 0 ||
+             parse_sweep(&c, node_get(&c, c.sweep_node)) == 0) &&
+            check_keys(&c) == 0)
+          rc = 0;
+      }
+      yaml_document_delete(&extra);
+    }
+  }
+  yaml_document_delete(&doc);
+  yaml_parser_delete(&parser);
+  if (rc == 0)
+    return 0;
+fail:
+  scene_free(s);
+  return -1;
+}
+
+void scene_free(scene *s)
+{
+  size_t a;
+  if (!s)
+    return;
+  for (a = 0; a < s->naxis; a++) {
+    free(s->axis[a].val);
+    free(s->axis[a].mark);
+  }
+  free(s->axis);
+  free(s->text);
+  free(s->file);
+  memset(s, 0, sizeof *s);
+}
+
+/* ----------------------------------------------------------------- cases */
+
+size_t scene_case_coord(const scene *s, size_t index, size_t a)
+{
+  size_t b;
+  /* row-major: the last axis varies fastest */
+  for (b = s->naxis; b-- > a + 1;)
+    index /= s->axis[b].n;
+  return index % s->axis[a].n;
+}
+
+/* key aliases used by the library's messages */
+static const struct {
+  const char *word;
+  int key;
+} aliases[] = {{"tol", K_TOL},          {"r", K_RHO},
+               {"friction", K_VISCOUS}, {"z_i", K_Z0},
+               {"T", K_PERIOD},         {"t_a", K_BLEND}};
+
+/* the keys a library message names, in the order it names them */
+static int keys_named(const scene *s, const char *msg, int *out, int max)
+{
+  int n = 0;
+  const char *p = msg;
+  while (*p && n < max) {
+    char word[64];
+    size_t len = 0;
+    int k, i;
+    while (*p && !(isalpha((unsigned char)*p) || *p == '_'))
+      p++;
+    while (*p && (isalnum((unsigned char)*p) || *p == '_' || *p == '.' ||
+                  *p == '*') &&
+           len + 1 < sizeof word)
+      word[len++] = *p++;
+    while (len && (word[len - 1] == '.' || word[len - 1] == '*'))
+      len--;
+    word[len] = '\0';
+    if (len == 0) {
+      if (*p)
+        p++;
+      continue;
+    }
+    for (k = 0; k < SCENE_NKEY && n < max; k++) {
+      const char *lw = strrchr(word, '.') ? strrchr(word, '.') + 1 : word;
+      if (strcmp(leaf(keys[k].path), lw) == 0) {
+        /* the library's m is the scene's m or m_over_M */
+        if (k == K_MASS && !s->given[K_MASS])
+          k = K_M_OVER_M;
+        out[n++] = k;
+        break;
+      }
+    }
+    for (i = 0; i < (int)(sizeof aliases / sizeof aliases[0]) && n < max; i++)
+      if (strcmp(aliases[i].word, word) == 0)
+        out[n++] = aliases[i].key;
+  }
+  return n;
+}
+
+/* where to point an error about case `index` that names keys in msg: a
+   swept value of a named key, else a named key given in the file, else the
+   first swept value, else the manipulator section */
+static void case_error(const scene *s, size_t index, const char *msg,
+                       int first_key, scene_error *err)
+{
+  int named[16], n = 0, i;
+  size_t a;
+  char what[sizeof err->what];
+  if (s->naxis > 0)
+    snprintf(what, sizeof what, "case %zu: %s", index, msg);
+  else
+    snprintf(what, sizeof what, "%s", msg);
+  if (first_key >= 0)
+    named[n++] = first_key;
+  n += keys_named(s, msg, named + n, 16 - n);
+  for (i = 0; i < n; i++)
+    for (a = 0; a < s->naxis; a++)
+      if (s->axis[a].key == named[i]) {
+        error_set(err, s->axis[a].mark[scene_case_coord(s, index, a)],
+                  s->axis[a].path, "%s", what);
+        return;
+      }
+  for (i = 0; i < n; i++)
+    if (s->given[named[i]]) {
+      error_set(err, s->mark[named[i]], keys[named[i]].path, "%s", what);
+      return;
+    }
+  if (s->naxis > 0) {
+    error_set(err, s->axis[0].mark[scene_case_coord(s, index, 0)],
+              s->axis[0].path, "%s", what);
+    return;
+  }
+  error_set(err, s->section[1], "manipulator", "%s", what);
+}
+
+int scene_case_build(const scene *s, size_t index, scene_case *c,
+                     scene_error *err)
+{
+  char msg[256];
+  size_t a;
+  memset(c, 0, sizeof *c);
+  c->index = index;
+  c->by_ratio = s->given[K_M_OVER_M];
+  c->by_dt = s->given[K_DT];
+  c->v = s->base;
+  for (a = 0; a < s->naxis; a++)
+    value_set(&c->v, s->axis[a].key, s->axis[a].comp,
+              s->axis[a].val[scene_case_coord(s, index, a)]);
+  values_apply(&c->v, c->by_ratio, &c->model, &c->traj);
+
+  msg[0] = '\0';
+  if (rps3_model_init(&c->model, msg, sizeof msg) != RPS3_OK) {
+    case_error(s, index, msg, -1, err);
+    return -1;
+  }
+  if (rps3_traj_check(&c->model, &c->traj, msg, sizeof msg) != RPS3_OK) {
+    case_error(s, index, msg, -1, err);
+    return -1;
+  }
+  c->span = rps3_traj_duration(&c->traj);
+  if (s->given[K_SAMPLES]) {
+    c->nt = (size_t)c->v.samples;
+    c->step = c->span / (double)(c->nt - 1);
+  } else {
+    double q = c->span / c->v.dt, n = floor(q + 0.5);
+    if (fabs(q - n) > WHOLE_RTOL * (q > 1 ? q : 1) || n < 1 ||
+        n >= 2147483647.0) {
+      snprintf(msg, sizeof msg,
+               "the span %.17g s is not a whole number of steps dt = %.17g s "
+               "(%.17g steps)",
+               c->span, c->v.dt, q);
+      case_error(s, index, msg, K_DT, err);
+      return -1;
+    }
+    c->nt = (size_t)n + 1;
+    c->step = c->v.dt;
+  }
+  return 0;
+}
+
+double scene_case_time(const scene_case *c, size_t k)
+{
+  if (k + 1 >= c->nt)
+    return c->span;
+  if (c->by_dt)
+    return (double)k * c->step;
+  return c->span * (double)k / (double)(c->nt - 1);
+}
+
+int scene_case_same_grid(const scene_case *a, const scene_case *b)
+{
+  return a->nt == b->nt && a->span == b->span && a->step == b->step;
+}
+
+/* ----------------------------------------------------------------- emit */
+
+void scene_text_free(scene_text *t)
+{
+  if (t) {
+    free(t->s);
+    memset(t, 0, sizeof *t);
+  }
+}
+
+static int text_write(void *data, unsigned char *buf, size_t size)
+{
+  scene_text *t = data;
+  if (t->len + size + 1 > t->cap) {
+    size_t cap = t->cap ? t->cap : 1024;
+    char *ns;
+    while (cap < t->len + size + 1)
+      cap *= 2;
+    ns = realloc(t->s, cap);
+    if (!ns) {
+      t->oom = 1;
+      return 0;
+    }
+    t->s = ns;
+    t->cap = cap;
+  }
+  memcpy(t->s + t->len, buf, size);
+  t->len += size;
+  t->s[t->len] = '\0';
+  return 1;
+}
+
+/* shortest %g form of x that reads back as x */
+static void format_real(char *buf, size_t sz, double x)
+{
+  int prec;
+  for (prec = 15; prec <= 17; prec++) {
+    snprintf(buf, sz, "%.*g", prec, x);
+    if (strtod(buf, NULL) == x)
+      return;
+  }
+}
+
+static int emit_scalar(yaml_emitter_t *em, const char *text)
+{
+  yaml_event_t ev;
+  yaml_scalar_event_initialize(&ev, NULL, NULL, (const yaml_char_t *)text,
+                               (int)strlen(text), 1, 1,
+                               YAML_PLAIN_SCALAR_STYLE);
+  return yaml_emitter_emit(em, &ev);
+}
+
+static int emit_open(yaml_emitter_t *em, int seq, int flow)
+{
+  yaml_event_t ev;
+  if (seq)
+    yaml_sequence_start_event_initialize(
+        &ev, NULL, NULL, 1,
+        flow ? YAML_FLOW_SEQUENCE_STYLE : YAML_BLOCK_SEQUENCE_STYLE);
+  else
+    yaml_mapping_start_event_initialize(
+        &ev, NULL, NULL, 1,
+        flow ? YAML_FLOW_MAPPING_STYLE : YAML_BLOCK_MAPPING_STYLE);
+  return yaml_emitter_emit(em, &ev);
+}
+
+static int emit_close(yaml_emitter_t *em, int seq)
+{
+  yaml_event_t ev;
+  if (seq)
+    yaml_sequence_end_event_initialize(&ev);
+  else
+    yaml_mapping_end_event_initialize(&ev);
+  return yaml_emitter_emit(em, &ev);
+}
+
+/* the value of key k of v, as YAML events */
+static int emit_value(yaml_emitter_t *em, int k, const scene_values *v)
+{
+  char buf[64];
+  scene_values *w = (scene_values *)(void *)v; /* read only */
+  int i, ok = 1;
+  switch (keys[k].type) {
+  case KEY_REAL:
+    format_real(buf, sizeof buf, *real_at(w, k));
+    return emit_scalar(em, buf);
+  case KEY_REAL3:
+    ok = emit_open(em, 1, 1);
+    for (i = 0; i < 3 && ok; i++) {
+      format_real(buf, sizeof buf, real_at(w, k)[i]);
+      ok = emit_scalar(em, buf);
+    }
+    return ok && emit_close(em, 1);
+  case KEY_INT:
+    snprintf(buf, sizeof buf, "%d", *int_at(w, k));
+    return emit_scalar(em, buf);
+  case KEY_BOOL:
+    return emit_scalar(em, *int_at(w, k) ? "true" : "false");
+  case KEY_ENUM:
+    return emit_scalar(em, scene_enum_name(k, *int_at(w, k)));
+  case KEY_EFFECTS:
+    ok = emit_open(em, 1, 1);
+    for (i = 0; i < RPS3_NEFFECT && ok; i++)
+      if (v->effects & (1 << i))
+        ok = emit_scalar(em, rps3_effect_name(i));
+    return ok && emit_close(em, 1);
+  }
+  return 0;
+}
+
+/* does case c write key k?  The link mass and the time grid are written
+   the way the scene gave them. */
+static int case_has_key(const scene_case *c, int k)
+{
+  const scene_key_info *ki = &keys[k];
+  if (ki->kind != FOR_ALL && ki->kind != c->v.kind)
+    return 0;
+  if (k == K_M_OVER_M || k == K_MASS)
+    return (k == K_M_OVER_M) == (c->by_ratio != 0);
+  if (k == K_SAMPLES || k == K_DT)
+    return (k == K_DT) == (c->by_dt != 0);
+  return 1;
+}
+
+int scene_case_yaml(const scene_case *c, scene_text *out)
+{
+  yaml_emitter_t em;
+  yaml_event_t ev;
+  char open[4][40]; /* the mapping sections currently open */
+  int depth = 0, k, ok;
+
+  out->len = 0;
+  out->oom = 0;
+  if (!yaml_emitter_initialize(&em))
+    return -1;
+  yaml_emitter_set_output(&em, text_write, out);
+  yaml_emitter_set_width(&em, -1);
+  yaml_stream_start_event_initialize(&ev, YAML_UTF8_ENCODING);
+  ok = yaml_emitter_emit(&em, &ev);
+  yaml_document_start_event_initialize(&ev, NULL, NULL, NULL, 1);
+  ok = ok && yaml_emitter_emit(&em, &ev);
+  ok = ok && emit_open(&em, 0, 0);
+  for (k = 0; k < SCENE_NKEY && ok; k++) {
+    const char *path = keys[k].path, *p, *dot;
+    int level = 0;
+    if (!case_has_key(c, k))
+      continue;
+    /* close the sections this key is not in, open the ones it is in */
+    for (p = path; (dot = strchr(p, '.')) != NULL; p = dot + 1, level++) {
+      size_t len = (size_t)(dot - p);
+      if (level < depth && strlen(open[level]) == len &&
+          strncmp(open[level], p, len) == 0)
+        continue;
+      while (depth > level && ok) {
+        ok = emit_close(&em, 0);
+        depth--;
+      }
+      snprintf(open[depth], sizeof open[depth], "%.*s", (int)len, p);
+      ok = ok && emit_scalar(&em, open[depth]) && emit_open(&em, 0, 0);
+      depth++;
+    }
+    while (depth > level && ok) {
+      ok = emit_close(&em, 0);
+      depth--;
+    }
+    ok = ok && emit_scalar(&em, p) && emit_value(&em, k, &c->v);
+  }
+  while (depth-- > 0 && ok)
+    ok = emit_close(&em, 0);
+  ok = ok && emit_close(&em, 0);
+  yaml_document_end_event_initialize(&ev, 1);
+  ok = ok && yaml_emitter_emit(&em, &ev);
+  yaml_stream_end_event_initialize(&ev);
+  ok = ok && yaml_emitter_emit(&em, &ev);
+  ok = ok && yaml_emitter_flush(&em);
+  yaml_emitter_delete(&em);
+  return ok && !out->oom ? 0 : -1;
+}
+
+/* ------------------------------------------------------------- key list */
+
+void scene_keys_print(void)
+{
+  scene_values v;
+  char def[64], names[256];
+  int k;
+  values_default(&v);
+  printf("| key | type | unit | paper | default | meaning |\n");
+  printf("|---|---|---|---|---|---|\n");
+  for (k = 0; k < SCENE_NKEY; k++) {
+    const scene_key_info *ki = &keys[k];
+    const char *type = "";
+    switch (ki->type) {
+    case KEY_REAL:
+      type = "number";
+      break;
+    case KEY_REAL3:
+      type = "[3 numbers]";
+      break;
+    case KEY_INT:
+      type = "integer";
+      break;
+    case KEY_BOOL:
+      type = "bool";
+      break;
+    case KEY_ENUM:
+      enum_list(k, names, sizeof names);
+      type = names;
+      break;
+    case KEY_EFFECTS:
+      type = "[effect names]";
+      break;
+    }
+    if (ki->req == REQ_YES)
+      snprintf(def, sizeof def, "required");
+    else if (ki->req != REQ_NO)
+      snprintf(def, sizeof def, "one of a pair");
+    else if (ki->type == KEY_REAL)
+      format_real(def, sizeof def, *real_at(&v, k));
+    else if (ki->type == KEY_REAL3)
+      snprintf(def, sizeof def, "[%g, %g, %g]", real_at(&v, k)[0],
+               real_at(&v, k)[1], real_at(&v, k)[2]);
+    else if (ki->type == KEY_INT)
+      snprintf(def, sizeof def, "%d", *int_at(&v, k));
+    else if (ki->type == KEY_BOOL)
+      snprintf(def, sizeof def, "%s", *int_at(&v, k) ? "true" : "false");
+    else if (ki->type == KEY_ENUM)
+      snprintf(def, sizeof def, "%s", scene_enum_name(k, *int_at(&v, k)));
+    else
+      snprintf(def, sizeof def, "see meaning");
+    printf("| `%s`%s | %s | %s | %s | %s | %s |\n", ki->path,
+           ki->kind == FOR_HELIX  ? " (helix)"
+           : ki->kind == FOR_SINE ? " (sine)"
+                                  : "",
+           type, ki->unit, ki->symbol, def, ki->doc);
+  }
+}

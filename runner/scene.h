@@ -1,0 +1,300 @@
+/*
+ * scene.h - a scene file (YAML) and its sweep, for rps3-run and the study
+ * program.  The scene is parsed with libyaml's document API; every key it
+ * may hold is one row of SCENE_KEYS below, which drives parsing, the
+ * per-case YAML of scene_resolved and the key list of `rps3-run --keys`.
+ *
+ * A scene with a sweep is a Cartesian product of cases.  Cases are numbered
+ * in row-major order over the sweep keys in the order they appear in the
+ * file: the last key varies fastest.  A case is never stored; it is rebuilt
+ * from its number by scene_case(), so memory does not grow with the sweep.
+ */
+#ifndef RPS3_RUNNER_SCENE_H
+#define RPS3_RUNNER_SCENE_H
+
+#include <stddef.h>
+
+#include "rps3.h"
+
+/* a position in the scene file, both 1-based; 0:0 when not known */
+typedef struct {
+  int line;
+  int column;
+} scene_mark;
+
+/* one error, printed as FILE:LINE:COLUMN: path: what */
+typedef struct {
+  scene_mark mark;
+  char path[128]; /* dotted key path, "yaml" for a syntax error */
+  char what[512]; /* what is wrong, with the offending value */
+} scene_error;
+
+/* value types of scene keys */
+typedef enum {
+  KEY_REAL,   /* finite double */
+  KEY_INT,    /* integer */
+  KEY_BOOL,   /* true | false */
+  KEY_ENUM,   /* one of a list of names, stored as the library's enum */
+  KEY_REAL3,  /* list of three finite doubles; a sweep picks one: key[k] */
+  KEY_EFFECTS /* list of effect names, stored as RPS3_EFF_* bits */
+} key_type;
+
+/* which trajectory kinds a key belongs to */
+enum { FOR_ALL = 0, FOR_HELIX = RPS3_TRAJ_HELIX, FOR_SINE = RPS3_TRAJ_SINE };
+
+/* how a key must be given: required, optional (a default), or exactly one
+   of a pair (REQ_ONE_MASS: m_over_M | m, REQ_ONE_GRID: samples | dt) */
+enum { REQ_NO = 0, REQ_YES = 1, REQ_ONE_MASS = 2, REQ_ONE_GRID = 3 };
+
+/* every value a scene can set; enums hold the library's enum values */
+typedef struct {
+  /* manipulator, Table II */
+  double R;            /* [m] */
+  double rho;          /* [-] */
+  double M;            /* [kg] */
+  double m_over_M;     /* [-] */
+  double m;            /* [kg] */
+  double d;            /* [m] */
+  double g;            /* [m/s^2] */
+  double link_Ic;      /* [kg m^2] */
+  double payload_mass; /* [kg] */
+  double payload_com[3];     /* [m] */
+  double payload_inertia[3]; /* [kg m^2] */
+  double viscous;      /* [N m s/rad] */
+  double coulomb;      /* [N m] */
+  /* trajectory */
+  int kind;            /* rps3_traj_kind */
+  double radius;       /* r* [m] */
+  double pitch;        /* h [m] */
+  double z0;           /* z_i [m] */
+  double period;       /* T* [s] */
+  double blend;        /* t_a [s] */
+  double mean[3];      /* [rad, rad, m] */
+  double amp[3];       /* [rad, rad, m] */
+  double freq[3];      /* [Hz] */
+  double phase[3];     /* [rad] */
+  double duration;     /* [s] */
+  int samples;         /* number of time samples, ends included */
+  double dt;           /* time step [s] */
+  /* effects */
+  int effects;         /* RPS3_EFF_* bits */
+  /* solver */
+  int theta;           /* rps3_theta_route */
+  int method;          /* rps3_method */
+  int solver;          /* rps3_solver */
+  double tolerance;    /* [-] */
+  int max_iter;
+  int warm_start;      /* 0 | 1 */
+  int certify;         /* 0 | 1 */
+  double cond_warn;    /* [-] */
+  double cond_max;     /* [-] */
+} scene_values;
+
+/*
+ * SCENE_KEYS X(ID, path, type, field, for, req, lo, lo_open, hi, unit,
+ *              symbol, doc)
+ * Values must lie in [lo, hi] (lo excluded when lo_open); the library's
+ * rps3_model_init() and rps3_traj_check() then check what involves several
+ * keys.  Defaults are those of rps3_model_default() and rps3_options_default().
+ */
+#define SCENE_KEYS(X)                                                         \
+  X(K_R, "manipulator.R", KEY_REAL, R, FOR_ALL, REQ_YES, 0, 1, HUGE_VAL,      \
+    "m", "R", "base radius, centre to the pin joints")                        \
+  X(K_RHO, "manipulator.rho", KEY_REAL, rho, FOR_ALL, REQ_YES, 0, 1,          \
+    HUGE_VAL, "1", "rho = r/R",                                               \
+    "platform radius r (centre to the ball joints) over R")                   \
+  X(K_M, "manipulator.M", KEY_REAL, M, FOR_ALL, REQ_YES, 0, 0, HUGE_VAL,      \
+    "kg", "M", "platform mass, a uniform disc of radius r")                   \
+  X(K_M_OVER_M, "manipulator.m_over_M", KEY_REAL, m_over_M, FOR_ALL,          \
+    REQ_ONE_MASS, 0, 0, HUGE_VAL, "1", "m/M",                                 \
+    "mass of each link over M; give this or manipulator.m")                   \
+  X(K_MASS, "manipulator.m", KEY_REAL, m, FOR_ALL, REQ_ONE_MASS, 0, 0,        \
+    HUGE_VAL, "kg", "m", "mass of each link; give this or m_over_M")          \
+  X(K_D, "manipulator.d", KEY_REAL, d, FOR_ALL, REQ_YES, 0, 0, HUGE_VAL, "m", \
+    "d_i", "pin joint to link centroid, constant")                            \
+  X(K_G, "manipulator.g", KEY_REAL, g, FOR_ALL, REQ_NO, 0, 0, HUGE_VAL,       \
+    "m/s^2", "g", "gravitational acceleration, along -Z")                     \
+  X(K_LINK_IC, "manipulator.link_Ic", KEY_REAL, link_Ic, FOR_ALL, REQ_NO, 0,  \
+    0, HUGE_VAL, "kg m^2", "-",                                               \
+    "link inertia about its centroid, about the pin axis (0 in the paper)")   \
+  X(K_PAY_MASS, "manipulator.payload.mass", KEY_REAL, payload_mass, FOR_ALL,  \
+    REQ_NO, 0, 0, HUGE_VAL, "kg", "-",                                        \
+    "payload fixed to the platform (effect payload)")                         \
+  X(K_PAY_COM, "manipulator.payload.com", KEY_REAL3, payload_com, FOR_ALL,    \
+    REQ_NO, -HUGE_VAL, 0, HUGE_VAL, "m", "-",                                 \
+    "payload centre of mass [x, y, z] in platform axes")                      \
+  X(K_PAY_INERTIA, "manipulator.payload.inertia", KEY_REAL3, payload_inertia, \
+    FOR_ALL, REQ_NO, 0, 0, HUGE_VAL, "kg m^2", "-",                           \
+    "payload principal moments [Ixx, Iyy, Izz] about its centre of mass")     \
+  X(K_VISCOUS, "manipulator.pin_friction.viscous", KEY_REAL, viscous,         \
+    FOR_ALL, REQ_NO, 0, 0, HUGE_VAL, "N m s/rad", "T_{i-3} of (23)",          \
+    "viscous pin friction (effect pin_friction)")                             \
+  X(K_COULOMB, "manipulator.pin_friction.coulomb", KEY_REAL, coulomb,         \
+    FOR_ALL, REQ_NO, 0, 0, HUGE_VAL, "N m", "T_{i-3} of (23)",                \
+    "Coulomb pin friction (effect pin_friction)")                             \
+  X(K_KIND, "trajectory.kind", KEY_ENUM, kind, FOR_ALL, REQ_YES, 0, 0, 0,     \
+    "-", "-", "helix (the paper's section VI) or sine")                       \
+  X(K_RADIUS, "trajectory.radius", KEY_REAL, radius, FOR_HELIX, REQ_YES, 0,   \
+    0, HUGE_VAL, "m", "r*", "helix radius, below r/2, eqs. (35), (37)")       \
+  X(K_PITCH, "trajectory.pitch", KEY_REAL, pitch, FOR_HELIX, REQ_YES,         \
+    -HUGE_VAL, 0, HUGE_VAL, "m", "h", "helix pitch: rise of z_c in T*")       \
+  X(K_Z0, "trajectory.z0", KEY_REAL, z0, FOR_HELIX, REQ_YES, -HUGE_VAL, 0,    \
+    HUGE_VAL, "m", "z_i", "platform centre height at t = 0, (35)")            \
+  X(K_PERIOD, "trajectory.period", KEY_REAL, period, FOR_HELIX, REQ_YES, 0,   \
+    1, HUGE_VAL, "s", "T*", "time for one pitch (one turn)")                  \
+  X(K_BLEND, "trajectory.blend", KEY_REAL, blend, FOR_HELIX, REQ_YES, 0, 1,   \
+    HUGE_VAL, "s", "t_a",                                                     \
+    "parabolic blend at both ends, t_a <= T*/2; t_b = T* - t_a")              \
+  X(K_MEAN, "trajectory.mean", KEY_REAL3, mean, FOR_SINE, REQ_YES, -HUGE_VAL, \
+    0, HUGE_VAL, "rad, rad, m", "-", "mean of [alpha, beta, z_c]")            \
+  X(K_AMP, "trajectory.amp", KEY_REAL3, amp, FOR_SINE, REQ_YES, -HUGE_VAL, 0, \
+    HUGE_VAL, "rad, rad, m", "-", "amplitude of [alpha, beta, z_c]")          \
+  X(K_FREQ, "trajectory.freq", KEY_REAL3, freq, FOR_SINE, REQ_YES, 0, 0,      \
+    HUGE_VAL, "Hz", "-", "frequency of [alpha, beta, z_c]")                   \
+  X(K_PHASE, "trajectory.phase", KEY_REAL3, phase, FOR_SINE, REQ_NO,          \
+    -HUGE_VAL, 0, HUGE_VAL, "rad", "-", "phase of [alpha, beta, z_c]")        \
+  X(K_DURATION, "trajectory.duration", KEY_REAL, duration, FOR_SINE, REQ_YES, \
+    0, 1, HUGE_VAL, "s", "-", "time span of the sine trajectory")             \
+  X(K_SAMPLES, "trajectory.samples", KEY_INT, samples, FOR_ALL, REQ_ONE_GRID, \
+    2, 0, 2147483647.0, "1", "-",                                             \
+    "time samples over the span, both ends included; or give dt")             \
+  X(K_DT, "trajectory.dt", KEY_REAL, dt, FOR_ALL, REQ_ONE_GRID, 0, 1,         \
+    HUGE_VAL, "s", "-",                                                       \
+    "time step; the span must be a whole number of steps; or give samples")   \
+  X(K_EFFECTS, "effects", KEY_EFFECTS, effects, FOR_ALL, REQ_NO, 0, 0, 0,     \
+    "-", "-", "effects to compute (default: all but payload, pin_friction)")  \
+  X(K_THETA, "solver.theta", KEY_ENUM, theta, FOR_ALL, REQ_NO, 0, 0, 0, "-",  \
+    "theta_i", "closed_form (eq. 39) or multiroot (eqs. 8-10, GSL)")          \
+  X(K_METHOD, "solver.method", KEY_ENUM, method, FOR_ALL, REQ_NO, 0, 0, 0,    \
+    "-", "-", "lagrange (the paper's eqs. 21-24, 34) or newton_euler")        \
+  X(K_TOL, "solver.tolerance", KEY_REAL, tolerance, FOR_ALL, REQ_NO, 0, 1,    \
+    HUGE_VAL, "1", "-", "theta solve: stop when max |f_k| <= tolerance")      \
+  X(K_MAX_ITER, "solver.max_iter", KEY_INT, max_iter, FOR_ALL, REQ_NO, 1, 0,  \
+    2147483647.0, "1", "-", "theta solve iteration limit")                    \
+  X(K_SOLVER, "solver.solver", KEY_ENUM, solver, FOR_ALL, REQ_NO, 0, 0, 0,    \
+    "-", "-", "GSL multiroot solver (hybridsj, hybridj, newton, ...)")        \
+  X(K_WARM, "solver.warm_start", KEY_BOOL, warm_start, FOR_ALL, REQ_NO, 0, 0, \
+    1, "-", "-", "theta solve starts from the previous sample of the case")   \
+  X(K_CERTIFY, "solver.certify", KEY_BOOL, certify, FOR_ALL, REQ_NO, 0, 0, 1, \
+    "-", "-", "compute the energy-rate residual at every sample")             \
+  X(K_COND_WARN, "solver.cond_warn", KEY_REAL, cond_warn, FOR_ALL, REQ_NO, 1, \
+    0, HUGE_VAL, "1", "-", "warn above this condition number")                \
+  X(K_COND_MAX, "solver.cond_max", KEY_REAL, cond_max, FOR_ALL, REQ_NO, 1, 0, \
+    HUGE_VAL, "1", "-", "fail (singular) above this condition number")
+
+#define SCENE_KEY_ID(ID, ...) ID,
+typedef enum { SCENE_KEYS(SCENE_KEY_ID) SCENE_NKEY } scene_key;
+#undef SCENE_KEY_ID
+
+/* one row of SCENE_KEYS */
+typedef struct {
+  const char *path;
+  key_type type;
+  size_t offset; /* into scene_values */
+  int kind;      /* FOR_* */
+  int req;       /* REQ_* */
+  double lo;
+  int lo_open;
+  double hi;
+  const char *unit;
+  const char *symbol;
+  const char *doc;
+} scene_key_info;
+
+/* the row of key k (0 <= k < SCENE_NKEY) */
+const scene_key_info *scene_key_get(int k);
+
+/* the key with this dotted path, or -1 */
+int scene_key_find(const char *path);
+
+/* one sweep axis: a key (or one component of a KEY_REAL3) and its values */
+typedef struct {
+  char path[80];      /* as written, e.g. "trajectory.amp[2]" */
+  int key;            /* scene_key */
+  int comp;           /* component of a KEY_REAL3, else -1 */
+  size_t n;           /* number of values */
+  double *val;        /* values; ints, bools and enums as whole numbers */
+  scene_mark *mark;   /* where each value comes from */
+} scene_axis;
+
+typedef struct {
+  char *file;             /* path as given on the command line */
+  char *text;             /* the file, verbatim */
+  size_t text_len;
+  scene_values base;      /* values from the file, else the defaults */
+  unsigned char given[SCENE_NKEY]; /* 1: in the file (or swept) */
+  scene_mark mark[SCENE_NKEY];     /* where each given key's value is */
+  scene_mark section[4];  /* root, manipulator, trajectory, solver */
+  size_t naxis;
+  scene_axis *axis;       /* the sweep, in file order */
+  size_t ncase;           /* product of the axis lengths (1: no sweep) */
+} scene;
+
+/* one case, ready to compute */
+typedef struct {
+  size_t index;           /* case number */
+  scene_values v;         /* the scene's values for this case */
+  rps3_model model;       /* initialised by rps3_model_init */
+  rps3_traj traj;         /* checked by rps3_traj_check */
+  size_t nt;              /* number of time samples */
+  double span;            /* duration of the trajectory [s] */
+  double step;            /* dt [s] */
+  int by_ratio;           /* 1: link mass from m_over_M, 0: from m */
+  int by_dt;              /* 1: grid from dt, 0: from samples */
+} scene_case;
+
+/*
+ * Read and parse the scene file `path` into s.  Returns 0, or -1 with the
+ * first error in err (s is then empty; scene_free accepts it).
+ */
+int scene_load(scene *s, const char *path, scene_error *err);
+
+/* Free what scene_load allocated; a zeroed or failed scene is accepted. */
+void scene_free(scene *s);
+
+/*
+ * Build case `index` (< s->ncase): apply the sweep values, build and
+ * initialise the model and the trajectory, and the time grid.  Returns 0, or
+ * -1 with err located at the swept value or key that makes the case invalid.
+ */
+int scene_case_build(const scene *s, size_t index, scene_case *c,
+                     scene_error *err);
+
+/* Sweep value index of axis a in case `index`. */
+size_t scene_case_coord(const scene *s, size_t index, size_t a);
+
+/* Time of sample k of case c [s]; the last sample is exactly the span. */
+double scene_case_time(const scene_case *c, size_t k);
+
+/* 1 when cases a and b have the same time grid. */
+int scene_case_same_grid(const scene_case *a, const scene_case *b);
+
+/* Print err as FILE:LINE:COLUMN: path: what, one line, on stderr. */
+void scene_error_print(const char *file, const scene_error *err);
+
+/* A growable text buffer (scene_resolved); allocates only when it grows. */
+typedef struct {
+  char *s;
+  size_t len;
+  size_t cap;
+  int oom;     /* 1 after a failed allocation */
+} scene_text;
+
+/*
+ * Write the full scene of case c as YAML into out (replacing its content):
+ * every key with its value, no sweep, so that the case can be rerun alone.
+ * Returns 0 or -1 (out of memory, or a libyaml emitter error).
+ */
+int scene_case_yaml(const scene_case *c, scene_text *out);
+
+/* Free a text buffer's storage. */
+void scene_text_free(scene_text *t);
+
+/* Name of an enum value of key k (kind, theta, method, solver), or NULL. */
+const char *scene_enum_name(int k, int value);
+
+/* Print the key table (markdown) on stdout: path, type, unit, symbol,
+   default, meaning. */
+void scene_keys_print(void);
+
+#endif /* RPS3_RUNNER_SCENE_H */
