@@ -199,6 +199,7 @@ static void values_default(scene_values *v)
   v->z0 = tr.helix.z0;
   v->period = tr.helix.period;
   v->blend = tr.helix.blend;
+  v->blend_ratio = tr.helix.blend / tr.helix.period;
   v->duration = tr.sine.duration;
   v->effects = m.opt.effects;
   v->theta = (int)m.opt.theta;
@@ -214,8 +215,8 @@ static void values_default(scene_values *v)
 
 /* the library's model and trajectory for values v; the link mass comes from
    m_over_M when by_ratio, else from m */
-static void values_apply(const scene_values *v, int by_ratio, rps3_model *m,
-                         rps3_traj *tr)
+static void values_apply(const scene_values *v, int by_ratio,
+                         int by_blend_ratio, rps3_model *m, rps3_traj *tr)
 {
   int i;
   rps3_model_default(m);
@@ -253,7 +254,7 @@ static void values_apply(const scene_values *v, int by_ratio, rps3_model *m,
   tr->helix.pitch = v->pitch;
   tr->helix.z0 = v->z0;
   tr->helix.period = v->period;
-  tr->helix.blend = v->blend;
+  tr->helix.blend = by_blend_ratio ? v->blend_ratio * v->period : v->blend;
   tr->sine.duration = v->duration;
 }
 
@@ -366,18 +367,33 @@ static int parse_number(parse_ctx *c, const yaml_node_t *n, const char *path,
   return 0;
 }
 
+/* shortest %g form of x that reads back as x */
+static void format_real(char *buf, size_t sz, double x)
+{
+  int prec;
+  for (prec = 15; prec <= 17; prec++) {
+    snprintf(buf, sz, "%.*g", prec, x);
+    if (strtod(buf, NULL) == x)
+      return;
+  }
+}
+
 /* x against the range of key k */
 static int check_range(parse_ctx *c, int k, double x, scene_mark mk,
                        const char *path)
 {
   const scene_key_info *ki = &keys[k];
+  char lo[32], hi[32], got[32];
+  format_real(lo, sizeof lo, ki->lo);
+  format_real(hi, sizeof hi, ki->hi);
+  format_real(got, sizeof got, x);
   if (ki->lo_open ? !(x > ki->lo) : !(x >= ki->lo)) {
-    error_set(c->err, mk, path, "must be %s %.17g, got %.17g",
-              ki->lo_open ? ">" : ">=", ki->lo, x);
+    error_set(c->err, mk, path, "must be %s %s, got %s",
+              ki->lo_open ? ">" : ">=", lo, got);
     return -1;
   }
   if (!(x <= ki->hi)) {
-    error_set(c->err, mk, path, "must be <= %.17g, got %.17g", ki->hi, x);
+    error_set(c->err, mk, path, "must be <= %s, got %s", hi, got);
     return -1;
   }
   return 0;
@@ -679,7 +695,7 @@ static int sweep_range(parse_ctx *c, scene_axis *ax, const yaml_node_t *map)
       return -1;
     if (num < 1 || num > MAX_CASES || (num == 1 && from != to)) {
       error_set(c->err, mark_of(&nn->start_mark), sub,
-                "must be >= 2 (or 1 with from == to), got %.17g", num);
+                "must be >= 2 (or 1 with from == to), got %.0f", num);
       return -1;
     }
     n = (size_t)num;
@@ -691,8 +707,8 @@ static int sweep_range(parse_ctx *c, scene_axis *ax, const yaml_node_t *map)
     q = span / step;
     if (step == 0 || q < 0) {
       error_set(c->err, mark_of(&ns->start_mark), sub,
-                "must be non-zero with the sign of to - from, got %.17g",
-                step);
+                "must be non-zero with the sign of to - from, got %s",
+                scalar_text(ns));
       return -1;
     }
     if (q + 1 > MAX_CASES) {
@@ -720,7 +736,7 @@ static int sweep_range(parse_ctx *c, scene_axis *ax, const yaml_node_t *map)
       x = to;
     if (integer && x != floor(x)) {
       error_set(c->err, mk, ax->path,
-                "value %zu of the range, %.17g, is not an integer", i, x);
+                "value %zu of the range, %g, is not an integer", i, x);
       return -1;
     }
     if (check_range(c, ax->key, x, mk, ax->path))
@@ -886,8 +902,12 @@ static int check_keys(parse_ctx *c)
       return -1;
     }
   }
-  for (pair = 0; pair < 2; pair++) {
-    int a = pair ? K_SAMPLES : K_M_OVER_M, b = pair ? K_DT : K_MASS;
+  for (pair = 0; pair < 3; pair++) {
+    static const int one_of[3][2] = {
+        {K_M_OVER_M, K_MASS}, {K_SAMPLES, K_DT}, {K_BLEND, K_BLEND_RATIO}};
+    int a = one_of[pair][0], b = one_of[pair][1];
+    if (keys[a].kind != FOR_ALL && keys[a].kind != s->base.kind)
+      continue;
     if (!s->given[a] && !s->given[b]) {
       error_set(c->err, s->section[pair ? 2 : 1], keys[a].path,
                 "missing: give %s or %s", leaf(keys[a].path),
@@ -1062,7 +1082,7 @@ static const struct {
   int key;
 } aliases[] = {{"tol", K_TOL},          {"r", K_RHO},
                {"friction", K_VISCOUS}, {"z_i", K_Z0},
-               {"T", K_PERIOD},         {"t_a", K_BLEND}};
+               {"T", K_PERIOD}};
 
 /* the keys a library message names, in the order it names them */
 static int keys_named(const scene *s, const char *msg, int *out, int max)
@@ -1093,6 +1113,8 @@ static int keys_named(const scene *s, const char *msg, int *out, int max)
         /* the library's m is the scene's m or m_over_M */
         if (k == K_MASS && !s->given[K_MASS])
           k = K_M_OVER_M;
+        if (k == K_BLEND && !s->given[K_BLEND])
+          k = K_BLEND_RATIO;
         out[n++] = k;
         break;
       }
@@ -1149,11 +1171,13 @@ int scene_case_build(const scene *s, size_t index, scene_case *c,
   c->index = index;
   c->by_ratio = s->given[K_M_OVER_M];
   c->by_dt = s->given[K_DT];
+  c->by_blend_ratio = s->given[K_BLEND_RATIO];
   c->v = s->base;
   for (a = 0; a < s->naxis; a++)
     value_set(&c->v, s->axis[a].key, s->axis[a].comp,
               s->axis[a].val[scene_case_coord(s, index, a)]);
-  values_apply(&c->v, c->by_ratio, &c->model, &c->traj);
+  values_apply(&c->v, c->by_ratio, c->by_blend_ratio, &c->model,
+               &c->traj);
 
   msg[0] = '\0';
   if (rps3_model_init(&c->model, msg, sizeof msg) != RPS3_OK) {
@@ -1172,10 +1196,13 @@ int scene_case_build(const scene *s, size_t index, scene_case *c,
     double q = c->span / c->v.dt, n = floor(q + 0.5);
     if (fabs(q - n) > WHOLE_RTOL * (q > 1 ? q : 1) || n < 1 ||
         n >= 2147483647.0) {
+      char sa[32], sb[32];
+      format_real(sa, sizeof sa, c->span);
+      format_real(sb, sizeof sb, c->v.dt);
       snprintf(msg, sizeof msg,
-               "the span %.17g s is not a whole number of steps dt = %.17g s "
-               "(%.17g steps)",
-               c->span, c->v.dt, q);
+               "the span %s s is not a whole number of steps dt = %s s "
+               "(%.6g steps)",
+               sa, sb, q);
       case_error(s, index, msg, K_DT, err);
       return -1;
     }
@@ -1229,17 +1256,6 @@ static int text_write(void *data, unsigned char *buf, size_t size)
   t->len += size;
   t->s[t->len] = '\0';
   return 1;
-}
-
-/* shortest %g form of x that reads back as x */
-static void format_real(char *buf, size_t sz, double x)
-{
-  int prec;
-  for (prec = 15; prec <= 17; prec++) {
-    snprintf(buf, sz, "%.*g", prec, x);
-    if (strtod(buf, NULL) == x)
-      return;
-  }
 }
 
 static int emit_scalar(yaml_emitter_t *em, const char *text)
@@ -1320,6 +1336,8 @@ static int case_has_key(const scene_case *c, int k)
     return (k == K_M_OVER_M) == (c->by_ratio != 0);
   if (k == K_SAMPLES || k == K_DT)
     return (k == K_DT) == (c->by_dt != 0);
+  if (k == K_BLEND || k == K_BLEND_RATIO)
+    return (k == K_BLEND_RATIO) == (c->by_blend_ratio != 0);
   return 1;
 }
 

@@ -43,8 +43,14 @@ typedef enum {
 enum { FOR_ALL = 0, FOR_HELIX = RPS3_TRAJ_HELIX, FOR_SINE = RPS3_TRAJ_SINE };
 
 /* how a key must be given: required, optional (a default), or exactly one
-   of a pair (REQ_ONE_MASS: m_over_M | m, REQ_ONE_GRID: samples | dt) */
-enum { REQ_NO = 0, REQ_YES = 1, REQ_ONE_MASS = 2, REQ_ONE_GRID = 3 };
+   of a pair (REQ_ONE_*) */
+enum {
+  REQ_NO = 0,
+  REQ_YES = 1,
+  REQ_ONE_MASS = 2, /* m_over_M | m */
+  REQ_ONE_GRID = 3, /* samples | dt */
+  REQ_ONE_BLEND = 4 /* blend | blend_ratio */
+};
 
 /* every value a scene can set; enums hold the library's enum values */
 typedef struct {
@@ -69,6 +75,7 @@ typedef struct {
   double z0;           /* z_i [m] */
   double period;       /* T* [s] */
   double blend;        /* t_a [s] */
+  double blend_ratio;  /* t_a / T* [-] */
   double mean[3];      /* [rad, rad, m] */
   double amp[3];       /* [rad, rad, m] */
   double freq[3];      /* [Hz] */
@@ -142,9 +149,15 @@ typedef struct {
     HUGE_VAL, "m", "z_i", "platform centre height at t = 0, (35)")            \
   X(K_PERIOD, "trajectory.period", KEY_REAL, period, FOR_HELIX, REQ_YES, 0,   \
     1, HUGE_VAL, "s", "T*", "time for one pitch (one turn)")                  \
-  X(K_BLEND, "trajectory.blend", KEY_REAL, blend, FOR_HELIX, REQ_YES, 0, 1,   \
+  X(K_BLEND, "trajectory.blend", KEY_REAL, blend, FOR_HELIX, REQ_ONE_BLEND, 0, \
+    1,                                                                        \
     HUGE_VAL, "s", "t_a",                                                     \
-    "parabolic blend at both ends, t_a <= T*/2; t_b = T* - t_a")              \
+    "parabolic blend at both ends, t_a <= T*/2; t_b = T* - t_a; or give "     \
+    "blend_ratio")                                                            \
+  X(K_BLEND_RATIO, "trajectory.blend_ratio", KEY_REAL, blend_ratio,           \
+    FOR_HELIX, REQ_ONE_BLEND, 0, 1, 0.5, "1", "t_a/T*",                       \
+    "the blend as a fraction of T* (Table II: 0.1), so that a sweep of T* "   \
+    "keeps the shape of the motion; or give blend")                           \
   X(K_MEAN, "trajectory.mean", KEY_REAL3, mean, FOR_SINE, REQ_YES, -HUGE_VAL, \
     0, HUGE_VAL, "rad, rad, m", "-", "mean of [alpha, beta, z_c]")            \
   X(K_AMP, "trajectory.amp", KEY_REAL3, amp, FOR_SINE, REQ_YES, -HUGE_VAL, 0, \
@@ -241,6 +254,7 @@ typedef struct {
   double step;            /* dt [s] */
   int by_ratio;           /* 1: link mass from m_over_M, 0: from m */
   int by_dt;              /* 1: grid from dt, 0: from samples */
+  int by_blend_ratio;     /* 1: t_a from blend_ratio, 0: from blend */
 } scene_case;
 
 /*

@@ -114,7 +114,7 @@ static int run_whole(const scene *s, const sweep_plan *p, out_file *f,
       /* samples past the end of a shorter case */
       if (rc == RPS3_OK && c.nt < b->points)
         out_block_blank(b, slot, c.nt);
-      st->points_done += c.nt;
+      st->points_done += rc ? failed_at : c.nt;
     }
     if (out_write(f, b, c0, nc, 0, p->nt, 1, err, errsz))
       return -1;
