@@ -107,24 +107,44 @@ static void body_load(const lag_kin *k, double mb, const double h[3],
                       const double S[3][3], double g, int inertia,
                       int gravity, double w[6]) {
   const double *E2[3] = {k->ndd, k->odd, k->add};
-  double Eh[3];
-  int j, p, q;
-  /* E'' h */
-  for (p = 0; p < 3; p++)
-    Eh[p] = k->ndd[p] * h[0] + k->odd[p] * h[1] + k->add[p] * h[2];
+  double Eh[3] = {0, 0, 0}, SE[3][3];
+  int has_h = (h[0] != 0.0 || h[1] != 0.0 || h[2] != 0.0);
+  int rows[3], nrow = 0, j, p, q;
+  if (inertia) {
+    /* E'' h */
+    if (has_h)
+      for (p = 0; p < 3; p++)
+        Eh[p] = k->ndd[p] * h[0] + k->odd[p] * h[1] + k->add[p] * h[2];
+    /* row p of S E''^T, sum_q S_pq E''_q, for the rows of S that are not
+       zero: the second-moment term sum_pq S_pq dE_p . E''_q then costs one
+       dot product per row and coordinate */
+    for (p = 0; p < 3; p++) {
+      int used = 0;
+      SE[p][0] = SE[p][1] = SE[p][2] = 0.0;
+      for (q = 0; q < 3; q++)
+        if (S[p][q] != 0.0) {
+          v3_axpy(SE[p], SE[p], S[p][q], E2[q]);
+          used = 1;
+        }
+      if (used) rows[nrow++] = p;
+    }
+  }
   for (j = 0; j < 6; j++) {
     const double *dE[3] = {k->dn[j], k->dod[j], k->da[j]};
-    double dEh[3], s = 0.0;
-    for (p = 0; p < 3; p++)
-      dEh[p] = dE[0][p] * h[0] + dE[1][p] * h[1] + dE[2][p] * h[2];
-    if (inertia) {
-      s += mb * v3_dot(k->dc[j], k->cdd) + v3_dot(k->dc[j], Eh) +
-           v3_dot(dEh, k->cdd);
+    double dEh[3] = {0, 0, 0}, s = 0.0;
+    if (has_h)
       for (p = 0; p < 3; p++)
-        for (q = 0; q < 3; q++)
-          if (S[p][q] != 0.0) s += S[p][q] * v3_dot(dE[p], E2[q]);
+        dEh[p] = dE[0][p] * h[0] + dE[1][p] * h[1] + dE[2][p] * h[2];
+    if (inertia) {
+      if (has_h)
+        s += mb * v3_dot(k->dc[j], k->cdd) + v3_dot(k->dc[j], Eh) +
+             v3_dot(dEh, k->cdd);
+      else
+        s += mb * v3_dot(k->dc[j], k->cdd);
+      for (p = 0; p < nrow; p++) s += v3_dot(dE[rows[p]], SE[rows[p]]);
     }
-    if (gravity) s += g * (mb * k->dc[j][2] + dEh[2]);
+    if (gravity)
+      s += g * (has_h ? mb * k->dc[j][2] + dEh[2] : mb * k->dc[j][2]);
     w[j] = s;
   }
 }
@@ -173,8 +193,9 @@ static void lagrange_effect(const rps3_model *m, const rps3_data *d,
     body_load(k, m->payload.mass, h, M3C(S), m->g, 1, 1, w);
     break;
   case RPS3_EFF_LINK_GRAVITY:
-    /* (22): m g d sin(theta_i) */
-    for (i = 0; i < 3; i++) w[3 + i] = m->m * m->g * m->d * cos(d->theta[i]);
+    /* (22): m g d sin(theta_i); cos(theta_i) is dphi_i's Z component, set
+       by the position stage (rps3_link_dirs) */
+    for (i = 0; i < 3; i++) w[3 + i] = m->m * m->g * m->d * d->dphi[i][2];
     break;
   case RPS3_EFF_LINK_INERTIA:
     /* (21): (m d^2 + I_c) theta'' */
@@ -191,24 +212,29 @@ static void lagrange_effect(const rps3_model *m, const rps3_data *d,
 static int lagrange(const rps3_model *m, rps3_data *d, double Jl[3][3],
                     double LU[9], const int perm[3]) {
   lag_kin k;
-  int e, i, q;
+  double w[RPS3_NEFFECT][6], lam[3][RPS3_NEFFECT];
+  int sel[RPS3_NEFFECT], ns = 0, n, e, i, q;
   int eff = m->opt.effects;
   lagrange_kinematics(m, d, &k, (eff & RPS3_EFF_PAYLOAD) != 0,
                       (eff & (RPS3_EFF_PLATFORM_INERTIA | RPS3_EFF_PAYLOAD)) != 0);
+  /* the loads of each selected effect; the theta rows of (23),
+     (df/dtheta)^T lambda = -w_theta, one column per effect */
   for (e = 0; e < RPS3_NEFFECT; e++) {
-    double w[6], lam[3];
     if (!(eff & (1 << e))) continue;
-    lagrange_effect(m, d, &k, e, w);
-    /* theta rows of (23): (df/dtheta)^T lambda = -w_theta */
-    for (i = 0; i < 3; i++) lam[i] = -w[3 + i];
-    rps3_lu_solve(3, LU, perm, lam);
+    lagrange_effect(m, d, &k, e, w[ns]);
+    for (i = 0; i < 3; i++) lam[i][ns] = -w[ns][3 + i];
+    sel[ns++] = e;
+  }
+  rps3_lu3_solve_multi(LU, perm, &lam[0][0], RPS3_NEFFECT, ns);
+  for (n = 0; n < ns; n++) {
+    e = sel[n];
     /* l rows, (34): F_i = w_l,i + sum_k lambda_k df_k/dl_i */
     for (i = 0; i < 3; i++) {
-      double f = w[i];
-      for (q = 0; q < 3; q++) f += lam[q] * Jl[q][i];
+      double f = w[n][i];
+      for (q = 0; q < 3; q++) f += lam[q][n] * Jl[q][i];
       d->F_effect[e][i] = f;
       d->F[i] += f;
-      d->lambda[i] += lam[i];
+      d->lambda[i] += lam[i][n];
     }
   }
   d->has_lambda = 1;
@@ -283,7 +309,7 @@ static void ne_effect(const rps3_model *m, const rps3_data *d, int e,
     break;
   case RPS3_EFF_LINK_GRAVITY:
     for (i = 0; i < 3; i++)
-      s[i] = -m->m * m->g * m->d * cos(d->theta[i]) / d->l[i];
+      s[i] = -m->m * m->g * m->d * d->dphi[i][2] / d->l[i]; /* cos(theta) */
     break;
   case RPS3_EFF_LINK_INERTIA:
     for (i = 0; i < 3; i++) s[i] = -m->Jlink * d->ddtheta[i] / d->l[i];
@@ -377,7 +403,7 @@ static void certify(const rps3_model *m, rps3_data *d) {
   }
   for (i = 0; i < 3; i++) {
     if (eff & RPS3_EFF_LINK_GRAVITY) {
-      double v = m->m * m->g * m->d * cos(d->theta[i]) * d->dtheta[i];
+      double v = m->m * m->g * m->d * d->dphi[i][2] * d->dtheta[i];
       dP += v;
       scale += fabs(v);
     }

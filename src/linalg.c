@@ -10,8 +10,115 @@
 
 #include <math.h>
 
+/*
+ * n = 3, the lambda system, is factored once and solved several times per
+ * point: it has unrolled versions of the general loops below, with the same
+ * operations in the same order, so that their results are bitwise those of
+ * the general code (tests/test_linalg.c checks both against GSL).
+ */
+static void swap3(double *a, double *b) {
+  int j;
+  for (j = 0; j < 3; j++) {
+    double t = a[j];
+    a[j] = b[j];
+    b[j] = t;
+  }
+}
+
+static int lu_factor3(double *A, int *perm) {
+  double big, v, f;
+  int p;
+  /* column 0: pivot, swap, eliminate rows 1 and 2 */
+  p = 0;
+  big = fabs(A[0]);
+  v = fabs(A[3]);
+  if (v > big) { big = v; p = 1; }
+  v = fabs(A[6]);
+  if (v > big) { big = v; p = 2; }
+  perm[0] = p;
+  if (!(big > 0.0)) return -1;
+  if (p != 0) swap3(A, A + 3 * p);
+  f = A[3] / A[0];
+  A[3] = f;
+  A[4] -= f * A[1];
+  A[5] -= f * A[2];
+  f = A[6] / A[0];
+  A[6] = f;
+  A[7] -= f * A[1];
+  A[8] -= f * A[2];
+  /* column 1 */
+  p = 1;
+  big = fabs(A[4]);
+  v = fabs(A[7]);
+  if (v > big) { big = v; p = 2; }
+  perm[1] = p;
+  if (!(big > 0.0)) return -1;
+  if (p != 1) swap3(A + 3, A + 6);
+  f = A[7] / A[4];
+  A[7] = f;
+  A[8] -= f * A[5];
+  /* column 2 */
+  perm[2] = 2;
+  if (!(fabs(A[8]) > 0.0)) return -1;
+  return 0;
+}
+
+static void lu_solve3(const double *LU, const int *perm, double *x) {
+  double x0, x1, x2, t;
+  int k;
+  for (k = 0; k < 3; k++)
+    if (perm[k] != k) {
+      t = x[k];
+      x[k] = x[perm[k]];
+      x[perm[k]] = t;
+    }
+  x0 = x[0];
+  x1 = x[1] - LU[3] * x0;
+  x2 = x[2] - LU[6] * x0;
+  x2 -= LU[7] * x1;
+  x2 /= LU[8];
+  x1 -= LU[5] * x2;
+  x1 /= LU[4];
+  x0 -= LU[1] * x1;
+  x0 -= LU[2] * x2;
+  x0 /= LU[0];
+  x[0] = x0;
+  x[1] = x1;
+  x[2] = x2;
+}
+
+void rps3_lu3_solve_multi(const double *LU, const int *perm, double *X,
+                          int ldx, int nrhs) {
+  double *x0 = X, *x1 = X + ldx, *x2 = X + 2 * ldx;
+  int k, c;
+  /* the same steps as lu_solve3, each applied to every column */
+  for (k = 0; k < 3; k++)
+    if (perm[k] != k)
+      for (c = 0; c < nrhs; c++) {
+        double t = X[k * ldx + c];
+        X[k * ldx + c] = X[perm[k] * ldx + c];
+        X[perm[k] * ldx + c] = t;
+      }
+  for (c = 0; c < nrhs; c++) {
+    double a = x0[c], b, e;
+    b = x1[c] - LU[3] * a;
+    e = x2[c] - LU[6] * a;
+    e -= LU[7] * b;
+    e /= LU[8];
+    b -= LU[5] * e;
+    b /= LU[4];
+    a -= LU[1] * b;
+    a -= LU[2] * e;
+    a /= LU[0];
+    x0[c] = a;
+    x1[c] = b;
+    x2[c] = e;
+  }
+}
+
 int rps3_lu_factor(int n, double *A, int *perm) {
   int k, i, j;
+  if (n == 3) return lu_factor3(A, perm);
   for (k = 0; k < n; k++) {
     /* partial pivoting: the largest magnitude in column k */
     int p = k;
@@ -39,6 +146,10 @@ int rps3_lu_factor(int n, double *A, int *perm) {
 
 void rps3_lu_solve(int n, const double *LU, const int *perm, double *x) {
   int k, i;
+  if (n == 3) {
+    lu_solve3(LU, perm, x);
+    return;
+  }
   /* apply the row swaps, then forward and back substitution */
   for (k = 0; k < n; k++)
     if (perm[k] != k) {
@@ -63,6 +174,16 @@ double rps3_lu_cond1(int n, const double *A, const double *LU,
     double s = 0.0;
     for (i = 0; i < n; i++) s += fabs(A[i * n + j]);
     if (s > anorm) anorm = s;
+  }
+  if (n == 3) {
+    /* the three columns of A^-1 in one multi-column solve */
+    double X[9] = {1, 0, 0, 0, 1, 0, 0, 0, 1};
+    rps3_lu3_solve_multi(LU, perm, X, 3, 3);
+    for (j = 0; j < 3; j++) {
+      double s = fabs(X[j]) + fabs(X[3 + j]) + fabs(X[6 + j]);
+      if (s > inorm) inorm = s;
+    }
+    return anorm * inorm;
   }
   for (j = 0; j < n; j++) {
     double s = 0.0;

@@ -11,6 +11,13 @@ int rps3_lu_factor(int n, double *A, int *perm);
 /* Solve with a factorization from rps3_lu_factor; x holds b on entry. */
 void rps3_lu_solve(int n, const double *LU, const int *perm, double *x);
 
+/* Solve the 3 x 3 system of rps3_lu_factor for nrhs right-hand sides at
+   once: column c of the 3 x nrhs row-major X (row stride ldx) holds b_c on
+   entry and x_c on return.  Bitwise the same as rps3_lu_solve column by
+   column; the columns share the pipeline's divider. */
+void rps3_lu3_solve_multi(const double *LU, const int *perm, double *X,
+                          int ldx, int nrhs);
+
 /* 1-norm condition number of A, given A and its factorization. */
 double rps3_lu_cond1(int n, const double *A, const double *LU,
                      const int *perm);
