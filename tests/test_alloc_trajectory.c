@@ -1,0 +1,256 @@
+/*
+ * test_alloc_trajectory.c - after init, the library never allocates: a
+ * malloc interposer counts every malloc, calloc, realloc, posix_memalign
+ * and free of the process (GSL's included, since the executable's
+ * definitions take precedence over glibc's for every shared object) while
+ * 10^5-point trajectories run through rps3_inverse.
+ *
+ * Not in the sanitizer build: ASan brings its own allocator, which must not
+ * be interposed; there the test is reported as skipped.
+ */
+#include <errno.h>
+#include <stdlib.h>
+
+#include "testutil.h"
+
+#include <gsl/gsl_vector.h>
+
+#ifdef RPS3_SANITIZE
+
+static void skipped_under_sanitizers(void **state) {
+  (void)state;
+  print_message("the malloc interposer is not built with ASan (its own "
+                "allocator); run build/tests/test_alloc_trajectory\n");
+  skip();
+}
+
+int main(void) {
+  const struct CMUnitTest tests[] = {
+      cmocka_unit_test(skipped_under_sanitizers),
+  };
+  return cmocka_run_group_tests(tests, NULL, NULL);
+}
+
+#else /* !RPS3_SANITIZE */
+
+/* ------------------------------------------------------------ interposer */
+
+/* glibc's allocator under its internal names */
+extern void *__libc_malloc(size_t size);
+extern void *__libc_calloc(size_t n, size_t size);
+extern void *__libc_realloc(void *p, size_t size);
+extern void *__libc_memalign(size_t align, size_t size);
+extern void __libc_free(void *p);
+
+/* counters of this test program (single-threaded), not of the library */
+static int counting;       /* 1 while a counted window is open */
+static long n_alloc;       /* allocations seen in counted windows */
+static long n_free;        /* frees of non-NULL pointers seen in them */
+
+void *malloc(size_t size) {
+  if (counting) n_alloc++;
+  return __libc_malloc(size);
+}
+
+void *calloc(size_t n, size_t size) {
+  if (counting) n_alloc++;
+  return __libc_calloc(n, size);
+}
+
+void *realloc(void *p, size_t size) {
+  if (counting) n_alloc++;
+  return __libc_realloc(p, size);
+}
+
+int posix_memalign(void **out, size_t align, size_t size) {
+  void *p;
+  if (counting) n_alloc++;
+  if (align < sizeof(void *) || (align & (align - 1)) != 0) return EINVAL;
+  p = __libc_memalign(align, size);
+  if (p == NULL) return ENOMEM;
+  *out = p;
+  return 0;
+}
+
+void free(void *p) {
+  if (counting && p != NULL) n_free++;
+  __libc_free(p);
+}
+
+static void count_start(void) {
+  n_alloc = n_free = 0;
+  counting = 1;
+}
+
+static void count_stop(void) { counting = 0; }
+
+/* ----------------------------------------------------------------- tests */
+
+#define NPOINTS 100000
+
+/* the counter sees the library's and GSL's allocations: without this the
+   zero counts below would prove nothing */
+static void interposer_sees_gsl_and_init(void **state) {
+  rps3_model m;
+  rps3_data *d = NULL;
+  gsl_vector *v;
+  (void)state;
+  model_entropy(&m);
+  m.opt.theta = RPS3_THETA_MULTIROOT;
+  assert_int_equal(rps3_model_init(&m, NULL, 0), RPS3_OK);
+
+  count_start();
+  v = gsl_vector_alloc(7); /* inside libgsl.so */
+  gsl_vector_free(v);
+  count_stop();
+  assert_true(n_alloc >= 1);
+  assert_true(n_free >= 1);
+
+  count_start();
+  assert_int_equal(rps3_data_alloc(&m, &d), RPS3_OK);
+  count_stop();
+  assert_true(n_alloc >= 2); /* the data, GSL's solver and vectors */
+  count_start();
+  rps3_data_free(d);
+  count_stop();
+  assert_true(n_free >= 2);
+}
+
+/* 10^5 points of the paper's helix through rps3_inverse, all effects, with
+   route theta and method; zero allocations and frees after init */
+static void run_trajectory(rps3_theta_route theta, rps3_method method,
+                           int warm) {
+  rps3_model m;
+  rps3_data *d = NULL;
+  rps3_traj tr;
+  double T, fsum = 0.0;
+  long p, failures = 0, niter = 0;
+  model_entropy(&m);
+  m.opt.theta = theta;
+  m.opt.method = method;
+  m.opt.warm_start = warm;
+  m.opt.solver = RPS3_SOLVER_HYBRIDSJ;
+  assert_int_equal(rps3_model_init(&m, NULL, 0), RPS3_OK);
+  rps3_traj_default(&tr);
+  /* the helix of Table II scaled to this model's platform (r* < r/2) */
+  tr.helix.radius = 0.0031;
+  tr.helix.z0 = 0.2713;
+  assert_int_equal(rps3_traj_check(&m, &tr, NULL, 0), RPS3_OK);
+  assert_int_equal(rps3_data_alloc(&m, &d), RPS3_OK);
+  T = rps3_traj_duration(&tr);
+
+  count_start();
+  for (p = 0; p < NPOINTS; p++) {
+    double t = T * (double)p / (double)(NPOINTS - 1);
+    if (rps3_traj_eval(&m, &tr, t, d->pose, d->dpose, d->ddpose) != RPS3_OK ||
+        rps3_inverse(&m, d) != RPS3_OK)
+      failures++;
+    fsum += d->F[0] + d->F[1] + d->F[2];
+    niter += d->solve_niter;
+  }
+  count_stop();
+
+  print_message("%s, %s, %s: %d points, %ld failures, %ld theta-solve "
+                "iterations, %ld allocations, %ld frees\n",
+                theta == RPS3_THETA_MULTIROOT ? "multiroot hybridsj"
+                                              : "closed form",
+                warm ? "warm" : "cold",
+                method == RPS3_LAGRANGE ? "Lagrange" : "Newton-Euler", NPOINTS,
+                failures, niter, n_alloc, n_free);
+  assert_int_equal(failures, 0);
+  assert_true(isfinite(fsum));
+  if (theta == RPS3_THETA_MULTIROOT) assert_true(niter > 0);
+  assert_int_equal(n_alloc, 0);
+  assert_int_equal(n_free, 0);
+  rps3_data_free(d);
+}
+
+static void closed_form_lagrange(void **state) {
+  (void)state;
+  run_trajectory(RPS3_THETA_CLOSED_FORM, RPS3_LAGRANGE, 1);
+}
+
+static void closed_form_newton_euler(void **state) {
+  (void)state;
+  run_trajectory(RPS3_THETA_CLOSED_FORM, RPS3_NEWTON_EULER, 1);
+}
+
+static void warm_multiroot_lagrange(void **state) {
+  (void)state;
+  run_trajectory(RPS3_THETA_MULTIROOT, RPS3_LAGRANGE, 1);
+}
+
+static void warm_multiroot_newton_euler(void **state) {
+  (void)state;
+  run_trajectory(RPS3_THETA_MULTIROOT, RPS3_NEWTON_EULER, 1);
+}
+
+static void cold_multiroot_lagrange(void **state) {
+  (void)state;
+  run_trajectory(RPS3_THETA_MULTIROOT, RPS3_LAGRANGE, 0);
+}
+
+/* the other stages and the error paths (RPS3_ERROR formats its message
+   into the data) do not allocate either */
+static void stages_and_errors(void **state) {
+  rps3_model m;
+  rps3_data *d = NULL;
+  long p, ok = 0, errors = 0;
+  (void)state;
+  model_entropy(&m);
+  assert_int_equal(rps3_model_init(&m, NULL, 0), RPS3_OK);
+  assert_int_equal(rps3_data_alloc(&m, &d), RPS3_OK);
+
+  count_start();
+  for (p = 0; p < 2000; p++) {
+    double s = (double)p / 2000.0;
+    rps3_data_reset(d);
+    d->pose[0] = -2.9 + 5.7 * s;
+    d->pose[1] = 0.05 + 0.3 * s;
+    d->pose[2] = 0.21 + 0.1 * s;
+    d->dpose[0] = 0.71;
+    d->dpose[1] = -0.23;
+    d->dpose[2] = 0.037;
+    d->ddpose[0] = -1.3;
+    d->ddpose[1] = 0.47;
+    d->ddpose[2] = 0.11;
+    if (rps3_ik(&m, d) == RPS3_OK && rps3_velocity(&m, d) == RPS3_OK &&
+        rps3_acceleration(&m, d) == RPS3_OK && rps3_invdyn(&m, d) == RPS3_OK &&
+        rps3_joint_velocity(&m, d) == RPS3_OK &&
+        rps3_joint_acceleration(&m, d) == RPS3_OK && rps3_fk(&m, d) == RPS3_OK)
+      ok++;
+    /* errors: unreachable pose, non-finite input, stage out of order */
+    d->pose[2] = -0.3;
+    if (rps3_ik(&m, d) == RPS3_EREACH) errors++;
+    d->pose[2] = (double)NAN;
+    if (rps3_ik(&m, d) == RPS3_EINVAL) errors++;
+    rps3_data_reset(d);
+    if (rps3_invdyn(&m, d) == RPS3_ESTATE) errors++;
+    d->l[0] = d->l[1] = d->l[2] = 1e200;
+    if (rps3_theta_solve(&m, d) != RPS3_OK) errors++;
+  }
+  count_stop();
+  print_message("stages: %ld points ok, %ld errors raised, %ld allocations\n",
+                ok, errors, n_alloc);
+  assert_int_equal(ok, 2000);
+  assert_int_equal(errors, 4 * 2000);
+  assert_int_equal(n_alloc, 0);
+  assert_int_equal(n_free, 0);
+  rps3_data_free(d);
+}
+
+int main(void) {
+  const struct CMUnitTest tests[] = {
+      cmocka_unit_test(interposer_sees_gsl_and_init),
+      cmocka_unit_test(closed_form_lagrange),
+      cmocka_unit_test(closed_form_newton_euler),
+      cmocka_unit_test(warm_multiroot_lagrange),
+      cmocka_unit_test(warm_multiroot_newton_euler),
+      cmocka_unit_test(cold_multiroot_lagrange),
+      cmocka_unit_test(stages_and_errors),
+  };
+  gsl_set_error_handler_off();
+  return cmocka_run_group_tests(tests, NULL, NULL);
+}
+
+#endif /* RPS3_SANITIZE */
