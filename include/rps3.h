@@ -359,8 +359,13 @@ int rps3_theta_guess(const rps3_model *m, rps3_data *d);
  * positions b, c, rot, phi, dphi via (11)-(20).
  * Returns RPS3_OK, RPS3_EINVAL (bad lengths, or constraints that do not
  * evaluate to finite numbers), RPS3_ENOCONV (including any failure GSL
- * reports while iterating, with its message) or RPS3_EBRANCH (a root with
- * theta outside (0, pi)).
+ * reports when starting or iterating, e.g. a singular finite-difference
+ * Jacobian at the starting point, with its message) or RPS3_EBRANCH (a root with
+ * theta outside (0, pi), or a root of the second family of (8)-(10): the
+ * ball joints reflected through the Z axis, which no pose (alpha, beta,
+ * z_c) describes).  Several roots may satisfy 0 < theta < pi (assembly
+ * modes); the solve returns the one its starting point leads to, so start
+ * it near the wanted one (warm start from the previous sample).
  */
 int rps3_theta_solve(const rps3_model *m, rps3_data *d);
 

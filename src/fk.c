@@ -211,11 +211,18 @@ int rps3_theta_solve(const rps3_model *m, rps3_data *d) {
   /* initialize */
   status = s->fdf ? gsl_multiroot_fdfsolver_set(s->sfdf, &s->fn_fdf, s->x)
                   : gsl_multiroot_fsolver_set(s->sf, &s->fn_f, s->x);
-  if (status != GSL_SUCCESS)
+  if (status == GSL_EBADFUNC)
     RPS3_ERROR(d, RPS3_EINVAL,
                "constraints (8)-(10) do not evaluate at the starting point "
                "(lengths %g, %g, %g m): %s", d->l[0], d->l[1], d->l[2],
                gsl_strerror(status));
+  /* the derivative-free solvers difference a Jacobian in _set: at a start
+     where it is singular (e.g. theta = 0) GSL stops with GSL_ESING, a
+     point-level failure of this start, not a caller error */
+  if (status != GSL_SUCCESS)
+    RPS3_ERROR(d, RPS3_ENOCONV,
+               "solver cannot start at theta = (%.6g, %.6g, %.6g): %s",
+               d->theta[0], d->theta[1], d->theta[2], gsl_strerror(status));
 
   /* iterate / test: residual first, so that an exact start costs nothing */
   iter = 0;
@@ -261,6 +268,20 @@ int rps3_theta_solve(const rps3_model *m, rps3_data *d) {
   }
   rps3_links_from_joints(m, d);
   rps3_frame_from_balls(m, d);
+  /* a pose (alpha, beta, z_c) has rot = Rz(alpha) Ry(beta) Rz(-alpha) (2),
+     whose upper-left block has trace 2 - (1 - cos beta) >= 0.  (8)-(10)
+     have a second family of roots with 0 < theta < pi: the ball joints
+     reflected through the Z axis, (x, y) -> (-x, -y), each still in its
+     pin plane -- the platform spun by pi about its normal, trace
+     -(1 + cos beta) <= 0.  No pose describes it, so it is not a solution */
+  if (d->rot[0][0] + d->rot[1][1] < 0.0) {
+    d->have_theta = 0;
+    RPS3_ERROR(d, RPS3_EBRANCH,
+               "root theta = (%.6g, %.6g, %.6g) is the platform spun by pi "
+               "about its normal (ball joints reflected through the Z axis), "
+               "which no pose (alpha, beta, z_c) describes",
+               d->theta[0], d->theta[1], d->theta[2]);
+  }
   d->have_theta = 1;
   d->stage = RPS3_STAGE_POS;
   return RPS3_OK;
