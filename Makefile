@@ -135,8 +135,9 @@ bench: $(B)/rps3-bench
 paper: all venv
 	@mkdir -p out
 	$(B)/rps3-run configs/paper.yaml -o out/paper.h5
+	$(B)/rps3-run configs/link_mass.yaml -o out/link_mass.h5
 	$(VPY) analysis/figures.py out/paper.h5 out
-	$(VPY) analysis/check_paper.py out/paper.h5
+	$(VPY) analysis/check_paper.py out/paper.h5 --sweep out/link_mass.h5
 
 clean:
 	rm -rf $(B) out
