@@ -31,6 +31,9 @@ LIB_SAN = $(LIB_SRC:src/%.c=$(B)/san/%.o)
 TEST_SRC = $(wildcard tests/test_*.c)
 TEST_BIN = $(TEST_SRC:tests/%.c=$(B)/tests/%)
 TEST_SAN = $(TEST_SRC:tests/%.c=$(B)/tests-san/%)
+# the control-loop example (tests/example_control_loop.c) is built like a
+# test and run by check-c; it is not a sanitizer test
+TEST_BIN += $(B)/tests/example_control_loop
 RUN_MAINS = runner/main_run.c runner/main_study.c
 RUN_COMMON = $(filter-out $(RUN_MAINS),$(wildcard runner/*.c))
 RUN_OBJ = $(RUN_COMMON:runner/%.c=$(B)/runner/%.o)
@@ -130,6 +133,17 @@ $(B)/rps3-bench: $(BENCH_SRC) $(wildcard tests/bench/*.h) $(B)/librps3.a
 bench: $(B)/rps3-bench
 	@mkdir -p out
 	$(B)/rps3-bench -o out/bench.h5
+
+# ---------------------------------------------------------------- valgrind
+# memcheck on the threads test and a short control loop: any error or leak
+# fails.  About 10 s, so `make check` runs it.
+VALGRIND = valgrind -q --error-exitcode=1 --leak-check=full \
+           --errors-for-leak-kinds=definite,possible
+.PHONY: valgrind
+valgrind: $(B)/tests/test_threads $(B)/tests/example_control_loop
+	$(VALGRIND) $(B)/tests/test_threads
+	$(VALGRIND) $(B)/tests/example_control_loop 100
+check: valgrind
 
 # ------------------------------------------------------------------- paper
 paper: all venv
