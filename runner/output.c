@@ -217,8 +217,13 @@ static hid_t dataset(hid_t file, hid_t str, const char *name, hid_t type,
 {
   hid_t sp = rank ? H5Screate_simple(rank, dims, NULL) : H5Screate(H5S_SCALAR);
   hid_t dcpl = H5Pcreate(H5P_DATASET_CREATE), lcpl = H5Pcreate(H5P_LINK_CREATE);
+  hid_t dapl = H5Pcreate(H5P_DATASET_ACCESS);
   hid_t ds = -1;
-  if (sp < 0 || dcpl < 0 || lcpl < 0)
+  if (sp < 0 || dcpl < 0 || lcpl < 0 || dapl < 0)
+    goto done;
+  /* tiles are whole chunks, written once: no chunk cache, so that memory
+     does not hold a chunk per dataset */
+  if (H5Pset_chunk_cache(dapl, 0, 0, 1.0) < 0)
     goto done;
   /* names such as manipulator.rho are plain names, no groups */
   if (chunk && H5Pset_chunk(dcpl, rank, chunk) < 0)
@@ -229,7 +234,7 @@ static hid_t dataset(hid_t file, hid_t str, const char *name, hid_t type,
     goto done;
   if (H5Pset_char_encoding(lcpl, H5T_CSET_UTF8) < 0)
     goto done;
-  ds = H5Dcreate2(file, name, type, sp, lcpl, dcpl, H5P_DEFAULT);
+  ds = H5Dcreate2(file, name, type, sp, lcpl, dcpl, dapl);
   if (ds >= 0 && (attr_str(ds, str, "units", units) < 0 ||
                   attr_str(ds, str, "description", doc) < 0)) {
     H5Dclose(ds);
@@ -242,6 +247,8 @@ done:
     H5Pclose(dcpl);
   if (lcpl >= 0)
     H5Pclose(lcpl);
+  if (dapl >= 0)
+    H5Pclose(dapl);
   return ds;
 }
 

@@ -1,0 +1,316 @@
+"""rps3-run end to end: the HDF5 layout, xarray, sweeps, failing cases,
+reruns of single cases, interrupts, exit codes, progress and memory."""
+
+import datetime
+import itertools
+import os
+import pty
+import resource
+import signal
+import subprocess
+import sys
+import time
+
+import h5py
+import numpy as np
+import pytest
+import xarray as xr
+import yaml
+
+import rps3io
+from conftest import CONFIGS, RUNNER, failing_sine, run, write_scene
+
+PER_POINT = ["force", "length", "length_rate", "length_accel", "theta",
+             "alpha", "beta", "z_c", "x_c", "y_c", "lambda",
+             "energy_residual", "energy_scale", "condition", "solve_resid"]
+
+
+# ------------------------------------------------------------------ layout
+
+def test_root_attributes_and_scene(paper_h5):
+    with h5py.File(paper_h5, "r") as f:
+        a = {k: rps3io.text(v) for k, v in f.attrs.items()}
+        assert a["rps3_version"] == "0.1.0"
+        assert a["gsl_version"].count(".") >= 1
+        assert a["hdf5_version"].startswith("1.")
+        assert "configs/paper.yaml" in a["command_line"]
+        when = datetime.datetime.strptime(a["created_utc"], "%Y-%m-%dT%H:%M:%SZ")
+        assert abs((datetime.datetime.utcnow() - when).total_seconds()) < 600
+        with open(os.path.join(CONFIGS, "paper.yaml")) as g:
+            assert rps3io.text(f["scene"][()]) == g.read()
+        assert f["scene"].shape == ()
+
+
+def test_every_dataset_has_units_and_description(paper_h5):
+    with h5py.File(paper_h5, "r") as f:
+        for name, ds in f.items():
+            assert "units" in ds.attrs, name
+            assert len(rps3io.text(ds.attrs["description"])) > 10, name
+
+
+def test_dimensions(paper_h5):
+    with h5py.File(paper_h5, "r") as f:
+        expect = {
+            "force": ("case", "time", "link"),
+            "force_by_effect": ("case", "time", "effect", "link"),
+            "length": ("case", "time", "link"),
+            "lambda": ("case", "time", "constraint"),
+            "alpha": ("case", "time"),
+            "energy_residual": ("case", "time"),
+            "status": ("case",),
+            "message": ("case",),
+            "failed_at": ("case",),
+            "scene_resolved": ("case",),
+            "manipulator.m_over_M": ("case",),
+        }
+        for name, dims in expect.items():
+            assert rps3io.dims(f[name]) == dims, name
+        assert list(f["link"][()]) == [1, 2, 3]
+        assert rps3io.effects(f) == ["platform_gravity", "link_gravity",
+                                     "platform_inertia", "link_inertia"]
+        assert f["time"][0] == 0 and f["time"][-1] == 10.0
+        assert f["force"].chunks[0] >= 1 and f["force"].chunks[1] == 1001
+        coords = rps3io.text(f["force"].attrs["coordinates"])
+        assert coords == "manipulator.m_over_M"
+
+
+def test_xarray_opens_with_named_dimensions(paper_h5):
+    with xr.open_dataset(paper_h5, engine="h5netcdf") as ds:
+        assert ds["force"].dims == ("case", "time", "link")
+        assert ds["force_by_effect"].dims == ("case", "time", "effect", "link")
+        assert ds["lambda"].dims == ("case", "time", "constraint")
+        assert set(ds.sizes) == {"case", "time", "link", "effect", "constraint"}
+        assert "manipulator.m_over_M" in ds["force"].coords
+        # select by parameter value
+        by_mass = ds.swap_dims(case="manipulator.m_over_M")
+        f4 = by_mass["force"].sel({"manipulator.m_over_M": 0.5})
+        with h5py.File(paper_h5, "r") as f:
+            np.testing.assert_array_equal(f4.values, f["force"][1])
+        assert float(ds["force"].sel(time=5.0, link=2)[0]) == pytest.approx(
+            float(ds["force"][0, 500, 1]), rel=0, abs=0)
+
+
+def test_xarray_with_differing_time_grids(config_runs):
+    h5, proc = config_runs["period"]
+    assert proc.returncode == 0
+    with xr.open_dataset(h5, engine="h5netcdf") as ds:
+        assert ds["case_time"].dims == ("case", "time")
+        assert "case_time" in ds["force"].coords
+        t = ds["case_time"].values
+        np.testing.assert_array_equal(t[:, -1], ds["trajectory.period"].values)
+        assert np.all(np.diff(t, axis=1) > 0)
+
+
+# ------------------------------------------------------------------ sweeps
+
+def test_sweep_order_is_row_major_last_key_fastest(config_runs):
+    h5, proc = config_runs["grid"]
+    assert proc.returncode == 0
+    with h5py.File(h5, "r") as f:
+        keys = rps3io.sweep_keys(f)
+        assert keys == ["manipulator.m_over_M", "manipulator.rho",
+                        "trajectory.pitch"]
+        scene = yaml.safe_load(rps3io.text(f["scene"][()]))
+        grid = list(itertools.product(*(scene["sweep"][k] for k in keys)))
+        got = list(zip(*(f[k][()] for k in keys)))
+        assert got == grid
+        np.testing.assert_array_equal(f["case"][()], np.arange(len(grid)))
+
+
+def test_range_forms(config_runs):
+    with h5py.File(config_runs["mass_ratio"][0], "r") as f:
+        v = f["manipulator.m_over_M"][()]
+        assert len(v) == 11 and v[0] == 0 and v[-1] == 1.0
+        np.testing.assert_allclose(v, np.arange(11) / 10, rtol=0, atol=1e-15)
+    with h5py.File(config_runs["rho"][0], "r") as f:
+        v = f["manipulator.rho"][()]
+        np.testing.assert_allclose(v, np.linspace(0.2, 0.9, 8), rtol=1e-15)
+        assert v[-1] == 0.9
+
+
+def test_each_case_reruns_alone_identically(runner, config_runs, tmp_path):
+    """scene_resolved of a case, run alone, gives the same numbers bit for
+    bit: nothing (the multiroot warm start included) leaks between cases."""
+    for name, case in (("grid", 29), ("sine", 1), ("period", 4)):
+        h5 = config_runs[name][0]
+        with h5py.File(h5, "r") as f:
+            text = rps3io.text(f["scene_resolved"][case])
+            want = {k: f[k][case] for k in PER_POINT}
+        assert "sweep" not in yaml.safe_load(text)
+        alone = write_scene(tmp_path / f"{name}.yaml", text)
+        out = tmp_path / f"{name}.h5"
+        proc = run(alone, out, "-q")
+        assert proc.returncode == 0, proc.stderr
+        with h5py.File(out, "r") as g:
+            for k in PER_POINT:
+                np.testing.assert_array_equal(g[k][0], want[k], err_msg=k)
+
+
+def test_failing_case_keeps_the_others(runner, tmp_path):
+    scene = write_scene(tmp_path / "f.yaml", failing_sine(theta="multiroot"))
+    out = tmp_path / "f.h5"
+    proc = run(scene, out)
+    assert proc.returncode == 1, proc.stderr
+    assert "3/3 cases (1 failed)" in proc.stderr
+    with h5py.File(out, "r") as f:
+        np.testing.assert_array_equal(f["status"][()], [0, 1, 0])
+        fa = f["failed_at"][()]
+        assert fa[0] == -1 and fa[2] == -1 and 0 < fa[1] < 200
+        msg = rps3io.text(f["message"][1])
+        assert msg.startswith(f"t = ") and f"(sample {fa[1]})" in msg
+        assert "pose unreachable" in msg
+        assert rps3io.text(f["message"][0]) == ""
+        for k in PER_POINT:
+            assert np.isnan(f[k][1]).all(), k
+            assert not np.isnan(f[k][[0, 2]]).any(), k
+        assert (f["solve_niter"][1] == -1).all()
+        # the cases after the failure are those of a run without it
+        good = f["force"][2]
+        ok_scene = rps3io.text(f["scene_resolved"][2])
+    out2 = tmp_path / "ok.h5"
+    assert run(write_scene(tmp_path / "ok.yaml", ok_scene), out2).returncode == 0
+    with h5py.File(out2, "r") as g:
+        np.testing.assert_array_equal(g["force"][0], good)
+
+
+def test_long_case_in_windows(runner, tmp_path):
+    """A case longer than a tile is written in windows; a failure in a late
+    window turns the windows already written into NaN."""
+    scene = write_scene(tmp_path / "w.yaml",
+                        failing_sine(samples=40001, theta="multiroot"))
+    out = tmp_path / "w.h5"
+    proc = run(scene, out, "-q")
+    assert proc.returncode == 1
+    with h5py.File(out, "r") as f:
+        assert f["force"].chunks[:2] == (1, 16384)
+        fa = f["failed_at"][()]
+        assert fa[1] > 16384
+        assert np.isnan(f["force"][1]).all()
+        assert not np.isnan(f["force"][0]).any()
+        # multiroot theta, warm-started across windows, against the pose
+        with_closed = f["theta"][0]
+    closed = write_scene(tmp_path / "c.yaml", failing_sine(samples=40001))
+    out2 = tmp_path / "c.h5"
+    run(closed, out2, "-q")
+    with h5py.File(out2, "r") as g:
+        np.testing.assert_allclose(g["theta"][0], with_closed, rtol=0,
+                                   atol=1e-12)
+
+
+def test_lambda_is_nan_under_newton_euler(config_runs):
+    h5, proc = config_runs["sine"]
+    assert proc.returncode == 0
+    with h5py.File(h5, "r") as f:
+        method = [rps3io.text(m) for m in f["solver.method"][()]]
+        assert method == ["lagrange", "newton_euler"]
+        assert not np.isnan(f["lambda"][0]).any()
+        assert np.isnan(f["lambda"][1]).all()
+        assert "NaN under newton_euler" in rps3io.text(
+            f["lambda"].attrs["description"])
+
+
+# --------------------------------------------------------------- processes
+
+def big_scene(tmp_path, ncase, samples=1001):
+    text = open(os.path.join(CONFIGS, "paper.yaml")).read()
+    text = text.replace("samples: 1001", f"samples: {samples}")
+    text = text.replace("manipulator.m_over_M: [0, 0.5]",
+                        f"manipulator.m_over_M: {{from: 0, to: 1, num: {ncase}}}")
+    return write_scene(tmp_path / "big.yaml", text)
+
+
+@pytest.mark.parametrize("sig", [signal.SIGINT, signal.SIGTERM])
+def test_interrupted_run_leaves_no_file(runner, tmp_path, sig):
+    scene = big_scene(tmp_path, 20000)
+    out = tmp_path / "big.h5"
+    p = subprocess.Popen([RUNNER, str(scene), "-o", str(out), "-q"],
+                         stderr=subprocess.PIPE)
+    tmp = tmp_path / f"big.h5.tmp.{p.pid}"
+    deadline = time.time() + 20
+    while not tmp.exists() and time.time() < deadline:
+        time.sleep(0.01)
+    assert tmp.exists()
+    time.sleep(0.3)
+    p.send_signal(sig)
+    p.wait(timeout=20)
+    assert p.returncode == -sig
+    assert sorted(x.name for x in tmp_path.iterdir()) == ["big.yaml"]
+
+
+def test_exit_codes(runner, tmp_path):
+    paper = os.path.join(CONFIGS, "paper.yaml")
+    assert run(paper).returncode == 2                    # no -o
+    assert run(paper, tmp_path / "x.h5", "--bogus").returncode == 2
+    assert run(paper, tmp_path / "x.h5", "--gzip", "12").returncode == 2
+    proc = run(paper, tmp_path / "no" / "dir" / "x.h5")
+    assert proc.returncode == 3
+    assert "cannot create" in proc.stderr
+    assert not (tmp_path / "no").exists()
+    proc = run(paper, None, "--check")
+    assert proc.returncode == 0
+    assert "2 cases, 2002 samples" in proc.stdout
+    assert subprocess.run([RUNNER, "--help"], capture_output=True).returncode == 0
+
+
+def test_gzip_gives_the_same_numbers(runner, tmp_path, paper_h5):
+    out = tmp_path / "z.h5"
+    assert run(os.path.join(CONFIGS, "paper.yaml"), out, "--gzip", "4",
+               "-q").returncode == 0
+    with h5py.File(out, "r") as f, h5py.File(paper_h5, "r") as g:
+        assert f["force"].compression == "gzip"
+        for k in PER_POINT:
+            np.testing.assert_array_equal(f[k][()], g[k][()], err_msg=k)
+
+
+def test_progress_lines_quiet_and_bar(runner, tmp_path):
+    paper = os.path.join(CONFIGS, "paper.yaml")
+    proc = run(paper, tmp_path / "a.h5")
+    assert proc.returncode == 0
+    assert proc.stderr.startswith("rps3-run: 2/2 cases (0 failed), 2002 samples")
+    proc = run(paper, tmp_path / "b.h5", "--quiet")
+    assert proc.returncode == 0 and proc.stderr == ""
+    # on a terminal: a bar redrawn with \r
+    scene = big_scene(tmp_path, 400)
+    master, slave = pty.openpty()
+    p = subprocess.Popen([RUNNER, str(scene), "-o", str(tmp_path / "c.h5")],
+                         stderr=slave, stdout=subprocess.DEVNULL)
+    os.close(slave)
+    chunks = []
+    while True:
+        try:
+            data = os.read(master, 4096)
+        except OSError:
+            break
+        if not data:
+            break
+        chunks.append(data)
+    p.wait(timeout=30)
+    os.close(master)
+    screen = b"".join(chunks).decode()
+    assert p.returncode == 0
+    assert "\r[" in screen and "cases/s" in screen and "ETA" in screen
+    assert "400/400 cases (0 failed)" in screen
+
+
+def child_maxrss_kib(args):
+    """Peak RSS of rps3-run with these arguments, in a fresh process."""
+    code = ("import resource, subprocess, sys; "
+            "subprocess.run(sys.argv[1:], check=True); "
+            "print(resource.getrusage(resource.RUSAGE_CHILDREN).ru_maxrss)")
+    out = subprocess.run([sys.executable, "-c", code] + args,
+                         capture_output=True, text=True, check=True)
+    return int(out.stdout)
+
+
+def test_memory_stays_flat(runner, tmp_path):
+    """Ten times the cases (both runs fill whole tiles): the file grows ten
+    times, the peak memory by less than 8 MiB (HDF5's bounded metadata
+    cache; the tiles and the chunks are the same size)."""
+    rss = []
+    for ncase in (3000, 30000):
+        scene = big_scene(tmp_path, ncase, samples=11)
+        out = tmp_path / f"m{ncase}.h5"
+        rss.append(child_maxrss_kib([RUNNER, str(scene), "-o", str(out),
+                                     "-q"]))
+        out.unlink()
+    assert rss[1] < rss[0] + 8 * 1024, rss
