@@ -7,7 +7,13 @@
 #include "internal.h"
 
 int rps3_ik(const rps3_model *m, rps3_data *d) {
-  double alpha, beta, ca, sa, vb, sb, cb, s2a, c2a;
+  rps3_pose_trig t;
+  return rps3_ik_with(m, d, &t, 1);
+}
+
+int rps3_ik_with(const rps3_model *m, rps3_data *d, rps3_pose_trig *t,
+                 int theta) {
+  double ca, sa, vb, sb, cb, s2a, c2a;
   int i;
   if (m == NULL || d == NULL || !m->valid) return RPS3_EINVAL;
   d->stage = 0;
@@ -15,16 +21,14 @@ int rps3_ik(const rps3_model *m, rps3_data *d) {
   if (!v3_finite(d->pose))
     RPS3_ERROR(d, RPS3_EINVAL, "pose (%g, %g, %g) is not finite", d->pose[0],
                d->pose[1], d->pose[2]);
-  alpha = d->pose[0];
-  beta = d->pose[1];
-  ca = cos(alpha);
-  sa = sin(alpha);
-  sb = sin(beta);
-  cb = cos(beta);
-  /* 1 - cos(beta) as 2 sin^2(beta/2): no cancellation as beta -> 0 */
-  vb = 2.0 * sin(0.5 * beta) * sin(0.5 * beta);
-  c2a = ca * ca - sa * sa;
-  s2a = 2.0 * sa * ca;
+  rps3_pose_trig_eval(t, d->pose, 1);
+  ca = t->ca;
+  sa = t->sa;
+  sb = t->sb;
+  cb = t->cb;
+  vb = t->vb;
+  c2a = t->C;
+  s2a = t->S;
 
   /* orientation Rz(alpha) Ry(beta) Rz(-alpha), spin gamma = -alpha (2) */
   d->rot[0][0] = 1.0 - vb * ca * ca;
@@ -57,8 +61,9 @@ int rps3_ik(const rps3_model *m, rps3_data *d) {
                  "length > 0 and height > 0) at pose (%.6g, %.6g, %.6g)",
                  i + 1, d->l[i], vz, d->pose[0], d->pose[1], d->pose[2]);
     /* (39) with atan2, so that theta > pi/2 is found too */
-    d->theta[i] = atan2(vz, -radial);
+    if (theta) d->theta[i] = atan2(vz, -radial);
   }
+  if (!theta) return RPS3_OK; /* the theta solve takes over from l */
   /* the link directions come from theta, so that phi, dphi and the pin axis
      are orthonormal to the last bit; b stays as the pose gives it */
   rps3_link_dirs(m, d);

@@ -38,6 +38,43 @@ struct rps3_solver_state;
 int rps3_solver_alloc(const rps3_model *m, struct rps3_solver_state **out);
 void rps3_solver_free(struct rps3_solver_state *s);
 
+/* sines and cosines of a pose (alpha, beta), computed once per point and
+   shared by the stages of rps3_inverse; cb is left out (NaN) when with_cb
+   is 0, for rps3_velocity alone, which does not read it */
+typedef struct {
+  double ca, sa;   /* cos, sin alpha */
+  double sb, cb;   /* sin, cos beta */
+  double vb;       /* 1 - cos beta as 2 sin^2(beta/2) */
+  double C, S;     /* cos 2 alpha, sin 2 alpha */
+} rps3_pose_trig;
+
+static inline void rps3_pose_trig_eval(rps3_pose_trig *t,
+                                       const double pose[3], int with_cb) {
+  /* locals first: stores through t could alias pose, and would keep the
+     compiler from pairing sin and cos into one sincos call */
+  double alpha = pose[0], beta = pose[1];
+  double ca = cos(alpha), sa = sin(alpha), sb = sin(beta);
+  double cb = with_cb ? cos(beta) : (double)NAN, hb = sin(0.5 * beta);
+  t->ca = ca;
+  t->sa = sa;
+  t->sb = sb;
+  t->cb = cb;
+  /* 1 - cos(beta) as 2 sin^2(beta/2): no cancellation as beta -> 0 */
+  t->vb = 2.0 * hb * hb;
+  t->C = ca * ca - sa * sa;
+  t->S = 2.0 * sa * ca;
+}
+
+/* the stages with the pose's trig: rps3_ik_with fills *t and, when theta is
+   0, leaves out (39) and the link directions (the multiroot route computes
+   them from the lengths); the rate stages take t, or NULL to compute it */
+int rps3_ik_with(const rps3_model *m, rps3_data *d, rps3_pose_trig *t,
+                 int theta);
+int rps3_velocity_with(const rps3_model *m, rps3_data *d,
+                       const rps3_pose_trig *pt);
+int rps3_acceleration_with(const rps3_model *m, rps3_data *d,
+                           const rps3_pose_trig *pt);
+
 /* positions of the ball joints b_i and the link unit vectors from (l, theta),
    eqs. (12)-(14) and (29); then the platform frame from b, (11), (18)-(20) */
 void rps3_link_dirs(const rps3_model *m, rps3_data *d);

@@ -48,6 +48,12 @@ static int solve_jt(const rps3_model *m, rps3_data *d, double Jt[3][3],
 }
 
 int rps3_velocity(const rps3_model *m, rps3_data *d) {
+  return rps3_velocity_with(m, d, NULL);
+}
+
+int rps3_velocity_with(const rps3_model *m, rps3_data *d,
+                       const rps3_pose_trig *pt) {
+  rps3_pose_trig own;
   double ca, sa, sb, vb, C, S, da, db, dvb, w[3], rho[3], bd[3];
   int i;
   if (m == NULL || d == NULL || !m->valid) return RPS3_EINVAL;
@@ -57,12 +63,16 @@ int rps3_velocity(const rps3_model *m, rps3_data *d) {
     RPS3_ERROR(d, RPS3_EINVAL, "dpose (%g, %g, %g) is not finite",
                d->dpose[0], d->dpose[1], d->dpose[2]);
   d->stage &= RPS3_STAGE_POS;
-  ca = cos(d->pose[0]);
-  sa = sin(d->pose[0]);
-  sb = sin(d->pose[1]);
-  vb = 2.0 * sin(0.5 * d->pose[1]) * sin(0.5 * d->pose[1]);
-  C = ca * ca - sa * sa;
-  S = 2.0 * sa * ca;
+  if (pt == NULL) {
+    rps3_pose_trig_eval(&own, d->pose, 0);
+    pt = &own;
+  }
+  ca = pt->ca;
+  sa = pt->sa;
+  sb = pt->sb;
+  vb = pt->vb;
+  C = pt->C;
+  S = pt->S;
   da = d->dpose[0];
   db = d->dpose[1];
 
@@ -92,6 +102,12 @@ int rps3_velocity(const rps3_model *m, rps3_data *d) {
 }
 
 int rps3_acceleration(const rps3_model *m, rps3_data *d) {
+  return rps3_acceleration_with(m, d, NULL);
+}
+
+int rps3_acceleration_with(const rps3_model *m, rps3_data *d,
+                           const rps3_pose_trig *pt) {
+  rps3_pose_trig own;
   double ca, sa, sb, cb, vb, C, S, da, db, dda, ddb, dvb, ddvb, dC, dS, ddC,
       ddS, a[3], ez_a[3], adot[3], t[3], rho[3], bdd[3];
   int i;
@@ -102,13 +118,17 @@ int rps3_acceleration(const rps3_model *m, rps3_data *d) {
     RPS3_ERROR(d, RPS3_EINVAL, "ddpose (%g, %g, %g) is not finite",
                d->ddpose[0], d->ddpose[1], d->ddpose[2]);
   d->stage &= RPS3_STAGE_POS | RPS3_STAGE_VEL;
-  ca = cos(d->pose[0]);
-  sa = sin(d->pose[0]);
-  sb = sin(d->pose[1]);
-  cb = cos(d->pose[1]);
-  vb = 2.0 * sin(0.5 * d->pose[1]) * sin(0.5 * d->pose[1]);
-  C = ca * ca - sa * sa;
-  S = 2.0 * sa * ca;
+  if (pt == NULL) {
+    rps3_pose_trig_eval(&own, d->pose, 1);
+    pt = &own;
+  }
+  ca = pt->ca;
+  sa = pt->sa;
+  sb = pt->sb;
+  cb = pt->cb;
+  vb = pt->vb;
+  C = pt->C;
+  S = pt->S;
   da = d->dpose[0];
   db = d->dpose[1];
   dda = d->ddpose[0];
