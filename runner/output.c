@@ -147,7 +147,7 @@ void out_block_blank(out_block *b, size_t slot, size_t k)
     if (fields[i].type == OUT_F64) {
       double *p = block_field(b, i);
       for (j = lo; j < hi; j++)
-        p[j] = NAN;
+        p[j] = (double)NAN;
     } else if (fields[i].type == OUT_I32) {
       int32_t *p = block_field(b, i);
       for (j = lo; j < hi; j++)
@@ -155,7 +155,7 @@ void out_block_blank(out_block *b, size_t slot, size_t k)
     }
   }
   for (j = slot * b->points + k; j < (slot + 1) * b->points; j++)
-    b->t[j] = NAN;
+    b->t[j] = (double)NAN;
 }
 
 /* ------------------------------------------------------------ HDF5 bits */
@@ -377,7 +377,7 @@ out_file *out_create(const char *path, const scene *s,
                      size_t errsz)
 {
   static const int32_t one23[3] = {1, 2, 3};
-  const double fnan = NAN;
+  const double fnan = (double)NAN;
   const int32_t fneg = -1;
   out_file *f = calloc(1, sizeof *f);
   hid_t dcase = -1, dtime = -1, dlink = -1, deff = -1, dcon = -1;
