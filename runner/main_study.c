@@ -117,9 +117,11 @@ static void traj_make(int k, rps3_traj *tr) {
  */
 static void ik_long(const rps3_model *m, const double pose[3],
                     long double theta[3], long double len[3]) {
-  long double a = pose[0], b = pose[1], z = pose[2];
+  long double a = (long double)pose[0], b = (long double)pose[1];
+  long double z = (long double)pose[2];
   long double ca = cosl(a), sa = sinl(a), cb = cosl(b), sb = sinl(b);
-  long double r = (long double)m->rho * (long double)m->R, R = m->R;
+  long double r = (long double)m->rho * (long double)m->R;
+  long double R = (long double)m->R;
   long double rot[3][3], c[3];
   long double s3 = sqrtl(3.0L);
   int i;
