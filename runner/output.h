@@ -48,11 +48,12 @@ typedef enum { OUT_F64, OUT_I32, OUT_STR } out_type;
   X(y_c, OUT_CT, OUT_F64, "m", "platform centre y_c, eq. (4) times R")         \
   X(lambda, OUT_CTK, OUT_F64, "N/m",                                           \
     "Lagrange multipliers lambda_k of the constraints (8)-(10) written in "    \
-    "metres (f_k = |b_i - b_j|^2 - 3 r^2), eq. (34); NaN under newton_euler, " \
+    "metres (f_k = norm(b_i - b_j)^2 - 3 r^2), eq. (34); NaN under "          \
+    "newton_euler, "                                                          \
     "which does not compute them")                                             \
   X(energy_residual, OUT_CT, OUT_F64, "W",                                     \
     "actuator power + friction power - dT/dt - dP/dt; zero up to rounding "    \
-    "when the forces are right (0 when solver.certify is false)")              \
+    "when the forces are right (NaN when solver.certify is false)")            \
   X(energy_scale, OUT_CT, OUT_F64, "W",                                        \
     "sum of the magnitudes of the terms of energy_residual, its scale")        \
   X(condition, OUT_CT, OUT_F64, "1",                                           \
@@ -60,7 +61,7 @@ typedef enum { OUT_F64, OUT_I32, OUT_STR } out_type;
   X(solve_niter, OUT_CT, OUT_I32, "1",                                         \
     "iterations of the multiroot theta solve (0 for closed_form; -1 missing)") \
   X(solve_resid, OUT_CT, OUT_F64, "1",                                         \
-    "max |f_k| after the theta solve, lengths in units of R")                  \
+    "max_k abs(f_k) after the theta solve, lengths in units of R")               \
   X(warn, OUT_CT, OUT_I32, "1",                                                \
     "warning bits: 1 ill-conditioned lambda system, 2 alpha undefined "        \
     "(-1 missing)")                                                            \

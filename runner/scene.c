@@ -1435,7 +1435,7 @@ void scene_keys_print(void)
     else if (ki->req != REQ_NO)
       snprintf(def, sizeof def, "one of a pair");
     else if (ki->type == KEY_REAL)
-      format_real(def, sizeof def, *real_at(&v, k));
+      snprintf(def, sizeof def, "%g", *real_at(&v, k));
     else if (ki->type == KEY_REAL3)
       snprintf(def, sizeof def, "[%g, %g, %g]", real_at(&v, k)[0],
                real_at(&v, k)[1], real_at(&v, k)[2]);

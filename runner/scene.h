@@ -181,7 +181,7 @@ typedef struct {
   X(K_METHOD, "solver.method", KEY_ENUM, method, FOR_ALL, REQ_NO, 0, 0, 0,    \
     "-", "-", "lagrange (the paper's eqs. 21-24, 34) or newton_euler")        \
   X(K_TOL, "solver.tolerance", KEY_REAL, tolerance, FOR_ALL, REQ_NO, 0, 1,    \
-    HUGE_VAL, "1", "-", "theta solve: stop when max |f_k| <= tolerance")      \
+    HUGE_VAL, "1", "-", "theta solve: stop when max_k abs(f_k) <= tolerance")      \
   X(K_MAX_ITER, "solver.max_iter", KEY_INT, max_iter, FOR_ALL, REQ_NO, 1, 0,  \
     2147483647.0, "1", "-", "theta solve iteration limit")                    \
   X(K_SOLVER, "solver.solver", KEY_ENUM, solver, FOR_ALL, REQ_NO, 0, 0, 0,    \
