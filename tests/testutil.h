@@ -118,7 +118,7 @@ static inline double singular_beta(const rps3_model *m, rps3_data *d,
     d->pose[0] = 0.0;
     d->pose[1] = mid;
     d->pose[2] = z;
-    if (rps3_ik(m, d) != RPS3_OK) return NAN;
+    if (rps3_ik(m, d) != RPS3_OK) return (double)NAN;
     if (d->theta[0] - mid > 0) lo = mid; else hi = mid;
   }
   return lo;
