@@ -157,3 +157,14 @@ def test_helix_pose_function_matches_table_one():
 def test_figures_module_finds_the_paper_cases(paper_h5):
     with h5py.File(paper_h5, "r") as f:
         assert figures.paper_cases(f) == (0, 1)
+
+
+def test_summary_figure(config_runs, tmp_path):
+    names = ["mass_ratio", "rho", "pitch", "grid", "period", "link_mass", "sine"]
+    out = tmp_path / "summary.png"
+    proc = subprocess.run([sys.executable, os.path.join(ANALYSIS, "summary.py"),
+                           str(out)] + [str(config_runs[n][0]) for n in names],
+                          capture_output=True, text=True, timeout=120)
+    assert proc.returncode == 0, proc.stderr
+    data = out.read_bytes()
+    assert data[:8] == b"\x89PNG\r\n\x1a\n" and len(data) > 50000
