@@ -133,7 +133,7 @@ static void error_codes(void **state) {
   /* bad lengths */
   d->l[1] = -0.3;
   assert_int_equal(rps3_theta_solve(&m, d), RPS3_EINVAL);
-  d->l[1] = NAN;
+  d->l[1] = (double)NAN;
   assert_int_equal(rps3_theta_guess(&m, d), RPS3_EINVAL);
   d->l[1] = 1e200; /* finite, but (8)-(10) overflow */
   d->have_theta = 0;

@@ -146,7 +146,7 @@ static void unreachable_and_invalid(void **state) {
   d->pose[1] = 1.45; /* tipped so far that a ball joint dips below */
   d->pose[2] = 0.05;
   assert_int_equal(rps3_ik(&m, d), RPS3_EREACH);
-  d->pose[1] = NAN;
+  d->pose[1] = (double)NAN;
   assert_int_equal(rps3_ik(&m, d), RPS3_EINVAL);
   assert_non_null(strstr(d->err.msg, "not finite"));
   assert_int_equal(rps3_ik(NULL, d), RPS3_EINVAL);

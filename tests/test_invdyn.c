@@ -178,7 +178,7 @@ static void static_scene_needs_no_rates(void **state) {
   d->pose[0] = 0.4;
   d->pose[1] = 0.2;
   d->pose[2] = 0.3;
-  d->dpose[0] = NAN; /* never read */
+  d->dpose[0] = (double)NAN; /* never read */
   assert_int_equal(rps3_inverse(&m, d), RPS3_OK);
   assert_int_equal(d->stage & (RPS3_STAGE_VEL | RPS3_STAGE_ACC), 0);
   assert_true(isfinite(d->F[0]) && d->F[0] > 0);

@@ -55,7 +55,7 @@ static void matches_gsl(void **state) {
 
 static void singular_is_reported(void **state) {
   double A[9] = {1.5, 2.25, -0.75, 3.0, 4.5, -1.5, 0.3, 0.1, 0.7}; /* row2 = 2 row1 */
-  double B[9] = {NAN, 1, 0, 0, 1, 0, 0, 0, 1};
+  double B[9] = {(double)NAN, 1, 0, 0, 1, 0, 0, 0, 1};
   int perm[3];
   (void)state;
   assert_int_equal(rps3_lu_factor(3, A, perm), -1);

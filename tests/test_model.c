@@ -33,22 +33,22 @@ static void defaults_are_table_ii(void **state) {
 static void rejects_each_field(void **state) {
   (void)state;
   BAD("R", m.R = 0.0);
-  BAD("R", m.R = NAN);
+  BAD("R", m.R = (double)NAN);
   BAD("R", m.R = -0.2);
   BAD("rho", m.rho = 0.0);
-  BAD("rho", m.rho = INFINITY);
+  BAD("rho", m.rho = (double)INFINITY);
   BAD("M", m.M = -1e-3);
-  BAD("m", m.m = NAN);
+  BAD("m", m.m = (double)NAN);
   BAD("d", m.d = -0.1);
   BAD("link_Ic", m.link_Ic = -1.0);
   BAD("g", m.g = -9.8);
   BAD("payload.mass", m.payload.mass = -0.5);
-  BAD("payload.com[1]", m.payload.com[1] = NAN);
+  BAD("payload.com[1]", m.payload.com[1] = (double)NAN);
   BAD("payload.inertia[2]", m.payload.inertia[2] = -1.0);
   BAD("payload.inertia", (m.payload.inertia[0] = 1.0, m.payload.inertia[1] = 0.2,
                    m.payload.inertia[2] = 0.3));
   BAD("pin_friction.viscous", m.friction.viscous = -0.1);
-  BAD("pin_friction.coulomb", m.friction.coulomb = NAN);
+  BAD("pin_friction.coulomb", m.friction.coulomb = (double)NAN);
   BAD("opt.effects", m.opt.effects = 1 << 9);
   BAD("opt.method", m.opt.method = (rps3_method)7);
   BAD("opt.theta", m.opt.theta = (rps3_theta_route)3);

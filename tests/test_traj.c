@@ -114,7 +114,7 @@ static void errors(void **state) {
   setup(&m, &tr);
   assert_int_equal(rps3_traj_eval(&m, &tr, -1e-9, q, NULL, NULL), RPS3_EDOMAIN);
   assert_int_equal(rps3_traj_eval(&m, &tr, 10.001, q, NULL, NULL), RPS3_EDOMAIN);
-  assert_int_equal(rps3_traj_eval(&m, &tr, NAN, q, NULL, NULL), RPS3_EINVAL);
+  assert_int_equal(rps3_traj_eval(&m, &tr, (double)NAN, q, NULL, NULL), RPS3_EINVAL);
   assert_int_equal(rps3_traj_eval(&m, NULL, 1.0, q, NULL, NULL), RPS3_EINVAL);
   tr.helix.radius = 0.06; /* r/2 = 0.05715: beta would pass 90 degrees */
   assert_int_equal(rps3_traj_check(&m, &tr, err, sizeof err), RPS3_EINVAL);

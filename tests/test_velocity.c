@@ -178,17 +178,17 @@ static void stage_and_input_errors(void **state) {
   d->pose[2] = 0.3;
   assert_int_equal(rps3_ik(&m, d), RPS3_OK);
   assert_int_equal(rps3_acceleration(&m, d), RPS3_ESTATE);
-  d->dpose[1] = INFINITY;
+  d->dpose[1] = (double)INFINITY;
   assert_int_equal(rps3_velocity(&m, d), RPS3_EINVAL);
-  d->dl[2] = NAN;
+  d->dl[2] = (double)NAN;
   assert_int_equal(rps3_joint_velocity(&m, d), RPS3_EINVAL);
   d->dpose[1] = 0.1;
   assert_int_equal(rps3_velocity(&m, d), RPS3_OK);
-  d->ddpose[0] = NAN;
+  d->ddpose[0] = (double)NAN;
   assert_int_equal(rps3_acceleration(&m, d), RPS3_EINVAL);
   d->dl[2] = 0.01;
   assert_int_equal(rps3_joint_velocity(&m, d), RPS3_OK);
-  d->ddl[0] = NAN;
+  d->ddl[0] = (double)NAN;
   assert_int_equal(rps3_joint_acceleration(&m, d), RPS3_EINVAL);
   /* link 1 in the platform plane: theta-dot is not determined by l-dot */
   bs = singular_beta(&m, d, 0.25, 0.6, 1.0);
