@@ -270,7 +270,7 @@ def test_progress_lines_quiet_and_bar(runner, tmp_path):
     proc = run(paper, tmp_path / "b.h5", "--quiet")
     assert proc.returncode == 0 and proc.stderr == ""
     # on a terminal: a bar redrawn with \r
-    scene = big_scene(tmp_path, 400)
+    scene = big_scene(tmp_path, 1000)
     master, slave = pty.openpty()
     p = subprocess.Popen([RUNNER, str(scene), "-o", str(tmp_path / "c.h5")],
                          stderr=slave, stdout=subprocess.DEVNULL)
@@ -289,7 +289,7 @@ def test_progress_lines_quiet_and_bar(runner, tmp_path):
     screen = b"".join(chunks).decode()
     assert p.returncode == 0
     assert "\r[" in screen and "cases/s" in screen and "ETA" in screen
-    assert "400/400 cases (0 failed)" in screen
+    assert "1000/1000 cases (0 failed)" in screen
 
 
 def child_maxrss_kib(args):
