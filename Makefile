@@ -145,6 +145,18 @@ valgrind: $(B)/tests/test_threads $(B)/tests/example_control_loop
 	$(VALGRIND) $(B)/tests/example_control_loop 100
 check: valgrind
 
+# ------------------------------------------------------------------- study
+# rps3-study (runner/main_study.c): what accuracy costs in time, and the
+# workspace map, into out/*.h5; the figures and the table of recommended
+# settings (out/accuracy_table.md) by analysis/.  About 20 s.
+study-bin: $(B)/rps3-study
+study: study-bin venv
+	@mkdir -p out
+	$(B)/rps3-study accuracy -o out/accuracy.h5 --samples 1000 --repeats 21
+	$(B)/rps3-study workspace -o out/workspace.h5
+	$(VPY) analysis/accuracy_cost.py out/accuracy.h5 out > out/accuracy_table.md
+	$(VPY) analysis/workspace.py out/workspace.h5 out
+
 # ------------------------------------------------------------------- paper
 paper: all venv
 	@mkdir -p out

@@ -565,42 +565,58 @@ static int pass_dt(runner *r, const reference *ref, result *out) {
   return 0;
 }
 
-static int measure(const config *c, const rps3_traj *tr,
-                   const rps3_model *base, const reference *ref, int repeats,
-                   result *res) {
-  runner r;
-  double *ns = malloc((size_t)repeats * sizeof(double));
-  size_t npts;
-  int k;
-  if (!ns) return -1;
+/* samples of one pass of configuration c */
+static size_t pass_points(const config *c, const reference *ref) {
+  return c->study == S_DT ? (size_t)floor(1.0 / c->dt_frac + 0.5) + 1
+                          : ref->n;
+}
+
+/* one pass of configuration c; with res != NULL, record its errors */
+static void pass(runner *r, const reference *ref, result *res) {
+  if (r->c->study == S_DT)
+    pass_dt(r, ref, res);
+  else
+    pass_grid(r, ref, res);
+}
+
+/* the first, untimed pass: the errors of configuration c against ref */
+static int measure_errors(runner *r, const config *c, const rps3_traj *tr,
+                          const rps3_model *base, const reference *ref,
+                          result *res) {
   memset(res, 0, sizeof(*res));
   res->peak_err = res->energy_err = DNAN;
-  if (runner_init(&r, c, tr, base) < 0) {
-    free(ns);
-    return -1;
+  if (runner_init(r, c, tr, base) < 0) return -1;
+  pass(r, ref, res);
+  if (c->study == S_DT) res->force_err = res->theta_err = res->mean_iter = DNAN;
+  return 0;
+}
+
+/*
+ * The timed passes, round-robin over the configurations (repeat k of every
+ * configuration before repeat k + 1 of any), so that a burst of load from
+ * other processes spreads over all of them instead of shifting a few; the
+ * median of each configuration's passes is its time per point.
+ */
+static int measure_times(runner *r, const config *cfg, int ncfg,
+                         const reference *ref, int repeats, result *res) {
+  double *ns = malloc((size_t)ncfg * (size_t)repeats * sizeof(double));
+  int c, k;
+  if (!ns) return -1;
+  for (k = 0; k < repeats; k++)
+    for (c = 0; c < ncfg; c++) {
+      double t0 = now_ns();
+      pass(&r[c], ref, NULL);
+      ns[c * repeats + k] =
+          (now_ns() - t0) / (double)pass_points(&cfg[c], ref);
+    }
+  for (c = 0; c < ncfg; c++) {
+    double *v = &ns[c * repeats];
+    res[c].ns_point = median(v, repeats); /* sorts v */
+    res[c].ns_q1 = v[repeats / 4];
+    res[c].ns_q3 = v[(3 * repeats) / 4];
+    res[c].ns_second =
+        res[c].ns_point * (double)pass_points(&cfg[c], ref) / ref->span;
   }
-  /* one pass for the errors, then the timed passes */
-  if (c->study == S_DT) {
-    pass_dt(&r, ref, res);
-    res->force_err = res->theta_err = res->mean_iter = DNAN;
-    npts = (size_t)floor(1.0 / c->dt_frac + 0.5) + 1;
-  } else {
-    pass_grid(&r, ref, res);
-    npts = ref->n;
-  }
-  for (k = 0; k < repeats; k++) {
-    double t0 = now_ns();
-    if (c->study == S_DT)
-      pass_dt(&r, ref, NULL);
-    else
-      pass_grid(&r, ref, NULL);
-    ns[k] = (now_ns() - t0) / (double)npts;
-  }
-  res->ns_point = median(ns, repeats);
-  res->ns_q1 = ns[repeats / 4];
-  res->ns_q3 = ns[(3 * repeats) / 4];
-  res->ns_second = res->ns_point * (double)npts / ref->span;
-  rps3_data_free(r.d);
   free(ns);
   return 0;
 }
@@ -681,10 +697,18 @@ static int h5_write(h5out *o, const char *name, hid_t type, int rank,
                     const hsize_t *dims, const void *data, const char *units,
                     const char *doc, const char *const *scales) {
   hid_t sp = H5Screate_simple(rank, dims, NULL), ds = -1;
+  hid_t dcpl = H5Pcreate(H5P_DATASET_CREATE);
+  hsize_t chunk[8];
   int rc = -1, k;
-  if (sp < 0) return -1;
-  ds = H5Dcreate2(o->file, name, type, sp, H5P_DEFAULT, H5P_DEFAULT,
-                  H5P_DEFAULT);
+  if (sp < 0 || dcpl < 0 || rank > 8) goto done;
+  /* the maps: one chunk per leading index, deflated */
+  if (rank >= 3) {
+    chunk[0] = 1;
+    for (k = 1; k < rank; k++) chunk[k] = dims[k];
+    if (H5Pset_chunk(dcpl, rank, chunk) < 0 || H5Pset_deflate(dcpl, 4) < 0)
+      goto done;
+  }
+  ds = H5Dcreate2(o->file, name, type, sp, H5P_DEFAULT, dcpl, H5P_DEFAULT);
   if (ds < 0) goto done;
   if (H5Dwrite(ds, type, H5S_ALL, H5S_ALL, H5P_DEFAULT, data) < 0 ||
       attr_str(ds, o->str, "units", units) < 0 ||
@@ -707,7 +731,8 @@ static int h5_write(h5out *o, const char *name, hid_t type, int rank,
   rc = 0;
 done:
   if (ds >= 0) H5Dclose(ds);
-  H5Sclose(sp);
+  if (dcpl >= 0) H5Pclose(dcpl);
+  if (sp >= 0) H5Sclose(sp);
   return rc;
 }
 
@@ -717,6 +742,7 @@ static int run_accuracy(const char *path, const char *cmdline, size_t nsamp,
                         int repeats) {
   static config cfg[MAXCFG];
   static result res[NTRAJ][MAXCFG];
+  static runner run[MAXCFG];
   reference ref[NTRAJ];
   rps3_model base;
   char err[256];
@@ -779,10 +805,13 @@ static int run_accuracy(const char *path, const char *cmdline, size_t nsamp,
         rps3_data_free(r.d);
         rf = &rall;
       }
-      if (measure(&cfg[c], &tr, &base, rf, repeats, &res[t][c]) < 0)
+      if (measure_errors(&run[c], &cfg[c], &tr, &base, rf, &res[t][c]) < 0)
         return EXIT_IO;
       if (rf != &ref[t]) free(rall.F);
     }
+    if (measure_times(run, cfg, ncfg, &ref[t], repeats, res[t]) < 0)
+      return EXIT_IO;
+    for (c = 0; c < ncfg; c++) rps3_data_free(run[c].d);
   }
   fprintf(stderr, "rps3-study: accuracy: %d configurations x %d trajectories "
           "in %.1f s\n", ncfg, NTRAJ, 1e-9 * (now_ns() - t_start));
@@ -942,7 +971,7 @@ static void linspace(double *v, size_t n, double a, double b) {
 
 static int run_workspace(const char *path, const char *cmdline, int quick) {
   static const double rhos[3] = {0.3, 0.5, 0.8};
-  size_t na = quick ? 13 : 37, nb = quick ? 25 : 97, nz = quick ? 20 : 80;
+  size_t na = quick ? 13 : 25, nb = quick ? 25 : 61, nz = quick ? 20 : 60;
   size_t nr = 3, npt, ir, ia, ib, iz, p;
   double *alpha, *beta, *zc, *cond, *force, *fmax;
   int32_t *status, *mode, link[3] = {1, 2, 3};
