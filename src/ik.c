@@ -60,13 +60,22 @@ int rps3_ik_with(const rps3_model *m, rps3_data *d, rps3_pose_trig *t,
                  "link %d: length %.6g m, ball joint height %.6g m (needs "
                  "length > 0 and height > 0) at pose (%.6g, %.6g, %.6g)",
                  i + 1, d->l[i], vz, d->pose[0], d->pose[1], d->pose[2]);
-    /* (39) with atan2, so that theta > pi/2 is found too */
-    if (theta) d->theta[i] = atan2(vz, -radial);
+    if (!theta) continue; /* the theta solve takes over from l */
+    /* (39) with atan2, so that theta > pi/2 is found too; the link
+       directions (29) from the same two components, without more trig */
+    {
+      double inv = 1.0 / d->l[i], ct = -radial * inv, st = vz * inv;
+      const double *u = m->radial[i];
+      d->theta[i] = atan2(vz, -radial);
+      d->phi[i][0] = -ct * u[0];
+      d->phi[i][1] = -ct * u[1];
+      d->phi[i][2] = st;
+      d->dphi[i][0] = st * u[0];
+      d->dphi[i][1] = st * u[1];
+      d->dphi[i][2] = ct;
+    }
   }
-  if (!theta) return RPS3_OK; /* the theta solve takes over from l */
-  /* the link directions come from theta, so that phi, dphi and the pin axis
-     are orthonormal to the last bit; b stays as the pose gives it */
-  rps3_link_dirs(m, d);
+  if (!theta) return RPS3_OK;
   d->have_theta = 1;
   d->stage = RPS3_STAGE_POS;
   return RPS3_OK;

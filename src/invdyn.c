@@ -8,8 +8,9 @@
  *
  * Lagrange (the paper's form, (21)-(24), (34)).  Coordinates q = (l, theta),
  * constraints f_k = |b_i - b_j|^2 - 3 r^2 ((8)-(10) in metres).  A body
- * fixed to the platform is a mass distribution x = c + E s, with E = [n o a]
- * the frame of (18)-(20) written through the ball joints b_i(l_i, theta_i):
+ * fixed to the platform (the payload) is a mass distribution x = c + E s,
+ * with E = [n o a] the frame of (18)-(20) written through the ball joints
+ * b_i(l_i, theta_i):
  * c = (b1+b2+b3)/3, n = (2 b1 - b2 - b3)/(3r), o = (b2 - b3)/(sqrt3 r),
  * a = n x o.  This extends T off the constraint manifold holonomically, so
  *   d/dt dT/dq' - dT/dq = integral (dx/dq) . x'' dm
@@ -17,10 +18,16 @@
  * platform axes
  *   Q_j = mB dc_j . c'' + dc_j . (E'' h) + (dE_j h) . c''
  *         + sum_ab S_ab dE_j,a . E''_b.
+ * The platform itself, the uniform disc of (21), has the mass, centroid and
+ * inertia tensor of M/2 at its centre plus M/6 at each ball joint (3 (M/6)
+ * r^2 = M r^2 / 2 about z, M r^2 / 4 about x and y), so on the manifold its
+ * T equals (M/4) |c'|^2 + (M/12) sum |b_i'|^2 for every rigid motion;
+ * written through the ball joints this extension needs no frame partials:
+ *   Q_l_i = (M/6) phi_i . (c'' + b_i''),  Q_theta_i = l_i dphi_i . (same).
  * F does not depend on how T is extended off the manifold (the difference
  * lies in the span of the constraint gradients and moves only lambda);
- * lambda does, and is reported for this extension.  Links are point masses
- * at d from the pin (21), plus an optional centroidal moment.
+ * lambda does, and is reported for these extensions.  Links are point
+ * masses at d from the pin (21), plus an optional centroidal moment.
  *
  * Newton-Euler.  The platform (and payload) is a free rigid body loaded by
  * the ball-joint forces f_i; each link balances moments about its pin axis,
@@ -37,61 +44,45 @@
 
 /* kinematic quantities of the Lagrange route, per point (on the stack) */
 typedef struct {
-  double bd[3][3], bdd[3][3];       /* ball joint velocity, acceleration */
-  double n[3], o[3], a[3];          /* frame columns */
+  double bdd[3][3];                 /* ball joint accelerations */
+  double n[3], o[3];                /* frame columns (18)-(19) */
   double cdd[3], ndd[3], odd[3], add[3]; /* second time derivatives */
-  double dc[6][3], dn[6][3], dod[6][3], da[6][3]; /* partials wrt q_j */
 } lag_kin;
 
 static const double WN[3] = {2.0, -1.0, -1.0}; /* n = sum WN_i b_i / (3r) */
 static const double WO[3] = {0.0, 1.0, -1.0};  /* o = sum WO_i b_i/(sqrt3 r) */
 
+/* need_frame: the frame's accelerations, for a general body (payload);
+   need_acc: the accelerations of the ball joints (inertia effects) */
 static void lagrange_kinematics(const rps3_model *m, const rps3_data *d,
-                                lag_kin *k, int need_a, int need_acc) {
-  double nd[3] = {0, 0, 0}, od[3] = {0, 0, 0}, t[3];
+                                lag_kin *k, int need_frame, int need_acc) {
+  double nd[3] = {0, 0, 0}, od[3] = {0, 0, 0}, bd[3], t[3];
   const double cn = 1.0 / (3.0 * m->r), co = 1.0 / (RPS3_SQRT3 * m->r);
-  int i, j;
+  int i;
   for (i = 0; i < 3; i++) {
     k->n[i] = d->rot[i][0];
     k->o[i] = d->rot[i][1];
-    k->a[i] = d->rot[i][2];
-    k->cdd[i] = k->ndd[i] = k->odd[i] = 0.0;
+    k->cdd[i] = k->ndd[i] = k->odd[i] = k->add[i] = 0.0;
   }
   /* a static scene reads no rates: they are not computed for it */
-  for (i = 0; i < 3 && need_acc; i++) {
+  if (!need_acc) return;
+  for (i = 0; i < 3; i++) {
     double l = d->l[i], ld = d->dl[i], th = d->dtheta[i];
-    /* b' = l' phi + l th' dphi; b'' = (l'' - l th'^2) phi + (2 l' th' + l
-       th'') dphi, from (12)-(14) */
-    v3_scale(k->bd[i], ld, d->phi[i]);
-    v3_axpy(k->bd[i], k->bd[i], l * th, d->dphi[i]);
+    /* b'' = (l'' - l th'^2) phi + (2 l' th' + l th'') dphi, from (12)-(14) */
     v3_scale(k->bdd[i], d->ddl[i] - l * th * th, d->phi[i]);
     v3_axpy(k->bdd[i], k->bdd[i], 2.0 * ld * th + l * d->ddtheta[i],
             d->dphi[i]);
     v3_axpy(k->cdd, k->cdd, 1.0 / 3.0, k->bdd[i]);
+    if (!need_frame) continue;
+    /* b' = l' phi + l th' dphi */
+    v3_scale(bd, ld, d->phi[i]);
+    v3_axpy(bd, bd, l * th, d->dphi[i]);
     v3_axpy(k->ndd, k->ndd, WN[i] * cn, k->bdd[i]);
     v3_axpy(k->odd, k->odd, WO[i] * co, k->bdd[i]);
-    v3_axpy(nd, nd, WN[i] * cn, k->bd[i]);
-    v3_axpy(od, od, WO[i] * co, k->bd[i]);
+    v3_axpy(nd, nd, WN[i] * cn, bd);
+    v3_axpy(od, od, WO[i] * co, bd);
   }
-  /* partials: q_j = l_j (j < 3) moves b_j along phi_j, q_j = theta_{j-3}
-     along l dphi */
-  for (j = 0; j < 6; j++) {
-    int i3 = j % 3;
-    double dl[3];
-    if (j < 3)
-      v3_copy(dl, d->phi[i3]);
-    else
-      v3_scale(dl, d->l[i3], d->dphi[i3]);
-    v3_scale(k->dc[j], 1.0 / 3.0, dl);
-    v3_scale(k->dn[j], WN[i3] * cn, dl);
-    v3_scale(k->dod[j], WO[i3] * co, dl);
-    if (need_a) {
-      v3_cross(k->da[j], k->dn[j], k->o);
-      v3_cross(t, k->n, k->dod[j]);
-      v3_axpy(k->da[j], k->da[j], 1.0, t);
-    }
-  }
-  if (need_a && need_acc) {
+  if (need_frame) {
     /* a'' = n'' x o + 2 n' x o' + n x o'' */
     v3_cross(k->add, k->ndd, k->o);
     v3_cross(t, nd, od);
@@ -101,51 +92,45 @@ static void lagrange_kinematics(const rps3_model *m, const rps3_data *d,
   }
 }
 
-/* generalized inertial (and gravity) load of a body fixed to the platform:
-   mass mb, first moment h, second moment S (platform axes) */
-static void body_load(const lag_kin *k, double mb, const double h[3],
-                      const double S[3][3], double g, int inertia,
-                      int gravity, double w[6]) {
+/*
+ * Generalized inertial (and gravity) load of a body fixed to the platform:
+ * mass mb, first moment h, second moment S (platform axes).  q_j = l_i or
+ * theta_i moves only b_i, by delta = phi_i or l_i dphi_i, so that dc = delta
+ * / 3, dn = WN_i cn delta, do = WO_i co delta and da = dn x o + n x do.
+ * Every term of Q_j is then delta . (a vector): with V_p = sum_q S_pq E''_q
+ * + h_p (c'' + g e_z), (delta x o) . V = delta . (o x V) and (n x delta) . V
+ * = delta . (V x n), the load on link i is delta . G_i with
+ *   G_i = C + WN_i cn (V_n + o x V_a) + WO_i co (V_o + V_a x n),
+ *   C = (mb (c'' + g e_z) + E'' h) / 3.
+ */
+static void body_load(const rps3_model *m, const rps3_data *d,
+                      const lag_kin *k, double mb, const double h[3],
+                      const double S[3][3], double g, double w[6]) {
   const double *E2[3] = {k->ndd, k->odd, k->add};
-  double Eh[3] = {0, 0, 0}, SE[3][3];
-  int has_h = (h[0] != 0.0 || h[1] != 0.0 || h[2] != 0.0);
-  int rows[3], nrow = 0, j, p, q;
-  if (inertia) {
-    /* E'' h */
-    if (has_h)
-      for (p = 0; p < 3; p++)
-        Eh[p] = k->ndd[p] * h[0] + k->odd[p] * h[1] + k->add[p] * h[2];
-    /* row p of S E''^T, sum_q S_pq E''_q, for the rows of S that are not
-       zero: the second-moment term sum_pq S_pq dE_p . E''_q then costs one
-       dot product per row and coordinate */
-    for (p = 0; p < 3; p++) {
-      int used = 0;
-      SE[p][0] = SE[p][1] = SE[p][2] = 0.0;
-      for (q = 0; q < 3; q++)
-        if (S[p][q] != 0.0) {
-          v3_axpy(SE[p], SE[p], S[p][q], E2[q]);
-          used = 1;
-        }
-      if (used) rows[nrow++] = p;
-    }
+  const double cn = 1.0 / (3.0 * m->r), co = 1.0 / (RPS3_SQRT3 * m->r);
+  double cg[3], C[3], V[3][3], A[3], B[3], t[3];
+  int i, p, q;
+  /* c'' + g e_z: inertia and weight enter together */
+  v3_copy(cg, k->cdd);
+  cg[2] += g;
+  v3_scale(C, mb, cg);
+  for (p = 0; p < 3; p++) {
+    v3_axpy(C, C, h[p], E2[p]);
+    v3_scale(V[p], h[p], cg);
+    for (q = 0; q < 3; q++)
+      if (S[p][q] != 0.0) v3_axpy(V[p], V[p], S[p][q], E2[q]);
   }
-  for (j = 0; j < 6; j++) {
-    const double *dE[3] = {k->dn[j], k->dod[j], k->da[j]};
-    double dEh[3] = {0, 0, 0}, s = 0.0;
-    if (has_h)
-      for (p = 0; p < 3; p++)
-        dEh[p] = dE[0][p] * h[0] + dE[1][p] * h[1] + dE[2][p] * h[2];
-    if (inertia) {
-      if (has_h)
-        s += mb * v3_dot(k->dc[j], k->cdd) + v3_dot(k->dc[j], Eh) +
-             v3_dot(dEh, k->cdd);
-      else
-        s += mb * v3_dot(k->dc[j], k->cdd);
-      for (p = 0; p < nrow; p++) s += v3_dot(dE[rows[p]], SE[rows[p]]);
-    }
-    if (gravity)
-      s += g * (has_h ? mb * k->dc[j][2] + dEh[2] : mb * k->dc[j][2]);
-    w[j] = s;
+  v3_scale(C, 1.0 / 3.0, C);
+  v3_cross(t, k->o, V[2]);
+  v3_axpy(A, V[0], 1.0, t);
+  v3_cross(t, V[2], k->n);
+  v3_axpy(B, V[1], 1.0, t);
+  for (i = 0; i < 3; i++) {
+    double G[3];
+    v3_axpy(G, C, WN[i] * cn, A);
+    v3_axpy(G, G, WO[i] * co, B);
+    w[i] = v3_dot(d->phi[i], G);
+    w[3 + i] = d->l[i] * v3_dot(d->dphi[i], G);
   }
 }
 
@@ -174,23 +159,30 @@ static double friction_torque(const rps3_model *m, double dtheta) {
  */
 static void lagrange_effect(const rps3_model *m, const rps3_data *d,
                             const lag_kin *k, int e, double w[6]) {
-  static const double zero3[3] = {0, 0, 0};
   double S[3][3] = {{0, 0, 0}, {0, 0, 0}, {0, 0, 0}}, h[3];
   int i;
   memset(w, 0, 6 * sizeof(double));
   switch (1 << e) {
   case RPS3_EFF_PLATFORM_GRAVITY:
-    /* (22): M g z_c */
-    body_load(k, m->M, zero3, M3C(S), m->g, 0, 1, w);
+    /* (22): M g z_c, with dc = db_i / 3 */
+    for (i = 0; i < 3; i++) {
+      w[i] = m->M * m->g / 3.0 * d->phi[i][2];
+      w[3 + i] = m->M * m->g / 3.0 * d->l[i] * d->dphi[i][2];
+    }
     break;
   case RPS3_EFF_PLATFORM_INERTIA:
-    /* (21): uniform disc, second moments Mr^2/4 in its plane, 0 across */
-    S[0][0] = S[1][1] = 0.25 * m->M * m->r * m->r;
-    body_load(k, m->M, zero3, M3C(S), 0.0, 1, 0, w);
+    /* (21): the disc as M/2 at c and M/6 at each b_i (see the top) */
+    for (i = 0; i < 3; i++) {
+      double g6[3];
+      v3_axpy(g6, k->cdd, 1.0, k->bdd[i]);
+      v3_scale(g6, m->M / 6.0, g6);
+      w[i] = v3_dot(d->phi[i], g6);
+      w[3 + i] = d->l[i] * v3_dot(d->dphi[i], g6);
+    }
     break;
   case RPS3_EFF_PAYLOAD:
     payload_moments(m, h, S);
-    body_load(k, m->payload.mass, h, M3C(S), m->g, 1, 1, w);
+    body_load(m, d, k, m->payload.mass, h, M3C(S), m->g, w);
     break;
   case RPS3_EFF_LINK_GRAVITY:
     /* (22): m g d sin(theta_i); cos(theta_i) is dphi_i's Z component, set
