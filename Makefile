@@ -20,7 +20,7 @@ VENV = .venv
 VPY = $(VENV)/bin/python
 
 # Debian packages the build, the tests and the figures need
-DEB_PKGS = gcc make pkg-config libgsl-dev libhdf5-dev libyaml-dev \
+DEB_PKGS = gcc clang make pkg-config libgsl-dev libhdf5-dev libyaml-dev \
            libcmocka-dev python3-venv libopenmpi-dev openmpi-bin valgrind
 
 B = build
@@ -144,6 +144,25 @@ valgrind: $(B)/tests/test_threads $(B)/tests/example_control_loop
 	$(VALGRIND) $(B)/tests/test_threads
 	$(VALGRIND) $(B)/tests/example_control_loop 100
 check: valgrind
+
+# -------------------------------------------------------------------- fuzz
+# libFuzzer over the scene parser (tests/fuzz/fuzz_scene.c) with ASan and
+# UBSan, seeded from configs/ and tests/bad_scenes/.  check-fuzz is a bounded
+# 20 s run; the long run is in the README.
+FUZZ_CC = clang
+FUZZ_FLAGS = -g -O1 -fsanitize=fuzzer,address,undefined -fno-sanitize-recover=all
+FUZZ_TIME ?= 20
+$(B)/fuzz_scene: tests/fuzz/fuzz_scene.c runner/scene.c runner/scene.h $(LIB_SRC) | $(B)/.deps
+	@mkdir -p $(@D)
+	$(FUZZ_CC) $(CPPFLAGS_ALL) -Irunner $(GSL_CFLAGS) $(WARN) $(FUZZ_FLAGS) \
+	  tests/fuzz/fuzz_scene.c runner/scene.c $(LIB_SRC) -o $@ $(YAML_LIBS) $(GSL_LIBS) -lm
+.PHONY: check-fuzz
+check-fuzz: $(B)/fuzz_scene
+	@mkdir -p $(B)/fuzz-corpus
+	$(B)/fuzz_scene -max_total_time=$(FUZZ_TIME) -timeout=5 -rss_limit_mb=2048 \
+	  -dict=tests/fuzz/scene.dict -print_final_stats=1 \
+	  $(B)/fuzz-corpus configs tests/bad_scenes
+check: check-fuzz
 
 # ------------------------------------------------------------------- study
 # rps3-study (runner/main_study.c): what accuracy costs in time, and the
