@@ -233,7 +233,10 @@ void rps3_options_default(rps3_options *opt);
 /*
  * Validate m and compute its derived fields.  Returns RPS3_OK, or
  * RPS3_EINVAL with a message naming the offending field in err (err may be
- * NULL; errsz is its size in bytes).  Rejected: non-finite values, R <= 0,
+ * NULL; errsz is its size in bytes).  The message always has the form
+ * "FIELD = VALUE: reason", FIELD being the field's dotted name as in the
+ * runner's scene keys (e.g. "rho", "payload.inertia[2]", "opt.tol"): a
+ * caller may map it back to its own input by that prefix.  Rejected: non-finite values, R <= 0,
  * rho <= 0, negative masses, inertias or friction, d < 0, g < 0, payload
  * inertia violating the triangle inequality, unknown enum values,
  * tol <= 0, max_iter < 1, cond_warn < 1, cond_max < cond_warn.
@@ -320,7 +323,9 @@ typedef struct {
 
 /*
  * Allocate a workspace for model m (which must have passed rps3_model_init)
- * into *out.  This is the only allocation of the library: the GSL multiroot
+ * into *out.  The workspace serves any model with the same opt.solver (the
+ * GSL solver is built for it); rps3_theta_solve refuses a model that names
+ * another solver with RPS3_EINVAL.  This is the only allocation of the library: the GSL multiroot
  * solver of m->opt.solver and its vectors.  Returns RPS3_OK, RPS3_EINVAL
  * (m NULL or not initialised, out NULL) or RPS3_ENOMEM (nothing leaks).
  */
@@ -479,7 +484,8 @@ typedef struct {
 void rps3_traj_default(rps3_traj *tr);
 
 /* Validate tr for model m (initialised).  RPS3_OK or RPS3_EINVAL with a
-   message naming the field. */
+   message "FIELD = VALUE: reason", FIELD a dotted name such as
+   "trajectory.radius" (see rps3_model_init). */
 int rps3_traj_check(const rps3_model *m, const rps3_traj *tr, char *err,
                     size_t errsz);
 

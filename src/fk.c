@@ -22,6 +22,7 @@ typedef struct {
 } theta_params;
 
 struct rps3_solver_state {
+  rps3_solver kind;                 /* the solver this state was built for */
   int fdf;                          /* 1: fdfsolver (analytic Jacobian) */
   gsl_multiroot_fdfsolver *sfdf;
   gsl_multiroot_fsolver *sf;
@@ -106,6 +107,7 @@ int rps3_solver_alloc(const rps3_model *m, struct rps3_solver_state **out) {
   }
   s = (struct rps3_solver_state *)calloc(1, sizeof(*s));
   if (s == NULL) return RPS3_ENOMEM;
+  s->kind = m->opt.solver;
   s->fdf = (tfdf != NULL);
   s->x = gsl_vector_alloc(3);
   if (s->fdf)
@@ -173,6 +175,10 @@ int rps3_theta_solve(const rps3_model *m, rps3_data *d) {
   int i, iter, status, newton_like;
   if (m == NULL || d == NULL || !m->valid) return RPS3_EINVAL;
   s = d->solver;
+  if (s->kind != m->opt.solver)
+    RPS3_ERROR(d, RPS3_EINVAL,
+               "workspace was allocated for solver %s, the model asks for %s",
+               rps3_solver_name(s->kind), rps3_solver_name(m->opt.solver));
   d->stage = 0;
   d->warn = 0;
   d->solve_niter = 0;

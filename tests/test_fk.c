@@ -135,6 +135,15 @@ static void error_codes(void **state) {
   assert_int_equal(rps3_theta_solve(&m, d), RPS3_EINVAL);
   d->l[1] = (double)NAN;
   assert_int_equal(rps3_theta_guess(&m, d), RPS3_EINVAL);
+  /* a workspace serves only the solver it was built for */
+  {
+    rps3_model other = m;
+    other.opt.solver = RPS3_SOLVER_NEWTON;
+    assert_int_equal(rps3_model_init(&other, NULL, 0), RPS3_OK);
+    d->l[1] = 0.3;
+    assert_int_equal(rps3_theta_solve(&other, d), RPS3_EINVAL);
+    assert_non_null(strstr(d->err.msg, "allocated for solver hybridsj"));
+  }
   d->l[1] = 1e200; /* finite, but (8)-(10) overflow */
   d->have_theta = 0;
   assert_int_equal(rps3_theta_solve(&m, d), RPS3_EINVAL);
