@@ -6,6 +6,18 @@
  */
 #include "internal.h"
 
+/* (29): phi_l = -cos(theta) u_i + sin(theta) K and dphi = axis x phi, from
+   cos and sin of theta_i and the radial unit vector u of pin i */
+static void set_link_dir(rps3_data *d, int i, const double u[3], double ct,
+                         double st) {
+  d->phi[i][0] = -ct * u[0];
+  d->phi[i][1] = -ct * u[1];
+  d->phi[i][2] = st;
+  d->dphi[i][0] = st * u[0];
+  d->dphi[i][1] = st * u[1];
+  d->dphi[i][2] = ct;
+}
+
 int rps3_ik(const rps3_model *m, rps3_data *d) {
   rps3_pose_trig t;
   return rps3_ik_with(m, d, &t, 1);
@@ -63,17 +75,8 @@ int rps3_ik_with(const rps3_model *m, rps3_data *d, rps3_pose_trig *t,
     if (!theta) continue; /* the theta solve takes over from l */
     /* (39) with atan2, so that theta > pi/2 is found too; the link
        directions (29) from the same two components, without more trig */
-    {
-      double inv = 1.0 / d->l[i], ct = -radial * inv, st = vz * inv;
-      const double *u = m->radial[i];
-      d->theta[i] = atan2(vz, -radial);
-      d->phi[i][0] = -ct * u[0];
-      d->phi[i][1] = -ct * u[1];
-      d->phi[i][2] = st;
-      d->dphi[i][0] = st * u[0];
-      d->dphi[i][1] = st * u[1];
-      d->dphi[i][2] = ct;
-    }
+    d->theta[i] = atan2(vz, -radial);
+    set_link_dir(d, i, m->radial[i], -radial / d->l[i], vz / d->l[i]);
   }
   if (!theta) return RPS3_OK;
   d->have_theta = 1;
@@ -83,17 +86,8 @@ int rps3_ik_with(const rps3_model *m, rps3_data *d, rps3_pose_trig *t,
 
 void rps3_link_dirs(const rps3_model *m, rps3_data *d) {
   int i;
-  for (i = 0; i < 3; i++) {
-    double ct = cos(d->theta[i]), st = sin(d->theta[i]);
-    const double *u = m->radial[i];
-    /* (29): phi_l = -cos(theta) u_i + sin(theta) K; dphi = axis x phi */
-    d->phi[i][0] = -ct * u[0];
-    d->phi[i][1] = -ct * u[1];
-    d->phi[i][2] = st;
-    d->dphi[i][0] = st * u[0];
-    d->dphi[i][1] = st * u[1];
-    d->dphi[i][2] = ct;
-  }
+  for (i = 0; i < 3; i++)
+    set_link_dir(d, i, m->radial[i], cos(d->theta[i]), sin(d->theta[i]));
 }
 
 void rps3_links_from_joints(const rps3_model *m, rps3_data *d) {
