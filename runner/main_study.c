@@ -627,31 +627,27 @@ typedef struct {
   hid_t file, str;
 } h5out;
 
-static int attr_str(hid_t obj, hid_t str, const char *name,
-                    const char *value) {
+/* a scalar attribute of any type; value points at the element */
+static int attr(hid_t obj, const char *name, hid_t type, const void *value) {
   hid_t sp = H5Screate(H5S_SCALAR), a;
   int rc = -1;
   if (sp < 0) return -1;
-  a = H5Acreate2(obj, name, str, sp, H5P_DEFAULT, H5P_DEFAULT);
+  a = H5Acreate2(obj, name, type, sp, H5P_DEFAULT, H5P_DEFAULT);
   if (a >= 0) {
-    rc = H5Awrite(a, str, &value) < 0 ? -1 : 0;
+    rc = H5Awrite(a, type, value) < 0 ? -1 : 0;
     H5Aclose(a);
   }
   H5Sclose(sp);
   return rc;
 }
 
+static int attr_str(hid_t obj, hid_t str, const char *name,
+                    const char *value) {
+  return attr(obj, name, str, &value);
+}
+
 static int attr_f64(hid_t obj, const char *name, double v) {
-  hid_t sp = H5Screate(H5S_SCALAR), a;
-  int rc = -1;
-  if (sp < 0) return -1;
-  a = H5Acreate2(obj, name, H5T_NATIVE_DOUBLE, sp, H5P_DEFAULT, H5P_DEFAULT);
-  if (a >= 0) {
-    rc = H5Awrite(a, H5T_NATIVE_DOUBLE, &v) < 0 ? -1 : 0;
-    H5Aclose(a);
-  }
-  H5Sclose(sp);
-  return rc;
+  return attr(obj, name, H5T_NATIVE_DOUBLE, &v);
 }
 
 static int h5_open(h5out *o, const char *path, const char *cmdline,

@@ -520,6 +520,16 @@ static void scale_R(void **state) {
 
 /* ---------------------------------------------------- zero masses, rates */
 
+/* m0 = m without any mass, inertia or friction, initialised */
+static void massless(rps3_model *m0, const rps3_model *m) {
+  *m0 = *m;
+  m0->M = m0->m = m0->link_Ic = 0.0;
+  m0->payload.mass = 0.0;
+  memset(m0->payload.inertia, 0, sizeof(m0->payload.inertia));
+  m0->friction.viscous = m0->friction.coulomb = 0.0;
+  assert_int_equal(rps3_model_init(m0, NULL, 0), RPS3_OK);
+}
+
 /*
  * Massless mechanism: every force is exactly zero (no division by a mass
  * anywhere), and with only the platform massless the platform shares are
@@ -533,12 +543,7 @@ static void zero_masses(void **state) {
   int n, i, e;
   (void)state;
   d = setup(&m);
-  m0 = m;
-  m0.M = m0.m = m0.link_Ic = 0.0;
-  m0.payload.mass = 0.0;
-  memset(m0.payload.inertia, 0, sizeof(m0.payload.inertia));
-  m0.friction.viscous = m0.friction.coulomb = 0.0;
-  assert_int_equal(rps3_model_init(&m0, NULL, 0), RPS3_OK);
+  massless(&m0, &m);
   for (n = 0; n < 50; n++) {
     d->pose[0] = rnd_uniform(&seed, -3.0, 3.0);
     d->pose[1] = rnd_uniform(&seed, 0.05, 0.4);
@@ -566,12 +571,7 @@ static void zero_masses(void **state) {
                               max_abs3(F[e]) + 1e-300, "%s",
                               rps3_effect_name(e));
     }
-    m0 = m;
-    m0.M = m0.m = m0.link_Ic = 0.0;
-    m0.payload.mass = 0.0;
-    memset(m0.payload.inertia, 0, sizeof(m0.payload.inertia));
-    m0.friction.viscous = m0.friction.coulomb = 0.0;
-    assert_int_equal(rps3_model_init(&m0, NULL, 0), RPS3_OK);
+    massless(&m0, &m);
   }
   rps3_data_free(d);
 }
