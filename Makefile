@@ -169,6 +169,7 @@ check: check-fuzz
 # workspace map, into out/*.h5; the figures and the table of recommended
 # settings (out/accuracy_table.md) by analysis/.  About 20 s.
 study-bin: $(B)/rps3-study
+check-py: study-bin
 study: study-bin venv
 	@mkdir -p out
 	$(B)/rps3-study accuracy -o out/accuracy.h5 --samples 1000 --repeats 21

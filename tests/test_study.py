@@ -1,0 +1,89 @@
+"""rps3-study end to end: it writes self-describing HDF5 (dimension scales,
+units), the numbers obey what the study claims, and the analysis scripts
+draw their figures.  Small runs (20 samples, one timed pass, a coarse
+workspace grid); `make study` is the full one."""
+
+import os
+import subprocess
+import sys
+
+import h5py
+import numpy as np
+import xarray as xr
+
+from conftest import ANALYSIS, ROOT
+
+STUDY = os.path.join(ROOT, "build", "rps3-study")
+
+
+def study(*args):
+    p = subprocess.run([STUDY, *map(str, args)], capture_output=True,
+                       text=True, timeout=120)
+    assert p.returncode == 0, p.stderr
+    return p
+
+
+def test_accuracy_file_and_plot(tmp_path):
+    out = tmp_path / "accuracy.h5"
+    study("accuracy", "-o", out, "--samples", 20, "--repeats", 1)
+    assert not (tmp_path / "accuracy.h5.tmp").exists()
+    ds = xr.open_dataset(out, engine="h5netcdf")
+    assert ds["force_error"].dims == ("trajectory", "config")
+    with h5py.File(out, "r") as f:
+        for name in ("rps3_version", "created_utc", "command_line"):
+            assert name in f.attrs
+        for name, d in f.items():
+            assert "units" in d.attrs and "description" in d.attrs, name
+        study_ = np.array([s.decode() for s in f["study"][()]])
+        label = np.array([s.decode() for s in f["label"][()]])
+        err = f["force_error"][()]
+        theta = f["theta_error"][()]
+        ns = f["ns_per_point"][()]
+        floor = f["reference_floor_force"][()]
+    # the reference is the closed form with exact rates through Lagrange
+    closed = np.flatnonzero(label == "closed form (39)")[0]
+    assert (err[:, closed] == 0).all()
+    assert (theta[:, closed] <= 4.5e-16).all()  # vs long double: 2 ulp
+    assert (floor < 1e-13).all()                # Lagrange = Newton-Euler
+    assert (ns > 0).all() and np.isfinite(ns).all()
+    # a looser tolerance is never more accurate than a tight one (warm
+    # hybridsj), and the loosest is visibly wrong
+    rows = [np.flatnonzero(label == f"hybridsj tol={t} warm")[0]
+            for t in ("1e-02", "1e-06", "1e-10", "1e-14")]
+    for t in range(err.shape[0]):
+        e = err[t, rows]
+        assert (np.diff(e) < 0).all(), e
+    assert set(study_) == {"theta", "derivative", "method", "effects", "dt"}
+    p = subprocess.run([sys.executable, os.path.join(ANALYSIS,
+                        "accuracy_cost.py"), str(out), str(tmp_path)],
+                       capture_output=True, text=True, timeout=120)
+    assert p.returncode == 0, p.stderr
+    assert "| helix |" in p.stdout and "| sine_edge |" in p.stdout
+    assert (tmp_path / "accuracy_cost.png").stat().st_size > 10000
+
+
+def test_workspace_file_and_plot(tmp_path):
+    out = tmp_path / "workspace.h5"
+    study("workspace", "-o", out, "--quick")
+    ds = xr.open_dataset(out, engine="h5netcdf")
+    assert ds["force"].dims == ("rho", "alpha", "beta", "z_c", "link")
+    ok = ds["status"].values == 0
+    # reachable points are finite, others NaN; the level pose is in the
+    # home mode and well conditioned
+    assert np.isfinite(ds["force"].values[ok]).all()
+    assert np.isnan(ds["condition"].values[ds["status"].values == 1]).all()
+    level = ds["mode"].sel(beta=0.0).values
+    assert (level[ds["status"].sel(beta=0.0).values == 0] == 1).all()
+    assert 0.5 < ok.mean() < 1.0
+    p = subprocess.run([sys.executable, os.path.join(ANALYSIS,
+                        "workspace.py"), str(out), str(tmp_path)],
+                       capture_output=True, text=True, timeout=120)
+    assert p.returncode == 0, p.stderr
+    assert (tmp_path / "workspace.png").stat().st_size > 10000
+
+
+def test_bad_command_line():
+    for args in ([], ["accuracy"], ["nonsense", "-o", "x.h5"],
+                 ["accuracy", "-o", "x.h5", "--samples", "3"]):
+        p = subprocess.run([STUDY, *args], capture_output=True, text=True)
+        assert p.returncode == 2 and "usage" in p.stderr
