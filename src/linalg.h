@@ -13,8 +13,8 @@ void rps3_lu_solve(int n, const double *LU, const int *perm, double *x);
 
 /* Solve the 3 x 3 system of rps3_lu_factor for nrhs right-hand sides at
    once: column c of the 3 x nrhs row-major X (row stride ldx) holds b_c on
-   entry and x_c on return.  Bitwise the same as rps3_lu_solve column by
-   column; the columns share the pipeline's divider. */
+   entry and x_c on return.  As rps3_lu_solve column by column, but dividing
+   once per pivot (products by the reciprocals): within an ulp of it. */
 void rps3_lu3_solve_multi(const double *LU, const int *perm, double *X,
                           int ldx, int nrhs);
 

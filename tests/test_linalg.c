@@ -34,6 +34,19 @@ static void compare_with_gsl(int n, uint64_t *seed) {
     if (s > inv1) inv1 = s;
     if (t > anorm) anorm = t;
   }
+  /* the multi-column 3x3 solve of the lambda system: the same solutions */
+  if (n == 3) {
+    double X[3 * 4];
+    int c;
+    for (i = 0; i < 3; i++)
+      for (c = 0; c < 4; c++) X[4 * i + c] = (c == 0) ? b[i] : A[3 * i + c - 1];
+    rps3_lu3_solve_multi(LU, perm, X, 4, 4);
+    for (i = 0; i < 3; i++) {
+      CHECK_REL(X[4 * i], gsl_vector_get(gx, (size_t)i), 1e-11, 1.0, "multi x%d", i);
+      for (c = 1; c < 4; c++) /* A^-1 A = I, column by column */
+        CHECK_REL(X[4 * i + c], i == c - 1 ? 1.0 : 0.0, 1e-11, 1.0, "multi I");
+    }
+  }
   cond = rps3_lu_cond1(n, A, LU, perm);
   CHECK_REL(cond, anorm * inv1, 1e-10, 0.0, "cond (n=%d)", n);
   gsl_matrix_free(G);

@@ -155,7 +155,7 @@ static void run_batch(bench_case *c, const points *pt, long ncalls) {
 
 /* ---------------------------------------------------------------- scenes */
 
-typedef enum { SCENE_FULL, SCENE_GRAVITY } scene;
+typedef enum { SCENE_FULL, SCENE_GRAVITY, SCENE_PAPER } scene;
 
 static const char *const scene_full_doc =
     "all six effects: platform and link gravity and inertia, a payload "
@@ -181,6 +181,8 @@ static void make_model(rps3_model *m, scene s, rps3_method method,
     m->payload.inertia[2] = 4e-5;
     m->friction.viscous = 0.01;
     m->friction.coulomb = 0.005;
+  } else if (s == SCENE_PAPER) {
+    m->opt.effects = RPS3_EFF_DEFAULT; /* the paper's: gravity and inertia */
   } else {
     m->opt.effects = RPS3_EFF_PLATFORM_GRAVITY | RPS3_EFF_LINK_GRAVITY;
   }
@@ -407,6 +409,14 @@ int main(int argc, char **argv) {
        "full scene, Lagrange: ik + velocity + acceleration + invdyn",
        K_INVERSE, SCENE_FULL, RPS3_LAGRANGE, RPS3_THETA_CLOSED_FORM, 1, 1,
        TARGET_INVDYN_NS, 0);
+  CASE("pipeline_closed_lagrange_full_nocert", "rps3_inverse, closed-form "
+       "theta, full scene, Lagrange, certify off (a controller's setting)",
+       K_INVERSE, SCENE_FULL, RPS3_LAGRANGE, RPS3_THETA_CLOSED_FORM, 1, 0,
+       TARGET_INVDYN_NS, 0);
+  CASE("pipeline_closed_lagrange_paper_nocert", "rps3_inverse, closed-form "
+       "theta, the paper's effects (gravity and inertia of platform and "
+       "links), Lagrange, certify off", K_INVERSE, SCENE_PAPER, RPS3_LAGRANGE,
+       RPS3_THETA_CLOSED_FORM, 1, 0, TARGET_INVDYN_NS, 0);
   CASE("pipeline_closed_newton_euler_full", "rps3_inverse, closed-form "
        "theta, full scene, Newton-Euler", K_INVERSE, SCENE_FULL,
        RPS3_NEWTON_EULER, RPS3_THETA_CLOSED_FORM, 1, 1, TARGET_INVDYN_NS, 0);
