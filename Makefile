@@ -13,6 +13,8 @@ GSL_LIBS = $(shell gsl-config --libs 2>/dev/null)
 HDF5_CFLAGS = $(shell pkg-config --cflags hdf5 2>/dev/null)
 HDF5_LIBS = $(shell pkg-config --libs hdf5 2>/dev/null) -lhdf5_hl
 YAML_LIBS = -lyaml
+MPI_CFLAGS = $(shell pkg-config --cflags ompi-c 2>/dev/null)
+MPI_LIBS = $(shell pkg-config --libs ompi-c 2>/dev/null)
 CMOCKA_LIBS = -lcmocka
 SAN = -fsanitize=address,undefined -fno-omit-frame-pointer -fno-sanitize-recover=all
 PYTHON ?= python3
@@ -38,10 +40,10 @@ RUN_MAINS = runner/main_run.c runner/main_study.c
 RUN_COMMON = $(filter-out $(RUN_MAINS),$(wildcard runner/*.c))
 RUN_OBJ = $(RUN_COMMON:runner/%.c=$(B)/runner/%.o)
 
-.PHONY: all lib runner study-bin check check-c check-san check-py paper \
+.PHONY: all lib runner runner-mpi study-bin check check-c check-san check-py paper \
         study bench deps venv clean
 
-all: lib runner
+all: lib runner runner-mpi
 
 # ------------------------------------------------------------ dependencies
 # Installs missing Debian packages when run as root; otherwise stops with the
@@ -99,6 +101,15 @@ $(B)/rps3-run: $(B)/runner/main_run.o $(RUN_OBJ) $(B)/librps3.a
 	$(CC) -o $@ $^ $(HDF5_LIBS) $(YAML_LIBS) $(GSL_LIBS) -lpthread -lm
 $(B)/rps3-study: $(B)/runner/main_study.o $(RUN_OBJ) $(B)/librps3.a
 	$(CC) -o $@ $^ $(HDF5_LIBS) $(YAML_LIBS) $(GSL_LIBS) -lpthread -lm
+
+# rps3-run-mpi: the same program built with -DRPS3_MPI, for
+# `mpirun -n N build/rps3-run-mpi SCENE.yaml -o OUT.h5` (Debian's OpenMPI)
+runner-mpi: $(B)/rps3-run-mpi
+$(B)/runner-mpi/main_run.o: runner/main_run.c | $(B)/.deps
+	@mkdir -p $(@D)
+	$(CC) $(CPPFLAGS_ALL) -DRPS3_MPI -Irunner $(GSL_CFLAGS) $(HDF5_CFLAGS) $(MPI_CFLAGS) $(WARN) $(OPT) -MMD -MP -c $< -o $@
+$(B)/rps3-run-mpi: $(B)/runner-mpi/main_run.o $(RUN_OBJ) $(B)/librps3.a
+	$(CC) -o $@ $^ $(HDF5_LIBS) $(YAML_LIBS) $(GSL_LIBS) $(MPI_LIBS) -lpthread -lm
 
 # ------------------------------------------------------------------- tests
 $(B)/tests/%: tests/%.c $(B)/librps3.a tests/testutil.h
@@ -188,4 +199,5 @@ paper: all venv
 clean:
 	rm -rf $(B) out
 
--include $(wildcard $(B)/obj/*.d $(B)/pic/*.d $(B)/san/*.d $(B)/runner/*.d)
+-include $(wildcard $(B)/obj/*.d $(B)/pic/*.d $(B)/san/*.d $(B)/runner/*.d \
+                   $(B)/runner-mpi/*.d)

@@ -2,6 +2,16 @@
  * main_run.c - rps3-run: run a scene (and its sweep) into an HDF5 file.
  *
  *   rps3-run SCENE.yaml -o OUT.h5 [--quiet] [--gzip LEVEL] [--check]
+ *            [-j N] [--shard K/N]
+ *   rps3-run merge OUT.h5 PART.h5 ... [--quiet]
+ *   mpirun -n N rps3-run-mpi SCENE.yaml -o OUT.h5 [...]
+ *
+ * -j N computes the cases on N threads (sweep.h); --shard K/N computes the
+ * jobs of shard K only, into a part file that `merge` joins with the
+ * others (merge.h).  Built with -DRPS3_MPI (rps3-run-mpi) and launched by
+ * mpirun, rank r computes shard r of the ranks into OUT.h5.tmp.PID.part<r>
+ * next to OUT.h5, and rank 0 merges the parts into its own file and
+ * renames it to OUT.h5: the same datasets as one process.
  *
  * Exit codes: 0 every case ok; 1 the file is complete but some cases failed
  * (see status/message/failed_at); 2 bad command line or scene, nothing
@@ -19,12 +29,20 @@
 #include <gsl/gsl_errno.h>
 #include <hdf5.h>
 
+#ifdef RPS3_MPI
+#include <mpi.h>
+#endif
+
+#include "merge.h"
 #include "output.h"
 #include "progress.h"
 #include "scene.h"
 #include "sweep.h"
 
 enum { EXIT_OK = 0, EXIT_FAILED_CASES = 1, EXIT_USAGE = 2, EXIT_IO = 3 };
+
+/* most threads of -j */
+#define MAX_THREADS 1024
 
 /* the temporary file, for the signal handler: process-wide state of this
    program only (the library has none) */
@@ -69,6 +87,9 @@ static void usage(FILE *out)
   fprintf(out,
           "usage: rps3-run SCENE.yaml -o OUT.h5 [--quiet] [--gzip LEVEL] "
           "[--check]\n"
+          "                [-j N] [--shard K/N]\n"
+          "       rps3-run merge OUT.h5 PART.h5 ... [--quiet]\n"
+          "       mpirun -n N rps3-run-mpi SCENE.yaml -o OUT.h5 [...]\n"
           "       rps3-run --keys | --schema | --version | --help\n"
           "\n"
           "Runs the inverse dynamics of the Lee & Shah 3-RPS manipulator "
@@ -80,6 +101,11 @@ static void usage(FILE *out)
           "  --gzip LEVEL   deflate the datasets (1-9; default 0, none)\n"
           "  --check        validate the scene and every case, write "
           "nothing\n"
+          "  -j N           compute on N threads (default 1); same output\n"
+          "  --shard K/N    compute shard K of N (0 <= K < N) into a part "
+          "file\n"
+          "  merge          join the part files of shards 0..N-1 into "
+          "OUT.h5\n"
           "  --keys         print the scene keys (markdown)\n"
           "  --schema       print the datasets of OUT.h5 (markdown)\n"
           "exit: 0 ok, 1 some cases failed, 2 bad scene or usage, 3 cannot "
@@ -123,29 +149,265 @@ static char *command_line(int argc, char **argv)
   return s;
 }
 
-int main(int argc, char **argv)
+/* the MPI world of this process: rank 0 of 1 without MPI */
+typedef struct {
+  int rank;
+  int size;
+} world;
+
+/* K/N into *k, *n; 0 or -1 */
+static int parse_shard(const char *a, size_t *k, size_t *n)
 {
-  const char *scene_path = NULL, *out_path = NULL;
+  char *end;
+  unsigned long kk, nn;
+  errno = 0;
+  kk = strtoul(a, &end, 10);
+  if (end == a || *end != '/' || a[0] == '-')
+    return -1;
+  a = end + 1;
+  nn = strtoul(a, &end, 10);
+  if (end == a || *end != '\0' || a[0] == '-' || errno || nn < 1 ||
+      kk >= nn)
+    return -1;
+  *k = kk;
+  *n = nn;
+  return 0;
+}
+
+/* rename the temporary file to out_path; the rename and forgetting the
+   temporary name happen together.  0 or -1 (message printed) */
+static int commit(const char *out_path)
+{
+  signals_block(SIG_BLOCK);
+  if (rename(tmp_path, out_path) != 0) {
+    fprintf(stderr, "rps3-run: cannot rename %s to %s: %s\n", tmp_path,
+            out_path, strerror(errno));
+    signals_block(SIG_UNBLOCK);
+    return -1;
+  }
+  have_tmp = 0;
+  signals_block(SIG_UNBLOCK);
+  return 0;
+}
+
+/* remove the temporary file, if any */
+static void discard(void)
+{
+  signals_block(SIG_BLOCK);
+  if (have_tmp)
+    unlink(tmp_path);
+  have_tmp = 0;
+  signals_block(SIG_UNBLOCK);
+}
+
+/* tmp_path = OUT.tmp.PID, with .partR for the ranks after 0 */
+static int set_tmp_path(const char *out_path, long pid, int rank)
+{
+  int n = rank ? snprintf(tmp_path, sizeof tmp_path, "%s.tmp.%ld.part%d",
+                          out_path, pid, rank)
+               : snprintf(tmp_path, sizeof tmp_path, "%s.tmp.%ld", out_path,
+                          pid);
+  if (n < 0 || (size_t)n >= sizeof tmp_path) {
+    fprintf(stderr, "rps3-run: %s: path too long\n", out_path);
+    return -1;
+  }
+  return 0;
+}
+
+/*
+ * rps3-run merge OUT.h5 PART.h5 ...: the parts of shards 0..N-1, in any
+ * order.  OUT.h5 is a copy of part 0 into which the other parts' chunks are
+ * copied, written under a temporary name and renamed when complete.
+ */
+static int merge_main(int argc, char **argv, const char *cmd)
+{
+  const char *out_path = NULL, **part = NULL, **src = NULL;
+  size_t npart = 0, n = 0, i, j, *k = NULL, *ks = NULL, nfailed = 0;
+  int quiet = 0, code = EXIT_USAGE;
+  const char *base = NULL;
+  char err[768];
+
+  part = calloc((size_t)argc, sizeof *part);
+  src = calloc((size_t)argc, sizeof *src);
+  k = calloc((size_t)argc, sizeof *k);
+  ks = calloc((size_t)argc, sizeof *ks);
+  if (!part || !src || !k || !ks) {
+    fprintf(stderr, "rps3-run: out of memory\n");
+    code = EXIT_IO;
+    goto done;
+  }
+  for (i = 1; i < (size_t)argc; i++) {
+    if (strcmp(argv[i], "-q") == 0 || strcmp(argv[i], "--quiet") == 0)
+      quiet = 1;
+    else if (argv[i][0] == '-' && argv[i][1] != '\0') {
+      fprintf(stderr, "rps3-run merge: unknown option '%s'\n", argv[i]);
+      goto done;
+    } else if (!out_path)
+      out_path = argv[i];
+    else
+      part[npart++] = argv[i];
+  }
+  if (!out_path || npart == 0) {
+    fprintf(stderr, "usage: rps3-run merge OUT.h5 PART.h5 ... [--quiet]\n");
+    goto done;
+  }
+
+  /* every shard 0..N-1 exactly once */
+  for (i = 0; i < npart; i++) {
+    size_t ni;
+    if (merge_shard_of(part[i], &k[i], &ni, err, sizeof err)) {
+      fprintf(stderr, "rps3-run merge: %s\n", err);
+      goto done;
+    }
+    if (i == 0)
+      n = ni;
+    if (ni != n) {
+      fprintf(stderr, "rps3-run merge: %s is shard %zu/%zu, %s is of %zu\n",
+              part[i], k[i], ni, part[0], n);
+      goto done;
+    }
+    for (j = 0; j < i; j++)
+      if (k[j] == k[i]) {
+        fprintf(stderr, "rps3-run merge: %s and %s are both shard %zu/%zu\n",
+                part[j], part[i], k[i], n);
+        goto done;
+      }
+  }
+  if (npart != n) {
+    fprintf(stderr, "rps3-run merge: %zu part%s given, the run has %zu "
+                    "shards\n",
+            npart, npart == 1 ? "" : "s", n);
+    goto done;
+  }
+  for (i = 0, j = 0; i < npart; i++) {
+    if (k[i] == 0) {
+      base = part[i];
+      continue;
+    }
+    src[j] = part[i];
+    ks[j++] = k[i];
+  }
+
+  code = EXIT_IO;
+  if (set_tmp_path(out_path, (long)getpid(), 0))
+    goto done;
+  signals_install();
+  have_tmp = 1;
+  if (merge_copy_file(base, tmp_path, err, sizeof err) ||
+      merge_parts(tmp_path, src, ks, n - 1, n, cmd, &nfailed, err,
+                  sizeof err)) {
+    fprintf(stderr, "rps3-run merge: %s\n", err);
+    goto done;
+  }
+  if (commit(out_path))
+    goto done;
+  if (!quiet)
+    fprintf(stderr, "rps3-run: merged %zu part%s into %s (%zu failed "
+                    "case%s)\n",
+            n, n == 1 ? "" : "s", out_path, nfailed, nfailed == 1 ? "" : "s");
+  code = nfailed ? EXIT_FAILED_CASES : EXIT_OK;
+done:
+  discard();
+  free(part);
+  free(src);
+  free(k);
+  free(ks);
+  return code;
+}
+
+#ifdef RPS3_MPI
+/*
+ * After every rank has written its part: rank 0 merges the parts of ranks
+ * 1.. into its own file and renames it.  `code` is this rank's outcome so
+ * far; returns the exit code of the run, the same on every rank.
+ */
+static int mpi_join(const world *w, int code, const char *out_path,
+                    const char *cmd, long pid0, progress *pr,
+                    const sweep_stats *st, size_t ncase)
+{
+  unsigned long mine[3], sum[3];
+  int worst = code, result = code;
+  mine[0] = st->cases_done;
+  mine[1] = st->points_done;
+  mine[2] = st->nfailed;
+  MPI_Allreduce(&code, &worst, 1, MPI_INT, MPI_MAX, MPI_COMM_WORLD);
+  MPI_Reduce(mine, sum, 3, MPI_UNSIGNED_LONG, MPI_SUM, 0, MPI_COMM_WORLD);
+  if (w->rank == 0) {
+    result = worst;
+    if (worst < EXIT_USAGE) {
+      const char **src = calloc((size_t)w->size, sizeof *src);
+      size_t *ks = calloc((size_t)w->size, sizeof *ks), nfailed = 0;
+      char (*paths)[4096] = calloc((size_t)w->size, sizeof *paths);
+      char err[768];
+      int r;
+      result = EXIT_IO;
+      if (!src || !ks || !paths)
+        fprintf(stderr, "rps3-run: out of memory\n");
+      else {
+        for (r = 1; r < w->size; r++) {
+          snprintf(paths[r], sizeof paths[r], "%s.tmp.%ld.part%d", out_path,
+                   pid0, r);
+          src[r - 1] = paths[r];
+          ks[r - 1] = (size_t)r;
+        }
+        if (merge_parts(tmp_path, src, ks, (size_t)w->size - 1,
+                        (size_t)w->size, cmd, &nfailed, err, sizeof err))
+          fprintf(stderr, "rps3-run: merging the ranks' parts: %s\n", err);
+        else if (commit(out_path) == 0) {
+          result = nfailed ? EXIT_FAILED_CASES : EXIT_OK;
+          pr->ncase = ncase;
+          progress_finish(pr, sum[0], sum[1], sum[2]);
+        }
+      }
+      free(src);
+      free(ks);
+      free(paths);
+    }
+  }
+  /* the parts are read: every rank removes its own */
+  MPI_Bcast(&result, 1, MPI_INT, 0, MPI_COMM_WORLD);
+  discard();
+  return result;
+}
+#endif
+
+/*
+ * The worst of the ranks' codes (this code without MPI); *first, when not
+ * NULL, gets rank 0's.  Every rank calls it at the same points, so that
+ * they all stop or all go on together.
+ */
+static int agree(const world *w, int code, int *first)
+{
+  int mine[2], all[2];
+  mine[0] = code;
+  mine[1] = w->rank == 0 ? code : 0;
+  all[0] = mine[0];
+  all[1] = mine[1];
+#ifdef RPS3_MPI
+  if (w->size > 1)
+    MPI_Allreduce(mine, all, 2, MPI_INT, MPI_MAX, MPI_COMM_WORLD);
+#endif
+  if (first)
+    *first = all[1];
+  return all[0];
+}
+
+static int run_main(int argc, char **argv, const world *w)
+{
+  const char *scene_path = NULL, *out_path = NULL, *shard_arg = NULL;
   int quiet = 0, check = 0, gzip = 0, i, code;
   char err[512];
   scene s;
   scene_error serr;
   sweep_plan plan;
+  sweep_opts opts = {1, 0, 1};
   sweep_stats st;
   out_block block;
   out_meta meta;
   out_file *f;
   progress pr;
   char *cmd;
-
-  /* process-wide policy: GSL returns its errors, HDF5 prints none */
-  gsl_set_error_handler_off();
-  H5Eset_auto2(H5E_DEFAULT, NULL, NULL);
-  if (strcmp(rps3_version(), RPS3_VERSION_STRING) != 0) {
-    fprintf(stderr, "rps3-run: library %s does not match header %s\n",
-            rps3_version(), RPS3_VERSION_STRING);
-    return EXIT_IO;
-  }
+  long pid0 = (long)getpid();
 
   for (i = 1; i < argc; i++) {
     const char *a = argv[i];
@@ -165,8 +427,10 @@ int main(int argc, char **argv)
       quiet = 1;
     } else if (strcmp(a, "--check") == 0) {
       check = 1;
-    } else if (strcmp(a, "-o") == 0 || strcmp(a, "--gzip") == 0) {
+    } else if (strcmp(a, "-o") == 0 || strcmp(a, "--gzip") == 0 ||
+               strcmp(a, "-j") == 0 || strcmp(a, "--shard") == 0) {
       char *end;
+      long v;
       if (i + 1 >= argc) {
         fprintf(stderr, "rps3-run: %s needs a value\n", a);
         return EXIT_USAGE;
@@ -175,12 +439,32 @@ int main(int argc, char **argv)
         out_path = argv[++i];
         continue;
       }
-      gzip = (int)strtol(argv[++i], &end, 10);
-      if (*end != '\0' || end == argv[i] || gzip < 0 || gzip > 9) {
+      if (a[2] == 's') {
+        shard_arg = argv[++i];
+        if (parse_shard(shard_arg, &opts.shard, &opts.nshard)) {
+          fprintf(stderr, "rps3-run: --shard needs K/N with 0 <= K < N, "
+                          "got '%s'\n",
+                  shard_arg);
+          return EXIT_USAGE;
+        }
+        continue;
+      }
+      v = strtol(argv[++i], &end, 10);
+      if (a[1] == 'j') {
+        if (*end != '\0' || end == argv[i] || v < 1 || v > MAX_THREADS) {
+          fprintf(stderr, "rps3-run: -j needs 1-%d threads, got '%s'\n",
+                  MAX_THREADS, argv[i]);
+          return EXIT_USAGE;
+        }
+        opts.nthread = (int)v;
+        continue;
+      }
+      if (*end != '\0' || end == argv[i] || v < 0 || v > 9) {
         fprintf(stderr, "rps3-run: --gzip needs a level 0-9, got '%s'\n",
                 argv[i]);
         return EXIT_USAGE;
       }
+      gzip = (int)v;
     } else if (a[0] == '-' && a[1] != '\0') {
       fprintf(stderr, "rps3-run: unknown option '%s'\n", a);
       usage(stderr);
@@ -197,86 +481,164 @@ int main(int argc, char **argv)
     usage(stderr);
     return EXIT_USAGE;
   }
-
-  /* the scene and every case are checked before anything is written */
-  if (scene_load(&s, scene_path, &serr)) {
-    scene_error_print(scene_path, &serr);
-    return EXIT_USAGE;
+  if (w->size > 1) {
+    if (shard_arg) {
+      if (w->rank == 0)
+        fprintf(stderr, "rps3-run: --shard is for runs without mpirun; "
+                        "under mpirun the ranks are the shards\n");
+      return EXIT_USAGE;
+    }
+    opts.shard = (size_t)w->rank;
+    opts.nshard = (size_t)w->size;
   }
-  if (sweep_plan_make(&s, &plan, &serr)) {
-    scene_error_print(scene_path, &serr);
+
+  /* the scene and every case are checked before anything is written (by
+     every rank; rank 0 says what is wrong, or else the ranks that fail) */
+  code = EXIT_OK;
+  if (scene_load(&s, scene_path, &serr))
+    code = EXIT_USAGE;
+  else if (sweep_plan_make(&s, &plan, &serr)) {
     scene_free(&s);
-    return EXIT_USAGE;
+    code = EXIT_USAGE;
+  }
+  {
+    int first, worst = agree(w, code, &first);
+    if (code && (w->rank == 0 || first == EXIT_OK))
+      scene_error_print(scene_path, &serr);
+    if (worst) {
+      if (!code)
+        scene_free(&s);
+      return worst;
+    }
   }
   if (check) {
-    printf("%s: %zu case%s, %zu samples (%zu per case at most)%s\n",
-           scene_path, s.ncase, s.ncase == 1 ? "" : "s", plan.npoint,
-           plan.nt, plan.grid_common ? "" : ", time grid differs by case");
+    if (w->rank == 0)
+      printf("%s: %zu case%s, %zu samples (%zu per case at most)%s\n",
+             scene_path, s.ncase, s.ncase == 1 ? "" : "s", plan.npoint,
+             plan.nt, plan.grid_common ? "" : ", time grid differs by case");
     scene_free(&s);
     return EXIT_OK;
   }
 
+  memset(&block, 0, sizeof block);
   cmd = command_line(argc, argv);
   if (!cmd ||
       out_block_alloc(&block, plan.tile_cases, plan.tile_points,
                       plan.first.model.opt.effects)) {
     fprintf(stderr, "rps3-run: out of memory\n");
-    free(cmd);
-    scene_free(&s);
-    return EXIT_IO;
+    code = EXIT_IO;
   }
   meta.command_line = cmd;
   meta.gzip = gzip;
+  meta.shard = shard_arg;
 
-  /* write under a temporary name in the same directory, rename at the end */
-  if ((size_t)snprintf(tmp_path, sizeof tmp_path, "%s.tmp.%ld", out_path,
-                       (long)getpid()) >= sizeof tmp_path) {
-    fprintf(stderr, "rps3-run: %s: path too long\n", out_path);
+  /* write under a temporary name in the same directory, rename at the end;
+     under mpirun every rank names its part after rank 0's pid */
+#ifdef RPS3_MPI
+  MPI_Bcast(&pid0, 1, MPI_LONG, 0, MPI_COMM_WORLD);
+#endif
+  if (code == EXIT_OK && set_tmp_path(out_path, pid0, w->rank))
     code = EXIT_USAGE;
+  if ((code = agree(w, code, NULL)) != EXIT_OK)
     goto done;
-  }
   signals_install();
   have_tmp = 1;
+  progress_start(&pr, sweep_shard_cases(&s, &plan, opts.shard, opts.nshard),
+                 quiet || w->rank != 0);
   f = out_create(tmp_path, &s, &plan.first, plan.nt, plan.grid_common,
                  &block, &meta, err, sizeof err);
   if (!f) {
     fprintf(stderr, "rps3-run: %s: %s\n", out_path, err);
     code = EXIT_IO;
-    goto done;
-  }
-  progress_start(&pr, s.ncase, quiet);
-  if (sweep_run(&s, &plan, f, &block, &pr, &st, err, sizeof err)) {
+    memset(&st, 0, sizeof st);
+  } else if (sweep_run_opts(&s, &plan, f, &block, &opts, &pr, &st, err,
+                            sizeof err)) {
     fprintf(stderr, "rps3-run: %s: %s\n", out_path, err);
     out_close(f, NULL, 0);
     code = EXIT_IO;
-    goto done;
-  }
-  if (out_close(f, err, sizeof err)) {
+  } else if (out_close(f, err, sizeof err)) {
     fprintf(stderr, "rps3-run: %s: %s\n", out_path, err);
     code = EXIT_IO;
+  }
+  if (w->size > 1) {
+#ifdef RPS3_MPI
+    code = mpi_join(w, code, out_path, cmd, pid0, &pr, &st, s.ncase);
+#endif
     goto done;
   }
-  /* the rename and forgetting the temporary name happen together */
-  signals_block(SIG_BLOCK);
-  if (rename(tmp_path, out_path) != 0) {
-    fprintf(stderr, "rps3-run: cannot rename %s to %s: %s\n", tmp_path,
-            out_path, strerror(errno));
-    signals_block(SIG_UNBLOCK);
+  if (code != EXIT_OK || commit(out_path)) {
     code = EXIT_IO;
     goto done;
   }
-  have_tmp = 0;
-  signals_block(SIG_UNBLOCK);
   progress_finish(&pr, st.cases_done, st.points_done, st.nfailed);
   code = st.nfailed ? EXIT_FAILED_CASES : EXIT_OK;
 
 done:
-  if (have_tmp) {
-    unlink(tmp_path);
-    have_tmp = 0;
-  }
+  discard();
   out_block_free(&block);
   free(cmd);
   scene_free(&s);
+  return code;
+}
+
+#ifndef RPS3_MPI
+/* the number of processes of an MPI launch (mpirun, srun), 1 if none */
+static int launched_ranks(void)
+{
+  const char *v = getenv("OMPI_COMM_WORLD_SIZE");
+  if (!v)
+    v = getenv("PMI_SIZE");
+  return v ? atoi(v) : 1;
+}
+#endif
+
+int main(int argc, char **argv)
+{
+  world w = {0, 1};
+  char *cmd;
+  int code;
+
+#ifdef RPS3_MPI
+  {
+    int provided;
+    /* worker threads (-j) never call MPI */
+    MPI_Init_thread(&argc, &argv, MPI_THREAD_FUNNELED, &provided);
+    MPI_Comm_rank(MPI_COMM_WORLD, &w.rank);
+    MPI_Comm_size(MPI_COMM_WORLD, &w.size);
+  }
+#else
+  if (launched_ranks() > 1 && !(argc > 1 && strcmp(argv[1], "merge") == 0)) {
+    fprintf(stderr, "rps3-run: launched as %d MPI ranks, but built without "
+                    "MPI: use build/rps3-run-mpi (make runner-mpi)\n",
+            launched_ranks());
+    return EXIT_USAGE;
+  }
+#endif
+
+  /* process-wide policy: GSL returns its errors, HDF5 prints none */
+  gsl_set_error_handler_off();
+  H5Eset_auto2(H5E_DEFAULT, NULL, NULL);
+  if (strcmp(rps3_version(), RPS3_VERSION_STRING) != 0) {
+    fprintf(stderr, "rps3-run: library %s does not match header %s\n",
+            rps3_version(), RPS3_VERSION_STRING);
+    code = EXIT_IO;
+  } else if (argc > 1 && strcmp(argv[1], "merge") == 0) {
+    if (w.size > 1) {
+      if (w.rank == 0)
+        fprintf(stderr, "rps3-run: merge runs as one process\n");
+      code = EXIT_USAGE;
+    } else if (!(cmd = command_line(argc, argv))) {
+      fprintf(stderr, "rps3-run: out of memory\n");
+      code = EXIT_IO;
+    } else {
+      code = merge_main(argc - 1, argv + 1, cmd);
+      free(cmd);
+    }
+  } else
+    code = run_main(argc, argv, &w);
+
+#ifdef RPS3_MPI
+  MPI_Finalize();
+#endif
   return code;
 }

@@ -180,17 +180,30 @@ static herr_t walk_first(unsigned n, const H5E_error2_t *e, void *data)
   return 0;
 }
 
-static void fail(char *err, size_t errsz, const char *fmt, ...)
+static void vfail(char *err, size_t errsz, const char *fmt, va_list ap)
 {
   char h5[200], what[256];
-  va_list ap;
   h5[0] = '\0';
   H5Ewalk2(H5E_DEFAULT, H5E_WALK_DOWNWARD, walk_first, h5);
-  va_start(ap, fmt);
   vsnprintf(what, sizeof what, fmt, ap);
-  va_end(ap);
   snprintf(err, errsz, "%s%s%s", what, h5[0] ? ": HDF5: " : "", h5);
   H5Eclear2(H5E_DEFAULT);
+}
+
+static void fail(char *err, size_t errsz, const char *fmt, ...)
+{
+  va_list ap;
+  va_start(ap, fmt);
+  vfail(err, errsz, fmt, ap);
+  va_end(ap);
+}
+
+void out_fail(char *err, size_t errsz, const char *fmt, ...)
+{
+  va_list ap;
+  va_start(ap, fmt);
+  vfail(err, errsz, fmt, ap);
+  va_end(ap);
 }
 
 static int attr_str(hid_t obj, hid_t str, const char *name, const char *value)
@@ -347,15 +360,41 @@ static int write_axis(hid_t ds, hid_t str, const scene *s, size_t a)
   return rc;
 }
 
+/* the time now, ISO 8601 in UTC */
+static void utc_now(char now[32])
+{
+  time_t t = time(NULL);
+  struct tm tm;
+  gmtime_r(&t, &tm);
+  strftime(now, 32, "%Y-%m-%dT%H:%M:%SZ", &tm);
+}
+
+int out_stamp(hid_t file, const char *command_line)
+{
+  char now[32];
+  hid_t str = H5Tcopy(H5T_C_S1);
+  int rc = -1;
+  utc_now(now);
+  if (str >= 0 && H5Tset_size(str, H5T_VARIABLE) >= 0 &&
+      H5Tset_cset(str, H5T_CSET_UTF8) >= 0 &&
+      (H5Aexists(file, "created_utc") <= 0 ||
+       H5Adelete(file, "created_utc") >= 0) &&
+      (H5Aexists(file, "command_line") <= 0 ||
+       H5Adelete(file, "command_line") >= 0) &&
+      attr_str(file, str, "created_utc", now) >= 0 &&
+      attr_str(file, str, "command_line", command_line) >= 0)
+    rc = 0;
+  if (str >= 0)
+    H5Tclose(str);
+  return rc;
+}
+
 /* the root attributes: versions, time of creation, command line */
 static int root_attrs(hid_t file, hid_t str, const out_meta *meta)
 {
   char now[32], h5v[32];
   unsigned maj, min, rel;
-  time_t t = time(NULL);
-  struct tm tm;
-  gmtime_r(&t, &tm);
-  strftime(now, sizeof now, "%Y-%m-%dT%H:%M:%SZ", &tm);
+  utc_now(now);
   H5get_libversion(&maj, &min, &rel);
   snprintf(h5v, sizeof h5v, "%u.%u.%u", maj, min, rel);
   return (attr_str(file, str, "rps3_version", rps3_version()) < 0 ||
@@ -366,7 +405,8 @@ static int root_attrs(hid_t file, hid_t str, const out_meta *meta)
           attr_str(file, str, "yaml_version", yaml_get_version_string()) < 0 ||
           attr_str(file, str, "title",
                    "rps3: inverse dynamics of the Lee & Shah 3-RPS "
-                   "manipulator along a trajectory, per case of a sweep") < 0)
+                   "manipulator along a trajectory, per case of a sweep") < 0 ||
+          (meta->shard && attr_str(file, str, "shard", meta->shard) < 0))
              ? -1
              : 0;
 }

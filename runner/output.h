@@ -16,6 +16,8 @@
 #include <stddef.h>
 #include <stdint.h>
 
+#include <hdf5.h>
+
 #include "scene.h"
 
 /* shapes: C [case], CT [case, time], CTL [case, time, link],
@@ -115,6 +117,7 @@ void out_block_blank(out_block *b, size_t slot, size_t k);
 typedef struct {
   const char *command_line;
   int gzip;               /* deflate level 1-9, 0 for none */
+  const char *shard;      /* "K/N" of a part file (merge.h), NULL if whole */
 } out_meta;
 
 typedef struct out_file out_file;
@@ -145,5 +148,15 @@ int out_close(out_file *f, char *err, size_t errsz);
 
 /* print the schema (markdown) on stdout: name, dimensions, units, doc */
 void out_schema_print(void);
+
+/* ------------------------------------------- HDF5 helpers for merge.c */
+
+/* err = the message (printf-style) and the innermost HDF5 error, which is
+   then cleared */
+void out_fail(char *err, size_t errsz, const char *fmt, ...);
+
+/* Set (replace) the root attributes created_utc (now) and command_line of
+   an open file.  Returns 0 or -1. */
+int out_stamp(hid_t file, const char *command_line);
 
 #endif /* RPS3_RUNNER_OUTPUT_H */

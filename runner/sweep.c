@@ -2,11 +2,19 @@
  * sweep.c - see sweep.h.  Each case is computed by case_compute() with a
  * workspace of its own solver kind into its own slot of the block, so the
  * cases of a tile are independent of each other.
+ *
+ * A job (a tile of whole cases, or one long case in windows) turns into
+ * one or more tiles to write, each handed to a sink: the serial sink writes
+ * it at once and gives the same block back; the threaded sink queues it for
+ * the writing thread and gives back a free block of the pool.
  */
 #include "sweep.h"
 
+#include <pthread.h>
+#include <signal.h>
 #include <stdint.h>
 #include <stdio.h>
+#include <stdlib.h>
 #include <string.h>
 
 #include "compute.h"
@@ -60,17 +68,25 @@ static rps3_data *workspace(rps3_data *ws[RPS3_NSOLVER], const scene_case *c,
   return ws[k];
 }
 
-/* set up slot `slot` for case `index`: build it, its YAML, empty message */
-static int slot_begin(const scene *s, size_t index, out_block *b, size_t slot,
-                      scene_case *c, char *err, size_t errsz)
+/* build case `index` */
+static int case_begin(const scene *s, size_t index, scene_case *c, char *err,
+                      size_t errsz)
 {
   scene_error e;
   if (scene_case_build(s, index, c, &e)) {
     snprintf(err, errsz, "case %zu became invalid: %s", index, e.what);
     return -1;
   }
+  return 0;
+}
+
+/* set up slot `slot` for case c: its YAML, an empty message, status ok */
+static int slot_begin(const scene_case *c, out_block *b, size_t slot,
+                      char *err, size_t errsz)
+{
   if (scene_case_yaml(c, &b->yaml[slot])) {
-    snprintf(err, errsz, "case %zu: cannot write its scene as YAML", index);
+    snprintf(err, errsz, "case %zu: cannot write its scene as YAML",
+             c->index);
     return -1;
   }
   ((const char **)b->scene_resolved)[slot] = b->yaml[slot].s;
@@ -81,104 +97,466 @@ static int slot_begin(const scene *s, size_t index, out_block *b, size_t slot,
   return 0;
 }
 
-/* record the outcome of a case in its slot */
-static void slot_status(out_block *b, size_t slot, int rc, size_t failed_at,
-                        sweep_stats *st)
+/* record the outcome of a case in its slot; 1 if it failed */
+static size_t slot_status(out_block *b, size_t slot, int rc, size_t failed_at)
 {
   ((int32_t *)b->status)[slot] = rc;
   ((int32_t *)b->failed_at)[slot] = rc ? (int32_t)failed_at : -1;
-  if (rc) {
-    st->nfailed++;
+  if (rc)
     out_block_blank(b, slot, 0);
-  }
+  return rc ? 1 : 0;
 }
 
-/* tiles of whole cases */
-static int run_whole(const scene *s, const sweep_plan *p, out_file *f,
-                     out_block *b, rps3_data *ws[], progress *pr,
-                     sweep_stats *st, char *err, size_t errsz)
+/* ----------------------------------------------------------------- tiles */
+
+/* a filled block to write: slots [0, nc) are cases c0 .., samples
+   [k0, k0 + nk); and what it adds to the run's counts */
+typedef struct {
+  size_t c0, nc, k0, nk;
+  int with_case;      /* write the per-case fields too */
+  size_t blank_below; /* > 0: first write the (blank) block over the windows
+                         [0, blank_below) of case c0: a late failure */
+  size_t cases;       /* cases this tile completes */
+  size_t points;      /* samples computed */
+  size_t failed;      /* cases that failed */
+} tile;
+
+/* where a job's tiles go: emit() takes the filled *b and sets *b to the
+   block to fill next; returns 0, or -1 with err set */
+typedef struct sink sink;
+struct sink {
+  int (*emit)(sink *k, out_block **b, const tile *t, char *err, size_t errsz);
+};
+
+/* write tile t of block b to f */
+static int tile_write(out_file *f, const out_block *b, const tile *t,
+                      char *err, size_t errsz)
 {
-  size_t c0, nc, slot;
-  for (c0 = 0; c0 < s->ncase; c0 += nc) {
-    nc = s->ncase - c0 < b->cases ? s->ncase - c0 : b->cases;
-    for (slot = 0; slot < nc; slot++) {
-      scene_case c;
-      rps3_data *d;
-      size_t failed_at = 0;
-      int rc;
-      if (slot_begin(s, c0 + slot, b, slot, &c, err, errsz) ||
-          !(d = workspace(ws, &c, err, errsz)))
-        return -1;
-      rc = case_compute(&c, d, 0, c.nt, b, slot, &failed_at);
-      slot_status(b, slot, rc, failed_at, st);
-      /* samples past the end of a shorter case */
-      if (rc == RPS3_OK && c.nt < b->points)
-        out_block_blank(b, slot, c.nt);
-      st->points_done += rc ? failed_at : c.nt;
-    }
-    if (out_write(f, b, c0, nc, 0, p->nt, 1, err, errsz))
+  size_t w;
+  for (w = 0; w < t->blank_below; w += b->points)
+    if (out_write(f, b, t->c0, 1, w, b->points, 0, err, errsz))
       return -1;
-    st->cases_done += nc;
-    progress_update(pr, st->cases_done, st->points_done);
-  }
-  return 0;
+  return out_write(f, b, t->c0, t->nc, t->k0, t->nk, t->with_case, err,
+                   errsz);
 }
 
-/* one case at a time, in windows of b->points samples */
-static int run_windows(const scene *s, const sweep_plan *p, out_file *f,
-                       out_block *b, rps3_data *ws[], progress *pr,
-                       sweep_stats *st, char *err, size_t errsz)
+/* count a written tile and show the progress */
+static void tile_count(const tile *t, sweep_stats *st, progress *pr)
 {
-  size_t i, k0, nk, w;
-  for (i = 0; i < s->ncase; i++) {
+  st->cases_done += t->cases;
+  st->points_done += t->points;
+  st->nfailed += t->failed;
+  progress_update(pr, st->cases_done, st->points_done);
+}
+
+/* ------------------------------------------------------------------ jobs */
+
+size_t sweep_njob(const scene *s, const sweep_plan *p)
+{
+  return (s->ncase + p->tile_cases - 1) / p->tile_cases;
+}
+
+size_t sweep_shard_cases(const scene *s, const sweep_plan *p, size_t shard,
+                         size_t nshard)
+{
+  size_t j, n = 0, nj = sweep_njob(s, p);
+  for (j = shard; j < nj; j += nshard)
+    n += (j + 1) * p->tile_cases <= s->ncase ? p->tile_cases
+                                              : s->ncase - j * p->tile_cases;
+  return n;
+}
+
+/* 1 when jobs are long cases in windows, 0 when they are tiles of cases */
+static int in_windows(const sweep_plan *p)
+{
+  return p->tile_cases == 1 && p->nt > p->tile_points;
+}
+
+/* job j as a tile of whole cases */
+static int job_whole(const scene *s, const sweep_plan *p, size_t j,
+                     out_block **bp, rps3_data *ws[], sink *k, char *err,
+                     size_t errsz)
+{
+  out_block *b = *bp;
+  tile t;
+  size_t slot;
+  memset(&t, 0, sizeof t);
+  t.c0 = j * b->cases;
+  t.nc = s->ncase - t.c0 < b->cases ? s->ncase - t.c0 : b->cases;
+  t.nk = p->nt;
+  t.with_case = 1;
+  t.cases = t.nc;
+  for (slot = 0; slot < t.nc; slot++) {
     scene_case c;
     rps3_data *d;
-    if (slot_begin(s, i, b, 0, &c, err, errsz) ||
+    size_t failed_at = 0;
+    int rc;
+    if (case_begin(s, t.c0 + slot, &c, err, errsz) ||
+        slot_begin(&c, b, slot, err, errsz) ||
         !(d = workspace(ws, &c, err, errsz)))
       return -1;
-    for (k0 = 0; k0 < p->nt; k0 += nk) {
-      size_t failed_at = 0, ncomp;
-      int rc = RPS3_OK, last;
-      nk = p->nt - k0 < b->points ? p->nt - k0 : b->points;
-      ncomp = k0 >= c.nt ? 0 : (c.nt - k0 < nk ? c.nt - k0 : nk);
-      if (ncomp > 0)
-        rc = case_compute(&c, d, k0, ncomp, b, 0, &failed_at);
-      if (rc != RPS3_OK) {
-        /* NaN over the windows already written, then stop the case */
-        slot_status(b, 0, rc, failed_at, st);
-        for (w = 0; w < k0; w += b->points)
-          if (out_write(f, b, i, 1, w, b->points, 0, err, errsz))
-            return -1;
-        if (out_write(f, b, i, 1, k0, nk, 1, err, errsz))
-          return -1;
-        st->points_done += failed_at - k0;
-        break;
-      }
-      if (ncomp < nk)
-        out_block_blank(b, 0, ncomp);
-      last = k0 + nk >= p->nt;
-      if (out_write(f, b, i, 1, k0, nk, last, err, errsz))
-        return -1;
-      st->points_done += ncomp;
-      progress_update(pr, st->cases_done, st->points_done);
+    rc = case_compute(&c, d, 0, c.nt, b, slot, &failed_at);
+    t.failed += slot_status(b, slot, rc, failed_at);
+    /* samples past the end of a shorter case */
+    if (rc == RPS3_OK && c.nt < b->points)
+      out_block_blank(b, slot, c.nt);
+    t.points += rc ? failed_at : c.nt;
+  }
+  return k->emit(k, bp, &t, err, errsz);
+}
+
+/* job j as one case, in windows of b->points samples; the workspace goes
+   from one window to the next (the warm start), the blocks may not */
+static int job_windows(const scene *s, const sweep_plan *p, size_t j,
+                       out_block **bp, rps3_data *ws[], sink *k, char *err,
+                       size_t errsz)
+{
+  scene_case c;
+  rps3_data *d;
+  size_t k0, nk;
+  if (case_begin(s, j, &c, err, errsz) ||
+      !(d = workspace(ws, &c, err, errsz)))
+    return -1;
+  for (k0 = 0; k0 < p->nt; k0 += nk) {
+    out_block *b = *bp;
+    size_t failed_at = 0, ncomp;
+    int rc = RPS3_OK;
+    tile t;
+    memset(&t, 0, sizeof t);
+    nk = p->nt - k0 < b->points ? p->nt - k0 : b->points;
+    ncomp = k0 >= c.nt ? 0 : (c.nt - k0 < nk ? c.nt - k0 : nk);
+    if (slot_begin(&c, b, 0, err, errsz))
+      return -1;
+    if (ncomp > 0)
+      rc = case_compute(&c, d, k0, ncomp, b, 0, &failed_at);
+    t.c0 = j;
+    t.nc = 1;
+    t.k0 = k0;
+    t.nk = nk;
+    if (rc != RPS3_OK) {
+      /* NaN over the windows already written, then stop the case */
+      t.failed = slot_status(b, 0, rc, failed_at);
+      t.blank_below = k0;
+      t.with_case = 1;
+      t.cases = 1;
+      t.points = failed_at - k0;
+      return k->emit(k, bp, &t, err, errsz);
     }
-    st->cases_done++;
+    if (ncomp < nk)
+      out_block_blank(b, 0, ncomp);
+    t.with_case = k0 + nk >= p->nt;
+    t.cases = (size_t)t.with_case;
+    t.points = ncomp;
+    if (k->emit(k, bp, &t, err, errsz))
+      return -1;
   }
   return 0;
+}
+
+static int job_run(const scene *s, const sweep_plan *p, size_t j,
+                   out_block **bp, rps3_data *ws[], sink *k, char *err,
+                   size_t errsz)
+{
+  return in_windows(p) ? job_windows(s, p, j, bp, ws, k, err, errsz)
+                       : job_whole(s, p, j, bp, ws, k, err, errsz);
+}
+
+static void workspaces_free(rps3_data *ws[RPS3_NSOLVER])
+{
+  int k;
+  for (k = 0; k < RPS3_NSOLVER; k++)
+    rps3_data_free(ws[k]);
+}
+
+/* ---------------------------------------------------------------- serial */
+
+typedef struct {
+  sink base;
+  out_file *f;
+  sweep_stats *st;
+  progress *pr;
+} serial_sink;
+
+static int serial_emit(sink *k, out_block **b, const tile *t, char *err,
+                       size_t errsz)
+{
+  serial_sink *ss = (serial_sink *)k;
+  if (tile_write(ss->f, *b, t, err, errsz))
+    return -1;
+  tile_count(t, ss->st, ss->pr);
+  return 0;
+}
+
+static int run_serial(const scene *s, const sweep_plan *p, out_file *f,
+                      out_block *b, const sweep_opts *o, progress *pr,
+                      sweep_stats *st, char *err, size_t errsz)
+{
+  rps3_data *ws[RPS3_NSOLVER];
+  serial_sink ss;
+  size_t j, nj = sweep_njob(s, p);
+  int rc = 0;
+  memset(ws, 0, sizeof ws);
+  ss.base.emit = serial_emit;
+  ss.f = f;
+  ss.st = st;
+  ss.pr = pr;
+  for (j = o->shard; j < nj && rc == 0; j += o->nshard)
+    rc = job_run(s, p, j, &b, ws, &ss.base, err, errsz);
+  workspaces_free(ws);
+  return rc;
+}
+
+/* -------------------------------------------------------------- threaded */
+
+/* The pool: nblock tiles, each free, being filled by a worker, queued for
+   writing (ready, first in first out) or being written.  Each worker holds
+   one block at a time, so with nblock > nthread the writer always has
+   something to free and no one waits forever. */
+typedef struct {
+  pthread_mutex_t mu;
+  pthread_cond_t ready_cv;  /* a tile is ready, or a worker ended */
+  pthread_cond_t free_cv;   /* a block is free, or the run stops */
+  out_block *block;         /* [nblock] */
+  size_t nblock;
+  size_t *free_ix;          /* [nblock] stack of free blocks */
+  size_t nfree;
+  size_t *ready_ix;         /* [nblock] ring of ready blocks ... */
+  tile *ready_tile;         /* [nblock] ... and their tiles */
+  size_t ready_head, nready;
+  size_t next_job;          /* the next job to take */
+  int nactive;              /* workers still running */
+  int stop;                 /* 1: a worker or the writer failed */
+  char err[512];            /* the first failure */
+  /* what the workers read */
+  const scene *s;
+  const sweep_plan *p;
+  const sweep_opts *o;
+} pool;
+
+typedef struct {
+  sink base;
+  pool *pl;
+  size_t held;              /* the block this worker fills */
+} worker;
+
+/* stop the run with this error (the first one wins); mu held */
+static void pool_fail(pool *pl, const char *msg)
+{
+  if (!pl->stop)
+    snprintf(pl->err, sizeof pl->err, "%s", msg);
+  pl->stop = 1;
+  pthread_cond_broadcast(&pl->free_cv);
+  pthread_cond_broadcast(&pl->ready_cv);
+}
+
+static int worker_emit(sink *k, out_block **b, const tile *t, char *err,
+                       size_t errsz)
+{
+  worker *w = (worker *)k;
+  pool *pl = w->pl;
+  size_t r;
+  pthread_mutex_lock(&pl->mu);
+  /* queue the filled block */
+  r = (pl->ready_head + pl->nready) % pl->nblock;
+  pl->ready_ix[r] = w->held;
+  pl->ready_tile[r] = *t;
+  pl->nready++;
+  pthread_cond_signal(&pl->ready_cv);
+  /* and take a free one */
+  while (pl->nfree == 0 && !pl->stop)
+    pthread_cond_wait(&pl->free_cv, &pl->mu);
+  if (pl->stop) {
+    pthread_mutex_unlock(&pl->mu);
+    snprintf(err, errsz, "stopped");
+    return -1;
+  }
+  w->held = pl->free_ix[--pl->nfree];
+  *b = &pl->block[w->held];
+  pthread_mutex_unlock(&pl->mu);
+  return 0;
+}
+
+static void *worker_main(void *arg)
+{
+  worker *w = arg;
+  pool *pl = w->pl;
+  size_t nj = sweep_njob(pl->s, pl->p);
+  rps3_data *ws[RPS3_NSOLVER];
+  char err[512];
+  memset(ws, 0, sizeof ws);
+  pthread_mutex_lock(&pl->mu);
+  /* a block to fill; there are more blocks than workers, but a worker that
+     starts late may find them all queued for writing */
+  while (pl->nfree == 0 && !pl->stop)
+    pthread_cond_wait(&pl->free_cv, &pl->mu);
+  if (pl->stop) {
+    pl->nactive--;
+    pthread_cond_broadcast(&pl->ready_cv);
+    pthread_mutex_unlock(&pl->mu);
+    return NULL;
+  }
+  w->held = pl->free_ix[--pl->nfree];
+  for (;;) {
+    size_t j = pl->next_job;
+    out_block *b = &pl->block[w->held];
+    if (pl->stop || j >= nj)
+      break;
+    pl->next_job += pl->o->nshard;
+    pthread_mutex_unlock(&pl->mu);
+    if (job_run(pl->s, pl->p, j, &b, ws, &w->base, err, sizeof err)) {
+      pthread_mutex_lock(&pl->mu);
+      pool_fail(pl, err);
+      break;
+    }
+    pthread_mutex_lock(&pl->mu);
+  }
+  /* give the block back; the writer stops when no worker is left */
+  pl->free_ix[pl->nfree++] = w->held;
+  pl->nactive--;
+  pthread_cond_broadcast(&pl->ready_cv);
+  pthread_cond_broadcast(&pl->free_cv);
+  pthread_mutex_unlock(&pl->mu);
+  workspaces_free(ws);
+  return NULL;
+}
+
+/* write the tiles as the workers queue them, until all workers are done */
+static int pool_write(pool *pl, out_file *f, progress *pr, sweep_stats *st)
+{
+  char err[512];
+  pthread_mutex_lock(&pl->mu);
+  for (;;) {
+    size_t ix;
+    tile t;
+    while (pl->nready == 0 && pl->nactive > 0 && !pl->stop)
+      pthread_cond_wait(&pl->ready_cv, &pl->mu);
+    if (pl->stop || pl->nready == 0)
+      break;
+    ix = pl->ready_ix[pl->ready_head];
+    t = pl->ready_tile[pl->ready_head];
+    pl->ready_head = (pl->ready_head + 1) % pl->nblock;
+    pl->nready--;
+    pthread_mutex_unlock(&pl->mu);
+    /* the only thread that calls HDF5 */
+    if (tile_write(f, &pl->block[ix], &t, err, sizeof err)) {
+      pthread_mutex_lock(&pl->mu);
+      pool_fail(pl, err);
+      break;
+    }
+    tile_count(&t, st, pr);
+    pthread_mutex_lock(&pl->mu);
+    pl->free_ix[pl->nfree++] = ix;
+    pthread_cond_signal(&pl->free_cv);
+  }
+  pthread_mutex_unlock(&pl->mu);
+  return pl->stop ? -1 : 0;
+}
+
+static int run_threads(const scene *s, const sweep_plan *p, out_file *f,
+                       out_block *b, const sweep_opts *o, progress *pr,
+                       sweep_stats *st, char *err, size_t errsz)
+{
+  pool pl;
+  worker *w = NULL;
+  pthread_t *tid = NULL;
+  sigset_t all, old;
+  size_t i, nblock = (size_t)o->nthread + 2;
+  int started = 0, rc = -1;
+
+  memset(&pl, 0, sizeof pl);
+  pl.s = s;
+  pl.p = p;
+  pl.o = o;
+  pl.nblock = nblock;
+  pl.next_job = o->shard;
+  pl.block = calloc(nblock, sizeof *pl.block);
+  pl.free_ix = calloc(nblock, sizeof *pl.free_ix);
+  pl.ready_ix = calloc(nblock, sizeof *pl.ready_ix);
+  pl.ready_tile = calloc(nblock, sizeof *pl.ready_tile);
+  w = calloc((size_t)o->nthread, sizeof *w);
+  tid = calloc((size_t)o->nthread, sizeof *tid);
+  if (!pl.block || !pl.free_ix || !pl.ready_ix || !pl.ready_tile || !w ||
+      !tid) {
+    snprintf(err, errsz, "out of memory");
+    goto done;
+  }
+  /* block 0 is the caller's; the others are allocated like it */
+  pl.block[0] = *b;
+  for (i = 1; i < nblock; i++)
+    if (out_block_alloc(&pl.block[i], b->cases, b->points,
+                        p->first.model.opt.effects)) {
+      snprintf(err, errsz, "out of memory");
+      goto done;
+    }
+  for (i = 0; i < nblock; i++)
+    pl.free_ix[pl.nfree++] = i;
+  if (pthread_mutex_init(&pl.mu, NULL) || pthread_cond_init(&pl.ready_cv, NULL) ||
+      pthread_cond_init(&pl.free_cv, NULL)) {
+    snprintf(err, errsz, "cannot set up the threads");
+    goto done;
+  }
+
+  /* workers take no signals: the handler runs on this thread */
+  sigfillset(&all);
+  pthread_sigmask(SIG_BLOCK, &all, &old);
+  for (started = 0; started < o->nthread; started++) {
+    w[started].base.emit = worker_emit;
+    w[started].pl = &pl;
+    pthread_mutex_lock(&pl.mu);
+    pl.nactive++;
+    pthread_mutex_unlock(&pl.mu);
+    if (pthread_create(&tid[started], NULL, worker_main, &w[started])) {
+      pthread_mutex_lock(&pl.mu);
+      pl.nactive--;
+      pool_fail(&pl, "cannot start a thread");
+      pthread_mutex_unlock(&pl.mu);
+      break;
+    }
+  }
+  pthread_sigmask(SIG_SETMASK, &old, NULL);
+
+  rc = pool_write(&pl, f, pr, st);
+  for (i = 0; i < (size_t)started; i++)
+    pthread_join(tid[i], NULL);
+  if (rc)
+    snprintf(err, errsz, "%s", pl.err);
+  pthread_cond_destroy(&pl.free_cv);
+  pthread_cond_destroy(&pl.ready_cv);
+  pthread_mutex_destroy(&pl.mu);
+
+done:
+  if (pl.block) {
+    *b = pl.block[0];
+    for (i = 1; i < nblock; i++)
+      out_block_free(&pl.block[i]);
+  }
+  free(pl.block);
+  free(pl.free_ix);
+  free(pl.ready_ix);
+  free(pl.ready_tile);
+  free(w);
+  free(tid);
+  return rc;
+}
+
+int sweep_run_opts(const scene *s, const sweep_plan *p, out_file *f,
+                   out_block *b, const sweep_opts *o, progress *pr,
+                   sweep_stats *st, char *err, size_t errsz)
+{
+  memset(st, 0, sizeof *st);
+  if (o->nshard < 1 || o->shard >= o->nshard || o->nthread < 1) {
+    snprintf(err, errsz, "bad shard %zu/%zu or thread count %d", o->shard,
+             o->nshard, o->nthread);
+    return -1;
+  }
+  return o->nthread == 1 ? run_serial(s, p, f, b, o, pr, st, err, errsz)
+                         : run_threads(s, p, f, b, o, pr, st, err, errsz);
 }
 
 int sweep_run(const scene *s, const sweep_plan *p, out_file *f,
               out_block *b, progress *pr, sweep_stats *st, char *err,
               size_t errsz)
 {
-  rps3_data *ws[RPS3_NSOLVER];
-  int k, rc;
-  memset(st, 0, sizeof *st);
-  memset(ws, 0, sizeof ws);
-  rc = b->cases > 1 || p->nt <= b->points
-           ? run_whole(s, p, f, b, ws, pr, st, err, errsz)
-           : run_windows(s, p, f, b, ws, pr, st, err, errsz);
-  for (k = 0; k < RPS3_NSOLVER; k++)
-    rps3_data_free(ws[k]);
-  return rc;
+  sweep_opts o = {1, 0, 1};
+  return sweep_run_opts(s, p, f, b, &o, pr, st, err, errsz);
 }

@@ -4,6 +4,15 @@
  * First sweep_plan() builds and validates every case (nothing is written
  * if one is invalid) and finds the time axis; then sweep_run() computes
  * the cases tile by tile and streams each tile to the file.
+ *
+ * The work is cut into jobs: job j is the cases [j tile_cases,
+ * (j + 1) tile_cases), one tile and one chunk row of the file; when a case
+ * is longer than a tile (tile_cases == 1) a job is that case, in windows.
+ * sweep_run_opts() spreads the jobs over threads (each with its own
+ * workspaces and tile buffers; only the calling thread calls HDF5) and
+ * computes only the jobs of one shard (j mod nshard == shard).  A case
+ * depends on nothing but its scene, so the numbers do not depend on the
+ * number of threads or shards.
  */
 #ifndef RPS3_RUNNER_SWEEP_H
 #define RPS3_RUNNER_SWEEP_H
@@ -25,6 +34,13 @@ typedef struct {
   size_t tile_cases;  /* cases per tile (1 when a case spans tiles) */
   size_t tile_points; /* samples per tile and case */
 } sweep_plan;
+
+/* how to run: threads and shard */
+typedef struct {
+  int nthread;        /* worker threads; 1: compute on the calling thread */
+  size_t shard;       /* this run computes the jobs j with */
+  size_t nshard;      /*   j % nshard == shard (nshard 1: every job) */
+} sweep_opts;
 
 /* what a run did */
 typedef struct {
@@ -48,5 +64,26 @@ int sweep_plan_make(const scene *s, sweep_plan *p, scene_error *err);
 int sweep_run(const scene *s, const sweep_plan *p, out_file *f,
               out_block *b, progress *pr, sweep_stats *st, char *err,
               size_t errsz);
+
+/* Number of jobs of a plan: ceil(ncase / tile_cases). */
+size_t sweep_njob(const scene *s, const sweep_plan *p);
+
+/* Cases in the jobs of shard `shard` of `nshard`. */
+size_t sweep_shard_cases(const scene *s, const sweep_plan *p, size_t shard,
+                         size_t nshard);
+
+/*
+ * sweep_run with threads and a shard.  With o->nthread > 1, o->nthread
+ * worker threads compute jobs into a pool of o->nthread + 2 tiles (b and
+ * o->nthread + 1 more, allocated here): memory is bounded by the pool
+ * whatever the sweep size.  The calling thread writes each tile as it
+ * comes.  Tiles may reach the file in any order; each hyperslab is written
+ * once (a failing long case rewrites its own earlier windows, in order),
+ * so the datasets do not depend on the order.  Cases of other shards are
+ * not written: their chunks stay unallocated (fill values: NaN, -1, "").
+ */
+int sweep_run_opts(const scene *s, const sweep_plan *p, out_file *f,
+                   out_block *b, const sweep_opts *o, progress *pr,
+                   sweep_stats *st, char *err, size_t errsz);
 
 #endif /* RPS3_RUNNER_SWEEP_H */

@@ -219,12 +219,14 @@ def big_scene(tmp_path, ncase, samples=1001):
     return write_scene(tmp_path / "big.yaml", text)
 
 
-@pytest.mark.parametrize("sig", [signal.SIGINT, signal.SIGTERM])
-def test_interrupted_run_leaves_no_file(runner, tmp_path, sig):
+@pytest.mark.parametrize("sig,threads", [(signal.SIGINT, 1),
+                                         (signal.SIGTERM, 1),
+                                         (signal.SIGINT, 2)])
+def test_interrupted_run_leaves_no_file(runner, tmp_path, sig, threads):
     scene = big_scene(tmp_path, 20000)
     out = tmp_path / "big.h5"
-    p = subprocess.Popen([RUNNER, str(scene), "-o", str(out), "-q"],
-                         stderr=subprocess.PIPE)
+    p = subprocess.Popen([RUNNER, str(scene), "-o", str(out), "-q",
+                          "-j", str(threads)], stderr=subprocess.PIPE)
     tmp = tmp_path / f"big.h5.tmp.{p.pid}"
     deadline = time.time() + 20
     while not tmp.exists() and time.time() < deadline:

@@ -1,0 +1,232 @@
+"""More cores, more machines: rps3-run -j N, --shard K/N + merge, and
+rps3-run-mpi under mpirun all give the datasets of a single-process run,
+bit for bit (only the root attributes created_utc and command_line
+differ)."""
+
+import os
+import random
+import shutil
+import subprocess
+
+import h5py
+import numpy as np
+import pytest
+
+from conftest import FAILING_SINE, ROOT, RUNNER, run, write_scene
+
+RUNNER_MPI = os.path.join(ROOT, "build", "rps3-run-mpi")
+MPIRUN = shutil.which("mpirun")
+# attributes that say when and how a file was made, not what it holds
+RUN_ATTRS = {"created_utc", "command_line"}
+
+
+def datasets(f):
+    out = {}
+    f.visititems(lambda name, obj: out.__setitem__(name, obj)
+                 if isinstance(obj, h5py.Dataset) else None)
+    return out
+
+
+def plain_attrs(obj, skip=()):
+    """Attributes other than the dimension-scale references."""
+    return {k: v for k, v in obj.attrs.items()
+            if k not in skip and k not in ("DIMENSION_LIST", "REFERENCE_LIST")}
+
+
+def assert_same_content(a, b):
+    """Every dataset of a and b equal bit for bit (NaN included), with the
+    same attributes; the root attributes equal but for RUN_ATTRS."""
+    with h5py.File(a, "r") as f, h5py.File(b, "r") as g:
+        fa, ga = plain_attrs(f, RUN_ATTRS), plain_attrs(g, RUN_ATTRS)
+        assert fa.keys() == ga.keys()
+        for k in fa:
+            assert fa[k] == ga[k], k
+        A, B = datasets(f), datasets(g)
+        assert A.keys() == B.keys()
+        for name in A:
+            x, y = A[name], B[name]
+            assert x.dtype == y.dtype and x.shape == y.shape, name
+            assert x.chunks == y.chunks, name
+            u, v = x[()], y[()]
+            if isinstance(u, np.ndarray) and u.dtype.kind in "fiu":
+                assert u.tobytes() == v.tobytes(), name
+            else:
+                assert np.array_equal(u, v), name
+            xa, ya = plain_attrs(x), plain_attrs(y)
+            assert xa.keys() == ya.keys(), name
+            for k in xa:
+                assert np.array_equal(xa[k], ya[k]), (name, k)
+            assert ([len(d) for d in x.dims] == [len(d) for d in y.dims]), name
+
+
+def mixed_scene(tmp_path):
+    """20 cases of 4001 samples (5 jobs of 4 cases), closed-form and
+    multiroot theta, two cases that fail (the platform below the base)."""
+    text = FAILING_SINE.replace("SAMPLES", "4001").replace(
+        "solver: {theta: THETA}", "")
+    text = text.replace(
+        "  trajectory.amp[2]: [0.05, 0.2, 0.1]",
+        "  trajectory.amp[2]: [0.05, 0.2, 0.1, 0.07, 0.02, 0.09, 0.03, 0.06,"
+        " 0.08, 0.04]\n  solver.theta: [closed_form, multiroot]")
+    return write_scene(tmp_path / "mixed.yaml", text)
+
+
+def windows_scene(tmp_path):
+    """3 cases longer than a tile (in windows, warm multiroot across them);
+    case 1 fails in its third window."""
+    text = FAILING_SINE.replace("SAMPLES", "40001").replace("THETA",
+                                                            "multiroot")
+    return write_scene(tmp_path / "windows.yaml", text)
+
+
+@pytest.fixture(scope="module", params=["mixed", "windows"])
+def reference(request, tmp_path_factory):
+    """(scene, the file of a single-threaded whole run)."""
+    tmp = tmp_path_factory.mktemp(request.param)
+    scene = (mixed_scene if request.param == "mixed" else windows_scene)(tmp)
+    out = tmp / "ref.h5"
+    proc = run(scene, out, "-q")
+    assert proc.returncode == 1, proc.stderr       # some cases fail
+    with h5py.File(out, "r") as f:
+        assert (f["status"][()] != 0).sum() >= 1
+        assert (f["status"][()] == 0).sum() >= 2
+    return scene, out
+
+
+def test_threads_give_the_same_file(reference, tmp_path):
+    scene, ref = reference
+    for j in (2, 3, 7):
+        out = tmp_path / f"j{j}.h5"
+        proc = run(scene, out, "-q", "-j", str(j))
+        assert proc.returncode == 1, proc.stderr
+        assert_same_content(ref, out)
+
+
+def test_shards_merge_to_the_same_file(reference, tmp_path):
+    scene, ref = reference
+    parts = []
+    for k in range(3):
+        part = tmp_path / f"part{k}.h5"
+        # part 1 on threads and compressed: chunks are copied as stored
+        extra = ["-j", "2", "--gzip", "3"] if k == 1 else []
+        proc = run(scene, part, "-q", "--shard", f"{k}/3", *extra)
+        assert proc.returncode in (0, 1), proc.stderr
+        with h5py.File(part, "r") as f:
+            assert f.attrs["shard"] == f"{k}/3"
+        parts.append(str(part))
+    random.Random(2385).shuffle(parts)
+    out = tmp_path / "merged.h5"
+    proc = subprocess.run([RUNNER, "merge", str(out)] + parts,
+                          capture_output=True, text=True, timeout=60)
+    assert proc.returncode == 1, proc.stderr       # the failed cases
+    assert "merged 3 parts" in proc.stderr
+    with h5py.File(out, "r") as f:
+        assert "shard" not in f.attrs
+        assert "merge" in f.attrs["command_line"]
+        for name in ("force", "theta", "energy_residual"):
+            assert f[name].compression is None, name
+    assert_same_content(ref, out)
+    assert sorted(p.name for p in tmp_path.iterdir()) == [
+        "merged.h5", "part0.h5", "part1.h5", "part2.h5"]
+
+
+def test_a_part_alone_holds_its_cases_only(tmp_path):
+    scene = mixed_scene(tmp_path)
+    part = tmp_path / "p.h5"
+    assert run(scene, part, "-q", "--shard", "1/2").returncode in (0, 1)
+    with h5py.File(part, "r") as f:
+        status = f["status"][()]
+        chunk = f["status"].chunks[0]
+        mine = (np.arange(len(status)) // chunk) % 2 == 1
+        assert (status[~mine] == -1).all()          # fill value: not run
+        assert (status[mine] >= 0).all()
+        assert np.isnan(f["force"][np.flatnonzero(~mine)[0]]).all()
+
+
+def test_merge_refuses_what_does_not_fit(tmp_path):
+    scene = mixed_scene(tmp_path)
+    p = {}
+    for k in range(3):
+        p[k] = str(tmp_path / f"p{k}.h5")
+        assert run(scene, p[k], "-q", "--shard", f"{k}/3").returncode in (0, 1)
+    whole = str(tmp_path / "whole.h5")
+    run(scene, whole, "-q")
+    other = write_scene(tmp_path / "other.yaml",
+                        open(scene).read().replace("duration: 2",
+                                                   "duration: 2.5"))
+    o2 = str(tmp_path / "o2.h5")
+    assert run(other, o2, "-q", "--shard", "2/3").returncode in (0, 1)
+
+    def merge(*parts):
+        return subprocess.run([RUNNER, "merge", str(tmp_path / "m.h5"),
+                               *parts], capture_output=True, text=True)
+
+    bad = [((p[0], p[1]), 2, "2 parts given, the run has 3 shards"),
+           ((p[0], p[1], p[1]), 2, "are both shard 1/3"),
+           ((p[0], p[1], whole), 2, "not a part file"),
+           ((p[0], p[1], o2), 3, "not a part of the same scene"),
+           ((p[0], p[1], str(tmp_path / "nope.h5")), 2, "cannot open")]
+    for parts, code, msg in bad:
+        proc = merge(*parts)
+        assert proc.returncode == code, (parts, proc.stderr)
+        assert msg in proc.stderr, proc.stderr
+        assert not (tmp_path / "m.h5").exists()
+    assert not [x for x in os.listdir(tmp_path) if ".tmp." in x]
+
+
+def test_bad_thread_and_shard_arguments(tmp_path):
+    scene = mixed_scene(tmp_path)
+    for args in (["-j", "0"], ["-j", "x"], ["-j", "100000"],
+                 ["--shard", "3/3"], ["--shard", "1"], ["--shard", "-1/2"],
+                 ["--shard", "0/0"], ["--shard", "1/2x"]):
+        proc = run(scene, tmp_path / "x.h5", *args)
+        assert proc.returncode == 2, (args, proc.stderr)
+    assert os.listdir(tmp_path) == ["mixed.yaml"]
+
+
+def test_plain_runner_under_mpirun_says_which_binary(tmp_path):
+    scene = mixed_scene(tmp_path)
+    env = dict(os.environ, OMPI_COMM_WORLD_SIZE="3")
+    proc = run(scene, tmp_path / "x.h5", env=env)
+    assert proc.returncode == 2
+    assert "rps3-run-mpi" in proc.stderr
+
+
+def mpirun(n, *args, timeout=120):
+    env = dict(os.environ, OMPI_ALLOW_RUN_AS_ROOT="1",
+               OMPI_ALLOW_RUN_AS_ROOT_CONFIRM="1",
+               OMPI_MCA_rmaps_base_oversubscribe="1")
+    return subprocess.run([MPIRUN, "--oversubscribe", "-n", str(n),
+                           *map(str, args)], capture_output=True, text=True,
+                          timeout=timeout, env=env)
+
+
+@pytest.mark.skipif(MPIRUN is None, reason="mpirun (openmpi-bin) missing")
+def test_mpirun_gives_the_same_file(reference, tmp_path):
+    scene, ref = reference
+    assert os.access(RUNNER_MPI, os.X_OK), "make runner-mpi"
+    out = tmp_path / "mpi.h5"
+    proc = mpirun(3, RUNNER_MPI, scene, "-o", out, "-j", "2")
+    assert proc.returncode == 1, proc.stderr      # the failed cases
+    # one summary line, from rank 0, for all the cases
+    assert proc.stderr.count("rps3-run: ") == 1, proc.stderr
+    with h5py.File(ref, "r") as f:
+        n = len(f["status"])
+    assert f"{n}/{n} cases" in proc.stderr
+    assert_same_content(ref, out)
+    # the ranks' parts are gone
+    assert sorted(x.name for x in tmp_path.iterdir()) == ["mpi.h5"]
+
+
+@pytest.mark.skipif(MPIRUN is None, reason="mpirun (openmpi-bin) missing")
+def test_mpirun_bad_scene_and_shard(tmp_path):
+    scene = write_scene(tmp_path / "bad.yaml", "manipulator: {R: -1}\n")
+    proc = mpirun(2, RUNNER_MPI, scene, "-o", tmp_path / "x.h5")
+    assert proc.returncode == 2
+    # said once, by rank 0
+    assert proc.stderr.count("bad.yaml:1:") == 1, proc.stderr
+    good = mixed_scene(tmp_path)
+    proc = mpirun(2, RUNNER_MPI, good, "-o", tmp_path / "x.h5",
+                  "--shard", "0/2")
+    assert proc.returncode == 2 and "--shard" in proc.stderr
+    assert sorted(os.listdir(tmp_path)) == ["bad.yaml", "mixed.yaml"]
