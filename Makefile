@@ -23,7 +23,7 @@ VPY = $(VENV)/bin/python
 
 # Debian packages the build, the tests and the figures need
 DEB_PKGS = gcc clang make pkg-config libgsl-dev libhdf5-dev libyaml-dev \
-           libcmocka-dev python3-venv libopenmpi-dev openmpi-bin valgrind
+           libcmocka-dev python3-venv libopenmpi-dev openmpi-bin valgrind time
 
 B = build
 LIB_SRC = $(wildcard src/*.c)
@@ -141,9 +141,14 @@ $(B)/rps3-bench: $(BENCH_SRC) $(wildcard tests/bench/*.h) $(B)/librps3.a
 	@mkdir -p $(@D)
 	$(CC) $(CPPFLAGS_ALL) $(GSL_CFLAGS) $(HDF5_CFLAGS) $(WARN) -O2 $(BENCH_SRC) \
 	  -o $@ $(B)/librps3.a $(HDF5_LIBS) $(GSL_LIBS) -lm
-bench: $(B)/rps3-bench
+# then tests/bench/runner_bench.py: rps3-run's points per second and peak
+# RSS (GNU time) for sweeps of 10^3 to 10^7 points, -j 1 and 2, into
+# out/bench_runner.h5.  About a minute; the 10^7-point files (3.2 GB) are
+# written next to it and removed.
+bench: $(B)/rps3-bench runner venv
 	@mkdir -p out
 	$(B)/rps3-bench -o out/bench.h5
+	$(VPY) tests/bench/runner_bench.py -o out/bench_runner.h5
 
 # ---------------------------------------------------------------- valgrind
 # memcheck on the threads test and a short control loop: any error or leak

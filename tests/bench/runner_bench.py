@@ -1,0 +1,219 @@
+"""Throughput and peak memory of rps3-run, HDF5 writes included.
+
+Runs build/rps3-run on sweeps of 10^3 to 10^7 trajectory points (the
+paper's helix, Table II, 1000 samples a case, the default effects, closed
+form theta, Lagrange, the energy certificate on; cases are a sweep of m/M)
+with 1 and 2 threads, and one warm multiroot sweep.  Each run is a fresh
+process; its wall time comes from the monotonic clock around it, its CPU
+time and peak RSS from GNU time (/usr/bin/time).  A table on stdout, the figures in an HDF5
+file (one dataset per column along a `run` dimension scale, `units` and
+`doc` on each).  Medians over the repeats; timings are never asserted.
+
+    python tests/bench/runner_bench.py [-o out/bench_runner.h5]
+        [--runner build/rps3-run] [--max-points 1e7] [--repeats 3]
+"""
+
+import argparse
+import datetime
+import os
+import platform
+import shutil
+import statistics
+import subprocess
+import tempfile
+import time
+
+import h5py
+import numpy as np
+
+ROOT = os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(
+    __file__))))
+SAMPLES = 1000
+TARGET_RATE = 1e6       # points per second per core, issue 5
+TARGET_RSS_MIB = 64.0   # peak RSS at 10^7 points, issue 5
+GNU_TIME = "/usr/bin/time"  # Debian package `time`
+
+SCENE = """\
+# runner_bench.py: the paper's helix (Table II), {ncase} case(s) of {samples}
+# samples; the default effects, closed-form theta, Lagrange, certificate on
+manipulator: {{R: 0.2286, rho: 0.5, M: 0.18, m_over_M: 0.5, d: 0.1524}}
+trajectory: {{kind: helix, radius: 0.000266, pitch: 0.03048, z0: 0.3048,
+             period: 10.0, blend: 1.0, samples: {samples}}}
+solver: {{theta: {theta}}}
+sweep:
+  manipulator.m_over_M: {sweep}
+"""
+
+
+def scene_text(ncase, theta):
+    sweep = "[0.5]" if ncase == 1 else f"{{from: 0, to: 0.5, num: {ncase}}}"
+    return SCENE.format(ncase=ncase, samples=SAMPLES, theta=theta,
+                        sweep=sweep)
+
+
+def run_once(runner, scene, out, threads):
+    """One run: (wall s, user + sys s, peak RSS MiB, file bytes).
+
+    GNU time runs the runner and reports its CPU time and peak RSS: the
+    rusage of a child forked from Python would start from Python's own
+    resident size (ru_maxrss survives exec)."""
+    cmd = [runner, scene, "-o", out, "-q", "-j", str(threads)]
+    t0 = time.monotonic()
+    p = subprocess.run([GNU_TIME, "-f", "%U %S %M"] + cmd,
+                       capture_output=True, text=True)
+    wall = time.monotonic() - t0
+    if p.returncode != 0:
+        raise SystemExit(f"{' '.join(cmd)}: exit {p.returncode}: {p.stderr}")
+    user, sys_, rss_kib = p.stderr.split()[-3:]
+    size = os.path.getsize(out)
+    os.unlink(out)
+    return wall, float(user) + float(sys_), float(rss_kib) / 1024.0, size
+
+
+def cpu_model():
+    try:
+        out = subprocess.run(["lscpu"], capture_output=True, text=True).stdout
+        for line in out.splitlines():
+            if line.startswith("Model name:"):
+                return line.split(":", 1)[1].strip()
+    except OSError:
+        pass
+    return platform.processor() or "unknown"
+
+
+def plan(max_points, repeats):
+    """(label, points, threads, theta, repeats) of each row; the small,
+    noisier runs are repeated more."""
+    rows = []
+    n = 1000
+    while n <= max_points:
+        rep = repeats if n >= 10**6 else 2 * repeats + 1
+        for j in (1, 2):
+            rows.append((f"closed_1e{len(str(n)) - 1}_j{j}", n, j,
+                         "closed_form", rep))
+        n *= 10
+    if max_points >= 10**6:
+        rows.append(("multiroot_1e6_j1", 10**6, 1, "multiroot", repeats))
+    return rows
+
+
+def main():
+    ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    ap.add_argument("-o", "--output", default=os.path.join(ROOT, "out",
+                                                          "bench_runner.h5"))
+    ap.add_argument("--runner", default=os.path.join(ROOT, "build",
+                                                     "rps3-run"))
+    ap.add_argument("--max-points", type=float, default=1e7)
+    ap.add_argument("--repeats", type=int, default=3)
+    args = ap.parse_args()
+
+    outdir = os.path.dirname(os.path.abspath(args.output))
+    os.makedirs(outdir, exist_ok=True)
+    # the runs' files next to the output (a real disk, not a tmpfs)
+    work = tempfile.mkdtemp(prefix="runner_bench.", dir=outdir)
+    rows = []
+    try:
+        for label, points, threads, theta, rep in plan(int(args.max_points),
+                                                       args.repeats):
+            ncase = points // SAMPLES
+            scene = os.path.join(work, f"{label}.yaml")
+            with open(scene, "w") as f:
+                f.write(scene_text(ncase, theta))
+            runs = [run_once(args.runner, scene, os.path.join(work, "o.h5"),
+                             threads) for _ in range(rep)]
+            wall = [r[0] for r in runs]
+            cpu = [r[1] for r in runs]
+            rss = [r[2] for r in runs]
+            med = statistics.median(wall)
+            rows.append(dict(
+                run=label, points=points, cases=ncase, threads=threads,
+                theta=theta, repeats=rep, wall_s=med, wall_min_s=min(wall),
+                wall_max_s=max(wall), cpu_s=statistics.median(cpu),
+                points_per_s=points / med,
+                points_per_s_per_thread=points / med / threads,
+                points_per_cpu_s=points / statistics.median(cpu),
+                rss_mib=max(rss), file_bytes=runs[0][3]))
+    finally:
+        shutil.rmtree(work, ignore_errors=True)
+
+    print_table(rows)
+    write_h5(args.output, rows)
+
+
+def print_table(rows):
+    print(f"{'run':22s} {'points':>9s} {'j':>2s} {'wall s':>8s} "
+          f"{'min-max s':>15s} {'Mpt/s':>7s} {'Mpt/s/j':>8s} "
+          f"{'Mpt/cpu-s':>9s} {'RSS MiB':>8s} {'file MB':>8s}")
+    for r in rows:
+        print(f"{r['run']:22s} {r['points']:9d} {r['threads']:2d} "
+              f"{r['wall_s']:8.3f} {r['wall_min_s']:7.3f}-{r['wall_max_s']:7.3f} "
+              f"{r['points_per_s'] / 1e6:7.2f} "
+              f"{r['points_per_s_per_thread'] / 1e6:8.2f} "
+              f"{r['points_per_cpu_s'] / 1e6:9.2f} {r['rss_mib']:8.1f} "
+              f"{r['file_bytes'] / 1e6:8.1f}")
+    big = [r for r in rows if r["points"] >= 10**6
+           and r["theta"] == "closed_form"]
+    j1 = [r["points_per_s"] for r in big if r["threads"] == 1]
+    if j1:
+        print(f"target >= {TARGET_RATE / 1e6:.1f} Mpt/s per core: one thread "
+              f"at 10^6 points and up: {min(j1) / 1e6:.2f}-"
+              f"{max(j1) / 1e6:.2f} Mpt/s (ratio {min(j1) / TARGET_RATE:.2f}"
+              f"-{max(j1) / TARGET_RATE:.2f})")
+    top = max(r["points"] for r in rows)
+    rss = max(r["rss_mib"] for r in rows if r["points"] == top)
+    print(f"target peak RSS <= {TARGET_RSS_MIB:.0f} MiB at 10^7 points: "
+          f"{rss:.1f} MiB at {top:.0e} points (ratio "
+          f"{rss / TARGET_RSS_MIB:.2f}); smallest run "
+          f"{min(r['rss_mib'] for r in rows):.1f} MiB")
+
+
+COLUMNS = [
+    ("points", "1", "trajectory points in the sweep (cases x samples)"),
+    ("cases", "1", "cases of the sweep (1000 samples each)"),
+    ("threads", "1", "rps3-run -j"),
+    ("repeats", "1", "runs of this row; the times are their median"),
+    ("wall_s", "s", "median wall time of the whole run, HDF5 file included"),
+    ("wall_min_s", "s", "fastest run"),
+    ("wall_max_s", "s", "slowest run"),
+    ("cpu_s", "s", "median user + system CPU time of the process"),
+    ("points_per_s", "1/s", "points / median wall time"),
+    ("points_per_s_per_thread", "1/s", "points_per_s / threads"),
+    ("points_per_cpu_s", "1/s", "points / median CPU time"),
+    ("rss_mib", "MiB", "peak resident set size, largest over the repeats"),
+    ("file_bytes", "B", "size of the HDF5 file written"),
+]
+
+
+def write_h5(path, rows):
+    tmp = path + ".tmp"
+    with h5py.File(tmp, "w") as f:
+        f.attrs["machine"] = f"{cpu_model()}, {os.cpu_count()} CPUs, " \
+                             f"{platform.platform()}"
+        f.attrs["created_utc"] = datetime.datetime.now(
+            datetime.timezone.utc).strftime("%Y-%m-%dT%H:%M:%SZ")
+        f.attrs["scene"] = scene_text(10, "closed_form")
+        f.attrs["targets"] = (f"points_per_s_per_thread >= {TARGET_RATE:g} "
+                              f"with one thread; rss_mib <= "
+                              f"{TARGET_RSS_MIB:g} at 1e7 points")
+        run = f.create_dataset("run", data=np.array(
+            [r["run"] for r in rows], dtype=h5py.string_dtype()))
+        run.attrs["units"] = "1"
+        run.attrs["doc"] = "closed_1eN_jJ: 10^N points, closed-form theta, " \
+                           "J threads; multiroot_*: warm multiroot theta"
+        run.make_scale("run")
+        theta = f.create_dataset("theta", data=np.array(
+            [r["theta"] for r in rows], dtype=h5py.string_dtype()))
+        theta.attrs["units"] = "1"
+        theta.attrs["doc"] = "solver.theta of the scene"
+        theta.dims[0].attach_scale(run)
+        for name, units, doc in COLUMNS:
+            ds = f.create_dataset(name, data=np.array([r[name] for r in rows]))
+            ds.attrs["units"] = units
+            ds.attrs["doc"] = doc
+            ds.dims[0].attach_scale(run)
+    os.replace(tmp, path)
+    print(f"wrote {path}")
+
+
+if __name__ == "__main__":
+    main()
