@@ -131,7 +131,8 @@ check-san: $(TEST_SAN)
 check-py: all venv
 	$(VPY) -m pytest -q tests
 
-check: lib runner check-c check-san check-py
+# pytest last, so that a run ends on its summary line
+check: lib runner check-c check-san valgrind check-fuzz check-py
 
 # ------------------------------------------------------------------- bench
 # rps3-bench (tests/bench/): per-call medians of every stage, a table on
@@ -159,7 +160,6 @@ VALGRIND = valgrind -q --error-exitcode=1 --leak-check=full \
 valgrind: $(B)/tests/test_threads $(B)/tests/example_control_loop
 	$(VALGRIND) $(B)/tests/test_threads
 	$(VALGRIND) $(B)/tests/example_control_loop 100
-check: valgrind
 
 # -------------------------------------------------------------------- fuzz
 # libFuzzer over the scene parser (tests/fuzz/fuzz_scene.c) with ASan and
@@ -178,7 +178,6 @@ check-fuzz: $(B)/fuzz_scene
 	$(B)/fuzz_scene -max_total_time=$(FUZZ_TIME) -timeout=5 -rss_limit_mb=2048 \
 	  -dict=tests/fuzz/scene.dict -print_final_stats=1 \
 	  $(B)/fuzz-corpus configs tests/bad_scenes
-check: check-fuzz
 
 # ------------------------------------------------------------------- study
 # rps3-study (runner/main_study.c): what accuracy costs in time, and the
