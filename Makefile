@@ -22,7 +22,7 @@ VENV = .venv
 VPY = $(VENV)/bin/python
 
 # Debian packages the build, the tests and the figures need
-DEB_PKGS = gcc clang make pkg-config libgsl-dev libhdf5-dev libyaml-dev \
+DEB_PKGS = gcc clang libclang-rt-dev make pkg-config libgsl-dev libhdf5-dev libyaml-dev \
            libcmocka-dev python3-venv libopenmpi-dev openmpi-bin valgrind time
 
 B = build
