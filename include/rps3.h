@@ -63,7 +63,9 @@ enum rps3_status {
                         not above the base plane (theta outside (0, pi)) */
   RPS3_ENOCONV = 2,  /* theta solve did not converge within max_iter, or the
                         solver stopped making progress */
-  RPS3_EBRANCH = 3,  /* theta solve converged outside 0 < theta < pi */
+  RPS3_EBRANCH = 3,  /* theta solve converged outside 0 < theta < pi, or
+                        to the spun-platform roots of (8)-(10) that no
+                        pose describes */
   RPS3_ESING = 4,    /* singular configuration: the constraint Jacobian
                         d f / d theta (the lambda system) has condition number
                         above opt.cond_max, or a zero pivot */
