@@ -223,6 +223,13 @@ static int attr_str(hid_t obj, hid_t str, const char *name, const char *value)
 
 /* a dataset with units and description attributes; chunk may be NULL
    (contiguous) */
+/* the HDF5 memory/file type of a schema field */
+static hid_t field_type(const out_file *f, const out_field_info *fi) {
+  return fi->type == OUT_F64   ? H5T_NATIVE_DOUBLE
+         : fi->type == OUT_I32 ? H5T_NATIVE_INT32
+                               : f->str;
+}
+
 static hid_t dataset(hid_t file, hid_t str, const char *name, hid_t type,
                      int rank, const hsize_t *dims, const hsize_t *chunk,
                      int gzip, const void *fill, const char *units,
@@ -550,9 +557,7 @@ out_file *out_create(const char *path, const scene *s,
   /* the fields of the schema */
   for (i = 0; i < OUT_NFIELD; i++) {
     const out_field_info *fi = &fields[i];
-    hid_t type = fi->type == OUT_F64   ? H5T_NATIVE_DOUBLE
-                 : fi->type == OUT_I32 ? H5T_NATIVE_INT32
-                                       : f->str;
+    hid_t type = field_type(f, fi);
     hid_t axes[4];
     int rank = 0, r;
     dims[rank] = s->ncase;
@@ -688,9 +693,7 @@ int out_write(out_file *f, const out_block *b, size_t c0, size_t nc,
   int i;
   for (i = 0; i < OUT_NFIELD; i++) {
     const out_field_info *fi = &fields[i];
-    hid_t type = fi->type == OUT_F64   ? H5T_NATIVE_DOUBLE
-                 : fi->type == OUT_I32 ? H5T_NATIVE_INT32
-                                       : f->str;
+    hid_t type = field_type(f, fi);
     int rank = fi->shape == OUT_C      ? 1
                : fi->shape == OUT_CT   ? 2
                : fi->shape == OUT_CTEL ? 4
