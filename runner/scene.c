@@ -563,6 +563,13 @@ static int mapping_key(parse_ctx *c, const yaml_node_t *map,
     return -1;
   }
   *name = scalar_text(kn);
+  /* an empty name ("" or "? >") would leave the key path blank in the
+     message, naming nothing: say what it is and where it stands */
+  if ((*name)[0] == '\0') {
+    error_set(c->err, mk, prefix[0] ? prefix : "(root)",
+              "a key must be a name, got an empty string");
+    return -1;
+  }
   for (q = map->data.mapping.pairs.start; q < pair; q++) {
     const yaml_node_t *other = node_get(c, q->key);
     if (other->type == YAML_SCALAR_NODE &&
