@@ -164,7 +164,7 @@ valgrind: $(B)/tests/test_threads $(B)/tests/example_control_loop
 # -------------------------------------------------------------------- fuzz
 # libFuzzer over the scene parser (tests/fuzz/fuzz_scene.c) with ASan and
 # UBSan, seeded from configs/ and tests/bad_scenes/.  check-fuzz is a bounded
-# 20 s run; the long run is in the README.
+# 20 s run; the long run is in docs/hard-cases.md.
 FUZZ_CC = clang
 FUZZ_FLAGS = -g -O1 -fsanitize=fuzzer,address,undefined -fno-sanitize-recover=all
 FUZZ_TIME ?= 20

@@ -11,7 +11,7 @@ within the multiroot theta solves and within the finite-difference rates,
 drawn as step lines; the effects ladder shown apart as model error; and
 a second row for the sample interval, where the cost is the time to compute
 one second of trajectory.  Prints the recommended settings (the Pareto
-points) as a markdown table on stdout, for the README.
+points) as a markdown table on stdout, for docs/accuracy.md.
 """
 
 import argparse

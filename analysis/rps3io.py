@@ -3,7 +3,7 @@
 Every function takes an open ``h5py.File`` (open it with
 ``with h5py.File(path, "r") as f``) and finds axes through the dimension
 scales, so that it does not depend on the order in which datasets were
-written.  See README section "HDF5 layout" for the file format.
+written.  See docs/hdf5.md for the file format.
 """
 
 import numpy as np

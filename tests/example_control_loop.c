@@ -1,7 +1,7 @@
 /*
  * example_control_loop.c - rps3 in a fixed-rate control loop: every tick,
  * the feedforward actuator forces for the desired motion of the paper's
- * helix.  Built and run by `make check`; the README quotes it.
+ * helix.  Built and run by `make check`; docs/performance.md quotes it.
  *
  *   example_control_loop [TICKS]     (default 300 ticks at 1 kHz)
  *

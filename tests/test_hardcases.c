@@ -5,7 +5,7 @@
  * blend corners, random poses across the workspace, the theta solve from
  * bad starting guesses, and 10^6 warm-started solves without drift.
  *
- * The README section "hard cases" lists each case with what is asserted.
+ * docs/hard-cases.md lists each case with what is asserted.
  * Every check compares against an independent truth: a one-sided limit, a
  * scaling law, a recomputed geometry, or the closed form (39).
  */
@@ -841,7 +841,7 @@ static void impossible_lengths(void **state) {
  * ball joints above the base, the triangle of side sqrt(3) r, and a pose
  * that inverse kinematics maps back to the same lengths.  Started near the
  * pose's own root (1e-3 rad) on a well-conditioned pose, it must find that
- * root.  The counts of roots found are in the README.
+ * root.  The counts of roots found are in docs/hard-cases.md.
  */
 static void bad_guesses(void **state) {
   rps3_model m;

@@ -3,7 +3,7 @@
  *
  *   make check-fuzz          a bounded run (20 s) from tests/fuzz/corpus
  *   build/fuzz_scene -max_total_time=3600 -jobs=4 build/fuzz-corpus \
- *       tests/fuzz/corpus configs tests/bad_scenes   the long run (README)
+ *       tests/fuzz/corpus configs tests/bad_scenes   the long run (docs/hard-cases.md)
  *
  * Each input is written to a file and read by scene_load(), the entry point
  * of rps3-run.  What must hold, besides no crash, leak or undefined
