@@ -79,7 +79,7 @@ $(B)/obj/%.o: src/%.c | $(B)/.deps
 	$(CC) $(CPPFLAGS_ALL) $(GSL_CFLAGS) $(WARN) $(OPT) -MMD -MP -c $< -o $@
 $(B)/pic/%.o: src/%.c | $(B)/.deps
 	@mkdir -p $(@D)
-	$(CC) $(CPPFLAGS_ALL) $(GSL_CFLAGS) $(WARN) $(OPT) -fPIC -MMD -MP -c $< -o $@
+	$(CC) $(CPPFLAGS_ALL) $(GSL_CFLAGS) $(WARN) $(OPT) -fPIC -fvisibility=hidden -MMD -MP -c $< -o $@
 $(B)/san/%.o: src/%.c | $(B)/.deps
 	@mkdir -p $(@D)
 	$(CC) $(CPPFLAGS_ALL) $(GSL_CFLAGS) $(WARN) -O1 -g $(SAN) -MMD -MP -c $< -o $@

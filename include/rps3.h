@@ -40,6 +40,19 @@
 extern "C" {
 #endif
 
+/* ------------------------------------------------------------ visibility */
+
+/* RPS3_API marks the public functions: the library is built with
+   -fvisibility=hidden, so that only these are exported from librps3.so.
+   Every public function declared here, now and later, carries it. */
+#if defined(_WIN32)
+#define RPS3_API
+#elif defined(__GNUC__) && __GNUC__ >= 4
+#define RPS3_API __attribute__((visibility("default")))
+#else
+#define RPS3_API
+#endif
+
 /* ---------------------------------------------------------------- version */
 
 #define RPS3_VERSION_MAJOR 0
@@ -48,7 +61,7 @@ extern "C" {
 #define RPS3_VERSION_STRING "0.1.0"
 
 /* Version string of the compiled library; compare with RPS3_VERSION_STRING. */
-const char *rps3_version(void);
+RPS3_API const char *rps3_version(void);
 
 /* ----------------------------------------------------------- status codes */
 
@@ -77,7 +90,7 @@ enum rps3_status {
 };
 
 /* Short static description of a status code (never NULL). */
-const char *rps3_strerror(int status);
+RPS3_API const char *rps3_strerror(int status);
 
 /* Warning bits in rps3_data.warn: the result is returned, but look at it. */
 enum rps3_warning {
@@ -117,10 +130,10 @@ enum rps3_effect {
 
 /* Name of effect index k (0 <= k < RPS3_NEFFECT), e.g. "platform_gravity";
    index k is the bit 1 << k.  NULL for k out of range. */
-const char *rps3_effect_name(int k);
+RPS3_API const char *rps3_effect_name(int k);
 
 /* Index of the effect with this name, or -1 if there is none. */
-int rps3_effect_index(const char *name);
+RPS3_API int rps3_effect_index(const char *name);
 
 /* ---------------------------------------------------------------- options */
 
@@ -155,10 +168,10 @@ typedef enum {
 #define RPS3_NSOLVER 8
 
 /* Name of a solver ("hybridsj", ...), NULL if out of range. */
-const char *rps3_solver_name(int solver);
+RPS3_API const char *rps3_solver_name(int solver);
 
 /* Solver with this name, or -1 if there is none. */
-int rps3_solver_index(const char *name);
+RPS3_API int rps3_solver_index(const char *name);
 
 typedef struct {
   int effects;             /* selected effects, RPS3_EFF_* bits */
@@ -227,10 +240,10 @@ typedef struct {
 /* Fill m with the paper's Table II (R = 0.2286 m, rho = 0.5, M = 0.18 kg,
    m/M = 0.5, d = 0.1524 m, g = 9.80665 m/s^2), no payload, no friction and
    the default options.  Call rps3_model_init() afterwards. */
-void rps3_model_default(rps3_model *m);
+RPS3_API void rps3_model_default(rps3_model *m);
 
 /* Fill opt with the default options. */
-void rps3_options_default(rps3_options *opt);
+RPS3_API void rps3_options_default(rps3_options *opt);
 
 /*
  * Validate m and compute its derived fields.  Returns RPS3_OK, or
@@ -243,7 +256,7 @@ void rps3_options_default(rps3_options *opt);
  * inertia violating the triangle inequality, unknown enum values,
  * tol <= 0, max_iter < 1, cond_warn < 1, cond_max < cond_warn.
  */
-int rps3_model_init(rps3_model *m, char *err, size_t errsz);
+RPS3_API int rps3_model_init(rps3_model *m, char *err, size_t errsz);
 
 /* ------------------------------------------------------------------- data */
 
@@ -331,13 +344,13 @@ typedef struct {
  * solver of m->opt.solver and its vectors.  Returns RPS3_OK, RPS3_EINVAL
  * (m NULL or not initialised, out NULL) or RPS3_ENOMEM (nothing leaks).
  */
-int rps3_data_alloc(const rps3_model *m, rps3_data **out);
+RPS3_API int rps3_data_alloc(const rps3_model *m, rps3_data **out);
 
 /* Free a workspace; NULL is accepted. */
-void rps3_data_free(rps3_data *d);
+RPS3_API void rps3_data_free(rps3_data *d);
 
 /* Forget the current point and the warm start (have_theta = 0). */
-void rps3_data_reset(rps3_data *d);
+RPS3_API void rps3_data_reset(rps3_data *d);
 
 /* ------------------------------------------------------------- kinematics */
 
@@ -347,7 +360,7 @@ void rps3_data_reset(rps3_data *d);
  * Returns RPS3_OK, RPS3_EINVAL (non-finite pose) or RPS3_EREACH (a link of
  * zero length or a ball joint not above the base plane).
  */
-int rps3_ik(const rps3_model *m, rps3_data *d);
+RPS3_API int rps3_ik(const rps3_model *m, rps3_data *d);
 
 /*
  * Cold starting guess for the theta solve from d->l alone: the theta each
@@ -355,7 +368,7 @@ int rps3_ik(const rps3_model *m, rps3_data *d);
  * Writes d->theta.  Returns RPS3_OK or RPS3_EINVAL (non-finite or
  * non-positive length).
  */
-int rps3_theta_guess(const rps3_model *m, rps3_data *d);
+RPS3_API int rps3_theta_guess(const rps3_model *m, rps3_data *d);
 
 /*
  * Solve the constraints (8)-(10) for theta given the link lengths d->l, with
@@ -374,7 +387,7 @@ int rps3_theta_guess(const rps3_model *m, rps3_data *d);
  * modes); the solve returns the one its starting point leads to, so start
  * it near the wanted one (warm start from the previous sample).
  */
-int rps3_theta_solve(const rps3_model *m, rps3_data *d);
+RPS3_API int rps3_theta_solve(const rps3_model *m, rps3_data *d);
 
 /*
  * Forward kinematics: link lengths d->l -> theta (rps3_theta_solve) ->
@@ -383,10 +396,10 @@ int rps3_theta_solve(const rps3_model *m, rps3_data *d);
  * below 1e-9 rad alpha is not defined: it is set to 0 and RPS3_WARN_ALPHA is
  * raised.  Returns the status of rps3_theta_solve.
  */
-int rps3_fk(const rps3_model *m, rps3_data *d);
+RPS3_API int rps3_fk(const rps3_model *m, rps3_data *d);
 
 /* The homogeneous transform (1) of the current platform pose. */
-void rps3_transform(const rps3_data *d, double T[4][4]);
+RPS3_API void rps3_transform(const rps3_data *d, double T[4][4]);
 
 /*
  * Velocities from pose rates: from d->dpose (after a position stage) compute
@@ -394,13 +407,13 @@ void rps3_transform(const rps3_data *d, double T[4][4]);
  * z-dot) -> (l-dot, theta-dot)).  Returns RPS3_OK, RPS3_EINVAL or
  * RPS3_ESTATE.
  */
-int rps3_velocity(const rps3_model *m, rps3_data *d);
+RPS3_API int rps3_velocity(const rps3_model *m, rps3_data *d);
 
 /*
  * Accelerations from pose accelerations: from d->ddpose (after
  * rps3_velocity) compute ac, domega, ddl, ddtheta.
  */
-int rps3_acceleration(const rps3_model *m, rps3_data *d);
+RPS3_API int rps3_acceleration(const rps3_model *m, rps3_data *d);
 
 /*
  * Velocities from link rates, eqs. (25)-(30): from d->dl (after a position
@@ -409,13 +422,13 @@ int rps3_acceleration(const rps3_model *m, rps3_data *d);
  * joint velocities (26)-(28).  Also fills d->dpose.  Returns RPS3_OK,
  * RPS3_EINVAL, RPS3_ESTATE or RPS3_ESING.
  */
-int rps3_joint_velocity(const rps3_model *m, rps3_data *d);
+RPS3_API int rps3_joint_velocity(const rps3_model *m, rps3_data *d);
 
 /*
  * The same one order higher: from d->ddl (after rps3_joint_velocity)
  * compute ddtheta, ac, domega and d->ddpose.
  */
-int rps3_joint_acceleration(const rps3_model *m, rps3_data *d);
+RPS3_API int rps3_joint_acceleration(const rps3_model *m, rps3_data *d);
 
 /*
  * Body-frame angular velocity (omega_x, omega_y, omega_z) by the paper's
@@ -423,7 +436,7 @@ int rps3_joint_acceleration(const rps3_model *m, rps3_data *d);
  * current positions, dl, dtheta and vc.  A second formulation of omega,
  * kept for checking: rot^T omega must equal it.
  */
-void rps3_omega_paper(const rps3_model *m, const rps3_data *d,
+RPS3_API void rps3_omega_paper(const rps3_model *m, const rps3_data *d,
                       double omega_body[3]);
 
 /* ---------------------------------------------------------------- dynamics */
@@ -436,7 +449,7 @@ void rps3_omega_paper(const rps3_model *m, const rps3_data *d,
  * opt.certify, the energy-rate certificate.  Returns RPS3_OK, RPS3_ESTATE
  * or RPS3_ESING.
  */
-int rps3_invdyn(const rps3_model *m, rps3_data *d);
+RPS3_API int rps3_invdyn(const rps3_model *m, rps3_data *d);
 
 /*
  * Whole pipeline for one point: the caller sets d->pose, d->dpose,
@@ -445,7 +458,7 @@ int rps3_invdyn(const rps3_model *m, rps3_data *d);
  * accelerations are computed only when a selected effect or certify needs
  * them.  Returns the first failing stage's status.
  */
-int rps3_inverse(const rps3_model *m, rps3_data *d);
+RPS3_API int rps3_inverse(const rps3_model *m, rps3_data *d);
 
 /* -------------------------------------------------------------- trajectory */
 
@@ -483,16 +496,16 @@ typedef struct {
 } rps3_traj;
 
 /* The paper's helix of Table II. */
-void rps3_traj_default(rps3_traj *tr);
+RPS3_API void rps3_traj_default(rps3_traj *tr);
 
 /* Validate tr for model m (initialised).  RPS3_OK or RPS3_EINVAL with a
    message "FIELD = VALUE: reason", FIELD a dotted name such as
    "trajectory.radius" (see rps3_model_init). */
-int rps3_traj_check(const rps3_model *m, const rps3_traj *tr, char *err,
+RPS3_API int rps3_traj_check(const rps3_model *m, const rps3_traj *tr, char *err,
                     size_t errsz);
 
 /* Time span of the trajectory [s] (T* for the helix). */
-double rps3_traj_duration(const rps3_traj *tr);
+RPS3_API double rps3_traj_duration(const rps3_traj *tr);
 
 /*
  * Pose, rate and acceleration at time t in [0, duration], exact.  The helix
@@ -502,7 +515,7 @@ double rps3_traj_duration(const rps3_traj *tr);
  * Returns RPS3_OK, RPS3_EINVAL (bad arguments) or RPS3_EDOMAIN (t outside
  * the span).
  */
-int rps3_traj_eval(const rps3_model *m, const rps3_traj *tr, double t,
+RPS3_API int rps3_traj_eval(const rps3_model *m, const rps3_traj *tr, double t,
                    double pose[3], double dpose[3], double ddpose[3]);
 
 #ifdef __cplusplus
