@@ -356,6 +356,7 @@ static int mpi_join(const world *w, int code, const char *out_path,
         else if (commit(out_path) == 0) {
           result = nfailed ? EXIT_FAILED_CASES : EXIT_OK;
           pr->ncase = ncase;
+          pr->njob = pr->njob_all;
           progress_finish(pr, sum[0], sum[1], sum[2]);
         }
       }
@@ -390,6 +391,35 @@ static int agree(const world *w, int code, int *first)
   if (first)
     *first = all[1];
   return all[0];
+}
+
+/*
+ * The sweep is cut into jobs (sweep.h): whole tiles of cases, or one long
+ * case.  More shards, ranks or threads than jobs leave some idle: say how
+ * many, on stderr, even with --quiet (rank 0 only).
+ */
+static void jobs_warn(const scene *s, const sweep_plan *p,
+                      const sweep_opts *o, const world *w, int sharded)
+{
+  size_t nj = sweep_njob(s, p);
+  size_t mine = sweep_shard_jobs(s, p, o->shard, o->nshard);
+  if (w->rank != 0)
+    return;
+  if (o->nshard > nj)
+    fprintf(stderr,
+            "rps3-run: warning: %zu %s but the sweep has %zu job%s (tiles "
+            "of up to %zu cases): %s %zu-%zu compute nothing; use at most "
+            "%zu\n",
+            o->nshard, sharded ? "shards" : "ranks", nj, nj == 1 ? "" : "s",
+            p->tile_cases, sharded ? "shards" : "ranks", nj, o->nshard - 1,
+            nj);
+  if ((size_t)o->nthread > mine && mine > 0)
+    fprintf(stderr,
+            "rps3-run: warning: -j %d but %s %zu job%s: %zu thread%s "
+            "idle\n",
+            o->nthread, o->nshard > 1 ? "this shard has" : "the sweep has",
+            mine, mine == 1 ? "" : "s", (size_t)o->nthread - mine,
+            (size_t)o->nthread - mine == 1 ? " stays" : "s stay");
 }
 
 static int run_main(int argc, char **argv, const world *w)
@@ -512,13 +542,25 @@ static int run_main(int argc, char **argv, const world *w)
     }
   }
   if (check) {
-    if (w->rank == 0)
+    if (w->rank == 0) {
+      size_t nj = sweep_njob(&s, &plan);
       printf("%s: %zu case%s, %zu samples (%zu per case at most)%s\n",
              scene_path, s.ncase, s.ncase == 1 ? "" : "s", plan.npoint,
              plan.nt, plan.grid_common ? "" : ", time grid differs by case");
+      if (plan.tile_cases > 1 || plan.nt <= plan.tile_points)
+        printf("%zu job%s of up to %zu cases: at most %zu shards, ranks or "
+               "threads have work\n",
+               nj, nj == 1 ? "" : "s", plan.tile_cases, nj);
+      else
+        printf("%zu job%s of one case each (in windows of %zu samples): at "
+               "most %zu shards, ranks or threads have work\n",
+               nj, nj == 1 ? "" : "s", plan.tile_points, nj);
+    }
+    jobs_warn(&s, &plan, &opts, w, shard_arg != NULL);
     scene_free(&s);
     return EXIT_OK;
   }
+  jobs_warn(&s, &plan, &opts, w, shard_arg != NULL);
 
   memset(&block, 0, sizeof block);
   cmd = command_line(argc, argv);
@@ -545,6 +587,8 @@ static int run_main(int argc, char **argv, const world *w)
   have_tmp = 1;
   progress_start(&pr, sweep_shard_cases(&s, &plan, opts.shard, opts.nshard),
                  quiet || w->rank != 0);
+  pr.njob_all = sweep_njob(&s, &plan);
+  pr.njob = sweep_shard_jobs(&s, &plan, opts.shard, opts.nshard);
   f = out_create(tmp_path, &s, &plan.first, plan.nt, plan.grid_common,
                  &block, &meta, err, sizeof err);
   if (!f) {

@@ -33,6 +33,7 @@ static void hms(char *buf, size_t sz, double s)
 void progress_start(progress *p, size_t ncase, int quiet)
 {
   p->ncase = ncase;
+  p->njob = p->njob_all = 0;
   p->t0 = now();
   p->shown = p->t0;
   if (quiet)
@@ -86,8 +87,13 @@ void progress_finish(progress *p, size_t cases_done, size_t points_done,
     fputc('\n', stderr);
   fprintf(stderr,
           "rps3-run: %zu/%zu cases (%zu failed), %zu samples in %s "
-          "(%.3g samples/s)\n",
+          "(%.3g samples/s)",
           cases_done, p->ncase, nfailed, points_done, e1,
           el > 0 ? (double)points_done / el : 0);
+  if (p->njob && p->njob != p->njob_all)
+    fprintf(stderr, ", %zu of %zu jobs", p->njob, p->njob_all);
+  else if (p->njob)
+    fprintf(stderr, ", %zu job%s", p->njob, p->njob == 1 ? "" : "s");
+  fputc('\n', stderr);
   fflush(stderr);
 }

@@ -13,6 +13,8 @@ typedef enum { PROGRESS_QUIET, PROGRESS_BAR, PROGRESS_LINES } progress_mode;
 typedef struct {
   progress_mode mode;
   size_t ncase;       /* cases in the sweep */
+  size_t njob;        /* jobs of those cases (0: not said) */
+  size_t njob_all;    /* jobs of the whole sweep (more when sharded) */
   double t0;          /* start [s, monotonic] */
   double shown;       /* time of the last output [s] */
   double interval;    /* seconds between outputs */
@@ -24,7 +26,7 @@ void progress_start(progress *p, size_t ncase, int quiet);
 /* Report cases_done cases and points_done samples so far (rate-limited). */
 void progress_update(progress *p, size_t cases_done, size_t points_done);
 
-/* Final line: cases, failures, samples, elapsed time and rate. */
+/* Final line: cases, failures, samples, elapsed time and rate, jobs. */
 void progress_finish(progress *p, size_t cases_done, size_t points_done,
                      size_t nfailed);
 

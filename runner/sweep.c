@@ -156,6 +156,13 @@ size_t sweep_njob(const scene *s, const sweep_plan *p)
   return (s->ncase + p->tile_cases - 1) / p->tile_cases;
 }
 
+size_t sweep_shard_jobs(const scene *s, const sweep_plan *p, size_t shard,
+                        size_t nshard)
+{
+  size_t nj = sweep_njob(s, p);
+  return nj > shard ? (nj - shard + nshard - 1) / nshard : 0;
+}
+
 size_t sweep_shard_cases(const scene *s, const sweep_plan *p, size_t shard,
                          size_t nshard)
 {

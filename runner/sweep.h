@@ -68,6 +68,10 @@ int sweep_run(const scene *s, const sweep_plan *p, out_file *f,
 /* Number of jobs of a plan: ceil(ncase / tile_cases). */
 size_t sweep_njob(const scene *s, const sweep_plan *p);
 
+/* Jobs of shard `shard` of `nshard`: those j with j % nshard == shard. */
+size_t sweep_shard_jobs(const scene *s, const sweep_plan *p, size_t shard,
+                        size_t nshard);
+
 /* Cases in the jobs of shard `shard` of `nshard`. */
 size_t sweep_shard_cases(const scene *s, const sweep_plan *p, size_t shard,
                          size_t nshard);

@@ -208,8 +208,11 @@ def test_mpirun_gives_the_same_file(reference, tmp_path):
     out = tmp_path / "mpi.h5"
     proc = mpirun(3, RUNNER_MPI, scene, "-o", out, "-j", "2")
     assert proc.returncode == 1, proc.stderr      # the failed cases
-    # one summary line, from rank 0, for all the cases
-    assert proc.stderr.count("rps3-run: ") == 1, proc.stderr
+    # one summary line, from rank 0, for all the cases (and, in windows,
+    # the warning that -j 2 has one job per rank)
+    said = [x for x in proc.stderr.splitlines()
+            if x.startswith("rps3-run: ") and "warning: -j 2" not in x]
+    assert len(said) == 1, proc.stderr
     with h5py.File(ref, "r") as f:
         n = len(f["status"])
     assert f"{n}/{n} cases" in proc.stderr
@@ -230,3 +233,28 @@ def test_mpirun_bad_scene_and_shard(tmp_path):
                   "--shard", "0/2")
     assert proc.returncode == 2 and "--shard" in proc.stderr
     assert sorted(os.listdir(tmp_path)) == ["bad.yaml", "mixed.yaml"]
+
+
+def test_jobs_are_counted_and_idle_shards_warned(tmp_path):
+    """mixed: 20 cases of 4001 samples, tiles of 4 cases: 5 jobs."""
+    scene = mixed_scene(tmp_path)
+    proc = run(scene, None, "--check")
+    assert proc.returncode == 0, proc.stderr
+    assert "5 jobs of up to 4 cases: at most 5 shards" in proc.stdout
+    assert "warning" not in proc.stderr
+    proc = run(scene, None, "--check", "--shard", "0/8")
+    assert "8 shards but the sweep has 5 jobs" in proc.stderr
+    assert "shards 5-7 compute nothing; use at most 5" in proc.stderr
+    # a run says it too, even with -q, and an idle shard is still a part
+    proc = run(scene, tmp_path / "p6.h5", "-q", "--shard", "6/8")
+    assert proc.returncode == 0, proc.stderr
+    assert "8 shards but the sweep has 5 jobs" in proc.stderr
+    with h5py.File(tmp_path / "p6.h5", "r") as f:
+        assert (f["status"][()] == -1).all()
+    proc = run(scene, tmp_path / "p1.h5", "--shard", "1/2", "-j", "4")
+    assert "-j 4 but this shard has 2 jobs: 2 threads stay idle" \
+        in proc.stderr
+    assert "8/8 cases" in proc.stderr and ", 2 of 5 jobs" in proc.stderr
+    proc = run(scene, tmp_path / "all.h5", "-j", "2")
+    assert "warning" not in proc.stderr
+    assert proc.stderr.rstrip().endswith(", 5 jobs"), proc.stderr
