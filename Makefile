@@ -1,5 +1,6 @@
 # rps3 - one plain Makefile.  `make paper` and `make check` are the two
-# commands a new user needs; both install what is missing first.
+# commands a new user needs; both install the Debian packages they need
+# first (as root).  A plain `make` installs nothing: it says what is missing.
 
 # ---------------------------------------------------------------- settings
 CC ?= cc
@@ -21,9 +22,31 @@ PYTHON ?= python3
 VENV = .venv
 VPY = $(VENV)/bin/python
 
-# Debian packages the build, the tests and the figures need
-DEB_PKGS = gcc clang libclang-rt-dev make pkg-config libgsl-dev libhdf5-dev libyaml-dev \
-           libcmocka-dev python3-venv libopenmpi-dev openmpi-bin valgrind time
+# Debian packages: what the library and the runner need to build, what
+# `make paper` adds (the Python package is compiled against rps3.h, so the
+# Python headers), and what `make check` and `make bench` add (a second
+# compiler and libFuzzer, cmocka, valgrind, MPI, GNU time, CMake for the
+# install test)
+DEB_BUILD = gcc make pkg-config libgsl-dev libhdf5-dev libyaml-dev
+DEB_PAPER = $(DEB_BUILD) python3-venv python3-dev
+DEB_CHECK = $(DEB_PAPER) clang libclang-rt-dev libcmocka-dev libopenmpi-dev openmpi-bin \
+            valgrind time cmake
+
+# version, from the header; the shared library's SONAME carries the major
+VERSION := $(shell sed -n 's/^\#define RPS3_VERSION_STRING "\(.*\)"/\1/p' include/rps3.h)
+SOVERSION := $(shell sed -n 's/^\#define RPS3_VERSION_MAJOR \([0-9]*\)/\1/p' include/rps3.h)
+
+# installation (GNU conventions): `make install PREFIX=/usr/local`,
+# DESTDIR for staged installs
+PREFIX ?= /usr/local
+BINDIR ?= $(PREFIX)/bin
+LIBDIR ?= $(PREFIX)/lib
+INCLUDEDIR ?= $(PREFIX)/include
+PKGCONFIGDIR ?= $(LIBDIR)/pkgconfig
+CMAKEDIR ?= $(LIBDIR)/cmake/rps3
+INSTALL ?= install
+INSTALL_PROGRAM ?= $(INSTALL) -m 755
+INSTALL_DATA ?= $(INSTALL) -m 644
 
 B = build
 LIB_SRC = $(wildcard src/*.c)
@@ -41,60 +64,101 @@ RUN_COMMON = $(filter-out $(RUN_MAINS),$(wildcard runner/*.c))
 RUN_OBJ = $(RUN_COMMON:runner/%.c=$(B)/runner/%.o)
 
 .PHONY: all lib runner runner-mpi study-bin check check-c check-san check-py paper \
-        study bench deps venv clean
+        study bench deps venv clean install uninstall
 
-all: lib runner runner-mpi
+# the MPI runner is part of `all` when OpenMPI is there; `make check`
+# builds it in any case
+HAVE_MPI := $(shell pkg-config --exists ompi-c 2>/dev/null && echo 1)
+all: lib runner $(if $(HAVE_MPI),runner-mpi)
 
 # ------------------------------------------------------------ dependencies
-# Installs missing Debian packages when run as root; otherwise stops with the
-# exact command to run.
-deps: $(B)/.deps
-$(B)/.deps:
-	@missing=""; for p in $(DEB_PKGS); do \
+# $(call deps_recipe,PACKAGES,INSTALL): the Debian packages of the list that
+# are missing are installed when INSTALL is 1 and make runs as root;
+# otherwise make stops with the exact command to run.
+define deps_recipe
+	@missing=""; for p in $(1); do \
 	  dpkg-query -W -f='$${Status}' $$p 2>/dev/null | grep -q "install ok installed" \
 	    || missing="$$missing $$p"; done; \
 	if [ -n "$$missing" ]; then \
-	  if [ "$$(id -u)" = 0 ] && command -v apt-get >/dev/null; then \
+	  if [ "$(2)" = 1 ] && [ "$$(id -u)" = 0 ] && command -v apt-get >/dev/null; then \
 	    echo "installing Debian packages:$$missing"; \
 	    apt-get update -qq && DEBIAN_FRONTEND=noninteractive \
 	      apt-get install -y -qq --no-install-recommends $$missing >/dev/null || exit 1; \
 	  else \
 	    echo "missing Debian packages:$$missing"; \
-	    echo "run:  sudo apt-get install -y$$missing"; exit 1; \
+	    echo "run:  sudo apt-get install -y$$missing"; \
+	    [ "$(2)" = 1 ] || echo "(as root, make paper and make check install them)"; \
+	    exit 1; \
 	  fi; \
 	fi
 	@mkdir -p $(B) && touch $@
+endef
+
+# The set of packages is the one of the largest goal on the command line,
+# known when the Makefile is read, so that a single stamp, made before
+# anything compiles, checks (and for paper and check, installs) it all.
+CHECK_GOALS = check check-c check-san check-py check-fuzz valgrind bench
+PAPER_GOALS = paper study venv
+ifneq ($(filter $(CHECK_GOALS),$(MAKECMDGOALS)),)
+DEPS_SET = check
+DEPS_PKGS = $(DEB_CHECK)
+DEPS_INSTALL = 1
+else ifneq ($(filter $(PAPER_GOALS),$(MAKECMDGOALS)),)
+DEPS_SET = paper
+DEPS_PKGS = $(DEB_PAPER)
+DEPS_INSTALL = 1
+else ifneq ($(filter runner-mpi,$(MAKECMDGOALS)),)
+DEPS_SET = mpi
+DEPS_PKGS = $(DEB_BUILD) libopenmpi-dev openmpi-bin
+DEPS_INSTALL = 0
+else
+DEPS_SET = build
+DEPS_PKGS = $(DEB_BUILD)
+DEPS_INSTALL = 0
+endif
+DEPS = $(B)/.deps-$(DEPS_SET)
+deps: $(DEPS)
+$(DEPS):
+	$(call deps_recipe,$(DEPS_PKGS),$(DEPS_INSTALL))
 
 venv: $(VENV)/.ok
-$(VENV)/.ok: analysis/requirements.txt | $(B)/.deps
+$(VENV)/.ok: analysis/requirements.txt | $(DEPS)
 	$(PYTHON) -m venv $(VENV)
 	$(VPY) -m pip install -q --disable-pip-version-check -r analysis/requirements.txt
 	@touch $@
 
 # ----------------------------------------------------------------- library
+# librps3.so is a link to librps3.so.SOVERSION (the SONAME), itself a link
+# to the file librps3.so.VERSION, as installed
+SO_REAL = librps3.so.$(VERSION)
+SO_NAME = librps3.so.$(SOVERSION)
 lib: $(B)/librps3.a $(B)/librps3.so
 
-$(B)/obj/%.o: src/%.c | $(B)/.deps
+$(B)/obj/%.o: src/%.c | $(DEPS)
 	@mkdir -p $(@D)
 	$(CC) $(CPPFLAGS_ALL) $(GSL_CFLAGS) $(WARN) $(OPT) -MMD -MP -c $< -o $@
-$(B)/pic/%.o: src/%.c | $(B)/.deps
+$(B)/pic/%.o: src/%.c | $(DEPS)
 	@mkdir -p $(@D)
 	$(CC) $(CPPFLAGS_ALL) $(GSL_CFLAGS) $(WARN) $(OPT) -fPIC -fvisibility=hidden -MMD -MP -c $< -o $@
-$(B)/san/%.o: src/%.c | $(B)/.deps
+$(B)/san/%.o: src/%.c | $(DEPS)
 	@mkdir -p $(@D)
 	$(CC) $(CPPFLAGS_ALL) $(GSL_CFLAGS) $(WARN) -O1 -g $(SAN) -MMD -MP -c $< -o $@
 
 $(B)/librps3.a: $(LIB_OBJ)
 	ar rcs $@ $^
-$(B)/librps3.so: $(LIB_PIC)
-	$(CC) -shared -o $@ $^ $(GSL_LIBS)
+$(B)/$(SO_REAL): $(LIB_PIC)
+	$(CC) -shared -Wl,-soname,$(SO_NAME) -o $@ $^ $(GSL_LIBS)
+$(B)/$(SO_NAME): $(B)/$(SO_REAL)
+	ln -sf $(SO_REAL) $@
+$(B)/librps3.so: $(B)/$(SO_NAME)
+	ln -sf $(SO_NAME) $@
 $(B)/librps3-san.a: $(LIB_SAN)
 	ar rcs $@ $^
 
 # ------------------------------------------------------------------ runner
 runner: $(B)/rps3-run
 
-$(B)/runner/%.o: runner/%.c | $(B)/.deps
+$(B)/runner/%.o: runner/%.c | $(DEPS)
 	@mkdir -p $(@D)
 	$(CC) $(CPPFLAGS_ALL) -Irunner $(GSL_CFLAGS) $(HDF5_CFLAGS) $(WARN) $(OPT) -MMD -MP -c $< -o $@
 $(B)/rps3-run: $(B)/runner/main_run.o $(RUN_OBJ) $(B)/librps3.a
@@ -105,18 +169,18 @@ $(B)/rps3-study: $(B)/runner/main_study.o $(RUN_OBJ) $(B)/librps3.a
 # rps3-run-mpi: the same program built with -DRPS3_MPI, for
 # `mpirun -n N build/rps3-run-mpi SCENE.yaml -o OUT.h5` (Debian's OpenMPI)
 runner-mpi: $(B)/rps3-run-mpi
-$(B)/runner-mpi/main_run.o: runner/main_run.c | $(B)/.deps
+$(B)/runner-mpi/main_run.o: runner/main_run.c | $(DEPS)
 	@mkdir -p $(@D)
 	$(CC) $(CPPFLAGS_ALL) -DRPS3_MPI -Irunner $(GSL_CFLAGS) $(HDF5_CFLAGS) $(MPI_CFLAGS) $(WARN) $(OPT) -MMD -MP -c $< -o $@
 $(B)/rps3-run-mpi: $(B)/runner-mpi/main_run.o $(RUN_OBJ) $(B)/librps3.a
 	$(CC) -o $@ $^ $(HDF5_LIBS) $(YAML_LIBS) $(GSL_LIBS) $(MPI_LIBS) -lpthread -lm
 
 # ------------------------------------------------------------------- tests
-$(B)/tests/%: tests/%.c $(B)/librps3.a tests/testutil.h
+$(B)/tests/%: tests/%.c $(B)/librps3.a tests/testutil.h | $(DEPS)
 	@mkdir -p $(@D)
 	$(CC) $(CPPFLAGS_ALL) -Itests $(GSL_CFLAGS) $(WARN) $(OPT) -g $< -o $@ \
 	  $(B)/librps3.a $(CMOCKA_LIBS) $(GSL_LIBS)
-$(B)/tests-san/%: tests/%.c $(B)/librps3-san.a tests/testutil.h
+$(B)/tests-san/%: tests/%.c $(B)/librps3-san.a tests/testutil.h | $(DEPS)
 	@mkdir -p $(@D)
 	$(CC) $(CPPFLAGS_ALL) -Itests -DRPS3_SANITIZE $(GSL_CFLAGS) $(WARN) -O1 -g $(SAN) $< -o $@ \
 	  $(B)/librps3-san.a $(CMOCKA_LIBS) $(GSL_LIBS)
@@ -128,7 +192,7 @@ check-san: $(TEST_SAN)
 	@set -e; for t in $(TEST_SAN); do echo "== $$t (asan+ubsan)"; \
 	  ASAN_OPTIONS=detect_leaks=1:abort_on_error=1 UBSAN_OPTIONS=print_stacktrace=1 $$t; done
 
-check-py: all venv
+check-py: all runner-mpi venv
 	$(VPY) -m pytest -q tests
 
 # pytest last, so that a run ends on its summary line
@@ -168,7 +232,7 @@ valgrind: $(B)/tests/test_threads $(B)/tests/example_control_loop
 FUZZ_CC = clang
 FUZZ_FLAGS = -g -O1 -fsanitize=fuzzer,address,undefined -fno-sanitize-recover=all
 FUZZ_TIME ?= 20
-$(B)/fuzz_scene: tests/fuzz/fuzz_scene.c runner/scene.c runner/scene.h $(LIB_SRC) | $(B)/.deps
+$(B)/fuzz_scene: tests/fuzz/fuzz_scene.c runner/scene.c runner/scene.h $(LIB_SRC) | $(DEPS)
 	@mkdir -p $(@D)
 	$(FUZZ_CC) $(CPPFLAGS_ALL) -Irunner $(GSL_CFLAGS) $(WARN) $(FUZZ_FLAGS) \
 	  tests/fuzz/fuzz_scene.c runner/scene.c $(LIB_SRC) -o $@ $(YAML_LIBS) $(GSL_LIBS) -lm
@@ -199,6 +263,47 @@ paper: all venv
 	$(B)/rps3-run configs/link_mass.yaml -o out/link_mass.h5
 	$(VPY) analysis/figures.py out/paper.h5 out
 	$(VPY) analysis/check_paper.py out/paper.h5 --sweep out/link_mass.h5
+
+# ----------------------------------------------------------------- install
+# `make install PREFIX=/usr/local` (as root), or a staged install with
+# DESTDIR=/tmp/stage.  Installs the shared library with its SONAME links,
+# the static library, the header, the runner programs, a pkg-config file
+# (pkg-config --cflags --libs rps3) and a CMake package (find_package(rps3),
+# target rps3::rps3).  ldconfig runs for a direct install as root.
+DOCDIR ?= $(PREFIX)/share/doc/rps3
+INSTALL_BINS = rps3-run rps3-study $(if $(HAVE_MPI),rps3-run-mpi)
+install: lib runner study-bin $(if $(HAVE_MPI),runner-mpi)
+	@case "$(PREFIX)" in /*) ;; *) echo "PREFIX must be an absolute path: $(PREFIX)"; exit 1;; esac
+	$(INSTALL) -d $(DESTDIR)$(BINDIR) $(DESTDIR)$(LIBDIR) $(DESTDIR)$(INCLUDEDIR) \
+	  $(DESTDIR)$(PKGCONFIGDIR) $(DESTDIR)$(CMAKEDIR) $(DESTDIR)$(DOCDIR)
+	$(INSTALL_DATA) $(B)/$(SO_REAL) $(DESTDIR)$(LIBDIR)/$(SO_REAL)
+	ln -sf $(SO_REAL) $(DESTDIR)$(LIBDIR)/$(SO_NAME)
+	ln -sf $(SO_NAME) $(DESTDIR)$(LIBDIR)/librps3.so
+	$(INSTALL_DATA) $(B)/librps3.a $(DESTDIR)$(LIBDIR)/librps3.a
+	$(INSTALL_DATA) include/rps3.h $(DESTDIR)$(INCLUDEDIR)/rps3.h
+	for p in $(INSTALL_BINS); do $(INSTALL_PROGRAM) $(B)/$$p $(DESTDIR)$(BINDIR)/$$p || exit 1; done
+	$(INSTALL_DATA) LICENSE CITATION.cff $(DESTDIR)$(DOCDIR)/
+	sed -e 's|@PREFIX@|$(PREFIX)|' -e 's|@LIBDIR@|$(LIBDIR)|' \
+	  -e 's|@INCLUDEDIR@|$(INCLUDEDIR)|' -e 's|@VERSION@|$(VERSION)|' \
+	  packaging/rps3.pc.in > $(DESTDIR)$(PKGCONFIGDIR)/rps3.pc
+	sed -e "s|@LIBDIR_FROM_CMAKEDIR@|$$(realpath -m --relative-to=$(CMAKEDIR) $(LIBDIR))|" \
+	  -e "s|@INCLUDEDIR_FROM_LIBDIR@|$$(realpath -m --relative-to=$(LIBDIR) $(INCLUDEDIR))|" \
+	  -e 's|@VERSION@|$(VERSION)|' -e 's|@SOVERSION@|$(SOVERSION)|' \
+	  packaging/rps3-config.cmake.in > $(DESTDIR)$(CMAKEDIR)/rps3-config.cmake
+	sed -e 's|@VERSION@|$(VERSION)|' -e 's|@SOVERSION@|$(SOVERSION)|' \
+	  -e "s|@SIZEOF_VOID_P@|$$(echo __SIZEOF_POINTER__ | $(CC) -E -P - | tail -n 1)|" \
+	  packaging/rps3-config-version.cmake.in > $(DESTDIR)$(CMAKEDIR)/rps3-config-version.cmake
+	@if [ -z "$(DESTDIR)" ] && [ "$$(id -u)" = 0 ] && [ -x /sbin/ldconfig ]; then /sbin/ldconfig; fi
+
+uninstall:
+	rm -f $(DESTDIR)$(LIBDIR)/$(SO_REAL) $(DESTDIR)$(LIBDIR)/$(SO_NAME) \
+	  $(DESTDIR)$(LIBDIR)/librps3.so $(DESTDIR)$(LIBDIR)/librps3.a \
+	  $(DESTDIR)$(INCLUDEDIR)/rps3.h $(DESTDIR)$(PKGCONFIGDIR)/rps3.pc \
+	  $(DESTDIR)$(CMAKEDIR)/rps3-config.cmake $(DESTDIR)$(CMAKEDIR)/rps3-config-version.cmake \
+	  $(DESTDIR)$(DOCDIR)/LICENSE $(DESTDIR)$(DOCDIR)/CITATION.cff \
+	  $(foreach p,rps3-run rps3-study rps3-run-mpi,$(DESTDIR)$(BINDIR)/$(p))
+	-rmdir $(DESTDIR)$(CMAKEDIR) $(DESTDIR)$(DOCDIR) 2>/dev/null
+	@if [ -z "$(DESTDIR)" ] && [ "$$(id -u)" = 0 ] && [ -x /sbin/ldconfig ]; then /sbin/ldconfig; fi
 
 clean:
 	rm -rf $(B) out
