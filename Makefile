@@ -305,6 +305,18 @@ uninstall:
 	-rmdir $(DESTDIR)$(CMAKEDIR) $(DESTDIR)$(DOCDIR) 2>/dev/null
 	@if [ -z "$(DESTDIR)" ] && [ "$$(id -u)" = 0 ] && [ -x /sbin/ldconfig ]; then /sbin/ldconfig; fi
 
+# ------------------------------------------------------------------- docs
+# the key table of docs/runner.md is `rps3-run --keys`; tests/test_docs.py
+# fails when the two differ
+.PHONY: docs
+docs: $(B)/rps3-run
+	$(B)/rps3-run --keys > $(B)/keys.md
+	awk 'FNR == NR { t = t $$0 "\n"; next } \
+	     /^\| key \| type/ { printf "%s", t; skip = 1; next } \
+	     skip && /^\|/ { next } { skip = 0; print }' \
+	  $(B)/keys.md docs/runner.md > $(B)/runner.md.new
+	mv $(B)/runner.md.new docs/runner.md
+
 clean:
 	rm -rf $(B) out
 

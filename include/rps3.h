@@ -34,6 +34,7 @@
 #ifndef RPS3_H
 #define RPS3_H
 
+#include <math.h>   /* HUGE_VAL in RPS3_FIELDS */
 #include <stddef.h>
 
 #ifdef __cplusplus
@@ -517,6 +518,129 @@ RPS3_API double rps3_traj_duration(const rps3_traj *tr);
  */
 RPS3_API int rps3_traj_eval(const rps3_model *m, const rps3_traj *tr, double t,
                    double pose[3], double dpose[3], double ddpose[3]);
+
+/* ------------------------------------------------------------ input fields */
+
+/*
+ * Every input field that rps3_model_init() and rps3_traj_check() validate,
+ * one row each: RPS3_FIELDS(X) calls
+ *   X(ID, IN, MEMBER, N, IS_INT, LO, LO_OPEN, HI, UNIT, NAME)
+ * ID is the field's identifier (enum rps3_field_id), IN the structure that
+ * holds it (RPS3_IN_MODEL: rps3_model; RPS3_IN_HELIX, RPS3_IN_SINE: the
+ * rps3_traj of that kind), MEMBER its member designator, N its number of
+ * components (doubles or ints), IS_INT 1 for an int field.  Each component
+ * must be finite and lie in [LO, HI], LO excluded when LO_OPEN; the rules
+ * that involve several fields are listed in the comments of
+ * rps3_model_init() and rps3_traj_check().  UNIT is the UDUNITS spelling
+ * ("1": dimensionless, "-": a code).  NAME is the dotted name that starts
+ * every message about the field.  A program that fills these structures
+ * from its own input (a scene file) maps a failure back to its input by ID,
+ * and may read the ranges here instead of repeating them.
+ */
+#define RPS3_FIELDS(X)                                                        \
+  X(RPS3_F_R, RPS3_IN_MODEL, R, 1, 0, 0, 1, HUGE_VAL, "m", "R")               \
+  X(RPS3_F_RHO, RPS3_IN_MODEL, rho, 1, 0, 0, 1, HUGE_VAL, "1", "rho")         \
+  X(RPS3_F_PLATFORM_MASS, RPS3_IN_MODEL, M, 1, 0, 0, 0, HUGE_VAL, "kg", "M")  \
+  X(RPS3_F_LINK_MASS, RPS3_IN_MODEL, m, 1, 0, 0, 0, HUGE_VAL, "kg", "m")      \
+  X(RPS3_F_D, RPS3_IN_MODEL, d, 1, 0, 0, 0, HUGE_VAL, "m", "d")               \
+  X(RPS3_F_LINK_IC, RPS3_IN_MODEL, link_Ic, 1, 0, 0, 0, HUGE_VAL, "kg m^2",    \
+    "link_Ic")                                                                \
+  X(RPS3_F_G, RPS3_IN_MODEL, g, 1, 0, 0, 0, HUGE_VAL, "m/s^2", "g")           \
+  X(RPS3_F_PAYLOAD_MASS, RPS3_IN_MODEL, payload.mass, 1, 0, 0, 0, HUGE_VAL,   \
+    "kg", "payload.mass")                                                     \
+  X(RPS3_F_PAYLOAD_COM, RPS3_IN_MODEL, payload.com, 3, 0, -HUGE_VAL, 0,       \
+    HUGE_VAL, "m", "payload.com")                                             \
+  X(RPS3_F_PAYLOAD_INERTIA, RPS3_IN_MODEL, payload.inertia, 3, 0, 0, 0,       \
+    HUGE_VAL, "kg m^2", "payload.inertia")                                    \
+  X(RPS3_F_VISCOUS, RPS3_IN_MODEL, friction.viscous, 1, 0, 0, 0, HUGE_VAL,    \
+    "N m s/rad", "pin_friction.viscous")                                      \
+  X(RPS3_F_COULOMB, RPS3_IN_MODEL, friction.coulomb, 1, 0, 0, 0, HUGE_VAL,    \
+    "N m", "pin_friction.coulomb")                                            \
+  X(RPS3_F_EFFECTS, RPS3_IN_MODEL, opt.effects, 1, 1, 0, 0, RPS3_EFF_ALL,     \
+    "-", "opt.effects")                                                       \
+  X(RPS3_F_METHOD, RPS3_IN_MODEL, opt.method, 1, 1, 0, 0, 1, "-",             \
+    "opt.method")                                                             \
+  X(RPS3_F_THETA, RPS3_IN_MODEL, opt.theta, 1, 1, 0, 0, 1, "-", "opt.theta")  \
+  X(RPS3_F_SOLVER, RPS3_IN_MODEL, opt.solver, 1, 1, 0, 0, RPS3_NSOLVER - 1,   \
+    "-", "opt.solver")                                                        \
+  X(RPS3_F_TOL, RPS3_IN_MODEL, opt.tol, 1, 0, 0, 1, HUGE_VAL, "1", "opt.tol") \
+  X(RPS3_F_MAX_ITER, RPS3_IN_MODEL, opt.max_iter, 1, 1, 1, 0, 2147483647.0,   \
+    "1", "opt.max_iter")                                                      \
+  X(RPS3_F_WARM_START, RPS3_IN_MODEL, opt.warm_start, 1, 1, 0, 0, 1, "-",     \
+    "opt.warm_start")                                                         \
+  X(RPS3_F_CERTIFY, RPS3_IN_MODEL, opt.certify, 1, 1, 0, 0, 1, "-",           \
+    "opt.certify")                                                            \
+  X(RPS3_F_COND_WARN, RPS3_IN_MODEL, opt.cond_warn, 1, 0, 1, 0, HUGE_VAL,     \
+    "1", "opt.cond_warn")                                                     \
+  X(RPS3_F_COND_MAX, RPS3_IN_MODEL, opt.cond_max, 1, 0, 1, 0, HUGE_VAL, "1",  \
+    "opt.cond_max")                                                           \
+  X(RPS3_F_KIND, RPS3_IN_TRAJ, kind, 1, 1, RPS3_TRAJ_HELIX, 0,                \
+    RPS3_TRAJ_SINE, "-", "trajectory.kind")                                   \
+  X(RPS3_F_HELIX_RADIUS, RPS3_IN_HELIX, helix.radius, 1, 0, 0, 0, HUGE_VAL,   \
+    "m", "trajectory.radius")                                                 \
+  X(RPS3_F_HELIX_PITCH, RPS3_IN_HELIX, helix.pitch, 1, 0, -HUGE_VAL, 0,       \
+    HUGE_VAL, "m", "trajectory.pitch")                                        \
+  X(RPS3_F_HELIX_Z0, RPS3_IN_HELIX, helix.z0, 1, 0, 0, 1, HUGE_VAL, "m",      \
+    "trajectory.z0")                                                          \
+  X(RPS3_F_HELIX_PERIOD, RPS3_IN_HELIX, helix.period, 1, 0, 0, 1, HUGE_VAL,   \
+    "s", "trajectory.period")                                                 \
+  X(RPS3_F_HELIX_BLEND, RPS3_IN_HELIX, helix.blend, 1, 0, 0, 1, HUGE_VAL,     \
+    "s", "trajectory.blend")                                                  \
+  X(RPS3_F_SINE_MEAN, RPS3_IN_SINE, sine.mean, 3, 0, -HUGE_VAL, 0, HUGE_VAL,  \
+    "rad, rad, m", "trajectory.mean")                                         \
+  X(RPS3_F_SINE_AMP, RPS3_IN_SINE, sine.amp, 3, 0, -HUGE_VAL, 0, HUGE_VAL,    \
+    "rad, rad, m", "trajectory.amp")                                          \
+  X(RPS3_F_SINE_FREQ, RPS3_IN_SINE, sine.freq, 3, 0, 0, 0, HUGE_VAL, "Hz",    \
+    "trajectory.freq")                                                        \
+  X(RPS3_F_SINE_PHASE, RPS3_IN_SINE, sine.phase, 3, 0, -HUGE_VAL, 0,          \
+    HUGE_VAL, "rad", "trajectory.phase")                                      \
+  X(RPS3_F_SINE_DURATION, RPS3_IN_SINE, sine.duration, 1, 0, 0, 1, HUGE_VAL,  \
+    "s", "trajectory.duration")
+
+/* where a field lives: the model, or the trajectory (of one kind) */
+enum rps3_field_in {
+  RPS3_IN_MODEL = 0,
+  RPS3_IN_TRAJ = 1,                  /* rps3_traj, any kind */
+  RPS3_IN_HELIX = 1 + RPS3_TRAJ_HELIX, /* rps3_traj, kind helix */
+  RPS3_IN_SINE = 1 + RPS3_TRAJ_SINE    /* rps3_traj, kind sine */
+};
+
+#define RPS3_FIELD_ID_(ID, ...) ID,
+typedef enum { RPS3_FIELDS(RPS3_FIELD_ID_) RPS3_NFIELD } rps3_field_id;
+#undef RPS3_FIELD_ID_
+
+/* one row of RPS3_FIELDS */
+typedef struct {
+  const char *name;  /* dotted name, as in the messages */
+  int in;            /* enum rps3_field_in */
+  size_t offset;     /* offsetof(rps3_model or rps3_traj, MEMBER) */
+  int n;             /* components */
+  int is_int;        /* 1: int components, 0: double */
+  double lo;         /* range of each component: [lo, hi], */
+  int lo_open;       /* lo excluded when 1 */
+  double hi;
+  const char *unit;  /* UDUNITS spelling */
+} rps3_field_info;
+
+/* Row of field id (0 <= id < RPS3_NFIELD), NULL otherwise. */
+RPS3_API const rps3_field_info *rps3_field(int id);
+
+/* What failed validation, by identifier. */
+typedef struct {
+  int field;       /* rps3_field_id of the failing field, -1 if none (a NULL
+                      argument) */
+  int comp;        /* its component, 0 for a scalar field */
+  int related[2];  /* other fields the failed rule reads (e.g. rho and R
+                      for the helix radius bound), -1 when unused */
+  char msg[256];   /* "NAME = VALUE: reason", as in rps3_model_init() */
+} rps3_check;
+
+/* rps3_model_init() reporting the failing field in *chk (chk may be NULL). */
+RPS3_API int rps3_model_validate(rps3_model *m, rps3_check *chk);
+
+/* rps3_traj_check() reporting the failing field in *chk (chk may be NULL). */
+RPS3_API int rps3_traj_validate(const rps3_model *m, const rps3_traj *tr,
+                                rps3_check *chk);
 
 #ifdef __cplusplus
 }

@@ -21,12 +21,48 @@
 
 /* ------------------------------------------------------------- key table */
 
-#define KEY_ROW(ID, PATH, TYPE, FIELD, FOR, REQ, LO, LO_OPEN, HI, UNIT, SYM,  \
-                DOC)                                                          \
-  {PATH, TYPE, offsetof(scene_values, FIELD), FOR, REQ, LO, LO_OPEN, HI,      \
-   UNIT, SYM, DOC},
-static const scene_key_info keys[SCENE_NKEY] = {SCENE_KEYS(KEY_ROW)};
+/* the runner's own fields, rows shaped like the library's */
+#define OWN_ROW(ID, IN, MEMBER, N, IS_INT, LO, LO_OPEN, HI, UNIT, NAME, FILLS) \
+  {NAME, IN, offsetof(scene_own, MEMBER), N, IS_INT, LO, LO_OPEN, HI, UNIT},
+static const rps3_field_info own_fields[SCENE_NOWN] = {
+    SCENE_OWN_FIELDS(OWN_ROW)};
+#undef OWN_ROW
+#define OWN_FILLS(ID, IN, MEMBER, N, IS_INT, LO, LO_OPEN, HI, UNIT, NAME,     \
+                  FILLS)                                                      \
+  FILLS,
+static const int own_fills[SCENE_NOWN] = {SCENE_OWN_FIELDS(OWN_FILLS)};
+#undef OWN_FILLS
+
+/* the rows as written; keys[] adds what their field's row says */
+#define KEY_ROW(ID, PATH, TYPE, SRC, FIELD, REQ, SYM, DOC)                    \
+  {PATH, TYPE, SRC_##SRC, FIELD, NULL, 0, REQ, NULL, SYM, DOC},
+static const scene_key_info key_rows[SCENE_NKEY] = {SCENE_KEYS(KEY_ROW)};
 #undef KEY_ROW
+static scene_key_info keys[SCENE_NKEY];
+
+/* complete keys[] from key_rows[] and the field rows, once; called from
+   the entry points, before any thread starts */
+static void keys_build(void)
+{
+  static int built;
+  int k;
+  if (built)
+    return;
+  for (k = 0; k < SCENE_NKEY; k++) {
+    scene_key_info *ki = &keys[k];
+    *ki = key_rows[k];
+    ki->f = ki->src == SRC_OWN ? &own_fields[ki->field] : rps3_field(ki->field);
+    ki->unit = ki->f->unit;
+    ki->kind = ki->f->in >= RPS3_IN_HELIX ? ki->f->in - 1 : FOR_ALL;
+  }
+  built = 1;
+}
+
+/* the library field key k fills, directly or converted (-1: none) */
+static int key_fills(int k)
+{
+  return keys[k].src == SRC_OWN ? own_fills[keys[k].field] : keys[k].field;
+}
 
 /* mapping sections; the index is the slot in scene.section */
 static const char *const sections[] = {"", "manipulator", "trajectory",
@@ -43,12 +79,14 @@ static const char *const sections[] = {"", "manipulator", "trajectory",
 
 const scene_key_info *scene_key_get(int k)
 {
+  keys_build();
   return (k >= 0 && k < SCENE_NKEY) ? &keys[k] : NULL;
 }
 
 int scene_key_find(const char *path)
 {
   int k;
+  keys_build();
   for (k = 0; k < SCENE_NKEY; k++)
     if (strcmp(keys[k].path, path) == 0)
       return k;
@@ -98,8 +136,9 @@ const char *scene_enum_name(int k, int value)
 /* range of enum values of key k: [*lo, *hi] */
 static void enum_range(int k, int *lo, int *hi)
 {
-  *lo = (k == K_KIND) ? 1 : 0;
-  *hi = (k == K_KIND) ? 2 : (k == K_SOLVER) ? RPS3_NSOLVER - 1 : 1;
+  /* the library's range of the field */
+  *lo = (int)keys[k].f->lo;
+  *hi = (int)keys[k].f->hi;
 }
 
 static int enum_find(int k, const char *name)
@@ -139,14 +178,23 @@ static void effect_list(char *buf, size_t sz)
 
 /* -------------------------------------------------------------- values */
 
+/* where key k's value is stored in v */
+static char *value_at(scene_values *v, int k)
+{
+  char *base = keys[k].src == SRC_OWN        ? (char *)&v->own
+               : keys[k].f->in == RPS3_IN_MODEL ? (char *)&v->model
+                                                : (char *)&v->traj;
+  return base + keys[k].f->offset;
+}
+
 static double *real_at(scene_values *v, int k)
 {
-  return (double *)(void *)((char *)v + keys[k].offset);
+  return (double *)(void *)value_at(v, k);
 }
 
 static int *int_at(scene_values *v, int k)
 {
-  return (int *)(void *)((char *)v + keys[k].offset);
+  return (int *)(void *)value_at(v, k);
 }
 
 /* set key k (component comp of a KEY_REAL3) to x */
@@ -165,97 +213,15 @@ static void value_set(scene_values *v, int k, int comp, double x)
   }
 }
 
-/* defaults: the library's Table II model, options and helix */
+/* defaults: the library's Table II model, options and helix; the runner's
+   own values are those the library's defaults imply */
 static void values_default(scene_values *v)
 {
-  rps3_model m;
-  rps3_traj tr;
-  int i;
   memset(v, 0, sizeof *v);
-  rps3_model_default(&m);
-  rps3_traj_default(&tr);
-  v->R = m.R;
-  v->rho = m.rho;
-  v->M = m.M;
-  v->m = m.m;
-  v->m_over_M = m.M > 0 ? m.m / m.M : 0;
-  v->d = m.d;
-  v->g = m.g;
-  v->link_Ic = m.link_Ic;
-  v->payload_mass = m.payload.mass;
-  for (i = 0; i < 3; i++) {
-    v->payload_com[i] = m.payload.com[i];
-    v->payload_inertia[i] = m.payload.inertia[i];
-    v->mean[i] = tr.sine.mean[i];
-    v->amp[i] = tr.sine.amp[i];
-    v->freq[i] = tr.sine.freq[i];
-    v->phase[i] = tr.sine.phase[i];
-  }
-  v->viscous = m.friction.viscous;
-  v->coulomb = m.friction.coulomb;
-  v->kind = (int)tr.kind;
-  v->radius = tr.helix.radius;
-  v->pitch = tr.helix.pitch;
-  v->z0 = tr.helix.z0;
-  v->period = tr.helix.period;
-  v->blend = tr.helix.blend;
-  v->blend_ratio = tr.helix.blend / tr.helix.period;
-  v->duration = tr.sine.duration;
-  v->effects = m.opt.effects;
-  v->theta = (int)m.opt.theta;
-  v->method = (int)m.opt.method;
-  v->solver = (int)m.opt.solver;
-  v->tolerance = m.opt.tol;
-  v->max_iter = m.opt.max_iter;
-  v->warm_start = m.opt.warm_start;
-  v->certify = m.opt.certify;
-  v->cond_warn = m.opt.cond_warn;
-  v->cond_max = m.opt.cond_max;
-}
-
-/* the library's model and trajectory for values v; the link mass comes from
-   m_over_M when by_ratio, else from m */
-static void values_apply(const scene_values *v, int by_ratio,
-                         int by_blend_ratio, rps3_model *m, rps3_traj *tr)
-{
-  int i;
-  rps3_model_default(m);
-  rps3_traj_default(tr);
-  m->R = v->R;
-  m->rho = v->rho;
-  m->M = v->M;
-  m->m = by_ratio ? v->m_over_M * v->M : v->m;
-  m->d = v->d;
-  m->g = v->g;
-  m->link_Ic = v->link_Ic;
-  m->payload.mass = v->payload_mass;
-  for (i = 0; i < 3; i++) {
-    m->payload.com[i] = v->payload_com[i];
-    m->payload.inertia[i] = v->payload_inertia[i];
-    tr->sine.mean[i] = v->mean[i];
-    tr->sine.amp[i] = v->amp[i];
-    tr->sine.freq[i] = v->freq[i];
-    tr->sine.phase[i] = v->phase[i];
-  }
-  m->friction.viscous = v->viscous;
-  m->friction.coulomb = v->coulomb;
-  m->opt.effects = v->effects;
-  m->opt.theta = (rps3_theta_route)v->theta;
-  m->opt.method = (rps3_method)v->method;
-  m->opt.solver = (rps3_solver)v->solver;
-  m->opt.tol = v->tolerance;
-  m->opt.max_iter = v->max_iter;
-  m->opt.warm_start = v->warm_start;
-  m->opt.certify = v->certify;
-  m->opt.cond_warn = v->cond_warn;
-  m->opt.cond_max = v->cond_max;
-  tr->kind = (rps3_traj_kind)v->kind;
-  tr->helix.radius = v->radius;
-  tr->helix.pitch = v->pitch;
-  tr->helix.z0 = v->z0;
-  tr->helix.period = v->period;
-  tr->helix.blend = by_blend_ratio ? v->blend_ratio * v->period : v->blend;
-  tr->sine.duration = v->duration;
+  rps3_model_default(&v->model);
+  rps3_traj_default(&v->traj);
+  v->own.m_over_M = v->model.M > 0 ? v->model.m / v->model.M : 0;
+  v->own.blend_ratio = v->traj.helix.blend / v->traj.helix.period;
 }
 
 /* ---------------------------------------------------------------- errors */
@@ -382,17 +348,17 @@ static void format_real(char *buf, size_t sz, double x)
 static int check_range(parse_ctx *c, int k, double x, scene_mark mk,
                        const char *path)
 {
-  const scene_key_info *ki = &keys[k];
+  const rps3_field_info *f = keys[k].f;
   char lo[32], hi[32], got[32];
-  format_real(lo, sizeof lo, ki->lo);
-  format_real(hi, sizeof hi, ki->hi);
+  format_real(lo, sizeof lo, f->lo);
+  format_real(hi, sizeof hi, f->hi);
   format_real(got, sizeof got, x);
-  if (ki->lo_open ? !(x > ki->lo) : !(x >= ki->lo)) {
+  if (f->lo_open ? !(x > f->lo) : !(x >= f->lo)) {
     error_set(c->err, mk, path, "must be %s %s, got %s",
-              ki->lo_open ? ">" : ">=", lo, got);
+              f->lo_open ? ">" : ">=", lo, got);
     return -1;
   }
-  if (!(x <= ki->hi)) {
+  if (!(x <= f->hi)) {
     error_set(c->err, mk, path, "must be <= %s, got %s", hi, got);
     return -1;
   }
@@ -514,7 +480,7 @@ static int parse_value(parse_ctx *c, int k, const yaml_node_t *n,
       }
       bits |= 1 << e;
     }
-    v->effects = bits;
+    *int_at(v, k) = bits;
     return 0;
   }
   if (parse_scalar(c, k, n, path, &x))
@@ -826,9 +792,9 @@ static int parse_sweep(parse_ctx *c, const yaml_node_t *map)
                 "one scene per value");
       return -1;
     }
-    if (ki->kind != FOR_ALL && ki->kind != s->base.kind) {
+    if (ki->kind != FOR_ALL && ki->kind != (int)s->base.traj.kind) {
       error_set(c->err, km, name, "not a key of a %s trajectory",
-                kind_names[s->base.kind]);
+                kind_names[s->base.traj.kind]);
       return -1;
     }
     for (a = 0; a + 1 < s->naxis; a++)
@@ -897,11 +863,11 @@ static int check_keys(parse_ctx *c)
   }
   for (k = 0; k < SCENE_NKEY; k++) {
     const scene_key_info *ki = &keys[k];
-    int applies = ki->kind == FOR_ALL || ki->kind == s->base.kind;
+    int applies = ki->kind == FOR_ALL || ki->kind == (int)s->base.traj.kind;
     int sec = strncmp(ki->path, "manipulator", 11) == 0 ? 1 : 2;
     if (!applies && s->given[k]) {
       error_set(c->err, s->mark[k], ki->path, "not a key of a %s trajectory",
-                kind_names[s->base.kind]);
+                kind_names[s->base.traj.kind]);
       return -1;
     }
     if (applies && ki->req == REQ_YES && !s->given[k]) {
@@ -913,7 +879,7 @@ static int check_keys(parse_ctx *c)
     static const int one_of[3][2] = {
         {K_M_OVER_M, K_MASS}, {K_SAMPLES, K_DT}, {K_BLEND, K_BLEND_RATIO}};
     int a = one_of[pair][0], b = one_of[pair][1];
-    if (keys[a].kind != FOR_ALL && keys[a].kind != s->base.kind)
+    if (keys[a].kind != FOR_ALL && keys[a].kind != (int)s->base.traj.kind)
       continue;
     if (!s->given[a] && !s->given[b]) {
       error_set(c->err, s->section[pair ? 2 : 1], keys[a].path,
@@ -989,6 +955,7 @@ int scene_load(scene *s, const char *path, scene_error *err)
   parse_ctx c;
   int rc = -1;
 
+  keys_build();
   memset(s, 0, sizeof *s);
   memset(err, 0, sizeof *err);
   values_default(&s->base);
@@ -1083,75 +1050,52 @@ size_t scene_case_coord(const scene *s, size_t index, size_t a)
   return index % s->axis[a].n;
 }
 
-/* key aliases used by the library's messages */
-static const struct {
-  const char *word;
-  int key;
-} aliases[] = {{"tol", K_TOL},          {"r", K_RHO},
-               {"friction", K_VISCOUS}, {"z_i", K_Z0},
-               {"T", K_PERIOD}};
-
-/* the keys a library message names, in the order it names them */
-static int keys_named(const scene *s, const char *msg, int *out, int max)
+/* the keys that set library field id in scene s (a converted key such as
+   m_over_M when the scene gave it): up to max into out */
+static int keys_filling(const scene *s, int id, int *out, int max)
 {
-  int n = 0;
-  const char *p = msg;
-  while (*p && n < max) {
-    char word[64];
-    size_t len = 0;
-    int k, i;
-    while (*p && !(isalpha((unsigned char)*p) || *p == '_'))
-      p++;
-    while (*p && (isalnum((unsigned char)*p) || *p == '_' || *p == '.' ||
-                  *p == '*') &&
-           len + 1 < sizeof word)
-      word[len++] = *p++;
-    while (len && (word[len - 1] == '.' || word[len - 1] == '*'))
-      len--;
-    word[len] = '\0';
-    if (len == 0) {
-      if (*p)
-        p++;
-      continue;
-    }
-    for (k = 0; k < SCENE_NKEY && n < max; k++) {
-      const char *lw = strrchr(word, '.') ? strrchr(word, '.') + 1 : word;
-      if (strcmp(leaf(keys[k].path), lw) == 0) {
-        /* the library's m is the scene's m or m_over_M */
-        if (k == K_MASS && !s->given[K_MASS])
-          k = K_M_OVER_M;
-        if (k == K_BLEND && !s->given[K_BLEND])
-          k = K_BLEND_RATIO;
-        out[n++] = k;
-        break;
-      }
-    }
-    for (i = 0; i < (int)(sizeof aliases / sizeof aliases[0]) && n < max; i++)
-      if (strcmp(aliases[i].word, word) == 0)
-        out[n++] = aliases[i].key;
-  }
+  int k, n = 0;
+  for (k = 0; k < SCENE_NKEY && n < max; k++)
+    if (id >= 0 && key_fills(k) == id && s->given[k])
+      out[n++] = k;
   return n;
 }
 
-/* where to point an error about case `index` that names keys in msg: a
-   swept value of a named key, else a named key given in the file, else the
+/* where to point an error about case `index`: a swept value of a key that
+   sets one of the fields the failed rule reads (the failing field first,
+   then the related ones; a list key's axis when it is the failing
+   component or the whole key), else such a key given in the file, else the
    first swept value, else the manipulator section */
 static void case_error(const scene *s, size_t index, const char *msg,
-                       int first_key, scene_error *err)
+                       const rps3_check *chk, int first_key, scene_error *err)
 {
-  int named[16], n = 0, i;
+  int named[16], comp[16], n = 0, i, j, m;
   size_t a;
   char what[sizeof err->what];
   if (s->naxis > 0)
     snprintf(what, sizeof what, "case %zu: %s", index, msg);
   else
     snprintf(what, sizeof what, "%s", msg);
-  if (first_key >= 0)
+  if (first_key >= 0) {
+    comp[n] = -1;
     named[n++] = first_key;
-  n += keys_named(s, msg, named + n, 16 - n);
+  }
+  if (chk != NULL) {
+    int ids[3];
+    ids[0] = chk->field;
+    ids[1] = chk->related[0];
+    ids[2] = chk->related[1];
+    for (j = 0; j < 3; j++) {
+      m = keys_filling(s, ids[j], named + n, 16 - n);
+      for (i = n; i < n + m; i++)
+        comp[i] = j == 0 ? chk->comp : -1;
+      n += m;
+    }
+  }
   for (i = 0; i < n; i++)
     for (a = 0; a < s->naxis; a++)
-      if (s->axis[a].key == named[i]) {
+      if (s->axis[a].key == named[i] &&
+          (s->axis[a].comp < 0 || comp[i] < 0 || s->axis[a].comp == comp[i])) {
         error_set(err, s->axis[a].mark[scene_case_coord(s, index, a)],
                   s->axis[a].path, "%s", what);
         return;
@@ -1172,6 +1116,7 @@ static void case_error(const scene *s, size_t index, const char *msg,
 int scene_case_build(const scene *s, size_t index, scene_case *c,
                      scene_error *err)
 {
+  rps3_check chk;
   char msg[256];
   size_t a;
   memset(c, 0, sizeof *c);
@@ -1183,38 +1128,40 @@ int scene_case_build(const scene *s, size_t index, scene_case *c,
   for (a = 0; a < s->naxis; a++)
     value_set(&c->v, s->axis[a].key, s->axis[a].comp,
               s->axis[a].val[scene_case_coord(s, index, a)]);
-  values_apply(&c->v, c->by_ratio, c->by_blend_ratio, &c->model,
-               &c->traj);
+  /* the values are the library's structures; only the runner's own keys
+     are converted */
+  c->model = c->v.model;
+  c->traj = c->v.traj;
+  if (c->by_ratio)
+    c->model.m = c->v.own.m_over_M * c->model.M;
+  if (c->by_blend_ratio)
+    c->traj.helix.blend = c->v.own.blend_ratio * c->traj.helix.period;
 
-  msg[0] = '\0';
-  if (rps3_model_init(&c->model, msg, sizeof msg) != RPS3_OK) {
-    case_error(s, index, msg, -1, err);
-    return -1;
-  }
-  if (rps3_traj_check(&c->model, &c->traj, msg, sizeof msg) != RPS3_OK) {
-    case_error(s, index, msg, -1, err);
+  if (rps3_model_validate(&c->model, &chk) != RPS3_OK ||
+      rps3_traj_validate(&c->model, &c->traj, &chk) != RPS3_OK) {
+    case_error(s, index, chk.msg, &chk, -1, err);
     return -1;
   }
   c->span = rps3_traj_duration(&c->traj);
   if (s->given[K_SAMPLES]) {
-    c->nt = (size_t)c->v.samples;
+    c->nt = (size_t)c->v.own.samples;
     c->step = c->span / (double)(c->nt - 1);
   } else {
-    double q = c->span / c->v.dt, n = floor(q + 0.5);
+    double q = c->span / c->v.own.dt, n = floor(q + 0.5);
     if (fabs(q - n) > WHOLE_RTOL * (q > 1 ? q : 1) || n < 1 ||
         n >= 2147483647.0) {
       char sa[32], sb[32];
       format_real(sa, sizeof sa, c->span);
-      format_real(sb, sizeof sb, c->v.dt);
+      format_real(sb, sizeof sb, c->v.own.dt);
       snprintf(msg, sizeof msg,
                "the span %s s is not a whole number of steps dt = %s s "
                "(%.6g steps)",
                sa, sb, q);
-      case_error(s, index, msg, K_DT, err);
+      case_error(s, index, msg, NULL, K_DT, err);
       return -1;
     }
     c->nt = (size_t)n + 1;
-    c->step = c->v.dt;
+    c->step = c->v.own.dt;
   }
   return 0;
 }
@@ -1325,7 +1272,7 @@ static int emit_value(yaml_emitter_t *em, int k, const scene_values *v)
   case KEY_EFFECTS:
     ok = emit_open(em, 1, 1);
     for (i = 0; i < RPS3_NEFFECT && ok; i++)
-      if (v->effects & (1 << i))
+      if (v->model.opt.effects & (1 << i))
         ok = emit_scalar(em, rps3_effect_name(i));
     return ok && emit_close(em, 1);
   }
@@ -1337,7 +1284,7 @@ static int emit_value(yaml_emitter_t *em, int k, const scene_values *v)
 static int case_has_key(const scene_case *c, int k)
 {
   const scene_key_info *ki = &keys[k];
-  if (ki->kind != FOR_ALL && ki->kind != c->v.kind)
+  if (ki->kind != FOR_ALL && ki->kind != (int)c->v.traj.kind)
     return 0;
   if (k == K_M_OVER_M || k == K_MASS)
     return (k == K_M_OVER_M) == (c->by_ratio != 0);
@@ -1405,14 +1352,31 @@ int scene_case_yaml(const scene_case *c, scene_text *out)
 
 /* ------------------------------------------------------------- key list */
 
+/* the range of field row f, as the key table shows it */
+static void range_text(const rps3_field_info *f, char *buf, size_t sz)
+{
+  char lo[32], hi[32];
+  format_real(lo, sizeof lo, f->lo);
+  format_real(hi, sizeof hi, f->hi);
+  if (f->lo == -HUGE_VAL && f->hi == HUGE_VAL)
+    snprintf(buf, sz, "any");
+  else if (f->hi == HUGE_VAL)
+    snprintf(buf, sz, "%s %s", f->lo_open ? ">" : ">=", lo);
+  else if (f->is_int && f->hi >= 2147483647.0)
+    snprintf(buf, sz, ">= %s", lo);
+  else
+    snprintf(buf, sz, "%c%s, %s]", f->lo_open ? '(' : '[', lo, hi);
+}
+
 void scene_keys_print(void)
 {
   scene_values v;
-  char def[64], names[256];
+  char def[64], names[256], range[80];
   int k;
+  keys_build();
   values_default(&v);
-  printf("| key | type | unit | paper | default | meaning |\n");
-  printf("|---|---|---|---|---|---|\n");
+  printf("| key | type | unit | range | paper | default | meaning |\n");
+  printf("|---|---|---|---|---|---|---|\n");
   for (k = 0; k < SCENE_NKEY; k++) {
     const scene_key_info *ki = &keys[k];
     const char *type = "";
@@ -1454,10 +1418,16 @@ void scene_keys_print(void)
       snprintf(def, sizeof def, "%s", scene_enum_name(k, *int_at(&v, k)));
     else
       snprintf(def, sizeof def, "see meaning");
-    printf("| `%s`%s | %s | %s | %s | %s | %s |\n", ki->path,
+    range_text(ki->f, range, sizeof range);
+    printf("| `%s`%s | %s | %s | %s | %s | %s | %s |\n", ki->path,
            ki->kind == FOR_HELIX  ? " (helix)"
            : ki->kind == FOR_SINE ? " (sine)"
                                   : "",
-           type, ki->unit, ki->symbol, def, ki->doc);
+           type, ki->unit,
+           (ki->type == KEY_REAL || ki->type == KEY_REAL3 ||
+            ki->type == KEY_INT)
+               ? range
+               : "-",
+           ki->symbol, def, ki->doc);
   }
 }

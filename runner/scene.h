@@ -39,7 +39,7 @@ typedef enum {
   KEY_EFFECTS /* list of effect names, stored as RPS3_EFF_* bits */
 } key_type;
 
-/* which trajectory kinds a key belongs to */
+/* which trajectory kinds a key belongs to (the kind of its field) */
 enum { FOR_ALL = 0, FOR_HELIX = RPS3_TRAJ_HELIX, FOR_SINE = RPS3_TRAJ_SINE };
 
 /* how a key must be given: required, optional (a default), or exactly one
@@ -52,163 +52,154 @@ enum {
   REQ_ONE_BLEND = 4 /* blend | blend_ratio */
 };
 
-/* every value a scene can set; enums hold the library's enum values */
+/* the values only the runner has; a case turns them into library fields */
 typedef struct {
-  /* manipulator, Table II */
-  double R;            /* [m] */
-  double rho;          /* [-] */
-  double M;            /* [kg] */
-  double m_over_M;     /* [-] */
-  double m;            /* [kg] */
-  double d;            /* [m] */
-  double g;            /* [m/s^2] */
-  double link_Ic;      /* [kg m^2] */
-  double payload_mass; /* [kg] */
-  double payload_com[3];     /* [m] */
-  double payload_inertia[3]; /* [kg m^2] */
-  double viscous;      /* [N m s/rad] */
-  double coulomb;      /* [N m] */
-  /* trajectory */
-  int kind;            /* rps3_traj_kind */
-  double radius;       /* r* [m] */
-  double pitch;        /* h [m] */
-  double z0;           /* z_i [m] */
-  double period;       /* T* [s] */
-  double blend;        /* t_a [s] */
-  double blend_ratio;  /* t_a / T* [-] */
-  double mean[3];      /* [rad, rad, m] */
-  double amp[3];       /* [rad, rad, m] */
-  double freq[3];      /* [Hz] */
-  double phase[3];     /* [rad] */
-  double duration;     /* [s] */
-  int samples;         /* number of time samples, ends included */
-  double dt;           /* time step [s] */
-  /* effects */
-  int effects;         /* RPS3_EFF_* bits */
-  /* solver */
-  int theta;           /* rps3_theta_route */
-  int method;          /* rps3_method */
-  int solver;          /* rps3_solver */
-  double tolerance;    /* [-] */
-  int max_iter;
-  int warm_start;      /* 0 | 1 */
-  int certify;         /* 0 | 1 */
-  double cond_warn;    /* [-] */
-  double cond_max;     /* [-] */
+  double m_over_M;    /* link mass over M: model.m = m_over_M * M */
+  double blend_ratio; /* t_a / T*: traj.helix.blend = blend_ratio * period */
+  int samples;        /* number of time samples, ends included */
+  double dt;          /* time step [s] */
+} scene_own;
+
+/*
+ * SCENE_OWN_FIELDS X(ID, IN, MEMBER, N, IS_INT, LO, LO_OPEN, HI, UNIT, NAME,
+ *                    FILLS): rows shaped like the library's RPS3_FIELDS, for
+ * the members of scene_own; IN says which trajectory kinds it serves, FILLS
+ * the library field it is turned into (-1: none).
+ */
+#define SCENE_OWN_FIELDS(X)                                                   \
+  X(OWN_M_OVER_M, RPS3_IN_MODEL, m_over_M, 1, 0, 0, 0, HUGE_VAL, "1",         \
+    "m_over_M", RPS3_F_LINK_MASS)                                             \
+  X(OWN_BLEND_RATIO, RPS3_IN_HELIX, blend_ratio, 1, 0, 0, 1, 0.5, "1",        \
+    "blend_ratio", RPS3_F_HELIX_BLEND)                                        \
+  X(OWN_SAMPLES, RPS3_IN_TRAJ, samples, 1, 1, 2, 0, 2147483647.0, "1",        \
+    "samples", -1)                                                            \
+  X(OWN_DT, RPS3_IN_TRAJ, dt, 1, 0, 0, 1, HUGE_VAL, "s", "dt", -1)
+
+#define SCENE_OWN_ID(ID, ...) ID,
+enum { SCENE_OWN_FIELDS(SCENE_OWN_ID) SCENE_NOWN };
+#undef SCENE_OWN_ID
+
+/* every value a scene can set: the library's structures, filled through
+   the offsets of RPS3_FIELDS, and the runner's own */
+typedef struct {
+  rps3_model model;
+  rps3_traj traj;
+  scene_own own;
 } scene_values;
 
 /*
- * SCENE_KEYS X(ID, path, type, field, for, req, lo, lo_open, hi, unit,
- *              symbol, doc)
- * Values must lie in [lo, hi] (lo excluded when lo_open); the library's
- * rps3_model_init() and rps3_traj_check() then check what involves several
- * keys.  Defaults are those of rps3_model_default() and rps3_options_default().
+ * SCENE_KEYS X(ID, path, type, SRC, FIELD, req, symbol, doc): each key of a
+ * scene file.  SRC LIB: FIELD is the library field it fills (rps3_field_id),
+ * whose row gives the offset, the range (the library's own validation, read,
+ * not repeated), the unit and the trajectory kind; SRC OWN: FIELD is a row
+ * of SCENE_OWN_FIELDS.  The rules that involve several fields are the
+ * library's, run when a case is built; a failure comes back as a field id
+ * and is mapped to the key (or the swept value) that set it.  Defaults are
+ * those of rps3_model_default() and rps3_traj_default().
  */
 #define SCENE_KEYS(X)                                                         \
-  X(K_R, "manipulator.R", KEY_REAL, R, FOR_ALL, REQ_YES, 0, 1, HUGE_VAL,      \
-    "m", "R", "base radius, centre to the pin joints")                        \
-  X(K_RHO, "manipulator.rho", KEY_REAL, rho, FOR_ALL, REQ_YES, 0, 1,          \
-    HUGE_VAL, "1", "rho = r/R",                                               \
+  X(K_R, "manipulator.R", KEY_REAL, LIB, RPS3_F_R, REQ_YES, "R",              \
+    "base radius, centre to the pin joints")                                  \
+  X(K_RHO, "manipulator.rho", KEY_REAL, LIB, RPS3_F_RHO, REQ_YES, "rho = r/R", \
     "platform radius r (centre to the ball joints) over R")                   \
-  X(K_M, "manipulator.M", KEY_REAL, M, FOR_ALL, REQ_YES, 0, 0, HUGE_VAL,      \
-    "kg", "M", "platform mass, a uniform disc of radius r")                   \
-  X(K_M_OVER_M, "manipulator.m_over_M", KEY_REAL, m_over_M, FOR_ALL,          \
-    REQ_ONE_MASS, 0, 0, HUGE_VAL, "1", "m/M",                                 \
+  X(K_M, "manipulator.M", KEY_REAL, LIB, RPS3_F_PLATFORM_MASS, REQ_YES, "M",  \
+    "platform mass, a uniform disc of radius r")                              \
+  X(K_M_OVER_M, "manipulator.m_over_M", KEY_REAL, OWN, OWN_M_OVER_M,          \
+    REQ_ONE_MASS, "m/M",                                                      \
     "mass of each link over M; give this or manipulator.m")                   \
-  X(K_MASS, "manipulator.m", KEY_REAL, m, FOR_ALL, REQ_ONE_MASS, 0, 0,        \
-    HUGE_VAL, "kg", "m", "mass of each link; give this or m_over_M")          \
-  X(K_D, "manipulator.d", KEY_REAL, d, FOR_ALL, REQ_YES, 0, 0, HUGE_VAL, "m", \
-    "d_i", "pin joint to link centroid, constant")                            \
-  X(K_G, "manipulator.g", KEY_REAL, g, FOR_ALL, REQ_NO, 0, 0, HUGE_VAL,       \
-    "m/s^2", "g", "gravitational acceleration, along -Z")                     \
-  X(K_LINK_IC, "manipulator.link_Ic", KEY_REAL, link_Ic, FOR_ALL, REQ_NO, 0,  \
-    0, HUGE_VAL, "kg m^2", "-",                                               \
-    "link inertia about its centroid, about the pin axis (0 in the paper)")   \
-  X(K_PAY_MASS, "manipulator.payload.mass", KEY_REAL, payload_mass, FOR_ALL,  \
-    REQ_NO, 0, 0, HUGE_VAL, "kg", "-",                                        \
+  X(K_MASS, "manipulator.m", KEY_REAL, LIB, RPS3_F_LINK_MASS, REQ_ONE_MASS,   \
+    "m", "mass of each link; give this or m_over_M")                          \
+  X(K_D, "manipulator.d", KEY_REAL, LIB, RPS3_F_D, REQ_YES, "d_i",            \
+    "pin joint to link centroid, constant")                                   \
+  X(K_G, "manipulator.g", KEY_REAL, LIB, RPS3_F_G, REQ_NO, "g",               \
+    "gravitational acceleration, along -Z")                                   \
+  X(K_LINK_IC, "manipulator.link_Ic", KEY_REAL, LIB, RPS3_F_LINK_IC, REQ_NO,  \
+    "-", "link inertia about its centroid, about the pin axis (0 in the "     \
+    "paper)")                                                                 \
+  X(K_PAY_MASS, "manipulator.payload.mass", KEY_REAL, LIB,                    \
+    RPS3_F_PAYLOAD_MASS, REQ_NO, "-",                                         \
     "payload fixed to the platform (effect payload)")                         \
-  X(K_PAY_COM, "manipulator.payload.com", KEY_REAL3, payload_com, FOR_ALL,    \
-    REQ_NO, -HUGE_VAL, 0, HUGE_VAL, "m", "-",                                 \
-    "payload centre of mass [x, y, z] in platform axes")                      \
-  X(K_PAY_INERTIA, "manipulator.payload.inertia", KEY_REAL3, payload_inertia, \
-    FOR_ALL, REQ_NO, 0, 0, HUGE_VAL, "kg m^2", "-",                           \
+  X(K_PAY_COM, "manipulator.payload.com", KEY_REAL3, LIB, RPS3_F_PAYLOAD_COM, \
+    REQ_NO, "-", "payload centre of mass [x, y, z] in platform axes")         \
+  X(K_PAY_INERTIA, "manipulator.payload.inertia", KEY_REAL3, LIB,             \
+    RPS3_F_PAYLOAD_INERTIA, REQ_NO, "-",                                      \
     "payload principal moments [Ixx, Iyy, Izz] about its centre of mass")     \
-  X(K_VISCOUS, "manipulator.pin_friction.viscous", KEY_REAL, viscous,         \
-    FOR_ALL, REQ_NO, 0, 0, HUGE_VAL, "N m s/rad", "T_{i-3} of (23)",          \
+  X(K_VISCOUS, "manipulator.pin_friction.viscous", KEY_REAL, LIB,             \
+    RPS3_F_VISCOUS, REQ_NO, "T_{i-3} of (23)",                                \
     "viscous pin friction (effect pin_friction)")                             \
-  X(K_COULOMB, "manipulator.pin_friction.coulomb", KEY_REAL, coulomb,         \
-    FOR_ALL, REQ_NO, 0, 0, HUGE_VAL, "N m", "T_{i-3} of (23)",                \
+  X(K_COULOMB, "manipulator.pin_friction.coulomb", KEY_REAL, LIB,             \
+    RPS3_F_COULOMB, REQ_NO, "T_{i-3} of (23)",                                \
     "Coulomb pin friction (effect pin_friction)")                             \
-  X(K_KIND, "trajectory.kind", KEY_ENUM, kind, FOR_ALL, REQ_YES, 0, 0, 0,     \
-    "-", "-", "helix (the paper's section VI) or sine")                       \
-  X(K_RADIUS, "trajectory.radius", KEY_REAL, radius, FOR_HELIX, REQ_YES, 0,   \
-    0, HUGE_VAL, "m", "r*", "helix radius, below r/2, eqs. (35), (37)")       \
-  X(K_PITCH, "trajectory.pitch", KEY_REAL, pitch, FOR_HELIX, REQ_YES,         \
-    -HUGE_VAL, 0, HUGE_VAL, "m", "h", "helix pitch: rise of z_c in T*")       \
-  X(K_Z0, "trajectory.z0", KEY_REAL, z0, FOR_HELIX, REQ_YES, -HUGE_VAL, 0,    \
-    HUGE_VAL, "m", "z_i", "platform centre height at t = 0, (35)")            \
-  X(K_PERIOD, "trajectory.period", KEY_REAL, period, FOR_HELIX, REQ_YES, 0,   \
-    1, HUGE_VAL, "s", "T*", "time for one pitch (one turn)")                  \
-  X(K_BLEND, "trajectory.blend", KEY_REAL, blend, FOR_HELIX, REQ_ONE_BLEND, 0, \
-    1,                                                                        \
-    HUGE_VAL, "s", "t_a",                                                     \
+  X(K_KIND, "trajectory.kind", KEY_ENUM, LIB, RPS3_F_KIND, REQ_YES, "-",      \
+    "helix (the paper's section VI) or sine")                                 \
+  X(K_RADIUS, "trajectory.radius", KEY_REAL, LIB, RPS3_F_HELIX_RADIUS,        \
+    REQ_YES, "r*", "helix radius, below r/2, eqs. (35), (37)")                \
+  X(K_PITCH, "trajectory.pitch", KEY_REAL, LIB, RPS3_F_HELIX_PITCH, REQ_YES,  \
+    "h", "helix pitch: rise of z_c in T*")                                    \
+  X(K_Z0, "trajectory.z0", KEY_REAL, LIB, RPS3_F_HELIX_Z0, REQ_YES, "z_i",    \
+    "platform centre height at t = 0, (35)")                                  \
+  X(K_PERIOD, "trajectory.period", KEY_REAL, LIB, RPS3_F_HELIX_PERIOD,        \
+    REQ_YES, "T*", "time for one pitch (one turn)")                           \
+  X(K_BLEND, "trajectory.blend", KEY_REAL, LIB, RPS3_F_HELIX_BLEND,           \
+    REQ_ONE_BLEND, "t_a",                                                     \
     "parabolic blend at both ends, t_a <= T*/2; t_b = T* - t_a; or give "     \
     "blend_ratio")                                                            \
-  X(K_BLEND_RATIO, "trajectory.blend_ratio", KEY_REAL, blend_ratio,           \
-    FOR_HELIX, REQ_ONE_BLEND, 0, 1, 0.5, "1", "t_a/T*",                       \
+  X(K_BLEND_RATIO, "trajectory.blend_ratio", KEY_REAL, OWN, OWN_BLEND_RATIO,  \
+    REQ_ONE_BLEND, "t_a/T*",                                                  \
     "the blend as a fraction of T* (Table II: 0.1), so that a sweep of T* "   \
     "keeps the shape of the motion; or give blend")                           \
-  X(K_MEAN, "trajectory.mean", KEY_REAL3, mean, FOR_SINE, REQ_YES, -HUGE_VAL, \
-    0, HUGE_VAL, "rad, rad, m", "-", "mean of [alpha, beta, z_c]")            \
-  X(K_AMP, "trajectory.amp", KEY_REAL3, amp, FOR_SINE, REQ_YES, -HUGE_VAL, 0, \
-    HUGE_VAL, "rad, rad, m", "-", "amplitude of [alpha, beta, z_c]")          \
-  X(K_FREQ, "trajectory.freq", KEY_REAL3, freq, FOR_SINE, REQ_YES, 0, 0,      \
-    HUGE_VAL, "Hz", "-", "frequency of [alpha, beta, z_c]")                   \
-  X(K_PHASE, "trajectory.phase", KEY_REAL3, phase, FOR_SINE, REQ_NO,          \
-    -HUGE_VAL, 0, HUGE_VAL, "rad", "-", "phase of [alpha, beta, z_c]")        \
-  X(K_DURATION, "trajectory.duration", KEY_REAL, duration, FOR_SINE, REQ_YES, \
-    0, 1, HUGE_VAL, "s", "-", "time span of the sine trajectory")             \
-  X(K_SAMPLES, "trajectory.samples", KEY_INT, samples, FOR_ALL, REQ_ONE_GRID, \
-    2, 0, 2147483647.0, "1", "-",                                             \
+  X(K_MEAN, "trajectory.mean", KEY_REAL3, LIB, RPS3_F_SINE_MEAN, REQ_YES,     \
+    "-", "mean of [alpha, beta, z_c]")                                        \
+  X(K_AMP, "trajectory.amp", KEY_REAL3, LIB, RPS3_F_SINE_AMP, REQ_YES, "-",   \
+    "amplitude of [alpha, beta, z_c]")                                        \
+  X(K_FREQ, "trajectory.freq", KEY_REAL3, LIB, RPS3_F_SINE_FREQ, REQ_YES,     \
+    "-", "frequency of [alpha, beta, z_c]")                                   \
+  X(K_PHASE, "trajectory.phase", KEY_REAL3, LIB, RPS3_F_SINE_PHASE, REQ_NO,   \
+    "-", "phase of [alpha, beta, z_c]")                                       \
+  X(K_DURATION, "trajectory.duration", KEY_REAL, LIB, RPS3_F_SINE_DURATION,   \
+    REQ_YES, "-", "time span of the sine trajectory")                         \
+  X(K_SAMPLES, "trajectory.samples", KEY_INT, OWN, OWN_SAMPLES,               \
+    REQ_ONE_GRID, "-",                                                        \
     "time samples over the span, both ends included; or give dt")             \
-  X(K_DT, "trajectory.dt", KEY_REAL, dt, FOR_ALL, REQ_ONE_GRID, 0, 1,         \
-    HUGE_VAL, "s", "-",                                                       \
+  X(K_DT, "trajectory.dt", KEY_REAL, OWN, OWN_DT, REQ_ONE_GRID, "-",          \
     "time step; the span must be a whole number of steps; or give samples")   \
-  X(K_EFFECTS, "effects", KEY_EFFECTS, effects, FOR_ALL, REQ_NO, 0, 0, 0,     \
-    "-", "-", "effects to compute (default: all but payload, pin_friction)")  \
-  X(K_THETA, "solver.theta", KEY_ENUM, theta, FOR_ALL, REQ_NO, 0, 0, 0, "-",  \
-    "theta_i", "closed_form (eq. 39) or multiroot (eqs. 8-10, GSL)")          \
-  X(K_METHOD, "solver.method", KEY_ENUM, method, FOR_ALL, REQ_NO, 0, 0, 0,    \
-    "-", "-", "lagrange (the paper's eqs. 21-24, 34) or newton_euler")        \
-  X(K_TOL, "solver.tolerance", KEY_REAL, tolerance, FOR_ALL, REQ_NO, 0, 1,    \
-    HUGE_VAL, "1", "-", "theta solve: stop when max_k abs(f_k) <= tolerance")      \
-  X(K_MAX_ITER, "solver.max_iter", KEY_INT, max_iter, FOR_ALL, REQ_NO, 1, 0,  \
-    2147483647.0, "1", "-", "theta solve iteration limit")                    \
-  X(K_SOLVER, "solver.solver", KEY_ENUM, solver, FOR_ALL, REQ_NO, 0, 0, 0,    \
-    "-", "-", "GSL multiroot solver (hybridsj, hybridj, newton, ...)")        \
-  X(K_WARM, "solver.warm_start", KEY_BOOL, warm_start, FOR_ALL, REQ_NO, 0, 0, \
-    1, "-", "-", "theta solve starts from the previous sample of the case")   \
-  X(K_CERTIFY, "solver.certify", KEY_BOOL, certify, FOR_ALL, REQ_NO, 0, 0, 1, \
-    "-", "-", "compute the energy-rate residual at every sample")             \
-  X(K_COND_WARN, "solver.cond_warn", KEY_REAL, cond_warn, FOR_ALL, REQ_NO, 1, \
-    0, HUGE_VAL, "1", "-", "warn above this condition number")                \
-  X(K_COND_MAX, "solver.cond_max", KEY_REAL, cond_max, FOR_ALL, REQ_NO, 1, 0, \
-    HUGE_VAL, "1", "-", "fail (singular) above this condition number")
+  X(K_EFFECTS, "effects", KEY_EFFECTS, LIB, RPS3_F_EFFECTS, REQ_NO, "-",      \
+    "effects to compute (default: all but payload, pin_friction)")            \
+  X(K_THETA, "solver.theta", KEY_ENUM, LIB, RPS3_F_THETA, REQ_NO, "theta_i",  \
+    "closed_form (eq. 39) or multiroot (eqs. 8-10, GSL)")                     \
+  X(K_METHOD, "solver.method", KEY_ENUM, LIB, RPS3_F_METHOD, REQ_NO, "-",     \
+    "lagrange (the paper's eqs. 21-24, 34) or newton_euler")                  \
+  X(K_TOL, "solver.tolerance", KEY_REAL, LIB, RPS3_F_TOL, REQ_NO, "-",        \
+    "theta solve: stop when max_k abs(f_k) <= tolerance")                     \
+  X(K_MAX_ITER, "solver.max_iter", KEY_INT, LIB, RPS3_F_MAX_ITER, REQ_NO,     \
+    "-", "theta solve iteration limit")                                       \
+  X(K_SOLVER, "solver.solver", KEY_ENUM, LIB, RPS3_F_SOLVER, REQ_NO, "-",     \
+    "GSL multiroot solver (hybridsj, hybridj, newton, ...)")                  \
+  X(K_WARM, "solver.warm_start", KEY_BOOL, LIB, RPS3_F_WARM_START, REQ_NO,    \
+    "-", "theta solve starts from the previous sample of the case")           \
+  X(K_CERTIFY, "solver.certify", KEY_BOOL, LIB, RPS3_F_CERTIFY, REQ_NO, "-",  \
+    "compute the energy-rate residual at every sample")                       \
+  X(K_COND_WARN, "solver.cond_warn", KEY_REAL, LIB, RPS3_F_COND_WARN,         \
+    REQ_NO, "-", "warn above this condition number")                          \
+  X(K_COND_MAX, "solver.cond_max", KEY_REAL, LIB, RPS3_F_COND_MAX, REQ_NO,    \
+    "-", "fail (singular) above this condition number")
 
 #define SCENE_KEY_ID(ID, ...) ID,
 typedef enum { SCENE_KEYS(SCENE_KEY_ID) SCENE_NKEY } scene_key;
 #undef SCENE_KEY_ID
 
-/* one row of SCENE_KEYS */
+/* where a key's value is stored */
+enum { SRC_LIB = 0, SRC_OWN = 1 };
+
+/* one row of SCENE_KEYS, with its field's row resolved */
 typedef struct {
   const char *path;
   key_type type;
-  size_t offset; /* into scene_values */
-  int kind;      /* FOR_* */
+  int src;       /* SRC_LIB or SRC_OWN */
+  int field;     /* rps3_field_id (SRC_LIB) or OWN_* (SRC_OWN) */
+  const rps3_field_info *f; /* the field's row: offset, range, unit */
+  int kind;      /* FOR_*, from the field's IN */
   int req;       /* REQ_* */
-  double lo;
-  int lo_open;
-  double hi;
   const char *unit;
   const char *symbol;
   const char *doc;

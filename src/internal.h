@@ -33,6 +33,17 @@
 /* An empty function to put a breakpoint on: every error passes here. */
 void rps3_error_hook(int code);
 
+/* field.c: reset a check; record a failure of field (component comp) with
+   value and reason, naming up to two related fields; returns RPS3_EINVAL */
+void rps3_check_clear(rps3_check *chk);
+int rps3_check_fail(rps3_check *chk, int field, int comp, double value,
+                    int rel0, int rel1, const char *why);
+/* 1 when x is finite and inside the range of row f */
+int rps3_field_in_range(const rps3_field_info *f, double x);
+/* the range check of every row of RPS3_FIELDS held in `in` (enum
+   rps3_field_in) by the structure at base; RPS3_OK or RPS3_EINVAL */
+int rps3_fields_check(int in, const void *base, rps3_check *chk);
+
 /* internal state of the theta solve, owned by rps3_data */
 struct rps3_solver_state;
 int rps3_solver_alloc(const rps3_model *m, struct rps3_solver_state **out);

@@ -18,58 +18,41 @@ void rps3_traj_default(rps3_traj *tr) {
   tr->helix.blend = 1.0;
 }
 
-static int bad(char *err, size_t errsz, const char *field, double v,
-               const char *why) {
-  if (err != NULL && errsz > 0)
-    snprintf(err, errsz, "%s = %.17g: %s", field, v, why);
-  return RPS3_EINVAL;
-}
-
 int rps3_traj_check(const rps3_model *m, const rps3_traj *tr, char *err,
                     size_t errsz) {
-  int k;
+  rps3_check chk;
+  int rc = rps3_traj_validate(m, tr, &chk);
+  if (rc != RPS3_OK && err != NULL && errsz > 0)
+    snprintf(err, errsz, "%s", chk.msg);
+  return rc;
+}
+
+int rps3_traj_validate(const rps3_model *m, const rps3_traj *tr,
+                       rps3_check *chk) {
+  rps3_check_clear(chk);
   if (m == NULL || tr == NULL || !m->valid) {
-    if (err != NULL && errsz > 0)
-      snprintf(err, errsz, "model not initialised or trajectory NULL");
+    if (chk != NULL)
+      snprintf(chk->msg, sizeof chk->msg,
+               "model not initialised or trajectory NULL");
     return RPS3_EINVAL;
   }
+  /* the kind, then each field of that kind against its range
+     (RPS3_FIELDS), then the rules that involve several fields */
+  if (rps3_fields_check(RPS3_IN_TRAJ, tr, chk) != RPS3_OK ||
+      rps3_fields_check(1 + (int)tr->kind, tr, chk) != RPS3_OK)
+    return RPS3_EINVAL;
   if (tr->kind == RPS3_TRAJ_HELIX) {
     const rps3_helix *h = &tr->helix;
-    if (!(isfinite(h->radius) && h->radius >= 0 && h->radius < 0.5 * m->r))
-      return bad(err, errsz, "trajectory.radius", h->radius,
-                 "needs 0 <= r* < r/2 = rho R / 2 (cos beta = 1 - 2 r* / r)");
-    if (!isfinite(h->pitch))
-      return bad(err, errsz, "trajectory.pitch", h->pitch, "must be finite");
-    if (!(isfinite(h->z0) && h->z0 > 0))
-      return bad(err, errsz, "trajectory.z0", h->z0, "must be finite and > 0");
-    if (!(isfinite(h->period) && h->period > 0))
-      return bad(err, errsz, "trajectory.period", h->period,
-                 "must be finite and > 0");
-    if (!(isfinite(h->blend) && h->blend > 0 && h->blend <= 0.5 * h->period))
-      return bad(err, errsz, "trajectory.blend", h->blend,
-                 "needs 0 < t_a <= T* / 2");
-    return RPS3_OK;
+    if (!(h->radius < 0.5 * m->r))
+      return rps3_check_fail(
+          chk, RPS3_F_HELIX_RADIUS, 0, h->radius, RPS3_F_RHO, RPS3_F_R,
+          "needs 0 <= r* < r/2 = rho R / 2 (cos beta = 1 - 2 r* / r)");
+    if (!(h->blend <= 0.5 * h->period))
+      return rps3_check_fail(chk, RPS3_F_HELIX_BLEND, 0, h->blend,
+                             RPS3_F_HELIX_PERIOD, -1,
+                             "needs 0 < t_a <= T* / 2");
   }
-  if (tr->kind == RPS3_TRAJ_SINE) {
-    const rps3_sine *s = &tr->sine;
-    static const char *const names[4][3] = {
-        {"trajectory.mean[0]", "trajectory.mean[1]", "trajectory.mean[2]"},
-        {"trajectory.amp[0]", "trajectory.amp[1]", "trajectory.amp[2]"},
-        {"trajectory.freq[0]", "trajectory.freq[1]", "trajectory.freq[2]"},
-        {"trajectory.phase[0]", "trajectory.phase[1]", "trajectory.phase[2]"}};
-    for (k = 0; k < 3; k++) {
-      if (!isfinite(s->mean[k])) return bad(err, errsz, names[0][k], s->mean[k], "must be finite");
-      if (!isfinite(s->amp[k])) return bad(err, errsz, names[1][k], s->amp[k], "must be finite");
-      if (!(isfinite(s->freq[k]) && s->freq[k] >= 0))
-        return bad(err, errsz, names[2][k], s->freq[k], "must be finite and >= 0");
-      if (!isfinite(s->phase[k])) return bad(err, errsz, names[3][k], s->phase[k], "must be finite");
-    }
-    if (!(isfinite(s->duration) && s->duration > 0))
-      return bad(err, errsz, "trajectory.duration", s->duration,
-                 "must be finite and > 0");
-    return RPS3_OK;
-  }
-  return bad(err, errsz, "trajectory.kind", (double)tr->kind, "unknown kind");
+  return RPS3_OK;
 }
 
 double rps3_traj_duration(const rps3_traj *tr) {

@@ -45,7 +45,7 @@ static void rejects_each_field(void **state) {
   BAD("payload.mass", m.payload.mass = -0.5);
   BAD("payload.com[1]", m.payload.com[1] = (double)NAN);
   BAD("payload.inertia[2]", m.payload.inertia[2] = -1.0);
-  BAD("payload.inertia", (m.payload.inertia[0] = 1.0, m.payload.inertia[1] = 0.2,
+  BAD("payload.inertia[0]", (m.payload.inertia[0] = 1.0, m.payload.inertia[1] = 0.2,
                    m.payload.inertia[2] = 0.3));
   BAD("pin_friction.viscous", m.friction.viscous = -0.1);
   BAD("pin_friction.coulomb", m.friction.coulomb = (double)NAN);
@@ -59,6 +59,59 @@ static void rejects_each_field(void **state) {
   BAD("opt.cond_max", m.opt.cond_max = 10.0);
   BAD("rho", (m.R = 1e300, m.rho = 1e300));
   assert_int_equal(rps3_model_init(NULL, NULL, 0), RPS3_EINVAL);
+}
+
+/* rps3_model_validate names the failing field by identifier and
+   component, and each row's name, offset and range agree with the
+   structure */
+#define BAD_ID(id, comp_, rel, stmt)                                          \
+  do {                                                                        \
+    rps3_model m;                                                             \
+    rps3_check chk;                                                           \
+    rps3_model_default(&m);                                                   \
+    stmt;                                                                     \
+    assert_int_equal(rps3_model_validate(&m, &chk), RPS3_EINVAL);             \
+    assert_int_equal(chk.field, id);                                          \
+    assert_int_equal(chk.comp, comp_);                                        \
+    assert_int_equal(chk.related[0], rel);                                    \
+    assert_true(strncmp(chk.msg, rps3_field(id)->name,                        \
+                        strlen(rps3_field(id)->name)) == 0);                  \
+  } while (0)
+
+static void validate_names_field_by_id(void **state) {
+  rps3_model m0;
+  rps3_check c0;
+  int id;
+  (void)state;
+  BAD_ID(RPS3_F_R, 0, -1, m.R = -1.0);
+  BAD_ID(RPS3_F_PAYLOAD_COM, 2, -1, m.payload.com[2] = (double)INFINITY);
+  BAD_ID(RPS3_F_PAYLOAD_INERTIA, 1, RPS3_F_PAYLOAD_INERTIA,
+         (m.payload.inertia[0] = 0.1, m.payload.inertia[1] = 1.0,
+          m.payload.inertia[2] = 0.2));
+  BAD_ID(RPS3_F_SOLVER, 0, -1, m.opt.solver = (rps3_solver)-1);
+  BAD_ID(RPS3_F_MAX_ITER, 0, -1, m.opt.max_iter = 0);
+  BAD_ID(RPS3_F_COND_MAX, 0, RPS3_F_COND_WARN, m.opt.cond_max = 10.0);
+  BAD_ID(RPS3_F_RHO, 0, RPS3_F_R, (m.R = 1e300, m.rho = 1e300));
+  rps3_model_default(&m0);
+  assert_int_equal(rps3_model_validate(&m0, &c0), RPS3_OK);
+  assert_int_equal(c0.field, -1);
+  assert_int_equal(rps3_model_validate(NULL, &c0), RPS3_EINVAL);
+  assert_int_equal(c0.field, -1);
+  assert_null(rps3_field(-1));
+  assert_null(rps3_field(RPS3_NFIELD));
+  /* the offset of a row is where its member is: the defaults read back
+     through the table equal the members */
+  assert_int_equal(rps3_field(RPS3_F_G)->offset, offsetof(rps3_model, g));
+  assert_int_equal(rps3_field(RPS3_F_TOL)->offset,
+                   offsetof(rps3_model, opt.tol));
+  assert_int_equal(rps3_field(RPS3_F_HELIX_BLEND)->offset,
+                   offsetof(rps3_traj, helix.blend));
+  for (id = 0; id < RPS3_NFIELD; id++) {
+    const rps3_field_info *f = rps3_field(id);
+    assert_non_null(f->name);
+    assert_true(f->n == 1 || f->n == 3);
+    assert_true(f->lo <= f->hi);
+  }
 }
 
 static void names_round_trip(void **state) {
@@ -123,6 +176,7 @@ int main(void) {
   const struct CMUnitTest tests[] = {
       cmocka_unit_test(defaults_are_table_ii),
       cmocka_unit_test(rejects_each_field),
+      cmocka_unit_test(validate_names_field_by_id),
       cmocka_unit_test(names_round_trip),
       cmocka_unit_test(every_status_has_a_message),
       cmocka_unit_test(data_life_cycle),
