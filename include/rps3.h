@@ -461,6 +461,92 @@ RPS3_API int rps3_invdyn(const rps3_model *m, rps3_data *d);
  */
 RPS3_API int rps3_inverse(const rps3_model *m, rps3_data *d);
 
+/* ------------------------------------------------------------------- batch */
+
+/*
+ * Batch entry points: n points in one call.  Every array is a structure of
+ * arrays, "component-major": component c of point i is at [c * n + i]
+ * (alpha[0..n), then beta[0..n), then z_c[0..n) for poses).  The points are
+ * computed in order with the one workspace d, exactly as the loop
+ *     for i: copy point i into d; rps3_<stage>(m, d); copy the results out
+ * computes them, so the results are bitwise those of that loop (a multiroot
+ * theta solve warm-starts from the previous point of d when
+ * m->opt.warm_start).  No allocation; one workspace per thread, so a caller
+ * may split a batch across threads, each thread with its own d.
+ *
+ * A point that fails gets its status in out->status[i] and NaN in its
+ * floating-point outputs, and the other points are computed.  out->nfail
+ * counts the failed points; the first one is out->first_fail, and its
+ * message, prefixed "point I: ", is left in d->err.
+ *
+ * Returns RPS3_OK when the call ran (look at out->nfail and out->status),
+ * or RPS3_EINVAL when the call itself is invalid (m not initialised, d, in
+ * or out NULL, a required array NULL, 3 n overflowing size_t): then nothing
+ * is computed, and d->err (d not NULL) says what is wrong.
+ */
+
+/* Inputs of the batch functions; each reads only the arrays it names. */
+typedef struct {
+  size_t n;              /* number of points */
+  const double *pose;    /* 3 n: alpha, beta, z_c [rad, rad, m] (inverse,
+                            ik) */
+  const double *dpose;   /* 3 n: pose rates [rad/s, rad/s, m/s] (inverse,
+                            required when a selected effect or opt.certify
+                            needs rates, else may be NULL) */
+  const double *ddpose;  /* 3 n: pose accelerations [rad/s^2, rad/s^2,
+                            m/s^2] (inverse, same rule as dpose) */
+  const double *l;       /* 3 n: link lengths [m] (fk) */
+  const double *guess;   /* 3 n: starting theta of each point's solve [rad]
+                            (fk; may be NULL) */
+} rps3_batch_in;
+
+/* Outputs of the batch functions; each writes the arrays it computes that
+   are not NULL; status is required. */
+typedef struct {
+  int *status;           /* n: rps3_status of each point */
+  int *warn;             /* n: RPS3_WARN_* bits of each point */
+  double *pose;          /* 3 n: poses (fk) [rad, rad, m] */
+  double *l;             /* 3 n: link lengths (ik, inverse) [m] */
+  double *theta;         /* 3 n: link angles (all) [rad] */
+  int *niter;            /* n: iterations of the theta solve (fk; inverse
+                            with the multiroot route), 0 in closed form */
+  double *F;             /* 3 n: actuating forces (inverse) [N] */
+  double *F_effect;      /* RPS3_NEFFECT 3 n: share of effect k in F_j of
+                            point i at [(k * 3 + j) * n + i] (inverse) [N] */
+  double *lambda;        /* 3 n: multipliers (inverse) [N/m]; NaN where
+                            not computed (Newton-Euler: has_lambda 0) */
+  double *cond;          /* n: condition number of the lambda system
+                            (inverse) [-] */
+  double *energy_residual; /* n: energy-rate residual (inverse) [W]; 0 when
+                              opt.certify is off */
+  size_t nfail;          /* written: number of points whose status is not
+                            RPS3_OK */
+  size_t first_fail;     /* written: index of the first of them (n if none) */
+} rps3_batch_out;
+
+/*
+ * rps3_inverse (pose, rates, accelerations -> forces) over in->n points:
+ * reads pose, dpose, ddpose; writes status, warn, l, theta, niter, F,
+ * F_effect, lambda, cond, energy_residual.
+ */
+RPS3_API int rps3_inverse_batch(const rps3_model *m, rps3_data *d,
+                                const rps3_batch_in *in, rps3_batch_out *out);
+
+/*
+ * rps3_ik over in->n points: reads pose; writes status, warn, l, theta.
+ */
+RPS3_API int rps3_ik_batch(const rps3_model *m, rps3_data *d,
+                           const rps3_batch_in *in, rps3_batch_out *out);
+
+/*
+ * rps3_fk over in->n points: reads l and guess; writes status, warn, pose,
+ * theta, niter.  With guess the solve of point i starts from guess i,
+ * whatever opt.warm_start; without it, as rps3_fk starts: from the previous
+ * point of d when opt.warm_start, else from rps3_theta_guess.
+ */
+RPS3_API int rps3_fk_batch(const rps3_model *m, rps3_data *d,
+                           const rps3_batch_in *in, rps3_batch_out *out);
+
 /* -------------------------------------------------------------- trajectory */
 
 typedef enum {

@@ -239,8 +239,65 @@ static void stages_and_errors(void **state) {
   rps3_data_free(d);
 }
 
+/* the batch entry points, with failing points among them (the message of
+   the first one is rewritten in place) */
+#define NBATCH 2000
+static void batches(void **state) {
+  static double pose[3 * NBATCH], rates[3 * NBATCH], l[3 * NBATCH],
+      theta[3 * NBATCH], F[3 * NBATCH], Fe[RPS3_NEFFECT * 3 * NBATCH];
+  static int status[NBATCH];
+  rps3_model m;
+  rps3_data *d = NULL;
+  rps3_batch_in in;
+  rps3_batch_out out;
+  size_t i, nfail[3];
+  (void)state;
+  model_entropy(&m);
+  m.opt.theta = RPS3_THETA_MULTIROOT;
+  assert_int_equal(rps3_model_init(&m, NULL, 0), RPS3_OK);
+  assert_int_equal(rps3_data_alloc(&m, &d), RPS3_OK);
+  for (i = 0; i < NBATCH; i++) {
+    double s = (double)i / NBATCH;
+    pose[i] = -2.9 + 5.7 * s;
+    pose[NBATCH + i] = 0.05 + 0.3 * s;
+    pose[2 * NBATCH + i] = i % 50 == 7 ? -0.1 : 0.21 + 0.1 * s;
+  }
+  for (i = 0; i < 3 * NBATCH; i++) rates[i] = 0.31 - 0.0001 * (double)i;
+  memset(&in, 0, sizeof(in));
+  memset(&out, 0, sizeof(out));
+  in.n = NBATCH;
+  in.pose = pose;
+  in.dpose = rates;
+  in.ddpose = rates;
+  out.status = status;
+  out.l = l;
+  out.theta = theta;
+  out.F = F;
+  out.F_effect = Fe;
+
+  count_start();
+  assert_int_equal(rps3_inverse_batch(&m, d, &in, &out), RPS3_OK);
+  nfail[0] = out.nfail;
+  assert_int_equal(rps3_ik_batch(&m, d, &in, &out), RPS3_OK);
+  nfail[1] = out.nfail;
+  in.l = l;
+  in.guess = theta;
+  assert_int_equal(rps3_fk_batch(&m, d, &in, &out), RPS3_OK);
+  nfail[2] = out.nfail;
+  count_stop();
+  print_message("batches: %d points, %lu/%lu/%lu failed, %ld allocations\n",
+                NBATCH, (unsigned long)nfail[0], (unsigned long)nfail[1],
+                (unsigned long)nfail[2], n_alloc);
+  assert_int_equal((int)nfail[0], NBATCH / 50);
+  assert_int_equal((int)nfail[2], NBATCH / 50);
+  assert_int_equal(n_alloc, 0);
+  assert_int_equal(n_free, 0);
+  rps3_data_free(d);
+}
+
 int main(void) {
   const struct CMUnitTest tests[] = {
+      cmocka_unit_test(batches),
       cmocka_unit_test(interposer_sees_gsl_and_init),
       cmocka_unit_test(closed_form_lagrange),
       cmocka_unit_test(closed_form_newton_euler),

@@ -1,0 +1,205 @@
+/*
+ * batch.c - the per-point stages over n points in one call: structure of
+ * arrays in and out, one workspace, no allocation.  Each point goes through
+ * the same public stage function a caller's loop would call, so the
+ * results are bitwise those of that loop; a point that fails is recorded
+ * and the next one is computed.
+ */
+#include <stdint.h>
+#include <string.h>
+
+#include "internal.h"
+
+/* component c of point i in a component-major array of n points */
+#define AT(a, c, i, n) ((a)[(size_t)(c) * (n) + (i)])
+
+/* which stage a batch runs */
+typedef enum { BATCH_INVERSE, BATCH_IK, BATCH_FK } batch_kind;
+
+/* the checks common to every batch function: a call that fails them
+   computes nothing */
+static int check_call(const rps3_model *m, rps3_data *d,
+                      const rps3_batch_in *in, const rps3_batch_out *out,
+                      const double *input, const char *input_name) {
+  if (d == NULL) return RPS3_EINVAL;
+  if (m == NULL || !m->valid)
+    RPS3_ERROR(d, RPS3_EINVAL, "model is NULL or not initialised");
+  if (in == NULL || out == NULL)
+    RPS3_ERROR(d, RPS3_EINVAL, "batch %s is NULL", in == NULL ? "in" : "out");
+  /* the largest index is RPS3_NEFFECT * 3 * n - 1 (F_effect) */
+  if (in->n > SIZE_MAX / (3 * RPS3_NEFFECT))
+    RPS3_ERROR(d, RPS3_EINVAL, "batch n = %lu is too large",
+               (unsigned long)in->n);
+  if (in->n > 0 && out->status == NULL)
+    RPS3_ERROR(d, RPS3_EINVAL, "batch out.status is NULL");
+  if (in->n > 0 && input == NULL)
+    RPS3_ERROR(d, RPS3_EINVAL, "batch in.%s is NULL", input_name);
+  return RPS3_OK;
+}
+
+/* NaN into the floating-point outputs of failed point i */
+static void set_failed(rps3_batch_out *out, size_t i, size_t n) {
+  const double nan = (double)NAN;
+  int c, k;
+  for (c = 0; c < 3; c++) {
+    if (out->pose) AT(out->pose, c, i, n) = nan;
+    if (out->l) AT(out->l, c, i, n) = nan;
+    if (out->theta) AT(out->theta, c, i, n) = nan;
+    if (out->F) AT(out->F, c, i, n) = nan;
+    if (out->lambda) AT(out->lambda, c, i, n) = nan;
+    for (k = 0; k < RPS3_NEFFECT && out->F_effect; k++)
+      AT(out->F_effect, 3 * k + c, i, n) = nan;
+  }
+  if (out->cond) out->cond[i] = nan;
+  if (out->energy_residual) out->energy_residual[i] = nan;
+}
+
+/* the results of point i, read from the data as the stage left them */
+static void store(const rps3_data *d, batch_kind kind, rps3_batch_out *out,
+                  size_t i, size_t n) {
+  int c, k;
+  for (c = 0; c < 3; c++) {
+    if (out->pose && kind == BATCH_FK) AT(out->pose, c, i, n) = d->pose[c];
+    if (out->l && kind != BATCH_FK) AT(out->l, c, i, n) = d->l[c];
+    if (out->theta) AT(out->theta, c, i, n) = d->theta[c];
+    if (kind != BATCH_INVERSE) continue;
+    if (out->F) AT(out->F, c, i, n) = d->F[c];
+    if (out->lambda)
+      AT(out->lambda, c, i, n) = d->has_lambda ? d->lambda[c] : (double)NAN;
+    for (k = 0; k < RPS3_NEFFECT && out->F_effect; k++)
+      AT(out->F_effect, 3 * k + c, i, n) = d->F_effect[k][c];
+  }
+  if (kind == BATCH_INVERSE) {
+    if (out->cond) out->cond[i] = d->cond;
+    if (out->energy_residual) out->energy_residual[i] = d->energy_residual;
+  }
+}
+
+/* the inputs of point i into the data; a non-finite guess is the point's
+   own error (rps3_theta_solve would silently start cold instead) */
+static int load(rps3_data *d, batch_kind kind, const rps3_batch_in *in,
+                size_t i) {
+  size_t n = in->n;
+  int c;
+  for (c = 0; c < 3; c++) {
+    if (kind == BATCH_FK) {
+      d->l[c] = AT(in->l, c, i, n);
+      if (in->guess) d->theta[c] = AT(in->guess, c, i, n);
+    } else {
+      d->pose[c] = AT(in->pose, c, i, n);
+      d->dpose[c] = in->dpose ? AT(in->dpose, c, i, n) : 0.0;
+      d->ddpose[c] = in->ddpose ? AT(in->ddpose, c, i, n) : 0.0;
+    }
+  }
+  if (kind == BATCH_FK && in->guess) {
+    if (!v3_finite(d->theta))
+      RPS3_ERROR(d, RPS3_EINVAL, "guess (%g, %g, %g) is not finite",
+                 d->theta[0], d->theta[1], d->theta[2]);
+    d->have_theta = 1;
+  }
+  return RPS3_OK;
+}
+
+/* prefix the data's message with the point index, once, for the first
+   failing point (the message is then kept to the end of the call) */
+static void name_point(rps3_data *d, int status, size_t i) {
+  char prefix[32];
+  size_t np, len, cap = sizeof(d->err.msg) - 1;
+  if (d->err.code != status) {
+    /* a stage returned without raising (cannot happen for a point of a
+       valid call, kept so that the message is never stale) */
+    d->err.code = status;
+    d->err.func = "batch";
+    d->err.file = __FILE__;
+    d->err.line = __LINE__;
+    snprintf(d->err.msg, sizeof(d->err.msg), "%s", rps3_strerror(status));
+  }
+  /* shift the message right and write the prefix before it, cutting the
+     end of a message that no longer fits */
+  np = (size_t)snprintf(prefix, sizeof(prefix), "point %lu: ", (unsigned long)i);
+  len = strlen(d->err.msg);
+  if (np + len > cap) len = cap - np;
+  memmove(d->err.msg + np, d->err.msg, len);
+  memcpy(d->err.msg, prefix, np);
+  d->err.msg[np + len] = '\0';
+}
+
+/* the loop shared by the three batch functions */
+static void run(const rps3_model *m, rps3_data *d, batch_kind kind,
+                const rps3_batch_in *in, rps3_batch_out *out) {
+  size_t i, n = in->n;
+  rps3_error first;
+  memset(&first, 0, sizeof(first));
+  int status;
+  out->nfail = 0;
+  out->first_fail = n;
+  for (i = 0; i < n; i++) {
+    status = load(d, kind, in, i);
+    if (status == RPS3_OK) {
+      if (kind == BATCH_INVERSE)
+        status = rps3_inverse(m, d);
+      else if (kind == BATCH_IK)
+        status = rps3_ik(m, d);
+      else
+        status = rps3_fk(m, d);
+    }
+    out->status[i] = status;
+    if (out->warn) out->warn[i] = d->warn;
+    if (out->niter) out->niter[i] = kind == BATCH_IK ? 0 : d->solve_niter;
+    if (status == RPS3_OK) {
+      store(d, kind, out, i, n);
+      continue;
+    }
+    set_failed(out, i, n);
+    if (out->nfail++ == 0) {
+      out->first_fail = i;
+      name_point(d, status, i);
+      first = d->err;
+    }
+  }
+  /* the first failure's message, not the last one's */
+  if (out->nfail > 0) d->err = first;
+}
+
+int rps3_inverse_batch(const rps3_model *m, rps3_data *d,
+                       const rps3_batch_in *in, rps3_batch_out *out) {
+  int status, need_rates;
+  status = check_call(m, d, in, out, in ? in->pose : NULL, "pose");
+  if (status != RPS3_OK) return status;
+  /* the rates are read only when an effect (or the certificate) needs
+     them, as in rps3_inverse */
+  need_rates = (m->opt.effects & RPS3_EFF_DYNAMIC) || m->opt.certify;
+  if (need_rates && in->n > 0 && (in->dpose == NULL || in->ddpose == NULL))
+    RPS3_ERROR(d, RPS3_EINVAL,
+               "batch in.%s is NULL, and the selected effects or the "
+               "certificate need rates and accelerations",
+               in->dpose == NULL ? "dpose" : "ddpose");
+  run(m, d, BATCH_INVERSE, in, out);
+  return RPS3_OK;
+}
+
+int rps3_ik_batch(const rps3_model *m, rps3_data *d, const rps3_batch_in *in,
+                  rps3_batch_out *out) {
+  int status = check_call(m, d, in, out, in ? in->pose : NULL, "pose");
+  if (status != RPS3_OK) return status;
+  run(m, d, BATCH_IK, in, out);
+  return RPS3_OK;
+}
+
+int rps3_fk_batch(const rps3_model *m, rps3_data *d, const rps3_batch_in *in,
+                  rps3_batch_out *out) {
+  rps3_model warm;
+  int status = check_call(m, d, in, out, in ? in->l : NULL, "l");
+  if (status != RPS3_OK) return status;
+  if (in->guess == NULL) {
+    run(m, d, BATCH_FK, in, out);
+    return RPS3_OK;
+  }
+  /* a guess is a warm start the caller gives: the solve must take it
+     whatever the model says, so run with a copy that warm-starts (a copy
+     on the stack: m stays const, nothing is allocated) */
+  warm = *m;
+  warm.opt.warm_start = 1;
+  run(&warm, d, BATCH_FK, in, out);
+  return RPS3_OK;
+}
