@@ -3,15 +3,17 @@
  *
  *   rps3-run SCENE.yaml -o OUT.h5 [--quiet] [--gzip LEVEL] [--check]
  *            [-j N] [--shard K/N]
- *   rps3-run merge OUT.h5 PART.h5 ... [--quiet]
- *   mpirun -n N rps3-run-mpi SCENE.yaml -o OUT.h5 [...]
+ *   rps3-run merge OUT.h5 PART.h5 ... [--copy] [--quiet]
+ *   mpirun -n N rps3-run-mpi SCENE.yaml -o OUT.h5 [--copy] [...]
  *
  * -j N computes the cases on N threads (sweep.h); --shard K/N computes the
  * jobs of shard K only, into a part file that `merge` joins with the
- * others (merge.h).  Built with -DRPS3_MPI (rps3-run-mpi) and launched by
- * mpirun, rank r computes shard r of the ranks into OUT.h5.tmp.PID.part<r>
- * next to OUT.h5, and rank 0 merges the parts into its own file and
- * renames it to OUT.h5: the same datasets as one process.
+ * others (cmd_merge.c: by virtual datasets, join.h, or with --copy by
+ * copying chunks, merge.h).  Built with -DRPS3_MPI (rps3-run-mpi) and
+ * launched by mpirun, rank r computes shard r of the ranks into
+ * OUT.h5.tmp.PID.part<r> next to OUT.h5, renamed OUT.h5.part<r>of<N>, and
+ * rank 0 joins the parts into OUT.h5 (with --copy: merges them into its
+ * own file, and the parts are removed): the same datasets as one process.
  *
  * Exit codes: 0 every case ok; 1 the file is complete but some cases failed
  * (see status/message/failed_at); 2 bad command line or scene, nothing
@@ -24,6 +26,7 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <time.h>
 #include <unistd.h>
 
 #include <gsl/gsl_errno.h>
@@ -33,54 +36,16 @@
 #include <mpi.h>
 #endif
 
+#include "cmd.h"
+#include "join.h"
 #include "merge.h"
 #include "output.h"
 #include "progress.h"
 #include "scene.h"
 #include "sweep.h"
 
-enum { EXIT_OK = 0, EXIT_FAILED_CASES = 1, EXIT_USAGE = 2, EXIT_IO = 3 };
-
 /* most threads of -j */
 #define MAX_THREADS 1024
-
-/* the temporary file, for the signal handler: process-wide state of this
-   program only (the library has none) */
-static char tmp_path[4096];
-static volatile sig_atomic_t have_tmp;
-
-/* remove the temporary file, then die of the same signal */
-static void on_signal(int sig)
-{
-  if (have_tmp)
-    unlink(tmp_path);
-  signal(sig, SIG_DFL);
-  raise(sig);
-}
-
-static const int signals[] = {SIGINT, SIGTERM, SIGHUP};
-#define NSIGNAL (sizeof signals / sizeof signals[0])
-
-static void signals_install(void)
-{
-  struct sigaction sa;
-  size_t i;
-  memset(&sa, 0, sizeof sa);
-  sa.sa_handler = on_signal;
-  sigemptyset(&sa.sa_mask);
-  for (i = 0; i < NSIGNAL; i++)
-    sigaction(signals[i], &sa, NULL);
-}
-
-static void signals_block(int how)
-{
-  sigset_t set;
-  size_t i;
-  sigemptyset(&set);
-  for (i = 0; i < NSIGNAL; i++)
-    sigaddset(&set, signals[i]);
-  sigprocmask(how, &set, NULL);
-}
 
 static void usage(FILE *out)
 {
@@ -88,8 +53,9 @@ static void usage(FILE *out)
           "usage: rps3-run SCENE.yaml -o OUT.h5 [--quiet] [--gzip LEVEL] "
           "[--check]\n"
           "                [-j N] [--shard K/N]\n"
-          "       rps3-run merge OUT.h5 PART.h5 ... [--quiet]\n"
-          "       mpirun -n N rps3-run-mpi SCENE.yaml -o OUT.h5 [...]\n"
+          "       rps3-run merge OUT.h5 PART.h5 ... [--copy] [--quiet]\n"
+          "       mpirun -n N rps3-run-mpi SCENE.yaml -o OUT.h5 [--copy] "
+          "[...]\n"
           "       rps3-run --keys | --schema | --version | --help\n"
           "\n"
           "Runs the inverse dynamics of the Lee & Shah 3-RPS manipulator "
@@ -106,6 +72,8 @@ static void usage(FILE *out)
           "file\n"
           "  merge          join the part files of shards 0..N-1 into "
           "OUT.h5\n"
+          "                 (virtual datasets over the parts; --copy: one "
+          "self-contained file)\n"
           "  --keys         print the scene keys (markdown)\n"
           "  --schema       print the datasets of OUT.h5 (markdown)\n"
           "exit: 0 ok, 1 some cases failed, 2 bad scene or usage, 3 cannot "
@@ -174,200 +142,133 @@ static int parse_shard(const char *a, size_t *k, size_t *n)
   return 0;
 }
 
-/* rename the temporary file to out_path; the rename and forgetting the
-   temporary name happen together.  0 or -1 (message printed) */
-static int commit(const char *out_path)
-{
-  signals_block(SIG_BLOCK);
-  if (rename(tmp_path, out_path) != 0) {
-    fprintf(stderr, "rps3-run: cannot rename %s to %s: %s\n", tmp_path,
-            out_path, strerror(errno));
-    signals_block(SIG_UNBLOCK);
-    return -1;
-  }
-  have_tmp = 0;
-  signals_block(SIG_UNBLOCK);
-  return 0;
-}
-
-/* remove the temporary file, if any */
-static void discard(void)
-{
-  signals_block(SIG_BLOCK);
-  if (have_tmp)
-    unlink(tmp_path);
-  have_tmp = 0;
-  signals_block(SIG_UNBLOCK);
-}
-
-/* tmp_path = OUT.tmp.PID, with .partR for the ranks after 0 */
-static int set_tmp_path(const char *out_path, long pid, int rank)
-{
-  int n = rank ? snprintf(tmp_path, sizeof tmp_path, "%s.tmp.%ld.part%d",
-                          out_path, pid, rank)
-               : snprintf(tmp_path, sizeof tmp_path, "%s.tmp.%ld", out_path,
-                          pid);
-  if (n < 0 || (size_t)n >= sizeof tmp_path) {
-    fprintf(stderr, "rps3-run: %s: path too long\n", out_path);
-    return -1;
-  }
-  return 0;
-}
-
-/*
- * rps3-run merge OUT.h5 PART.h5 ...: the parts of shards 0..N-1, in any
- * order.  OUT.h5 is a copy of part 0 into which the other parts' chunks are
- * copied, written under a temporary name and renamed when complete.
- */
-static int merge_main(int argc, char **argv, const char *cmd)
-{
-  const char *out_path = NULL, **part = NULL, **src = NULL;
-  size_t npart = 0, n = 0, i, j, *k = NULL, *ks = NULL, nfailed = 0;
-  int quiet = 0, code = EXIT_USAGE;
-  const char *base = NULL;
-  char err[768];
-
-  part = calloc((size_t)argc, sizeof *part);
-  src = calloc((size_t)argc, sizeof *src);
-  k = calloc((size_t)argc, sizeof *k);
-  ks = calloc((size_t)argc, sizeof *ks);
-  if (!part || !src || !k || !ks) {
-    fprintf(stderr, "rps3-run: out of memory\n");
-    code = EXIT_IO;
-    goto done;
-  }
-  for (i = 1; i < (size_t)argc; i++) {
-    if (strcmp(argv[i], "-q") == 0 || strcmp(argv[i], "--quiet") == 0)
-      quiet = 1;
-    else if (argv[i][0] == '-' && argv[i][1] != '\0') {
-      fprintf(stderr, "rps3-run merge: unknown option '%s'\n", argv[i]);
-      goto done;
-    } else if (!out_path)
-      out_path = argv[i];
-    else
-      part[npart++] = argv[i];
-  }
-  if (!out_path || npart == 0) {
-    fprintf(stderr, "usage: rps3-run merge OUT.h5 PART.h5 ... [--quiet]\n");
-    goto done;
-  }
-
-  /* every shard 0..N-1 exactly once */
-  for (i = 0; i < npart; i++) {
-    size_t ni;
-    if (merge_shard_of(part[i], &k[i], &ni, err, sizeof err)) {
-      fprintf(stderr, "rps3-run merge: %s\n", err);
-      goto done;
-    }
-    if (i == 0)
-      n = ni;
-    if (ni != n) {
-      fprintf(stderr, "rps3-run merge: %s is shard %zu/%zu, %s is of %zu\n",
-              part[i], k[i], ni, part[0], n);
-      goto done;
-    }
-    for (j = 0; j < i; j++)
-      if (k[j] == k[i]) {
-        fprintf(stderr, "rps3-run merge: %s and %s are both shard %zu/%zu\n",
-                part[j], part[i], k[i], n);
-        goto done;
-      }
-  }
-  if (npart != n) {
-    fprintf(stderr, "rps3-run merge: %zu part%s given, the run has %zu "
-                    "shards\n",
-            npart, npart == 1 ? "" : "s", n);
-    goto done;
-  }
-  for (i = 0, j = 0; i < npart; i++) {
-    if (k[i] == 0) {
-      base = part[i];
-      continue;
-    }
-    src[j] = part[i];
-    ks[j++] = k[i];
-  }
-
-  code = EXIT_IO;
-  if (set_tmp_path(out_path, (long)getpid(), 0))
-    goto done;
-  signals_install();
-  have_tmp = 1;
-  if (merge_copy_file(base, tmp_path, err, sizeof err) ||
-      merge_parts(tmp_path, src, ks, n - 1, n, cmd, &nfailed, err,
-                  sizeof err)) {
-    fprintf(stderr, "rps3-run merge: %s\n", err);
-    goto done;
-  }
-  if (commit(out_path))
-    goto done;
-  if (!quiet)
-    fprintf(stderr, "rps3-run: merged %zu part%s into %s (%zu failed "
-                    "case%s)\n",
-            n, n == 1 ? "" : "s", out_path, nfailed, nfailed == 1 ? "" : "s");
-  code = nfailed ? EXIT_FAILED_CASES : EXIT_OK;
-done:
-  discard();
-  free(part);
-  free(src);
-  free(k);
-  free(ks);
-  return code;
-}
-
 #ifdef RPS3_MPI
 /*
- * After every rank has written its part: rank 0 merges the parts of ranks
- * 1.. into its own file and renames it.  `code` is this rank's outcome so
- * far; returns the exit code of the run, the same on every rank.
+ * Wait for every rank without spinning: a rank that is done (early, or
+ * waiting for rank 0's join) polls a nonblocking barrier every millisecond
+ * and sleeps in between, where a blocking collective would keep its core
+ * busy (Open MPI polls).
  */
-static int mpi_join(const world *w, int code, const char *out_path,
+static void mpi_idle_barrier(void)
+{
+  MPI_Request rq;
+  struct timespec nap = {0, 1000000};
+  int done = 0;
+  MPI_Ibarrier(MPI_COMM_WORLD, &rq);
+  for (;;) {
+    MPI_Test(&rq, &done, MPI_STATUS_IGNORE);
+    if (done)
+      break;
+    nanosleep(&nap, NULL);
+  }
+}
+
+/* the name of rank r's part once complete: OUT.h5.part<r>of<N> */
+static void mpi_part_name(char *buf, size_t size, const char *out_path,
+                          int r, int n)
+{
+  snprintf(buf, size, "%s.part%dof%d", out_path, r, n);
+}
+
+/* rank 0: join the ranks' parts (renamed) into OUT.h5 by virtual datasets;
+   0 or -1 (message printed) */
+static int mpi_join_vds(const world *w, const char *out_path, const char *cmd,
+                        long pid0, size_t *nfailed)
+{
+  char (*paths)[4096] = calloc((size_t)w->size, sizeof *paths);
+  const char **part = calloc((size_t)w->size, sizeof *part);
+  char err[768];
+  int r, rc = -1;
+  if (!paths || !part)
+    fprintf(stderr, "rps3-run: out of memory\n");
+  else if (tmpout_name(out_path, pid0, 0) == 0) {
+    for (r = 0; r < w->size; r++) {
+      mpi_part_name(paths[r], sizeof paths[r], out_path, r, w->size);
+      part[r] = paths[r];
+    }
+    tmpout_arm();
+    if (join_vds(tmpout_path(), part, (size_t)w->size, cmd, nfailed, err,
+                 sizeof err))
+      fprintf(stderr, "rps3-run: joining the ranks' parts: %s (the parts "
+                      "%s.part*of%d are complete: join them with rps3-run "
+                      "merge)\n",
+              err, out_path, w->size);
+    else
+      rc = tmpout_commit(out_path);
+  }
+  free(paths);
+  free(part);
+  return rc;
+}
+
+/*
+ * After every rank has written its part.  By default every rank renames
+ * its part to OUT.h5.part<r>of<N> and rank 0 joins them by virtual
+ * datasets (join.h); with `copy` rank 0 merges the parts of ranks 1.. into
+ * its own file (merge.h) and every rank removes its part.  `code` is this
+ * rank's outcome so far; returns the exit code of the run, the same on
+ * every rank.
+ */
+static int mpi_join(const world *w, int code, int copy, const char *out_path,
                     const char *cmd, long pid0, progress *pr,
                     const sweep_stats *st, size_t ncase)
 {
   unsigned long mine[3], sum[3];
   int worst = code, result = code;
+  size_t nfailed = 0;
   mine[0] = st->cases_done;
   mine[1] = st->points_done;
   mine[2] = st->nfailed;
+  mpi_idle_barrier();
   MPI_Allreduce(&code, &worst, 1, MPI_INT, MPI_MAX, MPI_COMM_WORLD);
   MPI_Reduce(mine, sum, 3, MPI_UNSIGNED_LONG, MPI_SUM, 0, MPI_COMM_WORLD);
-  if (w->rank == 0) {
+  result = worst;
+  if (worst < EXIT_USAGE && !copy) {
+    char name[4096];
+    mpi_part_name(name, sizeof name, out_path, w->rank, w->size);
+    code = tmpout_commit(name) ? EXIT_IO : code;
+    MPI_Allreduce(&code, &worst, 1, MPI_INT, MPI_MAX, MPI_COMM_WORLD);
     result = worst;
-    if (worst < EXIT_USAGE) {
-      const char **src = calloc((size_t)w->size, sizeof *src);
-      size_t *ks = calloc((size_t)w->size, sizeof *ks), nfailed = 0;
-      char (*paths)[4096] = calloc((size_t)w->size, sizeof *paths);
-      char err[768];
-      int r;
-      result = EXIT_IO;
-      if (!src || !ks || !paths)
-        fprintf(stderr, "rps3-run: out of memory\n");
-      else {
-        for (r = 1; r < w->size; r++) {
-          snprintf(paths[r], sizeof paths[r], "%s.tmp.%ld.part%d", out_path,
-                   pid0, r);
-          src[r - 1] = paths[r];
-          ks[r - 1] = (size_t)r;
-        }
-        if (merge_parts(tmp_path, src, ks, (size_t)w->size - 1,
-                        (size_t)w->size, cmd, &nfailed, err, sizeof err))
-          fprintf(stderr, "rps3-run: merging the ranks' parts: %s\n", err);
-        else if (commit(out_path) == 0) {
-          result = nfailed ? EXIT_FAILED_CASES : EXIT_OK;
-          pr->ncase = ncase;
-          pr->njob = pr->njob_all;
-          progress_finish(pr, sum[0], sum[1], sum[2]);
-        }
+    if (w->rank == 0 && worst < EXIT_USAGE)
+      result = mpi_join_vds(w, out_path, cmd, pid0, &nfailed) ? EXIT_IO
+               : nfailed                                       ? EXIT_FAILED_CASES
+                                                               : EXIT_OK;
+  } else if (worst < EXIT_USAGE && w->rank == 0) {
+    const char **src = calloc((size_t)w->size, sizeof *src);
+    size_t *ks = calloc((size_t)w->size, sizeof *ks);
+    char (*paths)[4096] = calloc((size_t)w->size, sizeof *paths);
+    char err[768];
+    int r;
+    result = EXIT_IO;
+    if (!src || !ks || !paths)
+      fprintf(stderr, "rps3-run: out of memory\n");
+    else {
+      for (r = 1; r < w->size; r++) {
+        snprintf(paths[r], sizeof paths[r], "%s.tmp.%ld.part%d", out_path,
+                 pid0, r);
+        src[r - 1] = paths[r];
+        ks[r - 1] = (size_t)r;
       }
-      free(src);
-      free(ks);
-      free(paths);
+      if (merge_parts(tmpout_path(), src, ks, (size_t)w->size - 1,
+                      (size_t)w->size, cmd, &nfailed, err, sizeof err))
+        fprintf(stderr, "rps3-run: merging the ranks' parts: %s\n", err);
+      else if (tmpout_commit(out_path) == 0)
+        result = nfailed ? EXIT_FAILED_CASES : EXIT_OK;
     }
+    free(src);
+    free(ks);
+    free(paths);
   }
-  /* the parts are read: every rank removes its own */
+  if (w->rank == 0 && result < EXIT_USAGE) {
+    pr->ncase = ncase;
+    pr->njob = pr->njob_all;
+    progress_finish(pr, sum[0], sum[1], sum[2]);
+  }
+  /* the other ranks sleep through rank 0's join; then, with --copy, the
+     parts are read and every rank removes its own */
+  mpi_idle_barrier();
   MPI_Bcast(&result, 1, MPI_INT, 0, MPI_COMM_WORLD);
-  discard();
+  tmpout_discard();
   return result;
 }
 #endif
@@ -425,7 +326,8 @@ static void jobs_warn(const scene *s, const sweep_plan *p,
 static int run_main(int argc, char **argv, const world *w)
 {
   const char *scene_path = NULL, *out_path = NULL, *shard_arg = NULL;
-  int quiet = 0, check = 0, gzip = 0, i, code;
+  int quiet = 0, check = 0, copy = 0, gzip = 0, i, code;
+  char shard_text[64];
   char err[512];
   scene s;
   scene_error serr;
@@ -457,6 +359,8 @@ static int run_main(int argc, char **argv, const world *w)
       quiet = 1;
     } else if (strcmp(a, "--check") == 0) {
       check = 1;
+    } else if (strcmp(a, "--copy") == 0) {
+      copy = 1;
     } else if (strcmp(a, "-o") == 0 || strcmp(a, "--gzip") == 0 ||
                strcmp(a, "-j") == 0 || strcmp(a, "--shard") == 0) {
       char *end;
@@ -520,6 +424,13 @@ static int run_main(int argc, char **argv, const world *w)
     }
     opts.shard = (size_t)w->rank;
     opts.nshard = (size_t)w->size;
+    /* each rank's file is a part like those of --shard */
+    snprintf(shard_text, sizeof shard_text, "%d/%d", w->rank, w->size);
+    shard_arg = shard_text;
+  } else if (copy) {
+    fprintf(stderr, "rps3-run: --copy is for rps3-run-mpi under mpirun and "
+                    "for merge; a run without them writes one whole file\n");
+    return EXIT_USAGE;
   }
 
   /* the scene and every case are checked before anything is written (by
@@ -556,11 +467,11 @@ static int run_main(int argc, char **argv, const world *w)
                "most %zu shards, ranks or threads have work\n",
                nj, nj == 1 ? "" : "s", plan.tile_points, nj);
     }
-    jobs_warn(&s, &plan, &opts, w, shard_arg != NULL);
+    jobs_warn(&s, &plan, &opts, w, w->size == 1);
     scene_free(&s);
     return EXIT_OK;
   }
-  jobs_warn(&s, &plan, &opts, w, shard_arg != NULL);
+  jobs_warn(&s, &plan, &opts, w, w->size == 1);
 
   memset(&block, 0, sizeof block);
   cmd = command_line(argc, argv);
@@ -579,17 +490,16 @@ static int run_main(int argc, char **argv, const world *w)
 #ifdef RPS3_MPI
   MPI_Bcast(&pid0, 1, MPI_LONG, 0, MPI_COMM_WORLD);
 #endif
-  if (code == EXIT_OK && set_tmp_path(out_path, pid0, w->rank))
+  if (code == EXIT_OK && tmpout_name(out_path, pid0, w->rank))
     code = EXIT_USAGE;
   if ((code = agree(w, code, NULL)) != EXIT_OK)
     goto done;
-  signals_install();
-  have_tmp = 1;
+  tmpout_arm();
   progress_start(&pr, sweep_shard_cases(&s, &plan, opts.shard, opts.nshard),
                  quiet || w->rank != 0);
   pr.njob_all = sweep_njob(&s, &plan);
   pr.njob = sweep_shard_jobs(&s, &plan, opts.shard, opts.nshard);
-  f = out_create(tmp_path, &s, &plan.first, plan.nt, plan.grid_common,
+  f = out_create(tmpout_path(), &s, &plan.first, plan.nt, plan.grid_common,
                  &block, &meta, err, sizeof err);
   if (!f) {
     fprintf(stderr, "rps3-run: %s: %s\n", out_path, err);
@@ -606,11 +516,11 @@ static int run_main(int argc, char **argv, const world *w)
   }
   if (w->size > 1) {
 #ifdef RPS3_MPI
-    code = mpi_join(w, code, out_path, cmd, pid0, &pr, &st, s.ncase);
+    code = mpi_join(w, code, copy, out_path, cmd, pid0, &pr, &st, s.ncase);
 #endif
     goto done;
   }
-  if (code != EXIT_OK || commit(out_path)) {
+  if (code != EXIT_OK || tmpout_commit(out_path)) {
     code = EXIT_IO;
     goto done;
   }
@@ -618,7 +528,7 @@ static int run_main(int argc, char **argv, const world *w)
   code = st.nfailed ? EXIT_FAILED_CASES : EXIT_OK;
 
 done:
-  discard();
+  tmpout_discard();
   out_block_free(&block);
   free(cmd);
   scene_free(&s);

@@ -57,7 +57,7 @@ static herr_t collect_chunked(hid_t g, const char *name, const H5L_info_t *li,
 
 /* a root string attribute or the scalar string dataset `scene`, as a
    malloc'd string (NULL when absent or not a string) */
-static char *read_text(hid_t file, const char *name, int is_attr)
+char *merge_read_text(hid_t file, const char *name, int is_attr)
 {
   hid_t obj, str = H5Tcopy(H5T_C_S1);
   char *v = NULL, *copy = NULL;
@@ -106,7 +106,7 @@ int merge_shard_of(const char *path, size_t *k, size_t *n, char *err,
     out_fail(err, errsz, "%s: cannot open", path);
     return -1;
   }
-  v = read_text(f, MERGE_SHARD_ATTR, 1);
+  v = merge_read_text(f, MERGE_SHARD_ATTR, 1);
   H5Fclose(f);
   if (!v || sscanf(v, "%lu/%lu%c", &kk, &nn, &tail) != 2 || nn < 1 ||
       kk >= nn) {
@@ -324,7 +324,7 @@ done:
 }
 
 /* cases with status != 0 */
-static int count_failed(hid_t file, size_t *nfailed)
+int merge_count_failed(hid_t file, size_t *nfailed, size_t *nunset)
 {
   hid_t ds = H5Dopen2(file, "status", H5P_DEFAULT), fs = -1, ms = -1;
   hsize_t n = 0, r0, nr, run = 65536;
@@ -332,6 +332,8 @@ static int count_failed(hid_t file, size_t *nfailed)
   int rc = -1;
   size_t i;
   *nfailed = 0;
+  if (nunset)
+    *nunset = 0;
   if (ds < 0 || !buf || (fs = H5Dget_space(ds)) < 0 ||
       H5Sget_simple_extent_dims(fs, &n, NULL) != 1)
     goto done;
@@ -344,8 +346,11 @@ static int count_failed(hid_t file, size_t *nfailed)
       goto done;
     H5Sclose(ms);
     ms = -1;
-    for (i = 0; i < (size_t)nr; i++)
+    for (i = 0; i < (size_t)nr; i++) {
       *nfailed += buf[i] != 0;
+      if (nunset)
+        *nunset += buf[i] < 0;
+    }
   }
   rc = 0;
 done:
@@ -375,7 +380,7 @@ int merge_parts(const char *dst, const char *const *src, const size_t *k,
     return -1;
   }
   list.n = 0;
-  text = read_text(fd, "scene", 0);
+  text = merge_read_text(fd, "scene", 0);
   if (!text ||
       H5Literate(fd, H5_INDEX_NAME, H5_ITER_INC, NULL, collect_chunked,
                  &list) < 0 ||
@@ -391,7 +396,7 @@ int merge_parts(const char *dst, const char *const *src, const size_t *k,
       goto done;
     }
     /* the same scene, byte for byte */
-    other = read_text(fs, "scene", 0);
+    other = merge_read_text(fs, "scene", 0);
     if (!other || strcmp(other, text) != 0) {
       snprintf(err, errsz, "%s: not a part of the same scene", src[i]);
       free(other);
@@ -417,7 +422,7 @@ int merge_parts(const char *dst, const char *const *src, const size_t *k,
     out_fail(err, errsz, "%s: cannot write the root attributes", dst);
     goto done;
   }
-  if (count_failed(fd, nfailed) < 0) {
+  if (merge_count_failed(fd, nfailed, NULL) < 0) {
     out_fail(err, errsz, "%s: cannot read status", dst);
     goto done;
   }

@@ -15,6 +15,8 @@
 
 #include <stddef.h>
 
+#include <hdf5.h>
+
 /* the root attribute that marks a part file: "K/N" */
 #define MERGE_SHARD_ATTR "shard"
 
@@ -38,6 +40,16 @@ int merge_shard_of(const char *path, size_t *k, size_t *n, char *err,
 int merge_parts(const char *dst, const char *const *src, const size_t *k,
                 size_t nsrc, size_t n, const char *command_line,
                 size_t *nfailed, char *err, size_t errsz);
+
+/* A root string attribute (is_attr 1) or the scalar string dataset `name`
+   of an open file, as a malloc'd string (NULL when absent or not a
+   string). */
+char *merge_read_text(hid_t file, const char *name, int is_attr);
+
+/* The cases of an open rps3-run file whose status is not 0 (*nfailed) and,
+   when nunset is not NULL, of those the ones never written (status -1,
+   the fill value).  Returns 0 or -1. */
+int merge_count_failed(hid_t file, size_t *nfailed, size_t *nunset);
 
 /* Copy the file `from` byte for byte to `to` (created or truncated).
    Returns 0 or -1 with err set. */

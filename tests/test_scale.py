@@ -46,7 +46,9 @@ def assert_same_content(a, b):
         for name in A:
             x, y = A[name], B[name]
             assert x.dtype == y.dtype and x.shape == y.shape, name
-            assert x.chunks == y.chunks, name
+            # a joined file's per-case datasets are virtual: no chunks
+            if not (x.is_virtual or y.is_virtual):
+                assert x.chunks == y.chunks, name
             u, v = x[()], y[()]
             if isinstance(u, np.ndarray) and u.dtype.kind in "fiu":
                 assert u.tobytes() == v.tobytes(), name
@@ -115,8 +117,9 @@ def test_shards_merge_to_the_same_file(reference, tmp_path):
             assert f.attrs["shard"] == f"{k}/3"
         parts.append(str(part))
     random.Random(2385).shuffle(parts)
+    # --copy: one self-contained file
     out = tmp_path / "merged.h5"
-    proc = subprocess.run([RUNNER, "merge", str(out)] + parts,
+    proc = subprocess.run([RUNNER, "merge", str(out), "--copy"] + parts,
                           capture_output=True, text=True, timeout=60)
     assert proc.returncode == 1, proc.stderr       # the failed cases
     assert "merged 3 parts" in proc.stderr
@@ -125,9 +128,36 @@ def test_shards_merge_to_the_same_file(reference, tmp_path):
         assert "merge" in f.attrs["command_line"]
         for name in ("force", "theta", "energy_residual"):
             assert f[name].compression is None, name
+            assert not f[name].is_virtual
     assert_same_content(ref, out)
+    # the default: virtual datasets over the parts, from another directory
+    (tmp_path / "elsewhere").mkdir()
+    vds = tmp_path / "joined.h5"
+    proc = subprocess.run([RUNNER, "merge", "../joined.h5"] +
+                          [os.path.join("..", os.path.basename(p))
+                           for p in parts],
+                          capture_output=True, text=True, timeout=60,
+                          cwd=tmp_path / "elsewhere")
+    assert proc.returncode == 1, proc.stderr
+    assert "joined 3 parts into ../joined.h5 (" in proc.stderr
+    with h5py.File(vds, "r") as f:
+        assert "shard" not in f.attrs
+        for name in ("force", "status", "message", "scene_resolved"):
+            assert f[name].is_virtual, name
+            # stored relative to the joined file: the directory may move
+            assert {m.file_name for m in f[name].virtual_sources()} == {
+                "part0.h5", "part1.h5", "part2.h5"}
+        assert not f["time"].is_virtual and not f["scene"].is_virtual
+    # the samples stay in the parts
+    assert vds.stat().st_size < out.stat().st_size / 10
+    assert_same_content(ref, vds)
+    (tmp_path / "elsewhere").rmdir()
     assert sorted(p.name for p in tmp_path.iterdir()) == [
-        "merged.h5", "part0.h5", "part1.h5", "part2.h5"]
+        "joined.h5", "merged.h5", "part0.h5", "part1.h5", "part2.h5"]
+    moved = tmp_path.parent / (tmp_path.name + "-moved")
+    shutil.copytree(tmp_path, moved)
+    assert_same_content(ref, moved / "joined.h5")
+    shutil.rmtree(moved)
 
 
 def test_a_part_alone_holds_its_cases_only(tmp_path):
@@ -161,7 +191,8 @@ def test_merge_refuses_what_does_not_fit(tmp_path):
         return subprocess.run([RUNNER, "merge", str(tmp_path / "m.h5"),
                                *parts], capture_output=True, text=True)
 
-    bad = [((p[0], p[1]), 2, "2 parts given, the run has 3 shards"),
+    bad = [((p[0], p[1]), 2, "2 parts given, the run has 3 shards\n"
+            "rps3-run merge: 1 of 3 shards to run again: 2\n"),
            ((p[0], p[1], p[1]), 2, "are both shard 1/3"),
            ((p[0], p[1], whole), 2, "not a part file"),
            ((p[0], p[1], o2), 3, "not a part of the same scene"),
@@ -172,6 +203,42 @@ def test_merge_refuses_what_does_not_fit(tmp_path):
         assert msg in proc.stderr, proc.stderr
         assert not (tmp_path / "m.h5").exists()
     assert not [x for x in os.listdir(tmp_path) if ".tmp." in x]
+
+
+def test_merge_names_what_to_run_again(tmp_path):
+    """Missing and incomplete parts: their shard numbers as a list for
+    sbatch --array, and the command that makes each again, which does."""
+    scene = mixed_scene(tmp_path)
+    parts = tmp_path / "parts"
+    parts.mkdir()
+    for k in range(5):
+        proc = run(scene, parts / f"grid.{k}.h5", "-q", "--shard", f"{k}/5")
+        assert proc.returncode in (0, 1), proc.stderr
+    # part 3 lost a case: its status back at the fill value
+    with h5py.File(parts / "grid.3.h5", "r+") as f:
+        chunk = f["status"].chunks[0]
+        f["status"][3 * chunk + 1] = -1
+    given = [str(parts / f"grid.{k}.h5") for k in (0, 2, 3)]
+    proc = subprocess.run([RUNNER, "merge", str(tmp_path / "m.h5"), *given],
+                          capture_output=True, text=True)
+    assert proc.returncode == 2, proc.stderr
+    assert f"grid.3.h5: case {3 * chunk + 1} was never written" in proc.stderr
+    assert "3 of 5 shards to run again: 1,3,4\n" in proc.stderr
+    lines = [x.strip() for x in proc.stderr.splitlines()
+             if x.startswith("  ") and "--shard" in x]
+    assert len(lines) == 3, proc.stderr
+    for k, line in zip((1, 3, 4), lines):
+        assert f"-o {parts}/grid.{k}.h5 -q --shard {k}/5" in line, line
+        (parts / f"grid.{k}.h5").unlink(missing_ok=True)
+        # the command as printed makes the part again
+        assert subprocess.run(line, shell=True).returncode in (0, 1)
+    proc = subprocess.run([RUNNER, "merge", str(tmp_path / "m.h5"),
+                           *map(str, parts.iterdir())],
+                          capture_output=True, text=True)
+    assert proc.returncode == 1, proc.stderr
+    whole = tmp_path / "whole.h5"
+    run(scene, whole, "-q")
+    assert_same_content(whole, tmp_path / "m.h5")
 
 
 def test_bad_thread_and_shard_arguments(tmp_path):
@@ -217,8 +284,26 @@ def test_mpirun_gives_the_same_file(reference, tmp_path):
         n = len(f["status"])
     assert f"{n}/{n} cases" in proc.stderr
     assert_same_content(ref, out)
-    # the ranks' parts are gone
-    assert sorted(x.name for x in tmp_path.iterdir()) == ["mpi.h5"]
+    # by default the ranks' parts stay, joined by virtual datasets; they
+    # are parts like those of --shard
+    names = [f"mpi.h5.part{r}of3" for r in range(3)]
+    assert sorted(x.name for x in tmp_path.iterdir()) == ["mpi.h5"] + names
+    with h5py.File(out, "r") as f:
+        assert f["force"].is_virtual
+    proc = subprocess.run([RUNNER, "merge", str(tmp_path / "m.h5"),
+                           *[str(tmp_path / x) for x in names]],
+                          capture_output=True, text=True)
+    assert proc.returncode == 1, proc.stderr
+    assert_same_content(ref, tmp_path / "m.h5")
+    # --copy: one self-contained file, the parts gone
+    out = tmp_path / "copy" / "mpi.h5"
+    out.parent.mkdir()
+    proc = mpirun(3, RUNNER_MPI, scene, "-o", out, "-j", "2", "--copy")
+    assert proc.returncode == 1, proc.stderr
+    with h5py.File(out, "r") as f:
+        assert not f["force"].is_virtual
+    assert_same_content(ref, out)
+    assert sorted(x.name for x in out.parent.iterdir()) == ["mpi.h5"]
 
 
 @pytest.mark.skipif(MPIRUN is None, reason="mpirun (openmpi-bin) missing")
@@ -232,6 +317,8 @@ def test_mpirun_bad_scene_and_shard(tmp_path):
     proc = mpirun(2, RUNNER_MPI, good, "-o", tmp_path / "x.h5",
                   "--shard", "0/2")
     assert proc.returncode == 2 and "--shard" in proc.stderr
+    proc = run(good, tmp_path / "x.h5", "--copy")
+    assert proc.returncode == 2 and "--copy is for" in proc.stderr
     assert sorted(os.listdir(tmp_path)) == ["bad.yaml", "mixed.yaml"]
 
 

@@ -1,0 +1,112 @@
+/*
+ * cmd_merge.c - `rps3-run merge`: see cmd.h.
+ */
+#include "cmd.h"
+
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <unistd.h>
+
+#include "join.h"
+#include "merge.h"
+#include "parts.h"
+#include "tmpout.h"
+
+/*
+ * rps3-run merge OUT.h5 PART.h5 ...: the parts of shards 0..N-1, in any
+ * order.  By default OUT.h5 is a file of virtual datasets over the parts
+ * (join.h); with --copy it is a copy of part 0 into which the other parts'
+ * chunks are copied (merge.h).  Either is written under a temporary name
+ * and renamed when complete.  A missing or incomplete part is named, with
+ * the command that makes it again (parts.h).
+ */
+int merge_main(int argc, char **argv, const char *cmd)
+{
+  const char *out_path = NULL, **part = NULL, **byk = NULL, **src = NULL;
+  size_t npart = 0, n = 0, i, *ks = NULL, nfailed = 0;
+  int quiet = 0, copy = 0, code = EXIT_USAGE, *bad = NULL;
+  char err[768];
+
+  part = calloc((size_t)argc, sizeof *part);
+  if (!part) {
+    fprintf(stderr, "rps3-run: out of memory\n");
+    return EXIT_IO;
+  }
+  for (i = 1; i < (size_t)argc; i++) {
+    if (strcmp(argv[i], "-q") == 0 || strcmp(argv[i], "--quiet") == 0)
+      quiet = 1;
+    else if (strcmp(argv[i], "--copy") == 0)
+      copy = 1;
+    else if (argv[i][0] == '-' && argv[i][1] != '\0') {
+      fprintf(stderr, "rps3-run merge: unknown option '%s'\n", argv[i]);
+      goto done;
+    } else if (!out_path)
+      out_path = argv[i];
+    else
+      part[npart++] = argv[i];
+  }
+  if (!out_path || npart == 0) {
+    fprintf(stderr, "usage: rps3-run merge OUT.h5 PART.h5 ... [--copy] "
+                    "[--quiet]\n");
+    goto done;
+  }
+
+  /* every shard 0..N-1 exactly once, each complete */
+  if (parts_by_shard(part, npart, &byk, &n, err, sizeof err)) {
+    fprintf(stderr, "rps3-run merge: %s\n", err);
+    goto done;
+  }
+  bad = calloc(n, sizeof *bad);
+  src = calloc(n, sizeof *src);
+  ks = calloc(n, sizeof *ks);
+  if (!bad || !src || !ks) {
+    fprintf(stderr, "rps3-run: out of memory\n");
+    code = EXIT_IO;
+    goto done;
+  }
+  for (i = 0; i < n; i++)
+    if (byk[i] && join_part_check(byk[i], i, n, NULL, err, sizeof err)) {
+      fprintf(stderr, "rps3-run merge: %s\n", err);
+      bad[i] = 1;
+    }
+  if (npart != n)
+    fprintf(stderr, "rps3-run merge: %zu part%s given, the run has %zu "
+                    "shards\n",
+            npart, npart == 1 ? "" : "s", n);
+  if (parts_report(stderr, byk, bad, n))
+    goto done;
+
+  code = EXIT_IO;
+  if (tmpout_name(out_path, (long)getpid(), 0))
+    goto done;
+  tmpout_arm();
+  for (i = 1; i < n; i++) {
+    src[i - 1] = byk[i];
+    ks[i - 1] = i;
+  }
+  if (copy ? merge_copy_file(byk[0], tmpout_path(), err, sizeof err) ||
+                 merge_parts(tmpout_path(), src, ks, n - 1, n, cmd, &nfailed, err,
+                             sizeof err)
+           : join_vds(tmpout_path(), byk, n, cmd, &nfailed, err,
+                      sizeof err)) {
+    fprintf(stderr, "rps3-run merge: %s\n", err);
+    goto done;
+  }
+  if (tmpout_commit(out_path))
+    goto done;
+  if (!quiet)
+    fprintf(stderr, "rps3-run: %s %zu part%s into %s (%zu failed "
+                    "case%s)\n",
+            copy ? "merged" : "joined", n, n == 1 ? "" : "s", out_path,
+            nfailed, nfailed == 1 ? "" : "s");
+  code = nfailed ? EXIT_FAILED_CASES : EXIT_OK;
+done:
+  tmpout_discard();
+  free(part);
+  free(byk);
+  free(bad);
+  free(src);
+  free(ks);
+  return code;
+}

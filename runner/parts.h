@@ -1,0 +1,42 @@
+/*
+ * parts.h - the part files given to `rps3-run merge`: in shard order, and
+ * what to do about the missing or incomplete ones.
+ *
+ * A part records the command that made it (root attribute command_line),
+ * so the command that makes a missing shard again is that command with
+ * another --shard and -o: the output name of part K has K in it where the
+ * given part has its own number (parts/grid.3.h5 -> parts/grid.5.h5), else
+ * PART_K.h5 stands in for it.  Run it from the directory the parts were
+ * made in (the paths are the ones that command was given).
+ */
+#ifndef RPS3_RUNNER_PARTS_H
+#define RPS3_RUNNER_PARTS_H
+
+#include <stddef.h>
+#include <stdio.h>
+
+/*
+ * The npart part files part[i] by shard: *byk gets a malloc'd array of *n
+ * names, byk[k] the part of shard k or NULL when none is given.  Returns
+ * 0, or -1 with err set (a file that cannot be read or is not a part, two
+ * parts of the same shard, parts of different shard counts).
+ */
+int parts_by_shard(const char *const *part, size_t npart, const char ***byk,
+                   size_t *n, char *err, size_t errsz);
+
+/*
+ * The command that makes shard k again, from the command_line of a part
+ * `model` (malloc'd; NULL when out of memory or when `model` has none).
+ */
+char *parts_rerun_command(const char *model, size_t k, size_t n);
+
+/*
+ * Tell `out` which of the n shards are missing (byk[k] NULL) or, when
+ * bad[k] is set, incomplete: their indices as one comma-separated list (as
+ * `sbatch --array=` takes it) and the command that makes each again.
+ * Returns the number of such shards.
+ */
+size_t parts_report(FILE *out, const char *const *byk, const int *bad,
+                    size_t n);
+
+#endif /* RPS3_RUNNER_PARTS_H */
