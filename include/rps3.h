@@ -205,10 +205,17 @@ typedef struct {
 } rps3_payload;
 
 /* Pin-joint friction, a torque about each pin axis opposing theta-dot:
-   T = -(viscous * dtheta + coulomb * sign(dtheta)), sign(0) = 0. */
+   T = -(viscous * dtheta + coulomb * s(dtheta)), with s = sign (sign(0) =
+   0) when vreg = 0, and the regularised s = tanh(dtheta / vreg) when
+   vreg > 0.  The same law serves the inverse and the forward dynamics.
+   Exact sign makes the equations of motion discontinuous at dtheta = 0:
+   an integrator then chatters around sticking (and an adaptive one stalls
+   on it); vreg > 0 makes them smooth at the cost of a creep velocity of
+   order vreg under a load below the Coulomb level (docs/simulation.md). */
 typedef struct {
   double viscous;    /* [N m s / rad] */
   double coulomb;    /* [N m] */
+  double vreg;       /* regularisation velocity [rad/s], 0 = exact sign */
 } rps3_friction;
 
 typedef struct {
@@ -330,6 +337,15 @@ typedef struct {
                              NaN-free; 0 when certify is off */
   double energy_scale; /* sum of the magnitudes of the terms above [W], to
                           make the residual relative */
+
+  /* forward dynamics; rps3_fwddyn (reads l, dl, F) */
+  double Mq[3][3];     /* joint-space mass matrix of the selected effects,
+                          symmetric positive definite [kg] */
+  double hq[3];        /* bias forces (velocity products, gravity, pin
+                          friction): F = Mq ddl + hq [N] */
+  double Mcond;        /* 1-norm condition number of Mq [-] */
+  int mode;            /* assembly mode: sign of det(df/dtheta), +1 or -1;
+                          it changes only through a singular configuration */
 
   int warn;            /* RPS3_WARN_* bits of the last point */
   int stage;           /* RPS3_STAGE_* bits completed for this point */
@@ -547,6 +563,57 @@ RPS3_API int rps3_ik_batch(const rps3_model *m, rps3_data *d,
 RPS3_API int rps3_fk_batch(const rps3_model *m, rps3_data *d,
                            const rps3_batch_in *in, rps3_batch_out *out);
 
+/* -------------------------------------------------------- forward dynamics */
+
+/*
+ * Forward dynamics: the accelerations the actuator forces produce.  The
+ * paper's independent coordinates are the link lengths l (section III); its
+ * equations (21)-(24), (34) eliminated to them read
+ *   Mq(l) ddl + hq(l, dl) = F,
+ * Mq the joint-space mass matrix and hq the bias forces of the selected
+ * effects (m->opt.effects).  Both are assembled directly, by virtual power
+ * (Kane): each body's velocity is a linear map of dl (the platform centre
+ * and angular velocity through the constraint Jacobian of (8)-(10), theta'
+ * = -(df/dtheta)^-1 (df/dl) l'), Mq = sum_bodies J^T (mass, inertia) J and
+ * hq = sum_bodies J^T (the body's load at ddl = 0).  rps3_invdyn is another
+ * formulation of the same equations; the tests check that one inverts the
+ * other.  Forces F > 0 extend the links, as in rps3_invdyn.
+ *
+ * Reads d->l (lengths [m]), d->dl (rates [m/s]) and d->F (forces [N]);
+ * theta is solved from l (rps3_theta_solve, warm-started from d->theta
+ * when m->opt.warm_start and d->have_theta: keep one data per simulated
+ * plant so that the solve tracks its assembly mode).  Writes the positions
+ * and d->pose (as rps3_fk), dtheta, vc, omega, dpose (as
+ * rps3_joint_velocity), ddl, ddtheta, ac, domega, and Mq, hq, Mcond, mode.
+ * d->ddpose is not written.  Allocates nothing.
+ *
+ * Returns RPS3_OK; RPS3_EINVAL (NULL or uninitialised model, non-finite
+ * dl or F, or no inertia selected: one of platform_inertia,
+ * link_inertia, payload must be, with a mass); the status of the theta
+ * solve (RPS3_ENOCONV, RPS3_EBRANCH, RPS3_EINVAL for bad lengths);
+ * RPS3_ESING when the constraint Jacobian df/dtheta or Mq is conditioned
+ * worse than opt.cond_max, or Mq is not positive definite, or an
+ * acceleration is not finite (a singular configuration: no acceleration
+ * is returned then, d->ddl is set to NaN so that it cannot be mistaken for
+ * one).  With pin friction of exact sign (friction.vreg = 0) the
+ * acceleration is discontinuous where a dtheta_i changes sign.
+ */
+RPS3_API int rps3_fwddyn(const rps3_model *m, rps3_data *d);
+
+/*
+ * Kinetic energy T and potential energy P [J] of the selected effects at
+ * the state in d (after rps3_fwddyn, or positions and rps3_joint_velocity,
+ * or rps3_ik and rps3_velocity), written from the Cartesian motion (vc,
+ * omega) of every body, independently of Mq: platform (1/2) M |vc|^2 +
+ * (1/2) omega . I omega and M g z_c, links (1/2) Jlink dtheta^2 and
+ * m g d sin(theta), payload likewise.  The zero of P is the base plane.
+ * *fric receives the power of the pin friction torques [W] (<= 0); any
+ * output may be NULL.  Returns RPS3_OK, RPS3_EINVAL or RPS3_ESTATE
+ * (positions or velocities missing).
+ */
+RPS3_API int rps3_energy(const rps3_model *m, const rps3_data *d, double *T,
+                         double *P, double *fric);
+
 /* -------------------------------------------------------------- trajectory */
 
 typedef enum {
@@ -642,6 +709,8 @@ RPS3_API int rps3_traj_eval(const rps3_model *m, const rps3_traj *tr, double t,
     "N m s/rad", "pin_friction.viscous")                                      \
   X(RPS3_F_COULOMB, RPS3_IN_MODEL, friction.coulomb, 1, 0, 0, 0, HUGE_VAL,    \
     "N m", "pin_friction.coulomb")                                            \
+  X(RPS3_F_VREG, RPS3_IN_MODEL, friction.vreg, 1, 0, 0, 0, HUGE_VAL,          \
+    "rad/s", "pin_friction.vreg")                                             \
   X(RPS3_F_EFFECTS, RPS3_IN_MODEL, opt.effects, 1, 1, 0, 0, RPS3_EFF_ALL,     \
     "-", "opt.effects")                                                       \
   X(RPS3_F_METHOD, RPS3_IN_MODEL, opt.method, 1, 1, 0, 0, 1, "-",             \

@@ -97,6 +97,23 @@ void rps3_frame_from_balls(const rps3_model *m, rps3_data *d);
 void rps3_constraint_jacobian(const rps3_data *d, double Jl[3][3],
                               double Jt[3][3]);
 
+/* pin friction torque opposing theta-dot, the law of rps3_friction: exact
+   sign (sign(0) = 0) or, with vreg > 0, the smooth tanh(dtheta / vreg) */
+static inline double rps3_friction_torque(const rps3_model *m, double dtheta) {
+  double s;
+  if (m->friction.vreg > 0.0)
+    s = tanh(dtheta / m->friction.vreg);
+  else
+    s = (double)((dtheta > 0) - (dtheta < 0));
+  return -(m->friction.viscous * dtheta + m->friction.coulomb * s);
+}
+
+/* angular velocity (or acceleration) of the platform from the motion u_i
+   of its ball joints relative to the centre, rho_i = b_i - c, a the
+   platform normal: (26)-(28) solved for omega in closed form */
+void rps3_omega_from_balls(double omega[3], const double rho[3][3],
+                           const double u[3][3], const double a[3], double r);
+
 /* ----------------------------------------------------------- 3-vectors */
 
 static inline double v3_dot(const double a[3], const double b[3]) {

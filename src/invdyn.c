@@ -146,12 +146,9 @@ static void payload_moments(const rps3_model *m, double h[3], double S[3][3]) {
   }
 }
 
-static double sgn(double x) { return (x > 0) - (x < 0); }
-
-/* friction torque about pin axis i, opposing theta-dot (T_{i-3} of (23)) */
-static double friction_torque(const rps3_model *m, double dtheta) {
-  return -(m->friction.viscous * dtheta + m->friction.coulomb * sgn(dtheta));
-}
+/* friction torque about pin axis i, opposing theta-dot (T_{i-3} of (23)):
+   the law shared with the forward dynamics, internal.h */
+#define friction_torque rps3_friction_torque
 
 /*
  * The loads of effect e as the left-hand side of (23): w[0..2] on l_i,

@@ -14,9 +14,9 @@
  *   sum rho_i x u_i = (3 r^2 / 2) (omega + (a . omega) a),
  * which inverts in closed form.  This is (26)-(28) solved for omega.
  */
-static void omega_from_balls(double omega[3], const double rho[3][3],
-                             const double u[3][3], const double a[3],
-                             double r) {
+void rps3_omega_from_balls(double omega[3], const double rho[3][3],
+                           const double u[3][3], const double a[3],
+                           double r) {
   double w[3] = {0, 0, 0}, t[3], s;
   int i;
   for (i = 0; i < 3; i++) {
@@ -218,7 +218,7 @@ int rps3_joint_velocity(const rps3_model *m, rps3_data *d) {
     v3_sub(u[i], bd[i], d->vc);
   }
   for (i = 0; i < 3; i++) a[i] = d->rot[i][2];
-  omega_from_balls(d->omega, M3C(rho), M3C(u), a, m->r);
+  rps3_omega_from_balls(d->omega, M3C(rho), M3C(u), a, m->r);
   pose_rates(d);
   d->stage |= RPS3_STAGE_VEL;
   return RPS3_OK;
@@ -270,7 +270,7 @@ int rps3_joint_acceleration(const rps3_model *m, rps3_data *d) {
     v3_sub(u[i], u[i], t);
   }
   for (i = 0; i < 3; i++) a[i] = d->rot[i][2];
-  omega_from_balls(d->domega, M3C(rho), M3C(u), a, m->r);
+  rps3_omega_from_balls(d->domega, M3C(rho), M3C(u), a, m->r);
   d->stage |= RPS3_STAGE_ACC;
   return RPS3_OK;
 }

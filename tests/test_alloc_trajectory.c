@@ -190,8 +190,8 @@ static void cold_multiroot_lagrange(void **state) {
   run_trajectory(RPS3_THETA_MULTIROOT, RPS3_LAGRANGE, 0);
 }
 
-/* the other stages and the error paths (RPS3_ERROR formats its message
-   into the data) do not allocate either */
+/* the other stages (forward dynamics included) and the error paths
+   (RPS3_ERROR formats its message into the data) do not allocate either */
 static void stages_and_errors(void **state) {
   rps3_model m;
   rps3_data *d = NULL;
@@ -217,7 +217,9 @@ static void stages_and_errors(void **state) {
     if (rps3_ik(&m, d) == RPS3_OK && rps3_velocity(&m, d) == RPS3_OK &&
         rps3_acceleration(&m, d) == RPS3_OK && rps3_invdyn(&m, d) == RPS3_OK &&
         rps3_joint_velocity(&m, d) == RPS3_OK &&
-        rps3_joint_acceleration(&m, d) == RPS3_OK && rps3_fk(&m, d) == RPS3_OK)
+        rps3_joint_acceleration(&m, d) == RPS3_OK && rps3_fk(&m, d) == RPS3_OK &&
+        rps3_fwddyn(&m, d) == RPS3_OK &&
+        rps3_energy(&m, d, NULL, NULL, NULL) == RPS3_OK)
       ok++;
     /* errors: unreachable pose, non-finite input, stage out of order */
     d->pose[2] = -0.3;

@@ -1,0 +1,326 @@
+/*
+ * fwddyn.c - forward dynamics in the link lengths l, the paper's independent
+ * coordinates: Mq(l) l'' + hq(l, l') = F, and the energy of a state.
+ *
+ * Mq and hq are assembled by virtual power (Kane's method), not from the
+ * Lagrange multipliers of rps3_invdyn.  Every velocity of the mechanism is
+ * linear in l':
+ *   theta' = G l',  G = -(df/dtheta)^-1 (df/dl)        (from (8)-(10))
+ *   b_i'   = l_i' phi_i + l_i theta_i' dphi_i          ((12)-(14), (28))
+ *   vc     = Jc l' = (b_1' + b_2' + b_3') / 3          ((11), (25))
+ *   omega  = Jw l'  from the ball joints               ((26)-(28))
+ * and every acceleration is that map applied to l'' plus its value at
+ * l'' = 0 (the velocity-product "bias", rps3_joint_acceleration with ddl =
+ * 0).  A rigid body of mass mb, centre of mass offset s and world inertia
+ * Iw about it contributes, with Jg = Jc - [s]x Jw its centre of mass's map,
+ *   Mq += mb Jg^T Jg + Jw^T Iw Jw,
+ *   hq += Jg^T mb (a_g,bias + g e_z) + Jw^T (Iw dw_bias + w x Iw w);
+ * a link (pinned, swinging about its pin axis) contributes
+ *   Mq += Jlink G^T G,  hq += G^T (Jlink theta''_bias + m g d cos theta
+ *   - T_friction).
+ * The platform is the uniform disc of (21) as a rigid body (not the point
+ * masses rps3_invdyn's Lagrange route uses), so the two routes share no
+ * inertia formula.
+ */
+#include <string.h>
+
+#include "internal.h"
+#include "linalg.h"
+
+/* a selected inertia effect with a non-zero mass: without one Mq = 0 */
+static int has_mass(const rps3_model *m) {
+  const int eff = m->opt.effects;
+  return ((eff & RPS3_EFF_PLATFORM_INERTIA) && m->M > 0.0) ||
+         ((eff & RPS3_EFF_LINK_INERTIA) && m->Jlink > 0.0) ||
+         ((eff & RPS3_EFF_PAYLOAD) && m->payload.mass > 0.0);
+}
+
+/* velocity maps of the state: theta' = G l', vc = Jc l', omega = Jw l'
+   (columns j are the motions for a unit l_j'), and the bias accelerations */
+typedef struct {
+  double G[3][3];
+  double Jc[3][3];
+  double Jw[3][3];
+  double ddth_b[3];   /* theta'' at l'' = 0 */
+  double ac_b[3];     /* centre acceleration at l'' = 0 */
+  double dw_b[3];     /* angular acceleration at l'' = 0 */
+} fd_maps;
+
+/* world inertia rot diag(I) rot^T */
+static void inertia_world(double Iw[3][3], const double rot[3][3],
+                          const double I[3]) {
+  int p, q, k;
+  for (p = 0; p < 3; p++)
+    for (q = 0; q < 3; q++) {
+      double s = 0.0;
+      for (k = 0; k < 3; k++) s += rot[p][k] * I[k] * rot[q][k];
+      Iw[p][q] = s;
+    }
+}
+
+/* G = -(df/dtheta)^-1 (df/dl), the mode (sign of det df/dtheta), and the
+   maps Jc, Jw, column by column from the ball joint velocities */
+static int velocity_maps(const rps3_model *m, rps3_data *d, fd_maps *k) {
+  double Jl[3][3], Jt[3][3], LU[9], rho[3][3], u[3][3], a[3], det;
+  int perm[3], i, j, q;
+  rps3_constraint_jacobian(d, Jl, Jt);
+  det = Jt[0][0] * (Jt[1][1] * Jt[2][2] - Jt[1][2] * Jt[2][1]) -
+        Jt[0][1] * (Jt[1][0] * Jt[2][2] - Jt[1][2] * Jt[2][0]) +
+        Jt[0][2] * (Jt[1][0] * Jt[2][1] - Jt[1][1] * Jt[2][0]);
+  d->mode = (det > 0.0) ? 1 : -1;
+  for (i = 0; i < 3; i++)
+    for (q = 0; q < 3; q++) LU[3 * i + q] = Jt[i][q];
+  /* rps3_joint_velocity has passed the same condition test */
+  if (rps3_lu_factor(3, LU, perm) != 0)
+    RPS3_ERROR(d, RPS3_ESING, "constraint Jacobian df/dtheta is singular");
+  for (j = 0; j < 3; j++) {
+    double x[3];
+    for (q = 0; q < 3; q++) x[q] = -Jl[q][j];
+    rps3_lu_solve(3, LU, perm, x);
+    for (i = 0; i < 3; i++) k->G[i][j] = x[i];
+  }
+  for (i = 0; i < 3; i++) {
+    v3_sub(rho[i], d->b[i], d->c);
+    a[i] = d->rot[i][2];
+  }
+  for (j = 0; j < 3; j++) {
+    double bd[3][3], vc[3] = {0, 0, 0}, w[3];
+    for (i = 0; i < 3; i++) {
+      /* b_i' for l' = e_j */
+      v3_scale(bd[i], d->l[i] * k->G[i][j], d->dphi[i]);
+      if (i == j) v3_axpy(bd[i], bd[i], 1.0, d->phi[i]);
+      v3_axpy(vc, vc, 1.0 / 3.0, bd[i]);
+    }
+    for (i = 0; i < 3; i++) v3_sub(u[i], bd[i], vc);
+    rps3_omega_from_balls(w, M3C(rho), M3C(u), a, m->r);
+    for (q = 0; q < 3; q++) {
+      k->Jc[q][j] = vc[q];
+      k->Jw[q][j] = w[q];
+    }
+  }
+  return RPS3_OK;
+}
+
+/* add a rigid body: mass mb, centre of mass offset s from the platform
+   centre and inertia Iw about it (world axes); g = 0 leaves its weight out */
+static void add_body(const fd_maps *k, const rps3_data *d, double mb,
+                     const double s[3], const double Iw[3][3], double g,
+                     double Mq[3][3], double hq[3]) {
+  double Jg[3][3], ag[3], mom[3], t[3], Iwj[3][3];
+  int j, q;
+  /* the centre of mass moves with vc + omega x s */
+  for (j = 0; j < 3; j++) {
+    double wj[3] = {k->Jw[0][j], k->Jw[1][j], k->Jw[2][j]};
+    v3_cross(t, wj, s);
+    for (q = 0; q < 3; q++) Jg[j][q] = k->Jc[q][j] + t[q];
+    m3_mulv(Iwj[j], Iw, wj);
+  }
+  /* bias: a_g = ac + dw x s + w x (w x s) + g e_z; moment Iw dw + w x Iw w */
+  v3_cross(ag, k->dw_b, s);
+  v3_axpy(ag, ag, 1.0, k->ac_b);
+  v3_cross(t, d->omega, s);
+  v3_cross(t, d->omega, t);
+  v3_axpy(ag, ag, 1.0, t);
+  ag[2] += g;
+  m3_mulv(mom, Iw, k->dw_b);
+  m3_mulv(t, Iw, d->omega);
+  v3_cross(t, d->omega, t);
+  v3_axpy(mom, mom, 1.0, t);
+  for (j = 0; j < 3; j++) {
+    double wj[3] = {k->Jw[0][j], k->Jw[1][j], k->Jw[2][j]};
+    for (q = 0; q < 3; q++) {
+      double wq[3] = {k->Jw[0][q], k->Jw[1][q], k->Jw[2][q]};
+      Mq[j][q] += mb * v3_dot(Jg[j], Jg[q]) + v3_dot(wq, Iwj[j]);
+    }
+    hq[j] += mb * v3_dot(Jg[j], ag) + v3_dot(wj, mom);
+  }
+}
+
+/* Mq and hq of the selected effects at the state of d */
+static void assemble(const rps3_model *m, const rps3_data *d,
+                     const fd_maps *k, double Mq[3][3], double hq[3]) {
+  const int eff = m->opt.effects;
+  const double zero[3] = {0, 0, 0};
+  double Iw[3][3], tl[3] = {0, 0, 0}, Jl[3] = {0, 0, 0}, s[3];
+  int i, j, q;
+  memset(Mq, 0, 9 * sizeof(double));
+  memset(hq, 0, 3 * sizeof(double));
+  /* platform: the disc of (21), Ip about its centre */
+  if (eff & RPS3_EFF_PLATFORM_INERTIA) {
+    inertia_world(Iw, M3C(d->rot), m->Ip);
+    add_body(k, d, m->M, zero, M3C(Iw), 0.0, Mq, hq);
+  }
+  /* (22): M g z_c, z_c' = Jc[2] l' */
+  if (eff & RPS3_EFF_PLATFORM_GRAVITY)
+    for (j = 0; j < 3; j++) hq[j] += m->M * m->g * k->Jc[2][j];
+  /* payload: weight and inertia together */
+  if (eff & RPS3_EFF_PAYLOAD) {
+    m3_mulv(s, M3C(d->rot), m->payload.com);
+    inertia_world(Iw, M3C(d->rot), m->payload.inertia);
+    add_body(k, d, m->payload.mass, s, M3C(Iw), m->g, Mq, hq);
+  }
+  /* links: generalized loads on theta_i, mapped to l by G^T */
+  for (i = 0; i < 3; i++) {
+    if (eff & RPS3_EFF_LINK_INERTIA) {
+      Jl[i] = m->Jlink;
+      tl[i] += m->Jlink * k->ddth_b[i];
+    }
+    /* (22): d/dtheta of m g d sin(theta); cos theta is dphi_i's Z */
+    if (eff & RPS3_EFF_LINK_GRAVITY) tl[i] += m->m * m->g * m->d * d->dphi[i][2];
+    if (eff & RPS3_EFF_PIN_FRICTION)
+      tl[i] -= rps3_friction_torque(m, d->dtheta[i]);
+  }
+  for (j = 0; j < 3; j++) {
+    for (q = 0; q < 3; q++)
+      for (i = 0; i < 3; i++) Mq[j][q] += Jl[i] * k->G[i][j] * k->G[i][q];
+    for (i = 0; i < 3; i++) hq[j] += k->G[i][j] * tl[i];
+  }
+}
+
+/* Cholesky of the 3 x 3 Mq: positive definiteness is the test, the solve
+   its use; returns 0 or -1 (a pivot not > 0) */
+static int chol3_solve(const double A[3][3], double x[3]) {
+  double L[3][3] = {{0, 0, 0}, {0, 0, 0}, {0, 0, 0}};
+  int i, j, k;
+  for (j = 0; j < 3; j++) {
+    double s = A[j][j];
+    for (k = 0; k < j; k++) s -= L[j][k] * L[j][k];
+    if (!(s > 0.0)) return -1;
+    L[j][j] = sqrt(s);
+    for (i = j + 1; i < 3; i++) {
+      double t = A[i][j];
+      for (k = 0; k < j; k++) t -= L[i][k] * L[j][k];
+      L[i][j] = t / L[j][j];
+    }
+  }
+  for (i = 0; i < 3; i++) {
+    for (k = 0; k < i; k++) x[i] -= L[i][k] * x[k];
+    x[i] /= L[i][i];
+  }
+  for (i = 2; i >= 0; i--) {
+    for (k = i + 1; k < 3; k++) x[i] -= L[k][i] * x[k];
+    x[i] /= L[i][i];
+  }
+  return 0;
+}
+
+static double mass_cond(const double Mq[3][3]) {
+  double A[9], LU[9];
+  int perm[3], i, j;
+  for (i = 0; i < 3; i++)
+    for (j = 0; j < 3; j++) A[3 * i + j] = LU[3 * i + j] = Mq[i][j];
+  if (rps3_lu_factor(3, LU, perm) != 0) return HUGE_VAL;
+  return rps3_lu_cond1(3, A, LU, perm);
+}
+
+/* a failure leaves no acceleration that could be read as one */
+static void poison(rps3_data *d) {
+  d->ddl[0] = d->ddl[1] = d->ddl[2] = (double)NAN;
+  d->stage &= RPS3_STAGE_POS | RPS3_STAGE_VEL;
+}
+
+int rps3_fwddyn(const rps3_model *m, rps3_data *d) {
+  fd_maps k;
+  double dl[3], F[3], x[3];
+  int status, i;
+  if (m == NULL || d == NULL || !m->valid) return RPS3_EINVAL;
+  if (!v3_finite(d->dl) || !v3_finite(d->F)) {
+    poison(d);
+    RPS3_ERROR(d, RPS3_EINVAL,
+               "dl (%g, %g, %g) m/s or F (%g, %g, %g) N is not finite",
+               d->dl[0], d->dl[1], d->dl[2], d->F[0], d->F[1], d->F[2]);
+  }
+  if (!has_mass(m)) {
+    poison(d);
+    RPS3_ERROR(d, RPS3_EINVAL,
+               "forward dynamics needs inertia: select platform_inertia, "
+               "link_inertia or payload, with a non-zero mass");
+  }
+  /* the inputs survive the stages, which reset what they write */
+  v3_copy(dl, d->dl);
+  v3_copy(F, d->F);
+
+  /* positions: theta from l, warm-started on the tracked assembly mode */
+  status = rps3_fk(m, d);
+  if (status != RPS3_OK) {
+    poison(d);
+    return status;
+  }
+  /* rates, and the accelerations at l'' = 0 (the bias) */
+  v3_copy(d->dl, dl);
+  d->ddl[0] = d->ddl[1] = d->ddl[2] = 0.0;
+  status = rps3_joint_velocity(m, d);
+  if (status == RPS3_OK) status = rps3_joint_acceleration(m, d);
+  if (status == RPS3_OK) status = velocity_maps(m, d, &k);
+  if (status != RPS3_OK) {
+    poison(d);
+    return status;
+  }
+  v3_copy(k.ddth_b, d->ddtheta);
+  v3_copy(k.ac_b, d->ac);
+  v3_copy(k.dw_b, d->domega);
+
+  /* Mq l'' = F - hq, Mq symmetric positive definite */
+  assemble(m, d, &k, d->Mq, d->hq);
+  d->Mcond = mass_cond(M3C(d->Mq));
+  v3_sub(x, F, d->hq);
+  if (!(d->Mcond <= m->opt.cond_max) || chol3_solve(M3C(d->Mq), x) != 0) {
+    poison(d);
+    RPS3_ERROR(d, RPS3_ESING,
+               "mass matrix not positive definite or condition number %.3g "
+               "above cond_max %.3g", d->Mcond, m->opt.cond_max);
+  }
+  if (!v3_finite(x)) {
+    poison(d);
+    RPS3_ERROR(d, RPS3_ESING, "acceleration is not finite");
+  }
+  v3_copy(d->F, F);
+  v3_copy(d->ddl, x);
+
+  /* every acceleration is its map applied to l'' plus its bias */
+  for (i = 0; i < 3; i++) {
+    d->ddtheta[i] += v3_dot(k.G[i], x);
+    d->ac[i] += v3_dot(k.Jc[i], x);
+    d->domega[i] += v3_dot(k.Jw[i], x);
+  }
+  d->stage |= RPS3_STAGE_ACC;
+  return RPS3_OK;
+}
+
+int rps3_energy(const rps3_model *m, const rps3_data *d, double *T,
+                double *P, double *fric) {
+  const int eff = (m != NULL) ? m->opt.effects : 0;
+  double t = 0.0, p = 0.0, f = 0.0, Iw[3][3], w[3], s[3], v[3];
+  int i;
+  if (m == NULL || d == NULL || !m->valid) return RPS3_EINVAL;
+  if ((d->stage & (RPS3_STAGE_POS | RPS3_STAGE_VEL)) !=
+      (RPS3_STAGE_POS | RPS3_STAGE_VEL))
+    return RPS3_ESTATE;
+  if (eff & RPS3_EFF_PLATFORM_INERTIA) {
+    inertia_world(Iw, M3C(d->rot), m->Ip);
+    m3_mulv(w, M3C(Iw), d->omega);
+    t += 0.5 * m->M * v3_dot(d->vc, d->vc) + 0.5 * v3_dot(d->omega, w);
+  }
+  if (eff & RPS3_EFF_PLATFORM_GRAVITY) p += m->M * m->g * d->c[2];
+  if (eff & RPS3_EFF_PAYLOAD) {
+    m3_mulv(s, M3C(d->rot), m->payload.com);
+    v3_cross(v, d->omega, s);
+    v3_axpy(v, v, 1.0, d->vc);
+    inertia_world(Iw, M3C(d->rot), m->payload.inertia);
+    m3_mulv(w, M3C(Iw), d->omega);
+    t += 0.5 * m->payload.mass * v3_dot(v, v) + 0.5 * v3_dot(d->omega, w);
+    p += m->payload.mass * m->g * (d->c[2] + s[2]);
+  }
+  for (i = 0; i < 3; i++) {
+    if (eff & RPS3_EFF_LINK_INERTIA)
+      t += 0.5 * m->Jlink * d->dtheta[i] * d->dtheta[i];
+    /* sin theta_i is phi_i's Z component (29) */
+    if (eff & RPS3_EFF_LINK_GRAVITY) p += m->m * m->g * m->d * d->phi[i][2];
+    if (eff & RPS3_EFF_PIN_FRICTION)
+      f += rps3_friction_torque(m, d->dtheta[i]) * d->dtheta[i];
+  }
+  if (T != NULL) *T = t;
+  if (P != NULL) *P = p;
+  if (fric != NULL) *fric = f;
+  return RPS3_OK;
+}

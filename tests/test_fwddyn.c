@@ -1,0 +1,344 @@
+/* test_fwddyn.c - forward dynamics Mq l'' + hq = F against the inverse
+   dynamics (both formulations), Mq from unit accelerations, positive
+   definiteness and kinetic energy, the energy of a state, and the failures:
+   singular configurations, no inertia, bad input. */
+#include <stdlib.h>
+
+#include "testutil.h"
+
+/* effect sets with some inertia: every combination of the six bits that
+   has at least one mass effect (platform, link inertia or payload) */
+static int has_inertia(int eff) {
+  return (eff & (RPS3_EFF_PLATFORM_INERTIA | RPS3_EFF_LINK_INERTIA |
+                 RPS3_EFF_PAYLOAD)) != 0;
+}
+
+/* a random point of a random smooth trajectory through rps3_inverse */
+static void random_state(const rps3_model *m, rps3_data *d, uint64_t *s) {
+  rps3_traj tr;
+  double t;
+  traj_random(&tr, s);
+  t = rnd_uniform(s, 0.0, tr.sine.duration);
+  assert_int_equal(rps3_traj_eval(m, &tr, t, d->pose, d->dpose, d->ddpose),
+                   RPS3_OK);
+  if (rps3_inverse(m, d) != RPS3_OK) fail_msg("inverse: %s", d->err.msg);
+}
+
+/* the forward data starts on the inverse data's assembly mode */
+static void load_state(rps3_data *f, const rps3_data *inv) {
+  rps3_data_reset(f);
+  memcpy(f->l, inv->l, sizeof(f->l));
+  memcpy(f->dl, inv->dl, sizeof(f->dl));
+  memcpy(f->F, inv->F, sizeof(f->F));
+  memcpy(f->theta, inv->theta, sizeof(f->theta));
+  f->have_theta = 1;
+}
+
+static double vmax(const double v[3]) {
+  return fmax(fabs(v[0]), fmax(fabs(v[1]), fabs(v[2])));
+}
+
+/*
+ * For every effect combination with inertia and both formulations of the
+ * inverse dynamics: the forces of a random motion give back its link
+ * accelerations, its theta, pose and rates.  The equation's residual
+ * Mq l''_ref + hq - F_ref is backward error, checked at 1e-9.  The
+ * accelerations are forward error: the inputs of the solve (F_ref by one
+ * route, hq by the other) agree to ~1e-14 relative, which the solve
+ * amplifies by up to cond(Mq) -- 1e7 with link inertia as the only mass
+ * (Jlink G^T G is nearly singular where G is) -- so their tolerance is
+ * 1e-9 + 1e-14 cond(Mq), still far below a missing term (>= 1e-3).
+ */
+static void inverts_inverse_dynamics(void **state) {
+  uint64_t s = 0x5eed1234abcdull;
+  int eff, meth, n;
+  (void)state;
+  for (meth = 0; meth < 2; meth++)
+    for (eff = 1; eff <= RPS3_EFF_ALL; eff++) {
+      rps3_model m;
+      rps3_data *inv, *fd;
+      if (!has_inertia(eff)) continue;
+      model_entropy(&m);
+      m.opt.effects = eff;
+      m.opt.method = meth ? RPS3_NEWTON_EULER : RPS3_LAGRANGE;
+      assert_int_equal(rps3_model_init(&m, NULL, 0), RPS3_OK);
+      assert_int_equal(rps3_data_alloc(&m, &inv), RPS3_OK);
+      assert_int_equal(rps3_data_alloc(&m, &fd), RPS3_OK);
+      for (n = 0; n < 20; n++) {
+        int i;
+        double sa, sw;
+        random_state(&m, inv, &s);
+        load_state(fd, inv);
+        if (rps3_fwddyn(&m, fd) != RPS3_OK)
+          fail_msg("effects %d: %s", eff, fd->err.msg);
+        double tol = 1e-9 + 1e-14 * fd->Mcond;
+        sa = vmax(inv->ddl) + 1e-3;
+        sw = vmax(inv->domega) + 1e-3;
+        for (i = 0; i < 3; i++) {
+          double r = 0.0;
+          int q;
+          CHECK_REL(fd->ddl[i], inv->ddl[i], tol, sa, "ddl%d eff %d", i, eff);
+          CHECK_REL(fd->theta[i], inv->theta[i], TOL_EXACT, 1.0, "theta%d", i);
+          /* alpha is an angle: compare modulo 2 pi */
+          CHECK_REL(inv->pose[i] + remainder(fd->pose[i] - inv->pose[i],
+                                             i == 0 ? 2.0 * PI : HUGE_VAL),
+                    inv->pose[i], 1e-10, 1.0, "pose%d", i);
+          CHECK_REL(fd->dtheta[i], inv->dtheta[i], 1e-10, vmax(inv->dtheta),
+                    "dtheta%d", i);
+          CHECK_REL(fd->ddtheta[i], inv->ddtheta[i], tol,
+                    vmax(inv->ddtheta) + 1e-3, "ddtheta%d eff %d", i, eff);
+          CHECK_REL(fd->ac[i], inv->ac[i], tol, vmax(inv->ac) + 1e-3, "ac%d", i);
+          CHECK_REL(fd->domega[i], inv->domega[i], tol, sw, "domega%d", i);
+          /* the equation itself: Mq l''_ref + hq = F_ref */
+          for (q = 0; q < 3; q++) r += fd->Mq[i][q] * inv->ddl[q];
+          CHECK_REL(r + fd->hq[i], inv->F[i], 1e-9, vmax(inv->F) + 1e-6,
+                    "Mq ddl + hq = F row %d eff %d", i, eff);
+        }
+        assert_true(fd->mode == 1 || fd->mode == -1);
+        assert_true(fd->Mcond >= 1.0 && fd->Mcond < 1e9);
+        assert_true((fd->stage & 7) == 7);
+      }
+      rps3_data_free(inv);
+      rps3_data_free(fd);
+    }
+}
+
+/*
+ * Mq column j is F(l'' = e_j) - F(l'' = 0) and hq is F(l'' = 0), both by
+ * rps3_invdyn through the joint route (no forward dynamics involved).
+ * Mq is symmetric, and 2T = dl^T Mq dl with T by rps3_energy from the
+ * Cartesian velocities.
+ */
+static void mass_matrix_from_unit_accelerations(void **state) {
+  uint64_t s = 0xa5a5f00dull;
+  int n, meth;
+  (void)state;
+  for (meth = 0; meth < 2; meth++) {
+    rps3_model m;
+    rps3_data *inv, *fd, *u;
+    model_entropy(&m);
+    m.opt.method = meth ? RPS3_NEWTON_EULER : RPS3_LAGRANGE;
+    assert_int_equal(rps3_model_init(&m, NULL, 0), RPS3_OK);
+    assert_int_equal(rps3_data_alloc(&m, &inv), RPS3_OK);
+    assert_int_equal(rps3_data_alloc(&m, &fd), RPS3_OK);
+    assert_int_equal(rps3_data_alloc(&m, &u), RPS3_OK);
+    for (n = 0; n < 30; n++) {
+      double F0[3], Mcol[3][3], T, P, twoT = 0.0, sc;
+      int i, j;
+      random_state(&m, inv, &s);
+      load_state(fd, inv);
+      assert_int_equal(rps3_fwddyn(&m, fd), RPS3_OK);
+      for (j = -1; j < 3; j++) {
+        load_state(u, inv);
+        assert_int_equal(rps3_theta_solve(&m, u), RPS3_OK);
+        assert_int_equal(rps3_joint_velocity(&m, u), RPS3_OK);
+        for (i = 0; i < 3; i++) u->ddl[i] = (i == j) ? 1.0 : 0.0;
+        assert_int_equal(rps3_joint_acceleration(&m, u), RPS3_OK);
+        assert_int_equal(rps3_invdyn(&m, u), RPS3_OK);
+        for (i = 0; i < 3; i++) {
+          if (j < 0)
+            F0[i] = u->F[i];
+          else
+            Mcol[i][j] = u->F[i] - F0[i];
+        }
+      }
+      sc = fabs(fd->Mq[0][0]) + fabs(fd->Mq[1][1]) + fabs(fd->Mq[2][2]);
+      for (i = 0; i < 3; i++) {
+        CHECK_REL(fd->hq[i], F0[i], 1e-9, vmax(F0), "hq%d", i);
+        for (j = 0; j < 3; j++) {
+          /* a difference of two forces of size |hq|: rounding relative to
+             both */
+          CHECK_REL(fd->Mq[i][j], Mcol[i][j], 1e-9, sc + vmax(F0),
+                    "Mq[%d][%d]", i, j);
+          CHECK_REL(fd->Mq[i][j], fd->Mq[j][i], TOL_EXACT, sc, "symmetry");
+          twoT += fd->dl[i] * fd->Mq[i][j] * fd->dl[j];
+        }
+      }
+      assert_int_equal(rps3_energy(&m, fd, &T, &P, NULL), RPS3_OK);
+      CHECK_REL(twoT, 2.0 * T, TOL_EXACT, 2.0 * T, "2T = dl' Mq dl");
+      /* positive definite: x' Mq x > 0 for high-entropy x */
+      for (j = 0; j < 10; j++) {
+        double x[3], q = 0.0;
+        int k;
+        for (i = 0; i < 3; i++) x[i] = rnd_uniform(&s, -1.0, 1.0);
+        for (i = 0; i < 3; i++)
+          for (k = 0; k < 3; k++) q += x[i] * fd->Mq[i][k] * x[k];
+        assert_true(q > 0.0);
+      }
+    }
+    rps3_data_free(inv);
+    rps3_data_free(fd);
+    rps3_data_free(u);
+  }
+}
+
+/*
+ * rps3_energy against the power balance, independently of Mq: along a
+ * trajectory, d(T + P)/dt by central differences of rps3_energy equals the
+ * actuator power F . l' plus the friction power of rps3_invdyn's forces
+ * (step 1e-5 s: TOL_FD).  Friction is regularised so that the power is
+ * smooth.
+ */
+static void energy_rate_matches_power(void **state) {
+  uint64_t s = 0x77e11e5ull;
+  rps3_model m;
+  rps3_data *d;
+  rps3_traj tr;
+  const double h = 1e-5;
+  int n;
+  (void)state;
+  model_entropy(&m);
+  m.friction.vreg = 0.05;
+  assert_int_equal(rps3_model_init(&m, NULL, 0), RPS3_OK);
+  assert_int_equal(rps3_data_alloc(&m, &d), RPS3_OK);
+  for (n = 0; n < 20; n++) {
+    double t, E[2], pw, fr, T, P;
+    int k;
+    traj_random(&tr, &s);
+    t = rnd_uniform(&s, 0.1, tr.sine.duration - 0.1);
+    for (k = 0; k < 2; k++) {
+      assert_int_equal(rps3_traj_eval(&m, &tr, t + (k ? h : -h), d->pose,
+                                      d->dpose, d->ddpose), RPS3_OK);
+      assert_int_equal(rps3_inverse(&m, d), RPS3_OK);
+      assert_int_equal(rps3_energy(&m, d, &T, &P, NULL), RPS3_OK);
+      E[k] = T + P;
+    }
+    assert_int_equal(rps3_traj_eval(&m, &tr, t, d->pose, d->dpose, d->ddpose),
+                     RPS3_OK);
+    assert_int_equal(rps3_inverse(&m, d), RPS3_OK);
+    assert_int_equal(rps3_energy(&m, d, &T, &P, &fr), RPS3_OK);
+    pw = d->F[0] * d->dl[0] + d->F[1] * d->dl[1] + d->F[2] * d->dl[2];
+    CHECK_REL((E[1] - E[0]) / (2 * h), pw + fr, TOL_FD,
+              fabs(pw) + fabs(fr) + d->energy_scale, "d(T+P)/dt at t = %g", t);
+    CHECK_REL(fr, d->friction_power, TOL_EXACT, fabs(fr) + 1e-12,
+              "friction power");
+  }
+  rps3_data_free(d);
+}
+
+/* towards the singular tilt beta* the call fails with RPS3_ESING and NaN
+   accelerations; on the way there every acceleration it returns is finite
+   and the mode is kept */
+static void singular_configuration_fails_cleanly(void **state) {
+  rps3_model m;
+  rps3_data *d, *f;
+  double bs, frac;
+  int mode = 0, failed = 0;
+  (void)state;
+  rps3_model_default(&m);
+  m.opt.effects = RPS3_EFF_ALL & ~RPS3_EFF_PAYLOAD;
+  assert_int_equal(rps3_model_init(&m, NULL, 0), RPS3_OK);
+  assert_int_equal(rps3_data_alloc(&m, &d), RPS3_OK);
+  assert_int_equal(rps3_data_alloc(&m, &f), RPS3_OK);
+  bs = singular_beta(&m, d, 0.12, 0.3, 1.5);
+  assert_true(isfinite(bs));
+  for (frac = 0.9; frac < 1.0 + 1e-12; frac += 0.0125) {
+    int st, i;
+    double b = (frac > 1.0 - 1e-9) ? bs : bs * frac;
+    d->pose[0] = 0.0;
+    d->pose[1] = b;
+    d->pose[2] = 0.12;
+    assert_int_equal(rps3_ik(&m, d), RPS3_OK);
+    memcpy(f->l, d->l, sizeof(d->l));
+    memcpy(f->theta, d->theta, sizeof(d->theta));
+    f->have_theta = 1;
+    for (i = 0; i < 3; i++) {
+      f->dl[i] = 0.0137 * (i + 1);
+      f->F[i] = 1.37 - 0.2 * i;
+    }
+    st = rps3_fwddyn(&m, f);
+    if (st == RPS3_OK) {
+      assert_true(isfinite(f->ddl[0]) && isfinite(f->ddl[1]) &&
+                  isfinite(f->ddl[2]));
+      if (mode) assert_int_equal(f->mode, mode);
+      mode = f->mode;
+    } else {
+      assert_int_equal(st, RPS3_ESING);
+      assert_true(isnan(f->ddl[0]) && isnan(f->ddl[1]) && isnan(f->ddl[2]));
+      assert_true(strlen(f->err.msg) > 0);
+      failed = 1;
+    }
+  }
+  assert_true(failed);
+  rps3_data_free(d);
+  rps3_data_free(f);
+}
+
+/* bad input and a model without inertia: RPS3_EINVAL with a message */
+static void errors(void **state) {
+  rps3_model m;
+  rps3_data *d;
+  (void)state;
+  rps3_model_default(&m);
+  m.opt.effects = RPS3_EFF_PLATFORM_GRAVITY | RPS3_EFF_LINK_GRAVITY;
+  assert_int_equal(rps3_model_init(&m, NULL, 0), RPS3_OK);
+  assert_int_equal(rps3_data_alloc(&m, &d), RPS3_OK);
+  d->pose[0] = 0.3;
+  d->pose[1] = 0.2;
+  d->pose[2] = 0.25;
+  assert_int_equal(rps3_ik(&m, d), RPS3_OK);
+  assert_int_equal(rps3_fwddyn(&m, d), RPS3_EINVAL);
+  assert_non_null(strstr(d->err.msg, "inertia"));
+  assert_true(isnan(d->ddl[0]));
+  m.opt.effects = RPS3_EFF_DEFAULT;
+  m.m = 0.0;
+  m.M = 0.0;
+  assert_int_equal(rps3_model_init(&m, NULL, 0), RPS3_OK);
+  assert_int_equal(rps3_fwddyn(&m, d), RPS3_EINVAL);
+  m.M = 0.18;
+  assert_int_equal(rps3_model_init(&m, NULL, 0), RPS3_OK);
+  d->F[1] = (double)NAN;
+  assert_int_equal(rps3_fwddyn(&m, d), RPS3_EINVAL);
+  assert_non_null(strstr(d->err.msg, "not finite"));
+  d->F[1] = 0.0;
+  d->l[2] = -0.1;
+  assert_int_equal(rps3_fwddyn(&m, d), RPS3_EINVAL);
+  assert_int_equal(rps3_fwddyn(NULL, d), RPS3_EINVAL);
+  assert_int_equal(rps3_energy(&m, NULL, NULL, NULL, NULL), RPS3_EINVAL);
+  rps3_data_reset(d);
+  assert_int_equal(rps3_energy(&m, d, NULL, NULL, NULL), RPS3_ESTATE);
+  m.friction.vreg = -1.0;
+  assert_int_equal(rps3_model_init(&m, NULL, 0), RPS3_EINVAL);
+  rps3_data_free(d);
+}
+
+/* zero link mass (the paper's case 1) still has a positive definite Mq
+   from the platform alone; static equilibrium: F = hq gives l'' = 0 */
+static void massless_links_and_statics(void **state) {
+  rps3_model m;
+  rps3_data *d;
+  int i;
+  (void)state;
+  rps3_model_default(&m);
+  m.m = 0.0;
+  assert_int_equal(rps3_model_init(&m, NULL, 0), RPS3_OK);
+  assert_int_equal(rps3_data_alloc(&m, &d), RPS3_OK);
+  d->pose[0] = -0.71;
+  d->pose[1] = 0.23;
+  d->pose[2] = 0.261;
+  memset(d->dpose, 0, sizeof(d->dpose));
+  memset(d->ddpose, 0, sizeof(d->ddpose));
+  assert_int_equal(rps3_inverse(&m, d), RPS3_OK);
+  memset(d->dl, 0, sizeof(d->dl));
+  assert_int_equal(rps3_fwddyn(&m, d), RPS3_OK);
+  for (i = 0; i < 3; i++)
+    CHECK_REL(d->ddl[i], 0.0, TOL_EXACT, 1.0, "static ddl%d", i);
+  /* the weight alone (F = 0) pulls the platform down */
+  memset(d->F, 0, sizeof(d->F));
+  assert_int_equal(rps3_fwddyn(&m, d), RPS3_OK);
+  assert_true(d->ac[2] < 0.0);
+  rps3_data_free(d);
+}
+
+int main(void) {
+  const struct CMUnitTest tests[] = {
+      cmocka_unit_test(inverts_inverse_dynamics),
+      cmocka_unit_test(mass_matrix_from_unit_accelerations),
+      cmocka_unit_test(energy_rate_matches_power),
+      cmocka_unit_test(singular_configuration_fails_cleanly),
+      cmocka_unit_test(errors),
+      cmocka_unit_test(massless_links_and_statics),
+  };
+  gsl_set_error_handler_off();
+  return cmocka_run_group_tests(tests, NULL, NULL);
+}
