@@ -30,7 +30,7 @@ VPY = $(VENV)/bin/python
 DEB_BUILD = gcc make pkg-config libgsl-dev libhdf5-dev libyaml-dev
 DEB_PAPER = $(DEB_BUILD) python3-venv python3-dev
 DEB_CHECK = $(DEB_PAPER) clang libclang-rt-dev libcmocka-dev libopenmpi-dev openmpi-bin \
-            valgrind time cmake
+            valgrind time cmake strace
 
 # version, from the header; the shared library's SONAME carries the major
 VERSION := $(shell sed -n 's/^\#define RPS3_VERSION_STRING "\(.*\)"/\1/p' include/rps3.h)

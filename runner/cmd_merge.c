@@ -11,6 +11,7 @@
 #include "join.h"
 #include "merge.h"
 #include "parts.h"
+#include "safeio.h"
 #include "tmpout.h"
 
 /*
@@ -76,6 +77,11 @@ int merge_main(int argc, char **argv, const char *cmd)
             npart, npart == 1 ? "" : "s", n);
   if (parts_report(stderr, byk, bad, n))
     goto done;
+  if (out_path_check(out_path, part, npart, err, sizeof err)) {
+    fprintf(stderr, "rps3-run merge: %s\n", err);
+    goto done;
+  }
+  stale_report("rps3-run merge", out_path);
 
   code = EXIT_IO;
   if (tmpout_name(out_path, (long)getpid(), 0))

@@ -37,11 +37,15 @@
 #endif
 
 #include "cmd.h"
+#include "estimate.h"
+#include "h5err.h"
 #include "join.h"
 #include "merge.h"
 #include "output.h"
 #include "progress.h"
+#include "safeio.h"
 #include "scene.h"
+#include "signals.h"
 #include "sweep.h"
 
 /* most threads of -j */
@@ -123,22 +127,21 @@ typedef struct {
   int size;
 } world;
 
-/* K/N into *k, *n; 0 or -1 */
+/* K/N into *k, *n, strictly (digits only, 0 <= K < N); 0 or -1 */
 static int parse_shard(const char *a, size_t *k, size_t *n)
 {
-  char *end;
-  unsigned long kk, nn;
-  errno = 0;
-  kk = strtoul(a, &end, 10);
-  if (end == a || *end != '/' || a[0] == '-')
+  char kk[32];
+  const char *slash = strchr(a, '/');
+  unsigned long vk, vn;
+  if (!slash || (size_t)(slash - a) >= sizeof kk)
     return -1;
-  a = end + 1;
-  nn = strtoul(a, &end, 10);
-  if (end == a || *end != '\0' || a[0] == '-' || errno || nn < 1 ||
-      kk >= nn)
+  memcpy(kk, a, (size_t)(slash - a));
+  kk[slash - a] = '\0';
+  if (parse_ulong(kk, 0, (unsigned long)-1, &vk) ||
+      parse_ulong(slash + 1, 1, (unsigned long)-1, &vn) || vk >= vn)
     return -1;
-  *k = kk;
-  *n = nn;
+  *k = vk;
+  *n = vn;
   return 0;
 }
 
@@ -323,6 +326,37 @@ static void jobs_warn(const scene *s, const sweep_plan *p,
             (size_t)o->nthread - mine == 1 ? " stays" : "s stay");
 }
 
+/*
+ * Say what the run will write and refuse (1) when it cannot fit on the file
+ * system of out_path: this process writes the cases of its shard; under
+ * mpirun the parts, and with --copy rank 0's merged copy too.
+ */
+static int room_check(const scene *s, const sweep_plan *p,
+                      const sweep_opts *o, const world *w, int copy,
+                      int gzip, const char *out_path, int quiet)
+{
+  double est = est_file_bytes(s, p), need = est, avail = disk_free(out_path);
+  char e1[32], e2[32];
+  if (o->nshard > 1 && w->size == 1)
+    need = est * (double)sweep_shard_cases(s, p, o->shard, o->nshard) /
+           (double)s->ncase;
+  if (w->size > 1)
+    need = copy ? 2 * est : est;
+  if (!quiet)
+    fprintf(stderr, "rps3-run: %zu case%s, %zu samples: %s about %s%s\n",
+            s->ncase, s->ncase == 1 ? "" : "s", p->npoint, out_path,
+            est_human(need, e1, sizeof e1),
+            gzip ? " before compression" : "");
+  if (avail >= 0 && need > avail && !gzip) {
+    fprintf(stderr, "rps3-run: %s: the output needs about %s, the file "
+                    "system has %s free: nothing written\n",
+            out_path, est_human(need, e1, sizeof e1),
+            est_human(avail, e2, sizeof e2));
+    return 1;
+  }
+  return 0;
+}
+
 static int run_main(int argc, char **argv, const world *w)
 {
   const char *scene_path = NULL, *out_path = NULL, *shard_arg = NULL;
@@ -363,8 +397,7 @@ static int run_main(int argc, char **argv, const world *w)
       copy = 1;
     } else if (strcmp(a, "-o") == 0 || strcmp(a, "--gzip") == 0 ||
                strcmp(a, "-j") == 0 || strcmp(a, "--shard") == 0) {
-      char *end;
-      long v;
+      unsigned long v;
       if (i + 1 >= argc) {
         fprintf(stderr, "rps3-run: %s needs a value\n", a);
         return EXIT_USAGE;
@@ -383,9 +416,9 @@ static int run_main(int argc, char **argv, const world *w)
         }
         continue;
       }
-      v = strtol(argv[++i], &end, 10);
+      ++i;
       if (a[1] == 'j') {
-        if (*end != '\0' || end == argv[i] || v < 1 || v > MAX_THREADS) {
+        if (parse_ulong(argv[i], 1, MAX_THREADS, &v)) {
           fprintf(stderr, "rps3-run: -j needs 1-%d threads, got '%s'\n",
                   MAX_THREADS, argv[i]);
           return EXIT_USAGE;
@@ -393,7 +426,7 @@ static int run_main(int argc, char **argv, const world *w)
         opts.nthread = (int)v;
         continue;
       }
-      if (*end != '\0' || end == argv[i] || v < 0 || v > 9) {
+      if (parse_ulong(argv[i], 0, 9, &v)) {
         fprintf(stderr, "rps3-run: --gzip needs a level 0-9, got '%s'\n",
                 argv[i]);
         return EXIT_USAGE;
@@ -432,6 +465,18 @@ static int run_main(int argc, char **argv, const world *w)
                     "for merge; a run without them writes one whole file\n");
     return EXIT_USAGE;
   }
+  /* where the output goes is checked before anything is computed */
+  if (out_path && !check) {
+    const char *in[1];
+    in[0] = scene_path;
+    if (out_path_check(out_path, in, 1, err, sizeof err)) {
+      if (w->rank == 0)
+        fprintf(stderr, "rps3-run: %s\n", err);
+      return EXIT_USAGE;
+    }
+    if (w->rank == 0)
+      stale_report("rps3-run", out_path);
+  }
 
   /* the scene and every case are checked before anything is written (by
      every rank; rank 0 says what is wrong, or else the ranks that fail) */
@@ -455,9 +500,12 @@ static int run_main(int argc, char **argv, const world *w)
   if (check) {
     if (w->rank == 0) {
       size_t nj = sweep_njob(&s, &plan);
-      printf("%s: %zu case%s, %zu samples (%zu per case at most)%s\n",
+      char size[32];
+      printf("%s: %zu case%s, %zu samples (%zu per case at most)%s; output "
+             "about %s uncompressed\n",
              scene_path, s.ncase, s.ncase == 1 ? "" : "s", plan.npoint,
-             plan.nt, plan.grid_common ? "" : ", time grid differs by case");
+             plan.nt, plan.grid_common ? "" : ", time grid differs by case",
+             est_human(est_file_bytes(&s, &plan), size, sizeof size));
       if (plan.tile_cases > 1 || plan.nt <= plan.tile_points)
         printf("%zu job%s of up to %zu cases: at most %zu shards, ranks or "
                "threads have work\n",
@@ -472,6 +520,13 @@ static int run_main(int argc, char **argv, const world *w)
     return EXIT_OK;
   }
   jobs_warn(&s, &plan, &opts, w, w->size == 1);
+  if (w->rank == 0 &&
+      room_check(&s, &plan, &opts, w, copy, gzip, out_path, quiet))
+    code = EXIT_USAGE;
+  if ((code = agree(w, code, NULL)) != EXIT_OK) {
+    scene_free(&s);
+    return code;
+  }
 
   memset(&block, 0, sizeof block);
   cmd = command_line(argc, argv);
@@ -552,6 +607,8 @@ int main(int argc, char **argv)
   char *cmd;
   int code;
 
+  /* fds 0-2 open before anything opens a file; HDF5 without atexit */
+  proc_init();
 #ifdef RPS3_MPI
   {
     int provided;
@@ -565,13 +622,16 @@ int main(int argc, char **argv)
     fprintf(stderr, "rps3-run: launched as %d MPI ranks, but built without "
                     "MPI: use build/rps3-run-mpi (make runner-mpi)\n",
             launched_ranks());
-    return EXIT_USAGE;
+    return proc_exit(EXIT_USAGE);
   }
 #endif
 
-  /* process-wide policy: GSL returns its errors, HDF5 prints none */
+  /* process-wide policy: GSL returns its errors, HDF5's are captured
+     (h5err.h); the signals that end a run remove its temporary file
+     (signals.h) */
+  sig_init();
   gsl_set_error_handler_off();
-  H5Eset_auto2(H5E_DEFAULT, NULL, NULL);
+  h5_errors_capture();
   if (strcmp(rps3_version(), RPS3_VERSION_STRING) != 0) {
     fprintf(stderr, "rps3-run: library %s does not match header %s\n",
             rps3_version(), RPS3_VERSION_STRING);
@@ -594,5 +654,5 @@ int main(int argc, char **argv)
 #ifdef RPS3_MPI
   MPI_Finalize();
 #endif
-  return code;
+  return proc_exit(code);
 }

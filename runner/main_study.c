@@ -34,7 +34,7 @@
  * Both write HDF5 with the runner's conventions: units and description on
  * every dataset, dimension scales on every axis, root attributes
  * rps3_version, created_utc, command_line, gsl_version, hdf5_version.  The
- * file is written under OUT.h5.tmp and renamed when complete.
+ * file is written under OUT.h5.tmp.PID and renamed when complete.
  * Exit codes: 0 ok, 2 bad command line, 3 the file could not be written.
  */
 #include <math.h>
@@ -43,13 +43,17 @@
 #include <stdlib.h>
 #include <string.h>
 #include <time.h>
+#include <unistd.h>
 
 #include <gsl/gsl_errno.h>
 #include <gsl/gsl_version.h>
 #include <hdf5.h>
 #include <hdf5_hl.h>
 
+#include "h5err.h"
 #include "rps3.h"
+#include "safeio.h"
+#include "signals.h"
 
 enum { EXIT_OK = 0, EXIT_USAGE = 2, EXIT_IO = 3 };
 
@@ -1092,20 +1096,63 @@ static int run_workspace(const char *path, const char *cmdline, int quick) {
 
 /* ----------------------------------------------------------------- main */
 
-static int usage(void) {
-  fprintf(stderr,
+static int usage(FILE *out) {
+  fprintf(out,
           "usage: rps3-study accuracy -o OUT.h5 [--samples N] [--repeats R]\n"
-          "       rps3-study workspace -o OUT.h5 [--quick]\n");
+          "       rps3-study workspace -o OUT.h5 [--quick]\n"
+          "       rps3-study --help | --version\n"
+          "\n"
+          "  accuracy   what accuracy costs in time: every solver, "
+          "tolerance,\n"
+          "             derivative, method, effect set and dt against a "
+          "precise\n"
+          "             reference (docs/accuracy.md)\n"
+          "  workspace  status, conditioning and assembly mode over a\n"
+          "             (rho, alpha, beta, z_c) grid\n"
+          "  -o OUT.h5      output file (written as OUT.h5.tmp.PID, renamed "
+          "when complete)\n"
+          "  --samples N    samples per trajectory, 10-1000000 (default "
+          "400)\n"
+          "  --repeats R    timed passes per setting, 1-1000 (default 9)\n"
+          "  --quick        a coarse workspace grid\n"
+          "exit: 0 ok, 2 bad command line, 3 cannot write\n");
   return EXIT_USAGE;
 }
 
-int main(int argc, char **argv) {
-  const char *out = NULL;
-  char cmdline[2048], tmp[4096];
+/* the value of option argv[i] (which needs one), strictly in [lo, hi] */
+static int option_value(int argc, char **argv, int i, unsigned long lo,
+                        unsigned long hi, unsigned long *v) {
+  if (i + 1 >= argc) {
+    fprintf(stderr, "rps3-study: %s needs a value\n", argv[i]);
+    return -1;
+  }
+  if (parse_ulong(argv[i + 1], lo, hi, v)) {
+    fprintf(stderr, "rps3-study: %s needs a whole number %lu-%lu, got '%s'\n",
+            argv[i], lo, hi, argv[i + 1]);
+    return -1;
+  }
+  return 0;
+}
+
+static int study_main(int argc, char **argv) {
+  const char *out = NULL, *in[1];
+  char cmdline[2048], tmp[4096], err[4096 + 512];
   size_t samples = 400, len = 0;
   int repeats = 9, quick = 0, i, rc;
-  gsl_set_error_handler_off();
-  if (argc < 2) return usage();
+  unsigned long v;
+  if (argc < 2) return usage(stderr);
+  if (!strcmp(argv[1], "-h") || !strcmp(argv[1], "--help")) {
+    usage(stdout);
+    return EXIT_OK;
+  }
+  if (!strcmp(argv[1], "--version")) {
+    printf("rps3-study %s\n", rps3_version());
+    return EXIT_OK;
+  }
+  if (strcmp(argv[1], "accuracy") && strcmp(argv[1], "workspace")) {
+    fprintf(stderr, "rps3-study: unknown study '%s'\n", argv[1]);
+    return usage(stderr);
+  }
   cmdline[0] = '\0';
   for (i = 0; i < argc; i++) {
     int w = snprintf(cmdline + len, sizeof cmdline - len, "%s%s", i ? " " : "",
@@ -1114,39 +1161,66 @@ int main(int argc, char **argv) {
     len += (size_t)w;
   }
   for (i = 2; i < argc; i++) {
-    if (!strcmp(argv[i], "-o") && i + 1 < argc) {
+    if (!strcmp(argv[i], "-o")) {
+      if (i + 1 >= argc) {
+        fprintf(stderr, "rps3-study: -o needs a value\n");
+        return usage(stderr);
+      }
       out = argv[++i];
-    } else if (!strcmp(argv[i], "--samples") && i + 1 < argc) {
-      long v = strtol(argv[++i], NULL, 10);
-      if (v < 10 || v > 1000000) return usage();
+    } else if (!strcmp(argv[i], "--samples")) {
+      if (option_value(argc, argv, i++, 10, 1000000, &v))
+        return usage(stderr);
       samples = (size_t)v;
-    } else if (!strcmp(argv[i], "--repeats") && i + 1 < argc) {
-      long v = strtol(argv[++i], NULL, 10);
-      if (v < 1 || v > 1000) return usage();
+    } else if (!strcmp(argv[i], "--repeats")) {
+      if (option_value(argc, argv, i++, 1, 1000, &v)) return usage(stderr);
       repeats = (int)v;
     } else if (!strcmp(argv[i], "--quick")) {
       quick = 1;
     } else {
-      return usage();
+      fprintf(stderr, "rps3-study: unknown option '%s'\n", argv[i]);
+      return usage(stderr);
     }
   }
-  if (!out) return usage();
-  if (snprintf(tmp, sizeof tmp, "%s.tmp", out) >= (int)sizeof tmp)
-    return usage();
-  H5Eset_auto2(H5E_DEFAULT, NULL, NULL);
+  if (!out) {
+    fprintf(stderr, "rps3-study: -o OUT.h5 is needed\n");
+    return usage(stderr);
+  }
+  in[0] = argv[0];
+  if (out_path_check(out, in, 0, err, sizeof err)) {
+    fprintf(stderr, "rps3-study: %s\n", err);
+    return EXIT_USAGE;
+  }
+  stale_report("rps3-study", out);
+  if (snprintf(tmp, sizeof tmp, "%s.tmp.%ld", out, (long)getpid()) >=
+          (int)sizeof tmp ||
+      tmp_set(tmp)) {
+    fprintf(stderr, "rps3-study: %s: path too long\n", out);
+    return EXIT_USAGE;
+  }
   if (!strcmp(argv[1], "accuracy"))
     rc = run_accuracy(tmp, cmdline, samples, repeats);
-  else if (!strcmp(argv[1], "workspace"))
-    rc = run_workspace(tmp, cmdline, quick);
   else
-    return usage();
-  if (rc == EXIT_OK && rename(tmp, out) != 0) {
-    perror("rps3-study: rename");
+    rc = run_workspace(tmp, cmdline, quick);
+  if (rc != EXIT_OK) {
+    h5_cause(err, sizeof err);
+    if (err[0]) fprintf(stderr, "rps3-study: %s: HDF5: %s\n", out, err);
+  } else if (tmp_commit(out, err, sizeof err)) {
+    fprintf(stderr, "rps3-study: %s\n", err);
     rc = EXIT_IO;
   }
   if (rc != EXIT_OK) {
-    remove(tmp);
+    tmp_discard();
     fprintf(stderr, "rps3-study: %s not written\n", out);
   }
   return rc;
+}
+
+int main(int argc, char **argv) {
+  /* fds 0-2 open, HDF5 without atexit, then the signal policy of
+     signals.h: the temporary file is removed by a signal that ends us */
+  proc_init();
+  sig_init();
+  gsl_set_error_handler_off();
+  h5_errors_capture();
+  return proc_exit(study_main(argc, argv));
 }

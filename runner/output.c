@@ -4,6 +4,7 @@
  * readable by h5py and by xarray through h5netcdf.
  */
 #include "output.h"
+#include "h5err.h"
 
 #include <errno.h>
 #include <math.h>
@@ -170,24 +171,12 @@ struct out_file {
   int neffect;
 };
 
-/* the innermost message of the HDF5 error stack */
-static herr_t walk_first(unsigned n, const H5E_error2_t *e, void *data)
-{
-  char *buf = data;
-  if (n == 0)
-    snprintf(buf, 200, "%s (%s)", e->desc ? e->desc : "?",
-             e->func_name ? e->func_name : "?");
-  return 0;
-}
-
 static void vfail(char *err, size_t errsz, const char *fmt, va_list ap)
 {
-  char h5[200], what[256];
-  h5[0] = '\0';
-  H5Ewalk2(H5E_DEFAULT, H5E_WALK_DOWNWARD, walk_first, h5);
+  char h5[600], what[256];
+  h5_cause(h5, sizeof h5);
   vsnprintf(what, sizeof what, fmt, ap);
   snprintf(err, errsz, "%s%s%s", what, h5[0] ? ": HDF5: " : "", h5);
-  H5Eclear2(H5E_DEFAULT);
 }
 
 static void fail(char *err, size_t errsz, const char *fmt, ...)

@@ -160,14 +160,23 @@ size_t sweep_shard_jobs(const scene *s, const sweep_plan *p, size_t shard,
                         size_t nshard)
 {
   size_t nj = sweep_njob(s, p);
-  return nj > shard ? (nj - shard + nshard - 1) / nshard : 0;
+  /* no sum that can wrap: nshard may be as large as SIZE_MAX */
+  return nj > shard ? 1 + (nj - shard - 1) / nshard : 0;
+}
+
+/* the job after j of a shard of nshard, or nj when none: j + nshard
+   without wrapping around (--shard 1/18446744073709551615 would otherwise
+   come back to job 0) */
+static size_t next_job(size_t j, size_t nshard, size_t nj)
+{
+  return nj - j > nshard ? j + nshard : nj;
 }
 
 size_t sweep_shard_cases(const scene *s, const sweep_plan *p, size_t shard,
                          size_t nshard)
 {
   size_t j, n = 0, nj = sweep_njob(s, p);
-  for (j = shard; j < nj; j += nshard)
+  for (j = shard; j < nj; j = next_job(j, nshard, nj))
     n += (j + 1) * p->tile_cases <= s->ncase ? p->tile_cases
                                               : s->ncase - j * p->tile_cases;
   return n;
@@ -307,7 +316,7 @@ static int run_serial(const scene *s, const sweep_plan *p, out_file *f,
   ss.f = f;
   ss.st = st;
   ss.pr = pr;
-  for (j = o->shard; j < nj && rc == 0; j += o->nshard)
+  for (j = o->shard; j < nj && rc == 0; j = next_job(j, o->nshard, nj))
     rc = job_run(s, p, j, &b, ws, &ss.base, err, errsz);
   workspaces_free(ws);
   return rc;
@@ -408,7 +417,7 @@ static void *worker_main(void *arg)
     out_block *b = &pl->block[w->held];
     if (pl->stop || j >= nj)
       break;
-    pl->next_job += pl->o->nshard;
+    pl->next_job = next_job(j, pl->o->nshard, nj);
     pthread_mutex_unlock(&pl->mu);
     if (job_run(pl->s, pl->p, j, &b, ws, &w->base, err, sizeof err)) {
       pthread_mutex_lock(&pl->mu);

@@ -1,51 +1,16 @@
 /*
- * tmpout.c - see tmpout.h.
+ * tmpout.c - see tmpout.h.  The file itself, the fsync before the rename
+ * and the signals are signals.c's; this names it after rps3-run's rules.
  */
 #include "tmpout.h"
 
-#include <errno.h>
-#include <signal.h>
 #include <stdio.h>
-#include <string.h>
-#include <unistd.h>
 
-/* the temporary file, for the signal handler: process-wide state of this
+#include "signals.h"
+
+/* the name, before and after tmpout_arm: process-wide state of this
    program only (the library has none) */
 static char tmp_path[4096];
-static volatile sig_atomic_t have_tmp;
-
-/* remove the temporary file, then die of the same signal */
-static void on_signal(int sig)
-{
-  if (have_tmp)
-    unlink(tmp_path);
-  signal(sig, SIG_DFL);
-  raise(sig);
-}
-
-static const int signals[] = {SIGINT, SIGTERM, SIGHUP};
-#define NSIGNAL (sizeof signals / sizeof signals[0])
-
-static void signals_install(void)
-{
-  struct sigaction sa;
-  size_t i;
-  memset(&sa, 0, sizeof sa);
-  sa.sa_handler = on_signal;
-  sigemptyset(&sa.sa_mask);
-  for (i = 0; i < NSIGNAL; i++)
-    sigaction(signals[i], &sa, NULL);
-}
-
-static void signals_block(int how)
-{
-  sigset_t set;
-  size_t i;
-  sigemptyset(&set);
-  for (i = 0; i < NSIGNAL; i++)
-    sigaddset(&set, signals[i]);
-  sigprocmask(how, &set, NULL);
-}
 
 const char *tmpout_path(void)
 {
@@ -54,34 +19,23 @@ const char *tmpout_path(void)
 
 void tmpout_arm(void)
 {
-  signals_install();
-  have_tmp = 1;
+  /* the name fits: tmpout_name checked its length */
+  tmp_set(tmp_path);
 }
 
-/* rename the temporary file to out_path; the rename and forgetting the
-   temporary name happen together.  0 or -1 (message printed) */
 int tmpout_commit(const char *out_path)
 {
-  signals_block(SIG_BLOCK);
-  if (rename(tmp_path, out_path) != 0) {
-    fprintf(stderr, "rps3-run: cannot rename %s to %s: %s\n", tmp_path,
-            out_path, strerror(errno));
-    signals_block(SIG_UNBLOCK);
+  char err[2 * sizeof tmp_path + 128];
+  if (tmp_commit(out_path, err, sizeof err)) {
+    fprintf(stderr, "rps3-run: %s\n", err);
     return -1;
   }
-  have_tmp = 0;
-  signals_block(SIG_UNBLOCK);
   return 0;
 }
 
-/* remove the temporary file, if any */
 void tmpout_discard(void)
 {
-  signals_block(SIG_BLOCK);
-  if (have_tmp)
-    unlink(tmp_path);
-  have_tmp = 0;
-  signals_block(SIG_UNBLOCK);
+  tmp_discard();
 }
 
 int tmpout_name(const char *out_path, long pid, int rank)

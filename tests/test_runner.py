@@ -245,12 +245,13 @@ def test_exit_codes(runner, tmp_path):
     assert run(paper, tmp_path / "x.h5", "--bogus").returncode == 2
     assert run(paper, tmp_path / "x.h5", "--gzip", "12").returncode == 2
     proc = run(paper, tmp_path / "no" / "dir" / "x.h5")
-    assert proc.returncode == 3
-    assert "cannot create" in proc.stderr
+    assert proc.returncode == 2                          # refused up front
+    assert "No such file or directory" in proc.stderr
     assert not (tmp_path / "no").exists()
     proc = run(paper, None, "--check")
     assert proc.returncode == 0
     assert "2 cases, 2002 samples" in proc.stdout
+    assert "output about 784 kB uncompressed" in proc.stdout
     assert subprocess.run([RUNNER, "--help"], capture_output=True).returncode == 0
 
 
@@ -268,7 +269,10 @@ def test_progress_lines_quiet_and_bar(runner, tmp_path):
     paper = os.path.join(CONFIGS, "paper.yaml")
     proc = run(paper, tmp_path / "a.h5")
     assert proc.returncode == 0
-    assert proc.stderr.startswith("rps3-run: 2/2 cases (0 failed), 2002 samples")
+    first, last = proc.stderr.splitlines()
+    assert first.startswith("rps3-run: 2 cases, 2002 samples: ")
+    assert first.endswith("a.h5 about 784 kB")
+    assert last.startswith("rps3-run: 2/2 cases (0 failed), 2002 samples")
     proc = run(paper, tmp_path / "b.h5", "--quiet")
     assert proc.returncode == 0 and proc.stderr == ""
     # on a terminal: a bar redrawn with \r

@@ -275,11 +275,11 @@ def test_mpirun_gives_the_same_file(reference, tmp_path):
     out = tmp_path / "mpi.h5"
     proc = mpirun(3, RUNNER_MPI, scene, "-o", out, "-j", "2")
     assert proc.returncode == 1, proc.stderr      # the failed cases
-    # one summary line, from rank 0, for all the cases (and, in windows,
-    # the warning that -j 2 has one job per rank)
+    # the size estimate and one summary line, from rank 0, for all the
+    # cases (and, in windows, the warning that -j 2 has one job per rank)
     said = [x for x in proc.stderr.splitlines()
             if x.startswith("rps3-run: ") and "warning: -j 2" not in x]
-    assert len(said) == 1, proc.stderr
+    assert len(said) == 2, proc.stderr
     with h5py.File(ref, "r") as f:
         n = len(f["status"])
     assert f"{n}/{n} cases" in proc.stderr

@@ -1,0 +1,416 @@
+"""The runner under faults: full disk, file size limits, signals, bad -o
+targets, closed standard streams, stale temporaries, fsync, strict options.
+rps3-run (-j 1, -j 2, merge), rps3-run-mpi and rps3-study alike: nothing
+lost, nothing left that looks like an output, no crash."""
+
+import contextlib
+import os
+import resource
+import shutil
+import signal
+import stat
+import subprocess
+import sys
+import time
+
+import h5py
+import numpy as np
+import pytest
+
+from conftest import CONFIGS, RUNNER, run, write_scene
+
+ROOT = os.path.dirname(RUNNER)
+RUNNER_MPI = os.path.join(ROOT, "rps3-run-mpi")
+STUDY = os.path.join(ROOT, "rps3-study")
+MPIRUN = shutil.which("mpirun")
+PAPER = os.path.join(CONFIGS, "paper.yaml")
+
+# a sweep of 100 cases x 1001 samples: about 33 MB uncompressed, and still
+# more than 4 MB with --gzip 1 (the forces of a sine are not compressible
+# to nothing)
+SINE_SWEEP = """\
+manipulator: {R: 0.2286, rho: 0.5, M: 0.18, m: 0.09, d: 0.1524}
+trajectory:
+  kind: sine
+  mean: [0, 0.05, 0.15]
+  amp: [0.1, 0, 0.05]
+  freq: [0.5, 0, 0.5]
+  duration: 2
+  samples: 1001
+sweep:
+  trajectory.amp[2]: {from: 0.01, to: 0.05, num: 100}
+"""
+
+
+def long_scene(tmp_path, samples=20000):
+    """Two cases long enough to be caught while running."""
+    text = open(PAPER).read().replace("samples: 1001", f"samples: {samples}")
+    return write_scene(tmp_path / "long.yaml", text)
+
+
+def mpirun(n, *args, timeout=120):
+    cmd = [MPIRUN, "--oversubscribe", "-n", str(n)]
+    if os.geteuid() == 0:
+        cmd.insert(1, "--allow-run-as-root")
+    return subprocess.run(cmd + [str(a) for a in args], capture_output=True,
+                          text=True, timeout=timeout)
+
+
+def names(d):
+    return sorted(x.name for x in d.iterdir())
+
+
+# --------------------------------------------------------------- full disk
+
+@contextlib.contextmanager
+def small_tmpfs(path, size):
+    """A tmpfs of `size` at path (root only), unmounted afterwards."""
+    if os.geteuid() != 0:
+        pytest.skip("mounting a small tmpfs needs root: the full-disk test "
+                    "runs as root (make check in the container) only")
+    path.mkdir()
+    proc = subprocess.run(["mount", "-t", "tmpfs", "-o", f"size={size}",
+                           "tmpfs", str(path)], capture_output=True, text=True)
+    if proc.returncode != 0:
+        pytest.skip(f"cannot mount a tmpfs here: {proc.stderr.strip()}")
+    try:
+        yield path
+    finally:
+        subprocess.run(["umount", "-l", str(path)], check=True)
+
+
+@pytest.mark.parametrize("how", ["-j1", "-j2", "mpi"])
+def test_full_disk_exits_3_and_leaves_nothing(runner, tmp_path, how):
+    """--gzip skips the free-space refusal (the compressed size is not
+    known), so the disk fills during the run: HDF5's close then fails, and
+    the process must still exit 3 (it died of SIGSEGV at exit before)."""
+    scene = write_scene(tmp_path / "sweep.yaml", SINE_SWEEP)
+    with small_tmpfs(tmp_path / "fs", "4m") as fs:
+        out = fs / "out.h5"
+        if how == "mpi":
+            if MPIRUN is None:
+                pytest.skip("mpirun (openmpi-bin) missing")
+            proc = mpirun(2, RUNNER_MPI, scene, "-o", out, "-q", "--gzip", "1")
+        else:
+            proc = run(scene, out, "-q", "--gzip", "1", "-j", how[2:])
+        assert proc.returncode == 3, proc.stderr
+        assert "no space left on the device" in proc.stderr
+        assert names(fs) == []
+
+
+def test_full_disk_is_refused_before_the_run(runner, tmp_path):
+    scene = write_scene(tmp_path / "sweep.yaml", SINE_SWEEP)
+    with small_tmpfs(tmp_path / "fs", "4m") as fs:
+        proc = run(scene, fs / "out.h5")
+        assert proc.returncode == 2, proc.stderr
+        assert "the output needs about 3" in proc.stderr
+        assert "free: nothing written" in proc.stderr
+        assert names(fs) == []
+
+
+def test_study_on_a_full_disk(runner, tmp_path):
+    with small_tmpfs(tmp_path / "fs", "1m") as fs:
+        with open(fs / "filler", "wb") as f:
+            with contextlib.suppress(OSError):
+                while True:
+                    f.write(b"\0" * 65536)
+                    f.flush()
+        proc = subprocess.run([STUDY, "workspace", "--quick", "-o",
+                               fs / "ws.h5"], capture_output=True, text=True,
+                              timeout=120)
+        assert proc.returncode == 3, proc.stderr
+        assert "no space left on the device" in proc.stderr
+        assert names(fs) == ["filler"]
+
+
+def test_an_output_larger_than_the_disk_is_refused(runner, tmp_path):
+    """No root needed: one case of 2e9 samples needs ~700 GB."""
+    text = open(PAPER).read().replace("samples: 1001", "samples: 2000000000")
+    text = text.replace("manipulator.m_over_M: [0, 0.5]",
+                        "manipulator.m_over_M: [0.5]")
+    scene = write_scene(tmp_path / "huge.yaml", text)
+    st = os.statvfs(tmp_path)
+    if st.f_bavail * st.f_frsize > 600e9:
+        pytest.skip("more than 600 GB free here")
+    t0 = time.time()
+    proc = run(scene, tmp_path / "huge.h5")
+    assert proc.returncode == 2, proc.stderr
+    assert "free: nothing written" in proc.stderr
+    assert time.time() - t0 < 20
+    assert names(tmp_path) == ["huge.yaml"]
+
+
+def limit_file_size(nbytes):
+    def set_limit():
+        resource.setrlimit(resource.RLIMIT_FSIZE, (nbytes, nbytes))
+    return set_limit
+
+
+@pytest.mark.parametrize("threads", ["1", "2"])
+def test_file_size_limit_exits_3(runner, tmp_path, threads):
+    """ulimit -f: SIGXFSZ is ignored, the write fails with EFBIG."""
+    proc = run(os.path.join(CONFIGS, "mass_ratio.yaml"), tmp_path / "x.h5",
+               "-q", "-j", threads, preexec_fn=limit_file_size(1 << 20))
+    assert proc.returncode == 3, proc.stderr
+    assert "file too large" in proc.stderr
+    assert names(tmp_path) == []
+
+
+def test_study_file_size_limit_exits_3(runner, tmp_path):
+    proc = subprocess.run([STUDY, "workspace", "--quick", "-o",
+                           tmp_path / "ws.h5"], capture_output=True, text=True,
+                          timeout=120, preexec_fn=limit_file_size(65536))
+    assert proc.returncode == 3, proc.stderr
+    assert "file too large" in proc.stderr
+    assert names(tmp_path) == []
+
+
+# ----------------------------------------------------------------- signals
+
+def start(args, **kw):
+    return subprocess.Popen([str(a) for a in args], stdout=subprocess.DEVNULL,
+                            stderr=subprocess.PIPE, **kw)
+
+
+def wait_for(path, timeout=20):
+    deadline = time.time() + timeout
+    while not path.exists() and time.time() < deadline:
+        time.sleep(0.005)
+    assert path.exists(), path
+
+
+@pytest.mark.parametrize("sig", [signal.SIGHUP, signal.SIGINT,
+                                 signal.SIGTERM])
+def test_a_signal_ignored_at_start_stays_ignored(runner, tmp_path, sig):
+    """nohup rps3-run ... &: the hangup must not end the run."""
+    scene = long_scene(tmp_path, 5000)
+    out = tmp_path / "out.h5"
+
+    def ignore():
+        signal.signal(sig, signal.SIG_IGN)
+    p = start([RUNNER, scene, "-o", out, "-q"], preexec_fn=ignore)
+    # Popen returns after the exec: the signal hits the runner itself
+    while p.poll() is None:
+        p.send_signal(sig)
+        time.sleep(0.01)
+    assert p.returncode == 0, p.stderr.read()
+    assert names(tmp_path) == ["long.yaml", "out.h5"]
+    with h5py.File(out, "r") as f:
+        assert (f["status"][()] == 0).all()
+
+
+@pytest.mark.parametrize("sig,code", [(signal.SIGHUP, -signal.SIGHUP),
+                                      (signal.SIGUSR1, -signal.SIGUSR1),
+                                      (signal.SIGUSR2, -signal.SIGUSR2),
+                                      (signal.SIGALRM, -signal.SIGALRM),
+                                      (signal.SIGQUIT, -signal.SIGQUIT),
+                                      (signal.SIGPIPE, 3)])
+def test_signals_remove_the_temporary(runner, tmp_path, sig, code):
+    scene = long_scene(tmp_path)
+    out = tmp_path / "out.h5"
+    p = start([RUNNER, scene, "-o", out, "-q"])
+    wait_for(tmp_path / f"out.h5.tmp.{p.pid}")
+    p.send_signal(sig)
+    p.wait(timeout=30)
+    assert p.returncode == code
+    assert names(tmp_path) == ["long.yaml"]
+
+
+def test_sigxfsz_from_outside_is_ignored(runner, tmp_path):
+    scene = long_scene(tmp_path)
+    p = start([RUNNER, scene, "-o", tmp_path / "out.h5", "-q"])
+    wait_for(tmp_path / f"out.h5.tmp.{p.pid}")
+    p.send_signal(signal.SIGXFSZ)
+    p.wait(timeout=30)
+    assert p.returncode == 0
+    assert names(tmp_path) == ["long.yaml", "out.h5"]
+
+
+def test_closed_pipe_on_stderr(runner, tmp_path):
+    """rps3-run ... 2>&1 | head -1: the reader is gone before the last
+    line; the run still completes with its own exit code."""
+    out = tmp_path / "out.h5"
+    p = subprocess.Popen([RUNNER, PAPER, "-o", str(out)],
+                         stderr=subprocess.PIPE, stdout=subprocess.DEVNULL)
+    p.stderr.readline()
+    p.stderr.close()
+    assert p.wait(timeout=60) == 0
+    assert names(tmp_path) == ["out.h5"]
+
+
+def test_study_signal_removes_the_temporary(runner, tmp_path):
+    # the full workspace grid: ~1 s computing, then ~9 MB to write
+    p = start([STUDY, "workspace", "-o", tmp_path / "ws.h5"])
+    wait_for(tmp_path / f"ws.h5.tmp.{p.pid}", timeout=60)
+    p.send_signal(signal.SIGTERM)
+    p.wait(timeout=30)
+    assert p.returncode == -signal.SIGTERM
+    assert names(tmp_path) == []
+
+
+def dead_pid():
+    p = subprocess.Popen(["true"])
+    p.wait()
+    return p.pid
+
+
+def test_stale_temporaries_are_reported(runner, tmp_path):
+    out = tmp_path / "out.h5"
+    pid = dead_pid()
+    stale = tmp_path / f"out.h5.tmp.{pid}"
+    stale.write_bytes(b"half a file")
+    part = tmp_path / f"out.h5.tmp.{pid}.part1"
+    part.write_bytes(b"half a part")
+    live = tmp_path / f"out.h5.tmp.{os.getpid()}"  # this process runs
+    live.write_bytes(b"in use")
+    proc = run(PAPER, out)
+    assert proc.returncode == 0, proc.stderr
+    assert f"{stale} is the temporary file of process {pid}" in proc.stderr
+    assert f"{part} is the temporary file" in proc.stderr
+    assert str(live) not in proc.stderr
+    # reported, not removed: the file may belong to another machine
+    assert stale.exists() and part.exists()
+
+
+# --------------------------------------------------------------- -o checks
+
+def test_bad_output_targets_are_refused_before_computing(runner, tmp_path):
+    scene = write_scene(tmp_path / "scene.yaml", open(PAPER).read())
+    before = scene.read_text()
+    (tmp_path / "dir").mkdir()
+    fifo = tmp_path / "fifo"
+    os.mkfifo(fifo)
+    link = tmp_path / "link.h5"
+    link.symlink_to(tmp_path / "target.h5")
+    hard = tmp_path / "hard.yaml"
+    os.link(scene, hard)
+    cases = {"": "needs a file name",
+             str(tmp_path / "dir") + "/": "names a directory",
+             str(tmp_path / "dir"): "is a directory",
+             str(tmp_path / "new") + "/x.h5": "No such file or directory",
+             str(fifo): "is a FIFO",
+             str(link): "is a symbolic link",
+             "/dev/null": "is a character device",
+             str(scene): "is the input",
+             str(hard): "is the input"}
+    for out, why in cases.items():
+        for extra in ([], ["-j", "2"]):
+            t0 = time.time()
+            proc = subprocess.run([RUNNER, str(scene), "-o", out] + extra,
+                                  capture_output=True, text=True, timeout=60)
+            assert proc.returncode == 2, (out, proc.stderr)
+            assert why in proc.stderr, (out, proc.stderr)
+            assert time.time() - t0 < 5
+    assert scene.read_text() == before
+    assert stat.S_ISFIFO(os.lstat(fifo).st_mode)
+    assert os.path.islink(link) and not (tmp_path / "target.h5").exists()
+    assert stat.S_ISCHR(os.stat("/dev/null").st_mode)
+    assert names(tmp_path) == ["dir", "fifo", "hard.yaml", "link.h5",
+                               "scene.yaml"]
+
+
+def test_bad_output_targets_of_merge_and_study(runner, tmp_path):
+    scene = write_scene(tmp_path / "s.yaml", SINE_SWEEP.replace("num: 100", "num: 40"))
+    a, b = tmp_path / "a.h5", tmp_path / "b.h5"
+    assert run(scene, a, "-q", "--shard", "0/2").returncode == 0
+    assert run(scene, b, "-q", "--shard", "1/2").returncode == 0
+    proc = subprocess.run([RUNNER, "merge", str(b), str(a), str(b)],
+                          capture_output=True, text=True)
+    assert proc.returncode == 2 and "is the input" in proc.stderr
+    proc = subprocess.run([RUNNER, "merge", str(tmp_path), str(a), str(b)],
+                          capture_output=True, text=True)
+    assert proc.returncode == 2 and "is a directory" in proc.stderr
+    proc = subprocess.run([STUDY, "workspace", "--quick", "-o",
+                           str(tmp_path) + "/"], capture_output=True, text=True)
+    assert proc.returncode == 2 and "names a directory" in proc.stderr
+    assert names(tmp_path) == ["a.h5", "b.h5", "s.yaml"]
+
+
+def test_rename_is_preceded_by_fsync(runner, tmp_path):
+    """The file, then (after the rename) its directory reach the disk."""
+    strace = shutil.which("strace")
+    if strace is None:
+        pytest.skip("strace missing (the Makefile installs it)")
+    out = tmp_path / "out.h5"
+    proc = subprocess.run([strace, "-f", "-e", "trace=openat,fsync,rename",
+                           RUNNER, PAPER, "-o", str(out), "-q"],
+                          capture_output=True, text=True, timeout=120)
+    assert proc.returncode == 0, proc.stderr
+    calls = [ln for ln in proc.stderr.splitlines()
+             if "fsync(" in ln or "rename(" in ln or
+             (str(tmp_path) in ln and "openat(" in ln)]
+    text = "\n".join(calls)
+    i_file = text.index("fsync(")
+    i_rename = text.index("rename(")
+    i_dir = text.index("fsync(", i_rename)
+    assert i_file < i_rename < i_dir, text
+    assert "O_DIRECTORY" in text
+
+
+# --------------------------------------------------------- standard streams
+
+def test_closed_standard_streams(runner, tmp_path, paper_h5):
+    """2>&- (and 0, 1 closed): the output file must not get fd 2."""
+    out = tmp_path / "out.h5"
+    proc = subprocess.run(["sh", "-c", 'exec "$0" "$@" <&- >&- 2>&-', RUNNER,
+                           PAPER, "-o", str(out)], timeout=60)
+    assert proc.returncode == 0
+    with h5py.File(out, "r") as f, h5py.File(paper_h5, "r") as g:
+        np.testing.assert_array_equal(f["force"][()], g["force"][()])
+        assert f["status"][()].tolist() == [0, 0]
+    with open(out, "rb") as f:
+        assert b"rps3-run:" not in f.read()
+
+
+# ----------------------------------------------------------- strict options
+
+@pytest.mark.parametrize("args", [
+    ["--shard", "0/ -1"], ["--shard", "1/18446744073709551616"],
+    ["--shard", "+0/2"],
+    ["--shard", "0/2x"], ["--shard", "0x0/2"], ["--shard", "-0/2"],
+    ["--shard", "2/2"], ["--shard", "0/0"], ["--shard", "0/"],
+    ["-j", "2x"], ["-j", "+2"], ["-j", " 2"], ["-j", "0"], ["-j", ""],
+    ["--gzip", "4 "], ["--gzip", "-1"], ["--gzip", "0x4"]])
+def test_strict_numbers_on_the_command_line(runner, tmp_path, args):
+    proc = run(PAPER, tmp_path / "x.h5", *args)
+    assert proc.returncode == 2, (args, proc.stderr)
+    assert args[0] in proc.stderr
+    assert names(tmp_path) == []
+
+
+def test_a_huge_shard_count_does_not_wrap_around(runner, tmp_path):
+    """Shard 1 of 2^64 - 1 has no job (job j belongs to shard j); the job
+    loop used to wrap to job 0."""
+    scene = write_scene(tmp_path / "s.yaml",
+                        SINE_SWEEP.replace("num: 100", "num: 40"))
+    out = tmp_path / "p.h5"
+    proc = run(scene, out, "-q", "--shard", "1/18446744073709551615")
+    assert proc.returncode == 0, proc.stderr
+    assert "compute nothing" in proc.stderr
+    with h5py.File(out, "r") as f:
+        status = f["status"][()]
+        assert (status[:16] < 0).all(), status
+        assert (f["status"][16:32] == 0).all()   # job 1: cases 16-31
+        assert np.isnan(f["force"][:16]).all()
+
+
+@pytest.mark.parametrize("args", [
+    ["accuracy", "--samples", "10abc"], ["accuracy", "--samples", "9"],
+    ["accuracy", "--repeats", "1e3"], ["accuracy", "--repeats", "-1"],
+    ["accuracy", "--samples"], ["workspace", "--quick", "--bogus"],
+    ["bogus"]])
+def test_study_strict_options(runner, tmp_path, args):
+    proc = subprocess.run([STUDY] + args + ["-o", str(tmp_path / "s.h5")],
+                          capture_output=True, text=True, timeout=60)
+    assert proc.returncode == 2, (args, proc.stderr)
+    assert names(tmp_path) == []
+
+
+def test_study_help_and_version(runner):
+    for flag in ("--help", "-h"):
+        proc = subprocess.run([STUDY, flag], capture_output=True, text=True)
+        assert proc.returncode == 0
+        assert "usage: rps3-study accuracy" in proc.stdout
+        assert "--samples N" in proc.stdout
+    proc = subprocess.run([STUDY, "--version"], capture_output=True, text=True)
+    assert proc.returncode == 0 and proc.stdout.startswith("rps3-study 0.")
