@@ -313,3 +313,14 @@ int rps3_fk(const rps3_model *m, rps3_data *d) {
   d->pose[2] = d->c[2];
   return RPS3_OK;
 }
+
+/* (8)-(10) and the Jacobian the solver uses, for normalized lengths L and
+   ratio rho: the tests check J against differences of f */
+void rps3_theta_constraints(const double L[3], double rho, const double th[3],
+                            double f[3], double J[3][3]) {
+  theta_params p;
+  int i;
+  for (i = 0; i < 3; i++) p.L[i] = L[i];
+  p.k = 3.0 - 3.0 * rho * rho;
+  constraints(&p, th, f, J);
+}

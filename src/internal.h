@@ -92,6 +92,11 @@ void rps3_link_dirs(const rps3_model *m, rps3_data *d);
 void rps3_links_from_joints(const rps3_model *m, rps3_data *d);
 void rps3_frame_from_balls(const rps3_model *m, rps3_data *d);
 
+/* the theta solve's (8)-(10) in units of R, f_k(theta) for lengths L = l / R,
+   and the analytic Jacobian J = df/dtheta it hands to GSL (J may be NULL) */
+void rps3_theta_constraints(const double L[3], double rho, const double th[3],
+                            double f[3], double J[3][3]);
+
 /* constraint Jacobian blocks of f_k = |b_i - b_j|^2 - 3 r^2 (8)-(10):
    Jl[k][i] = d f_k / d l_i, Jt[k][i] = d f_k / d theta_i */
 void rps3_constraint_jacobian(const rps3_data *d, double Jl[3][3],
