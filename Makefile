@@ -201,18 +201,37 @@ check: lib runner check-c check-san valgrind check-fuzz check-py
 # ------------------------------------------------------------------- bench
 # rps3-bench (tests/bench/): per-call medians of every stage, a table on
 # stdout and out/bench.h5.  -O2, no sanitizers; timings are never asserted.
-BENCH_SRC = $(wildcard tests/bench/*.c)
-$(B)/rps3-bench: $(BENCH_SRC) $(wildcard tests/bench/*.h) $(B)/librps3.a
+# Its anchor is C generated at build time by tests/bench/gen_anchor.py
+# (SymPy: the paper's model in pose coordinates, cse, ccode) into
+# $(B)/anchor/; anchor-check (run by check-py) holds it to the library.
+ANCHOR = $(B)/anchor/anchor_gen.c
+$(ANCHOR): tests/bench/gen_anchor.py | $(VENV)/.ok
+	$(VPY) tests/bench/gen_anchor.py -o $@
+$(B)/anchor-check: tests/bench/anchor_check.c $(ANCHOR) $(B)/librps3.a
+	$(CC) $(CPPFLAGS_ALL) -I$(B)/anchor $(GSL_CFLAGS) $(WARN) -O2 $< $(ANCHOR) \
+	  -o $@ $(B)/librps3.a $(GSL_LIBS) -lm
+check-py: $(B)/anchor-check
+BENCH_SRC = tests/bench/bench.c tests/bench/bench_h5.c
+$(B)/rps3-bench: $(BENCH_SRC) $(wildcard tests/bench/*.h) $(ANCHOR) $(B)/librps3.a
 	@mkdir -p $(@D)
-	$(CC) $(CPPFLAGS_ALL) $(GSL_CFLAGS) $(HDF5_CFLAGS) $(WARN) -O2 $(BENCH_SRC) \
-	  -o $@ $(B)/librps3.a $(HDF5_LIBS) $(GSL_LIBS) -lm
+	$(CC) $(CPPFLAGS_ALL) -I$(B)/anchor $(GSL_CFLAGS) $(HDF5_CFLAGS) $(WARN) -O2 \
+	  $(BENCH_SRC) $(ANCHOR) -o $@ $(B)/librps3.a $(HDF5_LIBS) $(GSL_LIBS) -lm
+# rps3-mujoco-bench (tests/bench/mujoco_bench.c): MuJoCo's mj_inverse on the
+# same states, from the C library of the pinned `mujoco` wheel in .venv
+MUJOCO_DIR = $(shell $(VPY) -c 'import mujoco, os; print(os.path.dirname(mujoco.__file__))' 2>/dev/null)
+$(B)/rps3-mujoco-bench: tests/bench/mujoco_bench.c $(ANCHOR) $(B)/librps3.a | $(VENV)/.ok
+	$(CC) $(CPPFLAGS_ALL) -I$(B)/anchor -isystem $(MUJOCO_DIR)/include $(GSL_CFLAGS) $(WARN) -O2 \
+	  $< $(ANCHOR) -o $@ $(B)/librps3.a $(firstword $(wildcard $(MUJOCO_DIR)/libmujoco.so.*)) \
+	  -Wl,-rpath,$(MUJOCO_DIR) $(GSL_LIBS) -lm
 # then tests/bench/runner_bench.py: rps3-run's points per second and peak
 # RSS (GNU time) for sweeps of 10^3 to 10^7 points, -j 1 and 2, into
 # out/bench_runner.h5.  About a minute; the 10^7-point files (3.2 GB) are
 # written next to it and removed.
-bench: $(B)/rps3-bench runner venv
+bench: $(B)/rps3-bench $(B)/rps3-mujoco-bench runner venv
 	@mkdir -p out
 	$(B)/rps3-bench -o out/bench.h5
+	@grep -m1 "model name" /proc/cpuinfo || true
+	$(B)/rps3-mujoco-bench
 	$(VPY) tests/bench/runner_bench.py -o out/bench_runner.h5
 
 # ---------------------------------------------------------------- valgrind

@@ -27,6 +27,7 @@
 
 #include <gsl/gsl_errno.h>
 
+#include "anchor_gen.h"
 #include "bench.h"
 #include "rps3.h"
 
@@ -40,7 +41,15 @@ typedef struct {
   int n;
   double (*pose)[3], (*dpose)[3], (*ddpose)[3];
   double (*l)[3];  /* link lengths by rps3_ik, input of the theta solve */
+  /* the same points in chunks of BATCH_N as structures of arrays (chunk
+     k: component c of point i at [(3 k + c) BATCH_N + i]), for the batch
+     entry point */
+  int nchunk;
+  double *soa_pose, *soa_dpose, *soa_ddpose;
 } points;
+
+/* points per rps3_inverse_batch call */
+#define BATCH_N 1000
 
 typedef enum {
   K_IK,       /* rps3_ik along the trajectory */
@@ -50,7 +59,9 @@ typedef enum {
   K_ACC,      /* rps3_acceleration on the ring */
   K_JVEL,     /* rps3_joint_velocity on the ring */
   K_JACC,     /* rps3_joint_acceleration on the ring */
-  K_INVDYN    /* rps3_invdyn on the ring */
+  K_INVDYN,   /* rps3_invdyn on the ring */
+  K_ANCHOR,   /* the SymPy-generated forces along the trajectory */
+  K_BATCH     /* rps3_inverse_batch over BATCH_N points at a time */
 } case_kind;
 
 typedef struct {
@@ -65,12 +76,16 @@ typedef struct {
   rps3_data ring[RING];    /* snapshots for the stage-only cases */
   int cursor, dir;         /* position of the walk */
   long iter, solves, failures;
-  double *per_call;        /* ns per call of each batch */
+  double *per_call;        /* ns per call of each batch (wall) */
+  double *cpu_call;        /* ns per call of each batch (thread CPU time) */
+  /* rps3_inverse_batch buffers */
+  int *b_status;
+  double *b_F;
 } bench_case;
 
-static double now_ns(void) {
+static double clock_ns(clockid_t id) {
   struct timespec ts;
-  clock_gettime(CLOCK_MONOTONIC, &ts);
+  clock_gettime(id, &ts);
   return (double)ts.tv_sec * 1e9 + (double)ts.tv_nsec;
 }
 
@@ -149,6 +164,37 @@ static void run_batch(bench_case *c, const points *pt, long ncalls) {
   case K_INVDYN:
     for (i = 0; i < ncalls; i++)
       if (rps3_invdyn(m, &c->ring[i % RING]) != RPS3_OK) c->failures++;
+    break;
+  case K_ANCHOR: {
+    /* the generated code takes the mechanism's constants as arguments */
+    const double par[6] = {m->R, m->rho, m->M, m->m, m->d, m->g};
+    double F[3];
+    for (i = 0; i < ncalls; i++) {
+      p = walk(c, pt->n);
+      if (rps3_anchor_forces(par, pt->pose[p], pt->dpose[p], pt->ddpose[p],
+                             F) != 0)
+        c->failures++;
+    }
+    break;
+  }
+  case K_BATCH:
+    /* ncalls points, BATCH_N per call, forward along the trajectory */
+    for (i = 0; i < ncalls; i += BATCH_N) {
+      rps3_batch_in in;
+      rps3_batch_out out;
+      size_t k0 = (size_t)(c->cursor++ % pt->nchunk) * 3 * BATCH_N;
+      memset(&in, 0, sizeof(in));
+      memset(&out, 0, sizeof(out));
+      in.n = BATCH_N; /* main() keeps ncalls a multiple of BATCH_N */
+      in.pose = pt->soa_pose + k0;
+      in.dpose = pt->soa_dpose + k0;
+      in.ddpose = pt->soa_ddpose + k0;
+      out.status = c->b_status;
+      out.F = c->b_F;
+      if (rps3_inverse_batch(m, d, &in, &out) != RPS3_OK)
+        c->failures += (long)in.n;
+      c->failures += (long)out.nfail;
+    }
     break;
   }
 }
@@ -231,6 +277,24 @@ static void make_points(points *pt) {
     copy3(pt->l[p], d->l);
   }
   rps3_data_free(d);
+  /* the chunks for the batch entry point */
+  pt->nchunk = pt->n / BATCH_N;
+  pt->soa_pose = malloc((size_t)pt->nchunk * 3 * BATCH_N * sizeof(double));
+  pt->soa_dpose = malloc((size_t)pt->nchunk * 3 * BATCH_N * sizeof(double));
+  pt->soa_ddpose = malloc((size_t)pt->nchunk * 3 * BATCH_N * sizeof(double));
+  if (!pt->soa_pose || !pt->soa_dpose || !pt->soa_ddpose) {
+    fprintf(stderr, "rps3-bench: out of memory\n");
+    exit(2);
+  }
+  for (p = 0; p < pt->nchunk * BATCH_N; p++) {
+    int k = p / BATCH_N, i = p % BATCH_N, c;
+    for (c = 0; c < 3; c++) {
+      size_t at = (size_t)(3 * k + c) * BATCH_N + (size_t)i;
+      pt->soa_pose[at] = pt->pose[p][c];
+      pt->soa_dpose[at] = pt->dpose[p][c];
+      pt->soa_ddpose[at] = pt->ddpose[p][c];
+    }
+  }
 }
 
 /* fill the ring with snapshots after the whole pipeline of c's model,
@@ -271,6 +335,8 @@ static double quantile(const double *x, long n, double q) {
 
 static void summarize(bench_case *c, long calls, long batches, bench_row *r) {
   qsort(c->per_call, (size_t)batches, sizeof(double), cmp_double);
+  qsort(c->cpu_call, (size_t)batches, sizeof(double), cmp_double);
+  r->cpu_median_ns = quantile(c->cpu_call, batches, 0.5);
   r->name = c->name;
   r->doc = c->doc;
   r->median_ns = quantile(c->per_call, batches, 0.5);
@@ -308,6 +374,81 @@ static void machine_name(char *buf, size_t sz) {
   fclose(f);
 }
 
+/* ---------------------------------------------------------------- ratios */
+
+/* Ratios taken round by round: the two cases' batches of one round ran
+   back to back, so a noisy spell of the machine cancels out.  num / den
+   for wall and for CPU time, median and min-max over the rounds. */
+typedef struct {
+  const char *num, *den, *doc;
+  double wall[3], cpu[3]; /* median, min, max */
+} bench_ratio;
+
+static const struct {
+  const char *num, *den, *doc;
+} ratio_pairs[] = {
+    {"pipeline_closed_lagrange_paper_nocert", "anchor_generated",
+     "scalar rps3_inverse / generated code, the paper's four effects"},
+    {"batch_closed_lagrange_paper_nocert", "anchor_generated",
+     "rps3_inverse_batch per point / generated code, the same forces"},
+    {"pipeline_closed_lagrange_paper_nocert",
+     "batch_closed_lagrange_paper_nocert",
+     "scalar rps3_inverse / rps3_inverse_batch per point"},
+};
+#define NRATIO_MAX ((int)(sizeof(ratio_pairs) / sizeof(ratio_pairs[0])))
+
+static int find_case(bench_case *cases, int ncase, const char *name) {
+  int i;
+  for (i = 0; i < ncase; i++)
+    if (strcmp(cases[i].name, name) == 0) return i;
+  return -1;
+}
+
+static void ratio_stats(const double *a, const double *b, long n,
+                        double out[3]) {
+  double *r = malloc((size_t)n * sizeof(double));
+  long k;
+  if (r == NULL) {
+    out[0] = out[1] = out[2] = BENCH_NONE;
+    return;
+  }
+  for (k = 0; k < n; k++) r[k] = a[k] / b[k];
+  qsort(r, (size_t)n, sizeof(double), cmp_double);
+  out[0] = quantile(r, n, 0.5);
+  out[1] = r[0];
+  out[2] = r[n - 1];
+  free(r);
+}
+
+static int ratios(bench_case *cases, int ncase, long batches,
+                  bench_ratio *rat) {
+  int k, n = 0;
+  for (k = 0; k < NRATIO_MAX; k++) {
+    int a = find_case(cases, ncase, ratio_pairs[k].num);
+    int b = find_case(cases, ncase, ratio_pairs[k].den);
+    if (a < 0 || b < 0) continue;
+    rat[n].num = ratio_pairs[k].num;
+    rat[n].den = ratio_pairs[k].den;
+    rat[n].doc = ratio_pairs[k].doc;
+    ratio_stats(cases[a].per_call, cases[b].per_call, batches, rat[n].wall);
+    ratio_stats(cases[a].cpu_call, cases[b].cpu_call, batches, rat[n].cpu);
+    n++;
+  }
+  return n;
+}
+
+static void print_ratios(const bench_ratio *rat, int n, long batches) {
+  int k;
+  if (n == 0) return;
+  printf("\nratios, round by round over %ld interleaved rounds: median "
+         "[min - max]\n", batches);
+  printf("%-58s %22s %22s\n", "ratio", "wall", "cpu");
+  for (k = 0; k < n; k++)
+    printf("%-58s %6.2f [%5.2f - %5.2f] %6.2f [%5.2f - %5.2f]\n", rat[k].doc,
+           rat[k].wall[0], rat[k].wall[1], rat[k].wall[2], rat[k].cpu[0],
+           rat[k].cpu[1], rat[k].cpu[2]);
+}
+
 /* ------------------------------------------------------------------ main */
 
 #define NCASE_MAX 32
@@ -317,7 +458,7 @@ static void usage(void) {
           "usage: rps3-bench [-o FILE.h5] [-n BATCHES] [-c CALLS] [-k CASE]\n"
           "  -o  HDF5 output (default out/bench.h5; '-' for none)\n"
           "  -n  timed batches per case (default 101)\n"
-          "  -c  calls per batch (default 2000)\n"
+          "  -c  calls per batch (default 2000, a multiple of 1000)\n"
           "  -k  run only the cases whose name contains CASE (profiling)\n");
 }
 
@@ -326,7 +467,8 @@ int main(int argc, char **argv) {
   static bench_row rows[NCASE_MAX];
   const char *out = "out/bench.h5", *only = NULL;
   long batches = 101, calls = 2000, b;
-  int ncase = 0, i, fail = 0;
+  int ncase = 0, i, fail = 0, nratio;
+  static bench_ratio rat[NRATIO_MAX];
   points pt;
   char machine[256], trajdoc[256];
   bench_info info;
@@ -345,7 +487,7 @@ int main(int argc, char **argv) {
       return 2;
     }
   }
-  if (batches < 1 || calls < 1) {
+  if (batches < 1 || calls < 1 || calls % BATCH_N != 0) {
     usage();
     return 2;
   }
@@ -417,6 +559,14 @@ int main(int argc, char **argv) {
        "theta, the paper's effects (gravity and inertia of platform and "
        "links), Lagrange, certify off", K_INVERSE, SCENE_PAPER, RPS3_LAGRANGE,
        RPS3_THETA_CLOSED_FORM, 1, 0, TARGET_INVDYN_NS, 0);
+  CASE("anchor_generated", "SymPy-generated CSE'd C (tests/bench/"
+       "gen_anchor.py): pose, rates, accelerations -> F, the paper's four "
+       "effects", K_ANCHOR, SCENE_PAPER, RPS3_LAGRANGE,
+       RPS3_THETA_CLOSED_FORM, 1, 0, BENCH_NONE, 0);
+  CASE("batch_closed_lagrange_paper_nocert", "rps3_inverse_batch, 1000 "
+       "points a call (time per point), closed-form theta, the paper's "
+       "effects, Lagrange, certify off, F only", K_BATCH, SCENE_PAPER,
+       RPS3_LAGRANGE, RPS3_THETA_CLOSED_FORM, 1, 0, BENCH_NONE, 0);
   CASE("pipeline_closed_newton_euler_full", "rps3_inverse, closed-form "
        "theta, full scene, Newton-Euler", K_INVERSE, SCENE_FULL,
        RPS3_NEWTON_EULER, RPS3_THETA_CLOSED_FORM, 1, 1, TARGET_INVDYN_NS, 0);
@@ -446,7 +596,11 @@ int main(int argc, char **argv) {
   for (i = 0; i < ncase; i++) {
     bench_case *c = &cases[i];
     c->per_call = malloc((size_t)batches * sizeof(double));
-    if (c->per_call == NULL || rps3_data_alloc(&c->m, &c->d) != RPS3_OK) {
+    c->cpu_call = malloc((size_t)batches * sizeof(double));
+    c->b_status = malloc(BATCH_N * sizeof(int));
+    c->b_F = malloc(3 * BATCH_N * sizeof(double));
+    if (c->per_call == NULL || c->cpu_call == NULL || c->b_status == NULL ||
+        c->b_F == NULL || rps3_data_alloc(&c->m, &c->d) != RPS3_OK) {
       fprintf(stderr, "rps3-bench: out of memory\n");
       return 2;
     }
@@ -460,11 +614,17 @@ int main(int argc, char **argv) {
   /* timed batches, round-robin over the cases */
   for (b = 0; b < batches; b++)
     for (i = 0; i < ncase; i++) {
-      double t0 = now_ns(), t1;
+      double t0 = clock_ns(CLOCK_MONOTONIC), t1, c0, c1;
+      c0 = clock_ns(CLOCK_THREAD_CPUTIME_ID);
       run_batch(&cases[i], &pt, calls);
-      t1 = now_ns();
+      c1 = clock_ns(CLOCK_THREAD_CPUTIME_ID);
+      t1 = clock_ns(CLOCK_MONOTONIC);
       cases[i].per_call[b] = (t1 - t0) / (double)calls;
+      cases[i].cpu_call[b] = (c1 - c0) / (double)calls;
     }
+  /* ratios batch by batch (the same round of the interleaving), before
+     the per-case sort */
+  nratio = ratios(cases, ncase, batches, rat);
   for (i = 0; i < ncase; i++) summarize(&cases[i], calls, batches, &rows[i]);
 
   /* the table */
@@ -472,8 +632,8 @@ int main(int argc, char **argv) {
   printf("rps3-bench: %s; %ld batches x %ld calls per case; helix of "
          "Table II at %.0f Hz (%d points)\n",
          machine, batches, calls, RATE_HZ, pt.n);
-  printf("%-34s %10s %19s %6s %9s %7s\n", "case", "median ns", "p10 - p90 ns",
-         "iter", "target ns", "ratio");
+  printf("%-34s %10s %19s %8s %6s %9s %7s\n", "case", "median ns",
+         "p10 - p90 ns", "cpu ns", "iter", "target ns", "ratio");
   for (i = 0; i < ncase; i++) {
     const bench_row *r = &rows[i];
     char it[16] = "", tg[16] = "", ra[16] = "";
@@ -482,13 +642,14 @@ int main(int argc, char **argv) {
       snprintf(tg, sizeof(tg), "%.0f", r->target_ns);
       snprintf(ra, sizeof(ra), "%.2f", r->median_ns / r->target_ns);
     }
-    printf("%-34s %10.1f %9.1f - %7.1f %6s %9s %7s%s\n", r->name,
-           r->median_ns, r->p10_ns, r->p90_ns, it, tg, ra,
+    printf("%-34s %10.1f %9.1f - %7.1f %8.1f %6s %9s %7s%s\n", r->name,
+           r->median_ns, r->p10_ns, r->p90_ns, r->cpu_median_ns, it, tg, ra,
            r->failures ? "  FAILED CALLS" : "");
     if (r->failures) fail = 1;
   }
   printf("ratio = median / target (<= 1 meets the target); one core, "
          "single thread\n");
+  print_ratios(rat, nratio, batches);
 
   snprintf(trajdoc, sizeof(trajdoc),
            "helix of Table II sampled at %.0f Hz (%d points), walked forward "
@@ -504,7 +665,8 @@ int main(int argc, char **argv) {
   info.trajectory = trajdoc;
   info.scene_full = scene_full_doc;
   info.scene_gravity = scene_gravity_doc;
-  info.clock = "clock_gettime(CLOCK_MONOTONIC) around each batch";
+  info.clock = "clock_gettime(CLOCK_MONOTONIC) (wall) and "
+               "CLOCK_THREAD_CPUTIME_ID (cpu) around each batch";
   if (strcmp(out, "-") != 0) {
     if (bench_write_h5(out, &info, rows, ncase) != 0)
       fail = 1;
@@ -515,10 +677,16 @@ int main(int argc, char **argv) {
   for (i = 0; i < ncase; i++) {
     rps3_data_free(cases[i].d);
     free(cases[i].per_call);
+    free(cases[i].cpu_call);
+    free(cases[i].b_status);
+    free(cases[i].b_F);
   }
   free(pt.pose);
   free(pt.dpose);
   free(pt.ddpose);
   free(pt.l);
+  free(pt.soa_pose);
+  free(pt.soa_dpose);
+  free(pt.soa_ddpose);
   return fail;
 }

@@ -17,6 +17,8 @@ typedef struct {
   double median_ns;        /* median over batches of the per-call time [ns] */
   double p10_ns, p90_ns;   /* 10th and 90th percentiles over batches [ns] */
   double min_ns, max_ns;   /* fastest and slowest batch [ns per call] */
+  double cpu_median_ns;    /* median over batches of the thread CPU time per
+                              call [ns] */
   double target_ns;        /* target per call [ns], NaN when none */
   double mean_iter;        /* theta-solve iterations per call, NaN if none */
   long calls;              /* calls per batch */
