@@ -58,7 +58,7 @@ TEST_BIN = $(TEST_SRC:tests/%.c=$(B)/tests/%)
 TEST_SAN = $(TEST_SRC:tests/%.c=$(B)/tests-san/%)
 # the control-loop example (tests/example_control_loop.c) is built like a
 # test and run by check-c; it is not a sanitizer test
-TEST_BIN += $(B)/tests/example_control_loop
+TEST_BIN += $(B)/tests/example_control_loop $(B)/tests/example_sim_loop
 RUN_MAINS = runner/main_run.c runner/main_study.c
 RUN_COMMON = $(filter-out $(RUN_MAINS),$(wildcard runner/*.c))
 RUN_OBJ = $(RUN_COMMON:runner/%.c=$(B)/runner/%.o)

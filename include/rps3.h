@@ -797,6 +797,235 @@ RPS3_API int rps3_model_validate(rps3_model *m, rps3_check *chk);
 RPS3_API int rps3_traj_validate(const rps3_model *m, const rps3_traj *tr,
                                 rps3_check *chk);
 
+/* -------------------------------------------------------------- simulation */
+
+/*
+ * Simulation of the plant: the state y = (l, dl) of the paper's independent
+ * coordinates integrated by GSL odeiv2 with the accelerations of
+ * rps3_fwddyn, theta solved at every evaluation warm-started from the
+ * previous one so that the plant stays on the assembly mode it started in.
+ * Two quadratures ride along: the work of the actuator forces W_F = int
+ * F . dl dt and of the pin friction W_f = int sum T_i dtheta_i dt, so that
+ * (T + P)(t) - (T + P)(t0) - W_F - W_f (the energy residual) measures the
+ * integration error of every step and of the run.
+ *
+ * Forces come from a controller, called at a fixed rate with zero-order
+ * hold (the integrator restarts at every tick, where the force jumps), or,
+ * with rate 0, at every evaluation as a continuous force law (open-loop
+ * feedforward, an ideal continuous controller).  At a tick the controller
+ * sees the measured lengths and rates: the true ones plus optional Gaussian
+ * noise (a generator of the simulation, seeded) and quantised.  The
+ * actuators saturate at |F_i| <= fmax.
+ *
+ * A run stops at the first failure with a status and the time: the plant's
+ * forward dynamics failing (RPS3_ESING near a singular configuration,
+ * RPS3_EBRANCH / RPS3_ENOCONV / RPS3_EREACH from the theta solve), the
+ * assembly mode changing (RPS3_EBRANCH), a link leaving [l_min, l_max]
+ * (RPS3_EREACH), the integrator giving up (RPS3_ENOCONV: step below hmin or
+ * more than max_steps steps in a control period), or the controller's own
+ * status.  Nothing is allocated after rps3_sim_alloc (except inside GSL's
+ * implicit steppers).  Integrators other than rk4 are GSL odeiv2's.
+ */
+typedef enum {
+  RPS3_INT_RK4 = 0,    /* classical Runge-Kutta 4, fixed step h, four
+                          evaluations a step: real time.  The library's
+                          own step (GSL's rk4 doubles each step to
+                          estimate its error: twelve evaluations) */
+  RPS3_INT_RKF45 = 1,  /* Runge-Kutta-Fehlberg 4(5), adaptive */
+  RPS3_INT_RK8PD = 2,  /* Runge-Kutta Prince-Dormand 8(9), adaptive */
+  RPS3_INT_MSBDF = 3,  /* variable-order BDF, implicit, adaptive (stiff) */
+  RPS3_INT_RK4IMP = 4  /* implicit Gauss-Legendre 4, fixed step h (stiff).
+                          GSL 2.7's implicit steppers (msbdf, rk4imp)
+                          allocate inside their steps: offline use only */
+} rps3_integrator;
+#define RPS3_NINTEGRATOR 5
+
+/* Name of an integrator ("rk4", "rkf45", "rk8pd", "msbdf", "rk4imp"), NULL
+   if out of range; and the integrator of a name, or -1. */
+RPS3_API const char *rps3_integrator_name(int integrator);
+RPS3_API int rps3_integrator_index(const char *name);
+
+typedef struct {
+  rps3_integrator integrator;
+  double h;          /* fixed step of rk4 and rk4imp, the largest that
+                        divides each control period evenly is used; first
+                        step of the adaptive ones [s].  Default 1e-3 */
+  double epsabs;     /* adaptive error control on y = (l, dl, W_F, W_f):
+                        |err_i| <= epsabs + epsrel |y_i|.  Default 1e-9 */
+  double epsrel;     /* default 1e-9 */
+  double hmin;       /* adaptive steps below this fail the run [s], 1e-12 */
+  long max_steps;    /* integrator steps per control period (or per call of
+                        rps3_sim_advance with a continuous controller),
+                        default 100000 */
+  double fmax;       /* actuator saturation |F_i| <= fmax [N]; 0 = none */
+  double l_min;      /* workspace: stroke of the links [m], default 0 */
+  double l_max;      /* default +inf (HUGE_VAL) */
+  double noise_l;    /* standard deviation of the measured lengths [m] */
+  double noise_dl;   /* ... of the measured rates [m/s] */
+  double quant_l;    /* quantum of the measured lengths [m], 0 = none */
+  double quant_dl;   /* quantum of the measured rates [m/s], 0 = none */
+  unsigned long seed; /* seed of the noise generator */
+} rps3_sim_options;
+
+/* Fill o with the defaults above (rk4, h = 1 ms, no noise, no limits). */
+RPS3_API void rps3_sim_options_default(rps3_sim_options *o);
+
+/*
+ * A force law.  fn is called with its state, the time [s] and the measured
+ * (rate > 0) or true (rate = 0) lengths [m] and rates [m/s], and writes the
+ * commanded forces F [N]; it returns RPS3_OK or a status that stops the
+ * run.  It must not allocate if the loop is to stay allocation-free.
+ */
+typedef int (*rps3_control_fn)(void *state, double t, const double l[3],
+                               const double dl[3], double F[3]);
+typedef struct {
+  rps3_control_fn fn;
+  void *state;       /* passed to fn */
+  double rate;       /* control rate [Hz], zero-order hold; 0: continuous */
+} rps3_controller;
+
+struct rps3_sim_gsl; /* internal: GSL driver */
+
+typedef struct {
+  rps3_model plant;        /* the simulated mechanism (a copy) */
+  rps3_sim_options opt;
+  rps3_data *d;            /* plant workspace: positions, rates and
+                              accelerations of the last evaluation; after
+                              rps3_sim_advance those of the state at t */
+  double t;                /* simulated time [s] */
+  double y[8];             /* l [m], dl [m/s], W_F, W_f [J] */
+  double F_cmd[3];         /* last commanded forces [N] */
+  double F[3];             /* forces applied (saturated) [N] */
+  double l_meas[3];        /* last measured lengths [m] */
+  double dl_meas[3];       /* last measured rates [m/s] */
+  double T, P;             /* kinetic, potential energy at t [J] */
+  double E0;               /* T + P at the start [J] */
+  double energy_residual;  /* T + P - E0 - W_F - W_f [J] */
+  int mode;                /* tracked assembly mode (rps3_data.mode) */
+  int status;              /* RPS3_OK, or why the run stopped */
+  double failed_at;        /* time of the failure [s], NaN while running */
+  long nsteps;             /* integrator steps taken */
+  long nevals;             /* forward dynamics evaluations */
+  long nticks;             /* controller calls at the control rate */
+  long nsat;               /* ticks with a saturated actuator */
+  /* internal */
+  const rps3_controller *ctrl; /* during rps3_sim_advance */
+  double t0;               /* start time [s] */
+  long last_tick;          /* index of the last tick served, -1 before */
+  unsigned long long rng;  /* noise generator state */
+  double spare;            /* second normal deviate of Box-Muller, or NaN */
+  int started;
+  struct rps3_sim_gsl *gsl;
+} rps3_sim;
+
+/*
+ * Allocate a simulation of the plant (initialised; its options choose the
+ * effects and the theta solve) with options o (NULL: defaults): the plant
+ * data and the GSL driver.  Returns RPS3_OK, RPS3_EINVAL with "FIELD =
+ * VALUE: reason" in err (FIELD e.g. "simulate.h") or RPS3_ENOMEM.
+ */
+RPS3_API int rps3_sim_alloc(const rps3_model *plant, const rps3_sim_options *o,
+                            rps3_sim **out, char *err, size_t errsz);
+
+/* Free a simulation; NULL is accepted. */
+RPS3_API void rps3_sim_free(rps3_sim *s);
+
+/*
+ * Start (or restart) at time t0 from the pose (alpha, beta, z_c) and its
+ * rates: the closed-form inverse kinematics fixes l, dl and the assembly
+ * mode.  Clears the work, the counters, the status, reseeds the noise.
+ * Returns RPS3_OK or the status of rps3_ik / rps3_velocity / rps3_fwddyn
+ * (with zero forces) at the start, also stored in s->status.
+ */
+RPS3_API int rps3_sim_start(rps3_sim *s, double t0, const double pose[3],
+                            const double dpose[3]);
+
+/*
+ * Advance from s->t to t_end under controller c (not NULL), calling it at
+ * the ticks t0 + k / rate that fall in [s->t, t_end) (or at every
+ * evaluation when rate is 0).  On return s->t = t_end and the fields of s
+ * describe that state; or the run stopped: s->status != RPS3_OK,
+ * s->failed_at the time, d->err the message, and the state the last good
+ * one.  Returns s->status; after a failure it returns that status again
+ * without integrating.  Allocates nothing.
+ */
+RPS3_API int rps3_sim_advance(rps3_sim *s, const rps3_controller *c,
+                              double t_end);
+
+/* ------------------------------------------------------------- controllers */
+
+/*
+ * Controllers shipped with the library, each following a trajectory with
+ * its own model of the mechanism (which may differ from the plant's: e.g.
+ * no link mass, as the paper's case 1 assumes).  The desired link motion
+ * (l_d, dl_d, ddl_d) and the feedforward forces are rps3_inverse of the
+ * controller's model along the trajectory at the tick's time (after the
+ * trajectory's span: its final pose, at rest).  With e = l_d - l and
+ * de = dl_d - dl from the measured l, dl:
+ *   open loop       F = F_d, the inverse dynamics of the desired motion
+ *                   (kp, kd unused; rate 0 makes it a continuous force)
+ *   PD              F = kp e + kd de
+ *   PD + gravity    F = kp e + kd de + G(l), G the controller model's
+ *                   static forces at the measured lengths (rps3_invdyn at
+ *                   dl = ddl = 0)
+ *   computed torque F = rps3_invdyn of the controller's model at the
+ *                   measured (l, dl) with ddl = ddl_d + kp e + kd de:
+ *                   kp [1/s^2], kd [1/s] set the error dynamics
+ *                   e'' + kd e' + kp e = 0 when the models agree.
+ * PD gains are [N/m] and [N s/m].
+ */
+typedef enum {
+  RPS3_CTRL_OPEN_LOOP = 0,
+  RPS3_CTRL_PD = 1,
+  RPS3_CTRL_PD_GRAVITY = 2,
+  RPS3_CTRL_COMPUTED_TORQUE = 3
+} rps3_ctrl_kind;
+#define RPS3_NCTRL 4
+
+/* Name of a controller kind ("open_loop", "pd", "pd_gravity",
+   "computed_torque"), NULL if out of range; and the kind of a name, or
+   -1. */
+RPS3_API const char *rps3_ctrl_name(int kind);
+RPS3_API int rps3_ctrl_index(const char *name);
+
+typedef struct {
+  rps3_ctrl_kind kind;
+  double kp, kd;        /* gains, units above */
+  rps3_model model;     /* the controller's model (a copy, initialised) */
+  rps3_traj traj;       /* desired motion (a copy) */
+  /* last tick, for logging */
+  double t;             /* time of the last call [s] */
+  double l_des[3];      /* desired lengths [m] */
+  double dl_des[3];     /* desired rates [m/s] */
+  double F_ff[3];       /* feedforward forces of the desired motion [N] */
+  rps3_data *des;       /* workspace of the desired motion */
+  rps3_data *meas;      /* workspace at the measured state (PD + gravity,
+                           computed torque); its err says why a call failed */
+} rps3_ctrl;
+
+/*
+ * Allocate a controller of this kind with gains kp, kd (finite, >= 0),
+ * model (initialised) and trajectory (checked against model).  Returns
+ * RPS3_OK, RPS3_EINVAL with "FIELD = VALUE: reason" in err, or
+ * RPS3_ENOMEM.
+ */
+RPS3_API int rps3_ctrl_alloc(rps3_ctrl_kind kind, double kp, double kd,
+                             const rps3_model *model, const rps3_traj *traj,
+                             rps3_ctrl **out, char *err, size_t errsz);
+
+/* Free a controller; NULL is accepted. */
+RPS3_API void rps3_ctrl_free(rps3_ctrl *c);
+
+/*
+ * The control law, an rps3_control_fn: state is the rps3_ctrl.  Writes
+ * F and the logging fields; returns RPS3_OK or the status of the model's
+ * stages (e.g. RPS3_ENOCONV when measured lengths have no assembly near
+ * the last one).  Allocates nothing.  Bind it as
+ *   rps3_controller c = {rps3_ctrl_update, ctrl, 1000.0};
+ */
+RPS3_API int rps3_ctrl_update(void *state, double t, const double l[3],
+                              const double dl[3], double F[3]);
+
 #ifdef __cplusplus
 }
 #endif

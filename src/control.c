@@ -1,0 +1,162 @@
+/*
+ * control.c - the controllers shipped with the library: open loop (inverse
+ * dynamics of the desired motion), PD on the link lengths, PD + gravity
+ * compensation, computed torque.  Each has its own model of the mechanism
+ * and two workspaces allocated once: the desired motion, and the measured
+ * state.
+ */
+#include <stdlib.h>
+#include <string.h>
+
+#include "internal.h"
+
+static const char *const CTRL_NAME[RPS3_NCTRL] = {
+    "open_loop", "pd", "pd_gravity", "computed_torque"};
+
+const char *rps3_ctrl_name(int kind) {
+  if (kind < 0 || kind >= RPS3_NCTRL) return NULL;
+  return CTRL_NAME[kind];
+}
+
+int rps3_ctrl_index(const char *name) {
+  int k;
+  if (name == NULL) return -1;
+  for (k = 0; k < RPS3_NCTRL; k++)
+    if (strcmp(name, CTRL_NAME[k]) == 0) return k;
+  return -1;
+}
+
+int rps3_ctrl_alloc(rps3_ctrl_kind kind, double kp, double kd,
+                    const rps3_model *model, const rps3_traj *traj,
+                    rps3_ctrl **out, char *err, size_t errsz) {
+  rps3_ctrl *c;
+  int st;
+  if (out == NULL) return RPS3_EINVAL;
+  *out = NULL;
+  if (model == NULL || !model->valid || traj == NULL) {
+    if (err != NULL && errsz > 0)
+      snprintf(err, errsz, "controller model not initialised, or no "
+                           "trajectory");
+    return RPS3_EINVAL;
+  }
+  if ((int)kind < 0 || (int)kind >= RPS3_NCTRL) {
+    if (err != NULL && errsz > 0)
+      snprintf(err, errsz, "simulate.controller = %d: unknown kind", kind);
+    return RPS3_EINVAL;
+  }
+  if (!(isfinite(kp) && kp >= 0) || !(isfinite(kd) && kd >= 0)) {
+    if (err != NULL && errsz > 0)
+      snprintf(err, errsz, "%s = %.17g: must be finite and >= 0",
+               isfinite(kp) && kp >= 0 ? "simulate.kd" : "simulate.kp",
+               isfinite(kp) && kp >= 0 ? kd : kp);
+    return RPS3_EINVAL;
+  }
+  st = rps3_traj_check(model, traj, err, errsz);
+  if (st != RPS3_OK) return st;
+  c = (rps3_ctrl *)calloc(1, sizeof(*c));
+  if (c == NULL) return RPS3_ENOMEM;
+  c->kind = kind;
+  c->kp = kp;
+  c->kd = kd;
+  c->model = *model;
+  c->traj = *traj;
+  c->t = (double)NAN;
+  if (rps3_data_alloc(&c->model, &c->des) != RPS3_OK ||
+      rps3_data_alloc(&c->model, &c->meas) != RPS3_OK) {
+    rps3_ctrl_free(c);
+    return RPS3_ENOMEM;
+  }
+  *out = c;
+  return RPS3_OK;
+}
+
+void rps3_ctrl_free(rps3_ctrl *c) {
+  if (c == NULL) return;
+  rps3_data_free(c->des);
+  rps3_data_free(c->meas);
+  free(c);
+}
+
+/* desired motion and its inverse dynamics at t; after the span the final
+   pose at rest */
+static int desired(rps3_ctrl *c, double t) {
+  rps3_data *d = c->des;
+  double T = rps3_traj_duration(&c->traj);
+  int st, rest = t > T;
+  st = rps3_traj_eval(&c->model, &c->traj, rest ? T : (t < 0 ? 0 : t),
+                      d->pose, d->dpose, d->ddpose);
+  if (st != RPS3_OK) return st;
+  if (rest) {
+    memset(d->dpose, 0, sizeof(d->dpose));
+    memset(d->ddpose, 0, sizeof(d->ddpose));
+  }
+  st = rps3_inverse(&c->model, d);
+  if (st != RPS3_OK) return st;
+  v3_copy(c->l_des, d->l);
+  v3_copy(c->dl_des, d->dl);
+  v3_copy(c->F_ff, d->F);
+  return RPS3_OK;
+}
+
+/* rps3_invdyn of the controller's model at the measured (l, dl) and the
+   given ddl: positions from the theta solve, warm-started from the last
+   call (or from the desired motion's theta the first time) */
+static int invdyn_at(rps3_ctrl *c, const double l[3], const double dl[3],
+                     const double ddl[3], double F[3]) {
+  rps3_data *d = c->meas;
+  int st;
+  if (!d->have_theta) {
+    v3_copy(d->theta, c->des->theta);
+    d->have_theta = 1;
+  }
+  v3_copy(d->l, l);
+  st = rps3_theta_solve(&c->model, d);
+  if (st != RPS3_OK) return st;
+  v3_copy(d->dl, dl);
+  st = rps3_joint_velocity(&c->model, d);
+  if (st != RPS3_OK) return st;
+  v3_copy(d->ddl, ddl);
+  st = rps3_joint_acceleration(&c->model, d);
+  if (st != RPS3_OK) return st;
+  st = rps3_invdyn(&c->model, d);
+  if (st != RPS3_OK) return st;
+  v3_copy(F, d->F);
+  return RPS3_OK;
+}
+
+int rps3_ctrl_update(void *state, double t, const double l[3],
+                     const double dl[3], double F[3]) {
+  rps3_ctrl *c = (rps3_ctrl *)state;
+  const double zero[3] = {0, 0, 0};
+  double e[3], de[3], a[3], G[3];
+  int st, i;
+  if (c == NULL || l == NULL || dl == NULL || F == NULL || !isfinite(t))
+    return RPS3_EINVAL;
+  c->t = t;
+  st = desired(c, t);
+  if (st != RPS3_OK) return st;
+  for (i = 0; i < 3; i++) {
+    e[i] = c->l_des[i] - l[i];
+    de[i] = c->dl_des[i] - dl[i];
+  }
+  switch (c->kind) {
+  case RPS3_CTRL_OPEN_LOOP:
+    v3_copy(F, c->F_ff);
+    return RPS3_OK;
+  case RPS3_CTRL_PD:
+    for (i = 0; i < 3; i++) F[i] = c->kp * e[i] + c->kd * de[i];
+    return RPS3_OK;
+  case RPS3_CTRL_PD_GRAVITY:
+    /* static forces of the model: at rest only the weights remain */
+    st = invdyn_at(c, l, zero, zero, G);
+    if (st != RPS3_OK) return st;
+    for (i = 0; i < 3; i++) F[i] = c->kp * e[i] + c->kd * de[i] + G[i];
+    return RPS3_OK;
+  case RPS3_CTRL_COMPUTED_TORQUE:
+    for (i = 0; i < 3; i++)
+      a[i] = c->des->ddl[i] + c->kp * e[i] + c->kd * de[i];
+    return invdyn_at(c, l, dl, a, F);
+  default:
+    return RPS3_EINVAL;
+  }
+}

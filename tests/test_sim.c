@@ -1,0 +1,613 @@
+/* test_sim.c - simulation and control: the open-loop round trip of the
+   inverse dynamics' forces, the energy balance, closed-loop tracking by
+   the three controllers, measurement noise, and hard cases that must end
+   in a clean status. */
+#include <stdlib.h>
+
+#include "testutil.h"
+
+/* the paper's helix, scaled to model_entropy()'s platform (r* < r/2) */
+static void helix_entropy(rps3_traj *tr) {
+  rps3_traj_default(tr);
+  tr->helix.radius = 0.0031;
+  tr->helix.z0 = 0.2713;
+}
+
+/* a fast sine: a turn of alpha per second, beta and z_c at 2 and 3 Hz */
+static void fast_sine(rps3_traj *tr) {
+  memset(tr, 0, sizeof(*tr));
+  tr->kind = RPS3_TRAJ_SINE;
+  tr->sine.mean[0] = 0.31;
+  tr->sine.amp[0] = 1.03;
+  tr->sine.freq[0] = 1.07;
+  tr->sine.mean[1] = 0.21;
+  tr->sine.amp[1] = 0.083;
+  tr->sine.freq[1] = 2.03;
+  tr->sine.phase[1] = 0.4;
+  tr->sine.mean[2] = 0.27;
+  tr->sine.amp[2] = 0.029;
+  tr->sine.freq[2] = 3.01;
+  tr->sine.duration = 2.0;
+}
+
+/* start s on the trajectory at t */
+static void start_on(rps3_sim *s, const rps3_model *m, const rps3_traj *tr,
+                     double t) {
+  double pose[3], dpose[3];
+  assert_int_equal(rps3_traj_eval(m, tr, t, pose, dpose, NULL), RPS3_OK);
+  if (rps3_sim_start(s, t, pose, dpose) != RPS3_OK)
+    fail_msg("start at t = %g: %s", t, s->d->err.msg);
+}
+
+/* largest |l - l_d| [m] at t, l_d by the closed form from the pose */
+static double length_error(const rps3_model *m, const rps3_traj *tr,
+                           rps3_data *w, const double y[3], double t) {
+  double e = 0.0;
+  int i;
+  assert_int_equal(rps3_traj_eval(m, tr, t, w->pose, NULL, NULL), RPS3_OK);
+  assert_int_equal(rps3_ik(m, w), RPS3_OK);
+  for (i = 0; i < 3; i++) e = fmax(e, fabs(y[i] - w->l[i]));
+  return e;
+}
+
+/*
+ * Round trip, window by window.  Under the inverse dynamics' forces the
+ * plant is open-loop unstable (it grows errors ~10x per 0.2 s on these
+ * paths, measured: the platform on three force-controlled links is an
+ * inverted pendulum), so a whole-path comparison would measure the
+ * instability, not the integration.  Each window starts on the trajectory
+ * and runs 0.05 s open loop (amplification < e^0.6); the error at its end
+ * is the integrator's: rk8pd with epsabs = epsrel = 1e-10 must give
+ * |l - l_d| <= 1e-9 m (ten times the tolerance, for the error of the
+ * window's ~20 steps and the amplification), for every effect
+ * combination with inertia, on the helix and the fast sine, with pin
+ * friction at its exact sign.
+ */
+static void round_trip(const rps3_traj *tr, int eff, double *worst) {
+  rps3_model m;
+  rps3_sim_options o;
+  rps3_sim *s;
+  rps3_ctrl *c;
+  rps3_data *w;
+  char err[256];
+  const double win = 0.05;
+  int k;
+  model_entropy(&m);
+  m.opt.effects = eff;
+  assert_int_equal(rps3_model_init(&m, NULL, 0), RPS3_OK);
+  rps3_sim_options_default(&o);
+  o.integrator = RPS3_INT_RK8PD;
+  o.epsabs = o.epsrel = 1e-10;
+  if (rps3_sim_alloc(&m, &o, &s, err, sizeof(err)) != RPS3_OK)
+    fail_msg("%s", err);
+  if (rps3_ctrl_alloc(RPS3_CTRL_OPEN_LOOP, 0, 0, &m, tr, &c, err,
+                      sizeof(err)) != RPS3_OK)
+    fail_msg("%s", err);
+  assert_int_equal(rps3_data_alloc(&m, &w), RPS3_OK);
+  {
+    rps3_controller ctl = {rps3_ctrl_update, c, 0.0};
+    double T = rps3_traj_duration(tr);
+    for (k = 0; k < 6; k++) {
+      double t0 = (T - win) * (0.037 + 0.19 * k), e;
+      start_on(s, &m, tr, t0);
+      if (rps3_sim_advance(s, &ctl, t0 + win) != RPS3_OK)
+        fail_msg("effects %d, t0 = %g: %s", eff, t0, s->d->err.msg);
+      e = length_error(&m, tr, w, s->y, t0 + win);
+      if (e > *worst) *worst = e;
+      if (!(e <= 1e-9))
+        fail_msg("effects %d, window at %g s: |l - l_d| = %.3g m", eff, t0, e);
+    }
+  }
+  rps3_data_free(w);
+  rps3_ctrl_free(c);
+  rps3_sim_free(s);
+}
+
+static void round_trip_every_effect(void **state) {
+  rps3_traj helix, sine;
+  double wh = 0.0, ws = 0.0;
+  int eff;
+  (void)state;
+  helix_entropy(&helix);
+  fast_sine(&sine);
+  for (eff = 1; eff <= RPS3_EFF_ALL; eff++) {
+    if (!(eff & (RPS3_EFF_PLATFORM_INERTIA | RPS3_EFF_LINK_INERTIA |
+                 RPS3_EFF_PAYLOAD)))
+      continue;
+    round_trip(&helix, eff, &wh);
+    round_trip(&sine, eff, &ws);
+  }
+  print_message("round trip, rk8pd 1e-10, 0.05 s windows: worst |l - l_d| "
+                "%.3g m (helix), %.3g m (fast sine)\n", wh, ws);
+}
+
+/* RK4 converges at its order: halving h divides the window's error by
+   ~16 (between 8 and 32 allows for the higher-order terms) */
+static void rk4_converges_at_order_4(void **state) {
+  rps3_model m;
+  rps3_traj tr;
+  double e[2];
+  int k;
+  (void)state;
+  model_entropy(&m);
+  m.friction.vreg = 0.02; /* smooth, so that the order shows */
+  assert_int_equal(rps3_model_init(&m, NULL, 0), RPS3_OK);
+  fast_sine(&tr);
+  for (k = 0; k < 2; k++) {
+    rps3_sim_options o;
+    rps3_sim *s;
+    rps3_ctrl *c;
+    rps3_data *w;
+    rps3_sim_options_default(&o);
+    o.h = k ? 2e-3 : 4e-3;
+    assert_int_equal(rps3_sim_alloc(&m, &o, &s, NULL, 0), RPS3_OK);
+    assert_int_equal(rps3_ctrl_alloc(RPS3_CTRL_OPEN_LOOP, 0, 0, &m, &tr, &c,
+                                     NULL, 0), RPS3_OK);
+    assert_int_equal(rps3_data_alloc(&m, &w), RPS3_OK);
+    {
+      rps3_controller ctl = {rps3_ctrl_update, c, 0.0};
+      start_on(s, &m, &tr, 0.3);
+      assert_int_equal(rps3_sim_advance(s, &ctl, 0.5), RPS3_OK);
+      e[k] = length_error(&m, &tr, w, s->y, 0.5);
+    }
+    rps3_data_free(w);
+    rps3_ctrl_free(c);
+    rps3_sim_free(s);
+  }
+  print_message("rk4 errors %.3g m (h = 4 ms), %.3g m (2 ms): ratio %.1f\n",
+                e[0], e[1], e[0] / e[1]);
+  assert_true(e[0] / e[1] > 8.0 && e[0] / e[1] < 32.0);
+}
+
+/* a force law that is zero: free motion */
+static int zero_force(void *state, double t, const double l[3],
+                      const double dl[3], double F[3]) {
+  (void)state;
+  (void)t;
+  (void)l;
+  (void)dl;
+  F[0] = F[1] = F[2] = 0.0;
+  return RPS3_OK;
+}
+
+/*
+ * Energy.  Free motion (F = 0, no friction) keeps T + P; with friction and
+ * a PD controller at 1 kHz the work of the forces and of the friction
+ * equals the change of T + P.  Each control period (step) and the whole
+ * run are checked: the residual is the integration error of the
+ * quadratures and of the state, bounded by ~epsrel times the energy
+ * exchanged (1e-10 here, checked at 1e-8 of the scale).
+ */
+static void energy_balance(void **state) {
+  int integ, fr;
+  (void)state;
+  for (integ = 1; integ <= 2; integ++)
+    for (fr = 0; fr < 2; fr++) {
+      rps3_model m;
+      rps3_traj tr;
+      rps3_sim_options o;
+      rps3_sim *s;
+      rps3_ctrl *c;
+      double scale, prev = 0.0, worst_step = 0.0;
+      int k;
+      model_entropy(&m);
+      m.opt.effects = RPS3_EFF_ALL & ~(fr ? 0 : RPS3_EFF_PIN_FRICTION);
+      m.friction.vreg = 0.01;
+      assert_int_equal(rps3_model_init(&m, NULL, 0), RPS3_OK);
+      helix_entropy(&tr);
+      rps3_sim_options_default(&o);
+      o.integrator = (rps3_integrator)integ;
+      o.epsabs = o.epsrel = 1e-10;
+      assert_int_equal(rps3_sim_alloc(&m, &o, &s, NULL, 0), RPS3_OK);
+      assert_int_equal(rps3_ctrl_alloc(RPS3_CTRL_PD_GRAVITY, 800.0, 30.0, &m,
+                                       &tr, &c, NULL, 0), RPS3_OK);
+      {
+        rps3_controller free_motion = {zero_force, NULL, 0.0};
+        rps3_controller pd = {rps3_ctrl_update, c, 1000.0};
+        start_on(s, &m, &tr, 0.0);
+        scale = fabs(s->T) + fabs(s->P);
+        for (k = 1; k <= 200; k++) {
+          /* 0.1 s free, then the controller catches it */
+          const rps3_controller *ctl = (k <= 100) ? &free_motion : &pd;
+          if (rps3_sim_advance(s, ctl, 1e-3 * k) != RPS3_OK)
+            fail_msg("t = %g: %s", 1e-3 * k, s->d->err.msg);
+          worst_step = fmax(worst_step, fabs(s->energy_residual - prev));
+          prev = s->energy_residual;
+          if (k == 100 && fr == 0)
+            CHECK_REL(s->T + s->P, s->E0, 1e-8, scale,
+                      "free motion keeps T + P (%s)",
+                      rps3_integrator_name(integ));
+        }
+      }
+      print_message("%s, friction %d: energy residual %.3g J over the run, "
+                    "worst step %.3g J, W_F %.4g J, W_f %.4g J\n",
+                    rps3_integrator_name(integ), fr, s->energy_residual,
+                    worst_step, s->y[6], s->y[7]);
+      CHECK_REL(s->energy_residual, 0.0, 1e-8, scale, "run");
+      CHECK_REL(worst_step, 0.0, 1e-8, scale, "per step");
+      if (fr) assert_true(s->y[7] < 0.0);
+      rps3_ctrl_free(c);
+      rps3_sim_free(s);
+    }
+}
+
+/* one closed-loop run at 1 kHz, RK4 at the control rate; returns the
+   largest |l - l_d| at the 1 ms samples and the status */
+static int closed_loop(const rps3_model *plant, const rps3_model *cm,
+                       const rps3_traj *tr, rps3_ctrl_kind kind, double kp,
+                       double kd, const rps3_sim_options *o, double *emax,
+                       rps3_sim **keep) {
+  rps3_sim *s;
+  rps3_ctrl *c;
+  rps3_data *w;
+  double T = rps3_traj_duration(tr);
+  int k, n = (int)(T * 1000.0 + 0.5), st = RPS3_OK;
+  assert_int_equal(rps3_sim_alloc(plant, o, &s, NULL, 0), RPS3_OK);
+  assert_int_equal(rps3_ctrl_alloc(kind, kp, kd, cm, tr, &c, NULL, 0), RPS3_OK);
+  assert_int_equal(rps3_data_alloc(plant, &w), RPS3_OK);
+  *emax = 0.0;
+  {
+    rps3_controller ctl = {rps3_ctrl_update, c, 1000.0};
+    start_on(s, plant, tr, 0.0);
+    for (k = 1; k <= n; k++) {
+      st = rps3_sim_advance(s, &ctl, 1e-3 * k);
+      if (st != RPS3_OK) break;
+      *emax = fmax(*emax, length_error(plant, tr, w, s->y, 1e-3 * k));
+    }
+  }
+  rps3_data_free(w);
+  rps3_ctrl_free(c);
+  if (keep != NULL)
+    *keep = s;
+  else
+    rps3_sim_free(s);
+  return st;
+}
+
+/*
+ * Closed loop on the paper's helix (Table II plant, m/M = 0.5): computed
+ * torque with the exact model tracks to within its discretisation (ZOH at
+ * 1 kHz); with a controller model that ignores link mass (the paper's case
+ * 1) the error grows by orders of magnitude; PD + gravity beats PD.
+ */
+static void controllers_track_the_helix(void **state) {
+  rps3_model plant, light;
+  rps3_traj tr;
+  rps3_sim_options o;
+  double ect, ect_light, epd, epdg;
+  (void)state;
+  rps3_model_default(&plant);
+  assert_int_equal(rps3_model_init(&plant, NULL, 0), RPS3_OK);
+  light = plant;
+  light.m = 0.0;
+  assert_int_equal(rps3_model_init(&light, NULL, 0), RPS3_OK);
+  rps3_traj_default(&tr);
+  rps3_sim_options_default(&o);
+  assert_int_equal(closed_loop(&plant, &plant, &tr, RPS3_CTRL_COMPUTED_TORQUE,
+                               400.0, 40.0, &o, &ect, NULL), RPS3_OK);
+  assert_int_equal(closed_loop(&plant, &light, &tr, RPS3_CTRL_COMPUTED_TORQUE,
+                               400.0, 40.0, &o, &ect_light, NULL), RPS3_OK);
+  assert_int_equal(closed_loop(&plant, &plant, &tr, RPS3_CTRL_PD, 2000.0, 40.0,
+                               &o, &epd, NULL), RPS3_OK);
+  assert_int_equal(closed_loop(&plant, &plant, &tr, RPS3_CTRL_PD_GRAVITY,
+                               2000.0, 40.0, &o, &epdg, NULL), RPS3_OK);
+  print_message("helix, 1 kHz: computed torque %.3g m (exact model), %.3g m "
+                "(model without link mass), PD %.3g m, PD + gravity %.3g m\n",
+                ect, ect_light, epd, epdg);
+  assert_true(ect < 1e-5);
+  assert_true(ect_light > 100.0 * ect);
+  assert_true(epdg < epd);
+}
+
+/* the noise generator: reproducible by seed, of the requested spread, and
+   quantisation puts measurements on the grid */
+typedef struct {
+  const rps3_sim *s;
+  rps3_ctrl *c;
+  double sum, sum2;
+  long n;
+  int on_grid;
+  double q;
+} probe;
+
+static int probing(void *state, double t, const double l[3],
+                   const double dl[3], double F[3]) {
+  probe *p = (probe *)state;
+  int i;
+  for (i = 0; i < 3; i++) {
+    double e = l[i] - p->s->y[i];
+    p->sum += e;
+    p->sum2 += e * e;
+    p->n++;
+    if (p->q > 0 && fabs(l[i] / p->q - nearbyint(l[i] / p->q)) > 1e-6)
+      p->on_grid = 0;
+  }
+  return rps3_ctrl_update(p->c, t, l, dl, F);
+}
+
+static void noise_and_quantisation(void **state) {
+  rps3_model m;
+  rps3_traj tr;
+  rps3_sim_options o;
+  double y1[6];
+  int run;
+  (void)state;
+  rps3_model_default(&m);
+  assert_int_equal(rps3_model_init(&m, NULL, 0), RPS3_OK);
+  rps3_traj_default(&tr);
+  for (run = 0; run < 4; run++) {
+    rps3_sim *s;
+    probe p;
+    rps3_sim_options_default(&o);
+    o.noise_l = 1.3e-5;
+    o.noise_dl = 2.1e-4;
+    o.seed = (run == 2) ? 977UL : 4211UL;
+    if (run == 3) {
+      o.noise_l = 0.0;
+      o.quant_l = 1e-5;
+    }
+    memset(&p, 0, sizeof(p));
+    p.on_grid = 1;
+    p.q = o.quant_l;
+    assert_int_equal(rps3_sim_alloc(&m, &o, &s, NULL, 0), RPS3_OK);
+    assert_int_equal(rps3_ctrl_alloc(RPS3_CTRL_PD_GRAVITY, 2000.0, 40.0, &m,
+                                     &tr, &p.c, NULL, 0), RPS3_OK);
+    p.s = s;
+    {
+      rps3_controller ctl = {probing, &p, 1000.0};
+      start_on(s, &m, &tr, 0.0);
+      assert_int_equal(rps3_sim_advance(s, &ctl, 2.0), RPS3_OK);
+    }
+    if (run == 0) memcpy(y1, s->y, sizeof(y1));
+    if (run == 1) assert_memory_equal(y1, s->y, sizeof(y1));
+    if (run == 2) assert_true(memcmp(y1, s->y, sizeof(y1)) != 0);
+    if (run < 3) {
+      /* 6000 samples: the mean within 4 sigma / sqrt(n), the spread 5% */
+      double mean = p.sum / (double)p.n;
+      double sd = sqrt(p.sum2 / (double)p.n - mean * mean);
+      assert_true(fabs(mean) < 4.0 * o.noise_l / sqrt((double)p.n));
+      CHECK_REL(sd, o.noise_l, 0.05, o.noise_l, "noise spread");
+    } else {
+      assert_true(p.on_grid);
+    }
+    rps3_ctrl_free(p.c);
+    rps3_sim_free(s);
+  }
+}
+
+/* hard cases: each ends in a clean status with its time, or stays stable */
+static void hard_cases(void **state) {
+  rps3_model m, m0;
+  rps3_traj tr;
+  rps3_sim_options o;
+  rps3_sim *s;
+  double e;
+  int st, k;
+  (void)state;
+  rps3_model_default(&m);
+  m.opt.effects = RPS3_EFF_ALL & ~RPS3_EFF_PAYLOAD;
+  assert_int_equal(rps3_model_init(&m, NULL, 0), RPS3_OK);
+  rps3_sim_options_default(&o);
+
+  /* towards the base: no forces, the platform falls until a singular
+     configuration or the base stops the run, with finite states */
+  assert_int_equal(rps3_sim_alloc(&m, &o, &s, NULL, 0), RPS3_OK);
+  {
+    rps3_controller ctl = {zero_force, NULL, 0.0};
+    double pose[3] = {0.4, 0.15, 0.25}, dpose[3] = {0, 0, -0.1};
+    assert_int_equal(rps3_sim_start(s, 0.0, pose, dpose), RPS3_OK);
+    st = rps3_sim_advance(s, &ctl, 3.0);
+    print_message("falling platform: %s at t = %.4g s: %s\n",
+                  rps3_strerror(st), s->failed_at, s->d->err.msg);
+    assert_true(st > 0);
+    assert_true(s->failed_at > 0.0 && s->failed_at < 3.0);
+    for (k = 0; k < 8; k++) assert_true(isfinite(s->y[k]));
+    assert_int_equal(rps3_sim_advance(s, &ctl, 4.0), st); /* stays stopped */
+  }
+  rps3_sim_free(s);
+
+  /* towards the singular surface: a path whose tilt passes beta* */
+  {
+    rps3_data *d;
+    double bs;
+    assert_int_equal(rps3_data_alloc(&m, &d), RPS3_OK);
+    bs = singular_beta(&m, d, 0.12, 0.3, 1.5);
+    rps3_data_free(d);
+    memset(&tr, 0, sizeof(tr));
+    tr.kind = RPS3_TRAJ_SINE;
+    tr.sine.mean[1] = bs - 0.2;
+    tr.sine.amp[1] = 0.4;
+    tr.sine.freq[1] = 0.25;
+    tr.sine.phase[1] = -0.5 * PI;
+    tr.sine.mean[2] = 0.12;
+    tr.sine.duration = 2.0;
+    st = closed_loop(&m, &m, &tr, RPS3_CTRL_COMPUTED_TORQUE, 400.0, 40.0, &o,
+                     &e, &s);
+    print_message("towards beta* = %.4f: %s at t = %.4g s: %s\n", bs,
+                  rps3_strerror(st), s->failed_at, s->d->err.msg);
+    assert_true(st == RPS3_ESING || st == RPS3_EBRANCH || st == RPS3_ENOCONV);
+    assert_true(s->failed_at > 0.0 && s->failed_at < 2.0);
+    assert_true(strlen(s->d->err.msg) > 0);
+    rps3_sim_free(s);
+  }
+
+  /* a controller that saturates: the actuators clip, the run ends clean */
+  rps3_traj_default(&tr);
+  o.fmax = 0.5;
+  st = closed_loop(&m, &m, &tr, RPS3_CTRL_PD_GRAVITY, 2000.0, 40.0, &o, &e, &s);
+  print_message("fmax 0.5 N: %s, %ld of %ld ticks saturated, error %.3g m\n",
+                rps3_strerror(st), s->nsat, s->nticks, e);
+  assert_true(s->nsat > 0);
+  assert_true(st == RPS3_OK || s->failed_at > 0.0);
+  rps3_sim_free(s);
+  o.fmax = 0.0;
+
+  /* zero link mass in the plant (the paper's case 1) */
+  m0 = m;
+  m0.m = 0.0;
+  assert_int_equal(rps3_model_init(&m0, NULL, 0), RPS3_OK);
+  assert_int_equal(closed_loop(&m0, &m0, &tr, RPS3_CTRL_COMPUTED_TORQUE, 400.0,
+                               40.0, &o, &e, NULL), RPS3_OK);
+  assert_true(e < 1e-5);
+
+  /* the stroke: a run that leaves [l_min, l_max] stops with EREACH */
+  o.l_max = 0.3;
+  st = closed_loop(&m, &m, &tr, RPS3_CTRL_PD, 20.0, 1.0, &o, &e, &s);
+  assert_int_equal(st, RPS3_EREACH);
+  assert_non_null(strstr(s->d->err.msg, "stroke"));
+  rps3_sim_free(s);
+}
+
+/*
+ * Stick-slip: a PD controller holds the platform still against Coulomb
+ * friction at the pins (the links stick).  With exact sign the equations
+ * are discontinuous at dtheta = 0; rkf45 must still finish (it may not
+ * stall: max_steps bounds it), and the regularised law must need fewer
+ * evaluations.  Both counts are printed: the measurement.
+ */
+static void stick_slip(void **state) {
+  rps3_model m;
+  rps3_traj tr;
+  rps3_sim_options o;
+  long evals[2];
+  int k;
+  (void)state;
+  rps3_traj_default(&tr);
+  tr.helix.period = 0.5;
+  tr.helix.blend = 0.125;
+  for (k = 0; k < 2; k++) {
+    rps3_sim *s;
+    double e;
+    int st;
+    rps3_model_default(&m);
+    m.opt.effects = RPS3_EFF_DEFAULT | RPS3_EFF_PIN_FRICTION;
+    m.friction.coulomb = 0.05;
+    m.friction.viscous = 0.002;
+    m.friction.vreg = k ? 1e-3 : 0.0;
+    assert_int_equal(rps3_model_init(&m, NULL, 0), RPS3_OK);
+    rps3_sim_options_default(&o);
+    o.integrator = RPS3_INT_RKF45;
+    o.epsabs = o.epsrel = 1e-8;
+    st = closed_loop(&m, &m, &tr, RPS3_CTRL_PD_GRAVITY, 3000.0, 20.0, &o, &e,
+                     &s);
+    evals[k] = s->nevals;
+    print_message("stick-slip, %s: %s, %ld steps, %ld evaluations, error "
+                  "%.3g m\n", k ? "tanh(dtheta / 1e-3)" : "exact sign",
+                  rps3_strerror(st), s->nsteps, s->nevals, e);
+    assert_int_equal(st, RPS3_OK);
+    rps3_sim_free(s);
+  }
+  assert_true(evals[1] < evals[0]);
+}
+
+/* bad options and calls: messages naming the field, statuses */
+static void errors(void **state) {
+  rps3_model m;
+  rps3_sim_options o;
+  rps3_sim *s = NULL;
+  char err[256];
+  (void)state;
+  rps3_model_default(&m);
+  assert_int_equal(rps3_model_init(&m, NULL, 0), RPS3_OK);
+  rps3_sim_options_default(&o);
+  o.h = -1e-3;
+  assert_int_equal(rps3_sim_alloc(&m, &o, &s, err, sizeof(err)), RPS3_EINVAL);
+  assert_non_null(strstr(err, "simulate.h = "));
+  assert_null(s);
+  rps3_sim_options_default(&o);
+  o.integrator = RPS3_INT_RKF45;
+  o.epsabs = o.epsrel = 0.0;
+  assert_int_equal(rps3_sim_alloc(&m, &o, &s, err, sizeof(err)), RPS3_EINVAL);
+  assert_non_null(strstr(err, "simulate.epsabs"));
+  rps3_sim_options_default(&o);
+  o.l_max = o.l_min;
+  assert_int_equal(rps3_sim_alloc(&m, &o, &s, err, sizeof(err)), RPS3_EINVAL);
+  o.l_max = HUGE_VAL;
+  o.noise_l = (double)NAN;
+  assert_int_equal(rps3_sim_alloc(&m, &o, &s, err, sizeof(err)), RPS3_EINVAL);
+  assert_non_null(strstr(err, "simulate.noise_l"));
+  assert_int_equal(rps3_sim_alloc(&m, NULL, &s, err, sizeof(err)), RPS3_OK);
+  {
+    rps3_controller ctl = {zero_force, NULL, -1.0};
+    assert_int_equal(rps3_sim_advance(s, &ctl, 1.0), RPS3_ESTATE);
+  }
+  rps3_sim_free(s);
+  rps3_sim_free(NULL);
+  assert_string_equal(rps3_integrator_name(RPS3_INT_MSBDF), "msbdf");
+  assert_int_equal(rps3_integrator_index("rk4imp"), RPS3_INT_RK4IMP);
+  assert_int_equal(rps3_integrator_index("euler"), -1);
+  assert_string_equal(rps3_ctrl_name(RPS3_CTRL_PD_GRAVITY), "pd_gravity");
+  assert_int_equal(rps3_ctrl_index("computed_torque"),
+                   RPS3_CTRL_COMPUTED_TORQUE);
+  {
+    rps3_traj tr;
+    rps3_ctrl *c = NULL;
+    rps3_traj_default(&tr);
+    assert_int_equal(rps3_ctrl_alloc(RPS3_CTRL_PD, -1.0, 0.0, &m, &tr, &c, err,
+                                     sizeof(err)), RPS3_EINVAL);
+    assert_non_null(strstr(err, "simulate.kp"));
+    tr.helix.period = -1.0;
+    assert_int_equal(rps3_ctrl_alloc(RPS3_CTRL_PD, 1.0, 0.0, &m, &tr, &c, err,
+                                     sizeof(err)), RPS3_EINVAL);
+    assert_null(c);
+  }
+}
+
+/* the implicit integrators run the same round trip (stiff friction is what
+   they are for; here they must agree with the explicit ones) */
+static void implicit_integrators(void **state) {
+  rps3_model m;
+  rps3_traj tr;
+  int integ;
+  (void)state;
+  model_entropy(&m);
+  m.friction.vreg = 1e-3;
+  m.friction.coulomb = 0.02;
+  assert_int_equal(rps3_model_init(&m, NULL, 0), RPS3_OK);
+  fast_sine(&tr);
+  for (integ = RPS3_INT_MSBDF; integ <= RPS3_INT_RK4IMP; integ++) {
+    rps3_sim_options o;
+    rps3_sim *s;
+    rps3_ctrl *c;
+    rps3_data *w;
+    double e;
+    rps3_sim_options_default(&o);
+    o.integrator = (rps3_integrator)integ;
+    o.epsabs = o.epsrel = 1e-10;
+    o.h = 1e-4;
+    assert_int_equal(rps3_sim_alloc(&m, &o, &s, NULL, 0), RPS3_OK);
+    assert_int_equal(rps3_ctrl_alloc(RPS3_CTRL_OPEN_LOOP, 0, 0, &m, &tr, &c,
+                                     NULL, 0), RPS3_OK);
+    assert_int_equal(rps3_data_alloc(&m, &w), RPS3_OK);
+    {
+      rps3_controller ctl = {rps3_ctrl_update, c, 0.0};
+      start_on(s, &m, &tr, 0.7);
+      if (rps3_sim_advance(s, &ctl, 0.75) != RPS3_OK)
+        fail_msg("%s: %s", rps3_integrator_name(integ), s->d->err.msg);
+      e = length_error(&m, &tr, w, s->y, 0.75);
+    }
+    print_message("%s: |l - l_d| %.3g m after 0.05 s, %ld steps, %ld "
+                  "evaluations\n", rps3_integrator_name(integ), e, s->nsteps,
+                  s->nevals);
+    assert_true(e < 1e-8);
+    rps3_data_free(w);
+    rps3_ctrl_free(c);
+    rps3_sim_free(s);
+  }
+}
+
+int main(void) {
+  const struct CMUnitTest tests[] = {
+      cmocka_unit_test(round_trip_every_effect),
+      cmocka_unit_test(rk4_converges_at_order_4),
+      cmocka_unit_test(energy_balance),
+      cmocka_unit_test(controllers_track_the_helix),
+      cmocka_unit_test(noise_and_quantisation),
+      cmocka_unit_test(hard_cases),
+      cmocka_unit_test(stick_slip),
+      cmocka_unit_test(errors),
+      cmocka_unit_test(implicit_integrators),
+  };
+  gsl_set_error_handler_off();
+  return cmocka_run_group_tests(tests, NULL, NULL);
+}
