@@ -294,9 +294,14 @@ int rps3_theta_solve(const rps3_model *m, rps3_data *d) {
 }
 
 int rps3_fk(const rps3_model *m, rps3_data *d) {
-  double a1, a2, a3, sb;
   int status = rps3_theta_solve(m, d);
   if (status != RPS3_OK) return status;
+  rps3_pose_from_frame(d);
+  return RPS3_OK;
+}
+
+void rps3_pose_from_frame(rps3_data *d) {
+  double a1, a2, a3, sb;
   /* a = rot e_z = (sin b cos a, sin b sin a, cos b) for Rz(a) Ry(b) Rz(-a) */
   a1 = d->rot[0][2];
   a2 = d->rot[1][2];
@@ -311,7 +316,6 @@ int rps3_fk(const rps3_model *m, rps3_data *d) {
     d->pose[0] = atan2(a2, a1);
   }
   d->pose[2] = d->c[2];
-  return RPS3_OK;
 }
 
 /* (8)-(10) and the Jacobian the solver uses, for normalized lengths L and

@@ -213,6 +213,54 @@ static double mass_cond(const double Mq[3][3]) {
   return rps3_lu_cond1(3, A, LU, perm);
 }
 
+/*
+ * Positions from l by Newton's method on (8)-(10) from the warm start: in a
+ * simulation the previous evaluation's theta is within a step of the
+ * answer, and two or three Newton steps converge where GSL's hybridsj
+ * costs its set-up on every call.  The same convergence test as
+ * rps3_theta_solve (max |f_k| / R^2 <= opt.tol).  Returns 0 when it
+ * converged to a root that rps3_theta_solve would accept (0 < theta < pi,
+ * not the spun platform); otherwise the caller falls back to rps3_fk,
+ * which decides and reports.
+ */
+#define NEWTON_MAX 8
+static int theta_newton(const rps3_model *m, rps3_data *d) {
+  double L[3];
+  int it, i, k;
+  if (!(m->opt.warm_start && d->have_theta && v3_finite(d->theta)) ||
+      !v3_finite(d->l) || !(d->l[0] > 0 && d->l[1] > 0 && d->l[2] > 0))
+    return -1;
+  for (i = 0; i < 3; i++) L[i] = d->l[i] / m->R;
+  for (it = 0; it <= NEWTON_MAX; it++) {
+    /* (8)-(10) in units of R, as the GSL solve sees them */
+    double f[3], J[3][3], LU[9], resid = 0.0;
+    int perm[3];
+    rps3_theta_constraints(L, m->rho, d->theta, f, J);
+    for (k = 0; k < 3; k++) resid = fmax(resid, fabs(f[k]));
+    if (!(resid < HUGE_VAL)) return -1;
+    if (resid <= m->opt.tol) {
+      d->solve_niter = it;
+      d->solve_resid = resid;
+      break;
+    }
+    if (it == NEWTON_MAX) return -1;
+    for (i = 0; i < 3; i++)
+      for (k = 0; k < 3; k++) LU[3 * i + k] = J[i][k];
+    if (rps3_lu_factor(3, LU, perm) != 0) return -1;
+    rps3_lu_solve(3, LU, perm, f);
+    for (i = 0; i < 3; i++) d->theta[i] -= f[i];
+  }
+  for (i = 0; i < 3; i++) {
+    d->theta[i] = remainder(d->theta[i], 2.0 * RPS3_PI);
+    if (!(d->theta[i] > 0.0 && d->theta[i] < RPS3_PI)) return -1;
+  }
+  rps3_links_from_joints(m, d);
+  rps3_frame_from_balls(m, d);
+  if (d->rot[0][0] + d->rot[1][1] < 0.0) return -1; /* spun platform */
+  rps3_pose_from_frame(d);
+  return 0;
+}
+
 /* a failure leaves no acceleration that could be read as one */
 static void poison(rps3_data *d) {
   d->ddl[0] = d->ddl[1] = d->ddl[2] = (double)NAN;
@@ -240,11 +288,24 @@ int rps3_fwddyn(const rps3_model *m, rps3_data *d) {
   v3_copy(dl, d->dl);
   v3_copy(F, d->F);
 
-  /* positions: theta from l, warm-started on the tracked assembly mode */
-  status = rps3_fk(m, d);
-  if (status != RPS3_OK) {
-    poison(d);
-    return status;
+  /* positions: theta from l, warm-started on the tracked assembly mode;
+     Newton from the warm start, else the full solve (which reports) */
+  {
+    double th0[3];
+    v3_copy(th0, d->theta);
+    d->stage = 0;
+    d->warn = 0;
+    if (theta_newton(m, d) == 0) {
+      d->have_theta = 1;
+      d->stage = RPS3_STAGE_POS;
+    } else {
+      v3_copy(d->theta, th0);
+      status = rps3_fk(m, d);
+      if (status != RPS3_OK) {
+        poison(d);
+        return status;
+      }
+    }
   }
   /* rates, and the accelerations at l'' = 0 (the bias) */
   v3_copy(d->dl, dl);

@@ -97,6 +97,10 @@ void rps3_frame_from_balls(const rps3_model *m, rps3_data *d);
 void rps3_theta_constraints(const double L[3], double rho, const double th[3],
                             double f[3], double J[3][3]);
 
+/* the pose (alpha, beta, z_c) of the frame rot, c, as rps3_fk reports it
+   (alpha = 0 and RPS3_WARN_ALPHA when beta ~ 0) */
+void rps3_pose_from_frame(rps3_data *d);
+
 /* constraint Jacobian blocks of f_k = |b_i - b_j|^2 - 3 r^2 (8)-(10):
    Jl[k][i] = d f_k / d l_i, Jt[k][i] = d f_k / d theta_i */
 void rps3_constraint_jacobian(const rps3_data *d, double Jl[3][3],

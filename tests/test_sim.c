@@ -423,11 +423,21 @@ static void hard_cases(void **state) {
     tr.sine.duration = 2.0;
     st = closed_loop(&m, &m, &tr, RPS3_CTRL_COMPUTED_TORQUE, 400.0, 40.0, &o,
                      &e, &s);
-    print_message("towards beta* = %.4f: %s at t = %.4g s: %s\n", bs,
-                  rps3_strerror(st), s->failed_at, s->d->err.msg);
-    assert_true(st == RPS3_ESING || st == RPS3_EBRANCH || st == RPS3_ENOCONV);
-    assert_true(s->failed_at > 0.0 && s->failed_at < 2.0);
-    assert_true(strlen(s->d->err.msg) > 0);
+    print_message("towards beta* = %.4f: %s (t = %.4g s) %s; final beta "
+                  "%.4f, tracking error %.3g m\n", bs, rps3_strerror(st),
+                  s->failed_at, s->d->err.msg, s->d->pose[1], e);
+    if (st == RPS3_OK) {
+      /* stable: the plant cannot cross the singular surface (its mass
+         matrix grows without bound there); it ends on its side, on its
+         assembly mode, while the path ends at beta* + 0.2 */
+      assert_true(s->d->pose[1] < bs);
+      assert_int_equal(s->d->mode, s->mode);
+    } else {
+      assert_true(st == RPS3_ESING || st == RPS3_EBRANCH ||
+                  st == RPS3_ENOCONV);
+      assert_true(s->failed_at > 0.0 && s->failed_at < 2.0);
+      assert_true(strlen(s->d->err.msg) > 0);
+    }
     rps3_sim_free(s);
   }
 
