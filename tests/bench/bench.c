@@ -35,6 +35,9 @@
 #define RATE_HZ 1000.0  /* sampling of the trajectory */
 #define TARGET_INVDYN_NS 250.0   /* issue 5: closed-form theta, full scene */
 #define TARGET_PIPELINE_NS 1500.0 /* issue 5: warm multiroot pipeline */
+#define FWDDYN_PER_INVERSE 3.0   /* issue 12: rps3_fwddyn <= 3 rps3_inverse */
+#define TARGET_SIM_NS 1000.0     /* issue 12: >= 1000x real time, i.e. one
+                                    simulated 1 ms control period in 1 us */
 
 /* the points every case loops over */
 typedef struct {
@@ -46,6 +49,8 @@ typedef struct {
      entry point */
   int nchunk;
   double *soa_pose, *soa_dpose, *soa_ddpose;
+  double (*dl)[3]; /* link rates and forces of the full scene by */
+  double (*F)[3];  /* rps3_inverse: inputs of rps3_fwddyn */
 } points;
 
 /* points per rps3_inverse_batch call */
@@ -61,7 +66,9 @@ typedef enum {
   K_JACC,     /* rps3_joint_acceleration on the ring */
   K_INVDYN,   /* rps3_invdyn on the ring */
   K_ANCHOR,   /* the SymPy-generated forces along the trajectory */
-  K_BATCH     /* rps3_inverse_batch over BATCH_N points at a time */
+  K_BATCH,    /* rps3_inverse_batch over BATCH_N points at a time */
+  K_FWDDYN,   /* rps3_fwddyn along the trajectory */
+  K_SIM       /* one 1 ms control period of a closed-loop simulation */
 } case_kind;
 
 typedef struct {
@@ -81,6 +88,9 @@ typedef struct {
   /* rps3_inverse_batch buffers */
   int *b_status;
   double *b_F;
+  rps3_sim *sim;           /* K_SIM: the plant ... */
+  rps3_ctrl *ctrl;         /* ... its computed-torque controller */
+  long tick;               /* ... and the control period it is in */
 } bench_case;
 
 static double clock_ns(clockid_t id) {
@@ -196,6 +206,34 @@ static void run_batch(bench_case *c, const points *pt, long ncalls) {
       c->failures += (long)out.nfail;
     }
     break;
+  case K_FWDDYN:
+    /* as in a simulation: theta warm from the previous evaluation */
+    for (i = 0; i < ncalls; i++) {
+      p = walk(c, pt->n);
+      copy3(d->l, pt->l[p]);
+      copy3(d->dl, pt->dl[p]);
+      copy3(d->F, pt->F[p]);
+      if (rps3_fwddyn(m, d) != RPS3_OK) c->failures++;
+      c->iter += d->solve_niter;
+    }
+    c->solves += ncalls;
+    break;
+  case K_SIM:
+    for (i = 0; i < ncalls; i++) {
+      rps3_controller ctl;
+      ctl.fn = rps3_ctrl_update;
+      ctl.state = c->ctrl;
+      ctl.rate = RATE_HZ;
+      if (c->tick == pt->n - 1 || c->sim->status != RPS3_OK) {
+        /* the end of the helix: start it again */
+        if (c->sim->status != RPS3_OK) c->failures++;
+        rps3_sim_start(c->sim, 0.0, pt->pose[0], pt->dpose[0]);
+        c->tick = 0;
+      }
+      c->tick++;
+      rps3_sim_advance(c->sim, &ctl, (double)c->tick / RATE_HZ);
+    }
+    break;
   }
 }
 
@@ -257,7 +295,9 @@ static void make_points(points *pt) {
   pt->dpose = malloc((size_t)pt->n * sizeof(*pt->dpose));
   pt->ddpose = malloc((size_t)pt->n * sizeof(*pt->ddpose));
   pt->l = malloc((size_t)pt->n * sizeof(*pt->l));
-  if (!pt->pose || !pt->dpose || !pt->ddpose || !pt->l ||
+  pt->dl = malloc((size_t)pt->n * sizeof(*pt->dl));
+  pt->F = malloc((size_t)pt->n * sizeof(*pt->F));
+  if (!pt->pose || !pt->dpose || !pt->ddpose || !pt->l || !pt->dl || !pt->F ||
       rps3_data_alloc(&m, &d) != RPS3_OK) {
     fprintf(stderr, "rps3-bench: out of memory\n");
     exit(2);
@@ -270,11 +310,15 @@ static void make_points(points *pt) {
       exit(2);
     }
     copy3(d->pose, pt->pose[p]);
-    if (rps3_ik(&m, d) != RPS3_OK) {
-      fprintf(stderr, "rps3-bench: ik at t = %g: %s\n", t, d->err.msg);
+    copy3(d->dpose, pt->dpose[p]);
+    copy3(d->ddpose, pt->ddpose[p]);
+    if (rps3_inverse(&m, d) != RPS3_OK) {
+      fprintf(stderr, "rps3-bench: inverse at t = %g: %s\n", t, d->err.msg);
       exit(2);
     }
     copy3(pt->l[p], d->l);
+    copy3(pt->dl[p], d->dl);
+    copy3(pt->F[p], d->F);
   }
   rps3_data_free(d);
   /* the chunks for the batch entry point */
@@ -578,6 +622,16 @@ int main(int argc, char **argv) {
        "(hybridsj) warm from the previous sample, full scene, Newton-Euler",
        K_INVERSE, SCENE_FULL, RPS3_NEWTON_EULER, RPS3_THETA_MULTIROOT, 1, 1,
        TARGET_PIPELINE_NS, 1);
+  CASE("fwddyn_full", "rps3_fwddyn: (l, dl, F) -> ddl and every rate, full "
+       "scene, theta warm from the previous 1 ms sample; target 3x "
+       "pipeline_closed_lagrange_full_nocert of this run", K_FWDDYN,
+       SCENE_FULL, RPS3_LAGRANGE, RPS3_THETA_CLOSED_FORM, 1, 0, BENCH_NONE, 1);
+  CASE("sim_helix_computed_torque_1khz_rk4", "one 1 ms control period of "
+       "the paper's helix under computed torque (kp 400, kd 40, its own "
+       "exact model), the paper's effects, RK4 at the control rate (4 "
+       "fwddyn + 1 to settle + the controller's invdyn); 1000 ns = 1000x "
+       "real time", K_SIM, SCENE_PAPER, RPS3_LAGRANGE,
+       RPS3_THETA_CLOSED_FORM, 1, 0, TARGET_SIM_NS, 0);
 #undef CASE
 
   /* -k: keep the matching cases only */
@@ -606,6 +660,17 @@ int main(int argc, char **argv) {
     }
     fill_ring(c, &pt);
     c->dir = 1;
+    if (c->kind == K_SIM) {
+      rps3_traj tr;
+      rps3_traj_default(&tr);
+      if (rps3_sim_alloc(&c->m, NULL, &c->sim, NULL, 0) != RPS3_OK ||
+          rps3_ctrl_alloc(RPS3_CTRL_COMPUTED_TORQUE, 400.0, 40.0, &c->m, &tr,
+                          &c->ctrl, NULL, 0) != RPS3_OK ||
+          rps3_sim_start(c->sim, 0.0, pt.pose[0], pt.dpose[0]) != RPS3_OK) {
+        fprintf(stderr, "rps3-bench: %s: set-up failed\n", c->name);
+        return 2;
+      }
+    }
     /* warm-up batch: caches, branch predictors, the walk's warm start */
     run_batch(c, &pt, calls);
     c->iter = c->solves = c->failures = 0;
@@ -626,6 +691,14 @@ int main(int argc, char **argv) {
      the per-case sort */
   nratio = ratios(cases, ncase, batches, rat);
   for (i = 0; i < ncase; i++) summarize(&cases[i], calls, batches, &rows[i]);
+  /* the forward dynamics' target is relative to this run's inverse */
+  for (i = 0; i < ncase; i++)
+    if (strcmp(rows[i].name, "fwddyn_full") == 0) {
+      int j;
+      for (j = 0; j < ncase; j++)
+        if (strcmp(rows[j].name, "pipeline_closed_lagrange_full_nocert") == 0)
+          rows[i].target_ns = FWDDYN_PER_INVERSE * rows[j].median_ns;
+    }
 
   /* the table */
   machine_name(machine, sizeof(machine));
@@ -676,6 +749,8 @@ int main(int argc, char **argv) {
 
   for (i = 0; i < ncase; i++) {
     rps3_data_free(cases[i].d);
+    rps3_sim_free(cases[i].sim);
+    rps3_ctrl_free(cases[i].ctrl);
     free(cases[i].per_call);
     free(cases[i].cpu_call);
     free(cases[i].b_status);
@@ -688,5 +763,7 @@ int main(int argc, char **argv) {
   free(pt.soa_pose);
   free(pt.soa_dpose);
   free(pt.soa_ddpose);
+  free(pt.dl);
+  free(pt.F);
   return fail;
 }
