@@ -7,6 +7,7 @@
  * it is about, so that the runner can print FILE:LINE:COLUMN: key: what.
  */
 #include "scene.h"
+#include "scene_guard.h"
 
 #include <ctype.h>
 #include <errno.h>
@@ -904,47 +905,12 @@ static int check_keys(parse_ctx *c)
   return 0;
 }
 
+/* the file, checked before libyaml sees it (scene_guard.h) */
 static int read_file(scene *s, const char *path, scene_error *err)
 {
-  FILE *f = fopen(path, "rb");
-  scene_mark none = {0, 0};
-  size_t cap = 4096, len = 0, got;
-  char *buf;
-  if (!f) {
-    error_set(err, none, "(file)", "cannot open: %s", strerror(errno));
+  if (scene_read_guarded(path, &s->text, &s->text_len, err))
     return -1;
-  }
-  buf = malloc(cap + 1);
-  while (buf && (got = fread(buf + len, 1, cap - len, f)) > 0) {
-    len += got;
-    if (len == cap) {
-      char *nb = realloc(buf, 2 * cap + 1);
-      if (!nb) {
-        free(buf);
-        buf = NULL;
-        break;
-      }
-      buf = nb;
-      cap *= 2;
-    }
-  }
-  if (!buf || ferror(f)) {
-    error_set(err, none, "(file)", "cannot read: %s",
-              buf ? strerror(errno) : "out of memory");
-    free(buf);
-    fclose(f);
-    return -1;
-  }
-  fclose(f);
-  buf[len] = '\0';
-  if (strlen(buf) != len) {
-    error_set(err, none, "(file)", "contains a NUL byte; not a text file");
-    free(buf);
-    return -1;
-  }
-  s->text = buf;
-  s->text_len = len;
-  return 0;
+  return scene_text_guard(s->text, s->text_len, err);
 }
 
 int scene_load(scene *s, const char *path, scene_error *err)

@@ -3,6 +3,7 @@
  * paper's helix (section VI, Tables I-II) and a sinusoid per pose
  * coordinate.  A new kind adds a struct to rps3_traj, a check and an eval.
  */
+#include <math.h>
 #include <string.h>
 
 #include "internal.h"
@@ -51,6 +52,21 @@ int rps3_traj_validate(const rps3_model *m, const rps3_traj *tr,
       return rps3_check_fail(chk, RPS3_F_HELIX_BLEND, 0, h->blend,
                              RPS3_F_HELIX_PERIOD, -1,
                              "needs 0 < t_a <= T* / 2");
+  }
+  if (tr->kind == RPS3_TRAJ_SINE) {
+    const rps3_sine *s = &tr->sine;
+    int k;
+    /* the rates reach amp w and amp w^2, and the dynamics square the
+       rates: each must be finite, or every sample fails at run time */
+    for (k = 0; k < 3; k++) {
+      double w = 2.0 * RPS3_PI * s->freq[k], a = fabs(s->amp[k]);
+      if (!isfinite((a * w) * w) || !isfinite((a * w) * (a * w)) ||
+          !isfinite(w * s->duration + s->phase[k]))
+        return rps3_check_fail(
+            chk, RPS3_F_SINE_FREQ, k, s->freq[k], RPS3_F_SINE_AMP, -1,
+            "the rates overflow: amp (2 pi freq)^2 or (amp 2 pi freq)^2 is "
+            "not finite");
+    }
   }
   return RPS3_OK;
 }
