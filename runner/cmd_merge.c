@@ -13,6 +13,7 @@
 #include "parts.h"
 #include "safeio.h"
 #include "tmpout.h"
+#include "verify.h"
 
 /*
  * rps3-run merge OUT.h5 PART.h5 ...: the parts of shards 0..N-1, in any
@@ -82,8 +83,19 @@ int merge_main(int argc, char **argv, const char *cmd)
     goto done;
   }
   stale_report("rps3-run merge", out_path);
+  if (verify_same_versions(byk, n, err, sizeof err)) {
+    fprintf(stderr, "rps3-run merge: %s\n", err);
+    goto done;
+  }
 
+  /* every chunk of every part decodes (checksums, compression) before the
+     merged file can claim the parts' cases */
   code = EXIT_IO;
+  for (i = 0; i < n; i++)
+    if (verify_file(byk[i], err, sizeof err)) {
+      fprintf(stderr, "rps3-run merge: %s\n", err);
+      goto done;
+    }
   if (tmpout_name(out_path, (long)getpid(), 0))
     goto done;
   tmpout_arm();

@@ -376,8 +376,8 @@ int join_part_check(const char *path, size_t k, size_t n, const char *text0,
     out_fail(err, errsz, "%s: cannot read status", path);
     goto done;
   }
-  /* every case of the part has a status: -1 is the fill value of a case
-     never written (a part killed before its end) */
+  /* every case of the part has a status: OUT_STATUS_NOT_COMPUTED is the
+     fill value of a case never written (a part killed before its end) */
   nrow = (dims + c0 - 1) / c0;
   for (row = k; row < nrow; row += n) {
     size_t i;
@@ -393,7 +393,7 @@ int join_part_check(const char *path, size_t k, size_t n, const char *text0,
     H5Sclose(ms);
     ms = -1;
     for (i = 0; i < (size_t)count; i++)
-      if (buf[i] < 0) {
+      if (buf[i] == OUT_STATUS_NOT_COMPUTED) {
         snprintf(err, errsz,
                  "%s: case %llu was never written: the part is incomplete",
                  path, (unsigned long long)(start + i));

@@ -349,7 +349,7 @@ int merge_count_failed(hid_t file, size_t *nfailed, size_t *nunset)
     for (i = 0; i < (size_t)nr; i++) {
       *nfailed += buf[i] != 0;
       if (nunset)
-        *nunset += buf[i] < 0;
+        *nunset += buf[i] == OUT_STATUS_NOT_COMPUTED;
     }
   }
   rc = 0;

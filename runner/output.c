@@ -239,6 +239,11 @@ static hid_t dataset(hid_t file, hid_t str, const char *name, hid_t type,
     goto done;
   if (chunk && gzip > 0 && H5Pset_deflate(dcpl, (unsigned)gzip) < 0)
     goto done;
+  /* a checksum of each stored chunk (after deflate: of the bytes on disk),
+     checked by every read: merge refuses a damaged part (verify.h); the
+     strings' chunks hold heap references, which HDF5 does not checksum */
+  if (chunk && H5Tis_variable_str(type) <= 0 && H5Pset_fletcher32(dcpl) < 0)
+    goto done;
   if (fill && H5Pset_fill_value(dcpl, type, fill) < 0)
     goto done;
   if (H5Pset_char_encoding(lcpl, H5T_CSET_UTF8) < 0)
@@ -414,7 +419,7 @@ out_file *out_create(const char *path, const scene *s,
 {
   static const int32_t one23[3] = {1, 2, 3};
   const double fnan = (double)NAN;
-  const int32_t fneg = -1;
+  const int32_t fneg = -1, fnotrun = OUT_STATUS_NOT_COMPUTED;
   out_file *f = calloc(1, sizeof *f);
   hid_t dcase = -1, dtime = -1, dlink = -1, deff = -1, dcon = -1;
   hid_t *axis_ds = NULL;
@@ -571,7 +576,8 @@ out_file *out_create(const char *path, const scene *s,
     }
     f->ds[i] = dataset(f->file, f->str, fi->name, type, rank, dims, chunk,
                        meta->gzip,
-                       fi->type == OUT_F64   ? (const void *)&fnan
+                       fi->type == OUT_F64 ? (const void *)&fnan
+                       : i == OUT_status   ? (const void *)&fnotrun
                        : fi->type == OUT_I32 ? (const void *)&fneg
                                              : NULL,
                        fi->units, fi->doc);

@@ -25,6 +25,10 @@
 typedef enum { OUT_C, OUT_CT, OUT_CTL, OUT_CTK, OUT_CTEL } out_shape;
 
 /* element types: double (NaN for missing), int32 (-1 for missing), string */
+
+/* the fill value of `status`: a case not computed (by this shard, or not
+   yet); distinct from every rps3_status, RPS3_EINVAL = -1 included */
+#define OUT_STATUS_NOT_COMPUTED (-1000)
 typedef enum { OUT_F64, OUT_I32, OUT_STR } out_type;
 
 /* X(name, shape, type, units, description) */
@@ -68,7 +72,8 @@ typedef enum { OUT_F64, OUT_I32, OUT_STR } out_type;
     "warning bits: 1 ill-conditioned lambda system, 2 alpha undefined "        \
     "(-1 missing)")                                                            \
   X(status, OUT_C, OUT_I32, "1",                                               \
-    "0 = ok, else the rps3_status code of the first failing sample")           \
+    "0 = ok, else the rps3_status code of the first failing sample; -1000 "  \
+    "= not computed (a case of another shard, or of a killed part)")          \
   X(failed_at, OUT_C, OUT_I32, "1",                                            \
     "time index of the first failing sample, -1 if none")                      \
   X(message, OUT_C, OUT_STR, "1",                                              \

@@ -389,7 +389,7 @@ def test_a_huge_shard_count_does_not_wrap_around(runner, tmp_path):
     assert "compute nothing" in proc.stderr
     with h5py.File(out, "r") as f:
         status = f["status"][()]
-        assert (status[:16] < 0).all(), status
+        assert (status[:16] == -1000).all(), status  # not computed
         assert (f["status"][16:32] == 0).all()   # job 1: cases 16-31
         assert np.isnan(f["force"][:16]).all()
 
@@ -414,3 +414,158 @@ def test_study_help_and_version(runner):
         assert "--samples N" in proc.stdout
     proc = subprocess.run([STUDY, "--version"], capture_output=True, text=True)
     assert proc.returncode == 0 and proc.stdout.startswith("rps3-study 0.")
+
+
+# ------------------------------------------------------------ scene files
+
+def refused(scene, *args):
+    t0 = time.time()
+    proc = run(scene, None, "--check", *args, timeout=30)
+    assert proc.returncode == 2, proc.stderr
+    assert time.time() - t0 < 5, "refusing a scene takes seconds at most"
+    return proc.stderr.strip()
+
+
+def test_scene_encodings_are_named(runner, tmp_path):
+    text = open(PAPER).read()
+    for enc, name in (("utf-16", "UTF-16 (little-endian)"),
+                      ("utf-16-be", "UTF-16 (big-endian)"),
+                      ("utf-32", "UTF-32 (little-endian)")):
+        scene = tmp_path / f"{enc}.yaml"
+        scene.write_bytes(text.encode(enc))
+        assert refused(scene) == (f"{scene}: (file): is {name} text: save the "
+                                  "scene as UTF-8 (e.g. iconv -f UTF-16 -t "
+                                  "UTF-8)")
+
+
+def test_invalid_utf8_and_nul_have_line_and_column(runner, tmp_path):
+    lines = open(PAPER).read().split("\n")
+    bad = list(lines)
+    bad[17] += " # caf\xe9"            # Latin-1 e-acute on line 18
+    scene = tmp_path / "latin1.yaml"
+    scene.write_bytes("\n".join(bad).encode("latin-1"))
+    col = len(lines[17]) + 7
+    assert refused(scene).startswith(
+        f"{scene}:18:{col}: (file): invalid UTF-8 (byte ")
+    scene = tmp_path / "nul.yaml"
+    data = "\n".join(lines).encode()
+    at = data.index(b"rho")
+    scene.write_bytes(data[:at] + b"\0" + data[at:])
+    line = data[:at].count(b"\n") + 1
+    col = at - data[:at].rfind(b"\n")
+    assert refused(scene) == (f"{scene}:{line}:{col}: (file): a NUL byte "
+                              f"(byte {at}): not a text file")
+    # multi-byte characters count as one column, as libyaml counts them
+    scene = tmp_path / "greek.yaml"
+    scene.write_bytes("# \u03c1\u03c1\n".encode() + b"\xc3\x28\n")
+    assert refused(scene).startswith(f"{scene}:2:1: (file): invalid UTF-8")
+
+
+def test_non_regular_and_oversized_scenes(runner, tmp_path):
+    fifo = tmp_path / "fifo.yaml"
+    os.mkfifo(fifo)
+    assert refused(fifo).endswith("is a FIFO: a scene is a regular file "
+                                  "(YAML text)")
+    assert refused("/dev/zero").endswith("is a character device: a scene is "
+                                         "a regular file (YAML text)")
+    assert refused(tmp_path).endswith("is a directory: a scene is a regular "
+                                      "file (YAML text)")
+    big = tmp_path / "big.yaml"
+    big.write_text(open(PAPER).read() + "#" * (1 << 20) + "\n")
+    assert "a scene is at most 1048576 bytes" in refused(big)
+
+
+def test_deep_nesting_is_refused_at_once(runner, tmp_path):
+    """100k nested [ took libyaml 30-58 s to reject (quadratic)."""
+    scene = tmp_path / "deep.yaml"
+    scene.write_text("[" * 100000 + "\n")
+    assert refused(scene) == (f"{scene}:1:65: [0][0][0][0]...: nested more "
+                              "than 64 levels deep: a scene needs 3")
+
+
+def test_core_numeric_tags_are_accepted(runner, tmp_path):
+    text = open(PAPER).read().replace("R: 0.2286", "R: !!float 0.2286")
+    text = text.replace("samples: 1001", "samples: !!int 1001")
+    assert text != open(PAPER).read()
+    scene = write_scene(tmp_path / "tagged.yaml", text)
+    proc = run(scene, None, "--check")
+    assert proc.returncode == 0, proc.stderr
+
+
+# ------------------------------------------------------------------ merge
+
+def two_parts(tmp_path, *extra):
+    scene = write_scene(tmp_path / "s.yaml",
+                        SINE_SWEEP.replace("num: 100", "num: 40"))
+    parts = [tmp_path / f"p{k}.h5" for k in range(2)]
+    for k, p in enumerate(parts):
+        proc = run(scene, p, "-q", "--shard", f"{k}/2", *extra)
+        assert proc.returncode == 0, proc.stderr
+    return parts
+
+
+def damage_a_chunk(path, name="force"):
+    """Flip bytes inside the first stored chunk of dataset `name`."""
+    with h5py.File(path, "r") as f:
+        ds = f[name]
+        assert ds.fletcher32            # the runner checksums every chunk
+        infos = [ds.id.get_chunk_info(i) for i in range(ds.id.get_num_chunks())]
+    info = infos[0]
+    with open(path, "r+b") as f:
+        f.seek(info.byte_offset + info.size // 2)
+        b = f.read(8)
+        f.seek(info.byte_offset + info.size // 2)
+        f.write(bytes(x ^ 0x5A for x in b))
+
+
+@pytest.mark.parametrize("extra", [[], ["--gzip", "1"]])
+@pytest.mark.parametrize("copy", [[], ["--copy"]])
+def test_merge_refuses_a_damaged_part(runner, tmp_path, extra, copy):
+    parts = two_parts(tmp_path, *extra)
+    damage_a_chunk(parts[1])
+    out = tmp_path / "all.h5"
+    proc = subprocess.run([RUNNER, "merge", str(out)] + [str(p) for p in parts]
+                          + copy, capture_output=True, text=True, timeout=120)
+    assert proc.returncode == 3, proc.stderr
+    assert f"{parts[1]}: dataset force is damaged at rows 16-31" in proc.stderr
+    assert not out.exists()
+    assert names(tmp_path) == ["p0.h5", "p1.h5", "s.yaml"]
+
+
+def test_merge_refuses_parts_of_other_versions(runner, tmp_path):
+    parts = two_parts(tmp_path)
+    for attr in ("rps3_version", "gsl_version", "hdf5_version",
+                 "yaml_version"):
+        with h5py.File(parts[1], "r+") as f:
+            keep = f.attrs[attr]
+            f.attrs[attr] = "9.9.9"
+        proc = subprocess.run([RUNNER, "merge", str(tmp_path / "all.h5")] +
+                              [str(p) for p in parts], capture_output=True,
+                              text=True, timeout=120)
+        assert proc.returncode == 2, proc.stderr
+        assert f"{parts[1]} has {attr} 9.9.9" in proc.stderr
+        assert "parts written by different versions" in proc.stderr
+        with h5py.File(parts[1], "r+") as f:
+            f.attrs[attr] = keep
+    assert names(tmp_path) == ["p0.h5", "p1.h5", "s.yaml"]
+
+
+def test_not_computed_is_not_an_error_code(runner, tmp_path):
+    """A case that failed with RPS3_EINVAL (-1) is a computed case: merge
+    keeps it (exit 1); only -1000 means "not computed"."""
+    parts = two_parts(tmp_path)
+    with h5py.File(parts[0], "r") as f:
+        assert (f["status"][16:32] == -1000).all()     # shard 1's cases
+        assert f["status"].fillvalue == -1000
+    with h5py.File(parts[1], "r+") as f:
+        f["status"][16] = -1                           # RPS3_EINVAL
+    for copy in ([], ["--copy"]):
+        out = tmp_path / f"all{len(copy)}.h5"
+        proc = subprocess.run([RUNNER, "merge", str(out)] +
+                              [str(p) for p in parts] + copy,
+                              capture_output=True, text=True, timeout=120)
+        assert proc.returncode == 1, proc.stderr
+        assert "(1 failed case)" in proc.stderr
+        with h5py.File(out, "r") as f:
+            assert f["status"][16] == -1
+            assert (np.delete(f["status"][()], 16) == 0).all()

@@ -168,7 +168,7 @@ def test_a_part_alone_holds_its_cases_only(tmp_path):
         status = f["status"][()]
         chunk = f["status"].chunks[0]
         mine = (np.arange(len(status)) // chunk) % 2 == 1
-        assert (status[~mine] == -1).all()          # fill value: not run
+        assert (status[~mine] == -1000).all()       # fill value: not run
         assert (status[mine] >= 0).all()
         assert np.isnan(f["force"][np.flatnonzero(~mine)[0]]).all()
 
@@ -217,7 +217,7 @@ def test_merge_names_what_to_run_again(tmp_path):
     # part 3 lost a case: its status back at the fill value
     with h5py.File(parts / "grid.3.h5", "r+") as f:
         chunk = f["status"].chunks[0]
-        f["status"][3 * chunk + 1] = -1
+        f["status"][3 * chunk + 1] = -1000
     given = [str(parts / f"grid.{k}.h5") for k in (0, 2, 3)]
     proc = subprocess.run([RUNNER, "merge", str(tmp_path / "m.h5"), *given],
                           capture_output=True, text=True)
@@ -337,7 +337,7 @@ def test_jobs_are_counted_and_idle_shards_warned(tmp_path):
     assert proc.returncode == 0, proc.stderr
     assert "8 shards but the sweep has 5 jobs" in proc.stderr
     with h5py.File(tmp_path / "p6.h5", "r") as f:
-        assert (f["status"][()] == -1).all()
+        assert (f["status"][()] == -1000).all()
     proc = run(scene, tmp_path / "p1.h5", "--shard", "1/2", "-j", "4")
     assert "-j 4 but this shard has 2 jobs: 2 threads stay idle" \
         in proc.stderr
