@@ -520,6 +520,20 @@ static int run_main(int argc, char **argv, const world *w)
     return EXIT_OK;
   }
   jobs_warn(&s, &plan, &opts, w, w->size == 1);
+  {
+    /* threads beyond the cores compute nothing faster and each holds a
+       tile and a workspace (-j 1024 on 2 cores took 4.3 GB): use the
+       cores */
+    long cores = sysconf(_SC_NPROCESSORS_ONLN);
+    if (cores >= 1 && opts.nthread > cores) {
+      if (w->rank == 0)
+        fprintf(stderr, "rps3-run: warning: -j %d on %ld core%s: computing "
+                        "on %ld thread%s\n",
+                opts.nthread, cores, cores == 1 ? "" : "s", cores,
+                cores == 1 ? "" : "s");
+      opts.nthread = (int)cores;
+    }
+  }
   if (w->rank == 0 &&
       room_check(&s, &plan, &opts, w, copy, gzip, out_path, quiet))
     code = EXIT_USAGE;

@@ -489,22 +489,35 @@ out_file *out_create(const char *path, const scene *s,
     }
     free(idx);
   }
-  if (grid_common) {
-    double *t = malloc(nt * sizeof *t);
-    for (k = 0; t && k < nt; k++)
-      t[k] = scene_case_time(first, k);
-    dtime = t ? scale(f->file, f->str, "time", H5T_NATIVE_DOUBLE, nt, t, "s",
-                      "time since the start of the trajectory")
-              : -1;
-    free(t);
-  } else {
-    int32_t *t = malloc(nt * sizeof *t);
-    for (k = 0; t && k < nt; k++)
-      t[k] = (int32_t)k;
-    dtime = t ? scale(f->file, f->str, "time", H5T_NATIVE_INT32, nt, t, "1",
+  /* the time scale in runs of AXIS_RUN samples: memory does not grow
+     with the length of a case */
+  dtime = grid_common
+              ? scale(f->file, f->str, "time", H5T_NATIVE_DOUBLE, nt, NULL,
+                      "s", "time since the start of the trajectory")
+              : scale(f->file, f->str, "time", H5T_NATIVE_INT32, nt, NULL,
+                      "1",
                       "sample index: the time grid differs between cases, "
-                      "the time of each sample is case_time")
-              : -1;
+                      "the time of each sample is case_time");
+  if (dtime >= 0) {
+    double *t = malloc(AXIS_RUN * sizeof *t);
+    int32_t *ix = (int32_t *)t;
+    for (c0 = 0; t && c0 < nt; c0 += n) {
+      n = nt - c0 < AXIS_RUN ? nt - c0 : AXIS_RUN;
+      for (k = 0; k < n; k++) {
+        if (grid_common)
+          t[k] = scene_case_time(first, c0 + k);
+        else
+          ix[k] = (int32_t)(c0 + k);
+      }
+      if (write_rows(dtime,
+                     grid_common ? H5T_NATIVE_DOUBLE : H5T_NATIVE_INT32, c0,
+                     n, t) < 0)
+        break;
+    }
+    if (!t || c0 < nt) {
+      H5Dclose(dtime);
+      dtime = -1;
+    }
     free(t);
   }
   dlink = scale(f->file, f->str, "link", H5T_NATIVE_INT32, 3, one23, "1",

@@ -75,8 +75,9 @@ static const char *const sections[] = {"", "manipulator", "trajectory",
    size: used for the range expansion and for span / dt */
 #define WHOLE_RTOL 1e-9
 
-/* the most cases a sweep may expand to */
-#define MAX_CASES 1000000000.0
+/* the most cases a sweep may expand to: every case is built and checked
+   before a run (about 1 us each: 10 s at the limit); more is several runs */
+#define MAX_CASES 10000000.0
 
 const scene_key_info *scene_key_get(int k)
 {
@@ -262,6 +263,7 @@ typedef struct {
   scene *s;
   scene_error *err;
   int sweep_node; /* node id of the sweep mapping, 0 if none */
+  double ncase;   /* cases of the sweep keys read so far */
 } parse_ctx;
 
 static yaml_node_t *node_get(parse_ctx *c, int id)
@@ -667,9 +669,16 @@ static int sweep_range(parse_ctx *c, scene_axis *ax, const yaml_node_t *map)
     snprintf(sub, sizeof sub, "%s.num", ax->path);
     if (parse_number(c, nn, sub, 1, &num))
       return -1;
-    if (num < 1 || num > MAX_CASES || (num == 1 && from != to)) {
+    if (num < 1 || (num == 1 && from != to)) {
       error_set(c->err, mark_of(&nn->start_mark), sub,
                 "must be >= 2 (or 1 with from == to), got %.0f", num);
+      return -1;
+    }
+    /* counted before anything is allocated for the values */
+    if (num * c->ncase > MAX_CASES) {
+      error_set(c->err, mark_of(&nn->start_mark), sub,
+                "%.0f values make the sweep more than %.0f cases", num,
+                MAX_CASES);
       return -1;
     }
     n = (size_t)num;
@@ -685,9 +694,17 @@ static int sweep_range(parse_ctx *c, scene_axis *ax, const yaml_node_t *map)
                 scalar_text(ns));
       return -1;
     }
-    if (q + 1 > MAX_CASES) {
+    if (!(span - span == 0)) {
       error_set(c->err, mark_of(&ns->start_mark), sub,
-                "gives more than %.0f values", MAX_CASES);
+                "to - from overflows (%s to %s): not a range of numbers",
+                scalar_text(nf), scalar_text(nt));
+      return -1;
+    }
+    if ((q + 1) * c->ncase > MAX_CASES) {
+      error_set(c->err, mark_of(&ns->start_mark), sub,
+                "gives %.3g values: the sweep would have more than %.0f "
+                "cases",
+                q + 1, MAX_CASES);
       return -1;
     }
     n = (size_t)floor(q + WHOLE_RTOL) + 1;
@@ -701,7 +718,13 @@ static int sweep_range(parse_ctx *c, scene_axis *ax, const yaml_node_t *map)
   }
   for (i = 0; i < n; i++) {
     double x;
-    if (nn)
+    if (nn && !(span - span == 0))
+      /* to - from overflows ({from: -1e308, to: 1e308}): weights instead,
+         so that each value is a number and its range check speaks */
+      x = (i + 1 == n) ? to
+                       : from * (1 - (double)i / (double)(n - 1)) +
+                             to * ((double)i / (double)(n - 1));
+    else if (nn)
       x = (i + 1 == n) ? to : from + span * (double)i / (double)(n - 1);
     else
       x = from + (double)i * step;
@@ -837,6 +860,7 @@ static int parse_sweep(parse_ctx *c, const yaml_node_t *map)
       return -1;
     }
     ncase *= (double)ax->n;
+    c->ncase = ncase;
     if (ncase > MAX_CASES) {
       error_set(c->err, km, name, "the sweep has more than %.0f cases",
                 MAX_CASES);
@@ -950,6 +974,7 @@ int scene_load(scene *s, const char *path, scene_error *err)
   }
   root = yaml_document_get_root_node(&doc);
   memset(&c, 0, sizeof c);
+  c.ncase = 1;
   c.doc = &doc;
   c.s = s;
   c.err = err;
@@ -1114,8 +1139,18 @@ int scene_case_build(const scene *s, size_t index, scene_case *c,
     c->step = c->span / (double)(c->nt - 1);
   } else {
     double q = c->span / c->v.own.dt, n = floor(q + 0.5);
-    if (fabs(q - n) > WHOLE_RTOL * (q > 1 ? q : 1) || n < 1 ||
-        n >= 2147483647.0) {
+    if (q >= 2147483646.0) {
+      char sa[32], sb[32];
+      format_real(sa, sizeof sa, c->span);
+      format_real(sb, sizeof sb, c->v.own.dt);
+      snprintf(msg, sizeof msg,
+               "dt = %s s over the span %s s is %.6g steps: at most "
+               "2147483646 samples per case",
+               sb, sa, q);
+      case_error(s, index, msg, NULL, K_DT, err);
+      return -1;
+    }
+    if (fabs(q - n) > WHOLE_RTOL * (q > 1 ? q : 1) || n < 1) {
       char sa[32], sb[32];
       format_real(sa, sizeof sa, c->span);
       format_real(sb, sizeof sb, c->v.own.dt);

@@ -569,3 +569,55 @@ def test_not_computed_is_not_an_error_code(runner, tmp_path):
         with h5py.File(out, "r") as f:
             assert f["status"][16] == -1
             assert (np.delete(f["status"][()], 16) == 0).all()
+
+
+# ------------------------------------------------------------ sizes, words
+
+def test_threads_are_capped_at_the_cores(runner, tmp_path, paper_h5):
+    cores = os.cpu_count()
+    proc = run(PAPER, tmp_path / "x.h5", "-q", "-j", "1024")
+    assert proc.returncode == 0, proc.stderr
+    assert (f"-j 1024 on {cores} core{'s' if cores > 1 else ''}: computing "
+            f"on {cores} thread") in proc.stderr
+    with h5py.File(tmp_path / "x.h5", "r") as f, h5py.File(paper_h5) as g:
+        np.testing.assert_array_equal(f["force"][()], g["force"][()])
+
+
+def paper_with(tmp_path, old, new):
+    text = open(PAPER).read()
+    assert old in text
+    return write_scene(tmp_path / "s.yaml", text.replace(old, new))
+
+
+SWEEP = "manipulator.m_over_M: [0, 0.5]"
+
+
+@pytest.mark.parametrize("old,new,expect", [
+    ("samples: 1001", "dt: 1e-12",
+     ":18:7: trajectory.dt: case 0: dt = 1e-12 s over the span 10 s is "
+     "1e+13 steps: at most 2147483646 samples per case"),
+    (SWEEP, "manipulator.rho: {from: -1e308, to: 1e308, num: 3}",
+     ":24:20: manipulator.rho: must be > 0, got -1e+308"),
+    (SWEEP, "manipulator.rho: {from: -1e308, to: 1e308, step: 1e307}",
+     "manipulator.rho.step: to - from overflows (-1e308 to 1e308)"),
+    (SWEEP, "manipulator.m_over_M: {from: 0, to: 1, num: 1000000000}",
+     "manipulator.m_over_M.num: 1000000000 values make the sweep more than "
+     "10000000 cases"),
+    (SWEEP, "manipulator.m_over_M: {from: 0, to: 1, num: 1000}\n"
+            "  manipulator.rho: {from: 0.3, to: 0.9, num: 100000}",
+     "manipulator.rho.num: 100000 values make the sweep more than 10000000 "
+     "cases"),
+    (SWEEP, "manipulator.m_over_M: {from: 0, to: 1, step: 1e-9}",
+     "gives 1e+09 values: the sweep would have more than 10000000 cases"),
+])
+def test_absurd_scenes_answer_at_once_with_the_cause(runner, tmp_path, old,
+                                                     new, expect):
+    scene = paper_with(tmp_path, old, new)
+    t0 = time.time()
+    proc = subprocess.run([RUNNER, str(scene), "--check"], capture_output=True,
+                          text=True, timeout=60,
+                          preexec_fn=lambda: resource.setrlimit(
+                              resource.RLIMIT_AS, (1 << 30, 1 << 30)))
+    assert proc.returncode == 2, proc.stderr
+    assert expect in proc.stderr, proc.stderr
+    assert time.time() - t0 < 5
