@@ -2,7 +2,8 @@
  * main_run.c - rps3-run: run a scene (and its sweep) into an HDF5 file.
  *
  *   rps3-run SCENE.yaml -o OUT.h5 [--quiet] [--gzip LEVEL] [--check]
- *            [-j N] [--shard K/N]
+ *            [-j N] [--shard K/N [--resume]] [--failed-ok]
+ *   rps3-run --clean OUT.h5 [--force]
  *   rps3-run merge OUT.h5 PART.h5 ... [--copy] [--quiet]
  *   mpirun -n N rps3-run-mpi SCENE.yaml -o OUT.h5 [--copy] [...]
  *
@@ -41,6 +42,7 @@
 #include "h5err.h"
 #include "join.h"
 #include "merge.h"
+#include "parts.h"
 #include "output.h"
 #include "progress.h"
 #include "safeio.h"
@@ -56,10 +58,12 @@ static void usage(FILE *out)
   fprintf(out,
           "usage: rps3-run SCENE.yaml -o OUT.h5 [--quiet] [--gzip LEVEL] "
           "[--check]\n"
-          "                [-j N] [--shard K/N]\n"
-          "       rps3-run merge OUT.h5 PART.h5 ... [--copy] [--quiet]\n"
+          "                [-j N] [--shard K/N [--resume]] [--failed-ok]\n"
+          "       rps3-run merge OUT.h5 PART.h5 ... [--copy] [--failed-ok] "
+          "[--quiet]\n"
           "       mpirun -n N rps3-run-mpi SCENE.yaml -o OUT.h5 [--copy] "
           "[...]\n"
+          "       rps3-run --clean OUT.h5 [--force]\n"
           "       rps3-run --keys | --schema | --version | --help\n"
           "\n"
           "Runs the inverse dynamics of the Lee & Shah 3-RPS manipulator "
@@ -74,6 +78,12 @@ static void usage(FILE *out)
           "  -j N           compute on N threads (default 1); same output\n"
           "  --shard K/N    compute shard K of N (0 <= K < N) into a part "
           "file\n"
+          "  --resume       keep OUT.h5 when it is that part, complete\n"
+          "  --failed-ok    exit 0, not 1, when the file is complete but "
+          "some cases failed\n"
+          "  --clean        remove the temporaries of OUT.h5 left by dead "
+          "processes\n"
+          "                 (--force: those of other hosts too)\n"
           "  merge          join the part files of shards 0..N-1 into "
           "OUT.h5\n"
           "                 (virtual datasets over the parts; --copy: one "
@@ -176,7 +186,7 @@ static void mpi_part_name(char *buf, size_t size, const char *out_path,
 /* rank 0: join the ranks' parts (renamed) into OUT.h5 by virtual datasets;
    0 or -1 (message printed) */
 static int mpi_join_vds(const world *w, const char *out_path, const char *cmd,
-                        long pid0, size_t *nfailed)
+                        size_t *nfailed)
 {
   char (*paths)[4096] = calloc((size_t)w->size, sizeof *paths);
   const char **part = calloc((size_t)w->size, sizeof *part);
@@ -184,7 +194,7 @@ static int mpi_join_vds(const world *w, const char *out_path, const char *cmd,
   int r, rc = -1;
   if (!paths || !part)
     fprintf(stderr, "rps3-run: out of memory\n");
-  else if (tmpout_name(out_path, pid0, 0) == 0) {
+  else if (tmpout_name(out_path, 0) == 0) {
     for (r = 0; r < w->size; r++) {
       mpi_part_name(paths[r], sizeof paths[r], out_path, r, w->size);
       part[r] = paths[r];
@@ -213,8 +223,8 @@ static int mpi_join_vds(const world *w, const char *out_path, const char *cmd,
  * every rank.
  */
 static int mpi_join(const world *w, int code, int copy, const char *out_path,
-                    const char *cmd, long pid0, progress *pr,
-                    const sweep_stats *st, size_t ncase)
+                    const char *cmd, progress *pr, const sweep_stats *st,
+                    size_t ncase)
 {
   unsigned long mine[3], sum[3];
   int worst = code, result = code;
@@ -233,22 +243,26 @@ static int mpi_join(const world *w, int code, int copy, const char *out_path,
     MPI_Allreduce(&code, &worst, 1, MPI_INT, MPI_MAX, MPI_COMM_WORLD);
     result = worst;
     if (w->rank == 0 && worst < EXIT_USAGE)
-      result = mpi_join_vds(w, out_path, cmd, pid0, &nfailed) ? EXIT_IO
-               : nfailed                                       ? EXIT_FAILED_CASES
-                                                               : EXIT_OK;
-  } else if (worst < EXIT_USAGE && w->rank == 0) {
+      result = mpi_join_vds(w, out_path, cmd, &nfailed) ? EXIT_IO
+               : nfailed                                 ? EXIT_FAILED_CASES
+                                                         : EXIT_OK;
+  } else if (worst < EXIT_USAGE) {
     const char **src = calloc((size_t)w->size, sizeof *src);
     size_t *ks = calloc((size_t)w->size, sizeof *ks);
     char (*paths)[4096] = calloc((size_t)w->size, sizeof *paths);
-    char err[768];
+    char err[768], me[4096];
     int r;
     result = EXIT_IO;
-    if (!src || !ks || !paths)
+    if (!src || !ks || !paths) {
       fprintf(stderr, "rps3-run: out of memory\n");
-    else {
+      MPI_Abort(MPI_COMM_WORLD, EXIT_IO);
+    }
+    /* the ranks' temporary names, each with its own host and process */
+    snprintf(me, sizeof me, "%s", tmpout_path());
+    MPI_Gather(me, (int)sizeof me, MPI_CHAR, paths, (int)sizeof me, MPI_CHAR,
+               0, MPI_COMM_WORLD);
+    if (w->rank == 0) {
       for (r = 1; r < w->size; r++) {
-        snprintf(paths[r], sizeof paths[r], "%s.tmp.%ld.part%d", out_path,
-                 pid0, r);
         src[r - 1] = paths[r];
         ks[r - 1] = (size_t)r;
       }
@@ -360,7 +374,8 @@ static int room_check(const scene *s, const sweep_plan *p,
 static int run_main(int argc, char **argv, const world *w)
 {
   const char *scene_path = NULL, *out_path = NULL, *shard_arg = NULL;
-  int quiet = 0, check = 0, copy = 0, gzip = 0, i, code;
+  int quiet = 0, check = 0, copy = 0, resume = 0, failed_ok = 0, gzip = 0;
+  int i, code;
   char shard_text[64];
   char err[512];
   scene s;
@@ -373,7 +388,6 @@ static int run_main(int argc, char **argv, const world *w)
   out_file *f;
   progress pr;
   char *cmd;
-  long pid0 = (long)getpid();
 
   for (i = 1; i < argc; i++) {
     const char *a = argv[i];
@@ -395,6 +409,10 @@ static int run_main(int argc, char **argv, const world *w)
       check = 1;
     } else if (strcmp(a, "--copy") == 0) {
       copy = 1;
+    } else if (strcmp(a, "--resume") == 0) {
+      resume = 1;
+    } else if (strcmp(a, "--failed-ok") == 0) {
+      failed_ok = 1;
     } else if (strcmp(a, "-o") == 0 || strcmp(a, "--gzip") == 0 ||
                strcmp(a, "-j") == 0 || strcmp(a, "--shard") == 0) {
       unsigned long v;
@@ -477,6 +495,12 @@ static int run_main(int argc, char **argv, const world *w)
     if (w->rank == 0)
       stale_report("rps3-run", out_path);
   }
+  if (resume && (!shard_arg || w->size > 1)) {
+    if (w->rank == 0)
+      fprintf(stderr, "rps3-run: --resume is for --shard K/N runs (it "
+                      "skips a part that is complete already)\n");
+    return EXIT_USAGE;
+  }
 
   /* the scene and every case are checked before anything is written (by
      every rank; rank 0 says what is wrong, or else the ranks that fail) */
@@ -542,6 +566,23 @@ static int run_main(int argc, char **argv, const world *w)
     return code;
   }
 
+  /* a complete part of this scene is not computed again */
+  if (resume && !check) {
+    size_t nfailed = 0;
+    if (parts_resume(out_path, opts.shard, opts.nshard, s.text, &nfailed)) {
+      if (!quiet)
+        fprintf(stderr, "rps3-run: %s is shard %zu/%zu of this scene, "
+                        "complete (%zu failed case%s): not run again\n",
+                out_path, opts.shard, opts.nshard, nfailed,
+                nfailed == 1 ? "" : "s");
+      scene_free(&s);
+      return nfailed && !failed_ok ? EXIT_FAILED_CASES : EXIT_OK;
+    }
+  }
+  /* what killed runs of this output left on this host */
+  if (w->rank == 0)
+    tmpout_clean(out_path, 0, 1);
+
   memset(&block, 0, sizeof block);
   cmd = command_line(argc, argv);
   if (!cmd ||
@@ -554,12 +595,9 @@ static int run_main(int argc, char **argv, const world *w)
   meta.gzip = gzip;
   meta.shard = shard_arg;
 
-  /* write under a temporary name in the same directory, rename at the end;
-     under mpirun every rank names its part after rank 0's pid */
-#ifdef RPS3_MPI
-  MPI_Bcast(&pid0, 1, MPI_LONG, 0, MPI_COMM_WORLD);
-#endif
-  if (code == EXIT_OK && tmpout_name(out_path, pid0, w->rank))
+  /* write under a temporary name in the same directory, rename at the end
+     (tmpout.h) */
+  if (code == EXIT_OK && tmpout_name(out_path, w->rank))
     code = EXIT_USAGE;
   if ((code = agree(w, code, NULL)) != EXIT_OK)
     goto done;
@@ -585,7 +623,7 @@ static int run_main(int argc, char **argv, const world *w)
   }
   if (w->size > 1) {
 #ifdef RPS3_MPI
-    code = mpi_join(w, code, copy, out_path, cmd, pid0, &pr, &st, s.ncase);
+    code = mpi_join(w, code, copy, out_path, cmd, &pr, &st, s.ncase);
 #endif
     goto done;
   }
@@ -597,6 +635,9 @@ static int run_main(int argc, char **argv, const world *w)
   code = st.nfailed ? EXIT_FAILED_CASES : EXIT_OK;
 
 done:
+  /* a complete file with failed cases, as a success (for schedulers) */
+  if (code == EXIT_FAILED_CASES && failed_ok)
+    code = EXIT_OK;
   tmpout_discard();
   out_block_free(&block);
   free(cmd);
@@ -604,20 +645,29 @@ done:
   return code;
 }
 
-#ifndef RPS3_MPI
-/* the number of processes of an MPI launch (mpirun, srun), 1 if none */
-static int launched_ranks(void)
+/*
+ * The tasks of the launch this process belongs to, 1 if none: mpirun
+ * (OMPI_COMM_WORLD_SIZE), a PMI launcher (PMI_SIZE), or a Slurm step of
+ * several tasks (srun -n N: SLURM_STEP_NUM_TASKS; not SLURM_NTASKS, which
+ * the batch script of a multi-task job has too, where one process is
+ * right).  *by names the launcher.
+ */
+static int launched_tasks(const char **by)
 {
   const char *v = getenv("OMPI_COMM_WORLD_SIZE");
-  if (!v)
-    v = getenv("PMI_SIZE");
-  return v ? atoi(v) : 1;
+  *by = "mpirun";
+  if (!v && (v = getenv("PMI_SIZE")) != NULL)
+    *by = "a PMI launcher";
+  if (!v && getenv("SLURM_PROCID") &&
+      (v = getenv("SLURM_STEP_NUM_TASKS")) != NULL)
+    *by = "srun";
+  return v && atoi(v) > 1 ? atoi(v) : 1;
 }
-#endif
 
 int main(int argc, char **argv)
 {
   world w = {0, 1};
+  const char *by;
   char *cmd;
   int code;
 
@@ -631,11 +681,23 @@ int main(int argc, char **argv)
     MPI_Comm_rank(MPI_COMM_WORLD, &w.rank);
     MPI_Comm_size(MPI_COMM_WORLD, &w.size);
   }
+  /* srun without --mpi=pmix (or an MPI that srun cannot start): N
+     singletons, each of which would compute the whole sweep */
+  if (w.size == 1 && launched_tasks(&by) > 1) {
+    fprintf(stderr, "rps3-run: %d tasks started by %s, but MPI sees 1: "
+                    "use srun --mpi=pmix (or mpirun)\n",
+            launched_tasks(&by), by);
+    MPI_Finalize();
+    return proc_exit(EXIT_USAGE);
+  }
 #else
-  if (launched_ranks() > 1 && !(argc > 1 && strcmp(argv[1], "merge") == 0)) {
-    fprintf(stderr, "rps3-run: launched as %d MPI ranks, but built without "
-                    "MPI: use build/rps3-run-mpi (make runner-mpi)\n",
-            launched_ranks());
+  if (launched_tasks(&by) > 1 && !(argc > 1 && (strcmp(argv[1], "merge") == 0 ||
+                                               strcmp(argv[1], "--clean") == 0))) {
+    fprintf(stderr, "rps3-run: launched as %d tasks by %s, but built without "
+                    "MPI: every task would compute the whole sweep; use "
+                    "build/rps3-run-mpi (make runner-mpi), or one task per "
+                    "--shard K/N (a Slurm job array)\n",
+            launched_tasks(&by), by);
     return proc_exit(EXIT_USAGE);
   }
 #endif
@@ -650,6 +712,13 @@ int main(int argc, char **argv)
     fprintf(stderr, "rps3-run: library %s does not match header %s\n",
             rps3_version(), RPS3_VERSION_STRING);
     code = EXIT_IO;
+  } else if (argc > 1 && strcmp(argv[1], "--clean") == 0) {
+    int force = argc == 4 && strcmp(argv[3], "--force") == 0;
+    if (argc != 3 + force || w.size > 1) {
+      fprintf(stderr, "usage: rps3-run --clean OUT.h5 [--force]\n");
+      code = EXIT_USAGE;
+    } else
+      code = tmpout_clean(argv[2], force, 0) < 0 ? EXIT_IO : EXIT_OK;
   } else if (argc > 1 && strcmp(argv[1], "merge") == 0) {
     if (w.size > 1) {
       if (w.rank == 0)

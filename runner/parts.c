@@ -6,9 +6,11 @@
 #include <ctype.h>
 #include <stdlib.h>
 #include <string.h>
+#include <unistd.h>
 
 #include <hdf5.h>
 
+#include "join.h"
 #include "merge.h"
 
 int parts_by_shard(const char *const *part, size_t npart, const char ***byk,
@@ -216,4 +218,30 @@ size_t parts_report(FILE *out, const char *const *byk, const int *bad,
     }
   free(cmd);
   return nmiss;
+}
+
+int parts_resume(const char *path, size_t k, size_t n, const char *text0,
+                 size_t *nfailed)
+{
+  char err[768];
+  hid_t f;
+  int rc = -1;
+  if (access(path, F_OK) != 0)
+    return 0;
+  if (join_part_check(path, k, n, text0, err, sizeof err)) {
+    fprintf(stderr, "rps3-run: --resume: %s: running shard %zu/%zu again\n",
+            err, k, n);
+    return 0;
+  }
+  f = H5Fopen(path, H5F_ACC_RDONLY, H5P_DEFAULT);
+  if (f >= 0) {
+    rc = merge_count_failed(f, nfailed, NULL);
+    H5Fclose(f);
+  }
+  if (rc < 0) {
+    fprintf(stderr, "rps3-run: --resume: %s: cannot read status: running "
+                    "shard %zu/%zu again\n", path, k, n);
+    return 0;
+  }
+  return 1;
 }

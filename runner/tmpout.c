@@ -4,7 +4,15 @@
  */
 #include "tmpout.h"
 
+#include <ctype.h>
+#include <dirent.h>
+#include <errno.h>
+#include <signal.h>
 #include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <sys/types.h>
+#include <unistd.h>
 
 #include "signals.h"
 
@@ -38,15 +46,135 @@ void tmpout_discard(void)
   tmp_discard();
 }
 
-int tmpout_name(const char *out_path, long pid, int rank)
+/* this machine's short host name, made safe for a file name */
+static void host_name(char *buf, size_t size)
 {
-  int n = rank ? snprintf(tmp_path, sizeof tmp_path, "%s.tmp.%ld.part%d",
-                          out_path, pid, rank)
-               : snprintf(tmp_path, sizeof tmp_path, "%s.tmp.%ld", out_path,
-                          pid);
+  size_t i;
+  if (gethostname(buf, size) != 0)
+    buf[0] = '\0';
+  buf[size - 1] = '\0';
+  for (i = 0; buf[i]; i++) {
+    if (buf[i] == '.') {
+      buf[i] = '\0';
+      break;
+    }
+    if (!isalnum((unsigned char)buf[i]) && buf[i] != '-' && buf[i] != '_')
+      buf[i] = '_';
+  }
+  if (!buf[0])
+    snprintf(buf, size, "unknown");
+}
+
+/* the scheduler's job: ARRAYJOB_TASK for a Slurm array task, the Slurm
+   job id, or "none" */
+static void job_name(char *buf, size_t size)
+{
+  const char *aj = getenv("SLURM_ARRAY_JOB_ID"),
+             *at = getenv("SLURM_ARRAY_TASK_ID"), *j = getenv("SLURM_JOB_ID");
+  size_t i;
+  if (aj && at && *aj && *at)
+    snprintf(buf, size, "%s_%s", aj, at);
+  else
+    snprintf(buf, size, "%s", j && *j ? j : "none");
+  for (i = 0; buf[i]; i++)
+    if (!isalnum((unsigned char)buf[i]) && buf[i] != '_')
+      buf[i] = '_';
+}
+
+int tmpout_name(const char *out_path, int rank)
+{
+  char host[256], job[128];
+  int n;
+  host_name(host, sizeof host);
+  job_name(job, sizeof job);
+  n = snprintf(tmp_path, sizeof tmp_path, "%s.tmp.%s.%ld.job%s.rank%d",
+               out_path, host, (long)getpid(), job, rank);
   if (n < 0 || (size_t)n >= sizeof tmp_path) {
     fprintf(stderr, "rps3-run: %s: path too long\n", out_path);
     return -1;
   }
   return 0;
+}
+
+/* the owner of a temporary file name (after "OUT.tmp."): host and pid;
+   0, or -1 when the name is not of that form */
+static int owner_of(const char *tail, char *host, size_t hsize, long *pid)
+{
+  const char *dot = strchr(tail, '.');
+  char *end;
+  if (!dot || (size_t)(dot - tail) >= hsize || dot == tail)
+    return -1;
+  memcpy(host, tail, (size_t)(dot - tail));
+  host[dot - tail] = '\0';
+  *pid = strtol(dot + 1, &end, 10);
+  if (end == dot + 1 || *pid <= 0 || strncmp(end, ".job", 4) != 0 ||
+      !strstr(end, ".rank"))
+    return -1;
+  return 0;
+}
+
+int tmpout_clean(const char *out_path, int force, int quiet)
+{
+  const char *slash = strrchr(out_path, '/');
+  char dir[4096], prefix[4096], me[256], host[256], path[8192];
+  size_t np;
+  DIR *d;
+  struct dirent *e;
+  int kept = 0, n;
+  if (slash) {
+    n = snprintf(dir, sizeof dir, "%.*s", (int)(slash - out_path), out_path);
+    if (slash == out_path)
+      strcpy(dir, "/");
+  } else
+    n = snprintf(dir, sizeof dir, ".");
+  if (n < 0 || (size_t)n >= sizeof dir ||
+      (size_t)snprintf(prefix, sizeof prefix, "%s.tmp.",
+                       slash ? slash + 1 : out_path) >= sizeof prefix)
+    return -1;
+  np = strlen(prefix);
+  host_name(me, sizeof me);
+  if (!(d = opendir(dir))) {
+    if (!quiet)
+      fprintf(stderr, "rps3-run: %s: %s\n", dir, strerror(errno));
+    return -1;
+  }
+  while ((e = readdir(d)) != NULL) {
+    long pid;
+    int mine, alive;
+    if (strncmp(e->d_name, prefix, np) != 0)
+      continue;
+    snprintf(path, sizeof path, "%s/%s", dir, e->d_name);
+    if (owner_of(e->d_name + np, host, sizeof host, &pid) != 0) {
+      if (force && unlink(path) == 0)
+        fprintf(stderr, "rps3-run: removed %s (owner unknown)\n", path);
+      else if (!force) {
+        kept++;
+        if (!quiet)
+          fprintf(stderr, "rps3-run: kept %s: owner unknown (--force "
+                          "removes it)\n", path);
+      }
+      continue;
+    }
+    mine = strcmp(host, me) == 0;
+    /* kill(pid, 0) sends nothing: it says whether the process exists
+       (EPERM: it does, another user's) */
+    alive = mine && (kill((pid_t)pid, 0) == 0 || errno == EPERM);
+    if (alive || (!mine && !force)) {
+      kept++;
+      if (!quiet)
+        fprintf(stderr, "rps3-run: kept %s: %s\n", path,
+                alive ? "its process is running"
+                      : "written on another host, not checked (--force "
+                        "removes it)");
+      continue;
+    }
+    if (unlink(path) == 0)
+      fprintf(stderr, "rps3-run: removed %s (process %ld on %s %s)\n", path,
+              pid, host, mine ? "is gone" : "not checked: --force");
+    else if (!quiet)
+      fprintf(stderr, "rps3-run: cannot remove %s: %s\n", path,
+              strerror(errno));
+  }
+  closedir(d);
+  return kept;
 }

@@ -1,9 +1,13 @@
 /*
  * tmpout.h - the temporary file of a run or a merge: written as
- * OUT.h5.tmp.PID (OUT.h5.tmp.PID.partR for MPI rank R > 0, named after rank
- * 0's PID) in the directory of OUT.h5, made durable and renamed to OUT.h5
- * when complete, and removed on failure or when a signal ends the process
- * (signals.h says which, and what the process does then).
+ * OUT.h5.tmp.HOST.PID.jobJOB.rankR in the directory of OUT.h5 (HOST the
+ * short host name, PID the writing process, JOB the Slurm job, ARRAY_TASK
+ * for an array task, or "none", R the MPI rank or 0), made durable and
+ * renamed to OUT.h5 (or to the part's name) when complete, and removed on
+ * failure or when a signal ends the process (signals.h says which, and
+ * what the process does then).  SIGKILL cannot be caught: what it leaves,
+ * tmpout_clean() removes (`rps3-run --clean OUT.h5`, and every run of
+ * OUT.h5 for the dead processes of its own host).
  *
  * One temporary file per process: process-wide state of the runner only
  * (the library has none).
@@ -11,9 +15,19 @@
 #ifndef RPS3_RUNNER_TMPOUT_H
 #define RPS3_RUNNER_TMPOUT_H
 
-/* Name the temporary file of out_path for `pid` and `rank`: 0, or -1 with
-   a message on stderr (the name is too long). */
-int tmpout_name(const char *out_path, long pid, int rank);
+/* Name the temporary file of out_path for this process and MPI `rank`: 0,
+   or -1 with a message on stderr (the name is too long). */
+int tmpout_name(const char *out_path, int rank);
+
+/*
+ * Remove the temporary files of out_path whose process is gone: written
+ * on this host by a process that no longer exists.  With `force`, those of
+ * other hosts and of unknown owners too (when no run of out_path is
+ * going).  Each removal is said on stderr; with `quiet`, nothing else.
+ * Returns the number of temporary files kept, or -1 when the directory
+ * cannot be read.
+ */
+int tmpout_clean(const char *out_path, int force, int quiet);
 
 /* The temporary file's name. */
 const char *tmpout_path(void);

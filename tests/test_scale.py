@@ -7,6 +7,7 @@ import os
 import random
 import shutil
 import subprocess
+import time
 
 import h5py
 import numpy as np
@@ -345,3 +346,124 @@ def test_jobs_are_counted_and_idle_shards_warned(tmp_path):
     proc = run(scene, tmp_path / "all.h5", "-j", "2")
     assert "warning" not in proc.stderr
     assert proc.stderr.rstrip().endswith(", 5 jobs"), proc.stderr
+
+
+def test_resume_skips_complete_parts_only(reference, tmp_path):
+    scene, ref = reference
+    parts = [tmp_path / f"p{k}.h5" for k in range(3)]
+    for k, p in enumerate(parts):
+        assert run(scene, p, "-q", "--shard", f"{k}/3").returncode in (0, 1)
+    parts[1].unlink()                               # a cancelled task
+    with h5py.File(parts[2], "r+") as f:            # a part gone wrong
+        f["status"][2 * f["status"].chunks[0]] = -1
+    before = parts[0].stat().st_mtime_ns
+    said = {}
+    for k, p in enumerate(parts):
+        proc = run(scene, p, "--shard", f"{k}/3", "--resume", "--failed-ok")
+        assert proc.returncode == 0, proc.stderr
+        said[k] = proc.stderr
+    assert "complete" in said[0] and "not run again" in said[0]
+    assert parts[0].stat().st_mtime_ns == before     # not written
+    assert "not run again" not in said[1]
+    assert "was never written: the part is incomplete: running shard 2/3 " \
+           "again" in said[2]
+    out = tmp_path / "m.h5"
+    proc = subprocess.run([RUNNER, "merge", out, *parts, "--failed-ok"],
+                          capture_output=True, text=True)
+    assert proc.returncode == 0, proc.stderr        # complete, cases failed
+    assert_same_content(ref, out)
+    # a part of another scene is no part of this one
+    other = write_scene(tmp_path / "other.yaml",
+                        open(scene).read().replace("duration: 2",
+                                                   "duration: 2.5"))
+    proc = run(other, parts[0], "--shard", "0/3", "--resume", "-q")
+    assert "not a part of the same scene: running shard 0/3 again" \
+        in proc.stderr
+    proc = run(scene, tmp_path / "x.h5", "--resume")
+    assert proc.returncode == 2 and "--resume is for --shard" in proc.stderr
+
+
+def test_failed_ok_maps_failed_cases_to_success(tmp_path):
+    scene = mixed_scene(tmp_path)
+    assert run(scene, tmp_path / "a.h5", "-q").returncode == 1
+    assert run(scene, tmp_path / "b.h5", "-q",
+               "--failed-ok").returncode == 0
+    with h5py.File(tmp_path / "b.h5", "r") as f:
+        assert (f["status"][()] != 0).sum() >= 1     # the same file
+    bad = write_scene(tmp_path / "bad.yaml", "manipulator: {R: -1}\n")
+    assert run(bad, tmp_path / "c.h5", "--failed-ok").returncode == 2
+
+
+def _host():
+    import re
+    import socket
+    return re.sub(r"[^A-Za-z0-9_-]", "_", socket.gethostname().split(".")[0])
+
+
+def test_temporaries_are_named_by_owner_and_cleaned(tmp_path):
+    """kill -9 leaves OUT.tmp.HOST.PID.jobJOB.rankR; the next run of OUT
+    removes it (its process is gone); --clean removes those of dead
+    processes, --force those of other hosts too, never a live one's."""
+    text = FAILING_SINE.replace("SAMPLES", "40001").replace("THETA",
+                                                            "multiroot")
+    scene = write_scene(tmp_path / "long.yaml", text.replace(
+        "trajectory.amp[2]: [0.05, 0.2, 0.1]",
+        "trajectory.amp[2]: [" + ", ".join(["0.05"] * 40) + "]"))
+    out = tmp_path / "out.h5"
+    env = dict(os.environ, SLURM_ARRAY_JOB_ID="77", SLURM_ARRAY_TASK_ID="3")
+    proc = subprocess.Popen([RUNNER, scene, "-o", out, "-q"], env=env)
+    try:
+        for _ in range(600):
+            tmps = [x for x in os.listdir(tmp_path) if ".tmp." in x]
+            if tmps:
+                break
+            time.sleep(0.01)
+    finally:
+        proc.kill()
+        proc.wait()
+    assert tmps == [f"out.h5.tmp.{_host()}.{proc.pid}.job77_3.rank0"], tmps
+    small = mixed_scene(tmp_path)
+    done = run(small, out, "-q")
+    assert done.returncode == 1, done.stderr
+    assert f"removed {tmp_path}/{tmps[0]} (process {proc.pid}" in done.stderr
+    assert not [x for x in os.listdir(tmp_path) if ".tmp." in x]
+
+    gone = subprocess.Popen(["true"])
+    gone.wait()
+    names = {"dead": f"out.h5.tmp.{_host()}.{gone.pid}.jobnone.rank0",
+             "alive": f"out.h5.tmp.{_host()}.{os.getpid()}.jobnone.rank1",
+             "other": "out.h5.tmp.elsewhere.123.job9.rank0",
+             "unknown": "out.h5.tmp.4242"}
+    for n in names.values():
+        (tmp_path / n).write_bytes(b"x")
+    proc = subprocess.run([RUNNER, "--clean", out], capture_output=True,
+                          text=True)
+    assert proc.returncode == 0, proc.stderr
+    left = set(os.listdir(tmp_path))
+    assert names["dead"] not in left
+    assert {names["alive"], names["other"], names["unknown"]} <= left
+    assert "its process is running" in proc.stderr
+    assert "written on another host, not checked" in proc.stderr
+    proc = subprocess.run([RUNNER, "--clean", out, "--force"],
+                          capture_output=True, text=True)
+    left = set(os.listdir(tmp_path))
+    assert names["alive"] in left
+    assert not {names["other"], names["unknown"]} & left
+    assert subprocess.run([RUNNER, "--clean"]).returncode == 2
+
+
+def test_plain_runner_under_srun_refuses(tmp_path):
+    scene = mixed_scene(tmp_path)
+    env = dict(os.environ, SLURM_PROCID="1", SLURM_STEP_NUM_TASKS="2",
+               SLURM_NTASKS="2")
+    proc = run(scene, tmp_path / "x.h5", env=env)
+    assert proc.returncode == 2
+    assert "2 tasks by srun" in proc.stderr and "rps3-run-mpi" in proc.stderr
+    # the batch script of a 2-task job runs one process: that is fine
+    env = dict(os.environ, SLURM_NTASKS="2", SLURM_JOB_ID="5")
+    assert run(scene, tmp_path / "x.h5", "-q", env=env).returncode == 1
+    if os.access(RUNNER_MPI, os.X_OK):
+        env = dict(os.environ, SLURM_PROCID="0", SLURM_STEP_NUM_TASKS="2")
+        proc = subprocess.run([RUNNER_MPI, scene, "--check"],
+                              capture_output=True, text=True, env=env)
+        assert proc.returncode == 2 and "srun --mpi=pmix" in proc.stderr
