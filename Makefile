@@ -63,7 +63,7 @@ RUN_MAINS = runner/main_run.c runner/main_study.c
 RUN_COMMON = $(filter-out $(RUN_MAINS),$(wildcard runner/*.c))
 RUN_OBJ = $(RUN_COMMON:runner/%.c=$(B)/runner/%.o)
 
-.PHONY: all lib runner runner-mpi study-bin check check-c check-san check-py paper \
+.PHONY: all lib runner runner-mpi study-bin check check-c check-san check-py check-slurm paper \
         study bench deps venv clean install uninstall
 
 # the MPI runner is part of `all` when OpenMPI is there; `make check`
@@ -197,6 +197,15 @@ check-py: all runner-mpi venv
 
 # pytest last, so that a run ends on its summary line
 check: lib runner check-c check-san valgrind check-fuzz check-py
+
+# ------------------------------------------------------------- check-slurm
+# The shipped Slurm scripts (scripts/slurm/) under a single-node Slurm on
+# localhost, every output compared with a single-process run
+# (tests/slurm/check_slurm.sh; docs/scale-out.md).  As root on Debian it
+# installs slurm-wlm and munge and starts and stops its own daemons;
+# otherwise it says why it skips.  Not part of `make check`.
+check-slurm: all venv
+	tests/slurm/check_slurm.sh
 
 # ------------------------------------------------------------------- bench
 # rps3-bench (tests/bench/): per-call medians of every stage, a table on

@@ -138,42 +138,107 @@ static int map_part(hid_t dcpl, hid_t vsp, hid_t ssp, int rank,
   return 0;
 }
 
-/* 1 when dataset `name` of every part has the shape and chunks of part 0's
-   (dims, chunk) */
-static int parts_agree(const walk *w, const char *name, int rank,
-                       const hsize_t *dims, const hsize_t *chunk)
+/* the chunked datasets of part 0, their shapes and chunks */
+typedef struct {
+  char (*name)[256];
+  int *rank;
+  hsize_t (*dims)[H5S_MAX_RANK], (*chunk)[H5S_MAX_RANK];
+  size_t n, cap;
+} shapes;
+
+/* H5Ovisit: collect the chunked datasets of part 0 */
+static herr_t collect_shape(hid_t root, const char *name, const H5O_info_t *oi,
+                            void *data)
 {
-  size_t k;
-  for (k = 1; k < w->n; k++) {
-    hid_t f = H5Fopen(w->part[k], H5F_ACC_RDONLY, H5P_DEFAULT), ds = -1;
-    hid_t sp = -1, pl = -1;
-    hsize_t d[H5S_MAX_RANK], c[H5S_MAX_RANK];
-    int ok = f >= 0 && H5Lexists(f, name, H5P_DEFAULT) > 0 &&
-             (ds = H5Dopen2(f, name, H5P_DEFAULT)) >= 0 &&
-             (sp = H5Dget_space(ds)) >= 0 &&
-             (pl = H5Dget_create_plist(ds)) >= 0 &&
-             H5Sget_simple_extent_dims(sp, d, NULL) == rank &&
-             H5Pget_chunk(pl, rank, c) == rank &&
-             memcmp(d, dims, (size_t)rank * sizeof *d) == 0 &&
-             memcmp(c, chunk, (size_t)rank * sizeof *c) == 0;
-    if (pl >= 0)
-      H5Pclose(pl);
-    if (sp >= 0)
-      H5Sclose(sp);
-    if (ds >= 0)
-      H5Dclose(ds);
+  shapes *sh = data;
+  hid_t ds, sp = -1, pl = -1;
+  int rc = 0;
+  if (oi->type != H5O_TYPE_DATASET)
+    return 0;
+  if ((ds = H5Dopen2(root, name, H5P_DEFAULT)) < 0)
+    return -1;
+  if ((pl = H5Dget_create_plist(ds)) >= 0 && H5Pget_layout(pl) == H5D_CHUNKED) {
+    if (sh->n == sh->cap) {
+      size_t cap = 2 * sh->cap + 16;
+      void *a = realloc(sh->name, cap * sizeof *sh->name),
+           *b = realloc(sh->rank, cap * sizeof *sh->rank);
+      void *c = realloc(sh->dims, cap * sizeof *sh->dims),
+           *d = realloc(sh->chunk, cap * sizeof *sh->chunk);
+      if (a) sh->name = a;
+      if (b) sh->rank = b;
+      if (c) sh->dims = c;
+      if (d) sh->chunk = d;
+      if (!a || !b || !c || !d)
+        rc = -1;
+      else
+        sh->cap = cap;
+    }
+    if (rc == 0 && strlen(name) < sizeof sh->name[0] &&
+        (sp = H5Dget_space(ds)) >= 0 &&
+        (sh->rank[sh->n] = H5Sget_simple_extent_dims(sp, sh->dims[sh->n],
+                                                     NULL)) > 0 &&
+        H5Pget_chunk(pl, sh->rank[sh->n], sh->chunk[sh->n]) ==
+            sh->rank[sh->n])
+      strcpy(sh->name[sh->n++], name);
+    else
+      rc = -1;
+  }
+  if (sp >= 0)
+    H5Sclose(sp);
+  if (pl >= 0)
+    H5Pclose(pl);
+  H5Dclose(ds);
+  return rc;
+}
+
+/* 1 when every part has the chunked datasets of part 0 with its shapes
+   and chunks; each part opened once */
+static int parts_agree(const walk *w)
+{
+  shapes sh;
+  size_t k, i;
+  int ok = 1;
+  memset(&sh, 0, sizeof sh);
+  if (H5Ovisit(w->src, H5_INDEX_NAME, H5_ITER_INC, collect_shape, &sh) < 0) {
+    out_fail(w->err, w->errsz, "%s: cannot list its datasets", w->part[0]);
+    ok = 0;
+  }
+  for (k = 1; ok && k < w->n; k++) {
+    hid_t f = H5Fopen(w->part[k], H5F_ACC_RDONLY, H5P_DEFAULT);
+    for (i = 0; ok && i < sh.n; i++) {
+      hid_t ds = -1, sp = -1, pl = -1;
+      hsize_t d[H5S_MAX_RANK], c[H5S_MAX_RANK];
+      int r = sh.rank[i];
+      ok = f >= 0 && H5Lexists(f, sh.name[i], H5P_DEFAULT) > 0 &&
+           (ds = H5Dopen2(f, sh.name[i], H5P_DEFAULT)) >= 0 &&
+           (sp = H5Dget_space(ds)) >= 0 &&
+           (pl = H5Dget_create_plist(ds)) >= 0 &&
+           H5Sget_simple_extent_dims(sp, d, NULL) == r &&
+           H5Pget_chunk(pl, r, c) == r &&
+           memcmp(d, sh.dims[i], (size_t)r * sizeof *d) == 0 &&
+           memcmp(c, sh.chunk[i], (size_t)r * sizeof *c) == 0;
+      if (pl >= 0)
+        H5Pclose(pl);
+      if (sp >= 0)
+        H5Sclose(sp);
+      if (ds >= 0)
+        H5Dclose(ds);
+      if (!ok) {
+        H5Eclear2(H5E_DEFAULT);
+        snprintf(w->err, w->errsz,
+                 "%s: dataset %s missing or of another shape or chunks: not "
+                 "a part of the same run",
+                 w->part[k], sh.name[i]);
+      }
+    }
     if (f >= 0)
       H5Fclose(f);
-    if (!ok) {
-      H5Eclear2(H5E_DEFAULT);
-      snprintf(w->err, w->errsz,
-               "%s: dataset %s missing or of another shape or chunks: not a "
-               "part of the same run",
-               w->part[k], name);
-      return 0;
-    }
   }
-  return 1;
+  free(sh.name);
+  free(sh.rank);
+  free(sh.dims);
+  free(sh.chunk);
+  return ok;
 }
 
 /* the chunked dataset `name` of part 0 as a virtual dataset over the parts */
@@ -190,8 +255,6 @@ static int make_virtual(const walk *w, hid_t sds, const char *name)
       (rank = H5Sget_simple_extent_dims(sp, dims, NULL)) < 1 ||
       H5Pget_chunk(spl, rank, chunk) != rank)
     goto io;
-  if (!parts_agree(w, name, rank, dims, chunk))
-    goto done;
   if ((dcpl = H5Pcreate(H5P_DATASET_CREATE)) < 0 ||
       (ssp = H5Scopy(sp)) < 0)
     goto io;
@@ -492,7 +555,8 @@ int join_vds(const char *dst, const char *const *part, size_t n,
     out_fail(err, errsz, "cannot create %s", dst);
     goto done;
   }
-  if (H5Ovisit(w.src, H5_INDEX_NAME, H5_ITER_INC, make_object, &w) < 0 ||
+  if (!parts_agree(&w) ||
+      H5Ovisit(w.src, H5_INDEX_NAME, H5_ITER_INC, make_object, &w) < 0 ||
       H5Ovisit(w.src, H5_INDEX_NAME, H5_ITER_INC, make_scales, &w) < 0)
     goto done;
   if (copy_attrs(w.src, w.dst) < 0 || out_stamp(w.dst, command_line) < 0) {
