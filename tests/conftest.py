@@ -75,3 +75,13 @@ sweep:
 def failing_sine(samples=201, theta="closed_form"):
     """Three cases; the middle one drives the platform below the base."""
     return FAILING_SINE.replace("SAMPLES", str(samples)).replace("THETA", theta)
+
+
+def run_tmp(out, pid, rank=0):
+    """The temporary file rps3-run process `pid` writes for `out` outside a
+    Slurm job (runner/tmpout.h): OUT.tmp.HOST.PID.jobnone.rankR."""
+    import re
+    import socket
+    host = re.sub(r"[^A-Za-z0-9_-]", "_",
+                  socket.gethostname().split(".")[0]) or "unknown"
+    return out.parent / f"{out.name}.tmp.{host}.{pid}.jobnone.rank{rank}"

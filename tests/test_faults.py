@@ -17,7 +17,7 @@ import h5py
 import numpy as np
 import pytest
 
-from conftest import CONFIGS, RUNNER, run, write_scene
+from conftest import CONFIGS, RUNNER, run, write_scene, run_tmp
 
 ROOT = os.path.dirname(RUNNER)
 RUNNER_MPI = os.path.join(ROOT, "rps3-run-mpi")
@@ -209,7 +209,7 @@ def test_signals_remove_the_temporary(runner, tmp_path, sig, code):
     scene = long_scene(tmp_path)
     out = tmp_path / "out.h5"
     p = start([RUNNER, scene, "-o", out, "-q"])
-    wait_for(tmp_path / f"out.h5.tmp.{p.pid}")
+    wait_for(run_tmp(tmp_path / "out.h5", p.pid))
     p.send_signal(sig)
     p.wait(timeout=30)
     assert p.returncode == code
@@ -219,7 +219,7 @@ def test_signals_remove_the_temporary(runner, tmp_path, sig, code):
 def test_sigxfsz_from_outside_is_ignored(runner, tmp_path):
     scene = long_scene(tmp_path)
     p = start([RUNNER, scene, "-o", tmp_path / "out.h5", "-q"])
-    wait_for(tmp_path / f"out.h5.tmp.{p.pid}")
+    wait_for(run_tmp(tmp_path / "out.h5", p.pid))
     p.send_signal(signal.SIGXFSZ)
     p.wait(timeout=30)
     assert p.returncode == 0

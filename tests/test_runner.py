@@ -18,7 +18,7 @@ import xarray as xr
 import yaml
 
 import rps3io
-from conftest import CONFIGS, RUNNER, failing_sine, run, write_scene
+from conftest import CONFIGS, RUNNER, failing_sine, run, write_scene, run_tmp
 
 PER_POINT = ["force", "length", "length_rate", "length_accel", "theta",
              "alpha", "beta", "z_c", "x_c", "y_c", "lambda",
@@ -227,7 +227,7 @@ def test_interrupted_run_leaves_no_file(runner, tmp_path, sig, threads):
     out = tmp_path / "big.h5"
     p = subprocess.Popen([RUNNER, str(scene), "-o", str(out), "-q",
                           "-j", str(threads)], stderr=subprocess.PIPE)
-    tmp = tmp_path / f"big.h5.tmp.{p.pid}"
+    tmp = run_tmp(tmp_path / "big.h5", p.pid)
     deadline = time.time() + 20
     while not tmp.exists() and time.time() < deadline:
         time.sleep(0.01)
