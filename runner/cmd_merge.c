@@ -93,16 +93,12 @@ int merge_main(int argc, char **argv, const char *cmd)
   /* every chunk of every part decodes (checksums, compression) before the
      merged file can claim the parts' cases */
   code = EXIT_IO;
-<<<<<<< HEAD
   for (i = 0; i < n; i++)
     if (verify_file(byk[i], err, sizeof err)) {
       fprintf(stderr, "rps3-run merge: %s\n", err);
       goto done;
     }
-  if (tmpout_name(out_path, (long)getpid(), 0))
-=======
   if (tmpout_name(out_path, 0))
->>>>>>> 72a8140 (Recovery and cleanup: --resume skips a verified complete part, --failed-ok for schedulers, temporaries named by host, process, job and rank, --clean and automatic removal of dead processes' temporaries; srun of the plain binary refused)
     goto done;
   tmpout_arm();
   for (i = 1; i < n; i++) {
