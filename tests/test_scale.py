@@ -355,7 +355,7 @@ def test_resume_skips_complete_parts_only(reference, tmp_path):
         assert run(scene, p, "-q", "--shard", f"{k}/3").returncode in (0, 1)
     parts[1].unlink()                               # a cancelled task
     with h5py.File(parts[2], "r+") as f:            # a part gone wrong
-        f["status"][2 * f["status"].chunks[0]] = -1
+        f["status"][2 * f["status"].chunks[0]] = -1000  # not computed
     before = parts[0].stat().st_mtime_ns
     said = {}
     for k, p in enumerate(parts):
