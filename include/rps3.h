@@ -69,7 +69,10 @@ RPS3_API const char *rps3_version(void);
 /*
  * Every function that can fail returns one of these.  Positive codes are
  * point-level outcomes: a sweep records them and moves on to the next point.
- * Negative codes are caller errors (bad arguments, out of memory).
+ * Negative codes are caller errors (bad arguments, out of memory).  When a
+ * function returns RPS3_OK, every quantity it reports is finite.  The void
+ * functions accept NULL arguments and then do nothing (or write NaN into a
+ * non-NULL output, as said at each).
  */
 enum rps3_status {
   RPS3_OK = 0,       /* success */
@@ -84,13 +87,18 @@ enum rps3_status {
                         d f / d theta (the lambda system) has condition number
                         above opt.cond_max, or a zero pivot */
   RPS3_EDOMAIN = 5,  /* a trajectory was evaluated outside its time span */
+  RPS3_ERANGE = 6,   /* a result is not finite: the inputs were finite but a
+                        reported quantity overflowed (e.g. M = 1e300, rates
+                        of 1e300); the message names the quantity.  Every
+                        status-returning function checks what it reports */
   RPS3_EINVAL = -1,  /* invalid argument: non-finite or out-of-range value,
                         NULL pointer, unknown enum value */
   RPS3_ENOMEM = -2,  /* allocation failed (rps3_data_alloc only) */
   RPS3_ESTATE = -4   /* a stage was called before the stage it reads from */
 };
 
-/* Short static description of a status code (never NULL). */
+/* Short static description of a status code (never NULL; "unknown status"
+   for a value that is not a code). */
 RPS3_API const char *rps3_strerror(int status);
 
 /* Warning bits in rps3_data.warn: the result is returned, but look at it. */
@@ -247,10 +255,11 @@ typedef struct {
 
 /* Fill m with the paper's Table II (R = 0.2286 m, rho = 0.5, M = 0.18 kg,
    m/M = 0.5, d = 0.1524 m, g = 9.80665 m/s^2), no payload, no friction and
-   the default options.  Call rps3_model_init() afterwards. */
+   the default options.  Call rps3_model_init() afterwards.  m NULL: does
+   nothing. */
 RPS3_API void rps3_model_default(rps3_model *m);
 
-/* Fill opt with the default options. */
+/* Fill opt with the default options.  opt NULL: does nothing. */
 RPS3_API void rps3_options_default(rps3_options *opt);
 
 /*
@@ -262,7 +271,9 @@ RPS3_API void rps3_options_default(rps3_options *opt);
  * caller may map it back to its own input by that prefix.  Rejected: non-finite values, R <= 0,
  * rho <= 0, negative masses, inertias or friction, d < 0, g < 0, payload
  * inertia violating the triangle inequality, unknown enum values,
- * tol <= 0, max_iter < 1, cond_warn < 1, cond_max < cond_warn.
+ * tol <= 0, max_iter < 1, cond_warn < 1, cond_max < cond_warn, and masses
+ * whose weight or inertia overflows (M g, M r^2, m g d, m d^2,
+ * payload.mass g, payload.mass r^2 not finite, e.g. M = 1e308).
  */
 RPS3_API int rps3_model_init(rps3_model *m, char *err, size_t errsz);
 
@@ -334,7 +345,8 @@ typedef struct {
   double friction_power; /* power of the pin friction torques (<= 0) [W] */
   double energy_residual; /* power + friction_power - dTdt - dPdt [W]; zero
                              up to rounding when the forces are right;
-                             NaN-free; 0 when certify is off */
+                             finite whenever the status is RPS3_OK; 0 when
+                             certify is off */
   double energy_scale; /* sum of the magnitudes of the terms above [W], to
                           make the residual relative */
 
@@ -374,8 +386,9 @@ RPS3_API void rps3_data_reset(rps3_data *d);
 /*
  * Inverse kinematics, eqs. (2)-(7) and (39): from d->pose = (alpha, beta,
  * z_c) compute c (3)-(4), rot (1), b, l, theta in closed form, phi, dphi.
- * Returns RPS3_OK, RPS3_EINVAL (non-finite pose) or RPS3_EREACH (a link of
- * zero length or a ball joint not above the base plane).
+ * Returns RPS3_OK, RPS3_EINVAL (non-finite pose), RPS3_EREACH (a link of
+ * zero length or a ball joint not above the base plane) or RPS3_ERANGE (a
+ * finite pose whose positions overflow, e.g. z_c = 1e200 m).
  */
 RPS3_API int rps3_ik(const rps3_model *m, rps3_data *d);
 
@@ -396,8 +409,11 @@ RPS3_API int rps3_theta_guess(const rps3_model *m, rps3_data *d);
  * positions b, c, rot, phi, dphi via (11)-(20).
  * Returns RPS3_OK, RPS3_EINVAL (bad lengths, or constraints that do not
  * evaluate to finite numbers), RPS3_ENOCONV (including any failure GSL
- * reports when starting or iterating, e.g. a singular finite-difference
- * Jacobian at the starting point, with its message) or RPS3_EBRANCH (a root with
+ * reports when starting or iterating, and any step that would make GSL
+ * raise an error: a singular or curvature-dominated (finite-difference)
+ * Jacobian for newton, gnewton, dnewton and broyden, a stalled broyden
+ * step; with its message), RPS3_ERANGE (positions overflow: lengths near
+ * 1e308 m) or RPS3_EBRANCH (a root with
  * theta outside (0, pi), or a root of the second family of (8)-(10): the
  * ball joints reflected through the Z axis, which no pose (alpha, beta,
  * z_c) describes).  Several roots may satisfy 0 < theta < pi (assembly
@@ -411,24 +427,27 @@ RPS3_API int rps3_theta_solve(const rps3_model *m, rps3_data *d);
  * platform position (11) and orientation (18)-(20) -> d->pose = (alpha,
  * beta, z_c), with beta in [0, pi) and alpha in (-pi, pi].  When beta is
  * below 1e-9 rad alpha is not defined: it is set to 0 and RPS3_WARN_ALPHA is
- * raised.  Returns the status of rps3_theta_solve.
+ * raised.  Returns the status of rps3_theta_solve, or RPS3_ERANGE.
  */
 RPS3_API int rps3_fk(const rps3_model *m, rps3_data *d);
 
-/* The homogeneous transform (1) of the current platform pose. */
+/* The homogeneous transform (1) of the current platform pose.  T NULL: does
+   nothing; d NULL: fills T's rotation and translation with NaN. */
 RPS3_API void rps3_transform(const rps3_data *d, double T[4][4]);
 
 /*
  * Velocities from pose rates: from d->dpose (after a position stage) compute
  * vc, omega, and the joint rates dl, dtheta (the map (alpha-dot, beta-dot,
- * z-dot) -> (l-dot, theta-dot)).  Returns RPS3_OK, RPS3_EINVAL or
- * RPS3_ESTATE.
+ * z-dot) -> (l-dot, theta-dot)).  Returns RPS3_OK, RPS3_EINVAL (non-finite
+ * dpose), RPS3_ESTATE or RPS3_ERANGE (finite rates that overflow).
  */
 RPS3_API int rps3_velocity(const rps3_model *m, rps3_data *d);
 
 /*
  * Accelerations from pose accelerations: from d->ddpose (after
- * rps3_velocity) compute ac, domega, ddl, ddtheta.
+ * rps3_velocity) compute ac, domega, ddl, ddtheta.  Returns RPS3_OK,
+ * RPS3_EINVAL (non-finite ddpose), RPS3_ESTATE or RPS3_ERANGE (e.g. rates
+ * of 1e200 whose squares overflow).
  */
 RPS3_API int rps3_acceleration(const rps3_model *m, rps3_data *d);
 
@@ -437,13 +456,14 @@ RPS3_API int rps3_acceleration(const rps3_model *m, rps3_data *d);
  * stage) compute dtheta through the constraint Jacobian
  * (df/dtheta) dtheta = -(df/dl) dl, then vc (25) and omega from the ball
  * joint velocities (26)-(28).  Also fills d->dpose.  Returns RPS3_OK,
- * RPS3_EINVAL, RPS3_ESTATE or RPS3_ESING.
+ * RPS3_EINVAL, RPS3_ESTATE, RPS3_ESING or RPS3_ERANGE.
  */
 RPS3_API int rps3_joint_velocity(const rps3_model *m, rps3_data *d);
 
 /*
  * The same one order higher: from d->ddl (after rps3_joint_velocity)
- * compute ddtheta, ac, domega and d->ddpose.
+ * compute ddtheta, ac and domega.  Returns RPS3_OK, RPS3_EINVAL,
+ * RPS3_ESTATE, RPS3_ESING or RPS3_ERANGE.
  */
 RPS3_API int rps3_joint_acceleration(const rps3_model *m, rps3_data *d);
 
@@ -451,7 +471,8 @@ RPS3_API int rps3_joint_acceleration(const rps3_model *m, rps3_data *d);
  * Body-frame angular velocity (omega_x, omega_y, omega_z) by the paper's
  * (31)-(33) with the two printing errors corrected (errata), from the
  * current positions, dl, dtheta and vc.  A second formulation of omega,
- * kept for checking: rot^T omega must equal it.
+ * kept for checking: rot^T omega must equal it.  omega_body NULL: does
+ * nothing; m or d NULL (or m not initialised): omega_body is NaN.
  */
 RPS3_API void rps3_omega_paper(const rps3_model *m, const rps3_data *d,
                       double omega_body[3]);
@@ -463,8 +484,9 @@ RPS3_API void rps3_omega_paper(const rps3_model *m, const rps3_data *d,
  * m->opt.method, after the position stage and, when a dynamic effect is
  * selected (or opt.certify), the velocity and acceleration stages.
  * Writes F, F_effect, lambda (Lagrange), cond, warn and, with
- * opt.certify, the energy-rate certificate.  Returns RPS3_OK, RPS3_ESTATE
- * or RPS3_ESING.
+ * opt.certify, the energy-rate certificate.  Returns RPS3_OK, RPS3_EINVAL,
+ * RPS3_ESTATE, RPS3_ESING or RPS3_ERANGE (a force, multiplier or power not
+ * finite, e.g. M = 1e300 kg).
  */
 RPS3_API int rps3_invdyn(const rps3_model *m, rps3_data *d);
 
@@ -473,7 +495,8 @@ RPS3_API int rps3_invdyn(const rps3_model *m, rps3_data *d);
  * d->ddpose; theta comes from opt.theta (closed form, or multiroot warm
  * started from the previous point of the same data); velocities and
  * accelerations are computed only when a selected effect or certify needs
- * them.  Returns the first failing stage's status.
+ * them.  Returns the first failing stage's status (any of the stages'
+ * codes above).
  */
 RPS3_API int rps3_inverse(const rps3_model *m, rps3_data *d);
 
@@ -649,7 +672,7 @@ typedef struct {
   rps3_sine sine;     /* used when kind == RPS3_TRAJ_SINE */
 } rps3_traj;
 
-/* The paper's helix of Table II. */
+/* The paper's helix of Table II.  tr NULL: does nothing. */
 RPS3_API void rps3_traj_default(rps3_traj *tr);
 
 /* Validate tr for model m (initialised).  RPS3_OK or RPS3_EINVAL with a
@@ -666,8 +689,11 @@ RPS3_API double rps3_traj_duration(const rps3_traj *tr);
  * acceleration jumps at the blend corners t_a and t_b: a sample exactly on a
  * corner takes the value of the segment that starts there (right limit),
  * except t = T*, which takes the left limit.  Any output may be NULL.
- * Returns RPS3_OK, RPS3_EINVAL (bad arguments) or RPS3_EDOMAIN (t outside
- * the span).
+ * Returns RPS3_OK, RPS3_EINVAL (bad arguments), RPS3_EDOMAIN (t outside
+ * the span) or RPS3_ERANGE (a pose, rate or acceleration not finite: a
+ * trajectory that did not pass rps3_traj_check, e.g. NaN in a field or a
+ * sine whose acceleration overflows; the outputs then hold the non-finite
+ * values).
  */
 RPS3_API int rps3_traj_eval(const rps3_model *m, const rps3_traj *tr, double t,
                    double pose[3], double dpose[3], double ddpose[3]);

@@ -60,8 +60,18 @@ int case_compute(const scene_case *c, rps3_data *d, size_t k0, size_t nk,
     double t = scene_case_time(c, k);
     /* the pose and its rates, then the whole pipeline */
     rc = rps3_traj_eval(m, &c->traj, t, d->pose, d->dpose, d->ddpose);
-    if (rc == RPS3_OK)
-      rc = rps3_inverse(m, d);
+    if (rc != RPS3_OK) {
+      /* rps3_traj_eval has no data to hold a message: name what failed */
+      *failed_at = k;
+      snprintf(b->msg[slot], sizeof b->msg[slot],
+               "t = %.9g s (sample %zu): %s: trajectory pose (%g, %g, %g), "
+               "rate (%g, %g, %g), acceleration (%g, %g, %g)", t, k,
+               rps3_strerror(rc), d->pose[0], d->pose[1], d->pose[2],
+               d->dpose[0], d->dpose[1], d->dpose[2], d->ddpose[0],
+               d->ddpose[1], d->ddpose[2]);
+      return rc;
+    }
+    rc = rps3_inverse(m, d);
     if (rc != RPS3_OK) {
       *failed_at = k;
       snprintf(b->msg[slot], sizeof b->msg[slot],

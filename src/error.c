@@ -18,6 +18,7 @@ const char *rps3_strerror(int status) {
   case RPS3_EBRANCH: return "theta solve converged outside 0 < theta < pi";
   case RPS3_ESING: return "singular configuration";
   case RPS3_EDOMAIN: return "time outside the trajectory span";
+  case RPS3_ERANGE: return "result not finite (overflow)";
   case RPS3_EINVAL: return "invalid argument";
   case RPS3_ENOMEM: return "out of memory";
   case RPS3_ESTATE: return "stage called before the stage it depends on";
@@ -55,5 +56,12 @@ int rps3_solver_index(const char *name) {
   if (name == NULL) return -1;
   for (k = 0; k < RPS3_NSOLVER; k++)
     if (strcmp(name, solver_names[k]) == 0) return k;
+  return -1;
+}
+
+int rps3_first_nonfinite(const double *a, int n) {
+  int k;
+  for (k = 0; k < n; k++)
+    if (!isfinite(a[k])) return k;
   return -1;
 }

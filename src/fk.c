@@ -19,6 +19,11 @@
 typedef struct {
   double L[3];
   double k;   /* 3 - 3 rho^2 */
+  /* broyden only: the residual at the current iterate, and whether a
+     trial point gave back exactly that residual (see gsl_f) */
+  double fcur[3];
+  int watch;
+  int stalled;
 } theta_params;
 
 struct rps3_solver_state {
@@ -54,13 +59,26 @@ static void constraints(const theta_params *p, const double th[3],
   }
 }
 
+/* f of the derivative-free solvers.  Broyden's update divides by p . H y,
+   y the change of f over the step, and GSL raises "approximation to
+   Jacobian has collapsed" (broyden.c) when it is 0 -- as it is when a
+   stalled iteration's step no longer changes f.  While p->watch is set (a
+   broyden iterate), a trial point whose f equals the current iterate's
+   bit for bit is reported as a bad function value instead, which GSL
+   returns without raising; the solve reports the stall. */
 static int gsl_f(const gsl_vector *x, void *params, gsl_vector *f) {
+  theta_params *p = (theta_params *)params;
   double th[3], fv[3];
   int k;
   for (k = 0; k < 3; k++) th[k] = gsl_vector_get(x, (size_t)k);
   if (!v3_finite(th)) return GSL_EBADFUNC;
-  constraints((const theta_params *)params, th, fv, NULL);
+  constraints(p, th, fv, NULL);
   if (!v3_finite(fv)) return GSL_EBADFUNC;
+  if (p->watch && fv[0] == p->fcur[0] && fv[1] == p->fcur[1] &&
+      fv[2] == p->fcur[2]) {
+    p->stalled = 1;
+    return GSL_EBADFUNC;
+  }
   for (k = 0; k < 3; k++) gsl_vector_set(f, (size_t)k, fv[k]);
   return GSL_SUCCESS;
 }
@@ -156,23 +174,84 @@ int rps3_theta_guess(const rps3_model *m, rps3_data *d) {
   return RPS3_OK;
 }
 
-/* the analytic Jacobian at th is too ill-conditioned to take a Newton step:
-   GSL's LU would report a singular matrix through its error handler */
-static int newton_unsafe(const rps3_model *m, const theta_params *p,
-                         const double th[3]) {
-  double f[3], J[3][3], A[9], LU[9];
+/* 1-norm condition number of the 3 x 3 matrix J, HUGE_VAL when its LU
+   meets a zero (or non-finite) pivot */
+static double cond3(const double J[3][3]) {
+  double A[9], LU[9];
   int perm[3], i, k;
-  constraints(p, th, f, J);
   for (i = 0; i < 3; i++)
     for (k = 0; k < 3; k++) A[3 * i + k] = LU[3 * i + k] = J[i][k];
-  if (rps3_lu_factor(3, LU, perm) != 0) return 1;
-  return !(rps3_lu_cond1(3, A, LU, perm) <= m->opt.cond_max);
+  if (rps3_lu_factor(3, LU, perm) != 0) return HUGE_VAL;
+  return rps3_lu_cond1(3, A, LU, perm);
+}
+
+/*
+ * Whether the solver may take its next step from th without reaching
+ * GSL's error handler, which aborts a program that left it on: NULL when
+ * it may, else the reason.  The Newton-type solvers solve with an LU of
+ * their Jacobian, and GSL's LU (lu.c) raises "matrix is singular" on an
+ * exactly zero pivot; with partial pivoting a pivot is at least about
+ * |J| / cond(J) against rounding of n eps |J|, so cond <= cond_max (1e13)
+ * keeps it away from zero.  newton and gnewton use the analytic Jacobian.
+ * dnewton and broyden use GSL's forward-difference Jacobian
+ * (gsl_multiroot_fdjacobian: step GSL_SQRT_DBL_EPSILON |theta_j|, or
+ * GSL_SQRT_DBL_EPSILON at 0), which is rebuilt here exactly as GSL builds
+ * it, from the same function values, and must be as well conditioned.  It
+ * must also agree with the analytic one to 1e-3 (relative, 1-norm): a
+ * forward difference with that step is good to ~1e-8 wherever the first
+ * derivatives are not small against the second, and where they are (all
+ * theta at 0 or pi, where every sine vanishes) the difference quotient is
+ * curvature, a Newton step on it goes nowhere, and Broyden's update then
+ * collapses (broyden.c: "approximation to Jacobian has collapsed").  The
+ * hybrid solvers use QR and report failures as return values.
+ */
+static const char *step_unsafe(const rps3_model *m, const theta_params *p,
+                               const double th[3]) {
+  double f[3], J[3][3], Jd[3][3], xs[3], f1[3], dn = 0.0, an = 0.0;
+  int i, k;
+  switch (m->opt.solver) {
+  case RPS3_SOLVER_NEWTON:
+  case RPS3_SOLVER_GNEWTON:
+  case RPS3_SOLVER_DNEWTON:
+  case RPS3_SOLVER_BROYDEN: break;
+  default: return NULL;
+  }
+  constraints(p, th, f, J);
+  if (!(cond3(M3C(J)) <= m->opt.cond_max))
+    return "singular constraint Jacobian";
+  if (m->opt.solver == RPS3_SOLVER_NEWTON ||
+      m->opt.solver == RPS3_SOLVER_GNEWTON)
+    return NULL;
+  /* the forward-difference Jacobian of gsl_multiroot_fdjacobian */
+  for (k = 0; k < 3; k++) {
+    double h = GSL_SQRT_DBL_EPSILON * fabs(th[k]);
+    if (h == 0.0) h = GSL_SQRT_DBL_EPSILON;
+    v3_copy(xs, th);
+    xs[k] = th[k] + h;
+    constraints(p, xs, f1, NULL);
+    for (i = 0; i < 3; i++) Jd[i][k] = (f1[i] - f[i]) / h;
+  }
+  for (k = 0; k < 3; k++) {
+    double cd = 0.0, ca = 0.0;
+    for (i = 0; i < 3; i++) {
+      cd += fabs(Jd[i][k] - J[i][k]);
+      ca += fabs(J[i][k]);
+    }
+    if (cd > dn) dn = cd;
+    if (ca > an) an = ca;
+  }
+  if (!(dn <= 1e-3 * an))
+    return "difference Jacobian dominated by curvature (all sines ~ 0)";
+  if (!(cond3(M3C(Jd)) <= m->opt.cond_max))
+    return "singular difference Jacobian";
+  return NULL;
 }
 
 int rps3_theta_solve(const rps3_model *m, rps3_data *d) {
   struct rps3_solver_state *s;
   double th[3], f[3];
-  int i, iter, status, newton_like;
+  const char *unsafe;
+  int i, iter, status;
   if (m == NULL || d == NULL || !m->valid) return RPS3_EINVAL;
   s = d->solver;
   if (s->kind != m->opt.solver)
@@ -197,13 +276,10 @@ int rps3_theta_solve(const rps3_model *m, rps3_data *d) {
     gsl_vector_set(s->x, (size_t)i, d->theta[i]);
   }
   s->p.k = 3.0 - 3.0 * m->rho * m->rho;
-  newton_like = (m->opt.solver == RPS3_SOLVER_NEWTON ||
-                 m->opt.solver == RPS3_SOLVER_GNEWTON ||
-                 m->opt.solver == RPS3_SOLVER_DNEWTON ||
-                 m->opt.solver == RPS3_SOLVER_BROYDEN);
-  if (newton_like && newton_unsafe(m, &s->p, d->theta))
-    RPS3_ERROR(d, RPS3_ENOCONV,
-               "singular constraint Jacobian at the starting point");
+  unsafe = step_unsafe(m, &s->p, d->theta);
+  if (unsafe != NULL)
+    RPS3_ERROR(d, RPS3_ENOCONV, "%s at the starting point theta = (%.6g, "
+               "%.6g, %.6g)", unsafe, d->theta[0], d->theta[1], d->theta[2]);
 
   /* GSL's hybrid solvers ignore the status of the first evaluation in
      _set, so a starting point where (8)-(10) overflow would look converged
@@ -251,14 +327,23 @@ int rps3_theta_solve(const rps3_model *m, rps3_data *d) {
       RPS3_ERROR(d, RPS3_ENOCONV,
                  "no convergence in %d iterations (residual %.3g > tol %.3g)",
                  iter, resid, m->opt.tol);
-    if (newton_like && newton_unsafe(m, &s->p, th))
-      RPS3_ERROR(d, RPS3_ENOCONV,
-                 "singular constraint Jacobian after %d iterations", iter);
+    unsafe = step_unsafe(m, &s->p, th);
+    if (unsafe != NULL)
+      RPS3_ERROR(d, RPS3_ENOCONV, "%s after %d iterations", unsafe, iter);
+    v3_copy(s->p.fcur, f);
+    s->p.watch = (m->opt.solver == RPS3_SOLVER_BROYDEN);
+    s->p.stalled = 0;
     status = s->fdf ? gsl_multiroot_fdfsolver_iterate(s->sfdf)
                     : gsl_multiroot_fsolver_iterate(s->sf);
+    s->p.watch = 0;
     iter++;
     if (status != GSL_SUCCESS) {
       d->solve_niter = iter;
+      if (s->p.stalled)
+        RPS3_ERROR(d, RPS3_ENOCONV,
+                   "solver stalled after %d iterations: a step left the "
+                   "residual %.3g > tol %.3g unchanged", iter, resid,
+                   m->opt.tol);
       RPS3_ERROR(d, RPS3_ENOCONV, "solver stopped after %d iterations: %s",
                  iter, gsl_strerror(status));
     }
@@ -274,6 +359,9 @@ int rps3_theta_solve(const rps3_model *m, rps3_data *d) {
   }
   rps3_links_from_joints(m, d);
   rps3_frame_from_balls(m, d);
+  RPS3_CHECK_FINITE(d, d->b, 9, "b");
+  RPS3_CHECK_FINITE(d, d->c, 3, "c");
+  RPS3_CHECK_FINITE(d, d->rot, 9, "rot");
   /* a pose (alpha, beta, z_c) has rot = Rz(alpha) Ry(beta) Rz(-alpha) (2),
      whose upper-left block has trace 2 - (1 - cos beta) >= 0.  (8)-(10)
      have a second family of roots with 0 < theta < pi: the ball joints
@@ -297,6 +385,7 @@ int rps3_fk(const rps3_model *m, rps3_data *d) {
   int status = rps3_theta_solve(m, d);
   if (status != RPS3_OK) return status;
   rps3_pose_from_frame(d);
+  RPS3_CHECK_FINITE(d, d->pose, 3, "pose");
   return RPS3_OK;
 }
 

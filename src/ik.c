@@ -78,6 +78,11 @@ int rps3_ik_with(const rps3_model *m, rps3_data *d, rps3_pose_trig *t,
     d->theta[i] = atan2(vz, -radial);
     set_link_dir(d, i, m->radial[i], -radial / d->l[i], vz / d->l[i]);
   }
+  /* finite pose, yet a height of 1e200 m overflows |b_i - P_i| */
+  RPS3_CHECK_FINITE(d, d->c, 3, "c");
+  RPS3_CHECK_FINITE(d, d->rot, 9, "rot");
+  RPS3_CHECK_FINITE(d, d->b, 9, "b");
+  RPS3_CHECK_FINITE(d, d->l, 3, "l");
   if (!theta) return RPS3_OK;
   d->have_theta = 1;
   d->stage = RPS3_STAGE_POS;
@@ -133,9 +138,10 @@ void rps3_constraint_jacobian(const rps3_data *d, double Jl[3][3],
 
 void rps3_transform(const rps3_data *d, double T[4][4]) {
   int i, j;
+  if (T == NULL) return;
   for (i = 0; i < 3; i++) {
-    for (j = 0; j < 3; j++) T[i][j] = d->rot[i][j];
-    T[i][3] = d->c[i];
+    for (j = 0; j < 3; j++) T[i][j] = d != NULL ? d->rot[i][j] : (double)NAN;
+    T[i][3] = d != NULL ? d->c[i] : (double)NAN;
     T[3][i] = 0.0;
   }
   T[3][3] = 1.0;

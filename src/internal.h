@@ -30,6 +30,25 @@
     return (code_);                                                           \
   } while (0)
 
+/*
+ * The last check of every status-returning function: the n values at a are
+ * finite, or RPS3_ERANGE with a message naming the quantity (name) and the
+ * first non-finite component.  The inputs were checked finite on entry, so
+ * a non-finite result is an overflow of finite inputs.
+ */
+#define RPS3_CHECK_FINITE(d, a, n, name)                                      \
+  do {                                                                        \
+    int k_ = rps3_first_nonfinite((const double *)(a), (n));                  \
+    if (k_ >= 0)                                                              \
+      RPS3_ERROR(d, RPS3_ERANGE,                                              \
+                 "%s[%d] = %g is not finite: finite inputs overflowed "       \
+                 "(a mass, length or rate too large)", (name), k_,            \
+                 ((const double *)(a))[k_]);                                  \
+  } while (0)
+
+/* index of the first non-finite of the n values at a, -1 if all finite */
+int rps3_first_nonfinite(const double *a, int n);
+
 /* An empty function to put a breakpoint on: every error passes here. */
 void rps3_error_hook(int code);
 

@@ -459,6 +459,17 @@ int rps3_invdyn(const rps3_model *m, rps3_data *d) {
   else
     d->power = d->dTdt = d->dPdt = d->friction_power = d->energy_residual =
         d->energy_scale = 0.0;
+  /* finite inputs can still overflow here (M = 1e300, or rates of 1e150
+     squared): never report a non-finite force as a result */
+  RPS3_CHECK_FINITE(d, d->F_effect, 3 * RPS3_NEFFECT, "F_effect");
+  RPS3_CHECK_FINITE(d, d->F, 3, "F");
+  RPS3_CHECK_FINITE(d, d->lambda, 3, "lambda");
+  RPS3_CHECK_FINITE(d, &d->power, 1, "power");
+  RPS3_CHECK_FINITE(d, &d->dTdt, 1, "dTdt");
+  RPS3_CHECK_FINITE(d, &d->dPdt, 1, "dPdt");
+  RPS3_CHECK_FINITE(d, &d->friction_power, 1, "friction_power");
+  RPS3_CHECK_FINITE(d, &d->energy_residual, 1, "energy_residual");
+  RPS3_CHECK_FINITE(d, &d->energy_scale, 1, "energy_scale");
   d->stage |= RPS3_STAGE_DYN;
   return RPS3_OK;
 }

@@ -7,6 +7,7 @@
 #include "internal.h"
 
 void rps3_options_default(rps3_options *opt) {
+  if (opt == NULL) return;
   opt->effects = RPS3_EFF_DEFAULT;
   opt->method = RPS3_LAGRANGE;
   opt->theta = RPS3_THETA_CLOSED_FORM;
@@ -20,6 +21,7 @@ void rps3_options_default(rps3_options *opt) {
 }
 
 void rps3_model_default(rps3_model *m) {
+  if (m == NULL) return;
   memset(m, 0, sizeof(*m));
   /* Table II */
   m->R = 0.2286;
@@ -77,6 +79,18 @@ int rps3_model_validate(rps3_model *m, rps3_check *chk) {
   if (!isfinite(m->r))
     return rps3_check_fail(chk, RPS3_F_RHO, 0, m->rho, RPS3_F_R, -1,
                            "rho R overflows");
+  /* products the dynamics forms from the inputs: a finite mass can still
+     make a weight that overflows (M = 1e308) */
+  if (!(isfinite(m->M * m->g) && isfinite(m->M * m->r * m->r)))
+    return rps3_check_fail(chk, RPS3_F_PLATFORM_MASS, 0, m->M, RPS3_F_G,
+                           RPS3_F_RHO, "M g or M r^2 overflows");
+  if (!(isfinite(m->m * m->g * m->d) && isfinite(m->m * m->d * m->d)))
+    return rps3_check_fail(chk, RPS3_F_LINK_MASS, 0, m->m, RPS3_F_G,
+                           RPS3_F_D, "m g d or m d^2 overflows");
+  if (!(isfinite(p->mass * m->g) && isfinite(p->mass * m->r * m->r)))
+    return rps3_check_fail(chk, RPS3_F_PAYLOAD_MASS, 0, p->mass, RPS3_F_G,
+                           RPS3_F_RHO,
+                           "payload.mass g or payload.mass r^2 overflows");
   m->Ip[0] = m->Ip[1] = 0.25 * m->M * m->r * m->r;
   m->Ip[2] = 0.5 * m->M * m->r * m->r;
   m->Jlink = m->m * m->d * m->d + m->link_Ic;

@@ -9,6 +9,7 @@
 #include "internal.h"
 
 void rps3_traj_default(rps3_traj *tr) {
+  if (tr == NULL) return;
   memset(tr, 0, sizeof(*tr));
   tr->kind = RPS3_TRAJ_HELIX;
   /* Table II (r* = 0.266 mm, see the errata) */
@@ -137,5 +138,8 @@ int rps3_traj_eval(const rps3_model *m, const rps3_traj *tr, double t,
     if (dpose != NULL) dpose[k] = dq[k];
     if (ddpose != NULL) ddpose[k] = ddq[k];
   }
+  /* a trajectory that passed rps3_traj_check can still overflow (amp
+     1e300 times (2 pi freq)^2), and an unchecked one can hold anything */
+  if (!v3_finite(q) || !v3_finite(dq) || !v3_finite(ddq)) return RPS3_ERANGE;
   return RPS3_OK;
 }

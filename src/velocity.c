@@ -97,6 +97,10 @@ int rps3_velocity_with(const rps3_model *m, rps3_data *d,
     d->dl[i] = v3_dot(d->phi[i], bd);
     d->dtheta[i] = v3_dot(d->dphi[i], bd) / d->l[i];
   }
+  RPS3_CHECK_FINITE(d, d->omega, 3, "omega");
+  RPS3_CHECK_FINITE(d, d->vc, 3, "vc");
+  RPS3_CHECK_FINITE(d, d->dl, 3, "dl");
+  RPS3_CHECK_FINITE(d, d->dtheta, 3, "dtheta");
   d->stage |= RPS3_STAGE_VEL;
   return RPS3_OK;
 }
@@ -170,6 +174,10 @@ int rps3_acceleration_with(const rps3_model *m, rps3_data *d,
     d->ddtheta[i] =
         (v3_dot(d->dphi[i], bdd) - 2.0 * d->dl[i] * d->dtheta[i]) / d->l[i];
   }
+  RPS3_CHECK_FINITE(d, d->domega, 3, "domega");
+  RPS3_CHECK_FINITE(d, d->ac, 3, "ac");
+  RPS3_CHECK_FINITE(d, d->ddl, 3, "ddl");
+  RPS3_CHECK_FINITE(d, d->ddtheta, 3, "ddtheta");
   d->stage |= RPS3_STAGE_ACC;
   return RPS3_OK;
 }
@@ -220,6 +228,10 @@ int rps3_joint_velocity(const rps3_model *m, rps3_data *d) {
   for (i = 0; i < 3; i++) a[i] = d->rot[i][2];
   rps3_omega_from_balls(d->omega, M3C(rho), M3C(u), a, m->r);
   pose_rates(d);
+  RPS3_CHECK_FINITE(d, d->dtheta, 3, "dtheta");
+  RPS3_CHECK_FINITE(d, d->vc, 3, "vc");
+  RPS3_CHECK_FINITE(d, d->omega, 3, "omega");
+  RPS3_CHECK_FINITE(d, d->dpose, 3, "dpose");
   d->stage |= RPS3_STAGE_VEL;
   return RPS3_OK;
 }
@@ -271,12 +283,15 @@ int rps3_joint_acceleration(const rps3_model *m, rps3_data *d) {
   }
   for (i = 0; i < 3; i++) a[i] = d->rot[i][2];
   rps3_omega_from_balls(d->domega, M3C(rho), M3C(u), a, m->r);
+  RPS3_CHECK_FINITE(d, d->ddtheta, 3, "ddtheta");
+  RPS3_CHECK_FINITE(d, d->ac, 3, "ac");
+  RPS3_CHECK_FINITE(d, d->domega, 3, "domega");
   d->stage |= RPS3_STAGE_ACC;
   return RPS3_OK;
 }
 
-void rps3_omega_paper(const rps3_model *m, const rps3_data *d,
-                      double omega_body[3]) {
+static void omega_paper(const rps3_model *m, const rps3_data *d,
+                        double omega_body[3]) {
   /* literally (31)-(33) in the paper's normalized variables (lengths in
      units of R), with the errata's two corrections */
   const double rho = m->rho, h = 0.5 * RPS3_SQRT3;
@@ -304,4 +319,14 @@ void rps3_omega_paper(const rps3_model *m, const rps3_data *d,
   omega_body[0] = wx;
   omega_body[1] = wy;
   omega_body[2] = wz;
+}
+
+void rps3_omega_paper(const rps3_model *m, const rps3_data *d,
+                      double omega_body[3]) {
+  if (omega_body == NULL) return;
+  if (m == NULL || d == NULL || !m->valid) {
+    omega_body[0] = omega_body[1] = omega_body[2] = (double)NAN;
+    return;
+  }
+  omega_paper(m, d, omega_body);
 }
