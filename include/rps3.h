@@ -91,6 +91,11 @@ enum rps3_status {
                         reported quantity overflowed (e.g. M = 1e300, rates
                         of 1e300); the message names the quantity.  Every
                         status-returning function checks what it reports */
+  RPS3_EMODE = 7,    /* wrong assembly mode: the theta solve converged to a
+                        physical root of (8)-(10), but not the one asked
+                        for -- in rps3_inverse (multiroot) a root other than
+                        the pose's own (closed form (39)); in rps3_fk and
+                        rps3_theta_solve a mode other than opt.mode */
   RPS3_EINVAL = -1,  /* invalid argument: non-finite or out-of-range value,
                         NULL pointer, unknown enum value */
   RPS3_ENOMEM = -2,  /* allocation failed (rps3_data_alloc only) */
@@ -104,8 +109,30 @@ RPS3_API const char *rps3_strerror(int status);
 /* Warning bits in rps3_data.warn: the result is returned, but look at it. */
 enum rps3_warning {
   RPS3_WARN_ILLCOND = 1,    /* cond of the lambda system > opt.cond_warn */
-  RPS3_WARN_ALPHA = 2       /* forward kinematics: beta ~ 0, so alpha is not
+  RPS3_WARN_ALPHA = 2,      /* forward kinematics: beta ~ 0, so alpha is not
                                defined; alpha was set to 0 */
+  RPS3_WARN_MODE = 4        /* a warm-started theta solve returned another
+                               assembly mode (rps3_data.mode) than the
+                               previous sample's: the sequence crossed the
+                               singular surface, or jumped to another root */
+};
+
+/*
+ * Assembly modes (rps3_data.mode, rps3_options.mode).  The same link
+ * lengths fit several configurations (roots of (8)-(10) with 0 < theta <
+ * pi), separated by the singular surface where det(df/dtheta) = 0.  Every
+ * level platform (beta = 0, z_c > 0) has det(df/dtheta) > 0 (df/dtheta is
+ * then cyclic with equal positive entries), so the sign of the determinant
+ * tells on which side of that surface a configuration lies: RPS3_MODE_LEVEL
+ * is the level platform's sign (it holds for every configuration reachable
+ * from a level one without passing a singularity), RPS3_MODE_OTHER the
+ * other.  docs/assembly-modes.md
+ * shows them.
+ */
+enum rps3_mode {
+  RPS3_MODE_OTHER = -1,     /* det(df/dtheta) < 0 */
+  RPS3_MODE_ANY = 0,        /* opt.mode: accept any; data.mode: singular */
+  RPS3_MODE_LEVEL = 1       /* det(df/dtheta) > 0, the level platform's */
 };
 
 /* ---------------------------------------------------------------- effects */
@@ -198,6 +225,10 @@ typedef struct {
   double cond_warn;        /* set RPS3_WARN_ILLCOND above this 1-norm
                               condition number of the lambda system (1e6) */
   double cond_max;         /* RPS3_ESING above this (1e13) */
+  int mode;                /* assembly mode rps3_theta_solve and rps3_fk
+                              must return (enum rps3_mode): RPS3_MODE_ANY
+                              (default), RPS3_MODE_LEVEL or RPS3_MODE_OTHER;
+                              another one is RPS3_EMODE */
 } rps3_options;
 
 /* ------------------------------------------------------------------ model */
@@ -315,6 +346,10 @@ typedef struct {
   int solve_niter;     /* iterations of the last theta solve */
   double solve_resid;  /* max |f_k| after the last theta solve [-] */
   int have_theta;      /* theta holds a solution usable as a warm start */
+  int mode;            /* assembly mode of theta (enum rps3_mode): sign of
+                          det(df/dtheta), +1 the level platform's side, -1
+                          the other, 0 exactly singular; set by rps3_ik and
+                          rps3_theta_solve */
 
   /* velocities; rps3_velocity (from dpose) or rps3_joint_velocity (dl) */
   double dl[3];        /* link extension rates [m/s]; input of
@@ -755,6 +790,7 @@ RPS3_API int rps3_traj_eval(const rps3_model *m, const rps3_traj *tr, double t,
     "1", "opt.cond_warn")                                                     \
   X(RPS3_F_COND_MAX, RPS3_IN_MODEL, opt.cond_max, 1, 0, 1, 0, HUGE_VAL, "1",  \
     "opt.cond_max")                                                           \
+  X(RPS3_F_MODE, RPS3_IN_MODEL, opt.mode, 1, 1, -1, 0, 1, "-", "opt.mode")    \
   X(RPS3_F_KIND, RPS3_IN_TRAJ, kind, 1, 1, RPS3_TRAJ_HELIX, 0,                \
     RPS3_TRAJ_SINE, "-", "trajectory.kind")                                   \
   X(RPS3_F_HELIX_RADIUS, RPS3_IN_HELIX, helix.radius, 1, 0, 0, 0, HUGE_VAL,   \

@@ -251,7 +251,7 @@ int rps3_theta_solve(const rps3_model *m, rps3_data *d) {
   struct rps3_solver_state *s;
   double th[3], f[3];
   const char *unsafe;
-  int i, iter, status;
+  int i, iter, status, prev_mode;
   if (m == NULL || d == NULL || !m->valid) return RPS3_EINVAL;
   s = d->solver;
   if (s->kind != m->opt.solver)
@@ -266,11 +266,16 @@ int rps3_theta_solve(const rps3_model *m, rps3_data *d) {
     if (!isfinite(d->l[i]) || !(d->l[i] > 0.0))
       RPS3_ERROR(d, RPS3_EINVAL, "link %d length %g m: needs finite and > 0",
                  i + 1, d->l[i]);
-  /* starting point: explicit warm start, else the level-platform guess */
-  if (!(m->opt.warm_start && d->have_theta && v3_finite(d->theta))) {
+  /* starting point: explicit warm start, else the level-platform guess;
+     a warm start remembers the mode it starts from */
+  prev_mode = RPS3_MODE_ANY;
+  if (m->opt.warm_start && d->have_theta && v3_finite(d->theta)) {
+    prev_mode = d->mode;
+  } else {
     status = rps3_theta_guess(m, d);
     if (status != RPS3_OK) return status;
   }
+  d->mode = RPS3_MODE_ANY;
   for (i = 0; i < 3; i++) {
     s->p.L[i] = d->l[i] / m->R;
     gsl_vector_set(s->x, (size_t)i, d->theta[i]);
@@ -375,6 +380,19 @@ int rps3_theta_solve(const rps3_model *m, rps3_data *d) {
                "about its normal (ball joints reflected through the Z axis), "
                "which no pose (alpha, beta, z_c) describes",
                d->theta[0], d->theta[1], d->theta[2]);
+  }
+  /* the assembly mode: flag a warm-started sequence that changed it, and
+     refuse one the caller excluded */
+  d->mode = rps3_mode_of(d);
+  if (prev_mode != RPS3_MODE_ANY && d->mode != prev_mode)
+    d->warn |= RPS3_WARN_MODE;
+  if (m->opt.mode != RPS3_MODE_ANY && d->mode != m->opt.mode) {
+    d->have_theta = 0;
+    RPS3_ERROR(d, RPS3_EMODE,
+               "root theta = (%.6g, %.6g, %.6g) is in assembly mode %d "
+               "(sign of det df/dtheta; +1 the level platform's), opt.mode "
+               "asks for %d", d->theta[0], d->theta[1], d->theta[2], d->mode,
+               m->opt.mode);
   }
   d->have_theta = 1;
   d->stage = RPS3_STAGE_POS;

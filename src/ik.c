@@ -84,6 +84,7 @@ int rps3_ik_with(const rps3_model *m, rps3_data *d, rps3_pose_trig *t,
   RPS3_CHECK_FINITE(d, d->b, 9, "b");
   RPS3_CHECK_FINITE(d, d->l, 3, "l");
   if (!theta) return RPS3_OK;
+  d->mode = rps3_mode_of(d);
   d->have_theta = 1;
   d->stage = RPS3_STAGE_POS;
   return RPS3_OK;
@@ -134,6 +135,15 @@ void rps3_constraint_jacobian(const rps3_data *d, double Jl[3][3],
     Jt[k][i] = 2.0 * d->l[i] * v3_dot(D, d->dphi[i]);
     Jt[k][j] = -2.0 * d->l[j] * v3_dot(D, d->dphi[j]);
   }
+}
+
+int rps3_mode_of(const rps3_data *d) {
+  double Jl[3][3], J[3][3], det;
+  rps3_constraint_jacobian(d, Jl, J);
+  det = J[0][0] * (J[1][1] * J[2][2] - J[1][2] * J[2][1]) -
+        J[0][1] * (J[1][0] * J[2][2] - J[1][2] * J[2][0]) +
+        J[0][2] * (J[1][0] * J[2][1] - J[1][1] * J[2][0]);
+  return (det > 0.0) - (det < 0.0);
 }
 
 void rps3_transform(const rps3_data *d, double T[4][4]) {

@@ -120,6 +120,10 @@ void rps3_theta_constraints(const double L[3], double rho, const double th[3],
    (alpha = 0 and RPS3_WARN_ALPHA when beta ~ 0) */
 void rps3_pose_from_frame(rps3_data *d);
 
+/* assembly mode of the current positions (enum rps3_mode): the sign of
+   det(df/dtheta), positive for every level platform */
+int rps3_mode_of(const rps3_data *d);
+
 /* constraint Jacobian blocks of f_k = |b_i - b_j|^2 - 3 r^2 (8)-(10):
    Jl[k][i] = d f_k / d l_i, Jt[k][i] = d f_k / d theta_i */
 void rps3_constraint_jacobian(const rps3_data *d, double Jl[3][3],

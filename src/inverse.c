@@ -3,10 +3,56 @@
  * forces, computing only what the selected effects need.
  */
 #include "internal.h"
+#include "linalg.h"
+
+/*
+ * The multiroot route solves (8)-(10) from the lengths of the pose, and the
+ * root it reaches depends on its start: it may be another assembly mode,
+ * with the same lengths and other forces.  The pose fixes its own theta,
+ * (39): th39.  Accept the solved theta when it differs from th39 by no
+ * more than the solve's own accuracy: a root with max |f_k| <= tol (f in
+ * units of R^2) is within |df/dtheta^-1|_1 * 3 tol R^2 of the exact one
+ * (first order), times 10 for the linearization, with a rounding floor
+ * (f is evaluated to ~1e-15 R^2, the closed form to ~1e-15 rad).
+ */
+static int check_own_root(const rps3_model *m, rps3_data *d,
+                          const double th39[3]) {
+  double Jl[3][3], Jt[3][3], A[9], LU[9], anorm = 0.0, err = 0.0, bound;
+  int perm[3], i, k;
+  rps3_constraint_jacobian(d, Jl, Jt);
+  for (k = 0; k < 3; k++) {
+    double col = 0.0;
+    for (i = 0; i < 3; i++) {
+      A[3 * i + k] = LU[3 * i + k] = Jt[i][k];
+      col += fabs(Jt[i][k]);
+    }
+    if (col > anorm) anorm = col;
+  }
+  for (i = 0; i < 3; i++)
+    if (fabs(d->theta[i] - th39[i]) > err) err = fabs(d->theta[i] - th39[i]);
+  /* a singular root: invdyn reports it (RPS3_ESING); compare plainly */
+  if (rps3_lu_factor(3, LU, perm) != 0 || !(anorm > 0.0))
+    bound = 1e-9;
+  else
+    bound = 10.0 * rps3_lu_cond1(3, A, LU, perm) / anorm * 3.0 *
+                (m->opt.tol > 1e-15 ? m->opt.tol : 1e-15) * m->R * m->R +
+            1e-12;
+  if (!(err <= bound)) {
+    d->have_theta = 0;
+    RPS3_ERROR(d, RPS3_EMODE,
+               "multiroot theta (%.6g, %.6g, %.6g) is not the pose's own "
+               "root (%.6g, %.6g, %.6g) of (39) (assembly mode %d): start "
+               "near the pose's mode or use the closed form",
+               d->theta[0], d->theta[1], d->theta[2], th39[0], th39[1],
+               th39[2], d->mode);
+  }
+  return RPS3_OK;
+}
 
 int rps3_inverse(const rps3_model *m, rps3_data *d) {
   rps3_pose_trig trig; /* sines and cosines of the pose, for every stage */
-  int status, need_rates, multiroot;
+  double th39[3];      /* the pose's own theta, (39), multiroot route */
+  int status, need_rates, multiroot, i;
   if (m == NULL || d == NULL || !m->valid) return RPS3_EINVAL;
 
   /* positions: the closed form (39), or the multiroot solve of (8)-(10)
@@ -16,8 +62,16 @@ int rps3_inverse(const rps3_model *m, rps3_data *d) {
   if (status != RPS3_OK) return status;
   if (multiroot) {
     /* ik left theta alone (no closed form leaks into the starting point):
-       the solve starts from this data's previous solution */
+       the solve starts from this data's previous solution.  Keep (39) of
+       the pose's ball joints, atan2 as in rps3_ik, to check the root */
+    for (i = 0; i < 3; i++) {
+      double v[3];
+      v3_sub(v, d->b[i], m->pin[i]);
+      th39[i] = atan2(v[2], -v3_dot(v, m->radial[i]));
+    }
     status = rps3_theta_solve(m, d);
+    if (status != RPS3_OK) return status;
+    status = check_own_root(m, d, th39);
     if (status != RPS3_OK) return status;
   }
 
