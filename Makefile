@@ -283,6 +283,13 @@ study: study-bin venv
 	$(B)/rps3-study workspace -o out/workspace.h5
 	$(VPY) analysis/accuracy_cost.py out/accuracy.h5 out > out/accuracy_table.md
 	$(VPY) analysis/workspace.py out/workspace.h5 out
+	$(VPY) analysis/assembly_modes.py out
+
+# the figure of docs/assembly-modes.md alone (numpy, a few seconds)
+.PHONY: assembly-modes
+assembly-modes: venv
+	@mkdir -p out
+	$(VPY) analysis/assembly_modes.py out
 
 # ------------------------------------------------------------------- paper
 paper: all venv

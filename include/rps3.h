@@ -348,8 +348,9 @@ typedef struct {
   int have_theta;      /* theta holds a solution usable as a warm start */
   int mode;            /* assembly mode of theta (enum rps3_mode): sign of
                           det(df/dtheta), +1 the level platform's side, -1
-                          the other, 0 exactly singular; set by rps3_ik and
-                          rps3_theta_solve */
+                          the other, 0 exactly singular; it changes only
+                          through a singular configuration; set by rps3_ik,
+                          rps3_theta_solve (so rps3_fk) and rps3_fwddyn */
 
   /* velocities; rps3_velocity (from dpose) or rps3_joint_velocity (dl) */
   double dl[3];        /* link extension rates [m/s]; input of
@@ -391,8 +392,6 @@ typedef struct {
   double hq[3];        /* bias forces (velocity products, gravity, pin
                           friction): F = Mq ddl + hq [N] */
   double Mcond;        /* 1-norm condition number of Mq [-] */
-  int mode;            /* assembly mode: sign of det(df/dtheta), +1 or -1;
-                          it changes only through a singular configuration */
 
   int warn;            /* RPS3_WARN_* bits of the last point */
   int stage;           /* RPS3_STAGE_* bits completed for this point */
@@ -653,7 +652,9 @@ RPS3_API int rps3_fk_batch(const rps3_model *m, rps3_data *d,
  * worse than opt.cond_max, or Mq is not positive definite, or an
  * acceleration is not finite (a singular configuration: no acceleration
  * is returned then, d->ddl is set to NaN so that it cannot be mistaken for
- * one).  With pin friction of exact sign (friction.vreg = 0) the
+ * one); RPS3_ERANGE when another result overflows (ddtheta, ac, domega,
+ * hq, Mq; e.g. rates of 1e200).  With pin friction of exact sign
+ * (friction.vreg = 0) the
  * acceleration is discontinuous where a dtheta_i changes sign.
  */
 RPS3_API int rps3_fwddyn(const rps3_model *m, rps3_data *d);
@@ -666,8 +667,9 @@ RPS3_API int rps3_fwddyn(const rps3_model *m, rps3_data *d);
  * (1/2) omega . I omega and M g z_c, links (1/2) Jlink dtheta^2 and
  * m g d sin(theta), payload likewise.  The zero of P is the base plane.
  * *fric receives the power of the pin friction torques [W] (<= 0); any
- * output may be NULL.  Returns RPS3_OK, RPS3_EINVAL or RPS3_ESTATE
- * (positions or velocities missing).
+ * output may be NULL.  Returns RPS3_OK, RPS3_EINVAL, RPS3_ESTATE
+ * (positions or velocities missing) or RPS3_ERANGE (an energy or power not
+ * finite; d is const, so no message is stored).
  */
 RPS3_API int rps3_energy(const rps3_model *m, const rps3_data *d, double *T,
                          double *P, double *fric);

@@ -344,6 +344,11 @@ int rps3_fwddyn(const rps3_model *m, rps3_data *d) {
     d->ac[i] += v3_dot(k.Jc[i], x);
     d->domega[i] += v3_dot(k.Jw[i], x);
   }
+  RPS3_CHECK_FINITE(d, d->ddtheta, 3, "ddtheta");
+  RPS3_CHECK_FINITE(d, d->ac, 3, "ac");
+  RPS3_CHECK_FINITE(d, d->domega, 3, "domega");
+  RPS3_CHECK_FINITE(d, d->hq, 3, "hq");
+  RPS3_CHECK_FINITE(d, d->Mq, 9, "Mq");
   d->stage |= RPS3_STAGE_ACC;
   return RPS3_OK;
 }
@@ -383,5 +388,7 @@ int rps3_energy(const rps3_model *m, const rps3_data *d, double *T,
   if (T != NULL) *T = t;
   if (P != NULL) *P = p;
   if (fric != NULL) *fric = f;
+  /* d is read-only here: the status alone says an energy overflowed */
+  if (!(isfinite(t) && isfinite(p) && isfinite(f))) return RPS3_ERANGE;
   return RPS3_OK;
 }
