@@ -5,11 +5,14 @@ usage: workspace.py WORKSPACE.h5 OUTDIR [--alpha ALPHA]
 
 Writes OUTDIR/workspace.png: for each rho (rows), at the alpha nearest to
 ALPHA (default 0.3 rad), the (beta, z_c) plane coloured by the log10 of
-the condition number of the lambda system, with the unreachable region
-blank, the other assembly mode hatched and the warning level 1e6 drawn;
-and the static force holding the platform.  Prints, per rho, the fraction
-of the grid that is reachable, in the home assembly mode and below the
-warning level: the safe operating region.
+the force transmission (the largest actuator force per unit platform
+load, dimensionless), with the unreachable region blank, the other assembly
+mode hatched and the warning level 100 drawn; and the static force holding
+the platform in the safe region.  Prints, per rho, the fraction of the grid
+that is reachable, in the home assembly mode and below the transmission
+warning level: the safe operating region.  (The condition number of the
+lambda system measures lost digits, not force: it stays at 3 while a level
+platform is lowered onto the base and its forces grow without bound.)
 """
 
 import argparse
@@ -27,7 +30,7 @@ import numpy as np  # noqa: E402
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
 import rps3io  # noqa: E402
 
-COND_WARN = 1e6
+TRANS_WARN = 100.0  # opt.trans_warn, the library's default
 
 
 def load(f):
@@ -36,14 +39,15 @@ def load(f):
     if names != ("rho", "alpha", "beta", "z_c"):
         raise ValueError(f"condition: unexpected axes {names}")
     axes = {n: f["condition"].dims[k][0][()] for k, n in enumerate(names)}
-    data = {k: f[k][()] for k in ("status", "condition", "mode", "max_force")}
+    data = {k: f[k][()] for k in ("status", "condition", "transmission",
+                                  "mode", "max_force")}
     return axes, data
 
 
 def safe(data):
-    """Reachable, home assembly mode, condition below the warning level."""
+    """Reachable, home assembly mode, transmission below the warning level."""
     return (data["status"] == 0) & (data["mode"] == 1) & \
-        (data["condition"] < COND_WARN)
+        (data["transmission"] < TRANS_WARN)
 
 
 def main(argv=None):
@@ -61,21 +65,21 @@ def main(argv=None):
               axes["z_c"][-1]]
     ok = safe(data)
     for r, rho in enumerate(axes["rho"]):
-        cond = data["condition"][r, ia].T      # [z_c, beta]
+        cond = data["transmission"][r, ia].T   # [z_c, beta]
         mode = data["mode"][r, ia].T
         force = data["max_force"][r, ia].T
         im = ax[r][0].imshow(np.log10(cond), origin="lower", extent=extent,
                              aspect="auto", cmap="viridis", vmin=0, vmax=8)
-        fig.colorbar(im, ax=ax[r][0], label="log10 condition number")
+        fig.colorbar(im, ax=ax[r][0], label="log10 force transmission")
         bb, zz = np.meshgrid(axes["beta"], axes["z_c"])
         ax[r][0].contourf(bb, zz, (mode == -1).astype(float), levels=[0.5, 1.5],
                           colors="none", hatches=["//"])
-        ax[r][0].contour(bb, zz, np.log10(cond), levels=[np.log10(COND_WARN)],
+        ax[r][0].contour(bb, zz, np.log10(cond), levels=[np.log10(TRANS_WARN)],
                          colors="r", linewidths=1)
         ax[r][0].set_title(f"rho = {rho:g}, alpha = {axes['alpha'][ia]:.3f} "
-                           "rad: condition (hatched: other assembly mode, "
-                           "red: 1e6)", fontsize=9)
-        # log scale: the force grows like the condition number towards the
+                           "rad: transmission (hatched: other assembly "
+                           "mode, red: 100)", fontsize=9)
+        # log scale: the force grows like the transmission towards the
         # singular surface
         im = ax[r][1].imshow(np.where(ok[r, ia].T, force, np.nan),
                              origin="lower", extent=extent, aspect="auto",
@@ -89,7 +93,7 @@ def main(argv=None):
         frac = ok[r].mean()
         reach = (data["status"][r] == 0).mean()
         print(f"rho = {rho:g}: reachable {reach:.1%}, safe (home mode, "
-              f"cond < 1e6) {frac:.1%} of the grid; max holding force in "
+              f"transmission < 100) {frac:.1%} of the grid; max holding force in "
               f"the safe region {np.nanmax(np.where(ok[r], data['max_force'][r], np.nan)):.3g} N")
     fig.tight_layout()
     os.makedirs(args.outdir, exist_ok=True)

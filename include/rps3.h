@@ -85,7 +85,8 @@ enum rps3_status {
                         pose describes */
   RPS3_ESING = 4,    /* singular configuration: the constraint Jacobian
                         d f / d theta (the lambda system) has condition number
-                        above opt.cond_max, or a zero pivot */
+                        above opt.cond_max, or a zero pivot; or (rps3_invdyn)
+                        the force transmission is above opt.trans_max */
   RPS3_EDOMAIN = 5,  /* a trajectory was evaluated outside its time span */
   RPS3_ERANGE = 6,   /* a result is not finite: the inputs were finite but a
                         reported quantity overflowed (e.g. M = 1e300, rates
@@ -111,10 +112,13 @@ enum rps3_warning {
   RPS3_WARN_ILLCOND = 1,    /* cond of the lambda system > opt.cond_warn */
   RPS3_WARN_ALPHA = 2,      /* forward kinematics: beta ~ 0, so alpha is not
                                defined; alpha was set to 0 */
-  RPS3_WARN_MODE = 4        /* a warm-started theta solve returned another
+  RPS3_WARN_MODE = 4,       /* a warm-started theta solve returned another
                                assembly mode (rps3_data.mode) than the
                                previous sample's: the sequence crossed the
                                singular surface, or jumped to another root */
+  RPS3_WARN_TRANS = 8       /* force transmission (rps3_data.transmission)
+                               above opt.trans_warn: the actuators carry
+                               many times the load on the platform */
 };
 
 /*
@@ -225,6 +229,9 @@ typedef struct {
   double cond_warn;        /* set RPS3_WARN_ILLCOND above this 1-norm
                               condition number of the lambda system (1e6) */
   double cond_max;         /* RPS3_ESING above this (1e13) */
+  double trans_warn;       /* set RPS3_WARN_TRANS above this force
+                              transmission (rps3_data.transmission), 100 */
+  double trans_max;        /* RPS3_ESING above this transmission (1e8) */
   int mode;                /* assembly mode rps3_theta_solve and rps3_fk
                               must return (enum rps3_mode): RPS3_MODE_ANY
                               (default), RPS3_MODE_LEVEL or RPS3_MODE_OTHER;
@@ -375,6 +382,15 @@ typedef struct {
   int has_lambda;      /* 1 when lambda was computed (Lagrange) */
   double cond;         /* 1-norm condition number of the lambda system
                           (df/dtheta), both methods [-] */
+  double transmission; /* force transmission [-]: the largest actuator
+                          force per unit platform load, max_i sum_j
+                          |dF_i / dw_j| s_j over the wrench w = (force,
+                          moment / R) (s = 1, 1, 1, R, R, R), so that
+                          |F_i| <= transmission max(|f|, |n| / R); 2.41
+                          for the level platform at z_c = R, unbounded
+                          towards singular configurations, also where cond
+                          stays small (a level platform lowered to the
+                          base); both methods */
   double power;        /* actuator power sum F_i dl_i [W] (certify) */
   double dTdt;         /* rate of kinetic energy of the selected effects [W] */
   double dPdt;         /* rate of potential energy of the selected effects [W] */
@@ -792,6 +808,10 @@ RPS3_API int rps3_traj_eval(const rps3_model *m, const rps3_traj *tr, double t,
     "1", "opt.cond_warn")                                                     \
   X(RPS3_F_COND_MAX, RPS3_IN_MODEL, opt.cond_max, 1, 0, 1, 0, HUGE_VAL, "1",  \
     "opt.cond_max")                                                           \
+  X(RPS3_F_TRANS_WARN, RPS3_IN_MODEL, opt.trans_warn, 1, 0, 0, 1, HUGE_VAL,   \
+    "1", "opt.trans_warn")                                                    \
+  X(RPS3_F_TRANS_MAX, RPS3_IN_MODEL, opt.trans_max, 1, 0, 0, 1, HUGE_VAL,     \
+    "1", "opt.trans_max")                                                     \
   X(RPS3_F_MODE, RPS3_IN_MODEL, opt.mode, 1, 1, -1, 0, 1, "-", "opt.mode")    \
   X(RPS3_F_KIND, RPS3_IN_TRAJ, kind, 1, 1, RPS3_TRAJ_HELIX, 0,                \
     RPS3_TRAJ_SINE, "-", "trajectory.kind")                                   \

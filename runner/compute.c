@@ -41,6 +41,7 @@ static void store(const rps3_model *m, const rps3_data *d, out_block *b,
       m->opt.certify ? d->energy_residual : (double)NAN;
   ((double *)b->energy_scale)[j] = m->opt.certify ? d->energy_scale : (double)NAN;
   ((double *)b->condition)[j] = d->cond;
+  ((double *)b->transmission)[j] = d->transmission;
   ((int32_t *)b->solve_niter)[j] = d->solve_niter;
   ((double *)b->solve_resid)[j] = d->solve_resid;
   ((int32_t *)b->warn)[j] = d->warn;

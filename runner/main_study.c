@@ -973,7 +973,7 @@ static int run_workspace(const char *path, const char *cmdline, int quick) {
   static const double rhos[3] = {0.3, 0.5, 0.8};
   size_t na = quick ? 13 : 25, nb = quick ? 25 : 61, nz = quick ? 20 : 60;
   size_t nr = 3, npt, ir, ia, ib, iz, p;
-  double *alpha, *beta, *zc, *cond, *force, *fmax;
+  double *alpha, *beta, *zc, *cond, *trans, *force, *fmax;
   int32_t *status, *mode, link[3] = {1, 2, 3};
   h5out o = {-1, -1};
   int rc = 0;
@@ -983,11 +983,12 @@ static int run_workspace(const char *path, const char *cmdline, int quick) {
   beta = malloc(nb * sizeof(double));
   zc = malloc(nz * sizeof(double));
   cond = malloc(npt * sizeof(double));
+  trans = malloc(npt * sizeof(double));
   fmax = malloc(npt * sizeof(double));
   force = malloc(3 * npt * sizeof(double));
   status = malloc(npt * sizeof(int32_t));
   mode = malloc(npt * sizeof(int32_t));
-  if (!alpha || !beta || !zc || !cond || !fmax || !force || !status ||
+  if (!alpha || !beta || !zc || !cond || !trans || !fmax || !force || !status ||
       !mode) {
     fprintf(stderr, "rps3-study: out of memory\n");
     return EXIT_IO;
@@ -1032,6 +1033,8 @@ static int run_workspace(const char *path, const char *cmdline, int quick) {
             mode[p] = (dj > 0) == (home > 0) ? 1 : -1;
           }
           cond[p] = (st == RPS3_OK || st == RPS3_ESING) ? d->cond : DNAN;
+          trans[p] = (st == RPS3_OK || st == RPS3_ESING) ? d->transmission
+                                                         : DNAN;
           fmax[p] = st == RPS3_OK ? 0.0 : DNAN;
           for (i = 0; i < 3; i++) {
             force[3 * p + (size_t)i] = st == RPS3_OK ? d->F[i] : DNAN;
@@ -1067,10 +1070,15 @@ static int run_workspace(const char *path, const char *cmdline, int quick) {
                    "link number", self);
     rc |= h5_write(&o, "status", H5T_NATIVE_INT32, 4, dims, status, "1",
                    "rps3_inverse status: 0 ok, 1 unreachable (EREACH), 4 "
-                   "singular (ESING, condition above cond_max = 1e13)", grid);
+                   "singular (ESING, condition above cond_max = 1e13 or "
+                   "transmission above trans_max = 1e8)", grid);
     rc |= h5_write(&o, "condition", H5T_NATIVE_DOUBLE, 4, dims, cond, "1",
                    "1-norm condition number of the lambda system df/dtheta "
                    "(NaN where unreachable); warn above 1e6", grid);
+    rc |= h5_write(&o, "transmission", H5T_NATIVE_DOUBLE, 4, dims, trans, "1",
+                   "force transmission: largest actuator force per unit "
+                   "platform load (force, moment / R); warn above 100, "
+                   "refused above 1e8 (NaN where not computed)", grid);
     rc |= h5_write(&o, "mode", H5T_NATIVE_INT32, 4, dims, mode, "1",
                    "assembly mode: 1 same sign of det(df/dtheta) as the level "
                    "pose at this height (reachable from it without crossing "
@@ -1087,6 +1095,7 @@ static int run_workspace(const char *path, const char *cmdline, int quick) {
   free(beta);
   free(zc);
   free(cond);
+  free(trans);
   free(fmax);
   free(force);
   free(status);

@@ -64,13 +64,16 @@ typedef enum { OUT_F64, OUT_I32, OUT_STR } out_type;
     "sum of the magnitudes of the terms of energy_residual, its scale")        \
   X(condition, OUT_CT, OUT_F64, "1",                                           \
     "1-norm condition number of the constraint Jacobian df/dtheta")            \
+  X(transmission, OUT_CT, OUT_F64, "1",                                        \
+    "force transmission: largest actuator force per unit platform load "      \
+    "(force, moment / R); warn above 100, refused above 1e8")                  \
   X(solve_niter, OUT_CT, OUT_I32, "1",                                         \
     "iterations of the multiroot theta solve (0 for closed_form; -1 missing)") \
   X(solve_resid, OUT_CT, OUT_F64, "1",                                         \
     "max_k abs(f_k) after the theta solve, lengths in units of R")               \
   X(warn, OUT_CT, OUT_I32, "1",                                                \
-    "warning bits: 1 ill-conditioned lambda system, 2 alpha undefined "        \
-    "(-1 missing)")                                                            \
+    "warning bits: 1 ill-conditioned lambda system, 2 alpha undefined, "       \
+    "4 assembly mode changed, 8 transmission above trans_warn (-1 missing)")   \
   X(status, OUT_C, OUT_I32, "1",                                               \
     "0 = ok, else the rps3_status code of the first failing sample; -1000 "  \
     "= not computed (a case of another shard, or of a killed part)")          \

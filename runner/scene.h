@@ -182,7 +182,15 @@ typedef struct {
   X(K_COND_WARN, "solver.cond_warn", KEY_REAL, LIB, RPS3_F_COND_WARN,         \
     REQ_NO, "-", "warn above this condition number")                          \
   X(K_COND_MAX, "solver.cond_max", KEY_REAL, LIB, RPS3_F_COND_MAX, REQ_NO,    \
-    "-", "fail (singular) above this condition number")
+    "-", "fail (singular) above this condition number")                       \
+  X(K_TRANS_WARN, "solver.trans_warn", KEY_REAL, LIB, RPS3_F_TRANS_WARN,      \
+    REQ_NO, "-", "warn above this force transmission (actuator force per "     \
+    "unit platform load)")                                                    \
+  X(K_TRANS_MAX, "solver.trans_max", KEY_REAL, LIB, RPS3_F_TRANS_MAX,         \
+    REQ_NO, "-", "fail (singular) above this force transmission")             \
+  X(K_MODE, "solver.mode", KEY_INT, LIB, RPS3_F_MODE, REQ_NO, "-",            \
+    "assembly mode the theta solve must return: 0 any, 1 the level "         \
+    "platform's (det df/dtheta > 0), -1 the other")
 
 #define SCENE_KEY_ID(ID, ...) ID,
 typedef enum { SCENE_KEYS(SCENE_KEY_ID) SCENE_NKEY } scene_key;

@@ -415,6 +415,47 @@ static void certify(const rps3_model *m, rps3_data *d) {
   d->energy_scale = scale;
 }
 
+/*
+ * Force transmission, dimensionless: the largest actuator force a unit
+ * platform load calls for.  A wrench (force f, moment n about the centre)
+ * applied to the platform is held by the ball-joint forces
+ * F_i phi_i + tau_i axis_i (massless links, no link load): the 6 x 6 system
+ * of the Newton-Euler formulation, A x = (f, n).  With the rows of A^-1 for
+ * F, B = dF/d(f, n), and the moment measured in units of R, the measure is
+ *   T = max_i ( sum_{j<3} |B_ij| + R sum_{j>=3} |B_ij| ),
+ * so that |F_i| <= T max(|f|_inf, |n|_inf / R) for every load: the holding
+ * force of the platform's weight is at most T M g.  T is 2.41 for the
+ * paper's level platform at z_c = R, grows like 1 / sin(theta) as the level
+ * platform is lowered (where the condition number of df/dtheta stays at 3)
+ * and without bound towards every singular configuration.  Returns -1 when
+ * A is singular.
+ */
+static double transmission(const rps3_model *m, const rps3_data *d) {
+  double At[36], t[3], rho[3], T = 0.0;
+  int perm[6], i, r, k;
+  /* A^T, so that solving A^T y = e_i gives row i of A^-1 */
+  for (i = 0; i < 3; i++) {
+    v3_sub(rho, d->b[i], d->c);
+    for (r = 0; r < 3; r++) {
+      At[6 * i + r] = d->phi[i][r];
+      At[6 * (3 + i) + r] = m->axis[i][r];
+    }
+    v3_cross(t, rho, d->phi[i]);
+    for (r = 0; r < 3; r++) At[6 * i + 3 + r] = t[r];
+    v3_cross(t, rho, m->axis[i]);
+    for (r = 0; r < 3; r++) At[6 * (3 + i) + 3 + r] = t[r];
+  }
+  if (rps3_lu_factor(6, At, perm) != 0) return -1.0;
+  for (i = 0; i < 3; i++) {
+    double y[6] = {0, 0, 0, 0, 0, 0}, s = 0.0;
+    y[i] = 1.0;
+    rps3_lu_solve(6, At, perm, y);
+    for (k = 0; k < 6; k++) s += fabs(y[k]) * (k < 3 ? 1.0 : m->R);
+    if (s > T || !isfinite(s)) T = s;
+  }
+  return T;
+}
+
 int rps3_invdyn(const rps3_model *m, rps3_data *d) {
   double Jl[3][3], Jt[3][3], A[9], LU[9];
   int perm[3], i, k, status, need_rates;
@@ -431,7 +472,8 @@ int rps3_invdyn(const rps3_model *m, rps3_data *d) {
   memset(d->F, 0, sizeof(d->F));
   memset(d->F_effect, 0, sizeof(d->F_effect));
   memset(d->lambda, 0, sizeof(d->lambda));
-  d->warn &= ~RPS3_WARN_ILLCOND;
+  d->warn &= ~(RPS3_WARN_ILLCOND | RPS3_WARN_TRANS);
+  d->transmission = (double)NAN; /* not computed for a singular matrix */
 
   /* the lambda system (df/dtheta)^T: its conditioning flags singular
      configurations for both formulations */
@@ -450,6 +492,16 @@ int rps3_invdyn(const rps3_model *m, rps3_data *d) {
                "lambda system condition number %.3g exceeds cond_max %.3g",
                d->cond, m->opt.cond_max);
   if (d->cond > m->opt.cond_warn) d->warn |= RPS3_WARN_ILLCOND;
+
+  /* force transmission: the condition number measures lost digits, not
+     how much force a load takes; both limits are the caller's */
+  d->transmission = transmission(m, d);
+  if (!(d->transmission >= 0.0 && d->transmission <= m->opt.trans_max))
+    RPS3_ERROR(d, RPS3_ESING,
+               "force transmission %.3g exceeds trans_max %.3g: an actuator "
+               "would carry that many times the load on the platform",
+               d->transmission, m->opt.trans_max);
+  if (d->transmission > m->opt.trans_warn) d->warn |= RPS3_WARN_TRANS;
 
   status = (m->opt.method == RPS3_LAGRANGE) ? lagrange(m, d, Jl, LU, perm)
                                             : newton_euler(m, d);

@@ -18,6 +18,8 @@ void rps3_options_default(rps3_options *opt) {
   opt->certify = 1;
   opt->cond_warn = 1e6;
   opt->cond_max = 1e13;
+  opt->trans_warn = 100.0;
+  opt->trans_max = 1e8;
 }
 
 void rps3_model_default(rps3_model *m) {
@@ -69,6 +71,10 @@ int rps3_model_validate(rps3_model *m, rps3_check *chk) {
                              "violates the triangle inequality of principal "
                              "moments");
   }
+  if (!(m->opt.trans_max >= m->opt.trans_warn))
+    return rps3_check_fail(chk, RPS3_F_TRANS_MAX, 0, m->opt.trans_max,
+                           RPS3_F_TRANS_WARN, -1,
+                           "must be finite and >= trans_warn");
   if (!(m->opt.cond_max >= m->opt.cond_warn))
     return rps3_check_fail(chk, RPS3_F_COND_MAX, 0, m->opt.cond_max,
                            RPS3_F_COND_WARN, -1,

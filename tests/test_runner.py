@@ -254,7 +254,7 @@ def test_exit_codes(runner, tmp_path):
     proc = run(paper, None, "--check")
     assert proc.returncode == 0
     assert "2 cases, 2002 samples" in proc.stdout
-    assert "output about 784 kB uncompressed" in proc.stdout
+    assert "output about 800 kB uncompressed" in proc.stdout
     assert subprocess.run([RUNNER, "--help"], capture_output=True).returncode == 0
 
 
@@ -274,7 +274,7 @@ def test_progress_lines_quiet_and_bar(runner, tmp_path):
     assert proc.returncode == 0
     first, last = proc.stderr.splitlines()
     assert first.startswith("rps3-run: 2 cases, 2002 samples: ")
-    assert first.endswith("a.h5 about 784 kB")
+    assert first.endswith("a.h5 about 800 kB")
     assert last.startswith("rps3-run: 2/2 cases (0 failed), 2002 samples")
     proc = run(paper, tmp_path / "b.h5", "--quiet")
     assert proc.returncode == 0 and proc.stderr == ""

@@ -75,6 +75,15 @@ def test_workspace_file_and_plot(tmp_path):
     level = ds["mode"].sel(beta=0.0).values
     assert (level[ds["status"].sel(beta=0.0).values == 0] == 1).all()
     assert 0.5 < ok.mean() < 1.0
+    # the safe region is drawn with the force transmission: its holding
+    # forces stay moderate (the old cond < 1e6 region held 2.3e4 N), and
+    # every refused point past trans_max is singular (status 4)
+    tr = ds["transmission"].values
+    assert ds["transmission"].attrs["units"] == "1"
+    assert np.isfinite(tr[ok]).all() and (tr[ok] <= 1e8).all()
+    safe = ok & (ds["mode"].values == 1) & (tr < 100.0)
+    assert 0.5 < safe.mean() < ok.mean()
+    assert np.nanmax(np.where(safe, ds["max_force"].values, np.nan)) < 1e3
     p = subprocess.run([sys.executable, os.path.join(ANALYSIS,
                         "workspace.py"), str(out), str(tmp_path)],
                        capture_output=True, text=True, timeout=120)
