@@ -1104,6 +1104,49 @@ static void case_error(const scene *s, size_t index, const char *msg,
   error_set(err, s->section[1], "manipulator", "%s", what);
 }
 
+/*
+ * The rule for configured effects.  A payload (mass or a moment of inertia
+ * above 0) or pin friction (a coefficient above 0) is configured in the
+ * manipulator section; the effects list selects what is computed.  An
+ * omitted list selects the paper's four effects plus whatever is
+ * configured.  An explicit list that leaves out a configured payload or
+ * friction would silently drop it: refused, naming both keys.  Returns 0,
+ * or -1 with err set.
+ */
+static int effects_rule(const scene *s, size_t index, scene_case *c,
+                        scene_error *err)
+{
+  const rps3_model *m = &c->model;
+  int pay = m->payload.mass > 0 || m->payload.inertia[0] > 0 ||
+            m->payload.inertia[1] > 0 || m->payload.inertia[2] > 0;
+  int fric = m->friction.viscous > 0 || m->friction.coulomb > 0;
+  int eff = m->opt.effects, j;
+  char msg[256];
+  if (!s->given[K_EFFECTS]) {
+    eff = RPS3_EFF_DEFAULT | (pay ? RPS3_EFF_PAYLOAD : 0) |
+          (fric ? RPS3_EFF_PIN_FRICTION : 0);
+    c->model.opt.effects = c->v.model.opt.effects = eff;
+    return 0;
+  }
+  for (j = 0; j < 2; j++) {
+    int bit = j ? RPS3_EFF_PIN_FRICTION : RPS3_EFF_PAYLOAD;
+    /* the key that configures it (every default is 0, so it is given) */
+    int k = j ? (m->friction.viscous > 0 ? K_VISCOUS : K_COULOMB)
+              : (m->payload.mass > 0 ? K_PAY_MASS : K_PAY_INERTIA);
+    if (!(j ? fric : pay) || (eff & bit))
+      continue;
+    snprintf(msg, sizeof msg,
+             "leaves out %s, but %s is configured (%d:%d); add %s to the "
+             "list, or remove the %s",
+             j ? "pin_friction" : "payload", keys[k].path, s->mark[k].line,
+             s->mark[k].column, j ? "pin_friction" : "payload",
+             j ? "friction" : "payload");
+    case_error(s, index, msg, NULL, K_EFFECTS, err);
+    return -1;
+  }
+  return 0;
+}
+
 int scene_case_build(const scene *s, size_t index, scene_case *c,
                      scene_error *err)
 {
@@ -1127,6 +1170,8 @@ int scene_case_build(const scene *s, size_t index, scene_case *c,
     c->model.m = c->v.own.m_over_M * c->model.M;
   if (c->by_blend_ratio)
     c->traj.helix.blend = c->v.own.blend_ratio * c->traj.helix.period;
+  if (effects_rule(s, index, c, err))
+    return -1;
 
   if (rps3_model_validate(&c->model, &chk) != RPS3_OK ||
       rps3_traj_validate(&c->model, &c->traj, &chk) != RPS3_OK) {

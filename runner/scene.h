@@ -164,7 +164,8 @@ typedef struct {
   X(K_DT, "trajectory.dt", KEY_REAL, OWN, OWN_DT, REQ_ONE_GRID, "-",          \
     "time step; the span must be a whole number of steps; or give samples")   \
   X(K_EFFECTS, "effects", KEY_EFFECTS, LIB, RPS3_F_EFFECTS, REQ_NO, "-",      \
-    "effects to compute (default: all but payload, pin_friction)")            \
+    "effects to compute (default: the paper's four, plus payload and "        \
+    "pin_friction when configured; a list must name every configured one)")  \
   X(K_THETA, "solver.theta", KEY_ENUM, LIB, RPS3_F_THETA, REQ_NO, "theta_i",  \
     "closed_form (eq. 39) or multiroot (eqs. 8-10, GSL)")                     \
   X(K_METHOD, "solver.method", KEY_ENUM, LIB, RPS3_F_METHOD, REQ_NO, "-",     \
