@@ -63,7 +63,7 @@ RUN_MAINS = runner/main_run.c runner/main_study.c
 RUN_COMMON = $(filter-out $(RUN_MAINS),$(wildcard runner/*.c))
 RUN_OBJ = $(RUN_COMMON:runner/%.c=$(B)/runner/%.o)
 
-.PHONY: all lib runner runner-mpi study-bin check check-c check-san check-py check-slurm paper \
+.PHONY: all lib runner runner-mpi study-bin check check-c check-san check-py check-lint check-slurm paper \
         study bench deps venv clean install uninstall
 
 # the MPI runner is part of `all` when OpenMPI is there; `make check`
@@ -97,7 +97,7 @@ endef
 # The set of packages is the one of the largest goal on the command line,
 # known when the Makefile is read, so that a single stamp, made before
 # anything compiles, checks (and for paper and check, installs) it all.
-CHECK_GOALS = check check-c check-san check-py check-fuzz valgrind bench
+CHECK_GOALS = check check-c check-san check-py check-lint check-fuzz valgrind bench
 PAPER_GOALS = paper study venv
 ifneq ($(filter $(CHECK_GOALS),$(MAKECMDGOALS)),)
 DEPS_SET = check
@@ -121,10 +121,18 @@ deps: $(DEPS)
 $(DEPS):
 	$(call deps_recipe,$(DEPS_PKGS),$(DEPS_INSTALL))
 
-venv: $(VENV)/.ok
+# the venv: analysis/requirements.txt, then the rps3 package from python/
+# (compiled against include/rps3.h, librps3-pic.a linked in), reinstalled
+# whenever the package, the header or the library changes
+PY_PKG = python/pyproject.toml python/setup.py $(wildcard python/rps3/*.py)
+venv: $(VENV)/.ok $(VENV)/.rps3
 $(VENV)/.ok: analysis/requirements.txt | $(DEPS)
 	$(PYTHON) -m venv $(VENV)
 	$(VPY) -m pip install -q --disable-pip-version-check -r analysis/requirements.txt
+	@touch $@
+$(VENV)/.rps3: $(PY_PKG) include/rps3.h $(B)/librps3-pic.a $(VENV)/.ok
+	$(VPY) -m pip install -q --disable-pip-version-check --no-deps \
+	  --no-build-isolation --force-reinstall ./python
 	@touch $@
 
 # ----------------------------------------------------------------- library
@@ -132,7 +140,7 @@ $(VENV)/.ok: analysis/requirements.txt | $(DEPS)
 # to the file librps3.so.VERSION, as installed
 SO_REAL = librps3.so.$(VERSION)
 SO_NAME = librps3.so.$(SOVERSION)
-lib: $(B)/librps3.a $(B)/librps3.so
+lib: $(B)/librps3.a $(B)/librps3.so $(B)/librps3-pic.a
 
 $(B)/obj/%.o: src/%.c | $(DEPS)
 	@mkdir -p $(@D)
@@ -152,6 +160,10 @@ $(B)/$(SO_NAME): $(B)/$(SO_REAL)
 	ln -sf $(SO_REAL) $@
 $(B)/librps3.so: $(B)/$(SO_NAME)
 	ln -sf $(SO_NAME) $@
+# the shared library's objects (-fPIC) as an archive, which the Python
+# extension links in (python/rps3/_build.py): same code, same results
+$(B)/librps3-pic.a: $(LIB_PIC)
+	ar rcs $@ $^
 $(B)/librps3-san.a: $(LIB_SAN)
 	ar rcs $@ $^
 
@@ -195,8 +207,13 @@ check-san: $(TEST_SAN)
 check-py: all runner-mpi venv
 	$(VPY) -m pytest -q tests
 
+# ruff and mypy over the Python package and the analysis scripts
+check-lint: venv
+	$(VPY) -m ruff check --config python/pyproject.toml python analysis
+	$(VPY) -m mypy --config-file python/pyproject.toml python/rps3 analysis
+
 # pytest last, so that a run ends on its summary line
-check: lib runner check-c check-san valgrind check-fuzz check-py
+check: lib runner check-c check-san valgrind check-fuzz check-lint check-py
 
 # ------------------------------------------------------------- check-slurm
 # The shipped Slurm scripts (scripts/slurm/) under a single-node Slurm on
@@ -232,7 +249,9 @@ $(B)/rps3-mujoco-bench: tests/bench/mujoco_bench.c $(ANCHOR) $(B)/librps3.a | $(
 	$(CC) $(CPPFLAGS_ALL) -I$(B)/anchor -isystem $(MUJOCO_DIR)/include $(GSL_CFLAGS) $(WARN) -O2 \
 	  $< $(ANCHOR) -o $@ $(B)/librps3.a $(firstword $(wildcard $(MUJOCO_DIR)/libmujoco.so.*)) \
 	  -Wl,-rpath,$(MUJOCO_DIR) $(GSL_LIBS) -lm
-# then tests/bench/runner_bench.py: rps3-run's points per second and peak
+# then tests/bench/python_bench.py: the Python package against the C
+# batch call it wraps, 10^6 points in one process; and
+# tests/bench/runner_bench.py: rps3-run's points per second and peak
 # RSS (GNU time) for sweeps of 10^3 to 10^7 points, -j 1 and 2, into
 # out/bench_runner.h5.  About a minute; the 10^7-point files (3.2 GB) are
 # written next to it and removed.
@@ -242,6 +261,7 @@ bench: $(B)/rps3-bench $(B)/rps3-mujoco-bench runner venv
 	@grep -m1 "model name" /proc/cpuinfo || true
 	$(B)/rps3-mujoco-bench
 	$(VPY) tests/bench/runner_bench.py -o out/bench_runner.h5
+	$(VPY) tests/bench/python_bench.py
 
 # ---------------------------------------------------------------- valgrind
 # memcheck on the threads test and a short control loop: any error or leak
@@ -353,7 +373,7 @@ docs: $(B)/rps3-run
 	mv $(B)/runner.md.new docs/runner.md
 
 clean:
-	rm -rf $(B) out
+	rm -rf $(B) out python/build python/rps3.egg-info
 
 -include $(wildcard $(B)/obj/*.d $(B)/pic/*.d $(B)/san/*.d $(B)/runner/*.d \
                    $(B)/runner-mpi/*.d)

@@ -24,9 +24,7 @@ import matplotlib
 matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
 import numpy as np  # noqa: E402
-
-sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
-import rps3io  # noqa: E402
+from rps3 import h5io  # noqa: E402
 
 STUDY_STYLE = {
     "theta": ("o", "tab:blue"),
@@ -39,16 +37,16 @@ STUDY_STYLE = {
 def load(f):
     """The accuracy file as a dict of numpy arrays, axes via dimension scales."""
     for name in ("force_error", "ns_per_point"):
-        if rps3io.dims(f[name]) != ("trajectory", "config"):
-            raise ValueError(f"{name}: unexpected axes {rps3io.dims(f[name])}")
+        if h5io.dims(f[name]) != ("trajectory", "config"):
+            raise ValueError(f"{name}: unexpected axes {h5io.dims(f[name])}")
     out = {k: f[k][()] for k in (
         "ns_per_point", "ns_per_second", "force_error", "theta_error",
         "peak_force_error", "energy_residual", "failed_samples",
         "reference_floor_force", "fd_step", "tolerance", "warm_start",
         "dt_fraction")}
     for k in ("study", "label", "solver", "derivative", "method"):
-        out[k] = np.array([rps3io.text(x) for x in f[k][()]])
-    out["trajectory"] = [rps3io.text(x) for x in
+        out[k] = np.array([h5io.text(x) for x in f[k][()]])
+    out["trajectory"] = [h5io.text(x) for x in
                          f["force_error"].dims[0][0][()]]
     return out
 

@@ -35,15 +35,12 @@ The checks and their tolerances:
 
 import argparse
 import math
-import os
 import sys
 
 import h5py
 import numpy as np
 import yaml
-
-sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
-import rps3io  # noqa: E402
+from rps3 import h5io  # noqa: E402
 
 PAPER_INCREASE = 0.20  # section VI: "increased by approximately 20 percent"
 RTOL = 1e-12           # identities that hold up to rounding
@@ -69,7 +66,7 @@ class Checks:
 
 def scene_of(f, case):
     """The case's full scene (scene_resolved) as a dict."""
-    return yaml.safe_load(rps3io.text(f["scene_resolved"][case]))
+    return yaml.safe_load(h5io.text(f["scene_resolved"][case]))
 
 
 # ---------------------------------------------------------- kinematics
@@ -116,7 +113,7 @@ def check_kinematics(ck, f, case):
     sc = scene_of(f, case)
     man, tr = sc["manipulator"], sc["trajectory"]
     R, r = man["R"], man["rho"] * man["R"]
-    t = rps3io.times(f)[case]
+    t = h5io.times(f)[case]
     alpha, beta, z = f["alpha"][case], f["beta"][case], f["z_c"][case]
     a_ref, _ = helix_pose(tr, t)
     b_ref = math.acos(1 - 2 * tr["radius"] / r)
@@ -164,7 +161,7 @@ def check_dynamics(ck, f, case):
 def check_phase(ck, f, case):
     """F_i(t + 6 s) = F_{i+1}(t) on the constant-rate segment."""
     tr = scene_of(f, case)["trajectory"]
-    t = rps3io.times(f)[case]
+    t = h5io.times(f)[case]
     T = tr["period"]
     ta = tr.get("blend", tr.get("blend_ratio", 0) * T)
     wmax = 2 * math.pi / (T - ta)
@@ -203,12 +200,12 @@ def increase(f0, f1):
 
 def check_link_mass(ck, f):
     """Link mass raises the forces, by exactly the links' shares."""
-    c0 = rps3io.case_where(f, manipulator__m_over_M=0.0)
-    c1 = rps3io.case_where(f, manipulator__m_over_M=0.5)
+    c0 = h5io.case_where(f, manipulator__m_over_M=0.0)
+    c1 = h5io.case_where(f, manipulator__m_over_M=0.5)
     f0, f1 = f["force"][c0], f["force"][c1]
     ck.check(bool((f1 > f0).all()), "link mass raises every force",
              f"min F(m/M = 0.5) - F(0) = {(f1 - f0).min():.3g} N")
-    links = rps3io.effect_sum(f, ("link_gravity", "link_inertia"), c1)
+    links = h5io.effect_sum(f, ("link_gravity", "link_inertia"), c1)
     err = np.abs(f1 - f0 - links).max()
     ck.check(err <= RTOL * np.abs(f1).max(),
              "the increase is the links' shares",
@@ -241,9 +238,9 @@ def report_increase(f, c0, c1):
     inc = increase(f["force"][c0], f["force"][c1])
     sc = scene_of(f, c1)
     est, length, theta = level_estimate(sc)
-    grav = rps3io.effect_sum(f, ("link_gravity",), c1)
-    iner = rps3io.effect_sum(f, ("link_inertia",), c1)
-    plat_in = rps3io.effect_sum(f, rps3io.INERTIA_EFFECTS, c1)
+    grav = h5io.effect_sum(f, ("link_gravity",), c1)
+    iner = h5io.effect_sum(f, ("link_inertia",), c1)
+    plat_in = h5io.effect_sum(f, h5io.INERTIA_EFFECTS, c1)
     f0 = f["force"][c0]
     print()
     print("Increase of the actuating forces due to link mass "
@@ -273,9 +270,9 @@ def report_increase(f, c0, c1):
 def report_sweep(ck, path):
     """How the increase moves with d, m/M and rho (configs/link_mass.yaml)."""
     with h5py.File(path, "r") as f:
-        bad = rps3io.failed(f)
+        bad = h5io.failed(f)
         ck.check(not bad, f"{path}: every case ok", f"{len(bad)} failed")
-        sv = rps3io.sweep_values(f)
+        sv = h5io.sweep_values(f)
         d, mm, rho = (sv[k] for k in ("manipulator.d", "manipulator.m_over_M",
                                       "manipulator.rho"))
         force = f["force"][()]
@@ -320,7 +317,7 @@ def main(argv=None):
     args = ap.parse_args(argv)
     ck = Checks()
     with h5py.File(args.h5, "r") as f:
-        bad = rps3io.failed(f)
+        bad = h5io.failed(f)
         ck.check(not bad, "every case ok", f"failed: {bad}" if bad else
                  f"{f['status'].shape[0]} cases")
         nan = int(np.isnan(f["force"][()]).sum())

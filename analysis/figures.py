@@ -18,17 +18,15 @@ import matplotlib
 matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
 import numpy as np  # noqa: E402
-
-sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
-import rps3io  # noqa: E402
+from rps3 import h5io  # noqa: E402
 
 LINK_STYLES = ("-", "--", ":")
 
 
 def paper_cases(f):
     """Case indices of m/M = 0 and m/M = 0.5."""
-    return (rps3io.case_where(f, manipulator__m_over_M=0.0),
-            rps3io.case_where(f, manipulator__m_over_M=0.5))
+    return (h5io.case_where(f, manipulator__m_over_M=0.0),
+            h5io.case_where(f, manipulator__m_over_M=0.5))
 
 
 def plot_links(ax, t, y, label):
@@ -42,7 +40,7 @@ def plot_links(ax, t, y, label):
 
 def fig_lengths(f, case, path):
     """Fig. 2: the three link lengths along the helix."""
-    t = rps3io.times(f)[case]
+    t = h5io.times(f)[case]
     fig, ax = plt.subplots(figsize=(6.4, 4.2))
     plot_links(ax, t, f["length"][case], r"$l_i$, link")
     ax.set_xlabel("time $t$ [s]")
@@ -55,7 +53,7 @@ def fig_lengths(f, case, path):
 
 def fig_forces(f, case, ylim, title, path):
     """Figs. 3-4: the three actuating forces of one case."""
-    t = rps3io.times(f)[case]
+    t = h5io.times(f)[case]
     fig, ax = plt.subplots(figsize=(6.4, 4.2))
     plot_links(ax, t, f["force"][case], r"$F_i$, link")
     ax.set_ylim(*ylim)
@@ -72,7 +70,7 @@ def make_figures(h5path, outdir):
     os.makedirs(outdir, exist_ok=True)
     paths = [os.path.join(outdir, f"fig{n}.png") for n in (2, 3, 4)]
     with h5py.File(h5path, "r") as f:
-        bad = rps3io.failed(f)
+        bad = h5io.failed(f)
         if bad:
             raise SystemExit(f"{h5path}: failed cases {bad}")
         c0, c1 = paper_cases(f)

@@ -21,9 +21,7 @@ import matplotlib
 matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
 import numpy as np  # noqa: E402
-
-sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
-import rps3io  # noqa: E402
+from rps3 import h5io  # noqa: E402
 
 
 def key_numbers(f):
@@ -31,9 +29,9 @@ def key_numbers(f):
     gravity share (NaN for failed cases)."""
     force = f["force"][()]
     peak = np.nanmax(np.abs(force), axis=(1, 2))
-    iner = np.nanmax(np.abs(rps3io.effect_sum(f, rps3io.INERTIA_EFFECTS)),
+    iner = np.nanmax(np.abs(h5io.effect_sum(f, h5io.INERTIA_EFFECTS)),
                      axis=(1, 2))
-    grav = np.nanmax(np.abs(rps3io.effect_sum(f, rps3io.GRAVITY_EFFECTS)),
+    grav = np.nanmax(np.abs(h5io.effect_sum(f, h5io.GRAVITY_EFFECTS)),
                      axis=(1, 2))
     with np.errstate(invalid="ignore", divide="ignore"):
         share = iner / grav
@@ -43,9 +41,9 @@ def key_numbers(f):
 def panel(ax, path):
     """Peak force against the first swept key of the file at `path`."""
     with h5py.File(path, "r") as f:
-        sv = rps3io.sweep_values(f)
+        sv = h5io.sweep_values(f)
         peak, share = key_numbers(f)
-        units = {k: rps3io.text(f[k].attrs["units"]) for k in sv}
+        units = {k: h5io.text(f[k].attrs["units"]) for k in sv}
     name = os.path.basename(path)
     if not sv:
         ax.set_title(f"{name}: no sweep")
@@ -53,11 +51,11 @@ def panel(ax, path):
     keys = list(sv)
     x = sv[keys[0]]
     if x.dtype.kind in "SO":
-        x = np.array([rps3io.text(v) for v in x])
+        x = np.array([h5io.text(v) for v in x])
     other = [tuple(sv[k][c] for k in keys[1:]) for c in range(len(x))]
     for combo in dict.fromkeys(other):
         sel = [c for c in range(len(x)) if other[c] == combo]
-        label = ", ".join(f"{k.split('.')[-1]}={rps3io.text(v) if isinstance(v, bytes) else f'{v:g}'}"
+        label = ", ".join(f"{k.split('.')[-1]}={h5io.text(v) if isinstance(v, bytes) else f'{v:g}'}"
                           for k, v in zip(keys[1:], combo)) or "max|F|"
         ax.plot(x[sel], peak[sel], "o-", ms=3, lw=1, label=label)
     logx = keys[0] == "trajectory.period"

@@ -24,18 +24,16 @@ import matplotlib
 
 matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
-from matplotlib.colors import LogNorm  # noqa: E402
 import numpy as np  # noqa: E402
-
-sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
-import rps3io  # noqa: E402
+from matplotlib.colors import LogNorm  # noqa: E402
+from rps3 import h5io  # noqa: E402
 
 TRANS_WARN = 100.0  # opt.trans_warn, the library's default
 
 
 def load(f):
     """The map and its axes, found through the dimension scales."""
-    names = rps3io.dims(f["condition"])
+    names = h5io.dims(f["condition"])
     if names != ("rho", "alpha", "beta", "z_c"):
         raise ValueError(f"condition: unexpected axes {names}")
     axes = {n: f["condition"].dims[k][0][()] for k, n in enumerate(names)}

@@ -1,12 +1,12 @@
 """Fixtures for the Python tests: the runner, and runs of the configs.
 
 The tests write with the C runner (build/rps3-run) and read with h5py,
-analysis/rps3io.py and xarray.  `make check-py` builds the runner first.
+the rps3 package (installed into .venv by `make venv`) and xarray.  `make check-py` builds the runner first.
 """
 
+import importlib.util
 import os
 import subprocess
-import sys
 
 import pytest
 
@@ -16,7 +16,16 @@ CONFIGS = os.path.join(ROOT, "configs")
 ANALYSIS = os.path.join(ROOT, "analysis")
 BAD_SCENES = os.path.join(ROOT, "tests", "bad_scenes")
 
-sys.path.insert(0, ANALYSIS)
+
+
+def script(name):
+    """The analysis script analysis/NAME.py as a module (its main() not
+    run), for tests of its functions."""
+    spec = importlib.util.spec_from_file_location(
+        name, os.path.join(ANALYSIS, name + ".py"))
+    module = importlib.util.module_from_spec(spec)
+    spec.loader.exec_module(module)
+    return module
 
 
 def run(scene, out=None, *args, timeout=60, **kw):

@@ -11,10 +11,11 @@ import h5py
 import numpy as np
 import pytest
 
-import check_paper
-import figures
-import rps3io
-from conftest import ANALYSIS, CONFIGS
+from rps3 import h5io
+from conftest import ANALYSIS, CONFIGS, script
+
+check_paper = script("check_paper")
+figures = script("figures")
 
 CONFIG_NAMES = sorted(f[:-5] for f in os.listdir(CONFIGS) if f.endswith(".yaml"))
 
@@ -29,7 +30,7 @@ def test_config_runs_clean(config_runs, name):
     h5, proc = config_runs[name]
     assert proc.returncode == 0, proc.stderr
     with h5py.File(h5, "r") as f:
-        assert not rps3io.failed(f)
+        assert not h5io.failed(f)
         force = f["force"][()]
         assert np.isfinite(force).all()
         # energy: actuator power = d(T + P)/dt, up to rounding
@@ -84,8 +85,8 @@ def test_link_mass_increase_closed_form(paper_h5):
     3 (m/M) (d/l_i) cos^2 theta_i up to the second order in the tilt
     beta = 5.5 deg (the first order cancels over the three links)."""
     with h5py.File(paper_h5, "r") as f:
-        c0 = rps3io.case_where(f, manipulator__m_over_M=0.0)
-        c1 = rps3io.case_where(f, manipulator__m_over_M=0.5)
+        c0 = h5io.case_where(f, manipulator__m_over_M=0.0)
+        c1 = h5io.case_where(f, manipulator__m_over_M=0.5)
         f0, f1 = f["force"][c0], f["force"][c1]
         inc = check_paper.increase(f0, f1)
         sc = check_paper.scene_of(f, c1)
@@ -102,9 +103,9 @@ def test_three_forces_are_exact_copies_on_a_level_circle(config_runs):
     F_i(t + 6 s) = F_{i+1}(t) exactly on the constant-rate segment."""
     h5 = config_runs["pitch"][0]
     with h5py.File(h5, "r") as f:
-        case = rps3io.case_where(f, trajectory__pitch=0.0)
+        case = h5io.case_where(f, trajectory__pitch=0.0)
         force = f["force"][case]
-        t = rps3io.times(f)[case]
+        t = h5io.times(f)[case]
     n = int(round(6.0 / (t[1] - t[0])))
     # t_b = 9 s itself takes the decelerating segment's acceleration
     seg = np.flatnonzero((t >= 1.0) & (t + 6.0 < 9.0))
@@ -127,9 +128,9 @@ def test_inertia_grows_as_one_over_period_squared(config_runs):
     motion in T* seconds it scales as 1/T*^2 (blend_ratio keeps the shape)."""
     with h5py.File(config_runs["period"][0], "r") as f:
         T = f["trajectory.period"][()]
-        t = rps3io.times(f)
-        iner = rps3io.effect_sum(f, rps3io.INERTIA_EFFECTS)
-        grav = rps3io.effect_sum(f, rps3io.GRAVITY_EFFECTS)
+        t = h5io.times(f)
+        iner = h5io.effect_sum(f, h5io.INERTIA_EFFECTS)
+        grav = h5io.effect_sum(f, h5io.GRAVITY_EFFECTS)
     # the acceleration jumps at the blend corners t_a, t_b: a sample on a
     # corner takes one side or the other with the rounding of t, so skip it
     u = t / T[:, None]

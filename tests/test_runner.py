@@ -17,7 +17,7 @@ import pytest
 import xarray as xr
 import yaml
 
-import rps3io
+from rps3 import h5io
 from conftest import CONFIGS, RUNNER, failing_sine, run, write_scene, run_tmp
 
 PER_POINT = ["force", "length", "length_rate", "length_accel", "theta",
@@ -29,7 +29,7 @@ PER_POINT = ["force", "length", "length_rate", "length_accel", "theta",
 
 def test_root_attributes_and_scene(paper_h5):
     with h5py.File(paper_h5, "r") as f:
-        a = {k: rps3io.text(v) for k, v in f.attrs.items()}
+        a = {k: h5io.text(v) for k, v in f.attrs.items()}
         assert a["rps3_version"] == "0.1.0"
         assert a["gsl_version"].count(".") >= 1
         assert a["hdf5_version"].startswith("1.")
@@ -37,7 +37,7 @@ def test_root_attributes_and_scene(paper_h5):
         when = datetime.datetime.strptime(a["created_utc"], "%Y-%m-%dT%H:%M:%SZ")
         assert abs((datetime.datetime.utcnow() - when).total_seconds()) < 600
         with open(os.path.join(CONFIGS, "paper.yaml")) as g:
-            assert rps3io.text(f["scene"][()]) == g.read()
+            assert h5io.text(f["scene"][()]) == g.read()
         assert f["scene"].shape == ()
 
 
@@ -45,7 +45,7 @@ def test_every_dataset_has_units_and_description(paper_h5):
     with h5py.File(paper_h5, "r") as f:
         for name, ds in f.items():
             assert "units" in ds.attrs, name
-            assert len(rps3io.text(ds.attrs["description"])) > 10, name
+            assert len(h5io.text(ds.attrs["description"])) > 10, name
 
 
 def test_dimensions(paper_h5):
@@ -64,13 +64,13 @@ def test_dimensions(paper_h5):
             "manipulator.m_over_M": ("case",),
         }
         for name, dims in expect.items():
-            assert rps3io.dims(f[name]) == dims, name
+            assert h5io.dims(f[name]) == dims, name
         assert list(f["link"][()]) == [1, 2, 3]
-        assert rps3io.effects(f) == ["platform_gravity", "link_gravity",
+        assert h5io.effects(f) == ["platform_gravity", "link_gravity",
                                      "platform_inertia", "link_inertia"]
         assert f["time"][0] == 0 and f["time"][-1] == 10.0
         assert f["force"].chunks[0] >= 1 and f["force"].chunks[1] == 1001
-        coords = rps3io.text(f["force"].attrs["coordinates"])
+        coords = h5io.text(f["force"].attrs["coordinates"])
         assert coords == "manipulator.m_over_M"
 
 
@@ -107,10 +107,10 @@ def test_sweep_order_is_row_major_last_key_fastest(config_runs):
     h5, proc = config_runs["grid"]
     assert proc.returncode == 0
     with h5py.File(h5, "r") as f:
-        keys = rps3io.sweep_keys(f)
+        keys = h5io.sweep_keys(f)
         assert keys == ["manipulator.m_over_M", "manipulator.rho",
                         "trajectory.pitch"]
-        scene = yaml.safe_load(rps3io.text(f["scene"][()]))
+        scene = yaml.safe_load(h5io.text(f["scene"][()]))
         grid = list(itertools.product(*(scene["sweep"][k] for k in keys)))
         got = list(zip(*(f[k][()] for k in keys)))
         assert got == grid
@@ -134,7 +134,7 @@ def test_each_case_reruns_alone_identically(runner, config_runs, tmp_path):
     for name, case in (("grid", 29), ("sine", 1), ("period", 4)):
         h5 = config_runs[name][0]
         with h5py.File(h5, "r") as f:
-            text = rps3io.text(f["scene_resolved"][case])
+            text = h5io.text(f["scene_resolved"][case])
             want = {k: f[k][case] for k in PER_POINT}
         assert "sweep" not in yaml.safe_load(text)
         alone = write_scene(tmp_path / f"{name}.yaml", text)
@@ -159,17 +159,17 @@ def test_failing_case_keeps_the_others(runner, tmp_path):
         np.testing.assert_array_equal(f["status"][()], [0, 7, 0])
         fa = f["failed_at"][()]
         assert fa[0] == -1 and fa[2] == -1 and 0 < fa[1] < 200
-        msg = rps3io.text(f["message"][1])
+        msg = h5io.text(f["message"][1])
         assert msg.startswith(f"t = ") and f"(sample {fa[1]})" in msg
         assert "another assembly mode" in msg
-        assert rps3io.text(f["message"][0]) == ""
+        assert h5io.text(f["message"][0]) == ""
         for k in PER_POINT:
             assert np.isnan(f[k][1]).all(), k
             assert not np.isnan(f[k][[0, 2]]).any(), k
         assert (f["solve_niter"][1] == -1).all()
         # the cases after the failure are those of a run without it
         good = f["force"][2]
-        ok_scene = rps3io.text(f["scene_resolved"][2])
+        ok_scene = h5io.text(f["scene_resolved"][2])
     out2 = tmp_path / "ok.h5"
     assert run(write_scene(tmp_path / "ok.yaml", ok_scene), out2).returncode == 0
     with h5py.File(out2, "r") as g:
@@ -204,11 +204,11 @@ def test_lambda_is_nan_under_newton_euler(config_runs):
     h5, proc = config_runs["sine"]
     assert proc.returncode == 0
     with h5py.File(h5, "r") as f:
-        method = [rps3io.text(m) for m in f["solver.method"][()]]
+        method = [h5io.text(m) for m in f["solver.method"][()]]
         assert method == ["lagrange", "newton_euler"]
         assert not np.isnan(f["lambda"][0]).any()
         assert np.isnan(f["lambda"][1]).all()
-        assert "NaN under newton_euler" in rps3io.text(
+        assert "NaN under newton_euler" in h5io.text(
             f["lambda"].attrs["description"])
 
 

@@ -1,0 +1,384 @@
+"""rps3.Model: the manipulator, validated once, and its per-point stages
+over arrays of points (the loop runs in C, in the library's batch entry
+points)."""
+
+from __future__ import annotations
+
+from collections.abc import Iterable, Sequence
+from dataclasses import dataclass
+from typing import Any
+
+import numpy as np
+from numpy.typing import ArrayLike
+
+from rps3._core import FloatArray, IntArray, buf, check_error, per_point, points, text
+from rps3._rps3 import ffi, lib
+
+#: names of the physical effects, in the library's order (bit k = 1 << k)
+EFFECTS: tuple[str, ...] = tuple(text(lib.rps3_effect_name(k))
+                                 for k in range(lib.RPS3_NEFFECT))
+
+#: the paper's selection: gravity and inertia of platform and links
+DEFAULT_EFFECTS: tuple[str, ...] = tuple(
+    n for k, n in enumerate(EFFECTS) if lib.RPS3_EFF_DEFAULT & (1 << k))
+
+_METHODS = {"lagrange": lib.RPS3_LAGRANGE,
+            "newton_euler": lib.RPS3_NEWTON_EULER}
+_THETA = {"closed_form": lib.RPS3_THETA_CLOSED_FORM,
+          "multiroot": lib.RPS3_THETA_MULTIROOT}
+
+# the library's dotted field names -> Model's keyword arguments
+_KEYWORD = {"payload.mass": "payload", "payload.com": "payload",
+            "payload.inertia": "payload", "pin_friction.viscous": "friction",
+            "pin_friction.coulomb": "friction"}
+
+
+@dataclass(frozen=True)
+class Kinematics:
+    """Result of Model.ik: per point (leading axis n, absent for one point)."""
+
+    l: FloatArray          #: link lengths l_i, (n, 3) [m]
+    theta: FloatArray      #: link angles theta_i from the base plane, (n, 3) [rad]
+    status: IntArray       #: rps3 status code per point, 0 = ok (rps3.strerror)
+    warn: IntArray         #: warning bits per point
+
+    @property
+    def ok(self) -> np.ndarray:
+        """Boolean mask of the points that succeeded."""
+        return np.asarray(self.status) == 0
+
+
+@dataclass(frozen=True)
+class Pose:
+    """Result of Model.fk: per point (leading axis n, absent for one point)."""
+
+    pose: FloatArray       #: (alpha, beta, z_c), (n, 3) [rad, rad, m]
+    theta: FloatArray      #: link angles theta_i, (n, 3) [rad]
+    niter: IntArray        #: iterations of the theta solve per point
+    status: IntArray       #: rps3 status code per point, 0 = ok
+    warn: IntArray         #: warning bits (2: beta ~ 0, alpha set to 0)
+
+    @property
+    def ok(self) -> np.ndarray:
+        """Boolean mask of the points that succeeded."""
+        return np.asarray(self.status) == 0
+
+
+@dataclass(frozen=True)
+class Dynamics:
+    """Result of Model.inverse: per point (leading axis n, absent for one
+    point).  Failed points hold NaN; their status says why."""
+
+    force: FloatArray      #: actuating forces F_i, (n, 3) [N], > 0 extends
+    shares: dict[str, FloatArray]  #: share of each selected effect in force, (n, 3) [N]
+    lambda_: FloatArray    #: multipliers of (8)-(10), (n, 3) [N/m]; NaN under newton_euler
+    condition: FloatArray  #: 1-norm condition number of the lambda system, (n,)
+    energy_residual: FloatArray  #: energy-rate residual (n,) [W]; 0 without certify
+    l: FloatArray          #: link lengths, (n, 3) [m]
+    theta: FloatArray      #: link angles, (n, 3) [rad]
+    status: IntArray       #: rps3 status code per point, 0 = ok
+    warn: IntArray         #: warning bits (1: ill-conditioned lambda system)
+
+    @property
+    def ok(self) -> np.ndarray:
+        """Boolean mask of the points that succeeded."""
+        return np.asarray(self.status) == 0
+
+
+def _effect_bits(effects: Iterable[str]) -> int:
+    if isinstance(effects, str):
+        raise ValueError(f"effects: expected a list of names, got {effects!r}")
+    bits = 0
+    for name in effects:
+        k = lib.rps3_effect_index(str(name).encode())
+        if k < 0:
+            raise ValueError(f"effects: unknown effect {name!r}; known: "
+                             f"{', '.join(EFFECTS)}")
+        if bits & (1 << k):
+            raise ValueError(f"effects: {name!r} is given twice")
+        bits |= 1 << k
+    return bits
+
+
+def _choice(table: dict[str, int], value: str, name: str) -> int:
+    if value not in table:
+        raise ValueError(f"{name}: {value!r} is not one of {', '.join(table)}")
+    return table[value]
+
+
+def _number(value: Any, name: str) -> float:
+    try:
+        return float(value)
+    except (TypeError, ValueError):
+        raise ValueError(f"{name}: expected a number, got {value!r}") from None
+
+
+def _vector(value: Any, name: str) -> list[float]:
+    v = np.asarray(value, dtype=object).reshape(-1)
+    if v.size != 3:
+        raise ValueError(f"{name}: expected 3 numbers, got {value!r}")
+    return [_number(x, name) for x in v]
+
+
+class Model:
+    """The manipulator of Lee & Shah (1988), validated once, then read-only.
+
+    Every argument is keyword-only and optional; an argument left out takes
+    the library's default, the paper's Table II: R = 0.2286 m, rho = 0.5,
+    M = 0.18 kg, m/M = 0.5, d = 0.1524 m, g = 9.80665 m/s^2, no payload, no
+    friction, the paper's effects (gravity and inertia of platform and
+    links), the Lagrange formulation, theta in closed form.
+
+    Args:
+        R: base radius, centre to the pin joints [m].
+        rho: r / R, r the platform radius to the ball joints [-].
+        M: platform mass, a uniform disc of radius r [kg].
+        m_over_M: link mass over platform mass [-] (or give ``m``).
+        m: mass of each link [kg] (or give ``m_over_M``).
+        d: pin joint to link centroid [m].
+        link_Ic: moment of inertia of a link about its centroid [kg m^2].
+        g: gravitational acceleration, along -Z [m/s^2].
+        payload: ``{"mass": kg, "com": [m]*3, "inertia": [kg m^2]*3}``, a
+            rigid payload on the platform (select the ``payload`` effect).
+        friction: ``{"viscous": N m s/rad, "coulomb": N m}`` at the pins
+            (select the ``pin_friction`` effect).
+        effects: names of the effects to compute, from ``rps3.EFFECTS``.
+        method: ``"lagrange"`` (the paper's) or ``"newton_euler"``.
+        theta: ``"closed_form"`` (39) or ``"multiroot"`` (8)-(10) in
+            ``inverse``.
+        solver: GSL multiroot solver of the theta solve, e.g. ``"hybridsj"``.
+        tol: theta solve tolerance on the dimensionless (8)-(10) [-].
+        max_iter: theta solve iteration limit.
+        warm_start: start each theta solve from the previous point's.
+        certify: compute the energy-rate residual per point.
+        cond_warn: condition number above which a point is flagged [-].
+        cond_max: condition number above which a point fails [-].
+
+    Raises:
+        ValueError: naming the argument, when a value is out of range, not a
+            number, or an unknown name.
+    """
+
+    def __init__(self, *, R: float | None = None, rho: float | None = None,
+                 M: float | None = None, m_over_M: float | None = None,
+                 m: float | None = None, d: float | None = None,
+                 link_Ic: float | None = None, g: float | None = None,
+                 payload: dict[str, Any] | None = None,
+                 friction: dict[str, Any] | None = None,
+                 effects: Sequence[str] | None = None,
+                 method: str | None = None, theta: str | None = None,
+                 solver: str | None = None, tol: float | None = None,
+                 max_iter: int | None = None, warm_start: bool | None = None,
+                 certify: bool | None = None, cond_warn: float | None = None,
+                 cond_max: float | None = None) -> None:
+        c = ffi.new("rps3_model *")
+        lib.rps3_model_default(c)
+        keyword = dict(_KEYWORD)
+        default_ratio = c.m / c.M  # Table II's m/M
+        for name, value in (("R", R), ("rho", rho), ("M", M), ("d", d),
+                            ("link_Ic", link_Ic), ("g", g)):
+            if value is not None:
+                setattr(c, name, _number(value, name))
+        if m is not None and m_over_M is not None:
+            raise ValueError("m_over_M: give m or m_over_M, not both")
+        if m is not None:
+            c.m = _number(m, "m")
+        else:
+            # the paper gives m/M: with M alone, the links keep Table II's m/M
+            ratio = (default_ratio if m_over_M is None
+                     else _number(m_over_M, "m_over_M"))
+            c.m = ratio * c.M
+            keyword["m"] = "m_over_M"
+        if payload is not None:
+            self._payload(c, payload)
+        if friction is not None:
+            self._friction(c, friction)
+        o = c.opt
+        if effects is not None:
+            o.effects = _effect_bits(effects)
+        if method is not None:
+            o.method = _choice(_METHODS, method, "method")
+        if theta is not None:
+            o.theta = _choice(_THETA, theta, "theta")
+        if solver is not None:
+            k = lib.rps3_solver_index(str(solver).encode())
+            if k < 0:
+                raise ValueError(f"solver: unknown solver {solver!r}")
+            o.solver = k
+        for name, fval in (("tol", tol), ("cond_warn", cond_warn),
+                           ("cond_max", cond_max)):
+            if fval is not None:
+                setattr(o, name, _number(fval, name))
+        for name, ival in (("max_iter", max_iter), ("warm_start", warm_start),
+                           ("certify", certify)):
+            if ival is not None:
+                num = _number(ival, name)
+                if num != int(num) or abs(num) > 2**31 - 1:
+                    raise ValueError(f"{name}: expected an integer, got {ival!r}")
+                setattr(o, name, int(num))
+        chk = ffi.new("rps3_check *")
+        if lib.rps3_model_validate(c, chk) != lib.RPS3_OK:
+            raise check_error(chk, keyword)
+        self._c = c
+
+    @staticmethod
+    def _payload(c: Any, payload: dict[str, Any]) -> None:
+        unknown = set(payload) - {"mass", "com", "inertia"}
+        if unknown:
+            raise ValueError(f"payload: unknown keys {sorted(unknown)}")
+        if "mass" in payload:
+            c.payload.mass = _number(payload["mass"], "payload")
+        for key in ("com", "inertia"):
+            if key in payload:
+                for i, x in enumerate(_vector(payload[key], "payload")):
+                    getattr(c.payload, key)[i] = x
+
+    @staticmethod
+    def _friction(c: Any, friction: dict[str, Any]) -> None:
+        unknown = set(friction) - {"viscous", "coulomb"}
+        if unknown:
+            raise ValueError(f"friction: unknown keys {sorted(unknown)}")
+        for key in ("viscous", "coulomb"):
+            if key in friction:
+                setattr(c.friction, key, _number(friction[key], "friction"))
+
+    # ------------------------------------------------------------ reading
+
+    @property
+    def effects(self) -> tuple[str, ...]:
+        """Names of the selected effects, in the library's order."""
+        return tuple(n for k, n in enumerate(EFFECTS)
+                     if self._c.opt.effects & (1 << k))
+
+    def __getattr__(self, name: str) -> float:
+        # the model's numbers, read from the validated C structure
+        if name in ("R", "rho", "M", "m", "d", "link_Ic", "g", "r"):
+            return float(getattr(self.__dict__["_c"], name))
+        raise AttributeError(name)
+
+    def __repr__(self) -> str:
+        return (f"rps3.Model(R={self.R!r}, rho={self.rho!r}, M={self.M!r}, "
+                f"m={self.m!r}, d={self.d!r}, effects={list(self.effects)!r})")
+
+    # ------------------------------------------------------------- stages
+
+    def _workspace(self) -> Any:
+        # one workspace per call: calls from several threads never share one
+        out = ffi.new("rps3_data **")
+        status = lib.rps3_data_alloc(self._c, out)
+        if status == lib.RPS3_ENOMEM:
+            raise MemoryError("rps3_data_alloc: out of memory")
+        if status != lib.RPS3_OK:
+            raise RuntimeError(f"rps3_data_alloc failed with status {status}")
+        return ffi.gc(out[0], lib.rps3_data_free)
+
+    def _run(self, fn: Any, inputs: dict[str, Any], outputs: dict[str, Any],
+             n: int) -> None:
+        d = self._workspace()
+        cin = ffi.new("rps3_batch_in *")
+        cout = ffi.new("rps3_batch_out *")
+        cin.n = n
+        keep = []  # the buffers must live through the call
+        for name, a in inputs.items():
+            keep.append(buf(a))
+            setattr(cin, name, keep[-1])
+        for name, a in outputs.items():
+            keep.append(buf(a, "int[]" if a.dtype == np.int32 else "double[]"))
+            setattr(cout, name, keep[-1])
+        status = fn(self._c, d, cin, cout)
+        if status != lib.RPS3_OK:  # a call the checks above let through
+            raise RuntimeError(text(d.err.msg))
+
+    def ik(self, pose: ArrayLike) -> Kinematics:
+        """Inverse kinematics, eqs. (2)-(7) and (39).
+
+        Args:
+            pose: (n, 3) or (3,) array of (alpha, beta, z_c) [rad, rad, m].
+
+        Returns:
+            Kinematics: link lengths [m] and angles [rad] per point, status.
+        """
+        p, single = points(pose, "pose")
+        n = p.shape[1]
+        out: dict[str, np.ndarray] = {"l": np.empty((3, n)), "theta": np.empty((3, n)),
+               "status": np.empty(n, np.int32), "warn": np.empty(n, np.int32)}
+        self._run(lib.rps3_ik_batch, {"pose": p}, out, n)
+        return Kinematics(**{k: per_point(v, single) for k, v in out.items()})
+
+    def fk(self, lengths: ArrayLike, guess: ArrayLike | None = None) -> Pose:
+        """Forward kinematics: link lengths -> theta (8)-(10) -> pose.
+
+        Args:
+            lengths: (n, 3) or (3,) link lengths [m].
+            guess: theta [rad] to start each point's solve from, same shape;
+                None: each solve starts from the previous point's solution
+                (warm_start) or from the level-platform guess.
+
+        Returns:
+            Pose: (alpha, beta, z_c) [rad, rad, m], theta, iterations, status.
+        """
+        lens, single = points(lengths, "lengths")
+        n = lens.shape[1]
+        inputs: dict[str, Any] = {"l": lens}
+        if guess is not None:
+            g, _ = points(guess, "guess")
+            if g.shape != lens.shape:
+                raise ValueError(f"guess: shape {np.shape(guess)} differs from "
+                                 f"that of lengths {np.shape(lengths)}")
+            inputs["guess"] = g
+        out: dict[str, np.ndarray] = {"pose": np.empty((3, n)), "theta": np.empty((3, n)),
+               "niter": np.empty(n, np.int32), "status": np.empty(n, np.int32),
+               "warn": np.empty(n, np.int32)}
+        self._run(lib.rps3_fk_batch, inputs, out, n)
+        return Pose(**{k: per_point(v, single) for k, v in out.items()})
+
+    def inverse(self, pose: ArrayLike, dpose: ArrayLike | None = None,
+                ddpose: ArrayLike | None = None) -> Dynamics:
+        """Inverse dynamics, eqs. (21)-(24) and (34), of the selected effects.
+
+        Args:
+            pose: (n, 3) or (3,) array of (alpha, beta, z_c) [rad, rad, m].
+            dpose: its time derivative [rad/s, rad/s, m/s], same shape;
+                needed when an inertial effect or certify is selected.
+            ddpose: second derivative [rad/s^2, rad/s^2, m/s^2], same shape.
+
+        Returns:
+            Dynamics: forces [N], per-effect shares [N], lambda [N/m],
+            condition number, energy residual [W], l, theta, status, warn.
+
+        Raises:
+            ValueError: a shape is wrong, or rates are needed and missing.
+        """
+        p, single = points(pose, "pose")
+        n = p.shape[1]
+        inputs: dict[str, Any] = {"pose": p}
+        for name, value in (("dpose", dpose), ("ddpose", ddpose)):
+            if value is None:
+                continue
+            v, _ = points(value, name)
+            if v.shape != p.shape:
+                raise ValueError(f"{name}: shape {np.shape(value)} differs from "
+                                 f"that of pose {np.shape(pose)}")
+            inputs[name] = v
+        needs = (self._c.opt.effects & lib.RPS3_EFF_DYNAMIC) or self._c.opt.certify
+        missing = [k for k in ("dpose", "ddpose") if k not in inputs]
+        if needs and missing and n > 0:
+            raise ValueError(f"{missing[0]}: needed by the effects "
+                             f"{list(self.effects)} or certify, and not given")
+        out: dict[str, np.ndarray] = {"F": np.empty((3, n)),
+               "F_effect": np.empty((lib.RPS3_NEFFECT, 3, n)),
+               "lambda": np.empty((3, n)), "cond": np.empty(n),
+               "energy_residual": np.empty(n), "l": np.empty((3, n)),
+               "theta": np.empty((3, n)), "status": np.empty(n, np.int32),
+               "warn": np.empty(n, np.int32)}
+        self._run(lib.rps3_inverse_batch, inputs, out, n)
+        shares = {name: per_point(out["F_effect"][k], single)
+                  for k, name in enumerate(EFFECTS) if name in self.effects}
+        return Dynamics(
+            force=per_point(out["F"], single), shares=shares,
+            lambda_=per_point(out["lambda"], single),
+            condition=per_point(out["cond"], single),
+            energy_residual=per_point(out["energy_residual"], single),
+            l=per_point(out["l"], single), theta=per_point(out["theta"], single),
+            status=per_point(out["status"], single),
+            warn=per_point(out["warn"], single))

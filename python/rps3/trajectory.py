@@ -1,0 +1,124 @@
+"""Trajectories with exact derivatives, evaluated by the library:
+the paper's helix (section VI, Tables I-II) and a sinusoid per pose
+coordinate."""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+from typing import Any
+
+import numpy as np
+from numpy.typing import ArrayLike
+
+from rps3._core import FloatArray, check_error, strerror
+from rps3._rps3 import ffi, lib
+from rps3.model import Model, _number, _vector
+
+# the library's dotted names -> keyword arguments
+_KEYWORD = {"trajectory.radius": "radius", "trajectory.pitch": "pitch",
+            "trajectory.z0": "z0", "trajectory.period": "period",
+            "trajectory.blend": "blend", "trajectory.mean": "mean",
+            "trajectory.amp": "amp", "trajectory.freq": "freq",
+            "trajectory.phase": "phase", "trajectory.duration": "duration"}
+
+
+@dataclass(frozen=True)
+class Trajectory:
+    """Samples of a trajectory: inputs of Model.inverse."""
+
+    t: FloatArray       #: sample times, (n,) [s]
+    pose: FloatArray    #: (alpha, beta, z_c), (n, 3) [rad, rad, m]
+    dpose: FloatArray   #: first derivative, (n, 3) [rad/s, rad/s, m/s]
+    ddpose: FloatArray  #: second derivative, (n, 3) [rad/s^2, rad/s^2, m/s^2]
+
+
+def _times(duration: float, samples: int | None, t: ArrayLike | None) -> FloatArray:
+    if t is not None:
+        if samples is not None:
+            raise ValueError("t: give samples or t, not both")
+        times = np.ascontiguousarray(t, dtype=np.float64).reshape(-1)
+        return times
+    n = 1001 if samples is None else samples
+    if not isinstance(n, (int, np.integer)) or n < 2:
+        raise ValueError(f"samples: expected an integer >= 2, got {samples!r}")
+    return np.linspace(0.0, duration, int(n))
+
+
+def _evaluate(model: Model, tr: Any, samples: int | None,
+              t: ArrayLike | None) -> Trajectory:
+    chk = ffi.new("rps3_check *")
+    if lib.rps3_traj_validate(model._c, tr, chk) != lib.RPS3_OK:
+        raise check_error(chk, _KEYWORD)
+    times = _times(float(lib.rps3_traj_duration(tr)), samples, t)
+    n = times.size
+    pose, dpose, ddpose = (np.empty((n, 3)) for _ in range(3))
+    status = lib.rps3py_traj_eval_n(
+        model._c, tr, n, ffi.from_buffer("double[]", times),
+        ffi.from_buffer("double[]", pose), ffi.from_buffer("double[]", dpose),
+        ffi.from_buffer("double[]", ddpose))
+    if status != lib.RPS3_OK:
+        raise ValueError(f"t: {strerror(status)} (the span is 0 to "
+                         f"{lib.rps3_traj_duration(tr)} s)")
+    return Trajectory(times, pose, dpose, ddpose)
+
+
+def helix(*, radius: float | None = None, pitch: float | None = None,
+          z0: float | None = None, period: float | None = None,
+          blend: float | None = None, samples: int | None = None,
+          t: ArrayLike | None = None, model: Model | None = None) -> Trajectory:
+    """The paper's helix (35)-(37): the platform centre climbs a helix of
+    radius r* and pitch h in one period T*, with parabolic blends t_a.
+
+    Arguments left out take Table II's values (r* = 0.000266 m,
+    h = 0.03048 m, z_i = 0.3048 m, T* = 10 s, t_a = 1 s).
+
+    Args:
+        radius: helix radius r* [m], below r / 2 of the model.
+        pitch: rise per turn h [m].
+        z0: start height z_i of the platform centre [m].
+        period: time of one turn T* [s].
+        blend: blend time t_a [s], 0 < t_a <= T* / 2.
+        samples: number of samples from 0 to T* (default 1001); or
+        t: the sample times [s] themselves.
+        model: the manipulator the helix is checked against (Table II).
+
+    Raises:
+        ValueError: naming the argument that is out of range.
+    """
+    tr = ffi.new("rps3_traj *")
+    lib.rps3_traj_default(tr)
+    for name, value in (("radius", radius), ("pitch", pitch), ("z0", z0),
+                        ("period", period), ("blend", blend)):
+        if value is not None:
+            setattr(tr.helix, name, _number(value, name))
+    return _evaluate(model or Model(), tr, samples, t)
+
+
+def sine(*, mean: ArrayLike, amp: ArrayLike, freq: ArrayLike,
+         duration: float, phase: ArrayLike = (0.0, 0.0, 0.0),
+         samples: int | None = None, t: ArrayLike | None = None,
+         model: Model | None = None) -> Trajectory:
+    """pose_k(t) = mean_k + amp_k sin(2 pi freq_k t + phase_k), k = alpha,
+    beta, z_c, for 0 <= t <= duration.
+
+    Args:
+        mean: (alpha, beta, z_c) means [rad, rad, m].
+        amp: amplitudes [rad, rad, m].
+        freq: frequencies [Hz].
+        duration: time span [s].
+        phase: phases [rad].
+        samples: number of samples from 0 to duration (default 1001); or
+        t: the sample times [s] themselves.
+        model: the manipulator the trajectory is checked against.
+
+    Raises:
+        ValueError: naming the argument that is out of range.
+    """
+    tr = ffi.new("rps3_traj *")
+    tr.kind = lib.RPS3_TRAJ_SINE
+    for name, value in (("mean", mean), ("amp", amp), ("freq", freq),
+                        ("phase", phase)):
+        for k, x in enumerate(_vector(value, name)):
+            getattr(tr.sine, name)[k] = x
+    tr.sine.duration = _number(duration, "duration")
+    return _evaluate(model or Model(), tr, samples, t)
