@@ -693,8 +693,10 @@ RPS3_API int rps3_energy(const rps3_model *m, const rps3_data *d, double *T,
 /* -------------------------------------------------------------- trajectory */
 
 typedef enum {
-  RPS3_TRAJ_HELIX = 1, /* the paper's section VI helix, Tables I-II */
-  RPS3_TRAJ_SINE = 2   /* each pose coordinate a sinusoid */
+  RPS3_TRAJ_HELIX = 1,     /* the paper's section VI helix, Tables I-II */
+  RPS3_TRAJ_SINE = 2,      /* each pose coordinate a sinusoid */
+  RPS3_TRAJ_WAYPOINTS = 3, /* poses at given times joined by a time law */
+  RPS3_TRAJ_PATH = 4       /* a Cartesian path of the platform centre */
 } rps3_traj_kind;
 
 /* Helix (35): radius r*, pitch h, start z_i, one pitch in T* seconds; phi(t)
@@ -719,11 +721,105 @@ typedef struct {
   double duration;  /* [s] */
 } rps3_sine;
 
+/*
+ * Time laws s(tau), tau in [0, 1], s(0) = 0, s(1) = 1, for a motion from
+ * one pose (or path point) to the next:
+ *   LSPB     linear segment with parabolic blends of a fraction f of the
+ *            segment at both ends (as the paper's Table I): peak rate
+ *            1 / (1 - f), acceleration 1 / (f (1 - f)); at rest at both ends.
+ *   MINJERK  the minimum-jerk motion between rests (Flash & Hogan 1985),
+ *            s = 10 tau^3 - 15 tau^4 + 6 tau^5: peak rate 15/8, peak
+ *            acceleration 10 / sqrt(3); velocity and acceleration zero at
+ *            both ends.
+ *   QUINTIC  waypoints only: a quintic per segment through the waypoints
+ *            without stopping; the rate at an inner waypoint is the mean of
+ *            the slopes of its two segments when they have the same sign,
+ *            else 0 (Craig's heuristic), the acceleration there 0; at rest
+ *            at the first and last waypoint.  With two waypoints it is
+ *            MINJERK.  Continuous rate and acceleration.
+ */
+typedef enum {
+  RPS3_LAW_LSPB = 0,
+  RPS3_LAW_MINJERK = 1,
+  RPS3_LAW_QUINTIC = 2
+} rps3_time_law;
+
+/*
+ * Waypoints: pose[i] at time[i], i = 0 .. n-1, joined by a time law per
+ * coordinate.  The arrays belong to the caller and must outlive the
+ * trajectory (they are read, never copied or freed).  With limits
+ * (vmax_k > 0 or amax_k > 0; LSPB and MINJERK only) each segment is
+ * stretched just enough that no coordinate exceeds them: a segment of
+ * duration T moving coordinate k by D lasts
+ *   max(T, |D| v* / vmax_k, sqrt(|D| a* / amax_k))
+ * with v*, a* the law's peak rate and acceleration, and the later
+ * waypoints move later.  rps3_traj_duration() is the stretched span;
+ * evaluation finds the segment in O(n).
+ */
+typedef struct {
+  size_t n;                /* number of waypoints, >= 2 */
+  const double *time;      /* n times [s]: time[0] = 0, strictly increasing */
+  const double (*pose)[3]; /* n poses (alpha, beta, z_c) [rad, rad, m] */
+  rps3_time_law law;
+  double blend;            /* LSPB: blend fraction f of each segment,
+                              0 < f <= 1/2 */
+  double vmax[3];          /* rate limits [rad/s, rad/s, m/s], 0: none */
+  double amax[3];          /* acceleration limits [rad/s^2, rad/s^2, m/s^2],
+                              0: none */
+} rps3_waypoints;
+
+/* shapes of a path of the platform centre */
+typedef enum {
+  RPS3_PATH_LINE = 0,   /* from start to end */
+  RPS3_PATH_CIRCLE = 1, /* horizontal circle: centre, radius, angle0, turns */
+  RPS3_PATH_HELIX = 2   /* the circle rising by pitch per turn */
+} rps3_path_shape;
+
+/*
+ * Path: the platform centre (x_c, y_c, z_c)(t), turned into the pose by
+ * inverting (3)-(4): with rho_c = sqrt(x_c^2 + y_c^2) and psi the polar
+ * angle of (x_c, y_c),
+ *   1 - cos beta = 2 rho_c / r,  alpha = pi/2 - psi/2,
+ * psi followed continuously along the path (the paper's (36)-(37) for the
+ * helix).  The centre's x and y are set by alpha and beta (the paper: "the
+ * Cartesian position may be controlled at the sacrifice of orientation
+ * freedoms"), so every point of the path must keep 0 < rho_c < r/2: the
+ * axis itself (rho_c = 0) leaves alpha undefined and its rates infinite.
+ * The path parameter follows the time law over [0, duration]:
+ *   line    c = start + s (end - start)
+ *   circle  phi = angle0 + 2 pi turns s, c = centre + radius (cos phi,
+ *           sin phi, 0)
+ *   helix   as the circle, and z_c = centre_z + pitch turns t / duration:
+ *           the rise is uniform in time, as in the paper's (35).
+ * The paper's helix is shape helix, centre (0, 0, z_i), radius r*,
+ * angle0 0, turns 1, pitch h, duration T*, law LSPB with blend t_a / T*.
+ */
+typedef struct {
+  rps3_path_shape shape;
+  double start[3];   /* line: first point of the centre [m] */
+  double end[3];     /* line: last point [m] */
+  double centre[3];  /* circle, helix: centre of the circle at t = 0 [m] */
+  double radius;     /* circle, helix: radius [m], > 0 */
+  double angle0;     /* circle, helix: starting angle, from +X [rad] */
+  double turns;      /* circle, helix: turns, < 0 clockwise */
+  double pitch;      /* helix: rise per turn [m] */
+  double duration;   /* [s] */
+  rps3_time_law law; /* LSPB or MINJERK (QUINTIC is MINJERK here) */
+  double blend;      /* LSPB: blend fraction, 0 < f <= 1/2 */
+} rps3_path;
+
 typedef struct {
   rps3_traj_kind kind;
   rps3_helix helix;   /* used when kind == RPS3_TRAJ_HELIX */
   rps3_sine sine;     /* used when kind == RPS3_TRAJ_SINE */
+  rps3_waypoints wp;  /* used when kind == RPS3_TRAJ_WAYPOINTS */
+  rps3_path path;     /* used when kind == RPS3_TRAJ_PATH */
 } rps3_traj;
+
+/* Name of a time law ("lspb", "minimum_jerk", "quintic"), NULL if out of
+   range; and the law with this name, or -1. */
+RPS3_API const char *rps3_time_law_name(int law);
+RPS3_API int rps3_time_law_index(const char *name);
 
 /* The paper's helix of Table II.  tr NULL: does nothing. */
 RPS3_API void rps3_traj_default(rps3_traj *tr);
@@ -743,10 +839,11 @@ RPS3_API double rps3_traj_duration(const rps3_traj *tr);
  * corner takes the value of the segment that starts there (right limit),
  * except t = T*, which takes the left limit.  Any output may be NULL.
  * Returns RPS3_OK, RPS3_EINVAL (bad arguments), RPS3_EDOMAIN (t outside
- * the span) or RPS3_ERANGE (a pose, rate or acceleration not finite: a
- * trajectory that did not pass rps3_traj_check, e.g. NaN in a field or a
- * sine whose acceleration overflows; the outputs then hold the non-finite
- * values).
+ * the span), RPS3_EREACH (a path not checked by rps3_traj_check() whose
+ * centre leaves 0 < rho_c < r/2 at t) or RPS3_ERANGE (a pose, rate or
+ * acceleration not finite: a trajectory that did not pass
+ * rps3_traj_check, e.g. NaN in a field or a sine whose acceleration
+ * overflows; the outputs then hold the non-finite values).
  */
 RPS3_API int rps3_traj_eval(const rps3_model *m, const rps3_traj *tr, double t,
                    double pose[3], double dpose[3], double ddpose[3]);
@@ -760,7 +857,8 @@ RPS3_API int rps3_traj_eval(const rps3_model *m, const rps3_traj *tr, double t,
  * ID is the field's identifier (enum rps3_field_id), IN the structure that
  * holds it (RPS3_IN_MODEL: rps3_model; RPS3_IN_HELIX, RPS3_IN_SINE: the
  * rps3_traj of that kind), MEMBER its member designator, N its number of
- * components (doubles or ints), IS_INT 1 for an int field.  Each component
+ * components (doubles or ints; 0 for a pointer to a caller's array, whose
+ * rows the kind's own rules check), IS_INT 1 for an int field.  Each component
  * must be finite and lie in [LO, HI], LO excluded when LO_OPEN; the rules
  * that involve several fields are listed in the comments of
  * rps3_model_init() and rps3_traj_check().  UNIT is the UDUNITS spelling
@@ -814,7 +912,7 @@ RPS3_API int rps3_traj_eval(const rps3_model *m, const rps3_traj *tr, double t,
     "1", "opt.trans_max")                                                     \
   X(RPS3_F_MODE, RPS3_IN_MODEL, opt.mode, 1, 1, -1, 0, 1, "-", "opt.mode")    \
   X(RPS3_F_KIND, RPS3_IN_TRAJ, kind, 1, 1, RPS3_TRAJ_HELIX, 0,                \
-    RPS3_TRAJ_SINE, "-", "trajectory.kind")                                   \
+    RPS3_TRAJ_PATH, "-", "trajectory.kind")                                   \
   X(RPS3_F_HELIX_RADIUS, RPS3_IN_HELIX, helix.radius, 1, 0, 0, 0, HUGE_VAL,   \
     "m", "trajectory.radius")                                                 \
   X(RPS3_F_HELIX_PITCH, RPS3_IN_HELIX, helix.pitch, 1, 0, -HUGE_VAL, 0,       \
@@ -834,14 +932,50 @@ RPS3_API int rps3_traj_eval(const rps3_model *m, const rps3_traj *tr, double t,
   X(RPS3_F_SINE_PHASE, RPS3_IN_SINE, sine.phase, 3, 0, -HUGE_VAL, 0,          \
     HUGE_VAL, "rad", "trajectory.phase")                                      \
   X(RPS3_F_SINE_DURATION, RPS3_IN_SINE, sine.duration, 1, 0, 0, 1, HUGE_VAL,  \
-    "s", "trajectory.duration")
+    "s", "trajectory.duration")                                               \
+  X(RPS3_F_WP_TIME, RPS3_IN_WAYPOINTS, wp.time, 0, 0, 0, 0, HUGE_VAL, "s",    \
+    "trajectory.waypoints.times")                                             \
+  X(RPS3_F_WP_POSE, RPS3_IN_WAYPOINTS, wp.pose, 0, 0, -HUGE_VAL, 0, HUGE_VAL, \
+    "rad, rad, m", "trajectory.waypoints.poses")                              \
+  X(RPS3_F_WP_LAW, RPS3_IN_WAYPOINTS, wp.law, 1, 1, 0, 0, 2, "-",             \
+    "trajectory.waypoints.law")                                               \
+  X(RPS3_F_WP_BLEND, RPS3_IN_WAYPOINTS, wp.blend, 1, 0, 0, 1, 0.5, "1",       \
+    "trajectory.waypoints.blend_ratio")                                       \
+  X(RPS3_F_WP_VMAX, RPS3_IN_WAYPOINTS, wp.vmax, 3, 0, 0, 0, HUGE_VAL,         \
+    "rad/s, rad/s, m/s", "trajectory.waypoints.vmax")                         \
+  X(RPS3_F_WP_AMAX, RPS3_IN_WAYPOINTS, wp.amax, 3, 0, 0, 0, HUGE_VAL,         \
+    "rad/s^2, rad/s^2, m/s^2", "trajectory.waypoints.amax")                   \
+  X(RPS3_F_PATH_SHAPE, RPS3_IN_PATH, path.shape, 1, 1, 0, 0, 2, "-",          \
+    "trajectory.path.shape")                                                  \
+  X(RPS3_F_PATH_START, RPS3_IN_PATH, path.start, 3, 0, -HUGE_VAL, 0,          \
+    HUGE_VAL, "m", "trajectory.path.start")                                   \
+  X(RPS3_F_PATH_END, RPS3_IN_PATH, path.end, 3, 0, -HUGE_VAL, 0, HUGE_VAL,    \
+    "m", "trajectory.path.end")                                               \
+  X(RPS3_F_PATH_CENTRE, RPS3_IN_PATH, path.centre, 3, 0, -HUGE_VAL, 0,        \
+    HUGE_VAL, "m", "trajectory.path.centre")                                  \
+  X(RPS3_F_PATH_RADIUS, RPS3_IN_PATH, path.radius, 1, 0, 0, 0, HUGE_VAL, "m", \
+    "trajectory.path.radius")                                                 \
+  X(RPS3_F_PATH_ANGLE0, RPS3_IN_PATH, path.angle0, 1, 0, -HUGE_VAL, 0,        \
+    HUGE_VAL, "rad", "trajectory.path.angle0")                                \
+  X(RPS3_F_PATH_TURNS, RPS3_IN_PATH, path.turns, 1, 0, -HUGE_VAL, 0,          \
+    HUGE_VAL, "1", "trajectory.path.turns")                                   \
+  X(RPS3_F_PATH_PITCH, RPS3_IN_PATH, path.pitch, 1, 0, -HUGE_VAL, 0,          \
+    HUGE_VAL, "m", "trajectory.path.pitch")                                   \
+  X(RPS3_F_PATH_DURATION, RPS3_IN_PATH, path.duration, 1, 0, 0, 1, HUGE_VAL,  \
+    "s", "trajectory.path.duration")                                          \
+  X(RPS3_F_PATH_LAW, RPS3_IN_PATH, path.law, 1, 1, 0, 0, 2, "-",              \
+    "trajectory.path.law")                                                    \
+  X(RPS3_F_PATH_BLEND, RPS3_IN_PATH, path.blend, 1, 0, 0, 1, 0.5, "1",        \
+    "trajectory.path.blend_ratio")
 
 /* where a field lives: the model, or the trajectory (of one kind) */
 enum rps3_field_in {
   RPS3_IN_MODEL = 0,
   RPS3_IN_TRAJ = 1,                  /* rps3_traj, any kind */
   RPS3_IN_HELIX = 1 + RPS3_TRAJ_HELIX, /* rps3_traj, kind helix */
-  RPS3_IN_SINE = 1 + RPS3_TRAJ_SINE    /* rps3_traj, kind sine */
+  RPS3_IN_SINE = 1 + RPS3_TRAJ_SINE,   /* rps3_traj, kind sine */
+  RPS3_IN_WAYPOINTS = 1 + RPS3_TRAJ_WAYPOINTS,
+  RPS3_IN_PATH = 1 + RPS3_TRAJ_PATH
 };
 
 #define RPS3_FIELD_ID_(ID, ...) ID,
@@ -868,7 +1002,8 @@ RPS3_API const rps3_field_info *rps3_field(int id);
 typedef struct {
   int field;       /* rps3_field_id of the failing field, -1 if none (a NULL
                       argument) */
-  int comp;        /* its component, 0 for a scalar field */
+  int comp;        /* its component, 0 for a scalar field; the row of an
+                      array field (waypoints) */
   int related[2];  /* other fields the failed rule reads (e.g. rho and R
                       for the helix radius bound), -1 when unused */
   char msg[256];   /* "NAME = VALUE: reason", as in rps3_model_init() */

@@ -12,7 +12,9 @@
 typedef char rps3_enum_is_int_[(sizeof(rps3_method) == sizeof(int) &&
                                 sizeof(rps3_theta_route) == sizeof(int) &&
                                 sizeof(rps3_solver) == sizeof(int) &&
-                                sizeof(rps3_traj_kind) == sizeof(int))
+                                sizeof(rps3_traj_kind) == sizeof(int) &&
+                                sizeof(rps3_time_law) == sizeof(int) &&
+                                sizeof(rps3_path_shape) == sizeof(int))
                                    ? 1
                                    : -1];
 
@@ -21,6 +23,8 @@ typedef char rps3_enum_is_int_[(sizeof(rps3_method) == sizeof(int) &&
 #define OFF_RPS3_IN_TRAJ(MEMBER) offsetof(rps3_traj, MEMBER)
 #define OFF_RPS3_IN_HELIX(MEMBER) offsetof(rps3_traj, MEMBER)
 #define OFF_RPS3_IN_SINE(MEMBER) offsetof(rps3_traj, MEMBER)
+#define OFF_RPS3_IN_WAYPOINTS(MEMBER) offsetof(rps3_traj, MEMBER)
+#define OFF_RPS3_IN_PATH(MEMBER) offsetof(rps3_traj, MEMBER)
 
 #define ROW(ID, IN, MEMBER, N, IS_INT, LO, LO_OPEN, HI, UNIT, NAME)           \
   {NAME, IN, OFF_##IN(MEMBER), N, IS_INT, LO, LO_OPEN, HI, UNIT},
@@ -47,7 +51,7 @@ int rps3_check_fail(rps3_check *chk, int field, int comp, double value,
     chk->comp = comp;
     chk->related[0] = rel0;
     chk->related[1] = rel1;
-    if (f != NULL && f->n > 1)
+    if (f != NULL && f->n != 1)
       snprintf(chk->msg, sizeof chk->msg, "%s[%d] = %.17g: %s", f->name, comp,
                value, why);
     else

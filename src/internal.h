@@ -63,6 +63,24 @@ int rps3_field_in_range(const rps3_field_info *f, double x);
    rps3_field_in) by the structure at base; RPS3_OK or RPS3_EINVAL */
 int rps3_fields_check(int in, const void *base, rps3_check *chk);
 
+/* timelaw.c: s, s', s'' (per unit tau) of time law `law` (blend fraction f
+   for LSPB; QUINTIC is taken as MINJERK) at tau in [0, 1]; its peak rate
+   and acceleration */
+void rps3_law_eval(int law, double f, double tau, double s[3]);
+void rps3_law_peaks(int law, double f, double *vpeak, double *apeak);
+/* waypoints: span, evaluation at t in [0, span], validation */
+double rps3_waypoints_duration(const rps3_waypoints *w);
+int rps3_waypoints_eval(const rps3_waypoints *w, double t, double q[3],
+                        double dq[3], double ddq[3]);
+int rps3_waypoints_check(const rps3_model *m, const rps3_waypoints *w,
+                         rps3_check *chk);
+/* 1 when rps3_ik accepts the pose (a local workspace, no allocation) */
+int rps3_pose_reachable(const rps3_model *m, const double pose[3]);
+/* path.c: evaluation (RPS3_EREACH off 0 < rho_c < r/2), validation */
+int rps3_path_eval(const rps3_model *m, const rps3_path *p, double t,
+                   double q[3], double dq[3], double ddq[3]);
+int rps3_path_check(const rps3_model *m, const rps3_path *p, rps3_check *chk);
+
 /* internal state of the theta solve, owned by rps3_data */
 struct rps3_solver_state;
 int rps3_solver_alloc(const rps3_model *m, struct rps3_solver_state **out);

@@ -1,7 +1,9 @@
 /*
  * traj.c - trajectories with exact first and second derivatives.  The
  * paper's helix (section VI, Tables I-II) and a sinusoid per pose
- * coordinate.  A new kind adds a struct to rps3_traj, a check and an eval.
+ * coordinate here; waypoints (timelaw.c) and Cartesian paths (path.c).  A
+ * new kind adds a struct to rps3_traj, its rows to RPS3_FIELDS, a check
+ * and an eval.
  */
 #include <math.h>
 #include <string.h>
@@ -18,6 +20,18 @@ void rps3_traj_default(rps3_traj *tr) {
   tr->helix.z0 = 0.3048;
   tr->helix.period = 10.0;
   tr->helix.blend = 1.0;
+  /* waypoints: no poses until the caller gives them */
+  tr->wp.law = RPS3_LAW_LSPB;
+  tr->wp.blend = 0.1;
+  /* path: the same helix of Table II as a path of the centre */
+  tr->path.shape = RPS3_PATH_HELIX;
+  tr->path.centre[2] = 0.3048;
+  tr->path.radius = 0.266e-3;
+  tr->path.turns = 1.0;
+  tr->path.pitch = 0.03048;
+  tr->path.duration = 10.0;
+  tr->path.law = RPS3_LAW_LSPB;
+  tr->path.blend = 0.1;
 }
 
 int rps3_traj_check(const rps3_model *m, const rps3_traj *tr, char *err,
@@ -69,6 +83,9 @@ int rps3_traj_validate(const rps3_model *m, const rps3_traj *tr,
             "not finite");
     }
   }
+  if (tr->kind == RPS3_TRAJ_WAYPOINTS)
+    return rps3_waypoints_check(m, &tr->wp, chk);
+  if (tr->kind == RPS3_TRAJ_PATH) return rps3_path_check(m, &tr->path, chk);
   return RPS3_OK;
 }
 
@@ -76,6 +93,11 @@ double rps3_traj_duration(const rps3_traj *tr) {
   if (tr == NULL) return 0.0;
   if (tr->kind == RPS3_TRAJ_HELIX) return tr->helix.period;
   if (tr->kind == RPS3_TRAJ_SINE) return tr->sine.duration;
+  if (tr->kind == RPS3_TRAJ_WAYPOINTS)
+    return tr->wp.n >= 2 && tr->wp.time != NULL && tr->wp.pose != NULL
+               ? rps3_waypoints_duration(&tr->wp)
+               : 0.0;
+  if (tr->kind == RPS3_TRAJ_PATH) return tr->path.duration;
   return 0.0;
 }
 
@@ -130,6 +152,13 @@ int rps3_traj_eval(const rps3_model *m, const rps3_traj *tr, double t,
       dq[k] = s->amp[k] * w * cos(ph);
       ddq[k] = -s->amp[k] * w * w * sin(ph);
     }
+  } else if (tr->kind == RPS3_TRAJ_WAYPOINTS) {
+    if (tr->wp.n < 2 || tr->wp.time == NULL || tr->wp.pose == NULL)
+      return RPS3_EINVAL;
+    rps3_waypoints_eval(&tr->wp, t, q, dq, ddq);
+  } else if (tr->kind == RPS3_TRAJ_PATH) {
+    int rc = rps3_path_eval(m, &tr->path, t, q, dq, ddq);
+    if (rc != RPS3_OK) return rc;
   } else {
     return RPS3_EINVAL;
   }
