@@ -360,6 +360,16 @@ uninstall:
 	-rmdir $(DESTDIR)$(CMAKEDIR) $(DESTDIR)$(DOCDIR) 2>/dev/null
 	@if [ -z "$(DESTDIR)" ] && [ "$$(id -u)" = 0 ] && [ -x /sbin/ldconfig ]; then /sbin/ldconfig; fi
 
+# ------------------------------------------------------------ trajectories
+# the trajectory kinds waypoints and path (docs/trajectories.md): the
+# shipped configs run, and one figure each in out/traj_*.png
+TRAJ_CONFIGS = pick_place circle line paper_path
+.PHONY: trajectories
+trajectories: runner venv
+	@mkdir -p out
+	for c in $(TRAJ_CONFIGS); do $(B)/rps3-run configs/$$c.yaml -o out/$$c.h5 -q || exit 1; done
+	$(VPY) analysis/trajectories.py out $(TRAJ_CONFIGS:%=out/%.h5)
+
 # ------------------------------------------------------------------- docs
 # the key table of docs/runner.md is `rps3-run --keys`; tests/test_docs.py
 # fails when the two differ

@@ -59,6 +59,28 @@ static void keys_build(void)
   built = 1;
 }
 
+/* the path shapes (bits 1 << rps3_path_shape) that use key k, for the
+   keys marked REQ_SHAPE; 0 for any other key */
+static int shape_mask(int k)
+{
+  const int line = 1 << RPS3_PATH_LINE, circle = 1 << RPS3_PATH_CIRCLE,
+            helix = 1 << RPS3_PATH_HELIX;
+  switch (k) {
+  case K_PATH_START:
+  case K_PATH_END:
+    return line;
+  case K_PATH_CENTRE:
+  case K_PATH_RADIUS:
+  case K_PATH_TURNS:
+  case K_PATH_ANGLE0:
+    return circle | helix;
+  case K_PATH_PITCH:
+    return helix;
+  default:
+    return 0;
+  }
+}
+
 /* the library field key k fills, directly or converted (-1: none) */
 static int key_fills(int k)
 {
@@ -68,7 +90,9 @@ static int key_fills(int k)
 /* mapping sections; the index is the slot in scene.section */
 static const char *const sections[] = {"", "manipulator", "trajectory",
                                        "solver", "manipulator.payload",
-                                       "manipulator.pin_friction"};
+                                       "manipulator.pin_friction",
+                                       "trajectory.waypoints",
+                                       "trajectory.path"};
 #define NSECTION (sizeof sections / sizeof sections[0])
 
 /* a value counts as equal to a whole number within this many ulps of its
@@ -113,7 +137,9 @@ static const char *leaf(const char *path)
 
 /* ---------------------------------------------------------- enum names */
 
-static const char *const kind_names[] = {NULL, "helix", "sine"};
+static const char *const kind_names[] = {NULL, "helix", "sine", "waypoints",
+                                         "path"};
+static const char *const shape_names[] = {"line", "circle", "helix"};
 static const char *const theta_names[] = {"closed_form", "multiroot"};
 static const char *const method_names[] = {"lagrange", "newton_euler"};
 
@@ -121,7 +147,7 @@ const char *scene_enum_name(int k, int value)
 {
   switch (k) {
   case K_KIND:
-    return (value == RPS3_TRAJ_HELIX || value == RPS3_TRAJ_SINE)
+    return (value >= RPS3_TRAJ_HELIX && value <= RPS3_TRAJ_PATH)
                ? kind_names[value]
                : NULL;
   case K_THETA:
@@ -130,6 +156,11 @@ const char *scene_enum_name(int k, int value)
     return (value == 0 || value == 1) ? method_names[value] : NULL;
   case K_SOLVER:
     return rps3_solver_name(value);
+  case K_WP_LAW:
+  case K_PATH_LAW:
+    return rps3_time_law_name(value);
+  case K_PATH_SHAPE:
+    return (value >= 0 && value < 3) ? shape_names[value] : NULL;
   default:
     return NULL;
   }
@@ -423,6 +454,76 @@ static int parse_scalar(parse_ctx *c, int k, const yaml_node_t *n,
   }
 }
 
+/* the rows of a waypoints list key: times (numbers) or poses (lists of 3
+   numbers), into arrays the scene owns; base.traj.wp points to them */
+static int parse_rows(parse_ctx *c, int k, const yaml_node_t *n,
+                      scene_values *v)
+{
+  const char *path = keys[k].path;
+  int poses = keys[k].type == KEY_POSES;
+  scene *s = c->s;
+  yaml_node_item_t *it;
+  size_t i, rows;
+  double *dst;
+  scene_mark *marks;
+  char sub[160];
+  if (n->type != YAML_SEQUENCE_NODE ||
+      n->data.sequence.items.top - n->data.sequence.items.start < 2) {
+    error_set(c->err, mark_of(&n->start_mark), path,
+              "expected a list of at least 2 %s, got %s",
+              poses ? "poses [alpha, beta, z_c]" : "numbers",
+              n->type == YAML_SEQUENCE_NODE ? "a shorter list" : node_kind(n));
+    return -1;
+  }
+  rows = (size_t)(n->data.sequence.items.top - n->data.sequence.items.start);
+  dst = malloc(rows * (poses ? 3 : 1) * sizeof *dst);
+  marks = malloc(rows * sizeof *marks);
+  if (!dst || !marks) {
+    free(dst);
+    free(marks);
+    error_set(c->err, mark_of(&n->start_mark), path, "out of memory");
+    return -1;
+  }
+  if (poses) {
+    s->wp_pose = (double(*)[3])(void *)dst;
+    s->wp_npose = rows;
+    s->wp_pose_mark = marks;
+    v->traj.wp.pose = (const double(*)[3])s->wp_pose;
+  } else {
+    s->wp_time = dst;
+    s->wp_ntime = rows;
+    s->wp_time_mark = marks;
+    v->traj.wp.time = dst;
+  }
+  for (i = 0, it = n->data.sequence.items.start; i < rows; i++, it++) {
+    const yaml_node_t *item = node_get(c, *it);
+    marks[i] = mark_of(&item->start_mark);
+    snprintf(sub, sizeof sub, "%s[%zu]", path, i);
+    if (!poses) {
+      if (parse_number(c, item, sub, 0, &dst[i]) ||
+          check_range(c, k, dst[i], marks[i], sub))
+        return -1;
+      continue;
+    }
+    if (item->type != YAML_SEQUENCE_NODE ||
+        item->data.sequence.items.top - item->data.sequence.items.start != 3) {
+      error_set(c->err, marks[i], sub,
+                "expected a pose [alpha, beta, z_c], got %s",
+                item->type == YAML_SEQUENCE_NODE ? "a list of another length"
+                                                 : node_kind(item));
+      return -1;
+    }
+    {
+      yaml_node_item_t *jt = item->data.sequence.items.start;
+      int j;
+      for (j = 0; j < 3; j++, jt++)
+        if (parse_number(c, node_get(c, *jt), sub, 0, &dst[3 * i + (size_t)j]))
+          return -1;
+    }
+  }
+  return 0;
+}
+
 /* the value node n of key k into v (the whole key, lists included) */
 static int parse_value(parse_ctx *c, int k, const yaml_node_t *n,
                        scene_values *v)
@@ -450,6 +551,8 @@ static int parse_value(parse_ctx *c, int k, const yaml_node_t *n,
     }
     return 0;
   }
+  if (keys[k].type == KEY_TIMES || keys[k].type == KEY_POSES)
+    return parse_rows(c, k, n, v);
   if (keys[k].type == KEY_EFFECTS) {
     effect_list(list, sizeof list);
     if (n->type != YAML_SEQUENCE_NODE ||
@@ -810,7 +913,9 @@ static int parse_sweep(parse_ctx *c, const yaml_node_t *map)
                 name);
       return -1;
     }
-    if (ki->type == KEY_EFFECTS || ax->key == K_KIND) {
+    if (ki->type == KEY_EFFECTS || ki->type == KEY_TIMES ||
+        ki->type == KEY_POSES || ax->key == K_KIND ||
+        ax->key == K_PATH_SHAPE) {
       error_set(c->err, km, name,
                 "cannot be swept (it decides what a case computes); write "
                 "one scene per value");
@@ -875,6 +980,49 @@ static int parse_sweep(parse_ctx *c, const yaml_node_t *map)
   return 0;
 }
 
+/* a waypoints scene has as many poses as times */
+static int check_waypoints(parse_ctx *c)
+{
+  scene *s = c->s;
+  if (s->base.traj.kind != RPS3_TRAJ_WAYPOINTS)
+    return 0;
+  if (s->wp_ntime != s->wp_npose) {
+    error_set(c->err, s->mark[K_WP_POSES], keys[K_WP_POSES].path,
+              "%zu poses for %zu times (trajectory.waypoints.times at "
+              "%d:%d); give one pose per time",
+              s->wp_npose, s->wp_ntime, s->mark[K_WP_TIMES].line,
+              s->mark[K_WP_TIMES].column);
+    return -1;
+  }
+  s->base.traj.wp.n = s->wp_ntime;
+  return 0;
+}
+
+/* a path scene gives the keys of its shape, and no others */
+static int check_shape(parse_ctx *c)
+{
+  scene *s = c->s;
+  int k, shape = (int)s->base.traj.path.shape;
+  if (s->base.traj.kind != RPS3_TRAJ_PATH)
+    return 0;
+  for (k = 0; k < SCENE_NKEY; k++) {
+    int mask = shape_mask(k);
+    if (mask == 0)
+      continue;
+    if (s->given[k] && !(mask & (1 << shape))) {
+      error_set(c->err, s->mark[k], keys[k].path, "not a key of a %s path",
+                shape_names[shape]);
+      return -1;
+    }
+    if (!s->given[k] && keys[k].req == REQ_SHAPE && (mask & (1 << shape))) {
+      error_set(c->err, s->mark[K_PATH_SHAPE], keys[k].path,
+                "missing required key of a %s path", shape_names[shape]);
+      return -1;
+    }
+  }
+  return 0;
+}
+
 /* required keys, keys of the other trajectory kind, one-of pairs */
 static int check_keys(parse_ctx *c)
 {
@@ -900,6 +1048,8 @@ static int check_keys(parse_ctx *c)
       return -1;
     }
   }
+  if (check_waypoints(c) || check_shape(c))
+    return -1;
   for (pair = 0; pair < 3; pair++) {
     static const int one_of[3][2] = {
         {K_M_OVER_M, K_MASS}, {K_SAMPLES, K_DT}, {K_BLEND, K_BLEND_RATIO}};
@@ -1025,6 +1175,10 @@ void scene_free(scene *s)
     free(s->axis[a].mark);
   }
   free(s->axis);
+  free(s->wp_time);
+  free(s->wp_pose);
+  free(s->wp_time_mark);
+  free(s->wp_pose_mark);
   free(s->text);
   free(s->file);
   memset(s, 0, sizeof *s);
@@ -1082,6 +1236,19 @@ static void case_error(const scene *s, size_t index, const char *msg,
         comp[i] = j == 0 ? chk->comp : -1;
       n += m;
     }
+  }
+  /* a waypoint row: point at the row itself */
+  if (chk != NULL && chk->comp >= 0 &&
+      ((chk->field == RPS3_F_WP_TIME && (size_t)chk->comp < s->wp_ntime) ||
+       (chk->field == RPS3_F_WP_POSE && (size_t)chk->comp < s->wp_npose))) {
+    int key = chk->field == RPS3_F_WP_TIME ? K_WP_TIMES : K_WP_POSES;
+    char row[96];
+    snprintf(row, sizeof row, "%s[%d]", keys[key].path, chk->comp);
+    error_set(err,
+              chk->field == RPS3_F_WP_TIME ? s->wp_time_mark[chk->comp]
+                                           : s->wp_pose_mark[chk->comp],
+              row, "%s", what);
+    return;
   }
   for (i = 0; i < n; i++)
     for (a = 0; a < s->naxis; a++)
@@ -1297,6 +1464,7 @@ static int emit_value(yaml_emitter_t *em, int k, const scene_values *v)
   char buf[64];
   scene_values *w = (scene_values *)(void *)v; /* read only */
   int i, ok = 1;
+  size_t r;
   switch (keys[k].type) {
   case KEY_REAL:
     format_real(buf, sizeof buf, *real_at(w, k));
@@ -1321,6 +1489,24 @@ static int emit_value(yaml_emitter_t *em, int k, const scene_values *v)
       if (v->model.opt.effects & (1 << i))
         ok = emit_scalar(em, rps3_effect_name(i));
     return ok && emit_close(em, 1);
+  case KEY_TIMES:
+    ok = emit_open(em, 1, 1);
+    for (r = 0; r < v->traj.wp.n && ok; r++) {
+      format_real(buf, sizeof buf, v->traj.wp.time[r]);
+      ok = emit_scalar(em, buf);
+    }
+    return ok && emit_close(em, 1);
+  case KEY_POSES:
+    ok = emit_open(em, 1, 0);
+    for (r = 0; r < v->traj.wp.n && ok; r++) {
+      ok = emit_open(em, 1, 1);
+      for (i = 0; i < 3 && ok; i++) {
+        format_real(buf, sizeof buf, v->traj.wp.pose[r][i]);
+        ok = emit_scalar(em, buf);
+      }
+      ok = ok && emit_close(em, 1);
+    }
+    return ok && emit_close(em, 1);
   }
   return 0;
 }
@@ -1338,6 +1524,8 @@ static int case_has_key(const scene_case *c, int k)
     return (k == K_DT) == (c->by_dt != 0);
   if (k == K_BLEND || k == K_BLEND_RATIO)
     return (k == K_BLEND_RATIO) == (c->by_blend_ratio != 0);
+  if (shape_mask(k) != 0)
+    return (shape_mask(k) & (1 << (int)c->v.traj.path.shape)) != 0;
   return 1;
 }
 
@@ -1446,9 +1634,17 @@ void scene_keys_print(void)
     case KEY_EFFECTS:
       type = "[effect names]";
       break;
+    case KEY_TIMES:
+      type = "[numbers]";
+      break;
+    case KEY_POSES:
+      type = "[[3 numbers], ...]";
+      break;
     }
     if (ki->req == REQ_YES)
       snprintf(def, sizeof def, "required");
+    else if (ki->req == REQ_SHAPE)
+      snprintf(def, sizeof def, "required by its shape");
     else if (ki->req != REQ_NO)
       snprintf(def, sizeof def, "one of a pair");
     else if (ki->type == KEY_REAL)
@@ -1465,10 +1661,10 @@ void scene_keys_print(void)
     else
       snprintf(def, sizeof def, "see meaning");
     range_text(ki->f, range, sizeof range);
-    printf("| `%s`%s | %s | %s | %s | %s | %s | %s |\n", ki->path,
-           ki->kind == FOR_HELIX  ? " (helix)"
-           : ki->kind == FOR_SINE ? " (sine)"
-                                  : "",
+    printf("| `%s`%s%s%s | %s | %s | %s | %s | %s | %s |\n", ki->path,
+           ki->kind != FOR_ALL ? " (" : "",
+           ki->kind != FOR_ALL ? kind_names[ki->kind] : "",
+           ki->kind != FOR_ALL ? ")" : "",
            type, ki->unit,
            (ki->type == KEY_REAL || ki->type == KEY_REAL3 ||
             ki->type == KEY_INT)

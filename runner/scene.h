@@ -36,11 +36,19 @@ typedef enum {
   KEY_BOOL,   /* true | false */
   KEY_ENUM,   /* one of a list of names, stored as the library's enum */
   KEY_REAL3,  /* list of three finite doubles; a sweep picks one: key[k] */
-  KEY_EFFECTS /* list of effect names, stored as RPS3_EFF_* bits */
+  KEY_EFFECTS, /* list of effect names, stored as RPS3_EFF_* bits */
+  KEY_TIMES,   /* list of at least 2 numbers (waypoint times) */
+  KEY_POSES    /* list of lists of 3 numbers (waypoint poses) */
 } key_type;
 
 /* which trajectory kinds a key belongs to (the kind of its field) */
-enum { FOR_ALL = 0, FOR_HELIX = RPS3_TRAJ_HELIX, FOR_SINE = RPS3_TRAJ_SINE };
+enum {
+  FOR_ALL = 0,
+  FOR_HELIX = RPS3_TRAJ_HELIX,
+  FOR_SINE = RPS3_TRAJ_SINE,
+  FOR_WAYPOINTS = RPS3_TRAJ_WAYPOINTS,
+  FOR_PATH = RPS3_TRAJ_PATH
+};
 
 /* how a key must be given: required, optional (a default), or exactly one
    of a pair (REQ_ONE_*) */
@@ -49,7 +57,8 @@ enum {
   REQ_YES = 1,
   REQ_ONE_MASS = 2, /* m_over_M | m */
   REQ_ONE_GRID = 3, /* samples | dt */
-  REQ_ONE_BLEND = 4 /* blend | blend_ratio */
+  REQ_ONE_BLEND = 4, /* blend | blend_ratio */
+  REQ_SHAPE = 5      /* required by some path shapes (scene_shape_keys) */
 };
 
 /* the values only the runner has; a case turns them into library fields */
@@ -131,7 +140,8 @@ typedef struct {
     RPS3_F_COULOMB, REQ_NO, "T_{i-3} of (23)",                                \
     "Coulomb pin friction (effect pin_friction)")                             \
   X(K_KIND, "trajectory.kind", KEY_ENUM, LIB, RPS3_F_KIND, REQ_YES, "-",      \
-    "helix (the paper's section VI) or sine")                                 \
+    "helix (the paper's section VI), sine, waypoints or path "                \
+    "(docs/trajectories.md)")                                                 \
   X(K_RADIUS, "trajectory.radius", KEY_REAL, LIB, RPS3_F_HELIX_RADIUS,        \
     REQ_YES, "r*", "helix radius, below r/2, eqs. (35), (37)")                \
   X(K_PITCH, "trajectory.pitch", KEY_REAL, LIB, RPS3_F_HELIX_PITCH, REQ_YES,  \
@@ -158,6 +168,53 @@ typedef struct {
     "-", "phase of [alpha, beta, z_c]")                                       \
   X(K_DURATION, "trajectory.duration", KEY_REAL, LIB, RPS3_F_SINE_DURATION,   \
     REQ_YES, "-", "time span of the sine trajectory")                         \
+  X(K_WP_TIMES, "trajectory.waypoints.times", KEY_TIMES, LIB, RPS3_F_WP_TIME, \
+    REQ_YES, "-",                                                             \
+    "times of the waypoints, from 0, strictly increasing")                    \
+  X(K_WP_POSES, "trajectory.waypoints.poses", KEY_POSES, LIB, RPS3_F_WP_POSE, \
+    REQ_YES, "-",                                                             \
+    "one [alpha, beta, z_c] per time; each must be reachable")                \
+  X(K_WP_LAW, "trajectory.waypoints.law", KEY_ENUM, LIB, RPS3_F_WP_LAW,       \
+    REQ_NO, "-",                                                              \
+    "lspb and minimum_jerk stop at each waypoint; quintic passes through "    \
+    "them (docs/trajectories.md)")                                            \
+  X(K_WP_BLEND, "trajectory.waypoints.blend_ratio", KEY_REAL, LIB,            \
+    RPS3_F_WP_BLEND, REQ_NO, "-",                                             \
+    "lspb: blend at each end of a segment, as a fraction of it")              \
+  X(K_WP_VMAX, "trajectory.waypoints.vmax", KEY_REAL3, LIB, RPS3_F_WP_VMAX,   \
+    REQ_NO, "-",                                                              \
+    "rate limits of [alpha, beta, z_c] that stretch a segment (0: none)")     \
+  X(K_WP_AMAX, "trajectory.waypoints.amax", KEY_REAL3, LIB, RPS3_F_WP_AMAX,   \
+    REQ_NO, "-",                                                              \
+    "acceleration limits of [alpha, beta, z_c] that stretch a segment (0: "   \
+    "none)")                                                                  \
+  X(K_PATH_SHAPE, "trajectory.path.shape", KEY_ENUM, LIB, RPS3_F_PATH_SHAPE,  \
+    REQ_YES, "-",                                                             \
+    "line, circle or helix of the platform centre, through (3)-(4)")          \
+  X(K_PATH_START, "trajectory.path.start", KEY_REAL3, LIB, RPS3_F_PATH_START, \
+    REQ_SHAPE, "-", "line: first point [x, y, z] of the centre")              \
+  X(K_PATH_END, "trajectory.path.end", KEY_REAL3, LIB, RPS3_F_PATH_END,       \
+    REQ_SHAPE, "-", "line: last point [x, y, z] of the centre")               \
+  X(K_PATH_CENTRE, "trajectory.path.centre", KEY_REAL3, LIB,                  \
+    RPS3_F_PATH_CENTRE, REQ_SHAPE, "-",                                       \
+    "circle, helix: centre [x, y, z] of the circle at t = 0")                 \
+  X(K_PATH_RADIUS, "trajectory.path.radius", KEY_REAL, LIB,                   \
+    RPS3_F_PATH_RADIUS, REQ_SHAPE, "r*",                                      \
+    "circle, helix: radius; every point keeps 0 < sqrt(x^2 + y^2) < r/2")     \
+  X(K_PATH_ANGLE0, "trajectory.path.angle0", KEY_REAL, LIB,                   \
+    RPS3_F_PATH_ANGLE0, REQ_NO, "-",                                       \
+    "circle, helix: starting angle from +X (default 0)")                      \
+  X(K_PATH_TURNS, "trajectory.path.turns", KEY_REAL, LIB, RPS3_F_PATH_TURNS,  \
+    REQ_SHAPE, "-", "circle, helix: turns, negative clockwise")               \
+  X(K_PATH_PITCH, "trajectory.path.pitch", KEY_REAL, LIB, RPS3_F_PATH_PITCH,  \
+    REQ_SHAPE, "h", "helix: rise per turn, uniform in time as in (35)")       \
+  X(K_PATH_DURATION, "trajectory.path.duration", KEY_REAL, LIB,               \
+    RPS3_F_PATH_DURATION, REQ_YES, "T*", "time to run the path")              \
+  X(K_PATH_LAW, "trajectory.path.law", KEY_ENUM, LIB, RPS3_F_PATH_LAW,        \
+    REQ_NO, "-", "time law of the path parameter: lspb or minimum_jerk")      \
+  X(K_PATH_BLEND, "trajectory.path.blend_ratio", KEY_REAL, LIB,               \
+    RPS3_F_PATH_BLEND, REQ_NO, "t_a/T*",                                      \
+    "lspb: blend at each end as a fraction of the duration")                  \
   X(K_SAMPLES, "trajectory.samples", KEY_INT, OWN, OWN_SAMPLES,               \
     REQ_ONE_GRID, "-",                                                        \
     "time samples over the span, both ends included; or give dt")             \
@@ -241,6 +298,11 @@ typedef struct {
   size_t naxis;
   scene_axis *axis;       /* the sweep, in file order */
   size_t ncase;           /* product of the axis lengths (1: no sweep) */
+  /* waypoints, owned here; base.traj.wp points to them */
+  double *wp_time;
+  double (*wp_pose)[3];
+  size_t wp_ntime, wp_npose;
+  scene_mark *wp_time_mark, *wp_pose_mark; /* where each row is */
 } scene;
 
 /* one case, ready to compute */

@@ -52,10 +52,10 @@ int rps3_check_fail(rps3_check *chk, int field, int comp, double value,
     chk->related[0] = rel0;
     chk->related[1] = rel1;
     if (f != NULL && f->n != 1)
-      snprintf(chk->msg, sizeof chk->msg, "%s[%d] = %.17g: %s", f->name, comp,
+      snprintf(chk->msg, sizeof chk->msg, "%s[%d] = %.16g: %s", f->name, comp,
                value, why);
     else
-      snprintf(chk->msg, sizeof chk->msg, "%s = %.17g: %s",
+      snprintf(chk->msg, sizeof chk->msg, "%s = %.16g: %s",
                f != NULL ? f->name : "?", value, why);
   }
   return RPS3_EINVAL;

@@ -1,0 +1,91 @@
+#!/usr/bin/env python3
+"""One figure per trajectory run (waypoints, path): the motion asked for
+and the forces it takes.
+
+usage: trajectories.py OUTDIR RUN.h5 [RUN.h5 ...]
+
+For each RUN.h5 (case 0) writes OUTDIR/traj_NAME.png, NAME the file's stem:
+top left the platform centre seen from above (x_c, y_c), top right the pose
+(alpha, beta in degrees, z_c in mm) against time, bottom the three actuating
+forces against time.  `make trajectories` runs the shipped configs
+(pick_place, circle, line, paper_path) and draws them.
+"""
+
+import argparse
+import os
+import sys
+
+import h5py
+import matplotlib
+
+matplotlib.use("Agg")
+import matplotlib.pyplot as plt  # noqa: E402
+import numpy as np  # noqa: E402
+
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+import rps3io  # noqa: E402
+
+LINK_STYLES = ("-", "--", ":")
+
+
+def figure(h5, path):
+    with h5py.File(h5, "r") as f:
+        t = rps3io.times(f)[0]
+        x, y, z = (f[k][0] for k in ("x_c", "y_c", "z_c"))
+        a, b = f["alpha"][0], f["beta"][0]
+        force = f["force"][0]
+        kind = rps3io.text(f["scene_resolved"][0]).split("kind:")[1].split()[0]
+    fig = plt.figure(figsize=(9.6, 7.2))
+    ax = fig.add_subplot(2, 2, 1)
+    ax.plot(1e3 * x, 1e3 * y, "k-", lw=1.2)
+    ax.plot(1e3 * x[0], 1e3 * y[0], "ko", label="start")
+    ax.plot(1e3 * x[-1], 1e3 * y[-1], "ks", mfc="none", label="end")
+    ax.plot(0, 0, "k+", ms=10, label="Z axis")
+    ax.set_aspect("equal", adjustable="datalim")
+    ax.set_xlabel("$x_c$ [mm]")
+    ax.set_ylabel("$y_c$ [mm]")
+    ax.set_title(f"platform centre from above ({kind})")
+    ax.grid(True, alpha=0.3)
+    ax.legend(loc="best", fontsize=8)
+    ax = fig.add_subplot(2, 2, 2)
+    ax.plot(t, np.degrees(a), "k-", lw=1.2, label=r"$\alpha$ [deg]")
+    ax.plot(t, np.degrees(b), "k--", lw=1.2, label=r"$\beta$ [deg]")
+    ax2 = ax.twinx()
+    ax2.plot(t, 1e3 * z, "k:", lw=1.2, label="$z_c$ [mm]")
+    ax2.set_ylabel("$z_c$ [mm]")
+    ax.set_xlabel("time $t$ [s]")
+    ax.set_ylabel("angle [deg]")
+    ax.set_title("pose")
+    ax.grid(True, alpha=0.3)
+    lines = ax.get_legend_handles_labels()
+    lines2 = ax2.get_legend_handles_labels()
+    ax.legend(lines[0] + lines2[0], lines[1] + lines2[1], loc="best",
+              fontsize=8)
+    ax = fig.add_subplot(2, 1, 2)
+    for i in range(3):
+        ax.plot(t, force[:, i], LINK_STYLES[i], color="k", lw=1.2,
+                label=f"$F_{i + 1}$")
+    ax.set_xlabel("time $t$ [s]")
+    ax.set_ylabel("actuating force [N]")
+    ax.grid(True, alpha=0.3)
+    ax.legend(loc="best")
+    fig.tight_layout()
+    fig.savefig(path, dpi=110)
+    plt.close(fig)
+
+
+def main(argv=None):
+    p = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    p.add_argument("outdir")
+    p.add_argument("runs", nargs="+")
+    args = p.parse_args(argv)
+    os.makedirs(args.outdir, exist_ok=True)
+    for h5 in args.runs:
+        name = os.path.splitext(os.path.basename(h5))[0]
+        out = os.path.join(args.outdir, f"traj_{name}.png")
+        figure(h5, out)
+        print(out)
+
+
+if __name__ == "__main__":
+    main()
