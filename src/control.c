@@ -19,11 +19,7 @@ const char *rps3_ctrl_name(int kind) {
 }
 
 int rps3_ctrl_index(const char *name) {
-  int k;
-  if (name == NULL) return -1;
-  for (k = 0; k < RPS3_NCTRL; k++)
-    if (strcmp(name, CTRL_NAME[k]) == 0) return k;
-  return -1;
+  return rps3_name_lookup(CTRL_NAME, RPS3_NCTRL, name);
 }
 
 int rps3_ctrl_alloc(rps3_ctrl_kind kind, double kp, double kd,

@@ -6,6 +6,7 @@
 
 #include <math.h>
 #include <stdio.h>
+#include <string.h>
 
 #include "rps3.h"
 
@@ -163,6 +164,16 @@ static inline double rps3_friction_torque(const rps3_model *m, double dtheta) {
    platform normal: (26)-(28) solved for omega in closed form */
 void rps3_omega_from_balls(double omega[3], const double rho[3][3],
                            const double u[3][3], const double a[3], double r);
+
+/* index of name in names[0..n), or -1 (NULL name: -1) */
+static inline int rps3_name_lookup(const char *const *names, int n,
+                                   const char *name) {
+  int k;
+  if (name == NULL) return -1;
+  for (k = 0; k < n; k++)
+    if (strcmp(name, names[k]) == 0) return k;
+  return -1;
+}
 
 /* ----------------------------------------------------------- 3-vectors */
 

@@ -44,11 +44,7 @@ const char *rps3_integrator_name(int integrator) {
 }
 
 int rps3_integrator_index(const char *name) {
-  int k;
-  if (name == NULL) return -1;
-  for (k = 0; k < RPS3_NINTEGRATOR; k++)
-    if (strcmp(name, INT_NAME[k]) == 0) return k;
-  return -1;
+  return rps3_name_lookup(INT_NAME, RPS3_NINTEGRATOR, name);
 }
 
 void rps3_sim_options_default(rps3_sim_options *o) {
