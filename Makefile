@@ -59,7 +59,7 @@ TEST_SAN = $(TEST_SRC:tests/%.c=$(B)/tests-san/%)
 # the control-loop example (tests/example_control_loop.c) is built like a
 # test and run by check-c; it is not a sanitizer test
 TEST_BIN += $(B)/tests/example_control_loop $(B)/tests/example_sim_loop
-RUN_MAINS = runner/main_run.c runner/main_study.c
+RUN_MAINS = runner/main_run.c runner/main_study.c runner/main_simstudy.c
 RUN_COMMON = $(filter-out $(RUN_MAINS),$(wildcard runner/*.c))
 RUN_OBJ = $(RUN_COMMON:runner/%.c=$(B)/runner/%.o)
 
@@ -177,6 +177,10 @@ $(B)/rps3-run: $(B)/runner/main_run.o $(RUN_OBJ) $(B)/librps3.a
 	$(CC) -o $@ $^ $(HDF5_LIBS) $(YAML_LIBS) $(GSL_LIBS) -lpthread -lm
 $(B)/rps3-study: $(B)/runner/main_study.o $(RUN_OBJ) $(B)/librps3.a
 	$(CC) -o $@ $^ $(HDF5_LIBS) $(YAML_LIBS) $(GSL_LIBS) -lpthread -lm
+# rps3-simstudy (runner/main_simstudy.c): closed-loop tracking and what
+# simulation accuracy costs in time; `make simulation` runs it
+$(B)/rps3-simstudy: $(B)/runner/main_simstudy.o $(B)/librps3.a
+	$(CC) -o $@ $^ $(HDF5_LIBS) $(GSL_LIBS) -lm
 
 # rps3-run-mpi: the same program built with -DRPS3_MPI, for
 # `mpirun -n N build/rps3-run-mpi SCENE.yaml -o OUT.h5` (Debian's OpenMPI)
@@ -310,6 +314,20 @@ study: study-bin venv
 assembly-modes: venv
 	@mkdir -p out
 	$(VPY) analysis/assembly_modes.py out
+
+# -------------------------------------------------------------- simulation
+# closed-loop tracking (PD, PD + gravity, computed torque; exact model and
+# no link mass; helix and fast sine) and what simulation accuracy costs:
+# out/simstudy.h5, the figures out/tracking_*.png and
+# out/simulation_accuracy.png, the tables in out/simulation_table.md.
+# About 10 s (docs/simulation.md).
+.PHONY: simulation
+check-py: $(B)/rps3-simstudy
+simulation: $(B)/rps3-simstudy venv
+	@mkdir -p out
+	$(B)/rps3-simstudy -o out/simstudy.h5
+	$(VPY) analysis/simulation.py out/simstudy.h5 out > out/simulation_table.md
+	@cat out/simulation_table.md
 
 # ------------------------------------------------------------------- paper
 paper: all venv
