@@ -139,6 +139,9 @@ typedef struct {
   X(K_COULOMB, "manipulator.pin_friction.coulomb", KEY_REAL, LIB,             \
     RPS3_F_COULOMB, REQ_NO, "T_{i-3} of (23)",                                \
     "Coulomb pin friction (effect pin_friction)")                             \
+  X(K_VREG, "manipulator.pin_friction.vreg", KEY_REAL, LIB, RPS3_F_VREG,      \
+    REQ_NO, "-",                                                              \
+    "Coulomb law tanh(dtheta / vreg) instead of sign(dtheta); 0 = sign")      \
   X(K_KIND, "trajectory.kind", KEY_ENUM, LIB, RPS3_F_KIND, REQ_YES, "-",      \
     "helix (the paper's section VI), sine, waypoints or path "                \
     "(docs/trajectories.md)")                                                 \
