@@ -226,6 +226,15 @@ typedef struct {
                               solution when it has one; 0: always cold */
   int certify;             /* 1: compute the energy-rate residual (needs
                               rates even for a static scene); default 1 */
+  int forces_only;         /* 1: a controller's path: rps3_inverse and
+                              rps3_invdyn compute F alone, from the sum of
+                              the selected effects' loads in one solve
+                              (equal to the default's F to rounding,
+                              ~1e-15 of the forces' scale); F_effect is
+                              left zero, and on the closed-form route theta
+                              is not computed (NaN; phi, dphi are).  lambda,
+                              cond, warn and the singularity check are as
+                              by default.  Default 0 */
   double cond_warn;        /* set RPS3_WARN_ILLCOND above this 1-norm
                               condition number of the lambda system (1e6) */
   double cond_max;         /* RPS3_ESING above this (1e13) */
@@ -902,6 +911,8 @@ RPS3_API int rps3_traj_eval(const rps3_model *m, const rps3_traj *tr, double t,
     "opt.warm_start")                                                         \
   X(RPS3_F_CERTIFY, RPS3_IN_MODEL, opt.certify, 1, 1, 0, 0, 1, "-",           \
     "opt.certify")                                                            \
+  X(RPS3_F_FORCES_ONLY, RPS3_IN_MODEL, opt.forces_only, 1, 1, 0, 0, 1, "-",   \
+    "opt.forces_only")                                                        \
   X(RPS3_F_COND_WARN, RPS3_IN_MODEL, opt.cond_warn, 1, 0, 1, 0, HUGE_VAL,     \
     "1", "opt.cond_warn")                                                     \
   X(RPS3_F_COND_MAX, RPS3_IN_MODEL, opt.cond_max, 1, 0, 1, 0, HUGE_VAL, "1",  \

@@ -37,7 +37,9 @@ struct rps3_solver_state {
   theta_params p;
 };
 
-/* (8)-(10) and their analytic Jacobian; J may be NULL */
+/* (8)-(10) and their analytic Jacobian; f or J may be NULL: GSL's
+   function-only and Jacobian-only evaluations compute only what they
+   return (each output's arithmetic is the same either way) */
 static void constraints(const theta_params *p, const double th[3],
                         double f[3], double J[3][3]) {
   double c[3], s[3];
@@ -49,8 +51,9 @@ static void constraints(const theta_params *p, const double th[3],
   for (k = 0; k < 3; k++) {
     int i = k, j = (k + 1) % 3;
     double Li = p->L[i], Lj = p->L[j], LL = Li * Lj;
-    f[k] = Li * Li + Lj * Lj + p->k + LL * c[i] * c[j] -
-           2.0 * LL * s[i] * s[j] - 3.0 * Li * c[i] - 3.0 * Lj * c[j];
+    if (f != NULL)
+      f[k] = Li * Li + Lj * Lj + p->k + LL * c[i] * c[j] -
+             2.0 * LL * s[i] * s[j] - 3.0 * Li * c[i] - 3.0 * Lj * c[j];
     if (J != NULL) {
       J[k][0] = J[k][1] = J[k][2] = 0.0;
       J[k][i] = -LL * s[i] * c[j] - 2.0 * LL * c[i] * s[j] + 3.0 * Li * s[i];
@@ -85,11 +88,14 @@ static int gsl_f(const gsl_vector *x, void *params, gsl_vector *f) {
 
 static int gsl_fdf(const gsl_vector *x, void *params, gsl_vector *f,
                    gsl_matrix *J) {
-  double th[3], fv[3], Jv[3][3];
+  double th[3], fv[3] = {0, 0, 0}, Jv[3][3];
   int k, q;
   for (k = 0; k < 3; k++) th[k] = gsl_vector_get(x, (size_t)k);
   if (!v3_finite(th)) return GSL_EBADFUNC;
-  constraints((const theta_params *)params, th, fv, Jv);
+  /* a Jacobian-only call (J of finite theta and lengths is finite) skips
+     f; a function-only call goes to gsl_f, which skips J */
+  constraints((const theta_params *)params, th, f != NULL ? fv : NULL,
+              J != NULL ? Jv : NULL);
   if (!v3_finite(fv)) return GSL_EBADFUNC;
   for (k = 0; k < 3; k++) {
     if (f != NULL) gsl_vector_set(f, (size_t)k, fv[k]);
@@ -101,10 +107,6 @@ static int gsl_fdf(const gsl_vector *x, void *params, gsl_vector *f,
 
 static int gsl_df(const gsl_vector *x, void *params, gsl_matrix *J) {
   return gsl_fdf(x, params, NULL, J);
-}
-
-static int gsl_f_only(const gsl_vector *x, void *params, gsl_vector *f) {
-  return gsl_fdf(x, params, f, NULL);
 }
 
 int rps3_solver_alloc(const rps3_model *m, struct rps3_solver_state **out) {
@@ -137,7 +139,7 @@ int rps3_solver_alloc(const rps3_model *m, struct rps3_solver_state **out) {
     return RPS3_ENOMEM;
   }
   /* the functions point at s->p, which lives as long as the solver */
-  s->fn_fdf.f = gsl_f_only;
+  s->fn_fdf.f = gsl_f; /* function only: no Jacobian built */
   s->fn_fdf.df = gsl_df;
   s->fn_fdf.fdf = gsl_fdf;
   s->fn_fdf.n = 3;

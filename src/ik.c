@@ -20,7 +20,7 @@ static void set_link_dir(rps3_data *d, int i, const double u[3], double ct,
 
 int rps3_ik(const rps3_model *m, rps3_data *d) {
   rps3_pose_trig t;
-  return rps3_ik_with(m, d, &t, 1);
+  return rps3_ik_with(m, d, &t, RPS3_IK_THETA);
 }
 
 int rps3_ik_with(const rps3_model *m, rps3_data *d, rps3_pose_trig *t,
@@ -72,10 +72,11 @@ int rps3_ik_with(const rps3_model *m, rps3_data *d, rps3_pose_trig *t,
                  "link %d: length %.6g m, ball joint height %.6g m (needs "
                  "length > 0 and height > 0) at pose (%.6g, %.6g, %.6g)",
                  i + 1, d->l[i], vz, d->pose[0], d->pose[1], d->pose[2]);
-    if (!theta) continue; /* the theta solve takes over from l */
+    if (theta == RPS3_IK_NO_THETA) continue; /* the solve takes over */
     /* (39) with atan2, so that theta > pi/2 is found too; the link
-       directions (29) from the same two components, without more trig */
-    d->theta[i] = atan2(vz, -radial);
+       directions (29) from the same two components, without more trig.
+       The forces need only the directions: forces_only skips atan2 */
+    d->theta[i] = (theta == RPS3_IK_THETA) ? atan2(vz, -radial) : (double)NAN;
     set_link_dir(d, i, m->radial[i], -radial / d->l[i], vz / d->l[i]);
   }
   /* finite pose, yet a height of 1e200 m overflows |b_i - P_i| */
@@ -83,9 +84,10 @@ int rps3_ik_with(const rps3_model *m, rps3_data *d, rps3_pose_trig *t,
   RPS3_CHECK_FINITE(d, d->rot, 9, "rot");
   RPS3_CHECK_FINITE(d, d->b, 9, "b");
   RPS3_CHECK_FINITE(d, d->l, 3, "l");
-  if (!theta) return RPS3_OK;
+  if (theta == RPS3_IK_NO_THETA) return RPS3_OK;
+  /* the mode needs only the link directions, which forces_only also has */
   d->mode = rps3_mode_of(d);
-  d->have_theta = 1;
+  d->have_theta = (theta == RPS3_IK_THETA);
   d->stage = RPS3_STAGE_POS;
   return RPS3_OK;
 }

@@ -114,9 +114,16 @@ static inline void rps3_pose_trig_eval(rps3_pose_trig *t,
   t->S = 2.0 * sa * ca;
 }
 
-/* the stages with the pose's trig: rps3_ik_with fills *t and, when theta is
-   0, leaves out (39) and the link directions (the multiroot route computes
-   them from the lengths); the rate stages take t, or NULL to compute it */
+/* what rps3_ik_with computes besides c, rot, b, l */
+enum {
+  RPS3_IK_NO_THETA = 0, /* neither theta (39) nor the link directions: the
+                           multiroot route computes them from the lengths */
+  RPS3_IK_THETA = 1,    /* theta by (39) and the link directions */
+  RPS3_IK_DIRS = 2      /* the link directions only, theta NaN (forces_only) */
+};
+
+/* the stages with the pose's trig: rps3_ik_with fills *t and does what
+   `theta` (RPS3_IK_*) says; the rate stages take t, or NULL to compute it */
 int rps3_ik_with(const rps3_model *m, rps3_data *d, rps3_pose_trig *t,
                  int theta);
 int rps3_velocity_with(const rps3_model *m, rps3_data *d,

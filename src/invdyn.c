@@ -214,6 +214,14 @@ static int lagrange(const rps3_model *m, rps3_data *d, double Jl[3][3],
     for (i = 0; i < 3; i++) lam[i][ns] = -w[ns][3 + i];
     sel[ns++] = e;
   }
+  /* forces_only: the sum of the loads in one column, no shares */
+  if (m->opt.forces_only && ns > 0) {
+    for (n = 1; n < ns; n++)
+      for (i = 0; i < 6; i++) w[0][i] += w[n][i];
+    for (i = 0; i < 3; i++) lam[i][0] = -w[0][3 + i];
+    ns = 1;
+    sel[0] = -1;
+  }
   rps3_lu3_solve_multi(LU, perm, &lam[0][0], RPS3_NEFFECT, ns);
   for (n = 0; n < ns; n++) {
     e = sel[n];
@@ -221,7 +229,7 @@ static int lagrange(const rps3_model *m, rps3_data *d, double Jl[3][3],
     for (i = 0; i < 3; i++) {
       double f = w[n][i];
       for (q = 0; q < 3; q++) f += lam[q][n] * Jl[q][i];
-      d->F_effect[e][i] = f;
+      if (e >= 0) d->F_effect[e][i] = f;
       d->F[i] += f;
       d->lambda[i] += lam[i][n];
     }
@@ -312,7 +320,7 @@ static void ne_effect(const rps3_model *m, const rps3_data *d, int e,
 }
 
 static int newton_euler(const rps3_model *m, rps3_data *d) {
-  double A[36], LU[36], rho[3][3], t[3];
+  double A[36], LU[36], rho[3][3], t[3], xsum[6] = {0, 0, 0, 0, 0, 0};
   int perm[6], i, e, r;
   int eff = m->opt.effects;
   /* unknowns x = (F_1, F_2, F_3, tau_1, tau_2, tau_3): f_i = F_i phi_i +
@@ -344,11 +352,20 @@ static int newton_euler(const rps3_model *m, rps3_data *d) {
       x[r] = wf[r];
       x[3 + r] = wm[r];
     }
+    if (m->opt.forces_only) {
+      /* the sum of the wrenches, solved once below: no shares */
+      for (r = 0; r < 6; r++) xsum[r] += x[r];
+      continue;
+    }
     rps3_lu_solve(6, LU, perm, x);
     for (i = 0; i < 3; i++) {
       d->F_effect[e][i] = x[i];
       d->F[i] += x[i];
     }
+  }
+  if (m->opt.forces_only) {
+    rps3_lu_solve(6, LU, perm, xsum);
+    for (i = 0; i < 3; i++) d->F[i] = xsum[i];
   }
   d->has_lambda = 0;
   return RPS3_OK;

@@ -58,7 +58,10 @@ int rps3_inverse(const rps3_model *m, rps3_data *d) {
   /* positions: the closed form (39), or the multiroot solve of (8)-(10)
      from the link lengths, warm-started from this data's previous point */
   multiroot = (m->opt.theta == RPS3_THETA_MULTIROOT);
-  status = rps3_ik_with(m, d, &trig, !multiroot);
+  status = rps3_ik_with(m, d, &trig,
+                        multiroot ? RPS3_IK_NO_THETA
+                                  : m->opt.forces_only ? RPS3_IK_DIRS
+                                                       : RPS3_IK_THETA);
   if (status != RPS3_OK) return status;
   if (multiroot) {
     /* ik left theta alone (no closed form leaks into the starting point):

@@ -119,6 +119,61 @@ static void effects_separate(void **state) {
 }
 
 /*
+ * opt.forces_only (a controller's path) gives the default's forces from the
+ * summed loads: the same F to rounding (1e-15 of the forces' scale seen;
+ * TOL_EXACT), the same lambda, cond and warnings, no shares, and on the
+ * closed-form route no theta.  Both methods, both theta routes, every
+ * effect, high-entropy parameters along random trajectories.
+ */
+static void forces_only_matches(void **state) {
+  rps3_model full, fo;
+  rps3_data *df, *dfo;
+  rps3_traj tr;
+  uint64_t seed = 4471;
+  int method, route, n, k, i, e;
+  (void)state;
+  for (method = 0; method < 2; method++)
+    for (route = 0; route < 2; route++) {
+      model_entropy(&full);
+      full.opt.method = (rps3_method)method;
+      full.opt.theta = (rps3_theta_route)route;
+      full.opt.certify = 0;
+      fo = full;
+      fo.opt.forces_only = 1;
+      assert_int_equal(rps3_model_init(&full, NULL, 0), RPS3_OK);
+      assert_int_equal(rps3_model_init(&fo, NULL, 0), RPS3_OK);
+      assert_int_equal(rps3_data_alloc(&full, &df), RPS3_OK);
+      assert_int_equal(rps3_data_alloc(&fo, &dfo), RPS3_OK);
+      for (n = 0; n < 4; n++) {
+        traj_random(&tr, &seed);
+        for (k = 0; k <= 40; k++) {
+          double t = 0.05 * k;
+          run_point(&full, df, &tr, t);
+          run_point(&fo, dfo, &tr, t);
+          assert_true(dfo->cond == df->cond && dfo->warn == df->warn);
+          for (i = 0; i < 3; i++) {
+            CHECK_REL(dfo->F[i], df->F[i], TOL_EXACT, fscale(df),
+                      "forces_only F%d (method %d, route %d)", i, method,
+                      route);
+            CHECK_REL(dfo->lambda[i], df->lambda[i], TOL_EXACT,
+                      fabs(df->lambda[0]) + fabs(df->lambda[1]) +
+                          fabs(df->lambda[2]) + 1e-300,
+                      "forces_only lambda%d", i);
+            for (e = 0; e < RPS3_NEFFECT; e++)
+              assert_true(dfo->F_effect[e][i] == 0.0);
+            if (route == RPS3_THETA_CLOSED_FORM)
+              assert_true(isnan(dfo->theta[i]));
+            else
+              assert_true(dfo->theta[i] == df->theta[i]);
+          }
+        }
+      }
+      rps3_data_free(df);
+      rps3_data_free(dfo);
+    }
+}
+
+/*
  * Static symmetric pose, beta = 0, no motion.  By symmetry each ball joint
  * carries M g / 3 upwards and no tangential force; link i's moment balance
  * about its pin fixes the ball force component along dphi, s = -m g d
@@ -256,6 +311,7 @@ int main(void) {
       cmocka_unit_test(paper_trajectory),
       cmocka_unit_test(random_trajectories),
       cmocka_unit_test(effects_separate),
+      cmocka_unit_test(forces_only_matches),
       cmocka_unit_test(static_closed_form),
       cmocka_unit_test(static_scene_needs_no_rates),
       cmocka_unit_test(singular_configuration),
