@@ -90,7 +90,7 @@ def plot_accuracy(f, out):
     err = g["error"][()]
     cpu = g["cpu_per_sim_s"][()]
     fig, ax = plt.subplots(figsize=(7.5, 4.5))
-    rows = []
+    rows: list[tuple] = []
     for c in range(len(integ)):
         name = INTEGRATORS[integ[c]]
         for j, tt in enumerate(ttol):
