@@ -13,7 +13,6 @@ forces against time.  `make trajectories` runs the shipped configs
 
 import argparse
 import os
-import sys
 
 import h5py
 import matplotlib
@@ -21,20 +20,18 @@ import matplotlib
 matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
 import numpy as np  # noqa: E402
-
-sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
-import rps3io  # noqa: E402
+from rps3 import h5io  # noqa: E402
 
 LINK_STYLES = ("-", "--", ":")
 
 
 def figure(h5, path):
     with h5py.File(h5, "r") as f:
-        t = rps3io.times(f)[0]
+        t = h5io.times(f)[0]
         x, y, z = (f[k][0] for k in ("x_c", "y_c", "z_c"))
         a, b = f["alpha"][0], f["beta"][0]
         force = f["force"][0]
-        kind = rps3io.text(f["scene_resolved"][0]).split("kind:")[1].split()[0]
+        kind = h5io.text(f["scene_resolved"][0]).split("kind:")[1].split()[0]
     fig = plt.figure(figsize=(9.6, 7.2))
     ax = fig.add_subplot(2, 2, 1)
     ax.plot(1e3 * x, 1e3 * y, "k-", lw=1.2)

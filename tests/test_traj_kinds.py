@@ -10,9 +10,8 @@ import h5py
 import numpy as np
 import pytest
 import yaml
-
-import rps3io
 from conftest import run, write_scene
+from rps3 import h5io
 
 KINDS = ("paper_path", "pick_place", "circle", "line")
 
@@ -88,7 +87,7 @@ def test_pick_place_hits_waypoints_and_keeps_limits(config_runs):
     h5 = config_runs["pick_place"][0]
     t, a, b, z = load(h5, "time", "alpha", "beta", "z_c")
     with h5py.File(h5, "r") as f:
-        scene = yaml.safe_load(rps3io.text(f["scene"][()]))
+        scene = yaml.safe_load(h5io.text(f["scene"][()]))
     wp = scene["trajectory"]["waypoints"]
     poses = np.array(wp["poses"])
     assert np.allclose([a[0, 0], b[0, 0], z[0, 0]], poses[0], atol=1e-15)
@@ -110,7 +109,7 @@ def test_resolved_scene_reruns(runner, config_runs, tmp_path, name):
     shape keys) is a full scene: run alone it gives the same forces."""
     h5 = config_runs[name][0]
     with h5py.File(h5, "r") as f:
-        text = rps3io.text(f["scene_resolved"][0])
+        text = h5io.text(f["scene_resolved"][0])
         force = f["force"][0]
     alone = write_scene(tmp_path / f"{name}.yaml", text)
     proc = run(alone, tmp_path / "o.h5", "-q")
