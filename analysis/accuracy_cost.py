@@ -112,7 +112,7 @@ def accuracy_panel(ax, a, t):
                 lw=1.2, label=f"Pareto front: {name}")
         ax.loglog(cost[front], err[front], "o", mfc="none", mec=color, ms=9)
     ax.axhline(floor, color="grey", ls=":", lw=1,
-               label="reference floor (Lagrange vs Newton-Euler)")
+               label="reference floor (long double, study_ref.c)")
     ax.set_xlabel("median time per point [ns]")
     ax.set_ylabel("max |F - F_ref| / max |F_ref|")
     ax.set_title(f"{a['trajectory'][t]}: knobs at a fixed sample grid")

@@ -19,9 +19,10 @@
  *              work-energy residual over each interval with exact rates and
  *              with rates differenced from the samples.
  * The reference: theta from inverse kinematics re-evaluated in long double;
- * forces by the Lagrange route with the closed form, exact derivatives and
- * the default tolerance (its own floor, the Lagrange - Newton-Euler
- * disagreement, is written too); the peak force from 200001 samples.
+ * forces by a formulation of their own (study_ref.c: Kane's equations in
+ * the pose coordinates, long double, from the model's inputs), so that the
+ * library's default path is graded too (its own floor is written); the peak
+ * force from 200001 samples of the same reference.
  * Time per point: the median of R timed passes over the trajectory, in one
  * process, clock_gettime(CLOCK_MONOTONIC) around each pass; a pass includes
  * evaluating the trajectory.
@@ -37,6 +38,7 @@
  * file is written under OUT.h5.tmp.PID and renamed when complete.
  * Exit codes: 0 ok, 2 bad command line, 3 the file could not be written.
  */
+#include <float.h>
 #include <math.h>
 #include <stdint.h>
 #include <stdio.h>
@@ -52,6 +54,7 @@
 
 #include "h5err.h"
 #include "rps3.h"
+#include "study_ref.h"
 #include "safeio.h"
 #include "signals.h"
 
@@ -403,15 +406,47 @@ typedef struct {
   double *F;            /* reference forces [n][3] */
   long double *theta;   /* long-double theta [n][3] */
   double fscale;        /* max |F_ref| */
-  double floor_ne;      /* max |F_L - F_NE| / fscale */
+  double floor_ref;     /* estimated rounding error of F_ref / fscale */
   double floor_theta;   /* max |theta_closed - theta_ld| */
   double peak;          /* reference peak |F| over NREF_PEAK samples */
 } reference;
 
+/*
+ * The reference forces of `effects` at the n grid samples, by study_ref.c
+ * (Kane's equations in long double, from the model's inputs: nothing of the
+ * library's dynamics).  Its own floor: the same code in double lands at
+ * some distance from it, the rounding of double amplified by the
+ * formulation; in long double that amplification costs LDBL_EPSILON /
+ * DBL_EPSILON as much.
+ */
+static int reference_forces(const rps3_model *base, const rps3_traj *tr,
+                            int effects, reference *ref) {
+  size_t k;
+  int i;
+  double dev = 0.0;
+  ref->fscale = 0.0;
+  for (k = 0; k < ref->n; k++) {
+    double t = sample_time(k, ref->n, ref->span), q[3], dq[3], ddq[3], Fd[3];
+    double *F = &ref->F[3 * k];
+    if (rps3_traj_eval(base, tr, t, q, dq, ddq) != RPS3_OK ||
+        study_ref_forces(base, effects, q, dq, ddq, F) != 0 ||
+        study_ref_forces_double(base, effects, q, dq, ddq, Fd) != 0) {
+      fprintf(stderr, "rps3-study: reference fails at t = %g\n", t);
+      return -1;
+    }
+    for (i = 0; i < 3; i++) {
+      if (fabs(F[i]) > ref->fscale) ref->fscale = fabs(F[i]);
+      if (fabs(F[i] - Fd[i]) > dev) dev = fabs(F[i] - Fd[i]);
+    }
+  }
+  ref->floor_ref = dev / ref->fscale * ((double)LDBL_EPSILON / DBL_EPSILON);
+  return 0;
+}
+
 static int reference_build(const rps3_model *base, const rps3_traj *tr,
                            size_t n, reference *ref) {
   config c;
-  runner r, rn;
+  runner r;
   size_t k;
   int i;
   ref->n = n;
@@ -419,46 +454,37 @@ static int reference_build(const rps3_model *base, const rps3_traj *tr,
   ref->F = malloc(3 * n * sizeof(double));
   ref->theta = malloc(3 * n * sizeof(long double));
   if (!ref->F || !ref->theta) return -1;
+  if (reference_forces(base, tr, RPS3_EFF_DEFAULT, ref) < 0) return -1;
+  /* theta: inverse kinematics in long double; its floor against the
+     library's closed form */
   config_base(&c, S_METHOD);
   if (runner_init(&r, &c, tr, base) < 0) return -1;
-  c.method = RPS3_NEWTON_EULER;
-  if (runner_init(&rn, &c, tr, base) < 0) return -1;
-  c.method = RPS3_LAGRANGE;
-  r.c = &c;
-  ref->fscale = ref->floor_ne = ref->floor_theta = ref->peak = 0.0;
+  ref->floor_theta = ref->peak = 0.0;
   for (k = 0; k < n; k++) {
     double t = sample_time(k, n, ref->span);
     long double len[3];
     if (point(&r, t, ref->span) != RPS3_OK) {
-      fprintf(stderr, "rps3-study: reference fails at t = %g: %s\n", t,
+      fprintf(stderr, "rps3-study: closed form fails at t = %g: %s\n", t,
               r.d->err.msg);
       return -1;
     }
     ik_long(&r.model, r.d->pose, &ref->theta[3 * k], len);
     for (i = 0; i < 3; i++) {
       double dth = fabs(r.d->theta[i] - (double)ref->theta[3 * k + i]);
-      ref->F[3 * k + i] = r.d->F[i];
-      if (fabs(r.d->F[i]) > ref->fscale) ref->fscale = fabs(r.d->F[i]);
       if (dth > ref->floor_theta) ref->floor_theta = dth;
     }
-    memcpy(rn.d->pose, r.d->pose, sizeof(r.d->pose));
-    memcpy(rn.d->dpose, r.d->dpose, sizeof(r.d->dpose));
-    memcpy(rn.d->ddpose, r.d->ddpose, sizeof(r.d->ddpose));
-    if (rps3_inverse(&rn.model, rn.d) != RPS3_OK) return -1;
-    for (i = 0; i < 3; i++)
-      if (fabs(rn.d->F[i] - r.d->F[i]) > ref->floor_ne)
-        ref->floor_ne = fabs(rn.d->F[i] - r.d->F[i]);
-  }
-  ref->floor_ne /= ref->fscale;
-  /* the peak force: a dense grid, ends and both sides of corners included */
-  for (k = 0; k < NREF_PEAK; k++) {
-    double t = ref->span * (double)k / (double)(NREF_PEAK - 1);
-    if (point(&r, t, ref->span) != RPS3_OK) return -1;
-    for (i = 0; i < 3; i++)
-      if (fabs(r.d->F[i]) > ref->peak) ref->peak = fabs(r.d->F[i]);
   }
   rps3_data_free(r.d);
-  rps3_data_free(rn.d);
+  /* the peak force: a dense grid, ends and both sides of corners included */
+  for (k = 0; k < NREF_PEAK; k++) {
+    double t = ref->span * (double)k / (double)(NREF_PEAK - 1), q[3], dq[3],
+           ddq[3], F[3];
+    if (rps3_traj_eval(base, tr, t, q, dq, ddq) != RPS3_OK ||
+        study_ref_forces(base, RPS3_EFF_DEFAULT, q, dq, ddq, F) != 0)
+      return -1;
+    for (i = 0; i < 3; i++)
+      if (fabs(F[i]) > ref->peak) ref->peak = fabs(F[i]);
+  }
   return 0;
 }
 
@@ -775,34 +801,18 @@ static int run_accuracy(const char *path, const char *cmdline, size_t nsamp,
     if (reference_build(&base, &tr, nsamp, &ref[t]) < 0) return EXIT_IO;
     fprintf(stderr,
             "rps3-study: %s: reference |F|max %.4g N, peak %.6g N, floors: "
-            "Lagrange-NE %.2g, theta closed form - long double %.2g rad\n",
-            traj_name[t], ref[t].fscale, ref[t].peak, ref[t].floor_ne,
+            "reference (long double) %.2g, theta closed form - long double "
+            "%.2g rad\n",
+            traj_name[t], ref[t].fscale, ref[t].peak, ref[t].floor_ref,
             ref[t].floor_theta);
     for (c = 0; c < ncfg; c++) {
       /* the effects ladder's error is against the model with every effect */
       reference *rf = &ref[t], rall;
       if (cfg[c].study == S_EFFECTS) {
-        config all;
-        runner r;
-        size_t k;
-        int i;
-        config_base(&all, S_EFFECTS);
-        all.effects = RPS3_EFF_ALL;
         rall = ref[t];
         rall.F = malloc(3 * nsamp * sizeof(double));
-        if (!rall.F || runner_init(&r, &all, &tr, &base) < 0) return EXIT_IO;
-        rall.fscale = 0.0;
-        for (k = 0; k < nsamp; k++) {
-          if (point(&r, sample_time(k, nsamp, rall.span), rall.span)) {
-            fprintf(stderr, "rps3-study: all-effects reference fails\n");
-            return EXIT_IO;
-          }
-          for (i = 0; i < 3; i++) {
-            rall.F[3 * k + i] = r.d->F[i];
-            if (fabs(r.d->F[i]) > rall.fscale) rall.fscale = fabs(r.d->F[i]);
-          }
-        }
-        rps3_data_free(r.d);
+        if (!rall.F || reference_forces(&base, &tr, RPS3_EFF_ALL, &rall) < 0)
+          return EXIT_IO;
         rf = &rall;
       }
       if (measure_errors(&run[c], &cfg[c], &tr, &base, rf, &res[t][c]) < 0)
@@ -913,11 +923,12 @@ static int run_accuracy(const char *path, const char *cmdline, size_t nsamp,
     rc |= h5_write(&o, "status", H5T_NATIVE_INT32, 2, dims, tiv, "1",
                    "rps3_status of the first failing sample, 0 if none",
                    s_tc);
-    for (t = 0; t < NTRAJ; t++) fl[t] = ref[t].floor_ne;
+    for (t = 0; t < NTRAJ; t++) fl[t] = ref[t].floor_ref;
     rc |= h5_write(&o, "reference_floor_force", H5T_NATIVE_DOUBLE, 1, &dt1,
                    fl, "1",
-                   "max |F_lagrange - F_newton_euler| / max |F_ref|: the "
-                   "reference's own uncertainty", s_t);
+                   "the reference's own rounding error / max |F_ref|: "
+                   "its double twin's distance from it x LDBL_EPSILON / "
+                   "DBL_EPSILON", s_t);
     for (t = 0; t < NTRAJ; t++) fl[t] = ref[t].floor_theta;
     rc |= h5_write(&o, "reference_floor_theta", H5T_NATIVE_DOUBLE, 1, &dt1,
                    fl, "rad",

@@ -40,11 +40,18 @@ def test_accuracy_file_and_plot(tmp_path):
         theta = f["theta_error"][()]
         ns = f["ns_per_point"][()]
         floor = f["reference_floor_force"][()]
-    # the reference is the closed form with exact rates through Lagrange
+    # the reference is its own formulation in long double (study_ref.c),
+    # so the default path (closed form, exact rates, Lagrange) is graded
+    # too: a few ulp of rounding amplified by the conditioning (3.6e-14 on
+    # sine_edge with 1000 samples), never exactly 0 on every sample, and
+    # far above the reference's own floor (~1e-17)
     closed = np.flatnonzero(label == "closed form (39)")[0]
-    assert (err[:, closed] == 0).all()
+    ne = np.flatnonzero(label == "newton_euler")[0]
+    assert (err[:, closed] > 0).all() and (err[:, closed] < 1e-13).all()
+    assert (err[:, ne] > 0).all() and (err[:, ne] < 1e-13).all()
     assert (theta[:, closed] <= 4.5e-16).all()  # vs long double: 2 ulp
-    assert (floor < 1e-13).all()                # Lagrange = Newton-Euler
+    assert (floor < 1e-16).all() and (floor > 0).all()
+    assert (err[:, closed] > 10 * floor).all()
     assert (ns > 0).all() and np.isfinite(ns).all()
     # a looser tolerance is never more accurate than a tight one (warm
     # hybridsj), and the loosest is visibly wrong
