@@ -13,6 +13,7 @@
 #define RCOS cosl
 #define RSQRT sqrtl
 #define RATAN2 atan2l
+#define RTANH tanhl
 #include "study_ref_impl.h"
 #undef REAL
 #undef S
@@ -20,6 +21,7 @@
 #undef RCOS
 #undef RSQRT
 #undef RATAN2
+#undef RTANH
 
 /* double */
 #define REAL double
@@ -28,6 +30,7 @@
 #define RCOS cos
 #define RSQRT sqrt
 #define RATAN2 atan2
+#define RTANH tanh
 #include "study_ref_impl.h"
 
 int study_ref_forces(const rps3_model *m, int effects, const double pose[3],

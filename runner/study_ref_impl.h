@@ -1,7 +1,7 @@
 /*
  * study_ref_impl.h - the body of study_ref.c, included once per precision
  * with REAL (the floating type), S(name) (a suffixed name) and the math
- * functions RSIN, RCOS, RSQRT, RATAN2 defined.  No include guard: it is
+ * functions RSIN, RCOS, RSQRT, RATAN2, RTANH defined.  No include guard: it is
  * meant to be included twice.
  *
  * Kane's equations in the pose coordinates q = (alpha, beta, z_c): the
@@ -290,7 +290,10 @@ static int S(forces)(const rps3_model *m, int eff, const double pose[3],
         s += (REAL)m->link_Ic * kt.th[i].dd * dth;
       }
       if (eff & RPS3_EFF_PIN_FRICTION) {
-        REAL sg = (REAL)((rate > 0) - (rate < 0));
+        /* the pin friction law of rps3.h: sign, or tanh(rate / vreg) */
+        REAL vreg = (REAL)m->friction.vreg;
+        REAL sg = vreg > 0 ? RTANH(rate / vreg)
+                           : (REAL)((rate > 0) - (rate < 0));
         REAL tau = -((REAL)m->friction.viscous * rate +
                      (REAL)m->friction.coulomb * sg);
         s -= tau * dth;
