@@ -19,19 +19,21 @@
    30-60 kB for the configs */
 #define FIXED 131072.0
 
+/* rows of the per-case chunks: ncase rounded up to whole chunks */
+static size_t round_rows(size_t ncase, size_t tc)
+{
+  return (ncase + tc - 1) / tc * tc;
+}
+
 double est_file_bytes(const scene *s, const sweep_plan *p)
 {
   double neff = 0;
-  const double tc = (double)p->tile_cases, tp = (double)p->tile_points;
-  /* rows and samples of the allocated chunks */
-  const double ncase = (double)s->ncase, nt = (double)p->nt;
-  const double jobs = ncase / tc == (double)(size_t)(ncase / tc)
-                          ? ncase / tc
-                          : (double)(size_t)(ncase / tc) + 1;
-  const double wins = nt / tp == (double)(size_t)(nt / tp)
-                          ? nt / tp
-                          : (double)(size_t)(nt / tp) + 1;
-  const double rows = jobs * tc, samples = wins * tp;
+  /* the chunks the plan allocates (sweep.h): per sample field, `stored`
+     samples in chunks of tile_cases x chunk_points; per case, whole rows */
+  const double tc = (double)p->tile_cases, nt = (double)p->nt;
+  const double stored = (double)p->stored;
+  const double chunks = stored / (tc * (double)p->chunk_points);
+  const double rows = (double)round_rows(s->ncase, p->tile_cases);
   double per_sample = 0, per_case = 0, nds = 0, yaml = 600, total;
   scene_text t = {0};
   size_t a;
@@ -71,8 +73,8 @@ double est_file_bytes(const scene *s, const sweep_plan *p)
   per_case += 8;
   for (a = 0; a < s->naxis; a++)
     per_case += 8;
-  total = rows * samples * per_sample + rows * per_case + 8 * nt +
-          jobs * wins * nds * CHUNK_INDEX + (double)s->text_len + FIXED;
+  total = stored * per_sample + rows * per_case + 8 * nt +
+          chunks * nds * CHUNK_INDEX + (double)s->text_len + FIXED;
   return total;
 }
 

@@ -9,8 +9,8 @@
 
 /*
  * Bytes of the file rps3-run writes for the plan p of s, uncompressed:
- * every chunk that the run allocates (chunks are [tile_cases, tile_points],
- * so a partial last chunk counts whole), the per-case strings, the swept
+ * every chunk that the run allocates (p->stored samples per sample field;
+ * a partial edge chunk counts whole), the per-case strings, the swept
  * keys and the coordinates, plus a bound on HDF5's metadata.  With --gzip
  * the file is smaller: this is then an upper bound.  A double, because
  * absurd sweeps exceed any size_t.

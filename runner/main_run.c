@@ -607,7 +607,7 @@ static int run_main(int argc, char **argv, const world *w)
   pr.njob_all = sweep_njob(&s, &plan);
   pr.njob = sweep_shard_jobs(&s, &plan, opts.shard, opts.nshard);
   f = out_create(tmpout_path(), &s, &plan.first, plan.nt, plan.grid_common,
-                 &block, &meta, err, sizeof err);
+                 plan.chunk_points, &block, &meta, err, sizeof err);
   if (!f) {
     fprintf(stderr, "rps3-run: %s: %s\n", out_path, err);
     code = EXIT_IO;

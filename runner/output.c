@@ -414,8 +414,8 @@ static int root_attrs(hid_t file, hid_t str, const out_meta *meta)
 
 out_file *out_create(const char *path, const scene *s,
                      const scene_case *first, size_t nt, int grid_common,
-                     const out_block *b, const out_meta *meta, char *err,
-                     size_t errsz)
+                     size_t chunk_points, const out_block *b,
+                     const out_meta *meta, char *err, size_t errsz)
 {
   static const int32_t one23[3] = {1, 2, 3};
   const double fnan = (double)NAN;
@@ -572,7 +572,7 @@ out_file *out_create(const char *path, const scene *s,
     axes[rank++] = dcase;
     if (fi->shape != OUT_C) {
       dims[rank] = nt;
-      chunk[rank] = b->points < nt ? b->points : nt;
+      chunk[rank] = chunk_points < nt ? chunk_points : nt;
       axes[rank++] = dtime;
     }
     if (fi->shape == OUT_CTEL) {
@@ -610,7 +610,7 @@ out_file *out_create(const char *path, const scene *s,
     dims[0] = s->ncase;
     dims[1] = nt;
     chunk[0] = b->cases < s->ncase ? b->cases : s->ncase;
-    chunk[1] = b->points < nt ? b->points : nt;
+    chunk[1] = chunk_points < nt ? chunk_points : nt;
     f->case_time = dataset(f->file, f->str, "case_time", H5T_NATIVE_DOUBLE, 2,
                            dims, chunk, meta->gzip, &fnan, "s",
                            "time of each sample of each case (the time grid "

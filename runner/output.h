@@ -135,12 +135,13 @@ typedef struct out_file out_file;
  * datasets, dimension scales, attributes, the scene text, the swept keys
  * and, when the grid is common to all cases (grid_common), the time axis
  * from `first`.  nt is the largest number of samples of any case; chunks
- * are [tile_cases, tile_points, ...].  Returns NULL with a message in err.
+ * are [b->cases, chunk_points, ...] (a tile is a whole number of chunks).
+ * Returns NULL with a message in err.
  */
 out_file *out_create(const char *path, const scene *s,
                      const scene_case *first, size_t nt, int grid_common,
-                     const out_block *b, const out_meta *meta, char *err,
-                     size_t errsz);
+                     size_t chunk_points, const out_block *b,
+                     const out_meta *meta, char *err, size_t errsz);
 
 /*
  * Write a tile: slots [0, nc) of b hold cases c0 .. c0 + nc - 1, samples

@@ -19,10 +19,116 @@
 
 #include "compute.h"
 
+/* round n up to a multiple of q */
+static size_t round_up(size_t n, size_t q)
+{
+  return (n + q - 1) / q * q;
+}
+
+/* Cases per job (the rows of a chunk) for at most `most` per job: the
+   fewest jobs that share the cases evenly, then more jobs while the last
+   chunk row would leave over a twentieth of the rows empty (HDF5 allocates
+   an edge chunk whole: 3 cases in jobs of 2 would store 4) */
+static size_t plan_tile_cases(size_t ncase, size_t most)
+{
+  size_t njob = (ncase + most - 1) / most, tc;
+  for (;; njob++) {
+    tc = (ncase + njob - 1) / njob;
+    if (tc == 1 || (round_up(ncase, tc) - ncase) * 20 <= ncase)
+      return tc;
+  }
+}
+
+/* the samples written for a case (or a tile's longest case) of nt
+   samples: whole chunks, cut at the time axis */
+static size_t plan_extent(const sweep_plan *p, size_t nt)
+{
+  size_t e = round_up(nt, p->chunk_points);
+  return e < p->nt ? e : p->nt;
+}
+
+/* a candidate layout of a sweep whose cases differ in length, and the
+   samples its chunks would store */
+typedef struct {
+  sweep_plan p;     /* nt, tile_cases, tile_points, chunk_points */
+  size_t longest;   /* longest case of the current tile */
+} layout;
+
+/* tiles of `tc` cases (or windows of `tp` samples) cut into chunks of
+   about a twentieth of the mean case along time, and at least
+   SWEEP_CHUNK_MIN samples, a whole number per tile */
+static void layout_make(layout *l, const sweep_plan *p, size_t tc,
+                        size_t tp, size_t mean)
+{
+  size_t target = mean / 20, least = (SWEEP_CHUNK_MIN + tc - 1) / tc, m;
+  if (target < least)
+    target = least;
+  m = (tp + target - 1) / target;
+  l->p = *p;
+  l->p.tile_cases = tc;
+  l->p.chunk_points = (tp + m - 1) / m;
+  l->p.tile_points = m * l->p.chunk_points;
+  l->p.stored = 0;
+  l->longest = 0;
+}
+
+/* add case i of nt samples to the stored samples of layout l */
+static void layout_add(layout *l, size_t i, size_t nt, size_t ncase)
+{
+  if (nt > l->longest)
+    l->longest = nt;
+  if ((i + 1) % l->p.tile_cases == 0 || i + 1 == ncase) {
+    l->p.stored += l->p.tile_cases *
+                   round_up(plan_extent(&l->p, l->longest),
+                            l->p.chunk_points);
+    l->longest = 0;
+  }
+}
+
+/*
+ * The layout of a sweep whose cases differ in length.  A chunk row holds
+ * tile_cases cases up to the longest of them, so cases of different
+ * lengths in one tile store the difference: tiles of fewer cases (halving
+ * down to 1) store less, and more chunks.  Each case is built again (the
+ * cost of the plan once more, for such sweeps only) to count what each
+ * layout stores; the first within 5 % of the data is taken, else the one
+ * that stores least.  0, or -1 with err.
+ */
+static int plan_varied(const scene *s, sweep_plan *p, size_t most,
+                       scene_error *err)
+{
+  layout l[16];
+  size_t nl = 0, i, mean = p->npoint / s->ncase, best = 0;
+  scene_case c;
+  do {
+    size_t tc = plan_tile_cases(s->ncase, most);
+    if (nl == 0 || tc < l[nl - 1].p.tile_cases)
+      layout_make(&l[nl++], p, tc, p->tile_points, mean);
+    most /= 2;
+  } while (most >= 1 && nl < 16);
+  for (i = 0; i < s->ncase; i++) {
+    size_t k;
+    if (scene_case_build(s, i, &c, err))
+      return -1;
+    for (k = 0; k < nl; k++)
+      layout_add(&l[k], i, c.nt, s->ncase);
+  }
+  for (i = 0; i < nl; i++) {
+    if (l[i].p.stored <= p->npoint + p->npoint / 20) {
+      best = i;
+      break;
+    }
+    if (l[i].p.stored < l[best].p.stored)
+      best = i;
+  }
+  *p = l[best].p;
+  return 0;
+}
+
 int sweep_plan_make(const scene *s, sweep_plan *p, scene_error *err)
 {
   scene_case c;
-  size_t i;
+  size_t i, most = 1;
   memset(p, 0, sizeof *p);
   p->grid_common = 1;
   for (i = 0; i < s->ncase; i++) {
@@ -39,16 +145,23 @@ int sweep_plan_make(const scene *s, sweep_plan *p, scene_error *err)
       p->nt = c.nt;
     p->npoint += c.nt;
   }
-  /* whole cases per tile when they fit, else windows of one case */
+  /* whole cases per tile when they fit, else windows of one case; jobs
+     share the cases and windows the samples evenly, so that no edge chunk
+     is mostly empty (205 cases in tiles of 204 stored 408) */
   if (p->nt <= SWEEP_TILE_POINTS) {
+    most = SWEEP_TILE_POINTS / p->nt;
     p->tile_points = p->nt;
-    p->tile_cases = SWEEP_TILE_POINTS / p->nt;
-    if (p->tile_cases > s->ncase)
-      p->tile_cases = s->ncase;
+    p->tile_cases = plan_tile_cases(s->ncase, most);
   } else {
-    p->tile_points = SWEEP_TILE_POINTS;
+    size_t nwin = (p->nt + SWEEP_TILE_POINTS - 1) / SWEEP_TILE_POINTS;
+    p->tile_points = (p->nt + nwin - 1) / nwin;
     p->tile_cases = 1;
   }
+  p->chunk_points = p->tile_points;
+  if (!p->grid_common)
+    return plan_varied(s, p, most, err);
+  p->stored = round_up(s->ncase, p->tile_cases) *
+              round_up(p->nt, p->chunk_points);
   return 0;
 }
 
@@ -199,7 +312,6 @@ static int job_whole(const scene *s, const sweep_plan *p, size_t j,
   memset(&t, 0, sizeof t);
   t.c0 = j * b->cases;
   t.nc = s->ncase - t.c0 < b->cases ? s->ncase - t.c0 : b->cases;
-  t.nk = p->nt;
   t.with_case = 1;
   t.cases = t.nc;
   for (slot = 0; slot < t.nc; slot++) {
@@ -217,6 +329,10 @@ static int job_whole(const scene *s, const sweep_plan *p, size_t j,
     if (rc == RPS3_OK && c.nt < b->points)
       out_block_blank(b, slot, c.nt);
     t.points += rc ? failed_at : c.nt;
+    /* the samples of the tile's longest case: chunks past it stay
+       unallocated (they read as the blanks, the fill values) */
+    if (plan_extent(p, c.nt) > t.nk)
+      t.nk = plan_extent(p, c.nt);
   }
   return k->emit(k, bp, &t, err, errsz);
 }
@@ -229,17 +345,19 @@ static int job_windows(const scene *s, const sweep_plan *p, size_t j,
 {
   scene_case c;
   rps3_data *d;
-  size_t k0, nk;
+  size_t k0, nk, end;
   if (case_begin(s, j, &c, err, errsz) ||
       !(d = workspace(ws, &c, err, errsz)))
     return -1;
-  for (k0 = 0; k0 < p->nt; k0 += nk) {
+  /* windows past the case's last chunk are not written */
+  end = plan_extent(p, c.nt);
+  for (k0 = 0; k0 < end; k0 += nk) {
     out_block *b = *bp;
     size_t failed_at = 0, ncomp;
     int rc = RPS3_OK;
     tile t;
     memset(&t, 0, sizeof t);
-    nk = p->nt - k0 < b->points ? p->nt - k0 : b->points;
+    nk = end - k0 < b->points ? end - k0 : b->points;
     ncomp = k0 >= c.nt ? 0 : (c.nt - k0 < nk ? c.nt - k0 : nk);
     if (slot_begin(&c, b, 0, err, errsz))
       return -1;
@@ -260,7 +378,7 @@ static int job_windows(const scene *s, const sweep_plan *p, size_t j,
     }
     if (ncomp < nk)
       out_block_blank(b, 0, ncomp);
-    t.with_case = k0 + nk >= p->nt;
+    t.with_case = k0 + nk >= end;
     t.cases = (size_t)t.with_case;
     t.points = ncomp;
     if (k->emit(k, bp, &t, err, errsz))

@@ -8,6 +8,10 @@
  * The work is cut into jobs: job j is the cases [j tile_cases,
  * (j + 1) tile_cases), one tile and one chunk row of the file; when a case
  * is longer than a tile (tile_cases == 1) a job is that case, in windows.
+ * Jobs share the cases, and windows the samples, evenly, and a tile writes
+ * only the samples its cases have (rounded up to whole chunks): the chunks
+ * the file allocates are those of the data (bytes per sample within a few
+ * per cent of the raw size, docs/hdf5.md).
  * sweep_run_opts() spreads the jobs over threads (each with its own
  * workspaces and tile buffers; only the calling thread calls HDF5) and
  * computes only the jobs of one shard (j mod nshard == shard).  A case
@@ -26,13 +30,23 @@
 /* samples in one tile of output: bounds the memory of a run */
 #define SWEEP_TILE_POINTS 16384
 
+/* when the time grid differs between cases, a chunk holds at least this
+   many samples (cases x times; along time about a twentieth of the mean
+   case): the unwritten tail of a case's last chunk stays small, and so
+   does the chunk index (about 64 bytes a chunk) beside the data */
+#define SWEEP_CHUNK_MIN 128
+
 typedef struct {
   size_t nt;          /* most samples of any case: the time axis */
   int grid_common;    /* 1 when every case has the time grid of case 0 */
   size_t npoint;      /* samples over all cases */
   scene_case first;   /* case 0 */
-  size_t tile_cases;  /* cases per tile (1 when a case spans tiles) */
-  size_t tile_points; /* samples per tile and case */
+  size_t tile_cases;  /* cases per tile (1 when a case spans tiles): the
+                         case extent of a chunk */
+  size_t tile_points; /* samples per tile and case: a multiple of ... */
+  size_t chunk_points;/* ... the time extent of a chunk */
+  size_t stored;      /* samples (rows x times) of the chunks the run
+                         allocates: what the file holds per sample field */
 } sweep_plan;
 
 /* how to run: threads and shard */

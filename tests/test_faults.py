@@ -389,9 +389,12 @@ def test_a_huge_shard_count_does_not_wrap_around(runner, tmp_path):
     assert "compute nothing" in proc.stderr
     with h5py.File(out, "r") as f:
         status = f["status"][()]
-        assert (status[:16] == -1000).all(), status  # not computed
-        assert (f["status"][16:32] == 0).all()   # job 1: cases 16-31
-        assert np.isnan(f["force"][:16]).all()
+        c = f["status"].chunks[0]                # cases per job: 14
+        assert c == 14
+        assert (status[:c] == -1000).all(), status  # not computed
+        assert (status[c:2 * c] == 0).all()      # job 1
+        assert (status[2 * c:] == -1000).all()
+        assert np.isnan(f["force"][:c]).all()
 
 
 @pytest.mark.parametrize("args", [
@@ -527,7 +530,8 @@ def test_merge_refuses_a_damaged_part(runner, tmp_path, extra, copy):
     proc = subprocess.run([RUNNER, "merge", str(out)] + [str(p) for p in parts]
                           + copy, capture_output=True, text=True, timeout=120)
     assert proc.returncode == 3, proc.stderr
-    assert f"{parts[1]}: dataset force is damaged at rows 16-31" in proc.stderr
+    # 40 cases in 3 jobs of 14, 14, 12 cases: part 1 holds rows 14-27
+    assert f"{parts[1]}: dataset force is damaged at rows 14-27" in proc.stderr
     assert not out.exists()
     assert names(tmp_path) == ["p0.h5", "p1.h5", "s.yaml"]
 
@@ -555,7 +559,7 @@ def test_not_computed_is_not_an_error_code(runner, tmp_path):
     keeps it (exit 1); only -1000 means "not computed"."""
     parts = two_parts(tmp_path)
     with h5py.File(parts[0], "r") as f:
-        assert (f["status"][16:32] == -1000).all()     # shard 1's cases
+        assert (f["status"][14:28] == -1000).all()     # shard 1's cases
         assert f["status"].fillvalue == -1000
     with h5py.File(parts[1], "r+") as f:
         f["status"][16] = -1                           # RPS3_EINVAL

@@ -82,11 +82,25 @@ def windows_scene(tmp_path):
     return write_scene(tmp_path / "windows.yaml", text)
 
 
-@pytest.fixture(scope="module", params=["mixed", "windows"])
+def spans_scene(tmp_path):
+    """12 cases of 5001 to 40001 samples (a sweep of the span with dt): the
+    longer ones in windows, the chunks past each case's end never written
+    (they read as the fill values); the amp[2] = 0.2 cases fail."""
+    text = FAILING_SINE.replace("samples: SAMPLES", "dt: 0.0001").replace(
+        "THETA", "closed_form").replace(
+        "sweep:\n", "sweep:\n  trajectory.duration: [2, 0.5, 4, 1]\n")
+    return write_scene(tmp_path / "spans.yaml", text)
+
+
+SCENES = {"mixed": mixed_scene, "windows": windows_scene,
+          "spans": spans_scene}
+
+
+@pytest.fixture(scope="module", params=list(SCENES))
 def reference(request, tmp_path_factory):
     """(scene, the file of a single-threaded whole run)."""
     tmp = tmp_path_factory.mktemp(request.param)
-    scene = (mixed_scene if request.param == "mixed" else windows_scene)(tmp)
+    scene = SCENES[request.param](tmp)
     out = tmp / "ref.h5"
     proc = run(scene, out, "-q")
     assert proc.returncode == 1, proc.stderr       # some cases fail

@@ -51,13 +51,42 @@ def scene_text(ncase, theta):
                         sweep=sweep)
 
 
-def run_once(runner, scene, out, threads):
-    """One run: (wall s, user + sys s, peak RSS MiB, file bytes).
+def raw_bytes(path):
+    """(samples, bytes) of the data a runner file holds: every per-sample
+    variable at its element size times the samples of the cases (not the
+    NaN past a shorter case's end), the per-case variables (strings at
+    their length); no chunk index, no metadata.  The file's size over this
+    is its overhead."""
+    with h5py.File(path, "r") as f:
+        ncase = f["case"].shape[0]
+        if "case_time" in f:
+            samples = int((~np.isnan(f["case_time"][()])).sum())
+        else:
+            samples = ncase * f["time"].shape[0]
+        raw = 0
+        for name, ds in f.items():
+            if name == "case" or ds.ndim == 0 or ds.shape[0] != ncase:
+                continue
+            if ds.ndim >= 2:
+                raw += samples * ds.dtype.itemsize * int(np.prod(
+                    ds.shape[2:]))
+            elif ds.dtype.kind == "O":
+                raw += sum(len(x) for x in ds[()])
+            else:
+                raw += ncase * ds.dtype.itemsize
+        return samples, raw
+
+
+def run_once(runner, scene, out, threads, gzip=0):
+    """One run: (wall s, user + sys s, peak RSS MiB, file bytes, raw
+    bytes of its data, raw_bytes()).
 
     GNU time runs the runner and reports its CPU time and peak RSS: the
     rusage of a child forked from Python would start from Python's own
     resident size (ru_maxrss survives exec)."""
     cmd = [runner, scene, "-o", out, "-q", "-j", str(threads)]
+    if gzip:
+        cmd += ["--gzip", str(gzip)]
     t0 = time.monotonic()
     p = subprocess.run([GNU_TIME, "-f", "%U %S %M"] + cmd,
                        capture_output=True, text=True)
@@ -66,8 +95,10 @@ def run_once(runner, scene, out, threads):
         raise SystemExit(f"{' '.join(cmd)}: exit {p.returncode}: {p.stderr}")
     user, sys_, rss_kib = p.stderr.split()[-3:]
     size = os.path.getsize(out)
+    raw = raw_bytes(out)[1]
     os.unlink(out)
-    return wall, float(user) + float(sys_), float(rss_kib) / 1024.0, size
+    return (wall, float(user) + float(sys_), float(rss_kib) / 1024.0, size,
+            raw)
 
 
 def cpu_model():
@@ -82,18 +113,23 @@ def cpu_model():
 
 
 def plan(max_points, repeats):
-    """(label, points, threads, theta, repeats) of each row; the small,
-    noisier runs are repeated more."""
+    """(label, points, threads, theta, repeats, gzip level) of each row;
+    the small, noisier runs are repeated more."""
     rows = []
     n = 1000
     while n <= max_points:
         rep = repeats if n >= 10**6 else 2 * repeats + 1
         for j in (1, 2):
             rows.append((f"closed_1e{len(str(n)) - 1}_j{j}", n, j,
-                         "closed_form", rep))
+                         "closed_form", rep, 0))
         n *= 10
     if max_points >= 10**6:
-        rows.append(("multiroot_1e6_j1", 10**6, 1, "multiroot", repeats))
+        rows.append(("multiroot_1e6_j1", 10**6, 1, "multiroot", repeats, 0))
+        # the cost of --gzip: level 1 and 4, on one and two threads
+        for level in (1, 4):
+            for j in (1, 2):
+                rows.append((f"gzip{level}_1e6_j{j}", 10**6, j,
+                             "closed_form", repeats, level))
     return rows
 
 
@@ -113,26 +149,29 @@ def main():
     work = tempfile.mkdtemp(prefix="runner_bench.", dir=outdir)
     rows = []
     try:
-        for label, points, threads, theta, rep in plan(int(args.max_points),
-                                                       args.repeats):
+        for label, points, threads, theta, rep, gzip in plan(
+                int(args.max_points), args.repeats):
             ncase = points // SAMPLES
             scene = os.path.join(work, f"{label}.yaml")
             with open(scene, "w") as f:
                 f.write(scene_text(ncase, theta))
             runs = [run_once(args.runner, scene, os.path.join(work, "o.h5"),
-                             threads) for _ in range(rep)]
+                             threads, gzip) for _ in range(rep)]
             wall = [r[0] for r in runs]
             cpu = [r[1] for r in runs]
             rss = [r[2] for r in runs]
             med = statistics.median(wall)
             rows.append(dict(
                 run=label, points=points, cases=ncase, threads=threads,
+                gzip=gzip,
                 theta=theta, repeats=rep, wall_s=med, wall_min_s=min(wall),
                 wall_max_s=max(wall), cpu_s=statistics.median(cpu),
                 points_per_s=points / med,
                 points_per_s_per_thread=points / med / threads,
                 points_per_cpu_s=points / statistics.median(cpu),
-                rss_mib=max(rss), file_bytes=runs[0][3]))
+                rss_mib=max(rss), file_bytes=runs[0][3],
+                bytes_per_point=runs[0][3] / points,
+                raw_bytes_per_point=runs[0][4] / points))
     finally:
         shutil.rmtree(work, ignore_errors=True)
 
@@ -143,22 +182,28 @@ def main():
 def print_table(rows):
     print(f"{'run':22s} {'points':>9s} {'j':>2s} {'wall s':>8s} "
           f"{'min-max s':>15s} {'Mpt/s':>7s} {'Mpt/s/j':>8s} "
-          f"{'Mpt/cpu-s':>9s} {'RSS MiB':>8s} {'file MB':>8s}")
+          f"{'Mpt/cpu-s':>9s} {'RSS MiB':>8s} {'file MB':>8s} "
+          f"{'B/pt':>6s} {'raw':>6s}")
     for r in rows:
         print(f"{r['run']:22s} {r['points']:9d} {r['threads']:2d} "
               f"{r['wall_s']:8.3f} {r['wall_min_s']:7.3f}-{r['wall_max_s']:7.3f} "
               f"{r['points_per_s'] / 1e6:7.2f} "
               f"{r['points_per_s_per_thread'] / 1e6:8.2f} "
               f"{r['points_per_cpu_s'] / 1e6:9.2f} {r['rss_mib']:8.1f} "
-              f"{r['file_bytes'] / 1e6:8.1f}")
+              f"{r['file_bytes'] / 1e6:8.1f} {r['bytes_per_point']:6.1f} "
+              f"{r['raw_bytes_per_point']:6.1f}")
     big = [r for r in rows if r["points"] >= 10**6
-           and r["theta"] == "closed_form"]
+           and r["theta"] == "closed_form" and r["gzip"] == 0]
     j1 = [r["points_per_s"] for r in big if r["threads"] == 1]
     if j1:
         print(f"target >= {TARGET_RATE / 1e6:.1f} Mpt/s per core: one thread "
               f"at 10^6 points and up: {min(j1) / 1e6:.2f}-"
               f"{max(j1) / 1e6:.2f} Mpt/s (ratio {min(j1) / TARGET_RATE:.2f}"
               f"-{max(j1) / TARGET_RATE:.2f})")
+    over = [r["bytes_per_point"] / r["raw_bytes_per_point"] for r in rows
+            if r["gzip"] == 0]
+    print(f"target file <= 1.10 x its raw data (uncompressed): "
+          f"{min(over):.3f}-{max(over):.3f} x")
     top = max(r["points"] for r in rows)
     rss = max(r["rss_mib"] for r in rows if r["points"] == top)
     print(f"target peak RSS <= {TARGET_RSS_MIB:.0f} MiB at 10^7 points: "
@@ -171,6 +216,7 @@ COLUMNS = [
     ("points", "1", "trajectory points in the sweep (cases x samples)"),
     ("cases", "1", "cases of the sweep (1000 samples each)"),
     ("threads", "1", "rps3-run -j"),
+    ("gzip", "1", "rps3-run --gzip level (0: uncompressed)"),
     ("repeats", "1", "runs of this row; the times are their median"),
     ("wall_s", "s", "median wall time of the whole run, HDF5 file included"),
     ("wall_min_s", "s", "fastest run"),
@@ -181,6 +227,10 @@ COLUMNS = [
     ("points_per_cpu_s", "1/s", "points / median CPU time"),
     ("rss_mib", "MiB", "peak resident set size, largest over the repeats"),
     ("file_bytes", "B", "size of the HDF5 file written"),
+    ("bytes_per_point", "B", "file_bytes / points"),
+    ("raw_bytes_per_point", "B",
+     "bytes of the data the file holds (every variable at its element size, "
+     "strings at their length) / points: the floor of bytes_per_point"),
 ]
 
 
@@ -199,7 +249,8 @@ def write_h5(path, rows):
             [r["run"] for r in rows], dtype=h5py.string_dtype()))
         run.attrs["units"] = "1"
         run.attrs["doc"] = "closed_1eN_jJ: 10^N points, closed-form theta, " \
-                           "J threads; multiroot_*: warm multiroot theta"
+                           "J threads; multiroot_*: warm multiroot theta; " \
+                           "gzipL_*: --gzip L"
         run.make_scale("run")
         theta = f.create_dataset("theta", data=np.array(
             [r["theta"] for r in rows], dtype=h5py.string_dtype()))
