@@ -705,7 +705,8 @@ typedef enum {
   RPS3_TRAJ_HELIX = 1,     /* the paper's section VI helix, Tables I-II */
   RPS3_TRAJ_SINE = 2,      /* each pose coordinate a sinusoid */
   RPS3_TRAJ_WAYPOINTS = 3, /* poses at given times joined by a time law */
-  RPS3_TRAJ_PATH = 4       /* a Cartesian path of the platform centre */
+  RPS3_TRAJ_PATH = 4,      /* a Cartesian path of the platform centre */
+  RPS3_TRAJ_TABLE = 5      /* samples of the pose, interpolated */
 } rps3_traj_kind;
 
 /* Helix (35): radius r*, pitch h, start z_i, one pitch in T* seconds; phi(t)
@@ -777,6 +778,51 @@ typedef struct {
                               0: none */
 } rps3_waypoints;
 
+/*
+ * Table: samples of a motion, row i at time[i], interpolated per coordinate
+ * with the exact first and second derivatives of the interpolant:
+ *   rate and acc given   the quintic Hermite interpolant of the values,
+ *                        rates and accelerations of each row: C2, exact
+ *                        for quintics;
+ *   rate given, acc NULL the cubic Hermite interpolant of the values and
+ *                        rates: C1, the acceleration jumps at the rows (a
+ *                        time on a row takes the segment that starts
+ *                        there, the last row the last segment's end).
+ * A table without measured rates takes them from rps3_table_spline(): the
+ * slopes of the not-a-knot cubic spline through the values, with which the
+ * cubic Hermite interpolant is that spline (C2, exact for cubics; for a
+ * smooth motion sampled every h, its error is O(h^4) in the value, O(h^3)
+ * in the rate and O(h^2) in the acceleration: docs/trajectories.md).
+ * The trajectory's time is time[i] - time[0]: it starts at the first row
+ * and lasts time[n-1] - time[0].  The arrays belong to the caller and must
+ * outlive the trajectory (read, never copied or freed).  Evaluation finds
+ * the segment by bisection, O(log n).
+ */
+typedef struct {
+  size_t n;                 /* rows, >= 2 */
+  const double *time;       /* n times [s], strictly increasing */
+  const double (*value)[3]; /* n samples: the pose (alpha, beta, z_c)
+                               [rad, rad, m], or the centre (x, y, z) [m]
+                               of a path */
+  const double (*rate)[3];  /* n rates [value unit / s], given or from
+                               rps3_table_spline() */
+  const double (*acc)[3];   /* n accelerations [value unit / s^2], or NULL */
+} rps3_table;
+
+/*
+ * The slopes of the not-a-knot cubic spline through the n rows (time[i],
+ * value[i]) into rate (n rows): the second and the last but one row are not
+ * knots, i.e. the third derivative is continuous there (de Boor, A
+ * Practical Guide to Splines, ch. IV; MATLAB's and SciPy's default), so
+ * that any cubic is reproduced exactly.  work: n doubles of scratch.
+ * Nothing is allocated.  Returns RPS3_OK, or RPS3_EINVAL for a NULL
+ * pointer, n < 4 (n = 3 leaves the not-a-knot system singular), or times
+ * not finite and strictly increasing.
+ */
+RPS3_API int rps3_table_spline(size_t n, const double *time,
+                               const double (*value)[3], double (*rate)[3],
+                               double *work);
+
 /* shapes of a path of the platform centre */
 typedef enum {
   RPS3_PATH_LINE = 0,   /* from start to end */
@@ -823,6 +869,7 @@ typedef struct {
   rps3_sine sine;     /* used when kind == RPS3_TRAJ_SINE */
   rps3_waypoints wp;  /* used when kind == RPS3_TRAJ_WAYPOINTS */
   rps3_path path;     /* used when kind == RPS3_TRAJ_PATH */
+  rps3_table table;   /* used when kind == RPS3_TRAJ_TABLE: the pose */
 } rps3_traj;
 
 /* Name of a time law ("lspb", "minimum_jerk", "quintic"), NULL if out of
@@ -843,7 +890,8 @@ RPS3_API int rps3_traj_check(const rps3_model *m, const rps3_traj *tr, char *err
 RPS3_API double rps3_traj_duration(const rps3_traj *tr);
 
 /*
- * Pose, rate and acceleration at time t in [0, duration], exact.  The helix
+ * Pose, rate and acceleration at time t in [0, duration], exact (for a
+ * table: the interpolant's own, see rps3_table).  The helix
  * acceleration jumps at the blend corners t_a and t_b: a sample exactly on a
  * corner takes the value of the segment that starts there (right limit),
  * except t = T*, which takes the left limit.  Any output may be NULL.
@@ -923,7 +971,7 @@ RPS3_API int rps3_traj_eval(const rps3_model *m, const rps3_traj *tr, double t,
     "1", "opt.trans_max")                                                     \
   X(RPS3_F_MODE, RPS3_IN_MODEL, opt.mode, 1, 1, -1, 0, 1, "-", "opt.mode")    \
   X(RPS3_F_KIND, RPS3_IN_TRAJ, kind, 1, 1, RPS3_TRAJ_HELIX, 0,                \
-    RPS3_TRAJ_PATH, "-", "trajectory.kind")                                   \
+    RPS3_TRAJ_TABLE, "-", "trajectory.kind")                                   \
   X(RPS3_F_HELIX_RADIUS, RPS3_IN_HELIX, helix.radius, 1, 0, 0, 0, HUGE_VAL,   \
     "m", "trajectory.radius")                                                 \
   X(RPS3_F_HELIX_PITCH, RPS3_IN_HELIX, helix.pitch, 1, 0, -HUGE_VAL, 0,       \
@@ -977,7 +1025,15 @@ RPS3_API int rps3_traj_eval(const rps3_model *m, const rps3_traj *tr, double t,
   X(RPS3_F_PATH_LAW, RPS3_IN_PATH, path.law, 1, 1, 0, 0, 2, "-",              \
     "trajectory.path.law")                                                    \
   X(RPS3_F_PATH_BLEND, RPS3_IN_PATH, path.blend, 1, 0, 0, 1, 0.5, "1",        \
-    "trajectory.path.blend_ratio")
+    "trajectory.path.blend_ratio")                                            \
+  X(RPS3_F_TABLE_TIME, RPS3_IN_TABLE, table.time, 0, 0, -HUGE_VAL, 0,         \
+    HUGE_VAL, "s", "trajectory.table.t")                                      \
+  X(RPS3_F_TABLE_VALUE, RPS3_IN_TABLE, table.value, 0, 0, -HUGE_VAL, 0,       \
+    HUGE_VAL, "rad, rad, m", "trajectory.table.pose")                         \
+  X(RPS3_F_TABLE_RATE, RPS3_IN_TABLE, table.rate, 0, 0, -HUGE_VAL, 0,         \
+    HUGE_VAL, "rad/s, rad/s, m/s", "trajectory.table.rate")                   \
+  X(RPS3_F_TABLE_ACC, RPS3_IN_TABLE, table.acc, 0, 0, -HUGE_VAL, 0, HUGE_VAL, \
+    "rad/s^2, rad/s^2, m/s^2", "trajectory.table.acc")
 
 /* where a field lives: the model, or the trajectory (of one kind) */
 enum rps3_field_in {
@@ -986,7 +1042,8 @@ enum rps3_field_in {
   RPS3_IN_HELIX = 1 + RPS3_TRAJ_HELIX, /* rps3_traj, kind helix */
   RPS3_IN_SINE = 1 + RPS3_TRAJ_SINE,   /* rps3_traj, kind sine */
   RPS3_IN_WAYPOINTS = 1 + RPS3_TRAJ_WAYPOINTS,
-  RPS3_IN_PATH = 1 + RPS3_TRAJ_PATH
+  RPS3_IN_PATH = 1 + RPS3_TRAJ_PATH,
+  RPS3_IN_TABLE = 1 + RPS3_TRAJ_TABLE
 };
 
 #define RPS3_FIELD_ID_(ID, ...) ID,
@@ -1014,7 +1071,7 @@ typedef struct {
   int field;       /* rps3_field_id of the failing field, -1 if none (a NULL
                       argument) */
   int comp;        /* its component, 0 for a scalar field; the row of an
-                      array field (waypoints) */
+                      array field (waypoints, table) */
   int related[2];  /* other fields the failed rule reads (e.g. rho and R
                       for the helix radius bound), -1 when unused */
   char msg[256];   /* "NAME = VALUE: reason", as in rps3_model_init() */

@@ -92,7 +92,7 @@ static const char *const sections[] = {"", "manipulator", "trajectory",
                                        "solver", "manipulator.payload",
                                        "manipulator.pin_friction",
                                        "trajectory.waypoints",
-                                       "trajectory.path"};
+                                       "trajectory.path", "trajectory.table"};
 #define NSECTION (sizeof sections / sizeof sections[0])
 
 /* a value counts as equal to a whole number within this many ulps of its
@@ -137,8 +137,8 @@ static const char *leaf(const char *path)
 
 /* ---------------------------------------------------------- enum names */
 
-static const char *const kind_names[] = {NULL, "helix", "sine", "waypoints",
-                                         "path"};
+static const char *const kind_names[] = {NULL,        "helix", "sine",
+                                         "waypoints", "path",  "table"};
 static const char *const shape_names[] = {"line", "circle", "helix"};
 static const char *const theta_names[] = {"closed_form", "multiroot"};
 static const char *const method_names[] = {"lagrange", "newton_euler"};
@@ -147,7 +147,7 @@ const char *scene_enum_name(int k, int value)
 {
   switch (k) {
   case K_KIND:
-    return (value >= RPS3_TRAJ_HELIX && value <= RPS3_TRAJ_PATH)
+    return (value >= RPS3_TRAJ_HELIX && value <= RPS3_TRAJ_TABLE)
                ? kind_names[value]
                : NULL;
   case K_THETA:
@@ -524,6 +524,28 @@ static int parse_rows(parse_ctx *c, int k, const yaml_node_t *n,
   return 0;
 }
 
+/* a table file: read at once (its rows are checked as they are read), the
+   rates it lacks from the spline; base.traj.table views the arrays */
+static int parse_file(parse_ctx *c, int k, const yaml_node_t *n,
+                      scene_values *v)
+{
+  scene *s = c->s;
+  char msg[sizeof c->err->what];
+  if (n->type != YAML_SCALAR_NODE || is_null(n)) {
+    error_set(c->err, mark_of(&n->start_mark), keys[k].path,
+              "expected a file name, got %s", node_kind(n));
+    return -1;
+  }
+  if (table_read(&s->table, s->file, scalar_text(n), TABLE_POSE, msg,
+                 sizeof msg)) {
+    error_set(c->err, mark_of(&n->start_mark), keys[k].path, "%s", msg);
+    return -1;
+  }
+  v->traj.table = table_view(&s->table);
+  v->table_file = s->table.abs;
+  return 0;
+}
+
 /* the value node n of key k into v (the whole key, lists included) */
 static int parse_value(parse_ctx *c, int k, const yaml_node_t *n,
                        scene_values *v)
@@ -553,6 +575,8 @@ static int parse_value(parse_ctx *c, int k, const yaml_node_t *n,
   }
   if (keys[k].type == KEY_TIMES || keys[k].type == KEY_POSES)
     return parse_rows(c, k, n, v);
+  if (keys[k].type == KEY_FILE)
+    return parse_file(c, k, n, v);
   if (keys[k].type == KEY_EFFECTS) {
     effect_list(list, sizeof list);
     if (n->type != YAML_SEQUENCE_NODE ||
@@ -914,7 +938,7 @@ static int parse_sweep(parse_ctx *c, const yaml_node_t *map)
       return -1;
     }
     if (ki->type == KEY_EFFECTS || ki->type == KEY_TIMES ||
-        ki->type == KEY_POSES || ax->key == K_KIND ||
+        ki->type == KEY_POSES || ki->type == KEY_FILE || ax->key == K_KIND ||
         ax->key == K_PATH_SHAPE) {
       error_set(c->err, km, name,
                 "cannot be swept (it decides what a case computes); write "
@@ -1179,6 +1203,7 @@ void scene_free(scene *s)
   free(s->wp_pose);
   free(s->wp_time_mark);
   free(s->wp_pose_mark);
+  table_free(&s->table);
   free(s->text);
   free(s->file);
   memset(s, 0, sizeof *s);
@@ -1248,6 +1273,15 @@ static void case_error(const scene *s, size_t index, const char *msg,
               chk->field == RPS3_F_WP_TIME ? s->wp_time_mark[chk->comp]
                                            : s->wp_pose_mark[chk->comp],
               row, "%s", what);
+    return;
+  }
+  /* a table row: point at the file key, and name the file's line */
+  if (chk != NULL && chk->comp >= 0 && chk->field >= RPS3_F_TABLE_TIME &&
+      chk->field <= RPS3_F_TABLE_ACC && (size_t)chk->comp < s->table.n) {
+    char where[300];
+    table_where(&s->table, (size_t)chk->comp, where, sizeof where);
+    error_set(err, s->mark[K_TABLE_FILE], keys[K_TABLE_FILE].path, "%s: %s",
+              where, what);
     return;
   }
   for (i = 0; i < n; i++)
@@ -1507,6 +1541,8 @@ static int emit_value(yaml_emitter_t *em, int k, const scene_values *v)
       ok = ok && emit_close(em, 1);
     }
     return ok && emit_close(em, 1);
+  case KEY_FILE:
+    return emit_scalar(em, v->table_file != NULL ? v->table_file : "");
   }
   return 0;
 }
@@ -1639,6 +1675,9 @@ void scene_keys_print(void)
       break;
     case KEY_POSES:
       type = "[[3 numbers], ...]";
+      break;
+    case KEY_FILE:
+      type = "file name";
       break;
     }
     if (ki->req == REQ_YES)

@@ -15,6 +15,7 @@
 #include <stddef.h>
 
 #include "rps3.h"
+#include "table.h"
 
 /* a position in the scene file, both 1-based; 0:0 when not known */
 typedef struct {
@@ -38,7 +39,8 @@ typedef enum {
   KEY_REAL3,  /* list of three finite doubles; a sweep picks one: key[k] */
   KEY_EFFECTS, /* list of effect names, stored as RPS3_EFF_* bits */
   KEY_TIMES,   /* list of at least 2 numbers (waypoint times) */
-  KEY_POSES    /* list of lists of 3 numbers (waypoint poses) */
+  KEY_POSES,   /* list of lists of 3 numbers (waypoint poses) */
+  KEY_FILE     /* a file name, relative to the scene (a table) */
 } key_type;
 
 /* which trajectory kinds a key belongs to (the kind of its field) */
@@ -47,7 +49,8 @@ enum {
   FOR_HELIX = RPS3_TRAJ_HELIX,
   FOR_SINE = RPS3_TRAJ_SINE,
   FOR_WAYPOINTS = RPS3_TRAJ_WAYPOINTS,
-  FOR_PATH = RPS3_TRAJ_PATH
+  FOR_PATH = RPS3_TRAJ_PATH,
+  FOR_TABLE = RPS3_TRAJ_TABLE
 };
 
 /* how a key must be given: required, optional (a default), or exactly one
@@ -94,6 +97,7 @@ typedef struct {
   rps3_model model;
   rps3_traj traj;
   scene_own own;
+  const char *table_file; /* kind table: the file, absolute (the scene's) */
 } scene_values;
 
 /*
@@ -143,7 +147,7 @@ typedef struct {
     REQ_NO, "-",                                                              \
     "Coulomb law tanh(dtheta / vreg) instead of sign(dtheta); 0 = sign")      \
   X(K_KIND, "trajectory.kind", KEY_ENUM, LIB, RPS3_F_KIND, REQ_YES, "-",      \
-    "helix (the paper's section VI), sine, waypoints or path "                \
+    "helix (the paper's section VI), sine, waypoints, path or table "         \
     "(docs/trajectories.md)")                                                 \
   X(K_RADIUS, "trajectory.radius", KEY_REAL, LIB, RPS3_F_HELIX_RADIUS,        \
     REQ_YES, "r*", "helix radius, below r/2, eqs. (35), (37)")                \
@@ -218,6 +222,11 @@ typedef struct {
   X(K_PATH_BLEND, "trajectory.path.blend_ratio", KEY_REAL, LIB,               \
     RPS3_F_PATH_BLEND, REQ_NO, "t_a/T*",                                      \
     "lspb: blend at each end as a fraction of the duration")                  \
+  X(K_TABLE_FILE, "trajectory.table.file", KEY_FILE, LIB, RPS3_F_TABLE_VALUE, \
+    REQ_YES, "-",                                                             \
+    "CSV or HDF5 file of rows t, alpha, beta, z_c [, rates NAME_dot [, "      \
+    "accelerations NAME_ddot]], relative to the scene; interpolated by a "    \
+    "spline or Hermite polynomials (docs/trajectories.md)")                   \
   X(K_SAMPLES, "trajectory.samples", KEY_INT, OWN, OWN_SAMPLES,               \
     REQ_ONE_GRID, "-",                                                        \
     "time samples over the span, both ends included; or give dt")             \
@@ -306,6 +315,8 @@ typedef struct {
   double (*wp_pose)[3];
   size_t wp_ntime, wp_npose;
   scene_mark *wp_time_mark, *wp_pose_mark; /* where each row is */
+  table_data table;       /* kind table: the samples; base.traj.table views
+                             them */
 } scene;
 
 /* one case, ready to compute */

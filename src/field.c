@@ -25,6 +25,7 @@ typedef char rps3_enum_is_int_[(sizeof(rps3_method) == sizeof(int) &&
 #define OFF_RPS3_IN_SINE(MEMBER) offsetof(rps3_traj, MEMBER)
 #define OFF_RPS3_IN_WAYPOINTS(MEMBER) offsetof(rps3_traj, MEMBER)
 #define OFF_RPS3_IN_PATH(MEMBER) offsetof(rps3_traj, MEMBER)
+#define OFF_RPS3_IN_TABLE(MEMBER) offsetof(rps3_traj, MEMBER)
 
 #define ROW(ID, IN, MEMBER, N, IS_INT, LO, LO_OPEN, HI, UNIT, NAME)           \
   {NAME, IN, OFF_##IN(MEMBER), N, IS_INT, LO, LO_OPEN, HI, UNIT},

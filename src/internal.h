@@ -82,6 +82,15 @@ int rps3_path_eval(const rps3_model *m, const rps3_path *p, double t,
                    double q[3], double dq[3], double ddq[3]);
 int rps3_path_check(const rps3_model *m, const rps3_path *p, rps3_check *chk);
 
+/* table.c: span, evaluation at t in [0, span] (rows checked), validation
+   naming the fields id[] = {time, value, rate, acc}; pose: the values are
+   poses, each row and the interpolant between rows must be reachable */
+double rps3_table_duration(const rps3_table *tb);
+void rps3_table_eval(const rps3_table *tb, double t, double q[3],
+                     double dq[3], double ddq[3]);
+int rps3_table_check(const rps3_model *m, const rps3_table *tb,
+                     const int id[4], int pose, rps3_check *chk);
+
 /* internal state of the theta solve, owned by rps3_data */
 struct rps3_solver_state;
 int rps3_solver_alloc(const rps3_model *m, struct rps3_solver_state **out);

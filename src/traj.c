@@ -1,7 +1,8 @@
 /*
  * traj.c - trajectories with exact first and second derivatives.  The
  * paper's helix (section VI, Tables I-II) and a sinusoid per pose
- * coordinate here; waypoints (timelaw.c) and Cartesian paths (path.c).  A
+ * coordinate here; waypoints (timelaw.c), Cartesian paths (path.c) and
+ * tables of samples (table.c).  A
  * new kind adds a struct to rps3_traj, its rows to RPS3_FIELDS, a check
  * and an eval.
  */
@@ -86,6 +87,11 @@ int rps3_traj_validate(const rps3_model *m, const rps3_traj *tr,
   if (tr->kind == RPS3_TRAJ_WAYPOINTS)
     return rps3_waypoints_check(m, &tr->wp, chk);
   if (tr->kind == RPS3_TRAJ_PATH) return rps3_path_check(m, &tr->path, chk);
+  if (tr->kind == RPS3_TRAJ_TABLE) {
+    static const int id[4] = {RPS3_F_TABLE_TIME, RPS3_F_TABLE_VALUE,
+                              RPS3_F_TABLE_RATE, RPS3_F_TABLE_ACC};
+    return rps3_table_check(m, &tr->table, id, 1, chk);
+  }
   return RPS3_OK;
 }
 
@@ -98,6 +104,7 @@ double rps3_traj_duration(const rps3_traj *tr) {
                ? rps3_waypoints_duration(&tr->wp)
                : 0.0;
   if (tr->kind == RPS3_TRAJ_PATH) return tr->path.duration;
+  if (tr->kind == RPS3_TRAJ_TABLE) return rps3_table_duration(&tr->table);
   return 0.0;
 }
 
@@ -159,6 +166,11 @@ int rps3_traj_eval(const rps3_model *m, const rps3_traj *tr, double t,
   } else if (tr->kind == RPS3_TRAJ_PATH) {
     int rc = rps3_path_eval(m, &tr->path, t, q, dq, ddq);
     if (rc != RPS3_OK) return rc;
+  } else if (tr->kind == RPS3_TRAJ_TABLE) {
+    const rps3_table *tb = &tr->table;
+    if (tb->n < 2 || tb->time == NULL || tb->value == NULL || tb->rate == NULL)
+      return RPS3_EINVAL;
+    rps3_table_eval(tb, t, q, dq, ddq);
   } else {
     return RPS3_EINVAL;
   }

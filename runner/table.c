@@ -1,0 +1,506 @@
+/*
+ * table.c - read a table of samples from a CSV or an HDF5 file (table.h).
+ * Every row is checked where it is read, so that an error names the file,
+ * the line (or row) and the column: a number that is not one, NaN or
+ * infinity, a time that does not increase.  Reachability is the library's
+ * (rps3_traj_check), mapped back to the row by table_where.
+ */
+/* realpath() is XSI */
+#define _XOPEN_SOURCE 700
+
+#include "table.h"
+
+#include <errno.h>
+#include <limits.h>
+#include <math.h>
+#include <stdarg.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <sys/stat.h>
+
+#include <hdf5.h>
+
+/* the columns: 0 time, 1-3 values, 4-6 rates, 7-9 accelerations */
+#define NCOL 10
+static const char *const col_names[2][NCOL] = {
+    {"t", "alpha", "beta", "z_c", "alpha_dot", "beta_dot", "z_c_dot",
+     "alpha_ddot", "beta_ddot", "z_c_ddot"},
+    {"t", "x", "y", "z", "x_dot", "y_dot", "z_dot", "x_ddot", "y_ddot",
+     "z_ddot"}};
+
+/* the largest table file: a million rows of ten numbers is ~250 MB */
+#define TABLE_MAX_BYTES (1024.0 * 1024.0 * 1024.0)
+
+static void err_set(char *err, size_t errsz, const char *fmt, ...)
+    __attribute__((format(printf, 3, 4)));
+static void err_set(char *err, size_t errsz, const char *fmt, ...)
+{
+  va_list ap;
+  va_start(ap, fmt);
+  vsnprintf(err, errsz, fmt, ap);
+  va_end(ap);
+}
+
+void table_free(table_data *t)
+{
+  if (!t)
+    return;
+  if (t->abs != t->path)
+    free(t->abs);
+  free(t->path);
+  free(t->time);
+  free(t->value);
+  free(t->rate);
+  free(t->acc);
+  free(t->line);
+  memset(t, 0, sizeof *t);
+}
+
+void table_where(const table_data *t, size_t r, char *buf, size_t sz)
+{
+  if (t->line != NULL && r < t->n)
+    snprintf(buf, sz, "%s:%d", t->path, t->line[r]);
+  else
+    snprintf(buf, sz, "%s, row %zu", t->path, r);
+}
+
+rps3_table table_view(const table_data *t)
+{
+  rps3_table v;
+  memset(&v, 0, sizeof v);
+  v.n = t->n;
+  v.time = t->time;
+  v.value = (const double(*)[3])t->value;
+  v.rate = (const double(*)[3])t->rate;
+  v.acc = (const double(*)[3])t->acc;
+  return v;
+}
+
+/* the path of name relative to the directory of scene_file */
+static char *path_join(const char *scene_file, const char *name)
+{
+  const char *slash = strrchr(scene_file, '/');
+  size_t dir = (name[0] == '/' || !slash) ? 0 : (size_t)(slash - scene_file) + 1;
+  char *p = malloc(dir + strlen(name) + 1);
+  if (p) {
+    memcpy(p, scene_file, dir);
+    strcpy(p + dir, name);
+  }
+  return p;
+}
+
+static int ends_with(const char *s, const char *tail)
+{
+  size_t a = strlen(s), b = strlen(tail);
+  return a >= b && strcmp(s + a - b, tail) == 0;
+}
+
+/* the arrays for n rows; acc only when the file has accelerations */
+static int table_alloc(table_data *t, size_t n, int with_acc)
+{
+  size_t m = n ? n : 1; /* a table of no rows is refused later */
+  t->n = n;
+  t->time = malloc(m * sizeof *t->time);
+  t->value = malloc(m * sizeof *t->value);
+  t->rate = malloc(m * sizeof *t->rate);
+  t->acc = with_acc ? malloc(m * sizeof *t->acc) : NULL;
+  return t->time && t->value && t->rate && (t->acc || !with_acc) ? 0 : -1;
+}
+
+/* where column c of row r goes */
+static double *cell(table_data *t, size_t r, int c)
+{
+  if (c == 0)
+    return &t->time[r];
+  if (c < 4)
+    return &t->value[r][c - 1];
+  if (c < 7)
+    return &t->rate[r][c - 4];
+  return &t->acc[r][c - 7];
+}
+
+/* which of the columns are present: t and the values always, the rates
+   all or none, the accelerations all or none and only with the rates */
+static int columns_check(const int have[NCOL], int what, const char *file,
+                         char *err, size_t errsz)
+{
+  int c, g;
+  for (c = 0; c < 4; c++)
+    if (!have[c]) {
+      err_set(err, errsz, "%s: missing column %s (a table has %s, %s, %s, %s)",
+              file, col_names[what][c], col_names[what][0],
+              col_names[what][1], col_names[what][2], col_names[what][3]);
+      return -1;
+    }
+  for (g = 4; g < NCOL; g += 3)
+    if (have[g] + have[g + 1] + have[g + 2] != 0 &&
+        have[g] + have[g + 1] + have[g + 2] != 3) {
+      for (c = g; have[c]; c++)
+        ;
+      err_set(err, errsz, "%s: missing column %s (give the three %s or none)",
+              file, col_names[what][c], g == 4 ? "rates" : "accelerations");
+      return -1;
+    }
+  if (have[7] && !have[4]) {
+    err_set(err, errsz,
+            "%s: accelerations (%s, ...) need the rates (%s, ...) as well",
+            file, col_names[what][7], col_names[what][4]);
+    return -1;
+  }
+  return 0;
+}
+
+/* the number in the field [s, e) of line `line`, which starts at start */
+static int parse_field(const char *s, const char *e, double *x,
+                       const char *file, int line, const char *start,
+                       const char *name, char *err, size_t errsz)
+{
+  char buf[64], *end;
+  int col;
+  while (s < e && (*s == ' ' || *s == '\t'))
+    s++;
+  while (e > s && (e[-1] == ' ' || e[-1] == '\t'))
+    e--;
+  col = (int)(s - start) + 1; /* of the number itself, blanks skipped */
+  if (e == s) {
+    err_set(err, errsz, "%s:%d:%d: column %s: empty field", file, line, col,
+            name);
+    return -1;
+  }
+  snprintf(buf, sizeof buf, "%.*s", (int)(e - s), s);
+  errno = 0;
+  *x = strtod(buf, &end);
+  if (*end != '\0' || (size_t)(e - s) >= sizeof buf) {
+    err_set(err, errsz, "%s:%d:%d: column %s: expected a number, got '%.40s'",
+            file, line, col, name, buf);
+    return -1;
+  }
+  if (!isfinite(*x) || errno == ERANGE) {
+    err_set(err, errsz, "%s:%d:%d: column %s: '%s' is not a finite number",
+            file, line, col, name, buf);
+    return -1;
+  }
+  return 0;
+}
+
+/* the header line [s, e): column c of the file is col[c] (0..NCOL-1) */
+static int csv_header(const char *s, const char *e, int what, int *col,
+                      int *ncol, int have[NCOL], const char *file, int line,
+                      char *err, size_t errsz)
+{
+  const char *p = s;
+  *ncol = 0;
+  for (;;) {
+    const char *q = p, *a, *b;
+    int c;
+    while (q < e && *q != ',')
+      q++;
+    for (a = p; a < q && (*a == ' ' || *a == '\t'); a++)
+      ;
+    for (b = q; b > a && (b[-1] == ' ' || b[-1] == '\t'); b--)
+      ;
+    for (c = 0; c < NCOL; c++)
+      if ((size_t)(b - a) == strlen(col_names[what][c]) &&
+          strncmp(a, col_names[what][c], (size_t)(b - a)) == 0)
+        break;
+    if (c == NCOL || have[c] || *ncol == NCOL) {
+      char list[200];
+      int k;
+      size_t len = 0;
+      for (k = 0; k < NCOL; k++)
+        len += (size_t)snprintf(list + len, sizeof list - len, "%s%s",
+                                k ? ", " : "", col_names[what][k]);
+      err_set(err, errsz, "%s:%d:%d: column '%.*s': %s; expected %s", file,
+              line, (int)(a - s) + 1, (int)(b - a), a,
+              c < NCOL ? "given twice" : "unknown column", list);
+      return -1;
+    }
+    have[c] = 1;
+    col[(*ncol)++] = c;
+    if (q == e)
+      break;
+    p = q + 1;
+  }
+  return columns_check(have, what, file, err, errsz);
+}
+
+/* the whole file into a NUL-terminated buffer (a regular file only) */
+static char *slurp(const char *path, size_t *len, char *err, size_t errsz)
+{
+  FILE *f = fopen(path, "rb");
+  struct stat st;
+  char *buf;
+  if (!f) {
+    err_set(err, errsz, "%s: cannot open: %s", path, strerror(errno));
+    return NULL;
+  }
+  if (fstat(fileno(f), &st) != 0 || !S_ISREG(st.st_mode) ||
+      (double)st.st_size > TABLE_MAX_BYTES) {
+    err_set(err, errsz, "%s: not a regular file of at most 1 GiB", path);
+    fclose(f);
+    return NULL;
+  }
+  buf = malloc((size_t)st.st_size + 1);
+  if (!buf) {
+    err_set(err, errsz, "%s: out of memory", path);
+    fclose(f);
+    return NULL;
+  }
+  *len = fread(buf, 1, (size_t)st.st_size, f);
+  buf[*len] = '\0';
+  if (ferror(f)) {
+    err_set(err, errsz, "%s: read error", path);
+    free(buf);
+    buf = NULL;
+  }
+  fclose(f);
+  return buf;
+}
+
+/* lines that hold no row: blank, or a comment starting with '#' */
+static int csv_skip(const char *s, const char *e)
+{
+  while (s < e && (*s == ' ' || *s == '\t'))
+    s++;
+  return s == e || *s == '#';
+}
+
+static int csv_read(table_data *t, int what, char *err, size_t errsz)
+{
+  size_t len, rows = 0, r = 0;
+  char *text = slurp(t->path, &len, err, errsz), *p, *e;
+  int have[NCOL] = {0}, col[NCOL], ncol = 0, line, header = 0, rc = -1;
+  if (!text)
+    return -1;
+  if (memchr(text, '\0', len) != NULL) {
+    err_set(err, errsz, "%s: a NUL byte: not a text file", t->path);
+    goto done;
+  }
+  /* count the lines that may be rows, to allocate once */
+  for (p = text; p < text + len; p = e + 1) {
+    e = strchr(p, '\n');
+    if (!e)
+      e = text + len;
+    rows += !csv_skip(p, e);
+  }
+  for (p = text, line = 1; p < text + len; p = e + 1, line++) {
+    const char *f;
+    int c;
+    e = strchr(p, '\n');
+    if (!e)
+      e = text + len;
+    if (e > p && e[-1] == '\r')
+      e[-1] = ' ';
+    if (csv_skip(p, e))
+      continue;
+    if (!header) {
+      if (csv_header(p, e, what, col, &ncol, have, t->path, line, err, errsz))
+        goto done;
+      header = 1;
+      if (table_alloc(t, rows - 1, have[7])) {
+        err_set(err, errsz, "%s: out of memory for %zu rows", t->path,
+                rows - 1);
+        goto done;
+      }
+      t->line = malloc((rows > 1 ? rows - 1 : 1) * sizeof *t->line);
+      if (!t->line) {
+        err_set(err, errsz, "%s: out of memory", t->path);
+        goto done;
+      }
+      continue;
+    }
+    t->line[r] = line;
+    for (c = 0, f = p; c < ncol; c++) {
+      const char *q = f;
+      while (q < e && *q != ',')
+        q++;
+      if (q == e && c + 1 < ncol) {
+        err_set(err, errsz, "%s:%d: %d fields, the header has %d columns",
+                t->path, line, c + 1, ncol);
+        goto done;
+      }
+      if (parse_field(f, q, cell(t, r, col[c]), t->path, line, p,
+                      col_names[what][col[c]], err, errsz))
+        goto done;
+      f = q + 1;
+      if (c + 1 == ncol && q < e) {
+        err_set(err, errsz, "%s:%d:%d: more fields than the header's %d "
+                "columns", t->path, line, (int)(q - p) + 1, ncol);
+        goto done;
+      }
+    }
+    r++;
+  }
+  if (!header) {
+    err_set(err, errsz, "%s: no header line (t, %s, %s, %s, ...)", t->path,
+            col_names[what][1], col_names[what][2], col_names[what][3]);
+    goto done;
+  }
+  t->rates_given = have[4];
+  rc = 0;
+done:
+  free(text);
+  return rc;
+}
+
+/* one 1-D dataset of n doubles at the root (n taken from the first) */
+static int h5_column(hid_t f, const char *name, table_data *t, int c,
+                     char *err, size_t errsz)
+{
+  hid_t d = H5Dopen2(f, name, H5P_DEFAULT), sp;
+  hsize_t dims[2];
+  double *buf = NULL;
+  int rc = -1;
+  size_t r;
+  if (d < 0)
+    return 1; /* absent */
+  sp = H5Dget_space(d);
+  if (sp < 0 || H5Sget_simple_extent_ndims(sp) != 1 ||
+      H5Sget_simple_extent_dims(sp, dims, NULL) != 1) {
+    err_set(err, errsz, "%s: dataset /%s: expected one dimension", t->path,
+            name);
+    goto done;
+  }
+  if (t->n == 0 && c == 0) {
+    t->n = (size_t)dims[0];
+  } else if ((size_t)dims[0] != t->n) {
+    err_set(err, errsz, "%s: dataset /%s: %llu rows, /t has %zu", t->path,
+            name, (unsigned long long)dims[0], t->n);
+    goto done;
+  }
+  buf = malloc((t->n ? t->n : 1) * sizeof *buf);
+  if (!buf || H5Dread(d, H5T_NATIVE_DOUBLE, H5S_ALL, H5S_ALL, H5P_DEFAULT,
+                      buf) < 0) {
+    err_set(err, errsz, "%s: dataset /%s: cannot read it as numbers", t->path,
+            name);
+    goto done;
+  }
+  for (r = 0; r < t->n; r++) {
+    if (!isfinite(buf[r])) {
+      err_set(err, errsz, "%s: dataset /%s, row %zu: %g is not a finite "
+              "number", t->path, name, r, buf[r]);
+      goto done;
+    }
+    if (t->time != NULL)
+      *cell(t, r, c) = buf[r];
+  }
+  if (c == 0) {
+    /* the time column sizes the table: keep it until the arrays exist */
+    t->time = buf;
+    buf = NULL;
+  }
+  rc = 0;
+done:
+  free(buf);
+  if (sp >= 0)
+    H5Sclose(sp);
+  H5Dclose(d);
+  return rc;
+}
+
+static int h5_read(table_data *t, int what, char *err, size_t errsz)
+{
+  H5E_auto2_t fn;
+  void *data;
+  hid_t f;
+  int have[NCOL] = {0}, c, rc = -1, x;
+  H5Eget_auto2(H5E_DEFAULT, &fn, &data);
+  H5Eset_auto2(H5E_DEFAULT, NULL, NULL);
+  f = H5Fopen(t->path, H5F_ACC_RDONLY, H5P_DEFAULT);
+  if (f < 0) {
+    err_set(err, errsz, "%s: cannot open as an HDF5 file", t->path);
+    H5Eset_auto2(H5E_DEFAULT, fn, data);
+    return -1;
+  }
+  for (c = 0; c < NCOL; c++)
+    have[c] = H5Lexists(f, col_names[what][c], H5P_DEFAULT) > 0;
+  if (columns_check(have, what, t->path, err, errsz))
+    goto done;
+  /* the time first: it gives the rows */
+  if (h5_column(f, col_names[what][0], t, 0, err, errsz))
+    goto done;
+  {
+    double *time = t->time;
+    t->time = NULL;
+    x = table_alloc(t, t->n, have[7]);
+    free(t->time);
+    t->time = time;
+    if (x) {
+      err_set(err, errsz, "%s: out of memory for %zu rows", t->path, t->n);
+      goto done;
+    }
+  }
+  for (c = 1; c < NCOL; c++)
+    if (have[c] && h5_column(f, col_names[what][c], t, c, err, errsz))
+      goto done;
+  t->rates_given = have[4];
+  rc = 0;
+done:
+  H5Fclose(f);
+  H5Eset_auto2(H5E_DEFAULT, fn, data);
+  return rc;
+}
+
+/* times strictly increasing, named at their row; then the rates a table
+   lacks, from the spline */
+static int table_finish(table_data *t, int what, char *err, size_t errsz)
+{
+  size_t r;
+  char where[300];
+  double *work;
+  int min = t->rates_given ? 2 : 4;
+  if (t->n < (size_t)min) {
+    err_set(err, errsz, "%s: %zu rows; a table needs at least %d%s", t->path,
+            t->n, min,
+            t->rates_given ? "" : " without rate columns (the not-a-knot "
+                                  "spline that gives the rates)");
+    return -1;
+  }
+  for (r = 1; r < t->n; r++)
+    if (!(t->time[r] > t->time[r - 1])) {
+      table_where(t, r, where, sizeof where);
+      err_set(err, errsz, "%s: column t: %.17g after %.17g: times must "
+              "increase strictly", where, t->time[r], t->time[r - 1]);
+      return -1;
+    }
+  (void)what;
+  if (t->rates_given)
+    return 0;
+  work = malloc(t->n * sizeof *work);
+  if (!work ||
+      rps3_table_spline(t->n, t->time, (const double(*)[3])t->value, t->rate,
+                        work) != RPS3_OK) {
+    free(work);
+    err_set(err, errsz, "%s: the spline of the rows failed", t->path);
+    return -1;
+  }
+  free(work);
+  return 0;
+}
+
+int table_read(table_data *t, const char *scene_file, const char *name,
+               int what, char *err, size_t errsz)
+{
+  char *abs;
+  memset(t, 0, sizeof *t);
+  if (name[0] == '\0') {
+    err_set(err, errsz, "an empty file name");
+    return -1;
+  }
+  t->path = path_join(scene_file, name);
+  if (!t->path) {
+    err_set(err, errsz, "out of memory");
+    return -1;
+  }
+  t->hdf5 = ends_with(name, ".h5") || ends_with(name, ".hdf5");
+  if ((t->hdf5 ? h5_read(t, what, err, errsz)
+               : csv_read(t, what, err, errsz)) != 0 ||
+      table_finish(t, what, err, errsz) != 0) {
+    table_free(t);
+    return -1;
+  }
+  abs = realpath(t->path, NULL);
+  t->abs = abs ? abs : t->path;
+  return 0;
+}
