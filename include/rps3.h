@@ -827,7 +827,8 @@ RPS3_API int rps3_table_spline(size_t n, const double *time,
 typedef enum {
   RPS3_PATH_LINE = 0,   /* from start to end */
   RPS3_PATH_CIRCLE = 1, /* horizontal circle: centre, radius, angle0, turns */
-  RPS3_PATH_HELIX = 2   /* the circle rising by pitch per turn */
+  RPS3_PATH_HELIX = 2,  /* the circle rising by pitch per turn */
+  RPS3_PATH_TABLE = 3   /* the centre sampled in a table (rps3_table) */
 } rps3_path_shape;
 
 /*
@@ -846,6 +847,11 @@ typedef enum {
  *           sin phi, 0)
  *   helix   as the circle, and z_c = centre_z + pitch turns t / duration:
  *           the rise is uniform in time, as in the paper's (35).
+ *   table   the centre (x, y, z) of rps3_table's rows, interpolated as
+ *           there; its time is the table's (duration, law and blend are
+ *           not read), and psi on segment i is table_psi[i] plus the angle
+ *           from row i's centre to c(t) (in (-pi, pi]): the path must turn
+ *           by less than pi/2 about the axis from one row to the next.
  * The paper's helix is shape helix, centre (0, 0, z_i), radius r*,
  * angle0 0, turns 1, pitch h, duration T*, law LSPB with blend t_a / T*.
  */
@@ -861,7 +867,19 @@ typedef struct {
   double duration;   /* [s] */
   rps3_time_law law; /* LSPB or MINJERK (QUINTIC is MINJERK here) */
   double blend;      /* LSPB: blend fraction, 0 < f <= 1/2 */
+  rps3_table table;  /* table: rows of the centre (x, y, z) [m] */
+  const double *table_psi; /* table: n polar angles of the rows' centres,
+                              unwrapped, from rps3_table_unwrap() [rad] */
 } rps3_path;
+
+/*
+ * The polar angles psi of the n centres (x, y, z) into psi (n values),
+ * followed continuously: psi[0] = atan2(y_0, x_0), then each row adds the
+ * angle from the previous centre to its own, in (-pi, pi].  Returns RPS3_OK
+ * or RPS3_EINVAL for a NULL pointer.  Nothing is allocated.
+ */
+RPS3_API int rps3_table_unwrap(size_t n, const double (*centre)[3],
+                               double *psi);
 
 typedef struct {
   rps3_traj_kind kind;
@@ -1004,7 +1022,7 @@ RPS3_API int rps3_traj_eval(const rps3_model *m, const rps3_traj *tr, double t,
     "rad/s, rad/s, m/s", "trajectory.waypoints.vmax")                         \
   X(RPS3_F_WP_AMAX, RPS3_IN_WAYPOINTS, wp.amax, 3, 0, 0, 0, HUGE_VAL,         \
     "rad/s^2, rad/s^2, m/s^2", "trajectory.waypoints.amax")                   \
-  X(RPS3_F_PATH_SHAPE, RPS3_IN_PATH, path.shape, 1, 1, 0, 0, 2, "-",          \
+  X(RPS3_F_PATH_SHAPE, RPS3_IN_PATH, path.shape, 1, 1, 0, 0, 3, "-",          \
     "trajectory.path.shape")                                                  \
   X(RPS3_F_PATH_START, RPS3_IN_PATH, path.start, 3, 0, -HUGE_VAL, 0,          \
     HUGE_VAL, "m", "trajectory.path.start")                                   \
@@ -1026,6 +1044,14 @@ RPS3_API int rps3_traj_eval(const rps3_model *m, const rps3_traj *tr, double t,
     "trajectory.path.law")                                                    \
   X(RPS3_F_PATH_BLEND, RPS3_IN_PATH, path.blend, 1, 0, 0, 1, 0.5, "1",        \
     "trajectory.path.blend_ratio")                                            \
+  X(RPS3_F_PATH_TABLE_TIME, RPS3_IN_PATH, path.table.time, 0, 0, -HUGE_VAL,   \
+    0, HUGE_VAL, "s", "trajectory.path.table.t")                              \
+  X(RPS3_F_PATH_TABLE_VALUE, RPS3_IN_PATH, path.table.value, 0, 0, -HUGE_VAL, \
+    0, HUGE_VAL, "m", "trajectory.path.table.centre")                         \
+  X(RPS3_F_PATH_TABLE_RATE, RPS3_IN_PATH, path.table.rate, 0, 0, -HUGE_VAL,   \
+    0, HUGE_VAL, "m/s", "trajectory.path.table.rate")                         \
+  X(RPS3_F_PATH_TABLE_ACC, RPS3_IN_PATH, path.table.acc, 0, 0, -HUGE_VAL, 0,  \
+    HUGE_VAL, "m/s^2", "trajectory.path.table.acc")                           \
   X(RPS3_F_TABLE_TIME, RPS3_IN_TABLE, table.time, 0, 0, -HUGE_VAL, 0,         \
     HUGE_VAL, "s", "trajectory.table.t")                                      \
   X(RPS3_F_TABLE_VALUE, RPS3_IN_TABLE, table.value, 0, 0, -HUGE_VAL, 0,       \

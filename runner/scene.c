@@ -69,6 +69,12 @@ static int shape_mask(int k)
   case K_PATH_START:
   case K_PATH_END:
     return line;
+  case K_PATH_DURATION:
+  case K_PATH_LAW:
+  case K_PATH_BLEND:
+    return line | circle | helix;
+  case K_PATH_FILE:
+    return 1 << RPS3_PATH_TABLE;
   case K_PATH_CENTRE:
   case K_PATH_RADIUS:
   case K_PATH_TURNS:
@@ -139,7 +145,8 @@ static const char *leaf(const char *path)
 
 static const char *const kind_names[] = {NULL,        "helix", "sine",
                                          "waypoints", "path",  "table"};
-static const char *const shape_names[] = {"line", "circle", "helix"};
+static const char *const shape_names[] = {"line", "circle", "helix",
+                                          "table"};
 static const char *const theta_names[] = {"closed_form", "multiroot"};
 static const char *const method_names[] = {"lagrange", "newton_euler"};
 
@@ -160,7 +167,8 @@ const char *scene_enum_name(int k, int value)
   case K_PATH_LAW:
     return rps3_time_law_name(value);
   case K_PATH_SHAPE:
-    return (value >= 0 && value < 3) ? shape_names[value] : NULL;
+    return (value >= 0 && value <= RPS3_PATH_TABLE) ? shape_names[value]
+                                                    : NULL;
   default:
     return NULL;
   }
@@ -530,19 +538,34 @@ static int parse_file(parse_ctx *c, int k, const yaml_node_t *n,
                       scene_values *v)
 {
   scene *s = c->s;
+  int path = k == K_PATH_FILE;
+  table_data *t = path ? &s->path_table : &s->table;
   char msg[sizeof c->err->what];
   if (n->type != YAML_SCALAR_NODE || is_null(n)) {
     error_set(c->err, mark_of(&n->start_mark), keys[k].path,
               "expected a file name, got %s", node_kind(n));
     return -1;
   }
-  if (table_read(&s->table, s->file, scalar_text(n), TABLE_POSE, msg,
-                 sizeof msg)) {
+  if (table_read(t, s->file, scalar_text(n), path ? TABLE_CENTRE : TABLE_POSE,
+                 msg, sizeof msg)) {
     error_set(c->err, mark_of(&n->start_mark), keys[k].path, "%s", msg);
     return -1;
   }
-  v->traj.table = table_view(&s->table);
-  v->table_file = s->table.abs;
+  if (!path) {
+    v->traj.table = table_view(t);
+    v->table_file = t->abs;
+    return 0;
+  }
+  /* a path: the polar angles of the rows, followed continuously */
+  s->path_psi = malloc(t->n * sizeof *s->path_psi);
+  if (!s->path_psi) {
+    error_set(c->err, mark_of(&n->start_mark), keys[k].path, "out of memory");
+    return -1;
+  }
+  rps3_table_unwrap(t->n, (const double(*)[3])t->value, s->path_psi);
+  v->traj.path.table = table_view(t);
+  v->traj.path.table_psi = s->path_psi;
+  v->path_file = t->abs;
   return 0;
 }
 
@@ -1204,6 +1227,8 @@ void scene_free(scene *s)
   free(s->wp_time_mark);
   free(s->wp_pose_mark);
   table_free(&s->table);
+  table_free(&s->path_table);
+  free(s->path_psi);
   free(s->text);
   free(s->file);
   memset(s, 0, sizeof *s);
@@ -1276,12 +1301,15 @@ static void case_error(const scene *s, size_t index, const char *msg,
     return;
   }
   /* a table row: point at the file key, and name the file's line */
-  if (chk != NULL && chk->comp >= 0 && chk->field >= RPS3_F_TABLE_TIME &&
-      chk->field <= RPS3_F_TABLE_ACC && (size_t)chk->comp < s->table.n) {
+  for (j = 0; j < 2 && chk != NULL && chk->comp >= 0; j++) {
+    int lo = j ? RPS3_F_PATH_TABLE_TIME : RPS3_F_TABLE_TIME;
+    int key = j ? K_PATH_FILE : K_TABLE_FILE;
+    const table_data *t = j ? &s->path_table : &s->table;
     char where[300];
-    table_where(&s->table, (size_t)chk->comp, where, sizeof where);
-    error_set(err, s->mark[K_TABLE_FILE], keys[K_TABLE_FILE].path, "%s: %s",
-              where, what);
+    if (chk->field < lo || chk->field > lo + 3 || (size_t)chk->comp >= t->n)
+      continue;
+    table_where(t, (size_t)chk->comp, where, sizeof where);
+    error_set(err, s->mark[key], keys[key].path, "%s: %s", where, what);
     return;
   }
   for (i = 0; i < n; i++)
@@ -1497,6 +1525,7 @@ static int emit_value(yaml_emitter_t *em, int k, const scene_values *v)
 {
   char buf[64];
   scene_values *w = (scene_values *)(void *)v; /* read only */
+  const char *file;
   int i, ok = 1;
   size_t r;
   switch (keys[k].type) {
@@ -1542,7 +1571,8 @@ static int emit_value(yaml_emitter_t *em, int k, const scene_values *v)
     }
     return ok && emit_close(em, 1);
   case KEY_FILE:
-    return emit_scalar(em, v->table_file != NULL ? v->table_file : "");
+    file = k == K_PATH_FILE ? v->path_file : v->table_file;
+    return emit_scalar(em, file != NULL ? file : "");
   }
   return 0;
 }

@@ -98,6 +98,7 @@ typedef struct {
   rps3_traj traj;
   scene_own own;
   const char *table_file; /* kind table: the file, absolute (the scene's) */
+  const char *path_file;  /* path shape table: the file, absolute */
 } scene_values;
 
 /*
@@ -197,7 +198,7 @@ typedef struct {
     "none)")                                                                  \
   X(K_PATH_SHAPE, "trajectory.path.shape", KEY_ENUM, LIB, RPS3_F_PATH_SHAPE,  \
     REQ_YES, "-",                                                             \
-    "line, circle or helix of the platform centre, through (3)-(4)")          \
+    "line, circle, helix or table of the platform centre, through (3)-(4)")  \
   X(K_PATH_START, "trajectory.path.start", KEY_REAL3, LIB, RPS3_F_PATH_START, \
     REQ_SHAPE, "-", "line: first point [x, y, z] of the centre")              \
   X(K_PATH_END, "trajectory.path.end", KEY_REAL3, LIB, RPS3_F_PATH_END,       \
@@ -216,12 +217,18 @@ typedef struct {
   X(K_PATH_PITCH, "trajectory.path.pitch", KEY_REAL, LIB, RPS3_F_PATH_PITCH,  \
     REQ_SHAPE, "h", "helix: rise per turn, uniform in time as in (35)")       \
   X(K_PATH_DURATION, "trajectory.path.duration", KEY_REAL, LIB,               \
-    RPS3_F_PATH_DURATION, REQ_YES, "T*", "time to run the path")              \
+    RPS3_F_PATH_DURATION, REQ_SHAPE, "T*",                                    \
+    "line, circle, helix: time to run the path")                              \
   X(K_PATH_LAW, "trajectory.path.law", KEY_ENUM, LIB, RPS3_F_PATH_LAW,        \
     REQ_NO, "-", "time law of the path parameter: lspb or minimum_jerk")      \
   X(K_PATH_BLEND, "trajectory.path.blend_ratio", KEY_REAL, LIB,               \
     RPS3_F_PATH_BLEND, REQ_NO, "t_a/T*",                                      \
     "lspb: blend at each end as a fraction of the duration")                  \
+  X(K_PATH_FILE, "trajectory.path.file", KEY_FILE, LIB,                       \
+    RPS3_F_PATH_TABLE_VALUE, REQ_SHAPE, "-",                                  \
+    "table: CSV or HDF5 file of rows t, x, y, z of the centre [, rates "      \
+    "NAME_dot [, accelerations NAME_ddot]], relative to the scene; its time " \
+    "is the table's")                                                         \
   X(K_TABLE_FILE, "trajectory.table.file", KEY_FILE, LIB, RPS3_F_TABLE_VALUE, \
     REQ_YES, "-",                                                             \
     "CSV or HDF5 file of rows t, alpha, beta, z_c [, rates NAME_dot [, "      \
@@ -317,6 +324,8 @@ typedef struct {
   scene_mark *wp_time_mark, *wp_pose_mark; /* where each row is */
   table_data table;       /* kind table: the samples; base.traj.table views
                              them */
+  table_data path_table;  /* path shape table: the centre's samples */
+  double *path_psi;       /* their polar angles, unwrapped */
 } scene;
 
 /* one case, ready to compute */

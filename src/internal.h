@@ -81,13 +81,14 @@ int rps3_pose_reachable(const rps3_model *m, const double pose[3]);
 int rps3_path_eval(const rps3_model *m, const rps3_path *p, double t,
                    double q[3], double dq[3], double ddq[3]);
 int rps3_path_check(const rps3_model *m, const rps3_path *p, rps3_check *chk);
+double rps3_path_duration(const rps3_path *p);
 
 /* table.c: span, evaluation at t in [0, span] (rows checked), validation
    naming the fields id[] = {time, value, rate, acc}; pose: the values are
    poses, each row and the interpolant between rows must be reachable */
 double rps3_table_duration(const rps3_table *tb);
-void rps3_table_eval(const rps3_table *tb, double t, double q[3],
-                     double dq[3], double ddq[3]);
+size_t rps3_table_eval(const rps3_table *tb, double t, double q[3],
+                       double dq[3], double ddq[3]); /* returns the segment */
 int rps3_table_check(const rps3_model *m, const rps3_table *tb,
                      const int id[4], int pose, rps3_check *chk);
 

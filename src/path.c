@@ -17,6 +17,14 @@ static void centre_eval(const rps3_path *p, double t, double c[3],
                         double dc[3], double ddc[3], double *psi) {
   double s[3], T = p->duration;
   int k;
+  if (p->shape == RPS3_PATH_TABLE) {
+    /* the row's unwrapped angle, plus the turn from its centre to c */
+    size_t i = rps3_table_eval(&p->table, t, c, dc, ddc);
+    const double *a = p->table.value[i];
+    *psi = p->table_psi[i] + atan2(a[0] * c[1] - a[1] * c[0],
+                                   a[0] * c[0] + a[1] * c[1]);
+    return;
+  }
   rps3_law_eval(p->law == RPS3_LAW_LSPB ? RPS3_LAW_LSPB : RPS3_LAW_MINJERK,
                 p->blend, t / T, s);
   s[1] /= T;
@@ -64,7 +72,8 @@ static void centre_eval(const rps3_path *p, double t, double c[3],
 /* rho_c of the centre at t, and the circle's own radius when it is centred
    on the axis (exact then, so that the paper's helix is reproduced) */
 static double centre_rho(const rps3_path *p, const double c[3]) {
-  if (p->shape != RPS3_PATH_LINE && p->centre[0] == 0.0 && p->centre[1] == 0.0)
+  if ((p->shape == RPS3_PATH_CIRCLE || p->shape == RPS3_PATH_HELIX) &&
+      p->centre[0] == 0.0 && p->centre[1] == 0.0)
     return p->radius;
   return sqrt(c[0] * c[0] + c[1] * c[1]);
 }
@@ -118,10 +127,51 @@ static int path_ok(const rps3_model *m, const rps3_path *p, double t) {
   return rps3_pose_reachable(m, q);
 }
 
+double rps3_path_duration(const rps3_path *p) {
+  return p->shape == RPS3_PATH_TABLE ? rps3_table_duration(&p->table)
+                                     : p->duration;
+}
+
+/* a table of the centre: its rows (as any table), their distance from the
+   axis, and the turn from one row to the next, each named by its row */
+static int table_rows_check(const rps3_model *m, const rps3_path *p,
+                            rps3_check *chk) {
+  static const int id[4] = {RPS3_F_PATH_TABLE_TIME, RPS3_F_PATH_TABLE_VALUE,
+                            RPS3_F_PATH_TABLE_RATE, RPS3_F_PATH_TABLE_ACC};
+  const rps3_table *tb = &p->table;
+  size_t i;
+  if (rps3_table_check(m, tb, id, 0, chk) != RPS3_OK) return RPS3_EINVAL;
+  if (p->table_psi == NULL)
+    return rps3_check_fail(chk, RPS3_F_PATH_TABLE_VALUE, 0, 0.0, -1, -1,
+                           "needs the rows' polar angles: "
+                           "rps3_table_unwrap()");
+  for (i = 0; i < tb->n; i++) {
+    double rho = hypot(tb->value[i][0], tb->value[i][1]);
+    if (!(rho > 0.0 && rho < 0.5 * m->r)) {
+      char why[160];
+      snprintf(why, sizeof why,
+               "the centre must keep 0 < sqrt(x^2 + y^2) < r/2 = %.6g m; "
+               "here %.6g m (value is x)",
+               0.5 * m->r, rho);
+      return rps3_check_fail(chk, RPS3_F_PATH_TABLE_VALUE, (int)i,
+                             tb->value[i][0], -1, -1, why);
+    }
+    if (i > 0 && !(fabs(p->table_psi[i] - p->table_psi[i - 1]) <
+                   0.5 * RPS3_PI))
+      return rps3_check_fail(
+          chk, RPS3_F_PATH_TABLE_VALUE, (int)i, tb->value[i][0], -1, -1,
+          "the centre turns by pi/2 or more about the axis from the "
+          "previous row: rows too far apart to follow alpha (value is x)");
+  }
+  return RPS3_OK;
+}
+
 int rps3_path_check(const rps3_model *m, const rps3_path *p, rps3_check *chk) {
-  double T = p->duration, tbad = -1.0, x0, y0, dx, dy, L2;
+  double T = rps3_path_duration(p), tbad = -1.0, x0, y0, dx, dy, L2;
   int i;
-  if (p->shape != RPS3_PATH_LINE) {
+  if (p->shape == RPS3_PATH_TABLE) {
+    if (table_rows_check(m, p, chk) != RPS3_OK) return RPS3_EINVAL;
+  } else if (p->shape != RPS3_PATH_LINE) {
     if (!(p->radius > 0.0))
       return rps3_check_fail(chk, RPS3_F_PATH_RADIUS, 0, p->radius,
                              RPS3_F_PATH_SHAPE, -1,
@@ -174,6 +224,18 @@ int rps3_path_check(const rps3_model *m, const rps3_path *p, rps3_check *chk) {
       tbad = hi;
       break;
     }
+  }
+  if (tbad >= 0.0 && p->shape == RPS3_PATH_TABLE) {
+    /* the row that starts the segment of the first bad time */
+    double q[3], dq[3], ddq[3];
+    size_t row = rps3_table_eval(&p->table, tbad, q, dq, ddq);
+    char why[200];
+    snprintf(why, sizeof why,
+             "the path leaves the reachable set at t = %.9g s, after this "
+             "row (value is x)",
+             tbad);
+    return rps3_check_fail(chk, RPS3_F_PATH_TABLE_VALUE, (int)row,
+                           p->table.value[row][0], -1, -1, why);
   }
   if (tbad >= 0.0) {
     char why[200];

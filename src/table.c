@@ -91,8 +91,8 @@ static size_t segment_find(const rps3_table *tb, double ta) {
   return lo;
 }
 
-void rps3_table_eval(const rps3_table *tb, double t, double q[3],
-                     double dq[3], double ddq[3]) {
+size_t rps3_table_eval(const rps3_table *tb, double t, double q[3],
+                       double dq[3], double ddq[3]) {
   double ta = tb->time[0] + t;
   size_t i = segment_find(tb, ta);
   double h = tb->time[i + 1] - tb->time[i], u = (ta - tb->time[i]) / h;
@@ -124,6 +124,19 @@ void rps3_table_eval(const rps3_table *tb, double t, double q[3],
     ddq[k] = (2.0 * c2 + u * (6.0 * c3 + u * (12.0 * c4 + u * 20.0 * c5))) /
              (h * h);
   }
+  return i;
+}
+
+int rps3_table_unwrap(size_t n, const double (*centre)[3], double *psi) {
+  size_t i;
+  if (centre == NULL || psi == NULL) return RPS3_EINVAL;
+  for (i = 0; i < n; i++) {
+    const double *a = centre[i > 0 ? i - 1 : 0], *b = centre[i];
+    psi[i] = i == 0 ? atan2(b[1], b[0])
+                    : psi[i - 1] + atan2(a[0] * b[1] - a[1] * b[0],
+                                         a[0] * b[0] + a[1] * b[1]);
+  }
+  return RPS3_OK;
 }
 
 int rps3_table_check(const rps3_model *m, const rps3_table *tb,

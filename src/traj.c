@@ -103,7 +103,7 @@ double rps3_traj_duration(const rps3_traj *tr) {
     return tr->wp.n >= 2 && tr->wp.time != NULL && tr->wp.pose != NULL
                ? rps3_waypoints_duration(&tr->wp)
                : 0.0;
-  if (tr->kind == RPS3_TRAJ_PATH) return tr->path.duration;
+  if (tr->kind == RPS3_TRAJ_PATH) return rps3_path_duration(&tr->path);
   if (tr->kind == RPS3_TRAJ_TABLE) return rps3_table_duration(&tr->table);
   return 0.0;
 }
@@ -164,7 +164,13 @@ int rps3_traj_eval(const rps3_model *m, const rps3_traj *tr, double t,
       return RPS3_EINVAL;
     rps3_waypoints_eval(&tr->wp, t, q, dq, ddq);
   } else if (tr->kind == RPS3_TRAJ_PATH) {
-    int rc = rps3_path_eval(m, &tr->path, t, q, dq, ddq);
+    int rc;
+    if (tr->path.shape == RPS3_PATH_TABLE &&
+        (tr->path.table.n < 2 || tr->path.table.time == NULL ||
+         tr->path.table.value == NULL || tr->path.table.rate == NULL ||
+         tr->path.table_psi == NULL))
+      return RPS3_EINVAL;
+    rc = rps3_path_eval(m, &tr->path, t, q, dq, ddq);
     if (rc != RPS3_OK) return rc;
   } else if (tr->kind == RPS3_TRAJ_TABLE) {
     const rps3_table *tb = &tr->table;

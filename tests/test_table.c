@@ -2,7 +2,8 @@
    reproduce the polynomials they are exact for (cubic spline: cubics;
    cubic Hermite: cubics; quintic Hermite: quintics), their derivatives
    against central differences, the spline's convergence order on a smooth
-   motion, and every refusal naming its field and row. */
+   motion, and every refusal naming its field and row; a path of the
+   centre from a table against the circle path it samples. */
 #include <stdlib.h>
 
 #include "testutil.h"
@@ -321,6 +322,185 @@ static void refusals(void **state) {
                    RPS3_OK);
 }
 
+
+/* ---------------------------------------------------------- path table */
+
+#define NPATH 61
+
+/* the circle (centre (0.011, 0.004, 0.3), radius 0.027, 1.25 turns from
+   angle 0.7, minimum jerk over 4 s) and its centre, rate and acceleration,
+   from its definition (not through the library) */
+static void circle_centre(double t, double c[3], double dc[3], double ddc[3]) {
+  const double T = 4.0, a = 0.027, w = 2 * PI * 1.25;
+  double tau = t / T;
+  double s = tau * tau * tau * (10 - 15 * tau + 6 * tau * tau);
+  double ds = 30 * tau * tau * (1 - tau) * (1 - tau) / T;
+  double dds = 60 * tau * (1 - tau) * (1 - 2 * tau) / (T * T);
+  double ph = 0.7 + w * s, dph = w * ds, ddph = w * dds;
+  c[0] = 0.011 + a * cos(ph);
+  c[1] = 0.004 + a * sin(ph);
+  c[2] = 0.3;
+  dc[0] = -a * sin(ph) * dph;
+  dc[1] = a * cos(ph) * dph;
+  dc[2] = 0.0;
+  ddc[0] = -a * (sin(ph) * ddph + cos(ph) * dph * dph);
+  ddc[1] = a * (cos(ph) * ddph - sin(ph) * dph * dph);
+  ddc[2] = 0.0;
+}
+
+typedef struct {
+  double time[NPATH], c[NPATH][3], dc[NPATH][3], ddc[NPATH][3], psi[NPATH];
+  double work[NPATH];
+} path_rows;
+
+/* what = 0: centres only (spline), 2: with rates and accelerations */
+static void path_table_setup(rps3_traj *tr, path_rows *r, int what) {
+  int i;
+  for (i = 0; i < NPATH; i++) {
+    r->time[i] = 4.0 * i / (NPATH - 1);
+    circle_centre(r->time[i], r->c[i], r->dc[i], r->ddc[i]);
+  }
+  if (what == 0)
+    assert_int_equal(rps3_table_spline(NPATH, r->time,
+                                       (const double(*)[3])r->c, r->dc,
+                                       r->work),
+                     RPS3_OK);
+  assert_int_equal(rps3_table_unwrap(NPATH, (const double(*)[3])r->c, r->psi),
+                   RPS3_OK);
+  rps3_traj_default(tr);
+  tr->kind = RPS3_TRAJ_PATH;
+  tr->path.shape = RPS3_PATH_TABLE;
+  tr->path.table.n = NPATH;
+  tr->path.table.time = r->time;
+  tr->path.table.value = (const double(*)[3])r->c;
+  tr->path.table.rate = (const double(*)[3])r->dc;
+  tr->path.table.acc = what == 2 ? (const double(*)[3])r->ddc : NULL;
+  tr->path.table_psi = r->psi;
+}
+
+/* the same circle as the path kind computes it */
+static void circle_path(rps3_traj *tr) {
+  rps3_traj_default(tr);
+  tr->kind = RPS3_TRAJ_PATH;
+  tr->path.shape = RPS3_PATH_CIRCLE;
+  tr->path.law = RPS3_LAW_MINJERK;
+  tr->path.duration = 4.0;
+  tr->path.centre[0] = 0.011;
+  tr->path.centre[1] = 0.004;
+  tr->path.centre[2] = 0.3;
+  tr->path.radius = 0.027;
+  tr->path.angle0 = 0.7;
+  tr->path.turns = 1.25;
+}
+
+/* with the centre's rates and accelerations the table path takes the
+   circle's pose, rate and acceleration at every row (the quintic Hermite
+   interpolates all three there; 1e-12 as TOL_EXACT: the inversion of
+   (3)-(4) runs on the same numbers, its psi reached by another rounding);
+   the circle winds about the axis (radius 0.027 > 0.0117 from the axis),
+   so psi runs past pi and alpha must follow it without a jump */
+static void path_table_is_the_circle(void **state) {
+  rps3_model m;
+  rps3_traj tr, circ;
+  path_rows r;
+  int i, k;
+  double prev = 0.0;
+  (void)state;
+  model_setup(&m);
+  path_table_setup(&tr, &r, 2);
+  circle_path(&circ);
+  assert_int_equal(rps3_traj_check(&m, &tr, NULL, 0), RPS3_OK);
+  assert_int_equal(rps3_traj_check(&m, &circ, NULL, 0), RPS3_OK);
+  CHECK_REL(rps3_traj_duration(&tr), 4.0, 0.0, 1.0, "span");
+  for (i = 0; i < NPATH; i++) {
+    double a[3], da[3], dda[3], b[3], db[3], ddb[3];
+    assert_int_equal(rps3_traj_eval(&m, &tr, r.time[i], a, da, dda), 0);
+    assert_int_equal(rps3_traj_eval(&m, &circ, r.time[i], b, db, ddb), 0);
+    for (k = 0; k < 3; k++) {
+      CHECK_REL(a[k], b[k], TOL_EXACT, 1.0, "pose %d row %d", k, i);
+      CHECK_REL(da[k], db[k], TOL_EXACT, 1.0, "rate %d row %d", k, i);
+      CHECK_REL(dda[k], ddb[k], TOL_EXACT, 1.0, "acceleration %d row %d", k,
+                i);
+    }
+  }
+  /* alpha continuous on a fine grid over the 1.25 turns */
+  for (i = 0; i <= 4000; i++) {
+    double q[3];
+    assert_int_equal(rps3_traj_eval(&m, &tr, 4.0 * i / 4000, q, NULL, NULL),
+                     0);
+    if (i > 0 && fabs(q[0] - prev) > 0.01)
+      fail_msg("alpha jumps by %g at sample %d", q[0] - prev, i);
+    prev = q[0];
+  }
+  /* and it turned more than half a turn of alpha (the rows after psi
+     passed pi were compared with the circle kind above) */
+  assert_true(prev - (0.5 * PI - 0.5 * r.psi[0]) < -PI);
+}
+
+/* the spline of the centres: exact derivatives of what it gives, against
+   central differences, between the rows */
+static void path_table_derivatives(void **state) {
+  rps3_model m;
+  rps3_traj tr;
+  path_rows r;
+  int n, k;
+  uint64_t seed = 0xce47e;
+  double h = 2e-6 * 4.0;
+  (void)state;
+  model_setup(&m);
+  path_table_setup(&tr, &r, 0);
+  assert_int_equal(rps3_traj_check(&m, &tr, NULL, 0), RPS3_OK);
+  for (n = 0; n < 300; n++) {
+    double t = rnd_uniform(&seed, 2 * h, 4.0 - 2 * h);
+    double q[3], dq[3], ddq[3], qp[3], dqp[3], qm[3], dqm[3], dd[3];
+    assert_int_equal(rps3_traj_eval(&m, &tr, t, q, dq, ddq), RPS3_OK);
+    assert_int_equal(rps3_traj_eval(&m, &tr, t + h, qp, dqp, dd), RPS3_OK);
+    assert_int_equal(rps3_traj_eval(&m, &tr, t - h, qm, dqm, dd), RPS3_OK);
+    for (k = 0; k < 3; k++) {
+      CHECK_REL(dq[k], (qp[k] - qm[k]) / (2 * h), TOL_FD, 0.1,
+                "rate %d at t = %g", k, t);
+      CHECK_REL(ddq[k], (dqp[k] - dqm[k]) / (2 * h), TOL_FD, 0.1,
+                "acceleration %d at t = %g", k, t);
+    }
+  }
+}
+
+static void path_table_refusals(void **state) {
+  rps3_model m;
+  rps3_traj tr;
+  path_rows r;
+  (void)state;
+  model_setup(&m);
+  /* no polar angles */
+  path_table_setup(&tr, &r, 2);
+  tr.path.table_psi = NULL;
+  REFUSED(tr, RPS3_F_PATH_TABLE_VALUE, 0);
+  /* a row on the axis, a row beyond r/2 */
+  path_table_setup(&tr, &r, 2);
+  r.c[17][0] = r.c[17][1] = 0.0;
+  REFUSED(tr, RPS3_F_PATH_TABLE_VALUE, 17);
+  path_table_setup(&tr, &r, 2);
+  r.c[23][0] = 0.06;
+  REFUSED(tr, RPS3_F_PATH_TABLE_VALUE, 23);
+  /* rows too far apart to follow the turn about the axis */
+  path_table_setup(&tr, &r, 2);
+  r.psi[30] += 2.0;
+  REFUSED(tr, RPS3_F_PATH_TABLE_VALUE, 30);
+  /* times, NaN: as any table, with the path's field ids */
+  path_table_setup(&tr, &r, 2);
+  r.time[9] = r.time[8];
+  REFUSED(tr, RPS3_F_PATH_TABLE_TIME, 9);
+  path_table_setup(&tr, &r, 2);
+  r.ddc[12][1] = (double)NAN;
+  REFUSED(tr, RPS3_F_PATH_TABLE_ACC, 12);
+  /* rows inside the workspace, but a rate that throws the centre out
+     between rows 40 and 41: the first bad time is after row 40 */
+  path_table_setup(&tr, &r, 2);
+  r.dc[40][0] = 3.0;
+  REFUSED(tr, RPS3_F_PATH_TABLE_VALUE, 40);
+  assert_int_equal(rps3_table_unwrap(3, NULL, r.psi), RPS3_EINVAL);
+}
+
 int main(void) {
   const struct CMUnitTest tests[] = {
       cmocka_unit_test(exact_for_polynomials),
@@ -328,6 +508,9 @@ int main(void) {
       cmocka_unit_test(spline_continuity),
       cmocka_unit_test(spline_convergence),
       cmocka_unit_test(refusals),
+      cmocka_unit_test(path_table_is_the_circle),
+      cmocka_unit_test(path_table_derivatives),
+      cmocka_unit_test(path_table_refusals),
   };
   return cmocka_run_group_tests(tests, NULL, NULL);
 }

@@ -238,3 +238,114 @@ def test_table_key_cannot_be_swept(runner, tmp_path):
     proc = run(scene, None, "--check")
     assert proc.returncode == 2
     assert "cannot be swept" in proc.stderr
+
+
+PATH_SCENE = """\
+manipulator: {R: 0.2286, rho: 0.5, M: 0.18, m_over_M: 0.5, d: 0.1524}
+trajectory:
+  kind: path
+  path: {shape: table, file: FILE}
+  samples: SAMPLES
+effects: [platform_gravity, link_gravity, platform_inertia, link_inertia]
+sweep:
+  manipulator.m_over_M: [0, 0.5]
+"""
+
+CENTRE = ("x", "y", "z")
+
+
+def helix_centre(t):
+    """The helix's centre (35): radius r* about the axis at angle phi(t),
+    rising by h in T*; with its rate and acceleration."""
+    q, dq, ddq = helix(t)
+    phi, dphi, ddphi = (np.pi - 2 * q[:, 0]), -2 * dq[:, 0], -2 * ddq[:, 0]
+    c = np.stack([RS * np.cos(phi), RS * np.sin(phi), q[:, 2]], axis=1)
+    dc = np.stack([-RS * np.sin(phi) * dphi, RS * np.cos(phi) * dphi,
+                   dq[:, 2]], axis=1)
+    ddc = np.stack([-RS * (np.sin(phi) * ddphi + np.cos(phi) * dphi**2),
+                    RS * (np.cos(phi) * ddphi - np.sin(phi) * dphi**2),
+                    ddq[:, 2]], axis=1)
+    return c, dc, ddc
+
+
+def run_path_table(tmp_path, name, samples=1001):
+    scene = write_scene(tmp_path / "s.yaml",
+                        PATH_SCENE.replace("FILE", name)
+                        .replace("SAMPLES", str(samples)))
+    out = tmp_path / (name + ".h5")
+    proc = run(scene, out, "-q")
+    assert proc.returncode == 0, proc.stderr
+    with h5py.File(out, "r") as f:
+        return {k: f[k][()] for k in ("force", "x_c", "y_c", "z_c",
+                                      "scene_resolved")}
+
+
+def test_helix_centre_table_is_the_helix(helix_forces, tmp_path):
+    """The helix's centre (x, y, z) with its rates and accelerations at the
+    output grid, as a path of shape table: through the inversion of
+    (3)-(4) the forces are the helix kind's.  1e-11 of the largest force:
+    the table's rho = sqrt(x^2 + y^2) of a radius-0.266 mm circle carries
+    rounding of ~1e-16 relative into beta (the helix kind takes r* itself),
+    and the rates of alpha divide by rho^2."""
+    t = helix_grid()
+    write_csv(tmp_path / "c.csv", t, *helix_centre(t), names=CENTRE)
+    got = run_path_table(tmp_path, "c.csv")
+    want = helix_forces["force"]
+    assert np.abs(got["force"] - want).max() <= 1e-11 * np.abs(want).max()
+
+
+def test_path_table_resolved_scene_reruns(runner, tmp_path):
+    """The resolved scene names the table by its absolute path: it reruns
+    from another directory to the same forces."""
+    t = helix_grid(201)
+    write_csv(tmp_path / "c.csv", t, helix_centre(t)[0], names=CENTRE)
+    got = run_path_table(tmp_path, "c.csv", samples=101)
+    from rps3 import h5io
+    text = h5io.text(got["scene_resolved"][0])
+    assert f"file: {tmp_path / 'c.csv'}" in text, text
+    (tmp_path / "elsewhere").mkdir()
+    alone = write_scene(tmp_path / "elsewhere" / "alone.yaml", text)
+    proc = run(alone, tmp_path / "o.h5", "-q")
+    assert proc.returncode == 0, proc.stderr
+    with h5py.File(tmp_path / "o.h5", "r") as g:
+        np.testing.assert_array_equal(g["force"][0], got["force"][0])
+
+
+@pytest.mark.parametrize("rows,words", [
+    (("0, 0.01, 0.01, 0.3", "1, 0.011, 0.012, 0.3", "2, 0, 0, 0.3",
+      "3, 0.012, 0.011, 0.3"),
+     "c.csv:5: case 0: trajectory.path.table.centre[2] = 0: the centre must "
+     "keep 0 < sqrt(x^2 + y^2) < r/2"),
+    (("0, 0.01, 0.01, 0.3", "1, 0.011, 0.012, 0.3", "2, 0.012, 0.013, abc",
+      "3, 0.012, 0.011, 0.3"),
+     "c.csv:5:18: column z: expected a number, got 'abc'"),
+])
+def test_bad_path_table(runner, tmp_path, rows, words):
+    (tmp_path / "c.csv").write_text(table(*rows, header="t, x, y, z"))
+    scene = write_scene(tmp_path / "s.yaml", PATH_SCENE.replace("FILE", "c.csv")
+                        .replace("SAMPLES", "11"))
+    proc = run(scene, None, "--check")
+    assert proc.returncode == 2
+    assert f"{scene}:4:30: trajectory.path.file: " in proc.stderr, proc.stderr
+    assert words in proc.stderr, proc.stderr
+
+
+def test_path_table_keys_of_other_shapes(runner, tmp_path):
+    (tmp_path / "c.csv").write_text(table("0, 0.01, 0.01, 0.3",
+                                          "1, 0.011, 0.012, 0.3",
+                                          "2, 0.012, 0.013, 0.3",
+                                          "3, 0.012, 0.011, 0.3",
+                                          header="t, x, y, z"))
+    text = PATH_SCENE.replace("FILE", "c.csv").replace("SAMPLES", "11")
+    proc = run(write_scene(tmp_path / "s.yaml", text.replace(
+        "file: c.csv}", "file: c.csv, duration: 3}")), None, "--check")
+    assert proc.returncode == 2
+    assert "trajectory.path.duration: not a key of a table path" in \
+        proc.stderr, proc.stderr
+    proc = run(write_scene(tmp_path / "s.yaml", text.replace(
+        "shape: table", "shape: line, duration: 2, start: [0.01, 0.01, 0.3], "
+        "end: [0.02, 0.01, 0.3]")), None, "--check")
+    assert proc.returncode == 2
+    assert "trajectory.path.file: not a key of a line path" in proc.stderr
+    assert run(write_scene(tmp_path / "s.yaml", text), None,
+               "--check").returncode == 0
