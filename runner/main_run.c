@@ -38,12 +38,12 @@
 #endif
 
 #include "cmd.h"
-#include "estimate.h"
 #include "h5err.h"
 #include "join.h"
 #include "merge.h"
 #include "parts.h"
 #include "output.h"
+#include "preflight.h"
 #include "progress.h"
 #include "safeio.h"
 #include "scene.h"
@@ -73,11 +73,12 @@ static void usage(FILE *out)
           "when complete)\n"
           "  -q, --quiet    no progress on stderr\n"
           "  --gzip LEVEL   deflate the datasets (1-9; default 0, none)\n"
-          "  --check        validate the scene and every case, write "
-          "nothing\n"
+          "  --check        validate the scene and every case, print the "
+          "estimated\n"
+          "                 output size and run time, write nothing\n"
           "  -j N           compute on N threads (default 1); same output\n"
-          "  --shard K/N    compute shard K of N (0 <= K < N) into a part "
-          "file\n"
+          "  --shard K/N    compute shard K of N (0 <= K < N <= jobs) into a "
+          "part file\n"
           "  --resume       keep OUT.h5 when it is that part, complete\n"
           "  --failed-ok    exit 0, not 1, when the file is complete but "
           "some cases failed\n"
@@ -311,66 +312,6 @@ static int agree(const world *w, int code, int *first)
   return all[0];
 }
 
-/*
- * The sweep is cut into jobs (sweep.h): whole tiles of cases, or one long
- * case.  More shards, ranks or threads than jobs leave some idle: say how
- * many, on stderr, even with --quiet (rank 0 only).
- */
-static void jobs_warn(const scene *s, const sweep_plan *p,
-                      const sweep_opts *o, const world *w, int sharded)
-{
-  size_t nj = sweep_njob(s, p);
-  size_t mine = sweep_shard_jobs(s, p, o->shard, o->nshard);
-  if (w->rank != 0)
-    return;
-  if (o->nshard > nj)
-    fprintf(stderr,
-            "rps3-run: warning: %zu %s but the sweep has %zu job%s (tiles "
-            "of up to %zu cases): %s %zu-%zu compute nothing; use at most "
-            "%zu\n",
-            o->nshard, sharded ? "shards" : "ranks", nj, nj == 1 ? "" : "s",
-            p->tile_cases, sharded ? "shards" : "ranks", nj, o->nshard - 1,
-            nj);
-  if ((size_t)o->nthread > mine && mine > 0)
-    fprintf(stderr,
-            "rps3-run: warning: -j %d but %s %zu job%s: %zu thread%s "
-            "idle\n",
-            o->nthread, o->nshard > 1 ? "this shard has" : "the sweep has",
-            mine, mine == 1 ? "" : "s", (size_t)o->nthread - mine,
-            (size_t)o->nthread - mine == 1 ? " stays" : "s stay");
-}
-
-/*
- * Say what the run will write and refuse (1) when it cannot fit on the file
- * system of out_path: this process writes the cases of its shard; under
- * mpirun the parts, and with --copy rank 0's merged copy too.
- */
-static int room_check(const scene *s, const sweep_plan *p,
-                      const sweep_opts *o, const world *w, int copy,
-                      int gzip, const char *out_path, int quiet)
-{
-  double est = est_file_bytes(s, p), need = est, avail = disk_free(out_path);
-  char e1[32], e2[32];
-  if (o->nshard > 1 && w->size == 1)
-    need = est * (double)sweep_shard_cases(s, p, o->shard, o->nshard) /
-           (double)s->ncase;
-  if (w->size > 1)
-    need = copy ? 2 * est : est;
-  if (!quiet)
-    fprintf(stderr, "rps3-run: %zu case%s, %zu samples: %s about %s%s\n",
-            s->ncase, s->ncase == 1 ? "" : "s", p->npoint, out_path,
-            est_human(need, e1, sizeof e1),
-            gzip ? " before compression" : "");
-  if (avail >= 0 && need > avail && !gzip) {
-    fprintf(stderr, "rps3-run: %s: the output needs about %s, the file "
-                    "system has %s free: nothing written\n",
-            out_path, est_human(need, e1, sizeof e1),
-            est_human(avail, e2, sizeof e2));
-    return 1;
-  }
-  return 0;
-}
-
 static int run_main(int argc, char **argv, const world *w)
 {
   const char *scene_path = NULL, *out_path = NULL, *shard_arg = NULL;
@@ -382,6 +323,7 @@ static int run_main(int argc, char **argv, const world *w)
   scene_error serr;
   sweep_plan plan;
   sweep_opts opts = {1, 0, 1};
+  pre_opts pre;
   sweep_stats st;
   out_block block;
   out_meta meta;
@@ -521,29 +463,15 @@ static int run_main(int argc, char **argv, const world *w)
       return worst;
     }
   }
-  if (check) {
-    if (w->rank == 0) {
-      size_t nj = sweep_njob(&s, &plan);
-      char size[32];
-      printf("%s: %zu case%s, %zu samples (%zu per case at most)%s; output "
-             "about %s uncompressed\n",
-             scene_path, s.ncase, s.ncase == 1 ? "" : "s", plan.npoint,
-             plan.nt, plan.grid_common ? "" : ", time grid differs by case",
-             est_human(est_file_bytes(&s, &plan), size, sizeof size));
-      if (plan.tile_cases > 1 || plan.nt <= plan.tile_points)
-        printf("%zu job%s of up to %zu cases: at most %zu shards, ranks or "
-               "threads have work\n",
-               nj, nj == 1 ? "" : "s", plan.tile_cases, nj);
-      else
-        printf("%zu job%s of one case each (in windows of %zu samples): at "
-               "most %zu shards, ranks or threads have work\n",
-               nj, nj == 1 ? "" : "s", plan.tile_points, nj);
-    }
-    jobs_warn(&s, &plan, &opts, w, w->size == 1);
+  pre.rank = w->rank;
+  pre.nrank = w->size;
+  pre.copy = copy;
+  pre.gzip = gzip;
+  pre.quiet = quiet;
+  if (pre_jobs(&s, &plan, &opts, &pre)) {
     scene_free(&s);
-    return EXIT_OK;
+    return EXIT_USAGE;
   }
-  jobs_warn(&s, &plan, &opts, w, w->size == 1);
   {
     /* threads beyond the cores compute nothing faster and each holds a
        tile and a workspace (-j 1024 on 2 cores took 4.3 GB): use the
@@ -558,8 +486,13 @@ static int run_main(int argc, char **argv, const world *w)
       opts.nthread = (int)cores;
     }
   }
-  if (w->rank == 0 &&
-      room_check(&s, &plan, &opts, w, copy, gzip, out_path, quiet))
+  if (check) {
+    if (w->rank == 0)
+      pre_check_print(scene_path, &s, &plan, &opts, &pre);
+    scene_free(&s);
+    return EXIT_OK;
+  }
+  if (w->rank == 0 && pre_room(&s, &plan, &opts, &pre, out_path))
     code = EXIT_USAGE;
   if ((code = agree(w, code, NULL)) != EXIT_OK) {
     scene_free(&s);

@@ -378,23 +378,16 @@ def test_strict_numbers_on_the_command_line(runner, tmp_path, args):
     assert names(tmp_path) == []
 
 
-def test_a_huge_shard_count_does_not_wrap_around(runner, tmp_path):
-    """Shard 1 of 2^64 - 1 has no job (job j belongs to shard j); the job
-    loop used to wrap to job 0."""
+def test_a_huge_shard_count_is_refused(runner, tmp_path):
+    """--shard 1/18446744073709551615 (the job loop used to wrap around to
+    job 0): N above the jobs is refused, with the job count."""
     scene = write_scene(tmp_path / "s.yaml",
                         SINE_SWEEP.replace("num: 100", "num: 40"))
     out = tmp_path / "p.h5"
     proc = run(scene, out, "-q", "--shard", "1/18446744073709551615")
-    assert proc.returncode == 0, proc.stderr
-    assert "compute nothing" in proc.stderr
-    with h5py.File(out, "r") as f:
-        status = f["status"][()]
-        c = f["status"].chunks[0]                # cases per job: 14
-        assert c == 14
-        assert (status[:c] == -1000).all(), status  # not computed
-        assert (status[c:2 * c] == 0).all()      # job 1
-        assert (status[2 * c:] == -1000).all()
-        assert np.isnan(f["force"][:c]).all()
+    assert proc.returncode == 2, proc.stderr
+    assert "the sweep has 3 jobs (tiles of up to 14 cases)" in proc.stderr
+    assert names(tmp_path) == ["s.yaml"]
 
 
 @pytest.mark.parametrize("args", [

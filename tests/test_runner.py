@@ -5,6 +5,7 @@ import datetime
 import itertools
 import os
 import pty
+import re
 import resource
 import signal
 import subprocess
@@ -259,6 +260,46 @@ def test_exit_codes(runner, tmp_path):
     assert subprocess.run([RUNNER, "--help"], capture_output=True).returncode == 0
 
 
+def test_check_estimates_the_run_time(runner, tmp_path):
+    """--check times a few samples of a few cases and states the run time
+    as an estimate (never asserted against a clock: only its form, what it
+    counts and how it scales with what it is told)."""
+    paper = os.path.join(CONFIGS, "paper.yaml")
+
+    def said(*args, scene=paper):
+        proc = run(scene, None, "--check", *args)
+        assert proc.returncode == 0, proc.stderr
+        line = [x for x in proc.stdout.splitlines()
+                if x.startswith("run time")]
+        assert len(line) == 1, proc.stdout
+        return line[0]
+
+    line = said()
+    m = re.match(r"run time about ([0-9.e+-]+) (s|min|h|days) on 1 thread "
+                 r"\(an estimate: ([0-9.e+-]+) us a sample computing, timed "
+                 r"on (\d+) samples of 2 cases, \+ ([0-9.e+-]+) us writing\)$",
+                 line)
+    assert m, line
+    # both cases, all of their 1001 samples (up to 6000 in all)
+    assert int(m.group(4)) == 2002
+    assert float(m.group(3)) > 0 and float(m.group(5)) > 0
+    # deflating costs more than writing
+    gz = re.search(r"\+ ([0-9.e+-]+) us writing and deflating\)$",
+                   said("--gzip", "1"))
+    assert gz and float(gz.group(1)) > float(m.group(5))
+    # one job (both cases in one tile): -j 2 has one thread at work
+    assert " on 1 thread " in said("-j", "2")
+    # three long cases are three jobs: -j 2 runs on 2 threads
+    many = write_scene(tmp_path / "many.yaml", failing_sine(samples=20001))
+    assert "timed on 6000 samples of 3 cases" in said(scene=many)
+    assert " on 2 threads " in said("-j", "2", scene=many)
+    # a case that fails at its first sample is timed on that sample
+    text = failing_sine().replace("[0.05, 0.2, 0.1]", "[0.2]")
+    text = text.replace("mean: [0, 0.05, 0.15]", "mean: [0, 0.05, -0.15]")
+    dead = write_scene(tmp_path / "dead.yaml", text)
+    assert "timed on 1 samples of 1 case" in said(scene=dead)
+
+
 def test_gzip_gives_the_same_numbers(runner, tmp_path, paper_h5):
     out = tmp_path / "z.h5"
     assert run(os.path.join(CONFIGS, "paper.yaml"), out, "--gzip", "4",
@@ -275,7 +316,10 @@ def test_progress_lines_quiet_and_bar(runner, tmp_path):
     assert proc.returncode == 0
     first, last = proc.stderr.splitlines()
     assert first.startswith("rps3-run: 2 cases, 2002 samples: ")
-    assert first.endswith("a.h5 about 800 kB")
+    # the size, and the run time estimated from a few timed samples
+    size, when = first.split("a.h5 about ")[1].split(", about ")
+    assert size == "800 kB"
+    assert when.endswith(" s on 1 thread") and float(when.split()[0]) > 0
     assert last.startswith("rps3-run: 2/2 cases (0 failed), 2002 samples")
     proc = run(paper, tmp_path / "b.h5", "--quiet")
     assert proc.returncode == 0 and proc.stderr == ""

@@ -337,22 +337,27 @@ def test_mpirun_bad_scene_and_shard(tmp_path):
     assert sorted(os.listdir(tmp_path)) == ["bad.yaml", "mixed.yaml"]
 
 
-def test_jobs_are_counted_and_idle_shards_warned(tmp_path):
-    """mixed: 20 cases of 4001 samples, tiles of 4 cases: 5 jobs."""
+def test_jobs_are_counted_and_too_many_shards_refused(tmp_path):
+    """mixed: 20 cases of 4001 samples, tiles of 4 cases: 5 jobs.  A shard
+    beyond the jobs could hold nothing: --shard K/N with N > 5 is refused
+    (exit 2, nothing written), naming the job count; -j beyond the jobs is
+    a warning."""
     scene = mixed_scene(tmp_path)
     proc = run(scene, None, "--check")
     assert proc.returncode == 0, proc.stderr
     assert "5 jobs of up to 4 cases: at most 5 shards" in proc.stdout
     assert "warning" not in proc.stderr
-    proc = run(scene, None, "--check", "--shard", "0/8")
-    assert "8 shards but the sweep has 5 jobs" in proc.stderr
-    assert "shards 5-7 compute nothing; use at most 5" in proc.stderr
-    # a run says it too, even with -q, and an idle shard is still a part
-    proc = run(scene, tmp_path / "p6.h5", "-q", "--shard", "6/8")
+    for args in (["--check", "--shard", "0/8"], ["--shard", "6/8"],
+                 ["-q", "--shard", "1/6"]):
+        out = [] if "--check" in args else [tmp_path / "p.h5"]
+        proc = run(scene, *out, *args)
+        assert proc.returncode == 2, (args, proc.stderr)
+        assert "the sweep has 5 jobs (tiles of up to 4 cases), so at most " \
+               "5 shards can have work: use --shard K/5 or fewer" \
+            in proc.stderr, proc.stderr
+    assert sorted(os.listdir(tmp_path)) == ["mixed.yaml"]
+    proc = run(scene, tmp_path / "p4.h5", "-q", "--shard", "4/5")
     assert proc.returncode == 0, proc.stderr
-    assert "8 shards but the sweep has 5 jobs" in proc.stderr
-    with h5py.File(tmp_path / "p6.h5", "r") as f:
-        assert (f["status"][()] == -1000).all()
     proc = run(scene, tmp_path / "p1.h5", "--shard", "1/2", "-j", "4")
     assert "-j 4 but this shard has 2 jobs: 2 threads stay idle" \
         in proc.stderr
@@ -360,6 +365,24 @@ def test_jobs_are_counted_and_idle_shards_warned(tmp_path):
     proc = run(scene, tmp_path / "all.h5", "-j", "2")
     assert "warning" not in proc.stderr
     assert proc.stderr.rstrip().endswith(", 5 jobs"), proc.stderr
+
+
+@pytest.mark.skipif(MPIRUN is None, reason="mpirun (openmpi-bin) missing")
+def test_more_ranks_than_jobs_warn_and_join(tmp_path):
+    """mpirun -n N is often set by the allocation: ranks beyond the jobs
+    write empty parts and the join still gives the whole file."""
+    scene = write_scene(tmp_path / "two.yaml",
+                        FAILING_SINE.replace("SAMPLES", "9001").replace(
+                            "THETA", "closed_form").replace(
+                            "[0.05, 0.2, 0.1]", "[0.05, 0.1]"))
+    out = tmp_path / "mpi.h5"
+    proc = mpirun(3, RUNNER_MPI, scene, "-o", out)
+    assert proc.returncode == 0, proc.stderr
+    assert "3 ranks but the sweep has 2 jobs" in proc.stderr
+    assert "ranks 2-2 compute nothing; use at most 2" in proc.stderr
+    with h5py.File(out, "r") as f:
+        assert (f["status"][()] == 0).all()
+        assert not np.isnan(f["force"][()]).any()
 
 
 def test_resume_skips_complete_parts_only(reference, tmp_path):
