@@ -379,14 +379,17 @@ uninstall:
 	@if [ -z "$(DESTDIR)" ] && [ "$$(id -u)" = 0 ] && [ -x /sbin/ldconfig ]; then /sbin/ldconfig; fi
 
 # ------------------------------------------------------------ trajectories
-# the trajectory kinds waypoints and path (docs/trajectories.md): the
-# shipped configs run, and one figure each in out/traj_*.png
-TRAJ_CONFIGS = pick_place circle line paper_path
+# the trajectory kinds waypoints, path and table (docs/trajectories.md): the
+# shipped configs run, and one figure each in out/traj_*.png; the measured
+# motion's forces against those of the smooth motion it samples in
+# out/measured.png (configs/measured.csv is `analysis/measured.py generate`)
+TRAJ_CONFIGS = pick_place circle line paper_path measured
 .PHONY: trajectories
 trajectories: runner venv
 	@mkdir -p out
 	for c in $(TRAJ_CONFIGS); do $(B)/rps3-run configs/$$c.yaml -o out/$$c.h5 -q || exit 1; done
 	$(VPY) analysis/trajectories.py out $(TRAJ_CONFIGS:%=out/%.h5)
+	$(VPY) analysis/measured.py figure out/measured.h5 out
 
 # ------------------------------------------------------------------- docs
 # the key table of docs/runner.md is `rps3-run --keys`; tests/test_docs.py

@@ -125,12 +125,14 @@ def test_trajectory_figures_are_written(config_runs, tmp_path):
     import sys
 
     from conftest import ANALYSIS
-    runs = [str(config_runs[n][0]) for n in KINDS]
+    # and a table (configs/measured.yaml), whose rates the C tests check
+    names = KINDS + ("measured",)
+    runs = [str(config_runs[n][0]) for n in names]
     proc = subprocess.run([sys.executable,
                            os.path.join(ANALYSIS, "trajectories.py"),
                            str(tmp_path)] + runs,
                           capture_output=True, text=True, timeout=120)
     assert proc.returncode == 0, proc.stderr
-    for n in KINDS:
+    for n in names:
         data = (tmp_path / f"traj_{n}.png").read_bytes()
         assert data[:8] == b"\x89PNG\r\n\x1a\n" and len(data) > 20000, n
