@@ -34,6 +34,23 @@ static const rps3_field_info own_fields[SCENE_NOWN] = {
 static const int own_fills[SCENE_NOWN] = {SCENE_OWN_FIELDS(OWN_FILLS)};
 #undef OWN_FILLS
 
+/* the simulate section's fields (scene_sim.h), their defaults and the
+   key table's text for a default that is not a value */
+#define SIM_ROW(ID, MEMBER, IS_INT, LO, LO_OPEN, HI, UNIT, DEF, DEFTEXT)      \
+  {"simulate." #MEMBER, RPS3_IN_MODEL, offsetof(scene_sim, MEMBER), 1,        \
+   IS_INT, LO, LO_OPEN, HI, UNIT},
+static const rps3_field_info sim_fields[SCENE_NSIM] = {
+    SCENE_SIM_FIELDS(SIM_ROW)};
+#undef SIM_ROW
+#define SIM_DEF(ID, MEMBER, IS_INT, LO, LO_OPEN, HI, UNIT, DEF, DEFTEXT) DEF,
+static const double sim_default[SCENE_NSIM] = {SCENE_SIM_FIELDS(SIM_DEF)};
+#undef SIM_DEF
+#define SIM_DEFTEXT(ID, MEMBER, IS_INT, LO, LO_OPEN, HI, UNIT, DEF, DEFTEXT)  \
+  DEFTEXT,
+static const char *const sim_deftext[SCENE_NSIM] = {
+    SCENE_SIM_FIELDS(SIM_DEFTEXT)};
+#undef SIM_DEFTEXT
+
 /* the rows as written; keys[] adds what their field's row says */
 #define KEY_ROW(ID, PATH, TYPE, SRC, FIELD, REQ, SYM, DOC)                    \
   {PATH, TYPE, SRC_##SRC, FIELD, NULL, 0, REQ, NULL, SYM, DOC},
@@ -52,7 +69,9 @@ static void keys_build(void)
   for (k = 0; k < SCENE_NKEY; k++) {
     scene_key_info *ki = &keys[k];
     *ki = key_rows[k];
-    ki->f = ki->src == SRC_OWN ? &own_fields[ki->field] : rps3_field(ki->field);
+    ki->f = ki->src == SRC_OWN   ? &own_fields[ki->field]
+            : ki->src == SRC_SIM ? &sim_fields[ki->field]
+                                 : rps3_field(ki->field);
     ki->unit = ki->f->unit;
     ki->kind = ki->f->in >= RPS3_IN_HELIX ? ki->f->in - 1 : FOR_ALL;
   }
@@ -90,6 +109,8 @@ static int shape_mask(int k)
 /* the library field key k fills, directly or converted (-1: none) */
 static int key_fills(int k)
 {
+  if (keys[k].src == SRC_SIM)
+    return -1; /* the controller's model and the simulation: not the plant */
   return keys[k].src == SRC_OWN ? own_fills[keys[k].field] : keys[k].field;
 }
 
@@ -98,7 +119,11 @@ static const char *const sections[] = {"", "manipulator", "trajectory",
                                        "solver", "manipulator.payload",
                                        "manipulator.pin_friction",
                                        "trajectory.waypoints",
-                                       "trajectory.path", "trajectory.table"};
+                                       "trajectory.path", "trajectory.table",
+                                       "simulate",
+                                       "simulate.model",
+                                       "simulate.model.payload",
+                                       "simulate.model.pin_friction"};
 #define NSECTION (sizeof sections / sizeof sections[0])
 
 /* a value counts as equal to a whole number within this many ulps of its
@@ -169,6 +194,10 @@ const char *scene_enum_name(int k, int value)
   case K_PATH_SHAPE:
     return (value >= 0 && value <= RPS3_PATH_TABLE) ? shape_names[value]
                                                     : NULL;
+  case K_SIM_CONTROLLER:
+    return rps3_ctrl_name(value);
+  case K_SIM_INTEGRATOR:
+    return rps3_integrator_name(value);
   default:
     return NULL;
   }
@@ -223,6 +252,7 @@ static void effect_list(char *buf, size_t sz)
 static char *value_at(scene_values *v, int k)
 {
   char *base = keys[k].src == SRC_OWN        ? (char *)&v->own
+               : keys[k].src == SRC_SIM       ? (char *)&v->sim
                : keys[k].f->in == RPS3_IN_MODEL ? (char *)&v->model
                                                 : (char *)&v->traj;
   return base + keys[k].f->offset;
@@ -258,7 +288,15 @@ static void value_set(scene_values *v, int k, int comp, double x)
    own values are those the library's defaults imply */
 static void values_default(scene_values *v)
 {
+  int i;
   memset(v, 0, sizeof *v);
+  for (i = 0; i < SCENE_NSIM; i++) {
+    char *p = (char *)&v->sim + sim_fields[i].offset;
+    if (sim_fields[i].is_int)
+      *(int *)(void *)p = (int)sim_default[i];
+    else
+      *(double *)(void *)p = sim_default[i];
+  }
   rps3_model_default(&v->model);
   rps3_traj_default(&v->traj);
   v->own.m_over_M = v->model.M > 0 ? v->model.m / v->model.M : 0;
@@ -649,7 +687,8 @@ static void keys_under(const char *prefix, char *buf, size_t sz)
   int k;
   buf[0] = '\0';
   if (plen == 0) {
-    snprintf(buf, sz, "manipulator, trajectory, effects, solver, sweep");
+    snprintf(buf, sz,
+             "manipulator, trajectory, effects, solver, simulate, sweep");
     return;
   }
   for (k = 0; k < SCENE_NKEY && len < sz; k++) {
@@ -734,6 +773,8 @@ static int walk_section(parse_ctx *c, const yaml_node_t *map,
       }
       if (sec < 4)
         s->section[sec] = mark_of(&val->start_mark);
+      if (strcmp(full, "simulate") == 0)
+        s->simulate = mark_of(&val->start_mark);
       if (walk_section(c, val, full))
         return -1;
       continue;
@@ -1387,6 +1428,7 @@ int scene_case_build(const scene *s, size_t index, scene_case *c,
   c->by_ratio = s->given[K_M_OVER_M];
   c->by_dt = s->given[K_DT];
   c->by_blend_ratio = s->given[K_BLEND_RATIO];
+  c->simulate = s->simulate.line > 0;
   c->v = s->base;
   for (a = 0; a < s->naxis; a++)
     value_set(&c->v, s->axis[a].key, s->axis[a].comp,
@@ -1549,7 +1591,7 @@ static int emit_value(yaml_emitter_t *em, int k, const scene_values *v)
   case KEY_EFFECTS:
     ok = emit_open(em, 1, 1);
     for (i = 0; i < RPS3_NEFFECT && ok; i++)
-      if (v->model.opt.effects & (1 << i))
+      if (*int_at(w, k) & (1 << i))
         ok = emit_scalar(em, rps3_effect_name(i));
     return ok && emit_close(em, 1);
   case KEY_TIMES:
@@ -1584,6 +1626,14 @@ static int case_has_key(const scene_case *c, int k)
   const scene_key_info *ki = &keys[k];
   if (ki->kind != FOR_ALL && ki->kind != (int)c->v.traj.kind)
     return 0;
+  if (ki->src == SRC_SIM) {
+    /* written when simulated; "not given" (NaN, -1) is not a value */
+    scene_values *w = (scene_values *)(void *)&c->v; /* read only */
+    if (!c->simulate)
+      return 0;
+    return ki->type == KEY_REAL ? !isnan(*real_at(w, k))
+                                : *int_at(w, k) >= 0;
+  }
   if (k == K_M_OVER_M || k == K_MASS)
     return (k == K_M_OVER_M) == (c->by_ratio != 0);
   if (k == K_SAMPLES || k == K_DT)
@@ -1710,7 +1760,9 @@ void scene_keys_print(void)
       type = "file name";
       break;
     }
-    if (ki->req == REQ_YES)
+    if (ki->src == SRC_SIM && sim_deftext[ki->field])
+      snprintf(def, sizeof def, "%s", sim_deftext[ki->field]);
+    else if (ki->req == REQ_YES)
       snprintf(def, sizeof def, "required");
     else if (ki->req == REQ_SHAPE)
       snprintf(def, sizeof def, "required by its shape");

@@ -16,6 +16,7 @@
 
 #include "rps3.h"
 #include "table.h"
+#include "scene_sim.h"
 
 /* a position in the scene file, both 1-based; 0:0 when not known */
 typedef struct {
@@ -99,6 +100,7 @@ typedef struct {
   scene_own own;
   const char *table_file; /* kind table: the file, absolute (the scene's) */
   const char *path_file;  /* path shape table: the file, absolute */
+  scene_sim sim;          /* the simulate section (scene_sim.h) */
 } scene_values;
 
 /*
@@ -267,21 +269,23 @@ typedef struct {
     REQ_NO, "-", "fail (singular) above this force transmission")             \
   X(K_MODE, "solver.mode", KEY_INT, LIB, RPS3_F_MODE, REQ_NO, "-",            \
     "assembly mode the theta solve must return: 0 any, 1 the level "         \
-    "platform's (det df/dtheta > 0), -1 the other")
+    "platform's (det df/dtheta > 0), -1 the other")                         \
+  SCENE_SIM_KEYS(X)
 
 #define SCENE_KEY_ID(ID, ...) ID,
 typedef enum { SCENE_KEYS(SCENE_KEY_ID) SCENE_NKEY } scene_key;
 #undef SCENE_KEY_ID
 
 /* where a key's value is stored */
-enum { SRC_LIB = 0, SRC_OWN = 1 };
+enum { SRC_LIB = 0, SRC_OWN = 1, SRC_SIM = 2 };
 
 /* one row of SCENE_KEYS, with its field's row resolved */
 typedef struct {
   const char *path;
   key_type type;
   int src;       /* SRC_LIB or SRC_OWN */
-  int field;     /* rps3_field_id (SRC_LIB) or OWN_* (SRC_OWN) */
+  int field;     /* rps3_field_id (SRC_LIB), OWN_* (SRC_OWN) or SIM_*
+                    (SRC_SIM) */
   const rps3_field_info *f; /* the field's row: offset, range, unit */
   int kind;      /* FOR_*, from the field's IN */
   int req;       /* REQ_* */
@@ -314,6 +318,7 @@ typedef struct {
   unsigned char given[SCENE_NKEY]; /* 1: in the file (or swept) */
   scene_mark mark[SCENE_NKEY];     /* where each given key's value is */
   scene_mark section[4];  /* root, manipulator, trajectory, solver */
+  scene_mark simulate;    /* the simulate section; line 0: none */
   size_t naxis;
   scene_axis *axis;       /* the sweep, in file order */
   size_t ncase;           /* product of the axis lengths (1: no sweep) */
@@ -340,6 +345,7 @@ typedef struct {
   int by_ratio;           /* 1: link mass from m_over_M, 0: from m */
   int by_dt;              /* 1: grid from dt, 0: from samples */
   int by_blend_ratio;     /* 1: t_a from blend_ratio, 0: from blend */
+  int simulate;           /* 1: the scene has a simulate section */
 } scene_case;
 
 /*
