@@ -761,3 +761,41 @@ void out_schema_print(void)
                                        : "string",
            fields[i].units, fields[i].doc);
 }
+
+/* ------------------------------- the helpers sim_output.c shares (output.h) */
+
+int out_h5_attr(hid_t obj, hid_t str, const char *name, const char *value)
+{
+  return attr_str(obj, str, name, value);
+}
+
+hid_t out_h5_dataset(hid_t file, hid_t str, const char *name, hid_t type,
+                     int rank, const hsize_t *dims, const hsize_t *chunk,
+                     int gzip, const void *fill, const char *units,
+                     const char *doc)
+{
+  return dataset(file, str, name, type, rank, dims, chunk, gzip, fill, units,
+                 doc);
+}
+
+hid_t out_h5_scale(hid_t file, hid_t str, const char *name, hid_t type,
+                   size_t n, const void *data, const char *units,
+                   const char *doc)
+{
+  return scale(file, str, name, type, n, data, units, doc);
+}
+
+int out_h5_rows(hid_t ds, hid_t type, size_t c0, size_t n, const void *data)
+{
+  return write_rows(ds, type, c0, n, data);
+}
+
+int out_h5_axis(hid_t ds, hid_t str, const scene *s, size_t a)
+{
+  return write_axis(ds, str, s, a);
+}
+
+char *out_h5_coordinates(const scene *s, int grid_common)
+{
+  return coordinates(s, grid_common);
+}

@@ -168,4 +168,33 @@ void out_fail(char *err, size_t errsz, const char *fmt, ...);
    an open file.  Returns 0 or -1. */
 int out_stamp(hid_t file, const char *command_line);
 
+/* ------------------------------- HDF5 helpers for sim_output.c */
+
+/* a scalar string attribute (str: the file's UTF-8 string type); 0 or -1 */
+int out_h5_attr(hid_t obj, hid_t str, const char *name, const char *value);
+
+/* a dataset with units and description attributes, as the runner's own:
+   chunk NULL for contiguous, else Fletcher-32 (and deflate at gzip) on
+   every chunk, fill value fill (NULL: HDF5's), no chunk cache; or -1 */
+hid_t out_h5_dataset(hid_t file, hid_t str, const char *name, hid_t type,
+                     int rank, const hsize_t *dims, const hsize_t *chunk,
+                     int gzip, const void *fill, const char *units,
+                     const char *doc);
+
+/* a 1-D dimension scale of n values (data NULL: written later); or -1 */
+hid_t out_h5_scale(hid_t file, hid_t str, const char *name, hid_t type,
+                   size_t n, const void *data, const char *units,
+                   const char *doc);
+
+/* n elements into rows [c0, c0 + n) of a 1-D dataset; 0 or -1 */
+int out_h5_rows(hid_t ds, hid_t type, size_t c0, size_t n, const void *data);
+
+/* the values of sweep axis a of s, case by case, into a [case] dataset of
+   the key's type; 0 or -1 */
+int out_h5_axis(hid_t ds, hid_t str, const scene *s, size_t a);
+
+/* "key1 key2 [case_time]": the coordinates attribute (malloc'd; NULL when
+   out of memory) */
+char *out_h5_coordinates(const scene *s, int grid_common);
+
 #endif /* RPS3_RUNNER_OUTPUT_H */
