@@ -48,6 +48,8 @@
 #include "safeio.h"
 #include "scene.h"
 #include "signals.h"
+#include "sim_output.h"
+#include "simulate.h"
 #include "sweep.h"
 
 /* most threads of -j */
@@ -64,7 +66,8 @@ static void usage(FILE *out)
           "       mpirun -n N rps3-run-mpi SCENE.yaml -o OUT.h5 [--copy] "
           "[...]\n"
           "       rps3-run --clean OUT.h5 [--force]\n"
-          "       rps3-run --keys | --schema | --version | --help\n"
+          "       rps3-run --keys | --schema | --sim-schema | --version | "
+          "--help\n"
           "\n"
           "Runs the inverse dynamics of the Lee & Shah 3-RPS manipulator "
           "along the\n"
@@ -91,6 +94,7 @@ static void usage(FILE *out)
           "self-contained file)\n"
           "  --keys         print the scene keys (markdown)\n"
           "  --schema       print the datasets of OUT.h5 (markdown)\n"
+          "  --sim-schema   ... of OUT.h5 of a scene with a simulate section\n"
           "exit: 0 ok, 1 some cases failed, 2 bad scene or usage, 3 cannot "
           "write\n");
 }
@@ -345,6 +349,9 @@ static int run_main(int argc, char **argv, const world *w)
     } else if (strcmp(a, "--schema") == 0) {
       out_schema_print();
       return EXIT_OK;
+    } else if (strcmp(a, "--sim-schema") == 0) {
+      sim_schema_print();
+      return EXIT_OK;
     } else if (strcmp(a, "-q") == 0 || strcmp(a, "--quiet") == 0) {
       quiet = 1;
     } else if (strcmp(a, "--check") == 0) {
@@ -462,6 +469,24 @@ static int run_main(int argc, char **argv, const world *w)
         scene_free(&s);
       return worst;
     }
+  }
+  /* a scene with a simulate section is simulated instead (simulate.h) */
+  if (sim_wanted(&s)) {
+    sim_args sa;
+    sa.out_path = out_path;
+    sa.check = check;
+    sa.quiet = quiet;
+    sa.gzip = gzip;
+    sa.nthread = opts.nthread;
+    sa.sharded = shard_arg != NULL || resume || w->size > 1;
+    sa.command_line = cmd = command_line(argc, argv);
+    /* refused under mpirun: rank 0 says so */
+    code = !cmd ? EXIT_IO
+           : w->rank > 0 ? EXIT_USAGE
+                         : sim_main(&s, &sa);
+    free(cmd);
+    scene_free(&s);
+    return code;
   }
   pre.rank = w->rank;
   pre.nrank = w->size;
