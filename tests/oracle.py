@@ -131,6 +131,25 @@ def build_shim(outdir):
     return lib
 
 
+def build_sim_shim(outdir):
+    """Compile tests/sim_shim.c (rps3_sim driven open loop by a force
+    table) against build/librps3.so; the CDLL."""
+    so = os.path.join(str(outdir), "libsim_shim.so")
+    build = os.path.join(ROOT, "build")
+    subprocess.run([os.environ.get("CC", "cc"), "-std=c99", "-O2", "-fPIC",
+                    "-shared", "-I" + os.path.join(ROOT, "include"),
+                    os.path.join(ROOT, "tests", "sim_shim.c"), "-o", so,
+                    "-L" + build, "-lrps3", "-Wl,-rpath," + build],
+                   check=True, capture_output=True, text=True)
+    lib = ctypes.CDLL(so)
+    dp = np.ctypeslib.ndpointer(np.float64, flags="C_CONTIGUOUS")
+    lib.rps3_shim_sim.argtypes = [dp, ctypes.c_int, ctypes.c_int,
+                                  ctypes.c_double, ctypes.c_double, dp, dp,
+                                  ctypes.c_int, ctypes.c_double, dp, dp, dp,
+                                  dp, dp, ctypes.c_char_p, ctypes.c_int]
+    return lib
+
+
 def library_forces(lib, p, effects, states, method=0, theta=0):
     """F (n, 3), F_effect (n, 6, 3) and status (n,) from rps3_inverse."""
     pose, dpose, ddpose = (np.ascontiguousarray(s, float) for s in states)

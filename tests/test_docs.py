@@ -23,3 +23,12 @@ def test_every_key_row_has_unit_range_and_doc(runner):
     for r in rows:
         assert len(r) == 7, r
         assert r[2] and r[3] and r[6].strip(" |"), r
+
+
+def test_simulation_schema_in_docs_is_generated(runner):
+    schema = subprocess.run([RUNNER, "--sim-schema"], capture_output=True,
+                            text=True, check=True).stdout
+    with open(os.path.join(ROOT, "docs", "runner.md")) as f:
+        doc = f.read()
+    assert schema in doc, "docs/runner.md simulation table is stale: run " \
+        "`make docs`"

@@ -20,9 +20,7 @@ MuJoCo's own energy is not used.
 """
 
 import ctypes
-import os
 import re
-import subprocess
 
 import numpy as np
 import pytest
@@ -40,19 +38,7 @@ RK8PD = 2
 @pytest.fixture(scope="module")
 def shims(tmp_path_factory):
     out = tmp_path_factory.mktemp("simshim")
-    so = os.path.join(str(out), "libsim_shim.so")
-    build = os.path.join(ROOT, "build")
-    subprocess.run([os.environ.get("CC", "cc"), "-std=c99", "-O2", "-fPIC",
-                    "-shared", "-I" + os.path.join(ROOT, "include"),
-                    os.path.join(ROOT, "tests", "sim_shim.c"), "-o", so,
-                    "-L" + build, "-lrps3", "-Wl,-rpath," + build],
-                   check=True, capture_output=True, text=True)
-    lib = ctypes.CDLL(so)
-    dp = np.ctypeslib.ndpointer(np.float64, flags="C_CONTIGUOUS")
-    lib.rps3_shim_sim.argtypes = [dp, ctypes.c_int, ctypes.c_int,
-                                  ctypes.c_double, ctypes.c_double, dp, dp,
-                                  ctypes.c_int, ctypes.c_double, dp, dp, dp,
-                                  dp, dp, ctypes.c_char_p, ctypes.c_int]
+    lib = oracle.build_sim_shim(out)
     return oracle.build_shim(out), lib, oracle.symbolic()
 
 

@@ -1,0 +1,251 @@
+"""rps3-run on scenes with a `simulate:` section (runner/simulate.c): each
+case simulated by rps3_sim under its controller, into a file of its own
+schema (docs/runner.md "Simulation").
+
+The oracles are other routes to the same numbers: the applied forces of
+the file replayed open loop through rps3_sim by tests/sim_shim.c (the same
+integrator and steps: the motion must come back to rounding); the
+reference motion against rps3-run's inverse-dynamics run of the same scene
+without the section; the closed-loop tracking errors against
+rps3-simstudy's table in docs/simulation.md (a separate program over the
+library); physics for the gain sweeps; and the energy balance in the file.
+"""
+
+import ctypes
+import re
+import subprocess
+
+import h5py
+import numpy as np
+import pytest
+
+import oracle
+from conftest import run, write_scene
+
+RPS3_EREACH = 1
+
+PLANT = dict(R=0.2286, rho=0.5, M=0.18, m_over_M=0.5, d=0.1524,
+             g=9.80665)
+HEAD = """\
+manipulator:
+  R: 0.2286
+  rho: 0.5
+  M: 0.18
+  m_over_M: 0.5
+  d: 0.1524
+  pin_friction: {viscous: 0.0137, coulomb: 0.0029, vreg: 0.001}
+trajectory:
+  kind: sine
+  mean: [0.31, 0.21, 0.30]
+  amp: [1.03, 0.083, 0.029]
+  freq: [1.07, 2.03, 3.01]
+  phase: [0, 0.4, 0]
+  duration: 0.5
+  dt: 0.001
+"""
+
+
+@pytest.fixture(scope="module")
+def shim(tmp_path_factory):
+    return oracle.build_sim_shim(tmp_path_factory.mktemp("simshim"))
+
+
+def simulate(tmp_path, text, name="s", *args):
+    scene = write_scene(tmp_path / f"{name}.yaml", text)
+    out = tmp_path / f"{name}.h5"
+    proc = run(scene, out, "-q", *args)
+    return out, proc
+
+
+def test_case_equals_open_loop_replay_through_rps3_sim(runner, shim,
+                                                        tmp_path):
+    """PD + gravity at 1 kHz on a fast sine with friction: the applied
+    forces of the file, fed back open loop through rps3_sim (the same
+    integrator and steps), give back the file's motion and energies."""
+    h5, proc = simulate(tmp_path, HEAD + "simulate: {controller: "
+                        "pd_gravity, rate: 1000, h: 0.001}\n")
+    assert proc.returncode == 0, proc.stderr
+    with h5py.File(h5, "r") as f:
+        t = f["time"][()]
+        l = f["length"][0]
+        F = f["force"][0]
+        T, P = f["kinetic_energy"][0], f["potential_energy"][0]
+        W = f["work_actuators"][0] + f["work_friction"][0]
+        pose0 = [f["alpha"][0, 0], f["beta"][0, 0], f["z_c"][0, 0]]
+        resid = f["energy_residual"][0]
+        assert f["status"][0] == 0 and f["failed_at"][0] == -1
+        assert f["nticks"][0] == len(t) - 1
+    n = len(t) - 1
+    assert np.isnan(F[0]).all() and np.isfinite(F[1:]).all()
+    # the trajectory's rates at t = 0 (the sine's derivative)
+    amp = np.array([1.03, 0.083, 0.029])
+    freq = np.array([1.07, 2.03, 3.01])
+    phase = np.array([0, 0.4, 0])
+    dpose0 = amp * 2 * np.pi * freq * np.cos(phase)
+    p = np.array([PLANT["R"], PLANT["rho"], PLANT["M"], 0.09, PLANT["d"], 0,
+                  PLANT["g"], 0, 0, 0, 0, 0, 0, 0, 0.0137, 0.0029, 0.001])
+    effects = 0b101111  # the paper's four and pin friction
+    lr = np.zeros((n + 1, 3))
+    Tr, Pr, Wr = (np.zeros(n + 1) for _ in range(3))
+    err = ctypes.create_string_buffer(256)
+    rc = shim.rps3_shim_sim(p, effects, 0, 1e-3, 1e-9,
+                            np.array(pose0), dpose0, n, 1e-3,
+                            np.ascontiguousarray(F[1:]), lr, Tr, Pr, Wr,
+                            err, 256)
+    assert rc == 0, err.value
+    # the same arithmetic but for the controller: rounding, amplified by
+    # 0.5 s of an open-loop unstable plant (~1e3): 1e-12 m is far below
+    # a wrong force (1e-2 N moves a link by ~1e-4 m here)
+    assert np.abs(l - lr).max() <= 1e-12
+    assert np.abs(T - Tr).max() <= 1e-12
+    assert np.abs(P - Pr).max() <= 1e-12
+    assert np.abs(W - Wr).max() <= 1e-12
+    # the energy balance of the file itself (rk4 at 1 ms: 1e-8 J of a
+    # scale of ~1 J, docs/simulation.md)
+    assert np.abs(T + P - T[0] - P[0] - W - resid).max() <= 1e-14
+    assert np.abs(resid).max() <= 1e-8
+
+
+def test_reference_is_the_inverse_dynamics_run(runner, tmp_path):
+    """length_ref, the reference pose and the open-loop feedforward equal
+    rps3-run's inverse dynamics of the same scene, a separate route."""
+    text = HEAD.replace("dt: 0.001", "dt: 0.01")
+    inv, proc = simulate(tmp_path, text, "inv")
+    assert proc.returncode == 0, proc.stderr
+    sim, proc = simulate(tmp_path, text + "simulate: {controller: open_loop,"
+                         " rate: 100}\n", "sim")
+    assert proc.returncode in (0, 1), proc.stderr
+    with h5py.File(inv, "r") as a, h5py.File(sim, "r") as b:
+        assert np.array_equal(a["time"][()], b["time"][()])
+        k = b["failed_at"][0] if b["failed_at"][0] >= 0 else len(a["time"])
+        assert np.abs(a["length"][0] - b["length_ref"][0]).max() <= 1e-15
+        assert np.abs(a["length_rate"][0]
+                      - b["length_rate_ref"][0]).max() <= 1e-14
+        for name in ("alpha", "beta", "z_c", "x_c", "y_c"):
+            assert np.abs(a[name][0] - b[name + "_ref"][0]).max() <= 1e-15
+        # open loop at 100 Hz: the force over (t_k-1, t_k] is the inverse
+        # dynamics at t_k-1 (forces_only: equal to ~1e-15 of the scale)
+        F = a["force"][0][: k - 1]
+        assert np.abs(b["force"][0][1:k] - F).max() <= 1e-12 * np.abs(F).max()
+        # the sample 0 is on the trajectory
+        assert np.abs(b["tracking_error"][0][0]).max() == 0
+
+
+def test_closed_loop_config_agrees_with_simstudy(config_runs):
+    """configs/closed_loop.yaml gives rps3-simstudy's tracking table
+    (docs/simulation.md: helix rows, sampled there at 1 ms, here 10 ms)."""
+    h5, proc = config_runs["closed_loop"]
+    assert proc.returncode == 0, proc.stderr
+    table = {("pd", 0.5): 3.6e-4, ("pd", 0.0): 3.6e-4,
+             ("pd_gravity", 0.5): 6.9e-8, ("pd_gravity", 0.0): 3.7e-5,
+             ("computed_torque", 0.5): 5.7e-7,
+             ("computed_torque", 0.0): 3.4e-3}
+    with h5py.File(h5, "r") as f:
+        assert (f["status"][()] == 0).all()
+        for kind, mm, e in zip(f["simulate.controller"][()].astype(str),
+                               f["simulate.model.m_over_M"][()],
+                               f["tracking_error_max"][()]):
+            # the table's two digits
+            assert e == pytest.approx(table[(kind, mm)], rel=0.05), (kind, mm)
+
+
+def test_gain_and_model_sweeps_are_monotone(runner, tmp_path):
+    """PD on the plant's weight: the error is the weight over the gain
+    (e ~ G / kp), so doubling kp halves it; PD + gravity whose model
+    misses link mass: the error grows with the missing mass."""
+    h5, proc = simulate(tmp_path, HEAD + "simulate: {controller: pd}\n"
+                        "sweep:\n  simulate.kp: [500, 1000, 2000, 4000]\n",
+                        "kp")
+    assert proc.returncode == 0, proc.stderr
+    with h5py.File(h5, "r") as f:
+        e = f["tracking_error_max"][()]
+        assert f["simulate.kp"].attrs["units"] == "N/m or 1/s^2"
+    assert (np.diff(e) < 0).all(), e
+    assert (e[:-1] / e[1:] > 1.5).all() and (e[:-1] / e[1:] < 2.5).all(), e
+    h5, proc = simulate(tmp_path, HEAD + "simulate: {controller: "
+                        "pd_gravity}\nsweep:\n  simulate.model.m_over_M: "
+                        "[0.5, 0.4, 0.25, 0]\n", "mm")
+    assert proc.returncode == 0, proc.stderr
+    with h5py.File(h5, "r") as f:
+        e = f["tracking_error_max"][()]
+    assert (np.diff(e) > 0).all(), e
+
+
+def test_saturating_controller_ends_cleanly(runner, tmp_path):
+    """Actuators at 0.5 N cannot hold the platform (about 1.5 N a link):
+    it falls until the theta solve fails; status, failed_at and message
+    say so, the samples before are kept and those after are NaN."""
+    h5, proc = simulate(tmp_path, HEAD + "simulate: {controller: "
+                        "pd_gravity, fmax: 0.5}\n")
+    assert proc.returncode == 1, proc.stderr
+    with h5py.File(h5, "r") as f:
+        st, k = f["status"][0], f["failed_at"][0]
+        msg = f["message"][0].decode()
+        F, Fc = f["force"][0], f["force_cmd"][0]
+        l = f["length"][0]
+        assert st > 0 and 0 < k < len(f["time"])
+        assert f["failed_time"][0] <= f["time"][k]
+        assert f["failed_time"][0] > f["time"][k - 1]
+        assert re.match(r"t = [0-9.]+ s \(before sample \d+\): ", msg), msg
+        assert np.isfinite(l[:k]).all() and np.isnan(l[k:]).all()
+        assert np.nanmax(np.abs(F)) == 0.5
+        assert np.nanmax(np.abs(Fc)) > 0.5
+        assert f["nsat"][0] > 0
+
+
+def test_plant_driven_towards_the_base_stops_at_the_stroke(runner, tmp_path):
+    """Open loop with a controller that believes the platform weighs
+    10 g: too little force, the platform sinks towards the base until a
+    link leaves the stroke (l_min): RPS3_EREACH at the time it did."""
+    h5, proc = simulate(tmp_path, HEAD + "simulate:\n  controller: "
+                        "open_loop\n  l_min: 0.25\n  model: {M: 0.01, "
+                        "m_over_M: 0}\n")
+    assert proc.returncode == 1, proc.stderr
+    with h5py.File(h5, "r") as f:
+        assert f["status"][0] == RPS3_EREACH
+        k = f["failed_at"][0]
+        assert "left the stroke [0.25, inf]" in f["message"][0].decode()
+        z = f["z_c"][0][:k]
+        assert z[-1] < z[0] - 0.01
+        assert np.nanmin(f["length"][0]) >= 0.25
+
+
+def test_resolved_scene_reruns_bitwise(runner, tmp_path):
+    """scene_resolved of a swept case, run alone, gives the same file
+    values: every simulate key the case used is in it."""
+    h5, proc = simulate(tmp_path, HEAD + "simulate:\n  controller: pd\n"
+                        "  noise_l: 1e-6\n  model: {m_over_M: 0.2}\n"
+                        "sweep:\n  simulate.kd: [20, 40]\n", "sw")
+    assert proc.returncode == 0, proc.stderr
+    with h5py.File(h5, "r") as f:
+        text = f["scene_resolved"][1].decode()
+        l1 = f["length"][1]
+    assert "kd: 40" in text and "m_over_M: 0.2" in text
+    one, proc = simulate(tmp_path, text, "one")
+    assert proc.returncode == 0, proc.stderr
+    with h5py.File(one, "r") as f:
+        assert np.array_equal(f["length"][0], l1)
+
+
+def test_file_conventions_and_refusals(runner, tmp_path):
+    h5, proc = simulate(tmp_path, HEAD + "simulate: {}\n", "conv")
+    assert proc.returncode == 0, proc.stderr
+    with h5py.File(h5, "r") as f:
+        assert f.attrs["content"] == "simulation"
+        for name, ds in f.items():
+            assert "units" in ds.attrs, name
+            if ds.chunks and ds.dtype.kind != "O":
+                assert ds.fletcher32, name
+        assert f["length"].dims[0][0].name == "/case"
+        assert f["length"].dims[1][0].name == "/time"
+    scene = tmp_path / "conv.yaml"
+    proc = run(scene, None, "--check")
+    assert proc.returncode == 0 and "simulated: 1 case" in proc.stdout
+    proc = run(scene, tmp_path / "p.h5", "--shard", "0/2")
+    assert proc.returncode == 2
+    assert "a simulated scene runs as one process" in proc.stderr
+    assert not (tmp_path / "p.h5").exists()
+    proc = subprocess.run([runner, "merge", str(tmp_path / "m.h5"), str(h5)],
+                          capture_output=True, text=True)
+    assert proc.returncode == 2 and "not a part file" in proc.stderr
+    assert [p.name for p in tmp_path.iterdir() if ".tmp." in p.name] == []
