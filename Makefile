@@ -392,8 +392,9 @@ trajectories: runner venv
 	$(VPY) analysis/measured.py figure out/measured.h5 out
 
 # ------------------------------------------------------------------- docs
-# the key table of docs/runner.md is `rps3-run --keys`; tests/test_docs.py
-# fails when the two differ
+# the key table of docs/runner.md is `rps3-run --keys`, its table of a
+# simulated scene's datasets `rps3-run --sim-schema`; tests/test_docs.py
+# fails when they differ
 .PHONY: docs
 docs: $(B)/rps3-run
 	$(B)/rps3-run --keys > $(B)/keys.md
@@ -401,7 +402,13 @@ docs: $(B)/rps3-run
 	     /^\| key \| type/ { printf "%s", t; skip = 1; next } \
 	     skip && /^\|/ { next } { skip = 0; print }' \
 	  $(B)/keys.md docs/runner.md > $(B)/runner.md.new
-	mv $(B)/runner.md.new docs/runner.md
+	$(B)/rps3-run --sim-schema > $(B)/sim_schema.md
+	awk 'FNR == NR { t = t $$0 "\n"; next } \
+	     /^\| dataset \| dimensions/ { printf "%s", t; skip = 1; next } \
+	     skip && /^\|/ { next } { skip = 0; print }' \
+	  $(B)/sim_schema.md $(B)/runner.md.new > $(B)/runner.md.new2
+	mv $(B)/runner.md.new2 docs/runner.md
+	rm -f $(B)/runner.md.new
 
 clean:
 	rm -rf $(B) out python/build python/rps3.egg-info
