@@ -107,6 +107,20 @@ int merge_shard_of(const char *path, size_t *k, size_t *n, char *err,
     return -1;
   }
   v = merge_read_text(f, MERGE_SHARD_ATTR, 1);
+  {
+    /* a simulation (sim_output.h) is never a part: say so by name */
+    char *content = merge_read_text(f, "content", 1);
+    int sim = content && strcmp(content, "simulation") == 0;
+    free(content);
+    if (sim) {
+      H5Fclose(f);
+      free(v);
+      snprintf(err, errsz, "%s: a simulation file (its scene has a simulate "
+                           "section): simulated scenes are not sharded, "
+                           "there is nothing to merge", path);
+      return -1;
+    }
+  }
   H5Fclose(f);
   if (!v || sscanf(v, "%lu/%lu%c", &kk, &nn, &tail) != 2 || nn < 1 ||
       kk >= nn) {

@@ -247,5 +247,69 @@ def test_file_conventions_and_refusals(runner, tmp_path):
     assert not (tmp_path / "p.h5").exists()
     proc = subprocess.run([runner, "merge", str(tmp_path / "m.h5"), str(h5)],
                           capture_output=True, text=True)
-    assert proc.returncode == 2 and "not a part file" in proc.stderr
+    assert proc.returncode == 2
+    assert "a simulation file" in proc.stderr and "nothing to merge" in \
+        proc.stderr
     assert [p.name for p in tmp_path.iterdir() if ".tmp." in p.name] == []
+
+
+def test_continuous_open_loop_round_trip(runner, tmp_path):
+    """The inverse dynamics fed forward as a continuous force law (rate 0)
+    reproduce the trajectory: rk8pd at 1e-10 over a 0.05 s window, where
+    the open-loop instability has not yet grown (docs/simulation.md: each
+    window within 1e-9 m), with friction in plant and controller."""
+    h5, proc = simulate(tmp_path, HEAD + "simulate: {controller: open_loop,"
+                        " rate: 0, integrator: rk8pd, tolerance: 1e-10, "
+                        "duration: 0.05}\n")
+    assert proc.returncode == 0, proc.stderr
+    with h5py.File(h5, "r") as f:
+        assert len(f["time"]) == 51 and f["time"][-1] == 0.05
+        assert f["tracking_error_max"][0] <= 1e-9
+        assert f["nticks"][0] == 0
+        # with rate 0 the force is that of the last evaluation: finite
+        assert np.isfinite(f["force"][0][1:]).all()
+
+
+def test_noise_and_quantisation_are_seeded(runner, tmp_path):
+    text = HEAD + ("simulate: {controller: pd_gravity, noise_l: 2e-6, "
+                   "noise_dl: 1e-4, quant_l: 1e-6}\nsweep:\n"
+                   "  simulate.seed: [7, 7, 8]\n")
+    h5, proc = simulate(tmp_path, text, "noise")
+    assert proc.returncode == 0, proc.stderr
+    clean, proc = simulate(tmp_path, HEAD + "simulate: {controller: "
+                           "pd_gravity}\n", "clean")
+    with h5py.File(h5, "r") as f, h5py.File(clean, "r") as g:
+        l = f["length"][()]
+        assert np.array_equal(l[0], l[1])          # the same seed
+        assert np.abs(l[0] - l[2]).max() > 1e-9    # another seed
+        assert np.abs(l[0] - g["length"][0]).max() > 1e-9  # noise acts
+
+
+def test_time_grid_differing_by_case(runner, tmp_path):
+    """Durations differ by case: time is a sample index, case_time holds
+    each case's times, NaN past a case's end (the case is not failed)."""
+    h5, proc = simulate(tmp_path, HEAD.replace("dt: 0.001", "dt: 0.01") +
+                        "simulate: {controller: pd}\nsweep:\n"
+                        "  simulate.duration: [0.2, 0.3]\n", "grid", "--gzip",
+                        "4")
+    assert proc.returncode == 0, proc.stderr
+    with h5py.File(h5, "r") as f:
+        assert f["time"].attrs["units"] == "1" and len(f["time"]) == 31
+        ct = f["case_time"][()]
+        assert np.allclose(ct[1], np.arange(31) * 0.01, rtol=0, atol=1e-15)
+        assert ct[0][20] == 0.2 and np.isnan(ct[0][21:]).all()
+        assert np.isnan(f["length"][0][21:]).all()
+        assert (f["status"][()] == 0).all()
+        assert f["length"].compression == "gzip" and f["length"].fletcher32
+
+
+def test_xarray_dimensions_from_the_sweep(config_runs):
+    """The Python package opens a simulation like any sweep: the swept keys
+    are dimensions."""
+    import rps3
+    ds = rps3.open_dataset(str(config_runs["closed_loop"][0]))
+    e = ds["tracking_error_max"]
+    assert set(e.dims) == {"controller", "m_over_M"}
+    assert float(e.sel(controller="computed_torque", m_over_M=0.0)) > \
+        100 * float(e.sel(controller="computed_torque", m_over_M=0.5))
+    assert ds["length"].dims[-2:] == ("time", "link")
