@@ -142,15 +142,22 @@ SO_REAL = librps3.so.$(VERSION)
 SO_NAME = librps3.so.$(SOVERSION)
 lib: $(B)/librps3.a $(B)/librps3.so $(B)/librps3-pic.a
 
+# the batch kernel (src/batch_kernel.c) is a `#pragma omp simd` loop:
+# vectorised without errno or trapping maths (which would keep the selects
+# of the loop body branches) and without contraction into FMA, so that every
+# vector width gives the same results (docs/performance.md)
+KERNEL_FLAGS = -fopenmp-simd -fno-math-errno -fno-trapping-math -ffp-contract=off
+$(B)/obj/batch_kernel.o $(B)/pic/batch_kernel.o $(B)/san/batch_kernel.o: XFLAGS = $(KERNEL_FLAGS)
+
 $(B)/obj/%.o: src/%.c | $(DEPS)
 	@mkdir -p $(@D)
-	$(CC) $(CPPFLAGS_ALL) $(GSL_CFLAGS) $(WARN) $(OPT) -MMD -MP -c $< -o $@
+	$(CC) $(CPPFLAGS_ALL) $(GSL_CFLAGS) $(WARN) $(OPT) $(XFLAGS) -MMD -MP -c $< -o $@
 $(B)/pic/%.o: src/%.c | $(DEPS)
 	@mkdir -p $(@D)
-	$(CC) $(CPPFLAGS_ALL) $(GSL_CFLAGS) $(WARN) $(OPT) -fPIC -fvisibility=hidden -MMD -MP -c $< -o $@
+	$(CC) $(CPPFLAGS_ALL) $(GSL_CFLAGS) $(WARN) $(OPT) $(XFLAGS) -fPIC -fvisibility=hidden -MMD -MP -c $< -o $@
 $(B)/san/%.o: src/%.c | $(DEPS)
 	@mkdir -p $(@D)
-	$(CC) $(CPPFLAGS_ALL) $(GSL_CFLAGS) $(WARN) -O1 -g $(SAN) -MMD -MP -c $< -o $@
+	$(CC) $(CPPFLAGS_ALL) $(GSL_CFLAGS) $(WARN) -O1 -g $(SAN) $(XFLAGS) -MMD -MP -c $< -o $@
 
 $(B)/librps3.a: $(LIB_OBJ)
 	ar rcs $@ $^
@@ -286,7 +293,7 @@ FUZZ_FLAGS = -g -O1 -fsanitize=fuzzer,address,undefined -fno-sanitize-recover=al
 FUZZ_TIME ?= 20
 $(B)/fuzz_scene: tests/fuzz/fuzz_scene.c runner/scene.c runner/scene.h runner/scene_sim.h runner/scene_guard.c runner/scene_guard.h runner/table.c runner/table.h $(LIB_SRC) | $(DEPS)
 	@mkdir -p $(@D)
-	$(FUZZ_CC) $(CPPFLAGS_ALL) -Irunner $(GSL_CFLAGS) $(HDF5_CFLAGS) $(WARN) $(FUZZ_FLAGS) \
+	$(FUZZ_CC) $(CPPFLAGS_ALL) -Irunner $(GSL_CFLAGS) $(HDF5_CFLAGS) $(WARN) $(FUZZ_FLAGS) $(KERNEL_FLAGS) \
 	  tests/fuzz/fuzz_scene.c runner/scene.c runner/scene_guard.c runner/table.c $(LIB_SRC) -o $@ $(YAML_LIBS) $(HDF5_LIBS) $(GSL_LIBS) -lm
 .PHONY: check-fuzz
 check-fuzz: $(B)/fuzz_scene

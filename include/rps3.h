@@ -565,12 +565,30 @@ RPS3_API int rps3_inverse(const rps3_model *m, rps3_data *d);
  * Batch entry points: n points in one call.  Every array is a structure of
  * arrays, "component-major": component c of point i is at [c * n + i]
  * (alpha[0..n), then beta[0..n), then z_c[0..n) for poses).  The points are
- * computed in order with the one workspace d, exactly as the loop
+ * computed in order with the one workspace d, as the loop
  *     for i: copy point i into d; rps3_<stage>(m, d); copy the results out
- * computes them, so the results are bitwise those of that loop (a multiroot
- * theta solve warm-starts from the previous point of d when
- * m->opt.warm_start).  No allocation; one workspace per thread, so a caller
- * may split a batch across threads, each thread with its own d.
+ * computes them, and the results are bitwise those of that loop (a
+ * multiroot theta solve warm-starts from the previous point of d when
+ * m->opt.warm_start) -- except for the vectorised kernel below.  No
+ * allocation; one workspace per thread, so a caller may split a batch
+ * across threads, each thread with its own d.
+ *
+ * Vectorised kernel.  rps3_inverse_batch with the closed-form theta, the
+ * Lagrange formulation and no effect beyond the paper's four (payload and
+ * pin friction not selected) -- with or without the certificate, and with
+ * forces_only -- computes blocks of points in one straight-line loop the
+ * compiler vectorises (AVX2 or AVX-512 where the CPU has them), about ten
+ * times the points per second of the per-point loop (docs/performance.md).
+ * Its results agree with the loop's to rounding, not bitwise: l within 4
+ * ulp, theta within 2 ulp of pi, F, its shares and lambda R within 8 eps
+ * cond of the point's largest force or share, cond within 8 eps cond
+ * (tests/test_batch_kernel.c).  A point it cannot certify -- a non-finite
+ * input, an angle beyond 1e5 rad, an unreachable pose, a result that
+ * overflows, or a condition number or force transmission near or above
+ * its warning threshold -- is computed by the per-point loop, so status
+ * and warn are exactly the loop's for every point (warn is 0 and niter 0
+ * for the kernel's points).  After the call d holds the last point the
+ * loop computed, not necessarily point n - 1.
  *
  * A point that fails gets its status in out->status[i] and NaN in its
  * floating-point outputs, and the other points are computed.  out->nfail

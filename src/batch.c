@@ -8,6 +8,7 @@
 #include <stdint.h>
 #include <string.h>
 
+#include "batch_kernel.h"
 #include "internal.h"
 
 /* component c of point i in a component-major array of n points */
@@ -124,39 +125,95 @@ static void name_point(rps3_data *d, int status, size_t i) {
   d->err.msg[np + len] = '\0';
 }
 
+/* point i by the scalar stage; the first failure's message is kept in
+   *first */
+static void point(const rps3_model *m, rps3_data *d, batch_kind kind,
+                  const rps3_batch_in *in, rps3_batch_out *out, size_t i,
+                  rps3_error *first) {
+  size_t n = in->n;
+  int status = load(d, kind, in, i);
+  if (status == RPS3_OK) {
+    if (kind == BATCH_INVERSE)
+      status = rps3_inverse(m, d);
+    else if (kind == BATCH_IK)
+      status = rps3_ik(m, d);
+    else
+      status = rps3_fk(m, d);
+  }
+  out->status[i] = status;
+  if (out->warn) out->warn[i] = d->warn;
+  if (out->niter) out->niter[i] = kind == BATCH_IK ? 0 : d->solve_niter;
+  if (status == RPS3_OK) {
+    store(d, kind, out, i, n);
+    return;
+  }
+  set_failed(out, i, n);
+  if (out->nfail++ == 0) {
+    out->first_fail = i;
+    name_point(d, status, i);
+    *first = d->err;
+  }
+}
+
+/* nb values of a block into component c of a batch array from point i0 */
+static void put(double *dst, int c, size_t i0, size_t n, const double *src,
+                int nb) {
+  if (dst) memcpy(dst + (size_t)c * n + i0, src, (size_t)nb * sizeof(double));
+}
+
+/* the points i0 .. i0 + nb - 1 of rps3_inverse_batch through the kernel;
+   the points it does not certify by the scalar path */
+static void kernel_block(const rps3_model *m, rps3_data *d,
+                         const rps3_batch_in *in, rps3_batch_out *out,
+                         size_t i0, int nb, int rates, rps3_kblock *kb,
+                         rps3_error *first) {
+  size_t n = in->n;
+  int c, k, p;
+  rps3_kernel_block(m, in, i0, nb, rates, kb);
+  for (c = 0; c < 3; c++) {
+    put(out->l, c, i0, n, kb->l[c], nb);
+    put(out->F, c, i0, n, kb->F[c], nb);
+    put(out->lambda, c, i0, n, kb->lambda[c], nb);
+    if (m->opt.forces_only) {
+      /* as rps3_inverse with forces_only: no theta, no shares */
+      for (p = 0; p < nb && out->theta; p++)
+        AT(out->theta, c, i0 + (size_t)p, n) = (double)NAN;
+    } else {
+      put(out->theta, c, i0, n, kb->theta[c], nb);
+    }
+    for (k = 0; k < RPS3_NEFFECT && out->F_effect; k++) {
+      if (k < RPS3_KNEFF && (m->opt.effects & (1 << k)) &&
+          !m->opt.forces_only)
+        put(out->F_effect, 3 * k + c, i0, n, kb->Fe[k][c], nb);
+      else
+        memset(out->F_effect + (size_t)(3 * k + c) * n + i0, 0,
+               (size_t)nb * sizeof(double));
+    }
+  }
+  put(out->cond, 0, i0, n, kb->cond, nb);
+  put(out->energy_residual, 0, i0, n, kb->eres, nb);
+  for (p = 0; p < nb; p++) {
+    size_t i = i0 + (size_t)p;
+    if (!kb->ok[p]) {
+      point(m, d, BATCH_INVERSE, in, out, i, first);
+      continue;
+    }
+    /* a certified point: no warning, no solve */
+    out->status[i] = RPS3_OK;
+    if (out->warn) out->warn[i] = 0;
+    if (out->niter) out->niter[i] = 0;
+  }
+}
+
 /* the loop shared by the three batch functions */
 static void run(const rps3_model *m, rps3_data *d, batch_kind kind,
                 const rps3_batch_in *in, rps3_batch_out *out) {
   size_t i, n = in->n;
   rps3_error first;
   memset(&first, 0, sizeof(first));
-  int status;
   out->nfail = 0;
   out->first_fail = n;
-  for (i = 0; i < n; i++) {
-    status = load(d, kind, in, i);
-    if (status == RPS3_OK) {
-      if (kind == BATCH_INVERSE)
-        status = rps3_inverse(m, d);
-      else if (kind == BATCH_IK)
-        status = rps3_ik(m, d);
-      else
-        status = rps3_fk(m, d);
-    }
-    out->status[i] = status;
-    if (out->warn) out->warn[i] = d->warn;
-    if (out->niter) out->niter[i] = kind == BATCH_IK ? 0 : d->solve_niter;
-    if (status == RPS3_OK) {
-      store(d, kind, out, i, n);
-      continue;
-    }
-    set_failed(out, i, n);
-    if (out->nfail++ == 0) {
-      out->first_fail = i;
-      name_point(d, status, i);
-      first = d->err;
-    }
-  }
+  for (i = 0; i < n; i++) point(m, d, kind, in, out, i, &first);
   /* the first failure's message, not the last one's */
   if (out->nfail > 0) d->err = first;
 }
@@ -174,7 +231,23 @@ int rps3_inverse_batch(const rps3_model *m, rps3_data *d,
                "batch in.%s is NULL, and the selected effects or the "
                "certificate need rates and accelerations",
                in->dpose == NULL ? "dpose" : "ddpose");
-  run(m, d, BATCH_INVERSE, in, out);
+  if (!rps3_kernel_covers(m)) {
+    run(m, d, BATCH_INVERSE, in, out);
+    return RPS3_OK;
+  }
+  {
+    rps3_kblock kb; /* one block's results, on the stack */
+    rps3_error first;
+    size_t i0, n = in->n;
+    memset(&first, 0, sizeof(first));
+    out->nfail = 0;
+    out->first_fail = n;
+    for (i0 = 0; i0 < n; i0 += RPS3_KBLOCK) {
+      int nb = n - i0 < RPS3_KBLOCK ? (int)(n - i0) : RPS3_KBLOCK;
+      kernel_block(m, d, in, out, i0, nb, need_rates, &kb, &first);
+    }
+    if (out->nfail > 0) d->err = first;
+  }
   return RPS3_OK;
 }
 

@@ -1,5 +1,6 @@
 """The Python package rps3 (python/, installed into .venv by `make venv`):
-against the runner's HDF5 output (bitwise: the same library computes both),
+against the runner's HDF5 output (bitwise where the batch runs the
+per-point path, to the batch kernel's rounding where it runs the kernel),
 against the C tests' cases and identities, its batch against its own
 points one by one, open_dataset's dimensions, and bad input raising clean
 exceptions that name the argument."""
@@ -31,7 +32,12 @@ def same_bits(a, b):
 # ------------------------------------------------------------ against files
 
 @pytest.mark.parametrize("case, m_over_M", [(0, 0.0), (1, 0.5)])
-def test_paper_case_bitwise_as_the_runner(paper_h5, case, m_over_M):
+def test_paper_case_as_the_runner(paper_h5, case, m_over_M):
+    """The paper's scene is the vectorised batch kernel's (closed form,
+    Lagrange, the paper's effects): the package agrees with the runner's
+    per-point path to the kernel's documented rounding (docs/performance.md,
+    tests/test_batch_kernel.c): lengths to 4 ulp, theta to 2 ulp of pi,
+    forces, shares and lambda R to 8 eps cond of the point's force scale."""
     with h5py.File(paper_h5, "r") as f:
         t = f["time"][()]
         want = {k: f[k][case] for k in ("force", "force_by_effect", "lambda",
@@ -44,15 +50,27 @@ def test_paper_case_bitwise_as_the_runner(paper_h5, case, m_over_M):
     assert same_bits(traj.pose, pose)
     out = model.inverse(traj.pose, traj.dpose, traj.ddpose)
     assert (out.status == 0).all()
-    assert same_bits(out.force, want["force"])
-    assert same_bits(out.lambda_, want["lambda"])
-    assert same_bits(out.condition, want["condition"])
-    assert same_bits(out.l, want["length"])
-    assert same_bits(out.theta, want["theta"])
-    assert same_bits(out.energy_residual, want["energy_residual"])
+    eps = np.finfo(float).eps
+    cond = want["condition"][:, None]
+    scale = np.maximum(np.abs(want["force"]).max(1, keepdims=True),
+                       np.abs(want["force_by_effect"]).max((1, 2))[:, None])
+    tol = 8 * eps * cond * scale
+    np.testing.assert_allclose(out.l, want["length"], rtol=4 * eps, atol=0)
+    np.testing.assert_allclose(out.theta, want["theta"], rtol=0,
+                               atol=2 * np.spacing(np.pi))
+    assert (np.abs(out.force - want["force"]) <= tol).all()
+    assert (np.abs(out.lambda_ - want["lambda"]) * PAPER["R"] <= tol).all()
+    np.testing.assert_allclose(out.condition, want["condition"],
+                               rtol=8 * eps * want["condition"].max(), atol=0)
     assert list(out.shares) == effects
     for k, name in enumerate(effects):
-        assert same_bits(out.shares[name], want["force_by_effect"][:, k, :])
+        assert (np.abs(out.shares[name] - want["force_by_effect"][:, k, :])
+                <= tol).all()
+    # the residual is rounding in both: within the forces' rounding times
+    # the largest power the links deliver
+    power = np.abs(out.force).max() * np.abs(np.gradient(out.l, t, axis=0)).max()
+    assert np.abs(out.energy_residual - want["energy_residual"]).max() <= \
+        8 * eps * cond.max() * 3 * power
 
 
 def test_multiroot_newton_euler_bitwise_as_the_runner(tmp_path):

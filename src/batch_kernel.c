@@ -1,0 +1,560 @@
+/*
+ * batch_kernel.c - the vectorised kernel of rps3_inverse_batch: a block of
+ * points of the closed-form Lagrange pipeline as one straight-line loop
+ * body, structure of arrays in and out, which the compiler vectorises
+ * (`#pragma omp simd`, built with -fopenmp-simd -fno-math-errno
+ * -ffp-contract=off; with GCC or clang on x86-64 the loop is also compiled
+ * for AVX2 and AVX-512 and the widest one the CPU runs is picked at load
+ * time).
+ *
+ * The formulas are those of the scalar stages, in the same order where it
+ * matters: (2)-(7) and (39) as in ik.c, the rates as in velocity.c, the
+ * Lagrange loads and the energy-rate certificate as in invdyn.c.  What
+ * differs, all at the level of rounding:
+ *   - sin and cos of alpha and beta / 2 by the polynomial ksincos below
+ *     (within 2 ulp of libm, tests/test_batch.c), sin and cos of beta from
+ *     the half angle; theta by katan2 (within 4 ulp of libm's atan2);
+ *   - the lambda system (df/dtheta)^T solved by its adjugate (the matrix
+ *     has two non-zeros a row), and its 1-norm condition number from the
+ *     same inverse;
+ *   - the force transmission from the platform twist per unit link rate,
+ *     F = J^T (f, n) by virtual power (the pin-axis forces do no work on
+ *     the motions the links allow), instead of the 6 x 6 system.
+ * A point is certified (ok) only when everything it reports is finite, its
+ * links are reachable, and its condition number and transmission are below
+ * min(warn, max) by a relative margin far above the rounding differences
+ * (the scalar path would then also return RPS3_OK without a warning): all
+ * else (non-finite or out-of-range input, unreachable, near a threshold)
+ * is the scalar path's, point by point.
+ */
+#include <float.h>
+
+#include "batch_kernel.h"
+
+/* a loop the compiler could not vectorise (e.g. at -O1 under the
+   sanitizers) is slower, not wrong: not a warning */
+#if defined(__clang__)
+#pragma clang diagnostic ignored "-Wpass-failed"
+#endif
+
+/* the helpers of the loop body must be inlined into it to be vectorised */
+#if defined(__GNUC__)
+#define KINLINE static inline __attribute__((always_inline))
+#else
+#define KINLINE static inline
+#endif
+
+/* the kernel's relative margin to the condition and transmission
+   thresholds: the scalar path's values differ from the kernel's by a few
+   cond * eps (<= 1e6 * 1.1e-16 = 1.1e-10 below cond_warn) */
+#define KMARGIN 1e-6
+
+/* pi/2 in three parts, 30 + 30 + 53 bits: k * P1 and k * P2 are exact for
+   |k| < 2^23, so that x - k pi/2 loses nothing for |x| <= RPS3_KANGLE_MAX */
+#define P1 0x1.921fb548p+0
+#define P2 (-0x1.de973dc8p-31)
+#define P3 (-0x1.9d9cceba3f91fp-62)
+#define TWO_OVER_PI 0x1.45f306dc9c883p-1
+/* pi and pi/2 as double + remainder */
+#define PI_HI 0x1.921fb54442d18p+1
+#define PI_LO 0x1.1a62633145c07p-53
+#define PIO2_HI 0x1.921fb54442d18p+0
+#define PIO2_LO 0x1.1a62633145c07p-54
+/* atan(j / 4), j = 1 .. 4, correctly rounded */
+#define ATAN_1_4 0x1.f5b75f92c80ddp-3
+#define ATAN_2_4 0x1.dac670561bb4fp-2
+#define ATAN_3_4 0x1.4978fa3269ee1p-1
+#define ATAN_4_4 0x1.921fb54442d18p-1
+/* x + SHIFT - SHIFT rounds x to an integer, |x| < 2^51 */
+#define SHIFT 0x1.8p52
+
+/*
+ * sin x and cos x for |x| <= RPS3_KANGLE_MAX, without a branch or a table:
+ * x = k pi/2 + r with |r| <= pi/4 (Cody-Waite reduction), the Taylor
+ * series of sin r to r^17 and of cos r to r^16 (truncation below 1e-19 on
+ * |r| <= pi/4, so the error is the rounding of the evaluation), and the
+ * quadrant k mod 4 by selects.  A NaN gives NaN; beyond the range the
+ * result is wrong, and the kernel leaves such points to the scalar path.
+ */
+typedef struct {
+  double s, c;
+} ksc;
+
+KINLINE ksc ksincos(double x) {
+  ksc out;
+  double k = (x * TWO_OVER_PI + SHIFT) - SHIFT;
+  double r = ((x - k * P1) - k * P2) - k * P3;
+  double r2 = r * r;
+  double ps = r + r * r2 *
+                      (-1.0 / 6.0 +
+                       r2 * (1.0 / 120.0 +
+                             r2 * (-1.0 / 5040.0 +
+                                   r2 * (1.0 / 362880.0 +
+                                         r2 * (-1.0 / 39916800.0 +
+                                               r2 * (1.0 / 6227020800.0 +
+                                                     r2 * (-1.0 / 1307674368000.0 +
+                                                           r2 * (1.0 / 355687428096000.0))))))));
+  double pc = 1.0 - 0.5 * r2 +
+              r2 * r2 *
+                  (1.0 / 24.0 +
+                   r2 * (-1.0 / 720.0 +
+                         r2 * (1.0 / 40320.0 +
+                               r2 * (-1.0 / 3628800.0 +
+                                     r2 * (1.0 / 479001600.0 +
+                                           r2 * (-1.0 / 87178291200.0 +
+                                                 r2 * (1.0 / 20922789888000.0)))))));
+  /* the quadrant k mod 4 as q = k - 4 round(k / 4) in {-2, ..., 2}, in
+     floating point: no conversion to an integer (undefined for a NaN) */
+  double q = k - 4.0 * ((0.25 * k + SHIFT) - SHIFT);
+  int odd = (q == 1.0) | (q == -1.0);
+  double sn = odd ? pc : ps, cs = odd ? ps : pc;
+  out.s = ((q >= 2.0) | (q <= -1.0)) ? -sn : sn; /* k mod 4 = 2, 3 */
+  out.c = ((q >= 1.0) | (q <= -2.0)) ? -cs : cs; /* k mod 4 = 1, 2 */
+  return out;
+}
+
+/*
+ * atan2(y, x) for y > 0, so in (0, pi): a = min(|x|, y) / max(|x|, y) in
+ * [0, 1], atan a = atan(j/4) + atan u with j/4 the nearest quarter and u =
+ * (a - j/4) / (1 + a j/4), |u| <= 1/8, by its Taylor series to u^19
+ * (truncation below 2^-63 |u|); then the octant by selects.
+ */
+KINLINE double katan2(double y, double x) {
+  double ax = fabs(x);
+  int swap = ax > y;
+  double num = swap ? y : ax, den = swap ? ax : y, a, j, c, u, u2, at, off;
+  den = den > 0.0 ? den : 1.0; /* x = y = 0 is no point of the kernel's */
+  a = num / den;
+  j = (4.0 * a + SHIFT) - SHIFT;
+  c = 0.25 * j;
+  u = (a - c) / (1.0 + a * c);
+  u2 = u * u;
+  at = u + u * u2 *
+               (-1.0 / 3.0 +
+                u2 * (1.0 / 5.0 +
+                      u2 * (-1.0 / 7.0 +
+                            u2 * (1.0 / 9.0 +
+                                  u2 * (-1.0 / 11.0 +
+                                        u2 * (1.0 / 13.0 +
+                                              u2 * (-1.0 / 15.0 +
+                                                    u2 * (1.0 / 17.0 +
+                                                          u2 * (-1.0 / 19.0)))))))));
+  off = j == 1.0 ? ATAN_1_4
+                 : j == 2.0 ? ATAN_2_4
+                            : j == 3.0 ? ATAN_3_4 : j == 4.0 ? ATAN_4_4 : 0.0;
+  at = off + at;
+  /* from the x axis when |x| > y, else from the y axis; then x < 0 */
+  at = swap ? at : (PIO2_HI - at) + PIO2_LO;
+  return x < 0.0 ? (PI_HI - at) + PI_LO : at;
+}
+
+void rps3_ksincos(double x, double *s, double *c) {
+  ksc r = ksincos(x);
+  *s = r.s;
+  *c = r.c;
+}
+double rps3_katan2(double y, double x) { return katan2(y, x); }
+
+int rps3_kernel_covers(const rps3_model *m) {
+  return m->opt.theta == RPS3_THETA_CLOSED_FORM &&
+         m->opt.method == RPS3_LAGRANGE &&
+         (m->opt.effects & ~RPS3_EFF_DEFAULT) == 0;
+}
+
+/* the model's constants the loop reads, hoisted out of it */
+typedef struct {
+  double r, R, M, g, Mg3, M6, mgd, Jlink, Ip[3];
+  double pin[3][2], u[3][2], body[3][2]; /* z components are zero */
+  double sel[RPS3_KNEFF];  /* 1 when effect k is selected, else 0 */
+  double certify, forces_only, cond_lim, trans_lim;
+  double w_scale;          /* 2 / (3 r^2), rps3_omega_from_balls */
+} kconst;
+
+/* with GCC or clang on x86-64 (ifunc), the loop also for AVX2 + FMA and
+   AVX-512: the same operations on wider vectors (no contraction into
+   FMA: -ffp-contract=off), hence the same results on every CPU */
+#if defined(__x86_64__) && defined(__linux__) &&                              \
+    (defined(__clang__) ? __clang_major__ >= 14 : __GNUC__ >= 12)
+#define KCLONES                                                               \
+  __attribute__((target_clones("arch=x86-64-v4", "arch=x86-64-v3", "default")))
+#else
+#define KCLONES
+#endif
+
+/* 3-vectors by value: the loop body below is straight-line code over
+   scalars once these are inlined, which is what the vectoriser needs (a
+   loop over the three links inside it would stop it) */
+typedef struct {
+  double x, y, z;
+} kv3;
+
+KINLINE kv3 kv(double x, double y, double z) {
+  kv3 r;
+  r.x = x;
+  r.y = y;
+  r.z = z;
+  return r;
+}
+KINLINE kv3 kadd(kv3 a, kv3 b) { return kv(a.x + b.x, a.y + b.y, a.z + b.z); }
+KINLINE kv3 ksub(kv3 a, kv3 b) { return kv(a.x - b.x, a.y - b.y, a.z - b.z); }
+KINLINE kv3 kscale(double s, kv3 a) { return kv(s * a.x, s * a.y, s * a.z); }
+KINLINE double kdot(kv3 a, kv3 b) { return a.x * b.x + a.y * b.y + a.z * b.z; }
+KINLINE double knorm1(kv3 a) { return fabs(a.x) + fabs(a.y) + fabs(a.z); }
+KINLINE kv3 kcross(kv3 a, kv3 b) {
+  return kv(a.y * b.z - a.z * b.y, a.z * b.x - a.x * b.z,
+            a.x * b.y - a.y * b.x);
+}
+
+/* one link of one point */
+typedef struct {
+  kv3 b, rho, phi, dphi; /* ball joint, b - c, directions (29) */
+  double l, il, th, ok;  /* length, 1 / l, theta (39), reachable (1/0) */
+  double dl, dth, ddl, ddth; /* joint rates and accelerations */
+  kv3 bdd;               /* ball-joint acceleration from those (invdyn.c) */
+} klink;
+
+/* link i from the platform frame (columns rx, ry) and centre c: (15)-(17),
+   (5)-(7), (39) and (29), as rps3_ik_with */
+KINLINE klink link_pos(const kconst *K, int i, kv3 rx, kv3 ry, kv3 c) {
+  klink L;
+  double radial, ct, st;
+  kv3 v;
+  L.b = kadd(c, kadd(kscale(K->body[i][0], rx), kscale(K->body[i][1], ry)));
+  L.rho = ksub(L.b, c);
+  v = kv(L.b.x - K->pin[i][0], L.b.y - K->pin[i][1], L.b.z);
+  L.l = sqrt(kdot(v, v));
+  radial = v.x * K->u[i][0] + v.y * K->u[i][1];
+  L.ok = ((L.l > 0.0) & (v.z > 0.0)) ? 1.0 : 0.0;
+  /* select, then divide: a division under a condition is a branch */
+  L.il = 1.0 / (L.l > 0.0 ? L.l : 1.0);
+  L.th = katan2(v.z > 0.0 ? v.z : 1.0, -radial);
+  ct = -radial * L.il;
+  st = v.z * L.il;
+  L.phi = kv(-ct * K->u[i][0], -ct * K->u[i][1], st);
+  L.dphi = kv(st * K->u[i][0], st * K->u[i][1], ct);
+  return L;
+}
+
+/* joint rates and accelerations of link L (rps3_velocity_with,
+   rps3_acceleration_with), then b'' from them (lagrange_kinematics) */
+KINLINE klink link_rates(klink L, kv3 w, kv3 vc, kv3 dw, kv3 ac) {
+  kv3 bd = kadd(kcross(w, L.rho), vc);
+  kv3 bb = kadd(kadd(kcross(dw, L.rho), kcross(w, kcross(w, L.rho))), ac);
+  double s1, s2;
+  L.dl = kdot(L.phi, bd);
+  L.dth = kdot(L.dphi, bd) * L.il;
+  L.ddl = kdot(L.phi, bb) + L.l * L.dth * L.dth;
+  L.ddth = (kdot(L.dphi, bb) - 2.0 * L.dl * L.dth) * L.il;
+  s1 = L.ddl - L.l * L.dth * L.dth;
+  s2 = 2.0 * L.dl * L.dth + L.l * L.ddth;
+  L.bdd = kadd(kscale(s1, L.phi), kscale(s2, L.dphi));
+  return L;
+}
+
+/* row k of the constraint Jacobian of (8)-(10), f_k = |b_k - b_j|^2 - 3r^2,
+   j = k + 1: Jl[k][k], Jl[k][j], Jt[k][k], Jt[k][j] */
+typedef struct {
+  double lc, le, ta, tb;
+} krow;
+
+KINLINE krow jac_row(klink Lk, klink Lj) {
+  krow r;
+  kv3 D = ksub(Lk.b, Lj.b);
+  r.lc = 2.0 * kdot(D, Lk.phi);
+  r.le = -2.0 * kdot(D, Lj.phi);
+  r.ta = 2.0 * Lk.l * kdot(D, Lk.dphi);
+  r.tb = -2.0 * Lj.l * kdot(D, Lj.dphi);
+  return r;
+}
+
+/* F_i = wl_i + sum_k lambda_k df_k/dl_i (34); link i is in rows i (lc)
+   and i - 1 (le) */
+KINLINE kv3 kforces(kv3 wl, kv3 lam, kv3 lc, kv3 le) {
+  return kv(wl.x + lam.x * lc.x + lam.z * le.z,
+            wl.y + lam.x * le.x + lam.y * lc.y,
+            wl.z + lam.y * le.y + lam.z * lc.z);
+}
+
+/* lambda = -(Jt^-1)^T wt for Jt^-1 with rows r0, r1, r2 */
+KINLINE kv3 klambda(kv3 r0, kv3 r1, kv3 r2, kv3 wt) {
+  return kscale(-1.0, kadd(kadd(kscale(wt.x, r0), kscale(wt.y, r1)),
+                           kscale(wt.z, r2)));
+}
+
+/* the transmission row of link e: the platform twist (vc, omega) for a
+   unit rate of link e, theta' = x = -Jt^-1 Jl e_e; ball i moves
+   [i == e] phi_i + l_i x_i dphi_i, omega from the balls as
+   rps3_omega_from_balls (the vc part drops: sum rho_i = 0); returns
+   |vc|_1 + R |omega|_1 */
+KINLINE double trans_row(const kconst *K, klink L0, klink L1, klink L2,
+                         kv3 x, double m0, double m1, double m2, kv3 a) {
+  kv3 b0 = kadd(kscale(m0, L0.phi), kscale(L0.l * x.x, L0.dphi));
+  kv3 b1 = kadd(kscale(m1, L1.phi), kscale(L1.l * x.y, L1.dphi));
+  kv3 b2 = kadd(kscale(m2, L2.phi), kscale(L2.l * x.z, L2.dphi));
+  kv3 v = kscale(1.0 / 3.0, kadd(kadd(b0, b1), b2));
+  kv3 ws = kadd(kadd(kcross(L0.rho, b0), kcross(L1.rho, b1)),
+                kcross(L2.rho, b2));
+  double sd;
+  ws = kscale(K->w_scale, ws);
+  sd = 0.5 * kdot(a, ws);
+  return knorm1(v) + K->R * knorm1(ksub(ws, kscale(sd, a)));
+}
+
+KCLONES
+static void kloop(const kconst *K, const double *restrict pa,
+                  const double *restrict pb, const double *restrict pz,
+                  const double *restrict va, const double *restrict vb,
+                  const double *restrict vz, const double *restrict aa,
+                  const double *restrict ab, const double *restrict az,
+                  int nb, rps3_kblock *restrict o) {
+  int p;
+#pragma omp simd
+  for (p = 0; p < nb; p++) {
+    double alpha = pa[p], beta = pb[p];
+    double da = va[p], db = vb[p], dda = aa[p], ddb = ab[p];
+    double ca, sa, hs, hc, sb, cb, vb2, C, S, det, idet, cond, trans, fin;
+    double pw, sc, dT, dP, v1, v2, v3, g1, i1;
+    kv3 rx, ry, rz, c, w, vc, dw, ac, cdd, lc, le, ta, tb, r0, r1, r2;
+    kv3 wl[RPS3_KNEFF], wt[RPS3_KNEFF], lam[RPS3_KNEFF], Fe[RPS3_KNEFF];
+    kv3 wls, wts, lams, Fs, F, lamt, Fo, g6, t;
+    klink L0, L1, L2;
+    krow j0, j1, j2;
+    /* an angle the reduction does not serve is no point of the kernel's:
+       it is left to the scalar path */
+    int in_range = (fabs(alpha) <= RPS3_KANGLE_MAX) &
+                   (fabs(beta) <= RPS3_KANGLE_MAX);
+    ksc tr = ksincos(alpha);
+    sa = tr.s;
+    ca = tr.c;
+    tr = ksincos(0.5 * beta);
+    hs = tr.s;
+    hc = tr.c;
+    /* beta from its half angle; 1 - cos(beta) as 2 sin^2(beta/2) */
+    sb = 2.0 * hs * hc;
+    vb2 = 2.0 * hs * hs;
+    cb = 1.0 - vb2;
+    C = ca * ca - sa * sa;
+    S = 2.0 * sa * ca;
+
+    /* orientation Rz(alpha) Ry(beta) Rz(-alpha) (2) by columns, centre
+       (3)-(4) */
+    rx = kv(1.0 - vb2 * ca * ca, -vb2 * ca * sa, -sb * ca);
+    ry = kv(-vb2 * ca * sa, 1.0 - vb2 * sa * sa, -sb * sa);
+    rz = kv(sb * ca, sb * sa, cb);
+    c = kv(-0.5 * K->r * vb2 * C, 0.5 * K->r * vb2 * S, pz[p]);
+    L0 = link_pos(K, 0, rx, ry, c);
+    L1 = link_pos(K, 1, rx, ry, c);
+    L2 = link_pos(K, 2, rx, ry, c);
+
+    /* angular and centre velocity and acceleration (velocity.c) */
+    w = kv(-da * sb * ca - db * sa, -da * sb * sa + db * ca, da * vb2);
+    vc = kv(-0.5 * K->r * (sb * db * C - 2.0 * vb2 * S * da),
+            0.5 * K->r * (sb * db * S + 2.0 * vb2 * C * da), vz[p]);
+    {
+      double dvb = sb * db, ddvb = cb * db * db + sb * ddb;
+      double dC = -2.0 * S * da, dS = 2.0 * C * da;
+      double ddC = -4.0 * C * da * da - 2.0 * S * dda;
+      double ddS = -4.0 * S * da * da + 2.0 * C * dda;
+      kv3 adot = kcross(w, rz);
+      dw = kv(dda * -rz.x - da * adot.x - ddb * sa - db * da * ca,
+              dda * -rz.y - da * adot.y + ddb * ca - db * da * sa,
+              dda * vb2 - da * adot.z);
+      ac = kv(-0.5 * K->r * (ddvb * C + 2.0 * dvb * dC + vb2 * ddC),
+              0.5 * K->r * (ddvb * S + 2.0 * dvb * dS + vb2 * ddS), az[p]);
+    }
+    L0 = link_rates(L0, w, vc, dw, ac);
+    L1 = link_rates(L1, w, vc, dw, ac);
+    L2 = link_rates(L2, w, vc, dw, ac);
+    cdd = kadd(kadd(kscale(1.0 / 3.0, L0.bdd), kscale(1.0 / 3.0, L1.bdd)),
+               kscale(1.0 / 3.0, L2.bdd));
+
+    /* constraint Jacobian; Jt = [ta.x tb.x 0; 0 ta.y tb.y; tb.z 0 ta.z]
+       inverted by its adjugate (rows r0, r1, r2) */
+    j0 = jac_row(L0, L1);
+    j1 = jac_row(L1, L2);
+    j2 = jac_row(L2, L0);
+    lc = kv(j0.lc, j1.lc, j2.lc);
+    le = kv(j0.le, j1.le, j2.le);
+    ta = kv(j0.ta, j1.ta, j2.ta);
+    tb = kv(j0.tb, j1.tb, j2.tb);
+    det = ta.x * ta.y * ta.z + tb.x * tb.y * tb.z;
+    idet = 1.0 / (det != 0.0 ? det : HUGE_VAL);
+    r0 = kscale(idet, kv(ta.y * ta.z, -tb.x * ta.z, tb.x * tb.y));
+    r1 = kscale(idet, kv(tb.y * tb.z, ta.x * ta.z, -ta.x * tb.y));
+    r2 = kscale(idet, kv(-ta.y * tb.z, tb.x * tb.z, ta.x * ta.y));
+    /* 1-norm condition of the lambda system A = Jt^T: column sums of |A|
+       are the row sums of |Jt|, those of |A^-1| the row sums of |Jt^-1| */
+    {
+      double an = fabs(ta.x) + fabs(tb.x), a1 = fabs(ta.y) + fabs(tb.y);
+      double a2 = fabs(ta.z) + fabs(tb.z), in0 = knorm1(r0);
+      double in1 = knorm1(r1), in2 = knorm1(r2);
+      an = a1 > an ? a1 : an;
+      an = a2 > an ? a2 : an;
+      in0 = in1 > in0 ? in1 : in0;
+      in0 = in2 > in0 ? in2 : in0;
+      cond = det != 0.0 ? an * in0 : HUGE_VAL;
+    }
+
+    /* force transmission, row by row: x = -Jt^-1 (column e of Jl) */
+    {
+      kv3 c0 = kv(r0.x, r1.x, r2.x), c1 = kv(r0.y, r1.y, r2.y);
+      kv3 c2 = kv(r0.z, r1.z, r2.z);
+      double t0, t1, t2;
+      /* column 0 of Jl: lc.x in row 0, le.z in row 2; and so on */
+      t0 = trans_row(K, L0, L1, L2,
+                     kscale(-1.0, kadd(kscale(lc.x, c0), kscale(le.z, c2))),
+                     1.0, 0.0, 0.0, rz);
+      t1 = trans_row(K, L0, L1, L2,
+                     kscale(-1.0, kadd(kscale(le.x, c0), kscale(lc.y, c1))),
+                     0.0, 1.0, 0.0, rz);
+      t2 = trans_row(K, L0, L1, L2,
+                     kscale(-1.0, kadd(kscale(le.y, c1), kscale(lc.z, c2))),
+                     0.0, 0.0, 1.0, rz);
+      trans = t1 > t0 ? t1 : t0;
+      trans = t2 > trans ? t2 : trans;
+    }
+
+    /* loads of the four effects, wl on l_i and wt on theta_i
+       (lagrange_effect of invdyn.c), times the selection */
+    wl[0] = kscale(K->sel[0] * K->Mg3, kv(L0.phi.z, L1.phi.z, L2.phi.z));
+    wt[0] = kscale(K->sel[0],
+                   kv(K->Mg3 * L0.l * L0.dphi.z, K->Mg3 * L1.l * L1.dphi.z,
+                      K->Mg3 * L2.l * L2.dphi.z));
+    wl[1] = kv(0.0, 0.0, 0.0);
+    wt[1] = kscale(K->sel[1] * K->mgd, kv(L0.dphi.z, L1.dphi.z, L2.dphi.z));
+    g6 = kscale(K->M6, kadd(cdd, L0.bdd));
+    wl[2].x = kdot(L0.phi, g6);
+    wt[2].x = L0.l * kdot(L0.dphi, g6);
+    g6 = kscale(K->M6, kadd(cdd, L1.bdd));
+    wl[2].y = kdot(L1.phi, g6);
+    wt[2].y = L1.l * kdot(L1.dphi, g6);
+    g6 = kscale(K->M6, kadd(cdd, L2.bdd));
+    wl[2].z = kdot(L2.phi, g6);
+    wt[2].z = L2.l * kdot(L2.dphi, g6);
+    wl[2] = kscale(K->sel[2], wl[2]);
+    wt[2] = kscale(K->sel[2], wt[2]);
+    wl[3] = kv(0.0, 0.0, 0.0);
+    wt[3] = kscale(K->sel[3] * K->Jlink, kv(L0.ddth, L1.ddth, L2.ddth));
+
+    /* (df/dtheta)^T lambda = -wt per effect and for the sum
+       (forces_only), then (34) */
+    wls = kadd(kadd(kadd(wl[0], wl[1]), wl[2]), wl[3]);
+    wts = kadd(kadd(kadd(wt[0], wt[1]), wt[2]), wt[3]);
+    lams = klambda(r0, r1, r2, wts);
+    Fs = kforces(wls, lams, lc, le);
+    F = lamt = kv(0.0, 0.0, 0.0);
+    lam[0] = klambda(r0, r1, r2, wt[0]);
+    lam[1] = klambda(r0, r1, r2, wt[1]);
+    lam[2] = klambda(r0, r1, r2, wt[2]);
+    lam[3] = klambda(r0, r1, r2, wt[3]);
+    Fe[0] = kforces(wl[0], lam[0], lc, le);
+    Fe[1] = kforces(wl[1], lam[1], lc, le);
+    Fe[2] = kforces(wl[2], lam[2], lc, le);
+    Fe[3] = kforces(wl[3], lam[3], lc, le);
+    F = kadd(kadd(kadd(Fe[0], Fe[1]), Fe[2]), Fe[3]);
+    lamt = kadd(kadd(kadd(lam[0], lam[1]), lam[2]), lam[3]);
+    Fo = K->forces_only != 0.0 ? Fs : F;
+
+    /* energy-rate certificate (certify of invdyn.c): power = dT/dt +
+       dP/dt, with omega . rot diag(Ip) rot^T domega */
+    pw = Fo.x * L0.dl + Fo.y * L1.dl + Fo.z * L2.dl;
+    sc = fabs(Fo.x * L0.dl) + fabs(Fo.y * L1.dl) + fabs(Fo.z * L2.dl);
+    v1 = K->sel[0] * K->M * K->g * vc.z;
+    t = kv(K->Ip[0] * kdot(rx, dw), K->Ip[1] * kdot(ry, dw),
+           K->Ip[2] * kdot(rz, dw));
+    t = kadd(kadd(kscale(t.x, rx), kscale(t.y, ry)), kscale(t.z, rz));
+    v2 = K->sel[2] * K->M * kdot(vc, ac);
+    v3 = K->sel[2] * kdot(w, t);
+    g1 = K->sel[1] * K->mgd *
+         (L0.dphi.z * L0.dth + L1.dphi.z * L1.dth + L2.dphi.z * L2.dth);
+    i1 = K->sel[3] * K->Jlink *
+         (L0.dth * L0.ddth + L1.dth * L1.ddth + L2.dth * L2.ddth);
+    dP = v1 + g1;
+    dT = v2 + v3 + i1;
+    sc += fabs(v1) + fabs(v2) + fabs(v3) + fabs(g1) + fabs(i1);
+
+    /* the outputs, and whether the point is the kernel's: finite, in
+       reach, below the thresholds */
+    o->l[0][p] = L0.l;
+    o->l[1][p] = L1.l;
+    o->l[2][p] = L2.l;
+    o->theta[0][p] = L0.th;
+    o->theta[1][p] = L1.th;
+    o->theta[2][p] = L2.th;
+    o->F[0][p] = Fo.x;
+    o->F[1][p] = Fo.y;
+    o->F[2][p] = Fo.z;
+    o->lambda[0][p] = K->forces_only != 0.0 ? lams.x : lamt.x;
+    o->lambda[1][p] = K->forces_only != 0.0 ? lams.y : lamt.y;
+    o->lambda[2][p] = K->forces_only != 0.0 ? lams.z : lamt.z;
+    o->Fe[0][0][p] = Fe[0].x;
+    o->Fe[0][1][p] = Fe[0].y;
+    o->Fe[0][2][p] = Fe[0].z;
+    o->Fe[1][0][p] = Fe[1].x;
+    o->Fe[1][1][p] = Fe[1].y;
+    o->Fe[1][2][p] = Fe[1].z;
+    o->Fe[2][0][p] = Fe[2].x;
+    o->Fe[2][1][p] = Fe[2].y;
+    o->Fe[2][2][p] = Fe[2].z;
+    o->Fe[3][0][p] = Fe[3].x;
+    o->Fe[3][1][p] = Fe[3].y;
+    o->Fe[3][2][p] = Fe[3].z;
+    o->cond[p] = cond;
+    o->trans[p] = trans;
+    o->eres[p] = K->certify != 0.0 ? pw - dT - dP : 0.0;
+    fin = sc + fabs(pw) + fabs(dT) + fabs(dP) + knorm1(F) + knorm1(Fs) +
+          knorm1(lams) + knorm1(lamt) + knorm1(Fe[0]) + knorm1(Fe[1]) +
+          knorm1(Fe[2]) + knorm1(Fe[3]) + knorm1(L0.b) + knorm1(L1.b) +
+          knorm1(L2.b) + fabs(L0.ddl) + fabs(L1.ddl) + fabs(L2.ddl) +
+          fabs(L0.ddth) + fabs(L1.ddth) + fabs(L2.ddth) + fabs(da) +
+          fabs(db) + fabs(vz[p]) + fabs(dda) + fabs(ddb) + fabs(az[p]) +
+          trans;
+    /* & rather than &&: no branch in the loop body */
+    o->ok[p] = in_range & (L0.ok * L1.ok * L2.ok != 0.0) & (fin <= DBL_MAX) &
+               (cond <= K->cond_lim) & (trans <= K->trans_lim);
+  }
+}
+
+void rps3_kernel_block(const rps3_model *m, const rps3_batch_in *in,
+                       size_t i0, int nb, int rates, rps3_kblock *o) {
+  static const double zero[RPS3_KBLOCK];
+  const size_t n = in->n;
+  const double *pose = in->pose + i0;
+  kconst K;
+  int i, e;
+  K.r = m->r;
+  K.R = m->R;
+  K.M = m->M;
+  K.g = m->g;
+  K.Mg3 = m->M * m->g / 3.0;
+  K.M6 = m->M / 6.0;
+  K.mgd = m->m * m->g * m->d;
+  K.Jlink = m->Jlink;
+  K.w_scale = 2.0 / (3.0 * m->r * m->r);
+  for (i = 0; i < 3; i++) {
+    K.Ip[i] = m->Ip[i];
+    K.pin[i][0] = m->pin[i][0];
+    K.pin[i][1] = m->pin[i][1];
+    K.u[i][0] = m->radial[i][0];
+    K.u[i][1] = m->radial[i][1];
+    K.body[i][0] = m->body[i][0];
+    K.body[i][1] = m->body[i][1];
+  }
+  for (e = 0; e < RPS3_KNEFF; e++)
+    K.sel[e] = (m->opt.effects & (1 << e)) ? 1.0 : 0.0;
+  K.certify = m->opt.certify ? 1.0 : 0.0;
+  K.forces_only = m->opt.forces_only ? 1.0 : 0.0;
+  K.cond_lim = (m->opt.cond_warn < m->opt.cond_max ? m->opt.cond_warn
+                                                   : m->opt.cond_max) *
+               (1.0 - KMARGIN);
+  K.trans_lim = (m->opt.trans_warn < m->opt.trans_max ? m->opt.trans_warn
+                                                      : m->opt.trans_max) *
+                (1.0 - KMARGIN);
+  if (rates)
+    kloop(&K, pose, pose + n, pose + 2 * n, in->dpose + i0,
+          in->dpose + n + i0, in->dpose + 2 * n + i0, in->ddpose + i0,
+          in->ddpose + n + i0, in->ddpose + 2 * n + i0, nb, o);
+  else
+    kloop(&K, pose, pose + n, pose + 2 * n, zero, zero, zero, zero, zero,
+          zero, nb, o);
+}

@@ -1,0 +1,51 @@
+/*
+ * batch_kernel.h - the vectorised kernel of rps3_inverse_batch (internal).
+ *
+ * The kernel computes a block of points of the closed-form Lagrange
+ * pipeline (pose -> IK (39) -> rates -> forces of the paper's four effects,
+ * condition number, transmission, certificate) as one straight-line loop
+ * body over the points, which the compiler vectorises.  It certifies each
+ * point it computed (ok = 1) or leaves it to the scalar path (ok = 0); see
+ * batch_kernel.c for what it certifies.
+ */
+#ifndef RPS3_BATCH_KERNEL_H
+#define RPS3_BATCH_KERNEL_H
+
+#include "internal.h"
+
+/* points per block: the outputs of a block live on the stack */
+#define RPS3_KBLOCK 32
+/* the effects the kernel computes: the paper's four, indices 0..3 */
+#define RPS3_KNEFF 4
+
+/* the outputs of one block, component-major [c][i] */
+typedef struct {
+  double l[3][RPS3_KBLOCK];       /* link lengths [m] */
+  double theta[3][RPS3_KBLOCK];   /* (39) [rad] */
+  double F[3][RPS3_KBLOCK];       /* forces [N] */
+  double Fe[RPS3_KNEFF][3][RPS3_KBLOCK]; /* share of effect k [N] */
+  double lambda[3][RPS3_KBLOCK];  /* multipliers [N/m] */
+  double cond[RPS3_KBLOCK];       /* 1-norm condition of the lambda system */
+  double trans[RPS3_KBLOCK];      /* force transmission [-] */
+  double eres[RPS3_KBLOCK];       /* energy-rate residual [W] */
+  int ok[RPS3_KBLOCK];            /* 1: certified; 0: the scalar path's */
+} rps3_kblock;
+
+/* 1 when the kernel serves model m: closed-form theta, Lagrange, only the
+   paper's four effects */
+int rps3_kernel_covers(const rps3_model *m);
+
+/* points i0 .. i0 + nb - 1 (nb <= RPS3_KBLOCK) of the batch into *o; the
+   rates are read when rates is 1, else taken as zero */
+void rps3_kernel_block(const rps3_model *m, const rps3_batch_in *in,
+                       size_t i0, int nb, int rates, rps3_kblock *o);
+
+/* the kernel's sine and cosine, and its atan2 for y > 0, one value at a
+   time (for the tests: the accuracy against libm) */
+void rps3_ksincos(double x, double *s, double *c);
+double rps3_katan2(double y, double x);
+
+/* the largest |angle| the kernel's range reduction serves [rad] */
+#define RPS3_KANGLE_MAX 1.0e5
+
+#endif /* RPS3_BATCH_KERNEL_H */

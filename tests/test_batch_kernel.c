@@ -1,0 +1,394 @@
+/*
+ * test_batch_kernel.c - the vectorised kernel of rps3_inverse_batch
+ * (src/batch_kernel.c) against the scalar path it stands in for:
+ *   - its sine, cosine and atan2 against libm, in ulp;
+ *   - its force transmission (virtual power) against the 6 x 6 system of
+ *     rps3_invdyn, and its condition number against the LU one;
+ *   - every output of rps3_inverse_batch against rps3_inverse point by
+ *     point, over random smooth trajectories and the paper's helix, for
+ *     the configurations it serves, with the documented tolerances; the
+ *     status and warning of every point equal, also with the warning
+ *     thresholds lowered so that points fall on both sides of them.
+ */
+#include <float.h>
+#include <stdlib.h>
+
+#include "testutil.h"
+#include "batch_kernel.h"
+
+#define N 2000
+#define EPS DBL_EPSILON
+
+/* the distance of got from want in units of the last place of want */
+static double ulps(double got, double want) {
+  double u = nextafter(fabs(want), HUGE_VAL) - fabs(want);
+  return fabs(got - want) / u;
+}
+
+/* sin and cos within 2 ulp of libm's (which is within 1 ulp of the exact
+   value): the Taylor series are truncated below 1e-19, so what is left is
+   the rounding of the reduction and of the Horner sums */
+static void sincos_within_2_ulp(void **state) {
+  uint64_t seed = 0x51c05;
+  double worst = 0.0;
+  int i;
+  (void)state;
+  for (i = 0; i < 400000; i++) {
+    double hi = i < 200000 ? 3.3 : i < 300000 ? 120.0 : RPS3_KANGLE_MAX;
+    double x = rnd_uniform(&seed, -hi, hi), s, c;
+    /* also the points next to the quadrant boundaries */
+    if (i % 10 == 0) x = (double)(i % 7 - 3) * (0.5 * PI) + x * 1e-9;
+    rps3_ksincos(x, &s, &c);
+    if (ulps(s, sin(x)) > worst) worst = ulps(s, sin(x));
+    if (ulps(c, cos(x)) > worst) worst = ulps(c, cos(x));
+    if (!(ulps(s, sin(x)) <= 2.0 && ulps(c, cos(x)) <= 2.0))
+      fail_msg("x = %.17g: sin %.17g (libm %.17g), cos %.17g (libm %.17g)", x,
+               s, sin(x), c, cos(x));
+  }
+  print_message("sincos: largest difference to libm %.2f ulp\n", worst);
+  {
+    double s, c;
+    rps3_ksincos((double)NAN, &s, &c);
+    assert_true(isnan(s) && isnan(c));
+  }
+}
+
+/* atan2(y, x), y > 0, within 4 ulp of libm's: the reduction to |u| <=
+   1/8 (one division), the series, and the octant's pi/2 or pi added */
+static void atan2_within_4_ulp(void **state) {
+  uint64_t seed = 0xa7a2;
+  double worst = 0.0;
+  int i;
+  (void)state;
+  for (i = 0; i < 400000; i++) {
+    double y = rnd_uniform(&seed, 1e-6, 1.0), x = rnd_uniform(&seed, -1, 1);
+    double got, want;
+    if (i % 4 == 0) x *= 1e-3;         /* near pi/2 */
+    if (i % 4 == 1) y *= 1e-3;         /* near 0 and pi */
+    if (i % 8 == 2) x = y * (double)(i % 5 - 2) * 0.25; /* on the quarters */
+    got = rps3_katan2(y, x);
+    want = atan2(y, x);
+    if (ulps(got, want) > worst) worst = ulps(got, want);
+    if (!(ulps(got, want) <= 4.0))
+      fail_msg("atan2(%.17g, %.17g) = %.17g, libm %.17g", y, x, got, want);
+  }
+  print_message("atan2: largest difference to libm %.2f ulp\n", worst);
+}
+
+/* the points of a batch, component-major */
+typedef struct {
+  double pose[3 * N], dpose[3 * N], ddpose[3 * N];
+  int status[N], warn[N], niter[N];
+  double l[3 * N], theta[3 * N], F[3 * N];
+  double F_effect[RPS3_NEFFECT * 3 * N], lambda[3 * N], cond[N], eres[N];
+} arrays;
+
+#define AT(a, c, i) ((a)[(size_t)(c) * N + (size_t)(i)])
+
+/* random smooth trajectories, or the paper's helix (seed 0) */
+static void make_points(const rps3_model *m, arrays *a, uint64_t seed) {
+  rps3_traj tr;
+  double p[3], dp[3], ddp[3];
+  int i, c;
+  if (seed == 0)
+    rps3_traj_default(&tr);
+  else
+    traj_random(&tr, &seed);
+  for (i = 0; i < N; i++) {
+    double t = rps3_traj_duration(&tr) * (double)i / (double)(N - 1);
+    assert_int_equal(rps3_traj_eval(m, &tr, t, p, dp, ddp), RPS3_OK);
+    for (c = 0; c < 3; c++) {
+      AT(a->pose, c, i) = p[c];
+      AT(a->dpose, c, i) = dp[c];
+      AT(a->ddpose, c, i) = ddp[c];
+    }
+  }
+}
+
+/* the largest differences seen, in the units of the tolerances below */
+typedef struct {
+  double l, theta, F, lambda, cond, eres;
+  int kernel; /* points the kernel certified */
+} worst;
+
+static void track(double *w, double x) {
+  if (x > *w) *w = x;
+}
+
+/*
+ * rps3_inverse_batch against rps3_inverse on the points of a.  Status and
+ * warning equal for every point.  Values, for the points computed:
+ *   - l within 4 ulp (the positions differ by the rounding of the pose's
+ *     sines and cosines, a few ulp);
+ *   - theta within 2 ulp of pi (atan2 within 4 ulp of its own result, of
+ *     inputs that differ by a few ulp);
+ *   - F, its shares and lambda (times R) within 8 eps cond of their scale
+ *     (the largest magnitude among the forces and shares of the point: a
+ *     force is a sum of shares): the same loads solved with a different
+ *     rounding, through the lambda system whose condition number
+ *     amplifies the difference (measured: up to 2.7 eps cond);
+ *   - cond within 8 eps cond (an inverse by adjugate vs by LU);
+ *   - the energy residual within 8 eps cond of the power scale.
+ */
+static void compare(const rps3_model *m, arrays *a, worst *w) {
+  rps3_data *db = NULL, *dl = NULL;
+  rps3_batch_in in;
+  rps3_batch_out out;
+  int i, c, k;
+  assert_int_equal(rps3_data_alloc(m, &db), RPS3_OK);
+  assert_int_equal(rps3_data_alloc(m, &dl), RPS3_OK);
+  memset(&in, 0, sizeof(in));
+  in.n = N;
+  in.pose = a->pose;
+  in.dpose = a->dpose;
+  in.ddpose = a->ddpose;
+  memset(&out, 0, sizeof(out));
+  out.status = a->status;
+  out.warn = a->warn;
+  out.niter = a->niter;
+  out.l = a->l;
+  out.theta = a->theta;
+  out.F = a->F;
+  out.F_effect = a->F_effect;
+  out.lambda = a->lambda;
+  out.cond = a->cond;
+  out.energy_residual = a->eres;
+  assert_int_equal(rps3_inverse_batch(m, db, &in, &out), RPS3_OK);
+  for (i = 0; i < N; i += RPS3_KBLOCK) {
+    rps3_kblock kb;
+    int p, nb = N - i < RPS3_KBLOCK ? N - i : RPS3_KBLOCK;
+    rps3_kernel_block(m, &in, (size_t)i, nb, 1, &kb);
+    for (p = 0; p < nb; p++) w->kernel += kb.ok[p];
+  }
+  for (i = 0; i < N; i++) {
+    double fs = 0.0, tol;
+    int s;
+    for (c = 0; c < 3; c++) {
+      dl->pose[c] = AT(a->pose, c, i);
+      dl->dpose[c] = AT(a->dpose, c, i);
+      dl->ddpose[c] = AT(a->ddpose, c, i);
+    }
+    s = rps3_inverse(m, dl);
+    assert_int_equal(a->status[i], s);
+    assert_int_equal(a->warn[i], dl->warn);
+    if (s != RPS3_OK) continue;
+    assert_int_equal(a->niter[i], 0);
+    for (c = 0; c < 3; c++) {
+      track(&fs, fabs(dl->F[c]));
+      for (k = 0; k < RPS3_NEFFECT; k++) track(&fs, fabs(dl->F_effect[k][c]));
+    }
+    tol = 8.0 * EPS * dl->cond;
+    for (c = 0; c < 3; c++) {
+      double e;
+      track(&w->l, ulps(AT(a->l, c, i), dl->l[c]) / 4.0);
+      if (m->opt.forces_only)
+        assert_true(isnan(AT(a->theta, c, i)) && isnan(dl->theta[c]));
+      else
+        track(&w->theta, fabs(AT(a->theta, c, i) - dl->theta[c]) /
+                             (2.0 * (nextafter(PI, 4.0) - PI)));
+      track(&w->F, fabs(AT(a->F, c, i) - dl->F[c]) / (tol * fs));
+      for (k = 0; k < RPS3_NEFFECT; k++) {
+        e = fabs(AT(a->F_effect, 3 * k + c, i) - dl->F_effect[k][c]);
+        track(&w->F, e / (tol * fs));
+        /* an effect not selected: exactly zero, as in rps3_invdyn */
+        if (!(m->opt.effects & (1 << k)) || m->opt.forces_only)
+          assert_true(AT(a->F_effect, 3 * k + c, i) == 0.0);
+      }
+      /* lambda [N/m] times a lever [m] is a force */
+      e = fabs(AT(a->lambda, c, i) - dl->lambda[c]) * m->R;
+      track(&w->lambda, e / (tol * fs));
+    }
+    track(&w->cond, fabs(a->cond[i] - dl->cond) / (tol * dl->cond));
+    track(&w->eres, fabs(a->eres[i] - dl->energy_residual) /
+                        (tol * (dl->energy_scale > 0 ? dl->energy_scale : 1)));
+  }
+  rps3_data_free(db);
+  rps3_data_free(dl);
+}
+
+static void check_worst(const worst *w, const char *what) {
+  print_message("%s: %d points by the kernel; worst l %.3g, theta %.3g, "
+                "F %.3g, lambda %.3g, cond %.3g, residual %.3g of the "
+                "tolerance\n",
+                what, w->kernel, w->l, w->theta, w->F, w->lambda, w->cond,
+                w->eres);
+  assert_true(w->l <= 1.0);
+  assert_true(w->theta <= 1.0);
+  assert_true(w->F <= 1.0);
+  assert_true(w->lambda <= 1.0);
+  assert_true(w->cond <= 1.0);
+  assert_true(w->eres <= 1.0);
+}
+
+/* the kernel's configurations on random trajectories and the helix */
+static void agrees(int table2, int effects, int certify, int forces_only,
+                   double cond_warn, double trans_warn, const char *what) {
+  rps3_model m;
+  arrays *a = calloc(1, sizeof(*a));
+  worst w;
+  uint64_t seed;
+  assert_non_null(a);
+  memset(&w, 0, sizeof(w));
+  if (table2)
+    rps3_model_default(&m);
+  else
+    model_entropy(&m);
+  m.opt.effects = effects;
+  m.opt.certify = certify;
+  m.opt.forces_only = forces_only;
+  if (cond_warn > 0) m.opt.cond_warn = cond_warn;
+  if (trans_warn > 0) m.opt.trans_warn = trans_warn;
+  assert_int_equal(rps3_model_init(&m, NULL, 0), RPS3_OK);
+  assert_true(rps3_kernel_covers(&m));
+  for (seed = 0; seed < 6; seed++) {
+    make_points(&m, a, seed == 0 ? 0 : 0x6e7 + seed);
+    compare(&m, a, &w);
+  }
+  check_worst(&w, what);
+  /* the kernel took most points (unless the thresholds were lowered) */
+  if (cond_warn <= 0 && trans_warn <= 0) assert_true(w.kernel > 5 * N);
+  free(a);
+}
+
+static void paper_model_certified(void **state) {
+  (void)state;
+  agrees(1, RPS3_EFF_DEFAULT, 1, 0, 0, 0, "Table II, paper's effects");
+}
+
+static void entropy_model_each_selection(void **state) {
+  (void)state;
+  agrees(0, RPS3_EFF_DEFAULT, 1, 0, 0, 0, "entropy model, four effects");
+  agrees(0, RPS3_EFF_PLATFORM_GRAVITY | RPS3_EFF_LINK_INERTIA, 0, 0, 0, 0,
+         "entropy model, two effects, no certificate");
+  agrees(0, RPS3_EFF_DEFAULT, 0, 1, 0, 0, "entropy model, forces_only");
+}
+
+/* warnings and their thresholds: with cond_warn and trans_warn inside the
+   range the points cover, the status and warning of every point are the
+   scalar path's (compare() checks them) */
+static void thresholds_as_the_scalar_path(void **state) {
+  (void)state;
+  agrees(0, RPS3_EFF_DEFAULT, 1, 0, 0, 2.9, "trans_warn 2.9");
+  agrees(0, RPS3_EFF_DEFAULT, 1, 0, 3.6, 0, "cond_warn 3.6");
+}
+
+/* the kernel's transmission and condition number against rps3_invdyn's */
+static void transmission_by_virtual_power(void **state) {
+  rps3_model m;
+  rps3_data *d = NULL;
+  arrays *a = calloc(1, sizeof(*a));
+  rps3_batch_in in;
+  rps3_kblock kb;
+  double wt = 0.0, wc = 0.0;
+  int i, p, c, seen = 0;
+  (void)state;
+  assert_non_null(a);
+  model_entropy(&m);
+  m.opt.effects = RPS3_EFF_DEFAULT;
+  m.opt.trans_warn = 1e7; /* certify points far from the default's */
+  m.opt.cond_warn = 1e7;
+  assert_int_equal(rps3_model_init(&m, NULL, 0), RPS3_OK);
+  assert_int_equal(rps3_data_alloc(&m, &d), RPS3_OK);
+  make_points(&m, a, 0x7a5);
+  memset(&in, 0, sizeof(in));
+  in.n = N;
+  in.pose = a->pose;
+  in.dpose = a->dpose;
+  in.ddpose = a->ddpose;
+  for (i = 0; i < N; i += RPS3_KBLOCK) {
+    int nb = N - i < RPS3_KBLOCK ? N - i : RPS3_KBLOCK;
+    rps3_kernel_block(&m, &in, (size_t)i, nb, 1, &kb);
+    for (p = 0; p < nb; p++) {
+      for (c = 0; c < 3; c++) {
+        d->pose[c] = AT(a->pose, c, i + p);
+        d->dpose[c] = AT(a->dpose, c, i + p);
+        d->ddpose[c] = AT(a->ddpose, c, i + p);
+      }
+      if (rps3_inverse(&m, d) != RPS3_OK) continue;
+      seen++;
+      /* two formulations of the same numbers: to their rounding (the
+         6 x 6 LU and the 3 x 3 adjugate, times cond) */
+      CHECK_REL(kb.trans[p], d->transmission, 1e-12 * d->cond, 0.0,
+                "transmission of point %d", i + p);
+      CHECK_REL(kb.cond[p], d->cond, 1e-13 * d->cond, 0.0,
+                "cond of point %d", i + p);
+      track(&wt, fabs(kb.trans[p] - d->transmission) / d->transmission);
+      track(&wc, fabs(kb.cond[p] - d->cond) / d->cond);
+    }
+  }
+  print_message("%d points: transmission within %.3g, cond within %.3g "
+                "(relative)\n", seen, wt, wc);
+  assert_true(seen > N / 2);
+  rps3_data_free(d);
+  free(a);
+}
+
+/* points the kernel must leave to the scalar path: not finite, out of the
+   reduction's range, unreachable; the status is the scalar path's */
+static void hard_points_by_the_scalar_path(void **state) {
+  rps3_model m;
+  rps3_data *db = NULL, *dl = NULL;
+  double pose[3 * 8], dpose[3 * 8], ddpose[3 * 8], F[3 * 8];
+  int status[8], i, c;
+  const double bad[8][3] = {
+      {0.3, 0.2, 0.25},         {(double)NAN, 0.2, 0.25},
+      {0.3, HUGE_VAL, 0.25},    {0.3, 0.2, -0.04},
+      {2.0e5, 0.2, 0.25},       {0.3, 0.2, 1e200},
+      {0.3 + 64.0 * PI, 0.2, 0.25}, {0.3, 0.2, 0.0}};
+  rps3_batch_in in;
+  rps3_batch_out out;
+  (void)state;
+  rps3_model_default(&m);
+  assert_int_equal(rps3_model_init(&m, NULL, 0), RPS3_OK);
+  assert_int_equal(rps3_data_alloc(&m, &db), RPS3_OK);
+  assert_int_equal(rps3_data_alloc(&m, &dl), RPS3_OK);
+  for (i = 0; i < 8; i++)
+    for (c = 0; c < 3; c++) {
+      pose[c * 8 + i] = bad[i][c];
+      dpose[c * 8 + i] = 0.0137 * (c + 1);
+      ddpose[c * 8 + i] = -0.0271 * (c + 1);
+    }
+  dpose[1 * 8 + 7] = HUGE_VAL; /* and non-finite rates at the last */
+  memset(&in, 0, sizeof(in));
+  in.n = 8;
+  in.pose = pose;
+  in.dpose = dpose;
+  in.ddpose = ddpose;
+  memset(&out, 0, sizeof(out));
+  out.status = status;
+  out.F = F;
+  assert_int_equal(rps3_inverse_batch(&m, db, &in, &out), RPS3_OK);
+  for (i = 0; i < 8; i++) {
+    for (c = 0; c < 3; c++) {
+      dl->pose[c] = pose[c * 8 + i];
+      dl->dpose[c] = dpose[c * 8 + i];
+      dl->ddpose[c] = ddpose[c * 8 + i];
+    }
+    assert_int_equal(status[i], rps3_inverse(&m, dl));
+    if (status[i] == RPS3_OK)
+      for (c = 0; c < 3; c++)
+        CHECK_REL(F[c * 8 + i], dl->F[c], 1e-13, 1.0, "F of point %d", i);
+    else
+      assert_true(isnan(F[i]));
+  }
+  assert_int_equal(status[0], RPS3_OK);
+  assert_int_equal(status[4], RPS3_OK); /* beyond the reduction: scalar */
+  assert_int_equal(status[6], RPS3_OK); /* alpha + 32 turns: the kernel */
+  assert_int_equal((int)out.nfail, 5);
+  rps3_data_free(db);
+  rps3_data_free(dl);
+}
+
+int main(void) {
+  const struct CMUnitTest tests[] = {
+      cmocka_unit_test(sincos_within_2_ulp),
+      cmocka_unit_test(atan2_within_4_ulp),
+      cmocka_unit_test(transmission_by_virtual_power),
+      cmocka_unit_test(paper_model_certified),
+      cmocka_unit_test(entropy_model_each_selection),
+      cmocka_unit_test(thresholds_as_the_scalar_path),
+      cmocka_unit_test(hard_points_by_the_scalar_path),
+  };
+  gsl_set_error_handler_off();
+  return cmocka_run_group_tests(tests, NULL, NULL);
+}
