@@ -55,7 +55,7 @@ static size_t round_rows(size_t ncase, size_t tc)
   return (ncase + tc - 1) / tc * tc;
 }
 
-double est_file_bytes(const scene *s, const sweep_plan *p)
+double est_file_bytes(const scene *s, const sweep_plan *p, out_mask fields)
 {
   double neff = 0;
   /* the chunks the plan allocates (sweep.h): per sample field, `stored`
@@ -74,7 +74,7 @@ double est_file_bytes(const scene *s, const sweep_plan *p)
       neff += 1;
 
 #define EST_FIELD(name, shape, type, ...)                                     \
-  {                                                                           \
+  if (fields >> OUT_##name & 1) {                                             \
     double cols = shape == OUT_CTEL                     ? 3 * neff            \
                   : shape == OUT_CTL || shape == OUT_CTK ? 3                  \
                                                          : 1;                 \
@@ -161,8 +161,8 @@ static void time_case(const scene *s, size_t i, out_block *b, rps3_data **d,
   c->samples += rc == RPS3_OK ? n : failed_at + 1;
 }
 
-int est_cost_measure(const scene *s, const sweep_plan *p, int gzip,
-                     est_cost *c)
+int est_cost_measure(const scene *s, const sweep_plan *p, out_mask fields,
+                     int gzip, est_cost *c)
 {
   const size_t ncase = s->ncase < EST_CASES ? s->ncase : EST_CASES;
   out_block b;
@@ -180,7 +180,7 @@ int est_cost_measure(const scene *s, const sweep_plan *p, int gzip,
   out_block_free(&b);
   if (c->cases)
     c->per_case /= (double)c->cases;
-  c->write = est_file_bytes(s, p) / (double)p->npoint *
+  c->write = est_file_bytes(s, p, fields) / (double)p->npoint *
              (EST_WRITE_S_PER_BYTE + gzip_s_per_byte(gzip));
   if (c->samples == 0)
     return -1;

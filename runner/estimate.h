@@ -10,13 +10,14 @@
 
 /*
  * Bytes of the file rps3-run writes for the plan p of s, uncompressed:
- * every chunk that the run allocates (p->stored samples per sample field;
- * a partial edge chunk counts whole), the per-case strings, the swept
+ * the fields of `fields` (out_fields_parse) in every chunk that the run
+ * allocates (p->stored samples per sample field; a partial edge chunk
+ * counts whole), the per-case strings, the swept
  * keys and the coordinates, plus a bound on HDF5's metadata.  With --gzip
  * the file is smaller: this is then an upper bound.  A double, because
  * absurd sweeps exceed any size_t.
  */
-double est_file_bytes(const scene *s, const sweep_plan *p);
+double est_file_bytes(const scene *s, const sweep_plan *p, out_mask fields);
 
 /* "12.3 MB" (powers of 1000) into buf */
 const char *est_human(double bytes, char *buf, size_t sz);
@@ -39,8 +40,8 @@ typedef struct {
  * A case that fails is timed up to its failing sample (at least that one).
  * Returns 0, or -1 when nothing could be timed (out of memory).
  */
-int est_cost_measure(const scene *s, const sweep_plan *p, int gzip,
-                     est_cost *c);
+int est_cost_measure(const scene *s, const sweep_plan *p, out_mask fields,
+                     int gzip, est_cost *c);
 
 /*
  * Wall seconds of a run of `samples` samples and `cases` cases on

@@ -2,7 +2,7 @@
  * main_run.c - rps3-run: run a scene (and its sweep) into an HDF5 file.
  *
  *   rps3-run SCENE.yaml -o OUT.h5 [--quiet] [--gzip LEVEL] [--check]
- *            [-j N] [--shard K/N [--resume]] [--failed-ok]
+ *            [--fields LIST] [-j N] [--shard K/N [--resume]] [--failed-ok]
  *   rps3-run --clean OUT.h5 [--force]
  *   rps3-run merge OUT.h5 PART.h5 ... [--copy] [--quiet]
  *   mpirun -n N rps3-run-mpi SCENE.yaml -o OUT.h5 [--copy] [...]
@@ -60,6 +60,7 @@ static void usage(FILE *out)
   fprintf(out,
           "usage: rps3-run SCENE.yaml -o OUT.h5 [--quiet] [--gzip LEVEL] "
           "[--check]\n"
+          "                [--fields LIST]\n"
           "                [-j N] [--shard K/N [--resume]] [--failed-ok]\n"
           "       rps3-run merge OUT.h5 PART.h5 ... [--copy] [--failed-ok] "
           "[--quiet]\n"
@@ -76,6 +77,8 @@ static void usage(FILE *out)
           "when complete)\n"
           "  -q, --quiet    no progress on stderr\n"
           "  --gzip LEVEL   deflate the datasets (1-9; default 0, none)\n"
+          "  --fields LIST  write only these per-sample fields "
+          "(force,length,...)\n"
           "  --check        validate the scene and every case, print the "
           "estimated\n"
           "                 output size and run time, write nothing\n"
@@ -328,6 +331,7 @@ static int run_main(int argc, char **argv, const world *w)
   sweep_plan plan;
   sweep_opts opts = {1, 0, 1};
   pre_opts pre;
+  out_mask fields = out_fields_all();
   sweep_stats st;
   out_block block;
   out_meta meta;
@@ -362,6 +366,15 @@ static int run_main(int argc, char **argv, const world *w)
       resume = 1;
     } else if (strcmp(a, "--failed-ok") == 0) {
       failed_ok = 1;
+    } else if (strcmp(a, "--fields") == 0) {
+      if (i + 1 >= argc) {
+        fprintf(stderr, "rps3-run: %s needs a value\n", a);
+        return EXIT_USAGE;
+      }
+      if (out_fields_parse(argv[++i], &fields, err, sizeof err)) {
+        fprintf(stderr, "rps3-run: %s\n", err);
+        return EXIT_USAGE;
+      }
     } else if (strcmp(a, "-o") == 0 || strcmp(a, "--gzip") == 0 ||
                strcmp(a, "-j") == 0 || strcmp(a, "--shard") == 0) {
       unsigned long v;
@@ -473,6 +486,14 @@ static int run_main(int argc, char **argv, const world *w)
   /* a scene with a simulate section is simulated instead (simulate.h) */
   if (sim_wanted(&s)) {
     sim_args sa;
+    if (fields != out_fields_all()) {
+      if (w->rank == 0)
+        fprintf(stderr, "rps3-run: --fields selects variables of the "
+                        "inverse-dynamics file; a scene with a simulate "
+                        "section writes the simulation file whole\n");
+      scene_free(&s);
+      return EXIT_USAGE;
+    }
     sa.out_path = out_path;
     sa.check = check;
     sa.quiet = quiet;
@@ -493,6 +514,7 @@ static int run_main(int argc, char **argv, const world *w)
   pre.copy = copy;
   pre.gzip = gzip;
   pre.quiet = quiet;
+  pre.fields = fields;
   if (pre_jobs(&s, &plan, &opts, &pre)) {
     scene_free(&s);
     return EXIT_USAGE;
@@ -527,7 +549,10 @@ static int run_main(int argc, char **argv, const world *w)
   /* a complete part of this scene is not computed again */
   if (resume && !check) {
     size_t nfailed = 0;
-    if (parts_resume(out_path, opts.shard, opts.nshard, s.text, &nfailed)) {
+    char names[1024];
+    if (parts_resume(out_path, opts.shard, opts.nshard, s.text,
+                     out_fields_text(fields, names, sizeof names),
+                     &nfailed)) {
       if (!quiet)
         fprintf(stderr, "rps3-run: %s is shard %zu/%zu of this scene, "
                         "complete (%zu failed case%s): not run again\n",
@@ -552,6 +577,7 @@ static int run_main(int argc, char **argv, const world *w)
   meta.command_line = cmd;
   meta.gzip = gzip;
   meta.shard = shard_arg;
+  meta.fields = fields;
 
   /* write under a temporary name in the same directory, rename at the end
      (tmpout.h) */

@@ -19,145 +19,8 @@
 #include <hdf5_hl.h>
 #include <yaml.h>
 
-/* ------------------------------------------------------------ the schema */
-
-typedef struct {
-  const char *name;
-  out_shape shape;
-  out_type type;
-  const char *units;
-  const char *doc;
-} out_field_info;
-
-#define OUT_FIELD_ROW(name, shape, type, units, doc) \
-  {#name, shape, type, units, doc},
-static const out_field_info fields[OUT_NFIELD] = {
-    RPS3_OUTPUT_FIELDS(OUT_FIELD_ROW)};
-#undef OUT_FIELD_ROW
-
 /* swept values are written in runs of this many cases */
 #define AXIS_RUN 65536
-
-size_t out_columns(out_shape shape, int neffect)
-{
-  switch (shape) {
-  case OUT_C:
-  case OUT_CT:
-    return 1;
-  case OUT_CTL:
-  case OUT_CTK:
-    return 3;
-  case OUT_CTEL:
-    return 3 * (size_t)neffect;
-  }
-  return 1;
-}
-
-static size_t type_size(out_type type)
-{
-  return type == OUT_F64 ? sizeof(double)
-         : type == OUT_I32 ? sizeof(int32_t)
-                           : sizeof(char *);
-}
-
-/* the buffer of field i of b */
-static void *block_field(const out_block *b, int i)
-{
-  switch (i) {
-#define OUT_BLOCK_CASE(name, ...) \
-  case OUT_##name:                \
-    return b->name;
-    RPS3_OUTPUT_FIELDS(OUT_BLOCK_CASE)
-#undef OUT_BLOCK_CASE
-  }
-  return NULL;
-}
-
-static void block_field_set(out_block *b, int i, void *p)
-{
-  switch (i) {
-#define OUT_BLOCK_SET(name, ...) \
-  case OUT_##name:               \
-    b->name = p;                 \
-    break;
-    RPS3_OUTPUT_FIELDS(OUT_BLOCK_SET)
-#undef OUT_BLOCK_SET
-  }
-}
-
-/* elements of field i per slot */
-static size_t slot_elems(const out_block *b, int i)
-{
-  return fields[i].shape == OUT_C
-             ? 1
-             : b->points * out_columns(fields[i].shape, b->neffect);
-}
-
-int out_block_alloc(out_block *b, size_t cases, size_t points, int effects)
-{
-  int i, e;
-  memset(b, 0, sizeof *b);
-  b->cases = cases;
-  b->points = points;
-  for (e = 0; e < RPS3_NEFFECT; e++)
-    if (effects & (1 << e))
-      b->effect[b->neffect++] = e;
-  for (i = 0; i < OUT_NFIELD; i++) {
-    void *p = calloc(cases * slot_elems(b, i), type_size(fields[i].type));
-    if (!p)
-      goto fail;
-    block_field_set(b, i, p);
-  }
-  b->t = calloc(cases * points, sizeof *b->t);
-  b->yaml = calloc(cases, sizeof *b->yaml);
-  b->msg = calloc(cases, sizeof *b->msg);
-  if (!b->t || !b->yaml || !b->msg)
-    goto fail;
-  return 0;
-fail:
-  out_block_free(b);
-  return -1;
-}
-
-void out_block_free(out_block *b)
-{
-  size_t s;
-  int i;
-  if (!b)
-    return;
-  for (i = 0; i < OUT_NFIELD; i++)
-    free(block_field(b, i));
-  if (b->yaml)
-    for (s = 0; s < b->cases; s++)
-      scene_text_free(&b->yaml[s]);
-  free(b->yaml);
-  free(b->t);
-  free(b->msg);
-  memset(b, 0, sizeof *b);
-}
-
-void out_block_blank(out_block *b, size_t slot, size_t k)
-{
-  size_t j;
-  int i;
-  for (i = 0; i < OUT_NFIELD; i++) {
-    size_t cols = out_columns(fields[i].shape, b->neffect);
-    size_t lo = (slot * b->points + k) * cols, hi = (slot + 1) * b->points * cols;
-    if (fields[i].shape == OUT_C)
-      continue;
-    if (fields[i].type == OUT_F64) {
-      double *p = block_field(b, i);
-      for (j = lo; j < hi; j++)
-        p[j] = (double)NAN;
-    } else if (fields[i].type == OUT_I32) {
-      int32_t *p = block_field(b, i);
-      for (j = lo; j < hi; j++)
-        p[j] = -1;
-    }
-  }
-  for (j = slot * b->points + k; j < (slot + 1) * b->points; j++)
-    b->t[j] = (double)NAN;
-}
 
 /* ------------------------------------------------------------ HDF5 bits */
 
@@ -195,7 +58,7 @@ void out_fail(char *err, size_t errsz, const char *fmt, ...)
   va_end(ap);
 }
 
-static int attr_str(hid_t obj, hid_t str, const char *name, const char *value)
+int out_h5_attr(hid_t obj, hid_t str, const char *name, const char *value)
 {
   hid_t sp = H5Screate(H5S_SCALAR), a;
   int rc = -1;
@@ -219,7 +82,7 @@ static hid_t field_type(const out_file *f, const out_field_info *fi) {
                                : f->str;
 }
 
-static hid_t dataset(hid_t file, hid_t str, const char *name, hid_t type,
+hid_t out_h5_dataset(hid_t file, hid_t str, const char *name, hid_t type,
                      int rank, const hsize_t *dims, const hsize_t *chunk,
                      int gzip, const void *fill, const char *units,
                      const char *doc)
@@ -249,8 +112,8 @@ static hid_t dataset(hid_t file, hid_t str, const char *name, hid_t type,
   if (H5Pset_char_encoding(lcpl, H5T_CSET_UTF8) < 0)
     goto done;
   ds = H5Dcreate2(file, name, type, sp, lcpl, dcpl, dapl);
-  if (ds >= 0 && (attr_str(ds, str, "units", units) < 0 ||
-                  attr_str(ds, str, "description", doc) < 0)) {
+  if (ds >= 0 && (out_h5_attr(ds, str, "units", units) < 0 ||
+                  out_h5_attr(ds, str, "description", doc) < 0)) {
     H5Dclose(ds);
     ds = -1;
   }
@@ -273,7 +136,7 @@ static int write_all(hid_t ds, hid_t type, const void *data)
 }
 
 /* write n elements from data into rows [c0, c0 + n) of a [case] dataset */
-static int write_rows(hid_t ds, hid_t type, size_t c0, size_t n,
+int out_h5_rows(hid_t ds, hid_t type, size_t c0, size_t n,
                       const void *data)
 {
   hsize_t start = c0, count = n;
@@ -292,12 +155,12 @@ static int write_rows(hid_t ds, hid_t type, size_t c0, size_t n,
 }
 
 /* a dimension scale: a 1-D dataset named after its dimension */
-static hid_t scale(hid_t file, hid_t str, const char *name, hid_t type,
+hid_t out_h5_scale(hid_t file, hid_t str, const char *name, hid_t type,
                    size_t n, const void *data, const char *units,
                    const char *doc)
 {
   hsize_t dim = n;
-  hid_t ds = dataset(file, str, name, type, 1, &dim, NULL, 0, NULL, units, doc);
+  hid_t ds = out_h5_dataset(file, str, name, type, 1, &dim, NULL, 0, NULL, units, doc);
   if (ds < 0)
     return -1;
   if ((data && write_all(ds, type, data) < 0) || H5DSset_scale(ds, name) < 0) {
@@ -308,7 +171,7 @@ static hid_t scale(hid_t file, hid_t str, const char *name, hid_t type,
 }
 
 /* "a b c": the coordinates attribute of the per-case variables */
-static char *coordinates(const scene *s, int grid_common)
+char *out_h5_coordinates(const scene *s, int grid_common)
 {
   size_t a, len = 1;
   char *c;
@@ -330,7 +193,7 @@ static char *coordinates(const scene *s, int grid_common)
 }
 
 /* the swept values of axis a, case by case, in runs of AXIS_RUN cases */
-static int write_axis(hid_t ds, hid_t str, const scene *s, size_t a)
+int out_h5_axis(hid_t ds, hid_t str, const scene *s, size_t a)
 {
   const scene_axis *ax = &s->axis[a];
   const scene_key_info *ki = scene_key_get(ax->key);
@@ -350,7 +213,7 @@ static int write_axis(hid_t ds, hid_t str, const scene *s, size_t a)
       else
         ((int32_t *)buf)[i] = (int32_t)x;
     }
-    rc = write_rows(ds,
+    rc = out_h5_rows(ds,
                     (ki->type == KEY_REAL || ki->type == KEY_REAL3)
                         ? H5T_NATIVE_DOUBLE
                     : ki->type == KEY_ENUM ? str
@@ -382,8 +245,8 @@ int out_stamp(hid_t file, const char *command_line)
        H5Adelete(file, "created_utc") >= 0) &&
       (H5Aexists(file, "command_line") <= 0 ||
        H5Adelete(file, "command_line") >= 0) &&
-      attr_str(file, str, "created_utc", now) >= 0 &&
-      attr_str(file, str, "command_line", command_line) >= 0)
+      out_h5_attr(file, str, "created_utc", now) >= 0 &&
+      out_h5_attr(file, str, "command_line", command_line) >= 0)
     rc = 0;
   if (str >= 0)
     H5Tclose(str);
@@ -393,21 +256,23 @@ int out_stamp(hid_t file, const char *command_line)
 /* the root attributes: versions, time of creation, command line */
 static int root_attrs(hid_t file, hid_t str, const out_meta *meta)
 {
-  char now[32], h5v[32];
+  char now[32], h5v[32], fields[1024];
   unsigned maj, min, rel;
   utc_now(now);
   H5get_libversion(&maj, &min, &rel);
   snprintf(h5v, sizeof h5v, "%u.%u.%u", maj, min, rel);
-  return (attr_str(file, str, "rps3_version", rps3_version()) < 0 ||
-          attr_str(file, str, "created_utc", now) < 0 ||
-          attr_str(file, str, "command_line", meta->command_line) < 0 ||
-          attr_str(file, str, "gsl_version", gsl_version) < 0 ||
-          attr_str(file, str, "hdf5_version", h5v) < 0 ||
-          attr_str(file, str, "yaml_version", yaml_get_version_string()) < 0 ||
-          attr_str(file, str, "title",
+  return (out_h5_attr(file, str, "rps3_version", rps3_version()) < 0 ||
+          out_h5_attr(file, str, "created_utc", now) < 0 ||
+          out_h5_attr(file, str, "command_line", meta->command_line) < 0 ||
+          out_h5_attr(file, str, "gsl_version", gsl_version) < 0 ||
+          out_h5_attr(file, str, "hdf5_version", h5v) < 0 ||
+          out_h5_attr(file, str, "yaml_version", yaml_get_version_string()) < 0 ||
+          out_h5_attr(file, str, "title",
                    "rps3: inverse dynamics of the Lee & Shah 3-RPS "
                    "manipulator along a trajectory, per case of a sweep") < 0 ||
-          (meta->shard && attr_str(file, str, "shard", meta->shard) < 0))
+          out_h5_attr(file, str, "fields",
+                   out_fields_text(meta->fields, fields, sizeof fields)) < 0 ||
+          (meta->shard && out_h5_attr(file, str, "shard", meta->shard) < 0))
              ? -1
              : 0;
 }
@@ -458,7 +323,7 @@ out_file *out_create(const char *path, const scene *s,
 
   /* the scene file, verbatim */
   {
-    hid_t ds = dataset(f->file, f->str, "scene", f->str, 0, NULL, NULL, 0,
+    hid_t ds = out_h5_dataset(f->file, f->str, "scene", f->str, 0, NULL, NULL, 0,
                        NULL, "1", "the scene file (YAML), verbatim");
     const char *text = s->text;
     if (ds < 0 || write_all(ds, f->str, &text) < 0) {
@@ -471,7 +336,7 @@ out_file *out_create(const char *path, const scene *s,
   }
 
   /* dimension scales */
-  dcase = scale(f->file, f->str, "case", H5T_NATIVE_INT64, s->ncase, NULL,
+  dcase = out_h5_scale(f->file, f->str, "case", H5T_NATIVE_INT64, s->ncase, NULL,
                 "1", "case number; row-major over the sweep keys in file "
                      "order, the last key fastest");
   if (dcase >= 0) {
@@ -480,7 +345,7 @@ out_file *out_create(const char *path, const scene *s,
       n = s->ncase - c0 < AXIS_RUN ? s->ncase - c0 : AXIS_RUN;
       for (k = 0; k < n; k++)
         idx[k] = (int64_t)(c0 + k);
-      if (write_rows(dcase, H5T_NATIVE_INT64, c0, n, idx) < 0)
+      if (out_h5_rows(dcase, H5T_NATIVE_INT64, c0, n, idx) < 0)
         break;
     }
     if (!idx || c0 < s->ncase) {
@@ -492,9 +357,9 @@ out_file *out_create(const char *path, const scene *s,
   /* the time scale in runs of AXIS_RUN samples: memory does not grow
      with the length of a case */
   dtime = grid_common
-              ? scale(f->file, f->str, "time", H5T_NATIVE_DOUBLE, nt, NULL,
+              ? out_h5_scale(f->file, f->str, "time", H5T_NATIVE_DOUBLE, nt, NULL,
                       "s", "time since the start of the trajectory")
-              : scale(f->file, f->str, "time", H5T_NATIVE_INT32, nt, NULL,
+              : out_h5_scale(f->file, f->str, "time", H5T_NATIVE_INT32, nt, NULL,
                       "1",
                       "sample index: the time grid differs between cases, "
                       "the time of each sample is case_time");
@@ -509,7 +374,7 @@ out_file *out_create(const char *path, const scene *s,
         else
           ix[k] = (int32_t)(c0 + k);
       }
-      if (write_rows(dtime,
+      if (out_h5_rows(dtime,
                      grid_common ? H5T_NATIVE_DOUBLE : H5T_NATIVE_INT32, c0,
                      n, t) < 0)
         break;
@@ -520,15 +385,15 @@ out_file *out_create(const char *path, const scene *s,
     }
     free(t);
   }
-  dlink = scale(f->file, f->str, "link", H5T_NATIVE_INT32, 3, one23, "1",
+  dlink = out_h5_scale(f->file, f->str, "link", H5T_NATIVE_INT32, 3, one23, "1",
                 "link (leg) number i; link i is pinned at angle "
                 "2 pi (i - 1) / 3 from X");
-  dcon = scale(f->file, f->str, "constraint", H5T_NATIVE_INT32, 3, one23,
+  dcon = out_h5_scale(f->file, f->str, "constraint", H5T_NATIVE_INT32, 3, one23,
                "1", "constraint k of eqs. (8), (9), (10): ball joints 1-2, "
                     "2-3, 3-1");
   for (i = 0; i < b->neffect; i++)
     names[i] = rps3_effect_name(b->effect[i]);
-  deff = scale(f->file, f->str, "effect", f->str, (size_t)b->neffect, names,
+  deff = out_h5_scale(f->file, f->str, "effect", f->str, (size_t)b->neffect, names,
                "1", "physical effect, as named by rps3_effect_name");
   if (dcase < 0 || dtime < 0 || dlink < 0 || dcon < 0 || deff < 0) {
     fail(err, errsz, "cannot write the dimension scales");
@@ -536,7 +401,7 @@ out_file *out_create(const char *path, const scene *s,
   }
 
   /* the swept keys, [case] */
-  coords = coordinates(s, grid_common);
+  coords = out_h5_coordinates(s, grid_common);
   axis_ds = calloc(s->naxis + 1, sizeof *axis_ds);
   if (!coords || !axis_ds) {
     snprintf(err, errsz, "out of memory");
@@ -552,21 +417,23 @@ out_file *out_create(const char *path, const scene *s,
                                         : H5T_NATIVE_INT32;
     snprintf(doc, sizeof doc, "swept scene key %s: %s (paper: %s)",
              s->axis[a].path, ki->doc, ki->symbol);
-    axis_ds[a] = dataset(f->file, f->str, s->axis[a].path, type, 1, &nc,
+    axis_ds[a] = out_h5_dataset(f->file, f->str, s->axis[a].path, type, 1, &nc,
                          NULL, 0, NULL, ki->unit, doc);
     if (axis_ds[a] < 0 || H5DSattach_scale(axis_ds[a], dcase, 0) < 0 ||
-        write_axis(axis_ds[a], f->str, s, a) < 0) {
+        out_h5_axis(axis_ds[a], f->str, s, a) < 0) {
       fail(err, errsz, "cannot write the swept key %s", s->axis[a].path);
       goto fail;
     }
   }
 
-  /* the fields of the schema */
+  /* the fields of the schema that are asked for (--fields) */
   for (i = 0; i < OUT_NFIELD; i++) {
-    const out_field_info *fi = &fields[i];
+    const out_field_info *fi = &out_field_table[i];
     hid_t type = field_type(f, fi);
     hid_t axes[4];
     int rank = 0, r;
+    if (!(meta->fields >> i & 1))
+      continue;
     dims[rank] = s->ncase;
     chunk[rank] = b->cases < s->ncase ? b->cases : s->ncase;
     axes[rank++] = dcase;
@@ -587,14 +454,14 @@ out_file *out_create(const char *path, const scene *s,
       dims[rank] = chunk[rank] = 3;
       axes[rank++] = dcon;
     }
-    f->ds[i] = dataset(f->file, f->str, fi->name, type, rank, dims, chunk,
+    f->ds[i] = out_h5_dataset(f->file, f->str, fi->name, type, rank, dims, chunk,
                        meta->gzip,
                        fi->type == OUT_F64 ? (const void *)&fnan
                        : i == OUT_status   ? (const void *)&fnotrun
                        : fi->type == OUT_I32 ? (const void *)&fneg
                                              : NULL,
                        fi->units, fi->doc);
-    if (f->ds[i] < 0 || (coords[0] && attr_str(f->ds[i], f->str,
+    if (f->ds[i] < 0 || (coords[0] && out_h5_attr(f->ds[i], f->str,
                                                 "coordinates", coords) < 0)) {
       fail(err, errsz, "cannot create dataset %s", fi->name);
       goto fail;
@@ -611,7 +478,7 @@ out_file *out_create(const char *path, const scene *s,
     dims[1] = nt;
     chunk[0] = b->cases < s->ncase ? b->cases : s->ncase;
     chunk[1] = chunk_points < nt ? chunk_points : nt;
-    f->case_time = dataset(f->file, f->str, "case_time", H5T_NATIVE_DOUBLE, 2,
+    f->case_time = out_h5_dataset(f->file, f->str, "case_time", H5T_NATIVE_DOUBLE, 2,
                            dims, chunk, meta->gzip, &fnan, "s",
                            "time of each sample of each case (the time grid "
                            "differs between cases); NaN past a case's last "
@@ -700,15 +567,15 @@ int out_write(out_file *f, const out_block *b, size_t c0, size_t nc,
 {
   int i;
   for (i = 0; i < OUT_NFIELD; i++) {
-    const out_field_info *fi = &fields[i];
+    const out_field_info *fi = &out_field_table[i];
     hid_t type = field_type(f, fi);
     int rank = fi->shape == OUT_C      ? 1
                : fi->shape == OUT_CT   ? 2
                : fi->shape == OUT_CTEL ? 4
                                        : 3;
-    if (fi->shape == OUT_C && !with_case)
+    if ((fi->shape == OUT_C && !with_case) || f->ds[i] < 0)
       continue;
-    if (write_tile(f->ds[i], type, rank, b, block_field(b, i), c0, nc, k0,
+    if (write_tile(f->ds[i], type, rank, b, out_block_field(b, i), c0, nc, k0,
                    nk) < 0) {
       fail(err, errsz, "cannot write %s of cases %zu-%zu", fi->name, c0,
            c0 + nc - 1);
@@ -743,59 +610,4 @@ int out_close(out_file *f, char *err, size_t errsz)
     fail(err, errsz, "cannot close the file");
   free(f);
   return rc;
-}
-
-void out_schema_print(void)
-{
-  static const char *const dims[] = {
-      "case", "case, time", "case, time, link", "case, time, constraint",
-      "case, time, effect, link"};
-  int i;
-  printf("| dataset | dimensions | type | units | description |\n");
-  printf("|---|---|---|---|---|\n");
-  for (i = 0; i < OUT_NFIELD; i++)
-    printf("| `%s` | %s | %s | %s | %s |\n", fields[i].name,
-           dims[fields[i].shape],
-           fields[i].type == OUT_F64   ? "float64"
-           : fields[i].type == OUT_I32 ? "int32"
-                                       : "string",
-           fields[i].units, fields[i].doc);
-}
-
-/* ------------------------------- the helpers sim_output.c shares (output.h) */
-
-int out_h5_attr(hid_t obj, hid_t str, const char *name, const char *value)
-{
-  return attr_str(obj, str, name, value);
-}
-
-hid_t out_h5_dataset(hid_t file, hid_t str, const char *name, hid_t type,
-                     int rank, const hsize_t *dims, const hsize_t *chunk,
-                     int gzip, const void *fill, const char *units,
-                     const char *doc)
-{
-  return dataset(file, str, name, type, rank, dims, chunk, gzip, fill, units,
-                 doc);
-}
-
-hid_t out_h5_scale(hid_t file, hid_t str, const char *name, hid_t type,
-                   size_t n, const void *data, const char *units,
-                   const char *doc)
-{
-  return scale(file, str, name, type, n, data, units, doc);
-}
-
-int out_h5_rows(hid_t ds, hid_t type, size_t c0, size_t n, const void *data)
-{
-  return write_rows(ds, type, c0, n, data);
-}
-
-int out_h5_axis(hid_t ds, hid_t str, const scene *s, size_t a)
-{
-  return write_axis(ds, str, s, a);
-}
-
-char *out_h5_coordinates(const scene *s, int grid_common)
-{
-  return coordinates(s, grid_common);
 }

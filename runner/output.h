@@ -88,6 +88,35 @@ typedef enum { OUT_F64, OUT_I32, OUT_STR } out_type;
 typedef enum { RPS3_OUTPUT_FIELDS(OUT_FIELD_ID) OUT_NFIELD } out_field;
 #undef OUT_FIELD_ID
 
+/* a row of the schema, and the table (outblock.c) */
+typedef struct {
+  const char *name;
+  out_shape shape;
+  out_type type;
+  const char *units;
+  const char *doc;
+} out_field_info;
+extern const out_field_info out_field_table[OUT_NFIELD];
+
+/* a set of fields: bit i for field i (OUT_NFIELD < 32) */
+typedef uint32_t out_mask;
+
+/* every field */
+out_mask out_fields_all(void);
+
+/*
+ * --fields: a comma-separated list of per-sample fields ("force,length")
+ * into *mask, with every per-case field (status, failed_at, message,
+ * scene_resolved: what a reader needs).  Returns 0, or -1 with err naming
+ * the unknown name and listing the valid ones.
+ */
+int out_fields_parse(const char *list, out_mask *mask, char *err,
+                     size_t errsz);
+
+/* the per-sample fields of mask, comma-separated, in schema order, into
+   buf: the root attribute `fields` */
+const char *out_fields_text(out_mask mask, char *buf, size_t sz);
+
 /*
  * The buffers of one tile: up to `cases` cases of up to `points` samples.
  * Each field's buffer is [cases][points][columns] (C order, the layout of
@@ -121,11 +150,15 @@ void out_block_free(out_block *b);
 /* Fill slot s from sample k on with the missing values (NaN, -1). */
 void out_block_blank(out_block *b, size_t slot, size_t k);
 
+/* the buffer of field i of b */
+void *out_block_field(const out_block *b, int i);
+
 /* what the file says about the run */
 typedef struct {
   const char *command_line;
   int gzip;               /* deflate level 1-9, 0 for none */
   const char *shard;      /* "K/N" of a part file (merge.h), NULL if whole */
+  out_mask fields;        /* the fields written (--fields) */
 } out_meta;
 
 typedef struct out_file out_file;

@@ -12,6 +12,7 @@
 
 #include "join.h"
 #include "merge.h"
+#include "verify.h"
 
 int parts_by_shard(const char *const *part, size_t npart, const char ***byk,
                    size_t *n, char *err, size_t errsz)
@@ -221,11 +222,11 @@ size_t parts_report(FILE *out, const char *const *byk, const int *bad,
 }
 
 int parts_resume(const char *path, size_t k, size_t n, const char *text0,
-                 size_t *nfailed)
+                 const char *fields, size_t *nfailed)
 {
-  char err[768];
+  char err[768], *have;
   hid_t f;
-  int rc = -1;
+  int rc = -1, same;
   if (access(path, F_OK) != 0)
     return 0;
   if (join_part_check(path, k, n, text0, err, sizeof err)) {
@@ -233,6 +234,16 @@ int parts_resume(const char *path, size_t k, size_t n, const char *text0,
             err, k, n);
     return 0;
   }
+  /* a part of other fields would not merge with this run's parts */
+  have = verify_root_attr(path, "fields");
+  same = have && strcmp(have, fields) == 0;
+  if (!same)
+    fprintf(stderr, "rps3-run: --resume: %s has the fields %s, this run "
+                    "writes %s: running shard %zu/%zu again\n",
+            path, have ? have : "(none)", fields, k, n);
+  free(have);
+  if (!same)
+    return 0;
   f = H5Fopen(path, H5F_ACC_RDONLY, H5P_DEFAULT);
   if (f >= 0) {
     rc = merge_count_failed(f, nfailed, NULL);

@@ -55,7 +55,7 @@ static int run_time(const scene *s, const sweep_plan *p, const sweep_opts *o,
   size_t jobs = sweep_shard_jobs(s, p, o->shard, o->nshard);
   double samples = (double)p->npoint * (double)cases / (double)s->ncase;
   int threads = (size_t)o->nthread < jobs ? o->nthread : (int)jobs;
-  if (est_cost_measure(s, p, po->gzip, c)) {
+  if (est_cost_measure(s, p, po->fields, po->gzip, c)) {
     snprintf(buf, sz, "run time not estimated (out of memory)");
     return -1;
   }
@@ -82,7 +82,7 @@ void pre_check_print(const char *scene_path, const scene *s,
          "about %s uncompressed\n",
          scene_path, s->ncase, s->ncase == 1 ? "" : "s", p->npoint, p->nt,
          p->grid_common ? "" : ", time grid differs by case",
-         est_human(est_file_bytes(s, p), size, sizeof size));
+         est_human(est_file_bytes(s, p, po->fields), size, sizeof size));
   if (run_time(s, p, o, po, &c, when, sizeof when) == 0)
     printf("run time %s (an estimate: %.3g us a sample computing, timed on "
            "%zu samples of %zu case%s, + %.3g us writing%s)\n",
@@ -103,7 +103,8 @@ void pre_check_print(const char *scene_path, const scene *s,
 int pre_room(const scene *s, const sweep_plan *p, const sweep_opts *o,
              const pre_opts *po, const char *out_path)
 {
-  double est = est_file_bytes(s, p), need = est, avail = disk_free(out_path);
+  double est = est_file_bytes(s, p, po->fields), need = est;
+  double avail = disk_free(out_path);
   char e1[32], e2[32], when[128];
   est_cost c;
   if (o->nshard > 1 && po->nrank == 1)

@@ -16,6 +16,7 @@ typedef struct {
   int copy;         /* --copy under mpirun: rank 0 writes a merged copy */
   int gzip;         /* deflate level, 0 for none */
   int quiet;        /* no size and time line before the run */
+  out_mask fields;  /* the fields written (--fields) */
 } pre_opts;
 
 /*

@@ -169,8 +169,7 @@ int verify_file(const char *path, char *err, size_t errsz)
   return rc;
 }
 
-/* root string attribute `name` of the file at path (malloc'd), or NULL */
-static char *root_attr(const char *path, const char *name)
+char *verify_root_attr(const char *path, const char *name)
 {
   hid_t f = H5Fopen(path, H5F_ACC_RDONLY, H5P_DEFAULT), a = -1, t = -1;
   char *v = NULL, *copy = NULL;
@@ -200,19 +199,23 @@ int verify_same_versions(const char *const *path, size_t n, char *err,
                          size_t errsz)
 {
   static const char *const attrs[] = {"rps3_version", "gsl_version",
-                                      "hdf5_version", "yaml_version"};
+                                      "hdf5_version", "yaml_version",
+                                      "fields"};
   size_t a, i;
   for (a = 0; a < sizeof attrs / sizeof attrs[0]; a++) {
-    char *v0 = root_attr(path[0], attrs[a]);
+    char *v0 = verify_root_attr(path[0], attrs[a]);
     for (i = 1; i < n; i++) {
-      char *v = root_attr(path[i], attrs[a]);
+      char *v = verify_root_attr(path[i], attrs[a]);
       int same = (!v0 && !v) || (v0 && v && strcmp(v0, v) == 0);
       if (!same)
-        snprintf(err, errsz,
-                 "%s has %s %s, %s has %s %s: parts written by different "
-                 "versions are not merged (compute them with one build)",
-                 path[0], attrs[a], v0 ? v0 : "(none)", path[i], attrs[a],
-                 v ? v : "(none)");
+        snprintf(err, errsz, "%s has %s %s, %s has %s %s: %s", path[0],
+                 attrs[a], v0 ? v0 : "(none)", path[i], attrs[a],
+                 v ? v : "(none)",
+                 strcmp(attrs[a], "fields") == 0
+                     ? "parts with different --fields are not merged "
+                       "(compute them with the same --fields)"
+                     : "parts written by different versions are not merged "
+                       "(compute them with one build)");
       free(v);
       if (!same) {
         free(v0);
