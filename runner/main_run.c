@@ -469,7 +469,11 @@ static int run_main(int argc, char **argv, const world *w)
   code = EXIT_OK;
   if (scene_load(&s, scene_path, &serr))
     code = EXIT_USAGE;
-  else if (sweep_plan_make(&s, &plan, &serr)) {
+  else if (w->rank == 0)
+    /* values valid but likely in the wrong unit: said (before a case that
+       fails because of them), not refused */
+    scene_warnings_print(&s, stderr);
+  if (code == EXIT_OK && sweep_plan_make(&s, &plan, &serr)) {
     scene_free(&s);
     code = EXIT_USAGE;
   }

@@ -7,6 +7,7 @@
  * it is about, so that the runner can print FILE:LINE:COLUMN: key: what.
  */
 #include "scene.h"
+#include "hint.h"
 #include "scene_guard.h"
 
 #include <ctype.h>
@@ -268,6 +269,16 @@ static int *int_at(scene_values *v, int k)
   return (int *)(void *)value_at(v, k);
 }
 
+double scene_value_real(const scene_values *v, int k, int comp)
+{
+  double x;
+  keys_build();
+  memcpy(&x, value_at((scene_values *)(void *)v, k) +
+                 (size_t)(comp < 0 ? 0 : comp) * sizeof x,
+         sizeof x);
+  return x;
+}
+
 /* set key k (component comp of a KEY_REAL3) to x */
 static void value_set(scene_values *v, int k, int comp, double x)
 {
@@ -301,6 +312,35 @@ static void values_default(scene_values *v)
   rps3_traj_default(&v->traj);
   v->own.m_over_M = v->model.M > 0 ? v->model.m / v->model.M : 0;
   v->own.blend_ratio = v->traj.helix.blend / v->traj.helix.period;
+}
+
+/* " (did you mean ...?)" for a mistyped dotted key: every key and section
+   is a candidate (a key in the wrong section included); sections only when
+   with_sections */
+static void key_hint(char *buf, size_t sz, const char *word, int with_sections)
+{
+  const char *cand[SCENE_NKEY + NSECTION + 1];
+  size_t n = 0, i;
+  int k;
+  for (k = 0; k < SCENE_NKEY; k++)
+    cand[n++] = keys[k].path;
+  for (i = 1; i < NSECTION && with_sections; i++)
+    cand[n++] = sections[i];
+  if (with_sections)
+    cand[n++] = "sweep";
+  hint_text(buf, sz, word, cand, n);
+}
+
+/* the same for an enum value of key k */
+static void enum_hint(char *buf, size_t sz, int k, const char *word)
+{
+  const char *cand[64];
+  int v, lo, hi;
+  size_t n = 0;
+  enum_range(k, &lo, &hi);
+  for (v = lo; v <= hi && n < 64; v++)
+    cand[n++] = scene_enum_name(k, v);
+  hint_text(buf, sz, word, cand, n);
 }
 
 /* ---------------------------------------------------------------- errors */
@@ -487,8 +527,10 @@ static int parse_scalar(parse_ctx *c, int k, const yaml_node_t *n,
     }
     v = enum_find(k, scalar_text(n));
     if (v < 0) {
-      error_set(c->err, mk, path, "unknown value '%s'; expected %s",
-                scalar_text(n), list);
+      char hint[160];
+      enum_hint(hint, sizeof hint, k, scalar_text(n));
+      error_set(c->err, mk, path, "unknown value '%s'%s; expected %s",
+                scalar_text(n), hint, list);
       return -1;
     }
     *out = v;
@@ -657,11 +699,18 @@ static int parse_value(parse_ctx *c, int k, const yaml_node_t *n,
               ? rps3_effect_index(scalar_text(item))
               : -1;
       if (e < 0) {
-        error_set(c->err, im, path, "unknown effect %s%s%s; expected %s",
+        const char *cand[RPS3_NEFFECT];
+        char hint[160] = "";
+        int j;
+        for (j = 0; j < RPS3_NEFFECT; j++)
+          cand[j] = rps3_effect_name(j);
+        if (item->type == YAML_SCALAR_NODE)
+          hint_text(hint, sizeof hint, scalar_text(item), cand, RPS3_NEFFECT);
+        error_set(c->err, im, path, "unknown effect %s%s%s%s; expected %s",
                   item->type == YAML_SCALAR_NODE ? "'" : "",
                   item->type == YAML_SCALAR_NODE ? scalar_text(item)
                                                  : node_kind(item),
-                  item->type == YAML_SCALAR_NODE ? "'" : "", list);
+                  item->type == YAML_SCALAR_NODE ? "'" : "", hint, list);
         return -1;
       }
       if (bits & (1 << e)) {
@@ -781,9 +830,11 @@ static int walk_section(parse_ctx *c, const yaml_node_t *map,
     }
     k = scene_key_find(full);
     if (k < 0) {
+      char hint[200];
+      key_hint(hint, sizeof hint, full, 1);
       keys_under(prefix, list, sizeof list);
       error_set(c->err, mark_of(&node_get(c, pair->key)->start_mark), full,
-                "unknown key; expected one of %s", list);
+                "unknown key%s; expected one of %s", hint, list);
       return -1;
     }
     if (parse_value(c, k, val, &s->base))
@@ -981,7 +1032,10 @@ static int parse_sweep(parse_ctx *c, const yaml_node_t *map)
              (int)(br ? (size_t)(br - name) : strlen(name)), name);
     ax->key = scene_key_find(base);
     if (ax->key < 0) {
-      error_set(c->err, km, name, "not a scene key; see rps3-run --keys");
+      char hint[200];
+      key_hint(hint, sizeof hint, base, 0);
+      error_set(c->err, km, name, "not a scene key%s; see rps3-run --keys",
+                hint);
       return -1;
     }
     ki = &keys[ax->key];

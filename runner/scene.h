@@ -13,6 +13,7 @@
 #define RPS3_RUNNER_SCENE_H
 
 #include <stddef.h>
+#include <stdio.h>
 
 #include "rps3.h"
 #include "table.h"
@@ -297,6 +298,10 @@ typedef struct {
 /* the row of key k (0 <= k < SCENE_NKEY) */
 const scene_key_info *scene_key_get(int k);
 
+/* component comp (0 for a scalar) of number key k (KEY_REAL, KEY_REAL3)
+   in v */
+double scene_value_real(const scene_values *v, int k, int comp);
+
 /* the key with this dotted path, or -1 */
 int scene_key_find(const char *path);
 
@@ -373,6 +378,15 @@ double scene_case_time(const scene_case *c, size_t k);
 
 /* 1 when cases a and b have the same time grid. */
 int scene_case_same_grid(const scene_case *a, const scene_case *b);
+
+/*
+ * Values that look like a unit mistake, one line each on out: "FILE:LINE:
+ * COL: warning: key: VALUE m looks like millimetres (above 10 m) ..." for a
+ * length above 10 m, and likewise beta above pi/2 rad or another angle
+ * beyond 2 pi rad (degrees), in the file, a sweep or a table's rows
+ * (scene_warn.c).  Once per key; nothing for a sane scene.
+ */
+void scene_warnings_print(const scene *s, FILE *out);
 
 /* Print err as FILE:LINE:COLUMN: path: what, one line, on stderr. */
 void scene_error_print(const char *file, const scene_error *err);

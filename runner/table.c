@@ -9,6 +9,7 @@
 #define _XOPEN_SOURCE 700
 
 #include "table.h"
+#include "hint.h"
 
 #include <errno.h>
 #include <limits.h>
@@ -205,15 +206,18 @@ static int csv_header(const char *s, const char *e, int what, int *col,
           strncmp(a, col_names[what][c], (size_t)(b - a)) == 0)
         break;
     if (c == NCOL || have[c] || *ncol == NCOL) {
-      char list[200];
+      char list[200], name[HINT_MAX_LEN + 1], hint[120] = "";
       int k;
       size_t len = 0;
       for (k = 0; k < NCOL; k++)
         len += (size_t)snprintf(list + len, sizeof list - len, "%s%s",
                                 k ? ", " : "", col_names[what][k]);
-      err_set(err, errsz, "%s:%d:%d: column '%.*s': %s; expected %s", file,
-              line, (int)(a - s) + 1, (int)(b - a), a,
-              c < NCOL ? "given twice" : "unknown column", list);
+      snprintf(name, sizeof name, "%.*s", (int)(b - a), a);
+      if (c == NCOL)
+        hint_text(hint, sizeof hint, name, col_names[what], NCOL);
+      err_set(err, errsz, "%s:%d:%d: column '%s': %s%s; expected %s", file,
+              line, (int)(a - s) + 1, name,
+              c < NCOL ? "given twice" : "unknown column", hint, list);
       return -1;
     }
     have[c] = 1;

@@ -200,7 +200,8 @@ def test_bad_table_names_file_and_row(runner, tmp_path, rows, words):
 
 @pytest.mark.parametrize("header,words", [
     ("t, alpha, beta", "m.csv: missing column z_c"),
-    ("t, alpha, beta, zc", "m.csv:2:17: column 'zc': unknown column"),
+    ("t, alpha, beta, zc",
+     "m.csv:2:17: column 'zc': unknown column (did you mean z_c?)"),
     ("t, alpha, beta, z_c, alpha_dot",
      "m.csv: missing column beta_dot (give the three rates or none)"),
     ("t, alpha, alpha, z_c", "m.csv:2:11: column 'alpha': given twice"),
