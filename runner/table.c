@@ -348,9 +348,74 @@ done:
   return rc;
 }
 
+/* the units each column must be in, in the spellings a units attribute may
+   use for them (UDUNITS symbols and names); "" ends a list */
+static const char *const col_units[2][NCOL][6] = {
+    {{"s", "second", "seconds", ""}, {"rad", "radian", "radians", ""},
+     {"rad", "radian", "radians", ""}, {"m", "meter", "metre", "meters",
+                                        "metres", ""},
+     {"rad/s", "rad s-1", ""}, {"rad/s", "rad s-1", ""}, {"m/s", "m s-1", ""},
+     {"rad/s^2", "rad/s2", "rad s-2", ""}, {"rad/s^2", "rad/s2", "rad s-2", ""},
+     {"m/s^2", "m/s2", "m s-2", ""}},
+    {{"s", "second", "seconds", ""}, {"m", "meter", "metre", "meters",
+                                      "metres", ""},
+     {"m", "meter", "metre", "meters", "metres", ""},
+     {"m", "meter", "metre", "meters", "metres", ""}, {"m/s", "m s-1", ""},
+     {"m/s", "m s-1", ""}, {"m/s", "m s-1", ""}, {"m/s^2", "m/s2", "m s-2", ""},
+     {"m/s^2", "m/s2", "m s-2", ""}, {"m/s^2", "m/s2", "m s-2", ""}}};
+
+/* the dataset's units attribute into buf ("" when it has none or it is
+   not a string): fixed-length and variable-length strings alike */
+static void h5_units(hid_t d, char *buf, size_t sz)
+{
+  hid_t a, ft, mt;
+  buf[0] = '\0';
+  if (H5Aexists(d, "units") <= 0 || (a = H5Aopen(d, "units", H5P_DEFAULT)) < 0)
+    return;
+  ft = H5Aget_type(a);
+  if (ft >= 0 && H5Tget_class(ft) == H5T_STRING) {
+    /* the memory type in the file's character set: HDF5 converts none */
+    mt = H5Tcopy(H5T_C_S1);
+    H5Tset_cset(mt, H5Tget_cset(ft));
+    if (H5Tis_variable_str(ft) > 0) {
+      char *v = NULL;
+      if (H5Tset_size(mt, H5T_VARIABLE) >= 0 && H5Aread(a, mt, &v) >= 0 && v)
+        snprintf(buf, sz, "%s", v);
+      if (v)
+        H5free_memory(v);
+    } else {
+      size_t n = H5Tget_size(ft);
+      if (n < sz && H5Tset_size(mt, n + 1) >= 0 && H5Aread(a, mt, buf) < 0)
+        buf[0] = '\0';
+    }
+    H5Tclose(mt);
+  }
+  if (ft >= 0)
+    H5Tclose(ft);
+  H5Aclose(a);
+}
+
+/* a units attribute must name the column's SI unit: a column in degrees
+   or millimetres is refused rather than misread */
+static int h5_units_check(hid_t d, const char *path, const char *name,
+                          int what, int c, char *err, size_t errsz)
+{
+  char units[64];
+  int i;
+  h5_units(d, units, sizeof units);
+  if (units[0] == '\0')
+    return 0;
+  for (i = 0; col_units[what][c][i][0] != '\0'; i++)
+    if (strcmp(units, col_units[what][c][i]) == 0)
+      return 0;
+  err_set(err, errsz, "%s: dataset /%s: units '%s', but the table is in "
+          "%s: convert the column", path, name, units, col_units[what][c][0]);
+  return -1;
+}
+
 /* one 1-D dataset of n doubles at the root (n taken from the first) */
-static int h5_column(hid_t f, const char *name, table_data *t, int c,
-                     char *err, size_t errsz)
+static int h5_column(hid_t f, const char *name, table_data *t, int what,
+                     int c, char *err, size_t errsz)
 {
   hid_t d = H5Dopen2(f, name, H5P_DEFAULT), sp;
   hsize_t dims[2];
@@ -360,6 +425,8 @@ static int h5_column(hid_t f, const char *name, table_data *t, int c,
   if (d < 0)
     return 1; /* absent */
   sp = H5Dget_space(d);
+  if (h5_units_check(d, t->path, name, what, c, err, errsz))
+    goto done;
   if (sp < 0 || H5Sget_simple_extent_ndims(sp) != 1 ||
       H5Sget_simple_extent_dims(sp, dims, NULL) != 1) {
     err_set(err, errsz, "%s: dataset /%s: expected one dimension", t->path,
@@ -422,7 +489,7 @@ static int h5_read(table_data *t, int what, char *err, size_t errsz)
   if (columns_check(have, what, t->path, err, errsz))
     goto done;
   /* the time first: it gives the rows */
-  if (h5_column(f, col_names[what][0], t, 0, err, errsz))
+  if (h5_column(f, col_names[what][0], t, what, 0, err, errsz))
     goto done;
   {
     double *time = t->time;
@@ -436,7 +503,7 @@ static int h5_read(table_data *t, int what, char *err, size_t errsz)
     }
   }
   for (c = 1; c < NCOL; c++)
-    if (have[c] && h5_column(f, col_names[what][c], t, c, err, errsz))
+    if (have[c] && h5_column(f, col_names[what][c], t, what, c, err, errsz))
       goto done;
   t->rates_given = have[4];
   rc = 0;

@@ -190,6 +190,71 @@ static void cold_multiroot_lagrange(void **state) {
   run_trajectory(RPS3_THETA_MULTIROOT, RPS3_LAGRANGE, 0);
 }
 
+/* a table of the pose and a path of shape table: the spline's slopes
+   (rps3_table_spline, on the caller's scratch), the unwrap of the centre's
+   angle, and 10^4 points through rps3_inverse allocate nothing */
+#define NROWS 401
+/* C99 does not convert double (*)[3] to const double (*)[3] implicitly */
+#define ROWS3(A) ((const double(*)[3])(A))
+static void table_kinds(void **state) {
+  static double time[NROWS], pose[NROWS][3], rate[NROWS][3], work[NROWS];
+  static double centre[NROWS][3], crate[NROWS][3], psi[NROWS];
+  rps3_model m;
+  rps3_data *d = NULL;
+  rps3_traj tr[2];
+  long p, failures = 0;
+  int i, j;
+  (void)state;
+  rps3_model_default(&m);
+  assert_int_equal(rps3_model_init(&m, NULL, 0), RPS3_OK);
+  assert_int_equal(rps3_data_alloc(&m, &d), RPS3_OK);
+  for (i = 0; i < NROWS; i++) {
+    double t = 4.0 * i / (NROWS - 1), a = 0.7 + 1.9 * t;
+    time[i] = t;
+    pose[i][0] = 0.3 * sin(1.3 * t);
+    pose[i][1] = 0.08 + 0.02 * cos(0.7 * t);
+    pose[i][2] = 0.3 + 0.01 * sin(t);
+    centre[i][0] = 0.011 + 0.027 * cos(a);
+    centre[i][1] = 0.004 + 0.027 * sin(a);
+    centre[i][2] = 0.3;
+  }
+  count_start();
+  assert_int_equal(rps3_table_spline(NROWS, time, ROWS3(pose), rate, work),
+                   RPS3_OK);
+  assert_int_equal(rps3_table_spline(NROWS, time, ROWS3(centre), crate, work),
+                   RPS3_OK);
+  assert_int_equal(rps3_table_unwrap(NROWS, ROWS3(centre), psi), RPS3_OK);
+  count_stop();
+  assert_int_equal(n_alloc, 0);
+  for (j = 0; j < 2; j++) {
+    rps3_table *tb = j ? &tr[j].path.table : &tr[j].table;
+    rps3_traj_default(&tr[j]);
+    tr[j].kind = j ? RPS3_TRAJ_PATH : RPS3_TRAJ_TABLE;
+    tr[j].path.shape = RPS3_PATH_TABLE;
+    tr[j].path.table_psi = psi;
+    tb->n = NROWS;
+    tb->time = time;
+    tb->value = ROWS3(j ? centre : pose);
+    tb->rate = ROWS3(j ? crate : rate);
+    assert_int_equal(rps3_traj_check(&m, &tr[j], NULL, 0), RPS3_OK);
+  }
+  count_start();
+  for (p = 0; p < 10000; p++) {
+    const rps3_traj *t = &tr[p % 2];
+    double at = 4.0 * (double)p / 9999.0;
+    if (rps3_traj_eval(&m, t, at, d->pose, d->dpose, d->ddpose) != RPS3_OK ||
+        rps3_inverse(&m, d) != RPS3_OK)
+      failures++;
+  }
+  count_stop();
+  print_message("tables: 10000 points, %ld failures, %ld allocations, %ld "
+                "frees\n", failures, n_alloc, n_free);
+  assert_int_equal(failures, 0);
+  assert_int_equal(n_alloc, 0);
+  assert_int_equal(n_free, 0);
+  rps3_data_free(d);
+}
+
 /* the other stages (forward dynamics included) and the error paths
    (RPS3_ERROR formats its message into the data) do not allocate either */
 static void stages_and_errors(void **state) {
@@ -363,6 +428,7 @@ int main(void) {
       cmocka_unit_test(warm_multiroot_newton_euler),
       cmocka_unit_test(cold_multiroot_lagrange),
       cmocka_unit_test(stages_and_errors),
+      cmocka_unit_test(table_kinds),
   };
   gsl_set_error_handler_off();
   return cmocka_run_group_tests(tests, NULL, NULL);

@@ -350,3 +350,31 @@ def test_path_table_keys_of_other_shapes(runner, tmp_path):
     assert "trajectory.path.file: not a key of a line path" in proc.stderr
     assert run(write_scene(tmp_path / "s.yaml", text), None,
                "--check").returncode == 0
+
+
+@pytest.mark.parametrize("col,units,fixed,ok", [
+    ("beta", "deg", False, False), ("z_c", "mm", True, False),
+    ("beta", "rad", False, True), ("z_c", "metres", True, True),
+    ("t", "ms", False, False)])
+def test_hdf5_units_attribute(runner, tmp_path, col, units, fixed, ok):
+    """A units attribute, when a dataset has one, must name the column's SI
+    unit (variable- or fixed-length string): degrees or millimetres are
+    refused, naming the dataset, rather than misread."""
+    with h5py.File(tmp_path / "h.h5", "w") as f:
+        f["t"] = np.linspace(0, 2, 5)
+        f["alpha"] = np.full(5, 0.3)
+        f["beta"] = np.full(5, 0.08)
+        f["z_c"] = np.full(5, 0.3)
+        if fixed:
+            f[col].attrs.create("units", np.bytes_(units))
+        else:
+            f[col].attrs["units"] = units
+    scene = write_scene(tmp_path / "s.yaml",
+                        SCENE.replace("FILE", "h.h5").replace("SAMPLES", "5"))
+    proc = run(scene, None, "--check")
+    if ok:
+        assert proc.returncode == 0, proc.stderr
+    else:
+        assert proc.returncode == 2
+        assert f"h.h5: dataset /{col}: units '{units}', but the table is in" \
+            in proc.stderr, proc.stderr
