@@ -114,20 +114,22 @@ KINLINE ksc ksincos(double x) {
 }
 
 /*
- * atan2(y, x) for y > 0, so in (0, pi): a = min(|x|, y) / max(|x|, y) in
- * [0, 1], atan a = atan(j/4) + atan u with j/4 the nearest quarter and u =
- * (a - j/4) / (1 + a j/4), |u| <= 1/8, by its Taylor series to u^19
- * (truncation below 2^-63 |u|); then the octant by selects.
+ * atan2(y, x) for y > 0, so in (0, pi): with a = num / den = min(|x|, y) /
+ * max(|x|, y) in [0, 1], atan a = atan(j/4) + atan u for j/4 the quarter
+ * nearest to a (chosen by comparisons) and u = (a - j/4) / (1 + a j/4) =
+ * (num - c den) / (den + c num), |u| <= 1/8 up to rounding, in one
+ * division; atan u by its Taylor series to u^19 (truncation below 2^-63
+ * |u|); then the octant by selects.
  */
 KINLINE double katan2(double y, double x) {
   double ax = fabs(x);
   int swap = ax > y;
-  double num = swap ? y : ax, den = swap ? ax : y, a, j, c, u, u2, at, off;
+  double num = swap ? y : ax, den = swap ? ax : y, j, c, u, u2, at, off;
   den = den > 0.0 ? den : 1.0; /* x = y = 0 is no point of the kernel's */
-  a = num / den;
-  j = (4.0 * a + SHIFT) - SHIFT;
+  j = (8.0 * num > den ? 1.0 : 0.0) + (8.0 * num > 3.0 * den ? 1.0 : 0.0) +
+      (8.0 * num > 5.0 * den ? 1.0 : 0.0) + (8.0 * num > 7.0 * den ? 1.0 : 0.0);
   c = 0.25 * j;
-  u = (a - c) / (1.0 + a * c);
+  u = (num - c * den) / (den + c * num);
   u2 = u * u;
   at = u + u * u2 *
                (-1.0 / 3.0 +
@@ -502,13 +504,12 @@ static void kloop(const kconst *K, const double *restrict pa,
     o->cond[p] = cond;
     o->trans[p] = trans;
     o->eres[p] = K->certify != 0.0 ? pw - dT - dP : 0.0;
-    fin = sc + fabs(pw) + fabs(dT) + fabs(dP) + knorm1(F) + knorm1(Fs) +
-          knorm1(lams) + knorm1(lamt) + knorm1(Fe[0]) + knorm1(Fe[1]) +
-          knorm1(Fe[2]) + knorm1(Fe[3]) + knorm1(L0.b) + knorm1(L1.b) +
-          knorm1(L2.b) + fabs(L0.ddl) + fabs(L1.ddl) + fabs(L2.ddl) +
-          fabs(L0.ddth) + fabs(L1.ddth) + fabs(L2.ddth) + fabs(da) +
-          fabs(db) + fabs(vz[p]) + fabs(dda) + fabs(ddb) + fabs(az[p]) +
-          trans;
+    /* every quantity the scalar path checks for overflow reaches F, Fs,
+       lambda or the certificate here (the loads of unselected effects
+       are multiplied by 0, which keeps a NaN, and nothing divides by a
+       rate), and a non-finite input makes them non-finite */
+    fin = sc + fabs(o->eres[p]) + knorm1(F) + knorm1(Fs) + knorm1(lams) +
+          knorm1(lamt) + L0.l + L1.l + L2.l + trans;
     /* & rather than &&: no branch in the loop body */
     o->ok[p] = in_range & (L0.ok * L1.ok * L2.ok != 0.0) & (fin <= DBL_MAX) &
                (cond <= K->cond_lim) & (trans <= K->trans_lim);

@@ -66,7 +66,10 @@ typedef enum {
   K_JACC,     /* rps3_joint_acceleration on the ring */
   K_INVDYN,   /* rps3_invdyn on the ring */
   K_ANCHOR,   /* the SymPy-generated forces along the trajectory */
-  K_BATCH,    /* rps3_inverse_batch over BATCH_N points at a time */
+  K_BATCH,    /* rps3_inverse_batch over BATCH_N points at a time, F */
+  K_BATCH_ALL, /* the same with every output the batch has (status, warn,
+                  l, theta, niter, F, F_effect, lambda, cond, residual:
+                  what the Python package asks for) */
   K_FWDDYN,   /* rps3_fwddyn along the trajectory */
   K_SIM       /* one 1 ms control period of a closed-loop simulation */
 } case_kind;
@@ -86,8 +89,8 @@ typedef struct {
   double *per_call;        /* ns per call of each batch (wall) */
   double *cpu_call;        /* ns per call of each batch (thread CPU time) */
   /* rps3_inverse_batch buffers */
-  int *b_status;
-  double *b_F;
+  int *b_status, *b_warn, *b_niter;
+  double *b_F, *b_Fe, *b_l, *b_theta, *b_lambda, *b_cond, *b_eres;
   rps3_sim *sim;           /* K_SIM: the plant ... */
   rps3_ctrl *ctrl;         /* ... its computed-torque controller */
   long tick;               /* ... and the control period it is in */
@@ -188,6 +191,7 @@ static void run_batch(bench_case *c, const points *pt, long ncalls) {
     break;
   }
   case K_BATCH:
+  case K_BATCH_ALL:
     /* ncalls points, BATCH_N per call, forward along the trajectory */
     for (i = 0; i < ncalls; i += BATCH_N) {
       rps3_batch_in in;
@@ -201,6 +205,16 @@ static void run_batch(bench_case *c, const points *pt, long ncalls) {
       in.ddpose = pt->soa_ddpose + k0;
       out.status = c->b_status;
       out.F = c->b_F;
+      if (c->kind == K_BATCH_ALL) {
+        out.warn = c->b_warn;
+        out.niter = c->b_niter;
+        out.l = c->b_l;
+        out.theta = c->b_theta;
+        out.F_effect = c->b_Fe;
+        out.lambda = c->b_lambda;
+        out.cond = c->b_cond;
+        out.energy_residual = c->b_eres;
+      }
       if (rps3_inverse_batch(m, d, &in, &out) != RPS3_OK)
         c->failures += (long)in.n;
       c->failures += (long)out.nfail;
@@ -437,7 +451,9 @@ static const struct {
      "rps3_inverse_batch per point / generated code, the same forces"},
     {"pipeline_closed_lagrange_paper_nocert",
      "batch_closed_lagrange_paper_nocert",
-     "scalar rps3_inverse / rps3_inverse_batch per point"},
+     "scalar rps3_inverse / rps3_inverse_batch per point (goal >= 10)"},
+    {"pipeline_closed_lagrange_paper", "batch_closed_lagrange_paper_all",
+     "the same, certify on, every output (goal >= 10)"},
 };
 #define NRATIO_MAX ((int)(sizeof(ratio_pairs) / sizeof(ratio_pairs[0])))
 
@@ -611,6 +627,15 @@ int main(int argc, char **argv) {
        "points a call (time per point), closed-form theta, the paper's "
        "effects, Lagrange, certify off, F only", K_BATCH, SCENE_PAPER,
        RPS3_LAGRANGE, RPS3_THETA_CLOSED_FORM, 1, 0, BENCH_NONE, 0);
+  CASE("pipeline_closed_lagrange_paper", "rps3_inverse, closed-form theta, "
+       "the paper's effects, Lagrange, certify on (the default)", K_INVERSE,
+       SCENE_PAPER, RPS3_LAGRANGE, RPS3_THETA_CLOSED_FORM, 1, 1, BENCH_NONE,
+       0);
+  CASE("batch_closed_lagrange_paper_all", "rps3_inverse_batch, 1000 points "
+       "a call (time per point), closed-form theta, the paper's effects, "
+       "Lagrange, certify on, every output (F, shares, lambda, cond, "
+       "residual, l, theta, status, warn, niter)", K_BATCH_ALL, SCENE_PAPER,
+       RPS3_LAGRANGE, RPS3_THETA_CLOSED_FORM, 1, 1, BENCH_NONE, 0);
   CASE("pipeline_closed_newton_euler_full", "rps3_inverse, closed-form "
        "theta, full scene, Newton-Euler", K_INVERSE, SCENE_FULL,
        RPS3_NEWTON_EULER, RPS3_THETA_CLOSED_FORM, 1, 1, TARGET_INVDYN_NS, 0);
@@ -652,9 +677,20 @@ int main(int argc, char **argv) {
     c->per_call = malloc((size_t)batches * sizeof(double));
     c->cpu_call = malloc((size_t)batches * sizeof(double));
     c->b_status = malloc(BATCH_N * sizeof(int));
+    c->b_warn = malloc(BATCH_N * sizeof(int));
+    c->b_niter = malloc(BATCH_N * sizeof(int));
     c->b_F = malloc(3 * BATCH_N * sizeof(double));
+    c->b_Fe = malloc(3 * RPS3_NEFFECT * BATCH_N * sizeof(double));
+    c->b_l = malloc(3 * BATCH_N * sizeof(double));
+    c->b_theta = malloc(3 * BATCH_N * sizeof(double));
+    c->b_lambda = malloc(3 * BATCH_N * sizeof(double));
+    c->b_cond = malloc(BATCH_N * sizeof(double));
+    c->b_eres = malloc(BATCH_N * sizeof(double));
     if (c->per_call == NULL || c->cpu_call == NULL || c->b_status == NULL ||
-        c->b_F == NULL || rps3_data_alloc(&c->m, &c->d) != RPS3_OK) {
+        c->b_warn == NULL || c->b_niter == NULL || c->b_F == NULL ||
+        c->b_Fe == NULL || c->b_l == NULL || c->b_theta == NULL ||
+        c->b_lambda == NULL || c->b_cond == NULL || c->b_eres == NULL ||
+        rps3_data_alloc(&c->m, &c->d) != RPS3_OK) {
       fprintf(stderr, "rps3-bench: out of memory\n");
       return 2;
     }
@@ -754,7 +790,15 @@ int main(int argc, char **argv) {
     free(cases[i].per_call);
     free(cases[i].cpu_call);
     free(cases[i].b_status);
+    free(cases[i].b_warn);
+    free(cases[i].b_niter);
     free(cases[i].b_F);
+    free(cases[i].b_Fe);
+    free(cases[i].b_l);
+    free(cases[i].b_theta);
+    free(cases[i].b_lambda);
+    free(cases[i].b_cond);
+    free(cases[i].b_eres);
   }
   free(pt.pose);
   free(pt.dpose);
