@@ -194,7 +194,7 @@ static void kernel_block(const rps3_model *m, rps3_data *d,
   put(out->energy_residual, 0, i0, n, kb->eres, nb);
   for (p = 0; p < nb; p++) {
     size_t i = i0 + (size_t)p;
-    if (!kb->ok[p]) {
+    if (kb->ok[p] == 0.0) {
       point(m, d, BATCH_INVERSE, in, out, i, first);
       continue;
     }

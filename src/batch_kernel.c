@@ -106,8 +106,8 @@ KINLINE ksc ksincos(double x) {
   /* the quadrant k mod 4 as q = k - 4 round(k / 4) in {-2, ..., 2}, in
      floating point: no conversion to an integer (undefined for a NaN) */
   double q = k - 4.0 * ((0.25 * k + SHIFT) - SHIFT);
-  int odd = (q == 1.0) | (q == -1.0);
-  double sn = odd ? pc : ps, cs = odd ? ps : pc;
+  double sn = ((q == 1.0) | (q == -1.0)) ? pc : ps;
+  double cs = ((q == 1.0) | (q == -1.0)) ? ps : pc;
   out.s = ((q >= 2.0) | (q <= -1.0)) ? -sn : sn; /* k mod 4 = 2, 3 */
   out.c = ((q >= 1.0) | (q <= -2.0)) ? -cs : cs; /* k mod 4 = 1, 2 */
   return out;
@@ -123,8 +123,7 @@ KINLINE ksc ksincos(double x) {
  */
 KINLINE double katan2(double y, double x) {
   double ax = fabs(x);
-  int swap = ax > y;
-  double num = swap ? y : ax, den = swap ? ax : y, j, c, u, u2, at, off;
+  double num = ax > y ? y : ax, den = ax > y ? ax : y, j, c, u, u2, at, off;
   den = den > 0.0 ? den : 1.0; /* x = y = 0 is no point of the kernel's */
   j = (8.0 * num > den ? 1.0 : 0.0) + (8.0 * num > 3.0 * den ? 1.0 : 0.0) +
       (8.0 * num > 5.0 * den ? 1.0 : 0.0) + (8.0 * num > 7.0 * den ? 1.0 : 0.0);
@@ -146,7 +145,7 @@ KINLINE double katan2(double y, double x) {
                             : j == 3.0 ? ATAN_3_4 : j == 4.0 ? ATAN_4_4 : 0.0;
   at = off + at;
   /* from the x axis when |x| > y, else from the y axis; then x < 0 */
-  at = swap ? at : (PIO2_HI - at) + PIO2_LO;
+  at = ax > y ? at : (PIO2_HI - at) + PIO2_LO;
   return x < 0.0 ? (PI_HI - at) + PI_LO : at;
 }
 
@@ -285,18 +284,19 @@ KINLINE kv3 klambda(kv3 r0, kv3 r1, kv3 r2, kv3 wt) {
 
 /* the transmission row of link e: the platform twist (vc, omega) for a
    unit rate of link e, theta' = x = -Jt^-1 Jl e_e; ball i moves
-   [i == e] phi_i + l_i x_i dphi_i, omega from the balls as
-   rps3_omega_from_balls (the vc part drops: sum rho_i = 0); returns
-   |vc|_1 + R |omega|_1 */
+   [i == e] phi_i + l_i x_i dphi_i, and omega follows from the balls as in
+   rps3_omega_from_balls (the vc part drops: sum rho_i = 0), with
+   rho_i x dphi_i in Q_i and rho_i x phi_e in P; returns |vc|_1 + R
+   |omega|_1 */
 KINLINE double trans_row(const kconst *K, klink L0, klink L1, klink L2,
-                         kv3 x, double m0, double m1, double m2, kv3 a) {
-  kv3 b0 = kadd(kscale(m0, L0.phi), kscale(L0.l * x.x, L0.dphi));
-  kv3 b1 = kadd(kscale(m1, L1.phi), kscale(L1.l * x.y, L1.dphi));
-  kv3 b2 = kadd(kscale(m2, L2.phi), kscale(L2.l * x.z, L2.dphi));
-  kv3 v = kscale(1.0 / 3.0, kadd(kadd(b0, b1), b2));
-  kv3 ws = kadd(kadd(kcross(L0.rho, b0), kcross(L1.rho, b1)),
-                kcross(L2.rho, b2));
-  double sd;
+                         kv3 Q0, kv3 Q1, kv3 Q2, kv3 x, kv3 phi, kv3 P,
+                         kv3 a) {
+  double s0 = L0.l * x.x, s1 = L1.l * x.y, s2 = L2.l * x.z, sd;
+  kv3 v = kadd(kadd(kadd(kscale(s0, L0.dphi), kscale(s1, L1.dphi)),
+                    kscale(s2, L2.dphi)), phi);
+  kv3 ws = kadd(kadd(kadd(kscale(s0, Q0), kscale(s1, Q1)), kscale(s2, Q2)),
+                P);
+  v = kscale(1.0 / 3.0, v);
   ws = kscale(K->w_scale, ws);
   sd = 0.5 * kdot(a, ws);
   return knorm1(v) + K->R * knorm1(ksub(ws, kscale(sd, a)));
@@ -323,8 +323,10 @@ static void kloop(const kconst *K, const double *restrict pa,
     krow j0, j1, j2;
     /* an angle the reduction does not serve is no point of the kernel's:
        it is left to the scalar path */
-    int in_range = (fabs(alpha) <= RPS3_KANGLE_MAX) &
-                   (fabs(beta) <= RPS3_KANGLE_MAX);
+    double in_range = ((fabs(alpha) <= RPS3_KANGLE_MAX) &
+                       (fabs(beta) <= RPS3_KANGLE_MAX))
+                          ? 1.0
+                          : 0.0;
     ksc tr = ksincos(alpha);
     sa = tr.s;
     ca = tr.c;
@@ -401,17 +403,19 @@ static void kloop(const kconst *K, const double *restrict pa,
     {
       kv3 c0 = kv(r0.x, r1.x, r2.x), c1 = kv(r0.y, r1.y, r2.y);
       kv3 c2 = kv(r0.z, r1.z, r2.z);
+      kv3 Q0 = kcross(L0.rho, L0.dphi), Q1 = kcross(L1.rho, L1.dphi);
+      kv3 Q2 = kcross(L2.rho, L2.dphi);
       double t0, t1, t2;
       /* column 0 of Jl: lc.x in row 0, le.z in row 2; and so on */
-      t0 = trans_row(K, L0, L1, L2,
+      t0 = trans_row(K, L0, L1, L2, Q0, Q1, Q2,
                      kscale(-1.0, kadd(kscale(lc.x, c0), kscale(le.z, c2))),
-                     1.0, 0.0, 0.0, rz);
-      t1 = trans_row(K, L0, L1, L2,
+                     L0.phi, kcross(L0.rho, L0.phi), rz);
+      t1 = trans_row(K, L0, L1, L2, Q0, Q1, Q2,
                      kscale(-1.0, kadd(kscale(le.x, c0), kscale(lc.y, c1))),
-                     0.0, 1.0, 0.0, rz);
-      t2 = trans_row(K, L0, L1, L2,
+                     L1.phi, kcross(L1.rho, L1.phi), rz);
+      t2 = trans_row(K, L0, L1, L2, Q0, Q1, Q2,
                      kscale(-1.0, kadd(kscale(le.y, c1), kscale(lc.z, c2))),
-                     0.0, 0.0, 1.0, rz);
+                     L2.phi, kcross(L2.rho, L2.phi), rz);
       trans = t1 > t0 ? t1 : t0;
       trans = t2 > trans ? t2 : trans;
     }
@@ -511,8 +515,10 @@ static void kloop(const kconst *K, const double *restrict pa,
     fin = sc + fabs(o->eres[p]) + knorm1(F) + knorm1(Fs) + knorm1(lams) +
           knorm1(lamt) + L0.l + L1.l + L2.l + trans;
     /* & rather than &&: no branch in the loop body */
-    o->ok[p] = in_range & (L0.ok * L1.ok * L2.ok != 0.0) & (fin <= DBL_MAX) &
-               (cond <= K->cond_lim) & (trans <= K->trans_lim);
+    o->ok[p] = ((in_range * L0.ok * L1.ok * L2.ok != 0.0) & (fin <= DBL_MAX) &
+                (cond <= K->cond_lim) & (trans <= K->trans_lim))
+                   ? 1.0
+                   : 0.0;
   }
 }
 

@@ -14,7 +14,7 @@
 #include "internal.h"
 
 /* points per block: the outputs of a block live on the stack */
-#define RPS3_KBLOCK 32
+#define RPS3_KBLOCK 64
 /* the effects the kernel computes: the paper's four, indices 0..3 */
 #define RPS3_KNEFF 4
 
@@ -28,7 +28,8 @@ typedef struct {
   double cond[RPS3_KBLOCK];       /* 1-norm condition of the lambda system */
   double trans[RPS3_KBLOCK];      /* force transmission [-] */
   double eres[RPS3_KBLOCK];       /* energy-rate residual [W] */
-  int ok[RPS3_KBLOCK];            /* 1: certified; 0: the scalar path's */
+  double ok[RPS3_KBLOCK];         /* 1: certified; 0: the scalar path's
+                                     (a double: no int in the loop) */
 } rps3_kblock;
 
 /* 1 when the kernel serves model m: closed-form theta, Lagrange, only the

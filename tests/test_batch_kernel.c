@@ -159,7 +159,7 @@ static void compare(const rps3_model *m, arrays *a, worst *w) {
     rps3_kblock kb;
     int p, nb = N - i < RPS3_KBLOCK ? N - i : RPS3_KBLOCK;
     rps3_kernel_block(m, &in, (size_t)i, nb, 1, &kb);
-    for (p = 0; p < nb; p++) w->kernel += kb.ok[p];
+    for (p = 0; p < nb; p++) w->kernel += kb.ok[p] != 0.0;
   }
   for (i = 0; i < N; i++) {
     double fs = 0.0, tol;
