@@ -342,24 +342,24 @@ int sim_file_window(sim_file *f, const sim_window *w, size_t c, size_t k0,
   return 0;
 }
 
-int sim_file_case(sim_file *f, const sim_window *w, size_t c, char *err,
-                  size_t errsz)
+int sim_file_case(sim_file *f, const sim_case_values *v, size_t c,
+                  char *err, size_t errsz)
 {
   hsize_t start = c, count = 1;
-  const char *msg = w->message;
+  const char *msg = v->message;
   const void *src[SIM_NFIELD];
   int i;
   memset(src, 0, sizeof src);
-  src[SIM_tracking_error_max] = &w->tracking_error_max;
-  src[SIM_failed_time] = &w->failed_time;
-  src[SIM_status] = &w->status;
-  src[SIM_failed_at] = &w->failed_at;
-  src[SIM_nsteps] = &w->nsteps;
-  src[SIM_nevals] = &w->nevals;
-  src[SIM_nticks] = &w->nticks;
-  src[SIM_nsat] = &w->nsat;
+  src[SIM_tracking_error_max] = &v->tracking_error_max;
+  src[SIM_failed_time] = &v->failed_time;
+  src[SIM_status] = &v->status;
+  src[SIM_failed_at] = &v->failed_at;
+  src[SIM_nsteps] = &v->nsteps;
+  src[SIM_nevals] = &v->nevals;
+  src[SIM_nticks] = &v->nticks;
+  src[SIM_nsat] = &v->nsat;
   src[SIM_message] = &msg;
-  src[SIM_scene_resolved] = &w->scene_resolved;
+  src[SIM_scene_resolved] = &v->scene_resolved;
   for (i = 0; i < SIM_NFIELD; i++) {
     if (fields[i].shape != SIM_C)
       continue;

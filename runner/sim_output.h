@@ -82,18 +82,21 @@ typedef enum { SIM_OUTPUT_FIELDS(SIM_FIELD_ID) SIM_NFIELD } sim_field;
 /*
  * The buffer of one window of one case: for each field of shape CT or CTL
  * `points` samples of 1 or 3 doubles, row k of field i at
- * buf[i] + k * columns; per-case values in the `one` members.
+ * buf[i] + k * columns (NULL for the per-case fields).
  */
 typedef struct {
   size_t points;             /* samples per window */
-  double *buf[SIM_NFIELD];   /* CT, CTL fields; NULL for the others */
-  /* per case */
+  double *buf[SIM_NFIELD];
+} sim_window;
+
+/* the per-case values of a case */
+typedef struct {
   double tracking_error_max, failed_time;
   int32_t status, failed_at;
   int64_t nsteps, nevals, nticks, nsat;
   char message[640];
   const char *scene_resolved;
-} sim_window;
+} sim_case_values;
 
 /* Allocate the window buffers for `points` samples: 0, or -1. */
 int sim_window_alloc(sim_window *w, size_t points);
@@ -118,8 +121,8 @@ int sim_file_window(sim_file *f, const sim_window *w, size_t c, size_t k0,
                     size_t nk, const double *times, char *err, size_t errsz);
 
 /* Write the per-case values of case c.  0 or -1 with err set. */
-int sim_file_case(sim_file *f, const sim_window *w, size_t c, char *err,
-                  size_t errsz);
+int sim_file_case(sim_file *f, const sim_case_values *v, size_t c,
+                  char *err, size_t errsz);
 
 /* Close (f freed either way; NULL accepted): 0 or -1 with err set. */
 int sim_file_close(sim_file *f, char *err, size_t errsz);

@@ -1,24 +1,19 @@
 /*
  * sim_run.c - rps3-run on a simulated scene (simulate.h): check every
- * case, then simulate them one after the other into the file of
- * sim_output.h, a window of samples at a time, under a temporary name
- * renamed when complete (tmpout.h).
+ * case, then simulate them (on this thread, or on -j threads through
+ * sim_pool.c) into the file of sim_output.h, a window of samples at a
+ * time, under a temporary name renamed when complete (tmpout.h).
  */
+#include "sim_run.h"
 #include "cmd.h"
 #include "estimate.h"
-#include "progress.h"
 #include "safeio.h"
-#include "sim_output.h"
-#include "simulate.h"
 
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
-
-/* samples per window (and chunk) of a case: memory does not grow with the
-   length of a case */
-#define SIM_WINDOW 4096
+#include <unistd.h>
 
 /* the workspaces of one case */
 typedef struct {
@@ -51,8 +46,8 @@ static int reference(const scene_case *c, rps3_data *r, double t)
 }
 
 /* sample j of the window: the plant's state, the reference, the forces */
-static void store(sim_window *w, size_t j, const rps3_sim *sim,
-                  const rps3_data *r, int first)
+static void store(sim_window *w, sim_case_values *v, size_t j,
+                  const rps3_sim *sim, const rps3_data *r, int first)
 {
   const rps3_data *d = sim->d;
   double e;
@@ -65,8 +60,8 @@ static void store(sim_window *w, size_t j, const rps3_sim *sim,
     w->buf[SIM_length_rate_ref][x] = r->dl[i];
     e = r->l[i] - sim->y[i];
     w->buf[SIM_tracking_error][x] = e;
-    if (fabs(e) > w->tracking_error_max)
-      w->tracking_error_max = fabs(e);
+    if (fabs(e) > v->tracking_error_max)
+      v->tracking_error_max = fabs(e);
     /* no force has acted yet at the start */
     w->buf[SIM_force_cmd][x] = first ? (double)NAN : sim->F_cmd[i];
     w->buf[SIM_force][x] = first ? (double)NAN : sim->F[i];
@@ -91,7 +86,7 @@ static void store(sim_window *w, size_t j, const rps3_sim *sim,
 
 /* the message of a failure at sample k (time t_k): the simulation's, and
    the controller's own when it was the controller that failed */
-static void failure(sim_window *w, const sim_work *wk, int st, size_t k,
+static void failure(sim_case_values *w, const sim_work *wk, int st, size_t k,
                     double t_k)
 {
   const rps3_sim *sim = wk->sim;
@@ -128,119 +123,175 @@ static double tick_time(double t, double rate)
   return fabs(t - j / rate) <= 1e-6 / rate ? j / rate : t;
 }
 
-/* simulate case c into the file; 0, or -1 (file or memory) with err */
-static int run_case(const scene_case *c, const sim_case *sc, sim_file *f,
-                    sim_window *w, double *times, int common, char *err,
-                    size_t errsz)
+int sim_tile_alloc(sim_tile *t, size_t points)
 {
-  sim_work wk;
-  rps3_controller ctl;
-  double pose[3], dpose[3];
-  size_t k, j = 0, k0 = 0;
-  int st;
-  char msg[320];
-  memset(&wk, 0, sizeof wk);
-  w->tracking_error_max = 0;
-  w->failed_time = (double)NAN;
-  w->status = RPS3_OK;
-  w->failed_at = -1;
-  w->message[0] = '\0';
-  if (rps3_sim_alloc(&c->model, &sc->opt, &wk.sim, msg, sizeof msg) ||
-      rps3_ctrl_alloc(sc->kind, sc->kp, sc->kd, &sc->ctrl_model, &c->traj,
-                      &wk.ctrl, msg, sizeof msg) ||
-      rps3_data_alloc(&c->model, &wk.ref)) {
-    /* the plan built this case already: only memory can fail here */
-    snprintf(err, errsz, "case %zu: %s", c->index, msg);
-    work_free(&wk);
+  memset(t, 0, sizeof *t);
+  if (sim_window_alloc(&t->w, points) ||
+      !(t->times = malloc(points * sizeof *t->times))) {
+    sim_window_free(&t->w);
     return -1;
   }
-  ctl.fn = rps3_ctrl_update;
-  ctl.state = wk.ctrl;
-  ctl.rate = sc->rate;
+  return 0;
+}
+
+void sim_tile_free(sim_tile *t)
+{
+  sim_window_free(&t->w);
+  free(t->times);
+  scene_text_free(&t->yaml);
+  memset(t, 0, sizeof *t);
+}
+
+/* the simulation of case c and its controller, started on the trajectory;
+   0, or -1 (memory: the plan built this case already) */
+static int start(const scene_case *c, const sim_case *sc, sim_work *wk,
+                 rps3_controller *ctl, int *st, char *err, size_t errsz)
+{
+  double pose[3], dpose[3];
+  char msg[320] = "out of memory";
+  memset(wk, 0, sizeof *wk);
+  if (rps3_sim_alloc(&c->model, &sc->opt, &wk->sim, msg, sizeof msg) ||
+      rps3_ctrl_alloc(sc->kind, sc->kp, sc->kd, &sc->ctrl_model, &c->traj,
+                      &wk->ctrl, msg, sizeof msg) ||
+      rps3_data_alloc(&c->model, &wk->ref)) {
+    snprintf(err, errsz, "case %zu: %s", c->index, msg);
+    work_free(wk);
+    return -1;
+  }
+  ctl->fn = rps3_ctrl_update;
+  ctl->state = wk->ctrl;
+  ctl->rate = sc->rate;
   /* from the trajectory's start, at its rates */
-  st = rps3_traj_eval(&c->model, &c->traj, 0.0, pose, dpose, NULL);
-  if (st == RPS3_OK)
-    st = rps3_sim_start(wk.sim, 0.0, pose, dpose);
-  for (k = 0; k < sc->nt; k++) {
-    double t = sim_case_time(c, sc, k);
-    if (st == RPS3_OK && k > 0)
-      st = rps3_sim_advance(wk.sim, &ctl, tick_time(t, sc->rate));
+  *st = rps3_traj_eval(&c->model, &c->traj, 0.0, pose, dpose, NULL);
+  if (*st == RPS3_OK)
+    *st = rps3_sim_start(wk->sim, 0.0, pose, dpose);
+  return 0;
+}
+
+/* hand the window of t over; the case's values with its last one */
+static sim_tile *flush(sim_sink *k, sim_tile *t, size_t c, size_t k0,
+                       size_t nk, const sim_case_values *v, int last)
+{
+  t->c = c;
+  t->k0 = k0;
+  t->nk = nk;
+  t->last = last;
+  if (last)
+    t->v = *v;
+  return k->put(k, t);
+}
+
+sim_tile *sim_run_case(const scene *s, size_t i, sim_tile *t, sim_sink *k,
+                       char *err, size_t errsz)
+{
+  scene_case c;
+  sim_case sc;
+  scene_error serr;
+  sim_work wk;
+  rps3_controller ctl;
+  sim_case_values v;
+  size_t n, j = 0, k0 = 0;
+  int st;
+  if (scene_case_build(s, i, &c, &serr) || sim_case_build(s, &c, &sc, &serr)) {
+    snprintf(err, errsz, "case %zu: %s", i, serr.what);
+    return NULL;
+  }
+  if (start(&c, &sc, &wk, &ctl, &st, err, errsz))
+    return NULL;
+  memset(&v, 0, sizeof v);
+  v.failed_time = (double)NAN;
+  v.failed_at = -1;
+  for (n = 0; n < sc.nt && t; n++) {
+    double tn = sim_case_time(&c, &sc, n);
+    if (st == RPS3_OK && n > 0)
+      st = rps3_sim_advance(wk.sim, &ctl, tick_time(tn, sc.rate));
     if (st == RPS3_OK)
-      st = reference(c, wk.ref, t);
+      st = reference(&c, wk.ref, tn);
     if (st != RPS3_OK) {
-      failure(w, &wk, st, k, t);
+      failure(&v, &wk, st, n, tn);
       break;
     }
-    store(w, j, wk.sim, wk.ref, k == 0);
-    times[j] = t;
-    if (++j == w->points || k + 1 == sc->nt) {
-      if (sim_file_window(f, w, c->index, k0, j, common ? NULL : times, err,
-                          errsz)) {
-        work_free(&wk);
-        return -1;
-      }
+    store(&t->w, &v, j, wk.sim, wk.ref, n == 0);
+    t->times[j] = tn;
+    if (++j == t->w.points && n + 1 < sc.nt) {
+      t = flush(k, t, i, k0, j, &v, 0);
       k0 += j;
       j = 0;
     }
   }
-  /* the samples before a failure; those after it keep the fill, NaN */
-  if (j > 0 && sim_file_window(f, w, c->index, k0, j, common ? NULL : times,
-                               err, errsz)) {
-    work_free(&wk);
-    return -1;
-  }
-  w->nsteps = wk.sim->nsteps;
-  w->nevals = wk.sim->nevals;
-  w->nticks = wk.sim->nticks;
-  w->nsat = wk.sim->nsat;
+  v.nsteps = wk.sim->nsteps;
+  v.nevals = wk.sim->nevals;
+  v.nticks = wk.sim->nticks;
+  v.nsat = wk.sim->nsat;
   work_free(&wk);
-  return 0;
+  /* the samples up to the end or the failure (those after a failure keep
+     the fill, NaN), with the case's values and its resolved scene */
+  if (t && scene_case_yaml(&c, &t->yaml)) {
+    snprintf(err, errsz, "case %zu: cannot write its scene", i);
+    return NULL;
+  }
+  if (t) {
+    v.scene_resolved = t->yaml.s;
+    t = flush(k, t, i, k0, j, &v, 1);
+  }
+  return t;
 }
 
-/* simulate every case of s into the open file; 0 or -1 with err */
-static int run_all(const scene *s, const sim_plan *p, sim_file *f,
-                   progress *pr, size_t *nfailed, char *err, size_t errsz)
+/* ---------------------------------------------------------- one thread */
+
+/* the sink of one thread: write at once */
+typedef struct {
+  sim_sink base;
+  sim_file *f;
+  int common;
+  char *err;
+  size_t errsz;
+} direct_sink;
+
+static sim_tile *direct_put(sim_sink *k, sim_tile *t)
 {
-  sim_window w;
-  scene_text yaml;
-  scene_case c;
-  sim_case sc;
-  scene_error serr;
-  double *times = NULL;
+  direct_sink *d = (direct_sink *)(void *)k;
+  if ((t->nk > 0 && sim_file_window(d->f, &t->w, t->c, t->k0, t->nk,
+                                    d->common ? NULL : t->times, d->err,
+                                    d->errsz)) ||
+      (t->last && sim_file_case(d->f, &t->v, t->c, d->err, d->errsz)))
+    return NULL;
+  return t;
+}
+
+/* every case on this thread */
+static int run_direct(const scene *s, const sim_plan *p, sim_file *f,
+                      progress *pr, size_t *nfailed, char *err, size_t errsz)
+{
+  direct_sink d;
+  sim_tile tile, *t = &tile;
   size_t i, points = 0;
-  int rc = 0;
-  memset(&yaml, 0, sizeof yaml);
-  if (sim_window_alloc(&w, p->nt < SIM_WINDOW ? p->nt : SIM_WINDOW) ||
-      !(times = malloc(w.points * sizeof *times))) {
+  if (sim_tile_alloc(&tile, p->nt < SIM_WINDOW ? p->nt : SIM_WINDOW)) {
     snprintf(err, errsz, "out of memory");
-    sim_window_free(&w);
     return -1;
   }
-  for (i = 0; i < s->ncase && rc == 0; i++) {
-    if (scene_case_build(s, i, &c, &serr) ||
-        sim_case_build(s, &c, &sc, &serr)) {
-      snprintf(err, errsz, "case %zu: %s", i, serr.what);
-      rc = -1;
-      break;
-    }
-    if (scene_case_yaml(&c, &yaml)) {
-      snprintf(err, errsz, "case %zu: cannot write its scene", i);
-      rc = -1;
-      break;
-    }
-    w.scene_resolved = yaml.s;
-    rc = run_case(&c, &sc, f, &w, times, p->common, err, errsz);
-    if (rc == 0)
-      rc = sim_file_case(f, &w, i, err, errsz);
-    if (w.status != RPS3_OK)
+  d.base.put = direct_put;
+  d.f = f;
+  d.common = p->common;
+  d.err = err;
+  d.errsz = errsz;
+  for (i = 0; i < s->ncase && t; i++) {
+    t = sim_run_case(s, i, t, &d.base, err, errsz);
+    if (t && t->v.status != RPS3_OK)
       ++*nfailed;
-    points += sc.nt;
+    points += t ? t->k0 + t->nk : 0;
     progress_update(pr, i + 1, points);
   }
-  scene_text_free(&yaml);
-  sim_window_free(&w);
-  free(times);
-  return rc;
+  sim_tile_free(&tile);
+  return t ? 0 : -1;
+}
+
+int sim_run_all(const scene *s, const sim_plan *p, sim_file *f, int nthread,
+                progress *pr, size_t *nfailed, char *err, size_t errsz)
+{
+  if (nthread <= 1 || s->ncase < 2)
+    return run_direct(s, p, f, pr, nfailed, err, errsz);
+  return sim_pool_run(s, p, f, nthread, pr, nfailed, err, errsz);
 }
 
 /* the common time axis of the plan, or NULL (differs, or no memory) */
@@ -263,7 +314,7 @@ int sim_main(const scene *s, const sim_args *a)
   sim_file *f;
   double *times, need, avail;
   size_t nfailed = 0;
-  int rc;
+  int rc, nthread;
   char err[768], e1[32], e2[32];
   if (sim_plan_make(s, &p, &serr)) {
     scene_error_print(s->file, &serr);
@@ -285,10 +336,20 @@ int sim_main(const scene *s, const sim_args *a)
             s->file);
     return EXIT_USAGE;
   }
-  if (a->nthread > 1)
-    fprintf(stderr, "rps3-run: warning: -j %d: a simulated scene computes "
-                    "on one thread\n",
-            a->nthread);
+  {
+    /* threads beyond the cores or the cases compute nothing faster */
+    long cores = sysconf(_SC_NPROCESSORS_ONLN);
+    nthread = a->nthread;
+    if (cores >= 1 && nthread > cores) {
+      fprintf(stderr, "rps3-run: warning: -j %d on %ld core%s: computing on "
+                      "%ld thread%s\n",
+              nthread, cores, cores == 1 ? "" : "s", cores,
+              cores == 1 ? "" : "s");
+      nthread = (int)cores;
+    }
+    if ((size_t)nthread > s->ncase)
+      nthread = (int)s->ncase;
+  }
   avail = disk_free(a->out_path);
   if (!a->quiet)
     fprintf(stderr, "rps3-run: %zu simulated case%s, %zu samples: %s about "
@@ -318,7 +379,8 @@ int sim_main(const scene *s, const sim_args *a)
                       p.nt < SIM_WINDOW ? p.nt : SIM_WINDOW, a->gzip,
                       a->command_line, err, sizeof err);
   free(times);
-  rc = f ? run_all(s, &p, f, &pr, &nfailed, err, sizeof err) : -1;
+  rc = f ? sim_run_all(s, &p, f, nthread, &pr, &nfailed, err, sizeof err)
+         : -1;
   if (f && sim_file_close(f, rc ? NULL : err, sizeof err) && rc == 0)
     rc = -1;
   if (rc) {

@@ -313,3 +313,26 @@ def test_xarray_dimensions_from_the_sweep(config_runs):
     assert float(e.sel(controller="computed_torque", m_over_M=0.0)) > \
         100 * float(e.sel(controller="computed_torque", m_over_M=0.5))
     assert ds["length"].dims[-2:] == ("time", "link")
+
+
+def test_threads_give_the_same_file(runner, tmp_path):
+    """-j 2: cases of more than one window (8001 samples), one that fails
+    (saturated), written in whatever order the threads finish: the same
+    datasets as one thread."""
+    text = HEAD.replace("dt: 0.001", "dt: 0.00005") + (
+        "simulate: {controller: pd_gravity, duration: 0.4}\nsweep:\n"
+        "  simulate.fmax: [0.5, 0, 3]\n  simulate.kp: [1000, 3000]\n")
+    one, proc = simulate(tmp_path, text, "one")
+    assert proc.returncode == 1, proc.stderr
+    two, proc = simulate(tmp_path, text, "two", "-j", "2")
+    assert proc.returncode == 1, proc.stderr
+    with h5py.File(one, "r") as a, h5py.File(two, "r") as b:
+        assert sorted(a) == sorted(b)
+        assert a["length"].shape == (6, 8001, 3)
+        assert (a["status"][:2] > 0).all() and (a["status"][2:] == 0).all()
+        for name in a:
+            x, y = np.asarray(a[name][()]), np.asarray(b[name][()])
+            if x.dtype.kind == "f":
+                assert np.array_equal(x, y, equal_nan=True), name
+            else:
+                assert np.array_equal(x, y), name
