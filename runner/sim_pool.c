@@ -68,7 +68,7 @@ static void *worker(void *arg)
     P->next_case++;
     pthread_mutex_unlock(&P->mu);
     err[0] = '\0';
-    t = sim_run_case(P->s, i, t, &P->base, err, sizeof err);
+    t = sim_run_case(P->s, i, (size_t)-1, t, &P->base, err, sizeof err);
     if (!t && err[0]) {
       /* the case itself failed to run (memory): stop everyone */
       pthread_mutex_lock(&P->mu);

@@ -13,6 +13,7 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <time.h>
 #include <unistd.h>
 
 /* the workspaces of one case */
@@ -181,8 +182,8 @@ static sim_tile *flush(sim_sink *k, sim_tile *t, size_t c, size_t k0,
   return k->put(k, t);
 }
 
-sim_tile *sim_run_case(const scene *s, size_t i, sim_tile *t, sim_sink *k,
-                       char *err, size_t errsz)
+sim_tile *sim_run_case(const scene *s, size_t i, size_t limit, sim_tile *t,
+                       sim_sink *k, char *err, size_t errsz)
 {
   scene_case c;
   sim_case sc;
@@ -190,18 +191,20 @@ sim_tile *sim_run_case(const scene *s, size_t i, sim_tile *t, sim_sink *k,
   sim_work wk;
   rps3_controller ctl;
   sim_case_values v;
-  size_t n, j = 0, k0 = 0;
+  size_t n, nrun, j = 0, k0 = 0;
   int st;
   if (scene_case_build(s, i, &c, &serr) || sim_case_build(s, &c, &sc, &serr)) {
     snprintf(err, errsz, "case %zu: %s", i, serr.what);
     return NULL;
   }
+  /* the pilot of the estimate runs the first samples only */
+  nrun = sc.nt < limit ? sc.nt : limit;
   if (start(&c, &sc, &wk, &ctl, &st, err, errsz))
     return NULL;
   memset(&v, 0, sizeof v);
   v.failed_time = (double)NAN;
   v.failed_at = -1;
-  for (n = 0; n < sc.nt && t; n++) {
+  for (n = 0; n < nrun && t; n++) {
     double tn = sim_case_time(&c, &sc, n);
     if (st == RPS3_OK && n > 0)
       st = rps3_sim_advance(wk.sim, &ctl, tick_time(tn, sc.rate));
@@ -213,7 +216,7 @@ sim_tile *sim_run_case(const scene *s, size_t i, sim_tile *t, sim_sink *k,
     }
     store(&t->w, &v, j, wk.sim, wk.ref, n == 0);
     t->times[j] = tn;
-    if (++j == t->w.points && n + 1 < sc.nt) {
+    if (++j == t->w.points && n + 1 < nrun) {
       t = flush(k, t, i, k0, j, &v, 0);
       k0 += j;
       j = 0;
@@ -276,7 +279,7 @@ static int run_direct(const scene *s, const sim_plan *p, sim_file *f,
   d.err = err;
   d.errsz = errsz;
   for (i = 0; i < s->ncase && t; i++) {
-    t = sim_run_case(s, i, t, &d.base, err, errsz);
+    t = sim_run_case(s, i, (size_t)-1, t, &d.base, err, errsz);
     if (t && t->v.status != RPS3_OK)
       ++*nfailed;
     points += t ? t->k0 + t->nk : 0;
@@ -292,6 +295,72 @@ int sim_run_all(const scene *s, const sim_plan *p, sim_file *f, int nthread,
   if (nthread <= 1 || s->ncase < 2)
     return run_direct(s, p, f, pr, nfailed, err, errsz);
   return sim_pool_run(s, p, f, nthread, pr, nfailed, err, errsz);
+}
+
+/* ---------------------------------------------------------- estimate */
+
+/* the samples the estimate times: per case, and in all */
+#define PILOT_SAMPLES 400
+#define PILOT_CASES 4
+
+/* the pilot's sink: nothing is written */
+static sim_tile *discard(sim_sink *k, sim_tile *t)
+{
+  (void)k;
+  return t;
+}
+
+static double cpu_seconds(void)
+{
+  struct timespec ts;
+  clock_gettime(CLOCK_PROCESS_CPUTIME_ID, &ts);
+  return (double)ts.tv_sec + 1e-9 * (double)ts.tv_nsec;
+}
+
+/*
+ * The run time of the plan on nthread threads into buf: the first
+ * PILOT_SAMPLES samples of up to PILOT_CASES cases spread over the sweep
+ * (their controllers, integrators and steps differ), simulated and timed
+ * on the process's CPU clock, writing not counted (a simulated sample
+ * costs some 100 times more than writing its 350 bytes).
+ */
+static void run_time(const scene *s, const sim_plan *p, int nthread,
+                     char *buf, size_t sz)
+{
+  sim_sink sink;
+  sim_tile tile, *t = &tile;
+  est_cost c;
+  size_t q, last = (size_t)-1, samples = 0;
+  double t0;
+  char err[256], when[32];
+  sink.put = discard;
+  if (sim_tile_alloc(&tile, PILOT_SAMPLES)) {
+    snprintf(buf, sz, "run time not estimated (out of memory)");
+    return;
+  }
+  t0 = cpu_seconds();
+  for (q = 0; q < PILOT_CASES && t; q++) {
+    size_t i = (s->ncase - 1) * q / (PILOT_CASES - 1);
+    if (i == last)
+      continue;
+    last = i;
+    t = sim_run_case(s, i, PILOT_SAMPLES, t, &sink, err, sizeof err);
+    /* a failing case counts up to its failure, at least one sample */
+    samples += t ? (t->nk > 0 ? t->k0 + t->nk : 1) : 0;
+  }
+  memset(&c, 0, sizeof c);
+  c.sample = samples ? (cpu_seconds() - t0) / (double)samples : 0;
+  if (t && samples)
+    snprintf(buf, sz, "run time about %s on %d thread%s (an estimate: %.3g "
+             "us a simulated sample, timed on %zu samples)",
+             est_human_time(est_run_seconds(&c, (double)p->npoint,
+                                            (double)s->ncase, nthread),
+                            when, sizeof when),
+             nthread, nthread == 1 ? "" : "s", 1e6 * c.sample, samples);
+  else
+    snprintf(buf, sz, "run time not estimated (%s)",
+             t ? "no sample" : "out of memory");
+  sim_tile_free(&tile);
 }
 
 /* the common time axis of the plan, or NULL (differs, or no memory) */
@@ -315,21 +384,13 @@ int sim_main(const scene *s, const sim_args *a)
   double *times, need, avail;
   size_t nfailed = 0;
   int rc, nthread;
-  char err[768], e1[32], e2[32];
+  char err[768], e1[32], e2[32], when[160] = "";
   if (sim_plan_make(s, &p, &serr)) {
     scene_error_print(s->file, &serr);
     return EXIT_USAGE;
   }
   need = sim_file_bytes(s->ncase, p.npoint);
-  if (a->check) {
-    printf("%s: simulated: %zu case%s, %zu samples (%zu per case at "
-           "most)%s; output about %s uncompressed\n",
-           s->file, s->ncase, s->ncase == 1 ? "" : "s", p.npoint, p.nt,
-           p.common ? "" : ", time grid differs by case",
-           est_human(need, e1, sizeof e1));
-    return EXIT_OK;
-  }
-  if (a->sharded) {
+  if (a->sharded && !a->check) {
     fprintf(stderr, "rps3-run: %s: a simulated scene runs as one process: "
                     "--shard, --resume and rps3-run-mpi are not supported "
                     "(split the sweep into scenes instead)\n",
@@ -350,13 +411,23 @@ int sim_main(const scene *s, const sim_args *a)
     if ((size_t)nthread > s->ncase)
       nthread = (int)s->ncase;
   }
+  if (a->check || !a->quiet)
+    run_time(s, &p, nthread, when, sizeof when);
+  if (a->check) {
+    printf("%s: simulated: %zu case%s, %zu samples (%zu per case at "
+           "most)%s; output about %s uncompressed\n%s\n",
+           s->file, s->ncase, s->ncase == 1 ? "" : "s", p.npoint, p.nt,
+           p.common ? "" : ", time grid differs by case",
+           est_human(need, e1, sizeof e1), when);
+    return EXIT_OK;
+  }
   avail = disk_free(a->out_path);
   if (!a->quiet)
     fprintf(stderr, "rps3-run: %zu simulated case%s, %zu samples: %s about "
-                    "%s%s\n",
+                    "%s%s, %s\n",
             s->ncase, s->ncase == 1 ? "" : "s", p.npoint, a->out_path,
             est_human(need, e1, sizeof e1),
-            a->gzip ? " before compression" : "");
+            a->gzip ? " before compression" : "", when);
   if (avail >= 0 && need > avail && !a->gzip) {
     fprintf(stderr, "rps3-run: %s: the output needs about %s, the file "
                     "system has %s free: nothing written\n",

@@ -39,12 +39,12 @@ struct sim_sink {
 };
 
 /*
- * Simulate case i of s (built and checked by the plan) into tiles through
- * k, starting with tile t.  Returns the tile it holds at the end, or NULL
+ * Simulate case i of s (built and checked by the plan), its first `limit`
+ * samples at most, into tiles through k, starting with tile t.  Returns the tile it holds at the end, or NULL
  * when the sink stopped or memory ran out (err set, when known).
  */
-sim_tile *sim_run_case(const scene *s, size_t i, sim_tile *t, sim_sink *k,
-                       char *err, size_t errsz);
+sim_tile *sim_run_case(const scene *s, size_t i, size_t limit, sim_tile *t,
+                       sim_sink *k, char *err, size_t errsz);
 
 /*
  * Simulate every case of s into f on nthread threads (1: this one);
