@@ -70,19 +70,20 @@ def plotted_error(err, floor):
 # Pareto fronts: over every numerical knob (the model fixed: the paper's
 # four effects), and within the routes a user may be forced onto: theta
 # from measured link lengths (multiroot) and rates from measured positions
-# (finite differences).  The effects ladder changes the model, not the
-# numerics: its "error" is the share of the effects left out, shown apart.
+# (finite differences, or the spline of a table of poses).  The effects
+# ladder changes the model, not the numerics: its "error" is the share of
+# the effects left out, shown apart.
 FRONTS = {
     "all numerical knobs": lambda a: np.isin(a["study"],
                                              ("theta", "derivative", "method")),
     "theta by multiroot": lambda a: (a["study"] == "theta") &
     (a["solver"] != ""),
-    "rates by finite differences": lambda a: (a["study"] == "derivative") &
+    "rates from positions": lambda a: (a["study"] == "derivative") &
     (a["derivative"] != "exact"),
 }
 FRONT_STYLE = {"all numerical knobs": ("k", "-"),
                "theta by multiroot": ("tab:blue", "--"),
-               "rates by finite differences": ("tab:orange", ":")}
+               "rates from positions": ("tab:orange", ":")}
 
 
 def usable(a, t):

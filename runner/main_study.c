@@ -11,7 +11,9 @@
  *              1e-2 .. 1e-14, cold (opt.warm_start = 0) and warm;
  *   derivative exact rates vs central differences in time of the pose
  *              (fd_pose) or of the link lengths (fd_length, what encoders
- *              give), steps 1e-2 .. 1e-7 s;
+ *              give), steps 1e-2 .. 1e-7 s, and the not-a-knot spline of
+ *              the pose sampled every 0.1 .. 0.001 s (spline_pose: a table
+ *              of measured poses, docs/trajectories.md);
  *   method     Lagrange vs Newton-Euler;
  *   effects    gravity only -> all effects, each one's extra cost (and the
  *              model error of leaving the rest out);
@@ -169,9 +171,11 @@ typedef enum {
 static const char *const study_name[S_NSTUDY] = {"theta", "derivative",
                                                  "method", "effects", "dt"};
 
-typedef enum { D_EXACT, D_FD_POSE, D_FD_LENGTH, D_FD_SAMPLES } deriv_kind;
-static const char *const deriv_name[4] = {"exact", "fd_pose", "fd_length",
-                                          "fd_samples"};
+typedef enum {
+  D_EXACT, D_FD_POSE, D_FD_LENGTH, D_FD_SAMPLES, D_SPLINE
+} deriv_kind;
+static const char *const deriv_name[5] = {"exact", "fd_pose", "fd_length",
+                                          "fd_samples", "spline_pose"};
 
 typedef struct {
   study_kind study;
@@ -181,7 +185,8 @@ typedef struct {
   double tol;
   int warm;
   deriv_kind deriv;
-  double h;         /* finite-difference step [s], 0 for exact */
+  double h;         /* finite-difference step, or the spline's row spacing
+                       [s]; 0 for exact */
   rps3_method method;
   int effects;
   double dt_frac;   /* dt study: sample interval / duration; 0 otherwise */
@@ -203,6 +208,9 @@ typedef struct {
 
 static const double tols[7] = {1e-2, 1e-4, 1e-6, 1e-8, 1e-10, 1e-12, 1e-14};
 static const double steps[6] = {FD_MARGIN, 1e-3, 1e-4, 1e-5, 1e-6, 1e-7};
+/* row spacings of the spline of the pose: 100 Hz is a motion-capture rate,
+   1 kHz an encoder's */
+static const double spacings[3] = {1e-1, 1e-2, 1e-3};
 static const double dt_fracs[9] = {5e-2, 2e-2, 1e-2, 5e-3,
                                    2e-3, 1e-3, 5e-4, 2e-4, 1e-4};
 /* the effects ladder: gravity only -> every effect */
@@ -258,6 +266,14 @@ static int configs_build(config *cfg) {
                deriv_name[k], steps[t]);
       n++;
     }
+  for (t = 0; t < 3; t++) {
+    config_base(&cfg[n], S_DERIV);
+    cfg[n].deriv = D_SPLINE;
+    cfg[n].h = spacings[t];
+    snprintf(cfg[n].label, sizeof cfg[n].label, "%s h=%.0e s",
+             deriv_name[D_SPLINE], spacings[t]);
+    n++;
+  }
   /* method */
   for (k = 0; k < 2; k++) {
     config_base(&cfg[n], S_METHOD);
@@ -295,6 +311,8 @@ typedef struct {
   const config *c;
   double prev[3];       /* last theta solution, for the explicit warm start */
   int have_prev;
+  rps3_traj table;      /* spline_pose: the trajectory's poses every h */
+  double *rows;         /* its arrays (time, pose, rate, scratch), or NULL */
 } runner;
 
 /*
@@ -310,6 +328,9 @@ static int point(runner *r, double t, double span) {
   int st, i;
   if (r->c->deriv == D_EXACT || r->c->deriv == D_FD_SAMPLES)
     return rps3_traj_eval(m, r->tr, t, d->pose, d->dpose, d->ddpose) ||
+           rps3_inverse(m, d);
+  if (r->c->deriv == D_SPLINE)
+    return rps3_traj_eval(m, &r->table, t, d->pose, d->dpose, d->ddpose) ||
            rps3_inverse(m, d);
   (void)span;
   if ((st = rps3_traj_eval(m, r->tr, t - h, pm, NULL, NULL)) != RPS3_OK ||
@@ -349,6 +370,34 @@ static double sample_time(size_t k, size_t n, double span) {
   return FD_MARGIN + (span - 2.0 * FD_MARGIN) * ((double)k + 0.5) / (double)n;
 }
 
+/* spline_pose: the trajectory's poses every h (the last row at the span),
+   the rates from rps3_table_spline, as rps3-run reads a table */
+static int spline_rows(runner *r) {
+  double span = rps3_traj_duration(r->tr), *time, (*pose)[3], (*rate)[3];
+  size_t n = (size_t)floor(span / r->c->h + 0.5) + 1, i;
+  r->rows = malloc(8 * n * sizeof(double));
+  if (!r->rows) return -1;
+  time = r->rows;
+  pose = (double(*)[3])(void *)(r->rows + n);
+  rate = (double(*)[3])(void *)(r->rows + 4 * n);
+  for (i = 0; i < n; i++) {
+    time[i] = i + 1 == n ? span : (double)i * r->c->h;
+    if (rps3_traj_eval(&r->model, r->tr, time[i], pose[i], NULL, NULL) !=
+        RPS3_OK)
+      return -1;
+  }
+  if (rps3_table_spline(n, time, (const double(*)[3])pose, rate,
+                        r->rows + 7 * n) != RPS3_OK)
+    return -1;
+  rps3_traj_default(&r->table);
+  r->table.kind = RPS3_TRAJ_TABLE;
+  r->table.table.n = n;
+  r->table.table.time = time;
+  r->table.table.value = (const double(*)[3])pose;
+  r->table.table.rate = (const double(*)[3])rate;
+  return rps3_traj_check(&r->model, &r->table, NULL, 0) == RPS3_OK ? 0 : -1;
+}
+
 static int runner_init(runner *r, const config *c, const rps3_traj *tr,
                        const rps3_model *base) {
   char err[256];
@@ -369,8 +418,10 @@ static int runner_init(runner *r, const config *c, const rps3_traj *tr,
   r->tr = tr;
   r->c = c;
   r->d = NULL;
-  if (rps3_data_alloc(&r->model, &r->d) != RPS3_OK) {
-    fprintf(stderr, "rps3-study: out of memory\n");
+  r->rows = NULL;
+  if (rps3_data_alloc(&r->model, &r->d) != RPS3_OK ||
+      (c->deriv == D_SPLINE && spline_rows(r) < 0)) {
+    fprintf(stderr, "rps3-study: %s: out of memory\n", c->label);
     return -1;
   }
   return 0;
@@ -821,7 +872,10 @@ static int run_accuracy(const char *path, const char *cmdline, size_t nsamp,
     }
     if (measure_times(run, cfg, ncfg, &ref[t], repeats, res[t]) < 0)
       return EXIT_IO;
-    for (c = 0; c < ncfg; c++) rps3_data_free(run[c].d);
+    for (c = 0; c < ncfg; c++) {
+      rps3_data_free(run[c].d);
+      free(run[c].rows);
+    }
   }
   fprintf(stderr, "rps3-study: accuracy: %d configurations x %d trajectories "
           "in %.1f s\n", ncfg, NTRAJ, 1e-9 * (now_ns() - t_start));
@@ -880,7 +934,8 @@ static int run_accuracy(const char *path, const char *cmdline, size_t nsamp,
             "pose (fd_pose) or of the link lengths (fd_length) with step h, "
             "or of the samples at interval dt (fd_samples)")
     CFG_F64("fd_step", cfg[c].h > 0 ? cfg[c].h : DNAN, "s",
-            "finite-difference step h (NaN for exact rates)")
+            "finite-difference step, or the spline's row spacing, h (NaN "
+            "for exact rates)")
     CFG_STR("method",
             cfg[c].method == RPS3_LAGRANGE ? "lagrange" : "newton_euler",
             "formulation of the dynamics")

@@ -40,6 +40,7 @@ def test_accuracy_file_and_plot(tmp_path):
         theta = f["theta_error"][()]
         ns = f["ns_per_point"][()]
         floor = f["reference_floor_force"][()]
+        f_traj = [s.decode() for s in f["trajectory"][()]]
     # the reference is its own formulation in long double (study_ref.c,
     # the model's inputs only; test_study_ref.c), so the default path
     # (closed form, exact rates, Lagrange) is graded too: never exactly 0,
@@ -69,6 +70,17 @@ def test_accuracy_file_and_plot(tmp_path):
     for t in range(err.shape[0]):
         e = err[t, rows]
         assert (np.diff(e) < 0).all(), e
+    # rates from the spline of poses sampled every h (a table's route):
+    # on the smooth sine_edge the error falls with h (as h^2, the order of
+    # the spline's acceleration: 1.4e-2, 8.6e-5, 1.5e-6 with 1000 samples),
+    # and stays far above the exact route's (on the helix a subset of
+    # samples may miss the blend corners, where alone the spline errs)
+    spl = [np.flatnonzero(label == f"spline_pose h={h} s")[0]
+           for h in ("1e-01", "1e-02", "1e-03")]
+    edge = f_traj.index("sine_edge")
+    assert (np.diff(err[edge, spl]) < 0).all(), err[edge, spl]
+    assert err[edge, spl[-1]] < 1e-4
+    assert (err[edge, spl] > 1e3 * err[edge, closed]).all()
     assert set(study_) == {"theta", "derivative", "method", "effects", "dt"}
     p = subprocess.run([sys.executable, os.path.join(ANALYSIS,
                         "accuracy_cost.py"), str(out), str(tmp_path)],
