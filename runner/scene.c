@@ -1685,8 +1685,9 @@ static int case_has_key(const scene_case *c, int k)
     scene_values *w = (scene_values *)(void *)&c->v; /* read only */
     if (!c->simulate)
       return 0;
-    return ki->type == KEY_REAL ? !isnan(*real_at(w, k))
-                                : *int_at(w, k) >= 0;
+    return ki->type == KEY_REAL    ? !isnan(*real_at(w, k))
+           : ki->type == KEY_REAL3 ? 1
+                                   : *int_at(w, k) >= 0;
   }
   if (k == K_M_OVER_M || k == K_MASS)
     return (k == K_M_OVER_M) == (c->by_ratio != 0);

@@ -28,6 +28,8 @@ typedef struct {
   double tolerance;        /* epsabs = epsrel of the adaptive methods */
   int max_steps;           /* integrator steps per control period */
   double duration;         /* simulated time [s]; NaN: the trajectory's */
+  double start_offset[3];  /* the plant's start pose minus the trajectory's
+                              [rad, rad, m] */
   double fmax;             /* actuator saturation [N]; 0: none */
   double l_min, l_max;     /* stroke [m]; l_max 0: none */
   double noise_l, noise_dl; /* measurement noise, standard deviations */
@@ -70,6 +72,8 @@ typedef struct {
   X(SIM_MAX_STEPS, max_steps, 1, 1, 0, 2147483647.0, "1", 100000, NULL)       \
   X(SIM_DURATION, duration, 0, 0, 1, HUGE_VAL, "s", SIM_UNSET,                      \
     "the trajectory's span")                                                  \
+  X(SIM_START_OFFSET, start_offset, 0, -HUGE_VAL, 0, HUGE_VAL, "rad, rad, m", \
+    0.0, NULL)                                                                \
   X(SIM_FMAX, fmax, 0, 0, 0, HUGE_VAL, "N", 0.0, NULL)                        \
   X(SIM_L_MIN, l_min, 0, 0, 0, HUGE_VAL, "m", 0.0, NULL)                      \
   X(SIM_L_MAX, l_max, 0, 0, 0, HUGE_VAL, "m", 0.0, NULL)                      \
@@ -127,6 +131,10 @@ enum { SCENE_SIM_FIELDS(SCENE_SIM_ID) SCENE_NSIM };
     "-",                                                                      \
     "simulated time, a whole number of the trajectory's time steps; past "    \
     "the trajectory the reference is its final pose at rest")                 \
+  X(K_SIM_START_OFFSET, "simulate.start_offset", KEY_REAL3, SIM,             \
+    SIM_START_OFFSET, REQ_NO, "-",                                            \
+    "the plant starts at the trajectory's first pose plus this [alpha, "      \
+    "beta, z_c] offset, at its rates: an initial error to correct")          \
   X(K_SIM_FMAX, "simulate.fmax", KEY_REAL, SIM, SIM_FMAX, REQ_NO, "-",        \
     "actuator saturation abs(F_i) <= fmax; 0: none")                          \
   X(K_SIM_L_MIN, "simulate.l_min", KEY_REAL, SIM, SIM_L_MIN, REQ_NO, "-",     \

@@ -143,13 +143,15 @@ void sim_tile_free(sim_tile *t)
   memset(t, 0, sizeof *t);
 }
 
-/* the simulation of case c and its controller, started on the trajectory;
-   0, or -1 (memory: the plan built this case already) */
+/* the simulation of case c and its controller, started on the trajectory
+   (plus the start offset); 0, or -1 (memory: the plan built this case
+   already) */
 static int start(const scene_case *c, const sim_case *sc, sim_work *wk,
                  rps3_controller *ctl, int *st, char *err, size_t errsz)
 {
   double pose[3], dpose[3];
   char msg[320] = "out of memory";
+  int i;
   memset(wk, 0, sizeof *wk);
   if (rps3_sim_alloc(&c->model, &sc->opt, &wk->sim, msg, sizeof msg) ||
       rps3_ctrl_alloc(sc->kind, sc->kp, sc->kd, &sc->ctrl_model, &c->traj,
@@ -164,6 +166,8 @@ static int start(const scene_case *c, const sim_case *sc, sim_work *wk,
   ctl->rate = sc->rate;
   /* from the trajectory's start, at its rates */
   *st = rps3_traj_eval(&c->model, &c->traj, 0.0, pose, dpose, NULL);
+  for (i = 0; i < 3; i++)
+    pose[i] += c->v.sim.start_offset[i];
   if (*st == RPS3_OK)
     *st = rps3_sim_start(wk->sim, 0.0, pose, dpose);
   return 0;
