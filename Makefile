@@ -61,7 +61,7 @@ TEST_SAN = $(TEST_SRC:tests/%.c=$(B)/tests-san/%)
 TEST_BIN += $(B)/tests/example_control_loop $(B)/tests/example_sim_loop
 RUN_MAINS = runner/main_run.c runner/main_study.c runner/main_simstudy.c
 RUN_COMMON = $(filter-out $(RUN_MAINS),$(wildcard runner/*.c))
-RUN_OBJ = $(RUN_COMMON:runner/%.c=$(B)/runner/%.o)
+RUN_OBJ = $(RUN_COMMON:runner/%.c=$(B)/runner/%.o) $(B)/runner/gitrev.o
 
 .PHONY: all lib runner runner-mpi study-bin check check-c check-san check-py check-lint check-slurm paper \
         study bench deps venv clean install uninstall
@@ -180,6 +180,17 @@ runner: $(B)/rps3-run
 $(B)/runner/%.o: runner/%.c | $(DEPS)
 	@mkdir -p $(@D)
 	$(CC) $(CPPFLAGS_ALL) -Irunner $(GSL_CFLAGS) $(HDF5_CFLAGS) $(WARN) $(OPT) -MMD -MP -c $< -o $@
+# the git revision the runner is built from, for the files' history and
+# git_revision attributes: the source is rewritten only when the revision
+# changes, so that nothing rebuilds otherwise ("unknown" without git)
+GIT_REV := $(shell git describe --always --dirty --abbrev=12 2>/dev/null || echo unknown)
+$(B)/runner/gitrev.c: FORCE
+	@mkdir -p $(@D)
+	@echo 'const char *const rps3_git_revision = "$(GIT_REV)";' > $@.new
+	@if cmp -s $@.new $@; then rm $@.new; else mv $@.new $@; fi
+$(B)/runner/gitrev.o: $(B)/runner/gitrev.c
+	$(CC) $(WARN) $(OPT) -c $< -o $@
+FORCE:
 $(B)/rps3-run: $(B)/runner/main_run.o $(RUN_OBJ) $(B)/librps3.a
 	$(CC) -o $@ $^ $(HDF5_LIBS) $(YAML_LIBS) $(GSL_LIBS) -lpthread -lm
 $(B)/rps3-study: $(B)/runner/main_study.o $(RUN_OBJ) $(B)/librps3.a

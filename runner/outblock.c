@@ -12,8 +12,8 @@
 
 /* ------------------------------------------------------------ the schema */
 
-#define OUT_FIELD_ROW(name, shape, type, units, doc) \
-  {#name, shape, type, units, doc},
+#define OUT_FIELD_ROW(name, shape, type, units, long_name, doc) \
+  {#name, shape, type, units, long_name, doc},
 const out_field_info out_field_table[OUT_NFIELD] = {
     RPS3_OUTPUT_FIELDS(OUT_FIELD_ROW)};
 #undef OUT_FIELD_ROW
@@ -83,7 +83,8 @@ int out_block_alloc(out_block *b, size_t cases, size_t points, int effects)
     if (effects & (1 << e))
       b->effect[b->neffect++] = e;
   for (i = 0; i < OUT_NFIELD; i++) {
-    void *p = calloc(cases * slot_elems(b, i), type_size(out_field_table[i].type));
+    void *p = calloc(cases * slot_elems(b, i),
+                     type_size(out_field_table[i].type));
     if (!p)
       goto fail;
     block_field_set(b, i, p);

@@ -5,6 +5,7 @@
  */
 #include "output.h"
 #include "h5err.h"
+#include "out_cf.h"
 
 #include <errno.h>
 #include <math.h>
@@ -160,7 +161,8 @@ hid_t out_h5_scale(hid_t file, hid_t str, const char *name, hid_t type,
                    const char *doc)
 {
   hsize_t dim = n;
-  hid_t ds = out_h5_dataset(file, str, name, type, 1, &dim, NULL, 0, NULL, units, doc);
+  hid_t ds = out_h5_dataset(file, str, name, type, 1, &dim, NULL, 0, NULL,
+                            units, doc);
   if (ds < 0)
     return -1;
   if ((data && write_all(ds, type, data) < 0) || H5DSset_scale(ds, name) < 0) {
@@ -246,7 +248,8 @@ int out_stamp(hid_t file, const char *command_line)
       (H5Aexists(file, "command_line") <= 0 ||
        H5Adelete(file, "command_line") >= 0) &&
       out_h5_attr(file, str, "created_utc", now) >= 0 &&
-      out_h5_attr(file, str, "command_line", command_line) >= 0)
+      out_h5_attr(file, str, "command_line", command_line) >= 0 &&
+      out_cf_history_add(file, str, now, command_line) >= 0)
     rc = 0;
   if (str >= 0)
     H5Tclose(str);
@@ -266,12 +269,14 @@ static int root_attrs(hid_t file, hid_t str, const out_meta *meta)
           out_h5_attr(file, str, "command_line", meta->command_line) < 0 ||
           out_h5_attr(file, str, "gsl_version", gsl_version) < 0 ||
           out_h5_attr(file, str, "hdf5_version", h5v) < 0 ||
-          out_h5_attr(file, str, "yaml_version", yaml_get_version_string()) < 0 ||
+          out_h5_attr(file, str, "yaml_version",
+                      yaml_get_version_string()) < 0 ||
           out_h5_attr(file, str, "title",
                    "rps3: inverse dynamics of the Lee & Shah 3-RPS "
                    "manipulator along a trajectory, per case of a sweep") < 0 ||
           out_h5_attr(file, str, "fields",
                    out_fields_text(meta->fields, fields, sizeof fields)) < 0 ||
+          out_cf_root(file, str, now, meta->command_line) < 0 ||
           (meta->shard && out_h5_attr(file, str, "shard", meta->shard) < 0))
              ? -1
              : 0;
@@ -323,10 +328,12 @@ out_file *out_create(const char *path, const scene *s,
 
   /* the scene file, verbatim */
   {
-    hid_t ds = out_h5_dataset(f->file, f->str, "scene", f->str, 0, NULL, NULL, 0,
-                       NULL, "1", "the scene file (YAML), verbatim");
+    hid_t ds = out_h5_dataset(f->file, f->str, "scene", f->str, 0, NULL,
+                              NULL, 0, NULL, "1",
+                              "the scene file (YAML), verbatim");
     const char *text = s->text;
-    if (ds < 0 || write_all(ds, f->str, &text) < 0) {
+    if (ds < 0 || out_cf_long_name(ds, f->str, "scene file") < 0 ||
+        write_all(ds, f->str, &text) < 0) {
       if (ds >= 0)
         H5Dclose(ds);
       fail(err, errsz, "cannot write the scene text");
@@ -336,9 +343,10 @@ out_file *out_create(const char *path, const scene *s,
   }
 
   /* dimension scales */
-  dcase = out_h5_scale(f->file, f->str, "case", H5T_NATIVE_INT64, s->ncase, NULL,
-                "1", "case number; row-major over the sweep keys in file "
-                     "order, the last key fastest");
+  dcase = out_h5_scale(f->file, f->str, "case", H5T_NATIVE_INT64, s->ncase,
+                       NULL, "1",
+                       "case number; row-major over the sweep keys in file "
+                       "order, the last key fastest");
   if (dcase >= 0) {
     int64_t *idx = malloc(AXIS_RUN * sizeof *idx);
     for (c0 = 0; idx && c0 < s->ncase; c0 += n) {
@@ -357,12 +365,13 @@ out_file *out_create(const char *path, const scene *s,
   /* the time scale in runs of AXIS_RUN samples: memory does not grow
      with the length of a case */
   dtime = grid_common
-              ? out_h5_scale(f->file, f->str, "time", H5T_NATIVE_DOUBLE, nt, NULL,
-                      "s", "time since the start of the trajectory")
-              : out_h5_scale(f->file, f->str, "time", H5T_NATIVE_INT32, nt, NULL,
-                      "1",
-                      "sample index: the time grid differs between cases, "
-                      "the time of each sample is case_time");
+              ? out_h5_scale(f->file, f->str, "time", H5T_NATIVE_DOUBLE, nt,
+                             NULL, "s",
+                             "time since the start of the trajectory")
+              : out_h5_scale(f->file, f->str, "time", H5T_NATIVE_INT32, nt,
+                             NULL, "1",
+                             "sample index: the time grid differs between "
+                             "cases, the time of each sample is case_time");
   if (dtime >= 0) {
     double *t = malloc(AXIS_RUN * sizeof *t);
     int32_t *ix = (int32_t *)t;
@@ -393,9 +402,16 @@ out_file *out_create(const char *path, const scene *s,
                     "2-3, 3-1");
   for (i = 0; i < b->neffect; i++)
     names[i] = rps3_effect_name(b->effect[i]);
-  deff = out_h5_scale(f->file, f->str, "effect", f->str, (size_t)b->neffect, names,
-               "1", "physical effect, as named by rps3_effect_name");
-  if (dcase < 0 || dtime < 0 || dlink < 0 || dcon < 0 || deff < 0) {
+  deff = out_h5_scale(f->file, f->str, "effect", f->str, (size_t)b->neffect,
+                      names, "1",
+                      "physical effect, as named by rps3_effect_name");
+  if (dcase < 0 || dtime < 0 || dlink < 0 || dcon < 0 || deff < 0 ||
+      out_cf_long_name(dcase, f->str, "case number") < 0 ||
+      out_cf_long_name(dtime, f->str,
+                       grid_common ? "time" : "sample index") < 0 ||
+      out_cf_long_name(dlink, f->str, "link number") < 0 ||
+      out_cf_long_name(dcon, f->str, "constraint number") < 0 ||
+      out_cf_long_name(deff, f->str, "physical effect") < 0) {
     fail(err, errsz, "cannot write the dimension scales");
     goto fail;
   }
@@ -409,7 +425,7 @@ out_file *out_create(const char *path, const scene *s,
   }
   for (a = 0; a < s->naxis; a++) {
     const scene_key_info *ki = scene_key_get(s->axis[a].key);
-    char doc[400];
+    char doc[400], units[32], long_name[128];
     hsize_t nc = s->ncase;
     hid_t type = (ki->type == KEY_REAL || ki->type == KEY_REAL3)
                      ? H5T_NATIVE_DOUBLE
@@ -417,9 +433,13 @@ out_file *out_create(const char *path, const scene *s,
                                         : H5T_NATIVE_INT32;
     snprintf(doc, sizeof doc, "swept scene key %s: %s (paper: %s)",
              s->axis[a].path, ki->doc, ki->symbol);
-    axis_ds[a] = out_h5_dataset(f->file, f->str, s->axis[a].path, type, 1, &nc,
-                         NULL, 0, NULL, ki->unit, doc);
-    if (axis_ds[a] < 0 || H5DSattach_scale(axis_ds[a], dcase, 0) < 0 ||
+    snprintf(long_name, sizeof long_name, "swept key %s", s->axis[a].path);
+    axis_ds[a] = out_h5_dataset(f->file, f->str, s->axis[a].path, type, 1,
+                                &nc, NULL, 0, NULL,
+                                out_cf_axis_units(s, a, units, sizeof units),
+                                doc);
+    if (axis_ds[a] < 0 || out_cf_long_name(axis_ds[a], f->str, long_name) < 0 ||
+        H5DSattach_scale(axis_ds[a], dcase, 0) < 0 ||
         out_h5_axis(axis_ds[a], f->str, s, a) < 0) {
       fail(err, errsz, "cannot write the swept key %s", s->axis[a].path);
       goto fail;
@@ -454,15 +474,16 @@ out_file *out_create(const char *path, const scene *s,
       dims[rank] = chunk[rank] = 3;
       axes[rank++] = dcon;
     }
-    f->ds[i] = out_h5_dataset(f->file, f->str, fi->name, type, rank, dims, chunk,
-                       meta->gzip,
-                       fi->type == OUT_F64 ? (const void *)&fnan
-                       : i == OUT_status   ? (const void *)&fnotrun
-                       : fi->type == OUT_I32 ? (const void *)&fneg
-                                             : NULL,
-                       fi->units, fi->doc);
-    if (f->ds[i] < 0 || (coords[0] && out_h5_attr(f->ds[i], f->str,
-                                                "coordinates", coords) < 0)) {
+    f->ds[i] = out_h5_dataset(f->file, f->str, fi->name, type, rank, dims,
+                              chunk, meta->gzip,
+                              fi->type == OUT_F64   ? (const void *)&fnan
+                              : i == OUT_status     ? (const void *)&fnotrun
+                              : fi->type == OUT_I32 ? (const void *)&fneg
+                                                    : NULL,
+                              fi->units, fi->doc);
+    if (f->ds[i] < 0 || out_cf_field(f->ds[i], f->str, i) < 0 ||
+        (coords[0] &&
+         out_h5_attr(f->ds[i], f->str, "coordinates", coords) < 0)) {
       fail(err, errsz, "cannot create dataset %s", fi->name);
       goto fail;
     }
@@ -478,12 +499,14 @@ out_file *out_create(const char *path, const scene *s,
     dims[1] = nt;
     chunk[0] = b->cases < s->ncase ? b->cases : s->ncase;
     chunk[1] = chunk_points < nt ? chunk_points : nt;
-    f->case_time = out_h5_dataset(f->file, f->str, "case_time", H5T_NATIVE_DOUBLE, 2,
-                           dims, chunk, meta->gzip, &fnan, "s",
-                           "time of each sample of each case (the time grid "
-                           "differs between cases); NaN past a case's last "
-                           "sample");
-    if (f->case_time < 0 || H5DSattach_scale(f->case_time, dcase, 0) < 0 ||
+    f->case_time = out_h5_dataset(
+        f->file, f->str, "case_time", H5T_NATIVE_DOUBLE, 2, dims, chunk,
+        meta->gzip, &fnan, "s",
+        "time of each sample of each case (the time grid differs between "
+        "cases); NaN past a case's last sample");
+    if (f->case_time < 0 ||
+        out_cf_long_name(f->case_time, f->str, "time of the sample") < 0 ||
+        H5DSattach_scale(f->case_time, dcase, 0) < 0 ||
         H5DSattach_scale(f->case_time, dtime, 1) < 0) {
       fail(err, errsz, "cannot create dataset case_time");
       goto fail;

@@ -31,58 +31,72 @@ typedef enum { OUT_C, OUT_CT, OUT_CTL, OUT_CTK, OUT_CTEL } out_shape;
 #define OUT_STATUS_NOT_COMPUTED (-1000)
 typedef enum { OUT_F64, OUT_I32, OUT_STR } out_type;
 
-/* X(name, shape, type, units, description) */
+/* X(name, shape, type, units (UDUNITS), long_name (CF), description) */
 #define RPS3_OUTPUT_FIELDS(X)                                                  \
-  X(force, OUT_CTL, OUT_F64, "N",                                              \
-    "total actuating force F_i along link i, eq. (34); positive extends the "  \
-    "link")                                                                    \
+  X(force, OUT_CTL, OUT_F64, "N", "actuating force along the link",            \
+    "total actuating force F_i along link i, eq. (34); positive extends "      \
+    "the link")                                                                \
   X(force_by_effect, OUT_CTEL, OUT_F64, "N",                                   \
-    "share of each selected effect in the actuating force; the shares sum "    \
-    "to force")                                                                \
-  X(length, OUT_CTL, OUT_F64, "m", "link length l_i = R L_i, eqs. (5)-(7)")    \
-  X(length_rate, OUT_CTL, OUT_F64, "m/s",                                      \
+    "actuating force by physical effect",                                      \
+    "share of each selected effect in the actuating force; the shares "        \
+    "sum to force")                                                            \
+  X(length, OUT_CTL, OUT_F64, "m", "link length",                              \
+    "link length l_i = R L_i, eqs. (5)-(7)")                                   \
+  X(length_rate, OUT_CTL, OUT_F64, "m/s", "link extension rate",               \
     "link extension rate dl_i/dt (NaN when no effect needs rates)")            \
-  X(length_accel, OUT_CTL, OUT_F64, "m/s^2",                                   \
-    "link extension acceleration d2l_i/dt2 (NaN when no effect needs it)")     \
-  X(theta, OUT_CTL, OUT_F64, "rad",                                            \
-    "angle theta_i between link i and the base plane, eq. (39) or (8)-(10)")   \
-  X(alpha, OUT_CT, OUT_F64, "rad",                                             \
-    "precession angle alpha of the platform (Z-Y-Z Euler angles, eq. (2))")    \
-  X(beta, OUT_CT, OUT_F64, "rad", "nutation angle beta of the platform")       \
-  X(z_c, OUT_CT, OUT_F64, "m", "height z_c of the platform centre")            \
-  X(x_c, OUT_CT, OUT_F64, "m", "platform centre x_c, eq. (3) times R")         \
-  X(y_c, OUT_CT, OUT_F64, "m", "platform centre y_c, eq. (4) times R")         \
-  X(lambda, OUT_CTK, OUT_F64, "N/m",                                           \
-    "Lagrange multipliers lambda_k of the constraints (8)-(10) written in "    \
-    "metres (f_k = norm(b_i - b_j)^2 - 3 r^2), eq. (34); NaN under "          \
-    "newton_euler, "                                                          \
-    "which does not compute them")                                             \
-  X(energy_residual, OUT_CT, OUT_F64, "W",                                     \
-    "actuator power + friction power - dT/dt - dP/dt; zero up to rounding "    \
-    "when the forces are right (NaN when solver.certify is false)")            \
-  X(energy_scale, OUT_CT, OUT_F64, "W",                                        \
+  X(length_accel, OUT_CTL, OUT_F64, "m/s^2", "link extension acceleration",    \
+    "link extension acceleration d2l_i/dt2 (NaN when no effect needs "         \
+    "it)")                                                                     \
+  X(theta, OUT_CTL, OUT_F64, "rad", "link angle to the base plane",            \
+    "angle theta_i between link i and the base plane, eq. (39) or "            \
+    "(8)-(10)")                                                                \
+  X(alpha, OUT_CT, OUT_F64, "rad", "platform precession angle",                \
+    "precession angle alpha of the platform (Z-Y-Z Euler angles, eq. "         \
+    "(2))")                                                                    \
+  X(beta, OUT_CT, OUT_F64, "rad", "platform nutation angle",                   \
+    "nutation angle beta of the platform")                                     \
+  X(z_c, OUT_CT, OUT_F64, "m", "platform centre height",                       \
+    "height z_c of the platform centre")                                       \
+  X(x_c, OUT_CT, OUT_F64, "m", "platform centre x",                            \
+    "platform centre x_c, eq. (3) times R")                                    \
+  X(y_c, OUT_CT, OUT_F64, "m", "platform centre y",                            \
+    "platform centre y_c, eq. (4) times R")                                    \
+  X(lambda, OUT_CTK, OUT_F64, "N/m", "constraint Lagrange multiplier",         \
+    "Lagrange multipliers lambda_k of the constraints (8)-(10) written "       \
+    "in metres (f_k = norm(b_i - b_j)^2 - 3 r^2), eq. (34); NaN under "        \
+    "newton_euler, which does not compute them")                               \
+  X(energy_residual, OUT_CT, OUT_F64, "W", "energy-rate residual",             \
+    "actuator power + friction power - dT/dt - dP/dt; zero up to "             \
+    "rounding when the forces are right (NaN when solver.certify is "          \
+    "false)")                                                                  \
+  X(energy_scale, OUT_CT, OUT_F64, "W", "energy-rate scale",                   \
     "sum of the magnitudes of the terms of energy_residual, its scale")        \
   X(condition, OUT_CT, OUT_F64, "1",                                           \
+    "condition number of the constraint Jacobian",                             \
     "1-norm condition number of the constraint Jacobian df/dtheta")            \
-  X(transmission, OUT_CT, OUT_F64, "1",                                        \
-    "force transmission: largest actuator force per unit platform load "      \
+  X(transmission, OUT_CT, OUT_F64, "1", "force transmission",                  \
+    "force transmission: largest actuator force per unit platform load "       \
     "(force, moment / R); warn above 100, refused above 1e8")                  \
-  X(solve_niter, OUT_CT, OUT_I32, "1",                                         \
-    "iterations of the multiroot theta solve (0 for closed_form; -1 missing)") \
-  X(solve_resid, OUT_CT, OUT_F64, "1",                                         \
-    "max_k abs(f_k) after the theta solve, lengths in units of R")               \
-  X(warn, OUT_CT, OUT_I32, "1",                                                \
+  X(solve_niter, OUT_CT, OUT_I32, "1", "theta solve iterations",               \
+    "iterations of the multiroot theta solve (0 for closed_form; -1 "          \
+    "missing)")                                                                \
+  X(solve_resid, OUT_CT, OUT_F64, "1", "theta solve residual",                 \
+    "max_k abs(f_k) after the theta solve, lengths in units of R")             \
+  X(warn, OUT_CT, OUT_I32, "1", "warning bits",                                \
     "warning bits: 1 ill-conditioned lambda system, 2 alpha undefined, "       \
-    "4 assembly mode changed, 8 transmission above trans_warn (-1 missing)")   \
-  X(status, OUT_C, OUT_I32, "1",                                               \
-    "0 = ok, else the rps3_status code of the first failing sample; -1000 "  \
-    "= not computed (a case of another shard, or of a killed part)")          \
-  X(failed_at, OUT_C, OUT_I32, "1",                                            \
+    "4 assembly mode changed, 8 transmission above trans_warn (-1 "            \
+    "missing)")                                                                \
+  X(status, OUT_C, OUT_I32, "1", "status of the case",                         \
+    "0 = ok, else the rps3_status code of the first failing sample; "          \
+    "-1000 = not computed (a case of another shard, or of a killed "           \
+    "part)")                                                                   \
+  X(failed_at, OUT_C, OUT_I32, "1", "time index of the first failing sample",  \
     "time index of the first failing sample, -1 if none")                      \
-  X(message, OUT_C, OUT_STR, "1",                                              \
+  X(message, OUT_C, OUT_STR, "1", "failure message",                           \
     "why the case failed, empty if it did not")                                \
-  X(scene_resolved, OUT_C, OUT_STR, "1",                                       \
-    "the case's full scene as YAML (no sweep): rerun it alone with rps3-run")
+  X(scene_resolved, OUT_C, OUT_STR, "1", "resolved scene of the case",         \
+    "the case's full scene as YAML (no sweep): rerun it alone with "           \
+    "rps3-run")
 
 #define OUT_FIELD_ID(name, ...) OUT_##name,
 typedef enum { RPS3_OUTPUT_FIELDS(OUT_FIELD_ID) OUT_NFIELD } out_field;
@@ -93,7 +107,8 @@ typedef struct {
   const char *name;
   out_shape shape;
   out_type type;
-  const char *units;
+  const char *units;     /* UDUNITS-2 spelling */
+  const char *long_name; /* CF long_name */
   const char *doc;
 } out_field_info;
 extern const out_field_info out_field_table[OUT_NFIELD];

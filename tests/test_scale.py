@@ -1,7 +1,7 @@
 """More cores, more machines: rps3-run -j N, --shard K/N + merge, and
 rps3-run-mpi under mpirun all give the datasets of a single-process run,
-bit for bit (only the root attributes created_utc and command_line
-differ)."""
+bit for bit (only the root attributes created_utc, command_line and
+history differ)."""
 
 import os
 import random
@@ -18,7 +18,7 @@ from conftest import FAILING_SINE, ROOT, RUNNER, run, write_scene
 RUNNER_MPI = os.path.join(ROOT, "build", "rps3-run-mpi")
 MPIRUN = shutil.which("mpirun")
 # attributes that say when and how a file was made, not what it holds
-RUN_ATTRS = {"created_utc", "command_line"}
+RUN_ATTRS = {"created_utc", "command_line", "history"}
 
 
 def datasets(f):

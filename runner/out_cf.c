@@ -1,0 +1,191 @@
+/*
+ * out_cf.c - see out_cf.h.
+ */
+#include "out_cf.h"
+
+#include <stdint.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "output.h"
+
+/* the statuses a case can end with, as CF flag words: every rps3_status
+   (include/rps3.h; tests/test_cf.py checks that none is missing against
+   rps3_strerror) and the runner's "not computed" */
+static const struct {
+  int32_t value;
+  const char *meaning;
+} status_flags[] = {
+    {RPS3_OK, "ok"},
+    {RPS3_EREACH, "pose_unreachable"},
+    {RPS3_ENOCONV, "theta_solve_not_converged"},
+    {RPS3_EBRANCH, "theta_outside_branch"},
+    {RPS3_ESING, "singular_configuration"},
+    {RPS3_EDOMAIN, "time_outside_span"},
+    {RPS3_ERANGE, "result_not_finite"},
+    {RPS3_EMODE, "other_assembly_mode"},
+    {RPS3_EINVAL, "invalid_argument"},
+    {RPS3_ENOMEM, "out_of_memory"},
+    {RPS3_ESTATE, "stage_out_of_order"},
+    {OUT_STATUS_NOT_COMPUTED, "not_computed"}};
+
+/* the warning bits of `warn` (enum rps3_warning) */
+static const struct {
+  int32_t mask;
+  const char *meaning;
+} warn_flags[] = {{RPS3_WARN_ILLCOND, "lambda_system_ill_conditioned"},
+                  {RPS3_WARN_ALPHA, "alpha_undefined"},
+                  {RPS3_WARN_MODE, "assembly_mode_changed"},
+                  {RPS3_WARN_TRANS, "transmission_above_warn"}};
+
+#define NSTATUS (sizeof status_flags / sizeof status_flags[0])
+#define NWARN (sizeof warn_flags / sizeof warn_flags[0])
+
+/* a string attribute, replacing one of the same name */
+static int attr_set(hid_t obj, hid_t str, const char *name, const char *v)
+{
+  if (H5Aexists(obj, name) > 0 && H5Adelete(obj, name) < 0)
+    return -1;
+  return out_h5_attr(obj, str, name, v);
+}
+
+/* a 1-D int32 attribute */
+static int attr_i32(hid_t obj, const char *name, const int32_t *v, size_t n)
+{
+  hsize_t dim = n;
+  hid_t sp = H5Screate_simple(1, &dim, NULL), a;
+  int rc = -1;
+  if (sp < 0)
+    return -1;
+  a = H5Acreate2(obj, name, H5T_NATIVE_INT32, sp, H5P_DEFAULT, H5P_DEFAULT);
+  if (a >= 0) {
+    rc = H5Awrite(a, H5T_NATIVE_INT32, v) < 0 ? -1 : 0;
+    H5Aclose(a);
+  }
+  H5Sclose(sp);
+  return rc;
+}
+
+/* the string attribute `name` of obj (malloc'd), or NULL */
+static char *attr_get(hid_t obj, const char *name)
+{
+  hid_t a, t;
+  char *v = NULL, *copy = NULL;
+  if (H5Aexists(obj, name) <= 0 || (a = H5Aopen(obj, name, H5P_DEFAULT)) < 0)
+    return NULL;
+  t = H5Aget_type(a);
+  if (t >= 0 && H5Tis_variable_str(t) > 0 && H5Aread(a, t, &v) >= 0 && v) {
+    copy = malloc(strlen(v) + 1);
+    if (copy)
+      strcpy(copy, v);
+    H5free_memory(v);
+  }
+  if (t >= 0)
+    H5Tclose(t);
+  H5Aclose(a);
+  return copy;
+}
+
+/* "NOW COMMAND (rps3 VERSION, git REVISION)" (malloc'd) */
+static char *history_line(const char *now, const char *command_line)
+{
+  size_t len = strlen(now) + strlen(command_line) +
+               strlen(rps3_version()) + strlen(rps3_git_revision) + 32;
+  char *line = malloc(len);
+  if (line)
+    snprintf(line, len, "%s %s (rps3 %s, git %s)", now, command_line,
+             rps3_version(), rps3_git_revision);
+  return line;
+}
+
+int out_cf_root(hid_t file, hid_t str, const char *now,
+                const char *command_line)
+{
+  char *line = history_line(now, command_line);
+  int rc = line && out_h5_attr(file, str, "Conventions",
+                               OUT_CF_CONVENTIONS) >= 0 &&
+                   out_h5_attr(file, str, "git_revision",
+                               rps3_git_revision) >= 0 &&
+                   out_h5_attr(file, str, "history", line) >= 0
+               ? 0
+               : -1;
+  free(line);
+  return rc;
+}
+
+int out_cf_history_add(hid_t file, hid_t str, const char *now,
+                       const char *command_line)
+{
+  char *old = attr_get(file, "history"), *line = history_line(now,
+                                                               command_line);
+  char *all = NULL;
+  int rc = -1;
+  /* CF: one line per program that made or changed the file, oldest
+     first */
+  if (line) {
+    size_t len = (old ? strlen(old) + 1 : 0) + strlen(line) + 1;
+    all = malloc(len);
+    if (all) {
+      snprintf(all, len, "%s%s%s", old ? old : "", old ? "\n" : "", line);
+      rc = attr_set(file, str, "history", all);
+    }
+  }
+  free(old);
+  free(line);
+  free(all);
+  return rc;
+}
+
+int out_cf_long_name(hid_t ds, hid_t str, const char *long_name)
+{
+  return out_h5_attr(ds, str, "long_name", long_name);
+}
+
+/* the words of a flag table, space-separated, into buf */
+static void flag_words(char *buf, size_t sz, int status)
+{
+  size_t i, n = 0, count = status ? NSTATUS : NWARN;
+  buf[0] = '\0';
+  for (i = 0; i < count && n < sz; i++)
+    n += (size_t)snprintf(buf + n, sz - n, "%s%s", i ? " " : "",
+                          status ? status_flags[i].meaning
+                                 : warn_flags[i].meaning);
+}
+
+int out_cf_field(hid_t ds, hid_t str, int i)
+{
+  int32_t v[NSTATUS > NWARN ? NSTATUS : NWARN];
+  char words[512];
+  size_t k, n = i == OUT_status ? NSTATUS : NWARN;
+  if (out_cf_long_name(ds, str, out_field_table[i].long_name) < 0)
+    return -1;
+  if (i != OUT_status && i != OUT_warn)
+    return 0;
+  /* status: its values; warn: its bits */
+  for (k = 0; k < n; k++)
+    v[k] = i == OUT_status ? status_flags[k].value : warn_flags[k].mask;
+  flag_words(words, sizeof words, i == OUT_status);
+  return attr_i32(ds, i == OUT_status ? "flag_values" : "flag_masks", v, n) <
+                     0 ||
+                 out_h5_attr(ds, str, "flag_meanings", words) < 0
+             ? -1
+             : 0;
+}
+
+const char *out_cf_axis_units(const scene *s, size_t a, char *buf, size_t sz)
+{
+  const scene_axis *ax = &s->axis[a];
+  const scene_key_info *ki = scene_key_get(ax->key);
+  const char *u = ki->unit;
+  int k;
+  if (ki->type == KEY_ENUM || ki->type == KEY_BOOL || strcmp(u, "-") == 0) {
+    snprintf(buf, sz, "1");
+    return buf;
+  }
+  /* "rad, rad, m": the unit of component comp */
+  for (k = 0; k < ax->comp && strchr(u, ','); k++)
+    u = strchr(u, ',') + 1 + (strchr(u, ',')[1] == ' ');
+  snprintf(buf, sz, "%.*s", (int)strcspn(u, ","), u);
+  return buf;
+}
