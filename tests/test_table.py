@@ -289,10 +289,17 @@ def test_helix_centre_table_is_the_helix(helix_forces, tmp_path):
     rounding of ~1e-16 relative into beta (the helix kind takes r* itself),
     and the rates of alpha divide by rho^2."""
     t = helix_grid()
-    write_csv(tmp_path / "c.csv", t, *helix_centre(t), names=CENTRE)
+    c = helix_centre(t)
+    write_csv(tmp_path / "c.csv", t, *c, names=CENTRE)
     got = run_path_table(tmp_path, "c.csv")
     want = helix_forces["force"]
     assert np.abs(got["force"] - want).max() <= 1e-11 * np.abs(want).max()
+    # and the centre the runner writes (from the pose, by (3)-(4)) is the
+    # table's, at every row: 1e-12 of r* in x, y (the inversion and (3)-(4)
+    # again, a few roundings of values ~r*), rounding of z_c
+    for k, name in enumerate(("x_c", "y_c")):
+        assert np.abs(got[name] - c[0][:, k]).max() <= 1e-12 * RS, name
+    assert np.abs(got["z_c"] - c[0][:, 2]).max() <= 1e-15
 
 
 def test_path_table_resolved_scene_reruns(runner, tmp_path):

@@ -284,14 +284,9 @@ static void helix_as_path(void **state) {
   }
 }
 
-#define REFUSED(tr_, id_, comp_)                                              \
-  do {                                                                        \
-    rps3_check chk_;                                                          \
-    assert_int_equal(rps3_traj_validate(&m, &(tr_), &chk_), RPS3_EINVAL);     \
-    if (chk_.field != (id_) || chk_.comp != (comp_))                          \
-      fail_msg("field %d[%d], want %d[%d]: %s", chk_.field, chk_.comp, id_,   \
-               comp_, chk_.msg);                                              \
-  } while (0)
+/* trajectory tr is refused for model m, naming field id_ (component or
+   row comp_): TRAJ_REFUSED in testutil.h */
+#define REFUSED(tr_, id_, comp_) TRAJ_REFUSED(m, tr_, id_, comp_)
 
 static void refusals(void **state) {
   rps3_model m;
