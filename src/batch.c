@@ -155,43 +155,45 @@ static void point(const rps3_model *m, rps3_data *d, batch_kind kind,
   }
 }
 
-/* nb values of a block into component c of a batch array from point i0 */
-static void put(double *dst, int c, size_t i0, size_t n, const double *src,
-                int nb) {
-  if (dst) memcpy(dst + (size_t)c * n + i0, src, (size_t)nb * sizeof(double));
+/* component c of a batch array from point i0, or the block's scratch
+   when the caller did not ask for the array */
+static double *dst(double *user, int c, size_t i0, size_t n, double *scratch) {
+  return user ? user + (size_t)c * n + i0 : scratch;
 }
 
-/* the points i0 .. i0 + nb - 1 of rps3_inverse_batch through the kernel;
-   the points it does not certify by the scalar path */
+/* the points i0 .. i0 + nb - 1 of rps3_inverse_batch through the kernel,
+   which writes into the caller's arrays; then the points it does not
+   certify by the scalar path, which overwrites them */
 static void kernel_block(const rps3_model *m, rps3_data *d,
                          const rps3_batch_in *in, rps3_batch_out *out,
                          size_t i0, int nb, int rates, rps3_kblock *kb,
                          rps3_error *first) {
   size_t n = in->n;
+  rps3_kout o;
   int c, k, p;
-  rps3_kernel_block(m, in, i0, nb, rates, kb);
+  rps3_kout_of_block(&o, kb);
   for (c = 0; c < 3; c++) {
-    put(out->l, c, i0, n, kb->l[c], nb);
-    put(out->F, c, i0, n, kb->F[c], nb);
-    put(out->lambda, c, i0, n, kb->lambda[c], nb);
-    if (m->opt.forces_only) {
-      /* as rps3_inverse with forces_only: no theta, no shares */
-      for (p = 0; p < nb && out->theta; p++)
-        AT(out->theta, c, i0 + (size_t)p, n) = (double)NAN;
-    } else {
-      put(out->theta, c, i0, n, kb->theta[c], nb);
-    }
-    for (k = 0; k < RPS3_NEFFECT && out->F_effect; k++) {
-      if (k < RPS3_KNEFF && (m->opt.effects & (1 << k)) &&
-          !m->opt.forces_only)
-        put(out->F_effect, 3 * k + c, i0, n, kb->Fe[k][c], nb);
-      else
+    o.l[c] = dst(out->l, c, i0, n, o.l[c]);
+    o.theta[c] = dst(out->theta, c, i0, n, o.theta[c]);
+    o.F[c] = dst(out->F, c, i0, n, o.F[c]);
+    o.lambda[c] = dst(out->lambda, c, i0, n, o.lambda[c]);
+    for (k = 0; k < RPS3_KNEFF; k++)
+      o.Fe[k][c] = dst(out->F_effect, 3 * k + c, i0, n, o.Fe[k][c]);
+  }
+  o.cond = dst(out->cond, 0, i0, n, o.cond);
+  o.eres = dst(out->energy_residual, 0, i0, n, o.eres);
+  rps3_kernel_block(m, in, i0, nb, rates, &o);
+  for (c = 0; c < 3; c++) {
+    /* as rps3_inverse with forces_only: no theta, no shares */
+    for (p = 0; p < nb && out->theta && m->opt.forces_only; p++)
+      o.theta[c][p] = (double)NAN;
+    /* the shares of effects not selected are exactly zero */
+    for (k = 0; k < RPS3_NEFFECT && out->F_effect; k++)
+      if (k >= RPS3_KNEFF || !(m->opt.effects & (1 << k)) ||
+          m->opt.forces_only)
         memset(out->F_effect + (size_t)(3 * k + c) * n + i0, 0,
                (size_t)nb * sizeof(double));
-    }
   }
-  put(out->cond, 0, i0, n, kb->cond, nb);
-  put(out->energy_residual, 0, i0, n, kb->eres, nb);
   for (p = 0; p < nb; p++) {
     size_t i = i0 + (size_t)p;
     if (kb->ok[p] == 0.0) {

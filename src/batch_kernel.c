@@ -156,6 +156,21 @@ void rps3_ksincos(double x, double *s, double *c) {
 }
 double rps3_katan2(double y, double x) { return katan2(y, x); }
 
+void rps3_kout_of_block(rps3_kout *o, rps3_kblock *kb) {
+  int c, e;
+  for (c = 0; c < 3; c++) {
+    o->l[c] = kb->l[c];
+    o->theta[c] = kb->theta[c];
+    o->F[c] = kb->F[c];
+    o->lambda[c] = kb->lambda[c];
+    for (e = 0; e < RPS3_KNEFF; e++) o->Fe[e][c] = kb->Fe[e][c];
+  }
+  o->cond = kb->cond;
+  o->trans = kb->trans;
+  o->eres = kb->eres;
+  o->ok = kb->ok;
+}
+
 int rps3_kernel_covers(const rps3_model *m) {
   return m->opt.theta == RPS3_THETA_CLOSED_FORM &&
          m->opt.method == RPS3_LAGRANGE &&
@@ -308,7 +323,7 @@ static void kloop(const kconst *K, const double *restrict pa,
                   const double *restrict va, const double *restrict vb,
                   const double *restrict vz, const double *restrict aa,
                   const double *restrict ab, const double *restrict az,
-                  int nb, rps3_kblock *restrict o) {
+                  int nb, const rps3_kout *restrict o) {
   int p;
 #pragma omp simd
   for (p = 0; p < nb; p++) {
@@ -523,7 +538,7 @@ static void kloop(const kconst *K, const double *restrict pa,
 }
 
 void rps3_kernel_block(const rps3_model *m, const rps3_batch_in *in,
-                       size_t i0, int nb, int rates, rps3_kblock *o) {
+                       size_t i0, int nb, int rates, const rps3_kout *o) {
   static const double zero[RPS3_KBLOCK];
   const size_t n = in->n;
   const double *pose = in->pose + i0;

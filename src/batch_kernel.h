@@ -18,7 +18,8 @@
 /* the effects the kernel computes: the paper's four, indices 0..3 */
 #define RPS3_KNEFF 4
 
-/* the outputs of one block, component-major [c][i] */
+/* the outputs of one block, component-major [c][i]: scratch for the
+   outputs a caller does not ask for, and the tests' view of a block */
 typedef struct {
   double l[3][RPS3_KBLOCK];       /* link lengths [m] */
   double theta[3][RPS3_KBLOCK];   /* (39) [rad] */
@@ -32,6 +33,16 @@ typedef struct {
                                      (a double: no int in the loop) */
 } rps3_kblock;
 
+/* where the kernel writes a block's results: component c of the block's
+   point p at X[c][p] (the caller's arrays, or a rps3_kblock's) */
+typedef struct {
+  double *l[3], *theta[3], *F[3], *Fe[RPS3_KNEFF][3], *lambda[3];
+  double *cond, *trans, *eres, *ok;
+} rps3_kout;
+
+/* o pointing into every array of kb */
+void rps3_kout_of_block(rps3_kout *o, rps3_kblock *kb);
+
 /* 1 when the kernel serves model m: closed-form theta, Lagrange, only the
    paper's four effects */
 int rps3_kernel_covers(const rps3_model *m);
@@ -39,7 +50,7 @@ int rps3_kernel_covers(const rps3_model *m);
 /* points i0 .. i0 + nb - 1 (nb <= RPS3_KBLOCK) of the batch into *o; the
    rates are read when rates is 1, else taken as zero */
 void rps3_kernel_block(const rps3_model *m, const rps3_batch_in *in,
-                       size_t i0, int nb, int rates, rps3_kblock *o);
+                       size_t i0, int nb, int rates, const rps3_kout *o);
 
 /* the kernel's sine and cosine, and its atan2 for y > 0, one value at a
    time (for the tests: the accuracy against libm) */

@@ -157,8 +157,10 @@ static void compare(const rps3_model *m, arrays *a, worst *w) {
   assert_int_equal(rps3_inverse_batch(m, db, &in, &out), RPS3_OK);
   for (i = 0; i < N; i += RPS3_KBLOCK) {
     rps3_kblock kb;
+    rps3_kout o;
     int p, nb = N - i < RPS3_KBLOCK ? N - i : RPS3_KBLOCK;
-    rps3_kernel_block(m, &in, (size_t)i, nb, 1, &kb);
+    rps3_kout_of_block(&o, &kb);
+    rps3_kernel_block(m, &in, (size_t)i, nb, 1, &o);
     for (p = 0; p < nb; p++) w->kernel += kb.ok[p] != 0.0;
   }
   for (i = 0; i < N; i++) {
@@ -280,6 +282,7 @@ static void transmission_by_virtual_power(void **state) {
   arrays *a = calloc(1, sizeof(*a));
   rps3_batch_in in;
   rps3_kblock kb;
+  rps3_kout o;
   double wt = 0.0, wc = 0.0;
   int i, p, c, seen = 0;
   (void)state;
@@ -298,7 +301,8 @@ static void transmission_by_virtual_power(void **state) {
   in.ddpose = a->ddpose;
   for (i = 0; i < N; i += RPS3_KBLOCK) {
     int nb = N - i < RPS3_KBLOCK ? N - i : RPS3_KBLOCK;
-    rps3_kernel_block(&m, &in, (size_t)i, nb, 1, &kb);
+    rps3_kout_of_block(&o, &kb);
+    rps3_kernel_block(&m, &in, (size_t)i, nb, 1, &o);
     for (p = 0; p < nb; p++) {
       for (c = 0; c < 3; c++) {
         d->pose[c] = AT(a->pose, c, i + p);
