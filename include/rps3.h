@@ -588,7 +588,8 @@ RPS3_API int rps3_inverse(const rps3_model *m, rps3_data *d);
  * its warning threshold -- is computed by the per-point loop, so status
  * and warn are exactly the loop's for every point (warn is 0 and niter 0
  * for the kernel's points).  After the call d holds the last point the
- * loop computed, not necessarily point n - 1.
+ * loop computed, not necessarily point n - 1.  The kernel keeps one block
+ * of results on the stack (about 15 kB).
  *
  * A point that fails gets its status in out->status[i] and NaN in its
  * floating-point outputs, and the other points are computed.  out->nfail
