@@ -64,7 +64,7 @@ RUN_COMMON = $(filter-out $(RUN_MAINS),$(wildcard runner/*.c))
 RUN_OBJ = $(RUN_COMMON:runner/%.c=$(B)/runner/%.o) $(B)/runner/gitrev.o
 
 .PHONY: all lib runner runner-mpi study-bin check check-c check-san check-py check-lint check-slurm paper \
-        study bench deps venv clean install uninstall
+        study bench mutation scaling deps venv clean install uninstall
 
 # the MPI runner is part of `all` when OpenMPI is there; `make check`
 # builds it in any case
@@ -97,7 +97,8 @@ endef
 # The set of packages is the one of the largest goal on the command line,
 # known when the Makefile is read, so that a single stamp, made before
 # anything compiles, checks (and for paper and check, installs) it all.
-CHECK_GOALS = check check-c check-san check-py check-lint check-fuzz valgrind bench
+CHECK_GOALS = check check-c check-san check-py check-lint check-fuzz valgrind bench \
+              mutation scaling
 PAPER_GOALS = paper study venv
 ifneq ($(filter $(CHECK_GOALS),$(MAKECMDGOALS)),)
 DEPS_SET = check
@@ -284,6 +285,20 @@ bench: $(B)/rps3-bench $(B)/rps3-mujoco-bench runner venv
 	$(B)/rps3-mujoco-bench
 	$(VPY) tests/bench/runner_bench.py -o out/bench_runner.h5
 	$(VPY) tests/bench/python_bench.py
+
+# ----------------------------------------------------------------- scaling
+# one compute-bound sweep (3 M points) by -j 1, -j 2, an array of 2 shards
+# + merge and mpirun -n 2: wall, CPU, speed-up, efficiency, medians of 3
+# (tests/bench/scaling.py; the table in docs/scale-out.md).  A few minutes.
+scaling: runner runner-mpi venv
+	$(VPY) tests/bench/scaling.py
+
+# ---------------------------------------------------------------- mutation
+# which test kills which hand-made mutation of src/ (tests/mutation.py, in a
+# temporary copy of the tree): writes docs/mutations.md, exits 1 when a
+# mutation survives.  About a minute per mutation; not part of `check`.
+mutation: venv
+	nice $(VPY) tests/mutation.py -o docs/mutations.md
 
 # ---------------------------------------------------------------- valgrind
 # memcheck on the threads test and a short control loop: any error or leak

@@ -177,6 +177,167 @@ static void bound_on_holding_force(void **state) {
   rps3_data_free(d);
 }
 
+/*
+ * The oracle of the measure, from the model's inputs (R, rho) and the pose
+ * only: ball joints from rot = Rz(alpha) Ry(beta) Rz(-alpha) and the centre
+ * from the pin planes (each ball joint in the vertical plane of its pin),
+ * link directions from the pins, pin axes tangential.  A wrench w = (f, n)
+ * on the platform (moment about the centre) is held by F_i phi_i + tau_i
+ * axis_i at the ball joints; B = the F rows of the inverse of that 6 x 6
+ * statics, T = max_i sum_j |B_ij| s_j with s = (1, 1, 1, R, R, R).
+ * Writes B (3 x 6); returns T.
+ */
+static double oracle_transmission(double R, double rho, const double q[3],
+                                  double B[3][6]) {
+  double rot[3][3], Rz[3][3], Ry[3][3], c[3], b[3][3], A[6][6], Ai[6][6];
+  double psi, cp[3], sp[3], T = 0.0, a1, a2, r = rho * R;
+  int i, j, k;
+  for (i = 0; i < 3; i++) {
+    psi = 2.0 * PI * i / 3.0;
+    cp[i] = cos(psi);
+    sp[i] = sin(psi);
+  }
+  memset(Rz, 0, sizeof Rz);
+  memset(Ry, 0, sizeof Ry);
+  Rz[0][0] = Rz[1][1] = cos(q[0]);
+  Rz[1][0] = sin(q[0]);
+  Rz[0][1] = -Rz[1][0];
+  Rz[2][2] = 1.0;
+  Ry[0][0] = Ry[2][2] = cos(q[1]);
+  Ry[0][2] = sin(q[1]);
+  Ry[2][0] = -Ry[0][2];
+  Ry[1][1] = 1.0;
+  for (i = 0; i < 3; i++) /* Rz Ry Rz^T */
+    for (j = 0; j < 3; j++) {
+      rot[i][j] = 0.0;
+      for (k = 0; k < 3; k++) {
+        int l;
+        for (l = 0; l < 3; l++) rot[i][j] += Rz[i][k] * Ry[k][l] * Rz[j][l];
+      }
+    }
+  /* ball joint i relative to the centre: w_i = r rot (cos, sin, 0); the
+     pin planes (c + w_i) . (-sin psi_i, cos psi_i, 0) = 0, i = 0, 1 */
+  for (i = 0; i < 3; i++)
+    for (k = 0; k < 3; k++) b[i][k] = r * (rot[k][0] * cp[i] + rot[k][1] * sp[i]);
+  a1 = sp[0] * b[0][0] - cp[0] * b[0][1];
+  a2 = sp[1] * b[1][0] - cp[1] * b[1][1];
+  c[0] = (cp[1] * a1 - cp[0] * a2) / (cp[0] * sp[1] - sp[0] * cp[1]);
+  c[1] = (sp[1] * a1 - sp[0] * a2) / (cp[0] * sp[1] - sp[0] * cp[1]);
+  c[2] = q[2];
+  assert_true(fabs(-sp[0] * c[0] + cp[0] * c[1] - a1) < 1e-12 * R);
+  /* columns: link force phi_i and pin-axis force axis_i at rho_i = w_i */
+  for (i = 0; i < 3; i++) {
+    double phi[3], ax[3] = {-sp[i], cp[i], 0.0}, len = 0.0;
+    double P[3] = {R * cp[i], R * sp[i], 0.0};
+    for (k = 0; k < 3; k++) {
+      phi[k] = c[k] + b[i][k] - P[k];
+      len += phi[k] * phi[k];
+    }
+    for (k = 0; k < 3; k++) phi[k] /= sqrt(len);
+    for (k = 0; k < 3; k++) {
+      A[k][i] = phi[k];
+      A[k][3 + i] = ax[k];
+    }
+    A[3][i] = b[i][1] * phi[2] - b[i][2] * phi[1];
+    A[4][i] = b[i][2] * phi[0] - b[i][0] * phi[2];
+    A[5][i] = b[i][0] * phi[1] - b[i][1] * phi[0];
+    A[3][3 + i] = b[i][1] * ax[2] - b[i][2] * ax[1];
+    A[4][3 + i] = b[i][2] * ax[0] - b[i][0] * ax[2];
+    A[5][3 + i] = b[i][0] * ax[1] - b[i][1] * ax[0];
+  }
+  /* inverse by Gauss-Jordan with partial pivoting */
+  for (i = 0; i < 6; i++)
+    for (j = 0; j < 6; j++) Ai[i][j] = (i == j);
+  for (k = 0; k < 6; k++) {
+    int piv = k;
+    for (i = k + 1; i < 6; i++)
+      if (fabs(A[i][k]) > fabs(A[piv][k])) piv = i;
+    for (j = 0; j < 6; j++) {
+      double t = A[k][j];
+      A[k][j] = A[piv][j];
+      A[piv][j] = t;
+      t = Ai[k][j];
+      Ai[k][j] = Ai[piv][j];
+      Ai[piv][j] = t;
+    }
+    for (i = 0; i < 6; i++) {
+      double f = A[i][k] / A[k][k];
+      if (i == k) continue;
+      for (j = 0; j < 6; j++) {
+        A[i][j] -= f * A[k][j];
+        Ai[i][j] -= f * Ai[k][j];
+      }
+    }
+  }
+  for (i = 0; i < 3; i++) {
+    double s = 0.0;
+    for (j = 0; j < 6; j++) {
+      B[i][j] = Ai[i][j] / A[i][i];
+      s += fabs(B[i][j]) * (j < 3 ? 1.0 : R);
+    }
+    if (s > T) T = s;
+  }
+  return T;
+}
+
+/*
+ * The measure equals its oracle from the inputs (TOL_EXACT: both invert a
+ * well-conditioned 6 x 6 system, rounding only), over random poses of a
+ * high-entropy geometry; and the oracle's B is the mechanism's statics:
+ * a massless mechanism holding an off-centre payload at rest needs
+ * F = +-B (f, n) for the payload's weight f and its moment n about the
+ * centre, the sign the same everywhere (the library gets F from the
+ * lambda system of (23), another formulation).
+ */
+static void transmission_from_inputs(void **state) {
+  rps3_model m;
+  rps3_data *d;
+  uint64_t seed = 4471;
+  int n, ok = 0, sign = 0;
+  (void)state;
+  model_entropy(&m);
+  m.M = m.m = m.link_Ic = 0.0;
+  m.opt.effects = RPS3_EFF_PAYLOAD;
+  m.opt.certify = 0;
+  assert_int_equal(rps3_model_init(&m, NULL, 0), RPS3_OK);
+  assert_int_equal(rps3_data_alloc(&m, &d), RPS3_OK);
+  for (n = 0; n < 2000; n++) {
+    double B[3][6], w[6], rp[3], T, res[2] = {0.0, 0.0}, scale = 0.0;
+    int i, j, k;
+    d->pose[0] = rnd_uniform(&seed, -PI, PI);
+    d->pose[1] = rnd_uniform(&seed, 0.0, 0.7);
+    d->pose[2] = rnd_uniform(&seed, 0.2, 2.5) * m.R;
+    for (k = 0; k < 3; k++) d->dpose[k] = d->ddpose[k] = 0.0;
+    if (rps3_inverse(&m, d) != RPS3_OK) continue;
+    T = oracle_transmission(m.R, m.rho, d->pose, B);
+    CHECK_REL(d->transmission, T, TOL_EXACT, 0.0, "pose %d", n);
+    /* the payload's weight and its moment about the centre */
+    for (k = 0; k < 3; k++)
+      rp[k] = d->rot[k][0] * m.payload.com[0] +
+              d->rot[k][1] * m.payload.com[1] + d->rot[k][2] * m.payload.com[2];
+    w[0] = w[1] = 0.0;
+    w[2] = -m.payload.mass * m.g;
+    w[3] = rp[1] * w[2];
+    w[4] = -rp[0] * w[2];
+    w[5] = 0.0;
+    for (i = 0; i < 3; i++) {
+      double f = 0.0;
+      for (j = 0; j < 6; j++) f += B[i][j] * w[j];
+      res[0] += fabs(d->F[i] - f);
+      res[1] += fabs(d->F[i] + f);
+      scale += fabs(f);
+    }
+    k = res[0] < res[1] ? 1 : -1;
+    if (sign == 0) sign = k;
+    assert_int_equal(k, sign);
+    CHECK_REL(res[0] < res[1] ? res[0] : res[1], 0.0, TOL_EXACT, scale,
+              "static payload load at pose %d", n);
+    ok++;
+  }
+  assert_true(ok > 1000);
+  rps3_data_free(d);
+}
+
 /* the limits are options: validated, and trans_max >= trans_warn */
 static void limits_are_options(void **state) {
   rps3_model m;
@@ -199,6 +360,7 @@ int main(void) {
       cmocka_unit_test(tilted_approach_warns_early),
       cmocka_unit_test(scale_and_method_invariant),
       cmocka_unit_test(bound_on_holding_force),
+      cmocka_unit_test(transmission_from_inputs),
       cmocka_unit_test(limits_are_options),
   };
   gsl_set_error_handler_off();

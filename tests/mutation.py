@@ -1,0 +1,289 @@
+"""Which tests kill which mutation of the library: proof that the oracles
+can fail.
+
+    .venv/bin/python tests/mutation.py [-o docs/mutations.md] [NAME ...]
+    make mutation          # the same, writes docs/mutations.md
+
+Each mutation below is a one-line change to src/ that a wrong model, a
+wrong derivation or a typo could make.  The tracked tree is copied into a
+temporary directory (never this one: the worktree's files are only read),
+built once, and checked to pass; then each mutation in turn is written into
+the copy, the library, runner and tests are rebuilt, and every test of the
+suite below runs; the copy's file is restored before the next one.  A test
+that fails (or does not finish) kills the mutation.  Every mutation must be
+killed: the script exits 1 when one survives.
+
+The suite: every C test program (tests/test_*.c), and the pytest files that
+compare the library with truths it did not compute: the SymPy and MuJoCo
+oracles (test_oracles.py, test_sim_mujoco.py), the generated anchor
+(test_anchor.py), the paper's tables (test_paper.py), the golden file
+(test_golden.py) and the accuracy study against its long-double reference
+(test_study.py).  Pytest files that go through the Python package are left
+out: the package links the library statically into .venv, which the copy
+shares, so they would test the unmutated library.
+
+About 1 minute per mutation on one core; not part of `make check`.
+"""
+
+import argparse
+import os
+import shutil
+import subprocess
+import sys
+import tempfile
+import time
+import xml.etree.ElementTree as ET
+
+ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
+VPY = os.path.join(ROOT, ".venv", "bin", "python")
+PYTESTS = ["tests/test_oracles.py", "tests/test_sim_mujoco.py",
+           "tests/test_anchor.py", "tests/test_paper.py",
+           "tests/test_golden.py", "tests/test_study.py"]
+# figures are drawn, not checked against a truth: not worth their time here
+PYTEST_DESELECT = "not figure"
+C_TIMEOUT = 300       # s per C test program; a hang counts as a kill
+PY_TIMEOUT = 1200     # s for the pytest run
+
+# (name, file, original text (once in the file), mutated text, what it is)
+MUTATIONS = [
+    ("link-inertia", "src/model.c",
+     "m->Jlink = m->m * m->d * m->d + m->link_Ic;",
+     "m->Jlink = 1.05 * (m->m * m->d * m->d + m->link_Ic);",
+     "link inertia m d^2 + I_c scaled by 1.05"),
+    ("disc-inertia", "src/model.c",
+     "m->Ip[2] = 0.5 * m->M * m->r * m->r;",
+     "m->Ip[2] = 0.505 * m->M * m->r * m->r;",
+     "the disc's polar moment M r^2 / 2, 1 % off"),
+    ("jacobian-0.1%", "src/fk.c",
+     "J[k][i] = -LL * s[i] * c[j] - 2.0 * LL * c[i] * s[j] + 3.0 * Li * s[i];",
+     "J[k][i] = 1.001 * (-LL * s[i] * c[j] - 2.0 * LL * c[i] * s[j]"
+     " + 3.0 * Li * s[i]);",
+     "d f_k / d theta_i of (8)-(10) off by 0.1 %"),
+    ("jacobian-term", "src/fk.c",
+     "+ 3.0 * Lj * s[j];", "+ 3.003 * Lj * s[j];",
+     "one term of d f_k / d theta_j of (8)-(10) off by 0.1 %"),
+    ("constraint-constant", "src/fk.c",
+     "s->p.k = 3.0 - 3.0 * m->rho * m->rho;",
+     "s->p.k = 3.0 - 3.003 * m->rho * m->rho;",
+     "the constant 3 rho^2 of (8)-(10) in the theta solve, 0.1 % off"),
+    ("alpha-gauge", "src/fk.c",
+     "if (d->pose[1] < 1e-9) {", "if (d->pose[1] < 1e-6) {",
+     "beta below which forward kinematics sets alpha = 0"),
+    ("centre-x", "src/ik.c",
+     "d->c[0] = -0.5 * m->r * vb * c2a;",
+     "d->c[0] = -0.505 * m->r * vb * c2a;",
+     "x of the platform centre (39), 1 % off"),
+    ("omega-balls", "src/velocity.c",
+     "s = 0.5 * v3_dot(a, w);", "s = 0.505 * v3_dot(a, w);",
+     "normal component removed from omega (26)-(28)"),
+    ("omega-scale", "src/velocity.c",
+     "v3_scale(w, 2.0 / (3.0 * r * r), w);",
+     "v3_scale(w, 2.002 / (3.0 * r * r), w);",
+     "scale of omega from the ball joints (26)-(28), 0.1 % off"),
+    ("alpha-rate", "src/velocity.c",
+     "d->dpose[0] = v3_dot(d->omega, ez_a) / (2.0 * vb);",
+     "d->dpose[0] = v3_dot(d->omega, ez_a) / (2.002 * vb);",
+     "alpha' from omega (joint-rate route), 0.1 % off"),
+    ("centre-acc", "src/velocity.c",
+     "ddC = -4.0 * C * da * da - 2.0 * S * dda;",
+     "ddC = -4.004 * C * da * da - 2.0 * S * dda;",
+     "a constant of the centre's acceleration, 0.1 % off"),
+    ("paper-omega", "src/velocity.c",
+     "const double rho = m->rho, h = 0.5 * RPS3_SQRT3;",
+     "const double rho = m->rho, h = 0.5005 * RPS3_SQRT3;",
+     "sqrt(3)/2 in the paper's (31)-(33), 0.1 % off"),
+    ("platform-sixth", "src/invdyn.c",
+     "v3_scale(g6, m->M / 6.0, g6);", "v3_scale(g6, m->M / 6.006, g6);",
+     "the disc as point masses M/6 (Lagrange route), 0.1 % off"),
+    ("link-gravity-sign", "src/invdyn.c",
+     "for (i = 0; i < 3; i++) w[3 + i] = m->m * m->g * m->d * d->dphi[i][2];",
+     "for (i = 0; i < 3; i++) w[3 + i] = -m->m * m->g * m->d * d->dphi[i][2];",
+     "sign of the links' weight (22) (Lagrange route)"),
+    ("platform-gravity-ne", "src/invdyn.c",
+     "wf[2] = m->M * m->g;", "wf[2] = -m->M * m->g;",
+     "sign of the platform's weight (Newton-Euler route)"),
+    ("payload-second-moment", "src/invdyn.c",
+     "double tr = 0.5 * (p->inertia[0] + p->inertia[1] + p->inertia[2]);",
+     "double tr = 0.505 * (p->inertia[0] + p->inertia[1] + p->inertia[2]);",
+     "the payload's second moments (Lagrange route), 1 % off"),
+    ("payload-weight-ne", "src/invdyn.c",
+     "wf[2] += m->payload.mass * m->g;", "wf[2] += m->payload.mass * 9.81;",
+     "the payload's weight with g = 9.81, not the model's (Newton-Euler)"),
+    ("coulomb-sign", "src/internal.h",
+     "return -(m->friction.viscous * dtheta + m->friction.coulomb * s);",
+     "return -(m->friction.viscous * dtheta - m->friction.coulomb * s);",
+     "sign of Coulomb pin friction"),
+    ("viscous-friction", "src/internal.h",
+     "return -(m->friction.viscous * dtheta + m->friction.coulomb * s);",
+     "return -(1.01 * m->friction.viscous * dtheta"
+     " + m->friction.coulomb * s);",
+     "viscous pin friction 1 % too strong"),
+    ("transmission-moment", "src/invdyn.c",
+     "s += fabs(y[k]) * (k < 3 ? 1.0 : m->R);",
+     "s += fabs(y[k]) * (k < 3 ? 1.0 : 1.01 * m->R);",
+     "moment scale R of the force transmission, 1 % off"),
+    ("transmission-rows", "src/invdyn.c",
+     "At[6 * (3 + i) + r] = m->axis[i][r];",
+     "At[6 * (3 + i) + r] = 1.01 * m->axis[i][r];",
+     "pin-torque rows of the transmission's statics, 1 % off"),
+]
+
+
+def sh(cmd, cwd, timeout=None, env=None):
+    try:
+        return subprocess.run(cmd, cwd=cwd, capture_output=True, text=True,
+                              timeout=timeout, env=env)
+    except subprocess.TimeoutExpired:
+        return None
+
+
+def copy_tree(dst):
+    """The tracked files as they are in the worktree, and the shared .venv."""
+    files = sh(["git", "ls-files", "-z"], ROOT).stdout.split("\0")
+    for f in filter(None, files):
+        src = os.path.join(ROOT, f)
+        if not os.path.isfile(src):
+            continue  # deleted in the worktree, not yet committed
+        os.makedirs(os.path.join(dst, os.path.dirname(f)), exist_ok=True)
+        shutil.copy2(src, os.path.join(dst, f))
+    os.symlink(os.path.join(ROOT, ".venv"), os.path.join(dst, ".venv"))
+
+
+def c_tests(tree):
+    return sorted(f[:-2] for f in os.listdir(os.path.join(tree, "tests"))
+                  if f.startswith("test_") and f.endswith(".c"))
+
+
+def build(tree):
+    bins = [f"build/tests/{t}" for t in c_tests(tree)]
+    b = sh(["make", "-s", "-j2", "lib", "runner", "study-bin",
+            "build/anchor-check"] + bins, tree)
+    return b.returncode == 0, b.stderr[-2000:]
+
+
+def run_suite(tree):
+    """The names of the tests that fail in the tree as it is."""
+    killed = []
+    for t in c_tests(tree):
+        p = sh([f"build/tests/{t}"], tree, C_TIMEOUT)
+        if p is None or p.returncode != 0:
+            killed.append(t + (" (timeout)" if p is None else ""))
+    xml = os.path.join(tree, "junit.xml")
+    if os.path.exists(xml):
+        os.remove(xml)
+    p = sh([VPY, "-m", "pytest", "-q", "-p", "no:cacheprovider",
+            "-k", PYTEST_DESELECT, f"--junitxml={xml}"] + PYTESTS, tree,
+           PY_TIMEOUT)
+    if p is None or not os.path.exists(xml):
+        return killed + ["pytest (timeout or crash)"]
+    seen = set()
+    for case in ET.parse(xml).getroot().iter("testcase"):
+        if case.find("failure") is None and case.find("error") is None:
+            continue
+        mod = case.get("classname", "").split(".")[-1]
+        name = f"{mod}::{case.get('name').split('[')[0]}"
+        if name not in seen:
+            seen.add(name)
+            killed.append(name)
+    return killed
+
+
+def where(tree, path, old):
+    text = open(os.path.join(tree, path)).read()
+    return f"{path}:{text[:text.index(old)].count(chr(10)) + 1}"
+
+
+def table(rows, elapsed):
+    out = ["| mutation | where | killed by | survived? |", "|---|---|---|---|"]
+    for name, what, loc, killed in rows:
+        cell = ", ".join(f"`{k}`" for k in killed) if killed else "nothing"
+        out.append(f"| {name}: {what} | `{loc}` | {cell} | "
+                   f"{'no' if killed else '**YES**'} |")
+    n = sum(1 for r in rows if r[3])
+    out.append("")
+    out.append(f"{n} of {len(rows)} mutations killed "
+               f"({elapsed / 60:.0f} min).")
+    return "\n".join(out) + "\n"
+
+
+HEADER = """# Mutations: which test kills which wrong model
+
+`make mutation` (tests/mutation.py, about a minute per mutation; not part
+of `make check`) copies the tracked tree into a temporary directory, writes
+one hand-made mutation of `src/` at a time into the copy, rebuilds, and runs
+every C test program and the pytest files that compare the library with
+truths it did not compute (SymPy, MuJoCo, the generated anchor, the
+paper's tables, the golden file, the accuracy study's long-double
+reference).  Each row names the tests that failed on that mutation; every
+mutation must be killed (the script exits 1 when one survives).  Tests
+named `test_x` are the C programs `tests/test_x.c`; `file::test` are
+pytest tests.  The table below is the output of the last run.
+
+What to read in it: a mutation caught only by oracles that read the
+model's inputs (`test_study_ref`, `test_oracles`, `test_anchor`,
+`test_trans`, `test_jacobian`) is one the library's own identities cannot
+see: the energy balance holds for any link inertia, Lagrange and
+Newton-Euler read the same derived fields, and a Newton solve converges
+with a Jacobian 0.1 % off.
+
+"""
+
+
+def main():
+    ap = argparse.ArgumentParser(description=__doc__.split("\n")[0])
+    ap.add_argument("-o", "--output", help="write the markdown page here")
+    ap.add_argument("-k", "--keep", action="store_true",
+                    help="keep the temporary copy (its path is printed)")
+    ap.add_argument("names", nargs="*", help="mutations to run (default all)")
+    a = ap.parse_args()
+    unknown = set(a.names) - {m[0] for m in MUTATIONS}
+    if unknown:
+        sys.exit(f"unknown mutations: {', '.join(sorted(unknown))}")
+    muts = [m for m in MUTATIONS if not a.names or m[0] in a.names]
+    t0 = time.monotonic()
+    tree = tempfile.mkdtemp(prefix="rps3-mutation-")
+    rows = []
+    try:
+        copy_tree(tree)
+        ok, err = build(tree)
+        if not ok:
+            sys.exit(f"the unmutated tree does not build:\n{err}")
+        base = run_suite(tree)
+        if base:
+            sys.exit(f"the unmutated tree fails: {', '.join(base)}")
+        print(f"unmutated tree passes ({time.monotonic() - t0:.0f} s)",
+              flush=True)
+        for name, path, old, new, what in muts:
+            p = os.path.join(tree, path)
+            src = open(p).read()
+            if src.count(old) != 1:
+                sys.exit(f"{name}: the original text is not in {path} once")
+            loc = where(tree, path, old)
+            with open(p, "w") as fh:
+                fh.write(src.replace(old, new))
+            try:
+                ok, err = build(tree)
+                killed = run_suite(tree) if ok else ["the build (-Werror)"]
+            finally:
+                with open(p, "w") as fh:
+                    fh.write(src)
+            rows.append((name, what, loc, killed))
+            print(f"{name} ({loc}): "
+                  f"{', '.join(killed) if killed else 'SURVIVES'}",
+                  flush=True)
+    finally:
+        if a.keep:
+            print(f"kept {tree}")
+        else:
+            shutil.rmtree(tree, ignore_errors=True)
+    page = table(rows, time.monotonic() - t0)
+    if a.output:
+        with open(a.output, "w") as fh:
+            fh.write(HEADER + page)
+    else:
+        print(page)
+    sys.exit(1 if any(not r[3] for r in rows) else 0)
+
+
+if __name__ == "__main__":
+    main()
