@@ -362,6 +362,16 @@ simulation: $(B)/rps3-simstudy venv
 	$(VPY) analysis/simulation.py out/simstudy.h5 out > out/simulation_table.md
 	@cat out/simulation_table.md
 
+# configs/closed_loop.yaml simulated by rps3-run (out/closed_loop.h5) and
+# drawn by analysis/closed_loop.py: out/closed_loop.png and its table in
+# out/closed_loop.md (docs/simulation.md).  About a second.
+.PHONY: closed-loop
+closed-loop: $(B)/rps3-run venv
+	@mkdir -p out
+	$(B)/rps3-run configs/closed_loop.yaml -o out/closed_loop.h5 -q
+	$(VPY) analysis/closed_loop.py out/closed_loop.h5 out/closed_loop.png > out/closed_loop.md
+	@cat out/closed_loop.md
+
 # ------------------------------------------------------------------- paper
 paper: all venv
 	@mkdir -p out

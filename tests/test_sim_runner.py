@@ -12,15 +12,17 @@ library); physics for the gain sweeps; and the energy balance in the file.
 """
 
 import ctypes
+import os
 import re
 import subprocess
+import sys
 
 import h5py
 import numpy as np
 import pytest
 
 import oracle
-from conftest import run, write_scene
+from conftest import ANALYSIS, run, write_scene
 
 RPS3_EREACH = 1
 
@@ -383,3 +385,19 @@ def test_unreachable_start_fails_at_the_first_sample(runner, tmp_path):
         assert f["failed_time"][0] == 0
         assert np.isnan(f["length"][0]).all()
         assert f["message"][0].decode().startswith("t = 0 s (before sample 0)")
+
+
+def test_closed_loop_figure_and_table(config_runs, tmp_path):
+    """analysis/closed_loop.py draws any simulated scene's file: a PNG and
+    one table row per case with its swept values."""
+    h5 = config_runs["closed_loop"][0]
+    png = tmp_path / "cl.png"
+    proc = subprocess.run([sys.executable, os.path.join(ANALYSIS,
+                                                        "closed_loop.py"),
+                           str(h5), str(png)], capture_output=True,
+                          text=True, timeout=120)
+    assert proc.returncode == 0, proc.stderr
+    assert png.read_bytes()[:8] == b"\x89PNG\r\n\x1a\n"
+    rows = proc.stdout.strip().splitlines()
+    assert len(rows) == 2 + 6
+    assert rows[-1].startswith("| computed_torque | 0.0 | ok | 0.00338 |")
