@@ -401,3 +401,45 @@ def test_closed_loop_figure_and_table(config_runs, tmp_path):
     rows = proc.stdout.strip().splitlines()
     assert len(rows) == 2 + 6
     assert rows[-1].startswith("| computed_torque | 0.0 | ok | 0.00338 |")
+
+
+@pytest.mark.parametrize("threads", ["1", "2"])
+def test_file_size_limit_exits_3_and_leaves_nothing(runner, tmp_path,
+                                                    threads):
+    """ulimit -f 1 MiB under a 4 MB simulation: the write fails with
+    EFBIG, exit 3, no file and no temporary."""
+    import resource
+
+    def limit():
+        resource.setrlimit(resource.RLIMIT_FSIZE, (1 << 20, 1 << 20))
+    scene = write_scene(tmp_path / "big.yaml", HEAD + "simulate: "
+                        "{controller: pd, duration: 0.5}\nsweep:\n"
+                        "  simulate.kp: {from: 1000, to: 2000, num: 10}\n")
+    proc = run(scene, tmp_path / "x.h5", "-q", "-j", threads,
+               preexec_fn=limit)
+    assert proc.returncode == 3, proc.stderr
+    assert "file too large" in proc.stderr
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["big.yaml"]
+
+
+def test_a_signal_removes_the_temporary(runner, tmp_path):
+    """SIGTERM during a long simulation: the process dies of it and its
+    temporary file is gone."""
+    import signal
+    import time
+
+    from conftest import run_tmp
+    scene = write_scene(tmp_path / "long.yaml", HEAD.replace(
+        "duration: 0.5", "duration: 500") + "simulate: {controller: pd}\n")
+    out = tmp_path / "out.h5"
+    p = subprocess.Popen([runner, str(scene), "-o", str(out), "-q"],
+                         stdout=subprocess.DEVNULL, stderr=subprocess.PIPE)
+    tmp = run_tmp(out, p.pid)
+    deadline = time.time() + 20
+    while not tmp.exists() and time.time() < deadline:
+        time.sleep(0.005)
+    assert tmp.exists()
+    p.send_signal(signal.SIGTERM)
+    p.wait(timeout=30)
+    assert p.returncode == -signal.SIGTERM
+    assert sorted(x.name for x in tmp_path.iterdir()) == ["long.yaml"]
