@@ -7,6 +7,7 @@
  * it is about, so that the runner can print FILE:LINE:COLUMN: key: what.
  */
 #include "scene.h"
+#include "scene_int.h"
 #include "hint.h"
 #include "scene_guard.h"
 
@@ -35,8 +36,8 @@ static const rps3_field_info own_fields[SCENE_NOWN] = {
 static const int own_fills[SCENE_NOWN] = {SCENE_OWN_FIELDS(OWN_FILLS)};
 #undef OWN_FILLS
 
-/* the simulate section's fields (scene_sim.h), their defaults and the
-   key table's text for a default that is not a value */
+/* the simulate section's fields (scene_sim.h) and their defaults (the key
+   table's text for a default that is not a value: scene_emit.c) */
 #define SIM_ROW(ID, MEMBER, IS_INT, LO, LO_OPEN, HI, UNIT, DEF, DEFTEXT)      \
   {"simulate." #MEMBER, RPS3_IN_MODEL, offsetof(scene_sim, MEMBER), 1,        \
    IS_INT, LO, LO_OPEN, HI, UNIT},
@@ -46,11 +47,6 @@ static const rps3_field_info sim_fields[SCENE_NSIM] = {
 #define SIM_DEF(ID, MEMBER, IS_INT, LO, LO_OPEN, HI, UNIT, DEF, DEFTEXT) DEF,
 static const double sim_default[SCENE_NSIM] = {SCENE_SIM_FIELDS(SIM_DEF)};
 #undef SIM_DEF
-#define SIM_DEFTEXT(ID, MEMBER, IS_INT, LO, LO_OPEN, HI, UNIT, DEF, DEFTEXT)  \
-  DEFTEXT,
-static const char *const sim_deftext[SCENE_NSIM] = {
-    SCENE_SIM_FIELDS(SIM_DEFTEXT)};
-#undef SIM_DEFTEXT
 
 /* the rows as written; keys[] adds what their field's row says */
 #define KEY_ROW(ID, PATH, TYPE, SRC, FIELD, REQ, SYM, DOC)                    \
@@ -81,7 +77,7 @@ static void keys_build(void)
 
 /* the path shapes (bits 1 << rps3_path_shape) that use key k, for the
    keys marked REQ_SHAPE; 0 for any other key */
-static int shape_mask(int k)
+int scene_shape_mask(int k)
 {
   const int line = 1 << RPS3_PATH_LINE, circle = 1 << RPS3_PATH_CIRCLE,
             helix = 1 << RPS3_PATH_HELIX;
@@ -225,7 +221,7 @@ static int enum_find(int k, const char *name)
 }
 
 /* "a, b or c" list of the names of key k into buf */
-static void enum_list(int k, char *buf, size_t sz)
+void scene_enum_list(int k, char *buf, size_t sz)
 {
   int v, lo, hi;
   size_t len = 0;
@@ -259,12 +255,12 @@ static char *value_at(scene_values *v, int k)
   return base + keys[k].f->offset;
 }
 
-static double *real_at(scene_values *v, int k)
+double *scene_real_at(scene_values *v, int k)
 {
   return (double *)(void *)value_at(v, k);
 }
 
-static int *int_at(scene_values *v, int k)
+int *scene_int_at(scene_values *v, int k)
 {
   return (int *)(void *)value_at(v, k);
 }
@@ -284,20 +280,20 @@ static void value_set(scene_values *v, int k, int comp, double x)
 {
   switch (keys[k].type) {
   case KEY_REAL:
-    *real_at(v, k) = x;
+    *scene_real_at(v, k) = x;
     break;
   case KEY_REAL3:
-    real_at(v, k)[comp] = x;
+    scene_real_at(v, k)[comp] = x;
     break;
   default:
-    *int_at(v, k) = (int)x;
+    *scene_int_at(v, k) = (int)x;
     break;
   }
 }
 
 /* defaults: the library's Table II model, options and helix; the runner's
    own values are those the library's defaults imply */
-static void values_default(scene_values *v)
+void scene_values_default(scene_values *v)
 {
   int i;
   memset(v, 0, sizeof *v);
@@ -454,7 +450,7 @@ static int parse_number(parse_ctx *c, const yaml_node_t *n, const char *path,
 }
 
 /* shortest %g form of x that reads back as x */
-static void format_real(char *buf, size_t sz, double x)
+void scene_format_real(char *buf, size_t sz, double x)
 {
   int prec;
   for (prec = 15; prec <= 17; prec++) {
@@ -470,9 +466,9 @@ static int check_range(parse_ctx *c, int k, double x, scene_mark mk,
 {
   const rps3_field_info *f = keys[k].f;
   char lo[32], hi[32], got[32];
-  format_real(lo, sizeof lo, f->lo);
-  format_real(hi, sizeof hi, f->hi);
-  format_real(got, sizeof got, x);
+  scene_format_real(lo, sizeof lo, f->lo);
+  scene_format_real(hi, sizeof hi, f->hi);
+  scene_format_real(got, sizeof got, x);
   if (f->lo_open ? !(x > f->lo) : !(x >= f->lo)) {
     error_set(c->err, mk, path, "must be %s %s, got %s",
               f->lo_open ? ">" : ">=", lo, got);
@@ -519,7 +515,7 @@ static int parse_scalar(parse_ctx *c, int k, const yaml_node_t *n,
               n->type == YAML_SCALAR_NODE ? "'" : "", "");
     return -1;
   case KEY_ENUM:
-    enum_list(k, list, sizeof list);
+    scene_enum_list(k, list, sizeof list);
     if (n->type != YAML_SCALAR_NODE || is_null(n)) {
       error_set(c->err, mk, path, "expected one of %s, got %s", list,
                 node_kind(n));
@@ -672,7 +668,7 @@ static int parse_value(parse_ctx *c, int k, const yaml_node_t *n,
       snprintf(sub, sizeof sub, "%s[%d]", path, i);
       if (parse_scalar(c, k, node_get(c, *it), sub, &x))
         return -1;
-      real_at(v, k)[i] = x;
+      scene_real_at(v, k)[i] = x;
     }
     return 0;
   }
@@ -720,7 +716,7 @@ static int parse_value(parse_ctx *c, int k, const yaml_node_t *n,
       }
       bits |= 1 << e;
     }
-    *int_at(v, k) = bits;
+    *scene_int_at(v, k) = bits;
     return 0;
   }
   if (parse_scalar(c, k, n, path, &x))
@@ -1148,7 +1144,7 @@ static int check_shape(parse_ctx *c)
   if (s->base.traj.kind != RPS3_TRAJ_PATH)
     return 0;
   for (k = 0; k < SCENE_NKEY; k++) {
-    int mask = shape_mask(k);
+    int mask = scene_shape_mask(k);
     if (mask == 0)
       continue;
     if (s->given[k] && !(mask & (1 << shape))) {
@@ -1240,7 +1236,7 @@ int scene_load(scene *s, const char *path, scene_error *err)
   keys_build();
   memset(s, 0, sizeof *s);
   memset(err, 0, sizeof *err);
-  values_default(&s->base);
+  scene_values_default(&s->base);
   s->ncase = 1;
   s->file = malloc(strlen(path) + 1);
   if (!s->file) {
@@ -1511,8 +1507,8 @@ int scene_case_build(const scene *s, size_t index, scene_case *c,
     double q = c->span / c->v.own.dt, n = floor(q + 0.5);
     if (q >= 2147483646.0) {
       char sa[32], sb[32];
-      format_real(sa, sizeof sa, c->span);
-      format_real(sb, sizeof sb, c->v.own.dt);
+      scene_format_real(sa, sizeof sa, c->span);
+      scene_format_real(sb, sizeof sb, c->v.own.dt);
       snprintf(msg, sizeof msg,
                "dt = %s s over the span %s s is %.6g steps: at most "
                "2147483646 samples per case",
@@ -1522,8 +1518,8 @@ int scene_case_build(const scene *s, size_t index, scene_case *c,
     }
     if (fabs(q - n) > WHOLE_RTOL * (q > 1 ? q : 1) || n < 1) {
       char sa[32], sb[32];
-      format_real(sa, sizeof sa, c->span);
-      format_real(sb, sizeof sb, c->v.own.dt);
+      scene_format_real(sa, sizeof sa, c->span);
+      scene_format_real(sb, sizeof sb, c->v.own.dt);
       snprintf(msg, sizeof msg,
                "the span %s s is not a whole number of steps dt = %s s "
                "(%.6g steps)",
@@ -1549,303 +1545,4 @@ double scene_case_time(const scene_case *c, size_t k)
 int scene_case_same_grid(const scene_case *a, const scene_case *b)
 {
   return a->nt == b->nt && a->span == b->span && a->step == b->step;
-}
-
-/* ----------------------------------------------------------------- emit */
-
-void scene_text_free(scene_text *t)
-{
-  if (t) {
-    free(t->s);
-    memset(t, 0, sizeof *t);
-  }
-}
-
-static int text_write(void *data, unsigned char *buf, size_t size)
-{
-  scene_text *t = data;
-  if (t->len + size + 1 > t->cap) {
-    size_t cap = t->cap ? t->cap : 1024;
-    char *ns;
-    while (cap < t->len + size + 1)
-      cap *= 2;
-    ns = realloc(t->s, cap);
-    if (!ns) {
-      t->oom = 1;
-      return 0;
-    }
-    t->s = ns;
-    t->cap = cap;
-  }
-  memcpy(t->s + t->len, buf, size);
-  t->len += size;
-  t->s[t->len] = '\0';
-  return 1;
-}
-
-static int emit_scalar(yaml_emitter_t *em, const char *text)
-{
-  yaml_event_t ev;
-  yaml_scalar_event_initialize(&ev, NULL, NULL, (const yaml_char_t *)text,
-                               (int)strlen(text), 1, 1,
-                               YAML_PLAIN_SCALAR_STYLE);
-  return yaml_emitter_emit(em, &ev);
-}
-
-static int emit_open(yaml_emitter_t *em, int seq, int flow)
-{
-  yaml_event_t ev;
-  if (seq)
-    yaml_sequence_start_event_initialize(
-        &ev, NULL, NULL, 1,
-        flow ? YAML_FLOW_SEQUENCE_STYLE : YAML_BLOCK_SEQUENCE_STYLE);
-  else
-    yaml_mapping_start_event_initialize(
-        &ev, NULL, NULL, 1,
-        flow ? YAML_FLOW_MAPPING_STYLE : YAML_BLOCK_MAPPING_STYLE);
-  return yaml_emitter_emit(em, &ev);
-}
-
-static int emit_close(yaml_emitter_t *em, int seq)
-{
-  yaml_event_t ev;
-  if (seq)
-    yaml_sequence_end_event_initialize(&ev);
-  else
-    yaml_mapping_end_event_initialize(&ev);
-  return yaml_emitter_emit(em, &ev);
-}
-
-/* the value of key k of v, as YAML events */
-static int emit_value(yaml_emitter_t *em, int k, const scene_values *v)
-{
-  char buf[64];
-  scene_values *w = (scene_values *)(void *)v; /* read only */
-  const char *file;
-  int i, ok = 1;
-  size_t r;
-  switch (keys[k].type) {
-  case KEY_REAL:
-    format_real(buf, sizeof buf, *real_at(w, k));
-    return emit_scalar(em, buf);
-  case KEY_REAL3:
-    ok = emit_open(em, 1, 1);
-    for (i = 0; i < 3 && ok; i++) {
-      format_real(buf, sizeof buf, real_at(w, k)[i]);
-      ok = emit_scalar(em, buf);
-    }
-    return ok && emit_close(em, 1);
-  case KEY_INT:
-    snprintf(buf, sizeof buf, "%d", *int_at(w, k));
-    return emit_scalar(em, buf);
-  case KEY_BOOL:
-    return emit_scalar(em, *int_at(w, k) ? "true" : "false");
-  case KEY_ENUM:
-    return emit_scalar(em, scene_enum_name(k, *int_at(w, k)));
-  case KEY_EFFECTS:
-    ok = emit_open(em, 1, 1);
-    for (i = 0; i < RPS3_NEFFECT && ok; i++)
-      if (*int_at(w, k) & (1 << i))
-        ok = emit_scalar(em, rps3_effect_name(i));
-    return ok && emit_close(em, 1);
-  case KEY_TIMES:
-    ok = emit_open(em, 1, 1);
-    for (r = 0; r < v->traj.wp.n && ok; r++) {
-      format_real(buf, sizeof buf, v->traj.wp.time[r]);
-      ok = emit_scalar(em, buf);
-    }
-    return ok && emit_close(em, 1);
-  case KEY_POSES:
-    ok = emit_open(em, 1, 0);
-    for (r = 0; r < v->traj.wp.n && ok; r++) {
-      ok = emit_open(em, 1, 1);
-      for (i = 0; i < 3 && ok; i++) {
-        format_real(buf, sizeof buf, v->traj.wp.pose[r][i]);
-        ok = emit_scalar(em, buf);
-      }
-      ok = ok && emit_close(em, 1);
-    }
-    return ok && emit_close(em, 1);
-  case KEY_FILE:
-    file = k == K_PATH_FILE ? v->path_file : v->table_file;
-    return emit_scalar(em, file != NULL ? file : "");
-  }
-  return 0;
-}
-
-/* does case c write key k?  The link mass and the time grid are written
-   the way the scene gave them. */
-static int case_has_key(const scene_case *c, int k)
-{
-  const scene_key_info *ki = &keys[k];
-  if (ki->kind != FOR_ALL && ki->kind != (int)c->v.traj.kind)
-    return 0;
-  if (ki->src == SRC_SIM) {
-    /* written when simulated; "not given" (NaN, -1) is not a value */
-    scene_values *w = (scene_values *)(void *)&c->v; /* read only */
-    if (!c->simulate)
-      return 0;
-    return ki->type == KEY_REAL    ? !isnan(*real_at(w, k))
-           : ki->type == KEY_REAL3 ? 1
-                                   : *int_at(w, k) >= 0;
-  }
-  if (k == K_M_OVER_M || k == K_MASS)
-    return (k == K_M_OVER_M) == (c->by_ratio != 0);
-  if (k == K_SAMPLES || k == K_DT)
-    return (k == K_DT) == (c->by_dt != 0);
-  if (k == K_BLEND || k == K_BLEND_RATIO)
-    return (k == K_BLEND_RATIO) == (c->by_blend_ratio != 0);
-  if (shape_mask(k) != 0)
-    return (shape_mask(k) & (1 << (int)c->v.traj.path.shape)) != 0;
-  return 1;
-}
-
-int scene_case_yaml(const scene_case *c, scene_text *out)
-{
-  yaml_emitter_t em;
-  yaml_event_t ev;
-  char open[4][40]; /* the mapping sections currently open */
-  int depth = 0, k, ok;
-
-  out->len = 0;
-  out->oom = 0;
-  if (!yaml_emitter_initialize(&em))
-    return -1;
-  yaml_emitter_set_output(&em, text_write, out);
-  yaml_emitter_set_width(&em, -1);
-  yaml_stream_start_event_initialize(&ev, YAML_UTF8_ENCODING);
-  ok = yaml_emitter_emit(&em, &ev);
-  yaml_document_start_event_initialize(&ev, NULL, NULL, NULL, 1);
-  ok = ok && yaml_emitter_emit(&em, &ev);
-  ok = ok && emit_open(&em, 0, 0);
-  for (k = 0; k < SCENE_NKEY && ok; k++) {
-    const char *path = keys[k].path, *p, *dot;
-    int level = 0;
-    if (!case_has_key(c, k))
-      continue;
-    /* close the sections this key is not in, open the ones it is in */
-    for (p = path; (dot = strchr(p, '.')) != NULL; p = dot + 1, level++) {
-      size_t len = (size_t)(dot - p);
-      if (level < depth && strlen(open[level]) == len &&
-          strncmp(open[level], p, len) == 0)
-        continue;
-      while (depth > level && ok) {
-        ok = emit_close(&em, 0);
-        depth--;
-      }
-      snprintf(open[depth], sizeof open[depth], "%.*s", (int)len, p);
-      ok = ok && emit_scalar(&em, open[depth]) && emit_open(&em, 0, 0);
-      depth++;
-    }
-    while (depth > level && ok) {
-      ok = emit_close(&em, 0);
-      depth--;
-    }
-    ok = ok && emit_scalar(&em, p) && emit_value(&em, k, &c->v);
-  }
-  while (depth-- > 0 && ok)
-    ok = emit_close(&em, 0);
-  ok = ok && emit_close(&em, 0);
-  yaml_document_end_event_initialize(&ev, 1);
-  ok = ok && yaml_emitter_emit(&em, &ev);
-  yaml_stream_end_event_initialize(&ev);
-  ok = ok && yaml_emitter_emit(&em, &ev);
-  ok = ok && yaml_emitter_flush(&em);
-  yaml_emitter_delete(&em);
-  return ok && !out->oom ? 0 : -1;
-}
-
-/* ------------------------------------------------------------- key list */
-
-/* the range of field row f, as the key table shows it */
-static void range_text(const rps3_field_info *f, char *buf, size_t sz)
-{
-  char lo[32], hi[32];
-  format_real(lo, sizeof lo, f->lo);
-  format_real(hi, sizeof hi, f->hi);
-  if (f->lo == -HUGE_VAL && f->hi == HUGE_VAL)
-    snprintf(buf, sz, "any");
-  else if (f->hi == HUGE_VAL)
-    snprintf(buf, sz, "%s %s", f->lo_open ? ">" : ">=", lo);
-  else if (f->is_int && f->hi >= 2147483647.0)
-    snprintf(buf, sz, ">= %s", lo);
-  else
-    snprintf(buf, sz, "%c%s, %s]", f->lo_open ? '(' : '[', lo, hi);
-}
-
-void scene_keys_print(void)
-{
-  scene_values v;
-  char def[64], names[256], range[80];
-  int k;
-  keys_build();
-  values_default(&v);
-  printf("| key | type | unit | range | paper | default | meaning |\n");
-  printf("|---|---|---|---|---|---|---|\n");
-  for (k = 0; k < SCENE_NKEY; k++) {
-    const scene_key_info *ki = &keys[k];
-    const char *type = "";
-    switch (ki->type) {
-    case KEY_REAL:
-      type = "number";
-      break;
-    case KEY_REAL3:
-      type = "[3 numbers]";
-      break;
-    case KEY_INT:
-      type = "integer";
-      break;
-    case KEY_BOOL:
-      type = "bool";
-      break;
-    case KEY_ENUM:
-      enum_list(k, names, sizeof names);
-      type = names;
-      break;
-    case KEY_EFFECTS:
-      type = "[effect names]";
-      break;
-    case KEY_TIMES:
-      type = "[numbers]";
-      break;
-    case KEY_POSES:
-      type = "[[3 numbers], ...]";
-      break;
-    case KEY_FILE:
-      type = "file name";
-      break;
-    }
-    if (ki->src == SRC_SIM && sim_deftext[ki->field])
-      snprintf(def, sizeof def, "%s", sim_deftext[ki->field]);
-    else if (ki->req == REQ_YES)
-      snprintf(def, sizeof def, "required");
-    else if (ki->req == REQ_SHAPE)
-      snprintf(def, sizeof def, "required by its shape");
-    else if (ki->req != REQ_NO)
-      snprintf(def, sizeof def, "one of a pair");
-    else if (ki->type == KEY_REAL)
-      snprintf(def, sizeof def, "%g", *real_at(&v, k));
-    else if (ki->type == KEY_REAL3)
-      snprintf(def, sizeof def, "[%g, %g, %g]", real_at(&v, k)[0],
-               real_at(&v, k)[1], real_at(&v, k)[2]);
-    else if (ki->type == KEY_INT)
-      snprintf(def, sizeof def, "%d", *int_at(&v, k));
-    else if (ki->type == KEY_BOOL)
-      snprintf(def, sizeof def, "%s", *int_at(&v, k) ? "true" : "false");
-    else if (ki->type == KEY_ENUM)
-      snprintf(def, sizeof def, "%s", scene_enum_name(k, *int_at(&v, k)));
-    else
-      snprintf(def, sizeof def, "see meaning");
-    range_text(ki->f, range, sizeof range);
-    printf("| `%s`%s%s%s | %s | %s | %s | %s | %s | %s |\n", ki->path,
-           ki->kind != FOR_ALL ? " (" : "",
-           ki->kind != FOR_ALL ? kind_names[ki->kind] : "",
-           ki->kind != FOR_ALL ? ")" : "",
-           type, ki->unit,
-           (ki->type == KEY_REAL || ki->type == KEY_REAL3 ||
-            ki->type == KEY_INT)
-               ? range
-               : "-",
-           ki->symbol, def, ki->doc);
-  }
 }
