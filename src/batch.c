@@ -182,7 +182,10 @@ static void kernel_block(const rps3_model *m, rps3_data *d,
   }
   o.cond = dst(out->cond, 0, i0, n, o.cond);
   o.eres = dst(out->energy_residual, 0, i0, n, o.eres);
-  rps3_kernel_block(m, in, i0, nb, rates, &o);
+  /* neither theta nor the certificate when no one reads them */
+  rps3_kernel_block(m, in, i0, nb, rates,
+                    !m->opt.certify && (!out->theta || m->opt.forces_only),
+                    &o);
   for (c = 0; c < 3; c++) {
     /* as rps3_inverse with forces_only: no theta, no shares */
     for (p = 0; p < nb && out->theta && m->opt.forces_only; p++)

@@ -11,8 +11,8 @@
  * matters: (2)-(7) and (39) as in ik.c, the rates as in velocity.c, the
  * Lagrange loads and the energy-rate certificate as in invdyn.c.  What
  * differs, all at the level of rounding:
- *   - sin and cos of alpha and beta / 2 by the polynomial ksincos below
- *     (within 2 ulp of libm, tests/test_batch.c), sin and cos of beta from
+ *   - sin and cos of alpha and beta / 2 by the polynomial ksincos
+ *     (batch_trig.h; within 3 ulp of libm), sin and cos of beta from
  *     the half angle; theta by katan2 (within 4 ulp of libm's atan2);
  *   - the lambda system (df/dtheta)^T solved by its adjugate (the matrix
  *     has two non-zeros a row), and its 1-norm condition number from the
@@ -20,6 +20,8 @@
  *   - the force transmission from the platform twist per unit link rate,
  *     F = J^T (f, n) by virtual power (the pin-axis forces do no work on
  *     the motions the links allow), instead of the 6 x 6 system.
+ * Without theta asked for and without the certificate, a second instance
+ * of the loop leaves both out (the forces need the link directions only).
  * A point is certified (ok) only when everything it reports is finite, its
  * links are reachable, and its condition number and transmission are below
  * min(warn, max) by a relative margin far above the rounding differences
@@ -30,6 +32,7 @@
 #include <float.h>
 
 #include "batch_kernel.h"
+#include "batch_trig.h"
 
 /* a loop the compiler could not vectorise (e.g. at -O1 under the
    sanitizers) is slower, not wrong: not a warning */
@@ -37,117 +40,10 @@
 #pragma clang diagnostic ignored "-Wpass-failed"
 #endif
 
-/* the helpers of the loop body must be inlined into it to be vectorised */
-#if defined(__GNUC__)
-#define KINLINE static inline __attribute__((always_inline))
-#else
-#define KINLINE static inline
-#endif
-
 /* the kernel's relative margin to the condition and transmission
    thresholds: the scalar path's values differ from the kernel's by a few
    cond * eps (<= 1e6 * 1.1e-16 = 1.1e-10 below cond_warn) */
 #define KMARGIN 1e-6
-
-/* pi/2 in three parts, 30 + 30 + 53 bits: k * P1 and k * P2 are exact for
-   |k| < 2^23, so that x - k pi/2 loses nothing for |x| <= RPS3_KANGLE_MAX */
-#define P1 0x1.921fb548p+0
-#define P2 (-0x1.de973dc8p-31)
-#define P3 (-0x1.9d9cceba3f91fp-62)
-#define TWO_OVER_PI 0x1.45f306dc9c883p-1
-/* pi and pi/2 as double + remainder */
-#define PI_HI 0x1.921fb54442d18p+1
-#define PI_LO 0x1.1a62633145c07p-53
-#define PIO2_HI 0x1.921fb54442d18p+0
-#define PIO2_LO 0x1.1a62633145c07p-54
-/* atan(j / 4), j = 1 .. 4, correctly rounded */
-#define ATAN_1_4 0x1.f5b75f92c80ddp-3
-#define ATAN_2_4 0x1.dac670561bb4fp-2
-#define ATAN_3_4 0x1.4978fa3269ee1p-1
-#define ATAN_4_4 0x1.921fb54442d18p-1
-/* x + SHIFT - SHIFT rounds x to an integer, |x| < 2^51 */
-#define SHIFT 0x1.8p52
-
-/*
- * sin x and cos x for |x| <= RPS3_KANGLE_MAX, without a branch or a table:
- * x = k pi/2 + r with |r| <= pi/4 (Cody-Waite reduction), the Taylor
- * series of sin r to r^17 and of cos r to r^16 (truncation below 1e-19 on
- * |r| <= pi/4, so the error is the rounding of the evaluation), and the
- * quadrant k mod 4 by selects.  A NaN gives NaN; beyond the range the
- * result is wrong, and the kernel leaves such points to the scalar path.
- */
-typedef struct {
-  double s, c;
-} ksc;
-
-KINLINE ksc ksincos(double x) {
-  ksc out;
-  double k = (x * TWO_OVER_PI + SHIFT) - SHIFT;
-  double r = ((x - k * P1) - k * P2) - k * P3;
-  double r2 = r * r;
-  double ps = r + r * r2 *
-                      (-1.0 / 6.0 +
-                       r2 * (1.0 / 120.0 +
-                             r2 * (-1.0 / 5040.0 +
-                                   r2 * (1.0 / 362880.0 +
-                                         r2 * (-1.0 / 39916800.0 +
-                                               r2 * (1.0 / 6227020800.0 +
-                                                     r2 * (-1.0 / 1307674368000.0 +
-                                                           r2 * (1.0 / 355687428096000.0))))))));
-  double pc = 1.0 - 0.5 * r2 +
-              r2 * r2 *
-                  (1.0 / 24.0 +
-                   r2 * (-1.0 / 720.0 +
-                         r2 * (1.0 / 40320.0 +
-                               r2 * (-1.0 / 3628800.0 +
-                                     r2 * (1.0 / 479001600.0 +
-                                           r2 * (-1.0 / 87178291200.0 +
-                                                 r2 * (1.0 / 20922789888000.0)))))));
-  /* the quadrant k mod 4 as q = k - 4 round(k / 4) in {-2, ..., 2}, in
-     floating point: no conversion to an integer (undefined for a NaN) */
-  double q = k - 4.0 * ((0.25 * k + SHIFT) - SHIFT);
-  double sn = ((q == 1.0) | (q == -1.0)) ? pc : ps;
-  double cs = ((q == 1.0) | (q == -1.0)) ? ps : pc;
-  out.s = ((q >= 2.0) | (q <= -1.0)) ? -sn : sn; /* k mod 4 = 2, 3 */
-  out.c = ((q >= 1.0) | (q <= -2.0)) ? -cs : cs; /* k mod 4 = 1, 2 */
-  return out;
-}
-
-/*
- * atan2(y, x) for y > 0, so in (0, pi): with a = num / den = min(|x|, y) /
- * max(|x|, y) in [0, 1], atan a = atan(j/4) + atan u for j/4 the quarter
- * nearest to a (chosen by comparisons) and u = (a - j/4) / (1 + a j/4) =
- * (num - c den) / (den + c num), |u| <= 1/8 up to rounding, in one
- * division; atan u by its Taylor series to u^19 (truncation below 2^-63
- * |u|); then the octant by selects.
- */
-KINLINE double katan2(double y, double x) {
-  double ax = fabs(x);
-  double num = ax > y ? y : ax, den = ax > y ? ax : y, j, c, u, u2, at, off;
-  den = den > 0.0 ? den : 1.0; /* x = y = 0 is no point of the kernel's */
-  j = (8.0 * num > den ? 1.0 : 0.0) + (8.0 * num > 3.0 * den ? 1.0 : 0.0) +
-      (8.0 * num > 5.0 * den ? 1.0 : 0.0) + (8.0 * num > 7.0 * den ? 1.0 : 0.0);
-  c = 0.25 * j;
-  u = (num - c * den) / (den + c * num);
-  u2 = u * u;
-  at = u + u * u2 *
-               (-1.0 / 3.0 +
-                u2 * (1.0 / 5.0 +
-                      u2 * (-1.0 / 7.0 +
-                            u2 * (1.0 / 9.0 +
-                                  u2 * (-1.0 / 11.0 +
-                                        u2 * (1.0 / 13.0 +
-                                              u2 * (-1.0 / 15.0 +
-                                                    u2 * (1.0 / 17.0 +
-                                                          u2 * (-1.0 / 19.0)))))))));
-  off = j == 1.0 ? ATAN_1_4
-                 : j == 2.0 ? ATAN_2_4
-                            : j == 3.0 ? ATAN_3_4 : j == 4.0 ? ATAN_4_4 : 0.0;
-  at = off + at;
-  /* from the x axis when |x| > y, else from the y axis; then x < 0 */
-  at = ax > y ? at : (PIO2_HI - at) + PIO2_LO;
-  return x < 0.0 ? (PI_HI - at) + PI_LO : at;
-}
 
 void rps3_ksincos(double x, double *s, double *c) {
   ksc r = ksincos(x);
@@ -231,7 +127,8 @@ typedef struct {
 
 /* link i from the platform frame (columns rx, ry) and centre c: (15)-(17),
    (5)-(7), (39) and (29), as rps3_ik_with */
-KINLINE klink link_pos(const kconst *K, int i, kv3 rx, kv3 ry, kv3 c) {
+KINLINE klink link_pos(const kconst *K, int i, kv3 rx, kv3 ry, kv3 c,
+                       int full) {
   klink L;
   double radial, ct, st;
   kv3 v;
@@ -243,7 +140,7 @@ KINLINE klink link_pos(const kconst *K, int i, kv3 rx, kv3 ry, kv3 c) {
   L.ok = ((L.l > 0.0) & (v.z > 0.0)) ? 1.0 : 0.0;
   /* select, then divide: a division under a condition is a branch */
   L.il = 1.0 / (L.l > 0.0 ? L.l : 1.0);
-  L.th = katan2(v.z > 0.0 ? v.z : 1.0, -radial);
+  L.th = full ? katan2(v.z > 0.0 ? v.z : 1.0, -radial) : 0.0;
   ct = -radial * L.il;
   st = v.z * L.il;
   L.phi = kv(-ct * K->u[i][0], -ct * K->u[i][1], st);
@@ -317,20 +214,20 @@ KINLINE double trans_row(const kconst *K, klink L0, klink L1, klink L2,
   return knorm1(v) + K->R * knorm1(ksub(ws, kscale(sd, a)));
 }
 
-KCLONES
-static void kloop(const kconst *K, const double *restrict pa,
-                  const double *restrict pb, const double *restrict pz,
-                  const double *restrict va, const double *restrict vb,
-                  const double *restrict vz, const double *restrict aa,
-                  const double *restrict ab, const double *restrict az,
-                  int nb, const rps3_kout *restrict o) {
-  int p;
-#pragma omp simd
-  for (p = 0; p < nb; p++) {
+/* point p of the block: the loop body.  full = 0 leaves out theta (39)
+   and the certificate, which the forces do not need: the two kernels
+   below are this body with full a constant */
+KINLINE void kpoint(const kconst *K, const double *restrict pa,
+                    const double *restrict pb, const double *restrict pz,
+                    const double *restrict va, const double *restrict vb,
+                    const double *restrict vz, const double *restrict aa,
+                    const double *restrict ab, const double *restrict az,
+                    int p, const rps3_kout *restrict o, int full) {
+  {
     double alpha = pa[p], beta = pb[p];
     double da = va[p], db = vb[p], dda = aa[p], ddb = ab[p];
     double ca, sa, hs, hc, sb, cb, vb2, C, S, det, idet, cond, trans, fin;
-    double pw, sc, dT, dP, v1, v2, v3, g1, i1;
+    double pw, sc, dT, dP, v1, v2, v3, g1, i1, eres;
     kv3 rx, ry, rz, c, w, vc, dw, ac, cdd, lc, le, ta, tb, r0, r1, r2;
     kv3 wl[RPS3_KNEFF], wt[RPS3_KNEFF], lam[RPS3_KNEFF], Fe[RPS3_KNEFF];
     kv3 wls, wts, lams, Fs, F, lamt, Fo, g6, t;
@@ -361,9 +258,9 @@ static void kloop(const kconst *K, const double *restrict pa,
     ry = kv(-vb2 * ca * sa, 1.0 - vb2 * sa * sa, -sb * sa);
     rz = kv(sb * ca, sb * sa, cb);
     c = kv(-0.5 * K->r * vb2 * C, 0.5 * K->r * vb2 * S, pz[p]);
-    L0 = link_pos(K, 0, rx, ry, c);
-    L1 = link_pos(K, 1, rx, ry, c);
-    L2 = link_pos(K, 2, rx, ry, c);
+    L0 = link_pos(K, 0, rx, ry, c, full);
+    L1 = link_pos(K, 1, rx, ry, c, full);
+    L2 = link_pos(K, 2, rx, ry, c, full);
 
     /* angular and centre velocity and acceleration (velocity.c) */
     w = kv(-da * sb * ca - db * sa, -da * sb * sa + db * ca, da * vb2);
@@ -478,6 +375,8 @@ static void kloop(const kconst *K, const double *restrict pa,
 
     /* energy-rate certificate (certify of invdyn.c): power = dT/dt +
        dP/dt, with omega . rot diag(Ip) rot^T domega */
+    pw = sc = dT = dP = 0.0;
+    if (full) {
     pw = Fo.x * L0.dl + Fo.y * L1.dl + Fo.z * L2.dl;
     sc = fabs(Fo.x * L0.dl) + fabs(Fo.y * L1.dl) + fabs(Fo.z * L2.dl);
     v1 = K->sel[0] * K->M * K->g * vc.z;
@@ -493,15 +392,18 @@ static void kloop(const kconst *K, const double *restrict pa,
     dP = v1 + g1;
     dT = v2 + v3 + i1;
     sc += fabs(v1) + fabs(v2) + fabs(v3) + fabs(g1) + fabs(i1);
+    }
 
     /* the outputs, and whether the point is the kernel's: finite, in
        reach, below the thresholds */
     o->l[0][p] = L0.l;
     o->l[1][p] = L1.l;
     o->l[2][p] = L2.l;
-    o->theta[0][p] = L0.th;
-    o->theta[1][p] = L1.th;
-    o->theta[2][p] = L2.th;
+    if (full) {
+      o->theta[0][p] = L0.th;
+      o->theta[1][p] = L1.th;
+      o->theta[2][p] = L2.th;
+    }
     o->F[0][p] = Fo.x;
     o->F[1][p] = Fo.y;
     o->F[2][p] = Fo.z;
@@ -522,12 +424,13 @@ static void kloop(const kconst *K, const double *restrict pa,
     o->Fe[3][2][p] = Fe[3].z;
     o->cond[p] = cond;
     o->trans[p] = trans;
-    o->eres[p] = K->certify != 0.0 ? pw - dT - dP : 0.0;
+    eres = K->certify != 0.0 ? pw - dT - dP : 0.0;
+    o->eres[p] = eres;
     /* every quantity the scalar path checks for overflow reaches F, Fs,
        lambda or the certificate here (the loads of unselected effects
        are multiplied by 0, which keeps a NaN, and nothing divides by a
        rate), and a non-finite input makes them non-finite */
-    fin = sc + fabs(o->eres[p]) + knorm1(F) + knorm1(Fs) + knorm1(lams) +
+    fin = sc + fabs(eres) + knorm1(F) + knorm1(Fs) + knorm1(lams) +
           knorm1(lamt) + L0.l + L1.l + L2.l + trans;
     /* & rather than &&: no branch in the loop body */
     o->ok[p] = ((in_range * L0.ok * L1.ok * L2.ok != 0.0) & (fin <= DBL_MAX) &
@@ -537,8 +440,32 @@ static void kloop(const kconst *K, const double *restrict pa,
   }
 }
 
+/* the kernels: every output, or the forces alone (no theta, no
+   certificate) */
+#define KLOOP(name, full)                                                     \
+  KCLONES                                                                     \
+  static void name(const kconst *K, const double *restrict pa,                \
+                   const double *restrict pb, const double *restrict pz,      \
+                   const double *restrict va, const double *restrict vb,      \
+                   const double *restrict vz, const double *restrict aa,      \
+                   const double *restrict ab, const double *restrict az,      \
+                   int nb, const rps3_kout *restrict o) {                     \
+    int p;                                                                    \
+    _Pragma("omp simd")                                                       \
+    for (p = 0; p < nb; p++)                                                  \
+      kpoint(K, pa, pb, pz, va, vb, vz, aa, ab, az, p, o, full);              \
+  }
+KLOOP(kloop_full, 1)
+KLOOP(kloop_lean, 0)
+
 void rps3_kernel_block(const rps3_model *m, const rps3_batch_in *in,
-                       size_t i0, int nb, int rates, const rps3_kout *o) {
+                       size_t i0, int nb, int rates, int lean,
+                       const rps3_kout *o) {
+  void (*kloop)(const kconst *, const double *, const double *,
+                const double *, const double *, const double *,
+                const double *, const double *, const double *,
+                const double *, int, const rps3_kout *) =
+      lean ? kloop_lean : kloop_full;
   static const double zero[RPS3_KBLOCK];
   const size_t n = in->n;
   const double *pose = in->pose + i0;

@@ -48,9 +48,12 @@ void rps3_kout_of_block(rps3_kout *o, rps3_kblock *kb);
 int rps3_kernel_covers(const rps3_model *m);
 
 /* points i0 .. i0 + nb - 1 (nb <= RPS3_KBLOCK) of the batch into *o; the
-   rates are read when rates is 1, else taken as zero */
+   rates are read when rates is 1, else taken as zero; lean = 1 computes
+   neither theta nor the certificate (o->theta is then not written, and
+   the residual is 0: for a model without the certificate) */
 void rps3_kernel_block(const rps3_model *m, const rps3_batch_in *in,
-                       size_t i0, int nb, int rates, const rps3_kout *o);
+                       size_t i0, int nb, int rates, int lean,
+                       const rps3_kout *o);
 
 /* the kernel's sine and cosine, and its atan2 for y > 0, one value at a
    time (for the tests: the accuracy against libm) */
