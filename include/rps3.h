@@ -577,8 +577,10 @@ RPS3_API int rps3_inverse(const rps3_model *m, rps3_data *d);
  * Lagrange formulation and no effect beyond the paper's four (payload and
  * pin friction not selected) -- with or without the certificate, and with
  * forces_only -- computes blocks of points in one straight-line loop the
- * compiler vectorises (AVX2 or AVX-512 where the CPU has them), about ten
- * times the points per second of the per-point loop (docs/performance.md).
+ * compiler vectorises (AVX2 or AVX-512 where the CPU has them), more than
+ * ten times the points per second of the per-point loop
+ * (docs/performance.md); with out->theta NULL and without the certificate
+ * it leaves theta and the certificate out as well.
  * Its results agree with the loop's to rounding, not bitwise: l within 4
  * ulp, theta within 2 ulp of pi, F, its shares and lambda R within 8 eps
  * cond of the point's largest force or share, cond within 8 eps cond
