@@ -281,6 +281,9 @@ static int csv_read(table_data *t, int what, char *err, size_t errsz)
     err_set(err, errsz, "%s: a NUL byte: not a text file", t->path);
     goto done;
   }
+  /* a UTF-8 byte order mark (spreadsheets write one) is not a column name */
+  if (len >= 3 && memcmp(text, "\xEF\xBB\xBF", 3) == 0)
+    memset(text, ' ', 3);
   /* count the lines that may be rows, to allocate once */
   for (p = text; p < text + len; p = e + 1) {
     e = strchr(p, '\n');
@@ -299,6 +302,13 @@ static int csv_read(table_data *t, int what, char *err, size_t errsz)
     if (csv_skip(p, e))
       continue;
     if (!header) {
+      if (!memchr(p, ',', (size_t)(e - p)) &&
+          (memchr(p, ';', (size_t)(e - p)) || memchr(p, '\t', (size_t)(e - p)))) {
+        err_set(err, errsz, "%s:%d: the columns are separated by %s; a table "
+                "separates them by commas", t->path, line,
+                memchr(p, ';', (size_t)(e - p)) ? "semicolons" : "tabs");
+        goto done;
+      }
       if (csv_header(p, e, what, col, &ncol, have, t->path, line, err, errsz))
         goto done;
       header = 1;

@@ -205,10 +205,21 @@ def test_bad_table_names_file_and_row(runner, tmp_path, rows, words):
     ("t, alpha, beta, z_c, alpha_dot",
      "m.csv: missing column beta_dot (give the three rates or none)"),
     ("t, alpha, alpha, z_c", "m.csv:2:11: column 'alpha': given twice"),
+    ("t;alpha;beta;z_c", "m.csv:2: the columns are separated by semicolons"),
 ])
 def test_bad_header(runner, tmp_path, header, words):
     line = bad(tmp_path, table(*GOOD, header=header))
     assert words in line, line
+
+
+def test_byte_order_mark_and_crlf(runner, tmp_path):
+    """A spreadsheet's CSV: a UTF-8 byte order mark and CRLF line ends."""
+    (tmp_path / "m.csv").write_bytes(
+        b"\xef\xbb\xbf" + table(*GOOD).replace("\n", "\r\n").encode())
+    scene = write_scene(tmp_path / "s.yaml", SCENE.replace("FILE", "m.csv")
+                        .replace("SAMPLES", "5"))
+    proc = run(scene, None, "--check")
+    assert proc.returncode == 0, proc.stderr
 
 
 def test_missing_file_and_hdf5_errors(runner, tmp_path):
