@@ -932,7 +932,8 @@ static int run_accuracy(const char *path, const char *cmdline, size_t nsamp,
     CFG_STR("derivative", deriv_name[cfg[c].deriv],
             "rates: exact (the trajectory's), central differences of the "
             "pose (fd_pose) or of the link lengths (fd_length) with step h, "
-            "or of the samples at interval dt (fd_samples)")
+            "of the samples at interval dt (fd_samples), or the not-a-knot "
+            "spline of the pose sampled every h (spline_pose)")
     CFG_F64("fd_step", cfg[c].h > 0 ? cfg[c].h : DNAN, "s",
             "finite-difference step, or the spline's row spacing, h (NaN "
             "for exact rates)")
