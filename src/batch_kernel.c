@@ -78,7 +78,7 @@ typedef struct {
   double r, R, M, g, Mg3, M6, mgd, Jlink, Ip[3];
   double pin[3][2], u[3][2], body[3][2]; /* z components are zero */
   double sel[RPS3_KNEFF];  /* 1 when effect k is selected, else 0 */
-  double certify, forces_only, cond_lim, trans_lim;
+  double certify, cond_lim, trans_lim;
   double w_scale;          /* 2 / (3 r^2), rps3_omega_from_balls */
 } kconst;
 
@@ -230,7 +230,7 @@ KINLINE void kpoint(const kconst *K, const double *restrict pa,
     double pw, sc, dT, dP, v1, v2, v3, g1, i1, eres;
     kv3 rx, ry, rz, c, w, vc, dw, ac, cdd, lc, le, ta, tb, r0, r1, r2;
     kv3 wl[RPS3_KNEFF], wt[RPS3_KNEFF], lam[RPS3_KNEFF], Fe[RPS3_KNEFF];
-    kv3 wls, wts, lams, Fs, F, lamt, Fo, g6, t;
+    kv3 F, lamt, g6, t;
     klink L0, L1, L2;
     krow j0, j1, j2;
     /* an angle the reduction does not serve is no point of the kernel's:
@@ -354,13 +354,9 @@ KINLINE void kpoint(const kconst *K, const double *restrict pa,
     wl[3] = kv(0.0, 0.0, 0.0);
     wt[3] = kscale(K->sel[3] * K->Jlink, kv(L0.ddth, L1.ddth, L2.ddth));
 
-    /* (df/dtheta)^T lambda = -wt per effect and for the sum
-       (forces_only), then (34) */
-    wls = kadd(kadd(kadd(wl[0], wl[1]), wl[2]), wl[3]);
-    wts = kadd(kadd(kadd(wt[0], wt[1]), wt[2]), wt[3]);
-    lams = klambda(r0, r1, r2, wts);
-    Fs = kforces(wls, lams, lc, le);
-    F = lamt = kv(0.0, 0.0, 0.0);
+    /* (df/dtheta)^T lambda = -wt per effect, then (34); F and lambda
+       are the sums of the effects' (with forces_only too, where the
+       scalar path solves the summed load once: the same to rounding) */
     lam[0] = klambda(r0, r1, r2, wt[0]);
     lam[1] = klambda(r0, r1, r2, wt[1]);
     lam[2] = klambda(r0, r1, r2, wt[2]);
@@ -371,14 +367,13 @@ KINLINE void kpoint(const kconst *K, const double *restrict pa,
     Fe[3] = kforces(wl[3], lam[3], lc, le);
     F = kadd(kadd(kadd(Fe[0], Fe[1]), Fe[2]), Fe[3]);
     lamt = kadd(kadd(kadd(lam[0], lam[1]), lam[2]), lam[3]);
-    Fo = K->forces_only != 0.0 ? Fs : F;
 
     /* energy-rate certificate (certify of invdyn.c): power = dT/dt +
        dP/dt, with omega . rot diag(Ip) rot^T domega */
     pw = sc = dT = dP = 0.0;
     if (full) {
-    pw = Fo.x * L0.dl + Fo.y * L1.dl + Fo.z * L2.dl;
-    sc = fabs(Fo.x * L0.dl) + fabs(Fo.y * L1.dl) + fabs(Fo.z * L2.dl);
+    pw = F.x * L0.dl + F.y * L1.dl + F.z * L2.dl;
+    sc = fabs(F.x * L0.dl) + fabs(F.y * L1.dl) + fabs(F.z * L2.dl);
     v1 = K->sel[0] * K->M * K->g * vc.z;
     t = kv(K->Ip[0] * kdot(rx, dw), K->Ip[1] * kdot(ry, dw),
            K->Ip[2] * kdot(rz, dw));
@@ -404,12 +399,12 @@ KINLINE void kpoint(const kconst *K, const double *restrict pa,
       o->theta[1][p] = L1.th;
       o->theta[2][p] = L2.th;
     }
-    o->F[0][p] = Fo.x;
-    o->F[1][p] = Fo.y;
-    o->F[2][p] = Fo.z;
-    o->lambda[0][p] = K->forces_only != 0.0 ? lams.x : lamt.x;
-    o->lambda[1][p] = K->forces_only != 0.0 ? lams.y : lamt.y;
-    o->lambda[2][p] = K->forces_only != 0.0 ? lams.z : lamt.z;
+    o->F[0][p] = F.x;
+    o->F[1][p] = F.y;
+    o->F[2][p] = F.z;
+    o->lambda[0][p] = lamt.x;
+    o->lambda[1][p] = lamt.y;
+    o->lambda[2][p] = lamt.z;
     o->Fe[0][0][p] = Fe[0].x;
     o->Fe[0][1][p] = Fe[0].y;
     o->Fe[0][2][p] = Fe[0].z;
@@ -426,12 +421,12 @@ KINLINE void kpoint(const kconst *K, const double *restrict pa,
     o->trans[p] = trans;
     eres = K->certify != 0.0 ? pw - dT - dP : 0.0;
     o->eres[p] = eres;
-    /* every quantity the scalar path checks for overflow reaches F, Fs,
+    /* every quantity the scalar path checks for overflow reaches F,
        lambda or the certificate here (the loads of unselected effects
        are multiplied by 0, which keeps a NaN, and nothing divides by a
        rate), and a non-finite input makes them non-finite */
-    fin = sc + fabs(eres) + knorm1(F) + knorm1(Fs) + knorm1(lams) +
-          knorm1(lamt) + L0.l + L1.l + L2.l + trans;
+    fin = sc + fabs(eres) + knorm1(F) + knorm1(lamt) + L0.l + L1.l + L2.l +
+          trans;
     /* & rather than &&: no branch in the loop body */
     o->ok[p] = ((in_range * L0.ok * L1.ok * L2.ok != 0.0) & (fin <= DBL_MAX) &
                 (cond <= K->cond_lim) & (trans <= K->trans_lim))
@@ -492,7 +487,6 @@ void rps3_kernel_block(const rps3_model *m, const rps3_batch_in *in,
   for (e = 0; e < RPS3_KNEFF; e++)
     K.sel[e] = (m->opt.effects & (1 << e)) ? 1.0 : 0.0;
   K.certify = m->opt.certify ? 1.0 : 0.0;
-  K.forces_only = m->opt.forces_only ? 1.0 : 0.0;
   K.cond_lim = (m->opt.cond_warn < m->opt.cond_max ? m->opt.cond_warn
                                                    : m->opt.cond_max) *
                (1.0 - KMARGIN);
