@@ -396,3 +396,32 @@ def test_hdf5_units_attribute(runner, tmp_path, col, units, fixed, ok):
         assert proc.returncode == 2
         assert f"h.h5: dataset /{col}: units '{units}', but the table is in" \
             in proc.stderr, proc.stderr
+
+
+def test_python_table_is_the_library_table():
+    """rps3.trajectory.table: the helix's rows with rates and accelerations
+    give the helix at the rows to rounding (the quintic Hermite passes
+    through them); poses alone give the spline, which reproduces a cubic
+    exactly; a bad row is named."""
+    import rps3
+    t = helix_grid()
+    h = rps3.trajectory.helix(t=t)
+    a = rps3.trajectory.table(t, h.pose, h.dpose, h.ddpose, t=t)
+    for x, y in ((a.pose, h.pose), (a.dpose, h.dpose), (a.ddpose, h.ddpose)):
+        assert np.abs(x - y).max() <= 1e-12 * max(np.abs(y).max(), 1.0)
+    rows = np.array([0.21, 0.6, 1.37, 1.9, 2.7, 3.05])
+    c = np.array([[0.3, 0.2, -0.05, 0.01], [0.08, 0.01, -0.004, 0.0007],
+                  [0.3, 0.01, 0.002, -0.0011]])
+    def cubic(x, d=0):
+        p = np.polynomial.polynomial
+        return np.stack([p.polyval(x, p.polyder(ck, d)) for ck in c], axis=1)
+    s = rps3.trajectory.table(rows, cubic(rows), samples=101)
+    ta = rows[0] + s.t
+    for d, got in enumerate((s.pose, s.dpose, s.ddpose)):
+        assert np.abs(got - cubic(ta, d)).max() <= 1e-11, d
+    bad = h.pose.copy()
+    bad[3, 2] = -0.1
+    with pytest.raises(ValueError, match=r"pose: trajectory.table.pose\[3\]"):
+        rps3.trajectory.table(t, bad)
+    with pytest.raises(ValueError, match="times: the spline needs at least 4"):
+        rps3.trajectory.table(t[:3], h.pose[:3])

@@ -1,6 +1,7 @@
 """Trajectories with exact derivatives, evaluated by the library:
-the paper's helix (section VI, Tables I-II) and a sinusoid per pose
-coordinate."""
+the paper's helix (section VI, Tables I-II), a sinusoid per pose
+coordinate, and a table of sampled poses (the interpolant's own
+derivatives: docs/trajectories.md)."""
 
 from __future__ import annotations
 
@@ -19,7 +20,9 @@ _KEYWORD = {"trajectory.radius": "radius", "trajectory.pitch": "pitch",
             "trajectory.z0": "z0", "trajectory.period": "period",
             "trajectory.blend": "blend", "trajectory.mean": "mean",
             "trajectory.amp": "amp", "trajectory.freq": "freq",
-            "trajectory.phase": "phase", "trajectory.duration": "duration"}
+            "trajectory.phase": "phase", "trajectory.duration": "duration",
+            "trajectory.table.t": "times", "trajectory.table.pose": "pose",
+            "trajectory.table.rate": "rate", "trajectory.table.acc": "acc"}
 
 
 @dataclass(frozen=True)
@@ -121,4 +124,68 @@ def sine(*, mean: ArrayLike, amp: ArrayLike, freq: ArrayLike,
         for k, x in enumerate(_vector(value, name)):
             getattr(tr.sine, name)[k] = x
     tr.sine.duration = _number(duration, "duration")
+    return _evaluate(model or Model(), tr, samples, t)
+
+
+def _rows(x: ArrayLike, name: str, n: int) -> FloatArray:
+    a = np.ascontiguousarray(x, dtype=np.float64)
+    if a.shape != (n, 3):
+        raise ValueError(f"{name}: expected shape ({n}, 3), got {a.shape}")
+    return a
+
+
+def table(times: ArrayLike, pose: ArrayLike, rate: ArrayLike | None = None,
+          acc: ArrayLike | None = None, *, samples: int | None = None,
+          t: ArrayLike | None = None, model: Model | None = None) -> Trajectory:
+    """A motion given as rows: pose[i] at times[i], interpolated with the
+    interpolant's exact rate and acceleration, as the runner's ``table``
+    kind: the quintic Hermite interpolant of pose, rate and acc; the cubic
+    Hermite one of pose and rate; or, without rates, the not-a-knot cubic
+    spline of the poses (at least 4 rows; its error is O(h^4), O(h^3),
+    O(h^2) in pose, rate and acceleration for rows every h).  The
+    trajectory's time starts at the first row (t = times - times[0]).
+
+    Args:
+        times: (n,) strictly increasing row times [s].
+        pose: (n, 3) rows of (alpha, beta, z_c) [rad, rad, m].
+        rate: (n, 3) rates at the rows, or None for the spline's.
+        acc: (n, 3) accelerations at the rows (with rate), or None.
+        samples: number of samples over the span (default 1001); or
+        t: the sample times [s] themselves, from 0.
+        model: the manipulator every row must be reachable for.
+
+    Raises:
+        ValueError: naming the argument and its row (e.g. ``pose: ...
+            trajectory.table.pose[3] = ...: pose unreachable``).
+    """
+    tm = np.ascontiguousarray(times, dtype=np.float64).reshape(-1)
+    n = tm.size
+    q = _rows(pose, "pose", n)
+    if acc is not None and rate is None:
+        raise ValueError("acc: accelerations need the rates as well")
+    if rate is None:
+        dq = np.empty((n, 3))
+        work = np.empty(n)
+        if lib.rps3_table_spline(n, ffi.from_buffer("double[]", tm),
+                                 ffi.cast("const double (*)[3]",
+                                          ffi.from_buffer("double[]", q)),
+                                 ffi.cast("double (*)[3]",
+                                          ffi.from_buffer("double[]", dq)),
+                                 ffi.from_buffer("double[]", work)) != lib.RPS3_OK:
+            raise ValueError(f"times: the spline needs at least 4 rows at "
+                             f"finite, strictly increasing times (got {n})")
+    else:
+        dq = _rows(rate, "rate", n)
+    ddq = None if acc is None else _rows(acc, "acc", n)
+    tr = ffi.new("rps3_traj *")
+    lib.rps3_traj_default(tr)
+    tr.kind = lib.RPS3_TRAJ_TABLE
+    tr.table.n = n
+    tr.table.time = ffi.from_buffer("double[]", tm)
+    tr.table.value = ffi.cast("const double (*)[3]", ffi.from_buffer("double[]", q))
+    tr.table.rate = ffi.cast("const double (*)[3]", ffi.from_buffer("double[]", dq))
+    if ddq is not None:
+        tr.table.acc = ffi.cast("const double (*)[3]",
+                                ffi.from_buffer("double[]", ddq))
+    # the arrays stay referenced here while the library reads them
     return _evaluate(model or Model(), tr, samples, t)
