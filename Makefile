@@ -27,7 +27,7 @@ VPY = $(VENV)/bin/python
 # Python headers), and what `make check` and `make bench` add (a second
 # compiler and libFuzzer, cmocka, valgrind, MPI, GNU time, CMake for the
 # install test)
-DEB_BUILD = gcc make pkg-config libgsl-dev libhdf5-dev libyaml-dev
+DEB_BUILD = gcc make pkg-config libgsl-dev libhdf5-dev libyaml-dev zlib1g-dev
 DEB_PAPER = $(DEB_BUILD) python3-venv python3-dev
 DEB_CHECK = $(DEB_PAPER) clang libclang-rt-dev libcmocka-dev libopenmpi-dev openmpi-bin \
             valgrind time cmake strace
@@ -193,9 +193,9 @@ $(B)/runner/gitrev.o: $(B)/runner/gitrev.c
 	$(CC) $(WARN) $(OPT) -c $< -o $@
 FORCE:
 $(B)/rps3-run: $(B)/runner/main_run.o $(RUN_OBJ) $(B)/librps3.a
-	$(CC) -o $@ $^ $(HDF5_LIBS) $(YAML_LIBS) $(GSL_LIBS) -lpthread -lm
+	$(CC) -o $@ $^ $(HDF5_LIBS) $(YAML_LIBS) $(GSL_LIBS) -lz -lpthread -lm
 $(B)/rps3-study: $(B)/runner/main_study.o $(RUN_OBJ) $(B)/librps3.a
-	$(CC) -o $@ $^ $(HDF5_LIBS) $(YAML_LIBS) $(GSL_LIBS) -lpthread -lm
+	$(CC) -o $@ $^ $(HDF5_LIBS) $(YAML_LIBS) $(GSL_LIBS) -lz -lpthread -lm
 # rps3-simstudy (runner/main_simstudy.c): closed-loop tracking and what
 # simulation accuracy costs in time; `make simulation` runs it
 $(B)/rps3-simstudy: $(B)/runner/main_simstudy.o $(B)/librps3.a
@@ -208,7 +208,7 @@ $(B)/runner-mpi/main_run.o: runner/main_run.c | $(DEPS)
 	@mkdir -p $(@D)
 	$(CC) $(CPPFLAGS_ALL) -DRPS3_MPI -Irunner $(GSL_CFLAGS) $(HDF5_CFLAGS) $(MPI_CFLAGS) $(WARN) $(OPT) -MMD -MP -c $< -o $@
 $(B)/rps3-run-mpi: $(B)/runner-mpi/main_run.o $(RUN_OBJ) $(B)/librps3.a
-	$(CC) -o $@ $^ $(HDF5_LIBS) $(YAML_LIBS) $(GSL_LIBS) $(MPI_LIBS) -lpthread -lm
+	$(CC) -o $@ $^ $(HDF5_LIBS) $(YAML_LIBS) $(GSL_LIBS) $(MPI_LIBS) -lz -lpthread -lm
 
 # ------------------------------------------------------------------- tests
 $(B)/tests/%: tests/%.c $(B)/librps3.a tests/testutil.h | $(DEPS)

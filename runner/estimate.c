@@ -181,7 +181,9 @@ int est_cost_measure(const scene *s, const sweep_plan *p, out_mask fields,
   if (c->cases)
     c->per_case /= (double)c->cases;
   c->write = est_file_bytes(s, p, fields) / (double)p->npoint *
-             (EST_WRITE_S_PER_BYTE + gzip_s_per_byte(gzip));
+             EST_WRITE_S_PER_BYTE;
+  c->deflate = est_file_bytes(s, p, fields) / (double)p->npoint *
+               gzip_s_per_byte(gzip);
   if (c->samples == 0)
     return -1;
   c->sample /= (double)c->samples;
@@ -191,11 +193,11 @@ int est_cost_measure(const scene *s, const sweep_plan *p, out_mask fields,
 double est_run_seconds(const est_cost *c, double samples, double cases,
                        int threads)
 {
-  double work = samples * c->sample + cases * c->per_case;
+  double work = samples * (c->sample + c->deflate) + cases * c->per_case;
   double write = samples * c->write;
   if (threads <= 1)
     return work + write;
-  /* the workers compute while the calling thread writes */
+  /* the workers compute and deflate while the calling thread writes */
   work /= threads;
   return work > write ? work : write;
 }

@@ -26,7 +26,8 @@ const char *est_human(double bytes, char *buf, size_t sz);
 typedef struct {
   double sample;      /* computing one sample (trajectory + rps3_inverse) */
   double per_case;    /* building a case and its scene_resolved YAML */
-  double write;       /* writing one sample's bytes (deflate included) */
+  double write;       /* writing one sample's bytes (the writing thread) */
+  double deflate;     /* deflating them (--gzip; on the workers at -j N) */
   size_t cases;       /* cases timed */
   size_t samples;     /* samples timed */
 } est_cost;
@@ -45,8 +46,9 @@ int est_cost_measure(const scene *s, const sweep_plan *p, out_mask fields,
 
 /*
  * Wall seconds of a run of `samples` samples and `cases` cases on
- * `threads` worker threads (1: the calling thread computes and writes),
- * at cost c: workers compute in parallel while the calling thread writes.
+ * `threads` worker threads (1: the calling thread computes, deflates and
+ * writes), at cost c: workers compute and deflate in parallel while the
+ * calling thread writes.
  */
 double est_run_seconds(const est_cost *c, double samples, double cases,
                        int threads);

@@ -114,6 +114,9 @@ void out_block_free(out_block *b)
   free(b->yaml);
   free(b->t);
   free(b->msg);
+  free(b->pk_buf);
+  free(b->pk);
+  free(b->pk_tmp);
   memset(b, 0, sizeof *b);
 }
 

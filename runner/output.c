@@ -33,6 +33,7 @@ struct out_file {
   size_t ncase;
   size_t nt;
   int neffect;
+  out_layout layout;  /* for out_pack */
 };
 
 static void vfail(char *err, size_t errsz, const char *fmt, va_list ap)
@@ -309,6 +310,14 @@ out_file *out_create(const char *path, const scene *s,
   f->ncase = s->ncase;
   f->nt = nt;
   f->neffect = b->neffect;
+  f->layout.ncase = s->ncase;
+  f->layout.nt = nt;
+  f->layout.tc = b->cases < s->ncase ? b->cases : s->ncase;
+  f->layout.q = chunk_points < nt ? chunk_points : nt;
+  f->layout.neffect = b->neffect;
+  f->layout.gzip = meta->gzip;
+  f->layout.fields = meta->fields;
+  f->layout.case_time = !grid_common;
 
   f->str = H5Tcopy(H5T_C_S1);
   if (f->str < 0 || H5Tset_size(f->str, H5T_VARIABLE) < 0 ||
@@ -585,10 +594,40 @@ static int write_tile(hid_t ds, hid_t type, int rank, const out_block *b,
   return rc;
 }
 
+void out_file_layout(const out_file *f, out_layout *L)
+{
+  *L = f->layout;
+}
+
+/* write the chunks out_pack made, as they are */
+static int write_packed(out_file *f, const out_block *b, char *err,
+                        size_t errsz)
+{
+  size_t i;
+  for (i = 0; i < b->npk; i++) {
+    const out_chunk *ck = &b->pk[i];
+    hid_t ds = ck->field < OUT_NFIELD ? f->ds[ck->field] : f->case_time;
+    hsize_t off[4] = {0, 0, 0, 0};
+    off[0] = ck->c0;
+    off[1] = ck->k0;
+    if (H5Dwrite_chunk(ds, H5P_DEFAULT, 0, off, ck->size,
+                       b->pk_buf + ck->off) < 0) {
+      fail(err, errsz, "cannot write %s of cases %zu-",
+           ck->field < OUT_NFIELD ? out_field_table[ck->field].name
+                                  : "case_time",
+           ck->c0);
+      return -1;
+    }
+  }
+  return 0;
+}
+
 int out_write(out_file *f, const out_block *b, size_t c0, size_t nc,
               size_t k0, size_t nk, int with_case, char *err, size_t errsz)
 {
   int i;
+  if (b->packed && write_packed(f, b, err, errsz))
+    return -1;
   for (i = 0; i < OUT_NFIELD; i++) {
     const out_field_info *fi = &out_field_table[i];
     hid_t type = field_type(f, fi);
@@ -596,7 +635,8 @@ int out_write(out_file *f, const out_block *b, size_t c0, size_t nc,
                : fi->shape == OUT_CT   ? 2
                : fi->shape == OUT_CTEL ? 4
                                        : 3;
-    if ((fi->shape == OUT_C && !with_case) || f->ds[i] < 0)
+    if ((fi->shape == OUT_C && !with_case) || f->ds[i] < 0 ||
+        (fi->shape != OUT_C && b->packed))
       continue;
     if (write_tile(f->ds[i], type, rank, b, out_block_field(b, i), c0, nc, k0,
                    nk) < 0) {
@@ -605,7 +645,7 @@ int out_write(out_file *f, const out_block *b, size_t c0, size_t nc,
       return -1;
     }
   }
-  if (f->case_time >= 0 &&
+  if (f->case_time >= 0 && !b->packed &&
       write_tile(f->case_time, H5T_NATIVE_DOUBLE, 2, b, b->t, c0, nc, k0, nk) <
           0) {
     fail(err, errsz, "cannot write case_time of cases %zu-%zu", c0,

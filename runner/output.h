@@ -150,7 +150,46 @@ typedef struct {
   double *t;              /* time of each sample [cases][points] */
   scene_text *yaml;       /* per slot: scene_resolved's storage */
   char (*msg)[320];       /* per slot: message's storage */
+  /* the tile's per-sample chunks as the file stores them (out_pack), or
+     packed 0: out_write then hands the buffers to HDF5's filters */
+  int packed;
+  unsigned char *pk_buf;  /* the stored chunks back to back */
+  size_t pk_len, pk_cap;
+  struct out_chunk *pk;   /* [npk]: where each chunk goes */
+  size_t npk, pk_max;
+  unsigned char *pk_tmp;  /* one chunk before deflate */
+  size_t pk_tmp_cap;
 } out_block;
+
+/* a packed chunk: pk_buf[off, off + size) is chunk (c0, k0) of field
+   (OUT_NFIELD: case_time), filters applied */
+typedef struct out_chunk {
+  int field;
+  size_t c0, k0;
+  size_t off, size;
+} out_chunk;
+
+/* what out_pack needs of a file: plain numbers, read by any thread */
+typedef struct {
+  size_t ncase, nt;       /* extents along case and time */
+  size_t tc, q;           /* chunk extents along case and time */
+  int neffect;
+  int gzip;               /* deflate level, 0 for none */
+  out_mask fields;        /* the fields written */
+  int case_time;          /* 1: case_time is written */
+} out_layout;
+
+/*
+ * Pack the per-sample fields (and case_time) of a tile -- slots [0, nc) of
+ * b, cases c0 .., samples [k0, k0 + nk), k0 and c0 on chunk boundaries --
+ * into whole chunks as HDF5 stores them with the file's filters: deflate at
+ * L->gzip, then the Fletcher-32 checksum (padding past the tile with the
+ * fill values).  Calls no HDF5 function, so worker threads pack while the
+ * writing thread writes; out_write then writes the chunks as they are
+ * (H5Dwrite_chunk).  Returns 0, or -1 (out of memory, or zlib failed).
+ */
+int out_pack(const out_layout *L, out_block *b, size_t c0, size_t nc,
+             size_t k0, size_t nk);
 
 /* columns of a shape per (case, sample) */
 size_t out_columns(out_shape shape, int neffect);
@@ -191,10 +230,14 @@ out_file *out_create(const char *path, const scene *s,
                      size_t chunk_points, const out_block *b,
                      const out_meta *meta, char *err, size_t errsz);
 
+/* the layout of an open file's chunks, for out_pack */
+void out_file_layout(const out_file *f, out_layout *L);
+
 /*
  * Write a tile: slots [0, nc) of b hold cases c0 .. c0 + nc - 1, samples
  * [k0, k0 + nk).  Per-case fields (status, message, ...) are written only
- * when with_case is 1.  Returns 0 or -1 with err set.
+ * when with_case is 1.  When b->packed, the per-sample fields are written
+ * as the chunks out_pack made of this tile.  Returns 0 or -1 with err set.
  */
 int out_write(out_file *f, const out_block *b, size_t c0, size_t nc,
               size_t k0, size_t nk, int with_case, char *err, size_t errsz);

@@ -83,12 +83,15 @@ void pre_check_print(const char *scene_path, const scene *s,
          scene_path, s->ncase, s->ncase == 1 ? "" : "s", p->npoint, p->nt,
          p->grid_common ? "" : ", time grid differs by case",
          est_human(est_file_bytes(s, p, po->fields), size, sizeof size));
-  if (run_time(s, p, o, po, &c, when, sizeof when) == 0)
+  if (run_time(s, p, o, po, &c, when, sizeof when) == 0) {
     printf("run time %s (an estimate: %.3g us a sample computing, timed on "
-           "%zu samples of %zu case%s, + %.3g us writing%s)\n",
+           "%zu samples of %zu case%s, + %.3g us writing",
            when, 1e6 * c.sample, c.samples, c.cases, c.cases == 1 ? "" : "s",
-           1e6 * c.write, po->gzip ? " and deflating" : "");
-  else
+           1e6 * c.write);
+    if (po->gzip)
+      printf(" + %.3g us deflating", 1e6 * c.deflate);
+    printf(")\n");
+  } else
     printf("%s\n", when);
   if (p->tile_cases > 1 || p->nt <= p->tile_points)
     printf("%zu job%s of up to %zu cases: at most %zu shards, ranks or "

@@ -465,6 +465,7 @@ typedef struct {
   const scene *s;
   const sweep_plan *p;
   const sweep_opts *o;
+  out_layout layout;        /* the file's chunks, for out_pack */
 } pool;
 
 typedef struct {
@@ -489,6 +490,15 @@ static int worker_emit(sink *k, out_block **b, const tile *t, char *err,
   worker *w = (worker *)k;
   pool *pl = w->pl;
   size_t r;
+  /* deflate and checksum here, in parallel, not on the writing thread; a
+     late failure's blank windows go through HDF5's own filters */
+  (*b)->packed = 0;
+  if (t->blank_below == 0 &&
+      out_pack(&pl->layout, *b, t->c0, t->nc, t->k0, t->nk)) {
+    snprintf(err, errsz, "cannot pack cases %zu-%zu: out of memory",
+             t->c0, t->c0 + t->nc - 1);
+    return -1;
+  }
   pthread_mutex_lock(&pl->mu);
   /* queue the filled block */
   r = (pl->ready_head + pl->nready) % pl->nblock;
@@ -603,6 +613,7 @@ static int run_threads(const scene *s, const sweep_plan *p, out_file *f,
   pl.o = o;
   pl.nblock = nblock;
   pl.next_job = o->shard;
+  out_file_layout(f, &pl.layout);
   pl.block = calloc(nblock, sizeof *pl.block);
   pl.free_ix = calloc(nblock, sizeof *pl.free_ix);
   pl.ready_ix = calloc(nblock, sizeof *pl.ready_ix);

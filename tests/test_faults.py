@@ -514,7 +514,9 @@ def damage_a_chunk(path, name="force"):
         f.write(bytes(x ^ 0x5A for x in b))
 
 
-@pytest.mark.parametrize("extra", [[], ["--gzip", "1"]])
+# -j 2: the chunks are deflated and checksummed on the worker threads
+@pytest.mark.parametrize("extra", [[], ["--gzip", "1"], ["-j", "2"],
+                                   ["-j", "2", "--gzip", "1"]])
 @pytest.mark.parametrize("copy", [[], ["--copy"]])
 def test_merge_refuses_a_damaged_part(runner, tmp_path, extra, copy):
     parts = two_parts(tmp_path, *extra)

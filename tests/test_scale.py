@@ -119,6 +119,35 @@ def test_threads_give_the_same_file(reference, tmp_path):
         assert_same_content(ref, out)
 
 
+@pytest.mark.parametrize("gzip", ["0", "4"])
+def test_worker_threads_store_the_chunks_hdf5_stores(reference, tmp_path,
+                                                     gzip):
+    """With -j N the workers deflate and checksum the chunks (out_pack) and
+    the writer stores them as they are: every stored chunk, filters
+    applied, is byte for byte the one HDF5's own filters store at -j 1."""
+    scene, _ = reference
+    one, two = tmp_path / "j1.h5", tmp_path / "j2.h5"
+    for out, j in ((one, "1"), (two, "2")):
+        proc = run(scene, out, "-q", "-j", j, "--gzip", gzip)
+        assert proc.returncode == 1, proc.stderr
+    with h5py.File(one, "r") as f, h5py.File(two, "r") as g:
+        n = 0
+        for name in ("force", "force_by_effect", "warn", "solve_niter",
+                     "case_time"):
+            if name not in f:
+                continue
+            a, b = f[name].id, g[name].id
+            assert a.get_num_chunks() == b.get_num_chunks() > 0, name
+            for i in range(a.get_num_chunks()):
+                off = a.get_chunk_info(i).chunk_offset
+                ma, ca = a.read_direct_chunk(off)
+                mb, cb = b.read_direct_chunk(off)
+                assert ma == mb == 0 and ca == cb, (name, off)
+                n += 1
+        assert n >= 10
+    assert_same_content(one, two)
+
+
 def test_shards_merge_to_the_same_file(reference, tmp_path):
     scene, ref = reference
     parts = []
