@@ -836,9 +836,10 @@ typedef struct {
  * knots, i.e. the third derivative is continuous there (de Boor, A
  * Practical Guide to Splines, ch. IV; MATLAB's and SciPy's default), so
  * that any cubic is reproduced exactly.  work: n doubles of scratch.
- * Nothing is allocated.  Returns RPS3_OK, or RPS3_EINVAL for a NULL
- * pointer, n < 4 (n = 3 leaves the not-a-knot system singular), or times
- * not finite and strictly increasing.
+ * Nothing is allocated.  Returns RPS3_OK, RPS3_EINVAL for a NULL pointer,
+ * n < 4 (n = 3 leaves the not-a-knot system singular), times not finite
+ * and strictly increasing, or a value not finite, or RPS3_ERANGE when a
+ * rate overflows (rate then holds it).
  */
 RPS3_API int rps3_table_spline(size_t n, const double *time,
                                const double (*value)[3], double (*rate)[3],
@@ -897,7 +898,8 @@ typedef struct {
  * The polar angles psi of the n centres (x, y, z) into psi (n values),
  * followed continuously: psi[0] = atan2(y_0, x_0), then each row adds the
  * angle from the previous centre to its own, in (-pi, pi].  Returns RPS3_OK
- * or RPS3_EINVAL for a NULL pointer.  Nothing is allocated.
+ * or RPS3_EINVAL for a NULL pointer or a centre not finite.  Nothing is
+ * allocated.
  */
 RPS3_API int rps3_table_unwrap(size_t n, const double (*centre)[3],
                                double *psi);

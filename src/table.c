@@ -28,7 +28,8 @@ int rps3_table_spline(size_t n, const double *time, const double (*value)[3],
   if (time == NULL || value == NULL || rate == NULL || work == NULL || n < 4)
     return RPS3_EINVAL;
   for (i = 0; i < n; i++)
-    if (!isfinite(time[i]) || (i > 0 && !(time[i] > time[i - 1])))
+    if (!isfinite(time[i]) || (i > 0 && !(time[i] > time[i - 1])) ||
+        !v3_finite(value[i]))
       return RPS3_EINVAL;
   for (i = 0; i < n; i++) {
     double a, b, c, rhs[3], den;
@@ -71,6 +72,9 @@ int rps3_table_spline(size_t n, const double *time, const double (*value)[3],
   /* back substitution */
   for (i = n - 1; i-- > 0;)
     for (k = 0; k < 3; k++) rate[i][k] -= work[i] * rate[i + 1][k];
+  /* finite rows can still overflow (1e308 apart, 1e-300 s apart) */
+  for (i = 0; i < n; i++)
+    if (!v3_finite(rate[i])) return RPS3_ERANGE;
   return RPS3_OK;
 }
 
@@ -130,6 +134,8 @@ size_t rps3_table_eval(const rps3_table *tb, double t, double q[3],
 int rps3_table_unwrap(size_t n, const double (*centre)[3], double *psi) {
   size_t i;
   if (centre == NULL || psi == NULL) return RPS3_EINVAL;
+  for (i = 0; i < n; i++)
+    if (!v3_finite(centre[i])) return RPS3_EINVAL;
   for (i = 0; i < n; i++) {
     const double *a = centre[i > 0 ? i - 1 : 0], *b = centre[i];
     psi[i] = i == 0 ? atan2(b[1], b[0])

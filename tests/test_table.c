@@ -272,6 +272,17 @@ static void refusals(void **state) {
                    RPS3_EINVAL);
   assert_int_equal(rps3_table_spline(NROW, r.time, NULL, r.rate, r.work),
                    RPS3_EINVAL);
+  /* a value not finite; rows that overflow the slopes */
+  r.value[6][1] = (double)NAN;
+  assert_int_equal(rps3_table_spline(NROW, r.time, (const double(*)[3])r.value,
+                                     r.rate, r.work),
+                   RPS3_EINVAL);
+  r.value[6][1] = 1.7e308;
+  r.value[7][1] = -1.7e308;
+  assert_int_equal(rps3_table_spline(NROW, r.time, (const double(*)[3])r.value,
+                                     r.rate, r.work),
+                   RPS3_ERANGE);
+  table_setup(&tr, &r, 3, 1);
   r.time[5] = r.time[4];
   assert_int_equal(rps3_table_spline(NROW, r.time, (const double(*)[3])r.value,
                                      r.rate, r.work),
@@ -494,6 +505,9 @@ static void path_table_refusals(void **state) {
   r.dc[40][0] = 3.0;
   REFUSED(tr, RPS3_F_PATH_TABLE_VALUE, 40);
   assert_int_equal(rps3_table_unwrap(3, NULL, r.psi), RPS3_EINVAL);
+  r.c[2][0] = (double)INFINITY;
+  assert_int_equal(rps3_table_unwrap(NPATH, (const double(*)[3])r.c, r.psi),
+                   RPS3_EINVAL);
 }
 
 int main(void) {

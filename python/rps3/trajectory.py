@@ -166,14 +166,18 @@ def table(times: ArrayLike, pose: ArrayLike, rate: ArrayLike | None = None,
     if rate is None:
         dq = np.empty((n, 3))
         work = np.empty(n)
-        if lib.rps3_table_spline(n, ffi.from_buffer("double[]", tm),
-                                 ffi.cast("const double (*)[3]",
-                                          ffi.from_buffer("double[]", q)),
-                                 ffi.cast("double (*)[3]",
-                                          ffi.from_buffer("double[]", dq)),
-                                 ffi.from_buffer("double[]", work)) != lib.RPS3_OK:
+        rc = lib.rps3_table_spline(n, ffi.from_buffer("double[]", tm),
+                                   ffi.cast("const double (*)[3]",
+                                            ffi.from_buffer("double[]", q)),
+                                   ffi.cast("double (*)[3]",
+                                            ffi.from_buffer("double[]", dq)),
+                                   ffi.from_buffer("double[]", work))
+        if rc == lib.RPS3_ERANGE:
+            raise ValueError("pose: the spline's rates overflow")
+        if rc != lib.RPS3_OK:
             raise ValueError(f"times: the spline needs at least 4 rows at "
-                             f"finite, strictly increasing times (got {n})")
+                             f"finite, strictly increasing times, with "
+                             f"finite poses (got {n} rows)")
     else:
         dq = _rows(rate, "rate", n)
     ddq = None if acc is None else _rows(acc, "acc", n)
