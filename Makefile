@@ -426,7 +426,7 @@ uninstall:
 # shipped configs run, and one figure each in out/traj_*.png; the measured
 # motion's forces against those of the smooth motion it samples in
 # out/measured.png (configs/measured.csv is `analysis/measured.py generate`)
-TRAJ_CONFIGS = pick_place circle line paper_path measured
+TRAJ_CONFIGS = pick_place circle line paper_path measured path_table
 .PHONY: trajectories
 trajectories: runner venv
 	@mkdir -p out

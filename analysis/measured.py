@@ -3,6 +3,7 @@
 what its forces are worth.
 
 usage: measured.py generate CSV
+       measured.py generate-path CSV
        measured.py figure RUN.h5 OUTDIR
 
 `generate` writes the table configs/measured.csv holds: a smooth motion of
@@ -13,6 +14,11 @@ jitter of +-0.5 ms, plus Gaussian measurement noise of 2e-5 rad on the
 angles and 2e-6 m on z_c (an 18-bit encoder's count is 2.4e-5 rad), from a
 fixed seed, written with 9 significant digits.  Run again it writes the
 same bytes (tests/test_measured.py checks this).
+
+`generate-path` writes configs/path_table.csv: a path of the platform
+centre (x, y, z) as a CAM program or a path planner would export it, a
+figure-eight beside the Z axis (centre_path() below) every 10 ms for 6 s,
+without noise; configs/path_table.yaml runs it as a path of shape table.
 
 `figure` draws OUTDIR/measured.png from a run of configs/measured.yaml: the
 rows against the smooth motion they were sampled from, and the forces the
@@ -77,6 +83,30 @@ def generate(path):
                 "t, alpha, beta, z_c\n")
         for ti, qi in zip(t, q):
             f.write(f"{ti:.6f}, {qi[0]:.9g}, {qi[1]:.9g}, {qi[2]:.9g}\n")
+
+
+def centre_path(t):
+    """The figure-eight of the centre [m] at times t, (n, 3): 1 to 3 mm
+    from the Z axis (tilts of 11 to 19 degrees: the centre's x and y cost
+    tilt, (3)-(4)), well inside r/2 = 57 mm."""
+    t = np.asarray(t, dtype=float)
+    w = 2 * np.pi / 6.0
+    return np.stack([0.002 + 0.001 * np.sin(w * t),
+                     0.0012 * np.sin(2 * w * t),
+                     0.30 + 0.005 * (1 - np.cos(w * t))], axis=1)
+
+
+def generate_path(path):
+    t = np.arange(601) / 100.0
+    c = centre_path(t)
+    with open(path, "w") as f:
+        f.write("# A path of the platform centre (docs/trajectories.md):\n"
+                "# written by `analysis/measured.py generate-path`, a\n"
+                "# figure-eight beside the Z axis every 10 ms for 6 s.\n"
+                "# t [s], x [m], y [m], z [m]\n"
+                "t, x, y, z\n")
+        for ti, ci in zip(t, c):
+            f.write(f"{ti:.2f}, {ci[0]:.9g}, {ci[1]:.9g}, {ci[2]:.9g}\n")
 
 
 def truth_forces(f):
@@ -154,12 +184,16 @@ def main(argv=None):
     sub = ap.add_subparsers(dest="cmd", required=True)
     g = sub.add_parser("generate", help="write the table")
     g.add_argument("csv")
+    gp = sub.add_parser("generate-path", help="write the centre's table")
+    gp.add_argument("csv")
     fg = sub.add_parser("figure", help="draw OUTDIR/measured.png")
     fg.add_argument("h5")
     fg.add_argument("outdir")
     a = ap.parse_args(argv)
     if a.cmd == "generate":
         generate(a.csv)
+    elif a.cmd == "generate-path":
+        generate_path(a.csv)
     else:
         figure(a.h5, a.outdir)
     return 0

@@ -125,8 +125,9 @@ def test_trajectory_figures_are_written(config_runs, tmp_path):
     import sys
 
     from conftest import ANALYSIS
-    # and a table (configs/measured.yaml), whose rates the C tests check
-    names = KINDS + ("measured",)
+    # and tables of the pose and of the centre (configs/measured.yaml,
+    # path_table.yaml), whose rates the C tests check
+    names = KINDS + ("measured", "path_table")
     runs = [str(config_runs[n][0]) for n in names]
     proc = subprocess.run([sys.executable,
                            os.path.join(ANALYSIS, "trajectories.py"),
