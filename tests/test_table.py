@@ -73,16 +73,17 @@ def helix_grid(n=1001):
     return t
 
 
-def run_table(tmp_path, name, samples=1001):
+def run_table(tmp_path, name, samples=1001, scene_text=None,
+              names=("time", "force", "force_by_effect", *POSE)):
+    """Run the scene (SCENE by default) on table `name`: its datasets."""
     scene = write_scene(tmp_path / "s.yaml",
-                        SCENE.replace("FILE", name)
+                        (scene_text or SCENE).replace("FILE", name)
                         .replace("SAMPLES", str(samples)))
     out = tmp_path / (name + ".h5")
     proc = run(scene, out, "-q")
     assert proc.returncode == 0, proc.stderr
     with h5py.File(out, "r") as f:
-        return {k: f[k][()] for k in ("time", "force", "force_by_effect",
-                                      *POSE)}
+        return {k: f[k][()] for k in names}
 
 
 @pytest.fixture(scope="module")
@@ -281,15 +282,8 @@ def helix_centre(t):
 
 
 def run_path_table(tmp_path, name, samples=1001):
-    scene = write_scene(tmp_path / "s.yaml",
-                        PATH_SCENE.replace("FILE", name)
-                        .replace("SAMPLES", str(samples)))
-    out = tmp_path / (name + ".h5")
-    proc = run(scene, out, "-q")
-    assert proc.returncode == 0, proc.stderr
-    with h5py.File(out, "r") as f:
-        return {k: f[k][()] for k in ("force", "x_c", "y_c", "z_c",
-                                      "scene_resolved")}
+    return run_table(tmp_path, name, samples, PATH_SCENE,
+                     ("force", "x_c", "y_c", "z_c", "scene_resolved"))
 
 
 def test_helix_centre_table_is_the_helix(helix_forces, tmp_path):
