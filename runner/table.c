@@ -229,12 +229,32 @@ static int csv_header(const char *s, const char *e, int what, int *col,
   return columns_check(have, what, file, err, errsz);
 }
 
+/* a table is a regular file of at most TABLE_MAX_BYTES: checked by
+   stat() before anything opens it (opening a FIFO would wait for a
+   writer, a device would never end) */
+static int regular_file(const char *path, char *err, size_t errsz)
+{
+  struct stat st;
+  if (stat(path, &st) != 0) {
+    err_set(err, errsz, "%s: cannot open: %s", path, strerror(errno));
+    return -1;
+  }
+  if (!S_ISREG(st.st_mode) || (double)st.st_size > TABLE_MAX_BYTES) {
+    err_set(err, errsz, "%s: not a regular file of at most 1 GiB", path);
+    return -1;
+  }
+  return 0;
+}
+
 /* the whole file into a NUL-terminated buffer (a regular file only) */
 static char *slurp(const char *path, size_t *len, char *err, size_t errsz)
 {
-  FILE *f = fopen(path, "rb");
+  FILE *f;
   struct stat st;
   char *buf;
+  if (regular_file(path, err, errsz))
+    return NULL;
+  f = fopen(path, "rb");
   if (!f) {
     err_set(err, errsz, "%s: cannot open: %s", path, strerror(errno));
     return NULL;
@@ -486,6 +506,8 @@ static int h5_read(table_data *t, int what, char *err, size_t errsz)
   void *data;
   hid_t f;
   int have[NCOL] = {0}, c, rc = -1, x;
+  if (regular_file(t->path, err, errsz))
+    return -1;
   H5Eget_auto2(H5E_DEFAULT, &fn, &data);
   H5Eset_auto2(H5E_DEFAULT, NULL, NULL);
   f = H5Fopen(t->path, H5F_ACC_RDONLY, H5P_DEFAULT);

@@ -223,6 +223,22 @@ def test_byte_order_mark_and_crlf(runner, tmp_path):
     assert proc.returncode == 0, proc.stderr
 
 
+@pytest.mark.parametrize("name", ["fifo.csv", "dir.h5", "dir.csv"])
+def test_table_not_a_regular_file(runner, tmp_path, name):
+    """A FIFO (opening it would wait for a writer) or a directory is
+    refused before anything opens it, as CSV and as HDF5."""
+    import os
+    if name.startswith("fifo"):
+        os.mkfifo(tmp_path / name)
+    else:
+        (tmp_path / name).mkdir()
+    scene = write_scene(tmp_path / "s.yaml", SCENE.replace("FILE", name)
+                        .replace("SAMPLES", "5"))
+    proc = run(scene, None, "--check", timeout=20)
+    assert proc.returncode == 2
+    assert f"{name}: not a regular file" in proc.stderr, proc.stderr
+
+
 def test_missing_file_and_hdf5_errors(runner, tmp_path):
     scene = write_scene(tmp_path / "s.yaml", SCENE.replace("FILE", "nope.csv")
                         .replace("SAMPLES", "5"))
