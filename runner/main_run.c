@@ -581,6 +581,7 @@ static int run_main(int argc, char **argv, const world *w)
     fprintf(stderr, "rps3-run: out of memory\n");
     code = EXIT_IO;
   }
+  block.fields = fields;
   meta.command_line = cmd;
   meta.gzip = gzip;
   meta.shard = shard_arg;

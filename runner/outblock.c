@@ -92,7 +92,10 @@ int out_block_alloc(out_block *b, size_t cases, size_t points, int effects)
   b->t = calloc(cases * points, sizeof *b->t);
   b->yaml = calloc(cases, sizeof *b->yaml);
   b->msg = calloc(cases, sizeof *b->msg);
-  if (!b->t || !b->yaml || !b->msg)
+  b->bx = calloc(OUT_BATCH * OUT_BATCH_DOUBLES, sizeof *b->bx);
+  b->bi = calloc(OUT_BATCH * OUT_BATCH_INTS, sizeof *b->bi);
+  b->fields = out_fields_all();
+  if (!b->t || !b->yaml || !b->msg || !b->bx || !b->bi)
     goto fail;
   return 0;
 fail:
@@ -117,6 +120,8 @@ void out_block_free(out_block *b)
   free(b->pk_buf);
   free(b->pk);
   free(b->pk_tmp);
+  free(b->bx);
+  free(b->bi);
   memset(b, 0, sizeof *b);
 }
 

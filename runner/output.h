@@ -150,6 +150,11 @@ typedef struct {
   double *t;              /* time of each sample [cases][points] */
   scene_text *yaml;       /* per slot: scene_resolved's storage */
   char (*msg)[320];       /* per slot: message's storage */
+  out_mask fields;        /* the fields the file gets (--fields) */
+  /* scratch of the batch path (compute.c): OUT_BATCH points, structure of
+     arrays, OUT_BATCH_DOUBLES and OUT_BATCH_INTS values a point */
+  double *bx;
+  int *bi;
   /* the tile's per-sample chunks as the file stores them (out_pack), or
      packed 0: out_write then hands the buffers to HDF5's filters */
   int packed;
@@ -160,6 +165,13 @@ typedef struct {
   unsigned char *pk_tmp;  /* one chunk before deflate */
   size_t pk_tmp_cap;
 } out_block;
+
+/* points per call of rps3_inverse_batch in the runner, and the scratch
+   they need: time, pose, rates, accelerations, lengths, theta, F, lambda,
+   F_effect of every effect, cond, energy residual; status, warn, niter */
+#define OUT_BATCH 256
+#define OUT_BATCH_DOUBLES (1 + 9 + 12 + 3 * RPS3_NEFFECT + 2)
+#define OUT_BATCH_INTS 3
 
 /* a packed chunk: pk_buf[off, off + size) is chunk (c0, k0) of field
    (OUT_NFIELD: case_time), filters applied */

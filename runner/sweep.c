@@ -632,7 +632,8 @@ static int run_threads(const scene *s, const sweep_plan *p, out_file *f,
                         p->first.model.opt.effects)) {
       snprintf(err, errsz, "out of memory");
       goto done;
-    }
+    } else
+      pl.block[i].fields = b->fields;
   for (i = 0; i < nblock; i++)
     pl.free_ix[pl.nfree++] = i;
   if (pthread_mutex_init(&pl.mu, NULL) || pthread_cond_init(&pl.ready_cv, NULL) ||

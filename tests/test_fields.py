@@ -47,9 +47,12 @@ def test_only_the_listed_fields(scene, whole, tmp_path):
         assert g.attrs["fields"] == ",".join(PER_SAMPLE)
         names = set(f.keys())
         assert names == set(ALWAYS) | {"force", "theta", "warn"}, names
-        for k in ("force", "theta", "warn", "status", "failed_at"):
+        for k in ("warn", "status", "failed_at"):
             assert f[k][()].tobytes() == g[k][()].tobytes(), k
         assert list(f["message"][()]) == list(g["message"][()])
+        # computed by rps3_inverse_batch (see below): equal to rounding
+        for k in ("force", "theta"):
+            close_to_rounding(f[k][()], g[k][()], k)
         # the same layout as the whole file, attributes included
         assert f["force"].chunks == g["force"].chunks
         assert f["force"].attrs["units"] == "N"
@@ -61,6 +64,50 @@ def test_only_the_listed_fields(scene, whole, tmp_path):
     assert check.returncode == 0 and full.returncode == 0
     assert check.stdout.split("output about")[1] != \
         full.stdout.split("output about")[1]
+
+
+def close_to_rounding(a, b, name, scale=None):
+    """a and b NaN at the same places, and within 1e-12 of the largest
+    magnitude (or of scale) elsewhere: the batch kernel agrees with
+    rps3_inverse to within 8 eps cond (tests/test_batch_kernel.c)."""
+    assert np.array_equal(np.isnan(a), np.isnan(b)), name
+    s = np.nanmax(np.abs(a)) if scale is None else scale
+    assert np.nanmax(np.abs(a - b)) <= 1e-12 * s, (name, np.nanmax(
+        np.abs(a - b)) / s)
+
+
+# the per-sample fields rps3_inverse_batch returns, the pose with them
+BATCH = ["force", "force_by_effect", "length", "theta", "alpha", "beta",
+         "z_c", "lambda", "energy_residual", "condition", "solve_niter",
+         "warn"]
+
+
+@pytest.mark.parametrize("theta", ["closed_form", "multiroot"])
+def test_a_file_of_batch_fields_is_computed_by_the_batch(tmp_path, theta):
+    """A file of only the fields rps3_inverse_batch returns is computed by
+    it: by the vectorised kernel where it applies (closed form), equal to
+    rps3_inverse's numbers to rounding; by the per-point loop elsewhere
+    (multiroot), bit for bit.  Failing cases fail alike."""
+    text = FAILING_SINE.replace("SAMPLES", "1001").replace("THETA", theta)
+    scene = write_scene(tmp_path / "s.yaml", text)
+    full, part = tmp_path / "full.h5", tmp_path / "part.h5"
+    assert run(scene, full, "-q").returncode == 1
+    proc = run(scene, part, "-q", "--fields", ",".join(BATCH))
+    assert proc.returncode == 1, proc.stderr
+    with h5py.File(full, "r") as f, h5py.File(part, "r") as g:
+        for k in ("status", "failed_at", "warn", "solve_niter"):
+            assert f[k][()].tobytes() == g[k][()].tobytes(), k
+        assert list(f["message"][()]) == list(g["message"][()])
+        assert (f["status"][()] != 0).sum() == 1
+        for k in BATCH:
+            a, b = f[k][()], g[k][()]
+            if theta == "multiroot":
+                assert a.tobytes() == b.tobytes(), k
+            elif k == "energy_residual":
+                # rounding noise either way: against its terms' scale
+                close_to_rounding(a, b, k, np.nanmax(f["energy_scale"]))
+            elif a.dtype.kind == "f":
+                close_to_rounding(a, b, k)
 
 
 @pytest.mark.parametrize("arg", ["forces", "force,", "", "force,status",
