@@ -173,6 +173,9 @@ int est_cost_measure(const scene *s, const sweep_plan *p, out_mask fields,
   if (out_block_alloc(&b, 1, EST_SAMPLES / ncase,
                       p->first.model.opt.effects))
     return -1;
+  /* the path the run takes: a file of the batch's fields is computed by
+     rps3_inverse_batch (compute.c) */
+  b.fields = fields;
   for (k = 0; k < ncase; k++)
     time_case(s, ncase > 1 ? k * (s->ncase - 1) / (ncase - 1) : 0, &b, &d,
               &solver, c);
