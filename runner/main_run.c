@@ -598,6 +598,10 @@ static int run_main(int argc, char **argv, const world *w)
                  quiet || w->rank != 0);
   pr.njob_all = sweep_njob(&s, &plan);
   pr.njob = sweep_shard_jobs(&s, &plan, opts.shard, opts.nshard);
+  /* the shard's samples, in proportion to its cases (exact unsharded) */
+  pr.npoint = s.ncase ? (size_t)((double)plan.npoint * (double)pr.ncase /
+                                 (double)s.ncase)
+                      : 0;
   f = out_create(tmpout_path(), &s, &plan.first, plan.nt, plan.grid_common,
                  plan.chunk_points, &block, &meta, err, sizeof err);
   if (!f) {

@@ -4,6 +4,9 @@
 #include "progress.h"
 
 #include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <sys/ioctl.h>
 #include <time.h>
 #include <unistd.h>
 
@@ -36,6 +39,8 @@ void progress_start(progress *p, size_t ncase, int quiet)
   p->njob = p->njob_all = 0;
   p->t0 = now();
   p->shown = p->t0;
+  p->npoint = 0;
+  p->failure_shown = 0;
   if (quiet)
     p->mode = PROGRESS_QUIET;
   else if (isatty(STDERR_FILENO))
@@ -45,27 +50,77 @@ void progress_start(progress *p, size_t ncase, int quiet)
   p->interval = p->mode == PROGRESS_BAR ? BAR_INTERVAL : LINE_INTERVAL;
 }
 
+/* columns of the terminal on stderr (re-read at every update: the window
+   may be resized), else $COLUMNS, else 80 */
+static int term_width(void)
+{
+  struct winsize w;
+  const char *c = getenv("COLUMNS");
+  long n;
+  if (ioctl(STDERR_FILENO, TIOCGWINSZ, &w) == 0 && w.ws_col > 0)
+    return (int)w.ws_col;
+  n = c ? strtol(c, NULL, 10) : 0;
+  return n > 0 && n < 10000 ? (int)n : 80;
+}
+
+/* the fraction done: by samples when their total is known (a single long
+   case moves the bar too), else by cases */
+static double fraction(const progress *p, size_t cases_done,
+                       size_t points_done)
+{
+  double f = p->npoint ? (double)points_done / (double)p->npoint
+             : p->ncase ? (double)cases_done / (double)p->ncase
+                        : 0;
+  return f > 1 ? 1 : f;
+}
+
+/* the bar: "[###...] 3/48 cases  1.2 cases/s  5e+05 samples/s  ETA h:mm:ss"
+   (without the rates on a narrow terminal) cut to the terminal's width, drawn over the previous one and the rest of
+   the line cleared (a shorter line leaves no tail of the longer one) */
+static void draw_bar(const progress *p, double f, size_t cases_done,
+                     double rate, double srate, const char *eta)
+{
+  char text[160], line[512];
+  int width = term_width() - 1, bar, i, n;
+  snprintf(text, sizeof text, " %zu/%zu cases  %.3g cases/s  %.3g samples/s"
+           "  ETA %s", cases_done, p->ncase, rate, srate, eta);
+  bar = width - (int)strlen(text) - 2;
+  if (bar < 10) { /* a narrow terminal: the bar before the rates */
+    snprintf(text, sizeof text, " %zu/%zu cases  ETA %s", cases_done,
+             p->ncase, eta);
+    bar = width - (int)strlen(text) - 2;
+  }
+  if (bar > BAR_WIDTH)
+    bar = BAR_WIDTH;
+  n = 0;
+  if (bar >= 5) {
+    int fill = (int)((double)bar * f);
+    line[n++] = '[';
+    for (i = 0; i < bar; i++)
+      line[n++] = i < fill ? '#' : '.';
+    line[n++] = ']';
+  }
+  snprintf(line + n, sizeof line - (size_t)n, "%s", n ? text : text + 1);
+  if (width > 0 && width < (int)sizeof line && (int)strlen(line) > width)
+    line[width] = '\0';
+  fprintf(stderr, "\r%s\033[K", line);
+}
+
 void progress_update(progress *p, size_t cases_done, size_t points_done)
 {
-  double t = now(), el = t - p->t0, rate, eta;
+  double t = now(), el = t - p->t0, rate, eta, f;
   char e1[32], e2[32];
   if (p->mode == PROGRESS_QUIET || t - p->shown < p->interval)
     return;
   p->shown = t;
   rate = el > 0 ? (double)cases_done / el : 0;
-  eta = rate > 0 ? (double)(p->ncase - cases_done) / rate : -1;
+  f = fraction(p, cases_done, points_done);
+  eta = f > 0 ? el * (1 - f) / f : -1;
   hms(e1, sizeof e1, el);
   hms(e2, sizeof e2, eta);
   if (p->mode == PROGRESS_BAR) {
-    int i, fill = (int)((double)BAR_WIDTH * (double)cases_done /
-                        (double)(p->ncase ? p->ncase : 1));
-    fputc('\r', stderr);
-    fputc('[', stderr);
-    for (i = 0; i < BAR_WIDTH; i++)
-      fputc(i < fill ? '#' : '.', stderr);
-    fprintf(stderr, "] %zu/%zu cases  %.3g cases/s  %.3g samples/s  ETA %s ",
-            cases_done, p->ncase, rate, el > 0 ? (double)points_done / el : 0,
-            e2);
+    draw_bar(p, f, cases_done, rate,
+             el > 0 ? (double)points_done / el : 0, e2);
   } else {
     fprintf(stderr,
             "rps3-run: %zu/%zu cases, %zu samples, %s elapsed, %.3g cases/s, "
@@ -73,6 +128,23 @@ void progress_update(progress *p, size_t cases_done, size_t points_done)
             cases_done, p->ncase, points_done, e1, rate, e2);
   }
   fflush(stderr);
+}
+
+void progress_failure(progress *p, size_t icase, const char *what,
+                      const char *msg)
+{
+  if (p->failure_shown)
+    return;
+  p->failure_shown = 1;
+  if (p->mode == PROGRESS_BAR)
+    fputs("\r\033[K", stderr);
+  fprintf(stderr, "rps3-run: first failure: case %zu%s%s%s: %s\n", icase,
+          what && *what ? " (" : "", what ? what : "",
+          what && *what ? ")" : "", msg);
+  fflush(stderr);
+  /* the bar is drawn again at the next update */
+  if (p->mode == PROGRESS_BAR)
+    p->shown = 0;
 }
 
 void progress_finish(progress *p, size_t cases_done, size_t points_done,
@@ -84,7 +156,7 @@ void progress_finish(progress *p, size_t cases_done, size_t points_done,
     return;
   hms(e1, sizeof e1, el);
   if (p->mode == PROGRESS_BAR)
-    fputc('\n', stderr);
+    fputs("\r\033[K", stderr); /* the bar gives way to the summary */
   fprintf(stderr,
           "rps3-run: %zu/%zu cases (%zu failed), %zu samples in %s "
           "(%.3g samples/s)",

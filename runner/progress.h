@@ -1,7 +1,8 @@
 /*
  * progress.h - progress of a sweep on stderr: a bar with cases done, rate
- * and ETA on a terminal, a plain line every few seconds otherwise, nothing
- * when quiet.
+ * and ETA on a terminal (one line, cleared and cut to the terminal's
+ * width), a plain line every few seconds otherwise, nothing when quiet but
+ * the first failure's reason.
  */
 #ifndef RPS3_RUNNER_PROGRESS_H
 #define RPS3_RUNNER_PROGRESS_H
@@ -18,6 +19,9 @@ typedef struct {
   double t0;          /* start [s, monotonic] */
   double shown;       /* time of the last output [s] */
   double interval;    /* seconds between outputs */
+  size_t npoint;      /* samples to compute (0: unknown): the bar moves by
+                         samples, so that it moves inside a long case too */
+  int failure_shown;  /* the first failure's reason has been printed */
 } progress;
 
 /* Start; mode from quiet and whether stderr is a terminal. */
@@ -25,6 +29,12 @@ void progress_start(progress *p, size_t ncase, int quiet);
 
 /* Report cases_done cases and points_done samples so far (rate-limited). */
 void progress_update(progress *p, size_t cases_done, size_t points_done);
+
+/* Print the first failed case's reason once ("rps3-run: first failure:
+   case C (KEY = VALUE, ...): MESSAGE"), also when quiet: a user who asked
+   for silence still learns why the exit code is not 0. */
+void progress_failure(progress *p, size_t icase, const char *what,
+                      const char *msg);
 
 /* Final line: cases, failures, samples, elapsed time and rate, jobs. */
 void progress_finish(progress *p, size_t cases_done, size_t points_done,

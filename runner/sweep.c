@@ -253,12 +253,43 @@ static int tile_write(out_file *f, const out_block *b, const tile *t,
                    errsz);
 }
 
-/* count a written tile and show the progress */
-static void tile_count(const tile *t, sweep_stats *st, progress *pr)
+/* "key = value, ..." of case c's swept keys, "" without a sweep */
+static void case_label(const scene *s, size_t c, char *buf, size_t sz)
+{
+  size_t a, n = 0;
+  buf[0] = '\0';
+  for (a = 0; a < s->naxis && n < sz; a++) {
+    const scene_axis *ax = &s->axis[a];
+    double v = ax->val[scene_case_coord(s, c, a)];
+    const char *name = scene_enum_name(ax->key, (int)v);
+    int w = name ? snprintf(buf + n, sz - n, "%s%s = %s", a ? ", " : "",
+                            ax->path, name)
+                 : snprintf(buf + n, sz - n, "%s%s = %.6g", a ? ", " : "",
+                            ax->path, v);
+    if (w < 0)
+      break;
+    n += (size_t)w;
+  }
+}
+
+/* count a written tile of block b and show the progress, and the reason
+   of the run's first failed case (also when quiet) */
+static void tile_count(const scene *s, const out_block *b, const tile *t,
+                       sweep_stats *st, progress *pr)
 {
   st->cases_done += t->cases;
   st->points_done += t->points;
   st->nfailed += t->failed;
+  if (t->failed && !pr->failure_shown) {
+    size_t slot;
+    for (slot = 0; slot < t->nc; slot++)
+      if (((const int32_t *)b->status)[slot] != RPS3_OK) {
+        char what[512];
+        case_label(s, t->c0 + slot, what, sizeof what);
+        progress_failure(pr, t->c0 + slot, what, b->msg[slot]);
+        break;
+      }
+  }
   progress_update(pr, st->cases_done, st->points_done);
 }
 
@@ -406,6 +437,7 @@ static void workspaces_free(rps3_data *ws[RPS3_NSOLVER])
 
 typedef struct {
   sink base;
+  const scene *s;
   out_file *f;
   sweep_stats *st;
   progress *pr;
@@ -417,7 +449,7 @@ static int serial_emit(sink *k, out_block **b, const tile *t, char *err,
   serial_sink *ss = (serial_sink *)k;
   if (tile_write(ss->f, *b, t, err, errsz))
     return -1;
-  tile_count(t, ss->st, ss->pr);
+  tile_count(ss->s, *b, t, ss->st, ss->pr);
   return 0;
 }
 
@@ -431,6 +463,7 @@ static int run_serial(const scene *s, const sweep_plan *p, out_file *f,
   int rc = 0;
   memset(ws, 0, sizeof ws);
   ss.base.emit = serial_emit;
+  ss.s = s;
   ss.f = f;
   ss.st = st;
   ss.pr = pr;
@@ -587,7 +620,7 @@ static int pool_write(pool *pl, out_file *f, progress *pr, sweep_stats *st)
       pool_fail(pl, err);
       break;
     }
-    tile_count(&t, st, pr);
+    tile_count(pl->s, &pl->block[ix], &t, st, pr);
     pthread_mutex_lock(&pl->mu);
     pl->free_ix[pl->nfree++] = ix;
     pthread_cond_signal(&pl->free_cv);

@@ -346,6 +346,77 @@ def test_progress_lines_quiet_and_bar(runner, tmp_path):
     assert "1000/1000 cases (0 failed)" in screen
 
 
+def on_a_terminal(args, columns=50):
+    """stderr of rps3-run ARGS on a pseudo-terminal COLUMNS wide."""
+    import fcntl
+    import struct
+    import termios
+    master, slave = pty.openpty()
+    fcntl.ioctl(slave, termios.TIOCSWINSZ,
+                struct.pack("HHHH", 24, columns, 0, 0))
+    p = subprocess.Popen([RUNNER] + [str(a) for a in args], stderr=slave,
+                         stdout=subprocess.DEVNULL)
+    os.close(slave)
+    chunks = []
+    while True:
+        try:
+            data = os.read(master, 4096)
+        except OSError:
+            break
+        if not data:
+            break
+        chunks.append(data)
+    p.wait(timeout=60)
+    os.close(master)
+    return p.returncode, b"".join(chunks).decode()
+
+
+def test_the_bar_fits_the_terminal_and_clears_its_line(runner, tmp_path):
+    code, screen = on_a_terminal([big_scene(tmp_path, 1000), "-o",
+                                  tmp_path / "c.h5"], columns=50)
+    assert code == 0
+    bars = [b.split("\033[K")[0] for b in screen.split("\r")[1:]]
+    bars = [b for b in bars if b.startswith("[")]
+    assert bars, screen
+    # each redraw is cut to the width (49 columns: the cursor stays on the
+    # line) and clears what a longer previous one left
+    assert all(len(b) <= 49 for b in bars), bars
+    assert screen.count("\033[K") >= len(bars)
+    # the summary replaces the bar: it starts its own line
+    assert "\r\033[Krps3-run: 1000/1000 cases (0 failed)" in screen
+
+
+def test_the_bar_moves_inside_one_long_case(runner, tmp_path):
+    """One case of 3 M samples: the bar moves by samples, not by cases."""
+    text = open(os.path.join(CONFIGS, "paper.yaml")).read()
+    text = text.replace("samples: 1001", "samples: 3000001")
+    text = text.replace("manipulator.m_over_M: [0, 0.5]",
+                        "manipulator.m_over_M: [0.5]")
+    scene = write_scene(tmp_path / "one.yaml", text)
+    code, screen = on_a_terminal([scene, "-o", tmp_path / "one.h5",
+                                  "--fields", "force"], columns=120)
+    assert code == 0
+    bars = [b for b in screen.split("\r") if b.startswith("[")]
+    # some redraw before the end shows part of the bar filled while the
+    # only case is still running (0/1 cases)
+    partial = [b for b in bars if " 0/1 cases" in b and "#" in b]
+    assert partial, bars
+
+
+def test_quiet_still_names_the_first_failure(runner, tmp_path):
+    scene = write_scene(tmp_path / "f.yaml", failing_sine())
+    for extra in (["-q"], []):
+        proc = run(scene, tmp_path / "f.h5", *extra)
+        assert proc.returncode == 1
+        lines = [ln for ln in proc.stderr.splitlines() if "first failure" in ln]
+        assert len(lines) == 1, proc.stderr
+        assert lines[0].startswith("rps3-run: first failure: case 1 "
+                                   "(trajectory.amp[2] = 0.2): t = ")
+        assert "unreachable" in lines[0]
+    assert proc.stderr.splitlines()[-1].startswith("rps3-run: 3/3 cases "
+                                                   "(1 failed)")
+
+
 def child_maxrss_kib(args):
     """Peak RSS of rps3-run with these arguments, in a fresh process."""
     code = ("import resource, subprocess, sys; "

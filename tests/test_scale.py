@@ -322,8 +322,12 @@ def test_mpirun_gives_the_same_file(reference, tmp_path):
     # the size estimate and one summary line, from rank 0, for all the
     # cases (and, in windows, the warning that -j 2 has one job per rank)
     said = [x for x in proc.stderr.splitlines()
-            if x.startswith("rps3-run: ") and "warning: -j 2" not in x]
+            if x.startswith("rps3-run: ") and "warning: -j 2" not in x
+            and "first failure" not in x]
     assert len(said) == 2, proc.stderr
+    # and the first failure's reason, at most once per rank that had one
+    first = proc.stderr.count("rps3-run: first failure: case ")
+    assert 1 <= first <= 3, proc.stderr
     with h5py.File(ref, "r") as f:
         n = len(f["status"])
     assert f"{n}/{n} cases" in proc.stderr
