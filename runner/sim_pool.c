@@ -117,8 +117,10 @@ static int writer(pool *P, const sim_plan *p, sim_file *f, int nthread,
     points += t->nk;
     if (rc == 0 && t->last) {
       done++;
-      if (t->v.status != RPS3_OK)
+      if (t->v.status != RPS3_OK) {
         ++*nfailed;
+        sim_failure(P->s, pr, t);
+      }
       progress_update(pr, done, points);
     }
     pthread_mutex_lock(&P->mu);

@@ -5,6 +5,7 @@
  * time, under a temporary name renamed when complete (tmpout.h).
  */
 #include "sim_run.h"
+#include "sweep.h"
 #include "cmd.h"
 #include "estimate.h"
 #include "safeio.h"
@@ -267,6 +268,16 @@ static sim_tile *direct_put(sim_sink *k, sim_tile *t)
 }
 
 /* every case on this thread */
+/* the first failed case's reason on stderr (progress_failure) */
+void sim_failure(const scene *s, progress *pr, const sim_tile *t)
+{
+  char what[512];
+  if (pr->failure_shown)
+    return;
+  sweep_case_label(s, t->c, what, sizeof what);
+  progress_failure(pr, t->c, what, t->v.message);
+}
+
 static int run_direct(const scene *s, const sim_plan *p, sim_file *f,
                       progress *pr, size_t *nfailed, char *err, size_t errsz)
 {
@@ -284,8 +295,10 @@ static int run_direct(const scene *s, const sim_plan *p, sim_file *f,
   d.errsz = errsz;
   for (i = 0; i < s->ncase && t; i++) {
     t = sim_run_case(s, i, (size_t)-1, t, &d.base, err, errsz);
-    if (t && t->v.status != RPS3_OK)
+    if (t && t->v.status != RPS3_OK) {
       ++*nfailed;
+      sim_failure(s, pr, t);
+    }
     points += t ? t->k0 + t->nk : 0;
     progress_update(pr, i + 1, points);
   }
@@ -449,6 +462,7 @@ int sim_main(const scene *s, const sim_args *a)
   }
   tmpout_arm();
   progress_start(&pr, s->ncase, a->quiet);
+  pr.npoint = p.npoint;
   err[0] = '\0';
   f = sim_file_create(tmpout_path(), s, p.nt, times,
                       p.nt < SIM_WINDOW ? p.nt : SIM_WINDOW, a->gzip,

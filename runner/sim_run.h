@@ -58,4 +58,8 @@ int sim_run_all(const scene *s, const sim_plan *p, sim_file *f, int nthread,
 int sim_pool_run(const scene *s, const sim_plan *p, sim_file *f, int nthread,
                  progress *pr, size_t *nfailed, char *err, size_t errsz);
 
+/* Print the reason of the first failed case (tile t, its last window) once,
+   also when quiet. */
+void sim_failure(const scene *s, progress *pr, const sim_tile *t);
+
 #endif /* RPS3_RUNNER_SIM_RUN_H */

@@ -253,8 +253,7 @@ static int tile_write(out_file *f, const out_block *b, const tile *t,
                    errsz);
 }
 
-/* "key = value, ..." of case c's swept keys, "" without a sweep */
-static void case_label(const scene *s, size_t c, char *buf, size_t sz)
+void sweep_case_label(const scene *s, size_t c, char *buf, size_t sz)
 {
   size_t a, n = 0;
   buf[0] = '\0';
@@ -285,7 +284,7 @@ static void tile_count(const scene *s, const out_block *b, const tile *t,
     for (slot = 0; slot < t->nc; slot++)
       if (((const int32_t *)b->status)[slot] != RPS3_OK) {
         char what[512];
-        case_label(s, t->c0 + slot, what, sizeof what);
+        sweep_case_label(s, t->c0 + slot, what, sizeof what);
         progress_failure(pr, t->c0 + slot, what, b->msg[slot]);
         break;
       }

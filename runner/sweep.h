@@ -104,4 +104,8 @@ int sweep_run_opts(const scene *s, const sweep_plan *p, out_file *f,
                    out_block *b, const sweep_opts *o, progress *pr,
                    sweep_stats *st, char *err, size_t errsz);
 
+/* "key = value, ..." of case c's swept keys (enums by name), "" without a
+   sweep: how messages name a case */
+void sweep_case_label(const scene *s, size_t c, char *buf, size_t sz);
+
 #endif /* RPS3_RUNNER_SWEEP_H */

@@ -193,6 +193,8 @@ def test_saturating_controller_ends_cleanly(runner, tmp_path):
         assert np.nanmax(np.abs(F)) == 0.5
         assert np.nanmax(np.abs(Fc)) > 0.5
         assert f["nsat"][0] > 0
+    # stderr names it too, once, as the run's first failure
+    assert proc.stderr.count("rps3-run: first failure: case 0: " + msg) == 1
 
 
 def test_plant_driven_towards_the_base_stops_at_the_stroke(runner, tmp_path):
