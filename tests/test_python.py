@@ -5,6 +5,7 @@ against the C tests' cases and identities, its batch against its own
 points one by one, open_dataset's dimensions, and bad input raising clean
 exceptions that name the argument."""
 
+import gc
 import os
 import re
 import subprocess
@@ -193,6 +194,60 @@ def test_failing_points_are_recorded_and_the_others_computed():
     assert (out.status[good] == 0).all()
     ref = model.inverse(tr.pose, tr.dpose, tr.ddpose)
     assert same_bits(out.force[good], ref.force[good])
+
+
+def test_layouts_copies_and_lifetimes():
+    """Inputs in any layout give the same bits; the trajectory's
+    (Fortran-ordered) arrays reach the library without a copy; no input is
+    modified; every output owns its own memory, alive after the model, the
+    workspace and the inputs are gone."""
+    model = entropy_model()
+    tr = sine_points(model, 257)
+    args = (tr.pose, tr.dpose, tr.ddpose)
+    kept = [np.array(a) for a in args]
+    ref = model.inverse(*args)
+    assert ref.ok.all()
+    # the trajectory's arrays are the library's layout: passed as they are
+    for a in args:
+        assert np.shares_memory(rps3._core.points(a, "pose")[0], a)
+    # C-ordered, strided rows and columns, read-only, lists: same bits
+    wide = [np.zeros((2 * 257, 5)) for _ in args]
+    for w, a in zip(wide, args):
+        w[::2, 1:4] = a
+    frozen = [np.array(a) for a in args]
+    for a in frozen:
+        a.flags.writeable = False
+    for layout in ([np.ascontiguousarray(a) for a in args],
+                   [w[::2, 1:4] for w in wide], frozen,
+                   [a.tolist() for a in args]):
+        out = model.inverse(*layout)
+        for name in ("force", "lambda_", "condition", "l", "theta", "status"):
+            assert same_bits(getattr(out, name), getattr(ref, name)), name
+    for a, b in zip(args, kept):
+        assert same_bits(a, b)  # inputs untouched
+    k = model.ik(tr.pose)
+    for lens in (k.l, np.ascontiguousarray(k.l), np.asfortranarray(k.l)[::1]):
+        assert same_bits(model.fk(lens, guess=k.theta).pose,
+                         model.fk(k.l, guess=k.theta).pose)
+    # outputs: disjoint, writable, and owned beyond the call's objects
+    fields = {"force": ref.force, "lambda_": ref.lambda_, "l": ref.l,
+              "theta": ref.theta, "condition": ref.condition,
+              "energy_residual": ref.energy_residual, "status": ref.status,
+              "warn": ref.warn, **ref.shares}
+    for i, (x, a) in enumerate(fields.items()):
+        assert not any(np.shares_memory(a, b) for b in args), x
+        for y, b in list(fields.items())[i + 1:]:
+            assert not np.shares_memory(a, b), (x, y)
+    saved = {x: np.array(a) for x, a in fields.items()}
+    del model, tr, args, out, k
+    gc.collect()
+    junk = [np.full((257, 33), 7.25) for _ in range(64)]  # reuse freed memory
+    ref.force[:] = -1.0
+    assert (ref.l == saved["l"]).all() and (ref.theta == saved["theta"]).all()
+    for x, a in fields.items():
+        if x != "force":
+            assert same_bits(a, saved[x]), x
+    assert junk[-1][0, 0] == 7.25
 
 
 # ---------------------------------------------------------------- datasets

@@ -25,16 +25,24 @@ HERE = os.path.dirname(os.path.abspath(__file__))
 ROOT = os.path.dirname(os.path.dirname(HERE))
 
 # a C loop over samples for trajectories (the library evaluates one time
-# per call); compiled into the extension, next to cffi's code
+# per call), writing the component-major layout of the batch entry points
+# (component c of sample i at [c * n + i]) so that the samples go to
+# Model.inverse without a transposing copy; compiled into the extension,
+# next to cffi's code
 HELPERS = r"""
 static int rps3py_traj_eval_n(const rps3_model *m, const rps3_traj *tr,
                               size_t n, const double *t, double *pose,
                               double *dpose, double *ddpose) {
-  size_t i;
+  size_t i, c;
   for (i = 0; i < n; i++) {
-    int s = rps3_traj_eval(m, tr, t[i], pose + 3 * i, dpose + 3 * i,
-                           ddpose + 3 * i);
+    double q[3], dq[3], ddq[3];
+    int s = rps3_traj_eval(m, tr, t[i], q, dq, ddq);
     if (s != RPS3_OK) return s;
+    for (c = 0; c < 3; c++) {
+      pose[c * n + i] = q[c];
+      dpose[c * n + i] = dq[c];
+      ddpose[c * n + i] = ddq[c];
+    }
   }
   return RPS3_OK;
 }

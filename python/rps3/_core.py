@@ -21,7 +21,10 @@ def text(cdata: Any) -> str:
 
 def points(x: ArrayLike, name: str) -> tuple[FloatArray, bool]:
     """An (n, 3) or (3,) array of float64 as the library's component-major
-    (3, n) contiguous array; the flag says the input was one point."""
+    (3, n) contiguous array; the flag says the input was one point.  The
+    array itself, transposed, when it already is float64 in that layout
+    (Fortran-ordered (n, 3), as the package's own results and trajectories
+    are); a copy otherwise (C-ordered or strided input, other dtypes)."""
     a = np.asarray(x, dtype=np.float64)
     single = a.ndim == 1
     if single:
@@ -30,6 +33,25 @@ def points(x: ArrayLike, name: str) -> tuple[FloatArray, bool]:
         raise ValueError(f"{name}: expected shape (n, 3) or (3,), got "
                          f"{np.shape(x)}")
     return np.ascontiguousarray(a.T), single
+
+
+def results(n: int, shapes: dict[str, tuple[int, ...]],
+            counters: tuple[str, ...]) -> dict[str, np.ndarray]:
+    """The output arrays of a batch call over n points, component-major
+    (shape + (n,)), allocated once: the float64 fields `shapes` as views of
+    one (rows, n) block, the int32 fields `counters` as rows of one (k, n)
+    block.  Each view is C-contiguous, for the library to fill in place."""
+    rows = [int(np.prod(shape)) for shape in shapes.values()]
+    block = np.empty((sum(rows), n))
+    ints = np.empty((len(counters), n), np.int32)
+    out: dict[str, np.ndarray] = {}
+    r = 0
+    for (name, shape), k in zip(shapes.items(), rows):
+        out[name] = block[r:r + k].reshape(shape + (n,))
+        r += k
+    for i, name in enumerate(counters):
+        out[name] = ints[i]
+    return out
 
 
 def per_point(a: np.ndarray, single: bool) -> Any:

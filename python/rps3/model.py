@@ -11,7 +11,7 @@ from typing import Any
 import numpy as np
 from numpy.typing import ArrayLike
 
-from rps3._core import FloatArray, IntArray, buf, check_error, per_point, points, text
+from rps3._core import FloatArray, IntArray, buf, check_error, per_point, points, results, text
 from rps3._rps3 import ffi, lib
 
 #: names of the physical effects, in the library's order (bit k = 1 << k)
@@ -157,6 +157,12 @@ class Model:
     Raises:
         ValueError: naming the argument, when a value is out of range, not a
             number, or an unknown name.
+
+    The stages take (n, 3) arrays of any layout and never modify them; a
+    float64 array in Fortran order (as the trajectories and the results
+    are) reaches the library without a copy, others are copied into that
+    layout first.  The results are new arrays (views of one block per
+    call), Fortran-ordered (n, 3).
     """
 
     def __init__(self, *, R: float | None = None, rho: float | None = None,
@@ -300,8 +306,7 @@ class Model:
         """
         p, single = points(pose, "pose")
         n = p.shape[1]
-        out: dict[str, np.ndarray] = {"l": np.empty((3, n)), "theta": np.empty((3, n)),
-               "status": np.empty(n, np.int32), "warn": np.empty(n, np.int32)}
+        out = results(n, {"l": (3,), "theta": (3,)}, ("status", "warn"))
         self._run(lib.rps3_ik_batch, {"pose": p}, out, n)
         return Kinematics(**{k: per_point(v, single) for k, v in out.items()})
 
@@ -326,9 +331,8 @@ class Model:
                 raise ValueError(f"guess: shape {np.shape(guess)} differs from "
                                  f"that of lengths {np.shape(lengths)}")
             inputs["guess"] = g
-        out: dict[str, np.ndarray] = {"pose": np.empty((3, n)), "theta": np.empty((3, n)),
-               "niter": np.empty(n, np.int32), "status": np.empty(n, np.int32),
-               "warn": np.empty(n, np.int32)}
+        out = results(n, {"pose": (3,), "theta": (3,)},
+                      ("niter", "status", "warn"))
         self._run(lib.rps3_fk_batch, inputs, out, n)
         return Pose(**{k: per_point(v, single) for k, v in out.items()})
 
@@ -365,12 +369,9 @@ class Model:
         if needs and missing and n > 0:
             raise ValueError(f"{missing[0]}: needed by the effects "
                              f"{list(self.effects)} or certify, and not given")
-        out: dict[str, np.ndarray] = {"F": np.empty((3, n)),
-               "F_effect": np.empty((lib.RPS3_NEFFECT, 3, n)),
-               "lambda": np.empty((3, n)), "cond": np.empty(n),
-               "energy_residual": np.empty(n), "l": np.empty((3, n)),
-               "theta": np.empty((3, n)), "status": np.empty(n, np.int32),
-               "warn": np.empty(n, np.int32)}
+        out = results(n, {"F": (3,), "F_effect": (lib.RPS3_NEFFECT, 3),
+                          "lambda": (3,), "cond": (), "energy_residual": (),
+                          "l": (3,), "theta": (3,)}, ("status", "warn"))
         self._run(lib.rps3_inverse_batch, inputs, out, n)
         shares = {name: per_point(out["F_effect"][k], single)
                   for k, name in enumerate(EFFECTS) if name in self.effects}

@@ -27,7 +27,9 @@ _KEYWORD = {"trajectory.radius": "radius", "trajectory.pitch": "pitch",
 
 @dataclass(frozen=True)
 class Trajectory:
-    """Samples of a trajectory: inputs of Model.inverse."""
+    """Samples of a trajectory: inputs of Model.inverse.  The (n, 3) arrays
+    are views of one component-major block (Fortran-ordered), the layout
+    the library reads without a copy."""
 
     t: FloatArray       #: sample times, (n,) [s]
     pose: FloatArray    #: (alpha, beta, z_c), (n, 3) [rad, rad, m]
@@ -54,15 +56,17 @@ def _evaluate(model: Model, tr: Any, samples: int | None,
         raise check_error(chk, _KEYWORD)
     times = _times(float(lib.rps3_traj_duration(tr)), samples, t)
     n = times.size
-    pose, dpose, ddpose = (np.empty((n, 3)) for _ in range(3))
+    # one component-major block, pose, rate and acceleration (3, 3, n): the
+    # (n, 3) fields are transposed views of it, which Model's stages pass to
+    # the library as they are (no copy)
+    block = np.empty((3, 3, n))
     status = lib.rps3py_traj_eval_n(
         model._c, tr, n, ffi.from_buffer("double[]", times),
-        ffi.from_buffer("double[]", pose), ffi.from_buffer("double[]", dpose),
-        ffi.from_buffer("double[]", ddpose))
+        *(ffi.from_buffer("double[]", block[k]) for k in range(3)))
     if status != lib.RPS3_OK:
         raise ValueError(f"t: {strerror(status)} (the span is 0 to "
                          f"{lib.rps3_traj_duration(tr)} s)")
-    return Trajectory(times, pose, dpose, ddpose)
+    return Trajectory(times, block[0].T, block[1].T, block[2].T)
 
 
 def helix(*, radius: float | None = None, pitch: float | None = None,
