@@ -156,11 +156,31 @@ static int effects_rule(const scene *s, size_t index, scene_case *c,
   return 0;
 }
 
+/* err for a dt that does not fit the span of case `index`: q = span / dt
+   steps, too many for one case or not a whole number of them */
+static void dt_error(const scene *s, size_t index, const scene_case *c,
+                     double q, scene_error *err)
+{
+  char msg[256], sa[32], sb[32];
+  scene_format_real(sa, sizeof sa, c->span);
+  scene_format_real(sb, sizeof sb, c->v.own.dt);
+  if (q >= 2147483646.0)
+    snprintf(msg, sizeof msg,
+             "dt = %s s over the span %s s is %.6g steps: at most "
+             "2147483646 samples per case",
+             sb, sa, q);
+  else
+    snprintf(msg, sizeof msg,
+             "the span %s s is not a whole number of steps dt = %s s "
+             "(%.6g steps)",
+             sa, sb, q);
+  case_error(s, index, msg, NULL, K_DT, err);
+}
+
 int scene_case_build(const scene *s, size_t index, scene_case *c,
                      scene_error *err)
 {
   rps3_check chk;
-  char msg[256];
   size_t a;
   memset(c, 0, sizeof *c);
   c->index = index;
@@ -194,26 +214,9 @@ int scene_case_build(const scene *s, size_t index, scene_case *c,
     c->step = c->span / (double)(c->nt - 1);
   } else {
     double q = c->span / c->v.own.dt, n = floor(q + 0.5);
-    if (q >= 2147483646.0) {
-      char sa[32], sb[32];
-      scene_format_real(sa, sizeof sa, c->span);
-      scene_format_real(sb, sizeof sb, c->v.own.dt);
-      snprintf(msg, sizeof msg,
-               "dt = %s s over the span %s s is %.6g steps: at most "
-               "2147483646 samples per case",
-               sb, sa, q);
-      case_error(s, index, msg, NULL, K_DT, err);
-      return -1;
-    }
-    if (fabs(q - n) > SCENE_WHOLE_RTOL * (q > 1 ? q : 1) || n < 1) {
-      char sa[32], sb[32];
-      scene_format_real(sa, sizeof sa, c->span);
-      scene_format_real(sb, sizeof sb, c->v.own.dt);
-      snprintf(msg, sizeof msg,
-               "the span %s s is not a whole number of steps dt = %s s "
-               "(%.6g steps)",
-               sa, sb, q);
-      case_error(s, index, msg, NULL, K_DT, err);
+    if (q >= 2147483646.0 ||
+        fabs(q - n) > SCENE_WHOLE_RTOL * (q > 1 ? q : 1) || n < 1) {
+      dt_error(s, index, c, q, err);
       return -1;
     }
     c->nt = (size_t)n + 1;
