@@ -99,14 +99,19 @@ static char *history_line(const char *now, const char *command_line)
   return line;
 }
 
+int out_cf_conventions(hid_t file, hid_t str)
+{
+  return out_h5_attr(file, str, "Conventions", OUT_CF_CONVENTIONS) < 0 ||
+                 out_h5_attr(file, str, "git_revision", rps3_git_revision) < 0
+             ? -1
+             : 0;
+}
+
 int out_cf_root(hid_t file, hid_t str, const char *now,
                 const char *command_line)
 {
   char *line = history_line(now, command_line);
-  int rc = line && out_h5_attr(file, str, "Conventions",
-                               OUT_CF_CONVENTIONS) >= 0 &&
-                   out_h5_attr(file, str, "git_revision",
-                               rps3_git_revision) >= 0 &&
+  int rc = line && out_cf_conventions(file, str) >= 0 &&
                    out_h5_attr(file, str, "history", line) >= 0
                ? 0
                : -1;
@@ -153,24 +158,34 @@ static void flag_words(char *buf, size_t sz, int status)
                                  : warn_flags[i].meaning);
 }
 
-int out_cf_field(hid_t ds, hid_t str, int i)
+/* flag_values (status) or flag_masks (warn), and flag_meanings */
+static int flags(hid_t ds, hid_t str, int status)
 {
   int32_t v[NSTATUS > NWARN ? NSTATUS : NWARN];
   char words[512];
-  size_t k, n = i == OUT_status ? NSTATUS : NWARN;
+  size_t k, n = status ? NSTATUS : NWARN;
+  for (k = 0; k < n; k++)
+    v[k] = status ? status_flags[k].value : warn_flags[k].mask;
+  flag_words(words, sizeof words, status);
+  return attr_i32(ds, status ? "flag_values" : "flag_masks", v, n) < 0 ||
+                 out_h5_attr(ds, str, "flag_meanings", words) < 0
+             ? -1
+             : 0;
+}
+
+int out_cf_status(hid_t ds, hid_t str)
+{
+  return flags(ds, str, 1);
+}
+
+int out_cf_field(hid_t ds, hid_t str, int i)
+{
   if (out_cf_long_name(ds, str, out_field_table[i].long_name) < 0)
     return -1;
   if (i != OUT_status && i != OUT_warn)
     return 0;
   /* status: its values; warn: its bits */
-  for (k = 0; k < n; k++)
-    v[k] = i == OUT_status ? status_flags[k].value : warn_flags[k].mask;
-  flag_words(words, sizeof words, i == OUT_status);
-  return attr_i32(ds, i == OUT_status ? "flag_values" : "flag_masks", v, n) <
-                     0 ||
-                 out_h5_attr(ds, str, "flag_meanings", words) < 0
-             ? -1
-             : 0;
+  return flags(ds, str, i == OUT_status);
 }
 
 const char *out_cf_axis_units(const scene *s, size_t a, char *buf, size_t sz)

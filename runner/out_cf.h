@@ -2,8 +2,9 @@
  * out_cf.h - the CF conventions (cfconventions.org) on a runner file: a
  * long_name on every variable, units in UDUNITS-2 spelling, flag_values /
  * flag_meanings on status and flag_masks / flag_meanings on warn, and the
- * root attributes Conventions, history and git_revision.  output.c calls
- * these while it creates the file; merge appends to history (out_stamp).
+ * root attributes Conventions, history and git_revision.  output.c and
+ * sim_output.c call these while they create a file; merge appends to
+ * history (out_stamp).
  */
 #ifndef RPS3_RUNNER_OUT_CF_H
 #define RPS3_RUNNER_OUT_CF_H
@@ -26,6 +27,10 @@ extern const char *const rps3_git_revision;
 int out_cf_root(hid_t file, hid_t str, const char *now,
                 const char *command_line);
 
+/* Conventions and git_revision alone (the history written apart, as by
+   out_stamp); 0 or -1 */
+int out_cf_conventions(hid_t file, hid_t str);
+
 /* append a history line for a command that rewrote the file (merge); 0 or
    -1 */
 int out_cf_history_add(hid_t file, hid_t str, const char *now,
@@ -33,6 +38,10 @@ int out_cf_history_add(hid_t file, hid_t str, const char *now,
 
 /* long_name of schema field i, and its flags (status, warn); 0 or -1 */
 int out_cf_field(hid_t ds, hid_t str, int i);
+
+/* flag_values and flag_meanings of a status variable: every rps3_status
+   and OUT_STATUS_NOT_COMPUTED; 0 or -1 */
+int out_cf_status(hid_t ds, hid_t str);
 
 /* long_name of a coordinate or other variable; 0 or -1 */
 int out_cf_long_name(hid_t ds, hid_t str, const char *long_name);

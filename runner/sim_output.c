@@ -4,6 +4,7 @@
  * time.
  */
 #include "sim_output.h"
+#include "out_cf.h"
 #include "output.h"
 
 #include <math.h>
@@ -20,12 +21,13 @@ typedef struct {
   const char *name;
   sim_shape shape;
   sim_type type;
-  const char *units;
+  const char *units;     /* UDUNITS-2 */
+  const char *long_name; /* CF long_name */
   const char *doc;
 } sim_field_info;
 
-#define SIM_FIELD_ROW(name, shape, type, units, doc) \
-  {#name, shape, type, units, doc},
+#define SIM_FIELD_ROW(name, shape, type, units, long_name, doc) \
+  {#name, shape, type, units, long_name, doc},
 static const sim_field_info fields[SIM_NFIELD] = {
     SIM_OUTPUT_FIELDS(SIM_FIELD_ROW)};
 #undef SIM_FIELD_ROW
@@ -89,12 +91,33 @@ static int attr_str(const sim_file *f, hid_t obj, const char *name,
   return out_h5_attr(obj, f->str, name, v);
 }
 
+/* a dataset with units, long_name and description (output.h's
+   out_h5_dataset and the CF long_name) */
 static hid_t dataset(const sim_file *f, const char *name, hid_t type, int rank,
                      const hsize_t *dims, const hsize_t *chunk, int gzip,
-                     const void *fill, const char *units, const char *doc)
+                     const void *fill, const char *units,
+                     const char *long_name, const char *doc)
 {
-  return out_h5_dataset(f->file, f->str, name, type, rank, dims, chunk, gzip,
-                        fill, units, doc);
+  hid_t ds = out_h5_dataset(f->file, f->str, name, type, rank, dims, chunk,
+                            gzip, fill, units, doc);
+  if (ds >= 0 && out_cf_long_name(ds, f->str, long_name) < 0) {
+    H5Dclose(ds);
+    return -1;
+  }
+  return ds;
+}
+
+/* a dimension scale (out_h5_scale) with its CF long_name */
+static hid_t scale(const sim_file *f, const char *name, hid_t type, size_t n,
+                   const void *data, const char *units,
+                   const char *long_name, const char *doc)
+{
+  hid_t ds = out_h5_scale(f->file, f->str, name, type, n, data, units, doc);
+  if (ds >= 0 && out_cf_long_name(ds, f->str, long_name) < 0) {
+    H5Dclose(ds);
+    return -1;
+  }
+  return ds;
 }
 
 /* a hyperslab write: start/count of rank dims from a contiguous buffer */
@@ -138,6 +161,7 @@ static int root_attrs(const sim_file *f, const char *command_line)
   snprintf(h5v, sizeof h5v, "%u.%u.%u", maj, min, rel);
   return (attr_str(f, f->file, "rps3_version", rps3_version()) < 0 ||
           out_stamp(f->file, command_line) < 0 ||
+          out_cf_conventions(f->file, f->str) < 0 ||
           attr_str(f, f->file, "gsl_version", gsl_version) < 0 ||
           attr_str(f, f->file, "hdf5_version", h5v) < 0 ||
           attr_str(f, f->file, "yaml_version",
@@ -160,7 +184,7 @@ static int create_axes(sim_file *f, const scene *s, size_t nt,
   const char *text = s->text;
   hid_t ds;
   size_t a, k;
-  ds = dataset(f, "scene", f->str, 0, NULL, NULL, 0, NULL, "1",
+  ds = dataset(f, "scene", f->str, 0, NULL, NULL, 0, NULL, "1", "scene file",
                "the scene file (YAML), verbatim");
   if (ds < 0 || H5Dwrite(ds, f->str, H5S_ALL, H5S_ALL, H5P_DEFAULT, &text) < 0) {
     if (ds >= 0)
@@ -169,31 +193,29 @@ static int create_axes(sim_file *f, const scene *s, size_t nt,
     return -1;
   }
   H5Dclose(ds);
-  sc[0] = out_h5_scale(f->file, f->str, "case", H5T_NATIVE_INT64, s->ncase,
-                       NULL, "1",
-                       "case number; row-major over the sweep keys in file "
-                       "order, the last key fastest");
+  sc[0] = scale(f, "case", H5T_NATIVE_INT64, s->ncase, NULL, "1",
+                "case number",
+                "case number; row-major over the sweep keys in file order, "
+                "the last key fastest");
   if (sc[0] >= 0 && case_numbers(sc[0], s->ncase) < 0) {
     H5Dclose(sc[0]);
     sc[0] = -1;
   }
   if (times)
-    sc[1] = out_h5_scale(f->file, f->str, "time", H5T_NATIVE_DOUBLE, nt,
-                         times, "s",
+    sc[1] = scale(f, "time", H5T_NATIVE_DOUBLE, nt, times, "s", "time",
                   "simulated time since the start of the trajectory");
   else {
     int32_t *ix = malloc(nt * sizeof *ix);
     for (k = 0; ix && k < nt; k++)
       ix[k] = (int32_t)k;
-    sc[1] = ix ? out_h5_scale(f->file, f->str, "time", H5T_NATIVE_INT32, nt,
-                              ix, "1",
+    sc[1] = ix ? scale(f, "time", H5T_NATIVE_INT32, nt, ix, "1",
+                       "sample index",
                        "sample index: the time grid differs between cases, "
                        "the time of each sample is case_time")
                : -1;
     free(ix);
   }
-  sc[2] = out_h5_scale(f->file, f->str, "link", H5T_NATIVE_INT32, 3, one23,
-                       "1",
+  sc[2] = scale(f, "link", H5T_NATIVE_INT32, 3, one23, "1", "link number",
                 "link (leg) number i; link i is pinned at angle "
                 "2 pi (i - 1) / 3 from X");
   if (sc[0] < 0 || sc[1] < 0 || sc[2] < 0) {
@@ -202,7 +224,7 @@ static int create_axes(sim_file *f, const scene *s, size_t nt,
   }
   for (a = 0; a < s->naxis; a++) {
     const scene_key_info *ki = scene_key_get(s->axis[a].key);
-    char doc[400];
+    char doc[400], units[32], long_name[128];
     hsize_t nc = s->ncase;
     hid_t type = (ki->type == KEY_REAL || ki->type == KEY_REAL3)
                      ? H5T_NATIVE_DOUBLE
@@ -210,8 +232,9 @@ static int create_axes(sim_file *f, const scene *s, size_t nt,
                                         : H5T_NATIVE_INT32;
     snprintf(doc, sizeof doc, "swept scene key %s: %s (paper: %s)",
              s->axis[a].path, ki->doc, ki->symbol);
-    ds = dataset(f, s->axis[a].path, type, 1, &nc, NULL, 0, NULL, ki->unit,
-                 doc);
+    snprintf(long_name, sizeof long_name, "swept key %s", s->axis[a].path);
+    ds = dataset(f, s->axis[a].path, type, 1, &nc, NULL, 0, NULL,
+                 out_cf_axis_units(s, a, units, sizeof units), long_name, doc);
     if (ds < 0 || H5DSattach_scale(ds, sc[0], 0) < 0 ||
         out_h5_axis(ds, f->str, s, a) < 0) {
       if (ds >= 0)
@@ -305,8 +328,9 @@ sim_file *sim_file_create(const char *path, const scene *s, size_t nt,
                        : fi->type == SIM_I32 ? (const void *)&fneg
                        : fi->type == SIM_I64 ? (const void *)&fneg64
                                              : NULL,
-                       fi->units, fi->doc);
+                       fi->units, fi->long_name, fi->doc);
     if (f->ds[i] < 0 ||
+        (i == SIM_status && out_cf_status(f->ds[i], f->str) < 0) ||
         (coords[0] && attr_str(f, f->ds[i], "coordinates", coords) < 0)) {
       out_fail(err, errsz, "cannot create dataset %s", fi->name);
       goto fail;
@@ -326,7 +350,7 @@ sim_file *sim_file_create(const char *path, const scene *s, size_t nt,
     dims[0] = s->ncase;
     chunk[0] = 1;
     f->case_time = dataset(f, "case_time", H5T_NATIVE_DOUBLE, 2, dims, chunk,
-                           gzip, &fnan, "s",
+                           gzip, &fnan, "s", "time of the sample",
                            "time of each sample of each case (the time grid "
                            "differs between cases); NaN past a case's last "
                            "sample");
