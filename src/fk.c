@@ -8,6 +8,7 @@
  * every iteration and are offered for studies only.
  */
 #include <stdlib.h>
+#include <string.h>
 
 #include <gsl/gsl_errno.h>
 #include <gsl/gsl_multiroots.h>
@@ -24,6 +25,15 @@ typedef struct {
   double fcur[3];
   int watch;
   int stalled;
+  /* the last evaluation's theta and its cosines and sines: the positions
+     after the solve reuse them when the root is that theta (as it is
+     whenever the last trial step was accepted) */
+  double th_last[3], c_last[3], s_last[3];
+  /* f and J at the starting point, evaluated by the check before _set:
+     _set's own evaluation there takes them instead of computing them
+     again (primed until it does) */
+  int primed;
+  double th0[3], f0[3], J0[3][3];
 } theta_params;
 
 struct rps3_solver_state {
@@ -37,17 +47,13 @@ struct rps3_solver_state {
   theta_params p;
 };
 
-/* (8)-(10) and their analytic Jacobian; f or J may be NULL: GSL's
-   function-only and Jacobian-only evaluations compute only what they
-   return (each output's arithmetic is the same either way) */
-static void constraints(const theta_params *p, const double th[3],
-                        double f[3], double J[3][3]) {
-  double c[3], s[3];
+/* (8)-(10) and their analytic Jacobian from the cosines c and sines s of
+   theta; f or J may be NULL: GSL's function-only and Jacobian-only
+   evaluations compute only what they return (each output's arithmetic is
+   the same either way) */
+static void constraints_trig(const theta_params *p, const double c[3],
+                             const double s[3], double f[3], double J[3][3]) {
   int k;
-  for (k = 0; k < 3; k++) {
-    c[k] = cos(th[k]);
-    s[k] = sin(th[k]);
-  }
   for (k = 0; k < 3; k++) {
     int i = k, j = (k + 1) % 3;
     double Li = p->L[i], Lj = p->L[j], LL = Li * Lj;
@@ -62,6 +68,44 @@ static void constraints(const theta_params *p, const double th[3],
   }
 }
 
+static void trig3(const double th[3], double c[3], double s[3]) {
+  int k;
+  for (k = 0; k < 3; k++) {
+    double t = th[k]; /* one sincos: c[k] may alias th[k] as far as the
+                         compiler knows */
+    c[k] = cos(t);
+    s[k] = sin(t);
+  }
+}
+
+static void constraints(const theta_params *p, const double th[3],
+                        double f[3], double J[3][3]) {
+  double c[3], s[3];
+  trig3(th, c, s);
+  constraints_trig(p, c, s, f, J);
+}
+
+/* an evaluation by GSL: f and J as constraints(), keeping theta's trig
+   for the positions after the solve; the start's f and J from the check
+   before _set when theta is that start */
+static void evaluate(theta_params *p, const double th[3], double f[3],
+                     double J[3][3]) {
+  if (p->primed && th[0] == p->th0[0] && th[1] == p->th0[1] &&
+      th[2] == p->th0[2]) {
+    p->primed = 0;
+    if (f != NULL) v3_copy(f, p->f0);
+    if (J != NULL) memcpy(J, p->J0, sizeof(p->J0));
+    return;
+  }
+  v3_copy(p->th_last, th);
+  trig3(th, p->c_last, p->s_last);
+  constraints_trig(p, p->c_last, p->s_last, f, J);
+}
+
+/* the components of a GSL vector (read and written in place: the views'
+   accessors cost more than the evaluation's arithmetic) */
+#define GV(v, k) ((v)->data[(size_t)(k) * (v)->stride])
+
 /* f of the derivative-free solvers.  Broyden's update divides by p . H y,
    y the change of f over the step, and GSL raises "approximation to
    Jacobian has collapsed" (broyden.c) when it is 0 -- as it is when a
@@ -73,16 +117,16 @@ static int gsl_f(const gsl_vector *x, void *params, gsl_vector *f) {
   theta_params *p = (theta_params *)params;
   double th[3], fv[3];
   int k;
-  for (k = 0; k < 3; k++) th[k] = gsl_vector_get(x, (size_t)k);
+  for (k = 0; k < 3; k++) th[k] = GV(x, k);
   if (!v3_finite(th)) return GSL_EBADFUNC;
-  constraints(p, th, fv, NULL);
+  evaluate(p, th, fv, NULL);
   if (!v3_finite(fv)) return GSL_EBADFUNC;
   if (p->watch && fv[0] == p->fcur[0] && fv[1] == p->fcur[1] &&
       fv[2] == p->fcur[2]) {
     p->stalled = 1;
     return GSL_EBADFUNC;
   }
-  for (k = 0; k < 3; k++) gsl_vector_set(f, (size_t)k, fv[k]);
+  for (k = 0; k < 3; k++) GV(f, k) = fv[k];
   return GSL_SUCCESS;
 }
 
@@ -90,17 +134,17 @@ static int gsl_fdf(const gsl_vector *x, void *params, gsl_vector *f,
                    gsl_matrix *J) {
   double th[3], fv[3] = {0, 0, 0}, Jv[3][3];
   int k, q;
-  for (k = 0; k < 3; k++) th[k] = gsl_vector_get(x, (size_t)k);
+  for (k = 0; k < 3; k++) th[k] = GV(x, k);
   if (!v3_finite(th)) return GSL_EBADFUNC;
   /* a Jacobian-only call (J of finite theta and lengths is finite) skips
      f; a function-only call goes to gsl_f, which skips J */
-  constraints((const theta_params *)params, th, f != NULL ? fv : NULL,
-              J != NULL ? Jv : NULL);
+  evaluate((theta_params *)params, th, f != NULL ? fv : NULL,
+           J != NULL ? Jv : NULL);
   if (!v3_finite(fv)) return GSL_EBADFUNC;
   for (k = 0; k < 3; k++) {
-    if (f != NULL) gsl_vector_set(f, (size_t)k, fv[k]);
+    if (f != NULL) GV(f, k) = fv[k];
     if (J != NULL)
-      for (q = 0; q < 3; q++) gsl_matrix_set(J, (size_t)k, (size_t)q, Jv[k][q]);
+      for (q = 0; q < 3; q++) J->data[(size_t)k * J->tda + (size_t)q] = Jv[k][q];
   }
   return GSL_SUCCESS;
 }
@@ -253,7 +297,7 @@ int rps3_theta_solve(const rps3_model *m, rps3_data *d) {
   struct rps3_solver_state *s;
   double th[3], f[3];
   const char *unsafe;
-  int i, iter, status, prev_mode;
+  int i, iter, status, prev_mode, same;
   if (m == NULL || d == NULL || !m->valid) return RPS3_EINVAL;
   s = d->solver;
   if (s->kind != m->opt.solver)
@@ -278,9 +322,10 @@ int rps3_theta_solve(const rps3_model *m, rps3_data *d) {
     if (status != RPS3_OK) return status;
   }
   d->mode = RPS3_MODE_ANY;
+  s->p.primed = 0;
   for (i = 0; i < 3; i++) {
     s->p.L[i] = d->l[i] / m->R;
-    gsl_vector_set(s->x, (size_t)i, d->theta[i]);
+    GV(s->x, i) = d->theta[i];
   }
   s->p.k = 3.0 - 3.0 * m->rho * m->rho;
   unsafe = step_unsafe(m, &s->p, d->theta);
@@ -290,8 +335,12 @@ int rps3_theta_solve(const rps3_model *m, rps3_data *d) {
 
   /* GSL's hybrid solvers ignore the status of the first evaluation in
      _set, so a starting point where (8)-(10) overflow would look converged
-     with f = 0: check it here */
-  constraints(&s->p, d->theta, f, NULL);
+     with f = 0: check it here.  _set's evaluation at this point then
+     takes these values (and J, for the fdf solvers) */
+  v3_copy(s->p.th0, d->theta);
+  evaluate(&s->p, d->theta, s->p.f0, s->fdf ? s->p.J0 : NULL);
+  v3_copy(f, s->p.f0);
+  s->p.primed = 1;
   if (!v3_finite(f))
     RPS3_ERROR(d, RPS3_EINVAL,
                "constraints (8)-(10) do not evaluate at the starting point "
@@ -320,8 +369,8 @@ int rps3_theta_solve(const rps3_model *m, rps3_data *d) {
     const gsl_vector *fv = s->fdf ? s->sfdf->f : s->sf->f;
     double resid = 0.0;
     for (i = 0; i < 3; i++) {
-      th[i] = gsl_vector_get(xv, (size_t)i);
-      f[i] = gsl_vector_get(fv, (size_t)i);
+      th[i] = GV(xv, i);
+      f[i] = GV(fv, i);
       if (fabs(f[i]) > resid || !isfinite(f[i])) resid = fabs(f[i]);
     }
     d->solve_niter = iter;
@@ -357,14 +406,22 @@ int rps3_theta_solve(const rps3_model *m, rps3_data *d) {
   }
 
   /* the branch 0 < theta < pi, after folding whole turns */
+  same = 1;
   for (i = 0; i < 3; i++) {
-    double t = remainder(th[i], 2.0 * RPS3_PI);
+    double t = th[i];
+    if (!(t > 0.0 && t < RPS3_PI)) t = remainder(th[i], 2.0 * RPS3_PI);
     if (!(t > 0.0 && t < RPS3_PI))
       RPS3_ERROR(d, RPS3_EBRANCH,
                  "link %d: theta = %.6g rad is outside (0, pi)", i + 1, t);
     d->theta[i] = t;
+    same = same && t == s->p.th_last[i];
   }
-  rps3_links_from_joints(m, d);
+  /* (12)-(14) with the trig of the last evaluation when it was at this
+     theta (bitwise: the same cos and sin) */
+  if (same)
+    rps3_links_from_trig(m, d, s->p.c_last, s->p.s_last);
+  else
+    rps3_links_from_joints(m, d);
   rps3_frame_from_balls(m, d);
   RPS3_CHECK_FINITE(d, d->b, 9, "b");
   RPS3_CHECK_FINITE(d, d->c, 3, "c");

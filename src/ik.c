@@ -104,6 +104,15 @@ void rps3_links_from_joints(const rps3_model *m, rps3_data *d) {
   for (i = 0; i < 3; i++) v3_axpy(d->b[i], m->pin[i], d->l[i], d->phi[i]); /* (12)-(14) */
 }
 
+void rps3_links_from_trig(const rps3_model *m, rps3_data *d,
+                          const double c[3], const double s[3]) {
+  int i;
+  for (i = 0; i < 3; i++) {
+    set_link_dir(d, i, m->radial[i], c[i], s[i]);
+    v3_axpy(d->b[i], m->pin[i], d->l[i], d->phi[i]); /* (12)-(14) */
+  }
+}
+
 void rps3_frame_from_balls(const rps3_model *m, rps3_data *d) {
   double n[3], o[3], a[3];
   int k;

@@ -145,6 +145,9 @@ int rps3_acceleration_with(const rps3_model *m, rps3_data *d,
    eqs. (12)-(14) and (29); then the platform frame from b, (11), (18)-(20) */
 void rps3_link_dirs(const rps3_model *m, rps3_data *d);
 void rps3_links_from_joints(const rps3_model *m, rps3_data *d);
+/* the same with cos and sin of d->theta given (c[i], s[i]) */
+void rps3_links_from_trig(const rps3_model *m, rps3_data *d,
+                          const double c[3], const double s[3]);
 void rps3_frame_from_balls(const rps3_model *m, rps3_data *d);
 
 /* the theta solve's (8)-(10) in units of R, f_k(theta) for lengths L = l / R,

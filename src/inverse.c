@@ -9,14 +9,19 @@
  * The multiroot route solves (8)-(10) from the lengths of the pose, and the
  * root it reaches depends on its start: it may be another assembly mode,
  * with the same lengths and other forces.  The pose fixes its own theta,
- * (39): th39.  Accept the solved theta when it differs from th39 by no
- * more than the solve's own accuracy: a root with max |f_k| <= tol (f in
- * units of R^2) is within |df/dtheta^-1|_1 * 3 tol R^2 of the exact one
- * (first order), times 10 for the linearization, with a rounding floor
- * (f is evaluated to ~1e-15 R^2, the closed form to ~1e-15 rad).
+ * (39): th39, given here by its cosine and sine (c39, s39: the pose's link
+ * direction, as rps3_ik has it).  Accept the solved theta when it differs
+ * from th39 by no more than the solve's own accuracy: a root with
+ * max |f_k| <= tol (f in units of R^2) is within |df/dtheta^-1|_1 * 3 tol
+ * R^2 of the exact one (first order), times 10 for the linearization, with
+ * a rounding floor (f is evaluated to ~1e-15 R^2, the closed form to
+ * ~1e-15 rad).  Both angles lie in (0, pi), so |theta - th39| is the angle
+ * between the two directions, d: with x = |sin d| and cos d > 0,
+ * d = asin x <= x (1 + x) for x <= 1/2, a bound within x^2 of d that needs
+ * no atan2; else d itself by atan2.
  */
 static int check_own_root(const rps3_model *m, rps3_data *d,
-                          const double th39[3]) {
+                          const double c39[3], const double s39[3]) {
   double Jl[3][3], Jt[3][3], A[9], LU[9], anorm = 0.0, err = 0.0, bound;
   int perm[3], i, k;
   rps3_constraint_jacobian(d, Jl, Jt);
@@ -28,8 +33,13 @@ static int check_own_root(const rps3_model *m, rps3_data *d,
     }
     if (col > anorm) anorm = col;
   }
-  for (i = 0; i < 3; i++)
-    if (fabs(d->theta[i] - th39[i]) > err) err = fabs(d->theta[i] - th39[i]);
+  for (i = 0; i < 3; i++) {
+    /* cos and sin of the solved theta_i: its link direction (29) */
+    double ct = d->dphi[i][2], st = d->phi[i][2];
+    double sd = fabs(s39[i] * ct - c39[i] * st), cd = c39[i] * ct + s39[i] * st;
+    double e = (cd > 0.0 && sd <= 0.5) ? sd * (1.0 + sd) : atan2(sd, cd);
+    if (e > err || e != e) err = e; /* a NaN stays, and is refused */
+  }
   /* a singular root: invdyn reports it (RPS3_ESING); compare plainly */
   if (rps3_lu_factor(3, LU, perm) != 0 || !(anorm > 0.0))
     bound = 1e-9;
@@ -43,15 +53,15 @@ static int check_own_root(const rps3_model *m, rps3_data *d,
                "multiroot theta (%.6g, %.6g, %.6g) is not the pose's own "
                "root (%.6g, %.6g, %.6g) of (39) (assembly mode %d): start "
                "near the pose's mode or use the closed form",
-               d->theta[0], d->theta[1], d->theta[2], th39[0], th39[1],
-               th39[2], d->mode);
+               d->theta[0], d->theta[1], d->theta[2], atan2(s39[0], c39[0]),
+               atan2(s39[1], c39[1]), atan2(s39[2], c39[2]), d->mode);
   }
   return RPS3_OK;
 }
 
 int rps3_inverse(const rps3_model *m, rps3_data *d) {
   rps3_pose_trig trig; /* sines and cosines of the pose, for every stage */
-  double th39[3];      /* the pose's own theta, (39), multiroot route */
+  double c39[3], s39[3]; /* cos, sin of the pose's own theta (39) */
   int status, need_rates, multiroot, i;
   if (m == NULL || d == NULL || !m->valid) return RPS3_EINVAL;
 
@@ -66,15 +76,17 @@ int rps3_inverse(const rps3_model *m, rps3_data *d) {
   if (multiroot) {
     /* ik left theta alone (no closed form leaks into the starting point):
        the solve starts from this data's previous solution.  Keep (39) of
-       the pose's ball joints, atan2 as in rps3_ik, to check the root */
+       the pose's ball joints, the link direction as rps3_ik has it, to
+       check the root */
     for (i = 0; i < 3; i++) {
       double v[3];
       v3_sub(v, d->b[i], m->pin[i]);
-      th39[i] = atan2(v[2], -v3_dot(v, m->radial[i]));
+      c39[i] = -v3_dot(v, m->radial[i]) / d->l[i];
+      s39[i] = v[2] / d->l[i];
     }
     status = rps3_theta_solve(m, d);
     if (status != RPS3_OK) return status;
-    status = check_own_root(m, d, th39);
+    status = check_own_root(m, d, c39, s39);
     if (status != RPS3_OK) return status;
   }
 

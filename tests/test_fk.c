@@ -151,6 +151,51 @@ static void error_codes(void **state) {
   rps3_data_free(d);
 }
 
+/* the ball joints after a solve are (12)-(14) of the theta it returns,
+   bitwise: the solve reuses the cos and sin of its last evaluation when
+   that was at the root, and computes them when it was not (a rejected
+   last trial step, or a root folded by whole turns into (0, pi)) */
+static void positions_of_the_root(void **state) {
+  int s;
+  (void)state;
+  for (s = 0; s < RPS3_NSOLVER; s++) {
+    rps3_model m;
+    rps3_data *d;
+    int n, i, k;
+    assert_int_equal(setup_model(&m, (rps3_solver)s), RPS3_OK);
+    m.opt.warm_start = 1;
+    assert_int_equal(rps3_data_alloc(&m, &d), RPS3_OK);
+    for (n = 0; n < 60; n++) {
+      d->pose[0] = 0.3 + 0.01 * n;
+      d->pose[1] = 0.2 + 0.002 * n;
+      d->pose[2] = 0.3;
+      assert_int_equal(rps3_ik(&m, d), RPS3_OK);
+      /* every tenth start a whole turn away: the root is folded back */
+      if (n % 10 == 5)
+        for (i = 0; i < 3; i++) d->theta[i] += 2.0 * PI;
+      d->have_theta = (n > 0);
+      if (rps3_theta_solve(&m, d) != RPS3_OK)
+        fail_msg("solver %s, point %d: %s", rps3_solver_name(s), n,
+                 d->err.msg);
+      for (i = 0; i < 3; i++) {
+        double c = cos(d->theta[i]), sn = sin(d->theta[i]), phi[3];
+        assert_true(d->theta[i] > 0.0 && d->theta[i] < PI);
+        phi[0] = -c * m.radial[i][0];
+        phi[1] = -c * m.radial[i][1];
+        phi[2] = sn;
+        for (k = 0; k < 3; k++) {
+          assert_true(d->phi[i][k] == phi[k]);
+          if (d->b[i][k] != m.pin[i][k] + d->l[i] * phi[k])
+            fail_msg("solver %s, point %d: b%d[%d] %.17g, (12)-(14) of "
+                     "theta %.17g", rps3_solver_name(s), n, i + 1, k,
+                     d->b[i][k], m.pin[i][k] + d->l[i] * phi[k]);
+        }
+      }
+    }
+    rps3_data_free(d);
+  }
+}
+
 /* beta = 0: alpha is a free gauge; FK says so and stays finite */
 static void level_platform(void **state) {
   rps3_model m;
@@ -177,6 +222,7 @@ int main(void) {
       cmocka_unit_test(warm_start_pays),
       cmocka_unit_test(error_codes),
       cmocka_unit_test(level_platform),
+      cmocka_unit_test(positions_of_the_root),
   };
   gsl_set_error_handler_off();
   return cmocka_run_group_tests(tests, NULL, NULL);

@@ -35,6 +35,7 @@
 #define RATE_HZ 1000.0  /* sampling of the trajectory */
 #define TARGET_INVDYN_NS 250.0   /* issue 5: closed-form theta, full scene */
 #define TARGET_PIPELINE_NS 1500.0 /* issue 5: warm multiroot pipeline */
+#define TARGET_WARM_PAPER_NS 800.0 /* issue 13: the same, paper's effects */
 #define FWDDYN_PER_INVERSE 3.0   /* issue 12: rps3_fwddyn <= 3 rps3_inverse */
 #define TARGET_SIM_NS 1000.0     /* issue 12: >= 1000x real time, i.e. one
                                     simulated 1 ms control period in 1 us */
@@ -647,6 +648,10 @@ int main(int argc, char **argv) {
        "(hybridsj) warm from the previous sample, full scene, Newton-Euler",
        K_INVERSE, SCENE_FULL, RPS3_NEWTON_EULER, RPS3_THETA_MULTIROOT, 1, 1,
        TARGET_PIPELINE_NS, 1);
+  CASE("pipeline_warm_lagrange_paper", "rps3_inverse, multiroot theta "
+       "(hybridsj) warm from the previous sample, the paper's effects, "
+       "Lagrange, certify on (the default)", K_INVERSE, SCENE_PAPER,
+       RPS3_LAGRANGE, RPS3_THETA_MULTIROOT, 1, 1, TARGET_WARM_PAPER_NS, 1);
   CASE("fwddyn_full", "rps3_fwddyn: (l, dl, F) -> ddl and every rate, full "
        "scene, theta warm from the previous 1 ms sample; target 3x "
        "pipeline_closed_lagrange_full_nocert of this run", K_FWDDYN,
