@@ -60,7 +60,10 @@ TEST_SAN = $(TEST_SRC:tests/%.c=$(B)/tests-san/%)
 # test and run by check-c; it is not a sanitizer test
 TEST_BIN += $(B)/tests/example_control_loop $(B)/tests/example_sim_loop
 RUN_MAINS = runner/main_run.c runner/main_study.c runner/main_simstudy.c
-RUN_COMMON = $(filter-out $(RUN_MAINS),$(wildcard runner/*.c))
+# rps3-study's own files (study.h); the rest is every program's
+STUDY_SRC = $(wildcard runner/study_*.c)
+STUDY_OBJ = $(STUDY_SRC:runner/%.c=$(B)/runner/%.o)
+RUN_COMMON = $(filter-out $(RUN_MAINS) $(STUDY_SRC),$(wildcard runner/*.c))
 RUN_OBJ = $(RUN_COMMON:runner/%.c=$(B)/runner/%.o) $(B)/runner/gitrev.o
 
 .PHONY: all lib runner runner-mpi study-bin check check-c check-san check-py check-lint check-slurm paper \
@@ -194,7 +197,7 @@ $(B)/runner/gitrev.o: $(B)/runner/gitrev.c
 FORCE:
 $(B)/rps3-run: $(B)/runner/main_run.o $(RUN_OBJ) $(B)/librps3.a
 	$(CC) -o $@ $^ $(HDF5_LIBS) $(YAML_LIBS) $(GSL_LIBS) -lz -lpthread -lm
-$(B)/rps3-study: $(B)/runner/main_study.o $(RUN_OBJ) $(B)/librps3.a
+$(B)/rps3-study: $(B)/runner/main_study.o $(STUDY_OBJ) $(RUN_OBJ) $(B)/librps3.a
 	$(CC) -o $@ $^ $(HDF5_LIBS) $(YAML_LIBS) $(GSL_LIBS) -lz -lpthread -lm
 # rps3-simstudy (runner/main_simstudy.c): closed-loop tracking and what
 # simulation accuracy costs in time; `make simulation` runs it

@@ -228,7 +228,7 @@ int out_h5_axis(hid_t ds, hid_t str, const scene *s, size_t a)
 }
 
 /* the time now, ISO 8601 in UTC */
-static void utc_now(char now[32])
+void out_utc_now(char now[32])
 {
   time_t t = time(NULL);
   struct tm tm;
@@ -241,7 +241,7 @@ int out_stamp(hid_t file, const char *command_line)
   char now[32];
   hid_t str = H5Tcopy(H5T_C_S1);
   int rc = -1;
-  utc_now(now);
+  out_utc_now(now);
   if (str >= 0 && H5Tset_size(str, H5T_VARIABLE) >= 0 &&
       H5Tset_cset(str, H5T_CSET_UTF8) >= 0 &&
       (H5Aexists(file, "created_utc") <= 0 ||
@@ -262,7 +262,7 @@ static int root_attrs(hid_t file, hid_t str, const out_meta *meta)
 {
   char now[32], h5v[32], fields[1024];
   unsigned maj, min, rel;
-  utc_now(now);
+  out_utc_now(now);
   H5get_libversion(&maj, &min, &rel);
   snprintf(h5v, sizeof h5v, "%u.%u.%u", maj, min, rel);
   return (out_h5_attr(file, str, "rps3_version", rps3_version()) < 0 ||

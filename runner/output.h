@@ -271,6 +271,9 @@ void out_fail(char *err, size_t errsz, const char *fmt, ...);
    an open file.  Returns 0 or -1. */
 int out_stamp(hid_t file, const char *command_line);
 
+/* now = the time now, ISO 8601 in UTC ("2026-01-31T12:00:00Z") */
+void out_utc_now(char now[32]);
+
 /* ------------------------------- HDF5 helpers for sim_output.c */
 
 /* a scalar string attribute (str: the file's UTF-8 string type); 0 or -1 */

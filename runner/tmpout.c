@@ -19,6 +19,13 @@
 /* the name, before and after tmpout_arm: process-wide state of this
    program only (the library has none) */
 static char tmp_path[4096];
+/* the program that names itself in the messages */
+static const char *prog = "rps3-run";
+
+void tmpout_prog(const char *name)
+{
+  prog = name;
+}
 
 const char *tmpout_path(void)
 {
@@ -35,7 +42,7 @@ int tmpout_commit(const char *out_path)
 {
   char err[2 * sizeof tmp_path + 128];
   if (tmp_commit(out_path, err, sizeof err)) {
-    fprintf(stderr, "rps3-run: %s\n", err);
+    fprintf(stderr, "%s: %s\n", prog, err);
     return -1;
   }
   return 0;
@@ -90,7 +97,7 @@ int tmpout_name(const char *out_path, int rank)
   n = snprintf(tmp_path, sizeof tmp_path, "%s.tmp.%s.%ld.job%s.rank%d",
                out_path, host, (long)getpid(), job, rank);
   if (n < 0 || (size_t)n >= sizeof tmp_path) {
-    fprintf(stderr, "rps3-run: %s: path too long\n", out_path);
+    fprintf(stderr, "%s: %s: path too long\n", prog, out_path);
     return -1;
   }
   return 0;
@@ -135,7 +142,7 @@ int tmpout_clean(const char *out_path, int force, int quiet)
   host_name(me, sizeof me);
   if (!(d = opendir(dir))) {
     if (!quiet)
-      fprintf(stderr, "rps3-run: %s: %s\n", dir, strerror(errno));
+      fprintf(stderr, "%s: %s: %s\n", prog, dir, strerror(errno));
     return -1;
   }
   while ((e = readdir(d)) != NULL) {
@@ -146,12 +153,14 @@ int tmpout_clean(const char *out_path, int force, int quiet)
     snprintf(path, sizeof path, "%s/%s", dir, e->d_name);
     if (owner_of(e->d_name + np, host, sizeof host, &pid) != 0) {
       if (force && unlink(path) == 0)
-        fprintf(stderr, "rps3-run: removed %s (owner unknown)\n", path);
+        fprintf(stderr, "%s: removed %s (owner unknown)\n", prog,
+                path);
       else if (!force) {
         kept++;
         if (!quiet)
-          fprintf(stderr, "rps3-run: kept %s: owner unknown (--force "
-                          "removes it)\n", path);
+          fprintf(stderr, "%s: kept %s: owner unknown (--force "
+                          "removes it)\n",
+                  prog, path);
       }
       continue;
     }
@@ -162,17 +171,18 @@ int tmpout_clean(const char *out_path, int force, int quiet)
     if (alive || (!mine && !force)) {
       kept++;
       if (!quiet)
-        fprintf(stderr, "rps3-run: kept %s: %s\n", path,
+        fprintf(stderr, "%s: kept %s: %s\n", prog, path,
                 alive ? "its process is running"
                       : "written on another host, not checked (--force "
                         "removes it)");
       continue;
     }
     if (unlink(path) == 0)
-      fprintf(stderr, "rps3-run: removed %s (process %ld on %s %s)\n", path,
+      fprintf(stderr, "%s: removed %s (process %ld on %s %s)\n",
+              prog, path,
               pid, host, mine ? "is gone" : "not checked: --force");
     else if (!quiet)
-      fprintf(stderr, "rps3-run: cannot remove %s: %s\n", path,
+      fprintf(stderr, "%s: cannot remove %s: %s\n", prog, path,
               strerror(errno));
   }
   closedir(d);

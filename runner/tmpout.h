@@ -29,6 +29,10 @@ int tmpout_name(const char *out_path, int rank);
  */
 int tmpout_clean(const char *out_path, int force, int quiet);
 
+/* The program named in the messages ("rps3-run" unless set); name is
+   kept, not copied. */
+void tmpout_prog(const char *name);
+
 /* The temporary file's name. */
 const char *tmpout_path(void);
 

@@ -241,7 +241,7 @@ def test_closed_pipe_on_stderr(runner, tmp_path):
 def test_study_signal_removes_the_temporary(runner, tmp_path):
     # the full workspace grid: ~1 s computing, then ~9 MB to write
     p = start([STUDY, "workspace", "-o", tmp_path / "ws.h5"])
-    wait_for(tmp_path / f"ws.h5.tmp.{p.pid}", timeout=60)
+    wait_for(run_tmp(tmp_path / "ws.h5", p.pid), timeout=60)
     p.send_signal(signal.SIGTERM)
     p.wait(timeout=30)
     assert p.returncode == -signal.SIGTERM
