@@ -436,38 +436,50 @@ static void certify(const rps3_model *m, rps3_data *d) {
  * Force transmission, dimensionless: the largest actuator force a unit
  * platform load calls for.  A wrench (force f, moment n about the centre)
  * applied to the platform is held by the ball-joint forces
- * F_i phi_i + tau_i axis_i (massless links, no link load): the 6 x 6 system
- * of the Newton-Euler formulation, A x = (f, n).  With the rows of A^-1 for
- * F, B = dF/d(f, n), and the moment measured in units of R, the measure is
+ * F_i phi_i + tau_i axis_i (massless links, no link load).  With
+ * B = dF/d(f, n) and the moment measured in units of R, the measure is
  *   T = max_i ( sum_{j<3} |B_ij| + R sum_{j>=3} |B_ij| ),
  * so that |F_i| <= T max(|f|_inf, |n|_inf / R) for every load: the holding
  * force of the platform's weight is at most T M g.  T is 2.41 for the
  * paper's level platform at z_c = R, grows like 1 / sin(theta) as the level
  * platform is lowered (where the condition number of df/dtheta stays at 3)
- * and without bound towards every singular configuration.  Returns -1 when
- * A is singular.
+ * and without bound towards every singular configuration.
+ *
+ * Row i of B by virtual power: the pin-axis forces do no work on the
+ * motions the links allow (a ball joint moves in its pin's plane), so
+ * F . l' = f . vc + n . omega for every such motion, and row i is the
+ * platform twist (vc, omega) for l' = e_i: theta' = G e_i with
+ * G = -(df/dtheta)^-1 df/dl, ball j moving [j == i] phi_j + l_j G_ji dphi_j,
+ * vc their mean and omega from the balls.  Rows of the inverse of the 6 x 6
+ * ball-joint system of the Newton-Euler formulation, from a 3 x 3 LU
+ * (test_trans.c holds it to an oracle of its own).  Jt's LU is the one of
+ * the lambda system transposed; factored here again, 3 x 3.  Returns -1
+ * when df/dtheta is singular.
  */
-static double transmission(const rps3_model *m, const rps3_data *d) {
-  double At[36], t[3], rho[3], T = 0.0;
-  int perm[6], i, r, k;
-  /* A^T, so that solving A^T y = e_i gives row i of A^-1 */
-  for (i = 0; i < 3; i++) {
-    v3_sub(rho, d->b[i], d->c);
-    for (r = 0; r < 3; r++) {
-      At[6 * i + r] = d->phi[i][r];
-      At[6 * (3 + i) + r] = m->axis[i][r];
-    }
-    v3_cross(t, rho, d->phi[i]);
-    for (r = 0; r < 3; r++) At[6 * i + 3 + r] = t[r];
-    v3_cross(t, rho, m->axis[i]);
-    for (r = 0; r < 3; r++) At[6 * (3 + i) + 3 + r] = t[r];
+static double transmission(const rps3_model *m, const rps3_data *d,
+                           const double Jl[3][3], const double Jt[3][3]) {
+  double LU[9], rho[3][3], a[3], T = 0.0;
+  int perm[3], i, j, q;
+  for (i = 0; i < 3; i++)
+    for (q = 0; q < 3; q++) LU[3 * i + q] = Jt[i][q];
+  if (rps3_lu_factor(3, LU, perm) != 0) return -1.0;
+  for (j = 0; j < 3; j++) {
+    v3_sub(rho[j], d->b[j], d->c);
+    a[j] = d->rot[j][2];
   }
-  if (rps3_lu_factor(6, At, perm) != 0) return -1.0;
   for (i = 0; i < 3; i++) {
-    double y[6] = {0, 0, 0, 0, 0, 0}, s = 0.0;
-    y[i] = 1.0;
-    rps3_lu_solve(6, At, perm, y);
-    for (k = 0; k < 6; k++) s += fabs(y[k]) * (k < 3 ? 1.0 : m->R);
+    double x[3], bd[3][3], u[3][3], vc[3] = {0, 0, 0}, w[3], s;
+    for (q = 0; q < 3; q++) x[q] = -Jl[q][i];
+    rps3_lu_solve(3, LU, perm, x);
+    for (j = 0; j < 3; j++) {
+      v3_scale(bd[j], d->l[j] * x[j], d->dphi[j]);
+      if (j == i) v3_axpy(bd[j], bd[j], 1.0, d->phi[j]);
+      v3_axpy(vc, vc, 1.0 / 3.0, bd[j]);
+    }
+    for (j = 0; j < 3; j++) v3_sub(u[j], bd[j], vc);
+    rps3_omega_from_balls(w, M3C(rho), M3C(u), a, m->r);
+    s = fabs(vc[0]) + fabs(vc[1]) + fabs(vc[2]) +
+        m->R * (fabs(w[0]) + fabs(w[1]) + fabs(w[2]));
     if (s > T || !isfinite(s)) T = s;
   }
   return T;
@@ -512,7 +524,7 @@ int rps3_invdyn(const rps3_model *m, rps3_data *d) {
 
   /* force transmission: the condition number measures lost digits, not
      how much force a load takes; both limits are the caller's */
-  d->transmission = transmission(m, d);
+  d->transmission = transmission(m, d, M3C(Jl), M3C(Jt));
   if (!(d->transmission >= 0.0 && d->transmission <= m->opt.trans_max))
     RPS3_ERROR(d, RPS3_ESING,
                "force transmission %.3g exceeds trans_max %.3g: an actuator "
