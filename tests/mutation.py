@@ -119,13 +119,13 @@ MUTATIONS = [
      " + m->friction.coulomb * s);",
      "viscous pin friction 1 % too strong"),
     ("transmission-moment", "src/invdyn.c",
-     "s += fabs(y[k]) * (k < 3 ? 1.0 : m->R);",
-     "s += fabs(y[k]) * (k < 3 ? 1.0 : 1.01 * m->R);",
+     "m->R * (fabs(w[0]) + fabs(w[1]) + fabs(w[2]));",
+     "1.01 * m->R * (fabs(w[0]) + fabs(w[1]) + fabs(w[2]));",
      "moment scale R of the force transmission, 1 % off"),
     ("transmission-rows", "src/invdyn.c",
-     "At[6 * (3 + i) + r] = m->axis[i][r];",
-     "At[6 * (3 + i) + r] = 1.01 * m->axis[i][r];",
-     "pin-torque rows of the transmission's statics, 1 % off"),
+     "if (j == i) v3_axpy(bd[j], bd[j], 1.0, d->phi[j]);",
+     "if (j == i) v3_axpy(bd[j], bd[j], 1.01, d->phi[j]);",
+     "the link's own rate in the transmission's twist, 1 % off"),
 ]
 
 
