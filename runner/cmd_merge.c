@@ -8,12 +8,22 @@
 #include <string.h>
 #include <unistd.h>
 
+#include "cli.h"
 #include "join.h"
 #include "merge.h"
 #include "parts.h"
 #include "safeio.h"
 #include "tmpout.h"
 #include "verify.h"
+
+/* the options of merge */
+static const cli_opt MERGE_OPTS[3] = {
+    {"copy", 0, NULL, 0, 0, 0,
+     "one self-contained file: the parts' chunks copied\n(default: virtual "
+     "datasets over the parts)"},
+    {"failed-ok", 0, NULL, 0, 0, 0,
+     "exit 0, not 1, when some cases failed"},
+    {"quiet", 'q', NULL, 0, 0, 0, "say nothing when all went well"}};
 
 /*
  * rps3-run merge OUT.h5 PART.h5 ...: the parts of shards 0..N-1, in any
@@ -28,31 +38,37 @@ int merge_main(int argc, char **argv, const char *cmd)
   const char *out_path = NULL, **part = NULL, **byk = NULL, **src = NULL;
   size_t npart = 0, n = 0, i, *ks = NULL, nfailed = 0;
   int quiet = 0, copy = 0, failed_ok = 0, code = EXIT_USAGE, *bad = NULL;
-  char err[768];
+  char err[768], **op;
+  cli c;
+  const char *arg;
+  unsigned long v;
+  int row, nop;
 
   part = calloc((size_t)argc, sizeof *part);
   if (!part) {
     fprintf(stderr, "rps3-run: out of memory\n");
     return EXIT_IO;
   }
-  for (i = 1; i < (size_t)argc; i++) {
-    if (strcmp(argv[i], "-q") == 0 || strcmp(argv[i], "--quiet") == 0)
-      quiet = 1;
-    else if (strcmp(argv[i], "--copy") == 0)
-      copy = 1;
-    else if (strcmp(argv[i], "--failed-ok") == 0)
-      failed_ok = 1;
-    else if (argv[i][0] == '-' && argv[i][1] != '\0') {
-      fprintf(stderr, "rps3-run merge: unknown option '%s'\n", argv[i]);
+  cli_start(&c, "rps3-run merge", MERGE_OPTS, 3, argc, argv);
+  while ((row = cli_next(&c, &arg, &v)) != CLI_END) {
+    if (row == CLI_BAD)
       goto done;
-    } else if (!out_path)
-      out_path = argv[i];
+    if (row == 0)
+      copy = 1;
+    else if (row == 1)
+      failed_ok = 1;
     else
-      part[npart++] = argv[i];
+      quiet = 1;
   }
+  nop = cli_operands(&c, &op);
+  if (nop > 0)
+    out_path = op[0];
+  for (i = 1; i < (size_t)nop; i++)
+    part[npart++] = op[i];
   if (!out_path || npart == 0) {
     fprintf(stderr, "usage: rps3-run merge OUT.h5 PART.h5 ... [--copy] "
                     "[--failed-ok] [--quiet]\n");
+    cli_help(stderr, MERGE_OPTS, 3);
     goto done;
   }
 

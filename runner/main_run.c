@@ -37,6 +37,7 @@
 #include <mpi.h>
 #endif
 
+#include "cli.h"
 #include "cmd.h"
 #include "h5err.h"
 #include "join.h"
@@ -45,6 +46,7 @@
 #include "output.h"
 #include "preflight.h"
 #include "progress.h"
+#include "run_cli.h"
 #include "safeio.h"
 #include "scene.h"
 #include "signals.h"
@@ -52,119 +54,11 @@
 #include "simulate.h"
 #include "sweep.h"
 
-/* most threads of -j */
-#define MAX_THREADS 1024
-
-static void usage(FILE *out)
-{
-  fprintf(out,
-          "usage: rps3-run SCENE.yaml -o OUT.h5 [--quiet] [--gzip LEVEL] "
-          "[--check]\n"
-          "                [--fields LIST]\n"
-          "                [-j N] [--shard K/N [--resume]] [--failed-ok]\n"
-          "       rps3-run merge OUT.h5 PART.h5 ... [--copy] [--failed-ok] "
-          "[--quiet]\n"
-          "       mpirun -n N rps3-run-mpi SCENE.yaml -o OUT.h5 [--copy] "
-          "[...]\n"
-          "       rps3-run --clean OUT.h5 [--force]\n"
-          "       rps3-run --keys | --schema | --sim-schema | --version | "
-          "--help\n"
-          "\n"
-          "Runs the inverse dynamics of the Lee & Shah 3-RPS manipulator "
-          "along the\n"
-          "scene's trajectory, for every case of its sweep, into OUT.h5;\n"
-          "a scene with a simulate section is simulated in closed loop "
-          "instead\n"
-          "(docs/runner.md, \"Simulation\").\n"
-          "  -o OUT.h5      output file (written as OUT.h5.tmp.PID, renamed "
-          "when complete)\n"
-          "  -q, --quiet    no progress on stderr\n"
-          "  --gzip LEVEL   deflate the datasets (1-9; default 0, none)\n"
-          "  --fields LIST  write only these per-sample fields "
-          "(force,length,...)\n"
-          "  --check        validate the scene and every case, print the "
-          "estimated\n"
-          "                 output size and run time, write nothing\n"
-          "  -j N           compute on N threads (default 1); same output\n"
-          "  --shard K/N    compute shard K of N (0 <= K < N <= jobs) into a "
-          "part file\n"
-          "  --resume       keep OUT.h5 when it is that part, complete\n"
-          "  --failed-ok    exit 0, not 1, when the file is complete but "
-          "some cases failed\n"
-          "  --clean        remove the temporaries of OUT.h5 left by dead "
-          "processes\n"
-          "                 (--force: those of other hosts too)\n"
-          "  merge          join the part files of shards 0..N-1 into "
-          "OUT.h5\n"
-          "                 (virtual datasets over the parts; --copy: one "
-          "self-contained file)\n"
-          "  --keys         print the scene keys (markdown)\n"
-          "  --schema       print the datasets of OUT.h5 (markdown)\n"
-          "  --sim-schema   ... of OUT.h5 of a scene with a simulate section\n"
-          "exit: 0 ok, 1 some cases failed, 2 bad scene or usage, 3 cannot "
-          "write\n");
-}
-
-/* the command line, each argument quoted for a POSIX shell when needed */
-static char *command_line(int argc, char **argv)
-{
-  size_t len = 1, i;
-  char *s, *p;
-  for (i = 0; i < (size_t)argc; i++)
-    len += 4 * strlen(argv[i]) + 3;
-  s = malloc(len);
-  if (!s)
-    return NULL;
-  p = s;
-  for (i = 0; i < (size_t)argc; i++) {
-    const char *a = argv[i];
-    int plain = a[0] != '\0' &&
-                strspn(a, "abcdefghijklmnopqrstuvwxyzABCDEFGHIJKLMNOPQRSTUVWXYZ"
-                          "0123456789-_./=:,+@%") == strlen(a);
-    if (i)
-      *p++ = ' ';
-    if (plain) {
-      strcpy(p, a);
-      p += strlen(a);
-      continue;
-    }
-    *p++ = '\'';
-    for (; *a; a++) {
-      if (*a == '\'') {
-        memcpy(p, "'\\''", 4);
-        p += 4;
-      } else
-        *p++ = *a;
-    }
-    *p++ = '\'';
-  }
-  *p = '\0';
-  return s;
-}
-
 /* the MPI world of this process: rank 0 of 1 without MPI */
 typedef struct {
   int rank;
   int size;
 } world;
-
-/* K/N into *k, *n, strictly (digits only, 0 <= K < N); 0 or -1 */
-static int parse_shard(const char *a, size_t *k, size_t *n)
-{
-  char kk[32];
-  const char *slash = strchr(a, '/');
-  unsigned long vk, vn;
-  if (!slash || (size_t)(slash - a) >= sizeof kk)
-    return -1;
-  memcpy(kk, a, (size_t)(slash - a));
-  kk[slash - a] = '\0';
-  if (parse_ulong(kk, 0, (unsigned long)-1, &vk) ||
-      parse_ulong(slash + 1, 1, (unsigned long)-1, &vn) || vk >= vn)
-    return -1;
-  *k = vk;
-  *n = vn;
-  return 0;
-}
 
 #ifdef RPS3_MPI
 /*
@@ -324,9 +218,10 @@ static int agree(const world *w, int code, int *first)
 
 static int run_main(int argc, char **argv, const world *w)
 {
-  const char *scene_path = NULL, *out_path = NULL, *shard_arg = NULL;
-  int quiet = 0, check = 0, copy = 0, resume = 0, failed_ok = 0, gzip = 0;
-  int i, code;
+  const char *scene_path, *out_path, *shard_arg;
+  int quiet, check, copy, resume, failed_ok, gzip;
+  int code;
+  run_args a;
   char shard_text[64];
   char err[512];
   scene s;
@@ -334,7 +229,7 @@ static int run_main(int argc, char **argv, const world *w)
   sweep_plan plan;
   sweep_opts opts = {1, 0, 1};
   pre_opts pre;
-  out_mask fields = out_fields_all();
+  out_mask fields;
   sweep_stats st;
   out_block block;
   out_meta meta;
@@ -342,95 +237,22 @@ static int run_main(int argc, char **argv, const world *w)
   progress pr;
   char *cmd;
 
-  for (i = 1; i < argc; i++) {
-    const char *a = argv[i];
-    if (strcmp(a, "-h") == 0 || strcmp(a, "--help") == 0) {
-      usage(stdout);
-      return EXIT_OK;
-    } else if (strcmp(a, "--version") == 0) {
-      printf("rps3-run %s\n", rps3_version());
-      return EXIT_OK;
-    } else if (strcmp(a, "--keys") == 0) {
-      scene_keys_print();
-      return EXIT_OK;
-    } else if (strcmp(a, "--schema") == 0) {
-      out_schema_print();
-      return EXIT_OK;
-    } else if (strcmp(a, "--sim-schema") == 0) {
-      sim_schema_print();
-      return EXIT_OK;
-    } else if (strcmp(a, "-q") == 0 || strcmp(a, "--quiet") == 0) {
-      quiet = 1;
-    } else if (strcmp(a, "--check") == 0) {
-      check = 1;
-    } else if (strcmp(a, "--copy") == 0) {
-      copy = 1;
-    } else if (strcmp(a, "--resume") == 0) {
-      resume = 1;
-    } else if (strcmp(a, "--failed-ok") == 0) {
-      failed_ok = 1;
-    } else if (strcmp(a, "--fields") == 0) {
-      if (i + 1 >= argc) {
-        fprintf(stderr, "rps3-run: %s needs a value\n", a);
-        return EXIT_USAGE;
-      }
-      if (out_fields_parse(argv[++i], &fields, err, sizeof err)) {
-        fprintf(stderr, "rps3-run: %s\n", err);
-        return EXIT_USAGE;
-      }
-    } else if (strcmp(a, "-o") == 0 || strcmp(a, "--gzip") == 0 ||
-               strcmp(a, "-j") == 0 || strcmp(a, "--shard") == 0) {
-      unsigned long v;
-      if (i + 1 >= argc) {
-        fprintf(stderr, "rps3-run: %s needs a value\n", a);
-        return EXIT_USAGE;
-      }
-      if (a[1] == 'o') {
-        out_path = argv[++i];
-        continue;
-      }
-      if (a[2] == 's') {
-        shard_arg = argv[++i];
-        if (parse_shard(shard_arg, &opts.shard, &opts.nshard)) {
-          fprintf(stderr, "rps3-run: --shard needs K/N with 0 <= K < N, "
-                          "got '%s'\n",
-                  shard_arg);
-          return EXIT_USAGE;
-        }
-        continue;
-      }
-      ++i;
-      if (a[1] == 'j') {
-        if (parse_ulong(argv[i], 1, MAX_THREADS, &v)) {
-          fprintf(stderr, "rps3-run: -j needs 1-%d threads, got '%s'\n",
-                  MAX_THREADS, argv[i]);
-          return EXIT_USAGE;
-        }
-        opts.nthread = (int)v;
-        continue;
-      }
-      if (parse_ulong(argv[i], 0, 9, &v)) {
-        fprintf(stderr, "rps3-run: --gzip needs a level 0-9, got '%s'\n",
-                argv[i]);
-        return EXIT_USAGE;
-      }
-      gzip = (int)v;
-    } else if (a[0] == '-' && a[1] != '\0') {
-      fprintf(stderr, "rps3-run: unknown option '%s'\n", a);
-      usage(stderr);
-      return EXIT_USAGE;
-    } else if (!scene_path) {
-      scene_path = a;
-    } else {
-      fprintf(stderr, "rps3-run: one scene at a time ('%s' and '%s')\n",
-              scene_path, a);
-      return EXIT_USAGE;
-    }
-  }
-  if (!scene_path || (!out_path && !check)) {
-    usage(stderr);
-    return EXIT_USAGE;
-  }
+  /* the command line (run_cli.h) */
+  if ((code = run_args_parse(argc, argv, &a)) >= 0)
+    return code;
+  scene_path = a.scene_path;
+  out_path = a.out_path;
+  shard_arg = a.shard_arg;
+  quiet = a.quiet;
+  check = a.check;
+  copy = a.copy;
+  resume = a.resume;
+  failed_ok = a.failed_ok;
+  gzip = a.gzip;
+  fields = a.fields;
+  opts.nthread = a.nthread;
+  opts.shard = a.shard;
+  opts.nshard = a.nshard;
   if (w->size > 1) {
     if (shard_arg) {
       if (w->rank == 0)
@@ -507,7 +329,7 @@ static int run_main(int argc, char **argv, const world *w)
     sa.gzip = gzip;
     sa.nthread = opts.nthread;
     sa.sharded = shard_arg != NULL || resume || w->size > 1;
-    sa.command_line = cmd = command_line(argc, argv);
+    sa.command_line = cmd = cli_command_line(argc, argv);
     /* refused under mpirun: rank 0 says so */
     code = !cmd ? EXIT_IO
            : w->rank > 0 ? EXIT_USAGE
@@ -574,7 +396,7 @@ static int run_main(int argc, char **argv, const world *w)
     tmpout_clean(out_path, 0, 1);
 
   memset(&block, 0, sizeof block);
-  cmd = command_line(argc, argv);
+  cmd = cli_command_line(argc, argv);
   if (!cmd ||
       out_block_alloc(&block, plan.tile_cases, plan.tile_points,
                       plan.first.model.opt.effects)) {
@@ -709,18 +531,18 @@ int main(int argc, char **argv)
             rps3_version(), RPS3_VERSION_STRING);
     code = EXIT_IO;
   } else if (argc > 1 && strcmp(argv[1], "--clean") == 0) {
-    int force = argc == 4 && strcmp(argv[3], "--force") == 0;
-    if (argc != 3 + force || w.size > 1) {
-      fprintf(stderr, "usage: rps3-run --clean OUT.h5 [--force]\n");
+    if (w.size > 1) {
+      if (w.rank == 0)
+        fprintf(stderr, "rps3-run: --clean runs as one process\n");
       code = EXIT_USAGE;
     } else
-      code = tmpout_clean(argv[2], force, 0) < 0 ? EXIT_IO : EXIT_OK;
+      code = clean_main(argc - 1, argv + 1);
   } else if (argc > 1 && strcmp(argv[1], "merge") == 0) {
     if (w.size > 1) {
       if (w.rank == 0)
         fprintf(stderr, "rps3-run: merge runs as one process\n");
       code = EXIT_USAGE;
-    } else if (!(cmd = command_line(argc, argv))) {
+    } else if (!(cmd = cli_command_line(argc, argv))) {
       fprintf(stderr, "rps3-run: out of memory\n");
       code = EXIT_IO;
     } else {

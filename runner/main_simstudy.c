@@ -32,6 +32,7 @@
 #include <hdf5.h>
 #include <hdf5_hl.h>
 
+#include "cli.h"
 #include "rps3.h"
 
 enum { EXIT_OK = 0, EXIT_USAGE = 2, EXIT_IO = 3, EXIT_RUN = 4 };
@@ -340,35 +341,61 @@ static int accuracy(hid_t f, int quick) {
   return rc ? -1 : 0;
 }
 
+/* the options, in the order of SIMSTUDY_OPTS */
+enum { O_OUTPUT, O_QUICK, O_VERSION, O_HELP, O_N };
+
+static const cli_opt SIMSTUDY_OPTS[O_N] = {
+    {"output", 'o', "OUT.h5", 0, 0, 0,
+     "output file (written as OUT.h5.tmp, renamed when\ncomplete)"},
+    {"quick", 0, NULL, 0, 0, 0, "shorter runs (0.5 s), one timing each"},
+    {"version", 0, NULL, 0, 0, 0, "print the version"},
+    {"help", 'h', NULL, 0, 0, 0, "print this help"},
+};
+
+static int usage(FILE *out) {
+  fprintf(out, "usage: rps3-simstudy -o OUT.h5 [--quick]\n"
+               "       rps3-simstudy --help | --version\n\n"
+               "Closed-loop tracking and what simulation accuracy costs in "
+               "time.\n");
+  cli_help(out, SIMSTUDY_OPTS, O_N);
+  fprintf(out, "exit: 0 ok, 2 bad command line, 3 cannot write\n");
+  return EXIT_USAGE;
+}
+
 int main(int argc, char **argv) {
-  const char *out = NULL;
-  char tmp[4096], cmd[1024] = "";
-  int quick = 0, i, rc;
+  const char *out = NULL, *arg;
+  char tmp[4096], *cmd, **op;
+  int quick = 0, row, rc;
+  unsigned long v;
   hid_t f;
-  for (i = 0; i < argc; i++) {
-    /* the command line, for the file's root attribute */
-    strncat(cmd, argv[i], sizeof(cmd) - strlen(cmd) - 2);
-    if (i + 1 < argc) strcat(cmd, " ");
-  }
-  for (i = 1; i < argc; i++) {
-    if (strcmp(argv[i], "-o") == 0 && i + 1 < argc) {
-      out = argv[++i];
-    } else if (strcmp(argv[i], "--quick") == 0) {
-      quick = 1;
-    } else {
-      out = NULL;
-      break;
+  cli c;
+  cli_start(&c, "rps3-simstudy", SIMSTUDY_OPTS, O_N, argc, argv);
+  while ((row = cli_next(&c, &arg, &v)) != CLI_END) {
+    switch (row) {
+    case O_OUTPUT: out = arg; break;
+    case O_QUICK: quick = 1; break;
+    case O_VERSION:
+      printf("rps3-simstudy %s\n", rps3_version());
+      return EXIT_OK;
+    case O_HELP:
+      usage(stdout);
+      return EXIT_OK;
+    default:
+      return usage(stderr);
     }
   }
-  if (out == NULL) {
-    fprintf(stderr, "usage: rps3-simstudy -o OUT.h5 [--quick]\n");
-    return EXIT_USAGE;
+  if (out == NULL || cli_operands(&c, &op) != 0) return usage(stderr);
+  /* the command line, for the file's root attribute */
+  if (!(cmd = cli_command_line(argc, argv))) {
+    fprintf(stderr, "rps3-simstudy: out of memory\n");
+    return EXIT_IO;
   }
   gsl_set_error_handler_off();
   snprintf(tmp, sizeof(tmp), "%s.tmp", out);
   f = H5Fcreate(tmp, H5F_ACC_TRUNC, H5P_DEFAULT, H5P_DEFAULT);
   if (f < 0) {
     fprintf(stderr, "rps3-simstudy: cannot create %s\n", tmp);
+    free(cmd);
     return EXIT_IO;
   }
   rc = tracking(f, quick);
@@ -380,6 +407,7 @@ int main(int argc, char **argv) {
              ? -1
              : 0;
   if (H5Fclose(f) < 0) rc = -1;
+  free(cmd);
   if (rc != 0 || rename(tmp, out) != 0) {
     fprintf(stderr, "rps3-simstudy: writing %s failed\n", out);
     remove(tmp);

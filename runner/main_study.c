@@ -51,6 +51,7 @@
 
 #include <gsl/gsl_errno.h>
 
+#include "cli.h"
 #include "h5err.h"
 #include "safeio.h"
 #include "signals.h"
@@ -58,6 +59,21 @@
 #include "tmpout.h"
 
 /* ----------------------------------------------------------------- main */
+
+/* the options, in the order of STUDY_OPTS */
+enum { O_OUTPUT, O_SAMPLES, O_REPEATS, O_QUICK, O_VERSION, O_HELP, O_N };
+
+static const cli_opt STUDY_OPTS[O_N] = {
+    {"output", 'o', "OUT.h5", 0, 0, 0,
+     "output file (written under a temporary name,\nrenamed when complete)"},
+    {"samples", 0, "N", 1, 10, 1000000,
+     "samples per trajectory, 10-1000000 (default 400)"},
+    {"repeats", 0, "R", 1, 1, 1000,
+     "timed passes per setting, 1-1000 (default 9)"},
+    {"quick", 0, NULL, 0, 0, 0, "a coarse workspace grid"},
+    {"version", 0, NULL, 0, 0, 0, "print the version"},
+    {"help", 'h', NULL, 0, 0, 0, "print this help"},
+};
 
 static int usage(FILE *out) {
   fprintf(out,
@@ -71,78 +87,41 @@ static int usage(FILE *out) {
           "precise\n"
           "             reference (docs/accuracy.md)\n"
           "  workspace  status, conditioning and assembly mode over a\n"
-          "             (rho, alpha, beta, z_c) grid\n"
-          "  -o OUT.h5      output file (written under a temporary name, "
-          "renamed when complete)\n"
-          "  --samples N    samples per trajectory, 10-1000000 (default "
-          "400)\n"
-          "  --repeats R    timed passes per setting, 1-1000 (default 9)\n"
-          "  --quick        a coarse workspace grid\n"
-          "exit: 0 ok, 2 bad command line, 3 cannot write\n");
+          "             (rho, alpha, beta, z_c) grid\n");
+  cli_help(out, STUDY_OPTS, O_N);
+  fprintf(out, "exit: 0 ok, 2 bad command line, 3 cannot write\n");
   return EXIT_USAGE;
 }
 
-/* the value of option argv[i] (which needs one), strictly in [lo, hi] */
-static int option_value(int argc, char **argv, int i, unsigned long lo,
-                        unsigned long hi, unsigned long *v) {
-  if (i + 1 >= argc) {
-    fprintf(stderr, "rps3-study: %s needs a value\n", argv[i]);
-    return -1;
-  }
-  if (parse_ulong(argv[i + 1], lo, hi, v)) {
-    fprintf(stderr, "rps3-study: %s needs a whole number %lu-%lu, got '%s'\n",
-            argv[i], lo, hi, argv[i + 1]);
-    return -1;
-  }
-  return 0;
-}
-
 static int study_main(int argc, char **argv) {
-  const char *out = NULL, *in[1];
-  char cmdline[2048], err[4096 + 512];
-  size_t samples = 400, len = 0;
-  int repeats = 9, quick = 0, i, rc;
+  const char *out = NULL, *in[1], *arg, *study;
+  char *cmdline, err[4096 + 512], **op;
+  size_t samples = 400;
+  int repeats = 9, quick = 0, row, rc;
   unsigned long v;
-  if (argc < 2) return usage(stderr);
-  if (!strcmp(argv[1], "-h") || !strcmp(argv[1], "--help")) {
-    usage(stdout);
-    return EXIT_OK;
-  }
-  if (!strcmp(argv[1], "--version")) {
-    printf("rps3-study %s\n", rps3_version());
-    return EXIT_OK;
-  }
-  if (strcmp(argv[1], "accuracy") && strcmp(argv[1], "workspace")) {
-    fprintf(stderr, "rps3-study: unknown study '%s'\n", argv[1]);
-    return usage(stderr);
-  }
-  cmdline[0] = '\0';
-  for (i = 0; i < argc; i++) {
-    int w = snprintf(cmdline + len, sizeof cmdline - len, "%s%s", i ? " " : "",
-                     argv[i]);
-    if (w < 0 || (size_t)w >= sizeof cmdline - len) break;
-    len += (size_t)w;
-  }
-  for (i = 2; i < argc; i++) {
-    if (!strcmp(argv[i], "-o")) {
-      if (i + 1 >= argc) {
-        fprintf(stderr, "rps3-study: -o needs a value\n");
-        return usage(stderr);
-      }
-      out = argv[++i];
-    } else if (!strcmp(argv[i], "--samples")) {
-      if (option_value(argc, argv, i++, 10, 1000000, &v))
-        return usage(stderr);
-      samples = (size_t)v;
-    } else if (!strcmp(argv[i], "--repeats")) {
-      if (option_value(argc, argv, i++, 1, 1000, &v)) return usage(stderr);
-      repeats = (int)v;
-    } else if (!strcmp(argv[i], "--quick")) {
-      quick = 1;
-    } else {
-      fprintf(stderr, "rps3-study: unknown option '%s'\n", argv[i]);
+  cli c;
+  cli_start(&c, "rps3-study", STUDY_OPTS, O_N, argc, argv);
+  while ((row = cli_next(&c, &arg, &v)) != CLI_END) {
+    switch (row) {
+    case O_OUTPUT: out = arg; break;
+    case O_SAMPLES: samples = (size_t)v; break;
+    case O_REPEATS: repeats = (int)v; break;
+    case O_QUICK: quick = 1; break;
+    case O_VERSION:
+      printf("rps3-study %s\n", rps3_version());
+      return EXIT_OK;
+    case O_HELP:
+      usage(stdout);
+      return EXIT_OK;
+    default:
       return usage(stderr);
     }
+  }
+  if (cli_operands(&c, &op) != 1) return usage(stderr);
+  study = op[0];
+  if (strcmp(study, "accuracy") && strcmp(study, "workspace")) {
+    fprintf(stderr, "rps3-study: unknown study '%s'\n", study);
+    return usage(stderr);
   }
   if (!out) {
     fprintf(stderr, "rps3-study: -o OUT.h5 is needed\n");
@@ -153,13 +132,20 @@ static int study_main(int argc, char **argv) {
     fprintf(stderr, "rps3-study: %s\n", err);
     return EXIT_USAGE;
   }
+  if (!(cmdline = cli_command_line(argc, argv))) {
+    fprintf(stderr, "rps3-study: out of memory\n");
+    return EXIT_IO;
+  }
   /* what killed runs of this output left: reported, and removed when
      their process was of this host */
   stale_report("rps3-study", out);
   tmpout_clean(out, 0, 1);
-  if (tmpout_name(out, 0)) return EXIT_USAGE;
+  if (tmpout_name(out, 0)) {
+    free(cmdline);
+    return EXIT_USAGE;
+  }
   tmpout_arm();
-  if (!strcmp(argv[1], "accuracy"))
+  if (!strcmp(study, "accuracy"))
     rc = study_accuracy(tmpout_path(), cmdline, samples, repeats);
   else
     rc = study_workspace(tmpout_path(), cmdline, quick);
@@ -173,6 +159,7 @@ static int study_main(int argc, char **argv) {
     tmpout_discard();
     fprintf(stderr, "rps3-study: %s not written\n", out);
   }
+  free(cmdline);
   return rc;
 }
 

@@ -439,3 +439,91 @@ def test_memory_stays_flat(runner, tmp_path):
                                      "-q"]))
         out.unlink()
     assert rss[1] < rss[0] + 8 * 1024, rss
+
+
+# ------------------------------------------------------------ command line
+
+def _cli(*args):
+    return subprocess.run([RUNNER, *map(str, args)], capture_output=True,
+                          text=True, timeout=60)
+
+
+def test_getopt_forms_give_the_same_file(runner, tmp_path):
+    """--output=F, -oF, -o F, -j2, --jobs 2, --gzip=1, bundled -qo F and
+    options after the scene or before it: getopt_long's forms, one file."""
+    paper = os.path.join(CONFIGS, "paper.yaml")
+    forms = {"a": ["-o", "{}", paper, "-q"],
+             "b": [paper, "--output={}", "-q", "-j2"],
+             "c": [paper, "-o{}", "--jobs", "2", "--quiet"],
+             "d": ["-qo", "{}", "--jobs=1", paper],
+             "e": [paper, "--out", "{}", "-q", "--gzip=1"]}
+    for name, args in forms.items():
+        out = tmp_path / f"{name}.h5"
+        p = _cli(*[a.replace("{}", str(out)) for a in args])
+        assert p.returncode == 0, (args, p.stderr)
+    with h5py.File(tmp_path / "a.h5", "r") as ref:
+        for name in "bcde":
+            with h5py.File(tmp_path / f"{name}.h5", "r") as f:
+                np.testing.assert_array_equal(f["force"][()],
+                                              ref["force"][()])
+    with h5py.File(tmp_path / "e.h5", "r") as f:
+        assert f["force"].compression == "gzip"
+    assert sorted(os.listdir(tmp_path)) == [f"{n}.h5" for n in "abcde"]
+
+
+@pytest.mark.parametrize("args,said", [
+    (["--bogus"], "rps3-run: unknown option '--bogus'"),
+    (["-Z"], "rps3-run: unknown option '-Z'"),
+    (["-j"], "rps3-run: -j needs a value"),
+    (["--gzip"], "rps3-run: --gzip needs a value"),
+    (["-j0"], "rps3-run: -j needs a whole number 1-1024, got '0'"),
+    (["--jobs=2x"], "rps3-run: -j needs a whole number 1-1024, got '2x'"),
+    (["--gzip=10"], "rps3-run: --gzip needs a whole number 0-9, got '10'")])
+def test_getopt_errors_name_the_option(runner, tmp_path, args, said):
+    out = tmp_path / "x.h5"
+    p = _cli(os.path.join(CONFIGS, "paper.yaml"), "-o", out, *args)
+    assert p.returncode == 2
+    assert said in p.stderr, p.stderr
+    assert os.listdir(tmp_path) == []
+
+
+def test_help_lists_every_option_of_the_table(runner):
+    p = _cli("--help")
+    assert p.returncode == 0
+    for opt in ("-o, --output OUT.h5", "-q, --quiet", "--gzip LEVEL",
+                "--fields LIST", "--check", "-j, --jobs N", "--shard K/N",
+                "--resume", "--failed-ok", "--copy", "--keys", "--schema",
+                "--sim-schema", "--version", "-h, --help"):
+        assert opt in p.stdout, opt
+    assert _cli("-h").stdout == p.stdout
+
+
+def test_subcommands_parse_their_own_options(runner, tmp_path):
+    p = _cli("merge", tmp_path / "m.h5", "--bogus")
+    assert p.returncode == 2
+    assert "rps3-run merge: unknown option '--bogus'" in p.stderr
+    p = _cli("--clean", tmp_path / "m.h5", "--bogus")
+    assert p.returncode == 2 and "unknown option '--bogus'" in p.stderr
+    p = _cli("--clean", tmp_path / "m.h5", "--force")
+    assert p.returncode == 0, p.stderr
+
+
+def test_study_and_simstudy_share_the_parser(runner, tmp_path):
+    study = os.path.join(os.path.dirname(RUNNER), "rps3-study")
+    sim = os.path.join(os.path.dirname(RUNNER), "rps3-simstudy")
+    out = tmp_path / "ws.h5"
+    p = subprocess.run([study, "--quick", f"--output={out}", "workspace"],
+                       capture_output=True, text=True, timeout=120)
+    assert p.returncode == 0, p.stderr
+    assert out.exists()
+    p = subprocess.run([study, "accuracy", f"-o{out}", "--samples=9"],
+                       capture_output=True, text=True, timeout=60)
+    assert p.returncode == 2
+    assert "--samples needs a whole number 10-1000000, got '9'" in p.stderr
+    for prog in (study, sim):
+        p = subprocess.run([prog, "-o"], capture_output=True, text=True)
+        assert p.returncode == 2 and "-o needs a value" in p.stderr
+        p = subprocess.run([prog, "--bogus"], capture_output=True, text=True)
+        assert p.returncode == 2 and "unknown option '--bogus'" in p.stderr
+        p = subprocess.run([prog, "--help"], capture_output=True, text=True)
+        assert p.returncode == 0 and "-o, --output OUT.h5" in p.stdout
