@@ -202,7 +202,8 @@ $(B)/rps3-study: $(B)/runner/main_study.o $(STUDY_OBJ) $(RUN_OBJ) $(B)/librps3.a
 # rps3-simstudy (runner/main_simstudy.c): closed-loop tracking and what
 # simulation accuracy costs in time; `make simulation` runs it
 $(B)/rps3-simstudy: $(B)/runner/main_simstudy.o $(B)/runner/cli.o \
-                   $(B)/runner/safeio.o $(B)/librps3.a
+                   $(B)/runner/safeio.o $(B)/runner/signals.o \
+                   $(B)/runner/tmpout.o $(B)/runner/h5err.o $(B)/librps3.a
 	$(CC) -o $@ $^ $(HDF5_LIBS) $(GSL_LIBS) -lm
 
 # rps3-run-mpi: the same program built with -DRPS3_MPI, for

@@ -19,8 +19,9 @@
  * CPU time per simulated second (median of 3 runs; --quick: 1).
  *
  * HDF5 with the runner's conventions: units on every dataset, root
- * attributes rps3_version, command_line; written under OUT.h5.tmp and
- * renamed when complete.  Exit codes: 0 ok, 2 bad command line, 3 the file
+ * attributes rps3_version, command_line; written under a temporary name
+ * next to OUT.h5 (tmpout.h, as rps3-run and rps3-study) and renamed when
+ * complete.  Exit codes: 0 ok, 2 bad command line, 3 the file
  * could not be written, 4 a run that must succeed failed.
  */
 #include <stdio.h>
@@ -33,11 +34,21 @@
 #include <hdf5_hl.h>
 
 #include "cli.h"
+#include "h5err.h"
 #include "rps3.h"
+#include "safeio.h"
+#include "signals.h"
+#include "tmpout.h"
 
 enum { EXIT_OK = 0, EXIT_USAGE = 2, EXIT_IO = 3, EXIT_RUN = 4 };
 
 #define RATE_HZ 1000.0
+
+/* a run that must succeed failed: no file (the temporary one removed) */
+static void fail_run(void) {
+  tmpout_discard();
+  exit(EXIT_RUN);
+}
 #define NCTRL 3
 #define NMODEL 2
 #define MAXS 10001 /* samples of the longest path (10 s at 1 kHz, + 1) */
@@ -99,7 +110,7 @@ static int run(const rps3_model *plant, const rps3_model *cm,
       rps3_ctrl_alloc(kind, kp, kd, cm, tr, &c, err, sizeof(err)) != RPS3_OK ||
       rps3_data_alloc(plant, &w) != RPS3_OK) {
     fprintf(stderr, "rps3-simstudy: set-up: %s\n", err);
-    exit(EXIT_RUN);
+    fail_run();
   }
   ctl.fn = rps3_ctrl_update;
   ctl.state = c;
@@ -280,7 +291,7 @@ static int accuracy(hid_t f, int quick) {
   if (run(&plant, &plant, &tr, RPS3_CTRL_COMPUTED_TORQUE, KP[2], KD[2], &o,
           dur, &ro) != RPS3_OK) {
     fprintf(stderr, "rps3-simstudy: the reference run failed\n");
-    exit(EXIT_RUN);
+    fail_run();
   }
   printf("accuracy: computed torque on the fast sine, %.1f s, against rk8pd "
          "1e-13\n", dur);
@@ -346,7 +357,7 @@ enum { O_OUTPUT, O_QUICK, O_VERSION, O_HELP, O_N };
 
 static const cli_opt SIMSTUDY_OPTS[O_N] = {
     {"output", 'o', "OUT.h5", 0, 0, 0,
-     "output file (written as OUT.h5.tmp, renamed when\ncomplete)"},
+     "output file (written under a temporary name,\nrenamed when complete)"},
     {"quick", 0, NULL, 0, 0, 0, "shorter runs (0.5 s), one timing each"},
     {"version", 0, NULL, 0, 0, 0, "print the version"},
     {"help", 'h', NULL, 0, 0, 0, "print this help"},
@@ -362,9 +373,9 @@ static int usage(FILE *out) {
   return EXIT_USAGE;
 }
 
-int main(int argc, char **argv) {
+static int simstudy_main(int argc, char **argv) {
   const char *out = NULL, *arg;
-  char tmp[4096], *cmd, **op;
+  char *cmd, **op, err[4096 + 512];
   int quick = 0, row, rc;
   unsigned long v;
   hid_t f;
@@ -390,15 +401,22 @@ int main(int argc, char **argv) {
     fprintf(stderr, "rps3-simstudy: out of memory\n");
     return EXIT_IO;
   }
-  gsl_set_error_handler_off();
-  snprintf(tmp, sizeof(tmp), "%s.tmp", out);
-  f = H5Fcreate(tmp, H5F_ACC_TRUNC, H5P_DEFAULT, H5P_DEFAULT);
-  if (f < 0) {
-    fprintf(stderr, "rps3-simstudy: cannot create %s\n", tmp);
+  if (out_path_check(out, NULL, 0, err, sizeof err)) {
+    fprintf(stderr, "rps3-simstudy: %s\n", err);
     free(cmd);
-    return EXIT_IO;
+    return EXIT_USAGE;
   }
-  rc = tracking(f, quick);
+  /* written under a temporary name next to OUT.h5 (tmpout.h), as the
+     runner's files; what killed runs of OUT.h5 left is removed */
+  stale_report("rps3-simstudy", out);
+  tmpout_clean(out, 0, 1);
+  if (tmpout_name(out, 0)) {
+    free(cmd);
+    return EXIT_USAGE;
+  }
+  tmpout_arm();
+  f = H5Fcreate(tmpout_path(), H5F_ACC_TRUNC, H5P_DEFAULT, H5P_DEFAULT);
+  rc = f < 0 ? -1 : tracking(f, quick);
   if (rc == 0) rc = accuracy(f, quick);
   if (rc == 0)
     rc = (H5LTset_attribute_string(f, "/", "rps3_version", rps3_version()) <
@@ -406,13 +424,29 @@ int main(int argc, char **argv) {
           H5LTset_attribute_string(f, "/", "command_line", cmd) < 0)
              ? -1
              : 0;
-  if (H5Fclose(f) < 0) rc = -1;
+  if (f >= 0 && H5Fclose(f) < 0) rc = -1;
   free(cmd);
-  if (rc != 0 || rename(tmp, out) != 0) {
-    fprintf(stderr, "rps3-simstudy: writing %s failed\n", out);
-    remove(tmp);
+  if (rc != 0) {
+    h5_cause(err, sizeof err);
+    if (err[0]) fprintf(stderr, "rps3-simstudy: %s: HDF5: %s\n", out, err);
+  }
+  if (rc != 0 || tmpout_commit(out)) {
+    tmpout_discard();
+    fprintf(stderr, "rps3-simstudy: %s not written\n", out);
     return EXIT_IO;
   }
   printf("wrote %s\n", out);
   return EXIT_OK;
+}
+
+int main(int argc, char **argv) {
+  /* fds 0-2 open, HDF5 without atexit, the signal policy of signals.h
+     (a signal that ends the program removes the temporary file), GSL's
+     errors returned, HDF5's captured */
+  proc_init();
+  tmpout_prog("rps3-simstudy");
+  sig_init();
+  gsl_set_error_handler_off();
+  h5_errors_capture();
+  return proc_exit(simstudy_main(argc, argv));
 }

@@ -22,6 +22,7 @@ from conftest import CONFIGS, RUNNER, run, write_scene, run_tmp
 ROOT = os.path.dirname(RUNNER)
 RUNNER_MPI = os.path.join(ROOT, "rps3-run-mpi")
 STUDY = os.path.join(ROOT, "rps3-study")
+SIMSTUDY = os.path.join(ROOT, "rps3-simstudy")
 MPIRUN = shutil.which("mpirun")
 PAPER = os.path.join(CONFIGS, "paper.yaml")
 
@@ -242,6 +243,17 @@ def test_study_signal_removes_the_temporary(runner, tmp_path):
     # the full workspace grid: ~1 s computing, then ~9 MB to write
     p = start([STUDY, "workspace", "-o", tmp_path / "ws.h5"])
     wait_for(run_tmp(tmp_path / "ws.h5", p.pid), timeout=60)
+    p.send_signal(signal.SIGTERM)
+    p.wait(timeout=30)
+    assert p.returncode == -signal.SIGTERM
+    assert names(tmp_path) == []
+
+
+def test_simstudy_signal_removes_the_temporary(runner, tmp_path):
+    """rps3-simstudy writes under the runner's temporary name (tmpout.h):
+    a signal that ends it leaves nothing."""
+    p = start([SIMSTUDY, "--quick", "-o", tmp_path / "sim.h5"])
+    wait_for(run_tmp(tmp_path / "sim.h5", p.pid), timeout=60)
     p.send_signal(signal.SIGTERM)
     p.wait(timeout=30)
     assert p.returncode == -signal.SIGTERM
