@@ -584,14 +584,17 @@ RPS3_API int rps3_inverse(const rps3_model *m, rps3_data *d);
  * Its results agree with the loop's to rounding, not bitwise: l within 4
  * ulp, theta within 2 ulp of pi, F, its shares and lambda R within 8 eps
  * cond of the point's largest force or share, cond within 8 eps cond
- * (tests/test_batch_kernel.c).  A point it cannot certify -- a non-finite
+ * (tests/test_batch_kernel.c); transmission and the energy scale within
+ * 8 eps cond, dl and ddl within 16 eps of the point's velocity and
+ * acceleration scale, x_c and y_c within 4 eps r.  A point it cannot
+ * certify -- a non-finite
  * input, an angle beyond 1e5 rad, an unreachable pose, a result that
  * overflows, or a condition number or force transmission near or above
  * its warning threshold -- is computed by the per-point loop, so status
  * and warn are exactly the loop's for every point (warn is 0 and niter 0
  * for the kernel's points).  After the call d holds the last point the
  * loop computed, not necessarily point n - 1.  The kernel keeps one block
- * of results on the stack (about 15 kB).
+ * of results on the stack (about 20 kB).
  *
  * A point that fails gets its status in out->status[i] and NaN in its
  * floating-point outputs, and the other points are computed.  out->nfail
@@ -641,26 +644,41 @@ typedef struct {
   size_t nfail;          /* written: number of points whose status is not
                             RPS3_OK */
   size_t first_fail;     /* written: index of the first of them (n if none) */
+  /* (members after first_fail were added later: a caller that zeroes the
+     struct, as every caller should, keeps working) */
+  double *transmission;  /* n: force transmission (inverse) [-], as
+                            d->transmission */
+  double *dl;            /* 3 n: link rates (inverse) [m/s]; NaN when no
+                            selected effect nor the certificate needs rates */
+  double *ddl;           /* 3 n: link accelerations (inverse) [m/s^2]; NaN
+                            as dl */
+  double *c;             /* 3 n: platform centre x_c, y_c, z_c (inverse, ik)
+                            [m], eqs. (3)-(4) */
+  double *energy_scale;  /* n: scale of the energy-rate residual (inverse)
+                            [W]; 0 when opt.certify is off */
+  double *solve_resid;   /* n: max |f_k| after the theta solve (inverse,
+                            fk) [-]; 0 in closed form */
 } rps3_batch_out;
 
 /*
  * rps3_inverse (pose, rates, accelerations -> forces) over in->n points:
  * reads pose, dpose, ddpose; writes status, warn, l, theta, niter, F,
- * F_effect, lambda, cond, energy_residual.
+ * F_effect, lambda, cond, energy_residual, transmission, dl, ddl, c,
+ * energy_scale, solve_resid.
  */
 RPS3_API int rps3_inverse_batch(const rps3_model *m, rps3_data *d,
                                 const rps3_batch_in *in, rps3_batch_out *out);
 
 /*
- * rps3_ik over in->n points: reads pose; writes status, warn, l, theta.
+ * rps3_ik over in->n points: reads pose; writes status, warn, l, theta, c.
  */
 RPS3_API int rps3_ik_batch(const rps3_model *m, rps3_data *d,
                            const rps3_batch_in *in, rps3_batch_out *out);
 
 /*
  * rps3_fk over in->n points: reads l and guess; writes status, warn, pose,
- * theta, niter.  With guess the solve of point i starts from guess i,
- * whatever opt.warm_start; without it, as rps3_fk starts: from the previous
+ * theta, niter, solve_resid, c.  With guess the solve of point i starts
+ * from guess i, whatever opt.warm_start; without it, as rps3_fk starts: from the previous
  * point of d when opt.warm_start, else from rps3_theta_guess.
  */
 RPS3_API int rps3_fk_batch(const rps3_model *m, rps3_data *d,

@@ -51,8 +51,16 @@ static void set_failed(rps3_batch_out *out, size_t i, size_t n) {
     for (k = 0; k < RPS3_NEFFECT && out->F_effect; k++)
       AT(out->F_effect, 3 * k + c, i, n) = nan;
   }
+  for (c = 0; c < 3; c++) {
+    if (out->dl) AT(out->dl, c, i, n) = nan;
+    if (out->ddl) AT(out->ddl, c, i, n) = nan;
+    if (out->c) AT(out->c, c, i, n) = nan;
+  }
   if (out->cond) out->cond[i] = nan;
   if (out->energy_residual) out->energy_residual[i] = nan;
+  if (out->transmission) out->transmission[i] = nan;
+  if (out->energy_scale) out->energy_scale[i] = nan;
+  if (out->solve_resid) out->solve_resid[i] = nan;
 }
 
 /* the results of point i, read from the data as the stage left them */
@@ -70,9 +78,22 @@ static void store(const rps3_data *d, batch_kind kind, rps3_batch_out *out,
     for (k = 0; k < RPS3_NEFFECT && out->F_effect; k++)
       AT(out->F_effect, 3 * k + c, i, n) = d->F_effect[k][c];
   }
+  for (c = 0; c < 3; c++)
+    if (out->c) AT(out->c, c, i, n) = d->c[c];
+  if (kind != BATCH_IK && out->solve_resid) out->solve_resid[i] = d->solve_resid;
   if (kind == BATCH_INVERSE) {
+    /* the rates as the stages left them: NaN when they did not run */
+    const double nan = (double)NAN;
+    int vel = (d->stage & RPS3_STAGE_VEL) != 0;
+    int acc = (d->stage & RPS3_STAGE_ACC) != 0;
+    for (c = 0; c < 3; c++) {
+      if (out->dl) AT(out->dl, c, i, n) = vel ? d->dl[c] : nan;
+      if (out->ddl) AT(out->ddl, c, i, n) = acc ? d->ddl[c] : nan;
+    }
     if (out->cond) out->cond[i] = d->cond;
     if (out->energy_residual) out->energy_residual[i] = d->energy_residual;
+    if (out->transmission) out->transmission[i] = d->transmission;
+    if (out->energy_scale) out->energy_scale[i] = d->energy_scale;
   }
 }
 
@@ -180,12 +201,33 @@ static void kernel_block(const rps3_model *m, rps3_data *d,
     for (k = 0; k < RPS3_KNEFF; k++)
       o.Fe[k][c] = dst(out->F_effect, 3 * k + c, i0, n, o.Fe[k][c]);
   }
+  for (c = 0; c < 3; c++) {
+    o.dl[c] = dst(out->dl, c, i0, n, o.dl[c]);
+    o.ddl[c] = dst(out->ddl, c, i0, n, o.ddl[c]);
+  }
+  o.c[0] = dst(out->c, 0, i0, n, o.c[0]);
+  o.c[1] = dst(out->c, 1, i0, n, o.c[1]);
   o.cond = dst(out->cond, 0, i0, n, o.cond);
+  o.trans = dst(out->transmission, 0, i0, n, o.trans);
   o.eres = dst(out->energy_residual, 0, i0, n, o.eres);
+  o.scale = dst(out->energy_scale, 0, i0, n, o.scale);
   /* neither theta nor the certificate when no one reads them */
   rps3_kernel_block(m, in, i0, nb, rates,
                     !m->opt.certify && (!out->theta || m->opt.forces_only),
                     &o);
+  /* z_c is the pose's own; without rates (no effect nor the certificate
+     needs them) the rates are not computed, as in rps3_inverse; closed
+     form: no solve */
+  if (out->c)
+    memcpy(out->c + 2 * n + i0, in->pose + 2 * n + i0,
+           (size_t)nb * sizeof(double));
+  for (c = 0; c < 3 && !rates; c++)
+    for (p = 0; p < nb; p++) {
+      if (out->dl) AT(out->dl, c, i0 + (size_t)p, n) = (double)NAN;
+      if (out->ddl) AT(out->ddl, c, i0 + (size_t)p, n) = (double)NAN;
+    }
+  if (out->solve_resid)
+    memset(out->solve_resid + i0, 0, (size_t)nb * sizeof(double));
   for (c = 0; c < 3; c++) {
     /* as rps3_inverse with forces_only: no theta, no shares */
     for (p = 0; p < nb && out->theta && m->opt.forces_only; p++)

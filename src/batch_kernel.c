@@ -59,11 +59,16 @@ void rps3_kout_of_block(rps3_kout *o, rps3_kblock *kb) {
     o->theta[c] = kb->theta[c];
     o->F[c] = kb->F[c];
     o->lambda[c] = kb->lambda[c];
+    o->dl[c] = kb->dl[c];
+    o->ddl[c] = kb->ddl[c];
     for (e = 0; e < RPS3_KNEFF; e++) o->Fe[e][c] = kb->Fe[e][c];
   }
+  o->c[0] = kb->c[0];
+  o->c[1] = kb->c[1];
   o->cond = kb->cond;
   o->trans = kb->trans;
   o->eres = kb->eres;
+  o->scale = kb->scale;
   o->ok = kb->ok;
 }
 
@@ -386,7 +391,15 @@ KINLINE void kpoint(const kconst *K, const double *restrict pa,
          (L0.dth * L0.ddth + L1.dth * L1.ddth + L2.dth * L2.ddth);
     dP = v1 + g1;
     dT = v2 + v3 + i1;
-    sc += fabs(v1) + fabs(v2) + fabs(v3) + fabs(g1) + fabs(i1);
+    /* the scale sums magnitudes term by term as invdyn.c does: each
+       link's gravity and inertia power on its own */
+    sc += fabs(v1) + fabs(v2) + fabs(v3) +
+          K->sel[1] * fabs(K->mgd) *
+              (fabs(L0.dphi.z * L0.dth) + fabs(L1.dphi.z * L1.dth) +
+               fabs(L2.dphi.z * L2.dth)) +
+          K->sel[3] * K->Jlink *
+              (fabs(L0.dth * L0.ddth) + fabs(L1.dth * L1.ddth) +
+               fabs(L2.dth * L2.ddth));
     }
 
     /* the outputs, and whether the point is the kernel's: finite, in
@@ -417,10 +430,19 @@ KINLINE void kpoint(const kconst *K, const double *restrict pa,
     o->Fe[3][0][p] = Fe[3].x;
     o->Fe[3][1][p] = Fe[3].y;
     o->Fe[3][2][p] = Fe[3].z;
+    o->dl[0][p] = L0.dl;
+    o->dl[1][p] = L1.dl;
+    o->dl[2][p] = L2.dl;
+    o->ddl[0][p] = L0.ddl;
+    o->ddl[1][p] = L1.ddl;
+    o->ddl[2][p] = L2.ddl;
+    o->c[0][p] = c.x;
+    o->c[1][p] = c.y;
     o->cond[p] = cond;
     o->trans[p] = trans;
     eres = K->certify != 0.0 ? pw - dT - dP : 0.0;
     o->eres[p] = eres;
+    o->scale[p] = K->certify != 0.0 ? sc : 0.0;
     /* every quantity the scalar path checks for overflow reaches F,
        lambda or the certificate here (the loads of unselected effects
        are multiplied by 0, which keeps a NaN, and nothing divides by a

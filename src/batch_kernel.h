@@ -29,6 +29,10 @@ typedef struct {
   double cond[RPS3_KBLOCK];       /* 1-norm condition of the lambda system */
   double trans[RPS3_KBLOCK];      /* force transmission [-] */
   double eres[RPS3_KBLOCK];       /* energy-rate residual [W] */
+  double scale[RPS3_KBLOCK];      /* its scale (energy_scale) [W] */
+  double dl[3][RPS3_KBLOCK];      /* link rates [m/s] */
+  double ddl[3][RPS3_KBLOCK];     /* link accelerations [m/s^2] */
+  double c[2][RPS3_KBLOCK];       /* platform centre x, y (3)-(4) [m] */
   double ok[RPS3_KBLOCK];         /* 1: certified; 0: the scalar path's
                                      (a double: no int in the loop) */
 } rps3_kblock;
@@ -37,7 +41,8 @@ typedef struct {
    point p at X[c][p] (the caller's arrays, or a rps3_kblock's) */
 typedef struct {
   double *l[3], *theta[3], *F[3], *Fe[RPS3_KNEFF][3], *lambda[3];
-  double *cond, *trans, *eres, *ok;
+  double *dl[3], *ddl[3], *c[2];
+  double *cond, *trans, *eres, *scale, *ok;
 } rps3_kout;
 
 /* o pointing into every array of kb */

@@ -22,6 +22,7 @@ typedef struct {
   int status[N], warn[N], niter[N];
   double opose[3 * N], l[3 * N], theta[3 * N], F[3 * N];
   double F_effect[RPS3_NEFFECT * 3 * N], lambda[3 * N], cond[N], eres[N];
+  double trans[N], dl[3 * N], ddl[3 * N], cpos[3 * N], escale[N], sres[N];
 } arrays;
 
 #define AT(a, c, i) ((a)[(size_t)(c) * N + (size_t)(i)])
@@ -73,6 +74,12 @@ static rps3_batch_out outputs(arrays *a) {
   out.lambda = a->lambda;
   out.cond = a->cond;
   out.energy_residual = a->eres;
+  out.transmission = a->trans;
+  out.dl = a->dl;
+  out.ddl = a->ddl;
+  out.c = a->cpos;
+  out.energy_scale = a->escale;
+  out.solve_resid = a->sres;
   return out;
 }
 
@@ -119,7 +126,11 @@ static void inverse_like_loop(rps3_theta_route theta, rps3_method method,
         assert_true(isnan(AT(a->F, c, i)));
         assert_true(isnan(AT(a->theta, c, i)));
       }
-      assert_true(isnan(a->cond[i]));
+      assert_true(isnan(a->cond[i]) && isnan(a->trans[i]) &&
+                  isnan(a->escale[i]) && isnan(a->sres[i]));
+      for (c = 0; c < 3; c++)
+        assert_true(isnan(AT(a->dl, c, i)) && isnan(AT(a->ddl, c, i)) &&
+                    isnan(AT(a->cpos, c, i)));
       continue;
     }
     assert_int_equal(a->warn[i], dl->warn);
@@ -137,6 +148,18 @@ static void inverse_like_loop(rps3_theta_route theta, rps3_method method,
     }
     ASSERT_SAME(a->cond[i], dl->cond, "cond of point %d", i);
     ASSERT_SAME(a->eres[i], dl->energy_residual, "residual of point %d", i);
+    ASSERT_SAME(a->trans[i], dl->transmission, "transmission of point %d", i);
+    ASSERT_SAME(a->escale[i], dl->energy_scale, "scale of point %d", i);
+    ASSERT_SAME(a->sres[i], dl->solve_resid, "solve_resid of point %d", i);
+    for (c = 0; c < 3; c++) {
+      int vel = (dl->stage & RPS3_STAGE_VEL) != 0;
+      int acc = (dl->stage & RPS3_STAGE_ACC) != 0;
+      ASSERT_SAME(AT(a->dl, c, i), vel ? dl->dl[c] : (double)NAN,
+                  "dl[%d] of point %d", c, i);
+      ASSERT_SAME(AT(a->ddl, c, i), acc ? dl->ddl[c] : (double)NAN,
+                  "ddl[%d] of point %d", c, i);
+      ASSERT_SAME(AT(a->cpos, c, i), dl->c[c], "c[%d] of point %d", c, i);
+    }
   }
   /* the failures are those planted, and the first one is named */
   assert_int_equal(nfail, bad);

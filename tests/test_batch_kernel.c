@@ -82,6 +82,7 @@ typedef struct {
   int status[N], warn[N], niter[N];
   double l[3 * N], theta[3 * N], F[3 * N];
   double F_effect[RPS3_NEFFECT * 3 * N], lambda[3 * N], cond[N], eres[N];
+  double trans[N], dl[3 * N], ddl[3 * N], cpos[3 * N], escale[N], sres[N];
 } arrays;
 
 #define AT(a, c, i) ((a)[(size_t)(c) * N + (size_t)(i)])
@@ -108,7 +109,7 @@ static void make_points(const rps3_model *m, arrays *a, uint64_t seed) {
 
 /* the largest differences seen, in the units of the tolerances below */
 typedef struct {
-  double l, theta, F, lambda, cond, eres;
+  double l, theta, F, lambda, cond, eres, trans, rates, centre, escale;
   int kernel; /* points the kernel certified */
 } worst;
 
@@ -129,7 +130,16 @@ static void track(double *w, double x) {
  *     rounding, through the lambda system whose condition number
  *     amplifies the difference (measured: up to 2.7 eps cond);
  *   - cond within 8 eps cond (an inverse by adjugate vs by LU);
- *   - the energy residual within 8 eps cond of the power scale.
+ *   - the energy residual within 8 eps cond of the power scale, and that
+ *     scale (a sum of magnitudes of the same terms) within 8 eps cond;
+ *   - the transmission within 8 eps cond (the 6 x 6 LU vs rows of the
+ *     3 x 3 adjugate);
+ *   - the link rates and accelerations within 16 eps of the velocity
+ *     (acceleration) scale of the point, r (|da| + |db|) + |dz| (and r
+ *     (|dda| + |ddb| + (|da| + |db|)^2) + |ddz|): dot products of vectors
+ *     of that size whose inputs differ by a few ulp;
+ *   - the centre x_c, y_c within 4 eps r (one product of sines: (3)-(4)),
+ *     z_c bitwise (the pose's own); no solve, so solve_resid 0.
  */
 static void compare(const rps3_model *m, arrays *a, worst *w) {
   rps3_data *db = NULL, *dl = NULL;
@@ -154,6 +164,12 @@ static void compare(const rps3_model *m, arrays *a, worst *w) {
   out.lambda = a->lambda;
   out.cond = a->cond;
   out.energy_residual = a->eres;
+  out.transmission = a->trans;
+  out.dl = a->dl;
+  out.ddl = a->ddl;
+  out.c = a->cpos;
+  out.energy_scale = a->escale;
+  out.solve_resid = a->sres;
   assert_int_equal(rps3_inverse_batch(m, db, &in, &out), RPS3_OK);
   if (!m->opt.certify) {
     /* without theta asked for, the kernel leaves out (39) and the
@@ -216,6 +232,34 @@ static void compare(const rps3_model *m, arrays *a, worst *w) {
     track(&w->cond, fabs(a->cond[i] - dl->cond) / (tol * dl->cond));
     track(&w->eres, fabs(a->eres[i] - dl->energy_residual) /
                         (tol * (dl->energy_scale > 0 ? dl->energy_scale : 1)));
+    track(&w->escale, fabs(a->escale[i] - dl->energy_scale) /
+                          (tol * (dl->energy_scale > 0 ? dl->energy_scale
+                                                       : 1)));
+    track(&w->trans, fabs(a->trans[i] - dl->transmission) /
+                         (tol * dl->transmission));
+    {
+      double da = fabs(AT(a->dpose, 0, i)), db_ = fabs(AT(a->dpose, 1, i));
+      double vs = m->r * (da + db_) + fabs(AT(a->dpose, 2, i));
+      double as = m->r * (fabs(AT(a->ddpose, 0, i)) +
+                          fabs(AT(a->ddpose, 1, i)) + (da + db_) * (da + db_)) +
+                  fabs(AT(a->ddpose, 2, i));
+      int vel = (dl->stage & RPS3_STAGE_VEL) != 0;
+      for (c = 0; c < 3; c++) {
+        if (!vel) {
+          /* no rates needed: not computed, NaN as the file says */
+          assert_true(isnan(AT(a->dl, c, i)) && isnan(AT(a->ddl, c, i)));
+          continue;
+        }
+        track(&w->rates, fabs(AT(a->dl, c, i) - dl->dl[c]) /
+                             (16.0 * EPS * (vs > 0 ? vs : 1)));
+        track(&w->rates, fabs(AT(a->ddl, c, i) - dl->ddl[c]) /
+                             (16.0 * EPS * (as > 0 ? as : 1)));
+      }
+    }
+    track(&w->centre, fabs(AT(a->cpos, 0, i) - dl->c[0]) / (4.0 * EPS * m->r));
+    track(&w->centre, fabs(AT(a->cpos, 1, i) - dl->c[1]) / (4.0 * EPS * m->r));
+    assert_true(AT(a->cpos, 2, i) == dl->c[2]);
+    assert_true(a->sres[i] == 0.0);
   }
   rps3_data_free(db);
   rps3_data_free(dl);
@@ -223,16 +267,21 @@ static void compare(const rps3_model *m, arrays *a, worst *w) {
 
 static void check_worst(const worst *w, const char *what) {
   print_message("%s: %d points by the kernel; worst l %.3g, theta %.3g, "
-                "F %.3g, lambda %.3g, cond %.3g, residual %.3g of the "
+                "F %.3g, lambda %.3g, cond %.3g, residual %.3g, scale %.3g, "
+                "transmission %.3g, rates %.3g, centre %.3g of the "
                 "tolerance\n",
                 what, w->kernel, w->l, w->theta, w->F, w->lambda, w->cond,
-                w->eres);
+                w->eres, w->escale, w->trans, w->rates, w->centre);
   assert_true(w->l <= 1.0);
   assert_true(w->theta <= 1.0);
   assert_true(w->F <= 1.0);
   assert_true(w->lambda <= 1.0);
   assert_true(w->cond <= 1.0);
   assert_true(w->eres <= 1.0);
+  assert_true(w->escale <= 1.0);
+  assert_true(w->trans <= 1.0);
+  assert_true(w->rates <= 1.0);
+  assert_true(w->centre <= 1.0);
 }
 
 /* the kernel's configurations on random trajectories and the helix */
