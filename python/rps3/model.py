@@ -73,6 +73,7 @@ class Dynamics:
     shares: dict[str, FloatArray]  #: share of each selected effect in force, (n, 3) [N]
     lambda_: FloatArray    #: multipliers of (8)-(10), (n, 3) [N/m]; NaN under newton_euler
     condition: FloatArray  #: 1-norm condition number of the lambda system, (n,)
+    transmission: FloatArray  #: force transmission (n,): largest |F_i| per unit platform load [-]
     energy_residual: FloatArray  #: energy-rate residual (n,) [W]; 0 without certify
     l: FloatArray          #: link lengths, (n, 3) [m]
     theta: FloatArray      #: link angles, (n, 3) [rad]
@@ -348,7 +349,8 @@ class Model:
 
         Returns:
             Dynamics: forces [N], per-effect shares [N], lambda [N/m],
-            condition number, energy residual [W], l, theta, status, warn.
+            condition number, transmission, energy residual [W], l, theta,
+            status, warn.
 
         Raises:
             ValueError: a shape is wrong, or rates are needed and missing.
@@ -370,7 +372,8 @@ class Model:
             raise ValueError(f"{missing[0]}: needed by the effects "
                              f"{list(self.effects)} or certify, and not given")
         out = results(n, {"F": (3,), "F_effect": (lib.RPS3_NEFFECT, 3),
-                          "lambda": (3,), "cond": (), "energy_residual": (),
+                          "lambda": (3,), "cond": (), "transmission": (),
+                          "energy_residual": (),
                           "l": (3,), "theta": (3,)}, ("status", "warn"))
         self._run(lib.rps3_inverse_batch, inputs, out, n)
         shares = {name: per_point(out["F_effect"][k], single)
@@ -379,6 +382,7 @@ class Model:
             force=per_point(out["F"], single), shares=shares,
             lambda_=per_point(out["lambda"], single),
             condition=per_point(out["cond"], single),
+            transmission=per_point(out["transmission"], single),
             energy_residual=per_point(out["energy_residual"], single),
             l=per_point(out["l"], single), theta=per_point(out["theta"], single),
             status=per_point(out["status"], single),
