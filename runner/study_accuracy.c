@@ -265,6 +265,202 @@ static int measure_times(study_runner *r, const study_config *cfg, int ncfg,
 
 /* ------------------------------------------------------------- accuracy */
 
+/* the model of the study: Table II, plus a payload and pin friction so that
+   the effects ladder has something to add; the other studies use the
+   default effects (the paper's four).  0, or -1 with a message */
+static int accuracy_model(rps3_model *base) {
+  char err[256];
+  rps3_model_default(base);
+  base->payload.mass = 0.05;
+  base->payload.com[0] = 0.011;
+  base->payload.com[2] = 0.023;
+  base->payload.inertia[0] = base->payload.inertia[1] = 1.3e-5;
+  base->payload.inertia[2] = 2.1e-5;
+  base->friction.viscous = 0.011;
+  base->friction.coulomb = 0.0023;
+  if (rps3_model_init(base, err, sizeof err) != RPS3_OK) {
+    fprintf(stderr, "rps3-study: %s\n", err);
+    return -1;
+  }
+  return 0;
+}
+
+/* trajectory t: its reference ref, then every configuration's errors and
+   times into res[0..ncfg); 0 or -1 */
+static int measure_trajectory(const rps3_model *base, int t, size_t nsamp,
+                              int repeats, const study_config *cfg, int ncfg,
+                              study_runner *run, study_reference *ref,
+                              study_result *res) {
+  char err[256];
+  int c;
+  rps3_traj tr;
+  study_traj_make(t, &tr);
+  if (rps3_traj_check(base, &tr, err, sizeof err) != RPS3_OK) {
+    fprintf(stderr, "rps3-study: %s: %s\n", study_traj_name[t], err);
+    return -1;
+  }
+  if (reference_build(base, &tr, nsamp, ref) < 0) return -1;
+  fprintf(stderr,
+          "rps3-study: %s: reference |F|max %.4g N, peak %.6g N, floors: "
+          "reference (long double) %.2g, theta closed form - long double "
+          "%.2g rad\n",
+          study_traj_name[t], ref->fscale, ref->peak, ref->floor_ref,
+          ref->floor_theta);
+  for (c = 0; c < ncfg; c++) {
+    /* the effects ladder's error is against the model with every effect */
+    study_reference *rf = ref, rall;
+    if (cfg[c].study == S_EFFECTS) {
+      rall = *ref;
+      rall.F = malloc(3 * nsamp * sizeof(double));
+      if (!rall.F || reference_forces(base, &tr, RPS3_EFF_ALL, &rall) < 0)
+        return -1;
+      rf = &rall;
+    }
+    if (measure_errors(&run[c], &cfg[c], &tr, base, rf, &res[c]) < 0)
+      return -1;
+    if (rf != ref) free(rall.F);
+  }
+  if (measure_times(run, cfg, ncfg, ref, repeats, res) < 0)
+    return -1;
+  for (c = 0; c < ncfg; c++) {
+    rps3_data_free(run[c].d);
+    free(run[c].rows);
+  }
+  return 0;
+}
+
+/* the trajectory and config scales and the knobs of every configuration;
+   0 or -1 */
+static int write_configs(study_h5 *o, const study_config *cfg, int ncfg) {
+  int c, rc = 0;
+  hsize_t dims[2] = {NTRAJ, (hsize_t)ncfg};
+  static const char *const s_traj[1] = {NULL};
+  static const char *const s_cfg[1] = {NULL};
+  static const char *const s_cfgd[1] = {"config"};
+  const char *sv[MAXCFG];
+  int32_t iv[MAXCFG], idx[MAXCFG];
+  double dv[MAXCFG];
+  hsize_t dt1 = NTRAJ;
+  for (c = 0; c < ncfg; c++) idx[c] = c;
+  rc |= study_h5_write(o, "trajectory", o->str, 1, &dt1, study_traj_name, "1",
+                       study_traj_doc, s_traj);
+  rc |= study_h5_write(o, "config", H5T_NATIVE_INT32, 1, &dims[1], idx, "1",
+                       "configuration index; see study, label and the knobs",
+                       s_cfg);
+#define CFG_STR(name, expr, doc)                                              \
+  for (c = 0; c < ncfg; c++) sv[c] = (expr);                                  \
+  rc |= study_h5_write(o, name, o->str, 1, &dims[1], sv, "1", doc, s_cfgd);
+#define CFG_F64(name, expr, units, doc)                                       \
+  for (c = 0; c < ncfg; c++) dv[c] = (expr);                                  \
+  rc |= study_h5_write(o, name, H5T_NATIVE_DOUBLE, 1, &dims[1], dv, units,   \
+                       doc, s_cfgd);
+#define CFG_I32(name, expr, doc)                                              \
+  for (c = 0; c < ncfg; c++) iv[c] = (int32_t)(expr);                         \
+  rc |= study_h5_write(o, name, H5T_NATIVE_INT32, 1, &dims[1], iv, "1", doc, \
+                       s_cfgd);
+  CFG_STR("study", study_kind_name[cfg[c].study],
+          "which knob the configuration turns: theta, derivative, method, "
+          "effects or dt")
+  CFG_STR("label", cfg[c].label, "short name of the configuration")
+  CFG_STR("theta_route",
+          cfg[c].theta == RPS3_THETA_MULTIROOT ? "multiroot" : "closed_form",
+          "closed form (39) or GSL multiroot solve of (8)-(10)")
+  CFG_STR("solver", cfg[c].solver < 0 ? "" : rps3_solver_name(cfg[c].solver),
+          "GSL multiroot solver (empty for the closed form)")
+  CFG_F64("tolerance",
+          cfg[c].theta == RPS3_THETA_MULTIROOT ? cfg[c].tol : DNAN,
+          "1", "theta solve tolerance on max |f_k| (lengths in units of R)")
+  CFG_I32("warm_start", cfg[c].warm,
+          "1: theta solve starts from the previous sample; 0: cold")
+  CFG_STR("derivative", study_deriv_name[cfg[c].deriv],
+          "rates: exact (the trajectory's), central differences of the "
+          "pose (fd_pose) or of the link lengths (fd_length) with step h, "
+          "of the samples at interval dt (fd_samples), or the not-a-knot "
+          "spline of the pose sampled every h (spline_pose)")
+  CFG_F64("fd_step", cfg[c].h > 0 ? cfg[c].h : DNAN, "s",
+          "finite-difference step, or the spline's row spacing, h (NaN "
+          "for exact rates)")
+  CFG_STR("method",
+          cfg[c].method == RPS3_LAGRANGE ? "lagrange" : "newton_euler",
+          "formulation of the dynamics")
+  CFG_I32("effects", cfg[c].effects, "selected effects, RPS3_EFF_* bits")
+  CFG_F64("dt_fraction", cfg[c].dt_frac > 0 ? cfg[c].dt_frac : DNAN, "1",
+          "dt study: sample interval over the trajectory's duration")
+  return rc ? -1 : 0;
+}
+
+/* the [trajectory, config] results and the references' own numbers; 0 or
+   -1 */
+static int write_results(study_h5 *o, const study_result res[][MAXCFG],
+                         const study_reference *ref, int ncfg) {
+  hsize_t dims[2] = {NTRAJ, (hsize_t)ncfg}, dt1 = NTRAJ;
+  static const char *const s_tc[2] = {"trajectory", "config"};
+  static const char *const s_t[1] = {"trajectory"};
+  /* [trajectory, config] tables, packed with row length ncfg */
+  double tv[NTRAJ * MAXCFG], fl[NTRAJ];
+  int32_t tiv[NTRAJ * MAXCFG];
+  int t, c, rc = 0;
+#define RES_F64(name, field, units, doc)                                      \
+  for (t = 0; t < NTRAJ; t++)                                                 \
+  for (c = 0; c < ncfg; c++) tv[t * ncfg + c] = res[t][c].field;            \
+  rc |= study_h5_write(o, name, H5T_NATIVE_DOUBLE, 2, dims, tv, units, doc,   \
+                       s_tc);
+  RES_F64("ns_per_point", ns_point, "ns",
+          "median over the timed passes of the time per sample (trajectory "
+          "evaluation included), CLOCK_MONOTONIC, one process")
+  RES_F64("ns_per_point_q1", ns_q1, "ns", "first quartile of the passes")
+  RES_F64("ns_per_point_q3", ns_q3, "ns", "third quartile of the passes")
+  RES_F64("ns_per_second", ns_second, "ns",
+          "time to compute one second of the trajectory: ns_per_point x "
+          "samples / duration (the cost axis of the dt study)")
+  RES_F64("force_error", force_err, "1",
+          "max over samples and links of |F - F_ref| / max |F_ref| (for "
+          "the effects ladder: against the model with every effect)")
+  RES_F64("theta_error", theta_err, "rad",
+          "max over samples and links of |theta - theta_ref|, theta_ref "
+          "from inverse kinematics in long double")
+  RES_F64("peak_force_error", peak_err, "1",
+          "dt study: (peak_ref - max sampled |F|) / peak_ref, peak_ref from "
+          "200001 samples")
+  RES_F64("energy_residual", energy_err, "1",
+          "dt study: max over intervals |W_k - (E_k+1 - E_k)| / max |W_k|, "
+          "W_k the trapezoid of the power sum F_i dl_i, E = T + P")
+  RES_F64("mean_iterations", mean_iter, "1",
+          "theta solve iterations per sample")
+  for (t = 0; t < NTRAJ; t++)
+    for (c = 0; c < ncfg; c++) tiv[t * ncfg + c] = res[t][c].nfail;
+  rc |= study_h5_write(o, "failed_samples", H5T_NATIVE_INT32, 2, dims, tiv,
+                       "1", "samples whose pipeline returned an error "
+                       "(errors are measured over the others)", s_tc);
+  for (t = 0; t < NTRAJ; t++)
+    for (c = 0; c < ncfg; c++) tiv[t * ncfg + c] = res[t][c].status;
+  rc |= study_h5_write(o, "status", H5T_NATIVE_INT32, 2, dims, tiv, "1",
+                       "rps3_status of the first failing sample, 0 if none",
+                       s_tc);
+  for (t = 0; t < NTRAJ; t++) fl[t] = ref[t].floor_ref;
+  rc |= study_h5_write(o, "reference_floor_force", H5T_NATIVE_DOUBLE, 1,
+                       &dt1, fl, "1",
+                       "the reference's own rounding error / max |F_ref|: "
+                       "its double twin's distance from it x LDBL_EPSILON / "
+                       "DBL_EPSILON", s_t);
+  for (t = 0; t < NTRAJ; t++) fl[t] = ref[t].floor_theta;
+  rc |= study_h5_write(o, "reference_floor_theta", H5T_NATIVE_DOUBLE, 1,
+                       &dt1, fl, "rad",
+                       "max |theta_closed_form - theta_long_double| on the "
+                       "grid",
+                       s_t);
+  for (t = 0; t < NTRAJ; t++) fl[t] = ref[t].fscale;
+  rc |= study_h5_write(o, "reference_force_max", H5T_NATIVE_DOUBLE, 1,
+                       &dt1, fl, "N",
+                       "max |F_ref| over the grid: the force_error scale",
+                       s_t);
+  for (t = 0; t < NTRAJ; t++) fl[t] = ref[t].peak;
+  rc |= study_h5_write(o, "reference_peak_force", H5T_NATIVE_DOUBLE, 1,
+                       &dt1, fl, "N",
+                       "peak |F| over 200001 samples of the span", s_t);
+  return rc ? -1 : 0;
+}
+
 int study_accuracy(const char *path, const char *cmdline, size_t nsamp,
                    int repeats) {
   static study_config cfg[MAXCFG];
@@ -272,61 +468,16 @@ int study_accuracy(const char *path, const char *cmdline, size_t nsamp,
   static study_runner run[MAXCFG];
   study_reference ref[NTRAJ];
   rps3_model base;
-  char err[256];
-  int ncfg = study_configs_build(cfg), t, c, rc = 0;
+  int ncfg = study_configs_build(cfg), t, rc = 0;
   study_h5 o = {-1, -1};
   double t_start = study_now_ns();
 
-  /* the model: Table II, plus a payload and pin friction so that the
-     effects ladder has something to add; the other studies use the default
-     effects (the paper's four) */
-  rps3_model_default(&base);
-  base.payload.mass = 0.05;
-  base.payload.com[0] = 0.011;
-  base.payload.com[2] = 0.023;
-  base.payload.inertia[0] = base.payload.inertia[1] = 1.3e-5;
-  base.payload.inertia[2] = 2.1e-5;
-  base.friction.viscous = 0.011;
-  base.friction.coulomb = 0.0023;
-  if (rps3_model_init(&base, err, sizeof err) != RPS3_OK) {
-    fprintf(stderr, "rps3-study: %s\n", err);
-    return EXIT_IO;
-  }
-  for (t = 0; t < NTRAJ; t++) {
-    rps3_traj tr;
-    study_traj_make(t, &tr);
-    if (rps3_traj_check(&base, &tr, err, sizeof err) != RPS3_OK) {
-      fprintf(stderr, "rps3-study: %s: %s\n", study_traj_name[t], err);
+  /* the measurements, trajectory by trajectory */
+  if (accuracy_model(&base) < 0) return EXIT_IO;
+  for (t = 0; t < NTRAJ; t++)
+    if (measure_trajectory(&base, t, nsamp, repeats, cfg, ncfg, run, &ref[t],
+                           res[t]) < 0)
       return EXIT_IO;
-    }
-    if (reference_build(&base, &tr, nsamp, &ref[t]) < 0) return EXIT_IO;
-    fprintf(stderr,
-            "rps3-study: %s: reference |F|max %.4g N, peak %.6g N, floors: "
-            "reference (long double) %.2g, theta closed form - long double "
-            "%.2g rad\n",
-            study_traj_name[t], ref[t].fscale, ref[t].peak, ref[t].floor_ref,
-            ref[t].floor_theta);
-    for (c = 0; c < ncfg; c++) {
-      /* the effects ladder's error is against the model with every effect */
-      study_reference *rf = &ref[t], rall;
-      if (cfg[c].study == S_EFFECTS) {
-        rall = ref[t];
-        rall.F = malloc(3 * nsamp * sizeof(double));
-        if (!rall.F || reference_forces(&base, &tr, RPS3_EFF_ALL, &rall) < 0)
-          return EXIT_IO;
-        rf = &rall;
-      }
-      if (measure_errors(&run[c], &cfg[c], &tr, &base, rf, &res[t][c]) < 0)
-        return EXIT_IO;
-      if (rf != &ref[t]) free(rall.F);
-    }
-    if (measure_times(run, cfg, ncfg, &ref[t], repeats, res[t]) < 0)
-      return EXIT_IO;
-    for (c = 0; c < ncfg; c++) {
-      rps3_data_free(run[c].d);
-      free(run[c].rows);
-    }
-  }
   fprintf(stderr, "rps3-study: accuracy: %d configurations x %d trajectories "
           "in %.1f s\n", ncfg, NTRAJ, 1e-9 * (study_now_ns() - t_start));
 
@@ -334,128 +485,12 @@ int study_accuracy(const char *path, const char *cmdline, size_t nsamp,
   if (study_h5_open(&o, path, cmdline,
                     "rps3-study accuracy: error against a precise reference "
                     "and median time per point, per configuration and "
-                    "trajectory") < 0)
+                    "trajectory") < 0 ||
+      write_configs(&o, cfg, ncfg) < 0 ||
+      write_results(&o, (const study_result(*)[MAXCFG])res, ref, ncfg) < 0 ||
+      study_h5_attr_f64(o.file, "samples", (double)nsamp) < 0 ||
+      study_h5_attr_f64(o.file, "repeats", (double)repeats) < 0)
     rc = -1;
-  if (rc == 0) {
-    hsize_t dims[2] = {NTRAJ, (hsize_t)ncfg};
-    static const char *const s_traj[1] = {NULL};
-    static const char *const s_cfg[1] = {NULL};
-    static const char *const s_cfgd[1] = {"config"};
-    static const char *const s_tc[2] = {"trajectory", "config"};
-    static const char *const s_t[1] = {"trajectory"};
-    const char *sv[MAXCFG];
-    int32_t iv[MAXCFG], idx[MAXCFG];
-    /* [trajectory, config] tables, packed with row length ncfg */
-    double dv[MAXCFG], tv[NTRAJ * MAXCFG];
-    int32_t tiv[NTRAJ * MAXCFG];
-    double fl[NTRAJ];
-    hsize_t dt1 = NTRAJ;
-    for (c = 0; c < ncfg; c++) idx[c] = c;
-    rc |= study_h5_write(&o, "trajectory", o.str, 1, &dt1, study_traj_name, "1",
-                         study_traj_doc, s_traj);
-    rc |= study_h5_write(&o, "config", H5T_NATIVE_INT32, 1, &dims[1], idx, "1",
-                         "configuration index; see study, label and the knobs",
-                         s_cfg);
-#define CFG_STR(name, expr, doc)                                              \
-  for (c = 0; c < ncfg; c++) sv[c] = (expr);                                  \
-  rc |= study_h5_write(&o, name, o.str, 1, &dims[1], sv, "1", doc, s_cfgd);
-#define CFG_F64(name, expr, units, doc)                                       \
-  for (c = 0; c < ncfg; c++) dv[c] = (expr);                                  \
-  rc |= study_h5_write(&o, name, H5T_NATIVE_DOUBLE, 1, &dims[1], dv, units,   \
-                       doc, s_cfgd);
-#define CFG_I32(name, expr, doc)                                              \
-  for (c = 0; c < ncfg; c++) iv[c] = (int32_t)(expr);                         \
-  rc |= study_h5_write(&o, name, H5T_NATIVE_INT32, 1, &dims[1], iv, "1", doc, \
-                       s_cfgd);
-    CFG_STR("study", study_kind_name[cfg[c].study],
-            "which knob the configuration turns: theta, derivative, method, "
-            "effects or dt")
-    CFG_STR("label", cfg[c].label, "short name of the configuration")
-    CFG_STR("theta_route",
-            cfg[c].theta == RPS3_THETA_MULTIROOT ? "multiroot" : "closed_form",
-            "closed form (39) or GSL multiroot solve of (8)-(10)")
-    CFG_STR("solver", cfg[c].solver < 0 ? "" : rps3_solver_name(cfg[c].solver),
-            "GSL multiroot solver (empty for the closed form)")
-    CFG_F64("tolerance",
-            cfg[c].theta == RPS3_THETA_MULTIROOT ? cfg[c].tol : DNAN,
-            "1", "theta solve tolerance on max |f_k| (lengths in units of R)")
-    CFG_I32("warm_start", cfg[c].warm,
-            "1: theta solve starts from the previous sample; 0: cold")
-    CFG_STR("derivative", study_deriv_name[cfg[c].deriv],
-            "rates: exact (the trajectory's), central differences of the "
-            "pose (fd_pose) or of the link lengths (fd_length) with step h, "
-            "of the samples at interval dt (fd_samples), or the not-a-knot "
-            "spline of the pose sampled every h (spline_pose)")
-    CFG_F64("fd_step", cfg[c].h > 0 ? cfg[c].h : DNAN, "s",
-            "finite-difference step, or the spline's row spacing, h (NaN "
-            "for exact rates)")
-    CFG_STR("method",
-            cfg[c].method == RPS3_LAGRANGE ? "lagrange" : "newton_euler",
-            "formulation of the dynamics")
-    CFG_I32("effects", cfg[c].effects, "selected effects, RPS3_EFF_* bits")
-    CFG_F64("dt_fraction", cfg[c].dt_frac > 0 ? cfg[c].dt_frac : DNAN, "1",
-            "dt study: sample interval over the trajectory's duration")
-#define RES_F64(name, field, units, doc)                                      \
-  for (t = 0; t < NTRAJ; t++)                                                 \
-    for (c = 0; c < ncfg; c++) tv[t * ncfg + c] = res[t][c].field;            \
-  rc |= study_h5_write(&o, name, H5T_NATIVE_DOUBLE, 2, dims, tv, units, doc,   \
-                       s_tc);
-    RES_F64("ns_per_point", ns_point, "ns",
-            "median over the timed passes of the time per sample (trajectory "
-            "evaluation included), CLOCK_MONOTONIC, one process")
-    RES_F64("ns_per_point_q1", ns_q1, "ns", "first quartile of the passes")
-    RES_F64("ns_per_point_q3", ns_q3, "ns", "third quartile of the passes")
-    RES_F64("ns_per_second", ns_second, "ns",
-            "time to compute one second of the trajectory: ns_per_point x "
-            "samples / duration (the cost axis of the dt study)")
-    RES_F64("force_error", force_err, "1",
-            "max over samples and links of |F - F_ref| / max |F_ref| (for "
-            "the effects ladder: against the model with every effect)")
-    RES_F64("theta_error", theta_err, "rad",
-            "max over samples and links of |theta - theta_ref|, theta_ref "
-            "from inverse kinematics in long double")
-    RES_F64("peak_force_error", peak_err, "1",
-            "dt study: (peak_ref - max sampled |F|) / peak_ref, peak_ref from "
-            "200001 samples")
-    RES_F64("energy_residual", energy_err, "1",
-            "dt study: max over intervals |W_k - (E_k+1 - E_k)| / max |W_k|, "
-            "W_k the trapezoid of the power sum F_i dl_i, E = T + P")
-    RES_F64("mean_iterations", mean_iter, "1",
-            "theta solve iterations per sample")
-    for (t = 0; t < NTRAJ; t++)
-      for (c = 0; c < ncfg; c++) tiv[t * ncfg + c] = res[t][c].nfail;
-    rc |= study_h5_write(&o, "failed_samples", H5T_NATIVE_INT32, 2, dims, tiv,
-                         "1", "samples whose pipeline returned an error "
-                         "(errors are measured over the others)", s_tc);
-    for (t = 0; t < NTRAJ; t++)
-      for (c = 0; c < ncfg; c++) tiv[t * ncfg + c] = res[t][c].status;
-    rc |= study_h5_write(&o, "status", H5T_NATIVE_INT32, 2, dims, tiv, "1",
-                         "rps3_status of the first failing sample, 0 if none",
-                         s_tc);
-    for (t = 0; t < NTRAJ; t++) fl[t] = ref[t].floor_ref;
-    rc |= study_h5_write(&o, "reference_floor_force", H5T_NATIVE_DOUBLE, 1,
-                         &dt1, fl, "1",
-                         "the reference's own rounding error / max |F_ref|: "
-                         "its double twin's distance from it x LDBL_EPSILON / "
-                         "DBL_EPSILON", s_t);
-    for (t = 0; t < NTRAJ; t++) fl[t] = ref[t].floor_theta;
-    rc |= study_h5_write(&o, "reference_floor_theta", H5T_NATIVE_DOUBLE, 1,
-                         &dt1, fl, "rad",
-                         "max |theta_closed_form - theta_long_double| on the "
-                         "grid",
-                         s_t);
-    for (t = 0; t < NTRAJ; t++) fl[t] = ref[t].fscale;
-    rc |= study_h5_write(&o, "reference_force_max", H5T_NATIVE_DOUBLE, 1,
-                         &dt1, fl, "N",
-                         "max |F_ref| over the grid: the force_error scale",
-                         s_t);
-    for (t = 0; t < NTRAJ; t++) fl[t] = ref[t].peak;
-    rc |= study_h5_write(&o, "reference_peak_force", H5T_NATIVE_DOUBLE, 1,
-                         &dt1, fl, "N",
-                         "peak |F| over 200001 samples of the span", s_t);
-    rc |= study_h5_attr_f64(o.file, "samples", (double)nsamp);
-    rc |= study_h5_attr_f64(o.file, "repeats", (double)repeats);
-  }
   if (study_h5_close(&o) < 0) rc = -1;
   for (t = 0; t < NTRAJ; t++) {
     free(ref[t].F);
