@@ -4,6 +4,7 @@
 #ifndef RPS3_INTERNAL_H
 #define RPS3_INTERNAL_H
 
+#include <float.h>
 #include <math.h>
 #include <stdio.h>
 #include <string.h>
@@ -39,16 +40,26 @@
  */
 #define RPS3_CHECK_FINITE(d, a, n, name)                                      \
   do {                                                                        \
-    int k_ = rps3_first_nonfinite((const double *)(a), (n));                  \
-    if (k_ >= 0)                                                              \
+    if (!rps3_all_finite((const double *)(a), (n))) {                         \
+      int k_ = rps3_first_nonfinite((const double *)(a), (n));                \
       RPS3_ERROR(d, RPS3_ERANGE,                                              \
                  "%s[%d] = %g is not finite: finite inputs overflowed "       \
                  "(a mass, length or rate too large)", (name), k_,            \
                  ((const double *)(a))[k_]);                                  \
+    }                                                                         \
   } while (0)
 
 /* index of the first non-finite of the n values at a, -1 if all finite */
 int rps3_first_nonfinite(const double *a, int n);
+
+/* whether the n values at a are all finite: inline and without a branch
+   per value (every stage checks its outputs at every point); a NaN
+   compares false */
+static inline int rps3_all_finite(const double *a, int n) {
+  int k, ok = 1;
+  for (k = 0; k < n; k++) ok &= (fabs(a[k]) <= DBL_MAX);
+  return ok;
+}
 
 /* An empty function to put a breakpoint on: every error passes here. */
 void rps3_error_hook(int code);
