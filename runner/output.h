@@ -297,6 +297,13 @@ hid_t out_h5_scale(hid_t file, hid_t str, const char *name, hid_t type,
 /* n elements into rows [c0, c0 + n) of a 1-D dataset; 0 or -1 */
 int out_h5_rows(hid_t ds, hid_t type, size_t c0, size_t n, const void *data);
 
+/* the case and time scales and the swept values are written in runs of
+   this many values: memory does not grow with the sweep */
+#define OUT_AXIS_RUN 65536
+
+/* Write all of a small dataset: 0, or -1. */
+int out_h5_write_all(hid_t ds, hid_t type, const void *data);
+
 /* the values of sweep axis a of s, case by case, into a [case] dataset of
    the key's type; 0 or -1 */
 int out_h5_axis(hid_t ds, hid_t str, const scene *s, size_t a);
