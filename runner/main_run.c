@@ -216,13 +216,106 @@ static int agree(const world *w, int code, int *first)
   return all[0];
 }
 
+/*
+ * The command line against the launch: under mpirun the ranks are the
+ * shards (a's shard set from w), --copy needs mpirun, --resume a shard;
+ * where the output goes is checked before anything is computed.  -1 to
+ * go on, or the exit code after a message (by rank 0).
+ */
+static int args_for_world(run_args *a, const world *w)
+{
+  char err[512];
+  if (w->size > 1) {
+    if (a->shard_arg) {
+      if (w->rank == 0)
+        fprintf(stderr, "rps3-run: --shard is for runs without mpirun; "
+                        "under mpirun the ranks are the shards\n");
+      return EXIT_USAGE;
+    }
+    a->shard = (size_t)w->rank;
+    a->nshard = (size_t)w->size;
+    /* each rank's file is a part like those of --shard */
+    snprintf(a->shard_text, sizeof a->shard_text, "%d/%d", w->rank, w->size);
+    a->shard_arg = a->shard_text;
+  } else if (a->copy) {
+    fprintf(stderr, "rps3-run: --copy is for rps3-run-mpi under mpirun and "
+                    "for merge; a run without them writes one whole file\n");
+    return EXIT_USAGE;
+  }
+  /* where the output goes is checked before anything is computed */
+  if (a->out_path && !a->check) {
+    const char *in[1];
+    in[0] = a->scene_path;
+    if (out_path_check(a->out_path, in, 1, err, sizeof err)) {
+      if (w->rank == 0)
+        fprintf(stderr, "rps3-run: %s\n", err);
+      return EXIT_USAGE;
+    }
+    if (w->rank == 0)
+      stale_report("rps3-run", a->out_path);
+  }
+  if (a->resume && (!a->shard_arg || w->size > 1)) {
+    if (w->rank == 0)
+      fprintf(stderr, "rps3-run: --resume is for --shard K/N runs (it "
+                      "skips a part that is complete already)\n");
+    return EXIT_USAGE;
+  }
+  return -1;
+}
+
+/* at most one thread per core (-j beyond them: said by rank 0) */
+static void use_the_cores(sweep_opts *opts, const world *w)
+{
+  /* threads beyond the cores compute nothing faster and each holds a
+     tile and a workspace (-j 1024 on 2 cores took 4.3 GB): use the
+     cores */
+  long cores = sysconf(_SC_NPROCESSORS_ONLN);
+  if (cores >= 1 && opts->nthread > cores) {
+    if (w->rank == 0)
+      fprintf(stderr, "rps3-run: warning: -j %d on %ld core%s: computing "
+                      "on %ld thread%s\n",
+              opts->nthread, cores, cores == 1 ? "" : "s", cores,
+              cores == 1 ? "" : "s");
+    opts->nthread = (int)cores;
+  }
+}
+
+/* a scene with a simulate section: simulated (simulate.h), by one
+   process; the exit code */
+static int run_simulated(scene *s, const run_args *a, const world *w,
+                         int argc, char **argv)
+{
+  sim_args sa;
+  int code;
+  char *cmd;
+  if (a->fields != out_fields_all()) {
+    if (w->rank == 0)
+      fprintf(stderr, "rps3-run: --fields selects variables of the "
+                      "inverse-dynamics file; a scene with a simulate "
+                      "section writes the simulation file whole\n");
+    return EXIT_USAGE;
+  }
+  sa.out_path = a->out_path;
+  sa.check = a->check;
+  sa.quiet = a->quiet;
+  sa.gzip = a->gzip;
+  sa.nthread = a->nthread;
+  sa.sharded = a->shard_arg != NULL || a->resume || w->size > 1;
+  sa.command_line = cmd = cli_command_line(argc, argv);
+  /* refused under mpirun: rank 0 says so */
+  code = !cmd ? EXIT_IO
+         : w->rank > 0 ? EXIT_USAGE
+                       : sim_main(s, &sa);
+  free(cmd);
+  return code;
+}
+
 static int run_main(int argc, char **argv, const world *w)
 {
   const char *scene_path, *out_path, *shard_arg;
   int quiet, check, copy, resume, failed_ok, gzip;
   int code;
   run_args a;
-  char shard_text[64];
   char err[512];
   scene s;
   scene_error serr;
@@ -240,6 +333,8 @@ static int run_main(int argc, char **argv, const world *w)
   /* the command line (run_cli.h) */
   if ((code = run_args_parse(argc, argv, &a)) >= 0)
     return code;
+  if ((code = args_for_world(&a, w)) >= 0)
+    return code;
   scene_path = a.scene_path;
   out_path = a.out_path;
   shard_arg = a.shard_arg;
@@ -253,42 +348,6 @@ static int run_main(int argc, char **argv, const world *w)
   opts.nthread = a.nthread;
   opts.shard = a.shard;
   opts.nshard = a.nshard;
-  if (w->size > 1) {
-    if (shard_arg) {
-      if (w->rank == 0)
-        fprintf(stderr, "rps3-run: --shard is for runs without mpirun; "
-                        "under mpirun the ranks are the shards\n");
-      return EXIT_USAGE;
-    }
-    opts.shard = (size_t)w->rank;
-    opts.nshard = (size_t)w->size;
-    /* each rank's file is a part like those of --shard */
-    snprintf(shard_text, sizeof shard_text, "%d/%d", w->rank, w->size);
-    shard_arg = shard_text;
-  } else if (copy) {
-    fprintf(stderr, "rps3-run: --copy is for rps3-run-mpi under mpirun and "
-                    "for merge; a run without them writes one whole file\n");
-    return EXIT_USAGE;
-  }
-  /* where the output goes is checked before anything is computed */
-  if (out_path && !check) {
-    const char *in[1];
-    in[0] = scene_path;
-    if (out_path_check(out_path, in, 1, err, sizeof err)) {
-      if (w->rank == 0)
-        fprintf(stderr, "rps3-run: %s\n", err);
-      return EXIT_USAGE;
-    }
-    if (w->rank == 0)
-      stale_report("rps3-run", out_path);
-  }
-  if (resume && (!shard_arg || w->size > 1)) {
-    if (w->rank == 0)
-      fprintf(stderr, "rps3-run: --resume is for --shard K/N runs (it "
-                      "skips a part that is complete already)\n");
-    return EXIT_USAGE;
-  }
-
   /* the scene and every case are checked before anything is written (by
      every rank; rank 0 says what is wrong, or else the ranks that fail) */
   code = EXIT_OK;
@@ -314,27 +373,7 @@ static int run_main(int argc, char **argv, const world *w)
   }
   /* a scene with a simulate section is simulated instead (simulate.h) */
   if (sim_wanted(&s)) {
-    sim_args sa;
-    if (fields != out_fields_all()) {
-      if (w->rank == 0)
-        fprintf(stderr, "rps3-run: --fields selects variables of the "
-                        "inverse-dynamics file; a scene with a simulate "
-                        "section writes the simulation file whole\n");
-      scene_free(&s);
-      return EXIT_USAGE;
-    }
-    sa.out_path = out_path;
-    sa.check = check;
-    sa.quiet = quiet;
-    sa.gzip = gzip;
-    sa.nthread = opts.nthread;
-    sa.sharded = shard_arg != NULL || resume || w->size > 1;
-    sa.command_line = cmd = cli_command_line(argc, argv);
-    /* refused under mpirun: rank 0 says so */
-    code = !cmd ? EXIT_IO
-           : w->rank > 0 ? EXIT_USAGE
-                         : sim_main(&s, &sa);
-    free(cmd);
+    code = run_simulated(&s, &a, w, argc, argv);
     scene_free(&s);
     return code;
   }
@@ -348,20 +387,7 @@ static int run_main(int argc, char **argv, const world *w)
     scene_free(&s);
     return EXIT_USAGE;
   }
-  {
-    /* threads beyond the cores compute nothing faster and each holds a
-       tile and a workspace (-j 1024 on 2 cores took 4.3 GB): use the
-       cores */
-    long cores = sysconf(_SC_NPROCESSORS_ONLN);
-    if (cores >= 1 && opts.nthread > cores) {
-      if (w->rank == 0)
-        fprintf(stderr, "rps3-run: warning: -j %d on %ld core%s: computing "
-                        "on %ld thread%s\n",
-                opts.nthread, cores, cores == 1 ? "" : "s", cores,
-                cores == 1 ? "" : "s");
-      opts.nthread = (int)cores;
-    }
-  }
+  use_the_cores(&opts, w);
   if (check) {
     if (w->rank == 0)
       pre_check_print(scene_path, &s, &plan, &opts, &pre);

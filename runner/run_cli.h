@@ -19,6 +19,7 @@ typedef struct {
   int quiet, check, copy, resume, failed_ok;
   int gzip;               /* --gzip level, 0: none */
   out_mask fields;        /* --fields */
+  char shard_text[64];    /* under mpirun: "rank/size", shard_arg's text */
 } run_args;
 
 /*
