@@ -312,8 +312,6 @@ static int run_simulated(scene *s, const run_args *a, const world *w,
 
 static int run_main(int argc, char **argv, const world *w)
 {
-  const char *scene_path, *out_path, *shard_arg;
-  int quiet, check, copy, resume, failed_ok, gzip;
   int code;
   run_args a;
   char err[512];
@@ -322,7 +320,6 @@ static int run_main(int argc, char **argv, const world *w)
   sweep_plan plan;
   sweep_opts opts = {1, 0, 1};
   pre_opts pre;
-  out_mask fields;
   sweep_stats st;
   out_block block;
   out_meta meta;
@@ -335,23 +332,13 @@ static int run_main(int argc, char **argv, const world *w)
     return code;
   if ((code = args_for_world(&a, w)) >= 0)
     return code;
-  scene_path = a.scene_path;
-  out_path = a.out_path;
-  shard_arg = a.shard_arg;
-  quiet = a.quiet;
-  check = a.check;
-  copy = a.copy;
-  resume = a.resume;
-  failed_ok = a.failed_ok;
-  gzip = a.gzip;
-  fields = a.fields;
   opts.nthread = a.nthread;
   opts.shard = a.shard;
   opts.nshard = a.nshard;
   /* the scene and every case are checked before anything is written (by
      every rank; rank 0 says what is wrong, or else the ranks that fail) */
   code = EXIT_OK;
-  if (scene_load(&s, scene_path, &serr))
+  if (scene_load(&s, a.scene_path, &serr))
     code = EXIT_USAGE;
   else if (w->rank == 0)
     /* values valid but likely in the wrong unit: said (before a case that
@@ -364,7 +351,7 @@ static int run_main(int argc, char **argv, const world *w)
   {
     int first, worst = agree(w, code, &first);
     if (code && (w->rank == 0 || first == EXIT_OK))
-      scene_error_print(scene_path, &serr);
+      scene_error_print(a.scene_path, &serr);
     if (worst) {
       if (!code)
         scene_free(&s);
@@ -379,22 +366,22 @@ static int run_main(int argc, char **argv, const world *w)
   }
   pre.rank = w->rank;
   pre.nrank = w->size;
-  pre.copy = copy;
-  pre.gzip = gzip;
-  pre.quiet = quiet;
-  pre.fields = fields;
+  pre.copy = a.copy;
+  pre.gzip = a.gzip;
+  pre.quiet = a.quiet;
+  pre.fields = a.fields;
   if (pre_jobs(&s, &plan, &opts, &pre)) {
     scene_free(&s);
     return EXIT_USAGE;
   }
   use_the_cores(&opts, w);
-  if (check) {
+  if (a.check) {
     if (w->rank == 0)
-      pre_check_print(scene_path, &s, &plan, &opts, &pre);
+      pre_check_print(a.scene_path, &s, &plan, &opts, &pre);
     scene_free(&s);
     return EXIT_OK;
   }
-  if (w->rank == 0 && pre_room(&s, &plan, &opts, &pre, out_path))
+  if (w->rank == 0 && pre_room(&s, &plan, &opts, &pre, a.out_path))
     code = EXIT_USAGE;
   if ((code = agree(w, code, NULL)) != EXIT_OK) {
     scene_free(&s);
@@ -402,24 +389,24 @@ static int run_main(int argc, char **argv, const world *w)
   }
 
   /* a complete part of this scene is not computed again */
-  if (resume && !check) {
+  if (a.resume && !a.check) {
     size_t nfailed = 0;
     char names[1024];
-    if (parts_resume(out_path, opts.shard, opts.nshard, s.text,
-                     out_fields_text(fields, names, sizeof names),
+    if (parts_resume(a.out_path, opts.shard, opts.nshard, s.text,
+                     out_fields_text(a.fields, names, sizeof names),
                      &nfailed)) {
-      if (!quiet)
+      if (!a.quiet)
         fprintf(stderr, "rps3-run: %s is shard %zu/%zu of this scene, "
                         "complete (%zu failed case%s): not run again\n",
-                out_path, opts.shard, opts.nshard, nfailed,
+                a.out_path, opts.shard, opts.nshard, nfailed,
                 nfailed == 1 ? "" : "s");
       scene_free(&s);
-      return nfailed && !failed_ok ? EXIT_FAILED_CASES : EXIT_OK;
+      return nfailed && !a.failed_ok ? EXIT_FAILED_CASES : EXIT_OK;
     }
   }
   /* what killed runs of this output left on this host */
   if (w->rank == 0)
-    tmpout_clean(out_path, 0, 1);
+    tmpout_clean(a.out_path, 0, 1);
 
   memset(&block, 0, sizeof block);
   cmd = cli_command_line(argc, argv);
@@ -429,21 +416,21 @@ static int run_main(int argc, char **argv, const world *w)
     fprintf(stderr, "rps3-run: out of memory\n");
     code = EXIT_IO;
   }
-  block.fields = fields;
+  block.fields = a.fields;
   meta.command_line = cmd;
-  meta.gzip = gzip;
-  meta.shard = shard_arg;
-  meta.fields = fields;
+  meta.gzip = a.gzip;
+  meta.shard = a.shard_arg;
+  meta.fields = a.fields;
 
   /* write under a temporary name in the same directory, rename at the end
      (tmpout.h) */
-  if (code == EXIT_OK && tmpout_name(out_path, w->rank))
+  if (code == EXIT_OK && tmpout_name(a.out_path, w->rank))
     code = EXIT_USAGE;
   if ((code = agree(w, code, NULL)) != EXIT_OK)
     goto done;
   tmpout_arm();
   progress_start(&pr, sweep_shard_cases(&s, &plan, opts.shard, opts.nshard),
-                 quiet || w->rank != 0);
+                 a.quiet || w->rank != 0);
   pr.njob_all = sweep_njob(&s, &plan);
   pr.njob = sweep_shard_jobs(&s, &plan, opts.shard, opts.nshard);
   /* the shard's samples, in proportion to its cases (exact unsharded) */
@@ -453,25 +440,25 @@ static int run_main(int argc, char **argv, const world *w)
   f = out_create(tmpout_path(), &s, &plan.first, plan.nt, plan.grid_common,
                  plan.chunk_points, &block, &meta, err, sizeof err);
   if (!f) {
-    fprintf(stderr, "rps3-run: %s: %s\n", out_path, err);
+    fprintf(stderr, "rps3-run: %s: %s\n", a.out_path, err);
     code = EXIT_IO;
     memset(&st, 0, sizeof st);
   } else if (sweep_run_opts(&s, &plan, f, &block, &opts, &pr, &st, err,
                             sizeof err)) {
-    fprintf(stderr, "rps3-run: %s: %s\n", out_path, err);
+    fprintf(stderr, "rps3-run: %s: %s\n", a.out_path, err);
     out_close(f, NULL, 0);
     code = EXIT_IO;
   } else if (out_close(f, err, sizeof err)) {
-    fprintf(stderr, "rps3-run: %s: %s\n", out_path, err);
+    fprintf(stderr, "rps3-run: %s: %s\n", a.out_path, err);
     code = EXIT_IO;
   }
   if (w->size > 1) {
 #ifdef RPS3_MPI
-    code = mpi_join(w, code, copy, out_path, cmd, &pr, &st, s.ncase);
+    code = mpi_join(w, code, a.copy, a.out_path, cmd, &pr, &st, s.ncase);
 #endif
     goto done;
   }
-  if (code != EXIT_OK || tmpout_commit(out_path)) {
+  if (code != EXIT_OK || tmpout_commit(a.out_path)) {
     code = EXIT_IO;
     goto done;
   }
@@ -480,7 +467,7 @@ static int run_main(int argc, char **argv, const world *w)
 
 done:
   /* a complete file with failed cases, as a success (for schedulers) */
-  if (code == EXIT_FAILED_CASES && failed_ok)
+  if (code == EXIT_FAILED_CASES && a.failed_ok)
     code = EXIT_OK;
   tmpout_discard();
   out_block_free(&block);
