@@ -179,7 +179,9 @@ $(B)/librps3-san.a: $(LIB_SAN)
 	ar rcs $@ $^
 
 # ------------------------------------------------------------------ runner
-runner: $(B)/rps3-run
+# the three programs: a rebuilt library never leaves a stale rps3-study or
+# rps3-simstudy beside a fresh rps3-run
+runner: $(B)/rps3-run $(B)/rps3-study $(B)/rps3-simstudy
 
 $(B)/runner/%.o: runner/%.c | $(DEPS)
 	@mkdir -p $(@D)
