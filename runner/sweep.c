@@ -241,7 +241,10 @@ void sweep_case_label(const scene *s, size_t c, char *buf, size_t sz)
   for (a = 0; a < s->naxis && n < sz; a++) {
     const scene_axis *ax = &s->axis[a];
     double v = ax->val[scene_case_coord(s, c, a)];
-    const char *name = scene_enum_name(ax->key, (int)v);
+    /* only an enum's values are whole numbers that fit an int */
+    const char *name = scene_key_get(ax->key)->type == KEY_ENUM
+                           ? scene_enum_name(ax->key, (int)v)
+                           : NULL;
     int w = name ? snprintf(buf + n, sz - n, "%s%s = %s", a ? ", " : "",
                             ax->path, name)
                  : snprintf(buf + n, sz - n, "%s%s = %.6g", a ? ", " : "",
