@@ -327,8 +327,9 @@ FUZZ_TIME ?= 20
 # the scene parser's sources: the fuzz target links these and the library
 FUZZ_SCENE_SRC = runner/scene.c runner/scene_parse.c runner/scene_sweep.c \
   runner/scene_case.c runner/scene_emit.c runner/scene_guard.c runner/table.c \
+  runner/table_h5.c \
   runner/hint.c
-$(B)/fuzz_scene: tests/fuzz/fuzz_scene.c $(FUZZ_SCENE_SRC) runner/scene.h runner/scene_sim.h runner/scene_guard.h runner/scene_int.h runner/table.h runner/hint.h $(LIB_SRC) | $(DEPS)
+$(B)/fuzz_scene: tests/fuzz/fuzz_scene.c $(FUZZ_SCENE_SRC) runner/scene.h runner/scene_sim.h runner/scene_guard.h runner/scene_int.h runner/table.h runner/table_int.h runner/hint.h $(LIB_SRC) | $(DEPS)
 	@mkdir -p $(@D)
 	$(FUZZ_CC) $(CPPFLAGS_ALL) -Irunner $(GSL_CFLAGS) $(HDF5_CFLAGS) $(WARN) $(FUZZ_FLAGS) $(KERNEL_FLAGS) \
 	  tests/fuzz/fuzz_scene.c $(FUZZ_SCENE_SRC) $(LIB_SRC) -o $@ $(YAML_LIBS) $(HDF5_LIBS) $(GSL_LIBS) -lm

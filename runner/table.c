@@ -9,6 +9,7 @@
 #define _XOPEN_SOURCE 700
 
 #include "table.h"
+#include "table_int.h"
 #include "hint.h"
 
 #include <errno.h>
@@ -20,11 +21,8 @@
 #include <string.h>
 #include <sys/stat.h>
 
-#include <hdf5.h>
 
-/* the columns: 0 time, 1-3 values, 4-6 rates, 7-9 accelerations */
-#define NCOL 10
-static const char *const col_names[2][NCOL] = {
+const char *const table_col_names[2][TABLE_NCOL] = {
     {"t", "alpha", "beta", "z_c", "alpha_dot", "beta_dot", "z_c_dot",
      "alpha_ddot", "beta_ddot", "z_c_ddot"},
     {"t", "x", "y", "z", "x_dot", "y_dot", "z_dot", "x_ddot", "y_ddot",
@@ -33,9 +31,7 @@ static const char *const col_names[2][NCOL] = {
 /* the largest table file: a million rows of ten numbers is ~250 MB */
 #define TABLE_MAX_BYTES (1024.0 * 1024.0 * 1024.0)
 
-static void err_set(char *err, size_t errsz, const char *fmt, ...)
-    __attribute__((format(printf, 3, 4)));
-static void err_set(char *err, size_t errsz, const char *fmt, ...)
+void table_err(char *err, size_t errsz, const char *fmt, ...)
 {
   va_list ap;
   va_start(ap, fmt);
@@ -98,7 +94,7 @@ static int ends_with(const char *s, const char *tail)
 }
 
 /* the arrays for n rows; acc only when the file has accelerations */
-static int table_alloc(table_data *t, size_t n, int with_acc)
+int table_alloc_rows(table_data *t, size_t n, int with_acc)
 {
   size_t m = n ? n : 1; /* a table of no rows is refused later */
   t->n = n;
@@ -110,7 +106,7 @@ static int table_alloc(table_data *t, size_t n, int with_acc)
 }
 
 /* where column c of row r goes */
-static double *cell(table_data *t, size_t r, int c)
+double *table_cell(table_data *t, size_t r, int c)
 {
   if (c == 0)
     return &t->time[r];
@@ -123,30 +119,30 @@ static double *cell(table_data *t, size_t r, int c)
 
 /* which of the columns are present: t and the values always, the rates
    all or none, the accelerations all or none and only with the rates */
-static int columns_check(const int have[NCOL], int what, const char *file,
+int table_columns_check(const int have[TABLE_NCOL], int what, const char *file,
                          char *err, size_t errsz)
 {
   int c, g;
   for (c = 0; c < 4; c++)
     if (!have[c]) {
-      err_set(err, errsz, "%s: missing column %s (a table has %s, %s, %s, %s)",
-              file, col_names[what][c], col_names[what][0],
-              col_names[what][1], col_names[what][2], col_names[what][3]);
+      table_err(err, errsz, "%s: missing column %s (a table has %s, %s, %s, %s)",
+              file, table_col_names[what][c], table_col_names[what][0],
+              table_col_names[what][1], table_col_names[what][2], table_col_names[what][3]);
       return -1;
     }
-  for (g = 4; g < NCOL; g += 3)
+  for (g = 4; g < TABLE_NCOL; g += 3)
     if (have[g] + have[g + 1] + have[g + 2] != 0 &&
         have[g] + have[g + 1] + have[g + 2] != 3) {
       for (c = g; have[c]; c++)
         ;
-      err_set(err, errsz, "%s: missing column %s (give the three %s or none)",
-              file, col_names[what][c], g == 4 ? "rates" : "accelerations");
+      table_err(err, errsz, "%s: missing column %s (give the three %s or none)",
+              file, table_col_names[what][c], g == 4 ? "rates" : "accelerations");
       return -1;
     }
   if (have[7] && !have[4]) {
-    err_set(err, errsz,
+    table_err(err, errsz,
             "%s: accelerations (%s, ...) need the rates (%s, ...) as well",
-            file, col_names[what][7], col_names[what][4]);
+            file, table_col_names[what][7], table_col_names[what][4]);
     return -1;
   }
   return 0;
@@ -165,7 +161,7 @@ static int parse_field(const char *s, const char *e, double *x,
     e--;
   col = (int)(s - start) + 1; /* of the number itself, blanks skipped */
   if (e == s) {
-    err_set(err, errsz, "%s:%d:%d: column %s: empty field", file, line, col,
+    table_err(err, errsz, "%s:%d:%d: column %s: empty field", file, line, col,
             name);
     return -1;
   }
@@ -173,21 +169,21 @@ static int parse_field(const char *s, const char *e, double *x,
   errno = 0;
   *x = strtod(buf, &end);
   if (*end != '\0' || (size_t)(e - s) >= sizeof buf) {
-    err_set(err, errsz, "%s:%d:%d: column %s: expected a number, got '%.40s'",
+    table_err(err, errsz, "%s:%d:%d: column %s: expected a number, got '%.40s'",
             file, line, col, name, buf);
     return -1;
   }
   if (!isfinite(*x) || errno == ERANGE) {
-    err_set(err, errsz, "%s:%d:%d: column %s: '%s' is not a finite number",
+    table_err(err, errsz, "%s:%d:%d: column %s: '%s' is not a finite number",
             file, line, col, name, buf);
     return -1;
   }
   return 0;
 }
 
-/* the header line [s, e): column c of the file is col[c] (0..NCOL-1) */
+/* the header line [s, e): column c of the file is col[c] (0..TABLE_NCOL-1) */
 static int csv_header(const char *s, const char *e, int what, int *col,
-                      int *ncol, int have[NCOL], const char *file, int line,
+                      int *ncol, int have[TABLE_NCOL], const char *file, int line,
                       char *err, size_t errsz)
 {
   const char *p = s;
@@ -201,23 +197,23 @@ static int csv_header(const char *s, const char *e, int what, int *col,
       ;
     for (b = q; b > a && (b[-1] == ' ' || b[-1] == '\t'); b--)
       ;
-    for (c = 0; c < NCOL; c++)
-      if ((size_t)(b - a) == strlen(col_names[what][c]) &&
-          strncmp(a, col_names[what][c], (size_t)(b - a)) == 0)
+    for (c = 0; c < TABLE_NCOL; c++)
+      if ((size_t)(b - a) == strlen(table_col_names[what][c]) &&
+          strncmp(a, table_col_names[what][c], (size_t)(b - a)) == 0)
         break;
-    if (c == NCOL || have[c] || *ncol == NCOL) {
+    if (c == TABLE_NCOL || have[c] || *ncol == TABLE_NCOL) {
       char list[200], name[HINT_MAX_LEN + 1], hint[120] = "";
       int k;
       size_t len = 0;
-      for (k = 0; k < NCOL; k++)
+      for (k = 0; k < TABLE_NCOL; k++)
         len += (size_t)snprintf(list + len, sizeof list - len, "%s%s",
-                                k ? ", " : "", col_names[what][k]);
+                                k ? ", " : "", table_col_names[what][k]);
       snprintf(name, sizeof name, "%.*s", (int)(b - a), a);
-      if (c == NCOL)
-        hint_text(hint, sizeof hint, name, col_names[what], NCOL);
-      err_set(err, errsz, "%s:%d:%d: column '%s': %s%s; expected %s", file,
+      if (c == TABLE_NCOL)
+        hint_text(hint, sizeof hint, name, table_col_names[what], TABLE_NCOL);
+      table_err(err, errsz, "%s:%d:%d: column '%s': %s%s; expected %s", file,
               line, (int)(a - s) + 1, name,
-              c < NCOL ? "given twice" : "unknown column", hint, list);
+              c < TABLE_NCOL ? "given twice" : "unknown column", hint, list);
       return -1;
     }
     have[c] = 1;
@@ -226,21 +222,21 @@ static int csv_header(const char *s, const char *e, int what, int *col,
       break;
     p = q + 1;
   }
-  return columns_check(have, what, file, err, errsz);
+  return table_columns_check(have, what, file, err, errsz);
 }
 
 /* a table is a regular file of at most TABLE_MAX_BYTES: checked by
    stat() before anything opens it (opening a FIFO would wait for a
    writer, a device would never end) */
-static int regular_file(const char *path, char *err, size_t errsz)
+int table_regular_file(const char *path, char *err, size_t errsz)
 {
   struct stat st;
   if (stat(path, &st) != 0) {
-    err_set(err, errsz, "%s: cannot open: %s", path, strerror(errno));
+    table_err(err, errsz, "%s: cannot open: %s", path, strerror(errno));
     return -1;
   }
   if (!S_ISREG(st.st_mode) || (double)st.st_size > TABLE_MAX_BYTES) {
-    err_set(err, errsz, "%s: not a regular file of at most 1 GiB", path);
+    table_err(err, errsz, "%s: not a regular file of at most 1 GiB", path);
     return -1;
   }
   return 0;
@@ -252,29 +248,29 @@ static char *slurp(const char *path, size_t *len, char *err, size_t errsz)
   FILE *f;
   struct stat st;
   char *buf;
-  if (regular_file(path, err, errsz))
+  if (table_regular_file(path, err, errsz))
     return NULL;
   f = fopen(path, "rb");
   if (!f) {
-    err_set(err, errsz, "%s: cannot open: %s", path, strerror(errno));
+    table_err(err, errsz, "%s: cannot open: %s", path, strerror(errno));
     return NULL;
   }
   if (fstat(fileno(f), &st) != 0 || !S_ISREG(st.st_mode) ||
       (double)st.st_size > TABLE_MAX_BYTES) {
-    err_set(err, errsz, "%s: not a regular file of at most 1 GiB", path);
+    table_err(err, errsz, "%s: not a regular file of at most 1 GiB", path);
     fclose(f);
     return NULL;
   }
   buf = malloc((size_t)st.st_size + 1);
   if (!buf) {
-    err_set(err, errsz, "%s: out of memory", path);
+    table_err(err, errsz, "%s: out of memory", path);
     fclose(f);
     return NULL;
   }
   *len = fread(buf, 1, (size_t)st.st_size, f);
   buf[*len] = '\0';
   if (ferror(f)) {
-    err_set(err, errsz, "%s: read error", path);
+    table_err(err, errsz, "%s: read error", path);
     free(buf);
     buf = NULL;
   }
@@ -294,11 +290,11 @@ static int csv_read(table_data *t, int what, char *err, size_t errsz)
 {
   size_t len, rows = 0, r = 0;
   char *text = slurp(t->path, &len, err, errsz), *p, *e;
-  int have[NCOL] = {0}, col[NCOL], ncol = 0, line, header = 0, rc = -1;
+  int have[TABLE_NCOL] = {0}, col[TABLE_NCOL], ncol = 0, line, header = 0, rc = -1;
   if (!text)
     return -1;
   if (memchr(text, '\0', len) != NULL) {
-    err_set(err, errsz, "%s: a NUL byte: not a text file", t->path);
+    table_err(err, errsz, "%s: a NUL byte: not a text file", t->path);
     goto done;
   }
   /* a UTF-8 byte order mark (spreadsheets write one) is not a column name */
@@ -324,7 +320,7 @@ static int csv_read(table_data *t, int what, char *err, size_t errsz)
     if (!header) {
       if (!memchr(p, ',', (size_t)(e - p)) &&
           (memchr(p, ';', (size_t)(e - p)) || memchr(p, '\t', (size_t)(e - p)))) {
-        err_set(err, errsz, "%s:%d: the columns are separated by %s; a table "
+        table_err(err, errsz, "%s:%d: the columns are separated by %s; a table "
                 "separates them by commas", t->path, line,
                 memchr(p, ';', (size_t)(e - p)) ? "semicolons" : "tabs");
         goto done;
@@ -332,14 +328,14 @@ static int csv_read(table_data *t, int what, char *err, size_t errsz)
       if (csv_header(p, e, what, col, &ncol, have, t->path, line, err, errsz))
         goto done;
       header = 1;
-      if (table_alloc(t, rows - 1, have[7])) {
-        err_set(err, errsz, "%s: out of memory for %zu rows", t->path,
+      if (table_alloc_rows(t, rows - 1, have[7])) {
+        table_err(err, errsz, "%s: out of memory for %zu rows", t->path,
                 rows - 1);
         goto done;
       }
       t->line = malloc((rows > 1 ? rows - 1 : 1) * sizeof *t->line);
       if (!t->line) {
-        err_set(err, errsz, "%s: out of memory", t->path);
+        table_err(err, errsz, "%s: out of memory", t->path);
         goto done;
       }
       continue;
@@ -350,16 +346,16 @@ static int csv_read(table_data *t, int what, char *err, size_t errsz)
       while (q < e && *q != ',')
         q++;
       if (q == e && c + 1 < ncol) {
-        err_set(err, errsz, "%s:%d: %d fields, the header has %d columns",
+        table_err(err, errsz, "%s:%d: %d fields, the header has %d columns",
                 t->path, line, c + 1, ncol);
         goto done;
       }
-      if (parse_field(f, q, cell(t, r, col[c]), t->path, line, p,
-                      col_names[what][col[c]], err, errsz))
+      if (parse_field(f, q, table_cell(t, r, col[c]), t->path, line, p,
+                      table_col_names[what][col[c]], err, errsz))
         goto done;
       f = q + 1;
       if (c + 1 == ncol && q < e) {
-        err_set(err, errsz, "%s:%d:%d: more fields than the header's %d "
+        table_err(err, errsz, "%s:%d:%d: more fields than the header's %d "
                 "columns", t->path, line, (int)(q - p) + 1, ncol);
         goto done;
       }
@@ -367,181 +363,14 @@ static int csv_read(table_data *t, int what, char *err, size_t errsz)
     r++;
   }
   if (!header) {
-    err_set(err, errsz, "%s: no header line (t, %s, %s, %s, ...)", t->path,
-            col_names[what][1], col_names[what][2], col_names[what][3]);
+    table_err(err, errsz, "%s: no header line (t, %s, %s, %s, ...)", t->path,
+            table_col_names[what][1], table_col_names[what][2], table_col_names[what][3]);
     goto done;
   }
   t->rates_given = have[4];
   rc = 0;
 done:
   free(text);
-  return rc;
-}
-
-/* the units each column must be in, in the spellings a units attribute may
-   use for them (UDUNITS symbols and names); "" ends a list */
-static const char *const col_units[2][NCOL][6] = {
-    {{"s", "second", "seconds", ""}, {"rad", "radian", "radians", ""},
-     {"rad", "radian", "radians", ""}, {"m", "meter", "metre", "meters",
-                                        "metres", ""},
-     {"rad/s", "rad s-1", ""}, {"rad/s", "rad s-1", ""}, {"m/s", "m s-1", ""},
-     {"rad/s^2", "rad/s2", "rad s-2", ""}, {"rad/s^2", "rad/s2", "rad s-2", ""},
-     {"m/s^2", "m/s2", "m s-2", ""}},
-    {{"s", "second", "seconds", ""}, {"m", "meter", "metre", "meters",
-                                      "metres", ""},
-     {"m", "meter", "metre", "meters", "metres", ""},
-     {"m", "meter", "metre", "meters", "metres", ""}, {"m/s", "m s-1", ""},
-     {"m/s", "m s-1", ""}, {"m/s", "m s-1", ""}, {"m/s^2", "m/s2", "m s-2", ""},
-     {"m/s^2", "m/s2", "m s-2", ""}, {"m/s^2", "m/s2", "m s-2", ""}}};
-
-/* the dataset's units attribute into buf ("" when it has none or it is
-   not a string): fixed-length and variable-length strings alike */
-static void h5_units(hid_t d, char *buf, size_t sz)
-{
-  hid_t a, ft, mt;
-  buf[0] = '\0';
-  if (H5Aexists(d, "units") <= 0 || (a = H5Aopen(d, "units", H5P_DEFAULT)) < 0)
-    return;
-  ft = H5Aget_type(a);
-  if (ft >= 0 && H5Tget_class(ft) == H5T_STRING) {
-    /* the memory type in the file's character set: HDF5 converts none */
-    mt = H5Tcopy(H5T_C_S1);
-    H5Tset_cset(mt, H5Tget_cset(ft));
-    if (H5Tis_variable_str(ft) > 0) {
-      char *v = NULL;
-      if (H5Tset_size(mt, H5T_VARIABLE) >= 0 && H5Aread(a, mt, &v) >= 0 && v)
-        snprintf(buf, sz, "%s", v);
-      if (v)
-        H5free_memory(v);
-    } else {
-      size_t n = H5Tget_size(ft);
-      if (n < sz && H5Tset_size(mt, n + 1) >= 0 && H5Aread(a, mt, buf) < 0)
-        buf[0] = '\0';
-    }
-    H5Tclose(mt);
-  }
-  if (ft >= 0)
-    H5Tclose(ft);
-  H5Aclose(a);
-}
-
-/* a units attribute must name the column's SI unit: a column in degrees
-   or millimetres is refused rather than misread */
-static int h5_units_check(hid_t d, const char *path, const char *name,
-                          int what, int c, char *err, size_t errsz)
-{
-  char units[64];
-  int i;
-  h5_units(d, units, sizeof units);
-  if (units[0] == '\0')
-    return 0;
-  for (i = 0; col_units[what][c][i][0] != '\0'; i++)
-    if (strcmp(units, col_units[what][c][i]) == 0)
-      return 0;
-  err_set(err, errsz, "%s: dataset /%s: units '%s', but the table is in "
-          "%s: convert the column", path, name, units, col_units[what][c][0]);
-  return -1;
-}
-
-/* one 1-D dataset of n doubles at the root (n taken from the first) */
-static int h5_column(hid_t f, const char *name, table_data *t, int what,
-                     int c, char *err, size_t errsz)
-{
-  hid_t d = H5Dopen2(f, name, H5P_DEFAULT), sp;
-  hsize_t dims[2];
-  double *buf = NULL;
-  int rc = -1;
-  size_t r;
-  if (d < 0)
-    return 1; /* absent */
-  sp = H5Dget_space(d);
-  if (h5_units_check(d, t->path, name, what, c, err, errsz))
-    goto done;
-  if (sp < 0 || H5Sget_simple_extent_ndims(sp) != 1 ||
-      H5Sget_simple_extent_dims(sp, dims, NULL) != 1) {
-    err_set(err, errsz, "%s: dataset /%s: expected one dimension", t->path,
-            name);
-    goto done;
-  }
-  if (t->n == 0 && c == 0) {
-    t->n = (size_t)dims[0];
-  } else if ((size_t)dims[0] != t->n) {
-    err_set(err, errsz, "%s: dataset /%s: %llu rows, /t has %zu", t->path,
-            name, (unsigned long long)dims[0], t->n);
-    goto done;
-  }
-  buf = malloc((t->n ? t->n : 1) * sizeof *buf);
-  if (!buf || H5Dread(d, H5T_NATIVE_DOUBLE, H5S_ALL, H5S_ALL, H5P_DEFAULT,
-                      buf) < 0) {
-    err_set(err, errsz, "%s: dataset /%s: cannot read it as numbers", t->path,
-            name);
-    goto done;
-  }
-  for (r = 0; r < t->n; r++) {
-    if (!isfinite(buf[r])) {
-      err_set(err, errsz, "%s: dataset /%s, row %zu: %g is not a finite "
-              "number", t->path, name, r, buf[r]);
-      goto done;
-    }
-    if (t->time != NULL)
-      *cell(t, r, c) = buf[r];
-  }
-  if (c == 0) {
-    /* the time column sizes the table: keep it until the arrays exist */
-    t->time = buf;
-    buf = NULL;
-  }
-  rc = 0;
-done:
-  free(buf);
-  if (sp >= 0)
-    H5Sclose(sp);
-  H5Dclose(d);
-  return rc;
-}
-
-static int h5_read(table_data *t, int what, char *err, size_t errsz)
-{
-  H5E_auto2_t fn;
-  void *data;
-  hid_t f;
-  int have[NCOL] = {0}, c, rc = -1, x;
-  if (regular_file(t->path, err, errsz))
-    return -1;
-  H5Eget_auto2(H5E_DEFAULT, &fn, &data);
-  H5Eset_auto2(H5E_DEFAULT, NULL, NULL);
-  f = H5Fopen(t->path, H5F_ACC_RDONLY, H5P_DEFAULT);
-  if (f < 0) {
-    err_set(err, errsz, "%s: cannot open as an HDF5 file", t->path);
-    H5Eset_auto2(H5E_DEFAULT, fn, data);
-    return -1;
-  }
-  for (c = 0; c < NCOL; c++)
-    have[c] = H5Lexists(f, col_names[what][c], H5P_DEFAULT) > 0;
-  if (columns_check(have, what, t->path, err, errsz))
-    goto done;
-  /* the time first: it gives the rows */
-  if (h5_column(f, col_names[what][0], t, what, 0, err, errsz))
-    goto done;
-  {
-    double *time = t->time;
-    t->time = NULL;
-    x = table_alloc(t, t->n, have[7]);
-    free(t->time);
-    t->time = time;
-    if (x) {
-      err_set(err, errsz, "%s: out of memory for %zu rows", t->path, t->n);
-      goto done;
-    }
-  }
-  for (c = 1; c < NCOL; c++)
-    if (have[c] && h5_column(f, col_names[what][c], t, what, c, err, errsz))
-      goto done;
-  t->rates_given = have[4];
-  rc = 0;
-done:
-  H5Fclose(f);
-  H5Eset_auto2(H5E_DEFAULT, fn, data);
   return rc;
 }
 
@@ -554,7 +383,7 @@ static int table_finish(table_data *t, int what, char *err, size_t errsz)
   double *work;
   int min = t->rates_given ? 2 : 4;
   if (t->n < (size_t)min) {
-    err_set(err, errsz, "%s: %zu rows; a table needs at least %d%s", t->path,
+    table_err(err, errsz, "%s: %zu rows; a table needs at least %d%s", t->path,
             t->n, min,
             t->rates_given ? "" : " without rate columns (the not-a-knot "
                                   "spline that gives the rates)");
@@ -563,7 +392,7 @@ static int table_finish(table_data *t, int what, char *err, size_t errsz)
   for (r = 1; r < t->n; r++)
     if (!(t->time[r] > t->time[r - 1])) {
       table_where(t, r, where, sizeof where);
-      err_set(err, errsz, "%s: column t: %.17g after %.17g: times must "
+      table_err(err, errsz, "%s: column t: %.17g after %.17g: times must "
               "increase strictly", where, t->time[r], t->time[r - 1]);
       return -1;
     }
@@ -575,7 +404,7 @@ static int table_finish(table_data *t, int what, char *err, size_t errsz)
       rps3_table_spline(t->n, t->time, (const double(*)[3])t->value, t->rate,
                         work) != RPS3_OK) {
     free(work);
-    err_set(err, errsz, "%s: the spline of the rows failed", t->path);
+    table_err(err, errsz, "%s: the spline of the rows failed", t->path);
     return -1;
   }
   free(work);
@@ -588,16 +417,16 @@ int table_read(table_data *t, const char *scene_file, const char *name,
   char *abs;
   memset(t, 0, sizeof *t);
   if (name[0] == '\0') {
-    err_set(err, errsz, "an empty file name");
+    table_err(err, errsz, "an empty file name");
     return -1;
   }
   t->path = path_join(scene_file, name);
   if (!t->path) {
-    err_set(err, errsz, "out of memory");
+    table_err(err, errsz, "out of memory");
     return -1;
   }
   t->hdf5 = ends_with(name, ".h5") || ends_with(name, ".hdf5");
-  if ((t->hdf5 ? h5_read(t, what, err, errsz)
+  if ((t->hdf5 ? table_h5_read(t, what, err, errsz)
                : csv_read(t, what, err, errsz)) != 0 ||
       table_finish(t, what, err, errsz) != 0) {
     table_free(t);
