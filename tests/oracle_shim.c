@@ -5,14 +5,12 @@
  * include/rps3.h and build/librps3.so, so that the Python side never mirrors
  * a struct layout.
  *
- * par = (R, rho, M, m, d, link_Ic, g, payload mass, com x3, inertia x3,
- *        viscous, coulomb): RPS3_SHIM_NPAR numbers.
+ * par: shim_model.h.
  */
 #include <string.h>
 
 #include "rps3.h"
-
-#define RPS3_SHIM_NPAR 16
+#include "shim_model.h"
 
 int rps3_shim_npar(void);
 int rps3_shim_forces(const double *par, int effects, int method, int theta,
@@ -31,22 +29,7 @@ int rps3_shim_forces(const double *par, int effects, int method, int theta,
   rps3_model m;
   rps3_data *d;
   int k, st;
-  rps3_model_default(&m);
-  m.R = par[0];
-  m.rho = par[1];
-  m.M = par[2];
-  m.m = par[3];
-  m.d = par[4];
-  m.link_Ic = par[5];
-  m.g = par[6];
-  m.payload.mass = par[7];
-  for (k = 0; k < 3; k++) {
-    m.payload.com[k] = par[8 + k];
-    m.payload.inertia[k] = par[11 + k];
-  }
-  m.friction.viscous = par[14];
-  m.friction.coulomb = par[15];
-  m.opt.effects = effects;
+  shim_model(&m, par, effects);
   m.opt.method = (rps3_method)method;
   m.opt.theta = (rps3_theta_route)theta;
   m.opt.warm_start = 1;

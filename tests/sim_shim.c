@@ -4,11 +4,12 @@
  * table of forces held over fixed intervals, the same forces MuJoCo gets.
  * Built by the test against include/rps3.h and build/librps3.so.
  *
- * par: as tests/oracle_shim.c (RPS3_SHIM_NPAR numbers, + vreg last).
+ * par: shim_model.h (RPS3_SHIM_NPAR numbers), + vreg last.
  */
 #include <string.h>
 
 #include "rps3.h"
+#include "shim_model.h"
 
 int rps3_shim_sim(const double *par, int effects, int integrator, double h,
                   double tol, const double *pose0, const double *dpose0,
@@ -45,23 +46,8 @@ int rps3_shim_sim(const double *par, int effects, int integrator, double h,
   rps3_controller c;
   table tb;
   int k, st;
-  rps3_model_default(&m);
-  m.R = par[0];
-  m.rho = par[1];
-  m.M = par[2];
-  m.m = par[3];
-  m.d = par[4];
-  m.link_Ic = par[5];
-  m.g = par[6];
-  m.payload.mass = par[7];
-  for (k = 0; k < 3; k++) {
-    m.payload.com[k] = par[8 + k];
-    m.payload.inertia[k] = par[11 + k];
-  }
-  m.friction.viscous = par[14];
-  m.friction.coulomb = par[15];
-  m.friction.vreg = par[16];
-  m.opt.effects = effects;
+  shim_model(&m, par, effects);
+  m.friction.vreg = par[RPS3_SHIM_NPAR];
   st = rps3_model_init(&m, err, (size_t)errsz);
   if (st != RPS3_OK) return st;
   rps3_sim_options_default(&o);
