@@ -448,6 +448,8 @@ static const struct {
 } ratio_pairs[] = {
     {"pipeline_closed_lagrange_paper_nocert", "anchor_generated",
      "scalar rps3_inverse / generated code, the paper's four effects"},
+    {"pipeline_closed_lagrange_paper_forces", "anchor_generated",
+     "scalar rps3_inverse, forces_only / generated code (goal <= 1)"},
     {"batch_closed_lagrange_paper_nocert", "anchor_generated",
      "rps3_inverse_batch per point / generated code, the same forces"},
     {"pipeline_closed_lagrange_paper_nocert",
@@ -457,6 +459,21 @@ static const struct {
      "the same, certify on, every output (goal >= 10)"},
 };
 #define NRATIO_MAX ((int)(sizeof(ratio_pairs) / sizeof(ratio_pairs[0])))
+
+/* -k: NAME contains one of the comma-separated parts of LIST */
+static int name_matches(const char *name, const char *list) {
+  char part[128];
+  while (*list != '\0') {
+    size_t n = strcspn(list, ",");
+    if (n > 0 && n < sizeof(part)) {
+      memcpy(part, list, n);
+      part[n] = '\0';
+      if (strstr(name, part) != NULL) return 1;
+    }
+    list += n + (list[n] == ',');
+  }
+  return 0;
+}
 
 static int find_case(bench_case *cases, int ncase, const char *name) {
   int i;
@@ -520,7 +537,8 @@ static void usage(void) {
           "  -o  HDF5 output (default out/bench.h5; '-' for none)\n"
           "  -n  timed batches per case (default 101)\n"
           "  -c  calls per batch (default 2000, a multiple of 1000)\n"
-          "  -k  run only the cases whose name contains CASE (profiling)\n");
+          "  -k  run only the cases whose name contains CASE (profiling); "
+          "CASE may list several, comma-separated\n");
 }
 
 int main(int argc, char **argv) {
@@ -620,6 +638,12 @@ int main(int argc, char **argv) {
        "theta, the paper's effects (gravity and inertia of platform and "
        "links), Lagrange, certify off", K_INVERSE, SCENE_PAPER, RPS3_LAGRANGE,
        RPS3_THETA_CLOSED_FORM, 1, 0, TARGET_INVDYN_NS, 0);
+  CASE("pipeline_closed_lagrange_paper_forces", "rps3_inverse, closed-form "
+       "theta, the paper's effects, Lagrange, certify off, opt.forces_only "
+       "(the controller's path: F only, the outputs of the generated code)",
+       K_INVERSE, SCENE_PAPER, RPS3_LAGRANGE, RPS3_THETA_CLOSED_FORM, 1, 0,
+       BENCH_NONE, 0);
+  cases[ncase - 1].m.opt.forces_only = 1;
   CASE("anchor_generated", "SymPy-generated CSE'd C (tests/bench/"
        "gen_anchor.py): pose, rates, accelerations -> F, the paper's four "
        "effects", K_ANCHOR, SCENE_PAPER, RPS3_LAGRANGE,
@@ -668,7 +692,7 @@ int main(int argc, char **argv) {
   if (only != NULL) {
     int kept = 0;
     for (i = 0; i < ncase; i++)
-      if (strstr(cases[i].name, only) != NULL) cases[kept++] = cases[i];
+      if (name_matches(cases[i].name, only)) cases[kept++] = cases[i];
     ncase = kept;
     if (ncase == 0) {
       fprintf(stderr, "rps3-bench: no case matches '%s'\n", only);

@@ -40,6 +40,8 @@ import random
 import time
 
 import sympy as sp
+from sympy.printing.c import C99CodePrinter
+from sympy.printing.precedence import PRECEDENCE as PREC
 
 FUNC = "rps3_anchor_forces"
 
@@ -166,6 +168,28 @@ def self_check(syms, lengths, balls, trials=5):
                                  f"vector form at {sub}: {printed} vs {direct}")
 
 
+class PowPrinter(C99CodePrinter):
+    """ccode, with the small powers as products, as a hand-writer (or any
+    code generator tuned for speed) would: pow(x, -2) is a libm call that
+    costs as much as a hundred multiplications, and the derivatives of
+    (5)-(7) and of (39) are full of them.  x**n for |n| <= 4 becomes a
+    product (1/product for n < 0), x**(k/2) a product with sqrt(x)."""
+
+    def _print_Pow(self, expr):
+        b, e = expr.base, expr.exp
+        if e.is_Rational and e.q in (1, 2) and abs(e.p) <= 4 * e.q:
+            n = abs(e.p) // e.q if e.q == 1 else (abs(e.p) - 1) // 2
+            base = self.parenthesize(b, PREC["Mul"])
+            parts = [base] * n
+            if e.q == 2:
+                parts.append(f"sqrt({self._print(b)})")
+            prod = "*".join(parts) if parts else "1.0"
+            if e.p < 0:
+                return f"(1.0/({prod}))"
+            return prod if len(parts) == 1 else f"({prod})"
+        return super()._print_Pow(expr)
+
+
 def generate(path):
     t0 = time.time()
     syms, E, J, lengths, balls = derive()
@@ -196,8 +220,10 @@ def generate(path):
             names[s] = f"{arr}[{k}]"
     inputs = {s: sp.Symbol(n) for s, n in names.items()}
 
+    printer = PowPrinter()
+
     def c(expr):
-        return sp.ccode(expr.xreplace(inputs), standard="C99")
+        return printer.doprint(expr.xreplace(inputs))
 
     lines = []
     for sym, expr in repl:
