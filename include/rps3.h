@@ -234,7 +234,17 @@ typedef struct {
                               left zero, and on the closed-form route theta
                               is not computed (NaN; phi, dphi are).  lambda,
                               cond, warn and the singularity check are as
-                              by default.  Default 0 */
+                              by default.  With certify off, the closed-form
+                              route, Lagrange and no effect beyond the
+                              paper's four, rps3_inverse computes the point
+                              in the batch kernel's one pass (its
+                              tolerances, below): d then holds F, lambda,
+                              cond, transmission, l, dl, ddl, c and mode,
+                              and not the stages' positions and rates
+                              (d->stage is RPS3_STAGE_DYN alone: a stage
+                              that needs them returns RPS3_ESTATE); a
+                              point near a threshold goes through the
+                              stages.  Default 0 */
   double cond_warn;        /* set RPS3_WARN_ILLCOND above this 1-norm
                               condition number of the lambda system (1e6) */
   double cond_max;         /* RPS3_ESING above this (1e13) */

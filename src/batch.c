@@ -155,7 +155,7 @@ static void point(const rps3_model *m, rps3_data *d, batch_kind kind,
   int status = load(d, kind, in, i);
   if (status == RPS3_OK) {
     if (kind == BATCH_INVERSE)
-      status = rps3_inverse(m, d);
+      status = rps3_inverse_stages(m, d);
     else if (kind == BATCH_IK)
       status = rps3_ik(m, d);
     else
@@ -250,6 +250,58 @@ static void kernel_block(const rps3_model *m, rps3_data *d,
     if (out->warn) out->warn[i] = 0;
     if (out->niter) out->niter[i] = 0;
   }
+}
+
+int rps3_inverse_kernel_point(const rps3_model *m, rps3_data *d) {
+  rps3_batch_in in;
+  rps3_kout o;
+  double theta[3], Fe[RPS3_KNEFF][3], eres, scale, mode, ok;
+  int need_rates = (m->opt.effects & RPS3_EFF_DYNAMIC) != 0, c, k;
+  /* a component-major batch of one point is the data's own arrays */
+  memset(&in, 0, sizeof(in));
+  in.n = 1;
+  in.pose = d->pose;
+  in.dpose = d->dpose;
+  in.ddpose = d->ddpose;
+  for (c = 0; c < 3; c++) {
+    o.l[c] = &d->l[c];
+    o.theta[c] = &theta[c];
+    o.F[c] = &d->F[c];
+    o.lambda[c] = &d->lambda[c];
+    o.dl[c] = &d->dl[c];
+    o.ddl[c] = &d->ddl[c];
+    for (k = 0; k < RPS3_KNEFF; k++) o.Fe[k][c] = &Fe[k][c];
+  }
+  o.c[0] = &d->c[0];
+  o.c[1] = &d->c[1];
+  o.cond = &d->cond;
+  o.trans = &d->transmission;
+  o.eres = &eres;
+  o.scale = &scale;
+  o.mode = &mode;
+  o.ok = &ok;
+  rps3_kernel_block(m, &in, 0, 1, need_rates, 1, &o);
+  if (ok == 0.0) return 0;
+  /* what rps3_inverse with forces_only and without the certificate
+     reports; theta is not computed on this route (rps3.h) */
+  d->c[2] = d->pose[2];
+  for (c = 0; c < 3; c++) {
+    d->theta[c] = (double)NAN;
+    if (!need_rates) d->dl[c] = d->ddl[c] = (double)NAN;
+  }
+  memset(d->F_effect, 0, sizeof(d->F_effect));
+  d->has_lambda = 1;
+  d->mode = (int)mode;
+  d->have_theta = 0;
+  d->solve_niter = 0;
+  d->solve_resid = 0.0;
+  d->power = d->dTdt = d->dPdt = d->friction_power = d->energy_residual =
+      d->energy_scale = 0.0;
+  d->warn = 0;
+  /* positions and rates of the stages are not kept: a stage that needs
+     them refuses (RPS3_ESTATE) rather than reading another point's */
+  d->stage = RPS3_STAGE_DYN;
+  return 1;
 }
 
 /* the loop shared by the three batch functions */

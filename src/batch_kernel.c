@@ -69,6 +69,7 @@ void rps3_kout_of_block(rps3_kout *o, rps3_kblock *kb) {
   o->trans = kb->trans;
   o->eres = kb->eres;
   o->scale = kb->scale;
+  o->mode = kb->mode;
   o->ok = kb->ok;
 }
 
@@ -440,6 +441,7 @@ KINLINE void kpoint(const kconst *K, const double *restrict pa,
     o->c[1][p] = c.y;
     o->cond[p] = cond;
     o->trans[p] = trans;
+    o->mode[p] = (det > 0.0) ? 1.0 : (det < 0.0) ? -1.0 : 0.0;
     eres = K->certify != 0.0 ? pw - dT - dP : 0.0;
     o->eres[p] = eres;
     o->scale[p] = K->certify != 0.0 ? sc : 0.0;

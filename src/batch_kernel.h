@@ -33,6 +33,7 @@ typedef struct {
   double dl[3][RPS3_KBLOCK];      /* link rates [m/s] */
   double ddl[3][RPS3_KBLOCK];     /* link accelerations [m/s^2] */
   double c[2][RPS3_KBLOCK];       /* platform centre x, y (3)-(4) [m] */
+  double mode[RPS3_KBLOCK];       /* assembly mode, sign of det(df/dtheta) */
   double ok[RPS3_KBLOCK];         /* 1: certified; 0: the scalar path's
                                      (a double: no int in the loop) */
 } rps3_kblock;
@@ -42,7 +43,7 @@ typedef struct {
 typedef struct {
   double *l[3], *theta[3], *F[3], *Fe[RPS3_KNEFF][3], *lambda[3];
   double *dl[3], *ddl[3], *c[2];
-  double *cond, *trans, *eres, *scale, *ok;
+  double *cond, *trans, *eres, *scale, *mode, *ok;
 } rps3_kout;
 
 /* o pointing into every array of kb */
@@ -59,6 +60,18 @@ int rps3_kernel_covers(const rps3_model *m);
 void rps3_kernel_block(const rps3_model *m, const rps3_batch_in *in,
                        size_t i0, int nb, int rates, int lean,
                        const rps3_kout *o);
+
+/* rps3_inverse with opt.forces_only on the kernel's configurations and
+   without the certificate: the point d->pose (rates d->dpose, d->ddpose)
+   by the kernel.  Returns 1 when the kernel certified it and d holds its
+   results (F, lambda, cond, transmission, l, dl, ddl, c, mode; warn 0;
+   stage RPS3_STAGE_DYN alone: the positions and rates of the stages are
+   not kept), 0 when the point is the stages' (nothing of d is then
+   meaningful: the caller computes it by the stages) */
+int rps3_inverse_kernel_point(const rps3_model *m, rps3_data *d);
+
+/* rps3_inverse by the stages alone (the kernel's fallback) */
+int rps3_inverse_stages(const rps3_model *m, rps3_data *d);
 
 /* the kernel's sine and cosine, and its atan2 for y > 0, one value at a
    time (for the tests: the accuracy against libm) */

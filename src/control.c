@@ -88,9 +88,18 @@ static int desired(rps3_ctrl *c, double t) {
   }
   st = rps3_inverse(&c->model, d);
   if (st != RPS3_OK) return st;
+  v3_copy(c->F_ff, d->F);
+  if (!(c->model.opt.effects & RPS3_EFF_DYNAMIC) && !c->model.opt.certify) {
+    /* a static model's forces need no rates, and rps3_inverse computes
+       none; the controller still tracks the desired link rates and
+       accelerations */
+    st = rps3_ik(&c->model, d);
+    if (st == RPS3_OK) st = rps3_velocity(&c->model, d);
+    if (st == RPS3_OK) st = rps3_acceleration(&c->model, d);
+    if (st != RPS3_OK) return st;
+  }
   v3_copy(c->l_des, d->l);
   v3_copy(c->dl_des, d->dl);
-  v3_copy(c->F_ff, d->F);
   return RPS3_OK;
 }
 

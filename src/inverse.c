@@ -2,6 +2,7 @@
  * inverse.c - the whole per-point pipeline: pose -> positions -> rates ->
  * forces, computing only what the selected effects need.
  */
+#include "batch_kernel.h"
 #include "internal.h"
 #include "linalg.h"
 
@@ -60,6 +61,18 @@ static int check_own_root(const rps3_model *m, rps3_data *d,
 }
 
 int rps3_inverse(const rps3_model *m, rps3_data *d) {
+  if (m == NULL || d == NULL || !m->valid) return RPS3_EINVAL;
+  /* the controller's path (forces_only, no certificate) on the kernel's
+     configurations: the point in the kernel's one straight-line pass,
+     which shares every sine and the constraint Jacobian between the
+     stages; a point it does not certify goes through the stages */
+  if (m->opt.forces_only && !m->opt.certify && rps3_kernel_covers(m) &&
+      rps3_inverse_kernel_point(m, d))
+    return RPS3_OK;
+  return rps3_inverse_stages(m, d);
+}
+
+int rps3_inverse_stages(const rps3_model *m, rps3_data *d) {
   rps3_pose_trig trig; /* sines and cosines of the pose, for every stage */
   double c39[3], s39[3]; /* cos, sin of the pose's own theta (39) */
   int status, need_rates, multiroot, i;

@@ -199,7 +199,9 @@ static void compare(const rps3_model *m, arrays *a, worst *w) {
       dl->dpose[c] = AT(a->dpose, c, i);
       dl->ddpose[c] = AT(a->ddpose, c, i);
     }
-    s = rps3_inverse(m, dl);
+    /* the stages themselves: rps3_inverse takes the kernel too, for
+       forces_only without the certificate */
+    s = rps3_inverse_stages(m, dl);
     assert_int_equal(a->status[i], s);
     assert_int_equal(a->warn[i], dl->warn);
     if (s != RPS3_OK) continue;
@@ -327,6 +329,127 @@ static void entropy_model_each_selection(void **state) {
   agrees(0, RPS3_EFF_DEFAULT, 0, 1, 0, 0, "entropy model, forces_only");
 }
 
+/*
+ * rps3_inverse itself with forces_only and without the certificate (the
+ * controller's path) on the kernel's configurations: the point through the
+ * kernel, against the stages (rps3_inverse_stages), with compare()'s
+ * tolerances; status, warning and assembly mode equal; theta NaN, no
+ * shares; and the stages' positions and rates not kept, so that a stage
+ * that needs them refuses instead of reading another point's.  With the
+ * thresholds lowered into the range of the points, the points near them
+ * go through the stages (their warnings are then the stages').
+ */
+static void scalar_compare(const rps3_model *m, const arrays *a, worst *w) {
+  rps3_data *dk = NULL, *ds = NULL;
+  int i, c;
+  assert_int_equal(rps3_data_alloc(m, &dk), RPS3_OK);
+  assert_int_equal(rps3_data_alloc(m, &ds), RPS3_OK);
+  for (i = 0; i < N; i++) {
+    double fs = 0.0, tol;
+    int s;
+    for (c = 0; c < 3; c++) {
+      dk->pose[c] = ds->pose[c] = AT(a->pose, c, i);
+      dk->dpose[c] = ds->dpose[c] = AT(a->dpose, c, i);
+      dk->ddpose[c] = ds->ddpose[c] = AT(a->ddpose, c, i);
+    }
+    s = rps3_inverse(m, dk);
+    assert_int_equal(s, rps3_inverse_stages(m, ds));
+    assert_int_equal(dk->warn, ds->warn);
+    if (s != RPS3_OK) continue;
+    assert_int_equal(dk->mode, ds->mode);
+    if (dk->stage != RPS3_STAGE_DYN) {
+      /* a point left to the stages: theirs, bit for bit */
+      assert_memory_equal(dk->F, ds->F, sizeof(dk->F));
+      continue;
+    }
+    w->kernel++;
+    assert_int_equal(rps3_velocity(m, dk), RPS3_ESTATE);
+    for (c = 0; c < 3; c++) track(&fs, fabs(ds->F[c]));
+    tol = 8.0 * EPS * ds->cond;
+    for (c = 0; c < 3; c++) {
+      track(&w->l, ulps(dk->l[c], ds->l[c]) / 4.0);
+      assert_true(isnan(dk->theta[c]) && isnan(ds->theta[c]));
+      track(&w->F, fabs(dk->F[c] - ds->F[c]) / (tol * fs));
+      track(&w->lambda, fabs(dk->lambda[c] - ds->lambda[c]) * m->R /
+                            (tol * fs));
+    }
+    {
+      int e;
+      for (e = 0; e < RPS3_NEFFECT; e++)
+        for (c = 0; c < 3; c++) assert_true(dk->F_effect[e][c] == 0.0);
+    }
+    track(&w->cond, fabs(dk->cond - ds->cond) / (tol * ds->cond));
+    track(&w->trans, fabs(dk->transmission - ds->transmission) /
+                         (tol * ds->transmission));
+    assert_true(dk->energy_residual == 0.0 && dk->energy_scale == 0.0);
+    {
+      double da = fabs(ds->dpose[0]), db_ = fabs(ds->dpose[1]);
+      double vs = m->r * (da + db_) + fabs(ds->dpose[2]);
+      double as = m->r * (fabs(ds->ddpose[0]) + fabs(ds->ddpose[1]) +
+                          (da + db_) * (da + db_)) +
+                  fabs(ds->ddpose[2]);
+      for (c = 0; c < 3; c++) {
+        if (!(ds->stage & RPS3_STAGE_VEL)) {
+          /* no rates needed: not computed, NaN (the stages leave them
+             alone) */
+          assert_true(isnan(dk->dl[c]) && isnan(dk->ddl[c]));
+          continue;
+        }
+        track(&w->rates, fabs(dk->dl[c] - ds->dl[c]) /
+                             (16.0 * EPS * (vs > 0 ? vs : 1)));
+        track(&w->rates, fabs(dk->ddl[c] - ds->ddl[c]) /
+                             (16.0 * EPS * (as > 0 ? as : 1)));
+      }
+    }
+    track(&w->centre, fabs(dk->c[0] - ds->c[0]) / (4.0 * EPS * m->r));
+    track(&w->centre, fabs(dk->c[1] - ds->c[1]) / (4.0 * EPS * m->r));
+    assert_true(dk->c[2] == ds->c[2]);
+  }
+  rps3_data_free(dk);
+  rps3_data_free(ds);
+}
+
+static void scalar_forces_only(int table2, int effects, double cond_warn,
+                               double trans_warn, const char *what) {
+  rps3_model m;
+  arrays *a = calloc(1, sizeof(*a));
+  worst w;
+  uint64_t seed;
+  assert_non_null(a);
+  memset(&w, 0, sizeof(w));
+  if (table2)
+    rps3_model_default(&m);
+  else
+    model_entropy(&m);
+  m.opt.effects = effects;
+  m.opt.certify = 0;
+  m.opt.forces_only = 1;
+  if (cond_warn > 0) m.opt.cond_warn = cond_warn;
+  if (trans_warn > 0) m.opt.trans_warn = trans_warn;
+  assert_int_equal(rps3_model_init(&m, NULL, 0), RPS3_OK);
+  assert_true(rps3_kernel_covers(&m));
+  for (seed = 0; seed < 6; seed++) {
+    make_points(&m, a, seed == 0 ? 0 : 0x5ca1 + seed);
+    scalar_compare(&m, a, &w);
+  }
+  check_worst(&w, what);
+  if (cond_warn <= 0 && trans_warn <= 0)
+    assert_true(w.kernel > 5 * N);
+  else
+    assert_true(w.kernel > 0 && w.kernel < 6 * N);
+  free(a);
+}
+
+static void scalar_path_by_the_kernel(void **state) {
+  (void)state;
+  scalar_forces_only(1, RPS3_EFF_DEFAULT, 0, 0, "rps3_inverse, Table II");
+  scalar_forces_only(0, RPS3_EFF_DEFAULT, 0, 0, "rps3_inverse, entropy");
+  scalar_forces_only(0, RPS3_EFF_PLATFORM_GRAVITY | RPS3_EFF_LINK_GRAVITY, 0,
+                     0, "rps3_inverse, gravity only (no rates)");
+  scalar_forces_only(0, RPS3_EFF_DEFAULT, 0, 2.9, "rps3_inverse, trans_warn");
+  scalar_forces_only(0, RPS3_EFF_DEFAULT, 3.6, 0, "rps3_inverse, cond_warn");
+}
+
 /* warnings and their thresholds: with cond_warn and trans_warn inside the
    range the points cover, the status and warning of every point are the
    scalar path's (compare() checks them) */
@@ -445,6 +568,21 @@ static void hard_points_by_the_scalar_path(void **state) {
   assert_int_equal(status[6], RPS3_OK); /* alpha + 32 turns: the kernel */
   assert_int_equal(status[8], RPS3_ERANGE);
   assert_int_equal((int)out.nfail, 6);
+  /* the same points through rps3_inverse on the controller's path (the
+     kernel first): the stages' status, point by point */
+  m.opt.forces_only = 1;
+  m.opt.certify = 0;
+  assert_int_equal(rps3_model_init(&m, NULL, 0), RPS3_OK);
+  for (i = 0; i < NH; i++) {
+    for (c = 0; c < 3; c++) {
+      db->pose[c] = dl->pose[c] = pose[c * NH + i];
+      db->dpose[c] = dl->dpose[c] = dpose[c * NH + i];
+      db->ddpose[c] = dl->ddpose[c] = ddpose[c * NH + i];
+    }
+    int st = rps3_inverse(&m, db);
+    assert_int_equal(st, rps3_inverse_stages(&m, dl));
+    if (st != RPS3_OK) assert_string_equal(db->err.msg, dl->err.msg);
+  }
   rps3_data_free(db);
   rps3_data_free(dl);
 }
@@ -457,6 +595,7 @@ int main(void) {
       cmocka_unit_test(paper_model_certified),
       cmocka_unit_test(entropy_model_each_selection),
       cmocka_unit_test(thresholds_as_the_scalar_path),
+      cmocka_unit_test(scalar_path_by_the_kernel),
       cmocka_unit_test(hard_points_by_the_scalar_path),
   };
   gsl_set_error_handler_off();
