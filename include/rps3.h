@@ -1361,7 +1361,9 @@ typedef struct {
   double t;             /* time of the last call [s] */
   double l_des[3];      /* desired lengths [m] */
   double dl_des[3];     /* desired rates [m/s] */
-  double F_ff[3];       /* feedforward forces of the desired motion [N] */
+  double F_ff[3];       /* feedforward forces of the desired motion [N]:
+                           open loop only, which applies them (NaN for the
+                           others, which do not compute them) */
   rps3_data *des;       /* workspace of the desired motion */
   rps3_data *meas;      /* workspace at the measured state (PD + gravity,
                            computed torque); its err says why a call failed */

@@ -73,10 +73,13 @@ void rps3_ctrl_free(rps3_ctrl *c) {
   free(c);
 }
 
-/* desired motion and its inverse dynamics at t; after the span the final
-   pose at rest */
+/* desired motion at t (after the span the final pose at rest): lengths,
+   rates and accelerations by the closed form; the feedforward forces of
+   the inverse dynamics only for the open loop, the one law that applies
+   them (the others leave F_ff NaN) */
 static int desired(rps3_ctrl *c, double t) {
   rps3_data *d = c->des;
+  rps3_pose_trig trig;
   double T = rps3_traj_duration(&c->traj);
   int st, rest = t > T;
   st = rps3_traj_eval(&c->model, &c->traj, rest ? T : (t < 0 ? 0 : t),
@@ -86,17 +89,24 @@ static int desired(rps3_ctrl *c, double t) {
     memset(d->dpose, 0, sizeof(d->dpose));
     memset(d->ddpose, 0, sizeof(d->ddpose));
   }
-  st = rps3_inverse(&c->model, d);
-  if (st != RPS3_OK) return st;
-  v3_copy(c->F_ff, d->F);
-  if (!(c->model.opt.effects & RPS3_EFF_DYNAMIC) && !c->model.opt.certify) {
-    /* a static model's forces need no rates, and rps3_inverse computes
-       none; the controller still tracks the desired link rates and
-       accelerations */
-    st = rps3_ik(&c->model, d);
-    if (st == RPS3_OK) st = rps3_velocity(&c->model, d);
-    if (st == RPS3_OK) st = rps3_acceleration(&c->model, d);
+  if (c->kind == RPS3_CTRL_OPEN_LOOP) {
+    st = rps3_inverse(&c->model, d);
     if (st != RPS3_OK) return st;
+    v3_copy(c->F_ff, d->F);
+    if (!(c->model.opt.effects & RPS3_EFF_DYNAMIC) && !c->model.opt.certify) {
+      /* a static model's forces need no rates, and rps3_inverse computes
+         none; the controller still tracks the desired link rates */
+      st = rps3_ik(&c->model, d);
+      if (st == RPS3_OK) st = rps3_velocity(&c->model, d);
+      if (st != RPS3_OK) return st;
+    }
+  } else {
+    st = rps3_ik_with(&c->model, d, &trig, RPS3_IK_THETA);
+    if (st == RPS3_OK) st = rps3_velocity_with(&c->model, d, &trig);
+    if (st == RPS3_OK && c->kind == RPS3_CTRL_COMPUTED_TORQUE)
+      st = rps3_acceleration_with(&c->model, d, &trig);
+    if (st != RPS3_OK) return st;
+    c->F_ff[0] = c->F_ff[1] = c->F_ff[2] = (double)NAN;
   }
   v3_copy(c->l_des, d->l);
   v3_copy(c->dl_des, d->dl);

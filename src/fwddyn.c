@@ -24,7 +24,7 @@
  */
 #include <string.h>
 
-#include "internal.h"
+#include "fwddyn.h"
 #include "linalg.h"
 
 /* a selected inertia effect with a non-zero mass: without one Mq = 0 */
@@ -34,17 +34,6 @@ static int has_mass(const rps3_model *m) {
          ((eff & RPS3_EFF_LINK_INERTIA) && m->Jlink > 0.0) ||
          ((eff & RPS3_EFF_PAYLOAD) && m->payload.mass > 0.0);
 }
-
-/* velocity maps of the state: theta' = G l', vc = Jc l', omega = Jw l'
-   (columns j are the motions for a unit l_j'), and the bias accelerations */
-typedef struct {
-  double G[3][3];
-  double Jc[3][3];
-  double Jw[3][3];
-  double ddth_b[3];   /* theta'' at l'' = 0 */
-  double ac_b[3];     /* centre acceleration at l'' = 0 */
-  double dw_b[3];     /* angular acceleration at l'' = 0 */
-} fd_maps;
 
 /* world inertia rot diag(I) rot^T */
 static void inertia_world(double Iw[3][3], const double rot[3][3],
@@ -60,7 +49,7 @@ static void inertia_world(double Iw[3][3], const double rot[3][3],
 
 /* G = -(df/dtheta)^-1 (df/dl), the mode (sign of det df/dtheta), and the
    maps Jc, Jw, column by column from the ball joint velocities */
-static int velocity_maps(const rps3_model *m, rps3_data *d, fd_maps *k) {
+static int velocity_maps(const rps3_model *m, rps3_data *d, rps3_fd_state *k) {
   double Jl[3][3], Jt[3][3], LU[9], rho[3][3], u[3][3], a[3], det;
   int perm[3], i, j, q;
   rps3_constraint_jacobian(d, Jl, Jt);
@@ -103,7 +92,7 @@ static int velocity_maps(const rps3_model *m, rps3_data *d, fd_maps *k) {
 
 /* add a rigid body: mass mb, centre of mass offset s from the platform
    centre and inertia Iw about it (world axes); g = 0 leaves its weight out */
-static void add_body(const fd_maps *k, const rps3_data *d, double mb,
+static void add_body(const rps3_fd_state *k, const rps3_data *d, double mb,
                      const double s[3], const double Iw[3][3], double g,
                      double Mq[3][3], double hq[3]) {
   double Jg[3][3], ag[3], mom[3], t[3], Iwj[3][3];
@@ -138,7 +127,7 @@ static void add_body(const fd_maps *k, const rps3_data *d, double mb,
 
 /* Mq and hq of the selected effects at the state of d */
 static void assemble(const rps3_model *m, const rps3_data *d,
-                     const fd_maps *k, double Mq[3][3], double hq[3]) {
+                     const rps3_fd_state *k, double Mq[3][3], double hq[3]) {
   const int eff = m->opt.effects;
   const double zero[3] = {0, 0, 0};
   double Iw[3][3], tl[3] = {0, 0, 0}, Jl[3] = {0, 0, 0}, s[3];
@@ -177,11 +166,11 @@ static void assemble(const rps3_model *m, const rps3_data *d,
   }
 }
 
-/* Cholesky of the 3 x 3 Mq: positive definiteness is the test, the solve
-   its use; returns 0 or -1 (a pivot not > 0) */
-static int chol3_solve(const double A[3][3], double x[3]) {
-  double L[3][3] = {{0, 0, 0}, {0, 0, 0}, {0, 0, 0}};
+/* Cholesky factor Mq = L L^T: positive definiteness is the test, the
+   solve its use; returns 0 or -1 (a pivot not > 0) */
+static int chol3_factor(const double A[3][3], double L[3][3]) {
   int i, j, k;
+  memset(L, 0, 9 * sizeof(double));
   for (j = 0; j < 3; j++) {
     double s = A[j][j];
     for (k = 0; k < j; k++) s -= L[j][k] * L[j][k];
@@ -193,6 +182,12 @@ static int chol3_solve(const double A[3][3], double x[3]) {
       L[i][j] = t / L[j][j];
     }
   }
+  return 0;
+}
+
+/* x = (L L^T)^-1 x */
+static void chol3_solve(const double L[3][3], double x[3]) {
+  int i, k;
   for (i = 0; i < 3; i++) {
     for (k = 0; k < i; k++) x[i] -= L[i][k] * x[k];
     x[i] /= L[i][i];
@@ -201,7 +196,6 @@ static int chol3_solve(const double A[3][3], double x[3]) {
     for (k = i + 1; k < 3; k++) x[i] -= L[k][i] * x[k];
     x[i] /= L[i][i];
   }
-  return 0;
 }
 
 static double mass_cond(const double Mq[3][3]) {
@@ -267,16 +261,13 @@ static void poison(rps3_data *d) {
   d->stage &= RPS3_STAGE_POS | RPS3_STAGE_VEL;
 }
 
-int rps3_fwddyn(const rps3_model *m, rps3_data *d) {
-  fd_maps k;
-  double dl[3], F[3], x[3];
-  int status, i;
-  if (m == NULL || d == NULL || !m->valid) return RPS3_EINVAL;
-  if (!v3_finite(d->dl) || !v3_finite(d->F)) {
+int rps3_fwddyn_state(const rps3_model *m, rps3_data *d, rps3_fd_state *k) {
+  double dl[3];
+  int status;
+  if (!v3_finite(d->dl)) {
     poison(d);
-    RPS3_ERROR(d, RPS3_EINVAL,
-               "dl (%g, %g, %g) m/s or F (%g, %g, %g) N is not finite",
-               d->dl[0], d->dl[1], d->dl[2], d->F[0], d->F[1], d->F[2]);
+    RPS3_ERROR(d, RPS3_EINVAL, "dl (%g, %g, %g) m/s is not finite", d->dl[0],
+               d->dl[1], d->dl[2]);
   }
   if (!has_mass(m)) {
     poison(d);
@@ -284,9 +275,8 @@ int rps3_fwddyn(const rps3_model *m, rps3_data *d) {
                "forward dynamics needs inertia: select platform_inertia, "
                "link_inertia or payload, with a non-zero mass");
   }
-  /* the inputs survive the stages, which reset what they write */
+  /* the rates survive the stages, which reset what they write */
   v3_copy(dl, d->dl);
-  v3_copy(F, d->F);
 
   /* positions: theta from l, warm-started on the tracked assembly mode;
      Newton from the warm start, else the full solve (which reports) */
@@ -312,45 +302,76 @@ int rps3_fwddyn(const rps3_model *m, rps3_data *d) {
   d->ddl[0] = d->ddl[1] = d->ddl[2] = 0.0;
   status = rps3_joint_velocity(m, d);
   if (status == RPS3_OK) status = rps3_joint_acceleration(m, d);
-  if (status == RPS3_OK) status = velocity_maps(m, d, &k);
+  if (status == RPS3_OK) status = velocity_maps(m, d, k);
   if (status != RPS3_OK) {
     poison(d);
     return status;
   }
-  v3_copy(k.ddth_b, d->ddtheta);
-  v3_copy(k.ac_b, d->ac);
-  v3_copy(k.dw_b, d->domega);
+  v3_copy(k->ddth_b, d->ddtheta);
+  v3_copy(k->ac_b, d->ac);
+  v3_copy(k->dw_b, d->domega);
+  poison(d); /* no acceleration before rps3_fwddyn_accel */
 
-  /* Mq l'' = F - hq, Mq symmetric positive definite */
-  assemble(m, d, &k, d->Mq, d->hq);
+  /* Mq symmetric positive definite and conditioned: its factor */
+  assemble(m, d, k, d->Mq, d->hq);
   d->Mcond = mass_cond(M3C(d->Mq));
-  v3_sub(x, F, d->hq);
-  if (!(d->Mcond <= m->opt.cond_max) || chol3_solve(M3C(d->Mq), x) != 0) {
-    poison(d);
+  if (!(d->Mcond <= m->opt.cond_max) || chol3_factor(M3C(d->Mq), k->Lq) != 0)
     RPS3_ERROR(d, RPS3_ESING,
                "mass matrix not positive definite or condition number %.3g "
                "above cond_max %.3g", d->Mcond, m->opt.cond_max);
+  RPS3_CHECK_FINITE(d, d->hq, 3, "hq");
+  RPS3_CHECK_FINITE(d, d->Mq, 9, "Mq");
+  return RPS3_OK;
+}
+
+int rps3_fwddyn_accel(const rps3_model *m, rps3_data *d,
+                      const rps3_fd_state *k) {
+  double x[3];
+  int i;
+  (void)m;
+  if (!v3_finite(d->F)) {
+    poison(d);
+    RPS3_ERROR(d, RPS3_EINVAL, "F (%g, %g, %g) N is not finite", d->F[0],
+               d->F[1], d->F[2]);
   }
+  /* Mq l'' = F - hq */
+  v3_sub(x, d->F, d->hq);
+  chol3_solve(M3C(k->Lq), x);
   if (!v3_finite(x)) {
     poison(d);
     RPS3_ERROR(d, RPS3_ESING, "acceleration is not finite");
   }
-  v3_copy(d->F, F);
   v3_copy(d->ddl, x);
-
   /* every acceleration is its map applied to l'' plus its bias */
   for (i = 0; i < 3; i++) {
-    d->ddtheta[i] += v3_dot(k.G[i], x);
-    d->ac[i] += v3_dot(k.Jc[i], x);
-    d->domega[i] += v3_dot(k.Jw[i], x);
+    d->ddtheta[i] = k->ddth_b[i] + v3_dot(k->G[i], x);
+    d->ac[i] = k->ac_b[i] + v3_dot(k->Jc[i], x);
+    d->domega[i] = k->dw_b[i] + v3_dot(k->Jw[i], x);
   }
   RPS3_CHECK_FINITE(d, d->ddtheta, 3, "ddtheta");
   RPS3_CHECK_FINITE(d, d->ac, 3, "ac");
   RPS3_CHECK_FINITE(d, d->domega, 3, "domega");
-  RPS3_CHECK_FINITE(d, d->hq, 3, "hq");
-  RPS3_CHECK_FINITE(d, d->Mq, 9, "Mq");
   d->stage |= RPS3_STAGE_ACC;
   return RPS3_OK;
+}
+
+int rps3_fwddyn(const rps3_model *m, rps3_data *d) {
+  rps3_fd_state k;
+  double F[3];
+  int status;
+  if (m == NULL || d == NULL || !m->valid) return RPS3_EINVAL;
+  if (!v3_finite(d->dl) || !v3_finite(d->F)) {
+    poison(d);
+    RPS3_ERROR(d, RPS3_EINVAL,
+               "dl (%g, %g, %g) m/s or F (%g, %g, %g) N is not finite",
+               d->dl[0], d->dl[1], d->dl[2], d->F[0], d->F[1], d->F[2]);
+  }
+  /* the force survives the stages, which reset what they write */
+  v3_copy(F, d->F);
+  status = rps3_fwddyn_state(m, d, &k);
+  v3_copy(d->F, F);
+  if (status != RPS3_OK) return status;
+  return rps3_fwddyn_accel(m, d, &k);
 }
 
 int rps3_energy(const rps3_model *m, const rps3_data *d, double *T,

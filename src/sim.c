@@ -16,7 +16,7 @@
 #include <gsl/gsl_errno.h>
 #include <gsl/gsl_odeiv2.h>
 
-#include "internal.h"
+#include "fwddyn.h"
 
 #define NY 8 /* l[3], dl[3], W_F, W_f */
 
@@ -33,6 +33,12 @@ struct rps3_sim_gsl {
   double yerr[NY];          /* the fixed stepper's error estimate, unused */
   double k[4][NY], ys[NY];  /* stages of the classical RK4 */
   int fixed;                /* 1: fixed-step method */
+  /* the plant's state part (Mq, hq, maps) at (l, dl) = ky, valid while
+     have_k: an evaluation at the same state with another force (the
+     next period's first stage after settle) only solves with Mq */
+  rps3_fd_state fd;
+  double ky[6];
+  int have_k;
 };
 
 static const char *const INT_NAME[RPS3_NINTEGRATOR] = {"rk4", "rkf45", "rk8pd",
@@ -111,6 +117,15 @@ static int saturate(const rps3_sim *s, const double Fc[3], double F[3]) {
   return sat;
 }
 
+/* y[0..5] is the state (l, dl) of ky, bit for bit (-0 == +0: the same
+   value) */
+static int same_state(const double ky[6], const double y[]) {
+  int i;
+  for (i = 0; i < 6; i++)
+    if (!(ky[i] == y[i])) return 0;
+  return 1;
+}
+
 /* the plant at (t, y): forces (continuous controller), accelerations,
    mode; returns the status and records a failure */
 static int evaluate(rps3_sim *s, double t, const double y[]) {
@@ -132,8 +147,18 @@ static int evaluate(rps3_sim *s, double t, const double y[]) {
     }
     saturate(s, s->F_cmd, s->F);
   }
+  if (!(s->gsl->have_k && same_state(s->gsl->ky, y))) {
+    s->gsl->have_k = 0;
+    st = rps3_fwddyn_state(&s->plant, d, &s->gsl->fd);
+    if (st == RPS3_OK) {
+      memcpy(s->gsl->ky, y, sizeof(s->gsl->ky));
+      s->gsl->have_k = 1;
+    }
+  } else {
+    st = RPS3_OK;
+  }
   v3_copy(d->F, s->F);
-  st = rps3_fwddyn(&s->plant, d);
+  if (st == RPS3_OK) st = rps3_fwddyn_accel(&s->plant, d, &s->gsl->fd);
   s->nevals++;
   if (st != RPS3_OK) return st;
   if (d->mode != s->mode) {
@@ -353,6 +378,7 @@ int rps3_sim_start(rps3_sim *s, double t0, const double pose[3],
   s->status = RPS3_OK;
   s->failed_at = (double)NAN;
   s->started = 0;
+  s->gsl->have_k = 0;
   memset(s->F, 0, sizeof(s->F));
   memset(s->F_cmd, 0, sizeof(s->F_cmd));
   /* the closed form fixes the assembly mode; the solve tracks it on */

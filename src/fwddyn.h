@@ -1,0 +1,40 @@
+/*
+ * fwddyn.h - rps3_fwddyn in two parts, for a caller that evaluates the same
+ * state (l, dl) again with other forces: Mq, hq and the velocity maps
+ * depend on the state only, F enters the right-hand side alone.  The
+ * simulation evaluates the state at the end of a control period to report
+ * it, and the next period's first Runge-Kutta stage is that state under
+ * the controller's new force: one solve with Mq's factor instead of a
+ * second evaluation.
+ */
+#ifndef RPS3_FWDDYN_H
+#define RPS3_FWDDYN_H
+
+#include "internal.h"
+
+/* what rps3_fwddyn_accel needs of a state: theta' = G l', vc = Jc l',
+   omega = Jw l' (columns j the motions for a unit l_j'), the accelerations
+   at l'' = 0, and the Cholesky factor of Mq (lower) */
+typedef struct {
+  double G[3][3];
+  double Jc[3][3];
+  double Jw[3][3];
+  double ddth_b[3];   /* theta'' at l'' = 0 */
+  double ac_b[3];     /* centre acceleration at l'' = 0 */
+  double dw_b[3];     /* angular acceleration at l'' = 0 */
+  double Lq[3][3];    /* Mq = Lq Lq^T */
+} rps3_fd_state;
+
+/* The state part of rps3_fwddyn: reads d->l, d->dl (not d->F); writes the
+   positions, the rates, Mq, hq, Mcond and mode, and *k.  On failure the
+   status and message of rps3_fwddyn, d->ddl NaN. */
+int rps3_fwddyn_state(const rps3_model *m, rps3_data *d, rps3_fd_state *k);
+
+/* The force part: ddl, ddtheta, ac, domega from d->F and the state k that
+   rps3_fwddyn_state wrote into d (d's positions and rates unchanged since).
+   RPS3_OK, RPS3_EINVAL (F not finite), RPS3_ESING (acceleration not
+   finite) or RPS3_ERANGE, as rps3_fwddyn. */
+int rps3_fwddyn_accel(const rps3_model *m, rps3_data *d,
+                      const rps3_fd_state *k);
+
+#endif /* RPS3_FWDDYN_H */
