@@ -294,7 +294,12 @@ static const char *step_unsafe(const rps3_model *m, const theta_params *p,
 }
 
 int rps3_theta_solve(const rps3_model *m, rps3_data *d) {
+  return rps3_theta_solve_with(m, d, NULL);
+}
+
+int rps3_theta_solve_with(const rps3_model *m, rps3_data *d, rps3_cjac *J) {
   struct rps3_solver_state *s;
+  rps3_cjac own;
   double th[3], f[3];
   const char *unsafe;
   int i, iter, status, prev_mode, same;
@@ -441,8 +446,11 @@ int rps3_theta_solve(const rps3_model *m, rps3_data *d) {
                d->theta[0], d->theta[1], d->theta[2]);
   }
   /* the assembly mode: flag a warm-started sequence that changed it, and
-     refuse one the caller excluded */
-  d->mode = rps3_mode_of(d);
+     refuse one the caller excluded.  The positions are final: the
+     Jacobian for the later stages */
+  if (J == NULL) J = &own;
+  rps3_cjac_eval(d, J);
+  d->mode = rps3_mode_of_jac(M3C(J->Jt));
   if (prev_mode != RPS3_MODE_ANY && d->mode != prev_mode)
     d->warn |= RPS3_WARN_MODE;
   if (m->opt.mode != RPS3_MODE_ANY && d->mode != m->opt.mode) {

@@ -5,6 +5,7 @@
  * Jacobian of (8)-(10).
  */
 #include "internal.h"
+#include "linalg.h"
 
 /* (29): phi_l = -cos(theta) u_i + sin(theta) K and dphi = axis x phi, from
    cos and sin of theta_i and the radial unit vector u of pin i */
@@ -20,11 +21,12 @@ static void set_link_dir(rps3_data *d, int i, const double u[3], double ct,
 
 int rps3_ik(const rps3_model *m, rps3_data *d) {
   rps3_pose_trig t;
-  return rps3_ik_with(m, d, &t, RPS3_IK_THETA);
+  return rps3_ik_with(m, d, &t, RPS3_IK_THETA, NULL);
 }
 
 int rps3_ik_with(const rps3_model *m, rps3_data *d, rps3_pose_trig *t,
-                 int theta) {
+                 int theta, rps3_cjac *J) {
+  rps3_cjac own;
   double ca, sa, vb, sb, cb, s2a, c2a;
   int i;
   if (m == NULL || d == NULL || !m->valid) return RPS3_EINVAL;
@@ -85,8 +87,11 @@ int rps3_ik_with(const rps3_model *m, rps3_data *d, rps3_pose_trig *t,
   RPS3_CHECK_FINITE(d, d->b, 9, "b");
   RPS3_CHECK_FINITE(d, d->l, 3, "l");
   if (theta == RPS3_IK_NO_THETA) return RPS3_OK;
-  /* the mode needs only the link directions, which forces_only also has */
-  d->mode = rps3_mode_of(d);
+  /* the mode needs only the link directions, which forces_only also has;
+     the positions are final: the Jacobian for the later stages */
+  if (J == NULL) J = &own;
+  rps3_cjac_eval(d, J);
+  d->mode = rps3_mode_of_jac(M3C(J->Jt));
   d->have_theta = (theta == RPS3_IK_THETA);
   d->stage = RPS3_STAGE_POS;
   return RPS3_OK;
@@ -148,13 +153,32 @@ void rps3_constraint_jacobian(const rps3_data *d, double Jl[3][3],
   }
 }
 
-int rps3_mode_of(const rps3_data *d) {
-  double Jl[3][3], J[3][3], det;
-  rps3_constraint_jacobian(d, Jl, J);
-  det = J[0][0] * (J[1][1] * J[2][2] - J[1][2] * J[2][1]) -
-        J[0][1] * (J[1][0] * J[2][2] - J[1][2] * J[2][0]) +
-        J[0][2] * (J[1][0] * J[2][1] - J[1][1] * J[2][0]);
+void rps3_cjac_eval(const rps3_data *d, rps3_cjac *J) {
+  rps3_constraint_jacobian(d, J->Jl, J->Jt);
+  J->factored = 0;
+}
+
+void rps3_cjac_factor(rps3_cjac *J) {
+  int i, k;
+  if (J->factored) return;
+  for (i = 0; i < 3; i++)
+    for (k = 0; k < 3; k++) J->A[3 * i + k] = J->LU[3 * i + k] = J->Jt[k][i];
+  J->sing = (rps3_lu_factor(3, J->LU, J->perm) != 0);
+  J->cond = J->sing ? HUGE_VAL : rps3_lu_cond1(3, J->A, J->LU, J->perm);
+  J->factored = 1;
+}
+
+int rps3_mode_of_jac(const double J[3][3]) {
+  double det = J[0][0] * (J[1][1] * J[2][2] - J[1][2] * J[2][1]) -
+               J[0][1] * (J[1][0] * J[2][2] - J[1][2] * J[2][0]) +
+               J[0][2] * (J[1][0] * J[2][1] - J[1][1] * J[2][0]);
   return (det > 0.0) - (det < 0.0);
+}
+
+int rps3_mode_of(const rps3_data *d) {
+  double Jl[3][3], J[3][3];
+  rps3_constraint_jacobian(d, Jl, J);
+  return rps3_mode_of_jac(M3C(J));
 }
 
 void rps3_transform(const rps3_data *d, double T[4][4]) {

@@ -143,10 +143,44 @@ enum {
   RPS3_IK_DIRS = 2      /* the link directions only, theta NaN (forces_only) */
 };
 
+/*
+ * The constraint Jacobian of (8)-(10) at one point's positions and the
+ * lambda system of (23), (df/dtheta)^T, factored, with its condition
+ * number: the assembly mode, the multiroot route's own-root check and the
+ * inverse dynamics all read it.  Validity: rps3_inverse builds one a
+ * point, in the stage that sets the positions (rps3_ik_with or
+ * rps3_theta_solve_with, after the last write to b, l, phi, dphi), and
+ * hands it to the later stages of the same call, which do not move the
+ * positions.  It lives on that call's stack; rps3_data keeps none, so no
+ * other call can read a Jacobian of other positions (a caller may write
+ * d's positions between calls).  The public stage functions build their
+ * own (a NULL rps3_cjac).
+ */
+typedef struct {
+  double Jl[3][3], Jt[3][3]; /* Jl[k][i] = d f_k / d l_i, Jt: d / d theta_i */
+  int factored;        /* the members below are set (rps3_cjac_factor) */
+  int sing;            /* a zero or non-finite pivot: LU unusable */
+  double A[9], LU[9];  /* A = Jt^T row-major, and its LU with rows perm */
+  int perm[3];
+  double cond;         /* 1-norm condition number of A; HUGE_VAL if sing */
+} rps3_cjac;
+
+/* Jl and Jt at d's positions (rps3_constraint_jacobian), not factored */
+void rps3_cjac_eval(const rps3_data *d, rps3_cjac *J);
+/* factor the lambda system and its condition number, once */
+void rps3_cjac_factor(rps3_cjac *J);
+/* the assembly mode of Jt = df/dtheta: sign of its determinant */
+int rps3_mode_of_jac(const double Jt[3][3]);
+
 /* the stages with the pose's trig: rps3_ik_with fills *t and does what
-   `theta` (RPS3_IK_*) says; the rate stages take t, or NULL to compute it */
+   `theta` (RPS3_IK_*) says, and *J (may be NULL) when it sets theta or
+   the link directions; the rate stages take t, or NULL to compute it */
 int rps3_ik_with(const rps3_model *m, rps3_data *d, rps3_pose_trig *t,
-                 int theta);
+                 int theta, rps3_cjac *J);
+/* rps3_theta_solve, and the Jacobian at its root into *J (may be NULL) */
+int rps3_theta_solve_with(const rps3_model *m, rps3_data *d, rps3_cjac *J);
+/* rps3_invdyn with this point's Jacobian (NULL: built here) */
+int rps3_invdyn_with(const rps3_model *m, rps3_data *d, rps3_cjac *J);
 int rps3_velocity_with(const rps3_model *m, rps3_data *d,
                        const rps3_pose_trig *pt);
 int rps3_acceleration_with(const rps3_model *m, rps3_data *d,

@@ -198,8 +198,8 @@ static void lagrange_effect(const rps3_model *m, const rps3_data *d,
   }
 }
 
-static int lagrange(const rps3_model *m, rps3_data *d, double Jl[3][3],
-                    double LU[9], const int perm[3]) {
+static int lagrange(const rps3_model *m, rps3_data *d, const double Jl[3][3],
+                    const double LU[9], const int perm[3]) {
   lag_kin k;
   double w[RPS3_NEFFECT][6], lam[3][RPS3_NEFFECT];
   int sel[RPS3_NEFFECT], ns = 0, n, e, i, q;
@@ -486,8 +486,12 @@ static double transmission(const rps3_model *m, const rps3_data *d,
 }
 
 int rps3_invdyn(const rps3_model *m, rps3_data *d) {
-  double Jl[3][3], Jt[3][3], A[9], LU[9];
-  int perm[3], i, k, status, need_rates;
+  return rps3_invdyn_with(m, d, NULL);
+}
+
+int rps3_invdyn_with(const rps3_model *m, rps3_data *d, rps3_cjac *J) {
+  rps3_cjac own;
+  int status, need_rates;
   if (m == NULL || d == NULL || !m->valid) return RPS3_EINVAL;
   if (!(d->stage & RPS3_STAGE_POS))
     RPS3_ERROR(d, RPS3_ESTATE, "inverse dynamics needs positions");
@@ -505,17 +509,20 @@ int rps3_invdyn(const rps3_model *m, rps3_data *d) {
   d->transmission = (double)NAN; /* not computed for a singular matrix */
 
   /* the lambda system (df/dtheta)^T: its conditioning flags singular
-     configurations for both formulations */
-  rps3_constraint_jacobian(d, Jl, Jt);
-  for (i = 0; i < 3; i++)
-    for (k = 0; k < 3; k++) A[3 * i + k] = LU[3 * i + k] = Jt[k][i];
-  if (rps3_lu_factor(3, LU, perm) != 0) {
+     configurations for both formulations.  rps3_inverse passes the one its
+     position stage built (perhaps factored by the own-root check) */
+  if (J == NULL) {
+    J = &own;
+    rps3_cjac_eval(d, J);
+  }
+  rps3_cjac_factor(J);
+  if (J->sing) {
     d->cond = HUGE_VAL;
     RPS3_ERROR(d, RPS3_ESING,
                "lambda system singular (zero pivot) at theta = (%.6g, %.6g, "
                "%.6g)", d->theta[0], d->theta[1], d->theta[2]);
   }
-  d->cond = rps3_lu_cond1(3, A, LU, perm);
+  d->cond = J->cond;
   if (!(d->cond <= m->opt.cond_max))
     RPS3_ERROR(d, RPS3_ESING,
                "lambda system condition number %.3g exceeds cond_max %.3g",
@@ -524,7 +531,7 @@ int rps3_invdyn(const rps3_model *m, rps3_data *d) {
 
   /* force transmission: the condition number measures lost digits, not
      how much force a load takes; both limits are the caller's */
-  d->transmission = transmission(m, d, M3C(Jl), M3C(Jt));
+  d->transmission = transmission(m, d, M3C(J->Jl), M3C(J->Jt));
   if (!(d->transmission >= 0.0 && d->transmission <= m->opt.trans_max))
     RPS3_ERROR(d, RPS3_ESING,
                "force transmission %.3g exceeds trans_max %.3g: an actuator "
@@ -532,7 +539,8 @@ int rps3_invdyn(const rps3_model *m, rps3_data *d) {
                d->transmission, m->opt.trans_max);
   if (d->transmission > m->opt.trans_warn) d->warn |= RPS3_WARN_TRANS;
 
-  status = (m->opt.method == RPS3_LAGRANGE) ? lagrange(m, d, Jl, LU, perm)
+  status = (m->opt.method == RPS3_LAGRANGE)
+               ? lagrange(m, d, M3C(J->Jl), J->LU, J->perm)
                                             : newton_euler(m, d);
   if (status != RPS3_OK) return status;
   if (m->opt.certify)

@@ -13,27 +13,21 @@
  * (39): th39, given here by its cosine and sine (c39, s39: the pose's link
  * direction, as rps3_ik has it).  Accept the solved theta when it differs
  * from th39 by no more than the solve's own accuracy: a root with
- * max |f_k| <= tol (f in units of R^2) is within |df/dtheta^-1|_1 * 3 tol
- * R^2 of the exact one (first order), times 10 for the linearization, with
- * a rounding floor (f is evaluated to ~1e-15 R^2, the closed form to
- * ~1e-15 rad).  Both angles lie in (0, pi), so |theta - th39| is the angle
- * between the two directions, d: with x = |sin d| and cos d > 0,
- * d = asin x <= x (1 + x) for x <= 1/2, a bound within x^2 of d that needs
- * no atan2; else d itself by atan2.
+ * max |f_k| <= tol (f in units of R^2) is within |df/dtheta^-1|_inf tol
+ * R^2 of the exact one in max |theta_i| (first order), times 10 for the
+ * linearization and 3 to spare, with a rounding floor (f is evaluated to
+ * ~1e-15 R^2, the closed form to ~1e-15 rad).  |df/dtheta^-1|_inf is the
+ * 1-norm of the inverse of the lambda system (df/dtheta)^T, cond / |A|_1 of
+ * its factorization, which the inverse dynamics then reuse.  Both angles
+ * lie in (0, pi), so |theta - th39| is the angle between the two
+ * directions, d: with x = |sin d| and cos d > 0, d = asin x <= x (1 + x)
+ * for x <= 1/2, a bound within x^2 of d that needs no atan2; else d itself
+ * by atan2.
  */
-static int check_own_root(const rps3_model *m, rps3_data *d,
+static int check_own_root(const rps3_model *m, rps3_data *d, rps3_cjac *J,
                           const double c39[3], const double s39[3]) {
-  double Jl[3][3], Jt[3][3], A[9], LU[9], anorm = 0.0, err = 0.0, bound;
-  int perm[3], i, k;
-  rps3_constraint_jacobian(d, Jl, Jt);
-  for (k = 0; k < 3; k++) {
-    double col = 0.0;
-    for (i = 0; i < 3; i++) {
-      A[3 * i + k] = LU[3 * i + k] = Jt[i][k];
-      col += fabs(Jt[i][k]);
-    }
-    if (col > anorm) anorm = col;
-  }
+  double anorm = 0.0, err = 0.0, bound;
+  int i, k;
   for (i = 0; i < 3; i++) {
     /* cos and sin of the solved theta_i: its link direction (29) */
     double ct = d->dphi[i][2], st = d->phi[i][2];
@@ -41,11 +35,16 @@ static int check_own_root(const rps3_model *m, rps3_data *d,
     double e = (cd > 0.0 && sd <= 0.5) ? sd * (1.0 + sd) : atan2(sd, cd);
     if (e > err || e != e) err = e; /* a NaN stays, and is refused */
   }
+  rps3_cjac_factor(J);
+  for (k = 0; k < 3; k++) {
+    double col = fabs(J->A[k]) + fabs(J->A[3 + k]) + fabs(J->A[6 + k]);
+    if (col > anorm) anorm = col;
+  }
   /* a singular root: invdyn reports it (RPS3_ESING); compare plainly */
-  if (rps3_lu_factor(3, LU, perm) != 0 || !(anorm > 0.0))
+  if (J->sing || !(anorm > 0.0))
     bound = 1e-9;
   else
-    bound = 10.0 * rps3_lu_cond1(3, A, LU, perm) / anorm * 3.0 *
+    bound = 30.0 * J->cond / anorm *
                 (m->opt.tol > 1e-15 ? m->opt.tol : 1e-15) * m->R * m->R +
             1e-12;
   if (!(err <= bound)) {
@@ -74,6 +73,7 @@ int rps3_inverse(const rps3_model *m, rps3_data *d) {
 
 int rps3_inverse_stages(const rps3_model *m, rps3_data *d) {
   rps3_pose_trig trig; /* sines and cosines of the pose, for every stage */
+  rps3_cjac J; /* the constraint Jacobian at this point's positions */
   double c39[3], s39[3]; /* cos, sin of the pose's own theta (39) */
   int status, need_rates, multiroot, i;
   if (m == NULL || d == NULL || !m->valid) return RPS3_EINVAL;
@@ -84,7 +84,8 @@ int rps3_inverse_stages(const rps3_model *m, rps3_data *d) {
   status = rps3_ik_with(m, d, &trig,
                         multiroot ? RPS3_IK_NO_THETA
                                   : m->opt.forces_only ? RPS3_IK_DIRS
-                                                       : RPS3_IK_THETA);
+                                                       : RPS3_IK_THETA,
+                        &J);
   if (status != RPS3_OK) return status;
   if (multiroot) {
     /* ik left theta alone (no closed form leaks into the starting point):
@@ -97,9 +98,9 @@ int rps3_inverse_stages(const rps3_model *m, rps3_data *d) {
       c39[i] = -v3_dot(v, m->radial[i]) / d->l[i];
       s39[i] = v[2] / d->l[i];
     }
-    status = rps3_theta_solve(m, d);
+    status = rps3_theta_solve_with(m, d, &J);
     if (status != RPS3_OK) return status;
-    status = check_own_root(m, d, c39, s39);
+    status = check_own_root(m, d, &J, c39, s39);
     if (status != RPS3_OK) return status;
   }
 
@@ -111,5 +112,5 @@ int rps3_inverse_stages(const rps3_model *m, rps3_data *d) {
     status = rps3_acceleration_with(m, d, &trig);
     if (status != RPS3_OK) return status;
   }
-  return rps3_invdyn(m, d);
+  return rps3_invdyn_with(m, d, &J);
 }
