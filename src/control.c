@@ -101,7 +101,7 @@ static int desired(rps3_ctrl *c, double t) {
       if (st != RPS3_OK) return st;
     }
   } else {
-    st = rps3_ik_with(&c->model, d, &trig, RPS3_IK_THETA);
+    st = rps3_ik_with(&c->model, d, &trig, RPS3_IK_THETA, NULL);
     if (st == RPS3_OK) st = rps3_velocity_with(&c->model, d, &trig);
     if (st == RPS3_OK && c->kind == RPS3_CTRL_COMPUTED_TORQUE)
       st = rps3_acceleration_with(&c->model, d, &trig);
