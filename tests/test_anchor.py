@@ -2,9 +2,10 @@
 
 build/anchor-check (tests/bench/anchor_check.c, built by `make check-py`)
 compares the forces of the C that tests/bench/gen_anchor.py generates with
-SymPy -- the paper's model written in the pose coordinates and solved
-through (dl/dq)^T F = E_q, no multipliers -- with rps3_inverse's (the
-multipliers of (23), (34)) on the paper's helix and 20000 random states.
+SymPy -- the paper's model written in the pose coordinates by virtual
+power and solved through (dl/dq)^T F = Q, no multipliers -- with
+rps3_inverse's (the multipliers of (23), (34)) on the paper's helix and
+20000 random states.
 Both derivations are exact: they must agree to rounding, 1e-13 of the sum
 of the effects' magnitudes (measured 3e-14).
 """

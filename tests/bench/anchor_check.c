@@ -5,10 +5,11 @@
  *   anchor-check [TOL]
  *
  * The library solves Lagrange's equations in (l, theta) with multipliers
- * (23), (34); the anchor eliminates the constraints and writes them in the
- * pose coordinates (alpha, beta, z_c), then solves (dl/dq)^T F = E_q.  Both
- * are exact, so they agree to rounding amplified by the conditioning of the
- * two 3x3 solves.  The error of each force is measured against the scale
+ * (23), (34); the anchor eliminates the constraints and writes the
+ * equations of motion in the pose coordinates q = (alpha, beta, z_c) by
+ * virtual power, then solves (dl/dq)^T F = Q.  Both are exact, so they
+ * agree to rounding amplified by the conditioning of the two 3x3 solves.
+ * The error of each force is measured against the scale
  * sum_e |F_effect[e][i]| (the effects' shares may cancel in F), and the
  * run fails when the largest exceeds TOL (default 1e-13: rounding of some
  * thousand operations, times the conditioning of dl/dq and of the lambda

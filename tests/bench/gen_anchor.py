@@ -1,32 +1,47 @@
 """Generate the benchmark anchor: SymPy-derived, CSE'd C for pose -> forces.
 
-The anchor is what a user would otherwise pick for a fixed mechanism:
-symbolically generated, common-subexpression-eliminated C for the map
+The anchor is what a competent user of a symbolic toolbox would write for a
+fixed mechanism: generated, common-subexpression-eliminated C for the map
 (alpha, beta, z_c; their rates; their accelerations) -> actuating forces
 F_1..F_3 with the paper's four effects (platform and link gravity and
 inertia).  It is derived here from the paper's model, independently of
 src/: the library uses the coordinates (l, theta) with the multipliers
-lambda of (23); this script eliminates the constraints instead and writes
-Lagrange's equations in the three independent pose coordinates
-q = (alpha, beta, z_c):
+lambda of (23); this script eliminates the constraints and writes the
+equations of motion in the three independent pose coordinates
+q = (alpha, beta, z_c) by virtual power (Kane's form of (23)):
 
   - orientation Rz(alpha) Ry(beta) Rz(-alpha), spin gamma = -alpha (2);
   - centre x_c, y_c from (3)-(4), z_c given;
-  - link lengths from the paper's (5)-(7) as printed (errata: correct);
-  - theta_i by (39): the angle of link i above the base plane, from the
-    height Z_bi of ball joint i and its horizontal distance from pin i,
-    ball joints from (12)-(17) as b_i = c + rot r_i, r_i of (27);
-  - kinetic co-energy (21): (1/2) M |c'|^2 + (1/2) sum I omega_body^2 with
-    I_xx = I_yy = I_zz / 2 = M r^2 / 4, omega_body from rot^T rot', plus
-    (1/2) m d^2 sum theta_i'^2;
-  - potential energy (22): M g z_c + m g d sum sin theta_i.
+  - ball joints b_i = c + rot r_i (15)-(17), r_i of (27) from the centre;
+    of each, only its height Z_i and its distance h_i inwards of pin i
+    along the pin's radial line (12): the ball stays in the plane of its
+    pin (checked symbolically), so l_i^2 = h_i^2 + Z_i^2 ((5)-(7), checked
+    symbolically against the equations as printed) and theta_i =
+    atan2(Z_i, h_i) (39);
+  - platform: angular velocity in the body frame omega = G(q) q' from
+    rot^T drot/dq (G simplified with sin^2 + cos^2 = 1), inertia
+    I_xx = I_yy = I_zz / 2 = M r^2 / 4 (21); links: m d^2 theta_i'^2 / 2
+    (21); potential energy (22): M g z_c + m g d sum sin theta_i.
 
-Then E_q = d/dt dT/dq' - dT/dq + dP/dq is the load conjugate to q, and
-by virtual work E_q = (dl/dq)^T F: the forces are the solution of that 3x3
-system, written with Cramer's rule.  Everything is differentiated by SymPy
-(no hand-derived formula), common subexpressions are eliminated with
-sympy.cse and the C is printed with sympy.ccode.  The mechanism's constants
-(R, rho, M, m, d, g) stay run-time arguments.
+The load conjugate to q_j is then
+
+  Q_j = M c'' . dc/dq_j + (I omega' + omega x I omega) . G_j
+        + sum_i m d^2 theta_i'' dtheta_i/dq_j + dP/dq_j,
+
+and by virtual work (dl/dq)^T F = Q: the forces are the solution of that
+3x3 system, solved numerically at the end by Cramer's rule with one
+division.  The intermediate quantities (trigonometric values, rotation,
+centre, Z_i, h_i, l_i^2, 1/l_i^2, their gradients in q, rates and
+accelerations, omega, theta_i', ...) stay symbols: each becomes one
+generated assignment, and every derivative is SymPy's, applied by the
+chain rule through those assignments (d/dq_j and d/dt of an assignment are
+new assignments in the symbols it uses), so the code never expands into the
+final expressions.  sympy.cse then runs over the whole program at once,
+assignments no output needs are dropped, and the C is printed with
+sympy.ccode (small powers as products).  Before writing, the script checks
+its program numerically against the power balance F . l' = d(T + P)/dt on
+random states.  The mechanism's constants (R, rho, M, m, d, g) stay
+run-time arguments.
 
     python tests/bench/gen_anchor.py -o build/anchor/anchor_gen.c
 
@@ -35,6 +50,7 @@ build product (never committed); `make bench` and the anchor test build it.
 """
 
 import argparse
+import math
 import os
 import random
 import time
@@ -63,37 +79,248 @@ int {func}(const double par[6], const double pose[3], const double dpose[3],
 """
 
 
-def rot_zyz(a, b):
-    """Rz(a) Ry(b) Rz(-a), the platform orientation of (1)-(2)."""
-    def rz(t):
-        return sp.Matrix([[sp.cos(t), -sp.sin(t), 0],
-                          [sp.sin(t), sp.cos(t), 0], [0, 0, 1]])
+class Program:
+    """A straight-line program of named assignments with symbolic
+    derivatives by the chain rule.
 
-    def ry(t):
-        return sp.Matrix([[sp.cos(t), 0, sp.sin(t)], [0, 1, 0],
-                          [-sp.sin(t), 0, sp.cos(t)]])
-    return rz(a) * ry(b) * rz(-a)
+    let() names an expression; grad() and ddt() give the partial
+    derivatives in q and the time derivative of a named quantity as new
+    named assignments, each formed from SymPy's derivatives of the
+    assignment's expression in the symbols it uses.  partials[s] may state
+    an assignment's own derivatives in its arguments (as symbols) where
+    SymPy's would bring back a division or a root the program holds."""
+
+    def __init__(self, q, qd, qdd, consts):
+        self.q, self.qd, self.qdd = q, qd, qdd
+        self.consts = set(consts)
+        self.defs = {}        # symbol -> expression
+        self.order = []       # symbols in the order of definition
+        self.partials = {}    # symbol -> {argument: d symbol / d argument}
+        self.base_grad = {}   # symbol defined outside -> its gradient in q
+        self.gcache, self.tcache = {}, {}
+        for j, qj in enumerate(q):
+            self.base_grad[qj] = tuple(int(k == j) for k in range(3))
+
+    def let(self, name, expr):
+        expr = sp.sympify(expr)
+        if expr.is_Atom:
+            return expr
+        s = sp.Symbol(name, real=True)
+        assert s not in self.defs and s not in self.base_grad, name
+        self.defs[s] = expr
+        self.order.append(s)
+        return s
+
+    def dargs(self, s):
+        """d s / d a for each argument a of the assignment s."""
+        e = self.defs[s]
+        own = self.partials.get(s, {})
+        return [(a, own[a] if a in own else sp.diff(e, a))
+                for a in sorted(e.free_symbols, key=str)
+                if a not in self.consts]
+
+    def grad(self, x):
+        """[dx/dq_j], j = 0..2, for a position-level symbol or number."""
+        if x.is_number or x in self.consts:
+            return [sp.S.Zero] * 3
+        if x in self.base_grad:
+            return [sp.sympify(v) for v in self.base_grad[x]]
+        if x not in self.gcache:
+            assert x in self.defs, f"no gradient for {x}"
+            terms = [(da, self.grad(a)) for a, da in self.dargs(x)]
+            self.gcache[x] = [
+                self.let(f"{x}_q{j}", sp.Add(*[da * g[j] for da, g in terms]))
+                for j in range(3)]
+        return self.gcache[x]
+
+    def ddt(self, x):
+        """dx/dt for a symbol, forward along q' through its arguments (no
+        Hessian is formed: d/dt of a rate is a rate of rates)."""
+        if x.is_number or x in self.consts:
+            return sp.S.Zero
+        if x in self.qd:
+            return self.qdd[self.qd.index(x)]
+        if x not in self.tcache:
+            if x in self.base_grad:
+                e = sp.Add(*[gj * qdj
+                             for gj, qdj in zip(self.grad(x), self.qd)])
+            else:
+                e = sp.Add(*[da * self.ddt(a) for a, da in self.dargs(x)])
+            self.tcache[x] = self.let(f"{x}_t", e)
+        return self.tcache[x]
+
+    def grad_expr(self, e):
+        """the gradient of an expression in named quantities"""
+        return [sp.Add(*[sp.diff(e, a) * self.grad(a)[j]
+                         for a in e.free_symbols if a not in self.consts])
+                for j in range(3)]
+
+
+def rot_zyz(ca, sa, cb, sb):
+    """Rz(alpha) Ry(beta) Rz(-alpha), the platform orientation of (1)-(2)."""
+    rz = sp.Matrix([[ca, -sa, 0], [sa, ca, 0], [0, 0, 1]])
+    ry = sp.Matrix([[cb, 0, sb], [0, 1, 0], [-sb, 0, cb]])
+    return rz * ry * rz.T
+
+
+def trig_reduce(e, sa, ca, sb, cb):
+    """e modulo sin^2 + cos^2 = 1 (sines to the first power)"""
+    e = sp.expand(e)
+    if e == 0:
+        return e
+    ids = [sa**2 + ca**2 - 1, sb**2 + cb**2 - 1]
+    return sp.reduced(e, ids, sa, sb, ca, cb, order="lex")[1]
 
 
 def derive():
-    """Symbols and the expressions of E_q and dl/dq, as SymPy objects."""
+    """The program pose -> F and the quantities the self-checks use."""
     R, rho, M, m, d, g = sp.symbols("R rho M m d g", positive=True)
     q = sp.symbols("alpha beta z_c", real=True)
     qd = sp.symbols("dalpha dbeta dz_c", real=True)
     qdd = sp.symbols("ddalpha ddbeta ddz_c", real=True)
+    par = (R, rho, M, m, d, g)
+    P = Program(q, qd, qdd, par)
     a, b, zc = q
-    s3 = sp.sqrt(3)
-    ca, sa, cb, sb = sp.cos(a), sp.sin(a), sp.cos(b), sp.sin(b)
 
-    # (3)-(4), normalized by R; Z_c = z_c / R
-    Xc = -sp.Rational(1, 2) * rho * (1 - cb) * sp.cos(2 * a)
-    Yc = sp.Rational(1, 2) * rho * (1 - cb) * sp.sin(2 * a)
+    # the sines and cosines of alpha and beta: the only transcendentals
+    ca, sa, cb, sb = sp.symbols("ca sa cb sb", real=True)
+    trig = {ca: sp.cos(a), sa: sp.sin(a), cb: sp.cos(b), sb: sp.sin(b)}
+    for s, e in trig.items():
+        P.defs[s] = e
+        P.order.append(s)
+    P.base_grad.update({ca: (-sa, 0, 0), sa: (ca, 0, 0),
+                        cb: (0, -sb, 0), sb: (0, cb, 0)})
+
+    # (3)-(4) with cos 2a, sin 2a from ca, sa; Z_c = z_c / R
+    Xc = -sp.Rational(1, 2) * rho * (1 - cb) * (ca**2 - sa**2)
+    Yc = sp.Rational(1, 2) * rho * (1 - cb) * 2 * sa * ca
+    c = [P.let("cx", R * Xc), P.let("cy", R * Yc), zc]
+
+    # orientation (1)-(2): the columns n, o carry the ball joints (15)-(17)
+    rot = rot_zyz(ca, sa, cb, sb)
+    n = [P.let(f"n{k}", rot[k, 0]) for k in range(3)]
+    o = [P.let(f"o{k}", rot[k, 1]) for k in range(3)]
+
+    # ball joint i (15)-(17): b_i = c + rho R (cos psi_i n + sin psi_i o);
+    # pin i at R e_i, e_i = (cos psi_i, sin psi_i, 0), axis e_z x e_i (30);
+    # h_i = R - e_i . b_i, Z_i = b_i . e_z
+    psi = [0, 2 * sp.pi / 3, 4 * sp.pi / 3]
+    hs, Zs, checks = [], [], []
+    for i, p in enumerate(psi):
+        cp, sp_ = sp.cos(p), sp.sin(p)
+        bvec = [c[k] + rho * R * (cp * n[k] + sp_ * o[k]) for k in range(3)]
+        hs.append(P.let(f"h{i + 1}", R - (cp * bvec[0] + sp_ * bvec[1])))
+        Zs.append(P.let(f"Z{i + 1}", bvec[2]))
+        checks.append((bvec, cp, sp_))
+
+    # link i: l_i^2 = h_i^2 + Z_i^2, theta_i = atan2(Z_i, h_i) (39); its
+    # partials from SymPy's, with 1/l_i^2 and l_i as the program's symbols
+    ls, il2s, ths = [], [], []
+    for i in range(3):
+        h, Z = hs[i], Zs[i]
+        l2 = P.let(f"l2_{i + 1}", h**2 + Z**2)
+        il2 = P.let(f"il2_{i + 1}", 1 / l2)
+        P.partials[il2] = {l2: -il2**2}
+        l = P.let(f"l{i + 1}", sp.sqrt(l2))
+        P.partials[l] = {l2: l * il2 / 2}
+        xh, xz = sp.symbols("xh xz", real=True)
+        th = P.let(f"th{i + 1}", sp.atan2(Z, h))
+        P.partials[th] = {
+            v: sp.diff(sp.atan2(xz, xh), x).xreplace(
+                {xh**2 + xz**2: 1 / il2}).xreplace({xh: h, xz: Z})
+            for v, x in ((h, xh), (Z, xz))}
+        ls.append(l)
+        il2s.append(il2)
+        ths.append(th)
+
+    # platform angular velocity in the body frame, omega = G q', from
+    # skew(omega) = rot^T drot/dt
+    def drot(e, j):
+        return sp.Add(*[sp.diff(e, s) * P.base_grad[s][j]
+                        for s in (ca, sa, cb, sb)])
+
+    G = sp.zeros(3, 3)
+    for j in range(3):
+        W = rot.T * rot.applyfunc(lambda e, j=j: drot(e, j))
+        for k, w in enumerate((W[2, 1], W[0, 2], W[1, 0])):
+            G[k, j] = P.let(f"G{k}{j}", trig_reduce(w, sa, ca, sb, cb))
+    omega = [P.let(f"w{k}", sum(G[k, j] * qd[j] for j in range(3)))
+             for k in range(3)]
+    domega = [P.ddt(w) for w in omega]
+
+    # Euler's equations of the platform, I = M r^2 / 4 diag(1, 1, 2) (21)
+    r = rho * R
+    Idiag = [M * r**2 / 4, M * r**2 / 4, M * r**2 / 2]
+    Iw = [Idiag[k] * omega[k] for k in range(3)]
+    tau = [P.let(f"tau{k}", Idiag[k] * domega[k]
+                 + omega[(k + 1) % 3] * Iw[(k + 2) % 3]
+                 - omega[(k + 2) % 3] * Iw[(k + 1) % 3]) for k in range(3)]
+
+    # centre acceleration; link rates and accelerations
+    cdd = [P.ddt(P.ddt(ck)) if ck != zc else qdd[2] for ck in c]
+    thdd = [P.ddt(P.ddt(th)) for th in ths]
+    cgrad = [P.grad(ck) for ck in c]
+    thgrad = [P.grad(th) for th in ths]
+
+    # potential energy (22), sin theta_i = Z_i / l_i (39)
+    sth = [P.let(f"sth{i + 1}", Zs[i] * ls[i] * il2s[i]) for i in range(3)]
+    Pot = M * g * zc + m * g * d * sum(sth)
+    dPot = P.grad_expr(Pot)
+
+    # the load conjugate to q_j (virtual power), then (dl/dq)^T F = Q
+    Q = [P.let(f"Q{j}",
+               M * sum(cdd[k] * cgrad[k][j] for k in range(3))
+               + sum(tau[k] * G[k, j] for k in range(3))
+               + m * d**2 * sum(thdd[i] * thgrad[i][j] for i in range(3))
+               + dPot[j]) for j in range(3)]
+    J = sp.Matrix(3, 3, lambda i, j: P.grad(ls[i])[j])
+
+    # Cramer's rule with one division; -1 when dl/dq is singular
+    JT = J.T
+    det = P.let("det", JT.det(method="berkowitz"))
+    idet = P.let("idet", 1 / det)
+    F = []
+    for i in range(3):
+        Ai = JT.copy()
+        Ai[:, i] = sp.Matrix(Q)
+        F.append(P.let(f"F{i}", Ai.det(method="berkowitz") * idet))
+
+    # the kinetic co-energy (21) for the power-balance check
+    cd = [P.ddt(ck) for ck in c]
+    T = (M * sum(v**2 for v in cd) / 2
+         + sum(Idiag[k] * omega[k]**2 for k in range(3)) / 2
+         + m * d**2 * sum(P.ddt(th)**2 for th in ths) / 2)
+    E = P.let("energy", T + Pot)
+    power = P.let("power_F", sum(F[i] * P.ddt(ls[i]) for i in range(3)))
+    dE = P.ddt(E)
+    out = dict(P=P, par=par, F=F, det=det, checks=checks, hs=hs, Zs=Zs,
+               trig=(ca, sa, cb, sb), power=(power, dE))
+    return out
+
+
+def symbolic_checks(D):
+    """The ball joints stay in their pins' planes, and h_i^2 + Z_i^2 is
+    (5)-(7) as printed (errata: correct), both as identities."""
+    P = D["P"]
+    R, rho = D["par"][0], D["par"][1]
+    ca, sa, cb, sb = D["trig"]
+    zc = P.q[2]
+    s3 = sp.sqrt(3)
+
+    def full(e):
+        # expand the named quantities down to the trigonometric symbols
+        for _ in range(4):
+            e = e.xreplace({s: v for s, v in P.defs.items()
+                            if s not in D["trig"]})
+        return e
+
+    Xc = -sp.Rational(1, 2) * rho * (1 - cb) * (ca**2 - sa**2)
+    Yc = sp.Rational(1, 2) * rho * (1 - cb) * 2 * sa * ca
     Zc = zc / R
-    # (5)-(7) as printed, L_i = l_i / R
     base = 1 + rho**2 + Xc**2 + Yc**2 + Zc**2
     L2 = [
         base - 2 * Xc + 2 * rho * (ca**2 * cb + sa**2) * (Xc - 1)
-        + rho * (cb - 1) * sp.sin(2 * a) * Yc - 2 * rho * sb * ca * Zc,
+        + rho * (cb - 1) * 2 * sa * ca * Yc - 2 * rho * sb * ca * Zc,
         base + Xc - s3 * Yc
         - rho * (ca**2 * cb + sa**2 - s3 * ca * sa * (cb - 1)) * (Xc + sp.Rational(1, 2))
         - rho * (sa * ca * (cb - 1) - s3 * (sa**2 * cb + ca**2)) * (Yc - s3 / 2)
@@ -103,77 +330,78 @@ def derive():
         - rho * (sa * ca * (cb - 1) + s3 * (sa**2 * cb + ca**2)) * (Yc + s3 / 2)
         + rho * sb * (ca + s3 * sa) * Zc,
     ]
-    lengths = [R * sp.sqrt(x) for x in L2]
-
-    # ball joints b_i = c + rot r_i (12)-(17), r_i of (27) from the centre
-    rot = rot_zyz(a, b)
-    c = sp.Matrix([R * Xc, R * Yc, zc])
-    psi = [0, 2 * sp.pi / 3, 4 * sp.pi / 3]
-    balls = [c + rot * sp.Matrix([rho * R * sp.cos(p), rho * R * sp.sin(p), 0])
-             for p in psi]
-    # (39): theta_i from the ball joint's height and its distance inwards of
-    # pin i along the pin's radial line (12): L_i cos theta_i
-    thetas, sines = [], []
-    for i, p in enumerate(psi):
-        inward = R - (balls[i][0] * sp.cos(p) + balls[i][1] * sp.sin(p))
-        thetas.append(sp.atan2(balls[i][2], inward))
-        sines.append(balls[i][2] / lengths[i])
-
-    # time derivative of an expression in q along (q', q'')
-    def ddt(expr):
-        return sum(sp.diff(expr, q[k]) * qd[k] + sp.diff(expr, qd[k]) * qdd[k]
-                   for k in range(3))
-
-    def rate(expr):
-        return sum(sp.diff(expr, q[k]) * qd[k] for k in range(3))
-
-    # kinetic co-energy (21) and potential energy (22)
-    cdot = c.applyfunc(rate)
-    rotdot = rot.applyfunc(rate)
-    W = rot.T * rotdot            # skew(omega_body)
-    w = [W[2, 1], W[0, 2], W[1, 0]]
-    r = rho * R
-    Ixx = M * r**2 / 4
-    Izz = M * r**2 / 2
-    T = (M * (cdot.dot(cdot)) / 2
-         + (Ixx * w[0]**2 + Ixx * w[1]**2 + Izz * w[2]**2) / 2
-         + m * d**2 * sum(rate(t)**2 for t in thetas) / 2)
-    P = M * g * zc + m * g * d * sum(sines)
-
-    # Lagrange's equations in q: E_q = d/dt dT/dq' - dT/dq + dP/dq
-    E = [ddt(sp.diff(T, qd[j])) - sp.diff(T, q[j]) + sp.diff(P, q[j])
-         for j in range(3)]
-    J = [[sp.diff(lengths[i], q[j]) for j in range(3)] for i in range(3)]
-    syms = dict(par=(R, rho, M, m, d, g), q=q, qd=qd, qdd=qdd)
-    return syms, E, J, lengths, balls
+    for i, (bvec, cp, sp_) in enumerate(D["checks"]):
+        off = full(-sp_ * bvec[0] + cp * bvec[1])
+        if trig_reduce(off, sa, ca, sb, cb) != 0:
+            raise SystemExit(f"gen_anchor: ball joint {i + 1} leaves the "
+                             f"plane of its pin: {off}")
+        diff = full(D["hs"][i]**2 + D["Zs"][i]**2) - R**2 * L2[i]
+        if trig_reduce(diff, sa, ca, sb, cb) != 0:
+            raise SystemExit(f"gen_anchor: h^2 + Z^2 differs from ({5 + i})"
+                             f" as printed")
 
 
-def self_check(syms, lengths, balls, trials=5):
-    """(5)-(7) as printed must equal |b_i - P_i| (errata: they do)."""
-    R, rho = syms["par"][0], syms["par"][1]
-    psi = [0, 2 * sp.pi / 3, 4 * sp.pi / 3]
+def topo(outputs, defs):
+    """The assignments the outputs need, each after its arguments."""
+    seen, out = set(), []
+
+    def visit(s):
+        stack = [(s, False)]
+        while stack:
+            x, done = stack.pop()
+            if done:
+                out.append(x)
+                continue
+            if x in seen or x not in defs:
+                continue
+            seen.add(x)
+            stack.append((x, True))
+            for f in sorted(defs[x].free_symbols, key=str, reverse=True):
+                if f in defs and f not in seen:
+                    stack.append((f, False))
+    for s in outputs:
+        visit(s)
+    return out
+
+
+def power_check(D, trials=20):
+    """F . l' = d(T + P)/dt along random states (frictionless joints, the
+    forces the only external work besides gravity), evaluated from the
+    program itself; agreement to ~1e-12 of |F| |l'| in double precision."""
+    P = D["P"]
+    power, dE = D["power"]
+    names = {s: f"v_{k}" for k, s in enumerate(P.defs)}
+    inputs = list(D["par"]) + list(P.q) + list(P.qd) + list(P.qdd)
+    for k, s in enumerate(inputs):
+        names[s] = f"i_{k}"
+    order = topo([power, dE], P.defs)
+    syms = {x: sp.Symbol(n) for x, n in names.items()}
+    body = [f"    {names[s]} = {sp.pycode(P.defs[s].xreplace(syms))}"
+            for s in order]
+    src = ("def f(" + ", ".join(names[s] for s in inputs) + "):\n"
+           + "\n".join(body)
+           + f"\n    return {names[power]}, {names[dE]}\n")
+    env = {"math": math}
+    exec(src, env)
     rnd = random.Random(2385)
     for _ in range(trials):
-        sub = {R: 0.2286, rho: 0.5, syms["q"][0]: rnd.uniform(-3, 3),
-               syms["q"][1]: rnd.uniform(0, 0.8),
-               syms["q"][2]: rnd.uniform(0.1, 0.5)}
-        for i, p in enumerate(psi):
-            pin = sp.Matrix([R * sp.cos(p), R * sp.sin(p), 0])
-            v = (balls[i] - pin).subs(sub)
-            direct = sp.sqrt(v.dot(v)).evalf(30)
-            printed = lengths[i].subs(sub).evalf(30)
-            # inputs are doubles (15 digits): agreement to ~1e-15 is exact
-            if abs(direct - printed) > 1e-13 * abs(direct):
-                raise SystemExit(f"gen_anchor: (5)-(7) disagree with the "
-                                 f"vector form at {sub}: {printed} vs {direct}")
+        args = [0.2286, 0.5, 0.18, 0.09, 0.1524, 9.80665,
+                rnd.uniform(-3, 3), rnd.uniform(0.05, 0.6),
+                rnd.uniform(0.15, 0.5), rnd.uniform(-2, 2),
+                rnd.uniform(-1, 1), rnd.uniform(-0.3, 0.3),
+                rnd.uniform(-20, 20), rnd.uniform(-10, 10),
+                rnd.uniform(-3, 3)]
+        pw, de = env["f"](*args)
+        if not abs(pw - de) <= 1e-10 * (abs(pw) + abs(de) + 1e-3):
+            raise SystemExit(f"gen_anchor: power balance fails at {args}: "
+                             f"F.l' = {pw}, d(T+P)/dt = {de}")
 
 
 class PowPrinter(C99CodePrinter):
     """ccode, with the small powers as products, as a hand-writer (or any
     code generator tuned for speed) would: pow(x, -2) is a libm call that
-    costs as much as a hundred multiplications, and the derivatives of
-    (5)-(7) and of (39) are full of them.  x**n for |n| <= 4 becomes a
-    product (1/product for n < 0), x**(k/2) a product with sqrt(x)."""
+    costs as much as a hundred multiplications.  x**n for |n| <= 4 becomes
+    a product (1/product for n < 0), x**(k/2) a product with sqrt(x)."""
 
     def _print_Pow(self, expr):
         b, e = expr.base, expr.exp
@@ -192,53 +420,40 @@ class PowPrinter(C99CodePrinter):
 
 def generate(path):
     t0 = time.time()
-    syms, E, J, lengths, balls = derive()
-    self_check(syms, lengths, balls)
-    # cse over the loads E and the Jacobian dl/dq together; the 3x3 solve
-    # J^T F = E by Cramer's rule on their values (placeholder symbols), so
-    # that no determinant of the large expressions is expanded
-    flat = list(E) + [J[i][j] for i in range(3) for j in range(3)]
+    D = derive()
     t1 = time.time()
-    repl, red = sp.cse(flat, optimizations="basic")
+    symbolic_checks(D)
+    power_check(D)
     t2 = time.time()
-    es = sp.symbols("e0:3")
-    js = sp.Matrix(3, 3, lambda i, j: sp.Symbol(f"j{i}{j}"))
-    jt = js.T
-    det = jt.det(method="bareiss")
-    Fs = []
-    for i in range(3):
-        Ai = jt.copy()
-        Ai[:, i] = sp.Matrix(es)
-        Fs.append(Ai.det(method="bareiss"))
-    repl2, red2 = sp.cse([det] + Fs, symbols=sp.numbered_symbols("y"))
-    # names for the inputs
+    P = D["P"]
+    # the assignments F needs, then cse over all of them at once (the
+    # named quantities are atoms to it)
+    order = topo(D["F"] + [D["det"]], P.defs)
+    exprs = [P.defs[s] for s in order]
+    repl, red = sp.cse(exprs, symbols=sp.numbered_symbols("x"),
+                       optimizations="basic")
+    defs = dict(repl)
+    defs.update(zip(order, red))
+    prog = topo([D["det"]] + D["F"], defs)
+    t3 = time.time()
+
     names = {}
-    for k, s in enumerate(syms["par"]):
+    for k, s in enumerate(D["par"]):
         names[s] = f"par[{k}]"
-    for arr, key in (("pose", "q"), ("dpose", "qd"), ("ddpose", "qdd")):
-        for k, s in enumerate(syms[key]):
+    for arr, syms in (("pose", P.q), ("dpose", P.qd), ("ddpose", P.qdd)):
+        for k, s in enumerate(syms):
             names[s] = f"{arr}[{k}]"
     inputs = {s: sp.Symbol(n) for s, n in names.items()}
-
     printer = PowPrinter()
 
-    def c(expr):
-        return printer.doprint(expr.xreplace(inputs))
-
     lines = []
-    for sym, expr in repl:
-        lines.append(f"  const double {sym} = {c(expr)};")
-    for k in range(3):
-        lines.append(f"  const double e{k} = {c(red[k])};")
-    for i in range(3):
-        for j in range(3):
-            lines.append(f"  const double j{i}{j} = {c(red[3 + 3 * i + j])};")
-    for sym, expr in repl2:
-        lines.append(f"  const double {sym} = {c(expr)};")
-    lines.append(f"  const double det = {c(red2[0])};")
-    lines.append("  if (!(det != 0.0)) return -1;")
-    for i in range(3):
-        lines.append(f"  F[{i}] = ({c(red2[1 + i])}) / det;")
+    for s in prog:
+        lines.append(f"  const double {s} = "
+                     f"{printer.doprint(defs[s].xreplace(inputs))};")
+        if s == D["det"]:
+            lines.append(f"  if (!({s} != 0.0)) return -1;")
+    for i, f in enumerate(D["F"]):
+        lines.append(f"  F[{i}] = {f};")
     lines.append("  return 0;")
 
     os.makedirs(os.path.dirname(os.path.abspath(path)), exist_ok=True)
@@ -249,7 +464,8 @@ def generate(path):
     with open(path, "w") as f:
         f.write(f"/* {os.path.basename(path)} - generated by "
                 f"tests/bench/gen_anchor.py (SymPy {sp.__version__}); do not "
-                f"edit.\n   {len(repl)} common subexpressions. */\n")
+                f"edit.\n   {len(prog)} assignments, {len(repl)} of them "
+                f"common subexpressions. */\n")
         f.write("#include <math.h>\n\n")
         f.write(f'#include "{hname}"\n\n')
         f.write(f"int {FUNC}(const double par[6], const double pose[3],\n"
@@ -257,8 +473,8 @@ def generate(path):
                 "double F[3]) {\n")
         f.write("\n".join(lines))
         f.write("\n}\n")
-    print(f"gen_anchor: {path}: {len(repl)} subexpressions "
-          f"(derive {t1 - t0:.1f} s, cse {t2 - t1:.1f} s)")
+    print(f"gen_anchor: {path}: {len(prog)} assignments (derive "
+          f"{t1 - t0:.1f} s, checks {t2 - t1:.1f} s, cse {t3 - t2:.1f} s)")
 
 
 def main():
