@@ -82,14 +82,16 @@ int out_block_alloc(out_block *b, size_t cases, size_t points, int effects)
   for (e = 0; e < RPS3_NEFFECT; e++)
     if (effects & (1 << e))
       b->effect[b->neffect++] = e;
+  /* the per-sample buffers with OUT_SLACK bytes more (out_pack) */
   for (i = 0; i < OUT_NFIELD; i++) {
-    void *p = calloc(cases * slot_elems(b, i),
-                     type_size(out_field_table[i].type));
+    void *p = calloc(1, cases * slot_elems(b, i) *
+                               type_size(out_field_table[i].type) +
+                           OUT_SLACK);
     if (!p)
       goto fail;
     block_field_set(b, i, p);
   }
-  b->t = calloc(cases * points, sizeof *b->t);
+  b->t = calloc(1, cases * points * sizeof *b->t + OUT_SLACK);
   b->yaml = calloc(cases, sizeof *b->yaml);
   b->msg = calloc(cases, sizeof *b->msg);
   b->bx = calloc(OUT_BATCH * OUT_BATCH_DOUBLES, sizeof *b->bx);

@@ -17,32 +17,65 @@
 
 #include <zlib.h>
 
-/* Fletcher-32 of HDF5's fletcher32 filter: sums of big-endian 16-bit words
-   (an odd last byte as the high byte of a word), folded every 360 words so
-   that they never overflow, then to 16 bits each; sum2 high, sum1 low */
+/*
+ * Fletcher-32 of HDF5's fletcher32 filter: sum1 = the sum of the
+ * big-endian 16-bit words (an odd last byte as the high byte of a word),
+ * sum2 = the sum of sum1 after each word, each folded to 16 bits; sum2
+ * high, sum1 low.  HDF5 folds (s & 0xffff) + (s >> 16) every 360 words;
+ * a fold keeps the value modulo 65535 and keeps it positive, and the last
+ * two folds leave it at most 0xffff, so its result is a function of the
+ * exact sums S: 0 when S = 0 (only when every byte is zero), else the
+ * residue of S modulo 65535 in [1, 65535].  That is what is computed here,
+ * faster: each byte lane k of a round of FL_LANES bytes accumulates its
+ * bytes (a[k]) and, after each round, a[k] again (c[k]), in 32-bit lanes
+ * the compiler vectorises; the word sums follow from them (a high byte
+ * counts 256 times, a word j of a round of m rounds weighs
+ * FL_LANES / 2 (m - r) - j in sum2).  FL_ROUNDS keeps c[k] below 2^32:
+ * 255 m (m + 1) / 2 < 2^32 for m = 4096.
+ */
+#define FL_LANES 16
+#define FL_ROUNDS 4096
 static uint32_t fletcher32(const unsigned char *p, size_t nbytes)
 {
-  uint32_t sum1 = 0, sum2 = 0;
-  size_t words = nbytes / 2;
-  while (words) {
-    size_t n = words > 360 ? 360 : words;
-    words -= n;
-    for (; n; n--, p += 2) {
-      sum1 += (uint32_t)p[0] << 8 | p[1];
-      sum2 += sum1;
+  uint64_t s1 = 0, s2 = 0; /* the sums modulo 65535 */
+  size_t done = 0;
+  int any = 0;
+  while (nbytes - done >= FL_LANES) {
+    uint32_t a[FL_LANES], c[FL_LANES];
+    uint64_t d1 = 0, d2 = 0;
+    size_t m = (nbytes - done) / FL_LANES, r;
+    int k;
+    if (m > FL_ROUNDS)
+      m = FL_ROUNDS;
+    memset(a, 0, sizeof a);
+    memset(c, 0, sizeof c);
+    for (r = 0; r < m; r++, p += FL_LANES)
+      for (k = 0; k < FL_LANES; k++) {
+        a[k] += p[k];
+        c[k] += a[k];
+      }
+    for (k = 0; k < FL_LANES; k++) {
+      uint64_t weight = k % 2 ? 1 : 256;
+      d1 += weight * a[k];
+      d2 += weight * ((uint64_t)(FL_LANES / 2) * c[k] -
+                      (uint64_t)(k / 2) * a[k]);
     }
-    sum1 = (sum1 & 0xffff) + (sum1 >> 16);
-    sum2 = (sum2 & 0xffff) + (sum2 >> 16);
+    any |= d1 != 0;
+    /* sum2 gains sum1 once per word of the block, and the block's own */
+    s2 = (s2 + (m * FL_LANES / 2) % 65535 * s1 + d2 % 65535) % 65535;
+    s1 = (s1 + d1 % 65535) % 65535;
+    done += m * FL_LANES;
   }
-  if (nbytes % 2) {
-    sum1 += (uint32_t)p[0] << 8;
-    sum2 += sum1;
-    sum1 = (sum1 & 0xffff) + (sum1 >> 16);
-    sum2 = (sum2 & 0xffff) + (sum2 >> 16);
+  /* the last words, and an odd last byte */
+  for (; done < nbytes; done += 2, p += 2) {
+    uint32_t w = (uint32_t)p[0] << 8 | (done + 1 < nbytes ? p[1] : 0);
+    any |= w != 0;
+    s1 = (s1 + w) % 65535;
+    s2 = (s2 + s1) % 65535;
   }
-  sum1 = (sum1 & 0xffff) + (sum1 >> 16);
-  sum2 = (sum2 & 0xffff) + (sum2 >> 16);
-  return sum2 << 16 | sum1;
+  if (!any)
+    return 0;
+  return (uint32_t)(s2 ? s2 : 65535) << 16 | (uint32_t)(s1 ? s1 : 65535);
 }
 
 /* *buf holds at least need bytes (grown by doubling); 0 or -1 */
@@ -78,7 +111,9 @@ static void fill(unsigned char *dst, size_t n, out_type type)
 }
 
 /* the chunk (c0, kc) of a [cases][points][cols] buffer into dst: rows
-   [0, nc) from the tile, samples up to the tile's end; the rest fill */
+   [0, nc) from the tile, samples up to the tile's end; the rest fill.
+   dst may be the chunk's own place in src (rows contiguous there): then
+   only the fill is written */
 static void gather(unsigned char *dst, const unsigned char *src,
                    const out_layout *L, const out_block *b, size_t esz,
                    size_t cols, out_type type, size_t nc, size_t kk,
@@ -87,9 +122,10 @@ static void gather(unsigned char *dst, const unsigned char *src,
   size_t r, row = L->q * cols * esz;
   for (r = 0; r < L->tc; r++) {
     unsigned char *d = dst + r * row;
+    const unsigned char *from = src + (r * b->points + kk) * cols * esz;
     size_t have = r < nc ? ns : 0;
-    if (have)
-      memcpy(d, src + (r * b->points + kk) * cols * esz, have * cols * esz);
+    if (have && d != from)
+      memcpy(d, from, have * cols * esz);
     if (have < L->q)
       fill(d + have * cols * esz, (L->q - have) * cols, type);
   }
@@ -107,15 +143,20 @@ static int pack_field(const out_layout *L, out_block *b, int field,
                           : 1;
   const size_t esz = type == OUT_F64 ? sizeof(double) : sizeof(int32_t);
   const size_t raw = L->tc * L->q * cols * esz;
-  const unsigned char *src = field < OUT_NFIELD ? out_block_field(b, field)
-                                                : (const void *)b->t;
+  unsigned char *src = field < OUT_NFIELD ? out_block_field(b, field)
+                                          : (void *)b->t;
+  /* the buffer's bytes; its rows are contiguous in a chunk when a chunk
+     row is a whole slot, or when there is one row */
+  const size_t total = b->cases * b->points * cols * esz;
+  const int rows_contiguous = L->tc == 1 || b->points == L->q;
   size_t kc;
   for (kc = k0; kc < k0 + nk; kc += L->q) {
     size_t ns = k0 + nk - kc < L->q ? k0 + nk - kc : L->q, stored = raw;
+    size_t start = (kc - k0) * cols * esz;
     uLongf zlen = compressBound((uLong)raw);
     unsigned char *out;
     uint32_t sum;
-    int i;
+    int i, direct;
     if (b->npk == b->pk_max) {
       size_t n = b->pk_max ? 2 * b->pk_max : 64;
       out_chunk *p = realloc(b->pk, n * sizeof *p);
@@ -124,10 +165,19 @@ static int pack_field(const out_layout *L, out_block *b, int field,
       b->pk = p;
       b->pk_max = n;
     }
-    if (reserve(&b->pk_buf, &b->pk_cap, b->pk_len + zlen + 4))
+    /* a chunk that ends where the buffer ends is the buffer's own bytes
+       (the rows past the tile's cases and the samples past its end set
+       to the fill values in place: nothing reads them after this): stored
+       from there, its checksum in the buffer's slack (out_block_alloc),
+       no copy */
+    direct = !L->gzip && rows_contiguous && start + raw == total;
+    if (direct)
+      out = src + start;
+    else if (reserve(&b->pk_buf, &b->pk_cap, b->pk_len + zlen + 4))
       return -1;
-    out = b->pk_buf + b->pk_len;
-    if (L->gzip) {
+    else
+      out = b->pk_buf + b->pk_len;
+    if (!direct && L->gzip) {
       /* the deflate filter: compress2 at the level, zlib format */
       if (reserve(&b->pk_tmp, &b->pk_tmp_cap, raw))
         return -1;
@@ -144,10 +194,12 @@ static int pack_field(const out_layout *L, out_block *b, int field,
     b->pk[b->npk].field = field;
     b->pk[b->npk].c0 = c0;
     b->pk[b->npk].k0 = kc;
-    b->pk[b->npk].off = b->pk_len;
+    b->pk[b->npk].direct = direct;
+    b->pk[b->npk].off = direct ? start : b->pk_len;
     b->pk[b->npk].size = stored + 4;
     b->npk++;
-    b->pk_len += stored + 4;
+    if (!direct)
+      b->pk_len += stored + 4;
   }
   return 0;
 }

@@ -451,11 +451,16 @@ static int write_packed(out_file *f, const out_block *b, char *err,
   for (i = 0; i < b->npk; i++) {
     const out_chunk *ck = &b->pk[i];
     hid_t ds = ck->field < OUT_NFIELD ? f->ds[ck->field] : f->case_time;
+    const unsigned char *data =
+        !ck->direct ? b->pk_buf
+        : ck->field < OUT_NFIELD ? (const unsigned char *)out_block_field(
+                                       b, ck->field)
+                                 : (const unsigned char *)b->t;
     hsize_t off[4] = {0, 0, 0, 0};
     off[0] = ck->c0;
     off[1] = ck->k0;
-    if (H5Dwrite_chunk(ds, H5P_DEFAULT, 0, off, ck->size,
-                       b->pk_buf + ck->off) < 0) {
+    if (H5Dwrite_chunk(ds, H5P_DEFAULT, 0, off, ck->size, data + ck->off) <
+        0) {
       out_fail(err, errsz, "cannot write %s of cases %zu-",
            ck->field < OUT_NFIELD ? out_field_table[ck->field].name
                                   : "case_time",

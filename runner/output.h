@@ -176,12 +176,19 @@ typedef struct {
 #define OUT_BATCH_INTS 3
 
 /* a packed chunk: pk_buf[off, off + size) is chunk (c0, k0) of field
-   (OUT_NFIELD: case_time), filters applied */
+   (OUT_NFIELD: case_time), filters applied; or, when direct, the bytes
+   [off, off + size) of the field's own buffer (a whole uncompressed chunk
+   at the buffer's end, its checksum in the buffer's OUT_SLACK bytes) */
 typedef struct out_chunk {
   int field;
+  int direct;
   size_t c0, k0;
   size_t off, size;
 } out_chunk;
+
+/* bytes past the end of each per-sample buffer of a block (and of t): the
+   Fletcher-32 checksum of a chunk stored from the buffer itself */
+#define OUT_SLACK 8
 
 /* what out_pack needs of a file: plain numbers, read by any thread */
 typedef struct {

@@ -421,6 +421,7 @@ typedef struct {
   sink base;
   const scene *s;
   out_file *f;
+  out_layout layout;  /* the file's chunks, for out_pack */
   sweep_stats *st;
   progress *pr;
 } serial_sink;
@@ -429,6 +430,19 @@ static int serial_emit(sink *k, out_block **b, const tile *t, char *err,
                        size_t errsz)
 {
   serial_sink *ss = (serial_sink *)k;
+  /* uncompressed, the chunks as the file stores them (out_pack: the
+     Fletcher-32 here, full chunks stored from the block's own buffers)
+     cost less than HDF5's filter pipeline (a copy of the tile into each
+     chunk, another into the filter's buffer); compressed, deflate is the
+     cost either way, and -j 1 keeps HDF5's own filters.  A late failure's
+     blank windows go through HDF5 too. */
+  (*b)->packed = 0;
+  if (ss->layout.gzip == 0 && t->blank_below == 0 &&
+      out_pack(&ss->layout, *b, t->c0, t->nc, t->k0, t->nk)) {
+    snprintf(err, errsz, "cannot pack cases %zu-%zu: out of memory",
+             t->c0, t->c0 + t->nc - 1);
+    return -1;
+  }
   if (sweep_tile_write(ss->f, *b, t, err, errsz))
     return -1;
   sweep_tile_count(ss->s, *b, t, ss->st, ss->pr);
@@ -447,6 +461,7 @@ static int run_serial(const scene *s, const sweep_plan *p, out_file *f,
   ss.base.emit = serial_emit;
   ss.s = s;
   ss.f = f;
+  out_file_layout(f, &ss.layout);
   ss.st = st;
   ss.pr = pr;
   for (j = o->shard; j < nj && rc == 0; j = sweep_next_job(j, o->nshard, nj))
