@@ -27,7 +27,10 @@ typedef struct {
   int stalled;
   /* the last evaluation's theta and its cosines and sines: the positions
      after the solve reuse them when the root is that theta (as it is
-     whenever the last trial step was accepted) */
+     whenever the last trial step was accepted), and so does the next
+     evaluation at the same theta -- the next point's warm start, from this
+     root.  A memo of a pure function, keyed on theta's bits (NaN until
+     the first evaluation), so never stale */
   double th_last[3], c_last[3], s_last[3];
   /* f and J at the starting point, evaluated by the check before _set:
      _set's own evaluation there takes them instead of computing them
@@ -86,8 +89,9 @@ static void constraints(const theta_params *p, const double th[3],
 }
 
 /* an evaluation by GSL: f and J as constraints(), keeping theta's trig
-   for the positions after the solve; the start's f and J from the check
-   before _set when theta is that start */
+   for the positions after the solve (and taking it when theta is the last
+   evaluation's, bit for bit); the start's f and J from the check before
+   _set when theta is that start */
 static void evaluate(theta_params *p, const double th[3], double f[3],
                      double J[3][3]) {
   if (p->primed && th[0] == p->th0[0] && th[1] == p->th0[1] &&
@@ -97,8 +101,10 @@ static void evaluate(theta_params *p, const double th[3], double f[3],
     if (J != NULL) memcpy(J, p->J0, sizeof(p->J0));
     return;
   }
-  v3_copy(p->th_last, th);
-  trig3(th, p->c_last, p->s_last);
+  if (memcmp(th, p->th_last, sizeof(p->th_last)) != 0) {
+    v3_copy(p->th_last, th);
+    trig3(th, p->c_last, p->s_last);
+  }
   constraints_trig(p, p->c_last, p->s_last, f, J);
 }
 
@@ -173,6 +179,7 @@ int rps3_solver_alloc(const rps3_model *m, struct rps3_solver_state **out) {
   if (s == NULL) return RPS3_ENOMEM;
   s->kind = m->opt.solver;
   s->fdf = (tfdf != NULL);
+  s->p.th_last[0] = s->p.th_last[1] = s->p.th_last[2] = (double)NAN;
   s->x = gsl_vector_alloc(3);
   if (s->fdf)
     s->sfdf = gsl_multiroot_fdfsolver_alloc(tfdf, 3);
