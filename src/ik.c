@@ -164,7 +164,8 @@ void rps3_cjac_factor(rps3_cjac *J) {
   for (i = 0; i < 3; i++)
     for (k = 0; k < 3; k++) J->A[3 * i + k] = J->LU[3 * i + k] = J->Jt[k][i];
   J->sing = (rps3_lu_factor(3, J->LU, J->perm) != 0);
-  J->cond = J->sing ? HUGE_VAL : rps3_lu_cond1(3, J->A, J->LU, J->perm);
+  J->cond = J->sing ? HUGE_VAL
+                    : rps3_lu3_inverse_cond1(J->A, J->LU, J->perm, J->Ainv);
   J->factored = 1;
 }
 

@@ -162,6 +162,7 @@ typedef struct {
   int sing;            /* a zero or non-finite pivot: LU unusable */
   double A[9], LU[9];  /* A = Jt^T row-major, and its LU with rows perm */
   int perm[3];
+  double Ainv[9];      /* A^-1 row-major: (df/dtheta)^-1 = Ainv^T */
   double cond;         /* 1-norm condition number of A; HUGE_VAL if sing */
 } rps3_cjac;
 

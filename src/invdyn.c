@@ -452,25 +452,24 @@ static void certify(const rps3_model *m, rps3_data *d) {
  * G = -(df/dtheta)^-1 df/dl, ball j moving [j == i] phi_j + l_j G_ji dphi_j,
  * vc their mean and omega from the balls.  Rows of the inverse of the 6 x 6
  * ball-joint system of the Newton-Euler formulation, from a 3 x 3 LU
- * (test_trans.c holds it to an oracle of its own).  Jt's LU is the one of
- * the lambda system transposed; factored here again, 3 x 3.  Returns -1
- * when df/dtheta is singular.
+ * (test_trans.c holds it to an oracle of its own).  (df/dtheta)^-1 is the
+ * transpose of the lambda system's inverse, which its condition number
+ * computed (J factored, not singular).
  */
 static double transmission(const rps3_model *m, const rps3_data *d,
-                           const double Jl[3][3], const double Jt[3][3]) {
-  double LU[9], rho[3][3], a[3], T = 0.0;
-  int perm[3], i, j, q;
-  for (i = 0; i < 3; i++)
-    for (q = 0; q < 3; q++) LU[3 * i + q] = Jt[i][q];
-  if (rps3_lu_factor(3, LU, perm) != 0) return -1.0;
+                           const rps3_cjac *J) {
+  double rho[3][3], a[3], T = 0.0;
+  int i, j, q;
   for (j = 0; j < 3; j++) {
     v3_sub(rho[j], d->b[j], d->c);
     a[j] = d->rot[j][2];
   }
   for (i = 0; i < 3; i++) {
     double x[3], bd[3][3], u[3][3], vc[3] = {0, 0, 0}, w[3], s;
-    for (q = 0; q < 3; q++) x[q] = -Jl[q][i];
-    rps3_lu_solve(3, LU, perm, x);
+    /* x = G e_i = -(df/dtheta)^-1 df/dl e_i, (df/dtheta)^-1 = Ainv^T */
+    for (q = 0; q < 3; q++)
+      x[q] = -(J->Ainv[q] * J->Jl[0][i] + J->Ainv[3 + q] * J->Jl[1][i] +
+               J->Ainv[6 + q] * J->Jl[2][i]);
     for (j = 0; j < 3; j++) {
       v3_scale(bd[j], d->l[j] * x[j], d->dphi[j]);
       if (j == i) v3_axpy(bd[j], bd[j], 1.0, d->phi[j]);
@@ -531,7 +530,7 @@ int rps3_invdyn_with(const rps3_model *m, rps3_data *d, rps3_cjac *J) {
 
   /* force transmission: the condition number measures lost digits, not
      how much force a load takes; both limits are the caller's */
-  d->transmission = transmission(m, d, M3C(J->Jl), M3C(J->Jt));
+  d->transmission = transmission(m, d, J);
   if (!(d->transmission >= 0.0 && d->transmission <= m->opt.trans_max))
     RPS3_ERROR(d, RPS3_ESING,
                "force transmission %.3g exceeds trans_max %.3g: an actuator "

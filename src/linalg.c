@@ -168,25 +168,37 @@ void rps3_lu_solve(int n, const double *LU, const int *perm, double *x) {
   }
 }
 
+double rps3_lu3_inverse_cond1(const double *A, const double *LU,
+                              const int *perm, double X[9]) {
+  double anorm = 0.0, inorm = 0.0;
+  int i, j;
+  for (j = 0; j < 3; j++) {
+    double s = fabs(A[j]) + fabs(A[3 + j]) + fabs(A[6 + j]);
+    if (s > anorm) anorm = s;
+  }
+  /* the three columns of A^-1 in one multi-column solve */
+  for (i = 0; i < 9; i++) X[i] = (i % 4 == 0) ? 1.0 : 0.0;
+  rps3_lu3_solve_multi(LU, perm, X, 3, 3);
+  for (j = 0; j < 3; j++) {
+    double s = fabs(X[j]) + fabs(X[3 + j]) + fabs(X[6 + j]);
+    if (s > inorm) inorm = s;
+  }
+  return anorm * inorm;
+}
+
 double rps3_lu_cond1(int n, const double *A, const double *LU,
                      const int *perm) {
   /* exact 1-norm condition: ||A||_1 ||A^-1||_1, A^-1 column by column */
   double anorm = 0.0, inorm = 0.0, col[RPS3_LU_NMAX];
   int i, j;
+  if (n == 3) {
+    double X[9];
+    return rps3_lu3_inverse_cond1(A, LU, perm, X);
+  }
   for (j = 0; j < n; j++) {
     double s = 0.0;
     for (i = 0; i < n; i++) s += fabs(A[i * n + j]);
     if (s > anorm) anorm = s;
-  }
-  if (n == 3) {
-    /* the three columns of A^-1 in one multi-column solve */
-    double X[9] = {1, 0, 0, 0, 1, 0, 0, 0, 1};
-    rps3_lu3_solve_multi(LU, perm, X, 3, 3);
-    for (j = 0; j < 3; j++) {
-      double s = fabs(X[j]) + fabs(X[3 + j]) + fabs(X[6 + j]);
-      if (s > inorm) inorm = s;
-    }
-    return anorm * inorm;
   }
   for (j = 0; j < n; j++) {
     double s = 0.0;

@@ -18,6 +18,11 @@ void rps3_lu_solve(int n, const double *LU, const int *perm, double *x);
 void rps3_lu3_solve_multi(const double *LU, const int *perm, double *X,
                           int ldx, int nrhs);
 
+/* The inverse of the 3 x 3 A (row-major into X) from its factorization,
+   and its 1-norm condition number, rps3_lu_cond1's for n = 3 bitwise. */
+double rps3_lu3_inverse_cond1(const double *A, const double *LU,
+                              const int *perm, double X[9]);
+
 /* 1-norm condition number of A, given A and its factorization. */
 double rps3_lu_cond1(int n, const double *A, const double *LU,
                      const int *perm);
