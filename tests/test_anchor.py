@@ -7,7 +7,7 @@ power and solved through (dl/dq)^T F = Q, no multipliers -- with
 rps3_inverse's (the multipliers of (23), (34)) on the paper's helix and
 20000 random states.
 Both derivations are exact: they must agree to rounding, 1e-13 of the sum
-of the effects' magnitudes (measured 3e-14).
+of the effects' magnitudes (measured 1.7e-14).
 """
 
 import os

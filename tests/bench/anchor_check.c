@@ -13,7 +13,7 @@
  * sum_e |F_effect[e][i]| (the effects' shares may cancel in F), and the
  * run fails when the largest exceeds TOL (default 1e-13: rounding of some
  * thousand operations, times the conditioning of dl/dq and of the lambda
- * system at these poses; measured 3e-14).  Points: the paper's helix
+ * system at these poses; measured 1.7e-14).  Points: the paper's helix
  * (Table II) at 100 Hz and random states over the part of the workspace the
  * accuracy study covers.  Prints one line and exits 0 or 1.
  */

@@ -25,22 +25,25 @@ q = (alpha, beta, z_c) by virtual power (Kane's form of (23)):
 
 The load conjugate to q_j is then
 
-  Q_j = M c'' . dc/dq_j + (I omega' + omega x I omega) . G_j
-        + sum_i m d^2 theta_i'' dtheta_i/dq_j + dP/dq_j,
+  Q_j = M (c'' + g e_z) . dc/dq_j + (I omega' + omega x I omega) . G_j
+        + sum_i (m d^2 theta_i'' + m g d cos theta_i) dtheta_i/dq_j,
 
 and by virtual work (dl/dq)^T F = Q: the forces are the solution of that
 3x3 system, solved numerically at the end by Cramer's rule with one
 division.  The intermediate quantities (trigonometric values, rotation,
 centre, Z_i, h_i, l_i^2, 1/l_i^2, their gradients in q, rates and
 accelerations, omega, theta_i', ...) stay symbols: each becomes one
-generated assignment, and every derivative is SymPy's, applied by the
-chain rule through those assignments (d/dq_j and d/dt of an assignment are
-new assignments in the symbols it uses), so the code never expands into the
-final expressions.  sympy.cse then runs over the whole program at once,
-assignments no output needs are dropped, and the C is printed with
-sympy.ccode (small powers as products).  Before writing, the script checks
-its program numerically against the power balance F . l' = d(T + P)/dt on
-random states.  The mechanism's constants (R, rho, M, m, d, g) stay
+generated assignment (one name for equal expressions), and every derivative
+is SymPy's, applied by the chain rule through those assignments (d/dq_j and
+d/dt of an assignment are new assignments in the symbols it uses; rates and
+accelerations go forward along q', so no Hessian is formed), so the code
+never expands into the final expressions.  sympy.cse then runs over the
+whole program at once, assignments no output needs are dropped, and the C
+is printed with sympy.ccode (small powers as products, a common rational
+factor taken out once).  Before writing, the script checks its program
+numerically against the power balance F . l' = d(T + P)/dt on random
+states, with the kinetic co-energy (21) and the potential (22) written as
+such.  The mechanism's constants (R, rho, M, m, d, g) stay
 run-time arguments.
 
     python tests/bench/gen_anchor.py -o build/anchor/anchor_gen.c
@@ -98,6 +101,8 @@ class Program:
         self.partials = {}    # symbol -> {argument: d symbol / d argument}
         self.base_grad = {}   # symbol defined outside -> its gradient in q
         self.gcache, self.tcache = {}, {}
+        self.named = {}       # expression -> its symbol
+        self.diff_def = {}    # symbol -> an equal expression to differentiate
         for j, qj in enumerate(q):
             self.base_grad[qj] = tuple(int(k == j) for k in range(3))
 
@@ -105,15 +110,18 @@ class Program:
         expr = sp.sympify(expr)
         if expr.is_Atom:
             return expr
+        if expr in self.named:    # one name for one value (R_01 = R_10, ...)
+            return self.named[expr]
         s = sp.Symbol(name, real=True)
         assert s not in self.defs and s not in self.base_grad, name
         self.defs[s] = expr
+        self.named[expr] = s
         self.order.append(s)
         return s
 
     def dargs(self, s):
         """d s / d a for each argument a of the assignment s."""
-        e = self.defs[s]
+        e = self.diff_def.get(s, self.defs[s])
         own = self.partials.get(s, {})
         return [(a, own[a] if a in own else sp.diff(e, a))
                 for a in sorted(e.free_symbols, key=str)
@@ -135,18 +143,26 @@ class Program:
 
     def ddt(self, x):
         """dx/dt for a symbol, forward along q' through its arguments (no
-        Hessian is formed: d/dt of a rate is a rate of rates)."""
+        Hessian is formed: d/dt of a rate is a rate of rates).  A quantity
+        whose gradient the program holds takes its rate as grad . q', and
+        that rate's own rate is taken forward through the arguments."""
         if x.is_number or x in self.consts:
             return sp.S.Zero
         if x in self.qd:
             return self.qdd[self.qd.index(x)]
         if x not in self.tcache:
-            if x in self.base_grad:
+            fwd = None
+            if x in self.base_grad or x in self.gcache:
                 e = sp.Add(*[gj * qdj
                              for gj, qdj in zip(self.grad(x), self.qd)])
+                if x in self.gcache:
+                    fwd = sp.Add(*[da * self.ddt(a)
+                                   for a, da in self.dargs(x)])
             else:
                 e = sp.Add(*[da * self.ddt(a) for a, da in self.dargs(x)])
             self.tcache[x] = self.let(f"{x}_t", e)
+            if fwd is not None and self.tcache[x] in self.defs:
+                self.diff_def[self.tcache[x]] = fwd
         return self.tcache[x]
 
     def grad_expr(self, e):
@@ -221,8 +237,8 @@ def derive():
         l2 = P.let(f"l2_{i + 1}", h**2 + Z**2)
         il2 = P.let(f"il2_{i + 1}", 1 / l2)
         P.partials[il2] = {l2: -il2**2}
-        l = P.let(f"l{i + 1}", sp.sqrt(l2))
-        P.partials[l] = {l2: l * il2 / 2}
+        l = P.let(f"l{i + 1}", sp.sqrt(h**2 + Z**2))
+        P.partials[l] = {h: h * l * il2, Z: Z * l * il2}
         xh, xz = sp.symbols("xh xz", real=True)
         th = P.let(f"th{i + 1}", sp.atan2(Z, h))
         P.partials[th] = {
@@ -257,40 +273,53 @@ def derive():
                  - omega[(k + 2) % 3] * Iw[(k + 1) % 3]) for k in range(3)]
 
     # centre acceleration; link rates and accelerations
-    cdd = [P.ddt(P.ddt(ck)) if ck != zc else qdd[2] for ck in c]
-    thdd = [P.ddt(P.ddt(th)) for th in ths]
+    # (the gradients first: the rates of these quantities are grad . q')
     cgrad = [P.grad(ck) for ck in c]
     thgrad = [P.grad(th) for th in ths]
-
-    # potential energy (22), sin theta_i = Z_i / l_i (39)
-    sth = [P.let(f"sth{i + 1}", Zs[i] * ls[i] * il2s[i]) for i in range(3)]
-    Pot = M * g * zc + m * g * d * sum(sth)
-    dPot = P.grad_expr(Pot)
-
-    # the load conjugate to q_j (virtual power), then (dl/dq)^T F = Q
-    Q = [P.let(f"Q{j}",
-               M * sum(cdd[k] * cgrad[k][j] for k in range(3))
-               + sum(tau[k] * G[k, j] for k in range(3))
-               + m * d**2 * sum(thdd[i] * thgrad[i][j] for i in range(3))
-               + dPot[j]) for j in range(3)]
     J = sp.Matrix(3, 3, lambda i, j: P.grad(ls[i])[j])
+    cdd = [P.ddt(P.ddt(ck)) if ck != zc else qdd[2] for ck in c]
+    thdd = [P.ddt(P.ddt(th)) for th in ths]
 
-    # Cramer's rule with one division; -1 when dl/dq is singular
-    JT = J.T
-    det = P.let("det", JT.det(method="berkowitz"))
-    idet = P.let("idet", 1 / det)
-    F = []
+    # potential energy (22) with sin theta_i = Z_i / l_i (39), whose
+    # derivative in theta_i is cos theta_i = h_i / l_i
+    sth = []
     for i in range(3):
-        Ai = JT.copy()
-        Ai[:, i] = sp.Matrix(Q)
-        F.append(P.let(f"F{i}", Ai.det(method="berkowitz") * idet))
+        sth.append(P.let(f"sth{i + 1}", sp.sin(ths[i])))
+        P.partials[sth[i]] = {ths[i]: hs[i] * ls[i] * il2s[i]}
+    Pot_platform = M * g * zc
+    Pot = Pot_platform + m * g * d * sum(sth)
+
+    # the load conjugate to q_j (virtual power), then (dl/dq)^T F = Q; each
+    # link contributes the torque about its pin (inertia and gravity) times
+    # dtheta_i/dq_j
+    torque = [P.let(f"T{i + 1}", m * d**2 * thdd[i]
+                    + sp.diff(Pot, sth[i]) * P.partials[sth[i]][ths[i]])
+              for i in range(3)]
+    dPot = P.grad_expr(Pot_platform)
+    Q = [P.let(f"Q{j}", M * sum(cdd[k] * cgrad[k][j] for k in range(3))
+               + dPot[j] + sum(tau[k] * G[k, j] for k in range(3))
+               + sum(torque[i] * thgrad[i][j] for i in range(3)))
+         for j in range(3)]
+
+    # F = adj(J^T) Q / det J: Cramer's rule with one division; -1 when dl/dq
+    # is singular
+    adj = J.T.adjugate()
+    adj = sp.Matrix(3, 3, lambda i, j: P.let(f"adj{i}{j}", adj[i, j]))
+    det = P.let("det", sum(J[k, 0] * adj[k, 0] for k in range(3)))
+    idet = P.let("idet", 1 / det)
+    F = [P.let(f"F{i}", idet * sum(adj[i, k] * Q[k] for k in range(3)))
+         for i in range(3)]
 
     # the kinetic co-energy (21) for the power-balance check
     cd = [P.ddt(ck) for ck in c]
     T = (M * sum(v**2 for v in cd) / 2
          + sum(Idiag[k] * omega[k]**2 for k in range(3)) / 2
          + m * d**2 * sum(P.ddt(th)**2 for th in ths) / 2)
-    E = P.let("energy", T + Pot)
+    # (the potential with sin theta_i = Z_i / l_i as such, not through the
+    # cos theta_i = h_i / l_i the torques use)
+    Pot_check = Pot_platform + m * g * d * sum(
+        P.let(f"sin_th{i + 1}", Zs[i] * ls[i] * il2s[i]) for i in range(3))
+    E = P.let("energy", T + Pot_check)
     power = P.let("power_F", sum(F[i] * P.ddt(ls[i]) for i in range(3)))
     dE = P.ddt(E)
     out = dict(P=P, par=par, F=F, det=det, checks=checks, hs=hs, Zs=Zs,
@@ -434,6 +463,8 @@ def generate(path):
                        optimizations="basic")
     defs = dict(repl)
     defs.update(zip(order, red))
+    # a common rational factor once, not on every term
+    defs = {s: sp.factor_terms(e) for s, e in defs.items()}
     prog = topo([D["det"]] + D["F"], defs)
     t3 = time.time()
 
