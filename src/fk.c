@@ -509,3 +509,15 @@ void rps3_theta_constraints(const double L[3], double rho, const double th[3],
   p.k = 3.0 - 3.0 * rho * rho;
   constraints(&p, th, f, J);
 }
+
+/* the same from theta's cosines c and sines s, which a caller keeps for
+   the positions of the root (rps3_links_from_trig) */
+void rps3_theta_constraints_trig(const double L[3], double rho,
+                                 const double c[3], const double s[3],
+                                 double f[3], double J[3][3]) {
+  theta_params p;
+  int i;
+  for (i = 0; i < 3; i++) p.L[i] = L[i];
+  p.k = 3.0 - 3.0 * rho * rho;
+  constraints_trig(&p, c, s, f, J);
+}

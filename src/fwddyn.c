@@ -47,23 +47,53 @@ static void inertia_world(double Iw[3][3], const double rot[3][3],
     }
 }
 
-/* G = -(df/dtheta)^-1 (df/dl), the mode (sign of det df/dtheta), and the
-   maps Jc, Jw, column by column from the ball joint velocities */
-static int velocity_maps(const rps3_model *m, rps3_data *d, rps3_fd_state *k) {
-  double Jl[3][3], Jt[3][3], LU[9], rho[3][3], u[3][3], a[3], det;
-  int perm[3], i, j, q;
+/*
+ * Rates and the maps from one factorization of df/dtheta: the mode (sign
+ * of its determinant), its condition (rps3_joint_velocity's test, the same
+ * message), G = -(df/dtheta)^-1 (df/dl), theta' and the motions of
+ * rps3_joint_velocity, the accelerations at l'' = 0 of
+ * rps3_joint_acceleration (the bias), and Jc, Jw column by column from
+ * the ball joint velocities.  The stage functions would factor the same
+ * matrix twice more.
+ */
+static int rates_and_maps(const rps3_model *m, rps3_data *d,
+                          rps3_fd_state *k) {
+  double Jl[3][3], Jt[3][3], A[9], LU[9], rho[3][3], u[3][3], a[3], x[3],
+      known[3][3], det, cond;
+  int perm[3], i, j, q, st;
   rps3_constraint_jacobian(d, Jl, Jt);
   det = Jt[0][0] * (Jt[1][1] * Jt[2][2] - Jt[1][2] * Jt[2][1]) -
         Jt[0][1] * (Jt[1][0] * Jt[2][2] - Jt[1][2] * Jt[2][0]) +
         Jt[0][2] * (Jt[1][0] * Jt[2][1] - Jt[1][1] * Jt[2][0]);
   d->mode = (det > 0.0) ? 1 : -1;
   for (i = 0; i < 3; i++)
-    for (q = 0; q < 3; q++) LU[3 * i + q] = Jt[i][q];
-  /* rps3_joint_velocity has passed the same condition test */
+    for (q = 0; q < 3; q++) A[3 * i + q] = LU[3 * i + q] = Jt[i][q];
   if (rps3_lu_factor(3, LU, perm) != 0)
     RPS3_ERROR(d, RPS3_ESING, "constraint Jacobian df/dtheta is singular");
+  cond = rps3_lu_cond1(3, A, LU, perm);
+  if (!(cond <= m->opt.cond_max))
+    RPS3_ERROR(d, RPS3_ESING,
+               "constraint Jacobian df/dtheta: condition number %.3g exceeds "
+               "cond_max %.3g", cond, m->opt.cond_max);
+  /* velocities: Jt theta' = -Jl l' */
+  m3_mulv(x, M3C(Jl), d->dl);
+  v3_scale(x, -1.0, x);
+  rps3_lu_solve(3, LU, perm, x);
+  v3_copy(d->dtheta, x);
+  st = rps3_joint_velocity_from(m, d);
+  if (st != RPS3_OK) return st;
+  /* the bias: accelerations at l'' = 0 */
+  d->ddl[0] = d->ddl[1] = d->ddl[2] = 0.0;
+  rps3_joint_acc_rhs(d, known, x);
+  rps3_lu_solve(3, LU, perm, x);
+  v3_copy(d->ddtheta, x);
+  st = rps3_joint_acc_from(m, d, M3C(known));
+  if (st != RPS3_OK) return st;
+  v3_copy(k->ddth_b, d->ddtheta);
+  v3_copy(k->ac_b, d->ac);
+  v3_copy(k->dw_b, d->domega);
+  /* the maps */
   for (j = 0; j < 3; j++) {
-    double x[3];
     for (q = 0; q < 3; q++) x[q] = -Jl[q][j];
     rps3_lu_solve(3, LU, perm, x);
     for (i = 0; i < 3; i++) k->G[i][j] = x[i];
@@ -210,17 +240,21 @@ static double mass_cond(const double Mq[3][3]) {
 /*
  * Positions from l by Newton's method on (8)-(10) from the warm start: in a
  * simulation the previous evaluation's theta is within a step of the
- * answer, and two or three Newton steps converge where GSL's hybridsj
+ * answer, and one or two Newton steps converge where GSL's hybridsj
  * costs its set-up on every call.  The same convergence test as
- * rps3_theta_solve (max |f_k| / R^2 <= opt.tol).  Returns 0 when it
- * converged to a root that rps3_theta_solve would accept (0 < theta < pi,
- * not the spun platform); otherwise the caller falls back to rps3_fk,
+ * rps3_theta_solve (max |f_k| / R^2 <= opt.tol).  The cosines and sines of
+ * the last evaluation, at the root, serve its positions.  Returns 0 when
+ * it converged to a root that rps3_theta_solve would accept (0 < theta <
+ * pi, not the spun platform); otherwise the caller falls back to rps3_fk,
  * which decides and reports.
  */
 #define NEWTON_MAX 8
+/* largest predicted change of a theta_i [rad]: ~0.6 degree, many steps of
+   any run that keeps its accuracy */
+#define PREDICT_MAX 1e-2
 static int theta_newton(const rps3_model *m, rps3_data *d) {
-  double L[3];
-  int it, i, k;
+  double L[3], c[3], sn[3];
+  int it, i, k, fold = 0;
   if (!(m->opt.warm_start && d->have_theta && v3_finite(d->theta)) ||
       !v3_finite(d->l) || !(d->l[0] > 0 && d->l[1] > 0 && d->l[2] > 0))
     return -1;
@@ -229,7 +263,12 @@ static int theta_newton(const rps3_model *m, rps3_data *d) {
     /* (8)-(10) in units of R, as the GSL solve sees them */
     double f[3], J[3][3], LU[9], resid = 0.0;
     int perm[3];
-    rps3_theta_constraints(L, m->rho, d->theta, f, J);
+    for (i = 0; i < 3; i++) {
+      double t = d->theta[i]; /* one sincos */
+      c[i] = cos(t);
+      sn[i] = sin(t);
+    }
+    rps3_theta_constraints_trig(L, m->rho, c, sn, f, J);
     for (k = 0; k < 3; k++) resid = fmax(resid, fabs(f[k]));
     if (!(resid < HUGE_VAL)) return -1;
     if (resid <= m->opt.tol) {
@@ -245,10 +284,15 @@ static int theta_newton(const rps3_model *m, rps3_data *d) {
     for (i = 0; i < 3; i++) d->theta[i] -= f[i];
   }
   for (i = 0; i < 3; i++) {
+    if (d->theta[i] > 0.0 && d->theta[i] < RPS3_PI) continue;
     d->theta[i] = remainder(d->theta[i], 2.0 * RPS3_PI);
+    fold = 1;
     if (!(d->theta[i] > 0.0 && d->theta[i] < RPS3_PI)) return -1;
   }
-  rps3_links_from_joints(m, d);
+  if (fold)
+    rps3_links_from_joints(m, d);
+  else
+    rps3_links_from_trig(m, d, c, sn);
   rps3_frame_from_balls(m, d);
   if (d->rot[0][0] + d->rot[1][1] < 0.0) return -1; /* spun platform */
   rps3_pose_from_frame(d);
@@ -261,9 +305,10 @@ static void poison(rps3_data *d) {
   d->stage &= RPS3_STAGE_POS | RPS3_STAGE_VEL;
 }
 
-int rps3_fwddyn_state(const rps3_model *m, rps3_data *d, rps3_fd_state *k) {
+int rps3_fwddyn_state(const rps3_model *m, rps3_data *d, rps3_fd_state *k,
+                      int predict) {
   double dl[3];
-  int status;
+  int status, i;
   if (!v3_finite(d->dl)) {
     poison(d);
     RPS3_ERROR(d, RPS3_EINVAL, "dl (%g, %g, %g) m/s is not finite", d->dl[0],
@@ -281,10 +326,23 @@ int rps3_fwddyn_state(const rps3_model *m, rps3_data *d, rps3_fd_state *k) {
   /* positions: theta from l, warm-started on the tracked assembly mode;
      Newton from the warm start, else the full solve (which reports) */
   {
-    double th0[3];
+    double th0[3], dth[3] = {0, 0, 0}, dlen[3];
     v3_copy(th0, d->theta);
     d->stage = 0;
     d->warn = 0;
+    /* the start moved along the last state's tangent, theta + G (l -
+       l_last): within O(|l - l_last|^2) of the root, one Newton step
+       instead of two.  A step of more than PREDICT_MAX (near a singular
+       configuration, where G grows) is not taken: the start stays where
+       the last root was, as does the fall-back */
+    if (predict && m->opt.warm_start && d->have_theta) {
+      double big = 0.0;
+      v3_sub(dlen, d->l, k->l);
+      m3_mulv(dth, M3C(k->G), dlen);
+      for (i = 0; i < 3; i++) big = fmax(big, fabs(dth[i]));
+      if (big <= PREDICT_MAX)
+        v3_axpy(d->theta, d->theta, 1.0, dth);
+    }
     if (theta_newton(m, d) == 0) {
       d->have_theta = 1;
       d->stage = RPS3_STAGE_POS;
@@ -297,19 +355,14 @@ int rps3_fwddyn_state(const rps3_model *m, rps3_data *d, rps3_fd_state *k) {
       }
     }
   }
-  /* rates, and the accelerations at l'' = 0 (the bias) */
+  v3_copy(k->l, d->l);
+  /* rates, the accelerations at l'' = 0 (the bias) and the maps */
   v3_copy(d->dl, dl);
-  d->ddl[0] = d->ddl[1] = d->ddl[2] = 0.0;
-  status = rps3_joint_velocity(m, d);
-  if (status == RPS3_OK) status = rps3_joint_acceleration(m, d);
-  if (status == RPS3_OK) status = velocity_maps(m, d, k);
+  status = rates_and_maps(m, d, k);
   if (status != RPS3_OK) {
     poison(d);
     return status;
   }
-  v3_copy(k->ddth_b, d->ddtheta);
-  v3_copy(k->ac_b, d->ac);
-  v3_copy(k->dw_b, d->domega);
   poison(d); /* no acceleration before rps3_fwddyn_accel */
 
   /* Mq symmetric positive definite and conditioned: its factor */
@@ -368,7 +421,7 @@ int rps3_fwddyn(const rps3_model *m, rps3_data *d) {
   }
   /* the force survives the stages, which reset what they write */
   v3_copy(F, d->F);
-  status = rps3_fwddyn_state(m, d, &k);
+  status = rps3_fwddyn_state(m, d, &k, 0);
   v3_copy(d->F, F);
   if (status != RPS3_OK) return status;
   return rps3_fwddyn_accel(m, d, &k);

@@ -23,12 +23,16 @@ typedef struct {
   double ac_b[3];     /* centre acceleration at l'' = 0 */
   double dw_b[3];     /* angular acceleration at l'' = 0 */
   double Lq[3][3];    /* Mq = Lq Lq^T */
+  double l[3];        /* the lengths of this state */
 } rps3_fd_state;
 
 /* The state part of rps3_fwddyn: reads d->l, d->dl (not d->F); writes the
    positions, the rates, Mq, hq, Mcond and mode, and *k.  On failure the
-   status and message of rps3_fwddyn, d->ddl NaN. */
-int rps3_fwddyn_state(const rps3_model *m, rps3_data *d, rps3_fd_state *k);
+   status and message of rps3_fwddyn, d->ddl NaN.  predict = 1 says that *k
+   holds the last state this d was evaluated at, successfully (d->theta its
+   root): the theta solve then starts from theta + G (l - k->l). */
+int rps3_fwddyn_state(const rps3_model *m, rps3_data *d, rps3_fd_state *k,
+                      int predict);
 
 /* The force part: ddl, ddtheta, ac, domega from d->F and the state k that
    rps3_fwddyn_state wrote into d (d's positions and rates unchanged since).

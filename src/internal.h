@@ -200,6 +200,10 @@ void rps3_frame_from_balls(const rps3_model *m, rps3_data *d);
    and the analytic Jacobian J = df/dtheta it hands to GSL (J may be NULL) */
 void rps3_theta_constraints(const double L[3], double rho, const double th[3],
                             double f[3], double J[3][3]);
+/* the same from the cosines c and sines s of theta */
+void rps3_theta_constraints_trig(const double L[3], double rho,
+                                 const double c[3], const double s[3],
+                                 double f[3], double J[3][3]);
 
 /* the pose (alpha, beta, z_c) of the frame rot, c, as rps3_fk reports it
    (alpha = 0 and RPS3_WARN_ALPHA when beta ~ 0) */
@@ -230,6 +234,16 @@ static inline double rps3_friction_torque(const rps3_model *m, double dtheta) {
    platform normal: (26)-(28) solved for omega in closed form */
 void rps3_omega_from_balls(double omega[3], const double rho[3][3],
                            const double u[3][3], const double a[3], double r);
+
+/* the parts of rps3_joint_velocity and rps3_joint_acceleration after their
+   solve with df/dtheta, for a caller that factored it once (rps3_fwddyn):
+   vc, omega, dpose from dtheta; Jt ddtheta = x and b'' without its ddtheta
+   part (known); ac, domega from ddtheta and known.  The _from parts end
+   with the stage's finiteness checks and set its stage bit */
+int rps3_joint_velocity_from(const rps3_model *m, rps3_data *d);
+void rps3_joint_acc_rhs(const rps3_data *d, double known[3][3], double x[3]);
+int rps3_joint_acc_from(const rps3_model *m, rps3_data *d,
+                        const double known[3][3]);
 
 /* index of name in names[0..n), or -1 (NULL name: -1) */
 static inline int rps3_name_lookup(const char *const *names, int n,

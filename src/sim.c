@@ -148,8 +148,9 @@ static int evaluate(rps3_sim *s, double t, const double y[]) {
     saturate(s, s->F_cmd, s->F);
   }
   if (!(s->gsl->have_k && same_state(s->gsl->ky, y))) {
+    /* the last state, when it succeeded, predicts this one's theta */
+    st = rps3_fwddyn_state(&s->plant, d, &s->gsl->fd, s->gsl->have_k);
     s->gsl->have_k = 0;
-    st = rps3_fwddyn_state(&s->plant, d, &s->gsl->fd);
     if (st == RPS3_OK) {
       memcpy(s->gsl->ky, y, sizeof(s->gsl->ky));
       s->gsl->have_k = 1;

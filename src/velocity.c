@@ -197,24 +197,11 @@ static void pose_rates(rps3_data *d) {
   d->dpose[2] = d->vc[2];
 }
 
-int rps3_joint_velocity(const rps3_model *m, rps3_data *d) {
-  double Jl[3][3], Jt[3][3], x[3], bd[3][3], rho[3][3], u[3][3], a[3];
-  int i, status;
-  if (m == NULL || d == NULL || !m->valid) return RPS3_EINVAL;
-  if (!(d->stage & RPS3_STAGE_POS))
-    RPS3_ERROR(d, RPS3_ESTATE, "joint velocity needs positions");
-  if (!v3_finite(d->dl))
-    RPS3_ERROR(d, RPS3_EINVAL, "dl (%g, %g, %g) is not finite", d->dl[0],
-               d->dl[1], d->dl[2]);
-  d->stage &= RPS3_STAGE_POS;
-  /* theta-dot from the constraint rates: Jt theta' = -Jl l' */
-  rps3_constraint_jacobian(d, Jl, Jt);
-  m3_mulv(x, M3C(Jl), d->dl);
-  v3_scale(x, -1.0, x);
-  status = solve_jt(m, d, Jt, x);
-  if (status != RPS3_OK) return status;
-  v3_copy(d->dtheta, x);
-  /* ball joint velocities (28) and the centre velocity (25) */
+/* from dtheta (and l, dl, the positions): the ball joint velocities (28),
+   the centre's (25), omega (26)-(28) and the pose rates; the stage */
+int rps3_joint_velocity_from(const rps3_model *m, rps3_data *d) {
+  double bd[3][3], rho[3][3], u[3][3], a[3];
+  int i;
   d->vc[0] = d->vc[1] = d->vc[2] = 0.0;
   for (i = 0; i < 3; i++) {
     v3_scale(bd[i], d->dl[i], d->phi[i]);
@@ -236,27 +223,39 @@ int rps3_joint_velocity(const rps3_model *m, rps3_data *d) {
   return RPS3_OK;
 }
 
-int rps3_joint_acceleration(const rps3_model *m, rps3_data *d) {
-  double Jl[3][3], Jt[3][3], x[3], bd[3][3], known[3][3], bdd[3][3],
-      rho[3][3], u[3][3], a[3], t[3];
-  int i, k, status;
+int rps3_joint_velocity(const rps3_model *m, rps3_data *d) {
+  double Jl[3][3], Jt[3][3], x[3];
+  int status;
   if (m == NULL || d == NULL || !m->valid) return RPS3_EINVAL;
-  if (!(d->stage & RPS3_STAGE_VEL))
-    RPS3_ERROR(d, RPS3_ESTATE, "joint acceleration needs the velocities");
-  if (!v3_finite(d->ddl))
-    RPS3_ERROR(d, RPS3_EINVAL, "ddl (%g, %g, %g) is not finite", d->ddl[0],
-               d->ddl[1], d->ddl[2]);
-  d->stage &= RPS3_STAGE_POS | RPS3_STAGE_VEL;
+  if (!(d->stage & RPS3_STAGE_POS))
+    RPS3_ERROR(d, RPS3_ESTATE, "joint velocity needs positions");
+  if (!v3_finite(d->dl))
+    RPS3_ERROR(d, RPS3_EINVAL, "dl (%g, %g, %g) is not finite", d->dl[0],
+               d->dl[1], d->dl[2]);
+  d->stage &= RPS3_STAGE_POS;
+  /* theta-dot from the constraint rates: Jt theta' = -Jl l' */
+  rps3_constraint_jacobian(d, Jl, Jt);
+  m3_mulv(x, M3C(Jl), d->dl);
+  v3_scale(x, -1.0, x);
+  status = solve_jt(m, d, Jt, x);
+  if (status != RPS3_OK) return status;
+  v3_copy(d->dtheta, x);
+  return rps3_joint_velocity_from(m, d);
+}
+
+/* the second derivative of (8)-(10), D.D'' + |D'|^2 = 0 for D = b_i - b_j,
+   as Jt theta'' = x: x, and b_i'' without its theta'' part (known) */
+void rps3_joint_acc_rhs(const rps3_data *d, double known[3][3],
+                        double x[3]) {
+  double bd[3][3];
+  int i, k;
   for (i = 0; i < 3; i++) {
     double th = d->dtheta[i];
     v3_scale(bd[i], d->dl[i], d->phi[i]);
     v3_axpy(bd[i], bd[i], d->l[i] * th, d->dphi[i]);
-    /* b'' without its theta'' part */
     v3_scale(known[i], d->ddl[i] - d->l[i] * th * th, d->phi[i]);
     v3_axpy(known[i], known[i], 2.0 * d->dl[i] * th, d->dphi[i]);
   }
-  /* second derivative of (8)-(10): D.D'' + |D'|^2 = 0 for D = b_i - b_j */
-  rps3_constraint_jacobian(d, Jl, Jt);
   for (k = 0; k < 3; k++) {
     int p = k, q = (k + 1) % 3;
     double D[3], Dd[3], Kd[3];
@@ -265,9 +264,14 @@ int rps3_joint_acceleration(const rps3_model *m, rps3_data *d) {
     v3_sub(Kd, known[p], known[q]);
     x[k] = -2.0 * (v3_dot(Dd, Dd) + v3_dot(D, Kd));
   }
-  status = solve_jt(m, d, Jt, x);
-  if (status != RPS3_OK) return status;
-  v3_copy(d->ddtheta, x);
+}
+
+/* from ddtheta and known (rps3_joint_acc_rhs): the centre's acceleration
+   and the platform's angular acceleration; the stage */
+int rps3_joint_acc_from(const rps3_model *m, rps3_data *d,
+                         const double known[3][3]) {
+  double bdd[3][3], rho[3][3], u[3][3], a[3], t[3];
+  int i;
   d->ac[0] = d->ac[1] = d->ac[2] = 0.0;
   for (i = 0; i < 3; i++) {
     v3_axpy(bdd[i], known[i], d->l[i] * d->ddtheta[i], d->dphi[i]);
@@ -288,6 +292,24 @@ int rps3_joint_acceleration(const rps3_model *m, rps3_data *d) {
   RPS3_CHECK_FINITE(d, d->domega, 3, "domega");
   d->stage |= RPS3_STAGE_ACC;
   return RPS3_OK;
+}
+
+int rps3_joint_acceleration(const rps3_model *m, rps3_data *d) {
+  double Jl[3][3], Jt[3][3], x[3], known[3][3];
+  int status;
+  if (m == NULL || d == NULL || !m->valid) return RPS3_EINVAL;
+  if (!(d->stage & RPS3_STAGE_VEL))
+    RPS3_ERROR(d, RPS3_ESTATE, "joint acceleration needs the velocities");
+  if (!v3_finite(d->ddl))
+    RPS3_ERROR(d, RPS3_EINVAL, "ddl (%g, %g, %g) is not finite", d->ddl[0],
+               d->ddl[1], d->ddl[2]);
+  d->stage &= RPS3_STAGE_POS | RPS3_STAGE_VEL;
+  rps3_joint_acc_rhs(d, known, x);
+  rps3_constraint_jacobian(d, Jl, Jt);
+  status = solve_jt(m, d, Jt, x);
+  if (status != RPS3_OK) return status;
+  v3_copy(d->ddtheta, x);
+  return rps3_joint_acc_from(m, d, M3C(known));
 }
 
 static void omega_paper(const rps3_model *m, const rps3_data *d,
