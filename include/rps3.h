@@ -237,12 +237,11 @@ typedef struct {
                               by default.  With certify off, the closed-form
                               route, Lagrange and no effect beyond the
                               paper's four, rps3_inverse computes the point
-                              in the batch kernel's one pass (its
-                              tolerances, below): d then holds F, lambda,
-                              cond, transmission, l, dl, ddl, c and mode,
-                              and not the stages' positions and rates
-                              (d->stage is RPS3_STAGE_DYN alone: a stage
-                              that needs them returns RPS3_ESTATE); a
+                              in the batch kernel's lean pass: d then holds
+                              F, lambda, cond, transmission, l, dl, ddl, c
+                              and mode, and not the stages' positions and
+                              rates (d->stage is RPS3_STAGE_DYN alone: a
+                              stage that needs them returns RPS3_ESTATE); a
                               point near a threshold goes through the
                               stages.  Default 0 */
   double cond_warn;        /* set RPS3_WARN_ILLCOND above this 1-norm
@@ -566,6 +565,16 @@ RPS3_API int rps3_invdyn(const rps3_model *m, rps3_data *d);
  * accelerations are computed only when a selected effect or certify needs
  * them.  Returns the first failing stage's status (any of the stages'
  * codes above).
+ *
+ * With the closed-form theta, the Lagrange formulation and no effect
+ * beyond the paper's four, the point is computed in one straight-line
+ * pass, the batch kernel's (below) on one point: the stages' results, to
+ * the kernel's tolerances (rounding: its own sine, cosine and atan2), in
+ * about 60 % of the stages' time.  A point the kernel does not certify
+ * (non-finite, unreachable, overflowing, near or past a threshold) goes
+ * through the stages, so status and warn are always theirs.  d then holds
+ * everything the stages leave -- except on the controller's path
+ * (opt.forces_only with certify off; see rps3_options).
  */
 RPS3_API int rps3_inverse(const rps3_model *m, rps3_data *d);
 

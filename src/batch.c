@@ -213,7 +213,9 @@ static void kernel_block(const rps3_model *m, rps3_data *d,
   o.scale = dst(out->energy_scale, 0, i0, n, o.scale);
   /* neither theta nor the certificate when no one reads them */
   rps3_kernel_block(m, in, i0, nb, rates,
-                    !m->opt.certify && (!out->theta || m->opt.forces_only),
+                    !m->opt.certify && (!out->theta || m->opt.forces_only)
+                        ? RPS3_KLEAN
+                        : RPS3_KFULL,
                     &o);
   /* z_c is the pose's own; without rates (no effect nor the certificate
      needs them) the rates are not computed, as in rps3_inverse; closed
@@ -253,10 +255,15 @@ static void kernel_block(const rps3_model *m, rps3_data *d,
 }
 
 int rps3_inverse_kernel_point(const rps3_model *m, rps3_data *d) {
+  /* the controller's path leaves out theta, the shares and the stages'
+     data; else the point as the stages would leave it */
+  const int lean = m->opt.forces_only && !m->opt.certify;
+  const int need_rates =
+      (m->opt.effects & RPS3_EFF_DYNAMIC) != 0 || m->opt.certify;
   rps3_batch_in in;
   rps3_kout o;
   double theta[3], Fe[RPS3_KNEFF][3], eres, scale, mode, ok;
-  int need_rates = (m->opt.effects & RPS3_EFF_DYNAMIC) != 0, c, k;
+  int c, k;
   /* a component-major batch of one point is the data's own arrays */
   memset(&in, 0, sizeof(in));
   in.n = 1;
@@ -265,12 +272,14 @@ int rps3_inverse_kernel_point(const rps3_model *m, rps3_data *d) {
   in.ddpose = d->ddpose;
   for (c = 0; c < 3; c++) {
     o.l[c] = &d->l[c];
-    o.theta[c] = &theta[c];
+    o.theta[c] = lean ? &theta[c] : &d->theta[c];
     o.F[c] = &d->F[c];
     o.lambda[c] = &d->lambda[c];
     o.dl[c] = &d->dl[c];
     o.ddl[c] = &d->ddl[c];
-    for (k = 0; k < RPS3_KNEFF; k++) o.Fe[k][c] = &Fe[k][c];
+    for (k = 0; k < RPS3_KNEFF; k++)
+      o.Fe[k][c] = lean || m->opt.forces_only ? &Fe[k][c]
+                                               : &d->F_effect[k][c];
   }
   o.c[0] = &d->c[0];
   o.c[1] = &d->c[1];
@@ -280,27 +289,40 @@ int rps3_inverse_kernel_point(const rps3_model *m, rps3_data *d) {
   o.scale = &scale;
   o.mode = &mode;
   o.ok = &ok;
-  rps3_kernel_block(m, &in, 0, 1, need_rates, 1, &o);
+  o.d = d;
+  rps3_kernel_block(m, &in, 0, 1, need_rates, lean ? RPS3_KLEAN : RPS3_KDATA,
+                    &o);
   if (ok == 0.0) return 0;
-  /* what rps3_inverse with forces_only and without the certificate
-     reports; theta is not computed on this route (rps3.h) */
   d->c[2] = d->pose[2];
   for (c = 0; c < 3; c++) {
-    d->theta[c] = (double)NAN;
+    /* forces_only: theta is not computed on this route (rps3.h) */
+    if (lean || m->opt.forces_only) d->theta[c] = (double)NAN;
     if (!need_rates) d->dl[c] = d->ddl[c] = (double)NAN;
   }
-  memset(d->F_effect, 0, sizeof(d->F_effect));
+  /* no shares with forces_only; the effects beyond the kernel's four are
+     not selected */
+  for (k = lean || m->opt.forces_only ? 0 : RPS3_KNEFF; k < RPS3_NEFFECT;
+       k++)
+    for (c = 0; c < 3; c++) d->F_effect[k][c] = 0.0;
   d->has_lambda = 1;
   d->mode = (int)mode;
-  d->have_theta = 0;
-  d->solve_niter = 0;
-  d->solve_resid = 0.0;
-  d->power = d->dTdt = d->dPdt = d->friction_power = d->energy_residual =
-      d->energy_scale = 0.0;
   d->warn = 0;
-  /* positions and rates of the stages are not kept: a stage that needs
-     them refuses (RPS3_ESTATE) rather than reading another point's */
-  d->stage = RPS3_STAGE_DYN;
+  d->energy_residual = m->opt.certify ? eres : 0.0;
+  d->energy_scale = m->opt.certify ? scale : 0.0;
+  if (lean) {
+    d->have_theta = 0;
+    d->power = d->dTdt = d->dPdt = d->friction_power = 0.0;
+    /* positions and rates of the stages are not kept: a stage that
+       needs them refuses (RPS3_ESTATE) rather than reading another
+       point's */
+    d->stage = RPS3_STAGE_DYN;
+    return 1;
+  }
+  /* everything the stages leave: positions (theta by (39) unless
+     forces_only), rates and accelerations when needed, the dynamics */
+  d->have_theta = !m->opt.forces_only;
+  d->stage = RPS3_STAGE_POS | RPS3_STAGE_DYN |
+             (need_rates ? RPS3_STAGE_VEL | RPS3_STAGE_ACC : 0);
   return 1;
 }
 

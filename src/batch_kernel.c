@@ -71,6 +71,7 @@ void rps3_kout_of_block(rps3_kout *o, rps3_kblock *kb) {
   o->scale = kb->scale;
   o->mode = kb->mode;
   o->ok = kb->ok;
+  o->d = NULL;
 }
 
 int rps3_kernel_covers(const rps3_model *m) {
@@ -85,6 +86,7 @@ typedef struct {
   double pin[3][2], u[3][2], body[3][2]; /* z components are zero */
   double sel[RPS3_KNEFF];  /* 1 when effect k is selected, else 0 */
   double certify, cond_lim, trans_lim;
+  double rates;            /* 1 when the rates are the caller's, 0 zero */
   double w_scale;          /* 2 / (3 r^2), rps3_omega_from_balls */
 } kconst;
 
@@ -218,6 +220,58 @@ KINLINE double trans_row(const kconst *K, klink L0, klink L1, klink L2,
   ws = kscale(K->w_scale, ws);
   sd = 0.5 * kdot(a, ws);
   return knorm1(v) + K->R * knorm1(ksub(ws, kscale(sd, a)));
+}
+
+/* a rate of the data: v, or NaN when the rates were not computed */
+KINLINE void kput(double dst[3], kv3 v, int rates) {
+  dst[0] = rates ? v.x : (double)NAN;
+  dst[1] = rates ? v.y : (double)NAN;
+  dst[2] = rates ? v.z : (double)NAN;
+}
+
+/* the stages' positions, rates and certificate terms of a point into d,
+   as rps3_ik_with, rps3_velocity_with, rps3_acceleration_with and
+   rps3_invdyn leave them (the one-point instance below; the block loops
+   never reach it) */
+KINLINE void kdata(rps3_data *d, const kconst *K, kv3 rx, kv3 ry, kv3 rz,
+                   klink L0, klink L1, klink L2, kv3 w, kv3 vc, kv3 dw,
+                   kv3 ac, double pw, double dT, double dP, int rates) {
+  const klink *L[3];
+  int i;
+  L[0] = &L0;
+  L[1] = &L1;
+  L[2] = &L2;
+  d->rot[0][0] = rx.x;
+  d->rot[1][0] = rx.y;
+  d->rot[2][0] = rx.z;
+  d->rot[0][1] = ry.x;
+  d->rot[1][1] = ry.y;
+  d->rot[2][1] = ry.z;
+  d->rot[0][2] = rz.x;
+  d->rot[1][2] = rz.y;
+  d->rot[2][2] = rz.z;
+  for (i = 0; i < 3; i++) {
+    d->b[i][0] = L[i]->b.x;
+    d->b[i][1] = L[i]->b.y;
+    d->b[i][2] = L[i]->b.z;
+    d->phi[i][0] = L[i]->phi.x;
+    d->phi[i][1] = L[i]->phi.y;
+    d->phi[i][2] = L[i]->phi.z;
+    d->dphi[i][0] = L[i]->dphi.x;
+    d->dphi[i][1] = L[i]->dphi.y;
+    d->dphi[i][2] = L[i]->dphi.z;
+    d->dtheta[i] = rates ? L[i]->dth : (double)NAN;
+    d->ddtheta[i] = rates ? L[i]->ddth : (double)NAN;
+  }
+  kput(d->vc, vc, rates);
+  kput(d->omega, w, rates);
+  kput(d->ac, ac, rates);
+  kput(d->domega, dw, rates);
+  /* the certificate's terms, zero without it (rps3_invdyn) */
+  d->power = K->certify != 0.0 ? pw : 0.0;
+  d->dTdt = K->certify != 0.0 ? dT : 0.0;
+  d->dPdt = K->certify != 0.0 ? dP : 0.0;
+  d->friction_power = 0.0;
 }
 
 /* point p of the block: the loop body.  full = 0 leaves out theta (39)
@@ -456,6 +510,9 @@ KINLINE void kpoint(const kconst *K, const double *restrict pa,
                 (cond <= K->cond_lim) & (trans <= K->trans_lim))
                    ? 1.0
                    : 0.0;
+    if (full == 2)
+      kdata(o->d, K, rx, ry, rz, L0, L1, L2, w, vc, dw, ac, pw, dT, dP,
+            K->rates != 0.0);
   }
 }
 
@@ -477,14 +534,25 @@ KINLINE void kpoint(const kconst *K, const double *restrict pa,
 KLOOP(kloop_full, 1)
 KLOOP(kloop_lean, 0)
 
+/* one point with every output and the stages' data (full = 2): scalar
+   code, for rps3_inverse */
+static void kone_data(const kconst *K, const double *pa, const double *pb,
+                      const double *pz, const double *va, const double *vb,
+                      const double *vz, const double *aa, const double *ab,
+                      const double *az, int nb, const rps3_kout *o) {
+  (void)nb;
+  kpoint(K, pa, pb, pz, va, vb, vz, aa, ab, az, 0, o, 2);
+}
+
 void rps3_kernel_block(const rps3_model *m, const rps3_batch_in *in,
-                       size_t i0, int nb, int rates, int lean,
+                       size_t i0, int nb, int rates, rps3_kkind kind,
                        const rps3_kout *o) {
   void (*kloop)(const kconst *, const double *, const double *,
                 const double *, const double *, const double *,
                 const double *, const double *, const double *,
                 const double *, int, const rps3_kout *) =
-      lean ? kloop_lean : kloop_full;
+      kind == RPS3_KLEAN ? kloop_lean
+      : kind == RPS3_KFULL ? kloop_full : kone_data;
   static const double zero[RPS3_KBLOCK];
   const size_t n = in->n;
   const double *pose = in->pose + i0;
@@ -511,6 +579,7 @@ void rps3_kernel_block(const rps3_model *m, const rps3_batch_in *in,
   for (e = 0; e < RPS3_KNEFF; e++)
     K.sel[e] = (m->opt.effects & (1 << e)) ? 1.0 : 0.0;
   K.certify = m->opt.certify ? 1.0 : 0.0;
+  K.rates = rates ? 1.0 : 0.0;
   K.cond_lim = (m->opt.cond_warn < m->opt.cond_max ? m->opt.cond_warn
                                                    : m->opt.cond_max) *
                (1.0 - KMARGIN);

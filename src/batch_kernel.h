@@ -44,7 +44,16 @@ typedef struct {
   double *l[3], *theta[3], *F[3], *Fe[RPS3_KNEFF][3], *lambda[3];
   double *dl[3], *ddl[3], *c[2];
   double *cond, *trans, *eres, *scale, *mode, *ok;
+  rps3_data *d; /* RPS3_KDATA: the stages' positions and rates go here */
 } rps3_kout;
+
+/* what a call of the kernel computes */
+typedef enum {
+  RPS3_KLEAN, /* neither theta nor the certificate (F alone is asked for) */
+  RPS3_KFULL, /* every output */
+  RPS3_KDATA  /* one point, every output and the stages' positions, rates
+                 and certificate terms into o->d (rps3_inverse) */
+} rps3_kkind;
 
 /* o pointing into every array of kb */
 void rps3_kout_of_block(rps3_kout *o, rps3_kblock *kb);
@@ -53,21 +62,23 @@ void rps3_kout_of_block(rps3_kout *o, rps3_kblock *kb);
    paper's four effects */
 int rps3_kernel_covers(const rps3_model *m);
 
-/* points i0 .. i0 + nb - 1 (nb <= RPS3_KBLOCK) of the batch into *o; the
-   rates are read when rates is 1, else taken as zero; lean = 1 computes
-   neither theta nor the certificate (o->theta is then not written, and
-   the residual is 0: for a model without the certificate) */
+/* points i0 .. i0 + nb - 1 (nb <= RPS3_KBLOCK; 1 for RPS3_KDATA) of the
+   batch into *o; the rates are read when rates is 1, else taken as zero;
+   RPS3_KLEAN computes neither theta nor the certificate (o->theta is then
+   not written, and the residual is 0: for a model without the
+   certificate) */
 void rps3_kernel_block(const rps3_model *m, const rps3_batch_in *in,
-                       size_t i0, int nb, int rates, int lean,
+                       size_t i0, int nb, int rates, rps3_kkind kind,
                        const rps3_kout *o);
 
-/* rps3_inverse with opt.forces_only on the kernel's configurations and
-   without the certificate: the point d->pose (rates d->dpose, d->ddpose)
-   by the kernel.  Returns 1 when the kernel certified it and d holds its
-   results (F, lambda, cond, transmission, l, dl, ddl, c, mode; warn 0;
-   stage RPS3_STAGE_DYN alone: the positions and rates of the stages are
-   not kept), 0 when the point is the stages' (nothing of d is then
-   meaningful: the caller computes it by the stages) */
+/* rps3_inverse on the kernel's configurations: the point d->pose (rates
+   d->dpose, d->ddpose) by the kernel.  Returns 1 when the kernel certified
+   it and d holds its results, 0 when the point is the stages' (nothing of
+   d is then meaningful: the caller computes it by the stages).  With
+   forces_only and without the certificate, only F, lambda, cond,
+   transmission, l, dl, ddl, c and mode (warn 0; stage RPS3_STAGE_DYN
+   alone: the stages' positions and rates are not kept); else everything
+   the stages would leave in d */
 int rps3_inverse_kernel_point(const rps3_model *m, rps3_data *d);
 
 /* rps3_inverse by the stages alone (the kernel's fallback) */

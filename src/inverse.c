@@ -61,12 +61,11 @@ static int check_own_root(const rps3_model *m, rps3_data *d, rps3_cjac *J,
 
 int rps3_inverse(const rps3_model *m, rps3_data *d) {
   if (m == NULL || d == NULL || !m->valid) return RPS3_EINVAL;
-  /* the controller's path (forces_only, no certificate) on the kernel's
-     configurations: the point in the kernel's one straight-line pass,
-     which shares every sine and the constraint Jacobian between the
-     stages; a point it does not certify goes through the stages */
-  if (m->opt.forces_only && !m->opt.certify && rps3_kernel_covers(m) &&
-      rps3_inverse_kernel_point(m, d))
+  /* on the kernel's configurations (closed form, Lagrange, the paper's
+     effects) the point in the kernel's one straight-line pass, which
+     shares every sine and the constraint Jacobian between the stages; a
+     point it does not certify goes through the stages */
+  if (rps3_kernel_covers(m) && rps3_inverse_kernel_point(m, d))
     return RPS3_OK;
   return rps3_inverse_stages(m, d);
 }

@@ -188,7 +188,7 @@ static void compare(const rps3_model *m, arrays *a, worst *w) {
     rps3_kout o;
     int p, nb = N - i < RPS3_KBLOCK ? N - i : RPS3_KBLOCK;
     rps3_kout_of_block(&o, &kb);
-    rps3_kernel_block(m, &in, (size_t)i, nb, 1, 0, &o);
+    rps3_kernel_block(m, &in, (size_t)i, nb, 1, RPS3_KFULL, &o);
     for (p = 0; p < nb; p++) w->kernel += kb.ok[p] != 0.0;
   }
   for (i = 0; i < N; i++) {
@@ -341,58 +341,134 @@ static void entropy_model_each_selection(void **state) {
 }
 
 /*
- * rps3_inverse itself with forces_only and without the certificate (the
- * controller's path) on the kernel's configurations: the point through the
- * kernel, against the stages (rps3_inverse_stages), with compare()'s
- * tolerances; status, warning and assembly mode equal; theta NaN, no
- * shares; and the stages' positions and rates not kept, so that a stage
- * that needs them refuses instead of reading another point's.  With the
- * thresholds lowered into the range of the points, the points near them
- * go through the stages (their warnings are then the stages').
+ * rps3_inverse itself on the kernel's configurations: the point through
+ * the kernel (rps3_inverse_kernel_point), against the stages
+ * (rps3_inverse_stages), with compare()'s tolerances; status, warning and
+ * assembly mode equal.  A point the kernel leaves is the stages', bit for
+ * bit.  On the controller's path (forces_only, no certificate) theta is
+ * NaN, there are no shares and the stages' positions and rates are not
+ * kept, so that a stage that needs them refuses instead of reading
+ * another point's.  Otherwise everything the stages leave in the data is
+ * there, to rounding:
+ *   - the orientation's entries within 4 eps, the ball joints within
+ *     4 eps (R + |z_c|): products and sums of sines within 3 ulp;
+ *   - the link directions within 8 eps R / l: a difference of ball joint
+ *     and pin of size l, divided by l;
+ *   - the platform's velocity, angular velocity and accelerations within
+ *     16 eps of the point's velocity and acceleration scale (per metre of
+ *     r for the angular ones), the link angle rates within 16 eps of that
+ *     scale per metre of link;
+ *   - the certificate's terms within 8 eps cond of its power scale;
+ *   - the stage bits, have_theta and has_lambda equal.
+ * With the thresholds lowered into the range of the points, the points
+ * near them go through the stages (their warnings are then the stages').
  */
+static void data_compare(const rps3_model *m, const rps3_data *dk,
+                         const rps3_data *ds, double tol, double fs,
+                         worst *w) {
+  double da = fabs(ds->dpose[0]), db_ = fabs(ds->dpose[1]);
+  double vs = m->r * (da + db_) + fabs(ds->dpose[2]);
+  double as = m->r * (fabs(ds->ddpose[0]) + fabs(ds->ddpose[1]) +
+                      (da + db_) * (da + db_)) +
+              fabs(ds->ddpose[2]);
+  double es = ds->energy_scale > 0 ? ds->energy_scale : 1.0;
+  int i, c, e, rates = (ds->stage & RPS3_STAGE_VEL) != 0;
+  vs = vs > 0 ? vs : 1.0;
+  as = as > 0 ? as : 1.0;
+  assert_int_equal(dk->stage, ds->stage);
+  assert_int_equal(dk->have_theta, ds->have_theta);
+  assert_int_equal(dk->has_lambda, ds->has_lambda);
+  for (i = 0; i < 3; i++)
+    for (c = 0; c < 3; c++) {
+      track(&w->centre, fabs(dk->rot[i][c] - ds->rot[i][c]) / (4.0 * EPS));
+      track(&w->centre, fabs(dk->b[i][c] - ds->b[i][c]) /
+                            (4.0 * EPS * (m->R + fabs(ds->pose[2]))));
+      track(&w->theta, fabs(dk->phi[i][c] - ds->phi[i][c]) /
+                           (8.0 * EPS * m->R / ds->l[i]));
+      track(&w->theta, fabs(dk->dphi[i][c] - ds->dphi[i][c]) /
+                           (8.0 * EPS * m->R / ds->l[i]));
+      for (e = 0; e < RPS3_NEFFECT; e++)
+        track(&w->F, fabs(dk->F_effect[e][c] - ds->F_effect[e][c]) /
+                         (tol * fs));
+    }
+  for (c = 0; c < 3; c++) {
+    if (!m->opt.forces_only)
+      track(&w->theta, fabs(dk->theta[c] - ds->theta[c]) /
+                           (2.0 * (nextafter(PI, 4.0) - PI)));
+    else
+      assert_true(isnan(dk->theta[c]) && isnan(ds->theta[c]));
+    if (!rates) continue;
+    track(&w->rates, fabs(dk->vc[c] - ds->vc[c]) / (16.0 * EPS * vs));
+    track(&w->rates, fabs(dk->omega[c] - ds->omega[c]) * m->r /
+                         (16.0 * EPS * vs));
+    track(&w->rates, fabs(dk->ac[c] - ds->ac[c]) / (16.0 * EPS * as));
+    track(&w->rates, fabs(dk->domega[c] - ds->domega[c]) * m->r /
+                         (16.0 * EPS * as));
+    track(&w->rates, fabs(dk->dtheta[c] - ds->dtheta[c]) * ds->l[c] /
+                         (16.0 * EPS * vs));
+    track(&w->rates, fabs(dk->ddtheta[c] - ds->ddtheta[c]) * ds->l[c] /
+                         (16.0 * EPS * as));
+  }
+  track(&w->eres, fabs(dk->power - ds->power) / (tol * es));
+  track(&w->eres, fabs(dk->dTdt - ds->dTdt) / (tol * es));
+  track(&w->eres, fabs(dk->dPdt - ds->dPdt) / (tol * es));
+  track(&w->eres, fabs(dk->energy_residual - ds->energy_residual) /
+                      (tol * es));
+  track(&w->escale, fabs(dk->energy_scale - ds->energy_scale) / (tol * es));
+  assert_true(dk->friction_power == 0.0 && ds->friction_power == 0.0);
+}
+
 static void scalar_compare(const rps3_model *m, const arrays *a, worst *w) {
-  rps3_data *dk = NULL, *ds = NULL;
+  rps3_data *dk = NULL, *ds = NULL, *dx = NULL;
+  const int lean = m->opt.forces_only && !m->opt.certify;
   int i, c;
   assert_int_equal(rps3_data_alloc(m, &dk), RPS3_OK);
   assert_int_equal(rps3_data_alloc(m, &ds), RPS3_OK);
+  assert_int_equal(rps3_data_alloc(m, &dx), RPS3_OK);
   for (i = 0; i < N; i++) {
     double fs = 0.0, tol;
-    int s;
+    int s, served;
     for (c = 0; c < 3; c++) {
-      dk->pose[c] = ds->pose[c] = AT(a->pose, c, i);
-      dk->dpose[c] = ds->dpose[c] = AT(a->dpose, c, i);
-      dk->ddpose[c] = ds->ddpose[c] = AT(a->ddpose, c, i);
+      dx->pose[c] = dk->pose[c] = ds->pose[c] = AT(a->pose, c, i);
+      dx->dpose[c] = dk->dpose[c] = ds->dpose[c] = AT(a->dpose, c, i);
+      dx->ddpose[c] = dk->ddpose[c] = ds->ddpose[c] = AT(a->ddpose, c, i);
     }
+    served = rps3_inverse_kernel_point(m, dx);
     s = rps3_inverse(m, dk);
     assert_int_equal(s, rps3_inverse_stages(m, ds));
     assert_int_equal(dk->warn, ds->warn);
-    if (s != RPS3_OK) continue;
+    if (s != RPS3_OK) {
+      assert_false(served);
+      continue;
+    }
     assert_int_equal(dk->mode, ds->mode);
-    if (dk->stage != RPS3_STAGE_DYN) {
+    if (!served) {
       /* a point left to the stages: theirs, bit for bit */
       assert_memory_equal(dk->F, ds->F, sizeof(dk->F));
       continue;
     }
     w->kernel++;
-    assert_int_equal(rps3_velocity(m, dk), RPS3_ESTATE);
+    assert_memory_equal(dk->F, dx->F, sizeof(dk->F));
     for (c = 0; c < 3; c++) track(&fs, fabs(ds->F[c]));
+    {
+      int e;
+      for (e = 0; e < RPS3_NEFFECT; e++)
+        for (c = 0; c < 3; c++) {
+          track(&fs, fabs(ds->F_effect[e][c]));
+          if (m->opt.forces_only || !(m->opt.effects & (1 << e)))
+            assert_true(dk->F_effect[e][c] == 0.0);
+        }
+    }
     tol = 8.0 * EPS * ds->cond;
     for (c = 0; c < 3; c++) {
       track(&w->l, ulps(dk->l[c], ds->l[c]) / 4.0);
-      assert_true(isnan(dk->theta[c]) && isnan(ds->theta[c]));
       track(&w->F, fabs(dk->F[c] - ds->F[c]) / (tol * fs));
       track(&w->lambda, fabs(dk->lambda[c] - ds->lambda[c]) * m->R /
                             (tol * fs));
     }
-    {
-      int e;
-      for (e = 0; e < RPS3_NEFFECT; e++)
-        for (c = 0; c < 3; c++) assert_true(dk->F_effect[e][c] == 0.0);
-    }
     track(&w->cond, fabs(dk->cond - ds->cond) / (tol * ds->cond));
     track(&w->trans, fabs(dk->transmission - ds->transmission) /
                          (tol * ds->transmission));
-    assert_true(dk->energy_residual == 0.0 && dk->energy_scale == 0.0);
     {
       double da = fabs(ds->dpose[0]), db_ = fabs(ds->dpose[1]);
       double vs = m->r * (da + db_) + fabs(ds->dpose[2]);
@@ -415,9 +491,23 @@ static void scalar_compare(const rps3_model *m, const arrays *a, worst *w) {
     track(&w->centre, fabs(dk->c[0] - ds->c[0]) / (4.0 * EPS * m->r));
     track(&w->centre, fabs(dk->c[1] - ds->c[1]) / (4.0 * EPS * m->r));
     assert_true(dk->c[2] == ds->c[2]);
+    if (lean) {
+      int e;
+      assert_int_equal(dk->stage, RPS3_STAGE_DYN);
+      assert_int_equal(rps3_velocity(m, dk), RPS3_ESTATE);
+      for (c = 0; c < 3; c++) assert_true(isnan(dk->theta[c]));
+      for (e = 0; e < RPS3_NEFFECT; e++)
+        for (c = 0; c < 3; c++) assert_true(dk->F_effect[e][c] == 0.0);
+      assert_true(dk->energy_residual == 0.0 && dk->energy_scale == 0.0);
+    } else {
+      data_compare(m, dk, ds, tol, fs, w);
+      /* the data is whole: the next stage runs on it as on the stages' */
+      assert_int_equal(rps3_velocity(m, dk), RPS3_OK);
+    }
   }
   rps3_data_free(dk);
   rps3_data_free(ds);
+  rps3_data_free(dx);
 }
 
 static void scalar_path_by_the_kernel(void **state) {
@@ -428,6 +518,19 @@ static void scalar_path_by_the_kernel(void **state) {
          "rps3_inverse, gravity only (no rates)", 1);
   agrees(0, RPS3_EFF_DEFAULT, 0, 1, 0, 2.9, "rps3_inverse, trans_warn", 1);
   agrees(0, RPS3_EFF_DEFAULT, 0, 1, 3.6, 0, "rps3_inverse, cond_warn", 1);
+  /* the default (every output, the certificate) and its variants */
+  agrees(1, RPS3_EFF_DEFAULT, 1, 0, 0, 0, "rps3_inverse, default", 1);
+  agrees(0, RPS3_EFF_DEFAULT, 1, 0, 0, 0, "rps3_inverse, entropy, certify",
+         1);
+  agrees(0, RPS3_EFF_DEFAULT, 0, 0, 0, 0, "rps3_inverse, no certificate", 1);
+  agrees(0, RPS3_EFF_DEFAULT, 1, 1, 0, 0,
+         "rps3_inverse, forces_only, certify", 1);
+  agrees(0, RPS3_EFF_PLATFORM_GRAVITY | RPS3_EFF_LINK_GRAVITY, 0, 0, 0, 0,
+         "rps3_inverse, static, no rates", 1);
+  agrees(0, RPS3_EFF_PLATFORM_GRAVITY | RPS3_EFF_LINK_INERTIA, 1, 0, 0, 0,
+         "rps3_inverse, two effects", 1);
+  agrees(0, RPS3_EFF_DEFAULT, 1, 0, 0, 2.9, "rps3_inverse, default, "
+         "trans_warn", 1);
 }
 
 /* warnings and their thresholds: with cond_warn and trans_warn inside the
@@ -466,7 +569,7 @@ static void transmission_by_virtual_power(void **state) {
   for (i = 0; i < N; i += RPS3_KBLOCK) {
     int nb = N - i < RPS3_KBLOCK ? N - i : RPS3_KBLOCK;
     rps3_kout_of_block(&o, &kb);
-    rps3_kernel_block(&m, &in, (size_t)i, nb, 1, 0, &o);
+    rps3_kernel_block(&m, &in, (size_t)i, nb, 1, RPS3_KFULL, &o);
     for (p = 0; p < nb; p++) {
       for (c = 0; c < 3; c++) {
         d->pose[c] = AT(a->pose, c, i + p);

@@ -28,6 +28,7 @@
 #include <gsl/gsl_errno.h>
 
 #include "anchor_gen.h"
+#include "batch_kernel.h" /* rps3_inverse_stages: the stages alone */
 #include "bench.h"
 #include "rps3.h"
 
@@ -82,6 +83,8 @@ typedef struct {
   rps3_model m;
   double target_ns;
   int count_iter;          /* report theta-solve iterations */
+  int stages;              /* K_INVERSE through the per-point stages alone
+                              (rps3_inverse_stages), not the kernel */
   /* state while running */
   rps3_data *d;            /* the walking data */
   rps3_data ring[RING];    /* snapshots for the stage-only cases */
@@ -152,7 +155,9 @@ static void run_batch(bench_case *c, const points *pt, long ncalls) {
       copy3(d->pose, pt->pose[p]);
       copy3(d->dpose, pt->dpose[p]);
       copy3(d->ddpose, pt->ddpose[p]);
-      if (rps3_inverse(m, d) != RPS3_OK) c->failures++;
+      if ((c->stages ? rps3_inverse_stages(m, d) : rps3_inverse(m, d)) !=
+          RPS3_OK)
+        c->failures++;
       c->iter += d->solve_niter;
     }
     c->solves += ncalls;
@@ -452,11 +457,14 @@ static const struct {
      "scalar rps3_inverse, forces_only / generated code (goal <= 1)"},
     {"batch_closed_lagrange_paper_nocert", "anchor_generated",
      "rps3_inverse_batch per point / generated code, the same forces"},
-    {"pipeline_closed_lagrange_paper_nocert",
+    {"stages_closed_lagrange_paper_nocert",
      "batch_closed_lagrange_paper_nocert",
-     "scalar rps3_inverse / rps3_inverse_batch per point (goal >= 10)"},
-    {"pipeline_closed_lagrange_paper", "batch_closed_lagrange_paper_all",
+     "per-point stages / rps3_inverse_batch per point (goal >= 10)"},
+    {"stages_closed_lagrange_paper", "batch_closed_lagrange_paper_all",
      "the same, certify on, every output (goal >= 10)"},
+    {"stages_closed_lagrange_paper_nocert",
+     "pipeline_closed_lagrange_paper_nocert",
+     "per-point stages / scalar rps3_inverse (its one-point kernel)"},
 };
 #define NRATIO_MAX ((int)(sizeof(ratio_pairs) / sizeof(ratio_pairs[0])))
 
@@ -638,6 +646,17 @@ int main(int argc, char **argv) {
        "theta, the paper's effects (gravity and inertia of platform and "
        "links), Lagrange, certify off", K_INVERSE, SCENE_PAPER, RPS3_LAGRANGE,
        RPS3_THETA_CLOSED_FORM, 1, 0, TARGET_INVDYN_NS, 0);
+  CASE("stages_closed_lagrange_paper_nocert", "the per-point stages alone "
+       "(ik, velocity, acceleration, invdyn: the scalar path before the "
+       "one-point kernel, and the path of every configuration outside "
+       "it), closed-form theta, the paper's effects, Lagrange, certify off",
+       K_INVERSE, SCENE_PAPER, RPS3_LAGRANGE, RPS3_THETA_CLOSED_FORM, 1, 0,
+       BENCH_NONE, 0);
+  cases[ncase - 1].stages = 1;
+  CASE("stages_closed_lagrange_paper", "the per-point stages alone, the "
+       "paper's effects, Lagrange, certify on", K_INVERSE, SCENE_PAPER,
+       RPS3_LAGRANGE, RPS3_THETA_CLOSED_FORM, 1, 1, BENCH_NONE, 0);
+  cases[ncase - 1].stages = 1;
   CASE("pipeline_closed_lagrange_paper_forces", "rps3_inverse, closed-form "
        "theta, the paper's effects, Lagrange, certify off, opt.forces_only "
        "(the controller's path: F only, the outputs of the generated code)",
