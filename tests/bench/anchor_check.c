@@ -49,6 +49,17 @@ static double compare(const rps3_model *m, rps3_data *d, const double par[6]) {
   return worst;
 }
 
+/* note the state of a new largest difference; returns that difference */
+static double keep(double e, const rps3_data *d, double at[9]) {
+  int k;
+  for (k = 0; k < 3; k++) {
+    at[k] = d->pose[k];
+    at[3 + k] = d->dpose[k];
+    at[6 + k] = d->ddpose[k];
+  }
+  return e;
+}
+
 int main(int argc, char **argv) {
   double tol = (argc > 1) ? atof(argv[1]) : 1e-13;
   double par[6], worst = 0.0, T;
@@ -58,6 +69,7 @@ int main(int argc, char **argv) {
   rps3_traj tr;
   rps3_data *d = NULL;
   long n = 0, skipped = 0, k;
+  double at[9] = {0}; /* the state of the largest difference */
 
   gsl_set_error_handler_off();
   rps3_model_default(&m);
@@ -87,7 +99,7 @@ int main(int argc, char **argv) {
       fprintf(stderr, "anchor-check: helix point %ld fails\n", k);
       return 1;
     }
-    if (!(e <= worst)) worst = e;
+    if (!(e <= worst)) worst = keep(e, d, at);
     n++;
   }
   /* random states: alpha anywhere, beta up to 0.6 rad, z_c 0.15-0.5 m,
@@ -108,12 +120,15 @@ int main(int argc, char **argv) {
       skipped++;
       continue;
     }
-    if (!(e <= worst)) worst = e;
+    if (!(e <= worst)) worst = keep(e, d, at);
     n++;
   }
   rps3_data_free(d);
   printf("anchor-check: %ld states (%ld outside the workspace skipped): "
          "largest |F_anchor - F_rps3| / sum_e |F_e| = %.3g (tol %.3g) %s\n",
          n, skipped, worst, tol, worst <= tol ? "PASS" : "FAIL");
+  printf("anchor-check: largest at pose (%.17g, %.17g, %.17g), rates "
+         "(%.17g, %.17g, %.17g), accelerations (%.17g, %.17g, %.17g)\n",
+         at[0], at[1], at[2], at[3], at[4], at[5], at[6], at[7], at[8]);
   return worst <= tol ? 0 : 1;
 }
