@@ -173,6 +173,93 @@ static void forces_only_matches(void **state) {
     }
 }
 
+/* the outputs of rps3_invdyn, bit for bit */
+static int same_dynamics(const rps3_data *a, const rps3_data *b) {
+  return memcmp(a->F, b->F, sizeof(a->F)) == 0 &&
+         memcmp(a->F_effect, b->F_effect, sizeof(a->F_effect)) == 0 &&
+         memcmp(a->lambda, b->lambda, sizeof(a->lambda)) == 0 &&
+         memcmp(&a->cond, &b->cond, sizeof(double)) == 0 &&
+         memcmp(&a->transmission, &b->transmission, sizeof(double)) == 0 &&
+         memcmp(&a->energy_residual, &b->energy_residual, sizeof(double)) ==
+             0 &&
+         a->warn == b->warn;
+}
+
+/*
+ * rps3_inverse builds the constraint Jacobian once a point and hands it to
+ * its later stages; the theta solve reuses the trig of its last
+ * evaluation.  Neither may ever be stale: (a) rps3_invdyn called again on
+ * the data rps3_inverse left (building its own Jacobian from the
+ * positions) gives its outputs bit for bit; (b) a caller that moves the
+ * positions between calls (here by rps3_ik and the rate stages of another
+ * point) gets that point's forces, those of a fresh workspace; (c) a warm
+ * start from a theta the caller changed (by one ulp) solves as a fresh
+ * workspace started there.  Both routes and methods, certificate on, high-
+ * entropy parameters along random trajectories.
+ */
+static void shared_jacobian_never_stale(void **state) {
+  rps3_model m, mc;
+  rps3_data *d, *e, *g;
+  struct rps3_solver_state *es;
+  rps3_traj tr;
+  uint64_t seed = 9127;
+  int method, route, n, k;
+  (void)state;
+  for (method = 0; method < 2; method++)
+    for (route = 0; route < 2; route++) {
+      model_entropy(&m);
+      m.opt.method = (rps3_method)method;
+      m.opt.theta = (rps3_theta_route)route;
+      m.opt.certify = 1;
+      mc = m;
+      mc.opt.theta = RPS3_THETA_CLOSED_FORM;
+      assert_int_equal(rps3_model_init(&m, NULL, 0), RPS3_OK);
+      assert_int_equal(rps3_model_init(&mc, NULL, 0), RPS3_OK);
+      assert_int_equal(rps3_data_alloc(&m, &d), RPS3_OK);
+      assert_int_equal(rps3_data_alloc(&m, &e), RPS3_OK);
+      es = e->solver;
+      for (n = 0; n < 3; n++) {
+        traj_random(&tr, &seed);
+        for (k = 0; k <= 40; k++) {
+          run_point(&m, d, &tr, 0.05 * k);
+          /* (a) */
+          *e = *d;
+          e->solver = es;
+          assert_int_equal(rps3_invdyn(&m, e), RPS3_OK);
+          assert_true(same_dynamics(d, e));
+          /* (c): three times in four one component of the start is
+             moved by one ulp; g, a fresh workspace, starts where d does */
+          if (route == RPS3_THETA_MULTIROOT && k < 40) {
+            assert_int_equal(rps3_data_alloc(&m, &g), RPS3_OK);
+            if (k % 4 != 0)
+              d->theta[k % 4 - 1] = nextafter(d->theta[k % 4 - 1], 4.0);
+            memcpy(g->theta, d->theta, sizeof(d->theta));
+            g->have_theta = 1;
+            g->mode = d->mode;
+            run_point(&m, d, &tr, 0.05 * (k + 1));
+            run_point(&m, g, &tr, 0.05 * (k + 1));
+            assert_true(same_dynamics(d, g));
+            assert_true(memcmp(d->theta, g->theta, sizeof(d->theta)) == 0);
+            rps3_data_free(g);
+          }
+        }
+        /* (b): d at t = 0.3, then moved to t = 0.6 by the public stages */
+        run_point(&m, d, &tr, 0.3);
+        assert_int_equal(rps3_traj_eval(&m, &tr, 0.6, d->pose, d->dpose,
+                                        d->ddpose), RPS3_OK);
+        assert_int_equal(rps3_ik(&m, d), RPS3_OK);
+        assert_int_equal(rps3_velocity(&m, d), RPS3_OK);
+        assert_int_equal(rps3_acceleration(&m, d), RPS3_OK);
+        assert_int_equal(rps3_invdyn(&m, d), RPS3_OK);
+        rps3_data_reset(e);
+        run_point(&mc, e, &tr, 0.6);
+        assert_true(same_dynamics(d, e));
+      }
+      rps3_data_free(d);
+      rps3_data_free(e);
+    }
+}
+
 /*
  * Static symmetric pose, beta = 0, no motion.  By symmetry each ball joint
  * carries M g / 3 upwards and no tangential force; link i's moment balance
@@ -312,6 +399,7 @@ int main(void) {
       cmocka_unit_test(random_trajectories),
       cmocka_unit_test(effects_separate),
       cmocka_unit_test(forces_only_matches),
+      cmocka_unit_test(shared_jacobian_never_stale),
       cmocka_unit_test(static_closed_form),
       cmocka_unit_test(static_scene_needs_no_rates),
       cmocka_unit_test(singular_configuration),
