@@ -26,8 +26,8 @@ static int traj_failed(out_block *b, size_t slot, int rc, double t, size_t k,
 
 /* the batch's scratch in b: OUT_BATCH points of each array */
 typedef struct {
-  double *t, *pose, *dpose, *ddpose, *l, *theta, *F, *lambda, *Fe, *cond,
-      *er, *trans, *dl, *ddl, *c, *es, *sr;
+  double *t, *pose, *dpose, *ddpose, *l, *theta, *F, *lambda, *Fe, *dl,
+      *ddl, *c;
   int *status, *warn, *niter;
 } scratch;
 
@@ -43,50 +43,65 @@ static void scratch_of(out_block *b, scratch *x)
   x->F = p += 3 * OUT_BATCH;
   x->lambda = p += 3 * OUT_BATCH;
   x->Fe = p += 3 * OUT_BATCH;
-  x->cond = p += 3 * RPS3_NEFFECT * OUT_BATCH;
-  x->er = p += OUT_BATCH;
-  x->trans = p += OUT_BATCH;
-  x->dl = p += OUT_BATCH;
+  x->dl = p += 3 * RPS3_NEFFECT * OUT_BATCH;
   x->ddl = p += 3 * OUT_BATCH;
-  x->c = p += 3 * OUT_BATCH;
-  x->es = p += 3 * OUT_BATCH;
-  x->sr = p + OUT_BATCH;
+  x->c = p + 3 * OUT_BATCH;
   x->status = b->bi;
   x->warn = b->bi + OUT_BATCH;
   x->niter = b->bi + 2 * OUT_BATCH;
 }
 
-/* copy point i of a batch of n into sample j of the block */
-static void store_batch(const rps3_model *m, const scratch *x, size_t n,
-                        size_t i, out_block *b, size_t j)
+/* dst[3 i + c] = src[c n + i]: a [3][n] array of the batch into the
+   block's [n][3] */
+static void store3(double *dst, const double *src, size_t n)
 {
-  size_t ne = (size_t)b->neffect, e;
-  int c;
-  for (c = 0; c < 3; c++) {
-    ((double *)b->force)[3 * j + c] = x->F[c * n + i];
-    ((double *)b->length)[3 * j + c] = x->l[c * n + i];
-    ((double *)b->theta)[3 * j + c] = x->theta[c * n + i];
-    ((double *)b->lambda)[3 * j + c] = x->lambda[c * n + i];
-    ((double *)b->length_rate)[3 * j + c] = x->dl[c * n + i];
-    ((double *)b->length_accel)[3 * j + c] = x->ddl[c * n + i];
-    for (e = 0; e < ne; e++)
-      ((double *)b->force_by_effect)[(j * ne + e) * 3 + (size_t)c] =
-          x->Fe[((size_t)b->effect[e] * 3 + (size_t)c) * n + i];
+  size_t i;
+  for (i = 0; i < n; i++) {
+    dst[3 * i] = src[i];
+    dst[3 * i + 1] = src[n + i];
+    dst[3 * i + 2] = src[2 * n + i];
   }
-  ((double *)b->alpha)[j] = x->pose[i];
-  ((double *)b->beta)[j] = x->pose[n + i];
-  ((double *)b->z_c)[j] = x->pose[2 * n + i];
-  ((double *)b->x_c)[j] = x->c[i];
-  ((double *)b->y_c)[j] = x->c[n + i];
+}
+
+/* the batch of n points into samples j .. j + n - 1 of the block, one
+   field at a time (each a sequential stream of writes); the batch wrote
+   condition, transmission, the energy residual and scale and the solve
+   residual into the block itself */
+static void store_batch(const rps3_model *m, const scratch *x, size_t n,
+                        out_block *b, size_t j)
+{
+  const size_t ne = (size_t)b->neffect;
+  double *fe = (double *)b->force_by_effect + j * ne * 3;
+  int32_t *niter = (int32_t *)b->solve_niter + j,
+          *warn = (int32_t *)b->warn + j;
+  size_t i, e;
+  store3((double *)b->force + 3 * j, x->F, n);
+  store3((double *)b->length + 3 * j, x->l, n);
+  store3((double *)b->theta + 3 * j, x->theta, n);
+  store3((double *)b->lambda + 3 * j, x->lambda, n);
+  store3((double *)b->length_rate + 3 * j, x->dl, n);
+  store3((double *)b->length_accel + 3 * j, x->ddl, n);
+  for (i = 0; i < n; i++)
+    for (e = 0; e < ne; e++) {
+      const double *src = x->Fe + (size_t)b->effect[e] * 3 * n + i;
+      fe[(i * ne + e) * 3] = src[0];
+      fe[(i * ne + e) * 3 + 1] = src[n];
+      fe[(i * ne + e) * 3 + 2] = src[2 * n];
+    }
+  memcpy((double *)b->alpha + j, x->pose, n * sizeof(double));
+  memcpy((double *)b->beta + j, x->pose + n, n * sizeof(double));
+  memcpy((double *)b->z_c + j, x->pose + 2 * n, n * sizeof(double));
+  memcpy((double *)b->x_c + j, x->c, n * sizeof(double));
+  memcpy((double *)b->y_c + j, x->c + n, n * sizeof(double));
+  memcpy(b->t + j, x->t, n * sizeof(double));
+  for (i = 0; i < n; i++) {
+    niter[i] = x->niter[i];
+    warn[i] = x->warn[i];
+  }
   /* with certify off the library writes 0: say "not computed" instead */
-  ((double *)b->energy_residual)[j] = m->opt.certify ? x->er[i] : (double)NAN;
-  ((double *)b->energy_scale)[j] = m->opt.certify ? x->es[i] : (double)NAN;
-  ((double *)b->condition)[j] = x->cond[i];
-  ((double *)b->transmission)[j] = x->trans[i];
-  ((double *)b->solve_resid)[j] = x->sr[i];
-  ((int32_t *)b->solve_niter)[j] = x->niter[i];
-  ((int32_t *)b->warn)[j] = x->warn[i];
-  b->t[j] = x->t[i];
+  for (i = 0; i < n && !m->opt.certify; i++)
+    ((double *)b->energy_residual)[j + i] =
+        ((double *)b->energy_scale)[j + i] = (double)NAN;
 }
 
 /*
@@ -110,6 +125,7 @@ static int compute_batch(const scene_case *c, rps3_data *d, size_t k0,
     rps3_batch_out out;
     int trc = RPS3_OK;
     double p[3], dp[3], ddp[3];
+    const size_t j = slot * b->points + (k - k0);
     n = k0 + nk - k < OUT_BATCH ? k0 + nk - k : OUT_BATCH;
     /* the trajectory, structure of arrays, up to a sample it cannot give:
        the samples before it are computed first, and one of them failing
@@ -152,14 +168,15 @@ static int compute_batch(const scene_case *c, rps3_data *d, size_t k0,
     out.F = x.F;
     out.F_effect = x.Fe;
     out.lambda = x.lambda;
-    out.cond = x.cond;
-    out.energy_residual = x.er;
-    out.transmission = x.trans;
+    /* the per-point values straight into the block */
+    out.cond = (double *)b->condition + j;
+    out.energy_residual = (double *)b->energy_residual + j;
+    out.transmission = (double *)b->transmission + j;
     out.dl = x.dl;
     out.ddl = x.ddl;
     out.c = x.c;
-    out.energy_scale = x.es;
-    out.solve_resid = x.sr;
+    out.energy_scale = (double *)b->energy_scale + j;
+    out.solve_resid = (double *)b->solve_resid + j;
     rc = rps3_inverse_batch(m, d, &in, &out);
     if (rc == RPS3_OK && out.nfail)
       rc = out.status[out.first_fail];
@@ -177,8 +194,7 @@ static int compute_batch(const scene_case *c, rps3_data *d, size_t k0,
     }
     if (trc != RPS3_OK)
       return traj_failed(b, slot, trc, x.t[n], k + n, p, dp, ddp, failed_at);
-    for (i = 0; i < n; i++)
-      store_batch(m, &x, n, i, b, slot * b->points + (k - k0) + i);
+    store_batch(m, &x, n, b, j);
   }
   return RPS3_OK;
 }

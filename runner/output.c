@@ -20,11 +20,15 @@
 
 /* ------------------------------------------------------------ HDF5 bits */
 
+/* bytes of HDF5's type conversion buffer per write */
+#define OUT_TCONV_BUF 65536
+
 struct out_file {
   hid_t file;
   hid_t ds[OUT_NFIELD];
   hid_t case_time;    /* [case, time] when the grid differs, else -1 */
   hid_t str;          /* variable-length UTF-8 string type */
+  hid_t dxpl;         /* the tiles' transfer properties */
   size_t ncase;
   size_t nt;
   int neffect;
@@ -332,7 +336,7 @@ static out_file *file_open(const char *path, const scene *s, size_t nt,
     snprintf(err, errsz, "out of memory");
     return NULL;
   }
-  f->file = f->str = f->case_time = -1;
+  f->file = f->str = f->case_time = f->dxpl = -1;
   for (i = 0; i < OUT_NFIELD; i++)
     f->ds[i] = -1;
   f->ncase = s->ncase;
@@ -348,9 +352,15 @@ static out_file *file_open(const char *path, const scene *s, size_t nt,
   f->layout.case_time = !grid_common;
 
   f->str = H5Tcopy(H5T_C_S1);
+  /* the type conversion buffer of a write (the strings of a tile's
+     cases): HDF5 allocates and zeroes its size, 1 MiB by default, at
+     every write; OUT_TCONV_BUF bytes convert in pieces */
+  f->dxpl = H5Pcreate(H5P_DATASET_XFER);
   if (f->str < 0 || H5Tset_size(f->str, H5T_VARIABLE) < 0 ||
       H5Tset_cset(f->str, H5T_CSET_UTF8) < 0)
     out_fail(err, errsz, "cannot make the string type");
+  else if (f->dxpl < 0 || H5Pset_buffer(f->dxpl, OUT_TCONV_BUF, NULL, NULL) < 0)
+    out_fail(err, errsz, "cannot make the transfer properties");
   else if ((f->file = H5Fcreate(path, H5F_ACC_TRUNC, H5P_DEFAULT,
                                 H5P_DEFAULT)) < 0)
     out_fail(err, errsz, "cannot create %s", path);
@@ -399,7 +409,8 @@ out_file *out_create(const char *path, const scene *s,
 
 /* write slots [0, nc) x samples [0, nk) of a [cases, points, cols] buffer
    to rows [c0, c0 + nc) x [k0, k0 + nk) of a dataset of rank `rank` */
-static int write_tile(hid_t ds, hid_t type, int rank, const out_block *b,
+static int write_tile(hid_t ds, hid_t dxpl, hid_t type, int rank,
+                      const out_block *b,
                       const void *buf, size_t c0, size_t nc, size_t k0,
                       size_t nk)
 {
@@ -429,7 +440,7 @@ static int write_tile(hid_t ds, hid_t type, int rank, const out_block *b,
       H5Sselect_hyperslab(ms, H5S_SELECT_SET, start, NULL, count, NULL) >= 0 &&
       H5Sselect_hyperslab(fs, H5S_SELECT_SET, fstart, NULL, count, NULL) >=
           0 &&
-      H5Dwrite(ds, type, ms, fs, H5P_DEFAULT, buf) >= 0)
+      H5Dwrite(ds, type, ms, fs, dxpl, buf) >= 0)
     rc = 0;
   if (fs >= 0)
     H5Sclose(fs);
@@ -487,16 +498,16 @@ int out_write(out_file *f, const out_block *b, size_t c0, size_t nc,
     if ((fi->shape == OUT_C && !with_case) || f->ds[i] < 0 ||
         (fi->shape != OUT_C && b->packed))
       continue;
-    if (write_tile(f->ds[i], type, rank, b, out_block_field(b, i), c0, nc, k0,
-                   nk) < 0) {
+    if (write_tile(f->ds[i], f->dxpl, type, rank, b, out_block_field(b, i), c0,
+                   nc, k0, nk) < 0) {
       out_fail(err, errsz, "cannot write %s of cases %zu-%zu", fi->name, c0,
            c0 + nc - 1);
       return -1;
     }
   }
   if (f->case_time >= 0 && !b->packed &&
-      write_tile(f->case_time, H5T_NATIVE_DOUBLE, 2, b, b->t, c0, nc, k0, nk) <
-          0) {
+      write_tile(f->case_time, f->dxpl, H5T_NATIVE_DOUBLE, 2, b, b->t, c0, nc,
+                 k0, nk) < 0) {
     out_fail(err, errsz, "cannot write case_time of cases %zu-%zu", c0,
          c0 + nc - 1);
     return -1;
@@ -516,6 +527,8 @@ int out_close(out_file *f, char *err, size_t errsz)
     rc = -1;
   if (f->str >= 0)
     H5Tclose(f->str);
+  if (f->dxpl >= 0)
+    H5Pclose(f->dxpl);
   if (f->file >= 0 && H5Fclose(f->file) < 0)
     rc = -1;
   if (rc < 0 && err)

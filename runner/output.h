@@ -168,11 +168,11 @@ typedef struct {
 
 /* points per call of rps3_inverse_batch in the runner, and the scratch
    they need: time, pose, rates, accelerations, lengths, theta, F, lambda,
-   F_effect of every effect, cond, energy residual, transmission, link
-   rates and accelerations, centre, energy scale, solve residual; status,
-   warn, niter */
+   F_effect of every effect, link rates and accelerations, centre; status,
+   warn, niter (the per-point values of one column go to the block
+   itself) */
 #define OUT_BATCH 256
-#define OUT_BATCH_DOUBLES (1 + 9 + 12 + 3 * RPS3_NEFFECT + 2 + 1 + 9 + 2)
+#define OUT_BATCH_DOUBLES (1 + 9 + 12 + 3 * RPS3_NEFFECT + 9)
 #define OUT_BATCH_INTS 3
 
 /* a packed chunk: pk_buf[off, off + size) is chunk (c0, k0) of field
