@@ -1376,6 +1376,8 @@ typedef struct {
   rps3_data *des;       /* workspace of the desired motion */
   rps3_data *meas;      /* workspace at the measured state (PD + gravity,
                            computed torque); its err says why a call failed */
+  /* internal */
+  double t_meas;        /* time of meas's last solved state [s], NaN: none */
 } rps3_ctrl;
 
 /*

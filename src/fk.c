@@ -307,7 +307,7 @@ int rps3_theta_solve(const rps3_model *m, rps3_data *d) {
 int rps3_theta_solve_with(const rps3_model *m, rps3_data *d, rps3_cjac *J) {
   struct rps3_solver_state *s;
   rps3_cjac own;
-  double th[3], f[3];
+  double th[3], f[3], resid0;
   const char *unsafe;
   int i, iter, status, prev_mode, same;
   if (m == NULL || d == NULL || !m->valid) return RPS3_EINVAL;
@@ -357,6 +357,17 @@ int rps3_theta_solve_with(const rps3_model *m, rps3_data *d, rps3_cjac *J) {
     RPS3_ERROR(d, RPS3_EINVAL,
                "constraints (8)-(10) do not evaluate at the starting point "
                "(lengths %g, %g, %g m)", d->l[0], d->l[1], d->l[2]);
+
+  /* a start within the tolerance already (a warm start predicted along the
+     motion) is the root: the solver is not set up for it */
+  resid0 = fmax(fabs(f[0]), fmax(fabs(f[1]), fabs(f[2])));
+  if (resid0 <= m->opt.tol) {
+    s->p.primed = 0;
+    v3_copy(th, d->theta);
+    d->solve_niter = 0;
+    d->solve_resid = resid0;
+    goto root;
+  }
 
   /* initialize */
   status = s->fdf ? gsl_multiroot_fdfsolver_set(s->sfdf, &s->fn_fdf, s->x)
@@ -417,6 +428,7 @@ int rps3_theta_solve_with(const rps3_model *m, rps3_data *d, rps3_cjac *J) {
     }
   }
 
+root:
   /* the branch 0 < theta < pi, after folding whole turns */
   same = 1;
   for (i = 0; i < 3; i++) {
