@@ -72,6 +72,35 @@ static void all_solvers_agree(void **state) {
   }
 }
 
+/* a pose held still: the warm start is the root, which every solver
+   returns at once (0 iterations) with bit for bit the same positions */
+static void held_pose_is_its_own_root(void **state) {
+  int s;
+  (void)state;
+  for (s = 0; s < RPS3_NSOLVER; s++) {
+    rps3_model m;
+    rps3_data *d, first;
+    assert_int_equal(setup_model(&m, (rps3_solver)s), RPS3_OK);
+    assert_int_equal(rps3_data_alloc(&m, &d), RPS3_OK);
+    d->pose[0] = 0.7385;
+    d->pose[1] = 0.2113;
+    d->pose[2] = 0.3117;
+    assert_int_equal(rps3_ik(&m, d), RPS3_OK);
+    if (rps3_theta_solve(&m, d) != RPS3_OK)
+      fail_msg("solver %s: %s", rps3_solver_name(s), d->err.msg);
+    first = *d;
+    assert_int_equal(rps3_theta_solve(&m, d), RPS3_OK);
+    assert_int_equal(d->solve_niter, 0);
+    assert_true(d->solve_resid == first.solve_resid);
+    assert_true(memcmp(d->theta, first.theta, sizeof(d->theta)) == 0);
+    assert_true(memcmp(d->b, first.b, sizeof(d->b)) == 0);
+    assert_true(memcmp(d->rot, first.rot, sizeof(d->rot)) == 0);
+    assert_true(memcmp(d->c, first.c, sizeof(d->c)) == 0);
+    assert_true(d->mode == first.mode && d->warn == first.warn);
+    rps3_data_free(d);
+  }
+}
+
 /* a warm start from a nearby sample needs fewer iterations than cold */
 static void warm_start_pays(void **state) {
   rps3_model m;
@@ -220,6 +249,7 @@ int main(void) {
       cmocka_unit_test(round_trip),
       cmocka_unit_test(all_solvers_agree),
       cmocka_unit_test(warm_start_pays),
+      cmocka_unit_test(held_pose_is_its_own_root),
       cmocka_unit_test(error_codes),
       cmocka_unit_test(level_platform),
       cmocka_unit_test(positions_of_the_root),
