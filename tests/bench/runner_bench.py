@@ -4,13 +4,22 @@ Runs build/rps3-run on sweeps of 10^3 to 10^7 trajectory points (the
 paper's helix, Table II, 1000 samples a case, the default effects, closed
 form theta, Lagrange, the energy certificate on; cases are a sweep of m/M)
 with 1 and 2 threads, and one warm multiroot sweep.  Each run is a fresh
-process; its wall time comes from the monotonic clock around it, its CPU
-time and peak RSS from GNU time (/usr/bin/time).  A table on stdout, the figures in an HDF5
-file (one dataset per column along a `run` dimension scale, `units` and
-`doc` on each).  Medians over the repeats; timings are never asserted.
+process; its wall time comes from the monotonic clock around it, its peak
+RSS from GNU time (/usr/bin/time), its CPU time (user + system, the
+runner's and GNU time's own, about a millisecond) from wait4 on GNU time,
+to the microsecond (GNU time prints hundredths).  A table on stdout, the
+figures in an HDF5 file (one dataset per column along a `run` dimension
+scale, `units` and `doc` on each).  Medians over the repeats; timings are
+never asserted.
+
+--against OLD runs another build of rps3-run on the same rows, its runs
+interleaved with the runner's (old, new, old, new, ...: a shared machine's
+load falls on both alike), and prints its table and the ratios of CPU
+time; only the runner's rows go to the HDF5 file.
 
     python tests/bench/runner_bench.py [-o out/bench_runner.h5]
-        [--runner build/rps3-run] [--max-points 1e7] [--repeats 3]
+        [--runner build/rps3-run] [--against OLD/rps3-run]
+        [--max-points 1e7] [--repeats 3] [--only closed_1e6_j1,...]
 """
 
 import argparse
@@ -95,17 +104,23 @@ def run_once(runner, scene, out, threads, gzip=0, fields=None):
         cmd += ["--gzip", str(gzip)]
     if fields:
         cmd += ["--fields", fields]
-    t0 = time.monotonic()
-    p = subprocess.run([GNU_TIME, "-f", "%U %S %M"] + cmd,
-                       capture_output=True, text=True)
-    wall = time.monotonic() - t0
+    with tempfile.TemporaryFile(mode="w+") as err:
+        t0 = time.monotonic()
+        p = subprocess.Popen([GNU_TIME, "-f", "%M"] + cmd, stderr=err)
+        # the rusage of GNU time includes the runner's (its waited-for
+        # child), in microseconds
+        _, status, ru = os.wait4(p.pid, 0)
+        wall = time.monotonic() - t0
+        p.returncode = os.waitstatus_to_exitcode(status)
+        err.seek(0)
+        stderr = err.read()
     if p.returncode != 0:
-        raise SystemExit(f"{' '.join(cmd)}: exit {p.returncode}: {p.stderr}")
-    user, sys_, rss_kib = p.stderr.split()[-3:]
+        raise SystemExit(f"{' '.join(cmd)}: exit {p.returncode}: {stderr}")
+    rss_kib = stderr.split()[-1]
     size = os.path.getsize(out)
     raw = raw_bytes(out)[1]
     os.unlink(out)
-    return (wall, float(user) + float(sys_), float(rss_kib) / 1024.0, size,
+    return (wall, ru.ru_utime + ru.ru_stime, float(rss_kib) / 1024.0, size,
             raw)
 
 
@@ -147,65 +162,103 @@ def plan(max_points, repeats):
     return rows
 
 
+def row_of(label, points, threads, theta, rep, gzip, fields, runs):
+    """The table's row of one run label from its runs (run_once)."""
+    wall = [r[0] for r in runs]
+    cpu = [r[1] for r in runs]
+    rss = [r[2] for r in runs]
+    med = statistics.median(wall)
+    return dict(
+        run=label, points=points, cases=points // SAMPLES, threads=threads,
+        gzip=gzip, fields=fields or "all",
+        theta=theta, repeats=rep, wall_s=med, wall_min_s=min(wall),
+        wall_max_s=max(wall), cpu_s=statistics.median(cpu),
+        cpu_min_s=min(cpu), cpu_max_s=max(cpu),
+        points_per_s=points / med,
+        points_per_s_per_thread=points / med / threads,
+        points_per_cpu_s=points / statistics.median(cpu),
+        rss_mib=max(rss), file_bytes=runs[0][3],
+        bytes_per_point=runs[0][3] / points,
+        raw_bytes_per_point=runs[0][4] / points)
+
+
 def main():
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("-o", "--output", default=os.path.join(ROOT, "out",
                                                           "bench_runner.h5"))
     ap.add_argument("--runner", default=os.path.join(ROOT, "build",
                                                      "rps3-run"))
+    ap.add_argument("--against", help="another rps3-run, run interleaved "
+                    "with --runner on the same rows (its table and the CPU "
+                    "time ratios are printed, not stored)")
     ap.add_argument("--max-points", type=float, default=1e7)
     ap.add_argument("--repeats", type=int, default=3)
+    ap.add_argument("--only", help="comma-separated run labels to run "
+                    "(default: all)")
     args = ap.parse_args()
+    runners = [args.runner] + ([args.against] if args.against else [])
+    only = set(args.only.split(",")) if args.only else None
 
     outdir = os.path.dirname(os.path.abspath(args.output))
     os.makedirs(outdir, exist_ok=True)
     # the runs' files next to the output (a real disk, not a tmpfs)
     work = tempfile.mkdtemp(prefix="runner_bench.", dir=outdir)
-    rows = []
+    rows = {r: [] for r in runners}
     try:
         for label, points, threads, theta, rep, gzip, fields in plan(
                 int(args.max_points), args.repeats):
-            ncase = points // SAMPLES
+            if only is not None and label not in only:
+                continue
             scene = os.path.join(work, f"{label}.yaml")
             with open(scene, "w") as f:
-                f.write(scene_text(ncase, theta))
-            runs = [run_once(args.runner, scene, os.path.join(work, "o.h5"),
-                             threads, gzip, fields) for _ in range(rep)]
-            wall = [r[0] for r in runs]
-            cpu = [r[1] for r in runs]
-            rss = [r[2] for r in runs]
-            med = statistics.median(wall)
-            rows.append(dict(
-                run=label, points=points, cases=ncase, threads=threads,
-                gzip=gzip, fields=fields or "all",
-                theta=theta, repeats=rep, wall_s=med, wall_min_s=min(wall),
-                wall_max_s=max(wall), cpu_s=statistics.median(cpu),
-                points_per_s=points / med,
-                points_per_s_per_thread=points / med / threads,
-                points_per_cpu_s=points / statistics.median(cpu),
-                rss_mib=max(rss), file_bytes=runs[0][3],
-                bytes_per_point=runs[0][3] / points,
-                raw_bytes_per_point=runs[0][4] / points))
+                f.write(scene_text(points // SAMPLES, theta))
+            runs = {r: [] for r in runners}
+            for _ in range(rep):
+                for r in runners:
+                    runs[r].append(run_once(r, scene,
+                                            os.path.join(work, "o.h5"),
+                                            threads, gzip, fields))
+            for r in runners:
+                rows[r].append(row_of(label, points, threads, theta, rep,
+                                      gzip, fields, runs[r]))
     finally:
         shutil.rmtree(work, ignore_errors=True)
 
-    print_table(rows)
-    write_h5(args.output, rows)
+    print_table(rows[args.runner])
+    if args.against:
+        print(f"\n--against {args.against} (runs interleaved with the "
+              f"above):")
+        print_table(rows[args.against])
+        print(f"\n{'run':22s} {'CPU s new':>10s} {'CPU s old':>10s} "
+              f"{'new/old':>8s}")
+        for a, b in zip(rows[args.runner], rows[args.against]):
+            print(f"{a['run']:22s} {a['cpu_s']:10.3f} {b['cpu_s']:10.3f} "
+                  f"{a['cpu_s'] / b['cpu_s']:8.3f}")
+    print(f"load average {os.getloadavg()[0]:.1f} on {os.cpu_count()} CPUs "
+          f"at the end")
+    if rows[args.runner]:
+        write_h5(args.output, rows[args.runner])
 
 
 def print_table(rows):
     print(f"{'run':22s} {'points':>9s} {'j':>2s} {'wall s':>8s} "
-          f"{'min-max s':>15s} {'Mpt/s':>7s} {'Mpt/s/j':>8s} "
-          f"{'Mpt/cpu-s':>9s} {'RSS MiB':>8s} {'file MB':>8s} "
-          f"{'B/pt':>6s} {'raw':>6s}")
+          f"{'CPU s':>7s} {'min-max CPU s':>15s} {'Mpt/s':>7s} "
+          f"{'Mpt/s/j':>8s} {'Mpt/cpu-s':>9s} {'min-max':>11s} "
+          f"{'RSS MiB':>8s} {'file MB':>8s} {'B/pt':>6s} {'raw':>6s}")
     for r in rows:
         print(f"{r['run']:22s} {r['points']:9d} {r['threads']:2d} "
-              f"{r['wall_s']:8.3f} {r['wall_min_s']:7.3f}-{r['wall_max_s']:7.3f} "
+              f"{r['wall_s']:8.3f} {r['cpu_s']:7.3f} "
+              f"{r['cpu_min_s']:7.3f}-{r['cpu_max_s']:7.3f} "
               f"{r['points_per_s'] / 1e6:7.2f} "
               f"{r['points_per_s_per_thread'] / 1e6:8.2f} "
-              f"{r['points_per_cpu_s'] / 1e6:9.2f} {r['rss_mib']:8.1f} "
+              f"{r['points_per_cpu_s'] / 1e6:9.2f} "
+              f"{r['points'] / r['cpu_max_s'] / 1e6:5.2f}-"
+              f"{r['points'] / r['cpu_min_s'] / 1e6:5.2f} "
+              f"{r['rss_mib']:8.1f} "
               f"{r['file_bytes'] / 1e6:8.1f} {r['bytes_per_point']:6.1f} "
               f"{r['raw_bytes_per_point']:6.1f}")
+    if not rows:
+        return
     big = [r for r in rows if r["points"] >= 10**6
            and r["theta"] == "closed_form" and r["gzip"] == 0
            and r["fields"] == "all"]
@@ -222,7 +275,9 @@ def print_table(rows):
                 and r["theta"] == "closed_form":
             print(f"target >= 3 Mpt per CPU-s (issue 13), {r['run']} "
                   f"(--fields {r['fields']}): "
-                  f"{r['points_per_cpu_s'] / 1e6:.2f} Mpt/cpu-s (ratio "
+                  f"{r['points_per_cpu_s'] / 1e6:.2f} Mpt/cpu-s "
+                  f"({r['points'] / r['cpu_max_s'] / 1e6:.2f}-"
+                  f"{r['points'] / r['cpu_min_s'] / 1e6:.2f}; ratio "
                   f"{r['points_per_cpu_s'] / 3e6:.2f})")
     over = [r["bytes_per_point"] / r["raw_bytes_per_point"] for r in rows
             if r["gzip"] == 0 and r["points"] >= 10**5
@@ -248,6 +303,8 @@ COLUMNS = [
     ("wall_min_s", "s", "fastest run"),
     ("wall_max_s", "s", "slowest run"),
     ("cpu_s", "s", "median user + system CPU time of the process"),
+    ("cpu_min_s", "s", "least CPU time of the repeats"),
+    ("cpu_max_s", "s", "most CPU time of the repeats"),
     ("points_per_s", "1/s", "points / median wall time"),
     ("points_per_s_per_thread", "1/s", "points_per_s / threads"),
     ("points_per_cpu_s", "1/s", "points / median CPU time"),
