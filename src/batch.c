@@ -213,9 +213,10 @@ static void kernel_block(const rps3_model *m, rps3_data *d,
   o.scale = dst(out->energy_scale, 0, i0, n, o.scale);
   /* neither theta nor the certificate when no one reads them */
   rps3_kernel_block(m, in, i0, nb, rates,
-                    !m->opt.certify && (!out->theta || m->opt.forces_only)
-                        ? RPS3_KLEAN
-                        : RPS3_KFULL,
+                    m->opt.certify || (out->theta && !m->opt.forces_only)
+                        ? RPS3_KFULL
+                    : out->F_effect && !m->opt.forces_only ? RPS3_KLEAN
+                                                           : RPS3_KFORCES,
                     &o);
   /* z_c is the pose's own; without rates (no effect nor the certificate
      needs them) the rates are not computed, as in rps3_inverse; closed
@@ -290,8 +291,8 @@ int rps3_inverse_kernel_point(const rps3_model *m, rps3_data *d) {
   o.mode = &mode;
   o.ok = &ok;
   o.d = d;
-  rps3_kernel_block(m, &in, 0, 1, need_rates, lean ? RPS3_KLEAN : RPS3_KDATA,
-                    &o);
+  rps3_kernel_block(m, &in, 0, 1, need_rates,
+                    lean ? RPS3_KFORCES : RPS3_KDATA, &o);
   if (ok == 0.0) return 0;
   d->c[2] = d->pose[2];
   for (c = 0; c < 3; c++) {

@@ -148,7 +148,7 @@ KINLINE klink link_pos(const kconst *K, int i, kv3 rx, kv3 ry, kv3 c,
   L.ok = ((L.l > 0.0) & (v.z > 0.0)) ? 1.0 : 0.0;
   /* select, then divide: a division under a condition is a branch */
   L.il = 1.0 / (L.l > 0.0 ? L.l : 1.0);
-  L.th = full ? katan2(v.z > 0.0 ? v.z : 1.0, -radial) : 0.0;
+  L.th = full > 0 ? katan2(v.z > 0.0 ? v.z : 1.0, -radial) : 0.0;
   ct = -radial * L.il;
   st = v.z * L.il;
   L.phi = kv(-ct * K->u[i][0], -ct * K->u[i][1], st);
@@ -417,21 +417,30 @@ KINLINE void kpoint(const kconst *K, const double *restrict pa,
     /* (df/dtheta)^T lambda = -wt per effect, then (34); F and lambda
        are the sums of the effects' (with forces_only too, where the
        scalar path solves the summed load once: the same to rounding) */
-    lam[0] = klambda(r0, r1, r2, wt[0]);
-    lam[1] = klambda(r0, r1, r2, wt[1]);
-    lam[2] = klambda(r0, r1, r2, wt[2]);
-    lam[3] = klambda(r0, r1, r2, wt[3]);
-    Fe[0] = kforces(wl[0], lam[0], lc, le);
-    Fe[1] = kforces(wl[1], lam[1], lc, le);
-    Fe[2] = kforces(wl[2], lam[2], lc, le);
-    Fe[3] = kforces(wl[3], lam[3], lc, le);
-    F = kadd(kadd(kadd(Fe[0], Fe[1]), Fe[2]), Fe[3]);
-    lamt = kadd(kadd(kadd(lam[0], lam[1]), lam[2]), lam[3]);
+    if (full < 0) {
+      /* no shares asked for: the summed load solved once, as the
+         scalar path's forces_only */
+      lamt = klambda(r0, r1, r2,
+                     kadd(kadd(kadd(wt[0], wt[1]), wt[2]), wt[3]));
+      F = kforces(kadd(kadd(kadd(wl[0], wl[1]), wl[2]), wl[3]), lamt, lc,
+                  le);
+    } else {
+      lam[0] = klambda(r0, r1, r2, wt[0]);
+      lam[1] = klambda(r0, r1, r2, wt[1]);
+      lam[2] = klambda(r0, r1, r2, wt[2]);
+      lam[3] = klambda(r0, r1, r2, wt[3]);
+      Fe[0] = kforces(wl[0], lam[0], lc, le);
+      Fe[1] = kforces(wl[1], lam[1], lc, le);
+      Fe[2] = kforces(wl[2], lam[2], lc, le);
+      Fe[3] = kforces(wl[3], lam[3], lc, le);
+      F = kadd(kadd(kadd(Fe[0], Fe[1]), Fe[2]), Fe[3]);
+      lamt = kadd(kadd(kadd(lam[0], lam[1]), lam[2]), lam[3]);
+    }
 
     /* energy-rate certificate (certify of invdyn.c): power = dT/dt +
        dP/dt, with omega . rot diag(Ip) rot^T domega */
     pw = sc = dT = dP = 0.0;
-    if (full) {
+    if (full > 0) {
     pw = F.x * L0.dl + F.y * L1.dl + F.z * L2.dl;
     sc = fabs(F.x * L0.dl) + fabs(F.y * L1.dl) + fabs(F.z * L2.dl);
     v1 = K->sel[0] * K->M * K->g * vc.z;
@@ -462,7 +471,7 @@ KINLINE void kpoint(const kconst *K, const double *restrict pa,
     o->l[0][p] = L0.l;
     o->l[1][p] = L1.l;
     o->l[2][p] = L2.l;
-    if (full) {
+    if (full > 0) {
       o->theta[0][p] = L0.th;
       o->theta[1][p] = L1.th;
       o->theta[2][p] = L2.th;
@@ -473,18 +482,20 @@ KINLINE void kpoint(const kconst *K, const double *restrict pa,
     o->lambda[0][p] = lamt.x;
     o->lambda[1][p] = lamt.y;
     o->lambda[2][p] = lamt.z;
-    o->Fe[0][0][p] = Fe[0].x;
-    o->Fe[0][1][p] = Fe[0].y;
-    o->Fe[0][2][p] = Fe[0].z;
-    o->Fe[1][0][p] = Fe[1].x;
-    o->Fe[1][1][p] = Fe[1].y;
-    o->Fe[1][2][p] = Fe[1].z;
-    o->Fe[2][0][p] = Fe[2].x;
-    o->Fe[2][1][p] = Fe[2].y;
-    o->Fe[2][2][p] = Fe[2].z;
-    o->Fe[3][0][p] = Fe[3].x;
-    o->Fe[3][1][p] = Fe[3].y;
-    o->Fe[3][2][p] = Fe[3].z;
+    if (full >= 0) {
+      o->Fe[0][0][p] = Fe[0].x;
+      o->Fe[0][1][p] = Fe[0].y;
+      o->Fe[0][2][p] = Fe[0].z;
+      o->Fe[1][0][p] = Fe[1].x;
+      o->Fe[1][1][p] = Fe[1].y;
+      o->Fe[1][2][p] = Fe[1].z;
+      o->Fe[2][0][p] = Fe[2].x;
+      o->Fe[2][1][p] = Fe[2].y;
+      o->Fe[2][2][p] = Fe[2].z;
+      o->Fe[3][0][p] = Fe[3].x;
+      o->Fe[3][1][p] = Fe[3].y;
+      o->Fe[3][2][p] = Fe[3].z;
+    }
     o->dl[0][p] = L0.dl;
     o->dl[1][p] = L1.dl;
     o->dl[2][p] = L2.dl;
@@ -533,6 +544,7 @@ KINLINE void kpoint(const kconst *K, const double *restrict pa,
   }
 KLOOP(kloop_full, 1)
 KLOOP(kloop_lean, 0)
+KLOOP(kloop_forces, -1)
 
 /* one point with every output and the stages' data (full = 2): scalar
    code, for rps3_inverse */
@@ -551,7 +563,8 @@ void rps3_kernel_block(const rps3_model *m, const rps3_batch_in *in,
                 const double *, const double *, const double *,
                 const double *, const double *, const double *,
                 const double *, int, const rps3_kout *) =
-      kind == RPS3_KLEAN ? kloop_lean
+      kind == RPS3_KFORCES ? kloop_forces
+      : kind == RPS3_KLEAN ? kloop_lean
       : kind == RPS3_KFULL ? kloop_full : kone_data;
   static const double zero[RPS3_KBLOCK];
   const size_t n = in->n;

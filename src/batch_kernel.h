@@ -49,6 +49,8 @@ typedef struct {
 
 /* what a call of the kernel computes */
 typedef enum {
+  RPS3_KFORCES, /* as RPS3_KLEAN, and no shares: the summed load solved
+                   once (o->Fe is not written) */
   RPS3_KLEAN, /* neither theta nor the certificate (F alone is asked for) */
   RPS3_KFULL, /* every output */
   RPS3_KDATA  /* one point, every output and the stages' positions, rates
