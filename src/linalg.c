@@ -9,6 +9,7 @@
 #include "linalg.h"
 
 #include <math.h>
+#include <string.h>
 
 /*
  * n = 3, the lambda system, is factored once and solved several times per
@@ -170,14 +171,15 @@ void rps3_lu_solve(int n, const double *LU, const int *perm, double *x) {
 
 double rps3_lu3_inverse_cond1(const double *A, const double *LU,
                               const int *perm, double X[9]) {
+  static const double I3[9] = {1, 0, 0, 0, 1, 0, 0, 0, 1};
   double anorm = 0.0, inorm = 0.0;
-  int i, j;
+  int j;
   for (j = 0; j < 3; j++) {
     double s = fabs(A[j]) + fabs(A[3 + j]) + fabs(A[6 + j]);
     if (s > anorm) anorm = s;
   }
   /* the three columns of A^-1 in one multi-column solve */
-  for (i = 0; i < 9; i++) X[i] = (i % 4 == 0) ? 1.0 : 0.0;
+  memcpy(X, I3, sizeof(I3));
   rps3_lu3_solve_multi(LU, perm, X, 3, 3);
   for (j = 0; j < 3; j++) {
     double s = fabs(X[j]) + fabs(X[3 + j]) + fabs(X[6 + j]);
