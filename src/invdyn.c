@@ -156,7 +156,7 @@ static void payload_moments(const rps3_model *m, double h[3], double S[3][3]) {
  */
 static void lagrange_effect(const rps3_model *m, const rps3_data *d,
                             const lag_kin *k, int e, double w[6]) {
-  double S[3][3] = {{0, 0, 0}, {0, 0, 0}, {0, 0, 0}}, h[3];
+  double S[3][3], h[3]; /* set by payload_moments, for the payload only */
   int i;
   memset(w, 0, 6 * sizeof(double));
   switch (1 << e) {
