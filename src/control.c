@@ -103,7 +103,10 @@ static int desired(rps3_ctrl *c, double t) {
       if (st != RPS3_OK) return st;
     }
   } else {
-    st = rps3_ik_with(&c->model, d, &trig, RPS3_IK_THETA, NULL);
+    /* theta of the desired motion starts the first measured solve only */
+    st = rps3_ik_with(&c->model, d, &trig,
+                      c->meas->have_theta ? RPS3_IK_DIRS : RPS3_IK_THETA,
+                      NULL);
     if (st == RPS3_OK) st = rps3_velocity_with(&c->model, d, &trig);
     if (st == RPS3_OK && c->kind == RPS3_CTRL_COMPUTED_TORQUE)
       st = rps3_acceleration_with(&c->model, d, &trig);
@@ -159,7 +162,9 @@ static void predict_theta(rps3_ctrl *c, const double l[3], double t) {
 static int invdyn_at(rps3_ctrl *c, double t, const double l[3],
                      const double dl[3], const double ddl[3], double F[3]) {
   rps3_data *d = c->meas;
-  int st;
+  rps3_cjac J;
+  double LU[9];
+  int perm[3], st;
   if (!d->have_theta) {
     v3_copy(d->theta, c->des->theta);
     d->have_theta = 1;
@@ -167,16 +172,17 @@ static int invdyn_at(rps3_ctrl *c, double t, const double l[3],
     predict_theta(c, l, t);
   }
   c->t_meas = (double)NAN;
+  /* one constraint Jacobian at the root for the rates and the forces */
   v3_copy(d->l, l);
-  st = rps3_theta_solve(&c->model, d);
+  st = rps3_theta_solve_with(&c->model, d, &J);
+  if (st != RPS3_OK) return st;
+  st = rps3_jt_factor(&c->model, d, M3C(J.Jt), LU, perm);
   if (st != RPS3_OK) return st;
   v3_copy(d->dl, dl);
-  st = rps3_joint_velocity(&c->model, d);
-  if (st != RPS3_OK) return st;
   v3_copy(d->ddl, ddl);
-  st = rps3_joint_acceleration(&c->model, d);
+  st = rps3_joint_rates_lu(&c->model, d, M3C(J.Jl), LU, perm);
   if (st != RPS3_OK) return st;
-  st = rps3_invdyn(&c->model, d);
+  st = rps3_invdyn_with(&c->model, d, &J);
   if (st != RPS3_OK) return st;
   c->t_meas = t;
   v3_copy(F, d->F);

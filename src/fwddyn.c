@@ -58,36 +58,15 @@ static void inertia_world(double Iw[3][3], const double rot[3][3],
  */
 static int rates_and_maps(const rps3_model *m, rps3_data *d,
                           rps3_fd_state *k) {
-  double Jl[3][3], Jt[3][3], A[9], LU[9], rho[3][3], u[3][3], a[3], x[3],
-      known[3][3], det, cond;
+  double Jl[3][3], Jt[3][3], LU[9], rho[3][3], u[3][3], a[3], x[3];
   int perm[3], i, j, q, st;
   rps3_constraint_jacobian(d, Jl, Jt);
-  det = Jt[0][0] * (Jt[1][1] * Jt[2][2] - Jt[1][2] * Jt[2][1]) -
-        Jt[0][1] * (Jt[1][0] * Jt[2][2] - Jt[1][2] * Jt[2][0]) +
-        Jt[0][2] * (Jt[1][0] * Jt[2][1] - Jt[1][1] * Jt[2][0]);
-  d->mode = (det > 0.0) ? 1 : -1;
-  for (i = 0; i < 3; i++)
-    for (q = 0; q < 3; q++) A[3 * i + q] = LU[3 * i + q] = Jt[i][q];
-  if (rps3_lu_factor(3, LU, perm) != 0)
-    RPS3_ERROR(d, RPS3_ESING, "constraint Jacobian df/dtheta is singular");
-  cond = rps3_lu_cond1(3, A, LU, perm);
-  if (!(cond <= m->opt.cond_max))
-    RPS3_ERROR(d, RPS3_ESING,
-               "constraint Jacobian df/dtheta: condition number %.3g exceeds "
-               "cond_max %.3g", cond, m->opt.cond_max);
-  /* velocities: Jt theta' = -Jl l' */
-  m3_mulv(x, M3C(Jl), d->dl);
-  v3_scale(x, -1.0, x);
-  rps3_lu_solve(3, LU, perm, x);
-  v3_copy(d->dtheta, x);
-  st = rps3_joint_velocity_from(m, d);
+  d->mode = rps3_mode_of_jac(M3C(Jt));
+  st = rps3_jt_factor(m, d, M3C(Jt), LU, perm);
   if (st != RPS3_OK) return st;
-  /* the bias: accelerations at l'' = 0 */
+  /* velocities, and the bias: accelerations at l'' = 0 */
   d->ddl[0] = d->ddl[1] = d->ddl[2] = 0.0;
-  rps3_joint_acc_rhs(d, known, x);
-  rps3_lu_solve(3, LU, perm, x);
-  v3_copy(d->ddtheta, x);
-  st = rps3_joint_acc_from(m, d, M3C(known));
+  st = rps3_joint_rates_lu(m, d, M3C(Jl), LU, perm);
   if (st != RPS3_OK) return st;
   v3_copy(k->ddth_b, d->ddtheta);
   v3_copy(k->ac_b, d->ac);
@@ -228,6 +207,25 @@ static void chol3_solve(const double L[3][3], double x[3]) {
   }
 }
 
+/* 1-norm condition number of A from its Cholesky factor L: A^-1 column
+   by column */
+static double chol3_cond1(const double A[3][3], const double L[3][3]) {
+  double anorm = 0.0, inorm = 0.0;
+  int i, j;
+  for (j = 0; j < 3; j++) {
+    double x[3] = {0, 0, 0}, sa = 0.0, si = 0.0;
+    x[j] = 1.0;
+    chol3_solve(L, x);
+    for (i = 0; i < 3; i++) {
+      sa += fabs(A[i][j]);
+      si += fabs(x[i]);
+    }
+    anorm = fmax(anorm, sa);
+    inorm = fmax(inorm, si);
+  }
+  return anorm * inorm;
+}
+
 static double mass_cond(const double Mq[3][3]) {
   double A[9], LU[9];
   int perm[3], i, j;
@@ -308,7 +306,7 @@ static void poison(rps3_data *d) {
 int rps3_fwddyn_state(const rps3_model *m, rps3_data *d, rps3_fd_state *k,
                       int predict) {
   double dl[3];
-  int status, i;
+  int status, i, pd;
   if (!v3_finite(d->dl)) {
     poison(d);
     RPS3_ERROR(d, RPS3_EINVAL, "dl (%g, %g, %g) m/s is not finite", d->dl[0],
@@ -365,10 +363,12 @@ int rps3_fwddyn_state(const rps3_model *m, rps3_data *d, rps3_fd_state *k,
   }
   poison(d); /* no acceleration before rps3_fwddyn_accel */
 
-  /* Mq symmetric positive definite and conditioned: its factor */
+  /* Mq symmetric positive definite and conditioned: its factor, and the
+     condition number from it (by LU when it does not exist) */
   assemble(m, d, k, d->Mq, d->hq);
-  d->Mcond = mass_cond(M3C(d->Mq));
-  if (!(d->Mcond <= m->opt.cond_max) || chol3_factor(M3C(d->Mq), k->Lq) != 0)
+  pd = (chol3_factor(M3C(d->Mq), k->Lq) == 0);
+  d->Mcond = pd ? chol3_cond1(M3C(d->Mq), M3C(k->Lq)) : mass_cond(M3C(d->Mq));
+  if (!pd || !(d->Mcond <= m->opt.cond_max))
     RPS3_ERROR(d, RPS3_ESING,
                "mass matrix not positive definite or condition number %.3g "
                "above cond_max %.3g", d->Mcond, m->opt.cond_max);

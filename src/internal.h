@@ -244,6 +244,14 @@ int rps3_joint_velocity_from(const rps3_model *m, rps3_data *d);
 void rps3_joint_acc_rhs(const rps3_data *d, double known[3][3], double x[3]);
 int rps3_joint_acc_from(const rps3_model *m, rps3_data *d,
                         const double known[3][3]);
+/* df/dtheta factored for the rate stages (RPS3_ESING when singular or
+   conditioned worse than opt.cond_max), and both rate stages with that
+   factor and Jl = df/dl: dtheta from dl, then ddtheta from ddl */
+int rps3_jt_factor(const rps3_model *m, rps3_data *d, const double Jt[3][3],
+                   double LU[9], int perm[3]);
+int rps3_joint_rates_lu(const rps3_model *m, rps3_data *d,
+                        const double Jl[3][3], const double LU[9],
+                        const int perm[3]);
 
 /* index of name in names[0..n), or -1 (NULL name: -1) */
 static inline int rps3_name_lookup(const char *const *names, int n,

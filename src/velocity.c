@@ -28,12 +28,13 @@ void rps3_omega_from_balls(double omega[3], const double rho[3][3],
   v3_axpy(omega, w, -s, a);
 }
 
-/* solve (df/dtheta) x = rhs; RPS3_ESING when singular or conditioned worse
-   than opt.cond_max (the same test as the lambda system of rps3_invdyn) */
-static int solve_jt(const rps3_model *m, rps3_data *d, double Jt[3][3],
-                    double x[3]) {
-  double A[9], LU[9], cond;
-  int perm[3], i, k;
+/* factor df/dtheta for the rate stages: RPS3_ESING when singular or
+   conditioned worse than opt.cond_max (the same test as the lambda system
+   of rps3_invdyn) */
+int rps3_jt_factor(const rps3_model *m, rps3_data *d, const double Jt[3][3],
+                   double LU[9], int perm[3]) {
+  double A[9], cond;
+  int i, k;
   for (i = 0; i < 3; i++)
     for (k = 0; k < 3; k++) A[3 * i + k] = LU[3 * i + k] = Jt[i][k];
   if (rps3_lu_factor(3, LU, perm) != 0)
@@ -43,6 +44,16 @@ static int solve_jt(const rps3_model *m, rps3_data *d, double Jt[3][3],
     RPS3_ERROR(d, RPS3_ESING,
                "constraint Jacobian df/dtheta: condition number %.3g exceeds "
                "cond_max %.3g", cond, m->opt.cond_max);
+  return RPS3_OK;
+}
+
+/* solve (df/dtheta) x = rhs, after rps3_jt_factor's test */
+static int solve_jt(const rps3_model *m, rps3_data *d, double Jt[3][3],
+                    double x[3]) {
+  double LU[9];
+  int perm[3], status;
+  status = rps3_jt_factor(m, d, M3C(Jt), LU, perm);
+  if (status != RPS3_OK) return status;
   rps3_lu_solve(3, LU, perm, x);
   return RPS3_OK;
 }
@@ -308,6 +319,29 @@ int rps3_joint_acceleration(const rps3_model *m, rps3_data *d) {
   rps3_constraint_jacobian(d, Jl, Jt);
   status = solve_jt(m, d, Jt, x);
   if (status != RPS3_OK) return status;
+  v3_copy(d->ddtheta, x);
+  return rps3_joint_acc_from(m, d, M3C(known));
+}
+
+int rps3_joint_rates_lu(const rps3_model *m, rps3_data *d,
+                        const double Jl[3][3], const double LU[9],
+                        const int perm[3]) {
+  double x[3], known[3][3];
+  int status;
+  if (!v3_finite(d->dl) || !v3_finite(d->ddl))
+    RPS3_ERROR(d, RPS3_EINVAL,
+               "dl (%g, %g, %g) or ddl (%g, %g, %g) is not finite", d->dl[0],
+               d->dl[1], d->dl[2], d->ddl[0], d->ddl[1], d->ddl[2]);
+  d->stage &= RPS3_STAGE_POS;
+  /* Jt theta' = -Jl l' */
+  m3_mulv(x, Jl, d->dl);
+  v3_scale(x, -1.0, x);
+  rps3_lu_solve(3, LU, perm, x);
+  v3_copy(d->dtheta, x);
+  status = rps3_joint_velocity_from(m, d);
+  if (status != RPS3_OK) return status;
+  rps3_joint_acc_rhs(d, known, x);
+  rps3_lu_solve(3, LU, perm, x);
   v3_copy(d->ddtheta, x);
   return rps3_joint_acc_from(m, d, M3C(known));
 }
