@@ -29,12 +29,13 @@
 #define EST_SAMPLES 6000
 #define EST_CASES 16
 
-/* CPU seconds to write one byte of chunks, uncompressed: the HDF5 calls
-   and the kernel's copy into the page cache.  Measured with the bench
-   sweep of tests/bench/runner_bench.py (1000 cases of 1000 samples, 331 MB):
-   the run's CPU time less the computation est_cost_measure times, over the
-   bytes written (docs/performance.md) */
-#define EST_WRITE_S_PER_BYTE 1.2e-9
+/* CPU seconds to write one byte of chunks, uncompressed: packing them
+   (out_pack's checksum), the HDF5 calls and the kernel's copy into the
+   page cache.  Measured with the bench sweep of
+   tests/bench/runner_bench.py (1000 cases of 1000 samples, 331 MB): the
+   run's CPU time (0.29 s) less the computation est_cost_measure times
+   (0.09-0.13 us a sample), over the bytes written (docs/performance.md) */
+#define EST_WRITE_S_PER_BYTE 0.5e-9
 /* CPU seconds to deflate one byte, by --gzip level: the same sweep, the
    CPU time of --gzip 1, 4 and 9 less that of no compression, over its
    bytes (docs/hdf5.md, "File size"); levels between are interpolated */
