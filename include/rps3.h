@@ -1263,8 +1263,10 @@ typedef struct {
   rps3_model plant;        /* the simulated mechanism (a copy) */
   rps3_sim_options opt;
   rps3_data *d;            /* plant workspace: positions, rates and
-                              accelerations of the last evaluation; after
-                              rps3_sim_advance those of the state at t */
+                              accelerations of the last evaluation (the
+                              integrator's stages leave the pose and its
+                              rates NaN); after rps3_sim_advance those of
+                              the state at t, all of them */
   double t;                /* simulated time [s] */
   double y[8];             /* l [m], dl [m/s], W_F, W_f [J] */
   double F_cmd[3];         /* last commanded forces [N] */

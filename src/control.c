@@ -172,7 +172,9 @@ static int invdyn_at(rps3_ctrl *c, double t, const double l[3],
     predict_theta(c, l, t);
   }
   c->t_meas = (double)NAN;
-  /* one constraint Jacobian at the root for the rates and the forces */
+  /* one constraint Jacobian at the root for the rates and the forces (the
+     pose and its rates are not needed: rps3_theta_solve leaves the pose
+     out, the pose rates are left NaN) */
   v3_copy(d->l, l);
   st = rps3_theta_solve_with(&c->model, d, &J);
   if (st != RPS3_OK) return st;
@@ -180,7 +182,7 @@ static int invdyn_at(rps3_ctrl *c, double t, const double l[3],
   if (st != RPS3_OK) return st;
   v3_copy(d->dl, dl);
   v3_copy(d->ddl, ddl);
-  st = rps3_joint_rates_lu(&c->model, d, M3C(J.Jl), LU, perm);
+  st = rps3_joint_rates_lu(&c->model, d, M3C(J.Jl), LU, perm, 0);
   if (st != RPS3_OK) return st;
   st = rps3_invdyn_with(&c->model, d, &J);
   if (st != RPS3_OK) return st;

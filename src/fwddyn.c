@@ -57,7 +57,7 @@ static void inertia_world(double Iw[3][3], const double rot[3][3],
  * matrix twice more.
  */
 static int rates_and_maps(const rps3_model *m, rps3_data *d,
-                          rps3_fd_state *k) {
+                          rps3_fd_state *k, int dpose) {
   double Jl[3][3], Jt[3][3], LU[9], rho[3][3], u[3][3], a[3], x[3];
   int perm[3], i, j, q, st;
   rps3_constraint_jacobian(d, Jl, Jt);
@@ -66,7 +66,7 @@ static int rates_and_maps(const rps3_model *m, rps3_data *d,
   if (st != RPS3_OK) return st;
   /* velocities, and the bias: accelerations at l'' = 0 */
   d->ddl[0] = d->ddl[1] = d->ddl[2] = 0.0;
-  st = rps3_joint_rates_lu(m, d, M3C(Jl), LU, perm);
+  st = rps3_joint_rates_lu(m, d, M3C(Jl), LU, perm, dpose);
   if (st != RPS3_OK) return st;
   v3_copy(k->ddth_b, d->ddtheta);
   v3_copy(k->ac_b, d->ac);
@@ -250,7 +250,7 @@ static double mass_cond(const double Mq[3][3]) {
 /* largest predicted change of a theta_i [rad]: ~0.6 degree, many steps of
    any run that keeps its accuracy */
 #define PREDICT_MAX 1e-2
-static int theta_newton(const rps3_model *m, rps3_data *d) {
+static int theta_newton(const rps3_model *m, rps3_data *d, int pose) {
   double L[3], c[3], sn[3];
   int it, i, k, fold = 0;
   if (!(m->opt.warm_start && d->have_theta && v3_finite(d->theta)) ||
@@ -293,7 +293,10 @@ static int theta_newton(const rps3_model *m, rps3_data *d) {
     rps3_links_from_trig(m, d, c, sn);
   rps3_frame_from_balls(m, d);
   if (d->rot[0][0] + d->rot[1][1] < 0.0) return -1; /* spun platform */
-  rps3_pose_from_frame(d);
+  if (pose)
+    rps3_pose_from_frame(d);
+  else
+    d->pose[0] = d->pose[1] = d->pose[2] = (double)NAN;
   return 0;
 }
 
@@ -304,7 +307,7 @@ static void poison(rps3_data *d) {
 }
 
 int rps3_fwddyn_state(const rps3_model *m, rps3_data *d, rps3_fd_state *k,
-                      int predict) {
+                      int flags) {
   double dl[3];
   int status, i, pd;
   if (!v3_finite(d->dl)) {
@@ -333,7 +336,7 @@ int rps3_fwddyn_state(const rps3_model *m, rps3_data *d, rps3_fd_state *k,
        instead of two.  A step of more than PREDICT_MAX (near a singular
        configuration, where G grows) is not taken: the start stays where
        the last root was, as does the fall-back */
-    if (predict && m->opt.warm_start && d->have_theta) {
+    if ((flags & RPS3_FD_PREDICT) && m->opt.warm_start && d->have_theta) {
       double big = 0.0;
       v3_sub(dlen, d->l, k->l);
       m3_mulv(dth, M3C(k->G), dlen);
@@ -341,7 +344,7 @@ int rps3_fwddyn_state(const rps3_model *m, rps3_data *d, rps3_fd_state *k,
       if (big <= PREDICT_MAX)
         v3_axpy(d->theta, d->theta, 1.0, dth);
     }
-    if (theta_newton(m, d) == 0) {
+    if (theta_newton(m, d, !(flags & RPS3_FD_LEAN)) == 0) {
       d->have_theta = 1;
       d->stage = RPS3_STAGE_POS;
     } else {
@@ -356,7 +359,7 @@ int rps3_fwddyn_state(const rps3_model *m, rps3_data *d, rps3_fd_state *k,
   v3_copy(k->l, d->l);
   /* rates, the accelerations at l'' = 0 (the bias) and the maps */
   v3_copy(d->dl, dl);
-  status = rates_and_maps(m, d, k);
+  status = rates_and_maps(m, d, k, !(flags & RPS3_FD_LEAN));
   if (status != RPS3_OK) {
     poison(d);
     return status;

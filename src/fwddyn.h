@@ -26,13 +26,21 @@ typedef struct {
   double l[3];        /* the lengths of this state */
 } rps3_fd_state;
 
+/* flags of rps3_fwddyn_state */
+enum {
+  RPS3_FD_PREDICT = 1, /* *k holds the last state this d was evaluated at,
+                          successfully (d->theta its root): the theta solve
+                          starts from theta + G (l - k->l) */
+  RPS3_FD_LEAN = 2     /* an integrator's stage, which reads the
+                          accelerations and theta' only: the pose and the
+                          pose rates are left out (NaN) */
+};
+
 /* The state part of rps3_fwddyn: reads d->l, d->dl (not d->F); writes the
    positions, the rates, Mq, hq, Mcond and mode, and *k.  On failure the
-   status and message of rps3_fwddyn, d->ddl NaN.  predict = 1 says that *k
-   holds the last state this d was evaluated at, successfully (d->theta its
-   root): the theta solve then starts from theta + G (l - k->l). */
+   status and message of rps3_fwddyn, d->ddl NaN. */
 int rps3_fwddyn_state(const rps3_model *m, rps3_data *d, rps3_fd_state *k,
-                      int predict);
+                      int flags);
 
 /* The force part: ddl, ddtheta, ac, domega from d->F and the state k that
    rps3_fwddyn_state wrote into d (d's positions and rates unchanged since).

@@ -39,6 +39,7 @@ struct rps3_sim_gsl {
   rps3_fd_state fd;
   double ky[6];
   int have_k;
+  int lean_k;               /* 1: that state has no pose, no pose rates */
 };
 
 static const char *const INT_NAME[RPS3_NINTEGRATOR] = {"rk4", "rkf45", "rk8pd",
@@ -127,8 +128,9 @@ static int same_state(const double ky[6], const double y[]) {
 }
 
 /* the plant at (t, y): forces (continuous controller), accelerations,
-   mode; returns the status and records a failure */
-static int evaluate(rps3_sim *s, double t, const double y[]) {
+   mode; lean: for an integrator's stage (no pose, no pose rates); returns
+   the status and records a failure */
+static int evaluate(rps3_sim *s, double t, const double y[], int lean) {
   rps3_data *d = s->d;
   int st, i;
   for (i = 0; i < 3; i++) {
@@ -147,13 +149,17 @@ static int evaluate(rps3_sim *s, double t, const double y[]) {
     }
     saturate(s, s->F_cmd, s->F);
   }
-  if (!(s->gsl->have_k && same_state(s->gsl->ky, y))) {
+  if (!(s->gsl->have_k && same_state(s->gsl->ky, y) &&
+        (lean || !s->gsl->lean_k))) {
     /* the last state, when it succeeded, predicts this one's theta */
-    st = rps3_fwddyn_state(&s->plant, d, &s->gsl->fd, s->gsl->have_k);
+    st = rps3_fwddyn_state(&s->plant, d, &s->gsl->fd,
+                           (s->gsl->have_k ? RPS3_FD_PREDICT : 0) |
+                               (lean ? RPS3_FD_LEAN : 0));
     s->gsl->have_k = 0;
     if (st == RPS3_OK) {
       memcpy(s->gsl->ky, y, sizeof(s->gsl->ky));
       s->gsl->have_k = 1;
+      s->gsl->lean_k = lean;
     }
   } else {
     st = RPS3_OK;
@@ -179,7 +185,7 @@ static int rhs(double t, const double y[], double dydt[], void *params) {
   rps3_data *d = s->d;
   double fric = 0.0;
   int st, i;
-  st = evaluate(s, t, y);
+  st = evaluate(s, t, y, 1);
   if (st != RPS3_OK) {
     s->status = st;
     s->failed_at = t;
@@ -520,7 +526,7 @@ static int settle(rps3_sim *s) {
                "%.9g s", i + 1, s->y[i], s->opt.l_min, s->opt.l_max, s->t);
       return fail(s, RPS3_EREACH, s->t);
     }
-  st = evaluate(s, s->t, s->y);
+  st = evaluate(s, s->t, s->y, 0);
   if (st != RPS3_OK) return fail(s, st, s->t);
   update_energy(s);
   return RPS3_OK;

@@ -209,8 +209,9 @@ static void pose_rates(rps3_data *d) {
 }
 
 /* from dtheta (and l, dl, the positions): the ball joint velocities (28),
-   the centre's (25), omega (26)-(28) and the pose rates; the stage */
-int rps3_joint_velocity_from(const rps3_model *m, rps3_data *d) {
+   the centre's (25), omega (26)-(28) and, when dpose, the pose rates (NaN
+   otherwise); the stage */
+int rps3_joint_velocity_from(const rps3_model *m, rps3_data *d, int dpose) {
   double bd[3][3], rho[3][3], u[3][3], a[3];
   int i;
   d->vc[0] = d->vc[1] = d->vc[2] = 0.0;
@@ -225,11 +226,15 @@ int rps3_joint_velocity_from(const rps3_model *m, rps3_data *d) {
   }
   for (i = 0; i < 3; i++) a[i] = d->rot[i][2];
   rps3_omega_from_balls(d->omega, M3C(rho), M3C(u), a, m->r);
-  pose_rates(d);
   RPS3_CHECK_FINITE(d, d->dtheta, 3, "dtheta");
   RPS3_CHECK_FINITE(d, d->vc, 3, "vc");
   RPS3_CHECK_FINITE(d, d->omega, 3, "omega");
-  RPS3_CHECK_FINITE(d, d->dpose, 3, "dpose");
+  if (dpose) {
+    pose_rates(d);
+    RPS3_CHECK_FINITE(d, d->dpose, 3, "dpose");
+  } else {
+    d->dpose[0] = d->dpose[1] = d->dpose[2] = (double)NAN;
+  }
   d->stage |= RPS3_STAGE_VEL;
   return RPS3_OK;
 }
@@ -251,7 +256,7 @@ int rps3_joint_velocity(const rps3_model *m, rps3_data *d) {
   status = solve_jt(m, d, Jt, x);
   if (status != RPS3_OK) return status;
   v3_copy(d->dtheta, x);
-  return rps3_joint_velocity_from(m, d);
+  return rps3_joint_velocity_from(m, d, 1);
 }
 
 /* the second derivative of (8)-(10), D.D'' + |D'|^2 = 0 for D = b_i - b_j,
@@ -325,7 +330,7 @@ int rps3_joint_acceleration(const rps3_model *m, rps3_data *d) {
 
 int rps3_joint_rates_lu(const rps3_model *m, rps3_data *d,
                         const double Jl[3][3], const double LU[9],
-                        const int perm[3]) {
+                        const int perm[3], int dpose) {
   double x[3], known[3][3];
   int status;
   if (!v3_finite(d->dl) || !v3_finite(d->ddl))
@@ -338,7 +343,7 @@ int rps3_joint_rates_lu(const rps3_model *m, rps3_data *d,
   v3_scale(x, -1.0, x);
   rps3_lu_solve(3, LU, perm, x);
   v3_copy(d->dtheta, x);
-  status = rps3_joint_velocity_from(m, d);
+  status = rps3_joint_velocity_from(m, d, dpose);
   if (status != RPS3_OK) return status;
   rps3_joint_acc_rhs(d, known, x);
   rps3_lu_solve(3, LU, perm, x);
