@@ -701,9 +701,10 @@ int main(int argc, char **argv) {
        SCENE_FULL, RPS3_LAGRANGE, RPS3_THETA_CLOSED_FORM, 1, 0, BENCH_NONE, 1);
   CASE("sim_helix_computed_torque_1khz_rk4", "one 1 ms control period of "
        "the paper's helix under computed torque (kp 400, kd 40, its own "
-       "exact model), the paper's effects, RK4 at the control rate (4 "
-       "fwddyn + 1 to settle + the controller's invdyn); 1000 ns = 1000x "
-       "real time", K_SIM, SCENE_PAPER, RPS3_LAGRANGE,
+       "exact model), the paper's effects, RK4 at the control rate (the "
+       "controller's tick; 4 stages, the first reusing the state evaluated "
+       "at the end of the last period; the state at the period's end); "
+       "1000 ns = 1000x real time", K_SIM, SCENE_PAPER, RPS3_LAGRANGE,
        RPS3_THETA_CLOSED_FORM, 1, 0, TARGET_SIM_NS, 0);
 #undef CASE
 
