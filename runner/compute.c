@@ -63,8 +63,8 @@ static void store3(double *dst, const double *src, size_t n)
   }
 }
 
-/* 1 when the file gets field `name` (--fields) */
-#define WANT(b, name) ((b)->fields >> OUT_##name & 1)
+/* 1 when the file gets field i (--fields) */
+#define WANT(b, i) ((b)->fields >> (i) & 1)
 
 /* the batch of n points into samples j .. j + n - 1 of the block, one
    field at a time (each a sequential stream of writes), the fields the
@@ -73,40 +73,36 @@ static void store3(double *dst, const double *src, size_t n)
 static void store_batch(const rps3_model *m, const scratch *x, size_t n,
                         out_block *b, size_t j)
 {
+  /* the [3][n] outputs, and the one-column ones */
+  const struct {
+    int field;
+    const double *src;
+  } three[] = {{OUT_force, x->F},        {OUT_length, x->l},
+               {OUT_theta, x->theta},    {OUT_lambda, x->lambda},
+               {OUT_length_rate, x->dl}, {OUT_length_accel, x->ddl}},
+    one[] = {{OUT_alpha, x->pose}, {OUT_beta, x->pose + n},
+             {OUT_z_c, x->pose + 2 * n}, {OUT_x_c, x->c},
+             {OUT_y_c, x->c + n}};
   const size_t ne = (size_t)b->neffect;
   double *fe = (double *)b->force_by_effect + j * ne * 3;
   int32_t *niter = (int32_t *)b->solve_niter + j,
           *warn = (int32_t *)b->warn + j;
-  size_t i, e;
-  if (WANT(b, force))
-    store3((double *)b->force + 3 * j, x->F, n);
-  if (WANT(b, length))
-    store3((double *)b->length + 3 * j, x->l, n);
-  if (WANT(b, theta))
-    store3((double *)b->theta + 3 * j, x->theta, n);
-  if (WANT(b, lambda))
-    store3((double *)b->lambda + 3 * j, x->lambda, n);
-  if (WANT(b, length_rate))
-    store3((double *)b->length_rate + 3 * j, x->dl, n);
-  if (WANT(b, length_accel))
-    store3((double *)b->length_accel + 3 * j, x->ddl, n);
-  for (i = 0; i < n && WANT(b, force_by_effect); i++)
+  size_t i, e, f;
+  for (f = 0; f < sizeof three / sizeof three[0]; f++)
+    if (WANT(b, three[f].field))
+      store3((double *)out_block_field(b, three[f].field) + 3 * j,
+             three[f].src, n);
+  for (f = 0; f < sizeof one / sizeof one[0]; f++)
+    if (WANT(b, one[f].field))
+      memcpy((double *)out_block_field(b, one[f].field) + j, one[f].src,
+             n * sizeof(double));
+  for (i = 0; i < n && WANT(b, OUT_force_by_effect); i++)
     for (e = 0; e < ne; e++) {
       const double *src = x->Fe + (size_t)b->effect[e] * 3 * n + i;
       fe[(i * ne + e) * 3] = src[0];
       fe[(i * ne + e) * 3 + 1] = src[n];
       fe[(i * ne + e) * 3 + 2] = src[2 * n];
     }
-  if (WANT(b, alpha))
-    memcpy((double *)b->alpha + j, x->pose, n * sizeof(double));
-  if (WANT(b, beta))
-    memcpy((double *)b->beta + j, x->pose + n, n * sizeof(double));
-  if (WANT(b, z_c))
-    memcpy((double *)b->z_c + j, x->pose + 2 * n, n * sizeof(double));
-  if (WANT(b, x_c))
-    memcpy((double *)b->x_c + j, x->c, n * sizeof(double));
-  if (WANT(b, y_c))
-    memcpy((double *)b->y_c + j, x->c + n, n * sizeof(double));
   memcpy(b->t + j, x->t, n * sizeof(double));
   for (i = 0; i < n; i++) {
     niter[i] = x->niter[i];
