@@ -570,7 +570,8 @@ RPS3_API int rps3_invdyn(const rps3_model *m, rps3_data *d);
  * beyond the paper's four, the point is computed in one straight-line
  * pass, the batch kernel's (below) on one point: the stages' results, to
  * the kernel's tolerances (rounding: its own sine, cosine and atan2), in
- * about 60 % of the stages' time.  A point the kernel does not certify
+ * about three quarters of the stages' time (half on the controller's
+ * path).  A point the kernel does not certify
  * (non-finite, unreachable, overflowing, near or past a threshold) goes
  * through the stages, so status and warn are always theirs.  d then holds
  * everything the stages leave -- except on the controller's path
