@@ -237,13 +237,8 @@ typedef struct {
                               by default.  With certify off, the closed-form
                               route, Lagrange and no effect beyond the
                               paper's four, rps3_inverse computes the point
-                              in the batch kernel's lean pass: d then holds
-                              F, lambda, cond, transmission, l, dl, ddl, c
-                              and mode, and not the stages' positions and
-                              rates (d->stage is RPS3_STAGE_DYN alone: a
-                              stage that needs them returns RPS3_ESTATE); a
-                              point near a threshold goes through the
-                              stages.  Default 0 */
+                              in the batch kernel's lean pass (the summed
+                              load solved once; below).  Default 0 */
   double cond_warn;        /* set RPS3_WARN_ILLCOND above this 1-norm
                               condition number of the lambda system (1e6) */
   double cond_max;         /* RPS3_ESING above this (1e13) */
@@ -573,9 +568,8 @@ RPS3_API int rps3_invdyn(const rps3_model *m, rps3_data *d);
  * about three quarters of the stages' time (half on the controller's
  * path).  A point the kernel does not certify
  * (non-finite, unreachable, overflowing, near or past a threshold) goes
- * through the stages, so status and warn are always theirs.  d then holds
- * everything the stages leave -- except on the controller's path
- * (opt.forces_only with certify off; see rps3_options).
+ * through the stages, so status and warn are always theirs; d then holds
+ * everything the stages leave.
  */
 RPS3_API int rps3_inverse(const rps3_model *m, rps3_data *d);
 

@@ -256,8 +256,8 @@ static void kernel_block(const rps3_model *m, rps3_data *d,
 }
 
 int rps3_inverse_kernel_point(const rps3_model *m, rps3_data *d) {
-  /* the controller's path leaves out theta, the shares and the stages'
-     data; else the point as the stages would leave it */
+  /* the controller's path leaves out theta and the shares, and solves
+     the summed load once; either way d is left as the stages leave it */
   const int lean = m->opt.forces_only && !m->opt.certify;
   const int need_rates =
       (m->opt.effects & RPS3_EFF_DYNAMIC) != 0 || m->opt.certify;
@@ -310,15 +310,6 @@ int rps3_inverse_kernel_point(const rps3_model *m, rps3_data *d) {
   d->warn = 0;
   d->energy_residual = m->opt.certify ? eres : 0.0;
   d->energy_scale = m->opt.certify ? scale : 0.0;
-  if (lean) {
-    d->have_theta = 0;
-    d->power = d->dTdt = d->dPdt = d->friction_power = 0.0;
-    /* positions and rates of the stages are not kept: a stage that
-       needs them refuses (RPS3_ESTATE) rather than reading another
-       point's */
-    d->stage = RPS3_STAGE_DYN;
-    return 1;
-  }
   /* everything the stages leave: positions (theta by (39) unless
      forces_only), rates and accelerations when needed, the dynamics */
   d->have_theta = !m->opt.forces_only;

@@ -229,13 +229,13 @@ KINLINE void kput(double dst[3], kv3 v, int rates) {
   dst[2] = rates ? v.z : (double)NAN;
 }
 
-/* the stages' positions, rates and certificate terms of a point into d,
+/* the stages' positions and rates of a point into d,
    as rps3_ik_with, rps3_velocity_with, rps3_acceleration_with and
    rps3_invdyn leave them (the one-point instance below; the block loops
    never reach it) */
-KINLINE void kdata(rps3_data *d, const kconst *K, kv3 rx, kv3 ry, kv3 rz,
-                   klink L0, klink L1, klink L2, kv3 w, kv3 vc, kv3 dw,
-                   kv3 ac, double pw, double dT, double dP, int rates) {
+KINLINE void kdata(rps3_data *d, kv3 rx, kv3 ry, kv3 rz, klink L0,
+                   klink L1, klink L2, kv3 w, kv3 vc, kv3 dw, kv3 ac,
+                   int rates) {
   const klink *L[3];
   int i;
   L[0] = &L0;
@@ -267,11 +267,6 @@ KINLINE void kdata(rps3_data *d, const kconst *K, kv3 rx, kv3 ry, kv3 rz,
   kput(d->omega, w, rates);
   kput(d->ac, ac, rates);
   kput(d->domega, dw, rates);
-  /* the certificate's terms, zero without it (rps3_invdyn) */
-  d->power = K->certify != 0.0 ? pw : 0.0;
-  d->dTdt = K->certify != 0.0 ? dT : 0.0;
-  d->dPdt = K->certify != 0.0 ? dP : 0.0;
-  d->friction_power = 0.0;
 }
 
 /* point p of the block: the loop body.  full = 0 leaves out theta (39)
@@ -341,6 +336,10 @@ KINLINE void kpoint(const kconst *K, const double *restrict pa,
     L0 = link_rates(L0, w, vc, dw, ac);
     L1 = link_rates(L1, w, vc, dw, ac);
     L2 = link_rates(L2, w, vc, dw, ac);
+    /* the one-point instances: the stages' positions and rates into the
+       data now, while they are at hand */
+    if (full == 2 || full == -2)
+      kdata(o->d, rx, ry, rz, L0, L1, L2, w, vc, dw, ac, K->rates != 0.0);
     cdd = kadd(kadd(kscale(1.0 / 3.0, L0.bdd), kscale(1.0 / 3.0, L1.bdd)),
                kscale(1.0 / 3.0, L2.bdd));
 
@@ -521,9 +520,13 @@ KINLINE void kpoint(const kconst *K, const double *restrict pa,
                 (cond <= K->cond_lim) & (trans <= K->trans_lim))
                    ? 1.0
                    : 0.0;
-    if (full == 2)
-      kdata(o->d, K, rx, ry, rz, L0, L1, L2, w, vc, dw, ac, pw, dT, dP,
-            K->rates != 0.0);
+    if (full == 2 || full == -2) {
+      /* the certificate's terms, zero without it (rps3_invdyn) */
+      o->d->power = K->certify != 0.0 ? pw : 0.0;
+      o->d->dTdt = K->certify != 0.0 ? dT : 0.0;
+      o->d->dPdt = K->certify != 0.0 ? dP : 0.0;
+      o->d->friction_power = 0.0;
+    }
   }
 }
 
@@ -546,8 +549,22 @@ KLOOP(kloop_full, 1)
 KLOOP(kloop_lean, 0)
 KLOOP(kloop_forces, -1)
 
+/* one point, F without shares, and the stages' data (full = -2): scalar
+   code, for rps3_inverse on the controller's path */
+KCLONES
+static void kone_forces_data(const kconst *K, const double *pa,
+                             const double *pb, const double *pz,
+                             const double *va, const double *vb,
+                             const double *vz, const double *aa,
+                             const double *ab, const double *az, int nb,
+                             const rps3_kout *o) {
+  (void)nb;
+  kpoint(K, pa, pb, pz, va, vb, vz, aa, ab, az, 0, o, -2);
+}
+
 /* one point with every output and the stages' data (full = 2): scalar
    code, for rps3_inverse */
+KCLONES
 static void kone_data(const kconst *K, const double *pa, const double *pb,
                       const double *pz, const double *va, const double *vb,
                       const double *vz, const double *aa, const double *ab,
@@ -563,7 +580,7 @@ void rps3_kernel_block(const rps3_model *m, const rps3_batch_in *in,
                 const double *, const double *, const double *,
                 const double *, const double *, const double *,
                 const double *, int, const rps3_kout *) =
-      kind == RPS3_KFORCES ? kloop_forces
+      kind == RPS3_KFORCES ? (o->d != NULL ? kone_forces_data : kloop_forces)
       : kind == RPS3_KLEAN ? kloop_lean
       : kind == RPS3_KFULL ? kloop_full : kone_data;
   static const double zero[RPS3_KBLOCK];

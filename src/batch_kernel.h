@@ -50,7 +50,8 @@ typedef struct {
 /* what a call of the kernel computes */
 typedef enum {
   RPS3_KFORCES, /* as RPS3_KLEAN, and no shares: the summed load solved
-                   once (o->Fe is not written) */
+                   once (o->Fe is not written); with o->d, one point and
+                   the stages' positions and rates into it */
   RPS3_KLEAN, /* neither theta nor the certificate (F alone is asked for) */
   RPS3_KFULL, /* every output */
   RPS3_KDATA  /* one point, every output and the stages' positions, rates
@@ -75,12 +76,11 @@ void rps3_kernel_block(const rps3_model *m, const rps3_batch_in *in,
 
 /* rps3_inverse on the kernel's configurations: the point d->pose (rates
    d->dpose, d->ddpose) by the kernel.  Returns 1 when the kernel certified
-   it and d holds its results, 0 when the point is the stages' (nothing of
-   d is then meaningful: the caller computes it by the stages).  With
-   forces_only and without the certificate, only F, lambda, cond,
-   transmission, l, dl, ddl, c and mode (warn 0; stage RPS3_STAGE_DYN
-   alone: the stages' positions and rates are not kept); else everything
-   the stages would leave in d */
+   it and d holds its results -- everything the stages would leave in d
+   -- or 0 when the point is the stages' (nothing of d is then
+   meaningful: the caller computes it by the stages).  With forces_only
+   and without the certificate, the lean pass (no theta, no shares, the
+   summed load solved once) */
 int rps3_inverse_kernel_point(const rps3_model *m, rps3_data *d);
 
 /* rps3_inverse by the stages alone (the kernel's fallback) */
