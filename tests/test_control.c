@@ -1,5 +1,5 @@
 /*
- * test_control.c - the shipped controllers' desired motion is the
+ * test_control.c - the shipped controllers.  Their desired motion is the
  * trajectory's, whatever the effects of the controller's own model: a
  * model that selects no dynamic effect (gravity alone) computes no rates
  * for its forces, and the controller must still track the desired link
@@ -53,9 +53,118 @@ static void pd_tracks_the_desired_rates(void **state) {
     }
 }
 
+/*
+ * Every controller logs the desired lengths and rates of its trajectory,
+ * open loop too, whatever its model's effects (a static model computes no
+ * rates for its forces): l_des and dl_des against rps3_ik and
+ * rps3_velocity of a separate full model, to rounding.
+ */
+static void every_kind_logs_the_desired_motion(void **state) {
+  int kind, e;
+  (void)state;
+  for (kind = 0; kind < RPS3_NCTRL; kind++)
+    for (e = 0; e < 2; e++) {
+      rps3_model cm, om;
+      rps3_data *od = NULL;
+      rps3_ctrl *c = NULL;
+      rps3_traj tr;
+      double F[3];
+      int k, i;
+      rps3_traj_default(&tr);
+      rps3_model_default(&cm);
+      cm.opt.effects = e ? RPS3_EFF_DEFAULT
+                         : RPS3_EFF_PLATFORM_GRAVITY | RPS3_EFF_LINK_GRAVITY;
+      cm.opt.certify = 0;
+      assert_int_equal(rps3_model_init(&cm, NULL, 0), RPS3_OK);
+      rps3_model_default(&om);
+      assert_int_equal(rps3_model_init(&om, NULL, 0), RPS3_OK);
+      assert_int_equal(rps3_data_alloc(&om, &od), RPS3_OK);
+      assert_int_equal(rps3_ctrl_alloc((rps3_ctrl_kind)kind, 100.0, 10.0,
+                                       &cm, &tr, &c, NULL, 0),
+                       RPS3_OK);
+      for (k = 0; k <= 10; k++) {
+        double t = 0.97 * k;
+        assert_int_equal(rps3_traj_eval(&om, &tr, t, od->pose, od->dpose,
+                                        od->ddpose),
+                         RPS3_OK);
+        assert_int_equal(rps3_ik(&om, od), RPS3_OK);
+        assert_int_equal(rps3_velocity(&om, od), RPS3_OK);
+        assert_int_equal(rps3_ctrl_update(c, t, od->l, od->dl, F), RPS3_OK);
+        for (i = 0; i < 3; i++) {
+          /* lengths ~0.2 m and rates ~0.1 m/s by two routes: rounding */
+          CHECK_REL(c->l_des[i], od->l[i], 1e-12, 1.0,
+                    "kind %d effects %d t %g: l_des%d", kind, e, t, i);
+          CHECK_REL(c->dl_des[i], od->dl[i], 1e-12, 1.0,
+                    "kind %d effects %d t %g: dl_des%d", kind, e, t, i);
+          assert_true(isfinite(F[i]));
+        }
+      }
+      rps3_ctrl_free(c);
+      rps3_data_free(od);
+    }
+}
+
+/*
+ * A controller called again at the same time or at an earlier one (a
+ * continuous controller inside an adaptive step, rate 0) has no motion to
+ * predict its theta solve's start from: it starts from its last root.  Its
+ * forces equal, to the theta solve's tolerance, those of a fresh
+ * controller given the same call: PD + gravity and computed torque, on
+ * measured states off the trajectory.
+ */
+static void repeated_and_earlier_times(void **state) {
+  const rps3_ctrl_kind kinds[2] = {RPS3_CTRL_PD_GRAVITY,
+                                   RPS3_CTRL_COMPUTED_TORQUE};
+  const double times[6] = {1.0, 1.0, 0.999, 1.5, 1.5, 0.2};
+  int q, k, i;
+  (void)state;
+  for (q = 0; q < 2; q++) {
+    rps3_model cm;
+    rps3_data *od = NULL;
+    rps3_ctrl *c = NULL, *fresh = NULL;
+    rps3_traj tr;
+    rps3_traj_default(&tr);
+    rps3_model_default(&cm);
+    assert_int_equal(rps3_model_init(&cm, NULL, 0), RPS3_OK);
+    assert_int_equal(rps3_data_alloc(&cm, &od), RPS3_OK);
+    assert_int_equal(rps3_ctrl_alloc(kinds[q], 400.0, 40.0, &cm, &tr, &c,
+                                     NULL, 0),
+                     RPS3_OK);
+    for (k = 0; k < 6; k++) {
+      double t = times[k], F[3], G[3], l[3], dl[3];
+      assert_int_equal(rps3_traj_eval(&cm, &tr, t, od->pose, od->dpose,
+                                      od->ddpose),
+                       RPS3_OK);
+      assert_int_equal(rps3_ik(&cm, od), RPS3_OK);
+      assert_int_equal(rps3_velocity(&cm, od), RPS3_OK);
+      for (i = 0; i < 3; i++) {
+        /* a measured state 1 mm and 1 cm/s off the desired one */
+        l[i] = od->l[i] + 1e-3 * (i - 1);
+        dl[i] = od->dl[i] - 1e-2 * (i - 1);
+      }
+      assert_int_equal(rps3_ctrl_update(c, t, l, dl, F), RPS3_OK);
+      assert_int_equal(rps3_ctrl_alloc(kinds[q], 400.0, 40.0, &cm, &tr,
+                                       &fresh, NULL, 0),
+                       RPS3_OK);
+      assert_int_equal(rps3_ctrl_update(fresh, t, l, dl, G), RPS3_OK);
+      for (i = 0; i < 3; i++)
+        /* theta to tol 1e-12 (units of R^2 in f): forces to ~1e-11 of
+           their ~1-10 N scale */
+        CHECK_REL(F[i], G[i], 1e-9, 1.0, "kind %d call %d (t %g): F%d",
+                  (int)kinds[q], k, t, i);
+      rps3_ctrl_free(fresh);
+      fresh = NULL;
+    }
+    rps3_ctrl_free(c);
+    rps3_data_free(od);
+  }
+}
+
 int main(void) {
   const struct CMUnitTest tests[] = {
       cmocka_unit_test(pd_tracks_the_desired_rates),
+      cmocka_unit_test(every_kind_logs_the_desired_motion),
+      cmocka_unit_test(repeated_and_earlier_times),
   };
   gsl_set_error_handler_off();
   return cmocka_run_group_tests(tests, NULL, NULL);
