@@ -583,7 +583,7 @@ RPS3_API int rps3_inverse(const rps3_model *m, rps3_data *d);
  *     for i: copy point i into d; rps3_<stage>(m, d); copy the results out
  * computes them, and the results are bitwise those of that loop (a
  * multiroot theta solve warm-starts from the previous point of d when
- * m->opt.warm_start) -- except for the vectorised kernel below.  No
+ * m->opt.warm_start) -- the vectorised kernel below included.  No
  * allocation; one workspace per thread, so a caller may split a batch
  * across threads, each thread with its own d.
  *
@@ -594,18 +594,20 @@ RPS3_API int rps3_inverse(const rps3_model *m, rps3_data *d);
  * compiler vectorises (AVX2 or AVX-512 where the CPU has them), more than
  * ten times the points per second of the per-point loop
  * (docs/performance.md); with out->theta NULL and without the certificate
- * it leaves theta and the certificate out as well.
- * Its results agree with the loop's to rounding, not bitwise: l within 4
- * ulp, theta within 2 ulp of pi, F, its shares and lambda R within 8 eps
- * cond of the point's largest force or share, cond within 8 eps cond
- * (tests/test_batch_kernel.c); transmission and the energy scale within
- * 8 eps cond, dl and ddl within 16 eps of the point's velocity and
+ * it leaves theta and the certificate out as well.  rps3_inverse runs
+ * the same loop body on its one point, so the batch and the loop of
+ * rps3_inverse agree bit for bit (tests/test_batch_kernel.c).  Against
+ * the per-point stages (the path of every other configuration) the
+ * kernel agrees to rounding: l within 4 ulp, theta within 2 ulp of pi, F,
+ * its shares and lambda R within 8 eps cond of the point's largest force
+ * or share, cond within 8 eps cond; transmission and the energy scale
+ * within 8 eps cond, dl and ddl within 16 eps of the point's velocity and
  * acceleration scale, x_c and y_c within 4 eps r.  A point it cannot
  * certify -- a non-finite
  * input, an angle beyond 1e5 rad, an unreachable pose, a result that
  * overflows, or a condition number or force transmission near or above
- * its warning threshold -- is computed by the per-point loop, so status
- * and warn are exactly the loop's for every point (warn is 0 and niter 0
+ * its warning threshold -- is computed by the per-point stages, so status
+ * and warn are exactly the stages' for every point (warn is 0 and niter 0
  * for the kernel's points).  After the call d holds the last point the
  * loop computed, not necessarily point n - 1.  The kernel keeps one block
  * of results on the stack (about 20 kB).

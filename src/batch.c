@@ -211,12 +211,15 @@ static void kernel_block(const rps3_model *m, rps3_data *d,
   o.trans = dst(out->transmission, 0, i0, n, o.trans);
   o.eres = dst(out->energy_residual, 0, i0, n, o.eres);
   o.scale = dst(out->energy_scale, 0, i0, n, o.scale);
-  /* neither theta nor the certificate when no one reads them */
+  /* neither theta nor the certificate when no one reads them; the
+     summed load solved once only where rps3_inverse solves it so
+     (forces_only without the certificate), so that every point is
+     bitwise what rps3_inverse gives it */
   rps3_kernel_block(m, in, i0, nb, rates,
                     m->opt.certify || (out->theta && !m->opt.forces_only)
                         ? RPS3_KFULL
-                    : out->F_effect && !m->opt.forces_only ? RPS3_KLEAN
-                                                           : RPS3_KFORCES,
+                    : !m->opt.forces_only ? RPS3_KLEAN
+                                          : RPS3_KFORCES,
                     &o);
   /* z_c is the pose's own; without rates (no effect nor the certificate
      needs them) the rates are not computed, as in rps3_inverse; closed

@@ -524,6 +524,101 @@ static void scalar_path_by_the_kernel(void **state) {
          "trans_warn", 1);
 }
 
+/*
+ * rps3_inverse_batch is the loop of rps3_inverse bit for bit, kernel or
+ * not: where the batch runs its vectorised loop, rps3_inverse runs the
+ * same body on its one point (no contraction into FMA, the same
+ * operations in the same order in every lane), and picks the same
+ * variant (the summed load only on the controller's path).  Every output,
+ * and F alone, for each selection of certificate and forces_only, with
+ * warning thresholds that put points on both sides.
+ */
+static void batch_is_the_loop_bitwise(void **state) {
+  arrays *a = calloc(1, sizeof(*a));
+  int cfg, sel, i, c, k;
+  (void)state;
+  assert_non_null(a);
+  for (cfg = 0; cfg < 8; cfg++)
+    for (sel = 0; sel < 2; sel++) {
+      rps3_model m;
+      rps3_data *db = NULL, *dl = NULL;
+      rps3_batch_in in;
+      rps3_batch_out out;
+      model_entropy(&m);
+      m.opt.effects = RPS3_EFF_DEFAULT;
+      m.opt.certify = cfg & 1;
+      m.opt.forces_only = (cfg >> 1) & 1;
+      if (cfg & 4) m.opt.trans_warn = 2.9;
+      assert_int_equal(rps3_model_init(&m, NULL, 0), RPS3_OK);
+      assert_int_equal(rps3_data_alloc(&m, &db), RPS3_OK);
+      assert_int_equal(rps3_data_alloc(&m, &dl), RPS3_OK);
+      make_points(&m, a, 0xb17 + (uint64_t)cfg);
+      memset(&in, 0, sizeof(in));
+      in.n = N;
+      in.pose = a->pose;
+      in.dpose = a->dpose;
+      in.ddpose = a->ddpose;
+      memset(&out, 0, sizeof(out));
+      out.status = a->status;
+      out.F = a->F;
+      if (sel) {
+        out.warn = a->warn;
+        out.l = a->l;
+        out.theta = a->theta;
+        out.F_effect = a->F_effect;
+        out.lambda = a->lambda;
+        out.cond = a->cond;
+        out.energy_residual = a->eres;
+        out.transmission = a->trans;
+        out.dl = a->dl;
+        out.ddl = a->ddl;
+        out.c = a->cpos;
+        out.energy_scale = a->escale;
+      }
+      assert_int_equal(rps3_inverse_batch(&m, db, &in, &out), RPS3_OK);
+      for (i = 0; i < N; i++) {
+        for (c = 0; c < 3; c++) {
+          dl->pose[c] = AT(a->pose, c, i);
+          dl->dpose[c] = AT(a->dpose, c, i);
+          dl->ddpose[c] = AT(a->ddpose, c, i);
+        }
+        assert_int_equal(rps3_inverse(&m, dl), a->status[i]);
+        if (a->status[i] != RPS3_OK) continue;
+        for (c = 0; c < 3; c++) {
+          assert_memory_equal(&dl->F[c], &AT(a->F, c, i), sizeof(double));
+          if (!sel) continue;
+          assert_memory_equal(&dl->lambda[c], &AT(a->lambda, c, i),
+                              sizeof(double));
+          assert_memory_equal(&dl->l[c], &AT(a->l, c, i), sizeof(double));
+          assert_memory_equal(&dl->dl[c], &AT(a->dl, c, i), sizeof(double));
+          assert_memory_equal(&dl->ddl[c], &AT(a->ddl, c, i),
+                              sizeof(double));
+          assert_memory_equal(&dl->c[c], &AT(a->cpos, c, i), sizeof(double));
+          if (m.opt.forces_only)
+            assert_true(isnan(dl->theta[c]) && isnan(AT(a->theta, c, i)));
+          else
+            assert_memory_equal(&dl->theta[c], &AT(a->theta, c, i),
+                                sizeof(double));
+          for (k = 0; k < RPS3_NEFFECT; k++)
+            assert_memory_equal(&dl->F_effect[k][c],
+                                &AT(a->F_effect, 3 * k + c, i),
+                                sizeof(double));
+        }
+        if (!sel) continue;
+        assert_int_equal(dl->warn, a->warn[i]);
+        assert_memory_equal(&dl->cond, &a->cond[i], sizeof(double));
+        assert_memory_equal(&dl->transmission, &a->trans[i], sizeof(double));
+        assert_memory_equal(&dl->energy_residual, &a->eres[i],
+                            sizeof(double));
+        assert_memory_equal(&dl->energy_scale, &a->escale[i],
+                            sizeof(double));
+      }
+      rps3_data_free(db);
+      rps3_data_free(dl);
+    }
+  free(a);
+}
+
 /* warnings and their thresholds: with cond_warn and trans_warn inside the
    range the points cover, the status and warning of every point are the
    scalar path's (compare() checks them) */
@@ -670,6 +765,7 @@ int main(void) {
       cmocka_unit_test(entropy_model_each_selection),
       cmocka_unit_test(thresholds_as_the_scalar_path),
       cmocka_unit_test(scalar_path_by_the_kernel),
+      cmocka_unit_test(batch_is_the_loop_bitwise),
       cmocka_unit_test(hard_points_by_the_scalar_path),
   };
   gsl_set_error_handler_off();
