@@ -2,8 +2,8 @@
  * batch_trig.h - the elementary functions of the batch kernel
  * (batch_kernel.c): sine, cosine and atan2 without a libm call, a branch
  * or a table, so that a loop calling them vectorises.  Accuracy against
- * libm: tests/test_batch_kernel.c.  Internal; included by batch_kernel.c
- * only.
+ * libm: tests/test_batch_kernel.c.  Internal; included through
+ * batch_kmech.h by batch_kernel.c only.
  */
 #ifndef RPS3_BATCH_TRIG_H
 #define RPS3_BATCH_TRIG_H

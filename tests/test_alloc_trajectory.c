@@ -116,10 +116,11 @@ static void interposer_sees_gsl_and_init(void **state) {
   assert_true(n_free >= 2);
 }
 
-/* 10^5 points of the paper's helix through rps3_inverse, all effects, with
-   route theta and method; zero allocations and frees after init */
+/* 10^5 points of the paper's helix through rps3_inverse, with route theta
+   and method, all effects (effects 0) or the given ones; zero allocations
+   and frees after init */
 static void run_trajectory(rps3_theta_route theta, rps3_method method,
-                           int warm) {
+                           int warm, int effects, int forces_only) {
   rps3_model m;
   rps3_data *d = NULL;
   rps3_traj tr;
@@ -130,6 +131,8 @@ static void run_trajectory(rps3_theta_route theta, rps3_method method,
   m.opt.method = method;
   m.opt.warm_start = warm;
   m.opt.solver = RPS3_SOLVER_HYBRIDSJ;
+  if (effects) m.opt.effects = effects;
+  m.opt.forces_only = forces_only;
   assert_int_equal(rps3_model_init(&m, NULL, 0), RPS3_OK);
   rps3_traj_default(&tr);
   /* the helix of Table II scaled to this model's platform (r* < r/2) */
@@ -167,27 +170,37 @@ static void run_trajectory(rps3_theta_route theta, rps3_method method,
 
 static void closed_form_lagrange(void **state) {
   (void)state;
-  run_trajectory(RPS3_THETA_CLOSED_FORM, RPS3_LAGRANGE, 1);
+  run_trajectory(RPS3_THETA_CLOSED_FORM, RPS3_LAGRANGE, 1, 0, 0);
+}
+
+/* the paper's effects: rps3_inverse runs the one-point kernel, with every
+   output and on the controller's path */
+static void closed_form_kernel(void **state) {
+  (void)state;
+  run_trajectory(RPS3_THETA_CLOSED_FORM, RPS3_LAGRANGE, 1, RPS3_EFF_DEFAULT,
+                 0);
+  run_trajectory(RPS3_THETA_CLOSED_FORM, RPS3_LAGRANGE, 1, RPS3_EFF_DEFAULT,
+                 1);
 }
 
 static void closed_form_newton_euler(void **state) {
   (void)state;
-  run_trajectory(RPS3_THETA_CLOSED_FORM, RPS3_NEWTON_EULER, 1);
+  run_trajectory(RPS3_THETA_CLOSED_FORM, RPS3_NEWTON_EULER, 1, 0, 0);
 }
 
 static void warm_multiroot_lagrange(void **state) {
   (void)state;
-  run_trajectory(RPS3_THETA_MULTIROOT, RPS3_LAGRANGE, 1);
+  run_trajectory(RPS3_THETA_MULTIROOT, RPS3_LAGRANGE, 1, 0, 0);
 }
 
 static void warm_multiroot_newton_euler(void **state) {
   (void)state;
-  run_trajectory(RPS3_THETA_MULTIROOT, RPS3_NEWTON_EULER, 1);
+  run_trajectory(RPS3_THETA_MULTIROOT, RPS3_NEWTON_EULER, 1, 0, 0);
 }
 
 static void cold_multiroot_lagrange(void **state) {
   (void)state;
-  run_trajectory(RPS3_THETA_MULTIROOT, RPS3_LAGRANGE, 0);
+  run_trajectory(RPS3_THETA_MULTIROOT, RPS3_LAGRANGE, 0, 0, 0);
 }
 
 /* a table of the pose and a path of shape table: the spline's slopes
@@ -423,6 +436,7 @@ int main(void) {
       cmocka_unit_test(simulation_loop),
       cmocka_unit_test(interposer_sees_gsl_and_init),
       cmocka_unit_test(closed_form_lagrange),
+      cmocka_unit_test(closed_form_kernel),
       cmocka_unit_test(closed_form_newton_euler),
       cmocka_unit_test(warm_multiroot_lagrange),
       cmocka_unit_test(warm_multiroot_newton_euler),

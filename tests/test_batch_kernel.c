@@ -117,6 +117,27 @@ static void track(double *w, double x) {
   if (x > *w) *w = x;
 }
 
+/* every output of the batch into the arrays of a */
+static void out_every(rps3_batch_out *out, arrays *a) {
+  memset(out, 0, sizeof(*out));
+  out->status = a->status;
+  out->warn = a->warn;
+  out->niter = a->niter;
+  out->l = a->l;
+  out->theta = a->theta;
+  out->F = a->F;
+  out->F_effect = a->F_effect;
+  out->lambda = a->lambda;
+  out->cond = a->cond;
+  out->energy_residual = a->eres;
+  out->transmission = a->trans;
+  out->dl = a->dl;
+  out->ddl = a->ddl;
+  out->c = a->cpos;
+  out->energy_scale = a->escale;
+  out->solve_resid = a->sres;
+}
+
 /*
  * rps3_inverse_batch against rps3_inverse on the points of a.  Status and
  * warning equal for every point.  Values, for the points computed:
@@ -154,22 +175,7 @@ static void compare(const rps3_model *m, arrays *a, worst *w) {
   in.dpose = a->dpose;
   in.ddpose = a->ddpose;
   memset(&out, 0, sizeof(out));
-  out.status = a->status;
-  out.warn = a->warn;
-  out.niter = a->niter;
-  out.l = a->l;
-  out.theta = a->theta;
-  out.F = a->F;
-  out.F_effect = a->F_effect;
-  out.lambda = a->lambda;
-  out.cond = a->cond;
-  out.energy_residual = a->eres;
-  out.transmission = a->trans;
-  out.dl = a->dl;
-  out.ddl = a->ddl;
-  out.c = a->cpos;
-  out.energy_scale = a->escale;
-  out.solve_resid = a->sres;
+  out_every(&out, a);
   assert_int_equal(rps3_inverse_batch(m, db, &in, &out), RPS3_OK);
   if (!m->opt.certify) {
     /* without theta asked for, the kernel leaves out (39) and the
@@ -559,21 +565,11 @@ static void batch_is_the_loop_bitwise(void **state) {
       in.dpose = a->dpose;
       in.ddpose = a->ddpose;
       memset(&out, 0, sizeof(out));
-      out.status = a->status;
-      out.F = a->F;
       if (sel) {
-        out.warn = a->warn;
-        out.l = a->l;
-        out.theta = a->theta;
-        out.F_effect = a->F_effect;
-        out.lambda = a->lambda;
-        out.cond = a->cond;
-        out.energy_residual = a->eres;
-        out.transmission = a->trans;
-        out.dl = a->dl;
-        out.ddl = a->ddl;
-        out.c = a->cpos;
-        out.energy_scale = a->escale;
+        out_every(&out, a);
+      } else {
+        out.status = a->status;
+        out.F = a->F;
       }
       assert_int_equal(rps3_inverse_batch(&m, db, &in, &out), RPS3_OK);
       for (i = 0; i < N; i++) {
