@@ -47,54 +47,134 @@ static void inertia_world(double Iw[3][3], const double rot[3][3],
     }
 }
 
+/* omega from sum_i rho_i x u_i for the ball motions u_i = omega x rho_i
+   (rps3_omega_from_balls: (26)-(28) in closed form); wk = 2 / (3 r^2) */
+static void omega_of_sum(double omega[3], const double w[3], const double a[3],
+                         double wk) {
+  double s = 0.5 * wk * v3_dot(a, w);
+  int q;
+  for (q = 0; q < 3; q++) omega[q] = wk * w[q] - s * a[q];
+}
+
 /*
- * Rates and the maps from one factorization of df/dtheta: the mode (sign
- * of its determinant), its condition (rps3_joint_velocity's test, the same
- * message), G = -(df/dtheta)^-1 (df/dl), theta' and the motions of
- * rps3_joint_velocity, the accelerations at l'' = 0 of
- * rps3_joint_acceleration (the bias), and Jc, Jw column by column from
- * the ball joint velocities.  The stage functions would factor the same
- * matrix twice more.
+ * Rates and the maps from one inverse of df/dtheta: the mode (sign of its
+ * determinant), its condition (rps3_jt_factor's test and messages), then
+ *   G = -(df/dtheta)^-1 (df/dl)
+ *   Jc e_j = (phi_j + sum_i l_i G_ij dphi_i) / 3            (25), (28)
+ *   Jw e_j = W (rho_j x phi_j + sum_i l_i G_ij rho_i x dphi_i)  (26)-(28)
+ * where W inverts sum_i rho_i x u_i for the balls (rps3_omega_from_balls;
+ * the centre's own motion drops out, sum_i rho_i = 0 by (11)).  The
+ * velocities are the maps applied to l' (theta' = G l', vc = Jc l', omega
+ * = Jw l'), and the accelerations at l'' = 0 (the bias) come from the
+ * second derivative of (8)-(10), D.D'' + |D'|^2 = 0 with D = b_i - b_j,
+ * solved with the same inverse.  The stage functions would factor
+ * df/dtheta once per rate and apply W five times.
  */
 static int rates_and_maps(const rps3_model *m, rps3_data *d,
                           rps3_fd_state *k, int dpose) {
-  double Jl[3][3], Jt[3][3], LU[9], rho[3][3], u[3][3], a[3], x[3];
-  int perm[3], i, j, q, st;
+  const double wk = 2.0 / (3.0 * m->r * m->r);
+  double Jl[3][3], Jt[3][3], A[9], LU[9], X[9], cond, rho[3][3], P[3][3],
+      Q[3][3], a[3], bd[3][3], kn[3][3], x[3], w[3];
+  int perm[3], i, j, q;
   rps3_constraint_jacobian(d, Jl, Jt);
   d->mode = rps3_mode_of_jac(M3C(Jt));
-  st = rps3_jt_factor(m, d, M3C(Jt), LU, perm);
-  if (st != RPS3_OK) return st;
-  /* velocities, and the bias: accelerations at l'' = 0 */
-  d->ddl[0] = d->ddl[1] = d->ddl[2] = 0.0;
-  st = rps3_joint_rates_lu(m, d, M3C(Jl), LU, perm, dpose);
-  if (st != RPS3_OK) return st;
-  v3_copy(k->ddth_b, d->ddtheta);
-  v3_copy(k->ac_b, d->ac);
-  v3_copy(k->dw_b, d->domega);
-  /* the maps */
-  for (j = 0; j < 3; j++) {
-    for (q = 0; q < 3; q++) x[q] = -Jl[q][j];
-    rps3_lu_solve(3, LU, perm, x);
-    for (i = 0; i < 3; i++) k->G[i][j] = x[i];
-  }
+  for (i = 0; i < 3; i++)
+    for (q = 0; q < 3; q++) A[3 * i + q] = LU[3 * i + q] = Jt[i][q];
+  if (rps3_lu_factor(3, LU, perm) != 0)
+    RPS3_ERROR(d, RPS3_ESING, "constraint Jacobian df/dtheta is singular");
+  cond = rps3_lu3_inverse_cond1(A, LU, perm, X);
+  if (!(cond <= m->opt.cond_max))
+    RPS3_ERROR(d, RPS3_ESING,
+               "constraint Jacobian df/dtheta: condition number %.3g exceeds "
+               "cond_max %.3g", cond, m->opt.cond_max);
+  for (i = 0; i < 3; i++)
+    for (j = 0; j < 3; j++)
+      k->G[i][j] = -(X[3 * i] * Jl[0][j] + X[3 * i + 1] * Jl[1][j] +
+                     X[3 * i + 2] * Jl[2][j]);
+
+  /* the maps, column j the motion for l' = e_j */
   for (i = 0; i < 3; i++) {
     v3_sub(rho[i], d->b[i], d->c);
+    v3_cross(P[i], rho[i], d->phi[i]);
+    v3_cross(Q[i], rho[i], d->dphi[i]);
     a[i] = d->rot[i][2];
   }
   for (j = 0; j < 3; j++) {
-    double bd[3][3], vc[3] = {0, 0, 0}, w[3];
+    double vc[3], om[3];
+    v3_copy(vc, d->phi[j]);
+    v3_copy(w, P[j]);
     for (i = 0; i < 3; i++) {
-      /* b_i' for l' = e_j */
-      v3_scale(bd[i], d->l[i] * k->G[i][j], d->dphi[i]);
-      if (i == j) v3_axpy(bd[i], bd[i], 1.0, d->phi[i]);
-      v3_axpy(vc, vc, 1.0 / 3.0, bd[i]);
+      double s = d->l[i] * k->G[i][j];
+      v3_axpy(vc, vc, s, d->dphi[i]);
+      v3_axpy(w, w, s, Q[i]);
     }
-    for (i = 0; i < 3; i++) v3_sub(u[i], bd[i], vc);
-    rps3_omega_from_balls(w, M3C(rho), M3C(u), a, m->r);
+    omega_of_sum(om, w, a, wk);
     for (q = 0; q < 3; q++) {
-      k->Jc[q][j] = vc[q];
-      k->Jw[q][j] = w[q];
+      k->Jc[q][j] = vc[q] / 3.0;
+      k->Jw[q][j] = om[q];
     }
+  }
+
+  /* velocities */
+  m3_mulv(d->dtheta, M3C(k->G), d->dl);
+  m3_mulv(d->vc, M3C(k->Jc), d->dl);
+  m3_mulv(d->omega, M3C(k->Jw), d->dl);
+  /* one test, and the named checks only when it fails */
+  if (!(rps3_all_finite(d->dtheta, 3) & rps3_all_finite(d->vc, 3) &
+        rps3_all_finite(d->omega, 3))) {
+    RPS3_CHECK_FINITE(d, d->dtheta, 3, "dtheta");
+    RPS3_CHECK_FINITE(d, d->vc, 3, "vc");
+    RPS3_CHECK_FINITE(d, d->omega, 3, "omega");
+  }
+  if (dpose) {
+    rps3_pose_rates(d);
+    RPS3_CHECK_FINITE(d, d->dpose, 3, "dpose");
+  } else {
+    d->dpose[0] = d->dpose[1] = d->dpose[2] = (double)NAN;
+  }
+  d->stage |= RPS3_STAGE_VEL;
+
+  /* the bias: b_i'' = (l_i'' - l_i th_i'^2) phi_i + (2 l_i' th_i' + l_i
+     th_i'') dphi_i at l'' = 0, without its theta'' part (kn) first */
+  for (i = 0; i < 3; i++) {
+    double th = d->dtheta[i];
+    v3_scale(bd[i], d->dl[i], d->phi[i]);
+    v3_axpy(bd[i], bd[i], d->l[i] * th, d->dphi[i]);
+    v3_scale(kn[i], -d->l[i] * th * th, d->phi[i]);
+    v3_axpy(kn[i], kn[i], 2.0 * d->dl[i] * th, d->dphi[i]);
+  }
+  for (q = 0; q < 3; q++) {
+    int p = q, r = (q + 1) % 3;
+    double D[3], Dd[3], Kd[3];
+    v3_sub(D, d->b[p], d->b[r]);
+    v3_sub(Dd, bd[p], bd[r]);
+    v3_sub(Kd, kn[p], kn[r]);
+    x[q] = -2.0 * (v3_dot(Dd, Dd) + v3_dot(D, Kd));
+  }
+  for (i = 0; i < 3; i++)
+    k->ddth_b[i] = X[3 * i] * x[0] + X[3 * i + 1] * x[1] + X[3 * i + 2] * x[2];
+  /* ac = mean b_i''; domega from sum_i rho_i x (b_i'' - omega x (omega x
+     rho_i)), the last term (omega . rho_i) rho_i x omega */
+  k->ac_b[0] = k->ac_b[1] = k->ac_b[2] = 0.0;
+  w[0] = w[1] = w[2] = 0.0;
+  for (i = 0; i < 3; i++) {
+    double bdd[3], t[3];
+    v3_axpy(bdd, kn[i], d->l[i] * k->ddth_b[i], d->dphi[i]);
+    v3_axpy(k->ac_b, k->ac_b, 1.0 / 3.0, bdd);
+    v3_cross(t, rho[i], bdd);
+    v3_axpy(w, w, 1.0, t);
+    v3_cross(t, rho[i], d->omega);
+    v3_axpy(w, w, -v3_dot(d->omega, rho[i]), t);
+  }
+  omega_of_sum(k->dw_b, w, a, wk);
+  v3_copy(d->ddtheta, k->ddth_b);
+  v3_copy(d->ac, k->ac_b);
+  v3_copy(d->domega, k->dw_b);
+  if (!(rps3_all_finite(d->ddtheta, 3) & rps3_all_finite(d->ac, 3) &
+        rps3_all_finite(d->domega, 3))) {
+    RPS3_CHECK_FINITE(d, d->ddtheta, 3, "ddtheta");
+    RPS3_CHECK_FINITE(d, d->ac, 3, "ac");
+    RPS3_CHECK_FINITE(d, d->domega, 3, "domega");
   }
   return RPS3_OK;
 }
@@ -136,17 +216,40 @@ static void add_body(const rps3_fd_state *k, const rps3_data *d, double mb,
 
 /* Mq and hq of the selected effects at the state of d */
 static void assemble(const rps3_model *m, const rps3_data *d,
-                     const rps3_fd_state *k, double Mq[3][3], double hq[3]) {
+                     const rps3_fd_state *k, double Mo[3][3], double ho[3]) {
   const int eff = m->opt.effects;
-  const double zero[3] = {0, 0, 0};
+  /* sums in locals: the compiler cannot tell Mo from k's members */
+  double Mq[3][3] = {{0, 0, 0}, {0, 0, 0}, {0, 0, 0}}, hq[3] = {0, 0, 0};
   double Iw[3][3], tl[3] = {0, 0, 0}, Jl[3] = {0, 0, 0}, s[3];
   int i, j, q;
-  memset(Mq, 0, 9 * sizeof(double));
-  memset(hq, 0, 3 * sizeof(double));
-  /* platform: the disc of (21), Ip about its centre */
+  /* platform: the disc of (21), Ip about its centre, a principal
+     inertia in the platform's axes: with Wb = rot^T Jw and wb, dwb the
+     angular velocity and bias acceleration in those axes,
+       Mq += M Jc^T Jc + Wb^T Ip Wb,
+       hq += M Jc^T ac_bias + Wb^T (Ip dwb + wb x Ip wb)  (add_body's) */
   if (eff & RPS3_EFF_PLATFORM_INERTIA) {
-    inertia_world(Iw, M3C(d->rot), m->Ip);
-    add_body(k, d, m->M, zero, M3C(Iw), 0.0, Mq, hq);
+    double Wb[3][3], wb[3], dwb[3], Iwb[3], t[3];
+    m3_mulvt(wb, M3C(d->rot), d->omega);
+    m3_mulvt(dwb, M3C(d->rot), k->dw_b);
+    for (q = 0; q < 3; q++) {
+      double wq[3] = {k->Jw[0][q], k->Jw[1][q], k->Jw[2][q]};
+      m3_mulvt(t, M3C(d->rot), wq);
+      for (i = 0; i < 3; i++) Wb[i][q] = t[i];
+      Iwb[q] = m->Ip[q] * wb[q];
+    }
+    v3_cross(t, wb, Iwb);
+    for (i = 0; i < 3; i++) t[i] += m->Ip[i] * dwb[i];
+    for (j = 0; j < 3; j++) {
+      for (q = j; q < 3; q++) {
+        double mjq = 0.0;
+        for (i = 0; i < 3; i++)
+          mjq += m->M * k->Jc[i][j] * k->Jc[i][q] +
+                 m->Ip[i] * Wb[i][j] * Wb[i][q];
+        Mq[j][q] += mjq;
+      }
+      for (i = 0; i < 3; i++)
+        hq[j] += m->M * k->Jc[i][j] * k->ac_b[i] + Wb[i][j] * t[i];
+    }
   }
   /* (22): M g z_c, z_c' = Jc[2] l' */
   if (eff & RPS3_EFF_PLATFORM_GRAVITY)
@@ -169,9 +272,14 @@ static void assemble(const rps3_model *m, const rps3_data *d,
       tl[i] -= rps3_friction_torque(m, d->dtheta[i]);
   }
   for (j = 0; j < 3; j++) {
-    for (q = 0; q < 3; q++)
+    for (q = j; q < 3; q++)
       for (i = 0; i < 3; i++) Mq[j][q] += Jl[i] * k->G[i][j] * k->G[i][q];
     for (i = 0; i < 3; i++) hq[j] += k->G[i][j] * tl[i];
+  }
+  /* the upper triangle is Mq: symmetric to the bit */
+  for (j = 0; j < 3; j++) {
+    for (q = 0; q < 3; q++) Mo[j][q] = (q >= j) ? Mq[j][q] : Mq[q][j];
+    ho[j] = hq[j];
   }
 }
 
@@ -194,31 +302,34 @@ static int chol3_factor(const double A[3][3], double L[3][3]) {
   return 0;
 }
 
-/* x = (L L^T)^-1 x */
-static void chol3_solve(const double L[3][3], double x[3]) {
-  int i, k;
+/* Mq^-1 = L^-T L^-1 from the Cholesky factor (L^-1 by forward
+   substitution), symmetric to the bit, and the 1-norm condition number
+   of Mq with it.  The accelerations are Mq^-1 (F - hq): one product per
+   force, where a solve would divide six times. */
+static double chol3_inverse_cond1(const double A[3][3], const double L[3][3],
+                                  double Ai[3][3]) {
+  double Li[3][3] = {{0, 0, 0}, {0, 0, 0}, {0, 0, 0}}, anorm = 0.0,
+         inorm = 0.0;
+  int i, j, k;
   for (i = 0; i < 3; i++) {
-    for (k = 0; k < i; k++) x[i] -= L[i][k] * x[k];
-    x[i] /= L[i][i];
+    Li[i][i] = 1.0 / L[i][i];
+    for (j = 0; j < i; j++) {
+      double t = 0.0;
+      for (k = j; k < i; k++) t += L[i][k] * Li[k][j];
+      Li[i][j] = -t * Li[i][i];
+    }
   }
-  for (i = 2; i >= 0; i--) {
-    for (k = i + 1; k < 3; k++) x[i] -= L[k][i] * x[k];
-    x[i] /= L[i][i];
-  }
-}
-
-/* 1-norm condition number of A from its Cholesky factor L: A^-1 column
-   by column */
-static double chol3_cond1(const double A[3][3], const double L[3][3]) {
-  double anorm = 0.0, inorm = 0.0;
-  int i, j;
+  for (i = 0; i < 3; i++)
+    for (j = i; j < 3; j++) {
+      double t = 0.0;
+      for (k = j; k < 3; k++) t += Li[k][i] * Li[k][j];
+      Ai[i][j] = Ai[j][i] = t;
+    }
   for (j = 0; j < 3; j++) {
-    double x[3] = {0, 0, 0}, sa = 0.0, si = 0.0;
-    x[j] = 1.0;
-    chol3_solve(L, x);
+    double sa = 0.0, si = 0.0;
     for (i = 0; i < 3; i++) {
       sa += fabs(A[i][j]);
-      si += fabs(x[i]);
+      si += fabs(Ai[i][j]);
     }
     anorm = fmax(anorm, sa);
     inorm = fmax(inorm, si);
@@ -308,7 +419,7 @@ static void poison(rps3_data *d) {
 
 int rps3_fwddyn_state(const rps3_model *m, rps3_data *d, rps3_fd_state *k,
                       int flags) {
-  double dl[3];
+  double dl[3], L[3][3];
   int status, i, pd;
   if (!v3_finite(d->dl)) {
     poison(d);
@@ -369,8 +480,9 @@ int rps3_fwddyn_state(const rps3_model *m, rps3_data *d, rps3_fd_state *k,
   /* Mq symmetric positive definite and conditioned: its factor, and the
      condition number from it (by LU when it does not exist) */
   assemble(m, d, k, d->Mq, d->hq);
-  pd = (chol3_factor(M3C(d->Mq), k->Lq) == 0);
-  d->Mcond = pd ? chol3_cond1(M3C(d->Mq), M3C(k->Lq)) : mass_cond(M3C(d->Mq));
+  pd = (chol3_factor(M3C(d->Mq), L) == 0);
+  d->Mcond = pd ? chol3_inverse_cond1(M3C(d->Mq), M3C(L), k->Minv)
+                : mass_cond(M3C(d->Mq));
   if (!pd || !(d->Mcond <= m->opt.cond_max))
     RPS3_ERROR(d, RPS3_ESING,
                "mass matrix not positive definite or condition number %.3g "
@@ -392,7 +504,7 @@ int rps3_fwddyn_accel(const rps3_model *m, rps3_data *d,
   }
   /* Mq l'' = F - hq */
   v3_sub(x, d->F, d->hq);
-  chol3_solve(M3C(k->Lq), x);
+  m3_mulv(x, M3C(k->Minv), x);
   if (!v3_finite(x)) {
     poison(d);
     RPS3_ERROR(d, RPS3_ESING, "acceleration is not finite");
@@ -404,9 +516,12 @@ int rps3_fwddyn_accel(const rps3_model *m, rps3_data *d,
     d->ac[i] = k->ac_b[i] + v3_dot(k->Jc[i], x);
     d->domega[i] = k->dw_b[i] + v3_dot(k->Jw[i], x);
   }
-  RPS3_CHECK_FINITE(d, d->ddtheta, 3, "ddtheta");
-  RPS3_CHECK_FINITE(d, d->ac, 3, "ac");
-  RPS3_CHECK_FINITE(d, d->domega, 3, "domega");
+  if (!(rps3_all_finite(d->ddtheta, 3) & rps3_all_finite(d->ac, 3) &
+        rps3_all_finite(d->domega, 3))) {
+    RPS3_CHECK_FINITE(d, d->ddtheta, 3, "ddtheta");
+    RPS3_CHECK_FINITE(d, d->ac, 3, "ac");
+    RPS3_CHECK_FINITE(d, d->domega, 3, "domega");
+  }
   d->stage |= RPS3_STAGE_ACC;
   return RPS3_OK;
 }

@@ -14,7 +14,7 @@
 
 /* what rps3_fwddyn_accel needs of a state: theta' = G l', vc = Jc l',
    omega = Jw l' (columns j the motions for a unit l_j'), the accelerations
-   at l'' = 0, and the Cholesky factor of Mq (lower) */
+   at l'' = 0, and Mq^-1 */
 typedef struct {
   double G[3][3];
   double Jc[3][3];
@@ -22,7 +22,7 @@ typedef struct {
   double ddth_b[3];   /* theta'' at l'' = 0 */
   double ac_b[3];     /* centre acceleration at l'' = 0 */
   double dw_b[3];     /* angular acceleration at l'' = 0 */
-  double Lq[3][3];    /* Mq = Lq Lq^T */
+  double Minv[3][3];  /* Mq^-1, from its Cholesky factor */
   double l[3];        /* the lengths of this state */
 } rps3_fd_state;
 

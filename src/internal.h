@@ -242,6 +242,9 @@ void rps3_omega_from_balls(double omega[3], const double rho[3][3],
    with the stage's finiteness checks and set its stage bit; dpose = 0
    leaves the pose rates out (NaN) */
 int rps3_joint_velocity_from(const rps3_model *m, rps3_data *d, int dpose);
+/* the pose rates (alpha, beta, z_c)' from omega and vc (RPS3_WARN_ALPHA
+   and alpha' = 0 where beta ~ 0) */
+void rps3_pose_rates(rps3_data *d);
 void rps3_joint_acc_rhs(const rps3_data *d, double known[3][3], double x[3]);
 int rps3_joint_acc_from(const rps3_model *m, rps3_data *d,
                         const double known[3][3]);

@@ -194,7 +194,7 @@ int rps3_acceleration_with(const rps3_model *m, rps3_data *d,
 }
 
 /* pose rates from omega and vc; alpha-dot is not defined at beta = 0 */
-static void pose_rates(rps3_data *d) {
+void rps3_pose_rates(rps3_data *d) {
   double ca = cos(d->pose[0]), sa = sin(d->pose[0]), sb = sin(d->pose[1]);
   double vb = 2.0 * sin(0.5 * d->pose[1]) * sin(0.5 * d->pose[1]);
   double ez_a[3] = {-sb * ca, -sb * sa, vb};
@@ -230,7 +230,7 @@ int rps3_joint_velocity_from(const rps3_model *m, rps3_data *d, int dpose) {
   RPS3_CHECK_FINITE(d, d->vc, 3, "vc");
   RPS3_CHECK_FINITE(d, d->omega, 3, "omega");
   if (dpose) {
-    pose_rates(d);
+    rps3_pose_rates(d);
     RPS3_CHECK_FINITE(d, d->dpose, 3, "dpose");
   } else {
     d->dpose[0] = d->dpose[1] = d->dpose[2] = (double)NAN;
