@@ -223,7 +223,9 @@ typedef struct {
                               units of R).  Default 1e-12 */
   int max_iter;            /* theta solve iteration limit, default 50 */
   int warm_start;          /* 1: theta solve starts from the data's last
-                              solution when it has one; 0: always cold */
+                              solution when it has one (rps3_inverse's
+                              multiroot route: moved along the change of
+                              the lengths, rps3_inverse); 0: always cold */
   int certify;             /* 1: compute the energy-rate residual (needs
                               rates even for a static scene); default 1 */
   int forces_only;         /* 1: a controller's path: rps3_inverse and
@@ -560,6 +562,19 @@ RPS3_API int rps3_invdyn(const rps3_model *m, rps3_data *d);
  * accelerations are computed only when a selected effect or certify needs
  * them.  Returns the first failing stage's status (any of the stages'
  * codes above).
+ *
+ * The multiroot route's warm start is the data's last root moved along
+ * the change of the link lengths to second order (from the constraint
+ * Jacobian there: off by O(|dl|^3), ~1e-14 rad on the paper's helix at
+ * 1 kHz), from lengths only, never from the pose's closed form; only
+ * while d->theta is still the root the last call returned, bit for bit
+ * (a theta the caller wrote is the start as written).  As
+ * rps3_theta_solve does with any start, a start within opt.tol is the
+ * root (0 iterations, d->solve_resid its residual); GSL's solver runs
+ * from it otherwise.  So the solve stops where the tolerance says, not
+ * below it: its theta error is up to about cond x tol, as documented for
+ * the route.  A step above 0.01 rad is not predicted (the last root is the
+ * start).
  *
  * With the closed-form theta, the Lagrange formulation and no effect
  * beyond the paper's four, the point is computed in one straight-line

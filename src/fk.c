@@ -48,6 +48,13 @@ struct rps3_solver_state {
   gsl_multiroot_function_fdf fn_fdf;
   gsl_multiroot_function fn_f;
   theta_params p;
+  /* rps3_inverse's multiroot route: its last root and what the next
+     point's predicted start needs there (rps3_root_keep); one use, by the
+     next call, and only while d->theta is still this root, bit for bit */
+  int root_ok;
+  double root_theta[3], root_l[3];
+  double root_Jl[3][3], root_Jti[3][3]; /* df/dl, (df/dtheta)^-1 */
+  double root_D[3][3], root_phi[3][3], root_dphi[3][3];
 };
 
 /* (8)-(10) and their analytic Jacobian from the cosines c and sines s of
@@ -298,6 +305,48 @@ static const char *step_unsafe(const rps3_model *m, const theta_params *p,
   if (!(cond3(M3C(Jd)) <= m->opt.cond_max))
     return "singular difference Jacobian";
   return NULL;
+}
+
+void rps3_root_keep(rps3_data *d, const rps3_cjac *J) {
+  struct rps3_solver_state *s = d->solver;
+  int i, k;
+  s->root_ok = J->factored && !J->sing;
+  if (!s->root_ok) return;
+  for (i = 0; i < 3; i++) {
+    s->root_theta[i] = d->theta[i];
+    s->root_l[i] = d->l[i];
+    v3_sub(s->root_D[i], d->b[i], d->b[(i + 1) % 3]);
+    v3_copy(s->root_phi[i], d->phi[i]);
+    v3_copy(s->root_dphi[i], d->dphi[i]);
+    for (k = 0; k < 3; k++) {
+      s->root_Jl[i][k] = J->Jl[i][k];
+      /* (df/dtheta)^-1 = (A^-1)^T for the lambda system A = (df/dtheta)^T */
+      s->root_Jti[i][k] = J->Ainv[3 * k + i];
+    }
+  }
+}
+
+void rps3_root_predict(rps3_data *d, double max_step) {
+  struct rps3_solver_state *s = d->solver;
+  double dl[3], u[3], x[3], kn[3][3], big = 0.0;
+  int i, ok = s->root_ok && d->have_theta &&
+              memcmp(d->theta, s->root_theta, sizeof(s->root_theta)) == 0;
+  s->root_ok = 0; /* one use */
+  if (!ok) return;
+  /* theta' = G dl = -(df/dtheta)^-1 (df/dl) dl */
+  v3_sub(dl, d->l, s->root_l);
+  m3_mulv(x, M3C(s->root_Jl), dl);
+  m3_mulv(u, M3C(s->root_Jti), x);
+  v3_scale(u, -1.0, u);
+  /* (df/dtheta) theta'' = x, the velocity products of (8)-(10) */
+  rps3_constraint_acc_rhs(M3C(s->root_D), M3C(s->root_phi),
+                          M3C(s->root_dphi), s->root_l, dl, u, NULL, kn, x);
+  m3_mulv(x, M3C(s->root_Jti), x);
+  for (i = 0; i < 3; i++) {
+    u[i] += 0.5 * x[i];
+    big = fmax(big, fabs(u[i]));
+  }
+  if (big <= max_step) v3_axpy(d->theta, d->theta, 1.0, u);
 }
 
 int rps3_theta_solve(const rps3_model *m, rps3_data *d) {

@@ -74,7 +74,7 @@ static int rates_and_maps(const rps3_model *m, rps3_data *d,
                           rps3_fd_state *k, int dpose) {
   const double wk = 2.0 / (3.0 * m->r * m->r);
   double Jl[3][3], Jt[3][3], A[9], LU[9], X[9], cond, rho[3][3], P[3][3],
-      Q[3][3], a[3], bd[3][3], kn[3][3], x[3], w[3];
+      Q[3][3], a[3], kn[3][3], x[3], w[3];
   int perm[3], i, j, q;
   rps3_constraint_jacobian(d, Jl, Jt);
   d->mode = rps3_mode_of_jac(M3C(Jt));
@@ -136,21 +136,8 @@ static int rates_and_maps(const rps3_model *m, rps3_data *d,
 
   /* the bias: b_i'' = (l_i'' - l_i th_i'^2) phi_i + (2 l_i' th_i' + l_i
      th_i'') dphi_i at l'' = 0, without its theta'' part (kn) first */
-  for (i = 0; i < 3; i++) {
-    double th = d->dtheta[i];
-    v3_scale(bd[i], d->dl[i], d->phi[i]);
-    v3_axpy(bd[i], bd[i], d->l[i] * th, d->dphi[i]);
-    v3_scale(kn[i], -d->l[i] * th * th, d->phi[i]);
-    v3_axpy(kn[i], kn[i], 2.0 * d->dl[i] * th, d->dphi[i]);
-  }
-  for (q = 0; q < 3; q++) {
-    int p = q, r = (q + 1) % 3;
-    double D[3], Dd[3], Kd[3];
-    v3_sub(D, d->b[p], d->b[r]);
-    v3_sub(Dd, bd[p], bd[r]);
-    v3_sub(Kd, kn[p], kn[r]);
-    x[q] = -2.0 * (v3_dot(Dd, Dd) + v3_dot(D, Kd));
-  }
+  d->ddl[0] = d->ddl[1] = d->ddl[2] = 0.0;
+  rps3_joint_acc_rhs(d, kn, x);
   for (i = 0; i < 3; i++)
     k->ddth_b[i] = X[3 * i] * x[0] + X[3 * i + 1] * x[1] + X[3 * i + 2] * x[2];
   /* ac = mean b_i''; domega from sum_i rho_i x (b_i'' - omega x (omega x

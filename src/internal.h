@@ -180,6 +180,13 @@ int rps3_ik_with(const rps3_model *m, rps3_data *d, rps3_pose_trig *t,
                  int theta, rps3_cjac *J);
 /* rps3_theta_solve, and the Jacobian at its root into *J (may be NULL) */
 int rps3_theta_solve_with(const rps3_model *m, rps3_data *d, rps3_cjac *J);
+/* rps3_inverse's multiroot route (src/inverse.c): keep the root d holds
+   with its Jacobian J (factored) in d's solver state, and move the next
+   point's start d->theta along the change of the lengths to d->l, to
+   second order, when d->theta is still that root (the step no larger
+   than max_step rad; one use of what was kept) */
+void rps3_root_keep(rps3_data *d, const rps3_cjac *J);
+void rps3_root_predict(rps3_data *d, double max_step);
 /* rps3_invdyn with this point's Jacobian (NULL: built here) */
 int rps3_invdyn_with(const rps3_model *m, rps3_data *d, rps3_cjac *J);
 int rps3_velocity_with(const rps3_model *m, rps3_data *d,
@@ -246,6 +253,13 @@ int rps3_joint_velocity_from(const rps3_model *m, rps3_data *d, int dpose);
    and alpha' = 0 where beta ~ 0) */
 void rps3_pose_rates(rps3_data *d);
 void rps3_joint_acc_rhs(const rps3_data *d, double known[3][3], double x[3]);
+/* the same from its parts: D[k] = b_k - b_(k+1) of the pairs of (8)-(10),
+   the links' phi, dphi, l, their rates dl, dtheta and ddl (NULL: 0) */
+void rps3_constraint_acc_rhs(const double D[3][3], const double phi[3][3],
+                             const double dphi[3][3], const double l[3],
+                             const double dl[3], const double dth[3],
+                             const double ddl[3], double known[3][3],
+                             double x[3]);
 int rps3_joint_acc_from(const rps3_model *m, rps3_data *d,
                         const double known[3][3]);
 /* df/dtheta factored for the rate stages (RPS3_ESING when singular or

@@ -59,6 +59,28 @@ static int check_own_root(const rps3_model *m, rps3_data *d, rps3_cjac *J,
   return RPS3_OK;
 }
 
+/*
+ * The multiroot route's start, predicted from the last root along the
+ * lengths.  With l(s) = l_last + s dl from the last point's lengths (s = 0)
+ * to this point's (s = 1), (8)-(10) hold along theta(s):
+ *   theta' = G dl,  G = -(df/dtheta)^-1 (df/dl),
+ *   (df/dtheta) theta'' = x,  x_k = -2 (|D_k'|^2 + D_k . K_k),
+ * the second derivative of |D_k|^2 = 3 r^2 for D_k = b_i - b_j at l'' = 0
+ * (the joint acceleration's, K_k = b_i'' - b_j'' without theta''), and the
+ * start theta + theta' + theta''/2 is off by O(|dl|^3): ~1e-14 rad on the
+ * paper's helix at 1 kHz.  Only the lengths and the last root enter; the
+ * start knows nothing of the pose's own theta (39), which the route checks
+ * its root against.  rps3_theta_solve takes a start within the tolerance
+ * as the root, GSL's solver otherwise.  What the prediction needs is kept
+ * with the root in d's solver state (rps3_root_keep, after the own-root
+ * check), private, so that a caller's writes to d's positions cannot
+ * mislead it; it serves the next call only, and only while d->theta is
+ * that root bit for bit (a theta the caller wrote is the start as
+ * written, as in a fresh workspace).  Not taken for a step above
+ * PREDICT_MAX either (a jump, where the last root is as good a start).
+ */
+#define PREDICT_MAX 1e-2 /* rad, as rps3_fwddyn's and the controller's */
+
 int rps3_inverse(const rps3_model *m, rps3_data *d) {
   if (m == NULL || d == NULL || !m->valid) return RPS3_EINVAL;
   /* on the kernel's configurations (closed form, Lagrange, the paper's
@@ -97,10 +119,12 @@ int rps3_inverse_stages(const rps3_model *m, rps3_data *d) {
       c39[i] = -v3_dot(v, m->radial[i]) / d->l[i];
       s39[i] = v[2] / d->l[i];
     }
+    if (m->opt.warm_start) rps3_root_predict(d, PREDICT_MAX);
     status = rps3_theta_solve_with(m, d, &J);
     if (status != RPS3_OK) return status;
     status = check_own_root(m, d, &J, c39, s39);
     if (status != RPS3_OK) return status;
+    rps3_root_keep(d, &J);
   }
 
   /* rates only when an effect (or the certificate) needs them */

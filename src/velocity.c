@@ -260,26 +260,40 @@ int rps3_joint_velocity(const rps3_model *m, rps3_data *d) {
 }
 
 /* the second derivative of (8)-(10), D.D'' + |D'|^2 = 0 for D = b_i - b_j,
-   as Jt theta'' = x: x, and b_i'' without its theta'' part (known) */
-void rps3_joint_acc_rhs(const rps3_data *d, double known[3][3],
-                        double x[3]) {
+   as Jt theta'' = x: x, and b_i'' without its theta'' part (known), from
+   the pairs' D_k = b_k - b_(k+1), the links' directions, lengths and
+   rates (ddl NULL: l'' = 0) */
+void rps3_constraint_acc_rhs(const double D[3][3], const double phi[3][3],
+                             const double dphi[3][3], const double l[3],
+                             const double dl[3], const double dth[3],
+                             const double ddl[3], double known[3][3],
+                             double x[3]) {
   double bd[3][3];
   int i, k;
   for (i = 0; i < 3; i++) {
-    double th = d->dtheta[i];
-    v3_scale(bd[i], d->dl[i], d->phi[i]);
-    v3_axpy(bd[i], bd[i], d->l[i] * th, d->dphi[i]);
-    v3_scale(known[i], d->ddl[i] - d->l[i] * th * th, d->phi[i]);
-    v3_axpy(known[i], known[i], 2.0 * d->dl[i] * th, d->dphi[i]);
+    double th = dth[i];
+    v3_scale(bd[i], dl[i], phi[i]);
+    v3_axpy(bd[i], bd[i], l[i] * th, dphi[i]);
+    v3_scale(known[i], (ddl != NULL ? ddl[i] : 0.0) - l[i] * th * th,
+             phi[i]);
+    v3_axpy(known[i], known[i], 2.0 * dl[i] * th, dphi[i]);
   }
   for (k = 0; k < 3; k++) {
-    int p = k, q = (k + 1) % 3;
-    double D[3], Dd[3], Kd[3];
-    v3_sub(D, d->b[p], d->b[q]);
-    v3_sub(Dd, bd[p], bd[q]);
-    v3_sub(Kd, known[p], known[q]);
-    x[k] = -2.0 * (v3_dot(Dd, Dd) + v3_dot(D, Kd));
+    int q = (k + 1) % 3;
+    double Dd[3], Kd[3];
+    v3_sub(Dd, bd[k], bd[q]);
+    v3_sub(Kd, known[k], known[q]);
+    x[k] = -2.0 * (v3_dot(Dd, Dd) + v3_dot(D[k], Kd));
   }
+}
+
+void rps3_joint_acc_rhs(const rps3_data *d, double known[3][3],
+                        double x[3]) {
+  double D[3][3];
+  int k;
+  for (k = 0; k < 3; k++) v3_sub(D[k], d->b[k], d->b[(k + 1) % 3]);
+  rps3_constraint_acc_rhs(M3C(D), M3C(d->phi), M3C(d->dphi), d->l, d->dl,
+                          d->dtheta, d->ddl, known, x);
 }
 
 /* from ddtheta and known (rps3_joint_acc_rhs): the centre's acceleration

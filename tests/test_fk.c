@@ -129,6 +129,82 @@ static void warm_start_pays(void **state) {
   rps3_data_free(d);
 }
 
+/*
+ * rps3_inverse's multiroot route starts from the last root moved along the
+ * lengths to second order (src/inverse.c): its start is off by O(h^3) for
+ * a pose step h, where the last root itself (O(h)) and a tangent step
+ * (O(h^2)) are not.  From an exact root (tol 1e-14), one step to a model
+ * that takes any start within 1e-3: the start is the answer (no
+ * iteration), and its distance from the closed form (39) falls by 8 when
+ * h halves.  A pose held still keeps its root bit for bit (the step is
+ * zero), and a jump beyond 0.01 rad is not predicted (the last root is
+ * the start, and the tight model iterates).
+ */
+static void predicted_start_is_third_order(void **state) {
+  const double p0[3] = {0.7, 0.25, 0.3}, v[3] = {1.0, 0.3, 0.05},
+               a[3] = {2.0, -1.0, 0.1};
+  rps3_model tight, loose;
+  rps3_data *d, *ref;
+  double err[3];
+  int n, k;
+  (void)state;
+  assert_int_equal(setup_model(&tight, RPS3_SOLVER_HYBRIDSJ), RPS3_OK);
+  tight.opt.theta = RPS3_THETA_MULTIROOT;
+  tight.opt.effects = RPS3_EFF_PLATFORM_GRAVITY;
+  tight.opt.tol = 1e-14;
+  loose = tight;
+  loose.opt.tol = 1e-3;
+  assert_int_equal(rps3_model_init(&tight, NULL, 0), RPS3_OK);
+  assert_int_equal(rps3_model_init(&loose, NULL, 0), RPS3_OK);
+  assert_int_equal(rps3_data_alloc(&tight, &d), RPS3_OK);
+  assert_int_equal(rps3_data_alloc(&tight, &ref), RPS3_OK);
+  for (n = 0; n < 3; n++) {
+    double h = 4e-3 / (double)(1 << n), e = 0.0;
+    memcpy(d->pose, p0, sizeof p0);
+    d->have_theta = 0;
+    if (rps3_inverse(&tight, d) != RPS3_OK) fail_msg("%s", d->err.msg);
+    for (k = 0; k < 3; k++) {
+      d->pose[k] = p0[k] + v[k] * h + 0.5 * a[k] * h * h;
+      ref->pose[k] = d->pose[k];
+    }
+    if (rps3_inverse(&loose, d) != RPS3_OK) fail_msg("%s", d->err.msg);
+    assert_int_equal(d->solve_niter, 0);
+    assert_int_equal(rps3_ik(&tight, ref), RPS3_OK);
+    for (k = 0; k < 3; k++) e = fmax(e, fabs(d->theta[k] - ref->theta[k]));
+    err[n] = e;
+  }
+  /* the start is good to 1e-8 rad at a 4 ms step of ~1 rad/s, far below
+     the tolerance it was accepted at and far above rounding */
+  assert_true(err[0] < 1e-6 && err[2] > 1e-13);
+  for (n = 1; n < 3; n++) {
+    double r = err[n - 1] / err[n];
+    if (!(r > 6.0 && r < 10.0))
+      fail_msg("start error %.3g -> %.3g as h halves: ratio %.3g, not ~8",
+               err[n - 1], err[n], r);
+  }
+
+  /* held: the start is the last root, bit for bit */
+  {
+    double th[3];
+    memcpy(th, d->theta, sizeof th);
+    assert_int_equal(rps3_inverse(&loose, d), RPS3_OK);
+    assert_int_equal(d->solve_niter, 0);
+    assert_true(memcmp(th, d->theta, sizeof th) == 0);
+  }
+  /* a jump of 0.05 rad in alpha: no prediction, the tight solve
+     iterates from the last root and lands on the closed form */
+  for (k = 0; k < 3; k++) ref->pose[k] = d->pose[k];
+  d->pose[0] += 0.05;
+  ref->pose[0] = d->pose[0];
+  assert_int_equal(rps3_inverse(&tight, d), RPS3_OK);
+  assert_true(d->solve_niter >= 2);
+  assert_int_equal(rps3_ik(&tight, ref), RPS3_OK);
+  for (k = 0; k < 3; k++)
+    CHECK_REL(d->theta[k], ref->theta[k], 1e-12, 1.0, "theta%d", k);
+  rps3_data_free(d);
+  rps3_data_free(ref);
+}
+
 static void error_codes(void **state) {
   rps3_model m;
   rps3_data *d;
@@ -250,6 +326,7 @@ int main(void) {
       cmocka_unit_test(all_solvers_agree),
       cmocka_unit_test(warm_start_pays),
       cmocka_unit_test(held_pose_is_its_own_root),
+      cmocka_unit_test(predicted_start_is_third_order),
       cmocka_unit_test(error_codes),
       cmocka_unit_test(level_platform),
       cmocka_unit_test(positions_of_the_root),

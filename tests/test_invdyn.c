@@ -194,8 +194,11 @@ static int same_dynamics(const rps3_data *a, const rps3_data *b) {
  * positions between calls (here by rps3_ik and the rate stages of another
  * point) gets that point's forces, those of a fresh workspace; (c) a warm
  * start from a theta the caller changed (by one ulp) solves as a fresh
- * workspace started there.  Both routes and methods, certificate on, high-
- * entropy parameters along random trajectories.
+ * workspace started there: the multiroot route's predicted start is taken
+ * only from the root it kept, while d->theta is that root bit for bit
+ * (from the unchanged root the two solves agree to the tolerance).  Both
+ * routes and methods, certificate on, high-entropy parameters along
+ * random trajectories.
  */
 static void shared_jacobian_never_stale(void **state) {
   rps3_model m, mc;
@@ -238,8 +241,20 @@ static void shared_jacobian_never_stale(void **state) {
             g->mode = d->mode;
             run_point(&m, d, &tr, 0.05 * (k + 1));
             run_point(&m, g, &tr, 0.05 * (k + 1));
-            assert_true(same_dynamics(d, g));
-            assert_true(memcmp(d->theta, g->theta, sizeof(d->theta)) == 0);
+            if (k % 4 != 0) {
+              assert_true(same_dynamics(d, g));
+              assert_true(memcmp(d->theta, g->theta, sizeof(d->theta)) == 0);
+            } else {
+              /* d's start is its kept root moved along the lengths, g's
+                 the root itself: two roots within tol = 1e-12 (|theta
+                 difference| up to 6e-13 rad, F's 1.1e-12 of its scale
+                 measured; 100 times that allowed) */
+              int i;
+              for (i = 0; i < 3; i++) {
+                CHECK_REL(d->theta[i], g->theta[i], 1e-10, 1.0, "theta%d", i);
+                CHECK_REL(d->F[i], g->F[i], 1e-10, fscale(g), "F%d", i);
+              }
+            }
             rps3_data_free(g);
           }
         }
