@@ -1375,6 +1375,8 @@ typedef enum {
 RPS3_API const char *rps3_ctrl_name(int kind);
 RPS3_API int rps3_ctrl_index(const char *name);
 
+struct rps3_fd_state; /* internal: a forward-dynamics state */
+
 typedef struct {
   rps3_ctrl_kind kind;
   double kp, kd;        /* gains, units above */
@@ -1392,6 +1394,7 @@ typedef struct {
                            computed torque); its err says why a call failed */
   /* internal */
   double t_meas;        /* time of meas's last solved state [s], NaN: none */
+  struct rps3_fd_state *fd; /* the model's state at the last measured one */
 } rps3_ctrl;
 
 /*

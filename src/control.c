@@ -8,8 +8,7 @@
 #include <stdlib.h>
 #include <string.h>
 
-#include "internal.h"
-#include "linalg.h"
+#include "fwddyn.h"
 
 static const char *const CTRL_NAME[RPS3_NCTRL] = {
     "open_loop", "pd", "pd_gravity", "computed_torque"};
@@ -59,7 +58,8 @@ int rps3_ctrl_alloc(rps3_ctrl_kind kind, double kp, double kd,
   c->traj = *traj;
   c->t = (double)NAN;
   c->t_meas = (double)NAN;
-  if (rps3_data_alloc(&c->model, &c->des) != RPS3_OK ||
+  c->fd = (rps3_fd_state *)calloc(1, sizeof(*c->fd));
+  if (c->fd == NULL || rps3_data_alloc(&c->model, &c->des) != RPS3_OK ||
       rps3_data_alloc(&c->model, &c->meas) != RPS3_OK) {
     rps3_ctrl_free(c);
     return RPS3_ENOMEM;
@@ -72,6 +72,7 @@ void rps3_ctrl_free(rps3_ctrl *c) {
   if (c == NULL) return;
   rps3_data_free(c->des);
   rps3_data_free(c->meas);
+  free(c->fd);
   free(c);
 }
 
@@ -124,73 +125,69 @@ static int desired(rps3_ctrl *c, double t) {
 /*
  * The start of the theta solve at the measured lengths l, time t: the last
  * measured state's root moved along its motion,
- *   theta + G dl_len + (1/2) (theta'' - G l'') dt^2,   G = -Jt^-1 Jl,
+ *   theta + G (l - l_last) + (1/2) theta''_bias dt^2,
  * exact in the length change (the measured l need not follow the last
- * rates) and second order in time through the velocity product G' l' =
- * theta'' - G l''.  Its own error is ~1e-13 at 1 kHz on the paper's
- * helix, but a start within the tolerance is taken as the root, so the
- * roots' residuals (up to the tolerance) carry over: the solve returns
- * without an iteration at 81 % of the ticks and takes one hybridsj
- * iteration at the others.  Not taken without a last state, over a step
- * of more than PREDICT_MAX or with a singular Jt: the last root is the
- * start then.
+ * rates) and second order in time: theta'' = G l'' + theta''_bias, so the
+ * part of theta'' that the length change does not already carry is the
+ * velocity product theta''_bias of the last state.  Not taken without a
+ * last state or over a step of more than PREDICT_MAX: the last root is
+ * the start then.
  */
 static void predict_theta(rps3_ctrl *c, const double l[3], double t) {
+  const rps3_fd_state *k = c->fd;
   rps3_data *d = c->meas;
-  double Jl[3][3], Jt[3][3], LU[9], v[3], x[3], dt = t - c->t_meas, h,
-      big = 0.0;
-  int perm[3], i, k;
-  if (!(dt > 0.0 && dt < HUGE_VAL) ||
-      (d->stage & (RPS3_STAGE_POS | RPS3_STAGE_ACC)) !=
-          (RPS3_STAGE_POS | RPS3_STAGE_ACC))
-    return;
+  double x[3], dl[3], dt = t - c->t_meas, h, big = 0.0;
+  int i;
+  if (!(dt > 0.0 && dt < HUGE_VAL)) return;
   h = 0.5 * dt * dt;
-  rps3_constraint_jacobian(d, Jl, Jt);
-  for (i = 0; i < 3; i++)
-    for (k = 0; k < 3; k++) LU[3 * i + k] = Jt[i][k];
-  if (rps3_lu_factor(3, LU, perm) != 0) return;
-  for (i = 0; i < 3; i++) v[i] = l[i] - d->l[i] - h * d->ddl[i];
-  m3_mulv(x, M3C(Jl), v);
-  v3_scale(x, -1.0, x);
-  rps3_lu_solve(3, LU, perm, x);
-  v3_axpy(x, x, h, d->ddtheta);
+  v3_sub(dl, l, k->l);
+  m3_mulv(x, M3C(k->G), dl);
+  v3_axpy(x, x, h, k->ddth_b);
   for (i = 0; i < 3; i++) big = fmax(big, fabs(x[i]));
   if (big <= PREDICT_MAX && v3_finite(x)) v3_axpy(d->theta, d->theta, 1.0, x);
 }
 
-/* rps3_invdyn of the controller's model at the measured (l, dl) and the
-   given ddl at time t: positions from the theta solve, warm-started from
-   the last call's root moved along its motion (or from the desired
-   motion's theta the first time) */
+/*
+ * The controller's model's inverse dynamics at the measured (l, dl) and
+ * the given ddl at time t, F = Mq ddl + hq: the joint-space form of (23),
+ * whose forces are rps3_invdyn's (tests/test_fwddyn.c holds the two
+ * together, and tests/test_control.c the controllers to rps3_invdyn).
+ * Positions from the theta solve of rps3_fwddyn_state (Newton from the
+ * predicted start, rps3_fk when it fails), which reports the singular
+ * configurations as rps3_invdyn would (RPS3_ESING past opt.cond_max); the
+ * first start is the desired motion's theta.
+ */
 static int invdyn_at(rps3_ctrl *c, double t, const double l[3],
                      const double dl[3], const double ddl[3], double F[3]) {
   rps3_data *d = c->meas;
-  rps3_cjac J;
-  double LU[9];
-  int perm[3], st;
+  double x[3];
+  int st, i, mode0 = d->mode, had = isfinite(c->t_meas);
   if (!d->have_theta) {
     v3_copy(d->theta, c->des->theta);
     d->have_theta = 1;
-  } else {
+  } else if (had) {
     predict_theta(c, l, t);
   }
   c->t_meas = (double)NAN;
-  /* one constraint Jacobian at the root for the rates and the forces (the
-     pose and its rates are not needed: rps3_theta_solve leaves the pose
-     out, the pose rates are left NaN) */
   v3_copy(d->l, l);
-  st = rps3_theta_solve_with(&c->model, d, &J);
-  if (st != RPS3_OK) return st;
-  st = rps3_jt_factor(&c->model, d, M3C(J.Jt), LU, perm);
-  if (st != RPS3_OK) return st;
   v3_copy(d->dl, dl);
-  v3_copy(d->ddl, ddl);
-  st = rps3_joint_rates_lu(&c->model, d, M3C(J.Jl), LU, perm, 0);
+  st = rps3_fwddyn_state(&c->model, d, c->fd, RPS3_FD_LEAN | RPS3_FD_NOFACTOR);
   if (st != RPS3_OK) return st;
-  st = rps3_invdyn_with(&c->model, d, &J);
-  if (st != RPS3_OK) return st;
+  if (had && d->mode != mode0) d->warn |= RPS3_WARN_MODE;
+  m3_mulv(x, M3C(d->Mq), ddl);
+  v3_axpy(x, x, 1.0, d->hq);
+  if (!v3_finite(x)) {
+    d->err.code = RPS3_ERANGE;
+    snprintf(d->err.msg, sizeof(d->err.msg),
+             "controller force (%g, %g, %g) N is not finite", x[0], x[1],
+             x[2]);
+    return RPS3_ERANGE;
+  }
+  for (i = 0; i < 3; i++) {
+    d->ddl[i] = ddl[i];
+    F[i] = d->F[i] = x[i];
+  }
   c->t_meas = t;
-  v3_copy(F, d->F);
   return RPS3_OK;
 }
 

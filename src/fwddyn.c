@@ -3,24 +3,35 @@
  * coordinates: Mq(l) l'' + hq(l, l') = F, and the energy of a state.
  *
  * Mq and hq are assembled by virtual power (Kane's method), not from the
- * Lagrange multipliers of rps3_invdyn.  Every velocity of the mechanism is
- * linear in l':
+ * Lagrange multipliers of rps3_invdyn.  Link i moves in the vertical plane
+ * of pin i: its ball joint is b_i = h_i u_i + Z_i e_z with h_i = R - l_i
+ * cos(theta_i), Z_i = l_i sin(theta_i) ((12)-(14)), u_i the pin's radial
+ * unit vector, so the constraints (8)-(10), their Jacobians and the ball
+ * joints' motion are written with these two numbers a link.  Every
+ * velocity of the mechanism is linear in l':
  *   theta' = G l',  G = -(df/dtheta)^-1 (df/dl)        (from (8)-(10))
  *   b_i'   = l_i' phi_i + l_i theta_i' dphi_i          ((12)-(14), (28))
  *   vc     = Jc l' = (b_1' + b_2' + b_3') / 3          ((11), (25))
  *   omega  = Jw l'  from the ball joints               ((26)-(28))
  * and every acceleration is that map applied to l'' plus its value at
- * l'' = 0 (the velocity-product "bias", rps3_joint_acceleration with ddl =
- * 0).  A rigid body of mass mb, centre of mass offset s and world inertia
- * Iw about it contributes, with Jg = Jc - [s]x Jw its centre of mass's map,
+ * l'' = 0 (the velocity-product "bias").  The platform, the uniform disc
+ * of (21), has the mass, centroid and inertia tensor of M/2 at its centre
+ * and M/6 at each ball joint, so its kinetic energy is that of these
+ * points; a ball joint's speed is |b_i'|^2 = l_i'^2 + l_i^2 theta_i'^2.
+ * With the links' inertia Jlink about their pins:
+ *   Mq = (M/6) I + G^T diag(Jlink + (M/6) l_i^2) G + (M/2) Jc^T Jc,
+ *   hq = sigma + G^T tau + (M/2) Jc^T ac_bias + M g Jc^T e_z,
+ *   sigma_i = -(M/6) l_i theta_i'^2,
+ *   tau_i   = (Jlink + (M/6) l_i^2) theta_i''_bias + 2 (M/6) l_i l_i'
+ *             theta_i' + m g d cos(theta_i) - T_friction,i.
+ * A payload, a rigid body of mass mb, centre of mass offset s and world
+ * inertia Iw about it, with Jg = Jc - [s]x Jw its centre of mass's map:
  *   Mq += mb Jg^T Jg + Jw^T Iw Jw,
- *   hq += Jg^T mb (a_g,bias + g e_z) + Jw^T (Iw dw_bias + w x Iw w);
- * a link (pinned, swinging about its pin axis) contributes
- *   Mq += Jlink G^T G,  hq += G^T (Jlink theta''_bias + m g d cos theta
- *   - T_friction).
- * The platform is the uniform disc of (21) as a rigid body (not the point
- * masses rps3_invdyn's Lagrange route uses), so the two routes share no
- * inertia formula.
+ *   hq += Jg^T mb (a_g,bias + g e_z) + Jw^T (Iw dw_bias + w x Iw w).
+ * rps3_invdyn's Lagrange route writes the platform as the same points;
+ * its Newton-Euler route (a rigid body and six ball-joint forces) and the
+ * kinetic energy of rps3_energy (the disc's inertia tensor) share nothing
+ * with this file, and the tests hold it to both.
  */
 #include <string.h>
 
@@ -56,116 +67,8 @@ static void omega_of_sum(double omega[3], const double w[3], const double a[3],
   for (q = 0; q < 3; q++) omega[q] = wk * w[q] - s * a[q];
 }
 
-/*
- * Rates and the maps from one inverse of df/dtheta: the mode (sign of its
- * determinant), its condition (rps3_jt_factor's test and messages), then
- *   G = -(df/dtheta)^-1 (df/dl)
- *   Jc e_j = (phi_j + sum_i l_i G_ij dphi_i) / 3            (25), (28)
- *   Jw e_j = W (rho_j x phi_j + sum_i l_i G_ij rho_i x dphi_i)  (26)-(28)
- * where W inverts sum_i rho_i x u_i for the balls (rps3_omega_from_balls;
- * the centre's own motion drops out, sum_i rho_i = 0 by (11)).  The
- * velocities are the maps applied to l' (theta' = G l', vc = Jc l', omega
- * = Jw l'), and the accelerations at l'' = 0 (the bias) come from the
- * second derivative of (8)-(10), D.D'' + |D'|^2 = 0 with D = b_i - b_j,
- * solved with the same inverse.  The stage functions would factor
- * df/dtheta once per rate and apply W five times.
- */
-static int rates_and_maps(const rps3_model *m, rps3_data *d,
-                          rps3_fd_state *k, int dpose) {
-  const double wk = 2.0 / (3.0 * m->r * m->r);
-  double Jl[3][3], Jt[3][3], A[9], LU[9], X[9], cond, rho[3][3], P[3][3],
-      Q[3][3], a[3], kn[3][3], x[3], w[3];
-  int perm[3], i, j, q;
-  rps3_constraint_jacobian(d, Jl, Jt);
-  d->mode = rps3_mode_of_jac(M3C(Jt));
-  for (i = 0; i < 3; i++)
-    for (q = 0; q < 3; q++) A[3 * i + q] = LU[3 * i + q] = Jt[i][q];
-  if (rps3_lu_factor(3, LU, perm) != 0)
-    RPS3_ERROR(d, RPS3_ESING, "constraint Jacobian df/dtheta is singular");
-  cond = rps3_lu3_inverse_cond1(A, LU, perm, X);
-  if (!(cond <= m->opt.cond_max))
-    RPS3_ERROR(d, RPS3_ESING,
-               "constraint Jacobian df/dtheta: condition number %.3g exceeds "
-               "cond_max %.3g", cond, m->opt.cond_max);
-  for (i = 0; i < 3; i++)
-    for (j = 0; j < 3; j++)
-      k->G[i][j] = -(X[3 * i] * Jl[0][j] + X[3 * i + 1] * Jl[1][j] +
-                     X[3 * i + 2] * Jl[2][j]);
-
-  /* the maps, column j the motion for l' = e_j */
-  for (i = 0; i < 3; i++) {
-    v3_sub(rho[i], d->b[i], d->c);
-    v3_cross(P[i], rho[i], d->phi[i]);
-    v3_cross(Q[i], rho[i], d->dphi[i]);
-    a[i] = d->rot[i][2];
-  }
-  for (j = 0; j < 3; j++) {
-    double vc[3], om[3];
-    v3_copy(vc, d->phi[j]);
-    v3_copy(w, P[j]);
-    for (i = 0; i < 3; i++) {
-      double s = d->l[i] * k->G[i][j];
-      v3_axpy(vc, vc, s, d->dphi[i]);
-      v3_axpy(w, w, s, Q[i]);
-    }
-    omega_of_sum(om, w, a, wk);
-    for (q = 0; q < 3; q++) {
-      k->Jc[q][j] = vc[q] / 3.0;
-      k->Jw[q][j] = om[q];
-    }
-  }
-
-  /* velocities */
-  m3_mulv(d->dtheta, M3C(k->G), d->dl);
-  m3_mulv(d->vc, M3C(k->Jc), d->dl);
-  m3_mulv(d->omega, M3C(k->Jw), d->dl);
-  /* one test, and the named checks only when it fails */
-  if (!(rps3_all_finite(d->dtheta, 3) & rps3_all_finite(d->vc, 3) &
-        rps3_all_finite(d->omega, 3))) {
-    RPS3_CHECK_FINITE(d, d->dtheta, 3, "dtheta");
-    RPS3_CHECK_FINITE(d, d->vc, 3, "vc");
-    RPS3_CHECK_FINITE(d, d->omega, 3, "omega");
-  }
-  if (dpose) {
-    rps3_pose_rates(d);
-    RPS3_CHECK_FINITE(d, d->dpose, 3, "dpose");
-  } else {
-    d->dpose[0] = d->dpose[1] = d->dpose[2] = (double)NAN;
-  }
-  d->stage |= RPS3_STAGE_VEL;
-
-  /* the bias: b_i'' = (l_i'' - l_i th_i'^2) phi_i + (2 l_i' th_i' + l_i
-     th_i'') dphi_i at l'' = 0, without its theta'' part (kn) first */
-  d->ddl[0] = d->ddl[1] = d->ddl[2] = 0.0;
-  rps3_joint_acc_rhs(d, kn, x);
-  for (i = 0; i < 3; i++)
-    k->ddth_b[i] = X[3 * i] * x[0] + X[3 * i + 1] * x[1] + X[3 * i + 2] * x[2];
-  /* ac = mean b_i''; domega from sum_i rho_i x (b_i'' - omega x (omega x
-     rho_i)), the last term (omega . rho_i) rho_i x omega */
-  k->ac_b[0] = k->ac_b[1] = k->ac_b[2] = 0.0;
-  w[0] = w[1] = w[2] = 0.0;
-  for (i = 0; i < 3; i++) {
-    double bdd[3], t[3];
-    v3_axpy(bdd, kn[i], d->l[i] * k->ddth_b[i], d->dphi[i]);
-    v3_axpy(k->ac_b, k->ac_b, 1.0 / 3.0, bdd);
-    v3_cross(t, rho[i], bdd);
-    v3_axpy(w, w, 1.0, t);
-    v3_cross(t, rho[i], d->omega);
-    v3_axpy(w, w, -v3_dot(d->omega, rho[i]), t);
-  }
-  omega_of_sum(k->dw_b, w, a, wk);
-  v3_copy(d->ddtheta, k->ddth_b);
-  v3_copy(d->ac, k->ac_b);
-  v3_copy(d->domega, k->dw_b);
-  if (!(rps3_all_finite(d->ddtheta, 3) & rps3_all_finite(d->ac, 3) &
-        rps3_all_finite(d->domega, 3))) {
-    RPS3_CHECK_FINITE(d, d->ddtheta, 3, "ddtheta");
-    RPS3_CHECK_FINITE(d, d->ac, 3, "ac");
-    RPS3_CHECK_FINITE(d, d->domega, 3, "domega");
-  }
-  return RPS3_OK;
-}
-
+/* the larger of a and b, both finite (fmax is a call at -O2) */
+static inline double max2(double a, double b) { return a > b ? a : b; }
 /* add a rigid body: mass mb, centre of mass offset s from the platform
    centre and inertia Iw about it (world axes); g = 0 leaves its weight out */
 static void add_body(const rps3_fd_state *k, const rps3_data *d, double mb,
@@ -202,72 +105,285 @@ static void add_body(const rps3_fd_state *k, const rps3_data *d, double mb,
 }
 
 /* Mq and hq of the selected effects at the state of d */
-static void assemble(const rps3_model *m, const rps3_data *d,
-                     const rps3_fd_state *k, double Mo[3][3], double ho[3]) {
+
+/*
+ * Rates, maps, Mq and hq at the positions d holds (d->l, theta's cosines
+ * and sines as phi_i and dphi_i's Z) and the rates d->dl, for the selected
+ * effects (flags of rps3_fwddyn_state: Jw and the angular bias
+ * acceleration, which only the full report and a payload read, are left
+ * out of a lean state; RPS3_FD_NOFACTOR adds what rps3_invdyn reports of
+ * the configuration, its checks included).
+ *
+ * The pair k = (i, j), j = i + 1 (mod 3), of (8)-(10) is f_k = |b_i -
+ * b_j|^2 - 3 r^2 = h_i^2 + h_j^2 + h_i h_j + (Z_i - Z_j)^2 - 3 r^2 (u_i .
+ * u_j = -1/2), so with A = 2 h_i + h_j, B = 2 h_j + h_i, E = 2 (Z_i -
+ * Z_j) its derivatives are
+ *   df_k/dtheta_i = l_i (A sin_i + E cos_i),  df_k/dtheta_j = l_j (B sin_j
+ *   - E cos_j), df_k/dl_i = E sin_i - A cos_i,  df_k/dl_j = -B cos_j - E
+ *   sin_j,
+ * rps3_constraint_jacobian's entries, and each row has two: df/dtheta is
+ * cyclic bidiagonal, det = a0 a1 a2 + b0 b1 b2, and its inverse is its
+ * adjugate over det, nine products.  The second derivative of f_k gives
+ * the bias: (df/dtheta) theta''_bias = x with x_k = -(2 |b_i' - b_j'|^2 + A
+ * h_i''0 + B h_j''0 + E (Z_i''0 - Z_j''0)), the ball accelerations without
+ * their theta'' part (rps3_constraint_acc_rhs in the links' planes).
+ * Everything is formed in locals and stored once: stores through k or d
+ * could alias the inputs as far as the compiler knows.
+ */
+static int state_eval(const rps3_model *m, rps3_data *d, rps3_fd_state *k,
+                      int flags, const double cth[3], const double sth[3]) {
   const int eff = m->opt.effects;
-  /* sums in locals: the compiler cannot tell Mo from k's members */
-  double Mq[3][3] = {{0, 0, 0}, {0, 0, 0}, {0, 0, 0}}, hq[3] = {0, 0, 0};
-  double Iw[3][3], tl[3] = {0, 0, 0}, Jl[3] = {0, 0, 0}, s[3];
+  const int invdyn = (flags & RPS3_FD_NOFACTOR) != 0;
+  const int with_w =
+      !(flags & RPS3_FD_LEAN) || (eff & RPS3_EFF_PAYLOAD) || invdyn;
+  const double mb = (eff & RPS3_EFF_PLATFORM_INERTIA) ? m->M / 6.0 : 0.0;
+  const double mc = 3.0 * mb; /* M / 2 at the centre */
+  const double wk = 2.0 / (3.0 * m->r * m->r), R = m->R;
+  double l[3], dl[3], c[3], s[3], h[3], Z[3], A[3], B[3], E[3], at[3],
+      bt[3], al[3], bl[3], X[3][3], G[3][3], Jc[3][3], det, id, cond, n1, ni,
+      x[3], dth[3], ddb[3], hd[3], Zd[3], hdd[3], Zdd[3], vc[3], acb[3],
+      om[3], Jp[3], tau[3], sig[3], P[3][3], Q[3][3], rho[3][3], w[3], a[3],
+      Mq[3][3], hq[3], chk, u[3][2];
   int i, j, q;
-  /* platform: the disc of (21), Ip about its centre, a principal
-     inertia in the platform's axes: with Wb = rot^T Jw and wb, dwb the
-     angular velocity and bias acceleration in those axes,
-       Mq += M Jc^T Jc + Wb^T Ip Wb,
-       hq += M Jc^T ac_bias + Wb^T (Ip dwb + wb x Ip wb)  (add_body's) */
-  if (eff & RPS3_EFF_PLATFORM_INERTIA) {
-    double Wb[3][3], wb[3], dwb[3], Iwb[3], t[3];
-    m3_mulvt(wb, M3C(d->rot), d->omega);
-    m3_mulvt(dwb, M3C(d->rot), k->dw_b);
-    for (q = 0; q < 3; q++) {
-      double wq[3] = {k->Jw[0][q], k->Jw[1][q], k->Jw[2][q]};
-      m3_mulvt(t, M3C(d->rot), wq);
-      for (i = 0; i < 3; i++) Wb[i][q] = t[i];
-      Iwb[q] = m->Ip[q] * wb[q];
-    }
-    v3_cross(t, wb, Iwb);
-    for (i = 0; i < 3; i++) t[i] += m->Ip[i] * dwb[i];
-    for (j = 0; j < 3; j++) {
-      for (q = j; q < 3; q++) {
-        double mjq = 0.0;
-        for (i = 0; i < 3; i++)
-          mjq += m->M * k->Jc[i][j] * k->Jc[i][q] +
-                 m->Ip[i] * Wb[i][j] * Wb[i][q];
-        Mq[j][q] += mjq;
-      }
-      for (i = 0; i < 3; i++)
-        hq[j] += m->M * k->Jc[i][j] * k->ac_b[i] + Wb[i][j] * t[i];
-    }
-  }
-  /* (22): M g z_c, z_c' = Jc[2] l' */
-  if (eff & RPS3_EFF_PLATFORM_GRAVITY)
-    for (j = 0; j < 3; j++) hq[j] += m->M * m->g * k->Jc[2][j];
-  /* payload: weight and inertia together */
-  if (eff & RPS3_EFF_PAYLOAD) {
-    m3_mulv(s, M3C(d->rot), m->payload.com);
-    inertia_world(Iw, M3C(d->rot), m->payload.inertia);
-    add_body(k, d, m->payload.mass, s, M3C(Iw), m->g, Mq, hq);
-  }
-  /* links: generalized loads on theta_i, mapped to l by G^T */
   for (i = 0; i < 3; i++) {
-    if (eff & RPS3_EFF_LINK_INERTIA) {
-      Jl[i] = m->Jlink;
-      tl[i] += m->Jlink * k->ddth_b[i];
-    }
-    /* (22): d/dtheta of m g d sin(theta); cos theta is dphi_i's Z */
-    if (eff & RPS3_EFF_LINK_GRAVITY) tl[i] += m->m * m->g * m->d * d->dphi[i][2];
-    if (eff & RPS3_EFF_PIN_FRICTION)
-      tl[i] -= rps3_friction_torque(m, d->dtheta[i]);
+    l[i] = d->l[i];
+    dl[i] = d->dl[i];
+    c[i] = cth[i];
+    s[i] = sth[i];
+    h[i] = R - l[i] * c[i];
+    Z[i] = l[i] * s[i];
+    u[i][0] = m->radial[i][0];
+    u[i][1] = m->radial[i][1];
   }
+  for (q = 0; q < 3; q++) {
+    i = q;
+    j = (q + 1) % 3;
+    A[q] = 2.0 * h[i] + h[j];
+    B[q] = 2.0 * h[j] + h[i];
+    E[q] = 2.0 * (Z[i] - Z[j]);
+    at[q] = l[i] * (A[q] * s[i] + E[q] * c[i]); /* Jt[q][i] */
+    bt[q] = l[j] * (B[q] * s[j] - E[q] * c[j]); /* Jt[q][j] */
+    al[q] = E[q] * s[i] - A[q] * c[i];          /* Jl[q][i] */
+    bl[q] = -B[q] * c[j] - E[q] * s[j];         /* Jl[q][j] */
+  }
+  /* the mode is the sign of det(df/dtheta), as rps3_mode_of_jac groups it */
+  det = at[0] * (at[1] * at[2]) + bt[0] * (bt[1] * bt[2]);
+  d->mode = (det > 0.0) - (det < 0.0);
+  if (!(fabs(det) > 0.0) || !(fabs(det) < HUGE_VAL))
+    RPS3_ERROR(d, RPS3_ESING, "constraint Jacobian df/dtheta is singular");
+  id = 1.0 / det;
+  X[0][0] = at[1] * at[2] * id;
+  X[0][1] = -bt[0] * at[2] * id;
+  X[0][2] = bt[0] * bt[1] * id;
+  X[1][0] = bt[1] * bt[2] * id;
+  X[1][1] = at[0] * at[2] * id;
+  X[1][2] = -at[0] * bt[1] * id;
+  X[2][0] = -at[1] * bt[2] * id;
+  X[2][1] = bt[0] * bt[2] * id;
+  X[2][2] = at[0] * at[1] * id;
+  /* 1-norm condition number: column i of df/dtheta holds at[i] and
+     bt[i - 1] */
+  n1 = ni = 0.0;
+  for (i = 0; i < 3; i++) {
+    n1 = max2(n1, fabs(at[i]) + fabs(bt[(i + 2) % 3]));
+    ni = max2(ni, fabs(X[0][i]) + fabs(X[1][i]) + fabs(X[2][i]));
+  }
+  cond = n1 * ni;
+  if (!(cond <= m->opt.cond_max))
+    RPS3_ERROR(d, RPS3_ESING,
+               "constraint Jacobian df/dtheta: condition number %.3g exceeds "
+               "cond_max %.3g", cond, m->opt.cond_max);
+  /* G = -X Jl: column j of Jl holds al[j] (row j) and bl[j - 1] */
   for (j = 0; j < 3; j++) {
-    for (q = j; q < 3; q++)
-      for (i = 0; i < 3; i++) Mq[j][q] += Jl[i] * k->G[i][j] * k->G[i][q];
-    for (i = 0; i < 3; i++) hq[j] += k->G[i][j] * tl[i];
+    const int p = (j + 2) % 3;
+    for (i = 0; i < 3; i++) G[i][j] = -(X[i][j] * al[j] + X[i][p] * bl[p]);
+  }
+
+  /* rates: theta', the balls' in-plane rates (28) and their
+     accelerations at l'' = 0 without the theta'' part */
+  for (i = 0; i < 3; i++) {
+    const double th = G[i][0] * dl[0] + G[i][1] * dl[1] + G[i][2] * dl[2];
+    const double lth = l[i] * th, v = 2.0 * dl[i] * th;
+    dth[i] = th;
+    hd[i] = s[i] * lth - c[i] * dl[i];
+    Zd[i] = s[i] * dl[i] + c[i] * lth;
+    hdd[i] = s[i] * v + c[i] * lth * th;
+    Zdd[i] = c[i] * v - s[i] * lth * th;
+  }
+  for (q = 0; q < 3; q++) {
+    const double dz = Zd[q] - Zd[(q + 1) % 3];
+    i = q;
+    j = (q + 1) % 3;
+    x[q] = -(2.0 * (hd[i] * hd[i] + hd[j] * hd[j] + hd[i] * hd[j] + dz * dz) +
+             A[q] * hdd[i] + B[q] * hdd[j] + E[q] * (Zdd[i] - Zdd[j]));
+  }
+  for (i = 0; i < 3; i++) {
+    ddb[i] = X[i][0] * x[0] + X[i][1] * x[1] + X[i][2] * x[2];
+    hdd[i] += l[i] * s[i] * ddb[i];
+    Zdd[i] += l[i] * c[i] * ddb[i];
+  }
+
+  /* the centre: velocity (25), its map Jc and bias acceleration */
+  for (q = 0; q < 2; q++) {
+    vc[q] = (hd[0] * u[0][q] + hd[1] * u[1][q] + hd[2] * u[2][q]) / 3.0;
+    acb[q] = (hdd[0] * u[0][q] + hdd[1] * u[1][q] + hdd[2] * u[2][q]) / 3.0;
+  }
+  vc[2] = (Zd[0] + Zd[1] + Zd[2]) / 3.0;
+  acb[2] = (Zdd[0] + Zdd[1] + Zdd[2]) / 3.0;
+  for (j = 0; j < 3; j++) {
+    /* dh_i/dl_j' = l_i sin_i G_ij - cos_j [i = j], dZ_i/dl_j' = l_i cos_i
+       G_ij + sin_j [i = j] */
+    double sh0 = -c[j] * u[j][0], sh1 = -c[j] * u[j][1], sz = s[j];
+    for (i = 0; i < 3; i++) {
+      const double gh = l[i] * s[i] * G[i][j];
+      sh0 += gh * u[i][0];
+      sh1 += gh * u[i][1];
+      sz += l[i] * c[i] * G[i][j];
+    }
+    Jc[0][j] = sh0 / 3.0;
+    Jc[1][j] = sh1 / 3.0;
+    Jc[2][j] = sz / 3.0;
+  }
+
+  chk = 0.0;
+  for (q = 0; q < 3; q++)
+    chk += fabs(dth[q]) + fabs(ddb[q]) + fabs(acb[q]);
+  k->have_w = with_w;
+  if (with_w) {
+    /* omega (26)-(28) from sum_i rho_i x b_i', rho_i = b_i - c, with rho_i
+       x u_i and rho_i x e_z formed once; Jw column j from the balls'
+       in-plane maps; the angular bias acceleration from sum_i rho_i x
+       (b_i'' - omega x (omega x rho_i)) */
+    for (i = 0; i < 3; i++) {
+      a[i] = d->rot[i][2];
+      for (q = 0; q < 3; q++) rho[i][q] = d->b[i][q] - d->c[q];
+    }
+    w[0] = w[1] = w[2] = 0.0;
+    for (i = 0; i < 3; i++) {
+      P[i][0] = -rho[i][2] * u[i][1];
+      P[i][1] = rho[i][2] * u[i][0];
+      P[i][2] = rho[i][0] * u[i][1] - rho[i][1] * u[i][0];
+      Q[i][0] = rho[i][1];
+      Q[i][1] = -rho[i][0];
+      Q[i][2] = 0.0;
+      for (q = 0; q < 3; q++) w[q] += hd[i] * P[i][q] + Zd[i] * Q[i][q];
+    }
+    omega_of_sum(om, w, a, wk);
+    for (j = 0; j < 3; j++) {
+      double wj[3] = {0.0, 0.0, 0.0}, oj[3];
+      for (i = 0; i < 3; i++) {
+        const double gh = l[i] * s[i] * G[i][j] - (i == j ? c[i] : 0.0);
+        const double gz = l[i] * c[i] * G[i][j] + (i == j ? s[i] : 0.0);
+        for (q = 0; q < 3; q++) wj[q] += gh * P[i][q] + gz * Q[i][q];
+      }
+      omega_of_sum(oj, wj, a, wk);
+      for (q = 0; q < 3; q++) k->Jw[q][j] = oj[q];
+    }
+    w[0] = w[1] = w[2] = 0.0;
+    for (i = 0; i < 3; i++) {
+      double t[3], wr = v3_dot(om, rho[i]);
+      v3_cross(t, rho[i], om);
+      for (q = 0; q < 3; q++)
+        w[q] += hdd[i] * P[i][q] + Zdd[i] * Q[i][q] - wr * t[q];
+    }
+    omega_of_sum(k->dw_b, w, a, wk);
+    for (q = 0; q < 3; q++) chk += fabs(vc[q]) + fabs(om[q]) + fabs(k->dw_b[q]);
+  } else {
+    /* a lean stage's platform rates: none, as its positions */
+    for (q = 0; q < 3; q++) vc[q] = om[q] = (double)NAN;
+  }
+  for (i = 0; i < 3; i++) {
+    d->dtheta[i] = dth[i];
+    d->vc[i] = vc[i];
+    d->omega[i] = om[i];
+    k->ddth_b[i] = ddb[i];
+    k->ac_b[i] = acb[i];
+  }
+  memcpy(k->G, G, sizeof(G));
+  memcpy(k->Jc, Jc, sizeof(Jc));
+  /* one test of the rates and the bias; the named checks when it fails */
+  if (!(chk <= DBL_MAX)) {
+    RPS3_CHECK_FINITE(d, d->dtheta, 3, "dtheta");
+    if (with_w) {
+      RPS3_CHECK_FINITE(d, d->vc, 3, "vc");
+      RPS3_CHECK_FINITE(d, d->omega, 3, "omega");
+    }
+    RPS3_CHECK_FINITE(d, k->ddth_b, 3, "ddtheta");
+    RPS3_CHECK_FINITE(d, k->ac_b, 3, "ac");
+    if (with_w) RPS3_CHECK_FINITE(d, k->dw_b, 3, "domega");
+  }
+  if (invdyn) {
+    /* what rps3_invdyn reports of the configuration, and its limits: the
+       lambda system (df/dtheta)^T's condition number (its 1-norm, the
+       infinity norm of df/dtheta: rows hold at[q], bt[q]) and the force
+       transmission, max over l'_j = 1 of |vc|_1 + R |omega|_1 (the rows
+       of dF/d(f, n) by virtual power, rps3_invdyn's transmission()) */
+    double nr = 0.0, nx = 0.0, T = 0.0;
+    for (q = 0; q < 3; q++) {
+      const double sj = fabs(Jc[0][q]) + fabs(Jc[1][q]) + fabs(Jc[2][q]) +
+                        R * (fabs(k->Jw[0][q]) + fabs(k->Jw[1][q]) +
+                             fabs(k->Jw[2][q]));
+      nr = max2(nr, fabs(at[q]) + fabs(bt[q]));
+      nx = max2(nx, fabs(X[q][0]) + fabs(X[q][1]) + fabs(X[q][2]));
+      if (sj > T || !isfinite(sj)) T = sj;
+    }
+    d->cond = nr * nx;
+    d->transmission = T;
+    if (!(d->cond <= m->opt.cond_max))
+      RPS3_ERROR(d, RPS3_ESING,
+                 "lambda system condition number %.3g exceeds cond_max %.3g",
+                 d->cond, m->opt.cond_max);
+    if (d->cond > m->opt.cond_warn) d->warn |= RPS3_WARN_ILLCOND;
+    if (!(T >= 0.0 && T <= m->opt.trans_max))
+      RPS3_ERROR(d, RPS3_ESING,
+                 "force transmission %.3g exceeds trans_max %.3g: an actuator "
+                 "would carry that many times the load on the platform",
+                 T, m->opt.trans_max);
+    if (T > m->opt.trans_warn) d->warn |= RPS3_WARN_TRANS;
+  }
+
+  /* the links and the platform's ball-joint masses, as generalized loads
+     on theta (tau) and on l (sigma) */
+  for (i = 0; i < 3; i++) {
+    const double mbl = mb * l[i];
+    Jp[i] = mbl * l[i];
+    tau[i] = 2.0 * mbl * dl[i] * dth[i];
+    sig[i] = -mbl * dth[i] * dth[i];
+    if (eff & RPS3_EFF_LINK_INERTIA) Jp[i] += m->Jlink;
+    tau[i] += Jp[i] * ddb[i];
+    /* (22): d/dtheta of m g d sin(theta) */
+    if (eff & RPS3_EFF_LINK_GRAVITY) tau[i] += m->m * m->g * m->d * c[i];
+    if (eff & RPS3_EFF_PIN_FRICTION)
+      tau[i] -= rps3_friction_torque(m, dth[i]);
+  }
+  {
+    const double gz = (eff & RPS3_EFF_PLATFORM_GRAVITY) ? m->M * m->g : 0.0;
+    for (j = 0; j < 3; j++) {
+      for (q = j; q < 3; q++)
+        Mq[j][q] = (q == j ? mb : 0.0) + Jp[0] * G[0][j] * G[0][q] +
+                   Jp[1] * G[1][j] * G[1][q] + Jp[2] * G[2][j] * G[2][q] +
+                   mc * (Jc[0][j] * Jc[0][q] + Jc[1][j] * Jc[1][q] +
+                         Jc[2][j] * Jc[2][q]);
+      hq[j] = sig[j] + G[0][j] * tau[0] + G[1][j] * tau[1] +
+              G[2][j] * tau[2] +
+              mc * (Jc[0][j] * acb[0] + Jc[1][j] * acb[1] + Jc[2][j] * acb[2]) +
+              gz * Jc[2][j];
+    }
+  }
+  if (eff & RPS3_EFF_PAYLOAD) {
+    double sp[3], Iw[3][3];
+    for (j = 0; j < 3; j++)
+      for (q = 0; q < j; q++) Mq[j][q] = Mq[q][j];
+    m3_mulv(sp, M3C(d->rot), m->payload.com);
+    inertia_world(Iw, M3C(d->rot), m->payload.inertia);
+    add_body(k, d, m->payload.mass, sp, M3C(Iw), m->g, Mq, hq);
   }
   /* the upper triangle is Mq: symmetric to the bit */
   for (j = 0; j < 3; j++) {
-    for (q = 0; q < 3; q++) Mo[j][q] = (q >= j) ? Mq[j][q] : Mq[q][j];
-    ho[j] = hq[j];
+    for (q = 0; q < 3; q++) d->Mq[j][q] = (q >= j) ? Mq[j][q] : Mq[q][j];
+    d->hq[j] = hq[j];
   }
+  return RPS3_OK;
 }
 
 /* Cholesky factor Mq = L L^T: positive definiteness is the test, the
@@ -333,64 +449,149 @@ static double mass_cond(const double Mq[3][3]) {
   return rps3_lu_cond1(3, A, LU, perm);
 }
 
+
 /*
  * Positions from l by Newton's method on (8)-(10) from the warm start: in a
  * simulation the previous evaluation's theta is within a step of the
- * answer, and one or two Newton steps converge where GSL's hybridsj
- * costs its set-up on every call.  The same convergence test as
- * rps3_theta_solve (max |f_k| / R^2 <= opt.tol).  The cosines and sines of
- * the last evaluation, at the root, serve its positions.  Returns 0 when
- * it converged to a root that rps3_theta_solve would accept (0 < theta <
- * pi, not the spun platform); otherwise the caller falls back to rps3_fk,
- * which decides and reports.
+ * answer, and one Newton step converges where GSL's hybridsj costs its
+ * set-up on every call.  The same convergence test as rps3_theta_solve
+ * (max |f_k| / R^2 <= opt.tol), f_k in units of R as state_eval writes it.
+ * A step moves theta's cosine and sine by their Taylor series instead of
+ * another sincos, and so does the predicted start of an integrator's
+ * stage from the last root's (a full evaluation takes sincos of its
+ * start, so that the series' rounding never accumulates over more than a
+ * control period's stages).  Returns 0 when it converged to a root that
+ * rps3_theta_solve would accept (0 < theta < pi, not the spun platform),
+ * with theta's cosines and sines in c, sn; otherwise the caller falls back
+ * to rps3_fk, which decides and reports.  The positions (ball joints, link
+ * directions, frame) are written unless `positions` is 0, and the pose
+ * when `pose`.
  */
 #define NEWTON_MAX 8
 /* largest predicted change of a theta_i [rad]: ~0.6 degree, many steps of
    any run that keeps its accuracy */
 #define PREDICT_MAX 1e-2
-static int theta_newton(const rps3_model *m, rps3_data *d, int pose) {
-  double L[3], c[3], sn[3];
-  int it, i, k, fold = 0;
+/* largest Newton correction [rad] that moves cos and sin by the series to
+   delta^4 / 24 and delta^5 / 120: the first terms left out, delta^6 / 720
+   and delta^7 / 5040, are below 1.4e-21 there, far below an ulp */
+#define TAYLOR_MAX 1e-3
+
+/* c, sn of theta - e for |e| <= PREDICT_MAX: the series of cos e to e^6 /
+   720 and of sin e to e^7 / 5040 (the next terms, e^8 / 40320 and e^9 /
+   362880, are below 2.5e-21) */
+static void trig_step(double c[3], double sn[3], const double e[3]) {
+  int i;
+  for (i = 0; i < 3; i++) {
+    const double x = e[i], x2 = x * x;
+    const double ce =
+        1.0 - x2 * (0.5 - x2 * (1.0 / 24.0 - x2 * (1.0 / 720.0)));
+    const double se =
+        x * (1.0 - x2 * (1.0 / 6.0 - x2 * (1.0 / 120.0 - x2 * (1.0 / 5040.0))));
+    const double cn = c[i] * ce + sn[i] * se;
+    sn[i] = sn[i] * ce - c[i] * se;
+    c[i] = cn;
+  }
+}
+
+/* a lean stage's positions: none (NaN), so that no earlier state's can be
+   read as this one's */
+static void positions_unset(rps3_data *d) {
+  const double nan = (double)NAN;
+  int i, q;
+  for (i = 0; i < 3; i++) {
+    d->c[i] = nan;
+    for (q = 0; q < 3; q++)
+      d->b[i][q] = d->phi[i][q] = d->dphi[i][q] = d->rot[i][q] = nan;
+  }
+}
+
+static int theta_newton(const rps3_model *m, rps3_data *d, double c[3],
+                        double sn[3], int have_trig, int positions,
+                        int pose) {
+  const double q3 = 3.0 * m->rho * m->rho; /* 3 r^2 / R^2 */
+  double L[3], th[3], resid;
+  int it, i, fold = 0;
   if (!(m->opt.warm_start && d->have_theta && v3_finite(d->theta)) ||
       !v3_finite(d->l) || !(d->l[0] > 0 && d->l[1] > 0 && d->l[2] > 0))
     return -1;
-  for (i = 0; i < 3; i++) L[i] = d->l[i] / m->R;
-  for (it = 0; it <= NEWTON_MAX; it++) {
-    /* (8)-(10) in units of R, as the GSL solve sees them */
-    double f[3], J[3][3], LU[9], resid = 0.0;
-    int perm[3];
+  for (i = 0; i < 3; i++) {
+    L[i] = d->l[i] / m->R;
+    th[i] = d->theta[i];
+  }
+  if (!have_trig)
     for (i = 0; i < 3; i++) {
-      double t = d->theta[i]; /* one sincos */
+      const double t = th[i]; /* one sincos */
       c[i] = cos(t);
       sn[i] = sin(t);
     }
-    rps3_theta_constraints_trig(L, m->rho, c, sn, f, J);
-    for (k = 0; k < 3; k++) resid = fmax(resid, fabs(f[k]));
-    if (!(resid < HUGE_VAL)) return -1;
-    if (resid <= m->opt.tol) {
-      d->solve_niter = it;
-      d->solve_resid = resid;
-      break;
+  for (it = 0;; it++) {
+    double H[3], Y[3], f[3], a[3], b[3], x[3], det, id, big;
+    int k;
+    for (i = 0; i < 3; i++) {
+      H[i] = 1.0 - L[i] * c[i];
+      Y[i] = L[i] * sn[i];
     }
+    for (k = 0; k < 3; k++) {
+      const int j = (k + 1) % 3;
+      const double E = 2.0 * (Y[k] - Y[j]);
+      f[k] = H[k] * H[k] + H[j] * H[j] + H[k] * H[j] + 0.25 * E * E - q3;
+      a[k] = L[k] * ((2.0 * H[k] + H[j]) * sn[k] + E * c[k]);
+      b[k] = L[j] * ((2.0 * H[j] + H[k]) * sn[j] - E * c[j]);
+    }
+    resid = max2(max2(fabs(f[0]), fabs(f[1])), fabs(f[2]));
+    if (!(fabs(f[0]) + fabs(f[1]) + fabs(f[2]) < HUGE_VAL)) return -1;
+    if (resid <= m->opt.tol) break;
     if (it == NEWTON_MAX) return -1;
-    for (i = 0; i < 3; i++)
-      for (k = 0; k < 3; k++) LU[3 * i + k] = J[i][k];
-    if (rps3_lu_factor(3, LU, perm) != 0) return -1;
-    rps3_lu_solve(3, LU, perm, f);
-    for (i = 0; i < 3; i++) d->theta[i] -= f[i];
+    /* J x = f, J[k][k] = a_k, J[k][k+1] = b_k: the adjugate (state_eval) */
+    det = a[0] * (a[1] * a[2]) + b[0] * (b[1] * b[2]);
+    if (!(fabs(det) > 0.0 && fabs(det) < HUGE_VAL)) return -1;
+    id = 1.0 / det;
+    x[0] = (a[1] * a[2] * f[0] - b[0] * a[2] * f[1] + b[0] * b[1] * f[2]) * id;
+    x[1] = (b[1] * b[2] * f[0] + a[0] * a[2] * f[1] - a[0] * b[1] * f[2]) * id;
+    x[2] = (a[0] * a[1] * f[2] - a[1] * b[2] * f[0] + b[0] * b[2] * f[1]) * id;
+    big = max2(max2(fabs(x[0]), fabs(x[1])), fabs(x[2]));
+    if (!(big < HUGE_VAL)) return -1;
+    for (i = 0; i < 3; i++) th[i] -= x[i];
+    if (big <= TAYLOR_MAX) {
+      trig_step(c, sn, x); /* cos and sin of theta - x */
+    } else {
+      for (i = 0; i < 3; i++) {
+        const double t = th[i];
+        c[i] = cos(t);
+        sn[i] = sin(t);
+      }
+    }
   }
+  d->solve_niter = it;
+  d->solve_resid = resid;
   for (i = 0; i < 3; i++) {
-    if (d->theta[i] > 0.0 && d->theta[i] < RPS3_PI) continue;
-    d->theta[i] = remainder(d->theta[i], 2.0 * RPS3_PI);
+    d->theta[i] = th[i];
+    if (th[i] > 0.0 && th[i] < RPS3_PI) continue;
+    d->theta[i] = remainder(th[i], 2.0 * RPS3_PI);
     fold = 1;
     if (!(d->theta[i] > 0.0 && d->theta[i] < RPS3_PI)) return -1;
+    c[i] = cos(d->theta[i]);
+    sn[i] = sin(d->theta[i]);
   }
-  if (fold)
-    rps3_links_from_joints(m, d);
-  else
+  if (positions || fold) {
     rps3_links_from_trig(m, d, c, sn);
-  rps3_frame_from_balls(m, d);
-  if (d->rot[0][0] + d->rot[1][1] < 0.0) return -1; /* spun platform */
+    rps3_frame_from_balls(m, d);
+    if (d->rot[0][0] + d->rot[1][1] < 0.0) return -1; /* spun platform */
+  } else {
+    /* the spun platform's test alone: rot[0][0] + rot[1][1] is n_x + o_y
+       of (18)-(19), from the balls' horizontal positions h_i u_i */
+    double bx[3], by[3];
+    for (i = 0; i < 3; i++) {
+      const double h = m->R - d->l[i] * c[i];
+      bx[i] = h * m->radial[i][0];
+      by[i] = h * m->radial[i][1];
+    }
+    if ((bx[0] - (bx[0] + bx[1] + bx[2]) / 3.0) / m->r +
+            (by[1] - by[2]) / (RPS3_SQRT3 * m->r) <
+        0.0)
+      return -1;
+    positions_unset(d);
+  }
   if (pose)
     rps3_pose_from_frame(d);
   else
@@ -406,14 +607,16 @@ static void poison(rps3_data *d) {
 
 int rps3_fwddyn_state(const rps3_model *m, rps3_data *d, rps3_fd_state *k,
                       int flags) {
-  double dl[3], L[3][3];
-  int status, i, pd;
+  const int lean = (flags & RPS3_FD_LEAN) != 0;
+  const int payload = (m->opt.effects & RPS3_EFF_PAYLOAD) != 0;
+  double dl[3], L[3][3], c[3], sn[3];
+  int status, pd;
   if (!v3_finite(d->dl)) {
     poison(d);
     RPS3_ERROR(d, RPS3_EINVAL, "dl (%g, %g, %g) m/s is not finite", d->dl[0],
                d->dl[1], d->dl[2]);
   }
-  if (!has_mass(m)) {
+  if (!(flags & RPS3_FD_NOFACTOR) && !has_mass(m)) {
     poison(d);
     RPS3_ERROR(d, RPS3_EINVAL,
                "forward dynamics needs inertia: select platform_inertia, "
@@ -425,7 +628,8 @@ int rps3_fwddyn_state(const rps3_model *m, rps3_data *d, rps3_fd_state *k,
   /* positions: theta from l, warm-started on the tracked assembly mode;
      Newton from the warm start, else the full solve (which reports) */
   {
-    double th0[3], dth[3] = {0, 0, 0}, dlen[3];
+    double th0[3];
+    int trig = 0;
     v3_copy(th0, d->theta);
     d->stage = 0;
     d->warn = 0;
@@ -433,40 +637,72 @@ int rps3_fwddyn_state(const rps3_model *m, rps3_data *d, rps3_fd_state *k,
        l_last): within O(|l - l_last|^2) of the root, one Newton step
        instead of two.  A step of more than PREDICT_MAX (near a singular
        configuration, where G grows) is not taken: the start stays where
-       the last root was, as does the fall-back */
+       the last root was, as does the fall-back.  An integrator's stage
+       moves the last root's cosines and sines along with it, while
+       d->theta is still that root */
     if ((flags & RPS3_FD_PREDICT) && m->opt.warm_start && d->have_theta) {
-      double big = 0.0;
+      double dlen[3], dth[3];
       v3_sub(dlen, d->l, k->l);
       m3_mulv(dth, M3C(k->G), dlen);
-      for (i = 0; i < 3; i++) big = fmax(big, fabs(dth[i]));
-      if (big <= PREDICT_MAX)
+      if (max2(max2(fabs(dth[0]), fabs(dth[1])), fabs(dth[2])) <=
+          PREDICT_MAX) {
+        trig = lean && d->theta[0] == k->th[0] && d->theta[1] == k->th[1] &&
+               d->theta[2] == k->th[2];
+        if (trig) {
+          double e[3];
+          v3_copy(c, k->c);
+          v3_copy(sn, k->s);
+          v3_scale(e, -1.0, dth);
+          trig_step(c, sn, e);
+        }
         v3_axpy(d->theta, d->theta, 1.0, dth);
+      }
     }
-    if (theta_newton(m, d, !(flags & RPS3_FD_LEAN)) == 0) {
+    if (theta_newton(m, d, c, sn, trig,
+                     !lean || payload || (flags & RPS3_FD_NOFACTOR), !lean) == 0) {
       d->have_theta = 1;
       d->stage = RPS3_STAGE_POS;
     } else {
+      int i;
       v3_copy(d->theta, th0);
       status = rps3_fk(m, d);
       if (status != RPS3_OK) {
         poison(d);
         return status;
       }
+      for (i = 0; i < 3; i++) {
+        c[i] = d->dphi[i][2]; /* cos theta_i (29) */
+        sn[i] = d->phi[i][2]; /* sin theta_i */
+      }
     }
   }
   v3_copy(k->l, d->l);
-  /* rates, the accelerations at l'' = 0 (the bias) and the maps */
+  v3_copy(k->th, d->theta);
+  v3_copy(k->c, c);
+  v3_copy(k->s, sn);
   v3_copy(d->dl, dl);
-  status = rates_and_maps(m, d, k, !(flags & RPS3_FD_LEAN));
+  /* rates, the accelerations at l'' = 0 (the bias), the maps, Mq, hq */
+  status = state_eval(m, d, k, flags, c, sn);
   if (status != RPS3_OK) {
     poison(d);
     return status;
   }
+  if (lean) {
+    d->dpose[0] = d->dpose[1] = d->dpose[2] = (double)NAN;
+  } else {
+    rps3_pose_rates(d);
+    RPS3_CHECK_FINITE(d, d->dpose, 3, "dpose");
+  }
+  d->stage |= RPS3_STAGE_VEL;
   poison(d); /* no acceleration before rps3_fwddyn_accel */
+  if (flags & RPS3_FD_NOFACTOR) {
+    RPS3_CHECK_FINITE(d, d->hq, 3, "hq");
+    RPS3_CHECK_FINITE(d, d->Mq, 9, "Mq");
+    return RPS3_OK;
+  }
 
   /* Mq symmetric positive definite and conditioned: its factor, and the
      condition number from it (by LU when it does not exist) */
-  assemble(m, d, k, d->Mq, d->hq);
   pd = (chol3_factor(M3C(d->Mq), L) == 0);
   d->Mcond = pd ? chol3_inverse_cond1(M3C(d->Mq), M3C(L), k->Minv)
                 : mass_cond(M3C(d->Mq));
@@ -481,7 +717,7 @@ int rps3_fwddyn_state(const rps3_model *m, rps3_data *d, rps3_fd_state *k,
 
 int rps3_fwddyn_accel(const rps3_model *m, rps3_data *d,
                       const rps3_fd_state *k) {
-  double x[3];
+  double x[3], chk = 0.0;
   int i;
   (void)m;
   if (!v3_finite(d->F)) {
@@ -497,14 +733,16 @@ int rps3_fwddyn_accel(const rps3_model *m, rps3_data *d,
     RPS3_ERROR(d, RPS3_ESING, "acceleration is not finite");
   }
   v3_copy(d->ddl, x);
-  /* every acceleration is its map applied to l'' plus its bias */
+  /* every acceleration is its map applied to l'' plus its bias; the
+     angular one where the state formed its map */
   for (i = 0; i < 3; i++) {
     d->ddtheta[i] = k->ddth_b[i] + v3_dot(k->G[i], x);
     d->ac[i] = k->ac_b[i] + v3_dot(k->Jc[i], x);
-    d->domega[i] = k->dw_b[i] + v3_dot(k->Jw[i], x);
+    d->domega[i] = k->have_w ? k->dw_b[i] + v3_dot(k->Jw[i], x) : (double)NAN;
+    chk += fabs(d->ddtheta[i]) + fabs(d->ac[i]);
+    if (k->have_w) chk += fabs(d->domega[i]);
   }
-  if (!(rps3_all_finite(d->ddtheta, 3) & rps3_all_finite(d->ac, 3) &
-        rps3_all_finite(d->domega, 3))) {
+  if (!(chk <= DBL_MAX)) {
     RPS3_CHECK_FINITE(d, d->ddtheta, 3, "ddtheta");
     RPS3_CHECK_FINITE(d, d->ac, 3, "ac");
     RPS3_CHECK_FINITE(d, d->domega, 3, "domega");

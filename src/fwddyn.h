@@ -15,15 +15,18 @@
 /* what rps3_fwddyn_accel needs of a state: theta' = G l', vc = Jc l',
    omega = Jw l' (columns j the motions for a unit l_j'), the accelerations
    at l'' = 0, and Mq^-1 */
-typedef struct {
+typedef struct rps3_fd_state {
   double G[3][3];
   double Jc[3][3];
-  double Jw[3][3];
+  double Jw[3][3];     /* set with dw_b only when have_w */
+  int have_w;
   double ddth_b[3];   /* theta'' at l'' = 0 */
   double ac_b[3];     /* centre acceleration at l'' = 0 */
   double dw_b[3];     /* angular acceleration at l'' = 0 */
   double Minv[3][3];  /* Mq^-1, from its Cholesky factor */
   double l[3];        /* the lengths of this state */
+  double th[3];       /* its theta, and their cosines and sines */
+  double c[3], s[3];
 } rps3_fd_state;
 
 /* flags of rps3_fwddyn_state */
@@ -31,9 +34,15 @@ enum {
   RPS3_FD_PREDICT = 1, /* *k holds the last state this d was evaluated at,
                           successfully (d->theta its root): the theta solve
                           starts from theta + G (l - k->l) */
-  RPS3_FD_LEAN = 2     /* an integrator's stage, which reads the
-                          accelerations and theta' only: the pose and the
-                          pose rates are left out (NaN) */
+  RPS3_FD_LEAN = 2,    /* an integrator's stage, which reads the
+                          accelerations and theta' only: the positions
+                          (ball joints, link directions, frame), the pose,
+                          vc, omega, the pose rates and the angular
+                          acceleration are left out (NaN; a payload keeps
+                          the positions and the platform's motion) */
+  RPS3_FD_NOFACTOR = 4 /* Mq and hq only, for a model's inverse dynamics
+                          F = Mq ddl + hq (a controller): no inertia
+                          needed, Mq not factored (Minv, Mcond unset) */
 };
 
 /* The state part of rps3_fwddyn: reads d->l, d->dl (not d->F); writes the
