@@ -160,11 +160,101 @@ static void repeated_and_earlier_times(void **state) {
   }
 }
 
+/*
+ * The laws apply their model's inverse dynamics at the measured state:
+ * PD + gravity's weight term is rps3_invdyn at rest, computed torque's
+ * force is rps3_invdyn with the commanded l'' = l''_des + kp e + kd e'.
+ * The oracle runs the stages on the measured lengths (rps3_theta_solve,
+ * rps3_joint_velocity, rps3_joint_acceleration, rps3_invdyn) by either
+ * formulation, Newton-Euler sharing nothing with the controller's
+ * joint-space Mq l'' + hq; every effect, payload and friction included.
+ */
+static void laws_are_the_model_inverse_dynamics(void **state) {
+  const rps3_ctrl_kind kinds[2] = {RPS3_CTRL_PD_GRAVITY,
+                                   RPS3_CTRL_COMPUTED_TORQUE};
+  const double kp = 400.0, kd = 40.0;
+  int q, eff, meth, k, i;
+  (void)state;
+  for (q = 0; q < 2; q++)
+    for (meth = 0; meth < 2; meth++)
+      for (eff = 1; eff <= RPS3_EFF_ALL; eff += 3) {
+        rps3_model cm;
+        rps3_data *od = NULL;
+        rps3_ctrl *c = NULL;
+        rps3_traj tr;
+        rps3_traj_default(&tr);
+        rps3_model_default(&cm);
+        cm.opt.effects = eff;
+        cm.opt.method = meth ? RPS3_NEWTON_EULER : RPS3_LAGRANGE;
+        cm.payload.mass = 0.05;
+        cm.payload.com[0] = 0.01;
+        cm.payload.com[1] = -0.02;
+        cm.payload.com[2] = 0.03;
+        cm.payload.inertia[0] = 2e-5;
+        cm.payload.inertia[1] = 3e-5;
+        cm.payload.inertia[2] = 4e-5;
+        cm.friction.viscous = 0.01;
+        cm.friction.coulomb = 0.005;
+        cm.friction.vreg = 1e-3;
+        assert_int_equal(rps3_model_init(&cm, NULL, 0), RPS3_OK);
+        assert_int_equal(rps3_data_alloc(&cm, &od), RPS3_OK);
+        assert_int_equal(rps3_ctrl_alloc(kinds[q], kp, kd, &cm, &tr, &c,
+                                         NULL, 0),
+                         RPS3_OK);
+        for (k = 0; k < 8; k++) {
+          double t = 1e-3 * (1 + 997 * k), F[3], l[3], dl[3], a[3],
+                 scale = 1.0;
+          assert_int_equal(rps3_traj_eval(&cm, &tr, t, od->pose, od->dpose,
+                                          od->ddpose),
+                           RPS3_OK);
+          assert_int_equal(rps3_ik(&cm, od), RPS3_OK);
+          assert_int_equal(rps3_velocity(&cm, od), RPS3_OK);
+          for (i = 0; i < 3; i++) {
+            /* a measured state 2 mm and 3 cm/s off the desired one */
+            l[i] = od->l[i] + 2e-3 * (i - 0.7);
+            dl[i] = od->dl[i] - 3e-2 * (i - 1.2);
+          }
+          assert_int_equal(rps3_ctrl_update(c, t, l, dl, F), RPS3_OK);
+          /* the oracle at the measured state, warm from the desired theta */
+          for (i = 0; i < 3; i++) {
+            double e = c->l_des[i] - l[i], de = c->dl_des[i] - dl[i];
+            a[i] = (kinds[q] == RPS3_CTRL_COMPUTED_TORQUE)
+                       ? c->des->ddl[i] + kp * e + kd * de
+                       : 0.0;
+            od->l[i] = l[i];
+          }
+          od->have_theta = 1;
+          assert_int_equal(rps3_theta_solve(&cm, od), RPS3_OK);
+          for (i = 0; i < 3; i++) {
+            od->dl[i] = (kinds[q] == RPS3_CTRL_COMPUTED_TORQUE) ? dl[i] : 0.0;
+            od->ddl[i] = a[i];
+          }
+          assert_int_equal(rps3_joint_velocity(&cm, od), RPS3_OK);
+          assert_int_equal(rps3_joint_acceleration(&cm, od), RPS3_OK);
+          assert_int_equal(rps3_invdyn(&cm, od), RPS3_OK);
+          for (i = 0; i < 3; i++) scale = fmax(scale, fabs(od->F[i]));
+          for (i = 0; i < 3; i++) {
+            double want = od->F[i];
+            if (kinds[q] == RPS3_CTRL_PD_GRAVITY)
+              want += kp * (c->l_des[i] - l[i]) + kd * (c->dl_des[i] - dl[i]);
+            /* both solves to tol 1e-12 in f, the two formulations to
+               rounding: forces to 1e-9 of their scale */
+            CHECK_REL(F[i], want, 1e-9, scale,
+                      "kind %d effects %#x method %d t %g: F%d", (int)kinds[q],
+                      eff, meth, t, i);
+          }
+        }
+        rps3_ctrl_free(c);
+        rps3_data_free(od);
+      }
+}
+
 int main(void) {
   const struct CMUnitTest tests[] = {
       cmocka_unit_test(pd_tracks_the_desired_rates),
       cmocka_unit_test(every_kind_logs_the_desired_motion),
       cmocka_unit_test(repeated_and_earlier_times),
+      cmocka_unit_test(laws_are_the_model_inverse_dynamics),
   };
   gsl_set_error_handler_off();
   return cmocka_run_group_tests(tests, NULL, NULL);
