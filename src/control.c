@@ -171,7 +171,9 @@ static int invdyn_at(rps3_ctrl *c, double t, const double l[3],
   c->t_meas = (double)NAN;
   v3_copy(d->l, l);
   v3_copy(d->dl, dl);
-  st = rps3_fwddyn_state(&c->model, d, c->fd, RPS3_FD_LEAN | RPS3_FD_NOFACTOR);
+  st = rps3_fwddyn_state(&c->model, d, c->fd,
+                         RPS3_FD_LEAN | RPS3_FD_NOFACTOR |
+                             (had ? RPS3_FD_TRIG : 0));
   if (st != RPS3_OK) return st;
   if (had && d->mode != mode0) d->warn |= RPS3_WARN_MODE;
   m3_mulv(x, M3C(d->Mq), ddl);

@@ -134,8 +134,7 @@ static int state_eval(const rps3_model *m, rps3_data *d, rps3_fd_state *k,
                       int flags, const double cth[3], const double sth[3]) {
   const int eff = m->opt.effects;
   const int invdyn = (flags & RPS3_FD_NOFACTOR) != 0;
-  const int with_w =
-      !(flags & RPS3_FD_LEAN) || (eff & RPS3_EFF_PAYLOAD) || invdyn;
+  const int with_w = !(flags & RPS3_FD_LEAN) || (eff & RPS3_EFF_PAYLOAD);
   const double mb = (eff & RPS3_EFF_PLATFORM_INERTIA) ? m->M / 6.0 : 0.0;
   const double mc = 3.0 * mb; /* M / 2 at the centre */
   const double wk = 2.0 / (3.0 * m->r * m->r), R = m->R;
@@ -249,26 +248,22 @@ static int state_eval(const rps3_model *m, rps3_data *d, rps3_fd_state *k,
   for (q = 0; q < 3; q++)
     chk += fabs(dth[q]) + fabs(ddb[q]) + fabs(acb[q]);
   k->have_w = with_w;
-  if (with_w) {
+  if (with_w || invdyn) {
     /* omega (26)-(28) from sum_i rho_i x b_i', rho_i = b_i - c, with rho_i
        x u_i and rho_i x e_z formed once; Jw column j from the balls'
        in-plane maps; the angular bias acceleration from sum_i rho_i x
-       (b_i'' - omega x (omega x rho_i)) */
+       (b_i'' - omega x (omega x rho_i)).  The inverse dynamics alone
+       (no payload) needs Jw only, for the force transmission */
     for (i = 0; i < 3; i++) {
       a[i] = d->rot[i][2];
       for (q = 0; q < 3; q++) rho[i][q] = d->b[i][q] - d->c[q];
-    }
-    w[0] = w[1] = w[2] = 0.0;
-    for (i = 0; i < 3; i++) {
       P[i][0] = -rho[i][2] * u[i][1];
       P[i][1] = rho[i][2] * u[i][0];
       P[i][2] = rho[i][0] * u[i][1] - rho[i][1] * u[i][0];
       Q[i][0] = rho[i][1];
       Q[i][1] = -rho[i][0];
       Q[i][2] = 0.0;
-      for (q = 0; q < 3; q++) w[q] += hd[i] * P[i][q] + Zd[i] * Q[i][q];
     }
-    omega_of_sum(om, w, a, wk);
     for (j = 0; j < 3; j++) {
       double wj[3] = {0.0, 0.0, 0.0}, oj[3];
       for (i = 0; i < 3; i++) {
@@ -279,6 +274,12 @@ static int state_eval(const rps3_model *m, rps3_data *d, rps3_fd_state *k,
       omega_of_sum(oj, wj, a, wk);
       for (q = 0; q < 3; q++) k->Jw[q][j] = oj[q];
     }
+  }
+  if (with_w) {
+    w[0] = w[1] = w[2] = 0.0;
+    for (i = 0; i < 3; i++)
+      for (q = 0; q < 3; q++) w[q] += hd[i] * P[i][q] + Zd[i] * Q[i][q];
+    omega_of_sum(om, w, a, wk);
     w[0] = w[1] = w[2] = 0.0;
     for (i = 0; i < 3; i++) {
       double t[3], wr = v3_dot(om, rho[i]);
@@ -289,7 +290,7 @@ static int state_eval(const rps3_model *m, rps3_data *d, rps3_fd_state *k,
     omega_of_sum(k->dw_b, w, a, wk);
     for (q = 0; q < 3; q++) chk += fabs(vc[q]) + fabs(om[q]) + fabs(k->dw_b[q]);
   } else {
-    /* a lean stage's platform rates: none, as its positions */
+    /* a lean state's platform rates: none, as its positions */
     for (q = 0; q < 3; q++) vc[q] = om[q] = (double)NAN;
   }
   for (i = 0; i < 3; i++) {
@@ -487,9 +488,12 @@ static void trig_step(double c[3], double sn[3], const double e[3]) {
         1.0 - x2 * (0.5 - x2 * (1.0 / 24.0 - x2 * (1.0 / 720.0)));
     const double se =
         x * (1.0 - x2 * (1.0 / 6.0 - x2 * (1.0 / 120.0 - x2 * (1.0 / 5040.0))));
-    const double cn = c[i] * ce + sn[i] * se;
-    sn[i] = sn[i] * ce - c[i] * se;
-    c[i] = cn;
+    const double cn = c[i] * ce + sn[i] * se, snn = sn[i] * ce - c[i] * se;
+    /* back onto the unit circle to first order, (3 - |.|^2) / 2: its
+       rounding does not build up over many steps */
+    const double g = 1.5 - 0.5 * (cn * cn + snn * snn);
+    c[i] = cn * g;
+    sn[i] = snn * g;
   }
 }
 
@@ -644,20 +648,24 @@ int rps3_fwddyn_state(const rps3_model *m, rps3_data *d, rps3_fd_state *k,
       double dlen[3], dth[3];
       v3_sub(dlen, d->l, k->l);
       m3_mulv(dth, M3C(k->G), dlen);
-      if (max2(max2(fabs(dth[0]), fabs(dth[1])), fabs(dth[2])) <=
-          PREDICT_MAX) {
-        trig = lean && d->theta[0] == k->th[0] && d->theta[1] == k->th[1] &&
-               d->theta[2] == k->th[2];
-        if (trig) {
-          double e[3];
-          v3_copy(c, k->c);
-          v3_copy(sn, k->s);
-          v3_scale(e, -1.0, dth);
-          trig_step(c, sn, e);
-        }
+      if (max2(max2(fabs(dth[0]), fabs(dth[1])), fabs(dth[2])) <= PREDICT_MAX)
         v3_axpy(d->theta, d->theta, 1.0, dth);
+    }
+    /* a lean state started near the last root moves that root's cosines
+       and sines by the change of theta (exact: the two are within a
+       factor of two); a full state takes sincos, so that the series'
+       rounding never accumulates over more than a control period */
+    if ((flags & RPS3_FD_TRIG) && lean && k->have_trig && d->have_theta) {
+      double e[3];
+      v3_sub(e, k->th, d->theta);
+      if (max2(max2(fabs(e[0]), fabs(e[1])), fabs(e[2])) <= PREDICT_MAX) {
+        v3_copy(c, k->c);
+        v3_copy(sn, k->s);
+        trig_step(c, sn, e);
+        trig = 1;
       }
     }
+    k->have_trig = 0;
     if (theta_newton(m, d, c, sn, trig,
                      !lean || payload || (flags & RPS3_FD_NOFACTOR), !lean) == 0) {
       d->have_theta = 1;
@@ -680,6 +688,7 @@ int rps3_fwddyn_state(const rps3_model *m, rps3_data *d, rps3_fd_state *k,
   v3_copy(k->th, d->theta);
   v3_copy(k->c, c);
   v3_copy(k->s, sn);
+  k->have_trig = 1;
   v3_copy(d->dl, dl);
   /* rates, the accelerations at l'' = 0 (the bias), the maps, Mq, hq */
   status = state_eval(m, d, k, flags, c, sn);

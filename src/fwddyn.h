@@ -27,6 +27,7 @@ typedef struct rps3_fd_state {
   double l[3];        /* the lengths of this state */
   double th[3];       /* its theta, and their cosines and sines */
   double c[3], s[3];
+  int have_trig;      /* th, c, s are the last state's root */
 } rps3_fd_state;
 
 /* flags of rps3_fwddyn_state */
@@ -40,9 +41,13 @@ enum {
                           vc, omega, the pose rates and the angular
                           acceleration are left out (NaN; a payload keeps
                           the positions and the platform's motion) */
-  RPS3_FD_NOFACTOR = 4 /* Mq and hq only, for a model's inverse dynamics
+  RPS3_FD_NOFACTOR = 4, /* Mq and hq only, for a model's inverse dynamics
                           F = Mq ddl + hq (a controller): no inertia
                           needed, Mq not factored (Minv, Mcond unset) */
+  RPS3_FD_TRIG = 8     /* *k holds the last root of this d (have_trig):
+                          a lean state whose start is within a predicted
+                          step of it takes its cosines and sines from it
+                          by their series instead of sincos */
 };
 
 /* The state part of rps3_fwddyn: reads d->l, d->dl (not d->F); writes the

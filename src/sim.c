@@ -153,7 +153,7 @@ static int evaluate(rps3_sim *s, double t, const double y[], int lean) {
         (lean || !s->gsl->lean_k))) {
     /* the last state, when it succeeded, predicts this one's theta */
     st = rps3_fwddyn_state(&s->plant, d, &s->gsl->fd,
-                           (s->gsl->have_k ? RPS3_FD_PREDICT : 0) |
+                           (s->gsl->have_k ? RPS3_FD_PREDICT | RPS3_FD_TRIG : 0) |
                                (lean ? RPS3_FD_LEAN : 0));
     s->gsl->have_k = 0;
     if (st == RPS3_OK) {
