@@ -435,8 +435,8 @@ static double chol3_inverse_cond1(const double A[3][3], const double L[3][3],
       sa += fabs(A[i][j]);
       si += fabs(Ai[i][j]);
     }
-    anorm = fmax(anorm, sa);
-    inorm = fmax(inorm, si);
+    anorm = max2(anorm, sa);
+    inorm = max2(inorm, si);
   }
   return anorm * inorm;
 }
@@ -472,16 +472,32 @@ static double mass_cond(const double Mq[3][3]) {
 /* largest predicted change of a theta_i [rad]: ~0.6 degree, many steps of
    any run that keeps its accuracy */
 #define PREDICT_MAX 1e-2
-/* largest Newton correction [rad] that moves cos and sin by the series to
-   delta^4 / 24 and delta^5 / 120: the first terms left out, delta^6 / 720
-   and delta^7 / 5040, are below 1.4e-21 there, far below an ulp */
-#define TAYLOR_MAX 1e-3
+/* largest Newton correction [rad] that moves cos and sin by trig_step's
+   series (exact to the rounding up to PREDICT_MAX); a larger one, far
+   from any root a warm start gives, takes sincos */
+#define TAYLOR_MAX PREDICT_MAX
 
 /* c, sn of theta - e for |e| <= PREDICT_MAX: the series of cos e to e^6 /
    720 and of sin e to e^7 / 5040 (the next terms, e^8 / 40320 and e^9 /
-   362880, are below 2.5e-21) */
+   362880, are below 2.5e-21), or, for the corrections of Newton's steps
+   (|e| <= 1e-5), to e^2 / 2 and e^3 / 6 (the next, e^4 / 24 and e^5 / 120,
+   below 4.2e-22).  A predicted step is put back onto the unit circle to
+   first order, (3 - |.|^2) / 2, so that the series' rounding does not
+   build up over a control period's stages; a Newton correction moves (c,
+   sn) by less than the rounding of that */
 static void trig_step(double c[3], double sn[3], const double e[3]) {
+  const double big = max2(max2(fabs(e[0]), fabs(e[1])), fabs(e[2]));
   int i;
+  if (big <= 1e-5) {
+    for (i = 0; i < 3; i++) {
+      const double x = e[i], x2 = x * x;
+      const double ce = 1.0 - 0.5 * x2, se = x - x * x2 * (1.0 / 6.0);
+      const double cn = c[i] * ce + sn[i] * se;
+      sn[i] = sn[i] * ce - c[i] * se;
+      c[i] = cn;
+    }
+    return;
+  }
   for (i = 0; i < 3; i++) {
     const double x = e[i], x2 = x * x;
     const double ce =
@@ -489,8 +505,6 @@ static void trig_step(double c[3], double sn[3], const double e[3]) {
     const double se =
         x * (1.0 - x2 * (1.0 / 6.0 - x2 * (1.0 / 120.0 - x2 * (1.0 / 5040.0))));
     const double cn = c[i] * ce + sn[i] * se, snn = sn[i] * ce - c[i] * se;
-    /* back onto the unit circle to first order, (3 - |.|^2) / 2: its
-       rounding does not build up over many steps */
     const double g = 1.5 - 0.5 * (cn * cn + snn * snn);
     c[i] = cn * g;
     sn[i] = snn * g;
