@@ -138,6 +138,9 @@ static int state_eval(const rps3_model *m, rps3_data *d, rps3_fd_state *k,
   const double mb = (eff & RPS3_EFF_PLATFORM_INERTIA) ? m->M / 6.0 : 0.0;
   const double mc = 3.0 * mb; /* M / 2 at the centre */
   const double wk = 2.0 / (3.0 * m->r * m->r), R = m->R;
+  /* the means of (11), (25) as products: divisions cost a dozen cycles
+     each on the evaluation's critical path */
+  const double third = 1.0 / 3.0;
   double l[3], dl[3], c[3], s[3], h[3], Z[3], A[3], B[3], E[3], at[3],
       bt[3], al[3], bl[3], X[3][3], G[3][3], Jc[3][3], det, id, cond, n1, ni,
       x[3], dth[3], ddb[3], hd[3], Zd[3], hdd[3], Zdd[3], vc[3], acb[3],
@@ -224,11 +227,11 @@ static int state_eval(const rps3_model *m, rps3_data *d, rps3_fd_state *k,
 
   /* the centre: velocity (25), its map Jc and bias acceleration */
   for (q = 0; q < 2; q++) {
-    vc[q] = (hd[0] * u[0][q] + hd[1] * u[1][q] + hd[2] * u[2][q]) / 3.0;
-    acb[q] = (hdd[0] * u[0][q] + hdd[1] * u[1][q] + hdd[2] * u[2][q]) / 3.0;
+    vc[q] = (hd[0] * u[0][q] + hd[1] * u[1][q] + hd[2] * u[2][q]) * third;
+    acb[q] = (hdd[0] * u[0][q] + hdd[1] * u[1][q] + hdd[2] * u[2][q]) * third;
   }
-  vc[2] = (Zd[0] + Zd[1] + Zd[2]) / 3.0;
-  acb[2] = (Zdd[0] + Zdd[1] + Zdd[2]) / 3.0;
+  vc[2] = (Zd[0] + Zd[1] + Zd[2]) * third;
+  acb[2] = (Zdd[0] + Zdd[1] + Zdd[2]) * third;
   for (j = 0; j < 3; j++) {
     /* dh_i/dl_j' = l_i sin_i G_ij - cos_j [i = j], dZ_i/dl_j' = l_i cos_i
        G_ij + sin_j [i = j] */
@@ -239,9 +242,9 @@ static int state_eval(const rps3_model *m, rps3_data *d, rps3_fd_state *k,
       sh1 += gh * u[i][1];
       sz += l[i] * c[i] * G[i][j];
     }
-    Jc[0][j] = sh0 / 3.0;
-    Jc[1][j] = sh1 / 3.0;
-    Jc[2][j] = sz / 3.0;
+    Jc[0][j] = sh0 * third;
+    Jc[1][j] = sh1 * third;
+    Jc[2][j] = sz * third;
   }
 
   chk = 0.0;
@@ -389,7 +392,8 @@ static int state_eval(const rps3_model *m, rps3_data *d, rps3_fd_state *k,
 
 /* Cholesky factor Mq = L L^T: positive definiteness is the test, the
    solve its use; returns 0 or -1 (a pivot not > 0) */
-static int chol3_factor(const double A[3][3], double L[3][3]) {
+static int chol3_factor(const double A[3][3], double L[3][3],
+                        double dinv[3]) {
   int i, j, k;
   memset(L, 0, 9 * sizeof(double));
   for (j = 0; j < 3; j++) {
@@ -397,10 +401,11 @@ static int chol3_factor(const double A[3][3], double L[3][3]) {
     for (k = 0; k < j; k++) s -= L[j][k] * L[j][k];
     if (!(s > 0.0)) return -1;
     L[j][j] = sqrt(s);
+    dinv[j] = 1.0 / L[j][j]; /* one division a pivot */
     for (i = j + 1; i < 3; i++) {
       double t = A[i][j];
       for (k = 0; k < j; k++) t -= L[i][k] * L[j][k];
-      L[i][j] = t / L[j][j];
+      L[i][j] = t * dinv[j];
     }
   }
   return 0;
@@ -411,12 +416,12 @@ static int chol3_factor(const double A[3][3], double L[3][3]) {
    of Mq with it.  The accelerations are Mq^-1 (F - hq): one product per
    force, where a solve would divide six times. */
 static double chol3_inverse_cond1(const double A[3][3], const double L[3][3],
-                                  double Ai[3][3]) {
+                                  const double dinv[3], double Ai[3][3]) {
   double Li[3][3] = {{0, 0, 0}, {0, 0, 0}, {0, 0, 0}}, anorm = 0.0,
          inorm = 0.0;
   int i, j, k;
   for (i = 0; i < 3; i++) {
-    Li[i][i] = 1.0 / L[i][i];
+    Li[i][i] = dinv[i];
     for (j = 0; j < i; j++) {
       double t = 0.0;
       for (k = j; k < i; k++) t += L[i][k] * Li[k][j];
@@ -527,13 +532,14 @@ static int theta_newton(const rps3_model *m, rps3_data *d, double c[3],
                         double sn[3], int have_trig, int positions,
                         int pose) {
   const double q3 = 3.0 * m->rho * m->rho; /* 3 r^2 / R^2 */
+  const double iR = 1.0 / m->R;
   double L[3], th[3], resid;
   int it, i, fold = 0;
   if (!(m->opt.warm_start && d->have_theta && v3_finite(d->theta)) ||
       !v3_finite(d->l) || !(d->l[0] > 0 && d->l[1] > 0 && d->l[2] > 0))
     return -1;
   for (i = 0; i < 3; i++) {
-    L[i] = d->l[i] / m->R;
+    L[i] = d->l[i] * iR;
     th[i] = d->theta[i];
   }
   if (!have_trig)
@@ -627,7 +633,7 @@ int rps3_fwddyn_state(const rps3_model *m, rps3_data *d, rps3_fd_state *k,
                       int flags) {
   const int lean = (flags & RPS3_FD_LEAN) != 0;
   const int payload = (m->opt.effects & RPS3_EFF_PAYLOAD) != 0;
-  double dl[3], L[3][3], c[3], sn[3];
+  double dl[3], L[3][3], Ldi[3], c[3], sn[3];
   int status, pd;
   if (!v3_finite(d->dl)) {
     poison(d);
@@ -726,8 +732,8 @@ int rps3_fwddyn_state(const rps3_model *m, rps3_data *d, rps3_fd_state *k,
 
   /* Mq symmetric positive definite and conditioned: its factor, and the
      condition number from it (by LU when it does not exist) */
-  pd = (chol3_factor(M3C(d->Mq), L) == 0);
-  d->Mcond = pd ? chol3_inverse_cond1(M3C(d->Mq), M3C(L), k->Minv)
+  pd = (chol3_factor(M3C(d->Mq), L, Ldi) == 0);
+  d->Mcond = pd ? chol3_inverse_cond1(M3C(d->Mq), M3C(L), Ldi, k->Minv)
                 : mass_cond(M3C(d->Mq));
   if (!pd || !(d->Mcond <= m->opt.cond_max))
     RPS3_ERROR(d, RPS3_ESING,
