@@ -390,50 +390,34 @@ static int state_eval(const rps3_model *m, rps3_data *d, rps3_fd_state *k,
   return RPS3_OK;
 }
 
-/* Cholesky factor Mq = L L^T: positive definiteness is the test, the
-   solve its use; returns 0 or -1 (a pivot not > 0) */
-static int chol3_factor(const double A[3][3], double L[3][3],
-                        double dinv[3]) {
-  int i, j, k;
-  memset(L, 0, 9 * sizeof(double));
-  for (j = 0; j < 3; j++) {
-    double s = A[j][j];
-    for (k = 0; k < j; k++) s -= L[j][k] * L[j][k];
-    if (!(s > 0.0)) return -1;
-    L[j][j] = sqrt(s);
-    dinv[j] = 1.0 / L[j][j]; /* one division a pivot */
-    for (i = j + 1; i < 3; i++) {
-      double t = A[i][j];
-      for (k = 0; k < j; k++) t -= L[i][k] * L[j][k];
-      L[i][j] = t * dinv[j];
-    }
-  }
-  return 0;
-}
-
-/* Mq^-1 = L^-T L^-1 from the Cholesky factor (L^-1 by forward
-   substitution), symmetric to the bit, and the 1-norm condition number
-   of Mq with it.  The accelerations are Mq^-1 (F - hq): one product per
-   force, where a solve would divide six times. */
-static double chol3_inverse_cond1(const double A[3][3], const double L[3][3],
-                                  const double dinv[3], double Ai[3][3]) {
-  double Li[3][3] = {{0, 0, 0}, {0, 0, 0}, {0, 0, 0}}, anorm = 0.0,
-         inorm = 0.0;
-  int i, j, k;
-  for (i = 0; i < 3; i++) {
-    Li[i][i] = dinv[i];
-    for (j = 0; j < i; j++) {
-      double t = 0.0;
-      for (k = j; k < i; k++) t += L[i][k] * Li[k][j];
-      Li[i][j] = -t * Li[i][i];
-    }
-  }
-  for (i = 0; i < 3; i++)
-    for (j = i; j < 3; j++) {
-      double t = 0.0;
-      for (k = j; k < 3; k++) t += Li[k][i] * Li[k][j];
-      Ai[i][j] = Ai[j][i] = t;
-    }
+/*
+ * Mq^-1 and the 1-norm condition number of Mq, when Mq is positive definite
+ * (Sylvester: its leading minors M00, M00 M11 - M01^2 and det are > 0;
+ * returns -1 otherwise).  The inverse is the adjugate over the
+ * determinant, symmetric to the bit: one division, where a Cholesky factor
+ * chains three square roots and three divisions on the evaluation's
+ * critical path.  The accelerations are Mq^-1 (F - hq): one product per
+ * force.
+ */
+static int mass_inverse(const double A[3][3], double Ai[3][3], double *cond) {
+  const double c00 = A[1][1] * A[2][2] - A[1][2] * A[1][2];
+  const double c01 = A[0][2] * A[1][2] - A[0][1] * A[2][2];
+  const double c02 = A[0][1] * A[1][2] - A[0][2] * A[1][1];
+  const double c11 = A[0][0] * A[2][2] - A[0][2] * A[0][2];
+  const double c12 = A[0][1] * A[0][2] - A[0][0] * A[1][2];
+  const double c22 = A[0][0] * A[1][1] - A[0][1] * A[0][1];
+  const double det = A[0][0] * c00 + A[0][1] * c01 + A[0][2] * c02;
+  double id, anorm = 0.0, inorm = 0.0;
+  int i, j;
+  if (!(A[0][0] > 0.0 && c22 > 0.0 && det > 0.0 && det < HUGE_VAL))
+    return -1;
+  id = 1.0 / det;
+  Ai[0][0] = c00 * id;
+  Ai[0][1] = Ai[1][0] = c01 * id;
+  Ai[0][2] = Ai[2][0] = c02 * id;
+  Ai[1][1] = c11 * id;
+  Ai[1][2] = Ai[2][1] = c12 * id;
+  Ai[2][2] = c22 * id;
   for (j = 0; j < 3; j++) {
     double sa = 0.0, si = 0.0;
     for (i = 0; i < 3; i++) {
@@ -443,7 +427,8 @@ static double chol3_inverse_cond1(const double A[3][3], const double L[3][3],
     anorm = max2(anorm, sa);
     inorm = max2(inorm, si);
   }
-  return anorm * inorm;
+  *cond = anorm * inorm;
+  return 0;
 }
 
 static double mass_cond(const double Mq[3][3]) {
@@ -603,16 +588,17 @@ static int theta_newton(const rps3_model *m, rps3_data *d, double c[3],
     if (d->rot[0][0] + d->rot[1][1] < 0.0) return -1; /* spun platform */
   } else {
     /* the spun platform's test alone: rot[0][0] + rot[1][1] is n_x + o_y
-       of (18)-(19), from the balls' horizontal positions h_i u_i */
+       of (18)-(19), from the balls' horizontal positions h_i u_i; times
+       sqrt(3) r > 0, its sign is that of sqrt(3) (2 bx_0 - bx_1 - bx_2) /
+       3 + by_1 - by_2, and of (2 bx_0 - bx_1 - bx_2) + sqrt(3) (by_1 -
+       by_2) */
     double bx[3], by[3];
     for (i = 0; i < 3; i++) {
       const double h = m->R - d->l[i] * c[i];
       bx[i] = h * m->radial[i][0];
       by[i] = h * m->radial[i][1];
     }
-    if ((bx[0] - (bx[0] + bx[1] + bx[2]) / 3.0) / m->r +
-            (by[1] - by[2]) / (RPS3_SQRT3 * m->r) <
-        0.0)
+    if ((2.0 * bx[0] - bx[1] - bx[2]) + RPS3_SQRT3 * (by[1] - by[2]) < 0.0)
       return -1;
     positions_unset(d);
   }
@@ -633,7 +619,7 @@ int rps3_fwddyn_state(const rps3_model *m, rps3_data *d, rps3_fd_state *k,
                       int flags) {
   const int lean = (flags & RPS3_FD_LEAN) != 0;
   const int payload = (m->opt.effects & RPS3_EFF_PAYLOAD) != 0;
-  double dl[3], L[3][3], Ldi[3], c[3], sn[3];
+  double dl[3], c[3], sn[3];
   int status, pd;
   if (!v3_finite(d->dl)) {
     poison(d);
@@ -730,11 +716,10 @@ int rps3_fwddyn_state(const rps3_model *m, rps3_data *d, rps3_fd_state *k,
     return RPS3_OK;
   }
 
-  /* Mq symmetric positive definite and conditioned: its factor, and the
-     condition number from it (by LU when it does not exist) */
-  pd = (chol3_factor(M3C(d->Mq), L, Ldi) == 0);
-  d->Mcond = pd ? chol3_inverse_cond1(M3C(d->Mq), M3C(L), Ldi, k->Minv)
-                : mass_cond(M3C(d->Mq));
+  /* Mq symmetric positive definite and conditioned: its inverse, and the
+     condition number from it (by LU when it is not positive definite) */
+  pd = (mass_inverse(M3C(d->Mq), k->Minv, &d->Mcond) == 0);
+  if (!pd) d->Mcond = mass_cond(M3C(d->Mq));
   if (!pd || !(d->Mcond <= m->opt.cond_max))
     RPS3_ERROR(d, RPS3_ESING,
                "mass matrix not positive definite or condition number %.3g "
