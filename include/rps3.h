@@ -727,9 +727,13 @@ RPS3_API int rps3_fk_batch(const rps3_model *m, rps3_data *d,
  * (Kane): each body's velocity is a linear map of dl (the platform centre
  * and angular velocity through the constraint Jacobian of (8)-(10), theta'
  * = -(df/dtheta)^-1 (df/dl) l'), Mq = sum_bodies J^T (mass, inertia) J and
- * hq = sum_bodies J^T (the body's load at ddl = 0).  rps3_invdyn is another
+ * hq = sum_bodies J^T (the body's load at ddl = 0); the platform disc of
+ * (21) enters as the points with its mass, centroid and inertia tensor
+ * (M/2 at the centre, M/6 at each ball joint).  rps3_invdyn is another
  * formulation of the same equations; the tests check that one inverts the
- * other.  Forces F > 0 extend the links, as in rps3_invdyn.
+ * other (Lagrange and Newton-Euler).  Forces F > 0 extend the links, as in
+ * rps3_invdyn.  The controllers of rps3_ctrl_update apply their model's
+ * inverse dynamics in this form, F = Mq ddl + hq.
  *
  * Reads d->l (lengths [m]), d->dl (rates [m/s]) and d->F (forces [N]);
  * theta is solved from l (rps3_theta_solve, warm-started from d->theta
@@ -1275,9 +1279,11 @@ typedef struct {
   rps3_model plant;        /* the simulated mechanism (a copy) */
   rps3_sim_options opt;
   rps3_data *d;            /* plant workspace: positions, rates and
-                              accelerations of the last evaluation (the
-                              integrator's stages leave the pose and its
-                              rates NaN); after rps3_sim_advance those of
+                              accelerations of the last evaluation (an
+                              integrator's stage leaves the ball joints,
+                              link directions, frame, pose, vc, omega, the
+                              pose rates and domega NaN unless a payload is
+                              simulated); after rps3_sim_advance those of
                               the state at t, all of them */
   double t;                /* simulated time [s] */
   double y[8];             /* l [m], dl [m/s], W_F, W_f [J] */
