@@ -67,6 +67,9 @@ static void omega_of_sum(double omega[3], const double w[3], const double a[3],
   for (q = 0; q < 3; q++) omega[q] = wk * w[q] - s * a[q];
 }
 
+/* C99 does not convert double (*)[2] to const double (*)[2] implicitly */
+#define M2C(A) ((const double(*)[2])(A))
+
 /* the larger of a and b, both finite (fmax is a call at -O2) */
 static inline double max2(double a, double b) { return a > b ? a : b; }
 /* add a rigid body: mass mb, centre of mass offset s from the platform
@@ -104,207 +107,323 @@ static void add_body(const rps3_fd_state *k, const rps3_data *d, double mb,
   }
 }
 
-/* Mq and hq of the selected effects at the state of d */
-
 /*
- * Rates, maps, Mq and hq at the positions d holds (d->l, theta's cosines
- * and sines as phi_i and dphi_i's Z) and the rates d->dl, for the selected
- * effects (flags of rps3_fwddyn_state: Jw and the angular bias
- * acceleration, which only the full report and a payload read, are left
- * out of a lean state; RPS3_FD_NOFACTOR adds what rps3_invdyn reports of
- * the configuration, its checks included).
- *
- * The pair k = (i, j), j = i + 1 (mod 3), of (8)-(10) is f_k = |b_i -
- * b_j|^2 - 3 r^2 = h_i^2 + h_j^2 + h_i h_j + (Z_i - Z_j)^2 - 3 r^2 (u_i .
- * u_j = -1/2), so with A = 2 h_i + h_j, B = 2 h_j + h_i, E = 2 (Z_i -
- * Z_j) its derivatives are
+ * A state in the links' planes.  Link i moves in the vertical plane of pin
+ * i, its ball joint at b_i = h_i u_i + Z_i e_z, h_i = R - l_i cos_i, Z_i =
+ * l_i sin_i ((12)-(14)).  The pair k = (i, j), j = i + 1 (mod 3), of
+ * (8)-(10) is f_k = |b_i - b_j|^2 - 3 r^2 = h_i^2 + h_j^2 + h_i h_j + (Z_i
+ * - Z_j)^2 - 3 r^2 (u_i . u_j = -1/2), so with A = 2 h_i + h_j, B = 2 h_j +
+ * h_i, E = 2 (Z_i - Z_j) its derivatives are
  *   df_k/dtheta_i = l_i (A sin_i + E cos_i),  df_k/dtheta_j = l_j (B sin_j
  *   - E cos_j), df_k/dl_i = E sin_i - A cos_i,  df_k/dl_j = -B cos_j - E
  *   sin_j,
- * rps3_constraint_jacobian's entries, and each row has two: df/dtheta is
- * cyclic bidiagonal, det = a0 a1 a2 + b0 b1 b2, and its inverse is its
- * adjugate over det, nine products.  The second derivative of f_k gives
- * the bias: (df/dtheta) theta''_bias = x with x_k = -(2 |b_i' - b_j'|^2 + A
- * h_i''0 + B h_j''0 + E (Z_i''0 - Z_j''0)), the ball accelerations without
- * their theta'' part (rps3_constraint_acc_rhs in the links' planes).
- * Everything is formed in locals and stored once: stores through k or d
- * could alias the inputs as far as the compiler knows.
+ * rps3_constraint_jacobian's entries, two a row: df/dtheta is cyclic
+ * bidiagonal, det = a0 a1 a2 + b0 b1 b2, and its inverse is its adjugate
+ * over det, nine products.  Everything is formed in this local structure
+ * and stored into d and k once: stores through them could alias the
+ * inputs as far as the compiler knows.
  */
-static int state_eval(const rps3_model *m, rps3_data *d, rps3_fd_state *k,
-                      int flags, const double cth[3], const double sth[3]) {
-  const int eff = m->opt.effects;
-  const int invdyn = (flags & RPS3_FD_NOFACTOR) != 0;
-  const int with_w = !(flags & RPS3_FD_LEAN) || (eff & RPS3_EFF_PAYLOAD);
-  const double mb = (eff & RPS3_EFF_PLATFORM_INERTIA) ? m->M / 6.0 : 0.0;
-  const double mc = 3.0 * mb; /* M / 2 at the centre */
-  const double wk = 2.0 / (3.0 * m->r * m->r), R = m->R;
-  /* the means of (11), (25) as products: divisions cost a dozen cycles
-     each on the evaluation's critical path */
-  const double third = 1.0 / 3.0;
-  double l[3], dl[3], c[3], s[3], h[3], Z[3], A[3], B[3], E[3], at[3],
-      bt[3], al[3], bl[3], X[3][3], G[3][3], Jc[3][3], det, id, cond, n1, ni,
-      x[3], dth[3], ddb[3], hd[3], Zd[3], hdd[3], Zdd[3], vc[3], acb[3],
-      om[3], Jp[3], tau[3], sig[3], P[3][3], Q[3][3], rho[3][3], w[3], a[3],
-      Mq[3][3], hq[3], chk, u[3][2];
-  int i, j, q;
+typedef struct {
+  double l[3], dl[3], c[3], s[3]; /* lengths, rates, cos and sin theta */
+  double A[3], B[3], E[3];        /* of pair k, above */
+  double at[3], bt[3];            /* df_k/dtheta_k, df_k/dtheta_(k+1) */
+  double al[3], bl[3];            /* df_k/dl_k, df_k/dl_(k+1) */
+  double X[3][3];                 /* (df/dtheta)^-1 */
+  double G[3][3];                 /* dtheta'/dl' = -X df/dl */
+  double Jc[3][3];                /* dvc/dl' */
+  double dth[3], ddb[3];          /* theta', theta'' at l'' = 0 */
+  double hd[3], Zd[3];            /* h_i', Z_i' */
+  double hdd[3], Zdd[3];          /* h_i'', Z_i'' at l'' = 0 */
+  double acb[3];                  /* centre acceleration at l'' = 0 */
+} plane;
+
+/* the constraint Jacobians, the mode (sign of det(df/dtheta), grouped as
+   rps3_mode_of_jac groups it), (df/dtheta)^-1 and its 1-norm condition
+   number (RPS3_ESING past opt.cond_max); column i of df/dtheta holds
+   at[i] and bt[i - 1] */
+static int plane_jacobian(const rps3_model *m, rps3_data *d, plane *p) {
+  double h[3], Z[3], det, id, n1 = 0.0, ni = 0.0, cond;
+  int i, q;
   for (i = 0; i < 3; i++) {
-    l[i] = d->l[i];
-    dl[i] = d->dl[i];
-    c[i] = cth[i];
-    s[i] = sth[i];
-    h[i] = R - l[i] * c[i];
-    Z[i] = l[i] * s[i];
-    u[i][0] = m->radial[i][0];
-    u[i][1] = m->radial[i][1];
+    h[i] = m->R - p->l[i] * p->c[i];
+    Z[i] = p->l[i] * p->s[i];
   }
   for (q = 0; q < 3; q++) {
+    const int j = (q + 1) % 3;
     i = q;
-    j = (q + 1) % 3;
-    A[q] = 2.0 * h[i] + h[j];
-    B[q] = 2.0 * h[j] + h[i];
-    E[q] = 2.0 * (Z[i] - Z[j]);
-    at[q] = l[i] * (A[q] * s[i] + E[q] * c[i]); /* Jt[q][i] */
-    bt[q] = l[j] * (B[q] * s[j] - E[q] * c[j]); /* Jt[q][j] */
-    al[q] = E[q] * s[i] - A[q] * c[i];          /* Jl[q][i] */
-    bl[q] = -B[q] * c[j] - E[q] * s[j];         /* Jl[q][j] */
+    p->A[q] = 2.0 * h[i] + h[j];
+    p->B[q] = 2.0 * h[j] + h[i];
+    p->E[q] = 2.0 * (Z[i] - Z[j]);
+    p->at[q] = p->l[i] * (p->A[q] * p->s[i] + p->E[q] * p->c[i]);
+    p->bt[q] = p->l[j] * (p->B[q] * p->s[j] - p->E[q] * p->c[j]);
+    p->al[q] = p->E[q] * p->s[i] - p->A[q] * p->c[i];
+    p->bl[q] = -p->B[q] * p->c[j] - p->E[q] * p->s[j];
   }
-  /* the mode is the sign of det(df/dtheta), as rps3_mode_of_jac groups it */
-  det = at[0] * (at[1] * at[2]) + bt[0] * (bt[1] * bt[2]);
+  det = p->at[0] * (p->at[1] * p->at[2]) + p->bt[0] * (p->bt[1] * p->bt[2]);
   d->mode = (det > 0.0) - (det < 0.0);
   if (!(fabs(det) > 0.0) || !(fabs(det) < HUGE_VAL))
     RPS3_ERROR(d, RPS3_ESING, "constraint Jacobian df/dtheta is singular");
   id = 1.0 / det;
-  X[0][0] = at[1] * at[2] * id;
-  X[0][1] = -bt[0] * at[2] * id;
-  X[0][2] = bt[0] * bt[1] * id;
-  X[1][0] = bt[1] * bt[2] * id;
-  X[1][1] = at[0] * at[2] * id;
-  X[1][2] = -at[0] * bt[1] * id;
-  X[2][0] = -at[1] * bt[2] * id;
-  X[2][1] = bt[0] * bt[2] * id;
-  X[2][2] = at[0] * at[1] * id;
-  /* 1-norm condition number: column i of df/dtheta holds at[i] and
-     bt[i - 1] */
-  n1 = ni = 0.0;
+  p->X[0][0] = p->at[1] * p->at[2] * id;
+  p->X[0][1] = -p->bt[0] * p->at[2] * id;
+  p->X[0][2] = p->bt[0] * p->bt[1] * id;
+  p->X[1][0] = p->bt[1] * p->bt[2] * id;
+  p->X[1][1] = p->at[0] * p->at[2] * id;
+  p->X[1][2] = -p->at[0] * p->bt[1] * id;
+  p->X[2][0] = -p->at[1] * p->bt[2] * id;
+  p->X[2][1] = p->bt[0] * p->bt[2] * id;
+  p->X[2][2] = p->at[0] * p->at[1] * id;
   for (i = 0; i < 3; i++) {
-    n1 = max2(n1, fabs(at[i]) + fabs(bt[(i + 2) % 3]));
-    ni = max2(ni, fabs(X[0][i]) + fabs(X[1][i]) + fabs(X[2][i]));
+    n1 = max2(n1, fabs(p->at[i]) + fabs(p->bt[(i + 2) % 3]));
+    ni = max2(ni, fabs(p->X[0][i]) + fabs(p->X[1][i]) + fabs(p->X[2][i]));
   }
   cond = n1 * ni;
   if (!(cond <= m->opt.cond_max))
     RPS3_ERROR(d, RPS3_ESING,
                "constraint Jacobian df/dtheta: condition number %.3g exceeds "
                "cond_max %.3g", cond, m->opt.cond_max);
-  /* G = -X Jl: column j of Jl holds al[j] (row j) and bl[j - 1] */
-  for (j = 0; j < 3; j++) {
-    const int p = (j + 2) % 3;
-    for (i = 0; i < 3; i++) G[i][j] = -(X[i][j] * al[j] + X[i][p] * bl[p]);
-  }
+  return RPS3_OK;
+}
 
-  /* rates: theta', the balls' in-plane rates (28) and their
-     accelerations at l'' = 0 without the theta'' part */
+/* G = -X df/dl (column j of df/dl holds al[j] and bl[j - 1]); the rates
+   theta' = G l' and the balls' in-plane rates (28); the bias theta''
+   from the second derivative of (8)-(10), (df/dtheta) theta'' = x with
+   x_k = -(2 |b_i' - b_j'|^2 + A h_i''0 + B h_j''0 + E (Z_i''0 - Z_j''0))
+   (rps3_constraint_acc_rhs in the links' planes; ''0: without theta''),
+   and the balls' and the centre's accelerations at l'' = 0; Jc, column j
+   the centre's velocity (25) for l_j' = 1 */
+static void plane_rates(plane *p, const double u[3][2]) {
+  const double third = 1.0 / 3.0; /* a product: divisions are slow */
+  double x[3];
+  int i, j, q;
+  for (j = 0; j < 3; j++) {
+    const int k = (j + 2) % 3;
+    for (i = 0; i < 3; i++)
+      p->G[i][j] = -(p->X[i][j] * p->al[j] + p->X[i][k] * p->bl[k]);
+  }
   for (i = 0; i < 3; i++) {
-    const double th = G[i][0] * dl[0] + G[i][1] * dl[1] + G[i][2] * dl[2];
-    const double lth = l[i] * th, v = 2.0 * dl[i] * th;
-    dth[i] = th;
-    hd[i] = s[i] * lth - c[i] * dl[i];
-    Zd[i] = s[i] * dl[i] + c[i] * lth;
-    hdd[i] = s[i] * v + c[i] * lth * th;
-    Zdd[i] = c[i] * v - s[i] * lth * th;
+    const double th = p->G[i][0] * p->dl[0] + p->G[i][1] * p->dl[1] +
+                      p->G[i][2] * p->dl[2];
+    const double lth = p->l[i] * th, v = 2.0 * p->dl[i] * th;
+    p->dth[i] = th;
+    p->hd[i] = p->s[i] * lth - p->c[i] * p->dl[i];
+    p->Zd[i] = p->s[i] * p->dl[i] + p->c[i] * lth;
+    p->hdd[i] = p->s[i] * v + p->c[i] * lth * th;
+    p->Zdd[i] = p->c[i] * v - p->s[i] * lth * th;
   }
   for (q = 0; q < 3; q++) {
-    const double dz = Zd[q] - Zd[(q + 1) % 3];
-    i = q;
-    j = (q + 1) % 3;
-    x[q] = -(2.0 * (hd[i] * hd[i] + hd[j] * hd[j] + hd[i] * hd[j] + dz * dz) +
-             A[q] * hdd[i] + B[q] * hdd[j] + E[q] * (Zdd[i] - Zdd[j]));
+    const int j2 = (q + 1) % 3;
+    const double dz = p->Zd[q] - p->Zd[j2];
+    x[q] = -(2.0 * (p->hd[q] * p->hd[q] + p->hd[j2] * p->hd[j2] +
+                    p->hd[q] * p->hd[j2] + dz * dz) +
+             p->A[q] * p->hdd[q] + p->B[q] * p->hdd[j2] +
+             p->E[q] * (p->Zdd[q] - p->Zdd[j2]));
   }
   for (i = 0; i < 3; i++) {
-    ddb[i] = X[i][0] * x[0] + X[i][1] * x[1] + X[i][2] * x[2];
-    hdd[i] += l[i] * s[i] * ddb[i];
-    Zdd[i] += l[i] * c[i] * ddb[i];
+    p->ddb[i] = p->X[i][0] * x[0] + p->X[i][1] * x[1] + p->X[i][2] * x[2];
+    p->hdd[i] += p->l[i] * p->s[i] * p->ddb[i];
+    p->Zdd[i] += p->l[i] * p->c[i] * p->ddb[i];
   }
-
-  /* the centre: velocity (25), its map Jc and bias acceleration */
-  for (q = 0; q < 2; q++) {
-    vc[q] = (hd[0] * u[0][q] + hd[1] * u[1][q] + hd[2] * u[2][q]) * third;
-    acb[q] = (hdd[0] * u[0][q] + hdd[1] * u[1][q] + hdd[2] * u[2][q]) * third;
-  }
-  vc[2] = (Zd[0] + Zd[1] + Zd[2]) * third;
-  acb[2] = (Zdd[0] + Zdd[1] + Zdd[2]) * third;
+  for (q = 0; q < 2; q++)
+    p->acb[q] = (p->hdd[0] * u[0][q] + p->hdd[1] * u[1][q] +
+                 p->hdd[2] * u[2][q]) * third;
+  p->acb[2] = (p->Zdd[0] + p->Zdd[1] + p->Zdd[2]) * third;
   for (j = 0; j < 3; j++) {
     /* dh_i/dl_j' = l_i sin_i G_ij - cos_j [i = j], dZ_i/dl_j' = l_i cos_i
        G_ij + sin_j [i = j] */
-    double sh0 = -c[j] * u[j][0], sh1 = -c[j] * u[j][1], sz = s[j];
+    double sh0 = -p->c[j] * u[j][0], sh1 = -p->c[j] * u[j][1], sz = p->s[j];
     for (i = 0; i < 3; i++) {
-      const double gh = l[i] * s[i] * G[i][j];
+      const double gh = p->l[i] * p->s[i] * p->G[i][j];
       sh0 += gh * u[i][0];
       sh1 += gh * u[i][1];
-      sz += l[i] * c[i] * G[i][j];
+      sz += p->l[i] * p->c[i] * p->G[i][j];
     }
-    Jc[0][j] = sh0 * third;
-    Jc[1][j] = sh1 * third;
-    Jc[2][j] = sz * third;
+    p->Jc[0][j] = sh0 * third;
+    p->Jc[1][j] = sh1 * third;
+    p->Jc[2][j] = sz * third;
   }
+}
 
-  chk = 0.0;
-  for (q = 0; q < 3; q++)
-    chk += fabs(dth[q]) + fabs(ddb[q]) + fabs(acb[q]);
+/* the platform's motion from its ball joints, (25)-(28): vc, omega from
+   sum_i rho_i x b_i' (rho_i = b_i - c, with rho_i x u_i and rho_i x e_z
+   formed once), and, with `bias`, the angular bias acceleration from sum_i
+   rho_i x (b_i'' - omega x (omega x rho_i)); Jw, column j omega for l_j'
+   = 1, into k */
+static void platform_motion(const rps3_model *m, const rps3_data *d,
+                            const plane *p, const double u[3][2], int bias,
+                            rps3_fd_state *k, double vc[3], double om[3]) {
+  const double wk = 2.0 / (3.0 * m->r * m->r), third = 1.0 / 3.0;
+  double P[3][3], Q[3][3], rho[3][3], a[3], w[3];
+  int i, j, q;
+  for (i = 0; i < 3; i++) {
+    a[i] = d->rot[i][2];
+    for (q = 0; q < 3; q++) rho[i][q] = d->b[i][q] - d->c[q];
+    P[i][0] = -rho[i][2] * u[i][1];
+    P[i][1] = rho[i][2] * u[i][0];
+    P[i][2] = rho[i][0] * u[i][1] - rho[i][1] * u[i][0];
+    Q[i][0] = rho[i][1];
+    Q[i][1] = -rho[i][0];
+    Q[i][2] = 0.0;
+  }
+  for (j = 0; j < 3; j++) {
+    double wj[3] = {0.0, 0.0, 0.0}, oj[3];
+    for (i = 0; i < 3; i++) {
+      const double gh =
+          p->l[i] * p->s[i] * p->G[i][j] - (i == j ? p->c[i] : 0.0);
+      const double gz =
+          p->l[i] * p->c[i] * p->G[i][j] + (i == j ? p->s[i] : 0.0);
+      for (q = 0; q < 3; q++) wj[q] += gh * P[i][q] + gz * Q[i][q];
+    }
+    omega_of_sum(oj, wj, a, wk);
+    for (q = 0; q < 3; q++) k->Jw[q][j] = oj[q];
+  }
+  for (q = 0; q < 2; q++)
+    vc[q] = (p->hd[0] * u[0][q] + p->hd[1] * u[1][q] + p->hd[2] * u[2][q]) *
+            third;
+  vc[2] = (p->Zd[0] + p->Zd[1] + p->Zd[2]) * third;
+  w[0] = w[1] = w[2] = 0.0;
+  for (i = 0; i < 3; i++)
+    for (q = 0; q < 3; q++) w[q] += p->hd[i] * P[i][q] + p->Zd[i] * Q[i][q];
+  omega_of_sum(om, w, a, wk);
+  if (!bias) return;
+  w[0] = w[1] = w[2] = 0.0;
+  for (i = 0; i < 3; i++) {
+    double t[3], wr = v3_dot(om, rho[i]);
+    v3_cross(t, rho[i], om);
+    for (q = 0; q < 3; q++)
+      w[q] += p->hdd[i] * P[i][q] + p->Zdd[i] * Q[i][q] - wr * t[q];
+  }
+  omega_of_sum(k->dw_b, w, a, wk);
+}
+
+/* what rps3_invdyn reports of the configuration, and its limits: the
+   lambda system (df/dtheta)^T's condition number (its 1-norm, the
+   infinity norm of df/dtheta: rows hold at[q], bt[q]) and the force
+   transmission, max over l_j' = 1 of |vc|_1 + R |omega|_1 (the rows of
+   dF/d(f, n) by virtual power, rps3_invdyn's transmission()) */
+static int invdyn_limits(const rps3_model *m, rps3_data *d, const plane *p,
+                         const rps3_fd_state *k) {
+  double nr = 0.0, nx = 0.0, T = 0.0;
+  int q;
+  for (q = 0; q < 3; q++) {
+    const double sj =
+        fabs(p->Jc[0][q]) + fabs(p->Jc[1][q]) + fabs(p->Jc[2][q]) +
+        m->R * (fabs(k->Jw[0][q]) + fabs(k->Jw[1][q]) + fabs(k->Jw[2][q]));
+    nr = max2(nr, fabs(p->at[q]) + fabs(p->bt[q]));
+    nx = max2(nx, fabs(p->X[q][0]) + fabs(p->X[q][1]) + fabs(p->X[q][2]));
+    if (sj > T || !isfinite(sj)) T = sj;
+  }
+  d->cond = nr * nx;
+  d->transmission = T;
+  if (!(d->cond <= m->opt.cond_max))
+    RPS3_ERROR(d, RPS3_ESING,
+               "lambda system condition number %.3g exceeds cond_max %.3g",
+               d->cond, m->opt.cond_max);
+  if (d->cond > m->opt.cond_warn) d->warn |= RPS3_WARN_ILLCOND;
+  if (!(T >= 0.0 && T <= m->opt.trans_max))
+    RPS3_ERROR(d, RPS3_ESING,
+               "force transmission %.3g exceeds trans_max %.3g: an actuator "
+               "would carry that many times the load on the platform",
+               T, m->opt.trans_max);
+  if (T > m->opt.trans_warn) d->warn |= RPS3_WARN_TRANS;
+  return RPS3_OK;
+}
+
+/* Mq and hq of the selected effects (the file's header): the links and
+   the platform's ball-joint masses as generalized loads on theta (tau)
+   and on l (sigma), the centre's mass through Jc, a payload as a rigid
+   body; the upper triangle is Mq, symmetric to the bit */
+static void assemble(const rps3_model *m, rps3_data *d,
+                     const rps3_fd_state *k, const plane *p) {
+  const int eff = m->opt.effects;
+  const double mb = (eff & RPS3_EFF_PLATFORM_INERTIA) ? m->M / 6.0 : 0.0;
+  const double mc = 3.0 * mb; /* M / 2 at the centre */
+  const double gz = (eff & RPS3_EFF_PLATFORM_GRAVITY) ? m->M * m->g : 0.0;
+  double Jp[3], tau[3], sig[3], Mq[3][3], hq[3];
+  int i, j, q;
+  for (i = 0; i < 3; i++) {
+    const double mbl = mb * p->l[i];
+    Jp[i] = mbl * p->l[i];
+    tau[i] = 2.0 * mbl * p->dl[i] * p->dth[i];
+    sig[i] = -mbl * p->dth[i] * p->dth[i];
+    if (eff & RPS3_EFF_LINK_INERTIA) Jp[i] += m->Jlink;
+    tau[i] += Jp[i] * p->ddb[i];
+    /* (22): d/dtheta of m g d sin(theta) */
+    if (eff & RPS3_EFF_LINK_GRAVITY) tau[i] += m->m * m->g * m->d * p->c[i];
+    if (eff & RPS3_EFF_PIN_FRICTION)
+      tau[i] -= rps3_friction_torque(m, p->dth[i]);
+  }
+  for (j = 0; j < 3; j++) {
+    for (q = j; q < 3; q++)
+      Mq[j][q] = (q == j ? mb : 0.0) + Jp[0] * p->G[0][j] * p->G[0][q] +
+                 Jp[1] * p->G[1][j] * p->G[1][q] +
+                 Jp[2] * p->G[2][j] * p->G[2][q] +
+                 mc * (p->Jc[0][j] * p->Jc[0][q] + p->Jc[1][j] * p->Jc[1][q] +
+                       p->Jc[2][j] * p->Jc[2][q]);
+    hq[j] = sig[j] + p->G[0][j] * tau[0] + p->G[1][j] * tau[1] +
+            p->G[2][j] * tau[2] +
+            mc * (p->Jc[0][j] * p->acb[0] + p->Jc[1][j] * p->acb[1] +
+                  p->Jc[2][j] * p->acb[2]) +
+            gz * p->Jc[2][j];
+  }
+  if (eff & RPS3_EFF_PAYLOAD) {
+    double sp[3], Iw[3][3];
+    for (j = 0; j < 3; j++)
+      for (q = 0; q < j; q++) Mq[j][q] = Mq[q][j];
+    m3_mulv(sp, M3C(d->rot), m->payload.com);
+    inertia_world(Iw, M3C(d->rot), m->payload.inertia);
+    add_body(k, d, m->payload.mass, sp, M3C(Iw), m->g, Mq, hq);
+  }
+  for (j = 0; j < 3; j++) {
+    for (q = 0; q < 3; q++) d->Mq[j][q] = (q >= j) ? Mq[j][q] : Mq[q][j];
+    d->hq[j] = hq[j];
+  }
+}
+
+/*
+ * Rates, maps, Mq and hq at the positions d holds (d->l; theta's cosines
+ * and sines cth, sth) and the rates d->dl, for the selected effects.  The
+ * platform's motion (vc, omega, Jw and the angular bias acceleration),
+ * which only the full report and a payload read, is left out of a lean
+ * state (NaN); RPS3_FD_NOFACTOR adds Jw and what rps3_invdyn reports of
+ * the configuration, its checks included.
+ */
+static int state_eval(const rps3_model *m, rps3_data *d, rps3_fd_state *k,
+                      int flags, const double cth[3], const double sth[3]) {
+  const int invdyn = (flags & RPS3_FD_NOFACTOR) != 0;
+  const int with_w =
+      !(flags & RPS3_FD_LEAN) || (m->opt.effects & RPS3_EFF_PAYLOAD);
+  plane p;
+  double u[3][2], vc[3], om[3], chk = 0.0;
+  int i, q, st;
+  for (i = 0; i < 3; i++) {
+    p.l[i] = d->l[i];
+    p.dl[i] = d->dl[i];
+    p.c[i] = cth[i];
+    p.s[i] = sth[i];
+    u[i][0] = m->radial[i][0];
+    u[i][1] = m->radial[i][1];
+  }
+  st = plane_jacobian(m, d, &p);
+  if (st != RPS3_OK) return st;
+  plane_rates(&p, M2C(u));
   k->have_w = with_w;
   if (with_w || invdyn) {
-    /* omega (26)-(28) from sum_i rho_i x b_i', rho_i = b_i - c, with rho_i
-       x u_i and rho_i x e_z formed once; Jw column j from the balls'
-       in-plane maps; the angular bias acceleration from sum_i rho_i x
-       (b_i'' - omega x (omega x rho_i)).  The inverse dynamics alone
-       (no payload) needs Jw only, for the force transmission */
-    for (i = 0; i < 3; i++) {
-      a[i] = d->rot[i][2];
-      for (q = 0; q < 3; q++) rho[i][q] = d->b[i][q] - d->c[q];
-      P[i][0] = -rho[i][2] * u[i][1];
-      P[i][1] = rho[i][2] * u[i][0];
-      P[i][2] = rho[i][0] * u[i][1] - rho[i][1] * u[i][0];
-      Q[i][0] = rho[i][1];
-      Q[i][1] = -rho[i][0];
-      Q[i][2] = 0.0;
-    }
-    for (j = 0; j < 3; j++) {
-      double wj[3] = {0.0, 0.0, 0.0}, oj[3];
-      for (i = 0; i < 3; i++) {
-        const double gh = l[i] * s[i] * G[i][j] - (i == j ? c[i] : 0.0);
-        const double gz = l[i] * c[i] * G[i][j] + (i == j ? s[i] : 0.0);
-        for (q = 0; q < 3; q++) wj[q] += gh * P[i][q] + gz * Q[i][q];
-      }
-      omega_of_sum(oj, wj, a, wk);
-      for (q = 0; q < 3; q++) k->Jw[q][j] = oj[q];
-    }
+    platform_motion(m, d, &p, M2C(u), with_w, k, vc, om);
   }
-  if (with_w) {
-    w[0] = w[1] = w[2] = 0.0;
-    for (i = 0; i < 3; i++)
-      for (q = 0; q < 3; q++) w[q] += hd[i] * P[i][q] + Zd[i] * Q[i][q];
-    omega_of_sum(om, w, a, wk);
-    w[0] = w[1] = w[2] = 0.0;
-    for (i = 0; i < 3; i++) {
-      double t[3], wr = v3_dot(om, rho[i]);
-      v3_cross(t, rho[i], om);
-      for (q = 0; q < 3; q++)
-        w[q] += hdd[i] * P[i][q] + Zdd[i] * Q[i][q] - wr * t[q];
-    }
-    omega_of_sum(k->dw_b, w, a, wk);
-    for (q = 0; q < 3; q++) chk += fabs(vc[q]) + fabs(om[q]) + fabs(k->dw_b[q]);
-  } else {
-    /* a lean state's platform rates: none, as its positions */
-    for (q = 0; q < 3; q++) vc[q] = om[q] = (double)NAN;
+  if (!with_w)
+    for (q = 0; q < 3; q++) vc[q] = om[q] = (double)NAN; /* as positions */
+  for (q = 0; q < 3; q++) {
+    chk += fabs(p.dth[q]) + fabs(p.ddb[q]) + fabs(p.acb[q]);
+    if (with_w) chk += fabs(vc[q]) + fabs(om[q]) + fabs(k->dw_b[q]);
+    d->dtheta[q] = p.dth[q];
+    d->vc[q] = vc[q];
+    d->omega[q] = om[q];
+    k->ddth_b[q] = p.ddb[q];
+    k->ac_b[q] = p.acb[q];
   }
-  for (i = 0; i < 3; i++) {
-    d->dtheta[i] = dth[i];
-    d->vc[i] = vc[i];
-    d->omega[i] = om[i];
-    k->ddth_b[i] = ddb[i];
-    k->ac_b[i] = acb[i];
-  }
-  memcpy(k->G, G, sizeof(G));
-  memcpy(k->Jc, Jc, sizeof(Jc));
+  memcpy(k->G, p.G, sizeof(p.G));
+  memcpy(k->Jc, p.Jc, sizeof(p.Jc));
   /* one test of the rates and the bias; the named checks when it fails */
   if (!(chk <= DBL_MAX)) {
     RPS3_CHECK_FINITE(d, d->dtheta, 3, "dtheta");
@@ -317,76 +436,10 @@ static int state_eval(const rps3_model *m, rps3_data *d, rps3_fd_state *k,
     if (with_w) RPS3_CHECK_FINITE(d, k->dw_b, 3, "domega");
   }
   if (invdyn) {
-    /* what rps3_invdyn reports of the configuration, and its limits: the
-       lambda system (df/dtheta)^T's condition number (its 1-norm, the
-       infinity norm of df/dtheta: rows hold at[q], bt[q]) and the force
-       transmission, max over l'_j = 1 of |vc|_1 + R |omega|_1 (the rows
-       of dF/d(f, n) by virtual power, rps3_invdyn's transmission()) */
-    double nr = 0.0, nx = 0.0, T = 0.0;
-    for (q = 0; q < 3; q++) {
-      const double sj = fabs(Jc[0][q]) + fabs(Jc[1][q]) + fabs(Jc[2][q]) +
-                        R * (fabs(k->Jw[0][q]) + fabs(k->Jw[1][q]) +
-                             fabs(k->Jw[2][q]));
-      nr = max2(nr, fabs(at[q]) + fabs(bt[q]));
-      nx = max2(nx, fabs(X[q][0]) + fabs(X[q][1]) + fabs(X[q][2]));
-      if (sj > T || !isfinite(sj)) T = sj;
-    }
-    d->cond = nr * nx;
-    d->transmission = T;
-    if (!(d->cond <= m->opt.cond_max))
-      RPS3_ERROR(d, RPS3_ESING,
-                 "lambda system condition number %.3g exceeds cond_max %.3g",
-                 d->cond, m->opt.cond_max);
-    if (d->cond > m->opt.cond_warn) d->warn |= RPS3_WARN_ILLCOND;
-    if (!(T >= 0.0 && T <= m->opt.trans_max))
-      RPS3_ERROR(d, RPS3_ESING,
-                 "force transmission %.3g exceeds trans_max %.3g: an actuator "
-                 "would carry that many times the load on the platform",
-                 T, m->opt.trans_max);
-    if (T > m->opt.trans_warn) d->warn |= RPS3_WARN_TRANS;
+    st = invdyn_limits(m, d, &p, k);
+    if (st != RPS3_OK) return st;
   }
-
-  /* the links and the platform's ball-joint masses, as generalized loads
-     on theta (tau) and on l (sigma) */
-  for (i = 0; i < 3; i++) {
-    const double mbl = mb * l[i];
-    Jp[i] = mbl * l[i];
-    tau[i] = 2.0 * mbl * dl[i] * dth[i];
-    sig[i] = -mbl * dth[i] * dth[i];
-    if (eff & RPS3_EFF_LINK_INERTIA) Jp[i] += m->Jlink;
-    tau[i] += Jp[i] * ddb[i];
-    /* (22): d/dtheta of m g d sin(theta) */
-    if (eff & RPS3_EFF_LINK_GRAVITY) tau[i] += m->m * m->g * m->d * c[i];
-    if (eff & RPS3_EFF_PIN_FRICTION)
-      tau[i] -= rps3_friction_torque(m, dth[i]);
-  }
-  {
-    const double gz = (eff & RPS3_EFF_PLATFORM_GRAVITY) ? m->M * m->g : 0.0;
-    for (j = 0; j < 3; j++) {
-      for (q = j; q < 3; q++)
-        Mq[j][q] = (q == j ? mb : 0.0) + Jp[0] * G[0][j] * G[0][q] +
-                   Jp[1] * G[1][j] * G[1][q] + Jp[2] * G[2][j] * G[2][q] +
-                   mc * (Jc[0][j] * Jc[0][q] + Jc[1][j] * Jc[1][q] +
-                         Jc[2][j] * Jc[2][q]);
-      hq[j] = sig[j] + G[0][j] * tau[0] + G[1][j] * tau[1] +
-              G[2][j] * tau[2] +
-              mc * (Jc[0][j] * acb[0] + Jc[1][j] * acb[1] + Jc[2][j] * acb[2]) +
-              gz * Jc[2][j];
-    }
-  }
-  if (eff & RPS3_EFF_PAYLOAD) {
-    double sp[3], Iw[3][3];
-    for (j = 0; j < 3; j++)
-      for (q = 0; q < j; q++) Mq[j][q] = Mq[q][j];
-    m3_mulv(sp, M3C(d->rot), m->payload.com);
-    inertia_world(Iw, M3C(d->rot), m->payload.inertia);
-    add_body(k, d, m->payload.mass, sp, M3C(Iw), m->g, Mq, hq);
-  }
-  /* the upper triangle is Mq: symmetric to the bit */
-  for (j = 0; j < 3; j++) {
-    for (q = 0; q < 3; q++) d->Mq[j][q] = (q >= j) ? Mq[j][q] : Mq[q][j];
-    d->hq[j] = hq[j];
-  }
+  assemble(m, d, k, &p);
   return RPS3_OK;
 }
 
@@ -647,9 +700,7 @@ int rps3_fwddyn_state(const rps3_model *m, rps3_data *d, rps3_fd_state *k,
        l_last): within O(|l - l_last|^2) of the root, one Newton step
        instead of two.  A step of more than PREDICT_MAX (near a singular
        configuration, where G grows) is not taken: the start stays where
-       the last root was, as does the fall-back.  An integrator's stage
-       moves the last root's cosines and sines along with it, while
-       d->theta is still that root */
+       the last root was, as does the fall-back */
     if ((flags & RPS3_FD_PREDICT) && m->opt.warm_start && d->have_theta) {
       double dlen[3], dth[3];
       v3_sub(dlen, d->l, k->l);
@@ -673,7 +724,8 @@ int rps3_fwddyn_state(const rps3_model *m, rps3_data *d, rps3_fd_state *k,
     }
     k->have_trig = 0;
     if (theta_newton(m, d, c, sn, trig,
-                     !lean || payload || (flags & RPS3_FD_NOFACTOR), !lean) == 0) {
+                     !lean || payload || (flags & RPS3_FD_NOFACTOR),
+                     !lean) == 0) {
       d->have_theta = 1;
       d->stage = RPS3_STAGE_POS;
     } else {
