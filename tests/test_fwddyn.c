@@ -336,6 +336,45 @@ static void massless_links_and_statics(void **state) {
   rps3_data_free(d);
 }
 
+/*
+ * A warm start a turn away from the root (theta + 2 pi, as an angle that
+ * wrapped elsewhere would be): the Newton step's root is folded back into
+ * (0, pi) and the state is the one from the root itself -- the same theta
+ * to rounding of the fold, positions and accelerations to rounding.
+ */
+static void warm_start_a_turn_away(void **state) {
+  uint64_t s = 0x7a11b0b5ull;
+  rps3_model m;
+  rps3_data *inv, *a, *b;
+  int n, i;
+  (void)state;
+  model_entropy(&m);
+  m.opt.effects = RPS3_EFF_ALL;
+  assert_int_equal(rps3_model_init(&m, NULL, 0), RPS3_OK);
+  assert_int_equal(rps3_data_alloc(&m, &inv), RPS3_OK);
+  assert_int_equal(rps3_data_alloc(&m, &a), RPS3_OK);
+  assert_int_equal(rps3_data_alloc(&m, &b), RPS3_OK);
+  for (n = 0; n < 8; n++) {
+    random_state(&m, inv, &s);
+    load_state(a, inv);
+    load_state(b, inv);
+    for (i = 0; i < 3; i++) b->theta[i] += (i == n % 3 ? 2.0 : -2.0) * PI;
+    if (rps3_fwddyn(&m, a) != RPS3_OK) fail_msg("%s", a->err.msg);
+    if (rps3_fwddyn(&m, b) != RPS3_OK) fail_msg("%s", b->err.msg);
+    for (i = 0; i < 3; i++) {
+      /* remainder(theta + 2 pi, 2 pi) rounds at the ulp of 2 pi */
+      CHECK_REL(b->theta[i], a->theta[i], 1e-14, 1.0, "theta%d", i);
+      CHECK_REL(b->b[i][2], a->b[i][2], 1e-12, 1.0, "ball %d height", i);
+      CHECK_REL(b->ddl[i], a->ddl[i], 1e-9, vmax(a->ddl) + 1e-3, "ddl%d", i);
+      assert_true(b->theta[i] > 0.0 && b->theta[i] < PI);
+    }
+    assert_int_equal(b->mode, a->mode);
+  }
+  rps3_data_free(inv);
+  rps3_data_free(a);
+  rps3_data_free(b);
+}
+
 int main(void) {
   const struct CMUnitTest tests[] = {
       cmocka_unit_test(inverts_inverse_dynamics),
@@ -344,6 +383,7 @@ int main(void) {
       cmocka_unit_test(singular_configuration_fails_cleanly),
       cmocka_unit_test(errors),
       cmocka_unit_test(massless_links_and_statics),
+      cmocka_unit_test(warm_start_a_turn_away),
   };
   gsl_set_error_handler_off();
   return cmocka_run_group_tests(tests, NULL, NULL);
