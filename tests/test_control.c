@@ -104,6 +104,24 @@ static void every_kind_logs_the_desired_motion(void **state) {
     }
 }
 
+/* the desired state of trajectory tr at t (rps3_ik and rps3_velocity of
+   model m into od) and a measured state off it: l_i + dlen (i - c),
+   dl_i - drate (i - c) */
+static void off_trajectory(const rps3_model *m, const rps3_traj *tr,
+                           double t, rps3_data *od, double dlen,
+                           double drate, double c, double l[3],
+                           double dl[3]) {
+  int i;
+  assert_int_equal(rps3_traj_eval(m, tr, t, od->pose, od->dpose, od->ddpose),
+                   RPS3_OK);
+  assert_int_equal(rps3_ik(m, od), RPS3_OK);
+  assert_int_equal(rps3_velocity(m, od), RPS3_OK);
+  for (i = 0; i < 3; i++) {
+    l[i] = od->l[i] + dlen * (i - c);
+    dl[i] = od->dl[i] - drate * (i - c);
+  }
+}
+
 /*
  * A controller called again at the same time or at an earlier one (a
  * continuous controller inside an adaptive step, rate 0) has no motion to
@@ -132,16 +150,8 @@ static void repeated_and_earlier_times(void **state) {
                      RPS3_OK);
     for (k = 0; k < 6; k++) {
       double t = times[k], F[3], G[3], l[3], dl[3];
-      assert_int_equal(rps3_traj_eval(&cm, &tr, t, od->pose, od->dpose,
-                                      od->ddpose),
-                       RPS3_OK);
-      assert_int_equal(rps3_ik(&cm, od), RPS3_OK);
-      assert_int_equal(rps3_velocity(&cm, od), RPS3_OK);
-      for (i = 0; i < 3; i++) {
-        /* a measured state 1 mm and 1 cm/s off the desired one */
-        l[i] = od->l[i] + 1e-3 * (i - 1);
-        dl[i] = od->dl[i] - 1e-2 * (i - 1);
-      }
+      /* a measured state 1 mm and 1 cm/s off the desired one */
+      off_trajectory(&cm, &tr, t, od, 1e-3, 1e-2, 1.0, l, dl);
       assert_int_equal(rps3_ctrl_update(c, t, l, dl, F), RPS3_OK);
       assert_int_equal(rps3_ctrl_alloc(kinds[q], 400.0, 40.0, &cm, &tr,
                                        &fresh, NULL, 0),
@@ -204,16 +214,8 @@ static void laws_are_the_model_inverse_dynamics(void **state) {
         for (k = 0; k < 8; k++) {
           double t = 1e-3 * (1 + 997 * k), F[3], l[3], dl[3], a[3],
                  scale = 1.0;
-          assert_int_equal(rps3_traj_eval(&cm, &tr, t, od->pose, od->dpose,
-                                          od->ddpose),
-                           RPS3_OK);
-          assert_int_equal(rps3_ik(&cm, od), RPS3_OK);
-          assert_int_equal(rps3_velocity(&cm, od), RPS3_OK);
-          for (i = 0; i < 3; i++) {
-            /* a measured state 2 mm and 3 cm/s off the desired one */
-            l[i] = od->l[i] + 2e-3 * (i - 0.7);
-            dl[i] = od->dl[i] - 3e-2 * (i - 1.2);
-          }
+          /* a measured state 2 mm and 3 cm/s off the desired one */
+          off_trajectory(&cm, &tr, t, od, 2e-3, 3e-2, 0.7, l, dl);
           assert_int_equal(rps3_ctrl_update(c, t, l, dl, F), RPS3_OK);
           /* the oracle at the measured state, warm from the desired theta */
           for (i = 0; i < 3; i++) {
