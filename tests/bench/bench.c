@@ -454,7 +454,9 @@ static const struct {
     {"pipeline_closed_lagrange_paper_nocert", "anchor_generated",
      "scalar rps3_inverse / generated code, the paper's four effects"},
     {"pipeline_closed_lagrange_paper_forces", "anchor_generated",
-     "scalar rps3_inverse, forces_only / generated code (goal <= 1)"},
+     "scalar rps3_inverse, forces_only / generated code"},
+    {"pipeline_closed_lagrange_paper_lean", "anchor_generated",
+     "scalar rps3_inverse, RPS3_FORCES_LEAN / generated code (goal <= 1)"},
     {"batch_closed_lagrange_paper_nocert", "anchor_generated",
      "rps3_inverse_batch per point / generated code, the same forces"},
     {"stages_closed_lagrange_paper_nocert",
@@ -663,6 +665,12 @@ int main(int argc, char **argv) {
        K_INVERSE, SCENE_PAPER, RPS3_LAGRANGE, RPS3_THETA_CLOSED_FORM, 1, 0,
        BENCH_NONE, 0);
   cases[ncase - 1].m.opt.forces_only = 1;
+  CASE("pipeline_closed_lagrange_paper_lean", "rps3_inverse, closed-form "
+       "theta, the paper's effects, Lagrange, certify off, opt.forces_only "
+       "= RPS3_FORCES_LEAN (F alone without the force transmission, the "
+       "outputs of the generated code)", K_INVERSE, SCENE_PAPER,
+       RPS3_LAGRANGE, RPS3_THETA_CLOSED_FORM, 1, 0, BENCH_NONE, 0);
+  cases[ncase - 1].m.opt.forces_only = RPS3_FORCES_LEAN;
   CASE("anchor_generated", "SymPy-generated CSE'd C (tests/bench/"
        "gen_anchor.py): pose, rates, accelerations -> F, the paper's four "
        "effects", K_ANCHOR, SCENE_PAPER, RPS3_LAGRANGE,
