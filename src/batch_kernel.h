@@ -101,6 +101,10 @@ void rps3_kernel_block_bare(const rps3_model *m, const rps3_batch_in *in,
    the point is the stages' (d untouched) */
 int rps3_inverse_lean_point(const rps3_model *m, rps3_data *d);
 
+/* the same without fused multiply-adds whatever the CPU, as a CPU without
+   FMA computes it (for the tests) */
+int rps3_inverse_lean_point_unfused(const rps3_model *m, rps3_data *d);
+
 /* rps3_inverse by the stages alone (the kernel's fallback) */
 int rps3_inverse_stages(const rps3_model *m, rps3_data *d);
 
@@ -108,8 +112,9 @@ int rps3_inverse_stages(const rps3_model *m, rps3_data *d);
    time (for the tests: the accuracy against libm) */
 void rps3_ksincos(double x, double *s, double *c);
 double rps3_katan2(double y, double x);
-/* the lean pass's sine and cosine (Estrin's scheme), for the same tests */
-void rps3_ksincos_e(double x, double *s, double *c);
+/* the lean pass's sine and cosine (Estrin's scheme; fu = 1: fused
+   multiply-adds), for the same tests */
+void rps3_ksincos_e(double x, int fu, double *s, double *c);
 
 /* the largest |angle| the kernel's range reduction serves [rad] */
 #define RPS3_KANGLE_MAX 1.0e5

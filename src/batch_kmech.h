@@ -212,6 +212,22 @@ KINLINE void kst(double *const dst[3], int p, kv3 v) {
 
 /* ------------------------------------------------------------ lean pass */
 
+/* a b + c, fused (one rounding) when fu is 1, else two roundings; fu is a
+   constant of each instance of the lean pass, so the select folds away.
+   Explicit, so that the block loop and the one-point function fuse the
+   same operations (a compiler's contraction may differ between a vector
+   loop and scalar code) */
+KINLINE double kma(double a, double b, double c, int fu) {
+  return kmaf(a, b, c, fu);
+}
+KINLINE double kdotf(kv3 a, kv3 b, int fu) {
+  return kma(a.x, b.x, kma(a.y, b.y, a.z * b.z, fu), fu);
+}
+KINLINE kv3 kcrossf(kv3 a, kv3 b, int fu) {
+  return kv(kma(a.y, b.z, -(a.z * b.y), fu), kma(a.z, b.x, -(a.x * b.z), fu),
+            kma(a.x, b.y, -(a.y * b.x), fu));
+}
+
 /* the constants of the lean pass (RPS3_FORCES_LEAN), each effect's
    selection folded into its coefficient (0 keeps a NaN: 0 * inf) */
 typedef struct {
@@ -252,15 +268,18 @@ typedef struct {
 
 /* link i at the platform frame's columns rx, ry and centre c: (15)-(17),
    (5)-(7); phi = v / l, dphi = q / l (29) are never formed */
-KINLINE kblink kblink_pos(const kbconst *K, int i, kv3 rx, kv3 ry, kv3 c) {
+KINLINE kblink kblink_pos(const kbconst *K, int i, kv3 rx, kv3 ry, kv3 c,
+                          int fu) {
   kblink L;
   double l2, l, radial;
-  L.rho = kadd(kscale(K->body[i][0], rx), kscale(K->body[i][1], ry));
+  L.rho = kv(kma(K->body[i][0], rx.x, K->body[i][1] * ry.x, fu),
+             kma(K->body[i][0], rx.y, K->body[i][1] * ry.y, fu),
+             kma(K->body[i][0], rx.z, K->body[i][1] * ry.z, fu));
   L.v = kv(c.x + L.rho.x - K->pin[i][0], c.y + L.rho.y - K->pin[i][1],
            c.z + L.rho.z);
-  l2 = kdot(L.v, L.v);
+  l2 = kdotf(L.v, L.v, fu);
   l = sqrt(l2);
-  radial = L.v.x * K->u[i][0] + L.v.y * K->u[i][1]; /* -l cos theta */
+  radial = kma(L.v.x, K->u[i][0], L.v.y * K->u[i][1], fu); /* -l cos th */
   L.q = kv(L.v.z * K->u[i][0], L.v.z * K->u[i][1], -radial);
   L.ok = ((l2 > 0.0) & (L.v.z > 0.0)) ? 1.0 : 0.0;
   /* 1 / l^2 by a division beside the square root, 1 / l from both: no
@@ -279,17 +298,19 @@ KINLINE kblink kblink_pos(const kbconst *K, int i, kv3 rx, kv3 ry, kv3 c) {
    v . f, wt = q . f + tau, and s = (|v . f| + |q . f| + |tau|) / l, the
    load in the link's plane */
 KINLINE kblink kblink_load(const kbconst *K, kblink L, kv3 w, kv3 vc,
-                           kv3 dw, kv3 ac) {
-  kv3 wr = kcross(w, L.rho);
+                           kv3 dw, kv3 ac, int fu) {
+  kv3 wr = kcrossf(w, L.rho, fu);
   kv3 bd = kadd(wr, vc);
-  kv3 bb = kadd(kadd(kcross(dw, L.rho), kcross(w, wr)), ac);
+  kv3 bb = kadd(kadd(kcrossf(dw, L.rho, fu), kcrossf(w, wr, fu)), ac);
   /* l^2 theta'' = q.b'' - 2 (v.b')(q.b') / l^2 */
-  double ddth =
-      (kdot(L.q, bb) - 2.0 * kdot(L.v, bd) * kdot(L.q, bd) * L.il2) * L.il2;
+  double ddth = (kdotf(L.q, bb, fu) -
+                 2.0 * kdotf(L.v, bd, fu) * kdotf(L.q, bd, fu) * L.il2) *
+                L.il2;
   kv3 f = kv(K->m6 * (ac.x + bb.x), K->m6 * (ac.y + bb.y),
-             K->m6 * (ac.z + bb.z) + K->g3);
-  double tau = K->mgd * L.q.z * L.il + K->jl * ddth, qf = kdot(L.q, f);
-  L.wl = kdot(L.v, f);
+             kma(K->m6, ac.z + bb.z, K->g3, fu));
+  double tau = kma(K->mgd * L.q.z, L.il, K->jl * ddth, fu);
+  double qf = kdotf(L.q, f, fu);
+  L.wl = kdotf(L.v, f, fu);
   L.wt = qf + tau;
   L.s = (fabs(L.wl) + fabs(qf) + fabs(tau)) * L.il;
   return L;
@@ -316,7 +337,7 @@ typedef struct {
  */
 KINLINE kbout kbare(const kbconst *K, double alpha, double beta, double z,
                     double da, double db, double dz, double dda, double ddb,
-                    double ddz) {
+                    double ddz, int fu) {
   kbout o;
   double ca, sa, hs, hc, sb, cb, vb2, C, S, det, idet, an, in, s;
   double ta0, ta1, ta2, tb0, tb1, tb2, e0, e1, e2, g0, g1, g2, m0, m1, m2;
@@ -327,10 +348,10 @@ KINLINE kbout kbare(const kbconst *K, double alpha, double beta, double z,
                      (fabs(beta) <= RPS3_KANGLE_MAX))
                         ? 1.0
                         : 0.0;
-  ksc tr = ksincos_e(alpha);
+  ksc tr = ksincos_e(alpha, fu);
   sa = tr.s;
   ca = tr.c;
-  tr = ksincos_e(0.5 * beta);
+  tr = ksincos_e(0.5 * beta, fu);
   hs = tr.s;
   hc = tr.c;
   /* beta from its half angle; 1 - cos(beta) as 2 sin^2(beta/2) */
@@ -355,7 +376,7 @@ KINLINE kbout kbare(const kbconst *K, double alpha, double beta, double z,
     double dC = -2.0 * S * da, dS = 2.0 * C * da;
     double ddC = -4.0 * C * da * da - 2.0 * S * dda;
     double ddS = -4.0 * S * da * da + 2.0 * C * dda;
-    kv3 adot = kcross(w, rz);
+    kv3 adot = kcrossf(w, rz, fu);
     dw = kv(dda * -rz.x - da * adot.x - ddb * sa - db * da * ca,
             dda * -rz.y - da * adot.y + ddb * ca - db * da * sa,
             dda * vb2 - da * adot.z);
@@ -368,24 +389,24 @@ KINLINE kbout kbare(const kbconst *K, double alpha, double beta, double z,
      and in l, e_k = D_k . v_k (on l_k) and -g_k = -D_k . v_j (on l_j),
      times 1 / l; each row as soon as its two links are there, so that
      fewer values are live at once */
-  L0 = kblink_load(K, kblink_pos(K, 0, rx, ry, c), w, vc, dw, ac);
-  L1 = kblink_load(K, kblink_pos(K, 1, rx, ry, c), w, vc, dw, ac);
+  L0 = kblink_load(K, kblink_pos(K, 0, rx, ry, c, fu), w, vc, dw, ac, fu);
+  L1 = kblink_load(K, kblink_pos(K, 1, rx, ry, c, fu), w, vc, dw, ac, fu);
   D = ksub(L0.rho, L1.rho);
-  ta0 = kdot(D, L0.q);
-  tb0 = -kdot(D, L1.q);
-  e0 = kdot(D, L0.v);
-  g0 = kdot(D, L1.v);
-  L2 = kblink_load(K, kblink_pos(K, 2, rx, ry, c), w, vc, dw, ac);
+  ta0 = kdotf(D, L0.q, fu);
+  tb0 = -kdotf(D, L1.q, fu);
+  e0 = kdotf(D, L0.v, fu);
+  g0 = kdotf(D, L1.v, fu);
+  L2 = kblink_load(K, kblink_pos(K, 2, rx, ry, c, fu), w, vc, dw, ac, fu);
   D = ksub(L1.rho, L2.rho);
-  ta1 = kdot(D, L1.q);
-  tb1 = -kdot(D, L2.q);
-  e1 = kdot(D, L1.v);
-  g1 = kdot(D, L2.v);
+  ta1 = kdotf(D, L1.q, fu);
+  tb1 = -kdotf(D, L2.q, fu);
+  e1 = kdotf(D, L1.v, fu);
+  g1 = kdotf(D, L2.v, fu);
   D = ksub(L2.rho, L0.rho);
-  ta2 = kdot(D, L2.q);
-  tb2 = -kdot(D, L0.q);
-  e2 = kdot(D, L2.v);
-  g2 = kdot(D, L0.v);
+  ta2 = kdotf(D, L2.q, fu);
+  tb2 = -kdotf(D, L0.q, fu);
+  e2 = kdotf(D, L2.v, fu);
+  g2 = kdotf(D, L0.v, fu);
   det = ta0 * ta1 * ta2 + tb0 * tb1 * tb2;
   idet = 1.0 / (det != 0.0 ? det : HUGE_VAL);
   a0 = kv(ta1 * ta2, -tb0 * ta2, tb0 * tb1);
@@ -393,12 +414,12 @@ KINLINE kbout kbare(const kbconst *K, double alpha, double beta, double z,
   a2 = kv(-ta1 * tb2, tb0 * tb2, ta0 * ta1);
 
   /* det lambda = -adj(Jt)^T wt, then F (34), times 1 / (l_i det) */
-  m0 = -(L0.wt * a0.x + L1.wt * a1.x + L2.wt * a2.x);
-  m1 = -(L0.wt * a0.y + L1.wt * a1.y + L2.wt * a2.y);
-  m2 = -(L0.wt * a0.z + L1.wt * a1.z + L2.wt * a2.z);
-  o.F = kv((det * L0.wl + m0 * e0 - m2 * g2) * (L0.il * idet),
-           (det * L1.wl + m1 * e1 - m0 * g0) * (L1.il * idet),
-           (det * L2.wl + m2 * e2 - m1 * g1) * (L2.il * idet));
+  m0 = -kma(L0.wt, a0.x, kma(L1.wt, a1.x, L2.wt * a2.x, fu), fu);
+  m1 = -kma(L0.wt, a0.y, kma(L1.wt, a1.y, L2.wt * a2.y, fu), fu);
+  m2 = -kma(L0.wt, a0.z, kma(L1.wt, a1.z, L2.wt * a2.z, fu), fu);
+  o.F = kv(kma(det, L0.wl, kma(m0, e0, -(m2 * g2), fu), fu) * (L0.il * idet),
+           kma(det, L1.wl, kma(m1, e1, -(m0 * g0), fu), fu) * (L1.il * idet),
+           kma(det, L2.wl, kma(m2, e2, -(m1 * g1), fu), fu) * (L2.il * idet));
 
   /* 1-norm condition of the lambda system Jt^T: the largest row sums of
      |Jt| and of |adj Jt| / |det| */

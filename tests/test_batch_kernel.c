@@ -31,7 +31,7 @@ static double ulps(double got, double want) {
 static void sincos_within_3_ulp(void **state) {
   uint64_t seed = 0x51c05;
   double worst = 0.0, worst_e = 0.0;
-  int i;
+  int i, fu;
   (void)state;
   for (i = 0; i < 400000; i++) {
     double hi = i < 200000 ? 3.3 : i < 300000 ? 120.0 : RPS3_KANGLE_MAX;
@@ -44,13 +44,16 @@ static void sincos_within_3_ulp(void **state) {
     if (!(ulps(s, sin(x)) <= 3.0 && ulps(c, cos(x)) <= 3.0))
       fail_msg("x = %.17g: sin %.17g (libm %.17g), cos %.17g (libm %.17g)", x,
                s, sin(x), c, cos(x));
-    /* the lean pass's: the same series by Estrin's scheme */
-    rps3_ksincos_e(x, &s, &c);
-    if (ulps(s, sin(x)) > worst_e) worst_e = ulps(s, sin(x));
-    if (ulps(c, cos(x)) > worst_e) worst_e = ulps(c, cos(x));
-    if (!(ulps(s, sin(x)) <= 3.0 && ulps(c, cos(x)) <= 3.0))
-      fail_msg("x = %.17g: Estrin sin %.17g (libm %.17g), cos %.17g (libm "
-               "%.17g)", x, s, sin(x), c, cos(x));
+    /* the lean pass's: the same series by Estrin's scheme, with and
+       without fused multiply-adds */
+    for (fu = 0; fu < 2; fu++) {
+      rps3_ksincos_e(x, fu, &s, &c);
+      if (ulps(s, sin(x)) > worst_e) worst_e = ulps(s, sin(x));
+      if (ulps(c, cos(x)) > worst_e) worst_e = ulps(c, cos(x));
+      if (!(ulps(s, sin(x)) <= 3.0 && ulps(c, cos(x)) <= 3.0))
+        fail_msg("x = %.17g (fused %d): Estrin sin %.17g (libm %.17g), cos "
+                 "%.17g (libm %.17g)", x, fu, s, sin(x), c, cos(x));
+    }
   }
   print_message("sincos: largest difference to libm %.2f ulp (Estrin's "
                 "%.2f)\n", worst, worst_e);
@@ -58,7 +61,9 @@ static void sincos_within_3_ulp(void **state) {
     double s, c;
     rps3_ksincos((double)NAN, &s, &c);
     assert_true(isnan(s) && isnan(c));
-    rps3_ksincos_e((double)NAN, &s, &c);
+    rps3_ksincos_e((double)NAN, 0, &s, &c);
+    assert_true(isnan(s) && isnan(c));
+    rps3_ksincos_e((double)NAN, 1, &s, &c);
     assert_true(isnan(s) && isnan(c));
   }
 }
@@ -864,6 +869,12 @@ static int lean_point(lean_bench *b, const double p[3], const double dp[3],
         track(&fs, fabs(b->dd->F_effect[k][c]));
     }
     tol = 8.0 * EPS * b->dd->cond;
+    for (c = 0; c < 3; c++)
+      track(&b->wF, fabs(b->dl->F[c] - b->dd->F[c]) / (tol * fs));
+    track(&b->wc, fabs(b->dl->cond - b->dd->cond) / (tol * b->dd->cond));
+    /* the pass without fused multiply-adds (a CPU without FMA): the same
+       point, the same tolerance */
+    assert_int_equal(rps3_inverse_lean_point_unfused(&b->lean, b->dl), 1);
     for (c = 0; c < 3; c++)
       track(&b->wF, fabs(b->dl->F[c] - b->dd->F[c]) / (tol * fs));
     track(&b->wc, fabs(b->dl->cond - b->dd->cond) / (tol * b->dd->cond));
