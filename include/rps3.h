@@ -219,39 +219,44 @@ RPS3_API int rps3_solver_index(const char *name);
  * RPS3_FORCES_LEAN is F alone for a controller that needs nothing else.
  * On the configurations of the batch kernel (closed-form theta, Lagrange,
  * no effect beyond the paper's four) and with certify off, rps3_inverse
- * computes the point in one pass that forms the forces and nothing else
- * (no theta, shares, rates, multipliers or force transmission), and
- * writes only F and cond into d.  It still guarantees, for every point:
- *   - the lambda system's 1-norm condition number (cond, the same as by
- *     default to rounding) against opt.cond_warn and opt.cond_max: a
- *     singular or ill-conditioned pose is handed to the stages, which
- *     return RPS3_ESING or set RPS3_WARN_ILLCOND exactly as
- *     RPS3_FORCES_ONLY does;
- *   - an unreachable pose, a non-finite input, an angle beyond 1e5 rad or
- *     a force, load or cond that is not finite goes through the stages
+ * computes the point in one pass that forms the forces and the lambda
+ * system's condition number and nothing else (no theta, shares, rates,
+ * multipliers or force transmission), in about 40 % of the time of
+ * RPS3_FORCES_ONLY (docs/performance.md).  For every point it still
+ * guarantees:
+ *   - the singularity check on the lambda system: its 1-norm condition
+ *     number (d->cond, the default's to rounding) against opt.cond_warn
+ *     and opt.cond_max; a point at or near either threshold is handed to
+ *     the stages, which return RPS3_ESING or set RPS3_WARN_ILLCOND exactly
+ *     as RPS3_FORCES_ONLY does;
+ *   - an unreachable pose, a non-finite input, an angle beyond 1e5 rad, or
+ *     a force, load or cond that is not finite is handed to the stages
  *     too: the status (RPS3_EREACH, RPS3_EINVAL, RPS3_ERANGE, ...) is
  *     RPS3_FORCES_ONLY's;
- *   - an implausible force, max_i |F_i| above min(opt.trans_warn,
- *     opt.trans_max) times the largest load on one link (the ball joint's
- *     inertial and gravity force, 1-norm, plus the link's own torque over
- *     its length), goes through the stages, which compute the force
- *     transmission and warn (RPS3_WARN_TRANS) or fail (RPS3_ESING) as
- *     RPS3_FORCES_ONLY does;
- *   - F equal to the default's to rounding (a few eps cond of the forces'
- *     scale; tests/test_batch_kernel.c).
- * What it gives up: the force transmission itself (d->transmission is
- * NaN), so a pose whose transmission is above opt.trans_warn (or
- * opt.trans_max) but whose present loads give forces within the bound
- * above returns RPS3_OK without RPS3_WARN_TRANS; and every other field of
- * d: positions, theta, rates, lambda, shares, mode and the certificate's
- * terms are not written (they hold whatever they held), d->stage is 0 so
- * that a later stage call returns RPS3_ESTATE instead of reading them,
- * has_lambda and have_theta are 0.  A point handed to the stages leaves d
- * as RPS3_FORCES_ONLY does.  On every other configuration, or with
- * certify on, RPS3_FORCES_LEAN is RPS3_FORCES_ONLY.  rps3_inverse_batch
- * runs the same pass (bitwise the loop of rps3_inverse); it writes F,
- * cond, status, warn and niter, NaN into every other output array given
- * (the shares zero).
+ *   - an implausible force -- max_i |F_i| above min(opt.trans_warn,
+ *     opt.trans_max) times the largest load on one link, |phi_i . f_i| +
+ *     |dphi_i . f_i| + |tau_i| / l_i (f_i the inertial and gravity force
+ *     on ball joint i, tau_i the link's own torque about its pin) -- is
+ *     handed to the stages, which compute the force transmission and warn
+ *     (RPS3_WARN_TRANS) or fail (RPS3_ESING) as RPS3_FORCES_ONLY does;
+ *   - F equal to the default's to rounding (within 8 eps cond of the
+ *     point's force scale; tests/test_batch_kernel.c).  Where the CPU has
+ *     fused multiply-adds the pass uses them, so its last bits differ
+ *     between CPUs with and without FMA.
+ * What it gives up: the force transmission (d->transmission is NaN), so a
+ * pose whose transmission is above opt.trans_warn (or opt.trans_max) but
+ * whose present loads give forces within the bound above returns RPS3_OK
+ * without RPS3_WARN_TRANS; and every other field of d: positions, theta,
+ * rates, lambda, shares, mode and the certificate's terms are not written
+ * (they hold what they held), d->stage is 0 so that a later stage call
+ * returns RPS3_ESTATE instead of reading them, has_lambda and have_theta
+ * are 0, warn is 0.  A point handed to the stages leaves d as
+ * RPS3_FORCES_ONLY does (d->stage nonzero).  On every other configuration,
+ * or with certify on, RPS3_FORCES_LEAN is RPS3_FORCES_ONLY.
+ * rps3_inverse_batch runs the same pass (bitwise the loop of rps3_inverse
+ * on one machine); it writes F, cond, status, warn and niter, and NaN into
+ * every other output array given (the shares zero) for the points
+ * computed.
  */
 enum rps3_forces {
   RPS3_FORCES_ALL = 0,  /* every output (the default) */
@@ -291,7 +296,8 @@ typedef struct {
                               RPS3_FORCES_LEAN (2): F without the force
                               transmission, in rps3_inverse's leanest pass;
                               what it checks and what it gives up is said
-                              at enum rps3_forces.  Default 0 */
+                              at enum rps3_forces.  Default 0
+                              (RPS3_FORCES_ALL) */
   double cond_warn;        /* set RPS3_WARN_ILLCOND above this 1-norm
                               condition number of the lambda system (1e6) */
   double cond_max;         /* RPS3_ESING above this (1e13) */

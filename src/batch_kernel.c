@@ -509,10 +509,15 @@ KINLINE int lean_point(const rps3_model *m, rps3_data *d, int fu) {
   return 1;
 }
 
-/* cloned like the loops: 32 registers and FMA where the CPU has them */
+/* cloned like the loops: 32 registers and FMA where the CPU has them
+   (static: clang names an external clone's dispatcher apart) */
 KCLONES
-int rps3_inverse_lean_point(const rps3_model *m, rps3_data *d) {
+static int lean_point_clone(const rps3_model *m, rps3_data *d) {
   return lean_point(m, d, KFMA() ? 1 : 0);
+}
+
+int rps3_inverse_lean_point(const rps3_model *m, rps3_data *d) {
+  return lean_point_clone(m, d);
 }
 
 int rps3_inverse_lean_point_unfused(const rps3_model *m, rps3_data *d) {
