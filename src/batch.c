@@ -258,6 +258,16 @@ static void kernel_block(const rps3_model *m, rps3_data *d,
   }
 }
 
+/* NaN into component c of a batch output at the points of the block
+   that computed (status RPS3_OK), v for the shares */
+static void lean_fill(double *a, int c, size_t i0, int nb, size_t n,
+                      const int *status, double v) {
+  int p;
+  if (a == NULL) return;
+  for (p = 0; p < nb; p++)
+    if (status[i0 + (size_t)p] == RPS3_OK) AT(a, c, i0 + (size_t)p, n) = v;
+}
+
 /* RPS3_FORCES_LEAN: the points i0 .. i0 + nb - 1 through the lean pass,
    F and cond into the caller's arrays, the points it does not keep by
    the scalar path; then, as rps3_inverse leaves nothing else for them,
@@ -277,27 +287,26 @@ static void lean_block(const rps3_model *m, rps3_data *d,
     size_t i = i0 + (size_t)p;
     if (kb->ok[p] == 0.0) {
       point(m, d, BATCH_INVERSE, in, out, i, first);
-      if (out->status[i] != RPS3_OK) continue;
-    } else {
-      out->status[i] = RPS3_OK;
-      if (out->warn) out->warn[i] = 0;
-      if (out->niter) out->niter[i] = 0;
+      continue;
     }
-    for (c = 0; c < 3; c++) {
-      if (out->l) AT(out->l, c, i, n) = nan;
-      if (out->theta) AT(out->theta, c, i, n) = nan;
-      if (out->lambda) AT(out->lambda, c, i, n) = nan;
-      if (out->dl) AT(out->dl, c, i, n) = nan;
-      if (out->ddl) AT(out->ddl, c, i, n) = nan;
-      if (out->c) AT(out->c, c, i, n) = nan;
-      for (k = 0; k < RPS3_NEFFECT && out->F_effect; k++)
-        AT(out->F_effect, 3 * k + c, i, n) = 0.0;
-    }
-    if (out->transmission) out->transmission[i] = nan;
-    if (out->energy_residual) out->energy_residual[i] = nan;
-    if (out->energy_scale) out->energy_scale[i] = nan;
-    if (out->solve_resid) out->solve_resid[i] = nan;
+    out->status[i] = RPS3_OK;
+    if (out->warn) out->warn[i] = 0;
+    if (out->niter) out->niter[i] = 0;
   }
+  for (c = 0; c < 3; c++) {
+    lean_fill(out->l, c, i0, nb, n, out->status, nan);
+    lean_fill(out->theta, c, i0, nb, n, out->status, nan);
+    lean_fill(out->lambda, c, i0, nb, n, out->status, nan);
+    lean_fill(out->dl, c, i0, nb, n, out->status, nan);
+    lean_fill(out->ddl, c, i0, nb, n, out->status, nan);
+    lean_fill(out->c, c, i0, nb, n, out->status, nan);
+    for (k = 0; k < RPS3_NEFFECT; k++)
+      lean_fill(out->F_effect, 3 * k + c, i0, nb, n, out->status, 0.0);
+  }
+  lean_fill(out->transmission, 0, i0, nb, n, out->status, nan);
+  lean_fill(out->energy_residual, 0, i0, nb, n, out->status, nan);
+  lean_fill(out->energy_scale, 0, i0, nb, n, out->status, nan);
+  lean_fill(out->solve_resid, 0, i0, nb, n, out->status, nan);
 }
 
 int rps3_inverse_kernel_point(const rps3_model *m, rps3_data *d) {
