@@ -641,7 +641,10 @@ RPS3_API int rps3_invdyn(const rps3_model *m, rps3_data *d);
  * path).  A point the kernel does not certify
  * (non-finite, unreachable, overflowing, near or past a threshold) goes
  * through the stages, so status and warn are always theirs; d then holds
- * everything the stages leave.
+ * everything the stages leave.  With opt.forces_only = RPS3_FORCES_LEAN
+ * (and certify off) the pass computes F alone and leaves the rest of d
+ * unwritten, d->stage 0: what it checks and gives up is said at enum
+ * rps3_forces.
  */
 RPS3_API int rps3_inverse(const rps3_model *m, rps3_data *d);
 
@@ -666,8 +669,9 @@ RPS3_API int rps3_inverse(const rps3_model *m, rps3_data *d);
  * compiler vectorises (AVX2 or AVX-512 where the CPU has them), more than
  * ten times the points per second of the per-point loop
  * (docs/performance.md); with out->theta NULL and without the certificate
- * it leaves theta and the certificate out as well.  rps3_inverse runs
- * the same loop body on its one point, so the batch and the loop of
+ * it leaves theta and the certificate out as well; with
+ * RPS3_FORCES_LEAN it runs the lean pass (enum rps3_forces).  rps3_inverse
+ * runs the same loop body on its one point, so the batch and the loop of
  * rps3_inverse agree bit for bit (tests/test_batch_kernel.c).  Against
  * the per-point stages (the path of every other configuration) the
  * kernel agrees to rounding: l within 4 ulp, theta within 2 ulp of pi, F,
