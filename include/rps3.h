@@ -213,6 +213,57 @@ RPS3_API const char *rps3_solver_name(int solver);
 /* Solver with this name, or -1 if there is none. */
 RPS3_API int rps3_solver_index(const char *name);
 
+/*
+ * What rps3_inverse computes (rps3_options.forces_only).
+ *
+ * RPS3_FORCES_LEAN is F alone for a controller that needs nothing else.
+ * On the configurations of the batch kernel (closed-form theta, Lagrange,
+ * no effect beyond the paper's four) and with certify off, rps3_inverse
+ * computes the point in one pass that forms the forces and the lambda
+ * system's condition number and nothing else (no theta, shares, rates,
+ * multipliers or force transmission), in about 40 % of the time of
+ * RPS3_FORCES_ONLY (docs/performance.md).  For every point it still
+ * guarantees:
+ *   - the singularity check on the lambda system: its 1-norm condition
+ *     number (d->cond, the default's to rounding) against opt.cond_warn
+ *     and opt.cond_max; a point at or near either threshold is handed to
+ *     the stages, which return RPS3_ESING or set RPS3_WARN_ILLCOND exactly
+ *     as RPS3_FORCES_ONLY does;
+ *   - an unreachable pose, a non-finite input, an angle beyond 1e5 rad, or
+ *     a force, load or cond that is not finite is handed to the stages
+ *     too: the status (RPS3_EREACH, RPS3_EINVAL, RPS3_ERANGE, ...) is
+ *     RPS3_FORCES_ONLY's;
+ *   - an implausible force -- max_i |F_i| above min(opt.trans_warn,
+ *     opt.trans_max) times the largest load on one link, |phi_i . f_i| +
+ *     |dphi_i . f_i| + |tau_i| / l_i (f_i the inertial and gravity force
+ *     on ball joint i, tau_i the link's own torque about its pin) -- is
+ *     handed to the stages, which compute the force transmission and warn
+ *     (RPS3_WARN_TRANS) or fail (RPS3_ESING) as RPS3_FORCES_ONLY does;
+ *   - F equal to the default's to rounding (within 8 eps cond of the
+ *     point's force scale; tests/test_batch_kernel.c).  Where the CPU has
+ *     fused multiply-adds the pass uses them, so its last bits differ
+ *     between CPUs with and without FMA.
+ * What it gives up: the force transmission (d->transmission is NaN), so a
+ * pose whose transmission is above opt.trans_warn (or opt.trans_max) but
+ * whose present loads give forces within the bound above returns RPS3_OK
+ * without RPS3_WARN_TRANS; and every other field of d: positions, theta,
+ * rates, lambda, shares, mode and the certificate's terms are not written
+ * (they hold what they held), d->stage is 0 so that a later stage call
+ * returns RPS3_ESTATE instead of reading them, has_lambda and have_theta
+ * are 0, warn is 0.  A point handed to the stages leaves d as
+ * RPS3_FORCES_ONLY does (d->stage nonzero).  On every other configuration,
+ * or with certify on, RPS3_FORCES_LEAN is RPS3_FORCES_ONLY.
+ * rps3_inverse_batch runs the same pass (bitwise the loop of rps3_inverse
+ * on one machine); it writes F, cond, status, warn and niter, and NaN into
+ * every other output array given (the shares zero) for the points
+ * computed.
+ */
+enum rps3_forces {
+  RPS3_FORCES_ALL = 0,  /* every output (the default) */
+  RPS3_FORCES_ONLY = 1, /* F alone, every check (the controller's path) */
+  RPS3_FORCES_LEAN = 2  /* F alone, checks as said above */
+};
+
 typedef struct {
   int effects;             /* selected effects, RPS3_EFF_* bits */
   rps3_method method;      /* formulation of the dynamics */
@@ -228,7 +279,8 @@ typedef struct {
                               the lengths, rps3_inverse); 0: always cold */
   int certify;             /* 1: compute the energy-rate residual (needs
                               rates even for a static scene); default 1 */
-  int forces_only;         /* 1: a controller's path: rps3_inverse and
+  int forces_only;         /* enum rps3_forces.  RPS3_FORCES_ONLY (1): a
+                              controller's path: rps3_inverse and
                               rps3_invdyn compute F alone, from the sum of
                               the selected effects' loads in one solve
                               (equal to the default's F to rounding,
@@ -240,7 +292,12 @@ typedef struct {
                               route, Lagrange and no effect beyond the
                               paper's four, rps3_inverse computes the point
                               in the batch kernel's lean pass (the summed
-                              load solved once; below).  Default 0 */
+                              load solved once; below).
+                              RPS3_FORCES_LEAN (2): F without the force
+                              transmission, in rps3_inverse's leanest pass;
+                              what it checks and what it gives up is said
+                              at enum rps3_forces.  Default 0
+                              (RPS3_FORCES_ALL) */
   double cond_warn;        /* set RPS3_WARN_ILLCOND above this 1-norm
                               condition number of the lambda system (1e6) */
   double cond_max;         /* RPS3_ESING above this (1e13) */
@@ -584,7 +641,10 @@ RPS3_API int rps3_invdyn(const rps3_model *m, rps3_data *d);
  * path).  A point the kernel does not certify
  * (non-finite, unreachable, overflowing, near or past a threshold) goes
  * through the stages, so status and warn are always theirs; d then holds
- * everything the stages leave.
+ * everything the stages leave.  With opt.forces_only = RPS3_FORCES_LEAN
+ * (and certify off) the pass computes F alone and leaves the rest of d
+ * unwritten, d->stage 0: what it checks and gives up is said at enum
+ * rps3_forces.
  */
 RPS3_API int rps3_inverse(const rps3_model *m, rps3_data *d);
 
@@ -609,8 +669,9 @@ RPS3_API int rps3_inverse(const rps3_model *m, rps3_data *d);
  * compiler vectorises (AVX2 or AVX-512 where the CPU has them), more than
  * ten times the points per second of the per-point loop
  * (docs/performance.md); with out->theta NULL and without the certificate
- * it leaves theta and the certificate out as well.  rps3_inverse runs
- * the same loop body on its one point, so the batch and the loop of
+ * it leaves theta and the certificate out as well; with
+ * RPS3_FORCES_LEAN it runs the lean pass (enum rps3_forces).  rps3_inverse
+ * runs the same loop body on its one point, so the batch and the loop of
  * rps3_inverse agree bit for bit (tests/test_batch_kernel.c).  Against
  * the per-point stages (the path of every other configuration) the
  * kernel agrees to rounding: l within 4 ulp, theta within 2 ulp of pi, F,
@@ -1053,7 +1114,7 @@ RPS3_API int rps3_traj_eval(const rps3_model *m, const rps3_traj *tr, double t,
     "opt.warm_start")                                                         \
   X(RPS3_F_CERTIFY, RPS3_IN_MODEL, opt.certify, 1, 1, 0, 0, 1, "-",           \
     "opt.certify")                                                            \
-  X(RPS3_F_FORCES_ONLY, RPS3_IN_MODEL, opt.forces_only, 1, 1, 0, 0, 1, "-",   \
+  X(RPS3_F_FORCES_ONLY, RPS3_IN_MODEL, opt.forces_only, 1, 1, 0, 0, 2, "-",   \
     "opt.forces_only")                                                        \
   X(RPS3_F_COND_WARN, RPS3_IN_MODEL, opt.cond_warn, 1, 0, 1, 0, HUGE_VAL,     \
     "1", "opt.cond_warn")                                                     \

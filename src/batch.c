@@ -258,6 +258,57 @@ static void kernel_block(const rps3_model *m, rps3_data *d,
   }
 }
 
+/* NaN into component c of a batch output at the points of the block
+   that computed (status RPS3_OK), v for the shares */
+static void lean_fill(double *a, int c, size_t i0, int nb, size_t n,
+                      const int *status, double v) {
+  int p;
+  if (a == NULL) return;
+  for (p = 0; p < nb; p++)
+    if (status[i0 + (size_t)p] == RPS3_OK) AT(a, c, i0 + (size_t)p, n) = v;
+}
+
+/* RPS3_FORCES_LEAN: the points i0 .. i0 + nb - 1 through the lean pass,
+   F and cond into the caller's arrays, the points it does not keep by
+   the scalar path; then, as rps3_inverse leaves nothing else for them,
+   NaN into every other output of the points computed (the shares zero) */
+static void lean_block(const rps3_model *m, rps3_data *d,
+                       const rps3_batch_in *in, rps3_batch_out *out,
+                       size_t i0, int nb, int rates, rps3_kblock *kb,
+                       rps3_error *first) {
+  const double nan = (double)NAN;
+  size_t n = in->n;
+  double *F[3];
+  int c, k, p;
+  for (c = 0; c < 3; c++) F[c] = dst(out->F, c, i0, n, kb->F[c]);
+  rps3_kernel_block_bare(m, in, i0, nb, rates, F,
+                         dst(out->cond, 0, i0, n, kb->cond), kb->ok);
+  for (p = 0; p < nb; p++) {
+    size_t i = i0 + (size_t)p;
+    if (kb->ok[p] == 0.0) {
+      point(m, d, BATCH_INVERSE, in, out, i, first);
+      continue;
+    }
+    out->status[i] = RPS3_OK;
+    if (out->warn) out->warn[i] = 0;
+    if (out->niter) out->niter[i] = 0;
+  }
+  for (c = 0; c < 3; c++) {
+    lean_fill(out->l, c, i0, nb, n, out->status, nan);
+    lean_fill(out->theta, c, i0, nb, n, out->status, nan);
+    lean_fill(out->lambda, c, i0, nb, n, out->status, nan);
+    lean_fill(out->dl, c, i0, nb, n, out->status, nan);
+    lean_fill(out->ddl, c, i0, nb, n, out->status, nan);
+    lean_fill(out->c, c, i0, nb, n, out->status, nan);
+    for (k = 0; k < RPS3_NEFFECT; k++)
+      lean_fill(out->F_effect, 3 * k + c, i0, nb, n, out->status, 0.0);
+  }
+  lean_fill(out->transmission, 0, i0, nb, n, out->status, nan);
+  lean_fill(out->energy_residual, 0, i0, nb, n, out->status, nan);
+  lean_fill(out->energy_scale, 0, i0, nb, n, out->status, nan);
+  lean_fill(out->solve_resid, 0, i0, nb, n, out->status, nan);
+}
+
 int rps3_inverse_kernel_point(const rps3_model *m, rps3_data *d) {
   /* the controller's path leaves out theta and the shares, and solves
      the summed load once; either way d is left as the stages leave it */
@@ -358,9 +409,14 @@ int rps3_inverse_batch(const rps3_model *m, rps3_data *d,
     memset(&first, 0, sizeof(first));
     out->nfail = 0;
     out->first_fail = n;
+    const int lean =
+        m->opt.forces_only == RPS3_FORCES_LEAN && !m->opt.certify;
     for (i0 = 0; i0 < n; i0 += RPS3_KBLOCK) {
       int nb = n - i0 < RPS3_KBLOCK ? (int)(n - i0) : RPS3_KBLOCK;
-      kernel_block(m, d, in, out, i0, nb, need_rates, &kb, &first);
+      if (lean)
+        lean_block(m, d, in, out, i0, nb, need_rates, &kb, &first);
+      else
+        kernel_block(m, d, in, out, i0, nb, need_rates, &kb, &first);
     }
     if (out->nfail > 0) d->err = first;
   }

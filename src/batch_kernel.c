@@ -51,6 +51,11 @@ void rps3_ksincos(double x, double *s, double *c) {
   *c = r.c;
 }
 double rps3_katan2(double y, double x) { return katan2(y, x); }
+void rps3_ksincos_e(double x, int fu, double *s, double *c) {
+  ksc r = fu ? ksincos_e(x, 1) : ksincos_e(x, 0);
+  *s = r.s;
+  *c = r.c;
+}
 
 void rps3_kout_of_block(rps3_kout *o, rps3_kblock *kb) {
   int c, e;
@@ -74,11 +79,6 @@ void rps3_kout_of_block(rps3_kout *o, rps3_kblock *kb) {
   o->d = NULL;
 }
 
-int rps3_kernel_covers(const rps3_model *m) {
-  return m->opt.theta == RPS3_THETA_CLOSED_FORM &&
-         m->opt.method == RPS3_LAGRANGE &&
-         (m->opt.effects & ~RPS3_EFF_DEFAULT) == 0;
-}
 
 /* point p of the block: the loop body.  full = 0 leaves out theta (39)
    and the certificate, which the forces do not need: the two kernels
@@ -403,4 +403,123 @@ void rps3_kernel_block(const rps3_model *m, const rps3_batch_in *in,
   else
     kloop(&K, pose, pose + n, pose + 2 * n, zero, zero, zero, zero, zero,
           zero, nb, o);
+}
+
+/* The lean pass (RPS3_FORCES_LEAN) fuses the multiply-adds of its dot
+   and cross products (kma) where the CPU has FMA: about a fifth fewer
+   instructions.  The choice is made once a call, by the CPU, for the
+   block loop and the one-point function alike, so that the batch is the
+   loop of rps3_inverse bit for bit on one machine; on a CPU without FMA
+   the lean F differ from those with it by rounding
+   (tests/test_batch_kernel.c holds both to the default path's F).  The
+   rest of the file fuses nothing (-ffp-contract=off): the kernel's
+   results are the same bits on every CPU. */
+#if defined(__x86_64__) && (defined(__GNUC__) || defined(__clang__))
+#define KFMA() __builtin_cpu_supports("fma")
+#elif defined(FP_FAST_FMA)
+#define KFMA() 1
+#else
+#define KFMA() 0
+#endif
+
+/* the rates of a static selection: zero, as rps3_inverse leaves them
+   unread */
+static const double kzero3[3] = {0.0, 0.0, 0.0};
+
+/* the lean pass over a block: F, cond and ok only */
+KCLONES
+static void kloop_bare(const rps3_model *m, const double *restrict pa,
+                       const double *restrict pb, const double *restrict pz,
+                       const double *restrict va, const double *restrict vb,
+                       const double *restrict vz, const double *restrict aa,
+                       const double *restrict ab, const double *restrict az,
+                       int nb, double *restrict F0, double *restrict F1,
+                       double *restrict F2, double *restrict cond,
+                       double *restrict ok) {
+  kbconst K;
+  int p;
+  kbconst_set(&K, m, KMARGIN);
+  if (KFMA()) {
+    _Pragma("omp simd")
+    for (p = 0; p < nb; p++) {
+      kbout r = kbare(&K, pa[p], pb[p], pz[p], va[p], vb[p], vz[p], aa[p],
+                      ab[p], az[p], 1);
+      F0[p] = r.F.x;
+      F1[p] = r.F.y;
+      F2[p] = r.F.z;
+      cond[p] = r.cond;
+      ok[p] = r.ok;
+    }
+  } else {
+    _Pragma("omp simd")
+    for (p = 0; p < nb; p++) {
+      kbout r = kbare(&K, pa[p], pb[p], pz[p], va[p], vb[p], vz[p], aa[p],
+                      ab[p], az[p], 0);
+      F0[p] = r.F.x;
+      F1[p] = r.F.y;
+      F2[p] = r.F.z;
+      cond[p] = r.cond;
+      ok[p] = r.ok;
+    }
+  }
+}
+
+void rps3_kernel_block_bare(const rps3_model *m, const rps3_batch_in *in,
+                            size_t i0, int nb, int rates, double *const F[3],
+                            double *cond, double *ok) {
+  static const double zero[RPS3_KBLOCK];
+  const size_t n = in->n;
+  const double *pose = in->pose + i0;
+  if (rates)
+    kloop_bare(m, pose, pose + n, pose + 2 * n, in->dpose + i0,
+               in->dpose + n + i0, in->dpose + 2 * n + i0, in->ddpose + i0,
+               in->ddpose + n + i0, in->ddpose + 2 * n + i0, nb, F[0], F[1],
+               F[2], cond, ok);
+  else
+    kloop_bare(m, pose, pose + n, pose + 2 * n, zero, zero, zero, zero, zero,
+               zero, nb, F[0], F[1], F[2], cond, ok);
+}
+
+/* the lean pass on d's point, the same body as the block's: F and cond
+   into d, or 0 for a point the pass leaves to the stages */
+KINLINE int lean_point(const rps3_model *m, rps3_data *d, int fu) {
+  kbconst K;
+  kbout r;
+  const int rates = (m->opt.effects & RPS3_EFF_DYNAMIC) != 0;
+  const double *dp = rates ? d->dpose : kzero3;
+  const double *ddp = rates ? d->ddpose : kzero3;
+  kbconst_set(&K, m, KMARGIN);
+  if (fu)
+    r = kbare(&K, d->pose[0], d->pose[1], d->pose[2], dp[0], dp[1], dp[2],
+              ddp[0], ddp[1], ddp[2], 1);
+  else
+    r = kbare(&K, d->pose[0], d->pose[1], d->pose[2], dp[0], dp[1], dp[2],
+              ddp[0], ddp[1], ddp[2], 0);
+  if (r.ok == 0.0) return 0;
+  /* nothing but F and cond is this point's (rps3.h, enum rps3_forces) */
+  d->F[0] = r.F.x;
+  d->F[1] = r.F.y;
+  d->F[2] = r.F.z;
+  d->cond = r.cond;
+  d->transmission = (double)NAN;
+  d->warn = 0;
+  d->stage = 0;
+  d->have_theta = 0;
+  d->has_lambda = 0;
+  return 1;
+}
+
+/* cloned like the loops: 32 registers and FMA where the CPU has them
+   (static: clang names an external clone's dispatcher apart) */
+KCLONES
+static int lean_point_clone(const rps3_model *m, rps3_data *d) {
+  return lean_point(m, d, KFMA() ? 1 : 0);
+}
+
+int rps3_inverse_lean_point(const rps3_model *m, rps3_data *d) {
+  return lean_point_clone(m, d);
+}
+
+int rps3_inverse_lean_point_unfused(const rps3_model *m, rps3_data *d) {
+  return lean_point(m, d, 0);
 }

@@ -63,7 +63,11 @@ void rps3_kout_of_block(rps3_kout *o, rps3_kblock *kb);
 
 /* 1 when the kernel serves model m: closed-form theta, Lagrange, only the
    paper's four effects */
-int rps3_kernel_covers(const rps3_model *m);
+static inline int rps3_kernel_covers(const rps3_model *m) {
+  return m->opt.theta == RPS3_THETA_CLOSED_FORM &&
+         m->opt.method == RPS3_LAGRANGE &&
+         (m->opt.effects & ~RPS3_EFF_DEFAULT) == 0;
+}
 
 /* points i0 .. i0 + nb - 1 (nb <= RPS3_KBLOCK; 1 for RPS3_KDATA) of the
    batch into *o; the rates are read when rates is 1, else taken as zero;
@@ -83,6 +87,24 @@ void rps3_kernel_block(const rps3_model *m, const rps3_batch_in *in,
    summed load solved once) */
 int rps3_inverse_kernel_point(const rps3_model *m, rps3_data *d);
 
+/* RPS3_FORCES_LEAN: the lean pass over points i0 .. i0 + nb - 1 of the
+   batch: F (into F[c][p]), cond and ok (1: the pass's point, 0: the
+   stages'); the rates read when rates is 1, else taken as zero */
+void rps3_kernel_block_bare(const rps3_model *m, const rps3_batch_in *in,
+                            size_t i0, int nb, int rates, double *const F[3],
+                            double *cond, double *ok);
+
+/* rps3_inverse with RPS3_FORCES_LEAN on the kernel's configurations,
+   certify off: the lean pass on d->pose (d->dpose, d->ddpose when an
+   effect needs them).  Returns 1 when the pass kept the point (d->F,
+   d->cond written, d->stage 0, d->transmission NaN, warn 0), or 0 when
+   the point is the stages' (d untouched) */
+int rps3_inverse_lean_point(const rps3_model *m, rps3_data *d);
+
+/* the same without fused multiply-adds whatever the CPU, as a CPU without
+   FMA computes it (for the tests) */
+int rps3_inverse_lean_point_unfused(const rps3_model *m, rps3_data *d);
+
 /* rps3_inverse by the stages alone (the kernel's fallback) */
 int rps3_inverse_stages(const rps3_model *m, rps3_data *d);
 
@@ -90,6 +112,9 @@ int rps3_inverse_stages(const rps3_model *m, rps3_data *d);
    time (for the tests: the accuracy against libm) */
 void rps3_ksincos(double x, double *s, double *c);
 double rps3_katan2(double y, double x);
+/* the lean pass's sine and cosine (Estrin's scheme; fu = 1: fused
+   multiply-adds), for the same tests */
+void rps3_ksincos_e(double x, int fu, double *s, double *c);
 
 /* the largest |angle| the kernel's range reduction serves [rad] */
 #define RPS3_KANGLE_MAX 1.0e5

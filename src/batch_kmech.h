@@ -210,4 +210,244 @@ KINLINE void kst(double *const dst[3], int p, kv3 v) {
   dst[2][p] = v.z;
 }
 
+/* ------------------------------------------------------------ lean pass */
+
+/* a b + c, fused (one rounding) when fu is 1, else two roundings; fu is a
+   constant of each instance of the lean pass, so the select folds away.
+   Explicit, so that the block loop and the one-point function fuse the
+   same operations (a compiler's contraction may differ between a vector
+   loop and scalar code) */
+KINLINE double kma(double a, double b, double c, int fu) {
+  return kmaf(a, b, c, fu);
+}
+KINLINE double kdotf(kv3 a, kv3 b, int fu) {
+  return kma(a.x, b.x, kma(a.y, b.y, a.z * b.z, fu), fu);
+}
+KINLINE kv3 kcrossf(kv3 a, kv3 b, int fu) {
+  return kv(kma(a.y, b.z, -(a.z * b.y), fu), kma(a.z, b.x, -(a.x * b.z), fu),
+            kma(a.x, b.y, -(a.y * b.x), fu));
+}
+
+/* the constants of the lean pass (RPS3_FORCES_LEAN), each effect's
+   selection folded into its coefficient (0 keeps a NaN: 0 * inf) */
+typedef struct {
+  double r, g3, m6, mgd, jl; /* r; M g / 3, M / 6, m g d, Jlink, selected */
+  double cond_lim, trans_lim;
+  /* the geometry, read from the model where it is (the block's outputs
+     are restrict pointers: the loads are hoisted out of the loop) */
+  const double (*pin)[3], (*u)[3], (*body)[3]; /* z components are zero */
+} kbconst;
+
+KINLINE void kbconst_set(kbconst *K, const rps3_model *m, double margin) {
+  const int e = m->opt.effects;
+  K->pin = m->pin;
+  K->u = m->radial;
+  K->body = m->body;
+  K->r = m->r;
+  K->g3 = (e & RPS3_EFF_PLATFORM_GRAVITY) ? m->M * m->g * (1.0 / 3.0) : 0.0;
+  K->m6 = (e & RPS3_EFF_PLATFORM_INERTIA) ? m->M * (1.0 / 6.0) : 0.0;
+  K->mgd = (e & RPS3_EFF_LINK_GRAVITY) ? m->m * m->g * m->d : 0.0;
+  K->jl = (e & RPS3_EFF_LINK_INERTIA) ? m->Jlink : 0.0;
+  K->cond_lim = (m->opt.cond_warn < m->opt.cond_max ? m->opt.cond_warn
+                                                    : m->opt.cond_max) *
+                (1.0 - margin);
+  K->trans_lim = (m->opt.trans_warn < m->opt.trans_max ? m->opt.trans_warn
+                                                       : m->opt.trans_max) *
+                 (1.0 - margin);
+}
+
+/* one link of the lean pass: the link vector v = b - pin = l phi (5)-(7),
+   q = l dphi (29) (in the pin's plane, normal to v), the ball's offset
+   rho from the centre; then the link's loads in scalars (the vectors die
+   early: fewer values live at once) */
+typedef struct {
+  kv3 rho, v, q;
+  double il, il2, ok; /* 1 / l, 1 / l^2, reachable (1/0) */
+  double wl, wt, s;   /* l wl_i, wt_i of invdyn.c, the load's size [N] */
+} kblink;
+
+/* link i at the platform frame's columns rx, ry and centre c: (15)-(17),
+   (5)-(7); phi = v / l, dphi = q / l (29) are never formed */
+KINLINE kblink kblink_pos(const kbconst *K, int i, kv3 rx, kv3 ry, kv3 c,
+                          int fu) {
+  kblink L;
+  double l2, l, radial;
+  L.rho = kv(kma(K->body[i][0], rx.x, K->body[i][1] * ry.x, fu),
+             kma(K->body[i][0], rx.y, K->body[i][1] * ry.y, fu),
+             kma(K->body[i][0], rx.z, K->body[i][1] * ry.z, fu));
+  L.v = kv(c.x + L.rho.x - K->pin[i][0], c.y + L.rho.y - K->pin[i][1],
+           c.z + L.rho.z);
+  l2 = kdotf(L.v, L.v, fu);
+  l = sqrt(l2);
+  radial = kma(L.v.x, K->u[i][0], L.v.y * K->u[i][1], fu); /* -l cos th */
+  L.q = kv(L.v.z * K->u[i][0], L.v.z * K->u[i][1], -radial);
+  L.ok = ((l2 > 0.0) & (L.v.z > 0.0)) ? 1.0 : 0.0;
+  /* 1 / l^2 by a division beside the square root, 1 / l from both: no
+     division waits for the root */
+  L.il2 = 1.0 / (l2 > 0.0 ? l2 : 1.0);
+  L.il = l * L.il2;
+  return L;
+}
+
+/* the loads of link i (lagrange_effect of invdyn.c, the platform disc as
+   M/2 at its centre and M/6 at each ball joint): on the ball, f = M/6 (c''
+   + b'') + M g / 3 e_z with b'' the rigid platform's acceleration at the
+   ball (in the pin's plane, so the projection invdyn.c takes is the same
+   load); on the link, tau = m g d cos theta + Jlink theta'' with theta''
+   from b'' and b' = l' phi + l theta' dphi (velocity.c).  Kept: l wl =
+   v . f, wt = q . f + tau, and s = (|v . f| + |q . f| + |tau|) / l, the
+   load in the link's plane */
+KINLINE kblink kblink_load(const kbconst *K, kblink L, kv3 w, kv3 vc,
+                           kv3 dw, kv3 ac, int fu) {
+  kv3 wr = kcrossf(w, L.rho, fu);
+  kv3 bd = kadd(wr, vc);
+  kv3 bb = kadd(kadd(kcrossf(dw, L.rho, fu), kcrossf(w, wr, fu)), ac);
+  /* l^2 theta'' = q.b'' - 2 (v.b')(q.b') / l^2 */
+  double ddth = (kdotf(L.q, bb, fu) -
+                 2.0 * kdotf(L.v, bd, fu) * kdotf(L.q, bd, fu) * L.il2) *
+                L.il2;
+  kv3 f = kv(K->m6 * (ac.x + bb.x), K->m6 * (ac.y + bb.y),
+             kma(K->m6, ac.z + bb.z, K->g3, fu));
+  double tau = kma(K->mgd * L.q.z, L.il, K->jl * ddth, fu);
+  double qf = kdotf(L.q, f, fu);
+  L.wl = kdotf(L.v, f, fu);
+  L.wt = qf + tau;
+  L.s = (fabs(L.wl) + fabs(qf) + fabs(tau)) * L.il;
+  return L;
+}
+
+/* what the lean pass returns for a point */
+typedef struct {
+  kv3 F;
+  double cond, ok;
+} kbout;
+
+/*
+ * The lean pass on one point: pose, its rates and accelerations -> F of
+ * the selected effects, the lambda system's condition number, and whether
+ * the point is the pass's (ok: finite, reachable, within the angle range,
+ * cond below the thresholds, and the forces within trans_lim times the
+ * largest link load).  The multiplier form of invdyn.c in the link
+ * vectors v_i = l_i phi_i and q_i = l_i dphi_i, with the constraint rows
+ * halved (f_k / 2: lambda doubles, F does not change):
+ *   (df/dtheta)^T lambda = -wt,  wt_i = q_i . f_i + tau_i,
+ *   F_i = (v_i . f_i + lambda_i D_i . v_i - lambda_{i-1} D_{i-1} . v_i) / l_i,
+ * D_k = b_k - b_{k+1} (8)-(10), (34); the 3 x 3 system by its adjugate,
+ * one division for all three.
+ */
+KINLINE kbout kbare(const kbconst *K, double alpha, double beta, double z,
+                    double da, double db, double dz, double dda, double ddb,
+                    double ddz, int fu) {
+  kbout o;
+  double ca, sa, hs, hc, sb, cb, vb2, C, S, det, idet, an, in, s;
+  double ta0, ta1, ta2, tb0, tb1, tb2, e0, e1, e2, g0, g1, g2, m0, m1, m2;
+  kv3 rx, ry, rz, c, w, vc, dw, ac, D;
+  kv3 a0, a1, a2; /* rows of the adjugate of Jt */
+  kblink L0, L1, L2;
+  double in_range = ((fabs(alpha) <= RPS3_KANGLE_MAX) &
+                     (fabs(beta) <= RPS3_KANGLE_MAX))
+                        ? 1.0
+                        : 0.0;
+  ksc tr = ksincos_e(alpha, fu);
+  sa = tr.s;
+  ca = tr.c;
+  tr = ksincos_e(0.5 * beta, fu);
+  hs = tr.s;
+  hc = tr.c;
+  /* beta from its half angle; 1 - cos(beta) as 2 sin^2(beta/2) */
+  sb = 2.0 * hs * hc;
+  vb2 = 2.0 * hs * hs;
+  cb = 1.0 - vb2;
+  C = ca * ca - sa * sa;
+  S = 2.0 * sa * ca;
+
+  /* orientation (2) by columns, centre (3)-(4) */
+  rx = kv(1.0 - vb2 * ca * ca, -vb2 * ca * sa, -sb * ca);
+  ry = kv(-vb2 * ca * sa, 1.0 - vb2 * sa * sa, -sb * sa);
+  rz = kv(sb * ca, sb * sa, cb);
+  c = kv(-0.5 * K->r * vb2 * C, 0.5 * K->r * vb2 * S, z);
+
+  /* angular and centre velocity and acceleration (velocity.c) */
+  w = kv(-da * sb * ca - db * sa, -da * sb * sa + db * ca, da * vb2);
+  vc = kv(-0.5 * K->r * (sb * db * C - 2.0 * vb2 * S * da),
+          0.5 * K->r * (sb * db * S + 2.0 * vb2 * C * da), dz);
+  {
+    double dvb = sb * db, ddvb = cb * db * db + sb * ddb;
+    double dC = -2.0 * S * da, dS = 2.0 * C * da;
+    double ddC = -4.0 * C * da * da - 2.0 * S * dda;
+    double ddS = -4.0 * S * da * da + 2.0 * C * dda;
+    kv3 adot = kcrossf(w, rz, fu);
+    dw = kv(dda * -rz.x - da * adot.x - ddb * sa - db * da * ca,
+            dda * -rz.y - da * adot.y + ddb * ca - db * da * sa,
+            dda * vb2 - da * adot.z);
+    ac = kv(-0.5 * K->r * (ddvb * C + 2.0 * dvb * dC + vb2 * ddC),
+            0.5 * K->r * (ddvb * S + 2.0 * dvb * dS + vb2 * ddS), ddz);
+  }
+
+  /* the links and the halved constraint Jacobian of (8)-(10), row k =
+     0, 1, 2 (j = k + 1) in theta, Jt = [ta0 tb0 0; 0 ta1 tb1; tb2 0 ta2],
+     and in l, e_k = D_k . v_k (on l_k) and -g_k = -D_k . v_j (on l_j),
+     times 1 / l; each row as soon as its two links are there, so that
+     fewer values are live at once */
+  L0 = kblink_load(K, kblink_pos(K, 0, rx, ry, c, fu), w, vc, dw, ac, fu);
+  L1 = kblink_load(K, kblink_pos(K, 1, rx, ry, c, fu), w, vc, dw, ac, fu);
+  D = ksub(L0.rho, L1.rho);
+  ta0 = kdotf(D, L0.q, fu);
+  tb0 = -kdotf(D, L1.q, fu);
+  e0 = kdotf(D, L0.v, fu);
+  g0 = kdotf(D, L1.v, fu);
+  L2 = kblink_load(K, kblink_pos(K, 2, rx, ry, c, fu), w, vc, dw, ac, fu);
+  D = ksub(L1.rho, L2.rho);
+  ta1 = kdotf(D, L1.q, fu);
+  tb1 = -kdotf(D, L2.q, fu);
+  e1 = kdotf(D, L1.v, fu);
+  g1 = kdotf(D, L2.v, fu);
+  D = ksub(L2.rho, L0.rho);
+  ta2 = kdotf(D, L2.q, fu);
+  tb2 = -kdotf(D, L0.q, fu);
+  e2 = kdotf(D, L2.v, fu);
+  g2 = kdotf(D, L0.v, fu);
+  det = ta0 * ta1 * ta2 + tb0 * tb1 * tb2;
+  idet = 1.0 / (det != 0.0 ? det : HUGE_VAL);
+  a0 = kv(ta1 * ta2, -tb0 * ta2, tb0 * tb1);
+  a1 = kv(tb1 * tb2, ta0 * ta2, -ta0 * tb1);
+  a2 = kv(-ta1 * tb2, tb0 * tb2, ta0 * ta1);
+
+  /* det lambda = -adj(Jt)^T wt, then F (34), times 1 / (l_i det) */
+  m0 = -kma(L0.wt, a0.x, kma(L1.wt, a1.x, L2.wt * a2.x, fu), fu);
+  m1 = -kma(L0.wt, a0.y, kma(L1.wt, a1.y, L2.wt * a2.y, fu), fu);
+  m2 = -kma(L0.wt, a0.z, kma(L1.wt, a1.z, L2.wt * a2.z, fu), fu);
+  o.F = kv(kma(det, L0.wl, kma(m0, e0, -(m2 * g2), fu), fu) * (L0.il * idet),
+           kma(det, L1.wl, kma(m1, e1, -(m0 * g0), fu), fu) * (L1.il * idet),
+           kma(det, L2.wl, kma(m2, e2, -(m1 * g1), fu), fu) * (L2.il * idet));
+
+  /* 1-norm condition of the lambda system Jt^T: the largest row sums of
+     |Jt| and of |adj Jt| / |det| */
+  an = fabs(ta0) + fabs(tb0);
+  s = fabs(ta1) + fabs(tb1);
+  an = s > an ? s : an;
+  s = fabs(ta2) + fabs(tb2);
+  an = s > an ? s : an;
+  in = knorm1(a0);
+  s = knorm1(a1);
+  in = s > in ? s : in;
+  s = knorm1(a2);
+  in = s > in ? s : in;
+  o.cond = det != 0.0 ? an * in * fabs(idet) : HUGE_VAL;
+
+  /* the pass's point: finite, reachable, below the thresholds, and the
+     forces within trans_lim times the largest link load */
+  s = L1.s > L0.s ? L1.s : L0.s;
+  s = L2.s > s ? L2.s : s;
+  an = fabs(o.F.x);
+  an = fabs(o.F.y) > an ? fabs(o.F.y) : an;
+  an = fabs(o.F.z) > an ? fabs(o.F.z) : an;
+  o.ok = ((in_range * L0.ok * L1.ok * L2.ok != 0.0) &
+          (an + s + o.cond <= DBL_MAX) & (o.cond <= K->cond_lim) &
+          (an <= K->trans_lim * s))
+             ? 1.0
+             : 0.0;
+  return o;
+}
+
 #endif /* RPS3_BATCH_KMECH_H */

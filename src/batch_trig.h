@@ -82,6 +82,50 @@ KINLINE ksc ksincos(double x) {
 }
 
 /*
+ * The same sine and cosine with the series evaluated by Estrin's scheme
+ * instead of Horner's: the same terms, grouped in pairs and powers of r^4
+ * and r^8, so that the longest chain of dependent operations is about half
+ * as long (the lean pass of rps3_inverse waits on it: every quantity of a
+ * point depends on the pose's sines).  With fu = 1 each pair a + b r^2 is
+ * one fused multiply-add (fma: the CPU's instruction where the lean pass
+ * uses it).  Within 3 ulp of libm either way (tests/test_batch_kernel.c);
+ * the last bits may differ from ksincos's.
+ */
+KINLINE double kmaf(double a, double b, double c, int fu) {
+  return fu ? fma(a, b, c) : a * b + c;
+}
+
+KINLINE ksc ksincos_e(double x, int fu) {
+  ksc out;
+  double k = (x * TWO_OVER_PI + SHIFT) - SHIFT;
+  double r = ((x - k * P1) - k * P2) - k * P3;
+  double r2 = r * r, r4 = r2 * r2, r8 = r4 * r4;
+  double ps = kmaf(
+      r * r2,
+      kmaf(r4, kmaf(r2, 1.0 / 362880.0, -1.0 / 5040.0, fu),
+           kmaf(r2, 1.0 / 120.0, -1.0 / 6.0, fu), fu) +
+          r8 * kmaf(r4,
+                    kmaf(r2, 1.0 / 355687428096000.0,
+                         -1.0 / 1307674368000.0, fu),
+                    kmaf(r2, 1.0 / 6227020800.0, -1.0 / 39916800.0, fu), fu),
+      r, fu);
+  double pc = kmaf(
+      r4,
+      kmaf(r4, kmaf(r2, -1.0 / 3628800.0, 1.0 / 40320.0, fu),
+           kmaf(r2, -1.0 / 720.0, 1.0 / 24.0, fu), fu) +
+          r8 * kmaf(r4, 1.0 / 20922789888000.0,
+                    kmaf(r2, -1.0 / 87178291200.0, 1.0 / 479001600.0, fu),
+                    fu),
+      1.0 - 0.5 * r2, fu);
+  double q = k - 4.0 * ((0.25 * k + SHIFT) - SHIFT);
+  double sn = ((q == 1.0) | (q == -1.0)) ? pc : ps;
+  double cs = ((q == 1.0) | (q == -1.0)) ? ps : pc;
+  out.s = ((q >= 2.0) | (q <= -1.0)) ? -sn : sn;
+  out.c = ((q >= 1.0) | (q <= -2.0)) ? -cs : cs;
+  return out;
+}
+
+/*
  * atan2(y, x) for y > 0, so in (0, pi): with a = num / den = min(|x|, y) /
  * max(|x|, y) in [0, 1], atan a = atan(j/4) + atan u for j/4 the quarter
  * nearest to a (chosen by comparisons) and u = (a - j/4) / (1 + a j/4) =

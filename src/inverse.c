@@ -83,6 +83,11 @@ static int check_own_root(const rps3_model *m, rps3_data *d, rps3_cjac *J,
 
 int rps3_inverse(const rps3_model *m, rps3_data *d) {
   if (m == NULL || d == NULL || !m->valid) return RPS3_EINVAL;
+  /* F alone without the transmission (rps3.h, enum rps3_forces): the lean
+     pass, or the stages for a point it does not keep */
+  if (m->opt.forces_only == RPS3_FORCES_LEAN && !m->opt.certify &&
+      rps3_kernel_covers(m))
+    return rps3_inverse_lean_point(m, d) ? RPS3_OK : rps3_inverse_stages(m, d);
   /* on the kernel's configurations (closed form, Lagrange, the paper's
      effects) the point in the kernel's one straight-line pass, which
      shares every sine and the constraint Jacobian between the stages; a

@@ -30,8 +30,8 @@ static double ulps(double got, double want) {
    is left is the rounding of the reduction and of the Horner sums */
 static void sincos_within_3_ulp(void **state) {
   uint64_t seed = 0x51c05;
-  double worst = 0.0;
-  int i;
+  double worst = 0.0, worst_e = 0.0;
+  int i, fu;
   (void)state;
   for (i = 0; i < 400000; i++) {
     double hi = i < 200000 ? 3.3 : i < 300000 ? 120.0 : RPS3_KANGLE_MAX;
@@ -44,11 +44,26 @@ static void sincos_within_3_ulp(void **state) {
     if (!(ulps(s, sin(x)) <= 3.0 && ulps(c, cos(x)) <= 3.0))
       fail_msg("x = %.17g: sin %.17g (libm %.17g), cos %.17g (libm %.17g)", x,
                s, sin(x), c, cos(x));
+    /* the lean pass's: the same series by Estrin's scheme, with and
+       without fused multiply-adds */
+    for (fu = 0; fu < 2; fu++) {
+      rps3_ksincos_e(x, fu, &s, &c);
+      if (ulps(s, sin(x)) > worst_e) worst_e = ulps(s, sin(x));
+      if (ulps(c, cos(x)) > worst_e) worst_e = ulps(c, cos(x));
+      if (!(ulps(s, sin(x)) <= 3.0 && ulps(c, cos(x)) <= 3.0))
+        fail_msg("x = %.17g (fused %d): Estrin sin %.17g (libm %.17g), cos "
+                 "%.17g (libm %.17g)", x, fu, s, sin(x), c, cos(x));
+    }
   }
-  print_message("sincos: largest difference to libm %.2f ulp\n", worst);
+  print_message("sincos: largest difference to libm %.2f ulp (Estrin's "
+                "%.2f)\n", worst, worst_e);
   {
     double s, c;
     rps3_ksincos((double)NAN, &s, &c);
+    assert_true(isnan(s) && isnan(c));
+    rps3_ksincos_e((double)NAN, 0, &s, &c);
+    assert_true(isnan(s) && isnan(c));
+    rps3_ksincos_e((double)NAN, 1, &s, &c);
     assert_true(isnan(s) && isnan(c));
   }
 }
@@ -541,10 +556,10 @@ static void scalar_path_by_the_kernel(void **state) {
  */
 static void batch_is_the_loop_bitwise(void **state) {
   arrays *a = calloc(1, sizeof(*a));
-  int cfg, sel, i, c, k;
+  int cfg, sel, i, c, k, lean_kept = 0;
   (void)state;
   assert_non_null(a);
-  for (cfg = 0; cfg < 8; cfg++)
+  for (cfg = 0; cfg < 14; cfg++)
     for (sel = 0; sel < 2; sel++) {
       rps3_model m;
       rps3_data *db = NULL, *dl = NULL;
@@ -555,6 +570,14 @@ static void batch_is_the_loop_bitwise(void **state) {
       m.opt.certify = cfg & 1;
       m.opt.forces_only = (cfg >> 1) & 1;
       if (cfg & 4) m.opt.trans_warn = 2.9;
+      /* 8 .. 13: RPS3_FORCES_LEAN, with and without the certificate (with
+         it, RPS3_FORCES_ONLY), a lowered warning threshold, a static
+         selection (no rates read) */
+      if (cfg >= 8) {
+        m.opt.forces_only = RPS3_FORCES_LEAN;
+        if (cfg >= 12)
+          m.opt.effects = RPS3_EFF_PLATFORM_GRAVITY | RPS3_EFF_LINK_GRAVITY;
+      }
       assert_int_equal(rps3_model_init(&m, NULL, 0), RPS3_OK);
       assert_int_equal(rps3_data_alloc(&m, &db), RPS3_OK);
       assert_int_equal(rps3_data_alloc(&m, &dl), RPS3_OK);
@@ -580,6 +603,25 @@ static void batch_is_the_loop_bitwise(void **state) {
         }
         assert_int_equal(rps3_inverse(&m, dl), a->status[i]);
         if (a->status[i] != RPS3_OK) continue;
+        if (m.opt.forces_only == RPS3_FORCES_LEAN && !m.opt.certify) {
+          /* F, cond, warn; every other output NaN (the shares zero) */
+          for (c = 0; c < 3; c++)
+            assert_memory_equal(&dl->F[c], &AT(a->F, c, i), sizeof(double));
+          if (!sel) continue;
+          assert_memory_equal(&dl->cond, &a->cond[i], sizeof(double));
+          assert_int_equal(dl->warn, a->warn[i]);
+          for (c = 0; c < 3; c++) {
+            assert_true(isnan(AT(a->l, c, i)) && isnan(AT(a->theta, c, i)));
+            assert_true(isnan(AT(a->lambda, c, i)) && isnan(AT(a->dl, c, i)));
+            assert_true(isnan(AT(a->ddl, c, i)) && isnan(AT(a->cpos, c, i)));
+            for (k = 0; k < RPS3_NEFFECT; k++)
+              assert_true(AT(a->F_effect, 3 * k + c, i) == 0.0);
+          }
+          assert_true(isnan(a->trans[i]) && isnan(a->eres[i]));
+          assert_true(isnan(a->escale[i]) && isnan(a->sres[i]));
+          lean_kept += dl->stage == 0;
+          continue;
+        }
         for (c = 0; c < 3; c++) {
           assert_memory_equal(&dl->F[c], &AT(a->F, c, i), sizeof(double));
           if (!sel) continue;
@@ -612,6 +654,9 @@ static void batch_is_the_loop_bitwise(void **state) {
       rps3_data_free(db);
       rps3_data_free(dl);
     }
+  /* the lean configurations ran the lean pass, not only the stages */
+  print_message("lean pass: %d points kept\n", lean_kept);
+  assert_true(lean_kept > N);
   free(a);
 }
 
@@ -752,6 +797,322 @@ static void hard_points_by_the_scalar_path(void **state) {
   rps3_data_free(dl);
 }
 
+/*
+ * RPS3_FORCES_LEAN (rps3.h, enum rps3_forces).  On the point d holds, the
+ * lean path against the default path (every output, certificate off) and
+ * against RPS3_FORCES_ONLY by the stages (what the lean path hands a point
+ * to).  A point the lean pass keeps: status RPS3_OK, no warning, d->stage
+ * 0, transmission NaN, F within 8 eps cond of the default's force scale
+ * (the largest force or share of the point: the same loads through the
+ * same lambda system, another rounding, amplified by its condition
+ * number), cond within 8 eps cond (the same adjugate, other rounding of
+ * its entries).  A point it hands over: status, warning and F those of the
+ * stages bit for bit.  Returns 1 when the lean pass kept the point; counts
+ * in *gave_up the kept points where RPS3_FORCES_ONLY warns of the force
+ * transmission (what the lean path gives up), and tracks the worst F and
+ * cond in units of their tolerances.
+ */
+typedef struct {
+  rps3_model def, only, lean; /* forces_only 0, 1, 2; certify off */
+  rps3_data *dd, *df, *dl;
+  double wF, wc; /* worst F and cond, in units of the tolerance */
+  int kept, handed, gave_up;
+} lean_bench;
+
+static void lean_setup(lean_bench *b, const rps3_model *m) {
+  memset(b, 0, sizeof(*b));
+  b->def = *m;
+  b->def.opt.certify = 0;
+  b->def.opt.forces_only = RPS3_FORCES_ALL;
+  b->only = b->def;
+  b->only.opt.forces_only = RPS3_FORCES_ONLY;
+  b->lean = b->def;
+  b->lean.opt.forces_only = RPS3_FORCES_LEAN;
+  assert_int_equal(rps3_model_init(&b->def, NULL, 0), RPS3_OK);
+  assert_int_equal(rps3_model_init(&b->only, NULL, 0), RPS3_OK);
+  assert_int_equal(rps3_model_init(&b->lean, NULL, 0), RPS3_OK);
+  assert_true(rps3_kernel_covers(&b->lean));
+  assert_int_equal(rps3_data_alloc(&b->def, &b->dd), RPS3_OK);
+  assert_int_equal(rps3_data_alloc(&b->def, &b->df), RPS3_OK);
+  assert_int_equal(rps3_data_alloc(&b->def, &b->dl), RPS3_OK);
+}
+
+static void lean_teardown(lean_bench *b) {
+  rps3_data_free(b->dd);
+  rps3_data_free(b->df);
+  rps3_data_free(b->dl);
+}
+
+static int lean_point(lean_bench *b, const double p[3], const double dp[3],
+                      const double ddp[3]) {
+  int c, k, st, sf;
+  for (c = 0; c < 3; c++) {
+    b->dd->pose[c] = b->df->pose[c] = b->dl->pose[c] = p[c];
+    b->dd->dpose[c] = b->df->dpose[c] = b->dl->dpose[c] = dp[c];
+    b->dd->ddpose[c] = b->df->ddpose[c] = b->dl->ddpose[c] = ddp[c];
+  }
+  b->dl->stage = -1; /* set by every outcome */
+  st = rps3_inverse(&b->lean, b->dl);
+  sf = rps3_inverse_stages(&b->only, b->df);
+  if (st == RPS3_OK && b->dl->stage == 0) {
+    double fs = 0.0, tol;
+    b->kept++;
+    assert_int_equal(b->dl->warn, 0);
+    assert_true(isnan(b->dl->transmission));
+    assert_int_equal(b->dl->have_theta, 0);
+    assert_int_equal(b->dl->has_lambda, 0);
+    assert_int_equal(rps3_inverse(&b->def, b->dd), RPS3_OK);
+    if (sf != RPS3_OK || (b->df->warn & RPS3_WARN_TRANS)) b->gave_up++;
+    for (c = 0; c < 3; c++) {
+      track(&fs, fabs(b->dd->F[c]));
+      for (k = 0; k < RPS3_NEFFECT; k++)
+        track(&fs, fabs(b->dd->F_effect[k][c]));
+    }
+    tol = 8.0 * EPS * b->dd->cond;
+    for (c = 0; c < 3; c++)
+      track(&b->wF, fabs(b->dl->F[c] - b->dd->F[c]) / (tol * fs));
+    track(&b->wc, fabs(b->dl->cond - b->dd->cond) / (tol * b->dd->cond));
+    /* the pass without fused multiply-adds (a CPU without FMA): the same
+       point, the same tolerance */
+    assert_int_equal(rps3_inverse_lean_point_unfused(&b->lean, b->dl), 1);
+    for (c = 0; c < 3; c++)
+      track(&b->wF, fabs(b->dl->F[c] - b->dd->F[c]) / (tol * fs));
+    track(&b->wc, fabs(b->dl->cond - b->dd->cond) / (tol * b->dd->cond));
+    return 1;
+  }
+  /* handed to the stages: theirs, bit for bit */
+  b->handed++;
+  assert_int_equal(st, sf);
+  assert_int_equal(b->dl->warn, b->df->warn);
+  if (st == RPS3_OK)
+    assert_memory_equal(b->dl->F, b->df->F, sizeof(b->dl->F));
+  else
+    assert_int_equal(b->dl->err.code, b->df->err.code);
+  return 0;
+}
+
+static void lean_report(const lean_bench *b, const char *what) {
+  print_message("%s: %d points kept by the lean pass, %d handed to the "
+                "stages, %d kept where the transmission warns; worst F "
+                "%.3g, cond %.3g of the tolerance\n",
+                what, b->kept, b->handed, b->gave_up, b->wF, b->wc);
+  assert_true(b->wF <= 1.0);
+  assert_true(b->wc <= 1.0);
+}
+
+/* the lean path along the helix and random smooth trajectories, Table II
+   and the high-entropy model, each selection of effects (a static one:
+   no rates read) */
+static void lean_forces_as_the_default(void **state) {
+  static const int eff[3] = {
+      RPS3_EFF_DEFAULT, RPS3_EFF_PLATFORM_GRAVITY | RPS3_EFF_LINK_GRAVITY,
+      RPS3_EFF_PLATFORM_INERTIA | RPS3_EFF_LINK_INERTIA};
+  arrays *a = calloc(1, sizeof(*a));
+  int table2, e, i, c;
+  uint64_t seed;
+  (void)state;
+  assert_non_null(a);
+  for (table2 = 0; table2 < 2; table2++)
+    for (e = 0; e < 3; e++) {
+      rps3_model m;
+      lean_bench b;
+      if (table2)
+        rps3_model_default(&m);
+      else
+        model_entropy(&m);
+      m.opt.effects = eff[e];
+      assert_int_equal(rps3_model_init(&m, NULL, 0), RPS3_OK);
+      lean_setup(&b, &m);
+      for (seed = 0; seed < 4; seed++) {
+        make_points(&m, a, seed == 0 ? 0 : 0x1ea0 + seed);
+        for (i = 0; i < N; i++) {
+          double p[3], dp[3], ddp[3];
+          for (c = 0; c < 3; c++) {
+            p[c] = AT(a->pose, c, i);
+            dp[c] = AT(a->dpose, c, i);
+            ddp[c] = AT(a->ddpose, c, i);
+          }
+          lean_point(&b, p, dp, ddp);
+        }
+      }
+      lean_report(&b, table2 ? "lean, Table II" : "lean, entropy model");
+      /* smooth motions far from singular poses: the pass keeps them */
+      assert_int_equal(b.handed, 0);
+      lean_teardown(&b);
+    }
+  free(a);
+}
+
+/*
+ * The lean path on hard poses: a level platform (beta = 0, -0, 1e-300,
+ * beta -> 0), the pose where the lambda system is singular
+ * (singular_beta: link 1 in the platform's plane) and a sweep towards it,
+ * a level platform lowered towards the base (cond stays small, the
+ * transmission grows without bound: the implausible-force guard hands it
+ * over), non-finite, overflowing, unreachable and out-of-range inputs.
+ * Statuses and warnings are RPS3_FORCES_ONLY's; the singular pose is
+ * RPS3_ESING.
+ */
+static void lean_hard_poses(void **state) {
+  rps3_model m;
+  lean_bench b;
+  const double dp[3] = {0.173, -0.0917, 0.0213};
+  const double ddp[3] = {-0.519, 0.338, -0.0741};
+  const double zero[3] = {0.0, 0.0, 0.0};
+  double p[3], bs;
+  int k, st;
+  (void)state;
+  rps3_model_default(&m);
+  assert_int_equal(rps3_model_init(&m, NULL, 0), RPS3_OK);
+  lean_setup(&b, &m);
+  /* level and nearly level */
+  {
+    const double betas[] = {0.0, -0.0, 1e-300, -1e-300, 1e-12, -3.7e-9,
+                            2.1e-5, 1e-3};
+    for (k = 0; k < (int)(sizeof(betas) / sizeof(betas[0])); k++) {
+      p[0] = 0.7318;
+      p[1] = betas[k];
+      p[2] = 0.2286;
+      assert_int_equal(lean_point(&b, p, dp, ddp), 1);
+      assert_int_equal(lean_point(&b, p, zero, zero), 1);
+    }
+  }
+  /* the singular pose, and towards it from both sides */
+  bs = singular_beta(&m, b.dd, 0.12, 0.3, 1.5);
+  assert_true(bs > 0.3 && bs < 1.5);
+  p[0] = 0.0;
+  p[1] = bs;
+  p[2] = 0.12;
+  assert_int_equal(lean_point(&b, p, dp, ddp), 0);
+  assert_int_equal(rps3_inverse(&b.lean, b.dl), RPS3_ESING);
+  for (k = 1; k <= 15; k++) {
+    double h = pow(10.0, -(double)k);
+    p[1] = bs + h;
+    lean_point(&b, p, dp, ddp);
+    p[1] = bs - h;
+    lean_point(&b, p, dp, ddp);
+  }
+  /* a level platform lowered to the base: forces without bound, cond
+     small; the lean pass hands it over, and the stages warn or fail */
+  p[0] = 0.4127;
+  p[1] = 0.0;
+  for (k = 1; k <= 8; k++) {
+    p[2] = 0.2286 * pow(10.0, -(double)k);
+    if (lean_point(&b, p, dp, ddp) == 0) {
+      st = rps3_inverse(&b.lean, b.dl);
+      assert_true(st == RPS3_ESING ||
+                  (st == RPS3_OK && (b.dl->warn & RPS3_WARN_TRANS)));
+    }
+  }
+  p[2] = 0.2286e-4;
+  assert_int_equal(lean_point(&b, p, dp, ddp), 0);
+  /* inputs the pass leaves to the stages */
+  {
+    const double bad[][3] = {{(double)NAN, 0.2, 0.25}, {0.3, HUGE_VAL, 0.25},
+                             {0.3, 0.2, -0.04},        {0.3, 0.2, 0.0},
+                             {2.0e5, 0.2, 0.25},       {0.3, 0.2, 1e200}};
+    const int want[] = {RPS3_EINVAL, RPS3_EINVAL, RPS3_EREACH, RPS3_EREACH,
+                        RPS3_OK, RPS3_ERANGE};
+    for (k = 0; k < 6; k++) {
+      assert_int_equal(lean_point(&b, bad[k], dp, ddp), 0);
+      assert_int_equal(rps3_inverse(&b.lean, b.dl), want[k]);
+    }
+    p[0] = 0.3;
+    p[1] = 0.2;
+    p[2] = 0.25;
+    {
+      const double inf_rate[3] = {0.1, HUGE_VAL, 0.1};
+      const double big_rate[3] = {1e200, 0.1, 0.1};
+      assert_int_equal(lean_point(&b, p, inf_rate, ddp), 0);
+      assert_int_equal(rps3_inverse(&b.lean, b.dl), RPS3_EINVAL);
+      assert_int_equal(lean_point(&b, p, big_rate, ddp), 0);
+      assert_int_equal(rps3_inverse(&b.lean, b.dl), RPS3_ERANGE);
+    }
+  }
+  lean_report(&b, "lean, hard poses");
+  lean_teardown(&b);
+}
+
+/* the singularity check is the default's: with cond_max below every
+   point's condition number, every point of the lean path is RPS3_ESING
+   (and with cond_warn only, warned), as RPS3_FORCES_ONLY's */
+static void lean_singular_is_an_error(void **state) {
+  rps3_model m;
+  lean_bench b;
+  arrays *a = calloc(1, sizeof(*a));
+  int i, c, pass;
+  (void)state;
+  assert_non_null(a);
+  for (pass = 0; pass < 2; pass++) {
+    rps3_model_default(&m);
+    m.opt.cond_warn = 1.05;
+    m.opt.cond_max = pass == 0 ? 1.1 : 1e13;
+    assert_int_equal(rps3_model_init(&m, NULL, 0), RPS3_OK);
+    lean_setup(&b, &m);
+    make_points(&m, a, 0);
+    for (i = 0; i < N; i += 7) {
+      double p[3], dp[3], ddp[3];
+      for (c = 0; c < 3; c++) {
+        p[c] = AT(a->pose, c, i);
+        dp[c] = AT(a->dpose, c, i);
+        ddp[c] = AT(a->ddpose, c, i);
+      }
+      assert_int_equal(lean_point(&b, p, dp, ddp), 0);
+      if (pass == 0) {
+        assert_int_equal(rps3_inverse(&b.lean, b.dl), RPS3_ESING);
+      } else {
+        assert_int_equal(rps3_inverse(&b.lean, b.dl), RPS3_OK);
+        assert_true(b.dl->warn & RPS3_WARN_ILLCOND);
+      }
+    }
+    lean_teardown(&b);
+  }
+  free(a);
+}
+
+/* after a point of the lean pass nothing but F and cond is the point's:
+   d->stage is 0, so every stage that would read the positions, rates or
+   forces returns RPS3_ESTATE instead of another point's values (the data
+   held a whole default point before) */
+static void lean_leaves_no_stale_stage(void **state) {
+  rps3_model m, ml;
+  rps3_data *d = NULL;
+  double T, P, fr;
+  int c;
+  (void)state;
+  rps3_model_default(&m);
+  m.opt.certify = 0;
+  assert_int_equal(rps3_model_init(&m, NULL, 0), RPS3_OK);
+  ml = m;
+  ml.opt.forces_only = RPS3_FORCES_LEAN;
+  assert_int_equal(rps3_model_init(&ml, NULL, 0), RPS3_OK);
+  assert_int_equal(rps3_data_alloc(&m, &d), RPS3_OK);
+  for (c = 0; c < 3; c++) {
+    d->pose[c] = 0.1 * (c + 1) + 0.0213;
+    d->dpose[c] = 0.0371 * (c + 1);
+    d->ddpose[c] = -0.0529 * (c + 1);
+  }
+  assert_int_equal(rps3_inverse(&m, d), RPS3_OK);
+  assert_int_equal(d->stage, RPS3_STAGE_POS | RPS3_STAGE_VEL |
+                                 RPS3_STAGE_ACC | RPS3_STAGE_DYN);
+  d->pose[0] = 1.387;
+  d->pose[1] = 0.283;
+  assert_int_equal(rps3_inverse(&ml, d), RPS3_OK);
+  assert_int_equal(d->stage, 0);
+  assert_true(isnan(d->transmission));
+  assert_int_equal(rps3_invdyn(&m, d), RPS3_ESTATE);
+  assert_int_equal(rps3_velocity(&m, d), RPS3_ESTATE);
+  assert_int_equal(rps3_acceleration(&m, d), RPS3_ESTATE);
+  assert_int_equal(rps3_joint_velocity(&m, d), RPS3_ESTATE);
+  assert_int_equal(rps3_joint_acceleration(&m, d), RPS3_ESTATE);
+  assert_int_equal(rps3_energy(&m, d, &T, &P, &fr), RPS3_ESTATE);
+  /* the next default point makes the data whole again */
+  assert_int_equal(rps3_inverse(&m, d), RPS3_OK);
+  assert_int_equal(d->stage, RPS3_STAGE_POS | RPS3_STAGE_VEL |
+                                 RPS3_STAGE_ACC | RPS3_STAGE_DYN);
+  rps3_data_free(d);
+}
+
 int main(void) {
   const struct CMUnitTest tests[] = {
       cmocka_unit_test(sincos_within_3_ulp),
@@ -763,6 +1124,10 @@ int main(void) {
       cmocka_unit_test(scalar_path_by_the_kernel),
       cmocka_unit_test(batch_is_the_loop_bitwise),
       cmocka_unit_test(hard_points_by_the_scalar_path),
+      cmocka_unit_test(lean_forces_as_the_default),
+      cmocka_unit_test(lean_hard_poses),
+      cmocka_unit_test(lean_singular_is_an_error),
+      cmocka_unit_test(lean_leaves_no_stale_stage),
   };
   gsl_set_error_handler_off();
   return cmocka_run_group_tests(tests, NULL, NULL);

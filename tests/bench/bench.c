@@ -454,12 +454,17 @@ static const struct {
     {"pipeline_closed_lagrange_paper_nocert", "anchor_generated",
      "scalar rps3_inverse / generated code, the paper's four effects"},
     {"pipeline_closed_lagrange_paper_forces", "anchor_generated",
-     "scalar rps3_inverse, forces_only / generated code (goal <= 1)"},
+     "scalar rps3_inverse, forces_only / generated code"},
+    {"pipeline_closed_lagrange_paper_lean", "anchor_generated",
+     "scalar rps3_inverse, RPS3_FORCES_LEAN / generated code (goal <= 1)"},
     {"batch_closed_lagrange_paper_nocert", "anchor_generated",
      "rps3_inverse_batch per point / generated code, the same forces"},
     {"stages_closed_lagrange_paper_nocert",
      "batch_closed_lagrange_paper_nocert",
      "per-point stages / rps3_inverse_batch per point (goal >= 10)"},
+    {"stages_closed_lagrange_paper_nocert",
+     "batch_closed_lagrange_paper_lean",
+     "the same, RPS3_FORCES_LEAN (no transmission)"},
     {"stages_closed_lagrange_paper", "batch_closed_lagrange_paper_all",
      "the same, certify on, every output (goal >= 10)"},
     {"stages_closed_lagrange_paper_nocert",
@@ -537,7 +542,7 @@ static void print_ratios(const bench_ratio *rat, int n, long batches) {
 
 /* ------------------------------------------------------------------ main */
 
-#define NCASE_MAX 32
+#define NCASE_MAX 40
 
 static void usage(void) {
   fprintf(stderr,
@@ -663,6 +668,12 @@ int main(int argc, char **argv) {
        K_INVERSE, SCENE_PAPER, RPS3_LAGRANGE, RPS3_THETA_CLOSED_FORM, 1, 0,
        BENCH_NONE, 0);
   cases[ncase - 1].m.opt.forces_only = 1;
+  CASE("pipeline_closed_lagrange_paper_lean", "rps3_inverse, closed-form "
+       "theta, the paper's effects, Lagrange, certify off, opt.forces_only "
+       "= RPS3_FORCES_LEAN (F alone without the force transmission, the "
+       "outputs of the generated code)", K_INVERSE, SCENE_PAPER,
+       RPS3_LAGRANGE, RPS3_THETA_CLOSED_FORM, 1, 0, BENCH_NONE, 0);
+  cases[ncase - 1].m.opt.forces_only = RPS3_FORCES_LEAN;
   CASE("anchor_generated", "SymPy-generated CSE'd C (tests/bench/"
        "gen_anchor.py): pose, rates, accelerations -> F, the paper's four "
        "effects", K_ANCHOR, SCENE_PAPER, RPS3_LAGRANGE,
@@ -671,6 +682,12 @@ int main(int argc, char **argv) {
        "points a call (time per point), closed-form theta, the paper's "
        "effects, Lagrange, certify off, F only", K_BATCH, SCENE_PAPER,
        RPS3_LAGRANGE, RPS3_THETA_CLOSED_FORM, 1, 0, BENCH_NONE, 0);
+  CASE("batch_closed_lagrange_paper_lean", "rps3_inverse_batch, 1000 "
+       "points a call (time per point), closed-form theta, the paper's "
+       "effects, Lagrange, certify off, F only, opt.forces_only = "
+       "RPS3_FORCES_LEAN (no force transmission)", K_BATCH, SCENE_PAPER,
+       RPS3_LAGRANGE, RPS3_THETA_CLOSED_FORM, 1, 0, BENCH_NONE, 0);
+  cases[ncase - 1].m.opt.forces_only = RPS3_FORCES_LEAN;
   CASE("pipeline_closed_lagrange_paper", "rps3_inverse, closed-form theta, "
        "the paper's effects, Lagrange, certify on (the default)", K_INVERSE,
        SCENE_PAPER, RPS3_LAGRANGE, RPS3_THETA_CLOSED_FORM, 1, 1, BENCH_NONE,
