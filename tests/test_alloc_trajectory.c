@@ -133,6 +133,8 @@ static void run_trajectory(rps3_theta_route theta, rps3_method method,
   m.opt.solver = RPS3_SOLVER_HYBRIDSJ;
   if (effects) m.opt.effects = effects;
   m.opt.forces_only = forces_only;
+  /* the lean pass applies with the certificate off */
+  if (forces_only == RPS3_FORCES_LEAN) m.opt.certify = 0;
   assert_int_equal(rps3_model_init(&m, NULL, 0), RPS3_OK);
   rps3_traj_default(&tr);
   /* the helix of Table II scaled to this model's platform (r* < r/2) */
@@ -174,13 +176,15 @@ static void closed_form_lagrange(void **state) {
 }
 
 /* the paper's effects: rps3_inverse runs the one-point kernel, with every
-   output and on the controller's path */
+   output, on the controller's path and in the lean pass */
 static void closed_form_kernel(void **state) {
   (void)state;
   run_trajectory(RPS3_THETA_CLOSED_FORM, RPS3_LAGRANGE, 1, RPS3_EFF_DEFAULT,
-                 0);
+                 RPS3_FORCES_ALL);
   run_trajectory(RPS3_THETA_CLOSED_FORM, RPS3_LAGRANGE, 1, RPS3_EFF_DEFAULT,
-                 1);
+                 RPS3_FORCES_ONLY);
+  run_trajectory(RPS3_THETA_CLOSED_FORM, RPS3_LAGRANGE, 1, RPS3_EFF_DEFAULT,
+                 RPS3_FORCES_LEAN);
 }
 
 static void closed_form_newton_euler(void **state) {
