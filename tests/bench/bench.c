@@ -464,7 +464,7 @@ static const struct {
      "per-point stages / rps3_inverse_batch per point (goal >= 10)"},
     {"stages_closed_lagrange_paper_nocert",
      "batch_closed_lagrange_paper_lean",
-     "the same, RPS3_FORCES_LEAN (no transmission)"},
+     "the same, RPS3_FORCES_LEAN (no transmission; goal >= 10)"},
     {"stages_closed_lagrange_paper", "batch_closed_lagrange_paper_all",
      "the same, certify on, every output (goal >= 10)"},
     {"stages_closed_lagrange_paper_nocert",
