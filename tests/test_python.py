@@ -189,6 +189,26 @@ def test_batch_equals_points_one_by_one():
             assert same_bits(one.shares[name], batch.shares[name][i])
 
 
+def test_lean_forces_as_every_output():
+    """forces="lean" (the library's RPS3_FORCES_LEAN, certify off) gives the
+    default path's forces to rounding (the C tests hold it to 8 eps cond of
+    the force scale; the paper's effects along a sine stay far from any
+    singular pose, cond < 1e3), NaN for what it does not compute, and the
+    same statuses."""
+    effects = list(rps3.DEFAULT_EFFECTS)
+    full = rps3.Model(effects=effects, certify=False)
+    lean = rps3.Model(effects=effects, certify=False, forces="lean")
+    tr = sine_points(full, 500)
+    a = full.inverse(tr.pose, tr.dpose, tr.ddpose)
+    b = lean.inverse(tr.pose, tr.dpose, tr.ddpose)
+    assert np.all(a.status == 0) and np.all(b.status == 0)
+    scale = np.max(np.abs(a.force))
+    assert np.max(a.condition) < 1e3
+    np.testing.assert_allclose(b.force, a.force, rtol=0, atol=1e-12 * scale)
+    np.testing.assert_allclose(b.condition, a.condition, rtol=1e-12)
+    assert np.all(np.isnan(b.transmission)) and np.all(np.isnan(b.theta))
+
+
 def test_failing_points_are_recorded_and_the_others_computed():
     model = rps3.Model()
     tr = rps3.trajectory.helix(samples=11)
@@ -301,6 +321,7 @@ def test_open_dataset_single_case(tmp_path):
     (dict(effects=["link_gravity", "link_gravity"]), "effects"),
     (dict(method="euler"), "method"),
     (dict(theta="numeric"), "theta"),
+    (dict(forces="some"), "forces"),
     (dict(solver="bisect"), "solver"),
     (dict(tol=0.0), "tol"),
     (dict(max_iter=2.5), "max_iter"),

@@ -26,6 +26,8 @@ _METHODS = {"lagrange": lib.RPS3_LAGRANGE,
             "newton_euler": lib.RPS3_NEWTON_EULER}
 _THETA = {"closed_form": lib.RPS3_THETA_CLOSED_FORM,
           "multiroot": lib.RPS3_THETA_MULTIROOT}
+_FORCES = {"all": lib.RPS3_FORCES_ALL, "only": lib.RPS3_FORCES_ONLY,
+           "lean": lib.RPS3_FORCES_LEAN}
 
 # the library's dotted field names -> Model's keyword arguments
 _KEYWORD = {"payload.mass": "payload", "payload.com": "payload",
@@ -154,6 +156,12 @@ class Model:
         certify: compute the energy-rate residual per point.
         cond_warn: condition number above which a point is flagged [-].
         cond_max: condition number above which a point fails [-].
+        forces: what ``inverse`` computes: ``"all"`` (the default: every
+            output), ``"only"`` (the forces alone, every check) or
+            ``"lean"`` (the forces and the condition number alone, without
+            the force transmission, in about 40 % of the time: the
+            library's ``RPS3_FORCES_LEAN``, with certify off; docs/library.md
+            says what it checks).  The outputs not computed are NaN.
 
     Raises:
         ValueError: naming the argument, when a value is out of range, not a
@@ -177,7 +185,8 @@ class Model:
                  solver: str | None = None, tol: float | None = None,
                  max_iter: int | None = None, warm_start: bool | None = None,
                  certify: bool | None = None, cond_warn: float | None = None,
-                 cond_max: float | None = None) -> None:
+                 cond_max: float | None = None,
+                 forces: str | None = None) -> None:
         c = ffi.new("rps3_model *")
         lib.rps3_model_default(c)
         keyword = dict(_KEYWORD)
@@ -207,6 +216,8 @@ class Model:
             o.method = _choice(_METHODS, method, "method")
         if theta is not None:
             o.theta = _choice(_THETA, theta, "theta")
+        if forces is not None:
+            o.forces_only = _choice(_FORCES, forces, "forces")
         if solver is not None:
             k = lib.rps3_solver_index(str(solver).encode())
             if k < 0:
