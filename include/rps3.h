@@ -797,9 +797,10 @@ RPS3_API int rps3_fk_batch(const rps3_model *m, rps3_data *d,
  * inverse dynamics in this form, F = Mq ddl + hq.
  *
  * Reads d->l (lengths [m]), d->dl (rates [m/s]) and d->F (forces [N]);
- * theta is solved from l (rps3_theta_solve, warm-started from d->theta
- * when m->opt.warm_start and d->have_theta: keep one data per simulated
- * plant so that the solve tracks its assembly mode).  Writes the positions
+ * theta is solved from l (Newton's method from d->theta when
+ * m->opt.warm_start and d->have_theta, falling back to rps3_fk: keep one
+ * data per simulated plant so that the solve tracks its assembly mode; a
+ * root in another mode than opt.mode asks for is RPS3_EMODE).  Writes the positions
  * and d->pose (as rps3_fk), dtheta, vc, omega, dpose (as
  * rps3_joint_velocity), ddl, ddtheta, ac, domega, and Mq, hq, Mcond, mode.
  * d->ddpose is not written.  Allocates nothing.
@@ -807,7 +808,8 @@ RPS3_API int rps3_fk_batch(const rps3_model *m, rps3_data *d,
  * Returns RPS3_OK; RPS3_EINVAL (NULL or uninitialised model, non-finite
  * dl or F, or no inertia selected: one of platform_inertia,
  * link_inertia, payload must be, with a mass); the status of the theta
- * solve (RPS3_ENOCONV, RPS3_EBRANCH, RPS3_EINVAL for bad lengths);
+ * solve (RPS3_ENOCONV, RPS3_EBRANCH, RPS3_EMODE, RPS3_EINVAL for bad
+ * lengths);
  * RPS3_ESING when the constraint Jacobian df/dtheta or Mq is conditioned
  * worse than opt.cond_max, or Mq is not positive definite, or an
  * acceleration is not finite (a singular configuration: no acceleration
@@ -1344,8 +1346,9 @@ typedef struct {
                               integrator's stage leaves the ball joints,
                               link directions, frame, pose, vc, omega, the
                               pose rates and domega NaN unless a payload is
-                              simulated); after rps3_sim_advance those of
-                              the state at t, all of them */
+                              simulated, and d->stage 0); after
+                              rps3_sim_advance those of the state at t, all
+                              of them */
   double t;                /* simulated time [s] */
   double y[8];             /* l [m], dl [m/s], W_F, W_f [J] */
   double F_cmd[3];         /* last commanded forces [N] */
@@ -1461,7 +1464,9 @@ typedef struct {
                            computed torque); its err says why a call failed */
   /* internal */
   double t_meas;        /* time of meas's last solved state [s], NaN: none */
-  struct rps3_fd_state *fd; /* the model's state at the last measured one */
+  struct rps3_fd_state *fd; /* the model's state at the last measured one
+                               (owned: a copy of the structure would share
+                               it; use one rps3_ctrl_alloc per controller) */
 } rps3_ctrl;
 
 /*

@@ -119,19 +119,17 @@ static int desired(rps3_ctrl *c, double t) {
   return RPS3_OK;
 }
 
-/* largest predicted change of a theta_i [rad] (as rps3_fwddyn's) */
-#define PREDICT_MAX 1e-2
-
 /*
  * The start of the theta solve at the measured lengths l, time t: the last
  * measured state's root moved along its motion,
  *   theta + G (l - l_last) + (1/2) theta''_bias dt^2,
  * exact in the length change (the measured l need not follow the last
- * rates) and second order in time: theta'' = G l'' + theta''_bias, so the
- * part of theta'' that the length change does not already carry is the
- * velocity product theta''_bias of the last state.  Not taken without a
- * last state or over a step of more than PREDICT_MAX: the last root is
- * the start then.
+ * rates) and, for computed torque, second order in time: theta'' = G l''
+ * + theta''_bias, so the part of theta'' that the length change does not
+ * already carry is the velocity product theta''_bias of the last state
+ * (PD + gravity evaluates at rest, where it is zero: first order).  Not
+ * taken without a last state or over a step of more than
+ * RPS3_FD_PREDICT_MAX: the last root is the start then.
  */
 static void predict_theta(rps3_ctrl *c, const double l[3], double t) {
   const rps3_fd_state *k = c->fd;
@@ -144,7 +142,8 @@ static void predict_theta(rps3_ctrl *c, const double l[3], double t) {
   m3_mulv(x, M3C(k->G), dl);
   v3_axpy(x, x, h, k->ddth_b);
   for (i = 0; i < 3; i++) big = fmax(big, fabs(x[i]));
-  if (big <= PREDICT_MAX && v3_finite(x)) v3_axpy(d->theta, d->theta, 1.0, x);
+  if (big <= RPS3_FD_PREDICT_MAX && v3_finite(x))
+    v3_axpy(d->theta, d->theta, 1.0, x);
 }
 
 /*
@@ -161,7 +160,10 @@ static int invdyn_at(rps3_ctrl *c, double t, const double l[3],
                      const double dl[3], const double ddl[3], double F[3]) {
   rps3_data *d = c->meas;
   double x[3];
-  int st, i, mode0 = d->mode, had = isfinite(c->t_meas);
+  /* the mode of the last state that succeeded (0 before one), so that a
+     change through a failed tick is flagged too */
+  const int mode0 = c->fd->mode;
+  int st, i, had = isfinite(c->t_meas);
   if (!d->have_theta) {
     v3_copy(d->theta, c->des->theta);
     d->have_theta = 1;
@@ -175,7 +177,7 @@ static int invdyn_at(rps3_ctrl *c, double t, const double l[3],
                          RPS3_FD_LEAN | RPS3_FD_NOFACTOR |
                              (had ? RPS3_FD_TRIG : 0));
   if (st != RPS3_OK) return st;
-  if (had && d->mode != mode0) d->warn |= RPS3_WARN_MODE;
+  if (mode0 != RPS3_MODE_ANY && d->mode != mode0) d->warn |= RPS3_WARN_MODE;
   m3_mulv(x, M3C(d->Mq), ddl);
   v3_axpy(x, x, 1.0, d->hq);
   if (!v3_finite(x)) {

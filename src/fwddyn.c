@@ -70,8 +70,11 @@ static void omega_of_sum(double omega[3], const double w[3], const double a[3],
 /* C99 does not convert double (*)[2] to const double (*)[2] implicitly */
 #define M2C(A) ((const double(*)[2])(A))
 
-/* the larger of a and b, both finite (fmax is a call at -O2) */
-static inline double max2(double a, double b) { return a > b ? a : b; }
+/* the larger of a and b, NaN if either is (fmax, a call at -O2, would
+   drop it) */
+static inline double max2(double a, double b) {
+  return (a > b || a != a) ? a : b;
+}
 /* add a rigid body: mass mb, centre of mass offset s from the platform
    centre and inertia Iw about it (world axes); g = 0 leaves its weight out */
 static void add_body(const rps3_fd_state *k, const rps3_data *d, double mb,
@@ -465,6 +468,7 @@ static int mass_inverse(const double A[3][3], double Ai[3][3], double *cond) {
   if (!(A[0][0] > 0.0 && c22 > 0.0 && det > 0.0 && det < HUGE_VAL))
     return -1;
   id = 1.0 / det;
+  if (!(id < HUGE_VAL)) return -1; /* a subnormal det: no inverse */
   Ai[0][0] = c00 * id;
   Ai[0][1] = Ai[1][0] = c01 * id;
   Ai[0][2] = Ai[2][0] = c02 * id;
@@ -512,9 +516,12 @@ static double mass_cond(const double Mq[3][3]) {
  * when `pose`.
  */
 #define NEWTON_MAX 8
-/* largest predicted change of a theta_i [rad]: ~0.6 degree, many steps of
-   any run that keeps its accuracy */
-#define PREDICT_MAX 1e-2
+#define PREDICT_MAX RPS3_FD_PREDICT_MAX
+/* evaluations whose start trigonometry trig_step moves before one takes
+   sincos again: the phase's rounding, an ulp a step at most, stays below
+   1e-13 rad (the solve's tolerance is 1e-12); the plant's full state at
+   the end of every control period takes sincos anyway */
+#define TRIG_RESYNC 256
 /* largest Newton correction [rad] that moves cos and sin by trig_step's
    series (exact to the rounding up to PREDICT_MAX); a larger one, far
    from any root a warm start gives, takes sincos */
@@ -522,33 +529,29 @@ static double mass_cond(const double Mq[3][3]) {
 
 /* c, sn of theta - e for |e| <= PREDICT_MAX: the series of cos e to e^6 /
    720 and of sin e to e^7 / 5040 (the next terms, e^8 / 40320 and e^9 /
-   362880, are below 2.5e-21), or, for the corrections of Newton's steps
-   (|e| <= 1e-5), to e^2 / 2 and e^3 / 6 (the next, e^4 / 24 and e^5 / 120,
-   below 4.2e-22).  A predicted step is put back onto the unit circle to
-   first order, (3 - |.|^2) / 2, so that the series' rounding does not
-   build up over a control period's stages; a Newton correction moves (c,
-   sn) by less than the rounding of that */
+   362880, are below 2.5e-21), or, for |e| <= 1e-5 (a Newton correction,
+   or a predicted step of a slow motion), to e^2 / 2 and e^3 / 6 (the
+   next, e^4 / 24 and e^5 / 120, below 4.2e-22); then back onto the unit
+   circle to first order, (3 - |.|^2) / 2, so that the rounding of many
+   steps does not build up in the magnitude (rps3_fwddyn_state bounds the
+   steps between two sincos: TRIG_RESYNC) */
 static void trig_step(double c[3], double sn[3], const double e[3]) {
-  const double big = max2(max2(fabs(e[0]), fabs(e[1])), fabs(e[2]));
+  const int small = max2(max2(fabs(e[0]), fabs(e[1])), fabs(e[2])) <= 1e-5;
   int i;
-  if (big <= 1e-5) {
-    for (i = 0; i < 3; i++) {
-      const double x = e[i], x2 = x * x;
-      const double ce = 1.0 - 0.5 * x2, se = x - x * x2 * (1.0 / 6.0);
-      const double cn = c[i] * ce + sn[i] * se;
-      sn[i] = sn[i] * ce - c[i] * se;
-      c[i] = cn;
-    }
-    return;
-  }
   for (i = 0; i < 3; i++) {
     const double x = e[i], x2 = x * x;
-    const double ce =
-        1.0 - x2 * (0.5 - x2 * (1.0 / 24.0 - x2 * (1.0 / 720.0)));
-    const double se =
-        x * (1.0 - x2 * (1.0 / 6.0 - x2 * (1.0 / 120.0 - x2 * (1.0 / 5040.0))));
-    const double cn = c[i] * ce + sn[i] * se, snn = sn[i] * ce - c[i] * se;
-    const double g = 1.5 - 0.5 * (cn * cn + snn * snn);
+    double ce, se, cn, snn, g;
+    if (small) {
+      ce = 1.0 - 0.5 * x2;
+      se = x - x * x2 * (1.0 / 6.0);
+    } else {
+      ce = 1.0 - x2 * (0.5 - x2 * (1.0 / 24.0 - x2 * (1.0 / 720.0)));
+      se = x * (1.0 - x2 * (1.0 / 6.0 -
+                            x2 * (1.0 / 120.0 - x2 * (1.0 / 5040.0))));
+    }
+    cn = c[i] * ce + sn[i] * se;
+    snn = sn[i] * ce - c[i] * se;
+    g = 1.5 - 0.5 * (cn * cn + snn * snn);
     c[i] = cn * g;
     sn[i] = snn * g;
   }
@@ -672,8 +675,12 @@ int rps3_fwddyn_state(const rps3_model *m, rps3_data *d, rps3_fd_state *k,
                       int flags) {
   const int lean = (flags & RPS3_FD_LEAN) != 0;
   const int payload = (m->opt.effects & RPS3_EFF_PAYLOAD) != 0;
+  /* the positions (ball joints, link directions, frame): not in a lean
+     stage, which reads theta alone, unless a payload or the inverse
+     dynamics' checks need them */
+  const int positions = !lean || payload || (flags & RPS3_FD_NOFACTOR);
   double dl[3], c[3], sn[3];
-  int status, pd;
+  int status, pd, trig = 0;
   if (!v3_finite(d->dl)) {
     poison(d);
     RPS3_ERROR(d, RPS3_EINVAL, "dl (%g, %g, %g) m/s is not finite", d->dl[0],
@@ -692,7 +699,6 @@ int rps3_fwddyn_state(const rps3_model *m, rps3_data *d, rps3_fd_state *k,
      Newton from the warm start, else the full solve (which reports) */
   {
     double th0[3];
-    int trig = 0;
     v3_copy(th0, d->theta);
     d->stage = 0;
     d->warn = 0;
@@ -710,9 +716,10 @@ int rps3_fwddyn_state(const rps3_model *m, rps3_data *d, rps3_fd_state *k,
     }
     /* a lean state started near the last root moves that root's cosines
        and sines by the change of theta (exact: the two are within a
-       factor of two); a full state takes sincos, so that the series'
-       rounding never accumulates over more than a control period */
-    if ((flags & RPS3_FD_TRIG) && lean && k->have_trig && d->have_theta) {
+       factor of two); a full state, and every TRIG_RESYNC-th lean one,
+       takes sincos, so that the series' rounding never builds up */
+    if ((flags & RPS3_FD_TRIG) && lean && k->have_trig && d->have_theta &&
+        k->nrot < TRIG_RESYNC) {
       double e[3];
       v3_sub(e, k->th, d->theta);
       if (max2(max2(fabs(e[0]), fabs(e[1])), fabs(e[2])) <= PREDICT_MAX) {
@@ -723,11 +730,9 @@ int rps3_fwddyn_state(const rps3_model *m, rps3_data *d, rps3_fd_state *k,
       }
     }
     k->have_trig = 0;
-    if (theta_newton(m, d, c, sn, trig,
-                     !lean || payload || (flags & RPS3_FD_NOFACTOR),
-                     !lean) == 0) {
+    if (theta_newton(m, d, c, sn, trig, positions, !lean) == 0) {
       d->have_theta = 1;
-      d->stage = RPS3_STAGE_POS;
+      d->stage = positions ? RPS3_STAGE_POS : 0;
     } else {
       int i;
       v3_copy(d->theta, th0);
@@ -740,6 +745,7 @@ int rps3_fwddyn_state(const rps3_model *m, rps3_data *d, rps3_fd_state *k,
         c[i] = d->dphi[i][2]; /* cos theta_i (29) */
         sn[i] = d->phi[i][2]; /* sin theta_i */
       }
+      trig = 0;
     }
   }
   v3_copy(k->l, d->l);
@@ -747,6 +753,7 @@ int rps3_fwddyn_state(const rps3_model *m, rps3_data *d, rps3_fd_state *k,
   v3_copy(k->c, c);
   v3_copy(k->s, sn);
   k->have_trig = 1;
+  k->nrot = trig ? k->nrot + 1 : 0;
   v3_copy(d->dl, dl);
   /* rates, the accelerations at l'' = 0 (the bias), the maps, Mq, hq */
   status = state_eval(m, d, k, flags, c, sn);
@@ -754,17 +761,32 @@ int rps3_fwddyn_state(const rps3_model *m, rps3_data *d, rps3_fd_state *k,
     poison(d);
     return status;
   }
+  /* a root in another assembly mode than opt.mode asks for is refused, as
+     rps3_theta_solve refuses it (the fall-back rps3_fk did already) */
+  if (m->opt.mode != RPS3_MODE_ANY && d->mode != m->opt.mode) {
+    d->have_theta = 0;
+    k->have_trig = 0;
+    poison(d);
+    RPS3_ERROR(d, RPS3_EMODE,
+               "root theta = (%.6g, %.6g, %.6g) is in assembly mode %d "
+               "(sign of det df/dtheta; +1 the level platform's), opt.mode "
+               "asks for %d", d->theta[0], d->theta[1], d->theta[2], d->mode,
+               m->opt.mode);
+  }
   if (lean) {
     d->dpose[0] = d->dpose[1] = d->dpose[2] = (double)NAN;
   } else {
     rps3_pose_rates(d);
     RPS3_CHECK_FINITE(d, d->dpose, 3, "dpose");
   }
-  d->stage |= RPS3_STAGE_VEL;
+  /* the stage bits say what is there: a lean stage has theta and its
+     rates, not the positions nor the platform's motion */
+  if (k->have_w) d->stage |= RPS3_STAGE_VEL;
   poison(d); /* no acceleration before rps3_fwddyn_accel */
   if (flags & RPS3_FD_NOFACTOR) {
     RPS3_CHECK_FINITE(d, d->hq, 3, "hq");
     RPS3_CHECK_FINITE(d, d->Mq, 9, "Mq");
+    k->mode = d->mode;
     return RPS3_OK;
   }
 
@@ -778,6 +800,7 @@ int rps3_fwddyn_state(const rps3_model *m, rps3_data *d, rps3_fd_state *k,
                "above cond_max %.3g", d->Mcond, m->opt.cond_max);
   RPS3_CHECK_FINITE(d, d->hq, 3, "hq");
   RPS3_CHECK_FINITE(d, d->Mq, 9, "Mq");
+  k->mode = d->mode;
   return RPS3_OK;
 }
 
@@ -811,9 +834,9 @@ int rps3_fwddyn_accel(const rps3_model *m, rps3_data *d,
   if (!(chk <= DBL_MAX)) {
     RPS3_CHECK_FINITE(d, d->ddtheta, 3, "ddtheta");
     RPS3_CHECK_FINITE(d, d->ac, 3, "ac");
-    RPS3_CHECK_FINITE(d, d->domega, 3, "domega");
+    if (k->have_w) RPS3_CHECK_FINITE(d, d->domega, 3, "domega");
   }
-  d->stage |= RPS3_STAGE_ACC;
+  if (k->have_w) d->stage |= RPS3_STAGE_ACC;
   return RPS3_OK;
 }
 

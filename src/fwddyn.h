@@ -4,13 +4,20 @@
  * depend on the state only, F enters the right-hand side alone.  The
  * simulation evaluates the state at the end of a control period to report
  * it, and the next period's first Runge-Kutta stage is that state under
- * the controller's new force: one solve with Mq's factor instead of a
- * second evaluation.
+ * the controller's new force: one product with Mq^-1 instead of a second
+ * evaluation.  The controllers use the state part alone: their model's
+ * inverse dynamics is F = Mq ddl + hq (RPS3_FD_NOFACTOR).
  */
 #ifndef RPS3_FWDDYN_H
 #define RPS3_FWDDYN_H
 
 #include "internal.h"
+
+/* largest predicted change of a theta_i [rad] from the last root, for the
+   plant's stages and the controllers' ticks: ~0.6 degree, many steps of
+   any run that keeps its accuracy; a larger one (near a singular
+   configuration, where G grows) starts from the last root itself */
+#define RPS3_FD_PREDICT_MAX 1e-2
 
 /* what rps3_fwddyn_accel needs of a state: theta' = G l', vc = Jc l',
    omega = Jw l' (columns j the motions for a unit l_j'), the accelerations
@@ -23,11 +30,14 @@ typedef struct rps3_fd_state {
   double ddth_b[3];   /* theta'' at l'' = 0 */
   double ac_b[3];     /* centre acceleration at l'' = 0 */
   double dw_b[3];     /* angular acceleration at l'' = 0 */
-  double Minv[3][3];  /* Mq^-1, from its Cholesky factor */
+  double Minv[3][3];  /* Mq^-1, its adjugate over its determinant */
   double l[3];        /* the lengths of this state */
   double th[3];       /* its theta, and their cosines and sines */
   double c[3], s[3];
   int have_trig;      /* th, c, s are the last state's root */
+  int nrot;           /* states since c, s were last from sincos */
+  int mode;           /* assembly mode of the last successful state, 0
+                         before one */
 } rps3_fd_state;
 
 /* flags of rps3_fwddyn_state */

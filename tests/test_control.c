@@ -177,17 +177,23 @@ static void repeated_and_earlier_times(void **state) {
  * The oracle runs the stages on the measured lengths (rps3_theta_solve,
  * rps3_joint_velocity, rps3_joint_acceleration, rps3_invdyn) by either
  * formulation, Newton-Euler sharing nothing with the controller's
- * joint-space Mq l'' + hq; every effect, payload and friction included.
+ * joint-space Mq l'' + hq; every third effect set and all six, payload and
+ * friction included.  The ticks run at 1 kHz over two stretches, so that
+ * the controller's predicted starts and their moved trigonometry are what
+ * is tested (a sign error in either moves theta by ~1e-4 rad): its theta
+ * against the oracle's root, both solved to 1e-12 in f (1e-10 rad), and
+ * the forces to 1e-10 of their scale (the two routes agree to ~1e-13).
  */
 static void laws_are_the_model_inverse_dynamics(void **state) {
   const rps3_ctrl_kind kinds[2] = {RPS3_CTRL_PD_GRAVITY,
                                    RPS3_CTRL_COMPUTED_TORQUE};
-  const double kp = 400.0, kd = 40.0;
-  int q, eff, meth, k, i;
+  const double kp = 400.0, kd = 40.0, t0[2] = {0.5, 6.2};
+  int q, e, meth, k, i;
   (void)state;
   for (q = 0; q < 2; q++)
     for (meth = 0; meth < 2; meth++)
-      for (eff = 1; eff <= RPS3_EFF_ALL; eff += 3) {
+      for (e = 0; e <= 21; e++) {
+        const int eff = e < 21 ? 1 + 3 * e : RPS3_EFF_ALL;
         rps3_model cm;
         rps3_data *od = NULL;
         rps3_ctrl *c = NULL;
@@ -211,17 +217,17 @@ static void laws_are_the_model_inverse_dynamics(void **state) {
         assert_int_equal(rps3_ctrl_alloc(kinds[q], kp, kd, &cm, &tr, &c,
                                          NULL, 0),
                          RPS3_OK);
-        for (k = 0; k < 8; k++) {
-          double t = 1e-3 * (1 + 997 * k), F[3], l[3], dl[3], a[3],
+        for (k = 0; k < 80; k++) {
+          double t = t0[k / 40] + 1e-3 * (k % 40), F[3], l[3], dl[3], a[3],
                  scale = 1.0;
           /* a measured state 2 mm and 3 cm/s off the desired one */
           off_trajectory(&cm, &tr, t, od, 2e-3, 3e-2, 0.7, l, dl);
           assert_int_equal(rps3_ctrl_update(c, t, l, dl, F), RPS3_OK);
           /* the oracle at the measured state, warm from the desired theta */
           for (i = 0; i < 3; i++) {
-            double e = c->l_des[i] - l[i], de = c->dl_des[i] - dl[i];
+            double er = c->l_des[i] - l[i], de = c->dl_des[i] - dl[i];
             a[i] = (kinds[q] == RPS3_CTRL_COMPUTED_TORQUE)
-                       ? c->des->ddl[i] + kp * e + kd * de
+                       ? c->des->ddl[i] + kp * er + kd * de
                        : 0.0;
             od->l[i] = l[i];
           }
@@ -239,16 +245,103 @@ static void laws_are_the_model_inverse_dynamics(void **state) {
             double want = od->F[i];
             if (kinds[q] == RPS3_CTRL_PD_GRAVITY)
               want += kp * (c->l_des[i] - l[i]) + kd * (c->dl_des[i] - dl[i]);
-            /* both solves to tol 1e-12 in f, the two formulations to
-               rounding: forces to 1e-9 of their scale */
-            CHECK_REL(F[i], want, 1e-9, scale,
+            CHECK_REL(F[i], want, 1e-10, scale,
                       "kind %d effects %#x method %d t %g: F%d", (int)kinds[q],
                       eff, meth, t, i);
+            CHECK_REL(c->meas->theta[i], od->theta[i], 1e-10, 1.0,
+                      "kind %d effects %#x t %g: theta%d", (int)kinds[q], eff,
+                      t, i);
           }
         }
         rps3_ctrl_free(c);
         rps3_data_free(od);
       }
+}
+
+/*
+ * What rps3_invdyn reports of a configuration, the controllers report at
+ * the measured state too: with opt.trans_warn or opt.cond_warn below the
+ * state's force transmission or condition number, RPS3_WARN_TRANS or
+ * RPS3_WARN_ILLCOND in c->meas->warn, as in the oracle's; with
+ * opt.trans_max or opt.cond_max below them, RPS3_ESING from both; with
+ * opt.mode asking for the other assembly mode, RPS3_EMODE from both.
+ */
+static void laws_keep_the_model_limits(void **state) {
+  const rps3_ctrl_kind kinds[2] = {RPS3_CTRL_PD_GRAVITY,
+                                   RPS3_CTRL_COMPUTED_TORQUE};
+  int q, v, i;
+  (void)state;
+  for (q = 0; q < 2; q++)
+    for (v = 0; v < 5; v++) {
+      rps3_model base, cm;
+      rps3_data *od = NULL;
+      rps3_ctrl *c = NULL;
+      rps3_traj tr;
+      double t = 2.371, F[3], l[3], dl[3], T, cond;
+      int want_st, want_warn, st;
+      rps3_traj_default(&tr);
+      rps3_model_default(&base);
+      assert_int_equal(rps3_model_init(&base, NULL, 0), RPS3_OK);
+      assert_int_equal(rps3_data_alloc(&base, &od), RPS3_OK);
+      /* the oracle's transmission and condition number at the state */
+      off_trajectory(&base, &tr, t, od, 2e-3, 3e-2, 0.7, l, dl);
+      for (i = 0; i < 3; i++) od->l[i] = l[i];
+      od->have_theta = 1;
+      assert_int_equal(rps3_theta_solve(&base, od), RPS3_OK);
+      for (i = 0; i < 3; i++) od->dl[i] = od->ddl[i] = 0.0;
+      assert_int_equal(rps3_joint_velocity(&base, od), RPS3_OK);
+      assert_int_equal(rps3_joint_acceleration(&base, od), RPS3_OK);
+      assert_int_equal(rps3_invdyn(&base, od), RPS3_OK);
+      T = od->transmission;
+      cond = od->cond;
+      cm = base;
+      /* limits between 1 (the least a model takes) and the state's */
+      assert_true(T > 1.0 && cond > 1.0);
+      switch (v) {
+      case 0: cm.opt.trans_warn = 0.5 * (1.0 + T); break;
+      case 1:
+        cm.opt.trans_warn = 1.0;
+        cm.opt.trans_max = 0.5 * (1.0 + T);
+        break;
+      case 2: cm.opt.cond_warn = 0.5 * (1.0 + cond); break;
+      case 3:
+        cm.opt.cond_warn = 1.0;
+        cm.opt.cond_max = 0.5 * (1.0 + cond);
+        break;
+      default: cm.opt.mode = RPS3_MODE_OTHER; break;
+      }
+      assert_int_equal(rps3_model_init(&cm, NULL, 0), RPS3_OK);
+      /* the oracle with these limits */
+      rps3_data_reset(od);
+      off_trajectory(&cm, &tr, t, od, 2e-3, 3e-2, 0.7, l, dl);
+      for (i = 0; i < 3; i++) od->l[i] = l[i];
+      od->have_theta = 1;
+      /* the first stage that fails gives the oracle's status (the rate
+         stages test df/dtheta against cond_max too) */
+      want_st = rps3_theta_solve(&cm, od);
+      for (i = 0; i < 3; i++) od->dl[i] = od->ddl[i] = 0.0;
+      if (want_st == RPS3_OK) want_st = rps3_joint_velocity(&cm, od);
+      if (want_st == RPS3_OK) want_st = rps3_joint_acceleration(&cm, od);
+      if (want_st == RPS3_OK) want_st = rps3_invdyn(&cm, od);
+      want_warn = od->warn & (RPS3_WARN_TRANS | RPS3_WARN_ILLCOND);
+      assert_int_equal(want_st,
+                       v == 1 || v == 3 ? RPS3_ESING
+                                        : v == 4 ? RPS3_EMODE : RPS3_OK);
+      assert_int_equal(rps3_ctrl_alloc(kinds[q], 400.0, 40.0, &cm, &tr, &c,
+                                       NULL, 0),
+                       RPS3_OK);
+      st = rps3_ctrl_update(c, t, l, dl, F);
+      if (st != want_st)
+        fail_msg("kind %d variant %d: status %d (%s), the oracle's %d",
+                 (int)kinds[q], v, st, c->meas->err.msg, want_st);
+      if (st == RPS3_OK)
+        assert_int_equal(c->meas->warn & (RPS3_WARN_TRANS | RPS3_WARN_ILLCOND),
+                         want_warn);
+      assert_true(v != 0 || (want_warn & RPS3_WARN_TRANS));
+      assert_true(v != 2 || (want_warn & RPS3_WARN_ILLCOND));
+      rps3_ctrl_free(c);
+      rps3_data_free(od);
+    }
 }
 
 int main(void) {
@@ -257,6 +350,7 @@ int main(void) {
       cmocka_unit_test(every_kind_logs_the_desired_motion),
       cmocka_unit_test(repeated_and_earlier_times),
       cmocka_unit_test(laws_are_the_model_inverse_dynamics),
+      cmocka_unit_test(laws_keep_the_model_limits),
   };
   gsl_set_error_handler_off();
   return cmocka_run_group_tests(tests, NULL, NULL);

@@ -6,6 +6,8 @@
 
 #include "testutil.h"
 
+#include "fwddyn.h" /* the state part, as the simulation calls it */
+
 /* effect sets with some inertia: every combination of the six bits that
    has at least one mass effect (platform, link inertia or payload) */
 static int has_inertia(int eff) {
@@ -338,9 +340,10 @@ static void massless_links_and_statics(void **state) {
 
 /*
  * A warm start a turn away from the root (theta + 2 pi, as an angle that
- * wrapped elsewhere would be): the Newton step's root is folded back into
- * (0, pi) and the state is the one from the root itself -- the same theta
- * to rounding of the fold, positions and accelerations to rounding.
+ * wrapped elsewhere would be): the root is folded back into (0, pi) (by
+ * the Newton step's fold, which rps3_fk's would otherwise do) and the
+ * state is the one from the root itself -- the same theta to rounding of
+ * the fold, positions and accelerations to rounding.
  */
 static void warm_start_a_turn_away(void **state) {
   uint64_t s = 0x7a11b0b5ull;
@@ -375,6 +378,65 @@ static void warm_start_a_turn_away(void **state) {
   rps3_data_free(b);
 }
 
+/*
+ * The simulation's path through the state part: lean stages along the
+ * helix at 1 kHz, each started from the last root moved along its tangent
+ * with that root's cosines and sines moved by trig_step (RPS3_FD_PREDICT |
+ * RPS3_FD_TRIG).  The Newton step converges from there without falling
+ * back to rps3_fk (which takes sincos and resets the count of moved
+ * trigonometry: a wrong sign of the move shows as nrot = 0), to the
+ * closed form's theta within the solve's tolerance, and the moved cosines
+ * stay those of theta to rounding.
+ */
+static void predicted_trig_path(void **state) {
+  rps3_model m;
+  rps3_data *ref, *d;
+  rps3_fd_state k;
+  rps3_traj tr;
+  int n, i, moved = 0;
+  (void)state;
+  rps3_model_default(&m);
+  assert_int_equal(rps3_model_init(&m, NULL, 0), RPS3_OK);
+  assert_int_equal(rps3_data_alloc(&m, &ref), RPS3_OK);
+  assert_int_equal(rps3_data_alloc(&m, &d), RPS3_OK);
+  rps3_traj_default(&tr);
+  memset(&k, 0, sizeof(k));
+  for (n = 0; n < 400; n++) {
+    double t = 1.37 + 1e-3 * n;
+    assert_int_equal(rps3_traj_eval(&m, &tr, t, ref->pose, ref->dpose,
+                                    ref->ddpose),
+                     RPS3_OK);
+    assert_int_equal(rps3_inverse(&m, ref), RPS3_OK);
+    if (n == 0) {
+      memcpy(d->theta, ref->theta, sizeof(d->theta));
+      d->have_theta = 1;
+    }
+    memcpy(d->l, ref->l, sizeof(d->l));
+    memcpy(d->dl, ref->dl, sizeof(d->dl));
+    if (rps3_fwddyn_state(&m, d, &k,
+                          RPS3_FD_LEAN |
+                              (n ? RPS3_FD_PREDICT | RPS3_FD_TRIG : 0)) !=
+        RPS3_OK)
+      fail_msg("t %g: %s", t, d->err.msg);
+    moved += k.nrot > 0;
+    for (i = 0; i < 3; i++) {
+      CHECK_REL(d->theta[i], ref->theta[i], 1e-10, 1.0, "t %g theta%d", t, i);
+      CHECK_REL(k.c[i], cos(k.th[i]), 1e-14, 1.0, "t %g cos%d", t, i);
+      CHECK_REL(k.s[i], sin(k.th[i]), 1e-14, 1.0, "t %g sin%d", t, i);
+      CHECK_REL(d->dtheta[i], ref->dtheta[i], 1e-9, 1.0, "t %g dtheta%d", t,
+                i);
+    }
+    /* a lean stage has no positions: NaN, and no stage bit says otherwise */
+    assert_true(isnan(d->b[0][0]) && isnan(d->rot[2][2]));
+    assert_int_equal(d->stage & RPS3_STAGE_POS, 0);
+  }
+  /* all but the first start moved the trigonometry (sincos every
+     TRIG_RESYNC-th: 256) */
+  assert_true(moved >= 397);
+  rps3_data_free(ref);
+  rps3_data_free(d);
+}
+
 int main(void) {
   const struct CMUnitTest tests[] = {
       cmocka_unit_test(inverts_inverse_dynamics),
@@ -384,6 +446,7 @@ int main(void) {
       cmocka_unit_test(errors),
       cmocka_unit_test(massless_links_and_statics),
       cmocka_unit_test(warm_start_a_turn_away),
+      cmocka_unit_test(predicted_trig_path),
   };
   gsl_set_error_handler_off();
   return cmocka_run_group_tests(tests, NULL, NULL);
