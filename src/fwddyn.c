@@ -70,11 +70,10 @@ static void omega_of_sum(double omega[3], const double w[3], const double a[3],
 /* C99 does not convert double (*)[2] to const double (*)[2] implicitly */
 #define M2C(A) ((const double(*)[2])(A))
 
-/* the larger of a and b, NaN if either is (fmax, a call at -O2, would
-   drop it) */
-static inline double max2(double a, double b) {
-  return (a > b || a != a) ? a : b;
-}
+/* the larger of a and b (fmax is a call at -O2).  A NaN in a is dropped:
+   each use below is followed by a test that a NaN fails (the Newton
+   step's sum of |f|, the finite start, det and the inverse's scale) */
+static inline double max2(double a, double b) { return a > b ? a : b; }
 /* add a rigid body: mass mb, centre of mass offset s from the platform
    centre and inertia Iw about it (world axes); g = 0 leaves its weight out */
 static void add_body(const rps3_fd_state *k, const rps3_data *d, double mb,
