@@ -243,9 +243,9 @@ void rps3_omega_from_balls(double omega[3], const double rho[3][3],
                            const double u[3][3], const double a[3], double r);
 
 /* the parts of rps3_joint_velocity and rps3_joint_acceleration after their
-   solve with df/dtheta, for a caller that factored it once (rps3_fwddyn):
-   vc, omega, dpose from dtheta; Jt ddtheta = x and b'' without its ddtheta
-   part (known); ac, domega from ddtheta and known.  The _from parts end
+   solve with df/dtheta: vc, omega, dpose from dtheta; Jt ddtheta = x and
+   b'' without its ddtheta part (known); ac, domega from ddtheta and
+   known.  The _from parts end
    with the stage's finiteness checks and set its stage bit; dpose = 0
    leaves the pose rates out (NaN) */
 int rps3_joint_velocity_from(const rps3_model *m, rps3_data *d, int dpose);
@@ -263,13 +263,9 @@ void rps3_constraint_acc_rhs(const double D[3][3], const double phi[3][3],
 int rps3_joint_acc_from(const rps3_model *m, rps3_data *d,
                         const double known[3][3]);
 /* df/dtheta factored for the rate stages (RPS3_ESING when singular or
-   conditioned worse than opt.cond_max), and both rate stages with that
-   factor and Jl = df/dl: dtheta from dl, then ddtheta from ddl */
+   conditioned worse than opt.cond_max) */
 int rps3_jt_factor(const rps3_model *m, rps3_data *d, const double Jt[3][3],
                    double LU[9], int perm[3]);
-int rps3_joint_rates_lu(const rps3_model *m, rps3_data *d,
-                        const double Jl[3][3], const double LU[9],
-                        const int perm[3], int dpose);
 
 /* index of name in names[0..n), or -1 (NULL name: -1) */
 static inline int rps3_name_lookup(const char *const *names, int n,

@@ -342,29 +342,6 @@ int rps3_joint_acceleration(const rps3_model *m, rps3_data *d) {
   return rps3_joint_acc_from(m, d, M3C(known));
 }
 
-int rps3_joint_rates_lu(const rps3_model *m, rps3_data *d,
-                        const double Jl[3][3], const double LU[9],
-                        const int perm[3], int dpose) {
-  double x[3], known[3][3];
-  int status;
-  if (!v3_finite(d->dl) || !v3_finite(d->ddl))
-    RPS3_ERROR(d, RPS3_EINVAL,
-               "dl (%g, %g, %g) or ddl (%g, %g, %g) is not finite", d->dl[0],
-               d->dl[1], d->dl[2], d->ddl[0], d->ddl[1], d->ddl[2]);
-  d->stage &= RPS3_STAGE_POS;
-  /* Jt theta' = -Jl l' */
-  m3_mulv(x, Jl, d->dl);
-  v3_scale(x, -1.0, x);
-  rps3_lu_solve(3, LU, perm, x);
-  v3_copy(d->dtheta, x);
-  status = rps3_joint_velocity_from(m, d, dpose);
-  if (status != RPS3_OK) return status;
-  rps3_joint_acc_rhs(d, known, x);
-  rps3_lu_solve(3, LU, perm, x);
-  v3_copy(d->ddtheta, x);
-  return rps3_joint_acc_from(m, d, M3C(known));
-}
-
 static void omega_paper(const rps3_model *m, const rps3_data *d,
                         double omega_body[3]) {
   /* literally (31)-(33) in the paper's normalized variables (lengths in
