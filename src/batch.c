@@ -182,6 +182,27 @@ static double *dst(double *user, int c, size_t i0, size_t n, double *scratch) {
   return user ? user + (size_t)c * n + i0 : scratch;
 }
 
+
+/* the statuses of a block the kernel computed: a point it did not certify
+   goes through the scalar path (its status, warnings and outputs), a
+   certified one has no warning and no solve */
+static void finish_block(const rps3_model *m, rps3_data *d,
+                         const rps3_batch_in *in, rps3_batch_out *out,
+                         size_t i0, int nb, const rps3_kblock *kb,
+                         rps3_error *first) {
+  int p;
+  for (p = 0; p < nb; p++) {
+    size_t i = i0 + (size_t)p;
+    if (kb->ok[p] == 0.0) {
+      point(m, d, BATCH_INVERSE, in, out, i, first);
+      continue;
+    }
+    out->status[i] = RPS3_OK;
+    if (out->warn) out->warn[i] = 0;
+    if (out->niter) out->niter[i] = 0;
+  }
+}
+
 /* the points i0 .. i0 + nb - 1 of rps3_inverse_batch through the kernel,
    which writes into the caller's arrays; then the points it does not
    certify by the scalar path, which overwrites them */
@@ -245,17 +266,7 @@ static void kernel_block(const rps3_model *m, rps3_data *d,
         memset(out->F_effect + (size_t)(3 * k + c) * n + i0, 0,
                (size_t)nb * sizeof(double));
   }
-  for (p = 0; p < nb; p++) {
-    size_t i = i0 + (size_t)p;
-    if (kb->ok[p] == 0.0) {
-      point(m, d, BATCH_INVERSE, in, out, i, first);
-      continue;
-    }
-    /* a certified point: no warning, no solve */
-    out->status[i] = RPS3_OK;
-    if (out->warn) out->warn[i] = 0;
-    if (out->niter) out->niter[i] = 0;
-  }
+  finish_block(m, d, in, out, i0, nb, kb, first);
 }
 
 /* NaN into component c of a batch output at the points of the block
@@ -279,20 +290,11 @@ static void lean_block(const rps3_model *m, rps3_data *d,
   const double nan = (double)NAN;
   size_t n = in->n;
   double *F[3];
-  int c, k, p;
+  int c, k;
   for (c = 0; c < 3; c++) F[c] = dst(out->F, c, i0, n, kb->F[c]);
   rps3_kernel_block_bare(m, in, i0, nb, rates, F,
                          dst(out->cond, 0, i0, n, kb->cond), kb->ok);
-  for (p = 0; p < nb; p++) {
-    size_t i = i0 + (size_t)p;
-    if (kb->ok[p] == 0.0) {
-      point(m, d, BATCH_INVERSE, in, out, i, first);
-      continue;
-    }
-    out->status[i] = RPS3_OK;
-    if (out->warn) out->warn[i] = 0;
-    if (out->niter) out->niter[i] = 0;
-  }
+  finish_block(m, d, in, out, i0, nb, kb, first);
   for (c = 0; c < 3; c++) {
     lean_fill(out->l, c, i0, nb, n, out->status, nan);
     lean_fill(out->theta, c, i0, nb, n, out->status, nan);
