@@ -35,7 +35,7 @@
  */
 #include <string.h>
 
-#include "fwddyn.h"
+#include "fwddyn_plane.h"
 #include "linalg.h"
 
 /* a selected inertia effect with a non-zero mass: without one Mq = 0 */
@@ -58,22 +58,6 @@ static void inertia_world(double Iw[3][3], const double rot[3][3],
     }
 }
 
-/* omega from sum_i rho_i x u_i for the ball motions u_i = omega x rho_i
-   (rps3_omega_from_balls: (26)-(28) in closed form); wk = 2 / (3 r^2) */
-static void omega_of_sum(double omega[3], const double w[3], const double a[3],
-                         double wk) {
-  double s = 0.5 * wk * v3_dot(a, w);
-  int q;
-  for (q = 0; q < 3; q++) omega[q] = wk * w[q] - s * a[q];
-}
-
-/* C99 does not convert double (*)[2] to const double (*)[2] implicitly */
-#define M2C(A) ((const double(*)[2])(A))
-
-/* the larger of a and b (fmax is a call at -O2).  A NaN in a is dropped:
-   each use below is followed by a test that a NaN fails (the Newton
-   step's sum of |f|, the finite start, det and the inverse's scale) */
-static inline double max2(double a, double b) { return a > b ? a : b; }
 /* add a rigid body: mass mb, centre of mass offset s from the platform
    centre and inertia Iw about it (world axes); g = 0 leaves its weight out */
 static void add_body(const rps3_fd_state *k, const rps3_data *d, double mb,
@@ -107,228 +91,6 @@ static void add_body(const rps3_fd_state *k, const rps3_data *d, double mb,
     }
     hq[j] += mb * v3_dot(Jg[j], ag) + v3_dot(wj, mom);
   }
-}
-
-/*
- * A state in the links' planes.  Link i moves in the vertical plane of pin
- * i, its ball joint at b_i = h_i u_i + Z_i e_z, h_i = R - l_i cos_i, Z_i =
- * l_i sin_i ((12)-(14)).  The pair k = (i, j), j = i + 1 (mod 3), of
- * (8)-(10) is f_k = |b_i - b_j|^2 - 3 r^2 = h_i^2 + h_j^2 + h_i h_j + (Z_i
- * - Z_j)^2 - 3 r^2 (u_i . u_j = -1/2), so with A = 2 h_i + h_j, B = 2 h_j +
- * h_i, E = 2 (Z_i - Z_j) its derivatives are
- *   df_k/dtheta_i = l_i (A sin_i + E cos_i),  df_k/dtheta_j = l_j (B sin_j
- *   - E cos_j), df_k/dl_i = E sin_i - A cos_i,  df_k/dl_j = -B cos_j - E
- *   sin_j,
- * rps3_constraint_jacobian's entries, two a row: df/dtheta is cyclic
- * bidiagonal, det = a0 a1 a2 + b0 b1 b2, and its inverse is its adjugate
- * over det, nine products.  Everything is formed in this local structure
- * and stored into d and k once: stores through them could alias the
- * inputs as far as the compiler knows.
- */
-typedef struct {
-  double l[3], dl[3], c[3], s[3]; /* lengths, rates, cos and sin theta */
-  double A[3], B[3], E[3];        /* of pair k, above */
-  double at[3], bt[3];            /* df_k/dtheta_k, df_k/dtheta_(k+1) */
-  double al[3], bl[3];            /* df_k/dl_k, df_k/dl_(k+1) */
-  double X[3][3];                 /* (df/dtheta)^-1 */
-  double G[3][3];                 /* dtheta'/dl' = -X df/dl */
-  double Jc[3][3];                /* dvc/dl' */
-  double dth[3], ddb[3];          /* theta', theta'' at l'' = 0 */
-  double hd[3], Zd[3];            /* h_i', Z_i' */
-  double hdd[3], Zdd[3];          /* h_i'', Z_i'' at l'' = 0 */
-  double acb[3];                  /* centre acceleration at l'' = 0 */
-} plane;
-
-/* the constraint Jacobians, the mode (sign of det(df/dtheta), grouped as
-   rps3_mode_of_jac groups it), (df/dtheta)^-1 and its 1-norm condition
-   number (RPS3_ESING past opt.cond_max); column i of df/dtheta holds
-   at[i] and bt[i - 1] */
-static int plane_jacobian(const rps3_model *m, rps3_data *d, plane *p) {
-  double h[3], Z[3], det, id, n1 = 0.0, ni = 0.0, cond;
-  int i, q;
-  for (i = 0; i < 3; i++) {
-    h[i] = m->R - p->l[i] * p->c[i];
-    Z[i] = p->l[i] * p->s[i];
-  }
-  for (q = 0; q < 3; q++) {
-    const int j = (q + 1) % 3;
-    i = q;
-    p->A[q] = 2.0 * h[i] + h[j];
-    p->B[q] = 2.0 * h[j] + h[i];
-    p->E[q] = 2.0 * (Z[i] - Z[j]);
-    p->at[q] = p->l[i] * (p->A[q] * p->s[i] + p->E[q] * p->c[i]);
-    p->bt[q] = p->l[j] * (p->B[q] * p->s[j] - p->E[q] * p->c[j]);
-    p->al[q] = p->E[q] * p->s[i] - p->A[q] * p->c[i];
-    p->bl[q] = -p->B[q] * p->c[j] - p->E[q] * p->s[j];
-  }
-  det = p->at[0] * (p->at[1] * p->at[2]) + p->bt[0] * (p->bt[1] * p->bt[2]);
-  d->mode = (det > 0.0) - (det < 0.0);
-  if (!(fabs(det) > 0.0) || !(fabs(det) < HUGE_VAL))
-    RPS3_ERROR(d, RPS3_ESING, "constraint Jacobian df/dtheta is singular");
-  id = 1.0 / det;
-  p->X[0][0] = p->at[1] * p->at[2] * id;
-  p->X[0][1] = -p->bt[0] * p->at[2] * id;
-  p->X[0][2] = p->bt[0] * p->bt[1] * id;
-  p->X[1][0] = p->bt[1] * p->bt[2] * id;
-  p->X[1][1] = p->at[0] * p->at[2] * id;
-  p->X[1][2] = -p->at[0] * p->bt[1] * id;
-  p->X[2][0] = -p->at[1] * p->bt[2] * id;
-  p->X[2][1] = p->bt[0] * p->bt[2] * id;
-  p->X[2][2] = p->at[0] * p->at[1] * id;
-  for (i = 0; i < 3; i++) {
-    n1 = max2(n1, fabs(p->at[i]) + fabs(p->bt[(i + 2) % 3]));
-    ni = max2(ni, fabs(p->X[0][i]) + fabs(p->X[1][i]) + fabs(p->X[2][i]));
-  }
-  cond = n1 * ni;
-  if (!(cond <= m->opt.cond_max))
-    RPS3_ERROR(d, RPS3_ESING,
-               "constraint Jacobian df/dtheta: condition number %.3g exceeds "
-               "cond_max %.3g", cond, m->opt.cond_max);
-  return RPS3_OK;
-}
-
-/* G = -X df/dl (column j of df/dl holds al[j] and bl[j - 1]); the rates
-   theta' = G l' and the balls' in-plane rates (28); the bias theta''
-   from the second derivative of (8)-(10), (df/dtheta) theta'' = x with
-   x_k = -(2 |b_i' - b_j'|^2 + A h_i''0 + B h_j''0 + E (Z_i''0 - Z_j''0))
-   (rps3_constraint_acc_rhs in the links' planes; ''0: without theta''),
-   and the balls' and the centre's accelerations at l'' = 0; Jc, column j
-   the centre's velocity (25) for l_j' = 1 */
-static void plane_rates(plane *p, const double u[3][2]) {
-  const double third = 1.0 / 3.0; /* a product: divisions are slow */
-  double x[3];
-  int i, j, q;
-  for (j = 0; j < 3; j++) {
-    const int k = (j + 2) % 3;
-    for (i = 0; i < 3; i++)
-      p->G[i][j] = -(p->X[i][j] * p->al[j] + p->X[i][k] * p->bl[k]);
-  }
-  for (i = 0; i < 3; i++) {
-    const double th = p->G[i][0] * p->dl[0] + p->G[i][1] * p->dl[1] +
-                      p->G[i][2] * p->dl[2];
-    const double lth = p->l[i] * th, v = 2.0 * p->dl[i] * th;
-    p->dth[i] = th;
-    p->hd[i] = p->s[i] * lth - p->c[i] * p->dl[i];
-    p->Zd[i] = p->s[i] * p->dl[i] + p->c[i] * lth;
-    p->hdd[i] = p->s[i] * v + p->c[i] * lth * th;
-    p->Zdd[i] = p->c[i] * v - p->s[i] * lth * th;
-  }
-  for (q = 0; q < 3; q++) {
-    const int j2 = (q + 1) % 3;
-    const double dz = p->Zd[q] - p->Zd[j2];
-    x[q] = -(2.0 * (p->hd[q] * p->hd[q] + p->hd[j2] * p->hd[j2] +
-                    p->hd[q] * p->hd[j2] + dz * dz) +
-             p->A[q] * p->hdd[q] + p->B[q] * p->hdd[j2] +
-             p->E[q] * (p->Zdd[q] - p->Zdd[j2]));
-  }
-  for (i = 0; i < 3; i++) {
-    p->ddb[i] = p->X[i][0] * x[0] + p->X[i][1] * x[1] + p->X[i][2] * x[2];
-    p->hdd[i] += p->l[i] * p->s[i] * p->ddb[i];
-    p->Zdd[i] += p->l[i] * p->c[i] * p->ddb[i];
-  }
-  for (q = 0; q < 2; q++)
-    p->acb[q] = (p->hdd[0] * u[0][q] + p->hdd[1] * u[1][q] +
-                 p->hdd[2] * u[2][q]) * third;
-  p->acb[2] = (p->Zdd[0] + p->Zdd[1] + p->Zdd[2]) * third;
-  for (j = 0; j < 3; j++) {
-    /* dh_i/dl_j' = l_i sin_i G_ij - cos_j [i = j], dZ_i/dl_j' = l_i cos_i
-       G_ij + sin_j [i = j] */
-    double sh0 = -p->c[j] * u[j][0], sh1 = -p->c[j] * u[j][1], sz = p->s[j];
-    for (i = 0; i < 3; i++) {
-      const double gh = p->l[i] * p->s[i] * p->G[i][j];
-      sh0 += gh * u[i][0];
-      sh1 += gh * u[i][1];
-      sz += p->l[i] * p->c[i] * p->G[i][j];
-    }
-    p->Jc[0][j] = sh0 * third;
-    p->Jc[1][j] = sh1 * third;
-    p->Jc[2][j] = sz * third;
-  }
-}
-
-/* the platform's motion from its ball joints, (25)-(28): vc, omega from
-   sum_i rho_i x b_i' (rho_i = b_i - c, with rho_i x u_i and rho_i x e_z
-   formed once), and, with `bias`, the angular bias acceleration from sum_i
-   rho_i x (b_i'' - omega x (omega x rho_i)); Jw, column j omega for l_j'
-   = 1, into k */
-static void platform_motion(const rps3_model *m, const rps3_data *d,
-                            const plane *p, const double u[3][2], int bias,
-                            rps3_fd_state *k, double vc[3], double om[3]) {
-  const double wk = 2.0 / (3.0 * m->r * m->r), third = 1.0 / 3.0;
-  double P[3][3], Q[3][3], rho[3][3], a[3], w[3];
-  int i, j, q;
-  for (i = 0; i < 3; i++) {
-    a[i] = d->rot[i][2];
-    for (q = 0; q < 3; q++) rho[i][q] = d->b[i][q] - d->c[q];
-    P[i][0] = -rho[i][2] * u[i][1];
-    P[i][1] = rho[i][2] * u[i][0];
-    P[i][2] = rho[i][0] * u[i][1] - rho[i][1] * u[i][0];
-    Q[i][0] = rho[i][1];
-    Q[i][1] = -rho[i][0];
-    Q[i][2] = 0.0;
-  }
-  for (j = 0; j < 3; j++) {
-    double wj[3] = {0.0, 0.0, 0.0}, oj[3];
-    for (i = 0; i < 3; i++) {
-      const double gh =
-          p->l[i] * p->s[i] * p->G[i][j] - (i == j ? p->c[i] : 0.0);
-      const double gz =
-          p->l[i] * p->c[i] * p->G[i][j] + (i == j ? p->s[i] : 0.0);
-      for (q = 0; q < 3; q++) wj[q] += gh * P[i][q] + gz * Q[i][q];
-    }
-    omega_of_sum(oj, wj, a, wk);
-    for (q = 0; q < 3; q++) k->Jw[q][j] = oj[q];
-  }
-  for (q = 0; q < 2; q++)
-    vc[q] = (p->hd[0] * u[0][q] + p->hd[1] * u[1][q] + p->hd[2] * u[2][q]) *
-            third;
-  vc[2] = (p->Zd[0] + p->Zd[1] + p->Zd[2]) * third;
-  w[0] = w[1] = w[2] = 0.0;
-  for (i = 0; i < 3; i++)
-    for (q = 0; q < 3; q++) w[q] += p->hd[i] * P[i][q] + p->Zd[i] * Q[i][q];
-  omega_of_sum(om, w, a, wk);
-  if (!bias) return;
-  w[0] = w[1] = w[2] = 0.0;
-  for (i = 0; i < 3; i++) {
-    double t[3], wr = v3_dot(om, rho[i]);
-    v3_cross(t, rho[i], om);
-    for (q = 0; q < 3; q++)
-      w[q] += p->hdd[i] * P[i][q] + p->Zdd[i] * Q[i][q] - wr * t[q];
-  }
-  omega_of_sum(k->dw_b, w, a, wk);
-}
-
-/* what rps3_invdyn reports of the configuration, and its limits: the
-   lambda system (df/dtheta)^T's condition number (its 1-norm, the
-   infinity norm of df/dtheta: rows hold at[q], bt[q]) and the force
-   transmission, max over l_j' = 1 of |vc|_1 + R |omega|_1 (the rows of
-   dF/d(f, n) by virtual power, rps3_invdyn's transmission()) */
-static int invdyn_limits(const rps3_model *m, rps3_data *d, const plane *p,
-                         const rps3_fd_state *k) {
-  double nr = 0.0, nx = 0.0, T = 0.0;
-  int q;
-  for (q = 0; q < 3; q++) {
-    const double sj =
-        fabs(p->Jc[0][q]) + fabs(p->Jc[1][q]) + fabs(p->Jc[2][q]) +
-        m->R * (fabs(k->Jw[0][q]) + fabs(k->Jw[1][q]) + fabs(k->Jw[2][q]));
-    nr = max2(nr, fabs(p->at[q]) + fabs(p->bt[q]));
-    nx = max2(nx, fabs(p->X[q][0]) + fabs(p->X[q][1]) + fabs(p->X[q][2]));
-    if (sj > T || !isfinite(sj)) T = sj;
-  }
-  d->cond = nr * nx;
-  d->transmission = T;
-  if (!(d->cond <= m->opt.cond_max))
-    RPS3_ERROR(d, RPS3_ESING,
-               "lambda system condition number %.3g exceeds cond_max %.3g",
-               d->cond, m->opt.cond_max);
-  if (d->cond > m->opt.cond_warn) d->warn |= RPS3_WARN_ILLCOND;
-  if (!(T >= 0.0 && T <= m->opt.trans_max))
-    RPS3_ERROR(d, RPS3_ESING,
-               "force transmission %.3g exceeds trans_max %.3g: an actuator "
-               "would carry that many times the load on the platform",
-               T, m->opt.trans_max);
-  if (T > m->opt.trans_warn) d->warn |= RPS3_WARN_TRANS;
-  return RPS3_OK;
 }
 
 /* Mq and hq of the selected effects (the file's header): the links and
@@ -496,173 +258,11 @@ static double mass_cond(const double Mq[3][3]) {
   return rps3_lu_cond1(3, A, LU, perm);
 }
 
-
-/*
- * Positions from l by Newton's method on (8)-(10) from the warm start: in a
- * simulation the previous evaluation's theta is within a step of the
- * answer, and one Newton step converges where GSL's hybridsj costs its
- * set-up on every call.  The same convergence test as rps3_theta_solve
- * (max |f_k| / R^2 <= opt.tol), f_k in units of R as state_eval writes it.
- * A step moves theta's cosine and sine by their Taylor series instead of
- * another sincos, and so does the predicted start of an integrator's
- * stage from the last root's (a full evaluation takes sincos of its
- * start, so that the series' rounding never accumulates over more than a
- * control period's stages).  Returns 0 when it converged to a root that
- * rps3_theta_solve would accept (0 < theta < pi, not the spun platform),
- * with theta's cosines and sines in c, sn; otherwise the caller falls back
- * to rps3_fk, which decides and reports.  The positions (ball joints, link
- * directions, frame) are written unless `positions` is 0, and the pose
- * when `pose`.
- */
-#define NEWTON_MAX 8
-#define PREDICT_MAX RPS3_FD_PREDICT_MAX
-/* evaluations whose start trigonometry trig_step moves before one takes
-   sincos again: the phase's rounding, an ulp a step at most, stays below
-   1e-13 rad (the solve's tolerance is 1e-12); the plant's full state at
-   the end of every control period takes sincos anyway */
+/* evaluations whose start trigonometry rps3_fd_trig_step moves before one
+   takes sincos again: the phase's rounding, an ulp a step at most, stays
+   below 1e-13 rad (the solve's tolerance is 1e-12); the plant's full
+   state at the end of every control period takes sincos anyway */
 #define TRIG_RESYNC 256
-/* largest Newton correction [rad] that moves cos and sin by trig_step's
-   series (exact to the rounding up to PREDICT_MAX); a larger one, far
-   from any root a warm start gives, takes sincos */
-#define TAYLOR_MAX PREDICT_MAX
-
-/* c, sn of theta - e for |e| <= PREDICT_MAX: the series of cos e to e^6 /
-   720 and of sin e to e^7 / 5040 (the next terms, e^8 / 40320 and e^9 /
-   362880, are below 2.5e-21), or, for |e| <= 1e-5 (a Newton correction,
-   or a predicted step of a slow motion), to e^2 / 2 and e^3 / 6 (the
-   next, e^4 / 24 and e^5 / 120, below 4.2e-22); then back onto the unit
-   circle to first order, (3 - |.|^2) / 2, so that the rounding of many
-   steps does not build up in the magnitude (rps3_fwddyn_state bounds the
-   steps between two sincos: TRIG_RESYNC) */
-static void trig_step(double c[3], double sn[3], const double e[3]) {
-  const int small = max2(max2(fabs(e[0]), fabs(e[1])), fabs(e[2])) <= 1e-5;
-  int i;
-  for (i = 0; i < 3; i++) {
-    const double x = e[i], x2 = x * x;
-    double ce, se, cn, snn, g;
-    if (small) {
-      ce = 1.0 - 0.5 * x2;
-      se = x - x * x2 * (1.0 / 6.0);
-    } else {
-      ce = 1.0 - x2 * (0.5 - x2 * (1.0 / 24.0 - x2 * (1.0 / 720.0)));
-      se = x * (1.0 - x2 * (1.0 / 6.0 -
-                            x2 * (1.0 / 120.0 - x2 * (1.0 / 5040.0))));
-    }
-    cn = c[i] * ce + sn[i] * se;
-    snn = sn[i] * ce - c[i] * se;
-    g = 1.5 - 0.5 * (cn * cn + snn * snn);
-    c[i] = cn * g;
-    sn[i] = snn * g;
-  }
-}
-
-/* a lean stage's positions: none (NaN), so that no earlier state's can be
-   read as this one's */
-static void positions_unset(rps3_data *d) {
-  const double nan = (double)NAN;
-  int i, q;
-  for (i = 0; i < 3; i++) {
-    d->c[i] = nan;
-    for (q = 0; q < 3; q++)
-      d->b[i][q] = d->phi[i][q] = d->dphi[i][q] = d->rot[i][q] = nan;
-  }
-}
-
-static int theta_newton(const rps3_model *m, rps3_data *d, double c[3],
-                        double sn[3], int have_trig, int positions,
-                        int pose) {
-  const double q3 = 3.0 * m->rho * m->rho; /* 3 r^2 / R^2 */
-  const double iR = 1.0 / m->R;
-  double L[3], th[3], resid;
-  int it, i, fold = 0;
-  if (!(m->opt.warm_start && d->have_theta && v3_finite(d->theta)) ||
-      !v3_finite(d->l) || !(d->l[0] > 0 && d->l[1] > 0 && d->l[2] > 0))
-    return -1;
-  for (i = 0; i < 3; i++) {
-    L[i] = d->l[i] * iR;
-    th[i] = d->theta[i];
-  }
-  if (!have_trig)
-    for (i = 0; i < 3; i++) {
-      const double t = th[i]; /* one sincos */
-      c[i] = cos(t);
-      sn[i] = sin(t);
-    }
-  for (it = 0;; it++) {
-    double H[3], Y[3], f[3], a[3], b[3], x[3], det, id, big;
-    int k;
-    for (i = 0; i < 3; i++) {
-      H[i] = 1.0 - L[i] * c[i];
-      Y[i] = L[i] * sn[i];
-    }
-    for (k = 0; k < 3; k++) {
-      const int j = (k + 1) % 3;
-      const double E = 2.0 * (Y[k] - Y[j]);
-      f[k] = H[k] * H[k] + H[j] * H[j] + H[k] * H[j] + 0.25 * E * E - q3;
-      a[k] = L[k] * ((2.0 * H[k] + H[j]) * sn[k] + E * c[k]);
-      b[k] = L[j] * ((2.0 * H[j] + H[k]) * sn[j] - E * c[j]);
-    }
-    resid = max2(max2(fabs(f[0]), fabs(f[1])), fabs(f[2]));
-    if (!(fabs(f[0]) + fabs(f[1]) + fabs(f[2]) < HUGE_VAL)) return -1;
-    if (resid <= m->opt.tol) break;
-    if (it == NEWTON_MAX) return -1;
-    /* J x = f, J[k][k] = a_k, J[k][k+1] = b_k: the adjugate (state_eval) */
-    det = a[0] * (a[1] * a[2]) + b[0] * (b[1] * b[2]);
-    if (!(fabs(det) > 0.0 && fabs(det) < HUGE_VAL)) return -1;
-    id = 1.0 / det;
-    x[0] = (a[1] * a[2] * f[0] - b[0] * a[2] * f[1] + b[0] * b[1] * f[2]) * id;
-    x[1] = (b[1] * b[2] * f[0] + a[0] * a[2] * f[1] - a[0] * b[1] * f[2]) * id;
-    x[2] = (a[0] * a[1] * f[2] - a[1] * b[2] * f[0] + b[0] * b[2] * f[1]) * id;
-    big = max2(max2(fabs(x[0]), fabs(x[1])), fabs(x[2]));
-    if (!(big < HUGE_VAL)) return -1;
-    for (i = 0; i < 3; i++) th[i] -= x[i];
-    if (big <= TAYLOR_MAX) {
-      trig_step(c, sn, x); /* cos and sin of theta - x */
-    } else {
-      for (i = 0; i < 3; i++) {
-        const double t = th[i];
-        c[i] = cos(t);
-        sn[i] = sin(t);
-      }
-    }
-  }
-  d->solve_niter = it;
-  d->solve_resid = resid;
-  for (i = 0; i < 3; i++) {
-    d->theta[i] = th[i];
-    if (th[i] > 0.0 && th[i] < RPS3_PI) continue;
-    d->theta[i] = remainder(th[i], 2.0 * RPS3_PI);
-    fold = 1;
-    if (!(d->theta[i] > 0.0 && d->theta[i] < RPS3_PI)) return -1;
-    c[i] = cos(d->theta[i]);
-    sn[i] = sin(d->theta[i]);
-  }
-  if (positions || fold) {
-    rps3_links_from_trig(m, d, c, sn);
-    rps3_frame_from_balls(m, d);
-    if (d->rot[0][0] + d->rot[1][1] < 0.0) return -1; /* spun platform */
-  } else {
-    /* the spun platform's test alone: rot[0][0] + rot[1][1] is n_x + o_y
-       of (18)-(19), from the balls' horizontal positions h_i u_i; times
-       sqrt(3) r > 0, its sign is that of sqrt(3) (2 bx_0 - bx_1 - bx_2) /
-       3 + by_1 - by_2, and of (2 bx_0 - bx_1 - bx_2) + sqrt(3) (by_1 -
-       by_2) */
-    double bx[3], by[3];
-    for (i = 0; i < 3; i++) {
-      const double h = m->R - d->l[i] * c[i];
-      bx[i] = h * m->radial[i][0];
-      by[i] = h * m->radial[i][1];
-    }
-    if ((2.0 * bx[0] - bx[1] - bx[2]) + RPS3_SQRT3 * (by[1] - by[2]) < 0.0)
-      return -1;
-    positions_unset(d);
-  }
-  if (pose)
-    rps3_pose_from_frame(d);
-  else
-    d->pose[0] = d->pose[1] = d->pose[2] = (double)NAN;
-  return 0;
-}
 
 /* a failure leaves no acceleration that could be read as one */
 static void poison(rps3_data *d) {
@@ -703,14 +303,16 @@ int rps3_fwddyn_state(const rps3_model *m, rps3_data *d, rps3_fd_state *k,
     d->warn = 0;
     /* the start moved along the last state's tangent, theta + G (l -
        l_last): within O(|l - l_last|^2) of the root, one Newton step
-       instead of two.  A step of more than PREDICT_MAX (near a singular
-       configuration, where G grows) is not taken: the start stays where
+       instead of two.  A step of more than RPS3_FD_PREDICT_MAX (near a
+       singular configuration, where G grows) is not taken: the start
+       stays where
        the last root was, as does the fall-back */
     if ((flags & RPS3_FD_PREDICT) && m->opt.warm_start && d->have_theta) {
       double dlen[3], dth[3];
       v3_sub(dlen, d->l, k->l);
       m3_mulv(dth, M3C(k->G), dlen);
-      if (max2(max2(fabs(dth[0]), fabs(dth[1])), fabs(dth[2])) <= PREDICT_MAX)
+      if (max2(max2(fabs(dth[0]), fabs(dth[1])), fabs(dth[2])) <=
+          RPS3_FD_PREDICT_MAX)
         v3_axpy(d->theta, d->theta, 1.0, dth);
     }
     /* a lean state started near the last root moves that root's cosines
@@ -721,15 +323,16 @@ int rps3_fwddyn_state(const rps3_model *m, rps3_data *d, rps3_fd_state *k,
         k->nrot < TRIG_RESYNC) {
       double e[3];
       v3_sub(e, k->th, d->theta);
-      if (max2(max2(fabs(e[0]), fabs(e[1])), fabs(e[2])) <= PREDICT_MAX) {
+      if (max2(max2(fabs(e[0]), fabs(e[1])), fabs(e[2])) <=
+          RPS3_FD_PREDICT_MAX) {
         v3_copy(c, k->c);
         v3_copy(sn, k->s);
-        trig_step(c, sn, e);
+        rps3_fd_trig_step(c, sn, e);
         trig = 1;
       }
     }
     k->have_trig = 0;
-    if (theta_newton(m, d, c, sn, trig, positions, !lean) == 0) {
+    if (rps3_fd_theta_newton(m, d, c, sn, trig, positions, !lean) == 0) {
       d->have_theta = 1;
       d->stage = positions ? RPS3_STAGE_POS : 0;
     } else {

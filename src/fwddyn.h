@@ -60,6 +60,18 @@ enum {
                           by their series instead of sincos */
 };
 
+/* fwddyn_theta.c: theta from d->l by Newton's method from d->theta (its
+   cosines and sines in c, sn when have_trig, else taken here), to a root
+   rps3_theta_solve would accept; 0 with the root's cosines and sines in
+   c, sn and the positions (when `positions`) and pose (when `pose`)
+   written, -1 for the caller to fall back to rps3_fk.  And c, sn moved
+   to theta - e by their series (|e| <= RPS3_FD_PREDICT_MAX), back onto
+   the unit circle */
+int rps3_fd_theta_newton(const rps3_model *m, rps3_data *d, double c[3],
+                         double sn[3], int have_trig, int positions,
+                         int pose);
+void rps3_fd_trig_step(double c[3], double sn[3], const double e[3]);
+
 /* The state part of rps3_fwddyn: reads d->l, d->dl (not d->F); writes the
    positions, the rates, Mq, hq, Mcond and mode, and *k.  On failure the
    status and message of rps3_fwddyn, d->ddl NaN. */

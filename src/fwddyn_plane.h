@@ -1,0 +1,255 @@
+/*
+ * fwddyn_plane.h - the forward dynamics' state in the links' planes
+ * (src/fwddyn.c's header comment has the formulation): the constraint
+ * Jacobians and their inverse, the rates, the bias accelerations and the
+ * velocity maps, formed by static inline steps that compile into
+ * rps3_fwddyn_state's one evaluation.  Included by src/fwddyn.c and
+ * src/fwddyn_theta.c only.
+ */
+#ifndef RPS3_FWDDYN_PLANE_H
+#define RPS3_FWDDYN_PLANE_H
+
+#include "fwddyn.h"
+
+/* omega from sum_i rho_i x u_i for the ball motions u_i = omega x rho_i
+   (rps3_omega_from_balls: (26)-(28) in closed form); wk = 2 / (3 r^2) */
+static inline void omega_of_sum(double omega[3], const double w[3],
+                                const double a[3], double wk) {
+  double s = 0.5 * wk * v3_dot(a, w);
+  int q;
+  for (q = 0; q < 3; q++) omega[q] = wk * w[q] - s * a[q];
+}
+
+/* C99 does not convert double (*)[2] to const double (*)[2] implicitly */
+#define M2C(A) ((const double(*)[2])(A))
+
+/* the larger of a and b (fmax is a call at -O2).  A NaN in a is dropped:
+   each use below is followed by a test that a NaN fails (the Newton
+   step's sum of |f|, the finite start, det and the inverse's scale) */
+static inline double max2(double a, double b) { return a > b ? a : b; }
+
+/*
+ * A state in the links' planes.  Link i moves in the vertical plane of pin
+ * i, its ball joint at b_i = h_i u_i + Z_i e_z, h_i = R - l_i cos_i, Z_i =
+ * l_i sin_i ((12)-(14)).  The pair k = (i, j), j = i + 1 (mod 3), of
+ * (8)-(10) is f_k = |b_i - b_j|^2 - 3 r^2 = h_i^2 + h_j^2 + h_i h_j + (Z_i
+ * - Z_j)^2 - 3 r^2 (u_i . u_j = -1/2), so with A = 2 h_i + h_j, B = 2 h_j +
+ * h_i, E = 2 (Z_i - Z_j) its derivatives are
+ *   df_k/dtheta_i = l_i (A sin_i + E cos_i),  df_k/dtheta_j = l_j (B sin_j
+ *   - E cos_j), df_k/dl_i = E sin_i - A cos_i,  df_k/dl_j = -B cos_j - E
+ *   sin_j,
+ * rps3_constraint_jacobian's entries, two a row: df/dtheta is cyclic
+ * bidiagonal, det = a0 a1 a2 + b0 b1 b2, and its inverse is its adjugate
+ * over det, nine products.  Everything is formed in this local structure
+ * and stored into d and k once: stores through them could alias the
+ * inputs as far as the compiler knows.
+ */
+typedef struct {
+  double l[3], dl[3], c[3], s[3]; /* lengths, rates, cos and sin theta */
+  double A[3], B[3], E[3];        /* of pair k, above */
+  double at[3], bt[3];            /* df_k/dtheta_k, df_k/dtheta_(k+1) */
+  double al[3], bl[3];            /* df_k/dl_k, df_k/dl_(k+1) */
+  double X[3][3];                 /* (df/dtheta)^-1 */
+  double G[3][3];                 /* dtheta'/dl' = -X df/dl */
+  double Jc[3][3];                /* dvc/dl' */
+  double dth[3], ddb[3];          /* theta', theta'' at l'' = 0 */
+  double hd[3], Zd[3];            /* h_i', Z_i' */
+  double hdd[3], Zdd[3];          /* h_i'', Z_i'' at l'' = 0 */
+  double acb[3];                  /* centre acceleration at l'' = 0 */
+} plane;
+
+/* the constraint Jacobians, the mode (sign of det(df/dtheta), grouped as
+   rps3_mode_of_jac groups it), (df/dtheta)^-1 and its 1-norm condition
+   number (RPS3_ESING past opt.cond_max); column i of df/dtheta holds
+   at[i] and bt[i - 1] */
+static inline int plane_jacobian(const rps3_model *m, rps3_data *d,
+                                 plane *p) {
+  double h[3], Z[3], det, id, n1 = 0.0, ni = 0.0, cond;
+  int i, q;
+  for (i = 0; i < 3; i++) {
+    h[i] = m->R - p->l[i] * p->c[i];
+    Z[i] = p->l[i] * p->s[i];
+  }
+  for (q = 0; q < 3; q++) {
+    const int j = (q + 1) % 3;
+    i = q;
+    p->A[q] = 2.0 * h[i] + h[j];
+    p->B[q] = 2.0 * h[j] + h[i];
+    p->E[q] = 2.0 * (Z[i] - Z[j]);
+    p->at[q] = p->l[i] * (p->A[q] * p->s[i] + p->E[q] * p->c[i]);
+    p->bt[q] = p->l[j] * (p->B[q] * p->s[j] - p->E[q] * p->c[j]);
+    p->al[q] = p->E[q] * p->s[i] - p->A[q] * p->c[i];
+    p->bl[q] = -p->B[q] * p->c[j] - p->E[q] * p->s[j];
+  }
+  det = p->at[0] * (p->at[1] * p->at[2]) + p->bt[0] * (p->bt[1] * p->bt[2]);
+  d->mode = (det > 0.0) - (det < 0.0);
+  if (!(fabs(det) > 0.0) || !(fabs(det) < HUGE_VAL))
+    RPS3_ERROR(d, RPS3_ESING, "constraint Jacobian df/dtheta is singular");
+  id = 1.0 / det;
+  p->X[0][0] = p->at[1] * p->at[2] * id;
+  p->X[0][1] = -p->bt[0] * p->at[2] * id;
+  p->X[0][2] = p->bt[0] * p->bt[1] * id;
+  p->X[1][0] = p->bt[1] * p->bt[2] * id;
+  p->X[1][1] = p->at[0] * p->at[2] * id;
+  p->X[1][2] = -p->at[0] * p->bt[1] * id;
+  p->X[2][0] = -p->at[1] * p->bt[2] * id;
+  p->X[2][1] = p->bt[0] * p->bt[2] * id;
+  p->X[2][2] = p->at[0] * p->at[1] * id;
+  for (i = 0; i < 3; i++) {
+    n1 = max2(n1, fabs(p->at[i]) + fabs(p->bt[(i + 2) % 3]));
+    ni = max2(ni, fabs(p->X[0][i]) + fabs(p->X[1][i]) + fabs(p->X[2][i]));
+  }
+  cond = n1 * ni;
+  if (!(cond <= m->opt.cond_max))
+    RPS3_ERROR(d, RPS3_ESING,
+               "constraint Jacobian df/dtheta: condition number %.3g exceeds "
+               "cond_max %.3g", cond, m->opt.cond_max);
+  return RPS3_OK;
+}
+
+/* G = -X df/dl (column j of df/dl holds al[j] and bl[j - 1]); the rates
+   theta' = G l' and the balls' in-plane rates (28); the bias theta''
+   from the second derivative of (8)-(10), (df/dtheta) theta'' = x with
+   x_k = -(2 |b_i' - b_j'|^2 + A h_i''0 + B h_j''0 + E (Z_i''0 - Z_j''0))
+   (rps3_constraint_acc_rhs in the links' planes; ''0: without theta''),
+   and the balls' and the centre's accelerations at l'' = 0; Jc, column j
+   the centre's velocity (25) for l_j' = 1 */
+static inline void plane_rates(plane *p, const double u[3][2]) {
+  const double third = 1.0 / 3.0; /* a product: divisions are slow */
+  double x[3];
+  int i, j, q;
+  for (j = 0; j < 3; j++) {
+    const int k = (j + 2) % 3;
+    for (i = 0; i < 3; i++)
+      p->G[i][j] = -(p->X[i][j] * p->al[j] + p->X[i][k] * p->bl[k]);
+  }
+  for (i = 0; i < 3; i++) {
+    const double th = p->G[i][0] * p->dl[0] + p->G[i][1] * p->dl[1] +
+                      p->G[i][2] * p->dl[2];
+    const double lth = p->l[i] * th, v = 2.0 * p->dl[i] * th;
+    p->dth[i] = th;
+    p->hd[i] = p->s[i] * lth - p->c[i] * p->dl[i];
+    p->Zd[i] = p->s[i] * p->dl[i] + p->c[i] * lth;
+    p->hdd[i] = p->s[i] * v + p->c[i] * lth * th;
+    p->Zdd[i] = p->c[i] * v - p->s[i] * lth * th;
+  }
+  for (q = 0; q < 3; q++) {
+    const int j2 = (q + 1) % 3;
+    const double dz = p->Zd[q] - p->Zd[j2];
+    x[q] = -(2.0 * (p->hd[q] * p->hd[q] + p->hd[j2] * p->hd[j2] +
+                    p->hd[q] * p->hd[j2] + dz * dz) +
+             p->A[q] * p->hdd[q] + p->B[q] * p->hdd[j2] +
+             p->E[q] * (p->Zdd[q] - p->Zdd[j2]));
+  }
+  for (i = 0; i < 3; i++) {
+    p->ddb[i] = p->X[i][0] * x[0] + p->X[i][1] * x[1] + p->X[i][2] * x[2];
+    p->hdd[i] += p->l[i] * p->s[i] * p->ddb[i];
+    p->Zdd[i] += p->l[i] * p->c[i] * p->ddb[i];
+  }
+  for (q = 0; q < 2; q++)
+    p->acb[q] = (p->hdd[0] * u[0][q] + p->hdd[1] * u[1][q] +
+                 p->hdd[2] * u[2][q]) * third;
+  p->acb[2] = (p->Zdd[0] + p->Zdd[1] + p->Zdd[2]) * third;
+  for (j = 0; j < 3; j++) {
+    /* dh_i/dl_j' = l_i sin_i G_ij - cos_j [i = j], dZ_i/dl_j' = l_i cos_i
+       G_ij + sin_j [i = j] */
+    double sh0 = -p->c[j] * u[j][0], sh1 = -p->c[j] * u[j][1], sz = p->s[j];
+    for (i = 0; i < 3; i++) {
+      const double gh = p->l[i] * p->s[i] * p->G[i][j];
+      sh0 += gh * u[i][0];
+      sh1 += gh * u[i][1];
+      sz += p->l[i] * p->c[i] * p->G[i][j];
+    }
+    p->Jc[0][j] = sh0 * third;
+    p->Jc[1][j] = sh1 * third;
+    p->Jc[2][j] = sz * third;
+  }
+}
+
+/* the platform's motion from its ball joints, (25)-(28): Jw, column j
+   omega for l_j' = 1, into k, from rho_i x u_i and rho_i x e_z (rho_i =
+   b_i - c) formed once; with `motion` also vc, omega from sum_i rho_i x
+   b_i' and the angular bias acceleration from sum_i rho_i x (b_i'' -
+   omega x (omega x rho_i)) (the inverse dynamics' limits read Jw alone) */
+static inline void platform_motion(const rps3_model *m, const rps3_data *d,
+                                   const plane *p, const double u[3][2],
+                                   int motion, rps3_fd_state *k,
+                                   double vc[3], double om[3]) {
+  const double wk = 2.0 / (3.0 * m->r * m->r), third = 1.0 / 3.0;
+  double P[3][3], Q[3][3], rho[3][3], a[3], w[3];
+  int i, j, q;
+  for (i = 0; i < 3; i++) {
+    a[i] = d->rot[i][2];
+    for (q = 0; q < 3; q++) rho[i][q] = d->b[i][q] - d->c[q];
+    P[i][0] = -rho[i][2] * u[i][1];
+    P[i][1] = rho[i][2] * u[i][0];
+    P[i][2] = rho[i][0] * u[i][1] - rho[i][1] * u[i][0];
+    Q[i][0] = rho[i][1];
+    Q[i][1] = -rho[i][0];
+    Q[i][2] = 0.0;
+  }
+  for (j = 0; j < 3; j++) {
+    double wj[3] = {0.0, 0.0, 0.0}, oj[3];
+    for (i = 0; i < 3; i++) {
+      const double gh =
+          p->l[i] * p->s[i] * p->G[i][j] - (i == j ? p->c[i] : 0.0);
+      const double gz =
+          p->l[i] * p->c[i] * p->G[i][j] + (i == j ? p->s[i] : 0.0);
+      for (q = 0; q < 3; q++) wj[q] += gh * P[i][q] + gz * Q[i][q];
+    }
+    omega_of_sum(oj, wj, a, wk);
+    for (q = 0; q < 3; q++) k->Jw[q][j] = oj[q];
+  }
+  if (!motion) return;
+  for (q = 0; q < 2; q++)
+    vc[q] = (p->hd[0] * u[0][q] + p->hd[1] * u[1][q] + p->hd[2] * u[2][q]) *
+            third;
+  vc[2] = (p->Zd[0] + p->Zd[1] + p->Zd[2]) * third;
+  w[0] = w[1] = w[2] = 0.0;
+  for (i = 0; i < 3; i++)
+    for (q = 0; q < 3; q++) w[q] += p->hd[i] * P[i][q] + p->Zd[i] * Q[i][q];
+  omega_of_sum(om, w, a, wk);
+  w[0] = w[1] = w[2] = 0.0;
+  for (i = 0; i < 3; i++) {
+    double t[3], wr = v3_dot(om, rho[i]);
+    v3_cross(t, rho[i], om);
+    for (q = 0; q < 3; q++)
+      w[q] += p->hdd[i] * P[i][q] + p->Zdd[i] * Q[i][q] - wr * t[q];
+  }
+  omega_of_sum(k->dw_b, w, a, wk);
+}
+
+/* what rps3_invdyn reports of the configuration, and its limits: the
+   lambda system (df/dtheta)^T's condition number (its 1-norm, the
+   infinity norm of df/dtheta: rows hold at[q], bt[q]) and the force
+   transmission, max over l_j' = 1 of |vc|_1 + R |omega|_1 (the rows of
+   dF/d(f, n) by virtual power, rps3_invdyn's transmission()) */
+static inline int invdyn_limits(const rps3_model *m, rps3_data *d,
+                                const plane *p, const rps3_fd_state *k) {
+  double nr = 0.0, nx = 0.0, T = 0.0;
+  int q;
+  for (q = 0; q < 3; q++) {
+    const double sj =
+        fabs(p->Jc[0][q]) + fabs(p->Jc[1][q]) + fabs(p->Jc[2][q]) +
+        m->R * (fabs(k->Jw[0][q]) + fabs(k->Jw[1][q]) + fabs(k->Jw[2][q]));
+    nr = max2(nr, fabs(p->at[q]) + fabs(p->bt[q]));
+    nx = max2(nx, fabs(p->X[q][0]) + fabs(p->X[q][1]) + fabs(p->X[q][2]));
+    if (sj > T || !isfinite(sj)) T = sj;
+  }
+  d->cond = nr * nx;
+  d->transmission = T;
+  if (!(d->cond <= m->opt.cond_max))
+    RPS3_ERROR(d, RPS3_ESING,
+               "lambda system condition number %.3g exceeds cond_max %.3g",
+               d->cond, m->opt.cond_max);
+  if (d->cond > m->opt.cond_warn) d->warn |= RPS3_WARN_ILLCOND;
+  if (!(T >= 0.0 && T <= m->opt.trans_max))
+    RPS3_ERROR(d, RPS3_ESING,
+               "force transmission %.3g exceeds trans_max %.3g: an actuator "
+               "would carry that many times the load on the platform",
+               T, m->opt.trans_max);
+  if (T > m->opt.trans_warn) d->warn |= RPS3_WARN_TRANS;
+  return RPS3_OK;
+}
+
+#endif /* RPS3_FWDDYN_PLANE_H */

@@ -1,0 +1,167 @@
+/*
+ * fwddyn_theta.c - the positions of a forward-dynamics state: theta from
+ * the link lengths by Newton's method on (8)-(10), with theta's cosines
+ * and sines moved by their series along a step instead of recomputed.
+ */
+#include "fwddyn_plane.h"
+
+/*
+ * Positions from l by Newton's method on (8)-(10) from the warm start: in a
+ * simulation the previous evaluation's theta is within a step of the
+ * answer, and one Newton step converges where GSL's hybridsj costs its
+ * set-up on every call.  The same convergence test as rps3_theta_solve
+ * (max |f_k| / R^2 <= opt.tol), f_k in units of R as state_eval writes it.
+ * A step moves theta's cosine and sine by their Taylor series instead of
+ * another sincos, and so does the predicted start of an integrator's
+ * stage from the last root's (a full evaluation takes sincos of its
+ * start, so that the series' rounding never accumulates over more than a
+ * control period's stages).  Returns 0 when it converged to a root that
+ * rps3_theta_solve would accept (0 < theta < pi, not the spun platform),
+ * with theta's cosines and sines in c, sn; otherwise the caller falls back
+ * to rps3_fk, which decides and reports.  The positions (ball joints, link
+ * directions, frame) are written unless `positions` is 0, and the pose
+ * when `pose`.
+ */
+#define NEWTON_MAX 8
+/* largest Newton correction [rad] that moves cos and sin by trig_step's
+   series (exact to the rounding up to PREDICT_MAX); a larger one, far
+   from any root a warm start gives, takes sincos */
+#define TAYLOR_MAX RPS3_FD_PREDICT_MAX
+
+/* c, sn of theta - e for |e| <= RPS3_FD_PREDICT_MAX: the series of cos e
+   to e^6 / 720 and of sin e to e^7 / 5040 (the next terms, e^8 / 40320
+   and e^9 / 362880, are below 2.5e-21), or, for |e| <= 1e-5 (a Newton
+   correction, or a predicted step of a slow motion), to e^2 / 2 and e^3
+   / 6 (the next, e^4 / 24 and e^5 / 120, below 4.2e-22); then back onto
+   the unit circle to first order, (3 - |.|^2) / 2, so that the rounding
+   of many steps does not build up in the magnitude (rps3_fwddyn_state
+   bounds the steps between two sincos) */
+void rps3_fd_trig_step(double c[3], double sn[3], const double e[3]) {
+  const int small = max2(max2(fabs(e[0]), fabs(e[1])), fabs(e[2])) <= 1e-5;
+  int i;
+  for (i = 0; i < 3; i++) {
+    const double x = e[i], x2 = x * x;
+    double ce, se, cn, snn, g;
+    if (small) {
+      ce = 1.0 - 0.5 * x2;
+      se = x - x * x2 * (1.0 / 6.0);
+    } else {
+      ce = 1.0 - x2 * (0.5 - x2 * (1.0 / 24.0 - x2 * (1.0 / 720.0)));
+      se = x * (1.0 - x2 * (1.0 / 6.0 -
+                            x2 * (1.0 / 120.0 - x2 * (1.0 / 5040.0))));
+    }
+    cn = c[i] * ce + sn[i] * se;
+    snn = sn[i] * ce - c[i] * se;
+    g = 1.5 - 0.5 * (cn * cn + snn * snn);
+    c[i] = cn * g;
+    sn[i] = snn * g;
+  }
+}
+
+/* a lean stage's positions: none (NaN), so that no earlier state's can be
+   read as this one's */
+static void positions_unset(rps3_data *d) {
+  const double nan = (double)NAN;
+  int i, q;
+  for (i = 0; i < 3; i++) {
+    d->c[i] = nan;
+    for (q = 0; q < 3; q++)
+      d->b[i][q] = d->phi[i][q] = d->dphi[i][q] = d->rot[i][q] = nan;
+  }
+}
+
+int rps3_fd_theta_newton(const rps3_model *m, rps3_data *d, double c[3],
+                         double sn[3], int have_trig, int positions,
+                         int pose) {
+  const double q3 = 3.0 * m->rho * m->rho; /* 3 r^2 / R^2 */
+  const double iR = 1.0 / m->R;
+  double L[3], th[3], resid;
+  int it, i, fold = 0;
+  if (!(m->opt.warm_start && d->have_theta && v3_finite(d->theta)) ||
+      !v3_finite(d->l) || !(d->l[0] > 0 && d->l[1] > 0 && d->l[2] > 0))
+    return -1;
+  for (i = 0; i < 3; i++) {
+    L[i] = d->l[i] * iR;
+    th[i] = d->theta[i];
+  }
+  if (!have_trig)
+    for (i = 0; i < 3; i++) {
+      const double t = th[i]; /* one sincos */
+      c[i] = cos(t);
+      sn[i] = sin(t);
+    }
+  for (it = 0;; it++) {
+    double H[3], Y[3], f[3], a[3], b[3], x[3], det, id, big;
+    int k;
+    for (i = 0; i < 3; i++) {
+      H[i] = 1.0 - L[i] * c[i];
+      Y[i] = L[i] * sn[i];
+    }
+    for (k = 0; k < 3; k++) {
+      const int j = (k + 1) % 3;
+      const double E = 2.0 * (Y[k] - Y[j]);
+      f[k] = H[k] * H[k] + H[j] * H[j] + H[k] * H[j] + 0.25 * E * E - q3;
+      a[k] = L[k] * ((2.0 * H[k] + H[j]) * sn[k] + E * c[k]);
+      b[k] = L[j] * ((2.0 * H[j] + H[k]) * sn[j] - E * c[j]);
+    }
+    resid = max2(max2(fabs(f[0]), fabs(f[1])), fabs(f[2]));
+    if (!(fabs(f[0]) + fabs(f[1]) + fabs(f[2]) < HUGE_VAL)) return -1;
+    if (resid <= m->opt.tol) break;
+    if (it == NEWTON_MAX) return -1;
+    /* J x = f, J[k][k] = a_k, J[k][k+1] = b_k: the adjugate (state_eval) */
+    det = a[0] * (a[1] * a[2]) + b[0] * (b[1] * b[2]);
+    if (!(fabs(det) > 0.0 && fabs(det) < HUGE_VAL)) return -1;
+    id = 1.0 / det;
+    x[0] = (a[1] * a[2] * f[0] - b[0] * a[2] * f[1] + b[0] * b[1] * f[2]) * id;
+    x[1] = (b[1] * b[2] * f[0] + a[0] * a[2] * f[1] - a[0] * b[1] * f[2]) * id;
+    x[2] = (a[0] * a[1] * f[2] - a[1] * b[2] * f[0] + b[0] * b[2] * f[1]) * id;
+    big = max2(max2(fabs(x[0]), fabs(x[1])), fabs(x[2]));
+    if (!(big < HUGE_VAL)) return -1;
+    for (i = 0; i < 3; i++) th[i] -= x[i];
+    if (big <= TAYLOR_MAX) {
+      rps3_fd_trig_step(c, sn, x); /* cos and sin of theta - x */
+    } else {
+      for (i = 0; i < 3; i++) {
+        const double t = th[i];
+        c[i] = cos(t);
+        sn[i] = sin(t);
+      }
+    }
+  }
+  d->solve_niter = it;
+  d->solve_resid = resid;
+  for (i = 0; i < 3; i++) {
+    d->theta[i] = th[i];
+    if (th[i] > 0.0 && th[i] < RPS3_PI) continue;
+    d->theta[i] = remainder(th[i], 2.0 * RPS3_PI);
+    fold = 1;
+    if (!(d->theta[i] > 0.0 && d->theta[i] < RPS3_PI)) return -1;
+    c[i] = cos(d->theta[i]);
+    sn[i] = sin(d->theta[i]);
+  }
+  if (positions || fold) {
+    rps3_links_from_trig(m, d, c, sn);
+    rps3_frame_from_balls(m, d);
+    if (d->rot[0][0] + d->rot[1][1] < 0.0) return -1; /* spun platform */
+  } else {
+    /* the spun platform's test alone: rot[0][0] + rot[1][1] is n_x + o_y
+       of (18)-(19), from the balls' horizontal positions h_i u_i; times
+       sqrt(3) r > 0, its sign is that of sqrt(3) (2 bx_0 - bx_1 - bx_2) /
+       3 + by_1 - by_2, and of (2 bx_0 - bx_1 - bx_2) + sqrt(3) (by_1 -
+       by_2) */
+    double bx[3], by[3];
+    for (i = 0; i < 3; i++) {
+      const double h = m->R - d->l[i] * c[i];
+      bx[i] = h * m->radial[i][0];
+      by[i] = h * m->radial[i][1];
+    }
+    if ((2.0 * bx[0] - bx[1] - bx[2]) + RPS3_SQRT3 * (by[1] - by[2]) < 0.0)
+      return -1;
+    positions_unset(d);
+  }
+  if (pose)
+    rps3_pose_from_frame(d);
+  else
+    d->pose[0] = d->pose[1] = d->pose[2] = (double)NAN;
+  return 0;
+}
