@@ -1467,6 +1467,10 @@ typedef struct {
   struct rps3_fd_state *fd; /* the model's state at the last measured one
                                (owned: a copy of the structure would share
                                it; use one rps3_ctrl_alloc per controller) */
+  const rps3_model *plant;  /* during a tick of rps3_sim_advance: the plant */
+  const struct rps3_fd_state *plant_fd; /* and its state at the tick, whose
+                               kinematics a model of the same geometry
+                               takes when the measurement is exact */
 } rps3_ctrl;
 
 /*

@@ -103,11 +103,15 @@ static int desired(rps3_ctrl *c, double t) {
       if (st == RPS3_OK) st = rps3_velocity(&c->model, d);
       if (st != RPS3_OK) return st;
     }
+  } else if (c->meas->have_theta) {
+    /* the lengths and their rates alone (computed torque: and their
+       accelerations), by the derivatives of l^2 = |b - P|^2 */
+    st = rps3_link_motion(&c->model, d, c->kind == RPS3_CTRL_COMPUTED_TORQUE);
+    if (st != RPS3_OK) return st;
+    c->F_ff[0] = c->F_ff[1] = c->F_ff[2] = (double)NAN;
   } else {
-    /* theta of the desired motion starts the first measured solve only */
-    st = rps3_ik_with(&c->model, d, &trig,
-                      c->meas->have_theta ? RPS3_IK_DIRS : RPS3_IK_THETA,
-                      NULL);
+    /* theta of the desired motion starts the first measured solve */
+    st = rps3_ik_with(&c->model, d, &trig, RPS3_IK_THETA, NULL);
     if (st == RPS3_OK) st = rps3_velocity_with(&c->model, d, &trig);
     if (st == RPS3_OK && c->kind == RPS3_CTRL_COMPUTED_TORQUE)
       st = rps3_acceleration_with(&c->model, d, &trig);
@@ -164,18 +168,24 @@ static int invdyn_at(rps3_ctrl *c, double t, const double l[3],
      change through a failed tick is flagged too */
   const int mode0 = c->fd->mode;
   int st, i, had = isfinite(c->t_meas);
-  if (!d->have_theta) {
-    v3_copy(d->theta, c->des->theta);
-    d->have_theta = 1;
-  } else if (had) {
-    predict_theta(c, l, t);
-  }
   c->t_meas = (double)NAN;
   v3_copy(d->l, l);
   v3_copy(d->dl, dl);
-  st = rps3_fwddyn_state(&c->model, d, c->fd,
-                         RPS3_FD_LEAN | RPS3_FD_NOFACTOR |
-                             (had ? RPS3_FD_TRIG : 0));
+  /* in a simulation whose plant has this model's geometry, at the
+     plant's state (an exact measurement): the plant's kinematics, this
+     model's masses, effects and limits */
+  if (!rps3_fwddyn_state_shared(&c->model, d, c->fd, c->plant, c->plant_fd,
+                                &st)) {
+    if (!d->have_theta) {
+      v3_copy(d->theta, c->des->theta);
+      d->have_theta = 1;
+    } else if (had) {
+      predict_theta(c, l, t);
+    }
+    st = rps3_fwddyn_state(&c->model, d, c->fd,
+                           RPS3_FD_LEAN | RPS3_FD_NOFACTOR |
+                               (had ? RPS3_FD_TRIG : 0));
+  }
   if (st != RPS3_OK) return st;
   if (mode0 != RPS3_MODE_ANY && d->mode != mode0) d->warn |= RPS3_WARN_MODE;
   m3_mulv(x, M3C(d->Mq), ddl);

@@ -97,7 +97,7 @@ static void add_body(const rps3_fd_state *k, const rps3_data *d, double mb,
    the platform's ball-joint masses as generalized loads on theta (tau)
    and on l (sigma), the centre's mass through Jc, a payload as a rigid
    body; the upper triangle is Mq, symmetric to the bit */
-static void assemble(const rps3_model *m, rps3_data *d,
+FD_INLINE void assemble(const rps3_model *m, rps3_data *d,
                      const rps3_fd_state *k, const plane *p) {
   const int eff = m->opt.effects;
   const double mb = (eff & RPS3_EFF_PLATFORM_INERTIA) ? m->M / 6.0 : 0.0;
@@ -145,49 +145,49 @@ static void assemble(const rps3_model *m, rps3_data *d,
 }
 
 /*
- * Rates, maps, Mq and hq at the positions d holds (d->l; theta's cosines
- * and sines cth, sth) and the rates d->dl, for the selected effects.  The
+ * Rates, maps, Mq and hq at the positions p holds (l, theta's cosines and
+ * sines, and the constraint terms there: plane_constraints) and the rates
+ * d->dl, for the selected effects.  The
  * platform's motion (vc, omega, Jw and the angular bias acceleration),
  * which only the full report and a payload read, is left out of a lean
  * state (NaN); RPS3_FD_NOFACTOR adds Jw and what rps3_invdyn reports of
  * the configuration, its checks included.
  */
 static int state_eval(const rps3_model *m, rps3_data *d, rps3_fd_state *k,
-                      int flags, const double cth[3], const double sth[3]) {
+                      int flags, plane *p) {
   const int invdyn = (flags & RPS3_FD_NOFACTOR) != 0;
   const int with_w =
       !(flags & RPS3_FD_LEAN) || (m->opt.effects & RPS3_EFF_PAYLOAD);
-  plane p;
   double u[3][2], vc[3], om[3], chk = 0.0;
   int i, q, st;
   for (i = 0; i < 3; i++) {
-    p.l[i] = d->l[i];
-    p.dl[i] = d->dl[i];
-    p.c[i] = cth[i];
-    p.s[i] = sth[i];
+    p->dl[i] = d->dl[i];
     u[i][0] = m->radial[i][0];
     u[i][1] = m->radial[i][1];
   }
-  st = plane_jacobian(m, d, &p);
+  st = plane_jacobian(m, d, p);
   if (st != RPS3_OK) return st;
-  plane_rates(&p, M2C(u));
+  plane_rates(p, M2C(u));
   k->have_w = with_w;
-  if (with_w || invdyn) {
-    platform_motion(m, d, &p, M2C(u), with_w, k, vc, om);
-  }
-  if (!with_w)
-    for (q = 0; q < 3; q++) vc[q] = om[q] = (double)NAN; /* as positions */
+  if (with_w || invdyn || (flags & RPS3_FD_KEEP))
+    platform_motion(m, p, M2C(u), with_w, k, vc, om);
   for (q = 0; q < 3; q++) {
-    chk += fabs(p.dth[q]) + fabs(p.ddb[q]) + fabs(p.acb[q]);
-    if (with_w) chk += fabs(vc[q]) + fabs(om[q]) + fabs(k->dw_b[q]);
-    d->dtheta[q] = p.dth[q];
-    d->vc[q] = vc[q];
-    d->omega[q] = om[q];
-    k->ddth_b[q] = p.ddb[q];
-    k->ac_b[q] = p.acb[q];
+    chk += fabs(p->dth[q]) + fabs(p->ddb[q]) + fabs(p->acb[q]);
+    d->dtheta[q] = p->dth[q];
+    k->ddth_b[q] = p->ddb[q];
+    k->ac_b[q] = p->acb[q];
   }
-  memcpy(k->G, p.G, sizeof(p.G));
-  memcpy(k->Jc, p.Jc, sizeof(p.Jc));
+  if (with_w) {
+    for (q = 0; q < 3; q++) {
+      chk += fabs(vc[q]) + fabs(om[q]) + fabs(k->dw_b[q]);
+      d->vc[q] = vc[q];
+      d->omega[q] = om[q];
+    }
+  } else if (!(flags & RPS3_FD_SCRATCH)) {
+    for (q = 0; q < 3; q++) d->vc[q] = d->omega[q] = (double)NAN; /* as positions */
+  }
+  memcpy(k->G, p->G, sizeof(p->G));
+  memcpy(k->Jc, p->Jc, sizeof(p->Jc));
   /* one test of the rates and the bias; the named checks when it fails */
   if (!(chk <= DBL_MAX)) {
     RPS3_CHECK_FINITE(d, d->dtheta, 3, "dtheta");
@@ -200,10 +200,10 @@ static int state_eval(const rps3_model *m, rps3_data *d, rps3_fd_state *k,
     if (with_w) RPS3_CHECK_FINITE(d, k->dw_b, 3, "domega");
   }
   if (invdyn) {
-    st = invdyn_limits(m, d, &p, k);
+    st = invdyn_limits(m, d, p, k);
     if (st != RPS3_OK) return st;
   }
-  assemble(m, d, k, &p);
+  assemble(m, d, k, p);
   return RPS3_OK;
 }
 
@@ -260,9 +260,20 @@ static double mass_cond(const double Mq[3][3]) {
 
 /* evaluations whose start trigonometry rps3_fd_trig_step moves before one
    takes sincos again: the phase's rounding, an ulp a step at most, stays
-   below 1e-13 rad (the solve's tolerance is 1e-12); the plant's full
-   state at the end of every control period takes sincos anyway */
+   below 1e-13 rad (the solve's tolerance is 1e-12) */
 #define TRIG_RESYNC 256
+
+/* a root in another assembly mode than opt.mode asks for is refused, as
+   rps3_theta_solve refuses it (the fall-back rps3_fk did already) */
+static int mode_refused(const rps3_model *m, rps3_data *d, rps3_fd_state *k) {
+  if (m->opt.mode == RPS3_MODE_ANY || d->mode == m->opt.mode) return RPS3_OK;
+  d->have_theta = 0;
+  k->have_trig = 0;
+  RPS3_ERROR(d, RPS3_EMODE,
+             "root theta = (%.6g, %.6g, %.6g) is in assembly mode %d (sign of "
+             "det df/dtheta; +1 the level platform's), opt.mode asks for %d",
+             d->theta[0], d->theta[1], d->theta[2], d->mode, m->opt.mode);
+}
 
 /* a failure leaves no acceleration that could be read as one */
 static void poison(rps3_data *d) {
@@ -275,10 +286,10 @@ int rps3_fwddyn_state(const rps3_model *m, rps3_data *d, rps3_fd_state *k,
   const int lean = (flags & RPS3_FD_LEAN) != 0;
   const int payload = (m->opt.effects & RPS3_EFF_PAYLOAD) != 0;
   /* the positions (ball joints, link directions, frame): not in a lean
-     stage, which reads theta alone, unless a payload or the inverse
-     dynamics' checks need them */
-  const int positions = !lean || payload || (flags & RPS3_FD_NOFACTOR);
-  double dl[3], c[3], sn[3];
+     stage, which reads theta alone, unless a payload needs them */
+  const int positions = !lean || payload;
+  plane p;
+  double dl[3], *c = p.c, *sn = p.s;
   int status, pd, trig = 0;
   if (!v3_finite(d->dl)) {
     poison(d);
@@ -293,6 +304,7 @@ int rps3_fwddyn_state(const rps3_model *m, rps3_data *d, rps3_fd_state *k,
   }
   /* the rates survive the stages, which reset what they write */
   v3_copy(dl, d->dl);
+  k->have_kin = 0;
 
   /* positions: theta from l, warm-started on the tracked assembly mode;
      Newton from the warm start, else the full solve (which reports) */
@@ -308,18 +320,26 @@ int rps3_fwddyn_state(const rps3_model *m, rps3_data *d, rps3_fd_state *k,
        stays where
        the last root was, as does the fall-back */
     if ((flags & RPS3_FD_PREDICT) && m->opt.warm_start && d->have_theta) {
-      double dlen[3], dth[3];
+      double dlen[3], dth[3], tau;
       v3_sub(dlen, d->l, k->l);
       m3_mulv(dth, M3C(k->G), dlen);
+      /* and to second order along the last state's rates: l - l_last =
+         tau l'_last + (a part across them) carries theta'' tau^2 / 2 =
+         ddtheta_bias(l'_last) tau^2 / 2 beyond G (l - l_last).  An
+         integrator's next stage lies along them (RK4's second and fourth
+         stages to O(h^3)): the start is within O(h^3) of the root, most
+         often within the tolerance, and no Newton step is taken */
+      tau = v3_dot(dlen, k->dl) * k->idl2;
+      v3_axpy(dth, dth, 0.5 * tau * tau, k->ddth_b);
       if (max2(max2(fabs(dth[0]), fabs(dth[1])), fabs(dth[2])) <=
           RPS3_FD_PREDICT_MAX)
         v3_axpy(d->theta, d->theta, 1.0, dth);
     }
-    /* a lean state started near the last root moves that root's cosines
-       and sines by the change of theta (exact: the two are within a
-       factor of two); a full state, and every TRIG_RESYNC-th lean one,
-       takes sincos, so that the series' rounding never builds up */
-    if ((flags & RPS3_FD_TRIG) && lean && k->have_trig && d->have_theta &&
+    /* a state started near the last root moves that root's cosines and
+       sines by the change of theta (exact: the two are within a factor of
+       two); every TRIG_RESYNC-th takes sincos, so that the series'
+       rounding never builds up */
+    if ((flags & RPS3_FD_TRIG) && k->have_trig && d->have_theta &&
         k->nrot < TRIG_RESYNC) {
       double e[3];
       v3_sub(e, k->th, d->theta);
@@ -332,10 +352,12 @@ int rps3_fwddyn_state(const rps3_model *m, rps3_data *d, rps3_fd_state *k,
       }
     }
     k->have_trig = 0;
-    if (rps3_fd_theta_newton(m, d, c, sn, trig, positions, !lean) == 0) {
+    if (rps3_fd_theta_newton(m, d, &p, trig, positions, !lean,
+                             !(flags & RPS3_FD_SCRATCH)) == 0) {
       d->have_theta = 1;
       d->stage = positions ? RPS3_STAGE_POS : 0;
     } else {
+      double f[3];
       int i;
       v3_copy(d->theta, th0);
       status = rps3_fk(m, d);
@@ -344,13 +366,21 @@ int rps3_fwddyn_state(const rps3_model *m, rps3_data *d, rps3_fd_state *k,
         return status;
       }
       for (i = 0; i < 3; i++) {
+        p.l[i] = d->l[i];
         c[i] = d->dphi[i][2]; /* cos theta_i (29) */
         sn[i] = d->phi[i][2]; /* sin theta_i */
       }
+      plane_constraints(m, &p, f);
       trig = 0;
     }
   }
   v3_copy(k->l, d->l);
+  v3_copy(k->dl, dl);
+  {
+    /* for the next state's prediction, off its critical path */
+    const double v2 = v3_dot(dl, dl);
+    k->idl2 = v2 > 0.0 ? 1.0 / v2 : 0.0;
+  }
   v3_copy(k->th, d->theta);
   v3_copy(k->c, c);
   v3_copy(k->s, sn);
@@ -358,25 +388,20 @@ int rps3_fwddyn_state(const rps3_model *m, rps3_data *d, rps3_fd_state *k,
   k->nrot = trig ? k->nrot + 1 : 0;
   v3_copy(d->dl, dl);
   /* rates, the accelerations at l'' = 0 (the bias), the maps, Mq, hq */
-  status = state_eval(m, d, k, flags, c, sn);
+  status = state_eval(m, d, k, flags, &p);
   if (status != RPS3_OK) {
     poison(d);
     return status;
   }
-  /* a root in another assembly mode than opt.mode asks for is refused, as
-     rps3_theta_solve refuses it (the fall-back rps3_fk did already) */
-  if (m->opt.mode != RPS3_MODE_ANY && d->mode != m->opt.mode) {
-    d->have_theta = 0;
-    k->have_trig = 0;
+  status = mode_refused(m, d, k);
+  if (status != RPS3_OK) {
     poison(d);
-    RPS3_ERROR(d, RPS3_EMODE,
-               "root theta = (%.6g, %.6g, %.6g) is in assembly mode %d "
-               "(sign of det df/dtheta; +1 the level platform's), opt.mode "
-               "asks for %d", d->theta[0], d->theta[1], d->theta[2], d->mode,
-               m->opt.mode);
+    return status;
   }
+  k->scratch = lean && (flags & RPS3_FD_SCRATCH) && !k->have_w;
   if (lean) {
-    d->dpose[0] = d->dpose[1] = d->dpose[2] = (double)NAN;
+    if (!(flags & RPS3_FD_SCRATCH))
+      d->dpose[0] = d->dpose[1] = d->dpose[2] = (double)NAN;
   } else {
     rps3_pose_rates(d);
     RPS3_CHECK_FINITE(d, d->dpose, 3, "dpose");
@@ -391,6 +416,10 @@ int rps3_fwddyn_state(const rps3_model *m, rps3_data *d, rps3_fd_state *k,
     k->mode = d->mode;
     return RPS3_OK;
   }
+  if (flags & RPS3_FD_KEEP) {
+    k->kin = p;
+    k->have_kin = 1;
+  }
 
   /* Mq symmetric positive definite and conditioned: its inverse, and the
      condition number from it (by LU when it is not positive definite) */
@@ -404,6 +433,71 @@ int rps3_fwddyn_state(const rps3_model *m, rps3_data *d, rps3_fd_state *k,
   RPS3_CHECK_FINITE(d, d->Mq, 9, "Mq");
   k->mode = d->mode;
   return RPS3_OK;
+}
+
+/* the state part of rps3_fwddyn_state_shared, once it applies */
+static int state_shared(const rps3_model *m, rps3_data *d, rps3_fd_state *k,
+                        const rps3_fd_state *src) {
+  const plane *p = &src->kin;
+  double cond;
+  int st;
+  /* what rps3_fwddyn_state writes of a lean state, from src's */
+  d->stage = 0;
+  d->warn = 0;
+  d->mode = src->mode;
+  d->have_theta = 1;
+  v3_copy(d->theta, src->th);
+  v3_copy(d->dtheta, p->dth);
+  rps3_fd_positions_unset(d);
+  d->vc[0] = d->vc[1] = d->vc[2] = (double)NAN;
+  d->omega[0] = d->omega[1] = d->omega[2] = (double)NAN;
+  d->dpose[0] = d->dpose[1] = d->dpose[2] = (double)NAN;
+  /* what the next own state's predicted start reads (a controller's
+     state part has no accelerations to form: no Jc, Jw, ac_b) */
+  memcpy(k->G, p->G, sizeof(p->G));
+  v3_copy(k->ddth_b, p->ddb);
+  v3_copy(k->l, p->l);
+  v3_copy(k->dl, p->dl);
+  k->idl2 = src->idl2;
+  v3_copy(k->th, src->th);
+  v3_copy(k->c, p->c);
+  v3_copy(k->s, p->s);
+  k->have_trig = 1;
+  k->nrot = src->nrot;
+  k->have_w = 0;
+  k->scratch = 0;
+  /* m's checks: df/dtheta's condition (plane_jacobian's), the lambda
+     system's and the transmission (invdyn_limits), the mode */
+  cond = plane_cond1(p);
+  if (!(cond <= m->opt.cond_max))
+    RPS3_ERROR(d, RPS3_ESING,
+               "constraint Jacobian df/dtheta: condition number %.3g exceeds "
+               "cond_max %.3g", cond, m->opt.cond_max);
+  st = invdyn_limits(m, d, p, src);
+  if (st != RPS3_OK) return st;
+  st = mode_refused(m, d, k);
+  if (st != RPS3_OK) return st;
+  assemble(m, d, k, p);
+  RPS3_CHECK_FINITE(d, d->hq, 3, "hq");
+  RPS3_CHECK_FINITE(d, d->Mq, 9, "Mq");
+  return RPS3_OK;
+}
+
+int rps3_fwddyn_state_shared(const rps3_model *m, rps3_data *d,
+                             rps3_fd_state *k, const rps3_model *src_model,
+                             const rps3_fd_state *src, int *status) {
+  int i;
+  if (src == NULL || src_model == NULL || !src->have_kin ||
+      m->R != src_model->R || m->r != src_model->r ||
+      !(src_model->opt.tol <= m->opt.tol) ||
+      (m->opt.effects & RPS3_EFF_PAYLOAD))
+    return 0;
+  for (i = 0; i < 3; i++)
+    if (!(d->l[i] == src->kin.l[i] && d->dl[i] == src->kin.dl[i])) return 0;
+  *status = state_shared(m, d, k, src);
+  poison(d); /* no acceleration: Mq and hq are the answer */
+  if (*status == RPS3_OK) k->mode = d->mode;
+  return 1;
 }
 
 int rps3_fwddyn_accel(const rps3_model *m, rps3_data *d,
@@ -424,6 +518,7 @@ int rps3_fwddyn_accel(const rps3_model *m, rps3_data *d,
     RPS3_ERROR(d, RPS3_ESING, "acceleration is not finite");
   }
   v3_copy(d->ddl, x);
+  if (k->scratch) return RPS3_OK; /* an integrator's stage reads ddl alone */
   /* every acceleration is its map applied to l'' plus its bias; the
      angular one where the state formed its map */
   for (i = 0; i < 3; i++) {

@@ -19,6 +19,36 @@
    configuration, where G grows) starts from the last root itself */
 #define RPS3_FD_PREDICT_MAX 1e-2
 
+/*
+ * A state in the links' planes.  Link i moves in the vertical plane of pin
+ * i, its ball joint at b_i = h_i u_i + Z_i e_z, h_i = R - l_i cos_i, Z_i =
+ * l_i sin_i ((12)-(14)).  The pair k = (i, j), j = i + 1 (mod 3), of
+ * (8)-(10) is f_k = |b_i - b_j|^2 - 3 r^2 = h_i^2 + h_j^2 + h_i h_j + (Z_i
+ * - Z_j)^2 - 3 r^2 (u_i . u_j = -1/2), so with A = 2 h_i + h_j, B = 2 h_j +
+ * h_i, E = 2 (Z_i - Z_j) its derivatives are
+ *   df_k/dtheta_i = l_i (A sin_i + E cos_i),  df_k/dtheta_j = l_j (B sin_j
+ *   - E cos_j), df_k/dl_i = E sin_i - A cos_i,  df_k/dl_j = -B cos_j - E
+ *   sin_j,
+ * rps3_constraint_jacobian's entries, two a row: df/dtheta is cyclic
+ * bidiagonal, det = a0 a1 a2 + b0 b1 b2, and its inverse is its adjugate
+ * over det, nine products.  Everything is formed in this local structure
+ * and stored into d and k once: stores through them could alias the
+ * inputs as far as the compiler knows.  Its steps are in fwddyn_plane.h.
+ */
+typedef struct {
+  double l[3], dl[3], c[3], s[3]; /* lengths, rates, cos and sin theta */
+  double A[3], B[3], E[3];        /* of pair k, above */
+  double at[3], bt[3];            /* df_k/dtheta_k, df_k/dtheta_(k+1) */
+  double al[3], bl[3];            /* df_k/dl_k, df_k/dl_(k+1) */
+  double X[3][3];                 /* (df/dtheta)^-1 */
+  double G[3][3];                 /* dtheta'/dl' = -X df/dl */
+  double Jc[3][3];                /* dvc/dl' */
+  double dth[3], ddb[3];          /* theta', theta'' at l'' = 0 */
+  double hd[3], Zd[3];            /* h_i', Z_i' */
+  double hdd[3], Zdd[3];          /* h_i'', Z_i'' at l'' = 0 */
+  double acb[3];                  /* centre acceleration at l'' = 0 */
+} plane;
+
 /* what rps3_fwddyn_accel needs of a state: theta' = G l', vc = Jc l',
    omega = Jw l' (columns j the motions for a unit l_j'), the accelerations
    at l'' = 0, and Mq^-1 */
@@ -31,13 +61,19 @@ typedef struct rps3_fd_state {
   double ac_b[3];     /* centre acceleration at l'' = 0 */
   double dw_b[3];     /* angular acceleration at l'' = 0 */
   double Minv[3][3];  /* Mq^-1, its adjugate over its determinant */
-  double l[3];        /* the lengths of this state */
+  double l[3], dl[3]; /* the lengths and rates of this state */
+  double idl2;        /* 1 / |dl|^2 (0 at rest) */
   double th[3];       /* its theta, and their cosines and sines */
   double c[3], s[3];
   int have_trig;      /* th, c, s are the last state's root */
   int nrot;           /* states since c, s were last from sincos */
   int mode;           /* assembly mode of the last successful state, 0
                          before one */
+  /* RPS3_FD_KEEP: that state's kinematics (Jw formed too), for a model
+     with the same geometry at the same (l, dl): rps3_fwddyn_state_shared */
+  plane kin;
+  int have_kin;
+  int scratch;        /* RPS3_FD_SCRATCH: rps3_fwddyn_accel forms ddl alone */
 } rps3_fd_state;
 
 /* flags of rps3_fwddyn_state */
@@ -54,29 +90,44 @@ enum {
   RPS3_FD_NOFACTOR = 4, /* Mq and hq only, for a model's inverse dynamics
                           F = Mq ddl + hq (a controller): no inertia
                           needed, Mq not factored (Minv, Mcond unset) */
-  RPS3_FD_TRIG = 8     /* *k holds the last root of this d (have_trig):
-                          a lean state whose start is within a predicted
-                          step of it takes its cosines and sines from it
-                          by their series instead of sincos */
+  RPS3_FD_TRIG = 8,    /* *k holds the last root of this d (have_trig):
+                          a state whose start is within a predicted step
+                          of it takes its cosines and sines from it by
+                          their series instead of sincos */
+  RPS3_FD_KEEP = 16,   /* keep the state's kinematics in k->kin, with Jw
+                          (a simulation's state at a controller's tick) */
+  RPS3_FD_SCRATCH = 32 /* with RPS3_FD_LEAN: d is the caller's scratch,
+                          which it reads nothing of but the accelerations:
+                          what a lean state leaves out is left as it was
+                          instead of NaN (its stage bits 0 say so), and
+                          rps3_fwddyn_accel forms ddl alone */
 };
 
-/* fwddyn_theta.c: theta from d->l by Newton's method from d->theta (its
-   cosines and sines in c, sn when have_trig, else taken here), to a root
-   rps3_theta_solve would accept; 0 with the root's cosines and sines in
-   c, sn and the positions (when `positions`) and pose (when `pose`)
-   written, -1 for the caller to fall back to rps3_fk.  And c, sn moved
-   to theta - e by their series (|e| <= RPS3_FD_PREDICT_MAX), back onto
-   the unit circle */
-int rps3_fd_theta_newton(const rps3_model *m, rps3_data *d, double c[3],
-                         double sn[3], int have_trig, int positions,
-                         int pose);
+/* fwddyn_theta.c: c, sn moved to theta - e by their series (|e| <=
+   RPS3_FD_PREDICT_MAX), back onto the unit circle (fwddyn_plane.h has
+   the Newton step that uses it) */
 void rps3_fd_trig_step(double c[3], double sn[3], const double e[3]);
+
+/* a lean state's positions: none (NaN), so that no earlier state's can be
+   read as this one's */
+void rps3_fd_positions_unset(rps3_data *d);
 
 /* The state part of rps3_fwddyn: reads d->l, d->dl (not d->F); writes the
    positions, the rates, Mq, hq, Mcond and mode, and *k.  On failure the
    status and message of rps3_fwddyn, d->ddl NaN. */
 int rps3_fwddyn_state(const rps3_model *m, rps3_data *d, rps3_fd_state *k,
                       int flags);
+
+/* The state part of another model at the state src kept (RPS3_FD_KEEP,
+   src_model's): when m has src_model's geometry (R, r), no payload, a
+   theta tolerance no tighter than src_model's, and d->l, d->dl are src's
+   bit for bit, the kinematics are src's and only Mq, hq (m's masses and
+   effects) and m's checks are formed, as rps3_fwddyn_state(m, d, k,
+   RPS3_FD_LEAN | RPS3_FD_NOFACTOR) would: returns 1 with *status.
+   Otherwise returns 0 and touches nothing. */
+int rps3_fwddyn_state_shared(const rps3_model *m, rps3_data *d,
+                             rps3_fd_state *k, const rps3_model *src_model,
+                             const rps3_fd_state *src, int *status);
 
 /* The force part: ddl, ddtheta, ac, domega from d->F and the state k that
    rps3_fwddyn_state wrote into d (d's positions and rates unchanged since).

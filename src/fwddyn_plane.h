@@ -20,6 +20,15 @@ static inline void omega_of_sum(double omega[3], const double w[3],
   for (q = 0; q < 3; q++) omega[q] = wk * w[q] - s * a[q];
 }
 
+/* the steps below are meant to compile into their callers' one
+   evaluation (GCC otherwise keeps some out of line: a call, and its
+   arguments through memory) */
+#if defined(__GNUC__)
+#define FD_INLINE static inline __attribute__((always_inline))
+#else
+#define FD_INLINE static inline
+#endif
+
 /* C99 does not convert double (*)[2] to const double (*)[2] implicitly */
 #define M2C(A) ((const double(*)[2])(A))
 
@@ -28,43 +37,15 @@ static inline void omega_of_sum(double omega[3], const double w[3],
    step's sum of |f|, the finite start, det and the inverse's scale) */
 static inline double max2(double a, double b) { return a > b ? a : b; }
 
-/*
- * A state in the links' planes.  Link i moves in the vertical plane of pin
- * i, its ball joint at b_i = h_i u_i + Z_i e_z, h_i = R - l_i cos_i, Z_i =
- * l_i sin_i ((12)-(14)).  The pair k = (i, j), j = i + 1 (mod 3), of
- * (8)-(10) is f_k = |b_i - b_j|^2 - 3 r^2 = h_i^2 + h_j^2 + h_i h_j + (Z_i
- * - Z_j)^2 - 3 r^2 (u_i . u_j = -1/2), so with A = 2 h_i + h_j, B = 2 h_j +
- * h_i, E = 2 (Z_i - Z_j) its derivatives are
- *   df_k/dtheta_i = l_i (A sin_i + E cos_i),  df_k/dtheta_j = l_j (B sin_j
- *   - E cos_j), df_k/dl_i = E sin_i - A cos_i,  df_k/dl_j = -B cos_j - E
- *   sin_j,
- * rps3_constraint_jacobian's entries, two a row: df/dtheta is cyclic
- * bidiagonal, det = a0 a1 a2 + b0 b1 b2, and its inverse is its adjugate
- * over det, nine products.  Everything is formed in this local structure
- * and stored into d and k once: stores through them could alias the
- * inputs as far as the compiler knows.
- */
-typedef struct {
-  double l[3], dl[3], c[3], s[3]; /* lengths, rates, cos and sin theta */
-  double A[3], B[3], E[3];        /* of pair k, above */
-  double at[3], bt[3];            /* df_k/dtheta_k, df_k/dtheta_(k+1) */
-  double al[3], bl[3];            /* df_k/dl_k, df_k/dl_(k+1) */
-  double X[3][3];                 /* (df/dtheta)^-1 */
-  double G[3][3];                 /* dtheta'/dl' = -X df/dl */
-  double Jc[3][3];                /* dvc/dl' */
-  double dth[3], ddb[3];          /* theta', theta'' at l'' = 0 */
-  double hd[3], Zd[3];            /* h_i', Z_i' */
-  double hdd[3], Zdd[3];          /* h_i'', Z_i'' at l'' = 0 */
-  double acb[3];                  /* centre acceleration at l'' = 0 */
-} plane;
+/* the state in the links' planes: `plane`, in fwddyn.h */
 
-/* the constraint Jacobians, the mode (sign of det(df/dtheta), grouped as
-   rps3_mode_of_jac groups it), (df/dtheta)^-1 and its 1-norm condition
-   number (RPS3_ESING past opt.cond_max); column i of df/dtheta holds
-   at[i] and bt[i - 1] */
-static inline int plane_jacobian(const rps3_model *m, rps3_data *d,
-                                 plane *p) {
-  double h[3], Z[3], det, id, n1 = 0.0, ni = 0.0, cond;
+/* the constraints f_k [m^2] at p's l, c, s and their derivatives in
+   theta (at, bt), with A, B, E: one Newton iteration's evaluation, whose
+   last is the state's (plane_jacobian reads it) */
+FD_INLINE void plane_constraints(const rps3_model *m, plane *p,
+                                     double f[3]) {
+  const double r3 = 3.0 * m->r * m->r;
+  double h[3], Z[3];
   int i, q;
   for (i = 0; i < 3; i++) {
     h[i] = m->R - p->l[i] * p->c[i];
@@ -76,8 +57,37 @@ static inline int plane_jacobian(const rps3_model *m, rps3_data *d,
     p->A[q] = 2.0 * h[i] + h[j];
     p->B[q] = 2.0 * h[j] + h[i];
     p->E[q] = 2.0 * (Z[i] - Z[j]);
+    f[q] = h[i] * h[i] + h[j] * h[j] + h[i] * h[j] +
+           0.25 * p->E[q] * p->E[q] - r3;
     p->at[q] = p->l[i] * (p->A[q] * p->s[i] + p->E[q] * p->c[i]);
     p->bt[q] = p->l[j] * (p->B[q] * p->s[j] - p->E[q] * p->c[j]);
+  }
+}
+
+/* the 1-norm condition number of df/dtheta, from its entries and its
+   inverse X */
+static inline double plane_cond1(const plane *p) {
+  double n1 = 0.0, ni = 0.0;
+  int i;
+  for (i = 0; i < 3; i++) {
+    n1 = max2(n1, fabs(p->at[i]) + fabs(p->bt[(i + 2) % 3]));
+    ni = max2(ni, fabs(p->X[0][i]) + fabs(p->X[1][i]) + fabs(p->X[2][i]));
+  }
+  return n1 * ni;
+}
+
+/* the constraint Jacobians (df/dtheta from plane_constraints at the
+   state's root), the mode (sign of det(df/dtheta), grouped as
+   rps3_mode_of_jac groups it), (df/dtheta)^-1 and its 1-norm condition
+   number (RPS3_ESING past opt.cond_max); column i of df/dtheta holds
+   at[i] and bt[i - 1] */
+static inline int plane_jacobian(const rps3_model *m, rps3_data *d,
+                                 plane *p) {
+  double det, id, cond;
+  int i, q;
+  for (q = 0; q < 3; q++) {
+    const int j = (q + 1) % 3;
+    i = q;
     p->al[q] = p->E[q] * p->s[i] - p->A[q] * p->c[i];
     p->bl[q] = -p->B[q] * p->c[j] - p->E[q] * p->s[j];
   }
@@ -95,11 +105,7 @@ static inline int plane_jacobian(const rps3_model *m, rps3_data *d,
   p->X[2][0] = -p->at[1] * p->bt[2] * id;
   p->X[2][1] = p->bt[0] * p->bt[2] * id;
   p->X[2][2] = p->at[0] * p->at[1] * id;
-  for (i = 0; i < 3; i++) {
-    n1 = max2(n1, fabs(p->at[i]) + fabs(p->bt[(i + 2) % 3]));
-    ni = max2(ni, fabs(p->X[0][i]) + fabs(p->X[1][i]) + fabs(p->X[2][i]));
-  }
-  cond = n1 * ni;
+  cond = plane_cond1(p);
   if (!(cond <= m->opt.cond_max))
     RPS3_ERROR(d, RPS3_ESING,
                "constraint Jacobian df/dtheta: condition number %.3g exceeds "
@@ -170,17 +176,34 @@ static inline void plane_rates(plane *p, const double u[3][2]) {
    omega for l_j' = 1, into k, from rho_i x u_i and rho_i x e_z (rho_i =
    b_i - c) formed once; with `motion` also vc, omega from sum_i rho_i x
    b_i' and the angular bias acceleration from sum_i rho_i x (b_i'' -
-   omega x (omega x rho_i)) (the inverse dynamics' limits read Jw alone) */
-static inline void platform_motion(const rps3_model *m, const rps3_data *d,
-                                   const plane *p, const double u[3][2],
-                                   int motion, rps3_fd_state *k,
-                                   double vc[3], double om[3]) {
+   omega x (omega x rho_i)) (the inverse dynamics' limits read Jw alone).
+   The ball joints b_i = h_i u_i + Z_i e_z, the centre (11) and the
+   platform's normal a = n x o ((18)-(20): n = rho_1 / r, o = (b_2 - b_3)
+   / (sqrt(3) r)) from the plane, so that a state without positions (a
+   lean one) has them too */
+static inline void platform_motion(const rps3_model *m, const plane *p,
+                                   const double u[3][2], int motion,
+                                   rps3_fd_state *k, double vc[3],
+                                   double om[3]) {
   const double wk = 2.0 / (3.0 * m->r * m->r), third = 1.0 / 3.0;
-  double P[3][3], Q[3][3], rho[3][3], a[3], w[3];
+  const double ak = 1.0 / (RPS3_SQRT3 * m->r * m->r);
+  double P[3][3], Q[3][3], rho[3][3], b[3][3], cen[3], e[3], a[3], w[3];
   int i, j, q;
   for (i = 0; i < 3; i++) {
-    a[i] = d->rot[i][2];
-    for (q = 0; q < 3; q++) rho[i][q] = d->b[i][q] - d->c[q];
+    const double h = m->R - p->l[i] * p->c[i];
+    b[i][0] = h * u[i][0];
+    b[i][1] = h * u[i][1];
+    b[i][2] = p->l[i] * p->s[i];
+  }
+  for (q = 0; q < 3; q++) {
+    cen[q] = (b[0][q] + b[1][q] + b[2][q]) * third;
+    e[q] = b[1][q] - b[2][q];
+  }
+  for (i = 0; i < 3; i++)
+    for (q = 0; q < 3; q++) rho[i][q] = b[i][q] - cen[q];
+  v3_cross(a, rho[0], e);
+  for (q = 0; q < 3; q++) a[q] *= ak;
+  for (i = 0; i < 3; i++) {
     P[i][0] = -rho[i][2] * u[i][1];
     P[i][1] = rho[i][2] * u[i][0];
     P[i][2] = rho[i][0] * u[i][1] - rho[i][1] * u[i][0];
@@ -251,5 +274,15 @@ static inline int invdyn_limits(const rps3_model *m, rps3_data *d,
   if (T > m->opt.trans_warn) d->warn |= RPS3_WARN_TRANS;
   return RPS3_OK;
 }
+
+/* fwddyn_theta.c: theta from d->l (p->l) by Newton's method from
+   d->theta (its cosines and sines in p->c, p->s when have_trig, else
+   taken here), to a root rps3_theta_solve would accept; 0 with the root's
+   cosines and sines in p->c, p->s, plane_constraints evaluated there, and
+   the positions (when `positions`, else NaN when `unset`) and pose (when
+   `pose`, else NaN when `unset`) written, -1 for the caller to fall back
+   to rps3_fk */
+int rps3_fd_theta_newton(const rps3_model *m, rps3_data *d, plane *p,
+                         int have_trig, int positions, int pose, int unset);
 
 #endif /* RPS3_FWDDYN_PLANE_H */

@@ -10,7 +10,9 @@
  * simulation the previous evaluation's theta is within a step of the
  * answer, and one Newton step converges where GSL's hybridsj costs its
  * set-up on every call.  The same convergence test as rps3_theta_solve
- * (max |f_k| / R^2 <= opt.tol), f_k in units of R as state_eval writes it.
+ * (max |f_k| / R^2 <= opt.tol); each iteration evaluates f with its
+ * Jacobian (plane_constraints), and the last evaluation, at the root, is
+ * the state's: plane_jacobian does not form it again.
  * A step moves theta's cosine and sine by their Taylor series instead of
  * another sincos, and so does the predicted start of an integrator's
  * stage from the last root's (a full evaluation takes sincos of its
@@ -37,12 +39,12 @@
    of many steps does not build up in the magnitude (rps3_fwddyn_state
    bounds the steps between two sincos) */
 void rps3_fd_trig_step(double c[3], double sn[3], const double e[3]) {
-  const int small = max2(max2(fabs(e[0]), fabs(e[1])), fabs(e[2])) <= 1e-5;
+  const double big = max2(max2(fabs(e[0]), fabs(e[1])), fabs(e[2]));
   int i;
   for (i = 0; i < 3; i++) {
     const double x = e[i], x2 = x * x;
     double ce, se, cn, snn, g;
-    if (small) {
+    if (big <= 1e-5) {
       ce = 1.0 - 0.5 * x2;
       se = x - x * x2 * (1.0 / 6.0);
     } else {
@@ -58,9 +60,7 @@ void rps3_fd_trig_step(double c[3], double sn[3], const double e[3]) {
   }
 }
 
-/* a lean stage's positions: none (NaN), so that no earlier state's can be
-   read as this one's */
-static void positions_unset(rps3_data *d) {
+void rps3_fd_positions_unset(rps3_data *d) {
   const double nan = (double)NAN;
   int i, q;
   for (i = 0; i < 3; i++) {
@@ -70,18 +70,18 @@ static void positions_unset(rps3_data *d) {
   }
 }
 
-int rps3_fd_theta_newton(const rps3_model *m, rps3_data *d, double c[3],
-                         double sn[3], int have_trig, int positions,
-                         int pose) {
-  const double q3 = 3.0 * m->rho * m->rho; /* 3 r^2 / R^2 */
-  const double iR = 1.0 / m->R;
-  double L[3], th[3], resid;
+int rps3_fd_theta_newton(const rps3_model *m, rps3_data *d, plane *p,
+                         int have_trig, int positions, int pose,
+                         int unset) {
+  /* the test of rps3_theta_solve, max |f_k| / R^2 <= tol, in m^2 */
+  const double tol = m->opt.tol * m->R * m->R;
+  double *c = p->c, *sn = p->s, th[3], f[3], resid;
   int it, i, fold = 0;
   if (!(m->opt.warm_start && d->have_theta && v3_finite(d->theta)) ||
       !v3_finite(d->l) || !(d->l[0] > 0 && d->l[1] > 0 && d->l[2] > 0))
     return -1;
   for (i = 0; i < 3; i++) {
-    L[i] = d->l[i] * iR;
+    p->l[i] = d->l[i];
     th[i] = d->theta[i];
   }
   if (!have_trig)
@@ -91,24 +91,15 @@ int rps3_fd_theta_newton(const rps3_model *m, rps3_data *d, double c[3],
       sn[i] = sin(t);
     }
   for (it = 0;; it++) {
-    double H[3], Y[3], f[3], a[3], b[3], x[3], det, id, big;
-    int k;
-    for (i = 0; i < 3; i++) {
-      H[i] = 1.0 - L[i] * c[i];
-      Y[i] = L[i] * sn[i];
-    }
-    for (k = 0; k < 3; k++) {
-      const int j = (k + 1) % 3;
-      const double E = 2.0 * (Y[k] - Y[j]);
-      f[k] = H[k] * H[k] + H[j] * H[j] + H[k] * H[j] + 0.25 * E * E - q3;
-      a[k] = L[k] * ((2.0 * H[k] + H[j]) * sn[k] + E * c[k]);
-      b[k] = L[j] * ((2.0 * H[j] + H[k]) * sn[j] - E * c[j]);
-    }
+    const double *a = p->at, *b = p->bt;
+    double x[3], det, id, big;
+    plane_constraints(m, p, f);
     resid = max2(max2(fabs(f[0]), fabs(f[1])), fabs(f[2]));
     if (!(fabs(f[0]) + fabs(f[1]) + fabs(f[2]) < HUGE_VAL)) return -1;
-    if (resid <= m->opt.tol) break;
+    if (resid <= tol) break;
     if (it == NEWTON_MAX) return -1;
-    /* J x = f, J[k][k] = a_k, J[k][k+1] = b_k: the adjugate (state_eval) */
+    /* J x = f, J[k][k] = a_k, J[k][k+1] = b_k: the adjugate
+       (plane_jacobian) */
     det = a[0] * (a[1] * a[2]) + b[0] * (b[1] * b[2]);
     if (!(fabs(det) > 0.0 && fabs(det) < HUGE_VAL)) return -1;
     id = 1.0 / det;
@@ -128,6 +119,7 @@ int rps3_fd_theta_newton(const rps3_model *m, rps3_data *d, double c[3],
       }
     }
   }
+  resid /= m->R * m->R;
   d->solve_niter = it;
   d->solve_resid = resid;
   for (i = 0; i < 3; i++) {
@@ -139,10 +131,18 @@ int rps3_fd_theta_newton(const rps3_model *m, rps3_data *d, double c[3],
     c[i] = cos(d->theta[i]);
     sn[i] = sin(d->theta[i]);
   }
+  /* the state's constraint terms at the folded angles' own trig */
+  if (fold) plane_constraints(m, p, f);
   if (positions || fold) {
     rps3_links_from_trig(m, d, c, sn);
     rps3_frame_from_balls(m, d);
     if (d->rot[0][0] + d->rot[1][1] < 0.0) return -1; /* spun platform */
+  } else if (it == 0 && have_trig) {
+    /* the start, a root that passed this test moved by at most
+       RPS3_FD_PREDICT_MAX, is the root: n_x + o_y, 1 + cos(beta) >= 0 on
+       the platform of (2) and 2 - O(beta^2) wherever a run goes, cannot
+       have changed sign */
+    if (unset) rps3_fd_positions_unset(d);
   } else {
     /* the spun platform's test alone: rot[0][0] + rot[1][1] is n_x + o_y
        of (18)-(19), from the balls' horizontal positions h_i u_i; times
@@ -157,11 +157,11 @@ int rps3_fd_theta_newton(const rps3_model *m, rps3_data *d, double c[3],
     }
     if ((2.0 * bx[0] - bx[1] - bx[2]) + RPS3_SQRT3 * (by[1] - by[2]) < 0.0)
       return -1;
-    positions_unset(d);
+    if (unset) rps3_fd_positions_unset(d);
   }
   if (pose)
     rps3_pose_from_frame(d);
-  else
+  else if (unset)
     d->pose[0] = d->pose[1] = d->pose[2] = (double)NAN;
   return 0;
 }

@@ -19,6 +19,25 @@ static void set_link_dir(rps3_data *d, int i, const double u[3], double ct,
   d->dphi[i][2] = ct;
 }
 
+void rps3_pose_frame(const rps3_model *m, const rps3_pose_trig *t, double z,
+                     double rot[3][3], double c[3]) {
+  const double ca = t->ca, sa = t->sa, sb = t->sb, vb = t->vb;
+  /* orientation Rz(alpha) Ry(beta) Rz(-alpha), spin gamma = -alpha (2) */
+  rot[0][0] = 1.0 - vb * ca * ca;
+  rot[0][1] = -vb * ca * sa;
+  rot[0][2] = sb * ca;
+  rot[1][0] = -vb * ca * sa;
+  rot[1][1] = 1.0 - vb * sa * sa;
+  rot[1][2] = sb * sa;
+  rot[2][0] = -sb * ca;
+  rot[2][1] = -sb * sa;
+  rot[2][2] = t->cb;
+  /* centre (3)-(4): the only x, y the three pin planes allow */
+  c[0] = -0.5 * m->r * vb * t->C;
+  c[1] = 0.5 * m->r * vb * t->S;
+  c[2] = z;
+}
+
 int rps3_ik(const rps3_model *m, rps3_data *d) {
   rps3_pose_trig t;
   return rps3_ik_with(m, d, &t, RPS3_IK_THETA, NULL);
@@ -27,7 +46,6 @@ int rps3_ik(const rps3_model *m, rps3_data *d) {
 int rps3_ik_with(const rps3_model *m, rps3_data *d, rps3_pose_trig *t,
                  int theta, rps3_cjac *J) {
   rps3_cjac own;
-  double ca, sa, vb, sb, cb, s2a, c2a;
   int i;
   if (m == NULL || d == NULL || !m->valid) return RPS3_EINVAL;
   d->stage = 0;
@@ -36,29 +54,7 @@ int rps3_ik_with(const rps3_model *m, rps3_data *d, rps3_pose_trig *t,
     RPS3_ERROR(d, RPS3_EINVAL, "pose (%g, %g, %g) is not finite", d->pose[0],
                d->pose[1], d->pose[2]);
   rps3_pose_trig_eval(t, d->pose, 1);
-  ca = t->ca;
-  sa = t->sa;
-  sb = t->sb;
-  cb = t->cb;
-  vb = t->vb;
-  c2a = t->C;
-  s2a = t->S;
-
-  /* orientation Rz(alpha) Ry(beta) Rz(-alpha), spin gamma = -alpha (2) */
-  d->rot[0][0] = 1.0 - vb * ca * ca;
-  d->rot[0][1] = -vb * ca * sa;
-  d->rot[0][2] = sb * ca;
-  d->rot[1][0] = -vb * ca * sa;
-  d->rot[1][1] = 1.0 - vb * sa * sa;
-  d->rot[1][2] = sb * sa;
-  d->rot[2][0] = -sb * ca;
-  d->rot[2][1] = -sb * sa;
-  d->rot[2][2] = cb;
-
-  /* centre (3)-(4): the only x, y the three pin planes allow */
-  d->c[0] = -0.5 * m->r * vb * c2a;
-  d->c[1] = 0.5 * m->r * vb * s2a;
-  d->c[2] = d->pose[2];
+  rps3_pose_frame(m, t, d->pose[2], d->rot, d->c);
 
   /* ball joints (15)-(17), link lengths (5)-(7) and angles (39) */
   for (i = 0; i < 3; i++) {

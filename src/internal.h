@@ -191,6 +191,20 @@ void rps3_root_predict(rps3_data *d, double max_step);
 int rps3_invdyn_with(const rps3_model *m, rps3_data *d, rps3_cjac *J);
 int rps3_velocity_with(const rps3_model *m, rps3_data *d,
                        const rps3_pose_trig *pt);
+/* the platform's frame (2)-(4) at height z, its twist (omega, vc) and the
+   twist's rate (domega, ac) from the pose's trigonometry and rates */
+void rps3_pose_frame(const rps3_model *m, const rps3_pose_trig *t, double z,
+                     double rot[3][3], double c[3]);
+void rps3_pose_twist(const rps3_model *m, const rps3_pose_trig *t,
+                     const double dpose[3], double w[3], double vc[3]);
+void rps3_pose_twist_rate(const rps3_model *m, const rps3_pose_trig *t,
+                          const double dpose[3], const double ddpose[3],
+                          const double w[3], double dw[3], double ac[3]);
+/* the link motion of a pose and its rates alone: l, dl and (acc) ddl from
+   d->pose, d->dpose, d->ddpose by the lengths' derivatives, l^2 = |b -
+   P|^2 (no theta, no link directions: d->stage 0); a controller's desired
+   motion.  RPS3_OK, RPS3_EINVAL, RPS3_EREACH or RPS3_ERANGE as rps3_ik */
+int rps3_link_motion(const rps3_model *m, rps3_data *d, int acc);
 int rps3_acceleration_with(const rps3_model *m, rps3_data *d,
                            const rps3_pose_trig *pt);
 
@@ -346,8 +360,10 @@ static inline void m3_mulvt(double res[3], const double A[3][3],
   res[2] = t2;
 }
 
+/* x - x is +0 for a finite x and NaN for an infinite or NaN one: one test
+   without branches, exact (the build never uses -ffast-math) */
 static inline int v3_finite(const double a[3]) {
-  return isfinite(a[0]) && isfinite(a[1]) && isfinite(a[2]);
+  return (a[0] - a[0]) + (a[1] - a[1]) + (a[2] - a[2]) == 0.0;
 }
 
 #endif /* RPS3_INTERNAL_H */

@@ -40,6 +40,8 @@ struct rps3_sim_gsl {
   double ky[6];
   int have_k;
   int lean_k;               /* 1: that state has no pose, no pose rates */
+  int reported;             /* 1: d, T, P and the energy residual describe
+                               the state at s->t (settle, report_end) */
 };
 
 static const char *const INT_NAME[RPS3_NINTEGRATOR] = {"rk4", "rkf45", "rk8pd",
@@ -130,7 +132,8 @@ static int same_state(const double ky[6], const double y[]) {
 /* the plant at (t, y): forces (continuous controller), accelerations,
    mode; lean: for an integrator's stage (no pose, no pose rates); returns
    the status and records a failure */
-static int evaluate(rps3_sim *s, double t, const double y[], int lean) {
+static int evaluate(rps3_sim *s, double t, const double y[], int lean,
+                    int keep) {
   rps3_data *d = s->d;
   int st, i;
   for (i = 0; i < 3; i++) {
@@ -154,7 +157,8 @@ static int evaluate(rps3_sim *s, double t, const double y[], int lean) {
     /* the last state, when it succeeded, predicts this one's theta */
     st = rps3_fwddyn_state(&s->plant, d, &s->gsl->fd,
                            (s->gsl->have_k ? RPS3_FD_PREDICT | RPS3_FD_TRIG : 0) |
-                               (lean ? RPS3_FD_LEAN : 0));
+                               (lean ? RPS3_FD_LEAN | RPS3_FD_SCRATCH : 0) |
+                               (keep ? RPS3_FD_KEEP : 0));
     s->gsl->have_k = 0;
     if (st == RPS3_OK) {
       memcpy(s->gsl->ky, y, sizeof(s->gsl->ky));
@@ -185,7 +189,7 @@ static int rhs(double t, const double y[], double dydt[], void *params) {
   rps3_data *d = s->d;
   double fric = 0.0;
   int st, i;
-  st = evaluate(s, t, y, 1);
+  st = evaluate(s, t, y, 1, 0);
   if (st != RPS3_OK) {
     s->status = st;
     s->failed_at = t;
@@ -408,18 +412,43 @@ int rps3_sim_start(rps3_sim *s, double t0, const double pose[3],
   rps3_energy(&s->plant, d, &s->T, &s->P, NULL);
   s->E0 = s->T + s->P;
   s->energy_residual = 0.0;
+  s->gsl->reported = 1;
   s->started = 1;
   return RPS3_OK;
 }
 
-/* the controller at a tick, from the measured state */
+/* the library's controller of c that evaluates its model at the measured
+   state (PD + gravity, computed torque), else NULL */
+static rps3_ctrl *model_ctrl(const rps3_controller *c) {
+  rps3_ctrl *mc;
+  if (c == NULL || c->fn != rps3_ctrl_update || c->rate <= 0.0) return NULL;
+  mc = (rps3_ctrl *)c->state;
+  return (mc != NULL && (mc->kind == RPS3_CTRL_PD_GRAVITY ||
+                         mc->kind == RPS3_CTRL_COMPUTED_TORQUE))
+             ? mc
+             : NULL;
+}
+
+/* the controller at a tick, from the measured state.  The library's
+   controllers are lent the plant's state at the tick (kept by settle),
+   whose kinematics they take when their model has the plant's geometry
+   and the measurement is exact: the same theta solve and maps, once */
 static int tick(rps3_sim *s, const rps3_controller *c) {
+  rps3_ctrl *mc = model_ctrl(c);
   int st, i;
   for (i = 0; i < 3; i++) {
     s->l_meas[i] = measure(s, s->y[i], s->opt.noise_l, s->opt.quant_l);
     s->dl_meas[i] = measure(s, s->y[3 + i], s->opt.noise_dl, s->opt.quant_dl);
   }
+  if (mc != NULL) {
+    mc->plant = &s->plant;
+    mc->plant_fd = s->gsl->have_k ? &s->gsl->fd : NULL;
+  }
   st = c->fn(c->state, s->t, s->l_meas, s->dl_meas, s->F_cmd);
+  if (mc != NULL) {
+    mc->plant = NULL;
+    mc->plant_fd = NULL;
+  }
   s->nticks++;
   if (st != RPS3_OK) {
     s->d->err.code = st;
@@ -450,12 +479,13 @@ static int rk4_step(rps3_sim *s, double t, double h) {
   struct rps3_sim_gsl *g = s->gsl;
   static const double c[4] = {0.0, 0.5, 0.5, 1.0};
   int j, i, st;
-  for (j = 0; j < 4; j++) {
-    for (i = 0; i < NY; i++)
-      g->ys[i] = s->y[i] + (j ? c[j] * h * g->k[j - 1][i] : 0.0);
-    st = rhs(t + c[j] * h, g->ys, g->k[j], s);
-    if (st != GSL_SUCCESS) return st;
+  st = rhs(t, s->y, g->k[0], s);
+  for (j = 1; j < 4 && st == GSL_SUCCESS; j++) {
+    const double ch = c[j] * h;
+    for (i = 0; i < NY; i++) g->ys[i] = s->y[i] + ch * g->k[j - 1][i];
+    st = rhs(t + ch, g->ys, g->k[j], s);
   }
+  if (st != GSL_SUCCESS) return st;
   for (i = 0; i < NY; i++)
     s->y[i] += h / 6.0 *
                (g->k[0][i] + 2.0 * g->k[1][i] + 2.0 * g->k[2][i] + g->k[3][i]);
@@ -481,7 +511,8 @@ static int integrate(rps3_sim *s, double t1) {
     }
     long k, nk = (long)n;
     double h = span / n;
-    gsl_odeiv2_step_reset(g->stp);
+    /* GSL's stepper (rk4imp) starts afresh: the force may have jumped */
+    if (s->opt.integrator != RPS3_INT_RK4) gsl_odeiv2_step_reset(g->stp);
     st = GSL_SUCCESS;
     for (k = 0; k < nk && st == GSL_SUCCESS; k++) {
       /* on failure y stays at the start of the step */
@@ -515,8 +546,13 @@ static int integrate(rps3_sim *s, double t1) {
   return RPS3_OK;
 }
 
-/* after a segment: the workspace, and the plant data at the new state */
-static int settle(rps3_sim *s) {
+/* after a segment: the workspace, and the plant data at the new state.
+   Within one rps3_sim_advance only the state's part that the next
+   period's first stage reuses is evaluated (a lean state); the report
+   (positions, pose, pose rates, platform motion, energy), which the caller
+   reads after the call alone, is made at the call's last segment
+   (`report`) or by report_end when the last segment was not settled */
+static int settle(rps3_sim *s, int report) {
   int i, st;
   for (i = 0; i < 3; i++)
     if (!(s->y[i] >= s->opt.l_min && s->y[i] <= s->opt.l_max)) {
@@ -526,8 +562,21 @@ static int settle(rps3_sim *s) {
                "%.9g s", i + 1, s->y[i], s->opt.l_min, s->opt.l_max, s->t);
       return fail(s, RPS3_EREACH, s->t);
     }
-  st = evaluate(s, s->t, s->y, 0);
+  st = evaluate(s, s->t, s->y, !report, model_ctrl(s->ctrl) != NULL);
   if (st != RPS3_OK) return fail(s, st, s->t);
+  s->gsl->reported = report;
+  if (report) update_energy(s);
+  return RPS3_OK;
+}
+
+/* the report of the state at s->t after a call whose last segment was a
+   rounding sliver (no settle) following a lean one */
+static int report_end(rps3_sim *s) {
+  int st;
+  if (s->gsl->reported) return RPS3_OK;
+  st = evaluate(s, s->t, s->y, 0, model_ctrl(s->ctrl) != NULL);
+  if (st != RPS3_OK) return fail(s, st, s->t);
+  s->gsl->reported = 1;
   update_energy(s);
   return RPS3_OK;
 }
@@ -549,7 +598,7 @@ int rps3_sim_advance(rps3_sim *s, const rps3_controller *c, double t_end) {
   if (c->rate == 0.0) {
     /* continuous force law: one integration, forces at every evaluation */
     st = integrate(s, t_end);
-    if (st == RPS3_OK) st = settle(s);
+    if (st == RPS3_OK) st = settle(s, 1);
     s->ctrl = NULL;
     return st;
   }
@@ -571,9 +620,10 @@ int rps3_sim_advance(rps3_sim *s, const rps3_controller *c, double t_end) {
       continue;
     }
     st = integrate(s, t1);
-    if (st == RPS3_OK) st = settle(s);
+    if (st == RPS3_OK) st = settle(s, t1 == t_end);
     if (st != RPS3_OK) break;
   }
+  if (s->status == RPS3_OK) report_end(s);
   s->ctrl = NULL;
   return s->status;
 }

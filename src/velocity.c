@@ -58,6 +58,109 @@ static int solve_jt(const rps3_model *m, rps3_data *d, double Jt[3][3],
   return RPS3_OK;
 }
 
+void rps3_pose_twist(const rps3_model *m, const rps3_pose_trig *t,
+                     const double dpose[3], double w[3], double vc[3]) {
+  const double ca = t->ca, sa = t->sa, sb = t->sb, vb = t->vb;
+  const double da = dpose[0], db = dpose[1], dvb = sb * db;
+  /* omega of Rz(alpha) Ry(beta) Rz(-alpha): alpha-dot (e_z - a) plus
+     beta-dot about the node line e_beta = (-sin a, cos a, 0) */
+  w[0] = -da * sb * ca - db * sa;
+  w[1] = -da * sb * sa + db * ca;
+  w[2] = da * vb;
+  /* centre velocity: derivative of (3)-(4), then z_c */
+  vc[0] = -0.5 * m->r * (dvb * t->C - 2.0 * vb * t->S * da);
+  vc[1] = 0.5 * m->r * (dvb * t->S + 2.0 * vb * t->C * da);
+  vc[2] = dpose[2];
+}
+
+void rps3_pose_twist_rate(const rps3_model *m, const rps3_pose_trig *t,
+                          const double dpose[3], const double ddpose[3],
+                          const double w[3], double dw[3], double ac[3]) {
+  const double ca = t->ca, sa = t->sa, sb = t->sb, cb = t->cb, vb = t->vb;
+  const double C = t->C, S = t->S, da = dpose[0], db = dpose[1];
+  const double dda = ddpose[0], ddb = ddpose[1];
+  double a[3], ez_a[3], adot[3], dvb, ddvb, dC, dS, ddC, ddS;
+  /* d/dt of omega = da (e_z - a) + db e_beta */
+  a[0] = sb * ca;
+  a[1] = sb * sa;
+  a[2] = cb;
+  ez_a[0] = -a[0];
+  ez_a[1] = -a[1];
+  ez_a[2] = vb;
+  v3_cross(adot, w, a);
+  dw[0] = dda * ez_a[0] - da * adot[0] - ddb * sa - db * da * ca;
+  dw[1] = dda * ez_a[1] - da * adot[1] + ddb * ca - db * da * sa;
+  dw[2] = dda * ez_a[2] - da * adot[2];
+  /* centre: second derivative of (3)-(4) */
+  dvb = sb * db;
+  ddvb = cb * db * db + sb * ddb;
+  dC = -2.0 * S * da;
+  dS = 2.0 * C * da;
+  ddC = -4.0 * C * da * da - 2.0 * S * dda;
+  ddS = -4.0 * S * da * da + 2.0 * C * dda;
+  ac[0] = -0.5 * m->r * (ddvb * C + 2.0 * dvb * dC + vb * ddC);
+  ac[1] = 0.5 * m->r * (ddvb * S + 2.0 * dvb * dS + vb * ddS);
+  ac[2] = ddpose[2];
+}
+
+int rps3_link_motion(const rps3_model *m, rps3_data *d, int acc) {
+  rps3_pose_trig t;
+  double rot[3][3], c[3], w[3], vc[3], dw[3], ac[3], chk = 0.0;
+  int i;
+  d->stage = 0;
+  d->warn = 0;
+  if (!v3_finite(d->pose) || !v3_finite(d->dpose) ||
+      (acc && !v3_finite(d->ddpose)))
+    RPS3_ERROR(d, RPS3_EINVAL, "pose, dpose or ddpose is not finite");
+  rps3_pose_trig_eval(&t, d->pose, 1);
+  rps3_pose_frame(m, &t, d->pose[2], rot, c);
+  rps3_pose_twist(m, &t, d->dpose, w, vc);
+  if (acc) rps3_pose_twist_rate(m, &t, d->dpose, d->ddpose, w, dw, ac);
+  for (i = 0; i < 3; i++) {
+    double rho[3], v[3], bd[3], l, il, dl;
+    int q;
+    /* the ball joint and the pin lie in their frames' xy planes (the
+       model's body[i][2] = pin[i][2] = 0) */
+    for (q = 0; q < 3; q++) {
+      rho[q] = rot[q][0] * m->body[i][0] + rot[q][1] * m->body[i][1];
+      v[q] = c[q] + rho[q];
+    }
+    v[0] -= m->pin[i][0];
+    v[1] -= m->pin[i][1];
+    l = v3_norm(v);
+    if (!(l > 0.0) || !(v[2] > 0.0))
+      RPS3_ERROR(d, RPS3_EREACH,
+                 "link %d: length %.6g m, ball joint height %.6g m (needs "
+                 "length > 0 and height > 0) at pose (%.6g, %.6g, %.6g)",
+                 i + 1, l, v[2], d->pose[0], d->pose[1], d->pose[2]);
+    il = 1.0 / l;
+    /* the ball joint's velocity (26), l' = n . b' */
+    v3_cross(bd, w, rho);
+    v3_axpy(bd, bd, 1.0, vc);
+    dl = v3_dot(v, bd) * il;
+    d->l[i] = l;
+    d->dl[i] = dl;
+    chk += l + fabs(dl);
+    if (acc) {
+      /* l l'' = |b'|^2 - l'^2 + (b - P) . b'',  b'' = ac + dw x rho + w x
+         (w x rho) */
+      double bdd[3], u[3];
+      v3_cross(bdd, dw, rho);
+      v3_cross(u, w, rho);
+      v3_cross(u, w, u);
+      for (q = 0; q < 3; q++) bdd[q] += u[q] + ac[q];
+      d->ddl[i] = (v3_dot(bd, bd) - dl * dl + v3_dot(v, bdd)) * il;
+      chk += fabs(d->ddl[i]);
+    }
+  }
+  if (!(chk <= DBL_MAX)) {
+    RPS3_CHECK_FINITE(d, d->l, 3, "l");
+    RPS3_CHECK_FINITE(d, d->dl, 3, "dl");
+    if (acc) RPS3_CHECK_FINITE(d, d->ddl, 3, "ddl");
+  }
+  return RPS3_OK;
+}
+
 int rps3_velocity(const rps3_model *m, rps3_data *d) {
   return rps3_velocity_with(m, d, NULL);
 }
@@ -65,7 +168,7 @@ int rps3_velocity(const rps3_model *m, rps3_data *d) {
 int rps3_velocity_with(const rps3_model *m, rps3_data *d,
                        const rps3_pose_trig *pt) {
   rps3_pose_trig own;
-  double ca, sa, sb, vb, C, S, da, db, dvb, w[3], rho[3], bd[3];
+  double rho[3], bd[3];
   int i;
   if (m == NULL || d == NULL || !m->valid) return RPS3_EINVAL;
   if (!(d->stage & RPS3_STAGE_POS))
@@ -78,27 +181,7 @@ int rps3_velocity_with(const rps3_model *m, rps3_data *d,
     rps3_pose_trig_eval(&own, d->pose, 0);
     pt = &own;
   }
-  ca = pt->ca;
-  sa = pt->sa;
-  sb = pt->sb;
-  vb = pt->vb;
-  C = pt->C;
-  S = pt->S;
-  da = d->dpose[0];
-  db = d->dpose[1];
-
-  /* omega of Rz(alpha) Ry(beta) Rz(-alpha): alpha-dot (e_z - a) plus
-     beta-dot about the node line e_beta = (-sin a, cos a, 0) */
-  w[0] = -da * sb * ca - db * sa;
-  w[1] = -da * sb * sa + db * ca;
-  w[2] = da * vb;
-  v3_copy(d->omega, w);
-
-  /* centre velocity: derivative of (3)-(4), then z_c */
-  dvb = sb * db;
-  d->vc[0] = -0.5 * m->r * (dvb * C - 2.0 * vb * S * da);
-  d->vc[1] = 0.5 * m->r * (dvb * S + 2.0 * vb * C * da);
-  d->vc[2] = d->dpose[2];
+  rps3_pose_twist(m, pt, d->dpose, d->omega, d->vc);
 
   /* ball joints (26), then the joint rates from (28) */
   for (i = 0; i < 3; i++) {
@@ -123,8 +206,7 @@ int rps3_acceleration(const rps3_model *m, rps3_data *d) {
 int rps3_acceleration_with(const rps3_model *m, rps3_data *d,
                            const rps3_pose_trig *pt) {
   rps3_pose_trig own;
-  double ca, sa, sb, cb, vb, C, S, da, db, dda, ddb, dvb, ddvb, dC, dS, ddC,
-      ddS, a[3], ez_a[3], adot[3], t[3], rho[3], bdd[3];
+  double t[3], rho[3], bdd[3];
   int i;
   if (m == NULL || d == NULL || !m->valid) return RPS3_EINVAL;
   if (!(d->stage & RPS3_STAGE_VEL))
@@ -137,40 +219,8 @@ int rps3_acceleration_with(const rps3_model *m, rps3_data *d,
     rps3_pose_trig_eval(&own, d->pose, 1);
     pt = &own;
   }
-  ca = pt->ca;
-  sa = pt->sa;
-  sb = pt->sb;
-  cb = pt->cb;
-  vb = pt->vb;
-  C = pt->C;
-  S = pt->S;
-  da = d->dpose[0];
-  db = d->dpose[1];
-  dda = d->ddpose[0];
-  ddb = d->ddpose[1];
-
-  /* d/dt of omega = da (e_z - a) + db e_beta */
-  a[0] = sb * ca;
-  a[1] = sb * sa;
-  a[2] = cb;
-  ez_a[0] = -a[0];
-  ez_a[1] = -a[1];
-  ez_a[2] = vb;
-  v3_cross(adot, d->omega, a);
-  d->domega[0] = dda * ez_a[0] - da * adot[0] - ddb * sa - db * da * ca;
-  d->domega[1] = dda * ez_a[1] - da * adot[1] + ddb * ca - db * da * sa;
-  d->domega[2] = dda * ez_a[2] - da * adot[2];
-
-  /* centre: second derivative of (3)-(4) */
-  dvb = sb * db;
-  ddvb = cb * db * db + sb * ddb;
-  dC = -2.0 * S * da;
-  dS = 2.0 * C * da;
-  ddC = -4.0 * C * da * da - 2.0 * S * dda;
-  ddS = -4.0 * S * da * da + 2.0 * C * dda;
-  d->ac[0] = -0.5 * m->r * (ddvb * C + 2.0 * dvb * dC + vb * ddC);
-  d->ac[1] = 0.5 * m->r * (ddvb * S + 2.0 * dvb * dS + vb * ddS);
-  d->ac[2] = d->ddpose[2];
+  rps3_pose_twist_rate(m, pt, d->dpose, d->ddpose, d->omega, d->domega,
+                       d->ac);
 
   /* ball joints, then joint accelerations: b'' = (l'' - l th'^2) phi +
      (2 l' th' + l th'') dphi */

@@ -437,6 +437,218 @@ static void predicted_trig_path(void **state) {
   rps3_data_free(d);
 }
 
+/*
+ * The predicted start of a state along the last state's rates is second
+ * order: RK4's second stage, at l + (h/2) l', starts within O(h^3) of its
+ * root and takes no Newton step (a first-order start, theta + G (l -
+ * l_last), is O(h^2) off, 1e-10 rad here, and takes one), and the root
+ * is theta's to the solve's tolerance.  Along the helix at 1 kHz.
+ */
+static void predicted_start_second_order(void **state) {
+  rps3_model m;
+  rps3_data *ref, *mid, *d;
+  rps3_fd_state k;
+  rps3_traj tr;
+  int n, i, steps = 0;
+  (void)state;
+  rps3_model_default(&m);
+  assert_int_equal(rps3_model_init(&m, NULL, 0), RPS3_OK);
+  assert_int_equal(rps3_data_alloc(&m, &ref), RPS3_OK);
+  assert_int_equal(rps3_data_alloc(&m, &mid), RPS3_OK);
+  assert_int_equal(rps3_data_alloc(&m, &d), RPS3_OK);
+  rps3_traj_default(&tr);
+  for (n = 0; n < 200; n++) {
+    const double t = 0.5 + 0.047 * n, h = 1e-3;
+    assert_int_equal(rps3_traj_eval(&m, &tr, t, ref->pose, ref->dpose,
+                                    ref->ddpose),
+                     RPS3_OK);
+    assert_int_equal(rps3_inverse(&m, ref), RPS3_OK);
+    memset(&k, 0, sizeof(k));
+    memcpy(d->theta, ref->theta, sizeof(d->theta));
+    d->have_theta = 1;
+    memcpy(d->l, ref->l, sizeof(d->l));
+    memcpy(d->dl, ref->dl, sizeof(d->dl));
+    if (rps3_fwddyn_state(&m, d, &k, RPS3_FD_LEAN) != RPS3_OK)
+      fail_msg("t %g: %s", t, d->err.msg);
+    /* the second stage's lengths, and an independent root there */
+    for (i = 0; i < 3; i++) mid->l[i] = d->l[i] + 0.5 * h * d->dl[i];
+    memcpy(mid->theta, ref->theta, sizeof(mid->theta));
+    assert_int_equal(rps3_fk(&m, mid), RPS3_OK);
+    memcpy(d->l, mid->l, sizeof(d->l));
+    if (rps3_fwddyn_state(&m, d, &k,
+                          RPS3_FD_LEAN | RPS3_FD_PREDICT | RPS3_FD_TRIG) !=
+        RPS3_OK)
+      fail_msg("t %g stage: %s", t, d->err.msg);
+    steps += d->solve_niter;
+    for (i = 0; i < 3; i++)
+      CHECK_REL(d->theta[i], mid->theta[i], 1e-11, 1.0, "t %g theta%d", t, i);
+  }
+  assert_int_equal(steps, 0);
+  rps3_data_free(ref);
+  rps3_data_free(mid);
+  rps3_data_free(d);
+}
+
+/* a controller's model at the plant's state: the plant's kept state (its
+   ordinary evaluation with RPS3_FD_KEEP) and the same state evaluated by
+   the controller's model itself */
+static void plant_state(const rps3_model *pm, rps3_data *pd, rps3_fd_state *pk,
+                        const rps3_data *ref) {
+  memset(pk, 0, sizeof(*pk));
+  load_state(pd, ref);
+  if (rps3_fwddyn_state(pm, pd, pk, RPS3_FD_LEAN | RPS3_FD_KEEP) != RPS3_OK)
+    fail_msg("plant: %s", pd->err.msg);
+  assert_true(pk->have_kin);
+}
+
+/*
+ * rps3_fwddyn_state_shared: a model of the plant's geometry at the kept
+ * state takes its kinematics and forms Mq, hq of its own masses and
+ * effects and its own limits -- the same, to rounding, as its own
+ * evaluation (theta from its own solve, to the tolerance: 1e-10) -- for
+ * the plant's model, a model without link mass (the paper's case 1) and
+ * one with other masses and friction; and refuses (0, d untouched)
+ * whatever would make the kinematics another model's or another state's.
+ */
+static void shared_state_is_own_state(void **state) {
+  rps3_model pm, cm[3], other;
+  rps3_data *ref, *pd, *cd, *od;
+  rps3_fd_state pk, ck, ok;
+  uint64_t seed = 0x5a4e;
+  int n, v, i, j, st;
+  (void)state;
+  rps3_model_default(&pm);
+  assert_int_equal(rps3_model_init(&pm, NULL, 0), RPS3_OK);
+  cm[0] = pm;
+  cm[1] = pm;
+  cm[1].m = 0.0;
+  cm[2] = pm;
+  cm[2].M *= 1.7;
+  cm[2].m *= 0.4;
+  cm[2].opt.effects |= RPS3_EFF_PIN_FRICTION;
+  cm[2].friction.viscous = 0.3;
+  for (v = 0; v < 3; v++)
+    assert_int_equal(rps3_model_init(&cm[v], NULL, 0), RPS3_OK);
+  assert_int_equal(rps3_data_alloc(&pm, &ref), RPS3_OK);
+  assert_int_equal(rps3_data_alloc(&pm, &pd), RPS3_OK);
+  assert_int_equal(rps3_data_alloc(&pm, &cd), RPS3_OK);
+  assert_int_equal(rps3_data_alloc(&pm, &od), RPS3_OK);
+  for (n = 0; n < 50; n++) {
+    random_state(&pm, ref, &seed);
+    plant_state(&pm, pd, &pk, ref);
+    for (v = 0; v < 3; v++) {
+      memset(&ck, 0, sizeof(ck));
+      memset(&ok, 0, sizeof(ok));
+      load_state(cd, ref);
+      load_state(od, ref);
+      assert_int_equal(rps3_fwddyn_state_shared(&cm[v], cd, &ck, &pm, &pk,
+                                                &st),
+                       1);
+      if (st != RPS3_OK) fail_msg("shared: %s", cd->err.msg);
+      if (rps3_fwddyn_state(&cm[v], od, &ok,
+                            RPS3_FD_LEAN | RPS3_FD_NOFACTOR) != RPS3_OK)
+        fail_msg("own: %s", od->err.msg);
+      for (i = 0; i < 3; i++) {
+        const double fs = vmax(od->hq) + vmax(od->Mq[0]) + vmax(od->Mq[1]) +
+                          vmax(od->Mq[2]);
+        CHECK_REL(cd->hq[i], od->hq[i], 1e-10, fs, "n %d model %d hq%d", n, v,
+                  i);
+        for (j = 0; j < 3; j++)
+          CHECK_REL(cd->Mq[i][j], od->Mq[i][j], 1e-10, fs,
+                    "n %d model %d Mq%d%d", n, v, i, j);
+        CHECK_REL(cd->theta[i], od->theta[i], 1e-10, 1.0, "theta%d", i);
+        CHECK_REL(cd->dtheta[i], od->dtheta[i], 1e-9, 1.0, "dtheta%d", i);
+        /* what the controller's next own solve predicts from */
+        CHECK_REL(ck.ddth_b[i], ok.ddth_b[i], 1e-8, 1.0, "ddth_b%d", i);
+      }
+      CHECK_REL(cd->cond, od->cond, 1e-9, 1.0, "cond");
+      CHECK_REL(cd->transmission, od->transmission, 1e-9, 1.0,
+                "transmission");
+      assert_int_equal(cd->mode, od->mode);
+      assert_int_equal(cd->warn, od->warn);
+      assert_int_equal(ck.mode, cd->mode);
+      /* no positions, and no acceleration, as a lean state */
+      assert_true(isnan(cd->b[1][2]) && isnan(cd->ddl[0]));
+      assert_int_equal(cd->stage, 0);
+    }
+  }
+  /* refused: another geometry, a payload, a tighter theta tolerance, a
+     state a bit away, a state not kept */
+  load_state(cd, ref);
+  cd->Mq[0][0] = -7.0;
+  other = pm;
+  other.R *= 1.0 + 1e-12;
+  assert_int_equal(rps3_model_init(&other, NULL, 0), RPS3_OK);
+  assert_int_equal(rps3_fwddyn_state_shared(&other, cd, &ck, &pm, &pk, &st),
+                   0);
+  other = pm;
+  other.rho *= 1.0 - 1e-12; /* r = rho R */
+  assert_int_equal(rps3_model_init(&other, NULL, 0), RPS3_OK);
+  assert_int_equal(rps3_fwddyn_state_shared(&other, cd, &ck, &pm, &pk, &st),
+                   0);
+  other = pm;
+  other.opt.effects |= RPS3_EFF_PAYLOAD;
+  other.payload.mass = 0.1;
+  assert_int_equal(rps3_model_init(&other, NULL, 0), RPS3_OK);
+  assert_int_equal(rps3_fwddyn_state_shared(&other, cd, &ck, &pm, &pk, &st),
+                   0);
+  other = pm;
+  other.opt.tol = pm.opt.tol * 0.5;
+  assert_int_equal(rps3_model_init(&other, NULL, 0), RPS3_OK);
+  assert_int_equal(rps3_fwddyn_state_shared(&other, cd, &ck, &pm, &pk, &st),
+                   0);
+  cd->dl[2] = nextafter(cd->dl[2], HUGE_VAL);
+  assert_int_equal(rps3_fwddyn_state_shared(&pm, cd, &ck, &pm, &pk, &st), 0);
+  load_state(cd, ref);
+  cd->l[0] = nextafter(cd->l[0], 0.0);
+  cd->Mq[0][0] = -7.0;
+  assert_int_equal(rps3_fwddyn_state_shared(&pm, cd, &ck, &pm, &pk, &st), 0);
+  assert_int_equal(rps3_fwddyn_state_shared(&pm, cd, &ck, &pm, NULL, &st), 0);
+  assert_int_equal(rps3_fwddyn_state_shared(&pm, cd, &ck, NULL, &pk, &st), 0);
+  assert_true(cd->Mq[0][0] == -7.0); /* untouched */
+  load_state(cd, ref);
+  pk.have_kin = 0;
+  assert_int_equal(rps3_fwddyn_state_shared(&pm, cd, &ck, &pm, &pk, &st), 0);
+  /* an evaluation without RPS3_FD_KEEP forgets the kept state */
+  plant_state(&pm, pd, &pk, ref);
+  load_state(pd, ref);
+  assert_int_equal(rps3_fwddyn_state(&pm, pd, &pk, RPS3_FD_LEAN), RPS3_OK);
+  assert_int_equal(rps3_fwddyn_state_shared(&pm, cd, &ck, &pm, &pk, &st), 0);
+
+  /* the controller's own limits: its cond_max, trans_max and mode */
+  plant_state(&pm, pd, &pk, ref);
+  other = pm;
+  other.opt.trans_max = 1e-3;
+  other.opt.trans_warn = 1e-4;
+  assert_int_equal(rps3_model_init(&other, NULL, 0), RPS3_OK);
+  load_state(cd, ref);
+  assert_int_equal(rps3_fwddyn_state_shared(&other, cd, &ck, &pm, &pk, &st),
+                   1);
+  assert_int_equal(st, RPS3_ESING);
+  assert_non_null(strstr(cd->err.msg, "transmission"));
+  assert_true(isnan(cd->ddl[0]));
+  other = pm;
+  other.opt.cond_max = 1.5; /* below any condition number of a state */
+  other.opt.cond_warn = 1.0;
+  assert_int_equal(rps3_model_init(&other, NULL, 0), RPS3_OK);
+  load_state(cd, ref);
+  assert_int_equal(rps3_fwddyn_state_shared(&other, cd, &ck, &pm, &pk, &st),
+                   1);
+  assert_int_equal(st, RPS3_ESING);
+  assert_non_null(strstr(cd->err.msg, "condition number"));
+  other = pm;
+  other.opt.mode = -pd->mode;
+  assert_int_equal(rps3_model_init(&other, NULL, 0), RPS3_OK);
+  load_state(cd, ref);
+  assert_int_equal(rps3_fwddyn_state_shared(&other, cd, &ck, &pm, &pk, &st),
+                   1);
+  assert_int_equal(st, RPS3_EMODE);
+  rps3_data_free(ref);
+  rps3_data_free(pd);
+  rps3_data_free(cd);
+  rps3_data_free(od);
+}
+
 int main(void) {
   const struct CMUnitTest tests[] = {
       cmocka_unit_test(inverts_inverse_dynamics),
@@ -447,6 +659,8 @@ int main(void) {
       cmocka_unit_test(massless_links_and_statics),
       cmocka_unit_test(warm_start_a_turn_away),
       cmocka_unit_test(predicted_trig_path),
+      cmocka_unit_test(predicted_start_second_order),
+      cmocka_unit_test(shared_state_is_own_state),
   };
   gsl_set_error_handler_off();
   return cmocka_run_group_tests(tests, NULL, NULL);

@@ -264,6 +264,16 @@ static int closed_loop(const rps3_model *plant, const rps3_model *cm,
   return st;
 }
 
+/* the Table II plant (m/M = 0.5), and a model of it without link mass
+   (the paper's case 1) */
+static void plant_and_light(rps3_model *plant, rps3_model *light) {
+  rps3_model_default(plant);
+  assert_int_equal(rps3_model_init(plant, NULL, 0), RPS3_OK);
+  *light = *plant;
+  light->m = 0.0;
+  assert_int_equal(rps3_model_init(light, NULL, 0), RPS3_OK);
+}
+
 /*
  * Closed loop on the paper's helix (Table II plant, m/M = 0.5): computed
  * torque with the exact model tracks to within its discretisation (ZOH at
@@ -276,11 +286,7 @@ static void controllers_track_the_helix(void **state) {
   rps3_sim_options o;
   double ect, ect_light, epd, epdg;
   (void)state;
-  rps3_model_default(&plant);
-  assert_int_equal(rps3_model_init(&plant, NULL, 0), RPS3_OK);
-  light = plant;
-  light.m = 0.0;
-  assert_int_equal(rps3_model_init(&light, NULL, 0), RPS3_OK);
+  plant_and_light(&plant, &light);
   rps3_traj_default(&tr);
   rps3_sim_options_default(&o);
   assert_int_equal(closed_loop(&plant, &plant, &tr, RPS3_CTRL_COMPUTED_TORQUE,
@@ -297,6 +303,108 @@ static void controllers_track_the_helix(void **state) {
   assert_true(ect < 1e-5);
   assert_true(ect_light > 100.0 * ect);
   assert_true(epdg < epd);
+}
+
+/* a computed-torque controller of model cm on tr, the gains of the bench */
+static rps3_ctrl *computed_torque(const rps3_model *cm, const rps3_traj *tr) {
+  rps3_ctrl *c;
+  assert_int_equal(rps3_ctrl_alloc(RPS3_CTRL_COMPUTED_TORQUE, 400.0, 40.0, cm,
+                                   tr, &c, NULL, 0),
+                   RPS3_OK);
+  return c;
+}
+
+/*
+ * One rps3_sim_advance over many control periods and one call a period
+ * give the same run, bit for bit: the periods inside a call settle on a
+ * lean state (no report), the call's end reports.  A call ending a
+ * rounding sliver after a tick reports too (report_end).  And the
+ * library's controller, lent the plant's state at its ticks (computed
+ * torque with the plant's model, and with a model without link mass),
+ * commands the forces it commands alone: a replay of its ticks outside
+ * the simulation, where it solves its own theta, agrees to 1e-10.
+ */
+static void one_call_or_one_per_period(void **state) {
+  rps3_model plant, light;
+  rps3_traj tr;
+  rps3_sim *a, *b;
+  rps3_ctrl *ca, *cb, *cr;
+  int k, i, v, n = 300;
+  (void)state;
+  plant_and_light(&plant, &light);
+  rps3_traj_default(&tr);
+  for (v = 0; v < 2; v++) {
+    const rps3_model *cm = v ? &light : &plant;
+    rps3_controller ctl_a, ctl_b;
+    assert_int_equal(rps3_sim_alloc(&plant, NULL, &a, NULL, 0), RPS3_OK);
+    assert_int_equal(rps3_sim_alloc(&plant, NULL, &b, NULL, 0), RPS3_OK);
+    ca = computed_torque(cm, &tr);
+    cb = computed_torque(cm, &tr);
+    ctl_a.fn = rps3_ctrl_update;
+    ctl_a.state = ca;
+    ctl_a.rate = 1000.0;
+    ctl_b = ctl_a;
+    ctl_b.state = cb;
+    start_on(a, &plant, &tr, 0.0);
+    /* the ends at k / 1000, the ticks' own times: 1e-3 * k differs from
+       them by rounding, and would change the last step of each call */
+    for (k = 1; k <= n; k++)
+      assert_int_equal(rps3_sim_advance(a, &ctl_a, k / 1000.0), RPS3_OK);
+    for (k = 0; k < 2; k++) {
+      /* one call to n / 1000; then, on a fresh run, one call that ends a
+         rounding sliver past it: one more tick there, no step, and the
+         state reported after a lean settle */
+      const double end = n / 1000.0 + (k ? 1e-13 : 0.0);
+      if (k) { /* a fresh controller too */
+        rps3_ctrl_free(cb);
+        cb = computed_torque(cm, &tr);
+        ctl_b.state = cb;
+      }
+      start_on(b, &plant, &tr, 0.0);
+      assert_int_equal(rps3_sim_advance(b, &ctl_b, end), RPS3_OK);
+      for (i = 0; i < 8; i++) assert_true(a->y[i] == b->y[i]);
+      for (i = 0; i < 3; i++) {
+        assert_true(a->d->pose[i] == b->d->pose[i]);
+        assert_true(a->d->dpose[i] == b->d->dpose[i]);
+        assert_true(a->d->ddl[i] == b->d->ddl[i] || k);
+        assert_true(a->d->b[i][2] == b->d->b[i][2]);
+        assert_true(isfinite(b->d->pose[i]) && isfinite(b->d->ddtheta[i]));
+      }
+      assert_true(a->T == b->T && a->P == b->P);
+      assert_true(a->energy_residual == b->energy_residual);
+      assert_int_equal(a->nticks + k, b->nticks);
+      assert_int_equal(b->d->stage & RPS3_STAGE_POS, RPS3_STAGE_POS);
+      if (!k) assert_int_equal(a->nevals, b->nevals);
+    }
+
+    /* the ticks of a run, replayed outside a simulation.  The lent state
+       was taken at every tick after the first: the shared path leaves the
+       measured data's theta solve untouched (solve_niter stays -1) */
+    rps3_sim_free(a);
+    rps3_ctrl_free(ca);
+    assert_int_equal(rps3_sim_alloc(&plant, NULL, &a, NULL, 0), RPS3_OK);
+    ca = computed_torque(cm, &tr);
+    cr = computed_torque(cm, &tr);
+    ctl_a.state = ca;
+    start_on(a, &plant, &tr, 0.0);
+    for (k = 1; k <= 200; k++) {
+      double F[3];
+      ca->meas->solve_niter = -1;
+      assert_int_equal(rps3_sim_advance(a, &ctl_a, 1e-3 * k), RPS3_OK);
+      if (k > 1) assert_int_equal(ca->meas->solve_niter, -1);
+      assert_int_equal(rps3_ctrl_update(cr, ca->t, a->l_meas, a->dl_meas, F),
+                       RPS3_OK);
+      assert_true(cr->meas->solve_niter >= 0);
+      for (i = 0; i < 3; i++)
+        CHECK_REL(F[i], a->F_cmd[i], 1e-10, 1.0, "model %d tick %d F%d", v, k,
+                  i);
+    }
+    rps3_sim_free(a);
+    rps3_sim_free(b);
+    rps3_ctrl_free(ca);
+    rps3_ctrl_free(cb);
+    rps3_ctrl_free(cr);
+  }
 }
 
 /* the noise generator: reproducible by seed, of the requested spread, and
@@ -612,6 +720,7 @@ int main(void) {
       cmocka_unit_test(rk4_converges_at_order_4),
       cmocka_unit_test(energy_balance),
       cmocka_unit_test(controllers_track_the_helix),
+      cmocka_unit_test(one_call_or_one_per_period),
       cmocka_unit_test(noise_and_quantisation),
       cmocka_unit_test(hard_cases),
       cmocka_unit_test(stick_slip),

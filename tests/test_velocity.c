@@ -3,6 +3,8 @@
    against the pose-rate route, and the paper's (31)-(33) against both. */
 #include "testutil.h"
 
+#include "internal.h" /* rps3_link_motion */
+
 typedef struct {
   double l[3], theta[3], c[3], rot[3][3];
 } positions;
@@ -199,11 +201,72 @@ static void stage_and_input_errors(void **state) {
   rps3_data_free(d);
 }
 
+/*
+ * rps3_link_motion, the controllers' desired motion: l, l', l'' from the
+ * derivatives of l^2 = |b - P|^2, against the stages' route (the link
+ * directions and theta: l' = phi . b', l'' = phi . b'' + l theta'^2) on
+ * random motions, to 1e-12 of the scale (both exact; rounding ~1e-15,
+ * amplified by the 1/l of the accelerations), and its refusals.
+ */
+static void link_motion_is_the_stages(void **state) {
+  rps3_model m;
+  rps3_data *a, *b;
+  uint64_t seed = 0x11e7;
+  int n, i;
+  (void)state;
+  rps3_model_default(&m);
+  assert_int_equal(rps3_model_init(&m, NULL, 0), RPS3_OK);
+  assert_int_equal(rps3_data_alloc(&m, &a), RPS3_OK);
+  assert_int_equal(rps3_data_alloc(&m, &b), RPS3_OK);
+  for (n = 0; n < 500; n++) {
+    rps3_traj tr;
+    double t, sv = 0.0, sa = 0.0;
+    traj_random(&tr, &seed);
+    t = rnd_uniform(&seed, 0.0, tr.sine.duration);
+    assert_int_equal(rps3_traj_eval(&m, &tr, t, a->pose, a->dpose, a->ddpose),
+                     RPS3_OK);
+    memcpy(b->pose, a->pose, sizeof(a->pose));
+    memcpy(b->dpose, a->dpose, sizeof(a->dpose));
+    memcpy(b->ddpose, a->ddpose, sizeof(a->ddpose));
+    assert_int_equal(rps3_ik(&m, a), RPS3_OK);
+    assert_int_equal(rps3_velocity(&m, a), RPS3_OK);
+    assert_int_equal(rps3_acceleration(&m, a), RPS3_OK);
+    assert_int_equal(rps3_link_motion(&m, b, n % 5 != 0), RPS3_OK);
+    for (i = 0; i < 3; i++) {
+      sv = fmax(sv, fabs(a->dl[i]));
+      sa = fmax(sa, fabs(a->ddl[i]));
+    }
+    for (i = 0; i < 3; i++) {
+      CHECK_REL(b->l[i], a->l[i], 1e-14, 1.0, "n %d l%d", n, i);
+      CHECK_REL(b->dl[i], a->dl[i], 1e-12, sv + 1e-3, "n %d dl%d", n, i);
+      if (n % 5 != 0)
+        CHECK_REL(b->ddl[i], a->ddl[i], 1e-12, sa + sv * sv + 1e-3,
+                  "n %d ddl%d", n, i);
+    }
+    assert_int_equal(b->stage, 0); /* no theta, no directions */
+  }
+  /* out of reach: the platform below the base; not finite */
+  b->pose[0] = 0.1;
+  b->pose[1] = 0.2;
+  b->pose[2] = -0.3;
+  assert_int_equal(rps3_link_motion(&m, b, 1), RPS3_EREACH);
+  assert_non_null(strstr(b->err.msg, "height"));
+  b->pose[2] = 0.3;
+  b->ddpose[1] = NAN;
+  assert_int_equal(rps3_link_motion(&m, b, 1), RPS3_EINVAL);
+  assert_int_equal(rps3_link_motion(&m, b, 0), RPS3_OK);
+  b->dpose[0] = INFINITY;
+  assert_int_equal(rps3_link_motion(&m, b, 0), RPS3_EINVAL);
+  rps3_data_free(a);
+  rps3_data_free(b);
+}
+
 int main(void) {
   const struct CMUnitTest tests[] = {
       cmocka_unit_test(velocity_is_derivative),
       cmocka_unit_test(joint_route_agrees),
       cmocka_unit_test(stage_and_input_errors),
+      cmocka_unit_test(link_motion_is_the_stages),
   };
   gsl_set_error_handler_off();
   return cmocka_run_group_tests(tests, NULL, NULL);

@@ -73,7 +73,10 @@ typedef enum {
                   l, theta, niter, F, F_effect, lambda, cond, residual:
                   what the Python package asks for) */
   K_FWDDYN,   /* rps3_fwddyn along the trajectory */
-  K_SIM       /* one 1 ms control period of a closed-loop simulation */
+  K_SIM,      /* one 1 ms control period of a closed-loop simulation,
+                 rps3_sim_advance called every period (a logging loop) */
+  K_SIM_RUN   /* the same periods, rps3_sim_advance called over the rest
+                 of the helix at once (a run of it) */
 } case_kind;
 
 typedef struct {
@@ -254,6 +257,28 @@ static void run_batch(bench_case *c, const points *pt, long ncalls) {
       rps3_sim_advance(c->sim, &ctl, (double)c->tick / RATE_HZ);
     }
     break;
+  case K_SIM_RUN: {
+    rps3_controller ctl;
+    long left = ncalls;
+    ctl.fn = rps3_ctrl_update;
+    ctl.state = c->ctrl;
+    ctl.rate = RATE_HZ;
+    while (left > 0) {
+      long k;
+      if (c->tick == pt->n - 1 || c->sim->status != RPS3_OK) {
+        if (c->sim->status != RPS3_OK) c->failures++;
+        rps3_sim_start(c->sim, 0.0, pt->pose[0], pt->dpose[0]);
+        c->tick = 0;
+      }
+      /* the batch's periods, up to the end of the helix, in one call */
+      k = pt->n - 1 - c->tick;
+      if (k > left) k = left;
+      c->tick += k;
+      left -= k;
+      rps3_sim_advance(c->sim, &ctl, (double)c->tick / RATE_HZ);
+    }
+    break;
+  }
   }
 }
 
@@ -723,6 +748,11 @@ int main(int argc, char **argv) {
        "at the end of the last period; the state at the period's end); "
        "1000 ns = 1000x real time", K_SIM, SCENE_PAPER, RPS3_LAGRANGE,
        RPS3_THETA_CLOSED_FORM, 1, 0, TARGET_SIM_NS, 0);
+  CASE("sim_helix_run_computed_torque_1khz_rk4", "the same control "
+       "period, rps3_sim_advance called once over a batch's periods (up "
+       "to the helix's end; the state reported at the call's end alone): "
+       "the 10 s helix as one run", K_SIM_RUN, SCENE_PAPER, RPS3_LAGRANGE,
+       RPS3_THETA_CLOSED_FORM, 1, 0, TARGET_SIM_NS, 0);
 #undef CASE
 
   /* -k: keep the matching cases only */
@@ -762,7 +792,7 @@ int main(int argc, char **argv) {
     }
     fill_ring(c, &pt);
     c->dir = 1;
-    if (c->kind == K_SIM) {
+    if (c->kind == K_SIM || c->kind == K_SIM_RUN) {
       rps3_traj tr;
       rps3_traj_default(&tr);
       if (rps3_sim_alloc(&c->m, NULL, &c->sim, NULL, 0) != RPS3_OK ||
