@@ -649,6 +649,67 @@ static void shared_state_is_own_state(void **state) {
   rps3_data_free(od);
 }
 
+/*
+ * An integrator's stage (RPS3_FD_SCRATCH) decides on Mq's condition by a
+ * bound first, 3 tr(Mq) tr(Mq^-1) >= cond_1(Mq), and by the number itself
+ * when the bound does not decide: the same answer as a full state's at
+ * cond_max just above and just below the number.
+ */
+static void scratch_mass_condition(void **state) {
+  rps3_model m, t;
+  rps3_data *ref, *d;
+  rps3_fd_state k;
+  uint64_t seed = 0xc0d;
+  int n, st, tested = 0;
+  (void)state;
+  /* the links' inertia the only mass: Mq = Jlink G^T G, whose condition
+     (G's squared, 1e2..1e7) is above df/dtheta's, the other test of
+     cond_max */
+  rps3_model_default(&m);
+  m.opt.effects = RPS3_EFF_LINK_INERTIA | RPS3_EFF_LINK_GRAVITY;
+  assert_int_equal(rps3_model_init(&m, NULL, 0), RPS3_OK);
+  assert_int_equal(rps3_data_alloc(&m, &ref), RPS3_OK);
+  assert_int_equal(rps3_data_alloc(&m, &d), RPS3_OK);
+  for (n = 0; n < 40; n++) {
+    double c, bound;
+    random_state(&m, ref, &seed);
+    load_state(d, ref);
+    memset(&k, 0, sizeof(k));
+    assert_int_equal(rps3_fwddyn_state(&m, d, &k, 0), RPS3_OK);
+    c = d->Mcond;
+    bound = 3.0 * (d->Mq[0][0] + d->Mq[1][1] + d->Mq[2][2]) *
+            (k.Minv[0][0] + k.Minv[1][1] + k.Minv[2][2]);
+    assert_true(c >= 1.0 && bound >= c);
+    if (c < 100.0) continue; /* df/dtheta's condition would decide */
+    tested++;
+    /* the default cond_max: decided by the bound, no number */
+    load_state(d, ref);
+    assert_int_equal(rps3_fwddyn_state(&m, d, &k,
+                                       RPS3_FD_LEAN | RPS3_FD_SCRATCH),
+                     RPS3_OK);
+    assert_true(isnan(d->Mcond));
+    /* just above the number, and just below */
+    t = m;
+    t.opt.cond_warn = 1.0;
+    t.opt.cond_max = c * (1.0 + 1e-9);
+    assert_int_equal(rps3_model_init(&t, NULL, 0), RPS3_OK);
+    load_state(d, ref);
+    st = rps3_fwddyn_state(&t, d, &k, RPS3_FD_LEAN | RPS3_FD_SCRATCH);
+    if (st != RPS3_OK) fail_msg("n %d above: %s", n, d->err.msg);
+    assert_true(d->Mcond == c || isnan(d->Mcond));
+    t.opt.cond_max = c * (1.0 - 1e-9);
+    assert_int_equal(rps3_model_init(&t, NULL, 0), RPS3_OK);
+    load_state(d, ref);
+    assert_int_equal(rps3_fwddyn_state(&t, d, &k,
+                                       RPS3_FD_LEAN | RPS3_FD_SCRATCH),
+                     RPS3_ESING);
+    assert_non_null(strstr(d->err.msg, "mass matrix"));
+  }
+  assert_true(tested >= 10);
+  rps3_data_free(ref);
+  rps3_data_free(d);
+}
+
 int main(void) {
   const struct CMUnitTest tests[] = {
       cmocka_unit_test(inverts_inverse_dynamics),
@@ -661,6 +722,7 @@ int main(void) {
       cmocka_unit_test(predicted_trig_path),
       cmocka_unit_test(predicted_start_second_order),
       cmocka_unit_test(shared_state_is_own_state),
+      cmocka_unit_test(scratch_mass_condition),
   };
   gsl_set_error_handler_off();
   return cmocka_run_group_tests(tests, NULL, NULL);
