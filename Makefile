@@ -153,9 +153,10 @@ lib: $(B)/librps3.a $(B)/librps3.so $(B)/librps3-pic.a
 KERNEL_FLAGS = -fopenmp-simd -fno-math-errno -fno-trapping-math -ffp-contract=off
 $(B)/obj/batch_kernel.o $(B)/pic/batch_kernel.o $(B)/san/batch_kernel.o: XFLAGS = $(KERNEL_FLAGS)
 # the simulation's per-evaluation path (forward dynamics, the integrator's
-# stages, the controllers) is loops of three: unrolled, they take a third
-# fewer instructions (docs/simulation.md); unrolling does not reorder any
-# arithmetic, so the results are the same bits
+# stages, the controllers and their desired motion) is loops of three:
+# unrolled, they take a third fewer instructions (docs/simulation.md);
+# unrolling does not reorder any arithmetic, so the results are the same
+# bits
 SIM_FLAGS = -funroll-loops -fno-math-errno
 $(foreach f,fwddyn fwddyn_theta sim control velocity,$(B)/obj/$(f).o $(B)/pic/$(f).o): XFLAGS = $(SIM_FLAGS)
 
