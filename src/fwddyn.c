@@ -144,6 +144,14 @@ FD_INLINE void assemble(const rps3_model *m, rps3_data *d,
   }
 }
 
+/* the rates and the bias accelerations a state gave, by name */
+static int rates_finite(rps3_data *d, const rps3_fd_state *k) {
+  RPS3_CHECK_FINITE(d, d->dtheta, 3, "dtheta");
+  RPS3_CHECK_FINITE(d, k->ddth_b, 3, "ddtheta");
+  RPS3_CHECK_FINITE(d, k->ac_b, 3, "ac");
+  return RPS3_OK;
+}
+
 /*
  * Rates, maps, Mq and hq at the positions p holds (l, theta's cosines and
  * sines, and the constraint terms there: plane_constraints) and the rates
@@ -172,11 +180,15 @@ static int state_eval(const rps3_model *m, rps3_data *d, rps3_fd_state *k,
   if (with_w || invdyn || (flags & RPS3_FD_KEEP))
     platform_motion(m, p, M2C(u), with_w, k, vc, om);
   for (q = 0; q < 3; q++) {
-    chk += fabs(p->dth[q]) + fabs(p->ddb[q]) + fabs(p->acb[q]);
     d->dtheta[q] = p->dth[q];
     k->ddth_b[q] = p->ddb[q];
     k->ac_b[q] = p->acb[q];
   }
+  /* a scratch state's rates and bias are tested through what they give,
+     Mq^-1 and l'' (rates_finite on the failure path names them) */
+  if (!(flags & RPS3_FD_SCRATCH) || with_w)
+    for (q = 0; q < 3; q++)
+      chk += fabs(p->dth[q]) + fabs(p->ddb[q]) + fabs(p->acb[q]);
   if (with_w) {
     for (q = 0; q < 3; q++) {
       chk += fabs(vc[q]) + fabs(om[q]) + fabs(k->dw_b[q]);
@@ -190,14 +202,13 @@ static int state_eval(const rps3_model *m, rps3_data *d, rps3_fd_state *k,
   memcpy(k->Jc, p->Jc, sizeof(p->Jc));
   /* one test of the rates and the bias; the named checks when it fails */
   if (!(chk <= DBL_MAX)) {
-    RPS3_CHECK_FINITE(d, d->dtheta, 3, "dtheta");
+    st = rates_finite(d, k);
+    if (st != RPS3_OK) return st;
     if (with_w) {
       RPS3_CHECK_FINITE(d, d->vc, 3, "vc");
       RPS3_CHECK_FINITE(d, d->omega, 3, "omega");
+      RPS3_CHECK_FINITE(d, k->dw_b, 3, "domega");
     }
-    RPS3_CHECK_FINITE(d, k->ddth_b, 3, "ddtheta");
-    RPS3_CHECK_FINITE(d, k->ac_b, 3, "ac");
-    if (with_w) RPS3_CHECK_FINITE(d, k->dw_b, 3, "domega");
   }
   if (invdyn) {
     st = invdyn_limits(m, d, p, k);
@@ -443,10 +454,15 @@ int rps3_fwddyn_state(const rps3_model *m, rps3_data *d, rps3_fd_state *k,
   } else {
     d->Mcond = cond1_of(M3C(d->Mq), M3C(k->Minv));
   }
-  if (!pd || !(d->Mcond <= m->opt.cond_max || isnan(d->Mcond)))
+  if (!pd || !(d->Mcond <= m->opt.cond_max || isnan(d->Mcond))) {
+    if (k->scratch) {
+      status = rates_finite(d, k);
+      if (status != RPS3_OK) return status;
+    }
     RPS3_ERROR(d, RPS3_ESING,
                "mass matrix not positive definite or condition number %.3g "
                "above cond_max %.3g", d->Mcond, m->opt.cond_max);
+  }
   /* a scratch state's hq is tested by rps3_fwddyn_accel's result */
   if (!k->scratch) RPS3_CHECK_FINITE(d, d->hq, 3, "hq");
   k->mode = d->mode;
@@ -533,7 +549,11 @@ int rps3_fwddyn_accel(const rps3_model *m, rps3_data *d,
   m3_mulv(x, M3C(k->Minv), x);
   if (!v3_finite(x)) {
     poison(d);
-    RPS3_CHECK_FINITE(d, d->hq, 3, "hq"); /* a scratch state's, untested */
+    if (k->scratch) { /* what a scratch state did not test */
+      int st = rates_finite(d, k);
+      if (st != RPS3_OK) return st;
+      RPS3_CHECK_FINITE(d, d->hq, 3, "hq");
+    }
     RPS3_ERROR(d, RPS3_ESING, "acceleration is not finite");
   }
   v3_copy(d->ddl, x);
