@@ -1341,14 +1341,12 @@ struct rps3_sim_gsl; /* internal: GSL driver */
 typedef struct {
   rps3_model plant;        /* the simulated mechanism (a copy) */
   rps3_sim_options opt;
-  rps3_data *d;            /* plant workspace: positions, rates and
-                              accelerations of the last evaluation (an
-                              integrator's stage leaves the ball joints,
-                              link directions, frame, pose, vc, omega, the
-                              pose rates and domega NaN unless a payload is
-                              simulated, and d->stage 0); after
-                              rps3_sim_advance those of the state at t, all
-                              of them */
+  rps3_data *d;            /* plant workspace: after rps3_sim_advance the
+                              positions, rates and accelerations of the
+                              state at t, all of them.  During a call it is
+                              the integrator's scratch: a stage, and the
+                              end of a control period inside the call, form
+                              theta, its rates and ddl alone (d->stage 0) */
   double t;                /* simulated time [s] */
   double y[8];             /* l [m], dl [m/s], W_F, W_f [J] */
   double F_cmd[3];         /* last commanded forces [N] */
@@ -1404,7 +1402,11 @@ RPS3_API int rps3_sim_start(rps3_sim *s, double t0, const double pose[3],
  * describe that state; or the run stopped: s->status != RPS3_OK,
  * s->failed_at the time, d->err the message, and the state the last good
  * one.  Returns s->status; after a failure it returns that status again
- * without integrating.  Allocates nothing.
+ * without integrating.  Allocates nothing.  The state is reported (d's
+ * positions, pose and rates; T, P, the energy residual) at the call's end
+ * only: one call over many control periods costs less than one call a
+ * period, and gives the same run bit for bit when t_end is a tick (k /
+ * rate).
  */
 RPS3_API int rps3_sim_advance(rps3_sim *s, const rps3_controller *c,
                               double t_end);
@@ -1429,7 +1431,12 @@ RPS3_API int rps3_sim_advance(rps3_sim *s, const rps3_controller *c,
  *                   measured (l, dl) with ddl = ddl_d + kp e + kd de:
  *                   kp [1/s^2], kd [1/s] set the error dynamics
  *                   e'' + kd e' + kp e = 0 when the models agree.
- * PD gains are [N/m] and [N s/m].
+ * PD gains are [N/m] and [N s/m].  In rps3_sim_advance, a controller
+ * whose model has the plant's geometry (R, rho), no payload and a theta
+ * tolerance no tighter than the plant's takes, at an exact measurement,
+ * the plant's theta and velocity maps at the tick instead of solving them
+ * again; its masses, effects and limits stay its own, and its forces
+ * those it would compute alone (to the solve's tolerance).
  */
 typedef enum {
   RPS3_CTRL_OPEN_LOOP = 0,
