@@ -431,10 +431,6 @@ int rps3_fwddyn_state(const rps3_model *m, rps3_data *d, rps3_fd_state *k,
     k->mode = d->mode;
     return RPS3_OK;
   }
-  if (flags & RPS3_FD_KEEP) {
-    k->kin = p;
-    k->have_kin = 1;
-  }
 
   /* Mq symmetric positive definite and conditioned: its inverse, and the
      condition number from it (by LU when it is not positive definite).
@@ -466,11 +462,29 @@ int rps3_fwddyn_state(const rps3_model *m, rps3_data *d, rps3_fd_state *k,
   /* a scratch state's hq is tested by rps3_fwddyn_accel's result */
   if (!k->scratch) RPS3_CHECK_FINITE(d, d->hq, 3, "hq");
   k->mode = d->mode;
+  if (flags & RPS3_FD_KEEP) {
+    k->kin = p;
+    memcpy(k->Mq, d->Mq, sizeof(k->Mq));
+    v3_copy(k->hq, d->hq);
+    k->have_kin = 1;
+  }
   return RPS3_OK;
+}
+
+/* a and b give the same Mq and hq from the same kinematics: the fields
+   assemble reads (rps3_friction_torque's with them); test_fwddyn perturbs
+   every field of the model to hold this list to assemble */
+static int same_dynamics(const rps3_model *a, const rps3_model *b) {
+  return a->opt.effects == b->opt.effects && a->M == b->M && a->m == b->m &&
+         a->d == b->d && a->g == b->g && a->Jlink == b->Jlink &&
+         a->friction.viscous == b->friction.viscous &&
+         a->friction.coulomb == b->friction.coulomb &&
+         a->friction.vreg == b->friction.vreg;
 }
 
 /* the state part of rps3_fwddyn_state_shared, once it applies */
 static int state_shared(const rps3_model *m, rps3_data *d, rps3_fd_state *k,
+                        const rps3_model *src_model,
                         const rps3_fd_state *src) {
   const plane *p = &src->kin;
   double cond;
@@ -511,7 +525,14 @@ static int state_shared(const rps3_model *m, rps3_data *d, rps3_fd_state *k,
   if (st != RPS3_OK) return st;
   st = mode_refused(m, d, k);
   if (st != RPS3_OK) return st;
-  assemble(m, d, k, p);
+  /* the plant's Mq and hq when they are this model's too (a controller
+     with the exact model), else this model's own from the kinematics */
+  if (same_dynamics(m, src_model)) {
+    memcpy(d->Mq, src->Mq, sizeof(d->Mq));
+    v3_copy(d->hq, src->hq);
+  } else {
+    assemble(m, d, k, p);
+  }
   RPS3_CHECK_FINITE(d, d->hq, 3, "hq");
   RPS3_CHECK_FINITE(d, d->Mq, 9, "Mq");
   return RPS3_OK;
@@ -528,7 +549,7 @@ int rps3_fwddyn_state_shared(const rps3_model *m, rps3_data *d,
     return 0;
   for (i = 0; i < 3; i++)
     if (!(d->l[i] == src->kin.l[i] && d->dl[i] == src->kin.dl[i])) return 0;
-  *status = state_shared(m, d, k, src);
+  *status = state_shared(m, d, k, src_model, src);
   poison(d); /* no acceleration: Mq and hq are the answer */
   if (*status == RPS3_OK) k->mode = d->mode;
   return 1;

@@ -72,6 +72,7 @@ typedef struct rps3_fd_state {
   /* RPS3_FD_KEEP: that state's kinematics (Jw formed too), for a model
      with the same geometry at the same (l, dl): rps3_fwddyn_state_shared */
   plane kin;
+  double Mq[3][3], hq[3]; /* and its Mq, hq */
   int have_kin;
   int scratch;        /* RPS3_FD_SCRATCH: rps3_fwddyn_accel forms ddl alone */
 } rps3_fd_state;
