@@ -252,10 +252,10 @@ static void link_motion_is_the_stages(void **state) {
   assert_int_equal(rps3_link_motion(&m, b, 1), RPS3_EREACH);
   assert_non_null(strstr(b->err.msg, "height"));
   b->pose[2] = 0.3;
-  b->ddpose[1] = NAN;
+  b->ddpose[1] = (double)NAN;
   assert_int_equal(rps3_link_motion(&m, b, 1), RPS3_EINVAL);
   assert_int_equal(rps3_link_motion(&m, b, 0), RPS3_OK);
-  b->dpose[0] = INFINITY;
+  b->dpose[0] = HUGE_VAL;
   assert_int_equal(rps3_link_motion(&m, b, 0), RPS3_EINVAL);
   rps3_data_free(a);
   rps3_data_free(b);
