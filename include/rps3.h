@@ -1404,9 +1404,11 @@ RPS3_API int rps3_sim_start(rps3_sim *s, double t0, const double pose[3],
  * one.  Returns s->status; after a failure it returns that status again
  * without integrating.  Allocates nothing.  The state is reported (d's
  * positions, pose and rates; T, P, the energy residual) at the call's end
- * only: one call over many control periods costs less than one call a
- * period, and gives the same run bit for bit when t_end is a tick (k /
- * rate).
+ * only, or where the run stopped: one call over many control periods
+ * costs less than one call a period, and gives the same run bit for bit
+ * when t_end is a tick (k / rate).  At a t_end just past a tick (within
+ * rounding) that tick has been served: d's accelerations are those of its
+ * new force.
  */
 RPS3_API int rps3_sim_advance(rps3_sim *s, const rps3_controller *c,
                               double t_end);
@@ -1432,8 +1434,9 @@ RPS3_API int rps3_sim_advance(rps3_sim *s, const rps3_controller *c,
  *                   kp [1/s^2], kd [1/s] set the error dynamics
  *                   e'' + kd e' + kp e = 0 when the models agree.
  * PD gains are [N/m] and [N s/m].  In rps3_sim_advance, a controller
- * whose model has the plant's geometry (R, rho), no payload and a theta
- * tolerance no tighter than the plant's takes, at an exact measurement,
+ * whose model has the plant's geometry (R, rho), no payload, warm starts
+ * and a theta tolerance no tighter than the plant's takes, at an exact
+ * measurement,
  * the plant's theta and velocity maps at the tick instead of solving them
  * again; its masses, effects and limits stay its own, and its forces
  * those it would compute alone (to the solve's tolerance).

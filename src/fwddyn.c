@@ -408,6 +408,16 @@ int rps3_fwddyn_state(const rps3_model *m, rps3_data *d, rps3_fd_state *k,
     poison(d);
     return status;
   }
+  /* a scratch state refused for its mode names non-finite rates first,
+     as the states that test them in state_eval do */
+  if ((flags & RPS3_FD_SCRATCH) && lean && !k->have_w &&
+      m->opt.mode != RPS3_MODE_ANY && d->mode != m->opt.mode) {
+    status = rates_finite(d, k);
+    if (status != RPS3_OK) {
+      poison(d);
+      return status;
+    }
+  }
   status = mode_refused(m, d, k);
   if (status != RPS3_OK) {
     poison(d);
@@ -497,6 +507,7 @@ static int state_shared(const rps3_model *m, rps3_data *d, rps3_fd_state *k,
   v3_copy(d->theta, src->th);
   v3_copy(d->dtheta, p->dth);
   rps3_fd_positions_unset(d);
+  d->pose[0] = d->pose[1] = d->pose[2] = (double)NAN;
   d->vc[0] = d->vc[1] = d->vc[2] = (double)NAN;
   d->omega[0] = d->omega[1] = d->omega[2] = (double)NAN;
   d->dpose[0] = d->dpose[1] = d->dpose[2] = (double)NAN;
@@ -544,7 +555,7 @@ int rps3_fwddyn_state_shared(const rps3_model *m, rps3_data *d,
   int i;
   if (src == NULL || src_model == NULL || !src->have_kin ||
       m->R != src_model->R || m->r != src_model->r ||
-      !(src_model->opt.tol <= m->opt.tol) ||
+      !(src_model->opt.tol <= m->opt.tol) || !m->opt.warm_start ||
       (m->opt.effects & RPS3_EFF_PAYLOAD))
     return 0;
   for (i = 0; i < 3; i++)

@@ -121,7 +121,8 @@ int rps3_fwddyn_state(const rps3_model *m, rps3_data *d, rps3_fd_state *k,
 
 /* The state part of another model at the state src kept (RPS3_FD_KEEP,
    src_model's): when m has src_model's geometry (R, r), no payload, a
-   theta tolerance no tighter than src_model's, and d->l, d->dl are src's
+   theta tolerance no tighter than src_model's, warm starts (its own solve
+   tracks the root src tracked), and d->l, d->dl are src's
    bit for bit, the kinematics are src's and only Mq, hq (m's masses and
    effects) and m's checks are formed, as rps3_fwddyn_state(m, d, k,
    RPS3_FD_LEAN | RPS3_FD_NOFACTOR) would: returns 1 with *status.

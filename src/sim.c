@@ -534,6 +534,7 @@ static int integrate(rps3_sim *s, double t1) {
   /* a failure of the plant or the controller was recorded by rhs, with
      its own message; GSL reports it as GSL_EBADFUNC or, from inside a
      fixed step, as a failure of its own */
+  if (st != GSL_SUCCESS) s->t = t; /* the last completed step's, y's */
   if (s->status != RPS3_OK) return s->status;
   if (st != GSL_SUCCESS) {
     s->d->err.code = RPS3_ENOCONV;
@@ -569,6 +570,36 @@ static int settle(rps3_sim *s, int report) {
   return RPS3_OK;
 }
 
+/* a run stopped inside a call: the report of the state it stopped at
+   (s->t, s->y: the last good one), with the failure's status, time and
+   message kept; NaN where that state cannot be evaluated either (the
+   controller is not called again) */
+static void report_failed(rps3_sim *s) {
+  const rps3_error err = s->d->err;
+  const rps3_controller *c = s->ctrl;
+  const int status = s->status;
+  const double at = s->failed_at;
+  rps3_data *d = s->d;
+  int i;
+  s->ctrl = NULL;
+  s->status = RPS3_OK;
+  if (evaluate(s, s->t, s->y, 0, 0) == RPS3_OK) {
+    update_energy(s);
+  } else {
+    s->T = s->P = s->energy_residual = (double)NAN;
+    rps3_fd_positions_unset(d);
+    for (i = 0; i < 3; i++)
+      d->pose[i] = d->dpose[i] = d->vc[i] = d->omega[i] = d->ddl[i] =
+          (double)NAN;
+    d->stage = 0;
+  }
+  s->gsl->reported = 1;
+  d->err = err;
+  s->status = status;
+  s->failed_at = at;
+  s->ctrl = c;
+}
+
 /* the report of the state at s->t after a call whose last segment was a
    rounding sliver (no settle) following a lean one */
 static int report_end(rps3_sim *s) {
@@ -599,8 +630,9 @@ int rps3_sim_advance(rps3_sim *s, const rps3_controller *c, double t_end) {
     /* continuous force law: one integration, forces at every evaluation */
     st = integrate(s, t_end);
     if (st == RPS3_OK) st = settle(s, 1);
+    if (s->status != RPS3_OK) report_failed(s);
     s->ctrl = NULL;
-    return st;
+    return s->status;
   }
   while (s->t < t_end) {
     /* tick k at t0 + k / rate, counted from the start (no drift); a time
@@ -623,7 +655,10 @@ int rps3_sim_advance(rps3_sim *s, const rps3_controller *c, double t_end) {
     if (st == RPS3_OK) st = settle(s, t1 == t_end);
     if (st != RPS3_OK) break;
   }
-  if (s->status == RPS3_OK) report_end(s);
+  if (s->status == RPS3_OK)
+    report_end(s);
+  else
+    report_failed(s);
   s->ctrl = NULL;
   return s->status;
 }

@@ -407,6 +407,73 @@ static void one_call_or_one_per_period(void **state) {
   }
 }
 
+/* the library's computed torque, failing from t_fail on */
+typedef struct {
+  rps3_ctrl *c;
+  double t_fail;
+} failing;
+
+static int failing_ct(void *state, double t, const double l[3],
+                      const double dl[3], double F[3]) {
+  failing *f = (failing *)state;
+  if (t >= f->t_fail) return RPS3_ERANGE;
+  return rps3_ctrl_update(f->c, t, l, dl, F);
+}
+
+/*
+ * A run that stops inside a call reports the state it stopped at (s->t,
+ * s->y: the last good one), not the end of an earlier call: the same as a
+ * run that called every period up to there, to the solve's tolerance; the
+ * status and message stay the failure's.  The controller fails at its
+ * tick at 0.5 s, after a first call to 0.1 s and inside a second to 1 s.
+ */
+static void report_where_the_run_stopped(void **state) {
+  rps3_model plant, light;
+  rps3_traj tr;
+  rps3_sim *a, *b;
+  failing fa, fb;
+  rps3_controller ca, cb;
+  int k, i;
+  (void)state;
+  plant_and_light(&plant, &light);
+  rps3_traj_default(&tr);
+  assert_int_equal(rps3_sim_alloc(&plant, NULL, &a, NULL, 0), RPS3_OK);
+  assert_int_equal(rps3_sim_alloc(&plant, NULL, &b, NULL, 0), RPS3_OK);
+  fa.c = computed_torque(&plant, &tr);
+  fb.c = computed_torque(&plant, &tr);
+  fa.t_fail = fb.t_fail = 0.5;
+  ca.fn = cb.fn = failing_ct;
+  ca.state = &fa;
+  cb.state = &fb;
+  ca.rate = cb.rate = 1000.0;
+  start_on(a, &plant, &tr, 0.0);
+  start_on(b, &plant, &tr, 0.0);
+  for (k = 1; k <= 500; k++)
+    assert_int_equal(rps3_sim_advance(a, &ca, k / 1000.0), RPS3_OK);
+  assert_int_equal(rps3_sim_advance(b, &cb, 0.1), RPS3_OK);
+  assert_int_equal(rps3_sim_advance(b, &cb, 1.0), RPS3_ERANGE);
+  assert_true(b->t == 0.5 && b->failed_at == 0.5);
+  assert_int_equal(b->status, RPS3_ERANGE);
+  assert_non_null(strstr(b->d->err.msg, "controller returned"));
+  for (i = 0; i < 6; i++) assert_true(a->y[i] == b->y[i]);
+  for (i = 0; i < 3; i++) {
+    CHECK_REL(b->d->pose[i], a->d->pose[i], 1e-12, 1.0, "pose%d", i);
+    CHECK_REL(b->d->dpose[i], a->d->dpose[i], 1e-10, 1.0, "dpose%d", i);
+    CHECK_REL(b->d->c[i], a->d->c[i], 1e-12, 1.0, "c%d", i);
+  }
+  CHECK_REL(b->T, a->T, 1e-10, 1.0, "T");
+  CHECK_REL(b->P, a->P, 1e-12, 1.0, "P");
+  CHECK_REL(b->energy_residual, a->energy_residual, 1e-9, 1e-12,
+            "energy residual");
+  /* the stopped run answers with its status, and stays where it was */
+  assert_int_equal(rps3_sim_advance(b, &cb, 2.0), RPS3_ERANGE);
+  assert_true(b->t == 0.5);
+  rps3_sim_free(a);
+  rps3_sim_free(b);
+  rps3_ctrl_free(fa.c);
+  rps3_ctrl_free(fb.c);
+}
+
 /* the noise generator: reproducible by seed, of the requested spread, and
    quantisation puts measurements on the grid */
 typedef struct {
@@ -721,6 +788,7 @@ int main(void) {
       cmocka_unit_test(energy_balance),
       cmocka_unit_test(controllers_track_the_helix),
       cmocka_unit_test(one_call_or_one_per_period),
+      cmocka_unit_test(report_where_the_run_stopped),
       cmocka_unit_test(noise_and_quantisation),
       cmocka_unit_test(hard_cases),
       cmocka_unit_test(stick_slip),
