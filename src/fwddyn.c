@@ -273,7 +273,7 @@ static double mass_cond(const double Mq[3][3]) {
   return rps3_lu_cond1(3, A, LU, perm);
 }
 
-/* evaluations whose start trigonometry rps3_fd_trig_step moves before one
+/* evaluations whose start trigonometry fd_trig_step moves before one
    takes sincos again: the phase's rounding, an ulp a step at most, stays
    below 1e-13 rad (the solve's tolerance is 1e-12) */
 #define TRIG_RESYNC 256
@@ -362,7 +362,7 @@ int rps3_fwddyn_state(const rps3_model *m, rps3_data *d, rps3_fd_state *k,
           RPS3_FD_PREDICT_MAX) {
         v3_copy(c, k->c);
         v3_copy(sn, k->s);
-        rps3_fd_trig_step(c, sn, e);
+        fd_trig_step(c, sn, e);
         trig = 1;
       }
     }

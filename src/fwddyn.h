@@ -104,11 +104,6 @@ enum {
                           rps3_fwddyn_accel forms ddl alone */
 };
 
-/* fwddyn_theta.c: c, sn moved to theta - e by their series (|e| <=
-   RPS3_FD_PREDICT_MAX), back onto the unit circle (fwddyn_plane.h has
-   the Newton step that uses it) */
-void rps3_fd_trig_step(double c[3], double sn[3], const double e[3]);
-
 /* a lean state's positions: none (NaN), so that no earlier state's can be
    read as this one's */
 void rps3_fd_positions_unset(rps3_data *d);

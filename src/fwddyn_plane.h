@@ -64,6 +64,36 @@ FD_INLINE void plane_constraints(const rps3_model *m, plane *p,
   }
 }
 
+/* c, sn of theta - e for |e| <= RPS3_FD_PREDICT_MAX: the series of cos e
+   to e^6 / 720 and of sin e to e^7 / 5040 (the next terms, e^8 / 40320
+   and e^9 / 362880, are below 2.5e-21), or, for |e| <= 1e-5 (a Newton
+   correction, or a predicted step of a slow motion), to e^2 / 2 and e^3
+   / 6 (the next, e^4 / 24 and e^5 / 120, below 4.2e-22); then back onto
+   the unit circle to first order, (3 - |.|^2) / 2, so that the rounding
+   of many steps does not build up in the magnitude (rps3_fwddyn_state
+   bounds the steps between two sincos) */
+FD_INLINE void fd_trig_step(double c[3], double sn[3], const double e[3]) {
+  const double big = max2(max2(fabs(e[0]), fabs(e[1])), fabs(e[2]));
+  int i;
+  for (i = 0; i < 3; i++) {
+    const double x = e[i], x2 = x * x;
+    double ce, se, cn, snn, g;
+    if (big <= 1e-5) {
+      ce = 1.0 - 0.5 * x2;
+      se = x - x * x2 * (1.0 / 6.0);
+    } else {
+      ce = 1.0 - x2 * (0.5 - x2 * (1.0 / 24.0 - x2 * (1.0 / 720.0)));
+      se = x * (1.0 - x2 * (1.0 / 6.0 -
+                            x2 * (1.0 / 120.0 - x2 * (1.0 / 5040.0))));
+    }
+    cn = c[i] * ce + sn[i] * se;
+    snn = sn[i] * ce - c[i] * se;
+    g = 1.5 - 0.5 * (cn * cn + snn * snn);
+    c[i] = cn * g;
+    sn[i] = snn * g;
+  }
+}
+
 /* the 1-norm condition number of df/dtheta, from its entries and its
    inverse X */
 static inline double plane_cond1(const plane *p) {
