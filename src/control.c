@@ -158,7 +158,9 @@ static void predict_theta(rps3_ctrl *c, const double l[3], double t) {
  * Positions from the theta solve of rps3_fwddyn_state (Newton from the
  * predicted start, rps3_fk when it fails), which reports the singular
  * configurations as rps3_invdyn would (RPS3_ESING past opt.cond_max); the
- * first start is the desired motion's theta.
+ * first start is the desired motion's theta.  In a simulation that lends
+ * its plant's state at the tick (c->plant_fd), the same positions and maps
+ * from there when rps3_fwddyn_state_shared accepts them.
  */
 static int invdyn_at(rps3_ctrl *c, double t, const double l[3],
                      const double dl[3], const double ddl[3], double F[3]) {

@@ -119,9 +119,10 @@ int rps3_fwddyn_state(const rps3_model *m, rps3_data *d, rps3_fd_state *k,
    theta tolerance no tighter than src_model's, warm starts (its own solve
    tracks the root src tracked), and d->l, d->dl are src's
    bit for bit, the kinematics are src's and only Mq, hq (m's masses and
-   effects) and m's checks are formed, as rps3_fwddyn_state(m, d, k,
-   RPS3_FD_LEAN | RPS3_FD_NOFACTOR) would: returns 1 with *status.
-   Otherwise returns 0 and touches nothing. */
+   effects; src's own when m's dynamics are src_model's) and m's checks
+   are formed, as rps3_fwddyn_state(m, d, k, RPS3_FD_LEAN |
+   RPS3_FD_NOFACTOR) would: returns 1 with *status.  Otherwise returns 0
+   and touches nothing. */
 int rps3_fwddyn_state_shared(const rps3_model *m, rps3_data *d,
                              rps3_fd_state *k, const rps3_model *src_model,
                              const rps3_fd_state *src, int *status);
