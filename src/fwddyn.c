@@ -30,8 +30,11 @@
  *   hq += Jg^T mb (a_g,bias + g e_z) + Jw^T (Iw dw_bias + w x Iw w).
  * rps3_invdyn's Lagrange route writes the platform as the same points;
  * its Newton-Euler route (a rigid body and six ball-joint forces) and the
- * kinetic energy of rps3_energy (the disc's inertia tensor) share nothing
- * with this file, and the tests hold it to both.
+ * kinetic energy of rps3_energy (src/fwddyn_body.c, the disc's inertia
+ * tensor) share nothing with Mq, and the tests hold it to both.  The
+ * steps of a state are in src/fwddyn_plane.h, its theta solve in
+ * src/fwddyn_theta.c, another model's state at a kept one in
+ * src/fwddyn_shared.c.
  */
 #include <string.h>
 
@@ -44,104 +47,6 @@ static int has_mass(const rps3_model *m) {
   return ((eff & RPS3_EFF_PLATFORM_INERTIA) && m->M > 0.0) ||
          ((eff & RPS3_EFF_LINK_INERTIA) && m->Jlink > 0.0) ||
          ((eff & RPS3_EFF_PAYLOAD) && m->payload.mass > 0.0);
-}
-
-/* world inertia rot diag(I) rot^T */
-static void inertia_world(double Iw[3][3], const double rot[3][3],
-                          const double I[3]) {
-  int p, q, k;
-  for (p = 0; p < 3; p++)
-    for (q = 0; q < 3; q++) {
-      double s = 0.0;
-      for (k = 0; k < 3; k++) s += rot[p][k] * I[k] * rot[q][k];
-      Iw[p][q] = s;
-    }
-}
-
-/* add a rigid body: mass mb, centre of mass offset s from the platform
-   centre and inertia Iw about it (world axes); g = 0 leaves its weight out */
-static void add_body(const rps3_fd_state *k, const rps3_data *d, double mb,
-                     const double s[3], const double Iw[3][3], double g,
-                     double Mq[3][3], double hq[3]) {
-  double Jg[3][3], ag[3], mom[3], t[3], Iwj[3][3];
-  int j, q;
-  /* the centre of mass moves with vc + omega x s */
-  for (j = 0; j < 3; j++) {
-    double wj[3] = {k->Jw[0][j], k->Jw[1][j], k->Jw[2][j]};
-    v3_cross(t, wj, s);
-    for (q = 0; q < 3; q++) Jg[j][q] = k->Jc[q][j] + t[q];
-    m3_mulv(Iwj[j], Iw, wj);
-  }
-  /* bias: a_g = ac + dw x s + w x (w x s) + g e_z; moment Iw dw + w x Iw w */
-  v3_cross(ag, k->dw_b, s);
-  v3_axpy(ag, ag, 1.0, k->ac_b);
-  v3_cross(t, d->omega, s);
-  v3_cross(t, d->omega, t);
-  v3_axpy(ag, ag, 1.0, t);
-  ag[2] += g;
-  m3_mulv(mom, Iw, k->dw_b);
-  m3_mulv(t, Iw, d->omega);
-  v3_cross(t, d->omega, t);
-  v3_axpy(mom, mom, 1.0, t);
-  for (j = 0; j < 3; j++) {
-    double wj[3] = {k->Jw[0][j], k->Jw[1][j], k->Jw[2][j]};
-    for (q = 0; q < 3; q++) {
-      double wq[3] = {k->Jw[0][q], k->Jw[1][q], k->Jw[2][q]};
-      Mq[j][q] += mb * v3_dot(Jg[j], Jg[q]) + v3_dot(wq, Iwj[j]);
-    }
-    hq[j] += mb * v3_dot(Jg[j], ag) + v3_dot(wj, mom);
-  }
-}
-
-/* Mq and hq of the selected effects (the file's header): the links and
-   the platform's ball-joint masses as generalized loads on theta (tau)
-   and on l (sigma), the centre's mass through Jc, a payload as a rigid
-   body; the upper triangle is Mq, symmetric to the bit */
-FD_INLINE void assemble(const rps3_model *m, rps3_data *d,
-                     const rps3_fd_state *k, const plane *p) {
-  const int eff = m->opt.effects;
-  const double mb = (eff & RPS3_EFF_PLATFORM_INERTIA) ? m->M / 6.0 : 0.0;
-  const double mc = 3.0 * mb; /* M / 2 at the centre */
-  const double gz = (eff & RPS3_EFF_PLATFORM_GRAVITY) ? m->M * m->g : 0.0;
-  double Jp[3], tau[3], sig[3], Mq[3][3], hq[3];
-  int i, j, q;
-  for (i = 0; i < 3; i++) {
-    const double mbl = mb * p->l[i];
-    Jp[i] = mbl * p->l[i];
-    tau[i] = 2.0 * mbl * p->dl[i] * p->dth[i];
-    sig[i] = -mbl * p->dth[i] * p->dth[i];
-    if (eff & RPS3_EFF_LINK_INERTIA) Jp[i] += m->Jlink;
-    tau[i] += Jp[i] * p->ddb[i];
-    /* (22): d/dtheta of m g d sin(theta) */
-    if (eff & RPS3_EFF_LINK_GRAVITY) tau[i] += m->m * m->g * m->d * p->c[i];
-    if (eff & RPS3_EFF_PIN_FRICTION)
-      tau[i] -= rps3_friction_torque(m, p->dth[i]);
-  }
-  for (j = 0; j < 3; j++) {
-    for (q = j; q < 3; q++)
-      Mq[j][q] = (q == j ? mb : 0.0) + Jp[0] * p->G[0][j] * p->G[0][q] +
-                 Jp[1] * p->G[1][j] * p->G[1][q] +
-                 Jp[2] * p->G[2][j] * p->G[2][q] +
-                 mc * (p->Jc[0][j] * p->Jc[0][q] + p->Jc[1][j] * p->Jc[1][q] +
-                       p->Jc[2][j] * p->Jc[2][q]);
-    hq[j] = sig[j] + p->G[0][j] * tau[0] + p->G[1][j] * tau[1] +
-            p->G[2][j] * tau[2] +
-            mc * (p->Jc[0][j] * p->acb[0] + p->Jc[1][j] * p->acb[1] +
-                  p->Jc[2][j] * p->acb[2]) +
-            gz * p->Jc[2][j];
-  }
-  if (eff & RPS3_EFF_PAYLOAD) {
-    double sp[3], Iw[3][3];
-    for (j = 0; j < 3; j++)
-      for (q = 0; q < j; q++) Mq[j][q] = Mq[q][j];
-    m3_mulv(sp, M3C(d->rot), m->payload.com);
-    inertia_world(Iw, M3C(d->rot), m->payload.inertia);
-    add_body(k, d, m->payload.mass, sp, M3C(Iw), m->g, Mq, hq);
-  }
-  for (j = 0; j < 3; j++) {
-    for (q = 0; q < 3; q++) d->Mq[j][q] = (q >= j) ? Mq[j][q] : Mq[q][j];
-    d->hq[j] = hq[j];
-  }
 }
 
 /* the rates and the bias accelerations a state gave, by name */
@@ -277,24 +182,6 @@ static double mass_cond(const double Mq[3][3]) {
    takes sincos again: the phase's rounding, an ulp a step at most, stays
    below 1e-13 rad (the solve's tolerance is 1e-12) */
 #define TRIG_RESYNC 256
-
-/* a root in another assembly mode than opt.mode asks for is refused, as
-   rps3_theta_solve refuses it (the fall-back rps3_fk did already) */
-static int mode_refused(const rps3_model *m, rps3_data *d, rps3_fd_state *k) {
-  if (m->opt.mode == RPS3_MODE_ANY || d->mode == m->opt.mode) return RPS3_OK;
-  d->have_theta = 0;
-  k->have_trig = 0;
-  RPS3_ERROR(d, RPS3_EMODE,
-             "root theta = (%.6g, %.6g, %.6g) is in assembly mode %d (sign of "
-             "det df/dtheta; +1 the level platform's), opt.mode asks for %d",
-             d->theta[0], d->theta[1], d->theta[2], d->mode, m->opt.mode);
-}
-
-/* a failure leaves no acceleration that could be read as one */
-static void poison(rps3_data *d) {
-  d->ddl[0] = d->ddl[1] = d->ddl[2] = (double)NAN;
-  d->stage &= RPS3_STAGE_POS | RPS3_STAGE_VEL;
-}
 
 int rps3_fwddyn_state(const rps3_model *m, rps3_data *d, rps3_fd_state *k,
                       int flags) {
@@ -481,91 +368,6 @@ int rps3_fwddyn_state(const rps3_model *m, rps3_data *d, rps3_fd_state *k,
   return RPS3_OK;
 }
 
-/* a and b give the same Mq and hq from the same kinematics: the fields
-   assemble reads (rps3_friction_torque's with them); test_fwddyn perturbs
-   every field of the model to hold this list to assemble */
-static int same_dynamics(const rps3_model *a, const rps3_model *b) {
-  return a->opt.effects == b->opt.effects && a->M == b->M && a->m == b->m &&
-         a->d == b->d && a->g == b->g && a->Jlink == b->Jlink &&
-         a->friction.viscous == b->friction.viscous &&
-         a->friction.coulomb == b->friction.coulomb &&
-         a->friction.vreg == b->friction.vreg;
-}
-
-/* the state part of rps3_fwddyn_state_shared, once it applies */
-static int state_shared(const rps3_model *m, rps3_data *d, rps3_fd_state *k,
-                        const rps3_model *src_model,
-                        const rps3_fd_state *src) {
-  const plane *p = &src->kin;
-  double cond;
-  int st;
-  /* what rps3_fwddyn_state writes of a lean state, from src's */
-  d->stage = 0;
-  d->warn = 0;
-  d->mode = src->mode;
-  d->have_theta = 1;
-  v3_copy(d->theta, src->th);
-  v3_copy(d->dtheta, p->dth);
-  rps3_fd_positions_unset(d);
-  d->pose[0] = d->pose[1] = d->pose[2] = (double)NAN;
-  d->vc[0] = d->vc[1] = d->vc[2] = (double)NAN;
-  d->omega[0] = d->omega[1] = d->omega[2] = (double)NAN;
-  d->dpose[0] = d->dpose[1] = d->dpose[2] = (double)NAN;
-  /* what the next own state's predicted start reads (a controller's
-     state part has no accelerations to form: no Jc, Jw, ac_b) */
-  memcpy(k->G, p->G, sizeof(p->G));
-  v3_copy(k->ddth_b, p->ddb);
-  v3_copy(k->l, p->l);
-  v3_copy(k->dl, p->dl);
-  k->idl2 = src->idl2;
-  v3_copy(k->th, src->th);
-  v3_copy(k->c, p->c);
-  v3_copy(k->s, p->s);
-  k->have_trig = 1;
-  k->nrot = src->nrot;
-  k->have_w = 0;
-  k->scratch = 0;
-  /* m's checks: df/dtheta's condition (plane_jacobian's), the lambda
-     system's and the transmission (invdyn_limits), the mode */
-  cond = plane_cond1(p);
-  if (!(cond <= m->opt.cond_max))
-    RPS3_ERROR(d, RPS3_ESING,
-               "constraint Jacobian df/dtheta: condition number %.3g exceeds "
-               "cond_max %.3g", cond, m->opt.cond_max);
-  st = invdyn_limits(m, d, p, src);
-  if (st != RPS3_OK) return st;
-  st = mode_refused(m, d, k);
-  if (st != RPS3_OK) return st;
-  /* the plant's Mq and hq when they are this model's too (a controller
-     with the exact model), else this model's own from the kinematics */
-  if (same_dynamics(m, src_model)) {
-    memcpy(d->Mq, src->Mq, sizeof(d->Mq));
-    v3_copy(d->hq, src->hq);
-  } else {
-    assemble(m, d, k, p);
-  }
-  RPS3_CHECK_FINITE(d, d->hq, 3, "hq");
-  RPS3_CHECK_FINITE(d, d->Mq, 9, "Mq");
-  return RPS3_OK;
-}
-
-int rps3_fwddyn_state_shared(const rps3_model *m, rps3_data *d,
-                             rps3_fd_state *k, const rps3_model *src_model,
-                             const rps3_fd_state *src, int *status) {
-  int i;
-  if (src == NULL || src_model == NULL || !src->have_kin ||
-      m->R != src_model->R || m->r != src_model->r ||
-      !(src_model->opt.tol <= m->opt.tol) || !m->opt.warm_start ||
-      (m->opt.effects & RPS3_EFF_PAYLOAD))
-    return 0;
-  for (i = 0; i < 3; i++)
-    if (!(d->l[i] == src->kin.l[i] && d->dl[i] == src->kin.dl[i])) return 0;
-  *status = state_shared(m, d, k, src_model, src);
-  poison(d); /* no acceleration: Mq and hq are the answer */
-  if (*status == RPS3_OK) k->mode = d->mode;
-  return 1;
-}
-
 int rps3_fwddyn_accel(const rps3_model *m, rps3_data *d,
                       const rps3_fd_state *k) {
   double x[3], chk = 0.0;
@@ -625,44 +427,4 @@ int rps3_fwddyn(const rps3_model *m, rps3_data *d) {
   v3_copy(d->F, F);
   if (status != RPS3_OK) return status;
   return rps3_fwddyn_accel(m, d, &k);
-}
-
-int rps3_energy(const rps3_model *m, const rps3_data *d, double *T,
-                double *P, double *fric) {
-  const int eff = (m != NULL) ? m->opt.effects : 0;
-  double t = 0.0, p = 0.0, f = 0.0, Iw[3][3], w[3], s[3], v[3];
-  int i;
-  if (m == NULL || d == NULL || !m->valid) return RPS3_EINVAL;
-  if ((d->stage & (RPS3_STAGE_POS | RPS3_STAGE_VEL)) !=
-      (RPS3_STAGE_POS | RPS3_STAGE_VEL))
-    return RPS3_ESTATE;
-  if (eff & RPS3_EFF_PLATFORM_INERTIA) {
-    inertia_world(Iw, M3C(d->rot), m->Ip);
-    m3_mulv(w, M3C(Iw), d->omega);
-    t += 0.5 * m->M * v3_dot(d->vc, d->vc) + 0.5 * v3_dot(d->omega, w);
-  }
-  if (eff & RPS3_EFF_PLATFORM_GRAVITY) p += m->M * m->g * d->c[2];
-  if (eff & RPS3_EFF_PAYLOAD) {
-    m3_mulv(s, M3C(d->rot), m->payload.com);
-    v3_cross(v, d->omega, s);
-    v3_axpy(v, v, 1.0, d->vc);
-    inertia_world(Iw, M3C(d->rot), m->payload.inertia);
-    m3_mulv(w, M3C(Iw), d->omega);
-    t += 0.5 * m->payload.mass * v3_dot(v, v) + 0.5 * v3_dot(d->omega, w);
-    p += m->payload.mass * m->g * (d->c[2] + s[2]);
-  }
-  for (i = 0; i < 3; i++) {
-    if (eff & RPS3_EFF_LINK_INERTIA)
-      t += 0.5 * m->Jlink * d->dtheta[i] * d->dtheta[i];
-    /* sin theta_i is phi_i's Z component (29) */
-    if (eff & RPS3_EFF_LINK_GRAVITY) p += m->m * m->g * m->d * d->phi[i][2];
-    if (eff & RPS3_EFF_PIN_FRICTION)
-      f += rps3_friction_torque(m, d->dtheta[i]) * d->dtheta[i];
-  }
-  if (T != NULL) *T = t;
-  if (P != NULL) *P = p;
-  if (fric != NULL) *fric = f;
-  /* d is read-only here: the status alone says an energy overflowed */
-  if (!(isfinite(t) && isfinite(p) && isfinite(f))) return RPS3_ERANGE;
-  return RPS3_OK;
 }

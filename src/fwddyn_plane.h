@@ -2,9 +2,9 @@
  * fwddyn_plane.h - the forward dynamics' state in the links' planes
  * (src/fwddyn.c's header comment has the formulation): the constraint
  * Jacobians and their inverse, the rates, the bias accelerations and the
- * velocity maps, formed by static inline steps that compile into
- * rps3_fwddyn_state's one evaluation.  Included by src/fwddyn.c and
- * src/fwddyn_theta.c only.
+ * velocity maps, Mq and hq from them, formed by static inline steps that
+ * compile into rps3_fwddyn_state's one evaluation.  Included by the
+ * forward dynamics' files only (src/fwddyn*.c).
  */
 #ifndef RPS3_FWDDYN_PLANE_H
 #define RPS3_FWDDYN_PLANE_H
@@ -303,6 +303,84 @@ static inline int invdyn_limits(const rps3_model *m, rps3_data *d,
                T, m->opt.trans_max);
   if (T > m->opt.trans_warn) d->warn |= RPS3_WARN_TRANS;
   return RPS3_OK;
+}
+
+/* fwddyn_body.c: world inertia rot diag(I) rot^T; a rigid body's terms
+   of Mq and hq (mass mb, centre of mass offset s from the platform centre
+   and inertia Iw about it, world axes; g = 0 leaves its weight out) */
+void rps3_fd_inertia_world(double Iw[3][3], const double rot[3][3],
+                           const double I[3]);
+void rps3_fd_add_body(const rps3_fd_state *k, const rps3_data *d, double mb,
+                      const double s[3], const double Iw[3][3], double g,
+                      double Mq[3][3], double hq[3]);
+
+/* Mq and hq of the selected effects (src/fwddyn.c's header): the links and
+   the platform's ball-joint masses as generalized loads on theta (tau)
+   and on l (sigma), the centre's mass through Jc, a payload as a rigid
+   body; the upper triangle is Mq, symmetric to the bit */
+FD_INLINE void assemble(const rps3_model *m, rps3_data *d,
+                     const rps3_fd_state *k, const plane *p) {
+  const int eff = m->opt.effects;
+  const double mb = (eff & RPS3_EFF_PLATFORM_INERTIA) ? m->M / 6.0 : 0.0;
+  const double mc = 3.0 * mb; /* M / 2 at the centre */
+  const double gz = (eff & RPS3_EFF_PLATFORM_GRAVITY) ? m->M * m->g : 0.0;
+  double Jp[3], tau[3], sig[3], Mq[3][3], hq[3];
+  int i, j, q;
+  for (i = 0; i < 3; i++) {
+    const double mbl = mb * p->l[i];
+    Jp[i] = mbl * p->l[i];
+    tau[i] = 2.0 * mbl * p->dl[i] * p->dth[i];
+    sig[i] = -mbl * p->dth[i] * p->dth[i];
+    if (eff & RPS3_EFF_LINK_INERTIA) Jp[i] += m->Jlink;
+    tau[i] += Jp[i] * p->ddb[i];
+    /* (22): d/dtheta of m g d sin(theta) */
+    if (eff & RPS3_EFF_LINK_GRAVITY) tau[i] += m->m * m->g * m->d * p->c[i];
+    if (eff & RPS3_EFF_PIN_FRICTION)
+      tau[i] -= rps3_friction_torque(m, p->dth[i]);
+  }
+  for (j = 0; j < 3; j++) {
+    for (q = j; q < 3; q++)
+      Mq[j][q] = (q == j ? mb : 0.0) + Jp[0] * p->G[0][j] * p->G[0][q] +
+                 Jp[1] * p->G[1][j] * p->G[1][q] +
+                 Jp[2] * p->G[2][j] * p->G[2][q] +
+                 mc * (p->Jc[0][j] * p->Jc[0][q] + p->Jc[1][j] * p->Jc[1][q] +
+                       p->Jc[2][j] * p->Jc[2][q]);
+    hq[j] = sig[j] + p->G[0][j] * tau[0] + p->G[1][j] * tau[1] +
+            p->G[2][j] * tau[2] +
+            mc * (p->Jc[0][j] * p->acb[0] + p->Jc[1][j] * p->acb[1] +
+                  p->Jc[2][j] * p->acb[2]) +
+            gz * p->Jc[2][j];
+  }
+  if (eff & RPS3_EFF_PAYLOAD) {
+    double sp[3], Iw[3][3];
+    for (j = 0; j < 3; j++)
+      for (q = 0; q < j; q++) Mq[j][q] = Mq[q][j];
+    m3_mulv(sp, M3C(d->rot), m->payload.com);
+    rps3_fd_inertia_world(Iw, M3C(d->rot), m->payload.inertia);
+    rps3_fd_add_body(k, d, m->payload.mass, sp, M3C(Iw), m->g, Mq, hq);
+  }
+  for (j = 0; j < 3; j++) {
+    for (q = 0; q < 3; q++) d->Mq[j][q] = (q >= j) ? Mq[j][q] : Mq[q][j];
+    d->hq[j] = hq[j];
+  }
+}
+
+/* a root in another assembly mode than opt.mode asks for is refused, as
+   rps3_theta_solve refuses it (the fall-back rps3_fk did already) */
+static inline int mode_refused(const rps3_model *m, rps3_data *d, rps3_fd_state *k) {
+  if (m->opt.mode == RPS3_MODE_ANY || d->mode == m->opt.mode) return RPS3_OK;
+  d->have_theta = 0;
+  k->have_trig = 0;
+  RPS3_ERROR(d, RPS3_EMODE,
+             "root theta = (%.6g, %.6g, %.6g) is in assembly mode %d (sign of "
+             "det df/dtheta; +1 the level platform's), opt.mode asks for %d",
+             d->theta[0], d->theta[1], d->theta[2], d->mode, m->opt.mode);
+}
+
+/* a failure leaves no acceleration that could be read as one */
+static inline void poison(rps3_data *d) {
+  d->ddl[0] = d->ddl[1] = d->ddl[2] = (double)NAN;
+  d->stage &= RPS3_STAGE_POS | RPS3_STAGE_VEL;
 }
 
 /* fwddyn_theta.c: theta from d->l (p->l) by Newton's method from

@@ -8,66 +8,16 @@
  * is allocated by rps3_sim_alloc; GSL's drivers allocate nothing while
  * stepping.  Failures inside the right-hand side are recorded in the
  * simulation and reported to GSL as GSL_EBADFUNC, which makes its driver
- * return at once with the state of the last completed step.
+ * return at once with the state of the last completed step.  The set-up
+ * (options, allocation) is src/sim_setup.c.
  */
-#include <stdlib.h>
 #include <string.h>
 
-#include <gsl/gsl_errno.h>
-#include <gsl/gsl_odeiv2.h>
-
-#include "fwddyn.h"
-
-#define NY 8 /* l[3], dl[3], W_F, W_f */
+#include "sim.h"
 
 /* times closer than this many control periods are the same instant: far
    above the rounding of t0 + k / rate for any run, far below a step */
 #define TICK_SLACK 1e-6
-
-struct rps3_sim_gsl {
-  gsl_odeiv2_system sys;
-  gsl_odeiv2_driver *drv;   /* adaptive methods: stepper, control, evolve */
-  gsl_odeiv2_step *stp;     /* the driver's stepper, which fixed-step
-                               methods call alone (the driver would reject
-                               steps on their error estimate) */
-  double yerr[NY];          /* the fixed stepper's error estimate, unused */
-  double k[4][NY], ys[NY];  /* stages of the classical RK4 */
-  int fixed;                /* 1: fixed-step method */
-  /* the plant's state part (Mq, hq, maps) at (l, dl) = ky, valid while
-     have_k: an evaluation at the same state with another force (the
-     next period's first stage after settle) only solves with Mq */
-  rps3_fd_state fd;
-  double ky[6];
-  int have_k;
-  int lean_k;               /* 1: that state has no pose, no pose rates */
-  int reported;             /* 1: d, T, P and the energy residual describe
-                               the state at s->t (settle, report_end) */
-};
-
-static const char *const INT_NAME[RPS3_NINTEGRATOR] = {"rk4", "rkf45", "rk8pd",
-                                                       "msbdf", "rk4imp"};
-
-const char *rps3_integrator_name(int integrator) {
-  if (integrator < 0 || integrator >= RPS3_NINTEGRATOR) return NULL;
-  return INT_NAME[integrator];
-}
-
-int rps3_integrator_index(const char *name) {
-  return rps3_name_lookup(INT_NAME, RPS3_NINTEGRATOR, name);
-}
-
-void rps3_sim_options_default(rps3_sim_options *o) {
-  memset(o, 0, sizeof(*o));
-  o->integrator = RPS3_INT_RK4;
-  o->h = 1e-3;
-  o->epsabs = 1e-9;
-  o->epsrel = 1e-9;
-  o->hmin = 1e-12;
-  o->max_steps = 100000;
-  o->l_min = 0.0;
-  o->l_max = HUGE_VAL;
-  o->seed = 0x5eedUL;
-}
 
 /* ------------------------------------------------------------ noise */
 
@@ -184,7 +134,7 @@ static int evaluate(rps3_sim *s, double t, const double y[], int lean,
   return RPS3_OK;
 }
 
-static int rhs(double t, const double y[], double dydt[], void *params) {
+int rps3_sim_rhs(double t, const double y[], double dydt[], void *params) {
   rps3_sim *s = (rps3_sim *)params;
   rps3_data *d = s->d;
   double fric = 0.0;
@@ -210,154 +160,24 @@ static int rhs(double t, const double y[], double dydt[], void *params) {
 /* Jacobian for the implicit methods by forward differences, NY extra
    evaluations; dfdt = 0 within a control period (held forces), and for a
    continuous controller its time dependence is left to the corrector */
-static int jac(double t, const double y[], double *dfdy, double dfdt[],
-               void *params) {
+int rps3_sim_jac(double t, const double y[], double *dfdy, double dfdt[],
+                 void *params) {
   double f0[NY], f1[NY], yp[NY];
   int i, j, st;
-  st = rhs(t, y, f0, params);
+  st = rps3_sim_rhs(t, y, f0, params);
   if (st != GSL_SUCCESS) return st;
   memcpy(yp, y, sizeof(yp));
   for (j = 0; j < NY; j++) {
     /* sqrt(eps) relative step, with the scale of a length or a rate */
     double h = 1.4901161193847656e-8 * fmax(fabs(y[j]), j < 3 ? 0.1 : 0.01);
     yp[j] = y[j] + h;
-    st = rhs(t, yp, f1, params);
+    st = rps3_sim_rhs(t, yp, f1, params);
     yp[j] = y[j];
     if (st != GSL_SUCCESS) return st;
     for (i = 0; i < NY; i++) dfdy[i * NY + j] = (f1[i] - f0[i]) / h;
   }
   for (i = 0; i < NY; i++) dfdt[i] = 0.0;
   return GSL_SUCCESS;
-}
-
-/* ------------------------------------------------------- lifecycle */
-
-static int bad(char *err, size_t errsz, const char *field, double value,
-               const char *why) {
-  if (err != NULL && errsz > 0)
-    snprintf(err, errsz, "%s = %.17g: %s", field, value, why);
-  return RPS3_EINVAL;
-}
-
-#define REQUIRE(cond, field, value, why)                                      \
-  do {                                                                        \
-    if (!(cond)) return bad(err, errsz, field, (double)(value), why);         \
-  } while (0)
-
-static int check_options(const rps3_sim_options *o, char *err, size_t errsz) {
-  REQUIRE((int)o->integrator >= 0 && (int)o->integrator < RPS3_NINTEGRATOR,
-          "simulate.integrator", o->integrator, "unknown integrator");
-  REQUIRE(isfinite(o->h) && o->h > 0, "simulate.h", o->h,
-          "must be finite and > 0");
-  REQUIRE(isfinite(o->epsabs) && o->epsabs >= 0, "simulate.epsabs", o->epsabs,
-          "must be finite and >= 0");
-  REQUIRE(isfinite(o->epsrel) && o->epsrel >= 0, "simulate.epsrel", o->epsrel,
-          "must be finite and >= 0");
-  REQUIRE(o->epsabs > 0 || o->epsrel > 0 || o->integrator == RPS3_INT_RK4 ||
-              o->integrator == RPS3_INT_RK4IMP,
-          "simulate.epsabs", o->epsabs,
-          "epsabs and epsrel cannot both be 0 for an adaptive integrator");
-  REQUIRE(isfinite(o->hmin) && o->hmin > 0 && o->hmin <= o->h,
-          "simulate.hmin", o->hmin, "must be finite, > 0 and <= h");
-  REQUIRE(o->max_steps >= 1, "simulate.max_steps", o->max_steps,
-          "must be >= 1");
-  REQUIRE(isfinite(o->fmax) && o->fmax >= 0, "simulate.fmax", o->fmax,
-          "must be finite and >= 0");
-  REQUIRE(isfinite(o->l_min) && o->l_min >= 0, "simulate.l_min", o->l_min,
-          "must be finite and >= 0");
-  REQUIRE(!isnan(o->l_max) && o->l_max > o->l_min, "simulate.l_max", o->l_max,
-          "must be > l_min");
-  REQUIRE(isfinite(o->noise_l) && o->noise_l >= 0, "simulate.noise_l",
-          o->noise_l, "must be finite and >= 0");
-  REQUIRE(isfinite(o->noise_dl) && o->noise_dl >= 0, "simulate.noise_dl",
-          o->noise_dl, "must be finite and >= 0");
-  REQUIRE(isfinite(o->quant_l) && o->quant_l >= 0, "simulate.quant_l",
-          o->quant_l, "must be finite and >= 0");
-  REQUIRE(isfinite(o->quant_dl) && o->quant_dl >= 0, "simulate.quant_dl",
-          o->quant_dl, "must be finite and >= 0");
-  return RPS3_OK;
-}
-
-static const gsl_odeiv2_step_type *step_type(rps3_integrator k) {
-  switch (k) {
-  case RPS3_INT_RKF45:
-    return gsl_odeiv2_step_rkf45;
-  case RPS3_INT_RK8PD:
-    return gsl_odeiv2_step_rk8pd;
-  case RPS3_INT_MSBDF:
-    return gsl_odeiv2_step_msbdf;
-  case RPS3_INT_RK4IMP:
-    return gsl_odeiv2_step_rk4imp;
-  case RPS3_INT_RK4:
-  default:
-    return gsl_odeiv2_step_rk4;
-  }
-}
-
-int rps3_sim_alloc(const rps3_model *plant, const rps3_sim_options *o,
-                   rps3_sim **out, char *err, size_t errsz) {
-  rps3_sim *s;
-  rps3_sim_options def;
-  int st;
-  if (out == NULL) return RPS3_EINVAL;
-  *out = NULL;
-  if (plant == NULL || !plant->valid) {
-    if (err != NULL && errsz > 0)
-      snprintf(err, errsz, "plant model is NULL or not initialised");
-    return RPS3_EINVAL;
-  }
-  if (o == NULL) {
-    rps3_sim_options_default(&def);
-    o = &def;
-  }
-  st = check_options(o, err, errsz);
-  if (st != RPS3_OK) return st;
-  s = (rps3_sim *)calloc(1, sizeof(*s));
-  if (s == NULL) return RPS3_ENOMEM;
-  s->plant = *plant;
-  s->opt = *o;
-  s->status = RPS3_ESTATE;
-  s->failed_at = (double)NAN;
-  s->gsl = (struct rps3_sim_gsl *)calloc(1, sizeof(*s->gsl));
-  if (s->gsl == NULL || rps3_data_alloc(&s->plant, &s->d) != RPS3_OK) {
-    rps3_sim_free(s);
-    return RPS3_ENOMEM;
-  }
-  s->gsl->sys.function = rhs;
-  s->gsl->sys.jacobian = jac;
-  s->gsl->sys.dimension = NY;
-  s->gsl->sys.params = s;
-  s->gsl->fixed = (o->integrator == RPS3_INT_RK4 ||
-                   o->integrator == RPS3_INT_RK4IMP);
-  /* the implicit steppers reach their Newton solver's settings through a
-     driver, so every method gets one; a fixed-step method then steps with
-     the driver's stepper alone (its tolerance is not used) */
-  s->gsl->drv = gsl_odeiv2_driver_alloc_y_new(
-      &s->gsl->sys, step_type(o->integrator), o->h,
-      s->gsl->fixed ? 1e-6 : o->epsabs, s->gsl->fixed ? 0.0 : o->epsrel);
-  if (s->gsl->drv == NULL) {
-    rps3_sim_free(s);
-    return RPS3_ENOMEM;
-  }
-  s->gsl->stp = s->gsl->drv->s;
-  if (gsl_odeiv2_driver_set_hmin(s->gsl->drv, o->hmin) != GSL_SUCCESS ||
-      gsl_odeiv2_driver_set_nmax(s->gsl->drv, (unsigned long)o->max_steps) !=
-          GSL_SUCCESS) {
-    rps3_sim_free(s);
-    if (err != NULL && errsz > 0)
-      snprintf(err, errsz, "simulate.hmin = %g: GSL refused it", o->hmin);
-    return RPS3_EINVAL;
-  }
-  *out = s;
-  return RPS3_OK;
-}
-
-void rps3_sim_free(rps3_sim *s) {
-  if (s == NULL) return;
-  if (s->gsl != NULL && s->gsl->drv != NULL) gsl_odeiv2_driver_free(s->gsl->drv);
-  free(s->gsl);
-  rps3_data_free(s->d);
-  free(s);
 }
 
 /* T and P of the state at s->t (the plant data was just evaluated there) */
@@ -479,11 +299,11 @@ static int rk4_step(rps3_sim *s, double t, double h) {
   struct rps3_sim_gsl *g = s->gsl;
   static const double c[4] = {0.0, 0.5, 0.5, 1.0};
   int j, i, st;
-  st = rhs(t, s->y, g->k[0], s);
+  st = rps3_sim_rhs(t, s->y, g->k[0], s);
   for (j = 1; j < 4 && st == GSL_SUCCESS; j++) {
     const double ch = c[j] * h;
     for (i = 0; i < NY; i++) g->ys[i] = s->y[i] + ch * g->k[j - 1][i];
-    st = rhs(t + ch, g->ys, g->k[j], s);
+    st = rps3_sim_rhs(t + ch, g->ys, g->k[j], s);
   }
   if (st != GSL_SUCCESS) return st;
   for (i = 0; i < NY; i++)
