@@ -18,6 +18,11 @@ from rps3._rps3 import lib as _lib
 from rps3.io import open_dataset
 from rps3.model import DEFAULT_EFFECTS, EFFECTS, Dynamics, Kinematics, Model, Pose
 
+# forward dynamics, velocities, simulation, controllers, scenes, exceptions
+# (docs/python.md)
+from rps3 import control, dynamics, errors, scene, sim, velocity  # noqa: E402
+from rps3.errors import Rps3Error  # noqa: E402
+
 __version__: str = _ffi.string(_lib.rps3_version()).decode()
 
 # the library linked in must be the one whose header the binding was built
@@ -26,4 +31,5 @@ if __version__ != _ffi.string(_lib.rps3py_header_version()).decode():
     raise ImportError(f"rps3: library {__version__} does not match its header")
 
 __all__ = ["DEFAULT_EFFECTS", "EFFECTS", "Dynamics", "Kinematics", "Model", "h5io",
-           "Pose", "open_dataset", "strerror", "trajectory"]
+           "Pose", "open_dataset", "strerror", "trajectory",
+           "Rps3Error", "control", "dynamics", "errors", "scene", "sim", "velocity"]

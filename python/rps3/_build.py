@@ -14,6 +14,7 @@ Where the library comes from:
 
 from __future__ import annotations
 
+import json
 import os
 import re
 import shlex
@@ -55,6 +56,331 @@ int rps3py_traj_eval_n(const rps3_model *m, const rps3_traj *tr, size_t n,
                        double *ddpose);
 const char *rps3py_header_version(void);
 """
+
+
+# ------------------------------------------------------------------------
+# Loops over points and over a simulation's output times for the modules
+# dynamics, velocity, sim and control (one C call per Python call; the
+# library's stages are called per point exactly as in the library's own
+# batch loops), and the entry point of controllers written in Python.
+# Each *_n loop computes point i from component-major inputs (component c
+# at [c * n + i]) into component-major outputs, NaN and its status for a
+# point that fails, and keeps the first failure's message, "point I: ...".
+HELPERS += r"""
+static void rps3py_nan(double *a, size_t rows, size_t n, size_t i) {
+  size_t r;
+  if (a == NULL) return;
+  for (r = 0; r < rows; r++) a[r * n + i] = (double)NAN;
+}
+static void rps3py_put(double *a, const double *v, size_t rows, size_t n,
+                       size_t i) {
+  size_t r;
+  if (a == NULL) return;
+  for (r = 0; r < rows; r++) a[r * n + i] = v[r];
+}
+static void rps3py_get(double *v, const double *a, size_t n, size_t i) {
+  size_t r;
+  for (r = 0; r < 3; r++) v[r] = a[r * n + i];
+}
+static void rps3py_fail(const rps3_data *d, size_t i, int st, size_t *nfail,
+                        char *msg, size_t msgsz) {
+  if ((*nfail)++ == 0)
+    snprintf(msg, msgsz, "point %lu: %s", (unsigned long)i,
+             d->err.msg[0] ? d->err.msg : rps3_strerror(st));
+}
+
+static size_t rps3py_fwddyn_n(const rps3_model *m, rps3_data *d, size_t n,
+    const double *l, const double *dl, const double *F, double *ddl,
+    double *pose, double *dpose, double *theta, double *dtheta,
+    double *ddtheta, double *Mq, double *hq, double *Mcond, double *T,
+    double *P, int *mode, int *status, char *msg, size_t msgsz) {
+  size_t i, nfail = 0;
+  for (i = 0; i < n; i++) {
+    double e[2];
+    int st;
+    rps3py_get(d->l, l, n, i);
+    rps3py_get(d->dl, dl, n, i);
+    rps3py_get(d->F, F, n, i);
+    d->err.msg[0] = 0;
+    st = rps3_fwddyn(m, d);
+    if (st == RPS3_OK) st = rps3_energy(m, d, &e[0], &e[1], NULL);
+    status[i] = st;
+    mode[i] = d->mode;
+    if (st != RPS3_OK) {
+      rps3py_fail(d, i, st, &nfail, msg, msgsz);
+      rps3py_nan(ddl, 3, n, i); rps3py_nan(pose, 3, n, i);
+      rps3py_nan(dpose, 3, n, i); rps3py_nan(theta, 3, n, i);
+      rps3py_nan(dtheta, 3, n, i); rps3py_nan(ddtheta, 3, n, i);
+      rps3py_nan(Mq, 9, n, i); rps3py_nan(hq, 3, n, i);
+      rps3py_nan(Mcond, 1, n, i); rps3py_nan(T, 1, n, i);
+      rps3py_nan(P, 1, n, i);
+      continue;
+    }
+    rps3py_put(ddl, d->ddl, 3, n, i); rps3py_put(pose, d->pose, 3, n, i);
+    rps3py_put(dpose, d->dpose, 3, n, i);
+    rps3py_put(theta, d->theta, 3, n, i);
+    rps3py_put(dtheta, d->dtheta, 3, n, i);
+    rps3py_put(ddtheta, d->ddtheta, 3, n, i);
+    rps3py_put(Mq, &d->Mq[0][0], 9, n, i); rps3py_put(hq, d->hq, 3, n, i);
+    rps3py_put(Mcond, &d->Mcond, 1, n, i);
+    rps3py_put(T, &e[0], 1, n, i); rps3py_put(P, &e[1], 1, n, i);
+  }
+  return nfail;
+}
+
+/* pose (+ rates, + accelerations) -> the joint and Cartesian motion:
+   rps3_ik, rps3_velocity, rps3_acceleration (dpose, ddpose may be NULL) */
+static size_t rps3py_velocity_n(const rps3_model *m, rps3_data *d, size_t n,
+    const double *pose, const double *dpose, const double *ddpose,
+    double *l, double *theta, double *c, double *dl, double *dtheta,
+    double *vc, double *omega, double *ddl, double *ddtheta, double *ac,
+    double *domega, int *status, char *msg, size_t msgsz) {
+  size_t i, nfail = 0;
+  for (i = 0; i < n; i++) {
+    int st;
+    rps3py_get(d->pose, pose, n, i);
+    d->err.msg[0] = 0;
+    st = rps3_ik(m, d);
+    if (st == RPS3_OK && dpose != NULL) {
+      rps3py_get(d->dpose, dpose, n, i);
+      st = rps3_velocity(m, d);
+    }
+    if (st == RPS3_OK && dpose != NULL && ddpose != NULL) {
+      rps3py_get(d->ddpose, ddpose, n, i);
+      st = rps3_acceleration(m, d);
+    }
+    status[i] = st;
+    if (st != RPS3_OK) {
+      rps3py_fail(d, i, st, &nfail, msg, msgsz);
+      rps3py_nan(l, 3, n, i); rps3py_nan(theta, 3, n, i);
+      rps3py_nan(c, 3, n, i); rps3py_nan(dl, 3, n, i);
+      rps3py_nan(dtheta, 3, n, i); rps3py_nan(vc, 3, n, i);
+      rps3py_nan(omega, 3, n, i); rps3py_nan(ddl, 3, n, i);
+      rps3py_nan(ddtheta, 3, n, i); rps3py_nan(ac, 3, n, i);
+      rps3py_nan(domega, 3, n, i);
+      continue;
+    }
+    rps3py_put(l, d->l, 3, n, i); rps3py_put(theta, d->theta, 3, n, i);
+    rps3py_put(c, d->c, 3, n, i);
+    if (dpose != NULL) {
+      rps3py_put(dl, d->dl, 3, n, i); rps3py_put(dtheta, d->dtheta, 3, n, i);
+      rps3py_put(vc, d->vc, 3, n, i); rps3py_put(omega, d->omega, 3, n, i);
+    }
+    if (dpose != NULL && ddpose != NULL) {
+      rps3py_put(ddl, d->ddl, 3, n, i);
+      rps3py_put(ddtheta, d->ddtheta, 3, n, i);
+      rps3py_put(ac, d->ac, 3, n, i); rps3py_put(domega, d->domega, 3, n, i);
+    }
+  }
+  return nfail;
+}
+
+/* lengths (+ rates, + accelerations) -> the platform's motion: rps3_fk,
+   rps3_joint_velocity, rps3_joint_acceleration (dl, ddl may be NULL) */
+static size_t rps3py_joint_velocity_n(const rps3_model *m, rps3_data *d,
+    size_t n, const double *l, const double *dl, const double *ddl,
+    double *pose, double *theta, double *c, double *dpose, double *dtheta,
+    double *vc, double *omega, double *ddtheta, double *ac, double *domega,
+    int *status, char *msg, size_t msgsz) {
+  size_t i, nfail = 0;
+  for (i = 0; i < n; i++) {
+    int st;
+    rps3py_get(d->l, l, n, i);
+    d->err.msg[0] = 0;
+    st = rps3_fk(m, d);
+    if (st == RPS3_OK && dl != NULL) {
+      rps3py_get(d->dl, dl, n, i);
+      st = rps3_joint_velocity(m, d);
+    }
+    if (st == RPS3_OK && dl != NULL && ddl != NULL) {
+      rps3py_get(d->ddl, ddl, n, i);
+      st = rps3_joint_acceleration(m, d);
+    }
+    status[i] = st;
+    if (st != RPS3_OK) {
+      rps3py_fail(d, i, st, &nfail, msg, msgsz);
+      rps3py_nan(pose, 3, n, i); rps3py_nan(theta, 3, n, i);
+      rps3py_nan(c, 3, n, i); rps3py_nan(dpose, 3, n, i);
+      rps3py_nan(dtheta, 3, n, i); rps3py_nan(vc, 3, n, i);
+      rps3py_nan(omega, 3, n, i); rps3py_nan(ddtheta, 3, n, i);
+      rps3py_nan(ac, 3, n, i); rps3py_nan(domega, 3, n, i);
+      continue;
+    }
+    rps3py_put(pose, d->pose, 3, n, i); rps3py_put(theta, d->theta, 3, n, i);
+    rps3py_put(c, d->c, 3, n, i);
+    if (dl != NULL) {
+      rps3py_put(dpose, d->dpose, 3, n, i);
+      rps3py_put(dtheta, d->dtheta, 3, n, i);
+      rps3py_put(vc, d->vc, 3, n, i); rps3py_put(omega, d->omega, 3, n, i);
+    }
+    if (dl != NULL && ddl != NULL) {
+      rps3py_put(ddtheta, d->ddtheta, 3, n, i);
+      rps3py_put(ac, d->ac, 3, n, i); rps3py_put(domega, d->domega, 3, n, i);
+    }
+  }
+  return nfail;
+}
+
+/* the rate maps at a pose as matrices: column k of each is rps3_velocity's
+   output for the unit rate of pose coordinate k (the maps are linear in
+   dpose); J[r][k] of point i at [(r * 3 + k) * n + i] */
+static size_t rps3py_jacobian_n(const rps3_model *m, rps3_data *d, size_t n,
+    const double *pose, double *Jl, double *Jtheta, double *Jvc,
+    double *Jomega, int *status, char *msg, size_t msgsz) {
+  size_t i, nfail = 0;
+  for (i = 0; i < n; i++) {
+    int st, k, r;
+    rps3py_get(d->pose, pose, n, i);
+    d->err.msg[0] = 0;
+    st = rps3_ik(m, d);
+    for (k = 0; k < 3 && st == RPS3_OK; k++) {
+      d->dpose[0] = d->dpose[1] = d->dpose[2] = 0.0;
+      d->dpose[k] = 1.0;
+      st = rps3_velocity(m, d);
+      if (st != RPS3_OK) break;
+      for (r = 0; r < 3; r++) {
+        size_t at = ((size_t)r * 3 + (size_t)k) * n + i;
+        Jl[at] = d->dl[r];
+        Jtheta[at] = d->dtheta[r];
+        Jvc[at] = d->vc[r];
+        Jomega[at] = d->omega[r];
+      }
+    }
+    status[i] = st;
+    if (st != RPS3_OK) {
+      rps3py_fail(d, i, st, &nfail, msg, msgsz);
+      rps3py_nan(Jl, 9, n, i); rps3py_nan(Jtheta, 9, n, i);
+      rps3py_nan(Jvc, 9, n, i); rps3py_nan(Jomega, 9, n, i);
+    }
+  }
+  return nfail;
+}
+
+/* outputs of rps3py_sim_run, component-major over the n output times */
+typedef struct {
+  double *l, *dl, *pose, *dpose, *F, *F_cmd, *l_meas, *dl_meas, *l_des,
+      *dl_des, *T, *P, *W, *residual;
+  int *status;
+} rps3py_sim_out;
+
+static void rps3py_sim_record(const rps3_sim *s, const rps3_ctrl *ctrl,
+                              size_t n, size_t i, rps3py_sim_out *o) {
+  double w[2];
+  w[0] = s->y[6];
+  w[1] = s->y[7];
+  rps3py_put(o->l, s->y, 3, n, i); rps3py_put(o->dl, s->y + 3, 3, n, i);
+  rps3py_put(o->pose, s->d->pose, 3, n, i);
+  rps3py_put(o->dpose, s->d->dpose, 3, n, i);
+  rps3py_put(o->F, s->F, 3, n, i); rps3py_put(o->F_cmd, s->F_cmd, 3, n, i);
+  rps3py_put(o->l_meas, s->l_meas, 3, n, i);
+  rps3py_put(o->dl_meas, s->dl_meas, 3, n, i);
+  if (ctrl != NULL) {
+    rps3py_put(o->l_des, ctrl->l_des, 3, n, i);
+    rps3py_put(o->dl_des, ctrl->dl_des, 3, n, i);
+  } else {
+    rps3py_nan(o->l_des, 3, n, i); rps3py_nan(o->dl_des, 3, n, i);
+  }
+  rps3py_put(o->T, &s->T, 1, n, i); rps3py_put(o->P, &s->P, 1, n, i);
+  rps3py_put(o->W, w, 2, n, i);
+  rps3py_put(o->residual, &s->energy_residual, 1, n, i);
+  o->status[i] = RPS3_OK;
+}
+
+/* the run through the output times t[0..n) (increasing, t[0] >= s->t):
+   rps3_sim_advance to each, the state recorded there; a time equal to
+   s->t records the state without advancing.  After a failure the times
+   past it hold NaN and the status.  Returns the number of times reached */
+static size_t rps3py_sim_run(rps3_sim *s, const rps3_controller *c,
+                             const rps3_ctrl *ctrl, size_t n,
+                             const double *t, rps3py_sim_out *o) {
+  size_t i, done = 0;
+  int st = s->status;
+  for (i = 0; i < n; i++) {
+    if (st == RPS3_OK && t[i] > s->t) st = rps3_sim_advance(s, c, t[i]);
+    if (st != RPS3_OK) break;
+    rps3py_sim_record(s, ctrl, n, i, o);
+    done++;
+  }
+  for (; i < n; i++) {
+    rps3py_nan(o->l, 3, n, i); rps3py_nan(o->dl, 3, n, i);
+    rps3py_nan(o->pose, 3, n, i); rps3py_nan(o->dpose, 3, n, i);
+    rps3py_nan(o->F, 3, n, i); rps3py_nan(o->F_cmd, 3, n, i);
+    rps3py_nan(o->l_meas, 3, n, i); rps3py_nan(o->dl_meas, 3, n, i);
+    rps3py_nan(o->l_des, 3, n, i); rps3py_nan(o->dl_des, 3, n, i);
+    rps3py_nan(o->T, 1, n, i); rps3py_nan(o->P, 1, n, i);
+    rps3py_nan(o->W, 2, n, i); rps3py_nan(o->residual, 1, n, i);
+    o->status[i] = st;
+  }
+  return done;
+}
+
+/* a constant force law: state points to three forces [N] */
+static int rps3py_constant_force(void *state, double t, const double l[3],
+                                 const double dl[3], double F[3]) {
+  const double *f = (const double *)state;
+  (void)t; (void)l; (void)dl;
+  F[0] = f[0]; F[1] = f[1]; F[2] = f[2];
+  return RPS3_OK;
+}
+
+/* controllers written in Python: the extension's C entry point */
+static int rps3py_control_py(void *, double, const double *, const double *,
+                             double *);
+static rps3_control_fn rps3py_control_py_fn(void) {
+  return rps3py_control_py;
+}
+static rps3_control_fn rps3py_constant_force_fn(void) {
+  return rps3py_constant_force;
+}
+static rps3_control_fn rps3py_ctrl_update_fn(void) {
+  return rps3_ctrl_update;
+}
+"""
+
+HELPER_DECLS += """
+size_t rps3py_fwddyn_n(const rps3_model *m, rps3_data *d, size_t n,
+    const double *l, const double *dl, const double *F, double *ddl,
+    double *pose, double *dpose, double *theta, double *dtheta,
+    double *ddtheta, double *Mq, double *hq, double *Mcond, double *T,
+    double *P, int *mode, int *status, char *msg, size_t msgsz);
+size_t rps3py_velocity_n(const rps3_model *m, rps3_data *d, size_t n,
+    const double *pose, const double *dpose, const double *ddpose,
+    double *l, double *theta, double *c, double *dl, double *dtheta,
+    double *vc, double *omega, double *ddl, double *ddtheta, double *ac,
+    double *domega, int *status, char *msg, size_t msgsz);
+size_t rps3py_joint_velocity_n(const rps3_model *m, rps3_data *d,
+    size_t n, const double *l, const double *dl, const double *ddl,
+    double *pose, double *theta, double *c, double *dpose, double *dtheta,
+    double *vc, double *omega, double *ddtheta, double *ac, double *domega,
+    int *status, char *msg, size_t msgsz);
+size_t rps3py_jacobian_n(const rps3_model *m, rps3_data *d, size_t n,
+    const double *pose, double *Jl, double *Jtheta, double *Jvc,
+    double *Jomega, int *status, char *msg, size_t msgsz);
+typedef struct {
+  double *l, *dl, *pose, *dpose, *F, *F_cmd, *l_meas, *dl_meas, *l_des,
+      *dl_des, *T, *P, *W, *residual;
+  int *status;
+} rps3py_sim_out;
+size_t rps3py_sim_run(rps3_sim *s, const rps3_controller *c,
+                      const rps3_ctrl *ctrl, size_t n, const double *t,
+                      rps3py_sim_out *o);
+extern "Python" int rps3py_control_py(void *, double, const double *,
+                                    const double *, double *);
+rps3_control_fn rps3py_control_py_fn(void);
+rps3_control_fn rps3py_constant_force_fn(void);
+rps3_control_fn rps3py_ctrl_update_fn(void);
+"""
+
+
+# where the runner rps3-run of this build is (rps3.scene.find_runner): the
+# installed prefix's bin/, or the repository's build/; read at run time,
+# and skipped when it does not exist there
+_RUNNER_HINT = (os.path.join(os.environ["RPS3_PREFIX"], "bin", "rps3-run")
+                if os.environ.get("RPS3_PREFIX")
+                else os.path.join(ROOT, "build", "rps3-run"))
+HELPERS += ("static const char *rps3py_runner_hint(void) { return %s; }\n"
+            % json.dumps(_RUNNER_HINT))
+HELPER_DECLS += "const char *rps3py_runner_hint(void);\n"
 
 
 def _sh(cmd: list[str], **kw: object) -> str:
