@@ -11,17 +11,13 @@ manipulator of Lee & Shah (1988), computed by librps3 over numpy arrays.
 SI units throughout; see the repository's README.md and include/rps3.h.
 """
 
-from rps3 import h5io, trajectory
+from rps3 import control, dynamics, errors, h5io, scene, sim, trajectory, velocity
 from rps3._core import strerror
 from rps3._rps3 import ffi as _ffi
 from rps3._rps3 import lib as _lib
+from rps3.errors import Rps3Error
 from rps3.io import open_dataset
 from rps3.model import DEFAULT_EFFECTS, EFFECTS, Dynamics, Kinematics, Model, Pose
-
-# forward dynamics, velocities, simulation, controllers, scenes, exceptions
-# (docs/python.md)
-from rps3 import control, dynamics, errors, scene, sim, velocity  # noqa: E402
-from rps3.errors import Rps3Error  # noqa: E402
 
 __version__: str = _ffi.string(_lib.rps3_version()).decode()
 

@@ -378,8 +378,8 @@ rps3_control_fn rps3py_ctrl_update_fn(void);
 _RUNNER_HINT = (os.path.join(os.environ["RPS3_PREFIX"], "bin", "rps3-run")
                 if os.environ.get("RPS3_PREFIX")
                 else os.path.join(ROOT, "build", "rps3-run"))
-HELPERS += ("static const char *rps3py_runner_hint(void) { return %s; }\n"
-            % json.dumps(_RUNNER_HINT))
+HELPERS += ("static const char *rps3py_runner_hint(void) { return "
+            + json.dumps(_RUNNER_HINT) + "; }\n")
 HELPER_DECLS += "const char *rps3py_runner_hint(void);\n"
 
 

@@ -62,6 +62,10 @@ def open_dataset(path: str | os.PathLike[str], **kwargs: Any) -> xr.Dataset:
     values = [np.asarray(ds[d].values) for d in dims]
     if not _is_product(values):
         return ds
+    if len(dims) == 1:
+        # one key: its values index the cases (set_index would make a
+        # plain index, which unstack refuses)
+        return ds.drop_vars("case", errors="ignore").swap_dims({"case": dims[0]})
     ds = ds.drop_vars("case", errors="ignore").set_index(case=dims)
     # the swept dimensions where case was: first, in the file's key order
     return ds.unstack("case").transpose(*dims, ...)
