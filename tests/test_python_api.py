@@ -553,3 +553,19 @@ def test_every_status_has_its_exception():
         assert isinstance(e, errors.Rps3Error) and e.status == c and str(e) == "msg"
         seen.add(type(e))
     assert len(seen) == len(codes) - 2  # all distinct, but OK and ENOMEM
+
+
+# ------------------------------------------------------------------- docs
+
+def test_docs_example_runs(capsys):
+    """The example of docs/python.md (shown in the README) runs and tracks
+    the helix: the PD law's error of the paper's scene (0.36 mm with the
+    library's PD, tests above) and an integration error at rounding."""
+    from conftest import ROOT
+    with open(os.path.join(ROOT, "docs", "python.md")) as f:
+        doc = f.read()
+    block = doc.split("<!-- example:", 1)[1].split("```python\n", 1)[1]
+    code = block.split("```", 1)[0]
+    exec(compile(code, "docs/python.md", "exec"), {})
+    err, resid = (float(x) for x in capsys.readouterr().out.split())
+    assert 1e-4 < err < 1e-3 and resid < 1e-9
