@@ -274,7 +274,13 @@ static void rps3py_sim_record(const rps3_sim *s, const rps3_ctrl *ctrl,
   rps3py_put(o->F, s->F, 3, n, i); rps3py_put(o->F_cmd, s->F_cmd, 3, n, i);
   rps3py_put(o->l_meas, s->l_meas, 3, n, i);
   rps3py_put(o->dl_meas, s->dl_meas, 3, n, i);
-  if (ctrl != NULL) {
+  if (s->nsteps == 0 && s->nticks == 0) {
+    /* the start, before any advance: no force commanded yet (NaN, as the
+       runner writes it) */
+    rps3py_nan(o->F, 3, n, i); rps3py_nan(o->F_cmd, 3, n, i);
+    rps3py_nan(o->l_meas, 3, n, i); rps3py_nan(o->dl_meas, 3, n, i);
+    rps3py_nan(o->l_des, 3, n, i); rps3py_nan(o->dl_des, 3, n, i);
+  } else if (ctrl != NULL) {
     rps3py_put(o->l_des, ctrl->l_des, 3, n, i);
     rps3py_put(o->dl_des, ctrl->dl_des, 3, n, i);
   } else {

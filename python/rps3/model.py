@@ -32,7 +32,8 @@ _FORCES = {"all": lib.RPS3_FORCES_ALL, "only": lib.RPS3_FORCES_ONLY,
 # the library's dotted field names -> Model's keyword arguments
 _KEYWORD = {"payload.mass": "payload", "payload.com": "payload",
             "payload.inertia": "payload", "pin_friction.viscous": "friction",
-            "pin_friction.coulomb": "friction"}
+            "pin_friction.coulomb": "friction",
+            "pin_friction.vreg": "friction"}
 
 
 @dataclass(frozen=True)
@@ -143,8 +144,9 @@ class Model:
         g: gravitational acceleration, along -Z [m/s^2].
         payload: ``{"mass": kg, "com": [m]*3, "inertia": [kg m^2]*3}``, a
             rigid payload on the platform (select the ``payload`` effect).
-        friction: ``{"viscous": N m s/rad, "coulomb": N m}`` at the pins
-            (select the ``pin_friction`` effect).
+        friction: ``{"viscous": N m s/rad, "coulomb": N m, "vreg": rad/s}``
+            at the pins (select the ``pin_friction`` effect; vreg > 0
+            regularises the Coulomb sign, include/rps3.h rps3_friction).
         effects: names of the effects to compute, from ``rps3.EFFECTS``.
         method: ``"lagrange"`` (the paper's) or ``"newton_euler"``.
         theta: ``"closed_form"`` (39) or ``"multiroot"`` (8)-(10) in
@@ -253,10 +255,10 @@ class Model:
 
     @staticmethod
     def _friction(c: Any, friction: dict[str, Any]) -> None:
-        unknown = set(friction) - {"viscous", "coulomb"}
+        unknown = set(friction) - {"viscous", "coulomb", "vreg"}
         if unknown:
             raise ValueError(f"friction: unknown keys {sorted(unknown)}")
-        for key in ("viscous", "coulomb"):
+        for key in ("viscous", "coulomb", "vreg"):
             if key in friction:
                 setattr(c.friction, key, _number(friction[key], "friction"))
 

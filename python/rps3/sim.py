@@ -42,9 +42,9 @@ class SimResult:
     dl: FloatArray          #: link rates, (n, 3) [m/s]
     pose: FloatArray        #: platform pose (alpha, beta, z_c), (n, 3) [rad, rad, m]
     dpose: FloatArray       #: its rates, (n, 3) [rad/s, rad/s, m/s]
-    force: FloatArray       #: forces applied (saturated) at t, (n, 3) [N]
-    force_cmd: FloatArray   #: forces commanded at the last tick, (n, 3) [N]
-    l_meas: FloatArray      #: lengths measured at the last tick, (n, 3) [m]
+    force: FloatArray       #: forces applied (saturated) at t, (n, 3) [N]; NaN at the start
+    force_cmd: FloatArray   #: forces commanded at the last tick, (n, 3) [N]; NaN at the start
+    l_meas: FloatArray      #: lengths measured at the last tick, (n, 3) [m]; NaN at the start
     dl_meas: FloatArray     #: rates measured at the last tick, (n, 3) [m/s]
     l_des: FloatArray       #: a library controller's desired lengths, (n, 3) [m]; NaN otherwise
     dl_des: FloatArray      #: its desired rates, (n, 3) [m/s]; NaN otherwise
