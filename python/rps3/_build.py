@@ -67,6 +67,7 @@ const char *rps3py_header_version(void);
 # at [c * n + i]) into component-major outputs, NaN and its status for a
 # point that fails, and keeps the first failure's message, "point I: ...".
 HELPERS += r"""
+#include <stdio.h> /* snprintf */
 static void rps3py_nan(double *a, size_t rows, size_t n, size_t i) {
   size_t r;
   if (a == NULL) return;
