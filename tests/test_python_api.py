@@ -162,6 +162,22 @@ def test_velocity_against_differences_of_ik():
     assert np.abs(back.ac - mot.ac).max() <= 1e-8 * np.abs(mot.ac).max()
 
 
+def test_velocity_transform_and_paper_omega():
+    """The transform (1) is a rotation with the centre as translation; the
+    paper's body-frame angular velocity (31)-(33) with the errata is
+    rot^T omega (the library's second formulation, computed apart)."""
+    model = rps3.Model()
+    tr = rps3.trajectory.sine(mean=[0.2, 0.1, 0.3], amp=[0.4, 0.05, 0.03],
+                              freq=[0.7, 1.3, 2.1], duration=2.0, samples=51)
+    v = velocity.pose_rates(model, tr.pose, tr.dpose)
+    R = v.transform[:, :3, :3]
+    assert np.abs(np.einsum("nji,njk->nik", R, R) - np.eye(3)).max() <= TOL_EXACT
+    assert np.array_equal(v.transform[:, :3, 3], v.c)
+    assert np.array_equal(v.transform[:, 3], np.tile([0.0, 0, 0, 1], (51, 1)))
+    body = np.einsum("nji,nj->ni", R, v.omega)
+    assert np.abs(body - v.omega_body).max() <= 1e-12 * np.abs(v.omega).max()
+
+
 def test_velocity_errors():
     model = rps3.Model()
     with pytest.raises(errors.ReachError, match="point 1: "):

@@ -135,9 +135,11 @@ static size_t rps3py_velocity_n(const rps3_model *m, rps3_data *d, size_t n,
     const double *pose, const double *dpose, const double *ddpose,
     double *l, double *theta, double *c, double *dl, double *dtheta,
     double *vc, double *omega, double *ddl, double *ddtheta, double *ac,
-    double *domega, int *status, char *msg, size_t msgsz) {
+    double *domega, double *omega_body, double *transform, int *status,
+    char *msg, size_t msgsz) {
   size_t i, nfail = 0;
   for (i = 0; i < n; i++) {
+    double T[4][4], wb[3];
     int st;
     rps3py_get(d->pose, pose, n, i);
     d->err.msg[0] = 0;
@@ -158,14 +160,19 @@ static size_t rps3py_velocity_n(const rps3_model *m, rps3_data *d, size_t n,
       rps3py_nan(dtheta, 3, n, i); rps3py_nan(vc, 3, n, i);
       rps3py_nan(omega, 3, n, i); rps3py_nan(ddl, 3, n, i);
       rps3py_nan(ddtheta, 3, n, i); rps3py_nan(ac, 3, n, i);
-      rps3py_nan(domega, 3, n, i);
+      rps3py_nan(domega, 3, n, i); rps3py_nan(omega_body, 3, n, i);
+      rps3py_nan(transform, 16, n, i);
       continue;
     }
     rps3py_put(l, d->l, 3, n, i); rps3py_put(theta, d->theta, 3, n, i);
     rps3py_put(c, d->c, 3, n, i);
+    rps3_transform(d, T);
+    rps3py_put(transform, &T[0][0], 16, n, i);
     if (dpose != NULL) {
       rps3py_put(dl, d->dl, 3, n, i); rps3py_put(dtheta, d->dtheta, 3, n, i);
       rps3py_put(vc, d->vc, 3, n, i); rps3py_put(omega, d->omega, 3, n, i);
+      rps3_omega_paper(m, d, wb);
+      rps3py_put(omega_body, wb, 3, n, i);
     }
     if (dpose != NULL && ddpose != NULL) {
       rps3py_put(ddl, d->ddl, 3, n, i);
@@ -354,7 +361,8 @@ size_t rps3py_velocity_n(const rps3_model *m, rps3_data *d, size_t n,
     const double *pose, const double *dpose, const double *ddpose,
     double *l, double *theta, double *c, double *dl, double *dtheta,
     double *vc, double *omega, double *ddl, double *ddtheta, double *ac,
-    double *domega, int *status, char *msg, size_t msgsz);
+    double *domega, double *omega_body, double *transform, int *status,
+    char *msg, size_t msgsz);
 size_t rps3py_joint_velocity_n(const rps3_model *m, rps3_data *d,
     size_t n, const double *l, const double *dl, const double *ddl,
     double *pose, double *theta, double *c, double *dpose, double *dtheta,

@@ -45,6 +45,11 @@ class Motion:
     domega: FloatArray   #: platform angular acceleration, (n, 3) [rad/s^2]
     status: IntArray     #: rps3 status code per point, 0 = ok
     message: str         #: "point I: ..." of the first failure, "" if none
+    #: platform angular velocity in platform axes by the paper's (31)-(33)
+    #: (errata), a second formulation: rot^T omega (pose_rates only), (n, 3) [rad/s]
+    omega_body: FloatArray | None = None
+    #: homogeneous transform (1) of the platform, (n, 4, 4) [-, m] (pose_rates only)
+    transform: FloatArray | None = None
 
     @property
     def ok(self) -> np.ndarray:
@@ -97,8 +102,8 @@ def pose_rates(model: Model, pose: ArrayLike, dpose: ArrayLike | None = None,
             (rps3.errors); False: statuses, NaN for failed points.
 
     Returns:
-        Motion: l, theta, c; with dpose dl, dtheta, vc, omega; with ddpose
-        ddl, ddtheta, ac, domega (NaN otherwise).
+        Motion: l, theta, c, transform; with dpose dl, dtheta, vc, omega,
+        omega_body; with ddpose ddl, ddtheta, ac, domega (NaN otherwise).
     """
     p, single = points3(pose, "pose")
     inputs = [p, None, None]
@@ -111,8 +116,10 @@ def pose_rates(model: Model, pose: ArrayLike, dpose: ArrayLike | None = None,
         same_shape(v, p, name, "pose", value, pose)
         inputs[k + 1] = v
     n = p.shape[1]
-    out = results(n, {f: (3,) for f in _FIELDS}, ("status",))
+    out = results(n, {**{f: (3,) for f in _FIELDS}, "omega_body": (3,),
+                      "transform": (4, 4)}, ("status",))
     out["pose"][...] = p
+    out["omega_body"][...] = np.nan
     for f in (("dpose",) if inputs[1] is not None else ()):
         out[f][...] = inputs[1]
     if inputs[1] is None:
@@ -124,7 +131,8 @@ def pose_rates(model: Model, pose: ArrayLike, dpose: ArrayLike | None = None,
     nfail = lib.rps3py_velocity_n(
         model._c, d, n, buf(p), buf(inputs[1]), buf(inputs[2]),
         *(buf(out[k]) for k in ("l", "theta", "c", "dl", "dtheta", "vc",
-                                "omega", "ddl", "ddtheta", "ac", "domega")),
+                                "omega", "ddl", "ddtheta", "ac", "domega",
+                                "omega_body", "transform")),
         buf(out["status"], "int[]"), msg, _MSG)
     bad = out["status"] != 0
     out["pose"][:, bad] = np.nan
