@@ -264,13 +264,13 @@ def test_python_pd_is_the_library_pd():
     assert np.isnan(py_run.l_des).all() and np.isfinite(lib_run.l_des[1:]).all()
 
 
-def test_library_controllers_as_the_runner(tmp_path):
+def test_library_controllers_as_the_runner(runner):
     """configs/closed_loop.yaml simulated by the runner and the same runs
     from Python (rps3.sim with rps3.control's library controllers): the
     same forces and lengths, bit for bit (the same calls in the same
     order), for every controller and controller model of the sweep."""
     path = os.path.join(CONFIGS, "closed_loop.yaml")
-    ds = scene.run(path)
+    ds = scene.run(path, runner=runner)
     t = ds.time.values
     plant = rps3.Model(m_over_M=0.5)
     traj = rps3.trajectory.helix(t=t[t <= 10.0], model=plant)
@@ -520,7 +520,7 @@ KINDS = {
 
 
 @pytest.mark.parametrize("kind", sorted(KINDS))
-def test_trajectory_kind_as_the_runner(tmp_path, kind):
+def test_trajectory_kind_as_the_runner(tmp_path, runner, kind):
     """Every trajectory kind of the library, built from Python, gives the
     poses the runner writes for the same scene (the library's
     rps3_traj_eval on both sides, the runner's parser on one): the same
@@ -533,7 +533,7 @@ def test_trajectory_kind_as_the_runner(tmp_path, kind):
     path = write_scene(tmp_path / "s.yaml",
                        "manipulator: {R: 0.2286, rho: 0.5, M: 0.18, m_over_M: 0.5,"
                        " d: 0.1524}\ntrajectory:\n  " + text + "\n")
-    ds = scene.run(path).isel(case=0)
+    ds = scene.run(path, runner=runner).isel(case=0)
     tr = build(ds.time.values)
     want = np.stack([ds.alpha.values, ds.beta.values, ds.z_c.values], 1)
     assert np.array_equal(tr.pose, want), np.abs(tr.pose - want).max()
@@ -559,8 +559,9 @@ def test_trajectory_bad_arguments():
 # ----------------------------------------------------------------- scenes
 
 def test_scene_run_matches_runner_file(paper_h5):
-    """configs/paper.yaml run from Python: the forces, lengths and status
-    of the file the runner writes, per case."""
+    """configs/paper.yaml run from Python (the runner found as a user's
+    call finds it: the build's), against the file conftest's runner wrote:
+    the forces and lengths, per case."""
     ds = scene.run(os.path.join(CONFIGS, "paper.yaml"))
     with h5py.File(paper_h5, "r") as f:
         force = f["force"][()]
@@ -574,19 +575,27 @@ def test_scene_run_matches_runner_file(paper_h5):
     assert ds.force.attrs["units"] == "N"
 
 
-def test_scene_errors(tmp_path, monkeypatch):
+def test_scene_errors(tmp_path, monkeypatch, runner):
     bad = write_scene(tmp_path / "bad.yaml",
                       "manipulator: {R: -1}\ntrajectory: {kind: helix}\n")
     with pytest.raises(scene.SceneError, match=r"bad.yaml:1:\d+: .*R") as exc:
-        scene.run(bad)
+        scene.run(bad, runner=runner)
     assert exc.value.returncode == 2
     with pytest.raises(FileNotFoundError, match="scene"):
-        scene.run(tmp_path / "missing.yaml")
+        scene.run(tmp_path / "missing.yaml", runner=runner)
     monkeypatch.setenv("RPS3_RUN", str(tmp_path / "no-runner"))
     with pytest.raises(FileNotFoundError, match="RPS3_RUN"):
         scene.find_runner()
+    monkeypatch.setenv("RPS3_RUN", runner)
+    assert scene.find_runner() == runner
     monkeypatch.delenv("RPS3_RUN")
     assert os.access(scene.find_runner(), os.X_OK)
+    # another version's runner is refused, whoever names it
+    fake = tmp_path / "rps3-run"
+    fake.write_text("#!/bin/sh\necho rps3-run 9.9.9\n")
+    fake.chmod(0o755)
+    with pytest.raises(RuntimeError, match="version rps3-run 9.9.9"):
+        scene.find_runner(fake)
 
 
 # ------------------------------------------------------------- exceptions
