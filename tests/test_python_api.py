@@ -324,6 +324,27 @@ def test_continuous_python_law_is_the_constant_force():
     assert law.calls >= 4 * a.nsteps and a.nticks == 0
 
 
+def test_python_law_sees_the_measurement():
+    """With noise and quantisation on, a Python law receives the measured
+    lengths and rates the simulation records (l_meas, dl_meas: those of the
+    last tick before each output time), not the true ones."""
+    model = rps3.Model()
+    traj = helix(model, 3)
+    seen = []
+
+    def law(t, l, dl):
+        seen.append((t, l, dl))
+        return [1.0, 1.0, 1.0]
+    t = np.arange(11) / 1000.0
+    res = sim.simulate(model, control.python(law), t, traj.pose[0],
+                       noise_l=1e-5, noise_dl=1e-4, quant_l=1e-6, seed=3)
+    times = np.array([x[0] for x in seen])
+    assert np.allclose(times, t[:-1], rtol=0, atol=1e-15)
+    assert np.array_equal(np.array([x[1] for x in seen]), res.l_meas[1:])
+    assert np.array_equal(np.array([x[2] for x in seen]), res.dl_meas[1:])
+    assert np.abs(res.l_meas[1:] - res.l[:-1]).max() > 1e-7   # noisy
+
+
 class Stop(Exception):
     pass
 
