@@ -621,6 +621,17 @@ def test_scene_errors(tmp_path, monkeypatch, runner):
 
 # ------------------------------------------------------------- exceptions
 
+@pytest.mark.parametrize("call", ["ik", "fk", "inverse"])
+def test_model_stages_refuse_complex_and_strings(call):
+    """Model's stages name the argument of a complex or string array
+    (numpy alone would drop the imaginary part with a warning)."""
+    model = rps3.Model()
+    name = "lengths" if call == "fk" else "pose"
+    for bad in (np.array([0.0, 0.0, 0.3 + 1e-3j]), np.array(["0", "0", "0.3"])):
+        with pytest.raises(TypeError, match=f"^{name}: expected real numbers"):
+            getattr(model, call)(bad)
+
+
 def test_every_status_has_its_exception():
     """Each status code of the library maps to its own class, carrying the
     code and the message; success raises nothing."""

@@ -25,7 +25,12 @@ def points(x: ArrayLike, name: str) -> tuple[FloatArray, bool]:
     array itself, transposed, when it already is float64 in that layout
     (Fortran-ordered (n, 3), as the package's own results and trajectories
     are); a copy otherwise (C-ordered or strided input, other dtypes)."""
-    a = np.asarray(x, dtype=np.float64)
+    raw = np.asarray(x)
+    if raw.dtype.kind not in "biuf":
+        # numpy would drop an imaginary part with a warning, or fail
+        # without naming the argument
+        raise TypeError(f"{name}: expected real numbers, got dtype {raw.dtype}")
+    a = raw.astype(np.float64, copy=False)
     single = a.ndim == 1
     if single:
         a = a[np.newaxis, :]
