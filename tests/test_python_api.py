@@ -575,6 +575,8 @@ def test_trajectory_bad_arguments():
         rps3.trajectory.circle([0.01, 0, 0.3], 0.2, 1.0)
     with pytest.raises(ValueError, match="start"):
         rps3.trajectory.line([0.0, 0.0, 0.3], [0.02, 0.0, 0.3], 1.0)
+    with pytest.raises(TypeError, match="t: expected real numbers"):
+        rps3.trajectory.helix(t=np.array([0.0, 1.0 + 1j]))
 
 
 # ----------------------------------------------------------------- scenes

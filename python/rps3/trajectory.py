@@ -69,7 +69,10 @@ def _times(duration: float, samples: int | None, t: ArrayLike | None) -> FloatAr
     if t is not None:
         if samples is not None:
             raise ValueError("t: give samples or t, not both")
-        times = np.ascontiguousarray(t, dtype=np.float64).reshape(-1)
+        raw = np.asarray(t)
+        if raw.dtype.kind not in "biuf":
+            raise TypeError(f"t: expected real numbers, got dtype {raw.dtype}")
+        times = np.ascontiguousarray(raw, dtype=np.float64).reshape(-1)
         return times
     n = 1001 if samples is None else samples
     if not isinstance(n, (int, np.integer)) or n < 2:
