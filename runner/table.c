@@ -132,16 +132,19 @@ double *table_cell(table_data *t, size_t r, int c)
 }
 
 /* which of the columns are present: t and the values always, the rates
-   all or none, the accelerations all or none and only with the rates */
-int table_columns_check(const int have[TABLE_NCOL], int what, const char *file,
-                         char *err, size_t errsz)
+   all or none, the accelerations all or none and only with the rates; a
+   column is named as the file holds it ("column NAME" in a CSV file,
+   "dataset /NAME" in an HDF5 one) */
+int table_columns_check(const int have[TABLE_NCOL], int what, int hdf5,
+                        const char *file, char *err, size_t errsz)
 {
   int c, g;
+  const char *kind = hdf5 ? "dataset /" : "column ";
+  const char *const *n = table_col_names[what];
   for (c = 0; c < 4; c++)
     if (!have[c]) {
-      table_err(err, errsz, "%s: missing column %s (a table has %s, %s, %s, %s)",
-              file, table_col_names[what][c], table_col_names[what][0],
-              table_col_names[what][1], table_col_names[what][2], table_col_names[what][3]);
+      table_err(err, errsz, "%s: missing %s%s (a table has %s, %s, %s, %s)",
+                file, kind, n[c], n[0], n[1], n[2], n[3]);
       return -1;
     }
   for (g = 4; g < TABLE_NCOL; g += 3)
@@ -149,14 +152,14 @@ int table_columns_check(const int have[TABLE_NCOL], int what, const char *file,
         have[g] + have[g + 1] + have[g + 2] != 3) {
       for (c = g; have[c]; c++)
         ;
-      table_err(err, errsz, "%s: missing column %s (give the three %s or none)",
-              file, table_col_names[what][c], g == 4 ? "rates" : "accelerations");
+      table_err(err, errsz, "%s: missing %s%s (give the three %s or none)",
+                file, kind, n[c], g == 4 ? "rates" : "accelerations");
       return -1;
     }
   if (have[7] && !have[4]) {
     table_err(err, errsz,
-            "%s: accelerations (%s, ...) need the rates (%s, ...) as well",
-            file, table_col_names[what][7], table_col_names[what][4]);
+              "%s: accelerations (%s%s, ...) need the rates (%s%s, ...) as "
+              "well", file, kind, n[7], kind, n[4]);
     return -1;
   }
   return 0;
@@ -254,7 +257,7 @@ static int csv_header(const char *s, const char *e, int what, int *col,
       break;
     p = q + 1;
   }
-  return table_columns_check(have, what, file, err, errsz);
+  return table_columns_check(have, what, 0, file, err, errsz);
 }
 
 /* a table is a regular file of at most TABLE_MAX_BYTES: checked by
@@ -459,6 +462,13 @@ static int table_steps(table_data *t, int what, char *err, size_t errsz)
                 lt, t->time[r], t->time[r - 1], h, scale);
       return -1;
     }
+    if (h * h < DBL_MIN) {
+      table_err(err, errsz, "%s: %s: %.17g after %.17g: the rows are %.3g s "
+                "apart, a spacing too small for a double: the interpolant's "
+                "acceleration divides by the step squared, which underflows "
+                "below 1.5e-154 s", where, lt, t->time[r], t->time[r - 1], h);
+      return -1;
+    }
     for (k = 0; k < 3; k++) {
       double dv = t->value[r][k] - t->value[r - 1][k], m;
       col_label(t, what, 1 + k, lc, sizeof lc);
@@ -476,8 +486,9 @@ static int table_steps(table_data *t, int what, char *err, size_t errsz)
       if (!(m < DERIV_MAX)) {
         table_err(err, errsz, "%s: %s: changes by %.3g in %.3g s from the "
                   "previous row: the spacing of the rows is too small for "
-                  "the change, the interpolant's rate and acceleration across "
-                  "the step (of order change / step^2%s) overflow a double",
+                  "so large a change, the interpolant's rate and acceleration "
+                  "across the step (of order change / step^2%s) overflow a "
+                  "double",
                   where, lc, dv, h, t->rates_given ? " and rate / step" : "");
         return -1;
       }

@@ -461,7 +461,7 @@ int table_h5_read(table_data *t, int what, char *err, size_t errsz)
   for (c = 0; c < TABLE_NCOL; c++)
     have[c] = H5Lexists(f, names[c], H5P_DEFAULT) > 0;
   H5Eclear2(H5E_DEFAULT);
-  if (table_columns_check(have, what, t->path, err, errsz))
+  if (table_columns_check(have, what, 1, t->path, err, errsz))
     goto done;
   /* every column opened and checked, its declared size with them, before
      anything is allocated: the time first, it gives the rows */

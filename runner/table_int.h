@@ -38,8 +38,9 @@ int table_alloc_rows(table_data *t, size_t n, int with_acc, int with_line,
 double *table_cell(table_data *t, size_t r, int c);
 
 /* which of the columns are present: t and the values always, the rates
-   all or none, the accelerations all or none and only with the rates */
-int table_columns_check(const int have[TABLE_NCOL], int what,
+   all or none, the accelerations all or none and only with the rates;
+   named "column NAME" (CSV) or "dataset /NAME" (hdf5) */
+int table_columns_check(const int have[TABLE_NCOL], int what, int hdf5,
                         const char *file, char *err, size_t errsz);
 
 /* path is a regular file of at most 1 GiB, checked by stat() before
