@@ -42,8 +42,8 @@ static const char *const col_units[2][TABLE_NCOL][6] = {
      {"m/s", "m s-1", ""}, {"m/s", "m s-1", ""}, {"m/s^2", "m/s2", "m s-2", ""},
      {"m/s^2", "m/s2", "m s-2", ""}, {"m/s^2", "m/s2", "m s-2", ""}}};
 
-/* the dataset's units attribute into buf ("" when it has none or it is
-   not a string): fixed-length and variable-length strings alike */
+/* the dataset's units attribute into buf, cut to sz ("" when it has none
+   or it is not a string): fixed-length and variable-length strings alike */
 static void h5_units(hid_t d, char *buf, size_t sz)
 {
   hid_t a, ft, mt;
@@ -59,12 +59,20 @@ static void h5_units(hid_t d, char *buf, size_t sz)
       char *v = NULL;
       if (H5Tset_size(mt, H5T_VARIABLE) >= 0 && H5Aread(a, mt, &v) >= 0 && v)
         snprintf(buf, sz, "%s", v);
+      else
+        snprintf(buf, sz, "(unreadable)");
       if (v)
         H5free_memory(v);
     } else {
+      /* read whole, then cut to sz: a long units text is quoted (and so
+         refused), never taken as no units */
       size_t n = H5Tget_size(ft);
-      if (n < sz && H5Tset_size(mt, n + 1) >= 0 && H5Aread(a, mt, buf) < 0)
-        buf[0] = '\0';
+      char *v = n < 65536 ? calloc(n + 1, 1) : NULL;
+      if (v && H5Tset_size(mt, n + 1) >= 0 && H5Aread(a, mt, v) >= 0)
+        snprintf(buf, sz, "%s", v);
+      else
+        snprintf(buf, sz, "(unreadable)");
+      free(v);
     }
     H5Tclose(mt);
   }

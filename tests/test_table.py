@@ -779,3 +779,30 @@ def test_csv_bytes_quoted_printably(runner, tmp_path):
     (tmp_path / "m.csv").write_bytes(b"t, alpha, beta, z_c\n" + rows)
     line = check_refused(tmp_path, "m.csv")
     assert "got '0.3\\x1B[2J\\xC3'" in line, line
+
+
+def test_hdf5_long_units_are_checked(runner, tmp_path):
+    """A units attribute longer than the reader's buffer is quoted (cut)
+    and refused, not taken for no units."""
+    units = "degrees" + " (of arc, as written by the logger)" * 4
+    with h5_table(tmp_path / "h.h5") as f:
+        f["beta"].attrs.create("units", np.bytes_(units))
+    line = check_refused(tmp_path, "h.h5")
+    assert "h.h5: dataset /beta: units 'degrees (of arc" in line, line
+
+
+def test_csv_rows_in_memory_are_checked(runner, tmp_path):
+    """A CSV table's rows take 68 bytes each in memory (8 numbers and the
+    line number) against 8 in the file: 16 million short rows (128 MB of
+    file, under the 1 GiB file limit) would need 1.09 GB, refused before
+    anything is allocated for them."""
+    n = 16_000_000
+    with open(tmp_path / "m.csv", "wb") as f:
+        f.write(b"t,alpha,beta,z_c\n")
+        f.write(b"0,0,0,0\n" * n)
+    try:
+        line = check_refused(tmp_path, "m.csv")
+    finally:
+        (tmp_path / "m.csv").unlink()
+    assert (f"m.csv: {n} rows need 1.09 GB in memory (68 bytes a row): above "
+            "the table limit of 1 GiB") in line, line
