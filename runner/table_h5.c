@@ -82,11 +82,14 @@ static void h5_units(hid_t d, char *buf, size_t sz)
 }
 
 /* the cause of the last failed HDF5 call, from the error stack (printing
-   is off while a table is read): "OUTER: INNER", or a plain word when
-   HDF5 recorded none; the stack is then cleared */
+   is off while a table is read): "OUTER: INNER" (the API call's failure,
+   the innermost function's), with a missing filter between them when the
+   stack names one (the innermost is then the plugin search), or a plain
+   sentence when HDF5 recorded none; the stack is then cleared */
 typedef struct {
-  char outer[160];
-  char inner[160];
+  char outer[120];
+  char filter[120];
+  char inner[120];
   unsigned n;
 } h5_walk;
 
@@ -98,6 +101,8 @@ static herr_t h5_walk_cb(unsigned n, const H5E_error2_t *e, void *data)
     d = e->func_name != NULL ? e->func_name : "?";
   if (n == 0)
     snprintf(w->outer, sizeof w->outer, "%s", d);
+  if (w->filter[0] == '\0' && strstr(d, "filter") != NULL)
+    snprintf(w->filter, sizeof w->filter, "%s", d);
   snprintf(w->inner, sizeof w->inner, "%s", d);
   w->n = n + 1;
   return 0;
@@ -111,6 +116,8 @@ static void h5_why(char *buf, size_t sz)
   H5Eclear2(H5E_DEFAULT);
   if (w.n == 0)
     snprintf(buf, sz, "the HDF5 library gave no cause");
+  else if (w.filter[0] != '\0' && strcmp(w.filter, w.inner) != 0)
+    snprintf(buf, sz, "%s: %s (%s)", w.outer, w.filter, w.inner);
   else if (w.n > 1 && strcmp(w.outer, w.inner) != 0)
     snprintf(buf, sz, "%s: %s", w.outer, w.inner);
   else
@@ -466,9 +473,17 @@ int table_h5_read(table_data *t, int what, char *err, size_t errsz)
     H5Eset_auto2(H5E_DEFAULT, fn, data);
     return -1;
   }
-  for (c = 0; c < TABLE_NCOL; c++)
-    have[c] = H5Lexists(f, names[c], H5P_DEFAULT) > 0;
-  H5Eclear2(H5E_DEFAULT);
+  for (c = 0; c < TABLE_NCOL; c++) {
+    htri_t x = H5Lexists(f, names[c], H5P_DEFAULT);
+    if (x < 0) {
+      /* not absent: the file's root cannot be read (a damaged file) */
+      h5_why(why, sizeof why);
+      table_err(err, errsz, "%s: dataset /%s: cannot look it up in the "
+                "file's root group: %s", t->path, names[c], why);
+      goto done;
+    }
+    have[c] = x > 0;
+  }
   if (table_columns_check(have, what, 1, t->path, err, errsz))
     goto done;
   /* every column opened and checked, its declared size with them, before

@@ -806,3 +806,79 @@ def test_csv_rows_in_memory_are_checked(runner, tmp_path):
         (tmp_path / "m.csv").unlink()
     assert (f"m.csv: {n} rows need 1.09 GB in memory (68 bytes a row): above "
             "the table limit of 1 GiB") in line, line
+
+
+def hostile_filter(f, col, tmp):
+    # lzf is h5py's own filter: the HDF5 library the runner links lacks it
+    f.create_dataset(col, data=np.linspace(0, 2, 5), compression="lzf")
+
+
+def hostile_enum(f, col, tmp):
+    f.create_dataset(col, data=np.zeros(5, dtype="i1"),
+                     dtype=h5py.enum_dtype({"a": 0, "b": 1}, basetype="i1"))
+
+
+def hostile_vlen(f, col, tmp):
+    f.create_dataset(col, shape=(5,), dtype=h5py.vlen_dtype("f8"))
+
+
+def hostile_null(f, col, tmp):
+    f.create_dataset(col, data=h5py.Empty("f8"))
+
+
+def hostile_control_link(f, col, tmp):
+    f[col] = h5py.SoftLink("/n\u00e9\x01\x1b[2J")
+
+
+@pytest.mark.parametrize("make,words", [
+    (hostile_filter, "cannot read it as numbers: can't read data: required "
+                     "filter 'lzf' is not registered"),
+    (hostile_enum, "of an enumeration type, not numbers"),
+    (hostile_vlen, "of a variable-length type, not numbers"),
+    (hostile_null, "holds nothing (a null dataspace)"),
+    (hostile_control_link, "a soft link to '/n\u00e9\\x01\\x1B[2J', which "
+                           "names no object"),
+])
+def test_hdf5_more_unreadable_datasets(runner, tmp_path, make, words):
+    """More of the class: a filter the library lacks, other non-numeric
+    types, a null dataspace, a link target with control characters (quoted
+    as \\xNN, UTF-8 kept)."""
+    with h5_table(tmp_path / "h.h5", skip=("z_c",)) as f:
+        make(f, "z_c", tmp_path)
+    line = check_refused(tmp_path, "h.h5")
+    assert f"h.h5: dataset /z_c: {words}" in line, line
+
+
+def test_hdf5_newer_format_and_damaged_files(runner, tmp_path):
+    """A compound written with the newest format (a datatype message the
+    runner's HDF5 may not know), a truncated file and a file whose root
+    group is damaged: each a printable message naming the file, and the
+    dataset where one is concerned, with HDF5's cause."""
+    with h5py.File(tmp_path / "h.h5", "w", libver="latest") as f:
+        for k, v in (("t", np.linspace(0, 2, 5)), ("alpha", np.full(5, 0.3)),
+                     ("beta", np.full(5, 0.08))):
+            f[k] = v
+        f["z_c"] = np.zeros(5, dtype=[("a", "f8"), ("b", "i4")])
+    line = check_refused(tmp_path, "h.h5")
+    assert ("h.h5: dataset /z_c: cannot be opened: " in line or
+            "h.h5: dataset /z_c: of a compound type" in line), line
+    with h5_table(tmp_path / "h.h5"):
+        pass
+    data = (tmp_path / "h.h5").read_bytes()
+    (tmp_path / "h.h5").write_bytes(data[:len(data) // 2])
+    line = check_refused(tmp_path, "h.h5")
+    assert "h.h5: cannot open as an HDF5 file: unable to open file: " \
+        "truncated file" in line, line
+    # the root group's symbol table node (after the superblock and the
+    # root's object header), its signature overwritten
+    with h5_table(tmp_path / "h.h5"):
+        pass
+    data = bytearray((tmp_path / "h.h5").read_bytes())
+    at = data.find(b"SNOD")
+    assert at > 0
+    data[at:at + 4] = b"XXXX"
+    (tmp_path / "h.h5").write_bytes(bytes(data))
+    line = check_refused(tmp_path, "h.h5")
+    assert ("h.h5: dataset /t: cannot look it up in the file's root group: "
+            "unable to get link info: bad symbol table node signature"
+            ) in line, line
