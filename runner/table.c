@@ -305,7 +305,7 @@ static char *slurp(const char *path, size_t *len, char *err, size_t errsz)
   *len = fread(buf, 1, (size_t)st.st_size, f);
   buf[*len] = '\0';
   if (ferror(f)) {
-    table_err(err, errsz, "%s: read error", path);
+    table_err(err, errsz, "%s: read error: %s", path, strerror(errno));
     free(buf);
     buf = NULL;
   }
@@ -470,7 +470,7 @@ static int table_steps(table_data *t, int what, char *err, size_t errsz)
       return -1;
     }
     for (k = 0; k < 3; k++) {
-      double dv = t->value[r][k] - t->value[r - 1][k], m;
+      double dv = t->value[r][k] - t->value[r - 1][k], mv, mr, ma;
       col_label(t, what, 1 + k, lc, sizeof lc);
       if (!isfinite(dv)) {
         table_err(err, errsz, "%s: %s: %.17g after %.17g: the change between "
@@ -478,20 +478,32 @@ static int table_steps(table_data *t, int what, char *err, size_t errsz)
                   t->value[r - 1][k]);
         return -1;
       }
-      m = fabs(dv) / h / h;
-      if (t->rates_given)
-        m += (fabs(t->rate[r][k]) + fabs(t->rate[r - 1][k])) / h;
-      if (t->acc != NULL)
-        m += fabs(t->acc[r][k]) + fabs(t->acc[r - 1][k]);
-      if (!(m < DERIV_MAX)) {
+      /* the interpolant's acceleration: change / h^2, and with the
+         file's rates rate / h, with its accelerations their own */
+      mv = fabs(dv) / h / h;
+      mr = t->rates_given
+               ? (fabs(t->rate[r][k]) + fabs(t->rate[r - 1][k])) / h
+               : 0.0;
+      ma = t->acc != NULL ? fabs(t->acc[r][k]) + fabs(t->acc[r - 1][k]) : 0.0;
+      if (mv + mr + ma < DERIV_MAX)
+        continue;
+      if (mv >= mr && mv >= ma) {
         table_err(err, errsz, "%s: %s: changes by %.3g in %.3g s from the "
                   "previous row: the spacing of the rows is too small for "
                   "so large a change, the interpolant's rate and acceleration "
-                  "across the step (of order change / step^2%s) overflow a "
-                  "double",
-                  where, lc, dv, h, t->rates_given ? " and rate / step" : "");
-        return -1;
+                  "across the step (of order change / step^2) overflow a "
+                  "double", where, lc, dv, h);
+      } else {
+        char lr[40];
+        col_label(t, what, mr >= ma ? 4 + k : 7 + k, lr, sizeof lr);
+        table_err(err, errsz, "%s: %s: %.3g and %.3g across a step of %.3g s:"
+                  " the interpolant's acceleration there (of order %s) "
+                  "overflows a double", where, lr,
+                  mr >= ma ? t->rate[r - 1][k] : t->acc[r - 1][k],
+                  mr >= ma ? t->rate[r][k] : t->acc[r][k], h,
+                  mr >= ma ? "rate / step" : "the accelerations themselves");
       }
+      return -1;
     }
   }
   return 0;

@@ -882,3 +882,17 @@ def test_hdf5_newer_format_and_damaged_files(runner, tmp_path):
     assert ("h.h5: dataset /t: cannot look it up in the file's root group: "
             "unable to get link info: bad symbol table node signature"
             ) in line, line
+
+
+def test_csv_rates_that_overflow_the_interpolant(runner, tmp_path):
+    """Finite rates so large for their step that the cubic Hermite
+    interpolant's acceleration (rate / step) overflows: named by the rate
+    column and the row, not as a pose out of reach or a failed spline."""
+    rows = ["%s, 0, 0, 0" % g for g in GOOD]
+    rows[2] = GOOD[2] + ", 0, 1e308, 0"
+    (tmp_path / "m.csv").write_text(table(
+        *rows, header="t, alpha, beta, z_c, alpha_dot, beta_dot, z_c_dot"))
+    line = check_refused(tmp_path, "m.csv")
+    assert ("m.csv:5: column beta_dot: 0 and 1e+308 across a step of 0.5 s: "
+            "the interpolant's acceleration there (of order rate / step) "
+            "overflows a double") in line, line
