@@ -419,6 +419,20 @@ static void col_label(const table_data *t, int what, int c, char *buf,
            table_col_names[what][c]);
 }
 
+/* x in the fewest significant digits (15 to 17) that read back as x,
+   as the file most likely wrote it */
+static const char *num(char buf[32], double x)
+{
+  int p;
+  for (p = 15; p < 17; p++) {
+    snprintf(buf, 32, "%.*g", p, x);
+    if (strtod(buf, NULL) == x)
+      return buf;
+  }
+  snprintf(buf, 32, "%.17g", x);
+  return buf;
+}
+
 /* the rows' times and their steps, each named at its row: strictly
    increasing; their span a finite double (rps3_table_duration and the
    time within the table are differences of times); every step at least
@@ -435,47 +449,49 @@ static int table_steps(table_data *t, int what, char *err, size_t errsz)
 {
   size_t r;
   int k;
-  char where[300], lt[40], lc[40];
+  char where[300], lt[40], lc[40], n1[32], n2[32];
   double scale = fmax(fabs(t->time[0]), fabs(t->time[t->n - 1]));
   col_label(t, what, 0, lt, sizeof lt);
   for (r = 1; r < t->n; r++) {
     double h = t->time[r] - t->time[r - 1];
     table_where(t, r, where, sizeof where);
     if (!(t->time[r] > t->time[r - 1])) {
-      table_err(err, errsz, "%s: %s: %.17g after %.17g: times must "
-                "increase strictly", where, lt, t->time[r], t->time[r - 1]);
+      table_err(err, errsz, "%s: %s: %s after %s: times must "
+                "increase strictly", where, lt, num(n1, t->time[r]),
+                num(n2, t->time[r - 1]));
       return -1;
     }
     if (!isfinite(t->time[r] - t->time[0])) {
-      table_err(err, errsz, "%s: %s: %.17g is more than 1.8e308 s after the "
-                "first row's %.17g: the time range overflows a double (the "
-                "times must span less than 1.8e308 s)", where, lt, t->time[r],
-                t->time[0]);
+      table_err(err, errsz, "%s: %s: %s is more than 1.8e308 s after the "
+                "first row's %s: the time range overflows a double (the "
+                "times must span less than 1.8e308 s)", where, lt,
+                num(n1, t->time[r]), num(n2, t->time[0]));
       return -1;
     }
     if (h < scale * TIME_RESOLUTION) {
-      table_err(err, errsz, "%s: %s: %.17g after %.17g: the rows are %.3g s "
+      table_err(err, errsz, "%s: %s: %s after %s: the rows are %.3g s "
                 "apart, too close relative to the time scale %.3g s (the "
                 "largest |t|): a step must be at least 1.5e-11 of it, or the "
                 "time within the step rounds by more than 1.5e-5 of the step;"
                 " subtract an offset from the times or thin the rows", where,
-                lt, t->time[r], t->time[r - 1], h, scale);
+                lt, num(n1, t->time[r]), num(n2, t->time[r - 1]), h, scale);
       return -1;
     }
     if (h * h < DBL_MIN) {
-      table_err(err, errsz, "%s: %s: %.17g after %.17g: the rows are %.3g s "
+      table_err(err, errsz, "%s: %s: %s after %s: the rows are %.3g s "
                 "apart, a spacing too small for a double: the interpolant's "
                 "acceleration divides by the step squared, which underflows "
-                "below 1.5e-154 s", where, lt, t->time[r], t->time[r - 1], h);
+                "below 1.5e-154 s", where, lt, num(n1, t->time[r]),
+                num(n2, t->time[r - 1]), h);
       return -1;
     }
     for (k = 0; k < 3; k++) {
       double dv = t->value[r][k] - t->value[r - 1][k], mv, mr, ma;
       col_label(t, what, 1 + k, lc, sizeof lc);
       if (!isfinite(dv)) {
-        table_err(err, errsz, "%s: %s: %.17g after %.17g: the change between "
-                  "the rows overflows a double", where, lc, t->value[r][k],
-                  t->value[r - 1][k]);
+        table_err(err, errsz, "%s: %s: %s after %s: the change between "
+                  "the rows overflows a double", where, lc,
+                  num(n1, t->value[r][k]), num(n2, t->value[r - 1][k]));
         return -1;
       }
       /* the interpolant's acceleration: change / h^2, and with the

@@ -348,6 +348,13 @@ def test_path_table_resolved_scene_reruns(runner, tmp_path):
     (("0, 0.01, 0.01, 0.3", "1, 0.011, 0.012, 0.3", "2, 0.012, 0.013, abc",
       "3, 0.012, 0.011, 0.3"),
      "c.csv:5:18: column z: expected a number, got 'abc'"),
+    (("0, 0.01, 0.01, 0.3", "1, 0.011, 1e-310, 0.3", "2, 0.012, 0.013, 0.3",
+      "3, 0.012, 0.011, 0.3"),
+     "c.csv:4:11: column y: '1e-310' is subnormal"),
+    (("0, 0.01, 0.01, 0.3", "1e-200, 0.011, 0.012, 0.3",
+      "2, 0.012, 0.013, 0.3", "3, 0.012, 0.011, 0.3"),
+     "c.csv:4: column t: 1e-200 after 0: the rows are 1e-200 s apart, too "
+     "close relative to the time scale 3 s"),
 ])
 def test_bad_path_table(runner, tmp_path, rows, words):
     (tmp_path / "c.csv").write_text(table(*rows, header="t, x, y, z"))
