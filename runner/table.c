@@ -13,6 +13,7 @@
 #include "hint.h"
 
 #include <errno.h>
+#include <float.h>
 #include <limits.h>
 #include <math.h>
 #include <stdarg.h>
@@ -27,9 +28,6 @@ const char *const table_col_names[2][TABLE_NCOL] = {
      "alpha_ddot", "beta_ddot", "z_c_ddot"},
     {"t", "x", "y", "z", "x_dot", "y_dot", "z_dot", "x_ddot", "y_ddot",
      "z_ddot"}};
-
-/* the largest table file: a million rows of ten numbers is ~250 MB */
-#define TABLE_MAX_BYTES (1024.0 * 1024.0 * 1024.0)
 
 void table_err(char *err, size_t errsz, const char *fmt, ...)
 {
@@ -94,15 +92,31 @@ static int ends_with(const char *s, const char *tail)
 }
 
 /* the arrays for n rows; acc only when the file has accelerations */
-int table_alloc_rows(table_data *t, size_t n, int with_acc)
+int table_alloc_rows(table_data *t, size_t n, int with_acc, int with_line,
+                     char *err, size_t errsz)
 {
   size_t m = n ? n : 1; /* a table of no rows is refused later */
+  /* a row in memory: the time, values and rates (the file's or the
+     spline's), the accelerations, the spline's work, the CSV line */
+  double row = sizeof(double) * (8.0 + (with_acc ? 3.0 : 0.0)) +
+               (with_line ? (double)sizeof(int) : 0.0);
+  if ((double)n * row > TABLE_MAX_BYTES) {
+    table_err(err, errsz, "%s: %zu rows need %.3g GB in memory (%.0f bytes a "
+              "row): above the table limit of 1 GiB", t->path, n,
+              (double)n * row / 1e9, row);
+    return -1;
+  }
   t->n = n;
   t->time = malloc(m * sizeof *t->time);
   t->value = malloc(m * sizeof *t->value);
   t->rate = malloc(m * sizeof *t->rate);
   t->acc = with_acc ? malloc(m * sizeof *t->acc) : NULL;
-  return t->time && t->value && t->rate && (t->acc || !with_acc) ? 0 : -1;
+  t->line = with_line ? malloc(m * sizeof *t->line) : NULL;
+  if (t->time && t->value && t->rate && (t->acc || !with_acc) &&
+      (t->line || !with_line))
+    return 0;
+  table_err(err, errsz, "%s: out of memory for %zu rows", t->path, n);
+  return -1;
 }
 
 /* where column c of row r goes */
@@ -118,16 +132,19 @@ double *table_cell(table_data *t, size_t r, int c)
 }
 
 /* which of the columns are present: t and the values always, the rates
-   all or none, the accelerations all or none and only with the rates */
-int table_columns_check(const int have[TABLE_NCOL], int what, const char *file,
-                         char *err, size_t errsz)
+   all or none, the accelerations all or none and only with the rates; a
+   column is named as the file holds it ("column NAME" in a CSV file,
+   "dataset /NAME" in an HDF5 one) */
+int table_columns_check(const int have[TABLE_NCOL], int what, int hdf5,
+                        const char *file, char *err, size_t errsz)
 {
   int c, g;
+  const char *kind = hdf5 ? "dataset /" : "column ";
+  const char *const *n = table_col_names[what];
   for (c = 0; c < 4; c++)
     if (!have[c]) {
-      table_err(err, errsz, "%s: missing column %s (a table has %s, %s, %s, %s)",
-              file, table_col_names[what][c], table_col_names[what][0],
-              table_col_names[what][1], table_col_names[what][2], table_col_names[what][3]);
+      table_err(err, errsz, "%s: missing %s%s (a table has %s, %s, %s, %s)",
+                file, kind, n[c], n[0], n[1], n[2], n[3]);
       return -1;
     }
   for (g = 4; g < TABLE_NCOL; g += 3)
@@ -135,26 +152,28 @@ int table_columns_check(const int have[TABLE_NCOL], int what, const char *file,
         have[g] + have[g + 1] + have[g + 2] != 3) {
       for (c = g; have[c]; c++)
         ;
-      table_err(err, errsz, "%s: missing column %s (give the three %s or none)",
-              file, table_col_names[what][c], g == 4 ? "rates" : "accelerations");
+      table_err(err, errsz, "%s: missing %s%s (give the three %s or none)",
+                file, kind, n[c], g == 4 ? "rates" : "accelerations");
       return -1;
     }
   if (have[7] && !have[4]) {
     table_err(err, errsz,
-            "%s: accelerations (%s, ...) need the rates (%s, ...) as well",
-            file, table_col_names[what][7], table_col_names[what][4]);
+              "%s: accelerations (%s%s, ...) need the rates (%s%s, ...) as "
+              "well", file, kind, n[7], kind, n[4]);
     return -1;
   }
   return 0;
 }
 
-/* the number in the field [s, e) of line `line`, which starts at start */
-static int parse_field(const char *s, const char *e, double *x,
-                       const char *file, int line, const char *start,
-                       const char *name, char *err, size_t errsz)
+/* the number in the field [s, e) of line `line`, which starts at start:
+   parsed where it stands (e is NUL-terminated for strtod, then restored),
+   so a number of any length that strtod reads is read */
+static int parse_field(char *s, char *e, double *x, const char *file,
+                       int line, const char *start, const char *name,
+                       char *err, size_t errsz)
 {
-  char buf[64], *end;
-  int col;
+  char *end, keep;
+  int col, len, more, fail = 0;
   while (s < e && (*s == ' ' || *s == '\t'))
     s++;
   while (e > s && (e[-1] == ' ' || e[-1] == '\t'))
@@ -165,20 +184,36 @@ static int parse_field(const char *s, const char *e, double *x,
             name);
     return -1;
   }
-  snprintf(buf, sizeof buf, "%.*s", (int)(e - s), s);
+  /* the field as quoted in a message: its first 40 bytes */
+  len = e - s > 40 ? 40 : (int)(e - s);
+  more = e - s > 40;
+  keep = *e;
+  *e = '\0';
   errno = 0;
-  *x = strtod(buf, &end);
-  if (*end != '\0' || (size_t)(e - s) >= sizeof buf) {
-    table_err(err, errsz, "%s:%d:%d: column %s: expected a number, got '%.40s'",
-            file, line, col, name, buf);
-    return -1;
+  *x = strtod(s, &end);
+  if (end != e) {
+    table_err(err, errsz, "%s:%d:%d: column %s: expected a number, got "
+              "'%.*s'%s", file, line, col, name, len, s, more ? "..." : "");
+    fail = 1;
+  } else if (!isfinite(*x) || (errno == ERANGE && fabs(*x) > 1.0)) {
+    table_err(err, errsz, "%s:%d:%d: column %s: '%.*s'%s is not a finite "
+              "number%s", file, line, col, name, len, s, more ? "..." : "",
+              errno == ERANGE ? " (beyond the largest double, 1.8e308)"
+                              : "");
+    fail = 1;
+  } else if (*x == 0.0 && errno == ERANGE) {
+    table_err(err, errsz, "%s:%d:%d: column %s: '%.*s'%s underflows to 0 "
+              "(nonzero but below 4.9e-324 in magnitude, the smallest "
+              "double): write 0 or a normal number", file, line, col, name,
+              len, s, more ? "..." : "");
+    fail = 1;
+  } else if (fpclassify(*x) == FP_SUBNORMAL) {
+    table_err(err, errsz, "%s:%d:%d: column %s: '%.*s'%s is " TABLE_SUBNORMAL,
+              file, line, col, name, len, s, more ? "..." : "");
+    fail = 1;
   }
-  if (!isfinite(*x) || errno == ERANGE) {
-    table_err(err, errsz, "%s:%d:%d: column %s: '%s' is not a finite number",
-            file, line, col, name, buf);
-    return -1;
-  }
-  return 0;
+  *e = keep;
+  return fail ? -1 : 0;
 }
 
 /* the header line [s, e): column c of the file is col[c] (0..TABLE_NCOL-1) */
@@ -222,7 +257,7 @@ static int csv_header(const char *s, const char *e, int what, int *col,
       break;
     p = q + 1;
   }
-  return table_columns_check(have, what, file, err, errsz);
+  return table_columns_check(have, what, 0, file, err, errsz);
 }
 
 /* a table is a regular file of at most TABLE_MAX_BYTES: checked by
@@ -270,12 +305,27 @@ static char *slurp(const char *path, size_t *len, char *err, size_t errsz)
   *len = fread(buf, 1, (size_t)st.st_size, f);
   buf[*len] = '\0';
   if (ferror(f)) {
-    table_err(err, errsz, "%s: read error", path);
+    table_err(err, errsz, "%s: read error: %s", path, strerror(errno));
     free(buf);
     buf = NULL;
   }
   fclose(f);
   return buf;
+}
+
+/* the end of the line that starts at p: its CR or LF, or the text's NUL;
+   and the start of the next line (past a CR LF pair as one line end):
+   LF (Unix), CR LF (Windows) and CR alone (classic Mac OS) all end a line */
+static char *line_end(char *p)
+{
+  return p + strcspn(p, "\r\n");
+}
+
+static char *line_next(char *e)
+{
+  if (*e == '\0')
+    return e;
+  return e + (e[0] == '\r' && e[1] == '\n' ? 2 : 1);
 }
 
 /* lines that hold no row: blank, or a comment starting with '#' */
@@ -301,20 +351,14 @@ static int csv_read(table_data *t, int what, char *err, size_t errsz)
   if (len >= 3 && memcmp(text, "\xEF\xBB\xBF", 3) == 0)
     memset(text, ' ', 3);
   /* count the lines that may be rows, to allocate once */
-  for (p = text; p < text + len; p = e + 1) {
-    e = strchr(p, '\n');
-    if (!e)
-      e = text + len;
+  for (p = text; p < text + len; p = line_next(e)) {
+    e = line_end(p);
     rows += !csv_skip(p, e);
   }
-  for (p = text, line = 1; p < text + len; p = e + 1, line++) {
-    const char *f;
+  for (p = text, line = 1; p < text + len; p = line_next(e), line++) {
+    char *f;
     int c;
-    e = strchr(p, '\n');
-    if (!e)
-      e = text + len;
-    if (e > p && e[-1] == '\r')
-      e[-1] = ' ';
+    e = line_end(p);
     if (csv_skip(p, e))
       continue;
     if (!header) {
@@ -328,21 +372,13 @@ static int csv_read(table_data *t, int what, char *err, size_t errsz)
       if (csv_header(p, e, what, col, &ncol, have, t->path, line, err, errsz))
         goto done;
       header = 1;
-      if (table_alloc_rows(t, rows - 1, have[7])) {
-        table_err(err, errsz, "%s: out of memory for %zu rows", t->path,
-                rows - 1);
+      if (table_alloc_rows(t, rows - 1, have[7], 1, err, errsz))
         goto done;
-      }
-      t->line = malloc((rows > 1 ? rows - 1 : 1) * sizeof *t->line);
-      if (!t->line) {
-        table_err(err, errsz, "%s: out of memory", t->path);
-        goto done;
-      }
       continue;
     }
     t->line[r] = line;
     for (c = 0, f = p; c < ncol; c++) {
-      const char *q = f;
+      char *q = f;
       while (q < e && *q != ',')
         q++;
       if (q == e && c + 1 < ncol) {
@@ -374,14 +410,129 @@ done:
   return rc;
 }
 
-/* times strictly increasing, named at their row; then the rates a table
-   lacks, from the spline */
+/* the label of column c in a message: "column NAME" (CSV) or "dataset
+   /NAME" (HDF5) */
+static void col_label(const table_data *t, int what, int c, char *buf,
+                      size_t sz)
+{
+  snprintf(buf, sz, "%s%s", t->hdf5 ? "dataset /" : "column ",
+           table_col_names[what][c]);
+}
+
+/* x in the fewest significant digits (15 to 17) that read back as x,
+   as the file most likely wrote it */
+static const char *num(char buf[32], double x)
+{
+  int p;
+  for (p = 15; p < 17; p++) {
+    snprintf(buf, 32, "%.*g", p, x);
+    if (strtod(buf, NULL) == x)
+      return buf;
+  }
+  snprintf(buf, 32, "%.17g", x);
+  return buf;
+}
+
+/* the rows' times and their steps, each named at its row: strictly
+   increasing; their span a finite double (rps3_table_duration and the
+   time within the table are differences of times); every step at least
+   TIME_RESOLUTION of the largest |t| (the interpolant finds the time
+   within a step as (t0 + t - t_i) / h, rounded to a unit in the last
+   place of the times); and no step so short for the change of a value
+   that the interpolant's rate (~ change / h) or acceleration (~ change /
+   h^2) overflows */
+#define TIME_RESOLUTION 0x1p-36 /* 2^16 units in the last place: the time
+                                   within a step rounds by <= 1.5e-5 of it */
+#define DERIV_MAX (DBL_MAX / 64.0) /* the Hermite polynomials' factors (up to
+                                      20) on top of change / h^2 */
+static int table_steps(table_data *t, int what, char *err, size_t errsz)
+{
+  size_t r;
+  int k;
+  char where[300], lt[40], lc[40], n1[32], n2[32];
+  double scale = fmax(fabs(t->time[0]), fabs(t->time[t->n - 1]));
+  col_label(t, what, 0, lt, sizeof lt);
+  for (r = 1; r < t->n; r++) {
+    double h = t->time[r] - t->time[r - 1];
+    table_where(t, r, where, sizeof where);
+    if (!(t->time[r] > t->time[r - 1])) {
+      table_err(err, errsz, "%s: %s: %s after %s: times must "
+                "increase strictly", where, lt, num(n1, t->time[r]),
+                num(n2, t->time[r - 1]));
+      return -1;
+    }
+    if (!isfinite(t->time[r] - t->time[0])) {
+      table_err(err, errsz, "%s: %s: %s is more than 1.8e308 s after the "
+                "first row's %s: the time range overflows a double (the "
+                "times must span less than 1.8e308 s)", where, lt,
+                num(n1, t->time[r]), num(n2, t->time[0]));
+      return -1;
+    }
+    if (h < scale * TIME_RESOLUTION) {
+      table_err(err, errsz, "%s: %s: %s after %s: the rows are %.3g s "
+                "apart, too close relative to the time scale %.3g s (the "
+                "largest |t|): a step must be at least 1.5e-11 of it, or the "
+                "time within the step rounds by more than 1.5e-5 of the step;"
+                " subtract an offset from the times or thin the rows", where,
+                lt, num(n1, t->time[r]), num(n2, t->time[r - 1]), h, scale);
+      return -1;
+    }
+    if (h * h < DBL_MIN) {
+      table_err(err, errsz, "%s: %s: %s after %s: the rows are %.3g s "
+                "apart, a spacing too small for a double: the interpolant's "
+                "acceleration divides by the step squared, which underflows "
+                "below 1.5e-154 s", where, lt, num(n1, t->time[r]),
+                num(n2, t->time[r - 1]), h);
+      return -1;
+    }
+    for (k = 0; k < 3; k++) {
+      double dv = t->value[r][k] - t->value[r - 1][k], mv, mr, ma;
+      col_label(t, what, 1 + k, lc, sizeof lc);
+      if (!isfinite(dv)) {
+        table_err(err, errsz, "%s: %s: %s after %s: the change between "
+                  "the rows overflows a double", where, lc,
+                  num(n1, t->value[r][k]), num(n2, t->value[r - 1][k]));
+        return -1;
+      }
+      /* the interpolant's acceleration: change / h^2, and with the
+         file's rates rate / h, with its accelerations their own */
+      mv = fabs(dv) / h / h;
+      mr = t->rates_given
+               ? (fabs(t->rate[r][k]) + fabs(t->rate[r - 1][k])) / h
+               : 0.0;
+      ma = t->acc != NULL ? fabs(t->acc[r][k]) + fabs(t->acc[r - 1][k]) : 0.0;
+      if (mv + mr + ma < DERIV_MAX)
+        continue;
+      if (mv >= mr && mv >= ma) {
+        table_err(err, errsz, "%s: %s: changes by %.3g in %.3g s from the "
+                  "previous row: the spacing of the rows is too small for "
+                  "so large a change, the interpolant's rate and acceleration "
+                  "across the step (of order change / step^2) overflow a "
+                  "double", where, lc, dv, h);
+      } else {
+        char lr[40];
+        col_label(t, what, mr >= ma ? 4 + k : 7 + k, lr, sizeof lr);
+        table_err(err, errsz, "%s: %s: %.3g and %.3g across a step of %.3g s:"
+                  " the interpolant's acceleration there (of order %s) "
+                  "overflows a double", where, lr,
+                  mr >= ma ? t->rate[r - 1][k] : t->acc[r - 1][k],
+                  mr >= ma ? t->rate[r][k] : t->acc[r][k], h,
+                  mr >= ma ? "rate / step" : "the accelerations themselves");
+      }
+      return -1;
+    }
+  }
+  return 0;
+}
+
+/* the rows checked (table_steps); then the rates a table lacks, from the
+   spline */
 static int table_finish(table_data *t, int what, char *err, size_t errsz)
 {
   size_t r;
   char where[300];
   double *work;
-  int min = t->rates_given ? 2 : 4;
+  int min = t->rates_given ? 2 : 4, k, x;
   if (t->n < (size_t)min) {
     table_err(err, errsz, "%s: %zu rows; a table needs at least %d%s", t->path,
             t->n, min,
@@ -389,26 +540,71 @@ static int table_finish(table_data *t, int what, char *err, size_t errsz)
                                   "spline that gives the rates)");
     return -1;
   }
-  for (r = 1; r < t->n; r++)
-    if (!(t->time[r] > t->time[r - 1])) {
-      table_where(t, r, where, sizeof where);
-      table_err(err, errsz, "%s: column t: %.17g after %.17g: times must "
-              "increase strictly", where, t->time[r], t->time[r - 1]);
-      return -1;
-    }
-  (void)what;
+  if (table_steps(t, what, err, errsz))
+    return -1;
   if (t->rates_given)
     return 0;
   work = malloc(t->n * sizeof *work);
-  if (!work ||
-      rps3_table_spline(t->n, t->time, (const double(*)[3])t->value, t->rate,
-                        work) != RPS3_OK) {
-    free(work);
-    table_err(err, errsz, "%s: the spline of the rows failed", t->path);
+  if (!work) {
+    table_err(err, errsz, "%s: out of memory for the spline of %zu rows",
+              t->path, t->n);
     return -1;
   }
+  x = rps3_table_spline(t->n, t->time, (const double(*)[3])t->value, t->rate,
+                        work);
   free(work);
-  return 0;
+  if (x == RPS3_OK)
+    return 0;
+  /* the rows passed table_steps: name the first rate that overflowed */
+  for (r = 0; r < t->n; r++)
+    for (k = 0; k < 3; k++)
+      if (!isfinite(t->rate[r][k])) {
+        char lc[40];
+        table_where(t, r, where, sizeof where);
+        col_label(t, what, 1 + k, lc, sizeof lc);
+        table_err(err, errsz, "%s: %s: the spline's rate at this row "
+                  "overflows a double (the values change too fast for the "
+                  "spacing of the rows)", where, lc);
+        return -1;
+      }
+  table_err(err, errsz, "%s: the spline of the rows failed (%s)", t->path,
+            rps3_strerror(x));
+  return -1;
+}
+
+/* err made printable text: a control character or a byte that is not
+   part of valid UTF-8 (a file's bytes quoted in a message) becomes \xNN */
+static void table_printable(char *err, size_t errsz)
+{
+  char in[1024];
+  size_t i = 0, o = 0;
+  if (errsz == 0)
+    return;
+  snprintf(in, sizeof in, "%s", err);
+  while (in[i] != '\0' && o + 1 < errsz) {
+    unsigned char b = (unsigned char)in[i];
+    size_t n = b < 0x80 ? 1 : (b & 0xE0) == 0xC0 ? 2 : (b & 0xF0) == 0xE0 ? 3
+                            : (b & 0xF8) == 0xF0 ? 4 : 0, j;
+    int ok = n != 0 && b != 0x7F && (b >= 0x20 || n != 1) && b != 0xC0 &&
+             b != 0xC1 && b < 0xF5;
+    for (j = 1; ok && j < n; j++)
+      ok = ((unsigned char)in[i + j] & 0xC0) == 0x80;
+    /* C1 controls (U+0080..U+009F) are not printable either */
+    if (ok && n == 2 && b == 0xC2 && (unsigned char)in[i + 1] < 0xA0)
+      ok = 0;
+    if (ok && o + n < errsz) {
+      memcpy(err + o, in + i, n);
+      o += n;
+      i += n;
+    } else if (!ok && o + 4 < errsz) {
+      snprintf(err + o, 5, "\\x%02X", b);
+      o += 4;
+      i++;
+    } else {
+      break;
+    }
+  }
+  err[o] = '\0';
 }
 
 int table_read(table_data *t, const char *scene_file, const char *name,
@@ -416,6 +612,8 @@ int table_read(table_data *t, const char *scene_file, const char *name,
 {
   char *abs;
   memset(t, 0, sizeof *t);
+  if (errsz > 0)
+    err[0] = '\0';
   if (name[0] == '\0') {
     table_err(err, errsz, "an empty file name");
     return -1;
@@ -429,6 +627,10 @@ int table_read(table_data *t, const char *scene_file, const char *name,
   if ((t->hdf5 ? table_h5_read(t, what, err, errsz)
                : csv_read(t, what, err, errsz)) != 0 ||
       table_finish(t, what, err, errsz) != 0) {
+    /* every failure sets its message; should one not, the file is named */
+    if (errsz > 0 && err[0] == '\0')
+      table_err(err, errsz, "%s: cannot read the table", t->path);
+    table_printable(err, errsz);
     table_free(t);
     return -1;
   }

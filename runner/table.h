@@ -6,8 +6,12 @@
  * rps3_table_spline().
  *
  * CSV: '#' starts a comment line; the first other line names the columns,
- * the next lines hold one row of numbers each, comma separated.  HDF5: one
- * 1-D dataset per column at the file's root, all of one length.  Columns
+ * the next lines hold one row of numbers each (strtod's, of any length),
+ * comma separated; a line ends in LF, CR LF or CR.  HDF5: one 1-D dataset
+ * of numbers per column at the file's root, all of one length, stored in
+ * the file itself (no external link, external raw file or virtual
+ * dataset).  The table is limited to TABLE_MAX_BYTES (table_int.h) as a
+ * file, as declared and as held in memory.  Columns
  * (any order):
  *   pose    t, alpha, beta, z_c   [s, rad, rad, m]
  *   centre  t, x, y, z            [s, m, m, m]
@@ -41,8 +45,10 @@ enum { TABLE_POSE = 0, TABLE_CENTRE = 1 };
  * Read the table `name` (relative to the directory of scene_file unless
  * absolute; HDF5 when it ends in .h5 or .hdf5, else CSV) with the columns
  * of `what` (TABLE_POSE or TABLE_CENTRE) into t.  Returns 0, or -1 with
- * "FILE:LINE:COL: column NAME: what is wrong" (FILE: row R for HDF5) in
- * err; t is then empty (table_free accepts it).
+ * "FILE:LINE:COL: column NAME: what is wrong" ("FILE: dataset /NAME: ..."
+ * or "FILE, row R: dataset /NAME: ..." for HDF5) in err, printable text
+ * (a quoted control character or non-UTF-8 byte as \xNN); t is then
+ * empty (table_free accepts it).
  */
 int table_read(table_data *t, const char *scene_file, const char *name,
                int what, char *err, size_t errsz);

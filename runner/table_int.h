@@ -18,16 +18,29 @@ extern const char *const table_col_names[2][TABLE_NCOL];
 void table_err(char *err, size_t errsz, const char *fmt, ...)
     __attribute__((format(printf, 3, 4)));
 
-/* the arrays for n rows; acc only when the file has accelerations: 0, or
-   -1 */
-int table_alloc_rows(table_data *t, size_t n, int with_acc);
+/* the largest table: its file (stat) and what it declares and holds in
+   memory (rows times the bytes of a row); a million rows of ten numbers
+   are ~80 MB */
+#define TABLE_MAX_BYTES (1024.0 * 1024.0 * 1024.0)
+
+/* why a subnormal number is refused (after "VALUE is ") */
+#define TABLE_SUBNORMAL                                                       \
+  "subnormal (nonzero but below 2.2e-308 in magnitude, where a double "     \
+  "loses precision): write 0 or a normal number"
+
+/* the arrays for n rows; acc only when the file has accelerations, line
+   (the CSV line of each row) with with_line; refused above TABLE_MAX_BYTES
+   in memory before anything is allocated: 0, or -1 with err set */
+int table_alloc_rows(table_data *t, size_t n, int with_acc, int with_line,
+                     char *err, size_t errsz);
 
 /* where column c of row r goes */
 double *table_cell(table_data *t, size_t r, int c);
 
 /* which of the columns are present: t and the values always, the rates
-   all or none, the accelerations all or none and only with the rates */
-int table_columns_check(const int have[TABLE_NCOL], int what,
+   all or none, the accelerations all or none and only with the rates;
+   named "column NAME" (CSV) or "dataset /NAME" (hdf5) */
+int table_columns_check(const int have[TABLE_NCOL], int what, int hdf5,
                         const char *file, char *err, size_t errsz);
 
 /* path is a regular file of at most 1 GiB, checked by stat() before

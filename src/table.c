@@ -180,11 +180,20 @@ int rps3_table_check(const rps3_model *m, const rps3_table *tb,
      between two reachable rows is largest */
   for (i = 0; pose && i + 1 < tb->n; i++) {
     double q[3], dq[3], ddq[3], t;
-    char why[160];
+    char why[200];
     t = 0.5 * (tb->time[i] + tb->time[i + 1]) - tb->time[0];
     rps3_table_eval(tb, t, q, dq, ddq);
-    if (!v3_finite(q) || !v3_finite(dq) || !v3_finite(ddq) ||
-        !rps3_pose_reachable(m, q)) {
+    if (!v3_finite(q) || !v3_finite(dq) || !v3_finite(ddq)) {
+      /* not a pose out of reach: rows too close for their change */
+      snprintf(why, sizeof why,
+               "the interpolant's rate or acceleration is not finite "
+               "between this row and the next (%.3g s apart: too close for "
+               "their change, or below 1.5e-154 s, whose square underflows)",
+               tb->time[i + 1] - tb->time[i]);
+      return rps3_check_fail(chk, id[1], (int)i, tb->value[i][2], -1, -1,
+                             why);
+    }
+    if (!rps3_pose_reachable(m, q)) {
       snprintf(why, sizeof why,
                "the interpolant leaves the reachable set between this row "
                "and the next, at t = %.9g s (z_c there %.6g m)",

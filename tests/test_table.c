@@ -318,6 +318,25 @@ static void refusals(void **state) {
   r.rate[2][2] = -40.0;
   r.rate[3][2] = 40.0;
   REFUSED(tr, RPS3_F_TABLE_VALUE, 2);
+  /* rows 1e-300 s apart, all at one reachable pose: the interpolant's
+     acceleration divides by step^2, which underflows to 0, and the
+     failure is named as such, not as a pose out of reach */
+  {
+    rps3_check chk;
+    int i;
+    table_setup(&tr, &r, 3, 1);
+    for (i = 0; i < NROW; i++) {
+      r.time[i] = 1e-300 * i;
+      memcpy(r.value[i], r.value[0], sizeof r.value[i]);
+      r.rate[i][0] = r.rate[i][1] = r.rate[i][2] = 0.0;
+    }
+    assert_int_equal(rps3_traj_validate(&m, &tr, &chk), RPS3_EINVAL);
+    assert_int_equal(chk.field, RPS3_F_TABLE_VALUE);
+    assert_int_equal(chk.comp, 0);
+    assert_non_null(strstr(chk.msg, "not finite between this row and the "
+                                    "next (1e-300 s apart"));
+    assert_null(strstr(chk.msg, "reachable"));
+  }
   /* outside the span */
   table_setup(&tr, &r, 3, 1);
   assert_int_equal(
