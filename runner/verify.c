@@ -229,11 +229,14 @@ int verify_same_versions(const char *const *path, size_t n, char *err,
 }
 
 /* a digest field for a message: "SHA-256 " and its first 16 digits, or
-   the field as it is ("none", "not recorded") */
+   what stands for none ("none": the record lacks the file; "not
+   recorded": the file has no record) */
 static const char *digest_text(const char *dig, char *buf, size_t sz)
 {
   if (strncmp(dig, "sha256:", 7) == 0 && strlen(dig) == 7 + 64)
     snprintf(buf, sz, "SHA-256 %.16s...", dig + 7);
+  else if (strcmp(dig, "not recorded") == 0)
+    snprintf(buf, sz, "unknown content (not recorded)");
   else
     snprintf(buf, sz, "%s", dig);
   return buf;
