@@ -286,8 +286,12 @@ static int make_field(out_file *f, int i, const scene *s, size_t nt,
                             : fi->type == OUT_I32 ? (const void *)&fneg
                                                   : NULL,
                             fi->units, fi->doc);
+  /* scene_resolved reruns a case alone: with the data its files held */
   if (f->ds[i] < 0 || out_cf_field(f->ds[i], f->str, i) < 0 ||
-      (coords[0] && out_h5_attr(f->ds[i], f->str, "coordinates", coords) < 0)) {
+      (coords[0] && out_h5_attr(f->ds[i], f->str, "coordinates", coords) < 0) ||
+      (i == OUT_scene_resolved &&
+       out_h5_attr(f->ds[i], f->str, INPUTS_ATTR,
+                   meta->inputs ? meta->inputs : "") < 0)) {
     out_fail(err, errsz, "cannot create dataset %s", fi->name);
     return -1;
   }
