@@ -237,6 +237,8 @@ static const char *digest_text(const char *dig, char *buf, size_t sz)
     snprintf(buf, sz, "SHA-256 %.16s...", dig + 7);
   else if (strcmp(dig, "not recorded") == 0)
     snprintf(buf, sz, "unknown content (not recorded)");
+  else if (strcmp(dig, "none") == 0)
+    snprintf(buf, sz, "no such file read");
   else
     snprintf(buf, sz, "%s", dig);
   return buf;

@@ -216,6 +216,14 @@ def test_a_part_without_record_is_not_trusted(runner, tmp_path):
     assert "of unknown content (not recorded), the file now has SHA-256" \
         in proc.stderr, proc.stderr
     assert merge(tmp_path / "merged.h5", *p).returncode == 0
+    # a record of one more file than the scene reads: not this run's data
+    with h5py.File(p[0], "r+") as f:
+        f.attrs["input_files"] = record(p[0]) + \
+            f"trajectory.path.file sha256:{'0' * 64} {table}\n"
+    proc = merge(tmp_path / "m2.h5", *p)
+    assert proc.returncode == 2, proc.stderr
+    assert f"no such file read: {p[1]}\n" in proc.stderr, proc.stderr
+    assert not (tmp_path / "m2.h5").exists()
 
 
 def failing_scene(tmp_path):
