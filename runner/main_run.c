@@ -384,18 +384,20 @@ static int run_main(int argc, char **argv, const world *w)
   }
   if (w->rank == 0 && pre_room(&s, &plan, &opts, &pre, a.out_path))
     code = EXIT_USAGE;
+  /* the files the scene read, by content (inputs.h): recorded in the
+     file, compared by --resume and merge (each rank its own, before the
+     ranks agree to go on) */
+  inputs = NULL;
+  if (code == EXIT_OK && !(inputs = inputs_record(&s, err, sizeof err))) {
+    fprintf(stderr, "rps3-run: %s: %s\n", a.scene_path, err);
+    code = EXIT_IO;
+  }
   if ((code = agree(w, code, NULL)) != EXIT_OK) {
+    free(inputs);
     scene_free(&s);
     return code;
   }
 
-  /* the files the scene read, by content (inputs.h): recorded in the
-     file, compared by --resume and merge */
-  if (!(inputs = inputs_record(&s, err, sizeof err))) {
-    fprintf(stderr, "rps3-run: %s: %s\n", a.scene_path, err);
-    scene_free(&s);
-    return EXIT_IO;
-  }
   /* a complete part of this scene and these data is not computed again */
   if (a.resume && !a.check) {
     size_t nfailed = 0,

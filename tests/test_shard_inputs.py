@@ -18,7 +18,7 @@ import numpy as np
 import pytest
 
 from conftest import CONFIGS, FAILING_SINE, RUNNER, run, write_scene
-from test_scale import assert_same_content
+from test_scale import MPIRUN, RUNNER_MPI, assert_same_content, mpirun
 
 NOT_COMPUTED = -1000        # status fill value: a case no shard wrote here
 SWEEP = ("sweep:\n  manipulator.m_over_M: "
@@ -275,3 +275,17 @@ def test_failed_cases_are_the_shards_own(runner, tmp_path):
     assert f"({int((status != 0).sum())} failed cases)" in proc.stderr
     proc = merge(tmp_path / "merged.h5", "--failed-ok", *parts)
     assert proc.returncode == 0, proc.stderr
+
+
+@pytest.mark.skipif(not MPIRUN, reason="no mpirun")
+def test_mpi_ranks_record_the_tables(runner, tmp_path):
+    """Under mpirun every rank's part records the table; the joined and
+    the copied file keep the record, equal to a one-process run's."""
+    scene, table, _ = table_h5(tmp_path)
+    want = f"trajectory.table.file sha256:{sha256(table)} {table}\n"
+    for extra in ([], ["--copy"]):
+        out = tmp_path / f"mpi{len(extra)}.h5"
+        proc = mpirun(2, RUNNER_MPI, scene, "-o", out, "-q", *extra)
+        assert proc.returncode == 0, proc.stderr
+        assert record(out) == want
+    assert record(tmp_path / "mpi0.h5.part1of2") == want
