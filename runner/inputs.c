@@ -1,6 +1,8 @@
 /*
  * inputs.c - see inputs.h.  The digest is OpenSSL's SHA-256 (libcrypto,
- * FIPS 180-4) over the file's bytes, read again after the scene loaded it.
+ * FIPS 180-4) over the file's bytes, read again after the scene loaded it;
+ * then the table is read once more and must give the rows the scene
+ * holds, so that the digest is of the data the run uses.
  */
 #include "inputs.h"
 
@@ -58,27 +60,60 @@ done:
   return rc;
 }
 
-/* the file that key k of the key table read into s, or NULL when none;
-   *known 0 for a file key this function does not know */
-static const char *file_of(const scene *s, int k, int *known)
+/* the table that key k of the key table read into s (its file: ->abs,
+   NULL when none), with the columns it was read as; NULL for a file key
+   this function does not know */
+static const table_data *table_of(const scene *s, int k, int *what)
 {
-  *known = 1;
   switch (k) {
   case K_TABLE_FILE:
-    return s->table.abs;
+    *what = TABLE_POSE;
+    return &s->table;
   case K_PATH_FILE:
-    return s->path_table.abs;
+    *what = TABLE_CENTRE;
+    return &s->path_table;
   default:
-    *known = 0;
     return NULL;
   }
+}
+
+/* n rows of m doubles equal bit for bit (both absent counts as equal) */
+static int same_doubles(const void *a, const void *b, size_t n, size_t m)
+{
+  if (!a || !b)
+    return !a && !b;
+  return memcmp(a, b, n * m * sizeof(double)) == 0;
+}
+
+/*
+ * 1 when the table `file` reads now (after its digest) as the rows t was
+ * read with.  The scene read it before the digest; a file rewritten in
+ * between would leave a digest of data the run did not use.  Read once
+ * more, the rows differ unless the file is the one the scene read (or was
+ * changed and changed back, which is the same data).
+ */
+static int same_rows(const table_data *t, const scene *s, const char *file,
+                     int what)
+{
+  table_data now;
+  char msg[256];
+  int same;
+  if (table_read(&now, s->file, file, what, msg, sizeof msg))
+    return 0;
+  same = now.n == t->n && now.rates_given == t->rates_given &&
+         same_doubles(now.time, t->time, t->n, 1) &&
+         same_doubles(now.value, t->value, t->n, 3) &&
+         same_doubles(now.rate, t->rate, t->n, 3) &&
+         same_doubles(now.acc, t->acc, t->n, 3);
+  table_free(&now);
+  return same;
 }
 
 char *inputs_record(const scene *s, char *err, size_t errsz)
 {
   char *rec = NULL, hex[INPUTS_HEX];
   size_t len = 0;
-  int k, known;
+  int k, what = 0;
   rec = calloc(1, 1);
   if (!rec) {
     snprintf(err, errsz, "out of memory");
@@ -86,13 +121,14 @@ char *inputs_record(const scene *s, char *err, size_t errsz)
   }
   for (k = 0; k < SCENE_NKEY; k++) {
     const scene_key_info *ki = scene_key_get(k);
+    const table_data *t;
     const char *file;
     size_t add;
     char *grown;
     if (ki->type != KEY_FILE)
       continue;
-    file = file_of(s, k, &known);
-    if (!known) {
+    t = table_of(s, k, &what);
+    if (!t) {
       /* every file a scene reads must be in the record */
       snprintf(err, errsz, "%s: a file key whose file the record of input "
                            "files does not know (runner/inputs.c)",
@@ -100,9 +136,18 @@ char *inputs_record(const scene *s, char *err, size_t errsz)
       free(rec);
       return NULL;
     }
+    file = t->abs;
     if (!file || !s->given[k])
       continue;
     if (inputs_sha256(file, hex, err, errsz)) {
+      free(rec);
+      return NULL;
+    }
+    if (!same_rows(t, s, file, what)) {
+      snprintf(err, errsz, "%s: %s changed while this run read it (its "
+                           "rows now are not those read): run again once "
+                           "it is written",
+               ki->path, file);
       free(rec);
       return NULL;
     }

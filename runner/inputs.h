@@ -34,8 +34,9 @@ int inputs_sha256(const char *path, char hex[INPUTS_HEX], char *err,
 
 /*
  * The record of the files the loaded scene s read (malloc'd, "" when
- * none).  Returns NULL with err set when a file cannot be read again or
- * a file key of the key table is not known here.
+ * none).  Returns NULL with err set when a file cannot be read again, no
+ * longer gives the rows the scene read (changed since), or a file key of
+ * the key table is not known here.
  */
 char *inputs_record(const scene *s, char *err, size_t errsz);
 

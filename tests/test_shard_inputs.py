@@ -17,7 +17,7 @@ import h5py
 import numpy as np
 import pytest
 
-from conftest import CONFIGS, FAILING_SINE, RUNNER, run, write_scene
+from conftest import CONFIGS, FAILING_SINE, ROOT, RUNNER, run, write_scene
 from test_scale import MPIRUN, RUNNER_MPI, assert_same_content, mpirun
 
 NOT_COMPUTED = -1000        # status fill value: a case no shard wrote here
@@ -289,3 +289,43 @@ def test_mpi_ranks_record_the_tables(runner, tmp_path):
         assert proc.returncode == 0, proc.stderr
         assert record(out) == want
     assert record(tmp_path / "mpi0.h5.part1of2") == want
+
+
+@pytest.fixture(scope="module")
+def swap_shim(tmp_path_factory):
+    """tests/swap_shim.c built as a shared library (LD_PRELOAD)."""
+    so = tmp_path_factory.mktemp("shim") / "libswap_shim.so"
+    subprocess.run(["cc", "-shared", "-fPIC", "-O1", "-Wall", "-Werror",
+                    os.path.join(ROOT, "tests", "swap_shim.c"), "-o", str(so),
+                    "-ldl"], check=True)
+    return so
+
+
+@pytest.mark.parametrize("which", list(SCENES))
+def test_table_rewritten_while_read_is_refused(runner, swap_shim, tmp_path,
+                                               which):
+    """The table replaced by another content between the scene's read and
+    its digest (the CSV reader opens it first, the digest second; the HDF5
+    reader opens it through HDF5, the digest first): the digest would be of
+    data the run did not use, so the run stops (exit 3) and writes
+    nothing."""
+    scene, table, remeasure = SCENES[which](tmp_path)
+    key = which.split(" ")[0]
+    new = tmp_path / ("new" + table.suffix)
+    shutil.copy(table, new)
+    remeasure(new, 1e-4)
+    out = tmp_path / "p0.h5"
+    env = dict(os.environ, LD_PRELOAD=str(swap_shim), SWAP_NAME=table.name,
+               SWAP_WITH=str(new), SWAP_AT="1" if table.suffix == ".h5"
+               else "2")
+    proc = subprocess.run([RUNNER, str(scene), "-o", str(out), "-q",
+                           "--shard", "0/2"], capture_output=True, text=True,
+                          timeout=60, env=env)
+    assert not new.exists()                     # the swap took place
+    assert proc.returncode == 3, proc.stderr
+    assert f"{key}: {table} changed while this run read it" in proc.stderr
+    assert not out.exists()
+    assert not [x for x in os.listdir(tmp_path) if ".tmp." in x]
+    # the file as it is now is read and recorded as such
+    assert run(scene, out, "-q", "--shard", "0/2").returncode == 0
+    assert record(out) == f"{key} sha256:{sha256(table)} {table}\n"
