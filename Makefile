@@ -14,6 +14,8 @@ GSL_LIBS = $(shell gsl-config --libs 2>/dev/null)
 HDF5_CFLAGS = $(shell pkg-config --cflags hdf5 2>/dev/null)
 HDF5_LIBS = $(shell pkg-config --libs hdf5 2>/dev/null) -lhdf5_hl
 YAML_LIBS = -lyaml
+# libcrypto (OpenSSL): the SHA-256 of the files a scene reads (runner/inputs.c)
+CRYPTO_LIBS = $(shell pkg-config --libs libcrypto 2>/dev/null || echo -lcrypto)
 MPI_CFLAGS = $(shell pkg-config --cflags ompi-c 2>/dev/null)
 MPI_LIBS = $(shell pkg-config --libs ompi-c 2>/dev/null)
 CMOCKA_LIBS = -lcmocka
@@ -27,7 +29,7 @@ VPY = $(VENV)/bin/python
 # Python headers), and what `make check` and `make bench` add (a second
 # compiler and libFuzzer, cmocka, valgrind, MPI, GNU time, CMake for the
 # install test)
-DEB_BUILD = gcc make pkg-config libgsl-dev libhdf5-dev libyaml-dev zlib1g-dev
+DEB_BUILD = gcc make pkg-config libgsl-dev libhdf5-dev libyaml-dev zlib1g-dev libssl-dev
 DEB_PAPER = $(DEB_BUILD) python3-venv python3-dev
 DEB_CHECK = $(DEB_PAPER) clang libclang-rt-dev libcmocka-dev libopenmpi-dev openmpi-bin \
             valgrind time cmake strace
@@ -205,9 +207,9 @@ $(B)/runner/gitrev.o: $(B)/runner/gitrev.c
 	$(CC) $(WARN) $(OPT) -c $< -o $@
 FORCE:
 $(B)/rps3-run: $(B)/runner/main_run.o $(RUN_OBJ) $(B)/librps3.a
-	$(CC) -o $@ $^ $(HDF5_LIBS) $(YAML_LIBS) $(GSL_LIBS) -lz -lpthread -lm
+	$(CC) -o $@ $^ $(HDF5_LIBS) $(YAML_LIBS) $(GSL_LIBS) $(CRYPTO_LIBS) -lz -lpthread -lm
 $(B)/rps3-study: $(B)/runner/main_study.o $(STUDY_OBJ) $(RUN_OBJ) $(B)/librps3.a
-	$(CC) -o $@ $^ $(HDF5_LIBS) $(YAML_LIBS) $(GSL_LIBS) -lz -lpthread -lm
+	$(CC) -o $@ $^ $(HDF5_LIBS) $(YAML_LIBS) $(GSL_LIBS) $(CRYPTO_LIBS) -lz -lpthread -lm
 # rps3-simstudy (runner/main_simstudy.c): closed-loop tracking and what
 # simulation accuracy costs in time; `make simulation` runs it
 $(B)/rps3-simstudy: $(B)/runner/main_simstudy.o $(B)/runner/cli.o \
@@ -222,7 +224,7 @@ $(B)/runner-mpi/main_run.o: runner/main_run.c | $(DEPS)
 	@mkdir -p $(@D)
 	$(CC) $(CPPFLAGS_ALL) -DRPS3_MPI -Irunner $(GSL_CFLAGS) $(HDF5_CFLAGS) $(MPI_CFLAGS) $(WARN) $(OPT) -MMD -MP -c $< -o $@
 $(B)/rps3-run-mpi: $(B)/runner-mpi/main_run.o $(RUN_OBJ) $(B)/librps3.a
-	$(CC) -o $@ $^ $(HDF5_LIBS) $(YAML_LIBS) $(GSL_LIBS) $(MPI_LIBS) -lz -lpthread -lm
+	$(CC) -o $@ $^ $(HDF5_LIBS) $(YAML_LIBS) $(GSL_LIBS) $(MPI_LIBS) $(CRYPTO_LIBS) -lz -lpthread -lm
 
 # ------------------------------------------------------------------- tests
 $(B)/tests/%: tests/%.c $(B)/librps3.a tests/testutil.h | $(DEPS)

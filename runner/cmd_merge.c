@@ -105,6 +105,12 @@ int merge_main(int argc, char **argv, const char *cmd)
     fprintf(stderr, "rps3-run merge: %s\n", err);
     goto done;
   }
+  /* the same data too: a table measured again between the shards makes
+     parts of two runs under one scene text */
+  if (verify_parts_inputs(byk, n, bad, "rps3-run merge", stderr)) {
+    parts_report(stderr, byk, bad, n);
+    goto done;
+  }
 
   /* every chunk of every part decodes (checksums, compression) before the
      merged file can claim the parts' cases */

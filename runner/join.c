@@ -21,8 +21,10 @@
 #include <hdf5.h>
 #include <hdf5_hl.h>
 
+#include "inputs.h"
 #include "merge.h"
 #include "output.h"
+#include "verify.h"
 
 /* what a walk over part 0 needs */
 typedef struct {
@@ -508,6 +510,7 @@ int join_vds(const char *dst, const char *const *part, size_t n,
 {
   walk w;
   char **link = calloc(n, sizeof *link), *text0 = NULL, *link_dir = NULL;
+  char *inputs0 = NULL, is0[4200];
   const char *slash = strrchr(dst, '/');
   hid_t fapl = -1;
   size_t k, unset = 0;
@@ -539,8 +542,13 @@ int join_vds(const char *dst, const char *const *part, size_t n,
     out_fail(err, errsz, "%s: not an rps3-run file", part[0]);
     goto done;
   }
+  inputs0 = merge_read_text(w.src, INPUTS_ATTR, 1);
+  snprintf(is0, sizeof is0, "%s read", part[0]);
   for (k = 0; k < n; k++) {
     if (join_part_check(part[k], k, n, text0, err, errsz))
+      goto done;
+    /* the same content of every file the scene reads (inputs.h) */
+    if (k > 0 && verify_inputs_as(part[k], inputs0, is0, err, errsz))
       goto done;
     if (!(link[k] = link_name(part[k], link_dir))) {
       snprintf(err, errsz, "%s: cannot resolve its path", part[k]);
@@ -587,6 +595,7 @@ done:
   free(link);
   free(link_dir);
   free(text0);
+  free(inputs0);
   if (fapl >= 0)
     H5Pclose(fapl);
   if (w.src >= 0)

@@ -40,6 +40,7 @@
 #include "cli.h"
 #include "cmd.h"
 #include "h5err.h"
+#include "inputs.h"
 #include "join.h"
 #include "merge.h"
 #include "parts.h"
@@ -325,7 +326,7 @@ static int run_main(int argc, char **argv, const world *w)
   out_meta meta;
   out_file *f;
   progress pr;
-  char *cmd;
+  char *cmd, *inputs;
 
   /* the command line (run_cli.h) */
   if ((code = run_args_parse(argc, argv, &a)) >= 0)
@@ -383,23 +384,34 @@ static int run_main(int argc, char **argv, const world *w)
   }
   if (w->rank == 0 && pre_room(&s, &plan, &opts, &pre, a.out_path))
     code = EXIT_USAGE;
+  /* the files the scene read, by content (inputs.h): recorded in the
+     file, compared by --resume and merge (each rank its own, before the
+     ranks agree to go on) */
+  inputs = NULL;
+  if (code == EXIT_OK && !(inputs = inputs_record(&s, err, sizeof err))) {
+    fprintf(stderr, "rps3-run: %s: %s\n", a.scene_path, err);
+    code = EXIT_IO;
+  }
   if ((code = agree(w, code, NULL)) != EXIT_OK) {
+    free(inputs);
     scene_free(&s);
     return code;
   }
 
-  /* a complete part of this scene is not computed again */
+  /* a complete part of this scene and these data is not computed again */
   if (a.resume && !a.check) {
-    size_t nfailed = 0;
+    size_t nfailed = 0,
+           ncase = sweep_shard_cases(&s, &plan, opts.shard, opts.nshard);
     char names[1024];
     if (parts_resume(a.out_path, opts.shard, opts.nshard, s.text,
-                     out_fields_text(a.fields, names, sizeof names),
+                     out_fields_text(a.fields, names, sizeof names), inputs,
                      &nfailed)) {
       if (!a.quiet)
         fprintf(stderr, "rps3-run: %s is shard %zu/%zu of this scene, "
-                        "complete (%zu failed case%s): not run again\n",
-                a.out_path, opts.shard, opts.nshard, nfailed,
-                nfailed == 1 ? "" : "s");
+                        "complete (%zu case%s, %zu failed): not run again\n",
+                a.out_path, opts.shard, opts.nshard, ncase,
+                ncase == 1 ? "" : "s", nfailed);
+      free(inputs);
       scene_free(&s);
       return nfailed && !a.failed_ok ? EXIT_FAILED_CASES : EXIT_OK;
     }
@@ -421,6 +433,7 @@ static int run_main(int argc, char **argv, const world *w)
   meta.gzip = a.gzip;
   meta.shard = a.shard_arg;
   meta.fields = a.fields;
+  meta.inputs = inputs;
 
   /* write under a temporary name in the same directory, rename at the end
      (tmpout.h) */
@@ -472,6 +485,7 @@ done:
   tmpout_discard();
   out_block_free(&block);
   free(cmd);
+  free(inputs);
   scene_free(&s);
   return code;
 }

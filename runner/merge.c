@@ -17,7 +17,9 @@
 
 #include <hdf5.h>
 
+#include "inputs.h"
 #include "output.h"
+#include "verify.h"
 
 /* the chunked datasets of a file by name: the per-case variables */
 #define MAX_CHUNKED 64
@@ -385,7 +387,7 @@ int merge_parts(const char *dst, const char *const *src, const size_t *k,
   hid_t fd = H5Fopen(dst, H5F_ACC_RDWR, H5P_DEFAULT);
   chunked_list list;
   chunk_buf cb = {NULL, 0};
-  char *text = NULL;
+  char *text = NULL, *inputs0 = NULL;
   size_t i;
   int j, rc = -1;
 
@@ -395,6 +397,7 @@ int merge_parts(const char *dst, const char *const *src, const size_t *k,
   }
   list.n = 0;
   text = merge_read_text(fd, "scene", 0);
+  inputs0 = merge_read_text(fd, INPUTS_ATTR, 1);
   if (!text ||
       H5Literate(fd, H5_INDEX_NAME, H5_ITER_INC, NULL, collect_chunked,
                  &list) < 0 ||
@@ -418,6 +421,11 @@ int merge_parts(const char *dst, const char *const *src, const size_t *k,
       goto done;
     }
     free(other);
+    /* and the same content of every file it reads (inputs.h) */
+    if (verify_inputs_as(src[i], inputs0, "part 0 read", err, errsz)) {
+      H5Fclose(fs);
+      goto done;
+    }
     for (j = 0; j < list.n; j++)
       if (copy_dataset(fd, fs, list.name[j], src[i], k[i], n, &cb, err,
                        errsz) < 0) {
@@ -444,6 +452,7 @@ int merge_parts(const char *dst, const char *const *src, const size_t *k,
 done:
   free(cb.p);
   free(text);
+  free(inputs0);
   if (H5Fclose(fd) < 0 && rc == 0) {
     out_fail(err, errsz, "%s: cannot close", dst);
     rc = -1;

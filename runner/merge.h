@@ -31,8 +31,9 @@ int merge_shard_of(const char *path, size_t *k, size_t *n, char *err,
  * Copy into the file at `dst` (a complete rps3-run file of the same scene,
  * for instance part 0 itself) the cases of the nsrc part files src[i],
  * each holding shard k[i] of n.  Every chunked dataset of dst must be in
- * each part with the same shape and chunks, and each part must hold all of
- * its cases (their `status` chunks).  Then dst loses its shard attribute,
+ * each part with the same shape and chunks, each part must hold all of its
+ * cases (their `status` chunks) and have dst's scene and record of input
+ * files (inputs.h).  Then dst loses its shard attribute,
  * and gets `command_line` and `created_utc` of this merge; *nfailed is the
  * number of cases of dst whose status is not 0.  Returns 0, or -1 with err
  * set (dst is then incomplete: the caller removes it).

@@ -5,6 +5,7 @@
  */
 #include "output.h"
 #include "h5err.h"
+#include "inputs.h"
 #include "out_cf.h"
 
 #include <errno.h>
@@ -62,6 +63,8 @@ static int root_attrs(hid_t file, hid_t str, const out_meta *meta)
                    "manipulator along a trajectory, per case of a sweep") < 0 ||
           out_h5_attr(file, str, "fields",
                    out_fields_text(meta->fields, fields, sizeof fields)) < 0 ||
+          out_h5_attr(file, str, INPUTS_ATTR,
+                      meta->inputs ? meta->inputs : "") < 0 ||
           out_cf_root(file, str, now, meta->command_line) < 0 ||
           (meta->shard && out_h5_attr(file, str, "shard", meta->shard) < 0))
              ? -1
@@ -283,8 +286,12 @@ static int make_field(out_file *f, int i, const scene *s, size_t nt,
                             : fi->type == OUT_I32 ? (const void *)&fneg
                                                   : NULL,
                             fi->units, fi->doc);
+  /* scene_resolved reruns a case alone: with the data its files held */
   if (f->ds[i] < 0 || out_cf_field(f->ds[i], f->str, i) < 0 ||
-      (coords[0] && out_h5_attr(f->ds[i], f->str, "coordinates", coords) < 0)) {
+      (coords[0] && out_h5_attr(f->ds[i], f->str, "coordinates", coords) < 0) ||
+      (i == OUT_scene_resolved &&
+       out_h5_attr(f->ds[i], f->str, INPUTS_ATTR,
+                   meta->inputs ? meta->inputs : "") < 0)) {
     out_fail(err, errsz, "cannot create dataset %s", fi->name);
     return -1;
   }

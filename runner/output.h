@@ -234,6 +234,8 @@ typedef struct {
   int gzip;               /* deflate level 1-9, 0 for none */
   const char *shard;      /* "K/N" of a part file (merge.h), NULL if whole */
   out_mask fields;        /* the fields written (--fields) */
+  const char *inputs;     /* the files the scene read and their SHA-256
+                             (inputs.h): root attribute input_files */
 } out_meta;
 
 typedef struct out_file out_file;

@@ -42,11 +42,12 @@ size_t parts_report(FILE *out, const char *const *byk, const int *bad,
 /*
  * rps3-run --resume: 1 when the file at `path` is already shard k of n of
  * the scene whose text is text0, complete (join_part_check), with the
- * per-sample fields `fields` (the root attribute, out_fields_text), with
- * *nfailed its failed cases; 0 when it must be computed (absent, or not
- * that: said on stderr).
+ * per-sample fields `fields` (the root attribute, out_fields_text),
+ * computed from the same content of every file the scene reads (`inputs`,
+ * the record of inputs.h), with *nfailed the failed cases of this shard;
+ * 0 when it must be computed (absent, or not that: said on stderr).
  */
 int parts_resume(const char *path, size_t k, size_t n, const char *text0,
-                 const char *fields, size_t *nfailed);
+                 const char *fields, const char *inputs, size_t *nfailed);
 
 #endif /* RPS3_RUNNER_PARTS_H */

@@ -10,6 +10,7 @@
 #include <hdf5.h>
 
 #include "h5err.h"
+#include "inputs.h"
 
 /* bytes read at a time at most, for datasets without chunks */
 #define BLOCK_BYTES (16u << 20)
@@ -225,4 +226,122 @@ int verify_same_versions(const char *const *path, size_t n, char *err,
     free(v0);
   }
   return 0;
+}
+
+/* a digest field for a message: "SHA-256 " and its first 16 digits, or
+   what stands for none ("none": the record lacks the file; "not
+   recorded": the file has no record) */
+static const char *digest_text(const char *dig, char *buf, size_t sz)
+{
+  if (strncmp(dig, "sha256:", 7) == 0 && strlen(dig) == 7 + 64)
+    snprintf(buf, sz, "SHA-256 %.16s...", dig + 7);
+  else if (strcmp(dig, "not recorded") == 0)
+    snprintf(buf, sz, "unknown content (not recorded)");
+  else if (strcmp(dig, "none") == 0)
+    snprintf(buf, sz, "no such file read");
+  else
+    snprintf(buf, sz, "%s", dig);
+  return buf;
+}
+
+int verify_inputs_as(const char *path, const char *rec, const char *rec_is,
+                     char *err, size_t errsz)
+{
+  char *have = verify_root_attr(path, INPUTS_ATTR);
+  char key[128], file[512], dh[80], dr[80], th[96], tr[96];
+  int differ = inputs_differ(have, rec, key, sizeof key, file, sizeof file,
+                             dh, dr, sizeof dh);
+  free(have);
+  if (!differ)
+    return 0;
+  snprintf(err, errsz, "%s read %s %s of %s, %s %s: computed from another "
+                       "content of that file",
+           path, key, file, digest_text(dh, th, sizeof th), rec_is,
+           digest_text(dr, tr, sizeof tr));
+  return -1;
+}
+
+/* the names of the parts i whose digest of the key is dig (at most 8,
+   then how many more) on out */
+static void list_parts(FILE *out, const char *const *path, char **rec,
+                       size_t n, const char *key, const char *dig)
+{
+  char d[80], p[8];
+  size_t i, m = 0;
+  for (i = 0; i < n; i++) {
+    if (!inputs_find(rec[i], key, d, sizeof d, p, sizeof p))
+      snprintf(d, sizeof d, "%s", rec[i] ? "none" : "not recorded");
+    if (strcmp(d, dig) != 0)
+      continue;
+    if (m < 8)
+      fprintf(out, "%s%s", m ? ", " : "", path[i]);
+    m++;
+  }
+  if (m > 8)
+    fprintf(out, " and %zu more", m - 8);
+}
+
+int verify_parts_inputs(const char *const *path, size_t n, int *bad,
+                        const char *who, FILE *out)
+{
+  char **rec = calloc(n, sizeof *rec);
+  char key[128], file[512], d0[80], di[80], now[80], hex[INPUTS_HEX];
+  char err[600], t[96], p[8];
+  size_t i, j;
+  int rc = 0, now_ok = 0, matched = 0;
+  if (!rec) {
+    fprintf(out, "%s: out of memory\n", who);
+    return -1;
+  }
+  for (i = 0; i < n; i++)
+    rec[i] = verify_root_attr(path[i], INPUTS_ATTR);
+  for (i = 1; i < n; i++)
+    if (inputs_differ(rec[0], rec[i], key, sizeof key, file, sizeof file,
+                      d0, di, sizeof d0))
+      break;
+  if (i == n)
+    goto done;
+  rc = -1;
+  fprintf(out, "%s: %s %s: the parts were computed from different "
+               "contents of it, so they are not parts of one run:\n",
+          who, key, file);
+  /* one line a content: its digest and the parts that read it */
+  for (i = 0; i < n; i++) {
+    if (!inputs_find(rec[i], key, di, sizeof di, p, sizeof p))
+      snprintf(di, sizeof di, "%s", rec[i] ? "none" : "not recorded");
+    for (j = 0; j < i; j++) {
+      if (!inputs_find(rec[j], key, d0, sizeof d0, p, sizeof p))
+        snprintf(d0, sizeof d0, "%s", rec[j] ? "none" : "not recorded");
+      if (strcmp(d0, di) == 0)
+        break;
+    }
+    if (j < i)
+      continue;
+    fprintf(out, "  %s: ", digest_text(di, t, sizeof t));
+    list_parts(out, path, rec, n, key, di);
+    fputc('\n', out);
+  }
+  /* the parts to compute again: those of another content than now */
+  if (file[0] && inputs_sha256(file, hex, err, sizeof err) == 0) {
+    snprintf(now, sizeof now, "sha256:%s", hex);
+    now_ok = 1;
+  }
+  if (!now_ok) {
+    fprintf(out, "  %s now: %s\n", file[0] ? file : key,
+            file[0] ? err : "not recorded");
+    goto done;
+  }
+  for (i = 0; i < n; i++) {
+    if (!inputs_find(rec[i], key, di, sizeof di, p, sizeof p))
+      di[0] = '\0';
+    bad[i] = strcmp(di, now) != 0;
+    matched |= !bad[i];
+  }
+  fprintf(out, "  the file now: %s%s\n", digest_text(now, t, sizeof t),
+          matched ? "" : " (no part's)");
+done:
+  for (i = 0; i < n; i++)
+    free(rec[i]);
+  free(rec);
+  return rc;
 }

@@ -9,6 +9,7 @@
 #define RPS3_RUNNER_VERIFY_H
 
 #include <stddef.h>
+#include <stdio.h>
 
 /*
  * Read every dataset of the file at path, a block of rows at a time (one
@@ -31,4 +32,24 @@ int verify_same_versions(const char *const *path, size_t n, char *err,
    NULL when it has none or cannot be read */
 char *verify_root_attr(const char *path, const char *name);
 
+/*
+ * The record of input files (inputs.h) of the file at path against `rec`
+ * (NULL: not recorded), whose origin `rec_is` names ("p0.h5 read", "the
+ * file now has").  Returns 0 when every file has the same digest in both;
+ * else -1 with err naming the file's key and path and both digests.
+ */
+int verify_inputs_as(const char *path, const char *rec, const char *rec_is,
+                     char *err, size_t errsz);
+
+/*
+ * The records of input files of the n parts path[i] agree: every part was
+ * computed from the same content of every file its scene reads.  When not,
+ * say on `out` (prefixed `who`) which file differs and which parts read
+ * which content, set bad[i] for the parts that read another content than
+ * the file has now (every part when the file matches none), and return
+ * -1 (the file cannot be read now: no part is marked).  Returns 0 when
+ * they agree.
+ */
+int verify_parts_inputs(const char *const *path, size_t n, int *bad,
+                        const char *who, FILE *out);
 #endif /* RPS3_RUNNER_VERIFY_H */
