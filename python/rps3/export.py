@@ -216,7 +216,9 @@ def urdf(model: Model, *, barrel: float | None = None) -> str:
     Returns:
         The URDF document.  Joints: revolute ``pin_i`` (theta_i, limits 0
         to pi), prismatic ``leg_i`` (l_i, limits 0 to 10 R), floating
-        ``platform`` (Pinocchio: a free flyer), fixed joints to the frames
+        ``platform_free`` (Pinocchio: a free flyer; a joint's name differs
+        from every link's, so that each names one Pinocchio frame), fixed
+        joints ``ball_i_fixed`` and ``ball_i_link_fixed`` to the frames
         ``ball_i`` and ``ball_i_link``.  Each closure reads
         ``<rps3:loop name="ball_i" type="ball" frame1="ball_i"
         frame2="ball_i_link"/>``: the origins of the two frames coincide
@@ -266,7 +268,7 @@ def urdf(model: Model, *, barrel: float | None = None) -> str:
             f'    <limit lower="0" upper="{10 * R:.17g}" effort="0" velocity="0"/>',
             '  </joint>',
             f'  <link name="ball_{i}_link"><visual>{ball}</visual></link>',
-            f'  <joint name="ball_{i}_link" type="fixed">',
+            f'  <joint name="ball_{i}_link_fixed" type="fixed">',
             f'    <parent link="piston_{i}"/><child link="ball_{i}_link"/><origin xyz="0 0 0"/>',
             '  </joint>']
     M = p["M"]
@@ -275,13 +277,13 @@ def urdf(model: Model, *, barrel: float | None = None) -> str:
             f'    <visual><geometry><cylinder radius="{r:.17g}" length="{0.02 * R:.6g}"/>'
             f'</geometry><material name="platform"/></visual>',
             '  </link>',
-            '  <joint name="platform" type="floating">',
+            '  <joint name="platform_free" type="floating">',
             '    <parent link="base"/><child link="platform"/><origin xyz="0 0 0"/>',
             '  </joint>']
     for i in range(3):
         u, _ = _dirs(i)
         out += [f'  <link name="ball_{i}"/>',
-                f'  <joint name="ball_{i}" type="fixed">',
+                f'  <joint name="ball_{i}_fixed" type="fixed">',
                 f'    <parent link="platform"/><child link="ball_{i}"/>'
                 f'<origin xyz="{_fmt(r * u)}"/>',
                 '  </joint>']
@@ -289,7 +291,7 @@ def urdf(model: Model, *, barrel: float | None = None) -> str:
         out += ['  <link name="payload">',
                 _inertial(p["pl_mass"], [0, 0, 0], p["pl_inertia"]),
                 '  </link>',
-                '  <joint name="payload" type="fixed">',
+                '  <joint name="payload_fixed" type="fixed">',
                 f'    <parent link="platform"/><child link="payload"/>'
                 f'<origin xyz="{_fmt(p["pl_com"])}"/>',
                 '  </joint>']
