@@ -22,6 +22,8 @@ pistons carry 1e-12 kg), while a 1 % wrong inertia moves the forces by
 ~1e-4.
 """
 
+import os
+
 import numpy as np
 import pytest
 
@@ -37,6 +39,9 @@ pin = pytest.importorskip("pinocchio", reason="the URDF is checked with Pinocchi
 TOL_POS = 1e-12
 TOL = 1e-9
 EFF_ALL = list(rps3.EFFECTS)
+# Pinocchio's constraintDynamics on the URDF (pistons of 1e-12 kg): ~1e-5
+# measured (cond(M) ~ 1e12 x 1e-16)
+CONSTRAINED_TOL = 1e-4
 
 
 @pytest.fixture(scope="module")
@@ -205,7 +210,9 @@ def test_urdf_loads_with_its_loops():
     for lp in loops:
         assert lp["type"] == "ball" and {lp["frame1"], lp["frame2"]} <= names
     total = p["M"] + 3 * p["m"] + p["payload"]["mass"]
-    assert abs(pin.computeTotalMass(pm) - total) < 1e-12
+    # the pistons carry EPS_MASS, as in the MJCF (forward dynamics needs a
+    # positive definite mass matrix)
+    assert abs(pin.computeTotalMass(pm) - total - 3 * export.EPS_MASS) < 1e-15
     # the visuals are there for viewers: base, 3 barrels, 3 pistons, 3
     # balls, the platform
     gm = pin.buildGeomFromUrdfString(pm, text, pin.GeometryType.VISUAL)
@@ -259,3 +266,104 @@ def test_urdf_kinematics_and_inverse_dynamics_are_rps3s(name, p, states):
             B[j, i] = 1.0
         x = np.linalg.solve(np.hstack(cols + [B]), need)
         assert rel(x[9:], out.force[k]) <= TOL, (name, k, x[9:], out.force[k])
+
+
+def closures(pm, text):
+    """Pinocchio's constraint models of the URDF's rps3:loop elements, as
+    docs/visualisation.md builds them."""
+    models = pin.StdVec_RigidConstraintModel()
+    for lp in export.loops(text):
+        f1 = pm.frames[pm.getFrameId(lp["frame1"])]
+        f2 = pm.frames[pm.getFrameId(lp["frame2"])]
+        models.append(pin.RigidConstraintModel(
+            pin.ContactType.CONTACT_3D, pm, f1.parentJoint, f1.placement,
+            f2.parentJoint, f2.placement, pin.ReferenceFrame.LOCAL))
+    datas = pin.StdVec_RigidConstraintData()
+    for c in models:
+        datas.append(c.createData())
+    return models, datas
+
+
+def rps3_fwddyn(model, l, dl, F):
+    """ddl of the library's forward dynamics (rps3_fwddyn), through cffi."""
+    from rps3._rps3 import lib
+    d = model._workspace()
+    d.l[0:3], d.dl[0:3], d.F[0:3] = list(l), list(dl), list(F)
+    assert lib.rps3_fwddyn(model._c, d) == lib.RPS3_OK
+    return np.array(list(d.ddl))
+
+
+@pytest.mark.parametrize("name,p,states", CASES, ids=IDS)
+def test_urdf_closed_forward_dynamics_is_rps3s(name, p, states):
+    """The URDF's tree closed by its loops accelerates the legs as
+    rps3_fwddyn does, under high-entropy forces: Pinocchio's mass matrix
+    (CRBA), bias forces (RNEA at zero acceleration) and frame Jacobians,
+    the closures' J a = -(J' v) solved with the dynamics as one system
+    (LU with pivoting: the pistons' EPS_MASS = 1e-12 kg makes M nearly
+    singular, while the closed system is well-posed; it moves ddl by ~1e-11
+    of it).  Pinocchio's own constraintDynamics agrees to CONSTRAINED_TOL:
+    its Cholesky factors M itself and loses the digits the 1e-12 kg costs."""
+    model = model_of(p)
+    text = export.urdf(model)
+    pm = pin_model(model)
+    pd = pm.createData()
+    models, datas = closures(pm, text)
+    pin.initConstraintDynamics(pm, pd, models, datas)
+    st = states()
+    rng = np.random.default_rng(77)
+    legs = [pm.joints[pm.getJointId(f"leg_{i}")].idx_v for i in range(3)]
+    pins_v = [pm.joints[pm.getJointId(f"pin_{i}")].idx_v for i in range(3)]
+    fr = p["friction"]
+    frames = [(pm.getFrameId(lp["frame1"]), pm.getFrameId(lp["frame2"]))
+              for lp in export.loops(text)]
+    for k in range(len(st[0])):
+        jv = export.joint_values(model, st[0][k], st[1][k])
+        q, v = pin_q(pm, jv), pin_q(pm, jv, "d")
+        F = rng.uniform(-2.0, 4.0, 3)
+        tau = np.zeros(pm.nv)
+        tau[legs] = F
+        tau[pins_v] = -(fr["viscous"] * v[pins_v] + fr["coulomb"] * np.sign(v[pins_v]))
+        want = rps3_fwddyn(model, [jv[f"leg_{i}"] for i in range(3)],
+                           [jv[f"dleg_{i}"] for i in range(3)], F)
+        M = pin.crba(pm, pd, q)
+        M = np.triu(M) + np.triu(M, 1).T
+        h = pin.rnea(pm, pd, q, v, np.zeros(pm.nv))
+        pin.forwardKinematics(pm, pd, q, v, np.zeros(pm.nv))
+        pin.computeJointJacobians(pm, pd, q)
+        J, gamma = [], []
+        for f1, f2 in frames:
+            J.append(pin.getFrameJacobian(pm, pd, f1, pin.LOCAL_WORLD_ALIGNED)[:3] -
+                     pin.getFrameJacobian(pm, pd, f2, pin.LOCAL_WORLD_ALIGNED)[:3])
+            gamma.append(
+                pin.getFrameClassicalAcceleration(pm, pd, f1, pin.LOCAL_WORLD_ALIGNED).linear -
+                pin.getFrameClassicalAcceleration(pm, pd, f2, pin.LOCAL_WORLD_ALIGNED).linear)
+        J, gamma = np.vstack(J), np.concatenate(gamma)
+        kkt = np.block([[M, J.T], [J, np.zeros((9, 9))]])
+        a = np.linalg.solve(kkt, np.concatenate([tau - h, -gamma]))[:pm.nv]
+        assert rel(a[legs], want) <= TOL, (name, k, a[legs], want)
+        a = pin.constraintDynamics(pm, pd, q, v, tau, models, datas)
+        assert rel(a[legs], want) <= CONSTRAINED_TOL, (name, k, a[legs], want)
+
+
+def test_the_docs_examples_run():
+    """docs/visualisation.md's MuJoCo and Pinocchio examples, as written:
+    MuJoCo's sites meet at the set pose, Pinocchio's loops are closed."""
+    import re
+    with open(os.path.join(oracle.ROOT, "docs", "visualisation.md")) as f:
+        blocks = re.findall(r"```python\n(.*?)```", f.read(), re.S)
+    ns = {"rps3": rps3, "model": rps3.Model(), "pose": [0.31, 0.12, 0.29],
+          "dpose": [0.21, 0.03, 0.05]}
+    ran = 0
+    for block in blocks:
+        if "export.mjcf" in block or "export.urdf" in block:
+            exec(block, ns)
+            ran += 1
+    assert ran == 2
+    m, d = ns["m"], ns["d"]
+    mujoco.mj_kinematics(m, d)
+    assert mujoco_model.closure_residual(m, d) <= TOL_POS
+    pm, pd = ns["pm"], ns["pd"]
+    for c, cd in zip(ns["loops"], ns["datas"]):
+        c.calc(pm, pd, cd)
+        assert np.linalg.norm(cd.c1Mc2.translation) <= TOL_POS
+    assert np.isfinite(ns["a"]).all()

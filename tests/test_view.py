@@ -295,3 +295,41 @@ def test_command_line(paper_run, tmp_path):
     none = subprocess.run(cmd[:3] + [str(tmp_path / "absent.h5"), "-o", str(gif)],
                           capture_output=True, text=True, timeout=300)
     assert none.returncode == 1 and "absent.h5" in none.stderr
+
+
+def test_read_run_without_pose_solves_the_lengths(paper_run, tmp_path):
+    """A file written with --fields length: the pose by forward kinematics."""
+    out = tmp_path / "lengths.h5"
+    proc = run(os.path.join(CONFIGS, "paper.yaml"), out, "-q", "--fields", "length")
+    assert proc.returncode == 0, proc.stderr
+    _, want, t_want = view.read_run(paper_run, case=1)
+    _, got, t = view.read_run(out, case=1)
+    assert np.array_equal(t, t_want)
+    # the theta solve stops at max |f| <= opt.tol = 1e-12 (in units of R)
+    assert np.max(np.abs(got - want)) <= 1e-9
+
+
+SIM_SCENE = """\
+manipulator: {R: 0.2286, rho: 0.5, M: 0.18, m_over_M: 0.5, d: 0.1524}
+trajectory: {kind: helix, radius: 0.000266, pitch: 0.03048, z0: 0.3048,
+             period: 10.0, blend: 1.0, samples: 101}
+simulate: {controller: pd_gravity}
+"""
+
+
+def test_a_simulation_is_animated(runner, tmp_path):
+    import h5py
+    scene = tmp_path / "sim.yaml"
+    scene.write_text(SIM_SCENE)
+    out = tmp_path / "sim.h5"
+    proc = run(scene, out, "-q")
+    assert proc.returncode == 0, proc.stderr
+    model, pose, t = view.read_run(out)
+    g = view.geometry(model, pose)
+    with h5py.File(out) as f:
+        # the plant's pose gives the plant's lengths (the simulation's
+        # pose is its forward kinematics, solved to opt.tol)
+        assert np.max(np.abs(g.l - f["length"][0])) <= 1e-9
+    page = tmp_path / "sim.html"
+    assert view.animate(model, pose, page, times=t) == 101
+    assert len(page_data(page)["frames"]) == 101

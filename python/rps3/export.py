@@ -17,7 +17,8 @@ base frame (Z up, X towards pin 1):
 - ``piston_i``: a child of ``link_i`` with the prismatic joint ``leg_i``
   along the link; its value is the link length l_i.  Massless in rps3.  Its
   frame ``ball_i_link`` is ball joint i's centre, seen from the leg.
-- ``platform``: a free (floating) body at the platform centre, axes as
+- ``platform``: a free body (MJCF joint ``platform``, URDF floating joint
+  ``platform_free``) at the platform centre, axes as
   rps3's platform frame; the uniform disc of (21) (mass M, moments M r^2/4,
   M r^2/4, M r^2/2); frames ``ball_i`` at r_i, ball joint i seen from the
   platform; the payload (its mass, centre of mass and principal moments)
@@ -35,8 +36,11 @@ Coulomb pin friction (MuJoCo's frictionloss is a soft constraint, not the
 library's torque): it is written as the custom number ``rps3_pin_coulomb``
 in MJCF and as the ``coulomb`` attribute of ``<rps3:pin_friction>`` in URDF.
 The viscous part is the joints' damping.  Masses: MuJoCo refuses moving
-bodies without mass, so the MJCF pistons (and massless links or platform)
-carry EPS_MASS = 1e-12 kg, 1e-11 N at 10 m/s^2 against forces of ~1 N.
+bodies without mass and Pinocchio's forward dynamics needs a positive
+definite mass matrix, so the pistons (and in MJCF massless links or
+platform) carry EPS_MASS = 1e-12 kg, 1e-11 N at 10 m/s^2 against forces of
+~1 N.  URDF carries no gravity: set Pinocchio's ``model.gravity`` from
+``Model.g``.
 
 Geoms and visuals are drawings only (no mass, no contacts): the link's
 cylinder from the pin, ``barrel`` long (R by default, as in rps3.view), the
@@ -258,6 +262,7 @@ def urdf(model: Model, *, barrel: float | None = None) -> str:
             f'    <dynamics damping="{p["viscous"]:.17g}"/>',
             '  </joint>',
             f'  <link name="piston_{i}">',
+            _inertial(EPS_MASS, [0, 0, 0], [EPS_INERTIA] * 3),
             f'    <visual><origin xyz="{_fmt(bl / 2 * u)}" rpy="{_rpy_along(u)}"/>'
             f'<geometry><cylinder radius="{0.018 * R:.6g}" length="{bl:.17g}"/></geometry>'
             f'<material name="piston"/></visual>',

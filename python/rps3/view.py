@@ -207,10 +207,13 @@ class _Scene:
         ax.set_ylim(mid[1] - half, mid[1] + half)
         ax.set_zlim(max(mid[2] - half, -0.05 * half), mid[2] + half)
         ax.set_box_aspect((1, 1, (ax.get_zlim()[1] - ax.get_zlim()[0]) / (2 * half)))
-        ax.set_xlabel("X [m]")
-        ax.set_ylabel("Y [m]")
-        ax.set_zlabel("Z [m]")
-        ax.legend(loc="upper left", fontsize="small")
+        from matplotlib.ticker import MaxNLocator
+        for axis, name in ((ax.xaxis, "X"), (ax.yaxis, "Y"), (ax.zaxis, "Z")):
+            axis.set_major_locator(MaxNLocator(4))
+            axis.set_label_text(f"{name} [m]")
+        # beside the drawing, never over it
+        ax.legend(loc="center left", bbox_to_anchor=(1.08, 0.5), fontsize="small",
+                  frameon=False)
 
     def update(self, k: int, t: float | None) -> list[Any]:
         for name, pts in _lines(self.g, k, self.sizes).items():
@@ -232,7 +235,7 @@ def _figure(figsize: tuple[float, float], dpi: float) -> tuple[Any, Any]:
 def draw(model: Model, pose: ArrayLike | None = None, *,
          lengths: ArrayLike | None = None, ax: Any = None,
          path: str | os.PathLike[str] | None = None, dpi: float = 150,
-         figsize: tuple[float, float] = (6.0, 5.0),
+         figsize: tuple[float, float] = (7.0, 4.5),
          barrel: float | None = None) -> Any:
     """Draw the manipulator at one pose in 3-D.
 
@@ -279,7 +282,7 @@ def draw(model: Model, pose: ArrayLike | None = None, *,
 def animate(model: Model, poses: ArrayLike | None = None,
             path: str | os.PathLike[str] | None = None, *,
             lengths: ArrayLike | None = None, times: ArrayLike | None = None,
-            fps: float = 20, dpi: float = 80, figsize: tuple[float, float] = (6.0, 5.0),
+            fps: float = 20, dpi: float = 80, figsize: tuple[float, float] = (7.0, 4.5),
             barrel: float | None = None) -> int:
     """Write an animation of the manipulator along a trajectory.
 
@@ -544,28 +547,46 @@ def model_from_scene(scene: dict[str, Any]) -> Model:
 def read_run(path: str | os.PathLike[str], case: int = 0
              ) -> tuple[Model, FloatArray, FloatArray]:
     """The model, poses (n, 3) and times (n,) [s] of one case of an rps3-run
-    HDF5 file (docs/hdf5.md); samples past a failure are NaN.
+    HDF5 file (docs/hdf5.md; a simulation's too: the plant's pose), up to
+    its last sample.  The model is the scene's ``manipulator`` (the plant).
+    A file without the pose (written with ``--fields``) gives it through
+    the forward kinematics of its ``length``; a sample whose pose is NaN
+    (a failed point) is kept, drawn as refused.
 
     Raises:
         ValueError: the file lacks a dataset, or the case is out of range.
     """
     import h5py
     import yaml
+    name = os.fspath(path)
     with h5py.File(path, "r") as f:
-        for key in ("alpha", "beta", "z_c", "scene_resolved"):
+        has_pose = all(k in f for k in ("alpha", "beta", "z_c"))
+        for key in ("scene_resolved", "time", "alpha" if has_pose else "length"):
             if key not in f:
-                raise ValueError(f"{os.fspath(path)}: no dataset {key!r}: not an "
-                                 f"rps3-run output file (docs/hdf5.md)")
-        ncase = f["alpha"].shape[0]
+                raise ValueError(f"{name}: no dataset {key!r}: not an rps3-run output "
+                                 f"file with poses or link lengths (docs/hdf5.md)")
+        ncase = f["scene_resolved"].shape[0]
         if not 0 <= case < ncase:
-            raise ValueError(f"case: {case} is out of range: {os.fspath(path)} "
+            raise ValueError(f"case: {case} is out of range: {name} "
                              f"has {ncase} case(s), 0 to {ncase - 1}")
-        pose = np.stack([f[k][case] for k in ("alpha", "beta", "z_c")], axis=1)
+        if has_pose:
+            pose = np.stack([f[k][case] for k in ("alpha", "beta", "z_c")], axis=1)
+            lengths = None
+        else:
+            lengths = np.asarray(f["length"][case], float)
         t = f["case_time"][case] if "case_time" in f else f["time"][()]
         raw = f["scene_resolved"][case]
     scene = yaml.safe_load(raw.decode() if isinstance(raw, bytes) else str(raw))
+    model = model_from_scene(scene)
+    # samples past a failure (or a case's last time) are NaN
     keep = np.isfinite(t)
-    return model_from_scene(scene), pose[keep], np.asarray(t[keep], float)
+    if lengths is not None:
+        # a file written with --fields without the pose: forward kinematics
+        keep &= np.isfinite(lengths).all(axis=1)
+        pose = np.full((len(t), 3), np.nan)
+        fk = model.fk(lengths[keep])
+        pose[keep] = np.where(fk.ok[:, None], fk.pose, np.nan)
+    return model, pose[keep], np.asarray(t[keep], float)
 
 
 def main(argv: Sequence[str] | None = None) -> int:
