@@ -330,6 +330,30 @@ def test_a_simulation_is_animated(runner, tmp_path):
         # the plant's pose gives the plant's lengths (the simulation's
         # pose is its forward kinematics, solved to opt.tol)
         assert np.max(np.abs(g.l - f["length"][0])) <= 1e-9
+    # the reference is the scene's helix
+    _, ref, _ = view.read_run(out, reference=True)
+    helix = rps3.trajectory.helix(model=model, radius=0.000266, pitch=0.03048, z0=0.3048,
+                                  period=10.0, blend=1.0, samples=101)
+    assert np.max(np.abs(ref - helix.pose)) <= TOL_POS
     page = tmp_path / "sim.html"
-    assert view.animate(model, pose, page, times=t) == 101
-    assert len(page_data(page)["frames"]) == 101
+    proc = subprocess.run([sys.executable, "-m", "rps3.view", str(out), "--reference",
+                           "-o", str(page)], capture_output=True, text=True, timeout=300)
+    assert proc.returncode == 0, proc.stderr
+    frames = page_data(page)["frames"]
+    assert len(frames) == 101
+    for k in (0, 50, 100):
+        assert np.max(np.abs(np.array(frames[k]["ref"]) - balls(model, ref[k]))) <= TOL_PAGE
+        assert np.max(np.abs(np.array(frames[k]["ball"]) - balls(model, pose[k]))) <= TOL_PAGE
+    # one frame with its reference, read back from the figure
+    fig = view.draw(model, pose[60], reference=ref[60])
+    got = artists(fig)["reference"]
+    assert np.max(np.abs(got - np.vstack([balls(model, ref[60])] * 2)[:4])) <= TOL_POS
+
+
+def test_reference_needs_a_simulation(paper_run, tmp_path):
+    proc = subprocess.run([sys.executable, "-m", "rps3.view", str(paper_run), "--reference",
+                           "-o", str(tmp_path / "x.html")], capture_output=True, text=True,
+                          timeout=300)
+    assert proc.returncode == 1 and "no dataset 'alpha_ref'" in proc.stderr, proc.stderr
+    with pytest.raises(ValueError, match="reference: 2 poses for 3 frames"):
+        view.html(rps3.Model(), poses(3), tmp_path / "y.html", reference=poses(2))

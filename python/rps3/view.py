@@ -46,7 +46,8 @@ from rps3.model import Model
 
 # colours of the parts, shared by the figures and the HTML page
 COLOURS = {"base": "#4d4d4d", "pin": "#111111", "barrel": "#1f5fa8",
-           "piston": "#8fb8e8", "ball": "#c0392b", "platform": "#e6a23c"}
+           "piston": "#8fb8e8", "ball": "#c0392b", "platform": "#e6a23c",
+           "reference": "#2e8b57"}
 
 
 @dataclass(frozen=True)
@@ -139,7 +140,8 @@ def _sizes(model: Model, barrel: float | None) -> dict[str, float]:
     return {"barrel": b, "pin": 0.12 * R}
 
 
-def _lines(g: Geometry, k: int, sizes: dict[str, float]) -> dict[str, FloatArray]:
+def _lines(g: Geometry, k: int, sizes: dict[str, float],
+           ref: Geometry | None = None) -> dict[str, FloatArray]:
     """Polylines (m x 3 points) of frame k, by artist name."""
     pin, ax = g.pin, g.axis
     end = g.barrel_end(sizes["barrel"])[k]
@@ -151,12 +153,15 @@ def _lines(g: Geometry, k: int, sizes: dict[str, float]) -> dict[str, FloatArray
         out[f"piston_{i}"] = np.array([end[i], g.ball[k, i]])
     out["balls"] = g.ball[k]
     out["platform_edge"] = np.vstack([g.ball[k], g.ball[k, :1]])
+    if ref is not None:
+        out["reference"] = np.vstack([ref.ball[k], ref.ball[k, :1]])
     return out
 
 
-def _limits(g: Geometry) -> tuple[FloatArray, float]:
+def _limits(g: Geometry, ref: Geometry | None = None) -> tuple[FloatArray, float]:
     """Centre and half-width of a cube holding every frame."""
-    pts = np.vstack([g.pin, g.ball[g.ok].reshape(-1, 3), np.zeros((1, 3))])
+    more = [] if ref is None else [ref.ball[ref.ok].reshape(-1, 3)]
+    pts = np.vstack([g.pin, g.ball[g.ok].reshape(-1, 3), *more, np.zeros((1, 3))])
     lo, hi = pts.min(axis=0), pts.max(axis=0)
     return (lo + hi) / 2, max(float(np.max(hi - lo)) / 2, 1e-9) * 1.05
 
@@ -173,15 +178,18 @@ def _title(g: Geometry, k: int, t: float | None) -> str:
 class _Scene:
     """The artists of one axes, updated frame by frame."""
 
-    def __init__(self, ax: Any, g: Geometry, sizes: dict[str, float]) -> None:
+    def __init__(self, ax: Any, g: Geometry, sizes: dict[str, float],
+                 ref: Geometry | None = None) -> None:
         from mpl_toolkits.mplot3d.art3d import Poly3DCollection
-        self.ax, self.g, self.sizes = ax, g, sizes
-        lines = _lines(g, 0, sizes)
+        self.ax, self.g, self.sizes, self.ref = ax, g, sizes, ref
+        lines = _lines(g, 0, sizes, ref)
         style = {"base": dict(color=COLOURS["base"], lw=2.0, label="base (pins P_i)"),
                  "balls": dict(color=COLOURS["ball"], ls="none", marker="o", ms=7,
                                label="ball joints b_i"),
                  "platform_edge": dict(color=COLOURS["platform"], lw=2.0,
-                                       label="platform")}
+                                       label="platform"),
+                 "reference": dict(color=COLOURS["reference"], lw=1.5, ls="--",
+                                   label="reference platform")}
         for i in range(3):
             style[f"pin_{i}"] = dict(color=COLOURS["pin"], lw=4.0, solid_capstyle="butt",
                                      label="pin axes" if i == 0 else None)
@@ -202,7 +210,7 @@ class _Scene:
                                       alpha=0.45)
         self.plate.set_gid("platform")
         ax.add_collection3d(self.plate)
-        mid, half = _limits(g)
+        mid, half = _limits(g, ref)
         ax.set_xlim(mid[0] - half, mid[0] + half)
         ax.set_ylim(mid[1] - half, mid[1] + half)
         ax.set_zlim(max(mid[2] - half, -0.05 * half), mid[2] + half)
@@ -216,7 +224,7 @@ class _Scene:
                   frameon=False)
 
     def update(self, k: int, t: float | None) -> list[Any]:
-        for name, pts in _lines(self.g, k, self.sizes).items():
+        for name, pts in _lines(self.g, k, self.sizes, self.ref).items():
             self.artists[name].set_data_3d(pts[:, 0], pts[:, 1], pts[:, 2])
         self.plate.set_verts([self.g.ball[k]] if self.g.ok[k] else [])
         title = self.ax.set_title(_title(self.g, k, t), fontsize="medium",
@@ -236,7 +244,7 @@ def draw(model: Model, pose: ArrayLike | None = None, *,
          lengths: ArrayLike | None = None, ax: Any = None,
          path: str | os.PathLike[str] | None = None, dpi: float = 150,
          figsize: tuple[float, float] = (7.0, 4.5),
-         barrel: float | None = None) -> Any:
+         barrel: float | None = None, reference: ArrayLike | None = None) -> Any:
     """Draw the manipulator at one pose in 3-D.
 
     Args:
@@ -250,11 +258,14 @@ def draw(model: Model, pose: ArrayLike | None = None, *,
         dpi: resolution of raster output [dots per inch].
         figsize: size of a new figure [inch].
         barrel: length of each link's cylinder [m]; None: R.
+        reference: a second pose whose platform is drawn dashed (e.g. a
+            simulation's reference beside the plant's pose).
 
     Returns:
         The matplotlib Figure.  Its artists carry gids: ``base`` (closed
         triangle P_0 P_1 P_2 P_0), ``pin_i``, ``barrel_i``, ``piston_i``,
-        ``balls`` (b_0, b_1, b_2), ``platform_edge``, ``platform``.
+        ``balls`` (b_0, b_1, b_2), ``platform_edge``, ``platform``,
+        ``reference`` (its closed triangle).
 
     Raises:
         ValueError: the pose is not one point, or the library refuses it
@@ -273,7 +284,8 @@ def draw(model: Model, pose: ArrayLike | None = None, *,
         fig, ax = _figure(figsize, dpi)
     else:
         fig = ax.figure
-    _Scene(ax, g, _sizes(model, barrel)).update(0, None)
+    ref = _reference(model, reference, 1)
+    _Scene(ax, g, _sizes(model, barrel), ref).update(0, None)
     if path is not None:
         fig.savefig(os.fspath(path), dpi=dpi)
     return fig
@@ -283,7 +295,7 @@ def animate(model: Model, poses: ArrayLike | None = None,
             path: str | os.PathLike[str] | None = None, *,
             lengths: ArrayLike | None = None, times: ArrayLike | None = None,
             fps: float = 20, dpi: float = 80, figsize: tuple[float, float] = (7.0, 4.5),
-            barrel: float | None = None) -> int:
+            barrel: float | None = None, reference: ArrayLike | None = None) -> int:
     """Write an animation of the manipulator along a trajectory.
 
     Args:
@@ -297,6 +309,8 @@ def animate(model: Model, poses: ArrayLike | None = None,
         fps: frames per second of the file.
         dpi, figsize: size of each frame (dpi x figsize pixels).
         barrel: length of each link's cylinder [m]; None: R.
+        reference: (n, 3) poses whose platform is drawn dashed in each
+            frame, e.g. a simulation's reference (``read_run``).
 
     Returns:
         The number of frames written.  Frames the library refuses are
@@ -312,7 +326,7 @@ def animate(model: Model, poses: ArrayLike | None = None,
     suffix = os.path.splitext(path)[1].lower()
     if suffix == ".html":
         return html(model, poses, path, lengths=lengths, times=times, fps=fps,
-                    barrel=barrel)
+                    barrel=barrel, reference=reference)
     if suffix not in (".gif", ".mp4"):
         raise ValueError(f"path: {path}: unknown suffix {suffix!r}; "
                          f"expected .gif, .mp4 or .html")
@@ -323,6 +337,7 @@ def animate(model: Model, poses: ArrayLike | None = None,
     if not g.ok.any():
         raise ValueError(f"poses: no frame could be computed "
                          f"({strerror(int(g.status[0]))} at frame 0)")
+    ref = _reference(model, reference, len(g.status))
     from matplotlib import animation
     if suffix == ".mp4":
         if not animation.writers.is_available("ffmpeg"):
@@ -333,13 +348,23 @@ def animate(model: Model, poses: ArrayLike | None = None,
     else:
         writer = animation.PillowWriter(fps=fps)  # type: ignore[arg-type]
     fig, ax = _figure(figsize, dpi)
-    scene = _Scene(ax, g, _sizes(model, barrel))
+    scene = _Scene(ax, g, _sizes(model, barrel), ref)
     n = len(g.status)
     with writer.saving(fig, path, dpi):
         for k in range(n):
             scene.update(k, None if t is None else float(t[k]))
             writer.grab_frame()
     return n
+
+
+def _reference(model: Model, reference: ArrayLike | None, n: int) -> Geometry | None:
+    """The reference poses' geometry, one per frame (refused ones NaN)."""
+    if reference is None:
+        return None
+    ref = geometry(model, reference)
+    if len(ref.status) != n:
+        raise ValueError(f"reference: {len(ref.status)} poses for {n} frames")
+    return ref
 
 
 def _times(times: ArrayLike | None, n: int) -> FloatArray | None:
@@ -422,6 +447,7 @@ window.addEventListener("error", function (e) {
         line([f.end[i], f.ball[i]], C.piston, 4, false);
       }
       fill(f.ball, C.platform); line(f.ball, C.platform, 2, true);
+      if (f.ref) { g.setLineDash([6, 4]); line(f.ref, C.reference, 2, true); g.setLineDash([]); }
       for (i = 0; i < 3; i++) {
         var p = proj(f.ball[i]);
         g.beginPath(); g.arc(p[0], p[1], 5, 0, 2 * Math.PI); g.fillStyle = C.ball; g.fill();
@@ -474,6 +500,7 @@ def html(model: Model, poses: ArrayLike | None = None,
          path: str | os.PathLike[str] | None = None, *,
          lengths: ArrayLike | None = None, times: ArrayLike | None = None,
          fps: float = 20, barrel: float | None = None,
+         reference: ArrayLike | None = None,
          title: str = "rps3: 3-RPS manipulator") -> int:
     """Write a self-contained interactive HTML page: the manipulator along
     the frames, drawn on a canvas by a script in the page (no library, no
@@ -482,7 +509,8 @@ def html(model: Model, poses: ArrayLike | None = None,
     Arguments as ``animate``.  Returns the number of frames.  The page's
     data (``<script id="rps3-data">``, JSON) holds the positions drawn
     [m]: ``pin``, ``axis``, and per frame ``ball``, ``end`` (barrel ends),
-    ``ok`` and ``text``.
+    ``ok`` and ``text``, and ``ref`` (the reference platform's corners)
+    when a reference is given.
     """
     if path is None:
         raise ValueError("path: the .html file to write")
@@ -493,15 +521,18 @@ def html(model: Model, poses: ArrayLike | None = None,
     if not g.ok.any():
         raise ValueError(f"poses: no frame could be computed "
                          f"({strerror(int(g.status[0]))} at frame 0)")
+    ref = _reference(model, reference, len(g.status))
     sizes = _sizes(model, barrel)
     ends = g.barrel_end(sizes["barrel"])
-    mid, half = _limits(g)
+    mid, half = _limits(g, ref)
     frames = []
     for k in range(len(g.status)):
         ok = bool(g.ok[k])
         frames.append({"ok": ok, "text": _title(g, k, None),
                        "ball": _r(g.ball[k]) if ok else None,
                        "end": _r(ends[k]) if ok else None})
+        if ref is not None:
+            frames[-1]["ref"] = _r(ref.ball[k]) if ref.ok[k] else None
     data = {"pin": _r(g.pin), "axis": _r(g.axis), "pinlen": sizes["pin"],
             "centre": _r(mid), "half": half, "fps": fps, "colours": COLOURS,
             "times": None if t is None else _r(t), "frames": frames}
@@ -509,7 +540,9 @@ def html(model: Model, poses: ArrayLike | None = None,
                      for k, v in (("base", "base"), ("pin", "pin axes"),
                                   ("barrel", "link cylinders"),
                                   ("piston", "pistons"), ("ball", "ball joints"),
-                                  ("platform", "platform")))
+                                  ("platform", "platform"))
+                     + ((("reference", "reference platform (dashed)"),)
+                        if ref is not None else ()))
     text = (_PAGE.replace("__TITLE__", _escape(title))
             .replace("__LEGEND__", legend)
             # "</" cannot end the data's script element early
@@ -544,14 +577,16 @@ def model_from_scene(scene: dict[str, Any]) -> Model:
     return Model(**keys)
 
 
-def read_run(path: str | os.PathLike[str], case: int = 0
+def read_run(path: str | os.PathLike[str], case: int = 0, *, reference: bool = False
              ) -> tuple[Model, FloatArray, FloatArray]:
     """The model, poses (n, 3) and times (n,) [s] of one case of an rps3-run
     HDF5 file (docs/hdf5.md; a simulation's too: the plant's pose), up to
     its last sample.  The model is the scene's ``manipulator`` (the plant).
     A file without the pose (written with ``--fields``) gives it through
     the forward kinematics of its ``length``; a sample whose pose is NaN
-    (a failed point) is kept, drawn as refused.
+    (a failed point) is kept, drawn as refused.  reference: the poses of a
+    simulation's reference (``alpha_ref``, ``beta_ref``, ``z_c_ref``)
+    instead of the plant's.
 
     Raises:
         ValueError: the file lacks a dataset, or the case is out of range.
@@ -559,9 +594,13 @@ def read_run(path: str | os.PathLike[str], case: int = 0
     import h5py
     import yaml
     name = os.fspath(path)
+    names = ("alpha_ref", "beta_ref", "z_c_ref") if reference else ("alpha", "beta", "z_c")
     with h5py.File(path, "r") as f:
-        has_pose = all(k in f for k in ("alpha", "beta", "z_c"))
-        for key in ("scene_resolved", "time", "alpha" if has_pose else "length"):
+        has_pose = all(k in f for k in names)
+        if reference and not has_pose:
+            raise ValueError(f"{name}: no dataset 'alpha_ref': not a simulation's "
+                             f"output, no reference to draw (docs/runner.md)")
+        for key in ("scene_resolved", "time", names[0] if has_pose else "length"):
             if key not in f:
                 raise ValueError(f"{name}: no dataset {key!r}: not an rps3-run output "
                                  f"file with poses or link lengths (docs/hdf5.md)")
@@ -570,7 +609,7 @@ def read_run(path: str | os.PathLike[str], case: int = 0
             raise ValueError(f"case: {case} is out of range: {name} "
                              f"has {ncase} case(s), 0 to {ncase - 1}")
         if has_pose:
-            pose = np.stack([f[k][case] for k in ("alpha", "beta", "z_c")], axis=1)
+            pose = np.stack([f[k][case] for k in names], axis=1)
             lengths = None
         else:
             lengths = np.asarray(f["length"][case], float)
@@ -605,21 +644,26 @@ def main(argv: Sequence[str] | None = None) -> int:
     ap.add_argument("--dpi", type=float, default=80, help="dots per inch (default 80)")
     ap.add_argument("--at", type=float, default=None,
                     help="time [s] of the frame of a still picture (default: the first)")
+    ap.add_argument("--reference", action="store_true",
+                    help="a simulation's file: draw the reference platform too (dashed)")
     a = ap.parse_args(argv)
     try:
         if a.stride < 1:
             raise ValueError(f"--stride: expected an integer >= 1, got {a.stride}")
         model, pose, t = read_run(a.file, a.case)
+        ref = read_run(a.file, a.case, reference=True)[1] if a.reference else None
         if len(t) == 0:
             raise ValueError(f"{a.file}: case {a.case} has no sample")
         suffix = os.path.splitext(a.output)[1].lower()
         if suffix in (".png", ".pdf", ".svg"):
             k = 0 if a.at is None else int(np.argmin(np.abs(t - a.at)))
-            draw(model, pose[k], path=a.output, dpi=a.dpi)
+            draw(model, pose[k], path=a.output, dpi=a.dpi,
+                 reference=None if ref is None else ref[k])
             print(f"{a.output}: t = {t[k]:.6g} s")
         else:
             n = animate(model, pose[::a.stride], a.output, times=t[::a.stride],
-                        fps=a.fps, dpi=a.dpi)
+                        fps=a.fps, dpi=a.dpi,
+                        reference=None if ref is None else ref[::a.stride])
             print(f"{a.output}: {n} frames")
     except (OSError, ValueError, RuntimeError) as e:
         print(f"python -m rps3.view: {e}", file=sys.stderr)
