@@ -165,6 +165,42 @@ def test_unreachable_frames_are_kept_and_marked(tmp_path):
         view.animate(rps3.Model(), p, tmp_path / "x.avi")
 
 
+def test_refused_frames_in_the_page_say_why(tmp_path):
+    p = poses(4)
+    p[1, 2] = -0.1
+    page = tmp_path / "gap.html"
+    assert view.html(rps3.Model(), p, page) == 4
+    frames = page_data(page)["frames"]
+    assert [f["ok"] for f in frames] == [True, False, True, True]
+    assert frames[1]["ball"] is None and "unreachable" in frames[1]["text"].lower()
+
+
+def test_a_failed_write_leaves_no_file(tmp_path, monkeypatch):
+    """An animation that fails half-way (here the third frame) leaves
+    neither the file nor its temporary: nothing partial looks complete."""
+    from matplotlib import animation
+    grab = animation.PillowWriter.grab_frame
+    count = [0]
+
+    def failing(self, **kw):
+        count[0] += 1
+        if count[0] == 3:
+            raise OSError("disk full")
+        return grab(self, **kw)
+    monkeypatch.setattr(animation.PillowWriter, "grab_frame", failing)
+    path = tmp_path / "half.gif"
+    with pytest.raises(OSError, match="disk full"):
+        view.animate(rps3.Model(), poses(5), path, dpi=30)
+    assert os.listdir(tmp_path) == []
+    with pytest.raises(OSError):
+        view.draw(rps3.Model(), poses(1)[0], path=tmp_path / "no" / "such.pdf")
+    for kw, name in (({"dpi": 0}, "dpi"), ({"fps": -1}, "fps"),
+                     ({"figsize": (4, float("nan"))}, "figsize")):
+        with pytest.raises(ValueError, match=f"^{name}: expected"):
+            view.animate(rps3.Model(), poses(2), tmp_path / "x.gif", **kw)
+    assert os.listdir(tmp_path) == []
+
+
 @pytest.mark.skipif(shutil.which("ffmpeg") is None or shutil.which("ffprobe") is None,
                     reason="MP4 needs ffmpeg and ffprobe (Debian package ffmpeg; "
                            "make check installs it as root)")

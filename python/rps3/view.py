@@ -29,11 +29,12 @@ written into the page.
 from __future__ import annotations
 
 import argparse
+import contextlib
 import json
 import math
 import os
 import sys
-from collections.abc import Sequence
+from collections.abc import Iterator, Sequence
 from dataclasses import dataclass
 from typing import Any
 
@@ -234,6 +235,11 @@ class _Scene:
 
 def _figure(figsize: tuple[float, float], dpi: float) -> tuple[Any, Any]:
     from matplotlib.figure import Figure
+    _positive(dpi, "dpi")
+    if len(figsize) != 2:
+        raise ValueError(f"figsize: expected (width, height) in inches, got {figsize!r}")
+    for x in figsize:
+        _positive(x, "figsize")
     fig = Figure(figsize=figsize, dpi=dpi, layout="tight")
     ax = fig.add_subplot(projection="3d")
     ax.view_init(elev=22, azim=-60)
@@ -271,6 +277,7 @@ def draw(model: Model, pose: ArrayLike | None = None, *,
         ValueError: the pose is not one point, or the library refuses it
             (unreachable: the message says why).
     """
+    _positive(dpi, "dpi")
     g = geometry(model, pose, lengths=lengths)
     if len(g.status) != 1:
         raise ValueError(f"pose: draw takes one pose, got {len(g.status)}; "
@@ -287,7 +294,8 @@ def draw(model: Model, pose: ArrayLike | None = None, *,
     ref = _reference(model, reference, 1)
     _Scene(ax, g, _sizes(model, barrel), ref).update(0, None)
     if path is not None:
-        fig.savefig(os.fspath(path), dpi=dpi)
+        with _atomic(path) as tmp:
+            fig.savefig(tmp, dpi=dpi)
     return fig
 
 
@@ -330,8 +338,7 @@ def animate(model: Model, poses: ArrayLike | None = None,
     if suffix not in (".gif", ".mp4"):
         raise ValueError(f"path: {path}: unknown suffix {suffix!r}; "
                          f"expected .gif, .mp4 or .html")
-    if not (math.isfinite(fps) and fps > 0):
-        raise ValueError(f"fps: expected a number > 0, got {fps!r}")
+    _positive(fps, "fps")
     g = geometry(model, poses, lengths=lengths)
     t = _times(times, len(g.status))
     if not g.ok.any():
@@ -350,11 +357,29 @@ def animate(model: Model, poses: ArrayLike | None = None,
     fig, ax = _figure(figsize, dpi)
     scene = _Scene(ax, g, _sizes(model, barrel), ref)
     n = len(g.status)
-    with writer.saving(fig, path, dpi):
-        for k in range(n):
-            scene.update(k, None if t is None else float(t[k]))
-            writer.grab_frame()
+    with _atomic(path) as tmp:
+        with writer.saving(fig, tmp, dpi):
+            for k in range(n):
+                scene.update(k, None if t is None else float(t[k]))
+                writer.grab_frame()
     return n
+
+
+@contextlib.contextmanager
+def _atomic(path: str | os.PathLike[str]) -> Iterator[str]:
+    """A temporary name beside path (same suffix: writers go by it), renamed
+    to path when the block succeeds, removed when it fails: no partial
+    file looks complete."""
+    path = os.fspath(path)
+    root, suffix = os.path.splitext(path)
+    tmp = f"{root}.part{suffix}"
+    try:
+        yield tmp
+        os.replace(tmp, path)
+    except BaseException:
+        with contextlib.suppress(OSError):
+            os.remove(tmp)
+        raise
 
 
 def _reference(model: Model, reference: ArrayLike | None, n: int) -> Geometry | None:
@@ -365,6 +390,15 @@ def _reference(model: Model, reference: ArrayLike | None, n: int) -> Geometry | 
     if len(ref.status) != n:
         raise ValueError(f"reference: {len(ref.status)} poses for {n} frames")
     return ref
+
+
+def _positive(x: Any, name: str) -> None:
+    try:
+        ok = math.isfinite(float(x)) and float(x) > 0
+    except (TypeError, ValueError):
+        ok = False
+    if not ok:
+        raise ValueError(f"{name}: expected a number > 0, got {x!r}")
 
 
 def _times(times: ArrayLike | None, n: int) -> FloatArray | None:
@@ -514,8 +548,7 @@ def html(model: Model, poses: ArrayLike | None = None,
     """
     if path is None:
         raise ValueError("path: the .html file to write")
-    if not (math.isfinite(fps) and fps > 0):
-        raise ValueError(f"fps: expected a number > 0, got {fps!r}")
+    _positive(fps, "fps")
     g = geometry(model, poses, lengths=lengths)
     t = _times(times, len(g.status))
     if not g.ok.any():
@@ -547,10 +580,8 @@ def html(model: Model, poses: ArrayLike | None = None,
             .replace("__LEGEND__", legend)
             # "</" cannot end the data's script element early
             .replace("__DATA__", json.dumps(data).replace("</", "<\\/")))
-    tmp = os.fspath(path) + ".part"
-    with open(tmp, "w", encoding="utf-8") as f:
+    with _atomic(path) as tmp, open(tmp, "w", encoding="utf-8") as f:
         f.write(text)
-    os.replace(tmp, os.fspath(path))
     return len(frames)
 
 
