@@ -165,6 +165,7 @@ def mjcf(model: Model, *, barrel: float | None = None, timestep: float = 1e-4) -
        Geoms are drawings only (no mass: inertias are explicit; no contacts). -->
   <compiler angle="radian" inertiafromgeom="false"/>
   <option gravity="0 0 {-p['g']:.17g}" integrator="RK4" timestep="{timestep:.17g}"/>
+  <visual><headlight ambient="0.35 0.35 0.35" diffuse="0.6 0.6 0.6"/></visual>
   <custom>
     <!-- Coulomb pin friction torque [N m], not modelled by MuJoCo here -->
     <numeric name="rps3_pin_coulomb" data="{p['coulomb']:.17g}"/>
