@@ -421,8 +421,8 @@ canvas { border: 1px solid #ccc; cursor: grab; }
 </style></head>
 <body>
 <div id="bar"><button id="play">pause</button>
-<input id="slider" type="range" min="0" max="0" value="0" style="width: 50%">
-<span id="label"></span></div>
+<input id="slider" type="range" min="0" max="0" value="0" style="width: 60%"></div>
+<div id="label"></div>
 <canvas id="view" width="720" height="540"></canvas>
 <div class="legend">__LEGEND__</div>
 <p>Drag to turn the view, wheel to zoom. Base frame: X towards pin 1, Z up; lengths in metres.</p>
@@ -437,7 +437,8 @@ window.addEventListener("error", function (e) {
   var cv = document.getElementById("view"), g = cv.getContext("2d");
   var slider = document.getElementById("slider"), label = document.getElementById("label");
   var play = document.getElementById("play");
-  var n = D.frames.length, k = 0, running = n > 1, az = -1.05, el = 0.38, zoom = 1;
+  // the figures' view at first (matplotlib's azimuth -60 deg, elevation 22 deg)
+  var n = D.frames.length, k = 0, running = n > 1, az = -Math.PI / 6, el = 0.384, zoom = 1;
   slider.max = String(n - 1);
   function sub(a, b) { return [a[0] - b[0], a[1] - b[1], a[2] - b[2]]; }
   function add(a, b, s) { return [a[0] + s * b[0], a[1] + s * b[1], a[2] + s * b[2]]; }
