@@ -33,6 +33,9 @@ DEB_BUILD = gcc make pkg-config libgsl-dev libhdf5-dev libyaml-dev zlib1g-dev li
 DEB_PAPER = $(DEB_BUILD) python3-venv python3-dev
 DEB_CHECK = $(DEB_PAPER) clang libclang-rt-dev libcmocka-dev libopenmpi-dev openmpi-bin \
             valgrind time cmake strace
+# rps3.view's tests: MP4 frames (ffmpeg, ffprobe) and the HTML page in a
+# headless browser
+DEB_CHECK += ffmpeg chromium
 
 # version, from the header; the shared library's SONAME carries the major
 VERSION := $(shell sed -n 's/^\#define RPS3_VERSION_STRING "\(.*\)"/\1/p' include/rps3.h)

@@ -1,6 +1,10 @@
-"""A MuJoCo model of the 3-RPS mechanism, built from rps3's model parameters.
+"""A MuJoCo model of the 3-RPS mechanism, built from rps3's model parameters
+by the package's exporter (rps3.export.mjcf, whose module doc describes the
+bodies; its geoms are drawings without mass or contacts), and the oracle's
+use of it: a state from the oracle's kinematics and the actuator forces
+solved from MuJoCo's own dynamics.
 
-    xml = mujoco_xml(params)          # MJCF text
+    xml = mujoco_xml(params)          # MJCF text, rps3.export.mjcf
     model = build(params)             # mujoco.MjModel
     qpos, qvel, qacc = state(model, kin)   # from oracle.Symbolic.kinematics
     F = actuator_forces(model, data, qpos, qvel, qacc, params)
@@ -41,67 +45,23 @@ ball-joint reactions exactly, so the comparison is at rounding level.
 import numpy as np
 
 import mujoco
+import rps3
 
-# MuJoCo refuses moving bodies lighter than mjMINVAL (1e-15); the massless
-# pistons (and massless links) get this much, 1e-12 kg: 1e-11 N at 10 m/s^2
-# against forces of ~1 N
-EPS_MASS = 1e-12
-EPS_INERTIA = 1e-12
+# the exporter's masses for massless moving bodies (see its module doc)
+EPS_MASS = rps3.export.EPS_MASS
+EPS_INERTIA = rps3.export.EPS_INERTIA
 
 
-def _fmt(v):
-    return " ".join(f"{x:.17g}" for x in np.atleast_1d(v))
+def model_of(p):
+    """The rps3.Model of the parameters p (every input, nothing derived)."""
+    return rps3.Model(R=p["R"], rho=p["rho"], M=p["M"], m=p["m"], d=p["d"],
+                      link_Ic=p["link_Ic"], g=p["g"], payload=p["payload"],
+                      friction=p["friction"])
 
 
 def mujoco_xml(p):
     """MJCF text of the mechanism with parameters p (see the module doc)."""
-    R, r = p["R"], p["rho"] * p["R"]
-    M, m, d = p["M"], p["m"], p["d"]
-    Ic = max(p["link_Ic"], EPS_INERTIA)
-    pl, fr = p["payload"], p["friction"]
-    links, sites, eqs, acts = [], [], [], []
-    for i in range(3):
-        psi = 2 * np.pi * i / 3
-        u = np.array([np.cos(psi), np.sin(psi), 0.0])
-        ax = np.array([-np.sin(psi), np.cos(psi), 0.0])
-        links.append(f"""
-    <body name="link_{i}" pos="{_fmt(R * u)}">
-      <joint name="pin_{i}" type="hinge" axis="{_fmt(ax)}" damping="{fr['viscous']:.17g}"/>
-      <inertial pos="{_fmt(-d * u)}" mass="{max(m, EPS_MASS):.17g}" diaginertia="{_fmt([Ic] * 3)}"/>
-      <body name="piston_{i}">
-        <joint name="leg_{i}" type="slide" axis="{_fmt(-u)}"/>
-        <inertial pos="0 0 0" mass="{EPS_MASS}" diaginertia="{_fmt([EPS_INERTIA] * 3)}"/>
-        <site name="ball_{i}_link" pos="0 0 0"/>
-      </body>
-    </body>""")
-        sites.append(f'      <site name="ball_{i}" pos="{_fmt(r * u)}"/>')
-        eqs.append(f'    <connect site1="ball_{i}_link" site2="ball_{i}"/>')
-        acts.append(f'    <motor name="F_{i}" joint="leg_{i}" gear="1"/>')
-    payload = ""
-    if pl["mass"] > 0:
-        payload = f"""
-      <body name="payload" pos="{_fmt(pl['com'])}">
-        <inertial pos="0 0 0" mass="{pl['mass']:.17g}" diaginertia="{_fmt(np.maximum(pl['inertia'], EPS_INERTIA))}"/>
-      </body>"""
-    Ip = [M * r * r / 4, M * r * r / 4, M * r * r / 2]
-    return f"""<mujoco model="rps3">
-  <compiler angle="radian" inertiafromgeom="false"/>
-  <option gravity="0 0 {-p['g']:.17g}" integrator="RK4" timestep="1e-4"/>
-  <worldbody>{''.join(links)}
-    <body name="platform">
-      <freejoint name="platform"/>
-      <inertial pos="0 0 0" mass="{max(M, EPS_MASS):.17g}" diaginertia="{_fmt(np.maximum(Ip, EPS_INERTIA))}"/>
-{chr(10).join(sites)}{payload}
-    </body>
-  </worldbody>
-  <equality>
-{chr(10).join(eqs)}
-  </equality>
-  <actuator>
-{chr(10).join(acts)}
-  </actuator>
-</mujoco>
-"""
+    return rps3.export.mjcf(model_of(p))
 
 
 def build(p):

@@ -11,7 +11,7 @@ manipulator of Lee & Shah (1988), computed by librps3 over numpy arrays.
 SI units throughout; see the repository's README.md and include/rps3.h.
 """
 
-from rps3 import control, dynamics, errors, h5io, scene, sim, trajectory, velocity
+from rps3 import control, dynamics, errors, export, h5io, scene, sim, trajectory, velocity
 from rps3._core import strerror
 from rps3._rps3 import ffi as _ffi
 from rps3._rps3 import lib as _lib
@@ -28,4 +28,14 @@ if __version__ != _ffi.string(_lib.rps3py_header_version()).decode():
 
 __all__ = ["DEFAULT_EFFECTS", "EFFECTS", "Dynamics", "Kinematics", "Model", "h5io",
            "Pose", "open_dataset", "strerror", "trajectory",
-           "Rps3Error", "control", "dynamics", "errors", "scene", "sim", "velocity"]
+           "Rps3Error", "control", "dynamics", "errors", "scene", "sim", "velocity",
+           "export", "view"]
+
+
+def __getattr__(name: str) -> object:
+    # rps3.view on first use: imported here, `python -m rps3.view` would
+    # run a module already imported
+    if name == "view":
+        import importlib
+        return importlib.import_module("rps3.view")
+    raise AttributeError(f"module 'rps3' has no attribute {name!r}")
