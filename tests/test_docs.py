@@ -123,7 +123,7 @@ def test_every_block_is_classified():
     print(f"\ncode blocks: {counts}")
     # the README's C example, its build commands and its Python run
     readme = [kind(lang, a) for _, lang, a, _ in blocks("README.md")]
-    assert readme.count("run") >= 4 and readme.count("file") == 2
+    assert readme.count("run") >= 3 and readme.count("file") == 2
     assert counts["run"] >= 10
 
 
