@@ -17,8 +17,8 @@ int pre_jobs(const scene *s, const sweep_plan *p, const sweep_opts *o,
     /* a part that can hold nothing is a sizing mistake: the merge would
        need it all the same */
     fprintf(stderr,
-            "rps3-run: --shard %zu/%zu: the sweep has %zu work unit%s (tiles of up "
-            "to %zu cases), so at most %zu shard%s can have work: use "
+            "rps3-run: --shard %zu/%zu: the sweep has %zu work unit%s (tiles "
+            "of up to %zu cases), so at most %zu shard%s can have work: use "
             "--shard K/%zu or fewer (rps3-run SCENE --check counts the "
             "work units)\n",
             o->shard, o->nshard, nj, nj == 1 ? "" : "s", p->tile_cases, nj,
@@ -29,9 +29,9 @@ int pre_jobs(const scene *s, const sweep_plan *p, const sweep_opts *o,
     return 0;
   if (o->nshard > nj)
     fprintf(stderr,
-            "rps3-run: warning: %zu ranks but the sweep has %zu work unit%s (tiles "
-            "of up to %zu cases): ranks %zu-%zu compute nothing; use at most "
-            "%zu\n",
+            "rps3-run: warning: %zu ranks but the sweep has %zu work unit%s "
+            "(tiles of up to %zu cases): ranks %zu-%zu compute nothing; use "
+            "at most %zu\n",
             o->nshard, nj, nj == 1 ? "" : "s", p->tile_cases, nj,
             o->nshard - 1, nj);
   if ((size_t)o->nthread > mine && mine > 0)

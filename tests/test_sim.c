@@ -819,7 +819,8 @@ static void pure_relative_tolerance_refused(void **state) {
       }
       rps3_ctrl_free(c);
       rps3_sim_free(s);
-      fail_msg("%s with epsabs = 0 accepted", rps3_integrator_name(o.integrator));
+      fail_msg("%s with epsabs = 0 accepted",
+               rps3_integrator_name(o.integrator));
     }
     assert_int_equal(st, RPS3_EINVAL);
     assert_null(s);
