@@ -30,10 +30,12 @@
  *   solvers away from the inputs GSL raises errors on, and checks every GSL
  *   status, so it never reaches GSL's (process-global, by default aborting)
  *   error handler and never changes it: a program needs no GSL call.  The
- *   one exception is an allocation failure inside GSL's own allocators
- *   (rps3_data_alloc, rps3_sim_alloc), which GSL reports only through that
- *   handler; a program that must survive it there calls
- *   gsl_set_error_handler_off() once, from its main thread.
+ *   exceptions (docs/library.md): an allocation failure inside GSL's own
+ *   allocators (rps3_data_alloc, rps3_sim_alloc), which GSL reports only
+ *   through that handler, and an exactly zero pivot in the LU of the
+ *   implicit integrators' iteration matrix.  A program that must survive
+ *   running out of memory there calls gsl_set_error_handler_off() once,
+ *   from its main thread.
  */
 #ifndef RPS3_H
 #define RPS3_H
