@@ -112,7 +112,13 @@ void cli_usage_error(const cli *c, const char *fmt, ...)
   va_start(ap, fmt);
   vfprintf(stderr, fmt, ap);
   va_end(ap);
-  fprintf(stderr, "\nTry '%s --help' for more information.\n", c->help_cmd);
+  fputc('\n', stderr);
+  cli_try(c->help_cmd);
+}
+
+void cli_try(const char *help_cmd)
+{
+  fprintf(stderr, "Try '%s --help' for more information.\n", help_cmd);
 }
 
 void cli_version(FILE *out, const char *prog)

@@ -77,6 +77,10 @@ void cli_usage_error(const cli *c, const char *fmt, ...)
 #endif
     ;
 
+/* The second line of a usage error: "Try 'HELP_CMD --help' for more
+   information." on stderr. */
+void cli_try(const char *help_cmd);
+
 /* --version, in the GNU form: "PROG (rps3) VERSION", the copyright line,
    the licence lines and the no-warranty line (LICENSE). */
 void cli_version(FILE *out, const char *prog);
