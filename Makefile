@@ -144,6 +144,21 @@ $(VENV)/.rps3: $(PY_PKG) include/rps3.h $(B)/librps3-pic.a $(VENV)/.ok
 	  --no-build-isolation --force-reinstall ./python
 	@touch $@
 
+# ------------------------------------------------------- compiler and flags
+# Every object depends on a stamp holding the compiler (its name and its
+# --version line) and the flags: `make CC=clang` after a gcc build, or a
+# changed OPT, rebuilds everything; an unchanged stamp keeps its time, so
+# that nothing rebuilds otherwise.
+FLAGS_STAMP = $(B)/.flags
+BUILD_FLAGS = CC=$(CC) [$(shell $(CC) --version 2>/dev/null | head -n 1)] \
+  OPT=$(OPT) WARN=$(WARN) CPPFLAGS=$(CPPFLAGS_ALL) GSL=$(GSL_CFLAGS) \
+  HDF5=$(HDF5_CFLAGS) MPI=$(MPI_CFLAGS) SAN=$(SAN) KERNEL=$(KERNEL_FLAGS) \
+  SIM=$(SIM_FLAGS)
+$(FLAGS_STAMP): FORCE
+	@mkdir -p $(@D)
+	@printf '%s\n' '$(BUILD_FLAGS)' > $@.new
+	@if cmp -s $@.new $@; then rm $@.new; else mv $@.new $@; fi
+
 # ----------------------------------------------------------------- library
 # librps3.so is a link to librps3.so.SOVERSION (the SONAME), itself a link
 # to the file librps3.so.VERSION, as installed
@@ -165,13 +180,13 @@ $(B)/obj/batch_kernel.o $(B)/pic/batch_kernel.o $(B)/san/batch_kernel.o: XFLAGS 
 SIM_FLAGS = -funroll-loops -fno-math-errno
 $(foreach f,fwddyn fwddyn_theta fwddyn_shared fwddyn_body sim control velocity,$(B)/obj/$(f).o $(B)/pic/$(f).o): XFLAGS = $(SIM_FLAGS)
 
-$(B)/obj/%.o: src/%.c | $(DEPS)
+$(B)/obj/%.o: src/%.c $(FLAGS_STAMP) | $(DEPS)
 	@mkdir -p $(@D)
 	$(CC) $(CPPFLAGS_ALL) $(GSL_CFLAGS) $(WARN) $(OPT) $(XFLAGS) -MMD -MP -c $< -o $@
-$(B)/pic/%.o: src/%.c | $(DEPS)
+$(B)/pic/%.o: src/%.c $(FLAGS_STAMP) | $(DEPS)
 	@mkdir -p $(@D)
 	$(CC) $(CPPFLAGS_ALL) $(GSL_CFLAGS) $(WARN) $(OPT) $(XFLAGS) -fPIC -fvisibility=hidden -MMD -MP -c $< -o $@
-$(B)/san/%.o: src/%.c | $(DEPS)
+$(B)/san/%.o: src/%.c $(FLAGS_STAMP) | $(DEPS)
 	@mkdir -p $(@D)
 	$(CC) $(CPPFLAGS_ALL) $(GSL_CFLAGS) $(WARN) -O1 -g $(SAN) $(XFLAGS) -MMD -MP -c $< -o $@
 
@@ -195,7 +210,7 @@ $(B)/librps3-san.a: $(LIB_SAN)
 # rps3-simstudy beside a fresh rps3-run
 runner: $(B)/rps3-run $(B)/rps3-study $(B)/rps3-simstudy
 
-$(B)/runner/%.o: runner/%.c | $(DEPS)
+$(B)/runner/%.o: runner/%.c $(FLAGS_STAMP) | $(DEPS)
 	@mkdir -p $(@D)
 	$(CC) $(CPPFLAGS_ALL) -Irunner $(GSL_CFLAGS) $(HDF5_CFLAGS) $(WARN) $(OPT) -MMD -MP -c $< -o $@
 # the git revision the runner is built from, for the files' history and
@@ -206,7 +221,7 @@ $(B)/runner/gitrev.c: FORCE
 	@mkdir -p $(@D)
 	@echo 'const char *const rps3_git_revision = "$(GIT_REV)";' > $@.new
 	@if cmp -s $@.new $@; then rm $@.new; else mv $@.new $@; fi
-$(B)/runner/gitrev.o: $(B)/runner/gitrev.c
+$(B)/runner/gitrev.o: $(B)/runner/gitrev.c $(FLAGS_STAMP)
 	$(CC) $(WARN) $(OPT) -c $< -o $@
 FORCE:
 $(B)/rps3-run: $(B)/runner/main_run.o $(RUN_OBJ) $(B)/librps3.a
@@ -223,18 +238,18 @@ $(B)/rps3-simstudy: $(B)/runner/main_simstudy.o $(B)/runner/cli.o \
 # rps3-run-mpi: the same program built with -DRPS3_MPI, for
 # `mpirun -n N build/rps3-run-mpi SCENE.yaml -o OUT.h5` (Debian's OpenMPI)
 runner-mpi: $(B)/rps3-run-mpi
-$(B)/runner-mpi/main_run.o: runner/main_run.c | $(DEPS)
+$(B)/runner-mpi/main_run.o: runner/main_run.c $(FLAGS_STAMP) | $(DEPS)
 	@mkdir -p $(@D)
 	$(CC) $(CPPFLAGS_ALL) -DRPS3_MPI -Irunner $(GSL_CFLAGS) $(HDF5_CFLAGS) $(MPI_CFLAGS) $(WARN) $(OPT) -MMD -MP -c $< -o $@
 $(B)/rps3-run-mpi: $(B)/runner-mpi/main_run.o $(RUN_OBJ) $(B)/librps3.a
 	$(CC) -o $@ $^ $(HDF5_LIBS) $(YAML_LIBS) $(GSL_LIBS) $(MPI_LIBS) $(CRYPTO_LIBS) -lz -lpthread -lm
 
 # ------------------------------------------------------------------- tests
-$(B)/tests/%: tests/%.c $(B)/librps3.a tests/testutil.h | $(DEPS)
+$(B)/tests/%: tests/%.c $(B)/librps3.a tests/testutil.h $(FLAGS_STAMP) | $(DEPS)
 	@mkdir -p $(@D)
 	$(CC) $(CPPFLAGS_ALL) -Itests $(GSL_CFLAGS) $(WARN) $(OPT) -g $< -o $@ \
 	  $(B)/librps3.a $(CMOCKA_LIBS) $(GSL_LIBS)
-$(B)/tests-san/%: tests/%.c $(B)/librps3-san.a tests/testutil.h | $(DEPS)
+$(B)/tests-san/%: tests/%.c $(B)/librps3-san.a tests/testutil.h $(FLAGS_STAMP) | $(DEPS)
 	@mkdir -p $(@D)
 	$(CC) $(CPPFLAGS_ALL) -Itests -DRPS3_SANITIZE $(GSL_CFLAGS) $(WARN) -O1 -g $(SAN) $< -o $@ \
 	  $(B)/librps3-san.a $(CMOCKA_LIBS) $(GSL_LIBS)
@@ -404,6 +419,29 @@ paper: all venv
 	$(VPY) analysis/figures.py out/paper.h5 out
 	$(VPY) analysis/check_paper.py out/paper.h5 --sweep out/link_mass.h5
 
+# --------------------------------------------------------------- man pages
+# One page a program, made from its own --help and --version
+# (packaging/man1.awk), so that a page lists exactly the option table the
+# program parses; rps3-run-mpi parses rps3-run's table.  `make install`
+# puts them into $(MANDIR)/man1.
+MAN_PROGS = rps3-run rps3-study rps3-simstudy rps3-run-mpi
+.PHONY: man
+man: $(MAN_PROGS:%=$(B)/man/%.1)
+$(B)/man/%.1: $(B)/% packaging/man1.awk
+	@mkdir -p $(@D)
+	$< --help > $@.help
+	$< --version > $@.version
+	awk -v prog=$* -f packaging/man1.awk $@.help $@.version > $@
+	@rm -f $@.help $@.version
+MPI_MAN_NOTE = rps3-run-mpi is rps3-run built with MPI (make runner-mpi): under mpirun -n N each rank computes one shard and rank 0 joins the parts into OUT.h5 (docs/scale-out.md).
+$(B)/man/rps3-run-mpi.1: $(B)/rps3-run packaging/man1.awk
+	@mkdir -p $(@D)
+	$< --help > $@.help
+	$< --version > $@.version
+	awk -v prog=rps3-run-mpi -v note="$(MPI_MAN_NOTE)" \
+	  -f packaging/man1.awk $@.help $@.version > $@
+	@rm -f $@.help $@.version
+
 # ----------------------------------------------------------------- install
 # `make install PREFIX=/usr/local` (as root), or a staged install with
 # DESTDIR=/tmp/stage.  Installs the shared library with its SONAME links,
@@ -411,17 +449,20 @@ paper: all venv
 # (pkg-config --cflags --libs rps3) and a CMake package (find_package(rps3),
 # target rps3::rps3).  ldconfig runs for a direct install as root.
 DOCDIR ?= $(PREFIX)/share/doc/rps3
-INSTALL_BINS = rps3-run rps3-study $(if $(HAVE_MPI),rps3-run-mpi)
-install: lib runner study-bin $(if $(HAVE_MPI),runner-mpi)
+MANDIR ?= $(PREFIX)/share/man
+INSTALL_BINS = rps3-run rps3-study rps3-simstudy $(if $(HAVE_MPI),rps3-run-mpi)
+install: lib runner study-bin $(if $(HAVE_MPI),runner-mpi) $(INSTALL_BINS:%=$(B)/man/%.1)
 	@case "$(PREFIX)" in /*) ;; *) echo "PREFIX must be an absolute path: $(PREFIX)"; exit 1;; esac
 	$(INSTALL) -d $(DESTDIR)$(BINDIR) $(DESTDIR)$(LIBDIR) $(DESTDIR)$(INCLUDEDIR) \
-	  $(DESTDIR)$(PKGCONFIGDIR) $(DESTDIR)$(CMAKEDIR) $(DESTDIR)$(DOCDIR)
+	  $(DESTDIR)$(PKGCONFIGDIR) $(DESTDIR)$(CMAKEDIR) $(DESTDIR)$(DOCDIR) \
+	  $(DESTDIR)$(MANDIR)/man1
 	$(INSTALL_DATA) $(B)/$(SO_REAL) $(DESTDIR)$(LIBDIR)/$(SO_REAL)
 	ln -sf $(SO_REAL) $(DESTDIR)$(LIBDIR)/$(SO_NAME)
 	ln -sf $(SO_NAME) $(DESTDIR)$(LIBDIR)/librps3.so
 	$(INSTALL_DATA) $(B)/librps3.a $(DESTDIR)$(LIBDIR)/librps3.a
 	$(INSTALL_DATA) include/rps3.h $(DESTDIR)$(INCLUDEDIR)/rps3.h
-	for p in $(INSTALL_BINS); do $(INSTALL_PROGRAM) $(B)/$$p $(DESTDIR)$(BINDIR)/$$p || exit 1; done
+	for p in $(INSTALL_BINS); do $(INSTALL_PROGRAM) $(B)/$$p $(DESTDIR)$(BINDIR)/$$p || exit 1; \
+	  $(INSTALL_DATA) $(B)/man/$$p.1 $(DESTDIR)$(MANDIR)/man1/$$p.1 || exit 1; done
 	$(INSTALL_DATA) LICENSE CITATION.cff $(DESTDIR)$(DOCDIR)/
 	sed -e 's|@PREFIX@|$(PREFIX)|' -e 's|@LIBDIR@|$(LIBDIR)|' \
 	  -e 's|@INCLUDEDIR@|$(INCLUDEDIR)|' -e 's|@VERSION@|$(VERSION)|' \
@@ -441,7 +482,7 @@ uninstall:
 	  $(DESTDIR)$(INCLUDEDIR)/rps3.h $(DESTDIR)$(PKGCONFIGDIR)/rps3.pc \
 	  $(DESTDIR)$(CMAKEDIR)/rps3-config.cmake $(DESTDIR)$(CMAKEDIR)/rps3-config-version.cmake \
 	  $(DESTDIR)$(DOCDIR)/LICENSE $(DESTDIR)$(DOCDIR)/CITATION.cff \
-	  $(foreach p,rps3-run rps3-study rps3-run-mpi,$(DESTDIR)$(BINDIR)/$(p))
+	  $(foreach p,$(MAN_PROGS),$(DESTDIR)$(BINDIR)/$(p) $(DESTDIR)$(MANDIR)/man1/$(p).1)
 	-rmdir $(DESTDIR)$(CMAKEDIR) $(DESTDIR)$(DOCDIR) 2>/dev/null
 	@if [ -z "$(DESTDIR)" ] && [ "$$(id -u)" = 0 ] && [ -x /sbin/ldconfig ]; then /sbin/ldconfig; fi
 

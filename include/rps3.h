@@ -26,10 +26,16 @@
  *   library allocates, prints, exits or aborts.  Use one rps3_data per thread.
  *
  * GSL
- *   The library validates its arguments before every GSL call and checks
- *   every GSL status, so it never reaches GSL's error handler on purpose.  It
- *   never changes that (process-global) handler: an embedding program should
- *   call gsl_set_error_handler_off() once at start-up, from its main thread.
+ *   The library validates its arguments before every GSL call, keeps GSL's
+ *   solvers away from the inputs GSL raises errors on, and checks every GSL
+ *   status, so it never reaches GSL's (process-global, by default aborting)
+ *   error handler and never changes it: a program needs no GSL call.  The
+ *   exceptions (docs/library.md): an allocation failure inside GSL's own
+ *   allocators (rps3_data_alloc, rps3_sim_alloc), which GSL reports only
+ *   through that handler, and an exactly zero pivot in the LU of the
+ *   implicit integrators' iteration matrix.  A program that must survive
+ *   running out of memory there calls gsl_set_error_handler_off() once,
+ *   from its main thread.
  */
 #ifndef RPS3_H
 #define RPS3_H
@@ -1303,7 +1309,8 @@ typedef struct {
                         divides each control period evenly is used; first
                         step of the adaptive ones [s].  Default 1e-3 */
   double epsabs;     /* adaptive error control on y = (l, dl, W_F, W_f):
-                        |err_i| <= epsabs + epsrel |y_i|.  Default 1e-9 */
+                        |err_i| <= epsabs + epsrel |y_i|; epsabs > 0
+                        for rkf45, rk8pd, msbdf.  Default 1e-9 */
   double epsrel;     /* default 1e-9 */
   double hmin;       /* adaptive steps below this fail the run [s], 1e-12 */
   long max_steps;    /* integrator steps per control period (or per call of

@@ -3,9 +3,11 @@
  */
 #include "cli.h"
 
+#include <stdarg.h>
 #include <stdlib.h>
 #include <string.h>
 
+#include "rps3.h"
 #include "safeio.h"
 
 /* getopt_long's value of a long option: past every char, so that it never
@@ -21,6 +23,7 @@ void cli_start(cli *c, const char *prog, const cli_opt *opt, int nopt,
   char *s = c->shorts;
   int i;
   c->prog = prog;
+  c->help_cmd = prog;
   c->opt = opt;
   c->nopt = nopt < CLI_MAX ? nopt : CLI_MAX;
   c->argc = argc;
@@ -74,10 +77,9 @@ int cli_next(cli *c, const char **arg, unsigned long *num)
     return CLI_END;
   if (r == '?') {
     if (optopt > 0 && optopt < CLI_LONG)
-      fprintf(stderr, "%s: unknown option '-%c'\n", c->prog, optopt);
+      cli_usage_error(c, "unknown option '-%c'", optopt);
     else
-      fprintf(stderr, "%s: unknown option '%s'\n", c->prog,
-              c->argv[optind - 1]);
+      cli_usage_error(c, "unknown option '%s'", c->argv[optind - 1]);
     return CLI_BAD;
   }
   if (r == ':') {
@@ -86,7 +88,7 @@ int cli_next(cli *c, const char **arg, unsigned long *num)
       display_name(&c->opt[row], name, sizeof name);
     else
       snprintf(name, sizeof name, "-%c", optopt);
-    fprintf(stderr, "%s: %s needs a value\n", c->prog, name);
+    cli_usage_error(c, "%s needs a value", name);
     return CLI_BAD;
   }
   row = r >= CLI_LONG ? r - CLI_LONG : row_of_letter(c, r);
@@ -96,11 +98,42 @@ int cli_next(cli *c, const char **arg, unsigned long *num)
   if (c->opt[row].num &&
       parse_ulong(optarg, c->opt[row].lo, c->opt[row].hi, num)) {
     display_name(&c->opt[row], name, sizeof name);
-    fprintf(stderr, "%s: %s needs a whole number %lu-%lu, got '%s'\n",
-            c->prog, name, c->opt[row].lo, c->opt[row].hi, optarg);
+    cli_usage_error(c, "%s needs a whole number %lu-%lu, got '%s'", name,
+                    c->opt[row].lo, c->opt[row].hi, optarg);
     return CLI_BAD;
   }
   return row;
+}
+
+void cli_usage_error(const cli *c, const char *fmt, ...)
+{
+  va_list ap;
+  fprintf(stderr, "%s: ", c->prog);
+  va_start(ap, fmt);
+  vfprintf(stderr, fmt, ap);
+  va_end(ap);
+  fputc('\n', stderr);
+  cli_try(c->help_cmd);
+}
+
+void cli_try(const char *help_cmd)
+{
+  fprintf(stderr, "Try '%s --help' for more information.\n", help_cmd);
+}
+
+void cli_version(FILE *out, const char *prog)
+{
+  fprintf(out,
+          "%s (rps3) %s\n"
+          "Copyright (C) 2026 the rps3 authors.\n"
+          "License BSD-3-Clause <https://opensource.org/licenses/"
+          "BSD-3-Clause>.\n"
+          "Linked with GSL: GNU GPL version 3 or later "
+          "<https://gnu.org/licenses/gpl.html>.\n"
+          "This is free software: you are free to change and redistribute "
+          "it.\n"
+          "There is NO WARRANTY, to the extent permitted by law.\n",
+          prog, rps3_version());
 }
 
 int cli_operands(const cli *c, char ***first)
@@ -133,6 +166,9 @@ void cli_help(FILE *out, const cli_opt *opt, int nopt)
       d = nl + 1;
     }
     fprintf(out, "%s\n", d);
+    if (opt[i].num)
+      fprintf(out, "%*s%s is a whole number %lu-%lu\n", HELP_COL, "",
+              opt[i].arg, opt[i].lo, opt[i].hi);
   }
 }
 

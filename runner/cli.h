@@ -30,6 +30,8 @@ typedef struct {
    parse at a time) */
 typedef struct {
   const char *prog;     /* the program in messages ("rps3-run merge") */
+  const char *help_cmd; /* the command whose --help lists these options
+                           ("rps3-run" for merge); prog unless set */
   const cli_opt *opt;
   int nopt;
   int argc;
@@ -59,8 +61,29 @@ int cli_next(cli *c, const char **arg, unsigned long *num);
    order; their number. */
 int cli_operands(const cli *c, char ***first);
 
-/* The options' part of --help: one row per option, its text aligned. */
+/* The options' part of --help: one row per option, its text aligned; a
+   number's row ends with its range ("N is a whole number 1-1024"), the
+   words of cli_next's message. */
 void cli_help(FILE *out, const cli_opt *opt, int nopt);
+
+/*
+ * A usage error: "PROG: MESSAGE" and "Try 'HELP_CMD --help' for more
+ * information." on stderr (GNU's form: what is wrong in one line, and
+ * where the rest is).  cli_next reports its own errors this way.
+ */
+void cli_usage_error(const cli *c, const char *fmt, ...)
+#if defined(__GNUC__)
+    __attribute__((format(printf, 2, 3)))
+#endif
+    ;
+
+/* The second line of a usage error: "Try 'HELP_CMD --help' for more
+   information." on stderr. */
+void cli_try(const char *help_cmd);
+
+/* --version, in the GNU form: "PROG (rps3) VERSION", the copyright line,
+   the licence lines and the no-warranty line (LICENSE). */
+void cli_version(FILE *out, const char *prog);
 
 /* The command line, each argument quoted for a POSIX shell when needed
    (malloc'd; NULL when out of memory). */

@@ -50,6 +50,7 @@ int merge_main(int argc, char **argv, const char *cmd)
     return EXIT_IO;
   }
   cli_start(&c, "rps3-run merge", MERGE_OPTS, 3, argc, argv);
+  c.help_cmd = "rps3-run"; /* its --help lists merge's options */
   while ((row = cli_next(&c, &arg, &v)) != CLI_END) {
     if (row == CLI_BAD)
       goto done;
@@ -66,9 +67,10 @@ int merge_main(int argc, char **argv, const char *cmd)
   for (i = 1; i < (size_t)nop; i++)
     part[npart++] = op[i];
   if (!out_path || npart == 0) {
-    fprintf(stderr, "usage: rps3-run merge OUT.h5 PART.h5 ... [--copy] "
-                    "[--failed-ok] [--quiet]\n");
-    cli_help(stderr, MERGE_OPTS, 3);
+    cli_usage_error(&c, "%s (rps3-run merge OUT.h5 PART.h5...)",
+                    out_path ? "missing the part files" : "missing OUT.h5 "
+                                                          "and the part "
+                                                          "files");
     goto done;
   }
 

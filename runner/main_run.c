@@ -228,9 +228,11 @@ static int args_for_world(run_args *a, const world *w)
   char err[512];
   if (w->size > 1) {
     if (a->shard_arg) {
-      if (w->rank == 0)
+      if (w->rank == 0) {
         fprintf(stderr, "rps3-run: --shard is for runs without mpirun; "
                         "under mpirun the ranks are the shards\n");
+        cli_try("rps3-run");
+      }
       return EXIT_USAGE;
     }
     a->shard = (size_t)w->rank;
@@ -241,6 +243,7 @@ static int args_for_world(run_args *a, const world *w)
   } else if (a->copy) {
     fprintf(stderr, "rps3-run: --copy is for rps3-run-mpi under mpirun and "
                     "for merge; a run without them writes one whole file\n");
+    cli_try("rps3-run");
     return EXIT_USAGE;
   }
   /* where the output goes is checked before anything is computed */
@@ -256,9 +259,11 @@ static int args_for_world(run_args *a, const world *w)
       stale_report("rps3-run", a->out_path);
   }
   if (a->resume && (!a->shard_arg || w->size > 1)) {
-    if (w->rank == 0)
+    if (w->rank == 0) {
       fprintf(stderr, "rps3-run: --resume is for --shard K/N runs (it "
                       "skips a part that is complete already)\n");
+      cli_try("rps3-run");
+    }
     return EXIT_USAGE;
   }
   return -1;
@@ -290,10 +295,12 @@ static int run_simulated(scene *s, const run_args *a, const world *w,
   int code;
   char *cmd;
   if (a->fields != out_fields_all()) {
-    if (w->rank == 0)
+    if (w->rank == 0) {
       fprintf(stderr, "rps3-run: --fields selects variables of the "
                       "inverse-dynamics file; a scene with a simulate "
                       "section writes the simulation file whole\n");
+      cli_try("rps3-run");
+    }
     return EXIT_USAGE;
   }
   sa.out_path = a->out_path;

@@ -363,14 +363,14 @@ static const cli_opt SIMSTUDY_OPTS[O_N] = {
     {"help", 'h', NULL, 0, 0, 0, "print this help"},
 };
 
-static int usage(FILE *out) {
+static void usage(FILE *out) {
   fprintf(out, "usage: rps3-simstudy -o OUT.h5 [--quick]\n"
                "       rps3-simstudy --help | --version\n\n"
                "Closed-loop tracking and what simulation accuracy costs in "
-               "time.\n");
+               "time.\n\n"
+               "Options:\n");
   cli_help(out, SIMSTUDY_OPTS, O_N);
-  fprintf(out, "exit: 0 ok, 2 bad command line, 3 cannot write\n");
-  return EXIT_USAGE;
+  fprintf(out, "\nExit status: 0 ok, 2 bad command line, 3 cannot write.\n");
 }
 
 static int simstudy_main(int argc, char **argv) {
@@ -386,16 +386,23 @@ static int simstudy_main(int argc, char **argv) {
     case O_OUTPUT: out = arg; break;
     case O_QUICK: quick = 1; break;
     case O_VERSION:
-      printf("rps3-simstudy %s\n", rps3_version());
+      cli_version(stdout, "rps3-simstudy");
       return EXIT_OK;
     case O_HELP:
       usage(stdout);
       return EXIT_OK;
     default:
-      return usage(stderr);
+      return EXIT_USAGE;
     }
   }
-  if (out == NULL || cli_operands(&c, &op) != 0) return usage(stderr);
+  if (cli_operands(&c, &op) != 0) {
+    cli_usage_error(&c, "no operand expected, got '%s'", op[0]);
+    return EXIT_USAGE;
+  }
+  if (out == NULL) {
+    cli_usage_error(&c, "missing -o OUT.h5");
+    return EXIT_USAGE;
+  }
   /* the command line, for the file's root attribute */
   if (!(cmd = cli_command_line(argc, argv))) {
     fprintf(stderr, "rps3-simstudy: out of memory\n");

@@ -67,37 +67,43 @@ static const cli_opt STUDY_OPTS[O_N] = {
     {"output", 'o', "OUT.h5", 0, 0, 0,
      "output file (written under a temporary name,\nrenamed when complete)"},
     {"samples", 0, "N", 1, 10, 1000000,
-     "samples per trajectory, 10-1000000 (default 400)"},
+     "samples per trajectory (default 400)"},
     {"repeats", 0, "R", 1, 1, 1000,
-     "timed passes per setting, 1-1000 (default 9)"},
+     "timed passes per setting (default 9)"},
     {"quick", 0, NULL, 0, 0, 0, "a coarse workspace grid"},
     {"version", 0, NULL, 0, 0, 0, "print the version"},
     {"help", 'h', NULL, 0, 0, 0, "print this help"},
 };
 
-static int usage(FILE *out) {
+static void usage(FILE *out) {
   fprintf(out,
           "usage: rps3-study accuracy -o OUT.h5 [--samples N] [--repeats R]\n"
           "       rps3-study workspace -o OUT.h5 [--quick]\n"
           "       rps3-study --help | --version\n"
           "\n"
-          "  accuracy   what accuracy costs in time: every solver, "
-          "tolerance,\n"
-          "             derivative, method, effect set and dt against a "
-          "precise\n"
-          "             reference (docs/accuracy.md)\n"
-          "  workspace  status, conditioning and assembly mode over a\n"
-          "             (rho, alpha, beta, z_c) grid\n");
+          "Measure what accuracy costs in time, and map the workspace.\n"
+          "\n"
+          "Studies:\n"
+          "  accuracy              what accuracy costs in time: every "
+          "solver,\n"
+          "                        tolerance, derivative, method, effect set "
+          "and dt\n"
+          "                        against a precise reference "
+          "(docs/accuracy.md)\n"
+          "  workspace             status, conditioning and assembly mode "
+          "over a\n"
+          "                        (rho, alpha, beta, z_c) grid\n"
+          "\n"
+          "Options:\n");
   cli_help(out, STUDY_OPTS, O_N);
-  fprintf(out, "exit: 0 ok, 2 bad command line, 3 cannot write\n");
-  return EXIT_USAGE;
+  fprintf(out, "\nExit status: 0 ok, 2 bad command line, 3 cannot write.\n");
 }
 
 static int study_main(int argc, char **argv) {
   const char *out = NULL, *in[1], *arg, *study;
   char *cmdline, err[4096 + 512], **op;
   size_t samples = 400;
-  int repeats = 9, quick = 0, row, rc;
+  int repeats = 9, quick = 0, row, rc, nop;
   unsigned long v;
   cli c;
   cli_start(&c, "rps3-study", STUDY_OPTS, O_N, argc, argv);
@@ -108,24 +114,32 @@ static int study_main(int argc, char **argv) {
     case O_REPEATS: repeats = (int)v; break;
     case O_QUICK: quick = 1; break;
     case O_VERSION:
-      printf("rps3-study %s\n", rps3_version());
+      cli_version(stdout, "rps3-study");
       return EXIT_OK;
     case O_HELP:
       usage(stdout);
       return EXIT_OK;
     default:
-      return usage(stderr);
+      return EXIT_USAGE;
     }
   }
-  if (cli_operands(&c, &op) != 1) return usage(stderr);
+  nop = cli_operands(&c, &op);
+  if (nop != 1) {
+    if (nop == 0)
+      cli_usage_error(&c, "missing the study: accuracy or workspace");
+    else
+      cli_usage_error(&c, "one study at a time ('%s' and '%s')", op[0],
+                      op[1]);
+    return EXIT_USAGE;
+  }
   study = op[0];
   if (strcmp(study, "accuracy") && strcmp(study, "workspace")) {
-    fprintf(stderr, "rps3-study: unknown study '%s'\n", study);
-    return usage(stderr);
+    cli_usage_error(&c, "unknown study '%s' (accuracy or workspace)", study);
+    return EXIT_USAGE;
   }
   if (!out) {
-    fprintf(stderr, "rps3-study: -o OUT.h5 is needed\n");
-    return usage(stderr);
+    cli_usage_error(&c, "missing -o OUT.h5");
+    return EXIT_USAGE;
   }
   in[0] = argv[0];
   if (out_path_check(out, in, 0, err, sizeof err)) {

@@ -17,10 +17,10 @@ int pre_jobs(const scene *s, const sweep_plan *p, const sweep_opts *o,
     /* a part that can hold nothing is a sizing mistake: the merge would
        need it all the same */
     fprintf(stderr,
-            "rps3-run: --shard %zu/%zu: the sweep has %zu job%s (tiles of up "
-            "to %zu cases), so at most %zu shard%s can have work: use "
+            "rps3-run: --shard %zu/%zu: the sweep has %zu work unit%s (tiles "
+            "of up to %zu cases), so at most %zu shard%s can have work: use "
             "--shard K/%zu or fewer (rps3-run SCENE --check counts the "
-            "jobs)\n",
+            "work units)\n",
             o->shard, o->nshard, nj, nj == 1 ? "" : "s", p->tile_cases, nj,
             nj == 1 ? "" : "s", nj);
     return -1;
@@ -29,14 +29,14 @@ int pre_jobs(const scene *s, const sweep_plan *p, const sweep_opts *o,
     return 0;
   if (o->nshard > nj)
     fprintf(stderr,
-            "rps3-run: warning: %zu ranks but the sweep has %zu job%s (tiles "
-            "of up to %zu cases): ranks %zu-%zu compute nothing; use at most "
-            "%zu\n",
+            "rps3-run: warning: %zu ranks but the sweep has %zu work unit%s "
+            "(tiles of up to %zu cases): ranks %zu-%zu compute nothing; use "
+            "at most %zu\n",
             o->nshard, nj, nj == 1 ? "" : "s", p->tile_cases, nj,
             o->nshard - 1, nj);
   if ((size_t)o->nthread > mine && mine > 0)
     fprintf(stderr,
-            "rps3-run: warning: -j %d but %s %zu job%s: %zu thread%s "
+            "rps3-run: warning: -j %d but %s %zu work unit%s: %zu thread%s "
             "idle\n",
             o->nthread, o->nshard > 1 ? "this shard has" : "the sweep has",
             mine, mine == 1 ? "" : "s", (size_t)o->nthread - mine,
@@ -94,11 +94,11 @@ void pre_check_print(const char *scene_path, const scene *s,
   } else
     printf("%s\n", when);
   if (p->tile_cases > 1 || p->nt <= p->tile_points)
-    printf("%zu job%s of up to %zu cases: at most %zu shards, ranks or "
+    printf("%zu work unit%s of up to %zu cases: at most %zu shards, ranks or "
            "threads have work\n",
            nj, nj == 1 ? "" : "s", p->tile_cases, nj);
   else
-    printf("%zu job%s of one case each (in windows of %zu samples): at "
+    printf("%zu work unit%s of one case each (in windows of %zu samples): at "
            "most %zu shards, ranks or threads have work\n",
            nj, nj == 1 ? "" : "s", p->tile_points, nj);
 }

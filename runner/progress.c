@@ -163,9 +163,9 @@ void progress_finish(progress *p, size_t cases_done, size_t points_done,
           cases_done, p->ncase, nfailed, points_done, e1,
           el > 0 ? (double)points_done / el : 0);
   if (p->njob && p->njob != p->njob_all)
-    fprintf(stderr, ", %zu of %zu jobs", p->njob, p->njob_all);
+    fprintf(stderr, ", %zu of %zu work units", p->njob, p->njob_all);
   else if (p->njob)
-    fprintf(stderr, ", %zu job%s", p->njob, p->njob == 1 ? "" : "s");
+    fprintf(stderr, ", %zu work unit%s", p->njob, p->njob == 1 ? "" : "s");
   fputc('\n', stderr);
   fflush(stderr);
 }

@@ -28,7 +28,7 @@ static const cli_opt RUN_OPTS[O_N] = {
      "output file (written under a temporary name,\nrenamed when complete)"},
     {"quiet", 'q', NULL, 0, 0, 0, "no progress on stderr"},
     {"gzip", 0, "LEVEL", 1, 0, 9,
-     "deflate the datasets (1-9; default 0, none)"},
+     "deflate the datasets at LEVEL (default 0: not\ndeflated)"},
     {"fields", 0, "LIST", 0, 0, 0,
      "write only these per-sample fields (force,length,...)"},
     {"check", 0, NULL, 0, 0, 0,
@@ -37,7 +37,7 @@ static const cli_opt RUN_OPTS[O_N] = {
     {"jobs", 'j', "N", 1, 1, MAX_THREADS,
      "compute on N threads (default 1); same output"},
     {"shard", 0, "K/N", 0, 0, 0,
-     "compute shard K of N (0 <= K < N <= jobs) into a\npart file"},
+     "compute shard K of N (0 <= K < N <= work units)\ninto a part file"},
     {"resume", 0, NULL, 0, 0, 0, "keep OUT.h5 when it is that part, complete"},
     {"failed-ok", 0, NULL, 0, 0, 0,
      "exit 0, not 1, when the file is complete but some\ncases failed"},
@@ -55,26 +55,30 @@ static const cli_opt RUN_OPTS[O_N] = {
 static void usage(FILE *out)
 {
   fprintf(out,
-          "usage: rps3-run SCENE.yaml -o OUT.h5 [--quiet] [--gzip LEVEL] "
-          "[--check]\n"
-          "                [--fields LIST]\n"
-          "                [-j N] [--shard K/N [--resume]] [--failed-ok]\n"
-          "       rps3-run merge OUT.h5 PART.h5 ... [--copy] [--failed-ok] "
+          "usage: rps3-run SCENE.yaml -o OUT.h5 [OPTION]...\n"
+          "       rps3-run SCENE.yaml --check [OPTION]...\n"
+          "       rps3-run merge OUT.h5 PART.h5... [--copy] [--failed-ok] "
           "[--quiet]\n"
-          "       mpirun -n N rps3-run-mpi SCENE.yaml -o OUT.h5 [--copy] "
-          "[...]\n"
+          "       mpirun -n N rps3-run-mpi SCENE.yaml -o OUT.h5 [OPTION]...\n"
           "       rps3-run --clean OUT.h5 [--force]\n"
           "       rps3-run --keys | --schema | --sim-schema | --version | "
           "--help\n"
           "\n"
-          "Runs the inverse dynamics of the Lee & Shah 3-RPS manipulator "
-          "along the\n"
-          "scene's trajectory, for every case of its sweep, into OUT.h5;\n"
-          "a scene with a simulate section is simulated in closed loop "
-          "instead\n"
-          "(docs/runner.md, \"Simulation\").\n");
+          "Run the scenes of the Lee & Shah 3-RPS manipulator into HDF5 "
+          "files.\n"
+          "\n"
+          "Computes the inverse dynamics along the scene's trajectory, for "
+          "every\n"
+          "case of its sweep, into OUT.h5; a scene with a simulate section "
+          "is\n"
+          "simulated in closed loop instead (docs/runner.md, "
+          "\"Simulation\").\n"
+          "\n"
+          "Options:\n");
   cli_help(out, RUN_OPTS, O_N);
   fprintf(out,
+          "\n"
+          "Commands:\n"
           "  merge                 join the part files of shards 0..N-1 "
           "into OUT.h5\n"
           "                        (virtual datasets over the parts; "
@@ -84,9 +88,12 @@ static void usage(FILE *out)
           "dead\n"
           "                        processes (--force: those of other hosts "
           "too)\n"
+          "\n"
           "Options take their value as --gzip=4, --gzip 4, -j2 or -j 2.\n"
-          "exit: 0 ok, 1 some cases failed, 2 bad scene or usage, 3 cannot "
-          "write\n");
+          "\n"
+          "Exit status: 0 ok, 1 some cases failed, 2 bad scene or usage, 3 "
+          "cannot\n"
+          "write.\n");
 }
 
 /* K/N into *k, *n, strictly (digits only, 0 <= K < N); 0 or -1 */
@@ -115,7 +122,7 @@ static int print_and_end(int row)
     usage(stdout);
     return 1;
   case O_VERSION:
-    printf("rps3-run %s\n", rps3_version());
+    cli_version(stdout, "rps3-run");
     return 1;
   case O_KEYS:
     scene_keys_print();
@@ -132,7 +139,8 @@ static int print_and_end(int row)
 }
 
 /* one option of a run into a; 0, or -1 after a message */
-static int run_option(run_args *a, int row, const char *arg, unsigned long v)
+static int run_option(const cli *c, run_args *a, int row,
+                      const char *arg, unsigned long v)
 {
   char err[512];
   switch (row) {
@@ -146,16 +154,14 @@ static int run_option(run_args *a, int row, const char *arg, unsigned long v)
   case O_COPY: a->copy = 1; break;
   case O_FIELDS:
     if (out_fields_parse(arg, &a->fields, err, sizeof err)) {
-      fprintf(stderr, "rps3-run: %s\n", err);
+      cli_usage_error(c, "%s", err);
       return -1;
     }
     break;
   case O_SHARD:
     a->shard_arg = arg;
     if (parse_shard(arg, &a->shard, &a->nshard)) {
-      fprintf(stderr, "rps3-run: --shard needs K/N with 0 <= K < N, "
-                      "got '%s'\n",
-              arg);
+      cli_usage_error(c, "--shard needs K/N with 0 <= K < N, got '%s'", arg);
       return -1;
     }
     break;
@@ -178,24 +184,27 @@ int run_args_parse(int argc, char **argv, run_args *a)
   a->fields = out_fields_all();
   cli_start(&c, "rps3-run", RUN_OPTS, O_N, argc, argv);
   while ((row = cli_next(&c, &arg, &v)) != CLI_END) {
-    if (row == CLI_BAD) {
-      fprintf(stderr, "rps3-run: the options: rps3-run --help\n");
+    if (row == CLI_BAD)
       return EXIT_USAGE;
-    }
     if (print_and_end(row))
       return EXIT_OK;
-    if (run_option(a, row, arg, v))
+    if (run_option(&c, a, row, arg, v))
       return EXIT_USAGE;
   }
   nop = cli_operands(&c, &op);
   if (nop > 1) {
-    fprintf(stderr, "rps3-run: one scene at a time ('%s' and '%s')\n",
-            op[0], op[1]);
+    cli_usage_error(&c, "one scene at a time ('%s' and '%s')", op[0], op[1]);
     return EXIT_USAGE;
   }
   a->scene_path = nop ? op[0] : NULL;
-  if (!a->scene_path || (!a->out_path && !a->check)) {
-    usage(stderr);
+  if (!a->scene_path) {
+    cli_usage_error(&c, "missing the scene file (rps3-run SCENE.yaml -o "
+                        "OUT.h5)");
+    return EXIT_USAGE;
+  }
+  if (!a->out_path && !a->check) {
+    cli_usage_error(&c, "missing -o OUT.h5 (or --check, which writes "
+                        "nothing)");
     return EXIT_USAGE;
   }
   return -1;
@@ -212,16 +221,22 @@ int clean_main(int argc, char **argv)
   const char *arg;
   unsigned long v;
   char **op;
-  int row, force = 0;
+  int row, nop, force = 0;
   cli_start(&c, "rps3-run --clean", CLEAN_OPTS, 1, argc, argv);
+  c.help_cmd = "rps3-run";
   while ((row = cli_next(&c, &arg, &v)) != CLI_END) {
     if (row == CLI_BAD)
-      break;
+      return EXIT_USAGE;
     force = 1;
   }
-  if (row == CLI_BAD || cli_operands(&c, &op) != 1) {
-    fprintf(stderr, "usage: rps3-run --clean OUT.h5 [--force]\n");
-    cli_help(stderr, CLEAN_OPTS, 1);
+  nop = cli_operands(&c, &op);
+  if (nop != 1) {
+    if (nop == 0)
+      cli_usage_error(&c, "missing OUT.h5 (rps3-run --clean OUT.h5 "
+                          "[--force])");
+    else
+      cli_usage_error(&c, "one OUT.h5 at a time ('%s' and '%s')", op[0],
+                      op[1]);
     return EXIT_USAGE;
   }
   return tmpout_clean(op[0], force, 0) < 0 ? EXIT_IO : EXIT_OK;

@@ -13,8 +13,6 @@
 #include <stdlib.h>
 #include <time.h>
 
-#include <gsl/gsl_errno.h>
-
 #include "rps3.h"
 
 #define RATE_HZ 1000L
@@ -43,7 +41,6 @@ int main(int argc, char **argv) {
   struct timespec next, woke, done;
 
   /* set up once, outside the loop: the only allocation is the data */
-  gsl_set_error_handler_off();            /* once, from the main thread */
   rps3_model_default(&m);                 /* Table II */
   m.opt.effects = RPS3_EFF_ALL & ~RPS3_EFF_PAYLOAD; /* no payload here */
   m.friction.viscous = 0.01;              /* N m s / rad at each pin */

@@ -18,8 +18,6 @@
 #include <string.h>
 #include <time.h>
 
-#include <gsl/gsl_errno.h>
-
 #include "rps3.h"
 
 #define RATE_HZ 1000.0
@@ -55,7 +53,6 @@ int main(int argc, char **argv) {
   }
 
   /* set up once, outside the loop: every allocation happens here */
-  gsl_set_error_handler_off();
   rps3_model_default(&plant);               /* Table II, m/M = 0.5 */
   if (rps3_model_init(&plant, err, sizeof(err)) != RPS3_OK) goto fail_err;
   cmodel = plant;                           /* the controller's own model */

@@ -448,7 +448,6 @@ int main(void) {
       cmocka_unit_test(stages_and_errors),
       cmocka_unit_test(table_kinds),
   };
-  gsl_set_error_handler_off();
   return cmocka_run_group_tests(tests, NULL, NULL);
 }
 

@@ -380,6 +380,5 @@ int main(void) {
       cmocka_unit_test(ik_and_fk_like_loop),
       cmocka_unit_test(call_errors),
   };
-  gsl_set_error_handler_off();
   return cmocka_run_group_tests(tests, NULL, NULL);
 }

@@ -1129,6 +1129,5 @@ int main(void) {
       cmocka_unit_test(lean_singular_is_an_error),
       cmocka_unit_test(lean_leaves_no_stale_stage),
   };
-  gsl_set_error_handler_off();
   return cmocka_run_group_tests(tests, NULL, NULL);
 }

@@ -352,6 +352,5 @@ int main(void) {
       cmocka_unit_test(laws_are_the_model_inverse_dynamics),
       cmocka_unit_test(laws_keep_the_model_limits),
   };
-  gsl_set_error_handler_off();
   return cmocka_run_group_tests(tests, NULL, NULL);
 }

@@ -32,3 +32,219 @@ def test_simulation_schema_in_docs_is_generated(runner):
         doc = f.read()
     assert schema in doc, "docs/runner.md simulation table is stale: run " \
         "`make docs`"
+
+
+# ------------------------------------------------- every code block runs
+#
+# Every fenced block of README.md and docs/*.md is one of:
+#   - a language that runs: ```sh (bash -e), ```python (this Python, with
+#     the rps3 package), ```c (compiled and run, below);
+#   - a file for the blocks after it: ```c file=app.c, ```cmake
+#     file=CMakeLists.txt (written into the page's directory; a C file is
+#     also compiled and run);
+#   - ```text: output, tables, messages (not code);
+#   - marked ```LANG fragment: part of something larger, or a command that
+#     takes minutes, root or a cluster (counted, not run).
+# A block without an info string, or of another language unmarked, fails:
+# nothing is skipped silently.  The blocks of one page run in order in one
+# temporary directory holding `build` and `configs` (links into the tree)
+# and an empty `out`, with the built programs on PATH and an installed copy
+# of rps3 (`make install PREFIX=...`) found by pkg-config, CMake and the
+# loader.  C blocks are also compiled through pkg-config and CMake, each
+# against the shared and the static library.
+
+import re  # noqa: E402
+import shutil  # noqa: E402
+import sys  # noqa: E402
+
+import pytest  # noqa: E402
+
+RUNS = {"sh", "python", "c"}
+FENCE = re.compile(r"^(\s*)```(.*)$")
+
+
+def pages():
+    docs = os.path.join(ROOT, "docs")
+    return ["README.md"] + sorted(
+        os.path.join("docs", f) for f in os.listdir(docs) if f.endswith(".md"))
+
+
+def blocks(rel):
+    """[(line, lang, attrs, text)] of the fenced blocks of a page."""
+    lines = open(os.path.join(ROOT, rel)).read().split("\n")
+    out, i = [], 0
+    while i < len(lines):
+        m = FENCE.match(lines[i])
+        if not m:
+            i += 1
+            continue
+        indent, info = m.group(1), m.group(2).strip()
+        j = i + 1
+        while j < len(lines) and not re.match(r"^\s*```\s*$", lines[j]):
+            j += 1
+        assert j < len(lines), f"{rel}:{i + 1}: unclosed code block"
+        words = info.split()
+        lang = words[0] if words else ""
+        attrs = dict(w.split("=", 1) if "=" in w else (w, True)
+                     for w in words[1:])
+        body = "\n".join(ln[len(indent):] if ln.startswith(indent) else ln
+                         for ln in lines[i + 1:j]) + "\n"
+        out.append((i + 1, lang, attrs, body))
+        i = j + 1
+    return out
+
+
+def kind(lang, attrs):
+    if lang == "text":
+        return "text"
+    if attrs.get("fragment"):
+        return "fragment"
+    if "file" in attrs:
+        return "file"
+    if lang in RUNS:
+        return "run"
+    return None
+
+
+def test_every_block_is_classified():
+    """Each block says what it is; the parser sees every fence (an
+    independent count of the fence lines)."""
+    counts = {"run": 0, "file": 0, "fragment": 0, "text": 0}
+    for rel in pages():
+        found = blocks(rel)
+        fences = sum(1 for ln in open(os.path.join(ROOT, rel))
+                     if ln.lstrip().startswith("```"))
+        assert fences == 2 * len(found), rel
+        for line, lang, attrs, _ in found:
+            k = kind(lang, attrs)
+            assert k, (f"{rel}:{line}: a ```{lang} block must run, be a "
+                       "file=, or be marked ```text or ```LANG fragment")
+            counts[k] += 1
+    print(f"\ncode blocks: {counts}")
+    # the README's C example, its build commands and its Python run
+    readme = [kind(lang, a) for _, lang, a, _ in blocks("README.md")]
+    assert readme.count("run") >= 3 and readme.count("file") == 2
+    assert counts["run"] >= 10
+
+
+@pytest.fixture(scope="module")
+def installed(runner, tmp_path_factory):
+    """rps3 installed with `make install PREFIX=...`."""
+    pre = tmp_path_factory.mktemp("docs-prefix") / "usr"
+    env = {k: v for k, v in os.environ.items()
+           if k not in ("MAKEFLAGS", "MFLAGS", "MAKELEVEL", "MAKEOVERRIDES")}
+    proc = subprocess.run(["make", "-C", ROOT, "--no-print-directory",
+                           "install", f"PREFIX={pre}"], capture_output=True,
+                          text=True, timeout=600, env=env)
+    assert proc.returncode == 0, proc.stdout + proc.stderr
+    return pre
+
+
+def page_env(pre):
+    env = {k: v for k, v in os.environ.items()
+           if k not in ("MAKEFLAGS", "MFLAGS", "MAKELEVEL", "MAKEOVERRIDES")}
+    env.update(
+        PATH=os.pathsep.join([os.path.join(ROOT, "build"),
+                              os.path.dirname(sys.executable),
+                              env.get("PATH", "")]),
+        PKG_CONFIG_PATH=str(pre / "lib" / "pkgconfig"),
+        CMAKE_PREFIX_PATH=str(pre),
+        LD_LIBRARY_PATH=str(pre / "lib"),
+        MPLBACKEND="Agg")
+    return env
+
+
+def page_dir(tmp_path):
+    for d in ("build", "configs"):
+        (tmp_path / d).symlink_to(os.path.join(ROOT, d))
+    (tmp_path / "out").mkdir()
+    return tmp_path
+
+
+@pytest.mark.parametrize("rel", pages())
+def test_blocks_of_the_page_run(rel, installed, tmp_path):
+    """The page's blocks, in order, in one directory."""
+    here = page_dir(tmp_path)
+    env = page_env(installed)
+    for line, lang, attrs, body in blocks(rel):
+        k = kind(lang, attrs)
+        where = f"{rel}:{line}"
+        if k == "file":
+            (here / attrs["file"]).write_text(body)
+            continue
+        if k != "run" or lang == "c":
+            continue
+        cmd = (["bash", "-e", "-o", "pipefail", "-c", body] if lang == "sh"
+               else [sys.executable, "-c", body])
+        proc = subprocess.run(cmd, cwd=here, env=env, capture_output=True,
+                              text=True, timeout=600)
+        assert proc.returncode == 0, \
+            f"{where}: ```{lang} failed\n{body}\n{proc.stdout}\n{proc.stderr}"
+
+
+def c_blocks():
+    return [(rel, line, body) for rel in pages()
+            for line, lang, attrs, body in blocks(rel)
+            if lang == "c" and kind(lang, attrs) in ("run", "file")]
+
+
+CMAKE_BOTH = """\
+cmake_minimum_required(VERSION 3.13)
+project(block C)
+find_package(rps3 REQUIRED)
+add_executable(shared block.c)
+target_link_libraries(shared PRIVATE rps3::rps3)
+add_executable(static block.c)
+target_link_libraries(static PRIVATE rps3::rps3_static)
+"""
+
+
+def needed(exe):
+    out = subprocess.run(["readelf", "-d", str(exe)], capture_output=True,
+                         text=True, check=True).stdout
+    return re.findall(r"\(NEEDED\)\s+Shared library: \[([^\]]+)\]", out)
+
+
+@pytest.mark.parametrize("rel,line,body", c_blocks(),
+                         ids=[f"{r}:{ln}" for r, ln, _ in c_blocks()])
+def test_c_block_builds_through_pkg_config_and_cmake(rel, line, body,
+                                                      installed, tmp_path):
+    """Warning-free, against the installed copy, shared and static; it
+    runs and exits 0 (a C program of the docs needs no GSL call: GSL's
+    default handler stays on)."""
+    if shutil.which("cmake") is None:
+        pytest.fail("cmake is missing: `make check` installs it")
+    env = page_env(installed)
+    src = tmp_path / "block.c"
+    src.write_text(body)
+    warn = ["-Wall", "-Wextra", "-Werror"]
+
+    def sh(cmd):
+        p = subprocess.run(cmd, cwd=tmp_path, env=env, capture_output=True,
+                           text=True, timeout=600)
+        assert p.returncode == 0, f"{rel}:{line}: {cmd}\n{p.stdout}{p.stderr}"
+        return p.stdout
+
+    shared = sh(["pkg-config", "--cflags", "--libs", "rps3"]).split()
+    static = sh(["pkg-config", "--static", "--cflags", "--libs",
+                 "rps3"]).split()
+    static = [w for f in static for w in
+              (["-Wl,-Bstatic", "-lrps3", "-Wl,-Bdynamic"] if f == "-lrps3"
+               else [f])]
+    exes = {}
+    for name, flags in (("pc-shared", shared), ("pc-static", static)):
+        exes[name] = tmp_path / name
+        sh(["cc", *warn, str(src), *flags, "-o", str(exes[name])])
+    (tmp_path / "CMakeLists.txt").write_text(CMAKE_BOTH)
+    sh(["cmake", "-S", ".", "-B", "cm", f"-DCMAKE_C_FLAGS={' '.join(warn)}"])
+    sh(["cmake", "--build", "cm"])
+    exes["cmake-shared"] = tmp_path / "cm" / "shared"
+    exes["cmake-static"] = tmp_path / "cm" / "static"
+    for name, exe in exes.items():
+        so = [n for n in needed(exe) if n.startswith("librps3")]
+        major = re.search(r"#define RPS3_VERSION_MAJOR (\d+)", open(
+            os.path.join(ROOT, "include", "rps3.h")).read()).group(1)
+        assert so == ([] if name.endswith("static")
+                      else [f"librps3.so.{major}"]), \
+            (name, needed(exe))
+        sh([str(exe)])

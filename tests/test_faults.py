@@ -421,7 +421,7 @@ def test_a_huge_shard_count_is_refused(runner, tmp_path):
     out = tmp_path / "p.h5"
     proc = run(scene, out, "-q", "--shard", "1/18446744073709551615")
     assert proc.returncode == 2, proc.stderr
-    assert "the sweep has 3 jobs (tiles of up to 14 cases)" in proc.stderr
+    assert "the sweep has 3 work units (tiles of up to 14 cases)" in proc.stderr
     assert names(tmp_path) == ["s.yaml"]
 
 
@@ -444,7 +444,7 @@ def test_study_help_and_version(runner):
         assert "usage: rps3-study accuracy" in proc.stdout
         assert "--samples N" in proc.stdout
     proc = subprocess.run([STUDY, "--version"], capture_output=True, text=True)
-    assert proc.returncode == 0 and proc.stdout.startswith("rps3-study 0.")
+    assert proc.returncode == 0 and proc.stdout.startswith("rps3-study (rps3) 0.")
 
 
 # ------------------------------------------------------------ scene files

@@ -331,6 +331,5 @@ int main(void) {
       cmocka_unit_test(level_platform),
       cmocka_unit_test(positions_of_the_root),
   };
-  gsl_set_error_handler_off();
   return cmocka_run_group_tests(tests, NULL, NULL);
 }

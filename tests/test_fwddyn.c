@@ -803,6 +803,5 @@ int main(void) {
       cmocka_unit_test(scratch_mass_condition),
       cmocka_unit_test(shared_dynamics_every_field),
   };
-  gsl_set_error_handler_off();
   return cmocka_run_group_tests(tests, NULL, NULL);
 }

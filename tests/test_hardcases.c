@@ -1075,6 +1075,5 @@ int main(void) {
       cmocka_unit_test(spun_family),
       cmocka_unit_test(warm_million),
   };
-  gsl_set_error_handler_off();
   return cmocka_run_group_tests(tests, NULL, NULL);
 }

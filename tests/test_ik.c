@@ -160,6 +160,5 @@ int main(void) {
       cmocka_unit_test(obtuse_branch),
       cmocka_unit_test(unreachable_and_invalid),
   };
-  gsl_set_error_handler_off();
   return cmocka_run_group_tests(tests, NULL, NULL);
 }

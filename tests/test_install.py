@@ -84,7 +84,8 @@ def test_installed_files_and_links(prefix):
     for rel in ("include/rps3.h", "lib/librps3.a", "lib/pkgconfig/rps3.pc",
                 "lib/cmake/rps3/rps3-config.cmake",
                 "lib/cmake/rps3/rps3-config-version.cmake",
-                "bin/rps3-run", "bin/rps3-study", "share/doc/rps3/LICENSE"):
+                "bin/rps3-run", "bin/rps3-study", "bin/rps3-simstudy",
+                "share/doc/rps3/LICENSE"):
         assert (prefix / rel).is_file(), rel
     # the SONAME carries the major version; the links lead to the file
     assert os.readlink(lib / "librps3.so") == f"librps3.so.{major}"
@@ -97,6 +98,22 @@ def test_installed_files_and_links(prefix):
     assert "Requires.private: gsl" in pc
     # the installed header is the tree's
     assert (prefix / "include" / "rps3.h").read_text() == open(HEADER).read()
+
+
+def test_every_installed_program_has_its_man_page(prefix):
+    """share/man/man1/PROG.1 for each program in bin/, readable by man."""
+    progs = sorted(os.listdir(prefix / "bin"))
+    assert {"rps3-run", "rps3-study", "rps3-simstudy"} <= set(progs)
+    man1 = prefix / "share" / "man" / "man1"
+    assert sorted(p[:-2] for p in os.listdir(man1)) == progs
+    for p in progs:
+        page = (man1 / f"{p}.1").read_text()
+        assert f".TH {p.upper()} 1 " in page
+        assert f"\\fB\\-\\-help\\fR" in page
+    if shutil.which("man"):
+        out = sh(["man", "-M", str(prefix / "share" / "man"), "rps3-run"],
+                 env=clean_env(MANPAGER="cat", PAGER="cat", MANWIDTH="80"))
+        assert "rps3-run - run the scenes" in out and "--gzip" in out
 
 
 def test_installed_runner_runs(prefix, tmp_path):

@@ -420,6 +420,5 @@ int main(void) {
       cmocka_unit_test(singular_configuration),
       cmocka_unit_test(friction_opposes_motion),
   };
-  gsl_set_error_handler_off();
   return cmocka_run_group_tests(tests, NULL, NULL);
 }

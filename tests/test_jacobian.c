@@ -385,6 +385,5 @@ int main(void) {
       cmocka_unit_test(constraint_jacobian),
       cmocka_unit_test(velocity_map),
   };
-  gsl_set_error_handler_off();
   return cmocka_run_group_tests(tests, NULL, NULL);
 }

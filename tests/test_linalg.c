@@ -80,6 +80,5 @@ int main(void) {
       cmocka_unit_test(matches_gsl),
       cmocka_unit_test(singular_is_reported),
   };
-  gsl_set_error_handler_off();
   return cmocka_run_group_tests(tests, NULL, NULL);
 }

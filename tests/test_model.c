@@ -181,6 +181,5 @@ int main(void) {
       cmocka_unit_test(every_status_has_a_message),
       cmocka_unit_test(data_life_cycle),
   };
-  gsl_set_error_handler_off();
   return cmocka_run_group_tests(tests, NULL, NULL);
 }

@@ -247,6 +247,5 @@ int main(void) {
       cmocka_unit_test(fk_reports_and_requires_mode),
       cmocka_unit_test(warm_dip_across_singular_surface),
   };
-  gsl_set_error_handler_off();
   return cmocka_run_group_tests(tests, NULL, NULL);
 }

@@ -409,26 +409,26 @@ def test_jobs_are_counted_and_too_many_shards_refused(tmp_path):
     scene = mixed_scene(tmp_path)
     proc = run(scene, None, "--check")
     assert proc.returncode == 0, proc.stderr
-    assert "5 jobs of up to 4 cases: at most 5 shards" in proc.stdout
+    assert "5 work units of up to 4 cases: at most 5 shards" in proc.stdout
     assert "warning" not in proc.stderr
     for args in (["--check", "--shard", "0/8"], ["--shard", "6/8"],
                  ["-q", "--shard", "1/6"]):
         out = [] if "--check" in args else [tmp_path / "p.h5"]
         proc = run(scene, *out, *args)
         assert proc.returncode == 2, (args, proc.stderr)
-        assert "the sweep has 5 jobs (tiles of up to 4 cases), so at most " \
+        assert "the sweep has 5 work units (tiles of up to 4 cases), so at most " \
                "5 shards can have work: use --shard K/5 or fewer" \
             in proc.stderr, proc.stderr
     assert sorted(os.listdir(tmp_path)) == ["mixed.yaml"]
     proc = run(scene, tmp_path / "p4.h5", "-q", "--shard", "4/5")
     assert proc.returncode == 0, proc.stderr
     proc = run(scene, tmp_path / "p1.h5", "--shard", "1/2", "-j", "4")
-    assert "-j 4 but this shard has 2 jobs: 2 threads stay idle" \
+    assert "-j 4 but this shard has 2 work units: 2 threads stay idle" \
         in proc.stderr
-    assert "8/8 cases" in proc.stderr and ", 2 of 5 jobs" in proc.stderr
+    assert "8/8 cases" in proc.stderr and ", 2 of 5 work units" in proc.stderr
     proc = run(scene, tmp_path / "all.h5", "-j", "2")
     assert "warning" not in proc.stderr
-    assert proc.stderr.rstrip().endswith(", 5 jobs"), proc.stderr
+    assert proc.stderr.rstrip().endswith(", 5 work units"), proc.stderr
 
 
 @pytest.mark.skipif(MPIRUN is None, reason="mpirun (openmpi-bin) missing")
@@ -442,7 +442,7 @@ def test_more_ranks_than_jobs_warn_and_join(tmp_path):
     out = tmp_path / "mpi.h5"
     proc = mpirun(3, RUNNER_MPI, scene, "-o", out)
     assert proc.returncode == 0, proc.stderr
-    assert "3 ranks but the sweep has 2 jobs" in proc.stderr
+    assert "3 ranks but the sweep has 2 work units" in proc.stderr
     assert "ranks 2-2 compute nothing; use at most 2" in proc.stderr
     with h5py.File(out, "r") as f:
         assert (f["status"][()] == 0).all()

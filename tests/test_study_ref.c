@@ -133,6 +133,5 @@ int main(void) {
       cmocka_unit_test(matches_library_paper),
       cmocka_unit_test(unreachable_refused),
   };
-  gsl_set_error_handler_off();
   return cmocka_run_group_tests(tests, NULL, NULL);
 }

@@ -157,6 +157,5 @@ int main(void) {
   const struct CMUnitTest tests[] = {
       cmocka_unit_test(threads_match_one_thread),
   };
-  gsl_set_error_handler_off(); /* once, from the main thread */
   return cmocka_run_group_tests(tests, NULL, NULL);
 }

@@ -148,6 +148,5 @@ int main(void) {
       cmocka_unit_test(blend_corners),
       cmocka_unit_test(errors),
   };
-  gsl_set_error_handler_off();
   return cmocka_run_group_tests(tests, NULL, NULL);
 }

@@ -363,6 +363,5 @@ int main(void) {
       cmocka_unit_test(transmission_from_inputs),
       cmocka_unit_test(limits_are_options),
   };
-  gsl_set_error_handler_off();
   return cmocka_run_group_tests(tests, NULL, NULL);
 }

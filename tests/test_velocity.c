@@ -268,6 +268,5 @@ int main(void) {
       cmocka_unit_test(stage_and_input_errors),
       cmocka_unit_test(link_motion_is_the_stages),
   };
-  gsl_set_error_handler_off();
   return cmocka_run_group_tests(tests, NULL, NULL);
 }

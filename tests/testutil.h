@@ -1,6 +1,10 @@
 /*
  * testutil.h - shared helpers of the C unit tests: named tolerances, a
  * deterministic generator of high-entropy inputs, and relative checks.
+ *
+ * Every C test leaves GSL's default error handler on (it aborts): the
+ * library must never reach it, whatever the input.  Only test_nomem.c,
+ * which fails GSL's own allocations on purpose, turns it off.
  */
 #ifndef RPS3_TESTUTIL_H
 #define RPS3_TESTUTIL_H
