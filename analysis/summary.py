@@ -43,7 +43,8 @@ def panel(ax, path):
     with h5py.File(path, "r") as f:
         sv = h5io.sweep_values(f)
         peak, share = key_numbers(f)
-        units = {k: h5io.text(f[k].attrs["units"]) for k in sv}
+        units = {k: h5io.text(f[h5io.key_name(k)].attrs["units"])
+                 for k in sv}
     name = os.path.basename(path)
     if not sv:
         ax.set_title(f"{name}: no sweep")

@@ -11,7 +11,7 @@ manipulator of Lee & Shah (1988), computed by librps3 over numpy arrays.
 SI units throughout; see the repository's README.md and include/rps3.h.
 """
 
-from rps3 import h5io, trajectory
+from rps3 import h5io, plot, trajectory
 from rps3._core import strerror
 from rps3._rps3 import ffi as _ffi
 from rps3._rps3 import lib as _lib
@@ -26,4 +26,4 @@ if __version__ != _ffi.string(_lib.rps3py_header_version()).decode():
     raise ImportError(f"rps3: library {__version__} does not match its header")
 
 __all__ = ["DEFAULT_EFFECTS", "EFFECTS", "Dynamics", "Kinematics", "Model", "h5io",
-           "Pose", "open_dataset", "strerror", "trajectory"]
+           "Pose", "open_dataset", "plot", "strerror", "trajectory"]
