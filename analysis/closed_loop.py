@@ -86,6 +86,11 @@ def load(path):
 
 
 def draw(cases, out, dpi=plot.DPI):
+    """The figure into out (the format of its suffix)."""
+    return plot.save(figure(cases), out, dpi)
+
+
+def figure(cases):
     """Errors of every case (each its line style and marker); the forces
     of the worst one."""
     fig, (ax, axf) = plot.subplots(2, 1, figsize=(7.5, 7.5), sharex=True,
@@ -100,15 +105,17 @@ def draw(cases, out, dpi=plot.DPI):
                         markersize=8)
     ax.set_ylabel(r"largest link error $\max_i |l_{d,i} - l_i|$ [m]")
     ax.grid(True, which="both", alpha=0.3)
-    plot.legend(ax, title="controller (the plant is the scene's "
-                "manipulator)", fontsize=7, title_fontsize=7)
+    # beside the axes: the curves fill them
+    plot.legend(ax, title="controller (the plant: the scene's "
+                "manipulator)", fontsize=7, title_fontsize=7,
+                loc="upper left", bbox_to_anchor=(1.01, 1.0))
     worst = max(cases, key=lambda cs: cs["error_max"])
     plot.links(axf, worst["time"], worst["force"], "$F_i$", linewidth=1.0)
     axf.set_xlabel("time $t$ [s]")
     axf.set_ylabel("applied force $F_i$ [N]")
     axf.set_title(f"forces of the largest error: {worst['label']}")
     plot.legend(axf)
-    plot.save(fig, out, dpi)
+    return fig
 
 
 def table(keys, cases):

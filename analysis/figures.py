@@ -37,6 +37,11 @@ def fig_lengths(f, case, path, dpi):
 
 
 def fig_forces(f, case, ylim, title, path, dpi):
+    """Figs. 3-4 into path."""
+    plot.save(forces_figure(f, case, ylim, title), path, dpi)
+
+
+def forces_figure(f, case, ylim, title):
     """Figs. 3-4: the three actuating forces of one case, warned samples
     marked."""
     t = h5io.times(f)[case]
@@ -50,7 +55,7 @@ def fig_forces(f, case, ylim, title, path, dpi):
     ax.set_xlabel("time $t$ [s]")
     ax.set_ylabel("actuating force $F_i$ [N] (> 0 extends)")
     ax.set_title(title)
-    plot.save(fig, path, dpi)
+    return fig
 
 
 def make_figures(h5path, outdir, fmt="png", dpi=plot.DPI):

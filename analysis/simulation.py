@@ -18,11 +18,8 @@ import argparse
 import os
 
 import h5py
-import matplotlib
-
-matplotlib.use("Agg")
-import matplotlib.pyplot as plt  # noqa: E402
-import numpy as np  # noqa: E402
+import numpy as np
+from rps3 import plot
 
 INTEGRATORS = ("rk4", "rkf45", "rk8pd", "msbdf", "rk4imp")
 COLOURS = ("tab:blue", "tab:orange", "tab:green")
@@ -51,9 +48,9 @@ def load_tracking(f, path):
     }
 
 
-def plot_tracking(tr, title, out):
+def plot_tracking(tr, title, out, dpi=plot.DPI):
     """Error against time for every controller and model."""
-    fig, ax = plt.subplots(figsize=(7.5, 4.5))
+    fig, ax = plot.subplots(figsize=(7.5, 4.5))
     for a, ctrl in enumerate(tr["controllers"]):
         for b, model in enumerate(tr["models"]):
             e = np.where(tr["error"][a, b] > 0, tr["error"][a, b], np.nan)
@@ -66,8 +63,7 @@ def plot_tracking(tr, title, out):
     ax.grid(True, which="both", alpha=0.3)
     ax.legend(fontsize=8)
     fig.tight_layout()
-    fig.savefig(out, dpi=120)
-    plt.close(fig)
+    plot.save(fig, out, dpi)
 
 
 def pareto(cost, err):
@@ -81,7 +77,7 @@ def pareto(cost, err):
     return front
 
 
-def plot_accuracy(f, out):
+def plot_accuracy(f, out, dpi=plot.DPI):
     """Error versus CPU per simulated second; returns the Pareto rows."""
     g = f["accuracy"]
     integ = g["integrator"][()]
@@ -89,7 +85,7 @@ def plot_accuracy(f, out):
     ttol = g["theta_tol"][()]
     err = g["error"][()]
     cpu = g["cpu_per_sim_s"][()]
-    fig, ax = plt.subplots(figsize=(7.5, 4.5))
+    fig, ax = plot.subplots(figsize=(7.5, 4.5))
     rows: list[tuple] = []
     for c in range(len(integ)):
         name = INTEGRATORS[integ[c]]
@@ -113,8 +109,7 @@ def plot_accuracy(f, out):
     ax.grid(True, which="both", alpha=0.3)
     ax.legend(fontsize=8)
     fig.tight_layout()
-    fig.savefig(out, dpi=120)
-    plt.close(fig)
+    plot.save(fig, out, dpi)
     return [rows[i] for i in front]
 
 
@@ -122,8 +117,10 @@ def main():
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("simstudy")
     ap.add_argument("outdir")
+    plot.add_output_args(ap)
     args = ap.parse_args()
     os.makedirs(args.outdir, exist_ok=True)
+
     with h5py.File(args.simstudy, "r") as f:
         print("| path | controller | model | max \\|l - l_d\\| [m] |")
         print("|---|---|---|---|")
@@ -131,14 +128,16 @@ def main():
                             ("fast_sine", "a fast sine")):
             tr = load_tracking(f, path)
             plot_tracking(tr, f"tracking at 1 kHz, RK4: {title}",
-                          os.path.join(args.outdir, f"tracking_{path}.png"))
+                          plot.output_path(args.outdir, f"tracking_{path}",
+                                           args), args.dpi)
             for a, ctrl in enumerate(tr["controllers"]):
                 for b, model in enumerate(tr["models"]):
                     e = tr["error"][a, b]
                     worst = np.nanmax(e) if np.isfinite(e).any() else np.nan
                     print(f"| {path} | {ctrl} | {model} | {worst:.3g} |")
         front = plot_accuracy(
-            f, os.path.join(args.outdir, "simulation_accuracy.png"))
+            f, plot.output_path(args.outdir, "simulation_accuracy", args),
+            args.dpi)
     print()
     print("| integrator | h [s] or tol | theta tol | error [m] | "
           "CPU per simulated s |")

@@ -22,6 +22,12 @@ from rps3 import h5io, plot
 
 
 def figure(h5, path, dpi=plot.DPI):
+    """Draw run h5 into path (the format of its suffix)."""
+    return plot.save(draw(h5), path, dpi)
+
+
+def draw(h5):
+    """The figure of run h5 (case 0)."""
     with h5py.File(h5, "r") as f:
         t = h5io.times(f)[0]
         x, y, z = (f[k][0] for k in ("x_c", "y_c", "z_c"))
@@ -63,7 +69,7 @@ def figure(h5, path, dpi=plot.DPI):
     ax.set_ylabel("actuating force $F_i$ [N]")
     plot.legend(ax)
     fig.tight_layout()
-    plot.save(fig, path, dpi)
+    return fig
 
 
 def main(argv=None):

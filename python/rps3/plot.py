@@ -25,7 +25,6 @@ from typing import Any
 
 # no backend is chosen here: importing rps3 leaves an interactive
 # session's; without a display matplotlib falls back to Agg
-import matplotlib
 import matplotlib.pyplot as plt
 import numpy as np
 from matplotlib.axes import Axes
@@ -52,7 +51,7 @@ MARKERS = ("o", "s", "^", "D", "v", "x")
 #: the three links, in the paper's order
 LINK_STYLES = LINE_STYLES[:3]
 
-_RC = {
+_RC: dict[str, Any] = {
     "figure.figsize": (6.4, 4.2),
     "font.size": 10,
     "axes.titlesize": 10,
@@ -72,7 +71,7 @@ _RC = {
 def style() -> None:
     """The figures' matplotlib settings (sizes, grid, fonts kept as text
     in PDF and SVG)."""
-    matplotlib.rcParams.update(_RC)
+    plt.style.use(_RC)
 
 
 def subplots(*args: Any, **kwargs: Any) -> tuple[Figure, Any]:
@@ -183,7 +182,7 @@ def legend(ax: Axes, handles: Sequence | None = None,
     entries need one)."""
     kwargs.setdefault("loc", "best")
     if handles is not None:
-        return ax.legend(handles, labels, title=title, **kwargs)
+        return ax.legend(handles, list(labels or []), title=title, **kwargs)
     return ax.legend(title=title, **kwargs)
 
 
