@@ -3,7 +3,8 @@
 
 usage: accuracy_cost.py ACCURACY.h5 OUTDIR
 
-Writes OUTDIR/accuracy_cost.png: for each trajectory, the force error
+Writes OUTDIR/accuracy_cost.png (or .pdf, .svg: --format; --dpi): for
+each trajectory, the force error
 against the reference vs the median time per point (log-log), one marker per
 configuration coloured by the knob it turns, the Pareto fronts (no other
 configuration is both faster and more accurate) over all numerical knobs,

@@ -4,7 +4,7 @@ geometry alone (numpy, independent of the C library).
 
 usage: assembly_modes.py OUTDIR [--alpha ALPHA]
 
-Writes OUTDIR/assembly_modes.png.  Left: the (beta, z_c) plane at
+Writes OUTDIR/assembly_modes.png (or .pdf, .svg: --format; --dpi).  Left: the (beta, z_c) plane at
 alpha = ALPHA (default 0.5 rad) for Table II's mechanism, coloured by the
 sign of det(df/dtheta) of each pose's own configuration (eq. (39)): +1 the
 level platform's side, -1 the other; the boundary is the singular surface.

@@ -1,9 +1,10 @@
 #!/usr/bin/env python3
 """Closed-loop tracking and simulation accuracy: figures of rps3-simstudy.
 
-usage: simulation.py SIMSTUDY.h5 OUTDIR
+usage: simulation.py SIMSTUDY.h5 OUTDIR [--format pdf|svg|png] [--dpi DPI]
 
-Writes OUTDIR/tracking_helix.png and OUTDIR/tracking_fast_sine.png: the
+Writes OUTDIR/tracking_helix.png and OUTDIR/tracking_fast_sine.png (or
+.pdf, .svg: --format): the
 largest link length error |l - l_d| against time for PD, PD + gravity and
 computed torque, each with the exact model (solid) and a model without link
 mass (dashed, the paper's case 1); and OUTDIR/simulation_accuracy.png: the
@@ -54,9 +55,13 @@ def plot_tracking(tr, title, out, dpi=plot.DPI):
     for a, ctrl in enumerate(tr["controllers"]):
         for b, model in enumerate(tr["models"]):
             e = np.where(tr["error"][a, b] > 0, tr["error"][a, b], np.nan)
+            # the model is the controller's own: the plant is exact
             ax.semilogy(tr["time"], e, color=COLOURS[a],
                         linestyle="-" if b == 0 else "--", linewidth=1.2,
-                        label=f"{ctrl}, {model.replace('_', ' ')} model")
+                        marker="os^"[a], markevery=0.1, markersize=4,
+                        markerfacecolor="none" if b else COLOURS[a],
+                        label=f"{ctrl}, controller's model: "
+                              f"{model.replace('_', ' ')}")
     ax.set_xlabel("time [s]")
     ax.set_ylabel("max_i |l_i - l_d,i| [m]")
     ax.set_title(title)

@@ -3,7 +3,8 @@
 
 usage: workspace.py WORKSPACE.h5 OUTDIR [--alpha ALPHA]
 
-Writes OUTDIR/workspace.png: for each rho (rows), at the alpha nearest to
+Writes OUTDIR/workspace.png (or .pdf, .svg: --format; --dpi): for each
+rho (rows), at the alpha nearest to
 ALPHA (default 0.3 rad), the (beta, z_c) plane coloured by the log10 of
 the force transmission (the largest actuator force per unit platform
 load, dimensionless), with the unreachable region blank, the other assembly

@@ -224,3 +224,19 @@ def test_h5io_reads_the_keys_the_figures_label(config_runs):
     with h5py.File(config_runs["closed_loop"][0], "r") as f:
         assert h5io.sweep_keys(f) == ["simulate.controller",
                                       "simulate.model.m_over_M"]
+
+
+def test_tracking_legend_in_the_svg_text(tmp_path):
+    """simulation.py's tracking figure: the legend names the controller's
+    model; SVG keeps the text as text, so a reader finds it."""
+    simulation = script("simulation")
+    t = np.linspace(0, 1, 50)
+    tr = {"time": t, "error": np.full((2, 2, 50), 1e-4) * (1 + t),
+          "status": np.zeros((2, 2)), "controllers": ["pd", "pd_gravity"],
+          "models": ["exact", "no_link_mass"]}
+    out = tmp_path / "tracking.svg"
+    simulation.plot_tracking(tr, "tracking", out, DPI)
+    check_file(out, "svg")
+    svg = out.read_text(encoding="utf-8")
+    assert svg.count("model: no link mass") == 2
+    assert svg.count("model: exact") == 2
