@@ -261,8 +261,14 @@ check-san: $(TEST_SAN)
 	@set -e; for t in $(TEST_SAN); do echo "== $$t (asan+ubsan)"; \
 	  ASAN_OPTIONS=detect_leaks=1:abort_on_error=1 UBSAN_OPTIONS=print_stacktrace=1 $$t; done
 
-check-py: all runner-mpi venv
+check-py: all runner-mpi venv $(VENV)/.check
 	$(VPY) -m pytest -q tests
+
+# what `make check` adds to the venv (tests/requirements-check.txt: the CF
+# checker of tests/test_cf.py); `make paper` does not install it
+$(VENV)/.check: tests/requirements-check.txt $(VENV)/.ok
+	$(VPY) -m pip install -q --disable-pip-version-check -r tests/requirements-check.txt
+	@touch $@
 
 # ruff and mypy over the Python package and the analysis scripts
 check-lint: venv

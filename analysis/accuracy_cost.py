@@ -3,7 +3,8 @@
 
 usage: accuracy_cost.py ACCURACY.h5 OUTDIR
 
-Writes OUTDIR/accuracy_cost.png: for each trajectory, the force error
+Writes OUTDIR/accuracy_cost.png (or .pdf, .svg: --format; --dpi): for
+each trajectory, the force error
 against the reference vs the median time per point (log-log), one marker per
 configuration coloured by the knob it turns, the Pareto fronts (no other
 configuration is both faster and more accurate) over all numerical knobs,
@@ -19,12 +20,8 @@ import os
 import sys
 
 import h5py
-import matplotlib
-
-matplotlib.use("Agg")
-import matplotlib.pyplot as plt  # noqa: E402
-import numpy as np  # noqa: E402
-from rps3 import h5io  # noqa: E402
+import numpy as np
+from rps3 import h5io, plot
 
 STUDY_STYLE = {
     "theta": ("o", "tab:blue"),
@@ -161,11 +158,12 @@ def main(argv=None):
     p = argparse.ArgumentParser(description=__doc__.split("\n")[0])
     p.add_argument("h5")
     p.add_argument("outdir")
+    plot.add_output_args(p)
     args = p.parse_args(argv)
     with h5py.File(args.h5, "r") as f:
         a = load(f)
     nt = len(a["trajectory"])
-    fig, axes = plt.subplots(2, nt, figsize=(6.5 * nt, 10), squeeze=False)
+    fig, axes = plot.subplots(2, nt, figsize=(6.5 * nt, 10), squeeze=False)
     fronts = []
     for t in range(nt):
         fronts.append(accuracy_panel(axes[0][t], a, t))
@@ -173,8 +171,8 @@ def main(argv=None):
     fig.suptitle("rps3: error against the reference vs time per point")
     fig.tight_layout()
     os.makedirs(args.outdir, exist_ok=True)
-    out = os.path.join(args.outdir, "accuracy_cost.png")
-    fig.savefig(out, dpi=110)
+    out = plot.save(fig, plot.output_path(args.outdir, "accuracy_cost", args),
+                    args.dpi)
     print(f"wrote {out}", file=sys.stderr)
     print(table(a, fronts))
     return 0

@@ -4,7 +4,7 @@ geometry alone (numpy, independent of the C library).
 
 usage: assembly_modes.py OUTDIR [--alpha ALPHA]
 
-Writes OUTDIR/assembly_modes.png.  Left: the (beta, z_c) plane at
+Writes OUTDIR/assembly_modes.png (or .pdf, .svg: --format; --dpi).  Left: the (beta, z_c) plane at
 alpha = ALPHA (default 0.5 rad) for Table II's mechanism, coloured by the
 sign of det(df/dtheta) of each pose's own configuration (eq. (39)): +1 the
 level platform's side, -1 the other; the boundary is the singular surface.
@@ -18,11 +18,8 @@ against (39) and rps3_fk reports the mode.
 import argparse
 import os
 
-import matplotlib
-
-matplotlib.use("Agg")
-import matplotlib.pyplot as plt  # noqa: E402
-import numpy as np  # noqa: E402
+import numpy as np
+from rps3 import plot
 
 R, RHO = 0.2286, 0.5           # Table II
 r = RHO * R
@@ -112,12 +109,13 @@ def main():
     ap = argparse.ArgumentParser(description=__doc__.split("\n")[0])
     ap.add_argument("outdir")
     ap.add_argument("--alpha", type=float, default=0.5)
+    plot.add_output_args(ap)
     a = ap.parse_args()
     betas = np.linspace(0, 1.4, 141)
     zcs = np.linspace(0.01, 0.5, 99)
     m = mode_map(a.alpha, betas, zcs)
 
-    fig, ax = plt.subplots(1, 2, figsize=(11, 4.6))
+    fig, ax = plot.subplots(1, 2, figsize=(11, 4.6))
     ax[0].pcolormesh(betas, zcs, m, cmap="coolwarm_r", vmin=-1.5, vmax=1.5,
                      shading="nearest")
     ax[0].contour(betas, zcs, np.nan_to_num(m), levels=[0], colors="k")
@@ -147,8 +145,7 @@ def main():
                     f"l = ({l[0]:.4f}, {l[1]:.4f}, {l[2]:.4f}) m", fontsize=9)
     fig.tight_layout()
     os.makedirs(a.outdir, exist_ok=True)
-    path = os.path.join(a.outdir, "assembly_modes.png")
-    fig.savefig(path, dpi=120)
+    path = plot.save(fig, plot.output_path(a.outdir, "assembly_modes", a), a.dpi)
     print(f"theta of the pose {np.round(th, 6)}, of the level-side root "
           f"{np.round(th2, 6)}; wrote {path}")
 

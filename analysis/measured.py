@@ -126,21 +126,19 @@ def truth_forces(f):
     return model.inverse(q, dq, ddq).force
 
 
-def figure(h5, outdir):
+def figure(h5, outdir, fmt="png", dpi=None):
     import h5py
-    import matplotlib
-    matplotlib.use("Agg")
-    import matplotlib.pyplot as plt
-    from rps3 import h5io
+    from rps3 import h5io, plot
     with h5py.File(h5, "r") as f:
         t = h5io.times(f)[0]
         force = f["force"][0]
+        warn = f["warn"][0]
         want = truth_forces(f)
     rows_t, rows_q = samples()
     smooth = motion(rows_t)[0]
     err = np.abs(force - want)
     scale = np.abs(want).max()
-    fig, axs = plt.subplots(3, 1, figsize=(9.6, 9.0), sharex=True)
+    fig, axs = plot.subplots(3, 1, figsize=(9.6, 9.0), sharex=True)
     ax = axs[0]
     for k, (name, f_) in enumerate((("alpha", 1.0), ("beta", 10.0),
                                     ("z_c", 10.0))):
@@ -158,6 +156,8 @@ def figure(h5, outdir):
                 "from the table")
         ax.plot(t, want[:, i], style, color="tab:red", lw=1.0,
                 label=f"$F_{i + 1}$ of the smooth motion")
+    if plot.mark_warned(ax, t, force, warn) is not None:
+        plot.note(fig, plot.WARNED_NOTE)
     ax.set_ylabel("force [N]")
     ax.legend(loc="best", fontsize=8)
     ax.grid(True, alpha=0.3)
@@ -171,9 +171,7 @@ def figure(h5, outdir):
     ax.legend(loc="best", fontsize=8)
     ax.grid(True, alpha=0.3)
     fig.tight_layout()
-    path = os.path.join(outdir, "measured.png")
-    fig.savefig(path, dpi=110)
-    plt.close(fig)
+    path = plot.save(fig, os.path.join(outdir, f"measured.{fmt}"), dpi)
     print(f"{path}: largest force error {err.max():.3g} N, "
           f"{err.max() / scale:.3g} of the largest force {scale:.3g} N")
     return err.max() / scale
@@ -186,16 +184,19 @@ def main(argv=None):
     g.add_argument("csv")
     gp = sub.add_parser("generate-path", help="write the centre's table")
     gp.add_argument("csv")
-    fg = sub.add_parser("figure", help="draw OUTDIR/measured.png")
+    fg = sub.add_parser("figure", help="draw OUTDIR/measured.FORMAT")
     fg.add_argument("h5")
     fg.add_argument("outdir")
+    fg.add_argument("--format", choices=("pdf", "svg", "png"), default="png")
+    fg.add_argument("--dpi", type=float, default=None,
+                    help="resolution of png output (default rps3.plot.DPI)")
     a = ap.parse_args(argv)
     if a.cmd == "generate":
         generate(a.csv)
     elif a.cmd == "generate-path":
         generate_path(a.csv)
     else:
-        figure(a.h5, a.outdir)
+        figure(a.h5, a.outdir, a.format, a.dpi)
     return 0
 
 

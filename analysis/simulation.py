@@ -1,9 +1,10 @@
 #!/usr/bin/env python3
 """Closed-loop tracking and simulation accuracy: figures of rps3-simstudy.
 
-usage: simulation.py SIMSTUDY.h5 OUTDIR
+usage: simulation.py SIMSTUDY.h5 OUTDIR [--format pdf|svg|png] [--dpi DPI]
 
-Writes OUTDIR/tracking_helix.png and OUTDIR/tracking_fast_sine.png: the
+Writes OUTDIR/tracking_helix.png and OUTDIR/tracking_fast_sine.png (or
+.pdf, .svg: --format): the
 largest link length error |l - l_d| against time for PD, PD + gravity and
 computed torque, each with the exact model (solid) and a model without link
 mass (dashed, the paper's case 1); and OUTDIR/simulation_accuracy.png: the
@@ -18,11 +19,8 @@ import argparse
 import os
 
 import h5py
-import matplotlib
-
-matplotlib.use("Agg")
-import matplotlib.pyplot as plt  # noqa: E402
-import numpy as np  # noqa: E402
+import numpy as np
+from rps3 import plot
 
 INTEGRATORS = ("rk4", "rkf45", "rk8pd", "msbdf", "rk4imp")
 COLOURS = ("tab:blue", "tab:orange", "tab:green")
@@ -51,23 +49,26 @@ def load_tracking(f, path):
     }
 
 
-def plot_tracking(tr, title, out):
+def plot_tracking(tr, title, out, dpi=plot.DPI):
     """Error against time for every controller and model."""
-    fig, ax = plt.subplots(figsize=(7.5, 4.5))
+    fig, ax = plot.subplots(figsize=(7.5, 4.5))
     for a, ctrl in enumerate(tr["controllers"]):
         for b, model in enumerate(tr["models"]):
             e = np.where(tr["error"][a, b] > 0, tr["error"][a, b], np.nan)
+            # the model is the controller's own: the plant is exact
             ax.semilogy(tr["time"], e, color=COLOURS[a],
                         linestyle="-" if b == 0 else "--", linewidth=1.2,
-                        label=f"{ctrl}, {model.replace('_', ' ')} model")
+                        marker="os^"[a], markevery=0.1, markersize=4,
+                        markerfacecolor="none" if b else COLOURS[a],
+                        label=f"{ctrl}, controller's model: "
+                              f"{model.replace('_', ' ')}")
     ax.set_xlabel("time [s]")
     ax.set_ylabel("max_i |l_i - l_d,i| [m]")
     ax.set_title(title)
     ax.grid(True, which="both", alpha=0.3)
     ax.legend(fontsize=8)
     fig.tight_layout()
-    fig.savefig(out, dpi=120)
-    plt.close(fig)
+    plot.save(fig, out, dpi)
 
 
 def pareto(cost, err):
@@ -81,7 +82,7 @@ def pareto(cost, err):
     return front
 
 
-def plot_accuracy(f, out):
+def plot_accuracy(f, out, dpi=plot.DPI):
     """Error versus CPU per simulated second; returns the Pareto rows."""
     g = f["accuracy"]
     integ = g["integrator"][()]
@@ -89,7 +90,7 @@ def plot_accuracy(f, out):
     ttol = g["theta_tol"][()]
     err = g["error"][()]
     cpu = g["cpu_per_sim_s"][()]
-    fig, ax = plt.subplots(figsize=(7.5, 4.5))
+    fig, ax = plot.subplots(figsize=(7.5, 4.5))
     rows: list[tuple] = []
     for c in range(len(integ)):
         name = INTEGRATORS[integ[c]]
@@ -113,8 +114,7 @@ def plot_accuracy(f, out):
     ax.grid(True, which="both", alpha=0.3)
     ax.legend(fontsize=8)
     fig.tight_layout()
-    fig.savefig(out, dpi=120)
-    plt.close(fig)
+    plot.save(fig, out, dpi)
     return [rows[i] for i in front]
 
 
@@ -122,8 +122,10 @@ def main():
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("simstudy")
     ap.add_argument("outdir")
+    plot.add_output_args(ap)
     args = ap.parse_args()
     os.makedirs(args.outdir, exist_ok=True)
+
     with h5py.File(args.simstudy, "r") as f:
         print("| path | controller | model | max \\|l - l_d\\| [m] |")
         print("|---|---|---|---|")
@@ -131,14 +133,16 @@ def main():
                             ("fast_sine", "a fast sine")):
             tr = load_tracking(f, path)
             plot_tracking(tr, f"tracking at 1 kHz, RK4: {title}",
-                          os.path.join(args.outdir, f"tracking_{path}.png"))
+                          plot.output_path(args.outdir, f"tracking_{path}",
+                                           args), args.dpi)
             for a, ctrl in enumerate(tr["controllers"]):
                 for b, model in enumerate(tr["models"]):
                     e = tr["error"][a, b]
                     worst = np.nanmax(e) if np.isfinite(e).any() else np.nan
                     print(f"| {path} | {ctrl} | {model} | {worst:.3g} |")
         front = plot_accuracy(
-            f, os.path.join(args.outdir, "simulation_accuracy.png"))
+            f, plot.output_path(args.outdir, "simulation_accuracy", args),
+            args.dpi)
     print()
     print("| integrator | h [s] or tol | theta tol | error [m] | "
           "CPU per simulated s |")

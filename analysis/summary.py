@@ -16,12 +16,8 @@ import os
 import sys
 
 import h5py
-import matplotlib
-
-matplotlib.use("Agg")
-import matplotlib.pyplot as plt  # noqa: E402
-import numpy as np  # noqa: E402
-from rps3 import h5io  # noqa: E402
+import numpy as np
+from rps3 import h5io, plot
 
 
 def key_numbers(f):
@@ -43,7 +39,8 @@ def panel(ax, path):
     with h5py.File(path, "r") as f:
         sv = h5io.sweep_values(f)
         peak, share = key_numbers(f)
-        units = {k: h5io.text(f[k].attrs["units"]) for k in sv}
+        units = {k: h5io.text(f[h5io.key_name(k)].attrs["units"])
+                 for k in sv}
     name = os.path.basename(path)
     if not sv:
         ax.set_title(f"{name}: no sweep")
@@ -76,28 +73,28 @@ def panel(ax, path):
             ax2.set_yscale("log")
 
 
-def make_summary(out, paths):
+def make_summary(out, paths, dpi=plot.DPI):
     n = len(paths)
     cols = min(3, n)
     rows = math.ceil(n / cols)
-    fig, axes = plt.subplots(rows, cols, figsize=(5.2 * cols, 3.8 * rows),
+    fig, axes = plot.subplots(rows, cols, figsize=(5.2 * cols, 3.8 * rows),
                              squeeze=False)
     for ax, path in zip(axes.flat, paths):
         panel(ax, path)
     for ax in list(axes.flat)[n:]:
         ax.set_visible(False)
     fig.tight_layout()
-    fig.savefig(out, dpi=110)
-    plt.close(fig)
-    return out
+    return plot.save(fig, out, dpi)
 
 
 def main(argv=None):
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    ap.add_argument("out", help="PNG to write")
+    ap.add_argument("out", help="the figure: .pdf, .svg or .png")
     ap.add_argument("h5", nargs="+", help="rps3-run outputs")
+    ap.add_argument("--dpi", type=float, default=plot.DPI,
+                    help=f"resolution of png output (default {plot.DPI})")
     args = ap.parse_args(argv)
-    print(make_summary(args.out, args.h5))
+    print(make_summary(args.out, args.h5, args.dpi))
     return 0
 
 

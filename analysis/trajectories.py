@@ -2,12 +2,14 @@
 """One figure per trajectory run (waypoints, path): the motion asked for
 and the forces it takes.
 
-usage: trajectories.py OUTDIR RUN.h5 [RUN.h5 ...]
+usage: trajectories.py OUTDIR RUN.h5 [RUN.h5 ...] [--format F] [--dpi DPI]
 
-For each RUN.h5 (case 0) writes OUTDIR/traj_NAME.png, NAME the file's stem:
+For each RUN.h5 (case 0) writes OUTDIR/traj_NAME.FORMAT, NAME the file's
+stem:
 top left the platform centre seen from above (x_c, y_c), top right the pose
 (alpha, beta in degrees, z_c in mm) against time, bottom the three actuating
-forces against time.  `make trajectories` runs the shipped configs
+forces against time, samples past trans_warn marked with grey x (a note
+under the figure says why).  `make trajectories` runs the shipped configs
 (pick_place, circle, line, paper_path) and draws them.
 """
 
@@ -15,24 +17,25 @@ import argparse
 import os
 
 import h5py
-import matplotlib
-
-matplotlib.use("Agg")
-import matplotlib.pyplot as plt  # noqa: E402
-import numpy as np  # noqa: E402
-from rps3 import h5io  # noqa: E402
-
-LINK_STYLES = ("-", "--", ":")
+import numpy as np
+from rps3 import h5io, plot
 
 
-def figure(h5, path):
+def figure(h5, path, dpi=plot.DPI):
+    """Draw run h5 into path (the format of its suffix)."""
+    return plot.save(draw(h5), path, dpi)
+
+
+def draw(h5):
+    """The figure of run h5 (case 0)."""
     with h5py.File(h5, "r") as f:
         t = h5io.times(f)[0]
         x, y, z = (f[k][0] for k in ("x_c", "y_c", "z_c"))
         a, b = f["alpha"][0], f["beta"][0]
         force = f["force"][0]
+        warn = f["warn"][0]
         kind = h5io.text(f["scene_resolved"][0]).split("kind:")[1].split()[0]
-    fig = plt.figure(figsize=(9.6, 7.2))
+    fig = plot.figure(figsize=(9.6, 7.2))
     ax = fig.add_subplot(2, 2, 1)
     ax.plot(1e3 * x, 1e3 * y, "k-", lw=1.2)
     ax.plot(1e3 * x[0], 1e3 * y[0], "ko", label="start")
@@ -59,28 +62,27 @@ def figure(h5, path):
     ax.legend(lines[0] + lines2[0], lines[1] + lines2[1], loc="best",
               fontsize=8)
     ax = fig.add_subplot(2, 1, 2)
-    for i in range(3):
-        ax.plot(t, force[:, i], LINK_STYLES[i], color="k", lw=1.2,
-                label=f"$F_{i + 1}$")
+    plot.links(ax, t, force, "$F_i$")
+    if plot.mark_warned(ax, t, force, warn) is not None:
+        plot.note(fig, plot.WARNED_NOTE)
     ax.set_xlabel("time $t$ [s]")
-    ax.set_ylabel("actuating force [N]")
-    ax.grid(True, alpha=0.3)
-    ax.legend(loc="best")
+    ax.set_ylabel("actuating force $F_i$ [N]")
+    plot.legend(ax)
     fig.tight_layout()
-    fig.savefig(path, dpi=110)
-    plt.close(fig)
+    return fig
 
 
 def main(argv=None):
     p = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     p.add_argument("outdir")
     p.add_argument("runs", nargs="+")
+    plot.add_output_args(p)
     args = p.parse_args(argv)
     os.makedirs(args.outdir, exist_ok=True)
     for h5 in args.runs:
         name = os.path.splitext(os.path.basename(h5))[0]
-        out = os.path.join(args.outdir, f"traj_{name}.png")
-        figure(h5, out)
+        out = plot.output_path(args.outdir, f"traj_{name}", args)
+        figure(h5, out, args.dpi)
         print(out)
 
 

@@ -3,7 +3,8 @@
 
 usage: workspace.py WORKSPACE.h5 OUTDIR [--alpha ALPHA]
 
-Writes OUTDIR/workspace.png: for each rho (rows), at the alpha nearest to
+Writes OUTDIR/workspace.png (or .pdf, .svg: --format; --dpi): for each
+rho (rows), at the alpha nearest to
 ALPHA (default 0.3 rad), the (beta, z_c) plane coloured by the log10 of
 the force transmission (the largest actuator force per unit platform
 load, dimensionless), with the unreachable region blank, the other assembly
@@ -20,13 +21,9 @@ import os
 import sys
 
 import h5py
-import matplotlib
-
-matplotlib.use("Agg")
-import matplotlib.pyplot as plt  # noqa: E402
-import numpy as np  # noqa: E402
-from matplotlib.colors import LogNorm  # noqa: E402
-from rps3 import h5io  # noqa: E402
+import numpy as np
+from matplotlib.colors import LogNorm
+from rps3 import h5io, plot
 
 TRANS_WARN = 100.0  # opt.trans_warn, the library's default
 
@@ -53,12 +50,13 @@ def main(argv=None):
     p.add_argument("h5")
     p.add_argument("outdir")
     p.add_argument("--alpha", type=float, default=0.3)
+    plot.add_output_args(p)
     args = p.parse_args(argv)
     with h5py.File(args.h5, "r") as f:
         axes, data = load(f)
     ia = int(np.argmin(np.abs(axes["alpha"] - args.alpha)))
     nr = len(axes["rho"])
-    fig, ax = plt.subplots(nr, 2, figsize=(12, 4 * nr), squeeze=False)
+    fig, ax = plot.subplots(nr, 2, figsize=(12, 4 * nr), squeeze=False)
     extent = [axes["beta"][0], axes["beta"][-1], axes["z_c"][0],
               axes["z_c"][-1]]
     ok = safe(data)
@@ -95,8 +93,8 @@ def main(argv=None):
               f"the safe region {np.nanmax(np.where(ok[r], data['max_force'][r], np.nan)):.3g} N")
     fig.tight_layout()
     os.makedirs(args.outdir, exist_ok=True)
-    out = os.path.join(args.outdir, "workspace.png")
-    fig.savefig(out, dpi=100)
+    out = plot.save(fig, plot.output_path(args.outdir, "workspace", args),
+                    args.dpi)
     print(f"wrote {out}", file=sys.stderr)
     return 0
 

@@ -188,6 +188,73 @@ int out_cf_field(hid_t ds, hid_t str, int i)
   return flags(ds, str, i == OUT_status);
 }
 
+int out_cf_time(hid_t ds, hid_t str)
+{
+  /* the calendar of the nominal reference date: proleptic Gregorian,
+     which every reader decodes */
+  return out_h5_attr(ds, str, "standard_name", "time") < 0 ||
+                 out_h5_attr(ds, str, "calendar", "proleptic_gregorian") < 0 ||
+                 out_h5_attr(ds, str, "axis", "T") < 0
+             ? -1
+             : 0;
+}
+
+const char *out_cf_key_name(const char *key, char *buf, size_t sz)
+{
+  size_t n = 0;
+  const char *c;
+  for (c = key; *c && n + 2 < sz; c++) {
+    if (*c == '.') {
+      buf[n++] = '_';
+      buf[n++] = '_';
+    } else if (*c == '[')
+      buf[n++] = '_';
+    else if (*c != ']')
+      buf[n++] = *c;
+  }
+  buf[n] = '\0';
+  return buf;
+}
+
+int out_cf_swept_key(hid_t ds, hid_t str, const char *key)
+{
+  char long_name[160];
+  snprintf(long_name, sizeof long_name, "swept scene key %s", key);
+  return out_cf_long_name(ds, str, long_name) < 0 ||
+                 out_h5_attr(ds, str, "scene_key", key) < 0
+             ? -1
+             : 0;
+}
+
+/* a controller gain's unit is "A or B" (scene_sim.h): A for pd and
+   pd_gravity (a force per error), B for computed_torque (an
+   acceleration per error).  When every case's controller is of one family,
+   buf becomes that unit, which UDUNITS parses; a sweep of controllers of
+   both families keeps "A or B" (one variable has one unit:
+   docs/hdf5.md) */
+static const char *gain_units(const scene *s, char *buf)
+{
+  char *alt = strstr(buf, " or ");
+  int family = -1, f;
+  size_t a, i;
+  if (!alt)
+    return buf;
+  family = s->base.sim.controller == RPS3_CTRL_COMPUTED_TORQUE;
+  for (a = 0; a < s->naxis; a++)
+    if (s->axis[a].key == K_SIM_CONTROLLER)
+      for (i = 0, family = -1; i < s->axis[a].n; i++) {
+        f = (int)s->axis[a].val[i] == RPS3_CTRL_COMPUTED_TORQUE;
+        if (family >= 0 && f != family)
+          return buf;
+        family = f;
+      }
+  if (family == 1)
+    memmove(buf, alt + 4, strlen(alt + 4) + 1);
+  else
+    *alt = '\0';
+  return buf;
+}
+
 const char *out_cf_axis_units(const scene *s, size_t a, char *buf, size_t sz)
 {
   const scene_axis *ax = &s->axis[a];
@@ -202,5 +269,5 @@ const char *out_cf_axis_units(const scene *s, size_t a, char *buf, size_t sz)
   for (k = 0; k < ax->comp && strchr(u, ','); k++)
     u = strchr(u, ',') + 1 + (strchr(u, ',')[1] == ' ');
   snprintf(buf, sz, "%.*s", (int)strcspn(u, ","), u);
-  return buf;
+  return gain_units(s, buf);
 }

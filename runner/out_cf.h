@@ -46,6 +46,35 @@ int out_cf_status(hid_t ds, hid_t str);
 /* long_name of a coordinate or other variable; 0 or -1 */
 int out_cf_long_name(hid_t ds, hid_t str, const char *long_name);
 
+/* the time axis of a file whose cases share one time grid: the seconds
+   since the start of the trajectory, as CF writes a time coordinate
+   (section 4.4: a unit since a reference time).  The trajectory has no
+   date: the reference is the nominal 1970-01-01, so that t = 0 is
+   1970-01-01T00:00:00 for a reader that decodes dates (xarray without
+   decode_times=False); the stored values are the seconds. */
+#define OUT_CF_TIME_UNITS "s since 1970-01-01 00:00:00"
+
+/* standard_name time, calendar and axis T of the time axis (its units:
+   OUT_CF_TIME_UNITS, set with the dataset); 0 or -1 */
+int out_cf_time(hid_t ds, hid_t str);
+
+/* the name of the dimension along the samples: "time" when the cases
+   share one time grid (its scale holds the times), "sample" when the grid
+   differs between cases (its scale holds the sample index 0, 1, ... and
+   case_time the times; a dimension named time must be a time coordinate
+   in CF) */
+#define OUT_CF_SAMPLE_DIM(grid_common) ((grid_common) ? "time" : "sample")
+
+/* the variable name of a swept scene key: CF names are made of letters,
+   digits and underscores (CF-1.10 section 2.3), so "." is written "__"
+   and "[k]" "_k" ("trajectory.amp[2]" -> "trajectory__amp_2"; the same
+   mapping in python/rps3/h5io.py, key_name); into buf */
+const char *out_cf_key_name(const char *key, char *buf, size_t sz);
+
+/* the attributes of a swept key's variable: long_name "swept scene key
+   KEY" and scene_key = KEY, the dotted key of the scene; 0 or -1 */
+int out_cf_swept_key(hid_t ds, hid_t str, const char *key);
+
 /* the UDUNITS-2 units of sweep axis a of s into buf: the component's unit
    of a list key ("rad, rad, m"[2] -> "m"), "1" for dimensionless keys,
    enums and bools */

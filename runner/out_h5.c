@@ -139,14 +139,15 @@ hid_t out_h5_scale(hid_t file, hid_t str, const char *name, hid_t type,
   return ds;
 }
 
-/* "a b c": the coordinates attribute of the per-case variables */
-char *out_h5_coordinates(const scene *s, int grid_common)
+/* "a b c": the coordinates attribute, the swept keys' variables (CF
+   names, out_cf_key_name) and case_time when with_case_time */
+char *out_h5_coordinates(const scene *s, int with_case_time)
 {
   size_t a, len = 1;
-  char *c;
+  char *c, name[160];
   for (a = 0; a < s->naxis; a++)
-    len += strlen(s->axis[a].path) + 1;
-  len += grid_common ? 0 : strlen(" case_time");
+    len += strlen(out_cf_key_name(s->axis[a].path, name, sizeof name)) + 1;
+  len += with_case_time ? strlen(" case_time") : 0;
   c = malloc(len);
   if (!c)
     return NULL;
@@ -154,9 +155,9 @@ char *out_h5_coordinates(const scene *s, int grid_common)
   for (a = 0; a < s->naxis; a++) {
     if (a)
       strcat(c, " ");
-    strcat(c, s->axis[a].path);
+    strcat(c, out_cf_key_name(s->axis[a].path, name, sizeof name));
   }
-  if (!grid_common)
+  if (with_case_time)
     strcat(c, s->naxis ? " case_time" : "case_time");
   return c;
 }

@@ -145,9 +145,13 @@ static hid_t time_scale(out_file *f, const scene_case *first, size_t nt,
 {
   hid_t type = grid_common ? H5T_NATIVE_DOUBLE : H5T_NATIVE_INT32;
   hid_t ds = grid_common
-                 ? out_h5_scale(f->file, f->str, "time", type, nt, NULL, "s",
-                                "time since the start of the trajectory")
-                 : out_h5_scale(f->file, f->str, "time", type, nt, NULL, "1",
+                 ? out_h5_scale(f->file, f->str, OUT_CF_SAMPLE_DIM(1), type,
+                                nt, NULL, OUT_CF_TIME_UNITS,
+                                "time since the start of the trajectory, in "
+                                "s (the reference date of the units is "
+                                "nominal)")
+                 : out_h5_scale(f->file, f->str, OUT_CF_SAMPLE_DIM(0), type,
+                                nt, NULL, "1",
                                 "sample index: the time grid differs between "
                                 "cases, the time of each sample is "
                                 "case_time");
@@ -156,6 +160,10 @@ static hid_t time_scale(out_file *f, const scene_case *first, size_t nt,
   size_t c0, n, k;
   if (ds < 0)
     return -1;
+  if (grid_common && out_cf_time(ds, f->str) < 0) {
+    H5Dclose(ds);
+    return -1;
+  }
   t = malloc(OUT_AXIS_RUN * sizeof *t);
   ix = (int32_t *)t;
   for (c0 = 0; t && c0 < nt; c0 += n) {
@@ -220,7 +228,7 @@ static int write_swept_keys(out_file *f, const scene *s, const scales *sc,
   size_t a;
   for (a = 0; a < s->naxis; a++) {
     const scene_key_info *ki = scene_key_get(s->axis[a].key);
-    char doc[400], units[32], long_name[128];
+    char doc[400], units[32], name[160];
     hsize_t nc = s->ncase;
     hid_t type = (ki->type == KEY_REAL || ki->type == KEY_REAL3)
                      ? H5T_NATIVE_DOUBLE
@@ -230,11 +238,12 @@ static int write_swept_keys(out_file *f, const scene *s, const scales *sc,
     int bad;
     snprintf(doc, sizeof doc, "swept scene key %s: %s (paper: %s)",
              s->axis[a].path, ki->doc, ki->symbol);
-    snprintf(long_name, sizeof long_name, "swept key %s", s->axis[a].path);
-    ds = out_h5_dataset(f->file, f->str, s->axis[a].path, type, 1, &nc, NULL,
-                        0, NULL, out_cf_axis_units(s, a, units, sizeof units),
-                        doc);
-    bad = ds < 0 || out_cf_long_name(ds, f->str, long_name) < 0 ||
+    /* the variable has the key's CF name, the key in scene_key */
+    ds = out_h5_dataset(f->file, f->str,
+                        out_cf_key_name(s->axis[a].path, name, sizeof name),
+                        type, 1, &nc, NULL, 0, NULL,
+                        out_cf_axis_units(s, a, units, sizeof units), doc);
+    bad = ds < 0 || out_cf_swept_key(ds, f->str, s->axis[a].path) < 0 ||
           H5DSattach_scale(ds, sc->dcase, 0) < 0 ||
           out_h5_axis(ds, f->str, s, a) < 0;
     if (ds >= 0)
@@ -251,11 +260,12 @@ static int write_swept_keys(out_file *f, const scene *s, const scales *sc,
 static int make_field(out_file *f, int i, const scene *s, size_t nt,
                       size_t chunk_points, const out_block *b,
                       const out_meta *meta, const scales *sc,
-                      const char *coords, char *err, size_t errsz)
+                      const char *const coords[2], char *err, size_t errsz)
 {
   const double fnan = (double)NAN;
   const int32_t fneg = -1, fnotrun = OUT_STATUS_NOT_COMPUTED;
   const out_field_info *fi = &out_field_table[i];
+  const char *cs;
   hid_t axes[4];
   hsize_t dims[4], chunk[4];
   int rank = 0, r;
@@ -286,9 +296,11 @@ static int make_field(out_file *f, int i, const scene *s, size_t nt,
                             : fi->type == OUT_I32 ? (const void *)&fneg
                                                   : NULL,
                             fi->units, fi->doc);
-  /* scene_resolved reruns a case alone: with the data its files held */
+  /* coords[0] of a per-case variable, coords[1] of a per-sample one;
+     scene_resolved reruns a case alone: with the data its files held */
+  cs = coords[fi->shape != OUT_C];
   if (f->ds[i] < 0 || out_cf_field(f->ds[i], f->str, i) < 0 ||
-      (coords[0] && out_h5_attr(f->ds[i], f->str, "coordinates", coords) < 0) ||
+      (cs[0] && out_h5_attr(f->ds[i], f->str, "coordinates", cs) < 0) ||
       (i == OUT_scene_resolved &&
        out_h5_attr(f->ds[i], f->str, INPUTS_ATTR,
                    meta->inputs ? meta->inputs : "") < 0)) {
@@ -385,7 +397,7 @@ out_file *out_create(const char *path, const scene *s,
                      const out_meta *meta, char *err, size_t errsz)
 {
   scales sc = {-1, -1, -1, -1, -1};
-  char *coords = NULL;
+  char *coords[2] = {NULL, NULL};
   int i, rc = -1;
   out_file *f = file_open(path, s, nt, grid_common, chunk_points, b, meta,
                           err, errsz);
@@ -394,19 +406,23 @@ out_file *out_create(const char *path, const scene *s,
   if (write_scene_text(f, s, err, errsz) == 0 &&
       make_scales(f, s, first, nt, grid_common, b, &sc, err, errsz) == 0 &&
       write_swept_keys(f, s, &sc, err, errsz) == 0) {
-    coords = out_h5_coordinates(s, grid_common);
-    if (!coords)
+    /* the per-case variables' coordinates are the swept keys; the
+       per-sample ones' also case_time when the grid differs */
+    coords[0] = out_h5_coordinates(s, 0);
+    coords[1] = out_h5_coordinates(s, !grid_common);
+    if (!coords[0] || !coords[1])
       snprintf(err, errsz, "out of memory");
-    rc = coords ? 0 : -1;
+    rc = coords[0] && coords[1] ? 0 : -1;
     /* the fields of the schema that are asked for (--fields) */
     for (i = 0; rc == 0 && i < OUT_NFIELD; i++)
       if (meta->fields >> i & 1)
-        rc = make_field(f, i, s, nt, chunk_points, b, meta, &sc, coords, err,
-                        errsz);
+        rc = make_field(f, i, s, nt, chunk_points, b, meta, &sc,
+                        (const char *const *)coords, err, errsz);
     if (rc == 0 && !grid_common)
       rc = make_case_time(f, s, nt, chunk_points, b, meta, &sc, err, errsz);
   }
-  free(coords);
+  free(coords[0]);
+  free(coords[1]);
   scales_close(&sc);
   if (rc == 0)
     return f;

@@ -317,8 +317,10 @@ int out_h5_write_all(hid_t ds, hid_t type, const void *data);
    the key's type; 0 or -1 */
 int out_h5_axis(hid_t ds, hid_t str, const scene *s, size_t a);
 
-/* "key1 key2 [case_time]": the coordinates attribute (malloc'd; NULL when
+/* "key1 key2 [case_time]": the coordinates attribute, the swept keys'
+   variables and, when with_case_time (a per-sample variable of a file
+   whose time grid differs between cases), case_time (malloc'd; NULL when
    out of memory) */
-char *out_h5_coordinates(const scene *s, int grid_common);
+char *out_h5_coordinates(const scene *s, int with_case_time);
 
 #endif /* RPS3_RUNNER_OUTPUT_H */

@@ -201,14 +201,20 @@ static int create_axes(sim_file *f, const scene *s, size_t nt,
     H5Dclose(sc[0]);
     sc[0] = -1;
   }
-  if (times)
-    sc[1] = scale(f, "time", H5T_NATIVE_DOUBLE, nt, times, "s", "time",
-                  "simulated time since the start of the trajectory");
-  else {
+  if (times) {
+    sc[1] = scale(f, OUT_CF_SAMPLE_DIM(1), H5T_NATIVE_DOUBLE, nt, times,
+                  OUT_CF_TIME_UNITS, "time",
+                  "simulated time since the start of the trajectory, in s "
+                  "(the reference date of the units is nominal)");
+    if (sc[1] >= 0 && out_cf_time(sc[1], f->str) < 0) {
+      H5Dclose(sc[1]);
+      sc[1] = -1;
+    }
+  } else {
     int32_t *ix = malloc(nt * sizeof *ix);
     for (k = 0; ix && k < nt; k++)
       ix[k] = (int32_t)k;
-    sc[1] = ix ? scale(f, "time", H5T_NATIVE_INT32, nt, ix, "1",
+    sc[1] = ix ? scale(f, OUT_CF_SAMPLE_DIM(0), H5T_NATIVE_INT32, nt, ix, "1",
                        "sample index",
                        "sample index: the time grid differs between cases, "
                        "the time of each sample is case_time")
@@ -224,7 +230,7 @@ static int create_axes(sim_file *f, const scene *s, size_t nt,
   }
   for (a = 0; a < s->naxis; a++) {
     const scene_key_info *ki = scene_key_get(s->axis[a].key);
-    char doc[400], units[32], long_name[128];
+    char doc[400], units[32], name[160];
     hsize_t nc = s->ncase;
     hid_t type = (ki->type == KEY_REAL || ki->type == KEY_REAL3)
                      ? H5T_NATIVE_DOUBLE
@@ -232,10 +238,13 @@ static int create_axes(sim_file *f, const scene *s, size_t nt,
                                         : H5T_NATIVE_INT32;
     snprintf(doc, sizeof doc, "swept scene key %s: %s (paper: %s)",
              s->axis[a].path, ki->doc, ki->symbol);
-    snprintf(long_name, sizeof long_name, "swept key %s", s->axis[a].path);
-    ds = dataset(f, s->axis[a].path, type, 1, &nc, NULL, 0, NULL,
-                 out_cf_axis_units(s, a, units, sizeof units), long_name, doc);
-    if (ds < 0 || H5DSattach_scale(ds, sc[0], 0) < 0 ||
+    /* the variable has the key's CF name, the key in scene_key */
+    ds = out_h5_dataset(f->file, f->str,
+                        out_cf_key_name(s->axis[a].path, name, sizeof name),
+                        type, 1, &nc, NULL, 0, NULL,
+                        out_cf_axis_units(s, a, units, sizeof units), doc);
+    if (ds < 0 || out_cf_swept_key(ds, f->str, s->axis[a].path) < 0 ||
+        H5DSattach_scale(ds, sc[0], 0) < 0 ||
         out_h5_axis(ds, f->str, s, a) < 0) {
       if (ds >= 0)
         H5Dclose(ds);
@@ -280,7 +289,7 @@ sim_file *sim_file_create(const char *path, const scene *s, size_t nt,
   sim_file *f = calloc(1, sizeof *f);
   hid_t sc[3] = {-1, -1, -1};
   hsize_t dims[3], chunk[3];
-  char *coords = NULL;
+  char *coords[2] = {NULL, NULL};
   int i, r;
   if (!f) {
     snprintf(err, errsz, "out of memory");
@@ -306,8 +315,11 @@ sim_file *sim_file_create(const char *path, const scene *s, size_t nt,
   }
   if (create_axes(f, s, nt, times, sc, err, errsz) < 0)
     goto fail;
-  coords = out_h5_coordinates(s, times == NULL);
-  if (!coords) {
+  /* the per-case variables' coordinates are the swept keys; the
+     per-sample ones' also case_time when the grid differs (times NULL) */
+  coords[0] = out_h5_coordinates(s, 0);
+  coords[1] = out_h5_coordinates(s, times == NULL);
+  if (!coords[0] || !coords[1]) {
     snprintf(err, errsz, "out of memory");
     goto fail;
   }
@@ -331,7 +343,9 @@ sim_file *sim_file_create(const char *path, const scene *s, size_t nt,
                        fi->units, fi->long_name, fi->doc);
     if (f->ds[i] < 0 ||
         (i == SIM_status && out_cf_status(f->ds[i], f->str) < 0) ||
-        (coords[0] && attr_str(f, f->ds[i], "coordinates", coords) < 0)) {
+        (coords[fi->shape != SIM_C][0] &&
+         attr_str(f, f->ds[i], "coordinates", coords[fi->shape != SIM_C]) <
+             0)) {
       out_fail(err, errsz, "cannot create dataset %s", fi->name);
       goto fail;
     }
@@ -362,10 +376,12 @@ sim_file *sim_file_create(const char *path, const scene *s, size_t nt,
   }
   for (r = 0; r < 3; r++)
     H5Dclose(sc[r]);
-  free(coords);
+  free(coords[0]);
+  free(coords[1]);
   return f;
 fail:
-  free(coords);
+  free(coords[0]);
+  free(coords[1]);
   for (r = 0; r < 3; r++)
     if (sc[r] >= 0)
       H5Dclose(sc[r]);

@@ -3,15 +3,74 @@
  * its helpers (output.h): units and description on every dataset,
  * dimension scales on every axis, Fletcher-32 on every chunk, and the root
  * attributes rps3_version, created_utc, command_line, gsl_version,
- * hdf5_version and title.
+ * hdf5_version and title; CF's long_name on every dataset (long_names
+ * below) and the root Conventions, history and git_revision (out_cf.h).
  */
 #include <stdio.h>
+#include <string.h>
 
 #include <gsl/gsl_version.h>
 #include <hdf5_hl.h>
 
+#include "out_cf.h"
 #include "output.h"
 #include "study.h"
+
+/* the CF long_name of every dataset of the study files, by name: a
+   dataset missing here is refused (study_h5_write), so that none is
+   written without one */
+static const struct {
+  const char *name, *long_name;
+} long_names[] = {
+    /* workspace */
+    {"rho", "platform radius over base radius"},
+    {"alpha", "platform precession angle"},
+    {"beta", "platform nutation angle"},
+    {"z_c", "platform centre height"},
+    {"link", "link number"},
+    {"status", "status"},
+    {"condition", "condition number of the constraint Jacobian"},
+    {"transmission", "force transmission"},
+    {"force", "static actuating force along the link"},
+    {"max_force", "largest static actuating force magnitude"},
+    {"mode", "assembly mode"},
+    /* accuracy */
+    {"trajectory", "trajectory name"},
+    {"config", "configuration index"},
+    {"study", "knob the configuration turns"},
+    {"label", "configuration label"},
+    {"theta_route", "theta route"},
+    {"solver", "theta solver"},
+    {"derivative", "rate computation"},
+    {"method", "formulation of the dynamics"},
+    {"tolerance", "theta solve tolerance"},
+    {"fd_step", "finite-difference step"},
+    {"dt_fraction", "sample interval over trajectory duration"},
+    {"effects", "selected effects bits"},
+    {"warm_start", "theta solve warm start"},
+    {"ns_per_point", "median time per sample"},
+    {"ns_per_point_q1", "first quartile of time per sample"},
+    {"ns_per_point_q3", "third quartile of time per sample"},
+    {"ns_per_second", "time per simulated second of trajectory"},
+    {"force_error", "relative actuating force error"},
+    {"theta_error", "link angle error"},
+    {"peak_force_error", "relative peak force error"},
+    {"energy_residual", "relative energy residual"},
+    {"mean_iterations", "mean theta solve iterations"},
+    {"failed_samples", "failed samples"},
+    {"reference_floor_force", "relative rounding floor of the reference force"},
+    {"reference_floor_theta", "rounding floor of the reference theta"},
+    {"reference_force_max", "largest reference force magnitude"},
+    {"reference_peak_force", "peak reference force magnitude"}};
+
+static const char *long_name_of(const char *name)
+{
+  size_t i;
+  for (i = 0; i < sizeof long_names / sizeof long_names[0]; i++)
+    if (strcmp(long_names[i].name, name) == 0)
+      return long_names[i].long_name;
+  return NULL;
+}
 
 /* the compression of the maps (rank >= 3), as the runner's default */
 #define STUDY_GZIP 4
@@ -35,7 +94,8 @@ int study_h5_open(study_h5 *o, const char *path, const char *cmdline,
           out_h5_attr(o->file, o->str, "command_line", cmdline) < 0 ||
           out_h5_attr(o->file, o->str, "gsl_version", gsl_version) < 0 ||
           out_h5_attr(o->file, o->str, "hdf5_version", h5v) < 0 ||
-          out_h5_attr(o->file, o->str, "title", title) < 0)
+          out_h5_attr(o->file, o->str, "title", title) < 0 ||
+          out_cf_root(o->file, o->str, now, cmdline) < 0)
              ? -1
              : 0;
 }
@@ -85,15 +145,17 @@ int study_h5_write(study_h5 *o, const char *name, hid_t type, int rank,
                    const char *doc, const char *const *scales) {
   hsize_t chunk[8];
   hid_t ds;
+  const char *long_name = long_name_of(name);
   int k, rc = -1;
-  if (rank > 8) return -1;
+  if (rank > 8 || !long_name) return -1;
   /* the maps: one chunk per leading index, deflated */
   chunk[0] = 1;
   for (k = 1; k < rank; k++) chunk[k] = dims[k];
   ds = out_h5_dataset(o->file, o->str, name, type, rank, dims,
                       rank >= 3 ? chunk : NULL, STUDY_GZIP, NULL, units, doc);
   if (ds < 0) return -1;
-  if (H5Dwrite(ds, type, H5S_ALL, H5S_ALL, H5P_DEFAULT, data) >= 0 &&
+  if (out_cf_long_name(ds, o->str, long_name) == 0 &&
+      H5Dwrite(ds, type, H5S_ALL, H5S_ALL, H5P_DEFAULT, data) >= 0 &&
       attach_scales(o, ds, name, rank, scales) == 0)
     rc = 0;
   H5Dclose(ds);

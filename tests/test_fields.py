@@ -16,7 +16,7 @@ PER_SAMPLE = ["force", "force_by_effect", "length", "length_rate",
               "lambda", "energy_residual", "energy_scale", "condition",
               "transmission", "solve_niter", "solve_resid", "warn"]
 ALWAYS = ["status", "failed_at", "message", "scene_resolved", "case", "time",
-          "link", "effect", "constraint", "scene", "trajectory.amp[2]"]
+          "link", "effect", "constraint", "scene", "trajectory__amp_2"]
 
 
 @pytest.fixture(scope="module")

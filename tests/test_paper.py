@@ -132,7 +132,7 @@ def test_inertia_grows_as_one_over_period_squared(config_runs):
     """Every inertial term is an acceleration or a squared rate: for the same
     motion in T* seconds it scales as 1/T*^2 (blend_ratio keeps the shape)."""
     with h5py.File(config_runs["period"][0], "r") as f:
-        T = f["trajectory.period"][()]
+        T = h5io.sweep_value(f, "trajectory.period")
         t = h5io.times(f)
         iner = h5io.effect_sum(f, h5io.INERTIA_EFFECTS)
         grav = h5io.effect_sum(f, h5io.GRAVITY_EFFECTS)

@@ -62,7 +62,7 @@ def test_dimensions(paper_h5):
             "message": ("case",),
             "failed_at": ("case",),
             "scene_resolved": ("case",),
-            "manipulator.m_over_M": ("case",),
+            "manipulator__m_over_M": ("case",),
         }
         for name, dims in expect.items():
             assert h5io.dims(f[name]) == dims, name
@@ -72,19 +72,24 @@ def test_dimensions(paper_h5):
         assert f["time"][0] == 0 and f["time"][-1] == 10.0
         assert f["force"].chunks[0] >= 1 and f["force"].chunks[1] == 1001
         coords = h5io.text(f["force"].attrs["coordinates"])
-        assert coords == "manipulator.m_over_M"
+        # the swept key's variable has a CF name, the key in scene_key
+        assert coords == "manipulator__m_over_M"
+        assert h5io.text(f["manipulator__m_over_M"].attrs["scene_key"]) == \
+            "manipulator.m_over_M"
 
 
 def test_xarray_opens_with_named_dimensions(paper_h5):
-    with xr.open_dataset(paper_h5, engine="h5netcdf") as ds:
+    # time in seconds (its CF units name a nominal date: docs/hdf5.md)
+    with xr.open_dataset(paper_h5, engine="h5netcdf",
+                         decode_times=False) as ds:
         assert ds["force"].dims == ("case", "time", "link")
         assert ds["force_by_effect"].dims == ("case", "time", "effect", "link")
         assert ds["lambda"].dims == ("case", "time", "constraint")
         assert set(ds.sizes) == {"case", "time", "link", "effect", "constraint"}
-        assert "manipulator.m_over_M" in ds["force"].coords
+        assert "manipulator__m_over_M" in ds["force"].coords
         # select by parameter value
-        by_mass = ds.swap_dims(case="manipulator.m_over_M")
-        f4 = by_mass["force"].sel({"manipulator.m_over_M": 0.5})
+        by_mass = ds.swap_dims(case="manipulator__m_over_M")
+        f4 = by_mass["force"].sel(manipulator__m_over_M=0.5)
         with h5py.File(paper_h5, "r") as f:
             np.testing.assert_array_equal(f4.values, f["force"][1])
         assert float(ds["force"].sel(time=5.0, link=2)[0]) == pytest.approx(
@@ -95,10 +100,15 @@ def test_xarray_with_differing_time_grids(config_runs):
     h5, proc = config_runs["period"]
     assert proc.returncode == 0
     with xr.open_dataset(h5, engine="h5netcdf") as ds:
-        assert ds["case_time"].dims == ("case", "time")
+        # the dimension along the samples is `sample` (an index): the time
+        # of each sample is case_time
+        assert ds["case_time"].dims == ("case", "sample")
+        assert ds["force"].dims == ("case", "sample", "link")
         assert "case_time" in ds["force"].coords
+        assert "case_time" not in ds["status"].coords
         t = ds["case_time"].values
-        np.testing.assert_array_equal(t[:, -1], ds["trajectory.period"].values)
+        np.testing.assert_array_equal(t[:, -1],
+                                      ds["trajectory__period"].values)
         assert np.all(np.diff(t, axis=1) > 0)
 
 
@@ -113,18 +123,18 @@ def test_sweep_order_is_row_major_last_key_fastest(config_runs):
                         "trajectory.pitch"]
         scene = yaml.safe_load(h5io.text(f["scene"][()]))
         grid = list(itertools.product(*(scene["sweep"][k] for k in keys)))
-        got = list(zip(*(f[k][()] for k in keys)))
+        got = list(zip(*(h5io.sweep_value(f, k) for k in keys)))
         assert got == grid
         np.testing.assert_array_equal(f["case"][()], np.arange(len(grid)))
 
 
 def test_range_forms(config_runs):
     with h5py.File(config_runs["mass_ratio"][0], "r") as f:
-        v = f["manipulator.m_over_M"][()]
+        v = f["manipulator__m_over_M"][()]
         assert len(v) == 11 and v[0] == 0 and v[-1] == 1.0
         np.testing.assert_allclose(v, np.arange(11) / 10, rtol=0, atol=1e-15)
     with h5py.File(config_runs["rho"][0], "r") as f:
-        v = f["manipulator.rho"][()]
+        v = f["manipulator__rho"][()]
         np.testing.assert_allclose(v, np.linspace(0.2, 0.9, 8), rtol=1e-15)
         assert v[-1] == 0.9
 
@@ -206,7 +216,7 @@ def test_lambda_is_nan_under_newton_euler(config_runs):
     h5, proc = config_runs["sine"]
     assert proc.returncode == 0
     with h5py.File(h5, "r") as f:
-        method = [h5io.text(m) for m in f["solver.method"][()]]
+        method = [h5io.text(m) for m in f["solver__method"][()]]
         assert method == ["lagrange", "newton_euler"]
         assert not np.isnan(f["lambda"][0]).any()
         assert np.isnan(f["lambda"][1]).all()

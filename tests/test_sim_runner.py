@@ -144,8 +144,8 @@ def test_closed_loop_config_agrees_with_simstudy(config_runs):
              ("computed_torque", 0.0): 3.4e-3}
     with h5py.File(h5, "r") as f:
         assert (f["status"][()] == 0).all()
-        for kind, mm, e in zip(f["simulate.controller"][()].astype(str),
-                               f["simulate.model.m_over_M"][()],
+        for kind, mm, e in zip(f["simulate__controller"][()].astype(str),
+                               f["simulate__model__m_over_M"][()],
                                f["tracking_error_max"][()]):
             # the table's two digits
             assert e == pytest.approx(table[(kind, mm)], rel=0.05), (kind, mm)
@@ -161,7 +161,8 @@ def test_gain_and_model_sweeps_are_monotone(runner, tmp_path):
     assert proc.returncode == 0, proc.stderr
     with h5py.File(h5, "r") as f:
         e = f["tracking_error_max"][()]
-        assert f["simulate.kp"].attrs["units"] == "N/m or 1/s^2"
+        # pd's gain: a force per metre (computed_torque's: 1/s^2)
+        assert f["simulate__kp"].attrs["units"] == "N/m"
     assert (np.diff(e) < 0).all(), e
     assert (e[:-1] / e[1:] > 1.5).all() and (e[:-1] / e[1:] < 2.5).all(), e
     h5, proc = simulate(tmp_path, HEAD + "simulate: {controller: "
@@ -292,7 +293,8 @@ def test_noise_and_quantisation_are_seeded(runner, tmp_path):
 
 
 def test_time_grid_differing_by_case(runner, tmp_path):
-    """Durations differ by case: time is a sample index, case_time holds
+    """Durations differ by case: the samples' dimension is `sample`, an
+    index (a CF time axis would need one grid), case_time holds
     each case's times, NaN past a case's end (the case is not failed)."""
     h5, proc = simulate(tmp_path, HEAD.replace("dt: 0.001", "dt: 0.01") +
                         "simulate: {controller: pd}\nsweep:\n"
@@ -300,7 +302,8 @@ def test_time_grid_differing_by_case(runner, tmp_path):
                         "4")
     assert proc.returncode == 0, proc.stderr
     with h5py.File(h5, "r") as f:
-        assert f["time"].attrs["units"] == "1" and len(f["time"]) == 31
+        assert "time" not in f
+        assert f["sample"].attrs["units"] == "1" and len(f["sample"]) == 31
         ct = f["case_time"][()]
         assert np.allclose(ct[1], np.arange(31) * 0.01, rtol=0, atol=1e-15)
         assert ct[0][20] == 0.2 and np.isnan(ct[0][21:]).all()

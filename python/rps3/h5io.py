@@ -33,15 +33,40 @@ def effects(f):
     return [text(n) for n in f["force_by_effect"].dims[2][0][()]]
 
 
+def key_name(key):
+    """The variable name of a swept scene key in a file: CF names are made
+    of letters, digits and underscores, so '.' is written '__' and '[k]'
+    '_k' (``trajectory.amp[2]`` -> ``trajectory__amp_2``); the variable's
+    ``scene_key`` attribute holds the dotted key (runner/out_cf.h)."""
+    return key.replace(".", "__").replace("[", "_").replace("]", "")
+
+
+def _key_variable(f, key):
+    """The variable of swept key ``key`` (dotted, or already a variable
+    name); a file written before the CF names has the dotted name."""
+    for name in (key_name(key), key):
+        if name in f:
+            return f[name]
+    raise KeyError(f"{key} is not a swept key of {f.filename}")
+
+
 def sweep_keys(f):
-    """Swept keys in file order: the ``coordinates`` attribute of ``force``."""
-    coords = text(f["force"].attrs.get("coordinates", ""))
-    return [c for c in coords.split() if c != "case_time"]
+    """Swept keys (dotted, as in the scene) in file order: the variables of
+    the ``coordinates`` attribute of ``force`` (or of ``status``)."""
+    ds = f["force"] if "force" in f else f["status"]
+    coords = text(ds.attrs.get("coordinates", ""))
+    return [text(f[c].attrs.get("scene_key", c)) for c in coords.split()
+            if c != "case_time"]
+
+
+def sweep_value(f, key):
+    """[case] array of the values of swept key ``key`` (dotted)."""
+    return _key_variable(f, key)[()]
 
 
 def sweep_values(f):
-    """{swept key: [case] array of its values}."""
-    return {k: f[k][()] for k in sweep_keys(f)}
+    """{swept key (dotted): [case] array of its values}."""
+    return {k: sweep_value(f, k) for k in sweep_keys(f)}
 
 
 def times(f):
@@ -56,15 +81,13 @@ def times(f):
 def case_where(f, **values):
     """Index of the one case whose swept keys have the given values.
 
-    Keys are the dotted names with '.' written as '__', e.g.
-    ``case_where(f, manipulator__m_over_M=0.5)``.
+    Keys are the variable names of the keys (dotted names with '.' written
+    as '__', see key_name), e.g. ``case_where(f, manipulator__m_over_M=0.5)``.
     """
-    sel = np.ones(f["force"].shape[0], dtype=bool)
+    sel = np.ones(f["status"].shape[0], dtype=bool)
     for name, value in values.items():
-        key = name.replace("__", ".")
-        if key not in f:
-            raise KeyError(f"{key} is not a swept key of {f.filename}")
-        col = f[key][()]
+        col = _key_variable(f, name.replace("__", ".") if name not in f
+                            else name)[()]
         if col.dtype.kind in "SO":
             sel &= np.array([text(v) for v in col]) == value
         else:

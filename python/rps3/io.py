@@ -37,7 +37,9 @@ def open_dataset(path: str | os.PathLike[str], **kwargs: Any) -> xr.Dataset:
     ``ds.force.sel(m_over_M=0.5, rho=0.3)`` picks one case by value
     (values are those of the file: use ``method="nearest"`` for values
     from ranges), and ``case_index`` keeps each case's number.  Units are
-    the ``units`` attributes of the file (SI).
+    the ``units`` attributes of the file (SI); ``time`` is in seconds since
+    the start of the trajectory (``decode_times=False`` by default: its
+    CF units name a nominal reference date).
 
     Args:
         path: an HDF5 file written by rps3-run.
@@ -48,6 +50,9 @@ def open_dataset(path: str | os.PathLike[str], **kwargs: Any) -> xr.Dataset:
         ``force_by_effect`` [N], ``length`` [m], ``lambda`` [N/m], ...).
     """
     kwargs.setdefault("engine", "h5netcdf")
+    # time stays in seconds: its units name a nominal reference date (CF,
+    # docs/hdf5.md) that xarray would otherwise decode into dates
+    kwargs.setdefault("decode_times", False)
     ds = xr.open_dataset(path, **kwargs)
     coords = str(ds["force"].attrs.get("coordinates", "")) if "force" in ds else ""
     if not coords and "force" in ds:
@@ -55,7 +60,10 @@ def open_dataset(path: str | os.PathLike[str], **kwargs: Any) -> xr.Dataset:
     keys = [k for k in coords.split() if k != "case_time" and k in ds.variables]
     if not keys:
         return ds
-    names = _short_names(keys)
+    # the variables have CF names (trajectory__amp_2), scene_key the key
+    dotted = {k: str(ds[k].attrs.get("scene_key", k)) for k in keys}
+    short = _short_names(list(dotted.values()))
+    names = {k: short[dotted[k]] for k in keys}
     ds = ds.rename({k: v for k, v in names.items() if k != v})
     dims = [names[k] for k in keys]
     ds = ds.assign_coords(case_index=("case", np.arange(ds.sizes["case"])))
