@@ -481,7 +481,7 @@ docs: $(B)/rps3-run
 	rm -f $(B)/runner.md.new
 
 clean:
-	rm -rf $(B) out python/build python/rps3.egg-info
+	rm -rf $(B) out python/build python/dist python/rps3.egg-info python/rps3/_rps3.*
 
 -include $(wildcard $(B)/obj/*.d $(B)/pic/*.d $(B)/san/*.d $(B)/runner/*.d \
                    $(B)/runner-mpi/*.d)

@@ -2,6 +2,7 @@
 
 - the cffi extension rps3._rps3 (rps3/_build.py: where the library comes
   from, and the checks of what the build needs);
+- build_ext always compiles (the route can change between builds);
 - the sdist carries the library's C sources and header (the repository's
   src/ and include/, outside this directory) as csrc/, so that a wheel
   builds from the sdist alone on any machine with a C compiler and GSL.
@@ -21,6 +22,7 @@ except ImportError:
              "--no-build-isolation, which installs it)")
 
 from setuptools import setup
+from setuptools.command.build_ext import build_ext
 from setuptools.command.sdist import sdist
 
 HERE = os.path.dirname(os.path.abspath(__file__))
@@ -58,5 +60,16 @@ class SdistWithSources(sdist):
             shutil.copy2(license_file, os.path.join(out, "LICENSE"))
 
 
+class BuildExtAlways(build_ext):
+    """build_ext that always compiles: what the extension links (the
+    archive, an installed library or the sources) is decided by
+    rps3/_build.py at each build, which setuptools' timestamps do not see,
+    so that a build directory kept from another route would be reused."""
+
+    def finalize_options(self) -> None:
+        super().finalize_options()
+        self.force = True
+
+
 setup(cffi_modules=["rps3/_build.py:ffibuilder"],
-      cmdclass={"sdist": SdistWithSources})
+      cmdclass={"sdist": SdistWithSources, "build_ext": BuildExtAlways})

@@ -25,7 +25,6 @@ import tarfile
 import zipfile
 
 import pytest
-
 from conftest import ROOT
 
 PY = os.path.join(ROOT, "python")
@@ -89,9 +88,10 @@ def fresh(tmp_path_factory, sdist):
     # pyproject.toml from the index, the library's sources from csrc/
     sh([*pip, "wheel", "--no-deps", "-w", top / "wheels", sdist], cwd=top)
     (wheel,) = (top / "wheels").glob("rps3-*.whl")
+    # what the figures need (analysis/requirements.txt) and pytest, at
+    # their pins; the package's own dependencies come with the wheel
     constraints = [a for p in PINS for a in ("-c", p)]
-    sh([*pip, "install", wheel, "pytest", "matplotlib", "PyYAML", *constraints],
-       cwd=top)
+    sh([*pip, "install", wheel, "-r", PINS[0], "pytest", *constraints], cwd=top)
     return vpy, venv, wheel
 
 

@@ -9,8 +9,9 @@ Where the library comes from (python/README.md, "Installing"):
   - RPS3_PREFIX set: an installed rps3 (`make install PREFIX=...`):
     PREFIX/include/rps3.h, linked against PREFIX/lib/librps3.so;
   - in the repository, with build/librps3-pic.a made (`make lib`, as
-    `make venv` does): include/rps3.h, and that archive linked in (the
-    objects of the shared library and of the runner's);
+    `make venv` does) and newer than every file of src/ and include/:
+    include/rps3.h, and that archive linked in (the objects of the shared
+    library and of the runner's);
   - otherwise the library's C sources, compiled into the extension: the
     repository's src/ and include/, or their copy in an sdist (csrc/,
     written by setup.py's sdist command), with the flags the Makefile gives
@@ -114,9 +115,20 @@ def sources() -> str | None:
     return None
 
 
+def _fresh(archive: str, dirs: list[str]) -> bool:
+    """Whether the archive exists and is newer than every file of dirs: a
+    stale one (sources edited since `make lib`) is not linked."""
+    if not os.path.exists(archive):
+        return False
+    built = os.path.getmtime(archive)
+    return all(os.path.getmtime(os.path.join(d, f)) <= built
+               for d in dirs for f in os.listdir(d))
+
+
 def _where(cc: list[str]) -> tuple[str, dict[str, list]]:
     """The header's directory and the arguments of set_source."""
     gsl_cflags, gsl = _gsl(cc)
+    _python_headers()
     libs = [a[2:] for a in gsl if a.startswith("-l")]
     libdirs = [a[2:] for a in gsl if a.startswith("-L")]
     prefix = os.environ.get("RPS3_PREFIX")
@@ -129,8 +141,8 @@ def _where(cc: list[str]) -> tuple[str, dict[str, list]]:
                     f"RPS3_PREFIX={prefix}: {need} is missing (install the "
                     f"library there with `make install PREFIX={prefix}`, or "
                     "unset RPS3_PREFIX to compile its sources)")
+        # (setup.py's build_ext compiles at every build: no "depends")
         return os.path.join(prefix, "include"), {
-            "depends": [os.path.join(lib, "librps3.so")],
             "libraries": ["rps3", *libs],
             "library_dirs": [lib, *libdirs],
             "runtime_library_dirs": [lib],
@@ -142,25 +154,20 @@ def _where(cc: list[str]) -> tuple[str, dict[str, list]]:
             f"{ROOT}/src and {ROOT}/include): build from the repository's "
             "python/ directory or from an sdist made by `python -m build`, or "
             "set RPS3_PREFIX to an installed rps3")
-    _python_headers()
     include = os.path.join(base, "include")
+    src = os.path.join(base, "src")
     archive = os.path.join(base, "build", "librps3-pic.a")
-    if base == ROOT and os.path.exists(archive):
+    if base == ROOT and _fresh(archive, [include, src]):
         return include, {
-            # a rebuilt library relinks the extension
-            "depends": [archive, os.path.join(include, "rps3.h")],
             "extra_objects": [archive],
             "libraries": libs,
             "library_dirs": libdirs,
         }
-    src = os.path.join(base, "src")
     # relative to setup.py's directory, as setuptools wants them
     rel = os.path.relpath(src, PKG)
     files = sorted(f for f in os.listdir(src) if f.endswith(".c"))
     return include, {
         "sources": [os.path.join(rel, f) for f in files],
-        "depends": [os.path.join(src, f) for f in os.listdir(src)]
-                   + [os.path.join(include, "rps3.h")],
         "include_dirs": [src, *(a[2:] for a in gsl_cflags if a.startswith("-I"))],
         "define_macros": LIB_MACROS,
         "extra_compile_args": LIB_FLAGS,
