@@ -225,3 +225,26 @@ def test_rps3_prefix_without_the_library(tmp_path):
     out = build_fails(tmp_path, clean_env(RPS3_PREFIX=str(tmp_path / "none")))
     assert f"RPS3_PREFIX={tmp_path / 'none'}: {tmp_path / 'none'}/include/rps3.h " \
            "is missing" in out
+
+
+def test_gsl_headers_not_found_names_what_to_install(tmp_path):
+    """gsl-config there, but the compiler does not find GSL's headers (a
+    compiler of another system root)."""
+    cc = f"{compiler()} --sysroot={tmp_path / 'elsewhere'}"
+    out = build_fails(tmp_path, clean_env(CC=cc))
+    assert "rps3: cannot build the extension: GSL's headers are not found" in out
+    assert "apt-get install libgsl-dev" in out
+
+
+def test_no_python_headers_names_what_to_install(tmp_path):
+    """Python.h missing where sysconfig says Python's headers are."""
+    code = ("import runpy, sysconfig; p = sysconfig.get_paths(); "
+            f"sysconfig.get_paths = lambda *a, **k: {{**p, 'include': {str(tmp_path)!r}}}; "
+            f"runpy.run_path({os.path.join(PY, 'rps3', '_build.py')!r})")
+    proc = subprocess.run([sys.executable, "-c", code], capture_output=True,
+                          text=True, timeout=120, env=clean_env())
+    assert proc.returncode == 1
+    assert proc.stderr.strip() == (
+        f"rps3: cannot build the extension: Python's headers are missing "
+        f"({tmp_path}/Python.h): install them (Debian, Ubuntu: apt-get install "
+        "python3-dev; Fedora: dnf install python3-devel)")

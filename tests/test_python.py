@@ -312,8 +312,9 @@ def assert_opens_by_value(h5):
     """rps3.open_dataset(h5) against the file read by h5py: one dimension
     per swept key (file order, each sorted), and every case's samples of
     every per-case variable, bit for bit, at the values of its keys
-    (strings for enum keys), with case_index its number; no sweep keeps
-    `case`."""
+    (strings for enum keys), with case_index its number; no sweep, or a
+    sweep that is not each combination of its values once, keeps `case`
+    (the keys as its coordinates)."""
     with h5py.File(h5, "r") as f:
         keys = rps3.h5io.sweep_keys(f)
         cols = {k: f[k][()] for k in keys}
@@ -325,8 +326,14 @@ def assert_opens_by_value(h5):
     ncase = len(data["status"])
     with rps3.open_dataset(h5) as ds:
         dims = ds["status"].dims
-        if not keys:
-            assert dims == ("case",)
+        if dims == ("case",):
+            for k in keys:
+                short = k.rsplit(".", 1)[-1]
+                name = short if short in ds.coords else k
+                assert list(ds[name].values) == [
+                    rps3.h5io.text(v) if cols[k].dtype.kind in "SO" else v
+                    for v in cols[k]]
+            keys = []
         else:
             assert len(dims) == len(keys) and "case" not in ds.dims
             for d, k in zip(dims, keys):
@@ -373,7 +380,10 @@ def paper_scene(sweep):
      + "sweep:\n  simulate.kp: [3000, 1000, 2000]\n", [], ("kp",)),
     (open(os.path.join(CONFIGS, "closed_loop.yaml")).read().split("sweep:")[0],
      [], ("case",)),
-], ids=["none", "one", "collision", "four-fields", "sim-one", "sim-none"])
+    # a value given twice: not a product of the keys' values
+    (paper_scene("  manipulator.rho: [0.5, 0.4, 0.5]\n"), [], ("case",)),
+], ids=["none", "one", "collision", "four-fields", "sim-one", "sim-none",
+        "repeated"])
 def test_open_dataset_any_number_of_keys(tmp_path, scene, extra, dims):
     path = tmp_path / "scene.yaml"
     path.write_text(scene)
