@@ -72,7 +72,7 @@ RUN_COMMON = $(filter-out $(RUN_MAINS) $(STUDY_SRC),$(wildcard runner/*.c))
 RUN_OBJ = $(RUN_COMMON:runner/%.c=$(B)/runner/%.o) $(B)/runner/gitrev.o
 
 .PHONY: all lib runner runner-mpi study-bin check check-c check-san check-py check-lint check-slurm paper \
-        study bench mutation scaling deps venv clean install uninstall
+        study bench mutation scaling deps venv venv-check clean install uninstall
 
 # the MPI runner is part of `all` when OpenMPI is there; `make check`
 # builds it in any case
@@ -107,7 +107,7 @@ endef
 # anything compiles, checks (and for paper and check, installs) it all.
 CHECK_GOALS = check check-c check-san check-py check-lint check-fuzz valgrind bench \
               mutation scaling
-PAPER_GOALS = paper study venv
+PAPER_GOALS = paper study venv venv-check
 ifneq ($(filter $(CHECK_GOALS),$(MAKECMDGOALS)),)
 DEPS_SET = check
 DEPS_PKGS = $(DEB_CHECK)
@@ -130,14 +130,22 @@ deps: $(DEPS)
 $(DEPS):
 	$(call deps_recipe,$(DEPS_PKGS),$(DEPS_INSTALL))
 
-# the venv: analysis/requirements.txt, then the rps3 package from python/
-# (compiled against include/rps3.h, librps3-pic.a linked in), reinstalled
-# whenever the package, the header or the library changes
+# the venv: analysis/requirements.txt (what the figures need, and the
+# package's build), then the rps3 package from python/ (compiled against
+# include/rps3.h, librps3-pic.a linked in), reinstalled whenever the
+# package, the header or the library changes.  venv-check adds the test
+# and benchmark tools of tests/requirements.txt, for the targets that use
+# them (check-py, check-lint, bench, mutation, ...), so that `make paper`
+# installs only the first.
 PY_PKG = python/pyproject.toml python/setup.py $(wildcard python/rps3/*.py)
 venv: $(VENV)/.ok $(VENV)/.rps3
+venv-check: venv $(VENV)/.check
 $(VENV)/.ok: analysis/requirements.txt | $(DEPS)
 	$(PYTHON) -m venv $(VENV)
 	$(VPY) -m pip install -q --disable-pip-version-check -r analysis/requirements.txt
+	@touch $@
+$(VENV)/.check: tests/requirements.txt $(VENV)/.ok
+	$(VPY) -m pip install -q --disable-pip-version-check -r tests/requirements.txt
 	@touch $@
 $(VENV)/.rps3: $(PY_PKG) include/rps3.h $(B)/librps3-pic.a $(VENV)/.ok
 	$(VPY) -m pip install -q --disable-pip-version-check --no-deps \
@@ -261,17 +269,11 @@ check-san: $(TEST_SAN)
 	@set -e; for t in $(TEST_SAN); do echo "== $$t (asan+ubsan)"; \
 	  ASAN_OPTIONS=detect_leaks=1:abort_on_error=1 UBSAN_OPTIONS=print_stacktrace=1 $$t; done
 
-check-py: all runner-mpi venv $(VENV)/.check
+check-py: all runner-mpi venv-check
 	$(VPY) -m pytest -q tests
 
-# what `make check` adds to the venv (tests/requirements-check.txt: the CF
-# checker of tests/test_cf.py); `make paper` does not install it
-$(VENV)/.check: tests/requirements-check.txt $(VENV)/.ok
-	$(VPY) -m pip install -q --disable-pip-version-check -r tests/requirements-check.txt
-	@touch $@
-
 # ruff and mypy over the Python package and the analysis scripts
-check-lint: venv
+check-lint: venv-check
 	$(VPY) -m ruff check --config python/pyproject.toml python analysis
 	$(VPY) -m mypy --config-file python/pyproject.toml python/rps3 analysis
 
@@ -284,7 +286,7 @@ check: lib runner check-c check-san valgrind check-fuzz check-lint check-py
 # (tests/slurm/check_slurm.sh; docs/scale-out.md).  As root on Debian it
 # installs slurm-wlm and munge and starts and stops its own daemons;
 # otherwise it says why it skips.  Not part of `make check`.
-check-slurm: all venv
+check-slurm: all venv-check
 	tests/slurm/check_slurm.sh
 
 # ------------------------------------------------------------------- bench
@@ -294,7 +296,7 @@ check-slurm: all venv
 # (SymPy: the paper's model in pose coordinates, cse, ccode) into
 # $(B)/anchor/; anchor-check (run by check-py) holds it to the library.
 ANCHOR = $(B)/anchor/anchor_gen.c
-$(ANCHOR): tests/bench/gen_anchor.py | $(VENV)/.ok
+$(ANCHOR): tests/bench/gen_anchor.py | $(VENV)/.check
 	$(VPY) tests/bench/gen_anchor.py -o $@
 $(B)/anchor-check: tests/bench/anchor_check.c $(ANCHOR) $(B)/librps3.a
 	$(CC) $(CPPFLAGS_ALL) -I$(B)/anchor $(GSL_CFLAGS) $(WARN) -O2 $< $(ANCHOR) \
@@ -308,7 +310,7 @@ $(B)/rps3-bench: $(BENCH_SRC) $(wildcard tests/bench/*.h) $(ANCHOR) $(B)/librps3
 # rps3-mujoco-bench (tests/bench/mujoco_bench.c): MuJoCo's mj_inverse on the
 # same states, from the C library of the pinned `mujoco` wheel in .venv
 MUJOCO_DIR = $(shell $(VPY) -c 'import mujoco, os; print(os.path.dirname(mujoco.__file__))' 2>/dev/null)
-$(B)/rps3-mujoco-bench: tests/bench/mujoco_bench.c $(ANCHOR) $(B)/librps3.a | $(VENV)/.ok
+$(B)/rps3-mujoco-bench: tests/bench/mujoco_bench.c $(ANCHOR) $(B)/librps3.a | $(VENV)/.check
 	$(CC) $(CPPFLAGS_ALL) -I$(B)/anchor -isystem $(MUJOCO_DIR)/include $(GSL_CFLAGS) $(WARN) -O2 \
 	  $< $(ANCHOR) -o $@ $(B)/librps3.a $(firstword $(wildcard $(MUJOCO_DIR)/libmujoco.so.*)) \
 	  -Wl,-rpath,$(MUJOCO_DIR) $(GSL_LIBS) -lm
@@ -318,7 +320,7 @@ $(B)/rps3-mujoco-bench: tests/bench/mujoco_bench.c $(ANCHOR) $(B)/librps3.a | $(
 # RSS (GNU time) for sweeps of 10^3 to 10^7 points, -j 1 and 2, into
 # out/bench_runner.h5.  About a minute; the 10^7-point files (3.2 GB) are
 # written next to it and removed.
-bench: $(B)/rps3-bench $(B)/rps3-mujoco-bench runner venv
+bench: $(B)/rps3-bench $(B)/rps3-mujoco-bench runner venv-check
 	@mkdir -p out
 	$(B)/rps3-bench -o out/bench.h5
 	@grep -m1 "model name" /proc/cpuinfo || true
@@ -330,14 +332,14 @@ bench: $(B)/rps3-bench $(B)/rps3-mujoco-bench runner venv
 # one compute-bound sweep (3 M points) by -j 1, -j 2, an array of 2 shards
 # + merge and mpirun -n 2: wall, CPU, speed-up, efficiency, medians of 3
 # (tests/bench/scaling.py; the table in docs/scale-out.md).  A few minutes.
-scaling: runner runner-mpi venv
+scaling: runner runner-mpi venv-check
 	$(VPY) tests/bench/scaling.py
 
 # ---------------------------------------------------------------- mutation
 # which test kills which hand-made mutation of src/ (tests/mutation.py, in a
 # temporary copy of the tree): writes docs/mutations.md, exits 1 when a
 # mutation survives.  About a minute per mutation; not part of `check`.
-mutation: venv
+mutation: venv-check
 	nice $(VPY) tests/mutation.py -o docs/mutations.md
 
 # ---------------------------------------------------------------- valgrind
@@ -525,7 +527,7 @@ docs: $(B)/rps3-run
 	rm -f $(B)/runner.md.new
 
 clean:
-	rm -rf $(B) out python/build python/rps3.egg-info
+	rm -rf $(B) out python/build python/dist python/rps3.egg-info python/rps3/_rps3.*
 
 -include $(wildcard $(B)/obj/*.d $(B)/pic/*.d $(B)/san/*.d $(B)/runner/*.d \
                    $(B)/runner-mpi/*.d)

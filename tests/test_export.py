@@ -34,7 +34,7 @@ import rps3
 from rps3 import export
 
 pin = pytest.importorskip("pinocchio", reason="the URDF is checked with Pinocchio "
-                          "(PyPI pin, in analysis/requirements.txt)")
+                          "(PyPI pin, in tests/requirements.txt)")
 
 TOL_POS = 1e-12
 TOL = 1e-9

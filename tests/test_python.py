@@ -308,12 +308,178 @@ def test_open_dataset_single_case(tmp_path):
         assert ds.force.dims == ("case", "time", "link")
 
 
+def assert_opens_by_value(h5):
+    """rps3.open_dataset(h5) against the file read by h5py: one dimension
+    per swept key (file order, each sorted), and every case's samples of
+    every per-case variable, bit for bit, at the values of its keys
+    (strings for enum keys), with case_index its number; no sweep, or a
+    sweep that is not each combination of its values once, keeps `case`
+    (the keys as its coordinates)."""
+    with h5py.File(h5, "r") as f:
+        keys = rps3.h5io.sweep_keys(f)
+        cols = {k: f[k][()] for k in keys}
+        names = [k for k in f if k not in keys and k != "case"
+                 and isinstance(f[k], h5py.Dataset) and f[k].ndim >= 1
+                 and f[k].dtype.kind in "fiu" and f[k].dims[0]
+                 and f[k].dims[0][0].name == "/case"]
+        data = {k: f[k][()] for k in names}
+    ncase = len(data["status"])
+    with rps3.open_dataset(h5) as ds:
+        dims = ds["status"].dims
+        if dims == ("case",):
+            for k in keys:
+                short = k.rsplit(".", 1)[-1]
+                name = short if short in ds.coords else k
+                assert list(ds[name].values) == [
+                    rps3.h5io.text(v) if cols[k].dtype.kind in "SO" else v
+                    for v in cols[k]]
+            keys = []
+        else:
+            assert len(dims) == len(keys) and "case" not in ds.dims
+            for d, k in zip(dims, keys):
+                assert d == k.rsplit(".", 1)[-1] or d == k
+                v = ds[d].values
+                assert (v[1:] > v[:-1]).all(), (d, v)  # sorted, distinct
+        for c in range(ncase):
+            at = {d: rps3.h5io.text(cols[k][c]) if cols[k].dtype.kind in "SO"
+                  else cols[k][c] for d, k in zip(dims, keys)} or {"case": c}
+            if keys:
+                assert int(ds.case_index.sel(at)) == c
+            for name in names:
+                assert same_bits(ds[name].sel(at).values, data[name][c]), (name, c)
+        return ds.status.dims
+
+
+@pytest.mark.parametrize("config", sorted(
+    c[:-5] for c in os.listdir(CONFIGS) if c.endswith(".yaml")))
+def test_open_dataset_every_config(config_runs, config):
+    """Every shipped scene's file, whatever its number of swept keys (one
+    for rho, period, mass_ratio, pitch, paper; two for the simulated
+    closed_loop, one of them names; three for grid and link_mass; none for
+    the trajectories)."""
+    h5, proc = config_runs[config]
+    assert proc.returncode == 0, proc.stderr
+    assert_opens_by_value(h5)
+
+
+def paper_scene(sweep):
+    text = open(os.path.join(CONFIGS, "paper.yaml")).read().split("sweep:")[0]
+    return text + ("sweep:\n" + sweep if sweep else "")
+
+
+@pytest.mark.parametrize("scene, extra, dims", [
+    (paper_scene(""), [], ("case",)),
+    (paper_scene("  trajectory.period: [12, 8, 10]\n"), [], ("period",)),
+    # the short name would be the dataset theta's: the dotted key stays
+    (paper_scene("  solver.theta: [multiroot, closed_form]\n"), [],
+     ("solver.theta",)),
+    (paper_scene("  manipulator.rho: [0.4, 0.5]\n  trajectory.pitch: [0, 0.03]\n"
+                 "  manipulator.d: [0.1524, 0.14]\n  trajectory.period: [8, 10]\n"),
+     ["--fields", "length"], ("rho", "pitch", "d", "period")),
+    (open(os.path.join(CONFIGS, "closed_loop.yaml")).read().split("sweep:")[0]
+     + "sweep:\n  simulate.kp: [3000, 1000, 2000]\n", [], ("kp",)),
+    (open(os.path.join(CONFIGS, "closed_loop.yaml")).read().split("sweep:")[0],
+     [], ("case",)),
+    # a value given twice: not a product of the keys' values
+    (paper_scene("  manipulator.rho: [0.5, 0.4, 0.5]\n"), [], ("case",)),
+], ids=["none", "one", "collision", "four-fields", "sim-one", "sim-none",
+        "repeated"])
+def test_open_dataset_any_number_of_keys(tmp_path, scene, extra, dims):
+    path = tmp_path / "scene.yaml"
+    path.write_text(scene)
+    out = tmp_path / "out.h5"
+    proc = run(path, out, "-q", *extra)
+    assert proc.returncode == 0, proc.stderr
+    assert assert_opens_by_value(out) == dims
+
+
+def test_open_dataset_refuses_other_files(tmp_path):
+    """A file that is not HDF5, an HDF5 file of something else, and one
+    with rps3's attribute but not rps3-run's datasets: a ValueError naming
+    the file; a missing file: FileNotFoundError."""
+    text = tmp_path / "notes.h5"
+    text.write_text("not HDF5\n")
+    other = tmp_path / "other.h5"
+    with h5py.File(other, "w") as f:
+        f["force"] = np.zeros((2, 3))
+    half = tmp_path / "half.h5"
+    with h5py.File(half, "w") as f:
+        f.attrs["rps3_version"] = rps3.__version__
+        f["force"] = np.zeros((2, 3))
+    for path, msg in ((text, "not an HDF5 file"),
+                      (other, "not an rps3 file: it has no root attribute rps3_version"),
+                      (half, "an rps3 file but not one of rps3-run's")):
+        with pytest.raises(ValueError, match=f"^{re.escape(str(path))}: {msg}"):
+            rps3.open_dataset(path)
+    with pytest.raises(FileNotFoundError):
+        rps3.open_dataset(tmp_path / "missing.h5")
+
+
+def test_open_dataset_joined_file_needs_every_part(tmp_path, config_runs):
+    """A file joined by `rps3-run merge` (virtual datasets) reads its
+    parts: with every part it is the single run's file; a part moved away,
+    replaced by another file, or lacking a dataset is an error naming it
+    (HDF5 would read its cases as NaN); HDF5_VDS_PREFIX finds moved parts."""
+    grid = os.path.join(CONFIGS, "grid.yaml")
+    parts = tmp_path / "parts"
+    parts.mkdir()
+    for k in range(3):
+        proc = run(grid, parts / f"grid.{k}.h5", "-q", "--shard", f"{k}/3")
+        assert proc.returncode == 0, proc.stderr
+    joined = tmp_path / "grid.h5"
+    proc = subprocess.run([os.path.join(ROOT, "build", "rps3-run"), "merge",
+                           str(joined), *(str(parts / f"grid.{k}.h5") for k in range(3))],
+                          capture_output=True, text=True, timeout=60)
+    assert proc.returncode == 0, proc.stderr
+    with h5py.File(joined, "r") as f:
+        assert f["force"].is_virtual
+    single, proc = config_runs["grid"]
+    with rps3.open_dataset(joined) as a, rps3.open_dataset(single) as b:
+        assert same_bits(a.force.values, b.force.values)
+    part = parts / "grid.1.h5"
+    moved = tmp_path / "elsewhere"
+    (moved / "parts").mkdir(parents=True)
+    part.rename(moved / "parts" / part.name)
+    with pytest.raises(FileNotFoundError, match=r"reads part parts/grid\.1\.h5, "
+                       r"which is missing"):
+        rps3.open_dataset(joined)
+    # HDF5 looks under each HDF5_VDS_PREFIX for the part's stored name
+    # (relative to the joined file's directory): the data are read there
+    env = dict(os.environ, HDF5_VDS_PREFIX=str(tmp_path / "nowhere") + os.pathsep
+               + str(moved))
+    code = ("import sys, rps3; ds = rps3.open_dataset(sys.argv[1]); "
+            "print(int(ds.force.isnull().sum()), int(ds.status.max()))")
+    proc = subprocess.run([sys.executable, "-c", code, str(joined)], env=env,
+                          capture_output=True, text=True, timeout=120)
+    assert proc.returncode == 0, proc.stderr
+    assert proc.stdout.split() == ["0", "0"]
+    # another file in the part's place
+    part.write_text("not HDF5\n")
+    with pytest.raises(OSError, match=r"reads part parts/grid\.1\.h5, which "
+                       r"cannot be opened"):
+        rps3.open_dataset(joined)
+    # the part without one of its datasets
+    (moved / "parts" / part.name).rename(part)
+    with h5py.File(part, "a") as f:
+        del f["theta"]
+    with pytest.raises(OSError, match=r"dataset theta reads theta of part "
+                       r".*grid\.1\.h5, which has no such dataset"):
+        rps3.open_dataset(joined)
+
+
+def test_open_dataset_warns_on_a_part(tmp_path):
+    part = tmp_path / "grid.0.h5"
+    proc = run(os.path.join(CONFIGS, "grid.yaml"), part, "-q", "--shard", "0/3")
+    assert proc.returncode == 0, proc.stderr
+    with pytest.warns(UserWarning, match="part 0/3 of a sharded run"):
+        rps3.open_dataset(part).close()
+
+
 # -------------------------------------------------------------- bad input
 
 @pytest.mark.parametrize("kwargs, name", [
     (dict(rho=-0.5), "rho"),
     (dict(R=float("nan")), "R"),
-    (dict(R="wide"), "R"),
     (dict(m_over_M=-1.0), "m_over_M"),
     (dict(m=0.1, m_over_M=0.5), "m_over_M"),
     (dict(effects=["platform_gravity", "gravity"]), "effects"),
@@ -335,6 +501,11 @@ def test_model_rejects_bad_values_naming_the_argument(kwargs, name):
     with pytest.raises(ValueError) as err:
         rps3.Model(**kwargs)
     assert str(err.value).startswith(name + ":"), str(err.value)
+
+
+def test_a_string_for_a_number_is_a_type_error():
+    with pytest.raises(TypeError, match="^R: expected a number, got a string"):
+        rps3.Model(R="wide")
 
 
 def test_unknown_keyword_is_a_type_error():
@@ -387,3 +558,155 @@ def test_readme_python_example_runs(config_runs, tmp_path):
                           env={**os.environ, "MPLBACKEND": "Agg"})
     assert proc.returncode == 0, proc.stderr
     assert proc.stdout.strip().endswith(" 0")  # the largest status: all ok
+
+
+# ------------------------------------------------- arguments of real numbers
+
+# values that are not real numbers: complex (float64 would drop the
+# imaginary part, silently), strings (float64 would parse them), objects
+NOT_REAL_ARRAYS = {
+    "complex": lambda a: np.asarray(a) + 1e-3j,
+    "complex-zero-imag": lambda a: np.asarray(a, dtype=complex),
+    "strings": lambda a: np.asarray(a).astype(str),
+    "objects": lambda a: np.asarray(a).astype(object),
+    "bools": lambda a: np.ones(np.shape(a), bool),
+    "list-with-none": lambda a: [None] * len(a) if np.ndim(a) == 1 else
+                                [[None] * 3] * len(a),
+}
+NOT_REAL_SCALARS = {
+    "complex": lambda x: complex(x, 1e-3),
+    "numpy-complex": lambda x: np.complex128(x + 1e-3j),
+    "0d-complex": lambda x: np.array(x + 0j),
+    "string": lambda x: str(x),
+    "bytes": lambda x: str(x).encode(),
+    "decimal": lambda x: __import__("decimal").Decimal(str(x)),
+}
+
+
+def _helix():
+    return rps3.trajectory.helix(samples=5)
+
+
+# every argument of the public functions that takes numbers: (function,
+# valid keyword arguments, the argument, whether it is an array); the
+# arrays of the stages are their (n, 3) inputs
+def _number_arguments():
+    tr = _helix()
+    model = rps3.Model()
+    k = model.ik(tr.pose)
+    sine = dict(mean=[0.0, 0.05, 0.15], amp=[0.3, 0.0, 0.05],
+                freq=[0.5, 0.0, 0.5], duration=2.0, phase=[0.0, 0.0, 0.0])
+    table = dict(times=tr.t, pose=tr.pose, rate=tr.dpose, acc=tr.ddpose)
+    rows = []
+    for name in ("R", "rho", "M", "m_over_M", "d", "link_Ic", "g", "tol",
+                 "max_iter", "cond_warn", "cond_max"):
+        default = {"max_iter": 50, "tol": 1e-12, "cond_warn": 1e6,
+                   "cond_max": 1e13}.get(name, 0.2)
+        rows.append(("Model", rps3.Model, {name: default}, name, False))
+    rows.append(("Model", rps3.Model, {"m": 0.09}, "m", False))
+    rows.append(("Model", rps3.Model,
+                 {"payload": {"mass": 0.05, "com": [0.0, 0.0, 0.01]}}, "payload", "mass"))
+    rows.append(("Model", rps3.Model,
+                 {"payload": {"com": [0.0, 0.0, 0.01]}}, "payload", "com"))
+    rows.append(("Model", rps3.Model,
+                 {"payload": {"inertia": [1e-4, 1e-4, 1e-4]}}, "payload", "inertia"))
+    rows.append(("Model", rps3.Model, {"friction": {"viscous": 0.01}}, "friction", "viscous"))
+    rows.append(("Model", rps3.Model, {"friction": {"coulomb": 0.01}}, "friction", "coulomb"))
+    rows.append(("ik", model.ik, {"pose": tr.pose}, "pose", True))
+    rows.append(("fk", model.fk, {"lengths": k.l, "guess": k.theta}, "lengths", True))
+    rows.append(("fk", model.fk, {"lengths": k.l, "guess": k.theta}, "guess", True))
+    for name in ("pose", "dpose", "ddpose"):
+        rows.append(("inverse", model.inverse,
+                     {"pose": tr.pose, "dpose": tr.dpose, "ddpose": tr.ddpose}, name, True))
+    for name in ("radius", "pitch", "z0", "period", "blend"):
+        rows.append(("helix", rps3.trajectory.helix,
+                     {name: {"radius": 0.000266, "pitch": 0.03048, "z0": 0.3048,
+                             "period": 10.0, "blend": 1.0}[name]}, name, False))
+    rows.append(("helix", rps3.trajectory.helix, {"t": [0.0, 1.0, 2.0]}, "t", True))
+    for name in ("mean", "amp", "freq", "phase"):
+        rows.append(("sine", rps3.trajectory.sine, dict(sine), name, True))
+    rows.append(("sine", rps3.trajectory.sine, dict(sine), "duration", False))
+    rows.append(("sine", rps3.trajectory.sine, dict(sine, t=[0.0, 1.0]), "t", True))
+    for name in ("times", "pose", "rate", "acc"):
+        rows.append(("table", rps3.trajectory.table, dict(table), name, True))
+    rows.append(("table", rps3.trajectory.table, dict(table, t=[0.0, 0.5]), "t", True))
+    rows.append(("strerror", rps3.strerror, {"status": 1}, "status", False))
+    return rows
+
+
+NUMBER_ARGUMENTS = _number_arguments()
+
+
+def test_number_arguments_cover_every_parameter():
+    """The table above names every parameter of the public functions
+    that takes numbers: a new one must be added to it."""
+    import inspect
+    words = {"effects", "method", "theta", "solver", "forces", "warm_start",
+             "certify", "model", "samples", "self"}
+    covered = {(f, a) for f, _, _, a, _ in NUMBER_ARGUMENTS}
+    for fname, fn in (("Model", rps3.Model.__init__), ("ik", rps3.Model.ik),
+                      ("fk", rps3.Model.fk), ("inverse", rps3.Model.inverse),
+                      ("helix", rps3.trajectory.helix),
+                      ("sine", rps3.trajectory.sine),
+                      ("table", rps3.trajectory.table),
+                      ("strerror", rps3.strerror)):
+        for p in inspect.signature(fn).parameters:
+            assert p in words or (fname, p) in covered, (fname, p)
+
+
+def _bad_calls():
+    for fname, fn, kw, name, kind in NUMBER_ARGUMENTS:
+        good = kw[name] if name in kw else None
+        if isinstance(kind, str):  # a key of a dict argument
+            good = kw[name][kind]
+        array = kind is True or isinstance(good, list)
+        for bad_name, bad in (NOT_REAL_ARRAYS if array else NOT_REAL_SCALARS).items():
+            if fname == "strerror" and bad_name == "decimal":
+                continue
+            value = bad(good)
+            args = dict(kw)
+            if isinstance(kind, str):
+                args[name] = dict(kw[name], **{kind: value})
+            else:
+                args[name] = value
+            yield pytest.param(fn, args, name, id=f"{fname}-{name}"
+                               f"{'.' + kind if isinstance(kind, str) else ''}-{bad_name}")
+
+
+@pytest.mark.parametrize("fn, kwargs, name", list(_bad_calls()))
+def test_not_real_numbers_are_a_type_error_naming_the_argument(fn, kwargs, name):
+    """A complex (even with a zero imaginary part), string, boolean or
+    object value of a numeric argument raises TypeError naming the
+    argument, instead of losing its imaginary part or being parsed."""
+    with pytest.raises(TypeError) as err:
+        fn(**kwargs)
+    assert str(err.value).startswith(name + ":"), str(err.value)
+
+
+def test_number_arguments_take_what_is_real():
+    """The same arguments take numpy integers and floats, 0-d arrays,
+    Fractions and integer arrays as the floats they are."""
+    from fractions import Fraction
+    a = rps3.Model(R=np.float32(0.25), rho=np.array(0.5), M=Fraction(9, 50),
+                   max_iter=np.int64(40), payload=dict(com=np.array([0, 0, 1]) / 100))
+    b = rps3.Model(R=0.25, rho=0.5, M=0.18, max_iter=40, payload=dict(com=[0, 0, 0.01]))
+    assert (a.R, a.rho, a.M, a._c.opt.max_iter) == (b.R, b.rho, b.M, b._c.opt.max_iter)
+    assert a._c.payload.com[2] == 0.01
+    tr = _helix()
+    ints = np.array([[0, 0, 1]] * 2, dtype=np.int16)  # alpha, beta 0; z_c 1 m
+    assert same_bits(b.ik(ints).l, b.ik(ints.astype(float)).l)
+    assert same_bits(b.inverse(tr.pose.astype(np.float32), tr.dpose, tr.ddpose).force,
+                     b.inverse(tr.pose.astype(np.float32).astype(float), tr.dpose,
+                               tr.ddpose).force)
+    assert rps3.strerror(np.int32(1)) == rps3.strerror(1) == "pose unreachable"
+
+
+def test_case_where_checks_its_values(config_runs):
+    with h5py.File(config_runs["grid"][0], "r") as f:
+        with pytest.raises(TypeError, match="^manipulator__rho: expected a real number"):
+            rps3.h5io.case_where(f, manipulator__rho=0.3 + 1e-3j)
+        with pytest.raises(KeyError, match="not a swept key"):
+            rps3.h5io.case_where(f, force=0.3)
+    with h5py.File(config_runs["closed_loop"][0], "r") as f:
+        with pytest.raises(TypeError, match="takes names"):
+            rps3.h5io.case_where(f, simulate__controller=1.0)

@@ -3,6 +3,7 @@ library's component-major layout, and validation messages."""
 
 from __future__ import annotations
 
+import numbers
 from typing import Any
 
 import numpy as np
@@ -19,18 +20,74 @@ def text(cdata: Any) -> str:
     return ffi.string(cdata).decode()
 
 
+# numpy kinds whose values are real numbers as float64 takes them: signed
+# and unsigned integers and floats.  Complex numbers (the imaginary part
+# would be dropped), strings (parsed silently by float64), booleans, dates
+# and Python objects are refused by name instead of being converted.
+_REAL_KINDS = "iuf"
+_KIND_NAMES = {"c": "complex numbers", "b": "booleans", "U": "strings",
+               "S": "byte strings", "O": "Python objects", "M": "dates",
+               "m": "time spans", "V": "records"}
+
+
+def real_array(x: ArrayLike, name: str) -> FloatArray:
+    """x as a float64 array, for an argument `name` that takes real numbers.
+
+    Raises:
+        TypeError: naming the argument, for complex, string, boolean or
+            object values (a complex pose would lose its imaginary part, a
+            string would be parsed), or a masked array with masked values.
+        ValueError: naming the argument, for ragged nested sequences.
+    """
+    if isinstance(x, (str, bytes)):
+        raise TypeError(f"{name}: expected real numbers, got a string {x!r}")
+    if np.ma.is_masked(x):
+        raise TypeError(f"{name}: a masked array with masked values: fill "
+                        "them or leave those points out")
+    try:
+        a = np.asarray(x)
+    except (ValueError, TypeError) as e:  # ragged lists
+        raise ValueError(f"{name}: not an array of numbers: {e}") from None
+    if a.dtype.kind not in _REAL_KINDS:
+        what = _KIND_NAMES.get(a.dtype.kind, "not real numbers")
+        raise TypeError(f"{name}: expected real numbers, got an array of "
+                        f"{a.dtype} ({what})")
+    return a.astype(np.float64, copy=False)
+
+
+def real_number(value: Any, name: str) -> float:
+    """One real number as float, for an argument `name` (a Python or numpy
+    number, or a 0-d array).  Booleans are taken as 0 and 1 (the library's
+    flags are integers).
+
+    Raises:
+        TypeError: naming the argument, for complex numbers, strings and
+            other objects (never converted: float() would drop an imaginary
+            part or parse a string).
+        ValueError: naming the argument, for an array of more than one
+            value.
+    """
+    if isinstance(value, (bool, np.bool_)):
+        return float(value)
+    if isinstance(value, numbers.Real):
+        return float(value)  # int, float, Fraction, numpy integers and floats
+    if isinstance(value, (str, bytes)):
+        raise TypeError(f"{name}: expected a number, got a string {value!r}")
+    if isinstance(value, np.ndarray) and value.ndim == 0:
+        return float(real_array(value, name))
+    if isinstance(value, (np.ndarray, list, tuple)):
+        raise ValueError(f"{name}: expected one number, got {value!r}")
+    raise TypeError(f"{name}: expected a real number, got {value!r} "
+                    f"({type(value).__name__})")
+
+
 def points(x: ArrayLike, name: str) -> tuple[FloatArray, bool]:
     """An (n, 3) or (3,) array of float64 as the library's component-major
     (3, n) contiguous array; the flag says the input was one point.  The
     array itself, transposed, when it already is float64 in that layout
     (Fortran-ordered (n, 3), as the package's own results and trajectories
     are); a copy otherwise (C-ordered or strided input, other dtypes)."""
-    raw = np.asarray(x)
-    if raw.dtype.kind not in "biuf":
-        # numpy would drop an imaginary part with a warning, or fail
-        # without naming the argument
-        raise TypeError(f"{name}: expected real numbers, got dtype {raw.dtype}")
-    a = raw.astype(np.float64, copy=False)
+    a = real_array(x, name)
     single = a.ndim == 1
     if single:
         a = a[np.newaxis, :]
@@ -89,5 +146,13 @@ def check_error(chk: Any, keyword: dict[str, str]) -> ValueError:
 
 
 def strerror(status: int) -> str:
-    """Short description of an rps3 status code (0 = success)."""
+    """Short description of an rps3 status code (0 = success).
+
+    Raises:
+        TypeError: status is not an integer.
+    """
+    if isinstance(status, np.ndarray) and status.ndim == 0:
+        status = status[()]
+    if not isinstance(status, numbers.Integral) or isinstance(status, (bool, np.bool_)):
+        raise TypeError(f"status: expected an integer status code, got {status!r}")
     return text(lib.rps3_strerror(int(status)))

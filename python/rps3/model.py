@@ -11,7 +11,18 @@ from typing import Any
 import numpy as np
 from numpy.typing import ArrayLike
 
-from rps3._core import FloatArray, IntArray, buf, check_error, per_point, points, results, text
+from rps3._core import (
+    FloatArray,
+    IntArray,
+    buf,
+    check_error,
+    per_point,
+    points,
+    real_array,
+    real_number,
+    results,
+    text,
+)
 from rps3._rps3 import ffi, lib
 
 #: names of the physical effects, in the library's order (bit k = 1 << k)
@@ -105,23 +116,23 @@ def _effect_bits(effects: Iterable[str]) -> int:
 
 
 def _choice(table: dict[str, int], value: str, name: str) -> int:
+    if not isinstance(value, str):
+        raise TypeError(f"{name}: expected one of {', '.join(table)}, got {value!r}")
     if value not in table:
         raise ValueError(f"{name}: {value!r} is not one of {', '.join(table)}")
     return table[value]
 
 
 def _number(value: Any, name: str) -> float:
-    try:
-        return float(value)
-    except (TypeError, ValueError):
-        raise ValueError(f"{name}: expected a number, got {value!r}") from None
+    # TypeError for complex numbers, strings and other objects
+    return real_number(value, name)
 
 
 def _vector(value: Any, name: str) -> list[float]:
-    v = np.asarray(value, dtype=object).reshape(-1)
+    v = real_array(value, name).reshape(-1)
     if v.size != 3:
         raise ValueError(f"{name}: expected 3 numbers, got {value!r}")
-    return [_number(x, name) for x in v]
+    return [float(x) for x in v]
 
 
 class Model:
@@ -166,10 +177,15 @@ class Model:
             says what it checks).  The outputs not computed are NaN.
 
     Raises:
-        ValueError: naming the argument, when a value is out of range, not a
-            number, or an unknown name.
+        ValueError: naming the argument, when a value is out of range or an
+            unknown name.
+        TypeError: naming the argument, when a value is not a real number
+            (complex, a string, an object) or a name is not a string.
 
-    The stages take (n, 3) arrays of any layout and never modify them; a
+    The stages take (n, 3) arrays of real numbers (TypeError naming the
+    argument for complex, string, boolean or object arrays, which would
+    otherwise lose their imaginary part or be parsed) of any layout and
+    never modify them; a
     float64 array in Fortran order (as the trajectories and the results
     are) reaches the library without a copy, others are copied into that
     layout first.  The results are new arrays (views of one block per

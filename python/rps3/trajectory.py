@@ -12,7 +12,7 @@ from typing import Any
 import numpy as np
 from numpy.typing import ArrayLike
 
-from rps3._core import FloatArray, check_error, strerror
+from rps3._core import FloatArray, check_error, real_array, strerror
 from rps3._rps3 import ffi, lib
 from rps3.model import Model, _number, _vector
 
@@ -69,13 +69,11 @@ def _times(duration: float, samples: int | None, t: ArrayLike | None) -> FloatAr
     if t is not None:
         if samples is not None:
             raise ValueError("t: give samples or t, not both")
-        raw = np.asarray(t)
-        if raw.dtype.kind not in "biuf":
-            raise TypeError(f"t: expected real numbers, got dtype {raw.dtype}")
-        times = np.ascontiguousarray(raw, dtype=np.float64).reshape(-1)
-        return times
+        return np.ascontiguousarray(real_array(t, "t")).reshape(-1)
     n = 1001 if samples is None else samples
-    if not isinstance(n, (int, np.integer)) or n < 2:
+    if not isinstance(n, (int, np.integer)) or isinstance(n, bool):
+        raise TypeError(f"samples: expected an integer >= 2, got {samples!r}")
+    if n < 2:
         raise ValueError(f"samples: expected an integer >= 2, got {samples!r}")
     return np.linspace(0.0, duration, int(n))
 
@@ -123,6 +121,7 @@ def helix(*, radius: float | None = None, pitch: float | None = None,
 
     Raises:
         ValueError: naming the argument that is out of range.
+        TypeError: naming the argument that is not real numbers.
     """
     tr = ffi.new("rps3_traj *")
     lib.rps3_traj_default(tr)
@@ -152,6 +151,7 @@ def sine(*, mean: ArrayLike, amp: ArrayLike, freq: ArrayLike,
 
     Raises:
         ValueError: naming the argument that is out of range.
+        TypeError: naming the argument that is not real numbers.
     """
     tr = ffi.new("rps3_traj *")
     tr.kind = lib.RPS3_TRAJ_SINE
@@ -164,7 +164,7 @@ def sine(*, mean: ArrayLike, amp: ArrayLike, freq: ArrayLike,
 
 
 def _rows(x: ArrayLike, name: str, n: int) -> FloatArray:
-    a = np.ascontiguousarray(x, dtype=np.float64)
+    a = np.ascontiguousarray(real_array(x, name))
     if a.shape != (n, 3):
         raise ValueError(f"{name}: expected shape ({n}, 3), got {a.shape}")
     return a
@@ -193,8 +193,9 @@ def table(times: ArrayLike, pose: ArrayLike, rate: ArrayLike | None = None,
     Raises:
         ValueError: naming the argument and its row (e.g. ``pose: ...
             trajectory.table.pose[3] = ...: pose unreachable``).
+        TypeError: naming the argument that is not real numbers.
     """
-    tm = np.ascontiguousarray(times, dtype=np.float64).reshape(-1)
+    tm = np.ascontiguousarray(real_array(times, "times")).reshape(-1)
     n = tm.size
     q = _rows(pose, "pose", n)
     if acc is not None and rate is None:

@@ -1,0 +1,563 @@
+/*
+ * invdyn.c - inverse dynamics, sections III and V, by two independent
+ * formulations, and the energy-rate certificate.
+ *
+ * Both formulations are linear in the loads of the effects, so each selected
+ * effect is solved on its own right-hand side with one shared factorization;
+ * the shares sum to the total force exactly up to rounding.
+ *
+ * Lagrange (the paper's form, (21)-(24), (34)).  Coordinates q = (l, theta),
+ * constraints f_k = |b_i - b_j|^2 - 3 r^2 ((8)-(10) in metres).  A body
+ * fixed to the platform (the payload) is a mass distribution x = c + E s,
+ * with E = [n o a] the frame of (18)-(20) written through the ball joints
+ * b_i(l_i, theta_i):
+ * c = (b1+b2+b3)/3, n = (2 b1 - b2 - b3)/(3r), o = (b2 - b3)/(sqrt3 r),
+ * a = n x o.  This extends T off the constraint manifold holonomically, so
+ *   d/dt dT/dq' - dT/dq = integral (dx/dq) . x'' dm
+ * exactly, and with first moment h and second moment S of the body in
+ * platform axes
+ *   Q_j = mB dc_j . c'' + dc_j . (E'' h) + (dE_j h) . c''
+ *         + sum_ab S_ab dE_j,a . E''_b.
+ * The platform itself, the uniform disc of (21), has the mass, centroid and
+ * inertia tensor of M/2 at its centre plus M/6 at each ball joint (3 (M/6)
+ * r^2 = M r^2 / 2 about z, M r^2 / 4 about x and y), so on the manifold its
+ * T equals (M/4) |c'|^2 + (M/12) sum |b_i'|^2 for every rigid motion;
+ * written through the ball joints this extension needs no frame partials:
+ *   Q_l_i = (M/6) phi_i . (c'' + b_i''),  Q_theta_i = l_i dphi_i . (same).
+ * F does not depend on how T is extended off the manifold (the difference
+ * lies in the span of the constraint gradients and moves only lambda);
+ * lambda does, and is reported for these extensions.  Links are point
+ * masses at d from the pin (21), plus an optional centroidal moment.
+ *
+ * Newton-Euler.  The platform (and payload) is a free rigid body loaded by
+ * the ball-joint forces f_i; each link balances moments about its pin axis,
+ * which fixes the component of f_i along dphi_i; the actuator carries the
+ * component along the link, F_i = phi_i . f_i (massless piston).  The six
+ * remaining unknowns (F_i and the component along the pin axis) come from
+ * the platform's six equations.  It uses the Cartesian velocities (vc,
+ * omega) where the Lagrange route uses the joint rates.
+ */
+#include <string.h>
+
+#include "internal.h"
+#include "linalg.h"
+
+/* kinematic quantities of the Lagrange route, per point (on the stack) */
+typedef struct {
+  double bdd[3][3];                 /* ball joint accelerations */
+  double n[3], o[3];                /* frame columns (18)-(19) */
+  double cdd[3], ndd[3], odd[3], add[3]; /* second time derivatives */
+} lag_kin;
+
+static const double WN[3] = {2.0, -1.0, -1.0}; /* n = sum WN_i b_i / (3r) */
+static const double WO[3] = {0.0, 1.0, -1.0};  /* o = sum WO_i b_i/(sqrt3 r) */
+
+/* need_frame: the frame's accelerations, for a general body (payload);
+   need_acc: the accelerations of the ball joints (inertia effects) */
+static void lagrange_kinematics(const rps3_model *m, const rps3_data *d,
+                                lag_kin *k, int need_frame, int need_acc) {
+  double nd[3] = {0, 0, 0}, od[3] = {0, 0, 0}, bd[3], t[3];
+  const double cn = 1.0 / (3.0 * m->r), co = 1.0 / (RPS3_SQRT3 * m->r);
+  int i;
+  for (i = 0; i < 3; i++) {
+    k->n[i] = d->rot[i][0];
+    k->o[i] = d->rot[i][1];
+    k->cdd[i] = k->ndd[i] = k->odd[i] = k->add[i] = 0.0;
+  }
+  /* a static scene reads no rates: they are not computed for it */
+  if (!need_acc) return;
+  for (i = 0; i < 3; i++) {
+    double l = d->l[i], ld = d->dl[i], th = d->dtheta[i];
+    /* b'' = (l'' - l th'^2) phi + (2 l' th' + l th'') dphi, from (12)-(14) */
+    v3_scale(k->bdd[i], d->ddl[i] - l * th * th, d->phi[i]);
+    v3_axpy(k->bdd[i], k->bdd[i], 2.0 * ld * th + l * d->ddtheta[i],
+            d->dphi[i]);
+    v3_axpy(k->cdd, k->cdd, 1.0 / 3.0, k->bdd[i]);
+    if (!need_frame) continue;
+    /* b' = l' phi + l th' dphi */
+    v3_scale(bd, ld, d->phi[i]);
+    v3_axpy(bd, bd, l * th, d->dphi[i]);
+    v3_axpy(k->ndd, k->ndd, WN[i] * cn, k->bdd[i]);
+    v3_axpy(k->odd, k->odd, WO[i] * co, k->bdd[i]);
+    v3_axpy(nd, nd, WN[i] * cn, bd);
+    v3_axpy(od, od, WO[i] * co, bd);
+  }
+  if (need_frame) {
+    /* a'' = n'' x o + 2 n' x o' + n x o'' */
+    v3_cross(k->add, k->ndd, k->o);
+    v3_cross(t, nd, od);
+    v3_axpy(k->add, k->add, 2.0, t);
+    v3_cross(t, k->n, k->odd);
+    v3_axpy(k->add, k->add, 1.0, t);
+  }
+}
+
+/*
+ * Generalized inertial (and gravity) load of a body fixed to the platform:
+ * mass mb, first moment h, second moment S (platform axes).  q_j = l_i or
+ * theta_i moves only b_i, by delta = phi_i or l_i dphi_i, so that dc = delta
+ * / 3, dn = WN_i cn delta, do = WO_i co delta and da = dn x o + n x do.
+ * Every term of Q_j is then delta . (a vector): with V_p = sum_q S_pq E''_q
+ * + h_p (c'' + g e_z), (delta x o) . V = delta . (o x V) and (n x delta) . V
+ * = delta . (V x n), the load on link i is delta . G_i with
+ *   G_i = C + WN_i cn (V_n + o x V_a) + WO_i co (V_o + V_a x n),
+ *   C = (mb (c'' + g e_z) + E'' h) / 3.
+ */
+static void body_load(const rps3_model *m, const rps3_data *d,
+                      const lag_kin *k, double mb, const double h[3],
+                      const double S[3][3], double g, double w[6]) {
+  const double *E2[3] = {k->ndd, k->odd, k->add};
+  const double cn = 1.0 / (3.0 * m->r), co = 1.0 / (RPS3_SQRT3 * m->r);
+  double cg[3], C[3], V[3][3], A[3], B[3], t[3];
+  int i, p, q;
+  /* c'' + g e_z: inertia and weight enter together */
+  v3_copy(cg, k->cdd);
+  cg[2] += g;
+  v3_scale(C, mb, cg);
+  for (p = 0; p < 3; p++) {
+    v3_axpy(C, C, h[p], E2[p]);
+    v3_scale(V[p], h[p], cg);
+    for (q = 0; q < 3; q++)
+      if (S[p][q] != 0.0) v3_axpy(V[p], V[p], S[p][q], E2[q]);
+  }
+  v3_scale(C, 1.0 / 3.0, C);
+  v3_cross(t, k->o, V[2]);
+  v3_axpy(A, V[0], 1.0, t);
+  v3_cross(t, V[2], k->n);
+  v3_axpy(B, V[1], 1.0, t);
+  for (i = 0; i < 3; i++) {
+    double G[3];
+    v3_axpy(G, C, WN[i] * cn, A);
+    v3_axpy(G, G, WO[i] * co, B);
+    w[i] = v3_dot(d->phi[i], G);
+    w[3 + i] = d->l[i] * v3_dot(d->dphi[i], G);
+  }
+}
+
+/* payload first and second moments about the platform centre, platform axes */
+static void payload_moments(const rps3_model *m, double h[3], double S[3][3]) {
+  const rps3_payload *p = &m->payload;
+  double tr = 0.5 * (p->inertia[0] + p->inertia[1] + p->inertia[2]);
+  int i, j;
+  for (i = 0; i < 3; i++) {
+    h[i] = p->mass * p->com[i];
+    for (j = 0; j < 3; j++)
+      S[i][j] = p->mass * p->com[i] * p->com[j] + (i == j ? tr - p->inertia[i] : 0.0);
+  }
+}
+
+/* friction torque about pin axis i, opposing theta-dot (T_{i-3} of (23)):
+   the law shared with the forward dynamics, internal.h */
+#define friction_torque rps3_friction_torque
+
+/*
+ * The loads of effect e as the left-hand side of (23): w[0..2] on l_i,
+ * w[3..5] on theta_i (generalized applied torques enter with a minus sign).
+ */
+static void lagrange_effect(const rps3_model *m, const rps3_data *d,
+                            const lag_kin *k, int e, double w[6]) {
+  double S[3][3], h[3]; /* set by payload_moments, for the payload only */
+  int i;
+  memset(w, 0, 6 * sizeof(double));
+  switch (1 << e) {
+  case RPS3_EFF_PLATFORM_GRAVITY:
+    /* (22): M g z_c, with dc = db_i / 3 */
+    for (i = 0; i < 3; i++) {
+      w[i] = m->M * m->g / 3.0 * d->phi[i][2];
+      w[3 + i] = m->M * m->g / 3.0 * d->l[i] * d->dphi[i][2];
+    }
+    break;
+  case RPS3_EFF_PLATFORM_INERTIA:
+    /* (21): the disc as M/2 at c and M/6 at each b_i (see the top) */
+    for (i = 0; i < 3; i++) {
+      double g6[3];
+      v3_axpy(g6, k->cdd, 1.0, k->bdd[i]);
+      v3_scale(g6, m->M / 6.0, g6);
+      w[i] = v3_dot(d->phi[i], g6);
+      w[3 + i] = d->l[i] * v3_dot(d->dphi[i], g6);
+    }
+    break;
+  case RPS3_EFF_PAYLOAD:
+    payload_moments(m, h, S);
+    body_load(m, d, k, m->payload.mass, h, M3C(S), m->g, w);
+    break;
+  case RPS3_EFF_LINK_GRAVITY:
+    /* (22): m g d sin(theta_i); cos(theta_i) is dphi_i's Z component, set
+       by the position stage (rps3_link_dirs) */
+    for (i = 0; i < 3; i++) w[3 + i] = m->m * m->g * m->d * d->dphi[i][2];
+    break;
+  case RPS3_EFF_LINK_INERTIA:
+    /* (21): (m d^2 + I_c) theta'' */
+    for (i = 0; i < 3; i++) w[3 + i] = m->Jlink * d->ddtheta[i];
+    break;
+  case RPS3_EFF_PIN_FRICTION:
+    for (i = 0; i < 3; i++) w[3 + i] = -friction_torque(m, d->dtheta[i]);
+    break;
+  default:
+    break;
+  }
+}
+
+static int lagrange(const rps3_model *m, rps3_data *d, const double Jl[3][3],
+                    const double LU[9], const int perm[3]) {
+  lag_kin k;
+  double w[RPS3_NEFFECT][6], lam[3][RPS3_NEFFECT];
+  int sel[RPS3_NEFFECT], ns = 0, n, e, i, q;
+  int eff = m->opt.effects;
+  lagrange_kinematics(m, d, &k, (eff & RPS3_EFF_PAYLOAD) != 0,
+                      (eff & (RPS3_EFF_PLATFORM_INERTIA | RPS3_EFF_PAYLOAD)) != 0);
+  /* the loads of each selected effect; the theta rows of (23),
+     (df/dtheta)^T lambda = -w_theta, one column per effect */
+  for (e = 0; e < RPS3_NEFFECT; e++) {
+    if (!(eff & (1 << e))) continue;
+    lagrange_effect(m, d, &k, e, w[ns]);
+    for (i = 0; i < 3; i++) lam[i][ns] = -w[ns][3 + i];
+    sel[ns++] = e;
+  }
+  /* forces_only: the sum of the loads in one column, no shares */
+  if (m->opt.forces_only && ns > 0) {
+    for (n = 1; n < ns; n++)
+      for (i = 0; i < 6; i++) w[0][i] += w[n][i];
+    for (i = 0; i < 3; i++) lam[i][0] = -w[0][3 + i];
+    ns = 1;
+    sel[0] = -1;
+  }
+  rps3_lu3_solve_multi(LU, perm, &lam[0][0], RPS3_NEFFECT, ns);
+  for (n = 0; n < ns; n++) {
+    e = sel[n];
+    /* l rows, (34): F_i = w_l,i + sum_k lambda_k df_k/dl_i */
+    for (i = 0; i < 3; i++) {
+      double f = w[n][i];
+      for (q = 0; q < 3; q++) f += lam[q][n] * Jl[q][i];
+      if (e >= 0) d->F_effect[e][i] = f;
+      d->F[i] += f;
+      d->lambda[i] += lam[i][n];
+    }
+  }
+  d->has_lambda = 1;
+  return RPS3_OK;
+}
+
+/* world inertia tensor rot diag(I) rot^T applied to v */
+static void inertia_world(double res[3], const double rot[3][3],
+                          const double I[3], const double v[3]) {
+  double t[3];
+  m3_mulvt(t, M3C(rot), v);
+  t[0] *= I[0];
+  t[1] *= I[1];
+  t[2] *= I[2];
+  m3_mulv(res, M3C(rot), t);
+}
+
+/* Euler: I w' + w x I w, world axes */
+static void euler_moment(double res[3], const double rot[3][3],
+                         const double I[3], const double w[3],
+                         const double dw[3]) {
+  double Iw[3], t[3];
+  inertia_world(res, rot, I, dw);
+  inertia_world(Iw, rot, I, w);
+  v3_cross(t, w, Iw);
+  v3_axpy(res, res, 1.0, t);
+}
+
+/* payload centre of mass offset (world) and its acceleration */
+static void payload_kin(const rps3_model *m, const rps3_data *d,
+                        double rg[3], double vg[3], double ag[3]) {
+  double t[3];
+  m3_mulv(rg, M3C(d->rot), m->payload.com);
+  v3_cross(t, d->omega, rg);
+  v3_axpy(vg, d->vc, 1.0, t);
+  v3_cross(ag, d->domega, rg);
+  v3_axpy(ag, ag, 1.0, d->ac);
+  v3_cross(t, d->omega, rg);
+  v3_cross(t, d->omega, t);
+  v3_axpy(ag, ag, 1.0, t);
+}
+
+/*
+ * Newton-Euler loads of effect e: the wrench (force wf, moment wm about the
+ * centre) the links must apply to the platform, and the component s_i of
+ * each ball force along dphi_i fixed by link i's moment balance about its
+ * pin:  Jlink theta'' = -l s - m g d cos(theta) + T_fric.
+ */
+static void ne_effect(const rps3_model *m, const rps3_data *d, int e,
+                      double wf[3], double wm[3], double s[3]) {
+  double rg[3], vg[3], ag[3];
+  int i;
+  for (i = 0; i < 3; i++) wf[i] = wm[i] = s[i] = 0.0;
+  switch (1 << e) {
+  case RPS3_EFF_PLATFORM_GRAVITY:
+    wf[2] = m->M * m->g;
+    break;
+  case RPS3_EFF_PLATFORM_INERTIA:
+    v3_scale(wf, m->M, d->ac);
+    euler_moment(wm, M3C(d->rot), m->Ip, d->omega, d->domega);
+    break;
+  case RPS3_EFF_PAYLOAD:
+    payload_kin(m, d, rg, vg, ag);
+    v3_scale(wf, m->payload.mass, ag);
+    wf[2] += m->payload.mass * m->g;
+    v3_cross(wm, rg, wf);
+    {
+      double t[3];
+      euler_moment(t, M3C(d->rot), m->payload.inertia, d->omega, d->domega);
+      v3_axpy(wm, wm, 1.0, t);
+    }
+    break;
+  case RPS3_EFF_LINK_GRAVITY:
+    for (i = 0; i < 3; i++)
+      s[i] = -m->m * m->g * m->d * d->dphi[i][2] / d->l[i]; /* cos(theta) */
+    break;
+  case RPS3_EFF_LINK_INERTIA:
+    for (i = 0; i < 3; i++) s[i] = -m->Jlink * d->ddtheta[i] / d->l[i];
+    break;
+  case RPS3_EFF_PIN_FRICTION:
+    for (i = 0; i < 3; i++) s[i] = friction_torque(m, d->dtheta[i]) / d->l[i];
+    break;
+  default:
+    break;
+  }
+}
+
+static int newton_euler(const rps3_model *m, rps3_data *d) {
+  double A[36], LU[36], rho[3][3], t[3], xsum[6] = {0, 0, 0, 0, 0, 0};
+  int perm[6], i, e, r;
+  int eff = m->opt.effects;
+  /* unknowns x = (F_1, F_2, F_3, tau_1, tau_2, tau_3): f_i = F_i phi_i +
+     s_i dphi_i + tau_i axis_i; rows: force (3), moment about c (3) */
+  for (i = 0; i < 3; i++) {
+    v3_sub(rho[i], d->b[i], d->c);
+    for (r = 0; r < 3; r++) {
+      A[6 * r + i] = d->phi[i][r];
+      A[6 * r + 3 + i] = m->axis[i][r];
+    }
+    v3_cross(t, rho[i], d->phi[i]);
+    for (r = 0; r < 3; r++) A[6 * (3 + r) + i] = t[r];
+    v3_cross(t, rho[i], m->axis[i]);
+    for (r = 0; r < 3; r++) A[6 * (3 + r) + 3 + i] = t[r];
+  }
+  memcpy(LU, A, sizeof(A));
+  if (rps3_lu_factor(6, LU, perm) != 0)
+    RPS3_ERROR(d, RPS3_ESING, "Newton-Euler system is singular");
+  for (e = 0; e < RPS3_NEFFECT; e++) {
+    double wf[3], wm[3], s[3], x[6];
+    if (!(eff & (1 << e))) continue;
+    ne_effect(m, d, e, wf, wm, s);
+    for (i = 0; i < 3; i++) {
+      v3_axpy(wf, wf, -s[i], d->dphi[i]);
+      v3_cross(t, rho[i], d->dphi[i]);
+      v3_axpy(wm, wm, -s[i], t);
+    }
+    for (r = 0; r < 3; r++) {
+      x[r] = wf[r];
+      x[3 + r] = wm[r];
+    }
+    if (m->opt.forces_only) {
+      /* the sum of the wrenches, solved once below: no shares */
+      for (r = 0; r < 6; r++) xsum[r] += x[r];
+      continue;
+    }
+    rps3_lu_solve(6, LU, perm, x);
+    for (i = 0; i < 3; i++) {
+      d->F_effect[e][i] = x[i];
+      d->F[i] += x[i];
+    }
+  }
+  if (m->opt.forces_only) {
+    rps3_lu_solve(6, LU, perm, xsum);
+    for (i = 0; i < 3; i++) d->F[i] = xsum[i];
+  }
+  d->has_lambda = 0;
+  return RPS3_OK;
+}
+
+/*
+ * Energy-rate certificate: sum F_i l_i' + sum T_i theta_i' = d(T + P)/dt,
+ * with T and P of the selected effects written from the Cartesian motion
+ * (vc, omega, their derivatives) and the link rates, independently of the
+ * force computation.
+ */
+static void certify(const rps3_model *m, rps3_data *d) {
+  int eff = m->opt.effects, i;
+  double dT = 0.0, dP = 0.0, fp = 0.0, pw = 0.0, scale = 0.0, t[3];
+  for (i = 0; i < 3; i++) {
+    pw += d->F[i] * d->dl[i];
+    scale += fabs(d->F[i] * d->dl[i]);
+  }
+  if (eff & RPS3_EFF_PLATFORM_GRAVITY) {
+    double v = m->M * m->g * d->vc[2];
+    dP += v;
+    scale += fabs(v);
+  }
+  if (eff & RPS3_EFF_PLATFORM_INERTIA) {
+    double v1 = m->M * v3_dot(d->vc, d->ac), v2;
+    inertia_world(t, M3C(d->rot), m->Ip, d->domega);
+    v2 = v3_dot(d->omega, t);
+    dT += v1 + v2;
+    scale += fabs(v1) + fabs(v2);
+  }
+  if (eff & RPS3_EFF_PAYLOAD) {
+    double rg[3], vg[3], ag[3], v1, v2, v3;
+    payload_kin(m, d, rg, vg, ag);
+    v1 = m->payload.mass * v3_dot(vg, ag);
+    inertia_world(t, M3C(d->rot), m->payload.inertia, d->domega);
+    v2 = v3_dot(d->omega, t);
+    v3 = m->payload.mass * m->g * vg[2];
+    dT += v1 + v2;
+    dP += v3;
+    scale += fabs(v1) + fabs(v2) + fabs(v3);
+  }
+  for (i = 0; i < 3; i++) {
+    if (eff & RPS3_EFF_LINK_GRAVITY) {
+      double v = m->m * m->g * m->d * d->dphi[i][2] * d->dtheta[i];
+      dP += v;
+      scale += fabs(v);
+    }
+    if (eff & RPS3_EFF_LINK_INERTIA) {
+      double v = m->Jlink * d->dtheta[i] * d->ddtheta[i];
+      dT += v;
+      scale += fabs(v);
+    }
+    if (eff & RPS3_EFF_PIN_FRICTION) {
+      double v = friction_torque(m, d->dtheta[i]) * d->dtheta[i];
+      fp += v;
+      scale += fabs(v);
+    }
+  }
+  d->power = pw;
+  d->dTdt = dT;
+  d->dPdt = dP;
+  d->friction_power = fp;
+  d->energy_residual = pw + fp - dT - dP;
+  d->energy_scale = scale;
+}
+
+/*
+ * Force transmission, dimensionless: the largest actuator force a unit
+ * platform load calls for.  A wrench (force f, moment n about the centre)
+ * applied to the platform is held by the ball-joint forces
+ * F_i phi_i + tau_i axis_i (massless links, no link load).  With
+ * B = dF/d(f, n) and the moment measured in units of R, the measure is
+ *   T = max_i ( sum_{j<3} |B_ij| + R sum_{j>=3} |B_ij| ),
+ * so that |F_i| <= T max(|f|_inf, |n|_inf / R) for every load: the holding
+ * force of the platform's weight is at most T M g.  T is 2.41 for the
+ * paper's level platform at z_c = R, grows like 1 / sin(theta) as the level
+ * platform is lowered (where the condition number of df/dtheta stays at 3)
+ * and without bound towards every singular configuration.
+ *
+ * Row i of B by virtual power: the pin-axis forces do no work on the
+ * motions the links allow (a ball joint moves in its pin's plane), so
+ * F . l' = f . vc + n . omega for every such motion, and row i is the
+ * platform twist (vc, omega) for l' = e_i: theta' = G e_i with
+ * G = -(df/dtheta)^-1 df/dl, ball j moving [j == i] phi_j + l_j G_ji dphi_j,
+ * vc their mean and omega from the balls.  Rows of the inverse of the 6 x 6
+ * ball-joint system of the Newton-Euler formulation, from a 3 x 3 LU
+ * (test_trans.c holds it to an oracle of its own).  (df/dtheta)^-1 is the
+ * transpose of the lambda system's inverse, which its condition number
+ * computed (J factored, not singular).
+ */
+static double transmission(const rps3_model *m, const rps3_data *d,
+                           const rps3_cjac *J) {
+  double rho[3][3], a[3], T = 0.0;
+  int i, j, q;
+  for (j = 0; j < 3; j++) {
+    v3_sub(rho[j], d->b[j], d->c);
+    a[j] = d->rot[j][2];
+  }
+  for (i = 0; i < 3; i++) {
+    double x[3], bd[3][3], u[3][3], vc[3] = {0, 0, 0}, w[3], s;
+    /* x = G e_i = -(df/dtheta)^-1 df/dl e_i, (df/dtheta)^-1 = Ainv^T */
+    for (q = 0; q < 3; q++)
+      x[q] = -(J->Ainv[q] * J->Jl[0][i] + J->Ainv[3 + q] * J->Jl[1][i] +
+               J->Ainv[6 + q] * J->Jl[2][i]);
+    for (j = 0; j < 3; j++) {
+      v3_scale(bd[j], d->l[j] * x[j], d->dphi[j]);
+      if (j == i) v3_axpy(bd[j], bd[j], 1.0, d->phi[j]);
+      v3_axpy(vc, vc, 1.0 / 3.0, bd[j]);
+    }
+    for (j = 0; j < 3; j++) v3_sub(u[j], bd[j], vc);
+    rps3_omega_from_balls(w, M3C(rho), M3C(u), a, m->r);
+    s = fabs(vc[0]) + fabs(vc[1]) + fabs(vc[2]) +
+        m->R * (fabs(w[0]) + fabs(w[1]) + fabs(w[2]));
+    if (s > T || !isfinite(s)) T = s;
+  }
+  return T;
+}
+
+int rps3_invdyn(const rps3_model *m, rps3_data *d) {
+  return rps3_invdyn_with(m, d, NULL);
+}
+
+int rps3_invdyn_with(const rps3_model *m, rps3_data *d, rps3_cjac *J) {
+  rps3_cjac own;
+  int status, need_rates;
+  if (m == NULL || d == NULL || !m->valid) return RPS3_EINVAL;
+  if (!(d->stage & RPS3_STAGE_POS))
+    RPS3_ERROR(d, RPS3_ESTATE, "inverse dynamics needs positions");
+  need_rates = (m->opt.effects & RPS3_EFF_DYNAMIC) || m->opt.certify;
+  if (need_rates && (d->stage & (RPS3_STAGE_VEL | RPS3_STAGE_ACC)) !=
+                        (RPS3_STAGE_VEL | RPS3_STAGE_ACC))
+    RPS3_ERROR(d, RPS3_ESTATE,
+               "the selected effects (or certify) need velocities and "
+               "accelerations");
+  d->stage &= ~RPS3_STAGE_DYN;
+  memset(d->F, 0, sizeof(d->F));
+  memset(d->F_effect, 0, sizeof(d->F_effect));
+  memset(d->lambda, 0, sizeof(d->lambda));
+  d->warn &= ~(RPS3_WARN_ILLCOND | RPS3_WARN_TRANS);
+  d->transmission = (double)NAN; /* not computed for a singular matrix */
+
+  /* the lambda system (df/dtheta)^T: its conditioning flags singular
+     configurations for both formulations.  rps3_inverse passes the one its
+     position stage built (perhaps factored by the own-root check) */
+  if (J == NULL) {
+    J = &own;
+    rps3_cjac_eval(d, J);
+  }
+  rps3_cjac_factor(J);
+  if (J->sing) {
+    d->cond = HUGE_VAL;
+    RPS3_ERROR(d, RPS3_ESING,
+               "lambda system singular (zero pivot) at theta = (%.6g, %.6g, "
+               "%.6g)", d->theta[0], d->theta[1], d->theta[2]);
+  }
+  d->cond = J->cond;
+  if (!(d->cond <= m->opt.cond_max))
+    RPS3_ERROR(d, RPS3_ESING,
+               "lambda system condition number %.3g exceeds cond_max %.3g",
+               d->cond, m->opt.cond_max);
+  if (d->cond > m->opt.cond_warn) d->warn |= RPS3_WARN_ILLCOND;
+
+  /* force transmission: the condition number measures lost digits, not
+     how much force a load takes; both limits are the caller's */
+  d->transmission = transmission(m, d, J);
+  if (!(d->transmission >= 0.0 && d->transmission <= m->opt.trans_max))
+    RPS3_ERROR(d, RPS3_ESING,
+               "force transmission %.3g exceeds trans_max %.3g: an actuator "
+               "would carry that many times the load on the platform",
+               d->transmission, m->opt.trans_max);
+  if (d->transmission > m->opt.trans_warn) d->warn |= RPS3_WARN_TRANS;
+
+  status = (m->opt.method == RPS3_LAGRANGE)
+               ? lagrange(m, d, M3C(J->Jl), J->LU, J->perm)
+                                            : newton_euler(m, d);
+  if (status != RPS3_OK) return status;
+  if (m->opt.certify)
+    certify(m, d);
+  else
+    d->power = d->dTdt = d->dPdt = d->friction_power = d->energy_residual =
+        d->energy_scale = 0.0;
+  /* finite inputs can still overflow here (M = 1e300, or rates of 1e150
+     squared): never report a non-finite force as a result */
+  RPS3_CHECK_FINITE(d, d->F_effect, 3 * RPS3_NEFFECT, "F_effect");
+  RPS3_CHECK_FINITE(d, d->F, 3, "F");
+  RPS3_CHECK_FINITE(d, d->lambda, 3, "lambda");
+  RPS3_CHECK_FINITE(d, &d->power, 1, "power");
+  RPS3_CHECK_FINITE(d, &d->dTdt, 1, "dTdt");
+  RPS3_CHECK_FINITE(d, &d->dPdt, 1, "dPdt");
+  RPS3_CHECK_FINITE(d, &d->friction_power, 1, "friction_power");
+  RPS3_CHECK_FINITE(d, &d->energy_residual, 1, "energy_residual");
+  RPS3_CHECK_FINITE(d, &d->energy_scale, 1, "energy_scale");
+  d->stage |= RPS3_STAGE_DYN;
+  return RPS3_OK;
+}

@@ -1,0 +1,484 @@
+/*
+ * sim.c - the plant in time: y = (l, dl, W_F, W_f) integrated by GSL odeiv2
+ * with the accelerations of rps3_fwddyn, forces from a controller at a fixed
+ * rate with zero-order hold (or continuous), measured lengths with seeded
+ * noise and quantisation, and the energy balance of the run.
+ *
+ * All memory (the plant data, GSL's stepper, control and evolve objects)
+ * is allocated by rps3_sim_alloc; GSL's drivers allocate nothing while
+ * stepping.  Failures inside the right-hand side are recorded in the
+ * simulation and reported to GSL as GSL_EBADFUNC, which makes its driver
+ * return at once with the state of the last completed step.  The set-up
+ * (options, allocation) is src/sim_setup.c.
+ */
+#include <string.h>
+
+#include "sim.h"
+
+/* times closer than this many control periods are the same instant: far
+   above the rounding of t0 + k / rate for any run, far below a step */
+#define TICK_SLACK 1e-6
+
+/* ------------------------------------------------------------ noise */
+
+/* splitmix64: a full-period 64-bit generator with one word of state */
+static unsigned long long next_u64(unsigned long long *s) {
+  unsigned long long z = (*s += 0x9E3779B97F4A7C15ULL);
+  z = (z ^ (z >> 30)) * 0xBF58476D1CE4E5B9ULL;
+  z = (z ^ (z >> 27)) * 0x94D049BB133111EBULL;
+  return z ^ (z >> 31);
+}
+
+/* uniform in (0, 1): 53 random bits, never 0 */
+static double next_open01(unsigned long long *s) {
+  return ((double)(next_u64(s) >> 11) + 0.5) * (1.0 / 9007199254740992.0);
+}
+
+/* standard normal deviate, Box-Muller; the second deviate is kept */
+static double next_normal(rps3_sim *s) {
+  double u1, u2, r;
+  if (!isnan(s->spare)) {
+    r = s->spare;
+    s->spare = (double)NAN;
+    return r;
+  }
+  u1 = next_open01(&s->rng);
+  u2 = next_open01(&s->rng);
+  r = sqrt(-2.0 * log(u1));
+  s->spare = r * sin(2.0 * RPS3_PI * u2);
+  return r * cos(2.0 * RPS3_PI * u2);
+}
+
+static double measure(rps3_sim *s, double x, double sigma, double q) {
+  if (sigma > 0.0) x += sigma * next_normal(s);
+  if (q > 0.0) x = q * nearbyint(x / q);
+  return x;
+}
+
+/* ------------------------------------------------------- equations */
+
+/* clamp to the actuators' limit; returns 1 when one saturated */
+static int saturate(const rps3_sim *s, const double Fc[3], double F[3]) {
+  int i, sat = 0;
+  for (i = 0; i < 3; i++) {
+    F[i] = Fc[i];
+    if (s->opt.fmax > 0.0 && fabs(F[i]) > s->opt.fmax) {
+      F[i] = copysign(s->opt.fmax, F[i]);
+      sat = 1;
+    }
+  }
+  return sat;
+}
+
+/* y[0..5] is the state (l, dl) of ky, bit for bit (-0 == +0: the same
+   value) */
+static int same_state(const double ky[6], const double y[]) {
+  int i;
+  for (i = 0; i < 6; i++)
+    if (!(ky[i] == y[i])) return 0;
+  return 1;
+}
+
+/* the plant at (t, y): forces (continuous controller), accelerations,
+   mode; lean: for an integrator's stage (no pose, no pose rates); returns
+   the status and records a failure */
+static int evaluate(rps3_sim *s, double t, const double y[], int lean,
+                    int keep) {
+  rps3_data *d = s->d;
+  int st, i;
+  for (i = 0; i < 3; i++) {
+    d->l[i] = y[i];
+    d->dl[i] = y[3 + i];
+  }
+  if (s->ctrl != NULL && s->ctrl->rate == 0.0) {
+    st = s->ctrl->fn(s->ctrl->state, t, y, y + 3, s->F_cmd);
+    if (st != RPS3_OK) {
+      if (d->err.code != st)
+        snprintf(d->err.msg, sizeof(d->err.msg),
+                 "controller returned %d (%s) at t = %.9g s", st,
+                 rps3_strerror(st), t);
+      d->err.code = st;
+      return st;
+    }
+    saturate(s, s->F_cmd, s->F);
+  }
+  if (!(s->gsl->have_k && same_state(s->gsl->ky, y) &&
+        (lean || !s->gsl->lean_k))) {
+    /* the last state, when it succeeded, predicts this one's theta */
+    st = rps3_fwddyn_state(&s->plant, d, &s->gsl->fd,
+                           (s->gsl->have_k ? RPS3_FD_PREDICT | RPS3_FD_TRIG : 0) |
+                               (lean ? RPS3_FD_LEAN | RPS3_FD_SCRATCH : 0) |
+                               (keep ? RPS3_FD_KEEP : 0));
+    s->gsl->have_k = 0;
+    if (st == RPS3_OK) {
+      memcpy(s->gsl->ky, y, sizeof(s->gsl->ky));
+      s->gsl->have_k = 1;
+      s->gsl->lean_k = lean;
+    }
+  } else {
+    st = RPS3_OK;
+  }
+  v3_copy(d->F, s->F);
+  if (st == RPS3_OK) st = rps3_fwddyn_accel(&s->plant, d, &s->gsl->fd);
+  s->nevals++;
+  if (st != RPS3_OK) return st;
+  if (d->mode != s->mode) {
+    d->ddl[0] = d->ddl[1] = d->ddl[2] = (double)NAN;
+    d->err.code = RPS3_EBRANCH;
+    snprintf(d->err.msg, sizeof(d->err.msg),
+             "assembly mode changed from %+d to %+d at t = %.9g s (theta = "
+             "%.6g, %.6g, %.6g)", s->mode, d->mode, t, d->theta[0],
+             d->theta[1], d->theta[2]);
+    return RPS3_EBRANCH;
+  }
+  return RPS3_OK;
+}
+
+int rps3_sim_rhs(double t, const double y[], double dydt[], void *params) {
+  rps3_sim *s = (rps3_sim *)params;
+  rps3_data *d = s->d;
+  double fric = 0.0;
+  int st, i;
+  st = evaluate(s, t, y, 1, 0);
+  if (st != RPS3_OK) {
+    s->status = st;
+    s->failed_at = t;
+    return GSL_EBADFUNC;
+  }
+  if (s->plant.opt.effects & RPS3_EFF_PIN_FRICTION)
+    for (i = 0; i < 3; i++)
+      fric += rps3_friction_torque(&s->plant, d->dtheta[i]) * d->dtheta[i];
+  for (i = 0; i < 3; i++) {
+    dydt[i] = y[3 + i];
+    dydt[3 + i] = d->ddl[i];
+  }
+  dydt[6] = v3_dot(d->F, y + 3);
+  dydt[7] = fric;
+  return GSL_SUCCESS;
+}
+
+/* Jacobian for the implicit methods by forward differences, NY extra
+   evaluations; dfdt = 0 within a control period (held forces), and for a
+   continuous controller its time dependence is left to the corrector */
+int rps3_sim_jac(double t, const double y[], double *dfdy, double dfdt[],
+                 void *params) {
+  double f0[NY], f1[NY], yp[NY];
+  int i, j, st;
+  st = rps3_sim_rhs(t, y, f0, params);
+  if (st != GSL_SUCCESS) return st;
+  memcpy(yp, y, sizeof(yp));
+  for (j = 0; j < NY; j++) {
+    /* sqrt(eps) relative step, with the scale of a length or a rate */
+    double h = 1.4901161193847656e-8 * fmax(fabs(y[j]), j < 3 ? 0.1 : 0.01);
+    yp[j] = y[j] + h;
+    st = rps3_sim_rhs(t, yp, f1, params);
+    yp[j] = y[j];
+    if (st != GSL_SUCCESS) return st;
+    for (i = 0; i < NY; i++) dfdy[i * NY + j] = (f1[i] - f0[i]) / h;
+  }
+  for (i = 0; i < NY; i++) dfdt[i] = 0.0;
+  return GSL_SUCCESS;
+}
+
+/* T and P of the state at s->t (the plant data was just evaluated there) */
+static void update_energy(rps3_sim *s) {
+  rps3_energy(&s->plant, s->d, &s->T, &s->P, NULL);
+  s->energy_residual = s->T + s->P - s->E0 - s->y[6] - s->y[7];
+}
+
+static int fail(rps3_sim *s, int status, double t) {
+  s->status = status;
+  s->failed_at = t;
+  return status;
+}
+
+int rps3_sim_start(rps3_sim *s, double t0, const double pose[3],
+                   const double dpose[3]) {
+  rps3_data *d;
+  int st, i;
+  if (s == NULL || pose == NULL || dpose == NULL || !isfinite(t0))
+    return RPS3_EINVAL;
+  d = s->d;
+  rps3_data_reset(d);
+  s->t = s->t0 = t0;
+  s->nsteps = s->nevals = s->nticks = s->nsat = 0;
+  s->last_tick = -1;
+  s->rng = (unsigned long long)s->opt.seed;
+  s->spare = (double)NAN;
+  s->ctrl = NULL;
+  s->status = RPS3_OK;
+  s->failed_at = (double)NAN;
+  s->started = 0;
+  s->gsl->have_k = 0;
+  memset(s->F, 0, sizeof(s->F));
+  memset(s->F_cmd, 0, sizeof(s->F_cmd));
+  /* the closed form fixes the assembly mode; the solve tracks it on */
+  v3_copy(d->pose, pose);
+  v3_copy(d->dpose, dpose);
+  st = rps3_ik(&s->plant, d);
+  if (st == RPS3_OK) st = rps3_velocity(&s->plant, d);
+  if (st != RPS3_OK) return fail(s, st, t0);
+  d->have_theta = 1;
+  for (i = 0; i < 3; i++) {
+    s->y[i] = s->l_meas[i] = d->l[i];
+    s->y[3 + i] = s->dl_meas[i] = d->dl[i];
+  }
+  s->y[6] = s->y[7] = 0.0;
+  /* the mode the run must keep: evaluate once, with zero forces */
+  v3_copy(d->F, s->F);
+  st = rps3_fwddyn(&s->plant, d);
+  if (st != RPS3_OK) return fail(s, st, t0);
+  s->mode = d->mode;
+  rps3_energy(&s->plant, d, &s->T, &s->P, NULL);
+  s->E0 = s->T + s->P;
+  s->energy_residual = 0.0;
+  s->gsl->reported = 1;
+  s->started = 1;
+  return RPS3_OK;
+}
+
+/* the library's controller of c that evaluates its model at the measured
+   state (PD + gravity, computed torque), else NULL */
+static rps3_ctrl *model_ctrl(const rps3_controller *c) {
+  rps3_ctrl *mc;
+  if (c == NULL || c->fn != rps3_ctrl_update || c->rate <= 0.0) return NULL;
+  mc = (rps3_ctrl *)c->state;
+  return (mc != NULL && (mc->kind == RPS3_CTRL_PD_GRAVITY ||
+                         mc->kind == RPS3_CTRL_COMPUTED_TORQUE))
+             ? mc
+             : NULL;
+}
+
+/* the controller at a tick, from the measured state.  The library's
+   controllers are lent the plant's state at the tick (kept by settle),
+   whose kinematics they take when their model has the plant's geometry
+   and the measurement is exact: the same theta solve and maps, once */
+static int tick(rps3_sim *s, const rps3_controller *c) {
+  rps3_ctrl *mc = model_ctrl(c);
+  int st, i;
+  for (i = 0; i < 3; i++) {
+    s->l_meas[i] = measure(s, s->y[i], s->opt.noise_l, s->opt.quant_l);
+    s->dl_meas[i] = measure(s, s->y[3 + i], s->opt.noise_dl, s->opt.quant_dl);
+  }
+  if (mc != NULL) {
+    mc->plant = &s->plant;
+    mc->plant_fd = s->gsl->have_k ? &s->gsl->fd : NULL;
+  }
+  st = c->fn(c->state, s->t, s->l_meas, s->dl_meas, s->F_cmd);
+  if (mc != NULL) {
+    mc->plant = NULL;
+    mc->plant_fd = NULL;
+  }
+  s->nticks++;
+  if (st != RPS3_OK) {
+    s->d->err.code = st;
+    snprintf(s->d->err.msg, sizeof(s->d->err.msg),
+             "controller returned %d (%s) at t = %.9g s", st,
+             rps3_strerror(st), s->t);
+    return fail(s, st, s->t);
+  }
+  for (i = 0; i < 3; i++)
+    if (!isfinite(s->F_cmd[i])) {
+      s->d->err.code = RPS3_EINVAL;
+      snprintf(s->d->err.msg, sizeof(s->d->err.msg),
+               "controller force F%d = %g at t = %.9g s", i + 1, s->F_cmd[i],
+               s->t);
+      return fail(s, RPS3_EINVAL, s->t);
+    }
+  s->nsat += saturate(s, s->F_cmd, s->F);
+  return RPS3_OK;
+}
+
+/*
+ * One step of the classical Runge-Kutta method, four evaluations.  GSL's
+ * rk4 stepper estimates its error by step doubling, twelve evaluations a
+ * step, an estimate a fixed-step real-time run has no use for; its other
+ * methods are used as they are.
+ */
+static int rk4_step(rps3_sim *s, double t, double h) {
+  struct rps3_sim_gsl *g = s->gsl;
+  static const double c[4] = {0.0, 0.5, 0.5, 1.0};
+  int j, i, st;
+  st = rps3_sim_rhs(t, s->y, g->k[0], s);
+  for (j = 1; j < 4 && st == GSL_SUCCESS; j++) {
+    const double ch = c[j] * h;
+    for (i = 0; i < NY; i++) g->ys[i] = s->y[i] + ch * g->k[j - 1][i];
+    st = rps3_sim_rhs(t + ch, g->ys, g->k[j], s);
+  }
+  if (st != GSL_SUCCESS) return st;
+  for (i = 0; i < NY; i++)
+    s->y[i] += h / 6.0 *
+               (g->k[0][i] + 2.0 * g->k[1][i] + 2.0 * g->k[2][i] + g->k[3][i]);
+  return GSL_SUCCESS;
+}
+
+/* integrate y from s->t to t1 with the forces as they are */
+static int integrate(rps3_sim *s, double t1) {
+  struct rps3_sim_gsl *g = s->gsl;
+  double t = s->t, span = t1 - s->t;
+  int st;
+  if (!(span > 0.0)) return RPS3_OK;
+  if (g->fixed) {
+    /* the largest step <= h that divides the span evenly; a span longer
+       than n h by rounding only (t1 - t loses digits as t grows) is n */
+    double n = fmax(1.0, ceil(span / s->opt.h - TICK_SLACK));
+    if (n > (double)s->opt.max_steps) {
+      s->d->err.code = RPS3_ENOCONV;
+      snprintf(s->d->err.msg, sizeof(s->d->err.msg),
+               "%.0f steps of h = %g s for %g s exceed max_steps %ld", n,
+               s->opt.h, span, s->opt.max_steps);
+      return fail(s, RPS3_ENOCONV, s->t);
+    }
+    long k, nk = (long)n;
+    double h = span / n;
+    /* GSL's stepper (rk4imp) starts afresh: the force may have jumped */
+    if (s->opt.integrator != RPS3_INT_RK4) gsl_odeiv2_step_reset(g->stp);
+    st = GSL_SUCCESS;
+    for (k = 0; k < nk && st == GSL_SUCCESS; k++) {
+      /* on failure y stays at the start of the step */
+      st = (s->opt.integrator == RPS3_INT_RK4)
+               ? rk4_step(s, t, h)
+               : gsl_odeiv2_step_apply(g->stp, t, h, s->y, g->yerr, NULL,
+                                       NULL, &g->sys);
+      if (st == GSL_SUCCESS) {
+        t = (k + 1 == nk) ? t1 : s->t + (double)(k + 1) * h;
+        s->nsteps++;
+      }
+    }
+  } else {
+    /* the force may have jumped at s->t: forget the step history */
+    gsl_odeiv2_driver_reset(g->drv);
+    st = gsl_odeiv2_driver_apply(g->drv, &t, t1, s->y);
+    s->nsteps += (long)g->drv->n;
+  }
+  /* a failure of the plant or the controller was recorded by rhs, with
+     its own message; GSL reports it as GSL_EBADFUNC or, from inside a
+     fixed step, as a failure of its own */
+  if (st != GSL_SUCCESS) s->t = t; /* the last completed step's, y's */
+  if (s->status != RPS3_OK) return s->status;
+  if (st != GSL_SUCCESS) {
+    s->d->err.code = RPS3_ENOCONV;
+    snprintf(s->d->err.msg, sizeof(s->d->err.msg),
+             "integrator %s stopped at t = %.9g s: %s",
+             rps3_integrator_name(s->opt.integrator), t, gsl_strerror(st));
+    return fail(s, RPS3_ENOCONV, t);
+  }
+  s->t = t1;
+  return RPS3_OK;
+}
+
+/* after a segment: the workspace, and the plant data at the new state.
+   Within one rps3_sim_advance only the state's part that the next
+   period's first stage reuses is evaluated (a lean state); the report
+   (positions, pose, pose rates, platform motion, energy), which the caller
+   reads after the call alone, is made at the call's last segment
+   (`report`) or by report_end when the last segment was not settled */
+static int settle(rps3_sim *s, int report) {
+  int i, st;
+  for (i = 0; i < 3; i++)
+    if (!(s->y[i] >= s->opt.l_min && s->y[i] <= s->opt.l_max)) {
+      s->d->err.code = RPS3_EREACH;
+      snprintf(s->d->err.msg, sizeof(s->d->err.msg),
+               "link %d length %.9g m left the stroke [%g, %g] m at t = "
+               "%.9g s", i + 1, s->y[i], s->opt.l_min, s->opt.l_max, s->t);
+      return fail(s, RPS3_EREACH, s->t);
+    }
+  st = evaluate(s, s->t, s->y, !report, model_ctrl(s->ctrl) != NULL);
+  if (st != RPS3_OK) return fail(s, st, s->t);
+  s->gsl->reported = report;
+  if (report) update_energy(s);
+  return RPS3_OK;
+}
+
+/* a run stopped inside a call: the report of the state it stopped at
+   (s->t, s->y: the last good one), with the failure's status, time and
+   message kept; NaN where that state cannot be evaluated either (the
+   controller is not called again) */
+static void report_failed(rps3_sim *s) {
+  const rps3_error err = s->d->err;
+  const rps3_controller *c = s->ctrl;
+  const int status = s->status;
+  const double at = s->failed_at;
+  rps3_data *d = s->d;
+  int i;
+  s->ctrl = NULL;
+  s->status = RPS3_OK;
+  if (evaluate(s, s->t, s->y, 0, 0) == RPS3_OK) {
+    update_energy(s);
+  } else {
+    s->T = s->P = s->energy_residual = (double)NAN;
+    rps3_fd_positions_unset(d);
+    for (i = 0; i < 3; i++)
+      d->pose[i] = d->dpose[i] = d->vc[i] = d->omega[i] = d->ddl[i] =
+          (double)NAN;
+    d->stage = 0;
+  }
+  s->gsl->reported = 1;
+  d->err = err;
+  s->status = status;
+  s->failed_at = at;
+  s->ctrl = c;
+}
+
+/* the report of the state at s->t after a call whose last segment was a
+   rounding sliver (no settle) following a lean one */
+static int report_end(rps3_sim *s) {
+  int st;
+  if (s->gsl->reported) return RPS3_OK;
+  st = evaluate(s, s->t, s->y, 0, model_ctrl(s->ctrl) != NULL);
+  if (st != RPS3_OK) return fail(s, st, s->t);
+  s->gsl->reported = 1;
+  update_energy(s);
+  return RPS3_OK;
+}
+
+int rps3_sim_advance(rps3_sim *s, const rps3_controller *c, double t_end) {
+  int st;
+  if (s == NULL) return RPS3_EINVAL;
+  if (!s->started) return RPS3_ESTATE;
+  if (s->status != RPS3_OK) return s->status;
+  if (c == NULL || c->fn == NULL || !isfinite(t_end) ||
+      !(isfinite(c->rate) && c->rate >= 0.0)) {
+    s->d->err.code = RPS3_EINVAL;
+    snprintf(s->d->err.msg, sizeof(s->d->err.msg),
+             "controller (fn NULL, or rate not finite and >= 0) or t_end "
+             "= %g invalid", t_end);
+    return RPS3_EINVAL;
+  }
+  s->ctrl = c;
+  if (c->rate == 0.0) {
+    /* continuous force law: one integration, forces at every evaluation */
+    st = integrate(s, t_end);
+    if (st == RPS3_OK) st = settle(s, 1);
+    if (s->status != RPS3_OK) report_failed(s);
+    s->ctrl = NULL;
+    return s->status;
+  }
+  while (s->t < t_end) {
+    /* tick k at t0 + k / rate, counted from the start (no drift); a time
+       within TICK_SLACK periods of a tick is at it (times the caller
+       computes, such as 1e-3 * k, differ from it by rounding) */
+    double k = floor((s->t - s->t0) * c->rate + TICK_SLACK);
+    double t_next = s->t0 + (k + 1.0) / c->rate, t1 = fmin(t_next, t_end);
+    if ((long)k > s->last_tick &&
+        fabs(s->t - (s->t0 + k / c->rate)) <= TICK_SLACK / c->rate) {
+      s->last_tick = (long)k;
+      st = tick(s, c);
+      if (st != RPS3_OK) break;
+    }
+    if (t1 - s->t <= TICK_SLACK / c->rate) {
+      /* a rounding sliver, not a step */
+      s->t = t1;
+      continue;
+    }
+    st = integrate(s, t1);
+    if (st == RPS3_OK) st = settle(s, t1 == t_end);
+    if (st != RPS3_OK) break;
+  }
+  if (s->status == RPS3_OK)
+    report_end(s);
+  else
+    report_failed(s);
+  s->ctrl = NULL;
+  return s->status;
+}

@@ -1,0 +1,192 @@
+/*
+ * traj.c - trajectories with exact first and second derivatives.  The
+ * paper's helix (section VI, Tables I-II) and a sinusoid per pose
+ * coordinate here; waypoints (timelaw.c), Cartesian paths (path.c) and
+ * tables of samples (table.c).  A
+ * new kind adds a struct to rps3_traj, its rows to RPS3_FIELDS, a check
+ * and an eval.
+ */
+#include <math.h>
+#include <string.h>
+
+#include "internal.h"
+
+void rps3_traj_default(rps3_traj *tr) {
+  if (tr == NULL) return;
+  memset(tr, 0, sizeof(*tr));
+  tr->kind = RPS3_TRAJ_HELIX;
+  /* Table II (r* = 0.266 mm, see the errata) */
+  tr->helix.radius = 0.266e-3;
+  tr->helix.pitch = 0.03048;
+  tr->helix.z0 = 0.3048;
+  tr->helix.period = 10.0;
+  tr->helix.blend = 1.0;
+  /* waypoints: no poses until the caller gives them */
+  tr->wp.law = RPS3_LAW_LSPB;
+  tr->wp.blend = 0.1;
+  /* path: the same helix of Table II as a path of the centre */
+  tr->path.shape = RPS3_PATH_HELIX;
+  tr->path.centre[2] = 0.3048;
+  tr->path.radius = 0.266e-3;
+  tr->path.turns = 1.0;
+  tr->path.pitch = 0.03048;
+  tr->path.duration = 10.0;
+  tr->path.law = RPS3_LAW_LSPB;
+  tr->path.blend = 0.1;
+}
+
+int rps3_traj_check(const rps3_model *m, const rps3_traj *tr, char *err,
+                    size_t errsz) {
+  rps3_check chk;
+  int rc = rps3_traj_validate(m, tr, &chk);
+  if (rc != RPS3_OK && err != NULL && errsz > 0)
+    snprintf(err, errsz, "%s", chk.msg);
+  return rc;
+}
+
+int rps3_traj_validate(const rps3_model *m, const rps3_traj *tr,
+                       rps3_check *chk) {
+  rps3_check_clear(chk);
+  if (m == NULL || tr == NULL || !m->valid) {
+    if (chk != NULL)
+      snprintf(chk->msg, sizeof chk->msg,
+               "model not initialised or trajectory NULL");
+    return RPS3_EINVAL;
+  }
+  /* the kind, then each field of that kind against its range
+     (RPS3_FIELDS), then the rules that involve several fields */
+  if (rps3_fields_check(RPS3_IN_TRAJ, tr, chk) != RPS3_OK ||
+      rps3_fields_check(1 + (int)tr->kind, tr, chk) != RPS3_OK)
+    return RPS3_EINVAL;
+  if (tr->kind == RPS3_TRAJ_HELIX) {
+    const rps3_helix *h = &tr->helix;
+    if (!(h->radius < 0.5 * m->r))
+      return rps3_check_fail(
+          chk, RPS3_F_HELIX_RADIUS, 0, h->radius, RPS3_F_RHO, RPS3_F_R,
+          "needs 0 <= r* < r/2 = rho R / 2 (cos beta = 1 - 2 r* / r)");
+    if (!(h->blend <= 0.5 * h->period))
+      return rps3_check_fail(chk, RPS3_F_HELIX_BLEND, 0, h->blend,
+                             RPS3_F_HELIX_PERIOD, -1,
+                             "needs 0 < t_a <= T* / 2");
+  }
+  if (tr->kind == RPS3_TRAJ_SINE) {
+    const rps3_sine *s = &tr->sine;
+    int k;
+    /* the rates reach amp w and amp w^2, and the dynamics square the
+       rates: each must be finite, or every sample fails at run time */
+    for (k = 0; k < 3; k++) {
+      double w = 2.0 * RPS3_PI * s->freq[k], a = fabs(s->amp[k]);
+      if (!isfinite((a * w) * w) || !isfinite((a * w) * (a * w)) ||
+          !isfinite(w * s->duration + s->phase[k]))
+        return rps3_check_fail(
+            chk, RPS3_F_SINE_FREQ, k, s->freq[k], RPS3_F_SINE_AMP, -1,
+            "the rates overflow: amp (2 pi freq)^2 or (amp 2 pi freq)^2 is "
+            "not finite");
+    }
+  }
+  if (tr->kind == RPS3_TRAJ_WAYPOINTS)
+    return rps3_waypoints_check(m, &tr->wp, chk);
+  if (tr->kind == RPS3_TRAJ_PATH) return rps3_path_check(m, &tr->path, chk);
+  if (tr->kind == RPS3_TRAJ_TABLE) {
+    static const int id[4] = {RPS3_F_TABLE_TIME, RPS3_F_TABLE_VALUE,
+                              RPS3_F_TABLE_RATE, RPS3_F_TABLE_ACC};
+    return rps3_table_check(m, &tr->table, id, 1, chk);
+  }
+  return RPS3_OK;
+}
+
+double rps3_traj_duration(const rps3_traj *tr) {
+  if (tr == NULL) return 0.0;
+  if (tr->kind == RPS3_TRAJ_HELIX) return tr->helix.period;
+  if (tr->kind == RPS3_TRAJ_SINE) return tr->sine.duration;
+  if (tr->kind == RPS3_TRAJ_WAYPOINTS)
+    return tr->wp.n >= 2 && tr->wp.time != NULL && tr->wp.pose != NULL
+               ? rps3_waypoints_duration(&tr->wp)
+               : 0.0;
+  if (tr->kind == RPS3_TRAJ_PATH) return rps3_path_duration(&tr->path);
+  if (tr->kind == RPS3_TRAJ_TABLE) return rps3_table_duration(&tr->table);
+  return 0.0;
+}
+
+/* phi(t) of Table I: linear segment with parabolic blends, phi(T*) = 2 pi.
+   A sample on a corner takes the segment that starts there; t = T* the
+   last segment's end. */
+static void helix_phi(const rps3_helix *h, double t, double out[3]) {
+  double ta = h->blend, T = h->period, tb = T - ta;
+  double wmax = 2.0 * RPS3_PI / (T - ta); /* Table II: 2 pi / 9 rad/s */
+  double acc = wmax / ta;
+  if (t < ta) {
+    out[0] = 0.5 * acc * t * t;
+    out[1] = acc * t;
+    out[2] = acc;
+  } else if (t < tb) {
+    out[0] = wmax * (t - 0.5 * ta);
+    out[1] = wmax;
+    out[2] = 0.0;
+  } else {
+    double tau = T - t;
+    out[0] = 2.0 * RPS3_PI - 0.5 * acc * tau * tau;
+    out[1] = acc * tau;
+    out[2] = -acc;
+  }
+}
+
+int rps3_traj_eval(const rps3_model *m, const rps3_traj *tr, double t,
+                   double pose[3], double dpose[3], double ddpose[3]) {
+  double q[3], dq[3], ddq[3];
+  int k;
+  if (m == NULL || tr == NULL || !m->valid || !isfinite(t)) return RPS3_EINVAL;
+  if (t < 0.0 || t > rps3_traj_duration(tr)) return RPS3_EDOMAIN;
+  if (tr->kind == RPS3_TRAJ_HELIX) {
+    const rps3_helix *h = &tr->helix;
+    double phi[3];
+    helix_phi(h, t, phi);
+    /* Table I: alpha = -phi/2 + pi/2 (36) with n = 1 */
+    q[0] = -0.5 * phi[0] + 0.5 * RPS3_PI;
+    dq[0] = -0.5 * phi[1];
+    ddq[0] = -0.5 * phi[2];
+    /* (37) corrected: 1 - cos(beta) = 2 r* / r, i.e. sin(beta/2) = sqrt(r* / r) */
+    q[1] = 2.0 * asin(sqrt(h->radius / m->r));
+    dq[1] = ddq[1] = 0.0;
+    q[2] = h->z0 + h->pitch * t / h->period;
+    dq[2] = h->pitch / h->period;
+    ddq[2] = 0.0;
+  } else if (tr->kind == RPS3_TRAJ_SINE) {
+    const rps3_sine *s = &tr->sine;
+    for (k = 0; k < 3; k++) {
+      double w = 2.0 * RPS3_PI * s->freq[k], ph = w * t + s->phase[k];
+      q[k] = s->mean[k] + s->amp[k] * sin(ph);
+      dq[k] = s->amp[k] * w * cos(ph);
+      ddq[k] = -s->amp[k] * w * w * sin(ph);
+    }
+  } else if (tr->kind == RPS3_TRAJ_WAYPOINTS) {
+    if (tr->wp.n < 2 || tr->wp.time == NULL || tr->wp.pose == NULL)
+      return RPS3_EINVAL;
+    rps3_waypoints_eval(&tr->wp, t, q, dq, ddq);
+  } else if (tr->kind == RPS3_TRAJ_PATH) {
+    int rc;
+    if (tr->path.shape == RPS3_PATH_TABLE &&
+        (tr->path.table.n < 2 || tr->path.table.time == NULL ||
+         tr->path.table.value == NULL || tr->path.table.rate == NULL ||
+         tr->path.table_psi == NULL))
+      return RPS3_EINVAL;
+    rc = rps3_path_eval(m, &tr->path, t, q, dq, ddq);
+    if (rc != RPS3_OK) return rc;
+  } else if (tr->kind == RPS3_TRAJ_TABLE) {
+    const rps3_table *tb = &tr->table;
+    if (tb->n < 2 || tb->time == NULL || tb->value == NULL || tb->rate == NULL)
+      return RPS3_EINVAL;
+    rps3_table_eval(tb, t, q, dq, ddq);
+  } else {
+    return RPS3_EINVAL;
+  }
+  for (k = 0; k < 3; k++) {
+    if (pose != NULL) pose[k] = q[k];
+    if (dpose != NULL) dpose[k] = dq[k];
+    if (ddpose != NULL) ddpose[k] = ddq[k];
+  }
+  /* a trajectory that passed rps3_traj_check can still overflow (amp
+     1e300 times (2 pi freq)^2), and an unchecked one can hold anything */
+  if (!v3_finite(q) || !v3_finite(dq) || !v3_finite(ddq)) return RPS3_ERANGE;
+  return RPS3_OK;
+}
