@@ -317,8 +317,9 @@ def assert_opens_by_value(h5):
     (the keys as its coordinates)."""
     with h5py.File(h5, "r") as f:
         keys = rps3.h5io.sweep_keys(f)
-        cols = {k: f[k][()] for k in keys}
-        names = [k for k in f if k not in keys and k != "case"
+        cols = {k: rps3.h5io.sweep_value(f, k) for k in keys}
+        swept = {rps3.h5io.key_name(k) for k in keys}
+        names = [k for k in f if k not in swept and k != "case"
                  and isinstance(f[k], h5py.Dataset) and f[k].ndim >= 1
                  and f[k].dtype.kind in "fiu" and f[k].dims[0]
                  and f[k].dims[0][0].name == "/case"]

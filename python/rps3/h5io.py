@@ -141,7 +141,11 @@ def check_file(f, path=None):
     if "rps3_version" not in f.attrs:
         raise ValueError(f"{path}: not an rps3 file: it has no root attribute "
                          "rps3_version (rps3-run writes it; docs/hdf5.md)")
-    missing = [k for k in ("scene", "status", "case", "time") if k not in f]
+    # the samples' dimension: time, or sample where the cases' time grids
+    # differ (case_time then holds the seconds)
+    missing = [k for k in ("scene", "status", "case") if k not in f]
+    if "time" not in f and "sample" not in f:
+        missing.append("time")
     if missing:
         raise ValueError(f"{path}: an rps3 file but not one of rps3-run's "
                          f"(no dataset {', '.join(missing)}): read it with "

@@ -86,10 +86,12 @@ def find_runner(runner: str | os.PathLike[str] | None = None) -> str:
                                 f"executable file")
     proc = subprocess.run([path, "--version"], capture_output=True, text=True,
                           timeout=30)
-    version = proc.stdout.strip().rsplit(" ", 1)[-1]
+    # GNU --version: the first line ends in the version
+    first = (proc.stdout.strip().splitlines() or [""])[0]
+    version = first.rsplit(" ", 1)[-1]
     if proc.returncode != 0 or version != _VERSION:
         raise RuntimeError(f"rps3-run ({where}): {path} is version "
-                           f"{proc.stdout.strip() or '?'}, the package "
+                           f"{first or '?'}, the package "
                            f"{_VERSION}")
     return path
 
