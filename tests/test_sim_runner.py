@@ -245,8 +245,9 @@ def test_file_conventions_and_refusals(runner, tmp_path):
     scene = tmp_path / "conv.yaml"
     proc = run(scene, None, "--check")
     assert proc.returncode == 0 and "simulated: 1 case" in proc.stdout
-    assert re.search(r"run time about .* on 1 thread \(an estimate: .* us a "
-                     r"simulated sample, timed on 400 samples\)", proc.stdout)
+    assert re.search(r"run time about .* on 1 thread \(an estimate: .* s a "
+                     r"simulated second, timed on .* simulated s, 400 "
+                     r"samples\)", proc.stdout)
     proc = run(scene, tmp_path / "p.h5", "--shard", "0/2")
     assert proc.returncode == 2
     assert "a simulated scene runs as one process" in proc.stderr
