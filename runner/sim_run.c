@@ -212,7 +212,10 @@ sim_tile *sim_run_case(const scene *s, size_t i, size_t limit, sim_tile *t,
   for (n = 0; n < nrun && t; n++) {
     double tn = sim_case_time(&c, &sc, n);
     if (st == RPS3_OK && n > 0)
-      st = rps3_sim_advance(wk.sim, &ctl, tick_time(tn, sc.rate));
+      /* a tick just behind the state (samples closer than the slack) is
+         the state's time: the library refuses a t_end before it */
+      st = rps3_sim_advance(wk.sim, &ctl,
+                            fmax(tick_time(tn, sc.rate), wk.sim->t));
     if (st == RPS3_OK)
       st = reference(&c, wk.ref, tn);
     if (st != RPS3_OK) {

@@ -9,6 +9,7 @@
 #include <math.h>
 #include <string.h>
 
+#include "batch_kernel.h"
 #include "internal.h"
 
 void rps3_traj_default(rps3_traj *tr) {
@@ -49,8 +50,11 @@ static int scale_field(const rps3_traj *tr) {
   case RPS3_TRAJ_WAYPOINTS:
     return RPS3_F_WP_TIME;
   case RPS3_TRAJ_PATH:
-    return tr->path.shape == RPS3_PATH_TABLE ? RPS3_F_PATH_TABLE_TIME
-                                             : RPS3_F_PATH_DURATION;
+    if (tr->path.shape == RPS3_PATH_TABLE) return RPS3_F_PATH_TABLE_TIME;
+    /* a circle's rates scale with turns / duration: the one off scale */
+    return tr->path.shape != RPS3_PATH_LINE && fabs(tr->path.turns) > 1.0
+               ? RPS3_F_PATH_TURNS
+               : RPS3_F_PATH_DURATION;
   default:
     return RPS3_F_TABLE_TIME;
   }
@@ -66,7 +70,8 @@ static double scale_value(const rps3_traj *tr, double T) {
     return tr->sine.duration;
   case RPS3_TRAJ_PATH:
     return tr->path.shape == RPS3_PATH_TABLE ? tr->path.table.time[0]
-                                             : tr->path.duration;
+           : scale_field(tr) == RPS3_F_PATH_TURNS ? tr->path.turns
+                                                  : tr->path.duration;
   case RPS3_TRAJ_TABLE:
     return tr->table.time[0];
   default:
@@ -82,12 +87,41 @@ static double scale_value(const rps3_traj *tr, double T) {
  * which is what a run (the dynamics square the rates) needs at every
  * sample.
  */
+/* the run's own arithmetic at a sample: the closed-form stages of the
+   inverse dynamics (positions, rates, accelerations, forces) on a local
+   workspace, nothing allocated; RPS3_ERANGE when a finite motion
+   overflows in them (velocity products with the masses and lengths), the
+   other statuses (a singular point) are the run's to report per sample */
+static int stages_at(const rps3_model *mc, const double q[3],
+                     const double dq[3], const double ddq[3], char *what,
+                     size_t sz) {
+  rps3_data d;
+  int st;
+  memset(&d, 0, sizeof d);
+  v3_copy(d.pose, q);
+  v3_copy(d.dpose, dq);
+  v3_copy(d.ddpose, ddq);
+  st = rps3_inverse_stages(mc, &d);
+  if (st == RPS3_OK && !(mc->opt.effects & RPS3_EFF_DYNAMIC)) {
+    /* a simulation integrates the rates whatever the effects */
+    st = rps3_velocity(mc, &d);
+    if (st == RPS3_OK) st = rps3_acceleration(mc, &d);
+  }
+  if (st == RPS3_ERANGE) snprintf(what, sz, "%.150s", d.err.msg);
+  return st;
+}
+
 static int motion_scan(const rps3_model *m, const rps3_traj *tr,
                        rps3_check *chk) {
   const double T = rps3_traj_duration(tr);
   double q[3], dq[3], ddq[3];
+  rps3_model mc = *m;
+  char what[200];
   int i, rc;
-  const int comp = tr->kind == RPS3_TRAJ_WAYPOINTS ? (int)tr->wp.n - 1 : 0;
+  mc.opt.theta = RPS3_THETA_CLOSED_FORM;
+  int comp = tr->kind == RPS3_TRAJ_WAYPOINTS ? (int)tr->wp.n - 1 : 0;
+  int field = scale_field(tr);
+  double value;
   if (!(T > 0.0 && T <= (double)RPS3_TRAJ_SPAN_MAX)) {
     char why[160];
     snprintf(why, sizeof why,
@@ -95,6 +129,17 @@ static int motion_scan(const rps3_model *m, const rps3_traj *tr,
              (double)RPS3_TRAJ_SPAN_MAX);
     return rps3_check_fail(chk, scale_field(tr), comp, scale_value(tr, T),
                            -1, -1, why);
+  }
+  value = scale_value(tr, T);
+  if (tr->kind == RPS3_TRAJ_SINE) {
+    /* the rates scale with amp freq: the coordinate where it is largest */
+    int k;
+    field = RPS3_F_SINE_FREQ;
+    for (k = comp = 0; k < 3; k++)
+      if (fabs(tr->sine.amp[k] * tr->sine.freq[k]) >
+          fabs(tr->sine.amp[comp] * tr->sine.freq[comp]))
+        comp = k;
+    value = tr->sine.freq[comp];
   }
   for (i = 0; i <= TRAJ_SCAN; i++) {
     double t = i == TRAJ_SCAN ? T : T * ((double)i / TRAJ_SCAN);
@@ -106,8 +151,15 @@ static int motion_scan(const rps3_model *m, const rps3_traj *tr,
                "acceleration (%g, %g, %g); a rate's square or an "
                "acceleration is not finite",
                t, dq[0], dq[1], dq[2], ddq[0], ddq[1], ddq[2]);
-      return rps3_check_fail(chk, scale_field(tr), comp, scale_value(tr, T),
-                             -1, -1, why);
+      return rps3_check_fail(chk, field, comp, value, -1, -1, why);
+    }
+    if (stages_at(&mc, q, dq, ddq, what, sizeof what) == RPS3_ERANGE) {
+      char why[400];
+      snprintf(why, sizeof why,
+               "the motion overflows the dynamics at t = %.9g s (rate %g, "
+               "%g, %g): %s",
+               t, dq[0], dq[1], dq[2], what);
+      return rps3_check_fail(chk, field, comp, value, -1, -1, why);
     }
   }
   return RPS3_OK;
