@@ -799,6 +799,21 @@ static void bounded_calls(void **state) {
   RATE(1000.0, 10.0, RPS3_EINVAL, "simulate.h = ");
 #undef RATE
 
+  /* NULL pointers and unchecked structs: RPS3_EINVAL as rps3.h says */
+  {
+    const double p0[3] = {0.5, 0.1, 0.3};
+    double F[3];
+    rps3_ctrl bogus;
+    assert_int_equal(rps3_sim_start(NULL, 0.0, p0, p0), RPS3_EINVAL);
+    assert_int_equal(rps3_sim_advance(NULL, NULL, 1.0), RPS3_EINVAL);
+    assert_int_equal(rps3_ctrl_update(NULL, 0.0, p0, p0, F), RPS3_EINVAL);
+    memset(&bogus, 0, sizeof bogus);
+    bogus.kind = (rps3_ctrl_kind)9;
+    assert_int_equal(rps3_ctrl_update(&bogus, 0.0, p0, p0, F), RPS3_EINVAL);
+    bogus.kind = RPS3_CTRL_PD; /* never allocated: no workspaces */
+    assert_int_equal(rps3_ctrl_update(&bogus, 0.0, p0, p0, F), RPS3_EINVAL);
+  }
+
   /* rps3_sim_advance: refused at once, nothing moves, the run goes on */
   assert_int_equal(rps3_sim_alloc(&m, NULL, &s, NULL, 0), RPS3_OK);
   start_on(s, &m, &tr, 0.0);
@@ -822,6 +837,10 @@ static void bounded_calls(void **state) {
     assert_int_equal(rps3_sim_advance(s, &c, 0.005), RPS3_EINVAL);
     assert_non_null(strstr(s->d->err.msg, "is before the simulation's time"));
     assert_int_equal(rps3_sim_advance(s, &c, (double)NAN), RPS3_EINVAL);
+    assert_int_equal(rps3_sim_advance(s, NULL, 1.0), RPS3_EINVAL);
+    assert_int_equal(rps3_sim_advance(
+                         s, &(rps3_controller){NULL, NULL, 1000.0}, 1.0),
+                     RPS3_EINVAL);
     assert_true(s->t == 0.01 && memcmp(y0, s->y, sizeof y0) == 0);
     assert_int_equal(s->status, RPS3_OK);
     assert_int_equal(rps3_sim_advance(s, &c, 0.01), RPS3_OK); /* t_end = t */
