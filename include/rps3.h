@@ -1406,8 +1406,9 @@ RPS3_API void rps3_sim_free(rps3_sim *s);
  * call (over |t| <= max(|t0|, |t_end|)), for a set-up to check first:
  * rate finite and >= 0 (0: a continuous controller), and a rate > 0 whose
  * period P = 1 / rate is
- *   - at least h / RPS3_SIM_RATE_H_MAX: at most that many control periods
- *     a step h (the fixed step, or the adaptive methods' first);
+ *   - at least h / RPS3_SIM_RATE_H_MAX (rk4, rk4imp; hmin for the
+ *     adaptive methods, whose h is a first guess): at most that many
+ *     control periods a step;
  *   - at least t_max / RPS3_SIM_MAX_PERIODS: the ticks t0 + k P stay apart
  *     in double precision (far below the 1e-6 periods that merge times),
  *     and a run holds at most 1e8 control periods (1 kHz: up to 1e5 s);

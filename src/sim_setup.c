@@ -84,8 +84,8 @@ static int check_options(const rps3_sim_options *o, char *err, size_t errsz) {
 int rps3_sim_check_rate(const rps3_sim_options *o, double rate,
                         double t_max, char *err, size_t errsz) {
   rps3_sim_options def;
-  double period, steps;
-  int st;
+  double period, steps, step;
+  int st, fixed;
   if (o == NULL) {
     rps3_sim_options_default(&def);
     o = &def;
@@ -101,14 +101,20 @@ int rps3_sim_check_rate(const rps3_sim_options *o, double rate,
           "must be finite and >= 0 (0: a continuous controller)");
   if (rate == 0.0) return RPS3_OK;
   period = 1.0 / rate;
-  if (!(period >= o->h / (double)RPS3_SIM_RATE_H_MAX)) {
+  /* the step a period is measured against: the fixed methods' h, the
+     adaptive ones' smallest step (h is only their first guess) */
+  fixed = o->integrator == RPS3_INT_RK4 || o->integrator == RPS3_INT_RK4IMP;
+  step = fixed ? o->h : o->hmin;
+  if (!(period >= step / (double)RPS3_SIM_RATE_H_MAX)) {
     if (err != NULL && errsz > 0)
       snprintf(err, errsz,
                "simulate.rate = %.17g: its period %.3g s is shorter than "
-               "h / %g = %.3g s (simulate.h = %g s): at most %g control "
-               "periods a step",
-               rate, period, (double)RPS3_SIM_RATE_H_MAX,
-               o->h / (double)RPS3_SIM_RATE_H_MAX, o->h,
+               "%s / %g = %.3g s (%s = %g s): at most %g control periods a "
+               "step",
+               rate, period, fixed ? "h" : "hmin",
+               (double)RPS3_SIM_RATE_H_MAX,
+               step / (double)RPS3_SIM_RATE_H_MAX,
+               fixed ? "simulate.h" : "hmin", step,
                (double)RPS3_SIM_RATE_H_MAX);
     return RPS3_EINVAL;
   }
@@ -124,7 +130,7 @@ int rps3_sim_check_rate(const rps3_sim_options *o, double rate,
                (double)RPS3_SIM_MAX_PERIODS);
     return RPS3_EINVAL;
   }
-  if (o->integrator == RPS3_INT_RK4 || o->integrator == RPS3_INT_RK4IMP) {
+  if (fixed) {
     /* the fixed steps of one control period (integrate in sim.c) */
     steps = ceil(period / o->h - 1e-6);
     if (steps > (double)o->max_steps) {

@@ -794,6 +794,11 @@ static void bounded_calls(void **state) {
   o.integrator = RPS3_INT_RKF45; /* adaptive: its own nmax bounds it */
   o.h = 1e-8;
   RATE(1.0, 10.0, RPS3_OK, "");
+  /* its h is a first guess: the period is measured against hmin */
+  o.h = 1.0;
+  RATE(1e4, 10.0, RPS3_OK, "");
+  RATE(1e16, 1e-9, RPS3_EINVAL, "simulate.rate = ");
+  assert_non_null(strstr(err, "hmin"));
   rps3_sim_options_default(&o);
   o.h = (double)NAN; /* the options' own check first */
   RATE(1000.0, 10.0, RPS3_EINVAL, "simulate.h = ");
