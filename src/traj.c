@@ -79,14 +79,6 @@ static double scale_value(const rps3_traj *tr, double T) {
   }
 }
 
-/*
- * After each kind's own checks (closed forms of its peaks), the one rule
- * of every kind: a finite span > 0 (a stretched or summed duration can
- * overflow), and the trajectory evaluated at TRAJ_SCAN + 1 times over it
- * gives finite poses, accelerations and rates whose squares are finite,
- * which is what a run (the dynamics square the rates) needs at every
- * sample.
- */
 /* the run's own arithmetic at a sample: the closed-form stages of the
    inverse dynamics (positions, rates, accelerations, forces) on a local
    workspace, nothing allocated; RPS3_ERANGE when a finite motion
@@ -126,17 +118,24 @@ static int fast_motion(const double dq[3], const double ddq[3]) {
   return 0;
 }
 
+/*
+ * After each kind's own checks (closed forms of its peaks), the one rule
+ * of every kind: a span in (0, RPS3_TRAJ_SPAN_MAX] (a stretched or summed
+ * duration can overflow), and the trajectory evaluated at TRAJ_SCAN + 1
+ * times over it gives finite poses, accelerations and rates whose squares
+ * are finite, and at its fast samples dynamics that do not overflow: what
+ * a run needs at every sample.
+ */
 static int motion_scan(const rps3_model *m, const rps3_traj *tr,
                        rps3_check *chk) {
   const double T = rps3_traj_duration(tr);
   double q[3], dq[3], ddq[3];
   rps3_model mc = *m;
   char what[200];
-  int i, rc;
-  mc.opt.theta = RPS3_THETA_CLOSED_FORM;
-  int comp = tr->kind == RPS3_TRAJ_WAYPOINTS ? (int)tr->wp.n - 1 : 0;
+  int i, rc, comp = tr->kind == RPS3_TRAJ_WAYPOINTS ? (int)tr->wp.n - 1 : 0;
   int field = scale_field(tr);
   double value;
+  mc.opt.theta = RPS3_THETA_CLOSED_FORM; /* the stages without a solver */
   if (!(T > 0.0 && T <= (double)RPS3_TRAJ_SPAN_MAX)) {
     char why[160];
     snprintf(why, sizeof why,
