@@ -307,23 +307,33 @@ static int eval_fail(int rc, double pose[3], double dpose[3],
   return rc;
 }
 
-/* 1 when tr can be evaluated at all: a known kind and law, a known path
-   shape, the arrays of its kind (the values are rps3_traj_check's) */
+/* 1 when law (with blend f for LSPB) is a law: LSPB's blends must not
+   overlap, or its s(tau) is no motion from 0 to 1 */
+static int law_ok(rps3_time_law law, double f) {
+  if (law == RPS3_LAW_LSPB) return f > 0.0 && f <= 0.5;
+  return law == RPS3_LAW_MINJERK || law == RPS3_LAW_QUINTIC;
+}
+
+/* 1 when tr can be evaluated at all: a known kind, law and path shape,
+   the arrays of its kind, blends that fit (the other values are
+   rps3_traj_check's; an unchecked one that overflows is RPS3_ERANGE) */
 static int evaluable(const rps3_traj *tr) {
   switch (tr->kind) {
   case RPS3_TRAJ_HELIX:
+    return tr->helix.period > 0.0 && tr->helix.blend > 0.0 &&
+           tr->helix.blend <= 0.5 * tr->helix.period;
   case RPS3_TRAJ_SINE:
     return 1;
   case RPS3_TRAJ_WAYPOINTS:
     return tr->wp.n >= 2 && tr->wp.time != NULL && tr->wp.pose != NULL &&
-           (int)tr->wp.law >= 0 && (int)tr->wp.law <= RPS3_LAW_QUINTIC;
+           law_ok(tr->wp.law, tr->wp.blend);
   case RPS3_TRAJ_PATH:
     if (tr->path.shape == RPS3_PATH_TABLE)
       return tr->path.table.n >= 2 && tr->path.table.time != NULL &&
              tr->path.table.value != NULL && tr->path.table.rate != NULL &&
              tr->path.table_psi != NULL;
     return (int)tr->path.shape >= 0 && (int)tr->path.shape < RPS3_PATH_TABLE &&
-           (int)tr->path.law >= 0 && (int)tr->path.law <= RPS3_LAW_QUINTIC;
+           law_ok(tr->path.law, tr->path.blend);
   case RPS3_TRAJ_TABLE:
     return tr->table.n >= 2 && tr->table.time != NULL &&
            tr->table.value != NULL && tr->table.rate != NULL;

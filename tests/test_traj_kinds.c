@@ -547,8 +547,23 @@ static void eval_argument_errors(void **state) {
   wp_setup(&tr, RPS3_LAW_LSPB);
   tr.wp.law = (rps3_time_law)-1;
   EVAL_EINVAL(0.5);
+  wp_setup(&tr, RPS3_LAW_LSPB);
+  tr.wp.blend = 0.7; /* blends that overlap: no motion from 0 to 1 */
+  EVAL_EINVAL(0.5);
+  tr.wp.blend = 0.0;
+  EVAL_EINVAL(0.5);
+  rps3_traj_default(&tr);
+  tr.helix.blend = 6.0; /* past T* / 2 */
+  EVAL_EINVAL(0.5);
+  tr.helix.blend = 1.0;
+  tr.helix.period = -10.0;
+  EVAL_EINVAL(0.0);
   path_setup(&tr, RPS3_PATH_CIRCLE);
   tr.path.shape = (rps3_path_shape)9;
+  EVAL_EINVAL(1.0);
+  path_setup(&tr, RPS3_PATH_CIRCLE);
+  tr.path.law = RPS3_LAW_LSPB;
+  tr.path.blend = 0.9;
   EVAL_EINVAL(1.0);
   path_setup(&tr, RPS3_PATH_LINE);
   tr.path.law = (rps3_time_law)5;
