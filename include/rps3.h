@@ -1067,9 +1067,11 @@ RPS3_API double rps3_traj_duration(const rps3_traj *tr);
  * Returns RPS3_OK, RPS3_EINVAL (bad arguments: m or tr NULL, m not
  * initialised, t not finite, an unknown kind, law or path shape, blends
  * that do not fit (LSPB's f outside (0, 1/2], the helix's t_a outside
- * (0, T*/2] or T* <= 0), or the arrays of a waypoints, table or path
- * table NULL or fewer than 2 rows; checked before the span), RPS3_EDOMAIN (t outside the span), RPS3_EREACH (a path not checked by rps3_traj_check() whose
- * centre leaves 0 < rho_c < r/2 at t) or RPS3_ERANGE (a pose, rate or
+ * (0, T* / 2] or T* <= 0), or the arrays of a waypoints, table or path
+ * table NULL or fewer than 2 rows; checked before the span),
+ * RPS3_EDOMAIN (t outside the span), RPS3_EREACH (a path not checked by
+ * rps3_traj_check() whose centre leaves 0 < rho_c < r/2 at t) or
+ * RPS3_ERANGE (a pose, rate or
  * acceleration not finite: a trajectory that did not pass
  * rps3_traj_check, e.g. NaN in a field or a sine whose acceleration
  * overflows; the outputs then hold the non-finite values).  On any other
