@@ -1055,7 +1055,8 @@ RPS3_API void rps3_traj_default(rps3_traj *tr);
 RPS3_API int rps3_traj_check(const rps3_model *m, const rps3_traj *tr, char *err,
                     size_t errsz);
 
-/* Time span of the trajectory [s] (T* for the helix). */
+/* Time span of the trajectory [s] (T* for the helix); 0 for tr NULL, an
+   unknown kind, or waypoints without their arrays. */
 RPS3_API double rps3_traj_duration(const rps3_traj *tr);
 
 /*
@@ -1430,7 +1431,8 @@ RPS3_API int rps3_sim_check_rate(const rps3_sim_options *o, double rate,
  * rates: the closed-form inverse kinematics fixes l, dl and the assembly
  * mode.  Clears the work, the counters, the status, reseeds the noise.
  * Returns RPS3_OK or the status of rps3_ik / rps3_velocity / rps3_fwddyn
- * (with zero forces) at the start, also stored in s->status.
+ * (with zero forces) at the start, also stored in s->status; RPS3_EINVAL
+ * (nothing changed) for s, pose or dpose NULL or t0 not finite.
  */
 RPS3_API int rps3_sim_start(rps3_sim *s, double t0, const double pose[3],
                             const double dpose[3]);
