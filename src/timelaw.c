@@ -204,12 +204,12 @@ static int segments_check(const rps3_waypoints *w, rps3_check *chk) {
       }
       if (!isfinite(v * v) || !isfinite(a)) {
         snprintf(why, sizeof why,
-                 "the segment to the next waypoint (%.3g s, coordinate %d "
-                 "moving %.3g) needs a rate %.3g or an acceleration %.3g "
-                 "whose square or value is not finite",
+                 "the segment from the previous waypoint (%.3g s, "
+                 "coordinate %d moving %.3g) needs a rate %.3g or an "
+                 "acceleration %.3g whose square or value is not finite",
                  T, k, D, v, a);
-        return rps3_check_fail(chk, RPS3_F_WP_TIME, (int)i, w->time[i],
-                               RPS3_F_WP_POSE, -1, why);
+        return rps3_check_fail(chk, RPS3_F_WP_TIME, (int)i + 1,
+                               w->time[i + 1], RPS3_F_WP_POSE, -1, why);
       }
     }
   }

@@ -459,7 +459,7 @@ static void overflow_refusals(void **state) {
   for (k = 0; k < 3; k++) {
     wp_setup(&tr, (rps3_time_law)k);
     tr.wp.time = t_short;
-    OVERFLOW_REFUSED(tr, RPS3_F_WP_TIME, 0, 1);
+    OVERFLOW_REFUSED(tr, RPS3_F_WP_TIME, 1, 1);
   }
 
   /* path: turns 1e300 (rates overflow) and 1e150 (the dynamics do), a
