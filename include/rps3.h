@@ -1045,9 +1045,10 @@ RPS3_API void rps3_traj_default(rps3_traj *tr);
  * every sample: a span (rps3_traj_duration, stretched for waypoints) > 0
  * and at most RPS3_TRAJ_SPAN_MAX seconds, and rates whose squares (the
  * dynamics' velocity products) and accelerations are finite: checked in
- * closed form where a kind has one (the helix's and the laws' peaks, each
- * waypoint segment, each path's peak rates), and by evaluating the
- * trajectory at 65 times over its span.  A short segment (1e-300 s), a
+ * closed form where a kind has one (the helix's and the sine's peaks,
+ * each waypoint segment, each table segment), and by evaluating the
+ * trajectory at 65 times over its span (with the inverse dynamics'
+ * closed-form stages where a rate passes 1e6 or an acceleration 1e12).  A short segment (1e-300 s), a
  * tiny limit (vmax 1e-308) or a huge count (turns 1e300) is refused here
  * rather than failing every sample of a run.
  */
