@@ -1046,7 +1046,8 @@ RPS3_API void rps3_traj_default(rps3_traj *tr);
  * and at most RPS3_TRAJ_SPAN_MAX seconds, and rates whose squares (the
  * dynamics' velocity products) and accelerations are finite: checked in
  * closed form where a kind has one (the helix's and the sine's peaks,
- * each waypoint segment, each table segment), and by evaluating the
+ * each waypoint segment, each table segment, the centre's peaks of a
+ * line, circle or helix path), and by evaluating the
  * trajectory at 65 times over its span (with the inverse dynamics'
  * closed-form stages where a rate passes 1e6 or an acceleration 1e12).  A short segment (1e-300 s), a
  * tiny limit (vmax 1e-308) or a huge count (turns 1e300) is refused here
