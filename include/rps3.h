@@ -1043,13 +1043,28 @@ RPS3_API int rps3_time_law_index(const char *name);
 /* The paper's helix of Table II.  tr NULL: does nothing. */
 RPS3_API void rps3_traj_default(rps3_traj *tr);
 
-/* Validate tr for model m (initialised).  RPS3_OK or RPS3_EINVAL with a
-   message "FIELD = VALUE: reason", FIELD a dotted name such as
-   "trajectory.radius" (see rps3_model_init). */
+/*
+ * Validate tr for model m (initialised).  RPS3_OK or RPS3_EINVAL with a
+ * message "FIELD = VALUE: reason", FIELD a dotted name such as
+ * "trajectory.radius" (see rps3_model_init).  Besides each field's range
+ * and each kind's rules, every kind must give what a run evaluates at
+ * every sample: a span (rps3_traj_duration, stretched for waypoints) > 0
+ * and at most RPS3_TRAJ_SPAN_MAX seconds, and rates whose squares (the
+ * dynamics' velocity products) and accelerations are finite: checked in
+ * closed form where a kind has one (the helix's and the sine's peaks,
+ * each waypoint segment, each table segment, the centre's peaks of a
+ * line, circle or helix path), and by evaluating the
+ * trajectory at 65 times over its span (with the inverse dynamics'
+ * closed-form stages where a rate passes 1e6 or an acceleration 1e12).  A short segment (1e-300 s), a
+ * tiny limit (vmax 1e-308) or a huge count (turns 1e300) is refused here
+ * rather than failing every sample of a run.
+ */
+#define RPS3_TRAJ_SPAN_MAX 1000000000000
 RPS3_API int rps3_traj_check(const rps3_model *m, const rps3_traj *tr, char *err,
                     size_t errsz);
 
-/* Time span of the trajectory [s] (T* for the helix). */
+/* Time span of the trajectory [s] (T* for the helix); 0 for tr NULL, an
+   unknown kind, or waypoints without their arrays. */
 RPS3_API double rps3_traj_duration(const rps3_traj *tr);
 
 /*
@@ -1058,12 +1073,18 @@ RPS3_API double rps3_traj_duration(const rps3_traj *tr);
  * acceleration jumps at the blend corners t_a and t_b: a sample exactly on a
  * corner takes the value of the segment that starts there (right limit),
  * except t = T*, which takes the left limit.  Any output may be NULL.
- * Returns RPS3_OK, RPS3_EINVAL (bad arguments), RPS3_EDOMAIN (t outside
- * the span), RPS3_EREACH (a path not checked by rps3_traj_check() whose
- * centre leaves 0 < rho_c < r/2 at t) or RPS3_ERANGE (a pose, rate or
+ * Returns RPS3_OK, RPS3_EINVAL (bad arguments: m or tr NULL, m not
+ * initialised, t not finite, an unknown kind, law or path shape, blends
+ * that do not fit (LSPB's f outside (0, 1/2], the helix's t_a outside
+ * (0, T* / 2] or T* <= 0), or the arrays of a waypoints, table or path
+ * table NULL or fewer than 2 rows; checked before the span),
+ * RPS3_EDOMAIN (t outside the span), RPS3_EREACH (a path not checked by
+ * rps3_traj_check() whose centre leaves 0 < rho_c < r/2 at t) or
+ * RPS3_ERANGE (a pose, rate or
  * acceleration not finite: a trajectory that did not pass
  * rps3_traj_check, e.g. NaN in a field or a sine whose acceleration
- * overflows; the outputs then hold the non-finite values).
+ * overflows; the outputs then hold the non-finite values).  On any other
+ * failure the outputs given are NaN.
  */
 RPS3_API int rps3_traj_eval(const rps3_model *m, const rps3_traj *tr, double t,
                    double pose[3], double dpose[3], double ddpose[3]);
@@ -1326,7 +1347,8 @@ typedef struct {
   unsigned long seed; /* seed of the noise generator */
 } rps3_sim_options;
 
-/* Fill o with the defaults above (rk4, h = 1 ms, no noise, no limits). */
+/* Fill o with the defaults above (rk4, h = 1 ms, no noise, no limits); o
+   NULL: does nothing. */
 RPS3_API void rps3_sim_options_default(rps3_sim_options *o);
 
 /*
@@ -1393,11 +1415,33 @@ RPS3_API int rps3_sim_alloc(const rps3_model *plant, const rps3_sim_options *o,
 RPS3_API void rps3_sim_free(rps3_sim *s);
 
 /*
+ * The limits of a control rate, which rps3_sim_advance applies at every
+ * call (over |t| <= max(|t0|, |t_end|)), for a set-up to check first:
+ * rate finite and >= 0 (0: a continuous controller), and a rate > 0 whose
+ * period P = 1 / rate is
+ *   - at least h / RPS3_SIM_RATE_H_MAX (rk4, rk4imp; hmin for the
+ *     adaptive methods, whose h is a first guess): at most that many
+ *     control periods a step;
+ *   - at least t_max / RPS3_SIM_MAX_PERIODS: the ticks t0 + k P stay apart
+ *     in double precision (far below the 1e-6 periods that merge times),
+ *     and a run holds at most 1e8 control periods (1 kHz: up to 1e5 s);
+ *   - for rk4 and rk4imp, at most max_steps steps of h (ceil(P / h)).
+ * o NULL: the defaults.  Returns RPS3_OK or RPS3_EINVAL with "FIELD =
+ * VALUE: reason" in err (FIELD "simulate.rate" or "simulate.h", or a
+ * field of the options as rps3_sim_alloc names it; err may be NULL).
+ */
+#define RPS3_SIM_RATE_H_MAX 1000
+#define RPS3_SIM_MAX_PERIODS 100000000
+RPS3_API int rps3_sim_check_rate(const rps3_sim_options *o, double rate,
+                                 double t_max, char *err, size_t errsz);
+
+/*
  * Start (or restart) at time t0 from the pose (alpha, beta, z_c) and its
  * rates: the closed-form inverse kinematics fixes l, dl and the assembly
  * mode.  Clears the work, the counters, the status, reseeds the noise.
  * Returns RPS3_OK or the status of rps3_ik / rps3_velocity / rps3_fwddyn
- * (with zero forces) at the start, also stored in s->status.
+ * (with zero forces) at the start, also stored in s->status; RPS3_EINVAL
+ * (nothing changed) for s, pose or dpose NULL or t0 not finite.
  */
 RPS3_API int rps3_sim_start(rps3_sim *s, double t0, const double pose[3],
                             const double dpose[3]);
@@ -1409,7 +1453,10 @@ RPS3_API int rps3_sim_start(rps3_sim *s, double t0, const double pose[3],
  * describe that state; or the run stopped: s->status != RPS3_OK,
  * s->failed_at the time, d->err the message, and the state the last good
  * one.  Returns s->status; after a failure it returns that status again
- * without integrating.  Allocates nothing.  The state is reported (d's
+ * without integrating.  An invalid call changes nothing and returns
+ * RPS3_EINVAL with d->err's message: c or c->fn NULL, t_end not finite or
+ * before s->t (t_end = s->t does nothing), or a rate outside
+ * rps3_sim_check_rate's limits; RPS3_ESTATE before rps3_sim_start.  Allocates nothing.  The state is reported (d's
  * positions, pose and rates; T, P, the energy residual) at the call's end
  * only, or where the run stopped: one call over many control periods
  * costs less than one call a period, and gives the same run bit for bit
@@ -1505,9 +1552,12 @@ RPS3_API void rps3_ctrl_free(rps3_ctrl *c);
 
 /*
  * The control law, an rps3_control_fn: state is the rps3_ctrl.  Writes
- * F and the logging fields; returns RPS3_OK or the status of the model's
- * stages (e.g. RPS3_ENOCONV when measured lengths have no assembly near
- * the last one).  Allocates nothing.  Bind it as
+ * F and the logging fields; returns RPS3_OK (F finite) or the status of
+ * the model's stages (e.g. RPS3_ENOCONV when measured lengths have no
+ * assembly near the last one), RPS3_EINVAL for a NULL pointer, a kind out
+ * of range, or a time or measured length or rate not finite (a sensor
+ * glitch: no law turns it into a force; meas->err names the input), or
+ * RPS3_ERANGE for a force that overflows (meas->err).  Allocates nothing.  Bind it as
  *   rps3_controller c = {rps3_ctrl_update, ctrl, 1000.0};
  */
 RPS3_API int rps3_ctrl_update(void *state, double t, const double l[3],

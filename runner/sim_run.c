@@ -212,7 +212,10 @@ sim_tile *sim_run_case(const scene *s, size_t i, size_t limit, sim_tile *t,
   for (n = 0; n < nrun && t; n++) {
     double tn = sim_case_time(&c, &sc, n);
     if (st == RPS3_OK && n > 0)
-      st = rps3_sim_advance(wk.sim, &ctl, tick_time(tn, sc.rate));
+      /* a tick just behind the state (samples closer than the slack) is
+         the state's time: the library refuses a t_end before it */
+      st = rps3_sim_advance(wk.sim, &ctl,
+                            fmax(tick_time(tn, sc.rate), wk.sim->t));
     if (st == RPS3_OK)
       st = reference(&c, wk.ref, tn);
     if (st != RPS3_OK) {
@@ -316,16 +319,16 @@ int sim_run_all(const scene *s, const sim_plan *p, sim_file *f, int nthread,
 
 /* ---------------------------------------------------------- estimate */
 
-/* the samples the estimate times: per case, and in all */
+/* the estimate's pilot: up to PILOT_CASES cases spread over the sweep,
+   each simulated for PILOT_SAMPLES samples at most and within a budget of
+   PILOT_WORK control periods or steps and PILOT_CPU CPU seconds, whichever
+   ends first, so that the estimate's own work is bounded whatever the
+   rate, step and duration; advanced in chunks of PILOT_CHUNK of them */
 #define PILOT_SAMPLES 400
 #define PILOT_CASES 4
-
-/* the pilot's sink: nothing is written */
-static sim_tile *discard(sim_sink *k, sim_tile *t)
-{
-  (void)k;
-  return t;
-}
+#define PILOT_WORK 20000.0
+#define PILOT_CHUNK 256.0
+#define PILOT_CPU 0.2
 
 static double cpu_seconds(void)
 {
@@ -334,50 +337,103 @@ static double cpu_seconds(void)
   return (double)ts.tv_sec + 1e-9 * (double)ts.tv_nsec;
 }
 
+/* control periods or integrator steps a simulated second of case sc (the
+   finer of the two; the adaptive methods' first step stands for theirs) */
+static double work_rate(const sim_case *sc)
+{
+  double steps = 1.0 / sc->opt.h;
+  return sc->rate > steps ? sc->rate : steps;
+}
+
 /*
- * The run time of the plan on nthread threads into buf: the first
- * PILOT_SAMPLES samples of up to PILOT_CASES cases spread over the sweep
- * (their controllers, integrators and steps differ), simulated and timed
- * on the process's CPU clock, writing not counted (a simulated sample
+ * Case i simulated as the run does (its samples' references included) up
+ * to the pilot's budget: adds the CPU seconds and the simulated seconds it
+ * covered to *cpu and *sim, the samples to *samples.  -1 when the case
+ * cannot be set up (memory).
+ */
+static int pilot_case(const scene *s, size_t i, double *cpu, double *sim,
+                      size_t *samples)
+{
+  scene_case c;
+  sim_case sc;
+  scene_error serr;
+  sim_work wk;
+  rps3_controller ctl;
+  double c0 = cpu_seconds(), t_stop, chunk, t = 0.0;
+  size_t n, nrun;
+  int st;
+  char err[256];
+  if (scene_case_build(s, i, &c, &serr) || sim_case_build(s, &c, &sc, &serr))
+    return -1;
+  if (start(&c, &sc, &wk, &ctl, &st, err, sizeof err))
+    return -1;
+  nrun = sc.nt < PILOT_SAMPLES ? sc.nt : PILOT_SAMPLES;
+  t_stop = PILOT_WORK / work_rate(&sc);
+  chunk = PILOT_CHUNK / work_rate(&sc);
+  for (n = 0; n < nrun && st == RPS3_OK; n++) {
+    double tn = sim_case_time(&c, &sc, n);
+    if (n > 0)
+      tn = tick_time(tn, sc.rate);
+    /* the sample's time in chunks, each against the budget */
+    while (st == RPS3_OK && wk.sim->t < tn) {
+      t = wk.sim->t + chunk < tn ? wk.sim->t + chunk : tn;
+      if (t > t_stop)
+        t = t_stop > wk.sim->t ? t_stop : wk.sim->t;
+      if (t <= wk.sim->t || cpu_seconds() - c0 > PILOT_CPU)
+        break;
+      st = rps3_sim_advance(wk.sim, &ctl, t);
+    }
+    if (st != RPS3_OK || wk.sim->t < tn)
+      break;
+    if (reference(&c, wk.ref, tn) != RPS3_OK)
+      break;
+    ++*samples;
+  }
+  *sim += wk.sim->t;
+  *cpu += cpu_seconds() - c0;
+  work_free(&wk);
+  return 0;
+}
+
+/*
+ * The run time of the plan on nthread threads into buf: the pilot's cases
+ * (their controllers, integrators and steps differ), timed on the
+ * process's CPU clock, and the CPU time a simulated second extrapolated
+ * to the plan's simulated time, writing not counted (a simulated sample
  * costs some 100 times more than writing its 350 bytes).
  */
 static void run_time(const scene *s, const sim_plan *p, int nthread,
                      char *buf, size_t sz)
 {
-  sim_sink sink;
-  sim_tile tile, *t = &tile;
   est_cost c;
   size_t q, last = (size_t)-1, samples = 0;
-  double t0;
-  char err[256], when[32];
-  sink.put = discard;
-  if (sim_tile_alloc(&tile, PILOT_SAMPLES)) {
-    snprintf(buf, sz, "run time not estimated (out of memory)");
-    return;
-  }
-  t0 = cpu_seconds();
-  for (q = 0; q < PILOT_CASES && t; q++) {
+  double cpu = 0.0, sim = 0.0;
+  char when[32];
+  for (q = 0; q < PILOT_CASES; q++) {
     size_t i = (s->ncase - 1) * q / (PILOT_CASES - 1);
     if (i == last)
       continue;
     last = i;
-    t = sim_run_case(s, i, PILOT_SAMPLES, t, &sink, err, sizeof err);
-    /* a failing case counts up to its failure, at least one sample */
-    samples += t ? (t->nk > 0 ? t->k0 + t->nk : 1) : 0;
+    if (pilot_case(s, i, &cpu, &sim, &samples)) {
+      snprintf(buf, sz, "run time not estimated (out of memory)");
+      return;
+    }
   }
   memset(&c, 0, sizeof c);
-  c.sample = samples ? (cpu_seconds() - t0) / (double)samples : 0;
-  if (t && samples)
+  if (sim > 0.0) {
+    /* est_run_seconds's unit of work: a simulated second */
+    c.sample = cpu / sim;
     snprintf(buf, sz, "run time about %s on %d thread%s (an estimate: %.3g "
-             "us a simulated sample, timed on %zu samples)",
-             est_human_time(est_run_seconds(&c, (double)p->npoint,
-                                            (double)s->ncase, nthread),
+             "s a simulated second, timed on %.3g simulated s, %zu "
+             "sample%s)",
+             est_human_time(est_run_seconds(&c, p->seconds, (double)s->ncase,
+                                            nthread),
                             when, sizeof when),
-             nthread, nthread == 1 ? "" : "s", 1e6 * c.sample, samples);
-  else
-    snprintf(buf, sz, "run time not estimated (%s)",
-             t ? "no sample" : "out of memory");
-  sim_tile_free(&tile);
+             nthread, nthread == 1 ? "" : "s", c.sample, sim, samples,
+             samples == 1 ? "" : "s");
+  } else
+    snprintf(buf, sz, "run time not estimated (the cases timed stop at "
+             "their start)");
 }
 
 /* the common time axis of the plan, or NULL (differs, or no memory) */

@@ -205,6 +205,22 @@ int sim_case_build(const scene *s, const scene_case *c, sim_case *sc,
     return -1;
   /* the library's own checks of the options and the controller */
   st = rps3_sim_alloc(&c->model, &sc->opt, &sim, msg, sizeof msg);
+  /* the rate's limits over the run (rps3_sim_advance refuses the same) */
+  if (st == RPS3_OK)
+    st = rps3_sim_check_rate(&sc->opt, sc->rate, sc->duration, msg,
+                             sizeof msg);
+  if (st == RPS3_OK && sc->rate == 0.0 &&
+      (sc->opt.integrator == RPS3_INT_RK4 ||
+       sc->opt.integrator == RPS3_INT_RK4IMP) &&
+      ceil(sc->step / sc->opt.h - 1e-6) > (double)sc->opt.max_steps) {
+    /* a continuous controller: one integration a sample */
+    snprintf(msg, sizeof msg,
+             "simulate.h = %.17g: a sample step of %.6g s takes %.6g steps "
+             "of h, more than max_steps = %ld",
+             sc->opt.h, sc->step, ceil(sc->step / sc->opt.h - 1e-6),
+             sc->opt.max_steps);
+    st = RPS3_EINVAL;
+  }
   if (st == RPS3_OK)
     st = rps3_ctrl_alloc(sc->kind, sc->kp, sc->kd, &sc->ctrl_model, &c->traj,
                          &ctrl, msg, sizeof msg);
@@ -287,6 +303,7 @@ int sim_plan_make(const scene *s, sim_plan *p, scene_error *err)
     if (sc.nt > p->nt)
       p->nt = sc.nt;
     p->npoint += sc.nt;
+    p->seconds += sc.duration;
   }
   return 0;
 }

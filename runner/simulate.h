@@ -45,6 +45,7 @@ double sim_case_time(const scene_case *c, const sim_case *sc, size_t k);
 typedef struct {
   size_t nt;         /* most samples of any case */
   size_t npoint;     /* samples over all cases */
+  double seconds;    /* simulated time over all cases [s] */
   int common;        /* 1: every case has case 0's time grid */
   scene_case first;
   sim_case sfirst;

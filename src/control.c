@@ -207,14 +207,54 @@ static int invdyn_at(rps3_ctrl *c, double t, const double l[3],
   return RPS3_OK;
 }
 
+/* RPS3_EINVAL with meas's message when a measurement is not finite (a
+   sensor glitch): no law may turn it into a force */
+static int measured_finite(rps3_ctrl *c, const double l[3],
+                           const double dl[3]) {
+  int i;
+  for (i = 0; i < 6; i++) {
+    double x = i < 3 ? l[i] : dl[i - 3];
+    if (!isfinite(x)) {
+      c->meas->err.code = RPS3_EINVAL;
+      snprintf(c->meas->err.msg, sizeof(c->meas->err.msg),
+               "measured %s%d = %g %s is not finite", i < 3 ? "l" : "dl",
+               i % 3 + 1, x, i < 3 ? "m" : "m/s");
+      return RPS3_EINVAL;
+    }
+  }
+  return RPS3_OK;
+}
+
+/* RPS3_ERANGE with meas's message when a law's force is not finite
+   (finite inputs whose products overflow, e.g. gains near 1e308) */
+static int force_finite(rps3_ctrl *c, const double F[3]) {
+  if (v3_finite(F)) return RPS3_OK;
+  c->meas->err.code = RPS3_ERANGE;
+  snprintf(c->meas->err.msg, sizeof(c->meas->err.msg),
+           "controller force (%g, %g, %g) N is not finite", F[0], F[1], F[2]);
+  return RPS3_ERANGE;
+}
+
 int rps3_ctrl_update(void *state, double t, const double l[3],
                      const double dl[3], double F[3]) {
   rps3_ctrl *c = (rps3_ctrl *)state;
   const double zero[3] = {0, 0, 0};
   double e[3], de[3], a[3], G[3];
   int st, i;
-  if (c == NULL || l == NULL || dl == NULL || F == NULL || !isfinite(t))
+  if (c == NULL || l == NULL || dl == NULL || F == NULL) return RPS3_EINVAL;
+  if ((int)c->kind < 0 || (int)c->kind >= RPS3_NCTRL || c->meas == NULL ||
+      c->des == NULL || c->fd == NULL)
     return RPS3_EINVAL;
+  c->meas->err.code = RPS3_OK;
+  c->meas->err.msg[0] = '\0';
+  if (!isfinite(t)) {
+    c->meas->err.code = RPS3_EINVAL;
+    snprintf(c->meas->err.msg, sizeof(c->meas->err.msg),
+             "time t = %g s is not finite", t);
+    return RPS3_EINVAL;
+  }
+  st = measured_finite(c, l, dl);
+  if (st != RPS3_OK) return st;
   c->t = t;
   st = desired(c, t);
   if (st != RPS3_OK) return st;
@@ -225,21 +265,21 @@ int rps3_ctrl_update(void *state, double t, const double l[3],
   switch (c->kind) {
   case RPS3_CTRL_OPEN_LOOP:
     v3_copy(F, c->F_ff);
-    return RPS3_OK;
+    break;
   case RPS3_CTRL_PD:
     for (i = 0; i < 3; i++) F[i] = c->kp * e[i] + c->kd * de[i];
-    return RPS3_OK;
+    break;
   case RPS3_CTRL_PD_GRAVITY:
     /* static forces of the model: at rest only the weights remain */
     st = invdyn_at(c, t, l, zero, zero, G);
     if (st != RPS3_OK) return st;
     for (i = 0; i < 3; i++) F[i] = c->kp * e[i] + c->kd * de[i] + G[i];
-    return RPS3_OK;
+    break;
   case RPS3_CTRL_COMPUTED_TORQUE:
+  default:
     for (i = 0; i < 3; i++)
       a[i] = c->des->ddl[i] + c->kp * e[i] + c->kd * de[i];
     return invdyn_at(c, t, l, dl, a, F);
-  default:
-    return RPS3_EINVAL;
   }
+  return force_finite(c, F);
 }

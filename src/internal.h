@@ -93,6 +93,15 @@ int rps3_waypoints_check(const rps3_model *m, const rps3_waypoints *w,
                          rps3_check *chk);
 /* 1 when rps3_ik accepts the pose (a local workspace, no allocation) */
 int rps3_pose_reachable(const rps3_model *m, const double pose[3]);
+/* 1 when a motion's rates and accelerations are finite and so are the
+   rates' squares, which the dynamics form (velocity products): what
+   rps3_traj_check asks of every sample of every kind */
+static inline int rps3_motion_finite(const double dq[3], const double ddq[3]) {
+  int k;
+  for (k = 0; k < 3; k++)
+    if (!isfinite(dq[k] * dq[k]) || !isfinite(ddq[k])) return 0;
+  return 1;
+}
 /* path.c: evaluation (RPS3_EREACH off 0 < rho_c < r/2), validation */
 int rps3_path_eval(const rps3_model *m, const rps3_path *p, double t,
                    double q[3], double dq[3], double ddq[3]);

@@ -166,9 +166,54 @@ static int table_rows_check(const rps3_model *m, const rps3_path *p,
   return RPS3_OK;
 }
 
+/* the centre's peak rate and acceleration in closed form from the law's
+   peaks v* / T, a* / T^2 (a line: |end - start| times them; a circle: the
+   angle's rate w = 2 pi turns v* / T, the centre's radius w and radius w^2
+   plus radius 2 pi turns a* / T^2; a helix adds the rise pitch turns / T):
+   finite, with the rate's square, or no sample of the run is */
+static int peaks_check(const rps3_path *p, rps3_check *chk) {
+  const double T = p->duration;
+  double vp, ap, v, a;
+  rps3_law_peaks(p->law == RPS3_LAW_LSPB ? RPS3_LAW_LSPB : RPS3_LAW_MINJERK,
+                 p->blend, &vp, &ap);
+  vp /= T;
+  ap /= T * T;
+  if (p->shape == RPS3_PATH_LINE) {
+    double D = 0.0;
+    int k;
+    for (k = 0; k < 3; k++) D = fmax(D, fabs(p->end[k] - p->start[k]));
+    v = D * vp;
+    a = D * ap;
+    if (D > 0.0 && !(T * T > 0.0)) v = a = (double)INFINITY;
+  } else {
+    double w = 2.0 * RPS3_PI * fabs(p->turns);
+    v = p->radius * w * vp;
+    a = p->radius * (w * ap + (w * vp) * (w * vp));
+    if (p->shape == RPS3_PATH_HELIX)
+      v = fmax(v, fabs(p->pitch * p->turns) / T);
+    if (!(T * T > 0.0)) v = a = (double)INFINITY;
+  }
+  if (isfinite(v * v) && isfinite(a)) return RPS3_OK;
+  {
+    char why[200];
+    const int turns = p->shape != RPS3_PATH_LINE && fabs(p->turns) > 1.0;
+    snprintf(why, sizeof why,
+             "the centre's peak rate %.3g m/s or acceleration %.3g m/s^2 "
+             "(its square or value) is not finite",
+             v, a);
+    return rps3_check_fail(chk, turns ? RPS3_F_PATH_TURNS
+                                      : RPS3_F_PATH_DURATION,
+                           0, turns ? p->turns : p->duration,
+                           turns ? RPS3_F_PATH_DURATION : RPS3_F_PATH_LAW,
+                           -1, why);
+  }
+}
+
 int rps3_path_check(const rps3_model *m, const rps3_path *p, rps3_check *chk) {
   double T = rps3_path_duration(p), tbad = -1.0, x0, y0, dx, dy, L2;
   int i;
+  if (p->shape != RPS3_PATH_TABLE && peaks_check(p, chk) != RPS3_OK)
+    return RPS3_EINVAL;
   if (p->shape == RPS3_PATH_TABLE) {
     if (table_rows_check(m, p, chk) != RPS3_OK) return RPS3_EINVAL;
   } else if (p->shape != RPS3_PATH_LINE) {

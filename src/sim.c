@@ -437,13 +437,28 @@ int rps3_sim_advance(rps3_sim *s, const rps3_controller *c, double t_end) {
   if (s == NULL) return RPS3_EINVAL;
   if (!s->started) return RPS3_ESTATE;
   if (s->status != RPS3_OK) return s->status;
-  if (c == NULL || c->fn == NULL || !isfinite(t_end) ||
-      !(isfinite(c->rate) && c->rate >= 0.0)) {
+  if (c == NULL || c->fn == NULL || !isfinite(t_end)) {
     s->d->err.code = RPS3_EINVAL;
     snprintf(s->d->err.msg, sizeof(s->d->err.msg),
-             "controller (fn NULL, or rate not finite and >= 0) or t_end "
-             "= %g invalid", t_end);
+             "controller NULL, its fn NULL, or t_end = %g s not finite",
+             t_end);
     return RPS3_EINVAL;
+  }
+  if (t_end < s->t) {
+    s->d->err.code = RPS3_EINVAL;
+    snprintf(s->d->err.msg, sizeof(s->d->err.msg),
+             "t_end = %.17g s is before the simulation's time t = %.17g s",
+             t_end, s->t);
+    return RPS3_EINVAL;
+  }
+  /* the rate's limits over the call's times (a few operations: the loop
+     below counts on them to end) */
+  st = rps3_sim_check_rate(&s->opt, c->rate,
+                           fmax(fabs(s->t0), fabs(t_end)), s->d->err.msg,
+                           sizeof(s->d->err.msg));
+  if (st != RPS3_OK) {
+    s->d->err.code = st;
+    return st;
   }
   s->ctrl = c;
   if (c->rate == 0.0) {

@@ -22,6 +22,7 @@ int rps3_integrator_index(const char *name) {
 }
 
 void rps3_sim_options_default(rps3_sim_options *o) {
+  if (o == NULL) return;
   memset(o, 0, sizeof(*o));
   o->integrator = RPS3_INT_RK4;
   o->h = 1e-3;
@@ -82,6 +83,70 @@ static int check_options(const rps3_sim_options *o, char *err, size_t errsz) {
           o->quant_l, "must be finite and >= 0");
   REQUIRE(isfinite(o->quant_dl) && o->quant_dl >= 0, "simulate.quant_dl",
           o->quant_dl, "must be finite and >= 0");
+  return RPS3_OK;
+}
+
+int rps3_sim_check_rate(const rps3_sim_options *o, double rate,
+                        double t_max, char *err, size_t errsz) {
+  rps3_sim_options def;
+  double period, steps, step;
+  int st, fixed;
+  if (o == NULL) {
+    rps3_sim_options_default(&def);
+    o = &def;
+  }
+  st = check_options(o, err, errsz);
+  if (st != RPS3_OK) return st;
+  if (!(isfinite(t_max) && t_max >= 0.0)) {
+    if (err != NULL && errsz > 0)
+      snprintf(err, errsz, "t_max = %.17g s: must be finite and >= 0", t_max);
+    return RPS3_EINVAL;
+  }
+  REQUIRE(isfinite(rate) && rate >= 0.0, "simulate.rate", rate,
+          "must be finite and >= 0 (0: a continuous controller)");
+  if (rate == 0.0) return RPS3_OK;
+  period = 1.0 / rate;
+  /* the step a period is measured against: the fixed methods' h, the
+     adaptive ones' smallest step (h is only their first guess) */
+  fixed = o->integrator == RPS3_INT_RK4 || o->integrator == RPS3_INT_RK4IMP;
+  step = fixed ? o->h : o->hmin;
+  if (!(period >= step / (double)RPS3_SIM_RATE_H_MAX)) {
+    if (err != NULL && errsz > 0)
+      snprintf(err, errsz,
+               "simulate.rate = %.17g: its period %.3g s is shorter than "
+               "%s / %g = %.3g s (%s = %g s): at most %g control periods a "
+               "step",
+               rate, period, fixed ? "h" : "hmin",
+               (double)RPS3_SIM_RATE_H_MAX,
+               step / (double)RPS3_SIM_RATE_H_MAX,
+               fixed ? "simulate.h" : "hmin", step,
+               (double)RPS3_SIM_RATE_H_MAX);
+    return RPS3_EINVAL;
+  }
+  /* k / rate and t0 + k / rate must tell the ticks apart far below the
+     slack that merges times (TICK_SLACK of sim.c, 1e-6 periods) */
+  if (!(period >= t_max / (double)RPS3_SIM_MAX_PERIODS)) {
+    if (err != NULL && errsz > 0)
+      snprintf(err, errsz,
+               "simulate.rate = %.17g: its period %.3g s is below %g of the "
+               "run's time %.6g s, where double precision does not tell "
+               "its ticks apart: at most %g control periods a run",
+               rate, period, 1.0 / (double)RPS3_SIM_MAX_PERIODS, t_max,
+               (double)RPS3_SIM_MAX_PERIODS);
+    return RPS3_EINVAL;
+  }
+  if (fixed) {
+    /* the fixed steps of one control period (integrate in sim.c) */
+    steps = ceil(period / o->h - 1e-6);
+    if (steps > (double)o->max_steps) {
+      if (err != NULL && errsz > 0)
+        snprintf(err, errsz,
+                 "simulate.h = %.17g: a control period of %.6g s takes %.6g "
+                 "steps of h, more than max_steps = %ld",
+                 o->h, period, steps, o->max_steps);
+      return RPS3_EINVAL;
+    }
+  }
   return RPS3_OK;
 }
 

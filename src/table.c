@@ -176,6 +176,31 @@ int rps3_table_check(const rps3_model *m, const rps3_table *tb,
                              "ball joint not above the base plane); value "
                              "is z_c");
   }
+  /* each segment's interpolant in closed form, where a scan could step
+     over a short segment: the Hermite basis bounds its rate by about
+     (|dv| / h + |r0| + |r1| + h (|a0| + |a1|)) and its acceleration by
+     that over h, times small constants (1.5 and 6 for the cubic, below 4
+     and 20 for the quintic; 8 and 32 taken), which must be finite with
+     the rate's square (the dynamics square the rates) */
+  for (i = 0; i + 1 < tb->n; i++) {
+    double h = tb->time[i + 1] - tb->time[i];
+    for (k = 0; k < 3; k++) {
+      double sum = fabs(tb->value[i + 1][k] - tb->value[i][k]) / h +
+                   fabs(tb->rate[i][k]) + fabs(tb->rate[i + 1][k]);
+      char why[200];
+      if (tb->acc != NULL)
+        sum += h * (fabs(tb->acc[i][k]) + fabs(tb->acc[i + 1][k]));
+      if (isfinite(8.0 * sum * 8.0 * sum) && isfinite(32.0 * sum / h))
+        continue;
+      snprintf(why, sizeof why,
+               "the interpolant's rate or acceleration to the next row "
+               "(%.3g s later) overflows: rows too close for their values "
+               "and rates (value is the time)",
+               h);
+      return rps3_check_fail(chk, id[0], (int)i + 1, tb->time[i + 1], id[1],
+                             -1, why);
+    }
+  }
   /* the interpolant between the rows: its midpoints, where an overshoot
      between two reachable rows is largest */
   for (i = 0; pose && i + 1 < tb->n; i++) {

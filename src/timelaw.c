@@ -139,6 +139,83 @@ int rps3_pose_reachable(const rps3_model *m, const double pose[3]) {
   return rps3_ik(m, &d) == RPS3_OK;
 }
 
+/*
+ * Each segment's motion in closed form, where a scan could step over a
+ * short segment: its stretched duration T finite, and the peaks of the
+ * law, D v* / T and D a* / T^2 (LSPB, MINJERK), or the quintic's
+ * coefficients and the bounds of its rate and acceleration they give,
+ * finite with the rates' squares (the dynamics square them).  A segment
+ * of 1e-300 s or a limit of 1e-308 fails here, named by its waypoint.
+ */
+static int segments_check(const rps3_waypoints *w, rps3_check *chk) {
+  double total = 0.0, vp = 0.0, ap = 0.0;
+  size_t i;
+  int k;
+  if (w->law != RPS3_LAW_QUINTIC)
+    rps3_law_peaks((int)w->law, w->blend, &vp, &ap);
+  for (i = 0; i + 1 < w->n; i++) {
+    double T = segment_duration(w, i), T2 = T * T;
+    char why[200];
+    total += T;
+    if (!(isfinite(T) && total <= (double)RPS3_TRAJ_SPAN_MAX)) {
+      /* the limit that stretches the segment most, or its time */
+      int id = RPS3_F_WP_TIME, kk = (int)i + 1;
+      double worst = -1.0, val = w->time[i + 1];
+      for (k = 0; k < 3; k++) {
+        double D = fabs(w->pose[i + 1][k] - w->pose[i][k]);
+        if (w->law == RPS3_LAW_QUINTIC) break;
+        if (w->vmax[k] > 0 && !(D * vp / w->vmax[k] <= worst)) {
+          worst = D * vp / w->vmax[k];
+          id = RPS3_F_WP_VMAX, kk = k, val = w->vmax[k];
+        }
+        if (w->amax[k] > 0 && !(sqrt(D * ap / w->amax[k]) <= worst)) {
+          worst = sqrt(D * ap / w->amax[k]);
+          id = RPS3_F_WP_AMAX, kk = k, val = w->amax[k];
+        }
+      }
+      if (!(worst > w->time[i + 1] - w->time[i])) {
+        id = RPS3_F_WP_TIME, kk = (int)i + 1, val = w->time[i + 1];
+      }
+      snprintf(why, sizeof why,
+               "the segment from waypoint %zu%s makes the span %g s, more "
+               "than %g s%s",
+               i, id == RPS3_F_WP_TIME ? "" : ", stretched to the limits,",
+               total, (double)RPS3_TRAJ_SPAN_MAX,
+               id == RPS3_F_WP_TIME ? "" : " (a limit too small for the "
+                                           "motion)");
+      return rps3_check_fail(chk, id, kk, val, RPS3_F_WP_TIME, -1, why);
+    }
+    for (k = 0; k < 3; k++) {
+      double D = fabs(w->pose[i + 1][k] - w->pose[i][k]), v, a;
+      if (w->law == RPS3_LAW_QUINTIC) {
+        double v0 = fabs(via_rate(w, i, k)), v1 = fabs(via_rate(w, i + 1, k));
+        double T3 = T2 * T;
+        double a3 = (20.0 * D + (8.0 * v1 + 12.0 * v0) * T) / (2.0 * T3);
+        double a4 = (30.0 * D + (14.0 * v1 + 16.0 * v0) * T) / (2.0 * T3 * T);
+        double a5 = (12.0 * D + 6.0 * (v1 + v0) * T) / (2.0 * T3 * T2);
+        /* the magnitudes' sums bound |q'| and |q''| over the segment */
+        v = v0 + T2 * (3.0 * a3 + T * (4.0 * a4 + T * 5.0 * a5));
+        a = T * (6.0 * a3 + T * (12.0 * a4 + T * 20.0 * a5));
+        if (!isfinite(a5)) v = a = (double)INFINITY;
+      } else {
+        v = D * vp / T;
+        a = D * ap / T2;
+        if (D > 0 && !(T2 > 0)) v = a = (double)INFINITY;
+      }
+      if (!isfinite(v * v) || !isfinite(a)) {
+        snprintf(why, sizeof why,
+                 "the segment from the previous waypoint (%.3g s, "
+                 "coordinate %d moving %.3g) needs a rate %.3g or an "
+                 "acceleration %.3g whose square or value is not finite",
+                 T, k, D, v, a);
+        return rps3_check_fail(chk, RPS3_F_WP_TIME, (int)i + 1,
+                               w->time[i + 1], RPS3_F_WP_POSE, -1, why);
+      }
+    }
+  }
+  return RPS3_OK;
+}
+
 int rps3_waypoints_check(const rps3_model *m, const rps3_waypoints *w,
                          rps3_check *chk) {
   size_t i;
@@ -172,5 +249,5 @@ int rps3_waypoints_check(const rps3_model *m, const rps3_waypoints *w,
                              "ball joint not above the base plane); value "
                              "is z_c");
   }
-  return RPS3_OK;
+  return segments_check(w, chk);
 }

@@ -344,6 +344,84 @@ static void laws_keep_the_model_limits(void **state) {
     }
 }
 
+/*
+ * A sensor glitch: a measured length or rate NaN or infinite, or the time
+ * not finite.  Every kind refuses it with RPS3_EINVAL and a message in
+ * meas->err naming the input, before any law forms a force; a force that
+ * overflows from finite inputs (gains near the largest double) is
+ * RPS3_ERANGE; no kind returns RPS3_OK with a force not finite.  And the
+ * controller works again on the next good measurement.
+ */
+static void non_finite_measurements(void **state) {
+  const double bad[3] = {(double)NAN, (double)INFINITY, -(double)INFINITY};
+  int kind;
+  (void)state;
+  for (kind = 0; kind < RPS3_NCTRL; kind++) {
+    rps3_model m;
+    rps3_data *d = NULL;
+    rps3_ctrl *c = NULL, *big = NULL;
+    rps3_traj tr;
+    double F[3], l[3], dl[3];
+    int b, i, which, st;
+    rps3_traj_default(&tr);
+    rps3_model_default(&m);
+    assert_int_equal(rps3_model_init(&m, NULL, 0), RPS3_OK);
+    assert_int_equal(rps3_data_alloc(&m, &d), RPS3_OK);
+    assert_int_equal(rps3_ctrl_alloc((rps3_ctrl_kind)kind, 100.0, 10.0, &m,
+                                     &tr, &c, NULL, 0),
+                     RPS3_OK);
+    assert_int_equal(rps3_traj_eval(&m, &tr, 1.0, d->pose, d->dpose, NULL),
+                     RPS3_OK);
+    assert_int_equal(rps3_ik(&m, d), RPS3_OK);
+    assert_int_equal(rps3_velocity(&m, d), RPS3_OK);
+    for (which = 0; which < 6; which++)
+      for (b = 0; b < 3; b++) {
+        char want[16];
+        for (i = 0; i < 3; i++) {
+          l[i] = d->l[i];
+          dl[i] = d->dl[i];
+        }
+        if (which < 3) l[which] = bad[b];
+        else dl[which - 3] = bad[b];
+        F[0] = F[1] = F[2] = 0.0;
+        st = rps3_ctrl_update(c, 1.0, l, dl, F);
+        if (st != RPS3_EINVAL)
+          fail_msg("kind %d, input %d = %g: status %d, F (%g, %g, %g)", kind,
+                   which, bad[b], st, F[0], F[1], F[2]);
+        snprintf(want, sizeof want, "measured %s%d", which < 3 ? "l" : "dl",
+                 which % 3 + 1);
+        if (strstr(c->meas->err.msg, want) == NULL)
+          fail_msg("kind %d: '%s' does not name %s", kind, c->meas->err.msg,
+                   want);
+      }
+    assert_int_equal(rps3_ctrl_update(c, (double)NAN, d->l, d->dl, F),
+                     RPS3_EINVAL);
+    assert_non_null(strstr(c->meas->err.msg, "time t"));
+    /* the next good measurement: a finite force */
+    assert_int_equal(rps3_ctrl_update(c, 1.0, d->l, d->dl, F), RPS3_OK);
+    assert_true(isfinite(F[0]) && isfinite(F[1]) && isfinite(F[2]));
+    /* finite inputs, gains that overflow the force: never OK with it */
+    if (kind != RPS3_CTRL_OPEN_LOOP) {
+      assert_int_equal(rps3_ctrl_alloc((rps3_ctrl_kind)kind, 1e308, 1e308,
+                                       &m, &tr, &big, NULL, 0),
+                       RPS3_OK);
+      for (i = 0; i < 3; i++) {
+        l[i] = d->l[i] - 10.0;
+        dl[i] = d->dl[i] - 10.0;
+      }
+      st = rps3_ctrl_update(big, 1.0, l, dl, F);
+      assert_true(st != RPS3_OK);
+      if (kind == RPS3_CTRL_PD) { /* the others' model refuses l first */
+        assert_int_equal(st, RPS3_ERANGE);
+        assert_non_null(strstr(big->meas->err.msg, "not finite"));
+      }
+      rps3_ctrl_free(big);
+    }
+    rps3_ctrl_free(c);
+    rps3_data_free(d);
+  }
+}
+
 int main(void) {
   const struct CMUnitTest tests[] = {
       cmocka_unit_test(pd_tracks_the_desired_rates),
@@ -351,6 +429,7 @@ int main(void) {
       cmocka_unit_test(repeated_and_earlier_times),
       cmocka_unit_test(laws_are_the_model_inverse_dynamics),
       cmocka_unit_test(laws_keep_the_model_limits),
+      cmocka_unit_test(non_finite_measurements),
   };
   return cmocka_run_group_tests(tests, NULL, NULL);
 }

@@ -738,6 +738,129 @@ static void errors(void **state) {
   }
 }
 
+/*
+ * Settings that would make a loop run for ever are refused before any
+ * work, with the field and the limit (rps3_sim_check_rate, rps3.h): a
+ * control rate of 1e9 or 1e300 Hz (a typo) against the step, a rate whose
+ * ticks double precision cannot tell apart at the run's times, a fixed
+ * step that would need more than max_steps steps a period; rps3_sim_advance
+ * refuses the same at once (RPS3_EINVAL, the run intact), and a t_end
+ * before the simulation's time.  Each limit is probed on both sides.
+ */
+static void bounded_calls(void **state) {
+  rps3_model m;
+  rps3_traj tr;
+  rps3_sim_options o;
+  rps3_sim *s;
+  char err[256];
+  double y0[8];
+  (void)state;
+  rps3_model_default(&m);
+  assert_int_equal(rps3_model_init(&m, NULL, 0), RPS3_OK);
+  rps3_traj_default(&tr);
+  rps3_sim_options_default(NULL); /* does nothing, does not crash */
+  rps3_sim_options_default(&o);
+#define RATE(rate_, tmax_, st_, field_)                                       \
+  do {                                                                        \
+    err[0] = '\0';                                                            \
+    assert_int_equal(rps3_sim_check_rate(&o, (rate_), (tmax_), err,          \
+                                         sizeof err), (st_));                \
+    if ((st_) != RPS3_OK && strstr(err, (field_)) != err)                     \
+      fail_msg("rate %g, t_max %g: %s", (double)(rate_), (double)(tmax_),   \
+               err);                                                          \
+  } while (0)
+  /* the step: at most RPS3_SIM_RATE_H_MAX periods a step h = 1 ms */
+  RATE(1000.0, 10.0, RPS3_OK, "");
+  RATE(0.0, 1e300, RPS3_OK, ""); /* continuous: max_steps bounds it */
+  RATE(0.5e6, 10.0, RPS3_OK, "");
+  RATE(2e6, 10.0, RPS3_EINVAL, "simulate.rate = ");
+  RATE(1e9, 10.0, RPS3_EINVAL, "simulate.rate = ");
+  RATE(1e300, 10.0, RPS3_EINVAL, "simulate.rate = ");
+  RATE(HUGE_VAL, 10.0, RPS3_EINVAL, "simulate.rate = ");
+  RATE((double)NAN, 10.0, RPS3_EINVAL, "simulate.rate = ");
+  RATE(-1.0, 10.0, RPS3_EINVAL, "simulate.rate = ");
+  /* the time: at most RPS3_SIM_MAX_PERIODS periods up to t_max */
+  RATE(1000.0, 0.5e5, RPS3_OK, "");
+  RATE(1000.0, 2e5, RPS3_EINVAL, "simulate.rate = ");
+  RATE(1000.0, 1e300, RPS3_EINVAL, "simulate.rate = ");
+  RATE(1000.0, (double)NAN, RPS3_EINVAL, "t_max = ");
+  /* rk4's steps a period against max_steps: h 1e-8 at 1 Hz is 1e8 */
+  o.h = 1e-8;
+  o.hmin = 1e-12;
+  RATE(1.0, 10.0, RPS3_EINVAL, "simulate.h = ");
+  o.max_steps = 200000000L;
+  RATE(1.0, 10.0, RPS3_OK, "");
+  rps3_sim_options_default(&o);
+  o.integrator = RPS3_INT_RKF45; /* adaptive: its own nmax bounds it */
+  o.h = 1e-8;
+  RATE(1.0, 10.0, RPS3_OK, "");
+  /* its h is a first guess: the period is measured against hmin */
+  o.h = 1.0;
+  RATE(1e4, 10.0, RPS3_OK, "");
+  RATE(1e16, 1e-9, RPS3_EINVAL, "simulate.rate = ");
+  assert_non_null(strstr(err, "hmin"));
+  rps3_sim_options_default(&o);
+  o.h = (double)NAN; /* the options' own check first */
+  RATE(1000.0, 10.0, RPS3_EINVAL, "simulate.h = ");
+#undef RATE
+
+  /* NULL pointers and unchecked structs: RPS3_EINVAL as rps3.h says */
+  {
+    const double p0[3] = {0.5, 0.1, 0.3};
+    double F[3];
+    rps3_ctrl bogus;
+    assert_int_equal(rps3_sim_start(NULL, 0.0, p0, p0), RPS3_EINVAL);
+    assert_int_equal(rps3_sim_advance(NULL, NULL, 1.0), RPS3_EINVAL);
+    assert_int_equal(rps3_ctrl_update(NULL, 0.0, p0, p0, F), RPS3_EINVAL);
+    memset(&bogus, 0, sizeof bogus);
+    bogus.kind = (rps3_ctrl_kind)9;
+    assert_int_equal(rps3_ctrl_update(&bogus, 0.0, p0, p0, F), RPS3_EINVAL);
+    bogus.kind = RPS3_CTRL_PD; /* never allocated: no workspaces */
+    assert_int_equal(rps3_ctrl_update(&bogus, 0.0, p0, p0, F), RPS3_EINVAL);
+  }
+
+  /* rps3_sim_advance: refused at once, nothing moves, the run goes on */
+  assert_int_equal(rps3_sim_alloc(&m, NULL, &s, NULL, 0), RPS3_OK);
+  start_on(s, &m, &tr, 0.0);
+  assert_int_equal(rps3_sim_advance(
+                       s, &(rps3_controller){zero_force, NULL, 1000.0}, 0.01),
+                   RPS3_OK);
+  memcpy(y0, s->y, sizeof y0);
+  {
+    const double bad_rate[3] = {1e9, 1e300, (double)INFINITY};
+    int k;
+    for (k = 0; k < 3; k++) {
+      rps3_controller c = {zero_force, NULL, bad_rate[k]};
+      assert_int_equal(rps3_sim_advance(s, &c, 1.0), RPS3_EINVAL);
+      assert_non_null(strstr(s->d->err.msg, "simulate.rate = "));
+    }
+  }
+  {
+    rps3_controller c = {zero_force, NULL, 1000.0};
+    assert_int_equal(rps3_sim_advance(s, &c, 1e300), RPS3_EINVAL);
+    assert_non_null(strstr(s->d->err.msg, "control periods a run"));
+    assert_int_equal(rps3_sim_advance(s, &c, 0.005), RPS3_EINVAL);
+    assert_non_null(strstr(s->d->err.msg, "is before the simulation's time"));
+    assert_int_equal(rps3_sim_advance(s, &c, (double)NAN), RPS3_EINVAL);
+    assert_int_equal(rps3_sim_advance(s, NULL, 1.0), RPS3_EINVAL);
+    assert_int_equal(rps3_sim_advance(
+                         s, &(rps3_controller){NULL, NULL, 1000.0}, 1.0),
+                     RPS3_EINVAL);
+    assert_true(s->t == 0.01 && memcmp(y0, s->y, sizeof y0) == 0);
+    assert_int_equal(s->status, RPS3_OK);
+    assert_int_equal(rps3_sim_advance(s, &c, 0.01), RPS3_OK); /* t_end = t */
+    assert_true(s->t == 0.01);
+    assert_int_equal(rps3_sim_advance(s, &c, 0.02), RPS3_OK);
+    assert_true(s->t == 0.02);
+  }
+  {
+    /* a continuous controller to a far t_end: max_steps ends the call */
+    rps3_controller c = {zero_force, NULL, 0.0};
+    assert_int_equal(rps3_sim_advance(s, &c, 1e300), RPS3_ENOCONV);
+  }
+  rps3_sim_free(s);
+}
+
 /* the implicit integrators run the same round trip (stiff friction is what
    they are for; here they must agree with the explicit ones) */
 static void implicit_integrators(void **state) {
@@ -840,6 +963,7 @@ int main(void) {
       cmocka_unit_test(hard_cases),
       cmocka_unit_test(stick_slip),
       cmocka_unit_test(errors),
+      cmocka_unit_test(bounded_calls),
       cmocka_unit_test(implicit_integrators),
       cmocka_unit_test(pure_relative_tolerance_refused),
   };

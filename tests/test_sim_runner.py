@@ -246,8 +246,9 @@ def test_file_conventions_and_refusals(runner, tmp_path):
     scene = tmp_path / "conv.yaml"
     proc = run(scene, None, "--check")
     assert proc.returncode == 0 and "simulated: 1 case" in proc.stdout
-    assert re.search(r"run time about .* on 1 thread \(an estimate: .* us a "
-                     r"simulated sample, timed on 400 samples\)", proc.stdout)
+    assert re.search(r"run time about .* on 1 thread \(an estimate: .* s a "
+                     r"simulated second, timed on .* simulated s, 400 "
+                     r"samples\)", proc.stdout)
     proc = run(scene, tmp_path / "p.h5", "--shard", "0/2")
     assert proc.returncode == 2
     assert "a simulated scene runs as one process" in proc.stderr
@@ -448,3 +449,34 @@ def test_a_signal_removes_the_temporary(runner, tmp_path):
     p.wait(timeout=30)
     assert p.returncode == -signal.SIGTERM
     assert sorted(x.name for x in tmp_path.iterdir()) == ["long.yaml"]
+
+
+def test_check_estimate_is_bounded_whatever_the_rate(runner, tmp_path):
+    """--check times a pilot within a fixed budget of control periods and
+    CPU time and extrapolates by simulated time: at 100 kHz over 100 s
+    (1e7 control periods, minutes of run) it answers in seconds; a typo
+    such as rate 1e9 is refused (exit 2) before any simulation."""
+    import time
+
+    def check(duration, rate):
+        scene = write_scene(
+            tmp_path / f"r{rate:g}_{duration:g}.yaml",
+            HEAD.replace("duration: 0.5", "duration: 0.5\n  dt: 0.1")
+                .replace("  dt: 0.001\n", "")
+            + f"simulate:\n  rate: {rate}\n  duration: {duration}\n")
+        t0 = time.monotonic()
+        proc = run(scene, None, "--check", timeout=60)
+        return proc, time.monotonic() - t0
+
+    proc, wall = check(100.0, 1e5)
+    assert proc.returncode == 0, proc.stderr
+    assert wall < 15, wall
+    m = re.search(r"an estimate: ([0-9.e+-]+) s a simulated second, timed "
+                  r"on ([0-9.e+-]+) simulated s", proc.stdout)
+    assert m, proc.stdout
+    # the pilot covers at most its budget of 20000 periods: 0.2 s here
+    assert float(m.group(2)) <= 0.2 + 1e-9
+    proc, wall = check(1e3, 1e9)
+    assert proc.returncode == 2
+    assert "simulate.rate: rate = 1e+09" in proc.stderr
+    assert wall < 15

@@ -369,6 +369,220 @@ static void refusals(void **state) {
   }
 }
 
+/* 1 when the run's own arithmetic fails somewhere on a dense grid of the
+   span: the trajectory, or the inverse dynamics (rates included), not OK
+   or not finite at a sample.  The oracle that a refusal of
+   overflow_refusals is one the run would meet, computed without
+   rps3_traj_check */
+static int run_would_fail(const rps3_model *m, const rps3_traj *tr) {
+  rps3_model mc = *m;
+  rps3_data *d;
+  double T = rps3_traj_duration(tr);
+  int i, bad = 0;
+  mc.opt.effects |= RPS3_EFF_PLATFORM_INERTIA | RPS3_EFF_LINK_INERTIA;
+  mc.opt.certify = 1;
+  assert_int_equal(rps3_model_init(&mc, NULL, 0), RPS3_OK);
+  assert_int_equal(rps3_data_alloc(&mc, &d), RPS3_OK);
+  for (i = 0; i <= 4096 && !bad; i++) {
+    double t = T * ((double)i / 4096.0);
+    int st = rps3_traj_eval(&mc, tr, t, d->pose, d->dpose, d->ddpose);
+    if (st == RPS3_OK) st = rps3_inverse(&mc, d);
+    bad = st == RPS3_ERANGE || (st == RPS3_OK && !(isfinite(d->F[0]) && isfinite(d->F[1]) && isfinite(d->F[2]))) ||
+          st == RPS3_EINVAL;
+  }
+  rps3_data_free(d);
+  return bad;
+}
+
+/* the refusal names its field and says no "nan" of its own making */
+#define OVERFLOW_REFUSED(tr_, id_, comp_, oracle_)                            \
+  do {                                                                        \
+    rps3_check c_;                                                            \
+    REFUSED(tr_, id_, comp_);                                                 \
+    rps3_traj_validate(&m, &(tr_), &c_);                                      \
+    if ((oracle_) && !run_would_fail(&m, &(tr_)))                             \
+      fail_msg("refused, but the run's arithmetic holds: %s", c_.msg);        \
+  } while (0)
+
+/*
+ * Every kind refuses, by its field, parameters whose motion overflows
+ * (rates whose squares, or accelerations, are not finite; dynamics that
+ * overflow) or whose span is not in (0, RPS3_TRAJ_SPAN_MAX], where the
+ * run would fail at every sample; each such refusal (but the span's,
+ * which is a bound of the runner's arithmetic) is checked against the
+ * run's own arithmetic on a grid, and the same kinds with sane
+ * parameters near them pass.
+ */
+static void overflow_refusals(void **state) {
+  rps3_model m;
+  rps3_traj tr;
+  double t_short[4] = {0.0, 1e-300, 2.5, 3.0};
+  double t_tbl[4] = {0.0, 1e-300, 1.0, 3.0};
+  double v_tbl[4][3], r_tbl[4][3], psi[4];
+  int i, k;
+  (void)state;
+  model_setup(&m);
+
+  /* helix: a period of 1e-300 s (its blend 4e-301 s) */
+  rps3_traj_default(&tr);
+  tr.helix.period = 1e-300;
+  tr.helix.blend = 4e-301;
+  OVERFLOW_REFUSED(tr, RPS3_F_HELIX_PERIOD, 0, 1);
+  tr.helix.period = 1e-3; /* fast, not absurd */
+  tr.helix.blend = 4e-4;
+  assert_int_equal(rps3_traj_check(&m, &tr, NULL, 0), RPS3_OK);
+
+  /* sine: a span past the bound, rates that overflow the dynamics */
+  rps3_traj_default(&tr);
+  tr.kind = RPS3_TRAJ_SINE;
+  tr.sine.mean[1] = 0.1;
+  tr.sine.mean[2] = 0.3;
+  tr.sine.amp[0] = 0.1;
+  tr.sine.freq[0] = 1.0;
+  tr.sine.duration = 1e13;
+  OVERFLOW_REFUSED(tr, RPS3_F_SINE_DURATION, 0, 0);
+  tr.sine.duration = 1.0;
+  assert_int_equal(rps3_traj_check(&m, &tr, NULL, 0), RPS3_OK);
+  tr.sine.freq[0] = 1e150;
+  REFUSED(tr, RPS3_F_SINE_FREQ, 0);
+
+  /* waypoints: a limit that stretches the span past the bound, by the
+     limit; a segment of 1e-300 s, by its time, for each law */
+  wp_setup(&tr, RPS3_LAW_MINJERK);
+  tr.wp.vmax[0] = 3e-308;
+  OVERFLOW_REFUSED(tr, RPS3_F_WP_VMAX, 0, 0);
+  tr.wp.vmax[0] = 0.0;
+  tr.wp.amax[2] = 1e-300;
+  OVERFLOW_REFUSED(tr, RPS3_F_WP_AMAX, 2, 0);
+  tr.wp.amax[2] = 1e-3; /* a slow, sane stretch */
+  assert_int_equal(rps3_traj_check(&m, &tr, NULL, 0), RPS3_OK);
+  for (k = 0; k < 3; k++) {
+    wp_setup(&tr, (rps3_time_law)k);
+    tr.wp.time = t_short;
+    OVERFLOW_REFUSED(tr, RPS3_F_WP_TIME, 1, 1);
+  }
+
+  /* path: turns 1e300 (rates overflow) and 1e150 (the dynamics do), a
+     line lasting 1e-300 s, a helix 1e-200 s */
+  path_setup(&tr, RPS3_PATH_CIRCLE);
+  tr.path.centre[0] = 0.01;
+  tr.path.radius = 0.03;
+  tr.path.turns = 1e300;
+  OVERFLOW_REFUSED(tr, RPS3_F_PATH_TURNS, 0, 1);
+  tr.path.turns = 1e150;
+  OVERFLOW_REFUSED(tr, RPS3_F_PATH_TURNS, 0, 1);
+  tr.path.turns = 1e3;
+  assert_int_equal(rps3_traj_check(&m, &tr, NULL, 0), RPS3_OK);
+  path_setup(&tr, RPS3_PATH_LINE);
+  tr.path.duration = 1e-300;
+  OVERFLOW_REFUSED(tr, RPS3_F_PATH_DURATION, 0, 1);
+  path_setup(&tr, RPS3_PATH_HELIX);
+  tr.path.turns = 1.0;
+  tr.path.duration = 1e-200;
+  OVERFLOW_REFUSED(tr, RPS3_F_PATH_DURATION, 0, 1);
+
+  /* tables: two rows 1e-300 s apart, of the pose and of a path */
+  for (i = 0; i < 4; i++) {
+    double a = 0.3 - 0.1 * i;
+    v_tbl[i][0] = a;
+    v_tbl[i][1] = 0.08;
+    v_tbl[i][2] = 0.3;
+    r_tbl[i][0] = r_tbl[i][1] = r_tbl[i][2] = 0.0;
+  }
+  rps3_traj_default(&tr);
+  tr.kind = RPS3_TRAJ_TABLE;
+  tr.table.n = 4;
+  tr.table.time = t_tbl;
+  tr.table.value = (const double(*)[3])v_tbl;
+  tr.table.rate = (const double(*)[3])r_tbl;
+  OVERFLOW_REFUSED(tr, RPS3_F_TABLE_TIME, 1, 1);
+  tr.table.time = wp_time;
+  assert_int_equal(rps3_traj_check(&m, &tr, NULL, 0), RPS3_OK);
+  for (i = 0; i < 4; i++) {
+    v_tbl[i][0] = 0.02 * cos(0.3 * i);
+    v_tbl[i][1] = 0.02 * sin(0.3 * i);
+  }
+  assert_int_equal(rps3_table_unwrap(4, (const double(*)[3])v_tbl, psi),
+                   RPS3_OK);
+  path_setup(&tr, RPS3_PATH_TABLE);
+  tr.path.table.n = 4;
+  tr.path.table.time = t_tbl;
+  tr.path.table.value = (const double(*)[3])v_tbl;
+  tr.path.table.rate = (const double(*)[3])r_tbl;
+  tr.path.table_psi = psi;
+  OVERFLOW_REFUSED(tr, RPS3_F_PATH_TABLE_TIME, 1, 1);
+  tr.path.table.time = wp_time;
+  assert_int_equal(rps3_traj_check(&m, &tr, NULL, 0), RPS3_OK);
+}
+
+/*
+ * rps3_traj_eval's argument errors, on trajectories that never passed
+ * rps3_traj_check: RPS3_EINVAL (as rps3.h promises) before the span is
+ * looked at, for missing arrays, a law or shape out of range, an unknown
+ * kind; the outputs are NaN, never what the caller's arrays held.
+ */
+static void eval_argument_errors(void **state) {
+  rps3_model m;
+  rps3_traj tr;
+  double q[3] = {7, 7, 7}, dq[3] = {7, 7, 7}, ddq[3] = {7, 7, 7};
+  int k;
+  (void)state;
+  model_setup(&m);
+#define EVAL_EINVAL(t_)                                                       \
+  do {                                                                        \
+    q[0] = dq[1] = ddq[2] = 7.0;                                              \
+    assert_int_equal(rps3_traj_eval(&m, &tr, (t_), q, dq, ddq), RPS3_EINVAL); \
+    for (k = 0; k < 3; k++)                                                   \
+      assert_true(isnan(q[k]) && isnan(dq[k]) && isnan(ddq[k]));             \
+  } while (0)
+  wp_setup(&tr, RPS3_LAW_LSPB);
+  tr.wp.time = NULL;
+  EVAL_EINVAL(0.5);
+  wp_setup(&tr, RPS3_LAW_LSPB);
+  tr.wp.pose = NULL;
+  EVAL_EINVAL(0.5);
+  wp_setup(&tr, RPS3_LAW_LSPB);
+  tr.wp.law = (rps3_time_law)7;
+  EVAL_EINVAL(0.5);
+  wp_setup(&tr, RPS3_LAW_LSPB);
+  tr.wp.law = (rps3_time_law)-1;
+  EVAL_EINVAL(0.5);
+  wp_setup(&tr, RPS3_LAW_LSPB);
+  tr.wp.blend = 0.7; /* blends that overlap: no motion from 0 to 1 */
+  EVAL_EINVAL(0.5);
+  tr.wp.blend = 0.0;
+  EVAL_EINVAL(0.5);
+  rps3_traj_default(&tr);
+  tr.helix.blend = 6.0; /* past T* / 2 */
+  EVAL_EINVAL(0.5);
+  tr.helix.blend = 1.0;
+  tr.helix.period = -10.0;
+  EVAL_EINVAL(0.0);
+  path_setup(&tr, RPS3_PATH_CIRCLE);
+  tr.path.shape = (rps3_path_shape)9;
+  EVAL_EINVAL(1.0);
+  path_setup(&tr, RPS3_PATH_CIRCLE);
+  tr.path.law = RPS3_LAW_LSPB;
+  tr.path.blend = 0.9;
+  EVAL_EINVAL(1.0);
+  path_setup(&tr, RPS3_PATH_LINE);
+  tr.path.law = (rps3_time_law)5;
+  EVAL_EINVAL(1.0);
+  path_setup(&tr, RPS3_PATH_TABLE); /* no rows */
+  EVAL_EINVAL(0.0);
+  rps3_traj_default(&tr);
+  tr.kind = RPS3_TRAJ_TABLE;
+  EVAL_EINVAL(0.0);
+  tr.kind = (rps3_traj_kind)0;
+  EVAL_EINVAL(0.0);
+  /* a valid one outside its span: EDOMAIN, NaN out */
+  wp_setup(&tr, RPS3_LAW_LSPB);
+  assert_int_equal(rps3_traj_eval(&m, &tr, 3.5, q, dq, ddq), RPS3_EDOMAIN);
+  assert_true(isnan(q[0]) && isnan(dq[0]) && isnan(ddq[0]));
+  assert_int_equal(rps3_traj_eval(&m, &tr, 1.5, q, dq, ddq), RPS3_OK);
+#undef EVAL_EINVAL
+}
+
 int main(void) {
   const struct CMUnitTest tests[] = {
       cmocka_unit_test(waypoints_derivatives),
@@ -378,6 +592,8 @@ int main(void) {
       cmocka_unit_test(path_traced),
       cmocka_unit_test(helix_as_path),
       cmocka_unit_test(refusals),
+      cmocka_unit_test(overflow_refusals),
+      cmocka_unit_test(eval_argument_errors),
   };
   return cmocka_run_group_tests(tests, NULL, NULL);
 }
