@@ -680,7 +680,8 @@ int main(int argc, char **argv) {
   CASE("stages_closed_lagrange_paper_nocert", "the per-point stages alone "
        "(ik, velocity, acceleration, invdyn: rps3_inverse_stages, the "
        "path of every configuration outside the one-point kernel and "
-       "of the points it does not certify), closed-form theta, the paper's effects, Lagrange, certify off",
+       "of the points it does not certify), closed-form theta, the "
+       "paper's effects, Lagrange, certify off",
        K_INVERSE, SCENE_PAPER, RPS3_LAGRANGE, RPS3_THETA_CLOSED_FORM, 1, 0,
        BENCH_NONE, 0);
   cases[ncase - 1].stages = 1;
