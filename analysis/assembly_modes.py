@@ -126,7 +126,8 @@ def main():
                     "\nwhite unreachable; black line: det df/dtheta = 0",
                     fontsize=9)
 
-    # the pose of the issue, and the root a level-platform start reaches
+    # a pose beyond the singular surface, and the root a level-platform
+    # start reaches
     b = balls_of_pose(0.5, 0.9, 0.2)
     l, th = joints_of_balls(b)
     th_level = np.arccos(np.clip((R - r) / l, -0.999, 0.999))

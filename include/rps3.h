@@ -742,8 +742,8 @@ typedef struct {
   size_t nfail;          /* written: number of points whose status is not
                             RPS3_OK */
   size_t first_fail;     /* written: index of the first of them (n if none) */
-  /* (members after first_fail were added later: a caller that zeroes the
-     struct, as every caller should, keeps working) */
+  /* (a caller that zeroes the struct, as every caller should, leaves the
+     members below NULL: not written; new members go at the end only) */
   double *transmission;  /* n: force transmission (inverse) [-], as
                             d->transmission */
   double *dl;            /* 3 n: link rates (inverse) [m/s]; NaN when no

@@ -2,8 +2,8 @@
 `effects` list selects the paper's four effects plus a configured payload
 or pin friction; an explicit list that leaves out a configured one is
 refused with FILE:LINE:COL naming both keys (tests/bad_scenes/ has the two
-plain cases).  A 0.5 kg payload left out used to run with exit 0 and a
-peak force 4.66 times too small."""
+plain cases).  A 0.5 kg payload left out silently would give a peak
+force 4.66 times too small."""
 
 import h5py
 import numpy as np

@@ -414,8 +414,8 @@ def test_strict_numbers_on_the_command_line(runner, tmp_path, args):
 
 
 def test_a_huge_shard_count_is_refused(runner, tmp_path):
-    """--shard 1/18446744073709551615 (the job loop used to wrap around to
-    job 0): N above the jobs is refused, with the job count."""
+    """--shard 1/18446744073709551615 (a job loop that wrapped around
+    would start at job 0): N above the jobs is refused, with the job count."""
     scene = write_scene(tmp_path / "s.yaml",
                         SINE_SWEEP.replace("num: 100", "num: 40"))
     out = tmp_path / "p.h5"

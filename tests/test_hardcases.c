@@ -1,5 +1,5 @@
 /*
- * test_hardcases.c - the hard cases of issue 4 stay numerically stable:
+ * test_hardcases.c - the hard cases of docs/hard-cases.md stay stable:
  * beta -> 0, the approach to a singular configuration, extreme rho and R
  * (forces against dimensional analysis), zero masses and rates, the helix
  * blend corners, random poses across the workspace, the theta solve from

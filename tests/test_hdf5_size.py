@@ -32,8 +32,8 @@ SCENES = {
     # stored two whole windows
     "windows": ("samples: 16500",
                 "manipulator.m_over_M: [0, 0.5, 1]"),
-    # a sweep of the span with dt: 1001 to 11001 samples a case; every
-    # case used to store the longest one's samples
+    # a sweep of the span with dt: 1001 to 11001 samples a case; no case
+    # may store the longest one's samples
     "spans": ("dt: 0.002",
               "trajectory.period: {from: 2, to: 22, step: 1}"),
 }

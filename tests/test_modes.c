@@ -38,8 +38,8 @@ static int mode_of_pose(const rps3_model *m, rps3_data *d, const double p[3]) {
 /*
  * Random reachable poses, each solved from the cold (level-platform)
  * guess: a start on the level side lands on the other assembly mode for
- * poses beyond the singular surface (the issue measured 649 of 5,820 with
- * forces up to 291 % off).  Every OK must have the pose's own theta and
+ * poses beyond the singular surface (649 of 5,820 random poses did in one
+ * sample, with forces up to 291 % off).  Every OK must have the pose's own theta and
  * the closed form's forces; the others must be RPS3_EMODE (or another
  * failure code), with a message.
  */

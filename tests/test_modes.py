@@ -35,6 +35,6 @@ def test_multiroot_on_another_mode_is_refused(runner, tmp_path):
         msg = msg.decode() if isinstance(msg, bytes) else str(msg)
         assert "another assembly mode" in msg and "(39)" in msg, msg
         assert f["failed_at"][1] == 0
-        # the closed form gives the true forces of the issue
+        # the closed form gives the true forces of this pose
         np.testing.assert_allclose(f["force"][0, 0], [-5.8573, 4.2312, 2.4129],
                                    atol=1e-4)

@@ -231,10 +231,10 @@ static void void_functions_null(void **state) {
  * The theta solve with every solver on hard inputs: random and extreme
  * link lengths (1e-8 to 1e8 R), starts at 0 and pi (where every sine
  * vanishes), far outside (0, pi).  Whatever the outcome, the library must
- * not reach GSL's error handler (which would abort this program).  With
- * the old code, dnewton reached lu.c ("matrix is singular") and broyden
- * broyden.c ("approximation to Jacobian has collapsed") within a few
- * thousand of these.
+ * not reach GSL's error handler (which would abort this program).  Without
+ * the library's checks, dnewton reaches lu.c ("matrix is singular") and
+ * broyden broyden.c ("approximation to Jacobian has collapsed") within a
+ * few thousand of these.
  */
 static void solvers_never_reach_gsl_handler(void **state) {
   /* a broyden stall found this way: it converges to 4.9e-12 > tol and

@@ -104,8 +104,9 @@ def test_workspace_file_and_plot(tmp_path):
     assert (level[ds["status"].sel(beta=0.0).values == 0] == 1).all()
     assert 0.5 < ok.mean() < 1.0
     # the safe region is drawn with the force transmission: its holding
-    # forces stay moderate (the old cond < 1e6 region held 2.3e4 N), and
-    # every refused point past trans_max is singular (status 4)
+    # forces stay moderate (a region of cond < 1e6 alone would hold
+    # 2.3e4 N), and every refused point past trans_max is singular
+    # (status 4)
     tr = ds["transmission"].values
     assert ds["transmission"].attrs["units"] == "1"
     assert np.isfinite(tr[ok]).all() and (tr[ok] <= 1e8).all()

@@ -28,8 +28,7 @@ static double fmax3(const double F[3]) {
  * lambda system stays at exactly 3, but the holding force grows like
  * 1 / z_c.  The transmission follows the force: past trans_warn (100) the
  * point carries RPS3_WARN_TRANS, past trans_max (1e8) it is RPS3_ESING
- * with a message; at z_c = 1e-12 m it is refused (it used to return 2e11 N,
- * status OK, no warning).
+ * with a message; at z_c = 1e-12 m it is refused (the forces would be 2e11 N).
  */
 static void level_platform_lowered(void **state) {
   rps3_model m;
@@ -65,7 +64,7 @@ static void level_platform_lowered(void **state) {
     }
   }
   assert_true(nok > 3 && nwarn > 3 && nsing > 3);
-  /* the point */
+  /* the pose at z_c -> 0: the platform in the base plane */
   d->pose[2] = 1e-12;
   assert_int_equal(rps3_inverse(&m, d), RPS3_ESING);
   rps3_data_free(d);

@@ -28,7 +28,8 @@
  *   with condition numbers ~10 and ~100 operations that is < 1e-13, and
  *   1e-12 leaves room without hiding a wrong term (which shows at 1e-3).
  * TOL_PHYS: identities that hold exactly along a trajectory (energy rate,
- *   Lagrange = Newton-Euler, sum of effects): the issue's 1e-9.
+ *   Lagrange = Newton-Euler, sum of effects): 1e-9, the project's
+ *   required agreement.
  * TOL_FD: central differences with step h: truncation h^2 |f'''| / 6 plus
  *   rounding eps |f| / h; h = 1e-5 s gives ~1e-10 + 1e-11 relative on these
  *   smooth functions, and 1e-7 is a bound with margin.

@@ -75,7 +75,7 @@ static const column columns[] = {
     COL_D(max_ns, "ns", "slowest batch, time per call"),
     COL_D(cpu_median_ns, "ns",
           "median over batches of the thread CPU time per call"),
-    COL_D(target_ns, "ns", "target time per call set by issue 5; NaN: none"),
+    COL_D(target_ns, "ns", "goal time per call (docs/performance.md); NaN: none"),
     COL_D(mean_iter, "1",
           "theta-solve iterations per call, mean over the timed calls; NaN: "
           "no theta solve"),

@@ -27,7 +27,7 @@ import numpy as np
 import rps3
 from rps3._rps3 import ffi, lib
 
-GOAL = 1.5  # package / C batch, issue 10
+GOAL = 1.5  # package / C batch (docs/performance.md)
 
 
 def timed(fns, repeats):

@@ -38,8 +38,9 @@ import numpy as np
 ROOT = os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(
     __file__))))
 SAMPLES = 1000
-TARGET_RATE = 1e6       # points per second per core, issue 5
-TARGET_RSS_MIB = 64.0   # peak RSS at 10^7 points, issue 5
+# the goals of docs/performance.md, "Goals and today's numbers"
+TARGET_RATE = 1e6       # points per second per core
+TARGET_RSS_MIB = 64.0   # peak RSS at 10^7 points
 GNU_TIME = "/usr/bin/time"  # Debian package `time`
 
 SCENE = """\
@@ -273,7 +274,7 @@ def print_table(rows):
     for r in rows:
         if r["points"] >= 10**6 and r["gzip"] == 0 and r["threads"] == 1 \
                 and r["theta"] == "closed_form":
-            print(f"target >= 3 Mpt per CPU-s (issue 13), {r['run']} "
+            print(f"target >= 3 Mpt per CPU-s, {r['run']} "
                   f"(--fields {r['fields']}): "
                   f"{r['points_per_cpu_s'] / 1e6:.2f} Mpt/cpu-s "
                   f"({r['points'] / r['cpu_max_s'] / 1e6:.2f}-"
