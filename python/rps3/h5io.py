@@ -74,12 +74,13 @@ def sweep_values(f):
 
 
 def times(f):
-    """[case, time] array of sample times [s] (NaN past a case's end)."""
-    ncase, nt = len(f["case"]), len(f["time"])
+    """[case, time] array of sample times [s] (NaN past a case's end):
+    case_time where the cases' time grids differ (the samples' dimension
+    is then ``sample``), else ``time`` for every case."""
     if "case_time" in f:
         return f["case_time"][()]
     t = f["time"][()]
-    return np.broadcast_to(t, (ncase, nt))
+    return np.broadcast_to(t, (len(f["case"]), len(t)))
 
 
 def case_where(f, **values):

@@ -64,7 +64,6 @@ _RC: dict[str, Any] = {
     # text stays text in vector output: searchable, editable
     "pdf.fonttype": 42,
     "svg.fonttype": "none",
-    "savefig.bbox": "tight",
 }
 
 
@@ -104,7 +103,8 @@ def save(fig: Figure, path: str | os.PathLike[str], dpi: float | None = None,
     d = DPI if dpi is None else float(dpi)
     if not d > 0:
         raise ValueError(f"dpi must be positive, not {dpi}")
-    fig.savefig(path, format=fmt, dpi=d,
+    # tight here, not in the style: rcParams are the user's session's too
+    fig.savefig(path, format=fmt, dpi=d, bbox_inches="tight",
                 metadata={"Creator": "rps3"} if fmt != "png" else None)
     if close:
         plt.close(fig)
