@@ -574,6 +574,18 @@ RPS3_API int rps3_velocity(const rps3_model *m, rps3_data *d);
 RPS3_API int rps3_acceleration(const rps3_model *m, rps3_data *d);
 
 /*
+ * The link motion of a pose and its rates alone, a controller's desired
+ * motion: l, dl and (acc not 0) ddl from d->pose, d->dpose (and
+ * d->ddpose) by the derivatives of l_i^2 = |b_i - P_i|^2, with no theta
+ * and no link directions (d->stage 0: nothing else of d is set), about
+ * half the work of rps3_ik + rps3_velocity + rps3_acceleration, whose
+ * l, dl, ddl it gives to rounding.  Returns RPS3_OK, RPS3_EINVAL (pose or
+ * rates not finite), RPS3_EREACH (no link through a ball joint above
+ * its pin) or RPS3_ERANGE (a result not finite).
+ */
+RPS3_API int rps3_link_motion(const rps3_model *m, rps3_data *d, int acc);
+
+/*
  * Velocities from link rates, eqs. (25)-(30): from d->dl (after a position
  * stage) compute dtheta through the constraint Jacobian
  * (df/dtheta) dtheta = -(df/dl) dl, then vc (25) and omega from the ball

@@ -788,9 +788,9 @@ static void implicit_integrators(void **state) {
  * Computed torque written by a user (tests/bench/user_law.h, public API
  * alone) that declares RPS3_CTRL_USES_PLANT and takes the offered Mq and hq
  * gives the run of the library's computed torque (rps3_ctrl_bind) to
- * TOL_EXACT: the two differ only by the rounding of the desired motion
- * (rps3_ik, rps3_velocity, rps3_acceleration against the library's link
- * motion).  It is offered the plant's state at every tick, the first too;
+ * TOL_EXACT (bit for bit but for the rounding of F = Mq a + hq: the same
+ * operations in another order).  It is offered the plant's state at every
+ * tick, the first too;
  * the same law solving its own model (rps3_fwddyn) gives the same run to
  * the theta solve's tolerance.
  */

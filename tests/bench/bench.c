@@ -774,7 +774,7 @@ int main(int argc, char **argv) {
   CASE("sim_helix_user_plant_1khz_rk4", "the control period of "
        "sim_helix_computed_torque_1khz_rk4 under the same law written by "
        "the user (tests/bench/user_law.h: public API, desired motion by "
-       "rps3_ik, rps3_velocity, rps3_acceleration), declaring "
+       "rps3_link_motion), declaring "
        "RPS3_CTRL_USES_PLANT: the plant's Mq and hq offered at the tick; "
        "1000 ns = 1000x real time", K_SIM, SCENE_PAPER, RPS3_LAGRANGE,
        RPS3_THETA_CLOSED_FORM, 1, 0, TARGET_SIM_NS, 0);

@@ -5,9 +5,9 @@
  *   F = Mq(l) a + hq(l, dl),  a = ddl_d + kp (l_d - l) + kd (dl_d - dl),
  * whose Mq and hq are the plant's offered state when the law's model is the
  * plant's (the user says so: plant_is_mine), else its own model's by
- * rps3_fwddyn at the measured state.  The desired motion is rps3_ik,
- * rps3_velocity and rps3_acceleration of the trajectory's pose (after the
- * trajectory's span: its final pose, at rest).  Used by tests/test_sim.c
+ * rps3_fwddyn at the measured state.  The desired motion is
+ * rps3_link_motion of the trajectory's pose (after the trajectory's span:
+ * its final pose, at rest).  Used by tests/test_sim.c
  * (the same run as the library's law) and by rps3-bench (its speed).
  */
 #ifndef RPS3_USER_LAW_H
@@ -62,9 +62,7 @@ static int user_law_update(void *state, double t, const double l[3],
   if (st != RPS3_OK) return st;
   if (rest)
     for (i = 0; i < 3; i++) d->dpose[i] = d->ddpose[i] = 0.0;
-  st = rps3_ik(&u->model, d);
-  if (st == RPS3_OK) st = rps3_velocity(&u->model, d);
-  if (st == RPS3_OK) st = rps3_acceleration(&u->model, d);
+  st = rps3_link_motion(&u->model, d, 1);
   if (st != RPS3_OK) return st;
   for (i = 0; i < 3; i++)
     a[i] = d->ddl[i] + u->kp * (d->l[i] - l[i]) + u->kd * (d->dl[i] - dl[i]);
