@@ -1278,8 +1278,10 @@ RPS3_API int rps3_traj_validate(const rps3_model *m, const rps3_traj *tr,
  * with rate 0, at every evaluation as a continuous force law (open-loop
  * feedforward, an ideal continuous controller).  At a tick the controller
  * sees the measured lengths and rates: the true ones plus optional Gaussian
- * noise (a generator of the simulation, seeded) and quantised.  The
- * actuators saturate at |F_i| <= fmax.
+ * noise (a generator of the simulation, seeded) and quantised; a
+ * controller that declares RPS3_CTRL_USES_PLANT is offered the plant's
+ * state there too (rps3_plant_state).  The actuators saturate at
+ * |F_i| <= fmax.
  *
  * A run stops at the first failure with a status and the time: the plant's
  * forward dynamics failing (RPS3_ESING near a singular configuration,

@@ -89,10 +89,18 @@ static int call_law(const rps3_controller *c, double t, const double l[3],
   return c->fn(c->state, t, l, dl, F);
 }
 
-/* 1: the controller of a run takes the plant's state at its ticks, which
-   the run then keeps (RPS3_FD_KEEP) */
-static int keeps_plant(const rps3_controller *c) {
-  return c != NULL && (c->caps & RPS3_CTRL_USES_PLANT) && c->rate > 0.0;
+/* 1: the measurement is the state (no noise, no quantisation) */
+static int exact_measurement(const rps3_sim *s) {
+  return !(s->opt.noise_l > 0.0 || s->opt.noise_dl > 0.0 ||
+           s->opt.quant_l > 0.0 || s->opt.quant_dl > 0.0);
+}
+
+/* 1: the run's controller is offered the plant's state at its ticks,
+   which the run then keeps (RPS3_FD_KEEP) at the end of each period */
+static int keeps_plant(const rps3_sim *s) {
+  const rps3_controller *c = s->ctrl;
+  return c != NULL && (c->caps & RPS3_CTRL_USES_PLANT) && c->rate > 0.0 &&
+         exact_measurement(s);
 }
 
 /* the plant's state part at y = (l, dl) into s->gsl->fd, unless the kept
@@ -271,9 +279,7 @@ static const rps3_plant_state *offer_plant(rps3_sim *s, rps3_plant_state *v,
                                            int *status) {
   const rps3_fd_state *k = &s->gsl->fd;
   *status = RPS3_OK;
-  if (s->opt.noise_l > 0.0 || s->opt.noise_dl > 0.0 ||
-      s->opt.quant_l > 0.0 || s->opt.quant_dl > 0.0)
-    return NULL;
+  if (!keeps_plant(s)) return NULL;
   *status = plant_state(s, s->y, 1, 1);
   if (*status != RPS3_OK) return NULL;
   v->model = &s->plant;
@@ -418,7 +424,7 @@ static int settle(rps3_sim *s, int report) {
                "%.9g s", i + 1, s->y[i], s->opt.l_min, s->opt.l_max, s->t);
       return fail(s, RPS3_EREACH, s->t);
     }
-  st = evaluate(s, s->t, s->y, !report, keeps_plant(s->ctrl));
+  st = evaluate(s, s->t, s->y, !report, keeps_plant(s));
   if (st != RPS3_OK) return fail(s, st, s->t);
   s->gsl->reported = report;
   if (report) update_energy(s);
@@ -460,7 +466,7 @@ static void report_failed(rps3_sim *s) {
 static int report_end(rps3_sim *s) {
   int st;
   if (s->gsl->reported) return RPS3_OK;
-  st = evaluate(s, s->t, s->y, 0, keeps_plant(s->ctrl));
+  st = evaluate(s, s->t, s->y, 0, keeps_plant(s));
   if (st != RPS3_OK) return fail(s, st, s->t);
   s->gsl->reported = 1;
   update_energy(s);
