@@ -1374,7 +1374,9 @@ typedef struct {
                                 friction of the plant's effects) */
   int mode;                  /* assembly mode (rps3_data.mode) */
   const struct rps3_fd_state *fd; /* internal: the plant's kept state, whose
-                                kinematics rps3_ctrl_update_plant takes */
+                                kinematics rps3_ctrl_update_plant takes
+                                (NULL in a view built by hand: then it
+                                solves its own) */
 } rps3_plant_state;
 
 /* rps3_controller.caps: what a controller declares it can use */
