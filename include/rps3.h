@@ -62,10 +62,10 @@ extern "C" {
 
 /* ---------------------------------------------------------------- version */
 
-#define RPS3_VERSION_MAJOR 0
-#define RPS3_VERSION_MINOR 1
+#define RPS3_VERSION_MAJOR 1
+#define RPS3_VERSION_MINOR 0
 #define RPS3_VERSION_PATCH 0
-#define RPS3_VERSION_STRING "0.1.0"
+#define RPS3_VERSION_STRING "1.0.0"
 
 /* Version string of the compiled library; compare with RPS3_VERSION_STRING. */
 RPS3_API const char *rps3_version(void);
@@ -578,6 +578,18 @@ RPS3_API int rps3_velocity(const rps3_model *m, rps3_data *d);
  * of 1e200 whose squares overflow).
  */
 RPS3_API int rps3_acceleration(const rps3_model *m, rps3_data *d);
+
+/*
+ * The link motion of a pose and its rates alone, a controller's desired
+ * motion: l, dl and (acc not 0) ddl from d->pose, d->dpose (and
+ * d->ddpose) by the derivatives of l_i^2 = |b_i - P_i|^2, with no theta
+ * and no link directions (d->stage 0: nothing else of d is set), about
+ * half the work of rps3_ik + rps3_velocity + rps3_acceleration, whose
+ * l, dl, ddl it gives to rounding.  Returns RPS3_OK, RPS3_EINVAL (pose or
+ * rates not finite), RPS3_EREACH (no link through a ball joint above
+ * its pin) or RPS3_ERANGE (a result not finite).
+ */
+RPS3_API int rps3_link_motion(const rps3_model *m, rps3_data *d, int acc);
 
 /*
  * Velocities from link rates, eqs. (25)-(30): from d->dl (after a position
@@ -1293,8 +1305,10 @@ RPS3_API int rps3_traj_validate(const rps3_model *m, const rps3_traj *tr,
  * with rate 0, at every evaluation as a continuous force law (open-loop
  * feedforward, an ideal continuous controller).  At a tick the controller
  * sees the measured lengths and rates: the true ones plus optional Gaussian
- * noise (a generator of the simulation, seeded) and quantised.  The
- * actuators saturate at |F_i| <= fmax.
+ * noise (a generator of the simulation, seeded) and quantised; a
+ * controller that declares RPS3_CTRL_USES_PLANT is offered the plant's
+ * state there too (rps3_plant_state).  The actuators saturate at
+ * |F_i| <= fmax.
  *
  * A run stops at the first failure with a status and the time: the plant's
  * forward dynamics failing (RPS3_ESING near a singular configuration,
@@ -1359,10 +1373,70 @@ RPS3_API void rps3_sim_options_default(rps3_sim_options *o);
  */
 typedef int (*rps3_control_fn)(void *state, double t, const double l[3],
                                const double dl[3], double F[3]);
+
+struct rps3_fd_state; /* internal: a forward-dynamics state */
+
+/*
+ * The plant at a controller's tick, offered to a controller that declares
+ * RPS3_CTRL_USES_PLANT: a read-only view of the state the simulation has
+ * evaluated there anyway, so that a controller whose model shares the
+ * plant's geometry (or all of it) need not solve theta, or form Mq and hq,
+ * again.  Valid only during the call.  Offered (not NULL) at a tick of a
+ * controller with rate > 0 whose measurement is exact (no noise, no
+ * quantisation: then l, dl below are the measured ones bit for bit); NULL
+ * otherwise (noise or quantisation on, a continuous controller).  The
+ * state is a lean one: no pose, no positions (s->d holds them after the
+ * call of rps3_sim_advance).  What the controller may take is its own
+ * decision: e.g. theta and its rates when its model has the plant's R and
+ * rho, Mq and hq only when its masses and effects are the plant's too.
+ */
 typedef struct {
-  rps3_control_fn fn;
-  void *state;       /* passed to fn */
-  double rate;       /* control rate [Hz], zero-order hold; 0: continuous */
+  const rps3_model *model;   /* the plant's model (the simulation's copy) */
+  double t;                  /* the tick's time [s] */
+  double l[3], dl[3];        /* link lengths [m] and rates [m/s] */
+  double theta[3];           /* link angles, the theta solve's root [rad] */
+  double dtheta[3];          /* their rates [rad/s] */
+  double Mq[9];              /* the plant's inverse dynamics in the link
+                                coordinates, F = Mq ddl + hq ((23) in joint
+                                space): Mq row-major [kg], */
+  double hq[3];              /* hq [N] (gravity, velocity products and
+                                friction of the plant's effects) */
+  int mode;                  /* assembly mode (rps3_data.mode) */
+  const struct rps3_fd_state *fd; /* internal: the plant's kept state, whose
+                                kinematics rps3_ctrl_update_plant takes
+                                (NULL in a view built by hand: then it
+                                solves its own) */
+} rps3_plant_state;
+
+/* rps3_controller.caps: what a controller declares it can use */
+#define RPS3_CTRL_USES_PLANT 1u /* call fn_plant (not fn) with the plant's
+                                   state at the tick, or NULL */
+#define RPS3_CTRL_CAPS_ALL RPS3_CTRL_USES_PLANT
+
+/* The force law of a controller with RPS3_CTRL_USES_PLANT: fn's arguments
+   and the plant's state at the tick (NULL when not offered, above). */
+typedef int (*rps3_control_plant_fn)(void *state, double t,
+                                     const double l[3], const double dl[3],
+                                     const rps3_plant_state *plant,
+                                     double F[3]);
+
+/*
+ * A controller: its law, its state and its rate; caps declares what it can
+ * use (0: nothing but the measurement, fn is called).  The members after
+ * rate are zero in an initialiser that names the first three only, e.g.
+ *   rps3_controller c = {my_law, &my_state, 1000.0};
+ * and a law that wants the plant's state declares it:
+ *   rps3_controller c = {NULL, &my_state, 1000.0, RPS3_CTRL_USES_PLANT,
+ *                        my_plant_law};
+ */
+typedef struct {
+  rps3_control_fn fn;   /* the law (caps without RPS3_CTRL_USES_PLANT) */
+  void *state;          /* passed to fn or fn_plant */
+  double rate;          /* control rate [Hz], zero-order hold; 0:
+                           continuous */
+  unsigned caps;        /* RPS3_CTRL_* bits; others are refused
+                           (RPS3_EINVAL) */
+  rps3_control_plant_fn fn_plant; /* the law with RPS3_CTRL_USES_PLANT */
 } rps3_controller;
 
 struct rps3_sim_gsl; /* internal: GSL driver */
@@ -1487,12 +1561,13 @@ RPS3_API int rps3_sim_advance(rps3_sim *s, const rps3_controller *c,
  *                   measured (l, dl) with ddl = ddl_d + kp e + kd de:
  *                   kp [1/s^2], kd [1/s] set the error dynamics
  *                   e'' + kd e' + kp e = 0 when the models agree.
- * PD gains are [N/m] and [N s/m].  In rps3_sim_advance, a controller
- * whose model has the plant's geometry (R, rho), no payload, warm starts
- * and a theta tolerance no tighter than the plant's takes, at an exact
- * measurement,
- * the plant's theta and velocity maps at the tick instead of solving them
- * again; its masses, effects and limits stay its own, and its forces
+ * PD gains are [N/m] and [N s/m].  The controllers use the plant's state
+ * offered at a tick (rps3_plant_state) as any controller may, through
+ * RPS3_CTRL_USES_PLANT (rps3_ctrl_bind): a model with the plant's geometry
+ * (R, rho), no payload, warm starts and a theta tolerance no tighter than
+ * the plant's takes the plant's theta and velocity maps at the tick
+ * instead of solving them again, and the plant's Mq and hq when its masses
+ * and effects are the plant's too; its limits stay its own, and its forces
  * those it would compute alone (to the solve's tolerance).
  */
 typedef enum {
@@ -1508,8 +1583,6 @@ typedef enum {
    -1. */
 RPS3_API const char *rps3_ctrl_name(int kind);
 RPS3_API int rps3_ctrl_index(const char *name);
-
-struct rps3_fd_state; /* internal: a forward-dynamics state */
 
 typedef struct {
   rps3_ctrl_kind kind;
@@ -1531,10 +1604,6 @@ typedef struct {
   struct rps3_fd_state *fd; /* the model's state at the last measured one
                                (owned: a copy of the structure would share
                                it; use one rps3_ctrl_alloc per controller) */
-  const rps3_model *plant;  /* during a tick of rps3_sim_advance: the plant */
-  const struct rps3_fd_state *plant_fd; /* and its state at the tick, whose
-                               kinematics a model of the same geometry
-                               takes when the measurement is exact */
 } rps3_ctrl;
 
 /*
@@ -1557,11 +1626,27 @@ RPS3_API void rps3_ctrl_free(rps3_ctrl *c);
  * assembly near the last one), RPS3_EINVAL for a NULL pointer, a kind out
  * of range, or a time or measured length or rate not finite (a sensor
  * glitch: no law turns it into a force; meas->err names the input), or
- * RPS3_ERANGE for a force that overflows (meas->err).  Allocates nothing.  Bind it as
+ * RPS3_ERANGE for a force that overflows (meas->err).  Allocates nothing.
+ * Bind it with rps3_ctrl_bind, or as
  *   rps3_controller c = {rps3_ctrl_update, ctrl, 1000.0};
+ * which solves every measured state itself.
  */
 RPS3_API int rps3_ctrl_update(void *state, double t, const double l[3],
                               const double dl[3], double F[3]);
+
+/*
+ * The same law as an rps3_control_plant_fn: with plant not NULL (the
+ * plant's state at the tick, l and dl its own), the model takes what it
+ * may of it (above); with plant NULL it is rps3_ctrl_update.
+ */
+RPS3_API int rps3_ctrl_update_plant(void *state, double t, const double l[3],
+                                    const double dl[3],
+                                    const rps3_plant_state *plant,
+                                    double F[3]);
+
+/* The controller of c at rate [Hz]: {rps3_ctrl_update, c, rate,
+   RPS3_CTRL_USES_PLANT, rps3_ctrl_update_plant}. */
+RPS3_API rps3_controller rps3_ctrl_bind(rps3_ctrl *c, double rate);
 
 #ifdef __cplusplus
 }

@@ -112,9 +112,7 @@ static int run(const rps3_model *plant, const rps3_model *cm,
     fprintf(stderr, "rps3-simstudy: set-up: %s\n", err);
     fail_run();
   }
-  ctl.fn = rps3_ctrl_update;
-  ctl.state = c;
-  ctl.rate = RATE_HZ;
+  ctl = rps3_ctrl_bind(c, RATE_HZ);
   rps3_traj_eval(plant, tr, 0.0, pose, dpose, NULL);
   out->failed_at = (double)NAN;
   c0 = cpu_s();

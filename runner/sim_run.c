@@ -162,9 +162,7 @@ static int start(const scene_case *c, const sim_case *sc, sim_work *wk,
     work_free(wk);
     return -1;
   }
-  ctl->fn = rps3_ctrl_update;
-  ctl->state = wk->ctrl;
-  ctl->rate = sc->rate;
+  *ctl = rps3_ctrl_bind(wk->ctrl, sc->rate);
   /* from the trajectory's start, at its rates */
   *st = rps3_traj_eval(&c->model, &c->traj, 0.0, pose, dpose, NULL);
   for (i = 0; i < 3; i++)

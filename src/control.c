@@ -158,12 +158,14 @@ static void predict_theta(rps3_ctrl *c, const double l[3], double t) {
  * Positions from the theta solve of rps3_fwddyn_state (Newton from the
  * predicted start, rps3_fk when it fails), which reports the singular
  * configurations as rps3_invdyn would (RPS3_ESING past opt.cond_max); the
- * first start is the desired motion's theta.  In a simulation that lends
- * its plant's state at the tick (c->plant_fd), the same positions and maps
- * from there when rps3_fwddyn_state_shared accepts them.
+ * first start is the desired motion's theta.  With the plant's state
+ * offered at the tick (plant, not NULL: rps3_ctrl_update_plant), the same
+ * positions and maps from there when rps3_fwddyn_state_shared accepts them
+ * for this model: the controller decides what it takes of the plant.
  */
 static int invdyn_at(rps3_ctrl *c, double t, const double l[3],
-                     const double dl[3], const double ddl[3], double F[3]) {
+                     const double dl[3], const double ddl[3],
+                     const rps3_plant_state *plant, double F[3]) {
   rps3_data *d = c->meas;
   double x[3];
   /* the mode of the last state that succeeded (0 before one), so that a
@@ -176,7 +178,8 @@ static int invdyn_at(rps3_ctrl *c, double t, const double l[3],
   /* in a simulation whose plant has this model's geometry, at the
      plant's state (an exact measurement): the plant's kinematics, this
      model's masses, effects and limits */
-  if (!rps3_fwddyn_state_shared(&c->model, d, c->fd, c->plant, c->plant_fd,
+  if (plant == NULL ||
+      !rps3_fwddyn_state_shared(&c->model, d, c->fd, plant->model, plant->fd,
                                 &st)) {
     if (!d->have_theta) {
       v3_copy(d->theta, c->des->theta);
@@ -237,6 +240,23 @@ static int force_finite(rps3_ctrl *c, const double F[3]) {
 
 int rps3_ctrl_update(void *state, double t, const double l[3],
                      const double dl[3], double F[3]) {
+  return rps3_ctrl_update_plant(state, t, l, dl, NULL, F);
+}
+
+rps3_controller rps3_ctrl_bind(rps3_ctrl *c, double rate) {
+  rps3_controller ctl;
+  memset(&ctl, 0, sizeof(ctl));
+  ctl.fn = rps3_ctrl_update;
+  ctl.state = c;
+  ctl.rate = rate;
+  ctl.caps = RPS3_CTRL_USES_PLANT;
+  ctl.fn_plant = rps3_ctrl_update_plant;
+  return ctl;
+}
+
+int rps3_ctrl_update_plant(void *state, double t, const double l[3],
+                           const double dl[3], const rps3_plant_state *plant,
+                           double F[3]) {
   rps3_ctrl *c = (rps3_ctrl *)state;
   const double zero[3] = {0, 0, 0};
   double e[3], de[3], a[3], G[3];
@@ -271,7 +291,7 @@ int rps3_ctrl_update(void *state, double t, const double l[3],
     break;
   case RPS3_CTRL_PD_GRAVITY:
     /* static forces of the model: at rest only the weights remain */
-    st = invdyn_at(c, t, l, zero, zero, G);
+    st = invdyn_at(c, t, l, zero, zero, plant, G);
     if (st != RPS3_OK) return st;
     for (i = 0; i < 3; i++) F[i] = c->kp * e[i] + c->kd * de[i] + G[i];
     break;
@@ -279,7 +299,7 @@ int rps3_ctrl_update(void *state, double t, const double l[3],
   default:
     for (i = 0; i < 3; i++)
       a[i] = c->des->ddl[i] + c->kp * e[i] + c->kd * de[i];
-    return invdyn_at(c, t, l, dl, a, F);
+    return invdyn_at(c, t, l, dl, a, plant, F);
   }
   return force_finite(c, F);
 }

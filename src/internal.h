@@ -214,11 +214,7 @@ void rps3_pose_twist(const rps3_model *m, const rps3_pose_trig *t,
 void rps3_pose_twist_rate(const rps3_model *m, const rps3_pose_trig *t,
                           const double dpose[3], const double ddpose[3],
                           const double w[3], double dw[3], double ac[3]);
-/* the link motion of a pose and its rates alone: l, dl and (acc) ddl from
-   d->pose, d->dpose, d->ddpose by the lengths' derivatives, l^2 = |b -
-   P|^2 (no theta, no link directions: d->stage 0); a controller's desired
-   motion.  RPS3_OK, RPS3_EINVAL, RPS3_EREACH or RPS3_ERANGE as rps3_ik */
-int rps3_link_motion(const rps3_model *m, rps3_data *d, int acc);
+/* rps3_link_motion (a controller's desired motion) is public: rps3.h */
 int rps3_acceleration_with(const rps3_model *m, rps3_data *d,
                            const rps3_pose_trig *pt);
 

@@ -79,19 +79,67 @@ static int same_state(const double ky[6], const double y[]) {
   return 1;
 }
 
-/* the plant at (t, y): forces (continuous controller), accelerations,
-   mode; lean: for an integrator's stage (no pose, no pose rates); returns
-   the status and records a failure */
-static int evaluate(rps3_sim *s, double t, const double y[], int lean,
-                    int keep) {
+/* the controller's law as its type declares it: with
+   RPS3_CTRL_USES_PLANT fn_plant, with the plant's state or NULL */
+static int call_law(const rps3_controller *c, double t, const double l[3],
+                    const double dl[3], const rps3_plant_state *plant,
+                    double F[3]) {
+  if (c->caps & RPS3_CTRL_USES_PLANT)
+    return c->fn_plant(c->state, t, l, dl, plant, F);
+  return c->fn(c->state, t, l, dl, F);
+}
+
+/* 1: the measurement is the state (no noise, no quantisation) */
+static int exact_measurement(const rps3_sim *s) {
+  return !(s->opt.noise_l > 0.0 || s->opt.noise_dl > 0.0 ||
+           s->opt.quant_l > 0.0 || s->opt.quant_dl > 0.0);
+}
+
+/* 1: the run's controller is offered the plant's state at its ticks,
+   which the run then keeps (RPS3_FD_KEEP) at the end of each period */
+static int keeps_plant(const rps3_sim *s) {
+  const rps3_controller *c = s->ctrl;
+  return c != NULL && (c->caps & RPS3_CTRL_USES_PLANT) && c->rate > 0.0 &&
+         exact_measurement(s);
+}
+
+/* the plant's state part at y = (l, dl) into s->gsl->fd, unless the kept
+   one is y's (with what lean and keep ask for) already */
+static int plant_state(rps3_sim *s, const double y[], int lean, int keep) {
+  struct rps3_sim_gsl *g = s->gsl;
   rps3_data *d = s->d;
   int st, i;
   for (i = 0; i < 3; i++) {
     d->l[i] = y[i];
     d->dl[i] = y[3 + i];
   }
+  if (g->have_k && same_state(g->ky, y) && (lean || !g->lean_k) &&
+      (!keep || g->fd.have_kin))
+    return RPS3_OK;
+  /* the last state, when it succeeded, predicts this one's theta */
+  st = rps3_fwddyn_state(&s->plant, d, &g->fd,
+                         (g->have_k ? RPS3_FD_PREDICT | RPS3_FD_TRIG : 0) |
+                             (lean ? RPS3_FD_LEAN | RPS3_FD_SCRATCH : 0) |
+                             (keep ? RPS3_FD_KEEP : 0));
+  g->have_k = 0;
+  if (st == RPS3_OK) {
+    memcpy(g->ky, y, sizeof(g->ky));
+    g->have_k = 1;
+    g->lean_k = lean;
+  }
+  return st;
+}
+
+/* the plant at (t, y): forces (continuous controller), accelerations,
+   mode; lean: for an integrator's stage (no pose, no pose rates); returns
+   the status and records a failure */
+static int evaluate(rps3_sim *s, double t, const double y[], int lean,
+                    int keep) {
+  rps3_data *d = s->d;
+  int st;
   if (s->ctrl != NULL && s->ctrl->rate == 0.0) {
-    st = s->ctrl->fn(s->ctrl->state, t, y, y + 3, s->F_cmd);
+    /* a continuous law is offered no plant state: it acts before it */
+    st = call_law(s->ctrl, t, y, y + 3, NULL, s->F_cmd);
     if (st != RPS3_OK) {
       if (d->err.code != st)
         snprintf(d->err.msg, sizeof(d->err.msg),
@@ -102,22 +150,7 @@ static int evaluate(rps3_sim *s, double t, const double y[], int lean,
     }
     saturate(s, s->F_cmd, s->F);
   }
-  if (!(s->gsl->have_k && same_state(s->gsl->ky, y) &&
-        (lean || !s->gsl->lean_k))) {
-    /* the last state, when it succeeded, predicts this one's theta */
-    st = rps3_fwddyn_state(&s->plant, d, &s->gsl->fd,
-                           (s->gsl->have_k ? RPS3_FD_PREDICT | RPS3_FD_TRIG : 0) |
-                               (lean ? RPS3_FD_LEAN | RPS3_FD_SCRATCH : 0) |
-                               (keep ? RPS3_FD_KEEP : 0));
-    s->gsl->have_k = 0;
-    if (st == RPS3_OK) {
-      memcpy(s->gsl->ky, y, sizeof(s->gsl->ky));
-      s->gsl->have_k = 1;
-      s->gsl->lean_k = lean;
-    }
-  } else {
-    st = RPS3_OK;
-  }
+  st = plant_state(s, y, lean, keep);
   v3_copy(d->F, s->F);
   if (st == RPS3_OK) st = rps3_fwddyn_accel(&s->plant, d, &s->gsl->fd);
   s->nevals++;
@@ -237,38 +270,46 @@ int rps3_sim_start(rps3_sim *s, double t0, const double pose[3],
   return RPS3_OK;
 }
 
-/* the library's controller of c that evaluates its model at the measured
-   state (PD + gravity, computed torque), else NULL */
-static rps3_ctrl *model_ctrl(const rps3_controller *c) {
-  rps3_ctrl *mc;
-  if (c == NULL || c->fn != rps3_ctrl_update || c->rate <= 0.0) return NULL;
-  mc = (rps3_ctrl *)c->state;
-  return (mc != NULL && (mc->kind == RPS3_CTRL_PD_GRAVITY ||
-                         mc->kind == RPS3_CTRL_COMPUTED_TORQUE))
-             ? mc
-             : NULL;
+/* the plant's state at a tick for a controller that declares
+   RPS3_CTRL_USES_PLANT, into *v: the state the run keeps at s->y (settle's,
+   which the next period's first stage reuses; evaluated here at a run's
+   first tick, where the first stage then reuses it); NULL when the
+   measurement is not the state (noise, quantisation) */
+static const rps3_plant_state *offer_plant(rps3_sim *s, rps3_plant_state *v,
+                                           int *status) {
+  const rps3_fd_state *k = &s->gsl->fd;
+  *status = RPS3_OK;
+  if (!keeps_plant(s)) return NULL;
+  *status = plant_state(s, s->y, 1, 1);
+  if (*status != RPS3_OK) return NULL;
+  v->model = &s->plant;
+  v->t = s->t;
+  v3_copy(v->l, k->kin.l);
+  v3_copy(v->dl, k->kin.dl);
+  v3_copy(v->theta, k->th);
+  v3_copy(v->dtheta, k->kin.dth);
+  memcpy(v->Mq, k->Mq, sizeof(v->Mq));
+  v3_copy(v->hq, k->hq);
+  v->mode = k->mode;
+  v->fd = k;
+  return v;
 }
 
-/* the controller at a tick, from the measured state.  The library's
-   controllers are lent the plant's state at the tick (kept by settle),
-   whose kinematics they take when their model has the plant's geometry
-   and the measurement is exact: the same theta solve and maps, once */
+/* the controller at a tick, from the measured state; a controller that
+   declares RPS3_CTRL_USES_PLANT is offered the plant's state there */
 static int tick(rps3_sim *s, const rps3_controller *c) {
-  rps3_ctrl *mc = model_ctrl(c);
+  rps3_plant_state view;
+  const rps3_plant_state *plant = NULL;
   int st, i;
   for (i = 0; i < 3; i++) {
     s->l_meas[i] = measure(s, s->y[i], s->opt.noise_l, s->opt.quant_l);
     s->dl_meas[i] = measure(s, s->y[3 + i], s->opt.noise_dl, s->opt.quant_dl);
   }
-  if (mc != NULL) {
-    mc->plant = &s->plant;
-    mc->plant_fd = s->gsl->have_k ? &s->gsl->fd : NULL;
+  if (c->caps & RPS3_CTRL_USES_PLANT) {
+    plant = offer_plant(s, &view, &st);
+    if (st != RPS3_OK) return fail(s, st, s->t);
   }
-  st = c->fn(c->state, s->t, s->l_meas, s->dl_meas, s->F_cmd);
-  if (mc != NULL) {
-    mc->plant = NULL;
-    mc->plant_fd = NULL;
-  }
+  st = call_law(c, s->t, s->l_meas, s->dl_meas, plant, s->F_cmd);
   s->nticks++;
   if (st != RPS3_OK) {
     s->d->err.code = st;
@@ -383,7 +424,7 @@ static int settle(rps3_sim *s, int report) {
                "%.9g s", i + 1, s->y[i], s->opt.l_min, s->opt.l_max, s->t);
       return fail(s, RPS3_EREACH, s->t);
     }
-  st = evaluate(s, s->t, s->y, !report, model_ctrl(s->ctrl) != NULL);
+  st = evaluate(s, s->t, s->y, !report, keeps_plant(s));
   if (st != RPS3_OK) return fail(s, st, s->t);
   s->gsl->reported = report;
   if (report) update_energy(s);
@@ -425,11 +466,18 @@ static void report_failed(rps3_sim *s) {
 static int report_end(rps3_sim *s) {
   int st;
   if (s->gsl->reported) return RPS3_OK;
-  st = evaluate(s, s->t, s->y, 0, model_ctrl(s->ctrl) != NULL);
+  st = evaluate(s, s->t, s->y, 0, keeps_plant(s));
   if (st != RPS3_OK) return fail(s, st, s->t);
   s->gsl->reported = 1;
   update_energy(s);
   return RPS3_OK;
+}
+
+/* 1: c declares known capabilities and has the law they call */
+static int law_declared(const rps3_controller *c) {
+  if (c->caps & ~(unsigned)RPS3_CTRL_CAPS_ALL) return 0;
+  return (c->caps & RPS3_CTRL_USES_PLANT) ? c->fn_plant != NULL
+                                          : c->fn != NULL;
 }
 
 int rps3_sim_advance(rps3_sim *s, const rps3_controller *c, double t_end) {
@@ -437,10 +485,11 @@ int rps3_sim_advance(rps3_sim *s, const rps3_controller *c, double t_end) {
   if (s == NULL) return RPS3_EINVAL;
   if (!s->started) return RPS3_ESTATE;
   if (s->status != RPS3_OK) return s->status;
-  if (c == NULL || c->fn == NULL || !isfinite(t_end)) {
+  if (c == NULL || !law_declared(c) || !isfinite(t_end)) {
     s->d->err.code = RPS3_EINVAL;
     snprintf(s->d->err.msg, sizeof(s->d->err.msg),
-             "controller NULL, its fn NULL, or t_end = %g s not finite",
+             "controller NULL, without the law its caps name, or t_end = %g s "
+             "not finite",
              t_end);
     return RPS3_EINVAL;
   }

@@ -64,9 +64,8 @@ int main(int argc, char **argv) {
       rps3_ctrl_alloc(RPS3_CTRL_COMPUTED_TORQUE, 400.0, 40.0, &cmodel, &tr, &c,
                       err, sizeof(err)) != RPS3_OK)
     goto fail_err;
-  ctl.fn = rps3_ctrl_update;
-  ctl.state = c;
-  ctl.rate = RATE_HZ;
+  /* the law, offered the plant's state at every tick */
+  ctl = rps3_ctrl_bind(c, RATE_HZ);
   rps3_traj_eval(&plant, &tr, 0.0, pose, dpose, NULL);
   if (rps3_sim_start(s, 0.0, pose, dpose) != RPS3_OK) goto fail_sim;
 

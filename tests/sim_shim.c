@@ -59,6 +59,7 @@ int rps3_shim_sim(const double *par, int effects, int integrator, double h,
   tb.F = F;
   tb.n = n;
   tb.dt = dt;
+  memset(&c, 0, sizeof(c)); /* no capabilities */
   c.fn = from_table;
   c.state = &tb;
   c.rate = 1.0 / dt;

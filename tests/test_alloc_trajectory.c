@@ -411,7 +411,7 @@ static void simulation_loop(void **state) {
     assert_int_equal(rps3_traj_eval(&m, &tr, 0.0, pose, dpose, NULL), RPS3_OK);
     count_start();
     {
-      rps3_controller ctl = {rps3_ctrl_update, c, 1000.0};
+      rps3_controller ctl = rps3_ctrl_bind(c, 1000.0);
       if (rps3_sim_start(s, 0.0, pose, dpose) != RPS3_OK) st = -100;
       for (j = 1; j <= 200 && st == RPS3_OK; j++)
         st = rps3_sim_advance(s, &ctl, 1e-3 * j);

@@ -19,7 +19,7 @@ import xarray as xr
 import yaml
 
 from rps3 import h5io
-from conftest import CONFIGS, RUNNER, failing_sine, run, write_scene, run_tmp
+from conftest import CONFIGS, ROOT, RUNNER, failing_sine, run, write_scene, run_tmp
 
 PER_POINT = ["force", "length", "length_rate", "length_accel", "theta",
              "alpha", "beta", "z_c", "x_c", "y_c", "lambda",
@@ -31,7 +31,10 @@ PER_POINT = ["force", "length", "length_rate", "length_accel", "theta",
 def test_root_attributes_and_scene(paper_h5):
     with h5py.File(paper_h5, "r") as f:
         a = {k: h5io.text(v) for k, v in f.attrs.items()}
-        assert a["rps3_version"] == "0.1.0"
+        with open(os.path.join(ROOT, "include", "rps3.h")) as h:
+            version = re.search(r'#define RPS3_VERSION_STRING "([^"]+)"',
+                                h.read()).group(1)
+        assert a["rps3_version"] == version
         assert a["gsl_version"].count(".") >= 1
         assert a["hdf5_version"].startswith("1.")
         assert "configs/paper.yaml" in a["command_line"]

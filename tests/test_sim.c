@@ -5,6 +5,7 @@
 #include <stdlib.h>
 
 #include "testutil.h"
+#include "bench/user_law.h"
 
 /* the paper's helix, scaled to model_entropy()'s platform (r* < r/2) */
 static void helix_entropy(rps3_traj *tr) {
@@ -85,7 +86,7 @@ static void round_trip(const rps3_traj *tr, int eff, double *worst) {
     fail_msg("%s", err);
   assert_int_equal(rps3_data_alloc(&m, &w), RPS3_OK);
   {
-    rps3_controller ctl = {rps3_ctrl_update, c, 0.0};
+    rps3_controller ctl = {rps3_ctrl_update, c, 0.0, 0u, NULL};
     double T = rps3_traj_duration(tr);
     for (k = 0; k < 6; k++) {
       double t0 = (T - win) * (0.037 + 0.19 * k), e;
@@ -145,7 +146,7 @@ static void rk4_converges_at_order_4(void **state) {
                                      NULL, 0), RPS3_OK);
     assert_int_equal(rps3_data_alloc(&m, &w), RPS3_OK);
     {
-      rps3_controller ctl = {rps3_ctrl_update, c, 0.0};
+      rps3_controller ctl = {rps3_ctrl_update, c, 0.0, 0u, NULL};
       start_on(s, &m, &tr, 0.3);
       assert_int_equal(rps3_sim_advance(s, &ctl, 0.5), RPS3_OK);
       e[k] = length_error(&m, &tr, w, s->y, 0.5);
@@ -202,8 +203,8 @@ static void energy_balance(void **state) {
       assert_int_equal(rps3_ctrl_alloc(RPS3_CTRL_PD_GRAVITY, 800.0, 30.0, &m,
                                        &tr, &c, NULL, 0), RPS3_OK);
       {
-        rps3_controller free_motion = {zero_force, NULL, 0.0};
-        rps3_controller pd = {rps3_ctrl_update, c, 1000.0};
+        rps3_controller free_motion = {zero_force, NULL, 0.0, 0u, NULL};
+        rps3_controller pd = rps3_ctrl_bind(c, 1000.0);
         start_on(s, &m, &tr, 0.0);
         scale = fabs(s->T) + fabs(s->P);
         for (k = 1; k <= 200; k++) {
@@ -247,7 +248,7 @@ static int closed_loop(const rps3_model *plant, const rps3_model *cm,
   assert_int_equal(rps3_data_alloc(plant, &w), RPS3_OK);
   *emax = 0.0;
   {
-    rps3_controller ctl = {rps3_ctrl_update, c, 1000.0};
+    rps3_controller ctl = rps3_ctrl_bind(c, 1000.0);
     start_on(s, plant, tr, 0.0);
     for (k = 1; k <= n; k++) {
       st = rps3_sim_advance(s, &ctl, 1e-3 * k);
@@ -340,9 +341,7 @@ static void one_call_or_one_per_period(void **state) {
     assert_int_equal(rps3_sim_alloc(&plant, NULL, &b, NULL, 0), RPS3_OK);
     ca = computed_torque(cm, &tr);
     cb = computed_torque(cm, &tr);
-    ctl_a.fn = rps3_ctrl_update;
-    ctl_a.state = ca;
-    ctl_a.rate = 1000.0;
+    ctl_a = rps3_ctrl_bind(ca, 1000.0);
     ctl_b = ctl_a;
     ctl_b.state = cb;
     start_on(a, &plant, &tr, 0.0);
@@ -442,6 +441,8 @@ static void report_where_the_run_stopped(void **state) {
   fa.c = computed_torque(&plant, &tr);
   fb.c = computed_torque(&plant, &tr);
   fa.t_fail = fb.t_fail = 0.5;
+  memset(&ca, 0, sizeof(ca));
+  memset(&cb, 0, sizeof(cb));
   ca.fn = cb.fn = failing_ct;
   ca.state = &fa;
   cb.state = &fb;
@@ -529,7 +530,7 @@ static void noise_and_quantisation(void **state) {
                                      &tr, &p.c, NULL, 0), RPS3_OK);
     p.s = s;
     {
-      rps3_controller ctl = {probing, &p, 1000.0};
+      rps3_controller ctl = {probing, &p, 1000.0, 0u, NULL};
       start_on(s, &m, &tr, 0.0);
       assert_int_equal(rps3_sim_advance(s, &ctl, 2.0), RPS3_OK);
     }
@@ -568,7 +569,7 @@ static void hard_cases(void **state) {
      configuration or the base stops the run, with finite states */
   assert_int_equal(rps3_sim_alloc(&m, &o, &s, NULL, 0), RPS3_OK);
   {
-    rps3_controller ctl = {zero_force, NULL, 0.0};
+    rps3_controller ctl = {zero_force, NULL, 0.0, 0u, NULL};
     double pose[3] = {0.4, 0.15, 0.25}, dpose[3] = {0, 0, -0.1};
     assert_int_equal(rps3_sim_start(s, 0.0, pose, dpose), RPS3_OK);
     st = rps3_sim_advance(s, &ctl, 3.0);
@@ -713,7 +714,7 @@ static void errors(void **state) {
   assert_non_null(strstr(err, "simulate.noise_l"));
   assert_int_equal(rps3_sim_alloc(&m, NULL, &s, err, sizeof(err)), RPS3_OK);
   {
-    rps3_controller ctl = {zero_force, NULL, -1.0};
+    rps3_controller ctl = {zero_force, NULL, -1.0, 0u, NULL};
     assert_int_equal(rps3_sim_advance(s, &ctl, 1.0), RPS3_ESTATE);
   }
   rps3_sim_free(s);
@@ -888,7 +889,7 @@ static void implicit_integrators(void **state) {
                                      NULL, 0), RPS3_OK);
     assert_int_equal(rps3_data_alloc(&m, &w), RPS3_OK);
     {
-      rps3_controller ctl = {rps3_ctrl_update, c, 0.0};
+      rps3_controller ctl = {rps3_ctrl_update, c, 0.0, 0u, NULL};
       start_on(s, &m, &tr, 0.7);
       if (rps3_sim_advance(s, &ctl, 0.75) != RPS3_OK)
         fail_msg("%s: %s", rps3_integrator_name(integ), s->d->err.msg);
@@ -951,6 +952,259 @@ static void pure_relative_tolerance_refused(void **state) {
   }
 }
 
+
+/* ------------------------------------------- the plant's state offered */
+
+/*
+ * Computed torque written by a user (tests/bench/user_law.h, public API
+ * alone) that declares RPS3_CTRL_USES_PLANT and takes the offered Mq and hq
+ * gives the run of the library's computed torque (rps3_ctrl_bind) to
+ * TOL_EXACT (bit for bit but for the rounding of F = Mq a + hq: the same
+ * operations in another order).  It is offered the plant's state at every
+ * tick, the first too;
+ * the same law solving its own model (rps3_fwddyn) gives the same run to
+ * the theta solve's tolerance.
+ */
+static void user_law_with_plant_is_library_law(void **state) {
+  rps3_model plant;
+  rps3_traj tr;
+  rps3_sim *a, *b, *c;
+  rps3_ctrl *ct;
+  user_law ub, uc;
+  rps3_controller la, lb, lc;
+  int k, i, n = 1500;
+  (void)state;
+  rps3_model_default(&plant);
+  assert_int_equal(rps3_model_init(&plant, NULL, 0), RPS3_OK);
+  rps3_traj_default(&tr);
+  assert_int_equal(rps3_sim_alloc(&plant, NULL, &a, NULL, 0), RPS3_OK);
+  assert_int_equal(rps3_sim_alloc(&plant, NULL, &b, NULL, 0), RPS3_OK);
+  assert_int_equal(rps3_sim_alloc(&plant, NULL, &c, NULL, 0), RPS3_OK);
+  ct = computed_torque(&plant, &tr);
+  assert_int_equal(user_law_init(&ub, &plant, &tr, 400.0, 40.0, 1), RPS3_OK);
+  assert_int_equal(user_law_init(&uc, &plant, &tr, 400.0, 40.0, 0), RPS3_OK);
+  la = rps3_ctrl_bind(ct, 1000.0);
+  assert_true(la.caps == RPS3_CTRL_USES_PLANT && la.fn_plant != NULL &&
+              la.fn == rps3_ctrl_update && la.state == ct);
+  lb = user_law_controller(&ub, 1000.0);
+  lc = user_law_controller(&uc, 1000.0);
+  start_on(a, &plant, &tr, 0.0);
+  start_on(b, &plant, &tr, 0.0);
+  start_on(c, &plant, &tr, 0.0);
+  for (k = 1; k <= n; k++) {
+    assert_int_equal(rps3_sim_advance(a, &la, k / 1000.0), RPS3_OK);
+    assert_int_equal(rps3_sim_advance(b, &lb, k / 1000.0), RPS3_OK);
+    if (k % 10 == 0 || k == 1) {
+      for (i = 0; i < 3; i++)
+        CHECK_REL(b->F_cmd[i], a->F_cmd[i], TOL_EXACT, 1.0, "t %d F%d", k, i);
+      for (i = 0; i < 6; i++)
+        CHECK_REL(b->y[i], a->y[i], TOL_EXACT, 1e-3, "t %d y%d", k, i);
+    }
+  }
+  /* one call over the run: the fallback of the law, its own solve */
+  assert_int_equal(rps3_sim_advance(c, &lc, n / 1000.0), RPS3_OK);
+  for (i = 0; i < 6; i++)
+    CHECK_REL(c->y[i], a->y[i], TOL_PHYS, 1e-3, "own solve y%d", i);
+  assert_int_equal(ub.offered, b->nticks);
+  assert_int_equal(ub.solved, 0);
+  assert_int_equal(uc.offered, 0);
+  assert_int_equal(uc.solved, c->nticks);
+  assert_int_equal(a->nevals, b->nevals);
+  rps3_sim_free(a);
+  rps3_sim_free(b);
+  rps3_sim_free(c);
+  rps3_ctrl_free(ct);
+  user_law_free(&ub);
+  user_law_free(&uc);
+}
+
+/* a law with RPS3_CTRL_USES_PLANT that checks the offered state against
+   an independent evaluation, rps3_fwddyn of the plant's model at the
+   tick's (l, dl), and drives the plant with the library's law */
+typedef struct {
+  const rps3_sim *s;
+  rps3_ctrl *c;
+  rps3_data *w;   /* the independent evaluation, warm from the last tick */
+  long calls, offered;
+} plant_probe;
+
+static int probe_plant(void *state, double t, const double l[3],
+                       const double dl[3], const rps3_plant_state *plant,
+                       double F[3]) {
+  plant_probe *p = (plant_probe *)state;
+  rps3_data *w = p->w;
+  int i, j;
+  p->calls++;
+  if (plant != NULL) {
+    p->offered++;
+    assert_ptr_equal(plant->model, &p->s->plant);
+    assert_true(plant->t == t && t == p->s->t);
+    for (i = 0; i < 3; i++) {
+      /* the measurement is the plant's state, bit for bit */
+      assert_true(plant->l[i] == l[i] && plant->dl[i] == dl[i]);
+      assert_true(l[i] == p->s->y[i] && dl[i] == p->s->y[3 + i]);
+      w->l[i] = l[i];
+      w->dl[i] = dl[i];
+      w->F[i] = 0.0;
+    }
+    if (rps3_fwddyn(plant->model, w) != RPS3_OK)
+      fail_msg("t %g: %s", t, w->err.msg);
+    assert_int_equal(plant->mode, w->mode);
+    assert_int_equal(plant->mode, p->s->mode);
+    for (i = 0; i < 3; i++) {
+      /* two theta solves to their tolerance */
+      CHECK_REL(plant->theta[i], w->theta[i], TOL_PHYS, 1.0, "t %g th%d", t,
+                i);
+      CHECK_REL(plant->dtheta[i], w->dtheta[i], TOL_PHYS, 1.0,
+                "t %g dth%d", t, i);
+      CHECK_REL(plant->hq[i], w->hq[i], TOL_PHYS, 1.0, "t %g hq%d", t, i);
+      for (j = 0; j < 3; j++)
+        CHECK_REL(plant->Mq[3 * i + j], w->Mq[i][j], TOL_PHYS, 1e-3,
+                  "t %g Mq%d%d", t, i, j);
+    }
+  }
+  return rps3_ctrl_update_plant(p->c, t, l, dl, plant, F);
+}
+
+/* the plant with every effect but the payload (friction in hq) */
+static void plant_every_effect(rps3_model *m) {
+  rps3_model_default(m);
+  m->opt.effects = RPS3_EFF_ALL & ~RPS3_EFF_PAYLOAD;
+  m->friction.viscous = 0.01;
+  m->friction.coulomb = 0.005;
+  assert_int_equal(rps3_model_init(m, NULL, 0), RPS3_OK);
+}
+
+/*
+ * The offered state is the plant's at the tick: theta, its rates, Mq, hq
+ * and the mode agree with rps3_fwddyn of the plant's model at the tick's
+ * (l, dl), for the paper's effects and for every effect with friction.
+ * It is offered at every tick of an exact measurement, and NULL (the
+ * law still called, fn_plant) with noise on the lengths or the rates, with
+ * quantisation, and for a continuous law.
+ */
+static void plant_state_is_the_plant(void **state) {
+  rps3_model plant;
+  rps3_traj tr;
+  int v;
+  (void)state;
+  rps3_traj_default(&tr);
+  for (v = 0; v < 6; v++) {
+    rps3_sim_options o;
+    rps3_sim *s;
+    plant_probe p;
+    rps3_controller ctl = {NULL, NULL, 1000.0, RPS3_CTRL_USES_PLANT,
+                           probe_plant};
+    if (v == 1)
+      plant_every_effect(&plant);
+    else {
+      rps3_model_default(&plant);
+      assert_int_equal(rps3_model_init(&plant, NULL, 0), RPS3_OK);
+    }
+    rps3_sim_options_default(&o);
+    if (v == 2) o.noise_l = 1e-9;
+    if (v == 3) o.noise_dl = 1e-9;
+    if (v == 4) o.quant_l = 1e-12;
+    if (v == 5) ctl.rate = 0.0;
+    memset(&p, 0, sizeof(p));
+    assert_int_equal(rps3_sim_alloc(&plant, &o, &s, NULL, 0), RPS3_OK);
+    assert_int_equal(rps3_data_alloc(&plant, &p.w), RPS3_OK);
+    p.s = s;
+    p.c = computed_torque(&plant, &tr);
+    ctl.state = &p;
+    start_on(s, &plant, &tr, 0.0);
+    assert_int_equal(rps3_sim_advance(s, &ctl, 0.05), RPS3_OK);
+    assert_int_equal(rps3_sim_advance(s, &ctl, 0.3), RPS3_OK);
+    assert_true(p.calls > 0);
+    if (v < 2) {
+      assert_int_equal(s->nticks, 300);
+      assert_int_equal(p.offered, s->nticks);
+    } else {
+      assert_int_equal(p.offered, 0);
+    }
+    rps3_sim_free(s);
+    rps3_data_free(p.w);
+    rps3_ctrl_free(p.c);
+  }
+}
+
+/* a law that counts its calls; and a plant-state form that must not be
+   called for a controller without the capability */
+static int counting_law(void *state, double t, const double l[3],
+                        const double dl[3], double F[3]) {
+  long *n = (long *)state;
+  (void)t;
+  (void)l;
+  (void)dl;
+  (*n)++;
+  F[0] = F[1] = F[2] = 0.0;
+  return RPS3_OK;
+}
+
+static int never_law(void *state, double t, const double l[3],
+                     const double dl[3], const rps3_plant_state *plant,
+                     double F[3]) {
+  (void)state;
+  (void)t;
+  (void)l;
+  (void)dl;
+  (void)plant;
+  (void)F;
+  fail_msg("fn_plant called without RPS3_CTRL_USES_PLANT");
+  return RPS3_EINVAL;
+}
+
+#if defined(__GNUC__)
+/* the initialiser of existing code names the first three members: C
+   zero-initialises the rest, which -Wextra points out */
+#pragma GCC diagnostic push
+#pragma GCC diagnostic ignored "-Wmissing-field-initializers"
+#endif
+static rps3_controller three_member_form(long *n) {
+  rps3_controller c = {counting_law, NULL, 1000.0};
+  c.state = n;
+  return c;
+}
+#if defined(__GNUC__)
+#pragma GCC diagnostic pop
+#endif
+
+/*
+ * A controller without the capability gets the five-argument call: the
+ * three-member initialiser of existing code (caps 0, fn_plant NULL), and a
+ * fn_plant without the caps bit, which is not called.  Unknown caps bits,
+ * and the capability without fn_plant, are refused.
+ */
+static void law_without_capability(void **state) {
+  rps3_model m;
+  rps3_traj tr;
+  rps3_sim *s;
+  long n = 0;
+  rps3_controller c;
+  (void)state;
+  rps3_model_default(&m);
+  assert_int_equal(rps3_model_init(&m, NULL, 0), RPS3_OK);
+  rps3_traj_default(&tr);
+  assert_int_equal(rps3_sim_alloc(&m, NULL, &s, NULL, 0), RPS3_OK);
+  c = three_member_form(&n);
+  assert_true(c.caps == 0 && c.fn_plant == NULL);
+  start_on(s, &m, &tr, 0.0);
+  assert_int_equal(rps3_sim_advance(s, &c, 0.01), RPS3_OK);
+  assert_int_equal(n, 10);
+  c.fn_plant = never_law;
+  assert_int_equal(rps3_sim_advance(s, &c, 0.02), RPS3_OK);
+  assert_int_equal(n, 20);
+  c.caps = 2u; /* no such capability */
+  assert_int_equal(rps3_sim_advance(s, &c, 0.03), RPS3_EINVAL);
+  assert_non_null(strstr(s->d->err.msg, "caps"));
+  c.caps = RPS3_CTRL_USES_PLANT;
+  c.fn_plant = NULL;
+  assert_int_equal(rps3_sim_advance(s, &c, 0.03), RPS3_EINVAL);
+  assert_int_equal(n, 20);
+  assert_true(s->t == 0.02);
+  rps3_sim_free(s);
+}
+
 int main(void) {
   const struct CMUnitTest tests[] = {
       cmocka_unit_test(round_trip_every_effect),
@@ -966,6 +1220,10 @@ int main(void) {
       cmocka_unit_test(bounded_calls),
       cmocka_unit_test(implicit_integrators),
       cmocka_unit_test(pure_relative_tolerance_refused),
+
+      cmocka_unit_test(user_law_with_plant_is_library_law),
+      cmocka_unit_test(plant_state_is_the_plant),
+      cmocka_unit_test(law_without_capability),
   };
   return cmocka_run_group_tests(tests, NULL, NULL);
 }

@@ -91,6 +91,8 @@ class Library(Controller):
         check(st, err)
         ctrl = ffi.gc(out[0], lib.rps3_ctrl_free)
         self._bind(lib.rps3py_ctrl_update_fn(), ctrl, rate)
+        # the law with its capability: offered the plant's state
+        self._c[0] = lib.rps3_ctrl_bind(ctrl, self.rate)
         self._ctrl = ctrl
 
     @property

@@ -31,6 +31,7 @@
 #include "batch_kernel.h" /* rps3_inverse_stages: the stages alone */
 #include "bench.h"
 #include "rps3.h"
+#include "user_law.h"
 
 #define RING 16         /* snapshots the stage-only cases cycle over */
 #define RATE_HZ 1000.0  /* sampling of the trajectory */
@@ -102,6 +103,8 @@ typedef struct {
   rps3_sim *sim;           /* K_SIM: the plant ... */
   rps3_ctrl *ctrl;         /* ... its computed-torque controller */
   long tick;               /* ... and the control period it is in */
+  int law;                 /* K_SIM: which binding of the law (sim_law) */
+  user_law user;           /* ... the user's law (LAW_USER_PLANT) */
 } bench_case;
 
 static double clock_ns(clockid_t id) {
@@ -128,6 +131,22 @@ static void copy3(double dst[3], const double src[3]) {
   dst[0] = src[0];
   dst[1] = src[1];
   dst[2] = src[2];
+}
+
+/* K_SIM, K_SIM_RUN: how computed torque is bound */
+enum {
+  LAW_LIBRARY = 0,  /* the library's, rps3_ctrl_bind (offered the plant) */
+  LAW_USER_PLANT,   /* the user's (user_law.h), RPS3_CTRL_USES_PLANT */
+  LAW_WRAPPED       /* the library's as a plain callback (no caps: it
+                       solves every measured state itself) */
+};
+
+static rps3_controller sim_law(bench_case *c) {
+  rps3_controller ctl = {rps3_ctrl_update, NULL, RATE_HZ, 0u, NULL};
+  if (c->law == LAW_USER_PLANT) return user_law_controller(&c->user, RATE_HZ);
+  if (c->law == LAW_LIBRARY) return rps3_ctrl_bind(c->ctrl, RATE_HZ);
+  ctl.state = c->ctrl;
+  return ctl;
 }
 
 /* one batch of ncalls calls; the loop of each kind is kept tight */
@@ -244,10 +263,7 @@ static void run_batch(bench_case *c, const points *pt, long ncalls) {
     break;
   case K_SIM:
     for (i = 0; i < ncalls; i++) {
-      rps3_controller ctl;
-      ctl.fn = rps3_ctrl_update;
-      ctl.state = c->ctrl;
-      ctl.rate = RATE_HZ;
+      rps3_controller ctl = sim_law(c);
       if (c->tick == pt->n - 1 || c->sim->status != RPS3_OK) {
         /* the end of the helix: start it again */
         if (c->sim->status != RPS3_OK) c->failures++;
@@ -259,11 +275,8 @@ static void run_batch(bench_case *c, const points *pt, long ncalls) {
     }
     break;
   case K_SIM_RUN: {
-    rps3_controller ctl;
+    rps3_controller ctl = sim_law(c);
     long left = ncalls;
-    ctl.fn = rps3_ctrl_update;
-    ctl.state = c->ctrl;
-    ctl.rate = RATE_HZ;
     while (left > 0) {
       long k;
       if (c->tick == pt->n - 1 || c->sim->status != RPS3_OK) {
@@ -496,6 +509,14 @@ static const struct {
     {"stages_closed_lagrange_paper_nocert",
      "pipeline_closed_lagrange_paper_nocert",
      "per-point stages / scalar rps3_inverse (its one-point kernel)"},
+    {"sim_helix_user_plant_1khz_rk4", "sim_helix_computed_torque_1khz_rk4",
+     "sim period: user's law with the plant / library's (goal <= 1)"},
+    {"sim_helix_run_user_plant_1khz_rk4",
+     "sim_helix_run_computed_torque_1khz_rk4",
+     "the same, the helix as one run (goal <= 1)"},
+    {"sim_helix_wrapped_computed_torque_1khz_rk4",
+     "sim_helix_computed_torque_1khz_rk4",
+     "sim period: library's law without the plant / with it"},
 };
 #define NRATIO_MAX ((int)(sizeof(ratio_pairs) / sizeof(ratio_pairs[0])))
 
@@ -755,6 +776,26 @@ int main(int argc, char **argv) {
        "to the helix's end; the state reported at the call's end alone): "
        "the 10 s helix as one run", K_SIM_RUN, SCENE_PAPER, RPS3_LAGRANGE,
        RPS3_THETA_CLOSED_FORM, 1, 0, TARGET_SIM_NS, 0);
+  CASE("sim_helix_user_plant_1khz_rk4", "the control period of "
+       "sim_helix_computed_torque_1khz_rk4 under the same law written by "
+       "the user (tests/bench/user_law.h: public API, desired motion by "
+       "rps3_link_motion), declaring "
+       "RPS3_CTRL_USES_PLANT: the plant's Mq and hq offered at the tick; "
+       "1000 ns = 1000x real time", K_SIM, SCENE_PAPER, RPS3_LAGRANGE,
+       RPS3_THETA_CLOSED_FORM, 1, 0, TARGET_SIM_NS, 0);
+  cases[ncase - 1].law = LAW_USER_PLANT;
+  CASE("sim_helix_run_user_plant_1khz_rk4", "the periods of "
+       "sim_helix_run_computed_torque_1khz_rk4 (the helix as one run) "
+       "under the user's law of sim_helix_user_plant_1khz_rk4",
+       K_SIM_RUN, SCENE_PAPER, RPS3_LAGRANGE, RPS3_THETA_CLOSED_FORM, 1, 0,
+       TARGET_SIM_NS, 0);
+  cases[ncase - 1].law = LAW_USER_PLANT;
+  CASE("sim_helix_wrapped_computed_torque_1khz_rk4", "the control period "
+       "of sim_helix_computed_torque_1khz_rk4, the library's law bound as "
+       "a plain callback {rps3_ctrl_update, ctrl, rate} (no capability: "
+       "it solves every measured state itself)", K_SIM, SCENE_PAPER,
+       RPS3_LAGRANGE, RPS3_THETA_CLOSED_FORM, 1, 0, TARGET_SIM_NS, 0);
+  cases[ncase - 1].law = LAW_WRAPPED;
 #undef CASE
 
   /* -k: keep the matching cases only */
@@ -800,6 +841,7 @@ int main(int argc, char **argv) {
       if (rps3_sim_alloc(&c->m, NULL, &c->sim, NULL, 0) != RPS3_OK ||
           rps3_ctrl_alloc(RPS3_CTRL_COMPUTED_TORQUE, 400.0, 40.0, &c->m, &tr,
                           &c->ctrl, NULL, 0) != RPS3_OK ||
+          user_law_init(&c->user, &c->m, &tr, 400.0, 40.0, 1) != RPS3_OK ||
           rps3_sim_start(c->sim, 0.0, pt.pose[0], pt.dpose[0]) != RPS3_OK) {
         fprintf(stderr, "rps3-bench: %s: set-up failed\n", c->name);
         return 2;
@@ -857,6 +899,17 @@ int main(int argc, char **argv) {
   printf("ratio = median / target (<= 1 meets the target); one core, "
          "single thread\n");
   print_ratios(rat, nratio, batches);
+  /* the verdict on the user's own controller with the plant's state */
+  for (i = 0; i < ncase; i++)
+    if (strstr(rows[i].name, "_user_plant_") != NULL)
+      printf("%sgoal: a user's computed torque offered the plant's state, "
+             "%s, >= 1000x real time (<= %.0f ns a 1 ms period): median "
+             "%.1f ns = %.0fx real time: %s\n",
+             (i > 0 && strstr(rows[i - 1].name, "_user_plant_")) ? "" : "\n",
+             strstr(rows[i].name, "_run_") ? "the helix as one run"
+                                            : "a call every period",
+             TARGET_SIM_NS, rows[i].median_ns, 1e6 / rows[i].median_ns,
+             rows[i].median_ns <= TARGET_SIM_NS ? "met" : "NOT met");
 
   snprintf(trajdoc, sizeof(trajdoc),
            "helix of Table II sampled at %.0f Hz (%d points), walked forward "
@@ -885,6 +938,7 @@ int main(int argc, char **argv) {
     rps3_data_free(cases[i].d);
     rps3_sim_free(cases[i].sim);
     rps3_ctrl_free(cases[i].ctrl);
+    user_law_free(&cases[i].user);
     free(cases[i].per_call);
     free(cases[i].cpu_call);
     free(cases[i].b_status);
