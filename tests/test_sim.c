@@ -824,20 +824,20 @@ static void bounded_calls(void **state) {
   assert_int_equal(rps3_sim_alloc(&m, NULL, &s, NULL, 0), RPS3_OK);
   start_on(s, &m, &tr, 0.0);
   assert_int_equal(rps3_sim_advance(
-                       s, &(rps3_controller){zero_force, NULL, 1000.0}, 0.01),
+                       s, &(rps3_controller){zero_force, NULL, 1000.0, 0u, NULL}, 0.01),
                    RPS3_OK);
   memcpy(y0, s->y, sizeof y0);
   {
     const double bad_rate[3] = {1e9, 1e300, (double)INFINITY};
     int k;
     for (k = 0; k < 3; k++) {
-      rps3_controller c = {zero_force, NULL, bad_rate[k]};
+      rps3_controller c = {zero_force, NULL, bad_rate[k], 0u, NULL};
       assert_int_equal(rps3_sim_advance(s, &c, 1.0), RPS3_EINVAL);
       assert_non_null(strstr(s->d->err.msg, "simulate.rate = "));
     }
   }
   {
-    rps3_controller c = {zero_force, NULL, 1000.0};
+    rps3_controller c = {zero_force, NULL, 1000.0, 0u, NULL};
     assert_int_equal(rps3_sim_advance(s, &c, 1e300), RPS3_EINVAL);
     assert_non_null(strstr(s->d->err.msg, "control periods a run"));
     assert_int_equal(rps3_sim_advance(s, &c, 0.005), RPS3_EINVAL);
@@ -845,7 +845,7 @@ static void bounded_calls(void **state) {
     assert_int_equal(rps3_sim_advance(s, &c, (double)NAN), RPS3_EINVAL);
     assert_int_equal(rps3_sim_advance(s, NULL, 1.0), RPS3_EINVAL);
     assert_int_equal(rps3_sim_advance(
-                         s, &(rps3_controller){NULL, NULL, 1000.0}, 1.0),
+                         s, &(rps3_controller){NULL, NULL, 1000.0, 0u, NULL}, 1.0),
                      RPS3_EINVAL);
     assert_true(s->t == 0.01 && memcmp(y0, s->y, sizeof y0) == 0);
     assert_int_equal(s->status, RPS3_OK);
@@ -856,7 +856,7 @@ static void bounded_calls(void **state) {
   }
   {
     /* a continuous controller to a far t_end: max_steps ends the call */
-    rps3_controller c = {zero_force, NULL, 0.0};
+    rps3_controller c = {zero_force, NULL, 0.0, 0u, NULL};
     assert_int_equal(rps3_sim_advance(s, &c, 1e300), RPS3_ENOCONV);
   }
   rps3_sim_free(s);
@@ -937,7 +937,7 @@ static void pure_relative_tolerance_refused(void **state) {
       assert_int_equal(rps3_ctrl_alloc(RPS3_CTRL_OPEN_LOOP, 0, 0, &m, &tr,
                                        &c, NULL, 0), RPS3_OK);
       {
-        rps3_controller ctl = {rps3_ctrl_update, c, 0.0};
+        rps3_controller ctl = {rps3_ctrl_update, c, 0.0, 0u, NULL};
         start_on(s, &m, &tr, 0.0);
         (void)rps3_sim_advance(s, &ctl, 0.05);
       }
