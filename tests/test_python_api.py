@@ -121,7 +121,7 @@ def test_forward_errors():
 @pytest.mark.parametrize("bad, exc, match", [
     ([0.3, 0.3], ValueError, r"l: expected shape \(n, 3\)"),
     ([0.3, 0.3, np.nan], ValueError, "l: non-finite"),
-    ([0.3, 0.3, 0.3 + 1e-3j], TypeError, "l: complex"),
+    ([0.3, 0.3, 0.3 + 1e-3j], TypeError, r"l: .*complex"),
     (["a", "b", "c"], TypeError, "l: expected real numbers"),
 ])
 def test_forward_bad_arguments(bad, exc, match):
@@ -187,7 +187,7 @@ def test_velocity_errors():
     assert list(v.status) == [0, rps3._lib.RPS3_EREACH]
     with pytest.raises(ValueError, match="ddpose: accelerations need"):
         velocity.pose_rates(model, [0, 0, 0.3], ddpose=[0, 0, 0])
-    with pytest.raises(TypeError, match="dpose: complex"):
+    with pytest.raises(TypeError, match=r"dpose: .*complex"):
         velocity.pose_rates(model, [0, 0, 0.3], [1j, 0, 0])
 
 
@@ -569,7 +569,7 @@ def test_trajectory_bad_arguments():
         rps3.trajectory.waypoints([0, 1], [[0, 0.1, 0.3]] * 2, law="cubic")
     with pytest.raises(ValueError, match="poses: 1 rows for 2 times"):
         rps3.trajectory.waypoints([0, 1], [[0, 0.1, 0.3]])
-    with pytest.raises(TypeError, match="poses: complex"):
+    with pytest.raises(TypeError, match=r"poses: .*complex"):
         rps3.trajectory.waypoints([0, 1], [[0, 0.1, 0.3j]] * 2)
     with pytest.raises(ValueError, match="radius"):
         rps3.trajectory.circle([0.01, 0, 0.3], 0.2, 1.0)

@@ -18,6 +18,7 @@ from typing import Any
 import numpy as np
 from numpy.typing import ArrayLike
 
+from rps3 import _core
 from rps3._core import FloatArray, text
 from rps3._rps3 import lib
 
@@ -127,19 +128,11 @@ def check(status: int, message: Any = None) -> None:
 # ------------------------------------------------------------------ arguments
 
 def real_array(x: ArrayLike, name: str, *, finite: bool = True) -> FloatArray:
-    """x as a float64 array.  TypeError naming the argument when x is not an
-    array of real numbers (complex, strings, objects, None); ValueError
-    when finite and a value is NaN or infinite."""
-    try:
-        a = np.asarray(x)
-    except Exception as exc:  # ragged sequences and the like
-        raise ValueError(f"{name}: not an array of numbers ({exc})") from None
-    if a.dtype.kind == "c":
-        raise TypeError(f"{name}: complex values are not accepted "
-                        f"(dtype {a.dtype})")
-    if a.dtype.kind not in "biuf":
-        raise TypeError(f"{name}: expected real numbers, got dtype {a.dtype}")
-    a = a.astype(np.float64, copy=False)
+    """x as a float64 array (the package's one check of real numbers,
+    rps3._core.real_array: TypeError naming the argument for complex,
+    strings, objects); ValueError when finite and a value is NaN or
+    infinite."""
+    a = _core.real_array(x, name)
     if finite and a.size and not np.isfinite(a).all():
         bad = np.argwhere(~np.isfinite(a))[0]
         where = f" at index {tuple(int(i) for i in bad)}" if a.ndim else ""
