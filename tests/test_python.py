@@ -711,3 +711,19 @@ def test_case_where_checks_its_values(config_runs):
     with h5py.File(config_runs["closed_loop"][0], "r") as f:
         with pytest.raises(TypeError, match="takes names"):
             rps3.h5io.case_where(f, simulate__controller=1.0)
+
+
+def test_import_needs_only_what_the_figures_install():
+    """`make paper` installs analysis/requirements.txt alone (no xarray,
+    no h5netcdf): importing the package and computing must not need them,
+    nor matplotlib (rps3.plot and rps3.view load on first use)."""
+    code = ("import sys\n"
+            "for m in ('xarray', 'h5netcdf', 'matplotlib', 'yaml'):\n"
+            "    sys.modules[m] = None  # importing it raises ImportError\n"
+            "import rps3\n"
+            "out = rps3.Model().inverse(*[getattr(rps3.trajectory.helix(samples=5), k)\n"
+            "                             for k in ('pose', 'dpose', 'ddpose')])\n"
+            "assert out.status.max() == 0\n")
+    proc = subprocess.run([sys.executable, "-c", code], capture_output=True,
+                          text=True)
+    assert proc.returncode == 0, proc.stderr

@@ -21,12 +21,14 @@ import shutil
 import subprocess
 import tempfile
 from collections.abc import Sequence
-
-import xarray as xr
+from typing import TYPE_CHECKING
 
 from rps3._core import text
 from rps3._rps3 import lib
 from rps3.io import open_dataset
+
+if TYPE_CHECKING:  # xarray is imported by open_dataset alone: the figures'
+    import xarray as xr  # environment (make paper) does without it
 
 _VERSION = text(lib.rps3_version())
 
