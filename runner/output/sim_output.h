@@ -14,7 +14,7 @@
 #include <stddef.h>
 #include <stdint.h>
 
-#include "scene.h"
+#include "scene/scene.h"
 
 /* shapes: [case], [case, time], [case, time, link] */
 typedef enum { SIM_C, SIM_CT, SIM_CTL } sim_shape;

@@ -12,8 +12,8 @@
 #include <gsl/gsl_version.h>
 #include <hdf5_hl.h>
 
-#include "out_cf.h"
-#include "output.h"
+#include "output/out_cf.h"
+#include "output/output.h"
 #include "study.h"
 
 /* the CF long_name of every dataset of the study files, by name: a

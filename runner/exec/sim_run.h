@@ -9,8 +9,8 @@
 
 #include <stddef.h>
 
-#include "progress.h"
-#include "sim_output.h"
+#include "core/progress.h"
+#include "output/sim_output.h"
 #include "simulate.h"
 
 /* samples per window (and chunk) of a case: memory does not grow with the

@@ -4,8 +4,8 @@
  * readable by h5py and by xarray through h5netcdf.
  */
 #include "output.h"
-#include "h5err.h"
-#include "inputs.h"
+#include "core/h5err.h"
+#include "scene/inputs.h"
 #include "out_cf.h"
 
 #include <errno.h>

@@ -9,8 +9,8 @@
 
 #include <hdf5.h>
 
-#include "h5err.h"
-#include "inputs.h"
+#include "core/h5err.h"
+#include "scene/inputs.h"
 
 /* bytes read at a time at most, for datasets without chunks */
 #define BLOCK_BYTES (16u << 20)

@@ -10,9 +10,9 @@
 
 #include "rps3.h"
 
-#include "output.h"
-#include "progress.h"
-#include "scene.h"
+#include "output/output.h"
+#include "core/progress.h"
+#include "scene/scene.h"
 #include "sweep.h"
 
 /* a filled block to write: slots [0, nc) are cases c0 .., samples

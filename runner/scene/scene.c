@@ -11,7 +11,7 @@
  */
 #include "scene.h"
 #include "scene_int.h"
-#include "hint.h"
+#include "core/hint.h"
 #include "scene_guard.h"
 
 #include <stdarg.h>

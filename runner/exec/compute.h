@@ -9,8 +9,8 @@
 
 #include <stddef.h>
 
-#include "output.h"
-#include "scene.h"
+#include "output/output.h"
+#include "scene/scene.h"
 
 /*
  * Compute samples [k0, k0 + nk) of case c into slot `slot` of b, with the

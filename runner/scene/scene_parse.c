@@ -5,7 +5,7 @@
  */
 #include "scene.h"
 #include "scene_int.h"
-#include "hint.h"
+#include "core/hint.h"
 
 #include <ctype.h>
 #include <errno.h>

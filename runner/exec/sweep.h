@@ -23,9 +23,9 @@
 
 #include <stddef.h>
 
-#include "output.h"
-#include "progress.h"
-#include "scene.h"
+#include "output/output.h"
+#include "core/progress.h"
+#include "scene/scene.h"
 
 /* samples in one tile of output: bounds the memory of a run */
 #define SWEEP_TILE_POINTS 16384

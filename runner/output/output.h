@@ -18,7 +18,7 @@
 
 #include <hdf5.h>
 
-#include "scene.h"
+#include "scene/scene.h"
 
 /* shapes: C [case], CT [case, time], CTL [case, time, link],
    CTK [case, time, constraint], CTEL [case, time, effect, link] */

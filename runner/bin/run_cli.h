@@ -7,7 +7,7 @@
 
 #include <stddef.h>
 
-#include "output.h"
+#include "output/output.h"
 
 /* what the command line of a run asks */
 typedef struct {

@@ -15,7 +15,7 @@
 
 #include <stddef.h>
 
-#include "scene.h"
+#include "scene/scene.h"
 
 /* one simulated case, ready to run */
 typedef struct {

@@ -1,19 +1,20 @@
 /*
  * cmd_merge.c - `rps3-run merge`: see cmd.h.
  */
-#include "cmd.h"
+#include "cmd_merge.h"
+#include "core/exit_codes.h"
 
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 #include <unistd.h>
 
-#include "cli.h"
+#include "core/cli.h"
 #include "join.h"
 #include "merge.h"
 #include "parts.h"
-#include "safeio.h"
-#include "tmpout.h"
+#include "core/safeio.h"
+#include "core/tmpout.h"
 #include "verify.h"
 
 /* the options of merge */

@@ -5,7 +5,7 @@
  * with HDF5's innermost cause.
  */
 #include "output.h"
-#include "h5err.h"
+#include "core/h5err.h"
 #include "out_cf.h"
 
 #include <stdarg.h>

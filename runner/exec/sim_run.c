@@ -6,9 +6,10 @@
  */
 #include "sim_run.h"
 #include "sweep.h"
-#include "cmd.h"
+#include "core/exit_codes.h"
+#include "core/tmpout.h"
 #include "estimate.h"
-#include "safeio.h"
+#include "core/safeio.h"
 
 #include <math.h>
 #include <stdio.h>

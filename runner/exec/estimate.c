@@ -9,7 +9,7 @@
 #include <time.h>
 
 #include "compute.h"
-#include "output.h"
+#include "output/output.h"
 
 /* HDF5's global heap: a variable-length string is a 16-byte reference in
    the dataset and an object of 16 bytes of header plus its text, rounded up

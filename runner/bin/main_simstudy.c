@@ -33,12 +33,12 @@
 #include <hdf5.h>
 #include <hdf5_hl.h>
 
-#include "cli.h"
-#include "h5err.h"
+#include "core/cli.h"
+#include "core/h5err.h"
 #include "rps3.h"
-#include "safeio.h"
-#include "signals.h"
-#include "tmpout.h"
+#include "core/safeio.h"
+#include "core/signals.h"
+#include "core/tmpout.h"
 
 enum { EXIT_OK = 0, EXIT_USAGE = 2, EXIT_IO = 3, EXIT_RUN = 4 };
 

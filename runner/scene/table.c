@@ -10,7 +10,7 @@
 
 #include "table.h"
 #include "table_int.h"
-#include "hint.h"
+#include "core/hint.h"
 
 #include <errno.h>
 #include <float.h>

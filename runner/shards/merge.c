@@ -17,8 +17,8 @@
 
 #include <hdf5.h>
 
-#include "inputs.h"
-#include "output.h"
+#include "scene/inputs.h"
+#include "output/output.h"
 #include "verify.h"
 
 /* the chunked datasets of a file by name: the per-case variables */

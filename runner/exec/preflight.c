@@ -6,7 +6,7 @@
 #include <stdio.h>
 
 #include "estimate.h"
-#include "safeio.h"
+#include "core/safeio.h"
 
 int pre_jobs(const scene *s, const sweep_plan *p, const sweep_opts *o,
              const pre_opts *po)

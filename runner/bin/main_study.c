@@ -51,12 +51,12 @@
 
 #include <gsl/gsl_errno.h>
 
-#include "cli.h"
-#include "h5err.h"
-#include "safeio.h"
-#include "signals.h"
-#include "study.h"
-#include "tmpout.h"
+#include "core/cli.h"
+#include "core/h5err.h"
+#include "core/safeio.h"
+#include "core/signals.h"
+#include "study/study.h"
+#include "core/tmpout.h"
 
 /* ----------------------------------------------------------------- main */
 

@@ -7,11 +7,12 @@
 #include <stdio.h>
 #include <string.h>
 
-#include "cli.h"
-#include "cmd.h"
-#include "safeio.h"
-#include "scene.h"
-#include "sim_output.h"
+#include "core/cli.h"
+#include "core/exit_codes.h"
+#include "core/tmpout.h"
+#include "core/safeio.h"
+#include "scene/scene.h"
+#include "output/sim_output.h"
 
 /* most threads of -j */
 #define MAX_THREADS 1024

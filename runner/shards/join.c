@@ -21,9 +21,9 @@
 #include <hdf5.h>
 #include <hdf5_hl.h>
 
-#include "inputs.h"
+#include "scene/inputs.h"
 #include "merge.h"
-#include "output.h"
+#include "output/output.h"
 #include "verify.h"
 
 /* what a walk over part 0 needs */
