@@ -276,13 +276,21 @@ check-san: $(TEST_SAN)
 check-py: all runner-mpi venv-check
 	$(VPY) -m pytest -q tests
 
+# the runner's files without a circle, each folder using only the ones
+# below it (scripts/check_cycles.py, docs/runner.md "Code layout"): the
+# sources' includes and the symbols their objects define and use
+.PHONY: cycles
+cycles: runner $(if $(HAVE_MPI),runner-mpi)
+	$(PYTHON) scripts/check_cycles.py --root runner --objects $(B)/runner \
+	  $(if $(HAVE_MPI),--objects $(B)/runner-mpi)
+
 # ruff and mypy over the Python package and the analysis scripts
 check-lint: venv-check
 	$(VPY) -m ruff check --config python/pyproject.toml python analysis
 	$(VPY) -m mypy --config-file python/pyproject.toml python/rps3 analysis
 
 # pytest last, so that a run ends on its summary line
-check: lib runner check-c check-san valgrind check-fuzz check-lint check-py
+check: lib runner check-c check-san valgrind check-fuzz check-lint cycles check-py
 
 # ------------------------------------------------------------- check-slurm
 # The shipped Slurm scripts (scripts/slurm/) under a single-node Slurm on
@@ -364,9 +372,10 @@ FUZZ_CC = clang
 FUZZ_FLAGS = -g -O1 -fsanitize=fuzzer,address,undefined -fno-sanitize-recover=all
 FUZZ_TIME ?= 20
 # the scene parser's sources: the fuzz target links these and the library
-FUZZ_SCENE_SRC = runner/scene/scene.c runner/scene/scene_parse.c runner/scene/scene_sweep.c \
-  runner/scene/scene_case.c runner/scene/scene_emit.c runner/scene/scene_guard.c \
-  runner/scene/table.c runner/scene/table_h5.c runner/core/hint.c
+FUZZ_SCENE_SRC = runner/scene/scene.c runner/scene/scene_load.c runner/scene/scene_parse.c \
+  runner/scene/scene_sweep.c runner/scene/scene_case.c runner/scene/scene_emit.c \
+  runner/scene/scene_guard.c runner/scene/table.c runner/scene/table_read.c \
+  runner/scene/table_h5.c runner/core/hint.c
 $(B)/fuzz_scene: tests/fuzz/fuzz_scene.c $(FUZZ_SCENE_SRC) $(wildcard runner/scene/*.h) runner/core/hint.h $(LIB_SRC) | $(DEPS)
 	@mkdir -p $(@D)
 	$(FUZZ_CC) $(CPPFLAGS_ALL) -Irunner $(GSL_CFLAGS) $(HDF5_CFLAGS) $(WARN) $(FUZZ_FLAGS) $(KERNEL_FLAGS) \

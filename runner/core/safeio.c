@@ -16,7 +16,6 @@
 
 #include <hdf5.h>
 
-#include "signals.h"
 
 void proc_init(void)
 {

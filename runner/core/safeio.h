@@ -9,6 +9,9 @@
 
 #include <stddef.h>
 
+/* the exit code of a failed write (every program's EXIT_IO) */
+#define SIG_EXIT_IO 3
+
 /*
  * Call first in main(): reopen each of fds 0-2 that is closed on /dev/null
  * (else the first file opened would get fd 2, and progress lines would be

@@ -23,9 +23,6 @@
 
 #include <stddef.h>
 
-/* the exit code of a failed write (every program's EXIT_IO) */
-#define SIG_EXIT_IO 3
-
 /* Install the policy above (once per process, before any thread). */
 void sig_init(void);
 

@@ -46,15 +46,28 @@ struct sim_sink {
 sim_tile *sim_run_case(const scene *s, size_t i, size_t limit, sim_tile *t,
                        sim_sink *k, char *err, size_t errsz);
 
-/*
- * Simulate every case of s into f on nthread threads (1: this one);
- * *nfailed counts the cases with a status.  The file does not depend on
- * nthread.  Returns 0, or -1 with err set.
- */
-int sim_run_all(const scene *s, const sim_plan *p, sim_file *f, int nthread,
-                progress *pr, size_t *nfailed, char *err, size_t errsz);
+/* the estimate's pilot: up to PILOT_CASES cases spread over the sweep,
+   each simulated for PILOT_SAMPLES samples at most and within a budget of
+   PILOT_WORK control periods or steps and PILOT_CPU CPU seconds, whichever
+   ends first, so that the estimate's own work is bounded whatever the
+   rate, step and duration; advanced in chunks of PILOT_CHUNK of them */
+#define PILOT_SAMPLES 400
+#define PILOT_CASES 4
+#define PILOT_WORK 20000.0
+#define PILOT_CHUNK 256.0
+#define PILOT_CPU 0.2
 
-/* sim_run_all on nthread >= 2 worker threads (sim_pool.c) */
+/*
+ * Case i simulated as the run does (its samples' references included) up
+ * to the pilot's budget: adds the CPU seconds and the simulated seconds it
+ * covered to *cpu and *sim, the samples to *samples.  -1 when the case
+ * cannot be set up (memory).
+ */
+int sim_pilot_case(const scene *s, size_t i, double *cpu, double *sim,
+                   size_t *samples);
+
+/* every case on nthread >= 2 worker threads (sim_pool.c; sim_main.c
+   runs a single thread itself) */
 int sim_pool_run(const scene *s, const sim_plan *p, sim_file *f, int nthread,
                  progress *pr, size_t *nfailed, char *err, size_t errsz);
 

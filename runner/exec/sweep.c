@@ -449,9 +449,9 @@ static int serial_emit(sink *k, out_block **b, const tile *t, char *err,
   return 0;
 }
 
-static int run_serial(const scene *s, const sweep_plan *p, out_file *f,
-                      out_block *b, const sweep_opts *o, progress *pr,
-                      sweep_stats *st, char *err, size_t errsz)
+int sweep_run_serial(const scene *s, const sweep_plan *p, out_file *f,
+                     out_block *b, const sweep_opts *o, progress *pr,
+                     sweep_stats *st, char *err, size_t errsz)
 {
   rps3_data *ws[RPS3_NSOLVER];
   serial_sink ss;
@@ -468,26 +468,4 @@ static int run_serial(const scene *s, const sweep_plan *p, out_file *f,
     rc = sweep_job_run(s, p, j, &b, ws, &ss.base, err, errsz);
   sweep_workspaces_free(ws);
   return rc;
-}
-
-int sweep_run_opts(const scene *s, const sweep_plan *p, out_file *f,
-                   out_block *b, const sweep_opts *o, progress *pr,
-                   sweep_stats *st, char *err, size_t errsz)
-{
-  memset(st, 0, sizeof *st);
-  if (o->nshard < 1 || o->shard >= o->nshard || o->nthread < 1) {
-    snprintf(err, errsz, "bad shard %zu/%zu or thread count %d", o->shard,
-             o->nshard, o->nthread);
-    return -1;
-  }
-  return o->nthread == 1 ? run_serial(s, p, f, b, o, pr, st, err, errsz)
-                         : sweep_run_threads(s, p, f, b, o, pr, st, err, errsz);
-}
-
-int sweep_run(const scene *s, const sweep_plan *p, out_file *f,
-              out_block *b, progress *pr, sweep_stats *st, char *err,
-              size_t errsz)
-{
-  sweep_opts o = {1, 0, 1};
-  return sweep_run_opts(s, p, f, b, &o, pr, st, err, errsz);
 }

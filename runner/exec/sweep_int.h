@@ -56,6 +56,12 @@ int sweep_job_run(const scene *s, const sweep_plan *p, size_t j,
 /* free the workspaces of sweep_job_run */
 void sweep_workspaces_free(rps3_data *ws[RPS3_NSOLVER]);
 
+/* sweep_run_opts with o->nthread == 1: the jobs of the shard in turn on
+   this thread (sweep.c) */
+int sweep_run_serial(const scene *s, const sweep_plan *p, out_file *f,
+                     out_block *b, const sweep_opts *o, progress *pr,
+                     sweep_stats *st, char *err, size_t errsz);
+
 /* sweep_run_opts with o->nthread > 1 workers (sweep_threads.c) */
 int sweep_run_threads(const scene *s, const sweep_plan *p, out_file *f,
                       out_block *b, const sweep_opts *o, progress *pr,

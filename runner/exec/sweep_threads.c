@@ -1,7 +1,8 @@
 /*
- * sweep_threads.c - sweep_run_opts() on threads: workers compute jobs into
- * the blocks of a pool; the calling thread, the only one that calls HDF5,
- * writes each tile as it comes (sweep.h).
+ * sweep_threads.c - sweep_run_opts() (sweep.h): on one thread, the
+ * serial run of sweep.c; on threads, workers compute jobs into the blocks
+ * of a pool and the calling thread, the only one that calls HDF5, writes
+ * each tile as it comes.
  */
 #include "sweep.h"
 #include "sweep_int.h"
@@ -255,4 +256,26 @@ done:
   free(w);
   free(tid);
   return rc;
+}
+
+int sweep_run_opts(const scene *s, const sweep_plan *p, out_file *f,
+                   out_block *b, const sweep_opts *o, progress *pr,
+                   sweep_stats *st, char *err, size_t errsz)
+{
+  memset(st, 0, sizeof *st);
+  if (o->nshard < 1 || o->shard >= o->nshard || o->nthread < 1) {
+    snprintf(err, errsz, "bad shard %zu/%zu or thread count %d", o->shard,
+             o->nshard, o->nthread);
+    return -1;
+  }
+  return o->nthread == 1 ? sweep_run_serial(s, p, f, b, o, pr, st, err, errsz)
+                         : sweep_run_threads(s, p, f, b, o, pr, st, err, errsz);
+}
+
+int sweep_run(const scene *s, const sweep_plan *p, out_file *f,
+              out_block *b, progress *pr, sweep_stats *st, char *err,
+              size_t errsz)
+{
+  sweep_opts o = {1, 0, 1};
+  return sweep_run_opts(s, p, f, b, &o, pr, st, err, errsz);
 }

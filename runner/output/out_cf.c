@@ -8,7 +8,8 @@
 #include <stdlib.h>
 #include <string.h>
 
-#include "output.h"
+#include "out_h5.h"
+#include "outblock.h"
 
 /* the statuses a case can end with, as CF flag words: every rps3_status
    (include/rps3.h; tests/test_cf.py checks that none is missing against
@@ -270,4 +271,48 @@ const char *out_cf_axis_units(const scene *s, size_t a, char *buf, size_t sz)
     u = strchr(u, ',') + 1 + (strchr(u, ',')[1] == ' ');
   snprintf(buf, sz, "%.*s", (int)strcspn(u, ","), u);
   return gain_units(s, buf);
+}
+
+/* "a b c": the coordinates attribute, the swept keys' variables (CF
+   names, out_cf_key_name) and case_time when with_case_time */
+char *out_h5_coordinates(const scene *s, int with_case_time)
+{
+  size_t a, len = 1;
+  char *c, name[160];
+  for (a = 0; a < s->naxis; a++)
+    len += strlen(out_cf_key_name(s->axis[a].path, name, sizeof name)) + 1;
+  len += with_case_time ? strlen(" case_time") : 0;
+  c = malloc(len);
+  if (!c)
+    return NULL;
+  c[0] = '\0';
+  for (a = 0; a < s->naxis; a++) {
+    if (a)
+      strcat(c, " ");
+    strcat(c, out_cf_key_name(s->axis[a].path, name, sizeof name));
+  }
+  if (with_case_time)
+    strcat(c, s->naxis ? " case_time" : "case_time");
+  return c;
+}
+
+int out_stamp(hid_t file, const char *command_line)
+{
+  char now[32];
+  hid_t str = H5Tcopy(H5T_C_S1);
+  int rc = -1;
+  out_utc_now(now);
+  if (str >= 0 && H5Tset_size(str, H5T_VARIABLE) >= 0 &&
+      H5Tset_cset(str, H5T_CSET_UTF8) >= 0 &&
+      (H5Aexists(file, "created_utc") <= 0 ||
+       H5Adelete(file, "created_utc") >= 0) &&
+      (H5Aexists(file, "command_line") <= 0 ||
+       H5Adelete(file, "command_line") >= 0) &&
+      out_h5_attr(file, str, "created_utc", now) >= 0 &&
+      out_h5_attr(file, str, "command_line", command_line) >= 0 &&
+      out_cf_history_add(file, str, now, command_line) >= 0)
+    rc = 0;
+  if (str >= 0)
+    H5Tclose(str);
+  return rc;
 }

@@ -81,4 +81,14 @@ int out_cf_swept_key(hid_t ds, hid_t str, const char *key);
 const char *out_cf_axis_units(const scene *s, size_t a, char *buf,
                               size_t sz);
 
+/* Set (replace) the root attributes created_utc (now) and command_line of
+   an open file.  Returns 0 or -1. */
+int out_stamp(hid_t file, const char *command_line);
+
+/* "key1 key2 [case_time]": the coordinates attribute, the swept keys'
+   variables and, when with_case_time (a per-sample variable of a file
+   whose time grid differs between cases), case_time (malloc'd; NULL when
+   out of memory) */
+char *out_h5_coordinates(const scene *s, int with_case_time);
+
 #endif /* RPS3_RUNNER_OUT_CF_H */

@@ -1,12 +1,11 @@
 /*
- * out_h5.c - the HDF5 helpers of the runner's files (output.h): datasets
+ * out_h5.c - the HDF5 helpers of the runner's files (out_h5.h): datasets
  * with units and descriptions, dimension scales, rows of a [case]
- * dataset, the swept keys' values, the time stamp and history; errors
- * with HDF5's innermost cause.
+ * dataset, the swept keys' values, the time now; errors with HDF5's
+ * innermost cause.  The time stamp and history are CF's (out_cf.c).
  */
-#include "output.h"
+#include "out_h5.h"
 #include "core/h5err.h"
-#include "out_cf.h"
 
 #include <stdarg.h>
 #include <stdio.h>
@@ -139,29 +138,6 @@ hid_t out_h5_scale(hid_t file, hid_t str, const char *name, hid_t type,
   return ds;
 }
 
-/* "a b c": the coordinates attribute, the swept keys' variables (CF
-   names, out_cf_key_name) and case_time when with_case_time */
-char *out_h5_coordinates(const scene *s, int with_case_time)
-{
-  size_t a, len = 1;
-  char *c, name[160];
-  for (a = 0; a < s->naxis; a++)
-    len += strlen(out_cf_key_name(s->axis[a].path, name, sizeof name)) + 1;
-  len += with_case_time ? strlen(" case_time") : 0;
-  c = malloc(len);
-  if (!c)
-    return NULL;
-  c[0] = '\0';
-  for (a = 0; a < s->naxis; a++) {
-    if (a)
-      strcat(c, " ");
-    strcat(c, out_cf_key_name(s->axis[a].path, name, sizeof name));
-  }
-  if (with_case_time)
-    strcat(c, s->naxis ? " case_time" : "case_time");
-  return c;
-}
-
 /* the swept values of axis a, case by case, in runs of OUT_AXIS_RUN cases */
 int out_h5_axis(hid_t ds, hid_t str, const scene *s, size_t a)
 {
@@ -203,23 +179,3 @@ void out_utc_now(char now[32])
   strftime(now, 32, "%Y-%m-%dT%H:%M:%SZ", &tm);
 }
 
-int out_stamp(hid_t file, const char *command_line)
-{
-  char now[32];
-  hid_t str = H5Tcopy(H5T_C_S1);
-  int rc = -1;
-  out_utc_now(now);
-  if (str >= 0 && H5Tset_size(str, H5T_VARIABLE) >= 0 &&
-      H5Tset_cset(str, H5T_CSET_UTF8) >= 0 &&
-      (H5Aexists(file, "created_utc") <= 0 ||
-       H5Adelete(file, "created_utc") >= 0) &&
-      (H5Aexists(file, "command_line") <= 0 ||
-       H5Adelete(file, "command_line") >= 0) &&
-      out_h5_attr(file, str, "created_utc", now) >= 0 &&
-      out_h5_attr(file, str, "command_line", command_line) >= 0 &&
-      out_cf_history_add(file, str, now, command_line) >= 0)
-    rc = 0;
-  if (str >= 0)
-    H5Tclose(str);
-  return rc;
-}

@@ -3,7 +3,7 @@
  * the tile buffers a sweep fills, and the selection of fields (--fields).
  * No HDF5 here: output.c writes what this describes.
  */
-#include "output.h"
+#include "outblock.h"
 
 #include <math.h>
 #include <stdio.h>

@@ -8,7 +8,7 @@
  * level (the deflate filter) followed by the Fletcher-32 checksum of the
  * result, stored little-endian after it (the fletcher32 filter).
  */
-#include "output.h"
+#include "outblock.h"
 
 #include <math.h>
 #include <stdint.h>

@@ -1,18 +1,18 @@
 /*
- * scene.c - the scene's key table, enum names and values, its errors, and
- * scene_load: read a scene file with libyaml's document API into a scene.
+ * scene.c - the scene's key table, enum names and values, its errors, its
+ * values by key, and scene_free.
  *
  * Parsing is table driven: SCENE_KEYS (scene.h) names every leaf key with
  * its type, range and unit.  Each error carries the libyaml mark of the node
  * it is about, so that the runner can print FILE:LINE:COLUMN: key: what.
- * The YAML nodes are read in scene_parse.c, the sweep and the checks of the
+ * scene_load.c reads a file with libyaml's document API; the YAML nodes
+ * are read in scene_parse.c, the sweep and the checks of the
  * given keys are in scene_sweep.c, each case is built in scene_case.c and
  * written back as YAML in scene_emit.c.
  */
 #include "scene.h"
 #include "scene_int.h"
 #include "core/hint.h"
-#include "scene_guard.h"
 
 #include <stdarg.h>
 #include <stddef.h>
@@ -57,7 +57,7 @@ scene_key_info scene_keys[SCENE_NKEY];
 
 /* complete scene_keys[] from key_rows[] and the field rows, once; called from
    the entry points, before any thread starts */
-static void keys_build(void)
+void scene_keys_build(void)
 {
   static int built;
   int k;
@@ -114,14 +114,14 @@ int scene_key_fills(int k)
 
 const scene_key_info *scene_key_get(int k)
 {
-  keys_build();
+  scene_keys_build();
   return (k >= 0 && k < SCENE_NKEY) ? &scene_keys[k] : NULL;
 }
 
 int scene_key_find(const char *path)
 {
   int k;
-  keys_build();
+  scene_keys_build();
   for (k = 0; k < SCENE_NKEY; k++)
     if (strcmp(scene_keys[k].path, path) == 0)
       return k;
@@ -233,7 +233,7 @@ int *scene_int_at(scene_values *v, int k)
 double scene_value_real(const scene_values *v, int k, int comp)
 {
   double x;
-  keys_build();
+  scene_keys_build();
   memcpy(&x, value_at((scene_values *)(void *)v, k) +
                  (size_t)(comp < 0 ? 0 : comp) * sizeof x,
          sizeof x);
@@ -315,96 +315,6 @@ scene_mark scene_mark_of(const yaml_mark_t *m)
   r.line = (int)m->line + 1;
   r.column = (int)m->column + 1;
   return r;
-}
-
-/* ------------------------------------------------------------------ load */
-
-/* the file, checked before libyaml sees it (scene_guard.h) */
-static int read_file(scene *s, const char *path, scene_error *err)
-{
-  if (scene_read_guarded(path, &s->text, &s->text_len, err))
-    return -1;
-  return scene_text_guard(s->text, s->text_len, err);
-}
-
-int scene_load(scene *s, const char *path, scene_error *err)
-{
-  yaml_parser_t parser;
-  yaml_document_t doc, extra;
-  yaml_node_t *root;
-  parse_ctx c;
-  int rc = -1;
-
-  keys_build();
-  memset(s, 0, sizeof *s);
-  memset(err, 0, sizeof *err);
-  scene_values_default(&s->base);
-  s->ncase = 1;
-  s->file = malloc(strlen(path) + 1);
-  if (!s->file) {
-    scene_error_set(err, s->section[0], "(file)", "out of memory");
-    return -1;
-  }
-  strcpy(s->file, path);
-  if (read_file(s, path, err))
-    goto fail;
-
-  if (!yaml_parser_initialize(&parser)) {
-    scene_error_set(err, s->section[0], "yaml", "cannot initialise libyaml");
-    goto fail;
-  }
-  yaml_parser_set_input_string(&parser, (const unsigned char *)s->text,
-                               s->text_len);
-  if (!yaml_parser_load(&parser, &doc)) {
-    scene_error_set(err, scene_mark_of(&parser.problem_mark), "yaml", "%s%s%s",
-                    parser.problem ? parser.problem : "syntax error",
-                    parser.context ? " " : "",
-                    parser.context ? parser.context : "");
-    yaml_parser_delete(&parser);
-    goto fail;
-  }
-  root = yaml_document_get_root_node(&doc);
-  memset(&c, 0, sizeof c);
-  c.ncase = 1;
-  c.doc = &doc;
-  c.s = s;
-  c.err = err;
-  s->section[0].line = 1;
-  s->section[0].column = 1;
-  if (!root) {
-    scene_error_set(err, s->section[0], "(root)", "empty scene");
-  } else if (root->type != YAML_MAPPING_NODE) {
-    scene_error_set(err, scene_mark_of(&root->start_mark), "(root)",
-                    "expected a mapping of sections, got %s",
-                    scene_node_kind(root));
-  } else {
-    /* a second document would be silently ignored: refuse it */
-    if (!yaml_parser_load(&parser, &extra)) {
-      scene_error_set(err, scene_mark_of(&parser.problem_mark), "yaml", "%s",
-                      parser.problem ? parser.problem : "syntax error");
-    } else {
-      yaml_node_t *r2 = yaml_document_get_root_node(&extra);
-      if (r2)
-        scene_error_set(err, scene_mark_of(&r2->start_mark), "(root)",
-                        "a second YAML document; a scene is one document");
-      else {
-        s->section[0] = scene_mark_of(&root->start_mark);
-        if (scene_walk_section(&c, root, "") == 0 &&
-            (c.sweep_node == 0 ||
-             scene_parse_sweep(&c, scene_node_get(&c, c.sweep_node)) == 0) &&
-            scene_check_keys(&c) == 0)
-          rc = 0;
-      }
-      yaml_document_delete(&extra);
-    }
-  }
-  yaml_document_delete(&doc);
-  yaml_parser_delete(&parser);
-  if (rc == 0)
-    return 0;
-fail:
-  scene_free(s);
-  return -1;
 }
 
 void scene_free(scene *s)

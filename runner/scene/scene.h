@@ -17,20 +17,8 @@
 
 #include "rps3.h"
 #include "table.h"
+#include "mark.h"
 #include "scene_sim.h"
-
-/* a position in the scene file, both 1-based; 0:0 when not known */
-typedef struct {
-  int line;
-  int column;
-} scene_mark;
-
-/* one error, printed as FILE:LINE:COLUMN: path: what */
-typedef struct {
-  scene_mark mark;
-  char path[128]; /* dotted key path, "yaml" for a syntax error */
-  char what[512]; /* what is wrong, with the offending value */
-} scene_error;
 
 /* value types of scene keys */
 typedef enum {

@@ -50,4 +50,11 @@ int table_regular_file(const char *path, char *err, size_t errsz);
 /* the columns of `what` from the HDF5 file t->path into t: 0, or -1 */
 int table_h5_read(table_data *t, int what, char *err, size_t errsz);
 
+/* the checks and completion of a table once its rows are read (table.c):
+   0, or -1 with err set */
+int table_finish(table_data *t, int what, char *err, size_t errsz);
+
+/* the rows of a CSV file (table.c) */
+int table_csv_read(table_data *t, int what, char *err, size_t errsz);
+
 #endif /* RPS3_RUNNER_TABLE_INT_H */
