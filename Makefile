@@ -68,6 +68,10 @@ TEST_BIN += $(B)/tests/example_control_loop $(B)/tests/example_sim_loop
 # the ones before it (docs/runner.md; `make cycles` checks it)
 RUN_DIRS = core scene output exec shards study bin
 RUN_SRC = $(foreach d,$(RUN_DIRS),$(wildcard runner/$(d)/*.c))
+# runner/mpi/ is the only code that knows MPI: rps3-run-mpi links
+# world_mpi.c, every other program the one-process stub
+WORLD_STUB = $(B)/runner/mpi/world_stub.o
+WORLD_MPI = $(B)/runner-mpi/mpi/world_mpi.o
 RUN_MAINS = runner/bin/main_run.c runner/bin/main_study.c runner/bin/main_simstudy.c
 # rps3-study's own files (study.h); the rest is every program's
 STUDY_SRC = $(wildcard runner/study/*.c)
@@ -236,7 +240,7 @@ $(B)/runner/gitrev.c: FORCE
 $(B)/runner/gitrev.o: $(B)/runner/gitrev.c $(FLAGS_STAMP)
 	$(CC) $(WARN) $(OPT) -c $< -o $@
 FORCE:
-$(B)/rps3-run: $(B)/runner/bin/main_run.o $(RUN_OBJ) $(B)/librps3.a
+$(B)/rps3-run: $(B)/runner/bin/main_run.o $(RUN_OBJ) $(WORLD_STUB) $(B)/librps3.a
 	$(CC) -o $@ $^ $(HDF5_LIBS) $(YAML_LIBS) $(GSL_LIBS) $(CRYPTO_LIBS) -lz -lpthread -lm
 $(B)/rps3-study: $(B)/runner/bin/main_study.o $(STUDY_OBJ) $(RUN_OBJ) $(B)/librps3.a
 	$(CC) -o $@ $^ $(HDF5_LIBS) $(YAML_LIBS) $(GSL_LIBS) $(CRYPTO_LIBS) -lz -lpthread -lm
@@ -247,13 +251,13 @@ $(B)/rps3-simstudy: $(B)/runner/bin/main_simstudy.o $(B)/runner/core/cli.o \
                    $(B)/runner/core/tmpout.o $(B)/runner/core/h5err.o $(B)/librps3.a
 	$(CC) -o $@ $^ $(HDF5_LIBS) $(GSL_LIBS) -lm
 
-# rps3-run-mpi: the same program built with -DRPS3_MPI, for
+# rps3-run-mpi: the same program linked with runner/mpi/world_mpi.c, for
 # `mpirun -n N build/rps3-run-mpi SCENE.yaml -o OUT.h5` (Debian's OpenMPI)
 runner-mpi: $(B)/rps3-run-mpi
-$(B)/runner-mpi/bin/main_run.o: runner/bin/main_run.c $(FLAGS_STAMP) | $(DEPS)
+$(WORLD_MPI): runner/mpi/world_mpi.c $(FLAGS_STAMP) | $(DEPS)
 	@mkdir -p $(@D)
-	$(CC) $(CPPFLAGS_ALL) -DRPS3_MPI -Irunner $(GSL_CFLAGS) $(HDF5_CFLAGS) $(MPI_CFLAGS) $(WARN) $(OPT) -MMD -MP -c $< -o $@
-$(B)/rps3-run-mpi: $(B)/runner-mpi/bin/main_run.o $(RUN_OBJ) $(B)/librps3.a
+	$(CC) $(CPPFLAGS_ALL) -Irunner $(MPI_CFLAGS) $(WARN) $(OPT) -MMD -MP -c $< -o $@
+$(B)/rps3-run-mpi: $(B)/runner/bin/main_run.o $(RUN_OBJ) $(WORLD_MPI) $(B)/librps3.a
 	$(CC) -o $@ $^ $(HDF5_LIBS) $(YAML_LIBS) $(GSL_LIBS) $(MPI_LIBS) $(CRYPTO_LIBS) -lz -lpthread -lm
 
 # ------------------------------------------------------------------- tests

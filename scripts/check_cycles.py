@@ -9,7 +9,8 @@ lines), or when A's object file uses a global symbol that B's object file
 defines (`nm`, so calls through macros and data count too).  The graph
 must have no cycle, and no edge may go from a folder to one above it in
 LAYERS; folders of the same layer may not use each other either.  Every
-file must sit in a folder of LAYERS.
+file must sit in a folder of LAYERS, and only mpi/ may include <mpi.h> or
+test RPS3_MPI.
 
     check_cycles.py [--root runner] [--objects DIR ...]
 
@@ -40,6 +41,9 @@ LAYERS = [
 RANK = {f: i for i, group in enumerate(LAYERS) for f in group}
 
 INCLUDE = re.compile(r'^\s*#\s*include\s+"([^"]+)"', re.M)
+# MPI is mpi/'s alone: elsewhere neither its header nor a build switch
+MPI_ONLY = "mpi"
+MPI_USE = re.compile(r'^\s*#\s*(?:include\s*<mpi\.h>|if.*\bRPS3_MPI\b)', re.M)
 
 
 def module_of(path):
@@ -88,13 +92,18 @@ def scan_sources(root, errors):
     return sorted(files)
 
 
-def include_edges(root, files, own, add):
+def include_edges(root, files, own, add, errors):
     known = set(files)
     for rel in files:
         folder = rel.split("/")[0]
         with open(os.path.join(root, rel), encoding="utf-8",
                   errors="replace") as f:
             text = f.read()
+        if folder != MPI_ONLY:
+            for m in MPI_USE.finditer(text):
+                line = text.count("\n", 0, m.start()) + 1
+                errors.append(f"{rel}:{line}: MPI outside {MPI_ONLY}/: "
+                              f"{m.group(0).strip()}")
         for m in INCLUDE.finditer(text):
             name = m.group(1)
             line = text.count("\n", 0, m.start()) + 1
@@ -227,7 +236,7 @@ def check(root, objdirs):
         why.setdefault((a, b), reason)
 
     own = owners(files)
-    include_edges(root, files, own, add)
+    include_edges(root, files, own, add, errors)
     nobj = symbol_edges(root, files, objdirs, add) if objdirs else 0
     nodes = set(own.values())
 

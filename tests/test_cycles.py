@@ -145,6 +145,20 @@ def test_sibling_folders_fail(tmp_path):
     assert "edge between sibling folders: mpi/world -> core/log" in p.stderr
 
 
+def test_mpi_outside_its_folder_fails(tmp_path):
+    files = dict(CLEAN)
+    files["bin/main.c"] = ('#include "scene/parse.h"\n#include "core/log.h"\n'
+                           "#ifdef RPS3_MPI\n#include <mpi.h>\n#endif\n"
+                           "int main(void) { return parse_it(0); }\n")
+    files["mpi/world.c"] = ("#include <mpi.h>\nint world_f(void);\n"
+                            "int world_f(void) { return 0; }\n")
+    p = run(tree(tmp_path, files))
+    assert p.returncode == 1
+    assert "bin/main.c:3: MPI outside mpi/: #ifdef RPS3_MPI" in p.stderr
+    assert "bin/main.c:4: MPI outside mpi/: #include <mpi.h>" in p.stderr
+    assert "mpi/world.c" not in p.stderr
+
+
 def test_file_outside_the_layers_fails(tmp_path):
     files = dict(CLEAN)
     files["misc/x.c"] = "int x_f(void);\nint x_f(void) { return 0; }\n"

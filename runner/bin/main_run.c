@@ -10,7 +10,7 @@
  * -j N computes the cases on N threads (sweep.h); --shard K/N computes the
  * jobs of shard K only, into a part file that `merge` joins with the
  * others (cmd_merge.c: by virtual datasets, join.h, or with --copy by
- * copying chunks, merge.h).  Built with -DRPS3_MPI (rps3-run-mpi) and
+ * copying chunks, merge.h).  Linked with MPI (rps3-run-mpi, mpi/world.h) and
  * launched by mpirun, rank r computes shard r of the ranks into
  * OUT.h5.tmp.PID.part<r> next to OUT.h5, renamed OUT.h5.part<r>of<N>, and
  * rank 0 joins the parts into OUT.h5 (with --copy: merges them into its
@@ -33,9 +33,6 @@
 #include <gsl/gsl_errno.h>
 #include <hdf5.h>
 
-#ifdef RPS3_MPI
-#include <mpi.h>
-#endif
 
 #include "core/cli.h"
 #include "core/exit_codes.h"
@@ -56,36 +53,10 @@
 #include "output/sim_output.h"
 #include "exec/simulate.h"
 #include "exec/sweep.h"
-
-/* the MPI world of this process: rank 0 of 1 without MPI */
-typedef struct {
-  int rank;
-  int size;
-} world;
-
-#ifdef RPS3_MPI
-/*
- * Wait for every rank without spinning: a rank that is done (early, or
- * waiting for rank 0's join) polls a nonblocking barrier every millisecond
- * and sleeps in between, where a blocking collective would keep its core
- * busy (Open MPI polls).
- */
-static void mpi_idle_barrier(void)
-{
-  MPI_Request rq;
-  struct timespec nap = {0, 1000000};
-  int done = 0;
-  MPI_Ibarrier(MPI_COMM_WORLD, &rq);
-  for (;;) {
-    MPI_Test(&rq, &done, MPI_STATUS_IGNORE);
-    if (done)
-      break;
-    nanosleep(&nap, NULL);
-  }
-}
+#include "mpi/world.h"
 
 /* the name of rank r's part once complete: OUT.h5.part<r>of<N> */
-static void mpi_part_name(char *buf, size_t size, const char *out_path,
+static void rank_part_name(char *buf, size_t size, const char *out_path,
                           int r, int n)
 {
   snprintf(buf, size, "%s.part%dof%d", out_path, r, n);
@@ -93,7 +64,7 @@ static void mpi_part_name(char *buf, size_t size, const char *out_path,
 
 /* rank 0: join the ranks' parts (renamed) into OUT.h5 by virtual datasets;
    0 or -1 (message printed) */
-static int mpi_join_vds(const world *w, const char *out_path, const char *cmd,
+static int ranks_join_vds(const world *w, const char *out_path, const char *cmd,
                         size_t *nfailed)
 {
   char (*paths)[4096] = calloc((size_t)w->size, sizeof *paths);
@@ -104,7 +75,7 @@ static int mpi_join_vds(const world *w, const char *out_path, const char *cmd,
     fprintf(stderr, "rps3-run: out of memory\n");
   else if (tmpout_name(out_path, 0) == 0) {
     for (r = 0; r < w->size; r++) {
-      mpi_part_name(paths[r], sizeof paths[r], out_path, r, w->size);
+      rank_part_name(paths[r], sizeof paths[r], out_path, r, w->size);
       part[r] = paths[r];
     }
     tmpout_arm();
@@ -130,7 +101,7 @@ static int mpi_join_vds(const world *w, const char *out_path, const char *cmd,
  * rank's outcome so far; returns the exit code of the run, the same on
  * every rank.
  */
-static int mpi_join(const world *w, int code, int copy, const char *out_path,
+static int ranks_join(const world *w, int code, int copy, const char *out_path,
                     const char *cmd, progress *pr, const sweep_stats *st,
                     size_t ncase)
 {
@@ -140,18 +111,18 @@ static int mpi_join(const world *w, int code, int copy, const char *out_path,
   mine[0] = st->cases_done;
   mine[1] = st->points_done;
   mine[2] = st->nfailed;
-  mpi_idle_barrier();
-  MPI_Allreduce(&code, &worst, 1, MPI_INT, MPI_MAX, MPI_COMM_WORLD);
-  MPI_Reduce(mine, sum, 3, MPI_UNSIGNED_LONG, MPI_SUM, 0, MPI_COMM_WORLD);
+  world_idle_barrier();
+  world_max_int(&code, &worst, 1);
+  world_sum_ulong(mine, sum, 3);
   result = worst;
   if (worst < EXIT_USAGE && !copy) {
     char name[4096];
-    mpi_part_name(name, sizeof name, out_path, w->rank, w->size);
+    rank_part_name(name, sizeof name, out_path, w->rank, w->size);
     code = tmpout_commit(name) ? EXIT_IO : code;
-    MPI_Allreduce(&code, &worst, 1, MPI_INT, MPI_MAX, MPI_COMM_WORLD);
+    world_max_int(&code, &worst, 1);
     result = worst;
     if (w->rank == 0 && worst < EXIT_USAGE)
-      result = mpi_join_vds(w, out_path, cmd, &nfailed) ? EXIT_IO
+      result = ranks_join_vds(w, out_path, cmd, &nfailed) ? EXIT_IO
                : nfailed                                 ? EXIT_FAILED_CASES
                                                          : EXIT_OK;
   } else if (worst < EXIT_USAGE) {
@@ -163,12 +134,11 @@ static int mpi_join(const world *w, int code, int copy, const char *out_path,
     result = EXIT_IO;
     if (!src || !ks || !paths) {
       fprintf(stderr, "rps3-run: out of memory\n");
-      MPI_Abort(MPI_COMM_WORLD, EXIT_IO);
+      world_abort(EXIT_IO);
     }
     /* the ranks' temporary names, each with its own host and process */
     snprintf(me, sizeof me, "%s", tmpout_path());
-    MPI_Gather(me, (int)sizeof me, MPI_CHAR, paths, (int)sizeof me, MPI_CHAR,
-               0, MPI_COMM_WORLD);
+    world_gather(me, sizeof me, (char *)paths);
     if (w->rank == 0) {
       for (r = 1; r < w->size; r++) {
         src[r - 1] = paths[r];
@@ -191,12 +161,11 @@ static int mpi_join(const world *w, int code, int copy, const char *out_path,
   }
   /* the other ranks sleep through rank 0's join; then, with --copy, the
      parts are read and every rank removes its own */
-  mpi_idle_barrier();
-  MPI_Bcast(&result, 1, MPI_INT, 0, MPI_COMM_WORLD);
+  world_idle_barrier();
+  world_bcast_int(&result);
   tmpout_discard();
   return result;
 }
-#endif
 
 /*
  * The worst of the ranks' codes (this code without MPI); *first, when not
@@ -210,10 +179,8 @@ static int agree(const world *w, int code, int *first)
   mine[1] = w->rank == 0 ? code : 0;
   all[0] = mine[0];
   all[1] = mine[1];
-#ifdef RPS3_MPI
   if (w->size > 1)
-    MPI_Allreduce(mine, all, 2, MPI_INT, MPI_MAX, MPI_COMM_WORLD);
-#endif
+    world_max_int(mine, all, 2);
   if (first)
     *first = all[1];
   return all[0];
@@ -475,9 +442,7 @@ static int run_main(int argc, char **argv, const world *w)
     code = EXIT_IO;
   }
   if (w->size > 1) {
-#ifdef RPS3_MPI
-    code = mpi_join(w, code, a.copy, a.out_path, cmd, &pr, &st, s.ncase);
-#endif
+    code = ranks_join(w, code, a.copy, a.out_path, cmd, &pr, &st, s.ncase);
     goto done;
   }
   if (code != EXIT_OK || tmpout_commit(a.out_path)) {
@@ -527,34 +492,27 @@ int main(int argc, char **argv)
 
   /* fds 0-2 open before anything opens a file; HDF5 without atexit */
   proc_init();
-#ifdef RPS3_MPI
-  {
-    int provided;
-    /* worker threads (-j) never call MPI */
-    MPI_Init_thread(&argc, &argv, MPI_THREAD_FUNNELED, &provided);
-    MPI_Comm_rank(MPI_COMM_WORLD, &w.rank);
-    MPI_Comm_size(MPI_COMM_WORLD, &w.size);
-  }
-  /* srun without --mpi=pmix (or an MPI that srun cannot start): N
-     singletons, each of which would compute the whole sweep */
+  world_init(&argc, &argv, &w);
   if (w.size == 1 && launched_tasks(&by) > 1) {
-    fprintf(stderr, "rps3-run: %d tasks started by %s, but MPI sees 1: "
-                    "use srun --mpi=pmix (or mpirun)\n",
-            launched_tasks(&by), by);
-    MPI_Finalize();
-    return proc_exit(EXIT_USAGE);
+    if (world_has_mpi()) {
+      /* srun without --mpi=pmix (or an MPI that srun cannot start): N
+         singletons, each of which would compute the whole sweep */
+      fprintf(stderr, "rps3-run: %d tasks started by %s, but MPI sees 1: "
+                      "use srun --mpi=pmix (or mpirun)\n",
+              launched_tasks(&by), by);
+      world_finalize();
+      return proc_exit(EXIT_USAGE);
+    }
+    if (!(argc > 1 && (strcmp(argv[1], "merge") == 0 ||
+                       strcmp(argv[1], "--clean") == 0))) {
+      fprintf(stderr, "rps3-run: launched as %d tasks by %s, but built "
+                      "without MPI: every task would compute the whole "
+                      "sweep; use build/rps3-run-mpi (make runner-mpi), or "
+                      "one task per --shard K/N (a Slurm job array)\n",
+              launched_tasks(&by), by);
+      return proc_exit(EXIT_USAGE);
+    }
   }
-#else
-  if (launched_tasks(&by) > 1 && !(argc > 1 && (strcmp(argv[1], "merge") == 0 ||
-                                               strcmp(argv[1], "--clean") == 0))) {
-    fprintf(stderr, "rps3-run: launched as %d tasks by %s, but built without "
-                    "MPI: every task would compute the whole sweep; use "
-                    "build/rps3-run-mpi (make runner-mpi), or one task per "
-                    "--shard K/N (a Slurm job array)\n",
-            launched_tasks(&by), by);
-    return proc_exit(EXIT_USAGE);
-  }
-#endif
 
   /* process-wide policy: GSL returns its errors, HDF5's are captured
      (h5err.h); the signals that end a run remove its temporary file
@@ -588,8 +546,6 @@ int main(int argc, char **argv)
   } else
     code = run_main(argc, argv, &w);
 
-#ifdef RPS3_MPI
-  MPI_Finalize();
-#endif
+  world_finalize();
   return proc_exit(code);
 }
