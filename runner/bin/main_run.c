@@ -33,41 +33,38 @@
 #include <gsl/gsl_errno.h>
 #include <hdf5.h>
 
-
 #include "core/cli.h"
 #include "core/exit_codes.h"
-#include "shards/cmd_merge.h"
 #include "core/h5err.h"
-#include "scene/inputs.h"
-#include "shards/join.h"
-#include "shards/merge.h"
-#include "shards/parts.h"
-#include "output/output.h"
-#include "exec/preflight.h"
 #include "core/progress.h"
-#include "run_cli.h"
 #include "core/safeio.h"
-#include "scene/scene.h"
 #include "core/signals.h"
 #include "core/tmpout.h"
-#include "output/sim_output.h"
+#include "exec/preflight.h"
 #include "exec/simulate.h"
 #include "exec/sweep.h"
 #include "mpi/world.h"
+#include "output/output.h"
+#include "output/sim_output.h"
+#include "run_cli.h"
+#include "scene/inputs.h"
+#include "scene/scene.h"
+#include "shards/cmd_merge.h"
+#include "shards/join.h"
+#include "shards/merge.h"
+#include "shards/parts.h"
 
 /* the name of rank r's part once complete: OUT.h5.part<r>of<N> */
-static void rank_part_name(char *buf, size_t size, const char *out_path,
-                          int r, int n)
-{
+static void rank_part_name(char *buf, size_t size, const char *out_path, int r,
+                           int n) {
   snprintf(buf, size, "%s.part%dof%d", out_path, r, n);
 }
 
 /* rank 0: join the ranks' parts (renamed) into OUT.h5 by virtual datasets;
    0 or -1 (message printed) */
 static int ranks_join_vds(const world *w, const char *out_path, const char *cmd,
-                        size_t *nfailed)
-{
-  char (*paths)[4096] = calloc((size_t)w->size, sizeof *paths);
+                          size_t *nfailed) {
+  char(*paths)[4096] = calloc((size_t)w->size, sizeof *paths);
   const char **part = calloc((size_t)w->size, sizeof *part);
   char err[768];
   int r, rc = -1;
@@ -81,9 +78,10 @@ static int ranks_join_vds(const world *w, const char *out_path, const char *cmd,
     tmpout_arm();
     if (join_vds(tmpout_path(), part, (size_t)w->size, cmd, nfailed, err,
                  sizeof err))
-      fprintf(stderr, "rps3-run: joining the ranks' parts: %s (the parts "
-                      "%s.part*of%d are complete: join them with rps3-run "
-                      "merge)\n",
+      fprintf(stderr,
+              "rps3-run: joining the ranks' parts: %s (the parts "
+              "%s.part*of%d are complete: join them with rps3-run "
+              "merge)\n",
               err, out_path, w->size);
     else
       rc = tmpout_commit(out_path);
@@ -102,9 +100,8 @@ static int ranks_join_vds(const world *w, const char *out_path, const char *cmd,
  * every rank.
  */
 static int ranks_join(const world *w, int code, int copy, const char *out_path,
-                    const char *cmd, progress *pr, const sweep_stats *st,
-                    size_t ncase)
-{
+                      const char *cmd, progress *pr, const sweep_stats *st,
+                      size_t ncase) {
   unsigned long mine[3], sum[3];
   int worst = code, result = code;
   size_t nfailed = 0;
@@ -123,12 +120,12 @@ static int ranks_join(const world *w, int code, int copy, const char *out_path,
     result = worst;
     if (w->rank == 0 && worst < EXIT_USAGE)
       result = ranks_join_vds(w, out_path, cmd, &nfailed) ? EXIT_IO
-               : nfailed                                 ? EXIT_FAILED_CASES
-                                                         : EXIT_OK;
+               : nfailed                                  ? EXIT_FAILED_CASES
+                                                          : EXIT_OK;
   } else if (worst < EXIT_USAGE) {
     const char **src = calloc((size_t)w->size, sizeof *src);
     size_t *ks = calloc((size_t)w->size, sizeof *ks);
-    char (*paths)[4096] = calloc((size_t)w->size, sizeof *paths);
+    char(*paths)[4096] = calloc((size_t)w->size, sizeof *paths);
     char err[768], me[4096];
     int r;
     result = EXIT_IO;
@@ -172,17 +169,14 @@ static int ranks_join(const world *w, int code, int copy, const char *out_path,
  * NULL, gets rank 0's.  Every rank calls it at the same points, so that
  * they all stop or all go on together.
  */
-static int agree(const world *w, int code, int *first)
-{
+static int agree(const world *w, int code, int *first) {
   int mine[2], all[2];
   mine[0] = code;
   mine[1] = w->rank == 0 ? code : 0;
   all[0] = mine[0];
   all[1] = mine[1];
-  if (w->size > 1)
-    world_max_int(mine, all, 2);
-  if (first)
-    *first = all[1];
+  if (w->size > 1) world_max_int(mine, all, 2);
+  if (first) *first = all[1];
   return all[0];
 }
 
@@ -192,14 +186,14 @@ static int agree(const world *w, int code, int *first)
  * where the output goes is checked before anything is computed.  -1 to
  * go on, or the exit code after a message (by rank 0).
  */
-static int args_for_world(run_args *a, const world *w)
-{
+static int args_for_world(run_args *a, const world *w) {
   char err[512];
   if (w->size > 1) {
     if (a->shard_arg) {
       if (w->rank == 0) {
-        fprintf(stderr, "rps3-run: --shard is for runs without mpirun; "
-                        "under mpirun the ranks are the shards\n");
+        fprintf(stderr,
+                "rps3-run: --shard is for runs without mpirun; "
+                "under mpirun the ranks are the shards\n");
         cli_try("rps3-run");
       }
       return EXIT_USAGE;
@@ -210,8 +204,9 @@ static int args_for_world(run_args *a, const world *w)
     snprintf(a->shard_text, sizeof a->shard_text, "%d/%d", w->rank, w->size);
     a->shard_arg = a->shard_text;
   } else if (a->copy) {
-    fprintf(stderr, "rps3-run: --copy is for rps3-run-mpi under mpirun and "
-                    "for merge; a run without them writes one whole file\n");
+    fprintf(stderr,
+            "rps3-run: --copy is for rps3-run-mpi under mpirun and "
+            "for merge; a run without them writes one whole file\n");
     cli_try("rps3-run");
     return EXIT_USAGE;
   }
@@ -220,17 +215,16 @@ static int args_for_world(run_args *a, const world *w)
     const char *in[1];
     in[0] = a->scene_path;
     if (out_path_check(a->out_path, in, 1, err, sizeof err)) {
-      if (w->rank == 0)
-        fprintf(stderr, "rps3-run: %s\n", err);
+      if (w->rank == 0) fprintf(stderr, "rps3-run: %s\n", err);
       return EXIT_USAGE;
     }
-    if (w->rank == 0)
-      stale_report("rps3-run", a->out_path);
+    if (w->rank == 0) stale_report("rps3-run", a->out_path);
   }
   if (a->resume && (!a->shard_arg || w->size > 1)) {
     if (w->rank == 0) {
-      fprintf(stderr, "rps3-run: --resume is for --shard K/N runs (it "
-                      "skips a part that is complete already)\n");
+      fprintf(stderr,
+              "rps3-run: --resume is for --shard K/N runs (it "
+              "skips a part that is complete already)\n");
       cli_try("rps3-run");
     }
     return EXIT_USAGE;
@@ -239,16 +233,16 @@ static int args_for_world(run_args *a, const world *w)
 }
 
 /* at most one thread per core (-j beyond them: said by rank 0) */
-static void use_the_cores(sweep_opts *opts, const world *w)
-{
+static void use_the_cores(sweep_opts *opts, const world *w) {
   /* threads beyond the cores compute nothing faster and each holds a
      tile and a workspace (-j 1024 on 2 cores took 4.3 GB): use the
      cores */
   long cores = sysconf(_SC_NPROCESSORS_ONLN);
   if (cores >= 1 && opts->nthread > cores) {
     if (w->rank == 0)
-      fprintf(stderr, "rps3-run: warning: -j %d on %ld core%s: computing "
-                      "on %ld thread%s\n",
+      fprintf(stderr,
+              "rps3-run: warning: -j %d on %ld core%s: computing "
+              "on %ld thread%s\n",
               opts->nthread, cores, cores == 1 ? "" : "s", cores,
               cores == 1 ? "" : "s");
     opts->nthread = (int)cores;
@@ -257,17 +251,17 @@ static void use_the_cores(sweep_opts *opts, const world *w)
 
 /* a scene with a simulate section: simulated (simulate.h), by one
    process; the exit code */
-static int run_simulated(scene *s, const run_args *a, const world *w,
-                         int argc, char **argv)
-{
+static int run_simulated(scene *s, const run_args *a, const world *w, int argc,
+                         char **argv) {
   sim_args sa;
   int code;
   char *cmd;
   if (a->fields != out_fields_all()) {
     if (w->rank == 0) {
-      fprintf(stderr, "rps3-run: --fields selects variables of the "
-                      "inverse-dynamics file; a scene with a simulate "
-                      "section writes the simulation file whole\n");
+      fprintf(stderr,
+              "rps3-run: --fields selects variables of the "
+              "inverse-dynamics file; a scene with a simulate "
+              "section writes the simulation file whole\n");
       cli_try("rps3-run");
     }
     return EXIT_USAGE;
@@ -280,15 +274,12 @@ static int run_simulated(scene *s, const run_args *a, const world *w,
   sa.sharded = a->shard_arg != NULL || a->resume || w->size > 1;
   sa.command_line = cmd = cli_command_line(argc, argv);
   /* refused under mpirun: rank 0 says so */
-  code = !cmd ? EXIT_IO
-         : w->rank > 0 ? EXIT_USAGE
-                       : sim_main(s, &sa);
+  code = !cmd ? EXIT_IO : w->rank > 0 ? EXIT_USAGE : sim_main(s, &sa);
   free(cmd);
   return code;
 }
 
-static int run_main(int argc, char **argv, const world *w)
-{
+static int run_main(int argc, char **argv, const world *w) {
   int code;
   run_args a;
   char err[512];
@@ -305,10 +296,8 @@ static int run_main(int argc, char **argv, const world *w)
   char *cmd, *inputs;
 
   /* the command line (run_cli.h) */
-  if ((code = run_args_parse(argc, argv, &a)) >= 0)
-    return code;
-  if ((code = args_for_world(&a, w)) >= 0)
-    return code;
+  if ((code = run_args_parse(argc, argv, &a)) >= 0) return code;
+  if ((code = args_for_world(&a, w)) >= 0) return code;
   opts.nthread = a.nthread;
   opts.shard = a.shard;
   opts.nshard = a.nshard;
@@ -330,8 +319,7 @@ static int run_main(int argc, char **argv, const world *w)
     if (code && (w->rank == 0 || first == EXIT_OK))
       scene_error_print(a.scene_path, &serr);
     if (worst) {
-      if (!code)
-        scene_free(&s);
+      if (!code) scene_free(&s);
       return worst;
     }
   }
@@ -353,8 +341,7 @@ static int run_main(int argc, char **argv, const world *w)
   }
   use_the_cores(&opts, w);
   if (a.check) {
-    if (w->rank == 0)
-      pre_check_print(a.scene_path, &s, &plan, &opts, &pre);
+    if (w->rank == 0) pre_check_print(a.scene_path, &s, &plan, &opts, &pre);
     scene_free(&s);
     return EXIT_OK;
   }
@@ -383,8 +370,9 @@ static int run_main(int argc, char **argv, const world *w)
                      out_fields_text(a.fields, names, sizeof names), inputs,
                      &nfailed)) {
       if (!a.quiet)
-        fprintf(stderr, "rps3-run: %s is shard %zu/%zu of this scene, "
-                        "complete (%zu case%s, %zu failed): not run again\n",
+        fprintf(stderr,
+                "rps3-run: %s is shard %zu/%zu of this scene, "
+                "complete (%zu case%s, %zu failed): not run again\n",
                 a.out_path, opts.shard, opts.nshard, ncase,
                 ncase == 1 ? "" : "s", nfailed);
       free(inputs);
@@ -393,14 +381,12 @@ static int run_main(int argc, char **argv, const world *w)
     }
   }
   /* what killed runs of this output left on this host */
-  if (w->rank == 0)
-    tmpout_clean(a.out_path, 0, 1);
+  if (w->rank == 0) tmpout_clean(a.out_path, 0, 1);
 
   memset(&block, 0, sizeof block);
   cmd = cli_command_line(argc, argv);
-  if (!cmd ||
-      out_block_alloc(&block, plan.tile_cases, plan.tile_points,
-                      plan.first.model.opt.effects)) {
+  if (!cmd || out_block_alloc(&block, plan.tile_cases, plan.tile_points,
+                              plan.first.model.opt.effects)) {
     fprintf(stderr, "rps3-run: out of memory\n");
     code = EXIT_IO;
   }
@@ -413,19 +399,18 @@ static int run_main(int argc, char **argv, const world *w)
 
   /* write under a temporary name in the same directory, rename at the end
      (tmpout.h) */
-  if (code == EXIT_OK && tmpout_name(a.out_path, w->rank))
-    code = EXIT_USAGE;
-  if ((code = agree(w, code, NULL)) != EXIT_OK)
-    goto done;
+  if (code == EXIT_OK && tmpout_name(a.out_path, w->rank)) code = EXIT_USAGE;
+  if ((code = agree(w, code, NULL)) != EXIT_OK) goto done;
   tmpout_arm();
   progress_start(&pr, sweep_shard_cases(&s, &plan, opts.shard, opts.nshard),
                  a.quiet || w->rank != 0);
   pr.njob_all = sweep_njob(&s, &plan);
   pr.njob = sweep_shard_jobs(&s, &plan, opts.shard, opts.nshard);
   /* the shard's samples, in proportion to its cases (exact unsharded) */
-  pr.npoint = s.ncase ? (size_t)((double)plan.npoint * (double)pr.ncase /
-                                 (double)s.ncase)
-                      : 0;
+  pr.npoint =
+      s.ncase
+          ? (size_t)((double)plan.npoint * (double)pr.ncase / (double)s.ncase)
+          : 0;
   f = out_create(tmpout_path(), &s, &plan.first, plan.nt, plan.grid_common,
                  plan.chunk_points, &block, &meta, err, sizeof err);
   if (!f) {
@@ -454,8 +439,7 @@ static int run_main(int argc, char **argv, const world *w)
 
 done:
   /* a complete file with failed cases, as a success (for schedulers) */
-  if (code == EXIT_FAILED_CASES && a.failed_ok)
-    code = EXIT_OK;
+  if (code == EXIT_FAILED_CASES && a.failed_ok) code = EXIT_OK;
   tmpout_discard();
   out_block_free(&block);
   free(cmd);
@@ -471,20 +455,17 @@ done:
  * the batch script of a multi-task job has too, where one process is
  * right).  *by names the launcher.
  */
-static int launched_tasks(const char **by)
-{
+static int launched_tasks(const char **by) {
   const char *v = getenv("OMPI_COMM_WORLD_SIZE");
   *by = "mpirun";
-  if (!v && (v = getenv("PMI_SIZE")) != NULL)
-    *by = "a PMI launcher";
+  if (!v && (v = getenv("PMI_SIZE")) != NULL) *by = "a PMI launcher";
   if (!v && getenv("SLURM_PROCID") &&
       (v = getenv("SLURM_STEP_NUM_TASKS")) != NULL)
     *by = "srun";
   return v && atoi(v) > 1 ? atoi(v) : 1;
 }
 
-int main(int argc, char **argv)
-{
+int main(int argc, char **argv) {
   world w = {0, 1};
   const char *by;
   char *cmd;
@@ -497,18 +478,20 @@ int main(int argc, char **argv)
     if (world_has_mpi()) {
       /* srun without --mpi=pmix (or an MPI that srun cannot start): N
          singletons, each of which would compute the whole sweep */
-      fprintf(stderr, "rps3-run: %d tasks started by %s, but MPI sees 1: "
-                      "use srun --mpi=pmix (or mpirun)\n",
+      fprintf(stderr,
+              "rps3-run: %d tasks started by %s, but MPI sees 1: "
+              "use srun --mpi=pmix (or mpirun)\n",
               launched_tasks(&by), by);
       world_finalize();
       return proc_exit(EXIT_USAGE);
     }
-    if (!(argc > 1 && (strcmp(argv[1], "merge") == 0 ||
-                       strcmp(argv[1], "--clean") == 0))) {
-      fprintf(stderr, "rps3-run: launched as %d tasks by %s, but built "
-                      "without MPI: every task would compute the whole "
-                      "sweep; use build/rps3-run-mpi (make runner-mpi), or "
-                      "one task per --shard K/N (a Slurm job array)\n",
+    if (!(argc > 1 &&
+          (strcmp(argv[1], "merge") == 0 || strcmp(argv[1], "--clean") == 0))) {
+      fprintf(stderr,
+              "rps3-run: launched as %d tasks by %s, but built "
+              "without MPI: every task would compute the whole "
+              "sweep; use build/rps3-run-mpi (make runner-mpi), or "
+              "one task per --shard K/N (a Slurm job array)\n",
               launched_tasks(&by), by);
       return proc_exit(EXIT_USAGE);
     }
@@ -533,8 +516,7 @@ int main(int argc, char **argv)
       code = clean_main(argc - 1, argv + 1);
   } else if (argc > 1 && strcmp(argv[1], "merge") == 0) {
     if (w.size > 1) {
-      if (w.rank == 0)
-        fprintf(stderr, "rps3-run: merge runs as one process\n");
+      if (w.rank == 0) fprintf(stderr, "rps3-run: merge runs as one process\n");
       code = EXIT_USAGE;
     } else if (!(cmd = cli_command_line(argc, argv))) {
       fprintf(stderr, "rps3-run: out of memory\n");

@@ -35,10 +35,10 @@
 
 #include "core/cli.h"
 #include "core/h5err.h"
-#include "rps3.h"
 #include "core/safeio.h"
 #include "core/signals.h"
 #include "core/tmpout.h"
+#include "rps3.h"
 
 enum { EXIT_OK = 0, EXIT_USAGE = 2, EXIT_IO = 3, EXIT_RUN = 4 };
 
@@ -53,8 +53,8 @@ static void fail_run(void) {
 #define NMODEL 2
 #define MAXS 10001 /* samples of the longest path (10 s at 1 kHz, + 1) */
 
-static const rps3_ctrl_kind CTRL[NCTRL] = {
-    RPS3_CTRL_PD, RPS3_CTRL_PD_GRAVITY, RPS3_CTRL_COMPUTED_TORQUE};
+static const rps3_ctrl_kind CTRL[NCTRL] = {RPS3_CTRL_PD, RPS3_CTRL_PD_GRAVITY,
+                                           RPS3_CTRL_COMPUTED_TORQUE};
 /* gains: PD [N/m, N s/m]; computed torque [1/s^2, 1/s] */
 static const double KP[NCTRL] = {2000.0, 2000.0, 400.0};
 static const double KD[NCTRL] = {40.0, 40.0, 40.0};
@@ -195,8 +195,8 @@ static int tracking_path(hid_t gp, const rps3_traj *tr) {
       ro.l = NULL;
       ro.err = err + off;
       ro.F = (double(*)[3])(F + 3 * off);
-      status[a][b] = run(&plant, b ? &light : &plant, tr, CTRL[a], KP[a],
-                         KD[a], &o, rps3_traj_duration(tr), &ro);
+      status[a][b] = run(&plant, b ? &light : &plant, tr, CTRL[a], KP[a], KD[a],
+                         &o, rps3_traj_duration(tr), &ro);
       failed[a][b] = ro.failed_at;
       printf("  %-16s %-13s %-10s max |l - l_d| %.3g m\n",
              rps3_ctrl_name(CTRL[a]), b ? "no link mass" : "exact model",
@@ -253,9 +253,9 @@ static const struct {
   rps3_integrator integ;
   double h_or_tol; /* step [s] for rk4, tolerance for the adaptive ones */
 } CFG[NCFG] = {
-    {RPS3_INT_RK4, 1e-3},    {RPS3_INT_RK4, 5e-4},   {RPS3_INT_RK4, 2.5e-4},
-    {RPS3_INT_RK4, 1e-4},    {RPS3_INT_RKF45, 1e-6}, {RPS3_INT_RKF45, 1e-8},
-    {RPS3_INT_RKF45, 1e-10}, {RPS3_INT_RK8PD, 1e-6}, {RPS3_INT_RK8PD, 1e-8},
+    {RPS3_INT_RK4, 1e-3},    {RPS3_INT_RK4, 5e-4},    {RPS3_INT_RK4, 2.5e-4},
+    {RPS3_INT_RK4, 1e-4},    {RPS3_INT_RKF45, 1e-6},  {RPS3_INT_RKF45, 1e-8},
+    {RPS3_INT_RKF45, 1e-10}, {RPS3_INT_RK8PD, 1e-6},  {RPS3_INT_RK8PD, 1e-8},
     {RPS3_INT_RK8PD, 1e-10}, {RPS3_INT_RK8PD, 1e-12}, {RPS3_INT_MSBDF, 1e-6},
     {RPS3_INT_MSBDF, 1e-8}};
 static const double THETA_TOL[2] = {1e-12, 1e-8};
@@ -288,13 +288,15 @@ static int accuracy(hid_t f, int quick) {
   o.epsabs = o.epsrel = 1e-13;
   memset(&ro, 0, sizeof(ro));
   ro.l = lref;
-  if (run(&plant, &plant, &tr, RPS3_CTRL_COMPUTED_TORQUE, KP[2], KD[2], &o,
-          dur, &ro) != RPS3_OK) {
+  if (run(&plant, &plant, &tr, RPS3_CTRL_COMPUTED_TORQUE, KP[2], KD[2], &o, dur,
+          &ro) != RPS3_OK) {
     fprintf(stderr, "rps3-simstudy: the reference run failed\n");
     fail_run();
   }
-  printf("accuracy: computed torque on the fast sine, %.1f s, against rk8pd "
-         "1e-13\n", dur);
+  printf(
+      "accuracy: computed torque on the fast sine, %.1f s, against rk8pd "
+      "1e-13\n",
+      dur);
   for (c = 0; c < NCFG; c++) {
     integ[c] = CFG[c].integ;
     htol[c] = CFG[c].h_or_tol;
@@ -325,10 +327,11 @@ static int accuracy(hid_t f, int quick) {
           err[c][j] = fmax(err[c][j], fabs(l[k][i] - lref[k][i]));
       }
       if (st[c][j] != RPS3_OK) err[c][j] = (double)NAN;
-      printf("  %-6s %-8.3g theta tol %-6.0e error %-9.3g m  CPU %.3g s per "
-             "simulated s  (%ld evaluations)\n",
-             rps3_integrator_name(integ[c]), htol[c], THETA_TOL[j],
-             err[c][j], cpu[c][j], evals[c][j]);
+      printf(
+          "  %-6s %-8.3g theta tol %-6.0e error %-9.3g m  CPU %.3g s per "
+          "simulated s  (%ld evaluations)\n",
+          rps3_integrator_name(integ[c]), htol[c], THETA_TOL[j], err[c][j],
+          cpu[c][j], evals[c][j]);
     }
   }
   g = H5Gcreate2(f, "accuracy", H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT);
@@ -364,11 +367,12 @@ static const cli_opt SIMSTUDY_OPTS[O_N] = {
 };
 
 static void usage(FILE *out) {
-  fprintf(out, "usage: rps3-simstudy -o OUT.h5 [--quick]\n"
-               "       rps3-simstudy --help | --version\n\n"
-               "Closed-loop tracking and what simulation accuracy costs in "
-               "time.\n\n"
-               "Options:\n");
+  fprintf(out,
+          "usage: rps3-simstudy -o OUT.h5 [--quick]\n"
+          "       rps3-simstudy --help | --version\n\n"
+          "Closed-loop tracking and what simulation accuracy costs in "
+          "time.\n\n"
+          "Options:\n");
   cli_help(out, SIMSTUDY_OPTS, O_N);
   fprintf(out, "\nExit status: 0 ok, 2 bad command line, 3 cannot write.\n");
 }
@@ -385,14 +389,9 @@ static int simstudy_main(int argc, char **argv) {
     switch (row) {
     case O_OUTPUT: out = arg; break;
     case O_QUICK: quick = 1; break;
-    case O_VERSION:
-      cli_version(stdout, "rps3-simstudy");
-      return EXIT_OK;
-    case O_HELP:
-      usage(stdout);
-      return EXIT_OK;
-    default:
-      return EXIT_USAGE;
+    case O_VERSION: cli_version(stdout, "rps3-simstudy"); return EXIT_OK;
+    case O_HELP: usage(stdout); return EXIT_OK;
+    default: return EXIT_USAGE;
     }
   }
   if (cli_operands(&c, &op) != 0) {
@@ -426,11 +425,11 @@ static int simstudy_main(int argc, char **argv) {
   rc = f < 0 ? -1 : tracking(f, quick);
   if (rc == 0) rc = accuracy(f, quick);
   if (rc == 0)
-    rc = (H5LTset_attribute_string(f, "/", "rps3_version", rps3_version()) <
-              0 ||
-          H5LTset_attribute_string(f, "/", "command_line", cmd) < 0)
-             ? -1
-             : 0;
+    rc =
+        (H5LTset_attribute_string(f, "/", "rps3_version", rps3_version()) < 0 ||
+         H5LTset_attribute_string(f, "/", "command_line", cmd) < 0)
+            ? -1
+            : 0;
   if (f >= 0 && H5Fclose(f) < 0) rc = -1;
   free(cmd);
   if (rc != 0) {

@@ -55,8 +55,8 @@
 #include "core/h5err.h"
 #include "core/safeio.h"
 #include "core/signals.h"
-#include "study/study.h"
 #include "core/tmpout.h"
+#include "study/study.h"
 
 /* ----------------------------------------------------------------- main */
 
@@ -66,10 +66,8 @@ enum { O_OUTPUT, O_SAMPLES, O_REPEATS, O_QUICK, O_VERSION, O_HELP, O_N };
 static const cli_opt STUDY_OPTS[O_N] = {
     {"output", 'o', "OUT.h5", 0, 0, 0,
      "output file (written under a temporary name,\nrenamed when complete)"},
-    {"samples", 0, "N", 1, 10, 1000000,
-     "samples per trajectory (default 400)"},
-    {"repeats", 0, "R", 1, 1, 1000,
-     "timed passes per setting (default 9)"},
+    {"samples", 0, "N", 1, 10, 1000000, "samples per trajectory (default 400)"},
+    {"repeats", 0, "R", 1, 1, 1000, "timed passes per setting (default 9)"},
     {"quick", 0, NULL, 0, 0, 0, "a coarse workspace grid"},
     {"version", 0, NULL, 0, 0, 0, "print the version"},
     {"help", 'h', NULL, 0, 0, 0, "print this help"},
@@ -113,14 +111,9 @@ static int study_main(int argc, char **argv) {
     case O_SAMPLES: samples = (size_t)v; break;
     case O_REPEATS: repeats = (int)v; break;
     case O_QUICK: quick = 1; break;
-    case O_VERSION:
-      cli_version(stdout, "rps3-study");
-      return EXIT_OK;
-    case O_HELP:
-      usage(stdout);
-      return EXIT_OK;
-    default:
-      return EXIT_USAGE;
+    case O_VERSION: cli_version(stdout, "rps3-study"); return EXIT_OK;
+    case O_HELP: usage(stdout); return EXIT_OK;
+    default: return EXIT_USAGE;
     }
   }
   nop = cli_operands(&c, &op);
@@ -128,8 +121,7 @@ static int study_main(int argc, char **argv) {
     if (nop == 0)
       cli_usage_error(&c, "missing the study: accuracy or workspace");
     else
-      cli_usage_error(&c, "one study at a time ('%s' and '%s')", op[0],
-                      op[1]);
+      cli_usage_error(&c, "one study at a time ('%s' and '%s')", op[0], op[1]);
     return EXIT_USAGE;
   }
   study = op[0];

@@ -9,18 +9,31 @@
 
 #include "core/cli.h"
 #include "core/exit_codes.h"
-#include "core/tmpout.h"
 #include "core/safeio.h"
-#include "scene/scene.h"
+#include "core/tmpout.h"
 #include "output/sim_output.h"
+#include "scene/scene.h"
 
 /* most threads of -j */
 #define MAX_THREADS 1024
 
 /* the rows of RUN_OPTS, in order */
 enum {
-  O_OUTPUT, O_QUIET, O_GZIP, O_FIELDS, O_CHECK, O_JOBS, O_SHARD, O_RESUME,
-  O_FAILED_OK, O_COPY, O_KEYS, O_SCHEMA, O_SIM_SCHEMA, O_VERSION, O_HELP,
+  O_OUTPUT,
+  O_QUIET,
+  O_GZIP,
+  O_FIELDS,
+  O_CHECK,
+  O_JOBS,
+  O_SHARD,
+  O_RESUME,
+  O_FAILED_OK,
+  O_COPY,
+  O_KEYS,
+  O_SCHEMA,
+  O_SIM_SCHEMA,
+  O_VERSION,
+  O_HELP,
   O_N
 };
 
@@ -53,8 +66,7 @@ static const cli_opt RUN_OPTS[O_N] = {
     {"help", 'h', NULL, 0, 0, 0, "print this help"},
 };
 
-static void usage(FILE *out)
-{
+static void usage(FILE *out) {
   fprintf(out,
           "usage: rps3-run SCENE.yaml -o OUT.h5 [OPTION]...\n"
           "       rps3-run SCENE.yaml --check [OPTION]...\n"
@@ -98,13 +110,11 @@ static void usage(FILE *out)
 }
 
 /* K/N into *k, *n, strictly (digits only, 0 <= K < N); 0 or -1 */
-static int parse_shard(const char *a, size_t *k, size_t *n)
-{
+static int parse_shard(const char *a, size_t *k, size_t *n) {
   char kk[32];
   const char *slash = strchr(a, '/');
   unsigned long vk, vn;
-  if (!slash || (size_t)(slash - a) >= sizeof kk)
-    return -1;
+  if (!slash || (size_t)(slash - a) >= sizeof kk) return -1;
   memcpy(kk, a, (size_t)(slash - a));
   kk[slash - a] = '\0';
   if (parse_ulong(kk, 0, (unsigned long)-1, &vk) ||
@@ -116,33 +126,20 @@ static int parse_shard(const char *a, size_t *k, size_t *n)
 }
 
 /* an option that prints and ends the program; 0 when it is not one */
-static int print_and_end(int row)
-{
+static int print_and_end(int row) {
   switch (row) {
-  case O_HELP:
-    usage(stdout);
-    return 1;
-  case O_VERSION:
-    cli_version(stdout, "rps3-run");
-    return 1;
-  case O_KEYS:
-    scene_keys_print();
-    return 1;
-  case O_SCHEMA:
-    out_schema_print();
-    return 1;
-  case O_SIM_SCHEMA:
-    sim_schema_print();
-    return 1;
-  default:
-    return 0;
+  case O_HELP: usage(stdout); return 1;
+  case O_VERSION: cli_version(stdout, "rps3-run"); return 1;
+  case O_KEYS: scene_keys_print(); return 1;
+  case O_SCHEMA: out_schema_print(); return 1;
+  case O_SIM_SCHEMA: sim_schema_print(); return 1;
+  default: return 0;
   }
 }
 
 /* one option of a run into a; 0, or -1 after a message */
-static int run_option(const cli *c, run_args *a, int row,
-                      const char *arg, unsigned long v)
-{
+static int run_option(const cli *c, run_args *a, int row, const char *arg,
+                      unsigned long v) {
   char err[512];
   switch (row) {
   case O_OUTPUT: a->out_path = arg; break;
@@ -166,14 +163,12 @@ static int run_option(const cli *c, run_args *a, int row,
       return -1;
     }
     break;
-  default:
-    return -1;
+  default: return -1;
   }
   return 0;
 }
 
-int run_args_parse(int argc, char **argv, run_args *a)
-{
+int run_args_parse(int argc, char **argv, run_args *a) {
   cli c;
   const char *arg;
   unsigned long v;
@@ -185,12 +180,9 @@ int run_args_parse(int argc, char **argv, run_args *a)
   a->fields = out_fields_all();
   cli_start(&c, "rps3-run", RUN_OPTS, O_N, argc, argv);
   while ((row = cli_next(&c, &arg, &v)) != CLI_END) {
-    if (row == CLI_BAD)
-      return EXIT_USAGE;
-    if (print_and_end(row))
-      return EXIT_OK;
-    if (run_option(&c, a, row, arg, v))
-      return EXIT_USAGE;
+    if (row == CLI_BAD) return EXIT_USAGE;
+    if (print_and_end(row)) return EXIT_OK;
+    if (run_option(&c, a, row, arg, v)) return EXIT_USAGE;
   }
   nop = cli_operands(&c, &op);
   if (nop > 1) {
@@ -199,13 +191,15 @@ int run_args_parse(int argc, char **argv, run_args *a)
   }
   a->scene_path = nop ? op[0] : NULL;
   if (!a->scene_path) {
-    cli_usage_error(&c, "missing the scene file (rps3-run SCENE.yaml -o "
-                        "OUT.h5)");
+    cli_usage_error(&c,
+                    "missing the scene file (rps3-run SCENE.yaml -o "
+                    "OUT.h5)");
     return EXIT_USAGE;
   }
   if (!a->out_path && !a->check) {
-    cli_usage_error(&c, "missing -o OUT.h5 (or --check, which writes "
-                        "nothing)");
+    cli_usage_error(&c,
+                    "missing -o OUT.h5 (or --check, which writes "
+                    "nothing)");
     return EXIT_USAGE;
   }
   return -1;
@@ -216,8 +210,7 @@ static const cli_opt CLEAN_OPTS[1] = {
     {"force", 0, NULL, 0, 0, 0,
      "also those of other hosts and of unknown owners"}};
 
-int clean_main(int argc, char **argv)
-{
+int clean_main(int argc, char **argv) {
   cli c;
   const char *arg;
   unsigned long v;
@@ -226,18 +219,17 @@ int clean_main(int argc, char **argv)
   cli_start(&c, "rps3-run --clean", CLEAN_OPTS, 1, argc, argv);
   c.help_cmd = "rps3-run";
   while ((row = cli_next(&c, &arg, &v)) != CLI_END) {
-    if (row == CLI_BAD)
-      return EXIT_USAGE;
+    if (row == CLI_BAD) return EXIT_USAGE;
     force = 1;
   }
   nop = cli_operands(&c, &op);
   if (nop != 1) {
     if (nop == 0)
-      cli_usage_error(&c, "missing OUT.h5 (rps3-run --clean OUT.h5 "
-                          "[--force])");
+      cli_usage_error(&c,
+                      "missing OUT.h5 (rps3-run --clean OUT.h5 "
+                      "[--force])");
     else
-      cli_usage_error(&c, "one OUT.h5 at a time ('%s' and '%s')", op[0],
-                      op[1]);
+      cli_usage_error(&c, "one OUT.h5 at a time ('%s' and '%s')", op[0], op[1]);
     return EXIT_USAGE;
   }
   return tmpout_clean(op[0], force, 0) < 0 ? EXIT_IO : EXIT_OK;

@@ -12,14 +12,14 @@
 /* what the command line of a run asks */
 typedef struct {
   const char *scene_path;
-  const char *out_path;   /* NULL with --check */
-  const char *shard_arg;  /* "K/N" as given, or NULL */
-  size_t shard, nshard;   /* --shard K/N (0/1 without) */
-  int nthread;            /* -j */
+  const char *out_path;  /* NULL with --check */
+  const char *shard_arg; /* "K/N" as given, or NULL */
+  size_t shard, nshard;  /* --shard K/N (0/1 without) */
+  int nthread;           /* -j */
   int quiet, check, copy, resume, failed_ok;
-  int gzip;               /* --gzip level, 0: none */
-  out_mask fields;        /* --fields */
-  char shard_text[64];    /* under mpirun: "rank/size", shard_arg's text */
+  int gzip;            /* --gzip level, 0: none */
+  out_mask fields;     /* --fields */
+  char shard_text[64]; /* under mpirun: "rank/size", shard_arg's text */
 } run_args;
 
 /*

@@ -17,9 +17,8 @@
 /* the column of the options' text in --help */
 #define HELP_COL 24
 
-void cli_start(cli *c, const char *prog, const cli_opt *opt, int nopt,
-               int argc, char **argv)
-{
+void cli_start(cli *c, const char *prog, const cli_opt *opt, int nopt, int argc,
+               char **argv) {
   char *s = c->shorts;
   int i;
   c->prog = prog;
@@ -37,8 +36,7 @@ void cli_start(cli *c, const char *prog, const cli_opt *opt, int nopt,
     c->lopt[i].val = CLI_LONG + i;
     if (opt[i].letter) {
       *s++ = (char)opt[i].letter;
-      if (opt[i].arg)
-        *s++ = ':';
+      if (opt[i].arg) *s++ = ':';
     }
   }
   *s = '\0';
@@ -49,32 +47,27 @@ void cli_start(cli *c, const char *prog, const cli_opt *opt, int nopt,
 }
 
 /* the row of a short option's letter, or -1 */
-static int row_of_letter(const cli *c, int letter)
-{
+static int row_of_letter(const cli *c, int letter) {
   int i;
   for (i = 0; i < c->nopt; i++)
-    if (c->opt[i].letter && c->opt[i].letter == letter)
-      return i;
+    if (c->opt[i].letter && c->opt[i].letter == letter) return i;
   return -1;
 }
 
 /* the option's name as a user knows it: "-j" when it has a letter */
-static void display_name(const cli_opt *o, char *buf, size_t size)
-{
+static void display_name(const cli_opt *o, char *buf, size_t size) {
   if (o->letter)
     snprintf(buf, size, "-%c", o->letter);
   else
     snprintf(buf, size, "--%s", o->name);
 }
 
-int cli_next(cli *c, const char **arg, unsigned long *num)
-{
+int cli_next(cli *c, const char **arg, unsigned long *num) {
   char name[64];
   int r = getopt_long(c->argc, c->argv, c->shorts, c->lopt, NULL), row;
   *arg = NULL;
   *num = 0;
-  if (r == -1)
-    return CLI_END;
+  if (r == -1) return CLI_END;
   if (r == '?') {
     if (optopt > 0 && optopt < CLI_LONG)
       cli_usage_error(c, "unknown option '-%c'", optopt);
@@ -92,8 +85,7 @@ int cli_next(cli *c, const char **arg, unsigned long *num)
     return CLI_BAD;
   }
   row = r >= CLI_LONG ? r - CLI_LONG : row_of_letter(c, r);
-  if (row < 0 || row >= c->nopt)
-    return CLI_BAD;
+  if (row < 0 || row >= c->nopt) return CLI_BAD;
   *arg = optarg;
   if (c->opt[row].num &&
       parse_ulong(optarg, c->opt[row].lo, c->opt[row].hi, num)) {
@@ -105,8 +97,7 @@ int cli_next(cli *c, const char **arg, unsigned long *num)
   return row;
 }
 
-void cli_usage_error(const cli *c, const char *fmt, ...)
-{
+void cli_usage_error(const cli *c, const char *fmt, ...) {
   va_list ap;
   fprintf(stderr, "%s: ", c->prog);
   va_start(ap, fmt);
@@ -116,13 +107,11 @@ void cli_usage_error(const cli *c, const char *fmt, ...)
   cli_try(c->help_cmd);
 }
 
-void cli_try(const char *help_cmd)
-{
+void cli_try(const char *help_cmd) {
   fprintf(stderr, "Try '%s --help' for more information.\n", help_cmd);
 }
 
-void cli_version(FILE *out, const char *prog)
-{
+void cli_version(FILE *out, const char *prog) {
   fprintf(out,
           "%s (rps3) %s\n"
           "Copyright (C) 2026 the rps3 authors.\n"
@@ -136,14 +125,12 @@ void cli_version(FILE *out, const char *prog)
           prog, rps3_version());
 }
 
-int cli_operands(const cli *c, char ***first)
-{
+int cli_operands(const cli *c, char ***first) {
   *first = c->argv + optind;
   return c->argc - optind;
 }
 
-void cli_help(FILE *out, const cli_opt *opt, int nopt)
-{
+void cli_help(FILE *out, const cli_opt *opt, int nopt) {
   int i;
   for (i = 0; i < nopt; i++) {
     const char *d = opt[i].doc, *nl;
@@ -172,23 +159,20 @@ void cli_help(FILE *out, const cli_opt *opt, int nopt)
   }
 }
 
-char *cli_command_line(int argc, char **argv)
-{
+char *cli_command_line(int argc, char **argv) {
   size_t len = 1, i;
   char *s, *p;
-  for (i = 0; i < (size_t)argc; i++)
-    len += 4 * strlen(argv[i]) + 3;
+  for (i = 0; i < (size_t)argc; i++) len += 4 * strlen(argv[i]) + 3;
   s = malloc(len);
-  if (!s)
-    return NULL;
+  if (!s) return NULL;
   p = s;
   for (i = 0; i < (size_t)argc; i++) {
     const char *a = argv[i];
     int plain = a[0] != '\0' &&
-                strspn(a, "abcdefghijklmnopqrstuvwxyzABCDEFGHIJKLMNOPQRSTUVWXYZ"
-                          "0123456789-_./=:,+@%") == strlen(a);
-    if (i)
-      *p++ = ' ';
+                strspn(a,
+                       "abcdefghijklmnopqrstuvwxyzABCDEFGHIJKLMNOPQRSTUVWXYZ"
+                       "0123456789-_./=:,+@%") == strlen(a);
+    if (i) *p++ = ' ';
     if (plain) {
       strcpy(p, a);
       p += strlen(a);

@@ -18,12 +18,12 @@
 
 /* one option */
 typedef struct {
-  const char *name;     /* long name, without "--" */
-  int letter;           /* short name, or 0 for none */
-  const char *arg;      /* the argument's name in --help; NULL: a flag */
-  int num;              /* 1: the argument is a whole number in [lo, hi] */
+  const char *name; /* long name, without "--" */
+  int letter;       /* short name, or 0 for none */
+  const char *arg;  /* the argument's name in --help; NULL: a flag */
+  int num;          /* 1: the argument is a whole number in [lo, hi] */
   unsigned long lo, hi;
-  const char *doc;      /* --help text; '\n' continues on the next line */
+  const char *doc; /* --help text; '\n' continues on the next line */
 } cli_opt;
 
 /* a parse in progress (getopt_long's own state is process-wide: one
@@ -45,8 +45,8 @@ enum { CLI_END = -1, CLI_BAD = -2 };
 
 /* Start parsing argv[1..argc) with the nopt rows of opt (nopt <=
    CLI_MAX). */
-void cli_start(cli *c, const char *prog, const cli_opt *opt, int nopt,
-               int argc, char **argv);
+void cli_start(cli *c, const char *prog, const cli_opt *opt, int nopt, int argc,
+               char **argv);
 
 /*
  * The next option: its row index, with *arg its argument (NULL for a

@@ -23,7 +23,7 @@ int hint_distance(const char *a, const char *b);
  * whose last part equals word's last part counts as distance 1 (a key put
  * in the wrong section).  "" when none is close.
  */
-void hint_text(char *buf, size_t sz, const char *word,
-               const char *const *cand, size_t n);
+void hint_text(char *buf, size_t sz, const char *word, const char *const *cand,
+               size_t n);
 
 #endif /* RPS3_RUNNER_HINT_H */

@@ -13,15 +13,15 @@ typedef enum { PROGRESS_QUIET, PROGRESS_BAR, PROGRESS_LINES } progress_mode;
 
 typedef struct {
   progress_mode mode;
-  size_t ncase;       /* cases in the sweep */
-  size_t njob;        /* jobs of those cases (0: not said) */
-  size_t njob_all;    /* jobs of the whole sweep (more when sharded) */
-  double t0;          /* start [s, monotonic] */
-  double shown;       /* time of the last output [s] */
-  double interval;    /* seconds between outputs */
-  size_t npoint;      /* samples to compute (0: unknown): the bar moves by
-                         samples, so that it moves inside a long case too */
-  int failure_shown;  /* the first failure's reason has been printed */
+  size_t ncase;      /* cases in the sweep */
+  size_t njob;       /* jobs of those cases (0: not said) */
+  size_t njob_all;   /* jobs of the whole sweep (more when sharded) */
+  double t0;         /* start [s, monotonic] */
+  double shown;      /* time of the last output [s] */
+  double interval;   /* seconds between outputs */
+  size_t npoint;     /* samples to compute (0: unknown): the bar moves by
+                        samples, so that it moves inside a long case too */
+  int failure_shown; /* the first failure's reason has been printed */
 } progress;
 
 /* Start; mode from quiet and whether stderr is a terminal. */

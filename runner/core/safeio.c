@@ -16,9 +16,7 @@
 
 #include <hdf5.h>
 
-
-void proc_init(void)
-{
+void proc_init(void) {
   int fd;
   for (fd = 0; fd <= 2; fd++)
     if (fcntl(fd, F_GETFD) < 0 && errno == EBADF) {
@@ -33,16 +31,13 @@ void proc_init(void)
   H5dont_atexit();
 }
 
-int proc_exit(int code)
-{
-  if (code != SIG_EXIT_IO)
-    H5close();
+int proc_exit(int code) {
+  if (code != SIG_EXIT_IO) H5close();
   return code;
 }
 
 /* the directory part of path ("." when none) into dir */
-static int dir_of(const char *path, char *dir, size_t sz)
-{
+static int dir_of(const char *path, char *dir, size_t sz) {
   const char *slash = strrchr(path, '/');
   size_t n;
   if (!slash) {
@@ -50,15 +45,13 @@ static int dir_of(const char *path, char *dir, size_t sz)
     return 0;
   }
   n = slash == path ? 1 : (size_t)(slash - path);
-  if (n >= sz)
-    return -1;
+  if (n >= sz) return -1;
   memcpy(dir, path, n);
   dir[n] = '\0';
   return 0;
 }
 
-static const char *kind_of(mode_t m)
-{
+static const char *kind_of(mode_t m) {
   return S_ISDIR(m)    ? "a directory"
          : S_ISLNK(m)  ? "a symbolic link"
          : S_ISCHR(m)  ? "a character device"
@@ -69,8 +62,7 @@ static const char *kind_of(mode_t m)
 }
 
 int out_path_check(const char *out, const char *const *in, size_t ninput,
-                   char *err, size_t errsz)
-{
+                   char *err, size_t errsz) {
   struct stat so, si;
   char dir[4096];
   size_t i, n = strlen(out);
@@ -105,8 +97,7 @@ int out_path_check(const char *out, const char *const *in, size_t ninput,
     return -1;
   }
   if (stat(dir, &si) != 0) {
-    snprintf(err, errsz, "-o %s: directory %s: %s", out, dir,
-             strerror(errno));
+    snprintf(err, errsz, "-o %s: directory %s: %s", out, dir, strerror(errno));
     return -1;
   }
   if (!S_ISDIR(si.st_mode)) {
@@ -123,8 +114,7 @@ int out_path_check(const char *out, const char *const *in, size_t ninput,
 }
 
 /* the pid of NAME = BASE.tmp.PID or BASE.tmp.PID.partR; 0 if not one */
-static long tmp_pid(const char *name, const char *base)
-{
+static long tmp_pid(const char *name, const char *base) {
   size_t n = strlen(base);
   const char *p;
   char *end;
@@ -132,32 +122,25 @@ static long tmp_pid(const char *name, const char *base)
   if (strncmp(name, base, n) != 0 || strncmp(name + n, ".tmp.", 5) != 0)
     return 0;
   p = name + n + 5;
-  if (*p < '0' || *p > '9')
-    return 0;
+  if (*p < '0' || *p > '9') return 0;
   pid = strtol(p, &end, 10);
-  if (*end == '\0')
-    return pid;
-  if (strncmp(end, ".part", 5) != 0 || end[5] < '0' || end[5] > '9')
-    return 0;
+  if (*end == '\0') return pid;
+  if (strncmp(end, ".part", 5) != 0 || end[5] < '0' || end[5] > '9') return 0;
   strtol(end + 5, &end, 10);
   return *end == '\0' ? pid : 0;
 }
 
-size_t stale_report(const char *prog, const char *out)
-{
+size_t stale_report(const char *prog, const char *out) {
   char dir[4096];
   const char *slash = strrchr(out, '/'), *base = slash ? slash + 1 : out;
   struct dirent *e;
   size_t count = 0;
   DIR *d;
-  if (dir_of(out, dir, sizeof dir) || !(d = opendir(dir)))
-    return 0;
+  if (dir_of(out, dir, sizeof dir) || !(d = opendir(dir))) return 0;
   while ((e = readdir(d)) != NULL) {
     long pid = tmp_pid(e->d_name, base);
-    if (pid <= 0 || pid == (long)getpid())
-      continue;
-    if (kill((pid_t)pid, 0) == 0 || errno != ESRCH)
-      continue;
+    if (pid <= 0 || pid == (long)getpid()) continue;
+    if (kill((pid_t)pid, 0) == 0 || errno != ESRCH) continue;
     fprintf(stderr,
             "%s: warning: %s%s%s is the temporary file of process %ld, "
             "which no longer runs on this machine (killed?): it is not "
@@ -169,17 +152,14 @@ size_t stale_report(const char *prog, const char *out)
   return count;
 }
 
-double disk_free(const char *out)
-{
+double disk_free(const char *out) {
   char dir[4096];
   struct statvfs v;
-  if (dir_of(out, dir, sizeof dir) || statvfs(dir, &v) != 0)
-    return -1;
+  if (dir_of(out, dir, sizeof dir) || statvfs(dir, &v) != 0) return -1;
   return (double)v.f_bavail * (double)v.f_frsize;
 }
 
-static int sync_fd_of(const char *path, int flags, char *err, size_t errsz)
-{
+static int sync_fd_of(const char *path, int flags, char *err, size_t errsz) {
   int fd = open(path, flags), rc = 0;
   if (fd < 0) {
     snprintf(err, errsz, "cannot open %s to sync it: %s", path,
@@ -195,13 +175,11 @@ static int sync_fd_of(const char *path, int flags, char *err, size_t errsz)
   return rc;
 }
 
-int file_sync(const char *path, char *err, size_t errsz)
-{
+int file_sync(const char *path, char *err, size_t errsz) {
   return sync_fd_of(path, O_RDONLY, err, errsz);
 }
 
-int dir_sync(const char *path, char *err, size_t errsz)
-{
+int dir_sync(const char *path, char *err, size_t errsz) {
   char dir[4096];
   if (dir_of(path, dir, sizeof dir)) {
     snprintf(err, errsz, "%s: path too long", path);
@@ -211,16 +189,13 @@ int dir_sync(const char *path, char *err, size_t errsz)
 }
 
 int parse_ulong(const char *a, unsigned long lo, unsigned long hi,
-                unsigned long *v)
-{
+                unsigned long *v) {
   char *end;
   unsigned long x;
-  if (a[0] < '0' || a[0] > '9')
-    return -1;
+  if (a[0] < '0' || a[0] > '9') return -1;
   errno = 0;
   x = strtoul(a, &end, 10);
-  if (*end != '\0' || errno || x < lo || x > hi)
-    return -1;
+  if (*end != '\0' || errno || x < lo || x > hi) return -1;
   *v = x;
   return 0;
 }

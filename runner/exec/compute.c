@@ -12,27 +12,25 @@
 /* the trajectory could not be evaluated at sample k (time t) */
 static int traj_failed(out_block *b, size_t slot, int rc, double t, size_t k,
                        const double pose[3], const double dpose[3],
-                       const double ddpose[3], size_t *failed_at)
-{
+                       const double ddpose[3], size_t *failed_at) {
   /* rps3_traj_eval has no data to hold a message: name what failed */
   *failed_at = k;
   snprintf(b->msg[slot], sizeof b->msg[slot],
            "t = %.9g s (sample %zu): %s: trajectory pose (%g, %g, %g), "
-           "rate (%g, %g, %g), acceleration (%g, %g, %g)", t, k,
-           rps3_strerror(rc), pose[0], pose[1], pose[2], dpose[0], dpose[1],
-           dpose[2], ddpose[0], ddpose[1], ddpose[2]);
+           "rate (%g, %g, %g), acceleration (%g, %g, %g)",
+           t, k, rps3_strerror(rc), pose[0], pose[1], pose[2], dpose[0],
+           dpose[1], dpose[2], ddpose[0], ddpose[1], ddpose[2]);
   return rc;
 }
 
 /* the batch's scratch in b: OUT_BATCH points of each array */
 typedef struct {
-  double *t, *pose, *dpose, *ddpose, *l, *theta, *F, *lambda, *Fe, *dl,
-      *ddl, *c;
+  double *t, *pose, *dpose, *ddpose, *l, *theta, *F, *lambda, *Fe, *dl, *ddl,
+      *c;
   int *status, *warn, *niter;
 } scratch;
 
-static void scratch_of(out_block *b, scratch *x)
-{
+static void scratch_of(out_block *b, scratch *x) {
   double *p = b->bx;
   x->t = p;
   x->pose = p += OUT_BATCH;
@@ -53,8 +51,7 @@ static void scratch_of(out_block *b, scratch *x)
 
 /* dst[3 i + c] = src[c n + i]: a [3][n] array of the batch into the
    block's [n][3] */
-static void store3(double *dst, const double *src, size_t n)
-{
+static void store3(double *dst, const double *src, size_t n) {
   size_t i;
   for (i = 0; i < n; i++) {
     dst[3 * i] = src[i];
@@ -64,15 +61,14 @@ static void store3(double *dst, const double *src, size_t n)
 }
 
 /* 1 when the file gets field i (--fields) */
-#define WANT(b, i) ((b)->fields >> (i) & 1)
+#define WANT(b, i) ((b)->fields >> (i)&1)
 
 /* the batch of n points into samples j .. j + n - 1 of the block, one
    field at a time (each a sequential stream of writes), the fields the
    file gets; the batch wrote condition, transmission, the energy residual
    and scale and the solve residual into the block itself */
 static void store_batch(const rps3_model *m, const scratch *x, size_t n,
-                        out_block *b, size_t j)
-{
+                        out_block *b, size_t j) {
   /* the [3][n] outputs, and the one-column ones */
   const struct {
     int field;
@@ -80,8 +76,10 @@ static void store_batch(const rps3_model *m, const scratch *x, size_t n,
   } three[] = {{OUT_force, x->F},        {OUT_length, x->l},
                {OUT_theta, x->theta},    {OUT_lambda, x->lambda},
                {OUT_length_rate, x->dl}, {OUT_length_accel, x->ddl}},
-    one[] = {{OUT_alpha, x->pose}, {OUT_beta, x->pose + n},
-             {OUT_z_c, x->pose + 2 * n}, {OUT_x_c, x->c},
+    one[] = {{OUT_alpha, x->pose},
+             {OUT_beta, x->pose + n},
+             {OUT_z_c, x->pose + 2 * n},
+             {OUT_x_c, x->c},
              {OUT_y_c, x->c + n}};
   const size_t ne = (size_t)b->neffect;
   double *fe = (double *)b->force_by_effect + j * ne * 3;
@@ -90,8 +88,8 @@ static void store_batch(const rps3_model *m, const scratch *x, size_t n,
   size_t i, e, f;
   for (f = 0; f < sizeof three / sizeof three[0]; f++)
     if (WANT(b, three[f].field))
-      store3((double *)out_block_field(b, three[f].field) + 3 * j,
-             three[f].src, n);
+      store3((double *)out_block_field(b, three[f].field) + 3 * j, three[f].src,
+             n);
   for (f = 0; f < sizeof one / sizeof one[0]; f++)
     if (WANT(b, one[f].field))
       memcpy((double *)out_block_field(b, one[f].field) + j, one[f].src,
@@ -110,21 +108,20 @@ static void store_batch(const rps3_model *m, const scratch *x, size_t n,
   }
   /* with certify off the library writes 0: say "not computed" instead */
   for (i = 0; i < n && !m->opt.certify; i++)
-    ((double *)b->energy_residual)[j + i] =
-        ((double *)b->energy_scale)[j + i] = (double)NAN;
+    ((double *)b->energy_residual)[j + i] = ((double *)b->energy_scale)[j + i] =
+        (double)NAN;
 }
 
 /*
- * case_compute: the samples OUT_BATCH at a time through rps3_inverse_batch, which runs the vectorised kernel where
- * it applies (closed-form theta, Lagrange, the paper's effects: the
- * numbers agree with rps3_inverse to rounding, docs/library.md) and the
- * per-point loop elsewhere (bitwise).  A case still stops at its first
- * failing sample, with the same message.
+ * case_compute: the samples OUT_BATCH at a time through rps3_inverse_batch,
+ * which runs the vectorised kernel where it applies (closed-form theta,
+ * Lagrange, the paper's effects: the numbers agree with rps3_inverse to
+ * rounding, docs/library.md) and the per-point loop elsewhere (bitwise).  A
+ * case still stops at its first failing sample, with the same message.
  */
 static int compute_batch(const scene_case *c, rps3_data *d, size_t k0,
                          size_t nk, out_block *b, size_t slot,
-                         size_t *failed_at)
-{
+                         size_t *failed_at) {
   const rps3_model *m = &c->model;
   scratch x;
   size_t k, i, n;
@@ -144,8 +141,7 @@ static int compute_batch(const scene_case *c, rps3_data *d, size_t k0,
       int q;
       x.t[i] = scene_case_time(c, k + i);
       trc = rps3_traj_eval(m, &c->traj, x.t[i], p, dp, ddp);
-      if (trc != RPS3_OK)
-        break;
+      if (trc != RPS3_OK) break;
       for (q = 0; q < 3; q++) {
         x.pose[(size_t)q * n + i] = p[q];
         x.dpose[(size_t)q * n + i] = dp[q];
@@ -188,14 +184,12 @@ static int compute_batch(const scene_case *c, rps3_data *d, size_t k0,
     out.energy_scale = (double *)b->energy_scale + j;
     out.solve_resid = (double *)b->solve_resid + j;
     rc = rps3_inverse_batch(m, d, &in, &out);
-    if (rc == RPS3_OK && out.nfail)
-      rc = out.status[out.first_fail];
+    if (rc == RPS3_OK && out.nfail) rc = out.status[out.first_fail];
     if (rc != RPS3_OK) {
       /* the library's message, without the batch's "point I: " */
       const char *msg = d->err.msg, *colon = strstr(msg, ": ");
       i = out.nfail ? out.first_fail : 0;
-      if (strncmp(msg, "point ", 6) == 0 && colon)
-        msg = colon + 2;
+      if (strncmp(msg, "point ", 6) == 0 && colon) msg = colon + 2;
       *failed_at = k + i;
       snprintf(b->msg[slot], sizeof b->msg[slot],
                "t = %.9g s (sample %zu): %s: %s", x.t[i], k + i,
@@ -210,9 +204,7 @@ static int compute_batch(const scene_case *c, rps3_data *d, size_t k0,
 }
 
 int case_compute(const scene_case *c, rps3_data *d, size_t k0, size_t nk,
-                 out_block *b, size_t slot, size_t *failed_at)
-{
-  if (k0 == 0)
-    rps3_data_reset(d);
+                 out_block *b, size_t slot, size_t *failed_at) {
+  if (k0 == 0) rps3_data_reset(d);
   return compute_batch(c, d, k0, nk, b, slot, failed_at);
 }

@@ -39,25 +39,19 @@
 /* CPU seconds to deflate one byte, by --gzip level: the same sweep, the
    CPU time of --gzip 1, 4 and 9 less that of no compression, over its
    bytes (docs/hdf5.md, "File size"); levels between are interpolated */
-static double gzip_s_per_byte(int level)
-{
-  if (level <= 0)
-    return 0;
-  if (level <= 1)
-    return 10.5e-9;
-  if (level <= 4)
-    return 10.5e-9 + (15.0e-9 - 10.5e-9) * (level - 1) / 3.0;
+static double gzip_s_per_byte(int level) {
+  if (level <= 0) return 0;
+  if (level <= 1) return 10.5e-9;
+  if (level <= 4) return 10.5e-9 + (15.0e-9 - 10.5e-9) * (level - 1) / 3.0;
   return 15.0e-9 + (24.0e-9 - 15.0e-9) * (level - 4) / 5.0;
 }
 
 /* rows of the per-case chunks: ncase rounded up to whole chunks */
-static size_t round_rows(size_t ncase, size_t tc)
-{
+static size_t round_rows(size_t ncase, size_t tc) {
   return (ncase + tc - 1) / tc * tc;
 }
 
-double est_file_bytes(const scene *s, const sweep_plan *p, out_mask fields)
-{
+double est_file_bytes(const scene *s, const sweep_plan *p, out_mask fields) {
   double neff = 0;
   /* the chunks the plan allocates (sweep.h): per sample field, `stored`
      samples in chunks of tile_cases x chunk_points; per case, whole rows */
@@ -71,22 +65,19 @@ double est_file_bytes(const scene *s, const sweep_plan *p, out_mask fields)
   int e;
 
   for (e = 0; e < RPS3_NEFFECT; e++)
-    if (p->first.model.opt.effects & (1 << e))
-      neff += 1;
+    if (p->first.model.opt.effects & (1 << e)) neff += 1;
 
-#define EST_FIELD(name, shape, type, ...)                                     \
-  if (fields >> OUT_##name & 1) {                                             \
-    double cols = shape == OUT_CTEL                     ? 3 * neff            \
-                  : shape == OUT_CTL || shape == OUT_CTK ? 3                  \
-                                                         : 1;                 \
-    double size = type == OUT_F64   ? 8                                       \
-                  : type == OUT_I32 ? 4                                       \
-                                    : VLEN_REF;                               \
-    if (shape == OUT_C)                                                       \
-      per_case += size;                                                       \
-    else                                                                      \
-      per_sample += cols * size;                                              \
-    nds += 1;                                                                 \
+#define EST_FIELD(name, shape, type, ...)                               \
+  if (fields >> OUT_##name & 1) {                                       \
+    double cols = shape == OUT_CTEL                      ? 3 * neff     \
+                  : shape == OUT_CTL || shape == OUT_CTK ? 3            \
+                                                         : 1;           \
+    double size = type == OUT_F64 ? 8 : type == OUT_I32 ? 4 : VLEN_REF; \
+    if (shape == OUT_C)                                                 \
+      per_case += size;                                                 \
+    else                                                                \
+      per_sample += cols * size;                                        \
+    nds += 1;                                                           \
   }
   RPS3_OUTPUT_FIELDS(EST_FIELD)
 #undef EST_FIELD
@@ -96,21 +87,18 @@ double est_file_bytes(const scene *s, const sweep_plan *p, out_mask fields)
   }
   /* the heap objects: scene_resolved (the first case's YAML as the
      typical one) and an empty message per case */
-  if (scene_case_yaml(&p->first, &t) == 0)
-    yaml = (double)t.len;
+  if (scene_case_yaml(&p->first, &t) == 0) yaml = (double)t.len;
   scene_text_free(&t);
   per_case += 2 * VLEN_OBJ + 8.0 * (double)(size_t)((yaml + 7) / 8);
   /* the case scale and the swept keys */
   per_case += 8;
-  for (a = 0; a < s->naxis; a++)
-    per_case += 8;
+  for (a = 0; a < s->naxis; a++) per_case += 8;
   total = stored * per_sample + rows * per_case + 8 * nt +
           chunks * nds * CHUNK_INDEX + (double)s->text_len + FIXED;
   return total;
 }
 
-const char *est_human(double bytes, char *buf, size_t sz)
-{
+const char *est_human(double bytes, char *buf, size_t sz) {
   static const char *const unit[] = {"B", "kB", "MB", "GB", "TB", "PB", "EB"};
   int u = 0;
   while (bytes >= 1000 && u < 6) {
@@ -122,11 +110,9 @@ const char *est_human(double bytes, char *buf, size_t sz)
 }
 
 /* this process's CPU time in s */
-static double cpu_now(void)
-{
+static double cpu_now(void) {
   struct timespec t;
-  if (clock_gettime(CLOCK_PROCESS_CPUTIME_ID, &t) != 0)
-    return 0;
+  if (clock_gettime(CLOCK_PROCESS_CPUTIME_ID, &t) != 0) return 0;
   return (double)t.tv_sec + 1e-9 * (double)t.tv_nsec;
 }
 
@@ -134,23 +120,20 @@ static double cpu_now(void)
    for the case's solver on first use, or again for another solver); adds
    to the CPU seconds and counts of c */
 static void time_case(const scene *s, size_t i, out_block *b, rps3_data **d,
-                      int *solver, est_cost *c)
-{
+                      int *solver, est_cost *c) {
   scene_case sc;
   scene_error e;
   scene_text yaml = {0};
   size_t n, failed_at = 0;
   double t0 = cpu_now(), t1;
   int rc;
-  if (scene_case_build(s, i, &sc, &e) || scene_case_yaml(&sc, &yaml))
-    return;
+  if (scene_case_build(s, i, &sc, &e) || scene_case_yaml(&sc, &yaml)) return;
   scene_text_free(&yaml);
   t1 = cpu_now();
   if (!*d || *solver != (int)sc.model.opt.solver) {
     rps3_data_free(*d);
     *d = NULL;
-    if (rps3_data_alloc(&sc.model, d) != RPS3_OK)
-      return;
+    if (rps3_data_alloc(&sc.model, d) != RPS3_OK) return;
     *solver = (int)sc.model.opt.solver;
     t1 = cpu_now();
   }
@@ -163,16 +146,14 @@ static void time_case(const scene *s, size_t i, out_block *b, rps3_data **d,
 }
 
 int est_cost_measure(const scene *s, const sweep_plan *p, out_mask fields,
-                     int gzip, est_cost *c)
-{
+                     int gzip, est_cost *c) {
   const size_t ncase = s->ncase < EST_CASES ? s->ncase : EST_CASES;
   out_block b;
   rps3_data *d = NULL;
   int solver = -1;
   size_t k;
   memset(c, 0, sizeof *c);
-  if (out_block_alloc(&b, 1, EST_SAMPLES / ncase,
-                      p->first.model.opt.effects))
+  if (out_block_alloc(&b, 1, EST_SAMPLES / ncase, p->first.model.opt.effects))
     return -1;
   /* the path the run takes: a file of the batch's fields is computed by
      rps3_inverse_batch (compute.c) */
@@ -182,35 +163,32 @@ int est_cost_measure(const scene *s, const sweep_plan *p, out_mask fields,
               &solver, c);
   rps3_data_free(d);
   out_block_free(&b);
-  if (c->cases)
-    c->per_case /= (double)c->cases;
-  c->write = est_file_bytes(s, p, fields) / (double)p->npoint *
-             EST_WRITE_S_PER_BYTE;
-  c->deflate = est_file_bytes(s, p, fields) / (double)p->npoint *
-               gzip_s_per_byte(gzip);
-  if (c->samples == 0)
-    return -1;
+  if (c->cases) c->per_case /= (double)c->cases;
+  c->write =
+      est_file_bytes(s, p, fields) / (double)p->npoint * EST_WRITE_S_PER_BYTE;
+  c->deflate =
+      est_file_bytes(s, p, fields) / (double)p->npoint * gzip_s_per_byte(gzip);
+  if (c->samples == 0) return -1;
   c->sample /= (double)c->samples;
   return 0;
 }
 
 double est_run_seconds(const est_cost *c, double samples, double cases,
-                       int threads)
-{
+                       int threads) {
   double work = samples * (c->sample + c->deflate) + cases * c->per_case;
   double write = samples * c->write;
-  if (threads <= 1)
-    return work + write;
+  if (threads <= 1) return work + write;
   /* the workers compute and deflate while the calling thread writes */
   work /= threads;
   return work > write ? work : write;
 }
 
-const char *est_human_time(double seconds, char *buf, size_t sz)
-{
+const char *est_human_time(double seconds, char *buf, size_t sz) {
   if (seconds < 60)
-    snprintf(buf, sz, seconds < 1 ? "%.1g s" : seconds < 10 ? "%.2g s"
-                                                            : "%.0f s",
+    snprintf(buf, sz,
+             seconds < 1    ? "%.1g s"
+             : seconds < 10 ? "%.2g s"
+                            : "%.0f s",
              seconds);
   else if (seconds < 3600)
     snprintf(buf, sz, "%.2g min", seconds / 60);

@@ -24,12 +24,12 @@ const char *est_human(double bytes, char *buf, size_t sz);
 
 /* what a sample and a case cost, in CPU seconds */
 typedef struct {
-  double sample;      /* computing one sample (trajectory + rps3_inverse) */
-  double per_case;    /* building a case and its scene_resolved YAML */
-  double write;       /* writing one sample's bytes (the writing thread) */
-  double deflate;     /* deflating them (--gzip; on the workers at -j N) */
-  size_t cases;       /* cases timed */
-  size_t samples;     /* samples timed */
+  double sample;   /* computing one sample (trajectory + rps3_inverse) */
+  double per_case; /* building a case and its scene_resolved YAML */
+  double write;    /* writing one sample's bytes (the writing thread) */
+  double deflate;  /* deflating them (--gzip; on the workers at -j N) */
+  size_t cases;    /* cases timed */
+  size_t samples;  /* samples timed */
 } est_cost;
 
 /*

@@ -13,10 +13,10 @@
 typedef struct {
   int rank;
   int nrank;
-  int copy;         /* --copy under mpirun: rank 0 writes a merged copy */
-  int gzip;         /* deflate level, 0 for none */
-  int quiet;        /* no size and time line before the run */
-  out_mask fields;  /* the fields written (--fields) */
+  int copy;        /* --copy under mpirun: rank 0 writes a merged copy */
+  int gzip;        /* deflate level, 0 for none */
+  int quiet;       /* no size and time line before the run */
+  out_mask fields; /* the fields written (--fields) */
 } pre_opts;
 
 /*

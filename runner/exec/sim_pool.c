@@ -13,31 +13,28 @@
 #include <string.h>
 
 typedef struct {
-  sim_sink base;        /* the workers' sink: queue a window, take a tile */
+  sim_sink base; /* the workers' sink: queue a window, take a tile */
   pthread_mutex_t mu;
-  pthread_cond_t cv;    /* signalled on every change below */
+  pthread_cond_t cv; /* signalled on every change below */
   const scene *s;
-  sim_tile *tiles;      /* the pool */
-  sim_tile **full;      /* windows to write, a ring of ntile */
-  sim_tile **idle;      /* tiles to fill, a stack */
+  sim_tile *tiles; /* the pool */
+  sim_tile **full; /* windows to write, a ring of ntile */
+  sim_tile **idle; /* tiles to fill, a stack */
   size_t ntile, head, nfull, nidle;
-  size_t next_case;     /* the next case a worker takes */
+  size_t next_case; /* the next case a worker takes */
   int nworker_done;
-  int stop;             /* an error: everyone stops */
-  char err[768];        /* a worker's error */
+  int stop;      /* an error: everyone stops */
+  char err[768]; /* a worker's error */
 } pool;
 
 /* a tile to fill, waiting for one; NULL when stopped (mu held) */
-static sim_tile *take_idle(pool *P)
-{
-  while (P->nidle == 0 && !P->stop)
-    pthread_cond_wait(&P->cv, &P->mu);
+static sim_tile *take_idle(pool *P) {
+  while (P->nidle == 0 && !P->stop) pthread_cond_wait(&P->cv, &P->mu);
   return P->stop ? NULL : P->idle[--P->nidle];
 }
 
 /* the workers' sink: the window goes to the writer, a tile comes back */
-static sim_tile *pool_put(sim_sink *k, sim_tile *t)
-{
+static sim_tile *pool_put(sim_sink *k, sim_tile *t) {
   pool *P = (pool *)(void *)k;
   sim_tile *next;
   pthread_mutex_lock(&P->mu);
@@ -48,8 +45,7 @@ static sim_tile *pool_put(sim_sink *k, sim_tile *t)
   return next;
 }
 
-static void *worker(void *arg)
-{
+static void *worker(void *arg) {
   pool *P = arg;
   sim_tile *t;
   char err[768];
@@ -72,8 +68,7 @@ static void *worker(void *arg)
     if (!t && err[0]) {
       /* the case itself failed to run (memory): stop everyone */
       pthread_mutex_lock(&P->mu);
-      if (!P->stop)
-        snprintf(P->err, sizeof P->err, "%s", err);
+      if (!P->stop) snprintf(P->err, sizeof P->err, "%s", err);
       P->stop = 1;
       pthread_mutex_unlock(&P->mu);
     }
@@ -87,8 +82,7 @@ static void *worker(void *arg)
 
 /* write one window (and the case's values with its last one); 0 or -1 */
 static int write_tile(sim_file *f, const sim_tile *t, int common, char *err,
-                      size_t errsz)
-{
+                      size_t errsz) {
   if (t->nk > 0 && sim_file_window(f, &t->w, t->c, t->k0, t->nk,
                                    common ? NULL : t->times, err, errsz))
     return -1;
@@ -98,8 +92,7 @@ static int write_tile(sim_file *f, const sim_tile *t, int common, char *err,
 /* the calling thread: write the windows as they come until every case is
    written or an error stops the run; 0 or -1 with err */
 static int writer(pool *P, const sim_plan *p, sim_file *f, int nthread,
-                  progress *pr, size_t *nfailed, char *err, size_t errsz)
-{
+                  progress *pr, size_t *nfailed, char *err, size_t errsz) {
   size_t done = 0, points = 0;
   int rc = 0;
   pthread_mutex_lock(&P->mu);
@@ -107,8 +100,7 @@ static int writer(pool *P, const sim_plan *p, sim_file *f, int nthread,
     sim_tile *t;
     while (P->nfull == 0 && !P->stop && P->nworker_done < nthread)
       pthread_cond_wait(&P->cv, &P->mu);
-    if (P->nfull == 0)
-      break; /* stopped, or the workers are gone */
+    if (P->nfull == 0) break; /* stopped, or the workers are gone */
     t = P->full[P->head];
     P->head = (P->head + 1) % P->ntile;
     P->nfull--;
@@ -125,11 +117,9 @@ static int writer(pool *P, const sim_plan *p, sim_file *f, int nthread,
     }
     pthread_mutex_lock(&P->mu);
     P->idle[P->nidle++] = t;
-    if (rc)
-      P->stop = 1;
+    if (rc) P->stop = 1;
     pthread_cond_broadcast(&P->cv);
-    if (rc)
-      break;
+    if (rc) break;
   }
   /* idle workers waiting for a tile or a case end now */
   P->stop = 1;
@@ -143,8 +133,7 @@ static int writer(pool *P, const sim_plan *p, sim_file *f, int nthread,
 }
 
 int sim_pool_run(const scene *s, const sim_plan *p, sim_file *f, int nthread,
-                 progress *pr, size_t *nfailed, char *err, size_t errsz)
-{
+                 progress *pr, size_t *nfailed, char *err, size_t errsz) {
   pool P;
   pthread_t *th = calloc((size_t)nthread, sizeof *th);
   size_t i, points = p->nt < SIM_WINDOW ? p->nt : SIM_WINDOW;
@@ -157,36 +146,30 @@ int sim_pool_run(const scene *s, const sim_plan *p, sim_file *f, int nthread,
   P.full = calloc(P.ntile, sizeof *P.full);
   P.idle = calloc(P.ntile, sizeof *P.idle);
   snprintf(err, errsz, "out of memory");
-  if (!th || !P.tiles || !P.full || !P.idle)
-    goto done;
+  if (!th || !P.tiles || !P.full || !P.idle) goto done;
   for (i = 0; i < P.ntile; i++) {
-    if (sim_tile_alloc(&P.tiles[i], points))
-      goto done;
+    if (sim_tile_alloc(&P.tiles[i], points)) goto done;
     P.idle[P.nidle++] = &P.tiles[i];
   }
-  if (pthread_mutex_init(&P.mu, NULL))
-    goto done;
+  if (pthread_mutex_init(&P.mu, NULL)) goto done;
   if (pthread_cond_init(&P.cv, NULL)) {
     pthread_mutex_destroy(&P.mu);
     goto done;
   }
   for (n = 0; n < nthread; n++)
-    if (pthread_create(&th[started], NULL, worker, &P) == 0)
-      started++;
+    if (pthread_create(&th[started], NULL, worker, &P) == 0) started++;
   if (started == 0) {
     snprintf(err, errsz, "cannot start a thread");
   } else {
     err[0] = '\0';
     rc = writer(&P, p, f, started, pr, nfailed, err, errsz);
   }
-  for (n = 0; n < started; n++)
-    pthread_join(th[n], NULL);
+  for (n = 0; n < started; n++) pthread_join(th[n], NULL);
   pthread_cond_destroy(&P.cv);
   pthread_mutex_destroy(&P.mu);
 done:
   if (P.tiles)
-    for (i = 0; i < P.ntile; i++)
-      sim_tile_free(&P.tiles[i]);
+    for (i = 0; i < P.ntile; i++) sim_tile_free(&P.tiles[i]);
   free(P.tiles);
   free(P.full);
   free(P.idle);

@@ -19,12 +19,12 @@
 
 /* a window on its way to the file */
 typedef struct {
-  sim_window w;       /* samples [k0, k0 + nk) of case c */
-  double *times;      /* their times [points] */
+  sim_window w;  /* samples [k0, k0 + nk) of case c */
+  double *times; /* their times [points] */
   size_t c, k0, nk;
-  int last;           /* 1: the case's last window; v holds its values */
+  int last; /* 1: the case's last window; v holds its values */
   sim_case_values v;
-  scene_text yaml;    /* storage of v.scene_resolved */
+  scene_text yaml; /* storage of v.scene_resolved */
 } sim_tile;
 
 /* Allocate a tile of `points` samples: 0, or -1 (nothing leaks). */
@@ -40,8 +40,9 @@ struct sim_sink {
 
 /*
  * Simulate case i of s (built and checked by the plan), its first `limit`
- * samples at most, into tiles through k, starting with tile t.  Returns the tile it holds at the end, or NULL
- * when the sink stopped or memory ran out (err set, when known).
+ * samples at most, into tiles through k, starting with tile t.  Returns the
+ * tile it holds at the end, or NULL when the sink stopped or memory ran out
+ * (err set, when known).
  */
 sim_tile *sim_run_case(const scene *s, size_t i, size_t limit, sim_tile *t,
                        sim_sink *k, char *err, size_t errsz);

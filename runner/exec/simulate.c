@@ -19,8 +19,7 @@
 /* err at the value that set key k in case `index`: its swept value, the
    key in the file, or the simulate section */
 static void key_error(const scene *s, size_t index, int k, const char *msg,
-                      scene_error *err)
-{
+                      scene_error *err) {
   size_t a;
   char what[sizeof err->what];
   if (s->naxis > 0)
@@ -46,8 +45,7 @@ static void key_error(const scene *s, size_t index, int k, const char *msg,
 }
 
 /* the key a library message "simulate.NAME = VALUE: why" is about */
-static int key_of_message(const char *msg)
-{
+static int key_of_message(const char *msg) {
   static const struct {
     const char *name;
     int key;
@@ -57,34 +55,24 @@ static int key_of_message(const char *msg)
                {"simulate.controller", K_SIM_CONTROLLER}};
   char name[64];
   size_t i, n = strcspn(msg, " =:");
-  if (n >= sizeof name)
-    return -1;
+  if (n >= sizeof name) return -1;
   memcpy(name, msg, n);
   name[n] = '\0';
   for (i = 0; i < sizeof alias / sizeof alias[0]; i++)
-    if (strcmp(alias[i].name, name) == 0)
-      return alias[i].key;
+    if (strcmp(alias[i].name, name) == 0) return alias[i].key;
   return scene_key_find(name);
 }
 
 /* the controller-model key that overrides library field id, or -1 */
-static int model_key(int id)
-{
+static int model_key(int id) {
   switch (id) {
-  case RPS3_F_PLATFORM_MASS:
-    return K_SIM_MODEL_M;
-  case RPS3_F_LINK_MASS:
-    return K_SIM_MODEL_M_OVER_M;
-  case RPS3_F_PAYLOAD_MASS:
-    return K_SIM_MODEL_PAY_MASS;
-  case RPS3_F_VISCOUS:
-    return K_SIM_MODEL_VISCOUS;
-  case RPS3_F_COULOMB:
-    return K_SIM_MODEL_COULOMB;
-  case RPS3_F_EFFECTS:
-    return K_SIM_MODEL_EFFECTS;
-  default:
-    return -1;
+  case RPS3_F_PLATFORM_MASS: return K_SIM_MODEL_M;
+  case RPS3_F_LINK_MASS: return K_SIM_MODEL_M_OVER_M;
+  case RPS3_F_PAYLOAD_MASS: return K_SIM_MODEL_PAY_MASS;
+  case RPS3_F_VISCOUS: return K_SIM_MODEL_VISCOUS;
+  case RPS3_F_COULOMB: return K_SIM_MODEL_COULOMB;
+  case RPS3_F_EFFECTS: return K_SIM_MODEL_EFFECTS;
+  default: return -1;
   }
 }
 
@@ -92,26 +80,19 @@ static int model_key(int id)
 
 /* the controller's model: the plant's, with the given overrides */
 static int ctrl_model(const scene *s, const scene_case *c, sim_case *sc,
-                      scene_error *err)
-{
+                      scene_error *err) {
   const scene_sim *v = &c->v.sim;
   rps3_model *cm = &sc->ctrl_model;
   rps3_check chk;
   int k;
   *cm = c->model;
-  if (!isnan(v->model_M))
-    cm->M = v->model_M;
+  if (!isnan(v->model_M)) cm->M = v->model_M;
   /* the link mass follows the controller's M only through m_over_M */
-  if (!isnan(v->model_m_over_M))
-    cm->m = v->model_m_over_M * cm->M;
-  if (!isnan(v->model_payload_mass))
-    cm->payload.mass = v->model_payload_mass;
-  if (!isnan(v->model_viscous))
-    cm->friction.viscous = v->model_viscous;
-  if (!isnan(v->model_coulomb))
-    cm->friction.coulomb = v->model_coulomb;
-  if (v->model_effects >= 0)
-    cm->opt.effects = v->model_effects;
+  if (!isnan(v->model_m_over_M)) cm->m = v->model_m_over_M * cm->M;
+  if (!isnan(v->model_payload_mass)) cm->payload.mass = v->model_payload_mass;
+  if (!isnan(v->model_viscous)) cm->friction.viscous = v->model_viscous;
+  if (!isnan(v->model_coulomb)) cm->friction.coulomb = v->model_coulomb;
+  if (v->model_effects >= 0) cm->opt.effects = v->model_effects;
   /* a controller's path: F alone, no certificate (rps3.h, forces_only) */
   cm->opt.forces_only = 1;
   cm->opt.certify = 0;
@@ -132,8 +113,7 @@ static int ctrl_model(const scene *s, const scene_case *c, sim_case *sc,
 
 /* the sample grid: the trajectory's step up to the duration */
 static int grid(const scene *s, const scene_case *c, sim_case *sc,
-                scene_error *err)
-{
+                scene_error *err) {
   double q, n;
   char msg[256];
   sc->duration = isnan(c->v.sim.duration) ? c->span : c->v.sim.duration;
@@ -158,11 +138,10 @@ static int grid(const scene *s, const scene_case *c, sim_case *sc,
 }
 
 int sim_case_build(const scene *s, const scene_case *c, sim_case *sc,
-                   scene_error *err)
-{
+                   scene_error *err) {
   const scene_sim *v = &c->v.sim;
-  const int inertia = RPS3_EFF_PLATFORM_INERTIA | RPS3_EFF_LINK_INERTIA |
-                      RPS3_EFF_PAYLOAD;
+  const int inertia =
+      RPS3_EFF_PLATFORM_INERTIA | RPS3_EFF_LINK_INERTIA | RPS3_EFF_PAYLOAD;
   int pd, st;
   char msg[320];
   rps3_sim *sim = NULL;
@@ -179,12 +158,12 @@ int sim_case_build(const scene *s, const scene_case *c, sim_case *sc,
   }
   sc->kind = (rps3_ctrl_kind)v->controller;
   pd = sc->kind == RPS3_CTRL_PD || sc->kind == RPS3_CTRL_PD_GRAVITY;
-  sc->kp = !isnan(v->kp) ? v->kp
-           : pd          ? SIM_KP_PD
+  sc->kp = !isnan(v->kp)                           ? v->kp
+           : pd                                    ? SIM_KP_PD
            : sc->kind == RPS3_CTRL_COMPUTED_TORQUE ? SIM_KP_CT
                                                    : 0.0;
-  sc->kd = !isnan(v->kd) ? v->kd
-           : pd          ? SIM_KD_PD
+  sc->kd = !isnan(v->kd)                           ? v->kd
+           : pd                                    ? SIM_KD_PD
            : sc->kind == RPS3_CTRL_COMPUTED_TORQUE ? SIM_KD_CT
                                                    : 0.0;
   sc->rate = v->rate;
@@ -201,14 +180,12 @@ int sim_case_build(const scene *s, const scene_case *c, sim_case *sc,
   sc->opt.quant_l = v->quant_l;
   sc->opt.quant_dl = v->quant_dl;
   sc->opt.seed = (unsigned long)v->seed;
-  if (ctrl_model(s, c, sc, err) || grid(s, c, sc, err))
-    return -1;
+  if (ctrl_model(s, c, sc, err) || grid(s, c, sc, err)) return -1;
   /* the library's own checks of the options and the controller */
   st = rps3_sim_alloc(&c->model, &sc->opt, &sim, msg, sizeof msg);
   /* the rate's limits over the run (rps3_sim_advance refuses the same) */
   if (st == RPS3_OK)
-    st = rps3_sim_check_rate(&sc->opt, sc->rate, sc->duration, msg,
-                             sizeof msg);
+    st = rps3_sim_check_rate(&sc->opt, sc->rate, sc->duration, msg, sizeof msg);
   if (st == RPS3_OK && sc->rate == 0.0 &&
       (sc->opt.integrator == RPS3_INT_RK4 ||
        sc->opt.integrator == RPS3_INT_RK4IMP) &&
@@ -245,31 +222,25 @@ int sim_case_build(const scene *s, const scene_case *c, sim_case *sc,
   return 0;
 }
 
-double sim_case_time(const scene_case *c, const sim_case *sc, size_t k)
-{
-  if (k + 1 >= sc->nt)
-    return sc->duration;
-  if (k < c->nt)
-    return scene_case_time(c, k);
+double sim_case_time(const scene_case *c, const sim_case *sc, size_t k) {
+  if (k + 1 >= sc->nt) return sc->duration;
+  if (k < c->nt) return scene_case_time(c, k);
   return (double)k * sc->step;
 }
 
 /* ------------------------------------------------------------- check */
 
 static int same_grid(const scene_case *a, const sim_case *sa,
-                     const scene_case *b, const sim_case *sb)
-{
+                     const scene_case *b, const sim_case *sb) {
   return sa->nt == sb->nt && sa->step == sb->step &&
          sa->duration == sb->duration && scene_case_same_grid(a, b) &&
          a->by_dt == b->by_dt;
 }
 
 /* a sweep of simulate.* keys in a scene without the section is refused */
-static int section_rule(const scene *s, scene_error *err)
-{
+static int section_rule(const scene *s, scene_error *err) {
   size_t a;
-  if (s->simulate.line > 0)
-    return 0;
+  if (s->simulate.line > 0) return 0;
   for (a = 0; a < s->naxis; a++)
     if (scene_key_get(s->axis[a].key)->src == SRC_SIM) {
       memset(err, 0, sizeof *err);
@@ -283,15 +254,13 @@ static int section_rule(const scene *s, scene_error *err)
   return 0;
 }
 
-int sim_plan_make(const scene *s, sim_plan *p, scene_error *err)
-{
+int sim_plan_make(const scene *s, sim_plan *p, scene_error *err) {
   scene_case c;
   sim_case sc;
   size_t i;
   memset(p, 0, sizeof *p);
   p->common = 1;
-  if (section_rule(s, err))
-    return -1;
+  if (section_rule(s, err)) return -1;
   for (i = 0; i < s->ncase; i++) {
     if (scene_case_build(s, i, &c, err) || sim_case_build(s, &c, &sc, err))
       return -1;
@@ -300,21 +269,17 @@ int sim_plan_make(const scene *s, sim_plan *p, scene_error *err)
       p->sfirst = sc;
     } else if (!same_grid(&p->first, &p->sfirst, &c, &sc))
       p->common = 0;
-    if (sc.nt > p->nt)
-      p->nt = sc.nt;
+    if (sc.nt > p->nt) p->nt = sc.nt;
     p->npoint += sc.nt;
     p->seconds += sc.duration;
   }
   return 0;
 }
 
-int sim_wanted(const scene *s)
-{
+int sim_wanted(const scene *s) {
   size_t a;
-  if (s->simulate.line > 0)
-    return 1;
+  if (s->simulate.line > 0) return 1;
   for (a = 0; a < s->naxis; a++)
-    if (scene_key_get(s->axis[a].key)->src == SRC_SIM)
-      return 1;
+    if (scene_key_get(s->axis[a].key)->src == SRC_SIM) return 1;
   return 0;
 }

@@ -19,14 +19,14 @@
 
 /* one simulated case, ready to run */
 typedef struct {
-  rps3_model ctrl_model;   /* the controller's model, initialised */
+  rps3_model ctrl_model; /* the controller's model, initialised */
   rps3_sim_options opt;
   rps3_ctrl_kind kind;
-  double kp, kd;           /* the gains used (the kind's when not given) */
-  double rate;             /* control rate [Hz] */
-  double duration;         /* simulated time [s] */
-  double step;             /* sample step [s] */
-  size_t nt;               /* samples, both ends included */
+  double kp, kd;   /* the gains used (the kind's when not given) */
+  double rate;     /* control rate [Hz] */
+  double duration; /* simulated time [s] */
+  double step;     /* sample step [s] */
+  size_t nt;       /* samples, both ends included */
 } sim_case;
 
 /*
@@ -43,10 +43,10 @@ double sim_case_time(const scene_case *c, const sim_case *sc, size_t k);
 
 /* what the check of all cases found: the time axis */
 typedef struct {
-  size_t nt;         /* most samples of any case */
-  size_t npoint;     /* samples over all cases */
-  double seconds;    /* simulated time over all cases [s] */
-  int common;        /* 1: every case has case 0's time grid */
+  size_t nt;      /* most samples of any case */
+  size_t npoint;  /* samples over all cases */
+  double seconds; /* simulated time over all cases [s] */
+  int common;     /* 1: every case has case 0's time grid */
   scene_case first;
   sim_case sfirst;
 } sim_plan;
@@ -64,12 +64,12 @@ int sim_wanted(const scene *s);
 
 /* how rps3-run was asked to run */
 typedef struct {
-  const char *out_path;    /* NULL with check */
-  int check;               /* --check: validate and say what would run */
+  const char *out_path; /* NULL with check */
+  int check;            /* --check: validate and say what would run */
   int quiet;
   int gzip;
-  int nthread;             /* -j: simulation computes on one thread */
-  int sharded;             /* --shard, --resume or MPI ranks: refused */
+  int nthread; /* -j: simulation computes on one thread */
+  int sharded; /* --shard, --resume or MPI ranks: refused */
   const char *command_line;
 } sim_args;
 

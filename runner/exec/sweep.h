@@ -23,8 +23,8 @@
 
 #include <stddef.h>
 
-#include "output/output.h"
 #include "core/progress.h"
+#include "output/output.h"
 #include "scene/scene.h"
 
 /* samples in one tile of output: bounds the memory of a run */
@@ -37,30 +37,30 @@
 #define SWEEP_CHUNK_MIN 128
 
 typedef struct {
-  size_t nt;          /* most samples of any case: the time axis */
-  int grid_common;    /* 1 when every case has the time grid of case 0 */
-  size_t npoint;      /* samples over all cases */
-  scene_case first;   /* case 0 */
-  size_t tile_cases;  /* cases per tile (1 when a case spans tiles): the
-                         case extent of a chunk */
-  size_t tile_points; /* samples per tile and case: a multiple of ... */
-  size_t chunk_points;/* ... the time extent of a chunk */
-  size_t stored;      /* samples (rows x times) of the chunks the run
-                         allocates: what the file holds per sample field */
+  size_t nt;           /* most samples of any case: the time axis */
+  int grid_common;     /* 1 when every case has the time grid of case 0 */
+  size_t npoint;       /* samples over all cases */
+  scene_case first;    /* case 0 */
+  size_t tile_cases;   /* cases per tile (1 when a case spans tiles): the
+                          case extent of a chunk */
+  size_t tile_points;  /* samples per tile and case: a multiple of ... */
+  size_t chunk_points; /* ... the time extent of a chunk */
+  size_t stored;       /* samples (rows x times) of the chunks the run
+                          allocates: what the file holds per sample field */
 } sweep_plan;
 
 /* how to run: threads and shard */
 typedef struct {
-  int nthread;        /* worker threads; 1: compute on the calling thread */
-  size_t shard;       /* this run computes the jobs j with */
-  size_t nshard;      /*   j % nshard == shard (nshard 1: every job) */
+  int nthread;   /* worker threads; 1: compute on the calling thread */
+  size_t shard;  /* this run computes the jobs j with */
+  size_t nshard; /*   j % nshard == shard (nshard 1: every job) */
 } sweep_opts;
 
 /* what a run did */
 typedef struct {
   size_t cases_done;
   size_t points_done;
-  size_t nfailed;     /* cases with a non-zero status */
+  size_t nfailed; /* cases with a non-zero status */
 } sweep_stats;
 
 /*
@@ -75,9 +75,8 @@ int sweep_plan_make(const scene *s, sweep_plan *p, scene_error *err);
  * rows, and the sweep goes on.  Returns 0, or -1 with err set when the file
  * cannot be written or memory runs out.
  */
-int sweep_run(const scene *s, const sweep_plan *p, out_file *f,
-              out_block *b, progress *pr, sweep_stats *st, char *err,
-              size_t errsz);
+int sweep_run(const scene *s, const sweep_plan *p, out_file *f, out_block *b,
+              progress *pr, sweep_stats *st, char *err, size_t errsz);
 
 /* Number of jobs of a plan: ceil(ncase / tile_cases). */
 size_t sweep_njob(const scene *s, const sweep_plan *p);

@@ -10,8 +10,8 @@
 
 #include "rps3.h"
 
-#include "output/output.h"
 #include "core/progress.h"
+#include "output/output.h"
 #include "scene/scene.h"
 #include "sweep.h"
 
@@ -35,8 +35,8 @@ struct sink {
 };
 
 /* write tile t of block b to f */
-int sweep_tile_write(out_file *f, const out_block *b, const tile *t,
-                     char *err, size_t errsz);
+int sweep_tile_write(out_file *f, const out_block *b, const tile *t, char *err,
+                     size_t errsz);
 
 /* count a written tile of block b and show the progress, and the reason
    of the run's first failed case (also when quiet) */
@@ -49,9 +49,8 @@ size_t sweep_next_job(size_t j, size_t nshard, size_t nj);
 /* compute job j of plan p into *bp (a tile of whole cases, or one long
    case in windows), handing each filled tile to k; ws holds the
    workspaces, one per solver kind, allocated on first use */
-int sweep_job_run(const scene *s, const sweep_plan *p, size_t j,
-                  out_block **bp, rps3_data *ws[], sink *k, char *err,
-                  size_t errsz);
+int sweep_job_run(const scene *s, const sweep_plan *p, size_t j, out_block **bp,
+                  rps3_data *ws[], sink *k, char *err, size_t errsz);
 
 /* free the workspaces of sweep_job_run */
 void sweep_workspaces_free(rps3_data *ws[RPS3_NSOLVER]);

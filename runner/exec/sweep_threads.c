@@ -21,45 +21,42 @@
    something to free and no one waits forever. */
 typedef struct {
   pthread_mutex_t mu;
-  pthread_cond_t ready_cv;  /* a tile is ready, or a worker ended */
-  pthread_cond_t free_cv;   /* a block is free, or the run stops */
-  out_block *block;         /* [nblock] */
+  pthread_cond_t ready_cv; /* a tile is ready, or a worker ended */
+  pthread_cond_t free_cv;  /* a block is free, or the run stops */
+  out_block *block;        /* [nblock] */
   size_t nblock;
-  size_t *free_ix;          /* [nblock] stack of free blocks */
+  size_t *free_ix; /* [nblock] stack of free blocks */
   size_t nfree;
-  size_t *ready_ix;         /* [nblock] ring of ready blocks ... */
-  tile *ready_tile;         /* [nblock] ... and their tiles */
+  size_t *ready_ix; /* [nblock] ring of ready blocks ... */
+  tile *ready_tile; /* [nblock] ... and their tiles */
   size_t ready_head, nready;
-  size_t next_job;          /* the next job to take */
-  int nactive;              /* workers still running */
-  int stop;                 /* 1: a worker or the writer failed */
-  char err[512];            /* the first failure */
+  size_t next_job; /* the next job to take */
+  int nactive;     /* workers still running */
+  int stop;        /* 1: a worker or the writer failed */
+  char err[512];   /* the first failure */
   /* what the workers read */
   const scene *s;
   const sweep_plan *p;
   const sweep_opts *o;
-  out_layout layout;        /* the file's chunks, for out_pack */
+  out_layout layout; /* the file's chunks, for out_pack */
 } pool;
 
 typedef struct {
   sink base;
   pool *pl;
-  size_t held;              /* the block this worker fills */
+  size_t held; /* the block this worker fills */
 } worker;
 
 /* stop the run with this error (the first one wins); mu held */
-static void pool_fail(pool *pl, const char *msg)
-{
-  if (!pl->stop)
-    snprintf(pl->err, sizeof pl->err, "%s", msg);
+static void pool_fail(pool *pl, const char *msg) {
+  if (!pl->stop) snprintf(pl->err, sizeof pl->err, "%s", msg);
   pl->stop = 1;
   pthread_cond_broadcast(&pl->free_cv);
   pthread_cond_broadcast(&pl->ready_cv);
 }
 
 static int worker_emit(sink *k, out_block **b, const tile *t, char *err,
-                       size_t errsz)
-{
+                       size_t errsz) {
   worker *w = (worker *)k;
   pool *pl = w->pl;
   size_t r;
@@ -68,8 +65,8 @@ static int worker_emit(sink *k, out_block **b, const tile *t, char *err,
   (*b)->packed = 0;
   if (t->blank_below == 0 &&
       out_pack(&pl->layout, *b, t->c0, t->nc, t->k0, t->nk)) {
-    snprintf(err, errsz, "cannot pack cases %zu-%zu: out of memory",
-             t->c0, t->c0 + t->nc - 1);
+    snprintf(err, errsz, "cannot pack cases %zu-%zu: out of memory", t->c0,
+             t->c0 + t->nc - 1);
     return -1;
   }
   pthread_mutex_lock(&pl->mu);
@@ -80,8 +77,7 @@ static int worker_emit(sink *k, out_block **b, const tile *t, char *err,
   pl->nready++;
   pthread_cond_signal(&pl->ready_cv);
   /* and take a free one */
-  while (pl->nfree == 0 && !pl->stop)
-    pthread_cond_wait(&pl->free_cv, &pl->mu);
+  while (pl->nfree == 0 && !pl->stop) pthread_cond_wait(&pl->free_cv, &pl->mu);
   if (pl->stop) {
     pthread_mutex_unlock(&pl->mu);
     snprintf(err, errsz, "stopped");
@@ -93,8 +89,7 @@ static int worker_emit(sink *k, out_block **b, const tile *t, char *err,
   return 0;
 }
 
-static void *worker_main(void *arg)
-{
+static void *worker_main(void *arg) {
   worker *w = arg;
   pool *pl = w->pl;
   size_t nj = sweep_njob(pl->s, pl->p);
@@ -104,8 +99,7 @@ static void *worker_main(void *arg)
   pthread_mutex_lock(&pl->mu);
   /* a block to fill; there are more blocks than workers, but a worker that
      starts late may find them all queued for writing */
-  while (pl->nfree == 0 && !pl->stop)
-    pthread_cond_wait(&pl->free_cv, &pl->mu);
+  while (pl->nfree == 0 && !pl->stop) pthread_cond_wait(&pl->free_cv, &pl->mu);
   if (pl->stop) {
     pl->nactive--;
     pthread_cond_broadcast(&pl->ready_cv);
@@ -116,8 +110,7 @@ static void *worker_main(void *arg)
   for (;;) {
     size_t j = pl->next_job;
     out_block *b = &pl->block[w->held];
-    if (pl->stop || j >= nj)
-      break;
+    if (pl->stop || j >= nj) break;
     pl->next_job = sweep_next_job(j, pl->o->nshard, nj);
     pthread_mutex_unlock(&pl->mu);
     if (sweep_job_run(pl->s, pl->p, j, &b, ws, &w->base, err, sizeof err)) {
@@ -138,8 +131,7 @@ static void *worker_main(void *arg)
 }
 
 /* write the tiles as the workers queue them, until all workers are done */
-static int pool_write(pool *pl, out_file *f, progress *pr, sweep_stats *st)
-{
+static int pool_write(pool *pl, out_file *f, progress *pr, sweep_stats *st) {
   char err[512];
   pthread_mutex_lock(&pl->mu);
   for (;;) {
@@ -147,8 +139,7 @@ static int pool_write(pool *pl, out_file *f, progress *pr, sweep_stats *st)
     tile t;
     while (pl->nready == 0 && pl->nactive > 0 && !pl->stop)
       pthread_cond_wait(&pl->ready_cv, &pl->mu);
-    if (pl->stop || pl->nready == 0)
-      break;
+    if (pl->stop || pl->nready == 0) break;
     ix = pl->ready_ix[pl->ready_head];
     t = pl->ready_tile[pl->ready_head];
     pl->ready_head = (pl->ready_head + 1) % pl->nblock;
@@ -171,8 +162,7 @@ static int pool_write(pool *pl, out_file *f, progress *pr, sweep_stats *st)
 
 int sweep_run_threads(const scene *s, const sweep_plan *p, out_file *f,
                       out_block *b, const sweep_opts *o, progress *pr,
-                      sweep_stats *st, char *err, size_t errsz)
-{
+                      sweep_stats *st, char *err, size_t errsz) {
   pool pl;
   worker *w = NULL;
   pthread_t *tid = NULL;
@@ -207,9 +197,9 @@ int sweep_run_threads(const scene *s, const sweep_plan *p, out_file *f,
       goto done;
     } else
       pl.block[i].fields = b->fields;
-  for (i = 0; i < nblock; i++)
-    pl.free_ix[pl.nfree++] = i;
-  if (pthread_mutex_init(&pl.mu, NULL) || pthread_cond_init(&pl.ready_cv, NULL) ||
+  for (i = 0; i < nblock; i++) pl.free_ix[pl.nfree++] = i;
+  if (pthread_mutex_init(&pl.mu, NULL) ||
+      pthread_cond_init(&pl.ready_cv, NULL) ||
       pthread_cond_init(&pl.free_cv, NULL)) {
     snprintf(err, errsz, "cannot set up the threads");
     goto done;
@@ -235,10 +225,8 @@ int sweep_run_threads(const scene *s, const sweep_plan *p, out_file *f,
   pthread_sigmask(SIG_SETMASK, &old, NULL);
 
   rc = pool_write(&pl, f, pr, st);
-  for (i = 0; i < (size_t)started; i++)
-    pthread_join(tid[i], NULL);
-  if (rc)
-    snprintf(err, errsz, "%s", pl.err);
+  for (i = 0; i < (size_t)started; i++) pthread_join(tid[i], NULL);
+  if (rc) snprintf(err, errsz, "%s", pl.err);
   pthread_cond_destroy(&pl.free_cv);
   pthread_cond_destroy(&pl.ready_cv);
   pthread_mutex_destroy(&pl.mu);
@@ -246,8 +234,7 @@ int sweep_run_threads(const scene *s, const sweep_plan *p, out_file *f,
 done:
   if (pl.block) {
     *b = pl.block[0];
-    for (i = 1; i < nblock; i++)
-      out_block_free(&pl.block[i]);
+    for (i = 1; i < nblock; i++) out_block_free(&pl.block[i]);
   }
   free(pl.block);
   free(pl.free_ix);
@@ -260,8 +247,7 @@ done:
 
 int sweep_run_opts(const scene *s, const sweep_plan *p, out_file *f,
                    out_block *b, const sweep_opts *o, progress *pr,
-                   sweep_stats *st, char *err, size_t errsz)
-{
+                   sweep_stats *st, char *err, size_t errsz) {
   memset(st, 0, sizeof *st);
   if (o->nshard < 1 || o->shard >= o->nshard || o->nthread < 1) {
     snprintf(err, errsz, "bad shard %zu/%zu or thread count %d", o->shard,
@@ -272,10 +258,8 @@ int sweep_run_opts(const scene *s, const sweep_plan *p, out_file *f,
                          : sweep_run_threads(s, p, f, b, o, pr, st, err, errsz);
 }
 
-int sweep_run(const scene *s, const sweep_plan *p, out_file *f,
-              out_block *b, progress *pr, sweep_stats *st, char *err,
-              size_t errsz)
-{
+int sweep_run(const scene *s, const sweep_plan *p, out_file *f, out_block *b,
+              progress *pr, sweep_stats *st, char *err, size_t errsz) {
   sweep_opts o = {1, 0, 1};
   return sweep_run_opts(s, p, f, b, &o, pr, st, err, errsz);
 }

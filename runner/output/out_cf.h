@@ -78,8 +78,7 @@ int out_cf_swept_key(hid_t ds, hid_t str, const char *key);
 /* the UDUNITS-2 units of sweep axis a of s into buf: the component's unit
    of a list key ("rad, rad, m"[2] -> "m"), "1" for dimensionless keys,
    enums and bools */
-const char *out_cf_axis_units(const scene *s, size_t a, char *buf,
-                              size_t sz);
+const char *out_cf_axis_units(const scene *s, size_t a, char *buf, size_t sz);
 
 /* Set (replace) the root attributes created_utc (now) and command_line of
    an open file.  Returns 0 or -1. */

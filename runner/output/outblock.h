@@ -28,70 +28,70 @@ typedef enum { OUT_C, OUT_CT, OUT_CTL, OUT_CTK, OUT_CTEL } out_shape;
 typedef enum { OUT_F64, OUT_I32, OUT_STR } out_type;
 
 /* X(name, shape, type, units (UDUNITS), long_name (CF), description) */
-#define RPS3_OUTPUT_FIELDS(X)                                                  \
-  X(force, OUT_CTL, OUT_F64, "N", "actuating force along the link",            \
-    "total actuating force F_i along link i, eq. (34); positive extends "      \
-    "the link")                                                                \
-  X(force_by_effect, OUT_CTEL, OUT_F64, "N",                                   \
-    "actuating force by physical effect",                                      \
-    "share of each selected effect in the actuating force; the shares "        \
-    "sum to force")                                                            \
-  X(length, OUT_CTL, OUT_F64, "m", "link length",                              \
-    "link length l_i = R L_i, eqs. (5)-(7)")                                   \
-  X(length_rate, OUT_CTL, OUT_F64, "m/s", "link extension rate",               \
-    "link extension rate dl_i/dt (NaN when no effect needs rates)")            \
-  X(length_accel, OUT_CTL, OUT_F64, "m/s^2", "link extension acceleration",    \
-    "link extension acceleration d2l_i/dt2 (NaN when no effect needs "         \
-    "it)")                                                                     \
-  X(theta, OUT_CTL, OUT_F64, "rad", "link angle to the base plane",            \
-    "angle theta_i between link i and the base plane, eq. (39) or "            \
-    "(8)-(10)")                                                                \
-  X(alpha, OUT_CT, OUT_F64, "rad", "platform precession angle",                \
-    "precession angle alpha of the platform (Z-Y-Z Euler angles, eq. "         \
-    "(2))")                                                                    \
-  X(beta, OUT_CT, OUT_F64, "rad", "platform nutation angle",                   \
-    "nutation angle beta of the platform")                                     \
-  X(z_c, OUT_CT, OUT_F64, "m", "platform centre height",                       \
-    "height z_c of the platform centre")                                       \
-  X(x_c, OUT_CT, OUT_F64, "m", "platform centre x",                            \
-    "platform centre x_c, eq. (3) times R")                                    \
-  X(y_c, OUT_CT, OUT_F64, "m", "platform centre y",                            \
-    "platform centre y_c, eq. (4) times R")                                    \
-  X(lambda, OUT_CTK, OUT_F64, "N/m", "constraint Lagrange multiplier",         \
-    "Lagrange multipliers lambda_k of the constraints (8)-(10) written "       \
-    "in metres (f_k = norm(b_i - b_j)^2 - 3 r^2), eq. (34); NaN under "        \
-    "newton_euler, which does not compute them")                               \
-  X(energy_residual, OUT_CT, OUT_F64, "W", "energy-rate residual",             \
-    "actuator power + friction power - dT/dt - dP/dt; zero up to "             \
-    "rounding when the forces are right (NaN when solver.certify is "          \
-    "false)")                                                                  \
-  X(energy_scale, OUT_CT, OUT_F64, "W", "energy-rate scale",                   \
-    "sum of the magnitudes of the terms of energy_residual, its scale")        \
-  X(condition, OUT_CT, OUT_F64, "1",                                           \
-    "condition number of the constraint Jacobian",                             \
-    "1-norm condition number of the constraint Jacobian df/dtheta")            \
-  X(transmission, OUT_CT, OUT_F64, "1", "force transmission",                  \
-    "force transmission: largest actuator force per unit platform load "       \
-    "(force, moment / R); warn above 100, refused above 1e8")                  \
-  X(solve_niter, OUT_CT, OUT_I32, "1", "theta solve iterations",               \
-    "iterations of the multiroot theta solve (0 for closed_form; -1 "          \
-    "missing)")                                                                \
-  X(solve_resid, OUT_CT, OUT_F64, "1", "theta solve residual",                 \
-    "max_k abs(f_k) after the theta solve, lengths in units of R")             \
-  X(warn, OUT_CT, OUT_I32, "1", "warning bits",                                \
-    "warning bits: 1 ill-conditioned lambda system, 2 alpha undefined, "       \
-    "4 assembly mode changed, 8 transmission above trans_warn (-1 "            \
-    "missing)")                                                                \
-  X(status, OUT_C, OUT_I32, "1", "status of the case",                         \
-    "0 = ok, else the rps3_status code of the first failing sample; "          \
-    "-1000 = not computed (a case of another shard, or of a killed "           \
-    "part)")                                                                   \
-  X(failed_at, OUT_C, OUT_I32, "1", "time index of the first failing sample",  \
-    "time index of the first failing sample, -1 if none")                      \
-  X(message, OUT_C, OUT_STR, "1", "failure message",                           \
-    "why the case failed, empty if it did not")                                \
-  X(scene_resolved, OUT_C, OUT_STR, "1", "resolved scene of the case",         \
-    "the case's full scene as YAML (no sweep): rerun it alone with "           \
+#define RPS3_OUTPUT_FIELDS(X)                                                 \
+  X(force, OUT_CTL, OUT_F64, "N", "actuating force along the link",           \
+    "total actuating force F_i along link i, eq. (34); positive extends "     \
+    "the link")                                                               \
+  X(force_by_effect, OUT_CTEL, OUT_F64, "N",                                  \
+    "actuating force by physical effect",                                     \
+    "share of each selected effect in the actuating force; the shares "       \
+    "sum to force")                                                           \
+  X(length, OUT_CTL, OUT_F64, "m", "link length",                             \
+    "link length l_i = R L_i, eqs. (5)-(7)")                                  \
+  X(length_rate, OUT_CTL, OUT_F64, "m/s", "link extension rate",              \
+    "link extension rate dl_i/dt (NaN when no effect needs rates)")           \
+  X(length_accel, OUT_CTL, OUT_F64, "m/s^2", "link extension acceleration",   \
+    "link extension acceleration d2l_i/dt2 (NaN when no effect needs "        \
+    "it)")                                                                    \
+  X(theta, OUT_CTL, OUT_F64, "rad", "link angle to the base plane",           \
+    "angle theta_i between link i and the base plane, eq. (39) or "           \
+    "(8)-(10)")                                                               \
+  X(alpha, OUT_CT, OUT_F64, "rad", "platform precession angle",               \
+    "precession angle alpha of the platform (Z-Y-Z Euler angles, eq. "        \
+    "(2))")                                                                   \
+  X(beta, OUT_CT, OUT_F64, "rad", "platform nutation angle",                  \
+    "nutation angle beta of the platform")                                    \
+  X(z_c, OUT_CT, OUT_F64, "m", "platform centre height",                      \
+    "height z_c of the platform centre")                                      \
+  X(x_c, OUT_CT, OUT_F64, "m", "platform centre x",                           \
+    "platform centre x_c, eq. (3) times R")                                   \
+  X(y_c, OUT_CT, OUT_F64, "m", "platform centre y",                           \
+    "platform centre y_c, eq. (4) times R")                                   \
+  X(lambda, OUT_CTK, OUT_F64, "N/m", "constraint Lagrange multiplier",        \
+    "Lagrange multipliers lambda_k of the constraints (8)-(10) written "      \
+    "in metres (f_k = norm(b_i - b_j)^2 - 3 r^2), eq. (34); NaN under "       \
+    "newton_euler, which does not compute them")                              \
+  X(energy_residual, OUT_CT, OUT_F64, "W", "energy-rate residual",            \
+    "actuator power + friction power - dT/dt - dP/dt; zero up to "            \
+    "rounding when the forces are right (NaN when solver.certify is "         \
+    "false)")                                                                 \
+  X(energy_scale, OUT_CT, OUT_F64, "W", "energy-rate scale",                  \
+    "sum of the magnitudes of the terms of energy_residual, its scale")       \
+  X(condition, OUT_CT, OUT_F64, "1",                                          \
+    "condition number of the constraint Jacobian",                            \
+    "1-norm condition number of the constraint Jacobian df/dtheta")           \
+  X(transmission, OUT_CT, OUT_F64, "1", "force transmission",                 \
+    "force transmission: largest actuator force per unit platform load "      \
+    "(force, moment / R); warn above 100, refused above 1e8")                 \
+  X(solve_niter, OUT_CT, OUT_I32, "1", "theta solve iterations",              \
+    "iterations of the multiroot theta solve (0 for closed_form; -1 "         \
+    "missing)")                                                               \
+  X(solve_resid, OUT_CT, OUT_F64, "1", "theta solve residual",                \
+    "max_k abs(f_k) after the theta solve, lengths in units of R")            \
+  X(warn, OUT_CT, OUT_I32, "1", "warning bits",                               \
+    "warning bits: 1 ill-conditioned lambda system, 2 alpha undefined, "      \
+    "4 assembly mode changed, 8 transmission above trans_warn (-1 "           \
+    "missing)")                                                               \
+  X(status, OUT_C, OUT_I32, "1", "status of the case",                        \
+    "0 = ok, else the rps3_status code of the first failing sample; "         \
+    "-1000 = not computed (a case of another shard, or of a killed "          \
+    "part)")                                                                  \
+  X(failed_at, OUT_C, OUT_I32, "1", "time index of the first failing sample", \
+    "time index of the first failing sample, -1 if none")                     \
+  X(message, OUT_C, OUT_STR, "1", "failure message",                          \
+    "why the case failed, empty if it did not")                               \
+  X(scene_resolved, OUT_C, OUT_STR, "1", "resolved scene of the case",        \
+    "the case's full scene as YAML (no sweep): rerun it alone with "          \
     "rps3-run")
 
 #define OUT_FIELD_ID(name, ...) OUT_##name,
@@ -121,8 +121,7 @@ out_mask out_fields_all(void);
  * scene_resolved: what a reader needs).  Returns 0, or -1 with err naming
  * the unknown name and listing the valid ones.
  */
-int out_fields_parse(const char *list, out_mask *mask, char *err,
-                     size_t errsz);
+int out_fields_parse(const char *list, out_mask *mask, char *err, size_t errsz);
 
 /* the per-sample fields of mask, comma-separated, in schema order, into
    buf: the root attribute `fields` */
@@ -136,17 +135,17 @@ const char *out_fields_text(out_mask mask, char *buf, size_t sz);
  * field[(s * points + k) * columns + j].
  */
 typedef struct {
-  size_t cases;           /* case slots */
-  size_t points;          /* samples per slot */
-  int neffect;            /* effects in force_by_effect */
+  size_t cases;             /* case slots */
+  size_t points;            /* samples per slot */
+  int neffect;              /* effects in force_by_effect */
   int effect[RPS3_NEFFECT]; /* their effect indices, in file order */
 #define OUT_BLOCK_MEMBER(name, shape, type, ...) void *name;
   RPS3_OUTPUT_FIELDS(OUT_BLOCK_MEMBER)
 #undef OUT_BLOCK_MEMBER
-  double *t;              /* time of each sample [cases][points] */
-  scene_text *yaml;       /* per slot: scene_resolved's storage */
-  char (*msg)[320];       /* per slot: message's storage */
-  out_mask fields;        /* the fields the file gets (--fields) */
+  double *t;        /* time of each sample [cases][points] */
+  scene_text *yaml; /* per slot: scene_resolved's storage */
+  char (*msg)[320]; /* per slot: message's storage */
+  out_mask fields;  /* the fields the file gets (--fields) */
   /* scratch of the batch path (compute.c): OUT_BATCH points, structure of
      arrays, OUT_BATCH_DOUBLES and OUT_BATCH_INTS values a point */
   double *bx;
@@ -154,11 +153,11 @@ typedef struct {
   /* the tile's per-sample chunks as the file stores them (out_pack), or
      packed 0: out_write then hands the buffers to HDF5's filters */
   int packed;
-  unsigned char *pk_buf;  /* the stored chunks back to back */
+  unsigned char *pk_buf; /* the stored chunks back to back */
   size_t pk_len, pk_cap;
-  struct out_chunk *pk;   /* [npk]: where each chunk goes */
+  struct out_chunk *pk; /* [npk]: where each chunk goes */
   size_t npk, pk_max;
-  unsigned char *pk_tmp;  /* one chunk before deflate */
+  unsigned char *pk_tmp; /* one chunk before deflate */
   size_t pk_tmp_cap;
 } out_block;
 
@@ -188,12 +187,12 @@ typedef struct out_chunk {
 
 /* what out_pack needs of a file: plain numbers, read by any thread */
 typedef struct {
-  size_t ncase, nt;       /* extents along case and time */
-  size_t tc, q;           /* chunk extents along case and time */
+  size_t ncase, nt; /* extents along case and time */
+  size_t tc, q;     /* chunk extents along case and time */
   int neffect;
-  int gzip;               /* deflate level, 0 for none */
-  out_mask fields;        /* the fields written */
-  int case_time;          /* 1: case_time is written */
+  int gzip;        /* deflate level, 0 for none */
+  out_mask fields; /* the fields written */
+  int case_time;   /* 1: case_time is written */
 } out_layout;
 
 /*
@@ -205,15 +204,14 @@ typedef struct {
  * writing thread writes; out_write then writes the chunks as they are
  * (H5Dwrite_chunk).  Returns 0, or -1 (out of memory, or zlib failed).
  */
-int out_pack(const out_layout *L, out_block *b, size_t c0, size_t nc,
-             size_t k0, size_t nk);
+int out_pack(const out_layout *L, out_block *b, size_t c0, size_t nc, size_t k0,
+             size_t nk);
 
 /* columns of a shape per (case, sample) */
 size_t out_columns(out_shape shape, int neffect);
 
 /* Allocate a block; returns 0, or -1 (out of memory, nothing leaks). */
-int out_block_alloc(out_block *b, size_t cases, size_t points,
-                    int effects);
+int out_block_alloc(out_block *b, size_t cases, size_t points, int effects);
 
 /* Free a block's buffers; a zeroed block is accepted. */
 void out_block_free(out_block *b);

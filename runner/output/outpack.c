@@ -35,8 +35,7 @@
  */
 #define FL_LANES 16
 #define FL_ROUNDS 4096
-static uint32_t fletcher32(const unsigned char *p, size_t nbytes)
-{
+static uint32_t fletcher32(const unsigned char *p, size_t nbytes) {
   uint64_t s1 = 0, s2 = 0; /* the sums modulo 65535 */
   size_t done = 0;
   int any = 0;
@@ -45,8 +44,7 @@ static uint32_t fletcher32(const unsigned char *p, size_t nbytes)
     uint64_t d1 = 0, d2 = 0;
     size_t m = (nbytes - done) / FL_LANES, r;
     int k;
-    if (m > FL_ROUNDS)
-      m = FL_ROUNDS;
+    if (m > FL_ROUNDS) m = FL_ROUNDS;
     memset(a, 0, sizeof a);
     memset(c, 0, sizeof c);
     for (r = 0; r < m; r++, p += FL_LANES)
@@ -57,8 +55,8 @@ static uint32_t fletcher32(const unsigned char *p, size_t nbytes)
     for (k = 0; k < FL_LANES; k++) {
       uint64_t weight = k % 2 ? 1 : 256;
       d1 += weight * a[k];
-      d2 += weight * ((uint64_t)(FL_LANES / 2) * c[k] -
-                      (uint64_t)(k / 2) * a[k]);
+      d2 +=
+          weight * ((uint64_t)(FL_LANES / 2) * c[k] - (uint64_t)(k / 2) * a[k]);
     }
     any |= d1 != 0;
     /* sum2 gains sum1 once per word of the block, and the block's own */
@@ -73,40 +71,32 @@ static uint32_t fletcher32(const unsigned char *p, size_t nbytes)
     s1 = (s1 + w) % 65535;
     s2 = (s2 + s1) % 65535;
   }
-  if (!any)
-    return 0;
+  if (!any) return 0;
   return (uint32_t)(s2 ? s2 : 65535) << 16 | (uint32_t)(s1 ? s1 : 65535);
 }
 
 /* *buf holds at least need bytes (grown by doubling); 0 or -1 */
-static int reserve(unsigned char **buf, size_t *cap, size_t need)
-{
+static int reserve(unsigned char **buf, size_t *cap, size_t need) {
   unsigned char *p;
   size_t n = *cap ? *cap : 65536;
-  if (need <= *cap)
-    return 0;
-  while (n < need)
-    n *= 2;
+  if (need <= *cap) return 0;
+  while (n < need) n *= 2;
   p = realloc(*buf, n);
-  if (!p)
-    return -1;
+  if (!p) return -1;
   *buf = p;
   *cap = n;
   return 0;
 }
 
 /* n elements of the fill value (NaN, or -1 for int32) at dst */
-static void fill(unsigned char *dst, size_t n, out_type type)
-{
+static void fill(unsigned char *dst, size_t n, out_type type) {
   size_t i;
   if (type == OUT_F64) {
     const double nan = (double)NAN;
-    for (i = 0; i < n; i++)
-      memcpy(dst + i * sizeof nan, &nan, sizeof nan);
+    for (i = 0; i < n; i++) memcpy(dst + i * sizeof nan, &nan, sizeof nan);
   } else {
     const int32_t neg = -1;
-    for (i = 0; i < n; i++)
-      memcpy(dst + i * sizeof neg, &neg, sizeof neg);
+    for (i = 0; i < n; i++) memcpy(dst + i * sizeof neg, &neg, sizeof neg);
   }
 }
 
@@ -117,34 +107,29 @@ static void fill(unsigned char *dst, size_t n, out_type type)
 static void gather(unsigned char *dst, const unsigned char *src,
                    const out_layout *L, const out_block *b, size_t esz,
                    size_t cols, out_type type, size_t nc, size_t kk,
-                   size_t ns)
-{
+                   size_t ns) {
   size_t r, row = L->q * cols * esz;
   for (r = 0; r < L->tc; r++) {
     unsigned char *d = dst + r * row;
     const unsigned char *from = src + (r * b->points + kk) * cols * esz;
     size_t have = r < nc ? ns : 0;
-    if (have && d != from)
-      memcpy(d, from, have * cols * esz);
-    if (have < L->q)
-      fill(d + have * cols * esz, (L->q - have) * cols, type);
+    if (have && d != from) memcpy(d, from, have * cols * esz);
+    if (have < L->q) fill(d + have * cols * esz, (L->q - have) * cols, type);
   }
 }
 
 /* pack the chunks of one field (OUT_NFIELD: case_time) of the tile */
-static int pack_field(const out_layout *L, out_block *b, int field,
-                      size_t c0, size_t nc, size_t k0, size_t nk)
-{
-  const out_type type = field < OUT_NFIELD ? out_field_table[field].type
-                                           : OUT_F64;
-  const size_t cols = field < OUT_NFIELD
-                          ? out_columns(out_field_table[field].shape,
-                                        b->neffect)
-                          : 1;
+static int pack_field(const out_layout *L, out_block *b, int field, size_t c0,
+                      size_t nc, size_t k0, size_t nk) {
+  const out_type type =
+      field < OUT_NFIELD ? out_field_table[field].type : OUT_F64;
+  const size_t cols =
+      field < OUT_NFIELD ? out_columns(out_field_table[field].shape, b->neffect)
+                         : 1;
   const size_t esz = type == OUT_F64 ? sizeof(double) : sizeof(int32_t);
   const size_t raw = L->tc * L->q * cols * esz;
-  unsigned char *src = field < OUT_NFIELD ? out_block_field(b, field)
-                                          : (void *)b->t;
+  unsigned char *src =
+      field < OUT_NFIELD ? out_block_field(b, field) : (void *)b->t;
   /* the buffer's bytes; its rows are contiguous in a chunk when a chunk
      row is a whole slot, or when there is one row */
   const size_t total = b->cases * b->points * cols * esz;
@@ -160,8 +145,7 @@ static int pack_field(const out_layout *L, out_block *b, int field,
     if (b->npk == b->pk_max) {
       size_t n = b->pk_max ? 2 * b->pk_max : 64;
       out_chunk *p = realloc(b->pk, n * sizeof *p);
-      if (!p)
-        return -1;
+      if (!p) return -1;
       b->pk = p;
       b->pk_max = n;
     }
@@ -179,8 +163,7 @@ static int pack_field(const out_layout *L, out_block *b, int field,
       out = b->pk_buf + b->pk_len;
     if (!direct && L->gzip) {
       /* the deflate filter: compress2 at the level, zlib format */
-      if (reserve(&b->pk_tmp, &b->pk_tmp_cap, raw))
-        return -1;
+      if (reserve(&b->pk_tmp, &b->pk_tmp_cap, raw)) return -1;
       gather(b->pk_tmp, src, L, b, esz, cols, type, nc, kc - k0, ns);
       if (compress2(out, &zlen, b->pk_tmp, (uLong)raw, L->gzip) != Z_OK)
         return -1;
@@ -198,15 +181,13 @@ static int pack_field(const out_layout *L, out_block *b, int field,
     b->pk[b->npk].off = direct ? start : b->pk_len;
     b->pk[b->npk].size = stored + 4;
     b->npk++;
-    if (!direct)
-      b->pk_len += stored + 4;
+    if (!direct) b->pk_len += stored + 4;
   }
   return 0;
 }
 
-int out_pack(const out_layout *L, out_block *b, size_t c0, size_t nc,
-             size_t k0, size_t nk)
-{
+int out_pack(const out_layout *L, out_block *b, size_t c0, size_t nc, size_t k0,
+             size_t nk) {
   int i;
   b->packed = 0;
   b->npk = 0;
@@ -215,8 +196,7 @@ int out_pack(const out_layout *L, out_block *b, size_t c0, size_t nc,
     if (out_field_table[i].shape != OUT_C && (L->fields >> i & 1) &&
         pack_field(L, b, i, c0, nc, k0, nk))
       return -1;
-  if (L->case_time && pack_field(L, b, OUT_NFIELD, c0, nc, k0, nk))
-    return -1;
+  if (L->case_time && pack_field(L, b, OUT_NFIELD, c0, nc, k0, nk)) return -1;
   b->packed = 1;
   return 0;
 }

@@ -5,8 +5,8 @@
  */
 #include "output.h"
 #include "core/h5err.h"
-#include "scene/inputs.h"
 #include "out_cf.h"
+#include "scene/inputs.h"
 
 #include <errno.h>
 #include <math.h>
@@ -27,13 +27,13 @@
 struct out_file {
   hid_t file;
   hid_t ds[OUT_NFIELD];
-  hid_t case_time;    /* [case, time] when the grid differs, else -1 */
-  hid_t str;          /* variable-length UTF-8 string type */
-  hid_t dxpl;         /* the tiles' transfer properties */
+  hid_t case_time; /* [case, time] when the grid differs, else -1 */
+  hid_t str;       /* variable-length UTF-8 string type */
+  hid_t dxpl;      /* the tiles' transfer properties */
   size_t ncase;
   size_t nt;
   int neffect;
-  out_layout layout;  /* for out_pack */
+  out_layout layout; /* for out_pack */
 };
 
 /* the HDF5 memory/file type of a schema field */
@@ -44,8 +44,7 @@ static hid_t field_type(const out_file *f, const out_field_info *fi) {
 }
 
 /* the root attributes: versions, time of creation, command line */
-static int root_attrs(hid_t file, hid_t str, const out_meta *meta)
-{
+static int root_attrs(hid_t file, hid_t str, const out_meta *meta) {
   char now[32], h5v[32], fields[1024];
   unsigned maj, min, rel;
   out_utc_now(now);
@@ -56,13 +55,15 @@ static int root_attrs(hid_t file, hid_t str, const out_meta *meta)
           out_h5_attr(file, str, "command_line", meta->command_line) < 0 ||
           out_h5_attr(file, str, "gsl_version", gsl_version) < 0 ||
           out_h5_attr(file, str, "hdf5_version", h5v) < 0 ||
-          out_h5_attr(file, str, "yaml_version",
-                      yaml_get_version_string()) < 0 ||
+          out_h5_attr(file, str, "yaml_version", yaml_get_version_string()) <
+              0 ||
           out_h5_attr(file, str, "title",
-                   "rps3: inverse dynamics of the Lee & Shah 3-RPS "
-                   "manipulator along a trajectory, per case of a sweep") < 0 ||
+                      "rps3: inverse dynamics of the Lee & Shah 3-RPS "
+                      "manipulator along a trajectory, per case of a sweep") <
+              0 ||
           out_h5_attr(file, str, "fields",
-                   out_fields_text(meta->fields, fields, sizeof fields)) < 0 ||
+                      out_fields_text(meta->fields, fields, sizeof fields)) <
+              0 ||
           out_h5_attr(file, str, INPUTS_ATTR,
                       meta->inputs ? meta->inputs : "") < 0 ||
           out_cf_root(file, str, now, meta->command_line) < 0 ||
@@ -76,8 +77,7 @@ typedef struct {
   hid_t dcase, dtime, dlink, dcon, deff;
 } scales;
 
-static void scales_close(scales *sc)
-{
+static void scales_close(scales *sc) {
   hid_t *h[5];
   int i;
   h[0] = &sc->dcase;
@@ -86,18 +86,16 @@ static void scales_close(scales *sc)
   h[3] = &sc->dcon;
   h[4] = &sc->deff;
   for (i = 0; i < 5; i++) {
-    if (*h[i] >= 0)
-      H5Dclose(*h[i]);
+    if (*h[i] >= 0) H5Dclose(*h[i]);
     *h[i] = -1;
   }
 }
 
 /* the scene file, verbatim */
 static int write_scene_text(out_file *f, const scene *s, char *err,
-                            size_t errsz)
-{
-  hid_t ds = out_h5_dataset(f->file, f->str, "scene", f->str, 0, NULL, NULL,
-                            0, NULL, "1", "the scene file (YAML), verbatim");
+                            size_t errsz) {
+  hid_t ds = out_h5_dataset(f->file, f->str, "scene", f->str, 0, NULL, NULL, 0,
+                            NULL, "1", "the scene file (YAML), verbatim");
   const char *text = s->text;
   int rc = 0;
   if (ds < 0 || out_cf_long_name(ds, f->str, "scene file") < 0 ||
@@ -105,29 +103,24 @@ static int write_scene_text(out_file *f, const scene *s, char *err,
     out_fail(err, errsz, "cannot write the scene text");
     rc = -1;
   }
-  if (ds >= 0)
-    H5Dclose(ds);
+  if (ds >= 0) H5Dclose(ds);
   return rc;
 }
 
 /* the case scale 0, 1, ... in runs of OUT_AXIS_RUN: -1 on failure */
-static hid_t case_scale(out_file *f, size_t ncase)
-{
-  hid_t ds = out_h5_scale(f->file, f->str, "case", H5T_NATIVE_INT64, ncase,
-                          NULL, "1",
-                          "case number; row-major over the sweep keys in "
-                          "file order, the last key fastest");
+static hid_t case_scale(out_file *f, size_t ncase) {
+  hid_t ds =
+      out_h5_scale(f->file, f->str, "case", H5T_NATIVE_INT64, ncase, NULL, "1",
+                   "case number; row-major over the sweep keys in "
+                   "file order, the last key fastest");
   int64_t *idx;
   size_t c0, n, k;
-  if (ds < 0)
-    return -1;
+  if (ds < 0) return -1;
   idx = malloc(OUT_AXIS_RUN * sizeof *idx);
   for (c0 = 0; idx && c0 < ncase; c0 += n) {
     n = ncase - c0 < OUT_AXIS_RUN ? ncase - c0 : OUT_AXIS_RUN;
-    for (k = 0; k < n; k++)
-      idx[k] = (int64_t)(c0 + k);
-    if (out_h5_rows(ds, H5T_NATIVE_INT64, c0, n, idx) < 0)
-      break;
+    for (k = 0; k < n; k++) idx[k] = (int64_t)(c0 + k);
+    if (out_h5_rows(ds, H5T_NATIVE_INT64, c0, n, idx) < 0) break;
   }
   if (!idx || c0 < ncase) {
     H5Dclose(ds);
@@ -141,25 +134,23 @@ static hid_t case_scale(out_file *f, size_t ncase)
    the grid differs between cases; in runs of OUT_AXIS_RUN samples, so
    that memory does not grow with the length of a case */
 static hid_t time_scale(out_file *f, const scene_case *first, size_t nt,
-                        int grid_common)
-{
+                        int grid_common) {
   hid_t type = grid_common ? H5T_NATIVE_DOUBLE : H5T_NATIVE_INT32;
   hid_t ds = grid_common
-                 ? out_h5_scale(f->file, f->str, OUT_CF_SAMPLE_DIM(1), type,
-                                nt, NULL, OUT_CF_TIME_UNITS,
+                 ? out_h5_scale(f->file, f->str, OUT_CF_SAMPLE_DIM(1), type, nt,
+                                NULL, OUT_CF_TIME_UNITS,
                                 "time since the start of the trajectory, in "
                                 "s (the reference date of the units is "
                                 "nominal)")
-                 : out_h5_scale(f->file, f->str, OUT_CF_SAMPLE_DIM(0), type,
-                                nt, NULL, "1",
+                 : out_h5_scale(f->file, f->str, OUT_CF_SAMPLE_DIM(0), type, nt,
+                                NULL, "1",
                                 "sample index: the time grid differs between "
                                 "cases, the time of each sample is "
                                 "case_time");
   double *t;
   int32_t *ix;
   size_t c0, n, k;
-  if (ds < 0)
-    return -1;
+  if (ds < 0) return -1;
   if (grid_common && out_cf_time(ds, f->str) < 0) {
     H5Dclose(ds);
     return -1;
@@ -174,8 +165,7 @@ static hid_t time_scale(out_file *f, const scene_case *first, size_t nt,
       else
         ix[k] = (int32_t)(c0 + k);
     }
-    if (out_h5_rows(ds, type, c0, n, t) < 0)
-      break;
+    if (out_h5_rows(ds, type, c0, n, t) < 0) break;
   }
   if (!t || c0 < nt) {
     H5Dclose(ds);
@@ -188,26 +178,24 @@ static hid_t time_scale(out_file *f, const scene_case *first, size_t nt,
 /* the dimension scales case, time, link, constraint and effect */
 static int make_scales(out_file *f, const scene *s, const scene_case *first,
                        size_t nt, int grid_common, const out_block *b,
-                       scales *sc, char *err, size_t errsz)
-{
+                       scales *sc, char *err, size_t errsz) {
   static const int32_t one23[3] = {1, 2, 3};
   const char *names[RPS3_NEFFECT];
   int i;
   sc->dcase = case_scale(f, s->ncase);
   sc->dtime = time_scale(f, first, nt, grid_common);
-  sc->dlink = out_h5_scale(f->file, f->str, "link", H5T_NATIVE_INT32, 3,
-                           one23, "1",
-                           "link (leg) number i; link i is pinned at angle "
-                           "2 pi (i - 1) / 3 from X");
+  sc->dlink =
+      out_h5_scale(f->file, f->str, "link", H5T_NATIVE_INT32, 3, one23, "1",
+                   "link (leg) number i; link i is pinned at angle "
+                   "2 pi (i - 1) / 3 from X");
   sc->dcon = out_h5_scale(f->file, f->str, "constraint", H5T_NATIVE_INT32, 3,
                           one23, "1",
                           "constraint k of eqs. (8), (9), (10): ball joints "
                           "1-2, 2-3, 3-1");
-  for (i = 0; i < b->neffect; i++)
-    names[i] = rps3_effect_name(b->effect[i]);
-  sc->deff = out_h5_scale(f->file, f->str, "effect", f->str,
-                          (size_t)b->neffect, names, "1",
-                          "physical effect, as named by rps3_effect_name");
+  for (i = 0; i < b->neffect; i++) names[i] = rps3_effect_name(b->effect[i]);
+  sc->deff =
+      out_h5_scale(f->file, f->str, "effect", f->str, (size_t)b->neffect, names,
+                   "1", "physical effect, as named by rps3_effect_name");
   if (sc->dcase < 0 || sc->dtime < 0 || sc->dlink < 0 || sc->dcon < 0 ||
       sc->deff < 0 || out_cf_long_name(sc->dcase, f->str, "case number") < 0 ||
       out_cf_long_name(sc->dtime, f->str,
@@ -223,8 +211,7 @@ static int make_scales(out_file *f, const scene *s, const scene_case *first,
 
 /* the swept keys, [case], each on the case scale */
 static int write_swept_keys(out_file *f, const scene *s, const scales *sc,
-                            char *err, size_t errsz)
-{
+                            char *err, size_t errsz) {
   size_t a;
   for (a = 0; a < s->naxis; a++) {
     const scene_key_info *ki = scene_key_get(s->axis[a].key);
@@ -246,8 +233,7 @@ static int write_swept_keys(out_file *f, const scene *s, const scales *sc,
     bad = ds < 0 || out_cf_swept_key(ds, f->str, s->axis[a].path) < 0 ||
           H5DSattach_scale(ds, sc->dcase, 0) < 0 ||
           out_h5_axis(ds, f->str, s, a) < 0;
-    if (ds >= 0)
-      H5Dclose(ds);
+    if (ds >= 0) H5Dclose(ds);
     if (bad) {
       out_fail(err, errsz, "cannot write the swept key %s", s->axis[a].path);
       return -1;
@@ -260,8 +246,7 @@ static int write_swept_keys(out_file *f, const scene *s, const scales *sc,
 static int make_field(out_file *f, int i, const scene *s, size_t nt,
                       size_t chunk_points, const out_block *b,
                       const out_meta *meta, const scales *sc,
-                      const char *const coords[2], char *err, size_t errsz)
-{
+                      const char *const coords[2], char *err, size_t errsz) {
   const double fnan = (double)NAN;
   const int32_t fneg = -1, fnotrun = OUT_STATUS_NOT_COMPUTED;
   const out_field_info *fi = &out_field_table[i];
@@ -289,8 +274,8 @@ static int make_field(out_file *f, int i, const scene *s, size_t nt,
     dims[rank] = chunk[rank] = 3;
     axes[rank++] = sc->dcon;
   }
-  f->ds[i] = out_h5_dataset(f->file, f->str, fi->name, field_type(f, fi),
-                            rank, dims, chunk, meta->gzip,
+  f->ds[i] = out_h5_dataset(f->file, f->str, fi->name, field_type(f, fi), rank,
+                            dims, chunk, meta->gzip,
                             fi->type == OUT_F64   ? (const void *)&fnan
                             : i == OUT_status     ? (const void *)&fnotrun
                             : fi->type == OUT_I32 ? (const void *)&fneg
@@ -320,8 +305,7 @@ static int make_field(out_file *f, int i, const scene *s, size_t nt,
 static int make_case_time(out_file *f, const scene *s, size_t nt,
                           size_t chunk_points, const out_block *b,
                           const out_meta *meta, const scales *sc, char *err,
-                          size_t errsz)
-{
+                          size_t errsz) {
   const double fnan = (double)NAN;
   hsize_t dims[2], chunk[2];
   dims[0] = s->ncase;
@@ -346,9 +330,8 @@ static int make_case_time(out_file *f, const scene *s, size_t nt,
 /* the file itself, its string type and root attributes; the layout */
 static out_file *file_open(const char *path, const scene *s, size_t nt,
                            int grid_common, size_t chunk_points,
-                           const out_block *b, const out_meta *meta,
-                           char *err, size_t errsz)
-{
+                           const out_block *b, const out_meta *meta, char *err,
+                           size_t errsz) {
   out_file *f = calloc(1, sizeof *f);
   int i;
   if (!f) {
@@ -356,8 +339,7 @@ static out_file *file_open(const char *path, const scene *s, size_t nt,
     return NULL;
   }
   f->file = f->str = f->case_time = f->dxpl = -1;
-  for (i = 0; i < OUT_NFIELD; i++)
-    f->ds[i] = -1;
+  for (i = 0; i < OUT_NFIELD; i++) f->ds[i] = -1;
   f->ncase = s->ncase;
   f->nt = nt;
   f->neffect = b->neffect;
@@ -380,8 +362,8 @@ static out_file *file_open(const char *path, const scene *s, size_t nt,
     out_fail(err, errsz, "cannot make the string type");
   else if (f->dxpl < 0 || H5Pset_buffer(f->dxpl, OUT_TCONV_BUF, NULL, NULL) < 0)
     out_fail(err, errsz, "cannot make the transfer properties");
-  else if ((f->file = H5Fcreate(path, H5F_ACC_TRUNC, H5P_DEFAULT,
-                                H5P_DEFAULT)) < 0)
+  else if ((f->file =
+                H5Fcreate(path, H5F_ACC_TRUNC, H5P_DEFAULT, H5P_DEFAULT)) < 0)
     out_fail(err, errsz, "cannot create %s", path);
   else if (root_attrs(f->file, f->str, meta) < 0)
     out_fail(err, errsz, "cannot write the root attributes");
@@ -391,18 +373,16 @@ static out_file *file_open(const char *path, const scene *s, size_t nt,
   return NULL;
 }
 
-out_file *out_create(const char *path, const scene *s,
-                     const scene_case *first, size_t nt, int grid_common,
-                     size_t chunk_points, const out_block *b,
-                     const out_meta *meta, char *err, size_t errsz)
-{
+out_file *out_create(const char *path, const scene *s, const scene_case *first,
+                     size_t nt, int grid_common, size_t chunk_points,
+                     const out_block *b, const out_meta *meta, char *err,
+                     size_t errsz) {
   scales sc = {-1, -1, -1, -1, -1};
   char *coords[2] = {NULL, NULL};
   int i, rc = -1;
-  out_file *f = file_open(path, s, nt, grid_common, chunk_points, b, meta,
-                          err, errsz);
-  if (!f)
-    return NULL;
+  out_file *f =
+      file_open(path, s, nt, grid_common, chunk_points, b, meta, err, errsz);
+  if (!f) return NULL;
   if (write_scene_text(f, s, err, errsz) == 0 &&
       make_scales(f, s, first, nt, grid_common, b, &sc, err, errsz) == 0 &&
       write_swept_keys(f, s, &sc, err, errsz) == 0) {
@@ -410,8 +390,7 @@ out_file *out_create(const char *path, const scene *s,
        per-sample ones' also case_time when the grid differs */
     coords[0] = out_h5_coordinates(s, 0);
     coords[1] = out_h5_coordinates(s, !grid_common);
-    if (!coords[0] || !coords[1])
-      snprintf(err, errsz, "out of memory");
+    if (!coords[0] || !coords[1]) snprintf(err, errsz, "out of memory");
     rc = coords[0] && coords[1] ? 0 : -1;
     /* the fields of the schema that are asked for (--fields) */
     for (i = 0; rc == 0 && i < OUT_NFIELD; i++)
@@ -424,8 +403,7 @@ out_file *out_create(const char *path, const scene *s,
   free(coords[0]);
   free(coords[1]);
   scales_close(&sc);
-  if (rc == 0)
-    return f;
+  if (rc == 0) return f;
   out_close(f, NULL, 0);
   return NULL;
 }
@@ -433,10 +411,8 @@ out_file *out_create(const char *path, const scene *s,
 /* write slots [0, nc) x samples [0, nk) of a [cases, points, cols] buffer
    to rows [c0, c0 + nc) x [k0, k0 + nk) of a dataset of rank `rank` */
 static int write_tile(hid_t ds, hid_t dxpl, hid_t type, int rank,
-                      const out_block *b,
-                      const void *buf, size_t c0, size_t nc, size_t k0,
-                      size_t nk)
-{
+                      const out_block *b, const void *buf, size_t c0, size_t nc,
+                      size_t k0, size_t nk) {
   hsize_t mdims[4], start[4] = {0, 0, 0, 0}, count[4], fstart[4] = {0};
   hid_t fs = H5Dget_space(ds), ms;
   int r, rc = -1;
@@ -461,56 +437,46 @@ static int write_tile(hid_t ds, hid_t dxpl, hid_t type, int rank,
   ms = H5Screate_simple(rank, mdims, NULL);
   if (fs >= 0 && ms >= 0 &&
       H5Sselect_hyperslab(ms, H5S_SELECT_SET, start, NULL, count, NULL) >= 0 &&
-      H5Sselect_hyperslab(fs, H5S_SELECT_SET, fstart, NULL, count, NULL) >=
-          0 &&
+      H5Sselect_hyperslab(fs, H5S_SELECT_SET, fstart, NULL, count, NULL) >= 0 &&
       H5Dwrite(ds, type, ms, fs, dxpl, buf) >= 0)
     rc = 0;
-  if (fs >= 0)
-    H5Sclose(fs);
-  if (ms >= 0)
-    H5Sclose(ms);
+  if (fs >= 0) H5Sclose(fs);
+  if (ms >= 0) H5Sclose(ms);
   return rc;
 }
 
-void out_file_layout(const out_file *f, out_layout *L)
-{
-  *L = f->layout;
-}
+void out_file_layout(const out_file *f, out_layout *L) { *L = f->layout; }
 
 /* write the chunks out_pack made, as they are */
 static int write_packed(out_file *f, const out_block *b, char *err,
-                        size_t errsz)
-{
+                        size_t errsz) {
   size_t i;
   for (i = 0; i < b->npk; i++) {
     const out_chunk *ck = &b->pk[i];
     hid_t ds = ck->field < OUT_NFIELD ? f->ds[ck->field] : f->case_time;
     const unsigned char *data =
         !ck->direct ? b->pk_buf
-        : ck->field < OUT_NFIELD ? (const unsigned char *)out_block_field(
-                                       b, ck->field)
-                                 : (const unsigned char *)b->t;
+        : ck->field < OUT_NFIELD
+            ? (const unsigned char *)out_block_field(b, ck->field)
+            : (const unsigned char *)b->t;
     hsize_t off[4] = {0, 0, 0, 0};
     off[0] = ck->c0;
     off[1] = ck->k0;
-    if (H5Dwrite_chunk(ds, H5P_DEFAULT, 0, off, ck->size, data + ck->off) <
-        0) {
+    if (H5Dwrite_chunk(ds, H5P_DEFAULT, 0, off, ck->size, data + ck->off) < 0) {
       out_fail(err, errsz, "cannot write %s of cases %zu-",
-           ck->field < OUT_NFIELD ? out_field_table[ck->field].name
-                                  : "case_time",
-           ck->c0);
+               ck->field < OUT_NFIELD ? out_field_table[ck->field].name
+                                      : "case_time",
+               ck->c0);
       return -1;
     }
   }
   return 0;
 }
 
-int out_write(out_file *f, const out_block *b, size_t c0, size_t nc,
-              size_t k0, size_t nk, int with_case, char *err, size_t errsz)
-{
+int out_write(out_file *f, const out_block *b, size_t c0, size_t nc, size_t k0,
+              size_t nk, int with_case, char *err, size_t errsz) {
   int i;
-  if (b->packed && write_packed(f, b, err, errsz))
-    return -1;
+  if (b->packed && write_packed(f, b, err, errsz)) return -1;
   for (i = 0; i < OUT_NFIELD; i++) {
     const out_field_info *fi = &out_field_table[i];
     hid_t type = field_type(f, fi);
@@ -524,7 +490,7 @@ int out_write(out_file *f, const out_block *b, size_t c0, size_t nc,
     if (write_tile(f->ds[i], f->dxpl, type, rank, b, out_block_field(b, i), c0,
                    nc, k0, nk) < 0) {
       out_fail(err, errsz, "cannot write %s of cases %zu-%zu", fi->name, c0,
-           c0 + nc - 1);
+               c0 + nc - 1);
       return -1;
     }
   }
@@ -532,30 +498,22 @@ int out_write(out_file *f, const out_block *b, size_t c0, size_t nc,
       write_tile(f->case_time, f->dxpl, H5T_NATIVE_DOUBLE, 2, b, b->t, c0, nc,
                  k0, nk) < 0) {
     out_fail(err, errsz, "cannot write case_time of cases %zu-%zu", c0,
-         c0 + nc - 1);
+             c0 + nc - 1);
     return -1;
   }
   return 0;
 }
 
-int out_close(out_file *f, char *err, size_t errsz)
-{
+int out_close(out_file *f, char *err, size_t errsz) {
   int i, rc = 0;
-  if (!f)
-    return 0;
+  if (!f) return 0;
   for (i = 0; i < OUT_NFIELD; i++)
-    if (f->ds[i] >= 0 && H5Dclose(f->ds[i]) < 0)
-      rc = -1;
-  if (f->case_time >= 0 && H5Dclose(f->case_time) < 0)
-    rc = -1;
-  if (f->str >= 0)
-    H5Tclose(f->str);
-  if (f->dxpl >= 0)
-    H5Pclose(f->dxpl);
-  if (f->file >= 0 && H5Fclose(f->file) < 0)
-    rc = -1;
-  if (rc < 0 && err)
-    out_fail(err, errsz, "cannot close the file");
+    if (f->ds[i] >= 0 && H5Dclose(f->ds[i]) < 0) rc = -1;
+  if (f->case_time >= 0 && H5Dclose(f->case_time) < 0) rc = -1;
+  if (f->str >= 0) H5Tclose(f->str);
+  if (f->dxpl >= 0) H5Pclose(f->dxpl);
+  if (f->file >= 0 && H5Fclose(f->file) < 0) rc = -1;
+  if (rc < 0 && err) out_fail(err, errsz, "cannot close the file");
   free(f);
   return rc;
 }

@@ -26,11 +26,11 @@
 /* what the file says about the run */
 typedef struct {
   const char *command_line;
-  int gzip;               /* deflate level 1-9, 0 for none */
-  const char *shard;      /* "K/N" of a part file (merge.h), NULL if whole */
-  out_mask fields;        /* the fields written (--fields) */
-  const char *inputs;     /* the files the scene read and their SHA-256
-                             (inputs.h): root attribute input_files */
+  int gzip;           /* deflate level 1-9, 0 for none */
+  const char *shard;  /* "K/N" of a part file (merge.h), NULL if whole */
+  out_mask fields;    /* the fields written (--fields) */
+  const char *inputs; /* the files the scene read and their SHA-256
+                         (inputs.h): root attribute input_files */
 } out_meta;
 
 typedef struct out_file out_file;
@@ -43,10 +43,10 @@ typedef struct out_file out_file;
  * are [b->cases, chunk_points, ...] (a tile is a whole number of chunks).
  * Returns NULL with a message in err.
  */
-out_file *out_create(const char *path, const scene *s,
-                     const scene_case *first, size_t nt, int grid_common,
-                     size_t chunk_points, const out_block *b,
-                     const out_meta *meta, char *err, size_t errsz);
+out_file *out_create(const char *path, const scene *s, const scene_case *first,
+                     size_t nt, int grid_common, size_t chunk_points,
+                     const out_block *b, const out_meta *meta, char *err,
+                     size_t errsz);
 
 /* the layout of an open file's chunks, for out_pack */
 void out_file_layout(const out_file *f, out_layout *L);
@@ -57,8 +57,8 @@ void out_file_layout(const out_file *f, out_layout *L);
  * when with_case is 1.  When b->packed, the per-sample fields are written
  * as the chunks out_pack made of this tile.  Returns 0 or -1 with err set.
  */
-int out_write(out_file *f, const out_block *b, size_t c0, size_t nc,
-              size_t k0, size_t nk, int with_case, char *err, size_t errsz);
+int out_write(out_file *f, const out_block *b, size_t c0, size_t nc, size_t k0,
+              size_t nk, int with_case, char *err, size_t errsz);
 
 /* Flush and close the file; returns 0 or -1 with err set.  f is freed
    either way; NULL is accepted. */

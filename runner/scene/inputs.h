@@ -49,8 +49,7 @@ char *inputs_record(const scene *s, char *err, size_t errsz);
  * within its size.
  */
 int inputs_differ(const char *a, const char *b, char *key, size_t keysz,
-                  char *path, size_t pathsz, char *da, char *db,
-                  size_t dsz);
+                  char *path, size_t pathsz, char *da, char *db, size_t dsz);
 
 /*
  * The digest field ("sha256:HEX") and path of key `key` in the record rec

@@ -14,23 +14,19 @@
 
 /* ----------------------------------------------------------------- cases */
 
-size_t scene_case_coord(const scene *s, size_t index, size_t a)
-{
+size_t scene_case_coord(const scene *s, size_t index, size_t a) {
   size_t b;
   /* row-major: the last axis varies fastest */
-  for (b = s->naxis; b-- > a + 1;)
-    index /= s->axis[b].n;
+  for (b = s->naxis; b-- > a + 1;) index /= s->axis[b].n;
   return index % s->axis[a].n;
 }
 
 /* the keys that set library field id in scene s (a converted key such as
    m_over_M when the scene gave it): up to max into out */
-static int keys_filling(const scene *s, int id, int *out, int max)
-{
+static int keys_filling(const scene *s, int id, int *out, int max) {
   int k, n = 0;
   for (k = 0; k < SCENE_NKEY && n < max; k++)
-    if (id >= 0 && scene_key_fills(k) == id && s->given[k])
-      out[n++] = k;
+    if (id >= 0 && scene_key_fills(k) == id && s->given[k]) out[n++] = k;
   return n;
 }
 
@@ -40,8 +36,7 @@ static int keys_filling(const scene *s, int id, int *out, int max)
    component or the whole key), else such a key given in the file, else the
    first swept value, else the manipulator section */
 static void case_error(const scene *s, size_t index, const char *msg,
-                       const rps3_check *chk, int first_key, scene_error *err)
-{
+                       const rps3_check *chk, int first_key, scene_error *err) {
   int named[16], comp[16], n = 0, i, j, m;
   size_t a;
   char what[sizeof err->what];
@@ -60,8 +55,7 @@ static void case_error(const scene *s, size_t index, const char *msg,
     ids[2] = chk->related[1];
     for (j = 0; j < 3; j++) {
       m = keys_filling(s, ids[j], named + n, 16 - n);
-      for (i = n; i < n + m; i++)
-        comp[i] = j == 0 ? chk->comp : -1;
+      for (i = n; i < n + m; i++) comp[i] = j == 0 ? chk->comp : -1;
       n += m;
     }
   }
@@ -123,8 +117,7 @@ static void case_error(const scene *s, size_t index, const char *msg,
  * or -1 with err set.
  */
 static int effects_rule(const scene *s, size_t index, scene_case *c,
-                        scene_error *err)
-{
+                        scene_error *err) {
   const rps3_model *m = &c->model;
   int pay = m->payload.mass > 0 || m->payload.inertia[0] > 0 ||
             m->payload.inertia[1] > 0 || m->payload.inertia[2] > 0;
@@ -142,8 +135,7 @@ static int effects_rule(const scene *s, size_t index, scene_case *c,
     /* the key that configures it (every default is 0, so it is given) */
     int k = j ? (m->friction.viscous > 0 ? K_VISCOUS : K_COULOMB)
               : (m->payload.mass > 0 ? K_PAY_MASS : K_PAY_INERTIA);
-    if (!(j ? fric : pay) || (eff & bit))
-      continue;
+    if (!(j ? fric : pay) || (eff & bit)) continue;
     snprintf(msg, sizeof msg,
              "leaves out %s, but %s is configured (%d:%d); add %s to the "
              "list, or remove the %s",
@@ -159,8 +151,7 @@ static int effects_rule(const scene *s, size_t index, scene_case *c,
 /* err for a dt that does not fit the span of case `index`: q = span / dt
    steps, too many for one case or not a whole number of them */
 static void dt_error(const scene *s, size_t index, const scene_case *c,
-                     double q, scene_error *err)
-{
+                     double q, scene_error *err) {
   char msg[256], sa[32], sb[32];
   scene_format_real(sa, sizeof sa, c->span);
   scene_format_real(sb, sizeof sb, c->v.own.dt);
@@ -178,8 +169,7 @@ static void dt_error(const scene *s, size_t index, const scene_case *c,
 }
 
 int scene_case_build(const scene *s, size_t index, scene_case *c,
-                     scene_error *err)
-{
+                     scene_error *err) {
   rps3_check chk;
   size_t a;
   memset(c, 0, sizeof *c);
@@ -196,12 +186,10 @@ int scene_case_build(const scene *s, size_t index, scene_case *c,
      are converted */
   c->model = c->v.model;
   c->traj = c->v.traj;
-  if (c->by_ratio)
-    c->model.m = c->v.own.m_over_M * c->model.M;
+  if (c->by_ratio) c->model.m = c->v.own.m_over_M * c->model.M;
   if (c->by_blend_ratio)
     c->traj.helix.blend = c->v.own.blend_ratio * c->traj.helix.period;
-  if (effects_rule(s, index, c, err))
-    return -1;
+  if (effects_rule(s, index, c, err)) return -1;
 
   if (rps3_model_validate(&c->model, &chk) != RPS3_OK ||
       rps3_traj_validate(&c->model, &c->traj, &chk) != RPS3_OK) {
@@ -214,8 +202,8 @@ int scene_case_build(const scene *s, size_t index, scene_case *c,
     c->step = c->span / (double)(c->nt - 1);
   } else {
     double q = c->span / c->v.own.dt, n = floor(q + 0.5);
-    if (q >= 2147483646.0 ||
-        fabs(q - n) > SCENE_WHOLE_RTOL * (q > 1 ? q : 1) || n < 1) {
+    if (q >= 2147483646.0 || fabs(q - n) > SCENE_WHOLE_RTOL * (q > 1 ? q : 1) ||
+        n < 1) {
       dt_error(s, index, c, q, err);
       return -1;
     }
@@ -225,16 +213,12 @@ int scene_case_build(const scene *s, size_t index, scene_case *c,
   return 0;
 }
 
-double scene_case_time(const scene_case *c, size_t k)
-{
-  if (k + 1 >= c->nt)
-    return c->span;
-  if (c->by_dt)
-    return (double)k * c->step;
+double scene_case_time(const scene_case *c, size_t k) {
+  if (k + 1 >= c->nt) return c->span;
+  if (c->by_dt) return (double)k * c->step;
   return c->span * (double)k / (double)(c->nt - 1);
 }
 
-int scene_case_same_grid(const scene_case *a, const scene_case *b)
-{
+int scene_case_same_grid(const scene_case *a, const scene_case *b) {
   return a->nt == b->nt && a->span == b->span && a->step == b->step;
 }

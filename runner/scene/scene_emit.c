@@ -15,7 +15,7 @@
 #include <yaml.h>
 
 /* the key table's text for a simulate default that is not a value */
-#define SIM_DEFTEXT(ID, MEMBER, IS_INT, LO, LO_OPEN, HI, UNIT, DEF, DEFTEXT)  \
+#define SIM_DEFTEXT(ID, MEMBER, IS_INT, LO, LO_OPEN, HI, UNIT, DEF, DEFTEXT) \
   DEFTEXT,
 static const char *const sim_deftext[SCENE_NSIM] = {
     SCENE_SIM_FIELDS(SIM_DEFTEXT)};
@@ -23,22 +23,19 @@ static const char *const sim_deftext[SCENE_NSIM] = {
 
 /* ----------------------------------------------------------------- emit */
 
-void scene_text_free(scene_text *t)
-{
+void scene_text_free(scene_text *t) {
   if (t) {
     free(t->s);
     memset(t, 0, sizeof *t);
   }
 }
 
-static int text_write(void *data, unsigned char *buf, size_t size)
-{
+static int text_write(void *data, unsigned char *buf, size_t size) {
   scene_text *t = data;
   if (t->len + size + 1 > t->cap) {
     size_t cap = t->cap ? t->cap : 1024;
     char *ns;
-    while (cap < t->len + size + 1)
-      cap *= 2;
+    while (cap < t->len + size + 1) cap *= 2;
     ns = realloc(t->s, cap);
     if (!ns) {
       t->oom = 1;
@@ -53,8 +50,7 @@ static int text_write(void *data, unsigned char *buf, size_t size)
   return 1;
 }
 
-static int emit_scalar(yaml_emitter_t *em, const char *text)
-{
+static int emit_scalar(yaml_emitter_t *em, const char *text) {
   yaml_event_t ev;
   yaml_scalar_event_initialize(&ev, NULL, NULL, (const yaml_char_t *)text,
                                (int)strlen(text), 1, 1,
@@ -62,8 +58,7 @@ static int emit_scalar(yaml_emitter_t *em, const char *text)
   return yaml_emitter_emit(em, &ev);
 }
 
-static int emit_open(yaml_emitter_t *em, int seq, int flow)
-{
+static int emit_open(yaml_emitter_t *em, int seq, int flow) {
   yaml_event_t ev;
   if (seq)
     yaml_sequence_start_event_initialize(
@@ -76,8 +71,7 @@ static int emit_open(yaml_emitter_t *em, int seq, int flow)
   return yaml_emitter_emit(em, &ev);
 }
 
-static int emit_close(yaml_emitter_t *em, int seq)
-{
+static int emit_close(yaml_emitter_t *em, int seq) {
   yaml_event_t ev;
   if (seq)
     yaml_sequence_end_event_initialize(&ev);
@@ -87,8 +81,7 @@ static int emit_close(yaml_emitter_t *em, int seq)
 }
 
 /* the value of key k of v, as YAML events */
-static int emit_value(yaml_emitter_t *em, int k, const scene_values *v)
-{
+static int emit_value(yaml_emitter_t *em, int k, const scene_values *v) {
   char buf[64];
   scene_values *w = (scene_values *)(void *)v; /* read only */
   const char *file;
@@ -108,8 +101,7 @@ static int emit_value(yaml_emitter_t *em, int k, const scene_values *v)
   case KEY_INT:
     snprintf(buf, sizeof buf, "%d", *scene_int_at(w, k));
     return emit_scalar(em, buf);
-  case KEY_BOOL:
-    return emit_scalar(em, *scene_int_at(w, k) ? "true" : "false");
+  case KEY_BOOL: return emit_scalar(em, *scene_int_at(w, k) ? "true" : "false");
   case KEY_ENUM:
     return emit_scalar(em, scene_enum_name(k, *scene_int_at(w, k)));
   case KEY_EFFECTS:
@@ -145,24 +137,20 @@ static int emit_value(yaml_emitter_t *em, int k, const scene_values *v)
 
 /* does case c write key k?  The link mass and the time grid are written
    the way the scene gave them. */
-static int case_has_key(const scene_case *c, int k)
-{
+static int case_has_key(const scene_case *c, int k) {
   const scene_key_info *ki = scene_key_get(k);
-  if (ki->kind != FOR_ALL && ki->kind != (int)c->v.traj.kind)
-    return 0;
+  if (ki->kind != FOR_ALL && ki->kind != (int)c->v.traj.kind) return 0;
   if (ki->src == SRC_SIM) {
     /* written when simulated; "not given" (NaN, -1) is not a value */
     scene_values *w = (scene_values *)(void *)&c->v; /* read only */
-    if (!c->simulate)
-      return 0;
+    if (!c->simulate) return 0;
     return ki->type == KEY_REAL    ? !isnan(*scene_real_at(w, k))
            : ki->type == KEY_REAL3 ? 1
                                    : *scene_int_at(w, k) >= 0;
   }
   if (k == K_M_OVER_M || k == K_MASS)
     return (k == K_M_OVER_M) == (c->by_ratio != 0);
-  if (k == K_SAMPLES || k == K_DT)
-    return (k == K_DT) == (c->by_dt != 0);
+  if (k == K_SAMPLES || k == K_DT) return (k == K_DT) == (c->by_dt != 0);
   if (k == K_BLEND || k == K_BLEND_RATIO)
     return (k == K_BLEND_RATIO) == (c->by_blend_ratio != 0);
   if (scene_shape_mask(k) != 0)
@@ -170,8 +158,7 @@ static int case_has_key(const scene_case *c, int k)
   return 1;
 }
 
-int scene_case_yaml(const scene_case *c, scene_text *out)
-{
+int scene_case_yaml(const scene_case *c, scene_text *out) {
   yaml_emitter_t em;
   yaml_event_t ev;
   char open[4][40]; /* the mapping sections currently open */
@@ -179,8 +166,7 @@ int scene_case_yaml(const scene_case *c, scene_text *out)
 
   out->len = 0;
   out->oom = 0;
-  if (!yaml_emitter_initialize(&em))
-    return -1;
+  if (!yaml_emitter_initialize(&em)) return -1;
   yaml_emitter_set_output(&em, text_write, out);
   yaml_emitter_set_width(&em, -1);
   yaml_stream_start_event_initialize(&ev, YAML_UTF8_ENCODING);
@@ -191,8 +177,7 @@ int scene_case_yaml(const scene_case *c, scene_text *out)
   for (k = 0; k < SCENE_NKEY && ok; k++) {
     const char *path = scene_key_get(k)->path, *p, *dot;
     int level = 0;
-    if (!case_has_key(c, k))
-      continue;
+    if (!case_has_key(c, k)) continue;
     /* close the sections this key is not in, open the ones it is in */
     for (p = path; (dot = strchr(p, '.')) != NULL; p = dot + 1, level++) {
       size_t len = (size_t)(dot - p);
@@ -213,8 +198,7 @@ int scene_case_yaml(const scene_case *c, scene_text *out)
     }
     ok = ok && emit_scalar(&em, p) && emit_value(&em, k, &c->v);
   }
-  while (depth-- > 0 && ok)
-    ok = emit_close(&em, 0);
+  while (depth-- > 0 && ok) ok = emit_close(&em, 0);
   ok = ok && emit_close(&em, 0);
   yaml_document_end_event_initialize(&ev, 1);
   ok = ok && yaml_emitter_emit(&em, &ev);
@@ -228,8 +212,7 @@ int scene_case_yaml(const scene_case *c, scene_text *out)
 /* ------------------------------------------------------------- key list */
 
 /* the range of field row f, as the key table shows it */
-static void range_text(const rps3_field_info *f, char *buf, size_t sz)
-{
+static void range_text(const rps3_field_info *f, char *buf, size_t sz) {
   char lo[32], hi[32];
   scene_format_real(lo, sizeof lo, f->lo);
   scene_format_real(hi, sizeof hi, f->hi);
@@ -243,8 +226,7 @@ static void range_text(const rps3_field_info *f, char *buf, size_t sz)
     snprintf(buf, sz, "%c%s, %s]", f->lo_open ? '(' : '[', lo, hi);
 }
 
-void scene_keys_print(void)
-{
+void scene_keys_print(void) {
   scene_values v;
   char def[64], names[256], range[80];
   int k;
@@ -256,34 +238,18 @@ void scene_keys_print(void)
     const scene_key_info *ki = scene_key_get(k);
     const char *type = "";
     switch (ki->type) {
-    case KEY_REAL:
-      type = "number";
-      break;
-    case KEY_REAL3:
-      type = "[3 numbers]";
-      break;
-    case KEY_INT:
-      type = "integer";
-      break;
-    case KEY_BOOL:
-      type = "bool";
-      break;
+    case KEY_REAL: type = "number"; break;
+    case KEY_REAL3: type = "[3 numbers]"; break;
+    case KEY_INT: type = "integer"; break;
+    case KEY_BOOL: type = "bool"; break;
     case KEY_ENUM:
       scene_enum_list(k, names, sizeof names);
       type = names;
       break;
-    case KEY_EFFECTS:
-      type = "[effect names]";
-      break;
-    case KEY_TIMES:
-      type = "[numbers]";
-      break;
-    case KEY_POSES:
-      type = "[[3 numbers], ...]";
-      break;
-    case KEY_FILE:
-      type = "file name";
-      break;
+    case KEY_EFFECTS: type = "[effect names]"; break;
+    case KEY_TIMES: type = "[numbers]"; break;
+    case KEY_POSES: type = "[[3 numbers], ...]"; break;
+    case KEY_FILE: type = "file name"; break;
     }
     if (ki->src == SRC_SIM && sim_deftext[ki->field])
       snprintf(def, sizeof def, "%s", sim_deftext[ki->field]);
@@ -307,15 +273,14 @@ void scene_keys_print(void)
     else
       snprintf(def, sizeof def, "see meaning");
     range_text(ki->f, range, sizeof range);
-    printf("| `%s`%s%s%s | %s | %s | %s | %s | %s | %s |\n", ki->path,
-           ki->kind != FOR_ALL ? " (" : "",
-           ki->kind != FOR_ALL ? scene_enum_name(K_KIND, ki->kind) : "",
-           ki->kind != FOR_ALL ? ")" : "",
-           type, ki->unit,
-           (ki->type == KEY_REAL || ki->type == KEY_REAL3 ||
-            ki->type == KEY_INT)
-               ? range
-               : "-",
-           ki->symbol, def, ki->doc);
+    printf(
+        "| `%s`%s%s%s | %s | %s | %s | %s | %s | %s |\n", ki->path,
+        ki->kind != FOR_ALL ? " (" : "",
+        ki->kind != FOR_ALL ? scene_enum_name(K_KIND, ki->kind) : "",
+        ki->kind != FOR_ALL ? ")" : "", type, ki->unit,
+        (ki->type == KEY_REAL || ki->type == KEY_REAL3 || ki->type == KEY_INT)
+            ? range
+            : "-",
+        ki->symbol, def, ki->doc);
   }
 }

@@ -15,8 +15,7 @@
 #include <yaml.h>
 
 static void guard_error(scene_error *err, int line, int column,
-                        const char *path, const char *fmt, ...)
-{
+                        const char *path, const char *fmt, ...) {
   va_list ap;
   err->mark.line = line;
   err->mark.column = column;
@@ -26,8 +25,7 @@ static void guard_error(scene_error *err, int line, int column,
   va_end(ap);
 }
 
-static const char *file_kind(mode_t m)
-{
+static const char *file_kind(mode_t m) {
   return S_ISDIR(m)    ? "a directory"
          : S_ISCHR(m)  ? "a character device"
          : S_ISBLK(m)  ? "a block device"
@@ -37,8 +35,7 @@ static const char *file_kind(mode_t m)
 }
 
 int scene_read_guarded(const char *path, char **text, size_t *len,
-                       scene_error *err)
-{
+                       scene_error *err) {
   struct stat st;
   size_t got = 0;
   char *buf;
@@ -78,16 +75,14 @@ int scene_read_guarded(const char *path, char **text, size_t *len,
   }
   for (;;) {
     ssize_t n = read(fd, buf + got, (size_t)SCENE_MAX_BYTES + 1 - got);
-    if (n < 0 && errno == EINTR)
-      continue;
+    if (n < 0 && errno == EINTR) continue;
     if (n < 0) {
       guard_error(err, 0, 0, "(file)", "cannot read: %s", strerror(errno));
       free(buf);
       close(fd);
       return -1;
     }
-    if (n == 0)
-      break;
+    if (n == 0) break;
     got += (size_t)n;
     if (got > SCENE_MAX_BYTES) {
       guard_error(err, 0, 0, "(file)",
@@ -107,40 +102,31 @@ int scene_read_guarded(const char *path, char **text, size_t *len,
 
 /* the UTF-16 or UTF-32 encoding of a text, from its BOM or its NUL bytes
    (YAML 1.2, 5.2), or NULL */
-static const char *wide_encoding(const unsigned char *t, size_t n)
-{
+static const char *wide_encoding(const unsigned char *t, size_t n) {
   if (n >= 4 && t[0] == 0 && t[1] == 0 && t[2] == 0xFE && t[3] == 0xFF)
     return "UTF-32 (big-endian)";
   if (n >= 4 && t[0] == 0xFF && t[1] == 0xFE && t[2] == 0 && t[3] == 0)
     return "UTF-32 (little-endian)";
-  if (n >= 2 && t[0] == 0xFE && t[1] == 0xFF)
-    return "UTF-16 (big-endian)";
-  if (n >= 2 && t[0] == 0xFF && t[1] == 0xFE)
-    return "UTF-16 (little-endian)";
+  if (n >= 2 && t[0] == 0xFE && t[1] == 0xFF) return "UTF-16 (big-endian)";
+  if (n >= 2 && t[0] == 0xFF && t[1] == 0xFE) return "UTF-16 (little-endian)";
   if (n >= 4 && t[0] == 0 && t[1] == 0 && t[2] == 0 && t[3] != 0)
     return "UTF-32 (big-endian)";
   if (n >= 4 && t[0] != 0 && t[1] == 0 && t[2] == 0 && t[3] == 0)
     return "UTF-32 (little-endian)";
-  if (n >= 2 && t[0] == 0 && t[1] != 0)
-    return "UTF-16 (big-endian)";
-  if (n >= 2 && t[0] != 0 && t[1] == 0)
-    return "UTF-16 (little-endian)";
+  if (n >= 2 && t[0] == 0 && t[1] != 0) return "UTF-16 (big-endian)";
+  if (n >= 2 && t[0] != 0 && t[1] == 0) return "UTF-16 (little-endian)";
   return NULL;
 }
 
 /* length of the valid UTF-8 sequence at t (n bytes left), or 0 (RFC 3629:
    no overlong forms, no surrogates, nothing above U+10FFFF) */
-static size_t utf8_len(const unsigned char *t, size_t n)
-{
+static size_t utf8_len(const unsigned char *t, size_t n) {
   unsigned c = t[0];
-  if (c < 0x80)
-    return 1;
-  if (c >= 0xC2 && c <= 0xDF)
-    return n >= 2 && (t[1] & 0xC0) == 0x80 ? 2 : 0;
+  if (c < 0x80) return 1;
+  if (c >= 0xC2 && c <= 0xDF) return n >= 2 && (t[1] & 0xC0) == 0x80 ? 2 : 0;
   if (c >= 0xE0 && c <= 0xEF) {
     unsigned lo = c == 0xE0 ? 0xA0 : 0x80, hi = c == 0xED ? 0x9F : 0xBF;
-    return n >= 3 && t[1] >= lo && t[1] <= hi && (t[2] & 0xC0) == 0x80 ? 3
-                                                                       : 0;
+    return n >= 3 && t[1] >= lo && t[1] <= hi && (t[2] & 0xC0) == 0x80 ? 3 : 0;
   }
   if (c >= 0xF0 && c <= 0xF4) {
     unsigned lo = c == 0xF0 ? 0x90 : 0x80, hi = c == 0xF4 ? 0x8F : 0xBF;
@@ -154,8 +140,7 @@ static size_t utf8_len(const unsigned char *t, size_t n)
 
 /* NUL bytes and invalid UTF-8, at LINE:COL (columns in characters, as
    libyaml counts them) */
-static int check_bytes(const unsigned char *t, size_t n, scene_error *err)
-{
+static int check_bytes(const unsigned char *t, size_t n, scene_error *err) {
   size_t i = 0;
   int line = 1, col = 1;
   while (i < n) {
@@ -188,14 +173,13 @@ static int check_bytes(const unsigned char *t, size_t n, scene_error *err)
 /* one open mapping or sequence, and where its next node goes */
 typedef struct {
   int is_map;
-  int want_key;   /* mapping: the next scalar is a key */
-  char key[64];   /* mapping: the key of the value being read */
-  size_t index;   /* sequence: index of the next item */
+  int want_key; /* mapping: the next scalar is a key */
+  char key[64]; /* mapping: the key of the value being read */
+  size_t index; /* sequence: index of the next item */
 } frame;
 
 /* the dotted path of the node about to be read at depth d */
-static void path_of(const frame *st, int d, char *out, size_t sz)
-{
+static void path_of(const frame *st, int d, char *out, size_t sz) {
   size_t len = 0;
   int i;
   out[0] = '\0';
@@ -210,64 +194,50 @@ static void path_of(const frame *st, int d, char *out, size_t sz)
       w = snprintf(out + len, sz - len, "%s%s", len ? "." : "", st[i].key);
     else
       w = snprintf(out + len, sz - len, "[%zu]", st[i].index);
-    if (w < 0)
-      break;
+    if (w < 0) break;
     len += (size_t)w;
   }
-  if (!out[0])
-    snprintf(out, sz, "(root)");
+  if (!out[0]) snprintf(out, sz, "(root)");
 }
 
 /* a node has been read at depth d: move its parent on */
-static void node_done(frame *st, int d)
-{
-  if (d == 0)
-    return;
+static void node_done(frame *st, int d) {
+  if (d == 0) return;
   if (st[d - 1].is_map)
     st[d - 1].want_key = !st[d - 1].want_key;
   else
     st[d - 1].index++;
 }
 
-static int tag_allowed(const yaml_event_t *e)
-{
-  const char *tag = e->type == YAML_SCALAR_EVENT
-                        ? (const char *)e->data.scalar.tag
-                        : NULL;
+static int tag_allowed(const yaml_event_t *e) {
+  const char *tag =
+      e->type == YAML_SCALAR_EVENT ? (const char *)e->data.scalar.tag : NULL;
   return tag && (strcmp(tag, "tag:yaml.org,2002:int") == 0 ||
                  strcmp(tag, "tag:yaml.org,2002:float") == 0);
 }
 
-static const char *tag_of(const yaml_event_t *e)
-{
-  const unsigned char *t = e->type == YAML_SCALAR_EVENT
-                               ? e->data.scalar.tag
-                           : e->type == YAML_SEQUENCE_START_EVENT
-                               ? e->data.sequence_start.tag
-                           : e->type == YAML_MAPPING_START_EVENT
-                               ? e->data.mapping_start.tag
-                               : NULL;
+static const char *tag_of(const yaml_event_t *e) {
+  const unsigned char *t =
+      e->type == YAML_SCALAR_EVENT           ? e->data.scalar.tag
+      : e->type == YAML_SEQUENCE_START_EVENT ? e->data.sequence_start.tag
+      : e->type == YAML_MAPPING_START_EVENT  ? e->data.mapping_start.tag
+                                             : NULL;
   return (const char *)t;
 }
 
-static int check_events(const char *text, size_t len, scene_error *err)
-{
+static int check_events(const char *text, size_t len, scene_error *err) {
   yaml_parser_t p;
   frame st[SCENE_MAX_DEPTH];
   int d = 0, rc = 0, done = 0;
-  if (!yaml_parser_initialize(&p))
-    return 0; /* scene_load says it */
+  if (!yaml_parser_initialize(&p)) return 0; /* scene_load says it */
   yaml_parser_set_input_string(&p, (const unsigned char *)text, len);
   while (!done && rc == 0) {
     yaml_event_t e;
     char path[160];
     /* a syntax error is scene_load's to report, with its own words */
-    if (!yaml_parser_parse(&p, &e))
-      break;
+    if (!yaml_parser_parse(&p, &e)) break;
     switch (e.type) {
-    case YAML_STREAM_END_EVENT:
-      done = 1;
-      break;
+    case YAML_STREAM_END_EVENT: done = 1; break;
     case YAML_SCALAR_EVENT:
     case YAML_SEQUENCE_START_EVENT:
     case YAML_MAPPING_START_EVENT:
@@ -322,11 +292,8 @@ static int check_events(const char *text, size_t len, scene_error *err)
       d--;
       node_done(st, d);
       break;
-    case YAML_ALIAS_EVENT:
-      node_done(st, d);
-      break;
-    default:
-      break;
+    case YAML_ALIAS_EVENT: node_done(st, d); break;
+    default: break;
     }
     yaml_event_delete(&e);
   }
@@ -334,8 +301,7 @@ static int check_events(const char *text, size_t len, scene_error *err)
   return rc;
 }
 
-int scene_text_guard(const char *text, size_t len, scene_error *err)
-{
+int scene_text_guard(const char *text, size_t len, scene_error *err) {
   const unsigned char *t = (const unsigned char *)text;
   const char *wide = wide_encoding(t, len);
   if (wide) {
@@ -345,7 +311,6 @@ int scene_text_guard(const char *text, size_t len, scene_error *err)
                 wide);
     return -1;
   }
-  if (check_bytes(t, len, err))
-    return -1;
+  if (check_bytes(t, len, err)) return -1;
   return check_events(text, len, err);
 }

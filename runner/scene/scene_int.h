@@ -85,8 +85,7 @@ int scene_mapping_key(parse_ctx *c, const yaml_node_t *map,
                       const char **name);
 
 /* " (did you mean ...?)" for a mistyped dotted key */
-void scene_key_hint(char *buf, size_t sz, const char *word,
-                    int with_sections);
+void scene_key_hint(char *buf, size_t sz, const char *word, int with_sections);
 
 /* walk a mapping section into the scene's base values */
 int scene_walk_section(parse_ctx *c, const yaml_node_t *map,

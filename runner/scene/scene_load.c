@@ -14,15 +14,12 @@
 #include <yaml.h>
 
 /* the file, checked before libyaml sees it (scene_guard.h) */
-static int read_file(scene *s, const char *path, scene_error *err)
-{
-  if (scene_read_guarded(path, &s->text, &s->text_len, err))
-    return -1;
+static int read_file(scene *s, const char *path, scene_error *err) {
+  if (scene_read_guarded(path, &s->text, &s->text_len, err)) return -1;
   return scene_text_guard(s->text, s->text_len, err);
 }
 
-int scene_load(scene *s, const char *path, scene_error *err)
-{
+int scene_load(scene *s, const char *path, scene_error *err) {
   yaml_parser_t parser;
   yaml_document_t doc, extra;
   yaml_node_t *root;
@@ -40,8 +37,7 @@ int scene_load(scene *s, const char *path, scene_error *err)
     return -1;
   }
   strcpy(s->file, path);
-  if (read_file(s, path, err))
-    goto fail;
+  if (read_file(s, path, err)) goto fail;
 
   if (!yaml_parser_initialize(&parser)) {
     scene_error_set(err, s->section[0], "yaml", "cannot initialise libyaml");
@@ -94,8 +90,7 @@ int scene_load(scene *s, const char *path, scene_error *err)
   }
   yaml_document_delete(&doc);
   yaml_parser_delete(&parser);
-  if (rc == 0)
-    return 0;
+  if (rc == 0) return 0;
 fail:
   scene_free(s);
   return -1;

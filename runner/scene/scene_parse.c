@@ -3,9 +3,9 @@
  * key's value against its row of the key table (scene.c), with the libyaml
  * mark of the node an error is about.
  */
+#include "core/hint.h"
 #include "scene.h"
 #include "scene_int.h"
-#include "core/hint.h"
 
 #include <ctype.h>
 #include <errno.h>
@@ -20,46 +20,43 @@
 /* ---------------------------------------------------------------- parse */
 
 /* mapping sections; the index is the slot in scene.section */
-static const char *const sections[] = {"", "manipulator", "trajectory",
-                                       "solver", "manipulator.payload",
+static const char *const sections[] = {"",
+                                       "manipulator",
+                                       "trajectory",
+                                       "solver",
+                                       "manipulator.payload",
                                        "manipulator.pin_friction",
                                        "trajectory.waypoints",
-                                       "trajectory.path", "trajectory.table",
+                                       "trajectory.path",
+                                       "trajectory.table",
                                        "simulate",
                                        "simulate.model",
                                        "simulate.model.payload",
                                        "simulate.model.pin_friction"};
 #define NSECTION (sizeof sections / sizeof sections[0])
 
-static int section_find(const char *path)
-{
+static int section_find(const char *path) {
   size_t i;
   for (i = 1; i < NSECTION; i++)
-    if (strcmp(sections[i], path) == 0)
-      return (int)i;
+    if (strcmp(sections[i], path) == 0) return (int)i;
   return -1;
 }
 
 /* " (did you mean ...?)" for a mistyped dotted key: every key and section
    is a candidate (a key in the wrong section included); sections only when
    with_sections */
-void scene_key_hint(char *buf, size_t sz, const char *word, int with_sections)
-{
+void scene_key_hint(char *buf, size_t sz, const char *word, int with_sections) {
   const char *cand[SCENE_NKEY + NSECTION + 1];
   size_t n = 0, i;
   int k;
-  for (k = 0; k < SCENE_NKEY; k++)
-    cand[n++] = scene_keys[k].path;
-  for (i = 1; i < NSECTION && with_sections; i++)
-    cand[n++] = sections[i];
-  if (with_sections)
-    cand[n++] = "sweep";
+  for (k = 0; k < SCENE_NKEY; k++) cand[n++] = scene_keys[k].path;
+  for (i = 1; i < NSECTION && with_sections; i++) cand[n++] = sections[i];
+  if (with_sections) cand[n++] = "sweep";
   hint_text(buf, sz, word, cand, n);
 }
 
 /* "a, b, c" of the keys and sections directly under prefix */
-static void keys_under(const char *prefix, char *buf, size_t sz)
-{
+static void keys_under(const char *prefix, char *buf, size_t sz) {
   size_t plen = strlen(prefix), len = 0, i;
   int k;
   buf[0] = '\0';
@@ -84,19 +81,16 @@ static void keys_under(const char *prefix, char *buf, size_t sz)
   }
 }
 
-yaml_node_t *scene_node_get(parse_ctx *c, int id)
-{
+yaml_node_t *scene_node_get(parse_ctx *c, int id) {
   return yaml_document_get_node(c->doc, id);
 }
 
-const char *scene_scalar_text(const yaml_node_t *n)
-{
+const char *scene_scalar_text(const yaml_node_t *n) {
   return (const char *)n->data.scalar.value;
 }
 
 /* a null scalar: empty plain, "~" or "null" */
-static int is_null(const yaml_node_t *n)
-{
+static int is_null(const yaml_node_t *n) {
   const char *t;
   if (n->type != YAML_SCALAR_NODE ||
       n->data.scalar.style != YAML_PLAIN_SCALAR_STYLE)
@@ -105,23 +99,17 @@ static int is_null(const yaml_node_t *n)
   return t[0] == '\0' || strcmp(t, "~") == 0 || strcmp(t, "null") == 0;
 }
 
-const char *scene_node_kind(const yaml_node_t *n)
-{
-  if (n->type == YAML_MAPPING_NODE)
-    return "a mapping";
-  if (n->type == YAML_SEQUENCE_NODE)
-    return "a list";
-  if (is_null(n))
-    return "nothing";
-  if (n->data.scalar.style != YAML_PLAIN_SCALAR_STYLE)
-    return "a quoted string";
+const char *scene_node_kind(const yaml_node_t *n) {
+  if (n->type == YAML_MAPPING_NODE) return "a mapping";
+  if (n->type == YAML_SEQUENCE_NODE) return "a list";
+  if (is_null(n)) return "nothing";
+  if (n->data.scalar.style != YAML_PLAIN_SCALAR_STYLE) return "a quoted string";
   return "a scalar";
 }
 
 /* a plain scalar as a number; 0 or -1 with the error set */
 int scene_parse_number(parse_ctx *c, const yaml_node_t *n, const char *path,
-                       int integer, double *out)
-{
+                       int integer, double *out) {
   const char *t, *p;
   char *end;
   scene_mark mk = scene_mark_of(&n->start_mark);
@@ -155,20 +143,17 @@ int scene_parse_number(parse_ctx *c, const yaml_node_t *n, const char *path,
 }
 
 /* shortest %g form of x that reads back as x */
-void scene_format_real(char *buf, size_t sz, double x)
-{
+void scene_format_real(char *buf, size_t sz, double x) {
   int prec;
   for (prec = 15; prec <= 17; prec++) {
     snprintf(buf, sz, "%.*g", prec, x);
-    if (strtod(buf, NULL) == x)
-      return;
+    if (strtod(buf, NULL) == x) return;
   }
 }
 
 /* x against the range of key k */
 int scene_check_range(parse_ctx *c, int k, double x, scene_mark mk,
-                      const char *path)
-{
+                      const char *path) {
   const rps3_field_info *f = scene_keys[k].f;
   char lo[32], hi[32], got[32];
   scene_format_real(lo, sizeof lo, f->lo);
@@ -189,8 +174,7 @@ int scene_check_range(parse_ctx *c, int k, double x, scene_mark mk,
 /* one scalar value of key k (not a list key) as a number: the value itself,
    an integer, 0/1 for a bool, the enum value for a name */
 int scene_parse_scalar(parse_ctx *c, int k, const yaml_node_t *n,
-                       const char *path, double *out)
-{
+                       const char *path, double *out) {
   char list[256];
   scene_mark mk = scene_mark_of(&n->start_mark);
   const char *t;
@@ -198,12 +182,10 @@ int scene_parse_scalar(parse_ctx *c, int k, const yaml_node_t *n,
   switch (scene_keys[k].type) {
   case KEY_REAL:
   case KEY_REAL3:
-    if (scene_parse_number(c, n, path, 0, out))
-      return -1;
+    if (scene_parse_number(c, n, path, 0, out)) return -1;
     return scene_check_range(c, k, *out, mk, path);
   case KEY_INT:
-    if (scene_parse_number(c, n, path, 1, out))
-      return -1;
+    if (scene_parse_number(c, n, path, 1, out)) return -1;
     return scene_check_range(c, k, *out, mk, path);
   case KEY_BOOL:
     if (n->type == YAML_SCALAR_NODE &&
@@ -214,11 +196,11 @@ int scene_parse_scalar(parse_ctx *c, int k, const yaml_node_t *n,
         return 0;
       }
     }
-    scene_error_set(c->err, mk, path, "expected true or false, got %s%s%s%s",
-                    n->type == YAML_SCALAR_NODE ? "'" : "",
-                    n->type == YAML_SCALAR_NODE ? scene_scalar_text(n)
-                                                : scene_node_kind(n),
-                    n->type == YAML_SCALAR_NODE ? "'" : "", "");
+    scene_error_set(
+        c->err, mk, path, "expected true or false, got %s%s%s%s",
+        n->type == YAML_SCALAR_NODE ? "'" : "",
+        n->type == YAML_SCALAR_NODE ? scene_scalar_text(n) : scene_node_kind(n),
+        n->type == YAML_SCALAR_NODE ? "'" : "", "");
     return -1;
   case KEY_ENUM:
     scene_enum_list(k, list, sizeof list);
@@ -238,17 +220,14 @@ int scene_parse_scalar(parse_ctx *c, int k, const yaml_node_t *n,
     *out = v;
     return 0;
   case KEY_EFFECTS:
-  default:
-    scene_error_set(c->err, mk, path, "not a scalar key");
-    return -1;
+  default: scene_error_set(c->err, mk, path, "not a scalar key"); return -1;
   }
 }
 
 /* the rows of a waypoints list key: times (numbers) or poses (lists of 3
    numbers), into arrays the scene owns; base.traj.wp points to them */
 static int parse_rows(parse_ctx *c, int k, const yaml_node_t *n,
-                      scene_values *v)
-{
+                      scene_values *v) {
   const char *path = scene_keys[k].path;
   int poses = scene_keys[k].type == KEY_POSES;
   scene *s = c->s;
@@ -259,11 +238,11 @@ static int parse_rows(parse_ctx *c, int k, const yaml_node_t *n,
   char sub[160];
   if (n->type != YAML_SEQUENCE_NODE ||
       n->data.sequence.items.top - n->data.sequence.items.start < 2) {
-    scene_error_set(c->err, scene_mark_of(&n->start_mark), path,
-                    "expected a list of at least 2 %s, got %s",
-                    poses ? "poses [alpha, beta, z_c]" : "numbers",
-                    n->type == YAML_SEQUENCE_NODE ? "a shorter list"
-                                                  : scene_node_kind(n));
+    scene_error_set(
+        c->err, scene_mark_of(&n->start_mark), path,
+        "expected a list of at least 2 %s, got %s",
+        poses ? "poses [alpha, beta, z_c]" : "numbers",
+        n->type == YAML_SEQUENCE_NODE ? "a shorter list" : scene_node_kind(n));
     return -1;
   }
   rows = (size_t)(n->data.sequence.items.top - n->data.sequence.items.start);
@@ -320,8 +299,7 @@ static int parse_rows(parse_ctx *c, int k, const yaml_node_t *n,
 /* a table file: read at once (its rows are checked as they are read), the
    rates it lacks from the spline; base.traj.table views the arrays */
 static int parse_file(parse_ctx *c, int k, const yaml_node_t *n,
-                      scene_values *v)
-{
+                      scene_values *v) {
   scene *s = c->s;
   int path = k == K_PATH_FILE;
   table_data *t = path ? &s->path_table : &s->table;
@@ -358,8 +336,7 @@ static int parse_file(parse_ctx *c, int k, const yaml_node_t *n,
 
 /* the value node n of key k into v (the whole key, lists included) */
 static int parse_value(parse_ctx *c, int k, const yaml_node_t *n,
-                       scene_values *v)
-{
+                       scene_values *v) {
   const char *path = scene_keys[k].path;
   scene_mark mk = scene_mark_of(&n->start_mark);
   char sub[160], list[256];
@@ -377,16 +354,14 @@ static int parse_value(parse_ctx *c, int k, const yaml_node_t *n,
     }
     for (i = 0, it = n->data.sequence.items.start; i < 3; i++, it++) {
       snprintf(sub, sizeof sub, "%s[%d]", path, i);
-      if (scene_parse_scalar(c, k, scene_node_get(c, *it), sub, &x))
-        return -1;
+      if (scene_parse_scalar(c, k, scene_node_get(c, *it), sub, &x)) return -1;
       scene_real_at(v, k)[i] = x;
     }
     return 0;
   }
   if (scene_keys[k].type == KEY_TIMES || scene_keys[k].type == KEY_POSES)
     return parse_rows(c, k, n, v);
-  if (scene_keys[k].type == KEY_FILE)
-    return parse_file(c, k, n, v);
+  if (scene_keys[k].type == KEY_FILE) return parse_file(c, k, n, v);
   if (scene_keys[k].type == KEY_EFFECTS) {
     scene_effect_list(list, sizeof list);
     if (n->type != YAML_SEQUENCE_NODE ||
@@ -408,8 +383,7 @@ static int parse_value(parse_ctx *c, int k, const yaml_node_t *n,
         const char *cand[RPS3_NEFFECT];
         char hint[160] = "";
         int j;
-        for (j = 0; j < RPS3_NEFFECT; j++)
-          cand[j] = rps3_effect_name(j);
+        for (j = 0; j < RPS3_NEFFECT; j++) cand[j] = rps3_effect_name(j);
         if (item->type == YAML_SCALAR_NODE)
           hint_text(hint, sizeof hint, scene_scalar_text(item), cand,
                     RPS3_NEFFECT);
@@ -431,8 +405,7 @@ static int parse_value(parse_ctx *c, int k, const yaml_node_t *n,
     *scene_int_at(v, k) = bits;
     return 0;
   }
-  if (scene_parse_scalar(c, k, n, path, &x))
-    return -1;
+  if (scene_parse_scalar(c, k, n, path, &x)) return -1;
   scene_value_set(v, k, -1, x);
   return 0;
 }
@@ -440,8 +413,7 @@ static int parse_value(parse_ctx *c, int k, const yaml_node_t *n,
 /* the keys of a mapping must be plain scalars and appear once */
 int scene_mapping_key(parse_ctx *c, const yaml_node_t *map,
                       const yaml_node_pair_t *pair, const char *prefix,
-                      const char **name)
-{
+                      const char **name) {
   const yaml_node_t *kn = scene_node_get(c, pair->key);
   const yaml_node_pair_t *q;
   scene_mark mk = scene_mark_of(&kn->start_mark);
@@ -475,8 +447,8 @@ int scene_mapping_key(parse_ctx *c, const yaml_node_t *map,
 }
 
 /* walk a mapping section, storing each key it holds into the base values */
-int scene_walk_section(parse_ctx *c, const yaml_node_t *map, const char *prefix)
-{
+int scene_walk_section(parse_ctx *c, const yaml_node_t *map,
+                       const char *prefix) {
   yaml_node_pair_t *pair;
   char full[160], list[512];
   scene *s = c->s;
@@ -485,10 +457,8 @@ int scene_walk_section(parse_ctx *c, const yaml_node_t *map, const char *prefix)
     const char *name;
     const yaml_node_t *val = scene_node_get(c, pair->value);
     int k, sec;
-    if (scene_mapping_key(c, map, pair, prefix, &name))
-      return -1;
-    snprintf(full, sizeof full, "%s%s%s", prefix, prefix[0] ? "." : "",
-             name);
+    if (scene_mapping_key(c, map, pair, prefix, &name)) return -1;
+    snprintf(full, sizeof full, "%s%s%s", prefix, prefix[0] ? "." : "", name);
     if (prefix[0] == '\0' && strcmp(name, "sweep") == 0) {
       c->sweep_node = pair->value;
       continue;
@@ -501,12 +471,10 @@ int scene_walk_section(parse_ctx *c, const yaml_node_t *map, const char *prefix)
                         scene_node_kind(val));
         return -1;
       }
-      if (sec < 4)
-        s->section[sec] = scene_mark_of(&val->start_mark);
+      if (sec < 4) s->section[sec] = scene_mark_of(&val->start_mark);
       if (strcmp(full, "simulate") == 0)
         s->simulate = scene_mark_of(&val->start_mark);
-      if (scene_walk_section(c, val, full))
-        return -1;
+      if (scene_walk_section(c, val, full)) return -1;
       continue;
     }
     k = scene_key_find(full);
@@ -519,8 +487,7 @@ int scene_walk_section(parse_ctx *c, const yaml_node_t *map, const char *prefix)
                       full, "unknown key%s; expected one of %s", hint, list);
       return -1;
     }
-    if (parse_value(c, k, val, &s->base))
-      return -1;
+    if (parse_value(c, k, val, &s->base)) return -1;
     s->given[k] = 1;
     s->mark[k] = scene_mark_of(&val->start_mark);
   }

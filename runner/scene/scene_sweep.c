@@ -23,8 +23,7 @@
 
 /* one value of a {from, to, ...} range mapping, or NULL */
 static const yaml_node_t *range_get(parse_ctx *c, const yaml_node_t *map,
-                                    const char *name)
-{
+                                    const char *name) {
   yaml_node_pair_t *p;
   for (p = map->data.mapping.pairs.start; p < map->data.mapping.pairs.top;
        p++) {
@@ -37,8 +36,7 @@ static const yaml_node_t *range_get(parse_ctx *c, const yaml_node_t *map,
 }
 
 /* expand a {from, to, num} or {from, to, step} mapping into ax */
-static int sweep_range(parse_ctx *c, scene_axis *ax, const yaml_node_t *map)
-{
+static int sweep_range(parse_ctx *c, scene_axis *ax, const yaml_node_t *map) {
   const scene_key_info *ki = &scene_keys[ax->key];
   scene_mark mk = scene_mark_of(&map->start_mark);
   const yaml_node_t *nf, *nt, *nn, *ns;
@@ -56,8 +54,7 @@ static int sweep_range(parse_ctx *c, scene_axis *ax, const yaml_node_t *map)
   for (p = map->data.mapping.pairs.start; p < map->data.mapping.pairs.top;
        p++) {
     const char *name;
-    if (scene_mapping_key(c, map, p, ax->path, &name))
-      return -1;
+    if (scene_mapping_key(c, map, p, ax->path, &name)) return -1;
     if (strcmp(name, "from") && strcmp(name, "to") && strcmp(name, "num") &&
         strcmp(name, "step")) {
       snprintf(sub, sizeof sub, "%s.%s", ax->path, name);
@@ -77,16 +74,13 @@ static int sweep_range(parse_ctx *c, scene_axis *ax, const yaml_node_t *map)
     return -1;
   }
   snprintf(sub, sizeof sub, "%s.from", ax->path);
-  if (scene_parse_number(c, nf, sub, integer, &from))
-    return -1;
+  if (scene_parse_number(c, nf, sub, integer, &from)) return -1;
   snprintf(sub, sizeof sub, "%s.to", ax->path);
-  if (scene_parse_number(c, nt, sub, integer, &to))
-    return -1;
+  if (scene_parse_number(c, nt, sub, integer, &to)) return -1;
   span = to - from;
   if (nn) {
     snprintf(sub, sizeof sub, "%s.num", ax->path);
-    if (scene_parse_number(c, nn, sub, 1, &num))
-      return -1;
+    if (scene_parse_number(c, nn, sub, 1, &num)) return -1;
     if (num < 1 || (num == 1 && from != to)) {
       scene_error_set(c->err, scene_mark_of(&nn->start_mark), sub,
                       "must be >= 2 (or 1 with from == to), got %.0f", num);
@@ -103,8 +97,7 @@ static int sweep_range(parse_ctx *c, scene_axis *ax, const yaml_node_t *map)
   } else {
     double q;
     snprintf(sub, sizeof sub, "%s.step", ax->path);
-    if (scene_parse_number(c, ns, sub, integer, &step))
-      return -1;
+    if (scene_parse_number(c, ns, sub, integer, &step)) return -1;
     q = span / step;
     if (step == 0 || q < 0) {
       scene_error_set(c->err, scene_mark_of(&ns->start_mark), sub,
@@ -154,8 +147,7 @@ static int sweep_range(parse_ctx *c, scene_axis *ax, const yaml_node_t *map)
                       "value %zu of the range, %g, is not an integer", i, x);
       return -1;
     }
-    if (scene_check_range(c, ax->key, x, mk, ax->path))
-      return -1;
+    if (scene_check_range(c, ax->key, x, mk, ax->path)) return -1;
     ax->val[i] = x;
     ax->mark[i] = mk;
   }
@@ -163,8 +155,7 @@ static int sweep_range(parse_ctx *c, scene_axis *ax, const yaml_node_t *map)
 }
 
 /* parse the sweep mapping into s->axis */
-int scene_parse_sweep(parse_ctx *c, const yaml_node_t *map)
-{
+int scene_parse_sweep(parse_ctx *c, const yaml_node_t *map) {
   scene *s = c->s;
   yaml_node_pair_t *pair;
   size_t a, npair;
@@ -195,8 +186,7 @@ int scene_parse_sweep(parse_ctx *c, const yaml_node_t *map)
     const scene_key_info *ki;
     const char *name, *br;
     char base[80];
-    if (scene_mapping_key(c, map, pair, "sweep", &name))
-      return -1;
+    if (scene_mapping_key(c, map, pair, "sweep", &name)) return -1;
     if (strlen(name) >= sizeof ax->path) {
       scene_error_set(c->err, km, "sweep", "key '%.40s...' is too long", name);
       return -1;
@@ -270,13 +260,11 @@ int scene_parse_sweep(parse_ctx *c, const yaml_node_t *map)
       }
       for (i = 0, it = val->data.sequence.items.start; i < n; i++, it++) {
         const yaml_node_t *item = scene_node_get(c, *it);
-        if (scene_parse_scalar(c, ax->key, item, name, &ax->val[i]))
-          return -1;
+        if (scene_parse_scalar(c, ax->key, item, name, &ax->val[i])) return -1;
         ax->mark[i] = scene_mark_of(&item->start_mark);
       }
     } else if (val->type == YAML_MAPPING_NODE) {
-      if (sweep_range(c, ax, val))
-        return -1;
+      if (sweep_range(c, ax, val)) return -1;
     } else {
       scene_error_set(c->err, scene_mark_of(&val->start_mark), name,
                       "expected a list of values, {from, to, num} or "
@@ -293,8 +281,7 @@ int scene_parse_sweep(parse_ctx *c, const yaml_node_t *map)
     }
     /* a swept key counts as given; its mark is its first value */
     s->given[ax->key] = 1;
-    if (s->mark[ax->key].line == 0)
-      s->mark[ax->key] = ax->mark[0];
+    if (s->mark[ax->key].line == 0) s->mark[ax->key] = ax->mark[0];
   }
   s->ncase = (size_t)ncase;
   return 0;
@@ -303,18 +290,15 @@ int scene_parse_sweep(parse_ctx *c, const yaml_node_t *map)
 /* ---------------------------------------------------------------- checks */
 
 /* last component of a dotted path */
-static const char *leaf(const char *path)
-{
+static const char *leaf(const char *path) {
   const char *p = strrchr(path, '.');
   return p ? p + 1 : path;
 }
 
 /* a waypoints scene has as many poses as times */
-static int check_waypoints(parse_ctx *c)
-{
+static int check_waypoints(parse_ctx *c) {
   scene *s = c->s;
-  if (s->base.traj.kind != RPS3_TRAJ_WAYPOINTS)
-    return 0;
+  if (s->base.traj.kind != RPS3_TRAJ_WAYPOINTS) return 0;
   if (s->wp_ntime != s->wp_npose) {
     scene_error_set(c->err, s->mark[K_WP_POSES], scene_keys[K_WP_POSES].path,
                     "%zu poses for %zu times (trajectory.waypoints.times at "
@@ -328,16 +312,13 @@ static int check_waypoints(parse_ctx *c)
 }
 
 /* a path scene gives the keys of its shape, and no others */
-static int check_shape(parse_ctx *c)
-{
+static int check_shape(parse_ctx *c) {
   scene *s = c->s;
   int k, shape = (int)s->base.traj.path.shape;
-  if (s->base.traj.kind != RPS3_TRAJ_PATH)
-    return 0;
+  if (s->base.traj.kind != RPS3_TRAJ_PATH) return 0;
   for (k = 0; k < SCENE_NKEY; k++) {
     int mask = scene_shape_mask(k);
-    if (mask == 0)
-      continue;
+    if (mask == 0) continue;
     if (s->given[k] && !(mask & (1 << shape))) {
       scene_error_set(c->err, s->mark[k], scene_keys[k].path,
                       "not a key of a %s path",
@@ -356,8 +337,7 @@ static int check_shape(parse_ctx *c)
 }
 
 /* required keys, keys of the other trajectory kind, one-of pairs */
-int scene_check_keys(parse_ctx *c)
-{
+int scene_check_keys(parse_ctx *c) {
   scene *s = c->s;
   int k, pair;
   if (s->section[1].line == 0 || s->section[2].line == 0) {
@@ -382,8 +362,7 @@ int scene_check_keys(parse_ctx *c)
       return -1;
     }
   }
-  if (check_waypoints(c) || check_shape(c))
-    return -1;
+  if (check_waypoints(c) || check_shape(c)) return -1;
   for (pair = 0; pair < 3; pair++) {
     static const int one_of[3][2] = {
         {K_M_OVER_M, K_MASS}, {K_SAMPLES, K_DT}, {K_BLEND, K_BLEND_RATIO}};

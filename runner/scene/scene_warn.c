@@ -24,20 +24,16 @@
 /* what kind of quantity component comp of key k is */
 enum { Q_NONE, Q_LENGTH, Q_BETA, Q_ANGLE };
 
-static int quantity(const scene_key_info *ki, int comp)
-{
-  if (strcmp(ki->unit, "m") == 0)
-    return Q_LENGTH;
+static int quantity(const scene_key_info *ki, int comp) {
+  if (strcmp(ki->unit, "m") == 0) return Q_LENGTH;
   if (strcmp(ki->unit, "rad, rad, m") == 0) /* a pose: alpha, beta, z_c */
     return comp == 2 ? Q_LENGTH : comp == 1 ? Q_BETA : Q_NONE;
-  if (strcmp(ki->unit, "rad") == 0)
-    return Q_ANGLE;
+  if (strcmp(ki->unit, "rad") == 0) return Q_ANGLE;
   return Q_NONE;
 }
 
 /* the reason x of quantity q looks wrong, or NULL */
-static const char *suspect(int q, double x)
-{
+static const char *suspect(int q, double x) {
   if (q == Q_LENGTH && fabs(x) > WARN_LENGTH_MAX)
     return "m looks like millimetres (above 10 m); scene lengths are in "
            "metres";
@@ -53,8 +49,7 @@ static const char *suspect(int q, double x)
 static void warn(FILE *out, const scene *s, scene_mark mk, const char *key,
                  const char *fmt, ...) __attribute__((format(printf, 5, 6)));
 static void warn(FILE *out, const scene *s, scene_mark mk, const char *key,
-                 const char *fmt, ...)
-{
+                 const char *fmt, ...) {
   va_list ap;
   if (mk.line > 0)
     fprintf(out, "%s:%d:%d: warning: %s: ", s->file, mk.line, mk.column, key);
@@ -66,11 +61,9 @@ static void warn(FILE *out, const scene *s, scene_mark mk, const char *key,
   fputc('\n', out);
 }
 
-
 /* the rows of a table: the first suspect value, named by its line */
 static void table_warn(FILE *out, const scene *s, const table_data *t, int k,
-                       int centre)
-{
+                       int centre) {
   size_t r;
   int c;
   char where[300];
@@ -80,19 +73,17 @@ static void table_warn(FILE *out, const scene *s, const table_data *t, int k,
     for (c = 0; c < 3; c++) {
       int q = centre ? Q_LENGTH : c == 2 ? Q_LENGTH : c == 1 ? Q_BETA : Q_NONE;
       const char *why = suspect(q, t->value[r][c]);
-      if (why == NULL)
-        continue;
+      if (why == NULL) continue;
       table_where(t, r, where, sizeof where);
-      warn(out, s, s->mark[k], scene_key_get(k)->path,
-           "%s: column %s: %.9g %s", where,
-           centre ? centre_names[c] : pose_names[c], t->value[r][c], why);
+      warn(out, s, s->mark[k], scene_key_get(k)->path, "%s: column %s: %.9g %s",
+           where, centre ? centre_names[c] : pose_names[c], t->value[r][c],
+           why);
       return;
     }
 }
 
 /* a swept key (or one component of it): the first suspect value */
-static int axis_warn(FILE *out, const scene *s, int k, int comp)
-{
+static int axis_warn(FILE *out, const scene *s, int k, int comp) {
   size_t a, i;
   const scene_key_info *ki = scene_key_get(k);
   int swept = 0;
@@ -112,8 +103,7 @@ static int axis_warn(FILE *out, const scene *s, int k, int comp)
   return swept;
 }
 
-void scene_warnings_print(const scene *s, FILE *out)
-{
+void scene_warnings_print(const scene *s, FILE *out) {
   int k, comp;
   size_t r;
   for (k = 0; k < SCENE_NKEY; k++) {
@@ -123,23 +113,21 @@ void scene_warnings_print(const scene *s, FILE *out)
       continue;
     if (ki->type == KEY_REAL) {
       const char *why;
-      if (axis_warn(out, s, k, -1))
-        continue;
+      if (axis_warn(out, s, k, -1)) continue;
       why = suspect(quantity(ki, 0), scene_value_real(&s->base, k, 0));
       if (why != NULL)
-        warn(out, s, s->mark[k], ki->path, "%.9g %s", scene_value_real(&s->base, k, 0),
-             why);
+        warn(out, s, s->mark[k], ki->path, "%.9g %s",
+             scene_value_real(&s->base, k, 0), why);
     } else if (ki->type == KEY_REAL3) {
       for (comp = 0; comp < 3; comp++) {
         const char *why;
-        if (axis_warn(out, s, k, comp))
-          continue;
+        if (axis_warn(out, s, k, comp)) continue;
         why = suspect(quantity(ki, comp), scene_value_real(&s->base, k, comp));
         if (why != NULL) {
           char key[160];
           snprintf(key, sizeof key, "%s[%d]", ki->path, comp);
-          warn(out, s, s->mark[k], key, "%.9g %s", scene_value_real(&s->base, k, comp),
-               why);
+          warn(out, s, s->mark[k], key, "%.9g %s",
+               scene_value_real(&s->base, k, comp), why);
           break;
         }
       }

@@ -26,16 +26,16 @@
 #include "rps3.h"
 
 typedef struct {
-  char *path;            /* as opened: the scene's directory and the name */
-  char *abs;             /* absolute path (the resolved scene), or = path */
-  int hdf5;              /* 1: read as HDF5, 0: as CSV */
-  size_t n;              /* rows */
-  double *time;          /* n times [s] */
-  double (*value)[3];    /* n poses or centres */
-  double (*rate)[3];     /* n rates: the file's, or the spline's */
-  double (*acc)[3];      /* n accelerations, or NULL */
-  int rates_given;       /* 1: the rates are the file's */
-  int *line;             /* CSV: the line of each row; NULL for HDF5 */
+  char *path;         /* as opened: the scene's directory and the name */
+  char *abs;          /* absolute path (the resolved scene), or = path */
+  int hdf5;           /* 1: read as HDF5, 0: as CSV */
+  size_t n;           /* rows */
+  double *time;       /* n times [s] */
+  double (*value)[3]; /* n poses or centres */
+  double (*rate)[3];  /* n rates: the file's, or the spline's */
+  double (*acc)[3];   /* n accelerations, or NULL */
+  int rates_given;    /* 1: the rates are the file's */
+  int *line;          /* CSV: the line of each row; NULL for HDF5 */
 } table_data;
 
 /* which columns a table holds */

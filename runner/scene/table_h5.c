@@ -29,23 +29,30 @@
 /* the units each column must be in, in the spellings a units attribute may
    use for them (UDUNITS symbols and names); "" ends a list */
 static const char *const col_units[2][TABLE_NCOL][6] = {
-    {{"s", "second", "seconds", ""}, {"rad", "radian", "radians", ""},
-     {"rad", "radian", "radians", ""}, {"m", "meter", "metre", "meters",
-                                        "metres", ""},
-     {"rad/s", "rad s-1", ""}, {"rad/s", "rad s-1", ""}, {"m/s", "m s-1", ""},
-     {"rad/s^2", "rad/s2", "rad s-2", ""}, {"rad/s^2", "rad/s2", "rad s-2", ""},
-     {"m/s^2", "m/s2", "m s-2", ""}},
-    {{"s", "second", "seconds", ""}, {"m", "meter", "metre", "meters",
-                                      "metres", ""},
+    {{"s", "second", "seconds", ""},
+     {"rad", "radian", "radians", ""},
+     {"rad", "radian", "radians", ""},
      {"m", "meter", "metre", "meters", "metres", ""},
-     {"m", "meter", "metre", "meters", "metres", ""}, {"m/s", "m s-1", ""},
-     {"m/s", "m s-1", ""}, {"m/s", "m s-1", ""}, {"m/s^2", "m/s2", "m s-2", ""},
-     {"m/s^2", "m/s2", "m s-2", ""}, {"m/s^2", "m/s2", "m s-2", ""}}};
+     {"rad/s", "rad s-1", ""},
+     {"rad/s", "rad s-1", ""},
+     {"m/s", "m s-1", ""},
+     {"rad/s^2", "rad/s2", "rad s-2", ""},
+     {"rad/s^2", "rad/s2", "rad s-2", ""},
+     {"m/s^2", "m/s2", "m s-2", ""}},
+    {{"s", "second", "seconds", ""},
+     {"m", "meter", "metre", "meters", "metres", ""},
+     {"m", "meter", "metre", "meters", "metres", ""},
+     {"m", "meter", "metre", "meters", "metres", ""},
+     {"m/s", "m s-1", ""},
+     {"m/s", "m s-1", ""},
+     {"m/s", "m s-1", ""},
+     {"m/s^2", "m/s2", "m s-2", ""},
+     {"m/s^2", "m/s2", "m s-2", ""},
+     {"m/s^2", "m/s2", "m s-2", ""}}};
 
 /* the dataset's units attribute into buf, cut to sz ("" when it has none
    or it is not a string): fixed-length and variable-length strings alike */
-static void h5_units(hid_t d, char *buf, size_t sz)
-{
+static void h5_units(hid_t d, char *buf, size_t sz) {
   hid_t a, ft, mt;
   buf[0] = '\0';
   if (H5Aexists(d, "units") <= 0 || (a = H5Aopen(d, "units", H5P_DEFAULT)) < 0)
@@ -61,8 +68,7 @@ static void h5_units(hid_t d, char *buf, size_t sz)
         snprintf(buf, sz, "%s", v);
       else
         snprintf(buf, sz, "(unreadable)");
-      if (v)
-        H5free_memory(v);
+      if (v) H5free_memory(v);
     } else {
       /* read whole, then cut to sz: a long units text is quoted (and so
          refused), never taken as no units */
@@ -76,8 +82,7 @@ static void h5_units(hid_t d, char *buf, size_t sz)
     }
     H5Tclose(mt);
   }
-  if (ft >= 0)
-    H5Tclose(ft);
+  if (ft >= 0) H5Tclose(ft);
   H5Aclose(a);
 }
 
@@ -93,14 +98,11 @@ typedef struct {
   unsigned n;
 } h5_walk;
 
-static herr_t h5_walk_cb(unsigned n, const H5E_error2_t *e, void *data)
-{
+static herr_t h5_walk_cb(unsigned n, const H5E_error2_t *e, void *data) {
   h5_walk *w = data;
   const char *d = e->desc != NULL && e->desc[0] != '\0' ? e->desc : NULL;
-  if (d == NULL)
-    d = e->func_name != NULL ? e->func_name : "?";
-  if (n == 0)
-    snprintf(w->outer, sizeof w->outer, "%s", d);
+  if (d == NULL) d = e->func_name != NULL ? e->func_name : "?";
+  if (n == 0) snprintf(w->outer, sizeof w->outer, "%s", d);
   if (w->filter[0] == '\0' && strstr(d, "filter") != NULL)
     snprintf(w->filter, sizeof w->filter, "%s", d);
   snprintf(w->inner, sizeof w->inner, "%s", d);
@@ -108,8 +110,7 @@ static herr_t h5_walk_cb(unsigned n, const H5E_error2_t *e, void *data)
   return 0;
 }
 
-static void h5_why(char *buf, size_t sz)
-{
+static void h5_why(char *buf, size_t sz) {
   h5_walk w;
   memset(&w, 0, sizeof w);
   H5Ewalk2(H5E_DEFAULT, H5E_WALK_DOWNWARD, h5_walk_cb, &w);
@@ -126,53 +127,40 @@ static void h5_why(char *buf, size_t sz)
 
 /* a units attribute must name the column's SI unit: a column in degrees
    or millimetres is refused rather than misread */
-static int h5_units_check(hid_t d, const char *path, const char *name,
-                          int what, int c, char *err, size_t errsz)
-{
+static int h5_units_check(hid_t d, const char *path, const char *name, int what,
+                          int c, char *err, size_t errsz) {
   char units[64];
   int i;
   h5_units(d, units, sizeof units);
-  if (units[0] == '\0')
-    return 0;
+  if (units[0] == '\0') return 0;
   for (i = 0; col_units[what][c][i][0] != '\0'; i++)
-    if (strcmp(units, col_units[what][c][i]) == 0)
-      return 0;
-  table_err(err, errsz, "%s: dataset /%s: units '%s', but the table is in "
-          "%s: convert the column", path, name, units, col_units[what][c][0]);
+    if (strcmp(units, col_units[what][c][i]) == 0) return 0;
+  table_err(err, errsz,
+            "%s: dataset /%s: units '%s', but the table is in "
+            "%s: convert the column",
+            path, name, units, col_units[what][c][0]);
   return -1;
 }
 
-static const char *class_name(H5T_class_t c)
-{
+static const char *class_name(H5T_class_t c) {
   switch (c) {
-  case H5T_COMPOUND:
-    return "a compound";
-  case H5T_STRING:
-    return "a string";
-  case H5T_ENUM:
-    return "an enumeration";
-  case H5T_ARRAY:
-    return "an array";
-  case H5T_VLEN:
-    return "a variable-length";
-  case H5T_OPAQUE:
-    return "an opaque";
-  case H5T_BITFIELD:
-    return "a bit field";
-  case H5T_REFERENCE:
-    return "a reference";
-  case H5T_TIME:
-    return "a time";
-  default:
-    return "an unknown";
+  case H5T_COMPOUND: return "a compound";
+  case H5T_STRING: return "a string";
+  case H5T_ENUM: return "an enumeration";
+  case H5T_ARRAY: return "an array";
+  case H5T_VLEN: return "a variable-length";
+  case H5T_OPAQUE: return "an opaque";
+  case H5T_BITFIELD: return "a bit field";
+  case H5T_REFERENCE: return "a reference";
+  case H5T_TIME: return "a time";
+  default: return "an unknown";
   }
 }
 
 /* the link of a column: a hard link, or a soft link to an object of this
    file; an external link (another file) or a user-defined one is refused */
-static int h5_link_check(hid_t f, const char *path, const char *name,
-                         char *err, size_t errsz)
-{
+static int h5_link_check(hid_t f, const char *path, const char *name, char *err,
+                         size_t errsz) {
   H5L_info_t li;
   char why[400], *val;
   const char *file = NULL, *obj = NULL;
@@ -184,19 +172,18 @@ static int h5_link_check(hid_t f, const char *path, const char *name,
               name, why);
     return -1;
   }
-  if (li.type == H5L_TYPE_HARD)
-    return 0;
+  if (li.type == H5L_TYPE_HARD) return 0;
   if (li.type != H5L_TYPE_SOFT && li.type != H5L_TYPE_EXTERNAL) {
-    table_err(err, errsz, "%s: dataset /%s: a user-defined link (type %d): a "
-              "table's columns are datasets of the file itself", path, name,
-              (int)li.type);
+    table_err(err, errsz,
+              "%s: dataset /%s: a user-defined link (type %d): a "
+              "table's columns are datasets of the file itself",
+              path, name, (int)li.type);
     return -1;
   }
   /* the link's value: a path (soft), or a file and a path (external) */
   if (li.u.val_size > 65536 || (val = calloc(li.u.val_size + 1, 1)) == NULL) {
-    table_err(err, errsz, "%s: dataset /%s: a %s link of %zu bytes", path,
-              name, li.type == H5L_TYPE_SOFT ? "soft" : "external",
-              li.u.val_size);
+    table_err(err, errsz, "%s: dataset /%s: a %s link of %zu bytes", path, name,
+              li.type == H5L_TYPE_SOFT ? "soft" : "external", li.u.val_size);
     return -1;
   }
   if (H5Lget_val(f, name, val, li.u.val_size, H5P_DEFAULT) < 0) {
@@ -207,19 +194,23 @@ static int h5_link_check(hid_t f, const char *path, const char *name,
     if (H5Oexists_by_name(f, name, H5P_DEFAULT) > 0)
       rc = 0;
     else
-      table_err(err, errsz, "%s: dataset /%s: a soft link to '%.200s', which "
-                "names no object of the file (a dangling link)", path, name,
-                val);
+      table_err(err, errsz,
+                "%s: dataset /%s: a soft link to '%.200s', which "
+                "names no object of the file (a dangling link)",
+                path, name, val);
     H5Eclear2(H5E_DEFAULT);
   } else if (H5Lunpack_elink_val(val, li.u.val_size, &flags, &file, &obj) >=
              0) {
-    table_err(err, errsz, "%s: dataset /%s: an external link to %.200s:%.200s:"
+    table_err(err, errsz,
+              "%s: dataset /%s: an external link to %.200s:%.200s:"
               " a table's columns must be stored in the table file itself",
               path, name, file, obj);
   } else {
-    table_err(err, errsz, "%s: dataset /%s: an external link (to another "
+    table_err(err, errsz,
+              "%s: dataset /%s: an external link (to another "
               "file): a table's columns must be stored in the table file "
-              "itself", path, name);
+              "itself",
+              path, name);
   }
   free(val);
   return rc;
@@ -229,8 +220,7 @@ static int h5_link_check(hid_t f, const char *path, const char *name,
    (and then its dataset must exist), a relative name is taken from the
    table's directory, as HDF5 does without HDF5_VDS_PREFIX */
 static int h5_source_exists(hid_t f, const char *path, const char *file,
-                            const char *dset)
-{
+                            const char *dset) {
   const char *slash = strrchr(path, '/');
   struct stat st;
   char full[4200];
@@ -251,8 +241,7 @@ static int h5_source_exists(hid_t f, const char *path, const char *file,
    are in other datasets (a missing source reads as fill values) and an
    external one's in raw files (any file: /etc/passwd read as numbers) */
 static int h5_storage_check(hid_t f, hid_t d, const char *path,
-                            const char *name, char *err, size_t errsz)
-{
+                            const char *name, char *err, size_t errsz) {
   hid_t p = H5Dget_create_plist(d);
   char why[400];
   int rc = -1, next;
@@ -270,15 +259,20 @@ static int h5_storage_check(hid_t f, hid_t d, const char *path,
         H5Pget_virtual_filename(p, 0, file, sizeof file) >= 0 &&
         H5Pget_virtual_dsetname(p, 0, dset, sizeof dset) >= 0) {
       file[sizeof file - 1] = dset[sizeof dset - 1] = '\0';
-      table_err(err, errsz, "%s: dataset /%s: a virtual dataset, its rows in "
-                "%.200s:%.200s%s%s: a table's columns must be stored in the "
-                "table file itself", path, name, file, dset,
-                h5_source_exists(f, path, file, dset) ? "" : ", which is missing",
-                nsrc > 1 ? " and other sources" : "");
+      table_err(
+          err, errsz,
+          "%s: dataset /%s: a virtual dataset, its rows in "
+          "%.200s:%.200s%s%s: a table's columns must be stored in the "
+          "table file itself",
+          path, name, file, dset,
+          h5_source_exists(f, path, file, dset) ? "" : ", which is missing",
+          nsrc > 1 ? " and other sources" : "");
     } else {
-      table_err(err, errsz, "%s: dataset /%s: a virtual dataset (its rows in "
+      table_err(err, errsz,
+                "%s: dataset /%s: a virtual dataset (its rows in "
                 "other datasets): a table's columns must be stored in the "
-                "table file itself", path, name);
+                "table file itself",
+                path, name);
     }
     H5Eclear2(H5E_DEFAULT);
   } else if (next != 0) {
@@ -290,9 +284,11 @@ static int h5_storage_check(hid_t f, hid_t d, const char *path,
     else
       snprintf(file, sizeof file, "?");
     H5Eclear2(H5E_DEFAULT);
-    table_err(err, errsz, "%s: dataset /%s: stored in the external raw file "
+    table_err(err, errsz,
+              "%s: dataset /%s: stored in the external raw file "
               "'%.200s'%s: a table's columns must be stored in the table file "
-              "itself", path, name, file, next > 1 ? " and others" : "");
+              "itself",
+              path, name, file, next > 1 ? " and others" : "");
   } else {
     rc = 0;
   }
@@ -306,10 +302,9 @@ static int h5_storage_check(hid_t f, hid_t d, const char *path,
 /* column c (named name): open it and check everything but its rows'
    values; rows and the bytes it declares (as read: elements of at least a
    double's 8 bytes) out.  0, or -1 with err set (d closed) */
-static int h5_open_column(hid_t f, const char *path, const char *name,
-                          int what, int c, hid_t *out, hsize_t *rows,
-                          double *bytes, char *err, size_t errsz)
-{
+static int h5_open_column(hid_t f, const char *path, const char *name, int what,
+                          int c, hid_t *out, hsize_t *rows, double *bytes,
+                          char *err, size_t errsz) {
   hid_t d, ty = -1, sp = -1;
   H5T_class_t cls;
   hsize_t dims[1];
@@ -317,8 +312,7 @@ static int h5_open_column(hid_t f, const char *path, const char *name,
   char why[400];
   int nd, rc = -1;
   H5I_type_t kind;
-  if (h5_link_check(f, path, name, err, errsz))
-    return -1;
+  if (h5_link_check(f, path, name, err, errsz)) return -1;
   d = H5Oopen(f, name, H5P_DEFAULT);
   if (d < 0) {
     h5_why(why, sizeof why);
@@ -329,13 +323,12 @@ static int h5_open_column(hid_t f, const char *path, const char *name,
   kind = H5Iget_type(d);
   if (kind != H5I_DATASET) {
     table_err(err, errsz, "%s: dataset /%s: a %s, not a dataset", path, name,
-              kind == H5I_GROUP ? "group" : kind == H5I_DATATYPE
-                                                ? "named datatype"
-                                                : "object of another kind");
+              kind == H5I_GROUP      ? "group"
+              : kind == H5I_DATATYPE ? "named datatype"
+                                     : "object of another kind");
     goto done;
   }
-  if (h5_storage_check(f, d, path, name, err, errsz))
-    goto done;
+  if (h5_storage_check(f, d, path, name, err, errsz)) goto done;
   if ((ty = H5Dget_type(d)) < 0 || (cls = H5Tget_class(ty)) == H5T_NO_CLASS) {
     h5_why(why, sizeof why);
     table_err(err, errsz, "%s: dataset /%s: cannot read its type: %s", path,
@@ -343,9 +336,10 @@ static int h5_open_column(hid_t f, const char *path, const char *name,
     goto done;
   }
   if (cls != H5T_INTEGER && cls != H5T_FLOAT) {
-    table_err(err, errsz, "%s: dataset /%s: of %s type, not numbers (a column "
-              "holds integers or floating-point numbers)", path, name,
-              class_name(cls));
+    table_err(err, errsz,
+              "%s: dataset /%s: of %s type, not numbers (a column "
+              "holds integers or floating-point numbers)",
+              path, name, class_name(cls));
     goto done;
   }
   el = H5Tget_size(ty);
@@ -360,33 +354,37 @@ static int h5_open_column(hid_t f, const char *path, const char *name,
       H5Sget_simple_extent_dims(sp, dims, NULL) != 1) {
     H5Eclear2(H5E_DEFAULT);
     if (H5Sget_simple_extent_type(sp) == H5S_NULL)
-      table_err(err, errsz, "%s: dataset /%s: holds nothing (a null "
-                "dataspace); a column has one dimension", path, name);
+      table_err(err, errsz,
+                "%s: dataset /%s: holds nothing (a null "
+                "dataspace); a column has one dimension",
+                path, name);
     else if (H5Sget_simple_extent_type(sp) == H5S_SCALAR || nd == 0)
-      table_err(err, errsz, "%s: dataset /%s: a single value (a scalar); a "
-                "column has one dimension", path, name);
+      table_err(err, errsz,
+                "%s: dataset /%s: a single value (a scalar); a "
+                "column has one dimension",
+                path, name);
     else
-      table_err(err, errsz, "%s: dataset /%s: %d dimensions; a column has "
-                "one", path, name, nd);
+      table_err(err, errsz,
+                "%s: dataset /%s: %d dimensions; a column has "
+                "one",
+                path, name, nd);
     goto done;
   }
-  if (h5_units_check(d, path, name, what, c, err, errsz))
-    goto done;
+  if (h5_units_check(d, path, name, what, c, err, errsz)) goto done;
   *rows = dims[0];
-  *bytes = (double)dims[0] * (double)(el > sizeof(double) ? el
-                                                          : sizeof(double));
+  *bytes =
+      (double)dims[0] * (double)(el > sizeof(double) ? el : sizeof(double));
   if (*bytes > MAX_BYTES) {
-    table_err(err, errsz, "%s: dataset /%s: declares %llu rows of %zu-byte "
+    table_err(err, errsz,
+              "%s: dataset /%s: declares %llu rows of %zu-byte "
               "numbers, %.3g GB as read: above the table limit of 1 GiB",
               path, name, (unsigned long long)dims[0], el, *bytes / 1e9);
     goto done;
   }
   rc = 0;
 done:
-  if (sp >= 0)
-    H5Sclose(sp);
-  if (ty >= 0)
-    H5Tclose(ty);
+  if (sp >= 0) H5Sclose(sp);
+  if (ty >= 0) H5Tclose(ty);
   if (rc)
     H5Oclose(d);
   else
@@ -397,14 +395,12 @@ done:
 /* the values of column c, read from d into the table's arrays (a strided
    memory selection: column k of the n x 3 array), each checked */
 static int h5_read_column(hid_t d, table_data *t, const char *name, int c,
-                          char *err, size_t errsz)
-{
+                          char *err, size_t errsz) {
   hid_t ms = -1;
   herr_t x;
   size_t r;
   char why[400];
-  if (t->n == 0)
-    return 0;
+  if (t->n == 0) return 0;
   if (c == 0) {
     x = H5Dread(d, H5T_NATIVE_DOUBLE, H5S_ALL, H5S_ALL, H5P_DEFAULT, t->time);
   } else {
@@ -417,9 +413,9 @@ static int h5_read_column(hid_t d, table_data *t, const char *name, int c,
     count[0] = t->n;
     count[1] = 1;
     ms = H5Screate_simple(2, dims, NULL);
-    x = ms < 0 ? -1
-               : H5Sselect_hyperslab(ms, H5S_SELECT_SET, start, NULL, count,
-                                     NULL);
+    x = ms < 0
+            ? -1
+            : H5Sselect_hyperslab(ms, H5S_SELECT_SET, start, NULL, count, NULL);
     if (x >= 0)
       x = H5Dread(d, H5T_NATIVE_DOUBLE, ms, H5S_ALL, H5P_DEFAULT, base);
   }
@@ -427,30 +423,29 @@ static int h5_read_column(hid_t d, table_data *t, const char *name, int c,
     h5_why(why, sizeof why);
     table_err(err, errsz, "%s: dataset /%s: cannot read it as numbers: %s",
               t->path, name, why);
-    if (ms >= 0)
-      H5Sclose(ms);
+    if (ms >= 0) H5Sclose(ms);
     return -1;
   }
-  if (ms >= 0)
-    H5Sclose(ms);
+  if (ms >= 0) H5Sclose(ms);
   for (r = 0; r < t->n; r++) {
     double v = *table_cell(t, r, c);
     if (!isfinite(v)) {
-      table_err(err, errsz, "%s: dataset /%s, row %zu: %g is not a finite "
-              "number", t->path, name, r, v);
+      table_err(err, errsz,
+                "%s: dataset /%s, row %zu: %g is not a finite "
+                "number",
+                t->path, name, r, v);
       return -1;
     }
     if (fpclassify(v) == FP_SUBNORMAL) {
-      table_err(err, errsz, "%s: dataset /%s, row %zu: %g is %s", t->path,
-                name, r, v, TABLE_SUBNORMAL);
+      table_err(err, errsz, "%s: dataset /%s, row %zu: %g is %s", t->path, name,
+                r, v, TABLE_SUBNORMAL);
       return -1;
     }
   }
   return 0;
 }
 
-int table_h5_read(table_data *t, int what, char *err, size_t errsz)
-{
+int table_h5_read(table_data *t, int what, char *err, size_t errsz) {
   H5E_auto2_t fn;
   void *data;
   hid_t f, d[TABLE_NCOL];
@@ -459,10 +454,8 @@ int table_h5_read(table_data *t, int what, char *err, size_t errsz)
   char why[400];
   int have[TABLE_NCOL] = {0}, c, rc = -1;
   const char *const *names = table_col_names[what];
-  for (c = 0; c < TABLE_NCOL; c++)
-    d[c] = -1;
-  if (table_regular_file(t->path, err, errsz))
-    return -1;
+  for (c = 0; c < TABLE_NCOL; c++) d[c] = -1;
+  if (table_regular_file(t->path, err, errsz)) return -1;
   H5Eget_auto2(H5E_DEFAULT, &fn, &data);
   H5Eset_auto2(H5E_DEFAULT, NULL, NULL);
   H5Eclear2(H5E_DEFAULT);
@@ -478,21 +471,21 @@ int table_h5_read(table_data *t, int what, char *err, size_t errsz)
     if (x < 0) {
       /* not absent: the file's root cannot be read (a damaged file) */
       h5_why(why, sizeof why);
-      table_err(err, errsz, "%s: dataset /%s: cannot look it up in the "
-                "file's root group: %s", t->path, names[c], why);
+      table_err(err, errsz,
+                "%s: dataset /%s: cannot look it up in the "
+                "file's root group: %s",
+                t->path, names[c], why);
       goto done;
     }
     have[c] = x > 0;
   }
-  if (table_columns_check(have, what, 1, t->path, err, errsz))
-    goto done;
+  if (table_columns_check(have, what, 1, t->path, err, errsz)) goto done;
   /* every column opened and checked, its declared size with them, before
      anything is allocated: the time first, it gives the rows */
   for (c = 0; c < TABLE_NCOL; c++) {
-    if (!have[c])
-      continue;
-    if (h5_open_column(f, t->path, names[c], what, c, &d[c], &rows, &bytes,
-                       err, errsz))
+    if (!have[c]) continue;
+    if (h5_open_column(f, t->path, names[c], what, c, &d[c], &rows, &bytes, err,
+                       errsz))
       goto done;
     if (c == 0) {
       t->n = (size_t)rows;
@@ -503,23 +496,22 @@ int table_h5_read(table_data *t, int what, char *err, size_t errsz)
     }
     sum += bytes;
     if (sum > MAX_BYTES) {
-      table_err(err, errsz, "%s: dataset /%s: with it the datasets declare "
+      table_err(err, errsz,
+                "%s: dataset /%s: with it the datasets declare "
                 "%.3g GB as read (%zu rows each): above the table limit of "
-                "1 GiB", t->path, names[c], sum / 1e9, t->n);
+                "1 GiB",
+                t->path, names[c], sum / 1e9, t->n);
       goto done;
     }
   }
-  if (table_alloc_rows(t, t->n, have[7], 0, err, errsz))
-    goto done;
+  if (table_alloc_rows(t, t->n, have[7], 0, err, errsz)) goto done;
   for (c = 0; c < TABLE_NCOL; c++)
-    if (have[c] && h5_read_column(d[c], t, names[c], c, err, errsz))
-      goto done;
+    if (have[c] && h5_read_column(d[c], t, names[c], c, err, errsz)) goto done;
   t->rates_given = have[4];
   rc = 0;
 done:
   for (c = 0; c < TABLE_NCOL; c++)
-    if (d[c] >= 0)
-      H5Dclose(d[c]);
+    if (d[c] >= 0) H5Dclose(d[c]);
   H5Fclose(f);
   H5Eclear2(H5E_DEFAULT);
   H5Eset_auto2(H5E_DEFAULT, fn, data);

@@ -24,8 +24,8 @@ void table_err(char *err, size_t errsz, const char *fmt, ...)
 #define TABLE_MAX_BYTES (1024.0 * 1024.0 * 1024.0)
 
 /* why a subnormal number is refused (after "VALUE is ") */
-#define TABLE_SUBNORMAL                                                       \
-  "subnormal (nonzero but below 2.2e-308 in magnitude, where a double "     \
+#define TABLE_SUBNORMAL                                                 \
+  "subnormal (nonzero but below 2.2e-308 in magnitude, where a double " \
   "loses precision): write 0 or a normal number"
 
 /* the arrays for n rows; acc only when the file has accelerations, line

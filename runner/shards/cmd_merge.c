@@ -10,11 +10,11 @@
 #include <unistd.h>
 
 #include "core/cli.h"
+#include "core/safeio.h"
+#include "core/tmpout.h"
 #include "join.h"
 #include "merge.h"
 #include "parts.h"
-#include "core/safeio.h"
-#include "core/tmpout.h"
 #include "verify.h"
 
 /* the options of merge */
@@ -22,8 +22,7 @@ static const cli_opt MERGE_OPTS[3] = {
     {"copy", 0, NULL, 0, 0, 0,
      "one self-contained file: the parts' chunks copied\n(default: virtual "
      "datasets over the parts)"},
-    {"failed-ok", 0, NULL, 0, 0, 0,
-     "exit 0, not 1, when some cases failed"},
+    {"failed-ok", 0, NULL, 0, 0, 0, "exit 0, not 1, when some cases failed"},
     {"quiet", 'q', NULL, 0, 0, 0, "say nothing when all went well"}};
 
 /*
@@ -34,8 +33,7 @@ static const cli_opt MERGE_OPTS[3] = {
  * and renamed when complete.  A missing or incomplete part is named, with
  * the command that makes it again (parts.h).
  */
-int merge_main(int argc, char **argv, const char *cmd)
-{
+int merge_main(int argc, char **argv, const char *cmd) {
   const char *out_path = NULL, **part = NULL, **byk = NULL, **src = NULL;
   size_t npart = 0, n = 0, i, *ks = NULL, nfailed = 0;
   int quiet = 0, copy = 0, failed_ok = 0, code = EXIT_USAGE, *bad = NULL;
@@ -53,8 +51,7 @@ int merge_main(int argc, char **argv, const char *cmd)
   cli_start(&c, "rps3-run merge", MERGE_OPTS, 3, argc, argv);
   c.help_cmd = "rps3-run"; /* its --help lists merge's options */
   while ((row = cli_next(&c, &arg, &v)) != CLI_END) {
-    if (row == CLI_BAD)
-      goto done;
+    if (row == CLI_BAD) goto done;
     if (row == 0)
       copy = 1;
     else if (row == 1)
@@ -63,15 +60,14 @@ int merge_main(int argc, char **argv, const char *cmd)
       quiet = 1;
   }
   nop = cli_operands(&c, &op);
-  if (nop > 0)
-    out_path = op[0];
-  for (i = 1; i < (size_t)nop; i++)
-    part[npart++] = op[i];
+  if (nop > 0) out_path = op[0];
+  for (i = 1; i < (size_t)nop; i++) part[npart++] = op[i];
   if (!out_path || npart == 0) {
     cli_usage_error(&c, "%s (rps3-run merge OUT.h5 PART.h5...)",
-                    out_path ? "missing the part files" : "missing OUT.h5 "
-                                                          "and the part "
-                                                          "files");
+                    out_path ? "missing the part files"
+                             : "missing OUT.h5 "
+                               "and the part "
+                               "files");
     goto done;
   }
 
@@ -94,11 +90,11 @@ int merge_main(int argc, char **argv, const char *cmd)
       bad[i] = 1;
     }
   if (npart != n)
-    fprintf(stderr, "rps3-run merge: %zu part%s given, the run has %zu "
-                    "shards\n",
+    fprintf(stderr,
+            "rps3-run merge: %zu part%s given, the run has %zu "
+            "shards\n",
             npart, npart == 1 ? "" : "s", n);
-  if (parts_report(stderr, byk, bad, n))
-    goto done;
+  if (parts_report(stderr, byk, bad, n)) goto done;
   if (out_path_check(out_path, part, npart, err, sizeof err)) {
     fprintf(stderr, "rps3-run merge: %s\n", err);
     goto done;
@@ -123,28 +119,26 @@ int merge_main(int argc, char **argv, const char *cmd)
       fprintf(stderr, "rps3-run merge: %s\n", err);
       goto done;
     }
-  if (tmpout_name(out_path, 0))
-    goto done;
+  if (tmpout_name(out_path, 0)) goto done;
   tmpout_arm();
   for (i = 1; i < n; i++) {
     src[i - 1] = byk[i];
     ks[i - 1] = i;
   }
   if (copy ? merge_copy_file(byk[0], tmpout_path(), err, sizeof err) ||
-                 merge_parts(tmpout_path(), src, ks, n - 1, n, cmd, &nfailed, err,
-                             sizeof err)
-           : join_vds(tmpout_path(), byk, n, cmd, &nfailed, err,
-                      sizeof err)) {
+                 merge_parts(tmpout_path(), src, ks, n - 1, n, cmd, &nfailed,
+                             err, sizeof err)
+           : join_vds(tmpout_path(), byk, n, cmd, &nfailed, err, sizeof err)) {
     fprintf(stderr, "rps3-run merge: %s\n", err);
     goto done;
   }
-  if (tmpout_commit(out_path))
-    goto done;
+  if (tmpout_commit(out_path)) goto done;
   if (!quiet)
-    fprintf(stderr, "rps3-run: %s %zu part%s into %s (%zu failed "
-                    "case%s)\n",
-            copy ? "merged" : "joined", n, n == 1 ? "" : "s", out_path,
-            nfailed, nfailed == 1 ? "" : "s");
+    fprintf(stderr,
+            "rps3-run: %s %zu part%s into %s (%zu failed "
+            "case%s)\n",
+            copy ? "merged" : "joined", n, n == 1 ? "" : "s", out_path, nfailed,
+            nfailed == 1 ? "" : "s");
   code = nfailed && !failed_ok ? EXIT_FAILED_CASES : EXIT_OK;
 done:
   tmpout_discard();

@@ -21,24 +21,23 @@
 #include <hdf5.h>
 #include <hdf5_hl.h>
 
-#include "scene/inputs.h"
 #include "merge.h"
 #include "output/output.h"
+#include "scene/inputs.h"
 #include "verify.h"
 
 /* what a walk over part 0 needs */
 typedef struct {
-  hid_t src;                /* part 0 */
-  hid_t dst;                /* the joined file */
-  const char *const *part;  /* the part files, by shard */
-  const char *const *link;  /* their names as stored in the virtual maps */
-  size_t n;                 /* shards */
+  hid_t src;               /* part 0 */
+  hid_t dst;               /* the joined file */
+  const char *const *part; /* the part files, by shard */
+  const char *const *link; /* their names as stored in the virtual maps */
+  size_t n;                /* shards */
   char *err;
   size_t errsz;
 } walk;
 
-static int skipped_attr(const char *name)
-{
+static int skipped_attr(const char *name) {
   return strcmp(name, "CLASS") == 0 || strcmp(name, "NAME") == 0 ||
          strcmp(name, "DIMENSION_LIST") == 0 ||
          strcmp(name, "REFERENCE_LIST") == 0 ||
@@ -47,48 +46,38 @@ static int skipped_attr(const char *name)
 
 /* copy attribute `name` of object `from` to object `to` (H5Aiterate) */
 static herr_t copy_attr(hid_t from, const char *name, const H5A_info_t *ai,
-                        void *to)
-{
+                        void *to) {
   hid_t a = -1, ftype = -1, mtype = -1, sp = -1, b = -1;
   hssize_t npt;
   void *buf = NULL;
   herr_t rc = -1;
   (void)ai;
-  if (skipped_attr(name))
-    return 0;
+  if (skipped_attr(name)) return 0;
   if ((a = H5Aopen(from, name, H5P_DEFAULT)) < 0 ||
       (ftype = H5Aget_type(a)) < 0 ||
       (mtype = H5Tget_native_type(ftype, H5T_DIR_ASCEND)) < 0 ||
-      (sp = H5Aget_space(a)) < 0 || (npt = H5Sget_simple_extent_npoints(sp)) < 0)
+      (sp = H5Aget_space(a)) < 0 ||
+      (npt = H5Sget_simple_extent_npoints(sp)) < 0)
     goto done;
   buf = calloc(npt > 0 ? (size_t)npt : 1, H5Tget_size(mtype));
-  if (!buf || H5Aread(a, mtype, buf) < 0)
-    goto done;
+  if (!buf || H5Aread(a, mtype, buf) < 0) goto done;
   b = H5Acreate2(*(hid_t *)to, name, ftype, sp, H5P_DEFAULT, H5P_DEFAULT);
-  if (b >= 0 && H5Awrite(b, mtype, buf) >= 0)
-    rc = 0;
+  if (b >= 0 && H5Awrite(b, mtype, buf) >= 0) rc = 0;
   if (H5Tdetect_class(mtype, H5T_VLEN) > 0 || H5Tis_variable_str(mtype) > 0)
     H5Dvlen_reclaim(mtype, sp, H5P_DEFAULT, buf);
 done:
   free(buf);
-  if (b >= 0)
-    H5Aclose(b);
-  if (sp >= 0)
-    H5Sclose(sp);
-  if (mtype >= 0)
-    H5Tclose(mtype);
-  if (ftype >= 0)
-    H5Tclose(ftype);
-  if (a >= 0)
-    H5Aclose(a);
+  if (b >= 0) H5Aclose(b);
+  if (sp >= 0) H5Sclose(sp);
+  if (mtype >= 0) H5Tclose(mtype);
+  if (ftype >= 0) H5Tclose(ftype);
+  if (a >= 0) H5Aclose(a);
   return rc;
 }
 
-static int copy_attrs(hid_t from, hid_t to)
-{
+static int copy_attrs(hid_t from, hid_t to) {
   hsize_t idx = 0;
-  return H5Aiterate2(from, H5_INDEX_NAME, H5_ITER_INC, &idx, copy_attr,
-                     &to) < 0
+  return H5Aiterate2(from, H5_INDEX_NAME, H5_ITER_INC, &idx, copy_attr, &to) < 0
              ? -1
              : 0;
 }
@@ -97,8 +86,7 @@ static int copy_attrs(hid_t from, hid_t to)
    n * c0 rows, with block `last` rows long when count is 1 (the last,
    shorter row); the other axes whole */
 static int select_rows(hid_t sp, int rank, const hsize_t *dims, hsize_t r0,
-                       hsize_t c0, hsize_t n, hsize_t count, hsize_t block)
-{
+                       hsize_t c0, hsize_t n, hsize_t count, hsize_t block) {
   hsize_t start[H5S_MAX_RANK], stride[H5S_MAX_RANK], cnt[H5S_MAX_RANK],
       blk[H5S_MAX_RANK];
   int r;
@@ -112,8 +100,7 @@ static int select_rows(hid_t sp, int rank, const hsize_t *dims, hsize_t r0,
   stride[0] = n * c0;
   cnt[0] = count;
   blk[0] = block;
-  return H5Sselect_hyperslab(sp, H5S_SELECT_SET, start, stride, cnt, blk) <
-                 0
+  return H5Sselect_hyperslab(sp, H5S_SELECT_SET, start, stride, cnt, blk) < 0
              ? -1
              : 0;
 }
@@ -121,16 +108,14 @@ static int select_rows(hid_t sp, int rank, const hsize_t *dims, hsize_t r0,
 /* map the rows of shard k into the virtual dataset's dcpl */
 static int map_part(hid_t dcpl, hid_t vsp, hid_t ssp, int rank,
                     const hsize_t *dims, hsize_t c0, const walk *w, size_t k,
-                    const char *name)
-{
+                    const char *name) {
   hsize_t nrow = (dims[0] + c0 - 1) / c0, n = (hsize_t)w->n;
   hsize_t tail = dims[0] - (nrow - 1) * c0; /* rows of the last chunk row */
   hsize_t full = nrow - (tail < c0);        /* chunk rows of c0 rows */
   hsize_t nfull = full > k ? (full - k + n - 1) / n : 0;
-  if (nfull > 0 &&
-      (select_rows(vsp, rank, dims, k, c0, n, nfull, c0) < 0 ||
-       select_rows(ssp, rank, dims, k, c0, n, nfull, c0) < 0 ||
-       H5Pset_virtual(dcpl, vsp, w->link[k], name, ssp) < 0))
+  if (nfull > 0 && (select_rows(vsp, rank, dims, k, c0, n, nfull, c0) < 0 ||
+                    select_rows(ssp, rank, dims, k, c0, n, nfull, c0) < 0 ||
+                    H5Pset_virtual(dcpl, vsp, w->link[k], name, ssp) < 0))
     return -1;
   if (tail < c0 && (nrow - 1) % n == k &&
       (select_rows(vsp, rank, dims, nrow - 1, c0, n, 1, tail) < 0 ||
@@ -150,15 +135,12 @@ typedef struct {
 
 /* H5Ovisit: collect the chunked datasets of part 0 */
 static herr_t collect_shape(hid_t root, const char *name, const H5O_info_t *oi,
-                            void *data)
-{
+                            void *data) {
   shapes *sh = data;
   hid_t ds, sp = -1, pl = -1;
   int rc = 0;
-  if (oi->type != H5O_TYPE_DATASET)
-    return 0;
-  if ((ds = H5Dopen2(root, name, H5P_DEFAULT)) < 0)
-    return -1;
+  if (oi->type != H5O_TYPE_DATASET) return 0;
+  if ((ds = H5Dopen2(root, name, H5P_DEFAULT)) < 0) return -1;
   if ((pl = H5Dget_create_plist(ds)) >= 0 && H5Pget_layout(pl) == H5D_CHUNKED) {
     if (sh->n == sh->cap) {
       size_t cap = 2 * sh->cap + 16;
@@ -177,26 +159,22 @@ static herr_t collect_shape(hid_t root, const char *name, const H5O_info_t *oi,
     }
     if (rc == 0 && strlen(name) < sizeof sh->name[0] &&
         (sp = H5Dget_space(ds)) >= 0 &&
-        (sh->rank[sh->n] = H5Sget_simple_extent_dims(sp, sh->dims[sh->n],
-                                                     NULL)) > 0 &&
-        H5Pget_chunk(pl, sh->rank[sh->n], sh->chunk[sh->n]) ==
-            sh->rank[sh->n])
+        (sh->rank[sh->n] =
+             H5Sget_simple_extent_dims(sp, sh->dims[sh->n], NULL)) > 0 &&
+        H5Pget_chunk(pl, sh->rank[sh->n], sh->chunk[sh->n]) == sh->rank[sh->n])
       strcpy(sh->name[sh->n++], name);
     else
       rc = -1;
   }
-  if (sp >= 0)
-    H5Sclose(sp);
-  if (pl >= 0)
-    H5Pclose(pl);
+  if (sp >= 0) H5Sclose(sp);
+  if (pl >= 0) H5Pclose(pl);
   H5Dclose(ds);
   return rc;
 }
 
 /* 1 when every part has the chunked datasets of part 0 with its shapes
    and chunks; each part opened once */
-static int parts_agree(const walk *w)
-{
+static int parts_agree(const walk *w) {
   shapes sh;
   size_t k, i;
   int ok = 1;
@@ -219,12 +197,9 @@ static int parts_agree(const walk *w)
            H5Pget_chunk(pl, r, c) == r &&
            memcmp(d, sh.dims[i], (size_t)r * sizeof *d) == 0 &&
            memcmp(c, sh.chunk[i], (size_t)r * sizeof *c) == 0;
-      if (pl >= 0)
-        H5Pclose(pl);
-      if (sp >= 0)
-        H5Sclose(sp);
-      if (ds >= 0)
-        H5Dclose(ds);
+      if (pl >= 0) H5Pclose(pl);
+      if (sp >= 0) H5Sclose(sp);
+      if (ds >= 0) H5Dclose(ds);
       if (!ok) {
         H5Eclear2(H5E_DEFAULT);
         snprintf(w->err, w->errsz,
@@ -233,8 +208,7 @@ static int parts_agree(const walk *w)
                  w->part[k], sh.name[i]);
       }
     }
-    if (f >= 0)
-      H5Fclose(f);
+    if (f >= 0) H5Fclose(f);
   }
   free(sh.name);
   free(sh.rank);
@@ -244,8 +218,7 @@ static int parts_agree(const walk *w)
 }
 
 /* the chunked dataset `name` of part 0 as a virtual dataset over the parts */
-static int make_virtual(const walk *w, hid_t sds, const char *name)
-{
+static int make_virtual(const walk *w, hid_t sds, const char *name) {
   hid_t type = H5Dget_type(sds), sp = H5Dget_space(sds), spl = -1, dcpl = -1;
   hid_t ssp = -1, ds = -1, mtype = -1;
   hsize_t dims[H5S_MAX_RANK], chunk[H5S_MAX_RANK];
@@ -257,12 +230,12 @@ static int make_virtual(const walk *w, hid_t sds, const char *name)
       (rank = H5Sget_simple_extent_dims(sp, dims, NULL)) < 1 ||
       H5Pget_chunk(spl, rank, chunk) != rank)
     goto io;
-  if ((dcpl = H5Pcreate(H5P_DATASET_CREATE)) < 0 ||
-      (ssp = H5Scopy(sp)) < 0)
+  if ((dcpl = H5Pcreate(H5P_DATASET_CREATE)) < 0 || (ssp = H5Scopy(sp)) < 0)
     goto io;
   /* the parts' fill value, so that what no part holds reads as "not run"
      (there is none once every part is checked) */
-  if (H5Pfill_value_defined(spl, &fv) >= 0 && fv == H5D_FILL_VALUE_USER_DEFINED) {
+  if (H5Pfill_value_defined(spl, &fv) >= 0 &&
+      fv == H5D_FILL_VALUE_USER_DEFINED) {
     if ((mtype = H5Tget_native_type(type, H5T_DIR_ASCEND)) < 0 ||
         !(fill = calloc(1, H5Tget_size(mtype))) ||
         H5Pget_fill_value(spl, mtype, fill) < 0 ||
@@ -270,11 +243,9 @@ static int make_virtual(const walk *w, hid_t sds, const char *name)
       goto io;
   }
   for (k = 0; k < w->n; k++)
-    if (map_part(dcpl, sp, ssp, rank, dims, chunk[0], w, k, name) < 0)
-      goto io;
+    if (map_part(dcpl, sp, ssp, rank, dims, chunk[0], w, k, name) < 0) goto io;
   ds = H5Dcreate2(w->dst, name, type, sp, H5P_DEFAULT, dcpl, H5P_DEFAULT);
-  if (ds < 0)
-    goto io;
+  if (ds < 0) goto io;
   rc = 0;
   goto done;
 io:
@@ -283,66 +254,52 @@ done:
   if (fill && mtype >= 0 && H5Tis_variable_str(mtype) > 0)
     H5free_memory(*(char **)fill);
   free(fill);
-  if (mtype >= 0)
-    H5Tclose(mtype);
-  if (ds >= 0)
-    H5Dclose(ds);
-  if (ssp >= 0)
-    H5Sclose(ssp);
-  if (dcpl >= 0)
-    H5Pclose(dcpl);
-  if (spl >= 0)
-    H5Pclose(spl);
-  if (sp >= 0)
-    H5Sclose(sp);
-  if (type >= 0)
-    H5Tclose(type);
+  if (mtype >= 0) H5Tclose(mtype);
+  if (ds >= 0) H5Dclose(ds);
+  if (ssp >= 0) H5Sclose(ssp);
+  if (dcpl >= 0) H5Pclose(dcpl);
+  if (spl >= 0) H5Pclose(spl);
+  if (sp >= 0) H5Sclose(sp);
+  if (type >= 0) H5Tclose(type);
   return rc;
 }
 
 /* first walk: every object of part 0 into the joined file (H5Ovisit) */
 static herr_t make_object(hid_t root, const char *name, const H5O_info_t *oi,
-                          void *data)
-{
+                          void *data) {
   const walk *w = data;
   hid_t o, d = -1, pl = -1;
   int rc = -1;
-  if (strcmp(name, ".") == 0)
-    return 0;
+  if (strcmp(name, ".") == 0) return 0;
   if (oi->type != H5O_TYPE_GROUP && oi->type != H5O_TYPE_DATASET) {
-    snprintf(w->err, w->errsz, "%s: object %s is neither a group nor a "
-             "dataset", w->part[0], name);
+    snprintf(w->err, w->errsz,
+             "%s: object %s is neither a group nor a "
+             "dataset",
+             w->part[0], name);
     return -1;
   }
-  if ((o = H5Oopen(root, name, H5P_DEFAULT)) < 0)
-    goto io;
+  if ((o = H5Oopen(root, name, H5P_DEFAULT)) < 0) goto io;
   if (oi->type == H5O_TYPE_GROUP)
     d = H5Gcreate2(w->dst, name, H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT);
   else if ((pl = H5Dget_create_plist(o)) >= 0 &&
            H5Pget_layout(pl) == H5D_CHUNKED) {
-    if (make_virtual(w, o, name) < 0)
-      goto done;
+    if (make_virtual(w, o, name) < 0) goto done;
     d = H5Oopen(w->dst, name, H5P_DEFAULT);
   } else {
     hid_t cp = H5Pcreate(H5P_OBJECT_COPY);
     if (cp >= 0 && H5Pset_copy_object(cp, H5O_COPY_WITHOUT_ATTR_FLAG) >= 0 &&
         H5Ocopy(root, name, w->dst, name, cp, H5P_DEFAULT) >= 0)
       d = H5Oopen(w->dst, name, H5P_DEFAULT);
-    if (cp >= 0)
-      H5Pclose(cp);
+    if (cp >= 0) H5Pclose(cp);
   }
-  if (d >= 0 && copy_attrs(o, d) == 0)
-    rc = 0;
+  if (d >= 0 && copy_attrs(o, d) == 0) rc = 0;
 io:
   if (rc < 0)
     out_fail(w->err, w->errsz, "cannot copy %s of %s", name, w->part[0]);
 done:
-  if (pl >= 0)
-    H5Pclose(pl);
-  if (d >= 0)
-    H5Oclose(d);
-  if (o >= 0)
-    H5Oclose(o);
+  if (pl >= 0) H5Pclose(pl);
+  if (d >= 0) H5Oclose(d);
+  if (o >= 0) H5Oclose(o);
   return rc < 0 ? -1 : 0;
 }
 
@@ -353,8 +310,7 @@ typedef struct {
 } attach;
 
 /* H5DSiterate_scales: the same scale on the same dimension in dst */
-static herr_t attach_scale(hid_t ds, unsigned dim, hid_t scale, void *data)
-{
+static herr_t attach_scale(hid_t ds, unsigned dim, hid_t scale, void *data) {
   const attach *a = data;
   char path[1024], sname[256];
   hid_t s = -1;
@@ -378,18 +334,17 @@ done:
 
 /* second walk: the scales, attached where part 0 has them (H5Ovisit) */
 static herr_t make_scales(hid_t root, const char *name, const H5O_info_t *oi,
-                          void *data)
-{
+                          void *data) {
   const walk *w = data;
   attach a;
   hid_t ds = -1, sp = -1;
   int rank = 0, dim, rc = 0;
-  if (oi->type != H5O_TYPE_DATASET)
-    return 0;
+  if (oi->type != H5O_TYPE_DATASET) return 0;
   a.w = w;
   a.dst_ds = -1;
   if ((ds = H5Dopen2(root, name, H5P_DEFAULT)) < 0 ||
-      (sp = H5Dget_space(ds)) < 0 || (rank = H5Sget_simple_extent_ndims(sp)) < 0 ||
+      (sp = H5Dget_space(ds)) < 0 ||
+      (rank = H5Sget_simple_extent_ndims(sp)) < 0 ||
       (a.dst_ds = H5Dopen2(w->dst, name, H5P_DEFAULT)) < 0)
     rc = -1;
   for (dim = 0; rc == 0 && dim < rank; dim++)
@@ -399,26 +354,21 @@ static herr_t make_scales(hid_t root, const char *name, const H5O_info_t *oi,
   if (rc < 0)
     out_fail(w->err, w->errsz, "cannot attach the dimension scales of %s",
              name);
-  if (a.dst_ds >= 0)
-    H5Dclose(a.dst_ds);
-  if (sp >= 0)
-    H5Sclose(sp);
-  if (ds >= 0)
-    H5Dclose(ds);
+  if (a.dst_ds >= 0) H5Dclose(a.dst_ds);
+  if (sp >= 0) H5Sclose(sp);
+  if (ds >= 0) H5Dclose(ds);
   return rc;
 }
 
 int join_part_check(const char *path, size_t k, size_t n, const char *text0,
-                    char *err, size_t errsz)
-{
+                    char *err, size_t errsz) {
   size_t kk, nn;
   hid_t f = -1, ds = -1, sp = -1, pl = -1, ms = -1;
   hsize_t dims = 0, c0 = 0, row, nrow, start, count;
   int32_t *buf = NULL;
   char *text = NULL;
   int rc = -1;
-  if (merge_shard_of(path, &kk, &nn, err, errsz))
-    return -1;
+  if (merge_shard_of(path, &kk, &nn, err, errsz)) return -1;
   if (kk != k || nn != n) {
     snprintf(err, errsz, "%s is shard %zu/%zu, not %zu/%zu", path, kk, nn, k,
              n);
@@ -428,8 +378,8 @@ int join_part_check(const char *path, size_t k, size_t n, const char *text0,
     out_fail(err, errsz, "%s: cannot open", path);
     return -1;
   }
-  if (text0 && (!(text = merge_read_text(f, "scene", 0)) ||
-                strcmp(text, text0) != 0)) {
+  if (text0 &&
+      (!(text = merge_read_text(f, "scene", 0)) || strcmp(text, text0) != 0)) {
     snprintf(err, errsz, "%s: not a part of the same scene", path);
     goto done;
   }
@@ -469,14 +419,10 @@ int join_part_check(const char *path, size_t k, size_t n, const char *text0,
 done:
   free(buf);
   free(text);
-  if (ms >= 0)
-    H5Sclose(ms);
-  if (pl >= 0)
-    H5Pclose(pl);
-  if (sp >= 0)
-    H5Sclose(sp);
-  if (ds >= 0)
-    H5Dclose(ds);
+  if (ms >= 0) H5Sclose(ms);
+  if (pl >= 0) H5Pclose(pl);
+  if (sp >= 0) H5Sclose(sp);
+  if (ds >= 0) H5Dclose(ds);
   H5Fclose(f);
   return rc;
 }
@@ -484,16 +430,14 @@ done:
 /* the name of `path` as the joined file in `dir` stores it: relative to
    dir when below it, else absolute (malloc'd; NULL when it cannot be
    resolved) */
-static char *link_name(const char *path, const char *dir)
-{
+static char *link_name(const char *path, const char *dir) {
   char *p = realpath(path, NULL), *d = realpath(dir, NULL), *out = NULL;
   size_t nd;
   if (p && d) {
     nd = strlen(d);
     if (nd > 1 && strncmp(p, d, nd) == 0 && p[nd] == '/') {
       out = malloc(strlen(p + nd + 1) + 1);
-      if (out)
-        strcpy(out, p + nd + 1);
+      if (out) strcpy(out, p + nd + 1);
     } else {
       out = p;
       p = NULL;
@@ -506,8 +450,7 @@ static char *link_name(const char *path, const char *dir)
 
 int join_vds(const char *dst, const char *const *part, size_t n,
              const char *command_line, size_t *nfailed, char *err,
-             size_t errsz)
-{
+             size_t errsz) {
   walk w;
   char **link = calloc(n, sizeof *link), *text0 = NULL, *link_dir = NULL;
   char *inputs0 = NULL, is0[4200];
@@ -522,8 +465,7 @@ int join_vds(const char *dst, const char *const *part, size_t n,
   w.errsz = errsz;
   w.link = (const char *const *)link;
   /* the directory of dst: "." when it has none */
-  if (link)
-    link_dir = slash ? malloc((size_t)(slash - dst) + 2) : malloc(2);
+  if (link) link_dir = slash ? malloc((size_t)(slash - dst) + 2) : malloc(2);
   if (!link || !link_dir) {
     free(link);
     snprintf(err, errsz, "out of memory");
@@ -545,11 +487,9 @@ int join_vds(const char *dst, const char *const *part, size_t n,
   inputs0 = merge_read_text(w.src, INPUTS_ATTR, 1);
   snprintf(is0, sizeof is0, "%s read", part[0]);
   for (k = 0; k < n; k++) {
-    if (join_part_check(part[k], k, n, text0, err, errsz))
-      goto done;
+    if (join_part_check(part[k], k, n, text0, err, errsz)) goto done;
     /* the same content of every file the scene reads (inputs.h) */
-    if (k > 0 && verify_inputs_as(part[k], inputs0, is0, err, errsz))
-      goto done;
+    if (k > 0 && verify_inputs_as(part[k], inputs0, is0, err, errsz)) goto done;
     if (!(link[k] = link_name(part[k], link_dir))) {
       snprintf(err, errsz, "%s: cannot resolve its path", part[k]);
       goto done;
@@ -590,16 +530,13 @@ int join_vds(const char *dst, const char *const *part, size_t n,
   }
   rc = 0;
 done:
-  for (k = 0; k < n; k++)
-    free(link[k]);
+  for (k = 0; k < n; k++) free(link[k]);
   free(link);
   free(link_dir);
   free(text0);
   free(inputs0);
-  if (fapl >= 0)
-    H5Pclose(fapl);
-  if (w.src >= 0)
-    H5Fclose(w.src);
+  if (fapl >= 0) H5Pclose(fapl);
+  if (w.src >= 0) H5Fclose(w.src);
   if (w.dst >= 0 && H5Fclose(w.dst) < 0 && rc == 0) {
     out_fail(err, errsz, "%s: cannot close", dst);
     rc = -1;

@@ -34,12 +34,12 @@ int join_part_check(const char *path, size_t k, size_t n, const char *text0,
  * Create the file `dst` (truncated if it exists) joining the n parts
  * part[k] (part[k] is shard k of n) by virtual datasets, each checked with
  * join_part_check against part 0's scene, with the same record of input
- * files (inputs.h) and the same shapes and chunks as part 0.  The names of the parts are stored relative to the
- * directory of dst when below it (dst is renamed within it).  The
- * root attributes are part 0's without `shard`, with `command_line` and
- * `created_utc` of this join; *nfailed is the number of cases whose status
- * is not 0.  Returns 0, or -1 with err set (dst is then incomplete: the
- * caller removes it).
+ * files (inputs.h) and the same shapes and chunks as part 0.  The names of the
+ * parts are stored relative to the directory of dst when below it (dst is
+ * renamed within it).  The root attributes are part 0's without `shard`, with
+ * `command_line` and `created_utc` of this join; *nfailed is the number of
+ * cases whose status is not 0.  Returns 0, or -1 with err set (dst is then
+ * incomplete: the caller removes it).
  */
 int join_vds(const char *dst, const char *const *part, size_t n,
              const char *command_line, size_t *nfailed, char *err,

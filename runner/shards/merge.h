@@ -54,7 +54,6 @@ int merge_count_failed(hid_t file, size_t *nfailed, size_t *nunset);
 
 /* Copy the file `from` byte for byte to `to` (created or truncated).
    Returns 0 or -1 with err set. */
-int merge_copy_file(const char *from, const char *to, char *err,
-                    size_t errsz);
+int merge_copy_file(const char *from, const char *to, char *err, size_t errsz);
 
 #endif /* RPS3_RUNNER_MERGE_H */

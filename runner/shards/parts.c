@@ -15,14 +15,12 @@
 #include "verify.h"
 
 int parts_by_shard(const char *const *part, size_t npart, const char ***byk,
-                   size_t *n, char *err, size_t errsz)
-{
+                   size_t *n, char *err, size_t errsz) {
   const char **by = NULL;
   size_t i, k, nn, n0 = 0;
   *byk = NULL;
   for (i = 0; i < npart; i++) {
-    if (merge_shard_of(part[i], &k, &nn, err, errsz))
-      goto fail;
+    if (merge_shard_of(part[i], &k, &nn, err, errsz)) goto fail;
     if (i == 0) {
       n0 = nn;
       by = calloc(nn, sizeof *by);
@@ -32,13 +30,13 @@ int parts_by_shard(const char *const *part, size_t npart, const char ***byk,
       }
     }
     if (nn != n0) {
-      snprintf(err, errsz, "%s is shard %zu/%zu, %s is of %zu", part[i], k,
-               nn, part[0], n0);
+      snprintf(err, errsz, "%s is shard %zu/%zu, %s is of %zu", part[i], k, nn,
+               part[0], n0);
       goto fail;
     }
     if (by[k]) {
-      snprintf(err, errsz, "%s and %s are both shard %zu/%zu", by[k],
-               part[i], k, nn);
+      snprintf(err, errsz, "%s and %s are both shard %zu/%zu", by[k], part[i],
+               k, nn);
       goto fail;
     }
     by[k] = part[i];
@@ -58,10 +56,8 @@ typedef struct {
   int oom;
 } text;
 
-static void put(text *t, const char *s, size_t len)
-{
-  if (t->oom)
-    return;
+static void put(text *t, const char *s, size_t len) {
+  if (t->oom) return;
   if (t->len + len + 1 > t->cap) {
     size_t cap = 2 * (t->len + len + 1);
     char *p = realloc(t->s, cap);
@@ -79,8 +75,7 @@ static void put(text *t, const char *s, size_t len)
 
 /* the end of the shell word at s (plain or single-quoted pieces, as
    main_run.c's command_line writes them) */
-static const char *word_end(const char *s)
-{
+static const char *word_end(const char *s) {
   while (*s && *s != ' ') {
     if (*s == '\'') {
       const char *q = strchr(s + 1, '\'');
@@ -95,19 +90,16 @@ static const char *word_end(const char *s)
    replaced by k; PART_k.h5 when there is no such single number or the
    name is quoted */
 static void put_part_name(text *t, const char *was, size_t len, size_t k0,
-                          size_t k)
-{
+                          size_t k) {
   char num[32];
   const char *p, *hit = NULL, *base = was;
   size_t nhit = 0, hitlen = 0;
   for (p = was; p < was + len; p++)
-    if (*p == '/')
-      base = p + 1;
+    if (*p == '/') base = p + 1;
   for (p = base; p < was + len;) {
     if (isdigit((unsigned char)*p)) {
       const char *q = p;
-      while (q < was + len && isdigit((unsigned char)*q))
-        q++;
+      while (q < was + len && isdigit((unsigned char)*q)) q++;
       if (strtoul(p, NULL, 10) == k0 && (size_t)(q - p) < 20) {
         hit = p;
         hitlen = (size_t)(q - p);
@@ -128,19 +120,16 @@ static void put_part_name(text *t, const char *was, size_t len, size_t k0,
   put(t, hit + hitlen, len - (size_t)(hit - was) - hitlen);
 }
 
-char *parts_rerun_command(const char *model, size_t k, size_t n)
-{
+char *parts_rerun_command(const char *model, size_t k, size_t n) {
   text t = {NULL, 0, 0, 0};
   const char *p = model, *e;
   size_t k0 = (size_t)-1;
   char num[64];
   const char *sh;
-  if (!model)
-    return NULL;
+  if (!model) return NULL;
   /* the model's own shard number, for its output name */
   sh = strstr(model, " --shard ");
-  if (sh)
-    k0 = strtoul(sh + 9, NULL, 10);
+  if (sh) k0 = strtoul(sh + 9, NULL, 10);
   put(&t, "", 0);
   while (*p) {
     e = word_end(p);
@@ -149,8 +138,7 @@ char *parts_rerun_command(const char *model, size_t k, size_t n)
         (e - p == 7 && strncmp(p, "--shard", 7) == 0)) {
       int is_o = p[1] == 'o';
       p = e;
-      while (*p == ' ')
-        put(&t, p++, 1);
+      while (*p == ' ') put(&t, p++, 1);
       e = word_end(p);
       if (is_o)
         put_part_name(&t, p, (size_t)(e - p), k0, k);
@@ -160,8 +148,7 @@ char *parts_rerun_command(const char *model, size_t k, size_t n)
       }
     }
     p = e;
-    while (*p == ' ')
-      put(&t, p++, 1);
+    while (*p == ' ') put(&t, p++, 1);
   }
   if (t.oom) {
     free(t.s);
@@ -171,41 +158,34 @@ char *parts_rerun_command(const char *model, size_t k, size_t n)
 }
 
 /* the command_line of a part file (malloc'd) or NULL */
-static char *command_of(const char *path)
-{
+static char *command_of(const char *path) {
   hid_t f = H5Fopen(path, H5F_ACC_RDONLY, H5P_DEFAULT);
   char *v;
-  if (f < 0)
-    return NULL;
+  if (f < 0) return NULL;
   v = merge_read_text(f, "command_line", 1);
   H5Fclose(f);
   return v;
 }
 
 size_t parts_report(FILE *out, const char *const *byk, const int *bad,
-                    size_t n)
-{
+                    size_t n) {
   size_t k, nmiss = 0;
   const char *model = NULL;
   char *cmd = NULL;
   for (k = 0; k < n; k++) {
-    if (byk[k] && !(bad && bad[k]) && !model)
-      model = byk[k];
+    if (byk[k] && !(bad && bad[k]) && !model) model = byk[k];
     nmiss += !byk[k] || (bad && bad[k]);
   }
-  if (nmiss == 0)
-    return 0;
+  if (nmiss == 0) return 0;
   if (!model) /* every part bad: the first given one still has the command */
-    for (k = 0; k < n && !model; k++)
-      model = byk[k];
+    for (k = 0; k < n && !model; k++) model = byk[k];
   fprintf(out, "rps3-run merge: %zu of %zu shard%s to run again: ", nmiss, n,
           n == 1 ? "" : "s");
   for (k = 0, nmiss = 0; k < n; k++)
     if (!byk[k] || (bad && bad[k]))
       fprintf(out, "%s%zu", nmiss++ ? "," : "", k);
   fprintf(out, "\n");
-  if (model)
-    cmd = command_of(model);
+  if (model) cmd = command_of(model);
   if (!cmd) {
     fprintf(out, "  (rps3-run SCENE -o PART --shard K/%zu for each)\n", n);
     return nmiss;
@@ -222,14 +202,12 @@ size_t parts_report(FILE *out, const char *const *byk, const int *bad,
 }
 
 int parts_resume(const char *path, size_t k, size_t n, const char *text0,
-                 const char *fields, const char *inputs, size_t *nfailed)
-{
+                 const char *fields, const char *inputs, size_t *nfailed) {
   char err[768], *have;
   hid_t f;
   int rc = -1, same;
   size_t nall = 0, unset = 0;
-  if (access(path, F_OK) != 0)
-    return 0;
+  if (access(path, F_OK) != 0) return 0;
   if (join_part_check(path, k, n, text0, err, sizeof err)) {
     fprintf(stderr, "rps3-run: --resume: %s: running shard %zu/%zu again\n",
             err, k, n);
@@ -239,17 +217,19 @@ int parts_resume(const char *path, size_t k, size_t n, const char *text0,
   have = verify_root_attr(path, "fields");
   same = have && strcmp(have, fields) == 0;
   if (!same)
-    fprintf(stderr, "rps3-run: --resume: %s has the fields %s, this run "
-                    "writes %s: running shard %zu/%zu again\n",
+    fprintf(stderr,
+            "rps3-run: --resume: %s has the fields %s, this run "
+            "writes %s: running shard %zu/%zu again\n",
             path, have ? have : "(none)", fields, k, n);
   free(have);
-  if (!same)
-    return 0;
+  if (!same) return 0;
   /* the same scene text over other data (a table measured again) is
      another run: its cases would not be this run's */
   if (verify_inputs_as(path, inputs, "the file now has", err, sizeof err)) {
-    fprintf(stderr, "rps3-run: --resume: %s: running shard %zu/%zu "
-                    "again\n", err, k, n);
+    fprintf(stderr,
+            "rps3-run: --resume: %s: running shard %zu/%zu "
+            "again\n",
+            err, k, n);
     return 0;
   }
   f = H5Fopen(path, H5F_ACC_RDONLY, H5P_DEFAULT);
@@ -258,8 +238,10 @@ int parts_resume(const char *path, size_t k, size_t n, const char *text0,
     H5Fclose(f);
   }
   if (rc < 0) {
-    fprintf(stderr, "rps3-run: --resume: %s: cannot read status: running "
-                    "shard %zu/%zu again\n", path, k, n);
+    fprintf(stderr,
+            "rps3-run: --resume: %s: cannot read status: running "
+            "shard %zu/%zu again\n",
+            path, k, n);
     return 0;
   }
   /* the cases of the other shards read as the fill value (not computed):

@@ -38,11 +38,20 @@ enum { EXIT_OK = 0, EXIT_USAGE = 2, EXIT_IO = 3 };
 /* ------------------------------------------------------ configurations */
 
 typedef enum {
-  S_THETA, S_DERIV, S_METHOD, S_EFFECTS, S_DT, S_NSTUDY
+  S_THETA,
+  S_DERIV,
+  S_METHOD,
+  S_EFFECTS,
+  S_DT,
+  S_NSTUDY
 } study_kind;
 
 typedef enum {
-  D_EXACT, D_FD_POSE, D_FD_LENGTH, D_FD_SAMPLES, D_SPLINE
+  D_EXACT,
+  D_FD_POSE,
+  D_FD_LENGTH,
+  D_FD_SAMPLES,
+  D_SPLINE
 } deriv_kind;
 
 extern const char *const study_kind_name[S_NSTUDY];
@@ -52,53 +61,53 @@ typedef struct {
   study_kind study;
   char label[64];
   rps3_theta_route theta;
-  int solver;       /* rps3_solver, -1 for closed form */
+  int solver; /* rps3_solver, -1 for closed form */
   double tol;
   int warm;
   deriv_kind deriv;
-  double h;         /* finite-difference step, or the spline's row spacing
-                       [s]; 0 for exact */
+  double h; /* finite-difference step, or the spline's row spacing
+               [s]; 0 for exact */
   rps3_method method;
   int effects;
-  double dt_frac;   /* dt study: sample interval / duration; 0 otherwise */
+  double dt_frac; /* dt study: sample interval / duration; 0 otherwise */
 } study_config;
 
 /* results of one configuration on one trajectory */
 typedef struct {
-  double ns_point;      /* median ns per sample */
-  double ns_q1, ns_q3;  /* quartiles of the passes */
-  double ns_second;     /* ns per second of trajectory */
-  double force_err;     /* max |F - F_ref| / max |F_ref| */
-  double theta_err;     /* max |theta - theta_ld| [rad] */
-  double peak_err;      /* dt: (peak_ref - peak) / peak_ref */
-  double energy_err;    /* dt: max |W_k - dE_k| / max |W_k| */
-  double mean_iter;     /* theta solve iterations per sample */
-  int nfail;            /* samples that failed */
-  int status;           /* first failing status, 0 if none */
+  double ns_point;     /* median ns per sample */
+  double ns_q1, ns_q3; /* quartiles of the passes */
+  double ns_second;    /* ns per second of trajectory */
+  double force_err;    /* max |F - F_ref| / max |F_ref| */
+  double theta_err;    /* max |theta - theta_ld| [rad] */
+  double peak_err;     /* dt: (peak_ref - peak) / peak_ref */
+  double energy_err;   /* dt: max |W_k - dE_k| / max |W_k| */
+  double mean_iter;    /* theta solve iterations per sample */
+  int nfail;           /* samples that failed */
+  int status;          /* first failing status, 0 if none */
 } study_result;
 
 /* one configuration on one trajectory: its model, data and tables */
 typedef struct {
-  rps3_model model;     /* the configuration's model */
+  rps3_model model; /* the configuration's model */
   rps3_data *d;
   const rps3_traj *tr;
   const study_config *c;
-  double prev[3];       /* last theta solution, for the explicit warm start */
+  double prev[3]; /* last theta solution, for the explicit warm start */
   int have_prev;
-  rps3_traj table;      /* spline_pose: the trajectory's poses every h */
-  double *rows;         /* its arrays (time, pose, rate, scratch), or NULL */
+  rps3_traj table; /* spline_pose: the trajectory's poses every h */
+  double *rows;    /* its arrays (time, pose, rate, scratch), or NULL */
 } study_runner;
 
 /* the precise reference of one trajectory */
 typedef struct {
-  size_t n;             /* samples of the fixed grid */
+  size_t n; /* samples of the fixed grid */
   double span;
-  double *F;            /* reference forces [n][3] */
-  long double *theta;   /* long-double theta [n][3] */
-  double fscale;        /* max |F_ref| */
-  double floor_ref;     /* estimated rounding error of F_ref / fscale */
-  double floor_theta;   /* max |theta_closed - theta_ld| */
-  double peak;          /* reference peak |F| over NREF_PEAK samples */
+  double *F;          /* reference forces [n][3] */
+  long double *theta; /* long-double theta [n][3] */
+  double fscale;      /* max |F_ref| */
+  double floor_ref;   /* estimated rounding error of F_ref / fscale */
+  double floor_theta; /* max |theta_closed - theta_ld| */
+  double peak;        /* reference peak |F| over NREF_PEAK samples */
 } study_reference;
 
 /* ------------------------------------------------ study_points.c */
@@ -117,8 +126,7 @@ void study_traj_make(int k, rps3_traj *tr);
 /* inverse kinematics in long double, independent of src/ik.c: the
    reference angles theta_i and lengths l_i of the pose */
 void study_ik_long(const rps3_model *m, const double pose[3],
-                   long double theta[3],
-                   long double len[3]);
+                   long double theta[3], long double len[3]);
 
 /* a configuration of study s with every other knob at its default */
 void study_config_base(study_config *c, study_kind s);
@@ -135,8 +143,7 @@ double study_sample_time(size_t k, size_t n, double span);
 /* r for configuration c on tr from the model base; 0, or -1 with a
    message on stderr */
 int study_runner_init(study_runner *r, const study_config *c,
-                      const rps3_traj *tr,
-                      const rps3_model *base);
+                      const rps3_traj *tr, const rps3_model *base);
 
 /* T + P of the default effects at the data's state, from the data's
    velocities (not by the library) */

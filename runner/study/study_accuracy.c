@@ -16,7 +16,6 @@
 
 /* ------------------------------------------------------ accuracy study */
 
-
 /*
  * The reference forces of `effects` at the n grid samples, by study_ref.c
  * (Kane's equations in long double, from the model's inputs: nothing of the
@@ -33,7 +32,7 @@ static int reference_forces(const rps3_model *base, const rps3_traj *tr,
   ref->fscale = 0.0;
   for (k = 0; k < ref->n; k++) {
     double t = study_sample_time(k, ref->n, ref->span), q[3], dq[3], ddq[3],
-        Fd[3];
+           Fd[3];
     double *F = &ref->F[3 * k];
     if (rps3_traj_eval(base, tr, t, q, dq, ddq) != RPS3_OK ||
         study_ref_forces(base, effects, q, dq, ddq, F) != 0 ||
@@ -206,8 +205,7 @@ static int pass_dt(study_runner *r, const study_reference *ref,
 
 /* samples of one pass of configuration c */
 static size_t pass_points(const study_config *c, const study_reference *ref) {
-  return c->study == S_DT ? (size_t)floor(1.0 / c->dt_frac + 0.5) + 1
-                          : ref->n;
+  return c->study == S_DT ? (size_t)floor(1.0 / c->dt_frac + 0.5) + 1 : ref->n;
 }
 
 /* one pass of configuration c; with res != NULL, record its errors */
@@ -221,9 +219,8 @@ static void pass(study_runner *r, const study_reference *ref,
 
 /* the first, untimed pass: the errors of configuration c against ref */
 static int measure_errors(study_runner *r, const study_config *c,
-                          const rps3_traj *tr,
-                          const rps3_model *base, const study_reference *ref,
-                          study_result *res) {
+                          const rps3_traj *tr, const rps3_model *base,
+                          const study_reference *ref, study_result *res) {
   memset(res, 0, sizeof(*res));
   res->peak_err = res->energy_err = DNAN;
   if (study_runner_init(r, c, tr, base) < 0) return -1;
@@ -240,7 +237,7 @@ static int measure_errors(study_runner *r, const study_config *c,
  */
 static int measure_times(study_runner *r, const study_config *cfg, int ncfg,
                          const study_reference *ref, int repeats,
-                             study_result *res) {
+                         study_result *res) {
   double *ns = malloc((size_t)ncfg * (size_t)repeats * sizeof(double));
   int c, k;
   if (!ns) return -1;
@@ -316,12 +313,10 @@ static int measure_trajectory(const rps3_model *base, int t, size_t nsamp,
         return -1;
       rf = &rall;
     }
-    if (measure_errors(&run[c], &cfg[c], &tr, base, rf, &res[c]) < 0)
-      return -1;
+    if (measure_errors(&run[c], &cfg[c], &tr, base, rf, &res[c]) < 0) return -1;
     if (rf != ref) free(rall.F);
   }
-  if (measure_times(run, cfg, ncfg, ref, repeats, res) < 0)
-    return -1;
+  if (measure_times(run, cfg, ncfg, ref, repeats, res) < 0) return -1;
   for (c = 0; c < ncfg; c++) {
     rps3_data_free(run[c].d);
     free(run[c].rows);
@@ -347,15 +342,15 @@ static int write_configs(study_h5 *o, const study_config *cfg, int ncfg) {
   rc |= study_h5_write(o, "config", H5T_NATIVE_INT32, 1, &dims[1], idx, "1",
                        "configuration index; see study, label and the knobs",
                        s_cfg);
-#define CFG_STR(name, expr, doc)                                              \
-  for (c = 0; c < ncfg; c++) sv[c] = (expr);                                  \
+#define CFG_STR(name, expr, doc)             \
+  for (c = 0; c < ncfg; c++) sv[c] = (expr); \
   rc |= study_h5_write(o, name, o->str, 1, &dims[1], sv, "1", doc, s_cfgd);
-#define CFG_F64(name, expr, units, doc)                                       \
-  for (c = 0; c < ncfg; c++) dv[c] = (expr);                                  \
-  rc |= study_h5_write(o, name, H5T_NATIVE_DOUBLE, 1, &dims[1], dv, units,   \
+#define CFG_F64(name, expr, units, doc)                                    \
+  for (c = 0; c < ncfg; c++) dv[c] = (expr);                               \
+  rc |= study_h5_write(o, name, H5T_NATIVE_DOUBLE, 1, &dims[1], dv, units, \
                        doc, s_cfgd);
-#define CFG_I32(name, expr, doc)                                              \
-  for (c = 0; c < ncfg; c++) iv[c] = (int32_t)(expr);                         \
+#define CFG_I32(name, expr, doc)                                             \
+  for (c = 0; c < ncfg; c++) iv[c] = (int32_t)(expr);                        \
   rc |= study_h5_write(o, name, H5T_NATIVE_INT32, 1, &dims[1], iv, "1", doc, \
                        s_cfgd);
   CFG_STR("study", study_kind_name[cfg[c].study],
@@ -367,8 +362,7 @@ static int write_configs(study_h5 *o, const study_config *cfg, int ncfg) {
           "closed form (39) or GSL multiroot solve of (8)-(10)")
   CFG_STR("solver", cfg[c].solver < 0 ? "" : rps3_solver_name(cfg[c].solver),
           "GSL multiroot solver (empty for the closed form)")
-  CFG_F64("tolerance",
-          cfg[c].theta == RPS3_THETA_MULTIROOT ? cfg[c].tol : DNAN,
+  CFG_F64("tolerance", cfg[c].theta == RPS3_THETA_MULTIROOT ? cfg[c].tol : DNAN,
           "1", "theta solve tolerance on max |f_k| (lengths in units of R)")
   CFG_I32("warm_start", cfg[c].warm,
           "1: theta solve starts from the previous sample; 0: cold")
@@ -400,10 +394,10 @@ static int write_results(study_h5 *o, const study_result res[][MAXCFG],
   double tv[NTRAJ * MAXCFG], fl[NTRAJ];
   int32_t tiv[NTRAJ * MAXCFG];
   int t, c, rc = 0;
-#define RES_F64(name, field, units, doc)                                      \
-  for (t = 0; t < NTRAJ; t++)                                                 \
-  for (c = 0; c < ncfg; c++) tv[t * ncfg + c] = res[t][c].field;            \
-  rc |= study_h5_write(o, name, H5T_NATIVE_DOUBLE, 2, dims, tv, units, doc,   \
+#define RES_F64(name, field, units, doc)                                    \
+  for (t = 0; t < NTRAJ; t++)                                               \
+    for (c = 0; c < ncfg; c++) tv[t * ncfg + c] = res[t][c].field;          \
+  rc |= study_h5_write(o, name, H5T_NATIVE_DOUBLE, 2, dims, tv, units, doc, \
                        s_tc);
   RES_F64("ns_per_point", ns_point, "ns",
           "median over the timed passes of the time per sample (trajectory "
@@ -429,35 +423,36 @@ static int write_results(study_h5 *o, const study_result res[][MAXCFG],
           "theta solve iterations per sample")
   for (t = 0; t < NTRAJ; t++)
     for (c = 0; c < ncfg; c++) tiv[t * ncfg + c] = res[t][c].nfail;
-  rc |= study_h5_write(o, "failed_samples", H5T_NATIVE_INT32, 2, dims, tiv,
-                       "1", "samples whose pipeline returned an error "
-                       "(errors are measured over the others)", s_tc);
+  rc |= study_h5_write(o, "failed_samples", H5T_NATIVE_INT32, 2, dims, tiv, "1",
+                       "samples whose pipeline returned an error "
+                       "(errors are measured over the others)",
+                       s_tc);
   for (t = 0; t < NTRAJ; t++)
     for (c = 0; c < ncfg; c++) tiv[t * ncfg + c] = res[t][c].status;
   rc |= study_h5_write(o, "status", H5T_NATIVE_INT32, 2, dims, tiv, "1",
                        "rps3_status of the first failing sample, 0 if none",
                        s_tc);
   for (t = 0; t < NTRAJ; t++) fl[t] = ref[t].floor_ref;
-  rc |= study_h5_write(o, "reference_floor_force", H5T_NATIVE_DOUBLE, 1,
-                       &dt1, fl, "1",
+  rc |= study_h5_write(o, "reference_floor_force", H5T_NATIVE_DOUBLE, 1, &dt1,
+                       fl, "1",
                        "the reference's own rounding error / max |F_ref|: "
                        "its double twin's distance from it x LDBL_EPSILON / "
-                       "DBL_EPSILON", s_t);
+                       "DBL_EPSILON",
+                       s_t);
   for (t = 0; t < NTRAJ; t++) fl[t] = ref[t].floor_theta;
-  rc |= study_h5_write(o, "reference_floor_theta", H5T_NATIVE_DOUBLE, 1,
-                       &dt1, fl, "rad",
+  rc |= study_h5_write(o, "reference_floor_theta", H5T_NATIVE_DOUBLE, 1, &dt1,
+                       fl, "rad",
                        "max |theta_closed_form - theta_long_double| on the "
                        "grid",
                        s_t);
   for (t = 0; t < NTRAJ; t++) fl[t] = ref[t].fscale;
-  rc |= study_h5_write(o, "reference_force_max", H5T_NATIVE_DOUBLE, 1,
-                       &dt1, fl, "N",
-                       "max |F_ref| over the grid: the force_error scale",
+  rc |= study_h5_write(o, "reference_force_max", H5T_NATIVE_DOUBLE, 1, &dt1, fl,
+                       "N", "max |F_ref| over the grid: the force_error scale",
                        s_t);
   for (t = 0; t < NTRAJ; t++) fl[t] = ref[t].peak;
-  rc |= study_h5_write(o, "reference_peak_force", H5T_NATIVE_DOUBLE, 1,
-                       &dt1, fl, "N",
-                       "peak |F| over 200001 samples of the span", s_t);
+  rc |=
+      study_h5_write(o, "reference_peak_force", H5T_NATIVE_DOUBLE, 1, &dt1, fl,
+                     "N", "peak |F| over 200001 samples of the span", s_t);
   return rc ? -1 : 0;
 }
 
@@ -478,8 +473,10 @@ int study_accuracy(const char *path, const char *cmdline, size_t nsamp,
     if (measure_trajectory(&base, t, nsamp, repeats, cfg, ncfg, run, &ref[t],
                            res[t]) < 0)
       return EXIT_IO;
-  fprintf(stderr, "rps3-study: accuracy: %d configurations x %d trajectories "
-          "in %.1f s\n", ncfg, NTRAJ, 1e-9 * (study_now_ns() - t_start));
+  fprintf(stderr,
+          "rps3-study: accuracy: %d configurations x %d trajectories "
+          "in %.1f s\n",
+          ncfg, NTRAJ, 1e-9 * (study_now_ns() - t_start));
 
   /* the file */
   if (study_h5_open(&o, path, cmdline,
@@ -498,4 +495,3 @@ int study_accuracy(const char *path, const char *cmdline, size_t nsamp,
   }
   return rc ? EXIT_IO : EXIT_OK;
 }
-

@@ -63,12 +63,10 @@ static const struct {
     {"reference_force_max", "largest reference force magnitude"},
     {"reference_peak_force", "peak reference force magnitude"}};
 
-static const char *long_name_of(const char *name)
-{
+static const char *long_name_of(const char *name) {
   size_t i;
   for (i = 0; i < sizeof long_names / sizeof long_names[0]; i++)
-    if (strcmp(long_names[i].name, name) == 0)
-      return long_names[i].long_name;
+    if (strcmp(long_names[i].name, name) == 0) return long_names[i].long_name;
   return NULL;
 }
 

@@ -102,17 +102,17 @@ void study_ik_long(const rps3_model *m, const double pose[3],
 /* ------------------------------------------------------ configurations */
 
 const char *const study_kind_name[S_NSTUDY] = {"theta", "derivative", "method",
-                                          "effects", "dt"};
+                                               "effects", "dt"};
 const char *const study_deriv_name[5] = {"exact", "fd_pose", "fd_length",
-                                   "fd_samples", "spline_pose"};
+                                         "fd_samples", "spline_pose"};
 
 static const double tols[7] = {1e-2, 1e-4, 1e-6, 1e-8, 1e-10, 1e-12, 1e-14};
 static const double steps[6] = {FD_MARGIN, 1e-3, 1e-4, 1e-5, 1e-6, 1e-7};
 /* row spacings of the spline of the pose: 100 Hz is a motion-capture rate,
    1 kHz an encoder's */
 static const double spacings[3] = {1e-1, 1e-2, 1e-3};
-static const double dt_fracs[9] = {5e-2, 2e-2, 1e-2, 5e-3,
-                                   2e-3, 1e-3, 5e-4, 2e-4, 1e-4};
+static const double dt_fracs[9] = {5e-2, 2e-2, 1e-2, 5e-3, 2e-3,
+                                   1e-3, 5e-4, 2e-4, 1e-4};
 /* the effects ladder: gravity only -> every effect */
 static const int ladder[RPS3_NEFFECT] = {
     RPS3_EFF_PLATFORM_GRAVITY,
@@ -288,13 +288,12 @@ static int spline_rows(study_runner *r) {
 }
 
 int study_runner_init(study_runner *r, const study_config *c,
-                      const rps3_traj *tr,
-                      const rps3_model *base) {
+                      const rps3_traj *tr, const rps3_model *base) {
   char err[256];
   r->model = *base;
   r->model.opt.theta = c->theta;
-  r->model.opt.solver = c->solver < 0 ? RPS3_SOLVER_HYBRIDSJ
-                                      : (rps3_solver)c->solver;
+  r->model.opt.solver =
+      c->solver < 0 ? RPS3_SOLVER_HYBRIDSJ : (rps3_solver)c->solver;
   r->model.opt.tol = c->tol;
   r->model.opt.warm_start = c->warm;
   r->model.opt.method = c->method;
@@ -327,8 +326,8 @@ double study_energy(const rps3_model *m, const rps3_data *d) {
   /* omega in platform axes: rot^T omega */
   for (k = 0; k < 3; k++)
     for (i = 0; i < 3; i++) wb[k] += d->rot[i][k] * d->omega[i];
-  T = 0.5 * m->M * (d->vc[0] * d->vc[0] + d->vc[1] * d->vc[1] +
-                    d->vc[2] * d->vc[2]) +
+  T = 0.5 * m->M *
+          (d->vc[0] * d->vc[0] + d->vc[1] * d->vc[1] + d->vc[2] * d->vc[2]) +
       0.5 * (m->Ip[0] * wb[0] * wb[0] + m->Ip[1] * wb[1] * wb[1] +
              m->Ip[2] * wb[2] * wb[2]);
   P = m->M * m->g * d->c[2];
@@ -338,4 +337,3 @@ double study_energy(const rps3_model *m, const rps3_data *d) {
   }
   return T + P;
 }
-

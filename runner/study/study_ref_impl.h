@@ -110,7 +110,7 @@ typedef struct {
   S(jet) x[3][3];   /* link centroids */
 } S(kin);
 
-static int S(kinematics)(const rps3_model *m, const S(jet) q[3], S(kin) *k) {
+static int S(kinematics)(const rps3_model *m, const S(jet) q[3], S(kin) * k) {
   REAL R = (REAL)m->R, r = (REAL)m->rho * R, d = (REAL)m->d;
   REAL pi = RATAN2(0, -1), cp[3], sp[3];
   S(jet) A[3][3], B[3][3], T[3][3], w[3][3], rhs[2];
@@ -124,16 +124,29 @@ static int S(kinematics)(const rps3_model *m, const S(jet) q[3], S(kin) *k) {
     sp[i] = RSIN(2 * pi * (REAL)i / 3);
   }
   /* rot = Rz(alpha) Ry(beta) Rz(-alpha), the spin gamma = -alpha of (2) */
-  A[0][0] = ca; A[0][1] = S(jscale)(-1, sa); A[0][2] = zero;
-  A[1][0] = sa; A[1][1] = ca; A[1][2] = zero;
-  A[2][0] = zero; A[2][1] = zero; A[2][2] = one;
-  B[0][0] = cb; B[0][1] = zero; B[0][2] = sb;
-  B[1][0] = zero; B[1][1] = one; B[1][2] = zero;
-  B[2][0] = S(jscale)(-1, sb); B[2][1] = zero; B[2][2] = cb;
+  A[0][0] = ca;
+  A[0][1] = S(jscale)(-1, sa);
+  A[0][2] = zero;
+  A[1][0] = sa;
+  A[1][1] = ca;
+  A[1][2] = zero;
+  A[2][0] = zero;
+  A[2][1] = zero;
+  A[2][2] = one;
+  B[0][0] = cb;
+  B[0][1] = zero;
+  B[0][2] = sb;
+  B[1][0] = zero;
+  B[1][1] = one;
+  B[1][2] = zero;
+  B[2][0] = S(jscale)(-1, sb);
+  B[2][1] = zero;
+  B[2][2] = cb;
   for (i = 0; i < 3; i++)
     for (j = 0; j < 3; j++) {
       T[i][j] = zero;
-      for (n = 0; n < 3; n++) T[i][j] = S(jadd)(T[i][j], S(jmul)(A[i][n], B[n][j]));
+      for (n = 0; n < 3; n++)
+        T[i][j] = S(jadd)(T[i][j], S(jmul)(A[i][n], B[n][j]));
     }
   /* Rz(-alpha) = Rz(alpha)^T */
   for (i = 0; i < 3; i++)
@@ -152,10 +165,10 @@ static int S(kinematics)(const rps3_model *m, const S(jet) q[3], S(kin) *k) {
   for (i = 0; i < 2; i++)
     rhs[i] = S(jsub)(S(jscale)(sp[i], w[i][0]), S(jscale)(cp[i], w[i][1]));
   det = -sp[0] * cp[1] + cp[0] * sp[1];
-  k->c[0] = S(jscale)(1 / det, S(jsub)(S(jscale)(cp[1], rhs[0]),
-                                       S(jscale)(cp[0], rhs[1])));
-  k->c[1] = S(jscale)(1 / det, S(jsub)(S(jscale)(-sp[0], rhs[1]),
-                                       S(jscale)(-sp[1], rhs[0])));
+  k->c[0] = S(jscale)(
+      1 / det, S(jsub)(S(jscale)(cp[1], rhs[0]), S(jscale)(cp[0], rhs[1])));
+  k->c[1] = S(jscale)(
+      1 / det, S(jsub)(S(jscale)(-sp[0], rhs[1]), S(jscale)(-sp[1], rhs[0])));
   k->c[2] = q[2];
   /* links: from pin P_i to ball joint b_i = c + w_i */
   for (i = 0; i < 3; i++) {
@@ -166,8 +179,9 @@ static int S(kinematics)(const rps3_model *m, const S(jet) q[3], S(kin) *k) {
     P[2] = 0;
     for (j = 0; j < 3; j++)
       v[j] = S(jsub)(S(jadd)(k->c[j], w[i][j]), S(jk)(P[j]));
-    k->l[i] = S(jsqrt)(S(jadd)(S(jadd)(S(jmul)(v[0], v[0]), S(jmul)(v[1], v[1])),
-                               S(jmul)(v[2], v[2])));
+    k->l[i] =
+        S(jsqrt)(S(jadd)(S(jadd)(S(jmul)(v[0], v[0]), S(jmul)(v[1], v[1])),
+                         S(jmul)(v[2], v[2])));
     if (!(v[2].v > 0) || !(k->l[i].v > 0)) return -1;
     radial = S(jadd)(S(jscale)(cp[i], v[0]), S(jscale)(sp[i], v[1]));
     k->th[i] = S(jatan2)(v[2], S(jscale)(-1, radial));
@@ -178,7 +192,8 @@ static int S(kinematics)(const rps3_model *m, const S(jet) q[3], S(kin) *k) {
   for (j = 0; j < 3; j++) {
     k->p[j] = k->c[j];
     for (n = 0; n < 3; n++)
-      k->p[j] = S(jadd)(k->p[j], S(jscale)((REAL)m->payload.com[n], k->rot[j][n]));
+      k->p[j] =
+          S(jadd)(k->p[j], S(jscale)((REAL)m->payload.com[n], k->rot[j][n]));
   }
   return 0;
 }
@@ -191,7 +206,9 @@ static void S(vee)(REAL out[3], REAL Sm[3][3]) {
 }
 
 /* X Y^T with X, Y read from field f of the rot jets (0 v, 1 d, 2 dd) */
-static REAL S(field)(S(jet) a, int f) { return f == 0 ? a.v : f == 1 ? a.d : a.dd; }
+static REAL S(field)(S(jet) a, int f) {
+  return f == 0 ? a.v : f == 1 ? a.d : a.dd;
+}
 
 static void S(rot_vee)(REAL out[3], S(jet) X[3][3], int fx, S(jet) Y[3][3]) {
   REAL M3[3][3];
@@ -277,7 +294,8 @@ static int S(forces)(const rps3_model *m, int eff, const double pose[3],
       pdd[n] = kt.p[n].dd;
     }
     if (eff & RPS3_EFF_PLATFORM_GRAVITY) s += M * g * dc[2];
-    if (eff & RPS3_EFF_PLATFORM_INERTIA) s += M * S(dot)(cdd, dc) + S(dot)(ep, pw[j]);
+    if (eff & RPS3_EFF_PLATFORM_INERTIA)
+      s += M * S(dot)(cdd, dc) + S(dot)(ep, pw[j]);
     if (eff & RPS3_EFF_PAYLOAD) {
       REAL mp = (REAL)m->payload.mass;
       s += mp * (S(dot)(pdd, dp) + g * dp[2]) + S(dot)(epl, pw[j]);
@@ -292,8 +310,8 @@ static int S(forces)(const rps3_model *m, int eff, const double pose[3],
       if (eff & RPS3_EFF_PIN_FRICTION) {
         /* the pin friction law of rps3.h: sign, or tanh(rate / vreg) */
         REAL vreg = (REAL)m->friction.vreg;
-        REAL sg = vreg > 0 ? RTANH(rate / vreg)
-                           : (REAL)((rate > 0) - (rate < 0));
+        REAL sg =
+            vreg > 0 ? RTANH(rate / vreg) : (REAL)((rate > 0) - (rate < 0));
         REAL tau = -((REAL)m->friction.viscous * rate +
                      (REAL)m->friction.coulomb * sg);
         s -= tau * dth;
@@ -306,7 +324,8 @@ static int S(forces)(const rps3_model *m, int eff, const double pose[3],
   for (n = 0; n < 3; n++) {
     int piv = n;
     for (i = n + 1; i < 3; i++)
-      if ((A[i][n] < 0 ? -A[i][n] : A[i][n]) > (A[piv][n] < 0 ? -A[piv][n] : A[piv][n]))
+      if ((A[i][n] < 0 ? -A[i][n] : A[i][n]) >
+          (A[piv][n] < 0 ? -A[piv][n] : A[piv][n]))
         piv = i;
     if (A[piv][n] == 0) return -1;
     if (piv != n) {

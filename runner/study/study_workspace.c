@@ -92,8 +92,8 @@ static int grid_alloc(ws_grid *g, int quick) {
 }
 
 /* point p = (alpha[ia], beta[ib], zc[iz]) of model m */
-static void grid_point(const rps3_model *m, rps3_data *d, ws_grid *g,
-                       size_t p, size_t ia, size_t ib, size_t iz) {
+static void grid_point(const rps3_model *m, rps3_data *d, ws_grid *g, size_t p,
+                       size_t ia, size_t ib, size_t iz) {
   int st, i;
   double home;
   /* the assembly mode of the level pose at this height */
@@ -116,8 +116,7 @@ static void grid_point(const rps3_model *m, rps3_data *d, ws_grid *g,
   g->fmax[p] = st == RPS3_OK ? 0.0 : DNAN;
   for (i = 0; i < 3; i++) {
     g->force[3 * p + (size_t)i] = st == RPS3_OK ? d->F[i] : DNAN;
-    if (st == RPS3_OK && fabs(d->F[i]) > g->fmax[p])
-      g->fmax[p] = fabs(d->F[i]);
+    if (st == RPS3_OK && fabs(d->F[i]) > g->fmax[p]) g->fmax[p] = fabs(d->F[i]);
   }
 }
 
@@ -154,43 +153,44 @@ static int grid_write(study_h5 *o, const ws_grid *g) {
   int rc = 0;
   static const char *const self[1] = {NULL};
   static const char *const grid[4] = {"rho", "alpha", "beta", "z_c"};
-  static const char *const gridl[5] = {"rho", "alpha", "beta", "z_c",
-                                       "link"};
+  static const char *const gridl[5] = {"rho", "alpha", "beta", "z_c", "link"};
   hsize_t dims[5] = {g->nr, g->na, g->nb, g->nz, 3}, d3 = 3;
   rc |= study_h5_write(o, "rho", H5T_NATIVE_DOUBLE, 1, &dims[0], rhos, "1",
                        "rho = r / R (R = 0.2286 m, Table II)", self);
-  rc |= study_h5_write(o, "alpha", H5T_NATIVE_DOUBLE, 1, &dims[1],
-                       g->alpha, "rad", "precession angle alpha", self);
-  rc |= study_h5_write(o, "beta", H5T_NATIVE_DOUBLE, 1, &dims[2],
-                       g->beta, "rad", "nutation angle beta (tilt)", self);
+  rc |= study_h5_write(o, "alpha", H5T_NATIVE_DOUBLE, 1, &dims[1], g->alpha,
+                       "rad", "precession angle alpha", self);
+  rc |= study_h5_write(o, "beta", H5T_NATIVE_DOUBLE, 1, &dims[2], g->beta,
+                       "rad", "nutation angle beta (tilt)", self);
   rc |= study_h5_write(o, "z_c", H5T_NATIVE_DOUBLE, 1, &dims[3], g->zc, "m",
                        "height of the platform centre", self);
   rc |= study_h5_write(o, "link", H5T_NATIVE_INT32, 1, &d3, link, "1",
                        "link number", self);
-  rc |= study_h5_write(o, "status", H5T_NATIVE_INT32, 4, dims, g->status,
-                       "1",
+  rc |= study_h5_write(o, "status", H5T_NATIVE_INT32, 4, dims, g->status, "1",
                        "rps3_inverse status: 0 ok, 1 unreachable (EREACH), 4 "
                        "singular (ESING, condition above cond_max = 1e13 or "
-                       "transmission above trans_max = 1e8)", grid);
-  rc |= study_h5_write(o, "condition", H5T_NATIVE_DOUBLE, 4, dims, g->cond,
-                       "1",
+                       "transmission above trans_max = 1e8)",
+                       grid);
+  rc |= study_h5_write(o, "condition", H5T_NATIVE_DOUBLE, 4, dims, g->cond, "1",
                        "1-norm condition number of the lambda system "
                        "df/dtheta (NaN where unreachable); warn above 1e6",
                        grid);
-  rc |= study_h5_write(o, "transmission", H5T_NATIVE_DOUBLE, 4, dims,
-                       g->trans, "1",
+  rc |= study_h5_write(o, "transmission", H5T_NATIVE_DOUBLE, 4, dims, g->trans,
+                       "1",
                        "force transmission: largest actuator force per unit "
                        "platform load (force, moment / R); warn above 100, "
-                       "refused above 1e8 (NaN where not computed)", grid);
+                       "refused above 1e8 (NaN where not computed)",
+                       grid);
   rc |= study_h5_write(o, "mode", H5T_NATIVE_INT32, 4, dims, g->mode, "1",
                        "assembly mode: 1 same sign of det(df/dtheta) as the "
                        "level pose at this height (reachable from it without "
                        "crossing a singularity), -1 the other side, 0 "
-                       "unreachable", grid);
+                       "unreachable",
+                       grid);
   rc |= study_h5_write(o, "force", H5T_NATIVE_DOUBLE, 5, dims, g->force, "N",
                        "static actuating force holding the platform: "
                        "platform and link gravity (M = 0.18 kg, m = 0.09 kg, "
-                       "d = 0.1524 m), positive extends the link", gridl);
+                       "d = 0.1524 m), positive extends the link",
+                       gridl);
   rc |= study_h5_write(o, "max_force", H5T_NATIVE_DOUBLE, 4, dims, g->fmax, "N",
                        "max_i |force_i|", grid);
   return rc ? -1 : 0;
