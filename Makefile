@@ -14,7 +14,7 @@ GSL_LIBS = $(shell gsl-config --libs 2>/dev/null)
 HDF5_CFLAGS = $(shell pkg-config --cflags hdf5 2>/dev/null)
 HDF5_LIBS = $(shell pkg-config --libs hdf5 2>/dev/null) -lhdf5_hl
 YAML_LIBS = -lyaml
-# libcrypto (OpenSSL): the SHA-256 of the files a scene reads (runner/inputs.c)
+# libcrypto (OpenSSL): the SHA-256 of the files a scene reads (runner/scene/inputs.c)
 CRYPTO_LIBS = $(shell pkg-config --libs libcrypto 2>/dev/null || echo -lcrypto)
 MPI_CFLAGS = $(shell pkg-config --cflags ompi-c 2>/dev/null)
 MPI_LIBS = $(shell pkg-config --libs ompi-c 2>/dev/null)
@@ -64,11 +64,19 @@ TEST_SAN = $(TEST_SRC:tests/%.c=$(B)/tests-san/%)
 # the control-loop example (tests/example_control_loop.c) is built like a
 # test and run by check-c; it is not a sanitizer test
 TEST_BIN += $(B)/tests/example_control_loop $(B)/tests/example_sim_loop
-RUN_MAINS = runner/main_run.c runner/main_study.c runner/main_simstudy.c
+# the runner's subsystems, one folder each, lowest first: a folder uses only
+# the ones before it (docs/runner.md; `make cycles` checks it)
+RUN_DIRS = core scene output exec shards study bin
+RUN_SRC = $(foreach d,$(RUN_DIRS),$(wildcard runner/$(d)/*.c))
+# runner/mpi/ is the only code that knows MPI: rps3-run-mpi links
+# world_mpi.c, every other program the one-process stub
+WORLD_STUB = $(B)/runner/mpi/world_stub.o
+WORLD_MPI = $(B)/runner-mpi/mpi/world_mpi.o
+RUN_MAINS = runner/bin/main_run.c runner/bin/main_study.c runner/bin/main_simstudy.c
 # rps3-study's own files (study.h); the rest is every program's
-STUDY_SRC = $(wildcard runner/study_*.c)
+STUDY_SRC = $(wildcard runner/study/*.c)
 STUDY_OBJ = $(STUDY_SRC:runner/%.c=$(B)/runner/%.o)
-RUN_COMMON = $(filter-out $(RUN_MAINS) $(STUDY_SRC),$(wildcard runner/*.c))
+RUN_COMMON = $(filter-out $(RUN_MAINS) $(STUDY_SRC),$(RUN_SRC))
 RUN_OBJ = $(RUN_COMMON:runner/%.c=$(B)/runner/%.o) $(B)/runner/gitrev.o
 
 .PHONY: all lib runner runner-mpi study-bin check check-c check-san check-py check-lint check-slurm paper \
@@ -232,24 +240,24 @@ $(B)/runner/gitrev.c: FORCE
 $(B)/runner/gitrev.o: $(B)/runner/gitrev.c $(FLAGS_STAMP)
 	$(CC) $(WARN) $(OPT) -c $< -o $@
 FORCE:
-$(B)/rps3-run: $(B)/runner/main_run.o $(RUN_OBJ) $(B)/librps3.a
+$(B)/rps3-run: $(B)/runner/bin/main_run.o $(RUN_OBJ) $(WORLD_STUB) $(B)/librps3.a
 	$(CC) -o $@ $^ $(HDF5_LIBS) $(YAML_LIBS) $(GSL_LIBS) $(CRYPTO_LIBS) -lz -lpthread -lm
-$(B)/rps3-study: $(B)/runner/main_study.o $(STUDY_OBJ) $(RUN_OBJ) $(B)/librps3.a
+$(B)/rps3-study: $(B)/runner/bin/main_study.o $(STUDY_OBJ) $(RUN_OBJ) $(B)/librps3.a
 	$(CC) -o $@ $^ $(HDF5_LIBS) $(YAML_LIBS) $(GSL_LIBS) $(CRYPTO_LIBS) -lz -lpthread -lm
-# rps3-simstudy (runner/main_simstudy.c): closed-loop tracking and what
+# rps3-simstudy (runner/bin/main_simstudy.c): closed-loop tracking and what
 # simulation accuracy costs in time; `make simulation` runs it
-$(B)/rps3-simstudy: $(B)/runner/main_simstudy.o $(B)/runner/cli.o \
-                   $(B)/runner/safeio.o $(B)/runner/signals.o \
-                   $(B)/runner/tmpout.o $(B)/runner/h5err.o $(B)/librps3.a
+$(B)/rps3-simstudy: $(B)/runner/bin/main_simstudy.o $(B)/runner/core/cli.o \
+                   $(B)/runner/core/safeio.o $(B)/runner/core/signals.o \
+                   $(B)/runner/core/tmpout.o $(B)/runner/core/h5err.o $(B)/librps3.a
 	$(CC) -o $@ $^ $(HDF5_LIBS) $(GSL_LIBS) -lm
 
-# rps3-run-mpi: the same program built with -DRPS3_MPI, for
+# rps3-run-mpi: the same program linked with runner/mpi/world_mpi.c, for
 # `mpirun -n N build/rps3-run-mpi SCENE.yaml -o OUT.h5` (Debian's OpenMPI)
 runner-mpi: $(B)/rps3-run-mpi
-$(B)/runner-mpi/main_run.o: runner/main_run.c $(FLAGS_STAMP) | $(DEPS)
+$(WORLD_MPI): runner/mpi/world_mpi.c $(FLAGS_STAMP) | $(DEPS)
 	@mkdir -p $(@D)
-	$(CC) $(CPPFLAGS_ALL) -DRPS3_MPI -Irunner $(GSL_CFLAGS) $(HDF5_CFLAGS) $(MPI_CFLAGS) $(WARN) $(OPT) -MMD -MP -c $< -o $@
-$(B)/rps3-run-mpi: $(B)/runner-mpi/main_run.o $(RUN_OBJ) $(B)/librps3.a
+	$(CC) $(CPPFLAGS_ALL) -Irunner $(MPI_CFLAGS) $(WARN) $(OPT) -MMD -MP -c $< -o $@
+$(B)/rps3-run-mpi: $(B)/runner/bin/main_run.o $(RUN_OBJ) $(WORLD_MPI) $(B)/librps3.a
 	$(CC) -o $@ $^ $(HDF5_LIBS) $(YAML_LIBS) $(GSL_LIBS) $(MPI_LIBS) $(CRYPTO_LIBS) -lz -lpthread -lm
 
 # ------------------------------------------------------------------- tests
@@ -272,13 +280,21 @@ check-san: $(TEST_SAN)
 check-py: all runner-mpi venv-check
 	$(VPY) -m pytest -q tests
 
+# the runner's files without a circle, each folder using only the ones
+# below it (scripts/check_cycles.py, docs/runner.md "Code layout"): the
+# sources' includes and the symbols their objects define and use
+.PHONY: cycles
+cycles: runner $(if $(HAVE_MPI),runner-mpi)
+	$(PYTHON) scripts/check_cycles.py --root runner --objects $(B)/runner \
+	  $(if $(HAVE_MPI),--objects $(B)/runner-mpi)
+
 # ruff and mypy over the Python package and the analysis scripts
 check-lint: venv-check
 	$(VPY) -m ruff check --config python/pyproject.toml python analysis
 	$(VPY) -m mypy --config-file python/pyproject.toml python/rps3 analysis
 
 # pytest last, so that a run ends on its summary line
-check: lib runner check-c check-san valgrind check-fuzz check-lint check-py
+check: lib runner check-c check-san valgrind check-fuzz check-lint cycles check-py
 
 # ------------------------------------------------------------- check-slurm
 # The shipped Slurm scripts (scripts/slurm/) under a single-node Slurm on
@@ -360,11 +376,11 @@ FUZZ_CC = clang
 FUZZ_FLAGS = -g -O1 -fsanitize=fuzzer,address,undefined -fno-sanitize-recover=all
 FUZZ_TIME ?= 20
 # the scene parser's sources: the fuzz target links these and the library
-FUZZ_SCENE_SRC = runner/scene.c runner/scene_parse.c runner/scene_sweep.c \
-  runner/scene_case.c runner/scene_emit.c runner/scene_guard.c runner/table.c \
-  runner/table_h5.c \
-  runner/hint.c
-$(B)/fuzz_scene: tests/fuzz/fuzz_scene.c $(FUZZ_SCENE_SRC) runner/scene.h runner/scene_sim.h runner/scene_guard.h runner/scene_int.h runner/table.h runner/table_int.h runner/hint.h $(LIB_SRC) | $(DEPS)
+FUZZ_SCENE_SRC = runner/scene/scene.c runner/scene/scene_load.c runner/scene/scene_parse.c \
+  runner/scene/scene_sweep.c runner/scene/scene_case.c runner/scene/scene_emit.c \
+  runner/scene/scene_guard.c runner/scene/table.c runner/scene/table_read.c \
+  runner/scene/table_h5.c runner/core/hint.c
+$(B)/fuzz_scene: tests/fuzz/fuzz_scene.c $(FUZZ_SCENE_SRC) $(wildcard runner/scene/*.h) runner/core/hint.h $(LIB_SRC) | $(DEPS)
 	@mkdir -p $(@D)
 	$(FUZZ_CC) $(CPPFLAGS_ALL) -Irunner $(GSL_CFLAGS) $(HDF5_CFLAGS) $(WARN) $(FUZZ_FLAGS) $(KERNEL_FLAGS) \
 	  tests/fuzz/fuzz_scene.c $(FUZZ_SCENE_SRC) $(LIB_SRC) -o $@ $(YAML_LIBS) $(HDF5_LIBS) $(GSL_LIBS) -lm
@@ -376,7 +392,7 @@ check-fuzz: $(B)/fuzz_scene
 	  $(B)/fuzz-corpus configs tests/bad_scenes
 
 # ------------------------------------------------------------------- study
-# rps3-study (runner/main_study.c): what accuracy costs in time, and the
+# rps3-study (runner/bin/main_study.c): what accuracy costs in time, and the
 # workspace map, into out/*.h5; the figures and the table of recommended
 # settings (out/accuracy_table.md) by analysis/.  About 20 s.
 study-bin: $(B)/rps3-study
@@ -529,5 +545,5 @@ docs: $(B)/rps3-run
 clean:
 	rm -rf $(B) out python/build python/dist python/rps3.egg-info python/rps3/_rps3.*
 
--include $(wildcard $(B)/obj/*.d $(B)/pic/*.d $(B)/san/*.d $(B)/runner/*.d \
-                   $(B)/runner-mpi/*.d)
+-include $(wildcard $(B)/obj/*.d $(B)/pic/*.d $(B)/san/*.d $(B)/runner/*/*.d \
+                   $(B)/runner-mpi/*/*.d)

@@ -88,7 +88,7 @@ def failing_sine(samples=201, theta="closed_form"):
 
 def run_tmp(out, pid, rank=0):
     """The temporary file rps3-run process `pid` writes for `out` outside a
-    Slurm job (runner/tmpout.h): OUT.tmp.HOST.PID.jobnone.rankR."""
+    Slurm job (runner/core/tmpout.h): OUT.tmp.HOST.PID.jobnone.rankR."""
     import re
     import socket
     host = re.sub(r"[^A-Za-z0-9_-]", "_",

@@ -1,4 +1,4 @@
-"""rps3-run on scenes with a `simulate:` section (runner/simulate.c): each
+"""rps3-run on scenes with a `simulate:` section (runner/exec/simulate.c): each
 case simulated by rps3_sim under its controller, into a file of its own
 schema (docs/runner.md "Simulation").
 

@@ -1,10 +1,10 @@
-/* test_study_ref.c - the force reference of rps3-study (runner/study_ref.c):
+/* test_study_ref.c - the force reference of rps3-study (runner/study/study_ref.c):
    it reads the model's inputs only, it agrees with the library's inverse
    dynamics with every effect, and its double twin measures its floor. */
 #include "testutil.h"
 
 /* the reference is runner code, not part of librps3: compiled in here */
-#include "../runner/study_ref.c"
+#include "../runner/study/study_ref.c"
 
 /* every field rps3_model_init() derives, set to NaN */
 static void poison_derived(rps3_model *m) {

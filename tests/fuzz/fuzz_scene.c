@@ -26,7 +26,7 @@
 
 #include <gsl/gsl_errno.h>
 
-#include "scene.h"
+#include "scene/scene.h"
 
 int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size);
 int LLVMFuzzerInitialize(int *argc, char ***argv);

@@ -1,0 +1,533 @@
+/*
+ * main_run.c - rps3-run: run a scene (and its sweep) into an HDF5 file.
+ *
+ *   rps3-run SCENE.yaml -o OUT.h5 [--quiet] [--gzip LEVEL] [--check]
+ *            [--fields LIST] [-j N] [--shard K/N [--resume]] [--failed-ok]
+ *   rps3-run --clean OUT.h5 [--force]
+ *   rps3-run merge OUT.h5 PART.h5 ... [--copy] [--quiet]
+ *   mpirun -n N rps3-run-mpi SCENE.yaml -o OUT.h5 [--copy] [...]
+ *
+ * -j N computes the cases on N threads (sweep.h); --shard K/N computes the
+ * jobs of shard K only, into a part file that `merge` joins with the
+ * others (cmd_merge.c: by virtual datasets, join.h, or with --copy by
+ * copying chunks, merge.h).  Linked with MPI (rps3-run-mpi, mpi/world.h) and
+ * launched by mpirun, rank r computes shard r of the ranks into
+ * OUT.h5.tmp.PID.part<r> next to OUT.h5, renamed OUT.h5.part<r>of<N>, and
+ * rank 0 joins the parts into OUT.h5 (with --copy: merges them into its
+ * own file, and the parts are removed): the same datasets as one process.
+ *
+ * Exit codes: 0 every case ok; 1 the file is complete but some cases failed
+ * (see status/message/failed_at); 2 bad command line or scene, nothing
+ * written; 3 the file could not be written (or an internal error), no
+ * OUT.h5; killed by SIGINT/SIGTERM/SIGHUP: the temporary file is removed and
+ * the process dies of that signal (shell status 128 + signal).
+ */
+#include <errno.h>
+#include <signal.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <time.h>
+#include <unistd.h>
+
+#include <gsl/gsl_errno.h>
+#include <hdf5.h>
+
+#include "core/cli.h"
+#include "core/exit_codes.h"
+#include "core/h5err.h"
+#include "core/progress.h"
+#include "core/safeio.h"
+#include "core/signals.h"
+#include "core/tmpout.h"
+#include "exec/preflight.h"
+#include "exec/simulate.h"
+#include "exec/sweep.h"
+#include "mpi/world.h"
+#include "output/output.h"
+#include "output/sim_output.h"
+#include "run_cli.h"
+#include "scene/inputs.h"
+#include "scene/scene.h"
+#include "shards/cmd_merge.h"
+#include "shards/join.h"
+#include "shards/merge.h"
+#include "shards/parts.h"
+
+/* the name of rank r's part once complete: OUT.h5.part<r>of<N> */
+static void rank_part_name(char *buf, size_t size, const char *out_path, int r,
+                           int n) {
+  snprintf(buf, size, "%s.part%dof%d", out_path, r, n);
+}
+
+/* rank 0: join the ranks' parts (renamed) into OUT.h5 by virtual datasets;
+   0 or -1 (message printed) */
+static int ranks_join_vds(const world *w, const char *out_path, const char *cmd,
+                          size_t *nfailed) {
+  char(*paths)[4096] = calloc((size_t)w->size, sizeof *paths);
+  const char **part = calloc((size_t)w->size, sizeof *part);
+  char err[768];
+  int r, rc = -1;
+  if (!paths || !part)
+    fprintf(stderr, "rps3-run: out of memory\n");
+  else if (tmpout_name(out_path, 0) == 0) {
+    for (r = 0; r < w->size; r++) {
+      rank_part_name(paths[r], sizeof paths[r], out_path, r, w->size);
+      part[r] = paths[r];
+    }
+    tmpout_arm();
+    if (join_vds(tmpout_path(), part, (size_t)w->size, cmd, nfailed, err,
+                 sizeof err))
+      fprintf(stderr,
+              "rps3-run: joining the ranks' parts: %s (the parts "
+              "%s.part*of%d are complete: join them with rps3-run "
+              "merge)\n",
+              err, out_path, w->size);
+    else
+      rc = tmpout_commit(out_path);
+  }
+  free(paths);
+  free(part);
+  return rc;
+}
+
+/*
+ * After every rank has written its part.  By default every rank renames
+ * its part to OUT.h5.part<r>of<N> and rank 0 joins them by virtual
+ * datasets (join.h); with `copy` rank 0 merges the parts of ranks 1.. into
+ * its own file (merge.h) and every rank removes its part.  `code` is this
+ * rank's outcome so far; returns the exit code of the run, the same on
+ * every rank.
+ */
+static int ranks_join(const world *w, int code, int copy, const char *out_path,
+                      const char *cmd, progress *pr, const sweep_stats *st,
+                      size_t ncase) {
+  unsigned long mine[3], sum[3];
+  int worst = code, result = code;
+  size_t nfailed = 0;
+  mine[0] = st->cases_done;
+  mine[1] = st->points_done;
+  mine[2] = st->nfailed;
+  world_idle_barrier();
+  world_max_int(&code, &worst, 1);
+  world_sum_ulong(mine, sum, 3);
+  result = worst;
+  if (worst < EXIT_USAGE && !copy) {
+    char name[4096];
+    rank_part_name(name, sizeof name, out_path, w->rank, w->size);
+    code = tmpout_commit(name) ? EXIT_IO : code;
+    world_max_int(&code, &worst, 1);
+    result = worst;
+    if (w->rank == 0 && worst < EXIT_USAGE)
+      result = ranks_join_vds(w, out_path, cmd, &nfailed) ? EXIT_IO
+               : nfailed                                  ? EXIT_FAILED_CASES
+                                                          : EXIT_OK;
+  } else if (worst < EXIT_USAGE) {
+    const char **src = calloc((size_t)w->size, sizeof *src);
+    size_t *ks = calloc((size_t)w->size, sizeof *ks);
+    char(*paths)[4096] = calloc((size_t)w->size, sizeof *paths);
+    char err[768], me[4096];
+    int r;
+    result = EXIT_IO;
+    if (!src || !ks || !paths) {
+      fprintf(stderr, "rps3-run: out of memory\n");
+      world_abort(EXIT_IO);
+    }
+    /* the ranks' temporary names, each with its own host and process */
+    snprintf(me, sizeof me, "%s", tmpout_path());
+    world_gather(me, sizeof me, (char *)paths);
+    if (w->rank == 0) {
+      for (r = 1; r < w->size; r++) {
+        src[r - 1] = paths[r];
+        ks[r - 1] = (size_t)r;
+      }
+      if (merge_parts(tmpout_path(), src, ks, (size_t)w->size - 1,
+                      (size_t)w->size, cmd, &nfailed, err, sizeof err))
+        fprintf(stderr, "rps3-run: merging the ranks' parts: %s\n", err);
+      else if (tmpout_commit(out_path) == 0)
+        result = nfailed ? EXIT_FAILED_CASES : EXIT_OK;
+    }
+    free(src);
+    free(ks);
+    free(paths);
+  }
+  if (w->rank == 0 && result < EXIT_USAGE) {
+    pr->ncase = ncase;
+    pr->njob = pr->njob_all;
+    progress_finish(pr, sum[0], sum[1], sum[2]);
+  }
+  /* the other ranks sleep through rank 0's join; then, with --copy, the
+     parts are read and every rank removes its own */
+  world_idle_barrier();
+  world_bcast_int(&result);
+  tmpout_discard();
+  return result;
+}
+
+/*
+ * The worst of the ranks' codes (this code without MPI); *first, when not
+ * NULL, gets rank 0's.  Every rank calls it at the same points, so that
+ * they all stop or all go on together.
+ */
+static int agree(const world *w, int code, int *first) {
+  int mine[2], all[2];
+  mine[0] = code;
+  mine[1] = w->rank == 0 ? code : 0;
+  all[0] = mine[0];
+  all[1] = mine[1];
+  if (w->size > 1) world_max_int(mine, all, 2);
+  if (first) *first = all[1];
+  return all[0];
+}
+
+/*
+ * The command line against the launch: under mpirun the ranks are the
+ * shards (a's shard set from w), --copy needs mpirun, --resume a shard;
+ * where the output goes is checked before anything is computed.  -1 to
+ * go on, or the exit code after a message (by rank 0).
+ */
+static int args_for_world(run_args *a, const world *w) {
+  char err[512];
+  if (w->size > 1) {
+    if (a->shard_arg) {
+      if (w->rank == 0) {
+        fprintf(stderr,
+                "rps3-run: --shard is for runs without mpirun; "
+                "under mpirun the ranks are the shards\n");
+        cli_try("rps3-run");
+      }
+      return EXIT_USAGE;
+    }
+    a->shard = (size_t)w->rank;
+    a->nshard = (size_t)w->size;
+    /* each rank's file is a part like those of --shard */
+    snprintf(a->shard_text, sizeof a->shard_text, "%d/%d", w->rank, w->size);
+    a->shard_arg = a->shard_text;
+  } else if (a->copy) {
+    fprintf(stderr,
+            "rps3-run: --copy is for rps3-run-mpi under mpirun and "
+            "for merge; a run without them writes one whole file\n");
+    cli_try("rps3-run");
+    return EXIT_USAGE;
+  }
+  /* where the output goes is checked before anything is computed */
+  if (a->out_path && !a->check) {
+    const char *in[1];
+    in[0] = a->scene_path;
+    if (out_path_check(a->out_path, in, 1, err, sizeof err)) {
+      if (w->rank == 0) fprintf(stderr, "rps3-run: %s\n", err);
+      return EXIT_USAGE;
+    }
+    if (w->rank == 0) stale_report("rps3-run", a->out_path);
+  }
+  if (a->resume && (!a->shard_arg || w->size > 1)) {
+    if (w->rank == 0) {
+      fprintf(stderr,
+              "rps3-run: --resume is for --shard K/N runs (it "
+              "skips a part that is complete already)\n");
+      cli_try("rps3-run");
+    }
+    return EXIT_USAGE;
+  }
+  return -1;
+}
+
+/* at most one thread per core (-j beyond them: said by rank 0) */
+static void use_the_cores(sweep_opts *opts, const world *w) {
+  /* threads beyond the cores compute nothing faster and each holds a
+     tile and a workspace (-j 1024 on 2 cores took 4.3 GB): use the
+     cores */
+  long cores = sysconf(_SC_NPROCESSORS_ONLN);
+  if (cores >= 1 && opts->nthread > cores) {
+    if (w->rank == 0)
+      fprintf(stderr,
+              "rps3-run: warning: -j %d on %ld core%s: computing "
+              "on %ld thread%s\n",
+              opts->nthread, cores, cores == 1 ? "" : "s", cores,
+              cores == 1 ? "" : "s");
+    opts->nthread = (int)cores;
+  }
+}
+
+/* a scene with a simulate section: simulated (simulate.h), by one
+   process; the exit code */
+static int run_simulated(scene *s, const run_args *a, const world *w, int argc,
+                         char **argv) {
+  sim_args sa;
+  int code;
+  char *cmd;
+  if (a->fields != out_fields_all()) {
+    if (w->rank == 0) {
+      fprintf(stderr,
+              "rps3-run: --fields selects variables of the "
+              "inverse-dynamics file; a scene with a simulate "
+              "section writes the simulation file whole\n");
+      cli_try("rps3-run");
+    }
+    return EXIT_USAGE;
+  }
+  sa.out_path = a->out_path;
+  sa.check = a->check;
+  sa.quiet = a->quiet;
+  sa.gzip = a->gzip;
+  sa.nthread = a->nthread;
+  sa.sharded = a->shard_arg != NULL || a->resume || w->size > 1;
+  sa.command_line = cmd = cli_command_line(argc, argv);
+  /* refused under mpirun: rank 0 says so */
+  code = !cmd ? EXIT_IO : w->rank > 0 ? EXIT_USAGE : sim_main(s, &sa);
+  free(cmd);
+  return code;
+}
+
+static int run_main(int argc, char **argv, const world *w) {
+  int code;
+  run_args a;
+  char err[512];
+  scene s;
+  scene_error serr;
+  sweep_plan plan;
+  sweep_opts opts = {1, 0, 1};
+  pre_opts pre;
+  sweep_stats st;
+  out_block block;
+  out_meta meta;
+  out_file *f;
+  progress pr;
+  char *cmd, *inputs;
+
+  /* the command line (run_cli.h) */
+  if ((code = run_args_parse(argc, argv, &a)) >= 0) return code;
+  if ((code = args_for_world(&a, w)) >= 0) return code;
+  opts.nthread = a.nthread;
+  opts.shard = a.shard;
+  opts.nshard = a.nshard;
+  /* the scene and every case are checked before anything is written (by
+     every rank; rank 0 says what is wrong, or else the ranks that fail) */
+  code = EXIT_OK;
+  if (scene_load(&s, a.scene_path, &serr))
+    code = EXIT_USAGE;
+  else if (w->rank == 0)
+    /* values valid but likely in the wrong unit: said (before a case that
+       fails because of them), not refused */
+    scene_warnings_print(&s, stderr);
+  if (code == EXIT_OK && sweep_plan_make(&s, &plan, &serr)) {
+    scene_free(&s);
+    code = EXIT_USAGE;
+  }
+  {
+    int first, worst = agree(w, code, &first);
+    if (code && (w->rank == 0 || first == EXIT_OK))
+      scene_error_print(a.scene_path, &serr);
+    if (worst) {
+      if (!code) scene_free(&s);
+      return worst;
+    }
+  }
+  /* a scene with a simulate section is simulated instead (simulate.h) */
+  if (sim_wanted(&s)) {
+    code = run_simulated(&s, &a, w, argc, argv);
+    scene_free(&s);
+    return code;
+  }
+  pre.rank = w->rank;
+  pre.nrank = w->size;
+  pre.copy = a.copy;
+  pre.gzip = a.gzip;
+  pre.quiet = a.quiet;
+  pre.fields = a.fields;
+  if (pre_jobs(&s, &plan, &opts, &pre)) {
+    scene_free(&s);
+    return EXIT_USAGE;
+  }
+  use_the_cores(&opts, w);
+  if (a.check) {
+    if (w->rank == 0) pre_check_print(a.scene_path, &s, &plan, &opts, &pre);
+    scene_free(&s);
+    return EXIT_OK;
+  }
+  if (w->rank == 0 && pre_room(&s, &plan, &opts, &pre, a.out_path))
+    code = EXIT_USAGE;
+  /* the files the scene read, by content (inputs.h): recorded in the
+     file, compared by --resume and merge (each rank its own, before the
+     ranks agree to go on) */
+  inputs = NULL;
+  if (code == EXIT_OK && !(inputs = inputs_record(&s, err, sizeof err))) {
+    fprintf(stderr, "rps3-run: %s: %s\n", a.scene_path, err);
+    code = EXIT_IO;
+  }
+  if ((code = agree(w, code, NULL)) != EXIT_OK) {
+    free(inputs);
+    scene_free(&s);
+    return code;
+  }
+
+  /* a complete part of this scene and these data is not computed again */
+  if (a.resume && !a.check) {
+    size_t nfailed = 0,
+           ncase = sweep_shard_cases(&s, &plan, opts.shard, opts.nshard);
+    char names[1024];
+    if (parts_resume(a.out_path, opts.shard, opts.nshard, s.text,
+                     out_fields_text(a.fields, names, sizeof names), inputs,
+                     &nfailed)) {
+      if (!a.quiet)
+        fprintf(stderr,
+                "rps3-run: %s is shard %zu/%zu of this scene, "
+                "complete (%zu case%s, %zu failed): not run again\n",
+                a.out_path, opts.shard, opts.nshard, ncase,
+                ncase == 1 ? "" : "s", nfailed);
+      free(inputs);
+      scene_free(&s);
+      return nfailed && !a.failed_ok ? EXIT_FAILED_CASES : EXIT_OK;
+    }
+  }
+  /* what killed runs of this output left on this host */
+  if (w->rank == 0) tmpout_clean(a.out_path, 0, 1);
+
+  memset(&block, 0, sizeof block);
+  cmd = cli_command_line(argc, argv);
+  if (!cmd || out_block_alloc(&block, plan.tile_cases, plan.tile_points,
+                              plan.first.model.opt.effects)) {
+    fprintf(stderr, "rps3-run: out of memory\n");
+    code = EXIT_IO;
+  }
+  block.fields = a.fields;
+  meta.command_line = cmd;
+  meta.gzip = a.gzip;
+  meta.shard = a.shard_arg;
+  meta.fields = a.fields;
+  meta.inputs = inputs;
+
+  /* write under a temporary name in the same directory, rename at the end
+     (tmpout.h) */
+  if (code == EXIT_OK && tmpout_name(a.out_path, w->rank)) code = EXIT_USAGE;
+  if ((code = agree(w, code, NULL)) != EXIT_OK) goto done;
+  tmpout_arm();
+  progress_start(&pr, sweep_shard_cases(&s, &plan, opts.shard, opts.nshard),
+                 a.quiet || w->rank != 0);
+  pr.njob_all = sweep_njob(&s, &plan);
+  pr.njob = sweep_shard_jobs(&s, &plan, opts.shard, opts.nshard);
+  /* the shard's samples, in proportion to its cases (exact unsharded) */
+  pr.npoint =
+      s.ncase
+          ? (size_t)((double)plan.npoint * (double)pr.ncase / (double)s.ncase)
+          : 0;
+  f = out_create(tmpout_path(), &s, &plan.first, plan.nt, plan.grid_common,
+                 plan.chunk_points, &block, &meta, err, sizeof err);
+  if (!f) {
+    fprintf(stderr, "rps3-run: %s: %s\n", a.out_path, err);
+    code = EXIT_IO;
+    memset(&st, 0, sizeof st);
+  } else if (sweep_run_opts(&s, &plan, f, &block, &opts, &pr, &st, err,
+                            sizeof err)) {
+    fprintf(stderr, "rps3-run: %s: %s\n", a.out_path, err);
+    out_close(f, NULL, 0);
+    code = EXIT_IO;
+  } else if (out_close(f, err, sizeof err)) {
+    fprintf(stderr, "rps3-run: %s: %s\n", a.out_path, err);
+    code = EXIT_IO;
+  }
+  if (w->size > 1) {
+    code = ranks_join(w, code, a.copy, a.out_path, cmd, &pr, &st, s.ncase);
+    goto done;
+  }
+  if (code != EXIT_OK || tmpout_commit(a.out_path)) {
+    code = EXIT_IO;
+    goto done;
+  }
+  progress_finish(&pr, st.cases_done, st.points_done, st.nfailed);
+  code = st.nfailed ? EXIT_FAILED_CASES : EXIT_OK;
+
+done:
+  /* a complete file with failed cases, as a success (for schedulers) */
+  if (code == EXIT_FAILED_CASES && a.failed_ok) code = EXIT_OK;
+  tmpout_discard();
+  out_block_free(&block);
+  free(cmd);
+  free(inputs);
+  scene_free(&s);
+  return code;
+}
+
+/*
+ * The tasks of the launch this process belongs to, 1 if none: mpirun
+ * (OMPI_COMM_WORLD_SIZE), a PMI launcher (PMI_SIZE), or a Slurm step of
+ * several tasks (srun -n N: SLURM_STEP_NUM_TASKS; not SLURM_NTASKS, which
+ * the batch script of a multi-task job has too, where one process is
+ * right).  *by names the launcher.
+ */
+static int launched_tasks(const char **by) {
+  const char *v = getenv("OMPI_COMM_WORLD_SIZE");
+  *by = "mpirun";
+  if (!v && (v = getenv("PMI_SIZE")) != NULL) *by = "a PMI launcher";
+  if (!v && getenv("SLURM_PROCID") &&
+      (v = getenv("SLURM_STEP_NUM_TASKS")) != NULL)
+    *by = "srun";
+  return v && atoi(v) > 1 ? atoi(v) : 1;
+}
+
+int main(int argc, char **argv) {
+  world w = {0, 1};
+  const char *by;
+  char *cmd;
+  int code;
+
+  /* fds 0-2 open before anything opens a file; HDF5 without atexit */
+  proc_init();
+  world_init(&argc, &argv, &w);
+  if (w.size == 1 && launched_tasks(&by) > 1) {
+    if (world_has_mpi()) {
+      /* srun without --mpi=pmix (or an MPI that srun cannot start): N
+         singletons, each of which would compute the whole sweep */
+      fprintf(stderr,
+              "rps3-run: %d tasks started by %s, but MPI sees 1: "
+              "use srun --mpi=pmix (or mpirun)\n",
+              launched_tasks(&by), by);
+      world_finalize();
+      return proc_exit(EXIT_USAGE);
+    }
+    if (!(argc > 1 &&
+          (strcmp(argv[1], "merge") == 0 || strcmp(argv[1], "--clean") == 0))) {
+      fprintf(stderr,
+              "rps3-run: launched as %d tasks by %s, but built "
+              "without MPI: every task would compute the whole "
+              "sweep; use build/rps3-run-mpi (make runner-mpi), or "
+              "one task per --shard K/N (a Slurm job array)\n",
+              launched_tasks(&by), by);
+      return proc_exit(EXIT_USAGE);
+    }
+  }
+
+  /* process-wide policy: GSL returns its errors, HDF5's are captured
+     (h5err.h); the signals that end a run remove its temporary file
+     (signals.h) */
+  sig_init();
+  gsl_set_error_handler_off();
+  h5_errors_capture();
+  if (strcmp(rps3_version(), RPS3_VERSION_STRING) != 0) {
+    fprintf(stderr, "rps3-run: library %s does not match header %s\n",
+            rps3_version(), RPS3_VERSION_STRING);
+    code = EXIT_IO;
+  } else if (argc > 1 && strcmp(argv[1], "--clean") == 0) {
+    if (w.size > 1) {
+      if (w.rank == 0)
+        fprintf(stderr, "rps3-run: --clean runs as one process\n");
+      code = EXIT_USAGE;
+    } else
+      code = clean_main(argc - 1, argv + 1);
+  } else if (argc > 1 && strcmp(argv[1], "merge") == 0) {
+    if (w.size > 1) {
+      if (w.rank == 0) fprintf(stderr, "rps3-run: merge runs as one process\n");
+      code = EXIT_USAGE;
+    } else if (!(cmd = cli_command_line(argc, argv))) {
+      fprintf(stderr, "rps3-run: out of memory\n");
+      code = EXIT_IO;
+    } else {
+      code = merge_main(argc - 1, argv + 1, cmd);
+      free(cmd);
+    }
+  } else
+    code = run_main(argc, argv, &w);
+
+  world_finalize();
+  return proc_exit(code);
+}

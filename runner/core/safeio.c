@@ -1,0 +1,201 @@
+/*
+ * safeio.c - see safeio.h.
+ */
+#include "safeio.h"
+
+#include <dirent.h>
+#include <errno.h>
+#include <fcntl.h>
+#include <signal.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <sys/stat.h>
+#include <sys/statvfs.h>
+#include <unistd.h>
+
+#include <hdf5.h>
+
+void proc_init(void) {
+  int fd;
+  for (fd = 0; fd <= 2; fd++)
+    if (fcntl(fd, F_GETFD) < 0 && errno == EBADF) {
+      /* open() returns the lowest free fd: this one */
+      int n = open("/dev/null", fd == 0 ? O_RDONLY : O_WRONLY);
+      if (n >= 0 && n != fd) {
+        dup2(n, fd);
+        close(n);
+      }
+    }
+  /* before any other HDF5 call */
+  H5dont_atexit();
+}
+
+int proc_exit(int code) {
+  if (code != SIG_EXIT_IO) H5close();
+  return code;
+}
+
+/* the directory part of path ("." when none) into dir */
+static int dir_of(const char *path, char *dir, size_t sz) {
+  const char *slash = strrchr(path, '/');
+  size_t n;
+  if (!slash) {
+    snprintf(dir, sz, ".");
+    return 0;
+  }
+  n = slash == path ? 1 : (size_t)(slash - path);
+  if (n >= sz) return -1;
+  memcpy(dir, path, n);
+  dir[n] = '\0';
+  return 0;
+}
+
+static const char *kind_of(mode_t m) {
+  return S_ISDIR(m)    ? "a directory"
+         : S_ISLNK(m)  ? "a symbolic link"
+         : S_ISCHR(m)  ? "a character device"
+         : S_ISBLK(m)  ? "a block device"
+         : S_ISFIFO(m) ? "a FIFO"
+         : S_ISSOCK(m) ? "a socket"
+                       : "not a regular file";
+}
+
+int out_path_check(const char *out, const char *const *in, size_t ninput,
+                   char *err, size_t errsz) {
+  struct stat so, si;
+  char dir[4096];
+  size_t i, n = strlen(out);
+  if (n == 0) {
+    snprintf(err, errsz, "-o needs a file name, got ''");
+    return -1;
+  }
+  if (out[n - 1] == '/') {
+    snprintf(err, errsz, "-o %s names a directory: give a file name", out);
+    return -1;
+  }
+  if (lstat(out, &so) == 0) {
+    if (!S_ISREG(so.st_mode)) {
+      snprintf(err, errsz,
+               "-o %s is %s: the output must be a new or a regular file "
+               "(it is replaced when the run is complete)",
+               out, kind_of(so.st_mode));
+      return -1;
+    }
+    for (i = 0; i < ninput; i++)
+      if (stat(in[i], &si) == 0 && si.st_dev == so.st_dev &&
+          si.st_ino == so.st_ino) {
+        snprintf(err, errsz, "-o %s is the input %s itself", out, in[i]);
+        return -1;
+      }
+  } else if (errno != ENOENT) {
+    snprintf(err, errsz, "-o %s: %s", out, strerror(errno));
+    return -1;
+  }
+  if (dir_of(out, dir, sizeof dir)) {
+    snprintf(err, errsz, "-o %s: path too long", out);
+    return -1;
+  }
+  if (stat(dir, &si) != 0) {
+    snprintf(err, errsz, "-o %s: directory %s: %s", out, dir, strerror(errno));
+    return -1;
+  }
+  if (!S_ISDIR(si.st_mode)) {
+    snprintf(err, errsz, "-o %s: %s is not a directory", out, dir);
+    return -1;
+  }
+  /* EROFS for a read-only file system, EACCES without permission */
+  if (access(dir, W_OK | X_OK) != 0) {
+    snprintf(err, errsz, "-o %s: cannot create files in %s: %s", out, dir,
+             strerror(errno));
+    return -1;
+  }
+  return 0;
+}
+
+/* the pid of NAME = BASE.tmp.PID or BASE.tmp.PID.partR; 0 if not one */
+static long tmp_pid(const char *name, const char *base) {
+  size_t n = strlen(base);
+  const char *p;
+  char *end;
+  long pid;
+  if (strncmp(name, base, n) != 0 || strncmp(name + n, ".tmp.", 5) != 0)
+    return 0;
+  p = name + n + 5;
+  if (*p < '0' || *p > '9') return 0;
+  pid = strtol(p, &end, 10);
+  if (*end == '\0') return pid;
+  if (strncmp(end, ".part", 5) != 0 || end[5] < '0' || end[5] > '9') return 0;
+  strtol(end + 5, &end, 10);
+  return *end == '\0' ? pid : 0;
+}
+
+size_t stale_report(const char *prog, const char *out) {
+  char dir[4096];
+  const char *slash = strrchr(out, '/'), *base = slash ? slash + 1 : out;
+  struct dirent *e;
+  size_t count = 0;
+  DIR *d;
+  if (dir_of(out, dir, sizeof dir) || !(d = opendir(dir))) return 0;
+  while ((e = readdir(d)) != NULL) {
+    long pid = tmp_pid(e->d_name, base);
+    if (pid <= 0 || pid == (long)getpid()) continue;
+    if (kill((pid_t)pid, 0) == 0 || errno != ESRCH) continue;
+    fprintf(stderr,
+            "%s: warning: %s%s%s is the temporary file of process %ld, "
+            "which no longer runs on this machine (killed?): it is not "
+            "a complete output; remove it\n",
+            prog, slash ? dir : "", slash ? "/" : "", e->d_name, pid);
+    count++;
+  }
+  closedir(d);
+  return count;
+}
+
+double disk_free(const char *out) {
+  char dir[4096];
+  struct statvfs v;
+  if (dir_of(out, dir, sizeof dir) || statvfs(dir, &v) != 0) return -1;
+  return (double)v.f_bavail * (double)v.f_frsize;
+}
+
+static int sync_fd_of(const char *path, int flags, char *err, size_t errsz) {
+  int fd = open(path, flags), rc = 0;
+  if (fd < 0) {
+    snprintf(err, errsz, "cannot open %s to sync it: %s", path,
+             strerror(errno));
+    return -1;
+  }
+  /* EINVAL: a file system without fsync on directories */
+  if (fsync(fd) != 0 && errno != EINVAL) {
+    snprintf(err, errsz, "cannot sync %s to disk: %s", path, strerror(errno));
+    rc = -1;
+  }
+  close(fd);
+  return rc;
+}
+
+int file_sync(const char *path, char *err, size_t errsz) {
+  return sync_fd_of(path, O_RDONLY, err, errsz);
+}
+
+int dir_sync(const char *path, char *err, size_t errsz) {
+  char dir[4096];
+  if (dir_of(path, dir, sizeof dir)) {
+    snprintf(err, errsz, "%s: path too long", path);
+    return -1;
+  }
+  return sync_fd_of(dir, O_RDONLY | O_DIRECTORY, err, errsz);
+}
+
+int parse_ulong(const char *a, unsigned long lo, unsigned long hi,
+                unsigned long *v) {
+  char *end;
+  unsigned long x;
+  if (a[0] < '0' || a[0] > '9') return -1;
+  errno = 0;
+  x = strtoul(a, &end, 10);
+  if (*end != '\0' || errno || x < lo || x > hi) return -1;
+  *v = x;
+  return 0;
+}

@@ -1,0 +1,210 @@
+/*
+ * compute.c - the per-sample pipeline of the runner: trajectory, inverse
+ * dynamics, and the copy of the results into the output block.
+ */
+#include "compute.h"
+
+#include <math.h>
+#include <stdint.h>
+#include <stdio.h>
+#include <string.h>
+
+/* the trajectory could not be evaluated at sample k (time t) */
+static int traj_failed(out_block *b, size_t slot, int rc, double t, size_t k,
+                       const double pose[3], const double dpose[3],
+                       const double ddpose[3], size_t *failed_at) {
+  /* rps3_traj_eval has no data to hold a message: name what failed */
+  *failed_at = k;
+  snprintf(b->msg[slot], sizeof b->msg[slot],
+           "t = %.9g s (sample %zu): %s: trajectory pose (%g, %g, %g), "
+           "rate (%g, %g, %g), acceleration (%g, %g, %g)",
+           t, k, rps3_strerror(rc), pose[0], pose[1], pose[2], dpose[0],
+           dpose[1], dpose[2], ddpose[0], ddpose[1], ddpose[2]);
+  return rc;
+}
+
+/* the batch's scratch in b: OUT_BATCH points of each array */
+typedef struct {
+  double *t, *pose, *dpose, *ddpose, *l, *theta, *F, *lambda, *Fe, *dl, *ddl,
+      *c;
+  int *status, *warn, *niter;
+} scratch;
+
+static void scratch_of(out_block *b, scratch *x) {
+  double *p = b->bx;
+  x->t = p;
+  x->pose = p += OUT_BATCH;
+  x->dpose = p += 3 * OUT_BATCH;
+  x->ddpose = p += 3 * OUT_BATCH;
+  x->l = p += 3 * OUT_BATCH;
+  x->theta = p += 3 * OUT_BATCH;
+  x->F = p += 3 * OUT_BATCH;
+  x->lambda = p += 3 * OUT_BATCH;
+  x->Fe = p += 3 * OUT_BATCH;
+  x->dl = p += 3 * RPS3_NEFFECT * OUT_BATCH;
+  x->ddl = p += 3 * OUT_BATCH;
+  x->c = p + 3 * OUT_BATCH;
+  x->status = b->bi;
+  x->warn = b->bi + OUT_BATCH;
+  x->niter = b->bi + 2 * OUT_BATCH;
+}
+
+/* dst[3 i + c] = src[c n + i]: a [3][n] array of the batch into the
+   block's [n][3] */
+static void store3(double *dst, const double *src, size_t n) {
+  size_t i;
+  for (i = 0; i < n; i++) {
+    dst[3 * i] = src[i];
+    dst[3 * i + 1] = src[n + i];
+    dst[3 * i + 2] = src[2 * n + i];
+  }
+}
+
+/* 1 when the file gets field i (--fields) */
+#define WANT(b, i) ((b)->fields >> (i)&1)
+
+/* the batch of n points into samples j .. j + n - 1 of the block, one
+   field at a time (each a sequential stream of writes), the fields the
+   file gets; the batch wrote condition, transmission, the energy residual
+   and scale and the solve residual into the block itself */
+static void store_batch(const rps3_model *m, const scratch *x, size_t n,
+                        out_block *b, size_t j) {
+  /* the [3][n] outputs, and the one-column ones */
+  const struct {
+    int field;
+    const double *src;
+  } three[] = {{OUT_force, x->F},        {OUT_length, x->l},
+               {OUT_theta, x->theta},    {OUT_lambda, x->lambda},
+               {OUT_length_rate, x->dl}, {OUT_length_accel, x->ddl}},
+    one[] = {{OUT_alpha, x->pose},
+             {OUT_beta, x->pose + n},
+             {OUT_z_c, x->pose + 2 * n},
+             {OUT_x_c, x->c},
+             {OUT_y_c, x->c + n}};
+  const size_t ne = (size_t)b->neffect;
+  double *fe = (double *)b->force_by_effect + j * ne * 3;
+  int32_t *niter = (int32_t *)b->solve_niter + j,
+          *warn = (int32_t *)b->warn + j;
+  size_t i, e, f;
+  for (f = 0; f < sizeof three / sizeof three[0]; f++)
+    if (WANT(b, three[f].field))
+      store3((double *)out_block_field(b, three[f].field) + 3 * j, three[f].src,
+             n);
+  for (f = 0; f < sizeof one / sizeof one[0]; f++)
+    if (WANT(b, one[f].field))
+      memcpy((double *)out_block_field(b, one[f].field) + j, one[f].src,
+             n * sizeof(double));
+  for (i = 0; i < n && WANT(b, OUT_force_by_effect); i++)
+    for (e = 0; e < ne; e++) {
+      const double *src = x->Fe + (size_t)b->effect[e] * 3 * n + i;
+      fe[(i * ne + e) * 3] = src[0];
+      fe[(i * ne + e) * 3 + 1] = src[n];
+      fe[(i * ne + e) * 3 + 2] = src[2 * n];
+    }
+  memcpy(b->t + j, x->t, n * sizeof(double));
+  for (i = 0; i < n; i++) {
+    niter[i] = x->niter[i];
+    warn[i] = x->warn[i];
+  }
+  /* with certify off the library writes 0: say "not computed" instead */
+  for (i = 0; i < n && !m->opt.certify; i++)
+    ((double *)b->energy_residual)[j + i] = ((double *)b->energy_scale)[j + i] =
+        (double)NAN;
+}
+
+/*
+ * case_compute: the samples OUT_BATCH at a time through rps3_inverse_batch,
+ * which runs the vectorised kernel where it applies (closed-form theta,
+ * Lagrange, the paper's effects: the numbers agree with rps3_inverse to
+ * rounding, docs/library.md) and the per-point loop elsewhere (bitwise).  A
+ * case still stops at its first failing sample, with the same message.
+ */
+static int compute_batch(const scene_case *c, rps3_data *d, size_t k0,
+                         size_t nk, out_block *b, size_t slot,
+                         size_t *failed_at) {
+  const rps3_model *m = &c->model;
+  scratch x;
+  size_t k, i, n;
+  int rc;
+  scratch_of(b, &x);
+  for (k = k0; k < k0 + nk; k += n) {
+    rps3_batch_in in;
+    rps3_batch_out out;
+    int trc = RPS3_OK;
+    double p[3], dp[3], ddp[3];
+    const size_t j = slot * b->points + (k - k0);
+    n = k0 + nk - k < OUT_BATCH ? k0 + nk - k : OUT_BATCH;
+    /* the trajectory, structure of arrays, up to a sample it cannot give:
+       the samples before it are computed first, and one of them failing
+       is the case's first failure */
+    for (i = 0; i < n; i++) {
+      int q;
+      x.t[i] = scene_case_time(c, k + i);
+      trc = rps3_traj_eval(m, &c->traj, x.t[i], p, dp, ddp);
+      if (trc != RPS3_OK) break;
+      for (q = 0; q < 3; q++) {
+        x.pose[(size_t)q * n + i] = p[q];
+        x.dpose[(size_t)q * n + i] = dp[q];
+        x.ddpose[(size_t)q * n + i] = ddp[q];
+      }
+    }
+    if (trc != RPS3_OK) {
+      /* the i samples before it, packed to a batch of i */
+      size_t bad = i, q;
+      if (bad == 0)
+        return traj_failed(b, slot, trc, x.t[0], k, p, dp, ddp, failed_at);
+      for (q = 1; q < 3; q++) {
+        memmove(x.pose + q * bad, x.pose + q * n, bad * sizeof(double));
+        memmove(x.dpose + q * bad, x.dpose + q * n, bad * sizeof(double));
+        memmove(x.ddpose + q * bad, x.ddpose + q * n, bad * sizeof(double));
+      }
+      n = bad;
+    }
+    memset(&in, 0, sizeof in);
+    memset(&out, 0, sizeof out);
+    in.n = n;
+    in.pose = x.pose;
+    in.dpose = x.dpose;
+    in.ddpose = x.ddpose;
+    out.status = x.status;
+    out.warn = x.warn;
+    out.l = x.l;
+    out.theta = x.theta;
+    out.niter = x.niter;
+    out.F = x.F;
+    out.F_effect = x.Fe;
+    out.lambda = x.lambda;
+    /* the per-point values straight into the block */
+    out.cond = (double *)b->condition + j;
+    out.energy_residual = (double *)b->energy_residual + j;
+    out.transmission = (double *)b->transmission + j;
+    out.dl = x.dl;
+    out.ddl = x.ddl;
+    out.c = x.c;
+    out.energy_scale = (double *)b->energy_scale + j;
+    out.solve_resid = (double *)b->solve_resid + j;
+    rc = rps3_inverse_batch(m, d, &in, &out);
+    if (rc == RPS3_OK && out.nfail) rc = out.status[out.first_fail];
+    if (rc != RPS3_OK) {
+      /* the library's message, without the batch's "point I: " */
+      const char *msg = d->err.msg, *colon = strstr(msg, ": ");
+      i = out.nfail ? out.first_fail : 0;
+      if (strncmp(msg, "point ", 6) == 0 && colon) msg = colon + 2;
+      *failed_at = k + i;
+      snprintf(b->msg[slot], sizeof b->msg[slot],
+               "t = %.9g s (sample %zu): %s: %s", x.t[i], k + i,
+               rps3_strerror(rc), msg);
+      return rc;
+    }
+    if (trc != RPS3_OK)
+      return traj_failed(b, slot, trc, x.t[n], k + n, p, dp, ddp, failed_at);
+    store_batch(m, &x, n, b, j);
+  }
+  return RPS3_OK;
+}
+
+int case_compute(const scene_case *c, rps3_data *d, size_t k0, size_t nk,
+                 out_block *b, size_t slot, size_t *failed_at) {
+  if (k0 == 0) rps3_data_reset(d);
+  return compute_batch(c, d, k0, nk, b, slot, failed_at);
+}

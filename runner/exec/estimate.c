@@ -1,0 +1,200 @@
+/*
+ * estimate.c - see estimate.h.
+ */
+#include "estimate.h"
+
+#include <stdint.h>
+#include <stdio.h>
+#include <string.h>
+#include <time.h>
+
+#include "compute.h"
+#include "output/output.h"
+
+/* HDF5's global heap: a variable-length string is a 16-byte reference in
+   the dataset and an object of 16 bytes of header plus its text, rounded up
+   to 8 bytes, in the heap */
+#define VLEN_REF 16.0
+#define VLEN_OBJ 16.0
+/* per chunk and chunked dataset: its B-tree entry (measured: 40-60 bytes) */
+#define CHUNK_INDEX 64.0
+/* superblock, object headers, attributes, dimension scales: measured at
+   30-60 kB for the configs */
+#define FIXED 131072.0
+
+/* samples est_cost_measure computes, from up to EST_CASES cases spread
+   over the sweep (the first and the last included), their first samples:
+   enough to average over the start of a case (the multiroot cold start)
+   and the sweep's range, few enough to take milliseconds */
+#define EST_SAMPLES 6000
+#define EST_CASES 16
+
+/* CPU seconds to write one byte of chunks, uncompressed: packing them
+   (out_pack's checksum), the HDF5 calls and the kernel's copy into the
+   page cache.  Measured with the bench sweep of
+   tests/bench/runner_bench.py (1000 cases of 1000 samples, 331 MB): the
+   run's CPU time (0.29 s) less the computation est_cost_measure times
+   (0.09-0.13 us a sample), over the bytes written (docs/performance.md) */
+#define EST_WRITE_S_PER_BYTE 0.5e-9
+/* CPU seconds to deflate one byte, by --gzip level: the same sweep, the
+   CPU time of --gzip 1, 4 and 9 less that of no compression, over its
+   bytes (docs/hdf5.md, "File size"); levels between are interpolated */
+static double gzip_s_per_byte(int level) {
+  if (level <= 0) return 0;
+  if (level <= 1) return 10.5e-9;
+  if (level <= 4) return 10.5e-9 + (15.0e-9 - 10.5e-9) * (level - 1) / 3.0;
+  return 15.0e-9 + (24.0e-9 - 15.0e-9) * (level - 4) / 5.0;
+}
+
+/* rows of the per-case chunks: ncase rounded up to whole chunks */
+static size_t round_rows(size_t ncase, size_t tc) {
+  return (ncase + tc - 1) / tc * tc;
+}
+
+double est_file_bytes(const scene *s, const sweep_plan *p, out_mask fields) {
+  double neff = 0;
+  /* the chunks the plan allocates (sweep.h): per sample field, `stored`
+     samples in chunks of tile_cases x chunk_points; per case, whole rows */
+  const double tc = (double)p->tile_cases, nt = (double)p->nt;
+  const double stored = (double)p->stored;
+  const double chunks = stored / (tc * (double)p->chunk_points);
+  const double rows = (double)round_rows(s->ncase, p->tile_cases);
+  double per_sample = 0, per_case = 0, nds = 0, yaml = 600, total;
+  scene_text t = {0};
+  size_t a;
+  int e;
+
+  for (e = 0; e < RPS3_NEFFECT; e++)
+    if (p->first.model.opt.effects & (1 << e)) neff += 1;
+
+#define EST_FIELD(name, shape, type, ...)                               \
+  if (fields >> OUT_##name & 1) {                                       \
+    double cols = shape == OUT_CTEL                      ? 3 * neff     \
+                  : shape == OUT_CTL || shape == OUT_CTK ? 3            \
+                                                         : 1;           \
+    double size = type == OUT_F64 ? 8 : type == OUT_I32 ? 4 : VLEN_REF; \
+    if (shape == OUT_C)                                                 \
+      per_case += size;                                                 \
+    else                                                                \
+      per_sample += cols * size;                                        \
+    nds += 1;                                                           \
+  }
+  RPS3_OUTPUT_FIELDS(EST_FIELD)
+#undef EST_FIELD
+  if (!p->grid_common) {
+    per_sample += 8; /* case_time */
+    nds += 1;
+  }
+  /* the heap objects: scene_resolved (the first case's YAML as the
+     typical one) and an empty message per case */
+  if (scene_case_yaml(&p->first, &t) == 0) yaml = (double)t.len;
+  scene_text_free(&t);
+  per_case += 2 * VLEN_OBJ + 8.0 * (double)(size_t)((yaml + 7) / 8);
+  /* the case scale and the swept keys */
+  per_case += 8;
+  for (a = 0; a < s->naxis; a++) per_case += 8;
+  total = stored * per_sample + rows * per_case + 8 * nt +
+          chunks * nds * CHUNK_INDEX + (double)s->text_len + FIXED;
+  return total;
+}
+
+const char *est_human(double bytes, char *buf, size_t sz) {
+  static const char *const unit[] = {"B", "kB", "MB", "GB", "TB", "PB", "EB"};
+  int u = 0;
+  while (bytes >= 1000 && u < 6) {
+    bytes /= 1000;
+    u++;
+  }
+  snprintf(buf, sz, u ? "%.3g %s" : "%.0f %s", bytes, unit[u]);
+  return buf;
+}
+
+/* this process's CPU time in s */
+static double cpu_now(void) {
+  struct timespec t;
+  if (clock_gettime(CLOCK_PROCESS_CPUTIME_ID, &t) != 0) return 0;
+  return (double)t.tv_sec + 1e-9 * (double)t.tv_nsec;
+}
+
+/* compute the first samples of case i into b with workspace *d (allocated
+   for the case's solver on first use, or again for another solver); adds
+   to the CPU seconds and counts of c */
+static void time_case(const scene *s, size_t i, out_block *b, rps3_data **d,
+                      int *solver, est_cost *c) {
+  scene_case sc;
+  scene_error e;
+  scene_text yaml = {0};
+  size_t n, failed_at = 0;
+  double t0 = cpu_now(), t1;
+  int rc;
+  if (scene_case_build(s, i, &sc, &e) || scene_case_yaml(&sc, &yaml)) return;
+  scene_text_free(&yaml);
+  t1 = cpu_now();
+  if (!*d || *solver != (int)sc.model.opt.solver) {
+    rps3_data_free(*d);
+    *d = NULL;
+    if (rps3_data_alloc(&sc.model, d) != RPS3_OK) return;
+    *solver = (int)sc.model.opt.solver;
+    t1 = cpu_now();
+  }
+  c->per_case += t1 - t0;
+  c->cases++;
+  n = sc.nt < b->points ? sc.nt : b->points;
+  rc = case_compute(&sc, *d, 0, n, b, 0, &failed_at);
+  c->sample += cpu_now() - t1;
+  c->samples += rc == RPS3_OK ? n : failed_at + 1;
+}
+
+int est_cost_measure(const scene *s, const sweep_plan *p, out_mask fields,
+                     int gzip, est_cost *c) {
+  const size_t ncase = s->ncase < EST_CASES ? s->ncase : EST_CASES;
+  out_block b;
+  rps3_data *d = NULL;
+  int solver = -1;
+  size_t k;
+  memset(c, 0, sizeof *c);
+  if (out_block_alloc(&b, 1, EST_SAMPLES / ncase, p->first.model.opt.effects))
+    return -1;
+  /* the path the run takes: a file of the batch's fields is computed by
+     rps3_inverse_batch (compute.c) */
+  b.fields = fields;
+  for (k = 0; k < ncase; k++)
+    time_case(s, ncase > 1 ? k * (s->ncase - 1) / (ncase - 1) : 0, &b, &d,
+              &solver, c);
+  rps3_data_free(d);
+  out_block_free(&b);
+  if (c->cases) c->per_case /= (double)c->cases;
+  c->write =
+      est_file_bytes(s, p, fields) / (double)p->npoint * EST_WRITE_S_PER_BYTE;
+  c->deflate =
+      est_file_bytes(s, p, fields) / (double)p->npoint * gzip_s_per_byte(gzip);
+  if (c->samples == 0) return -1;
+  c->sample /= (double)c->samples;
+  return 0;
+}
+
+double est_run_seconds(const est_cost *c, double samples, double cases,
+                       int threads) {
+  double work = samples * (c->sample + c->deflate) + cases * c->per_case;
+  double write = samples * c->write;
+  if (threads <= 1) return work + write;
+  /* the workers compute and deflate while the calling thread writes */
+  work /= threads;
+  return work > write ? work : write;
+}
+
+const char *est_human_time(double seconds, char *buf, size_t sz) {
+  if (seconds < 60)
+    snprintf(buf, sz,
+             seconds < 1    ? "%.1g s"
+             : seconds < 10 ? "%.2g s"
+                            : "%.0f s",
+             seconds);
+  else if (seconds < 3600)
+    snprintf(buf, sz, "%.2g min", seconds / 60);
+  else if (seconds < 86400 * 2)
+    snprintf(buf, sz, "%.2g h", seconds / 3600);
+  else
+    snprintf(buf, sz, "%.3g days", seconds / 86400);
+  return buf;
+}

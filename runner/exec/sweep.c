@@ -1,0 +1,419 @@
+/*
+ * sweep.c - see sweep.h.  Each case is computed by case_compute() with a
+ * workspace of its own solver kind into its own slot of the block, so the
+ * cases of a tile are independent of each other.
+ *
+ * A job (a tile of whole cases, or one long case in windows) turns into
+ * one or more tiles to write, each handed to a sink: the serial sink writes
+ * it at once and gives the same block back; the threaded sink
+ * (sweep_threads.c) queues it for the writing thread and gives back a free
+ * block of the pool.
+ */
+#include "sweep.h"
+#include "sweep_int.h"
+
+#include <stdint.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "compute.h"
+
+/* round n up to a multiple of q */
+static size_t round_up(size_t n, size_t q) { return (n + q - 1) / q * q; }
+
+/* Cases per job (the rows of a chunk) for at most `most` per job: the
+   fewest jobs that share the cases evenly, then more jobs while the last
+   chunk row would leave over a twentieth of the rows empty (HDF5 allocates
+   an edge chunk whole: 3 cases in jobs of 2 would store 4) */
+static size_t plan_tile_cases(size_t ncase, size_t most) {
+  size_t njob = (ncase + most - 1) / most, tc;
+  for (;; njob++) {
+    tc = (ncase + njob - 1) / njob;
+    if (tc == 1 || (round_up(ncase, tc) - ncase) * 20 <= ncase) return tc;
+  }
+}
+
+/* the samples written for a case (or a tile's longest case) of nt
+   samples: whole chunks, cut at the time axis */
+static size_t plan_extent(const sweep_plan *p, size_t nt) {
+  size_t e = round_up(nt, p->chunk_points);
+  return e < p->nt ? e : p->nt;
+}
+
+/* a candidate layout of a sweep whose cases differ in length, and the
+   samples its chunks would store */
+typedef struct {
+  sweep_plan p;   /* nt, tile_cases, tile_points, chunk_points */
+  size_t longest; /* longest case of the current tile */
+} layout;
+
+/* tiles of `tc` cases (or windows of `tp` samples) cut into chunks of
+   about a twentieth of the mean case along time, and at least
+   SWEEP_CHUNK_MIN samples, a whole number per tile */
+static void layout_make(layout *l, const sweep_plan *p, size_t tc, size_t tp,
+                        size_t mean) {
+  size_t target = mean / 20, least = (SWEEP_CHUNK_MIN + tc - 1) / tc, m;
+  if (target < least) target = least;
+  m = (tp + target - 1) / target;
+  l->p = *p;
+  l->p.tile_cases = tc;
+  l->p.chunk_points = (tp + m - 1) / m;
+  l->p.tile_points = m * l->p.chunk_points;
+  l->p.stored = 0;
+  l->longest = 0;
+}
+
+/* add case i of nt samples to the stored samples of layout l */
+static void layout_add(layout *l, size_t i, size_t nt, size_t ncase) {
+  if (nt > l->longest) l->longest = nt;
+  if ((i + 1) % l->p.tile_cases == 0 || i + 1 == ncase) {
+    l->p.stored += l->p.tile_cases *
+                   round_up(plan_extent(&l->p, l->longest), l->p.chunk_points);
+    l->longest = 0;
+  }
+}
+
+/*
+ * The layout of a sweep whose cases differ in length.  A chunk row holds
+ * tile_cases cases up to the longest of them, so cases of different
+ * lengths in one tile store the difference: tiles of fewer cases (halving
+ * down to 1) store less, and more chunks.  Each case is built again (the
+ * cost of the plan once more, for such sweeps only) to count what each
+ * layout stores; the first within 5 % of the data is taken, else the one
+ * that stores least.  0, or -1 with err.
+ */
+static int plan_varied(const scene *s, sweep_plan *p, size_t most,
+                       scene_error *err) {
+  layout l[16];
+  size_t nl = 0, i, mean = p->npoint / s->ncase, best = 0;
+  scene_case c;
+  do {
+    size_t tc = plan_tile_cases(s->ncase, most);
+    if (nl == 0 || tc < l[nl - 1].p.tile_cases)
+      layout_make(&l[nl++], p, tc, p->tile_points, mean);
+    most /= 2;
+  } while (most >= 1 && nl < 16);
+  for (i = 0; i < s->ncase; i++) {
+    size_t k;
+    if (scene_case_build(s, i, &c, err)) return -1;
+    for (k = 0; k < nl; k++) layout_add(&l[k], i, c.nt, s->ncase);
+  }
+  for (i = 0; i < nl; i++) {
+    if (l[i].p.stored <= p->npoint + p->npoint / 20) {
+      best = i;
+      break;
+    }
+    if (l[i].p.stored < l[best].p.stored) best = i;
+  }
+  *p = l[best].p;
+  return 0;
+}
+
+int sweep_plan_make(const scene *s, sweep_plan *p, scene_error *err) {
+  scene_case c;
+  size_t i, most = 1;
+  memset(p, 0, sizeof *p);
+  p->grid_common = 1;
+  for (i = 0; i < s->ncase; i++) {
+    if (scene_case_build(s, i, i == 0 ? &p->first : &c, err)) return -1;
+    if (i == 0) {
+      p->nt = p->first.nt;
+      p->npoint = p->first.nt;
+      continue;
+    }
+    if (!scene_case_same_grid(&p->first, &c)) p->grid_common = 0;
+    if (c.nt > p->nt) p->nt = c.nt;
+    p->npoint += c.nt;
+  }
+  /* whole cases per tile when they fit, else windows of one case; jobs
+     share the cases and windows the samples evenly, so that no edge chunk
+     is mostly empty (205 cases in tiles of 204 stored 408) */
+  if (p->nt <= SWEEP_TILE_POINTS) {
+    most = SWEEP_TILE_POINTS / p->nt;
+    p->tile_points = p->nt;
+    p->tile_cases = plan_tile_cases(s->ncase, most);
+  } else {
+    size_t nwin = (p->nt + SWEEP_TILE_POINTS - 1) / SWEEP_TILE_POINTS;
+    p->tile_points = (p->nt + nwin - 1) / nwin;
+    p->tile_cases = 1;
+  }
+  p->chunk_points = p->tile_points;
+  if (!p->grid_common) return plan_varied(s, p, most, err);
+  p->stored =
+      round_up(s->ncase, p->tile_cases) * round_up(p->nt, p->chunk_points);
+  return 0;
+}
+
+/* the workspace for case c: one per solver kind, allocated on first use */
+static rps3_data *workspace(rps3_data *ws[RPS3_NSOLVER], const scene_case *c,
+                            char *err, size_t errsz) {
+  int k = (int)c->model.opt.solver;
+  if (!ws[k]) {
+    int rc = rps3_data_alloc(&c->model, &ws[k]);
+    if (rc != RPS3_OK) {
+      snprintf(err, errsz, "cannot allocate a workspace: %s",
+               rps3_strerror(rc));
+      return NULL;
+    }
+  }
+  return ws[k];
+}
+
+/* build case `index` */
+static int case_begin(const scene *s, size_t index, scene_case *c, char *err,
+                      size_t errsz) {
+  scene_error e;
+  if (scene_case_build(s, index, c, &e)) {
+    snprintf(err, errsz, "case %zu became invalid: %s", index, e.what);
+    return -1;
+  }
+  return 0;
+}
+
+/* set up slot `slot` for case c: its YAML, an empty message, status ok */
+static int slot_begin(const scene_case *c, out_block *b, size_t slot, char *err,
+                      size_t errsz) {
+  if (scene_case_yaml(c, &b->yaml[slot])) {
+    snprintf(err, errsz, "case %zu: cannot write its scene as YAML", c->index);
+    return -1;
+  }
+  ((const char **)b->scene_resolved)[slot] = b->yaml[slot].s;
+  ((const char **)b->message)[slot] = b->msg[slot];
+  b->msg[slot][0] = '\0';
+  ((int32_t *)b->status)[slot] = RPS3_OK;
+  ((int32_t *)b->failed_at)[slot] = -1;
+  return 0;
+}
+
+/* record the outcome of a case in its slot; 1 if it failed */
+static size_t slot_status(out_block *b, size_t slot, int rc, size_t failed_at) {
+  ((int32_t *)b->status)[slot] = rc;
+  ((int32_t *)b->failed_at)[slot] = rc ? (int32_t)failed_at : -1;
+  if (rc) out_block_blank(b, slot, 0);
+  return rc ? 1 : 0;
+}
+
+/* ----------------------------------------------------------------- tiles */
+
+/* write tile t of block b to f */
+int sweep_tile_write(out_file *f, const out_block *b, const tile *t, char *err,
+                     size_t errsz) {
+  size_t w;
+  for (w = 0; w < t->blank_below; w += b->points)
+    if (out_write(f, b, t->c0, 1, w, b->points, 0, err, errsz)) return -1;
+  return out_write(f, b, t->c0, t->nc, t->k0, t->nk, t->with_case, err, errsz);
+}
+
+void sweep_case_label(const scene *s, size_t c, char *buf, size_t sz) {
+  size_t a, n = 0;
+  buf[0] = '\0';
+  for (a = 0; a < s->naxis && n < sz; a++) {
+    const scene_axis *ax = &s->axis[a];
+    double v = ax->val[scene_case_coord(s, c, a)];
+    /* only an enum's values are whole numbers that fit an int */
+    const char *name = scene_key_get(ax->key)->type == KEY_ENUM
+                           ? scene_enum_name(ax->key, (int)v)
+                           : NULL;
+    int w = name ? snprintf(buf + n, sz - n, "%s%s = %s", a ? ", " : "",
+                            ax->path, name)
+                 : snprintf(buf + n, sz - n, "%s%s = %.6g", a ? ", " : "",
+                            ax->path, v);
+    if (w < 0) break;
+    n += (size_t)w;
+  }
+}
+
+/* count a written tile of block b and show the progress, and the reason
+   of the run's first failed case (also when quiet) */
+void sweep_tile_count(const scene *s, const out_block *b, const tile *t,
+                      sweep_stats *st, progress *pr) {
+  st->cases_done += t->cases;
+  st->points_done += t->points;
+  st->nfailed += t->failed;
+  if (t->failed && !pr->failure_shown) {
+    size_t slot;
+    for (slot = 0; slot < t->nc; slot++)
+      if (((const int32_t *)b->status)[slot] != RPS3_OK) {
+        char what[512];
+        sweep_case_label(s, t->c0 + slot, what, sizeof what);
+        progress_failure(pr, t->c0 + slot, what, b->msg[slot]);
+        break;
+      }
+  }
+  progress_update(pr, st->cases_done, st->points_done);
+}
+
+/* ------------------------------------------------------------------ jobs */
+
+size_t sweep_njob(const scene *s, const sweep_plan *p) {
+  return (s->ncase + p->tile_cases - 1) / p->tile_cases;
+}
+
+size_t sweep_shard_jobs(const scene *s, const sweep_plan *p, size_t shard,
+                        size_t nshard) {
+  size_t nj = sweep_njob(s, p);
+  /* no sum that can wrap: nshard may be as large as SIZE_MAX */
+  return nj > shard ? 1 + (nj - shard - 1) / nshard : 0;
+}
+
+/* the job after j of a shard of nshard, or nj when none: j + nshard
+   without wrapping around (--shard 1/18446744073709551615 would otherwise
+   come back to job 0) */
+size_t sweep_next_job(size_t j, size_t nshard, size_t nj) {
+  return nj - j > nshard ? j + nshard : nj;
+}
+
+size_t sweep_shard_cases(const scene *s, const sweep_plan *p, size_t shard,
+                         size_t nshard) {
+  size_t j, n = 0, nj = sweep_njob(s, p);
+  for (j = shard; j < nj; j = sweep_next_job(j, nshard, nj))
+    n += (j + 1) * p->tile_cases <= s->ncase ? p->tile_cases
+                                             : s->ncase - j * p->tile_cases;
+  return n;
+}
+
+/* 1 when jobs are long cases in windows, 0 when they are tiles of cases */
+static int in_windows(const sweep_plan *p) {
+  return p->tile_cases == 1 && p->nt > p->tile_points;
+}
+
+/* job j as a tile of whole cases */
+static int job_whole(const scene *s, const sweep_plan *p, size_t j,
+                     out_block **bp, rps3_data *ws[], sink *k, char *err,
+                     size_t errsz) {
+  out_block *b = *bp;
+  tile t;
+  size_t slot;
+  memset(&t, 0, sizeof t);
+  t.c0 = j * b->cases;
+  t.nc = s->ncase - t.c0 < b->cases ? s->ncase - t.c0 : b->cases;
+  t.with_case = 1;
+  t.cases = t.nc;
+  for (slot = 0; slot < t.nc; slot++) {
+    scene_case c;
+    rps3_data *d;
+    size_t failed_at = 0;
+    int rc;
+    if (case_begin(s, t.c0 + slot, &c, err, errsz) ||
+        slot_begin(&c, b, slot, err, errsz) ||
+        !(d = workspace(ws, &c, err, errsz)))
+      return -1;
+    rc = case_compute(&c, d, 0, c.nt, b, slot, &failed_at);
+    t.failed += slot_status(b, slot, rc, failed_at);
+    /* samples past the end of a shorter case */
+    if (rc == RPS3_OK && c.nt < b->points) out_block_blank(b, slot, c.nt);
+    t.points += rc ? failed_at : c.nt;
+    /* the samples of the tile's longest case: chunks past it stay
+       unallocated (they read as the blanks, the fill values) */
+    if (plan_extent(p, c.nt) > t.nk) t.nk = plan_extent(p, c.nt);
+  }
+  return k->emit(k, bp, &t, err, errsz);
+}
+
+/* job j as one case, in windows of b->points samples; the workspace goes
+   from one window to the next (the warm start), the blocks may not */
+static int job_windows(const scene *s, const sweep_plan *p, size_t j,
+                       out_block **bp, rps3_data *ws[], sink *k, char *err,
+                       size_t errsz) {
+  scene_case c;
+  rps3_data *d;
+  size_t k0, nk, end;
+  if (case_begin(s, j, &c, err, errsz) || !(d = workspace(ws, &c, err, errsz)))
+    return -1;
+  /* windows past the case's last chunk are not written */
+  end = plan_extent(p, c.nt);
+  for (k0 = 0; k0 < end; k0 += nk) {
+    out_block *b = *bp;
+    size_t failed_at = 0, ncomp;
+    int rc = RPS3_OK;
+    tile t;
+    memset(&t, 0, sizeof t);
+    nk = end - k0 < b->points ? end - k0 : b->points;
+    ncomp = k0 >= c.nt ? 0 : (c.nt - k0 < nk ? c.nt - k0 : nk);
+    if (slot_begin(&c, b, 0, err, errsz)) return -1;
+    if (ncomp > 0) rc = case_compute(&c, d, k0, ncomp, b, 0, &failed_at);
+    t.c0 = j;
+    t.nc = 1;
+    t.k0 = k0;
+    t.nk = nk;
+    if (rc != RPS3_OK) {
+      /* NaN over the windows already written, then stop the case */
+      t.failed = slot_status(b, 0, rc, failed_at);
+      t.blank_below = k0;
+      t.with_case = 1;
+      t.cases = 1;
+      t.points = failed_at - k0;
+      return k->emit(k, bp, &t, err, errsz);
+    }
+    if (ncomp < nk) out_block_blank(b, 0, ncomp);
+    t.with_case = k0 + nk >= end;
+    t.cases = (size_t)t.with_case;
+    t.points = ncomp;
+    if (k->emit(k, bp, &t, err, errsz)) return -1;
+  }
+  return 0;
+}
+
+int sweep_job_run(const scene *s, const sweep_plan *p, size_t j, out_block **bp,
+                  rps3_data *ws[], sink *k, char *err, size_t errsz) {
+  return in_windows(p) ? job_windows(s, p, j, bp, ws, k, err, errsz)
+                       : job_whole(s, p, j, bp, ws, k, err, errsz);
+}
+
+void sweep_workspaces_free(rps3_data *ws[RPS3_NSOLVER]) {
+  int k;
+  for (k = 0; k < RPS3_NSOLVER; k++) rps3_data_free(ws[k]);
+}
+
+/* ---------------------------------------------------------------- serial */
+
+typedef struct {
+  sink base;
+  const scene *s;
+  out_file *f;
+  out_layout layout; /* the file's chunks, for out_pack */
+  sweep_stats *st;
+  progress *pr;
+} serial_sink;
+
+static int serial_emit(sink *k, out_block **b, const tile *t, char *err,
+                       size_t errsz) {
+  serial_sink *ss = (serial_sink *)k;
+  /* uncompressed, the chunks as the file stores them (out_pack: the
+     Fletcher-32 here, full chunks stored from the block's own buffers)
+     cost less than HDF5's filter pipeline (a copy of the tile into each
+     chunk, another into the filter's buffer); compressed, deflate is the
+     cost either way, and -j 1 keeps HDF5's own filters.  A late failure's
+     blank windows go through HDF5 too. */
+  (*b)->packed = 0;
+  if (ss->layout.gzip == 0 && t->blank_below == 0 &&
+      out_pack(&ss->layout, *b, t->c0, t->nc, t->k0, t->nk)) {
+    snprintf(err, errsz, "cannot pack cases %zu-%zu: out of memory", t->c0,
+             t->c0 + t->nc - 1);
+    return -1;
+  }
+  if (sweep_tile_write(ss->f, *b, t, err, errsz)) return -1;
+  sweep_tile_count(ss->s, *b, t, ss->st, ss->pr);
+  return 0;
+}
+
+int sweep_run_serial(const scene *s, const sweep_plan *p, out_file *f,
+                     out_block *b, const sweep_opts *o, progress *pr,
+                     sweep_stats *st, char *err, size_t errsz) {
+  rps3_data *ws[RPS3_NSOLVER];
+  serial_sink ss;
+  size_t j, nj = sweep_njob(s, p);
+  int rc = 0;
+  memset(ws, 0, sizeof ws);
+  ss.base.emit = serial_emit;
+  ss.s = s;
+  ss.f = f;
+  out_file_layout(f, &ss.layout);
+  ss.st = st;
+  ss.pr = pr;
+  for (j = o->shard; j < nj && rc == 0; j = sweep_next_job(j, o->nshard, nj))
+    rc = sweep_job_run(s, p, j, &b, ws, &ss.base, err, errsz);
+  sweep_workspaces_free(ws);
+  return rc;
+}

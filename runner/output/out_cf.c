@@ -1,0 +1,284 @@
+/*
+ * out_cf.c - see out_cf.h.
+ */
+#include "out_cf.h"
+
+#include <stdint.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "out_h5.h"
+#include "outblock.h"
+
+/* the statuses a case can end with, as CF flag words: every rps3_status
+   (include/rps3.h; tests/test_cf.py checks that none is missing against
+   rps3_strerror) and the runner's "not computed" */
+static const struct {
+  int32_t value;
+  const char *meaning;
+} status_flags[] = {{RPS3_OK, "ok"},
+                    {RPS3_EREACH, "pose_unreachable"},
+                    {RPS3_ENOCONV, "theta_solve_not_converged"},
+                    {RPS3_EBRANCH, "theta_outside_branch"},
+                    {RPS3_ESING, "singular_configuration"},
+                    {RPS3_EDOMAIN, "time_outside_span"},
+                    {RPS3_ERANGE, "result_not_finite"},
+                    {RPS3_EMODE, "other_assembly_mode"},
+                    {RPS3_EINVAL, "invalid_argument"},
+                    {RPS3_ENOMEM, "out_of_memory"},
+                    {RPS3_ESTATE, "stage_out_of_order"},
+                    {OUT_STATUS_NOT_COMPUTED, "not_computed"}};
+
+/* the warning bits of `warn` (enum rps3_warning) */
+static const struct {
+  int32_t mask;
+  const char *meaning;
+} warn_flags[] = {{RPS3_WARN_ILLCOND, "lambda_system_ill_conditioned"},
+                  {RPS3_WARN_ALPHA, "alpha_undefined"},
+                  {RPS3_WARN_MODE, "assembly_mode_changed"},
+                  {RPS3_WARN_TRANS, "transmission_above_warn"}};
+
+#define NSTATUS (sizeof status_flags / sizeof status_flags[0])
+#define NWARN (sizeof warn_flags / sizeof warn_flags[0])
+
+/* a string attribute, replacing one of the same name */
+static int attr_set(hid_t obj, hid_t str, const char *name, const char *v) {
+  if (H5Aexists(obj, name) > 0 && H5Adelete(obj, name) < 0) return -1;
+  return out_h5_attr(obj, str, name, v);
+}
+
+/* a 1-D int32 attribute */
+static int attr_i32(hid_t obj, const char *name, const int32_t *v, size_t n) {
+  hsize_t dim = n;
+  hid_t sp = H5Screate_simple(1, &dim, NULL), a;
+  int rc = -1;
+  if (sp < 0) return -1;
+  a = H5Acreate2(obj, name, H5T_NATIVE_INT32, sp, H5P_DEFAULT, H5P_DEFAULT);
+  if (a >= 0) {
+    rc = H5Awrite(a, H5T_NATIVE_INT32, v) < 0 ? -1 : 0;
+    H5Aclose(a);
+  }
+  H5Sclose(sp);
+  return rc;
+}
+
+/* the string attribute `name` of obj (malloc'd), or NULL */
+static char *attr_get(hid_t obj, const char *name) {
+  hid_t a, t;
+  char *v = NULL, *copy = NULL;
+  if (H5Aexists(obj, name) <= 0 || (a = H5Aopen(obj, name, H5P_DEFAULT)) < 0)
+    return NULL;
+  t = H5Aget_type(a);
+  if (t >= 0 && H5Tis_variable_str(t) > 0 && H5Aread(a, t, &v) >= 0 && v) {
+    copy = malloc(strlen(v) + 1);
+    if (copy) strcpy(copy, v);
+    H5free_memory(v);
+  }
+  if (t >= 0) H5Tclose(t);
+  H5Aclose(a);
+  return copy;
+}
+
+/* "NOW COMMAND (rps3 VERSION, git REVISION)" (malloc'd) */
+static char *history_line(const char *now, const char *command_line) {
+  size_t len = strlen(now) + strlen(command_line) + strlen(rps3_version()) +
+               strlen(rps3_git_revision) + 32;
+  char *line = malloc(len);
+  if (line)
+    snprintf(line, len, "%s %s (rps3 %s, git %s)", now, command_line,
+             rps3_version(), rps3_git_revision);
+  return line;
+}
+
+int out_cf_conventions(hid_t file, hid_t str) {
+  return out_h5_attr(file, str, "Conventions", OUT_CF_CONVENTIONS) < 0 ||
+                 out_h5_attr(file, str, "git_revision", rps3_git_revision) < 0
+             ? -1
+             : 0;
+}
+
+int out_cf_root(hid_t file, hid_t str, const char *now,
+                const char *command_line) {
+  char *line = history_line(now, command_line);
+  int rc = line && out_cf_conventions(file, str) >= 0 &&
+                   out_h5_attr(file, str, "history", line) >= 0
+               ? 0
+               : -1;
+  free(line);
+  return rc;
+}
+
+int out_cf_history_add(hid_t file, hid_t str, const char *now,
+                       const char *command_line) {
+  char *old = attr_get(file, "history"),
+       *line = history_line(now, command_line);
+  char *all = NULL;
+  int rc = -1;
+  /* CF: one line per program that made or changed the file, oldest
+     first */
+  if (line) {
+    size_t len = (old ? strlen(old) + 1 : 0) + strlen(line) + 1;
+    all = malloc(len);
+    if (all) {
+      snprintf(all, len, "%s%s%s", old ? old : "", old ? "\n" : "", line);
+      rc = attr_set(file, str, "history", all);
+    }
+  }
+  free(old);
+  free(line);
+  free(all);
+  return rc;
+}
+
+int out_cf_long_name(hid_t ds, hid_t str, const char *long_name) {
+  return out_h5_attr(ds, str, "long_name", long_name);
+}
+
+/* the words of a flag table, space-separated, into buf */
+static void flag_words(char *buf, size_t sz, int status) {
+  size_t i, n = 0, count = status ? NSTATUS : NWARN;
+  buf[0] = '\0';
+  for (i = 0; i < count && n < sz; i++)
+    n += (size_t)snprintf(
+        buf + n, sz - n, "%s%s", i ? " " : "",
+        status ? status_flags[i].meaning : warn_flags[i].meaning);
+}
+
+/* flag_values (status) or flag_masks (warn), and flag_meanings */
+static int flags(hid_t ds, hid_t str, int status) {
+  int32_t v[NSTATUS > NWARN ? NSTATUS : NWARN];
+  char words[512];
+  size_t k, n = status ? NSTATUS : NWARN;
+  for (k = 0; k < n; k++)
+    v[k] = status ? status_flags[k].value : warn_flags[k].mask;
+  flag_words(words, sizeof words, status);
+  return attr_i32(ds, status ? "flag_values" : "flag_masks", v, n) < 0 ||
+                 out_h5_attr(ds, str, "flag_meanings", words) < 0
+             ? -1
+             : 0;
+}
+
+int out_cf_status(hid_t ds, hid_t str) { return flags(ds, str, 1); }
+
+int out_cf_field(hid_t ds, hid_t str, int i) {
+  if (out_cf_long_name(ds, str, out_field_table[i].long_name) < 0) return -1;
+  if (i != OUT_status && i != OUT_warn) return 0;
+  /* status: its values; warn: its bits */
+  return flags(ds, str, i == OUT_status);
+}
+
+int out_cf_time(hid_t ds, hid_t str) {
+  /* the calendar of the nominal reference date: proleptic Gregorian,
+     which every reader decodes */
+  return out_h5_attr(ds, str, "standard_name", "time") < 0 ||
+                 out_h5_attr(ds, str, "calendar", "proleptic_gregorian") < 0 ||
+                 out_h5_attr(ds, str, "axis", "T") < 0
+             ? -1
+             : 0;
+}
+
+const char *out_cf_key_name(const char *key, char *buf, size_t sz) {
+  size_t n = 0;
+  const char *c;
+  for (c = key; *c && n + 2 < sz; c++) {
+    if (*c == '.') {
+      buf[n++] = '_';
+      buf[n++] = '_';
+    } else if (*c == '[')
+      buf[n++] = '_';
+    else if (*c != ']')
+      buf[n++] = *c;
+  }
+  buf[n] = '\0';
+  return buf;
+}
+
+int out_cf_swept_key(hid_t ds, hid_t str, const char *key) {
+  char long_name[160];
+  snprintf(long_name, sizeof long_name, "swept scene key %s", key);
+  return out_cf_long_name(ds, str, long_name) < 0 ||
+                 out_h5_attr(ds, str, "scene_key", key) < 0
+             ? -1
+             : 0;
+}
+
+/* a controller gain's unit is "A or B" (scene_sim.h): A for pd and
+   pd_gravity (a force per error), B for computed_torque (an
+   acceleration per error).  When every case's controller is of one family,
+   buf becomes that unit, which UDUNITS parses; a sweep of controllers of
+   both families keeps "A or B" (one variable has one unit:
+   docs/hdf5.md) */
+static const char *gain_units(const scene *s, char *buf) {
+  char *alt = strstr(buf, " or ");
+  int family = -1, f;
+  size_t a, i;
+  if (!alt) return buf;
+  family = s->base.sim.controller == RPS3_CTRL_COMPUTED_TORQUE;
+  for (a = 0; a < s->naxis; a++)
+    if (s->axis[a].key == K_SIM_CONTROLLER)
+      for (i = 0, family = -1; i < s->axis[a].n; i++) {
+        f = (int)s->axis[a].val[i] == RPS3_CTRL_COMPUTED_TORQUE;
+        if (family >= 0 && f != family) return buf;
+        family = f;
+      }
+  if (family == 1)
+    memmove(buf, alt + 4, strlen(alt + 4) + 1);
+  else
+    *alt = '\0';
+  return buf;
+}
+
+const char *out_cf_axis_units(const scene *s, size_t a, char *buf, size_t sz) {
+  const scene_axis *ax = &s->axis[a];
+  const scene_key_info *ki = scene_key_get(ax->key);
+  const char *u = ki->unit;
+  int k;
+  if (ki->type == KEY_ENUM || ki->type == KEY_BOOL || strcmp(u, "-") == 0) {
+    snprintf(buf, sz, "1");
+    return buf;
+  }
+  /* "rad, rad, m": the unit of component comp */
+  for (k = 0; k < ax->comp && strchr(u, ','); k++)
+    u = strchr(u, ',') + 1 + (strchr(u, ',')[1] == ' ');
+  snprintf(buf, sz, "%.*s", (int)strcspn(u, ","), u);
+  return gain_units(s, buf);
+}
+
+/* "a b c": the coordinates attribute, the swept keys' variables (CF
+   names, out_cf_key_name) and case_time when with_case_time */
+char *out_h5_coordinates(const scene *s, int with_case_time) {
+  size_t a, len = 1;
+  char *c, name[160];
+  for (a = 0; a < s->naxis; a++)
+    len += strlen(out_cf_key_name(s->axis[a].path, name, sizeof name)) + 1;
+  len += with_case_time ? strlen(" case_time") : 0;
+  c = malloc(len);
+  if (!c) return NULL;
+  c[0] = '\0';
+  for (a = 0; a < s->naxis; a++) {
+    if (a) strcat(c, " ");
+    strcat(c, out_cf_key_name(s->axis[a].path, name, sizeof name));
+  }
+  if (with_case_time) strcat(c, s->naxis ? " case_time" : "case_time");
+  return c;
+}
+
+int out_stamp(hid_t file, const char *command_line) {
+  char now[32];
+  hid_t str = H5Tcopy(H5T_C_S1);
+  int rc = -1;
+  out_utc_now(now);
+  if (str >= 0 && H5Tset_size(str, H5T_VARIABLE) >= 0 &&
+      H5Tset_cset(str, H5T_CSET_UTF8) >= 0 &&
+      (H5Aexists(file, "created_utc") <= 0 ||
+       H5Adelete(file, "created_utc") >= 0) &&
+      (H5Aexists(file, "command_line") <= 0 ||
+       H5Adelete(file, "command_line") >= 0) &&
+      out_h5_attr(file, str, "created_utc", now) >= 0 &&
+      out_h5_attr(file, str, "command_line", command_line) >= 0 &&
+      out_cf_history_add(file, str, now, command_line) >= 0)
+    rc = 0;
+  if (str >= 0) H5Tclose(str);
+  return rc;
+}

@@ -1,0 +1,156 @@
+/*
+ * out_h5.c - the HDF5 helpers of the runner's files (out_h5.h): datasets
+ * with units and descriptions, dimension scales, rows of a [case]
+ * dataset, the swept keys' values, the time now; errors with HDF5's
+ * innermost cause.  The time stamp and history are CF's (out_cf.c).
+ */
+#include "out_h5.h"
+#include "core/h5err.h"
+
+#include <stdarg.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <time.h>
+
+#include <hdf5.h>
+#include <hdf5_hl.h>
+
+static void vfail(char *err, size_t errsz, const char *fmt, va_list ap) {
+  char h5[600], what[256];
+  h5_cause(h5, sizeof h5);
+  vsnprintf(what, sizeof what, fmt, ap);
+  snprintf(err, errsz, "%s%s%s", what, h5[0] ? ": HDF5: " : "", h5);
+}
+
+void out_fail(char *err, size_t errsz, const char *fmt, ...) {
+  va_list ap;
+  va_start(ap, fmt);
+  vfail(err, errsz, fmt, ap);
+  va_end(ap);
+}
+
+int out_h5_attr(hid_t obj, hid_t str, const char *name, const char *value) {
+  hid_t sp = H5Screate(H5S_SCALAR), a;
+  int rc = -1;
+  if (sp < 0) return -1;
+  a = H5Acreate2(obj, name, str, sp, H5P_DEFAULT, H5P_DEFAULT);
+  if (a >= 0) {
+    rc = H5Awrite(a, str, &value) < 0 ? -1 : 0;
+    H5Aclose(a);
+  }
+  H5Sclose(sp);
+  return rc;
+}
+
+/* a dataset with units and description attributes; chunk may be NULL
+   (contiguous) */
+hid_t out_h5_dataset(hid_t file, hid_t str, const char *name, hid_t type,
+                     int rank, const hsize_t *dims, const hsize_t *chunk,
+                     int gzip, const void *fill, const char *units,
+                     const char *doc) {
+  hid_t sp = rank ? H5Screate_simple(rank, dims, NULL) : H5Screate(H5S_SCALAR);
+  hid_t dcpl = H5Pcreate(H5P_DATASET_CREATE), lcpl = H5Pcreate(H5P_LINK_CREATE);
+  hid_t dapl = H5Pcreate(H5P_DATASET_ACCESS);
+  hid_t ds = -1;
+  if (sp < 0 || dcpl < 0 || lcpl < 0 || dapl < 0) goto done;
+  /* tiles are whole chunks, written once: no chunk cache, so that memory
+     does not hold a chunk per dataset */
+  if (H5Pset_chunk_cache(dapl, 0, 0, 1.0) < 0) goto done;
+  /* names such as manipulator.rho are plain names, no groups */
+  if (chunk && H5Pset_chunk(dcpl, rank, chunk) < 0) goto done;
+  if (chunk && gzip > 0 && H5Pset_deflate(dcpl, (unsigned)gzip) < 0) goto done;
+  /* a checksum of each stored chunk (after deflate: of the bytes on disk),
+     checked by every read: merge refuses a damaged part (verify.h); the
+     strings' chunks hold heap references, which HDF5 does not checksum */
+  if (chunk && H5Tis_variable_str(type) <= 0 && H5Pset_fletcher32(dcpl) < 0)
+    goto done;
+  if (fill && H5Pset_fill_value(dcpl, type, fill) < 0) goto done;
+  if (H5Pset_char_encoding(lcpl, H5T_CSET_UTF8) < 0) goto done;
+  ds = H5Dcreate2(file, name, type, sp, lcpl, dcpl, dapl);
+  if (ds >= 0 && (out_h5_attr(ds, str, "units", units) < 0 ||
+                  out_h5_attr(ds, str, "description", doc) < 0)) {
+    H5Dclose(ds);
+    ds = -1;
+  }
+done:
+  if (sp >= 0) H5Sclose(sp);
+  if (dcpl >= 0) H5Pclose(dcpl);
+  if (lcpl >= 0) H5Pclose(lcpl);
+  if (dapl >= 0) H5Pclose(dapl);
+  return ds;
+}
+
+/* write all of a small dataset */
+int out_h5_write_all(hid_t ds, hid_t type, const void *data) {
+  return H5Dwrite(ds, type, H5S_ALL, H5S_ALL, H5P_DEFAULT, data) < 0 ? -1 : 0;
+}
+
+/* write n elements from data into rows [c0, c0 + n) of a [case] dataset */
+int out_h5_rows(hid_t ds, hid_t type, size_t c0, size_t n, const void *data) {
+  hsize_t start = c0, count = n;
+  hid_t fs = H5Dget_space(ds), ms = H5Screate_simple(1, &count, NULL);
+  int rc = -1;
+  if (fs >= 0 && ms >= 0 &&
+      H5Sselect_hyperslab(fs, H5S_SELECT_SET, &start, NULL, &count, NULL) >=
+          0 &&
+      H5Dwrite(ds, type, ms, fs, H5P_DEFAULT, data) >= 0)
+    rc = 0;
+  if (fs >= 0) H5Sclose(fs);
+  if (ms >= 0) H5Sclose(ms);
+  return rc;
+}
+
+/* a dimension scale: a 1-D dataset named after its dimension */
+hid_t out_h5_scale(hid_t file, hid_t str, const char *name, hid_t type,
+                   size_t n, const void *data, const char *units,
+                   const char *doc) {
+  hsize_t dim = n;
+  hid_t ds =
+      out_h5_dataset(file, str, name, type, 1, &dim, NULL, 0, NULL, units, doc);
+  if (ds < 0) return -1;
+  if ((data && out_h5_write_all(ds, type, data) < 0) ||
+      H5DSset_scale(ds, name) < 0) {
+    H5Dclose(ds);
+    return -1;
+  }
+  return ds;
+}
+
+/* the swept values of axis a, case by case, in runs of OUT_AXIS_RUN cases */
+int out_h5_axis(hid_t ds, hid_t str, const scene *s, size_t a) {
+  const scene_axis *ax = &s->axis[a];
+  const scene_key_info *ki = scene_key_get(ax->key);
+  size_t c0, i, n;
+  int rc = 0;
+  void *buf = malloc(OUT_AXIS_RUN * sizeof(double));
+  if (!buf) return -1;
+  for (c0 = 0; c0 < s->ncase && rc == 0; c0 += n) {
+    n = s->ncase - c0 < OUT_AXIS_RUN ? s->ncase - c0 : OUT_AXIS_RUN;
+    for (i = 0; i < n; i++) {
+      double x = ax->val[scene_case_coord(s, c0 + i, a)];
+      if (ki->type == KEY_REAL || ki->type == KEY_REAL3)
+        ((double *)buf)[i] = x;
+      else if (ki->type == KEY_ENUM)
+        ((const char **)buf)[i] = scene_enum_name(ax->key, (int)x);
+      else
+        ((int32_t *)buf)[i] = (int32_t)x;
+    }
+    rc = out_h5_rows(ds,
+                     (ki->type == KEY_REAL || ki->type == KEY_REAL3)
+                         ? H5T_NATIVE_DOUBLE
+                     : ki->type == KEY_ENUM ? str
+                                            : H5T_NATIVE_INT32,
+                     c0, n, buf);
+  }
+  free(buf);
+  return rc;
+}
+
+/* the time now, ISO 8601 in UTC */
+void out_utc_now(char now[32]) {
+  time_t t = time(NULL);
+  struct tm tm;
+  gmtime_r(&t, &tm);
+  strftime(now, 32, "%Y-%m-%dT%H:%M:%SZ", &tm);
+}

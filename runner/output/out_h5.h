@@ -1,0 +1,52 @@
+/*
+ * out_h5.h - the HDF5 helpers of the runner's files (out_h5.c): datasets
+ * with units and descriptions, dimension scales, rows of a [case] dataset,
+ * the swept keys' values, the time now; errors with HDF5's message.
+ */
+#ifndef RPS3_RUNNER_OUT_H5_H
+#define RPS3_RUNNER_OUT_H5_H
+
+#include <stddef.h>
+
+#include <hdf5.h>
+
+#include "scene/scene.h"
+
+/* err = the message (printf-style) and the innermost HDF5 error, which is
+   then cleared */
+void out_fail(char *err, size_t errsz, const char *fmt, ...);
+
+/* now = the time now, ISO 8601 in UTC ("2026-01-31T12:00:00Z") */
+void out_utc_now(char now[32]);
+
+/* a scalar string attribute (str: the file's UTF-8 string type); 0 or -1 */
+int out_h5_attr(hid_t obj, hid_t str, const char *name, const char *value);
+
+/* a dataset with units and description attributes, as the runner's own:
+   chunk NULL for contiguous, else Fletcher-32 (and deflate at gzip) on
+   every chunk, fill value fill (NULL: HDF5's), no chunk cache; or -1 */
+hid_t out_h5_dataset(hid_t file, hid_t str, const char *name, hid_t type,
+                     int rank, const hsize_t *dims, const hsize_t *chunk,
+                     int gzip, const void *fill, const char *units,
+                     const char *doc);
+
+/* a 1-D dimension scale of n values (data NULL: written later); or -1 */
+hid_t out_h5_scale(hid_t file, hid_t str, const char *name, hid_t type,
+                   size_t n, const void *data, const char *units,
+                   const char *doc);
+
+/* n elements into rows [c0, c0 + n) of a 1-D dataset; 0 or -1 */
+int out_h5_rows(hid_t ds, hid_t type, size_t c0, size_t n, const void *data);
+
+/* the case and time scales and the swept values are written in runs of
+   this many values: memory does not grow with the sweep */
+#define OUT_AXIS_RUN 65536
+
+/* Write all of a small dataset: 0, or -1. */
+int out_h5_write_all(hid_t ds, hid_t type, const void *data);
+
+/* the values of sweep axis a of s, case by case, into a [case] dataset of
+   the key's type; 0 or -1 */
+int out_h5_axis(hid_t ds, hid_t str, const scene *s, size_t a);
+
+#endif /* RPS3_RUNNER_OUT_H5_H */

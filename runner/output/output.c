@@ -1,0 +1,519 @@
+/*
+ * output.c - write a sweep as a self-describing HDF5 file (netCDF-4 style:
+ * dimension scales on every axis, units and description on every dataset),
+ * readable by h5py and by xarray through h5netcdf.
+ */
+#include "output.h"
+#include "core/h5err.h"
+#include "out_cf.h"
+#include "scene/inputs.h"
+
+#include <errno.h>
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include <gsl/gsl_version.h>
+#include <hdf5.h>
+#include <hdf5_hl.h>
+#include <yaml.h>
+
+/* ------------------------------------------------------------ HDF5 bits */
+
+/* bytes of HDF5's type conversion buffer per write */
+#define OUT_TCONV_BUF 65536
+
+struct out_file {
+  hid_t file;
+  hid_t ds[OUT_NFIELD];
+  hid_t case_time; /* [case, time] when the grid differs, else -1 */
+  hid_t str;       /* variable-length UTF-8 string type */
+  hid_t dxpl;      /* the tiles' transfer properties */
+  size_t ncase;
+  size_t nt;
+  int neffect;
+  out_layout layout; /* for out_pack */
+};
+
+/* the HDF5 memory/file type of a schema field */
+static hid_t field_type(const out_file *f, const out_field_info *fi) {
+  return fi->type == OUT_F64   ? H5T_NATIVE_DOUBLE
+         : fi->type == OUT_I32 ? H5T_NATIVE_INT32
+                               : f->str;
+}
+
+/* the root attributes: versions, time of creation, command line */
+static int root_attrs(hid_t file, hid_t str, const out_meta *meta) {
+  char now[32], h5v[32], fields[1024];
+  unsigned maj, min, rel;
+  out_utc_now(now);
+  H5get_libversion(&maj, &min, &rel);
+  snprintf(h5v, sizeof h5v, "%u.%u.%u", maj, min, rel);
+  return (out_h5_attr(file, str, "rps3_version", rps3_version()) < 0 ||
+          out_h5_attr(file, str, "created_utc", now) < 0 ||
+          out_h5_attr(file, str, "command_line", meta->command_line) < 0 ||
+          out_h5_attr(file, str, "gsl_version", gsl_version) < 0 ||
+          out_h5_attr(file, str, "hdf5_version", h5v) < 0 ||
+          out_h5_attr(file, str, "yaml_version", yaml_get_version_string()) <
+              0 ||
+          out_h5_attr(file, str, "title",
+                      "rps3: inverse dynamics of the Lee & Shah 3-RPS "
+                      "manipulator along a trajectory, per case of a sweep") <
+              0 ||
+          out_h5_attr(file, str, "fields",
+                      out_fields_text(meta->fields, fields, sizeof fields)) <
+              0 ||
+          out_h5_attr(file, str, INPUTS_ATTR,
+                      meta->inputs ? meta->inputs : "") < 0 ||
+          out_cf_root(file, str, now, meta->command_line) < 0 ||
+          (meta->shard && out_h5_attr(file, str, "shard", meta->shard) < 0))
+             ? -1
+             : 0;
+}
+
+/* the file's dimension scales */
+typedef struct {
+  hid_t dcase, dtime, dlink, dcon, deff;
+} scales;
+
+static void scales_close(scales *sc) {
+  hid_t *h[5];
+  int i;
+  h[0] = &sc->dcase;
+  h[1] = &sc->dtime;
+  h[2] = &sc->dlink;
+  h[3] = &sc->dcon;
+  h[4] = &sc->deff;
+  for (i = 0; i < 5; i++) {
+    if (*h[i] >= 0) H5Dclose(*h[i]);
+    *h[i] = -1;
+  }
+}
+
+/* the scene file, verbatim */
+static int write_scene_text(out_file *f, const scene *s, char *err,
+                            size_t errsz) {
+  hid_t ds = out_h5_dataset(f->file, f->str, "scene", f->str, 0, NULL, NULL, 0,
+                            NULL, "1", "the scene file (YAML), verbatim");
+  const char *text = s->text;
+  int rc = 0;
+  if (ds < 0 || out_cf_long_name(ds, f->str, "scene file") < 0 ||
+      out_h5_write_all(ds, f->str, &text) < 0) {
+    out_fail(err, errsz, "cannot write the scene text");
+    rc = -1;
+  }
+  if (ds >= 0) H5Dclose(ds);
+  return rc;
+}
+
+/* the case scale 0, 1, ... in runs of OUT_AXIS_RUN: -1 on failure */
+static hid_t case_scale(out_file *f, size_t ncase) {
+  hid_t ds =
+      out_h5_scale(f->file, f->str, "case", H5T_NATIVE_INT64, ncase, NULL, "1",
+                   "case number; row-major over the sweep keys in "
+                   "file order, the last key fastest");
+  int64_t *idx;
+  size_t c0, n, k;
+  if (ds < 0) return -1;
+  idx = malloc(OUT_AXIS_RUN * sizeof *idx);
+  for (c0 = 0; idx && c0 < ncase; c0 += n) {
+    n = ncase - c0 < OUT_AXIS_RUN ? ncase - c0 : OUT_AXIS_RUN;
+    for (k = 0; k < n; k++) idx[k] = (int64_t)(c0 + k);
+    if (out_h5_rows(ds, H5T_NATIVE_INT64, c0, n, idx) < 0) break;
+  }
+  if (!idx || c0 < ncase) {
+    H5Dclose(ds);
+    ds = -1;
+  }
+  free(idx);
+  return ds;
+}
+
+/* the time scale: the times of the shared grid, or the sample index when
+   the grid differs between cases; in runs of OUT_AXIS_RUN samples, so
+   that memory does not grow with the length of a case */
+static hid_t time_scale(out_file *f, const scene_case *first, size_t nt,
+                        int grid_common) {
+  hid_t type = grid_common ? H5T_NATIVE_DOUBLE : H5T_NATIVE_INT32;
+  hid_t ds = grid_common
+                 ? out_h5_scale(f->file, f->str, OUT_CF_SAMPLE_DIM(1), type, nt,
+                                NULL, OUT_CF_TIME_UNITS,
+                                "time since the start of the trajectory, in "
+                                "s (the reference date of the units is "
+                                "nominal)")
+                 : out_h5_scale(f->file, f->str, OUT_CF_SAMPLE_DIM(0), type, nt,
+                                NULL, "1",
+                                "sample index: the time grid differs between "
+                                "cases, the time of each sample is "
+                                "case_time");
+  double *t;
+  int32_t *ix;
+  size_t c0, n, k;
+  if (ds < 0) return -1;
+  if (grid_common && out_cf_time(ds, f->str) < 0) {
+    H5Dclose(ds);
+    return -1;
+  }
+  t = malloc(OUT_AXIS_RUN * sizeof *t);
+  ix = (int32_t *)t;
+  for (c0 = 0; t && c0 < nt; c0 += n) {
+    n = nt - c0 < OUT_AXIS_RUN ? nt - c0 : OUT_AXIS_RUN;
+    for (k = 0; k < n; k++) {
+      if (grid_common)
+        t[k] = scene_case_time(first, c0 + k);
+      else
+        ix[k] = (int32_t)(c0 + k);
+    }
+    if (out_h5_rows(ds, type, c0, n, t) < 0) break;
+  }
+  if (!t || c0 < nt) {
+    H5Dclose(ds);
+    ds = -1;
+  }
+  free(t);
+  return ds;
+}
+
+/* the dimension scales case, time, link, constraint and effect */
+static int make_scales(out_file *f, const scene *s, const scene_case *first,
+                       size_t nt, int grid_common, const out_block *b,
+                       scales *sc, char *err, size_t errsz) {
+  static const int32_t one23[3] = {1, 2, 3};
+  const char *names[RPS3_NEFFECT];
+  int i;
+  sc->dcase = case_scale(f, s->ncase);
+  sc->dtime = time_scale(f, first, nt, grid_common);
+  sc->dlink =
+      out_h5_scale(f->file, f->str, "link", H5T_NATIVE_INT32, 3, one23, "1",
+                   "link (leg) number i; link i is pinned at angle "
+                   "2 pi (i - 1) / 3 from X");
+  sc->dcon = out_h5_scale(f->file, f->str, "constraint", H5T_NATIVE_INT32, 3,
+                          one23, "1",
+                          "constraint k of eqs. (8), (9), (10): ball joints "
+                          "1-2, 2-3, 3-1");
+  for (i = 0; i < b->neffect; i++) names[i] = rps3_effect_name(b->effect[i]);
+  sc->deff =
+      out_h5_scale(f->file, f->str, "effect", f->str, (size_t)b->neffect, names,
+                   "1", "physical effect, as named by rps3_effect_name");
+  if (sc->dcase < 0 || sc->dtime < 0 || sc->dlink < 0 || sc->dcon < 0 ||
+      sc->deff < 0 || out_cf_long_name(sc->dcase, f->str, "case number") < 0 ||
+      out_cf_long_name(sc->dtime, f->str,
+                       grid_common ? "time" : "sample index") < 0 ||
+      out_cf_long_name(sc->dlink, f->str, "link number") < 0 ||
+      out_cf_long_name(sc->dcon, f->str, "constraint number") < 0 ||
+      out_cf_long_name(sc->deff, f->str, "physical effect") < 0) {
+    out_fail(err, errsz, "cannot write the dimension scales");
+    return -1;
+  }
+  return 0;
+}
+
+/* the swept keys, [case], each on the case scale */
+static int write_swept_keys(out_file *f, const scene *s, const scales *sc,
+                            char *err, size_t errsz) {
+  size_t a;
+  for (a = 0; a < s->naxis; a++) {
+    const scene_key_info *ki = scene_key_get(s->axis[a].key);
+    char doc[400], units[32], name[160];
+    hsize_t nc = s->ncase;
+    hid_t type = (ki->type == KEY_REAL || ki->type == KEY_REAL3)
+                     ? H5T_NATIVE_DOUBLE
+                 : ki->type == KEY_ENUM ? f->str
+                                        : H5T_NATIVE_INT32;
+    hid_t ds;
+    int bad;
+    snprintf(doc, sizeof doc, "swept scene key %s: %s (paper: %s)",
+             s->axis[a].path, ki->doc, ki->symbol);
+    /* the variable has the key's CF name, the key in scene_key */
+    ds = out_h5_dataset(f->file, f->str,
+                        out_cf_key_name(s->axis[a].path, name, sizeof name),
+                        type, 1, &nc, NULL, 0, NULL,
+                        out_cf_axis_units(s, a, units, sizeof units), doc);
+    bad = ds < 0 || out_cf_swept_key(ds, f->str, s->axis[a].path) < 0 ||
+          H5DSattach_scale(ds, sc->dcase, 0) < 0 ||
+          out_h5_axis(ds, f->str, s, a) < 0;
+    if (ds >= 0) H5Dclose(ds);
+    if (bad) {
+      out_fail(err, errsz, "cannot write the swept key %s", s->axis[a].path);
+      return -1;
+    }
+  }
+  return 0;
+}
+
+/* schema field i: its dataset, chunked [case, time, ...] on the scales */
+static int make_field(out_file *f, int i, const scene *s, size_t nt,
+                      size_t chunk_points, const out_block *b,
+                      const out_meta *meta, const scales *sc,
+                      const char *const coords[2], char *err, size_t errsz) {
+  const double fnan = (double)NAN;
+  const int32_t fneg = -1, fnotrun = OUT_STATUS_NOT_COMPUTED;
+  const out_field_info *fi = &out_field_table[i];
+  const char *cs;
+  hid_t axes[4];
+  hsize_t dims[4], chunk[4];
+  int rank = 0, r;
+  dims[rank] = s->ncase;
+  chunk[rank] = b->cases < s->ncase ? b->cases : s->ncase;
+  axes[rank++] = sc->dcase;
+  if (fi->shape != OUT_C) {
+    dims[rank] = nt;
+    chunk[rank] = chunk_points < nt ? chunk_points : nt;
+    axes[rank++] = sc->dtime;
+  }
+  if (fi->shape == OUT_CTEL) {
+    dims[rank] = chunk[rank] = (hsize_t)b->neffect;
+    axes[rank++] = sc->deff;
+  }
+  if (fi->shape == OUT_CTL || fi->shape == OUT_CTEL) {
+    dims[rank] = chunk[rank] = 3;
+    axes[rank++] = sc->dlink;
+  }
+  if (fi->shape == OUT_CTK) {
+    dims[rank] = chunk[rank] = 3;
+    axes[rank++] = sc->dcon;
+  }
+  f->ds[i] = out_h5_dataset(f->file, f->str, fi->name, field_type(f, fi), rank,
+                            dims, chunk, meta->gzip,
+                            fi->type == OUT_F64   ? (const void *)&fnan
+                            : i == OUT_status     ? (const void *)&fnotrun
+                            : fi->type == OUT_I32 ? (const void *)&fneg
+                                                  : NULL,
+                            fi->units, fi->doc);
+  /* coords[0] of a per-case variable, coords[1] of a per-sample one;
+     scene_resolved reruns a case alone: with the data its files held */
+  cs = coords[fi->shape != OUT_C];
+  if (f->ds[i] < 0 || out_cf_field(f->ds[i], f->str, i) < 0 ||
+      (cs[0] && out_h5_attr(f->ds[i], f->str, "coordinates", cs) < 0) ||
+      (i == OUT_scene_resolved &&
+       out_h5_attr(f->ds[i], f->str, INPUTS_ATTR,
+                   meta->inputs ? meta->inputs : "") < 0)) {
+    out_fail(err, errsz, "cannot create dataset %s", fi->name);
+    return -1;
+  }
+  for (r = 0; r < rank; r++)
+    if (H5DSattach_scale(f->ds[i], axes[r], (unsigned)r) < 0) {
+      out_fail(err, errsz, "cannot attach the dimension scales of %s",
+               fi->name);
+      return -1;
+    }
+  return 0;
+}
+
+/* case_time [case, time], when the time grid differs between cases */
+static int make_case_time(out_file *f, const scene *s, size_t nt,
+                          size_t chunk_points, const out_block *b,
+                          const out_meta *meta, const scales *sc, char *err,
+                          size_t errsz) {
+  const double fnan = (double)NAN;
+  hsize_t dims[2], chunk[2];
+  dims[0] = s->ncase;
+  dims[1] = nt;
+  chunk[0] = b->cases < s->ncase ? b->cases : s->ncase;
+  chunk[1] = chunk_points < nt ? chunk_points : nt;
+  f->case_time = out_h5_dataset(
+      f->file, f->str, "case_time", H5T_NATIVE_DOUBLE, 2, dims, chunk,
+      meta->gzip, &fnan, "s",
+      "time of each sample of each case (the time grid differs between "
+      "cases); NaN past a case's last sample");
+  if (f->case_time < 0 ||
+      out_cf_long_name(f->case_time, f->str, "time of the sample") < 0 ||
+      H5DSattach_scale(f->case_time, sc->dcase, 0) < 0 ||
+      H5DSattach_scale(f->case_time, sc->dtime, 1) < 0) {
+    out_fail(err, errsz, "cannot create dataset case_time");
+    return -1;
+  }
+  return 0;
+}
+
+/* the file itself, its string type and root attributes; the layout */
+static out_file *file_open(const char *path, const scene *s, size_t nt,
+                           int grid_common, size_t chunk_points,
+                           const out_block *b, const out_meta *meta, char *err,
+                           size_t errsz) {
+  out_file *f = calloc(1, sizeof *f);
+  int i;
+  if (!f) {
+    snprintf(err, errsz, "out of memory");
+    return NULL;
+  }
+  f->file = f->str = f->case_time = f->dxpl = -1;
+  for (i = 0; i < OUT_NFIELD; i++) f->ds[i] = -1;
+  f->ncase = s->ncase;
+  f->nt = nt;
+  f->neffect = b->neffect;
+  f->layout.ncase = s->ncase;
+  f->layout.nt = nt;
+  f->layout.tc = b->cases < s->ncase ? b->cases : s->ncase;
+  f->layout.q = chunk_points < nt ? chunk_points : nt;
+  f->layout.neffect = b->neffect;
+  f->layout.gzip = meta->gzip;
+  f->layout.fields = meta->fields;
+  f->layout.case_time = !grid_common;
+
+  f->str = H5Tcopy(H5T_C_S1);
+  /* the type conversion buffer of a write (the strings of a tile's
+     cases): HDF5 allocates and zeroes its size, 1 MiB by default, at
+     every write; OUT_TCONV_BUF bytes convert in pieces */
+  f->dxpl = H5Pcreate(H5P_DATASET_XFER);
+  if (f->str < 0 || H5Tset_size(f->str, H5T_VARIABLE) < 0 ||
+      H5Tset_cset(f->str, H5T_CSET_UTF8) < 0)
+    out_fail(err, errsz, "cannot make the string type");
+  else if (f->dxpl < 0 || H5Pset_buffer(f->dxpl, OUT_TCONV_BUF, NULL, NULL) < 0)
+    out_fail(err, errsz, "cannot make the transfer properties");
+  else if ((f->file =
+                H5Fcreate(path, H5F_ACC_TRUNC, H5P_DEFAULT, H5P_DEFAULT)) < 0)
+    out_fail(err, errsz, "cannot create %s", path);
+  else if (root_attrs(f->file, f->str, meta) < 0)
+    out_fail(err, errsz, "cannot write the root attributes");
+  else
+    return f;
+  out_close(f, NULL, 0);
+  return NULL;
+}
+
+out_file *out_create(const char *path, const scene *s, const scene_case *first,
+                     size_t nt, int grid_common, size_t chunk_points,
+                     const out_block *b, const out_meta *meta, char *err,
+                     size_t errsz) {
+  scales sc = {-1, -1, -1, -1, -1};
+  char *coords[2] = {NULL, NULL};
+  int i, rc = -1;
+  out_file *f =
+      file_open(path, s, nt, grid_common, chunk_points, b, meta, err, errsz);
+  if (!f) return NULL;
+  if (write_scene_text(f, s, err, errsz) == 0 &&
+      make_scales(f, s, first, nt, grid_common, b, &sc, err, errsz) == 0 &&
+      write_swept_keys(f, s, &sc, err, errsz) == 0) {
+    /* the per-case variables' coordinates are the swept keys; the
+       per-sample ones' also case_time when the grid differs */
+    coords[0] = out_h5_coordinates(s, 0);
+    coords[1] = out_h5_coordinates(s, !grid_common);
+    if (!coords[0] || !coords[1]) snprintf(err, errsz, "out of memory");
+    rc = coords[0] && coords[1] ? 0 : -1;
+    /* the fields of the schema that are asked for (--fields) */
+    for (i = 0; rc == 0 && i < OUT_NFIELD; i++)
+      if (meta->fields >> i & 1)
+        rc = make_field(f, i, s, nt, chunk_points, b, meta, &sc,
+                        (const char *const *)coords, err, errsz);
+    if (rc == 0 && !grid_common)
+      rc = make_case_time(f, s, nt, chunk_points, b, meta, &sc, err, errsz);
+  }
+  free(coords[0]);
+  free(coords[1]);
+  scales_close(&sc);
+  if (rc == 0) return f;
+  out_close(f, NULL, 0);
+  return NULL;
+}
+
+/* write slots [0, nc) x samples [0, nk) of a [cases, points, cols] buffer
+   to rows [c0, c0 + nc) x [k0, k0 + nk) of a dataset of rank `rank` */
+static int write_tile(hid_t ds, hid_t dxpl, hid_t type, int rank,
+                      const out_block *b, const void *buf, size_t c0, size_t nc,
+                      size_t k0, size_t nk) {
+  hsize_t mdims[4], start[4] = {0, 0, 0, 0}, count[4], fstart[4] = {0};
+  hid_t fs = H5Dget_space(ds), ms;
+  int r, rc = -1;
+  mdims[0] = b->cases;
+  count[0] = nc;
+  fstart[0] = c0;
+  if (rank >= 2) {
+    mdims[1] = b->points;
+    count[1] = nk;
+    fstart[1] = k0;
+  }
+  /* the trailing axes (effect, link) are whole: flatten them into one */
+  if (rank >= 3) {
+    hsize_t fdims[4];
+    H5Sget_simple_extent_dims(fs, fdims, NULL);
+    for (r = 2; r < rank; r++) {
+      mdims[r] = fdims[r];
+      count[r] = fdims[r];
+      fstart[r] = 0;
+    }
+  }
+  ms = H5Screate_simple(rank, mdims, NULL);
+  if (fs >= 0 && ms >= 0 &&
+      H5Sselect_hyperslab(ms, H5S_SELECT_SET, start, NULL, count, NULL) >= 0 &&
+      H5Sselect_hyperslab(fs, H5S_SELECT_SET, fstart, NULL, count, NULL) >= 0 &&
+      H5Dwrite(ds, type, ms, fs, dxpl, buf) >= 0)
+    rc = 0;
+  if (fs >= 0) H5Sclose(fs);
+  if (ms >= 0) H5Sclose(ms);
+  return rc;
+}
+
+void out_file_layout(const out_file *f, out_layout *L) { *L = f->layout; }
+
+/* write the chunks out_pack made, as they are */
+static int write_packed(out_file *f, const out_block *b, char *err,
+                        size_t errsz) {
+  size_t i;
+  for (i = 0; i < b->npk; i++) {
+    const out_chunk *ck = &b->pk[i];
+    hid_t ds = ck->field < OUT_NFIELD ? f->ds[ck->field] : f->case_time;
+    const unsigned char *data =
+        !ck->direct ? b->pk_buf
+        : ck->field < OUT_NFIELD
+            ? (const unsigned char *)out_block_field(b, ck->field)
+            : (const unsigned char *)b->t;
+    hsize_t off[4] = {0, 0, 0, 0};
+    off[0] = ck->c0;
+    off[1] = ck->k0;
+    if (H5Dwrite_chunk(ds, H5P_DEFAULT, 0, off, ck->size, data + ck->off) < 0) {
+      out_fail(err, errsz, "cannot write %s of cases %zu-",
+               ck->field < OUT_NFIELD ? out_field_table[ck->field].name
+                                      : "case_time",
+               ck->c0);
+      return -1;
+    }
+  }
+  return 0;
+}
+
+int out_write(out_file *f, const out_block *b, size_t c0, size_t nc, size_t k0,
+              size_t nk, int with_case, char *err, size_t errsz) {
+  int i;
+  if (b->packed && write_packed(f, b, err, errsz)) return -1;
+  for (i = 0; i < OUT_NFIELD; i++) {
+    const out_field_info *fi = &out_field_table[i];
+    hid_t type = field_type(f, fi);
+    int rank = fi->shape == OUT_C      ? 1
+               : fi->shape == OUT_CT   ? 2
+               : fi->shape == OUT_CTEL ? 4
+                                       : 3;
+    if ((fi->shape == OUT_C && !with_case) || f->ds[i] < 0 ||
+        (fi->shape != OUT_C && b->packed))
+      continue;
+    if (write_tile(f->ds[i], f->dxpl, type, rank, b, out_block_field(b, i), c0,
+                   nc, k0, nk) < 0) {
+      out_fail(err, errsz, "cannot write %s of cases %zu-%zu", fi->name, c0,
+               c0 + nc - 1);
+      return -1;
+    }
+  }
+  if (f->case_time >= 0 && !b->packed &&
+      write_tile(f->case_time, f->dxpl, H5T_NATIVE_DOUBLE, 2, b, b->t, c0, nc,
+                 k0, nk) < 0) {
+    out_fail(err, errsz, "cannot write case_time of cases %zu-%zu", c0,
+             c0 + nc - 1);
+    return -1;
+  }
+  return 0;
+}
+
+int out_close(out_file *f, char *err, size_t errsz) {
+  int i, rc = 0;
+  if (!f) return 0;
+  for (i = 0; i < OUT_NFIELD; i++)
+    if (f->ds[i] >= 0 && H5Dclose(f->ds[i]) < 0) rc = -1;
+  if (f->case_time >= 0 && H5Dclose(f->case_time) < 0) rc = -1;
+  if (f->str >= 0) H5Tclose(f->str);
+  if (f->dxpl >= 0) H5Pclose(f->dxpl);
+  if (f->file >= 0 && H5Fclose(f->file) < 0) rc = -1;
+  if (rc < 0 && err) out_fail(err, errsz, "cannot close the file");
+  free(f);
+  return rc;
+}

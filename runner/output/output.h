@@ -1,0 +1,67 @@
+/*
+ * output.h - the HDF5 file of a sweep: its schema and a streaming writer.
+ *
+ * RPS3_OUTPUT_FIELDS is the one table of what a file holds per case and per
+ * sample.  It drives the tile buffers, dataset creation, the writes and the
+ * units/description attributes.  The coordinates (case, time, link, effect,
+ * constraint, the swept keys, case_time) are written by output.c itself.
+ *
+ * The file is written in tiles: a tile is a run of whole cases, or one
+ * window of samples of a single long case.  A tile is one hyperslab write
+ * per field, so memory is bounded by the tile size, whatever the sweep size.
+ */
+#ifndef RPS3_RUNNER_OUTPUT_H
+#define RPS3_RUNNER_OUTPUT_H
+
+#include <stddef.h>
+#include <stdint.h>
+
+#include <hdf5.h>
+
+#include "out_cf.h"
+#include "out_h5.h"
+#include "outblock.h"
+#include "scene/scene.h"
+
+/* what the file says about the run */
+typedef struct {
+  const char *command_line;
+  int gzip;           /* deflate level 1-9, 0 for none */
+  const char *shard;  /* "K/N" of a part file (merge.h), NULL if whole */
+  out_mask fields;    /* the fields written (--fields) */
+  const char *inputs; /* the files the scene read and their SHA-256
+                         (inputs.h): root attribute input_files */
+} out_meta;
+
+typedef struct out_file out_file;
+
+/*
+ * Create the file at `path` (truncating it) for the cases of s: all
+ * datasets, dimension scales, attributes, the scene text, the swept keys
+ * and, when the grid is common to all cases (grid_common), the time axis
+ * from `first`.  nt is the largest number of samples of any case; chunks
+ * are [b->cases, chunk_points, ...] (a tile is a whole number of chunks).
+ * Returns NULL with a message in err.
+ */
+out_file *out_create(const char *path, const scene *s, const scene_case *first,
+                     size_t nt, int grid_common, size_t chunk_points,
+                     const out_block *b, const out_meta *meta, char *err,
+                     size_t errsz);
+
+/* the layout of an open file's chunks, for out_pack */
+void out_file_layout(const out_file *f, out_layout *L);
+
+/*
+ * Write a tile: slots [0, nc) of b hold cases c0 .. c0 + nc - 1, samples
+ * [k0, k0 + nk).  Per-case fields (status, message, ...) are written only
+ * when with_case is 1.  When b->packed, the per-sample fields are written
+ * as the chunks out_pack made of this tile.  Returns 0 or -1 with err set.
+ */
+int out_write(out_file *f, const out_block *b, size_t c0, size_t nc, size_t k0,
+              size_t nk, int with_case, char *err, size_t errsz);
+
+/* Flush and close the file; returns 0 or -1 with err set.  f is freed
+   either way; NULL is accepted. */
+int out_close(out_file *f, char *err, size_t errsz);
+
+#endif /* RPS3_RUNNER_OUTPUT_H */

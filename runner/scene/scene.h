@@ -1,0 +1,406 @@
+/*
+ * scene.h - a scene file (YAML) and its sweep, for rps3-run and the study
+ * program.  The scene is parsed with libyaml's document API; every key it
+ * may hold is one row of SCENE_KEYS below, which drives parsing, the
+ * per-case YAML of scene_resolved and the key list of `rps3-run --keys`.
+ *
+ * A scene with a sweep is a Cartesian product of cases.  Cases are numbered
+ * in row-major order over the sweep keys in the order they appear in the
+ * file: the last key varies fastest.  A case is never stored; it is rebuilt
+ * from its number by scene_case(), so memory does not grow with the sweep.
+ */
+#ifndef RPS3_RUNNER_SCENE_H
+#define RPS3_RUNNER_SCENE_H
+
+#include <stddef.h>
+#include <stdio.h>
+
+#include "mark.h"
+#include "rps3.h"
+#include "scene_sim.h"
+#include "table.h"
+
+/* value types of scene keys */
+typedef enum {
+  KEY_REAL,    /* finite double */
+  KEY_INT,     /* integer */
+  KEY_BOOL,    /* true | false */
+  KEY_ENUM,    /* one of a list of names, stored as the library's enum */
+  KEY_REAL3,   /* list of three finite doubles; a sweep picks one: key[k] */
+  KEY_EFFECTS, /* list of effect names, stored as RPS3_EFF_* bits */
+  KEY_TIMES,   /* list of at least 2 numbers (waypoint times) */
+  KEY_POSES,   /* list of lists of 3 numbers (waypoint poses) */
+  KEY_FILE     /* a file name, relative to the scene (a table) */
+} key_type;
+
+/* which trajectory kinds a key belongs to (the kind of its field) */
+enum {
+  FOR_ALL = 0,
+  FOR_HELIX = RPS3_TRAJ_HELIX,
+  FOR_SINE = RPS3_TRAJ_SINE,
+  FOR_WAYPOINTS = RPS3_TRAJ_WAYPOINTS,
+  FOR_PATH = RPS3_TRAJ_PATH,
+  FOR_TABLE = RPS3_TRAJ_TABLE
+};
+
+/* how a key must be given: required, optional (a default), or exactly one
+   of a pair (REQ_ONE_*) */
+enum {
+  REQ_NO = 0,
+  REQ_YES = 1,
+  REQ_ONE_MASS = 2,  /* m_over_M | m */
+  REQ_ONE_GRID = 3,  /* samples | dt */
+  REQ_ONE_BLEND = 4, /* blend | blend_ratio */
+  REQ_SHAPE = 5      /* required by some path shapes (scene_shape_keys) */
+};
+
+/* the values only the runner has; a case turns them into library fields */
+typedef struct {
+  double m_over_M;    /* link mass over M: model.m = m_over_M * M */
+  double blend_ratio; /* t_a / T*: traj.helix.blend = blend_ratio * period */
+  int samples;        /* number of time samples, ends included */
+  double dt;          /* time step [s] */
+} scene_own;
+
+/*
+ * SCENE_OWN_FIELDS X(ID, IN, MEMBER, N, IS_INT, LO, LO_OPEN, HI, UNIT, NAME,
+ *                    FILLS): rows shaped like the library's RPS3_FIELDS, for
+ * the members of scene_own; IN says which trajectory kinds it serves, FILLS
+ * the library field it is turned into (-1: none).
+ */
+#define SCENE_OWN_FIELDS(X)                                            \
+  X(OWN_M_OVER_M, RPS3_IN_MODEL, m_over_M, 1, 0, 0, 0, HUGE_VAL, "1",  \
+    "m_over_M", RPS3_F_LINK_MASS)                                      \
+  X(OWN_BLEND_RATIO, RPS3_IN_HELIX, blend_ratio, 1, 0, 0, 1, 0.5, "1", \
+    "blend_ratio", RPS3_F_HELIX_BLEND)                                 \
+  X(OWN_SAMPLES, RPS3_IN_TRAJ, samples, 1, 1, 2, 0, 2147483647.0, "1", \
+    "samples", -1)                                                     \
+  X(OWN_DT, RPS3_IN_TRAJ, dt, 1, 0, 0, 1, HUGE_VAL, "s", "dt", -1)
+
+#define SCENE_OWN_ID(ID, ...) ID,
+enum { SCENE_OWN_FIELDS(SCENE_OWN_ID) SCENE_NOWN };
+#undef SCENE_OWN_ID
+
+/* every value a scene can set: the library's structures, filled through
+   the offsets of RPS3_FIELDS, and the runner's own */
+typedef struct {
+  rps3_model model;
+  rps3_traj traj;
+  scene_own own;
+  const char *table_file; /* kind table: the file, absolute (the scene's) */
+  const char *path_file;  /* path shape table: the file, absolute */
+  scene_sim sim;          /* the simulate section (scene_sim.h) */
+} scene_values;
+
+/*
+ * SCENE_KEYS X(ID, path, type, SRC, FIELD, req, symbol, doc): each key of a
+ * scene file.  SRC LIB: FIELD is the library field it fills (rps3_field_id),
+ * whose row gives the offset, the range (the library's own validation, read,
+ * not repeated), the unit and the trajectory kind; SRC OWN: FIELD is a row
+ * of SCENE_OWN_FIELDS.  The rules that involve several fields are the
+ * library's, run when a case is built; a failure comes back as a field id
+ * and is mapped to the key (or the swept value) that set it.  Defaults are
+ * those of rps3_model_default() and rps3_traj_default().
+ */
+#define SCENE_KEYS(X)                                                          \
+  X(K_R, "manipulator.R", KEY_REAL, LIB, RPS3_F_R, REQ_YES, "R",               \
+    "base radius, centre to the pin joints")                                   \
+  X(K_RHO, "manipulator.rho", KEY_REAL, LIB, RPS3_F_RHO, REQ_YES, "rho = r/R", \
+    "platform radius r (centre to the ball joints) over R")                    \
+  X(K_M, "manipulator.M", KEY_REAL, LIB, RPS3_F_PLATFORM_MASS, REQ_YES, "M",   \
+    "platform mass, a uniform disc of radius r")                               \
+  X(K_M_OVER_M, "manipulator.m_over_M", KEY_REAL, OWN, OWN_M_OVER_M,           \
+    REQ_ONE_MASS, "m/M",                                                       \
+    "mass of each link over M; give this or manipulator.m")                    \
+  X(K_MASS, "manipulator.m", KEY_REAL, LIB, RPS3_F_LINK_MASS, REQ_ONE_MASS,    \
+    "m", "mass of each link; give this or m_over_M")                           \
+  X(K_D, "manipulator.d", KEY_REAL, LIB, RPS3_F_D, REQ_YES, "d_i",             \
+    "pin joint to link centroid, constant")                                    \
+  X(K_G, "manipulator.g", KEY_REAL, LIB, RPS3_F_G, REQ_NO, "g",                \
+    "gravitational acceleration, along -Z")                                    \
+  X(K_LINK_IC, "manipulator.link_Ic", KEY_REAL, LIB, RPS3_F_LINK_IC, REQ_NO,   \
+    "-",                                                                       \
+    "link inertia about its centroid, about the pin axis (0 in the "           \
+    "paper)")                                                                  \
+  X(K_PAY_MASS, "manipulator.payload.mass", KEY_REAL, LIB,                     \
+    RPS3_F_PAYLOAD_MASS, REQ_NO, "-",                                          \
+    "payload fixed to the platform (effect payload)")                          \
+  X(K_PAY_COM, "manipulator.payload.com", KEY_REAL3, LIB, RPS3_F_PAYLOAD_COM,  \
+    REQ_NO, "-", "payload centre of mass [x, y, z] in platform axes")          \
+  X(K_PAY_INERTIA, "manipulator.payload.inertia", KEY_REAL3, LIB,              \
+    RPS3_F_PAYLOAD_INERTIA, REQ_NO, "-",                                       \
+    "payload principal moments [Ixx, Iyy, Izz] about its centre of mass")      \
+  X(K_VISCOUS, "manipulator.pin_friction.viscous", KEY_REAL, LIB,              \
+    RPS3_F_VISCOUS, REQ_NO, "T_{i-3} of (23)",                                 \
+    "viscous pin friction (effect pin_friction)")                              \
+  X(K_COULOMB, "manipulator.pin_friction.coulomb", KEY_REAL, LIB,              \
+    RPS3_F_COULOMB, REQ_NO, "T_{i-3} of (23)",                                 \
+    "Coulomb pin friction (effect pin_friction)")                              \
+  X(K_VREG, "manipulator.pin_friction.vreg", KEY_REAL, LIB, RPS3_F_VREG,       \
+    REQ_NO, "-",                                                               \
+    "Coulomb law tanh(dtheta / vreg) instead of sign(dtheta); 0 = sign")       \
+  X(K_KIND, "trajectory.kind", KEY_ENUM, LIB, RPS3_F_KIND, REQ_YES, "-",       \
+    "helix (the paper's section VI), sine, waypoints, path or table "          \
+    "(docs/trajectories.md)")                                                  \
+  X(K_RADIUS, "trajectory.radius", KEY_REAL, LIB, RPS3_F_HELIX_RADIUS,         \
+    REQ_YES, "r*", "helix radius, below r/2, eqs. (35), (37)")                 \
+  X(K_PITCH, "trajectory.pitch", KEY_REAL, LIB, RPS3_F_HELIX_PITCH, REQ_YES,   \
+    "h", "helix pitch: rise of z_c in T*")                                     \
+  X(K_Z0, "trajectory.z0", KEY_REAL, LIB, RPS3_F_HELIX_Z0, REQ_YES, "z_i",     \
+    "platform centre height at t = 0, (35)")                                   \
+  X(K_PERIOD, "trajectory.period", KEY_REAL, LIB, RPS3_F_HELIX_PERIOD,         \
+    REQ_YES, "T*", "time for one pitch (one turn)")                            \
+  X(K_BLEND, "trajectory.blend", KEY_REAL, LIB, RPS3_F_HELIX_BLEND,            \
+    REQ_ONE_BLEND, "t_a",                                                      \
+    "parabolic blend at both ends, t_a <= T*/2; t_b = T* - t_a; or give "      \
+    "blend_ratio")                                                             \
+  X(K_BLEND_RATIO, "trajectory.blend_ratio", KEY_REAL, OWN, OWN_BLEND_RATIO,   \
+    REQ_ONE_BLEND, "t_a/T*",                                                   \
+    "the blend as a fraction of T* (Table II: 0.1), so that a sweep of T* "    \
+    "keeps the shape of the motion; or give blend")                            \
+  X(K_MEAN, "trajectory.mean", KEY_REAL3, LIB, RPS3_F_SINE_MEAN, REQ_YES, "-", \
+    "mean of [alpha, beta, z_c]")                                              \
+  X(K_AMP, "trajectory.amp", KEY_REAL3, LIB, RPS3_F_SINE_AMP, REQ_YES, "-",    \
+    "amplitude of [alpha, beta, z_c]")                                         \
+  X(K_FREQ, "trajectory.freq", KEY_REAL3, LIB, RPS3_F_SINE_FREQ, REQ_YES, "-", \
+    "frequency of [alpha, beta, z_c]")                                         \
+  X(K_PHASE, "trajectory.phase", KEY_REAL3, LIB, RPS3_F_SINE_PHASE, REQ_NO,    \
+    "-", "phase of [alpha, beta, z_c]")                                        \
+  X(K_DURATION, "trajectory.duration", KEY_REAL, LIB, RPS3_F_SINE_DURATION,    \
+    REQ_YES, "-", "time span of the sine trajectory")                          \
+  X(K_WP_TIMES, "trajectory.waypoints.times", KEY_TIMES, LIB, RPS3_F_WP_TIME,  \
+    REQ_YES, "-", "times of the waypoints, from 0, strictly increasing")       \
+  X(K_WP_POSES, "trajectory.waypoints.poses", KEY_POSES, LIB, RPS3_F_WP_POSE,  \
+    REQ_YES, "-", "one [alpha, beta, z_c] per time; each must be reachable")   \
+  X(K_WP_LAW, "trajectory.waypoints.law", KEY_ENUM, LIB, RPS3_F_WP_LAW,        \
+    REQ_NO, "-",                                                               \
+    "lspb and minimum_jerk stop at each waypoint; quintic passes through "     \
+    "them (docs/trajectories.md)")                                             \
+  X(K_WP_BLEND, "trajectory.waypoints.blend_ratio", KEY_REAL, LIB,             \
+    RPS3_F_WP_BLEND, REQ_NO, "-",                                              \
+    "lspb: blend at each end of a segment, as a fraction of it")               \
+  X(K_WP_VMAX, "trajectory.waypoints.vmax", KEY_REAL3, LIB, RPS3_F_WP_VMAX,    \
+    REQ_NO, "-",                                                               \
+    "rate limits of [alpha, beta, z_c] that stretch a segment (0: none)")      \
+  X(K_WP_AMAX, "trajectory.waypoints.amax", KEY_REAL3, LIB, RPS3_F_WP_AMAX,    \
+    REQ_NO, "-",                                                               \
+    "acceleration limits of [alpha, beta, z_c] that stretch a segment (0: "    \
+    "none)")                                                                   \
+  X(K_PATH_SHAPE, "trajectory.path.shape", KEY_ENUM, LIB, RPS3_F_PATH_SHAPE,   \
+    REQ_YES, "-",                                                              \
+    "line, circle, helix or table of the platform centre, through (3)-(4)")    \
+  X(K_PATH_START, "trajectory.path.start", KEY_REAL3, LIB, RPS3_F_PATH_START,  \
+    REQ_SHAPE, "-", "line: first point [x, y, z] of the centre")               \
+  X(K_PATH_END, "trajectory.path.end", KEY_REAL3, LIB, RPS3_F_PATH_END,        \
+    REQ_SHAPE, "-", "line: last point [x, y, z] of the centre")                \
+  X(K_PATH_CENTRE, "trajectory.path.centre", KEY_REAL3, LIB,                   \
+    RPS3_F_PATH_CENTRE, REQ_SHAPE, "-",                                        \
+    "circle, helix: centre [x, y, z] of the circle at t = 0")                  \
+  X(K_PATH_RADIUS, "trajectory.path.radius", KEY_REAL, LIB,                    \
+    RPS3_F_PATH_RADIUS, REQ_SHAPE, "r*",                                       \
+    "circle, helix: radius; every point keeps 0 < sqrt(x^2 + y^2) < r/2")      \
+  X(K_PATH_ANGLE0, "trajectory.path.angle0", KEY_REAL, LIB,                    \
+    RPS3_F_PATH_ANGLE0, REQ_NO, "-",                                           \
+    "circle, helix: starting angle from +X (default 0)")                       \
+  X(K_PATH_TURNS, "trajectory.path.turns", KEY_REAL, LIB, RPS3_F_PATH_TURNS,   \
+    REQ_SHAPE, "-", "circle, helix: turns, negative clockwise")                \
+  X(K_PATH_PITCH, "trajectory.path.pitch", KEY_REAL, LIB, RPS3_F_PATH_PITCH,   \
+    REQ_SHAPE, "h", "helix: rise per turn, uniform in time as in (35)")        \
+  X(K_PATH_DURATION, "trajectory.path.duration", KEY_REAL, LIB,                \
+    RPS3_F_PATH_DURATION, REQ_SHAPE, "T*",                                     \
+    "line, circle, helix: time to run the path")                               \
+  X(K_PATH_LAW, "trajectory.path.law", KEY_ENUM, LIB, RPS3_F_PATH_LAW, REQ_NO, \
+    "-", "time law of the path parameter: lspb or minimum_jerk")               \
+  X(K_PATH_BLEND, "trajectory.path.blend_ratio", KEY_REAL, LIB,                \
+    RPS3_F_PATH_BLEND, REQ_NO, "t_a/T*",                                       \
+    "lspb: blend at each end as a fraction of the duration")                   \
+  X(K_PATH_FILE, "trajectory.path.file", KEY_FILE, LIB,                        \
+    RPS3_F_PATH_TABLE_VALUE, REQ_SHAPE, "-",                                   \
+    "table: CSV or HDF5 file of rows t, x, y, z of the centre [, rates "       \
+    "NAME_dot [, accelerations NAME_ddot]], relative to the scene; its time "  \
+    "is the table's")                                                          \
+  X(K_TABLE_FILE, "trajectory.table.file", KEY_FILE, LIB, RPS3_F_TABLE_VALUE,  \
+    REQ_YES, "-",                                                              \
+    "CSV or HDF5 file of rows t, alpha, beta, z_c [, rates NAME_dot [, "       \
+    "accelerations NAME_ddot]], relative to the scene; interpolated by a "     \
+    "spline or Hermite polynomials (docs/trajectories.md)")                    \
+  X(K_SAMPLES, "trajectory.samples", KEY_INT, OWN, OWN_SAMPLES, REQ_ONE_GRID,  \
+    "-", "time samples over the span, both ends included; or give dt")         \
+  X(K_DT, "trajectory.dt", KEY_REAL, OWN, OWN_DT, REQ_ONE_GRID, "-",           \
+    "time step; the span must be a whole number of steps; or give samples")    \
+  X(K_EFFECTS, "effects", KEY_EFFECTS, LIB, RPS3_F_EFFECTS, REQ_NO, "-",       \
+    "effects to compute (default: the paper's four, plus payload and "         \
+    "pin_friction when configured; a list must name every configured one)")    \
+  X(K_THETA, "solver.theta", KEY_ENUM, LIB, RPS3_F_THETA, REQ_NO, "theta_i",   \
+    "closed_form (eq. 39) or multiroot (eqs. 8-10, GSL)")                      \
+  X(K_METHOD, "solver.method", KEY_ENUM, LIB, RPS3_F_METHOD, REQ_NO, "-",      \
+    "lagrange (the paper's eqs. 21-24, 34) or newton_euler")                   \
+  X(K_TOL, "solver.tolerance", KEY_REAL, LIB, RPS3_F_TOL, REQ_NO, "-",         \
+    "theta solve: stop when max_k abs(f_k) <= tolerance")                      \
+  X(K_MAX_ITER, "solver.max_iter", KEY_INT, LIB, RPS3_F_MAX_ITER, REQ_NO, "-", \
+    "theta solve iteration limit")                                             \
+  X(K_SOLVER, "solver.solver", KEY_ENUM, LIB, RPS3_F_SOLVER, REQ_NO, "-",      \
+    "GSL multiroot solver (hybridsj, hybridj, newton, ...)")                   \
+  X(K_WARM, "solver.warm_start", KEY_BOOL, LIB, RPS3_F_WARM_START, REQ_NO,     \
+    "-", "theta solve starts from the previous sample of the case")            \
+  X(K_CERTIFY, "solver.certify", KEY_BOOL, LIB, RPS3_F_CERTIFY, REQ_NO, "-",   \
+    "compute the energy-rate residual at every sample")                        \
+  X(K_COND_WARN, "solver.cond_warn", KEY_REAL, LIB, RPS3_F_COND_WARN, REQ_NO,  \
+    "-", "warn above this condition number")                                   \
+  X(K_COND_MAX, "solver.cond_max", KEY_REAL, LIB, RPS3_F_COND_MAX, REQ_NO,     \
+    "-", "fail (singular) above this condition number")                        \
+  X(K_TRANS_WARN, "solver.trans_warn", KEY_REAL, LIB, RPS3_F_TRANS_WARN,       \
+    REQ_NO, "-",                                                               \
+    "warn above this force transmission (actuator force per "                  \
+    "unit platform load)")                                                     \
+  X(K_TRANS_MAX, "solver.trans_max", KEY_REAL, LIB, RPS3_F_TRANS_MAX, REQ_NO,  \
+    "-", "fail (singular) above this force transmission")                      \
+  X(K_MODE, "solver.mode", KEY_INT, LIB, RPS3_F_MODE, REQ_NO, "-",             \
+    "assembly mode the theta solve must return: 0 any, 1 the level "           \
+    "platform's (det df/dtheta > 0), -1 the other")                            \
+  SCENE_SIM_KEYS(X)
+
+#define SCENE_KEY_ID(ID, ...) ID,
+typedef enum { SCENE_KEYS(SCENE_KEY_ID) SCENE_NKEY } scene_key;
+#undef SCENE_KEY_ID
+
+/* where a key's value is stored */
+enum { SRC_LIB = 0, SRC_OWN = 1, SRC_SIM = 2 };
+
+/* one row of SCENE_KEYS, with its field's row resolved */
+typedef struct {
+  const char *path;
+  key_type type;
+  int src;                  /* SRC_LIB or SRC_OWN */
+  int field;                /* rps3_field_id (SRC_LIB), OWN_* (SRC_OWN) or SIM_*
+                               (SRC_SIM) */
+  const rps3_field_info *f; /* the field's row: offset, range, unit */
+  int kind;                 /* FOR_*, from the field's IN */
+  int req;                  /* REQ_* */
+  const char *unit;
+  const char *symbol;
+  const char *doc;
+} scene_key_info;
+
+/* the row of key k (0 <= k < SCENE_NKEY) */
+const scene_key_info *scene_key_get(int k);
+
+/* component comp (0 for a scalar) of number key k (KEY_REAL, KEY_REAL3)
+   in v */
+double scene_value_real(const scene_values *v, int k, int comp);
+
+/* the key with this dotted path, or -1 */
+int scene_key_find(const char *path);
+
+/* one sweep axis: a key (or one component of a KEY_REAL3) and its values */
+typedef struct {
+  char path[80];    /* as written, e.g. "trajectory.amp[2]" */
+  int key;          /* scene_key */
+  int comp;         /* component of a KEY_REAL3, else -1 */
+  size_t n;         /* number of values */
+  double *val;      /* values; ints, bools and enums as whole numbers */
+  scene_mark *mark; /* where each value comes from */
+} scene_axis;
+
+typedef struct {
+  char *file; /* path as given on the command line */
+  char *text; /* the file, verbatim */
+  size_t text_len;
+  scene_values base;               /* values from the file, else the defaults */
+  unsigned char given[SCENE_NKEY]; /* 1: in the file (or swept) */
+  scene_mark mark[SCENE_NKEY];     /* where each given key's value is */
+  scene_mark section[4];           /* root, manipulator, trajectory, solver */
+  scene_mark simulate;             /* the simulate section; line 0: none */
+  size_t naxis;
+  scene_axis *axis; /* the sweep, in file order */
+  size_t ncase;     /* product of the axis lengths (1: no sweep) */
+  /* waypoints, owned here; base.traj.wp points to them */
+  double *wp_time;
+  double (*wp_pose)[3];
+  size_t wp_ntime, wp_npose;
+  scene_mark *wp_time_mark, *wp_pose_mark; /* where each row is */
+  table_data table;      /* kind table: the samples; base.traj.table views
+                            them */
+  table_data path_table; /* path shape table: the centre's samples */
+  double *path_psi;      /* their polar angles, unwrapped */
+} scene;
+
+/* one case, ready to compute */
+typedef struct {
+  size_t index;       /* case number */
+  scene_values v;     /* the scene's values for this case */
+  rps3_model model;   /* initialised by rps3_model_init */
+  rps3_traj traj;     /* checked by rps3_traj_check */
+  size_t nt;          /* number of time samples */
+  double span;        /* duration of the trajectory [s] */
+  double step;        /* dt [s] */
+  int by_ratio;       /* 1: link mass from m_over_M, 0: from m */
+  int by_dt;          /* 1: grid from dt, 0: from samples */
+  int by_blend_ratio; /* 1: t_a from blend_ratio, 0: from blend */
+  int simulate;       /* 1: the scene has a simulate section */
+} scene_case;
+
+/*
+ * Read and parse the scene file `path` into s.  Returns 0, or -1 with the
+ * first error in err (s is then empty; scene_free accepts it).
+ */
+int scene_load(scene *s, const char *path, scene_error *err);
+
+/* Free what scene_load allocated; a zeroed or failed scene is accepted. */
+void scene_free(scene *s);
+
+/*
+ * Build case `index` (< s->ncase): apply the sweep values, build and
+ * initialise the model and the trajectory, and the time grid.  Returns 0, or
+ * -1 with err located at the swept value or key that makes the case invalid.
+ */
+int scene_case_build(const scene *s, size_t index, scene_case *c,
+                     scene_error *err);
+
+/* Sweep value index of axis a in case `index`. */
+size_t scene_case_coord(const scene *s, size_t index, size_t a);
+
+/* Time of sample k of case c [s]; the last sample is exactly the span. */
+double scene_case_time(const scene_case *c, size_t k);
+
+/* 1 when cases a and b have the same time grid. */
+int scene_case_same_grid(const scene_case *a, const scene_case *b);
+
+/*
+ * Values that look like a unit mistake, one line each on out: "FILE:LINE:
+ * COL: warning: key: VALUE m looks like millimetres (above 10 m) ..." for a
+ * length above 10 m, and likewise beta above pi/2 rad or another angle
+ * beyond 2 pi rad (degrees), in the file, a sweep or a table's rows
+ * (scene_warn.c).  Once per key; nothing for a sane scene.
+ */
+void scene_warnings_print(const scene *s, FILE *out);
+
+/* Print err as FILE:LINE:COLUMN: path: what, one line, on stderr. */
+void scene_error_print(const char *file, const scene_error *err);
+
+/* A growable text buffer (scene_resolved); allocates only when it grows. */
+typedef struct {
+  char *s;
+  size_t len;
+  size_t cap;
+  int oom; /* 1 after a failed allocation */
+} scene_text;
+
+/*
+ * Write the full scene of case c as YAML into out (replacing its content):
+ * every key with its value, no sweep, so that the case can be rerun alone.
+ * Returns 0 or -1 (out of memory, or a libyaml emitter error).
+ */
+int scene_case_yaml(const scene_case *c, scene_text *out);
+
+/* Free a text buffer's storage. */
+void scene_text_free(scene_text *t);
+
+/* Name of an enum value of key k (kind, theta, method, solver), or NULL. */
+const char *scene_enum_name(int k, int value);
+
+/* Print the key table (markdown) on stdout: path, type, unit, symbol,
+   default, meaning. */
+void scene_keys_print(void);
+
+#endif /* RPS3_RUNNER_SCENE_H */

@@ -1,0 +1,286 @@
+/*
+ * scene_emit.c - a case written back as YAML (scene_case_yaml: the resolved
+ * scene of every case, which reruns alone) and the key table as markdown
+ * (scene_keys_print: `rps3-run --keys`, docs/runner.md).  Both read the
+ * key table of scene.h row by row.
+ */
+#include "scene.h"
+#include "scene_int.h"
+
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include <yaml.h>
+
+/* the key table's text for a simulate default that is not a value */
+#define SIM_DEFTEXT(ID, MEMBER, IS_INT, LO, LO_OPEN, HI, UNIT, DEF, DEFTEXT) \
+  DEFTEXT,
+static const char *const sim_deftext[SCENE_NSIM] = {
+    SCENE_SIM_FIELDS(SIM_DEFTEXT)};
+#undef SIM_DEFTEXT
+
+/* ----------------------------------------------------------------- emit */
+
+void scene_text_free(scene_text *t) {
+  if (t) {
+    free(t->s);
+    memset(t, 0, sizeof *t);
+  }
+}
+
+static int text_write(void *data, unsigned char *buf, size_t size) {
+  scene_text *t = data;
+  if (t->len + size + 1 > t->cap) {
+    size_t cap = t->cap ? t->cap : 1024;
+    char *ns;
+    while (cap < t->len + size + 1) cap *= 2;
+    ns = realloc(t->s, cap);
+    if (!ns) {
+      t->oom = 1;
+      return 0;
+    }
+    t->s = ns;
+    t->cap = cap;
+  }
+  memcpy(t->s + t->len, buf, size);
+  t->len += size;
+  t->s[t->len] = '\0';
+  return 1;
+}
+
+static int emit_scalar(yaml_emitter_t *em, const char *text) {
+  yaml_event_t ev;
+  yaml_scalar_event_initialize(&ev, NULL, NULL, (const yaml_char_t *)text,
+                               (int)strlen(text), 1, 1,
+                               YAML_PLAIN_SCALAR_STYLE);
+  return yaml_emitter_emit(em, &ev);
+}
+
+static int emit_open(yaml_emitter_t *em, int seq, int flow) {
+  yaml_event_t ev;
+  if (seq)
+    yaml_sequence_start_event_initialize(
+        &ev, NULL, NULL, 1,
+        flow ? YAML_FLOW_SEQUENCE_STYLE : YAML_BLOCK_SEQUENCE_STYLE);
+  else
+    yaml_mapping_start_event_initialize(
+        &ev, NULL, NULL, 1,
+        flow ? YAML_FLOW_MAPPING_STYLE : YAML_BLOCK_MAPPING_STYLE);
+  return yaml_emitter_emit(em, &ev);
+}
+
+static int emit_close(yaml_emitter_t *em, int seq) {
+  yaml_event_t ev;
+  if (seq)
+    yaml_sequence_end_event_initialize(&ev);
+  else
+    yaml_mapping_end_event_initialize(&ev);
+  return yaml_emitter_emit(em, &ev);
+}
+
+/* the value of key k of v, as YAML events */
+static int emit_value(yaml_emitter_t *em, int k, const scene_values *v) {
+  char buf[64];
+  scene_values *w = (scene_values *)(void *)v; /* read only */
+  const char *file;
+  int i, ok = 1;
+  size_t r;
+  switch (scene_key_get(k)->type) {
+  case KEY_REAL:
+    scene_format_real(buf, sizeof buf, *scene_real_at(w, k));
+    return emit_scalar(em, buf);
+  case KEY_REAL3:
+    ok = emit_open(em, 1, 1);
+    for (i = 0; i < 3 && ok; i++) {
+      scene_format_real(buf, sizeof buf, scene_real_at(w, k)[i]);
+      ok = emit_scalar(em, buf);
+    }
+    return ok && emit_close(em, 1);
+  case KEY_INT:
+    snprintf(buf, sizeof buf, "%d", *scene_int_at(w, k));
+    return emit_scalar(em, buf);
+  case KEY_BOOL: return emit_scalar(em, *scene_int_at(w, k) ? "true" : "false");
+  case KEY_ENUM:
+    return emit_scalar(em, scene_enum_name(k, *scene_int_at(w, k)));
+  case KEY_EFFECTS:
+    ok = emit_open(em, 1, 1);
+    for (i = 0; i < RPS3_NEFFECT && ok; i++)
+      if (*scene_int_at(w, k) & (1 << i))
+        ok = emit_scalar(em, rps3_effect_name(i));
+    return ok && emit_close(em, 1);
+  case KEY_TIMES:
+    ok = emit_open(em, 1, 1);
+    for (r = 0; r < v->traj.wp.n && ok; r++) {
+      scene_format_real(buf, sizeof buf, v->traj.wp.time[r]);
+      ok = emit_scalar(em, buf);
+    }
+    return ok && emit_close(em, 1);
+  case KEY_POSES:
+    ok = emit_open(em, 1, 0);
+    for (r = 0; r < v->traj.wp.n && ok; r++) {
+      ok = emit_open(em, 1, 1);
+      for (i = 0; i < 3 && ok; i++) {
+        scene_format_real(buf, sizeof buf, v->traj.wp.pose[r][i]);
+        ok = emit_scalar(em, buf);
+      }
+      ok = ok && emit_close(em, 1);
+    }
+    return ok && emit_close(em, 1);
+  case KEY_FILE:
+    file = k == K_PATH_FILE ? v->path_file : v->table_file;
+    return emit_scalar(em, file != NULL ? file : "");
+  }
+  return 0;
+}
+
+/* does case c write key k?  The link mass and the time grid are written
+   the way the scene gave them. */
+static int case_has_key(const scene_case *c, int k) {
+  const scene_key_info *ki = scene_key_get(k);
+  if (ki->kind != FOR_ALL && ki->kind != (int)c->v.traj.kind) return 0;
+  if (ki->src == SRC_SIM) {
+    /* written when simulated; "not given" (NaN, -1) is not a value */
+    scene_values *w = (scene_values *)(void *)&c->v; /* read only */
+    if (!c->simulate) return 0;
+    return ki->type == KEY_REAL    ? !isnan(*scene_real_at(w, k))
+           : ki->type == KEY_REAL3 ? 1
+                                   : *scene_int_at(w, k) >= 0;
+  }
+  if (k == K_M_OVER_M || k == K_MASS)
+    return (k == K_M_OVER_M) == (c->by_ratio != 0);
+  if (k == K_SAMPLES || k == K_DT) return (k == K_DT) == (c->by_dt != 0);
+  if (k == K_BLEND || k == K_BLEND_RATIO)
+    return (k == K_BLEND_RATIO) == (c->by_blend_ratio != 0);
+  if (scene_shape_mask(k) != 0)
+    return (scene_shape_mask(k) & (1 << (int)c->v.traj.path.shape)) != 0;
+  return 1;
+}
+
+int scene_case_yaml(const scene_case *c, scene_text *out) {
+  yaml_emitter_t em;
+  yaml_event_t ev;
+  char open[4][40]; /* the mapping sections currently open */
+  int depth = 0, k, ok;
+
+  out->len = 0;
+  out->oom = 0;
+  if (!yaml_emitter_initialize(&em)) return -1;
+  yaml_emitter_set_output(&em, text_write, out);
+  yaml_emitter_set_width(&em, -1);
+  yaml_stream_start_event_initialize(&ev, YAML_UTF8_ENCODING);
+  ok = yaml_emitter_emit(&em, &ev);
+  yaml_document_start_event_initialize(&ev, NULL, NULL, NULL, 1);
+  ok = ok && yaml_emitter_emit(&em, &ev);
+  ok = ok && emit_open(&em, 0, 0);
+  for (k = 0; k < SCENE_NKEY && ok; k++) {
+    const char *path = scene_key_get(k)->path, *p, *dot;
+    int level = 0;
+    if (!case_has_key(c, k)) continue;
+    /* close the sections this key is not in, open the ones it is in */
+    for (p = path; (dot = strchr(p, '.')) != NULL; p = dot + 1, level++) {
+      size_t len = (size_t)(dot - p);
+      if (level < depth && strlen(open[level]) == len &&
+          strncmp(open[level], p, len) == 0)
+        continue;
+      while (depth > level && ok) {
+        ok = emit_close(&em, 0);
+        depth--;
+      }
+      snprintf(open[depth], sizeof open[depth], "%.*s", (int)len, p);
+      ok = ok && emit_scalar(&em, open[depth]) && emit_open(&em, 0, 0);
+      depth++;
+    }
+    while (depth > level && ok) {
+      ok = emit_close(&em, 0);
+      depth--;
+    }
+    ok = ok && emit_scalar(&em, p) && emit_value(&em, k, &c->v);
+  }
+  while (depth-- > 0 && ok) ok = emit_close(&em, 0);
+  ok = ok && emit_close(&em, 0);
+  yaml_document_end_event_initialize(&ev, 1);
+  ok = ok && yaml_emitter_emit(&em, &ev);
+  yaml_stream_end_event_initialize(&ev);
+  ok = ok && yaml_emitter_emit(&em, &ev);
+  ok = ok && yaml_emitter_flush(&em);
+  yaml_emitter_delete(&em);
+  return ok && !out->oom ? 0 : -1;
+}
+
+/* ------------------------------------------------------------- key list */
+
+/* the range of field row f, as the key table shows it */
+static void range_text(const rps3_field_info *f, char *buf, size_t sz) {
+  char lo[32], hi[32];
+  scene_format_real(lo, sizeof lo, f->lo);
+  scene_format_real(hi, sizeof hi, f->hi);
+  if (f->lo == -HUGE_VAL && f->hi == HUGE_VAL)
+    snprintf(buf, sz, "any");
+  else if (f->hi == HUGE_VAL)
+    snprintf(buf, sz, "%s %s", f->lo_open ? ">" : ">=", lo);
+  else if (f->is_int && f->hi >= 2147483647.0)
+    snprintf(buf, sz, ">= %s", lo);
+  else
+    snprintf(buf, sz, "%c%s, %s]", f->lo_open ? '(' : '[', lo, hi);
+}
+
+void scene_keys_print(void) {
+  scene_values v;
+  char def[64], names[256], range[80];
+  int k;
+  (void)scene_key_get(0); /* builds the key table */
+  scene_values_default(&v);
+  printf("| key | type | unit | range | paper | default | meaning |\n");
+  printf("|---|---|---|---|---|---|---|\n");
+  for (k = 0; k < SCENE_NKEY; k++) {
+    const scene_key_info *ki = scene_key_get(k);
+    const char *type = "";
+    switch (ki->type) {
+    case KEY_REAL: type = "number"; break;
+    case KEY_REAL3: type = "[3 numbers]"; break;
+    case KEY_INT: type = "integer"; break;
+    case KEY_BOOL: type = "bool"; break;
+    case KEY_ENUM:
+      scene_enum_list(k, names, sizeof names);
+      type = names;
+      break;
+    case KEY_EFFECTS: type = "[effect names]"; break;
+    case KEY_TIMES: type = "[numbers]"; break;
+    case KEY_POSES: type = "[[3 numbers], ...]"; break;
+    case KEY_FILE: type = "file name"; break;
+    }
+    if (ki->src == SRC_SIM && sim_deftext[ki->field])
+      snprintf(def, sizeof def, "%s", sim_deftext[ki->field]);
+    else if (ki->req == REQ_YES)
+      snprintf(def, sizeof def, "required");
+    else if (ki->req == REQ_SHAPE)
+      snprintf(def, sizeof def, "required by its shape");
+    else if (ki->req != REQ_NO)
+      snprintf(def, sizeof def, "one of a pair");
+    else if (ki->type == KEY_REAL)
+      snprintf(def, sizeof def, "%g", *scene_real_at(&v, k));
+    else if (ki->type == KEY_REAL3)
+      snprintf(def, sizeof def, "[%g, %g, %g]", scene_real_at(&v, k)[0],
+               scene_real_at(&v, k)[1], scene_real_at(&v, k)[2]);
+    else if (ki->type == KEY_INT)
+      snprintf(def, sizeof def, "%d", *scene_int_at(&v, k));
+    else if (ki->type == KEY_BOOL)
+      snprintf(def, sizeof def, "%s", *scene_int_at(&v, k) ? "true" : "false");
+    else if (ki->type == KEY_ENUM)
+      snprintf(def, sizeof def, "%s", scene_enum_name(k, *scene_int_at(&v, k)));
+    else
+      snprintf(def, sizeof def, "see meaning");
+    range_text(ki->f, range, sizeof range);
+    printf(
+        "| `%s`%s%s%s | %s | %s | %s | %s | %s | %s |\n", ki->path,
+        ki->kind != FOR_ALL ? " (" : "",
+        ki->kind != FOR_ALL ? scene_enum_name(K_KIND, ki->kind) : "",
+        ki->kind != FOR_ALL ? ")" : "", type, ki->unit,
+        (ki->type == KEY_REAL || ki->type == KEY_REAL3 || ki->type == KEY_INT)
+            ? range
+            : "-",
+        ki->symbol, def, ki->doc);
+  }
+}

@@ -1,0 +1,316 @@
+/*
+ * scene_guard.c - see scene_guard.h.
+ */
+#include "scene_guard.h"
+
+#include <errno.h>
+#include <fcntl.h>
+#include <stdarg.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <sys/stat.h>
+#include <unistd.h>
+
+#include <yaml.h>
+
+static void guard_error(scene_error *err, int line, int column,
+                        const char *path, const char *fmt, ...) {
+  va_list ap;
+  err->mark.line = line;
+  err->mark.column = column;
+  snprintf(err->path, sizeof err->path, "%s", path);
+  va_start(ap, fmt);
+  vsnprintf(err->what, sizeof err->what, fmt, ap);
+  va_end(ap);
+}
+
+static const char *file_kind(mode_t m) {
+  return S_ISDIR(m)    ? "a directory"
+         : S_ISCHR(m)  ? "a character device"
+         : S_ISBLK(m)  ? "a block device"
+         : S_ISFIFO(m) ? "a FIFO"
+         : S_ISSOCK(m) ? "a socket"
+                       : "not a regular file";
+}
+
+int scene_read_guarded(const char *path, char **text, size_t *len,
+                       scene_error *err) {
+  struct stat st;
+  size_t got = 0;
+  char *buf;
+  /* O_NONBLOCK: opening a FIFO must not wait for a writer */
+  int fd = open(path, O_RDONLY | O_NONBLOCK);
+  *text = NULL;
+  *len = 0;
+  if (fd < 0) {
+    guard_error(err, 0, 0, "(file)", "cannot open: %s", strerror(errno));
+    return -1;
+  }
+  if (fstat(fd, &st) != 0) {
+    guard_error(err, 0, 0, "(file)", "cannot read: %s", strerror(errno));
+    close(fd);
+    return -1;
+  }
+  if (!S_ISREG(st.st_mode)) {
+    guard_error(err, 0, 0, "(file)",
+                "is %s: a scene is a regular file (YAML text)",
+                file_kind(st.st_mode));
+    close(fd);
+    return -1;
+  }
+  if (st.st_size > (off_t)SCENE_MAX_BYTES) {
+    guard_error(err, 0, 0, "(file)",
+                "is %lld bytes: a scene is at most %u bytes (1 MiB)",
+                (long long)st.st_size, (unsigned)SCENE_MAX_BYTES);
+    close(fd);
+    return -1;
+  }
+  /* one byte more than the limit: a file that grew since fstat */
+  buf = malloc((size_t)SCENE_MAX_BYTES + 2);
+  if (!buf) {
+    guard_error(err, 0, 0, "(file)", "out of memory");
+    close(fd);
+    return -1;
+  }
+  for (;;) {
+    ssize_t n = read(fd, buf + got, (size_t)SCENE_MAX_BYTES + 1 - got);
+    if (n < 0 && errno == EINTR) continue;
+    if (n < 0) {
+      guard_error(err, 0, 0, "(file)", "cannot read: %s", strerror(errno));
+      free(buf);
+      close(fd);
+      return -1;
+    }
+    if (n == 0) break;
+    got += (size_t)n;
+    if (got > SCENE_MAX_BYTES) {
+      guard_error(err, 0, 0, "(file)",
+                  "is more than %u bytes: a scene is at most 1 MiB",
+                  (unsigned)SCENE_MAX_BYTES);
+      free(buf);
+      close(fd);
+      return -1;
+    }
+  }
+  close(fd);
+  buf[got] = '\0';
+  *text = buf;
+  *len = got;
+  return 0;
+}
+
+/* the UTF-16 or UTF-32 encoding of a text, from its BOM or its NUL bytes
+   (YAML 1.2, 5.2), or NULL */
+static const char *wide_encoding(const unsigned char *t, size_t n) {
+  if (n >= 4 && t[0] == 0 && t[1] == 0 && t[2] == 0xFE && t[3] == 0xFF)
+    return "UTF-32 (big-endian)";
+  if (n >= 4 && t[0] == 0xFF && t[1] == 0xFE && t[2] == 0 && t[3] == 0)
+    return "UTF-32 (little-endian)";
+  if (n >= 2 && t[0] == 0xFE && t[1] == 0xFF) return "UTF-16 (big-endian)";
+  if (n >= 2 && t[0] == 0xFF && t[1] == 0xFE) return "UTF-16 (little-endian)";
+  if (n >= 4 && t[0] == 0 && t[1] == 0 && t[2] == 0 && t[3] != 0)
+    return "UTF-32 (big-endian)";
+  if (n >= 4 && t[0] != 0 && t[1] == 0 && t[2] == 0 && t[3] == 0)
+    return "UTF-32 (little-endian)";
+  if (n >= 2 && t[0] == 0 && t[1] != 0) return "UTF-16 (big-endian)";
+  if (n >= 2 && t[0] != 0 && t[1] == 0) return "UTF-16 (little-endian)";
+  return NULL;
+}
+
+/* length of the valid UTF-8 sequence at t (n bytes left), or 0 (RFC 3629:
+   no overlong forms, no surrogates, nothing above U+10FFFF) */
+static size_t utf8_len(const unsigned char *t, size_t n) {
+  unsigned c = t[0];
+  if (c < 0x80) return 1;
+  if (c >= 0xC2 && c <= 0xDF) return n >= 2 && (t[1] & 0xC0) == 0x80 ? 2 : 0;
+  if (c >= 0xE0 && c <= 0xEF) {
+    unsigned lo = c == 0xE0 ? 0xA0 : 0x80, hi = c == 0xED ? 0x9F : 0xBF;
+    return n >= 3 && t[1] >= lo && t[1] <= hi && (t[2] & 0xC0) == 0x80 ? 3 : 0;
+  }
+  if (c >= 0xF0 && c <= 0xF4) {
+    unsigned lo = c == 0xF0 ? 0x90 : 0x80, hi = c == 0xF4 ? 0x8F : 0xBF;
+    return n >= 4 && t[1] >= lo && t[1] <= hi && (t[2] & 0xC0) == 0x80 &&
+                   (t[3] & 0xC0) == 0x80
+               ? 4
+               : 0;
+  }
+  return 0;
+}
+
+/* NUL bytes and invalid UTF-8, at LINE:COL (columns in characters, as
+   libyaml counts them) */
+static int check_bytes(const unsigned char *t, size_t n, scene_error *err) {
+  size_t i = 0;
+  int line = 1, col = 1;
+  while (i < n) {
+    size_t k;
+    if (t[i] == 0) {
+      guard_error(err, line, col, "(file)",
+                  "a NUL byte (byte %zu): not a text file", i);
+      return -1;
+    }
+    k = utf8_len(t + i, n - i);
+    if (k == 0) {
+      guard_error(err, line, col, "(file)",
+                  "invalid UTF-8 (byte %zu is 0x%02X): a scene is UTF-8 "
+                  "text",
+                  i, t[i]);
+      return -1;
+    }
+    if (t[i] == '\n' || (t[i] == '\r' && (i + 1 == n || t[i + 1] != '\n'))) {
+      line++;
+      col = 1;
+    } else if (t[i] != '\r')
+      col++;
+    i += k;
+  }
+  return 0;
+}
+
+/* ---------------------------------------------------- the event pass */
+
+/* one open mapping or sequence, and where its next node goes */
+typedef struct {
+  int is_map;
+  int want_key; /* mapping: the next scalar is a key */
+  char key[64]; /* mapping: the key of the value being read */
+  size_t index; /* sequence: index of the next item */
+} frame;
+
+/* the dotted path of the node about to be read at depth d */
+static void path_of(const frame *st, int d, char *out, size_t sz) {
+  size_t len = 0;
+  int i;
+  out[0] = '\0';
+  for (i = 0; i < d && len < sz; i++) {
+    int w;
+    if (i == 4) {
+      /* deep enough to say where: the rest would fill the line */
+      snprintf(out + len, sz - len, "...");
+      break;
+    }
+    if (st[i].is_map)
+      w = snprintf(out + len, sz - len, "%s%s", len ? "." : "", st[i].key);
+    else
+      w = snprintf(out + len, sz - len, "[%zu]", st[i].index);
+    if (w < 0) break;
+    len += (size_t)w;
+  }
+  if (!out[0]) snprintf(out, sz, "(root)");
+}
+
+/* a node has been read at depth d: move its parent on */
+static void node_done(frame *st, int d) {
+  if (d == 0) return;
+  if (st[d - 1].is_map)
+    st[d - 1].want_key = !st[d - 1].want_key;
+  else
+    st[d - 1].index++;
+}
+
+static int tag_allowed(const yaml_event_t *e) {
+  const char *tag =
+      e->type == YAML_SCALAR_EVENT ? (const char *)e->data.scalar.tag : NULL;
+  return tag && (strcmp(tag, "tag:yaml.org,2002:int") == 0 ||
+                 strcmp(tag, "tag:yaml.org,2002:float") == 0);
+}
+
+static const char *tag_of(const yaml_event_t *e) {
+  const unsigned char *t =
+      e->type == YAML_SCALAR_EVENT           ? e->data.scalar.tag
+      : e->type == YAML_SEQUENCE_START_EVENT ? e->data.sequence_start.tag
+      : e->type == YAML_MAPPING_START_EVENT  ? e->data.mapping_start.tag
+                                             : NULL;
+  return (const char *)t;
+}
+
+static int check_events(const char *text, size_t len, scene_error *err) {
+  yaml_parser_t p;
+  frame st[SCENE_MAX_DEPTH];
+  int d = 0, rc = 0, done = 0;
+  if (!yaml_parser_initialize(&p)) return 0; /* scene_load says it */
+  yaml_parser_set_input_string(&p, (const unsigned char *)text, len);
+  while (!done && rc == 0) {
+    yaml_event_t e;
+    char path[160];
+    /* a syntax error is scene_load's to report, with its own words */
+    if (!yaml_parser_parse(&p, &e)) break;
+    switch (e.type) {
+    case YAML_STREAM_END_EVENT: done = 1; break;
+    case YAML_SCALAR_EVENT:
+    case YAML_SEQUENCE_START_EVENT:
+    case YAML_MAPPING_START_EVENT:
+      if (d > 0 && st[d - 1].is_map && st[d - 1].want_key) {
+        /* a key: remember it for its value's path */
+        if (e.type == YAML_SCALAR_EVENT)
+          snprintf(st[d - 1].key, sizeof st[d - 1].key, "%s",
+                   (const char *)e.data.scalar.value);
+        else
+          snprintf(st[d - 1].key, sizeof st[d - 1].key, "?");
+      }
+      if (tag_of(&e) && !tag_allowed(&e)) {
+        path_of(st, d, path, sizeof path);
+        if (d > 0 && st[d - 1].is_map && st[d - 1].want_key)
+          snprintf(path + strlen(path), sizeof path - strlen(path), "%s",
+                   d > 1 ? " (a key)" : "(a key)");
+        {
+          /* as written: !!str for tag:yaml.org,2002:str */
+          static const char core[] = "tag:yaml.org,2002:";
+          const char *tag = tag_of(&e);
+          int is_core = strncmp(tag, core, sizeof core - 1) == 0;
+          guard_error(err, (int)e.start_mark.line + 1,
+                      (int)e.start_mark.column + 1, path,
+                      "YAML tag '%s%s' is not accepted: write the value "
+                      "plainly (only !!int and !!float may tag a number)",
+                      is_core ? "!!" : "",
+                      is_core ? tag + sizeof core - 1 : tag);
+        }
+        rc = -1;
+        break;
+      }
+      if (e.type == YAML_SCALAR_EVENT) {
+        node_done(st, d);
+        break;
+      }
+      if (d == SCENE_MAX_DEPTH) {
+        path_of(st, d, path, sizeof path);
+        guard_error(err, (int)e.start_mark.line + 1,
+                    (int)e.start_mark.column + 1, path,
+                    "nested more than %d levels deep: a scene needs 3",
+                    SCENE_MAX_DEPTH);
+        rc = -1;
+        break;
+      }
+      memset(&st[d], 0, sizeof st[d]);
+      st[d].is_map = e.type == YAML_MAPPING_START_EVENT;
+      st[d].want_key = 1;
+      d++;
+      break;
+    case YAML_SEQUENCE_END_EVENT:
+    case YAML_MAPPING_END_EVENT:
+      d--;
+      node_done(st, d);
+      break;
+    case YAML_ALIAS_EVENT: node_done(st, d); break;
+    default: break;
+    }
+    yaml_event_delete(&e);
+  }
+  yaml_parser_delete(&p);
+  return rc;
+}
+
+int scene_text_guard(const char *text, size_t len, scene_error *err) {
+  const unsigned char *t = (const unsigned char *)text;
+  const char *wide = wide_encoding(t, len);
+  if (wide) {
+    guard_error(err, 0, 0, "(file)",
+                "is %s text: save the scene as UTF-8 (e.g. iconv -f UTF-16 "
+                "-t UTF-8)",
+                wide);
+    return -1;
+  }
+  if (check_bytes(t, len, err)) return -1;
+  return check_events(text, len, err);
+}

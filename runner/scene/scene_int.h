@@ -1,0 +1,121 @@
+/*
+ * scene_int.h - what the scene files share: scene.c (key table, enum
+ * names, values, errors, load), scene_parse.c (YAML nodes), scene_sweep.c
+ * (sweep, checks), scene_case.c (cases) and scene_emit.c; not for the
+ * programs (they use scene.h).
+ */
+#ifndef RPS3_RUNNER_SCENE_INT_H
+#define RPS3_RUNNER_SCENE_INT_H
+
+#include <stddef.h>
+
+#include "scene.h"
+
+#include <yaml.h>
+
+/* the parse of one scene file (scene_load) */
+typedef struct {
+  yaml_document_t *doc;
+  scene *s;
+  scene_error *err;
+  int sweep_node; /* node id of the sweep mapping, 0 if none */
+  double ncase;   /* cases of the sweep keys read so far */
+} parse_ctx;
+
+/* a value counts as equal to a whole number within this many ulps of its
+   size: used for the range expansion and for span / dt */
+#define SCENE_WHOLE_RTOL 1e-9
+
+/* ------------------------------------------------------ scene.c: keys */
+
+/* complete scene_keys[] from the key rows and the field rows, once; called
+   from the entry points, before any thread starts */
+void scene_keys_build(void);
+
+/* the key table's rows completed with their field's row; filled by the
+   entry points (scene_key_get, scene_key_find, scene_load) before use */
+extern scene_key_info scene_keys[SCENE_NKEY];
+
+/* the library field key k fills, directly or converted (-1: none) */
+int scene_key_fills(int k);
+
+/* the enum value of key k named name, or -1 */
+int scene_enum_find(int k, const char *name);
+
+/* " (did you mean ...?)" for an enum value of key k */
+void scene_enum_hint(char *buf, size_t sz, int k, const char *word);
+
+/* "a, b, c": the effect names */
+void scene_effect_list(char *buf, size_t sz);
+
+/* set key k (component comp of a KEY_REAL3) to x */
+void scene_value_set(scene_values *v, int k, int comp, double x);
+
+/* err = mark, path and the formatted message */
+void scene_error_set(scene_error *err, scene_mark mark, const char *path,
+                     const char *fmt, ...);
+
+/* libyaml's 0-based mark as the scene's 1-based line and column */
+scene_mark scene_mark_of(const yaml_mark_t *m);
+
+/* ----------------------------------------------- scene_parse.c: nodes */
+
+yaml_node_t *scene_node_get(parse_ctx *c, int id);
+const char *scene_scalar_text(const yaml_node_t *n);
+
+/* "a mapping", "a list", "nothing", "a quoted string" or "a scalar" */
+const char *scene_node_kind(const yaml_node_t *n);
+
+/* a plain scalar as a number (an integer if integer); 0 or -1 with the
+   error set */
+int scene_parse_number(parse_ctx *c, const yaml_node_t *n, const char *path,
+                       int integer, double *out);
+
+/* x against the range of key k; 0 or -1 with the error set */
+int scene_check_range(parse_ctx *c, int k, double x, scene_mark mk,
+                      const char *path);
+
+/* one scalar value of key k (not a list key) as a number */
+int scene_parse_scalar(parse_ctx *c, int k, const yaml_node_t *n,
+                       const char *path, double *out);
+
+/* the name of a mapping's key (a plain scalar given once), or -1 */
+int scene_mapping_key(parse_ctx *c, const yaml_node_t *map,
+                      const yaml_node_pair_t *pair, const char *prefix,
+                      const char **name);
+
+/* " (did you mean ...?)" for a mistyped dotted key */
+void scene_key_hint(char *buf, size_t sz, const char *word, int with_sections);
+
+/* walk a mapping section into the scene's base values */
+int scene_walk_section(parse_ctx *c, const yaml_node_t *map,
+                       const char *prefix);
+
+/* ---------------------------------------- scene_sweep.c: sweep, checks */
+
+/* the sweep mapping into c->s->axis */
+int scene_parse_sweep(parse_ctx *c, const yaml_node_t *map);
+
+/* the keys given, after the whole file is read */
+int scene_check_keys(parse_ctx *c);
+
+/* ------------------------------------------- scene_values and emitting */
+
+/* the path shapes (bits 1 << rps3_path_shape) that use key k, for the
+   keys that belong to some shapes only; 0 for any other key */
+int scene_shape_mask(int k);
+
+/* "a, b or c": the names of enum key k into buf */
+void scene_enum_list(int k, char *buf, size_t sz);
+
+/* where number or int key k's value is stored in v */
+double *scene_real_at(scene_values *v, int k);
+int *scene_int_at(scene_values *v, int k);
+
+/* the defaults: the library's Table II model, options and helix */
+void scene_values_default(scene_values *v);
+
+/* x as the scene's files write it: shortest text that reads back equal */
+void scene_format_real(char *buf, size_t sz, double x);
+
+#endif /* RPS3_RUNNER_SCENE_INT_H */

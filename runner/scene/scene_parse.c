@@ -1,0 +1,495 @@
+/*
+ * scene_parse.c - read the YAML nodes of a scene: each section's keys, each
+ * key's value against its row of the key table (scene.c), with the libyaml
+ * mark of the node an error is about.
+ */
+#include "core/hint.h"
+#include "scene.h"
+#include "scene_int.h"
+
+#include <ctype.h>
+#include <errno.h>
+#include <math.h>
+#include <stddef.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include <yaml.h>
+
+/* ---------------------------------------------------------------- parse */
+
+/* mapping sections; the index is the slot in scene.section */
+static const char *const sections[] = {"",
+                                       "manipulator",
+                                       "trajectory",
+                                       "solver",
+                                       "manipulator.payload",
+                                       "manipulator.pin_friction",
+                                       "trajectory.waypoints",
+                                       "trajectory.path",
+                                       "trajectory.table",
+                                       "simulate",
+                                       "simulate.model",
+                                       "simulate.model.payload",
+                                       "simulate.model.pin_friction"};
+#define NSECTION (sizeof sections / sizeof sections[0])
+
+static int section_find(const char *path) {
+  size_t i;
+  for (i = 1; i < NSECTION; i++)
+    if (strcmp(sections[i], path) == 0) return (int)i;
+  return -1;
+}
+
+/* " (did you mean ...?)" for a mistyped dotted key: every key and section
+   is a candidate (a key in the wrong section included); sections only when
+   with_sections */
+void scene_key_hint(char *buf, size_t sz, const char *word, int with_sections) {
+  const char *cand[SCENE_NKEY + NSECTION + 1];
+  size_t n = 0, i;
+  int k;
+  for (k = 0; k < SCENE_NKEY; k++) cand[n++] = scene_keys[k].path;
+  for (i = 1; i < NSECTION && with_sections; i++) cand[n++] = sections[i];
+  if (with_sections) cand[n++] = "sweep";
+  hint_text(buf, sz, word, cand, n);
+}
+
+/* "a, b, c" of the keys and sections directly under prefix */
+static void keys_under(const char *prefix, char *buf, size_t sz) {
+  size_t plen = strlen(prefix), len = 0, i;
+  int k;
+  buf[0] = '\0';
+  if (plen == 0) {
+    snprintf(buf, sz,
+             "manipulator, trajectory, effects, solver, simulate, sweep");
+    return;
+  }
+  for (k = 0; k < SCENE_NKEY && len < sz; k++) {
+    const char *p = scene_keys[k].path;
+    if (strncmp(p, prefix, plen) == 0 && p[plen] == '.' &&
+        !strchr(p + plen + 1, '.'))
+      len += (size_t)snprintf(buf + len, sz - len, "%s%s", len ? ", " : "",
+                              p + plen + 1);
+  }
+  for (i = 1; i < NSECTION && len < sz; i++) {
+    const char *p = sections[i];
+    if (strncmp(p, prefix, plen) == 0 && p[plen] == '.' &&
+        !strchr(p + plen + 1, '.'))
+      len += (size_t)snprintf(buf + len, sz - len, "%s%s", len ? ", " : "",
+                              p + plen + 1);
+  }
+}
+
+yaml_node_t *scene_node_get(parse_ctx *c, int id) {
+  return yaml_document_get_node(c->doc, id);
+}
+
+const char *scene_scalar_text(const yaml_node_t *n) {
+  return (const char *)n->data.scalar.value;
+}
+
+/* a null scalar: empty plain, "~" or "null" */
+static int is_null(const yaml_node_t *n) {
+  const char *t;
+  if (n->type != YAML_SCALAR_NODE ||
+      n->data.scalar.style != YAML_PLAIN_SCALAR_STYLE)
+    return 0;
+  t = scene_scalar_text(n);
+  return t[0] == '\0' || strcmp(t, "~") == 0 || strcmp(t, "null") == 0;
+}
+
+const char *scene_node_kind(const yaml_node_t *n) {
+  if (n->type == YAML_MAPPING_NODE) return "a mapping";
+  if (n->type == YAML_SEQUENCE_NODE) return "a list";
+  if (is_null(n)) return "nothing";
+  if (n->data.scalar.style != YAML_PLAIN_SCALAR_STYLE) return "a quoted string";
+  return "a scalar";
+}
+
+/* a plain scalar as a number; 0 or -1 with the error set */
+int scene_parse_number(parse_ctx *c, const yaml_node_t *n, const char *path,
+                       int integer, double *out) {
+  const char *t, *p;
+  char *end;
+  scene_mark mk = scene_mark_of(&n->start_mark);
+  if (n->type != YAML_SCALAR_NODE || is_null(n) ||
+      n->data.scalar.style != YAML_PLAIN_SCALAR_STYLE) {
+    scene_error_set(c->err, mk, path, "expected %s, got %s",
+                    integer ? "an integer" : "a number", scene_node_kind(n));
+    return -1;
+  }
+  t = scene_scalar_text(n);
+  /* only decimal notation: strtod would also take hex, inf and nan */
+  for (p = t; *p; p++)
+    if (!(isdigit((unsigned char)*p) || *p == '+' || *p == '-' ||
+          (!integer && (*p == '.' || *p == 'e' || *p == 'E')))) {
+      scene_error_set(c->err, mk, path, "expected %s, got '%s'",
+                      integer ? "an integer" : "a finite number", t);
+      return -1;
+    }
+  errno = 0;
+  *out = integer ? (double)strtol(t, &end, 10) : strtod(t, &end);
+  if (end == t || *end != '\0') {
+    scene_error_set(c->err, mk, path, "expected %s, got '%s'",
+                    integer ? "an integer" : "a number", t);
+    return -1;
+  }
+  if (errno == ERANGE || !isfinite(*out)) {
+    scene_error_set(c->err, mk, path, "'%s' is out of range", t);
+    return -1;
+  }
+  return 0;
+}
+
+/* shortest %g form of x that reads back as x */
+void scene_format_real(char *buf, size_t sz, double x) {
+  int prec;
+  for (prec = 15; prec <= 17; prec++) {
+    snprintf(buf, sz, "%.*g", prec, x);
+    if (strtod(buf, NULL) == x) return;
+  }
+}
+
+/* x against the range of key k */
+int scene_check_range(parse_ctx *c, int k, double x, scene_mark mk,
+                      const char *path) {
+  const rps3_field_info *f = scene_keys[k].f;
+  char lo[32], hi[32], got[32];
+  scene_format_real(lo, sizeof lo, f->lo);
+  scene_format_real(hi, sizeof hi, f->hi);
+  scene_format_real(got, sizeof got, x);
+  if (f->lo_open ? !(x > f->lo) : !(x >= f->lo)) {
+    scene_error_set(c->err, mk, path, "must be %s %s, got %s",
+                    f->lo_open ? ">" : ">=", lo, got);
+    return -1;
+  }
+  if (!(x <= f->hi)) {
+    scene_error_set(c->err, mk, path, "must be <= %s, got %s", hi, got);
+    return -1;
+  }
+  return 0;
+}
+
+/* one scalar value of key k (not a list key) as a number: the value itself,
+   an integer, 0/1 for a bool, the enum value for a name */
+int scene_parse_scalar(parse_ctx *c, int k, const yaml_node_t *n,
+                       const char *path, double *out) {
+  char list[256];
+  scene_mark mk = scene_mark_of(&n->start_mark);
+  const char *t;
+  int v;
+  switch (scene_keys[k].type) {
+  case KEY_REAL:
+  case KEY_REAL3:
+    if (scene_parse_number(c, n, path, 0, out)) return -1;
+    return scene_check_range(c, k, *out, mk, path);
+  case KEY_INT:
+    if (scene_parse_number(c, n, path, 1, out)) return -1;
+    return scene_check_range(c, k, *out, mk, path);
+  case KEY_BOOL:
+    if (n->type == YAML_SCALAR_NODE &&
+        n->data.scalar.style == YAML_PLAIN_SCALAR_STYLE) {
+      t = scene_scalar_text(n);
+      if (strcmp(t, "true") == 0 || strcmp(t, "false") == 0) {
+        *out = t[0] == 't';
+        return 0;
+      }
+    }
+    scene_error_set(
+        c->err, mk, path, "expected true or false, got %s%s%s%s",
+        n->type == YAML_SCALAR_NODE ? "'" : "",
+        n->type == YAML_SCALAR_NODE ? scene_scalar_text(n) : scene_node_kind(n),
+        n->type == YAML_SCALAR_NODE ? "'" : "", "");
+    return -1;
+  case KEY_ENUM:
+    scene_enum_list(k, list, sizeof list);
+    if (n->type != YAML_SCALAR_NODE || is_null(n)) {
+      scene_error_set(c->err, mk, path, "expected one of %s, got %s", list,
+                      scene_node_kind(n));
+      return -1;
+    }
+    v = scene_enum_find(k, scene_scalar_text(n));
+    if (v < 0) {
+      char hint[160];
+      scene_enum_hint(hint, sizeof hint, k, scene_scalar_text(n));
+      scene_error_set(c->err, mk, path, "unknown value '%s'%s; expected %s",
+                      scene_scalar_text(n), hint, list);
+      return -1;
+    }
+    *out = v;
+    return 0;
+  case KEY_EFFECTS:
+  default: scene_error_set(c->err, mk, path, "not a scalar key"); return -1;
+  }
+}
+
+/* the rows of a waypoints list key: times (numbers) or poses (lists of 3
+   numbers), into arrays the scene owns; base.traj.wp points to them */
+static int parse_rows(parse_ctx *c, int k, const yaml_node_t *n,
+                      scene_values *v) {
+  const char *path = scene_keys[k].path;
+  int poses = scene_keys[k].type == KEY_POSES;
+  scene *s = c->s;
+  yaml_node_item_t *it;
+  size_t i, rows;
+  double *dst;
+  scene_mark *marks;
+  char sub[160];
+  if (n->type != YAML_SEQUENCE_NODE ||
+      n->data.sequence.items.top - n->data.sequence.items.start < 2) {
+    scene_error_set(
+        c->err, scene_mark_of(&n->start_mark), path,
+        "expected a list of at least 2 %s, got %s",
+        poses ? "poses [alpha, beta, z_c]" : "numbers",
+        n->type == YAML_SEQUENCE_NODE ? "a shorter list" : scene_node_kind(n));
+    return -1;
+  }
+  rows = (size_t)(n->data.sequence.items.top - n->data.sequence.items.start);
+  dst = malloc(rows * (poses ? 3 : 1) * sizeof *dst);
+  marks = malloc(rows * sizeof *marks);
+  if (!dst || !marks) {
+    free(dst);
+    free(marks);
+    scene_error_set(c->err, scene_mark_of(&n->start_mark), path,
+                    "out of memory");
+    return -1;
+  }
+  if (poses) {
+    s->wp_pose = (double(*)[3])(void *)dst;
+    s->wp_npose = rows;
+    s->wp_pose_mark = marks;
+    v->traj.wp.pose = (const double(*)[3])s->wp_pose;
+  } else {
+    s->wp_time = dst;
+    s->wp_ntime = rows;
+    s->wp_time_mark = marks;
+    v->traj.wp.time = dst;
+  }
+  for (i = 0, it = n->data.sequence.items.start; i < rows; i++, it++) {
+    const yaml_node_t *item = scene_node_get(c, *it);
+    marks[i] = scene_mark_of(&item->start_mark);
+    snprintf(sub, sizeof sub, "%s[%zu]", path, i);
+    if (!poses) {
+      if (scene_parse_number(c, item, sub, 0, &dst[i]) ||
+          scene_check_range(c, k, dst[i], marks[i], sub))
+        return -1;
+      continue;
+    }
+    if (item->type != YAML_SEQUENCE_NODE ||
+        item->data.sequence.items.top - item->data.sequence.items.start != 3) {
+      scene_error_set(
+          c->err, marks[i], sub, "expected a pose [alpha, beta, z_c], got %s",
+          item->type == YAML_SEQUENCE_NODE ? "a list of another length"
+                                           : scene_node_kind(item));
+      return -1;
+    }
+    {
+      yaml_node_item_t *jt = item->data.sequence.items.start;
+      int j;
+      for (j = 0; j < 3; j++, jt++)
+        if (scene_parse_number(c, scene_node_get(c, *jt), sub, 0,
+                               &dst[3 * i + (size_t)j]))
+          return -1;
+    }
+  }
+  return 0;
+}
+
+/* a table file: read at once (its rows are checked as they are read), the
+   rates it lacks from the spline; base.traj.table views the arrays */
+static int parse_file(parse_ctx *c, int k, const yaml_node_t *n,
+                      scene_values *v) {
+  scene *s = c->s;
+  int path = k == K_PATH_FILE;
+  table_data *t = path ? &s->path_table : &s->table;
+  char msg[sizeof c->err->what];
+  if (n->type != YAML_SCALAR_NODE || is_null(n)) {
+    scene_error_set(c->err, scene_mark_of(&n->start_mark), scene_keys[k].path,
+                    "expected a file name, got %s", scene_node_kind(n));
+    return -1;
+  }
+  if (table_read(t, s->file, scene_scalar_text(n),
+                 path ? TABLE_CENTRE : TABLE_POSE, msg, sizeof msg)) {
+    scene_error_set(c->err, scene_mark_of(&n->start_mark), scene_keys[k].path,
+                    "%s", msg);
+    return -1;
+  }
+  if (!path) {
+    v->traj.table = table_view(t);
+    v->table_file = t->abs;
+    return 0;
+  }
+  /* a path: the polar angles of the rows, followed continuously */
+  s->path_psi = malloc(t->n * sizeof *s->path_psi);
+  if (!s->path_psi) {
+    scene_error_set(c->err, scene_mark_of(&n->start_mark), scene_keys[k].path,
+                    "out of memory");
+    return -1;
+  }
+  rps3_table_unwrap(t->n, (const double(*)[3])t->value, s->path_psi);
+  v->traj.path.table = table_view(t);
+  v->traj.path.table_psi = s->path_psi;
+  v->path_file = t->abs;
+  return 0;
+}
+
+/* the value node n of key k into v (the whole key, lists included) */
+static int parse_value(parse_ctx *c, int k, const yaml_node_t *n,
+                       scene_values *v) {
+  const char *path = scene_keys[k].path;
+  scene_mark mk = scene_mark_of(&n->start_mark);
+  char sub[160], list[256];
+  yaml_node_item_t *it;
+  double x;
+  int i, e, bits;
+
+  if (scene_keys[k].type == KEY_REAL3) {
+    if (n->type != YAML_SEQUENCE_NODE ||
+        n->data.sequence.items.top - n->data.sequence.items.start != 3) {
+      scene_error_set(c->err, mk, path, "expected a list of 3 numbers, got %s",
+                      n->type == YAML_SEQUENCE_NODE ? "a list of another length"
+                                                    : scene_node_kind(n));
+      return -1;
+    }
+    for (i = 0, it = n->data.sequence.items.start; i < 3; i++, it++) {
+      snprintf(sub, sizeof sub, "%s[%d]", path, i);
+      if (scene_parse_scalar(c, k, scene_node_get(c, *it), sub, &x)) return -1;
+      scene_real_at(v, k)[i] = x;
+    }
+    return 0;
+  }
+  if (scene_keys[k].type == KEY_TIMES || scene_keys[k].type == KEY_POSES)
+    return parse_rows(c, k, n, v);
+  if (scene_keys[k].type == KEY_FILE) return parse_file(c, k, n, v);
+  if (scene_keys[k].type == KEY_EFFECTS) {
+    scene_effect_list(list, sizeof list);
+    if (n->type != YAML_SEQUENCE_NODE ||
+        n->data.sequence.items.top == n->data.sequence.items.start) {
+      scene_error_set(
+          c->err, mk, path, "expected a non-empty list of %s, got %s", list,
+          n->type == YAML_SEQUENCE_NODE ? "an empty list" : scene_node_kind(n));
+      return -1;
+    }
+    bits = 0;
+    for (it = n->data.sequence.items.start; it < n->data.sequence.items.top;
+         it++) {
+      const yaml_node_t *item = scene_node_get(c, *it);
+      scene_mark im = scene_mark_of(&item->start_mark);
+      e = (item->type == YAML_SCALAR_NODE && !is_null(item))
+              ? rps3_effect_index(scene_scalar_text(item))
+              : -1;
+      if (e < 0) {
+        const char *cand[RPS3_NEFFECT];
+        char hint[160] = "";
+        int j;
+        for (j = 0; j < RPS3_NEFFECT; j++) cand[j] = rps3_effect_name(j);
+        if (item->type == YAML_SCALAR_NODE)
+          hint_text(hint, sizeof hint, scene_scalar_text(item), cand,
+                    RPS3_NEFFECT);
+        scene_error_set(c->err, im, path,
+                        "unknown effect %s%s%s%s; expected %s",
+                        item->type == YAML_SCALAR_NODE ? "'" : "",
+                        item->type == YAML_SCALAR_NODE ? scene_scalar_text(item)
+                                                       : scene_node_kind(item),
+                        item->type == YAML_SCALAR_NODE ? "'" : "", hint, list);
+        return -1;
+      }
+      if (bits & (1 << e)) {
+        scene_error_set(c->err, im, path, "effect '%s' listed twice",
+                        rps3_effect_name(e));
+        return -1;
+      }
+      bits |= 1 << e;
+    }
+    *scene_int_at(v, k) = bits;
+    return 0;
+  }
+  if (scene_parse_scalar(c, k, n, path, &x)) return -1;
+  scene_value_set(v, k, -1, x);
+  return 0;
+}
+
+/* the keys of a mapping must be plain scalars and appear once */
+int scene_mapping_key(parse_ctx *c, const yaml_node_t *map,
+                      const yaml_node_pair_t *pair, const char *prefix,
+                      const char **name) {
+  const yaml_node_t *kn = scene_node_get(c, pair->key);
+  const yaml_node_pair_t *q;
+  scene_mark mk = scene_mark_of(&kn->start_mark);
+  if (kn->type != YAML_SCALAR_NODE || is_null(kn)) {
+    scene_error_set(c->err, mk, prefix[0] ? prefix : "(root)",
+                    "a key must be a name, got %s", scene_node_kind(kn));
+    return -1;
+  }
+  *name = scene_scalar_text(kn);
+  /* an empty name ("" or "? >") would leave the key path blank in the
+     message, naming nothing: say what it is and where it stands */
+  if ((*name)[0] == '\0') {
+    scene_error_set(c->err, mk, prefix[0] ? prefix : "(root)",
+                    "a key must be a name, got an empty string");
+    return -1;
+  }
+  for (q = map->data.mapping.pairs.start; q < pair; q++) {
+    const yaml_node_t *other = scene_node_get(c, q->key);
+    if (other->type == YAML_SCALAR_NODE &&
+        strcmp(scene_scalar_text(other), *name) == 0) {
+      scene_mark om = scene_mark_of(&other->start_mark);
+      char full[160];
+      snprintf(full, sizeof full, "%s%s%s", prefix, prefix[0] ? "." : "",
+               *name);
+      scene_error_set(c->err, mk, full, "duplicate key (first given at %d:%d)",
+                      om.line, om.column);
+      return -1;
+    }
+  }
+  return 0;
+}
+
+/* walk a mapping section, storing each key it holds into the base values */
+int scene_walk_section(parse_ctx *c, const yaml_node_t *map,
+                       const char *prefix) {
+  yaml_node_pair_t *pair;
+  char full[160], list[512];
+  scene *s = c->s;
+  for (pair = map->data.mapping.pairs.start; pair < map->data.mapping.pairs.top;
+       pair++) {
+    const char *name;
+    const yaml_node_t *val = scene_node_get(c, pair->value);
+    int k, sec;
+    if (scene_mapping_key(c, map, pair, prefix, &name)) return -1;
+    snprintf(full, sizeof full, "%s%s%s", prefix, prefix[0] ? "." : "", name);
+    if (prefix[0] == '\0' && strcmp(name, "sweep") == 0) {
+      c->sweep_node = pair->value;
+      continue;
+    }
+    sec = section_find(full);
+    if (sec > 0) {
+      if (val->type != YAML_MAPPING_NODE) {
+        scene_error_set(c->err, scene_mark_of(&val->start_mark), full,
+                        "expected a mapping of keys, got %s",
+                        scene_node_kind(val));
+        return -1;
+      }
+      if (sec < 4) s->section[sec] = scene_mark_of(&val->start_mark);
+      if (strcmp(full, "simulate") == 0)
+        s->simulate = scene_mark_of(&val->start_mark);
+      if (scene_walk_section(c, val, full)) return -1;
+      continue;
+    }
+    k = scene_key_find(full);
+    if (k < 0) {
+      char hint[200];
+      scene_key_hint(hint, sizeof hint, full, 1);
+      keys_under(prefix, list, sizeof list);
+      scene_error_set(c->err,
+                      scene_mark_of(&scene_node_get(c, pair->key)->start_mark),
+                      full, "unknown key%s; expected one of %s", hint, list);
+      return -1;
+    }
+    if (parse_value(c, k, val, &s->base)) return -1;
+    s->given[k] = 1;
+    s->mark[k] = scene_mark_of(&val->start_mark);
+  }
+  return 0;
+}

@@ -1,0 +1,395 @@
+/*
+ * scene_sweep.c - a scene's sweep: its axes, each a list of values or a
+ * {from, to, num} or {from, to, step} range; and the checks, after the whole
+ * file is read, of the keys it gives (required, of its kind and shape, one
+ * of a pair).
+ */
+#include "scene.h"
+#include "scene_int.h"
+
+#include <math.h>
+#include <stddef.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include <yaml.h>
+
+/* the most cases a sweep may expand to: every case is built and checked
+   before a run (about 1 us each: 10 s at the limit); more is several runs */
+#define MAX_CASES 10000000.0
+
+/* ---------------------------------------------------------------- sweep */
+
+/* one value of a {from, to, ...} range mapping, or NULL */
+static const yaml_node_t *range_get(parse_ctx *c, const yaml_node_t *map,
+                                    const char *name) {
+  yaml_node_pair_t *p;
+  for (p = map->data.mapping.pairs.start; p < map->data.mapping.pairs.top;
+       p++) {
+    const yaml_node_t *kn = scene_node_get(c, p->key);
+    if (kn->type == YAML_SCALAR_NODE &&
+        strcmp(scene_scalar_text(kn), name) == 0)
+      return scene_node_get(c, p->value);
+  }
+  return NULL;
+}
+
+/* expand a {from, to, num} or {from, to, step} mapping into ax */
+static int sweep_range(parse_ctx *c, scene_axis *ax, const yaml_node_t *map) {
+  const scene_key_info *ki = &scene_keys[ax->key];
+  scene_mark mk = scene_mark_of(&map->start_mark);
+  const yaml_node_t *nf, *nt, *nn, *ns;
+  yaml_node_pair_t *p;
+  double from, to, num = 0, step = 0, span;
+  int integer = ki->type == KEY_INT;
+  size_t i, n;
+  char sub[160];
+
+  if (ki->type != KEY_REAL && ki->type != KEY_REAL3 && !integer) {
+    scene_error_set(c->err, mk, ax->path,
+                    "a range needs a numeric key; give a list of values");
+    return -1;
+  }
+  for (p = map->data.mapping.pairs.start; p < map->data.mapping.pairs.top;
+       p++) {
+    const char *name;
+    if (scene_mapping_key(c, map, p, ax->path, &name)) return -1;
+    if (strcmp(name, "from") && strcmp(name, "to") && strcmp(name, "num") &&
+        strcmp(name, "step")) {
+      snprintf(sub, sizeof sub, "%s.%s", ax->path, name);
+      scene_error_set(c->err,
+                      scene_mark_of(&scene_node_get(c, p->key)->start_mark),
+                      sub, "unknown key; expected from, to and num or step");
+      return -1;
+    }
+  }
+  nf = range_get(c, map, "from");
+  nt = range_get(c, map, "to");
+  nn = range_get(c, map, "num");
+  ns = range_get(c, map, "step");
+  if (!nf || !nt || (!nn == !ns)) {
+    scene_error_set(c->err, mk, ax->path,
+                    "a range needs from, to and exactly one of num and step");
+    return -1;
+  }
+  snprintf(sub, sizeof sub, "%s.from", ax->path);
+  if (scene_parse_number(c, nf, sub, integer, &from)) return -1;
+  snprintf(sub, sizeof sub, "%s.to", ax->path);
+  if (scene_parse_number(c, nt, sub, integer, &to)) return -1;
+  span = to - from;
+  if (nn) {
+    snprintf(sub, sizeof sub, "%s.num", ax->path);
+    if (scene_parse_number(c, nn, sub, 1, &num)) return -1;
+    if (num < 1 || (num == 1 && from != to)) {
+      scene_error_set(c->err, scene_mark_of(&nn->start_mark), sub,
+                      "must be >= 2 (or 1 with from == to), got %.0f", num);
+      return -1;
+    }
+    /* counted before anything is allocated for the values */
+    if (num * c->ncase > MAX_CASES) {
+      scene_error_set(c->err, scene_mark_of(&nn->start_mark), sub,
+                      "%.0f values make the sweep more than %.0f cases", num,
+                      MAX_CASES);
+      return -1;
+    }
+    n = (size_t)num;
+  } else {
+    double q;
+    snprintf(sub, sizeof sub, "%s.step", ax->path);
+    if (scene_parse_number(c, ns, sub, integer, &step)) return -1;
+    q = span / step;
+    if (step == 0 || q < 0) {
+      scene_error_set(c->err, scene_mark_of(&ns->start_mark), sub,
+                      "must be non-zero with the sign of to - from, got %s",
+                      scene_scalar_text(ns));
+      return -1;
+    }
+    if (!(span - span == 0)) {
+      scene_error_set(c->err, scene_mark_of(&ns->start_mark), sub,
+                      "to - from overflows (%s to %s): not a range of numbers",
+                      scene_scalar_text(nf), scene_scalar_text(nt));
+      return -1;
+    }
+    if ((q + 1) * c->ncase > MAX_CASES) {
+      scene_error_set(c->err, scene_mark_of(&ns->start_mark), sub,
+                      "gives %.3g values: the sweep would have more than %.0f "
+                      "cases",
+                      q + 1, MAX_CASES);
+      return -1;
+    }
+    n = (size_t)floor(q + SCENE_WHOLE_RTOL) + 1;
+  }
+  ax->n = n;
+  ax->val = malloc(n * sizeof *ax->val);
+  ax->mark = malloc(n * sizeof *ax->mark);
+  if (!ax->val || !ax->mark) {
+    scene_error_set(c->err, mk, ax->path, "out of memory for %zu values", n);
+    return -1;
+  }
+  for (i = 0; i < n; i++) {
+    double x;
+    if (nn && !(span - span == 0))
+      /* to - from overflows ({from: -1e308, to: 1e308}): weights instead,
+         so that each value is a number and its range check speaks */
+      x = (i + 1 == n) ? to
+                       : from * (1 - (double)i / (double)(n - 1)) +
+                             to * ((double)i / (double)(n - 1));
+    else if (nn)
+      x = (i + 1 == n) ? to : from + span * (double)i / (double)(n - 1);
+    else
+      x = from + (double)i * step;
+    /* the last step lands on `to` up to rounding: take `to` itself */
+    if (!nn && i + 1 == n && fabs(x - to) <= SCENE_WHOLE_RTOL * fabs(step))
+      x = to;
+    if (integer && x != floor(x)) {
+      scene_error_set(c->err, mk, ax->path,
+                      "value %zu of the range, %g, is not an integer", i, x);
+      return -1;
+    }
+    if (scene_check_range(c, ax->key, x, mk, ax->path)) return -1;
+    ax->val[i] = x;
+    ax->mark[i] = mk;
+  }
+  return 0;
+}
+
+/* parse the sweep mapping into s->axis */
+int scene_parse_sweep(parse_ctx *c, const yaml_node_t *map) {
+  scene *s = c->s;
+  yaml_node_pair_t *pair;
+  size_t a, npair;
+  double ncase = 1;
+
+  if (map->type != YAML_MAPPING_NODE ||
+      map->data.mapping.pairs.top == map->data.mapping.pairs.start) {
+    scene_error_set(c->err, scene_mark_of(&map->start_mark), "sweep",
+                    "expected a mapping of dotted keys to values, got %s",
+                    map->type == YAML_MAPPING_NODE ? "an empty mapping"
+                                                   : scene_node_kind(map));
+    return -1;
+  }
+  npair = (size_t)(map->data.mapping.pairs.top - map->data.mapping.pairs.start);
+  s->axis = calloc(npair, sizeof *s->axis);
+  if (!s->axis) {
+    scene_error_set(c->err, scene_mark_of(&map->start_mark), "sweep",
+                    "out of memory");
+    return -1;
+  }
+  for (pair = map->data.mapping.pairs.start; pair < map->data.mapping.pairs.top;
+       pair++) {
+    const yaml_node_t *kn = scene_node_get(c, pair->key);
+    const yaml_node_t *val = scene_node_get(c, pair->value);
+    scene_mark km = scene_mark_of(&kn->start_mark);
+    /* counted at once, so that scene_free frees a half-built axis */
+    scene_axis *ax = &s->axis[s->naxis++];
+    const scene_key_info *ki;
+    const char *name, *br;
+    char base[80];
+    if (scene_mapping_key(c, map, pair, "sweep", &name)) return -1;
+    if (strlen(name) >= sizeof ax->path) {
+      scene_error_set(c->err, km, "sweep", "key '%.40s...' is too long", name);
+      return -1;
+    }
+    snprintf(ax->path, sizeof ax->path, "%s", name);
+    ax->comp = -1;
+    /* "key[k]" picks component k of a list key */
+    br = strchr(name, '[');
+    snprintf(base, sizeof base, "%.*s",
+             (int)(br ? (size_t)(br - name) : strlen(name)), name);
+    ax->key = scene_key_find(base);
+    if (ax->key < 0) {
+      char hint[200];
+      scene_key_hint(hint, sizeof hint, base, 0);
+      scene_error_set(c->err, km, name,
+                      "not a scene key%s; see rps3-run --keys", hint);
+      return -1;
+    }
+    ki = &scene_keys[ax->key];
+    if (br) {
+      if (ki->type != KEY_REAL3 || !(br[1] >= '0' && br[1] <= '2') ||
+          strcmp(br + 2, "]") != 0) {
+        scene_error_set(c->err, km, name,
+                        ki->type == KEY_REAL3
+                            ? "component must be [0], [1] or [2]"
+                            : "only a list key takes a component [k]");
+        return -1;
+      }
+      ax->comp = br[1] - '0';
+    } else if (ki->type == KEY_REAL3) {
+      scene_error_set(c->err, km, name,
+                      "a list key: sweep one component, as %s[0], [1] or [2]",
+                      name);
+      return -1;
+    }
+    if (ki->type == KEY_EFFECTS || ki->type == KEY_TIMES ||
+        ki->type == KEY_POSES || ki->type == KEY_FILE || ax->key == K_KIND ||
+        ax->key == K_PATH_SHAPE) {
+      scene_error_set(
+          c->err, km, name,
+          "cannot be swept (it decides what a case computes); write "
+          "one scene per value");
+      return -1;
+    }
+    if (ki->kind != FOR_ALL && ki->kind != (int)s->base.traj.kind) {
+      scene_error_set(c->err, km, name, "not a key of a %s trajectory",
+                      scene_enum_name(K_KIND, (int)s->base.traj.kind));
+      return -1;
+    }
+    for (a = 0; a + 1 < s->naxis; a++)
+      if (s->axis[a].key == ax->key && s->axis[a].comp == ax->comp) {
+        scene_error_set(c->err, km, name, "swept twice (also as %s)",
+                        s->axis[a].path);
+        return -1;
+      }
+    if (val->type == YAML_SEQUENCE_NODE) {
+      yaml_node_item_t *it;
+      size_t i, n = (size_t)(val->data.sequence.items.top -
+                             val->data.sequence.items.start);
+      if (n == 0) {
+        scene_error_set(c->err, scene_mark_of(&val->start_mark), name,
+                        "empty list of values");
+        return -1;
+      }
+      ax->n = n;
+      ax->val = malloc(n * sizeof *ax->val);
+      ax->mark = malloc(n * sizeof *ax->mark);
+      if (!ax->val || !ax->mark) {
+        scene_error_set(c->err, km, name, "out of memory");
+        return -1;
+      }
+      for (i = 0, it = val->data.sequence.items.start; i < n; i++, it++) {
+        const yaml_node_t *item = scene_node_get(c, *it);
+        if (scene_parse_scalar(c, ax->key, item, name, &ax->val[i])) return -1;
+        ax->mark[i] = scene_mark_of(&item->start_mark);
+      }
+    } else if (val->type == YAML_MAPPING_NODE) {
+      if (sweep_range(c, ax, val)) return -1;
+    } else {
+      scene_error_set(c->err, scene_mark_of(&val->start_mark), name,
+                      "expected a list of values, {from, to, num} or "
+                      "{from, to, step}, got %s",
+                      scene_node_kind(val));
+      return -1;
+    }
+    ncase *= (double)ax->n;
+    c->ncase = ncase;
+    if (ncase > MAX_CASES) {
+      scene_error_set(c->err, km, name, "the sweep has more than %.0f cases",
+                      MAX_CASES);
+      return -1;
+    }
+    /* a swept key counts as given; its mark is its first value */
+    s->given[ax->key] = 1;
+    if (s->mark[ax->key].line == 0) s->mark[ax->key] = ax->mark[0];
+  }
+  s->ncase = (size_t)ncase;
+  return 0;
+}
+
+/* ---------------------------------------------------------------- checks */
+
+/* last component of a dotted path */
+static const char *leaf(const char *path) {
+  const char *p = strrchr(path, '.');
+  return p ? p + 1 : path;
+}
+
+/* a waypoints scene has as many poses as times */
+static int check_waypoints(parse_ctx *c) {
+  scene *s = c->s;
+  if (s->base.traj.kind != RPS3_TRAJ_WAYPOINTS) return 0;
+  if (s->wp_ntime != s->wp_npose) {
+    scene_error_set(c->err, s->mark[K_WP_POSES], scene_keys[K_WP_POSES].path,
+                    "%zu poses for %zu times (trajectory.waypoints.times at "
+                    "%d:%d); give one pose per time",
+                    s->wp_npose, s->wp_ntime, s->mark[K_WP_TIMES].line,
+                    s->mark[K_WP_TIMES].column);
+    return -1;
+  }
+  s->base.traj.wp.n = s->wp_ntime;
+  return 0;
+}
+
+/* a path scene gives the keys of its shape, and no others */
+static int check_shape(parse_ctx *c) {
+  scene *s = c->s;
+  int k, shape = (int)s->base.traj.path.shape;
+  if (s->base.traj.kind != RPS3_TRAJ_PATH) return 0;
+  for (k = 0; k < SCENE_NKEY; k++) {
+    int mask = scene_shape_mask(k);
+    if (mask == 0) continue;
+    if (s->given[k] && !(mask & (1 << shape))) {
+      scene_error_set(c->err, s->mark[k], scene_keys[k].path,
+                      "not a key of a %s path",
+                      scene_enum_name(K_PATH_SHAPE, shape));
+      return -1;
+    }
+    if (!s->given[k] && scene_keys[k].req == REQ_SHAPE &&
+        (mask & (1 << shape))) {
+      scene_error_set(c->err, s->mark[K_PATH_SHAPE], scene_keys[k].path,
+                      "missing required key of a %s path",
+                      scene_enum_name(K_PATH_SHAPE, shape));
+      return -1;
+    }
+  }
+  return 0;
+}
+
+/* required keys, keys of the other trajectory kind, one-of pairs */
+int scene_check_keys(parse_ctx *c) {
+  scene *s = c->s;
+  int k, pair;
+  if (s->section[1].line == 0 || s->section[2].line == 0) {
+    scene_error_set(c->err, s->section[0],
+                    s->section[1].line == 0 ? "manipulator" : "trajectory",
+                    "missing required section");
+    return -1;
+  }
+  for (k = 0; k < SCENE_NKEY; k++) {
+    const scene_key_info *ki = &scene_keys[k];
+    int applies = ki->kind == FOR_ALL || ki->kind == (int)s->base.traj.kind;
+    int sec = strncmp(ki->path, "manipulator", 11) == 0 ? 1 : 2;
+    if (!applies && s->given[k]) {
+      scene_error_set(c->err, s->mark[k], ki->path,
+                      "not a key of a %s trajectory",
+                      scene_enum_name(K_KIND, (int)s->base.traj.kind));
+      return -1;
+    }
+    if (applies && ki->req == REQ_YES && !s->given[k]) {
+      scene_error_set(c->err, s->section[sec], ki->path,
+                      "missing required key");
+      return -1;
+    }
+  }
+  if (check_waypoints(c) || check_shape(c)) return -1;
+  for (pair = 0; pair < 3; pair++) {
+    static const int one_of[3][2] = {
+        {K_M_OVER_M, K_MASS}, {K_SAMPLES, K_DT}, {K_BLEND, K_BLEND_RATIO}};
+    int a = one_of[pair][0], b = one_of[pair][1];
+    if (scene_keys[a].kind != FOR_ALL &&
+        scene_keys[a].kind != (int)s->base.traj.kind)
+      continue;
+    if (!s->given[a] && !s->given[b]) {
+      scene_error_set(c->err, s->section[pair ? 2 : 1], scene_keys[a].path,
+                      "missing: give %s or %s", leaf(scene_keys[a].path),
+                      leaf(scene_keys[b].path));
+      return -1;
+    }
+    if (s->given[a] && s->given[b]) {
+      int later = (s->mark[a].line > s->mark[b].line ||
+                   (s->mark[a].line == s->mark[b].line &&
+                    s->mark[a].column > s->mark[b].column))
+                      ? a
+                      : b;
+      int other = later == a ? b : a;
+      scene_error_set(c->err, s->mark[later], scene_keys[later].path,
+                      "give either %s or %s, not both (%s is at %d:%d)",
+                      leaf(scene_keys[a].path), leaf(scene_keys[b].path),
+                      scene_keys[other].path, s->mark[other].line,
+                      s->mark[other].column);
+      return -1;
+    }
+  }
+  return 0;
+}

@@ -1,0 +1,537 @@
+/*
+ * table.c - read a table of samples from a CSV or an HDF5 file (table.h).
+ * Every row is checked where it is read, so that an error names the file,
+ * the line (or row) and the column: a number that is not one, NaN or
+ * infinity, a time that does not increase.  Reachability is the library's
+ * (rps3_traj_check), mapped back to the row by table_where.
+ */
+/* realpath() is XSI */
+#define _XOPEN_SOURCE 700
+
+#include "table.h"
+#include "core/hint.h"
+#include "table_int.h"
+
+#include <errno.h>
+#include <float.h>
+#include <limits.h>
+#include <math.h>
+#include <stdarg.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <sys/stat.h>
+
+const char *const table_col_names[2][TABLE_NCOL] = {
+    {"t", "alpha", "beta", "z_c", "alpha_dot", "beta_dot", "z_c_dot",
+     "alpha_ddot", "beta_ddot", "z_c_ddot"},
+    {"t", "x", "y", "z", "x_dot", "y_dot", "z_dot", "x_ddot", "y_ddot",
+     "z_ddot"}};
+
+void table_err(char *err, size_t errsz, const char *fmt, ...) {
+  va_list ap;
+  va_start(ap, fmt);
+  vsnprintf(err, errsz, fmt, ap);
+  va_end(ap);
+}
+
+void table_free(table_data *t) {
+  if (!t) return;
+  if (t->abs != t->path) free(t->abs);
+  free(t->path);
+  free(t->time);
+  free(t->value);
+  free(t->rate);
+  free(t->acc);
+  free(t->line);
+  memset(t, 0, sizeof *t);
+}
+
+void table_where(const table_data *t, size_t r, char *buf, size_t sz) {
+  if (t->line != NULL && r < t->n)
+    snprintf(buf, sz, "%s:%d", t->path, t->line[r]);
+  else
+    snprintf(buf, sz, "%s, row %zu", t->path, r);
+}
+
+rps3_table table_view(const table_data *t) {
+  rps3_table v;
+  memset(&v, 0, sizeof v);
+  v.n = t->n;
+  v.time = t->time;
+  v.value = (const double(*)[3])t->value;
+  v.rate = (const double(*)[3])t->rate;
+  v.acc = (const double(*)[3])t->acc;
+  return v;
+}
+
+/* the arrays for n rows; acc only when the file has accelerations */
+int table_alloc_rows(table_data *t, size_t n, int with_acc, int with_line,
+                     char *err, size_t errsz) {
+  size_t m = n ? n : 1; /* a table of no rows is refused later */
+  /* a row in memory: the time, values and rates (the file's or the
+     spline's), the accelerations, the spline's work, the CSV line */
+  double row = sizeof(double) * (8.0 + (with_acc ? 3.0 : 0.0)) +
+               (with_line ? (double)sizeof(int) : 0.0);
+  if ((double)n * row > TABLE_MAX_BYTES) {
+    table_err(err, errsz,
+              "%s: %zu rows need %.3g GB in memory (%.0f bytes a "
+              "row): above the table limit of 1 GiB",
+              t->path, n, (double)n * row / 1e9, row);
+    return -1;
+  }
+  t->n = n;
+  t->time = malloc(m * sizeof *t->time);
+  t->value = malloc(m * sizeof *t->value);
+  t->rate = malloc(m * sizeof *t->rate);
+  t->acc = with_acc ? malloc(m * sizeof *t->acc) : NULL;
+  t->line = with_line ? malloc(m * sizeof *t->line) : NULL;
+  if (t->time && t->value && t->rate && (t->acc || !with_acc) &&
+      (t->line || !with_line))
+    return 0;
+  table_err(err, errsz, "%s: out of memory for %zu rows", t->path, n);
+  return -1;
+}
+
+/* where column c of row r goes */
+double *table_cell(table_data *t, size_t r, int c) {
+  if (c == 0) return &t->time[r];
+  if (c < 4) return &t->value[r][c - 1];
+  if (c < 7) return &t->rate[r][c - 4];
+  return &t->acc[r][c - 7];
+}
+
+/* which of the columns are present: t and the values always, the rates
+   all or none, the accelerations all or none and only with the rates; a
+   column is named as the file holds it ("column NAME" in a CSV file,
+   "dataset /NAME" in an HDF5 one) */
+int table_columns_check(const int have[TABLE_NCOL], int what, int hdf5,
+                        const char *file, char *err, size_t errsz) {
+  int c, g;
+  const char *kind = hdf5 ? "dataset /" : "column ";
+  const char *const *n = table_col_names[what];
+  for (c = 0; c < 4; c++)
+    if (!have[c]) {
+      table_err(err, errsz, "%s: missing %s%s (a table has %s, %s, %s, %s)",
+                file, kind, n[c], n[0], n[1], n[2], n[3]);
+      return -1;
+    }
+  for (g = 4; g < TABLE_NCOL; g += 3)
+    if (have[g] + have[g + 1] + have[g + 2] != 0 &&
+        have[g] + have[g + 1] + have[g + 2] != 3) {
+      for (c = g; have[c]; c++)
+        ;
+      table_err(err, errsz, "%s: missing %s%s (give the three %s or none)",
+                file, kind, n[c], g == 4 ? "rates" : "accelerations");
+      return -1;
+    }
+  if (have[7] && !have[4]) {
+    table_err(err, errsz,
+              "%s: accelerations (%s%s, ...) need the rates (%s%s, ...) as "
+              "well",
+              file, kind, n[7], kind, n[4]);
+    return -1;
+  }
+  return 0;
+}
+
+/* the number in the field [s, e) of line `line`, which starts at start:
+   parsed where it stands (e is NUL-terminated for strtod, then restored),
+   so a number of any length that strtod reads is read */
+static int parse_field(char *s, char *e, double *x, const char *file, int line,
+                       const char *start, const char *name, char *err,
+                       size_t errsz) {
+  char *end, keep;
+  int col, len, more, fail = 0;
+  while (s < e && (*s == ' ' || *s == '\t')) s++;
+  while (e > s && (e[-1] == ' ' || e[-1] == '\t')) e--;
+  col = (int)(s - start) + 1; /* of the number itself, blanks skipped */
+  if (e == s) {
+    table_err(err, errsz, "%s:%d:%d: column %s: empty field", file, line, col,
+              name);
+    return -1;
+  }
+  /* the field as quoted in a message: its first 40 bytes */
+  len = e - s > 40 ? 40 : (int)(e - s);
+  more = e - s > 40;
+  keep = *e;
+  *e = '\0';
+  errno = 0;
+  *x = strtod(s, &end);
+  if (end != e) {
+    table_err(err, errsz,
+              "%s:%d:%d: column %s: expected a number, got "
+              "'%.*s'%s",
+              file, line, col, name, len, s, more ? "..." : "");
+    fail = 1;
+  } else if (!isfinite(*x) || (errno == ERANGE && fabs(*x) > 1.0)) {
+    table_err(err, errsz,
+              "%s:%d:%d: column %s: '%.*s'%s is not a finite "
+              "number%s",
+              file, line, col, name, len, s, more ? "..." : "",
+              errno == ERANGE ? " (beyond the largest double, 1.8e308)" : "");
+    fail = 1;
+  } else if (*x == 0.0 && errno == ERANGE) {
+    table_err(err, errsz,
+              "%s:%d:%d: column %s: '%.*s'%s underflows to 0 "
+              "(nonzero but below 4.9e-324 in magnitude, the smallest "
+              "double): write 0 or a normal number",
+              file, line, col, name, len, s, more ? "..." : "");
+    fail = 1;
+  } else if (fpclassify(*x) == FP_SUBNORMAL) {
+    table_err(err, errsz, "%s:%d:%d: column %s: '%.*s'%s is " TABLE_SUBNORMAL,
+              file, line, col, name, len, s, more ? "..." : "");
+    fail = 1;
+  }
+  *e = keep;
+  return fail ? -1 : 0;
+}
+
+/* the header line [s, e): column c of the file is col[c] (0..TABLE_NCOL-1) */
+static int csv_header(const char *s, const char *e, int what, int *col,
+                      int *ncol, int have[TABLE_NCOL], const char *file,
+                      int line, char *err, size_t errsz) {
+  const char *p = s;
+  *ncol = 0;
+  for (;;) {
+    const char *q = p, *a, *b;
+    int c;
+    while (q < e && *q != ',') q++;
+    for (a = p; a < q && (*a == ' ' || *a == '\t'); a++)
+      ;
+    for (b = q; b > a && (b[-1] == ' ' || b[-1] == '\t'); b--)
+      ;
+    for (c = 0; c < TABLE_NCOL; c++)
+      if ((size_t)(b - a) == strlen(table_col_names[what][c]) &&
+          strncmp(a, table_col_names[what][c], (size_t)(b - a)) == 0)
+        break;
+    if (c == TABLE_NCOL || have[c] || *ncol == TABLE_NCOL) {
+      char list[200], name[HINT_MAX_LEN + 1], hint[120] = "";
+      int k;
+      size_t len = 0;
+      for (k = 0; k < TABLE_NCOL; k++)
+        len += (size_t)snprintf(list + len, sizeof list - len, "%s%s",
+                                k ? ", " : "", table_col_names[what][k]);
+      snprintf(name, sizeof name, "%.*s", (int)(b - a), a);
+      if (c == TABLE_NCOL)
+        hint_text(hint, sizeof hint, name, table_col_names[what], TABLE_NCOL);
+      table_err(err, errsz, "%s:%d:%d: column '%s': %s%s; expected %s", file,
+                line, (int)(a - s) + 1, name,
+                c < TABLE_NCOL ? "given twice" : "unknown column", hint, list);
+      return -1;
+    }
+    have[c] = 1;
+    col[(*ncol)++] = c;
+    if (q == e) break;
+    p = q + 1;
+  }
+  return table_columns_check(have, what, 0, file, err, errsz);
+}
+
+/* a table is a regular file of at most TABLE_MAX_BYTES: checked by
+   stat() before anything opens it (opening a FIFO would wait for a
+   writer, a device would never end) */
+int table_regular_file(const char *path, char *err, size_t errsz) {
+  struct stat st;
+  if (stat(path, &st) != 0) {
+    table_err(err, errsz, "%s: cannot open: %s", path, strerror(errno));
+    return -1;
+  }
+  if (!S_ISREG(st.st_mode) || (double)st.st_size > TABLE_MAX_BYTES) {
+    table_err(err, errsz, "%s: not a regular file of at most 1 GiB", path);
+    return -1;
+  }
+  return 0;
+}
+
+/* the whole file into a NUL-terminated buffer (a regular file only) */
+static char *slurp(const char *path, size_t *len, char *err, size_t errsz) {
+  FILE *f;
+  struct stat st;
+  char *buf;
+  if (table_regular_file(path, err, errsz)) return NULL;
+  f = fopen(path, "rb");
+  if (!f) {
+    table_err(err, errsz, "%s: cannot open: %s", path, strerror(errno));
+    return NULL;
+  }
+  if (fstat(fileno(f), &st) != 0 || !S_ISREG(st.st_mode) ||
+      (double)st.st_size > TABLE_MAX_BYTES) {
+    table_err(err, errsz, "%s: not a regular file of at most 1 GiB", path);
+    fclose(f);
+    return NULL;
+  }
+  buf = malloc((size_t)st.st_size + 1);
+  if (!buf) {
+    table_err(err, errsz, "%s: out of memory", path);
+    fclose(f);
+    return NULL;
+  }
+  *len = fread(buf, 1, (size_t)st.st_size, f);
+  buf[*len] = '\0';
+  if (ferror(f)) {
+    table_err(err, errsz, "%s: read error: %s", path, strerror(errno));
+    free(buf);
+    buf = NULL;
+  }
+  fclose(f);
+  return buf;
+}
+
+/* the end of the line that starts at p: its CR or LF, or the text's NUL;
+   and the start of the next line (past a CR LF pair as one line end):
+   LF (Unix), CR LF (Windows) and CR alone (classic Mac OS) all end a line */
+static char *line_end(char *p) { return p + strcspn(p, "\r\n"); }
+
+static char *line_next(char *e) {
+  if (*e == '\0') return e;
+  return e + (e[0] == '\r' && e[1] == '\n' ? 2 : 1);
+}
+
+/* lines that hold no row: blank, or a comment starting with '#' */
+static int csv_skip(const char *s, const char *e) {
+  while (s < e && (*s == ' ' || *s == '\t')) s++;
+  return s == e || *s == '#';
+}
+
+int table_csv_read(table_data *t, int what, char *err, size_t errsz) {
+  size_t len, rows = 0, r = 0;
+  char *text = slurp(t->path, &len, err, errsz), *p, *e;
+  int have[TABLE_NCOL] = {0}, col[TABLE_NCOL], ncol = 0, line, header = 0,
+      rc = -1;
+  if (!text) return -1;
+  if (memchr(text, '\0', len) != NULL) {
+    table_err(err, errsz, "%s: a NUL byte: not a text file", t->path);
+    goto done;
+  }
+  /* a UTF-8 byte order mark (spreadsheets write one) is not a column name */
+  if (len >= 3 && memcmp(text, "\xEF\xBB\xBF", 3) == 0) memset(text, ' ', 3);
+  /* count the lines that may be rows, to allocate once */
+  for (p = text; p < text + len; p = line_next(e)) {
+    e = line_end(p);
+    rows += !csv_skip(p, e);
+  }
+  for (p = text, line = 1; p < text + len; p = line_next(e), line++) {
+    char *f;
+    int c;
+    e = line_end(p);
+    if (csv_skip(p, e)) continue;
+    if (!header) {
+      if (!memchr(p, ',', (size_t)(e - p)) &&
+          (memchr(p, ';', (size_t)(e - p)) ||
+           memchr(p, '\t', (size_t)(e - p)))) {
+        table_err(err, errsz,
+                  "%s:%d: the columns are separated by %s; a table "
+                  "separates them by commas",
+                  t->path, line,
+                  memchr(p, ';', (size_t)(e - p)) ? "semicolons" : "tabs");
+        goto done;
+      }
+      if (csv_header(p, e, what, col, &ncol, have, t->path, line, err, errsz))
+        goto done;
+      header = 1;
+      if (table_alloc_rows(t, rows - 1, have[7], 1, err, errsz)) goto done;
+      continue;
+    }
+    t->line[r] = line;
+    for (c = 0, f = p; c < ncol; c++) {
+      char *q = f;
+      while (q < e && *q != ',') q++;
+      if (q == e && c + 1 < ncol) {
+        table_err(err, errsz, "%s:%d: %d fields, the header has %d columns",
+                  t->path, line, c + 1, ncol);
+        goto done;
+      }
+      if (parse_field(f, q, table_cell(t, r, col[c]), t->path, line, p,
+                      table_col_names[what][col[c]], err, errsz))
+        goto done;
+      f = q + 1;
+      if (c + 1 == ncol && q < e) {
+        table_err(err, errsz,
+                  "%s:%d:%d: more fields than the header's %d "
+                  "columns",
+                  t->path, line, (int)(q - p) + 1, ncol);
+        goto done;
+      }
+    }
+    r++;
+  }
+  if (!header) {
+    table_err(err, errsz, "%s: no header line (t, %s, %s, %s, ...)", t->path,
+              table_col_names[what][1], table_col_names[what][2],
+              table_col_names[what][3]);
+    goto done;
+  }
+  t->rates_given = have[4];
+  rc = 0;
+done:
+  free(text);
+  return rc;
+}
+
+/* the label of column c in a message: "column NAME" (CSV) or "dataset
+   /NAME" (HDF5) */
+static void col_label(const table_data *t, int what, int c, char *buf,
+                      size_t sz) {
+  snprintf(buf, sz, "%s%s", t->hdf5 ? "dataset /" : "column ",
+           table_col_names[what][c]);
+}
+
+/* x in the fewest significant digits (15 to 17) that read back as x,
+   as the file most likely wrote it */
+static const char *num(char buf[32], double x) {
+  int p;
+  for (p = 15; p < 17; p++) {
+    snprintf(buf, 32, "%.*g", p, x);
+    if (strtod(buf, NULL) == x) return buf;
+  }
+  snprintf(buf, 32, "%.17g", x);
+  return buf;
+}
+
+/* the rows' times and their steps, each named at its row: strictly
+   increasing; their span a finite double (rps3_table_duration and the
+   time within the table are differences of times); every step at least
+   TIME_RESOLUTION of the largest |t| (the interpolant finds the time
+   within a step as (t0 + t - t_i) / h, rounded to a unit in the last
+   place of the times); and no step so short for the change of a value
+   that the interpolant's rate (~ change / h) or acceleration (~ change /
+   h^2) overflows */
+#define TIME_RESOLUTION                             \
+  0x1p-36 /* 2^16 units in the last place: the time \
+             within a step rounds by <= 1.5e-5 of it */
+#define DERIV_MAX                                             \
+  (DBL_MAX / 64.0) /* the Hermite polynomials' factors (up to \
+                      20) on top of change / h^2 */
+static int table_steps(table_data *t, int what, char *err, size_t errsz) {
+  size_t r;
+  int k;
+  char where[300], lt[40], lc[40], n1[32], n2[32];
+  double scale = fmax(fabs(t->time[0]), fabs(t->time[t->n - 1]));
+  col_label(t, what, 0, lt, sizeof lt);
+  for (r = 1; r < t->n; r++) {
+    double h = t->time[r] - t->time[r - 1];
+    table_where(t, r, where, sizeof where);
+    if (!(t->time[r] > t->time[r - 1])) {
+      table_err(err, errsz,
+                "%s: %s: %s after %s: times must "
+                "increase strictly",
+                where, lt, num(n1, t->time[r]), num(n2, t->time[r - 1]));
+      return -1;
+    }
+    if (!isfinite(t->time[r] - t->time[0])) {
+      table_err(err, errsz,
+                "%s: %s: %s is more than 1.8e308 s after the "
+                "first row's %s: the time range overflows a double (the "
+                "times must span less than 1.8e308 s)",
+                where, lt, num(n1, t->time[r]), num(n2, t->time[0]));
+      return -1;
+    }
+    if (h < scale * TIME_RESOLUTION) {
+      table_err(err, errsz,
+                "%s: %s: %s after %s: the rows are %.3g s "
+                "apart, too close relative to the time scale %.3g s (the "
+                "largest |t|): a step must be at least 1.5e-11 of it, or the "
+                "time within the step rounds by more than 1.5e-5 of the step;"
+                " subtract an offset from the times or thin the rows",
+                where, lt, num(n1, t->time[r]), num(n2, t->time[r - 1]), h,
+                scale);
+      return -1;
+    }
+    if (h * h < DBL_MIN) {
+      table_err(err, errsz,
+                "%s: %s: %s after %s: the rows are %.3g s "
+                "apart, a spacing too small for a double: the interpolant's "
+                "acceleration divides by the step squared, which underflows "
+                "below 1.5e-154 s",
+                where, lt, num(n1, t->time[r]), num(n2, t->time[r - 1]), h);
+      return -1;
+    }
+    for (k = 0; k < 3; k++) {
+      double dv = t->value[r][k] - t->value[r - 1][k], mv, mr, ma;
+      col_label(t, what, 1 + k, lc, sizeof lc);
+      if (!isfinite(dv)) {
+        table_err(err, errsz,
+                  "%s: %s: %s after %s: the change between "
+                  "the rows overflows a double",
+                  where, lc, num(n1, t->value[r][k]),
+                  num(n2, t->value[r - 1][k]));
+        return -1;
+      }
+      /* the interpolant's acceleration: change / h^2, and with the
+         file's rates rate / h, with its accelerations their own */
+      mv = fabs(dv) / h / h;
+      mr = t->rates_given ? (fabs(t->rate[r][k]) + fabs(t->rate[r - 1][k])) / h
+                          : 0.0;
+      ma = t->acc != NULL ? fabs(t->acc[r][k]) + fabs(t->acc[r - 1][k]) : 0.0;
+      if (mv + mr + ma < DERIV_MAX) continue;
+      if (mv >= mr && mv >= ma) {
+        table_err(err, errsz,
+                  "%s: %s: changes by %.3g in %.3g s from the "
+                  "previous row: the spacing of the rows is too small for "
+                  "so large a change, the interpolant's rate and acceleration "
+                  "across the step (of order change / step^2) overflow a "
+                  "double",
+                  where, lc, dv, h);
+      } else {
+        char lr[40];
+        col_label(t, what, mr >= ma ? 4 + k : 7 + k, lr, sizeof lr);
+        table_err(err, errsz,
+                  "%s: %s: %.3g and %.3g across a step of %.3g s:"
+                  " the interpolant's acceleration there (of order %s) "
+                  "overflows a double",
+                  where, lr, mr >= ma ? t->rate[r - 1][k] : t->acc[r - 1][k],
+                  mr >= ma ? t->rate[r][k] : t->acc[r][k], h,
+                  mr >= ma ? "rate / step" : "the accelerations themselves");
+      }
+      return -1;
+    }
+  }
+  return 0;
+}
+
+/* the rows checked (table_steps); then the rates a table lacks, from the
+   spline */
+int table_finish(table_data *t, int what, char *err, size_t errsz) {
+  size_t r;
+  char where[300];
+  double *work;
+  int min = t->rates_given ? 2 : 4, k, x;
+  if (t->n < (size_t)min) {
+    table_err(err, errsz, "%s: %zu rows; a table needs at least %d%s", t->path,
+              t->n, min,
+              t->rates_given ? ""
+                             : " without rate columns (the not-a-knot "
+                               "spline that gives the rates)");
+    return -1;
+  }
+  if (table_steps(t, what, err, errsz)) return -1;
+  if (t->rates_given) return 0;
+  work = malloc(t->n * sizeof *work);
+  if (!work) {
+    table_err(err, errsz, "%s: out of memory for the spline of %zu rows",
+              t->path, t->n);
+    return -1;
+  }
+  x = rps3_table_spline(t->n, t->time, (const double(*)[3])t->value, t->rate,
+                        work);
+  free(work);
+  if (x == RPS3_OK) return 0;
+  /* the rows passed table_steps: name the first rate that overflowed */
+  for (r = 0; r < t->n; r++)
+    for (k = 0; k < 3; k++)
+      if (!isfinite(t->rate[r][k])) {
+        char lc[40];
+        table_where(t, r, where, sizeof where);
+        col_label(t, what, 1 + k, lc, sizeof lc);
+        table_err(err, errsz,
+                  "%s: %s: the spline's rate at this row "
+                  "overflows a double (the values change too fast for the "
+                  "spacing of the rows)",
+                  where, lc);
+        return -1;
+      }
+  table_err(err, errsz, "%s: the spline of the rows failed (%s)", t->path,
+            rps3_strerror(x));
+  return -1;
+}

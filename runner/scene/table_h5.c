@@ -1,0 +1,519 @@
+/*
+ * table_h5.c - a table of samples from an HDF5 file (table.h): one 1-D
+ * dataset per column at the file's root, each checked row by row; a
+ * column whose units say degrees or millimetres is refused.
+ *
+ * Every column is opened and checked before anything is allocated or
+ * read: its link (a hard link, or a soft link to an object of the file;
+ * an external link would read another file), its storage (in the file
+ * itself: external raw files and virtual datasets would read other files,
+ * which the checks of the table file did not see), its type (numbers), its
+ * shape (one dimension, as many rows as /t) and its declared size against
+ * the table's limit (a tiny file may declare 4e8 unwritten rows).  Every
+ * message names the file and the dataset, and the cause HDF5 gives.
+ */
+/* stat() is POSIX */
+#define _XOPEN_SOURCE 700
+
+#include "table_int.h"
+
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <sys/stat.h>
+#include <sys/types.h>
+
+#include <hdf5.h>
+
+/* the units each column must be in, in the spellings a units attribute may
+   use for them (UDUNITS symbols and names); "" ends a list */
+static const char *const col_units[2][TABLE_NCOL][6] = {
+    {{"s", "second", "seconds", ""},
+     {"rad", "radian", "radians", ""},
+     {"rad", "radian", "radians", ""},
+     {"m", "meter", "metre", "meters", "metres", ""},
+     {"rad/s", "rad s-1", ""},
+     {"rad/s", "rad s-1", ""},
+     {"m/s", "m s-1", ""},
+     {"rad/s^2", "rad/s2", "rad s-2", ""},
+     {"rad/s^2", "rad/s2", "rad s-2", ""},
+     {"m/s^2", "m/s2", "m s-2", ""}},
+    {{"s", "second", "seconds", ""},
+     {"m", "meter", "metre", "meters", "metres", ""},
+     {"m", "meter", "metre", "meters", "metres", ""},
+     {"m", "meter", "metre", "meters", "metres", ""},
+     {"m/s", "m s-1", ""},
+     {"m/s", "m s-1", ""},
+     {"m/s", "m s-1", ""},
+     {"m/s^2", "m/s2", "m s-2", ""},
+     {"m/s^2", "m/s2", "m s-2", ""},
+     {"m/s^2", "m/s2", "m s-2", ""}}};
+
+/* the dataset's units attribute into buf, cut to sz ("" when it has none
+   or it is not a string): fixed-length and variable-length strings alike */
+static void h5_units(hid_t d, char *buf, size_t sz) {
+  hid_t a, ft, mt;
+  buf[0] = '\0';
+  if (H5Aexists(d, "units") <= 0 || (a = H5Aopen(d, "units", H5P_DEFAULT)) < 0)
+    return;
+  ft = H5Aget_type(a);
+  if (ft >= 0 && H5Tget_class(ft) == H5T_STRING) {
+    /* the memory type in the file's character set: HDF5 converts none */
+    mt = H5Tcopy(H5T_C_S1);
+    H5Tset_cset(mt, H5Tget_cset(ft));
+    if (H5Tis_variable_str(ft) > 0) {
+      char *v = NULL;
+      if (H5Tset_size(mt, H5T_VARIABLE) >= 0 && H5Aread(a, mt, &v) >= 0 && v)
+        snprintf(buf, sz, "%s", v);
+      else
+        snprintf(buf, sz, "(unreadable)");
+      if (v) H5free_memory(v);
+    } else {
+      /* read whole, then cut to sz: a long units text is quoted (and so
+         refused), never taken as no units */
+      size_t n = H5Tget_size(ft);
+      char *v = n < 65536 ? calloc(n + 1, 1) : NULL;
+      if (v && H5Tset_size(mt, n + 1) >= 0 && H5Aread(a, mt, v) >= 0)
+        snprintf(buf, sz, "%s", v);
+      else
+        snprintf(buf, sz, "(unreadable)");
+      free(v);
+    }
+    H5Tclose(mt);
+  }
+  if (ft >= 0) H5Tclose(ft);
+  H5Aclose(a);
+}
+
+/* the cause of the last failed HDF5 call, from the error stack (printing
+   is off while a table is read): "OUTER: INNER" (the API call's failure,
+   the innermost function's), with a missing filter between them when the
+   stack names one (the innermost is then the plugin search), or a plain
+   sentence when HDF5 recorded none; the stack is then cleared */
+typedef struct {
+  char outer[120];
+  char filter[120];
+  char inner[120];
+  unsigned n;
+} h5_walk;
+
+static herr_t h5_walk_cb(unsigned n, const H5E_error2_t *e, void *data) {
+  h5_walk *w = data;
+  const char *d = e->desc != NULL && e->desc[0] != '\0' ? e->desc : NULL;
+  if (d == NULL) d = e->func_name != NULL ? e->func_name : "?";
+  if (n == 0) snprintf(w->outer, sizeof w->outer, "%s", d);
+  if (w->filter[0] == '\0' && strstr(d, "filter") != NULL)
+    snprintf(w->filter, sizeof w->filter, "%s", d);
+  snprintf(w->inner, sizeof w->inner, "%s", d);
+  w->n = n + 1;
+  return 0;
+}
+
+static void h5_why(char *buf, size_t sz) {
+  h5_walk w;
+  memset(&w, 0, sizeof w);
+  H5Ewalk2(H5E_DEFAULT, H5E_WALK_DOWNWARD, h5_walk_cb, &w);
+  H5Eclear2(H5E_DEFAULT);
+  if (w.n == 0)
+    snprintf(buf, sz, "the HDF5 library gave no cause");
+  else if (w.filter[0] != '\0' && strcmp(w.filter, w.inner) != 0)
+    snprintf(buf, sz, "%s: %s (%s)", w.outer, w.filter, w.inner);
+  else if (w.n > 1 && strcmp(w.outer, w.inner) != 0)
+    snprintf(buf, sz, "%s: %s", w.outer, w.inner);
+  else
+    snprintf(buf, sz, "%s", w.outer);
+}
+
+/* a units attribute must name the column's SI unit: a column in degrees
+   or millimetres is refused rather than misread */
+static int h5_units_check(hid_t d, const char *path, const char *name, int what,
+                          int c, char *err, size_t errsz) {
+  char units[64];
+  int i;
+  h5_units(d, units, sizeof units);
+  if (units[0] == '\0') return 0;
+  for (i = 0; col_units[what][c][i][0] != '\0'; i++)
+    if (strcmp(units, col_units[what][c][i]) == 0) return 0;
+  table_err(err, errsz,
+            "%s: dataset /%s: units '%s', but the table is in "
+            "%s: convert the column",
+            path, name, units, col_units[what][c][0]);
+  return -1;
+}
+
+static const char *class_name(H5T_class_t c) {
+  switch (c) {
+  case H5T_COMPOUND: return "a compound";
+  case H5T_STRING: return "a string";
+  case H5T_ENUM: return "an enumeration";
+  case H5T_ARRAY: return "an array";
+  case H5T_VLEN: return "a variable-length";
+  case H5T_OPAQUE: return "an opaque";
+  case H5T_BITFIELD: return "a bit field";
+  case H5T_REFERENCE: return "a reference";
+  case H5T_TIME: return "a time";
+  default: return "an unknown";
+  }
+}
+
+/* the link of a column: a hard link, or a soft link to an object of this
+   file; an external link (another file) or a user-defined one is refused */
+static int h5_link_check(hid_t f, const char *path, const char *name, char *err,
+                         size_t errsz) {
+  H5L_info_t li;
+  char why[400], *val;
+  const char *file = NULL, *obj = NULL;
+  unsigned flags;
+  int rc = -1;
+  if (H5Lget_info(f, name, &li, H5P_DEFAULT) < 0) {
+    h5_why(why, sizeof why);
+    table_err(err, errsz, "%s: dataset /%s: cannot read its link: %s", path,
+              name, why);
+    return -1;
+  }
+  if (li.type == H5L_TYPE_HARD) return 0;
+  if (li.type != H5L_TYPE_SOFT && li.type != H5L_TYPE_EXTERNAL) {
+    table_err(err, errsz,
+              "%s: dataset /%s: a user-defined link (type %d): a "
+              "table's columns are datasets of the file itself",
+              path, name, (int)li.type);
+    return -1;
+  }
+  /* the link's value: a path (soft), or a file and a path (external) */
+  if (li.u.val_size > 65536 || (val = calloc(li.u.val_size + 1, 1)) == NULL) {
+    table_err(err, errsz, "%s: dataset /%s: a %s link of %zu bytes", path, name,
+              li.type == H5L_TYPE_SOFT ? "soft" : "external", li.u.val_size);
+    return -1;
+  }
+  if (H5Lget_val(f, name, val, li.u.val_size, H5P_DEFAULT) < 0) {
+    h5_why(why, sizeof why);
+    table_err(err, errsz, "%s: dataset /%s: cannot read its link: %s", path,
+              name, why);
+  } else if (li.type == H5L_TYPE_SOFT) {
+    if (H5Oexists_by_name(f, name, H5P_DEFAULT) > 0)
+      rc = 0;
+    else
+      table_err(err, errsz,
+                "%s: dataset /%s: a soft link to '%.200s', which "
+                "names no object of the file (a dangling link)",
+                path, name, val);
+    H5Eclear2(H5E_DEFAULT);
+  } else if (H5Lunpack_elink_val(val, li.u.val_size, &flags, &file, &obj) >=
+             0) {
+    table_err(err, errsz,
+              "%s: dataset /%s: an external link to %.200s:%.200s:"
+              " a table's columns must be stored in the table file itself",
+              path, name, file, obj);
+  } else {
+    table_err(err, errsz,
+              "%s: dataset /%s: an external link (to another "
+              "file): a table's columns must be stored in the table file "
+              "itself",
+              path, name);
+  }
+  free(val);
+  return rc;
+}
+
+/* the source file of a virtual dataset exists: "." is the file itself
+   (and then its dataset must exist), a relative name is taken from the
+   table's directory, as HDF5 does without HDF5_VDS_PREFIX */
+static int h5_source_exists(hid_t f, const char *path, const char *file,
+                            const char *dset) {
+  const char *slash = strrchr(path, '/');
+  struct stat st;
+  char full[4200];
+  if (strcmp(file, ".") == 0) {
+    int x = H5Lexists(f, dset, H5P_DEFAULT) > 0 &&
+            H5Oexists_by_name(f, dset, H5P_DEFAULT) > 0;
+    H5Eclear2(H5E_DEFAULT);
+    return x;
+  }
+  if (file[0] == '/' || slash == NULL)
+    snprintf(full, sizeof full, "%s", file);
+  else
+    snprintf(full, sizeof full, "%.*s/%s", (int)(slash - path), path, file);
+  return stat(full, &st) == 0;
+}
+
+/* the column's storage is in the file itself: a virtual dataset's rows
+   are in other datasets (a missing source reads as fill values) and an
+   external one's in raw files (any file: /etc/passwd read as numbers) */
+static int h5_storage_check(hid_t f, hid_t d, const char *path,
+                            const char *name, char *err, size_t errsz) {
+  hid_t p = H5Dget_create_plist(d);
+  char why[400];
+  int rc = -1, next;
+  if (p < 0) {
+    h5_why(why, sizeof why);
+    table_err(err, errsz, "%s: dataset /%s: cannot read how it is stored: %s",
+              path, name, why);
+    return -1;
+  }
+  next = H5Pget_external_count(p);
+  if (H5Pget_layout(p) == H5D_VIRTUAL) {
+    size_t nsrc = 0;
+    char file[1024] = "", dset[1024] = "";
+    if (H5Pget_virtual_count(p, &nsrc) >= 0 && nsrc > 0 &&
+        H5Pget_virtual_filename(p, 0, file, sizeof file) >= 0 &&
+        H5Pget_virtual_dsetname(p, 0, dset, sizeof dset) >= 0) {
+      file[sizeof file - 1] = dset[sizeof dset - 1] = '\0';
+      table_err(
+          err, errsz,
+          "%s: dataset /%s: a virtual dataset, its rows in "
+          "%.200s:%.200s%s%s: a table's columns must be stored in the "
+          "table file itself",
+          path, name, file, dset,
+          h5_source_exists(f, path, file, dset) ? "" : ", which is missing",
+          nsrc > 1 ? " and other sources" : "");
+    } else {
+      table_err(err, errsz,
+                "%s: dataset /%s: a virtual dataset (its rows in "
+                "other datasets): a table's columns must be stored in the "
+                "table file itself",
+                path, name);
+    }
+    H5Eclear2(H5E_DEFAULT);
+  } else if (next != 0) {
+    char file[1024] = "";
+    off_t off;
+    hsize_t size;
+    if (next > 0 && H5Pget_external(p, 0, sizeof file, file, &off, &size) >= 0)
+      file[sizeof file - 1] = '\0';
+    else
+      snprintf(file, sizeof file, "?");
+    H5Eclear2(H5E_DEFAULT);
+    table_err(err, errsz,
+              "%s: dataset /%s: stored in the external raw file "
+              "'%.200s'%s: a table's columns must be stored in the table file "
+              "itself",
+              path, name, file, next > 1 ? " and others" : "");
+  } else {
+    rc = 0;
+  }
+  H5Pclose(p);
+  return rc;
+}
+
+/* the largest table, as read or held in memory [bytes] */
+#define MAX_BYTES TABLE_MAX_BYTES
+
+/* column c (named name): open it and check everything but its rows'
+   values; rows and the bytes it declares (as read: elements of at least a
+   double's 8 bytes) out.  0, or -1 with err set (d closed) */
+static int h5_open_column(hid_t f, const char *path, const char *name, int what,
+                          int c, hid_t *out, hsize_t *rows, double *bytes,
+                          char *err, size_t errsz) {
+  hid_t d, ty = -1, sp = -1;
+  H5T_class_t cls;
+  hsize_t dims[1];
+  size_t el;
+  char why[400];
+  int nd, rc = -1;
+  H5I_type_t kind;
+  if (h5_link_check(f, path, name, err, errsz)) return -1;
+  d = H5Oopen(f, name, H5P_DEFAULT);
+  if (d < 0) {
+    h5_why(why, sizeof why);
+    table_err(err, errsz, "%s: dataset /%s: cannot be opened: %s", path, name,
+              why);
+    return -1;
+  }
+  kind = H5Iget_type(d);
+  if (kind != H5I_DATASET) {
+    table_err(err, errsz, "%s: dataset /%s: a %s, not a dataset", path, name,
+              kind == H5I_GROUP      ? "group"
+              : kind == H5I_DATATYPE ? "named datatype"
+                                     : "object of another kind");
+    goto done;
+  }
+  if (h5_storage_check(f, d, path, name, err, errsz)) goto done;
+  if ((ty = H5Dget_type(d)) < 0 || (cls = H5Tget_class(ty)) == H5T_NO_CLASS) {
+    h5_why(why, sizeof why);
+    table_err(err, errsz, "%s: dataset /%s: cannot read its type: %s", path,
+              name, why);
+    goto done;
+  }
+  if (cls != H5T_INTEGER && cls != H5T_FLOAT) {
+    table_err(err, errsz,
+              "%s: dataset /%s: of %s type, not numbers (a column "
+              "holds integers or floating-point numbers)",
+              path, name, class_name(cls));
+    goto done;
+  }
+  el = H5Tget_size(ty);
+  if ((sp = H5Dget_space(d)) < 0) {
+    h5_why(why, sizeof why);
+    table_err(err, errsz, "%s: dataset /%s: cannot read its shape: %s", path,
+              name, why);
+    goto done;
+  }
+  nd = H5Sget_simple_extent_ndims(sp);
+  if (H5Sget_simple_extent_type(sp) != H5S_SIMPLE || nd != 1 ||
+      H5Sget_simple_extent_dims(sp, dims, NULL) != 1) {
+    H5Eclear2(H5E_DEFAULT);
+    if (H5Sget_simple_extent_type(sp) == H5S_NULL)
+      table_err(err, errsz,
+                "%s: dataset /%s: holds nothing (a null "
+                "dataspace); a column has one dimension",
+                path, name);
+    else if (H5Sget_simple_extent_type(sp) == H5S_SCALAR || nd == 0)
+      table_err(err, errsz,
+                "%s: dataset /%s: a single value (a scalar); a "
+                "column has one dimension",
+                path, name);
+    else
+      table_err(err, errsz,
+                "%s: dataset /%s: %d dimensions; a column has "
+                "one",
+                path, name, nd);
+    goto done;
+  }
+  if (h5_units_check(d, path, name, what, c, err, errsz)) goto done;
+  *rows = dims[0];
+  *bytes =
+      (double)dims[0] * (double)(el > sizeof(double) ? el : sizeof(double));
+  if (*bytes > MAX_BYTES) {
+    table_err(err, errsz,
+              "%s: dataset /%s: declares %llu rows of %zu-byte "
+              "numbers, %.3g GB as read: above the table limit of 1 GiB",
+              path, name, (unsigned long long)dims[0], el, *bytes / 1e9);
+    goto done;
+  }
+  rc = 0;
+done:
+  if (sp >= 0) H5Sclose(sp);
+  if (ty >= 0) H5Tclose(ty);
+  if (rc)
+    H5Oclose(d);
+  else
+    *out = d;
+  return rc;
+}
+
+/* the values of column c, read from d into the table's arrays (a strided
+   memory selection: column k of the n x 3 array), each checked */
+static int h5_read_column(hid_t d, table_data *t, const char *name, int c,
+                          char *err, size_t errsz) {
+  hid_t ms = -1;
+  herr_t x;
+  size_t r;
+  char why[400];
+  if (t->n == 0) return 0;
+  if (c == 0) {
+    x = H5Dread(d, H5T_NATIVE_DOUBLE, H5S_ALL, H5S_ALL, H5P_DEFAULT, t->time);
+  } else {
+    hsize_t dims[2], start[2], count[2];
+    double *base = c < 4 ? t->value[0] : c < 7 ? t->rate[0] : t->acc[0];
+    dims[0] = t->n;
+    dims[1] = 3;
+    start[0] = 0;
+    start[1] = (hsize_t)((c - 1) % 3);
+    count[0] = t->n;
+    count[1] = 1;
+    ms = H5Screate_simple(2, dims, NULL);
+    x = ms < 0
+            ? -1
+            : H5Sselect_hyperslab(ms, H5S_SELECT_SET, start, NULL, count, NULL);
+    if (x >= 0)
+      x = H5Dread(d, H5T_NATIVE_DOUBLE, ms, H5S_ALL, H5P_DEFAULT, base);
+  }
+  if (x < 0) {
+    h5_why(why, sizeof why);
+    table_err(err, errsz, "%s: dataset /%s: cannot read it as numbers: %s",
+              t->path, name, why);
+    if (ms >= 0) H5Sclose(ms);
+    return -1;
+  }
+  if (ms >= 0) H5Sclose(ms);
+  for (r = 0; r < t->n; r++) {
+    double v = *table_cell(t, r, c);
+    if (!isfinite(v)) {
+      table_err(err, errsz,
+                "%s: dataset /%s, row %zu: %g is not a finite "
+                "number",
+                t->path, name, r, v);
+      return -1;
+    }
+    if (fpclassify(v) == FP_SUBNORMAL) {
+      table_err(err, errsz, "%s: dataset /%s, row %zu: %g is %s", t->path, name,
+                r, v, TABLE_SUBNORMAL);
+      return -1;
+    }
+  }
+  return 0;
+}
+
+int table_h5_read(table_data *t, int what, char *err, size_t errsz) {
+  H5E_auto2_t fn;
+  void *data;
+  hid_t f, d[TABLE_NCOL];
+  hsize_t rows;
+  double bytes, sum = 0.0;
+  char why[400];
+  int have[TABLE_NCOL] = {0}, c, rc = -1;
+  const char *const *names = table_col_names[what];
+  for (c = 0; c < TABLE_NCOL; c++) d[c] = -1;
+  if (table_regular_file(t->path, err, errsz)) return -1;
+  H5Eget_auto2(H5E_DEFAULT, &fn, &data);
+  H5Eset_auto2(H5E_DEFAULT, NULL, NULL);
+  H5Eclear2(H5E_DEFAULT);
+  f = H5Fopen(t->path, H5F_ACC_RDONLY, H5P_DEFAULT);
+  if (f < 0) {
+    h5_why(why, sizeof why);
+    table_err(err, errsz, "%s: cannot open as an HDF5 file: %s", t->path, why);
+    H5Eset_auto2(H5E_DEFAULT, fn, data);
+    return -1;
+  }
+  for (c = 0; c < TABLE_NCOL; c++) {
+    htri_t x = H5Lexists(f, names[c], H5P_DEFAULT);
+    if (x < 0) {
+      /* not absent: the file's root cannot be read (a damaged file) */
+      h5_why(why, sizeof why);
+      table_err(err, errsz,
+                "%s: dataset /%s: cannot look it up in the "
+                "file's root group: %s",
+                t->path, names[c], why);
+      goto done;
+    }
+    have[c] = x > 0;
+  }
+  if (table_columns_check(have, what, 1, t->path, err, errsz)) goto done;
+  /* every column opened and checked, its declared size with them, before
+     anything is allocated: the time first, it gives the rows */
+  for (c = 0; c < TABLE_NCOL; c++) {
+    if (!have[c]) continue;
+    if (h5_open_column(f, t->path, names[c], what, c, &d[c], &rows, &bytes, err,
+                       errsz))
+      goto done;
+    if (c == 0) {
+      t->n = (size_t)rows;
+    } else if (rows != (hsize_t)t->n) {
+      table_err(err, errsz, "%s: dataset /%s: %llu rows, /t has %zu", t->path,
+                names[c], (unsigned long long)rows, t->n);
+      goto done;
+    }
+    sum += bytes;
+    if (sum > MAX_BYTES) {
+      table_err(err, errsz,
+                "%s: dataset /%s: with it the datasets declare "
+                "%.3g GB as read (%zu rows each): above the table limit of "
+                "1 GiB",
+                t->path, names[c], sum / 1e9, t->n);
+      goto done;
+    }
+  }
+  if (table_alloc_rows(t, t->n, have[7], 0, err, errsz)) goto done;
+  for (c = 0; c < TABLE_NCOL; c++)
+    if (have[c] && h5_read_column(d[c], t, names[c], c, err, errsz)) goto done;
+  t->rates_given = have[4];
+  rc = 0;
+done:
+  for (c = 0; c < TABLE_NCOL; c++)
+    if (d[c] >= 0) H5Dclose(d[c]);
+  H5Fclose(f);
+  H5Eclear2(H5E_DEFAULT);
+  H5Eset_auto2(H5E_DEFAULT, fn, data);
+  return rc;
+}

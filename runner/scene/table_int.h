@@ -1,0 +1,60 @@
+/*
+ * table_int.h - what the CSV reader (table.c) and the HDF5 reader
+ * (table_h5.c) of a table share.
+ */
+#ifndef RPS3_RUNNER_TABLE_INT_H
+#define RPS3_RUNNER_TABLE_INT_H
+
+#include <stddef.h>
+
+#include "table.h"
+
+/* the columns: 0 time, 1-3 values, 4-6 rates, 7-9 accelerations; their
+   names for TABLE_POSE and TABLE_CENTRE */
+#define TABLE_NCOL 10
+extern const char *const table_col_names[2][TABLE_NCOL];
+
+/* err = the formatted message */
+void table_err(char *err, size_t errsz, const char *fmt, ...)
+    __attribute__((format(printf, 3, 4)));
+
+/* the largest table: its file (stat) and what it declares and holds in
+   memory (rows times the bytes of a row); a million rows of ten numbers
+   are ~80 MB */
+#define TABLE_MAX_BYTES (1024.0 * 1024.0 * 1024.0)
+
+/* why a subnormal number is refused (after "VALUE is ") */
+#define TABLE_SUBNORMAL                                                 \
+  "subnormal (nonzero but below 2.2e-308 in magnitude, where a double " \
+  "loses precision): write 0 or a normal number"
+
+/* the arrays for n rows; acc only when the file has accelerations, line
+   (the CSV line of each row) with with_line; refused above TABLE_MAX_BYTES
+   in memory before anything is allocated: 0, or -1 with err set */
+int table_alloc_rows(table_data *t, size_t n, int with_acc, int with_line,
+                     char *err, size_t errsz);
+
+/* where column c of row r goes */
+double *table_cell(table_data *t, size_t r, int c);
+
+/* which of the columns are present: t and the values always, the rates
+   all or none, the accelerations all or none and only with the rates;
+   named "column NAME" (CSV) or "dataset /NAME" (hdf5) */
+int table_columns_check(const int have[TABLE_NCOL], int what, int hdf5,
+                        const char *file, char *err, size_t errsz);
+
+/* path is a regular file of at most 1 GiB, checked by stat() before
+   anything opens it: 0, or -1 with err set */
+int table_regular_file(const char *path, char *err, size_t errsz);
+
+/* the columns of `what` from the HDF5 file t->path into t: 0, or -1 */
+int table_h5_read(table_data *t, int what, char *err, size_t errsz);
+
+/* the checks and completion of a table once its rows are read (table.c):
+   0, or -1 with err set */
+int table_finish(table_data *t, int what, char *err, size_t errsz);
+
+/* the rows of a CSV file (table.c) */
+int table_csv_read(table_data *t, int what, char *err, size_t errsz);
+
+#endif /* RPS3_RUNNER_TABLE_INT_H */

@@ -1,0 +1,545 @@
+/*
+ * join.c - see join.h.  The objects of part 0 are walked once: groups are
+ * made again, datasets without chunks are copied (H5Ocopy, without their
+ * attributes), chunked ones become virtual; then every attribute is copied
+ * but the dimension-scale bookkeeping (CLASS, NAME, DIMENSION_LIST,
+ * REFERENCE_LIST), whose object references only mean something inside
+ * their own file: a second walk makes the same scales again
+ * (H5DSset_scale) and attaches them to the same dimensions.
+ */
+/* realpath() is XSI */
+#define _XOPEN_SOURCE 700
+
+#include "join.h"
+
+#include <limits.h>
+#include <stdint.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include <hdf5.h>
+#include <hdf5_hl.h>
+
+#include "merge.h"
+#include "output/output.h"
+#include "scene/inputs.h"
+#include "verify.h"
+
+/* what a walk over part 0 needs */
+typedef struct {
+  hid_t src;               /* part 0 */
+  hid_t dst;               /* the joined file */
+  const char *const *part; /* the part files, by shard */
+  const char *const *link; /* their names as stored in the virtual maps */
+  size_t n;                /* shards */
+  char *err;
+  size_t errsz;
+} walk;
+
+static int skipped_attr(const char *name) {
+  return strcmp(name, "CLASS") == 0 || strcmp(name, "NAME") == 0 ||
+         strcmp(name, "DIMENSION_LIST") == 0 ||
+         strcmp(name, "REFERENCE_LIST") == 0 ||
+         strcmp(name, MERGE_SHARD_ATTR) == 0;
+}
+
+/* copy attribute `name` of object `from` to object `to` (H5Aiterate) */
+static herr_t copy_attr(hid_t from, const char *name, const H5A_info_t *ai,
+                        void *to) {
+  hid_t a = -1, ftype = -1, mtype = -1, sp = -1, b = -1;
+  hssize_t npt;
+  void *buf = NULL;
+  herr_t rc = -1;
+  (void)ai;
+  if (skipped_attr(name)) return 0;
+  if ((a = H5Aopen(from, name, H5P_DEFAULT)) < 0 ||
+      (ftype = H5Aget_type(a)) < 0 ||
+      (mtype = H5Tget_native_type(ftype, H5T_DIR_ASCEND)) < 0 ||
+      (sp = H5Aget_space(a)) < 0 ||
+      (npt = H5Sget_simple_extent_npoints(sp)) < 0)
+    goto done;
+  buf = calloc(npt > 0 ? (size_t)npt : 1, H5Tget_size(mtype));
+  if (!buf || H5Aread(a, mtype, buf) < 0) goto done;
+  b = H5Acreate2(*(hid_t *)to, name, ftype, sp, H5P_DEFAULT, H5P_DEFAULT);
+  if (b >= 0 && H5Awrite(b, mtype, buf) >= 0) rc = 0;
+  if (H5Tdetect_class(mtype, H5T_VLEN) > 0 || H5Tis_variable_str(mtype) > 0)
+    H5Dvlen_reclaim(mtype, sp, H5P_DEFAULT, buf);
+done:
+  free(buf);
+  if (b >= 0) H5Aclose(b);
+  if (sp >= 0) H5Sclose(sp);
+  if (mtype >= 0) H5Tclose(mtype);
+  if (ftype >= 0) H5Tclose(ftype);
+  if (a >= 0) H5Aclose(a);
+  return rc;
+}
+
+static int copy_attrs(hid_t from, hid_t to) {
+  hsize_t idx = 0;
+  return H5Aiterate2(from, H5_INDEX_NAME, H5_ITER_INC, &idx, copy_attr, &to) < 0
+             ? -1
+             : 0;
+}
+
+/* select rows [r0 * c0, ...) of a part: `count` blocks of c0 rows every
+   n * c0 rows, with block `last` rows long when count is 1 (the last,
+   shorter row); the other axes whole */
+static int select_rows(hid_t sp, int rank, const hsize_t *dims, hsize_t r0,
+                       hsize_t c0, hsize_t n, hsize_t count, hsize_t block) {
+  hsize_t start[H5S_MAX_RANK], stride[H5S_MAX_RANK], cnt[H5S_MAX_RANK],
+      blk[H5S_MAX_RANK];
+  int r;
+  for (r = 0; r < rank; r++) {
+    start[r] = 0;
+    stride[r] = 1;
+    cnt[r] = 1;
+    blk[r] = dims[r];
+  }
+  start[0] = r0 * c0;
+  stride[0] = n * c0;
+  cnt[0] = count;
+  blk[0] = block;
+  return H5Sselect_hyperslab(sp, H5S_SELECT_SET, start, stride, cnt, blk) < 0
+             ? -1
+             : 0;
+}
+
+/* map the rows of shard k into the virtual dataset's dcpl */
+static int map_part(hid_t dcpl, hid_t vsp, hid_t ssp, int rank,
+                    const hsize_t *dims, hsize_t c0, const walk *w, size_t k,
+                    const char *name) {
+  hsize_t nrow = (dims[0] + c0 - 1) / c0, n = (hsize_t)w->n;
+  hsize_t tail = dims[0] - (nrow - 1) * c0; /* rows of the last chunk row */
+  hsize_t full = nrow - (tail < c0);        /* chunk rows of c0 rows */
+  hsize_t nfull = full > k ? (full - k + n - 1) / n : 0;
+  if (nfull > 0 && (select_rows(vsp, rank, dims, k, c0, n, nfull, c0) < 0 ||
+                    select_rows(ssp, rank, dims, k, c0, n, nfull, c0) < 0 ||
+                    H5Pset_virtual(dcpl, vsp, w->link[k], name, ssp) < 0))
+    return -1;
+  if (tail < c0 && (nrow - 1) % n == k &&
+      (select_rows(vsp, rank, dims, nrow - 1, c0, n, 1, tail) < 0 ||
+       select_rows(ssp, rank, dims, nrow - 1, c0, n, 1, tail) < 0 ||
+       H5Pset_virtual(dcpl, vsp, w->link[k], name, ssp) < 0))
+    return -1;
+  return 0;
+}
+
+/* the chunked datasets of part 0, their shapes and chunks */
+typedef struct {
+  char (*name)[256];
+  int *rank;
+  hsize_t (*dims)[H5S_MAX_RANK], (*chunk)[H5S_MAX_RANK];
+  size_t n, cap;
+} shapes;
+
+/* H5Ovisit: collect the chunked datasets of part 0 */
+static herr_t collect_shape(hid_t root, const char *name, const H5O_info_t *oi,
+                            void *data) {
+  shapes *sh = data;
+  hid_t ds, sp = -1, pl = -1;
+  int rc = 0;
+  if (oi->type != H5O_TYPE_DATASET) return 0;
+  if ((ds = H5Dopen2(root, name, H5P_DEFAULT)) < 0) return -1;
+  if ((pl = H5Dget_create_plist(ds)) >= 0 && H5Pget_layout(pl) == H5D_CHUNKED) {
+    if (sh->n == sh->cap) {
+      size_t cap = 2 * sh->cap + 16;
+      void *a = realloc(sh->name, cap * sizeof *sh->name),
+           *b = realloc(sh->rank, cap * sizeof *sh->rank);
+      void *c = realloc(sh->dims, cap * sizeof *sh->dims),
+           *d = realloc(sh->chunk, cap * sizeof *sh->chunk);
+      if (a) sh->name = a;
+      if (b) sh->rank = b;
+      if (c) sh->dims = c;
+      if (d) sh->chunk = d;
+      if (!a || !b || !c || !d)
+        rc = -1;
+      else
+        sh->cap = cap;
+    }
+    if (rc == 0 && strlen(name) < sizeof sh->name[0] &&
+        (sp = H5Dget_space(ds)) >= 0 &&
+        (sh->rank[sh->n] =
+             H5Sget_simple_extent_dims(sp, sh->dims[sh->n], NULL)) > 0 &&
+        H5Pget_chunk(pl, sh->rank[sh->n], sh->chunk[sh->n]) == sh->rank[sh->n])
+      strcpy(sh->name[sh->n++], name);
+    else
+      rc = -1;
+  }
+  if (sp >= 0) H5Sclose(sp);
+  if (pl >= 0) H5Pclose(pl);
+  H5Dclose(ds);
+  return rc;
+}
+
+/* 1 when every part has the chunked datasets of part 0 with its shapes
+   and chunks; each part opened once */
+static int parts_agree(const walk *w) {
+  shapes sh;
+  size_t k, i;
+  int ok = 1;
+  memset(&sh, 0, sizeof sh);
+  if (H5Ovisit(w->src, H5_INDEX_NAME, H5_ITER_INC, collect_shape, &sh) < 0) {
+    out_fail(w->err, w->errsz, "%s: cannot list its datasets", w->part[0]);
+    ok = 0;
+  }
+  for (k = 1; ok && k < w->n; k++) {
+    hid_t f = H5Fopen(w->part[k], H5F_ACC_RDONLY, H5P_DEFAULT);
+    for (i = 0; ok && i < sh.n; i++) {
+      hid_t ds = -1, sp = -1, pl = -1;
+      hsize_t d[H5S_MAX_RANK], c[H5S_MAX_RANK];
+      int r = sh.rank[i];
+      ok = f >= 0 && H5Lexists(f, sh.name[i], H5P_DEFAULT) > 0 &&
+           (ds = H5Dopen2(f, sh.name[i], H5P_DEFAULT)) >= 0 &&
+           (sp = H5Dget_space(ds)) >= 0 &&
+           (pl = H5Dget_create_plist(ds)) >= 0 &&
+           H5Sget_simple_extent_dims(sp, d, NULL) == r &&
+           H5Pget_chunk(pl, r, c) == r &&
+           memcmp(d, sh.dims[i], (size_t)r * sizeof *d) == 0 &&
+           memcmp(c, sh.chunk[i], (size_t)r * sizeof *c) == 0;
+      if (pl >= 0) H5Pclose(pl);
+      if (sp >= 0) H5Sclose(sp);
+      if (ds >= 0) H5Dclose(ds);
+      if (!ok) {
+        H5Eclear2(H5E_DEFAULT);
+        snprintf(w->err, w->errsz,
+                 "%s: dataset %s missing or of another shape or chunks: not "
+                 "a part of the same run",
+                 w->part[k], sh.name[i]);
+      }
+    }
+    if (f >= 0) H5Fclose(f);
+  }
+  free(sh.name);
+  free(sh.rank);
+  free(sh.dims);
+  free(sh.chunk);
+  return ok;
+}
+
+/* the chunked dataset `name` of part 0 as a virtual dataset over the parts */
+static int make_virtual(const walk *w, hid_t sds, const char *name) {
+  hid_t type = H5Dget_type(sds), sp = H5Dget_space(sds), spl = -1, dcpl = -1;
+  hid_t ssp = -1, ds = -1, mtype = -1;
+  hsize_t dims[H5S_MAX_RANK], chunk[H5S_MAX_RANK];
+  H5D_fill_value_t fv;
+  void *fill = NULL;
+  int rank, rc = -1;
+  size_t k;
+  if (type < 0 || sp < 0 || (spl = H5Dget_create_plist(sds)) < 0 ||
+      (rank = H5Sget_simple_extent_dims(sp, dims, NULL)) < 1 ||
+      H5Pget_chunk(spl, rank, chunk) != rank)
+    goto io;
+  if ((dcpl = H5Pcreate(H5P_DATASET_CREATE)) < 0 || (ssp = H5Scopy(sp)) < 0)
+    goto io;
+  /* the parts' fill value, so that what no part holds reads as "not run"
+     (there is none once every part is checked) */
+  if (H5Pfill_value_defined(spl, &fv) >= 0 &&
+      fv == H5D_FILL_VALUE_USER_DEFINED) {
+    if ((mtype = H5Tget_native_type(type, H5T_DIR_ASCEND)) < 0 ||
+        !(fill = calloc(1, H5Tget_size(mtype))) ||
+        H5Pget_fill_value(spl, mtype, fill) < 0 ||
+        H5Pset_fill_value(dcpl, mtype, fill) < 0)
+      goto io;
+  }
+  for (k = 0; k < w->n; k++)
+    if (map_part(dcpl, sp, ssp, rank, dims, chunk[0], w, k, name) < 0) goto io;
+  ds = H5Dcreate2(w->dst, name, type, sp, H5P_DEFAULT, dcpl, H5P_DEFAULT);
+  if (ds < 0) goto io;
+  rc = 0;
+  goto done;
+io:
+  out_fail(w->err, w->errsz, "cannot make the virtual dataset %s", name);
+done:
+  if (fill && mtype >= 0 && H5Tis_variable_str(mtype) > 0)
+    H5free_memory(*(char **)fill);
+  free(fill);
+  if (mtype >= 0) H5Tclose(mtype);
+  if (ds >= 0) H5Dclose(ds);
+  if (ssp >= 0) H5Sclose(ssp);
+  if (dcpl >= 0) H5Pclose(dcpl);
+  if (spl >= 0) H5Pclose(spl);
+  if (sp >= 0) H5Sclose(sp);
+  if (type >= 0) H5Tclose(type);
+  return rc;
+}
+
+/* first walk: every object of part 0 into the joined file (H5Ovisit) */
+static herr_t make_object(hid_t root, const char *name, const H5O_info_t *oi,
+                          void *data) {
+  const walk *w = data;
+  hid_t o, d = -1, pl = -1;
+  int rc = -1;
+  if (strcmp(name, ".") == 0) return 0;
+  if (oi->type != H5O_TYPE_GROUP && oi->type != H5O_TYPE_DATASET) {
+    snprintf(w->err, w->errsz,
+             "%s: object %s is neither a group nor a "
+             "dataset",
+             w->part[0], name);
+    return -1;
+  }
+  if ((o = H5Oopen(root, name, H5P_DEFAULT)) < 0) goto io;
+  if (oi->type == H5O_TYPE_GROUP)
+    d = H5Gcreate2(w->dst, name, H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT);
+  else if ((pl = H5Dget_create_plist(o)) >= 0 &&
+           H5Pget_layout(pl) == H5D_CHUNKED) {
+    if (make_virtual(w, o, name) < 0) goto done;
+    d = H5Oopen(w->dst, name, H5P_DEFAULT);
+  } else {
+    hid_t cp = H5Pcreate(H5P_OBJECT_COPY);
+    if (cp >= 0 && H5Pset_copy_object(cp, H5O_COPY_WITHOUT_ATTR_FLAG) >= 0 &&
+        H5Ocopy(root, name, w->dst, name, cp, H5P_DEFAULT) >= 0)
+      d = H5Oopen(w->dst, name, H5P_DEFAULT);
+    if (cp >= 0) H5Pclose(cp);
+  }
+  if (d >= 0 && copy_attrs(o, d) == 0) rc = 0;
+io:
+  if (rc < 0)
+    out_fail(w->err, w->errsz, "cannot copy %s of %s", name, w->part[0]);
+done:
+  if (pl >= 0) H5Pclose(pl);
+  if (d >= 0) H5Oclose(d);
+  if (o >= 0) H5Oclose(o);
+  return rc < 0 ? -1 : 0;
+}
+
+/* the dimension of the dataset being attached, for attach_scale */
+typedef struct {
+  const walk *w;
+  hid_t dst_ds;
+} attach;
+
+/* H5DSiterate_scales: the same scale on the same dimension in dst */
+static herr_t attach_scale(hid_t ds, unsigned dim, hid_t scale, void *data) {
+  const attach *a = data;
+  char path[1024], sname[256];
+  hid_t s = -1;
+  herr_t rc = -1;
+  ssize_t len;
+  (void)ds;
+  if (H5Iget_name(scale, path, sizeof path) <= 0 ||
+      (s = H5Dopen2(a->w->dst, path, H5P_DEFAULT)) < 0)
+    return -1;
+  if (H5DSis_scale(s) <= 0) {
+    len = H5DSget_scale_name(scale, sname, sizeof sname);
+    if (len < 0 || (size_t)len >= sizeof sname ||
+        H5DSset_scale(s, len > 0 ? sname : NULL) < 0)
+      goto done;
+  }
+  rc = H5DSattach_scale(a->dst_ds, s, dim) < 0 ? -1 : 0;
+done:
+  H5Dclose(s);
+  return rc;
+}
+
+/* second walk: the scales, attached where part 0 has them (H5Ovisit) */
+static herr_t make_scales(hid_t root, const char *name, const H5O_info_t *oi,
+                          void *data) {
+  const walk *w = data;
+  attach a;
+  hid_t ds = -1, sp = -1;
+  int rank = 0, dim, rc = 0;
+  if (oi->type != H5O_TYPE_DATASET) return 0;
+  a.w = w;
+  a.dst_ds = -1;
+  if ((ds = H5Dopen2(root, name, H5P_DEFAULT)) < 0 ||
+      (sp = H5Dget_space(ds)) < 0 ||
+      (rank = H5Sget_simple_extent_ndims(sp)) < 0 ||
+      (a.dst_ds = H5Dopen2(w->dst, name, H5P_DEFAULT)) < 0)
+    rc = -1;
+  for (dim = 0; rc == 0 && dim < rank; dim++)
+    if (H5DSget_num_scales(ds, (unsigned)dim) > 0 &&
+        H5DSiterate_scales(ds, (unsigned)dim, NULL, attach_scale, &a) < 0)
+      rc = -1;
+  if (rc < 0)
+    out_fail(w->err, w->errsz, "cannot attach the dimension scales of %s",
+             name);
+  if (a.dst_ds >= 0) H5Dclose(a.dst_ds);
+  if (sp >= 0) H5Sclose(sp);
+  if (ds >= 0) H5Dclose(ds);
+  return rc;
+}
+
+int join_part_check(const char *path, size_t k, size_t n, const char *text0,
+                    char *err, size_t errsz) {
+  size_t kk, nn;
+  hid_t f = -1, ds = -1, sp = -1, pl = -1, ms = -1;
+  hsize_t dims = 0, c0 = 0, row, nrow, start, count;
+  int32_t *buf = NULL;
+  char *text = NULL;
+  int rc = -1;
+  if (merge_shard_of(path, &kk, &nn, err, errsz)) return -1;
+  if (kk != k || nn != n) {
+    snprintf(err, errsz, "%s is shard %zu/%zu, not %zu/%zu", path, kk, nn, k,
+             n);
+    return -1;
+  }
+  if ((f = H5Fopen(path, H5F_ACC_RDONLY, H5P_DEFAULT)) < 0) {
+    out_fail(err, errsz, "%s: cannot open", path);
+    return -1;
+  }
+  if (text0 &&
+      (!(text = merge_read_text(f, "scene", 0)) || strcmp(text, text0) != 0)) {
+    snprintf(err, errsz, "%s: not a part of the same scene", path);
+    goto done;
+  }
+  if ((ds = H5Dopen2(f, "status", H5P_DEFAULT)) < 0 ||
+      (sp = H5Dget_space(ds)) < 0 || (pl = H5Dget_create_plist(ds)) < 0 ||
+      H5Sget_simple_extent_dims(sp, &dims, NULL) != 1 ||
+      H5Pget_chunk(pl, 1, &c0) != 1 || c0 < 1 ||
+      !(buf = malloc((size_t)c0 * sizeof *buf))) {
+    out_fail(err, errsz, "%s: cannot read status", path);
+    goto done;
+  }
+  /* every case of the part has a status: OUT_STATUS_NOT_COMPUTED is the
+     fill value of a case never written (a part killed before its end) */
+  nrow = (dims + c0 - 1) / c0;
+  for (row = k; row < nrow; row += n) {
+    size_t i;
+    start = row * c0;
+    count = dims - start < c0 ? dims - start : c0;
+    if ((ms = H5Screate_simple(1, &count, NULL)) < 0 ||
+        H5Sselect_hyperslab(sp, H5S_SELECT_SET, &start, NULL, &count, NULL) <
+            0 ||
+        H5Dread(ds, H5T_NATIVE_INT32, ms, sp, H5P_DEFAULT, buf) < 0) {
+      out_fail(err, errsz, "%s: cannot read status", path);
+      goto done;
+    }
+    H5Sclose(ms);
+    ms = -1;
+    for (i = 0; i < (size_t)count; i++)
+      if (buf[i] == OUT_STATUS_NOT_COMPUTED) {
+        snprintf(err, errsz,
+                 "%s: case %llu was never written: the part is incomplete",
+                 path, (unsigned long long)(start + i));
+        goto done;
+      }
+  }
+  rc = 0;
+done:
+  free(buf);
+  free(text);
+  if (ms >= 0) H5Sclose(ms);
+  if (pl >= 0) H5Pclose(pl);
+  if (sp >= 0) H5Sclose(sp);
+  if (ds >= 0) H5Dclose(ds);
+  H5Fclose(f);
+  return rc;
+}
+
+/* the name of `path` as the joined file in `dir` stores it: relative to
+   dir when below it, else absolute (malloc'd; NULL when it cannot be
+   resolved) */
+static char *link_name(const char *path, const char *dir) {
+  char *p = realpath(path, NULL), *d = realpath(dir, NULL), *out = NULL;
+  size_t nd;
+  if (p && d) {
+    nd = strlen(d);
+    if (nd > 1 && strncmp(p, d, nd) == 0 && p[nd] == '/') {
+      out = malloc(strlen(p + nd + 1) + 1);
+      if (out) strcpy(out, p + nd + 1);
+    } else {
+      out = p;
+      p = NULL;
+    }
+  }
+  free(p);
+  free(d);
+  return out;
+}
+
+int join_vds(const char *dst, const char *const *part, size_t n,
+             const char *command_line, size_t *nfailed, char *err,
+             size_t errsz) {
+  walk w;
+  char **link = calloc(n, sizeof *link), *text0 = NULL, *link_dir = NULL;
+  char *inputs0 = NULL, is0[4200];
+  const char *slash = strrchr(dst, '/');
+  hid_t fapl = -1;
+  size_t k, unset = 0;
+  int rc = -1;
+  w.src = w.dst = -1;
+  w.part = part;
+  w.n = n;
+  w.err = err;
+  w.errsz = errsz;
+  w.link = (const char *const *)link;
+  /* the directory of dst: "." when it has none */
+  if (link) link_dir = slash ? malloc((size_t)(slash - dst) + 2) : malloc(2);
+  if (!link || !link_dir) {
+    free(link);
+    snprintf(err, errsz, "out of memory");
+    return -1;
+  }
+  if (!slash)
+    strcpy(link_dir, ".");
+  else if (slash == dst)
+    strcpy(link_dir, "/");
+  else {
+    memcpy(link_dir, dst, (size_t)(slash - dst));
+    link_dir[slash - dst] = '\0';
+  }
+  if ((w.src = H5Fopen(part[0], H5F_ACC_RDONLY, H5P_DEFAULT)) < 0 ||
+      !(text0 = merge_read_text(w.src, "scene", 0))) {
+    out_fail(err, errsz, "%s: not an rps3-run file", part[0]);
+    goto done;
+  }
+  inputs0 = merge_read_text(w.src, INPUTS_ATTR, 1);
+  snprintf(is0, sizeof is0, "%s read", part[0]);
+  for (k = 0; k < n; k++) {
+    if (join_part_check(part[k], k, n, text0, err, errsz)) goto done;
+    /* the same content of every file the scene reads (inputs.h) */
+    if (k > 0 && verify_inputs_as(part[k], inputs0, is0, err, errsz)) goto done;
+    if (!(link[k] = link_name(part[k], link_dir))) {
+      snprintf(err, errsz, "%s: cannot resolve its path", part[k]);
+      goto done;
+    }
+  }
+  /* the 1.10 file format, whatever the library: 1.12 and later encode
+     hyperslab selections (the virtual maps) in a form 1.10 cannot read */
+  if ((fapl = H5Pcreate(H5P_FILE_ACCESS)) < 0 ||
+      H5Pset_libver_bounds(fapl, H5F_LIBVER_V110, H5F_LIBVER_V110) < 0 ||
+      (w.dst = H5Fcreate(dst, H5F_ACC_TRUNC, H5P_DEFAULT, fapl)) < 0) {
+    out_fail(err, errsz, "cannot create %s", dst);
+    goto done;
+  }
+  if (!parts_agree(&w) ||
+      H5Ovisit(w.src, H5_INDEX_NAME, H5_ITER_INC, make_object, &w) < 0 ||
+      H5Ovisit(w.src, H5_INDEX_NAME, H5_ITER_INC, make_scales, &w) < 0)
+    goto done;
+  if (copy_attrs(w.src, w.dst) < 0 || out_stamp(w.dst, command_line) < 0) {
+    out_fail(err, errsz, "%s: cannot write the root attributes", dst);
+    goto done;
+  }
+  /* counted through the virtual datasets, that is, the parts */
+  H5Fclose(w.src);
+  w.src = -1;
+  if (merge_count_failed(w.dst, nfailed, &unset) < 0) {
+    out_fail(err, errsz, "%s: cannot read status through the parts", dst);
+    goto done;
+  }
+  /* every part has all its statuses (checked above): a case never written
+     here is a part HDF5 could not open through the virtual dataset (it
+     then reads the fill value, silently) */
+  if (unset) {
+    snprintf(err, errsz,
+             "%s: %zu cases unreadable through the virtual datasets (a part "
+             "that cannot be opened from %s)",
+             dst, unset, link_dir);
+    goto done;
+  }
+  rc = 0;
+done:
+  for (k = 0; k < n; k++) free(link[k]);
+  free(link);
+  free(link_dir);
+  free(text0);
+  free(inputs0);
+  if (fapl >= 0) H5Pclose(fapl);
+  if (w.src >= 0) H5Fclose(w.src);
+  if (w.dst >= 0 && H5Fclose(w.dst) < 0 && rc == 0) {
+    out_fail(err, errsz, "%s: cannot close", dst);
+    rc = -1;
+  }
+  return rc;
+}

@@ -1,0 +1,456 @@
+/*
+ * merge.c - see merge.h.  Chunks are copied with H5Dread_chunk and
+ * H5Dwrite_chunk: as stored, compressed or not, so merging costs a read and
+ * a write of the bytes and nothing else.  Two cases go by value, through
+ * the memory type, one chunk at a time: variable-length strings (message,
+ * scene_resolved), which live on the file's global heap and not in the
+ * chunk, and a part whose filters differ from the merged file's (parts run
+ * with different --gzip).  Memory is one chunk.
+ */
+#include "merge.h"
+
+#include <errno.h>
+#include <stdint.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include <hdf5.h>
+
+#include "output/output.h"
+#include "scene/inputs.h"
+#include "verify.h"
+
+/* the chunked datasets of a file by name: the per-case variables */
+#define MAX_CHUNKED 64
+
+typedef struct {
+  char name[MAX_CHUNKED][96];
+  int n;
+} chunked_list;
+
+static herr_t collect_chunked(hid_t g, const char *name, const H5L_info_t *li,
+                              void *data) {
+  chunked_list *l = data;
+  hid_t ds, dcpl;
+  (void)li;
+  ds = H5Oopen(g, name, H5P_DEFAULT);
+  if (ds < 0) return -1;
+  if (H5Iget_type(ds) != H5I_DATASET) {
+    H5Oclose(ds);
+    return 0;
+  }
+  dcpl = H5Dget_create_plist(ds);
+  if (dcpl >= 0 && H5Pget_layout(dcpl) == H5D_CHUNKED) {
+    if (l->n == MAX_CHUNKED || strlen(name) >= sizeof l->name[0]) {
+      H5Pclose(dcpl);
+      H5Oclose(ds);
+      return -1;
+    }
+    strcpy(l->name[l->n++], name);
+  }
+  if (dcpl >= 0) H5Pclose(dcpl);
+  H5Oclose(ds);
+  return 0;
+}
+
+/* a root string attribute or the scalar string dataset `scene`, as a
+   malloc'd string (NULL when absent or not a string) */
+char *merge_read_text(hid_t file, const char *name, int is_attr) {
+  hid_t obj, str = H5Tcopy(H5T_C_S1);
+  char *v = NULL, *copy = NULL;
+  herr_t rc;
+  /* the files' strings are UTF-8; HDF5 converts no character sets */
+  if (str < 0 || H5Tset_size(str, H5T_VARIABLE) < 0 ||
+      H5Tset_cset(str, H5T_CSET_UTF8) < 0) {
+    H5Tclose(str);
+    return NULL;
+  }
+  if (is_attr) {
+    if (H5Aexists(file, name) <= 0 ||
+        (obj = H5Aopen(file, name, H5P_DEFAULT)) < 0) {
+      H5Tclose(str);
+      return NULL;
+    }
+    rc = H5Aread(obj, str, &v);
+    H5Aclose(obj);
+  } else {
+    if (H5Lexists(file, name, H5P_DEFAULT) <= 0 ||
+        (obj = H5Dopen2(file, name, H5P_DEFAULT)) < 0) {
+      H5Tclose(str);
+      return NULL;
+    }
+    rc = H5Dread(obj, str, H5S_ALL, H5S_ALL, H5P_DEFAULT, &v);
+    H5Dclose(obj);
+  }
+  if (rc >= 0 && v) {
+    copy = malloc(strlen(v) + 1);
+    if (copy) strcpy(copy, v);
+  }
+  /* the library allocated v: give it back with the library's free */
+  if (v) H5free_memory(v);
+  H5Tclose(str);
+  return copy;
+}
+
+int merge_shard_of(const char *path, size_t *k, size_t *n, char *err,
+                   size_t errsz) {
+  hid_t f = H5Fopen(path, H5F_ACC_RDONLY, H5P_DEFAULT);
+  char *v, tail;
+  unsigned long kk, nn;
+  if (f < 0) {
+    out_fail(err, errsz, "%s: cannot open", path);
+    return -1;
+  }
+  v = merge_read_text(f, MERGE_SHARD_ATTR, 1);
+  {
+    /* a simulation (sim_output.h) is never a part: say so by name */
+    char *content = merge_read_text(f, "content", 1);
+    int sim = content && strcmp(content, "simulation") == 0;
+    free(content);
+    if (sim) {
+      H5Fclose(f);
+      free(v);
+      snprintf(err, errsz,
+               "%s: a simulation file (its scene has a simulate "
+               "section): simulated scenes are not sharded, "
+               "there is nothing to merge",
+               path);
+      return -1;
+    }
+  }
+  H5Fclose(f);
+  if (!v || sscanf(v, "%lu/%lu%c", &kk, &nn, &tail) != 2 || nn < 1 ||
+      kk >= nn) {
+    snprintf(err, errsz,
+             "%s: not a part file (no root attribute %s = \"K/N\"; write "
+             "parts with rps3-run --shard K/N)",
+             path, MERGE_SHARD_ATTR);
+    free(v);
+    return -1;
+  }
+  free(v);
+  *k = kk;
+  *n = nn;
+  return 0;
+}
+
+/* shape and chunk shape of a dataset; rank or -1 */
+static int shape_of(hid_t ds, hsize_t dims[H5S_MAX_RANK],
+                    hsize_t chunk[H5S_MAX_RANK]) {
+  hid_t sp = H5Dget_space(ds), dcpl = H5Dget_create_plist(ds);
+  int rank = -1;
+  if (sp >= 0 && dcpl >= 0) {
+    rank = H5Sget_simple_extent_dims(sp, dims, NULL);
+    if (rank < 1 || H5Pget_chunk(dcpl, rank, chunk) != rank) rank = -1;
+  }
+  if (sp >= 0) H5Sclose(sp);
+  if (dcpl >= 0) H5Pclose(dcpl);
+  return rank;
+}
+
+/* copy the region [off, off + count) by value: through the memory type,
+   so across filters (a compressed part into a plain file) and for the
+   variable-length strings, whose chunks hold heap addresses */
+static int copy_region(hid_t dst, hid_t src, int rank, const hsize_t *off,
+                       const hsize_t *count) {
+  hid_t ftype = H5Dget_type(src), type = -1, fs = H5Dget_space(src);
+  hid_t fd = H5Dget_space(dst), ms = H5Screate_simple(rank, count, NULL);
+  size_t n = 1, size = 0;
+  void *buf = NULL;
+  int r, rc = -1;
+  for (r = 0; r < rank; r++) n *= (size_t)count[r];
+  if (ftype >= 0) type = H5Tget_native_type(ftype, H5T_DIR_ASCEND);
+  if (type >= 0) size = H5Tget_size(type);
+  if (size > 0) buf = calloc(n, size);
+  if (buf && fs >= 0 && fd >= 0 && ms >= 0 &&
+      H5Sselect_hyperslab(fs, H5S_SELECT_SET, off, NULL, count, NULL) >= 0 &&
+      H5Sselect_hyperslab(fd, H5S_SELECT_SET, off, NULL, count, NULL) >= 0 &&
+      H5Dread(src, type, ms, fs, H5P_DEFAULT, buf) >= 0) {
+    rc = H5Dwrite(dst, type, ms, fd, H5P_DEFAULT, buf) < 0 ? -1 : 0;
+    if (H5Tis_variable_str(type) > 0)
+      H5Dvlen_reclaim(type, ms, H5P_DEFAULT, buf);
+  }
+  free(buf);
+  if (type >= 0) H5Tclose(type);
+  if (ftype >= 0) H5Tclose(ftype);
+  if (fs >= 0) H5Sclose(fs);
+  if (fd >= 0) H5Sclose(fd);
+  if (ms >= 0) H5Sclose(ms);
+  return rc;
+}
+
+/* 1 when two datasets have the same filters (the same chunk encoding) */
+static int same_filters(hid_t a, hid_t b) {
+  hid_t pa = H5Dget_create_plist(a), pb = H5Dget_create_plist(b);
+  int i, n = -1, same = 0;
+  if (pa >= 0 && pb >= 0) {
+    n = H5Pget_nfilters(pa);
+    same = n >= 0 && n == H5Pget_nfilters(pb);
+  }
+  for (i = 0; same && i < n; i++) {
+    unsigned fa, fb, va[8], vb[8];
+    size_t na = 8, nb = 8;
+    H5Z_filter_t ia =
+        H5Pget_filter2(pa, (unsigned)i, &fa, &na, va, 0, NULL, NULL);
+    H5Z_filter_t ib =
+        H5Pget_filter2(pb, (unsigned)i, &fb, &nb, vb, 0, NULL, NULL);
+    same = ia >= 0 && ia == ib && na == nb && na <= 8 &&
+           memcmp(va, vb, na * sizeof *va) == 0;
+  }
+  if (pa >= 0) H5Pclose(pa);
+  if (pb >= 0) H5Pclose(pb);
+  return same;
+}
+
+/* the chunk buffer, grown as needed */
+typedef struct {
+  void *p;
+  size_t size;
+} chunk_buf;
+
+/* copy the chunk at `off` if src has it (*have: 1, else 0): as stored
+   when `raw`, else by value */
+static int copy_chunk(hid_t dst, hid_t src, int rank, const hsize_t *off,
+                      const hsize_t *dims, const hsize_t *chunk, int raw,
+                      chunk_buf *cb, int *have) {
+  unsigned mask = 0;
+  uint32_t filters = 0;
+  haddr_t addr;
+  hsize_t size = 0, count[H5S_MAX_RANK];
+  int r;
+  if (H5Dget_chunk_info_by_coord(src, off, &mask, &addr, &size) < 0) return -1;
+  *have = size > 0;
+  if (!*have) return 0;
+  if (!raw) {
+    /* the chunk's region, cut at the dataset's edge */
+    for (r = 0; r < rank; r++)
+      count[r] = dims[r] - off[r] < chunk[r] ? dims[r] - off[r] : chunk[r];
+    return copy_region(dst, src, rank, off, count);
+  }
+  if ((size_t)size > cb->size) {
+    void *p = realloc(cb->p, (size_t)size);
+    if (!p) return -1;
+    cb->p = p;
+    cb->size = (size_t)size;
+  }
+  if (H5Dread_chunk(src, H5P_DEFAULT, off, &filters, cb->p) < 0 ||
+      H5Dwrite_chunk(dst, H5P_DEFAULT, filters, off, (size_t)size, cb->p) < 0)
+    return -1;
+  return 0;
+}
+
+/* copy the chunk rows r % n == k of dataset `name` from src to dst */
+static int copy_dataset(hid_t fdst, hid_t fsrc, const char *name,
+                        const char *src_path, size_t k, size_t n, chunk_buf *cb,
+                        char *err, size_t errsz) {
+  hid_t dst = H5Dopen2(fdst, name, H5P_DEFAULT), src = -1, type = -1;
+  hsize_t ddims[H5S_MAX_RANK], dchunk[H5S_MAX_RANK];
+  hsize_t sdims[H5S_MAX_RANK], schunk[H5S_MAX_RANK], off[H5S_MAX_RANK];
+  hsize_t row, nrow;
+  int rank, r, raw, rc = -1, status = strcmp(name, "status") == 0;
+
+  if (dst < 0 || H5Lexists(fsrc, name, H5P_DEFAULT) <= 0 ||
+      (src = H5Dopen2(fsrc, name, H5P_DEFAULT)) < 0) {
+    snprintf(err, errsz, "%s: has no dataset %s", src_path, name);
+    H5Eclear2(H5E_DEFAULT);
+    goto done;
+  }
+  rank = shape_of(dst, ddims, dchunk);
+  if (rank < 1 || shape_of(src, sdims, schunk) != rank ||
+      memcmp(ddims, sdims, (size_t)rank * sizeof *ddims) ||
+      memcmp(dchunk, schunk, (size_t)rank * sizeof *dchunk)) {
+    snprintf(err, errsz,
+             "%s: dataset %s differs in shape or chunks: not a part of the "
+             "same run",
+             src_path, name);
+    goto done;
+  }
+  /* chunks as stored when both encode them alike; strings by value */
+  type = H5Dget_type(src);
+  raw = type >= 0 && H5Tis_variable_str(type) == 0 && same_filters(dst, src);
+  nrow = (ddims[0] + dchunk[0] - 1) / dchunk[0];
+  for (row = k; row < nrow; row += n) {
+    off[0] = row * dchunk[0];
+    /* every chunk of the row: odometer over the other axes */
+    for (r = 1; r < rank; r++) off[r] = 0;
+    for (;;) {
+      int have;
+      if (copy_chunk(dst, src, rank, off, ddims, dchunk, raw, cb, &have) < 0) {
+        out_fail(err, errsz, "%s: cannot copy a chunk of %s at case %llu",
+                 src_path, name, (unsigned long long)off[0]);
+        goto done;
+      }
+      /* windows after a failing sample are never written (they read as
+         the fill value), but every case of a part has its status */
+      if (!have && status) {
+        snprintf(err, errsz,
+                 "%s: cases from %llu are missing: the part is incomplete",
+                 src_path, (unsigned long long)off[0]);
+        goto done;
+      }
+      for (r = rank - 1; r >= 1; r--) {
+        off[r] += dchunk[r];
+        if (off[r] < ddims[r]) break;
+        off[r] = 0;
+      }
+      if (r < 1) break;
+    }
+  }
+  rc = 0;
+done:
+  if (type >= 0) H5Tclose(type);
+  if (src >= 0) H5Dclose(src);
+  if (dst >= 0) H5Dclose(dst);
+  return rc;
+}
+
+/* cases with status != 0 */
+int merge_count_failed(hid_t file, size_t *nfailed, size_t *nunset) {
+  hid_t ds = H5Dopen2(file, "status", H5P_DEFAULT), fs = -1, ms = -1;
+  hsize_t n = 0, r0, nr, run = 65536;
+  int32_t *buf = malloc((size_t)run * sizeof *buf);
+  int rc = -1;
+  size_t i;
+  *nfailed = 0;
+  if (nunset) *nunset = 0;
+  if (ds < 0 || !buf || (fs = H5Dget_space(ds)) < 0 ||
+      H5Sget_simple_extent_dims(fs, &n, NULL) != 1)
+    goto done;
+  for (r0 = 0; r0 < n; r0 += nr) {
+    nr = n - r0 < run ? n - r0 : run;
+    ms = H5Screate_simple(1, &nr, NULL);
+    if (ms < 0 ||
+        H5Sselect_hyperslab(fs, H5S_SELECT_SET, &r0, NULL, &nr, NULL) < 0 ||
+        H5Dread(ds, H5T_NATIVE_INT32, ms, fs, H5P_DEFAULT, buf) < 0)
+      goto done;
+    H5Sclose(ms);
+    ms = -1;
+    for (i = 0; i < (size_t)nr; i++) {
+      *nfailed += buf[i] != 0;
+      if (nunset) *nunset += buf[i] == OUT_STATUS_NOT_COMPUTED;
+    }
+  }
+  rc = 0;
+done:
+  free(buf);
+  if (ms >= 0) H5Sclose(ms);
+  if (fs >= 0) H5Sclose(fs);
+  if (ds >= 0) H5Dclose(ds);
+  return rc;
+}
+
+int merge_parts(const char *dst, const char *const *src, const size_t *k,
+                size_t nsrc, size_t n, const char *command_line,
+                size_t *nfailed, char *err, size_t errsz) {
+  hid_t fd = H5Fopen(dst, H5F_ACC_RDWR, H5P_DEFAULT);
+  chunked_list list;
+  chunk_buf cb = {NULL, 0};
+  char *text = NULL, *inputs0 = NULL;
+  size_t i;
+  int j, rc = -1;
+
+  if (fd < 0) {
+    out_fail(err, errsz, "%s: cannot open", dst);
+    return -1;
+  }
+  list.n = 0;
+  text = merge_read_text(fd, "scene", 0);
+  inputs0 = merge_read_text(fd, INPUTS_ATTR, 1);
+  if (!text ||
+      H5Literate(fd, H5_INDEX_NAME, H5_ITER_INC, NULL, collect_chunked, &list) <
+          0 ||
+      list.n == 0) {
+    out_fail(err, errsz, "%s: not an rps3-run file", dst);
+    goto done;
+  }
+  for (i = 0; i < nsrc; i++) {
+    hid_t fs = H5Fopen(src[i], H5F_ACC_RDONLY, H5P_DEFAULT);
+    char *other;
+    if (fs < 0) {
+      out_fail(err, errsz, "%s: cannot open", src[i]);
+      goto done;
+    }
+    /* the same scene, byte for byte */
+    other = merge_read_text(fs, "scene", 0);
+    if (!other || strcmp(other, text) != 0) {
+      snprintf(err, errsz, "%s: not a part of the same scene", src[i]);
+      free(other);
+      H5Fclose(fs);
+      goto done;
+    }
+    free(other);
+    /* and the same content of every file it reads (inputs.h) */
+    if (verify_inputs_as(src[i], inputs0, "part 0 read", err, errsz)) {
+      H5Fclose(fs);
+      goto done;
+    }
+    for (j = 0; j < list.n; j++)
+      if (copy_dataset(fd, fs, list.name[j], src[i], k[i], n, &cb, err, errsz) <
+          0) {
+        H5Fclose(fs);
+        goto done;
+      }
+    if (H5Fclose(fs) < 0) {
+      out_fail(err, errsz, "%s: cannot close", src[i]);
+      goto done;
+    }
+  }
+  /* a whole file now: not a part, made by this command */
+  if ((H5Aexists(fd, MERGE_SHARD_ATTR) > 0 &&
+       H5Adelete(fd, MERGE_SHARD_ATTR) < 0) ||
+      out_stamp(fd, command_line) < 0) {
+    out_fail(err, errsz, "%s: cannot write the root attributes", dst);
+    goto done;
+  }
+  if (merge_count_failed(fd, nfailed, NULL) < 0) {
+    out_fail(err, errsz, "%s: cannot read status", dst);
+    goto done;
+  }
+  rc = 0;
+done:
+  free(cb.p);
+  free(text);
+  free(inputs0);
+  if (H5Fclose(fd) < 0 && rc == 0) {
+    out_fail(err, errsz, "%s: cannot close", dst);
+    rc = -1;
+  }
+  return rc;
+}
+
+int merge_copy_file(const char *from, const char *to, char *err, size_t errsz) {
+  enum { BUF = 1 << 20 };
+  FILE *in = fopen(from, "rb"), *out = NULL;
+  char *buf = malloc(BUF);
+  size_t got;
+  int rc = -1;
+  if (!in || !buf) {
+    snprintf(err, errsz, "%s: %s", from,
+             in ? "out of memory" : strerror(errno));
+    goto done;
+  }
+  out = fopen(to, "wb");
+  if (!out) {
+    snprintf(err, errsz, "cannot create %s: %s", to, strerror(errno));
+    goto done;
+  }
+  while ((got = fread(buf, 1, BUF, in)) > 0)
+    if (fwrite(buf, 1, got, out) != got) {
+      snprintf(err, errsz, "cannot write %s: %s", to, strerror(errno));
+      goto done;
+    }
+  if (ferror(in)) {
+    snprintf(err, errsz, "cannot read %s", from);
+    goto done;
+  }
+  rc = 0;
+done:
+  if (out && fclose(out) != 0 && rc == 0) {
+    snprintf(err, errsz, "cannot write %s: %s", to, strerror(errno));
+    rc = -1;
+  }
+  if (in) fclose(in);
+  free(buf);
+  return rc;
+}

@@ -1,0 +1,59 @@
+/*
+ * merge.h - join the part files of a sharded run into one file.
+ *
+ * `rps3-run --shard K/N` computes the jobs j with j % N == K (sweep.h) into
+ * a file of the full layout, written by out_create like any run: the cases
+ * of the other shards are there but unwritten (unallocated chunks, read as
+ * the fill values NaN, -1 and "").  A job is one chunk row of every per-case
+ * dataset, so a part owns whole chunks, and merging is copying chunks: the
+ * chunk rows r with r % N == K of every chunked dataset, as stored (no
+ * decompression), strings by value.  The result equals, dataset for
+ * dataset, the file of a run without shards.
+ */
+#ifndef RPS3_RUNNER_MERGE_H
+#define RPS3_RUNNER_MERGE_H
+
+#include <stddef.h>
+
+#include <hdf5.h>
+
+/* the root attribute that marks a part file: "K/N" */
+#define MERGE_SHARD_ATTR "shard"
+
+/*
+ * Read the shard K/N of the part file at `path` into *k, *n.  Returns 0, or
+ * -1 with err set (no such file, not an rps3-run file, not a part).
+ */
+int merge_shard_of(const char *path, size_t *k, size_t *n, char *err,
+                   size_t errsz);
+
+/*
+ * Copy into the file at `dst` (a complete rps3-run file of the same scene,
+ * for instance part 0 itself) the cases of the nsrc part files src[i],
+ * each holding shard k[i] of n.  Every chunked dataset of dst must be in
+ * each part with the same shape and chunks, each part must hold all of its
+ * cases (their `status` chunks) and have dst's scene and record of input
+ * files (inputs.h).  Then dst loses its shard attribute,
+ * and gets `command_line` and `created_utc` of this merge; *nfailed is the
+ * number of cases of dst whose status is not 0.  Returns 0, or -1 with err
+ * set (dst is then incomplete: the caller removes it).
+ */
+int merge_parts(const char *dst, const char *const *src, const size_t *k,
+                size_t nsrc, size_t n, const char *command_line,
+                size_t *nfailed, char *err, size_t errsz);
+
+/* A root string attribute (is_attr 1) or the scalar string dataset `name`
+   of an open file, as a malloc'd string (NULL when absent or not a
+   string). */
+char *merge_read_text(hid_t file, const char *name, int is_attr);
+
+/* The cases of an open rps3-run file whose status is not 0 (*nfailed) and,
+   when nunset is not NULL, of those the ones never written (status -1,
+   the fill value).  Returns 0 or -1. */
+int merge_count_failed(hid_t file, size_t *nfailed, size_t *nunset);
+
+/* Copy the file `from` byte for byte to `to` (created or truncated).
+   Returns 0 or -1 with err set. */
+int merge_copy_file(const char *from, const char *to, char *err, size_t errsz);
+
+#endif /* RPS3_RUNNER_MERGE_H */

@@ -1,0 +1,252 @@
+/*
+ * parts.c - see parts.h.
+ */
+#include "parts.h"
+
+#include <ctype.h>
+#include <stdlib.h>
+#include <string.h>
+#include <unistd.h>
+
+#include <hdf5.h>
+
+#include "join.h"
+#include "merge.h"
+#include "verify.h"
+
+int parts_by_shard(const char *const *part, size_t npart, const char ***byk,
+                   size_t *n, char *err, size_t errsz) {
+  const char **by = NULL;
+  size_t i, k, nn, n0 = 0;
+  *byk = NULL;
+  for (i = 0; i < npart; i++) {
+    if (merge_shard_of(part[i], &k, &nn, err, errsz)) goto fail;
+    if (i == 0) {
+      n0 = nn;
+      by = calloc(nn, sizeof *by);
+      if (!by) {
+        snprintf(err, errsz, "out of memory");
+        return -1;
+      }
+    }
+    if (nn != n0) {
+      snprintf(err, errsz, "%s is shard %zu/%zu, %s is of %zu", part[i], k, nn,
+               part[0], n0);
+      goto fail;
+    }
+    if (by[k]) {
+      snprintf(err, errsz, "%s and %s are both shard %zu/%zu", by[k], part[i],
+               k, nn);
+      goto fail;
+    }
+    by[k] = part[i];
+  }
+  *byk = by;
+  *n = n0;
+  return 0;
+fail:
+  free(by);
+  return -1;
+}
+
+/* a growing string */
+typedef struct {
+  char *s;
+  size_t len, cap;
+  int oom;
+} text;
+
+static void put(text *t, const char *s, size_t len) {
+  if (t->oom) return;
+  if (t->len + len + 1 > t->cap) {
+    size_t cap = 2 * (t->len + len + 1);
+    char *p = realloc(t->s, cap);
+    if (!p) {
+      t->oom = 1;
+      return;
+    }
+    t->s = p;
+    t->cap = cap;
+  }
+  memcpy(t->s + t->len, s, len);
+  t->len += len;
+  t->s[t->len] = '\0';
+}
+
+/* the end of the shell word at s (plain or single-quoted pieces, as
+   main_run.c's command_line writes them) */
+static const char *word_end(const char *s) {
+  while (*s && *s != ' ') {
+    if (*s == '\'') {
+      const char *q = strchr(s + 1, '\'');
+      s = q ? q + 1 : s + strlen(s);
+    } else
+      s++;
+  }
+  return s;
+}
+
+/* the output name of shard k: `was` (of shard k0) with its one number k0
+   replaced by k; PART_k.h5 when there is no such single number or the
+   name is quoted */
+static void put_part_name(text *t, const char *was, size_t len, size_t k0,
+                          size_t k) {
+  char num[32];
+  const char *p, *hit = NULL, *base = was;
+  size_t nhit = 0, hitlen = 0;
+  for (p = was; p < was + len; p++)
+    if (*p == '/') base = p + 1;
+  for (p = base; p < was + len;) {
+    if (isdigit((unsigned char)*p)) {
+      const char *q = p;
+      while (q < was + len && isdigit((unsigned char)*q)) q++;
+      if (strtoul(p, NULL, 10) == k0 && (size_t)(q - p) < 20) {
+        hit = p;
+        hitlen = (size_t)(q - p);
+        nhit++;
+      }
+      p = q;
+    } else
+      p++;
+  }
+  if (nhit != 1 || memchr(was, '\'', len)) {
+    snprintf(num, sizeof num, "PART_%zu.h5", k);
+    put(t, num, strlen(num));
+    return;
+  }
+  snprintf(num, sizeof num, "%zu", k);
+  put(t, was, (size_t)(hit - was));
+  put(t, num, strlen(num));
+  put(t, hit + hitlen, len - (size_t)(hit - was) - hitlen);
+}
+
+char *parts_rerun_command(const char *model, size_t k, size_t n) {
+  text t = {NULL, 0, 0, 0};
+  const char *p = model, *e;
+  size_t k0 = (size_t)-1;
+  char num[64];
+  const char *sh;
+  if (!model) return NULL;
+  /* the model's own shard number, for its output name */
+  sh = strstr(model, " --shard ");
+  if (sh) k0 = strtoul(sh + 9, NULL, 10);
+  put(&t, "", 0);
+  while (*p) {
+    e = word_end(p);
+    put(&t, p, (size_t)(e - p));
+    if ((e - p == 2 && strncmp(p, "-o", 2) == 0) ||
+        (e - p == 7 && strncmp(p, "--shard", 7) == 0)) {
+      int is_o = p[1] == 'o';
+      p = e;
+      while (*p == ' ') put(&t, p++, 1);
+      e = word_end(p);
+      if (is_o)
+        put_part_name(&t, p, (size_t)(e - p), k0, k);
+      else {
+        snprintf(num, sizeof num, "%zu/%zu", k, n);
+        put(&t, num, strlen(num));
+      }
+    }
+    p = e;
+    while (*p == ' ') put(&t, p++, 1);
+  }
+  if (t.oom) {
+    free(t.s);
+    return NULL;
+  }
+  return t.s;
+}
+
+/* the command_line of a part file (malloc'd) or NULL */
+static char *command_of(const char *path) {
+  hid_t f = H5Fopen(path, H5F_ACC_RDONLY, H5P_DEFAULT);
+  char *v;
+  if (f < 0) return NULL;
+  v = merge_read_text(f, "command_line", 1);
+  H5Fclose(f);
+  return v;
+}
+
+size_t parts_report(FILE *out, const char *const *byk, const int *bad,
+                    size_t n) {
+  size_t k, nmiss = 0;
+  const char *model = NULL;
+  char *cmd = NULL;
+  for (k = 0; k < n; k++) {
+    if (byk[k] && !(bad && bad[k]) && !model) model = byk[k];
+    nmiss += !byk[k] || (bad && bad[k]);
+  }
+  if (nmiss == 0) return 0;
+  if (!model) /* every part bad: the first given one still has the command */
+    for (k = 0; k < n && !model; k++) model = byk[k];
+  fprintf(out, "rps3-run merge: %zu of %zu shard%s to run again: ", nmiss, n,
+          n == 1 ? "" : "s");
+  for (k = 0, nmiss = 0; k < n; k++)
+    if (!byk[k] || (bad && bad[k]))
+      fprintf(out, "%s%zu", nmiss++ ? "," : "", k);
+  fprintf(out, "\n");
+  if (model) cmd = command_of(model);
+  if (!cmd) {
+    fprintf(out, "  (rps3-run SCENE -o PART --shard K/%zu for each)\n", n);
+    return nmiss;
+  }
+  fprintf(out, "  from the directory the parts were made in:\n");
+  for (k = 0; k < n; k++)
+    if (!byk[k] || (bad && bad[k])) {
+      char *c = parts_rerun_command(cmd, k, n);
+      fprintf(out, "  %s\n", c ? c : "(out of memory)");
+      free(c);
+    }
+  free(cmd);
+  return nmiss;
+}
+
+int parts_resume(const char *path, size_t k, size_t n, const char *text0,
+                 const char *fields, const char *inputs, size_t *nfailed) {
+  char err[768], *have;
+  hid_t f;
+  int rc = -1, same;
+  size_t nall = 0, unset = 0;
+  if (access(path, F_OK) != 0) return 0;
+  if (join_part_check(path, k, n, text0, err, sizeof err)) {
+    fprintf(stderr, "rps3-run: --resume: %s: running shard %zu/%zu again\n",
+            err, k, n);
+    return 0;
+  }
+  /* a part of other fields would not merge with this run's parts */
+  have = verify_root_attr(path, "fields");
+  same = have && strcmp(have, fields) == 0;
+  if (!same)
+    fprintf(stderr,
+            "rps3-run: --resume: %s has the fields %s, this run "
+            "writes %s: running shard %zu/%zu again\n",
+            path, have ? have : "(none)", fields, k, n);
+  free(have);
+  if (!same) return 0;
+  /* the same scene text over other data (a table measured again) is
+     another run: its cases would not be this run's */
+  if (verify_inputs_as(path, inputs, "the file now has", err, sizeof err)) {
+    fprintf(stderr,
+            "rps3-run: --resume: %s: running shard %zu/%zu "
+            "again\n",
+            err, k, n);
+    return 0;
+  }
+  f = H5Fopen(path, H5F_ACC_RDONLY, H5P_DEFAULT);
+  if (f >= 0) {
+    rc = merge_count_failed(f, &nall, &unset);
+    H5Fclose(f);
+  }
+  if (rc < 0) {
+    fprintf(stderr,
+            "rps3-run: --resume: %s: cannot read status: running "
+            "shard %zu/%zu again\n",
+            path, k, n);
+    return 0;
+  }
+  /* the cases of the other shards read as the fill value (not computed):
+     they are no failure of this one, whose every case join_part_check
+     found written */
+  *nfailed = nall - unset;
+  return 1;
+}

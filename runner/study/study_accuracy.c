@@ -1,0 +1,497 @@
+/*
+ * study_accuracy.c - rps3-study accuracy: what accuracy costs in time.
+ * Every configuration (study_points.c) on both trajectories: its errors
+ * against a precise reference in one untimed pass, then the median time of
+ * R timed passes; the file of both (main_study.c says what it holds).
+ */
+#include <float.h>
+#include <math.h>
+#include <stdint.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "study.h"
+#include "study_ref.h"
+
+/* ------------------------------------------------------ accuracy study */
+
+/*
+ * The reference forces of `effects` at the n grid samples, by study_ref.c
+ * (Kane's equations in long double, from the model's inputs: nothing of the
+ * library's dynamics).  Its own floor: the same code in double lands at
+ * some distance from it, the rounding of double amplified by the
+ * formulation; in long double that amplification costs LDBL_EPSILON /
+ * DBL_EPSILON as much.
+ */
+static int reference_forces(const rps3_model *base, const rps3_traj *tr,
+                            int effects, study_reference *ref) {
+  size_t k;
+  int i;
+  double dev = 0.0;
+  ref->fscale = 0.0;
+  for (k = 0; k < ref->n; k++) {
+    double t = study_sample_time(k, ref->n, ref->span), q[3], dq[3], ddq[3],
+           Fd[3];
+    double *F = &ref->F[3 * k];
+    if (rps3_traj_eval(base, tr, t, q, dq, ddq) != RPS3_OK ||
+        study_ref_forces(base, effects, q, dq, ddq, F) != 0 ||
+        study_ref_forces_double(base, effects, q, dq, ddq, Fd) != 0) {
+      fprintf(stderr, "rps3-study: reference fails at t = %g\n", t);
+      return -1;
+    }
+    for (i = 0; i < 3; i++) {
+      if (fabs(F[i]) > ref->fscale) ref->fscale = fabs(F[i]);
+      if (fabs(F[i] - Fd[i]) > dev) dev = fabs(F[i] - Fd[i]);
+    }
+  }
+  ref->floor_ref = dev / ref->fscale * ((double)LDBL_EPSILON / DBL_EPSILON);
+  return 0;
+}
+
+static int reference_build(const rps3_model *base, const rps3_traj *tr,
+                           size_t n, study_reference *ref) {
+  study_config c;
+  study_runner r;
+  size_t k;
+  int i;
+  ref->n = n;
+  ref->span = rps3_traj_duration(tr);
+  ref->F = malloc(3 * n * sizeof(double));
+  ref->theta = malloc(3 * n * sizeof(long double));
+  if (!ref->F || !ref->theta) return -1;
+  if (reference_forces(base, tr, RPS3_EFF_DEFAULT, ref) < 0) return -1;
+  /* theta: inverse kinematics in long double; its floor against the
+     library's closed form */
+  study_config_base(&c, S_METHOD);
+  if (study_runner_init(&r, &c, tr, base) < 0) return -1;
+  ref->floor_theta = ref->peak = 0.0;
+  for (k = 0; k < n; k++) {
+    double t = study_sample_time(k, n, ref->span);
+    long double len[3];
+    if (study_point(&r, t, ref->span) != RPS3_OK) {
+      fprintf(stderr, "rps3-study: closed form fails at t = %g: %s\n", t,
+              r.d->err.msg);
+      return -1;
+    }
+    study_ik_long(&r.model, r.d->pose, &ref->theta[3 * k], len);
+    for (i = 0; i < 3; i++) {
+      double dth = fabs(r.d->theta[i] - (double)ref->theta[3 * k + i]);
+      if (dth > ref->floor_theta) ref->floor_theta = dth;
+    }
+  }
+  rps3_data_free(r.d);
+  /* the peak force: a dense grid, ends and both sides of corners included */
+  for (k = 0; k < NREF_PEAK; k++) {
+    double t = ref->span * (double)k / (double)(NREF_PEAK - 1), q[3], dq[3],
+           ddq[3], F[3];
+    if (rps3_traj_eval(base, tr, t, q, dq, ddq) != RPS3_OK ||
+        study_ref_forces(base, RPS3_EFF_DEFAULT, q, dq, ddq, F) != 0)
+      return -1;
+    for (i = 0; i < 3; i++)
+      if (fabs(F[i]) > ref->peak) ref->peak = fabs(F[i]);
+  }
+  return 0;
+}
+
+/* one pass over the fixed grid; with out != NULL record the errors */
+static int pass_grid(study_runner *r, const study_reference *ref,
+                     study_result *out) {
+  size_t k;
+  int i, st;
+  double ferr = 0.0, terr = 0.0, iters = 0.0;
+  rps3_data_reset(r->d);
+  for (k = 0; k < ref->n; k++) {
+    st = study_point(r, study_sample_time(k, ref->n, ref->span), ref->span);
+    if (st != RPS3_OK) {
+      if (!out) continue;
+      if (out->nfail++ == 0) out->status = st;
+      /* the next sample must not warm-start from a failed one */
+      rps3_data_reset(r->d);
+      continue;
+    }
+    if (!out) continue;
+    iters += r->d->solve_niter;
+    for (i = 0; i < 3; i++) {
+      double fe = fabs(r->d->F[i] - ref->F[3 * k + i]);
+      double te = fabs(r->d->theta[i] - (double)ref->theta[3 * k + i]);
+      if (fe > ferr) ferr = fe;
+      if (te > terr) terr = te;
+    }
+  }
+  if (out) {
+    int nok = (int)ref->n - out->nfail;
+    out->force_err = nok ? ferr / ref->fscale : DNAN;
+    out->theta_err = nok ? terr : DNAN;
+    out->mean_iter = nok ? iters / nok : DNAN;
+  }
+  return 0;
+}
+
+/*
+ * The sample-interval study: samples t_k = k dt over the whole span.  The
+ * peak |F| over the samples against the reference peak; and the work of the
+ * actuators over each interval (trapezoid of the power sum F_i dl_i) against
+ * the change of T + P.  With exact rates the residual is the trapezoid's
+ * O(dt^2); with rates differenced from the samples (what a logger gives:
+ * central differences of the sampled poses, one-sided at the ends) it also
+ * carries their error.
+ */
+static int pass_dt(study_runner *r, const study_reference *ref,
+                   study_result *out) {
+  double span = ref->span, dt = r->c->dt_frac * span;
+  size_t n = (size_t)floor(span / dt + 0.5) + 1, k;
+  double peak = 0.0, Wmax = 0.0, resmax = 0.0, Eprev = 0.0, Pprev = 0.0;
+  double tprev = 0.0;
+  double q[3][3]; /* poses at k-1, k, k+1 */
+  int i, st;
+  rps3_data_reset(r->d);
+  for (k = 0; k < n; k++) {
+    double t = k == n - 1 ? span : (double)k * dt, E, P = 0.0;
+    if (r->c->deriv == D_EXACT) {
+      st = study_point(r, t, span);
+    } else {
+      /* rates from the samples themselves */
+      size_t j;
+      for (j = 0; j < 3; j++) {
+        long kk = (long)k - 1 + (long)j;
+        if (kk < 0) kk = 0;
+        if (kk > (long)n - 1) kk = (long)n - 1;
+        st = rps3_traj_eval(&r->model, r->tr,
+                            kk == (long)n - 1 ? span : (double)kk * dt, q[j],
+                            NULL, NULL);
+        if (st != RPS3_OK) return st;
+      }
+      for (i = 0; i < 3; i++) {
+        r->d->pose[i] = q[1][i];
+        if (k == 0) {
+          r->d->dpose[i] = (q[2][i] - q[1][i]) / dt;
+          r->d->ddpose[i] = 0.0;
+        } else if (k == n - 1) {
+          r->d->dpose[i] = (q[1][i] - q[0][i]) / dt;
+          r->d->ddpose[i] = 0.0;
+        } else {
+          r->d->dpose[i] = (q[2][i] - q[0][i]) / (2.0 * dt);
+          r->d->ddpose[i] = (q[2][i] - 2.0 * q[1][i] + q[0][i]) / (dt * dt);
+        }
+      }
+      st = rps3_inverse(&r->model, r->d);
+    }
+    if (st != RPS3_OK) {
+      if (out && out->nfail++ == 0) out->status = st;
+      return 0;
+    }
+    if (!out) continue;
+    for (i = 0; i < 3; i++) {
+      if (fabs(r->d->F[i]) > peak) peak = fabs(r->d->F[i]);
+      P += r->d->F[i] * r->d->dl[i];
+    }
+    E = study_energy(&r->model, r->d);
+    if (k > 0) {
+      double W = 0.5 * (P + Pprev) * (t - tprev);
+      if (fabs(W) > Wmax) Wmax = fabs(W);
+      if (fabs(W - (E - Eprev)) > resmax) resmax = fabs(W - (E - Eprev));
+    }
+    Eprev = E;
+    Pprev = P;
+    tprev = t;
+  }
+  if (out) {
+    out->peak_err = (ref->peak - peak) / ref->peak;
+    out->energy_err = resmax / Wmax;
+  }
+  return 0;
+}
+
+/* samples of one pass of configuration c */
+static size_t pass_points(const study_config *c, const study_reference *ref) {
+  return c->study == S_DT ? (size_t)floor(1.0 / c->dt_frac + 0.5) + 1 : ref->n;
+}
+
+/* one pass of configuration c; with res != NULL, record its errors */
+static void pass(study_runner *r, const study_reference *ref,
+                 study_result *res) {
+  if (r->c->study == S_DT)
+    pass_dt(r, ref, res);
+  else
+    pass_grid(r, ref, res);
+}
+
+/* the first, untimed pass: the errors of configuration c against ref */
+static int measure_errors(study_runner *r, const study_config *c,
+                          const rps3_traj *tr, const rps3_model *base,
+                          const study_reference *ref, study_result *res) {
+  memset(res, 0, sizeof(*res));
+  res->peak_err = res->energy_err = DNAN;
+  if (study_runner_init(r, c, tr, base) < 0) return -1;
+  pass(r, ref, res);
+  if (c->study == S_DT) res->force_err = res->theta_err = res->mean_iter = DNAN;
+  return 0;
+}
+
+/*
+ * The timed passes, round-robin over the configurations (repeat k of every
+ * configuration before repeat k + 1 of any), so that a burst of load from
+ * other processes spreads over all of them instead of shifting a few; the
+ * median of each configuration's passes is its time per point.
+ */
+static int measure_times(study_runner *r, const study_config *cfg, int ncfg,
+                         const study_reference *ref, int repeats,
+                         study_result *res) {
+  double *ns = malloc((size_t)ncfg * (size_t)repeats * sizeof(double));
+  int c, k;
+  if (!ns) return -1;
+  for (k = 0; k < repeats; k++)
+    for (c = 0; c < ncfg; c++) {
+      double t0 = study_now_ns();
+      pass(&r[c], ref, NULL);
+      ns[c * repeats + k] =
+          (study_now_ns() - t0) / (double)pass_points(&cfg[c], ref);
+    }
+  for (c = 0; c < ncfg; c++) {
+    double *v = &ns[c * repeats];
+    res[c].ns_point = study_median(v, repeats); /* sorts v */
+    res[c].ns_q1 = v[repeats / 4];
+    res[c].ns_q3 = v[(3 * repeats) / 4];
+    res[c].ns_second =
+        res[c].ns_point * (double)pass_points(&cfg[c], ref) / ref->span;
+  }
+  free(ns);
+  return 0;
+}
+
+/* ------------------------------------------------------------- accuracy */
+
+/* the model of the study: Table II, plus a payload and pin friction so that
+   the effects ladder has something to add; the other studies use the
+   default effects (the paper's four).  0, or -1 with a message */
+static int accuracy_model(rps3_model *base) {
+  char err[256];
+  rps3_model_default(base);
+  base->payload.mass = 0.05;
+  base->payload.com[0] = 0.011;
+  base->payload.com[2] = 0.023;
+  base->payload.inertia[0] = base->payload.inertia[1] = 1.3e-5;
+  base->payload.inertia[2] = 2.1e-5;
+  base->friction.viscous = 0.011;
+  base->friction.coulomb = 0.0023;
+  if (rps3_model_init(base, err, sizeof err) != RPS3_OK) {
+    fprintf(stderr, "rps3-study: %s\n", err);
+    return -1;
+  }
+  return 0;
+}
+
+/* trajectory t: its reference ref, then every configuration's errors and
+   times into res[0..ncfg); 0 or -1 */
+static int measure_trajectory(const rps3_model *base, int t, size_t nsamp,
+                              int repeats, const study_config *cfg, int ncfg,
+                              study_runner *run, study_reference *ref,
+                              study_result *res) {
+  char err[256];
+  int c;
+  rps3_traj tr;
+  study_traj_make(t, &tr);
+  if (rps3_traj_check(base, &tr, err, sizeof err) != RPS3_OK) {
+    fprintf(stderr, "rps3-study: %s: %s\n", study_traj_name[t], err);
+    return -1;
+  }
+  if (reference_build(base, &tr, nsamp, ref) < 0) return -1;
+  fprintf(stderr,
+          "rps3-study: %s: reference |F|max %.4g N, peak %.6g N, floors: "
+          "reference (long double) %.2g, theta closed form - long double "
+          "%.2g rad\n",
+          study_traj_name[t], ref->fscale, ref->peak, ref->floor_ref,
+          ref->floor_theta);
+  for (c = 0; c < ncfg; c++) {
+    /* the effects ladder's error is against the model with every effect */
+    study_reference *rf = ref, rall;
+    if (cfg[c].study == S_EFFECTS) {
+      rall = *ref;
+      rall.F = malloc(3 * nsamp * sizeof(double));
+      if (!rall.F || reference_forces(base, &tr, RPS3_EFF_ALL, &rall) < 0)
+        return -1;
+      rf = &rall;
+    }
+    if (measure_errors(&run[c], &cfg[c], &tr, base, rf, &res[c]) < 0) return -1;
+    if (rf != ref) free(rall.F);
+  }
+  if (measure_times(run, cfg, ncfg, ref, repeats, res) < 0) return -1;
+  for (c = 0; c < ncfg; c++) {
+    rps3_data_free(run[c].d);
+    free(run[c].rows);
+  }
+  return 0;
+}
+
+/* the trajectory and config scales and the knobs of every configuration;
+   0 or -1 */
+static int write_configs(study_h5 *o, const study_config *cfg, int ncfg) {
+  int c, rc = 0;
+  hsize_t dims[2] = {NTRAJ, (hsize_t)ncfg};
+  static const char *const s_traj[1] = {NULL};
+  static const char *const s_cfg[1] = {NULL};
+  static const char *const s_cfgd[1] = {"config"};
+  const char *sv[MAXCFG];
+  int32_t iv[MAXCFG], idx[MAXCFG];
+  double dv[MAXCFG];
+  hsize_t dt1 = NTRAJ;
+  for (c = 0; c < ncfg; c++) idx[c] = c;
+  rc |= study_h5_write(o, "trajectory", o->str, 1, &dt1, study_traj_name, "1",
+                       study_traj_doc, s_traj);
+  rc |= study_h5_write(o, "config", H5T_NATIVE_INT32, 1, &dims[1], idx, "1",
+                       "configuration index; see study, label and the knobs",
+                       s_cfg);
+#define CFG_STR(name, expr, doc)             \
+  for (c = 0; c < ncfg; c++) sv[c] = (expr); \
+  rc |= study_h5_write(o, name, o->str, 1, &dims[1], sv, "1", doc, s_cfgd);
+#define CFG_F64(name, expr, units, doc)                                    \
+  for (c = 0; c < ncfg; c++) dv[c] = (expr);                               \
+  rc |= study_h5_write(o, name, H5T_NATIVE_DOUBLE, 1, &dims[1], dv, units, \
+                       doc, s_cfgd);
+#define CFG_I32(name, expr, doc)                                             \
+  for (c = 0; c < ncfg; c++) iv[c] = (int32_t)(expr);                        \
+  rc |= study_h5_write(o, name, H5T_NATIVE_INT32, 1, &dims[1], iv, "1", doc, \
+                       s_cfgd);
+  CFG_STR("study", study_kind_name[cfg[c].study],
+          "which knob the configuration turns: theta, derivative, method, "
+          "effects or dt")
+  CFG_STR("label", cfg[c].label, "short name of the configuration")
+  CFG_STR("theta_route",
+          cfg[c].theta == RPS3_THETA_MULTIROOT ? "multiroot" : "closed_form",
+          "closed form (39) or GSL multiroot solve of (8)-(10)")
+  CFG_STR("solver", cfg[c].solver < 0 ? "" : rps3_solver_name(cfg[c].solver),
+          "GSL multiroot solver (empty for the closed form)")
+  CFG_F64("tolerance", cfg[c].theta == RPS3_THETA_MULTIROOT ? cfg[c].tol : DNAN,
+          "1", "theta solve tolerance on max |f_k| (lengths in units of R)")
+  CFG_I32("warm_start", cfg[c].warm,
+          "1: theta solve starts from the previous sample; 0: cold")
+  CFG_STR("derivative", study_deriv_name[cfg[c].deriv],
+          "rates: exact (the trajectory's), central differences of the "
+          "pose (fd_pose) or of the link lengths (fd_length) with step h, "
+          "of the samples at interval dt (fd_samples), or the not-a-knot "
+          "spline of the pose sampled every h (spline_pose)")
+  CFG_F64("fd_step", cfg[c].h > 0 ? cfg[c].h : DNAN, "s",
+          "finite-difference step, or the spline's row spacing, h (NaN "
+          "for exact rates)")
+  CFG_STR("method",
+          cfg[c].method == RPS3_LAGRANGE ? "lagrange" : "newton_euler",
+          "formulation of the dynamics")
+  CFG_I32("effects", cfg[c].effects, "selected effects, RPS3_EFF_* bits")
+  CFG_F64("dt_fraction", cfg[c].dt_frac > 0 ? cfg[c].dt_frac : DNAN, "1",
+          "dt study: sample interval over the trajectory's duration")
+  return rc ? -1 : 0;
+}
+
+/* the [trajectory, config] results and the references' own numbers; 0 or
+   -1 */
+static int write_results(study_h5 *o, const study_result res[][MAXCFG],
+                         const study_reference *ref, int ncfg) {
+  hsize_t dims[2] = {NTRAJ, (hsize_t)ncfg}, dt1 = NTRAJ;
+  static const char *const s_tc[2] = {"trajectory", "config"};
+  static const char *const s_t[1] = {"trajectory"};
+  /* [trajectory, config] tables, packed with row length ncfg */
+  double tv[NTRAJ * MAXCFG], fl[NTRAJ];
+  int32_t tiv[NTRAJ * MAXCFG];
+  int t, c, rc = 0;
+#define RES_F64(name, field, units, doc)                                    \
+  for (t = 0; t < NTRAJ; t++)                                               \
+    for (c = 0; c < ncfg; c++) tv[t * ncfg + c] = res[t][c].field;          \
+  rc |= study_h5_write(o, name, H5T_NATIVE_DOUBLE, 2, dims, tv, units, doc, \
+                       s_tc);
+  RES_F64("ns_per_point", ns_point, "ns",
+          "median over the timed passes of the time per sample (trajectory "
+          "evaluation included), CLOCK_MONOTONIC, one process")
+  RES_F64("ns_per_point_q1", ns_q1, "ns", "first quartile of the passes")
+  RES_F64("ns_per_point_q3", ns_q3, "ns", "third quartile of the passes")
+  RES_F64("ns_per_second", ns_second, "ns",
+          "time to compute one second of the trajectory: ns_per_point x "
+          "samples / duration (the cost axis of the dt study)")
+  RES_F64("force_error", force_err, "1",
+          "max over samples and links of |F - F_ref| / max |F_ref| (for "
+          "the effects ladder: against the model with every effect)")
+  RES_F64("theta_error", theta_err, "rad",
+          "max over samples and links of |theta - theta_ref|, theta_ref "
+          "from inverse kinematics in long double")
+  RES_F64("peak_force_error", peak_err, "1",
+          "dt study: (peak_ref - max sampled |F|) / peak_ref, peak_ref from "
+          "200001 samples")
+  RES_F64("energy_residual", energy_err, "1",
+          "dt study: max over intervals |W_k - (E_k+1 - E_k)| / max |W_k|, "
+          "W_k the trapezoid of the power sum F_i dl_i, E = T + P")
+  RES_F64("mean_iterations", mean_iter, "1",
+          "theta solve iterations per sample")
+  for (t = 0; t < NTRAJ; t++)
+    for (c = 0; c < ncfg; c++) tiv[t * ncfg + c] = res[t][c].nfail;
+  rc |= study_h5_write(o, "failed_samples", H5T_NATIVE_INT32, 2, dims, tiv, "1",
+                       "samples whose pipeline returned an error "
+                       "(errors are measured over the others)",
+                       s_tc);
+  for (t = 0; t < NTRAJ; t++)
+    for (c = 0; c < ncfg; c++) tiv[t * ncfg + c] = res[t][c].status;
+  rc |= study_h5_write(o, "status", H5T_NATIVE_INT32, 2, dims, tiv, "1",
+                       "rps3_status of the first failing sample, 0 if none",
+                       s_tc);
+  for (t = 0; t < NTRAJ; t++) fl[t] = ref[t].floor_ref;
+  rc |= study_h5_write(o, "reference_floor_force", H5T_NATIVE_DOUBLE, 1, &dt1,
+                       fl, "1",
+                       "the reference's own rounding error / max |F_ref|: "
+                       "its double twin's distance from it x LDBL_EPSILON / "
+                       "DBL_EPSILON",
+                       s_t);
+  for (t = 0; t < NTRAJ; t++) fl[t] = ref[t].floor_theta;
+  rc |= study_h5_write(o, "reference_floor_theta", H5T_NATIVE_DOUBLE, 1, &dt1,
+                       fl, "rad",
+                       "max |theta_closed_form - theta_long_double| on the "
+                       "grid",
+                       s_t);
+  for (t = 0; t < NTRAJ; t++) fl[t] = ref[t].fscale;
+  rc |= study_h5_write(o, "reference_force_max", H5T_NATIVE_DOUBLE, 1, &dt1, fl,
+                       "N", "max |F_ref| over the grid: the force_error scale",
+                       s_t);
+  for (t = 0; t < NTRAJ; t++) fl[t] = ref[t].peak;
+  rc |=
+      study_h5_write(o, "reference_peak_force", H5T_NATIVE_DOUBLE, 1, &dt1, fl,
+                     "N", "peak |F| over 200001 samples of the span", s_t);
+  return rc ? -1 : 0;
+}
+
+int study_accuracy(const char *path, const char *cmdline, size_t nsamp,
+                   int repeats) {
+  static study_config cfg[MAXCFG];
+  static study_result res[NTRAJ][MAXCFG];
+  static study_runner run[MAXCFG];
+  study_reference ref[NTRAJ];
+  rps3_model base;
+  int ncfg = study_configs_build(cfg), t, rc = 0;
+  study_h5 o = {-1, -1};
+  double t_start = study_now_ns();
+
+  /* the measurements, trajectory by trajectory */
+  if (accuracy_model(&base) < 0) return EXIT_IO;
+  for (t = 0; t < NTRAJ; t++)
+    if (measure_trajectory(&base, t, nsamp, repeats, cfg, ncfg, run, &ref[t],
+                           res[t]) < 0)
+      return EXIT_IO;
+  fprintf(stderr,
+          "rps3-study: accuracy: %d configurations x %d trajectories "
+          "in %.1f s\n",
+          ncfg, NTRAJ, 1e-9 * (study_now_ns() - t_start));
+
+  /* the file */
+  if (study_h5_open(&o, path, cmdline,
+                    "rps3-study accuracy: error against a precise reference "
+                    "and median time per point, per configuration and "
+                    "trajectory") < 0 ||
+      write_configs(&o, cfg, ncfg) < 0 ||
+      write_results(&o, (const study_result(*)[MAXCFG])res, ref, ncfg) < 0 ||
+      study_h5_attr_f64(o.file, "samples", (double)nsamp) < 0 ||
+      study_h5_attr_f64(o.file, "repeats", (double)repeats) < 0)
+    rc = -1;
+  if (study_h5_close(&o) < 0) rc = -1;
+  for (t = 0; t < NTRAJ; t++) {
+    free(ref[t].F);
+    free(ref[t].theta);
+  }
+  return rc ? EXIT_IO : EXIT_OK;
+}

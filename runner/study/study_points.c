@@ -1,0 +1,339 @@
+/*
+ * study_points.c - rps3-study's trajectories and configurations, and one
+ * point computed by a configuration's route (study.h).
+ */
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <time.h>
+
+#include "study.h"
+
+/* ------------------------------------------------------------- timing */
+
+double study_now_ns(void) {
+  struct timespec ts;
+  clock_gettime(CLOCK_MONOTONIC, &ts);
+  return 1e9 * (double)ts.tv_sec + (double)ts.tv_nsec;
+}
+
+static int cmp_double(const void *a, const void *b) {
+  double x = *(const double *)a, y = *(const double *)b;
+  return (x > y) - (x < y);
+}
+
+double study_median(double *v, int n) {
+  qsort(v, (size_t)n, sizeof(double), cmp_double);
+  return n % 2 ? v[n / 2] : 0.5 * (v[n / 2 - 1] + v[n / 2]);
+}
+
+/* ------------------------------------------------ the two trajectories */
+
+const char *const study_traj_name[NTRAJ] = {"helix", "sine_edge"};
+const char *const study_traj_doc =
+    "helix: Table II (r* = 0.266 mm, h = 30.48 mm, T* = 10 s, t_a = 1 s); "
+    "sine_edge: alpha = pi sin(2 pi t), beta = 0.6 + 0.2 sin(2 pi 2.3 t), "
+    "z_c = 0.28 + 0.03 sin(2 pi 1.7 t) m over 2 s: up to 20 rad/s, beta up to "
+    "0.8 rad, condition number up to 4e2 near the singular surface";
+
+void study_traj_make(int k, rps3_traj *tr) {
+  rps3_traj_default(tr);
+  if (k == 0) return;
+  memset(tr, 0, sizeof(*tr));
+  tr->kind = RPS3_TRAJ_SINE;
+  tr->sine.mean[1] = 0.6;
+  tr->sine.mean[2] = 0.28;
+  tr->sine.amp[0] = PI;
+  tr->sine.amp[1] = 0.2;
+  tr->sine.amp[2] = 0.03;
+  tr->sine.freq[0] = 1.0;
+  tr->sine.freq[1] = 2.3;
+  tr->sine.freq[2] = 1.7;
+  tr->sine.duration = 2.0;
+}
+
+/* ----------------------------------------------- long-double reference */
+
+/*
+ * Inverse kinematics (2)-(7), (39) in long double, written independently
+ * of src/ik.c from the rotation Rz(a) Ry(b) Rz(-a), the centre (3)-(4) and
+ * b_i = c + rot r_i: the reference angles theta_i and lengths l_i.
+ */
+void study_ik_long(const rps3_model *m, const double pose[3],
+                   long double theta[3], long double len[3]) {
+  long double a = (long double)pose[0], b = (long double)pose[1];
+  long double z = (long double)pose[2];
+  long double ca = cosl(a), sa = sinl(a), cb = cosl(b), sb = sinl(b);
+  long double r = (long double)m->rho * (long double)m->R;
+  long double R = (long double)m->R;
+  long double rot[3][3], c[3];
+  long double s3 = sqrtl(3.0L);
+  int i;
+  /* Rz(a) Ry(b) Rz(-a) */
+  rot[0][0] = ca * ca * cb + sa * sa;
+  rot[0][1] = ca * sa * cb - ca * sa;
+  rot[0][2] = ca * sb;
+  rot[1][0] = sa * ca * cb - sa * ca;
+  rot[1][1] = sa * sa * cb + ca * ca;
+  rot[1][2] = sa * sb;
+  rot[2][0] = -sb * ca;
+  rot[2][1] = -sb * sa;
+  rot[2][2] = cb;
+  /* (3)-(4) */
+  c[0] = -0.5L * r * (1.0L - cb) * cosl(2.0L * a);
+  c[1] = 0.5L * r * (1.0L - cb) * sinl(2.0L * a);
+  c[2] = z;
+  for (i = 0; i < 3; i++) {
+    long double cp = i == 0 ? 1.0L : -0.5L;
+    long double sp = i == 0 ? 0.0L : (i == 1 ? 0.5L : -0.5L) * s3;
+    long double bb[3], v[3];
+    int k;
+    for (k = 0; k < 3; k++)
+      bb[k] = c[k] + rot[k][0] * r * cp + rot[k][1] * r * sp;
+    v[0] = bb[0] - R * cp;
+    v[1] = bb[1] - R * sp;
+    v[2] = bb[2];
+    len[i] = sqrtl(v[0] * v[0] + v[1] * v[1] + v[2] * v[2]);
+    theta[i] = atan2l(v[2], -(v[0] * cp + v[1] * sp));
+  }
+}
+
+/* ------------------------------------------------------ configurations */
+
+const char *const study_kind_name[S_NSTUDY] = {"theta", "derivative", "method",
+                                               "effects", "dt"};
+const char *const study_deriv_name[5] = {"exact", "fd_pose", "fd_length",
+                                         "fd_samples", "spline_pose"};
+
+static const double tols[7] = {1e-2, 1e-4, 1e-6, 1e-8, 1e-10, 1e-12, 1e-14};
+static const double steps[6] = {FD_MARGIN, 1e-3, 1e-4, 1e-5, 1e-6, 1e-7};
+/* row spacings of the spline of the pose: 100 Hz is a motion-capture rate,
+   1 kHz an encoder's */
+static const double spacings[3] = {1e-1, 1e-2, 1e-3};
+static const double dt_fracs[9] = {5e-2, 2e-2, 1e-2, 5e-3, 2e-3,
+                                   1e-3, 5e-4, 2e-4, 1e-4};
+/* the effects ladder: gravity only -> every effect */
+static const int ladder[RPS3_NEFFECT] = {
+    RPS3_EFF_PLATFORM_GRAVITY,
+    RPS3_EFF_PLATFORM_GRAVITY | RPS3_EFF_LINK_GRAVITY,
+    RPS3_EFF_PLATFORM_GRAVITY | RPS3_EFF_LINK_GRAVITY |
+        RPS3_EFF_PLATFORM_INERTIA,
+    RPS3_EFF_DEFAULT,
+    RPS3_EFF_DEFAULT | RPS3_EFF_PAYLOAD,
+    RPS3_EFF_ALL};
+
+void study_config_base(study_config *c, study_kind s) {
+  memset(c, 0, sizeof(*c));
+  c->study = s;
+  c->theta = RPS3_THETA_CLOSED_FORM;
+  c->solver = -1;
+  c->tol = 1e-12;
+  c->warm = 1;
+  c->deriv = D_EXACT;
+  c->method = RPS3_LAGRANGE;
+  c->effects = RPS3_EFF_DEFAULT;
+}
+
+int study_configs_build(study_config *cfg) {
+  int n = 0, s, t, w, k, e;
+  /* theta */
+  study_config_base(&cfg[n], S_THETA);
+  snprintf(cfg[n].label, sizeof cfg[n].label, "closed form (39)");
+  n++;
+  for (s = 0; s < RPS3_NSOLVER; s++)
+    for (t = 0; t < 7; t++)
+      for (w = 0; w < 2; w++) {
+        study_config_base(&cfg[n], S_THETA);
+        cfg[n].theta = RPS3_THETA_MULTIROOT;
+        cfg[n].solver = s;
+        cfg[n].tol = tols[t];
+        cfg[n].warm = w;
+        snprintf(cfg[n].label, sizeof cfg[n].label, "%s tol=%.0e %s",
+                 rps3_solver_name(s), tols[t], w ? "warm" : "cold");
+        n++;
+      }
+  /* derivative route */
+  study_config_base(&cfg[n], S_DERIV);
+  snprintf(cfg[n].label, sizeof cfg[n].label, "exact rates");
+  n++;
+  for (k = D_FD_POSE; k <= D_FD_LENGTH; k++)
+    for (t = 0; t < 6; t++) {
+      study_config_base(&cfg[n], S_DERIV);
+      cfg[n].deriv = (deriv_kind)k;
+      cfg[n].h = steps[t];
+      snprintf(cfg[n].label, sizeof cfg[n].label, "%s h=%.0e s",
+               study_deriv_name[k], steps[t]);
+      n++;
+    }
+  for (t = 0; t < 3; t++) {
+    study_config_base(&cfg[n], S_DERIV);
+    cfg[n].deriv = D_SPLINE;
+    cfg[n].h = spacings[t];
+    snprintf(cfg[n].label, sizeof cfg[n].label, "%s h=%.0e s",
+             study_deriv_name[D_SPLINE], spacings[t]);
+    n++;
+  }
+  /* method */
+  for (k = 0; k < 2; k++) {
+    study_config_base(&cfg[n], S_METHOD);
+    cfg[n].method = k ? RPS3_NEWTON_EULER : RPS3_LAGRANGE;
+    snprintf(cfg[n].label, sizeof cfg[n].label, "%s",
+             k ? "newton_euler" : "lagrange");
+    n++;
+  }
+  /* effects */
+  for (e = 0; e < RPS3_NEFFECT; e++) {
+    study_config_base(&cfg[n], S_EFFECTS);
+    cfg[n].effects = ladder[e];
+    snprintf(cfg[n].label, sizeof cfg[n].label, "+%s", rps3_effect_name(e));
+    n++;
+  }
+  /* sample interval, exact rates and rates differenced from the samples */
+  for (k = 0; k < 2; k++)
+    for (t = 0; t < 9; t++) {
+      study_config_base(&cfg[n], S_DT);
+      cfg[n].dt_frac = dt_fracs[t];
+      cfg[n].deriv = k ? D_FD_SAMPLES : D_EXACT;
+      snprintf(cfg[n].label, sizeof cfg[n].label, "dt=T/%.0f %s",
+               1.0 / dt_fracs[t], k ? "rates from samples" : "exact rates");
+      n++;
+    }
+  return n;
+}
+
+/* ------------------------------------------------------------ one point */
+
+/*
+ * Forces at time t by the configuration's route.  Exact: the trajectory's
+ * derivatives and rps3_inverse.  fd_pose: central differences of the pose
+ * at t +- h.  fd_length: inverse kinematics at t +- h, central differences
+ * of the link lengths, then the joint-rate route (25)-(30).
+ */
+int study_point(study_runner *r, double t, double span) {
+  rps3_data *d = r->d;
+  const rps3_model *m = &r->model;
+  double h = r->c->h, p0[3], pm[3], pp[3], lm[3], lp[3];
+  int st, i;
+  if (r->c->deriv == D_EXACT || r->c->deriv == D_FD_SAMPLES)
+    return rps3_traj_eval(m, r->tr, t, d->pose, d->dpose, d->ddpose) ||
+           rps3_inverse(m, d);
+  if (r->c->deriv == D_SPLINE)
+    return rps3_traj_eval(m, &r->table, t, d->pose, d->dpose, d->ddpose) ||
+           rps3_inverse(m, d);
+  (void)span;
+  if ((st = rps3_traj_eval(m, r->tr, t - h, pm, NULL, NULL)) != RPS3_OK ||
+      (st = rps3_traj_eval(m, r->tr, t + h, pp, NULL, NULL)) != RPS3_OK ||
+      (st = rps3_traj_eval(m, r->tr, t, p0, NULL, NULL)) != RPS3_OK)
+    return st;
+  if (r->c->deriv == D_FD_POSE) {
+    for (i = 0; i < 3; i++) {
+      d->pose[i] = p0[i];
+      d->dpose[i] = (pp[i] - pm[i]) / (2.0 * h);
+      d->ddpose[i] = (pp[i] - 2.0 * p0[i] + pm[i]) / (h * h);
+    }
+    return rps3_inverse(m, d);
+  }
+  /* fd_length */
+  memcpy(d->pose, pm, sizeof(pm));
+  if ((st = rps3_ik(m, d)) != RPS3_OK) return st;
+  memcpy(lm, d->l, sizeof(lm));
+  memcpy(d->pose, pp, sizeof(pp));
+  if ((st = rps3_ik(m, d)) != RPS3_OK) return st;
+  memcpy(lp, d->l, sizeof(lp));
+  memcpy(d->pose, p0, sizeof(p0));
+  if ((st = rps3_ik(m, d)) != RPS3_OK) return st;
+  for (i = 0; i < 3; i++) {
+    d->dl[i] = (lp[i] - lm[i]) / (2.0 * h);
+    d->ddl[i] = (lp[i] - 2.0 * d->l[i] + lm[i]) / (h * h);
+  }
+  if ((st = rps3_joint_velocity(m, d)) != RPS3_OK ||
+      (st = rps3_joint_acceleration(m, d)) != RPS3_OK)
+    return st;
+  return rps3_invdyn(m, d);
+}
+
+/* the time of sample k of n: interior points (k + 1/2) / n of the span
+   less the margins, so that no sample sits on a helix corner */
+double study_sample_time(size_t k, size_t n, double span) {
+  return FD_MARGIN + (span - 2.0 * FD_MARGIN) * ((double)k + 0.5) / (double)n;
+}
+
+/* spline_pose: the trajectory's poses every h (the last row at the span),
+   the rates from rps3_table_spline, as rps3-run reads a table */
+static int spline_rows(study_runner *r) {
+  double span = rps3_traj_duration(r->tr), *time, (*pose)[3], (*rate)[3];
+  size_t n = (size_t)floor(span / r->c->h + 0.5) + 1, i;
+  r->rows = malloc(8 * n * sizeof(double));
+  if (!r->rows) return -1;
+  time = r->rows;
+  pose = (double(*)[3])(void *)(r->rows + n);
+  rate = (double(*)[3])(void *)(r->rows + 4 * n);
+  for (i = 0; i < n; i++) {
+    time[i] = i + 1 == n ? span : (double)i * r->c->h;
+    if (rps3_traj_eval(&r->model, r->tr, time[i], pose[i], NULL, NULL) !=
+        RPS3_OK)
+      return -1;
+  }
+  if (rps3_table_spline(n, time, (const double(*)[3])pose, rate,
+                        r->rows + 7 * n) != RPS3_OK)
+    return -1;
+  rps3_traj_default(&r->table);
+  r->table.kind = RPS3_TRAJ_TABLE;
+  r->table.table.n = n;
+  r->table.table.time = time;
+  r->table.table.value = (const double(*)[3])pose;
+  r->table.table.rate = (const double(*)[3])rate;
+  return rps3_traj_check(&r->model, &r->table, NULL, 0) == RPS3_OK ? 0 : -1;
+}
+
+int study_runner_init(study_runner *r, const study_config *c,
+                      const rps3_traj *tr, const rps3_model *base) {
+  char err[256];
+  r->model = *base;
+  r->model.opt.theta = c->theta;
+  r->model.opt.solver =
+      c->solver < 0 ? RPS3_SOLVER_HYBRIDSJ : (rps3_solver)c->solver;
+  r->model.opt.tol = c->tol;
+  r->model.opt.warm_start = c->warm;
+  r->model.opt.method = c->method;
+  r->model.opt.effects = c->effects;
+  r->model.opt.certify = c->study == S_DT;
+  r->model.opt.max_iter = 100;
+  if (rps3_model_init(&r->model, err, sizeof err) != RPS3_OK) {
+    fprintf(stderr, "rps3-study: %s: %s\n", c->label, err);
+    return -1;
+  }
+  r->tr = tr;
+  r->c = c;
+  r->d = NULL;
+  r->rows = NULL;
+  if (rps3_data_alloc(&r->model, &r->d) != RPS3_OK ||
+      (c->deriv == D_SPLINE && spline_rows(r) < 0)) {
+    fprintf(stderr, "rps3-study: %s: out of memory\n", c->label);
+    return -1;
+  }
+  return 0;
+}
+
+/* ------------------------------------------------------------ energy */
+
+/* kinetic and potential energy of the default effects at the data's
+   current state, written here from vc, omega, dtheta (not by the library) */
+double study_energy(const rps3_model *m, const rps3_data *d) {
+  double T, P, wb[3] = {0, 0, 0};
+  int i, k;
+  /* omega in platform axes: rot^T omega */
+  for (k = 0; k < 3; k++)
+    for (i = 0; i < 3; i++) wb[k] += d->rot[i][k] * d->omega[i];
+  T = 0.5 * m->M *
+          (d->vc[0] * d->vc[0] + d->vc[1] * d->vc[1] + d->vc[2] * d->vc[2]) +
+      0.5 * (m->Ip[0] * wb[0] * wb[0] + m->Ip[1] * wb[1] * wb[1] +
+             m->Ip[2] * wb[2] * wb[2]);
+  P = m->M * m->g * d->c[2];
+  for (i = 0; i < 3; i++) {
+    T += 0.5 * m->Jlink * d->dtheta[i] * d->dtheta[i];
+    P += m->m * m->g * m->d * sin(d->theta[i]); /* (22) */
+  }
+  return T + P;
+}
