@@ -596,6 +596,25 @@ static void singular_surface_every_integrator(void **state) {
     assert_true(s->failed_at > 0.1 && s->failed_at < 0.5);
     rps3_sim_free(s);
   }
+  /* rk4imp at a step of 1.5 ms: its iteration diverges a step before the
+     surface with no evaluation failing; the step's end lies past it by
+     the same criterion, and the message says so */
+  {
+    rps3_controller ctl = {zero_force, NULL, 0.0};
+    double pose[3] = {0.4, 0.15, 0.25}, dpose[3] = {0, 0, -0.1};
+    rps3_sim *s;
+    rps3_sim_options_default(&o);
+    o.integrator = RPS3_INT_RK4IMP;
+    o.h = 1.5e-3;
+    assert_int_equal(rps3_sim_alloc(&m, &o, &s, NULL, 0), RPS3_OK);
+    assert_int_equal(rps3_sim_start(s, 0.0, pose, dpose), RPS3_OK);
+    assert_int_equal(rps3_sim_advance(s, &ctl, 1.0), RPS3_ESING);
+    print_message("rk4imp, h = 1.5 ms: %s\n", s->d->err.msg);
+    assert_non_null(strstr(s->d->err.msg, "rk4imp stopped a step of"));
+    assert_non_null(strstr(s->d->err.msg, "det df/dtheta"));
+    assert_true(s->failed_at < t_first && s->failed_at > t_first - 2.0 * o.h);
+    rps3_sim_free(s);
+  }
 }
 
 /* hard cases: each ends in a clean status with its time, or stays stable */
