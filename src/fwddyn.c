@@ -283,23 +283,31 @@ static double det_at(const rps3_model *m, plane *p, const double l[3],
  * distance sigma / c to det = 0 (its discriminant sigma^2 - 2 c |f0|).
  * The test: det df/dtheta changes sign on [th0, th0 - 2 x] (sampled at
  * SING_SAMPLES points).  Then the lengths moved past the fold and no
- * root is left in the tracked assembly mode; at a regular pose, where the
- * solve fails for a large step, the doubled step stays on its side and
- * the solve's own status stands.  On the failure path only: RPS3_ESING
+ * root is left in the tracked assembly mode.  The model decides only
+ * where it holds: df/dtheta at th0 and the new lengths on the last root's
+ * side (its mode), and a step of at most SING_STEP_MAX; elsewhere (lengths
+ * far from the last root's) and at a regular pose, where the doubled step
+ * stays on its side, the solve's own status stands.  On the failure path only: RPS3_ESING
  * with the measure, or RPS3_OK.
  */
 #define SING_SAMPLES 32
+/* the largest Newton step [rad] for which the quadratic model decides:
+   its neglected cubic terms, of relative order the step (the constraints'
+   angles enter through cos and sin), stay a few per cent */
+#define SING_STEP_MAX 0.05
 static int solve_failed_singular(const rps3_model *m, rps3_data *d,
-                                 const double th0[3]) {
+                                 const double th0[3], int mode) {
   plane p;
   double f[3], x[3], th[3], det0, det, id, cond;
   int i, j;
-  if (!v3_finite(th0) || !v3_finite(d->l)) return RPS3_OK;
+  if (!v3_finite(th0) || !v3_finite(d->l) || !(mode == 1 || mode == -1))
+    return RPS3_OK;
   det0 = det_at(m, &p, d->l, th0, f);
-  if (!(fabs(det0) > 0.0 && fabs(det0) < HUGE_VAL)) {
-    cond = HUGE_VAL;
-    det = det0;
-  } else {
+  /* the model about th0 holds where the new lengths leave df/dtheta on
+     the last root's side */
+  if (!((det0 > 0.0) == (mode > 0) && fabs(det0) < HUGE_VAL))
+    return RPS3_OK;
+  {
     const double *a = p.at, *b = p.bt;
     id = 1.0 / det0;
     p.X[0][0] = a[1] * a[2] * id;
@@ -313,7 +321,10 @@ static int solve_failed_singular(const rps3_model *m, rps3_data *d,
     p.X[2][2] = a[0] * a[1] * id;
     cond = plane_cond1(&p);
     m3_mulv(x, M3C(p.X), f);
-    if (!v3_finite(x)) return RPS3_OK;
+    /* and along a step of at most SING_STEP_MAX: a larger one, lengths
+       far from the last root's, is not the fold's business */
+    if (!(max2(max2(fabs(x[0]), fabs(x[1])), fabs(x[2])) <= SING_STEP_MAX))
+      return RPS3_OK;
     for (j = 1; j <= SING_SAMPLES; j++) {
       const double tau = 2.0 * (double)j / SING_SAMPLES;
       for (i = 0; i < 3; i++) th[i] = th0[i] - tau * x[i];
@@ -413,13 +424,15 @@ int rps3_fwddyn_state(const rps3_model *m, rps3_data *d, rps3_fd_state *k,
       double f[3];
       int i;
       const int warm = m->opt.warm_start && d->have_theta;
+      const int mode0 = d->mode; /* the last root's */
       v3_copy(d->theta, th0);
       status = rps3_fk(m, d);
       if (status != RPS3_OK) {
         /* a failure at the singular surface says so, with its measure */
         if (warm && (status == RPS3_ENOCONV || status == RPS3_EBRANCH)) {
           const rps3_error err = d->err;
-          if (solve_failed_singular(m, d, th0) == RPS3_OK) d->err = err;
+          if (solve_failed_singular(m, d, th0, mode0) == RPS3_OK)
+            d->err = err;
           else status = RPS3_ESING;
         }
         poison(d);
