@@ -821,8 +821,8 @@ RPS3_API int rps3_fk_batch(const rps3_model *m, rps3_data *d,
  * df/dtheta or Mq conditioned worse than opt.cond_max (1-norm), Mq not
  * positive definite (decided by its Cholesky factor, never by rounding
  * below cond_max), a failed theta solve whose doubled Newton step from
- * the warm start crosses det df/dtheta = 0 (the lengths lie past the
- * fold), or an acceleration not finite (no acceleration is returned then,
+ * the warm start, of at most 0.05 rad, crosses det df/dtheta = 0 (the
+ * lengths lie past the fold), or an acceleration not finite (no acceleration is returned then,
  * d->ddl is set to NaN so that it cannot be mistaken for one); RPS3_ERANGE when another result overflows (ddtheta, ac, domega,
  * hq, Mq; e.g. rates of 1e200).  With pin friction of exact sign
  * (friction.vreg = 0) the
