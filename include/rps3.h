@@ -828,11 +828,14 @@ RPS3_API int rps3_fk_batch(const rps3_model *m, rps3_data *d,
  * link_inertia, payload must be, with a mass); the status of the theta
  * solve (RPS3_ENOCONV, RPS3_EBRANCH, RPS3_EMODE, RPS3_EINVAL for bad
  * lengths);
- * RPS3_ESING when the constraint Jacobian df/dtheta or Mq is conditioned
- * worse than opt.cond_max, or Mq is not positive definite, or an
- * acceleration is not finite (a singular configuration: no acceleration
- * is returned then, d->ddl is set to NaN so that it cannot be mistaken for
- * one); RPS3_ERANGE when another result overflows (ddtheta, ac, domega,
+ * RPS3_ESING at a singular configuration, with "singular configuration:
+ * " and the measure that decided in d->err: the constraint Jacobian
+ * df/dtheta or Mq conditioned worse than opt.cond_max (1-norm), Mq not
+ * positive definite (decided by its Cholesky factor, never by rounding
+ * below cond_max), a failed theta solve whose doubled Newton step from
+ * the warm start, of at most 0.05 rad, crosses det df/dtheta = 0 (the
+ * lengths lie past the fold), or an acceleration not finite (no acceleration is returned then,
+ * d->ddl is set to NaN so that it cannot be mistaken for one); RPS3_ERANGE when another result overflows (ddtheta, ac, domega,
  * hq, Mq; e.g. rates of 1e200).  With pin friction of exact sign
  * (friction.vreg = 0) the
  * acceleration is discontinuous where a dtheta_i changes sign.
@@ -1311,9 +1314,14 @@ RPS3_API int rps3_traj_validate(const rps3_model *m, const rps3_traj *tr,
  * |F_i| <= fmax.
  *
  * A run stops at the first failure with a status and the time: the plant's
- * forward dynamics failing (RPS3_ESING near a singular configuration,
- * RPS3_EBRANCH / RPS3_ENOCONV / RPS3_EREACH from the theta solve), the
- * assembly mode changing (RPS3_EBRANCH), a link leaving [l_min, l_max]
+ * forward dynamics failing (RPS3_ESING at the singular surface, whatever
+ * the integrator, with "singular configuration at t = T s: " and the
+ * measure that decided: the condition number of df/dtheta or of Mq above
+ * opt.cond_max, Mq not positive definite, no theta near the last root
+ * (twice the Newton step crosses det df/dtheta = 0), the assembly mode
+ * changing, or an integrator that gave up one step h short of it;
+ * RPS3_EBRANCH / RPS3_ENOCONV / RPS3_EREACH from the theta solve away
+ * from it: docs/simulation.md), a link leaving [l_min, l_max]
  * (RPS3_EREACH), the integrator giving up (RPS3_ENOCONV: step below hmin or
  * more than max_steps steps in a control period), or the controller's own
  * status.  Nothing is allocated after rps3_sim_alloc (except inside GSL's
@@ -1526,7 +1534,9 @@ RPS3_API int rps3_sim_start(rps3_sim *s, double t0, const double pose[3],
  * evaluation when rate is 0).  On return s->t = t_end and the fields of s
  * describe that state; or the run stopped: s->status != RPS3_OK,
  * s->failed_at the time, d->err the message, and the state the last good
- * one.  Returns s->status; after a failure it returns that status again
+ * one (RPS3_ESING at the singular surface for every integrator, "singular
+ * configuration at t = T s: " and its measure: see the section's
+ * comment).  Returns s->status; after a failure it returns that status again
  * without integrating.  An invalid call changes nothing and returns
  * RPS3_EINVAL with d->err's message: c or c->fn NULL, t_end not finite or
  * before s->t (t_end = s->t does nothing), or a rate outside

@@ -124,13 +124,19 @@ static int state_eval(const rps3_model *m, rps3_data *d, rps3_fd_state *k,
 }
 
 /*
- * Mq^-1, when Mq is positive definite (Sylvester: its leading minors M00,
- * M00 M11 - M01^2 and det are > 0; returns -1 otherwise).  The inverse is
- * the adjugate over the determinant, symmetric to the bit: one division,
- * where a Cholesky factor chains three square roots and three divisions
- * on the evaluation's critical path.  The accelerations are Mq^-1 (F -
- * hq): one product per force.
+ * Mq^-1 by the adjugate over the determinant, symmetric to the bit: one
+ * division, where a Cholesky factor chains three square roots and three
+ * divisions on the evaluation's critical path.  The determinant cancels
+ * terms of order A00 A11 A22 (products of three entries, each at most
+ * sqrt(A_ii A_jj) in a positive definite A) down to det: it serves when
+ * Mq is positive definite by Sylvester's criterion (M00, M00 M11 - M01^2
+ * and det > 0) with det at least MASS_ADJ_DET A00 A11 A22 (the
+ * diagonally scaled matrix's determinant, which bounds its smallest
+ * eigenvalue from below by MASS_ADJ_DET / 9 and its condition number by
+ * 2.7e5), and returns -1 otherwise, for mass_decide's Cholesky factor to
+ * decide.  The accelerations are Mq^-1 (F - hq): one product per force.
  */
+#define MASS_ADJ_DET 1e-4
 static int mass_inverse(const double A[3][3], double Ai[3][3]) {
   const double c00 = A[1][1] * A[2][2] - A[1][2] * A[1][2];
   const double c01 = A[0][2] * A[1][2] - A[0][1] * A[2][2];
@@ -140,7 +146,11 @@ static int mass_inverse(const double A[3][3], double Ai[3][3]) {
   const double c22 = A[0][0] * A[1][1] - A[0][1] * A[0][1];
   const double det = A[0][0] * c00 + A[0][1] * c01 + A[0][2] * c02;
   double id;
-  if (!(A[0][0] > 0.0 && c22 > 0.0 && det > 0.0 && det < HUGE_VAL))
+  /* det(D^-1/2 A D^-1/2), D = diag(A), at least MASS_ADJ_DET: the
+     determinant's rounding, a few eps A00 A11 A22, is then negligible */
+  if (!(A[0][0] > 0.0 && c22 > 0.0 &&
+        det > MASS_ADJ_DET * (A[0][0] * A[1][1] * A[2][2]) &&
+        det < HUGE_VAL))
     return -1;
   id = 1.0 / det;
   if (!(id < HUGE_VAL)) return -1; /* a subnormal det: no inverse */
@@ -153,20 +163,67 @@ static int mass_inverse(const double A[3][3], double Ai[3][3]) {
   return 0;
 }
 
-/* the 1-norm condition number of A from A and its inverse */
-static double cond1_of(const double A[3][3], const double Ai[3][3]) {
+/* the 1-norm condition number of A from A and its inverse (3 x 3, rows
+   in order) */
+static double cond1_of(const double *A, const double *Ai) {
   double anorm = 0.0, inorm = 0.0;
   int i, j;
   for (j = 0; j < 3; j++) {
     double sa = 0.0, si = 0.0;
     for (i = 0; i < 3; i++) {
-      sa += fabs(A[i][j]);
-      si += fabs(Ai[i][j]);
+      sa += fabs(A[3 * i + j]);
+      si += fabs(Ai[3 * i + j]);
     }
     anorm = max2(anorm, sa);
     inorm = max2(inorm, si);
   }
   return anorm * inorm;
+}
+
+/*
+ * Mq^-1 by its Cholesky factor Mq = L D L^T, on the failure path of
+ * mass_inverse: the adjugate's determinant cancels terms of order
+ * |Mq|^3 down to |Mq| lambda_min^2, and its sign is rounding from
+ * cond(Mq) ~ 1e8 on, while a Cholesky pivot d_k is at least lambda_min
+ * against a rounding of a few eps A_kk, so that it decides up to cond ~
+ * 1e15 (cond_max <= 1e13 by default).  A pivot at or below MASS_PIVOT_TOL
+ * times its diagonal entry is not positive: returns its index (1..3) and
+ * *piv its ratio d_k / A_kk; 0 with the inverse otherwise.
+ */
+#define MASS_PIVOT_TOL (8.0 * DBL_EPSILON)
+
+static int mass_chol_inverse(const double A[3][3], double Ai[3][3],
+                             double *piv) {
+  double D[3], L10, L20, L21, a11, a12, a22, Li[3][3], x;
+  int i, j, k;
+  D[0] = A[0][0];
+  *piv = D[0] / A[0][0];
+  if (!(D[0] > 0.0 && D[0] < HUGE_VAL)) return 1;
+  L10 = A[0][1] / D[0];
+  L20 = A[0][2] / D[0];
+  a11 = A[1][1] - L10 * A[0][1];
+  a12 = A[1][2] - L10 * A[0][2];
+  a22 = A[2][2] - L20 * A[0][2];
+  D[1] = a11;
+  *piv = D[1] / A[1][1];
+  if (!(D[1] > MASS_PIVOT_TOL * A[1][1])) return 2;
+  L21 = a12 / D[1];
+  D[2] = a22 - L21 * a12;
+  *piv = D[2] / A[2][2];
+  if (!(D[2] > MASS_PIVOT_TOL * A[2][2])) return 3;
+  /* L^-1 (unit lower triangular), then A^-1 = L^-T D^-1 L^-1 */
+  Li[0][0] = Li[1][1] = Li[2][2] = 1.0;
+  Li[0][1] = Li[0][2] = Li[1][2] = 0.0;
+  Li[1][0] = -L10;
+  Li[2][1] = -L21;
+  Li[2][0] = L10 * L21 - L20;
+  for (i = 0; i < 3; i++)
+    for (j = i; j < 3; j++) {
+      x = 0.0;
+      for (k = j; k < 3; k++) x += Li[k][i] * Li[k][j] / D[k];
+      Ai[i][j] = Ai[j][i] = x;
+    }
+  return 0;
 }
 
 static double mass_cond(const double Mq[3][3]) {
@@ -176,6 +233,111 @@ static double mass_cond(const double Mq[3][3]) {
     for (j = 0; j < 3; j++) A[3 * i + j] = LU[3 * i + j] = Mq[i][j];
   if (rps3_lu_factor(3, LU, perm) != 0) return HUGE_VAL;
   return rps3_lu_cond1(3, A, LU, perm);
+}
+
+/* the failure path of the adjugate's test: Mq decided by its Cholesky
+   factor (mass_chol_inverse: the adjugate's determinant fails by rounding
+   far below cond_max), and its inverse from that factor when it passes */
+static int mass_decide(const rps3_model *m, rps3_data *d, rps3_fd_state *k) {
+  double A[3][3], Ai[3][3], piv;
+  int bad;
+  memcpy(A, d->Mq, sizeof(A));
+  bad = mass_chol_inverse(M3C(A), Ai, &piv);
+  if (bad) {
+    d->Mcond = mass_cond(M3C(A));
+    RPS3_ERROR(d, RPS3_ESING,
+               "singular configuration: Mq not positive definite: pivot %d "
+               "of its Cholesky factor %.3g times its diagonal entry "
+               "(condition number %.3g)", bad, piv, d->Mcond);
+  }
+  d->Mcond = cond1_of(&A[0][0], &Ai[0][0]);
+  if (!(d->Mcond <= m->opt.cond_max))
+    RPS3_ERROR(d, RPS3_ESING,
+               "singular configuration: condition number of Mq %.3g above "
+               "cond_max %.3g", d->Mcond, m->opt.cond_max);
+  memcpy(k->Minv, Ai, sizeof(Ai));
+  return RPS3_OK;
+}
+
+/* det df/dtheta at lengths l and angles th, with p's constraint terms
+   there (plane_constraints) */
+static double det_at(const rps3_model *m, plane *p, const double l[3],
+                     const double th[3], double f[3]) {
+  int i;
+  for (i = 0; i < 3; i++) {
+    p->l[i] = l[i];
+    p->c[i] = cos(th[i]);
+    p->s[i] = sin(th[i]);
+  }
+  plane_constraints(m, p, f);
+  return p->at[0] * (p->at[1] * p->at[2]) + p->bt[0] * (p->bt[1] * p->bt[2]);
+}
+
+/*
+ * Whether a theta solve that failed at the lengths d->l from the last
+ * root th0 failed at the singular surface, by the quadratic model of the
+ * constraints about th0 along the Newton step x = (df/dtheta)^-1 f:
+ * along it f = f0 (1 - t) + q t^2 and det df/dtheta is linear, so that
+ * near a fold (smallest singular value sigma of df/dtheta, curvature c)
+ * the model has no root exactly when the step is more than half the
+ * distance sigma / c to det = 0 (its discriminant sigma^2 - 2 c |f0|).
+ * The test: det df/dtheta changes sign on [th0, th0 - 2 x] (sampled at
+ * SING_SAMPLES points).  Then the lengths moved past the fold and no
+ * root is left in the tracked assembly mode.  The model decides only
+ * where it holds: df/dtheta at th0 and the new lengths on the last root's
+ * side (its mode), and a step of at most SING_STEP_MAX; elsewhere (lengths
+ * far from the last root's) and at a regular pose, where the doubled step
+ * stays on its side, the solve's own status stands.  On the failure path only: RPS3_ESING
+ * with the measure, or RPS3_OK.
+ */
+#define SING_SAMPLES 32
+/* the largest Newton step [rad] for which the quadratic model decides:
+   its neglected cubic terms, of relative order the step (the constraints'
+   angles enter through cos and sin), stay a few per cent */
+#define SING_STEP_MAX 0.05
+static int solve_failed_singular(const rps3_model *m, rps3_data *d,
+                                 const double th0[3], int mode) {
+  plane p;
+  double f[3], x[3], th[3], det0, det, id, cond;
+  int i, j;
+  if (!v3_finite(th0) || !v3_finite(d->l) || !(mode == 1 || mode == -1))
+    return RPS3_OK;
+  det0 = det_at(m, &p, d->l, th0, f);
+  /* the model about th0 holds where the new lengths leave df/dtheta on
+     the last root's side */
+  if (!((det0 > 0.0) == (mode > 0) && fabs(det0) < HUGE_VAL))
+    return RPS3_OK;
+  {
+    const double *a = p.at, *b = p.bt;
+    id = 1.0 / det0;
+    p.X[0][0] = a[1] * a[2] * id;
+    p.X[0][1] = -b[0] * a[2] * id;
+    p.X[0][2] = b[0] * b[1] * id;
+    p.X[1][0] = b[1] * b[2] * id;
+    p.X[1][1] = a[0] * a[2] * id;
+    p.X[1][2] = -a[0] * b[1] * id;
+    p.X[2][0] = -a[1] * b[2] * id;
+    p.X[2][1] = b[0] * b[2] * id;
+    p.X[2][2] = a[0] * a[1] * id;
+    cond = plane_cond1(&p);
+    m3_mulv(x, M3C(p.X), f);
+    /* and along a step of at most SING_STEP_MAX: a larger one, lengths
+       far from the last root's, is not the fold's business */
+    if (!(max2(max2(fabs(x[0]), fabs(x[1])), fabs(x[2])) <= SING_STEP_MAX))
+      return RPS3_OK;
+    for (j = 1; j <= SING_SAMPLES; j++) {
+      const double tau = 2.0 * (double)j / SING_SAMPLES;
+      for (i = 0; i < 3; i++) th[i] = th0[i] - tau * x[i];
+      det = det_at(m, &p, d->l, th, f);
+      if ((det > 0.0) != (det0 > 0.0)) break;
+    }
+    if (j > SING_SAMPLES) return RPS3_OK;
+  }
+  RPS3_ERROR(d, RPS3_ESING,
+             "singular configuration: no theta near the last root, twice "
+             "its Newton step crosses det df/dtheta = 0 (from %.3g to %.3g; "
+             "condition number of df/dtheta %.3g at the root)", det0, det,
+             cond);
 }
 
 /* evaluations whose start trigonometry fd_trig_step moves before one
@@ -191,7 +353,7 @@ int rps3_fwddyn_state(const rps3_model *m, rps3_data *d, rps3_fd_state *k,
      stage, which reads theta alone, unless a payload needs them */
   const int positions = !lean || payload;
   plane p;
-  double dl[3], *c = p.c, *sn = p.s;
+  double dl[3], *c = p.c, *sn = p.s, bound;
   int status, pd, trig = 0;
   if (!v3_finite(d->dl)) {
     poison(d);
@@ -261,9 +423,18 @@ int rps3_fwddyn_state(const rps3_model *m, rps3_data *d, rps3_fd_state *k,
     } else {
       double f[3];
       int i;
+      const int warm = m->opt.warm_start && d->have_theta;
+      const int mode0 = d->mode; /* the last root's */
       v3_copy(d->theta, th0);
       status = rps3_fk(m, d);
       if (status != RPS3_OK) {
+        /* a failure at the singular surface says so, with its measure */
+        if (warm && (status == RPS3_ENOCONV || status == RPS3_EBRANCH)) {
+          const rps3_error err = d->err;
+          if (solve_failed_singular(m, d, th0, mode0) == RPS3_OK)
+            d->err = err;
+          else status = RPS3_ESING;
+        }
         poison(d);
         return status;
       }
@@ -330,31 +501,35 @@ int rps3_fwddyn_state(const rps3_model *m, rps3_data *d, rps3_fd_state *k,
   }
 
   /* Mq symmetric positive definite and conditioned: its inverse, and the
-     condition number from it (by LU when it is not positive definite).
-     An integrator's stage (scratch) decides on a bound first: cond_1 <= 3
-     cond_2 <= 3 tr(Mq) tr(Mq^-1) for a positive definite Mq (|A|_1 <=
-     sqrt(3) |A|_2, lambda_max <= tr), with 1e-12 for its rounding; the
-     number itself, when the bound does not decide, gives the same answer
-     (Mcond NaN when it was not needed) */
+     condition number from it; by the adjugate (mass_inverse) where its
+     rounding is negligible, else Mq's Cholesky factor (mass_decide)
+     decides and inverts, up to cond_max.  An integrator's stage
+     (scratch) decides on a bound when it can: cond_1 <= 3 cond_2 <= 3
+     tr(Mq) tr(Mq^-1) for a positive definite Mq (|A|_1 <= sqrt(3)
+     |A|_2, lambda_max <= tr), with 1e-12 for its rounding (Mcond NaN:
+     the number was not needed) */
   pd = (mass_inverse(M3C(d->Mq), k->Minv) == 0);
+  bound = pd ? 3.0 * (1.0 + 1e-12) *
+                   (d->Mq[0][0] + d->Mq[1][1] + d->Mq[2][2]) *
+                   (k->Minv[0][0] + k->Minv[1][1] + k->Minv[2][2])
+             : HUGE_VAL;
   if (!pd) {
-    d->Mcond = mass_cond(M3C(d->Mq));
-  } else if (k->scratch &&
-             3.0 * (1.0 + 1e-12) * (d->Mq[0][0] + d->Mq[1][1] + d->Mq[2][2]) *
-                     (k->Minv[0][0] + k->Minv[1][1] + k->Minv[2][2]) <=
-                 m->opt.cond_max) {
+    d->Mcond = HUGE_VAL; /* mass_decide's */
+  } else if (k->scratch && bound <= m->opt.cond_max) {
     d->Mcond = (double)NAN;
   } else {
-    d->Mcond = cond1_of(M3C(d->Mq), M3C(k->Minv));
+    d->Mcond = cond1_of(&d->Mq[0][0], &k->Minv[0][0]);
   }
-  if (!pd || !(d->Mcond <= m->opt.cond_max || isnan(d->Mcond))) {
-    if (k->scratch) {
-      status = rates_finite(d, k);
-      if (status != RPS3_OK) return status;
+  if (!(d->Mcond <= m->opt.cond_max || isnan(d->Mcond))) {
+    status = mass_decide(m, d, k);
+    if (status != RPS3_OK) {
+      /* a scratch state names non-finite rates first */
+      if (k->scratch) {
+        const int st2 = rates_finite(d, k);
+        if (st2 != RPS3_OK) return st2;
+      }
+      return status;
     }
-    RPS3_ERROR(d, RPS3_ESING,
-               "mass matrix not positive definite or condition number %.3g "
-               "above cond_max %.3g", d->Mcond, m->opt.cond_max);
   }
   /* a scratch state's hq is tested by rps3_fwddyn_accel's result */
   if (!k->scratch) RPS3_CHECK_FINITE(d, d->hq, 3, "hq");
@@ -388,7 +563,9 @@ int rps3_fwddyn_accel(const rps3_model *m, rps3_data *d,
       if (st != RPS3_OK) return st;
       RPS3_CHECK_FINITE(d, d->hq, 3, "hq");
     }
-    RPS3_ERROR(d, RPS3_ESING, "acceleration is not finite");
+    RPS3_ERROR(d, RPS3_ESING,
+               "singular configuration: acceleration ddl = Mq^-1 (F - hq) not "
+               "finite");
   }
   v3_copy(d->ddl, x);
   if (k->scratch) return RPS3_OK; /* an integrator's stage reads ddl alone */

@@ -124,7 +124,8 @@ static inline int plane_jacobian(const rps3_model *m, rps3_data *d,
   det = p->at[0] * (p->at[1] * p->at[2]) + p->bt[0] * (p->bt[1] * p->bt[2]);
   d->mode = (det > 0.0) - (det < 0.0);
   if (!(fabs(det) > 0.0) || !(fabs(det) < HUGE_VAL))
-    RPS3_ERROR(d, RPS3_ESING, "constraint Jacobian df/dtheta is singular");
+    RPS3_ERROR(d, RPS3_ESING,
+               "singular configuration: det df/dtheta = %.3g", det);
   id = 1.0 / det;
   p->X[0][0] = p->at[1] * p->at[2] * id;
   p->X[0][1] = -p->bt[0] * p->at[2] * id;
@@ -138,8 +139,8 @@ static inline int plane_jacobian(const rps3_model *m, rps3_data *d,
   cond = plane_cond1(p);
   if (!(cond <= m->opt.cond_max))
     RPS3_ERROR(d, RPS3_ESING,
-               "constraint Jacobian df/dtheta: condition number %.3g exceeds "
-               "cond_max %.3g", cond, m->opt.cond_max);
+               "singular configuration: condition number of df/dtheta %.3g "
+               "above cond_max %.3g", cond, m->opt.cond_max);
   return RPS3_OK;
 }
 

@@ -156,15 +156,33 @@ static int evaluate(rps3_sim *s, double t, const double y[], int lean,
   s->nevals++;
   if (st != RPS3_OK) return st;
   if (d->mode != s->mode) {
+    /* the mode is the sign of det df/dtheta: it changes only across the
+       singular surface */
     d->ddl[0] = d->ddl[1] = d->ddl[2] = (double)NAN;
-    d->err.code = RPS3_EBRANCH;
+    d->err.code = RPS3_ESING;
     snprintf(d->err.msg, sizeof(d->err.msg),
-             "assembly mode changed from %+d to %+d at t = %.9g s (theta = "
-             "%.6g, %.6g, %.6g)", s->mode, d->mode, t, d->theta[0],
-             d->theta[1], d->theta[2]);
-    return RPS3_EBRANCH;
+             "singular configuration: det df/dtheta changed sign, assembly "
+             "mode %+d to %+d (theta = %.6g, %.6g, %.6g)", s->mode, d->mode,
+             d->theta[0], d->theta[1], d->theta[2]);
+    return RPS3_ESING;
   }
   return RPS3_OK;
+}
+
+/* a failure at the singular surface (RPS3_ESING, "singular configuration:
+   ..." from the forward dynamics' state) says when: "singular
+   configuration at t = T s: ..."; the message is cut to its buffer */
+static void sing_at(rps3_sim *s, int status, double t) {
+  static const char pre[] = "singular configuration: ";
+  rps3_error *e = &s->d->err;
+  char rest[sizeof(e->msg)];
+  if (status != RPS3_ESING || strncmp(e->msg, pre, sizeof(pre) - 1) != 0)
+    return;
+  memcpy(rest, e->msg + sizeof(pre) - 1, sizeof(rest) - (sizeof(pre) - 1));
+  rest[sizeof(rest) - sizeof(pre)] = '\0';
+  /* "%.200s": the bound that the buffer holds with the time */
+  snprintf(e->msg, sizeof(e->msg),
+           "singular configuration at t = %.9g s: %.200s", t, rest);
 }
 
 int rps3_sim_rhs(double t, const double y[], double dydt[], void *params) {
@@ -174,6 +192,7 @@ int rps3_sim_rhs(double t, const double y[], double dydt[], void *params) {
   int st, i;
   st = evaluate(s, t, y, 1, 0);
   if (st != RPS3_OK) {
+    sing_at(s, st, t);
     s->status = st;
     s->failed_at = t;
     return GSL_EBADFUNC;
@@ -220,6 +239,7 @@ static void update_energy(rps3_sim *s) {
 }
 
 static int fail(rps3_sim *s, int status, double t) {
+  if (s->status == RPS3_OK) sing_at(s, status, t);
   s->status = status;
   s->failed_at = t;
   return status;
@@ -353,6 +373,40 @@ static int rk4_step(rps3_sim *s, double t, double h) {
   return GSL_SUCCESS;
 }
 
+/*
+ * An integrator that gave up at (t, y) with no evaluation failing (GSL's
+ * implicit iteration diverging, an adaptive step shrinking to nothing)
+ * may have stopped short of the singular surface, where the solution's
+ * derivatives grow without bound.  The same criterion as every
+ * evaluation decides, at the end of one step h (opt.h: the fixed step,
+ * or the adaptive methods' first guess) of y's Taylor polynomial, l + h
+ * l' + h^2 l'' / 2: RPS3_ESING with that evaluation's message when it
+ * lies past the surface, else RPS3_OK (the integrator's own failure
+ * stands).  d's theta and mode are those of y again afterwards.
+ */
+static int stopped_short(rps3_sim *s, double t) {
+  rps3_data *d = s->d;
+  const double h = s->opt.h;
+  double yp[NY], th[3], ddl[3];
+  const int mode = d->mode, have = d->have_theta;
+  int st, i;
+  v3_copy(th, d->theta);
+  s->gsl->have_k = 0;
+  if (evaluate(s, t, s->y, 1, 0) != RPS3_OK) return RPS3_OK;
+  v3_copy(ddl, d->ddl);
+  memcpy(yp, s->y, sizeof(yp));
+  for (i = 0; i < 3; i++) {
+    yp[i] += h * s->y[3 + i] + 0.5 * h * h * ddl[i];
+    yp[3 + i] += h * ddl[i];
+  }
+  st = evaluate(s, t + h, yp, 1, 0);
+  s->gsl->have_k = 0;
+  v3_copy(d->theta, th);
+  d->mode = mode;
+  d->have_theta = have;
+  return st == RPS3_ESING ? st : RPS3_OK;
+}
+
 /* integrate y from s->t to t1 with the forces as they are */
 static int integrate(rps3_sim *s, double t1) {
   struct rps3_sim_gsl *g = s->gsl;
@@ -397,6 +451,22 @@ static int integrate(rps3_sim *s, double t1) {
      fixed step, as a failure of its own */
   if (st != GSL_SUCCESS) s->t = t; /* the last completed step's, y's */
   if (s->status != RPS3_OK) return s->status;
+  if (st != GSL_SUCCESS && stopped_short(s, t) == RPS3_ESING) {
+    /* the probe's message, "singular configuration: ...", says what */
+    rps3_error *e = &s->d->err;
+    char rest[sizeof(e->msg)];
+    const size_t np = sizeof("singular configuration: ") - 1;
+    memcpy(rest, e->msg + np, sizeof(rest) - np);
+    rest[sizeof(rest) - np - 1] = '\0';
+    e->code = RPS3_ESING;
+    snprintf(e->msg, sizeof(e->msg),
+             "singular configuration at t = %.9g s (%s stopped a step of "
+             "%g s short): %.160s", t,
+             rps3_integrator_name(s->opt.integrator), s->opt.h, rest);
+    s->status = RPS3_ESING;
+    s->failed_at = t;
+    return RPS3_ESING;
+  }
   if (st != GSL_SUCCESS) {
     s->d->err.code = RPS3_ENOCONV;
     snprintf(s->d->err.msg, sizeof(s->d->err.msg),
