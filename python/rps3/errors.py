@@ -52,14 +52,17 @@ class NoConvergenceError(Rps3Error):
 
 
 class BranchError(Rps3Error):
-    """RPS3_EBRANCH: theta left (0, pi), or the assembly mode changed."""
+    """RPS3_EBRANCH: the theta solve converged outside (0, pi), or to a
+    root no pose describes (a simulation that crosses into another
+    assembly mode stops with RPS3_ESING: SingularError)."""
 
     status = lib.RPS3_EBRANCH
 
 
 class SingularError(Rps3Error):
     """RPS3_ESING: a singular configuration (condition number, force
-    transmission or mass matrix beyond the model's limits)."""
+    transmission or mass matrix beyond the model's limits; in a
+    simulation, also the singular surface crossed or reached)."""
 
     status = lib.RPS3_ESING
 
