@@ -451,6 +451,10 @@ static void overflow_refusals(void **state) {
   wp_setup(&tr, RPS3_LAW_MINJERK);
   tr.wp.vmax[0] = 3e-308;
   OVERFLOW_REFUSED(tr, RPS3_F_WP_VMAX, 0, 0);
+  /* segments each within the bound (0.6e12 and 0.9e12 s) whose sum is
+     past it: by the limit too */
+  tr.wp.vmax[0] = 6.25e-13;
+  REFUSED(tr, RPS3_F_WP_VMAX, 0);
   tr.wp.vmax[0] = 0.0;
   tr.wp.amax[2] = 1e-300;
   OVERFLOW_REFUSED(tr, RPS3_F_WP_AMAX, 2, 0);
