@@ -397,6 +397,10 @@ static void non_finite_measurements(void **state) {
     assert_int_equal(rps3_ctrl_update(c, (double)NAN, d->l, d->dl, F),
                      RPS3_EINVAL);
     assert_non_null(strstr(c->meas->err.msg, "time t"));
+    /* an infinite time too, not only NaN */
+    assert_int_equal(rps3_ctrl_update(c, (double)INFINITY, d->l, d->dl, F),
+                     RPS3_EINVAL);
+    assert_non_null(strstr(c->meas->err.msg, "time t"));
     /* the next good measurement: a finite force */
     assert_int_equal(rps3_ctrl_update(c, 1.0, d->l, d->dl, F), RPS3_OK);
     assert_true(isfinite(F[0]) && isfinite(F[1]) && isfinite(F[2]));

@@ -856,6 +856,8 @@ static void bounded_calls(void **state) {
   o.h = 1e-8;
   o.hmin = 1e-12;
   RATE(1.0, 10.0, RPS3_EINVAL, "simulate.h = ");
+  o.max_steps = 50000000L; /* half the 1e8 steps: still refused */
+  RATE(1.0, 10.0, RPS3_EINVAL, "simulate.h = ");
   o.max_steps = 200000000L;
   RATE(1.0, 10.0, RPS3_OK, "");
   rps3_sim_options_default(&o);

@@ -445,12 +445,25 @@ static void overflow_refusals(void **state) {
   assert_int_equal(rps3_traj_check(&m, &tr, NULL, 0), RPS3_OK);
   tr.sine.freq[0] = 1e150;
   REFUSED(tr, RPS3_F_SINE_FREQ, 0);
+  {
+    /* amp w^2 overflows where (amp w)^2 does not (amp 0.1 < 1): the
+       closed form names the cause, not a sample of the scan */
+    rps3_check c;
+    tr.sine.freq[0] = 8e153;
+    REFUSED(tr, RPS3_F_SINE_FREQ, 0);
+    rps3_traj_validate(&m, &tr, &c);
+    assert_non_null(strstr(c.msg, "the rates overflow"));
+  }
 
   /* waypoints: a limit that stretches the span past the bound, by the
      limit; a segment of 1e-300 s, by its time, for each law */
   wp_setup(&tr, RPS3_LAW_MINJERK);
   tr.wp.vmax[0] = 3e-308;
   OVERFLOW_REFUSED(tr, RPS3_F_WP_VMAX, 0, 0);
+  /* segments each within the bound (0.6e12 and 0.9e12 s) whose sum is
+     past it: by the limit too */
+  tr.wp.vmax[0] = 6.25e-13;
+  REFUSED(tr, RPS3_F_WP_VMAX, 0);
   tr.wp.vmax[0] = 0.0;
   tr.wp.amax[2] = 1e-300;
   OVERFLOW_REFUSED(tr, RPS3_F_WP_AMAX, 2, 0);
@@ -496,6 +509,18 @@ static void overflow_refusals(void **state) {
   tr.table.value = (const double(*)[3])v_tbl;
   tr.table.rate = (const double(*)[3])r_tbl;
   OVERFLOW_REFUSED(tr, RPS3_F_TABLE_TIME, 1, 1);
+  {
+    /* two equal rows at rest 1e-170 s apart: finite rates and values,
+       but h^2 underflows and the interpolant's acceleration there is
+       0 / 0: refused by the rows' value, not taken for a slow motion */
+    double t_eq[4] = {0.0, 1e-170, 1.0, 3.0}, v_eq[4][3];
+    for (i = 0; i < 4; i++)
+      for (k = 0; k < 3; k++) v_eq[i][k] = v_tbl[i == 0 ? 1 : i][k];
+    tr.table.time = t_eq;
+    tr.table.value = (const double(*)[3])v_eq;
+    REFUSED(tr, RPS3_F_TABLE_VALUE, 0);
+    tr.table.value = (const double(*)[3])v_tbl;
+  }
   tr.table.time = wp_time;
   assert_int_equal(rps3_traj_check(&m, &tr, NULL, 0), RPS3_OK);
   for (i = 0; i < 4; i++) {
