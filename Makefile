@@ -194,7 +194,7 @@ $(B)/obj/batch_kernel.o $(B)/pic/batch_kernel.o $(B)/san/batch_kernel.o: XFLAGS 
 # unrolling does not reorder any arithmetic, so the results are the same
 # bits
 SIM_FLAGS = -funroll-loops -fno-math-errno
-$(foreach f,fwddyn fwddyn_theta fwddyn_shared fwddyn_body sim control velocity,$(B)/obj/$(f).o $(B)/pic/$(f).o): XFLAGS = $(SIM_FLAGS)
+$(foreach f,fwddyn fwddyn_theta fwddyn_shared fwddyn_body fwddyn_singular sim sim_measure control velocity,$(B)/obj/$(f).o $(B)/pic/$(f).o): XFLAGS = $(SIM_FLAGS)
 
 $(B)/obj/%.o: src/%.c $(FLAGS_STAMP) | $(DEPS)
 	@mkdir -p $(@D)

@@ -127,6 +127,13 @@ int rps3_fwddyn_state_shared(const rps3_model *m, rps3_data *d,
                              rps3_fd_state *k, const rps3_model *src_model,
                              const rps3_fd_state *src, int *status);
 
+/* Whether a theta solve that failed at the lengths d->l, from the last
+   root th0 in assembly mode `mode`, failed at the singular surface
+   (src/fwddyn_singular.c): RPS3_ESING with the measure in d->err, or
+   RPS3_OK when the solve's own status stands.  Failure path only. */
+int rps3_fd_solve_failed_singular(const rps3_model *m, rps3_data *d,
+                                  const double th0[3], int mode);
+
 /* The force part: ddl, ddtheta, ac, domega from d->F and the state k that
    rps3_fwddyn_state wrote into d (d's positions and rates unchanged since).
    RPS3_OK, RPS3_EINVAL (F not finite), RPS3_ESING (acceleration not

@@ -94,6 +94,26 @@ FD_INLINE void fd_trig_step(double c[3], double sn[3], const double e[3]) {
   }
 }
 
+/* det df/dtheta: column i of df/dtheta holds at[i] and bt[i - 1], a
+   cyclic bidiagonal matrix */
+static inline double plane_det(const plane *p) {
+  return p->at[0] * (p->at[1] * p->at[2]) + p->bt[0] * (p->bt[1] * p->bt[2]);
+}
+
+/* X = (df/dtheta)^-1 by its adjugate, det its determinant (plane_det) */
+static inline void plane_inverse(plane *p, double det) {
+  const double *a = p->at, *b = p->bt, id = 1.0 / det;
+  p->X[0][0] = a[1] * a[2] * id;
+  p->X[0][1] = -b[0] * a[2] * id;
+  p->X[0][2] = b[0] * b[1] * id;
+  p->X[1][0] = b[1] * b[2] * id;
+  p->X[1][1] = a[0] * a[2] * id;
+  p->X[1][2] = -a[0] * b[1] * id;
+  p->X[2][0] = -a[1] * b[2] * id;
+  p->X[2][1] = b[0] * b[2] * id;
+  p->X[2][2] = a[0] * a[1] * id;
+}
+
 /* the 1-norm condition number of df/dtheta, from its entries and its
    inverse X */
 static inline double plane_cond1(const plane *p) {
@@ -113,7 +133,7 @@ static inline double plane_cond1(const plane *p) {
    at[i] and bt[i - 1] */
 static inline int plane_jacobian(const rps3_model *m, rps3_data *d,
                                  plane *p) {
-  double det, id, cond;
+  double det, cond;
   int i, q;
   for (q = 0; q < 3; q++) {
     const int j = (q + 1) % 3;
@@ -121,21 +141,12 @@ static inline int plane_jacobian(const rps3_model *m, rps3_data *d,
     p->al[q] = p->E[q] * p->s[i] - p->A[q] * p->c[i];
     p->bl[q] = -p->B[q] * p->c[j] - p->E[q] * p->s[j];
   }
-  det = p->at[0] * (p->at[1] * p->at[2]) + p->bt[0] * (p->bt[1] * p->bt[2]);
+  det = plane_det(p);
   d->mode = (det > 0.0) - (det < 0.0);
   if (!(fabs(det) > 0.0) || !(fabs(det) < HUGE_VAL))
     RPS3_ERROR(d, RPS3_ESING,
                "singular configuration: det df/dtheta = %.3g", det);
-  id = 1.0 / det;
-  p->X[0][0] = p->at[1] * p->at[2] * id;
-  p->X[0][1] = -p->bt[0] * p->at[2] * id;
-  p->X[0][2] = p->bt[0] * p->bt[1] * id;
-  p->X[1][0] = p->bt[1] * p->bt[2] * id;
-  p->X[1][1] = p->at[0] * p->at[2] * id;
-  p->X[1][2] = -p->at[0] * p->bt[1] * id;
-  p->X[2][0] = -p->at[1] * p->bt[2] * id;
-  p->X[2][1] = p->bt[0] * p->bt[2] * id;
-  p->X[2][2] = p->at[0] * p->at[1] * id;
+  plane_inverse(p, det);
   cond = plane_cond1(p);
   if (!(cond <= m->opt.cond_max))
     RPS3_ERROR(d, RPS3_ESING,

@@ -9,7 +9,8 @@
  * stepping.  Failures inside the right-hand side are recorded in the
  * simulation and reported to GSL as GSL_EBADFUNC, which makes its driver
  * return at once with the state of the last completed step.  The set-up
- * (options, allocation) is src/sim_setup.c.
+ * (options, allocation) is src/sim_setup.c, the sensors and actuators
+ * (noise, quantisation, saturation) src/sim_measure.c.
  */
 #include <string.h>
 
@@ -19,56 +20,7 @@
    above the rounding of t0 + k / rate for any run, far below a step */
 #define TICK_SLACK 1e-6
 
-/* ------------------------------------------------------------ noise */
-
-/* splitmix64: a full-period 64-bit generator with one word of state */
-static unsigned long long next_u64(unsigned long long *s) {
-  unsigned long long z = (*s += 0x9E3779B97F4A7C15ULL);
-  z = (z ^ (z >> 30)) * 0xBF58476D1CE4E5B9ULL;
-  z = (z ^ (z >> 27)) * 0x94D049BB133111EBULL;
-  return z ^ (z >> 31);
-}
-
-/* uniform in (0, 1): 53 random bits, never 0 */
-static double next_open01(unsigned long long *s) {
-  return ((double)(next_u64(s) >> 11) + 0.5) * (1.0 / 9007199254740992.0);
-}
-
-/* standard normal deviate, Box-Muller; the second deviate is kept */
-static double next_normal(rps3_sim *s) {
-  double u1, u2, r;
-  if (!isnan(s->spare)) {
-    r = s->spare;
-    s->spare = (double)NAN;
-    return r;
-  }
-  u1 = next_open01(&s->rng);
-  u2 = next_open01(&s->rng);
-  r = sqrt(-2.0 * log(u1));
-  s->spare = r * sin(2.0 * RPS3_PI * u2);
-  return r * cos(2.0 * RPS3_PI * u2);
-}
-
-static double measure(rps3_sim *s, double x, double sigma, double q) {
-  if (sigma > 0.0) x += sigma * next_normal(s);
-  if (q > 0.0) x = q * nearbyint(x / q);
-  return x;
-}
-
 /* ------------------------------------------------------- equations */
-
-/* clamp to the actuators' limit; returns 1 when one saturated */
-static int saturate(const rps3_sim *s, const double Fc[3], double F[3]) {
-  int i, sat = 0;
-  for (i = 0; i < 3; i++) {
-    F[i] = Fc[i];
-    if (s->opt.fmax > 0.0 && fabs(F[i]) > s->opt.fmax) {
-      F[i] = copysign(s->opt.fmax, F[i]);
-      sat = 1;
-    }
-  }
-  return sat;
-}
 
 /* y[0..5] is the state (l, dl) of ky, bit for bit (-0 == +0: the same
    value) */
@@ -148,7 +100,7 @@ static int evaluate(rps3_sim *s, double t, const double y[], int lean,
       d->err.code = st;
       return st;
     }
-    saturate(s, s->F_cmd, s->F);
+    rps3_sim_saturate(s, s->F_cmd, s->F);
   }
   st = plant_state(s, y, lean, keep);
   v3_copy(d->F, s->F);
@@ -322,8 +274,8 @@ static int tick(rps3_sim *s, const rps3_controller *c) {
   const rps3_plant_state *plant = NULL;
   int st, i;
   for (i = 0; i < 3; i++) {
-    s->l_meas[i] = measure(s, s->y[i], s->opt.noise_l, s->opt.quant_l);
-    s->dl_meas[i] = measure(s, s->y[3 + i], s->opt.noise_dl, s->opt.quant_dl);
+    s->l_meas[i] = rps3_sim_measure(s, s->y[i], s->opt.noise_l, s->opt.quant_l);
+    s->dl_meas[i] = rps3_sim_measure(s, s->y[3 + i], s->opt.noise_dl, s->opt.quant_dl);
   }
   if (c->caps & RPS3_CTRL_USES_PLANT) {
     plant = offer_plant(s, &view, &st);
@@ -346,7 +298,7 @@ static int tick(rps3_sim *s, const rps3_controller *c) {
                s->t);
       return fail(s, RPS3_EINVAL, s->t);
     }
-  s->nsat += saturate(s, s->F_cmd, s->F);
+  s->nsat += rps3_sim_saturate(s, s->F_cmd, s->F);
   return RPS3_OK;
 }
 

@@ -35,6 +35,12 @@ struct rps3_sim_gsl {
 
 /* f(t, y) of y = (l, dl, W_F, W_f), and its Jacobian by forward
    differences for the implicit methods (GSL's calling conventions) */
+/* sensors and actuators (src/sim_measure.c): x as measured (noise of
+   deviation sigma, quantum q; 0 for none), and Fc clamped to opt.fmax into
+   F (returns 1 when one saturated) */
+double rps3_sim_measure(rps3_sim *s, double x, double sigma, double q);
+int rps3_sim_saturate(const rps3_sim *s, const double Fc[3], double F[3]);
+
 int rps3_sim_rhs(double t, const double y[], double dydt[], void *params);
 int rps3_sim_jac(double t, const double y[], double *dfdy, double dfdt[],
                  void *params);

@@ -43,7 +43,9 @@ from numpy.typing import ArrayLike
 
 from rps3._core import FloatArray, IntArray, strerror
 from rps3._rps3 import lib
+from rps3._view_page import _PAGE
 from rps3.model import Model
+from rps3.view_run import model_from_scene, read_run  # noqa: F401 (rps3.view.model_from_scene)
 
 # colours of the parts, shared by the figures and the HTML page
 COLOURS = {"base": "#4d4d4d", "pin": "#111111", "barrel": "#1f5fa8",
@@ -410,121 +412,6 @@ def _times(times: ArrayLike | None, n: int) -> FloatArray | None:
     return t
 
 
-_PAGE = """<!DOCTYPE html>
-<html lang="en"><head><meta charset="utf-8">
-<title>__TITLE__</title>
-<style>
-body { font-family: sans-serif; margin: 0.5em; background: #fff; }
-canvas { border: 1px solid #ccc; cursor: grab; }
-#bar { margin: 0.3em 0; } #label { font-family: monospace; }
-.legend span { margin-right: 1em; } .failed { color: #c00; }
-</style></head>
-<body>
-<div id="bar"><button id="play">pause</button>
-<input id="slider" type="range" min="0" max="0" value="0" style="width: 60%"></div>
-<div id="label"></div>
-<canvas id="view" width="720" height="540"></canvas>
-<div class="legend">__LEGEND__</div>
-<p>Drag to turn the view, wheel to zoom. Base frame: X towards pin 1, Z up; lengths in metres.</p>
-<script id="rps3-data" type="application/json">__DATA__</script>
-<script>
-"use strict";
-window.addEventListener("error", function (e) {
-  document.body.dataset.error = String(e.message);
-});
-(function () {
-  var D = JSON.parse(document.getElementById("rps3-data").textContent);
-  var cv = document.getElementById("view"), g = cv.getContext("2d");
-  var slider = document.getElementById("slider"), label = document.getElementById("label");
-  var play = document.getElementById("play");
-  // the figures' view at first (matplotlib's azimuth -60 deg, elevation 22 deg)
-  var n = D.frames.length, k = 0, running = n > 1, az = -Math.PI / 6, el = 0.384, zoom = 1;
-  slider.max = String(n - 1);
-  function sub(a, b) { return [a[0] - b[0], a[1] - b[1], a[2] - b[2]]; }
-  function add(a, b, s) { return [a[0] + s * b[0], a[1] + s * b[1], a[2] + s * b[2]]; }
-  // orthographic view from above: turn about Z by az (x to the right, y
-  // away from the viewer), tilt by el; screen up is Z
-  function proj(p) {
-    var q = sub(p, D.centre), ca = Math.cos(az), sa = Math.sin(az);
-    var x = ca * q[0] - sa * q[1], y = sa * q[0] + ca * q[1];
-    var ce = Math.cos(el), se = Math.sin(el), s = zoom * 0.3 * cv.height / D.half;
-    return [cv.width / 2 + s * x, cv.height / 2 - s * (ce * q[2] + se * y)];
-  }
-  function line(pts, colour, width, close) {
-    g.beginPath();
-    for (var i = 0; i < pts.length; i++) {
-      var p = proj(pts[i]);
-      if (i === 0) g.moveTo(p[0], p[1]); else g.lineTo(p[0], p[1]);
-    }
-    if (close) g.closePath();
-    g.strokeStyle = colour; g.lineWidth = width; g.stroke();
-  }
-  function fill(pts, colour) {
-    g.beginPath();
-    pts.forEach(function (q, i) {
-      var p = proj(q); if (i) g.lineTo(p[0], p[1]); else g.moveTo(p[0], p[1]);
-    });
-    g.closePath(); g.globalAlpha = 0.35; g.fillStyle = colour; g.fill(); g.globalAlpha = 1;
-  }
-  function draw() {
-    var f = D.frames[k], C = D.colours, i;
-    g.clearRect(0, 0, cv.width, cv.height);
-    fill(D.pin, C.base); line(D.pin, C.base, 2, true);
-    for (i = 0; i < 3; i++)
-      line([add(D.pin[i], D.axis[i], -D.pinlen), add(D.pin[i], D.axis[i], D.pinlen)],
-           C.pin, 5, false);
-    label.textContent = (D.times ? "t = " + D.times[k].toFixed(3) + " s  " : "") +
-      "frame " + (k + 1) + "/" + n + "  " + f.text;
-    label.className = f.ok ? "" : "failed";
-    if (f.ok) {
-      for (i = 0; i < 3; i++) {
-        line([D.pin[i], f.end[i]], C.barrel, 8, false);
-        line([f.end[i], f.ball[i]], C.piston, 4, false);
-      }
-      fill(f.ball, C.platform); line(f.ball, C.platform, 2, true);
-      if (f.ref) { g.setLineDash([6, 4]); line(f.ref, C.reference, 2, true); g.setLineDash([]); }
-      for (i = 0; i < 3; i++) {
-        var p = proj(f.ball[i]);
-        g.beginPath(); g.arc(p[0], p[1], 5, 0, 2 * Math.PI); g.fillStyle = C.ball; g.fill();
-      }
-    }
-    slider.value = String(k);
-    document.body.dataset.frame = String(k);
-  }
-  slider.addEventListener("input", function () { k = +slider.value; draw(); });
-  play.addEventListener("click", function () {
-    running = !running; play.textContent = running ? "pause" : "play";
-  });
-  var drag = null;
-  cv.addEventListener("mousedown", function (e) { drag = [e.clientX, e.clientY]; });
-  window.addEventListener("mouseup", function () { drag = null; });
-  window.addEventListener("mousemove", function (e) {
-    if (!drag) return;
-    az += (e.clientX - drag[0]) * 0.01;
-    el = Math.max(-1.5, Math.min(1.5, el + (e.clientY - drag[1]) * 0.01));
-    drag = [e.clientX, e.clientY]; draw();
-  });
-  cv.addEventListener("wheel", function (e) {
-    e.preventDefault(); zoom *= Math.exp(-e.deltaY * 0.001); draw();
-  }, {passive: false});
-  draw();
-  // how many pixels the first drawing inked: the page's own check
-  var px = g.getImageData(0, 0, cv.width, cv.height).data, inked = 0;
-  for (var j = 3; j < px.length; j += 4) if (px[j] > 0) inked++;
-  document.body.dataset.inked = String(inked);
-  document.body.dataset.frames = String(n);
-  document.body.dataset.ready = "1";
-  var last = 0;
-  function tick(ts) {
-    if (running && ts - last >= 1000 / D.fps) { last = ts; k = (k + 1) % n; draw(); }
-    window.requestAnimationFrame(tick);
-  }
-  window.requestAnimationFrame(tick);
-})();
-</script></body></html>
-"""
-
-
 def _r(a: np.ndarray) -> Any:
     """Numbers for the page: 9 significant digits (0.1 um at 1 m)."""
     return json.loads(json.dumps(np.asarray(a).tolist(),
@@ -588,76 +475,6 @@ def html(model: Model, poses: ArrayLike | None = None,
 
 def _escape(s: str) -> str:
     return s.replace("&", "&amp;").replace("<", "&lt;").replace(">", "&gt;")
-
-
-# ------------------------------------------------------------------ files
-
-def model_from_scene(scene: dict[str, Any]) -> Model:
-    """The Model of an rps3-run scene (a dict, e.g. a file's
-    ``scene_resolved`` read with yaml): its ``manipulator`` block and
-    ``effects``."""
-    man = dict(scene.get("manipulator") or {})
-    keys: dict[str, Any] = {k: man[k] for k in ("R", "rho", "M", "m_over_M", "m",
-                                                "d", "link_Ic", "g") if k in man}
-    if "payload" in man:
-        keys["payload"] = man["payload"]
-    if "pin_friction" in man:
-        keys["friction"] = {k: v for k, v in man["pin_friction"].items()
-                            if k in ("viscous", "coulomb")}
-    if "effects" in scene:
-        keys["effects"] = scene["effects"]
-    return Model(**keys)
-
-
-def read_run(path: str | os.PathLike[str], case: int = 0, *, reference: bool = False
-             ) -> tuple[Model, FloatArray, FloatArray]:
-    """The model, poses (n, 3) and times (n,) [s] of one case of an rps3-run
-    HDF5 file (docs/hdf5.md; a simulation's too: the plant's pose), up to
-    its last sample.  The model is the scene's ``manipulator`` (the plant).
-    A file without the pose (written with ``--fields``) gives it through
-    the forward kinematics of its ``length``; a sample whose pose is NaN
-    (a failed point) is kept, drawn as refused.  reference: the poses of a
-    simulation's reference (``alpha_ref``, ``beta_ref``, ``z_c_ref``)
-    instead of the plant's.
-
-    Raises:
-        ValueError: the file lacks a dataset, or the case is out of range.
-    """
-    import h5py
-    import yaml
-    name = os.fspath(path)
-    names = ("alpha_ref", "beta_ref", "z_c_ref") if reference else ("alpha", "beta", "z_c")
-    with h5py.File(path, "r") as f:
-        has_pose = all(k in f for k in names)
-        if reference and not has_pose:
-            raise ValueError(f"{name}: no dataset 'alpha_ref': not a simulation's "
-                             f"output, no reference to draw (docs/runner.md)")
-        for key in ("scene_resolved", "time", names[0] if has_pose else "length"):
-            if key not in f:
-                raise ValueError(f"{name}: no dataset {key!r}: not an rps3-run output "
-                                 f"file with poses or link lengths (docs/hdf5.md)")
-        ncase = f["scene_resolved"].shape[0]
-        if not 0 <= case < ncase:
-            raise ValueError(f"case: {case} is out of range: {name} "
-                             f"has {ncase} case(s), 0 to {ncase - 1}")
-        if has_pose:
-            pose = np.stack([f[k][case] for k in names], axis=1)
-            lengths = None
-        else:
-            lengths = np.asarray(f["length"][case], float)
-        t = f["case_time"][case] if "case_time" in f else f["time"][()]
-        raw = f["scene_resolved"][case]
-    scene = yaml.safe_load(raw.decode() if isinstance(raw, bytes) else str(raw))
-    model = model_from_scene(scene)
-    # samples past a failure (or a case's last time) are NaN
-    keep = np.isfinite(t)
-    if lengths is not None:
-        # a file written with --fields without the pose: forward kinematics
-        keep &= np.isfinite(lengths).all(axis=1)
-        pose = np.full((len(t), 3), np.nan)
-        fk = model.fk(lengths[keep])
-        pose[keep] = np.where(fk.ok[:, None], fk.pose, np.nan)
-    return model, pose[keep], np.asarray(t[keep], float)
 
 
 def main(argv: Sequence[str] | None = None) -> int:
