@@ -393,3 +393,17 @@ def test_reference_needs_a_simulation(paper_run, tmp_path):
     assert proc.returncode == 1 and "no dataset 'alpha_ref'" in proc.stderr, proc.stderr
     with pytest.raises(ValueError, match="reference: 2 poses for 3 frames"):
         view.html(rps3.Model(), poses(3), tmp_path / "y.html", reference=poses(2))
+
+
+def test_read_run_of_cases_on_their_own_time_grids(tmp_path):
+    """A sweep whose cases have their own time grids (configs/period.yaml)
+    has no `time` dataset but `case_time`: read_run takes each case's."""
+    out = tmp_path / "period.h5"
+    assert run(os.path.join(CONFIGS, "period.yaml"), out, "-q").returncode == 0
+    import h5py
+    with h5py.File(out, "r") as f:
+        assert "time" not in f and "case_time" in f
+        want = f["case_time"][1]
+    _, pose, t = view.read_run(out, 1)
+    want = want[np.isfinite(want)]
+    assert np.array_equal(t, want) and pose.shape == (len(want), 3)

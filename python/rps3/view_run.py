@@ -52,7 +52,9 @@ def read_run(path: str | os.PathLike[str], case: int = 0, *, reference: bool = F
         if reference and not has_pose:
             raise ValueError(f"{name}: no dataset 'alpha_ref': not a simulation's "
                              f"output, no reference to draw (docs/runner.md)")
-        for key in ("scene_resolved", "time", names[0] if has_pose else "length"):
+        # the times: time, or case_time where the cases' grids differ
+        times = "case_time" if "case_time" in f else "time"
+        for key in ("scene_resolved", times, names[0] if has_pose else "length"):
             if key not in f:
                 raise ValueError(f"{name}: no dataset {key!r}: not an rps3-run output "
                                  f"file with poses or link lengths (docs/hdf5.md)")
@@ -65,7 +67,7 @@ def read_run(path: str | os.PathLike[str], case: int = 0, *, reference: bool = F
             lengths = None
         else:
             lengths = np.asarray(f["length"][case], float)
-        t = f["case_time"][case] if "case_time" in f else f["time"][()]
+        t = f[times][case] if times == "case_time" else f[times][()]
         raw = f["scene_resolved"][case]
     scene = yaml.safe_load(raw.decode() if isinstance(raw, bytes) else str(raw))
     model = model_from_scene(scene)
