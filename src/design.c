@@ -406,16 +406,18 @@ static void transmission_indices(const rps3_model *m, const rps3_data *d,
     r->cond_h = HUGE_VAL;
     return;
   }
+  rps3_lu6_inverse(LU, perm, X);
   for (k = 0; k < 6; k++) {
     const double *f = k < 3 ? d->phi[k] : m->axis[k - 3];
-    double x[6], vb[3], eta, nv;
-    memset(x, 0, sizeof(x));
-    x[k] = 1.0;
-    rps3_lu_solve(6, LU, perm, x);
-    for (i = 0; i < 6; i++) X[6 * i + k] = x[i];
-    /* velocity of ball k % 3 under the twist (x[0..2], x[3..5]) */
-    v3_cross(vb, x + 3, p[k % 3]);
-    v3_axpy(vb, vb, 1.0, x);
+    double v[3], w[3], vb[3], eta, nv;
+    /* column k of G^-1: the output twist (v, L omega) of row k */
+    for (i = 0; i < 3; i++) {
+      v[i] = X[6 * i + k];
+      w[i] = X[6 * (i + 3) + k];
+    }
+    /* velocity of ball k % 3 under it */
+    v3_cross(vb, w, p[k % 3]);
+    v3_axpy(vb, vb, 1.0, v);
     nv = v3_norm(vb);
     eta = nv > 0.0 ? fabs(v3_dot(f, vb)) / (v3_norm(f) * nv) : 0.0;
     if (!(eta <= 1.0)) eta = isfinite(nv) ? 1.0 : 0.0; /* rounding */

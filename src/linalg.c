@@ -211,3 +211,31 @@ double rps3_lu_cond1(int n, const double *A, const double *LU,
   }
   return anorm * inorm;
 }
+
+void rps3_lu6_inverse(const double *LU, const int *perm, double *X) {
+  /* the columns of A^-1 as rps3_lu_solve computes each, all six at once:
+     the same operations in the same order on every column, row by row so
+     that a row's six entries go together */
+  int i, k, j;
+  memset(X, 0, 36 * sizeof(double));
+  for (i = 0; i < 6; i++) X[7 * i] = 1.0;
+  for (k = 0; k < 6; k++)
+    if (perm[k] != k)
+      for (j = 0; j < 6; j++) {
+        double t = X[6 * k + j];
+        X[6 * k + j] = X[6 * perm[k] + j];
+        X[6 * perm[k] + j] = t;
+      }
+  for (i = 1; i < 6; i++)
+    for (k = 0; k < i; k++) {
+      double f = LU[6 * i + k];
+      for (j = 0; j < 6; j++) X[6 * i + j] -= f * X[6 * k + j];
+    }
+  for (i = 5; i >= 0; i--) {
+    for (k = i + 1; k < 6; k++) {
+      double f = LU[6 * i + k];
+      for (j = 0; j < 6; j++) X[6 * i + j] -= f * X[6 * k + j];
+    }
+    for (j = 0; j < 6; j++) X[6 * i + j] /= LU[7 * i];
+  }
+}
