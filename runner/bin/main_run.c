@@ -47,6 +47,8 @@
 #include "output/output.h"
 #include "output/sim_output.h"
 #include "run_cli.h"
+#include "run_design.h"
+#include "scene/design.h"
 #include "scene/inputs.h"
 #include "scene/scene.h"
 #include "shards/cmd_merge.h"
@@ -310,7 +312,9 @@ static int run_main(int argc, char **argv, const world *w) {
     /* values valid but likely in the wrong unit: said (before a case that
        fails because of them), not refused */
     scene_warnings_print(&s, stderr);
-  if (code == EXIT_OK && sweep_plan_make(&s, &plan, &serr)) {
+  /* a design study is planned by run_design (exec/design_run.h) */
+  if (code == EXIT_OK && !design_wanted(&s) &&
+      sweep_plan_make(&s, &plan, &serr)) {
     scene_free(&s);
     code = EXIT_USAGE;
   }
@@ -322,6 +326,12 @@ static int run_main(int argc, char **argv, const world *w) {
       if (!code) scene_free(&s);
       return worst;
     }
+  }
+  /* a design study: its designs into its own file (run_design.h) */
+  if (design_wanted(&s)) {
+    code = run_design(&s, &a, w, argc, argv, ranks_join);
+    scene_free(&s);
+    return code;
   }
   /* a scene with a simulate section is simulated instead (simulate.h) */
   if (sim_wanted(&s)) {

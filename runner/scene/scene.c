@@ -55,6 +55,21 @@ static const rps3_field_info sim_fields[SCENE_NSIM] = {
 static const double sim_default[SCENE_NSIM] = {SCENE_SIM_FIELDS(SIM_DEF)};
 #undef SIM_DEF
 
+/* the design section's fields (scene_design.h) */
+#define DES_ROW(ID, MEMBER, N, IS_INT, LO, LO_OPEN, HI, UNIT) \
+  {"design." #MEMBER,                                         \
+   RPS3_IN_MODEL,                                             \
+   offsetof(scene_design, MEMBER),                            \
+   N,                                                         \
+   IS_INT,                                                    \
+   LO,                                                        \
+   LO_OPEN,                                                   \
+   HI,                                                        \
+   UNIT},
+static const rps3_field_info des_fields[SCENE_NDES] = {
+    SCENE_DESIGN_FIELDS(DES_ROW)};
+#undef DES_ROW
+
 /* the rows as written; scene_keys[] adds what their field's row says */
 #define KEY_ROW(ID, PATH, TYPE, SRC, FIELD, REQ, SYM, DOC) \
   {PATH, TYPE, SRC_##SRC, FIELD, NULL, 0, REQ, NULL, SYM, DOC},
@@ -71,11 +86,16 @@ void scene_keys_build(void) {
   for (k = 0; k < SCENE_NKEY; k++) {
     scene_key_info *ki = &scene_keys[k];
     *ki = key_rows[k];
-    ki->f = ki->src == SRC_OWN   ? &own_fields[ki->field]
-            : ki->src == SRC_SIM ? &sim_fields[ki->field]
-                                 : rps3_field(ki->field);
+    ki->f = ki->src == SRC_OWN    ? &own_fields[ki->field]
+            : ki->src == SRC_SIM  ? &sim_fields[ki->field]
+            : ki->src == SRC_DES  ? rps3_design_field(ki->field)
+            : ki->src == SRC_DSEC ? &des_fields[ki->field]
+                                  : rps3_field(ki->field);
     ki->unit = ki->f->unit;
-    ki->kind = ki->f->in >= RPS3_IN_HELIX ? ki->f->in - 1 : FOR_ALL;
+    /* a design field's row is of rps3_design (RPS3_IN_DESIGN), not of a
+       trajectory kind */
+    ki->kind = ki->src != SRC_DES && ki->f->in >= RPS3_IN_HELIX ? ki->f->in - 1
+                                                                : FOR_ALL;
   }
   built = 1;
 }
@@ -105,6 +125,8 @@ int scene_shape_mask(int k) {
 int scene_key_fills(int k) {
   if (scene_keys[k].src == SRC_SIM)
     return -1; /* the controller's model and the simulation: not the plant */
+  if (scene_keys[k].src == SRC_DES || scene_keys[k].src == SRC_DSEC)
+    return -1; /* the design study's own */
   return scene_keys[k].src == SRC_OWN ? own_fills[scene_keys[k].field]
                                       : scene_keys[k].field;
 }
@@ -193,6 +215,8 @@ void scene_effect_list(char *buf, size_t sz) {
 static char *value_at(scene_values *v, int k) {
   char *base = scene_keys[k].src == SRC_OWN           ? (char *)&v->own
                : scene_keys[k].src == SRC_SIM         ? (char *)&v->sim
+               : scene_keys[k].src == SRC_DES         ? (char *)&v->design
+               : scene_keys[k].src == SRC_DSEC        ? (char *)&v->des
                : scene_keys[k].f->in == RPS3_IN_MODEL ? (char *)&v->model
                                                       : (char *)&v->traj;
   return base + scene_keys[k].f->offset;
@@ -236,6 +260,14 @@ void scene_values_default(scene_values *v) {
       *(int *)(void *)p = (int)sim_default[i];
     else
       *(double *)(void *)p = sim_default[i];
+  }
+  {
+    rps3_design_opts o;
+    rps3_design_opts_default(&o);
+    rps3_design_default(&v->design);
+    v->des.good_lti = o.lti_good;
+    v->des.length = o.length;
+    v->des.cond_sing = o.cond_sing;
   }
   rps3_model_default(&v->model);
   rps3_traj_default(&v->traj);

@@ -17,6 +17,7 @@
 
 #include "mark.h"
 #include "rps3.h"
+#include "scene_design.h"
 #include "scene_sim.h"
 #include "table.h"
 
@@ -90,6 +91,8 @@ typedef struct {
   const char *table_file; /* kind table: the file, absolute (the scene's) */
   const char *path_file;  /* path shape table: the file, absolute */
   scene_sim sim;          /* the simulate section (scene_sim.h) */
+  rps3_design design;     /* a design study's design (scene_design.h) */
+  scene_design des;       /* its design section */
 } scene_values;
 
 /*
@@ -139,6 +142,7 @@ typedef struct {
   X(K_VREG, "manipulator.pin_friction.vreg", KEY_REAL, LIB, RPS3_F_VREG,       \
     REQ_NO, "-",                                                               \
     "Coulomb law tanh(dtheta / vreg) instead of sign(dtheta); 0 = sign")       \
+  SCENE_DESIGN_MANIP_KEYS(X)                                                   \
   X(K_KIND, "trajectory.kind", KEY_ENUM, LIB, RPS3_F_KIND, REQ_YES, "-",       \
     "helix (the paper's section VI), sine, waypoints, path or table "          \
     "(docs/trajectories.md)")                                                  \
@@ -258,14 +262,19 @@ typedef struct {
   X(K_MODE, "solver.mode", KEY_INT, LIB, RPS3_F_MODE, REQ_NO, "-",             \
     "assembly mode the theta solve must return: 0 any, 1 the level "           \
     "platform's (det df/dtheta > 0), -1 the other")                            \
-  SCENE_SIM_KEYS(X)
+  SCENE_SIM_KEYS(X)                                                            \
+  SCENE_DESIGN_KEYS(X)
 
 #define SCENE_KEY_ID(ID, ...) ID,
 typedef enum { SCENE_KEYS(SCENE_KEY_ID) SCENE_NKEY } scene_key;
 #undef SCENE_KEY_ID
 
 /* where a key's value is stored */
-enum { SRC_LIB = 0, SRC_OWN = 1, SRC_SIM = 2 };
+enum { SRC_LIB = 0, SRC_OWN = 1, SRC_SIM = 2, SRC_DES = 3, SRC_DSEC = 4 };
+
+/* a key of a design study (scene_design.h): a field of the library's
+   rps3_design, or of the design section */
+#define SCENE_KEY_IS_DESIGN(ki) ((ki)->src == SRC_DES || (ki)->src == SRC_DSEC)
 
 /* one row of SCENE_KEYS, with its field's row resolved */
 typedef struct {
@@ -311,6 +320,7 @@ typedef struct {
   scene_mark mark[SCENE_NKEY];     /* where each given key's value is */
   scene_mark section[4];           /* root, manipulator, trajectory, solver */
   scene_mark simulate;             /* the simulate section; line 0: none */
+  scene_mark design;               /* the design section; line 0: none */
   size_t naxis;
   scene_axis *axis; /* the sweep, in file order */
   size_t ncase;     /* product of the axis lengths (1: no sweep) */
@@ -338,6 +348,8 @@ typedef struct {
   int by_dt;          /* 1: grid from dt, 0: from samples */
   int by_blend_ratio; /* 1: t_a from blend_ratio, 0: from blend */
   int simulate;       /* 1: the scene has a simulate section */
+  int design;         /* 1: the scene has a design section */
+  int no_traj;        /* 1: a design study without a trajectory section */
 } scene_case;
 
 /*

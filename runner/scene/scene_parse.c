@@ -32,7 +32,11 @@ static const char *const sections[] = {"",
                                        "simulate",
                                        "simulate.model",
                                        "simulate.model.payload",
-                                       "simulate.model.pin_friction"};
+                                       "simulate.model.pin_friction",
+                                       "manipulator.stroke",
+                                       "manipulator.pin",
+                                       "manipulator.ball",
+                                       "design"};
 #define NSECTION (sizeof sections / sizeof sections[0])
 
 static int section_find(const char *path) {
@@ -62,7 +66,8 @@ static void keys_under(const char *prefix, char *buf, size_t sz) {
   buf[0] = '\0';
   if (plen == 0) {
     snprintf(buf, sz,
-             "manipulator, trajectory, effects, solver, simulate, sweep");
+             "manipulator, trajectory, effects, solver, simulate, design, "
+             "sweep");
     return;
   }
   for (k = 0; k < SCENE_NKEY && len < sz; k++) {
@@ -474,6 +479,8 @@ int scene_walk_section(parse_ctx *c, const yaml_node_t *map,
       if (sec < 4) s->section[sec] = scene_mark_of(&val->start_mark);
       if (strcmp(full, "simulate") == 0)
         s->simulate = scene_mark_of(&val->start_mark);
+      if (strcmp(full, "design") == 0)
+        s->design = scene_mark_of(&val->start_mark);
       if (scene_walk_section(c, val, full)) return -1;
       continue;
     }
