@@ -321,22 +321,76 @@ static double cpu_now(void) {
   return (double)ts.tv_sec + 1e-9 * (double)ts.tv_nsec;
 }
 
+/* poses of the coarser grid that times a design of a large grid */
+#define DESIGN_TIMED_POSES 8192
+
+/* CPU seconds of design `index` of a grid larger than DESIGN_TIMED_POSES:
+   its evaluation on a coarser grid of the same box, scaled by the poses
+   (a pose costs the same wherever it is), plus its task; -1 on failure */
+static double time_coarse(const scene *s, const design_plan *p, size_t index,
+                          worker_ws *w) {
+  rps3_design_grid gr;
+  rps3_design_opts o;
+  rps3_design_out out;
+  rps3_design_summary sum;
+  rps3_design_task res;
+  rps3_design d;
+  scene_case c;
+  scene_error err;
+  double t0, spent;
+  size_t n;
+  int k, big;
+  if (design_case_build(s, index, &c, &err)) return -1;
+  design_grid(s, &gr);
+  design_opts(s, &o);
+  design_of_case(&c, &d);
+  /* halve the axis of most cells until the grid has at most
+     DESIGN_TIMED_POSES poses (w's arrays) */
+  while ((n = rps3_design_grid_size(&gr)) > DESIGN_TIMED_POSES) {
+    for (big = 0, k = 1; k < 3; k++)
+      if (gr.n[k] > gr.n[big]) big = k;
+    gr.n[big] = (gr.n[big] + 1) / 2;
+  }
+  memset(&out, 0, sizeof out);
+  out.flags = w->flags;
+  out.c = w->c;
+  t0 = cpu_now();
+  (void)rps3_design_eval_grid(w->ws, &d, &o, &gr, &out, &sum);
+  spent = (cpu_now() - t0) * (double)p->npose / (double)n;
+  if (p->task) {
+    t0 = cpu_now();
+    (void)rps3_design_task_eval(w->ws, &d, &o, &c.traj, c.nt,
+                                RPS3_DESIGN_LINK_MASS, &res);
+    spent += cpu_now() - t0;
+  }
+  return spent;
+}
+
 double design_cost_measure(const scene *s, const design_plan *p) {
   worker_ws w;
   design_tile t;
   size_t i, timed = 0, step;
-  double t0, spent = 0;
-  if (worker_alloc(&w, p->npose)) return -1;
-  if (design_tile_alloc(&t, 1, p->npose, p->task, p->per_pose)) {
+  double t0, spent = 0, used = 0, one;
+  int coarse = p->npose > DESIGN_TIMED_POSES;
+  /* a large grid is timed on a coarser one: the estimate's own cost is
+     bounded whatever the grid */
+  if (worker_alloc(&w, coarse ? DESIGN_TIMED_POSES : p->npose)) return -1;
+  if (design_tile_alloc(&t, 1, coarse ? 1 : p->npose, p->task, p->per_pose)) {
     worker_free(&w);
     return -1;
   }
   /* up to 8 designs spread over the study, at most about 0.2 s */
   step = p->ncase > 8 ? p->ncase / 8 : 1;
-  for (i = 0; i < p->ncase && timed < 8 && spent < 0.2; i += step) {
+  for (i = 0; i < p->ncase && timed < 8 && used < 0.2; i += step) {
     t0 = cpu_now();
-    (void)eval_design(s, p, i, &w, &t, 0);
-    spent += cpu_now() - t0;
+    if (coarse) {
+      if ((one = time_coarse(s, p, i, &w)) < 0) break;
+      spent += one;
+    } else {
+      (void)eval_design(s, p, i, &w, &t, 0);
+      spent += cpu_now() - t0;
+    }
+    used += cpu_now() - t0;
     timed++;
   }
   design_tile_free(&t);
@@ -361,11 +415,12 @@ int design_preflight(const char *scene_path, const scene *s,
   if (nshard > p->nunit && nrank == 1) {
     fprintf(stderr,
             "rps3-run: --shard %zu/%zu: the design study has %zu work "
-            "unit%s (of up to %zu designs), so at most %zu shard%s can "
+            "unit%s (of up to %zu design%s), so at most %zu shard%s can "
             "have work: use --shard K/%zu or fewer (rps3-run SCENE --check "
             "counts the work units)\n",
             shard, nshard, p->nunit, p->nunit == 1 ? "" : "s", p->unit,
-            p->nunit, p->nunit == 1 ? "" : "s", p->nunit);
+            p->unit == 1 ? "" : "s", p->nunit, p->nunit == 1 ? "" : "s",
+            p->nunit);
     return -1;
   }
   if (check) {
@@ -381,10 +436,10 @@ int design_preflight(const char *scene_path, const scene *s,
           est_human_time(per * (double)p->ncase / threads, tt, sizeof tt),
           threads, threads == 1 ? "" : "s", 1e3 * per);
     printf(
-        "%zu work unit%s of up to %zu designs: at most %zu shard%s, "
+        "%zu work unit%s of up to %zu design%s: at most %zu shard%s, "
         "rank%s or thread%s ha%s work\n",
-        p->nunit, p->nunit == 1 ? "" : "s", p->unit, p->nunit,
-        p->nunit == 1 ? "" : "s", p->nunit == 1 ? "" : "s",
+        p->nunit, p->nunit == 1 ? "" : "s", p->unit, p->unit == 1 ? "" : "s",
+        p->nunit, p->nunit == 1 ? "" : "s", p->nunit == 1 ? "" : "s",
         p->nunit == 1 ? "" : "s", p->nunit == 1 ? "s" : "ve");
     return 0;
   }
