@@ -679,6 +679,11 @@ static void flag_list(int f, char *buf, size_t sz) {
                               flag_names[k]);
 }
 
+/* time of sample k of n over [0, T]: k T / (n - 1), the last exactly T */
+static double sample_time(double T, size_t k, size_t n) {
+  return k + 1 == n ? T : T * (double)k / (double)(n - 1);
+}
+
 int rps3_design_task_eval(rps3_design_ws *w, const rps3_design *ds,
                           const rps3_design_opts *o, const rps3_traj *tr,
                           size_t nsamples, int link_mass_on,
@@ -733,7 +738,7 @@ int rps3_design_task_eval(rps3_design_ws *w, const rps3_design *ds,
     /* the block's samples */
     for (i = 0; i < nb; i++) {
       size_t k = k0 + i;
-      double t = k + 1 == nsamples ? T : T * (double)k / (double)(nsamples - 1);
+      double t = sample_time(T, k, nsamples);
       double q[3], dq[3], ddq[3];
       st = rps3_traj_eval(dm, tr, t, q, dq, ddq);
       if (st != RPS3_OK)
@@ -763,7 +768,7 @@ int rps3_design_task_eval(rps3_design_ws *w, const rps3_design *ds,
     /* each sample in order: the workspace, then its forces */
     for (i = 0; i < nb; i++) {
       size_t k = k0 + i;
-      double t = k + 1 == nsamples ? T : T * (double)k / (double)(nsamples - 1);
+      double t = sample_time(T, k, nsamples);
       double q[3];
       pose_res r;
       q[0] = s->pose[i];

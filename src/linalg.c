@@ -219,7 +219,8 @@ double rps3_lu_cond1(int n, const double *A, const double *LU,
   return anorm * inorm;
 }
 
-void rps3_lu6_inverse(const double *LU, const int *perm, double *X) {
+void rps3_lu6_inverse(const double *restrict LU, const int *restrict perm,
+                      double *restrict X) {
   /* the columns of A^-1 as rps3_lu_solve computes each, all six at once,
      row by row so that a row's six entries go together; the division by
      a pivot as a product by its reciprocal (within an ulp) */
