@@ -261,28 +261,25 @@ int design_run(const scene *s, const design_plan *p, design_file *f,
   /* rounds of up to nthread units of this shard, computed at once and
      written in order by this thread (HDF5 is not thread-safe here) */
   while (rc == 0 && next < p->nunit) {
-    int m = 0, started = 0;
+    int m = 0;
     for (n = 0; n < nthread && next < p->nunit; n++, next += nshard) {
       job[n].unit = next;
       m++;
     }
+    /* one unit: on this thread; a thread that cannot start: its unit on
+       this thread too (the same numbers either way) */
     if (m == 1)
       unit_compute(&job[0]);
     else
       for (n = 0; n < m; n++) {
-        if (pthread_create(&tid[n], NULL, unit_thread, &job[n]) != 0) {
-          unit_compute(&job[n]);
-          job[n].busy = 0;
-        } else
-          job[n].busy = 1;
-        started++;
+        job[n].busy = pthread_create(&tid[n], NULL, unit_thread, &job[n]) == 0;
+        if (!job[n].busy) unit_compute(&job[n]);
       }
     for (n = 0; n < m; n++)
       if (job[n].busy) {
         pthread_join(tid[n], NULL);
         job[n].busy = 0;
       }
-    (void)started;
     for (n = 0; n < m && rc == 0; n++) {
       unit_job *u = &job[n];
       if (design_out_write(f, &u->t, u->c0, u->nc, err, errsz)) {
