@@ -1947,7 +1947,8 @@ RPS3_API void rps3_design_ws_free(rps3_design_ws *w);
  * per-pose outputs of out (may be NULL) and the summary *sum (may be
  * NULL); cell_volume [m rad^2] (>= 0) makes sum->volume.  Returns RPS3_OK,
  * RPS3_EEMPTY (no pose reachable: out and sum filled, the summary zeros),
- * or RPS3_EINVAL with w->err (bad design, with its field's message; n = 0,
+ * RPS3_ERANGE (the volume overflows: a cell volume near 1e308), or
+ * RPS3_EINVAL with w->err (bad design, with its field's message; n = 0,
  * NULL arrays, a pose not finite, bad options).  Allocates nothing.
  */
 RPS3_API int rps3_design_eval(rps3_design_ws *w, const rps3_design *ds,
