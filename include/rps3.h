@@ -1832,7 +1832,7 @@ RPS3_API void rps3_design_opts_default(rps3_design_opts *o);
  * velocity of b_k under it is v_k = v_c + omega x (b_k - c), and f_k . v_k
  * = 1.  The index of row k is the cosine of its pressure angle:
  *   eta_k = |f_k . v_k| / (|f_k| |v_k|) = 1 / |v_k|,  in [0, 1]
- * (Wang, Liu & Wu 2010, the output transmission index in its pressure
+ * (Wang, Wu & Liu 2010, the output transmission index in its pressure
  * angle form).  OTI = min over the transmission rows (actuation
  * singularities), CTI = min over the constraint rows (constraint
  * singularities).  The input transmission index is 1 identically: the
