@@ -113,6 +113,8 @@ BAD = [
      "design.beta", "a whole number of cells >= 1"),
     ("inverted grid", ("z_c: [0.3, 0.45, 6]", "z_c: [0.45, 0.3, 6]"),
      "design.z_c", "is inverted"),
+    ("grid overflows", ("z_c: [0.3, 0.45, 6]", "z_c: [-1e308, 1e308, 6]"),
+     "design", "is not a finite number"),
     ("missing grid", ("  z_c: [0.3, 0.45, 6]\n", ""),
      "design.z_c", "missing required key of a design study"),
     ("missing stroke", ("    max: 0.4572\n", ""),

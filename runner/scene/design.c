@@ -156,6 +156,20 @@ int scene_design_check_keys(parse_ctx *c) {
   }
   for (ax = 0; ax < 3; ax++)
     if (check_grid(c, ax, &poses)) return -1;
+  /* the volume of a cell in (alpha, beta, z_c): the workspace volume is
+     counted in it */
+  {
+    rps3_design_grid gr;
+    double v = 0;
+    design_grid(s, &gr);
+    if (rps3_design_grid_cell(&gr, &v) != RPS3_OK || !isfinite(v)) {
+      scene_error_set(c->err, s->design, "design",
+                      "the volume of a grid cell, (hi - lo) / cells of "
+                      "alpha, beta and z_c multiplied, is not a finite "
+                      "number: not a grid of poses");
+      return -1;
+    }
+  }
   return 0;
 off_axis:
   scene_error_set(c->err, s->mark[K_PAY_COM], scene_keys[K_PAY_COM].path,
