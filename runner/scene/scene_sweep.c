@@ -342,13 +342,13 @@ int scene_check_keys(parse_ctx *c) {
   int k, pair;
   /* a design study needs no trajectory (it is the optional task) */
   int design = s->design.line > 0, no_traj = design && s->section[2].line == 0;
-  if (scene_design_check_keys(c)) return -1;
   if (s->section[1].line == 0 || (s->section[2].line == 0 && !design)) {
     scene_error_set(c->err, s->section[0],
                     s->section[1].line == 0 ? "manipulator" : "trajectory",
                     "missing required section");
     return -1;
   }
+  if (scene_design_check_keys(c)) return -1;
   for (k = 0; k < SCENE_NKEY; k++) {
     const scene_key_info *ki = &scene_keys[k];
     int applies = ki->kind == FOR_ALL || ki->kind == (int)s->base.traj.kind;
