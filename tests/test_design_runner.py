@@ -19,8 +19,7 @@ import pytest
 import rps3
 from conftest import RUNNER, run, write_scene
 from rps3 import h5io
-from test_cf import (ALLOWED_EXCEPTIONS, ALLOWED_WARNINGS,  # noqa: F401
-                     compliance, offline)
+from test_cf import ALLOWED_EXCEPTIONS, ALLOWED_WARNINGS, compliance, offline  # noqa: F401
 from test_scale import MPIRUN, RUNNER_MPI, assert_same_content, mpirun
 
 MANIP = """\
@@ -450,7 +449,7 @@ def test_mpirun_gives_the_file_of_one_run(tmp_path):
         assert_same_content(one, out)
 
 
-def test_compliance_checker_cf_1_10(atlas, tmp_path, offline):
+def test_compliance_checker_cf_1_10(atlas, tmp_path, offline):  # noqa: F811
     """The design file passes IOOS compliance-checker's CF-1.10 checks
     without an error (offline), its warnings those of docs/hdf5.md."""
     import shutil
