@@ -103,9 +103,12 @@ enum rps3_status {
                         for -- in rps3_inverse (multiroot) a root other than
                         the pose's own (closed form (39)); in rps3_fk and
                         rps3_theta_solve a mode other than opt.mode */
+  RPS3_EEMPTY = 8,   /* empty workspace: no pose of the set a design is
+                        evaluated on is reachable (rps3_design_eval); its
+                        summary is still filled (zeros, never NaN) */
   RPS3_EINVAL = -1,  /* invalid argument: non-finite or out-of-range value,
                         NULL pointer, unknown enum value */
-  RPS3_ENOMEM = -2,  /* allocation failed (rps3_data_alloc only) */
+  RPS3_ENOMEM = -2,  /* allocation failed (the _alloc functions only) */
   RPS3_ESTATE = -4   /* a stage was called before the stage it reads from */
 };
 
@@ -1657,6 +1660,350 @@ RPS3_API int rps3_ctrl_update_plant(void *state, double t, const double l[3],
 /* The controller of c at rate [Hz]: {rps3_ctrl_update, c, rate,
    RPS3_CTRL_USES_PLANT, rps3_ctrl_update_plant}. */
 RPS3_API rps3_controller rps3_ctrl_bind(rps3_ctrl *c, double rate);
+
+/* ------------------------------------------------------------------ design */
+
+/*
+ * Design optimisation: what a designer chooses before building (base radius,
+ * platform ratio, link stroke, joint ranges, masses), the model it makes,
+ * and the indices that say how good it is over a set of poses (reach, force
+ * transmission, conditioning, parasitic motion) and along a task (actuator
+ * force and power).  docs/design.md gives every definition with its
+ * equation and unit.  The positions come from the library's own
+ * kinematics (rps3_inverse: (2)-(7), (39)); this section adds only what it
+ * measures on them.  A workspace (rps3_design_ws_alloc) holds all scratch:
+ * the evaluations allocate nothing, print nothing, never abort.
+ */
+
+/*
+ * A design.  The geometry of Table II, the joint limits and a mass model
+ * whose links are an actuator body and a uniform rod:
+ *   link mass      m       = actuator_mass + link_density l_max
+ *   centroid       d       = (actuator_mass actuator_d
+ *                             + link_density l_max^2 / 2) / m   (0 if m = 0)
+ *   inertia        link_Ic = link_density l_max^3 / 12
+ *                            + link_density l_max (l_max / 2 - d)^2
+ *                            + actuator_mass (actuator_d - d)^2
+ * about the centroid, about the pin direction: the rod spans the pin to
+ * l_max (the cylinder and the rod of a linear actuator at full stroke, a
+ * constant as the paper's d is), the actuator body is a point at
+ * actuator_d from the pin.  rps3_design_default() gives Table II exactly
+ * for the model: R = 0.2286, rho = 0.5, M = 0.18, m = 0.09 (all actuator,
+ * link_density 0), d = 0.1524, link_Ic = 0.
+ */
+typedef struct {
+  double R;             /* base radius, centre to pin joints [m] */
+  double rho;           /* r / R, r the platform radius [-] */
+  double l_min, l_max;  /* link stroke: shortest, longest length [m] */
+  double theta_min, theta_max; /* pin joint range: link angle to the base
+                                  plane, theta of (39) [rad], within
+                                  [0, pi] */
+  double ball_max;      /* ball joint cone half-angle [rad]: the largest
+                           angle between a link and the platform normal
+                           (the socket's axis), in (0, pi] */
+  double link_radius;   /* radius of a link's capsule for interference
+                           between links [m]; 0: not checked */
+  double M;             /* platform mass, a uniform disc of radius r [kg] */
+  double payload;       /* payload mass, a point on the platform normal
+                           through its centre [kg] */
+  double payload_height; /* payload above the platform centre, along the
+                           platform normal [m] */
+  double actuator_mass; /* mass of a link's actuator body [kg] */
+  double actuator_d;    /* its distance from the pin [m] */
+  double link_density;  /* mass per unit length of a link's rod [kg/m] */
+  double g;             /* gravitational acceleration [m/s^2] */
+} rps3_design;
+
+/*
+ * Every field of rps3_design that rps3_design_model() validates:
+ * RPS3_DESIGN_FIELDS(X) calls X(ID, MEMBER, LO, LO_OPEN, HI, UNIT, NAME) as
+ * RPS3_FIELDS does (NAME is the dotted name that starts a message, here the
+ * member's name).  The rules between fields: l_max > l_min (a stroke > 0),
+ * theta_max > theta_min, and a link mass model whose m, d, link_Ic are
+ * finite.
+ */
+#define RPS3_DESIGN_FIELDS(X)                                                 \
+  X(RPS3_DF_R, R, 0, 1, HUGE_VAL, "m", "R")                                   \
+  X(RPS3_DF_RHO, rho, 0, 1, HUGE_VAL, "1", "rho")                             \
+  X(RPS3_DF_L_MIN, l_min, 0, 0, HUGE_VAL, "m", "l_min")                       \
+  X(RPS3_DF_L_MAX, l_max, 0, 1, HUGE_VAL, "m", "l_max")                       \
+  X(RPS3_DF_THETA_MIN, theta_min, 0, 0, 3.14159265358979323846, "rad",        \
+    "theta_min")                                                              \
+  X(RPS3_DF_THETA_MAX, theta_max, 0, 0, 3.14159265358979323846, "rad",        \
+    "theta_max")                                                              \
+  X(RPS3_DF_BALL_MAX, ball_max, 0, 1, 3.14159265358979323846, "rad",          \
+    "ball_max")                                                               \
+  X(RPS3_DF_LINK_RADIUS, link_radius, 0, 0, HUGE_VAL, "m", "link_radius")     \
+  X(RPS3_DF_M, M, 0, 0, HUGE_VAL, "kg", "M")                                  \
+  X(RPS3_DF_PAYLOAD, payload, 0, 0, HUGE_VAL, "kg", "payload")                \
+  X(RPS3_DF_PAYLOAD_HEIGHT, payload_height, -HUGE_VAL, 0, HUGE_VAL, "m",      \
+    "payload_height")                                                         \
+  X(RPS3_DF_ACTUATOR_MASS, actuator_mass, 0, 0, HUGE_VAL, "kg",               \
+    "actuator_mass")                                                          \
+  X(RPS3_DF_ACTUATOR_D, actuator_d, 0, 0, HUGE_VAL, "m", "actuator_d")        \
+  X(RPS3_DF_LINK_DENSITY, link_density, 0, 0, HUGE_VAL, "kg/m",               \
+    "link_density")                                                           \
+  X(RPS3_DF_G, g, 0, 0, HUGE_VAL, "m/s^2", "g")
+
+#define RPS3_DESIGN_FIELD_ID_(ID, ...) ID,
+typedef enum {
+  RPS3_DESIGN_FIELDS(RPS3_DESIGN_FIELD_ID_) RPS3_NDESIGN_FIELD
+} rps3_design_field_id;
+#undef RPS3_DESIGN_FIELD_ID_
+
+/* rps3_field_info.in of a design field's row */
+#define RPS3_IN_DESIGN 16
+
+/* Row of design field id (0 <= id < RPS3_NDESIGN_FIELD), NULL otherwise;
+   offset is offsetof(rps3_design, MEMBER), n 1, is_int 0. */
+RPS3_API const rps3_field_info *rps3_design_field(int id);
+
+/* Fill ds with Table II (above), the stroke l_min = R, l_max = 2 R (the
+   paper gives none; it holds the helix of Table II), the pin range
+   [0, pi] (no limit beyond the paper's branch), ball_max = pi/4, no
+   interference check, no payload, g = 9.80665.  ds NULL: does nothing. */
+RPS3_API void rps3_design_default(rps3_design *ds);
+
+/*
+ * Validate ds and fill m with its model: R, rho, M, the link mass model
+ * above (m, d, link_Ic), g, the payload (mass and com (0, 0,
+ * payload_height), no inertia; RPS3_EFF_PAYLOAD selected when payload > 0)
+ * and the default options; m is then initialised (rps3_model_init).
+ * Returns RPS3_OK or RPS3_EINVAL with "FIELD = VALUE: reason" in err (err
+ * may be NULL; errsz its size), FIELD a design field's NAME (e.g. "l_min
+ * = 0.5: must be < l_max = 0.4 (a stroke > 0)").  rps3_design_validate
+ * reports the field by identifier (chk->field an rps3_design_field_id).
+ */
+RPS3_API int rps3_design_model(const rps3_design *ds, rps3_model *m,
+                               char *err, size_t errsz);
+RPS3_API int rps3_design_validate(const rps3_design *ds, rps3_check *chk);
+
+/* Reachability: why a pose is outside a design's workspace (bits of
+   rps3_design_out.flags).  A pose is reachable when none is set. */
+enum rps3_design_flag {
+  RPS3_DESIGN_STROKE = 1,     /* a link length outside [l_min, l_max] */
+  RPS3_DESIGN_PIN = 2,        /* a link angle theta outside [theta_min,
+                                 theta_max] */
+  RPS3_DESIGN_BALL = 4,       /* a ball joint bent past ball_max */
+  RPS3_DESIGN_INTERFERE = 8,  /* two link capsules (segment pin - ball,
+                                 radius link_radius) intersect */
+  RPS3_DESIGN_ASSEMBLY = 16,  /* no assembly: rps3_inverse refused the pose
+                                 (RPS3_EREACH: a ball joint not above the
+                                 base plane, or a link of zero length;
+                                 RPS3_EINVAL, RPS3_ERANGE); the other
+                                 outputs of the pose are NaN */
+  RPS3_DESIGN_SINGULAR = 32   /* singular: the homogeneous condition number
+                                 above opts.cond_sing, or rps3_inverse's
+                                 RPS3_ESING */
+};
+#define RPS3_DESIGN_NFLAG 6
+
+/* Name of flag index k (bit 1 << k): "stroke", "pin", "ball",
+   "interference", "assembly", "singular"; NULL for k out of range. */
+RPS3_API const char *rps3_design_flag_name(int k);
+
+/* How the indices are evaluated. */
+typedef struct {
+  double lti_good;   /* good transmission: LTI >= lti_good, 0.7 [-] */
+  double length;     /* characteristic length L of the homogeneous
+                        condition number [m]; 0: the platform radius r */
+  double cond_sing;  /* RPS3_DESIGN_SINGULAR above this homogeneous
+                        condition number, 1e8 [-] */
+} rps3_design_opts;
+
+/* Fill o with the defaults above.  o NULL: does nothing. */
+RPS3_API void rps3_design_opts_default(rps3_design_opts *o);
+
+/*
+ * Per-pose results of rps3_design_eval, arrays of n (3 n component-major
+ * as rps3_batch_out: link j of pose i at [j * n + i]); each is written
+ * when not NULL; flags is required.  Where RPS3_DESIGN_ASSEMBLY is set
+ * every other output of the pose is NaN; the others are computed for
+ * every pose that assembles, reachable or not (an atlas shows why).
+ *
+ * Force transmission (docs/design.md).  At a pose, each leg i carries two
+ * unit wrenches on the platform, both pure forces through its ball centre
+ * b_i: the transmission wrench along the link phi_i (what the actuator
+ * pushes), and the constraint wrench along the pin axis (what the R joint
+ * holds; the leg, R-P-S, has 5 freedoms).  Their six rows
+ * (f, (b_i - c) x f) make the overall Jacobian G (Joshi & Tsai 2002):
+ * G (v_c, omega) = (l', 0).  The output twist of row k is the platform
+ * twist t_k that every other row is reciprocal to, G t_k = e_k; the
+ * velocity of b_k under it is v_k = v_c + omega x (b_k - c), and f_k . v_k
+ * = 1.  The index of row k is the cosine of its pressure angle:
+ *   eta_k = |f_k . v_k| / (|f_k| |v_k|) = 1 / |v_k|,  in [0, 1]
+ * (Wang, Liu & Wu 2010, the output transmission index in its pressure
+ * angle form).  OTI = min over the transmission rows (actuation
+ * singularities), CTI = min over the constraint rows (constraint
+ * singularities).  The input transmission index is 1 identically: the
+ * prismatic actuator moves along the link, the line of its transmission
+ * wrench.  LTI = min(ITI, OTI, CTI) = min(OTI, CTI); 0 where G is
+ * singular.  Unit-free and invariant to scaling the mechanism.
+ *
+ * Homogeneous condition number: the condition number of G with its moment
+ * columns divided by L (opts.length, default r), G_h with the rows
+ * (f, (b_i - c) x f / L): every entry dimensionless, so metres and
+ * radians are not mixed.  In the Frobenius norm, normalised (Angeles):
+ *   cond_h = |G_h|_F |G_h^-1|_F / 6,   >= 1, 1 for an isotropic G_h,
+ * within [cond_2 / 6, cond_2] of the 2-norm's, and smooth in the design
+ * variables where the 2-norm's has kinks (singular values that cross), as
+ * a gradient-based optimiser needs.  HUGE_VAL where G is singular.
+ * Scaling the mechanism (R, z_c, the stroke, and L) leaves LTI and cond_h
+ * unchanged.
+ */
+typedef struct {
+  int *flags;            /* n: RPS3_DESIGN_* bits, 0 when reachable */
+  double *l;             /* 3 n: link lengths (5)-(7) [m] */
+  double *theta;         /* 3 n: link angles (39) [rad] */
+  double *ball;          /* 3 n: ball joint angles: between link i and
+                            the platform normal [rad] */
+  double *clearance;     /* n: least distance between two link axes
+                            (segments pin - ball) minus 2 link_radius [m] */
+  double *lti;           /* n: local transmission index [-] */
+  double *oti;           /* n: output transmission index [-] */
+  double *cti;           /* n: constraint transmission index [-] */
+  double *cond_h;        /* n: homogeneous condition number [-] */
+  double *transmission;  /* n: rps3_data.transmission [-] */
+  double *c;             /* 3 n: platform centre (x_c, y_c, z_c), (3)-(4)
+                            and the pose's z_c [m] */
+  double *spin;          /* n: parasitic spin [rad], below */
+} rps3_design_out;
+
+/*
+ * Summary over the reachable poses of a set (all zero, never NaN, when
+ * none is: RPS3_EEMPTY).
+ *
+ * Parasitic spin: the orientation (2), Rz(alpha) Ry(beta) Rz(-alpha), has
+ * no torsion about the platform normal in the tilt-and-torsion sense
+ * (Bonev): its torsion is alpha - alpha = 0.  What the platform turns
+ * about the vertical is its yaw in the Z-Y-X decomposition rot = Rz(spin)
+ * Ry(pitch) Rx(roll), spin = atan2(rot[1][0], rot[0][0]), the measure of
+ * parasitic rotation of the 3-RPS literature (Carretero et al. 2000),
+ * reported with x_c, y_c of (3)-(4).
+ */
+typedef struct {
+  size_t n;              /* poses evaluated */
+  size_t nreach;         /* reachable poses */
+  double reach_fraction; /* nreach / n [-] */
+  double volume;         /* nreach times the cell volume [m rad^2] */
+  double gti;            /* global transmission index: mean LTI [-] */
+  double good_fraction;  /* reachable poses with LTI >= lti_good, over
+                            nreach [-] */
+  double lti_min;        /* least LTI [-] */
+  double cond_h_max;     /* largest homogeneous condition number [-] */
+  double trans_max;      /* largest rps3_data.transmission [-] */
+  double xc_max, yc_max; /* largest |x_c|, |y_c| [m] */
+  double spin_max;       /* largest |spin| [rad] */
+  double l_lo, l_hi;     /* shortest and longest link used [m] */
+  int flags_any;         /* OR of the flags of every pose */
+  size_t nflag[RPS3_DESIGN_NFLAG]; /* poses with flag bit k set */
+} rps3_design_summary;
+
+/* A regular grid of poses, cell-centred: coordinate k of node j is
+   lo[k] + (j + 1/2) (hi[k] - lo[k]) / n[k]; pose index i0 + n0 (i1 + n1
+   i2), alpha fastest.  Cell volume prod_k (hi[k] - lo[k]) / n[k]. */
+typedef struct {
+  double lo[3], hi[3];  /* alpha, beta [rad], z_c [m] */
+  size_t n[3];          /* nodes per coordinate, >= 1 */
+} rps3_design_grid;
+
+/* Fill gr for design ds: alpha in [-pi, pi], beta in [0, pi/3], z_c in
+   [0, 2 R] (ds->R; 0.2286 when ds is NULL), 10 x 10 x 10 poses.  gr NULL:
+   does nothing. */
+RPS3_API void rps3_design_grid_default(const rps3_design *ds,
+                                       rps3_design_grid *gr);
+
+/* Number of poses of gr (0 for NULL, or when the product overflows). */
+RPS3_API size_t rps3_design_grid_size(const rps3_design_grid *gr);
+
+/* Pose i of gr into pose[3]; and the cell volume [m rad^2]. Return
+   RPS3_OK or RPS3_EINVAL (NULL, i out of range, a bound not finite or
+   hi < lo, n[k] = 0). */
+RPS3_API int rps3_design_grid_pose(const rps3_design_grid *gr, size_t i,
+                                   double pose[3]);
+RPS3_API int rps3_design_grid_cell(const rps3_design_grid *gr,
+                                   double *volume);
+
+struct rps3_design_scratch; /* internal: GSL SVD and task blocks */
+
+/* The workspace of the design functions: allocated once, serves any
+   design; one per thread.  err holds the message of the last failure. */
+typedef struct {
+  rps3_model model;      /* the model of the last design evaluated */
+  rps3_data *d;          /* its data */
+  rps3_error err;        /* last error */
+  struct rps3_design_scratch *scr; /* internal */
+} rps3_design_ws;
+
+/* Allocate a workspace into *out: RPS3_OK, RPS3_EINVAL (out NULL) or
+   RPS3_ENOMEM (nothing leaks).  Free it with rps3_design_ws_free (NULL
+   accepted). */
+RPS3_API int rps3_design_ws_alloc(rps3_design_ws **out);
+RPS3_API void rps3_design_ws_free(rps3_design_ws *w);
+
+/*
+ * Evaluate design ds at the n poses (alpha, beta, z_c), component-major
+ * (3 n, as rps3_batch_in.pose), with options o (NULL: defaults): the
+ * per-pose outputs of out (may be NULL) and the summary *sum (may be
+ * NULL); cell_volume [m rad^2] (>= 0) makes sum->volume.  Returns RPS3_OK,
+ * RPS3_EEMPTY (no pose reachable: out and sum filled, the summary zeros),
+ * or RPS3_EINVAL with w->err (bad design, with its field's message; n = 0,
+ * NULL arrays, a pose not finite, bad options).  Allocates nothing.
+ */
+RPS3_API int rps3_design_eval(rps3_design_ws *w, const rps3_design *ds,
+                              const rps3_design_opts *o, size_t n,
+                              const double *pose, double cell_volume,
+                              rps3_design_out *out,
+                              rps3_design_summary *sum);
+
+/* The same over the poses of grid gr (out's arrays hold its
+   rps3_design_grid_size poses in its order), cell volume from gr. */
+RPS3_API int rps3_design_eval_grid(rps3_design_ws *w, const rps3_design *ds,
+                                   const rps3_design_opts *o,
+                                   const rps3_design_grid *gr,
+                                   rps3_design_out *out,
+                                   rps3_design_summary *sum);
+
+/* Task requirements of rps3_design_task. */
+typedef struct {
+  size_t nsamples;       /* samples evaluated (before a failure) */
+  double F_peak[3];      /* max_t |F_i| [N] */
+  double F_rms[3];       /* sqrt(mean_t F_i^2) [N] */
+  double P_peak[3];      /* max_t |F_i l_i'| [W] */
+  double v_peak[3];      /* max_t |l_i'| [m/s] */
+  double l_lo[3], l_hi[3]; /* link length range [m] */
+  double lti_min;        /* least LTI along the task [-] */
+  size_t fail_index;     /* first sample outside the workspace, nsamples
+                            requested if none */
+  double fail_time;      /* its time [s]; NaN if none */
+  int fail_flags;        /* its RPS3_DESIGN_* bits (0: rps3_inverse
+                            failed, fail_status) */
+  int fail_status;       /* rps3_inverse's status there (RPS3_OK if it
+                            was the design's limits) */
+} rps3_design_task;
+
+/* link_mass argument of rps3_design_task */
+#define RPS3_DESIGN_NO_LINK_MASS 0
+#define RPS3_DESIGN_LINK_MASS 1
+
+/*
+ * What the task tr asks of design ds: the trajectory sampled at nsamples
+ * (>= 2) equally spaced times t_k = k T / (nsamples - 1) over its span T,
+ * the actuator forces by rps3_inverse_batch with the design's model (the
+ * default effects, the payload when ds->payload > 0; with link_mass
+ * RPS3_DESIGN_NO_LINK_MASS the links' gravity and inertia left out, the
+ * paper's case 1), and the reachability of every sample as
+ * rps3_design_eval has it.  Writes *res.  Returns RPS3_OK; RPS3_EREACH
+ * when a sample is outside the workspace: res->fail_* name the first one,
+ * w->err says "t = T s: " and why (the flags, or rps3_inverse's message),
+ * and the statistics cover the samples before it; RPS3_EINVAL (bad
+ * design, a trajectory that rps3_traj_check refuses for the design's
+ * model, nsamples < 2, link_mass not 0 or 1, NULL).  Allocates nothing.
+ */
+RPS3_API int rps3_design_task_eval(rps3_design_ws *w, const rps3_design *ds,
+                                   const rps3_design_opts *o,
+                                   const rps3_traj *tr, size_t nsamples,
+                                   int link_mass, rps3_design_task *res);
 
 #ifdef __cplusplus
 }

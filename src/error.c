@@ -20,6 +20,7 @@ const char *rps3_strerror(int status) {
   case RPS3_EDOMAIN: return "time outside the trajectory span";
   case RPS3_ERANGE: return "result not finite (overflow)";
   case RPS3_EMODE: return "theta solve found another assembly mode";
+  case RPS3_EEMPTY: return "empty workspace: no pose reachable";
   case RPS3_EINVAL: return "invalid argument";
   case RPS3_ENOMEM: return "out of memory";
   case RPS3_ESTATE: return "stage called before the stage it depends on";
