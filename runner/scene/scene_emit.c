@@ -14,13 +14,6 @@
 
 #include <yaml.h>
 
-/* the key table's text for a simulate default that is not a value */
-#define SIM_DEFTEXT(ID, MEMBER, IS_INT, LO, LO_OPEN, HI, UNIT, DEF, DEFTEXT) \
-  DEFTEXT,
-static const char *const sim_deftext[SCENE_NSIM] = {
-    SCENE_SIM_FIELDS(SIM_DEFTEXT)};
-#undef SIM_DEFTEXT
-
 /* ----------------------------------------------------------------- emit */
 
 void scene_text_free(scene_text *t) {
@@ -139,7 +132,7 @@ static int emit_value(yaml_emitter_t *em, int k, const scene_values *v) {
    the way the scene gave them. */
 static int case_has_key(const scene_case *c, int k) {
   const scene_key_info *ki = scene_key_get(k);
-  if (ki->kind != FOR_ALL && ki->kind != (int)c->v.traj.kind) return 0;
+  if (!scene_key_applies(ki, c->v.traj.kind)) return 0;
   if (ki->src == SRC_SIM) {
     /* written when simulated; "not given" (NaN, -1) is not a value */
     scene_values *w = (scene_values *)(void *)&c->v; /* read only */
@@ -230,13 +223,13 @@ void scene_keys_print(void) {
   scene_values v;
   char def[64], names[256], range[80];
   int k;
-  (void)scene_key_get(0); /* builds the key table */
   scene_values_default(&v);
   printf("| key | type | unit | range | paper | default | meaning |\n");
   printf("|---|---|---|---|---|---|---|\n");
   for (k = 0; k < SCENE_NKEY; k++) {
     const scene_key_info *ki = scene_key_get(k);
     const char *type = "";
+    int kind = scene_key_kind(ki);
     switch (ki->type) {
     case KEY_REAL: type = "number"; break;
     case KEY_REAL3: type = "[3 numbers]"; break;
@@ -251,8 +244,8 @@ void scene_keys_print(void) {
     case KEY_POSES: type = "[[3 numbers], ...]"; break;
     case KEY_FILE: type = "file name"; break;
     }
-    if (ki->src == SRC_SIM && sim_deftext[ki->field])
-      snprintf(def, sizeof def, "%s", sim_deftext[ki->field]);
+    if (ki->deftext)
+      snprintf(def, sizeof def, "%s", ki->deftext);
     else if (ki->req == REQ_YES)
       snprintf(def, sizeof def, "required");
     else if (ki->req == REQ_SHAPE)
@@ -275,9 +268,9 @@ void scene_keys_print(void) {
     range_text(ki->f, range, sizeof range);
     printf(
         "| `%s`%s%s%s | %s | %s | %s | %s | %s | %s |\n", ki->path,
-        ki->kind != FOR_ALL ? " (" : "",
-        ki->kind != FOR_ALL ? scene_enum_name(K_KIND, ki->kind) : "",
-        ki->kind != FOR_ALL ? ")" : "", type, ki->unit,
+        kind != FOR_ALL ? " (" : "",
+        kind != FOR_ALL ? scene_enum_name(K_KIND, kind) : "",
+        kind != FOR_ALL ? ")" : "", type, ki->f->unit,
         (ki->type == KEY_REAL || ki->type == KEY_REAL3 || ki->type == KEY_INT)
             ? range
             : "-",

@@ -231,7 +231,7 @@ int scene_parse_sweep(parse_ctx *c, const yaml_node_t *map) {
           "one scene per value");
       return -1;
     }
-    if (ki->kind != FOR_ALL && ki->kind != (int)s->base.traj.kind) {
+    if (!scene_key_applies(ki, s->base.traj.kind)) {
       scene_error_set(c->err, km, name, "not a key of a %s trajectory",
                       scene_enum_name(K_KIND, (int)s->base.traj.kind));
       return -1;
@@ -348,7 +348,7 @@ int scene_check_keys(parse_ctx *c) {
   }
   for (k = 0; k < SCENE_NKEY; k++) {
     const scene_key_info *ki = &scene_keys[k];
-    int applies = ki->kind == FOR_ALL || ki->kind == (int)s->base.traj.kind;
+    int applies = scene_key_applies(ki, s->base.traj.kind);
     int sec = strncmp(ki->path, "manipulator", 11) == 0 ? 1 : 2;
     if (!applies && s->given[k]) {
       scene_error_set(c->err, s->mark[k], ki->path,
@@ -367,9 +367,7 @@ int scene_check_keys(parse_ctx *c) {
     static const int one_of[3][2] = {
         {K_M_OVER_M, K_MASS}, {K_SAMPLES, K_DT}, {K_BLEND, K_BLEND_RATIO}};
     int a = one_of[pair][0], b = one_of[pair][1];
-    if (scene_keys[a].kind != FOR_ALL &&
-        scene_keys[a].kind != (int)s->base.traj.kind)
-      continue;
+    if (!scene_key_applies(&scene_keys[a], s->base.traj.kind)) continue;
     if (!s->given[a] && !s->given[b]) {
       scene_error_set(c->err, s->section[pair ? 2 : 1], scene_keys[a].path,
                       "missing: give %s or %s", leaf(scene_keys[a].path),
