@@ -25,11 +25,10 @@
 enum { O_OUTPUT, O_QUICK, O_VERSION, O_HELP, O_N };
 
 static const cli_opt SIMSTUDY_OPTS[O_N] = {
-    {"output", 'o', "OUT.h5", 0, 0, 0,
-     "output file (written under a temporary name,\nrenamed when complete)"},
+    CLI_ROW_OUTPUT,
     {"quick", 0, NULL, 0, 0, 0, "shorter runs (0.5 s), one timing each"},
-    {"version", 0, NULL, 0, 0, 0, "print the version"},
-    {"help", 'h', NULL, 0, 0, 0, "print this help"},
+    CLI_ROW_VERSION,
+    CLI_ROW_HELP,
 };
 
 static void usage(FILE *out) {

@@ -56,13 +56,12 @@
 enum { O_OUTPUT, O_SAMPLES, O_REPEATS, O_QUICK, O_VERSION, O_HELP, O_N };
 
 static const cli_opt STUDY_OPTS[O_N] = {
-    {"output", 'o', "OUT.h5", 0, 0, 0,
-     "output file (written under a temporary name,\nrenamed when complete)"},
+    CLI_ROW_OUTPUT,
     {"samples", 0, "N", 1, 10, 1000000, "samples per trajectory (default 400)"},
     {"repeats", 0, "R", 1, 1, 1000, "timed passes per setting (default 9)"},
     {"quick", 0, NULL, 0, 0, 0, "a coarse workspace grid"},
-    {"version", 0, NULL, 0, 0, 0, "print the version"},
-    {"help", 'h', NULL, 0, 0, 0, "print this help"},
+    CLI_ROW_VERSION,
+    CLI_ROW_HELP,
 };
 
 static void usage(FILE *out) {
