@@ -180,6 +180,15 @@ static int agree(const world *w, int code, int *first) {
   return all[0];
 }
 
+/* a usage error, said by rank 0: "rps3-run: MSG" and where --help is */
+static int usage_error(const world *w, const char *msg) {
+  if (w->rank == 0) {
+    fprintf(stderr, "rps3-run: %s\n", msg);
+    cli_try("rps3-run");
+  }
+  return EXIT_USAGE;
+}
+
 /*
  * The command line against the launch: under mpirun the ranks are the
  * shards (a's shard set from w), --copy needs mpirun, --resume a shard;
@@ -189,26 +198,19 @@ static int agree(const world *w, int code, int *first) {
 static int args_for_world(run_args *a, const world *w) {
   char err[512];
   if (w->size > 1) {
-    if (a->shard_arg) {
-      if (w->rank == 0) {
-        fprintf(stderr,
-                "rps3-run: --shard is for runs without mpirun; "
-                "under mpirun the ranks are the shards\n");
-        cli_try("rps3-run");
-      }
-      return EXIT_USAGE;
-    }
+    if (a->shard_arg)
+      return usage_error(w,
+                         "--shard is for runs without mpirun; under "
+                         "mpirun the ranks are the shards");
     a->shard = (size_t)w->rank;
     a->nshard = (size_t)w->size;
     /* each rank's file is a part like those of --shard */
     snprintf(a->shard_text, sizeof a->shard_text, "%d/%d", w->rank, w->size);
     a->shard_arg = a->shard_text;
   } else if (a->copy) {
-    fprintf(stderr,
-            "rps3-run: --copy is for rps3-run-mpi under mpirun and "
-            "for merge; a run without them writes one whole file\n");
-    cli_try("rps3-run");
-    return EXIT_USAGE;
+    return usage_error(w,
+                       "--copy is for rps3-run-mpi under mpirun and for "
+                       "merge; a run without them writes one whole file");
   }
   /* where the output goes is checked before anything is computed */
   if (a->out_path && !a->check) {
@@ -220,15 +222,10 @@ static int args_for_world(run_args *a, const world *w) {
     }
     if (w->rank == 0) stale_report("rps3-run", a->out_path);
   }
-  if (a->resume && (!a->shard_arg || w->size > 1)) {
-    if (w->rank == 0) {
-      fprintf(stderr,
-              "rps3-run: --resume is for --shard K/N runs (it "
-              "skips a part that is complete already)\n");
-      cli_try("rps3-run");
-    }
-    return EXIT_USAGE;
-  }
+  if (a->resume && (!a->shard_arg || w->size > 1))
+    return usage_error(w,
+                       "--resume is for --shard K/N runs (it skips a part "
+                       "that is complete already)");
   return -1;
 }
 
@@ -256,16 +253,11 @@ static int run_simulated(scene *s, const run_args *a, const world *w, int argc,
   sim_args sa;
   int code;
   char *cmd;
-  if (a->fields != out_fields_all()) {
-    if (w->rank == 0) {
-      fprintf(stderr,
-              "rps3-run: --fields selects variables of the "
-              "inverse-dynamics file; a scene with a simulate "
-              "section writes the simulation file whole\n");
-      cli_try("rps3-run");
-    }
-    return EXIT_USAGE;
-  }
+  if (a->fields != out_fields_all())
+    return usage_error(w,
+                       "--fields selects variables of the "
+                       "inverse-dynamics file; a scene with a simulate "
+                       "section writes the simulation file whole");
   sa.out_path = a->out_path;
   sa.check = a->check;
   sa.quiet = a->quiet;
