@@ -219,6 +219,16 @@ static void range_text(const rps3_field_info *f, char *buf, size_t sz) {
     snprintf(buf, sz, "%c%s, %s]", f->lo_open ? '(' : '[', lo, hi);
 }
 
+/* the type column of each key_type; an enum lists its names */
+static const char *const type_text[] = {[KEY_REAL] = "number",
+                                        [KEY_INT] = "integer",
+                                        [KEY_BOOL] = "bool",
+                                        [KEY_REAL3] = "[3 numbers]",
+                                        [KEY_EFFECTS] = "[effect names]",
+                                        [KEY_TIMES] = "[numbers]",
+                                        [KEY_POSES] = "[[3 numbers], ...]",
+                                        [KEY_FILE] = "file name"};
+
 void scene_keys_print(void) {
   scene_values v;
   char def[64], names[256], range[80];
@@ -228,21 +238,11 @@ void scene_keys_print(void) {
   printf("|---|---|---|---|---|---|---|\n");
   for (k = 0; k < SCENE_NKEY; k++) {
     const scene_key_info *ki = scene_key_get(k);
-    const char *type = "";
+    const char *type = type_text[ki->type];
     int kind = scene_key_kind(ki);
-    switch (ki->type) {
-    case KEY_REAL: type = "number"; break;
-    case KEY_REAL3: type = "[3 numbers]"; break;
-    case KEY_INT: type = "integer"; break;
-    case KEY_BOOL: type = "bool"; break;
-    case KEY_ENUM:
+    if (ki->type == KEY_ENUM) {
       scene_enum_list(k, names, sizeof names);
       type = names;
-      break;
-    case KEY_EFFECTS: type = "[effect names]"; break;
-    case KEY_TIMES: type = "[numbers]"; break;
-    case KEY_POSES: type = "[[3 numbers], ...]"; break;
-    case KEY_FILE: type = "file name"; break;
     }
     if (ki->deftext)
       snprintf(def, sizeof def, "%s", ki->deftext);
