@@ -249,10 +249,8 @@ $(B)/rps3-study: $(B)/runner/bin/main_study.o $(STUDY_OBJ) $(RUN_OBJ) $(B)/librp
 	$(CC) -o $@ $^ $(HDF5_LIBS) $(YAML_LIBS) $(GSL_LIBS) $(CRYPTO_LIBS) -lz -lpthread -lm
 # rps3-simstudy (runner/bin/main_simstudy.c): closed-loop tracking and what
 # simulation accuracy costs in time; `make simulation` runs it
-$(B)/rps3-simstudy: $(B)/runner/bin/main_simstudy.o $(B)/runner/core/cli.o \
-                   $(B)/runner/core/safeio.o $(B)/runner/core/signals.o \
-                   $(B)/runner/core/tmpout.o $(B)/runner/core/h5err.o $(B)/librps3.a
-	$(CC) -o $@ $^ $(HDF5_LIBS) $(GSL_LIBS) -lm
+$(B)/rps3-simstudy: $(B)/runner/bin/main_simstudy.o $(STUDY_OBJ) $(RUN_OBJ) $(B)/librps3.a
+	$(CC) -o $@ $^ $(HDF5_LIBS) $(YAML_LIBS) $(GSL_LIBS) $(CRYPTO_LIBS) -lz -lpthread -lm
 
 # rps3-run-mpi: the same program linked with runner/mpi/world_mpi.c, for
 # `mpirun -n N build/rps3-run-mpi SCENE.yaml -o OUT.h5` (Debian's OpenMPI)

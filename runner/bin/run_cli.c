@@ -38,8 +38,7 @@ enum {
 };
 
 static const cli_opt RUN_OPTS[O_N] = {
-    {"output", 'o', "OUT.h5", 0, 0, 0,
-     "output file (written under a temporary name,\nrenamed when complete)"},
+    CLI_ROW_OUTPUT,
     {"quiet", 'q', NULL, 0, 0, 0, "no progress on stderr"},
     {"gzip", 0, "LEVEL", 1, 0, 9,
      "deflate the datasets at LEVEL (default 0: not\ndeflated)"},
@@ -62,8 +61,8 @@ static const cli_opt RUN_OPTS[O_N] = {
     {"schema", 0, NULL, 0, 0, 0, "print the datasets of OUT.h5 (markdown)"},
     {"sim-schema", 0, NULL, 0, 0, 0,
      "... of OUT.h5 of a scene with a simulate section"},
-    {"version", 0, NULL, 0, 0, 0, "print the version"},
-    {"help", 'h', NULL, 0, 0, 0, "print this help"},
+    CLI_ROW_VERSION,
+    CLI_ROW_HELP,
 };
 
 static void usage(FILE *out) {

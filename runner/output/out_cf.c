@@ -232,7 +232,7 @@ static const char *gain_units(const scene *s, char *buf) {
 const char *out_cf_axis_units(const scene *s, size_t a, char *buf, size_t sz) {
   const scene_axis *ax = &s->axis[a];
   const scene_key_info *ki = scene_key_get(ax->key);
-  const char *u = ki->unit;
+  const char *u = ki->f->unit;
   int k;
   if (ki->type == KEY_ENUM || ki->type == KEY_BOOL || strcmp(u, "-") == 0) {
     snprintf(buf, sz, "1");

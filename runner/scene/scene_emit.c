@@ -14,13 +14,6 @@
 
 #include <yaml.h>
 
-/* the key table's text for a simulate default that is not a value */
-#define SIM_DEFTEXT(ID, MEMBER, IS_INT, LO, LO_OPEN, HI, UNIT, DEF, DEFTEXT) \
-  DEFTEXT,
-static const char *const sim_deftext[SCENE_NSIM] = {
-    SCENE_SIM_FIELDS(SIM_DEFTEXT)};
-#undef SIM_DEFTEXT
-
 /* ----------------------------------------------------------------- emit */
 
 void scene_text_free(scene_text *t) {
@@ -139,7 +132,7 @@ static int emit_value(yaml_emitter_t *em, int k, const scene_values *v) {
    the way the scene gave them. */
 static int case_has_key(const scene_case *c, int k) {
   const scene_key_info *ki = scene_key_get(k);
-  if (ki->kind != FOR_ALL && ki->kind != (int)c->v.traj.kind) return 0;
+  if (!scene_key_applies(ki, c->v.traj.kind)) return 0;
   if (ki->src == SRC_SIM) {
     /* written when simulated; "not given" (NaN, -1) is not a value */
     scene_values *w = (scene_values *)(void *)&c->v; /* read only */
@@ -226,33 +219,33 @@ static void range_text(const rps3_field_info *f, char *buf, size_t sz) {
     snprintf(buf, sz, "%c%s, %s]", f->lo_open ? '(' : '[', lo, hi);
 }
 
+/* the type column of each key_type; an enum lists its names */
+static const char *const type_text[] = {[KEY_REAL] = "number",
+                                        [KEY_INT] = "integer",
+                                        [KEY_BOOL] = "bool",
+                                        [KEY_REAL3] = "[3 numbers]",
+                                        [KEY_EFFECTS] = "[effect names]",
+                                        [KEY_TIMES] = "[numbers]",
+                                        [KEY_POSES] = "[[3 numbers], ...]",
+                                        [KEY_FILE] = "file name"};
+
 void scene_keys_print(void) {
   scene_values v;
   char def[64], names[256], range[80];
   int k;
-  (void)scene_key_get(0); /* builds the key table */
   scene_values_default(&v);
   printf("| key | type | unit | range | paper | default | meaning |\n");
   printf("|---|---|---|---|---|---|---|\n");
   for (k = 0; k < SCENE_NKEY; k++) {
     const scene_key_info *ki = scene_key_get(k);
-    const char *type = "";
-    switch (ki->type) {
-    case KEY_REAL: type = "number"; break;
-    case KEY_REAL3: type = "[3 numbers]"; break;
-    case KEY_INT: type = "integer"; break;
-    case KEY_BOOL: type = "bool"; break;
-    case KEY_ENUM:
+    const char *type = type_text[ki->type];
+    int kind = scene_key_kind(ki);
+    if (ki->type == KEY_ENUM) {
       scene_enum_list(k, names, sizeof names);
       type = names;
-      break;
-    case KEY_EFFECTS: type = "[effect names]"; break;
-    case KEY_TIMES: type = "[numbers]"; break;
-    case KEY_POSES: type = "[[3 numbers], ...]"; break;
-    case KEY_FILE: type = "file name"; break;
     }
-    if (ki->src == SRC_SIM && sim_deftext[ki->field])
-      snprintf(def, sizeof def, "%s", sim_deftext[ki->field]);
+    if (ki->deftext)
+      snprintf(def, sizeof def, "%s", ki->deftext);
     else if (ki->req == REQ_YES)
       snprintf(def, sizeof def, "required");
     else if (ki->req == REQ_SHAPE)
@@ -275,9 +268,9 @@ void scene_keys_print(void) {
     range_text(ki->f, range, sizeof range);
     printf(
         "| `%s`%s%s%s | %s | %s | %s | %s | %s | %s |\n", ki->path,
-        ki->kind != FOR_ALL ? " (" : "",
-        ki->kind != FOR_ALL ? scene_enum_name(K_KIND, ki->kind) : "",
-        ki->kind != FOR_ALL ? ")" : "", type, ki->unit,
+        kind != FOR_ALL ? " (" : "",
+        kind != FOR_ALL ? scene_enum_name(K_KIND, kind) : "",
+        kind != FOR_ALL ? ")" : "", type, ki->f->unit,
         (ki->type == KEY_REAL || ki->type == KEY_REAL3 || ki->type == KEY_INT)
             ? range
             : "-",

@@ -2,10 +2,10 @@
  * scene_guard.c - see scene_guard.h.
  */
 #include "scene_guard.h"
+#include "scene_int.h"
 
 #include <errno.h>
 #include <fcntl.h>
-#include <stdarg.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -14,16 +14,8 @@
 
 #include <yaml.h>
 
-static void guard_error(scene_error *err, int line, int column,
-                        const char *path, const char *fmt, ...) {
-  va_list ap;
-  err->mark.line = line;
-  err->mark.column = column;
-  snprintf(err->path, sizeof err->path, "%s", path);
-  va_start(ap, fmt);
-  vsnprintf(err->what, sizeof err->what, fmt, ap);
-  va_end(ap);
-}
+/* errors before any line: about the file */
+static const scene_mark nowhere = {0, 0};
 
 static const char *file_kind(mode_t m) {
   return S_ISDIR(m)    ? "a directory"
@@ -44,32 +36,32 @@ int scene_read_guarded(const char *path, char **text, size_t *len,
   *text = NULL;
   *len = 0;
   if (fd < 0) {
-    guard_error(err, 0, 0, "(file)", "cannot open: %s", strerror(errno));
+    scene_error_set(err, nowhere, "(file)", "cannot open: %s", strerror(errno));
     return -1;
   }
   if (fstat(fd, &st) != 0) {
-    guard_error(err, 0, 0, "(file)", "cannot read: %s", strerror(errno));
+    scene_error_set(err, nowhere, "(file)", "cannot read: %s", strerror(errno));
     close(fd);
     return -1;
   }
   if (!S_ISREG(st.st_mode)) {
-    guard_error(err, 0, 0, "(file)",
-                "is %s: a scene is a regular file (YAML text)",
-                file_kind(st.st_mode));
+    scene_error_set(err, nowhere, "(file)",
+                    "is %s: a scene is a regular file (YAML text)",
+                    file_kind(st.st_mode));
     close(fd);
     return -1;
   }
   if (st.st_size > (off_t)SCENE_MAX_BYTES) {
-    guard_error(err, 0, 0, "(file)",
-                "is %lld bytes: a scene is at most %u bytes (1 MiB)",
-                (long long)st.st_size, (unsigned)SCENE_MAX_BYTES);
+    scene_error_set(err, nowhere, "(file)",
+                    "is %lld bytes: a scene is at most %u bytes (1 MiB)",
+                    (long long)st.st_size, (unsigned)SCENE_MAX_BYTES);
     close(fd);
     return -1;
   }
   /* one byte more than the limit: a file that grew since fstat */
   buf = malloc((size_t)SCENE_MAX_BYTES + 2);
   if (!buf) {
-    guard_error(err, 0, 0, "(file)", "out of memory");
+    scene_error_set(err, nowhere, "(file)", "out of memory");
     close(fd);
     return -1;
   }
@@ -77,7 +69,8 @@ int scene_read_guarded(const char *path, char **text, size_t *len,
     ssize_t n = read(fd, buf + got, (size_t)SCENE_MAX_BYTES + 1 - got);
     if (n < 0 && errno == EINTR) continue;
     if (n < 0) {
-      guard_error(err, 0, 0, "(file)", "cannot read: %s", strerror(errno));
+      scene_error_set(err, nowhere, "(file)", "cannot read: %s",
+                      strerror(errno));
       free(buf);
       close(fd);
       return -1;
@@ -85,9 +78,9 @@ int scene_read_guarded(const char *path, char **text, size_t *len,
     if (n == 0) break;
     got += (size_t)n;
     if (got > SCENE_MAX_BYTES) {
-      guard_error(err, 0, 0, "(file)",
-                  "is more than %u bytes: a scene is at most 1 MiB",
-                  (unsigned)SCENE_MAX_BYTES);
+      scene_error_set(err, nowhere, "(file)",
+                      "is more than %u bytes: a scene is at most 1 MiB",
+                      (unsigned)SCENE_MAX_BYTES);
       free(buf);
       close(fd);
       return -1;
@@ -142,27 +135,27 @@ static size_t utf8_len(const unsigned char *t, size_t n) {
    libyaml counts them) */
 static int check_bytes(const unsigned char *t, size_t n, scene_error *err) {
   size_t i = 0;
-  int line = 1, col = 1;
+  scene_mark at = {1, 1};
   while (i < n) {
     size_t k;
     if (t[i] == 0) {
-      guard_error(err, line, col, "(file)",
-                  "a NUL byte (byte %zu): not a text file", i);
+      scene_error_set(err, at, "(file)",
+                      "a NUL byte (byte %zu): not a text file", i);
       return -1;
     }
     k = utf8_len(t + i, n - i);
     if (k == 0) {
-      guard_error(err, line, col, "(file)",
-                  "invalid UTF-8 (byte %zu is 0x%02X): a scene is UTF-8 "
-                  "text",
-                  i, t[i]);
+      scene_error_set(err, at, "(file)",
+                      "invalid UTF-8 (byte %zu is 0x%02X): a scene is UTF-8 "
+                      "text",
+                      i, t[i]);
       return -1;
     }
     if (t[i] == '\n' || (t[i] == '\r' && (i + 1 == n || t[i + 1] != '\n'))) {
-      line++;
-      col = 1;
+      at.line++;
+      at.column = 1;
     } else if (t[i] != '\r')
-      col++;
+      at.column++;
     i += k;
   }
   return 0;
@@ -259,12 +252,11 @@ static int check_events(const char *text, size_t len, scene_error *err) {
           static const char core[] = "tag:yaml.org,2002:";
           const char *tag = tag_of(&e);
           int is_core = strncmp(tag, core, sizeof core - 1) == 0;
-          guard_error(err, (int)e.start_mark.line + 1,
-                      (int)e.start_mark.column + 1, path,
-                      "YAML tag '%s%s' is not accepted: write the value "
-                      "plainly (only !!int and !!float may tag a number)",
-                      is_core ? "!!" : "",
-                      is_core ? tag + sizeof core - 1 : tag);
+          scene_error_set(err, scene_mark_of(&e.start_mark), path,
+                          "YAML tag '%s%s' is not accepted: write the value "
+                          "plainly (only !!int and !!float may tag a number)",
+                          is_core ? "!!" : "",
+                          is_core ? tag + sizeof core - 1 : tag);
         }
         rc = -1;
         break;
@@ -275,10 +267,9 @@ static int check_events(const char *text, size_t len, scene_error *err) {
       }
       if (d == SCENE_MAX_DEPTH) {
         path_of(st, d, path, sizeof path);
-        guard_error(err, (int)e.start_mark.line + 1,
-                    (int)e.start_mark.column + 1, path,
-                    "nested more than %d levels deep: a scene needs 3",
-                    SCENE_MAX_DEPTH);
+        scene_error_set(err, scene_mark_of(&e.start_mark), path,
+                        "nested more than %d levels deep: a scene needs 3",
+                        SCENE_MAX_DEPTH);
         rc = -1;
         break;
       }
@@ -305,10 +296,10 @@ int scene_text_guard(const char *text, size_t len, scene_error *err) {
   const unsigned char *t = (const unsigned char *)text;
   const char *wide = wide_encoding(t, len);
   if (wide) {
-    guard_error(err, 0, 0, "(file)",
-                "is %s text: save the scene as UTF-8 (e.g. iconv -f UTF-16 "
-                "-t UTF-8)",
-                wide);
+    scene_error_set(err, nowhere, "(file)",
+                    "is %s text: save the scene as UTF-8 (e.g. iconv -f UTF-16 "
+                    "-t UTF-8)",
+                    wide);
     return -1;
   }
   if (check_bytes(t, len, err)) return -1;

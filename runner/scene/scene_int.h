@@ -28,16 +28,8 @@ typedef struct {
 
 /* ------------------------------------------------------ scene.c: keys */
 
-/* complete scene_keys[] from the key rows and the field rows, once; called
-   from the entry points, before any thread starts */
-void scene_keys_build(void);
-
-/* the key table's rows completed with their field's row; filled by the
-   entry points (scene_key_get, scene_key_find, scene_load) before use */
-extern scene_key_info scene_keys[SCENE_NKEY];
-
-/* the library field key k fills, directly or converted (-1: none) */
-int scene_key_fills(int k);
+/* the rows of SCENE_KEYS with their field's row */
+extern const scene_key_info scene_keys[SCENE_NKEY];
 
 /* the enum value of key k named name, or -1 */
 int scene_enum_find(int k, const char *name);

@@ -403,89 +403,107 @@ static const char *num(char buf[32], double x) {
 #define DERIV_MAX                                             \
   (DBL_MAX / 64.0) /* the Hermite polynomials' factors (up to \
                       20) on top of change / h^2 */
+
+/* the step from row r - 1 to row r of t's times: increasing, within the
+   range of a double and not too small; 0 or -1 with err set */
+static int table_step_time(const table_data *t, int what, size_t r,
+                           const char *where, char *err, size_t errsz) {
+  char lt[40], n1[32], n2[32];
+  double scale = fmax(fabs(t->time[0]), fabs(t->time[t->n - 1]));
+  double h = t->time[r] - t->time[r - 1];
+  col_label(t, what, 0, lt, sizeof lt);
+  num(n1, t->time[r]);
+  num(n2, t->time[r - 1]);
+  if (!(t->time[r] > t->time[r - 1])) {
+    table_err(err, errsz,
+              "%s: %s: %s after %s: times must "
+              "increase strictly",
+              where, lt, n1, n2);
+    return -1;
+  }
+  if (!isfinite(t->time[r] - t->time[0])) {
+    table_err(err, errsz,
+              "%s: %s: %s is more than 1.8e308 s after the "
+              "first row's %s: the time range overflows a double (the "
+              "times must span less than 1.8e308 s)",
+              where, lt, n1, num(n2, t->time[0]));
+    return -1;
+  }
+  if (h < scale * TIME_RESOLUTION) {
+    table_err(err, errsz,
+              "%s: %s: %s after %s: the rows are %.3g s "
+              "apart, too close relative to the time scale %.3g s (the "
+              "largest |t|): a step must be at least 1.5e-11 of it, or the "
+              "time within the step rounds by more than 1.5e-5 of the step;"
+              " subtract an offset from the times or thin the rows",
+              where, lt, n1, n2, h, scale);
+    return -1;
+  }
+  if (h * h < DBL_MIN) {
+    table_err(err, errsz,
+              "%s: %s: %s after %s: the rows are %.3g s "
+              "apart, a spacing too small for a double: the interpolant's "
+              "acceleration divides by the step squared, which underflows "
+              "below 1.5e-154 s",
+              where, lt, n1, n2, h);
+    return -1;
+  }
+  return 0;
+}
+
+/* value k over the step from row r - 1 to row r: its change, and the
+   interpolant's acceleration, within the range of a double; 0 or -1 with
+   err set */
+static int table_step_value(const table_data *t, int what, size_t r, int k,
+                            const char *where, char *err, size_t errsz) {
+  char lc[40], lr[40], n1[32], n2[32];
+  double h = t->time[r] - t->time[r - 1];
+  double dv = t->value[r][k] - t->value[r - 1][k], mv, mr, ma;
+  col_label(t, what, 1 + k, lc, sizeof lc);
+  if (!isfinite(dv)) {
+    table_err(err, errsz,
+              "%s: %s: %s after %s: the change between "
+              "the rows overflows a double",
+              where, lc, num(n1, t->value[r][k]), num(n2, t->value[r - 1][k]));
+    return -1;
+  }
+  /* the interpolant's acceleration: change / h^2, and with the file's
+     rates rate / h, with its accelerations their own */
+  mv = fabs(dv) / h / h;
+  mr = t->rates_given ? (fabs(t->rate[r][k]) + fabs(t->rate[r - 1][k])) / h
+                      : 0.0;
+  ma = t->acc != NULL ? fabs(t->acc[r][k]) + fabs(t->acc[r - 1][k]) : 0.0;
+  if (mv + mr + ma < DERIV_MAX) return 0;
+  if (mv >= mr && mv >= ma) {
+    table_err(err, errsz,
+              "%s: %s: changes by %.3g in %.3g s from the "
+              "previous row: the spacing of the rows is too small for "
+              "so large a change, the interpolant's rate and acceleration "
+              "across the step (of order change / step^2) overflow a "
+              "double",
+              where, lc, dv, h);
+    return -1;
+  }
+  col_label(t, what, mr >= ma ? 4 + k : 7 + k, lr, sizeof lr);
+  table_err(err, errsz,
+            "%s: %s: %.3g and %.3g across a step of %.3g s:"
+            " the interpolant's acceleration there (of order %s) "
+            "overflows a double",
+            where, lr, mr >= ma ? t->rate[r - 1][k] : t->acc[r - 1][k],
+            mr >= ma ? t->rate[r][k] : t->acc[r][k], h,
+            mr >= ma ? "rate / step" : "the accelerations themselves");
+  return -1;
+}
+
 static int table_steps(table_data *t, int what, char *err, size_t errsz) {
   size_t r;
   int k;
-  char where[300], lt[40], lc[40], n1[32], n2[32];
-  double scale = fmax(fabs(t->time[0]), fabs(t->time[t->n - 1]));
-  col_label(t, what, 0, lt, sizeof lt);
+  char where[300];
   for (r = 1; r < t->n; r++) {
-    double h = t->time[r] - t->time[r - 1];
     table_where(t, r, where, sizeof where);
-    if (!(t->time[r] > t->time[r - 1])) {
-      table_err(err, errsz,
-                "%s: %s: %s after %s: times must "
-                "increase strictly",
-                where, lt, num(n1, t->time[r]), num(n2, t->time[r - 1]));
-      return -1;
-    }
-    if (!isfinite(t->time[r] - t->time[0])) {
-      table_err(err, errsz,
-                "%s: %s: %s is more than 1.8e308 s after the "
-                "first row's %s: the time range overflows a double (the "
-                "times must span less than 1.8e308 s)",
-                where, lt, num(n1, t->time[r]), num(n2, t->time[0]));
-      return -1;
-    }
-    if (h < scale * TIME_RESOLUTION) {
-      table_err(err, errsz,
-                "%s: %s: %s after %s: the rows are %.3g s "
-                "apart, too close relative to the time scale %.3g s (the "
-                "largest |t|): a step must be at least 1.5e-11 of it, or the "
-                "time within the step rounds by more than 1.5e-5 of the step;"
-                " subtract an offset from the times or thin the rows",
-                where, lt, num(n1, t->time[r]), num(n2, t->time[r - 1]), h,
-                scale);
-      return -1;
-    }
-    if (h * h < DBL_MIN) {
-      table_err(err, errsz,
-                "%s: %s: %s after %s: the rows are %.3g s "
-                "apart, a spacing too small for a double: the interpolant's "
-                "acceleration divides by the step squared, which underflows "
-                "below 1.5e-154 s",
-                where, lt, num(n1, t->time[r]), num(n2, t->time[r - 1]), h);
-      return -1;
-    }
-    for (k = 0; k < 3; k++) {
-      double dv = t->value[r][k] - t->value[r - 1][k], mv, mr, ma;
-      col_label(t, what, 1 + k, lc, sizeof lc);
-      if (!isfinite(dv)) {
-        table_err(err, errsz,
-                  "%s: %s: %s after %s: the change between "
-                  "the rows overflows a double",
-                  where, lc, num(n1, t->value[r][k]),
-                  num(n2, t->value[r - 1][k]));
-        return -1;
-      }
-      /* the interpolant's acceleration: change / h^2, and with the
-         file's rates rate / h, with its accelerations their own */
-      mv = fabs(dv) / h / h;
-      mr = t->rates_given ? (fabs(t->rate[r][k]) + fabs(t->rate[r - 1][k])) / h
-                          : 0.0;
-      ma = t->acc != NULL ? fabs(t->acc[r][k]) + fabs(t->acc[r - 1][k]) : 0.0;
-      if (mv + mr + ma < DERIV_MAX) continue;
-      if (mv >= mr && mv >= ma) {
-        table_err(err, errsz,
-                  "%s: %s: changes by %.3g in %.3g s from the "
-                  "previous row: the spacing of the rows is too small for "
-                  "so large a change, the interpolant's rate and acceleration "
-                  "across the step (of order change / step^2) overflow a "
-                  "double",
-                  where, lc, dv, h);
-      } else {
-        char lr[40];
-        col_label(t, what, mr >= ma ? 4 + k : 7 + k, lr, sizeof lr);
-        table_err(err, errsz,
-                  "%s: %s: %.3g and %.3g across a step of %.3g s:"
-                  " the interpolant's acceleration there (of order %s) "
-                  "overflows a double",
-                  where, lr, mr >= ma ? t->rate[r - 1][k] : t->acc[r - 1][k],
-                  mr >= ma ? t->rate[r][k] : t->acc[r][k], h,
-                  mr >= ma ? "rate / step" : "the accelerations themselves");
-      }
-      return -1;
-    }
+    if (table_step_time(t, what, r, where, err, errsz)) return -1;
+    for (k = 0; k < 3; k++)
+      if (table_step_value(t, what, r, k, where, err, errsz)) return -1;
   }
   return 0;
 }

@@ -299,18 +299,81 @@ static int h5_storage_check(hid_t f, hid_t d, const char *path,
 /* the largest table, as read or held in memory [bytes] */
 #define MAX_BYTES TABLE_MAX_BYTES
 
+/* the element size of column d's numbers (integers or floating point);
+   0 or -1 with err set */
+static int h5_column_type(hid_t d, const char *path, const char *name,
+                          size_t *el, char *err, size_t errsz) {
+  hid_t ty;
+  H5T_class_t cls;
+  char why[400];
+  if ((ty = H5Dget_type(d)) < 0 || (cls = H5Tget_class(ty)) == H5T_NO_CLASS) {
+    h5_why(why, sizeof why);
+    table_err(err, errsz, "%s: dataset /%s: cannot read its type: %s", path,
+              name, why);
+    if (ty >= 0) H5Tclose(ty);
+    return -1;
+  }
+  *el = H5Tget_size(ty);
+  H5Tclose(ty);
+  if (cls != H5T_INTEGER && cls != H5T_FLOAT) {
+    table_err(err, errsz,
+              "%s: dataset /%s: of %s type, not numbers (a column "
+              "holds integers or floating-point numbers)",
+              path, name, class_name(cls));
+    return -1;
+  }
+  return 0;
+}
+
+/* the rows of column d, which has one dimension; 0 or -1 with err set */
+static int h5_column_rows(hid_t d, const char *path, const char *name,
+                          hsize_t *rows, char *err, size_t errsz) {
+  hid_t sp = H5Dget_space(d);
+  char why[400];
+  int nd;
+  H5S_class_t type;
+  if (sp < 0) {
+    h5_why(why, sizeof why);
+    table_err(err, errsz, "%s: dataset /%s: cannot read its shape: %s", path,
+              name, why);
+    return -1;
+  }
+  nd = H5Sget_simple_extent_ndims(sp);
+  type = H5Sget_simple_extent_type(sp);
+  if (type == H5S_SIMPLE && nd == 1 &&
+      H5Sget_simple_extent_dims(sp, rows, NULL) == 1) {
+    H5Sclose(sp);
+    return 0;
+  }
+  H5Sclose(sp);
+  H5Eclear2(H5E_DEFAULT);
+  if (type == H5S_NULL)
+    table_err(err, errsz,
+              "%s: dataset /%s: holds nothing (a null "
+              "dataspace); a column has one dimension",
+              path, name);
+  else if (type == H5S_SCALAR || nd == 0)
+    table_err(err, errsz,
+              "%s: dataset /%s: a single value (a scalar); a "
+              "column has one dimension",
+              path, name);
+  else
+    table_err(err, errsz,
+              "%s: dataset /%s: %d dimensions; a column has "
+              "one",
+              path, name, nd);
+  return -1;
+}
+
 /* column c (named name): open it and check everything but its rows'
    values; rows and the bytes it declares (as read: elements of at least a
    double's 8 bytes) out.  0, or -1 with err set (d closed) */
 static int h5_open_column(hid_t f, const char *path, const char *name, int what,
                           int c, hid_t *out, hsize_t *rows, double *bytes,
                           char *err, size_t errsz) {
-  hid_t d, ty = -1, sp = -1;
-  H5T_class_t cls;
-  hsize_t dims[1];
+  hid_t d;
   size_t el;
   char why[400];
-  int nd, rc = -1;
   H5I_type_t kind;
   if (h5_link_check(f, path, name, err, errsz)) return -1;
   d = H5Oopen(f, name, H5P_DEFAULT);
@@ -326,70 +389,27 @@ static int h5_open_column(hid_t f, const char *path, const char *name, int what,
               kind == H5I_GROUP      ? "group"
               : kind == H5I_DATATYPE ? "named datatype"
                                      : "object of another kind");
-    goto done;
+    H5Oclose(d);
+    return -1;
   }
-  if (h5_storage_check(f, d, path, name, err, errsz)) goto done;
-  if ((ty = H5Dget_type(d)) < 0 || (cls = H5Tget_class(ty)) == H5T_NO_CLASS) {
-    h5_why(why, sizeof why);
-    table_err(err, errsz, "%s: dataset /%s: cannot read its type: %s", path,
-              name, why);
-    goto done;
+  if (h5_storage_check(f, d, path, name, err, errsz) ||
+      h5_column_type(d, path, name, &el, err, errsz) ||
+      h5_column_rows(d, path, name, rows, err, errsz) ||
+      h5_units_check(d, path, name, what, c, err, errsz)) {
+    H5Oclose(d);
+    return -1;
   }
-  if (cls != H5T_INTEGER && cls != H5T_FLOAT) {
-    table_err(err, errsz,
-              "%s: dataset /%s: of %s type, not numbers (a column "
-              "holds integers or floating-point numbers)",
-              path, name, class_name(cls));
-    goto done;
-  }
-  el = H5Tget_size(ty);
-  if ((sp = H5Dget_space(d)) < 0) {
-    h5_why(why, sizeof why);
-    table_err(err, errsz, "%s: dataset /%s: cannot read its shape: %s", path,
-              name, why);
-    goto done;
-  }
-  nd = H5Sget_simple_extent_ndims(sp);
-  if (H5Sget_simple_extent_type(sp) != H5S_SIMPLE || nd != 1 ||
-      H5Sget_simple_extent_dims(sp, dims, NULL) != 1) {
-    H5Eclear2(H5E_DEFAULT);
-    if (H5Sget_simple_extent_type(sp) == H5S_NULL)
-      table_err(err, errsz,
-                "%s: dataset /%s: holds nothing (a null "
-                "dataspace); a column has one dimension",
-                path, name);
-    else if (H5Sget_simple_extent_type(sp) == H5S_SCALAR || nd == 0)
-      table_err(err, errsz,
-                "%s: dataset /%s: a single value (a scalar); a "
-                "column has one dimension",
-                path, name);
-    else
-      table_err(err, errsz,
-                "%s: dataset /%s: %d dimensions; a column has "
-                "one",
-                path, name, nd);
-    goto done;
-  }
-  if (h5_units_check(d, path, name, what, c, err, errsz)) goto done;
-  *rows = dims[0];
-  *bytes =
-      (double)dims[0] * (double)(el > sizeof(double) ? el : sizeof(double));
+  *bytes = (double)*rows * (double)(el > sizeof(double) ? el : sizeof(double));
   if (*bytes > MAX_BYTES) {
     table_err(err, errsz,
               "%s: dataset /%s: declares %llu rows of %zu-byte "
               "numbers, %.3g GB as read: above the table limit of 1 GiB",
-              path, name, (unsigned long long)dims[0], el, *bytes / 1e9);
-    goto done;
-  }
-  rc = 0;
-done:
-  if (sp >= 0) H5Sclose(sp);
-  if (ty >= 0) H5Tclose(ty);
-  if (rc)
+              path, name, (unsigned long long)*rows, el, *bytes / 1e9);
     H5Oclose(d);
-  else
-    *out = d;
-  return rc;
+    return -1;
+  }
+  *out = d;
+  return 0;
 }
 
 /* the values of column c, read from d into the table's arrays (a strided
