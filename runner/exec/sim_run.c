@@ -1,7 +1,7 @@
 /*
  * sim_run.c - one simulated case (simulate.h), window by window into the
- * tiles of sim_run.h; the whole run is sim_main.c's, on this thread or on
- * the worker threads of sim_pool.c.
+ * tiles of sim_run.h; the whole run is sim_main.c's, a job of the worker
+ * pool (pool.h).
  */
 #include "sim_run.h"
 #include "core/exit_codes.h"
@@ -160,37 +160,37 @@ static int start(const scene_case *c, const sim_case *sc, sim_work *wk,
 }
 
 /* hand the window of t over; the case's values with its last one */
-static sim_tile *flush(sim_sink *k, sim_tile *t, size_t c, size_t k0, size_t nk,
-                       const sim_case_values *v, int last) {
+static sim_tile *flush(pool_worker *w, sim_tile *t, size_t c, size_t k0,
+                       size_t nk, const sim_case_values *v, int last, char *err,
+                       size_t errsz) {
   t->c = c;
   t->k0 = k0;
   t->nk = nk;
   t->last = last;
   if (last) t->v = *v;
-  return k->put(k, t);
+  return pool_emit(w, NULL, err, errsz);
 }
 
-sim_tile *sim_run_case(const scene *s, size_t i, size_t limit, sim_tile *t,
-                       sim_sink *k, char *err, size_t errsz) {
+int sim_run_case(const scene *s, size_t i, pool_worker *w, char *err,
+                 size_t errsz) {
+  sim_tile *t = pool_slot(w);
   scene_case c;
   sim_case sc;
   scene_error serr;
   sim_work wk;
   rps3_controller ctl;
   sim_case_values v;
-  size_t n, nrun, j = 0, k0 = 0;
+  size_t n, j = 0, k0 = 0;
   int st;
   if (scene_case_build(s, i, &c, &serr) || sim_case_build(s, &c, &sc, &serr)) {
     snprintf(err, errsz, "case %zu: %s", i, serr.what);
-    return NULL;
+    return -1;
   }
-  /* the pilot of the estimate runs the first samples only */
-  nrun = sc.nt < limit ? sc.nt : limit;
-  if (start(&c, &sc, &wk, &ctl, &st, err, errsz)) return NULL;
+  if (start(&c, &sc, &wk, &ctl, &st, err, errsz)) return -1;
   memset(&v, 0, sizeof v);
   v.failed_time = (double)NAN;
   v.failed_at = -1;
-  for (n = 0; n < nrun && t; n++) {
+  for (n = 0; n < sc.nt && t; n++) {
     double tn = sim_case_time(&c, &sc, n);
     if (st == RPS3_OK && n > 0)
       /* a tick just behind the state (samples closer than the slack) is
@@ -204,8 +204,8 @@ sim_tile *sim_run_case(const scene *s, size_t i, size_t limit, sim_tile *t,
     }
     store(&t->w, &v, j, wk.sim, wk.ref, n == 0);
     t->times[j] = tn;
-    if (++j == t->w.points && n + 1 < nrun) {
-      t = flush(k, t, i, k0, j, &v, 0);
+    if (++j == t->w.points && n + 1 < sc.nt) {
+      t = flush(w, t, i, k0, j, &v, 0, err, errsz);
       k0 += j;
       j = 0;
     }
@@ -219,18 +219,15 @@ sim_tile *sim_run_case(const scene *s, size_t i, size_t limit, sim_tile *t,
      the fill, NaN), with the case's values and its resolved scene */
   if (t && scene_case_yaml(&c, &t->yaml)) {
     snprintf(err, errsz, "case %zu: cannot write its scene", i);
-    return NULL;
+    return -1;
   }
   if (t) {
     v.scene_resolved = t->yaml.s;
-    t = flush(k, t, i, k0, j, &v, 1);
+    t = flush(w, t, i, k0, j, &v, 1, err, errsz);
   }
-  return t;
+  return t ? 0 : -1;
 }
 
-/* ---------------------------------------------------------- one thread */
-
-/* the sink of one thread: write at once */
 /* the first failed case's reason on stderr (progress_failure) */
 void sim_failure(const scene *s, progress *pr, const sim_tile *t) {
   char what[512];
