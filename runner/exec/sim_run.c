@@ -51,33 +51,33 @@ static void store(sim_window *w, sim_case_values *v, size_t j,
   int i;
   for (i = 0; i < 3; i++) {
     size_t x = 3 * j + (size_t)i;
-    w->buf[SIM_length][x] = sim->y[i];
-    w->buf[SIM_length_rate][x] = sim->y[3 + i];
-    w->buf[SIM_length_ref][x] = r->l[i];
-    w->buf[SIM_length_rate_ref][x] = r->dl[i];
+    w->buf[OUT_sim_length][x] = sim->y[i];
+    w->buf[OUT_sim_length_rate][x] = sim->y[3 + i];
+    w->buf[OUT_length_ref][x] = r->l[i];
+    w->buf[OUT_length_rate_ref][x] = r->dl[i];
     e = r->l[i] - sim->y[i];
-    w->buf[SIM_tracking_error][x] = e;
+    w->buf[OUT_tracking_error][x] = e;
     if (fabs(e) > v->tracking_error_max) v->tracking_error_max = fabs(e);
     /* no force has acted yet at the start */
-    w->buf[SIM_force_cmd][x] = first ? (double)NAN : sim->F_cmd[i];
-    w->buf[SIM_force][x] = first ? (double)NAN : sim->F[i];
-    w->buf[SIM_theta][x] = d->theta[i];
+    w->buf[OUT_force_cmd][x] = first ? (double)NAN : sim->F_cmd[i];
+    w->buf[OUT_sim_force][x] = first ? (double)NAN : sim->F[i];
+    w->buf[OUT_sim_theta][x] = d->theta[i];
   }
-  w->buf[SIM_alpha][j] = d->pose[0];
-  w->buf[SIM_beta][j] = d->pose[1];
-  w->buf[SIM_z_c][j] = d->pose[2];
-  w->buf[SIM_x_c][j] = d->c[0];
-  w->buf[SIM_y_c][j] = d->c[1];
-  w->buf[SIM_alpha_ref][j] = r->pose[0];
-  w->buf[SIM_beta_ref][j] = r->pose[1];
-  w->buf[SIM_z_c_ref][j] = r->pose[2];
-  w->buf[SIM_x_c_ref][j] = r->c[0];
-  w->buf[SIM_y_c_ref][j] = r->c[1];
-  w->buf[SIM_kinetic_energy][j] = sim->T;
-  w->buf[SIM_potential_energy][j] = sim->P;
-  w->buf[SIM_work_actuators][j] = sim->y[6];
-  w->buf[SIM_work_friction][j] = sim->y[7];
-  w->buf[SIM_energy_residual][j] = sim->energy_residual;
+  w->buf[OUT_sim_alpha][j] = d->pose[0];
+  w->buf[OUT_beta][j] = d->pose[1];
+  w->buf[OUT_z_c][j] = d->pose[2];
+  w->buf[OUT_x_c][j] = d->c[0];
+  w->buf[OUT_y_c][j] = d->c[1];
+  w->buf[OUT_alpha_ref][j] = r->pose[0];
+  w->buf[OUT_beta_ref][j] = r->pose[1];
+  w->buf[OUT_z_c_ref][j] = r->pose[2];
+  w->buf[OUT_x_c_ref][j] = r->c[0];
+  w->buf[OUT_y_c_ref][j] = r->c[1];
+  w->buf[OUT_kinetic_energy][j] = sim->T;
+  w->buf[OUT_potential_energy][j] = sim->P;
+  w->buf[OUT_work_actuators][j] = sim->y[6];
+  w->buf[OUT_work_friction][j] = sim->y[7];
+  w->buf[OUT_sim_energy_residual][j] = sim->energy_residual;
 }
 
 /* the message of a failure at sample k (time t_k): the simulation's, and

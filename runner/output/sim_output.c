@@ -17,20 +17,11 @@
 #include <hdf5_hl.h>
 #include <yaml.h>
 
-typedef struct {
-  const char *name;
-  sim_shape shape;
-  sim_type type;
-  const char *units;     /* UDUNITS-2 */
-  const char *long_name; /* CF long_name */
-  const char *doc;
-} sim_field_info;
+/* the schema */
+#define fields out_field_table
 
-#define SIM_FIELD_ROW(name, shape, type, units, long_name, doc) \
-  {#name, shape, type, units, long_name, doc},
-static const sim_field_info fields[SIM_NFIELD] = {
-    SIM_OUTPUT_FIELDS(SIM_FIELD_ROW)};
-#undef SIM_FIELD_ROW
+/* 1 when field i is the simulation's */
+static int sim_field(int i) { return (fields[i].files & OUT_SIM) != 0; }
 
 /* case numbers are written in runs of this many cases */
 #define RUN 4096
@@ -40,14 +31,14 @@ static const sim_field_info fields[SIM_NFIELD] = {
    checksums) the whole chunk, with no chunk cache (output.h): small */
 #define CASE_CHUNK 64
 
-static size_t columns(sim_shape shape) { return shape == SIM_CTL ? 3 : 1; }
+static size_t columns(out_shape shape) { return shape == OUT_CTL ? 3 : 1; }
 
 int sim_window_alloc(sim_window *w, size_t points) {
   int i;
   memset(w, 0, sizeof *w);
   w->points = points;
-  for (i = 0; i < SIM_NFIELD; i++) {
-    if (fields[i].shape == SIM_C) continue;
+  for (i = 0; i < OUT_NFIELD; i++) {
+    if (fields[i].shape == OUT_C || !sim_field(i)) continue;
     w->buf[i] = malloc(points * columns(fields[i].shape) * sizeof(double));
     if (!w->buf[i]) {
       sim_window_free(w);
@@ -59,21 +50,21 @@ int sim_window_alloc(sim_window *w, size_t points) {
 
 void sim_window_free(sim_window *w) {
   int i;
-  for (i = 0; i < SIM_NFIELD; i++) free(w->buf[i]);
+  for (i = 0; i < OUT_NFIELD; i++) free(w->buf[i]);
   memset(w, 0, sizeof *w);
 }
 
 struct sim_file {
   hid_t file;
-  hid_t ds[SIM_NFIELD];
+  hid_t ds[OUT_NFIELD];
   hid_t case_time; /* [case, time] when the grid differs, else -1 */
   hid_t str;       /* variable-length UTF-8 string */
 };
 
-static hid_t mem_type(const sim_file *f, sim_type t) {
-  return t == SIM_F64   ? H5T_NATIVE_DOUBLE
-         : t == SIM_I32 ? H5T_NATIVE_INT32
-         : t == SIM_I64 ? H5T_NATIVE_INT64
+static hid_t mem_type(const sim_file *f, out_type t) {
+  return t == OUT_F64   ? H5T_NATIVE_DOUBLE
+         : t == OUT_I32 ? H5T_NATIVE_INT32
+         : t == OUT_I64 ? H5T_NATIVE_INT64
                         : f->str;
 }
 
@@ -271,7 +262,7 @@ sim_file *sim_file_create(const char *path, const scene *s, size_t nt,
     return NULL;
   }
   f->case_time = -1;
-  for (i = 0; i < SIM_NFIELD; i++) f->ds[i] = -1;
+  for (i = 0; i < OUT_NFIELD; i++) f->ds[i] = -1;
   f->str = H5Tcopy(H5T_C_S1);
   if (f->str < 0 || H5Tset_size(f->str, H5T_VARIABLE) < 0 ||
       H5Tset_cset(f->str, H5T_CSET_UTF8) < 0) {
@@ -296,11 +287,12 @@ sim_file *sim_file_create(const char *path, const scene *s, size_t nt,
     snprintf(err, errsz, "out of memory");
     goto fail;
   }
-  for (i = 0; i < SIM_NFIELD; i++) {
-    const sim_field_info *fi = &fields[i];
-    int rank = fi->shape == SIM_C ? 1 : fi->shape == SIM_CT ? 2 : 3;
+  for (i = 0; i < OUT_NFIELD; i++) {
+    const out_field_info *fi = &fields[i];
+    int rank = fi->shape == OUT_C ? 1 : fi->shape == OUT_CT ? 2 : 3;
+    if (!sim_field(i)) continue;
     dims[0] = s->ncase;
-    chunk[0] = fi->shape == SIM_C
+    chunk[0] = fi->shape == OUT_C
                    ? (s->ncase < CASE_CHUNK ? s->ncase : CASE_CHUNK)
                    : 1;
     dims[1] = nt;
@@ -308,16 +300,16 @@ sim_file *sim_file_create(const char *path, const scene *s, size_t nt,
     dims[2] = chunk[2] = 3;
     f->ds[i] =
         dataset(f, fi->name, mem_type(f, fi->type), rank, dims, chunk, gzip,
-                fi->type == SIM_F64   ? (const void *)&fnan
-                : i == SIM_status     ? (const void *)&fnotrun
-                : fi->type == SIM_I32 ? (const void *)&fneg
-                : fi->type == SIM_I64 ? (const void *)&fneg64
+                fi->type == OUT_F64   ? (const void *)&fnan
+                : i == OUT_sim_status ? (const void *)&fnotrun
+                : fi->type == OUT_I32 ? (const void *)&fneg
+                : fi->type == OUT_I64 ? (const void *)&fneg64
                                       : NULL,
                 fi->units, fi->long_name, fi->doc);
     if (f->ds[i] < 0 ||
-        (i == SIM_status && out_cf_status(f->ds[i], f->str) < 0) ||
-        (coords[fi->shape != SIM_C][0] &&
-         attr_str(f, f->ds[i], "coordinates", coords[fi->shape != SIM_C]) <
+        (i == OUT_sim_status && out_cf_status(f->ds[i], f->str) < 0) ||
+        (coords[fi->shape != OUT_C][0] &&
+         attr_str(f, f->ds[i], "coordinates", coords[fi->shape != OUT_C]) <
              0)) {
       out_fail(err, errsz, "cannot create dataset %s", fi->name);
       goto fail;
@@ -328,7 +320,7 @@ sim_file *sim_file_create(const char *path, const scene *s, size_t nt,
                  fi->name);
         goto fail;
       }
-    if (fi->shape == SIM_C && reopen_cached(f, i) < 0) {
+    if (fi->shape == OUT_C && reopen_cached(f, i) < 0) {
       out_fail(err, errsz, "cannot open dataset %s", fi->name);
       goto fail;
     }
@@ -367,10 +359,10 @@ int sim_file_window(sim_file *f, const sim_window *w, size_t c, size_t k0,
   start[0] = c;
   start[1] = k0;
   count[1] = nk;
-  for (i = 0; i < SIM_NFIELD; i++) {
-    const sim_field_info *fi = &fields[i];
-    if (fi->shape == SIM_C) continue;
-    if (write_slab(f->ds[i], H5T_NATIVE_DOUBLE, fi->shape == SIM_CT ? 2 : 3,
+  for (i = 0; i < OUT_NFIELD; i++) {
+    const out_field_info *fi = &fields[i];
+    if (fi->shape == OUT_C || !sim_field(i)) continue;
+    if (write_slab(f->ds[i], H5T_NATIVE_DOUBLE, fi->shape == OUT_CT ? 2 : 3,
                    start, count, w->buf[i]) < 0) {
       out_fail(err, errsz, "cannot write %s of case %zu", fi->name, c);
       return -1;
@@ -388,21 +380,21 @@ int sim_file_case(sim_file *f, const sim_case_values *v, size_t c, char *err,
                   size_t errsz) {
   hsize_t start = c, count = 1;
   const char *msg = v->message;
-  const void *src[SIM_NFIELD];
+  const void *src[OUT_NFIELD];
   int i;
   memset(src, 0, sizeof src);
-  src[SIM_tracking_error_max] = &v->tracking_error_max;
-  src[SIM_failed_time] = &v->failed_time;
-  src[SIM_status] = &v->status;
-  src[SIM_failed_at] = &v->failed_at;
-  src[SIM_nsteps] = &v->nsteps;
-  src[SIM_nevals] = &v->nevals;
-  src[SIM_nticks] = &v->nticks;
-  src[SIM_nsat] = &v->nsat;
-  src[SIM_message] = &msg;
-  src[SIM_scene_resolved] = &v->scene_resolved;
-  for (i = 0; i < SIM_NFIELD; i++) {
-    if (fields[i].shape != SIM_C) continue;
+  src[OUT_tracking_error_max] = &v->tracking_error_max;
+  src[OUT_failed_time] = &v->failed_time;
+  src[OUT_sim_status] = &v->status;
+  src[OUT_sim_failed_at] = &v->failed_at;
+  src[OUT_nsteps] = &v->nsteps;
+  src[OUT_nevals] = &v->nevals;
+  src[OUT_nticks] = &v->nticks;
+  src[OUT_nsat] = &v->nsat;
+  src[OUT_message] = &msg;
+  src[OUT_scene_resolved] = &v->scene_resolved;
+  for (i = 0; i < OUT_NFIELD; i++) {
+    if (fields[i].shape != OUT_C || !sim_field(i)) continue;
     if (!src[i] || write_slab(f->ds[i], mem_type(f, fields[i].type), 1, &start,
                               &count, src[i]) < 0) {
       out_fail(err, errsz, "cannot write %s of case %zu", fields[i].name, c);
@@ -415,7 +407,7 @@ int sim_file_case(sim_file *f, const sim_case_values *v, size_t c, char *err,
 int sim_file_close(sim_file *f, char *err, size_t errsz) {
   int i, rc = 0;
   if (!f) return 0;
-  for (i = 0; i < SIM_NFIELD; i++)
+  for (i = 0; i < OUT_NFIELD; i++)
     if (f->ds[i] >= 0 && H5Dclose(f->ds[i]) < 0) rc = -1;
   if (f->case_time >= 0 && H5Dclose(f->case_time) < 0) rc = -1;
   if (f->str >= 0) H5Tclose(f->str);
@@ -425,24 +417,14 @@ int sim_file_close(sim_file *f, char *err, size_t errsz) {
   return rc;
 }
 
-void sim_schema_print(void) {
-  static const char *const dims[] = {"case", "case, time", "case, time, link"};
-  static const char *const types[] = {"float64", "int32", "int64", "string"};
-  int i;
-  printf("| dataset | dimensions | type | units | description |\n");
-  printf("|---|---|---|---|---|\n");
-  for (i = 0; i < SIM_NFIELD; i++)
-    printf("| `%s` | %s | %s | %s | %s |\n", fields[i].name,
-           dims[fields[i].shape], types[fields[i].type], fields[i].units,
-           fields[i].doc);
-}
-
 double sim_file_bytes(size_t ncase, size_t npoint) {
   double per_point = 0, per_case = 0;
   int i;
-  for (i = 0; i < SIM_NFIELD; i++)
-    if (fields[i].shape == SIM_C)
-      per_case += fields[i].type == SIM_STR ? 512.0 : 8.0;
+  for (i = 0; i < OUT_NFIELD; i++)
+    if (!sim_field(i))
+      continue;
+    else if (fields[i].shape == OUT_C)
+      per_case += fields[i].type == OUT_STR ? 512.0 : 8.0;
     else
       per_point += 8.0 * (double)columns(fields[i].shape);
   /* the scene, the scales and HDF5's metadata: a bound */
