@@ -24,7 +24,7 @@
 typedef struct {
   const scene *s;
   const sim_plan *p;
-  sim_file *f;
+  out_file *f;
   progress *pr;
   size_t done, points, nfailed;
 } sim_job;
@@ -45,8 +45,8 @@ static int sim_write(void *ctx, void *slot, const void *info, char *err,
   const sim_tile *t = slot;
   (void)info;
   if ((t->nk > 0 &&
-       sim_file_window(J->f, &t->w, t->c, t->k0, t->nk,
-                       J->p->common ? NULL : t->times, err, errsz)) ||
+       out_write_window(J->f, t->w.buf, t->w.points, t->c, t->k0, t->nk,
+                        J->p->common ? NULL : t->times, err, errsz)) ||
       (t->last && sim_file_case(J->f, &t->v, t->c, err, errsz)))
     return -1;
   J->points += t->nk;
@@ -66,7 +66,7 @@ static int sim_write(void *ctx, void *slot, const void *info, char *err,
  * *nfailed counts the cases with a status.  The file does not depend on
  * nthread.  Returns 0, or -1 with err set.
  */
-static int sim_run_all(const scene *s, const sim_plan *p, sim_file *f,
+static int sim_run_all(const scene *s, const sim_plan *p, out_file *f,
                        int nthread, progress *pr, size_t *nfailed, char *err,
                        size_t errsz) {
   sim_job J;
@@ -197,7 +197,7 @@ static int sim_space(const scene *s, const sim_plan *p, const sim_args *a,
 static int sim_write_file(const scene *s, const sim_plan *p, const sim_args *a,
                           int nthread) {
   progress pr;
-  sim_file *f;
+  out_file *f;
   double *times;
   size_t nfailed = 0;
   int rc;
@@ -218,7 +218,7 @@ static int sim_write_file(const scene *s, const sim_plan *p, const sim_args *a,
                       a->command_line, err, sizeof err);
   free(times);
   rc = f ? sim_run_all(s, p, f, nthread, &pr, &nfailed, err, sizeof err) : -1;
-  if (f && sim_file_close(f, rc ? NULL : err, sizeof err) && rc == 0) rc = -1;
+  if (f && out_close(f, rc ? NULL : err, sizeof err) && rc == 0) rc = -1;
   if (rc) {
     fprintf(stderr, "rps3-run: %s: %s\n", a->out_path, err);
     tmpout_discard();

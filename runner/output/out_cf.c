@@ -91,7 +91,8 @@ static char *history_line(const char *now, const char *command_line) {
   return line;
 }
 
-int out_cf_conventions(hid_t file, hid_t str) {
+/* Conventions and git_revision */
+static int out_cf_conventions(hid_t file, hid_t str) {
   return out_h5_attr(file, str, "Conventions", OUT_CF_CONVENTIONS) < 0 ||
                  out_h5_attr(file, str, "git_revision", rps3_git_revision) < 0
              ? -1

@@ -27,10 +27,6 @@ extern const char *const rps3_git_revision;
 int out_cf_root(hid_t file, hid_t str, const char *now,
                 const char *command_line);
 
-/* Conventions and git_revision alone (the history written apart, as by
-   out_stamp); 0 or -1 */
-int out_cf_conventions(hid_t file, hid_t str);
-
 /* append a history line for a command that rewrote the file (merge); 0 or
    -1 */
 int out_cf_history_add(hid_t file, hid_t str, const char *now,

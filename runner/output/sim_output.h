@@ -15,7 +15,7 @@
 #include <stddef.h>
 #include <stdint.h>
 
-#include "outblock.h"
+#include "output.h"
 #include "scene/scene.h"
 
 /*
@@ -24,7 +24,7 @@
  * buf[i] + k * columns (NULL for the per-case fields).
  */
 typedef struct {
-  size_t points; /* samples per window */
+  size_t points;           /* samples per window */
   double *buf[OUT_NFIELD]; /* OUT_SIM fields only */
 } sim_window;
 
@@ -41,30 +41,23 @@ typedef struct {
 int sim_window_alloc(sim_window *w, size_t points);
 void sim_window_free(sim_window *w);
 
-typedef struct sim_file sim_file;
-
 /*
- * Create the file at path for the cases of s; nt the most samples of any
- * case; times the common time axis (nt values) or NULL when the grid
- * differs by case (then `time` is a sample index and case_time holds the
- * times).  Chunks are [1, points, (3)], Fletcher-32, deflate at gzip.
- * Returns NULL with a message in err.
+ * Create the file at path for the cases of s (out_open with the OUT_SIM
+ * fields); nt the most samples of any case; times the common time axis
+ * (nt values) or NULL when the grid differs by case (then `time` is a
+ * sample index and case_time holds the times).  Chunks are [1, points,
+ * (3)], Fletcher-32, deflate at gzip.  Windows are written with
+ * out_write_window, the file closed with out_close.  Returns NULL with a
+ * message in err.
  */
-sim_file *sim_file_create(const char *path, const scene *s, size_t nt,
+out_file *sim_file_create(const char *path, const scene *s, size_t nt,
                           const double *times, size_t points, int gzip,
                           const char *command_line, char *err, size_t errsz);
 
-/* Write samples [k0, k0 + nk) of case c from the window (and, with `times`
-   when the grid differs, its times).  0 or -1 with err set. */
-int sim_file_window(sim_file *f, const sim_window *w, size_t c, size_t k0,
-                    size_t nk, const double *times, char *err, size_t errsz);
-
-/* Write the per-case values of case c.  0 or -1 with err set. */
-int sim_file_case(sim_file *f, const sim_case_values *v, size_t c, char *err,
+/* Write the per-case values of case c (out_write_case).  0 or -1 with err
+   set. */
+int sim_file_case(out_file *f, const sim_case_values *v, size_t c, char *err,
                   size_t errsz);
-
-/* Close (f freed either way; NULL accepted): 0 or -1 with err set. */
-int sim_file_close(sim_file *f, char *err, size_t errsz);
 
 /* Bytes of a file of ncase cases and npoint samples in all, uncompressed
    (the per-case strings estimated): an estimate for the disk check. */
