@@ -4,9 +4,9 @@
  * cases of a tile are independent of each other.
  *
  * A job (a tile of whole cases, or one long case in windows) turns into
- * one or more tiles to write, each handed to a sink; the run is a job of
- * the worker pool (pool.h), which writes the tile at once on one thread,
- * or queues it for the writing thread and gives back a free block.
+ * one or more tiles to write, each handed to the worker pool (pool.h, the
+ * run is a job of it), which writes the tile at once on one thread, or
+ * queues it for the writing thread and gives back a free block.
  */
 #include "sweep.h"
 
@@ -29,13 +29,6 @@ typedef struct {
   size_t points;      /* samples computed */
   size_t failed;      /* cases that failed */
 } tile;
-
-/* where a job's tiles go: emit() takes the filled *b and sets *b to the
-   block to fill next; returns 0, or -1 with err set */
-typedef struct sink sink;
-struct sink {
-  int (*emit)(sink *k, out_block **b, const tile *t, char *err, size_t errsz);
-};
 
 /* round n up to a multiple of q */
 static size_t round_up(size_t n, size_t q) { return (n + q - 1) / q * q; }
@@ -215,8 +208,8 @@ static size_t slot_status(out_block *b, size_t slot, int rc, size_t failed_at) {
 /* ----------------------------------------------------------------- tiles */
 
 /* write tile t of block b to f */
-static int sweep_tile_write(out_file *f, const out_block *b, const tile *t, char *err,
-                     size_t errsz) {
+static int sweep_tile_write(out_file *f, const out_block *b, const tile *t,
+                            char *err, size_t errsz) {
   size_t w;
   for (w = 0; w < t->blank_below; w += b->points)
     if (out_write(f, b, t->c0, 1, w, b->points, 0, err, errsz)) return -1;
@@ -245,7 +238,7 @@ void sweep_case_label(const scene *s, size_t c, char *buf, size_t sz) {
 /* count a written tile of block b and show the progress, and the reason
    of the run's first failed case (also when quiet) */
 static void sweep_tile_count(const scene *s, const out_block *b, const tile *t,
-                      sweep_stats *st, progress *pr) {
+                             sweep_stats *st, progress *pr) {
   st->cases_done += t->cases;
   st->points_done += t->points;
   st->nfailed += t->failed;
@@ -291,15 +284,48 @@ size_t sweep_shard_cases(const scene *s, const sweep_plan *p, size_t shard,
   return n;
 }
 
+/* a sweep as a job of the pool (pool.h): its items are the jobs of the
+   shard, its slots tile blocks */
+typedef struct {
+  const scene *s;
+  const sweep_plan *p;
+  out_file *f;
+  out_layout layout; /* the file's chunks, for out_pack */
+  sweep_stats *st;
+  progress *pr;
+} sweep_job;
+
+/* hand the filled tile t of *b to the pool, and take the block to fill
+   next into *b: 0, or -1 with err */
+static int emit(const sweep_job *J, pool_worker *w, out_block **b,
+                const tile *t, char *err, size_t errsz) {
+  /* on threads, deflate and checksum here, in parallel, not on the writing
+     thread.  On one thread and uncompressed, the chunks as the file stores
+     them (out_pack: the Fletcher-32 here, full chunks stored from the
+     block's own buffers) cost less than HDF5's filter pipeline (a copy of
+     the tile into each chunk, another into the filter's buffer);
+     compressed, deflate is the cost either way, and -j 1 keeps HDF5's own
+     filters.  A late failure's blank windows go through HDF5 too. */
+  (*b)->packed = 0;
+  if ((pool_threaded(w) || J->layout.gzip == 0) && t->blank_below == 0 &&
+      out_pack(&J->layout, *b, t->c0, t->nc, t->k0, t->nk)) {
+    snprintf(err, errsz, "cannot pack cases %zu-%zu: out of memory", t->c0,
+             t->c0 + t->nc - 1);
+    return -1;
+  }
+  *b = pool_emit(w, t, err, errsz);
+  return *b ? 0 : -1;
+}
+
 /* 1 when jobs are long cases in windows, 0 when they are tiles of cases */
 static int in_windows(const sweep_plan *p) {
   return p->tile_cases == 1 && p->nt > p->tile_points;
 }
 
 /* job j as a tile of whole cases */
-static int job_whole(const scene *s, const sweep_plan *p, size_t j,
-                     out_block **bp, rps3_data *ws[], sink *k, char *err,
-                     size_t errsz) {
+static int job_whole(const sweep_job *J, size_t j, out_block **bp,
+                     rps3_data *ws[], pool_worker *w, char *err, size_t errsz) {
+  const scene *s = J->s;
   out_block *b = *bp;
   tile t;
   size_t slot;
@@ -324,23 +350,24 @@ static int job_whole(const scene *s, const sweep_plan *p, size_t j,
     t.points += rc ? failed_at : c.nt;
     /* the samples of the tile's longest case: chunks past it stay
        unallocated (they read as the blanks, the fill values) */
-    if (plan_extent(p, c.nt) > t.nk) t.nk = plan_extent(p, c.nt);
+    if (plan_extent(J->p, c.nt) > t.nk) t.nk = plan_extent(J->p, c.nt);
   }
-  return k->emit(k, bp, &t, err, errsz);
+  return emit(J, w, bp, &t, err, errsz);
 }
 
 /* job j as one case, in windows of b->points samples; the workspace goes
    from one window to the next (the warm start), the blocks may not */
-static int job_windows(const scene *s, const sweep_plan *p, size_t j,
-                       out_block **bp, rps3_data *ws[], sink *k, char *err,
+static int job_windows(const sweep_job *J, size_t j, out_block **bp,
+                       rps3_data *ws[], pool_worker *w, char *err,
                        size_t errsz) {
   scene_case c;
   rps3_data *d;
   size_t k0, nk, end;
-  if (case_begin(s, j, &c, err, errsz) || !(d = workspace(ws, &c, err, errsz)))
+  if (case_begin(J->s, j, &c, err, errsz) ||
+      !(d = workspace(ws, &c, err, errsz)))
     return -1;
   /* windows past the case's last chunk are not written */
-  end = plan_extent(p, c.nt);
+  end = plan_extent(J->p, c.nt);
   for (k0 = 0; k0 < end; k0 += nk) {
     out_block *b = *bp;
     size_t failed_at = 0, ncomp;
@@ -362,21 +389,15 @@ static int job_windows(const scene *s, const sweep_plan *p, size_t j,
       t.with_case = 1;
       t.cases = 1;
       t.points = failed_at - k0;
-      return k->emit(k, bp, &t, err, errsz);
+      return emit(J, w, bp, &t, err, errsz);
     }
     if (ncomp < nk) out_block_blank(b, 0, ncomp);
     t.with_case = k0 + nk >= end;
     t.cases = (size_t)t.with_case;
     t.points = ncomp;
-    if (k->emit(k, bp, &t, err, errsz)) return -1;
+    if (emit(J, w, bp, &t, err, errsz)) return -1;
   }
   return 0;
-}
-
-static int sweep_job_run(const scene *s, const sweep_plan *p, size_t j, out_block **bp,
-                  rps3_data *ws[], sink *k, char *err, size_t errsz) {
-  return in_windows(p) ? job_windows(s, p, j, bp, ws, k, err, errsz)
-                       : job_whole(s, p, j, bp, ws, k, err, errsz);
 }
 
 static void sweep_workspaces_free(rps3_data *ws[RPS3_NSOLVER]) {
@@ -386,56 +407,15 @@ static void sweep_workspaces_free(rps3_data *ws[RPS3_NSOLVER]) {
 
 /* ------------------------------------------------------------------- run */
 
-/* a sweep as a job of the pool (pool.h): its items are the jobs of the
-   shard, its slots tile blocks */
-typedef struct {
-  const scene *s;
-  const sweep_plan *p;
-  out_file *f;
-  out_layout layout; /* the file's chunks, for out_pack */
-  sweep_stats *st;
-  progress *pr;
-} sweep_job;
-
-/* the sink of sweep_job_run on the pool */
-typedef struct {
-  sink base;
-  pool_worker *w;
-  const sweep_job *J;
-} pool_sink;
-
-static int pool_sink_emit(sink *k, out_block **b, const tile *t, char *err,
-                          size_t errsz) {
-  pool_sink *ps = (pool_sink *)k;
-  /* on threads, deflate and checksum here, in parallel, not on the writing
-     thread.  On one thread and uncompressed, the chunks as the file stores
-     them (out_pack: the Fletcher-32 here, full chunks stored from the
-     block's own buffers) cost less than HDF5's filter pipeline (a copy of
-     the tile into each chunk, another into the filter's buffer);
-     compressed, deflate is the cost either way, and -j 1 keeps HDF5's own
-     filters.  A late failure's blank windows go through HDF5 too. */
-  (*b)->packed = 0;
-  if ((pool_threaded(ps->w) || ps->J->layout.gzip == 0) &&
-      t->blank_below == 0 &&
-      out_pack(&ps->J->layout, *b, t->c0, t->nc, t->k0, t->nk)) {
-    snprintf(err, errsz, "cannot pack cases %zu-%zu: out of memory", t->c0,
-             t->c0 + t->nc - 1);
-    return -1;
-  }
-  *b = pool_emit(ps->w, t, err, errsz);
-  return *b ? 0 : -1;
-}
-
-/* pool_job.run: job j of the sweep on worker w */
+/* pool_job.run: job j of the sweep on worker w (a tile of whole cases, or
+   one long case in windows); ws holds the workspaces, one per solver
+   kind, allocated on first use */
 static int sweep_item(void *ctx, void *wctx, size_t j, pool_worker *w,
                       char *err, size_t errsz) {
   const sweep_job *J = ctx;
   out_block *b = pool_slot(w);
-  pool_sink ps;
-  ps.base.emit = pool_sink_emit;
-  ps.w = w;
-  ps.J = J;
-  return sweep_job_run(J->s, J->p, j, &b, wctx, &ps.base, err, errsz);
+  return in_windows(J->p) ? job_windows(J, j, &b, wctx, w, err, errsz)
+                          : job_whole(J, j, &b, wctx, w, err, errsz);
 }
 
 /* pool_job.write: a filled block to the file, counted */

@@ -98,17 +98,15 @@ typedef struct {
 } scales;
 
 static void scales_close(scales *sc) {
-  hid_t *h[5];
+  hid_t h[5];
   int i;
-  h[0] = &sc->dcase;
-  h[1] = &sc->dtime;
-  h[2] = &sc->dlink;
-  h[3] = &sc->dcon;
-  h[4] = &sc->deff;
-  for (i = 0; i < 5; i++) {
-    if (*h[i] >= 0) H5Dclose(*h[i]);
-    *h[i] = -1;
-  }
+  h[0] = sc->dcase;
+  h[1] = sc->dtime;
+  h[2] = sc->dlink;
+  h[3] = sc->dcon;
+  h[4] = sc->deff;
+  for (i = 0; i < 5; i++)
+    if (h[i] >= 0) H5Dclose(h[i]);
 }
 
 /* the scene file, verbatim */
@@ -127,73 +125,64 @@ static int write_scene_text(out_file *f, const scene *s, char *err,
   return rc;
 }
 
-/* the case scale 0, 1, ... in runs of OUT_AXIS_RUN: -1 on failure */
+/* values 0 .. n - 1 of a 1-D scale, val(ctx, k), in runs of OUT_AXIS_RUN
+   so that memory does not grow with n (the case numbers and sample
+   indices, whole numbers below 2^53, convert exactly to the scale's
+   integers); 0 or -1 */
+static int scale_fill(hid_t ds, size_t n, double (*val)(const void *, size_t),
+                      const void *ctx) {
+  double *v = malloc(OUT_AXIS_RUN * sizeof *v);
+  size_t c0, m, k;
+  int rc = v ? 0 : -1;
+  for (c0 = 0; rc == 0 && c0 < n; c0 += m) {
+    m = n - c0 < OUT_AXIS_RUN ? n - c0 : OUT_AXIS_RUN;
+    for (k = 0; k < m; k++) v[k] = val(ctx, c0 + k);
+    rc = out_h5_rows(ds, H5T_NATIVE_DOUBLE, c0, m, v);
+  }
+  free(v);
+  return rc;
+}
+
+/* the k-th case number or sample index */
+static double index_of(const void *ctx, size_t k) {
+  (void)ctx;
+  return (double)k;
+}
+
+/* the case scale 0, 1, ...: -1 on failure */
 static hid_t case_scale(out_file *f, size_t ncase) {
   hid_t ds =
       out_h5_scale(f->file, f->str, "case", H5T_NATIVE_INT64, ncase, NULL, "1",
                    "case number; row-major over the sweep keys in "
                    "file order, the last key fastest");
-  int64_t *idx;
-  size_t c0, n, k;
-  if (ds < 0) return -1;
-  idx = malloc(OUT_AXIS_RUN * sizeof *idx);
-  for (c0 = 0; idx && c0 < ncase; c0 += n) {
-    n = ncase - c0 < OUT_AXIS_RUN ? ncase - c0 : OUT_AXIS_RUN;
-    for (k = 0; k < n; k++) idx[k] = (int64_t)(c0 + k);
-    if (out_h5_rows(ds, H5T_NATIVE_INT64, c0, n, idx) < 0) break;
-  }
-  if (!idx || c0 < ncase) {
+  if (ds >= 0 && scale_fill(ds, ncase, index_of, NULL) < 0) {
     H5Dclose(ds);
     ds = -1;
   }
-  free(idx);
   return ds;
 }
 
 /* the time scale: the times of the shared grid, or the sample index when
-   the grid differs between cases; in runs of OUT_AXIS_RUN samples, so
-   that memory does not grow with the length of a case */
+   the grid differs between cases: -1 on failure */
 static hid_t time_scale(out_file *f, const out_spec *sp) {
-  const size_t nt = sp->nt;
-  const int grid_common = sp->grid_common;
-  hid_t type = grid_common ? H5T_NATIVE_DOUBLE : H5T_NATIVE_INT32;
-  hid_t ds = grid_common
-                 ? out_h5_scale(f->file, f->str, OUT_CF_SAMPLE_DIM(1), type, nt,
-                                NULL, OUT_CF_TIME_UNITS, sp->time_doc)
-                 : out_h5_scale(f->file, f->str, OUT_CF_SAMPLE_DIM(0), type, nt,
-                                NULL, "1",
+  hid_t ds = sp->grid_common
+                 ? out_h5_scale(f->file, f->str, OUT_CF_SAMPLE_DIM(1),
+                                H5T_NATIVE_DOUBLE, sp->nt, NULL,
+                                OUT_CF_TIME_UNITS, sp->time_doc)
+                 : out_h5_scale(f->file, f->str, OUT_CF_SAMPLE_DIM(0),
+                                H5T_NATIVE_INT32, sp->nt, NULL, "1",
                                 "sample index: the time grid differs between "
                                 "cases, the time of each sample is "
                                 "case_time");
-  double *t;
-  int32_t *ix;
-  size_t c0, n, k;
-  if (ds < 0) return -1;
-  if (grid_common && out_cf_time(ds, f->str) < 0) {
-    H5Dclose(ds);
-    return -1;
-  }
-  t = malloc(OUT_AXIS_RUN * sizeof *t);
-  ix = (int32_t *)t;
-  for (c0 = 0; t && c0 < nt; c0 += n) {
-    n = nt - c0 < OUT_AXIS_RUN ? nt - c0 : OUT_AXIS_RUN;
-    for (k = 0; k < n; k++) {
-      if (grid_common)
-        t[k] = sp->time(sp->time_ctx, c0 + k);
-      else
-        ix[k] = (int32_t)(c0 + k);
-    }
-    if (out_h5_rows(ds, type, c0, n, t) < 0) break;
-  }
-  if (!t || c0 < nt) {
+  if (ds >= 0 && ((sp->grid_common && out_cf_time(ds, f->str) < 0) ||
+                  scale_fill(ds, sp->nt, sp->grid_common ? sp->time : index_of,
+                             sp->time_ctx) < 0)) {
     H5Dclose(ds);
     ds = -1;
   }
-  free(t);
   return ds;
 }
 
-/* the dimension scales case, time, link, constraint and effect */
 /* 1 when a field of the files `files` has shape sh */
 static int has_shape(int files, out_shape sh) {
   int i;
@@ -228,6 +217,8 @@ static int make_effect(out_file *f, const out_spec *sp, scales *sc) {
                       : out_cf_long_name(sc->deff, f->str, "physical effect");
 }
 
+/* the dimension scales case, time and link, and constraint and effect
+   when the file has fields along them */
 static int make_scales(out_file *f, const scene *s, const out_spec *sp,
                        scales *sc, char *err, size_t errsz) {
   static const int32_t one23[3] = {1, 2, 3};
