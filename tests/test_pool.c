@@ -32,9 +32,9 @@ typedef struct {
 typedef struct {
   pthread_t writer; /* the thread that calls pool_run */
   int written[NITEM][PARTS];
-  int clash;      /* a slot filled by two workers at a time */
-  int mismatch;   /* a slot's content not its info's */
-  int off_thread; /* a write off the calling thread */
+  int clash;                   /* a slot filled by two workers at a time */
+  int mismatch;                /* a slot's content not its info's */
+  int off_thread;              /* a write off the calling thread */
   size_t fail_run, fail_write; /* item whose run / write fails (NITEM: none) */
   int begun, ended;            /* worker states made and freed */
   pthread_mutex_t mu;
@@ -95,8 +95,7 @@ static int write_slot(void *ctx, void *slot, const void *info, char *err,
   const slot_t *s = slot;
   const info_t *in = info;
   if (!pthread_equal(pthread_self(), J->writer)) J->off_thread = 1;
-  if (s->item != in->item || s->part != in->part || s->filling)
-    J->mismatch = 1;
+  if (s->item != in->item || s->part != in->part || s->filling) J->mismatch = 1;
   if (in->item == J->fail_write) {
     snprintf(err, errsz, "cannot write item %zu", in->item);
     return -1;
@@ -156,9 +155,9 @@ static void every_item_once(void **state) {
                        0);
       for (i = 0; i < NITEM; i++)
         for (part = 0; part < PARTS; part++)
-          assert_int_equal(J.written[i][part],
-                           i >= strides[q][0] &&
-                               (i - strides[q][0]) % strides[q][1] == 0);
+          assert_int_equal(
+              J.written[i][part],
+              i >= strides[q][0] && (i - strides[q][0]) % strides[q][1] == 0);
       assert_false(J.clash);
       assert_false(J.mismatch);
       assert_false(J.off_thread);

@@ -24,8 +24,8 @@ typedef struct {
   size_t nslot;
   size_t *free_ix; /* [nslot] stack of free slots */
   size_t nfree;
-  size_t *ready_ix;           /* [nslot] ring of filled slots ... */
-  unsigned char *ready_info;  /* [nslot][info_size] ... and their infos */
+  size_t *ready_ix;          /* [nslot] ring of filled slots ... */
+  unsigned char *ready_info; /* [nslot][info_size] ... and their infos */
   size_t ready_head, nready;
   size_t next;   /* the next item to take */
   int nactive;   /* workers still running */
@@ -81,7 +81,8 @@ void *pool_emit(pool_worker *w, const void *info, char *err, size_t errsz) {
   pthread_mutex_lock(&P->mu);
   r = (P->ready_head + P->nready) % P->nslot;
   P->ready_ix[r] = w->held;
-  if (J->info_size) memcpy(P->ready_info + r * J->info_size, info, J->info_size);
+  if (J->info_size)
+    memcpy(P->ready_info + r * J->info_size, info, J->info_size);
   P->nready++;
   w->held = NO_SLOT;
   pthread_cond_signal(&P->ready_cv);

@@ -45,8 +45,8 @@ static int sim_write(void *ctx, void *slot, const void *info, char *err,
   const sim_tile *t = slot;
   (void)info;
   if ((t->nk > 0 &&
-       out_write_window(J->f, t->w.buf, t->w.points, t->c, t->k0, t->nk,
-                        J->p->common ? NULL : t->times, err, errsz)) ||
+       sim_file_window(J->f, &t->w, t->c, t->k0, t->nk,
+                       J->p->common ? NULL : t->times, err, errsz)) ||
       (t->last && sim_file_case(J->f, &t->v, t->c, err, errsz)))
     return -1;
   J->points += t->nk;

@@ -43,7 +43,11 @@ typedef enum { OUT_FLAGS_NONE, OUT_FLAGS_STATUS, OUT_FLAGS_WARN } out_flags;
  * the inverse sweep's files and the simulation's: X(id, name, files,
  * shape, type, flags, units (UDUNITS), long_name (CF), description).  id
  * names the field in the code (OUT_id), name the dataset; a name in both
- * kinds of file with another meaning has a row of each.
+ * kinds of file with another meaning has a row of each.  Another kind of
+ * file is a new files bit, its rows, and an empty OUT_MEMBER_ of its bit
+ * (its fields are no members of the sweep's out_block); output.h writes
+ * its windows and per-case values (out_open, out_write_window,
+ * out_write_case).
  */
 #define RPS3_OUTPUT_FIELDS(X)                                                  \
   X(force, force, OUT_INV, OUT_CTL, OUT_F64, OUT_FLAGS_NONE, "N",              \

@@ -596,14 +596,14 @@ int out_write(out_file *f, const out_block *b, size_t c0, size_t nc, size_t k0,
   return 0;
 }
 
-int out_write_window(out_file *f, double *const buf[], size_t points, size_t c,
+int out_write_window(out_file *f, void *const buf[], size_t points, size_t c,
                      size_t k0, size_t nk, const double *times, char *err,
                      size_t errsz) {
   int i;
   for (i = 0; i < OUT_NFIELD; i++) {
     const out_field_info *fi = &out_field_table[i];
     if (fi->shape == OUT_C || f->ds[i] < 0) continue;
-    if (write_tile(f->ds[i], f->dxpl, H5T_NATIVE_DOUBLE, field_rank(fi), 1,
+    if (write_tile(f->ds[i], f->dxpl, field_type(f, fi), field_rank(fi), 1,
                    points, buf[i], c, 1, k0, nk) < 0) {
       out_fail(err, errsz, "cannot write %s of case %zu", fi->name, c);
       return -1;

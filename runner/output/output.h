@@ -93,11 +93,12 @@ int out_write(out_file *f, const out_block *b, size_t c0, size_t nc, size_t k0,
 
 /*
  * Write samples [k0, k0 + nk) of case c from a window of that case alone:
- * buf[i] holds `points` rows of the columns of per-sample field i (doubles)
- * for every such field of the file; times the samples' times, written to
- * case_time when the grid differs (NULL otherwise).  0 or -1 with err.
+ * buf[i] holds `points` rows of the columns of per-sample field i (of the
+ * field's type) for every such field of the file; times the samples'
+ * times, written to case_time when the grid differs (NULL otherwise).
+ * 0 or -1 with err.
  */
-int out_write_window(out_file *f, double *const buf[], size_t points, size_t c,
+int out_write_window(out_file *f, void *const buf[], size_t points, size_t c,
                      size_t k0, size_t nk, const double *times, char *err,
                      size_t errsz);
 

@@ -76,6 +76,14 @@ out_file *sim_file_create(const char *path, const scene *s, size_t nt,
   return out_open(path, s, &sp, &meta, err, errsz);
 }
 
+int sim_file_window(out_file *f, const sim_window *w, size_t c, size_t k0,
+                    size_t nk, const double *times, char *err, size_t errsz) {
+  void *buf[OUT_NFIELD];
+  int i;
+  for (i = 0; i < OUT_NFIELD; i++) buf[i] = w->buf[i];
+  return out_write_window(f, buf, w->points, c, k0, nk, times, err, errsz);
+}
+
 int sim_file_case(out_file *f, const sim_case_values *v, size_t c, char *err,
                   size_t errsz) {
   const char *msg = v->message;

@@ -46,13 +46,17 @@ void sim_window_free(sim_window *w);
  * fields); nt the most samples of any case; times the common time axis
  * (nt values) or NULL when the grid differs by case (then `time` is a
  * sample index and case_time holds the times).  Chunks are [1, points,
- * (3)], Fletcher-32, deflate at gzip.  Windows are written with
- * out_write_window, the file closed with out_close.  Returns NULL with a
- * message in err.
+ * (3)], Fletcher-32, deflate at gzip.  The file is closed with out_close.
+ * Returns NULL with a message in err.
  */
 out_file *sim_file_create(const char *path, const scene *s, size_t nt,
                           const double *times, size_t points, int gzip,
                           const char *command_line, char *err, size_t errsz);
+
+/* Write samples [k0, k0 + nk) of case c from the window (out_write_window;
+   times when the grid differs, else NULL).  0 or -1 with err set. */
+int sim_file_window(out_file *f, const sim_window *w, size_t c, size_t k0,
+                    size_t nk, const double *times, char *err, size_t errsz);
 
 /* Write the per-case values of case c (out_write_case).  0 or -1 with err
    set. */
