@@ -491,9 +491,3 @@ done:
   free(job.slot);
   return rc;
 }
-
-int sweep_run(const scene *s, const sweep_plan *p, out_file *f, out_block *b,
-              progress *pr, sweep_stats *st, char *err, size_t errsz) {
-  sweep_opts o = {1, 0, 1};
-  return sweep_run_opts(s, p, f, b, &o, pr, st, err, errsz);
-}
