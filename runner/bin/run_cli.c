@@ -130,8 +130,8 @@ static int print_and_end(int row) {
   case O_HELP: usage(stdout); return 1;
   case O_VERSION: cli_version(stdout, "rps3-run"); return 1;
   case O_KEYS: scene_keys_print(); return 1;
-  case O_SCHEMA: out_schema_print(); return 1;
-  case O_SIM_SCHEMA: sim_schema_print(); return 1;
+  case O_SCHEMA: out_schema_print(OUT_INV); return 1;
+  case O_SIM_SCHEMA: out_schema_print(OUT_SIM); return 1;
   default: return 0;
   }
 }

@@ -1,7 +1,7 @@
 /*
  * sim_run.c - one simulated case (simulate.h), window by window into the
- * tiles of sim_run.h; the whole run is sim_main.c's, on this thread or on
- * the worker threads of sim_pool.c.
+ * tiles of sim_run.h; the whole run is sim_main.c's, a job of the worker
+ * pool (pool.h).
  */
 #include "sim_run.h"
 #include "core/exit_codes.h"
@@ -51,33 +51,33 @@ static void store(sim_window *w, sim_case_values *v, size_t j,
   int i;
   for (i = 0; i < 3; i++) {
     size_t x = 3 * j + (size_t)i;
-    w->buf[SIM_length][x] = sim->y[i];
-    w->buf[SIM_length_rate][x] = sim->y[3 + i];
-    w->buf[SIM_length_ref][x] = r->l[i];
-    w->buf[SIM_length_rate_ref][x] = r->dl[i];
+    w->buf[OUT_sim_length][x] = sim->y[i];
+    w->buf[OUT_sim_length_rate][x] = sim->y[3 + i];
+    w->buf[OUT_length_ref][x] = r->l[i];
+    w->buf[OUT_length_rate_ref][x] = r->dl[i];
     e = r->l[i] - sim->y[i];
-    w->buf[SIM_tracking_error][x] = e;
+    w->buf[OUT_tracking_error][x] = e;
     if (fabs(e) > v->tracking_error_max) v->tracking_error_max = fabs(e);
     /* no force has acted yet at the start */
-    w->buf[SIM_force_cmd][x] = first ? (double)NAN : sim->F_cmd[i];
-    w->buf[SIM_force][x] = first ? (double)NAN : sim->F[i];
-    w->buf[SIM_theta][x] = d->theta[i];
+    w->buf[OUT_force_cmd][x] = first ? (double)NAN : sim->F_cmd[i];
+    w->buf[OUT_sim_force][x] = first ? (double)NAN : sim->F[i];
+    w->buf[OUT_sim_theta][x] = d->theta[i];
   }
-  w->buf[SIM_alpha][j] = d->pose[0];
-  w->buf[SIM_beta][j] = d->pose[1];
-  w->buf[SIM_z_c][j] = d->pose[2];
-  w->buf[SIM_x_c][j] = d->c[0];
-  w->buf[SIM_y_c][j] = d->c[1];
-  w->buf[SIM_alpha_ref][j] = r->pose[0];
-  w->buf[SIM_beta_ref][j] = r->pose[1];
-  w->buf[SIM_z_c_ref][j] = r->pose[2];
-  w->buf[SIM_x_c_ref][j] = r->c[0];
-  w->buf[SIM_y_c_ref][j] = r->c[1];
-  w->buf[SIM_kinetic_energy][j] = sim->T;
-  w->buf[SIM_potential_energy][j] = sim->P;
-  w->buf[SIM_work_actuators][j] = sim->y[6];
-  w->buf[SIM_work_friction][j] = sim->y[7];
-  w->buf[SIM_energy_residual][j] = sim->energy_residual;
+  w->buf[OUT_sim_alpha][j] = d->pose[0];
+  w->buf[OUT_beta][j] = d->pose[1];
+  w->buf[OUT_z_c][j] = d->pose[2];
+  w->buf[OUT_x_c][j] = d->c[0];
+  w->buf[OUT_y_c][j] = d->c[1];
+  w->buf[OUT_alpha_ref][j] = r->pose[0];
+  w->buf[OUT_beta_ref][j] = r->pose[1];
+  w->buf[OUT_z_c_ref][j] = r->pose[2];
+  w->buf[OUT_x_c_ref][j] = r->c[0];
+  w->buf[OUT_y_c_ref][j] = r->c[1];
+  w->buf[OUT_kinetic_energy][j] = sim->T;
+  w->buf[OUT_potential_energy][j] = sim->P;
+  w->buf[OUT_work_actuators][j] = sim->y[6];
+  w->buf[OUT_work_friction][j] = sim->y[7];
+  w->buf[OUT_sim_energy_residual][j] = sim->energy_residual;
 }
 
 /* the message of a failure at sample k (time t_k): the simulation's, and
@@ -160,37 +160,37 @@ static int start(const scene_case *c, const sim_case *sc, sim_work *wk,
 }
 
 /* hand the window of t over; the case's values with its last one */
-static sim_tile *flush(sim_sink *k, sim_tile *t, size_t c, size_t k0, size_t nk,
-                       const sim_case_values *v, int last) {
+static sim_tile *flush(pool_worker *w, sim_tile *t, size_t c, size_t k0,
+                       size_t nk, const sim_case_values *v, int last, char *err,
+                       size_t errsz) {
   t->c = c;
   t->k0 = k0;
   t->nk = nk;
   t->last = last;
   if (last) t->v = *v;
-  return k->put(k, t);
+  return pool_emit(w, NULL, err, errsz);
 }
 
-sim_tile *sim_run_case(const scene *s, size_t i, size_t limit, sim_tile *t,
-                       sim_sink *k, char *err, size_t errsz) {
+int sim_run_case(const scene *s, size_t i, pool_worker *w, char *err,
+                 size_t errsz) {
+  sim_tile *t = pool_slot(w);
   scene_case c;
   sim_case sc;
   scene_error serr;
   sim_work wk;
   rps3_controller ctl;
   sim_case_values v;
-  size_t n, nrun, j = 0, k0 = 0;
+  size_t n, j = 0, k0 = 0;
   int st;
   if (scene_case_build(s, i, &c, &serr) || sim_case_build(s, &c, &sc, &serr)) {
     snprintf(err, errsz, "case %zu: %s", i, serr.what);
-    return NULL;
+    return -1;
   }
-  /* the pilot of the estimate runs the first samples only */
-  nrun = sc.nt < limit ? sc.nt : limit;
-  if (start(&c, &sc, &wk, &ctl, &st, err, errsz)) return NULL;
+  if (start(&c, &sc, &wk, &ctl, &st, err, errsz)) return -1;
   memset(&v, 0, sizeof v);
   v.failed_time = (double)NAN;
   v.failed_at = -1;
-  for (n = 0; n < nrun && t; n++) {
+  for (n = 0; n < sc.nt && t; n++) {
     double tn = sim_case_time(&c, &sc, n);
     if (st == RPS3_OK && n > 0)
       /* a tick just behind the state (samples closer than the slack) is
@@ -204,8 +204,8 @@ sim_tile *sim_run_case(const scene *s, size_t i, size_t limit, sim_tile *t,
     }
     store(&t->w, &v, j, wk.sim, wk.ref, n == 0);
     t->times[j] = tn;
-    if (++j == t->w.points && n + 1 < nrun) {
-      t = flush(k, t, i, k0, j, &v, 0);
+    if (++j == t->w.points && n + 1 < sc.nt) {
+      t = flush(w, t, i, k0, j, &v, 0, err, errsz);
       k0 += j;
       j = 0;
     }
@@ -219,18 +219,15 @@ sim_tile *sim_run_case(const scene *s, size_t i, size_t limit, sim_tile *t,
      the fill, NaN), with the case's values and its resolved scene */
   if (t && scene_case_yaml(&c, &t->yaml)) {
     snprintf(err, errsz, "case %zu: cannot write its scene", i);
-    return NULL;
+    return -1;
   }
   if (t) {
     v.scene_resolved = t->yaml.s;
-    t = flush(k, t, i, k0, j, &v, 1);
+    t = flush(w, t, i, k0, j, &v, 1, err, errsz);
   }
-  return t;
+  return t ? 0 : -1;
 }
 
-/* ---------------------------------------------------------- one thread */
-
-/* the sink of one thread: write at once */
 /* the first failed case's reason on stderr (progress_failure) */
 void sim_failure(const scene *s, progress *pr, const sim_tile *t) {
   char what[512];
