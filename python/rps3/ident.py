@@ -352,33 +352,53 @@ def base_parameters(Y: ArrayLike, names: tuple[str, ...] | list[str],
 
 def check_excitation(Y: np.ndarray, names: tuple[str, ...],
                      cond_max: float = COND_MAX) -> float:
-    """The condition number of Y with unit-norm columns; NotExcitingError
-    naming the combinations of parameters the data leave undetermined
-    (right singular vectors of singular values below s_max / cond_max,
-    their terms above 10 % of the largest) when it exceeds cond_max."""
+    """The condition number of Y with unit-norm columns.
+
+    Raises:
+        NotExcitingError: it exceeds cond_max.  The message names the
+            parameters the data do not determine: the columns that are
+            zero, and those with a component of 10 % or more in the span of
+            the right singular vectors of the singular values below
+            s_max / cond_max (the unexcited directions), and gives those
+            directions' leading terms.  ``unidentifiable`` lists the names.
+    """
     s = np.linalg.norm(Y, axis=0)
-    dead = s == 0.0
-    Ys = Y / np.where(dead, 1.0, s)
+    dead = s <= 1e-300
+    live = np.flatnonzero(~dead)
+    Ys = Y[:, live] / s[live]
     # the singular values of Y's R factor are Y's (the SVD of the small R
     # costs little where that of the tall Y costs much)
     Rf = _r_factor(Ys) if Ys.shape[0] > Ys.shape[1] else Ys
-    _, sv, Vt = np.linalg.svd(Rf, full_matrices=False)
-    cond = float(sv[0] / sv[-1]) if sv[-1] > 0 else float("inf")
+    sv = np.zeros(0)
+    if len(live):
+        _, sv, Vt = np.linalg.svd(Rf, full_matrices=False)
+    if len(live) and len(sv) < len(live):        # fewer rows than columns
+        sv = np.concatenate([sv, np.zeros(len(live) - len(sv))])
+    cond = (float(sv[0] / sv[-1]) if len(sv) and sv[-1] > 0 else float("inf"))
     if cond <= cond_max and not dead.any():
         return cond
-    weak = []
-    for k in np.flatnonzero(sv < sv[0] / cond_max):
-        v = Vt[k]
-        terms = [f"{v[j] / np.abs(v).max():+.2f} {names[j]}"
-                 for j in np.argsort(-np.abs(v)) if abs(v[j]) > 0.1 * np.abs(v).max()]
-        weak.append(" ".join(terms))
-    weak += [names[j] for j in np.flatnonzero(dead) if names[j] not in weak]
-    raise NotExcitingError(
-        f"the data do not excite {len(weak)} of {len(names)} parameters "
-        f"(condition number {cond:.3g} of the column-scaled regressor, limit "
-        f"{cond_max:.3g}); undetermined: " + "; ".join(weak[:12])
-        + (f"; and {len(weak) - 12} more" if len(weak) > 12 else ""),
-        cond, weak)
+    weak_k = np.flatnonzero(sv < sv[0] / cond_max) if len(sv) else []
+    combos, involved = [], set()
+    if len(weak_k):
+        _, _, Vfull = np.linalg.svd(Rf, full_matrices=True)
+        V = Vfull[weak_k]
+        share = np.linalg.norm(V, axis=0)
+        involved = {live[j] for j in np.flatnonzero(share >= 0.1)}
+        for v in V[:4]:
+            top = [j for j in np.argsort(-np.abs(v)) if abs(v[j]) > 0.1 * np.abs(v).max()][:5]
+            combos.append(" ".join(f"{v[j] / np.abs(v).max():+.2f} {names[live[j]]}"
+                                   for j in top))
+    bad = [names[j] for j in range(len(names)) if dead[j] or j in involved]
+    n_weak = int(dead.sum()) + len(weak_k)
+    msg = (f"the data do not excite {n_weak} of {len(names)} parameter directions "
+           f"(condition number {cond:.3g} of the column-scaled regressor, limit "
+           f"{cond_max:.3g}); not determined: {', '.join(bad)}")
+    if dead.any():
+        msg += f" (absent from the data: {', '.join(names[j] for j in np.flatnonzero(dead))})"
+    if combos:
+        msg += "; unexcited directions: " + "; ".join(combos) + (
+            f"; and {len(weak_k) - len(combos)} more" if len(weak_k) > len(combos) else "")
+    raise NotExcitingError(msg, cond, bad)
 
 
 # ------------------------------------------------------------- estimators
@@ -566,6 +586,10 @@ class BodyReport:
     ok: bool
 
 
+def _fmt(v: np.ndarray) -> str:
+    return "[" + " ".join(f"{x:.3g}" for x in v) + "]"
+
+
 @dataclass(frozen=True)
 class ConsistencyReport:
     bodies: list[BodyReport]
@@ -577,9 +601,9 @@ class ConsistencyReport:
         for b in self.bodies:
             lines.append(f"{b.name}: {'consistent' if b.ok else 'NOT consistent'}; "
                          f"pseudo-inertia eigenvalues "
-                         f"{np.array2string(b.eig, precision=3)}; mass {b.mass:.4g} kg"
+                         f"{_fmt(b.eig)}; mass {b.mass:.4g} kg"
                          + ("" if b.principal is None else
-                            f"; principal moments {np.array2string(b.principal, precision=3)}"
+                            f"; principal moments {_fmt(b.principal)}"
                             f" kg m^2, triangle inequalities "
                             f"{'hold' if b.triangle else 'FAIL'}"))
         bad = [k for k, v in self.friction.items() if v < 0]
@@ -651,11 +675,12 @@ def _lmi_problem(layout: Layout):
     return cp, pi, cons, Js
 
 
-#: the second stage of :func:`consistent` lets the squared residual grow
-#: by this fraction of |F|^2 over the first stage's least (the residual's
-#: RMS by at most 1e-4 of the forces' RMS): above the solver's accuracy
-#: (~1e-8 relative), below any noise worth an estimate
-LMI_SLACK = 1e-8
+#: weight of the total pseudo-inertia trace sum_b (m_b + tr Sigma_b) [1/kg]
+#: against the squared residual over |F|^2 in :func:`consistent`: it picks
+#: the lightest, most compact bodies among the fits the data cannot tell
+#: apart, and moves the fit by about LMI_REG / (|F|^2 curvature): far below
+#: the noise (tests/test_ident.py measures the bias on exact data)
+LMI_REG = 1e-9
 
 
 def consistent(Y: ArrayLike, F: ArrayLike, layout: Layout, *,
@@ -667,11 +692,10 @@ def consistent(Y: ArrayLike, F: ArrayLike, layout: Layout, *,
     >= 0 (a semidefinite program, cvxpy with Clarabel).  Y is the layout's
     regressor (Layout.regressor); weights (per row, or per actuator (3,))
     e.g. 1 / sigma from :func:`wls`.  The standard parameters the data do
-    not determine are then fixed by a second program: among the fits
-    whose squared residual is within LMI_SLACK |F|^2 of the least, the one of least
-    total pseudo-inertia trace, sum_b (m_b + tr Sigma_b) (the lightest,
-    most compact bodies; the base parameters are those of the first
-    stage to that slack).
+    not determine are fixed by a small penalty on the total pseudo-inertia
+    trace, LMI_REG sum_b (m_b + tr Sigma_b), added to the normalised
+    squared residual: the lightest, most compact bodies among the fits
+    the data cannot tell apart.
 
     Raises:
         InconsistentFitError: the solver's status is not optimal, or a
@@ -694,29 +718,20 @@ def consistent(Y: ArrayLike, F: ArrayLike, layout: Layout, *,
     Ra = _r_factor(np.column_stack([Yw / cs, Fw])) / scale
     cp, pi, cons, Js = _lmi_problem(layout)
     fit = cp.sum_squares(Ra[:p, :p] @ cp.multiply(cs, pi) - Ra[:p, p])
-    prob = cp.Problem(cp.Minimize(fit), cons)
+    # the parameters the data do not determine: a tie-break of weight
+    # LMI_REG per kg (or kg m^2) of total pseudo-inertia trace
+    size = sum(cp.trace(J) for J in Js)
+    prob = cp.Problem(cp.Minimize(fit + LMI_REG * size), cons)
     prob.solve(solver=solver)
     if prob.status != "optimal" or pi.value is None:
         raise InconsistentFitError(f"consistent: the solver {solver} ended with "
                                    f"status {prob.status!r}")
-    # the parameters the data do not determine: the base parameters
-    # fixed at the first stage's, the least total trace among the rest
-    base = base_parameters(Ya, layout.names)
-    th = base.K @ pi.value
-    sc = np.abs(base.K) @ np.abs(pi.value) + 1e-300
-    size = sum(cp.trace(J) for J in Js)
-    prob2 = cp.Problem(cp.Minimize(size),
-                       cons + [cp.multiply(1.0 / sc, base.K @ pi) == th / sc])
-    prob2.solve(solver=solver)
-    if prob2.status != "optimal" or pi.value is None:
-        raise InconsistentFitError(f"consistent: the solver {solver} ended the "
-                                   f"second stage with status {prob2.status!r}")
     est = np.asarray(pi.value, float)
     rep = consistency_report(est, layout, eig_tol)
     if not rep.ok:
         raise InconsistentFitError("consistent: the solution is not physically "
                                    "consistent within the tolerance:\n" + str(rep))
-    return ConsistentFit(est, layout.names, prob2.status, Fa - Ya @ est, rep)
+    return ConsistentFit(est, layout.names, prob.status, Fa - Ya @ est, rep)
 
 
 def base_consistent(theta: ArrayLike, base: Base, layout: Layout,
