@@ -46,7 +46,6 @@ from __future__ import annotations
 from dataclasses import dataclass
 
 import numpy as np
-
 from rps3 import ident
 
 PHI = np.array([0.0, 2.0 * np.pi / 3.0, 4.0 * np.pi / 3.0])

@@ -6,12 +6,11 @@ several geometries, the estimators on synthetic data with known
 parameters (noise-free, noisy with a Monte Carlo, noisy positions
 filtered), the physically consistent fit, and data that do not excite."""
 
+import ident_oracle as O
 import numpy as np
 import pytest
 import rps3
 from rps3 import ident
-
-import ident_oracle as O
 
 EPS = np.finfo(float).eps
 # the oracle and the library compute the same forces by different routes
@@ -201,6 +200,26 @@ def test_grouping_relations(geom):
     pi = O.random_parameters(rng, ident.Layout())
     F = Y @ pi
     assert np.abs(base.reduce(Y) @ base.of(pi) - F).max() <= TOL_FORCE * np.abs(F).max()
+
+
+def test_grouping_identical_legs():
+    """Identical legs: the pistons' masses at the three ball joints add
+    3 m_p to the platform's mass, 3/2 r^2 m_p to Ixx and Iyy, 3 r^2 m_p to
+    Izz and nothing to the first moments and Ixy (sum cos = sum sin = sum
+    sin cos = 0)."""
+    for R, rho in GEOMETRIES[1::2]:
+        lay = ident.Layout("identical", ("prismatic", "pin"))
+        base = rich_base(R, rho, lay)
+        names = lay.names
+        col = base.K[:, names.index("piston.m")]
+        r = rho * R
+        want = {"platform.m": 3.0, "platform.Ixx": 1.5 * r * r,
+                "platform.Iyy": 1.5 * r * r, "platform.Izz": 3 * r * r}
+        for k, n in enumerate(base.base_names):
+            assert abs(col[k] - want.get(n, 0.0)) <= TOL_GROUP, n
+        k = base.base_names.index("cylinder.Iyy")
+        assert abs(base.K[k, names.index("piston.Iyy")] - 1.0) <= TOL_GROUP
+        assert len(base.unidentifiable) == 13
 
 
 # ------------------------------------------------------------- estimators

@@ -232,9 +232,9 @@ def _r_factor(A: np.ndarray, block: int = 128) -> np.ndarray:
     R = np.asarray(A, float)
     n = R.shape[1]
     while R.shape[0] > 2 * max(n, block):
-        R = np.vstack([np.linalg.qr(R[i:i + block], mode="r")
+        R = np.vstack([np.asarray(np.linalg.qr(R[i:i + block], mode="r"))
                        for i in range(0, R.shape[0], block)])
-    return np.linalg.qr(R, mode="r")
+    return np.asarray(np.linalg.qr(R, mode="r"))
 
 
 #: rank tolerance of :func:`base_parameters`: a column-scaled regressor's
@@ -377,7 +377,8 @@ def check_excitation(Y: np.ndarray, names: tuple[str, ...],
     cond = (float(sv[0] / sv[-1]) if len(sv) and sv[-1] > 0 else float("inf"))
     if cond <= cond_max and not dead.any():
         return cond
-    weak_k = np.flatnonzero(sv < sv[0] / cond_max) if len(sv) else []
+    weak_k = (np.flatnonzero(sv < sv[0] / cond_max) if len(sv)
+              else np.zeros(0, int))
     combos, involved = [], set()
     if len(weak_k):
         _, _, Vfull = np.linalg.svd(Rf, full_matrices=True)
@@ -702,12 +703,17 @@ def consistent(Y: ArrayLike, F: ArrayLike, layout: Layout, *,
             pseudo-inertia eigenvalue or a friction coefficient of the
             result is below -eig_tol (relative).
     """
-    Ya, Fa, act = _stacked(Y, F)
+    Ya, Fa_, act = _stacked(Y, F)
+    assert Fa_ is not None
+    Fa = Fa_
     if Ya.shape[1] != layout.n:
         raise ValueError(f"Y: {Ya.shape[1]} columns, the layout has {layout.n} parameters")
     w = np.ones(len(Fa))
     if weights is not None:
         wa = np.asarray(weights, float).reshape(-1)
+        if wa.size not in (3, len(Fa)) or not np.all(wa > 0):
+            raise ValueError(f"weights: expected 3 (per actuator) or {len(Fa)} "
+                             "(per row) positive numbers")
         w = wa[act] if wa.size == 3 else wa
     Yw, Fw = Ya * w[:, None], Fa * w
     scale = np.linalg.norm(Fw) or 1.0
