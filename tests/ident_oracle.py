@@ -378,7 +378,7 @@ def energy_rows(geom, pose, dpose, ddpose, dddpose=None, vreg=0.0):
         rows += [0.5 * wx * wx, wx * wy, wx * wz, 0.5 * wy * wy, wy * wz,
                  0.5 * wz * wz]
         for p, jet in enumerate(rows):
-            T[:, :, 10 * b + p] = jet.c[:2] * np.array([1.0, 1.0])[:, None]
+            T[:, :, 10 * b + p] = jet.c[:2]     # T and dT/dt (1! c_1)
         prow = [o[..., 2] * geom.g] + [rot[..., 2, k] * geom.g for k in range(3)]
         for p, jet in enumerate(prow):
             P[:, :, 10 * b + p] = jet.c[:2]

@@ -6,6 +6,8 @@ several geometries, the estimators on synthetic data with known
 parameters (noise-free, noisy with a Monte Carlo, noisy positions
 filtered), the physically consistent fit, and data that do not excite."""
 
+import functools
+
 import ident_oracle as O
 import numpy as np
 import pytest
@@ -67,18 +69,24 @@ def test_oracle_kinematics_against_library():
 
 
 @pytest.mark.parametrize("geom", GEOMETRIES)
-@pytest.mark.parametrize("case", ["paper", "every_effect"])
+@pytest.mark.parametrize("case", ["paper", "every_effect", "smooth_coulomb"])
 def test_regressor_equals_library_forces(geom, case):
     """Y pi for the paper's special case (disc platform, point-mass links,
     massless pistons) plus the library's payload, link inertia and pin
-    friction is the library's inverse dynamics, and each body's columns
-    give its effect's share."""
+    friction (exact sign, or tanh(v / vreg)) is the library's inverse
+    dynamics, and each body's columns give its effect's share."""
     R, rho = geom
-    kw = dict(M=0.18, m=0.09, d=0.1524) if case == "paper" else ENTROPY
+    kw = dict(M=0.18, m=0.09, d=0.1524) if case == "paper" else dict(ENTROPY)
+    vreg = 0.0
+    if case == "smooth_coulomb":
+        vreg = 0.05
+        kw["friction"] = dict(viscous=0.0137, coulomb=0.0029, vreg=vreg)
     rng = np.random.default_rng(int(1000 * R + 100 * rho))
     p, dp, ddp = O.random_states(rng, 100)
-    Y = O.regressor(O.Geometry(R=R, rho=rho), p, dp, ddp)
-    pi = paper_pi(R, rho, kw)
+    Y = O.regressor(O.Geometry(R=R, rho=rho), p, dp, ddp, vreg=vreg)
+    fr = kw.get("friction")
+    pi = paper_pi(R, rho, {**kw, "friction": fr and {k: v for k, v in fr.items()
+                                                      if k != "vreg"}})
     out = library_model(R, rho, **kw).inverse(p, dp, ddp)
     assert np.all(out.status == 0)
     scale = np.abs(out.force).max()
@@ -135,11 +143,18 @@ def test_power_balance_sees_a_wrong_parameter():
 
 # ------------------------------------------------------- base parameters
 
-def rich_base(R, rho, layout, n=300, seed=2):
+@functools.cache
+def rich_regressor(R, rho, n=300, seed=2):
+    """The standard regressor on n random states inside the workspace."""
     rng = np.random.default_rng(seed)
     p, dp, ddp = O.random_states(rng, n)
-    Y = layout.regressor(O.regressor(O.Geometry(R=R, rho=rho), p, dp, ddp))
-    return ident.base_parameters(Y, layout.names)
+    return O.regressor(O.Geometry(R=R, rho=rho), p, dp, ddp)
+
+
+@functools.cache
+def rich_base(R, rho, layout):
+    """The structural base parameters of a layout at a geometry."""
+    return ident.base_parameters(layout.regressor(rich_regressor(R, rho)), layout.names)
 
 
 COUNTS = [("each", (), 25), ("each", ("prismatic",), 31),
@@ -439,7 +454,10 @@ def test_not_exciting_data_refused(kind):
     Y = LAYOUT.regressor(O.regressor(g, p, dp, ddp))
     base = rich_base(g.R, g.rho, LAYOUT)
     F = Y @ O.random_parameters(np.random.default_rng(1), LAYOUT)
-    for estimator in (ident.ols, ident.wls):
+    def fit(Y, F, base):
+        return ident.consistent(Y, F, LAYOUT, base=base)
+
+    for estimator in (ident.ols, ident.wls, fit):
         with pytest.raises(ident.NotExcitingError, match="condition number") as exc:
             estimator(Y, F + 1e-3, base=base)
         assert exc.value.cond > ident.COND_MAX

@@ -685,6 +685,7 @@ LMI_REG = 1e-9
 
 
 def consistent(Y: ArrayLike, F: ArrayLike, layout: Layout, *,
+               base: Base | None = None, cond_max: float = COND_MAX,
                weights: ArrayLike | None = None, eig_tol: float = EIG_TOL,
                solver: str = "CLARABEL") -> ConsistentFit:
     """Physically consistent least squares on the layout's standard
@@ -696,9 +697,14 @@ def consistent(Y: ArrayLike, F: ArrayLike, layout: Layout, *,
     not determine are fixed by a small penalty on the total pseudo-inertia
     trace, LMI_REG sum_b (m_b + tr Sigma_b), added to the normalised
     squared residual: the lightest, most compact bodies among the fits
-    the data cannot tell apart.
+    the data cannot tell apart.  With ``base`` (the layout's structural
+    base parameters) the data must excite every base parameter, as for
+    :func:`ols`; without it, directions the data leave unexcited are set
+    by that penalty alone.
 
     Raises:
+        NotExcitingError: with ``base``, the data do not determine the
+            base parameters (:func:`check_excitation`).
         InconsistentFitError: the solver's status is not optimal, or a
             pseudo-inertia eigenvalue or a friction coefficient of the
             result is below -eig_tol (relative).
@@ -708,6 +714,10 @@ def consistent(Y: ArrayLike, F: ArrayLike, layout: Layout, *,
     Fa = Fa_
     if Ya.shape[1] != layout.n:
         raise ValueError(f"Y: {Ya.shape[1]} columns, the layout has {layout.n} parameters")
+    if base is not None:
+        if base.K.shape[1] != layout.n:
+            raise ValueError("base: computed for another layout")
+        check_excitation(base.reduce(Ya), base.base_names, cond_max)
     w = np.ones(len(Fa))
     if weights is not None:
         wa = np.asarray(weights, float).reshape(-1)
