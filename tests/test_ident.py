@@ -24,6 +24,10 @@ TOL_KIN = 1e-12
 # power balance: the energies' rates against F . l', both rounding only
 # (measured ~3e-16 of the power's scale)
 TOL_POWER = 1e-12
+# the library's forward dynamics driven by Y pi: its theta solve stops at
+# 1e-12 of the dimensionless constraints, so accelerations to ~cond x 1e-12
+# (measured 5e-11 of their scale); a wrong term is off by 1e-3 or more
+TOL_FWD = 1e-9
 # grouping coefficients from a least-squares fit of exactly dependent
 # columns: rounding times the column-scaled condition number (~1e2)
 TOL_GROUP = 1e-9
@@ -103,6 +107,12 @@ def test_regressor_equals_library_forces(geom, case):
     assert np.abs(part["links"] - sh["link_gravity"] - sh["link_inertia"]).max() \
         <= TOL_FORCE * scale
     assert np.abs(part["pin"] - sh["pin_friction"]).max() <= TOL_FORCE * scale
+    # and the library's forward dynamics (rps3.dynamics) turns these
+    # forces back into the states' link accelerations
+    kin = O.kinematics(O.Geometry(R=R, rho=rho), p, dp, ddp)
+    fd = rps3.dynamics.forward(library_model(R, rho, warm_start=False, **kw),
+                               kin["l"], kin["dl"], Y @ pi)
+    assert np.abs(fd.ddl - kin["ddl"]).max() <= TOL_FWD * np.abs(kin["ddl"]).max()
 
 
 @pytest.mark.parametrize("vreg", [0.0, 0.3])
