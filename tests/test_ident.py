@@ -493,6 +493,10 @@ def test_bad_arguments(data):
         ident.ols(Y, F[:-1])
     with pytest.raises(ValueError, match="Y: "):
         ident.ols(Y[0, 0], F)
+    with pytest.raises(ValueError, match=r"Y: expected \(n, 3, p\)"):
+        ident.ols(Y[:, :2], F[:, :2])
+    with pytest.raises(ValueError, match="weights"):
+        ident.consistent(Y, F, LAYOUT, weights=[1.0, -1.0, 1.0])
     with pytest.raises(ValueError, match="non-finite"):
         ident.ols(Y, np.where(F > 0, np.nan, F))
     with pytest.raises(ValueError, match="legs"):

@@ -201,6 +201,8 @@ def _stacked(Y: ArrayLike, F: ArrayLike | None = None,
     """(N, p) Y, (N,) F and each row's actuator index."""
     Ya = np.asarray(Y, float)
     if Ya.ndim == 3:
+        if Ya.shape[1] != n_act:
+            raise ValueError(f"Y: expected (n, {n_act}, p), got shape {Ya.shape}")
         act = np.tile(np.arange(Ya.shape[1]), Ya.shape[0])
         Ya = Ya.reshape(-1, Ya.shape[2])
     elif Ya.ndim == 2:
@@ -543,9 +545,12 @@ def zero_phase_filter(x: ArrayLike, fs: float, cutoff: float,
     the given order and cut-off [Hz] applied forward and backward
     (scipy.signal.filtfilt): zero phase, gain |H(f)|^2, so 1/2 (-6 dB) at
     the cut-off.  Choose the cut-off a few times (3-5) above the highest
-    frequency of the excitation and well below the noise's band; apply the
-    same filter to the forces (parallel filtering), so that the
-    regressor's and the forces' distortions match."""
+    frequency of the excitation and well below the noise's band.  Apply
+    the same filter to the regressor's columns, the forces and any
+    instruments (parallel filtering: their distortions, Coulomb's sign
+    steps among them, then match), drop the ends' transients and decimate
+    to about 2.5 times the cut-off so the remaining noise is about white
+    (docs/identification.md, "Estimators")."""
     from scipy.signal import butter, filtfilt
 
     if not 0 < cutoff < fs / 2:
