@@ -222,6 +222,17 @@ def _stacked(Y: ArrayLike, F: ArrayLike | None = None,
     return Ya, Fa, act
 
 
+def _need(module: str) -> Any:
+    """Import an optional dependency, or say which extra brings it."""
+    import importlib
+
+    try:
+        return importlib.import_module(module)
+    except ImportError as exc:
+        raise ImportError(f"rps3.ident needs {module.split('.')[0]}: "
+                          "pip install 'rps3[ident]' (scipy, cvxpy, clarabel)") from exc
+
+
 def _column_scale(Y: np.ndarray) -> np.ndarray:
     s = np.linalg.norm(Y, axis=0)
     return np.where(s > 0, s, 1.0)
@@ -308,8 +319,7 @@ def base_parameters(Y: ArrayLike, names: tuple[str, ...] | list[str],
         ValueError: the greedy selection disagrees with the QR's rank (the
             tolerance falls in no gap of the R diagonal).
     """
-    from scipy.linalg import qr
-
+    qr = _need("scipy.linalg").qr
     Ya, _, _ = _stacked(Y)
     p = Ya.shape[1]
     if len(names) != p:
@@ -443,8 +453,7 @@ def _prepare(Y: ArrayLike, F: ArrayLike, base: Base | None,
 
 
 def _tquant(dof: int) -> float:
-    from scipy.stats import t
-    return float(t.ppf(0.975, dof))
+    return float(_need("scipy.stats").t.ppf(0.975, dof))
 
 
 def _finish(theta, cov, Ya, Fa, act, nm, cond, method, sigma=None):
@@ -551,12 +560,11 @@ def zero_phase_filter(x: ArrayLike, fs: float, cutoff: float,
     steps among them, then match), drop the ends' transients and decimate
     to about 2.5 times the cut-off so the remaining noise is about white
     (docs/identification.md, "Estimators")."""
-    from scipy.signal import butter, filtfilt
-
+    signal = _need("scipy.signal")
     if not 0 < cutoff < fs / 2:
         raise ValueError(f"cutoff: {cutoff} Hz is not inside (0, fs/2 = {fs / 2} Hz)")
-    b, a = butter(order, cutoff / (fs / 2))
-    return filtfilt(b, a, np.asarray(x, float), axis=0)
+    b, a = signal.butter(order, cutoff / (fs / 2))
+    return np.asarray(signal.filtfilt(b, a, np.asarray(x, float), axis=0))
 
 
 def differentiate(t: ArrayLike, x: ArrayLike, cutoff: float,
@@ -661,8 +669,8 @@ class ConsistentFit:
     report: ConsistencyReport
 
 
-def _lmi_problem(layout: Layout):
-    import cvxpy as cp
+def _lmi_problem(layout: Layout) -> Any:
+    cp = _need("cvxpy")
 
     pi = cp.Variable(layout.n)
     cons = []
