@@ -169,13 +169,17 @@ def rich_base(R, rho, layout):
 
 COUNTS = [("each", (), 25), ("each", ("prismatic",), 31),
           ("each", ("prismatic", "pin"), 37), ("identical", ("prismatic",), 17),
-          ("identical", ("prismatic", "pin"), 19)]
+          ("identical", ("prismatic", "pin"), 19),
+          # friction shared by legs of their own, per leg on identical legs
+          ("each", ("prismatic", "pin"), 29, False),
+          ("identical", ("prismatic",), 21, True)]
 
 
-@pytest.mark.parametrize("legs,friction,count", COUNTS)
-def test_base_parameter_counts(legs, friction, count):
+@pytest.mark.parametrize("legs,friction,count,per_leg",
+                         [c if len(c) == 4 else c + (None,) for c in COUNTS])
+def test_base_parameter_counts(legs, friction, count, per_leg):
     for R, rho in GEOMETRIES[::2]:
-        base = rich_base(R, rho, ident.Layout(legs, friction))
+        base = rich_base(R, rho, ident.Layout(legs, friction, per_leg))
         assert base.rank == count, (R, rho)
         # a wide gap in the R diagonal around the tolerance
         assert base.rdiag[count - 1] > 1e3 * ident.RANK_TOL
@@ -503,5 +507,7 @@ def test_bad_arguments(data):
         ident.Layout("some")
     with pytest.raises(ValueError, match="friction"):
         ident.Layout(friction=("hinge",))
+    with pytest.raises(ValueError, match="friction"):
+        ident.Layout(friction="pin")
     with pytest.raises(ValueError, match="names"):
         ident.base_parameters(Y, LAYOUT.names[:-1])

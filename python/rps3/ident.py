@@ -67,10 +67,12 @@ class InconsistentFitError(RuntimeError):
 
 @dataclass(frozen=True)
 class Layout:
-    """Which parameters a model has: every leg its own bodies and friction
+    """Which parameters a model has: every leg its own bodies
     (``legs="each"``) or three identical legs (``"identical"``: one
-    cylinder, one piston and one friction pair per kind, in each leg's own
-    axes), and which friction kinds.
+    cylinder and one piston, each leg's in its own axes); which friction
+    kinds; and friction coefficients per leg or one pair per kind shared
+    by the three legs (``friction_per_leg``, by default as the legs: per
+    leg for "each", shared for "identical").
 
     ``matrix`` maps the layout's parameters to the 82 standard ones
     (pi_standard = matrix @ pi), so a standard regressor Y gives the
@@ -78,14 +80,23 @@ class Layout:
 
     legs: str = "each"
     friction: tuple[str, ...] = ("prismatic", "pin")
+    friction_per_leg: bool | None = None
 
     def __post_init__(self) -> None:
         if self.legs not in ("each", "identical"):
             raise ValueError(f"legs: expected 'each' or 'identical', got {self.legs!r}")
+        if isinstance(self.friction, str):
+            raise ValueError(f"friction: expected a tuple of kinds, got {self.friction!r}")
         for k in self.friction:
             if k not in FRICTION_KINDS:
                 raise ValueError(f"friction: unknown kind {k!r}; known: "
                                  f"{', '.join(FRICTION_KINDS)}")
+
+    @property
+    def per_leg(self) -> bool:
+        """Whether each leg has its own friction coefficients."""
+        return (self.legs == "each" if self.friction_per_leg is None
+                else bool(self.friction_per_leg))
 
     @property
     def bodies(self) -> tuple[str, ...]:
@@ -95,7 +106,7 @@ class Layout:
     @property
     def names(self) -> tuple[str, ...]:
         out = [f"{b}.{p}" for b in self.bodies for p in INERTIAL]
-        legs = (1, 2, 3) if self.legs == "each" else ("",)
+        legs: tuple[Any, ...] = (1, 2, 3) if self.per_leg else ("",)
         for k in FRICTION_KINDS:
             if k in self.friction:
                 out += [f"{k}{i}.{c}" for i in legs for c in ("fv", "fc")]
@@ -115,9 +126,9 @@ class Layout:
         std = {name: k for k, name in enumerate(STANDARD_NAMES)}
         for j, name in enumerate(self.names):
             head, par = name.split(".")
-            if self.legs == "each" or head == "platform":
+            if name in std:
                 S[std[name], j] = 1.0
-            else:
+            else:                      # shared by the three legs
                 for i in (1, 2, 3):
                     S[std[f"{head}{i}.{par}"], j] = 1.0
         return S
