@@ -222,6 +222,9 @@ def test_grouping_relations(geom):
     kept, K = expected_grouping(*geom)
     assert list(base.base_names) == kept
     assert np.abs(base.K - K).max() <= TOL_GROUP
+    rel = dict(base.relations())
+    assert rel["platform.m"] == "platform.m + 1 piston1.m + 1 piston2.m + 1 piston3.m"
+    assert rel["cylinder2.Iyy"] == "cylinder2.Iyy + 1 piston2.Iyy"
     # the grouping holds on other states too: Y pi = Y_base K pi
     rng = np.random.default_rng(9)
     p, dp, ddp = O.random_states(rng, 20)
