@@ -194,6 +194,8 @@ def vee(W):
 
 @dataclass(frozen=True)
 class Geometry:
+    """The mechanism's dimensions and gravity (Table II by default)."""
+
     R: float = 0.2286      #: base radius [m]
     rho: float = 0.5       #: r / R [-]
     g: float = 9.80665     #: gravity along -Z [m/s^2]
