@@ -788,3 +788,20 @@ def base_consistent(theta: ArrayLike, base: Base, layout: Layout,
     prob = cp.Problem(cp.Minimize(0), cons)
     prob.solve(solver=solver)
     return prob.status == "optimal"
+
+
+# ------------------------------------------- data in, parameters out
+
+def load(path: Any) -> Any:
+    """A measured motion from a CSV or HDF5 table (rps3.ident_io.load)."""
+    from rps3 import ident_io
+
+    return ident_io.load(path)
+
+
+if __name__ == "__main__":
+    import sys
+
+    from rps3 import ident_io as _io
+
+    sys.exit(_io.main())
