@@ -350,3 +350,17 @@ def test_figures(simulated, excitation, tmp_path):
         path = tmp_path / f"{fn.__name__}.png"
         assert fn(path, *args) == str(path)
         assert path.stat().st_size > 1000
+
+
+def test_module_entry_point(data_file, tmp_path):
+    """`python -m rps3.ident` is the same command line, with its exit codes."""
+    import subprocess
+    import sys
+    out = tmp_path / "p.h5"
+    ok = subprocess.run([sys.executable, "-m", "rps3.ident", "fit", str(data_file), "-o",
+                         str(out), "--vreg", "0.01"], capture_output=True, text=True)
+    assert ok.returncode == 0, ok.stderr
+    assert "pin.fc" in ok.stdout and out.exists()
+    bad = subprocess.run([sys.executable, "-m", "rps3.ident", "fit", str(tmp_path / "no.csv"),
+                          "-o", str(out)], capture_output=True, text=True)
+    assert bad.returncode == 2 and "no.csv: no such regular file" in bad.stderr

@@ -489,16 +489,29 @@ def _parser() -> argparse.ArgumentParser:
         f.add_argument(f"--{k}", type=float, default=v, help=f"(default {v:g})")
     f.add_argument("--strict", action="store_true",
                    help="exit 1 when the fit is not physically consistent")
+    st = sub.add_parser("study", help="the Monte Carlo study on simulated data")
+    st.add_argument("--runs", type=int, default=200, help="fits per case (default 200)")
+    st.add_argument("--seed", type=int, default=1, help="(default 1)")
+    st.add_argument("--out", default="out", help="directory of the summary and figure")
     return ap
 
 
 def main(argv: list[str] | None = None) -> int:
     """``python -m rps3.ident fit DATA -o OUT.h5``: 0 done, 1 the fit
-    failed, 2 bad arguments or data."""
+    failed, 2 bad arguments or data; ``python -m rps3.ident study``: the
+    Monte Carlo study (``make ident``)."""
     try:
         args = _parser().parse_args(argv)
     except SystemExit as exc:
         return 0 if exc.code == 0 else 2
+    if args.command == "study":
+        from rps3 import ident_sim
+
+        if args.runs < 2:
+            print("rps3.ident: --runs: expected at least 2", file=sys.stderr)
+            return 2
+        print(ident_sim.study(args.runs, args.seed, args.out), end="")
+        return 0
     try:
         geo = _ip.Geometry(R=args.R, rho=args.rho, d=args.d, g=args.g, vreg=args.vreg)
         geo.model()

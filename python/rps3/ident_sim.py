@@ -155,7 +155,7 @@ def study(runs: int = 200, seed: int = 1, out: str | None = None) -> str:
     directory ``out``)."""
     geo = _ip.Geometry(vreg=0.01)
     ex = _ip.design(geometry=geo, seed=seed, f0=0.2, harmonics=5,
-                    amplitude=(0.8, 0.1, 0.02), maxiter=600)
+                    amplitude=(0.8, 0.1, 0.02), maxiter=2000)
     s = simulate(ex.fourier, TRUTH, periods=2.0, geometry=geo)
     a = monte_carlo(s, runs=runs, seed=seed)
     b = monte_carlo(s, runs=runs, seed=seed + 1, stroke_noise=1e-5)
