@@ -125,6 +125,29 @@ def test_excitation_is_better_conditioned(excitation):
     assert np.abs(rps3.Model().inverse(q, dq, ddq).force).max() <= lim.F_max
 
 
+def test_logdet_criterion():
+    """D-optimality: log det of the scaled base regressor's information
+    grows from the start, within the limits."""
+    ex = ident_paper.design(geometry=GEO, f0=0.2, harmonics=2, samples=40, seed=5,
+                            criterion="logdet", maxiter=150)
+    assert ex.feasible and ex.criterion == "logdet"
+    t = np.linspace(0.0, ex.fourier.period, 40, endpoint=False)
+    base = ident_paper.structural_base(GEO, ident_paper.PaperSet())
+    Y = ident_paper.paper_regressor(*ex.fourier.eval(t), GEO)
+    assert ident_paper._criteria(base.reduce(Y))[1] == pytest.approx(ex.logdet, abs=1e-9)
+    print(f"log det: start {ex.logdet_start:.3f}, optimised {ex.logdet:.3f}")
+    assert ex.logdet > ex.logdet_start + 0.2
+
+
+def test_differentiation_needs_uniform_times(tmp_path):
+    t = 0.01 * np.arange(50)
+    t[20:] += 0.003
+    path = tmp_path / "j.csv"
+    ident_io.save_data(str(path), t, np.full((50, 3), 0.3), np.ones((50, 3)))
+    with pytest.raises(ident_io.DataError, match=r"j.csv: row 20: column t: step 0.013 s"):
+        ident_io.fit(ident_io.load(path))
+
+
 def test_design_refuses_unreachable_centre():
     with pytest.raises(ValueError, match="q0"):
         ident_paper.design(q0=(0.0, 0.25, 0.9), harmonics=2, samples=20, maxiter=5)

@@ -274,6 +274,14 @@ def states(data: Data, geometry: _ip.Geometry, cutoff: float = CUTOFF
     t, l, dl, ddl = data.t, data.l, data.dl, data.ddl
     src = dict(data.source)
     if dl is None or ddl is None:
+        h = np.diff(t)
+        off = np.flatnonzero(np.abs(h - np.median(h)) > UNIFORM_TOL * np.median(h))
+        if len(off):
+            k = int(off[0]) + 1
+            raise DataError(f"{data.path}: row {k}: column t: step {h[k - 1]:g} s where "
+                            f"the table's is {np.median(h):g} s: differentiating the "
+                            "lengths needs uniform times (give the rates and "
+                            "accelerations, or resample)")
         lf, dlf, ddlf = _id.differentiate(t, l, cutoff)
         how = (f"differentiated: zero-phase Butterworth order {_id.FILTER_ORDER}, "
                f"cut-off {cutoff:g} Hz, central differences")
@@ -291,6 +299,9 @@ def states(data: Data, geometry: _ip.Geometry, cutoff: float = CUTOFF
     return t, pose, dpose, ddpose, src
 
 
+#: relative deviation of a time step from the median step beyond which
+#: the times are not uniform (differentiation needs uniform samples)
+UNIFORM_TOL = 1e-6
 #: filtered data are decimated to about DECIMATE_RATIO times the cut-off
 #: [Hz], so that the remaining noise is about white
 DECIMATE_RATIO = 2.5

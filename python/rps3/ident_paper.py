@@ -293,7 +293,8 @@ class Excitation:
     criterion: str           #: "cond" or "logdet"
     cond: float              #: condition number of the column-scaled base regressor
     logdet: float            #: log det of its (Y^T Y / N), columns scaled to unit RMS
-    cond_start: float        #: the same at the starting point
+    cond_start: float        #: the condition number at the starting point
+    logdet_start: float      #: log det at the starting point
     converged: bool          #: the optimiser's success flag
     message: str             #: the optimiser's message
     seed: int
@@ -455,7 +456,7 @@ def design(*, geometry: Geometry | None = None, pset: PaperSet | None = None,
         m = _margins(peaks(start.with_vector(x), geo, nom, samples), lim)
         return np.array([m.get(k, -1.0) / sc[k] for k in names])
 
-    c0, _ = crit(start)
+    c0, ld0 = crit(start)
     # derivative-free: the limits are peaks over the samples (not smooth)
     x0 = start.vector()
     res = opt.minimize(objective, x0, method="COBYLA",
@@ -477,7 +478,7 @@ def design(*, geometry: Geometry | None = None, pset: PaperSet | None = None,
         best, feasible = start, True          # keep the feasible start
         mg = _margins(peaks(best, geo, nom, 4 * samples), lim)
     c, ld = crit(best)
-    return Excitation(best, criterion, c, ld, c0, bool(res.success), str(res.message),
+    return Excitation(best, criterion, c, ld, c0, ld0, bool(res.success), str(res.message),
                       seed, int(res.nfev), feasible, base.base_names, ps, geo, lim, mg)
 
 
