@@ -125,9 +125,11 @@ def test_excitation_is_better_conditioned(excitation):
     assert np.abs(rps3.Model().inverse(q, dq, ddq).force).max() <= lim.F_max
 
 
+@pytest.mark.filterwarnings("ignore:design. the optimiser did not converge")
 def test_logdet_criterion():
     """D-optimality: log det of the scaled base regressor's information
-    grows from the start, within the limits."""
+    grows from the start, within the limits (150 evaluations: the
+    optimiser stops before it converges, and says so)."""
     ex = ident_paper.design(geometry=GEO, f0=0.2, harmonics=2, samples=40, seed=5,
                             criterion="logdet", maxiter=150)
     assert ex.feasible and ex.criterion == "logdet"
@@ -146,6 +148,12 @@ def test_differentiation_needs_uniform_times(tmp_path):
     ident_io.save_data(str(path), t, np.full((50, 3), 0.3), np.ones((50, 3)))
     with pytest.raises(ident_io.DataError, match=r"j.csv: row 20: column t: step 0.013 s"):
         ident_io.fit(ident_io.load(path))
+
+
+def test_design_says_it_did_not_converge():
+    with pytest.warns(RuntimeWarning, match="did not converge"):
+        ex = ident_paper.design(harmonics=2, samples=30, maxiter=5)
+    assert not ex.converged and "MAXFUN" in ex.message
 
 
 def test_design_refuses_unreachable_centre():
@@ -387,3 +395,20 @@ def test_module_entry_point(data_file, tmp_path):
     bad = subprocess.run([sys.executable, "-m", "rps3.ident", "fit", str(tmp_path / "no.csv"),
                           "-o", str(out)], capture_output=True, text=True)
     assert bad.returncode == 2 and "no.csv: no such regular file" in bad.stderr
+
+
+def test_fit_that_does_not_map_says_why(data_file, tmp_path, capsys):
+    """A payload identified on data of a plant without one: the 11 base
+    parameters are fitted, but the payload left over beside the disc is
+    noise, no Model's payload: the YAML says why instead of a section,
+    stderr warns, --strict exits 1."""
+    out, yml = tmp_path / "p.h5", tmp_path / "m.yaml"
+    argv = ["fit", str(data_file), "-o", str(out), "--payload", "--vreg", "0.01",
+            "--yaml", str(yml)]
+    assert ident_io.main(argv) == 0
+    assert yml.read_text().startswith("# the fit does not map onto the manipulator section: ")
+    assert "warning" in capsys.readouterr().err
+    with h5py.File(out, "r") as f:
+        assert int(f.attrs["maps_onto_model"]) == 0 and int(f.attrs["consistent"]) == 0
+        assert len(f["theta"]) == 11
+    assert ident_io.main([*argv, "--strict"]) == 1

@@ -411,7 +411,8 @@ def design(*, geometry: Geometry | None = None, pset: PaperSet | None = None,
     seeded random start scaled to ``amplitude``.  A start outside the
     limits is shrunk towards q0 until inside.  The result says whether the
     optimiser converged and whether the limits hold on a grid four times
-    finer; it is returned either way.
+    finer; it is returned either way, with a RuntimeWarning when the
+    optimiser did not converge.
 
     Raises:
         ValueError: no feasible start (q0 outside the limits), or an
@@ -478,6 +479,11 @@ def design(*, geometry: Geometry | None = None, pset: PaperSet | None = None,
         best, feasible = start, True          # keep the feasible start
         mg = _margins(peaks(best, geo, nom, 4 * samples), lim)
     c, ld = crit(best)
+    if not res.success:
+        import warnings
+
+        warnings.warn(f"design: the optimiser did not converge ({res.message}); "
+                      f"condition number {c:.3g} from {c0:.3g}", RuntimeWarning, stacklevel=2)
     return Excitation(best, criterion, c, ld, c0, ld0, bool(res.success), str(res.message),
                       seed, int(res.nfev), feasible, base.base_names, ps, geo, lim, mg)
 
