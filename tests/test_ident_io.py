@@ -412,3 +412,19 @@ def test_fit_that_does_not_map_says_why(data_file, tmp_path, capsys):
         assert int(f.attrs["maps_onto_model"]) == 0 and int(f.attrs["consistent"]) == 0
         assert len(f["theta"]) == 11
     assert ident_io.main([*argv, "--strict"]) == 1
+
+
+def test_fit_refusals_name_the_file(tmp_path):
+    """Lengths that do not assemble name their row; a table too short for
+    the filter says so; neither is a traceback."""
+    t = 0.01 * np.arange(40)
+    l = np.full((40, 3), 0.3)
+    l[7] = [0.3, 0.3, 0.9]
+    path = tmp_path / "far.csv"
+    ident_io.save_data(str(path), t, l, np.ones((40, 3)), dl=0 * l, ddl=0 * l)
+    with pytest.raises(ident_io.DataError, match=r"far.csv: row 7: "):
+        ident_io.fit(ident_io.load(path))
+    short = tmp_path / "short.csv"
+    ident_io.save_data(str(short), t[:6], l[:6], np.ones((6, 3)))
+    with pytest.raises(ident_io.DataError, match=r"short.csv: differentiating the lengths"):
+        ident_io.fit(ident_io.load(short))

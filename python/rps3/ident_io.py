@@ -282,7 +282,10 @@ def states(data: Data, geometry: _ip.Geometry, cutoff: float = CUTOFF
                             f"the table's is {np.median(h):g} s: differentiating the "
                             "lengths needs uniform times (give the rates and "
                             "accelerations, or resample)")
-        lf, dlf, ddlf = _id.differentiate(t, l, cutoff)
+        try:
+            lf, dlf, ddlf = _id.differentiate(t, l, cutoff)
+        except ValueError as exc:      # too few rows for the filter, a cut-off
+            raise DataError(f"{data.path}: differentiating the lengths: {exc}") from None
         how = (f"differentiated: zero-phase Butterworth order {_id.FILTER_ORDER}, "
                f"cut-off {cutoff:g} Hz, central differences")
         if dl is None:
@@ -290,8 +293,13 @@ def states(data: Data, geometry: _ip.Geometry, cutoff: float = CUTOFF
         if ddl is None:
             ddl, src["accelerations"] = ddlf, how
         l = lf
+    from rps3.errors import Rps3Error
+
     mdl = geometry.model()
-    mot = velocity.joint_rates(mdl, l, dl)
+    try:
+        mot = velocity.joint_rates(mdl, l, dl)
+    except Rps3Error as exc:           # "point I: ...": the row's lengths
+        raise DataError(f"{data.path}: row {str(exc).removeprefix('point ')}") from None
     pose, dpose = np.asarray(mot.pose), np.asarray(mot.dpose)
     J = np.asarray(velocity.jacobian(mdl, pose).l)
     bias = np.asarray(velocity.pose_rates(mdl, pose, dpose, np.zeros_like(pose)).ddl)
@@ -385,6 +393,19 @@ def write_results(path: str, result: Fit, data: Data) -> None:
     est = result.estimate
     units = [_ip.PAPER_UNITS.get(n, "1") for n in est.names]
     tmp = path + ".part"
+    try:
+        _write(tmp, result, data, units)
+    except BaseException:
+        if os.path.exists(tmp):
+            os.remove(tmp)
+        raise
+    os.replace(tmp, path)
+
+
+def _write(tmp: str, result: Fit, data: Data, units: list[str]) -> None:
+    import h5py
+
+    est = result.estimate
     with h5py.File(tmp, "w") as f:
         f.attrs["Conventions"] = "CF-1.10"
         f.attrs["title"] = "rps3 identified parameters"
@@ -442,7 +463,6 @@ def write_results(path: str, result: Fit, data: Data) -> None:
             ds.attrs["units"] = u
             ds.attrs["std"] = est.std[j]
             ds.attrs["ci95"] = est.ci95[j]
-    os.replace(tmp, path)
 
 
 def manipulator_yaml(result: Fit) -> str:
