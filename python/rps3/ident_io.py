@@ -388,7 +388,6 @@ def write_results(path: str, result: Fit, data: Data) -> None:
     mapping onto Model's arguments (or why not), where the rates came
     from, the rps3 version and the input file's SHA-256.  Written to a
     temporary name and renamed, so no partial file looks complete."""
-    import h5py
 
     est = result.estimate
     units = [_ip.PAPER_UNITS.get(n, "1") for n in est.names]
