@@ -103,9 +103,11 @@ class Study:
 
 def monte_carlo(s: Simulated, *, runs: int, force_noise: float = 0.01,
                 stroke_noise: float | None = None, seed: int = 0,
-                cutoff: float = _io.CUTOFF, method: str = "ols") -> Study:
+                cutoff: float = _io.CUTOFF, method: str = "wls") -> Study:
     """``runs`` fits of the simulated data with Gaussian force noise of
-    ``force_noise`` times each actuator's RMS force; with
+    ``force_noise`` times each actuator's RMS force (different levels per
+    actuator: ``wls`` by default, whose intervals assume them; OLS's
+    assume one level and cover less); with
     ``stroke_noise`` [m], lengths with that noise and no rates or
     accelerations (the fit differentiates them with the cut-off [Hz]),
     else the simulation's exact states."""
