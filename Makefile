@@ -526,6 +526,14 @@ trajectories: runner venv
 	$(VPY) analysis/trajectories.py out $(TRAJ_CONFIGS:%=out/%.h5)
 	$(VPY) analysis/measured.py figure out/measured.h5 out
 
+# the identification study (docs/identification.md): an optimised
+# excitation, a simulated run, 200 fits with measured and 200 with
+# differentiated states; out/ident_study.txt and out/ident_excitation.png
+.PHONY: ident
+ident: venv-check
+	@mkdir -p out
+	$(VPY) -m rps3.ident study --runs 200 --out out
+
 # ------------------------------------------------------------------- docs
 # the key table of docs/runner.md is `rps3-run --keys`, its table of a
 # simulated scene's datasets `rps3-run --sim-schema`; tests/test_docs.py

@@ -29,13 +29,14 @@ if __version__ != _ffi.string(_lib.rps3py_header_version()).decode():
 __all__ = ["DEFAULT_EFFECTS", "EFFECTS", "Dynamics", "Kinematics", "Model", "h5io",
            "Pose", "open_dataset", "strerror", "trajectory",
            "Rps3Error", "control", "dynamics", "errors", "scene", "sim", "velocity",
-           "export", "plot", "view"]
+           "export", "ident", "plot", "view"]
 
 
 def __getattr__(name: str) -> object:
     # rps3.view and rps3.plot on first use: matplotlib stays optional,
-    # and `python -m rps3.view` does not find its module already imported
-    if name in ("plot", "view"):
+    # and `python -m rps3.view` does not find its module already imported;
+    # rps3.ident likewise (scipy and cvxpy, the `ident` extra)
+    if name in ("plot", "view", "ident"):
         import importlib
         return importlib.import_module("rps3." + name)
     raise AttributeError(f"module 'rps3' has no attribute {name!r}")
