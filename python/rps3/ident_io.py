@@ -564,8 +564,8 @@ def main(argv: list[str] | None = None) -> int:
         with open(args.yaml, "w", encoding="utf-8") as fh:
             fh.write(manipulator_yaml(res))
     est = res.estimate
-    for n, th, sd in zip(est.names, est.theta, est.std):
-        print(f"{n:12s} {th: .6g} +- {1.96 * sd:.3g} {_ip.PAPER_UNITS.get(n, '')}")
+    for n, th, ci in zip(est.names, est.theta, est.ci95):
+        print(f"{n:12s} {th: .6g} +- {(ci[1] - ci[0]) / 2:.3g} {_ip.PAPER_UNITS.get(n, '')}")
     print(res.consistency)
     if not res.consistent:
         print(f"rps3.ident: warning: {res.mapping or 'not physically consistent'}",
