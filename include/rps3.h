@@ -220,55 +220,82 @@ RPS3_API const char *rps3_solver_name(int solver);
 RPS3_API int rps3_solver_index(const char *name);
 
 /*
- * What rps3_inverse computes (rps3_options.forces_only).
+ * What rps3_inverse and rps3_invdyn report (rps3_options.outputs): a set
+ * of bits, each one result.  A bit left out leaves that result's work out
+ * where the route allows it, and its field is NaN after the call (a
+ * result is never left holding another point's value); a bit never
+ * changes what another field means.  Default RPS3_OUT_ALL.
  *
- * RPS3_FORCES_LEAN is F alone for a controller that needs nothing else.
- * On the configurations of the batch kernel (closed-form theta, Lagrange,
- * no effect beyond the paper's four) and with certify off, rps3_inverse
- * computes the point in one pass that forms the forces and the lambda
- * system's condition number and nothing else (no theta, shares, rates,
- * multipliers or force transmission), in about 40 % of the time of
- * RPS3_FORCES_ONLY (docs/performance.md).  For every point it still
- * guarantees:
- *   - the singularity check on the lambda system: its 1-norm condition
- *     number (d->cond, the default's to rounding) against opt.cond_warn
- *     and opt.cond_max; a point at or near either threshold is handed to
- *     the stages, which return RPS3_ESING or set RPS3_WARN_ILLCOND exactly
- *     as RPS3_FORCES_ONLY does;
- *   - an unreachable pose, a non-finite input, an angle beyond 1e5 rad, or
- *     a force, load or cond that is not finite is handed to the stages
- *     too: the status (RPS3_EREACH, RPS3_EINVAL, RPS3_ERANGE, ...) is
- *     RPS3_FORCES_ONLY's;
- *   - an implausible force -- max_i |F_i| above min(opt.trans_warn,
- *     opt.trans_max) times the largest load on one link, |phi_i . f_i| +
- *     |dphi_i . f_i| + |tau_i| / l_i (f_i the inertial and gravity force
- *     on ball joint i, tau_i the link's own torque about its pin) -- is
- *     handed to the stages, which compute the force transmission and warn
- *     (RPS3_WARN_TRANS) or fail (RPS3_ESING) as RPS3_FORCES_ONLY does;
- *   - F equal to the default's to rounding (within 8 eps cond of the
- *     point's force scale; tests/test_batch_kernel.c).  Where the CPU has
- *     fused multiply-adds the pass uses them, so its last bits differ
- *     between CPUs with and without FMA.
- * What it gives up: the force transmission (d->transmission is NaN), so a
- * pose whose transmission is above opt.trans_warn (or opt.trans_max) but
- * whose present loads give forces within the bound above returns RPS3_OK
- * without RPS3_WARN_TRANS; and every other field of d: positions, theta,
- * rates, lambda, shares, mode and the certificate's terms are not written
- * (they hold what they held), d->stage is 0 so that a later stage call
- * returns RPS3_ESTATE instead of reading them, has_lambda and have_theta
- * are 0, warn is 0.  A point handed to the stages leaves d as
- * RPS3_FORCES_ONLY does (d->stage nonzero).  On every other configuration,
- * or with certify on, RPS3_FORCES_LEAN is RPS3_FORCES_ONLY.
- * rps3_inverse_batch runs the same pass (bitwise the loop of rps3_inverse
- * on one machine); it writes F, cond, status, warn and niter, and NaN into
- * every other output array given (the shares zero) for the points
- * computed.
+ *   RPS3_OUT_FORCES        F: the actuating forces (34).
+ *   RPS3_OUT_EFFECTS       F_effect: the share of each selected effect
+ *                          (zero for effects not selected).  Without it
+ *                          the selected effects' loads are summed and
+ *                          solved once (F equal to the shares' sum to
+ *                          rounding, ~1e-15 of the forces' scale).
+ *   RPS3_OUT_THETA         theta by the closed form (39).  The multiroot
+ *                          route solves for theta, so there d->theta is
+ *                          the solve's root whatever the bit (the next
+ *                          point's warm start).  Without it phi and dphi
+ *                          are still the pose's.
+ *   RPS3_OUT_LAMBDA        lambda, has_lambda = 1 (Lagrange).  NaN, and
+ *                          has_lambda 0, without it or under Newton-Euler.
+ *   RPS3_OUT_TRANSMISSION  transmission (the force transmission).
+ *   RPS3_OUT_CERTIFY       the energy-rate certificate: power, dTdt, dPdt,
+ *                          friction_power, energy_residual, energy_scale.
+ *                          It needs the rates and accelerations even for
+ *                          a static selection.
+ *
+ * The checks do not depend on the bits: status and warn are the same for
+ * every subset (tests/test_outputs.c).  The lambda system's condition
+ * number is always computed (d->cond; RPS3_ESING above opt.cond_max,
+ * RPS3_WARN_ILLCOND above opt.cond_warn), and so is the finiteness of
+ * every quantity the point computes (RPS3_ERANGE).  Without
+ * RPS3_OUT_TRANSMISSION the force transmission check (RPS3_ESING above
+ * opt.trans_max, RPS3_WARN_TRANS above opt.trans_warn) is still decided:
+ * either by an upper bound that proves the transmission below both
+ * thresholds,
+ *   T <= (sqrt3 / 3) (1 + 4 / rho) (1 + sqrt3 r |(df/dtheta)^-1|_inf
+ *        (l_1 + l_2 + l_3))
+ * (the platform twist per unit link rate, through the constraint
+ * Jacobian of (8)-(10) written in metres and the ball joints at distance
+ * r from the centre), or, where the bound does not prove it, by computing
+ * the transmission as with the bit.
+ *
+ * The leanest pass.  With outputs = RPS3_OUT_FORCES (F alone) on the
+ * batch kernel's configurations (closed-form theta, Lagrange, no effect
+ * beyond the paper's four), rps3_inverse computes a point in one pass that
+ * forms F, the condition number and the bound above and nothing else, in
+ * about 40 % of the time of the pass with the transmission
+ * (docs/performance.md): a controller's path, with every check.  A point
+ * the pass cannot keep (non-finite, unreachable, an angle beyond 1e5 rad,
+ * cond or the bound near or above a threshold) goes through the stages,
+ * whose status and warn it then has.  The pass leaves d->stage 0: the
+ * positions, rates and mode of d are not this point's (a later stage call
+ * returns RPS3_ESTATE instead of reading them), and l, c, dl, ddl are
+ * NaN.  Where the CPU has fused multiply-adds the pass uses them, so its
+ * last bits differ between CPUs with and without FMA (F within 8 eps cond
+ * of the point's force scale of the default's either way;
+ * tests/test_batch_kernel.c).  rps3_inverse_batch runs the same pass
+ * (bitwise the loop of rps3_inverse on one machine).
  */
-enum rps3_forces {
-  RPS3_FORCES_ALL = 0,  /* every output (the default) */
-  RPS3_FORCES_ONLY = 1, /* F alone, every check (the controller's path) */
-  RPS3_FORCES_LEAN = 2  /* F alone, checks as said above */
+enum rps3_output {
+  RPS3_OUT_FORCES = 1 << 0,
+  RPS3_OUT_EFFECTS = 1 << 1,
+  RPS3_OUT_THETA = 1 << 2,
+  RPS3_OUT_LAMBDA = 1 << 3,
+  RPS3_OUT_TRANSMISSION = 1 << 4,
+  RPS3_OUT_CERTIFY = 1 << 5
 };
+#define RPS3_NOUTPUT 6
+#define RPS3_OUT_ALL ((1 << RPS3_NOUTPUT) - 1)
+
+/* Name of output index k (0 <= k < RPS3_NOUTPUT), e.g. "forces", "effects",
+   "theta", "lambda", "transmission", "certify"; index k is the bit 1 << k.
+   NULL for k out of range. */
+RPS3_API const char *rps3_output_name(int k);
+
+/* Index of the output with this name, or -1 if there is none. */
+RPS3_API int rps3_output_index(const char *name);
 
 typedef struct {
   int effects;             /* selected effects, RPS3_EFF_* bits */
@@ -283,27 +310,10 @@ typedef struct {
                               solution when it has one (rps3_inverse's
                               multiroot route: moved along the change of
                               the lengths, rps3_inverse); 0: always cold */
-  int certify;             /* 1: compute the energy-rate residual (needs
-                              rates even for a static scene); default 1 */
-  int forces_only;         /* enum rps3_forces.  RPS3_FORCES_ONLY (1): a
-                              controller's path: rps3_inverse and
-                              rps3_invdyn compute F alone, from the sum of
-                              the selected effects' loads in one solve
-                              (equal to the default's F to rounding,
-                              ~1e-15 of the forces' scale); F_effect is
-                              left zero, and on the closed-form route theta
-                              is not computed (NaN; phi, dphi are).  lambda,
-                              cond, warn and the singularity check are as
-                              by default.  With certify off, the closed-form
-                              route, Lagrange and no effect beyond the
-                              paper's four, rps3_inverse computes the point
-                              in the batch kernel's lean pass (the summed
-                              load solved once; below).
-                              RPS3_FORCES_LEAN (2): F without the force
-                              transmission, in rps3_inverse's leanest pass;
-                              what it checks and what it gives up is said
-                              at enum rps3_forces.  Default 0
-                              (RPS3_FORCES_ALL) */
+  int outputs;             /* what rps3_inverse and rps3_invdyn report:
+                              RPS3_OUT_* bits (enum rps3_output), default
+                              RPS3_OUT_ALL; the checks do not depend on
+                              them */
   double cond_warn;        /* set RPS3_WARN_ILLCOND above this 1-norm
                               condition number of the lambda system (1e6) */
   double cond_max;         /* RPS3_ESING above this (1e13) */
@@ -469,14 +479,15 @@ typedef struct {
                           towards singular configurations, also where cond
                           stays small (a level platform lowered to the
                           base); both methods */
-  double power;        /* actuator power sum F_i dl_i [W] (certify) */
+  double power;        /* actuator power sum F_i dl_i [W]; this and the
+                          certificate's terms below: RPS3_OUT_CERTIFY */
   double dTdt;         /* rate of kinetic energy of the selected effects [W] */
   double dPdt;         /* rate of potential energy of the selected effects [W] */
   double friction_power; /* power of the pin friction torques (<= 0) [W] */
   double energy_residual; /* power + friction_power - dTdt - dPdt [W]; zero
                              up to rounding when the forces are right;
-                             finite whenever the status is RPS3_OK; 0 when
-                             certify is off */
+                             finite whenever the status is RPS3_OK; NaN
+                             without RPS3_OUT_CERTIFY */
   double energy_scale; /* sum of the magnitudes of the terms above [W], to
                           make the residual relative */
 
@@ -622,9 +633,11 @@ RPS3_API void rps3_omega_paper(const rps3_model *m, const rps3_data *d,
 /*
  * Inverse dynamics of the selected effects (m->opt.effects) by
  * m->opt.method, after the position stage and, when a dynamic effect is
- * selected (or opt.certify), the velocity and acceleration stages.
+ * selected (or RPS3_OUT_CERTIFY), the velocity and acceleration stages.
  * Writes F, F_effect, lambda (Lagrange), cond, warn and, with
- * opt.certify, the energy-rate certificate.  Returns RPS3_OK, RPS3_EINVAL,
+ * RPS3_OUT_CERTIFY, the energy-rate certificate; the results of the
+ * outputs left out of opt.outputs are NaN (enum rps3_output).  Returns
+ * RPS3_OK, RPS3_EINVAL,
  * RPS3_ESTATE, RPS3_ESING or RPS3_ERANGE (a force, multiplier or power not
  * finite, e.g. M = 1e300 kg).
  */
@@ -634,7 +647,8 @@ RPS3_API int rps3_invdyn(const rps3_model *m, rps3_data *d);
  * Whole pipeline for one point: the caller sets d->pose, d->dpose,
  * d->ddpose; theta comes from opt.theta (closed form, or multiroot warm
  * started from the previous point of the same data); velocities and
- * accelerations are computed only when a selected effect or certify needs
+ * accelerations are computed only when a selected effect or the
+ * certificate (RPS3_OUT_CERTIFY) needs
  * them.  Returns the first failing stage's status (any of the stages'
  * codes above).
  *
@@ -659,10 +673,9 @@ RPS3_API int rps3_invdyn(const rps3_model *m, rps3_data *d);
  * path).  A point the kernel does not certify
  * (non-finite, unreachable, overflowing, near or past a threshold) goes
  * through the stages, so status and warn are always theirs; d then holds
- * everything the stages leave.  With opt.forces_only = RPS3_FORCES_LEAN
- * (and certify off) the pass computes F alone and leaves the rest of d
- * unwritten, d->stage 0: what it checks and gives up is said at enum
- * rps3_forces.
+ * everything the stages leave.  With opt.outputs = RPS3_OUT_FORCES the
+ * point goes through the leanest pass, which leaves d->stage 0 (enum
+ * rps3_output).
  */
 RPS3_API int rps3_inverse(const rps3_model *m, rps3_data *d);
 
@@ -682,13 +695,17 @@ RPS3_API int rps3_inverse(const rps3_model *m, rps3_data *d);
  *
  * Vectorised kernel.  rps3_inverse_batch with the closed-form theta, the
  * Lagrange formulation and no effect beyond the paper's four (payload and
- * pin friction not selected) -- with or without the certificate, and with
- * forces_only -- computes blocks of points in one straight-line loop the
+ * pin friction not selected) -- whatever opt.outputs -- computes blocks of points in one straight-line loop the
  * compiler vectorises (AVX2 or AVX-512 where the CPU has them), more than
  * ten times the points per second of the per-point loop
  * (docs/performance.md); with out->theta NULL and without the certificate
- * it leaves theta and the certificate out as well; with
- * RPS3_FORCES_LEAN it runs the lean pass (enum rps3_forces).  rps3_inverse
+ * it leaves theta and the certificate out as well; with outputs =
+ * RPS3_OUT_FORCES it runs the leanest pass (enum rps3_output).  The
+ * arrays of outputs left out of opt.outputs are NaN at the points
+ * computed (F_effect: RPS3_OUT_EFFECTS; theta: RPS3_OUT_THETA on the
+ * closed-form route; lambda; transmission; energy_residual and
+ * energy_scale: RPS3_OUT_CERTIFY), and so are l, c, dl and ddl at the
+ * points of the leanest pass.  rps3_inverse
  * runs the same loop body on its one point, so the batch and the loop of
  * rps3_inverse agree bit for bit (tests/test_batch_kernel.c).  Against
  * the per-point stages (the path of every other configuration) the
@@ -723,8 +740,9 @@ typedef struct {
   const double *pose;    /* 3 n: alpha, beta, z_c [rad, rad, m] (inverse,
                             ik) */
   const double *dpose;   /* 3 n: pose rates [rad/s, rad/s, m/s] (inverse,
-                            required when a selected effect or opt.certify
-                            needs rates, else may be NULL) */
+                            required when a selected effect or
+                            RPS3_OUT_CERTIFY needs rates, else may be
+                            NULL) */
   const double *ddpose;  /* 3 n: pose accelerations [rad/s^2, rad/s^2,
                             m/s^2] (inverse, same rule as dpose) */
   const double *l;       /* 3 n: link lengths [m] (fk) */
@@ -749,8 +767,8 @@ typedef struct {
                             not computed (Newton-Euler: has_lambda 0) */
   double *cond;          /* n: condition number of the lambda system
                             (inverse) [-] */
-  double *energy_residual; /* n: energy-rate residual (inverse) [W]; 0 when
-                              opt.certify is off */
+  double *energy_residual; /* n: energy-rate residual (inverse) [W]; NaN
+                              without RPS3_OUT_CERTIFY */
   size_t nfail;          /* written: number of points whose status is not
                             RPS3_OK */
   size_t first_fail;     /* written: index of the first of them (n if none) */
@@ -765,7 +783,7 @@ typedef struct {
   double *c;             /* 3 n: platform centre x_c, y_c, z_c (inverse, ik)
                             [m], eqs. (3)-(4) */
   double *energy_scale;  /* n: scale of the energy-rate residual (inverse)
-                            [W]; 0 when opt.certify is off */
+                            [W]; NaN without RPS3_OUT_CERTIFY */
   double *solve_resid;   /* n: max |f_k| after the theta solve (inverse,
                             fk) [-]; 0 in closed form */
 } rps3_batch_out;
@@ -1156,10 +1174,8 @@ RPS3_API int rps3_traj_eval(const rps3_model *m, const rps3_traj *tr, double t,
     "1", "opt.max_iter")                                                      \
   X(RPS3_F_WARM_START, RPS3_IN_MODEL, opt.warm_start, 1, 1, 0, 0, 1, "-",     \
     "opt.warm_start")                                                         \
-  X(RPS3_F_CERTIFY, RPS3_IN_MODEL, opt.certify, 1, 1, 0, 0, 1, "-",           \
-    "opt.certify")                                                            \
-  X(RPS3_F_FORCES_ONLY, RPS3_IN_MODEL, opt.forces_only, 1, 1, 0, 0, 2, "-",   \
-    "opt.forces_only")                                                        \
+  X(RPS3_F_OUTPUTS, RPS3_IN_MODEL, opt.outputs, 1, 1, 0, 0, RPS3_OUT_ALL,    \
+    "-", "opt.outputs")                                                       \
   X(RPS3_F_COND_WARN, RPS3_IN_MODEL, opt.cond_warn, 1, 0, 1, 0, HUGE_VAL,     \
     "1", "opt.cond_warn")                                                     \
   X(RPS3_F_COND_MAX, RPS3_IN_MODEL, opt.cond_max, 1, 0, 1, 0, HUGE_VAL, "1",  \

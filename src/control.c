@@ -96,7 +96,12 @@ static int desired(rps3_ctrl *c, double t) {
     st = rps3_inverse(&c->model, d);
     if (st != RPS3_OK) return st;
     v3_copy(c->F_ff, d->F);
-    if (!(c->model.opt.effects & RPS3_EFF_DYNAMIC) && !c->model.opt.certify) {
+    if (!(d->stage & RPS3_STAGE_POS)) {
+      /* the leanest pass (outputs = RPS3_OUT_FORCES) forms F alone: the
+         desired link motion by the closed form */
+      st = rps3_link_motion(&c->model, d, 0);
+      if (st != RPS3_OK) return st;
+    } else if (!rps3_need_rates(&c->model)) {
       /* a static model's forces need no rates, and rps3_inverse computes
          none; the controller still tracks the desired link rates */
       st = rps3_ik(&c->model, d);

@@ -23,8 +23,9 @@ static void pd_tracks_the_desired_rates(void **state) {
       rps3_traj_default(&tr);
       rps3_model_default(&cm);
       cm.opt.effects = effects[e];
-      cm.opt.forces_only = fo; /* the runner's controllers: forces_only */
-      cm.opt.certify = 0;     /* no rates for a static model then */
+      /* fo: the runner's controllers, F alone (the leanest pass); else
+         every output but the certificate (no rates for a static model) */
+      cm.opt.outputs = fo ? RPS3_OUT_FORCES : RPS3_OUT_ALL & ~RPS3_OUT_CERTIFY;
       assert_int_equal(rps3_model_init(&cm, NULL, 0), RPS3_OK);
       rps3_model_default(&om);
       assert_int_equal(rps3_model_init(&om, NULL, 0), RPS3_OK);
@@ -45,7 +46,7 @@ static void pd_tracks_the_desired_rates(void **state) {
           /* the same rates by another route: to rounding of m/s values
              of ~0.1 (1e-15 seen) */
           CHECK_REL(F[i], od->dl[i], 1e-12, 1.0,
-                    "effects %#x forces_only %d t %g: F%d = kd dl_des", effects[e],
+                    "effects %#x F alone %d t %g: F%d = kd dl_des", effects[e],
                     fo, t, i);
       }
       rps3_ctrl_free(c);
@@ -74,7 +75,7 @@ static void every_kind_logs_the_desired_motion(void **state) {
       rps3_model_default(&cm);
       cm.opt.effects = e ? RPS3_EFF_DEFAULT
                          : RPS3_EFF_PLATFORM_GRAVITY | RPS3_EFF_LINK_GRAVITY;
-      cm.opt.certify = 0;
+      cm.opt.outputs &= ~RPS3_OUT_CERTIFY;
       assert_int_equal(rps3_model_init(&cm, NULL, 0), RPS3_OK);
       rps3_model_default(&om);
       assert_int_equal(rps3_model_init(&om, NULL, 0), RPS3_OK);

@@ -63,8 +63,8 @@ typedef enum { OUT_F64, OUT_I32, OUT_STR } out_type;
     "newton_euler, which does not compute them")                              \
   X(energy_residual, OUT_CT, OUT_F64, "W", "energy-rate residual",            \
     "actuator power + friction power - dT/dt - dP/dt; zero up to "            \
-    "rounding when the forces are right (NaN when solver.certify is "         \
-    "false)")                                                                 \
+    "rounding when the forces are right (NaN when solver.outputs leaves "     \
+    "out certify)")                                                           \
   X(energy_scale, OUT_CT, OUT_F64, "W", "energy-rate scale",                  \
     "sum of the magnitudes of the terms of energy_residual, its scale")       \
   X(condition, OUT_CT, OUT_F64, "1",                                          \

@@ -110,6 +110,12 @@ static int emit_value(yaml_emitter_t *em, int k, const scene_values *v) {
       if (*scene_int_at(w, k) & (1 << i))
         ok = emit_scalar(em, rps3_effect_name(i));
     return ok && emit_close(em, 1);
+  case KEY_OUTPUTS:
+    ok = emit_open(em, 1, 1);
+    for (i = 0; i < RPS3_NOUTPUT && ok; i++)
+      if (*scene_int_at(w, k) & (1 << i))
+        ok = emit_scalar(em, rps3_output_name(i));
+    return ok && emit_close(em, 1);
   case KEY_TIMES:
     ok = emit_open(em, 1, 1);
     for (r = 0; r < v->traj.wp.n && ok; r++) {
@@ -247,6 +253,7 @@ void scene_keys_print(void) {
       type = names;
       break;
     case KEY_EFFECTS: type = "[effect names]"; break;
+    case KEY_OUTPUTS: type = "[output names]"; break;
     case KEY_TIMES: type = "[numbers]"; break;
     case KEY_POSES: type = "[[3 numbers], ...]"; break;
     case KEY_FILE: type = "file name"; break;

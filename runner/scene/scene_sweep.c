@@ -222,7 +222,8 @@ int scene_parse_sweep(parse_ctx *c, const yaml_node_t *map) {
                       name);
       return -1;
     }
-    if (ki->type == KEY_EFFECTS || ki->type == KEY_TIMES ||
+    if (ki->type == KEY_EFFECTS || ki->type == KEY_OUTPUTS ||
+        ki->type == KEY_TIMES ||
         ki->type == KEY_POSES || ki->type == KEY_FILE || ax->key == K_KIND ||
         ax->key == K_PATH_SHAPE) {
       scene_error_set(
