@@ -119,6 +119,117 @@ static void effects_separate(void **state) {
 }
 
 /*
+ * Every subset of opt.outputs, both methods and both theta routes, on
+ * random trajectories of the high-entropy model: a result whose bit is set
+ * equals the default's (every output) to rounding (TOL_EXACT of the
+ * forces' scale: the summed solve without shares), a result whose bit is
+ * not set is NaN, and status and warn are the default's.  At the singular
+ * pose (the lambda system's zero determinant) every subset is RPS3_ESING,
+ * and a lowered trans_warn warns whatever the bits (the transmission check
+ * is decided without RPS3_OUT_TRANSMISSION too).
+ */
+static void outputs_each_bit(void **state) {
+  rps3_model full, sub;
+  rps3_data *df, *ds;
+  rps3_traj tr;
+  uint64_t seed = 9131;
+  int method, route, bits, k, i, e;
+  (void)state;
+  for (method = 0; method < 2; method++)
+    for (route = 0; route < 2; route++)
+      for (bits = 0; bits <= RPS3_OUT_ALL; bits++) {
+        model_entropy(&full);
+        full.opt.method = (rps3_method)method;
+        full.opt.theta = (rps3_theta_route)route;
+        sub = full;
+        sub.opt.outputs = bits;
+        assert_int_equal(rps3_model_init(&full, NULL, 0), RPS3_OK);
+        assert_int_equal(rps3_model_init(&sub, NULL, 0), RPS3_OK);
+        assert_int_equal(rps3_data_alloc(&full, &df), RPS3_OK);
+        assert_int_equal(rps3_data_alloc(&sub, &ds), RPS3_OK);
+        traj_random(&tr, &seed);
+        for (k = 0; k <= 10; k++) {
+          double t = 0.2 * k, fs;
+          run_point(&full, df, &tr, t);
+          run_point(&sub, ds, &tr, t);
+          assert_int_equal(ds->warn, df->warn);
+          fs = fscale(df);
+          assert_true(ds->cond == ds->cond);
+          CHECK_REL(ds->cond, df->cond, TOL_EXACT * df->cond, 1.0, "cond");
+          for (i = 0; i < 3; i++) {
+            if (bits & RPS3_OUT_FORCES)
+              CHECK_REL(ds->F[i], df->F[i], TOL_EXACT, fs, "F%d bits %#x", i,
+                        bits);
+            else
+              assert_true(isnan(ds->F[i]));
+            for (e = 0; e < RPS3_NEFFECT; e++)
+              if (bits & RPS3_OUT_EFFECTS)
+                assert_true(ds->F_effect[e][i] == df->F_effect[e][i]);
+              else
+                assert_true(isnan(ds->F_effect[e][i]));
+            if ((bits & RPS3_OUT_LAMBDA) && method == RPS3_LAGRANGE)
+              CHECK_REL(ds->lambda[i], df->lambda[i], TOL_EXACT,
+                        fabs(df->lambda[0]) + fabs(df->lambda[1]) +
+                            fabs(df->lambda[2]) + 1e-300,
+                        "lambda%d", i);
+            else
+              assert_true(isnan(ds->lambda[i]) && !ds->has_lambda);
+            if ((bits & RPS3_OUT_THETA) || route == RPS3_THETA_MULTIROOT)
+              assert_true(ds->theta[i] == df->theta[i]);
+            else
+              assert_true(isnan(ds->theta[i]));
+          }
+          if (bits & RPS3_OUT_TRANSMISSION)
+            CHECK_REL(ds->transmission, df->transmission, TOL_EXACT,
+                      df->transmission, "transmission");
+          else
+            assert_true(isnan(ds->transmission));
+          if (bits & RPS3_OUT_CERTIFY)
+            CHECK_REL(ds->energy_residual, df->energy_residual, TOL_EXACT,
+                      df->energy_scale + 1e-300, "energy residual");
+          else
+            assert_true(isnan(ds->energy_residual) &&
+                        isnan(ds->energy_scale) && isnan(ds->power));
+        }
+        rps3_data_free(df);
+        rps3_data_free(ds);
+      }
+  /* the checks with every subset: the singular pose, a lowered trans_warn */
+  for (bits = 0; bits <= RPS3_OUT_ALL; bits++)
+    for (route = 0; route < 2; route++) {
+      double bs;
+      rps3_model_default(&sub);
+      sub.opt.outputs = bits;
+      sub.opt.theta = (rps3_theta_route)route;
+      assert_int_equal(rps3_model_init(&sub, NULL, 0), RPS3_OK);
+      assert_int_equal(rps3_data_alloc(&sub, &ds), RPS3_OK);
+      bs = singular_beta(&sub, ds, 0.25, 0.6, 1.0);
+      ds->pose[0] = 0.0;
+      ds->pose[1] = bs;
+      ds->pose[2] = 0.25;
+      for (i = 0; i < 3; i++) ds->dpose[i] = ds->ddpose[i] = 0.0;
+      if (route == RPS3_THETA_CLOSED_FORM)
+        assert_int_equal(rps3_inverse(&sub, ds), RPS3_ESING);
+      rps3_data_free(ds);
+      /* a transmission of 2.4 above a warning threshold of 2 */
+      sub.opt.trans_warn = 2.0;
+      sub.opt.theta = RPS3_THETA_CLOSED_FORM;
+      assert_int_equal(rps3_model_init(&sub, NULL, 0), RPS3_OK);
+      assert_int_equal(rps3_data_alloc(&sub, &ds), RPS3_OK);
+      ds->pose[0] = 0.3;
+      ds->pose[1] = 0.0;
+      ds->pose[2] = sub.R;
+      assert_int_equal(rps3_inverse(&sub, ds), RPS3_OK);
+      assert_true(ds->warn & RPS3_WARN_TRANS);
+      /* and a trans_max below it: RPS3_ESING */
+      sub.opt.trans_max = 2.1;
+      assert_int_equal(rps3_model_init(&sub, NULL, 0), RPS3_OK);
+      assert_int_equal(rps3_inverse(&sub, ds), RPS3_ESING);
+      rps3_data_free(ds);
+    }
+}
+
+/*
  * outputs without RPS3_OUT_EFFECTS and RPS3_OUT_THETA (F, lambda and the
  * transmission) give the default's forces from the summed loads: the same F
  * to rounding (1e-15 of the forces' scale seen; TOL_EXACT), the same
@@ -420,6 +531,7 @@ int main(void) {
       cmocka_unit_test(random_trajectories),
       cmocka_unit_test(effects_separate),
       cmocka_unit_test(summed_forces_match),
+      cmocka_unit_test(outputs_each_bit),
       cmocka_unit_test(shared_jacobian_never_stale),
       cmocka_unit_test(static_closed_form),
       cmocka_unit_test(static_scene_needs_no_rates),
