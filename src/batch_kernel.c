@@ -428,9 +428,10 @@ void rps3_kernel_block(const rps3_model *m, const rps3_batch_in *in,
 static const double kzero3[3] = {0.0, 0.0, 0.0};
 
 /* the results the leanest pass does not compute (F_effect's size) */
+#define KNAN ((double)NAN)
 static const double knan[RPS3_NEFFECT * 3] = {
-    NAN, NAN, NAN, NAN, NAN, NAN, NAN, NAN, NAN,
-    NAN, NAN, NAN, NAN, NAN, NAN, NAN, NAN, NAN};
+    KNAN, KNAN, KNAN, KNAN, KNAN, KNAN, KNAN, KNAN, KNAN,
+    KNAN, KNAN, KNAN, KNAN, KNAN, KNAN, KNAN, KNAN, KNAN};
 
 /* the lean pass over a block: F, cond and ok only */
 KCLONES
