@@ -751,15 +751,24 @@ typedef struct {
 } rps3_batch_in;
 
 /* Outputs of the batch functions; each writes the arrays it computes that
-   are not NULL; status is required. */
+   are not NULL (zero the structure, then set the arrays wanted); status is
+   required. */
 typedef struct {
   int *status;           /* n: rps3_status of each point */
   int *warn;             /* n: RPS3_WARN_* bits of each point */
   double *pose;          /* 3 n: poses (fk) [rad, rad, m] */
+  double *c;             /* 3 n: platform centre x_c, y_c, z_c (inverse, ik,
+                            fk) [m], eqs. (3)-(4) */
   double *l;             /* 3 n: link lengths (ik, inverse) [m] */
+  double *dl;            /* 3 n: link rates (inverse) [m/s]; NaN when no
+                            selected effect nor the certificate needs rates */
+  double *ddl;           /* 3 n: link accelerations (inverse) [m/s^2]; NaN
+                            as dl */
   double *theta;         /* 3 n: link angles (all) [rad] */
   int *niter;            /* n: iterations of the theta solve (fk; inverse
                             with the multiroot route), 0 in closed form */
+  double *solve_resid;   /* n: max |f_k| after the theta solve (inverse,
+                            fk) [-]; 0 in closed form */
   double *F;             /* 3 n: actuating forces (inverse) [N] */
   double *F_effect;      /* RPS3_NEFFECT 3 n: share of effect k in F_j of
                             point i at [(k * 3 + j) * n + i] (inverse) [N] */
@@ -767,25 +776,15 @@ typedef struct {
                             not computed (Newton-Euler: has_lambda 0) */
   double *cond;          /* n: condition number of the lambda system
                             (inverse) [-] */
+  double *transmission;  /* n: force transmission (inverse) [-], as
+                            d->transmission */
   double *energy_residual; /* n: energy-rate residual (inverse) [W]; NaN
                               without RPS3_OUT_CERTIFY */
+  double *energy_scale;  /* n: scale of the energy-rate residual (inverse)
+                            [W]; NaN without RPS3_OUT_CERTIFY */
   size_t nfail;          /* written: number of points whose status is not
                             RPS3_OK */
   size_t first_fail;     /* written: index of the first of them (n if none) */
-  /* (a caller that zeroes the struct, as every caller should, leaves the
-     members below NULL: not written; new members go at the end only) */
-  double *transmission;  /* n: force transmission (inverse) [-], as
-                            d->transmission */
-  double *dl;            /* 3 n: link rates (inverse) [m/s]; NaN when no
-                            selected effect nor the certificate needs rates */
-  double *ddl;           /* 3 n: link accelerations (inverse) [m/s^2]; NaN
-                            as dl */
-  double *c;             /* 3 n: platform centre x_c, y_c, z_c (inverse, ik)
-                            [m], eqs. (3)-(4) */
-  double *energy_scale;  /* n: scale of the energy-rate residual (inverse)
-                            [W]; NaN without RPS3_OUT_CERTIFY */
-  double *solve_resid;   /* n: max |f_k| after the theta solve (inverse,
-                            fk) [-]; 0 in closed form */
 } rps3_batch_out;
 
 /*
@@ -1409,7 +1408,7 @@ struct rps3_fd_state; /* internal: a forward-dynamics state */
  * controller with rate > 0 whose measurement is exact (no noise, no
  * quantisation: then l, dl below are the measured ones bit for bit); NULL
  * otherwise (noise or quantisation on, a continuous controller).  The
- * state is a lean one: no pose, no positions (s->d holds them after the
+ * state is a lean one: no pose, no positions (rps3_sim_data holds them after the
  * call of rps3_sim_advance).  What the controller may take is its own
  * decision: e.g. theta and its rates when its model has the plant's R and
  * rho, Mq and hq only when its masses and effects are the plant's too.
@@ -1463,17 +1462,9 @@ typedef struct {
   rps3_control_plant_fn fn_plant; /* the law with RPS3_CTRL_USES_PLANT */
 } rps3_controller;
 
-struct rps3_sim_gsl; /* internal: GSL driver */
-
+/* What a simulation reports of its state (rps3_sim_now): the state at
+   s's time after rps3_sim_advance, or where the run stopped. */
 typedef struct {
-  rps3_model plant;        /* the simulated mechanism (a copy) */
-  rps3_sim_options opt;
-  rps3_data *d;            /* plant workspace: after rps3_sim_advance the
-                              positions, rates and accelerations of the
-                              state at t, all of them.  During a call it is
-                              the integrator's scratch: a stage, and the
-                              end of a control period inside the call, form
-                              theta, its rates and ddl alone (d->stage 0) */
   double t;                /* simulated time [s] */
   double y[8];             /* l [m], dl [m/s], W_F, W_f [J] */
   double F_cmd[3];         /* last commanded forces [N] */
@@ -1490,15 +1481,27 @@ typedef struct {
   long nevals;             /* forward dynamics evaluations */
   long nticks;             /* controller calls at the control rate */
   long nsat;               /* ticks with a saturated actuator */
-  /* internal */
-  const rps3_controller *ctrl; /* during rps3_sim_advance */
-  double t0;               /* start time [s] */
-  long last_tick;          /* index of the last tick served, -1 before */
-  unsigned long long rng;  /* noise generator state */
-  double spare;            /* second normal deviate of Box-Muller, or NaN */
-  int started;
-  struct rps3_sim_gsl *gsl;
-} rps3_sim;
+} rps3_sim_report;
+
+/* A simulation: the plant (a copy), its options, its workspace, the
+   integrator and the report, opaque (src/sim.h); read it through
+   rps3_sim_now, rps3_sim_data, rps3_sim_plant and rps3_sim_opts. */
+typedef struct rps3_sim rps3_sim;
+
+/* The report of s (valid until s is freed; rps3_sim_start and
+   rps3_sim_advance update it), NULL for s NULL. */
+RPS3_API const rps3_sim_report *rps3_sim_now(const rps3_sim *s);
+
+/* The plant workspace of s, read-only: after rps3_sim_advance the
+   positions, rates and accelerations of the state at its time, all of
+   them, and after a failure err, which says why.  During a call it is the
+   integrator's scratch.  NULL for s NULL. */
+RPS3_API const rps3_data *rps3_sim_data(const rps3_sim *s);
+
+/* The simulated plant (the copy s made) and the options of s; NULL for s
+   NULL. */
+RPS3_API const rps3_model *rps3_sim_plant(const rps3_sim *s);
+RPS3_API const rps3_sim_options *rps3_sim_opts(const rps3_sim *s);
 
 /*
  * Allocate a simulation of the plant (initialised; its options choose the
@@ -1538,24 +1541,25 @@ RPS3_API int rps3_sim_check_rate(const rps3_sim_options *o, double rate,
  * rates: the closed-form inverse kinematics fixes l, dl and the assembly
  * mode.  Clears the work, the counters, the status, reseeds the noise.
  * Returns RPS3_OK or the status of rps3_ik / rps3_velocity / rps3_fwddyn
- * (with zero forces) at the start, also stored in s->status; RPS3_EINVAL
+ * (with zero forces) at the start, also stored in the report's status (rps3_sim_now); RPS3_EINVAL
  * (nothing changed) for s, pose or dpose NULL or t0 not finite.
  */
 RPS3_API int rps3_sim_start(rps3_sim *s, double t0, const double pose[3],
                             const double dpose[3]);
 
 /*
- * Advance from s->t to t_end under controller c (not NULL), calling it at
- * the ticks t0 + k / rate that fall in [s->t, t_end) (or at every
- * evaluation when rate is 0).  On return s->t = t_end and the fields of s
- * describe that state; or the run stopped: s->status != RPS3_OK,
- * s->failed_at the time, d->err the message, and the state the last good
+ * Advance from s's time t (rps3_sim_now(s)->t) to t_end under controller
+ * c (not NULL), calling it at the ticks t0 + k / rate that fall in
+ * [t, t_end) (or at every evaluation when rate is 0).  On return the
+ * report's t = t_end and the report (rps3_sim_now) and the workspace
+ * (rps3_sim_data) describe that state; or the run stopped: the report's
+ * status != RPS3_OK, failed_at the time, the workspace's err the message, and the state the last good
  * one (RPS3_ESING at the singular surface for every integrator, "singular
  * configuration at t = T s: " and its measure: see the section's
- * comment).  Returns s->status; after a failure it returns that status again
+ * comment).  Returns the report's status; after a failure it returns that status again
  * without integrating.  An invalid call changes nothing and returns
  * RPS3_EINVAL with d->err's message: c or c->fn NULL, t_end not finite or
- * before s->t (t_end = s->t does nothing), or a rate outside
+ * before the report's t (t_end = t does nothing), or a rate outside
  * rps3_sim_check_rate's limits; RPS3_ESTATE before rps3_sim_start.  Allocates nothing.  The state is reported (d's
  * positions, pose and rates; T, P, the energy residual) at the call's end
  * only, or where the run stopped: one call over many control periods
@@ -1610,27 +1614,10 @@ typedef enum {
 RPS3_API const char *rps3_ctrl_name(int kind);
 RPS3_API int rps3_ctrl_index(const char *name);
 
-typedef struct {
-  rps3_ctrl_kind kind;
-  double kp, kd;        /* gains, units above */
-  rps3_model model;     /* the controller's model (a copy, initialised) */
-  rps3_traj traj;       /* desired motion (a copy) */
-  /* last tick, for logging */
-  double t;             /* time of the last call [s] */
-  double l_des[3];      /* desired lengths [m] */
-  double dl_des[3];     /* desired rates [m/s] */
-  double F_ff[3];       /* feedforward forces of the desired motion [N]:
-                           open loop only, which applies them (NaN for the
-                           others, which do not compute them) */
-  rps3_data *des;       /* workspace of the desired motion */
-  rps3_data *meas;      /* workspace at the measured state (PD + gravity,
-                           computed torque); its err says why a call failed */
-  /* internal */
-  double t_meas;        /* time of meas's last solved state [s], NaN: none */
-  struct rps3_fd_state *fd; /* the model's state at the last measured one
-                               (owned: a copy of the structure would share
-                               it; use one rps3_ctrl_alloc per controller) */
-} rps3_ctrl;
+/* A library controller: its kind, gains, model (a copy), trajectory (a
+   copy) and workspaces, opaque (src/control.h); what a caller reads is
+   read through the functions below. */
+typedef struct rps3_ctrl rps3_ctrl;
 
 /*
  * Allocate a controller of this kind with gains kp, kd (finite, >= 0),
@@ -1651,8 +1638,9 @@ RPS3_API void rps3_ctrl_free(rps3_ctrl *c);
  * the model's stages (e.g. RPS3_ENOCONV when measured lengths have no
  * assembly near the last one), RPS3_EINVAL for a NULL pointer, a kind out
  * of range, or a time or measured length or rate not finite (a sensor
- * glitch: no law turns it into a force; meas->err names the input), or
- * RPS3_ERANGE for a force that overflows (meas->err).  Allocates nothing.
+ * glitch: no law turns it into a force; the err of rps3_ctrl_measured
+ * names the input), or RPS3_ERANGE for a force that overflows (the same
+ * err).  Allocates nothing.
  * Bind it with rps3_ctrl_bind, or as
  *   rps3_controller c = {rps3_ctrl_update, ctrl, 1000.0};
  * which solves every measured state itself.
@@ -1673,6 +1661,26 @@ RPS3_API int rps3_ctrl_update_plant(void *state, double t, const double l[3],
 /* The controller of c at rate [Hz]: {rps3_ctrl_update, c, rate,
    RPS3_CTRL_USES_PLANT, rps3_ctrl_update_plant}. */
 RPS3_API rps3_controller rps3_ctrl_bind(rps3_ctrl *c, double rate);
+
+/*
+ * The last tick of controller c, for logging: its time t [s], the desired
+ * lengths l_des [m] and rates dl_des [m/s], and the feedforward forces
+ * F_ff of the desired motion [N] (open loop only, which applies them; NaN
+ * for the others, which do not compute them).  Before the first call, t
+ * and every value are NaN.  Any output may be NULL.  Returns RPS3_OK, or
+ * RPS3_EINVAL for c NULL (the outputs given are then NaN).
+ */
+RPS3_API int rps3_ctrl_last(const rps3_ctrl *c, double *t, double l_des[3],
+                            double dl_des[3], double F_ff[3]);
+
+/*
+ * The workspaces of controller c, read-only: the desired motion's
+ * (rps3_ctrl_desired: l, dl, ddl of the trajectory at the last tick) and
+ * the measured state's (rps3_ctrl_measured: theta, warn and, after a
+ * failed call, err, which says why).  NULL for c NULL.
+ */
+RPS3_API const rps3_data *rps3_ctrl_desired(const rps3_ctrl *c);
+RPS3_API const rps3_data *rps3_ctrl_measured(const rps3_ctrl *c);
 
 #ifdef __cplusplus
 }

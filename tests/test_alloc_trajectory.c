@@ -417,7 +417,7 @@ static void simulation_loop(void **state) {
     count_stop();
     print_message("simulation, %s: %ld steps, %ld evaluations, %ld "
                   "allocations, %ld frees\n", rps3_integrator_name(integ[k]),
-                  s->nsteps, s->nevals, n_alloc, n_free);
+                  rps3_sim_now(s)->nsteps, rps3_sim_now(s)->nevals, n_alloc, n_free);
     assert_int_equal(st, RPS3_OK);
     /* GSL 2.7's implicit steppers allocate in their steps (documented in
        rps3.h); the count shows the interposer sees GSL's steppers */

@@ -264,9 +264,9 @@ static void run_batch(bench_case *c, const points *pt, long ncalls) {
   case K_SIM:
     for (i = 0; i < ncalls; i++) {
       rps3_controller ctl = sim_law(c);
-      if (c->tick == pt->n - 1 || c->sim->status != RPS3_OK) {
+      if (c->tick == pt->n - 1 || rps3_sim_now(c->sim)->status != RPS3_OK) {
         /* the end of the helix: start it again */
-        if (c->sim->status != RPS3_OK) c->failures++;
+        if (rps3_sim_now(c->sim)->status != RPS3_OK) c->failures++;
         rps3_sim_start(c->sim, 0.0, pt->pose[0], pt->dpose[0]);
         c->tick = 0;
       }
@@ -279,8 +279,8 @@ static void run_batch(bench_case *c, const points *pt, long ncalls) {
     long left = ncalls;
     while (left > 0) {
       long k;
-      if (c->tick == pt->n - 1 || c->sim->status != RPS3_OK) {
-        if (c->sim->status != RPS3_OK) c->failures++;
+      if (c->tick == pt->n - 1 || rps3_sim_now(c->sim)->status != RPS3_OK) {
+        if (rps3_sim_now(c->sim)->status != RPS3_OK) c->failures++;
         rps3_sim_start(c->sim, 0.0, pt->pose[0], pt->dpose[0]);
         c->tick = 0;
       }
