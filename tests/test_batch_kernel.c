@@ -223,7 +223,7 @@ static void compare(const rps3_model *m, arrays *a, worst *w) {
       dl->ddpose[c] = AT(a->ddpose, c, i);
     }
     /* the stages themselves: rps3_inverse takes the kernel too, for
-       forces_only without the certificate */
+       F alone without the certificate */
     s = rps3_inverse_stages(m, dl);
     assert_int_equal(a->status[i], s);
     assert_int_equal(a->warn[i], dl->warn);
@@ -366,7 +366,7 @@ static void entropy_model_each_selection(void **state) {
   agrees(0, RPS3_EFF_DEFAULT, 1, 0, 0, 0, "entropy model, four effects", 0);
   agrees(0, RPS3_EFF_PLATFORM_GRAVITY | RPS3_EFF_LINK_INERTIA, 0, 0, 0, 0,
          "entropy model, two effects, no certificate", 0);
-  agrees(0, RPS3_EFF_DEFAULT, 0, 1, 0, 0, "entropy model, forces_only", 0);
+  agrees(0, RPS3_EFF_DEFAULT, 0, 1, 0, 0, "entropy model, F, lambda, transmission", 0);
 }
 
 /*
@@ -549,7 +549,7 @@ static void scalar_path_by_the_kernel(void **state) {
          1);
   agrees(0, RPS3_EFF_DEFAULT, 0, 0, 0, 0, "rps3_inverse, no certificate", 1);
   agrees(0, RPS3_EFF_DEFAULT, 1, 1, 0, 0,
-         "rps3_inverse, forces_only, certify", 1);
+         "rps3_inverse, F, lambda, transmission, certify", 1);
   agrees(0, RPS3_EFF_PLATFORM_GRAVITY | RPS3_EFF_LINK_GRAVITY, 0, 0, 0, 0,
          "rps3_inverse, static, no rates", 1);
   agrees(0, RPS3_EFF_PLATFORM_GRAVITY | RPS3_EFF_LINK_INERTIA, 1, 0, 0, 0,
