@@ -254,11 +254,12 @@ RPS3_API int rps3_solver_index(const char *name);
  * opt.trans_max, RPS3_WARN_TRANS above opt.trans_warn) is still decided:
  * either by an upper bound that proves the transmission below both
  * thresholds,
- *   T <= (sqrt3 / 3) (1 + 4 / rho) (1 + sqrt3 r |(df/dtheta)^-1|_inf
+ *   T <= (sqrt3 / 3) (1 + 4 / rho) (1 + 2 sqrt3 r |(df/dtheta)^-1|_inf
  *        (l_1 + l_2 + l_3))
- * (the platform twist per unit link rate, through the constraint
- * Jacobian of (8)-(10) written in metres and the ball joints at distance
- * r from the centre), or, where the bound does not prove it, by computing
+ * with f_k = |b_i - b_j|^2 - 3 r^2 the constraints (8)-(10) in metres
+ * (the platform twist per unit link rate through their Jacobian, whose
+ * df/dl entries are at most 2 sqrt3 r, and the ball joints at distance r
+ * from the centre), or, where the bound does not prove it, by computing
  * the transmission as with the bit.
  *
  * The leanest pass.  With outputs = RPS3_OUT_FORCES (F alone) on the

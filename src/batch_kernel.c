@@ -536,3 +536,11 @@ int rps3_inverse_lean_point(const rps3_model *m, rps3_data *d) {
 int rps3_inverse_lean_point_unfused(const rps3_model *m, rps3_data *d) {
   return lean_point(m, d, 0);
 }
+
+double rps3_lean_trans_bound(const rps3_model *m, const double pose[3]) {
+  kbconst K;
+  kbout r;
+  kbconst_set(&K, m, KMARGIN);
+  r = kbare(&K, pose[0], pose[1], pose[2], 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0);
+  return r.tbound;
+}

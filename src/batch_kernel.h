@@ -124,6 +124,10 @@ double rps3_katan2(double y, double x);
    multiply-adds), for the same tests */
 void rps3_ksincos_e(double x, int fu, double *s, double *c);
 
+/* the leanest pass's upper bound of the force transmission at a pose (for
+   the tests: against the stages' transmission) */
+double rps3_lean_trans_bound(const rps3_model *m, const double pose[3]);
+
 /* the largest |angle| the kernel's range reduction serves [rad] */
 #define RPS3_KANGLE_MAX 1.0e5
 

@@ -1145,8 +1145,64 @@ static void lean_leaves_no_stale_stage(void **state) {
   rps3_data_free(d);
 }
 
+/* the leanest pass's transmission bound is one: at least the stages'
+   transmission at every pose, on Table II and the high-entropy model,
+   along random trajectories, tilted and lowered platforms and towards the
+   singular pose (the pass keeps a point only below it: lean_point) */
+static void lean_bound_holds(void **state) {
+  arrays *a = calloc(1, sizeof(*a));
+  int table2, i, c, k, n = 0;
+  double tightest = HUGE_VAL, loose = 0.0;
+  (void)state;
+  assert_non_null(a);
+  for (table2 = 0; table2 < 2; table2++) {
+    rps3_model m;
+    rps3_data *d = NULL;
+    uint64_t seed;
+    if (table2)
+      rps3_model_default(&m);
+    else
+      model_entropy(&m);
+    m.opt.effects = RPS3_EFF_DEFAULT;
+    m.opt.trans_max = m.opt.trans_warn = 1e300; /* every transmission */
+    m.opt.cond_max = m.opt.cond_warn = 1e300;
+    assert_int_equal(rps3_model_init(&m, NULL, 0), RPS3_OK);
+    assert_int_equal(rps3_data_alloc(&m, &d), RPS3_OK);
+    for (seed = 0; seed < 3; seed++) {
+      make_points(&m, a, 0xb0d + seed);
+      for (i = 0; i < N; i++) {
+        double p[3], bound;
+        for (c = 0; c < 3; c++) {
+          p[c] = d->pose[c] = AT(a->pose, c, i);
+          d->dpose[c] = d->ddpose[c] = 0.0;
+        }
+        /* tilted further, and lowered towards the base */
+        for (k = 0; k < 3; k++) {
+          if (k == 1) d->pose[1] = p[1] = 2.5 * p[1];
+          if (k == 2) d->pose[2] = p[2] = 0.05 * p[2];
+          if (rps3_inverse_stages(&m, d) != RPS3_OK) continue;
+          bound = rps3_lean_trans_bound(&m, p);
+          n++;
+          if (bound / d->transmission < tightest) tightest = bound / d->transmission;
+          if (bound / d->transmission > loose) loose = bound / d->transmission;
+          if (!(bound >= d->transmission * (1.0 - 1e-12)))
+            fail_msg("pose (%g, %g, %g): bound %.17g below the "
+                     "transmission %.17g", p[0], p[1], p[2], bound,
+                     d->transmission);
+        }
+      }
+    }
+    rps3_data_free(d);
+  }
+  print_message("transmission bound: %d poses, bound / transmission in "
+                "[%.3g, %.3g]\n", n, tightest, loose);
+  assert_true(n > 1000);
+  free(a);
+}
+
 int main(void) {
   const struct CMUnitTest tests[] = {
+      cmocka_unit_test(lean_bound_holds),
       cmocka_unit_test(sincos_within_3_ulp),
       cmocka_unit_test(atan2_within_4_ulp),
       cmocka_unit_test(transmission_by_virtual_power),
