@@ -510,11 +510,21 @@ KINLINE int lean_point(const rps3_model *m, rps3_data *d, int fu) {
   d->F[1] = r.F.y;
   d->F[2] = r.F.z;
   d->cond = r.cond;
-  memcpy(d->F_effect, knan, sizeof(d->F_effect));
-  memcpy(d->theta, knan, sizeof(d->theta));
-  memcpy(d->lambda, knan, sizeof(d->lambda));
-  d->transmission = d->power = d->dTdt = d->dPdt = d->friction_power =
-      d->energy_residual = d->energy_scale = (double)NAN;
+  /* the NaNs once: a data the last call left from this pass (stage 0)
+     and whose results are still NaN needs no second fill.  Every other
+     writer of these results writes each group whole (rps3_invdyn, the
+     kernel's point, the position stages' theta), its first component
+     included, so a NaN there stands for the group */
+  if (!(d->stage == 0 && d->F_effect[0][0] != d->F_effect[0][0] &&
+        d->theta[0] != d->theta[0] && d->lambda[0] != d->lambda[0] &&
+        d->transmission != d->transmission &&
+        d->energy_scale != d->energy_scale)) {
+    memcpy(d->F_effect, knan, sizeof(d->F_effect));
+    memcpy(d->theta, knan, sizeof(d->theta));
+    memcpy(d->lambda, knan, sizeof(d->lambda));
+    d->transmission = d->power = d->dTdt = d->dPdt = d->friction_power =
+        d->energy_residual = d->energy_scale = (double)NAN;
+  }
   d->warn = 0;
   d->stage = 0;
   d->have_theta = 0;

@@ -1132,6 +1132,22 @@ static void lean_leaves_no_stale_stage(void **state) {
   assert_int_equal(rps3_inverse(&ml, d), RPS3_OK);
   assert_int_equal(d->stage, 0);
   assert_true(isnan(d->transmission));
+  /* every result but F and cond NaN, after a whole point and again after
+     a point of the pass itself (which fills the NaNs once) */
+  for (c = 0; c < 2; c++) {
+    int i, k;
+    for (i = 0; i < 3; i++) {
+      assert_true(isnan(d->theta[i]) && isnan(d->lambda[i]));
+      assert_true(isfinite(d->F[i]));
+      for (k = 0; k < RPS3_NEFFECT; k++) assert_true(isnan(d->F_effect[k][i]));
+    }
+    assert_true(isnan(d->power) && isnan(d->dTdt) && isnan(d->dPdt) &&
+                isnan(d->friction_power) && isnan(d->energy_residual) &&
+                isnan(d->energy_scale) && isfinite(d->cond));
+    d->pose[0] = 1.211;
+    assert_int_equal(rps3_inverse(&ml, d), RPS3_OK);
+    assert_int_equal(d->stage, 0);
+  }
   assert_int_equal(rps3_invdyn(&m, d), RPS3_ESTATE);
   assert_int_equal(rps3_velocity(&m, d), RPS3_ESTATE);
   assert_int_equal(rps3_acceleration(&m, d), RPS3_ESTATE);
