@@ -30,6 +30,7 @@
  * is the scalar path's, point by point.
  */
 #include <float.h>
+#include <string.h>
 
 #include "batch_kernel.h"
 #include "batch_kmech.h"
@@ -225,11 +226,11 @@ KINLINE void kpoint(const kconst *K, const double *restrict pa,
     wt[3] = kscale(K->sel[3] * K->Jlink, kv(L0.ddth, L1.ddth, L2.ddth));
 
     /* (df/dtheta)^T lambda = -wt per effect, then (34); F and lambda
-       are the sums of the effects' (with forces_only too, where the
-       scalar path solves the summed load once: the same to rounding) */
+       are the sums of the effects' (without shares the scalar path
+       solves the summed load once: the same to rounding) */
     if (full < 0) {
       /* no shares asked for: the summed load solved once, as the
-         scalar path's forces_only */
+         scalar path does without RPS3_OUT_EFFECTS */
       lamt = klambda(r0, r1, r2,
                      kadd(kadd(kadd(wt[0], wt[1]), wt[2]), wt[3]));
       F = kforces(kadd(kadd(kadd(wl[0], wl[1]), wl[2]), wl[3]), lamt, lc,
@@ -388,7 +389,7 @@ void rps3_kernel_block(const rps3_model *m, const rps3_batch_in *in,
   }
   for (e = 0; e < RPS3_KNEFF; e++)
     K.sel[e] = (m->opt.effects & (1 << e)) ? 1.0 : 0.0;
-  K.certify = m->opt.certify ? 1.0 : 0.0;
+  K.certify = (m->opt.outputs & RPS3_OUT_CERTIFY) ? 1.0 : 0.0;
   K.rates = rates ? 1.0 : 0.0;
   K.cond_lim = (m->opt.cond_warn < m->opt.cond_max ? m->opt.cond_warn
                                                    : m->opt.cond_max) *
@@ -405,7 +406,7 @@ void rps3_kernel_block(const rps3_model *m, const rps3_batch_in *in,
           zero, nb, o);
 }
 
-/* The lean pass (RPS3_FORCES_LEAN) fuses the multiply-adds of its dot
+/* The leanest pass (outputs = RPS3_OUT_FORCES) fuses the multiply-adds of its dot
    and cross products (kma) where the CPU has FMA: about a fifth fewer
    instructions.  The choice is made once a call, by the CPU, for the
    block loop and the one-point function alike, so that the batch is the
@@ -425,6 +426,12 @@ void rps3_kernel_block(const rps3_model *m, const rps3_batch_in *in,
 /* the rates of a static selection: zero, as rps3_inverse leaves them
    unread */
 static const double kzero3[3] = {0.0, 0.0, 0.0};
+
+/* the results the leanest pass does not compute (F_effect's size) */
+#define KNAN ((double)NAN)
+static const double knan[RPS3_NEFFECT * 3] = {
+    KNAN, KNAN, KNAN, KNAN, KNAN, KNAN, KNAN, KNAN, KNAN,
+    KNAN, KNAN, KNAN, KNAN, KNAN, KNAN, KNAN, KNAN, KNAN};
 
 /* the lean pass over a block: F, cond and ok only */
 KCLONES
@@ -496,12 +503,28 @@ KINLINE int lean_point(const rps3_model *m, rps3_data *d, int fu) {
     r = kbare(&K, d->pose[0], d->pose[1], d->pose[2], dp[0], dp[1], dp[2],
               ddp[0], ddp[1], ddp[2], 0);
   if (r.ok == 0.0) return 0;
-  /* nothing but F and cond is this point's (rps3.h, enum rps3_forces) */
+  /* nothing but F and cond is this point's (rps3.h, enum rps3_output):
+     every other result NaN; the kinematics (positions, rates, mode) are
+     not this point's, which d->stage 0 says */
   d->F[0] = r.F.x;
   d->F[1] = r.F.y;
   d->F[2] = r.F.z;
   d->cond = r.cond;
-  d->transmission = (double)NAN;
+  /* the NaNs once: a data the last call left from this pass (stage 0)
+     and whose results are still NaN needs no second fill.  Every other
+     writer of these results writes each group whole (rps3_invdyn, the
+     kernel's point, the position stages' theta), its first component
+     included, so a NaN there stands for the group */
+  if (!(d->stage == 0 && d->F_effect[0][0] != d->F_effect[0][0] &&
+        d->theta[0] != d->theta[0] && d->lambda[0] != d->lambda[0] &&
+        d->transmission != d->transmission &&
+        d->energy_scale != d->energy_scale)) {
+    memcpy(d->F_effect, knan, sizeof(d->F_effect));
+    memcpy(d->theta, knan, sizeof(d->theta));
+    memcpy(d->lambda, knan, sizeof(d->lambda));
+    d->transmission = d->power = d->dTdt = d->dPdt = d->friction_power =
+        d->energy_residual = d->energy_scale = (double)NAN;
+  }
   d->warn = 0;
   d->stage = 0;
   d->have_theta = 0;
@@ -522,4 +545,12 @@ int rps3_inverse_lean_point(const rps3_model *m, rps3_data *d) {
 
 int rps3_inverse_lean_point_unfused(const rps3_model *m, rps3_data *d) {
   return lean_point(m, d, 0);
+}
+
+double rps3_lean_trans_bound(const rps3_model *m, const double pose[3]) {
+  kbconst K;
+  kbout r;
+  kbconst_set(&K, m, KMARGIN);
+  r = kbare(&K, pose[0], pose[1], pose[2], 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0);
+  return r.tbound;
 }

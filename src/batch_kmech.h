@@ -228,11 +228,13 @@ KINLINE kv3 kcrossf(kv3 a, kv3 b, int fu) {
             kma(a.x, b.y, -(a.y * b.x), fu));
 }
 
-/* the constants of the lean pass (RPS3_FORCES_LEAN), each effect's
+/* the constants of the leanest pass (outputs = RPS3_OUT_FORCES), each effect's
    selection folded into its coefficient (0 keeps a NaN: 0 * inf) */
 typedef struct {
   double r, g3, m6, mgd, jl; /* r; M g / 3, M / 6, m g d, Jlink, selected */
   double cond_lim, trans_lim;
+  double tb0, tb1; /* the transmission bound's (sqrt3 / 3) (1 + 4 / rho)
+                      and sqrt3 r (kbare) */
   /* the geometry, read from the model where it is (the block's outputs
      are restrict pointers: the loads are hoisted out of the loop) */
   const double (*pin)[3], (*u)[3], (*body)[3]; /* z components are zero */
@@ -254,6 +256,8 @@ KINLINE void kbconst_set(kbconst *K, const rps3_model *m, double margin) {
   K->trans_lim = (m->opt.trans_warn < m->opt.trans_max ? m->opt.trans_warn
                                                        : m->opt.trans_max) *
                  (1.0 - margin);
+  K->tb0 = RPS3_SQRT3 / 3.0 * (1.0 + 4.0 / m->rho);
+  K->tb1 = RPS3_SQRT3 * m->r;
 }
 
 /* one link of the lean pass: the link vector v = b - pin = l phi (5)-(7),
@@ -262,7 +266,7 @@ KINLINE void kbconst_set(kbconst *K, const rps3_model *m, double margin) {
    early: fewer values live at once) */
 typedef struct {
   kv3 rho, v, q;
-  double il, il2, ok; /* 1 / l, 1 / l^2, reachable (1/0) */
+  double l, il, il2, ok; /* l, 1 / l, 1 / l^2, reachable (1/0) */
   double wl, wt, s;   /* l wl_i, wt_i of invdyn.c, the load's size [N] */
 } kblink;
 
@@ -279,6 +283,7 @@ KINLINE kblink kblink_pos(const kbconst *K, int i, kv3 rx, kv3 ry, kv3 c,
            c.z + L.rho.z);
   l2 = kdotf(L.v, L.v, fu);
   l = sqrt(l2);
+  L.l = l;
   radial = kma(L.v.x, K->u[i][0], L.v.y * K->u[i][1], fu); /* -l cos th */
   L.q = kv(L.v.z * K->u[i][0], L.v.z * K->u[i][1], -radial);
   L.ok = ((l2 > 0.0) & (L.v.z > 0.0)) ? 1.0 : 0.0;
@@ -320,6 +325,7 @@ KINLINE kblink kblink_load(const kbconst *K, kblink L, kv3 w, kv3 vc,
 typedef struct {
   kv3 F;
   double cond, ok;
+  double tbound; /* an upper bound of the force transmission */
 } kbout;
 
 /*
@@ -435,16 +441,23 @@ KINLINE kbout kbare(const kbconst *K, double alpha, double beta, double z,
   in = s > in ? s : in;
   o.cond = det != 0.0 ? an * in * fabs(idet) : HUGE_VAL;
 
+  /* an upper bound of the force transmission (invdyn.c): row i is the
+     platform twist (vc, omega) at l' = e_i, the balls moving at
+     b_j' = [j == i] phi_j + x_j q_j, x = -Jt^-1 (df/dl) e_i; with |D_k| =
+     sqrt3 r the entries of df/dl are at most sqrt3 r (halved rows), so
+     sum_j |b_j'| <= S = 1 + sqrt3 r |Jt^-1|_inf (l_1 + l_2 + l_3); then
+     |vc| <= S / 3 and, the balls at r from the centre
+     (rps3_omega_from_balls), |omega| <= (2 / (3 r)) 2 S, so that
+     |vc|_1 + R |omega|_1 <= sqrt3 (|vc| + R |omega|) <= tb0 S.
+     |Jt^-1|_inf is the adjugate's largest row sum over |det| */
+  o.tbound = K->tb0 * (1.0 + K->tb1 * in * fabs(idet) * (L0.l + L1.l + L2.l));
   /* the pass's point: finite, reachable, below the thresholds, and the
-     forces within trans_lim times the largest link load */
-  s = L1.s > L0.s ? L1.s : L0.s;
-  s = L2.s > s ? L2.s : s;
-  an = fabs(o.F.x);
-  an = fabs(o.F.y) > an ? fabs(o.F.y) : an;
-  an = fabs(o.F.z) > an ? fabs(o.F.z) : an;
+     transmission provably below them too */
+  /* finite F: finite loads (a load that is not finite makes F so) */
+  an = fabs(o.F.x) + fabs(o.F.y) + fabs(o.F.z);
   o.ok = ((in_range * L0.ok * L1.ok * L2.ok != 0.0) &
-          (an + s + o.cond <= DBL_MAX) & (o.cond <= K->cond_lim) &
-          (an <= K->trans_lim * s))
+          (an + o.cond + o.tbound <= DBL_MAX) & (o.cond <= K->cond_lim) &
+          (o.tbound <= K->trans_lim))
              ? 1.0
              : 0.0;
   return o;

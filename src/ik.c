@@ -73,7 +73,7 @@ int rps3_ik_with(const rps3_model *m, rps3_data *d, rps3_pose_trig *t,
     if (theta == RPS3_IK_NO_THETA) continue; /* the solve takes over */
     /* (39) with atan2, so that theta > pi/2 is found too; the link
        directions (29) from the same two components, without more trig.
-       The forces need only the directions: forces_only skips atan2 */
+       The forces need only the directions: without RPS3_OUT_THETA, no atan2 */
     d->theta[i] = (theta == RPS3_IK_THETA) ? atan2(vz, -radial) : (double)NAN;
     set_link_dir(d, i, m->radial[i], -radial / d->l[i], vz / d->l[i]);
   }
@@ -83,7 +83,7 @@ int rps3_ik_with(const rps3_model *m, rps3_data *d, rps3_pose_trig *t,
   RPS3_CHECK_FINITE(d, d->b, 9, "b");
   RPS3_CHECK_FINITE(d, d->l, 3, "l");
   if (theta == RPS3_IK_NO_THETA) return RPS3_OK;
-  /* the mode needs only the link directions, which forces_only also has;
+  /* the mode needs only the link directions, which RPS3_IK_DIRS also has;
      the positions are final: the Jacobian for the later stages */
   if (J == NULL) J = &own;
   rps3_cjac_eval(d, J);

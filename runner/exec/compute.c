@@ -67,7 +67,7 @@ static void store3(double *dst, const double *src, size_t n) {
    field at a time (each a sequential stream of writes), the fields the
    file gets; the batch wrote condition, transmission, the energy residual
    and scale and the solve residual into the block itself */
-static void store_batch(const rps3_model *m, const scratch *x, size_t n,
+static void store_batch(const scratch *x, size_t n,
                         out_block *b, size_t j) {
   /* the [3][n] outputs, and the one-column ones */
   const struct {
@@ -106,10 +106,6 @@ static void store_batch(const rps3_model *m, const scratch *x, size_t n,
     niter[i] = x->niter[i];
     warn[i] = x->warn[i];
   }
-  /* with certify off the library writes 0: say "not computed" instead */
-  for (i = 0; i < n && !m->opt.certify; i++)
-    ((double *)b->energy_residual)[j + i] = ((double *)b->energy_scale)[j + i] =
-        (double)NAN;
 }
 
 /*
@@ -214,7 +210,7 @@ static int compute_batch(const scene_case *c, rps3_data *d, size_t k0,
                           failed_at);
     if (trc != RPS3_OK)
       return traj_failed(b, slot, trc, x.t[n], k + n, p, dp, ddp, failed_at);
-    store_batch(&c->model, &x, n, b, j);
+    store_batch(&x, n, b, j);
   }
   return RPS3_OK;
 }

@@ -93,9 +93,8 @@ static int ctrl_model(const scene *s, const scene_case *c, sim_case *sc,
   if (!isnan(v->model_viscous)) cm->friction.viscous = v->model_viscous;
   if (!isnan(v->model_coulomb)) cm->friction.coulomb = v->model_coulomb;
   if (v->model_effects >= 0) cm->opt.effects = v->model_effects;
-  /* a controller's path: F alone, no certificate (rps3.h, forces_only) */
-  cm->opt.forces_only = 1;
-  cm->opt.certify = 0;
+  /* a controller's path: F alone, every check (rps3.h, enum rps3_output) */
+  cm->opt.outputs = RPS3_OUT_FORCES;
   if (rps3_model_validate(cm, &chk) == RPS3_OK &&
       rps3_model_init(cm, chk.msg, sizeof chk.msg) == RPS3_OK)
     return 0;

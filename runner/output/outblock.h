@@ -116,8 +116,8 @@ typedef enum { OUT_FLAGS_NONE, OUT_FLAGS_STATUS, OUT_FLAGS_WARN } out_flags;
   X(energy_residual, energy_residual, OUT_INV, OUT_CT, OUT_F64,                \
     OUT_FLAGS_NONE, "W", "energy-rate residual",                               \
     "actuator power + friction power - dT/dt - dP/dt; zero up to "             \
-    "rounding when the forces are right (NaN when solver.certify is "          \
-    "false)")                                                                  \
+    "rounding when the forces are right (NaN when solver.outputs leaves "      \
+    "out certify)")                                                            \
   X(energy_scale, energy_scale, OUT_INV, OUT_CT, OUT_F64, OUT_FLAGS_NONE, "W", \
     "energy-rate scale",                                                       \
     "sum of the magnitudes of the terms of energy_residual, its scale")        \

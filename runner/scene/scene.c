@@ -173,6 +173,15 @@ void scene_effect_list(char *buf, size_t sz) {
                             rps3_effect_name(e));
 }
 
+void scene_output_list(char *buf, size_t sz) {
+  int e;
+  size_t len = 0;
+  buf[0] = '\0';
+  for (e = 0; e < RPS3_NOUTPUT && len < sz; e++)
+    len += (size_t)snprintf(buf + len, sz - len, "%s%s", e ? ", " : "",
+                            rps3_output_name(e));
+}
+
 /* -------------------------------------------------------------- values */
 
 /* where key k's value is stored in v */

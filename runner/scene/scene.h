@@ -28,6 +28,7 @@ typedef enum {
   KEY_ENUM,    /* one of a list of names, stored as the library's enum */
   KEY_REAL3,   /* list of three finite doubles; a sweep picks one: key[k] */
   KEY_EFFECTS, /* list of effect names, stored as RPS3_EFF_* bits */
+  KEY_OUTPUTS, /* list of output names, stored as RPS3_OUT_* bits */
   KEY_TIMES,   /* list of at least 2 numbers (waypoint times) */
   KEY_POSES,   /* list of lists of 3 numbers (waypoint poses) */
   KEY_FILE     /* a file name, relative to the scene (a table) */
@@ -237,8 +238,10 @@ typedef struct {
     "GSL multiroot solver (hybridsj, hybridj, newton, ...)")                   \
   X(K_WARM, "solver.warm_start", KEY_BOOL, LIB, RPS3_F_WARM_START, REQ_NO,     \
     "-", "theta solve starts from the previous sample of the case")            \
-  X(K_CERTIFY, "solver.certify", KEY_BOOL, LIB, RPS3_F_CERTIFY, REQ_NO, "-",   \
-    "compute the energy-rate residual at every sample")                        \
+  X(K_OUTPUTS, "solver.outputs", KEY_OUTPUTS, LIB, RPS3_F_OUTPUTS, REQ_NO,     \
+    "-",                                                                       \
+    "results to compute (default: all): forces, effects, theta, lambda, "      \
+    "transmission, certify (the energy-rate residual); the others are NaN")    \
   X(K_COND_WARN, "solver.cond_warn", KEY_REAL, LIB, RPS3_F_COND_WARN, REQ_NO,  \
     "-", "warn above this condition number")                                   \
   X(K_COND_MAX, "solver.cond_max", KEY_REAL, LIB, RPS3_F_COND_MAX, REQ_NO,     \

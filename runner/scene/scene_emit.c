@@ -103,6 +103,12 @@ static int emit_value(yaml_emitter_t *em, int k, const scene_values *v) {
       if (*scene_int_at(w, k) & (1 << i))
         ok = emit_scalar(em, rps3_effect_name(i));
     return ok && emit_close(em, 1);
+  case KEY_OUTPUTS:
+    ok = emit_open(em, 1, 1);
+    for (i = 0; i < RPS3_NOUTPUT && ok; i++)
+      if (*scene_int_at(w, k) & (1 << i))
+        ok = emit_scalar(em, rps3_output_name(i));
+    return ok && emit_close(em, 1);
   case KEY_TIMES:
     ok = emit_open(em, 1, 1);
     for (r = 0; r < v->traj.wp.n && ok; r++) {
@@ -225,6 +231,7 @@ static const char *const type_text[] = {[KEY_REAL] = "number",
                                         [KEY_BOOL] = "bool",
                                         [KEY_REAL3] = "[3 numbers]",
                                         [KEY_EFFECTS] = "[effect names]",
+                                        [KEY_OUTPUTS] = "[output names]",
                                         [KEY_TIMES] = "[numbers]",
                                         [KEY_POSES] = "[[3 numbers], ...]",
                                         [KEY_FILE] = "file name"};

@@ -39,6 +39,8 @@ void scene_enum_hint(char *buf, size_t sz, int k, const char *word);
 
 /* "a, b, c": the effect names */
 void scene_effect_list(char *buf, size_t sz);
+/* the same for the output names (rps3_output_name) */
+void scene_output_list(char *buf, size_t sz);
 
 /* set key k (component comp of a KEY_REAL3) to x */
 void scene_value_set(scene_values *v, int k, int comp, double x);

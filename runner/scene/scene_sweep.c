@@ -242,7 +242,8 @@ static int sweep_key(parse_ctx *c, scene_axis *ax, const char *name,
                     name);
     return -1;
   }
-  if (ki->type == KEY_EFFECTS || ki->type == KEY_TIMES ||
+  if (ki->type == KEY_EFFECTS || ki->type == KEY_OUTPUTS ||
+      ki->type == KEY_TIMES ||
       ki->type == KEY_POSES || ki->type == KEY_FILE || ax->key == K_KIND ||
       ax->key == K_PATH_SHAPE) {
     scene_error_set(c->err, km, name,

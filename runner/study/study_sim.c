@@ -107,7 +107,7 @@ static int run(const rps3_model *plant, const rps3_model *cm,
     double t = (double)k / RATE_HZ, e = 0.0;
     if (st == RPS3_OK && k > 0) st = rps3_sim_advance(s, &ctl, t);
     if (st != RPS3_OK) {
-      if (isnan(out->failed_at)) out->failed_at = s->failed_at;
+      if (isnan(out->failed_at)) out->failed_at = rps3_sim_now(s)->failed_at;
       if (out->err) out->err[k] = (double)NAN;
       if (out->l) out->l[k][0] = out->l[k][1] = out->l[k][2] = (double)NAN;
       if (out->F) out->F[k][0] = out->F[k][1] = out->F[k][2] = (double)NAN;
@@ -116,16 +116,16 @@ static int run(const rps3_model *plant, const rps3_model *cm,
     if (out->err) {
       rps3_traj_eval(plant, tr, t, w->pose, NULL, NULL);
       rps3_ik(plant, w);
-      for (i = 0; i < 3; i++) e = fmax(e, fabs(s->y[i] - w->l[i]));
+      for (i = 0; i < 3; i++) e = fmax(e, fabs(rps3_sim_now(s)->y[i] - w->l[i]));
       out->err[k] = e;
     }
     for (i = 0; i < 3; i++) {
-      if (out->l) out->l[k][i] = s->y[i];
-      if (out->F) out->F[k][i] = s->F[i];
+      if (out->l) out->l[k][i] = rps3_sim_now(s)->y[i];
+      if (out->F) out->F[k][i] = rps3_sim_now(s)->F[i];
     }
   }
   out->cpu = cpu_s() - c0;
-  out->nevals = s->nevals;
+  out->nevals = rps3_sim_now(s)->nevals;
   rps3_data_free(w);
   rps3_ctrl_free(c);
   rps3_sim_free(s);
