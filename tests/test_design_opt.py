@@ -427,3 +427,17 @@ def test_atlas_and_front_figures(tmp_path):
     np.testing.assert_array_equal(art.get_ydata(), [0.3, 0.2, 0.1])
     plot.save(fig, tmp_path / "a.png")
     assert (tmp_path / "a.png").stat().st_size > 1000
+
+
+def test_platform_mass_area_grows_as_r_squared():
+    """platform_mass="area": every design's M is Table II's plate at its
+    radius, M0 (r / r0)^2; an unknown choice names the argument."""
+    pb = small_problem()
+    with pytest.warns(design.ConvergenceWarning):
+        opt = design.optimise(objective="peak_force", platform_mass="area",
+                              maxeval=4, prescan=3, **pb)
+    ds, base = opt.design, pb["base"]
+    assert ds.rho != base.rho
+    assert ds.M == pytest.approx(base.M * (ds.r / base.r) ** 2, rel=1e-14)
+    with pytest.raises(ValueError, match="^platform_mass"):
+        design.optimise(objective="peak_force", platform_mass="heavy", **pb)

@@ -711,6 +711,7 @@ class _Problem:
     force_max: float | None = None
     lti_min: float | None = None
     options: Options | None = None
+    platform_mass: str = "fixed"
     reached_task: int = 0   # designs evaluated that follow the task
 
     @property
@@ -726,7 +727,11 @@ class _Problem:
         return tuple(out)
 
     def design(self, x: FloatArray) -> Design:
-        return _apply(self.base, self.names, self.lo + np.asarray(x) * (self.hi - self.lo))
+        ds = _apply(self.base, self.names, self.lo + np.asarray(x) * (self.hi - self.lo))
+        if self.platform_mass == "area":
+            # a plate of the base design's areal density: M grows as r^2
+            ds = ds.replace(M=self.base.M * (ds.r / self.base.r) ** 2)
+        return ds
 
     def values(self, x: FloatArray) -> tuple[dict[str, float], dict[str, float]]:
         """Objectives (natural units and sense) and constraint values (<= 0
@@ -792,8 +797,13 @@ def _problem(variables: Mapping[str, Sequence[float]], objectives: Sequence[str]
              base: Design | None, trajectory: Any, samples: int | None,
              grid_: Grid | None, covers: ArrayLike | None,
              volume_min: float | None, force_max: float | None,
-             lti_min: float | None, options: Options | None) -> _Problem:
+             lti_min: float | None, options: Options | None,
+             platform_mass: str = "fixed") -> _Problem:
     names, lo, hi = _variables(variables)
+    if platform_mass not in ("fixed", "area"):
+        raise ValueError(f"platform_mass: {platform_mass!r} is not 'fixed' or 'area'")
+    if platform_mass == "area" and "M" in names:
+        raise ValueError("variables['M']: with platform_mass='area' M follows r")
     base = Design() if base is None else base
     if not isinstance(base, Design):
         raise TypeError(f"base: expected a Design, got {type(base).__name__}")
@@ -809,7 +819,7 @@ def _problem(variables: Mapping[str, Sequence[float]], objectives: Sequence[str]
     # every bound must make a valid design with the others mid-range
     mid = (lo + hi) / 2
     for j, name in enumerate(names):
-        for side, v in (("lower", lo[j]), ("upper", hi[j])):
+        for side, v in (("lower", float(lo[j])), ("upper", float(hi[j]))):
             x = mid.copy()
             x[j] = v
             if name == "stroke_ratio" and v <= 1:
@@ -840,7 +850,7 @@ def _problem(variables: Mapping[str, Sequence[float]], objectives: Sequence[str]
         raise ValueError(f"lti_min: must be <= 1 (the LTI is in [0, 1]), got {lti!r}")
     return _Problem(names, lo, hi, tuple(objectives), base, tr, samples or 201,
                     grid_, cov, checks["volume_min"], checks["force_max"], lti,
-                    options)
+                    options, platform_mass)
 
 
 @dataclass(frozen=True)
@@ -877,7 +887,7 @@ def optimise(variables: Mapping[str, Sequence[float]],
              algorithm: str = "COBYLA", x0: Mapping[str, float] | None = None,
              prescan: int = 16, seed: int = 1, xtol_rel: float = 1e-4,
              ftol_rel: float = 1e-8, maxeval: int = 400, ctol: float = 1e-9,
-             options: Options | None = None) -> Optimum:
+             platform_mass: str = "fixed", options: Options | None = None) -> Optimum:
     """The design that minimises (or maximises) one objective under
     constraints, by NLopt's derivative-free COBYLA (or an augmented
     Lagrangian around BOBYQA, "AUGLAG").
@@ -906,6 +916,8 @@ def optimise(variables: Mapping[str, Sequence[float]],
         xtol_rel, ftol_rel, maxeval: NLopt's stopping rules (relative to
             the variables scaled to [0, 1]).
         ctol: constraint tolerance.
+        platform_mass: "fixed" (base.M for every design) or "area" (a
+            plate of base's areal density: M = base.M (r / base.r)^2).
 
     Returns:
         Optimum.  When NLopt stops without meeting xtol_rel or ftol_rel
@@ -928,7 +940,7 @@ def optimise(variables: Mapping[str, Sequence[float]],
         real_number(fv, name, lo=0.0, lo_open=True)
     ctol = real_number(ctol, "ctol", lo=0.0)
     pb = _problem(variables, (objective,), base, trajectory, samples, grid,
-                  covers, volume_min, force_max, lti_min, options)
+                  covers, volume_min, force_max, lti_min, options, platform_mass)
     n = len(pb.names)
 
     def key(f: float, g: FloatArray) -> tuple[float, float]:
@@ -1042,7 +1054,7 @@ def pareto(variables: Mapping[str, Sequence[float]],
            covers: ArrayLike | None = None, volume_min: float | None = None,
            force_max: float | None = None, lti_min: float | None = None,
            pop_size: int = 40, n_gen: int = 40, seed: int = 1,
-           options: Options | None = None) -> Pareto:
+           platform_mass: str = "fixed", options: Options | None = None) -> Pareto:
     """The Pareto front of two or more objectives under constraints, by
     pymoo's NSGA-II.
 
@@ -1066,7 +1078,7 @@ def pareto(variables: Mapping[str, Sequence[float]],
                 0 if name == "seed" else 2 if name == "pop_size" else 1):
             raise ValueError(f"{name}: expected a positive integer, got {v!r}")
     pb = _problem(variables, tuple(objectives), base, trajectory, samples, grid,
-                  covers, volume_min, force_max, lti_min, options)
+                  covers, volume_min, force_max, lti_min, options, platform_mass)
     ncon = len(pb.constraint_names)
 
     def fun(X: FloatArray) -> tuple[FloatArray, FloatArray]:
