@@ -1793,7 +1793,7 @@ enum rps3_design_flag {
                                  RPS3_EINVAL, RPS3_ERANGE); the other
                                  outputs of the pose are NaN */
   RPS3_DESIGN_SINGULAR = 32   /* singular: the homogeneous condition number
-                                 above opt.cond_sing, or rps3_inverse's
+                                 above opts.cond_sing, or rps3_inverse's
                                  RPS3_ESING */
 };
 #define RPS3_DESIGN_NFLAG 6

@@ -406,16 +406,18 @@ static void transmission_indices(const rps3_model *m, const rps3_data *d,
     r->cond_h = HUGE_VAL;
     return;
   }
+  rps3_lu6_inverse(LU, perm, X);
   for (k = 0; k < 6; k++) {
     const double *f = k < 3 ? d->phi[k] : m->axis[k - 3];
-    double x[6], vb[3], eta, nv;
-    memset(x, 0, sizeof(x));
-    x[k] = 1.0;
-    rps3_lu_solve(6, LU, perm, x);
-    for (i = 0; i < 6; i++) X[6 * i + k] = x[i];
-    /* velocity of ball k % 3 under the twist (x[0..2], x[3..5]) */
-    v3_cross(vb, x + 3, p[k % 3]);
-    v3_axpy(vb, vb, 1.0, x);
+    double v[3], w[3], vb[3], eta, nv;
+    /* column k of G^-1: the output twist (v, L omega) of row k */
+    for (i = 0; i < 3; i++) {
+      v[i] = X[6 * i + k];
+      w[i] = X[6 * (i + 3) + k];
+    }
+    /* velocity of ball k % 3 under it */
+    v3_cross(vb, w, p[k % 3]);
+    v3_axpy(vb, vb, 1.0, v);
     nv = v3_norm(vb);
     eta = nv > 0.0 ? fabs(v3_dot(f, vb)) / (v3_norm(f) * nv) : 0.0;
     if (!(eta <= 1.0)) eta = isfinite(nv) ? 1.0 : 0.0; /* rounding */
@@ -677,6 +679,11 @@ static void flag_list(int f, char *buf, size_t sz) {
                               flag_names[k]);
 }
 
+/* time of sample k of n over [0, T]: k T / (n - 1), the last exactly T */
+static double sample_time(double T, size_t k, size_t n) {
+  return k + 1 == n ? T : T * (double)k / (double)(n - 1);
+}
+
 int rps3_design_task_eval(rps3_design_ws *w, const rps3_design *ds,
                           const rps3_design_opts *o, const rps3_traj *tr,
                           size_t nsamples, int link_mass_on,
@@ -731,7 +738,7 @@ int rps3_design_task_eval(rps3_design_ws *w, const rps3_design *ds,
     /* the block's samples */
     for (i = 0; i < nb; i++) {
       size_t k = k0 + i;
-      double t = k + 1 == nsamples ? T : T * (double)k / (double)(nsamples - 1);
+      double t = sample_time(T, k, nsamples);
       double q[3], dq[3], ddq[3];
       st = rps3_traj_eval(dm, tr, t, q, dq, ddq);
       if (st != RPS3_OK)
@@ -761,7 +768,7 @@ int rps3_design_task_eval(rps3_design_ws *w, const rps3_design *ds,
     /* each sample in order: the workspace, then its forces */
     for (i = 0; i < nb; i++) {
       size_t k = k0 + i;
-      double t = k + 1 == nsamples ? T : T * (double)k / (double)(nsamples - 1);
+      double t = sample_time(T, k, nsamples);
       double q[3];
       pose_res r;
       q[0] = s->pose[i];

@@ -120,9 +120,8 @@ void rps3_lu3_solve_multi(const double *LU, const int *perm, double *X,
   }
 }
 
-int rps3_lu_factor(int n, double *A, int *perm) {
+static inline int lu_factor_n(int n, double *A, int *perm) {
   int k, i, j;
-  if (n == 3) return lu_factor3(A, perm);
   for (k = 0; k < n; k++) {
     /* partial pivoting: the largest magnitude in column k */
     int p = k;
@@ -146,6 +145,14 @@ int rps3_lu_factor(int n, double *A, int *perm) {
     }
   }
   return 0;
+}
+
+int rps3_lu_factor(int n, double *A, int *perm) {
+  if (n == 3) return lu_factor3(A, perm);
+  /* n = 6 (Newton-Euler, the design's wrench system) with the size known
+     to the compiler: the same operations, unrolled */
+  if (n == 6) return lu_factor_n(6, A, perm);
+  return lu_factor_n(n, A, perm);
 }
 
 void rps3_lu_solve(int n, const double *LU, const int *perm, double *x) {
@@ -210,4 +217,36 @@ double rps3_lu_cond1(int n, const double *A, const double *LU,
     if (s > inorm) inorm = s;
   }
   return anorm * inorm;
+}
+
+void rps3_lu6_inverse(const double *restrict LU, const int *restrict perm,
+                      double *restrict X) {
+  /* the columns of A^-1 as rps3_lu_solve computes each, all six at once,
+     row by row so that a row's six entries go together; the division by
+     a pivot as a product by its reciprocal (within an ulp) */
+  int i, k, j;
+  memset(X, 0, 36 * sizeof(double));
+  for (i = 0; i < 6; i++) X[7 * i] = 1.0;
+  for (k = 0; k < 6; k++)
+    if (perm[k] != k)
+      for (j = 0; j < 6; j++) {
+        double t = X[6 * k + j];
+        X[6 * k + j] = X[6 * perm[k] + j];
+        X[6 * perm[k] + j] = t;
+      }
+  for (i = 1; i < 6; i++)
+    for (k = 0; k < i; k++) {
+      double f = LU[6 * i + k];
+      for (j = 0; j < 6; j++) X[6 * i + j] -= f * X[6 * k + j];
+    }
+  for (i = 5; i >= 0; i--) {
+    for (k = i + 1; k < 6; k++) {
+      double f = LU[6 * i + k];
+      for (j = 0; j < 6; j++) X[6 * i + j] -= f * X[6 * k + j];
+    }
+    {
+      double p = 1.0 / LU[7 * i];
+      for (j = 0; j < 6; j++) X[6 * i + j] *= p;
+    }
+  }
 }

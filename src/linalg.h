@@ -27,4 +27,10 @@ double rps3_lu3_inverse_cond1(const double *A, const double *LU,
 double rps3_lu_cond1(int n, const double *A, const double *LU,
                      const int *perm);
 
+/* The inverse of the 6 x 6 A (row-major into X) from its factorization by
+   rps3_lu_factor: column j is rps3_lu_solve's for e_j to an ulp or two
+   (a product by the pivot's reciprocal where it divides). */
+void rps3_lu6_inverse(const double *restrict LU, const int *restrict perm,
+                      double *restrict X);
+
 #endif

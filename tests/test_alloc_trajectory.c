@@ -434,8 +434,63 @@ static void simulation_loop(void **state) {
   }
 }
 
+/* the design section after rps3_design_ws_alloc: a grid with every output,
+   an empty workspace, a bad design, a task that passes and one that
+   leaves the workspace allocate nothing */
+static void design_evaluations(void **state) {
+  static int flags[1000];
+  static double l[3000], th[3000], ball[3000], c[3000], v[8][1000];
+  rps3_design ds;
+  rps3_design_ws *w = NULL;
+  rps3_design_grid gr;
+  rps3_design_summary sum;
+  rps3_design_task task;
+  rps3_design_out out;
+  rps3_traj tr;
+  int st[5];
+  (void)state;
+  out.flags = flags;
+  out.l = l;
+  out.theta = th;
+  out.ball = ball;
+  out.c = c;
+  out.clearance = v[0];
+  out.lti = v[1];
+  out.oti = v[2];
+  out.cti = v[3];
+  out.cond_h = v[4];
+  out.transmission = v[5];
+  out.spin = v[6];
+  rps3_design_default(&ds);
+  ds.link_radius = 0.01;
+  rps3_design_grid_default(&ds, &gr);
+  rps3_traj_default(&tr);
+  assert_int_equal(rps3_design_ws_alloc(&w), RPS3_OK);
+  count_start();
+  st[0] = rps3_design_eval_grid(w, &ds, NULL, &gr, &out, &sum);
+  st[1] = rps3_design_task_eval(w, &ds, NULL, &tr, 2001, 1, &task);
+  ds.l_max = 0.34;
+  st[2] = rps3_design_task_eval(w, &ds, NULL, &tr, 2001, 0, &task);
+  ds.l_min = 5.0;
+  ds.l_max = 6.0;
+  st[3] = rps3_design_eval_grid(w, &ds, NULL, &gr, &out, &sum);
+  ds.rho = -1.0;
+  st[4] = rps3_design_eval_grid(w, &ds, NULL, &gr, &out, &sum);
+  count_stop();
+  print_message("design: %ld allocations, %ld frees\n", n_alloc, n_free);
+  assert_int_equal(st[0], RPS3_OK);
+  assert_int_equal(st[1], RPS3_OK);
+  assert_int_equal(st[2], RPS3_EREACH);
+  assert_int_equal(st[3], RPS3_EEMPTY);
+  assert_int_equal(st[4], RPS3_EINVAL);
+  assert_int_equal(n_alloc, 0);
+  assert_int_equal(n_free, 0);
+  rps3_design_ws_free(w);
+}
+
 int main(void) {
   const struct CMUnitTest tests[] = {
+      cmocka_unit_test(design_evaluations),
       cmocka_unit_test(batches),
       cmocka_unit_test(simulation_loop),
       cmocka_unit_test(interposer_sees_gsl_and_init),

@@ -47,6 +47,22 @@ static void compare_with_gsl(int n, uint64_t *seed) {
         CHECK_REL(X[4 * i + c], i == c - 1 ? 1.0 : 0.0, 1e-11, 1.0, "multi I");
     }
   }
+  /* the 6 x 6 inverse: GSL's, and rps3_lu_solve's columns but for the
+     rounding of a reciprocal */
+  if (n == 6) {
+    double X[36], col[6];
+    int c;
+    rps3_lu6_inverse(LU, perm, X);
+    for (c = 0; c < 6; c++) {
+      for (i = 0; i < 6; i++) col[i] = i == c ? 1.0 : 0.0;
+      rps3_lu_solve(6, LU, perm, col);
+      for (i = 0; i < 6; i++) {
+        CHECK_REL(X[6 * i + c], col[i], TOL_EXACT, 0.0, "column solve");
+        CHECK_REL(X[6 * i + c], gsl_matrix_get(Ginv, (size_t)i, (size_t)c),
+                  1e-11, 1.0, "inverse (%d, %d)", i, c);
+      }
+    }
+  }
   cond = rps3_lu_cond1(n, A, LU, perm);
   CHECK_REL(cond, anorm * inv1, 1e-10, 0.0, "cond (n=%d)", n);
   gsl_matrix_free(G);

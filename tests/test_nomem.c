@@ -1,5 +1,6 @@
 /*
- * test_nomem.c - rps3_data_alloc under allocation failure: the k-th
+ * test_nomem.c - rps3_data_alloc (and rps3_design_ws_alloc) under
+ * allocation failure: the k-th
  * allocation fails, for every k, and each time the call returns
  * RPS3_ENOMEM with everything it had built freed.  A malloc interposer
  * (glibc's __libc_* entry points) sees GSL's allocations too.  The
@@ -82,8 +83,39 @@ static void every_failure_is_enomem(void **state) {
     }
   }
 }
+
+/* rps3_design_ws_alloc: its own two blocks and the data's, the first
+   OWN_ALLOCS + 2 allocations each failed in turn */
+static void design_ws_failure_is_enomem(void **state) {
+  rps3_design_ws *w = NULL;
+  int k, status, total;
+  (void)state;
+  armed = 1, fail_at = -1, n_alloc = 0, n_live = 0;
+  status = rps3_design_ws_alloc(&w);
+  armed = 0;
+  assert_int_equal(status, RPS3_OK);
+  total = n_alloc;
+  rps3_design_ws_free(w);
+  assert_true(total > OWN_ALLOCS + 2);
+  for (k = 1; k <= OWN_ALLOCS + 2; k++) {
+    armed = 1, fail_at = k, n_alloc = 0, n_live = 0;
+    status = rps3_design_ws_alloc(&w);
+    armed = 0;
+    if (status != RPS3_ENOMEM)
+      fail_msg("design workspace: allocation %d of %d failed, got status %d",
+               k, total, status);
+    assert_null(w);
+    if (n_live != 0)
+      fail_msg("design workspace: allocation %d failed: %d blocks leaked", k,
+               n_live);
+  }
+}
 #else
 static void every_failure_is_enomem(void **state) {
+  (void)state;
+  skip();
+}
+static void design_ws_failure_is_enomem(void **state) {
   (void)state;
   skip();
 }
@@ -92,6 +124,7 @@ static void every_failure_is_enomem(void **state) {
 int main(void) {
   const struct CMUnitTest tests[] = {
       cmocka_unit_test(every_failure_is_enomem),
+      cmocka_unit_test(design_ws_failure_is_enomem),
   };
   gsl_set_error_handler_off();
   return cmocka_run_group_tests(tests, NULL, NULL);

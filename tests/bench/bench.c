@@ -42,6 +42,8 @@
 #define FWDDYN_PER_INVERSE 3.0   /* rps3_fwddyn <= 3 rps3_inverse */
 #define TARGET_SIM_NS 1000.0     /* >= 1000x real time, i.e. one
                                     simulated 1 ms control period in 1 us */
+#define TARGET_DESIGN_NS 1000.0  /* a design on a 1000-pose grid with every
+                                    index in 1 ms: 1 us a pose */
 
 /* the points every case loops over */
 typedef struct {
@@ -77,8 +79,10 @@ typedef enum {
   K_FWDDYN,   /* rps3_fwddyn along the trajectory */
   K_SIM,      /* one 1 ms control period of a closed-loop simulation,
                  rps3_sim_advance called every period (a logging loop) */
-  K_SIM_RUN   /* the same periods, rps3_sim_advance called over the rest
+  K_SIM_RUN,  /* the same periods, rps3_sim_advance called over the rest
                  of the helix at once (a run of it) */
+  K_DESIGN    /* rps3_design_eval_grid: Table II's design on its default
+                 10 x 10 x 10 grid, every per-pose output and the summary */
 } case_kind;
 
 typedef struct {
@@ -105,6 +109,8 @@ typedef struct {
   long tick;               /* ... and the control period it is in */
   int law;                 /* K_SIM: which binding of the law (sim_law) */
   user_law user;           /* ... the user's law (LAW_USER_PLANT) */
+  rps3_design_ws *dws;     /* K_DESIGN: the workspace, */
+  rps3_design_out dout;    /* ... its outputs (BATCH_N poses) */
 } bench_case;
 
 static double clock_ns(clockid_t id) {
@@ -272,6 +278,19 @@ static void run_batch(bench_case *c, const points *pt, long ncalls) {
       }
       c->tick++;
       rps3_sim_advance(c->sim, &ctl, (double)c->tick / RATE_HZ);
+    }
+    break;
+  case K_DESIGN:
+    /* ncalls poses, one grid of BATCH_N a call */
+    for (i = 0; i < ncalls; i += BATCH_N) {
+      rps3_design ds;
+      rps3_design_grid gr;
+      rps3_design_summary sum;
+      rps3_design_default(&ds);
+      rps3_design_grid_default(&ds, &gr);
+      if (rps3_design_eval_grid(c->dws, &ds, NULL, &gr, &c->dout, &sum) !=
+          RPS3_OK)
+        c->failures += BATCH_N;
     }
     break;
   case K_SIM_RUN: {
@@ -796,6 +815,12 @@ int main(int argc, char **argv) {
        "it solves every measured state itself)", K_SIM, SCENE_PAPER,
        RPS3_LAGRANGE, RPS3_THETA_CLOSED_FORM, 1, 0, TARGET_SIM_NS, 0);
   cases[ncase - 1].law = LAW_WRAPPED;
+  CASE("design_grid_1000_all", "rps3_design_eval_grid (time per pose): "
+       "Table II's design on its default 10 x 10 x 10 pose grid, every "
+       "index (reach flags, lengths, angles, clearance, LTI, OTI, CTI, "
+       "cond_h, transmission, centre, spin) and the summary; target 1 ms "
+       "the grid", K_DESIGN, SCENE_PAPER, RPS3_LAGRANGE,
+       RPS3_THETA_CLOSED_FORM, 1, 0, TARGET_DESIGN_NS, 0);
 #undef CASE
 
   /* -k: keep the matching cases only */
@@ -844,6 +869,28 @@ int main(int argc, char **argv) {
           user_law_init(&c->user, &c->m, &tr, 400.0, 40.0, 1) != RPS3_OK ||
           rps3_sim_start(c->sim, 0.0, pt.pose[0], pt.dpose[0]) != RPS3_OK) {
         fprintf(stderr, "rps3-bench: %s: set-up failed\n", c->name);
+        return 2;
+      }
+    }
+    if (c->kind == K_DESIGN) {
+      rps3_design_out *o = &c->dout;
+      o->flags = malloc(BATCH_N * sizeof(int));
+      o->l = malloc(3 * BATCH_N * sizeof(double));
+      o->theta = malloc(3 * BATCH_N * sizeof(double));
+      o->ball = malloc(3 * BATCH_N * sizeof(double));
+      o->c = malloc(3 * BATCH_N * sizeof(double));
+      o->clearance = malloc(BATCH_N * sizeof(double));
+      o->lti = malloc(BATCH_N * sizeof(double));
+      o->oti = malloc(BATCH_N * sizeof(double));
+      o->cti = malloc(BATCH_N * sizeof(double));
+      o->cond_h = malloc(BATCH_N * sizeof(double));
+      o->transmission = malloc(BATCH_N * sizeof(double));
+      o->spin = malloc(BATCH_N * sizeof(double));
+      if (!o->flags || !o->l || !o->theta || !o->ball || !o->c ||
+          !o->clearance || !o->lti || !o->oti || !o->cti || !o->cond_h ||
+          !o->transmission || !o->spin ||
+          rps3_design_ws_alloc(&c->dws) != RPS3_OK) {
+        fprintf(stderr, "rps3-bench: out of memory\n");
         return 2;
       }
     }
