@@ -105,9 +105,8 @@ def lengths_jacobian(R, rho, pose, h=1e-6):
 # ------------------------------------------------------------------ design
 # The flags of a pose, as docs/design.md names them (bit k = 1 << k)
 STROKE, PIN, BALL, INTERFERE, ASSEMBLY, SINGULAR = 1, 2, 4, 8, 16, 32
-# rps3_options' defaults the singular flag also reads: a force transmission
-# above trans_max, a condition number of df/dtheta above cond_max
-TRANS_MAX = 1e8
+# the singular flag: the homogeneous condition number above cond_sing
+# (rps3_design_opts' default), or G exactly singular
 COND_SING = 1e8
 
 
@@ -124,7 +123,7 @@ def mass_model(ds):
     return m, d, Ic
 
 
-def segment_distance(p0, p1, q0, q1, n=401, iters=60):
+def segment_distance(p0, p1, q0, q1, n=201, iters=45):
     """Least distance between the segments p0-p1 and q0-q1, by search:
     the distance from the point at s on p to the segment q (its nearest
     t in closed form, clamped) is convex in s; sampled at n values of s,
@@ -206,9 +205,12 @@ def pose_indices(ds, pose, L=None):
                      if ev[0] > 0 else np.inf)
     # the static load path: the forces along the links and the pins hold a
     # platform wrench w = (f, n) about c: G^T (F, C) = w
-    A = np.linalg.inv(G.T)
     scale = np.array([1, 1, 1, R, R, R])
-    out["transmission"] = np.max(np.abs(A[:3]) @ scale)
+    try:
+        A = np.linalg.inv(G.T)
+        out["transmission"] = np.max(np.abs(A[:3]) @ scale)
+    except np.linalg.LinAlgError:
+        out["transmission"] = np.inf
     flags = 0
     if np.any(g["l"] < ds["l_min"]) or np.any(g["l"] > ds["l_max"]):
         flags |= STROKE
@@ -218,7 +220,7 @@ def pose_indices(ds, pose, L=None):
         flags |= BALL
     if ds["link_radius"] > 0 and out["clearance"] < 0:
         flags |= INTERFERE
-    if out["cond_h"] > COND_SING or out["transmission"] > TRANS_MAX:
+    if not out["cond_h"] <= COND_SING:
         flags |= SINGULAR
     out["flags"] = flags
     return out

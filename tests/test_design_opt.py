@@ -441,3 +441,25 @@ def test_platform_mass_area_grows_as_r_squared():
     assert ds.M == pytest.approx(base.M * (ds.r / base.r) ** 2, rel=1e-14)
     with pytest.raises(ValueError, match="^platform_mass"):
         design.optimise(objective="peak_force", platform_mass="heavy", **pb)
+
+
+def test_lowered_platform_approaches_the_singular_surface():
+    """A level platform lowered onto the base: the links lie flat, the
+    transmission is the sine of their inclination, z_c / sqrt(z_c^2 +
+    (R - r)^2) (the pressure angle of a level pose, closed form), the
+    condition number grows as 1 / z_c, until the pose is flagged singular
+    (cond_h above 1e8); the reference agrees on the flags and the LTI."""
+    ds = design.Design(l_min=0.0)
+    z = np.array([1e-3, 1e-5, 1e-7, 1e-10])
+    poses = np.stack([np.full(4, 0.3), np.zeros(4), z], axis=1)
+    ev = design.evaluate(ds, poses)
+    lti, cond = ev["lti"].values, ev["cond_h"].values
+    np.testing.assert_allclose(lti, z / np.hypot(z, ds.R - ds.r), rtol=1e-7)
+    np.testing.assert_allclose(cond * z, cond[0] * z[0], rtol=1e-4)
+    singular = (ev["flags"].values & 32) != 0
+    assert list(singular) == [False, False, False, True]
+    d = as_dict(ds)
+    for p, f, x in zip(poses, ev["flags"].values, lti):
+        r = oracle.pose_indices(d, p)
+        assert r["flags"] == f
+        assert x == pytest.approx(r["lti"], rel=1e-6)

@@ -35,6 +35,7 @@ import numpy as np
 from numpy.typing import ArrayLike
 
 from rps3 import _optimise
+from rps3 import errors as _errors
 from rps3._core import FloatArray, buf, text
 from rps3._rps3 import ffi, lib
 from rps3.errors import ReachError, error, points3, real_number
@@ -627,10 +628,9 @@ def task(design: Design, trajectory: Trajectory | Spec, *,
 
 # ------------------------------------------------------------ optimisation
 
-class ConvergenceWarning(RuntimeWarning):
-    """An optimiser stopped without meeting its tolerances, or returned a
-    design that breaks a constraint: the result says which
-    (``converged``, ``feasible``, ``status``)."""
+#: an optimiser stopped without meeting its tolerances, or returned a
+#: design that breaks a constraint (rps3.errors.ConvergenceWarning)
+ConvergenceWarning = _errors.ConvergenceWarning
 
 
 #: what can be optimised: name -> (+1 minimised, -1 maximised, unit, needs)
@@ -757,8 +757,22 @@ class _Problem:
                 con["volume_min"] = 1.0 - s.volume / self.volume_min
         if self.trajectory is not None:
             tr = self.trajectory
-            traj_poses = tr.eval(np.linspace(0.0, tr.duration, self.samples),
-                                 ds.model()).pose
+            try:
+                traj_poses = tr.eval(np.linspace(0.0, tr.duration, self.samples),
+                                     ds.model()).pose
+            except ValueError:
+                # a task this design's model refuses (e.g. a helix wider
+                # than the platform allows): it cannot follow it
+                for k in self.objectives:
+                    if OBJECTIVES[k][2] == "task":
+                        obj[k] = math.nan
+                con["task_reach"] = 1.0
+                if self.force_max is not None:
+                    con["force_max"] = 1.0
+                lti_floor = 0.0
+                traj_poses = None
+        if self.trajectory is not None and traj_poses is not None:
+            tr = self.trajectory
             viol, lti_t = _reach_violation(ds, np.ascontiguousarray(traj_poses.T),
                                            self.options)
             status, res, _ = _task_c(ds, tr.c, self.samples, True, self.options)

@@ -97,6 +97,12 @@ class StateError(Rps3Error):
     status = lib.RPS3_ESTATE
 
 
+class ConvergenceWarning(RuntimeWarning):
+    """An optimiser of rps3.design stopped without meeting its tolerances,
+    or returned a design that breaks a constraint: the result says which
+    (``converged``, ``feasible``, ``status``)."""
+
+
 _CLASSES: dict[int, type[Rps3Error]] = {
     c.status: c for c in (ReachError, NoConvergenceError, BranchError,
                           SingularError, DomainError, ResultRangeError,

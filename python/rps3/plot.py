@@ -10,6 +10,9 @@ The analysis scripts (analysis/*.py) draw with these::
     plot.legend(ax)
     plot.save(fig, "out/fig3.pdf")             # the format from the suffix
 
+``atlas``, ``mark`` and ``front`` draw the design study's performance
+atlas and Pareto fronts (docs/design-optimisation.md).
+
 ``save`` writes PDF, SVG or PNG as the file's suffix says (``dpi`` is the
 raster resolution: of a PNG, and of any image inside a PDF or SVG);
 ``add_output_args`` and ``output_path`` give every script the same
