@@ -463,3 +463,18 @@ def test_lowered_platform_approaches_the_singular_surface():
         r = oracle.pose_indices(d, p)
         assert r["flags"] == f
         assert x == pytest.approx(r["lti"], rel=1e-6)
+
+
+def test_a_task_some_designs_refuse_is_a_constraint():
+    """A helix of radius 5 mm needs r > 10 mm (rho > 0.044 with Table II's
+    R; the ball joints ask for more): the designs below are infeasible,
+    not an error, and the optimum is above."""
+    tr = rps3.trajectory.helix(radius=0.005, samples=21)
+    opt = design.optimise({"rho": (0.02, 1.2)}, "peak_force",
+                          base=design.Design(payload=0.5), trajectory=tr,
+                          prescan=8, maxeval=60)
+    assert opt.feasible and opt.converged
+    assert opt.design.r > 2 * 0.005
+    pb = opt.problem
+    obj, con = pb.values(np.array([0.0]))       # rho = 0.02: refused
+    assert con["task_reach"] == 1.0 and math.isnan(obj["peak_force"])
