@@ -478,3 +478,23 @@ def test_a_task_some_designs_refuse_is_a_constraint():
     pb = opt.problem
     obj, con = pb.values(np.array([0.0]))       # rho = 0.02: refused
     assert con["task_reach"] == 1.0 and math.isnan(obj["peak_force"])
+
+
+@pytest.mark.parametrize("kw,name", [
+    (dict(maxeval=0), "maxeval"), (dict(seed=-1), "seed"), (dict(prescan=1.5), "prescan"),
+    (dict(algorithm="BFGS"), "algorithm"), (dict(lti_min=1.2), "lti_min"),
+    (dict(volume_min=-1.0), "volume_min"), (dict(xtol_rel=0.0), "xtol_rel")])
+def test_bad_optimiser_settings_name_the_argument(kw, name):
+    with pytest.raises(ValueError, match=rf"^{name}"):
+        design.optimise({"rho": (0.3, 0.8)}, "volume", grid=design.grid(n=3), **kw)
+
+
+@pytest.mark.parametrize("kw,name", [
+    (dict(pop_size=1), "pop_size"), (dict(n_gen=0), "n_gen"), (dict(seed=-2), "seed"),
+    (dict(objectives=("volume",)), "objectives"),
+    (dict(objectives=("volume", "volume")), "objectives"),
+    (dict(objectives=("volume", "mass")), "objective")])
+def test_bad_pareto_settings_name_the_argument(kw, name):
+    kw.setdefault("objectives", ("volume", "gti"))
+    with pytest.raises(ValueError, match=rf"^{name}"):
+        design.pareto({"rho": (0.3, 0.8)}, grid=design.grid(n=3), **kw)

@@ -947,9 +947,10 @@ def optimise(variables: Mapping[str, Sequence[float]],
     """
     if algorithm not in ("COBYLA", "AUGLAG"):
         raise ValueError(f"algorithm: {algorithm!r} is not COBYLA or AUGLAG")
-    for name, v in (("maxeval", maxeval), ("prescan", prescan)):
-        if isinstance(v, bool) or not isinstance(v, (int, np.integer)) or v < 1:
-            raise ValueError(f"{name}: expected an integer >= 1, got {v!r}")
+    for name, v, least in (("maxeval", maxeval, 1), ("prescan", prescan, 1),
+                           ("seed", seed, 0)):
+        if isinstance(v, bool) or not isinstance(v, (int, np.integer)) or v < least:
+            raise ValueError(f"{name}: expected an integer >= {least}, got {v!r}")
     for name, fv in (("xtol_rel", xtol_rel), ("ftol_rel", ftol_rel)):
         real_number(fv, name, lo=0.0, lo_open=True)
     ctol = real_number(ctol, "ctol", lo=0.0)
@@ -1087,10 +1088,10 @@ def pareto(variables: Mapping[str, Sequence[float]],
     if isinstance(objectives, str) or len(objectives) < 2:
         raise ValueError(f"objectives: expected two or more of "
                          f"{', '.join(OBJECTIVES)}, got {objectives!r}")
-    for name, v in (("pop_size", pop_size), ("n_gen", n_gen), ("seed", seed)):
-        if isinstance(v, bool) or not isinstance(v, (int, np.integer)) or v < (
-                0 if name == "seed" else 2 if name == "pop_size" else 1):
-            raise ValueError(f"{name}: expected a positive integer, got {v!r}")
+    for name, v, least in (("pop_size", pop_size, 2), ("n_gen", n_gen, 1),
+                           ("seed", seed, 0)):
+        if isinstance(v, bool) or not isinstance(v, (int, np.integer)) or v < least:
+            raise ValueError(f"{name}: expected an integer >= {least}, got {v!r}")
     pb = _problem(variables, tuple(objectives), base, trajectory, samples, grid,
                   covers, volume_min, force_max, lti_min, options, platform_mass)
     ncon = len(pb.constraint_names)
