@@ -142,8 +142,9 @@ $(DEPS):
 # package's build), then the rps3 package from python/ (compiled against
 # include/rps3.h, librps3-pic.a linked in), reinstalled whenever the
 # package, the header or the library changes.  venv-check adds the test
-# and benchmark tools of tests/requirements.txt, for the targets that use
-# them (check-py, check-lint, bench, mutation, ...), so that `make paper`
+# and benchmark tools of tests/requirements.txt and the optimisers of
+# analysis/requirements-design.txt, for the targets that use them
+# (check-py, check-lint, bench, mutation, ...), so that `make paper`
 # installs only the first.
 PY_PKG = python/pyproject.toml python/setup.py $(wildcard python/rps3/*.py)
 venv: $(VENV)/.ok $(VENV)/.rps3
@@ -153,7 +154,8 @@ $(VENV)/.ok: analysis/requirements.txt | $(DEPS)
 	$(VPY) -m pip install -q --disable-pip-version-check -r analysis/requirements.txt
 	@touch $@
 $(VENV)/.check: tests/requirements.txt analysis/requirements-design.txt $(VENV)/.ok
-	$(VPY) -m pip install -q --disable-pip-version-check -r tests/requirements.txt
+	$(VPY) -m pip install -q --disable-pip-version-check -r tests/requirements.txt \
+	  -r analysis/requirements-design.txt
 	@touch $@
 $(VENV)/.rps3: $(PY_PKG) include/rps3.h $(B)/librps3-pic.a $(VENV)/.ok
 	$(VPY) -m pip install -q --disable-pip-version-check --no-deps \

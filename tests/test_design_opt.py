@@ -498,3 +498,16 @@ def test_bad_pareto_settings_name_the_argument(kw, name):
     kw.setdefault("objectives", ("volume", "gti"))
     with pytest.raises(ValueError, match=rf"^{name}"):
         design.pareto({"rho": (0.3, 0.8)}, grid=design.grid(n=3), **kw)
+
+
+def test_every_status_has_its_exception():
+    """Each status code of the library, RPS3_EEMPTY included, maps to its
+    own class in rps3.errors (EINVAL also a ValueError)."""
+    from rps3._rps3 import lib
+    codes = [lib.RPS3_EREACH, lib.RPS3_ENOCONV, lib.RPS3_EBRANCH, lib.RPS3_ESING,
+             lib.RPS3_EDOMAIN, lib.RPS3_ERANGE, lib.RPS3_EMODE, lib.RPS3_EEMPTY,
+             lib.RPS3_EINVAL, lib.RPS3_ESTATE]
+    classes = {type(rps3.errors.error(c, "m")) for c in codes}
+    assert len(classes) == len(codes)
+    assert isinstance(rps3.errors.error(lib.RPS3_EEMPTY, "m"),
+                      rps3.errors.EmptyWorkspaceError)
