@@ -1832,7 +1832,7 @@ RPS3_API void rps3_design_opts_default(rps3_design_opts *o);
  * velocity of b_k under it is v_k = v_c + omega x (b_k - c), and f_k . v_k
  * = 1.  The index of row k is the cosine of its pressure angle:
  *   eta_k = |f_k . v_k| / (|f_k| |v_k|) = 1 / |v_k|,  in [0, 1]
- * (Wang, Liu & Wu 2010, the output transmission index in its pressure
+ * (Wang, Wu & Liu 2010, the output transmission index in its pressure
  * angle form).  OTI = min over the transmission rows (actuation
  * singularities), CTI = min over the constraint rows (constraint
  * singularities).  The input transmission index is 1 identically: the
@@ -1947,7 +1947,8 @@ RPS3_API void rps3_design_ws_free(rps3_design_ws *w);
  * per-pose outputs of out (may be NULL) and the summary *sum (may be
  * NULL); cell_volume [m rad^2] (>= 0) makes sum->volume.  Returns RPS3_OK,
  * RPS3_EEMPTY (no pose reachable: out and sum filled, the summary zeros),
- * or RPS3_EINVAL with w->err (bad design, with its field's message; n = 0,
+ * RPS3_ERANGE (the volume overflows: a cell volume near 1e308), or
+ * RPS3_EINVAL with w->err (bad design, with its field's message; n = 0,
  * NULL arrays, a pose not finite, bad options).  Allocates nothing.
  */
 RPS3_API int rps3_design_eval(rps3_design_ws *w, const rps3_design *ds,

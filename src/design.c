@@ -581,6 +581,11 @@ static int sum_end(rps3_design_ws *w, rps3_design_summary *s,
   }
   s->reach_fraction = (double)s->nreach / (double)s->n;
   s->volume = (double)s->nreach * cell_volume;
+  if (!isfinite(s->volume))
+    RPS3_ERROR(w, RPS3_ERANGE,
+               "volume = %zu poses x cell_volume %g is not finite: the cell "
+               "volume is too large",
+               s->nreach, cell_volume);
   s->gti /= (double)s->nreach;
   s->good_fraction /= (double)s->nreach;
   return RPS3_OK;

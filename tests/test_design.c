@@ -470,6 +470,13 @@ static void bad_calls(void **state) {
                    RPS3_EINVAL);
   assert_int_equal(rps3_design_eval(w, &ds, NULL, 1, pose, -1.0, NULL, &s),
                    RPS3_EINVAL);
+  /* a finite cell volume whose product with the count overflows */
+  {
+    const double two[6] = {0.0, 0.0, 0.0, 0.0, 0.3048, 0.3048};
+    assert_int_equal(rps3_design_eval(w, &ds, NULL, 2, two, 1e308, NULL, &s),
+                     RPS3_ERANGE);
+    assert_non_null(strstr(w->err.msg, "volume"));
+  }
   rps3_design_opts_default(&o);
   o.lti_good = 1.5;
   assert_int_equal(rps3_design_eval(w, &ds, &o, 1, pose, 1.0, NULL, &s),

@@ -134,7 +134,8 @@ static void names_round_trip(void **state) {
 static void every_status_has_a_message(void **state) {
   static const int codes[] = {RPS3_OK,     RPS3_EREACH, RPS3_ENOCONV,
                               RPS3_EBRANCH, RPS3_ESING, RPS3_EDOMAIN,
-                              RPS3_EINVAL, RPS3_ENOMEM, RPS3_ESTATE};
+                              RPS3_EINVAL, RPS3_ENOMEM, RPS3_ESTATE,
+                              RPS3_ERANGE, RPS3_EMODE,  RPS3_EEMPTY};
   size_t i, j;
   (void)state;
   for (i = 0; i < sizeof codes / sizeof codes[0]; i++) {

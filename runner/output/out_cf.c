@@ -25,6 +25,7 @@ static const struct {
                     {RPS3_EDOMAIN, "time_outside_span"},
                     {RPS3_ERANGE, "result_not_finite"},
                     {RPS3_EMODE, "other_assembly_mode"},
+                    {RPS3_EEMPTY, "empty_workspace"},
                     {RPS3_EINVAL, "invalid_argument"},
                     {RPS3_ENOMEM, "out_of_memory"},
                     {RPS3_ESTATE, "stage_out_of_order"},
