@@ -115,7 +115,7 @@ endef
 # anything compiles, checks (and for paper and check, installs) it all.
 CHECK_GOALS = check check-c check-san check-py check-lint check-fuzz valgrind bench \
               mutation scaling
-PAPER_GOALS = paper study venv venv-check
+PAPER_GOALS = paper study venv venv-check design
 ifneq ($(filter $(CHECK_GOALS),$(MAKECMDGOALS)),)
 DEPS_SET = check
 DEPS_PKGS = $(DEB_CHECK)
@@ -142,8 +142,9 @@ $(DEPS):
 # package's build), then the rps3 package from python/ (compiled against
 # include/rps3.h, librps3-pic.a linked in), reinstalled whenever the
 # package, the header or the library changes.  venv-check adds the test
-# and benchmark tools of tests/requirements.txt, for the targets that use
-# them (check-py, check-lint, bench, mutation, ...), so that `make paper`
+# and benchmark tools of tests/requirements.txt and the optimisers of
+# analysis/requirements-design.txt, for the targets that use them
+# (check-py, check-lint, bench, mutation, ...), so that `make paper`
 # installs only the first.
 PY_PKG = python/pyproject.toml python/setup.py $(wildcard python/rps3/*.py)
 venv: $(VENV)/.ok $(VENV)/.rps3
@@ -152,8 +153,9 @@ $(VENV)/.ok: analysis/requirements.txt | $(DEPS)
 	$(PYTHON) -m venv $(VENV)
 	$(VPY) -m pip install -q --disable-pip-version-check -r analysis/requirements.txt
 	@touch $@
-$(VENV)/.check: tests/requirements.txt $(VENV)/.ok
-	$(VPY) -m pip install -q --disable-pip-version-check -r tests/requirements.txt
+$(VENV)/.check: tests/requirements.txt analysis/requirements-design.txt $(VENV)/.ok
+	$(VPY) -m pip install -q --disable-pip-version-check -r tests/requirements.txt \
+	  -r analysis/requirements-design.txt
 	@touch $@
 $(VENV)/.rps3: $(PY_PKG) include/rps3.h $(B)/librps3-pic.a $(VENV)/.ok
 	$(VPY) -m pip install -q --disable-pip-version-check --no-deps \
@@ -437,6 +439,21 @@ closed-loop: $(B)/rps3-run venv
 	$(B)/rps3-run configs/closed_loop.yaml -o out/closed_loop.h5 -q
 	$(VPY) analysis/closed_loop.py out/closed_loop.h5 out/closed_loop.png > out/closed_loop.md
 	@cat out/closed_loop.md
+
+# ------------------------------------------------------------------ design
+# The design optimisation (docs/design-optimisation.md): the performance
+# atlas, the Pareto fronts of NSGA-II over 5 seeds with their
+# hypervolumes, NLopt's constrained optimum against a dense grid, and the
+# chosen design beside Table II's, by analysis/design.py into out/design/
+# (figures and design.md, the numbers of the page).  A few minutes.
+.PHONY: design
+DESIGN_REQ = analysis/requirements-design.txt
+$(VENV)/.design: $(DESIGN_REQ) $(VENV)/.ok
+	$(VPY) -m pip install -q --disable-pip-version-check -r $(DESIGN_REQ)
+	@touch $@
+design: venv $(VENV)/.design
+	@mkdir -p out/design
+	nice $(VPY) analysis/design.py -o out/design
 
 # ------------------------------------------------------------------- paper
 paper: all venv

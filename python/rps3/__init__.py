@@ -11,7 +11,7 @@ manipulator of Lee & Shah (1988), computed by librps3 over numpy arrays.
 SI units throughout; see the repository's README.md and include/rps3.h.
 """
 
-from rps3 import control, dynamics, errors, export, h5io, scene, sim, trajectory, velocity
+from rps3 import control, design, dynamics, errors, export, h5io, scene, sim, trajectory, velocity
 from rps3._core import strerror
 from rps3._rps3 import ffi as _ffi
 from rps3._rps3 import lib as _lib
@@ -30,7 +30,7 @@ if __version__ != _ffi.string(_lib.rps3py_header_version()).decode():
 __all__ = ["DEFAULT_EFFECTS", "EFFECTS", "OUTPUTS", "Dynamics", "Kinematics", "Model", "h5io",
            "Pose", "open_dataset", "strerror", "trajectory",
            "Rps3Error", "control", "dynamics", "errors", "scene", "sim", "velocity",
-           "export", "ident", "plot", "view"]
+           "export", "design", "ident", "plot", "view"]
 
 
 def __getattr__(name: str) -> object:
