@@ -390,12 +390,7 @@ void rps3_kernel_block(const rps3_model *m, const rps3_batch_in *in,
     K.sel[e] = (m->opt.effects & (1 << e)) ? 1.0 : 0.0;
   K.certify = m->opt.certify ? 1.0 : 0.0;
   K.rates = rates ? 1.0 : 0.0;
-  K.cond_lim = (m->opt.cond_warn < m->opt.cond_max ? m->opt.cond_warn
-                                                   : m->opt.cond_max) *
-               (1.0 - KMARGIN);
-  K.trans_lim = (m->opt.trans_warn < m->opt.trans_max ? m->opt.trans_warn
-                                                      : m->opt.trans_max) *
-                (1.0 - KMARGIN);
+  rps3_sing_certify_limits(m, KMARGIN, &K.cond_lim, &K.trans_lim);
   if (rates)
     kloop(&K, pose, pose + n, pose + 2 * n, in->dpose + i0,
           in->dpose + n + i0, in->dpose + 2 * n + i0, in->ddpose + i0,

@@ -248,12 +248,7 @@ KINLINE void kbconst_set(kbconst *K, const rps3_model *m, double margin) {
   K->m6 = (e & RPS3_EFF_PLATFORM_INERTIA) ? m->M * (1.0 / 6.0) : 0.0;
   K->mgd = (e & RPS3_EFF_LINK_GRAVITY) ? m->m * m->g * m->d : 0.0;
   K->jl = (e & RPS3_EFF_LINK_INERTIA) ? m->Jlink : 0.0;
-  K->cond_lim = (m->opt.cond_warn < m->opt.cond_max ? m->opt.cond_warn
-                                                    : m->opt.cond_max) *
-                (1.0 - margin);
-  K->trans_lim = (m->opt.trans_warn < m->opt.trans_max ? m->opt.trans_warn
-                                                       : m->opt.trans_max) *
-                 (1.0 - margin);
+  rps3_sing_certify_limits(m, margin, &K->cond_lim, &K->trans_lim);
 }
 
 /* one link of the lean pass: the link vector v = b - pin = l phi (5)-(7),

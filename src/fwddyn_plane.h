@@ -144,15 +144,10 @@ static inline int plane_jacobian(const rps3_model *m, rps3_data *d,
   det = plane_det(p);
   d->mode = (det > 0.0) - (det < 0.0);
   if (!(fabs(det) > 0.0) || !(fabs(det) < HUGE_VAL))
-    RPS3_ERROR(d, RPS3_ESING,
-               "singular configuration: det df/dtheta = %.3g", det);
+    return rps3_sing_decide(m, d, RPS3_SING_JT, HUGE_VAL);
   plane_inverse(p, det);
   cond = plane_cond1(p);
-  if (!(cond <= m->opt.cond_max))
-    RPS3_ERROR(d, RPS3_ESING,
-               "singular configuration: condition number of df/dtheta %.3g "
-               "above cond_max %.3g", cond, m->opt.cond_max);
-  return RPS3_OK;
+  return rps3_sing_check(m, d, RPS3_SING_JT, cond);
 }
 
 /* G = -X df/dl (column j of df/dl holds al[j] and bl[j - 1]); the rates
@@ -292,7 +287,7 @@ static inline void platform_motion(const rps3_model *m, const plane *p,
 static inline int invdyn_limits(const rps3_model *m, rps3_data *d,
                                 const plane *p, const rps3_fd_state *k) {
   double nr = 0.0, nx = 0.0, T = 0.0;
-  int q;
+  int q, st;
   for (q = 0; q < 3; q++) {
     const double sj =
         fabs(p->Jc[0][q]) + fabs(p->Jc[1][q]) + fabs(p->Jc[2][q]) +
@@ -303,18 +298,9 @@ static inline int invdyn_limits(const rps3_model *m, rps3_data *d,
   }
   d->cond = nr * nx;
   d->transmission = T;
-  if (!(d->cond <= m->opt.cond_max))
-    RPS3_ERROR(d, RPS3_ESING,
-               "lambda system condition number %.3g exceeds cond_max %.3g",
-               d->cond, m->opt.cond_max);
-  if (d->cond > m->opt.cond_warn) d->warn |= RPS3_WARN_ILLCOND;
-  if (!(T >= 0.0 && T <= m->opt.trans_max))
-    RPS3_ERROR(d, RPS3_ESING,
-               "force transmission %.3g exceeds trans_max %.3g: an actuator "
-               "would carry that many times the load on the platform",
-               T, m->opt.trans_max);
-  if (T > m->opt.trans_warn) d->warn |= RPS3_WARN_TRANS;
-  return RPS3_OK;
+  st = rps3_sing_check(m, d, RPS3_SING_LAMBDA, d->cond);
+  if (st != RPS3_OK) return st;
+  return rps3_sing_check(m, d, RPS3_SING_TRANS, T);
 }
 
 /* fwddyn_body.c: world inertia rot diag(I) rot^T; a rigid body's terms
