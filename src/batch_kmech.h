@@ -115,10 +115,9 @@ typedef struct {
 KINLINE krow jac_row(klink Lk, klink Lj) {
   krow r;
   kv3 D = ksub(Lk.b, Lj.b);
-  r.lc = 2.0 * kdot(D, Lk.phi);
-  r.le = -2.0 * kdot(D, Lj.phi);
-  r.ta = 2.0 * Lk.l * kdot(D, Lk.dphi);
-  r.tb = -2.0 * Lj.l * kdot(D, Lj.dphi);
+  /* the scalar stages' row (src/cjac.h), over kv3 */
+  RPS3_CJAC_ROW(kdot, D, Lk.phi, Lk.dphi, Lk.l, Lj.phi, Lj.dphi, Lj.l, r.lc,
+                r.le, r.ta, r.tb);
   return r;
 }
 

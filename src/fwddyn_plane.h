@@ -52,15 +52,17 @@ FD_INLINE void plane_constraints(const rps3_model *m, plane *p,
     Z[i] = p->l[i] * p->s[i];
   }
   for (q = 0; q < 3; q++) {
+    /* pair q of (8)-(10) in the links' planes (src/cjac.h) */
     const int j = (q + 1) % 3;
-    i = q;
-    p->A[q] = 2.0 * h[i] + h[j];
-    p->B[q] = 2.0 * h[j] + h[i];
-    p->E[q] = 2.0 * (Z[i] - Z[j]);
-    f[q] = h[i] * h[i] + h[j] * h[j] + h[i] * h[j] +
-           0.25 * p->E[q] * p->E[q] - r3;
-    p->at[q] = p->l[i] * (p->A[q] * p->s[i] + p->E[q] * p->c[i]);
-    p->bt[q] = p->l[j] * (p->B[q] * p->s[j] - p->E[q] * p->c[j]);
+    const rps3_plane_pair pq =
+        rps3_plane_pair_eval(h[q], h[j], Z[q], Z[j], p->l[q], p->l[j],
+                             p->c[q], p->s[q], p->c[j], p->s[j], r3);
+    p->A[q] = pq.A;
+    p->B[q] = pq.B;
+    p->E[q] = pq.E;
+    f[q] = pq.f;
+    p->at[q] = pq.at;
+    p->bt[q] = pq.bt;
   }
 }
 
@@ -134,12 +136,15 @@ static inline double plane_cond1(const plane *p) {
 static inline int plane_jacobian(const rps3_model *m, rps3_data *d,
                                  plane *p) {
   double det, cond;
-  int i, q;
+  int q;
   for (q = 0; q < 3; q++) {
     const int j = (q + 1) % 3;
-    i = q;
-    p->al[q] = p->E[q] * p->s[i] - p->A[q] * p->c[i];
-    p->bl[q] = -p->B[q] * p->c[j] - p->E[q] * p->s[j];
+    rps3_plane_pair pq;
+    pq.A = p->A[q];
+    pq.B = p->B[q];
+    pq.E = p->E[q];
+    rps3_plane_pair_dl(&pq, p->c[q], p->s[q], p->c[j], p->s[j], &p->al[q],
+                       &p->bl[q]);
   }
   det = plane_det(p);
   d->mode = (det > 0.0) - (det < 0.0);
