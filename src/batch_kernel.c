@@ -12,7 +12,7 @@
  * Lagrange loads and the energy-rate certificate as in invdyn.c.  What
  * differs, all at the level of rounding:
  *   - sin and cos of alpha and beta / 2 by the polynomial ksincos
- *     (batch_trig.h; within 3 ulp of libm), sin and cos of beta from
+ *     (batch_trig.h, the lean pass's too; within 3 ulp of libm), sin and cos of beta from
  *     the half angle; theta by katan2 (within 4 ulp of libm's atan2);
  *   - the lambda system (df/dtheta)^T solved by its adjugate (the matrix
  *     has two non-zeros a row), and its 1-norm condition number from the
@@ -46,13 +46,13 @@
 #define KMARGIN 1e-6
 
 void rps3_ksincos(double x, double *s, double *c) {
-  ksc r = ksincos(x);
+  ksc r = ksincos(x, 0);
   *s = r.s;
   *c = r.c;
 }
 double rps3_katan2(double y, double x) { return katan2(y, x); }
 void rps3_ksincos_e(double x, int fu, double *s, double *c) {
-  ksc r = fu ? ksincos_e(x, 1) : ksincos_e(x, 0);
+  ksc r = fu ? ksincos(x, 1) : ksincos(x, 0);
   *s = r.s;
   *c = r.c;
 }
@@ -105,10 +105,10 @@ KINLINE void kpoint(const kconst *K, const double *restrict pa,
                        (fabs(beta) <= RPS3_KANGLE_MAX))
                           ? 1.0
                           : 0.0;
-    ksc tr = ksincos(alpha);
+    ksc tr = ksincos(alpha, 0);
     sa = tr.s;
     ca = tr.c;
-    tr = ksincos(0.5 * beta);
+    tr = ksincos(0.5 * beta, 0);
     hs = tr.s;
     hc = tr.c;
     /* beta from its half angle; 1 - cos(beta) as 2 sin^2(beta/2) */

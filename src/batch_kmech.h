@@ -342,10 +342,10 @@ KINLINE kbout kbare(const kbconst *K, double alpha, double beta, double z,
                      (fabs(beta) <= RPS3_KANGLE_MAX))
                         ? 1.0
                         : 0.0;
-  ksc tr = ksincos_e(alpha, fu);
+  ksc tr = ksincos(alpha, fu);
   sa = tr.s;
   ca = tr.c;
-  tr = ksincos_e(0.5 * beta, fu);
+  tr = ksincos(0.5 * beta, fu);
   hs = tr.s;
   hc = tr.c;
   /* beta from its half angle; 1 - cos(beta) as 2 sin^2(beta/2) */
