@@ -92,58 +92,31 @@ KINLINE void kpoint(const kconst *K, const double *restrict pa,
   {
     double alpha = pa[p], beta = pb[p];
     double da = va[p], db = vb[p], dda = aa[p], ddb = ab[p];
-    double ca, sa, hs, hc, sb, cb, vb2, C, S, det, idet, cond, trans, fin;
+    double det, idet, cond, trans, fin;
     double pw, sc, dT, dP, v1, v2, v3, g1, i1, eres;
     kv3 rx, ry, rz, c, w, vc, dw, ac, cdd, lc, le, ta, tb, r0, r1, r2;
     kv3 wl[RPS3_KNEFF], wt[RPS3_KNEFF], lam[RPS3_KNEFF], Fe[RPS3_KNEFF];
     kv3 F, lamt, g6, t;
     klink L0, L1, L2;
     krow j0, j1, j2;
-    /* an angle the reduction does not serve is no point of the kernel's:
-       it is left to the scalar path */
-    double in_range = ((fabs(alpha) <= RPS3_KANGLE_MAX) &
-                       (fabs(beta) <= RPS3_KANGLE_MAX))
-                          ? 1.0
-                          : 0.0;
-    ksc tr = ksincos(alpha, 0);
-    sa = tr.s;
-    ca = tr.c;
-    tr = ksincos(0.5 * beta, 0);
-    hs = tr.s;
-    hc = tr.c;
-    /* beta from its half angle; 1 - cos(beta) as 2 sin^2(beta/2) */
-    sb = 2.0 * hs * hc;
-    vb2 = 2.0 * hs * hs;
-    cb = 1.0 - vb2;
-    C = ca * ca - sa * sa;
-    S = 2.0 * sa * ca;
-
-    /* orientation Rz(alpha) Ry(beta) Rz(-alpha) (2) by columns, centre
-       (3)-(4) */
-    rx = kv(1.0 - vb2 * ca * ca, -vb2 * ca * sa, -sb * ca);
-    ry = kv(-vb2 * ca * sa, 1.0 - vb2 * sa * sa, -sb * sa);
-    rz = kv(sb * ca, sb * sa, cb);
-    c = kv(-0.5 * K->r * vb2 * C, 0.5 * K->r * vb2 * S, pz[p]);
+    /* the frame, its twist and the twist's rate; an angle the
+       reduction does not serve is no point of the kernel's: it is left
+       to the scalar path */
+    const kpose P = kpose_eval(K->r, alpha, beta, pz[p], da, db, vz[p], dda,
+                               ddb, az[p], 0);
+    const double in_range = P.in_range;
+    rx = P.rx;
+    ry = P.ry;
+    rz = P.rz;
+    c = P.c;
+    w = P.w;
+    vc = P.vc;
+    dw = P.dw;
+    ac = P.ac;
     L0 = link_pos(K, 0, rx, ry, c, full);
     L1 = link_pos(K, 1, rx, ry, c, full);
     L2 = link_pos(K, 2, rx, ry, c, full);
 
-    /* angular and centre velocity and acceleration (velocity.c) */
-    w = kv(-da * sb * ca - db * sa, -da * sb * sa + db * ca, da * vb2);
-    vc = kv(-0.5 * K->r * (sb * db * C - 2.0 * vb2 * S * da),
-            0.5 * K->r * (sb * db * S + 2.0 * vb2 * C * da), vz[p]);
-    {
-      double dvb = sb * db, ddvb = cb * db * db + sb * ddb;
-      double dC = -2.0 * S * da, dS = 2.0 * C * da;
-      double ddC = -4.0 * C * da * da - 2.0 * S * dda;
-      double ddS = -4.0 * S * da * da + 2.0 * C * dda;
-      kv3 adot = kcross(w, rz);
-      dw = kv(dda * -rz.x - da * adot.x - ddb * sa - db * da * ca,
-              dda * -rz.y - da * adot.y + ddb * ca - db * da * sa,
-              dda * vb2 - da * adot.z);
-      ac = kv(-0.5 * K->r * (ddvb * C + 2.0 * dvb * dC + vb2 * ddC),
-              0.5 * K->r * (ddvb * S + 2.0 * dvb * dS + vb2 * ddS), az[p]);
-    }
     L0 = link_rates(L0, w, vc, dw, ac);
     L1 = link_rates(L1, w, vc, dw, ac);
     L2 = link_rates(L2, w, vc, dw, ac);
