@@ -277,11 +277,13 @@ MUTATIONS = [
      "policy: a NaN or negative measure accepted"),
     ("policy-certify-cond", "src/policy.h",
      "*cond_lim = (c < m->opt.cond_max ? c : m->opt.cond_max) * (1.0 - margin);",
-     "*cond_lim = m->opt.cond_max * (1.0 - margin);",
+     "*cond_lim = (c < m->opt.cond_max ? m->opt.cond_max : c)"
+     " * (1.0 - margin);",
      "batch certificate: kernel points above cond_warn kept, no warning"),
     ("policy-certify-trans", "src/policy.h",
      "*trans_lim = (t < m->opt.trans_max ? t : m->opt.trans_max) * (1.0 - margin);",
-     "*trans_lim = m->opt.trans_max * (1.0 - margin);",
+     "*trans_lim = (t < m->opt.trans_max ? m->opt.trans_max : t)"
+     " * (1.0 - margin);",
      "batch certificate: kernel points above trans_warn kept, no warning"),
     ("policy-invdyn-trans", "src/invdyn.c",
      "status = rps3_sing_check(m, d, RPS3_SING_TRANS, d->transmission);",

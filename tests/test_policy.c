@@ -124,7 +124,6 @@ static void set_pose(rps3_data *d) {
  * policy's message, and keep it just above them with the warning bits.
  */
 static void every_stage_the_same_decision(void **state) {
-  static const int forces_only[] = {0, 1};
   rps3_model m;
   rps3_data *d, *e;
   double cond, trans, F[3], st_cond[1], st_trans[1];
@@ -157,7 +156,9 @@ static void every_stage_the_same_decision(void **state) {
   out.transmission = st_trans;
 
   for (v = 0; v < 2; v++) {
-    m.opt.forces_only = forces_only[v];
+    /* with and without the certificate: the kernel's two instances
+       (theta and the energy rate, or the forces alone) */
+    m.opt.certify = v;
     /* the lambda system's condition number just above cond_max */
     m.opt.cond_warn = m.opt.cond_max = cond / ABOVE(1.0);
     m.opt.trans_warn = m.opt.trans_max = 1e8;
@@ -202,7 +203,7 @@ static void every_stage_the_same_decision(void **state) {
     assert_int_equal(status[0], RPS3_OK);
     assert_int_equal(warn[0] & RPS3_WARN_TRANS, RPS3_WARN_TRANS);
   }
-  m.opt.forces_only = 0;
+  m.opt.certify = 0;
 
   /* the joint-rate stage: df/dtheta's condition number is the lambda
      system's transpose's, the same matrix; refused above cond_max */
