@@ -116,11 +116,12 @@ int rps3_inverse_lean_point_unfused(const rps3_model *m, rps3_data *d);
 /* rps3_inverse by the stages alone (the kernel's fallback) */
 int rps3_inverse_stages(const rps3_model *m, rps3_data *d);
 
-/* the kernel's sine and cosine, and its atan2 for y > 0, one value at a
-   time (for the tests: the accuracy against libm) */
+/* the vector code's sine and cosine (batch_trig.h's ksincos without
+   fused multiply-adds), and its atan2 for y > 0, one value at a time (for
+   the tests: the accuracy against libm) */
 void rps3_ksincos(double x, double *s, double *c);
 double rps3_katan2(double y, double x);
-/* the lean pass's sine and cosine (Estrin's scheme; fu = 1: fused
+/* the same sine and cosine with fu as the lean pass picks it (1: fused
    multiply-adds), for the same tests */
 void rps3_ksincos_e(double x, int fu, double *s, double *c);
 

@@ -136,16 +136,14 @@ void rps3_constraint_jacobian(const rps3_data *d, double Jl[3][3],
                               double Jt[3][3]) {
   int k;
   for (k = 0; k < 3; k++) {
-    /* f_k = |b_i - b_j|^2 - 3 r^2 for the pairs (1,2), (2,3), (3,1) of
-       (8)-(10); d b_i / d l_i = phi_i, d b_i / d theta_i = l_i dphi_i */
+    /* the pairs (1,2), (2,3), (3,1) of (8)-(10), src/cjac.h */
     int i = k, j = (k + 1) % 3, q;
     double D[3];
     v3_sub(D, d->b[i], d->b[j]);
     for (q = 0; q < 3; q++) Jl[k][q] = Jt[k][q] = 0.0;
-    Jl[k][i] = 2.0 * v3_dot(D, d->phi[i]);
-    Jl[k][j] = -2.0 * v3_dot(D, d->phi[j]);
-    Jt[k][i] = 2.0 * d->l[i] * v3_dot(D, d->dphi[i]);
-    Jt[k][j] = -2.0 * d->l[j] * v3_dot(D, d->dphi[j]);
+    RPS3_CJAC_ROW(v3_dot, D, d->phi[i], d->dphi[i], d->l[i], d->phi[j],
+                  d->dphi[j], d->l[j], Jl[k][i], Jl[k][j], Jt[k][i],
+                  Jt[k][j]);
   }
 }
 

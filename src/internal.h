@@ -10,6 +10,8 @@
 #include <string.h>
 
 #include "rps3.h"
+#include "policy.h"
+#include "cjac.h"
 
 #define RPS3_SQRT3 1.7320508075688772935
 #define RPS3_PI 3.14159265358979323846

@@ -516,28 +516,15 @@ int rps3_invdyn_with(const rps3_model *m, rps3_data *d, rps3_cjac *J) {
     rps3_cjac_eval(d, J);
   }
   rps3_cjac_factor(J);
-  if (J->sing) {
-    d->cond = HUGE_VAL;
-    RPS3_ERROR(d, RPS3_ESING,
-               "lambda system singular (zero pivot) at theta = (%.6g, %.6g, "
-               "%.6g)", d->theta[0], d->theta[1], d->theta[2]);
-  }
-  d->cond = J->cond;
-  if (!(d->cond <= m->opt.cond_max))
-    RPS3_ERROR(d, RPS3_ESING,
-               "lambda system condition number %.3g exceeds cond_max %.3g",
-               d->cond, m->opt.cond_max);
-  if (d->cond > m->opt.cond_warn) d->warn |= RPS3_WARN_ILLCOND;
+  d->cond = J->sing ? HUGE_VAL : J->cond;
+  status = rps3_sing_check(m, d, RPS3_SING_LAMBDA, d->cond);
+  if (status != RPS3_OK) return status;
 
   /* force transmission: the condition number measures lost digits, not
      how much force a load takes; both limits are the caller's */
   d->transmission = transmission(m, d, J);
-  if (!(d->transmission >= 0.0 && d->transmission <= m->opt.trans_max))
-    RPS3_ERROR(d, RPS3_ESING,
-               "force transmission %.3g exceeds trans_max %.3g: an actuator "
-               "would carry that many times the load on the platform",
-               d->transmission, m->opt.trans_max);
-  if (d->transmission > m->opt.trans_warn) d->warn |= RPS3_WARN_TRANS;
+  status = rps3_sing_check(m, d, RPS3_SING_TRANS, d->transmission);
+  if (status != RPS3_OK) return status;
 
   status = (m->opt.method == RPS3_LAGRANGE)
                ? lagrange(m, d, M3C(J->Jl), J->LU, J->perm)

@@ -113,7 +113,7 @@ static int evaluate(rps3_sim *s, double t, const double y[], int lean,
     d->ddl[0] = d->ddl[1] = d->ddl[2] = (double)NAN;
     d->err.code = RPS3_ESING;
     snprintf(d->err.msg, sizeof(d->err.msg),
-             "singular configuration: det df/dtheta changed sign, assembly "
+             RPS3_SING_PREFIX "det df/dtheta changed sign, assembly "
              "mode %+d to %+d (theta = %.6g, %.6g, %.6g)", s->now.mode, d->mode,
              d->theta[0], d->theta[1], d->theta[2]);
     return RPS3_ESING;
@@ -125,7 +125,7 @@ static int evaluate(rps3_sim *s, double t, const double y[], int lean,
    ..." from the forward dynamics' state) says when: "singular
    configuration at t = T s: ..."; the message is cut to its buffer */
 static void sing_at(rps3_sim *s, int status, double t) {
-  static const char pre[] = "singular configuration: ";
+  static const char pre[] = RPS3_SING_PREFIX;
   rps3_error *e = &s->d->err;
   char rest[sizeof(e->msg)];
   if (status != RPS3_ESING || strncmp(e->msg, pre, sizeof(pre) - 1) != 0)
@@ -407,7 +407,7 @@ static int integrate(rps3_sim *s, double t1) {
     /* the probe's message, "singular configuration: ...", says what */
     rps3_error *e = &s->d->err;
     char rest[sizeof(e->msg)];
-    const size_t np = sizeof("singular configuration: ") - 1;
+    const size_t np = sizeof(RPS3_SING_PREFIX) - 1;
     memcpy(rest, e->msg + np, sizeof(rest) - np);
     rest[sizeof(rest) - np - 1] = '\0';
     e->code = RPS3_ESING;
