@@ -51,7 +51,7 @@ static int dir_of(const char *path, char *dir, size_t sz) {
   return 0;
 }
 
-static const char *kind_of(mode_t m) {
+const char *file_kind(mode_t m) {
   return S_ISDIR(m)    ? "a directory"
          : S_ISLNK(m)  ? "a symbolic link"
          : S_ISCHR(m)  ? "a character device"
@@ -79,7 +79,7 @@ int out_path_check(const char *out, const char *const *in, size_t ninput,
       snprintf(err, errsz,
                "-o %s is %s: the output must be a new or a regular file "
                "(it is replaced when the run is complete)",
-               out, kind_of(so.st_mode));
+               out, file_kind(so.st_mode));
       return -1;
     }
     for (i = 0; i < ninput; i++)

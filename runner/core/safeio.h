@@ -8,6 +8,7 @@
 #define RPS3_RUNNER_SAFEIO_H
 
 #include <stddef.h>
+#include <sys/types.h>
 
 /* the exit code of a failed write (every program's EXIT_IO) */
 #define SIG_EXIT_IO 3
@@ -45,6 +46,10 @@ int out_path_check(const char *out, const char *const *in, size_t ninput,
  * temporaries of killed runs (SIGKILL, power loss).  Returns their number.
  */
 size_t stale_report(const char *prog, const char *out);
+
+/* What a file of mode m is, in words ("a directory", "a FIFO", ...), for
+   a refusal of what is not a regular file. */
+const char *file_kind(mode_t m);
 
 /* Bytes available to this user on the file system of out's directory;
    -1 when unknown. */

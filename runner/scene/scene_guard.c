@@ -3,6 +3,7 @@
  */
 #include "scene_guard.h"
 #include "scene_int.h"
+#include "core/safeio.h"
 
 #include <errno.h>
 #include <fcntl.h>
@@ -16,15 +17,6 @@
 
 /* errors before any line: about the file */
 static const scene_mark nowhere = {0, 0};
-
-static const char *file_kind(mode_t m) {
-  return S_ISDIR(m)    ? "a directory"
-         : S_ISCHR(m)  ? "a character device"
-         : S_ISBLK(m)  ? "a block device"
-         : S_ISFIFO(m) ? "a FIFO"
-         : S_ISSOCK(m) ? "a socket"
-                       : "not a regular file";
-}
 
 int scene_read_guarded(const char *path, char **text, size_t *len,
                        scene_error *err) {

@@ -26,6 +26,8 @@
 
 #include <hdf5.h>
 
+#include "core/h5err.h"
+
 /* the units each column must be in, in the spellings a units attribute may
    use for them (UDUNITS symbols and names); "" ends a list */
 static const char *const col_units[2][TABLE_NCOL][6] = {
@@ -86,43 +88,11 @@ static void h5_units(hid_t d, char *buf, size_t sz) {
   H5Aclose(a);
 }
 
-/* the cause of the last failed HDF5 call, from the error stack (printing
-   is off while a table is read): "OUTER: INNER" (the API call's failure,
-   the innermost function's), with a missing filter between them when the
-   stack names one (the innermost is then the plugin search), or a plain
-   sentence when HDF5 recorded none; the stack is then cleared */
-typedef struct {
-  char outer[120];
-  char filter[120];
-  char inner[120];
-  unsigned n;
-} h5_walk;
-
-static herr_t h5_walk_cb(unsigned n, const H5E_error2_t *e, void *data) {
-  h5_walk *w = data;
-  const char *d = e->desc != NULL && e->desc[0] != '\0' ? e->desc : NULL;
-  if (d == NULL) d = e->func_name != NULL ? e->func_name : "?";
-  if (n == 0) snprintf(w->outer, sizeof w->outer, "%s", d);
-  if (w->filter[0] == '\0' && strstr(d, "filter") != NULL)
-    snprintf(w->filter, sizeof w->filter, "%s", d);
-  snprintf(w->inner, sizeof w->inner, "%s", d);
-  w->n = n + 1;
-  return 0;
-}
-
+/* the cause of the last failed HDF5 call (printing is off while a table
+   is read, h5err.h), or a plain sentence when HDF5 recorded none */
 static void h5_why(char *buf, size_t sz) {
-  h5_walk w;
-  memset(&w, 0, sizeof w);
-  H5Ewalk2(H5E_DEFAULT, H5E_WALK_DOWNWARD, h5_walk_cb, &w);
-  H5Eclear2(H5E_DEFAULT);
-  if (w.n == 0)
-    snprintf(buf, sz, "the HDF5 library gave no cause");
-  else if (w.filter[0] != '\0' && strcmp(w.filter, w.inner) != 0)
-    snprintf(buf, sz, "%s: %s (%s)", w.outer, w.filter, w.inner);
-  else if (w.n > 1 && strcmp(w.outer, w.inner) != 0)
-    snprintf(buf, sz, "%s: %s", w.outer, w.inner);
-  else
-    snprintf(buf, sz, "%s", w.outer);
+  h5_cause(buf, sz);
+  if (buf[0] == '\0') snprintf(buf, sz, "the HDF5 library gave no cause");
 }
 
 /* a units attribute must name the column's SI unit: a column in degrees
