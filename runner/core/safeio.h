@@ -51,6 +51,19 @@ size_t stale_report(const char *prog, const char *out);
    a refusal of what is not a regular file. */
 const char *file_kind(mode_t m);
 
+/*
+ * Read the regular file at path, of at most max bytes, into *text (malloc'd,
+ * NUL-terminated) and *len.  What is not a regular file (a FIFO, /dev/zero,
+ * a directory) and a larger file are refused before they are read; a FIFO
+ * is not waited for.  Returns 0, or -1 with why set to what follows the
+ * file's name: "cannot open: CAUSE", "is a FIFO: KIND_RULE", "is N bytes:
+ * SIZE_RULE", "changed while it was read", "out of memory" or "cannot
+ * read: CAUSE".
+ */
+int file_read_all(const char *path, size_t max, const char *kind_rule,
+                  const char *size_rule, char **text, size_t *len, char *why,
+                  size_t whysz);
+
 /* Bytes available to this user on the file system of out's directory;
    -1 when unknown. */
 double disk_free(const char *out);

@@ -10,6 +10,7 @@
 
 #include "table.h"
 #include "core/hint.h"
+#include "core/safeio.h"
 #include "table_int.h"
 
 #include <errno.h>
@@ -231,51 +232,34 @@ static int csv_header(const char *s, const char *e, int what, int *col,
 /* a table is a regular file of at most TABLE_MAX_BYTES: checked by
    stat() before anything opens it (opening a FIFO would wait for a
    writer, a device would never end) */
+/* what a table file must be, after its name */
+static const char kind_rule[] = "a table is a regular file of at most 1 GiB";
+
 int table_regular_file(const char *path, char *err, size_t errsz) {
   struct stat st;
   if (stat(path, &st) != 0) {
     table_err(err, errsz, "%s: cannot open: %s", path, strerror(errno));
     return -1;
   }
-  if (!S_ISREG(st.st_mode) || (double)st.st_size > TABLE_MAX_BYTES) {
-    table_err(err, errsz, "%s: not a regular file of at most 1 GiB", path);
-    return -1;
-  }
-  return 0;
+  if (!S_ISREG(st.st_mode))
+    table_err(err, errsz, "%s: is %s: %s", path, file_kind(st.st_mode),
+              kind_rule);
+  else if ((double)st.st_size > TABLE_MAX_BYTES)
+    table_err(err, errsz, "%s: is %lld bytes: %s", path,
+              (long long)st.st_size, kind_rule);
+  else
+    return 0;
+  return -1;
 }
 
 /* the whole file into a NUL-terminated buffer (a regular file only) */
 static char *slurp(const char *path, size_t *len, char *err, size_t errsz) {
-  FILE *f;
-  struct stat st;
-  char *buf;
-  if (table_regular_file(path, err, errsz)) return NULL;
-  f = fopen(path, "rb");
-  if (!f) {
-    table_err(err, errsz, "%s: cannot open: %s", path, strerror(errno));
-    return NULL;
-  }
-  if (fstat(fileno(f), &st) != 0 || !S_ISREG(st.st_mode) ||
-      (double)st.st_size > TABLE_MAX_BYTES) {
-    table_err(err, errsz, "%s: not a regular file of at most 1 GiB", path);
-    fclose(f);
-    return NULL;
-  }
-  buf = malloc((size_t)st.st_size + 1);
-  if (!buf) {
-    table_err(err, errsz, "%s: out of memory", path);
-    fclose(f);
-    return NULL;
-  }
-  *len = fread(buf, 1, (size_t)st.st_size, f);
-  buf[*len] = '\0';
-  if (ferror(f)) {
-    table_err(err, errsz, "%s: read error: %s", path, strerror(errno));
-    free(buf);
-    buf = NULL;
-  }
-  fclose(f);
-  return buf;
+  char *buf, why[200];
+  if (file_read_all(path, (size_t)TABLE_MAX_BYTES, kind_rule, kind_rule, &buf,
+                    len, why, sizeof why) == 0)
+    return buf;
+  table_err(err, errsz, "%s: %s", path, why);
+  return NULL;
 }
 
 /* the end of the line that starts at p: its CR or LF, or the text's NUL;
