@@ -142,8 +142,8 @@ int table_columns_check(const int have[TABLE_NCOL], int what, int hdf5,
 static int parse_field(char *s, char *e, double *x, const char *file, int line,
                        const char *start, const char *name, char *err,
                        size_t errsz) {
-  char *end, keep;
-  int col, len, more, fail = 0;
+  char *end, keep, q[48], why[300] = "";
+  int col;
   while (s < e && (*s == ' ' || *s == '\t')) s++;
   while (e > s && (e[-1] == ' ' || e[-1] == '\t')) e--;
   col = (int)(s - start) + 1; /* of the number itself, blanks skipped */
@@ -153,39 +153,28 @@ static int parse_field(char *s, char *e, double *x, const char *file, int line,
     return -1;
   }
   /* the field as quoted in a message: its first 40 bytes */
-  len = e - s > 40 ? 40 : (int)(e - s);
-  more = e - s > 40;
+  snprintf(q, sizeof q, "'%.*s'%s", e - s > 40 ? 40 : (int)(e - s), s,
+           e - s > 40 ? "..." : "");
   keep = *e;
   *e = '\0';
   errno = 0;
   *x = strtod(s, &end);
-  if (end != e) {
-    table_err(err, errsz,
-              "%s:%d:%d: column %s: expected a number, got "
-              "'%.*s'%s",
-              file, line, col, name, len, s, more ? "..." : "");
-    fail = 1;
-  } else if (!isfinite(*x) || (errno == ERANGE && fabs(*x) > 1.0)) {
-    table_err(err, errsz,
-              "%s:%d:%d: column %s: '%.*s'%s is not a finite "
-              "number%s",
-              file, line, col, name, len, s, more ? "..." : "",
-              errno == ERANGE ? " (beyond the largest double, 1.8e308)" : "");
-    fail = 1;
-  } else if (*x == 0.0 && errno == ERANGE) {
-    table_err(err, errsz,
-              "%s:%d:%d: column %s: '%.*s'%s underflows to 0 "
-              "(nonzero but below 4.9e-324 in magnitude, the smallest "
-              "double): write 0 or a normal number",
-              file, line, col, name, len, s, more ? "..." : "");
-    fail = 1;
-  } else if (fpclassify(*x) == FP_SUBNORMAL) {
-    table_err(err, errsz, "%s:%d:%d: column %s: '%.*s'%s is " TABLE_SUBNORMAL,
-              file, line, col, name, len, s, more ? "..." : "");
-    fail = 1;
-  }
+  if (end != e)
+    snprintf(why, sizeof why, "expected a number, got %s", q);
+  else if (!isfinite(*x) || (errno == ERANGE && fabs(*x) > 1.0))
+    snprintf(why, sizeof why, "%s is not a finite number%s", q,
+             errno == ERANGE ? " (beyond the largest double, 1.8e308)" : "");
+  else if (*x == 0.0 && errno == ERANGE)
+    snprintf(why, sizeof why,
+             "%s underflows to 0 (nonzero but below 4.9e-324 in magnitude, "
+             "the smallest double): write 0 or a normal number",
+             q);
+  else if (fpclassify(*x) == FP_SUBNORMAL)
+    snprintf(why, sizeof why, "%s is " TABLE_SUBNORMAL, q);
   *e = keep;
-  return fail ? -1 : 0;
+  if (why[0] == '\0') return 0;
+  table_err(err, errsz, "%s:%d:%d: column %s: %s", file, line, col, name, why);
+  return -1;
 }
 
 /* the header line [s, e): column c of the file is col[c] (0..TABLE_NCOL-1) */
@@ -229,10 +218,9 @@ static int csv_header(const char *s, const char *e, int what, int *col,
   return table_columns_check(have, what, 0, file, err, errsz);
 }
 
-/* a table is a regular file of at most TABLE_MAX_BYTES: checked by
-   stat() before anything opens it (opening a FIFO would wait for a
-   writer, a device would never end) */
-/* what a table file must be, after its name */
+/* a table is a regular file of at most TABLE_MAX_BYTES: checked before
+   anything opens it (opening a FIFO would wait for a writer, a device
+   would never end); what it must be, said after its name */
 static const char kind_rule[] = "a table is a regular file of at most 1 GiB";
 
 int table_regular_file(const char *path, char *err, size_t errsz) {
