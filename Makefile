@@ -384,8 +384,9 @@ FUZZ_TIME ?= 20
 FUZZ_SCENE_SRC = runner/scene/scene.c runner/scene/scene_load.c runner/scene/scene_parse.c \
   runner/scene/scene_sweep.c runner/scene/scene_case.c runner/scene/scene_emit.c \
   runner/scene/scene_guard.c runner/scene/table.c runner/scene/table_read.c \
-  runner/scene/table_h5.c runner/core/hint.c
-$(B)/fuzz_scene: tests/fuzz/fuzz_scene.c $(FUZZ_SCENE_SRC) $(wildcard runner/scene/*.h) runner/core/hint.h $(LIB_SRC) | $(DEPS)
+  runner/scene/table_h5.c runner/core/hint.c runner/core/h5err.c \
+  runner/core/safeio.c
+$(B)/fuzz_scene: tests/fuzz/fuzz_scene.c $(FUZZ_SCENE_SRC) $(wildcard runner/scene/*.h) runner/core/hint.h runner/core/h5err.h runner/core/safeio.h $(LIB_SRC) | $(DEPS)
 	@mkdir -p $(@D)
 	$(FUZZ_CC) $(CPPFLAGS_ALL) -Irunner $(GSL_CFLAGS) $(HDF5_CFLAGS) $(WARN) $(FUZZ_FLAGS) $(KERNEL_FLAGS) \
 	  tests/fuzz/fuzz_scene.c $(FUZZ_SCENE_SRC) $(LIB_SRC) -o $@ $(YAML_LIBS) $(HDF5_LIBS) $(GSL_LIBS) -lm

@@ -73,6 +73,18 @@ static int emit_close(yaml_emitter_t *em, int seq) {
   return yaml_emitter_emit(em, &ev);
 }
 
+/* x[0..n) as a flow list of numbers */
+static int emit_reals(yaml_emitter_t *em, const double *x, size_t n) {
+  char buf[64];
+  size_t i;
+  int ok = emit_open(em, 1, 1);
+  for (i = 0; i < n && ok; i++) {
+    scene_format_real(buf, sizeof buf, x[i]);
+    ok = emit_scalar(em, buf);
+  }
+  return ok && emit_close(em, 1);
+}
+
 /* the value of key k of v, as YAML events */
 static int emit_value(yaml_emitter_t *em, int k, const scene_values *v) {
   char buf[64];
@@ -84,13 +96,7 @@ static int emit_value(yaml_emitter_t *em, int k, const scene_values *v) {
   case KEY_REAL:
     scene_format_real(buf, sizeof buf, *scene_real_at(w, k));
     return emit_scalar(em, buf);
-  case KEY_REAL3:
-    ok = emit_open(em, 1, 1);
-    for (i = 0; i < 3 && ok; i++) {
-      scene_format_real(buf, sizeof buf, scene_real_at(w, k)[i]);
-      ok = emit_scalar(em, buf);
-    }
-    return ok && emit_close(em, 1);
+  case KEY_REAL3: return emit_reals(em, scene_real_at(w, k), 3);
   case KEY_INT:
     snprintf(buf, sizeof buf, "%d", *scene_int_at(w, k));
     return emit_scalar(em, buf);
@@ -109,23 +115,11 @@ static int emit_value(yaml_emitter_t *em, int k, const scene_values *v) {
       if (*scene_int_at(w, k) & (1 << i))
         ok = emit_scalar(em, rps3_output_name(i));
     return ok && emit_close(em, 1);
-  case KEY_TIMES:
-    ok = emit_open(em, 1, 1);
-    for (r = 0; r < v->traj.wp.n && ok; r++) {
-      scene_format_real(buf, sizeof buf, v->traj.wp.time[r]);
-      ok = emit_scalar(em, buf);
-    }
-    return ok && emit_close(em, 1);
+  case KEY_TIMES: return emit_reals(em, v->traj.wp.time, v->traj.wp.n);
   case KEY_POSES:
     ok = emit_open(em, 1, 0);
-    for (r = 0; r < v->traj.wp.n && ok; r++) {
-      ok = emit_open(em, 1, 1);
-      for (i = 0; i < 3 && ok; i++) {
-        scene_format_real(buf, sizeof buf, v->traj.wp.pose[r][i]);
-        ok = emit_scalar(em, buf);
-      }
-      ok = ok && emit_close(em, 1);
-    }
+    for (r = 0; r < v->traj.wp.n && ok; r++)
+      ok = emit_reals(em, v->traj.wp.pose[r], 3);
     return ok && emit_close(em, 1);
   case KEY_FILE:
     file = k == K_PATH_FILE ? v->path_file : v->table_file;

@@ -3,94 +3,27 @@
  */
 #include "scene_guard.h"
 #include "scene_int.h"
+#include "core/safeio.h"
 
-#include <errno.h>
-#include <fcntl.h>
 #include <stdio.h>
-#include <stdlib.h>
 #include <string.h>
-#include <sys/stat.h>
-#include <unistd.h>
 
 #include <yaml.h>
 
 /* errors before any line: about the file */
 static const scene_mark nowhere = {0, 0};
 
-static const char *file_kind(mode_t m) {
-  return S_ISDIR(m)    ? "a directory"
-         : S_ISCHR(m)  ? "a character device"
-         : S_ISBLK(m)  ? "a block device"
-         : S_ISFIFO(m) ? "a FIFO"
-         : S_ISSOCK(m) ? "a socket"
-                       : "not a regular file";
-}
-
 int scene_read_guarded(const char *path, char **text, size_t *len,
                        scene_error *err) {
-  struct stat st;
-  size_t got = 0;
-  char *buf;
-  /* O_NONBLOCK: opening a FIFO must not wait for a writer */
-  int fd = open(path, O_RDONLY | O_NONBLOCK);
-  *text = NULL;
-  *len = 0;
-  if (fd < 0) {
-    scene_error_set(err, nowhere, "(file)", "cannot open: %s", strerror(errno));
-    return -1;
-  }
-  if (fstat(fd, &st) != 0) {
-    scene_error_set(err, nowhere, "(file)", "cannot read: %s", strerror(errno));
-    close(fd);
-    return -1;
-  }
-  if (!S_ISREG(st.st_mode)) {
-    scene_error_set(err, nowhere, "(file)",
-                    "is %s: a scene is a regular file (YAML text)",
-                    file_kind(st.st_mode));
-    close(fd);
-    return -1;
-  }
-  if (st.st_size > (off_t)SCENE_MAX_BYTES) {
-    scene_error_set(err, nowhere, "(file)",
-                    "is %lld bytes: a scene is at most %u bytes (1 MiB)",
-                    (long long)st.st_size, (unsigned)SCENE_MAX_BYTES);
-    close(fd);
-    return -1;
-  }
-  /* one byte more than the limit: a file that grew since fstat */
-  buf = malloc((size_t)SCENE_MAX_BYTES + 2);
-  if (!buf) {
-    scene_error_set(err, nowhere, "(file)", "out of memory");
-    close(fd);
-    return -1;
-  }
-  for (;;) {
-    ssize_t n = read(fd, buf + got, (size_t)SCENE_MAX_BYTES + 1 - got);
-    if (n < 0 && errno == EINTR) continue;
-    if (n < 0) {
-      scene_error_set(err, nowhere, "(file)", "cannot read: %s",
-                      strerror(errno));
-      free(buf);
-      close(fd);
-      return -1;
-    }
-    if (n == 0) break;
-    got += (size_t)n;
-    if (got > SCENE_MAX_BYTES) {
-      scene_error_set(err, nowhere, "(file)",
-                      "is more than %u bytes: a scene is at most 1 MiB",
-                      (unsigned)SCENE_MAX_BYTES);
-      free(buf);
-      close(fd);
-      return -1;
-    }
-  }
-  close(fd);
-  buf[got] = '\0';
-  *text = buf;
-  *len = got;
-  return 0;
+  char why[200], size_rule[64];
+  snprintf(size_rule, sizeof size_rule, "a scene is at most %u bytes (1 MiB)",
+           (unsigned)SCENE_MAX_BYTES);
+  if (file_read_all(path, SCENE_MAX_BYTES,
+                    "a scene is a regular file (YAML text)", size_rule, text,
+                    len, why, sizeof why) == 0)
+    return 0;
+  scene_error_set(err, nowhere, "(file)", "%s", why);
+  return -1;
 }
 
 /* the UTF-16 or UTF-32 encoding of a text, from its BOM or its NUL bytes

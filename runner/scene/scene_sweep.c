@@ -21,48 +21,40 @@
 
 /* ---------------------------------------------------------------- sweep */
 
-/* one value of a {from, to, ...} range mapping, or NULL */
-static const yaml_node_t *range_get(parse_ctx *c, const yaml_node_t *map,
-                                    const char *name) {
-  yaml_node_pair_t *p;
-  for (p = map->data.mapping.pairs.start; p < map->data.mapping.pairs.top;
-       p++) {
-    const yaml_node_t *kn = scene_node_get(c, p->key);
-    if (kn->type == YAML_SCALAR_NODE &&
-        strcmp(scene_scalar_text(kn), name) == 0)
-      return scene_node_get(c, p->value);
-  }
-  return NULL;
-}
-
 /* the nodes of a {from, to, num} or {from, to, step} mapping */
 typedef struct {
   const yaml_node_t *from, *to, *num, *step;
 } range_nodes;
 
-/* the nodes of range mapping map of axis ax: no other key, from, to and
-   one of num and step; 0 or -1 */
+/* the nodes of range mapping map of axis ax: no other key (none twice:
+   scene_mapping_key), from, to and one of num and step; 0 or -1 */
 static int range_read(parse_ctx *c, const scene_axis *ax,
                       const yaml_node_t *map, range_nodes *r) {
+  static const char *const names[4] = {"from", "to", "num", "step"};
+  const yaml_node_t **slot[4];
   yaml_node_pair_t *p;
   char sub[160];
+  slot[0] = &r->from;
+  slot[1] = &r->to;
+  slot[2] = &r->num;
+  slot[3] = &r->step;
+  memset(r, 0, sizeof *r);
   for (p = map->data.mapping.pairs.start; p < map->data.mapping.pairs.top;
        p++) {
     const char *name;
+    int k;
     if (scene_mapping_key(c, map, p, ax->path, &name)) return -1;
-    if (strcmp(name, "from") && strcmp(name, "to") && strcmp(name, "num") &&
-        strcmp(name, "step")) {
+    for (k = 0; k < 4 && strcmp(name, names[k]) != 0; k++)
+      ;
+    if (k == 4) {
       snprintf(sub, sizeof sub, "%s.%s", ax->path, name);
       scene_error_set(c->err,
                       scene_mark_of(&scene_node_get(c, p->key)->start_mark),
                       sub, "unknown key; expected from, to and num or step");
       return -1;
     }
+    *slot[k] = scene_node_get(c, p->value);
   }
-  r->from = range_get(c, map, "from");
-  r->to = range_get(c, map, "to");
-  r->num = range_get(c, map, "num");
-  r->step = range_get(c, map, "step");
   if (!r->from || !r->to || (!r->num == !r->step)) {
     scene_error_set(c->err, scene_mark_of(&map->start_mark), ax->path,
                     "a range needs from, to and exactly one of num and step");

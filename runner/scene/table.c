@@ -10,6 +10,7 @@
 
 #include "table.h"
 #include "core/hint.h"
+#include "core/safeio.h"
 #include "table_int.h"
 
 #include <errno.h>
@@ -141,8 +142,8 @@ int table_columns_check(const int have[TABLE_NCOL], int what, int hdf5,
 static int parse_field(char *s, char *e, double *x, const char *file, int line,
                        const char *start, const char *name, char *err,
                        size_t errsz) {
-  char *end, keep;
-  int col, len, more, fail = 0;
+  char *end, keep, q[48], why[300] = "";
+  int col;
   while (s < e && (*s == ' ' || *s == '\t')) s++;
   while (e > s && (e[-1] == ' ' || e[-1] == '\t')) e--;
   col = (int)(s - start) + 1; /* of the number itself, blanks skipped */
@@ -152,39 +153,28 @@ static int parse_field(char *s, char *e, double *x, const char *file, int line,
     return -1;
   }
   /* the field as quoted in a message: its first 40 bytes */
-  len = e - s > 40 ? 40 : (int)(e - s);
-  more = e - s > 40;
+  snprintf(q, sizeof q, "'%.*s'%s", e - s > 40 ? 40 : (int)(e - s), s,
+           e - s > 40 ? "..." : "");
   keep = *e;
   *e = '\0';
   errno = 0;
   *x = strtod(s, &end);
-  if (end != e) {
-    table_err(err, errsz,
-              "%s:%d:%d: column %s: expected a number, got "
-              "'%.*s'%s",
-              file, line, col, name, len, s, more ? "..." : "");
-    fail = 1;
-  } else if (!isfinite(*x) || (errno == ERANGE && fabs(*x) > 1.0)) {
-    table_err(err, errsz,
-              "%s:%d:%d: column %s: '%.*s'%s is not a finite "
-              "number%s",
-              file, line, col, name, len, s, more ? "..." : "",
-              errno == ERANGE ? " (beyond the largest double, 1.8e308)" : "");
-    fail = 1;
-  } else if (*x == 0.0 && errno == ERANGE) {
-    table_err(err, errsz,
-              "%s:%d:%d: column %s: '%.*s'%s underflows to 0 "
-              "(nonzero but below 4.9e-324 in magnitude, the smallest "
-              "double): write 0 or a normal number",
-              file, line, col, name, len, s, more ? "..." : "");
-    fail = 1;
-  } else if (fpclassify(*x) == FP_SUBNORMAL) {
-    table_err(err, errsz, "%s:%d:%d: column %s: '%.*s'%s is " TABLE_SUBNORMAL,
-              file, line, col, name, len, s, more ? "..." : "");
-    fail = 1;
-  }
+  if (end != e)
+    snprintf(why, sizeof why, "expected a number, got %s", q);
+  else if (!isfinite(*x) || (errno == ERANGE && fabs(*x) > 1.0))
+    snprintf(why, sizeof why, "%s is not a finite number%s", q,
+             errno == ERANGE ? " (beyond the largest double, 1.8e308)" : "");
+  else if (*x == 0.0 && errno == ERANGE)
+    snprintf(why, sizeof why,
+             "%s underflows to 0 (nonzero but below 4.9e-324 in magnitude, "
+             "the smallest double): write 0 or a normal number",
+             q);
+  else if (fpclassify(*x) == FP_SUBNORMAL)
+    snprintf(why, sizeof why, "%s is " TABLE_SUBNORMAL, q);
   *e = keep;
-  return fail ? -1 : 0;
+  if (why[0] == '\0') return 0;
+  table_err(err, errsz, "%s:%d:%d: column %s: %s", file, line, col, name, why);
+  return -1;
 }
 
 /* the header line [s, e): column c of the file is col[c] (0..TABLE_NCOL-1) */
@@ -228,54 +218,36 @@ static int csv_header(const char *s, const char *e, int what, int *col,
   return table_columns_check(have, what, 0, file, err, errsz);
 }
 
-/* a table is a regular file of at most TABLE_MAX_BYTES: checked by
-   stat() before anything opens it (opening a FIFO would wait for a
-   writer, a device would never end) */
+/* a table is a regular file of at most TABLE_MAX_BYTES: checked before
+   anything opens it (opening a FIFO would wait for a writer, a device
+   would never end); what it must be, said after its name */
+static const char kind_rule[] = "a table is a regular file of at most 1 GiB";
+
 int table_regular_file(const char *path, char *err, size_t errsz) {
   struct stat st;
   if (stat(path, &st) != 0) {
     table_err(err, errsz, "%s: cannot open: %s", path, strerror(errno));
     return -1;
   }
-  if (!S_ISREG(st.st_mode) || (double)st.st_size > TABLE_MAX_BYTES) {
-    table_err(err, errsz, "%s: not a regular file of at most 1 GiB", path);
-    return -1;
-  }
-  return 0;
+  if (!S_ISREG(st.st_mode))
+    table_err(err, errsz, "%s: is %s: %s", path, file_kind(st.st_mode),
+              kind_rule);
+  else if ((double)st.st_size > TABLE_MAX_BYTES)
+    table_err(err, errsz, "%s: is %lld bytes: %s", path,
+              (long long)st.st_size, kind_rule);
+  else
+    return 0;
+  return -1;
 }
 
 /* the whole file into a NUL-terminated buffer (a regular file only) */
 static char *slurp(const char *path, size_t *len, char *err, size_t errsz) {
-  FILE *f;
-  struct stat st;
-  char *buf;
-  if (table_regular_file(path, err, errsz)) return NULL;
-  f = fopen(path, "rb");
-  if (!f) {
-    table_err(err, errsz, "%s: cannot open: %s", path, strerror(errno));
-    return NULL;
-  }
-  if (fstat(fileno(f), &st) != 0 || !S_ISREG(st.st_mode) ||
-      (double)st.st_size > TABLE_MAX_BYTES) {
-    table_err(err, errsz, "%s: not a regular file of at most 1 GiB", path);
-    fclose(f);
-    return NULL;
-  }
-  buf = malloc((size_t)st.st_size + 1);
-  if (!buf) {
-    table_err(err, errsz, "%s: out of memory", path);
-    fclose(f);
-    return NULL;
-  }
-  *len = fread(buf, 1, (size_t)st.st_size, f);
-  buf[*len] = '\0';
-  if (ferror(f)) {
-    table_err(err, errsz, "%s: read error: %s", path, strerror(errno));
-    free(buf);
-    buf = NULL;
-  }
-  fclose(f);
-  return buf;
+  char *buf, why[200];
+  if (file_read_all(path, (size_t)TABLE_MAX_BYTES, kind_rule, kind_rule, &buf,
+                    len, why, sizeof why) == 0)
+    return buf;
+  table_err(err, errsz, "%s: %s", path, why);
+  return NULL;
 }
 
 /* the end of the line that starts at p: its CR or LF, or the text's NUL;

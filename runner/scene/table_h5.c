@@ -26,6 +26,8 @@
 
 #include <hdf5.h>
 
+#include "core/h5err.h"
+
 /* the units each column must be in, in the spellings a units attribute may
    use for them (UDUNITS symbols and names); "" ends a list */
 static const char *const col_units[2][TABLE_NCOL][6] = {
@@ -86,43 +88,16 @@ static void h5_units(hid_t d, char *buf, size_t sz) {
   H5Aclose(a);
 }
 
-/* the cause of the last failed HDF5 call, from the error stack (printing
-   is off while a table is read): "OUTER: INNER" (the API call's failure,
-   the innermost function's), with a missing filter between them when the
-   stack names one (the innermost is then the plugin search), or a plain
-   sentence when HDF5 recorded none; the stack is then cleared */
-typedef struct {
-  char outer[120];
-  char filter[120];
-  char inner[120];
-  unsigned n;
-} h5_walk;
-
-static herr_t h5_walk_cb(unsigned n, const H5E_error2_t *e, void *data) {
-  h5_walk *w = data;
-  const char *d = e->desc != NULL && e->desc[0] != '\0' ? e->desc : NULL;
-  if (d == NULL) d = e->func_name != NULL ? e->func_name : "?";
-  if (n == 0) snprintf(w->outer, sizeof w->outer, "%s", d);
-  if (w->filter[0] == '\0' && strstr(d, "filter") != NULL)
-    snprintf(w->filter, sizeof w->filter, "%s", d);
-  snprintf(w->inner, sizeof w->inner, "%s", d);
-  w->n = n + 1;
-  return 0;
-}
-
-static void h5_why(char *buf, size_t sz) {
-  h5_walk w;
-  memset(&w, 0, sizeof w);
-  H5Ewalk2(H5E_DEFAULT, H5E_WALK_DOWNWARD, h5_walk_cb, &w);
-  H5Eclear2(H5E_DEFAULT);
-  if (w.n == 0)
-    snprintf(buf, sz, "the HDF5 library gave no cause");
-  else if (w.filter[0] != '\0' && strcmp(w.filter, w.inner) != 0)
-    snprintf(buf, sz, "%s: %s (%s)", w.outer, w.filter, w.inner);
-  else if (w.n > 1 && strcmp(w.outer, w.inner) != 0)
-    snprintf(buf, sz, "%s: %s", w.outer, w.inner);
-  else
-    snprintf(buf, sz, "%s", w.outer);
+/* "FILE: dataset /NAME: cannot WHAT: CAUSE" for the HDF5 call that just
+   failed (printing is off while a table is read; h5err.h), the cause a
+   plain sentence when HDF5 recorded none; NAME NULL for the file itself */
+static void h5_fail(char *err, size_t errsz, const char *path,
+                    const char *name, const char *what) {
+  char why[400];
+  h5_cause(why, sizeof why);
+  table_err(err, errsz, "%s: %s%s%scannot %s: %s", path,
+            name ? "dataset /" : "", name ? name : "", name ? ": " : "", what,
+            why[0] ? why : "the HDF5 library gave no cause");
 }
 
 /* a units attribute must name the column's SI unit: a column in degrees
@@ -162,14 +137,12 @@ static const char *class_name(H5T_class_t c) {
 static int h5_link_check(hid_t f, const char *path, const char *name, char *err,
                          size_t errsz) {
   H5L_info_t li;
-  char why[400], *val;
+  char *val;
   const char *file = NULL, *obj = NULL;
   unsigned flags;
   int rc = -1;
   if (H5Lget_info(f, name, &li, H5P_DEFAULT) < 0) {
-    h5_why(why, sizeof why);
-    table_err(err, errsz, "%s: dataset /%s: cannot read its link: %s", path,
-              name, why);
+    h5_fail(err, errsz, path, name, "read its link");
     return -1;
   }
   if (li.type == H5L_TYPE_HARD) return 0;
@@ -187,9 +160,7 @@ static int h5_link_check(hid_t f, const char *path, const char *name, char *err,
     return -1;
   }
   if (H5Lget_val(f, name, val, li.u.val_size, H5P_DEFAULT) < 0) {
-    h5_why(why, sizeof why);
-    table_err(err, errsz, "%s: dataset /%s: cannot read its link: %s", path,
-              name, why);
+    h5_fail(err, errsz, path, name, "read its link");
   } else if (li.type == H5L_TYPE_SOFT) {
     if (H5Oexists_by_name(f, name, H5P_DEFAULT) > 0)
       rc = 0;
@@ -243,12 +214,9 @@ static int h5_source_exists(hid_t f, const char *path, const char *file,
 static int h5_storage_check(hid_t f, hid_t d, const char *path,
                             const char *name, char *err, size_t errsz) {
   hid_t p = H5Dget_create_plist(d);
-  char why[400];
   int rc = -1, next;
   if (p < 0) {
-    h5_why(why, sizeof why);
-    table_err(err, errsz, "%s: dataset /%s: cannot read how it is stored: %s",
-              path, name, why);
+    h5_fail(err, errsz, path, name, "read how it is stored");
     return -1;
   }
   next = H5Pget_external_count(p);
@@ -305,11 +273,8 @@ static int h5_column_type(hid_t d, const char *path, const char *name,
                           size_t *el, char *err, size_t errsz) {
   hid_t ty;
   H5T_class_t cls;
-  char why[400];
   if ((ty = H5Dget_type(d)) < 0 || (cls = H5Tget_class(ty)) == H5T_NO_CLASS) {
-    h5_why(why, sizeof why);
-    table_err(err, errsz, "%s: dataset /%s: cannot read its type: %s", path,
-              name, why);
+    h5_fail(err, errsz, path, name, "read its type");
     if (ty >= 0) H5Tclose(ty);
     return -1;
   }
@@ -329,13 +294,10 @@ static int h5_column_type(hid_t d, const char *path, const char *name,
 static int h5_column_rows(hid_t d, const char *path, const char *name,
                           hsize_t *rows, char *err, size_t errsz) {
   hid_t sp = H5Dget_space(d);
-  char why[400];
   int nd;
   H5S_class_t type;
   if (sp < 0) {
-    h5_why(why, sizeof why);
-    table_err(err, errsz, "%s: dataset /%s: cannot read its shape: %s", path,
-              name, why);
+    h5_fail(err, errsz, path, name, "read its shape");
     return -1;
   }
   nd = H5Sget_simple_extent_ndims(sp);
@@ -373,14 +335,11 @@ static int h5_open_column(hid_t f, const char *path, const char *name, int what,
                           char *err, size_t errsz) {
   hid_t d;
   size_t el;
-  char why[400];
   H5I_type_t kind;
   if (h5_link_check(f, path, name, err, errsz)) return -1;
   d = H5Oopen(f, name, H5P_DEFAULT);
   if (d < 0) {
-    h5_why(why, sizeof why);
-    table_err(err, errsz, "%s: dataset /%s: cannot be opened: %s", path, name,
-              why);
+    h5_fail(err, errsz, path, name, "be opened");
     return -1;
   }
   kind = H5Iget_type(d);
@@ -419,7 +378,6 @@ static int h5_read_column(hid_t d, table_data *t, const char *name, int c,
   hid_t ms = -1;
   herr_t x;
   size_t r;
-  char why[400];
   if (t->n == 0) return 0;
   if (c == 0) {
     x = H5Dread(d, H5T_NATIVE_DOUBLE, H5S_ALL, H5S_ALL, H5P_DEFAULT, t->time);
@@ -440,9 +398,7 @@ static int h5_read_column(hid_t d, table_data *t, const char *name, int c,
       x = H5Dread(d, H5T_NATIVE_DOUBLE, ms, H5S_ALL, H5P_DEFAULT, base);
   }
   if (x < 0) {
-    h5_why(why, sizeof why);
-    table_err(err, errsz, "%s: dataset /%s: cannot read it as numbers: %s",
-              t->path, name, why);
+    h5_fail(err, errsz, t->path, name, "read it as numbers");
     if (ms >= 0) H5Sclose(ms);
     return -1;
   }
@@ -471,7 +427,6 @@ int table_h5_read(table_data *t, int what, char *err, size_t errsz) {
   hid_t f, d[TABLE_NCOL];
   hsize_t rows;
   double bytes, sum = 0.0;
-  char why[400];
   int have[TABLE_NCOL] = {0}, c, rc = -1;
   const char *const *names = table_col_names[what];
   for (c = 0; c < TABLE_NCOL; c++) d[c] = -1;
@@ -481,8 +436,7 @@ int table_h5_read(table_data *t, int what, char *err, size_t errsz) {
   H5Eclear2(H5E_DEFAULT);
   f = H5Fopen(t->path, H5F_ACC_RDONLY, H5P_DEFAULT);
   if (f < 0) {
-    h5_why(why, sizeof why);
-    table_err(err, errsz, "%s: cannot open as an HDF5 file: %s", t->path, why);
+    h5_fail(err, errsz, t->path, NULL, "open as an HDF5 file");
     H5Eset_auto2(H5E_DEFAULT, fn, data);
     return -1;
   }
@@ -490,11 +444,8 @@ int table_h5_read(table_data *t, int what, char *err, size_t errsz) {
     htri_t x = H5Lexists(f, names[c], H5P_DEFAULT);
     if (x < 0) {
       /* not absent: the file's root cannot be read (a damaged file) */
-      h5_why(why, sizeof why);
-      table_err(err, errsz,
-                "%s: dataset /%s: cannot look it up in the "
-                "file's root group: %s",
-                t->path, names[c], why);
+      h5_fail(err, errsz, t->path, names[c],
+              "look it up in the file's root group");
       goto done;
     }
     have[c] = x > 0;
