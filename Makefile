@@ -118,7 +118,7 @@ endef
 # anything compiles, checks (and for paper and check, installs) it all.
 CHECK_GOALS = check check-c check-san check-py check-lint check-fuzz valgrind bench \
               mutation scaling
-PAPER_GOALS = paper study venv venv-check
+PAPER_GOALS = paper study venv venv-check design
 ifneq ($(filter $(CHECK_GOALS),$(MAKECMDGOALS)),)
 DEPS_SET = check
 DEPS_PKGS = $(DEB_CHECK)
@@ -145,8 +145,9 @@ $(DEPS):
 # package's build), then the rps3 package from python/ (compiled against
 # include/rps3.h, librps3-pic.a linked in), reinstalled whenever the
 # package, the header or the library changes.  venv-check adds the test
-# and benchmark tools of tests/requirements.txt, for the targets that use
-# them (check-py, check-lint, bench, mutation, ...), so that `make paper`
+# and benchmark tools of tests/requirements.txt and the optimisers of
+# analysis/requirements-design.txt, for the targets that use them
+# (check-py, check-lint, bench, mutation, ...), so that `make paper`
 # installs only the first.
 PY_PKG = python/pyproject.toml python/setup.py $(wildcard python/rps3/*.py)
 venv: $(VENV)/.ok $(VENV)/.rps3
@@ -155,8 +156,9 @@ $(VENV)/.ok: analysis/requirements.txt | $(DEPS)
 	$(PYTHON) -m venv $(VENV)
 	$(VPY) -m pip install -q --disable-pip-version-check -r analysis/requirements.txt
 	@touch $@
-$(VENV)/.check: tests/requirements.txt $(VENV)/.ok
-	$(VPY) -m pip install -q --disable-pip-version-check -r tests/requirements.txt
+$(VENV)/.check: tests/requirements.txt analysis/requirements-design.txt $(VENV)/.ok
+	$(VPY) -m pip install -q --disable-pip-version-check -r tests/requirements.txt \
+	  -r analysis/requirements-design.txt
 	@touch $@
 $(VENV)/.rps3: $(PY_PKG) include/rps3.h $(B)/librps3-pic.a $(VENV)/.ok
 	$(VPY) -m pip install -q --disable-pip-version-check --no-deps \
@@ -252,10 +254,8 @@ $(B)/rps3-study: $(B)/runner/bin/main_study.o $(STUDY_OBJ) $(RUN_OBJ) $(B)/librp
 	$(CC) -o $@ $^ $(HDF5_LIBS) $(YAML_LIBS) $(GSL_LIBS) $(CRYPTO_LIBS) -lz -lpthread -lm
 # rps3-simstudy (runner/bin/main_simstudy.c): closed-loop tracking and what
 # simulation accuracy costs in time; `make simulation` runs it
-$(B)/rps3-simstudy: $(B)/runner/bin/main_simstudy.o $(B)/runner/core/cli.o \
-                   $(B)/runner/core/safeio.o $(B)/runner/core/signals.o \
-                   $(B)/runner/core/tmpout.o $(B)/runner/core/h5err.o $(B)/librps3.a
-	$(CC) -o $@ $^ $(HDF5_LIBS) $(GSL_LIBS) -lm
+$(B)/rps3-simstudy: $(B)/runner/bin/main_simstudy.o $(STUDY_OBJ) $(RUN_OBJ) $(B)/librps3.a
+	$(CC) -o $@ $^ $(HDF5_LIBS) $(YAML_LIBS) $(GSL_LIBS) $(CRYPTO_LIBS) -lz -lpthread -lm
 
 # rps3-run-mpi: the same program linked with runner/mpi/world_mpi.c, for
 # `mpirun -n N build/rps3-run-mpi SCENE.yaml -o OUT.h5` (Debian's OpenMPI)
@@ -271,6 +271,8 @@ $(B)/tests/%: tests/%.c $(B)/librps3.a tests/testutil.h $(FLAGS_STAMP) | $(DEPS)
 	@mkdir -p $(@D)
 	$(CC) $(CPPFLAGS_ALL) -Itests $(GSL_CFLAGS) $(WARN) $(OPT) -g $< -o $@ \
 	  $(B)/librps3.a $(CMOCKA_LIBS) $(GSL_LIBS)
+# test_pool compiles the runner's worker pool in
+$(B)/tests/test_pool $(B)/tests-san/test_pool: runner/exec/pool.c runner/exec/pool.h
 $(B)/tests-san/%: tests/%.c $(B)/librps3-san.a tests/testutil.h $(FLAGS_STAMP) | $(DEPS)
 	@mkdir -p $(@D)
 	$(CC) $(CPPFLAGS_ALL) -Itests -DRPS3_SANITIZE $(GSL_CFLAGS) $(WARN) -O1 -g $(SAN) $< -o $@ \
@@ -391,8 +393,9 @@ FUZZ_TIME ?= 20
 FUZZ_SCENE_SRC = runner/scene/scene.c runner/scene/scene_load.c runner/scene/scene_parse.c \
   runner/scene/scene_sweep.c runner/scene/scene_case.c runner/scene/scene_emit.c \
   runner/scene/scene_guard.c runner/scene/table.c runner/scene/table_read.c \
-  runner/scene/table_h5.c runner/scene/design.c runner/core/hint.c
-$(B)/fuzz_scene: tests/fuzz/fuzz_scene.c $(FUZZ_SCENE_SRC) $(wildcard runner/scene/*.h) runner/core/hint.h $(LIB_SRC) | $(DEPS)
+  runner/scene/table_h5.c runner/scene/design.c runner/core/hint.c runner/core/h5err.c \
+  runner/core/safeio.c
+$(B)/fuzz_scene: tests/fuzz/fuzz_scene.c $(FUZZ_SCENE_SRC) $(wildcard runner/scene/*.h) runner/core/hint.h runner/core/h5err.h runner/core/safeio.h $(LIB_SRC) | $(DEPS)
 	@mkdir -p $(@D)
 	$(FUZZ_CC) $(CPPFLAGS_ALL) -Irunner $(GSL_CFLAGS) $(HDF5_CFLAGS) $(WARN) $(FUZZ_FLAGS) $(KERNEL_FLAGS) \
 	  tests/fuzz/fuzz_scene.c $(FUZZ_SCENE_SRC) $(LIB_SRC) -o $@ $(YAML_LIBS) $(HDF5_LIBS) $(GSL_LIBS) -lm
@@ -446,6 +449,21 @@ closed-loop: $(B)/rps3-run venv
 	$(B)/rps3-run configs/closed_loop.yaml -o out/closed_loop.h5 -q
 	$(VPY) analysis/closed_loop.py out/closed_loop.h5 out/closed_loop.png > out/closed_loop.md
 	@cat out/closed_loop.md
+
+# ------------------------------------------------------------------ design
+# The design optimisation (docs/design-optimisation.md): the performance
+# atlas, the Pareto fronts of NSGA-II over 5 seeds with their
+# hypervolumes, NLopt's constrained optimum against a dense grid, and the
+# chosen design beside Table II's, by analysis/design.py into out/design/
+# (figures and design.md, the numbers of the page).  A few minutes.
+.PHONY: design
+DESIGN_REQ = analysis/requirements-design.txt
+$(VENV)/.design: $(DESIGN_REQ) $(VENV)/.ok
+	$(VPY) -m pip install -q --disable-pip-version-check -r $(DESIGN_REQ)
+	@touch $@
+design: venv $(VENV)/.design
+	@mkdir -p out/design
+	nice $(VPY) analysis/design.py -o out/design
 
 # ------------------------------------------------------------------- paper
 paper: all venv
@@ -534,6 +552,14 @@ trajectories: runner venv
 	for c in $(TRAJ_CONFIGS); do $(B)/rps3-run configs/$$c.yaml -o out/$$c.h5 -q || exit 1; done
 	$(VPY) analysis/trajectories.py out $(TRAJ_CONFIGS:%=out/%.h5)
 	$(VPY) analysis/measured.py figure out/measured.h5 out
+
+# the identification study (docs/identification.md): an optimised
+# excitation, a simulated run, 200 fits with measured and 200 with
+# differentiated states; out/ident_study.txt and out/ident_excitation.png
+.PHONY: ident
+ident: venv-check
+	@mkdir -p out
+	$(VPY) -m rps3.ident study --runs 200 --out out
 
 # ------------------------------------------------------------------- docs
 # the key table of docs/runner.md is `rps3-run --keys`, its table of a

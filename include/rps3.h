@@ -223,55 +223,83 @@ RPS3_API const char *rps3_solver_name(int solver);
 RPS3_API int rps3_solver_index(const char *name);
 
 /*
- * What rps3_inverse computes (rps3_options.forces_only).
+ * What rps3_inverse and rps3_invdyn report (rps3_options.outputs): a set
+ * of bits, each one result.  A bit left out leaves that result's work out
+ * where the route allows it, and its field is NaN after the call (a
+ * result is never left holding another point's value); a bit never
+ * changes what another field means.  Default RPS3_OUT_ALL.
  *
- * RPS3_FORCES_LEAN is F alone for a controller that needs nothing else.
- * On the configurations of the batch kernel (closed-form theta, Lagrange,
- * no effect beyond the paper's four) and with certify off, rps3_inverse
- * computes the point in one pass that forms the forces and the lambda
- * system's condition number and nothing else (no theta, shares, rates,
- * multipliers or force transmission), in about 40 % of the time of
- * RPS3_FORCES_ONLY (docs/performance.md).  For every point it still
- * guarantees:
- *   - the singularity check on the lambda system: its 1-norm condition
- *     number (d->cond, the default's to rounding) against opt.cond_warn
- *     and opt.cond_max; a point at or near either threshold is handed to
- *     the stages, which return RPS3_ESING or set RPS3_WARN_ILLCOND exactly
- *     as RPS3_FORCES_ONLY does;
- *   - an unreachable pose, a non-finite input, an angle beyond 1e5 rad, or
- *     a force, load or cond that is not finite is handed to the stages
- *     too: the status (RPS3_EREACH, RPS3_EINVAL, RPS3_ERANGE, ...) is
- *     RPS3_FORCES_ONLY's;
- *   - an implausible force -- max_i |F_i| above min(opt.trans_warn,
- *     opt.trans_max) times the largest load on one link, |phi_i . f_i| +
- *     |dphi_i . f_i| + |tau_i| / l_i (f_i the inertial and gravity force
- *     on ball joint i, tau_i the link's own torque about its pin) -- is
- *     handed to the stages, which compute the force transmission and warn
- *     (RPS3_WARN_TRANS) or fail (RPS3_ESING) as RPS3_FORCES_ONLY does;
- *   - F equal to the default's to rounding (within 8 eps cond of the
- *     point's force scale; tests/test_batch_kernel.c).  Where the CPU has
- *     fused multiply-adds the pass uses them, so its last bits differ
- *     between CPUs with and without FMA.
- * What it gives up: the force transmission (d->transmission is NaN), so a
- * pose whose transmission is above opt.trans_warn (or opt.trans_max) but
- * whose present loads give forces within the bound above returns RPS3_OK
- * without RPS3_WARN_TRANS; and every other field of d: positions, theta,
- * rates, lambda, shares, mode and the certificate's terms are not written
- * (they hold what they held), d->stage is 0 so that a later stage call
- * returns RPS3_ESTATE instead of reading them, has_lambda and have_theta
- * are 0, warn is 0.  A point handed to the stages leaves d as
- * RPS3_FORCES_ONLY does (d->stage nonzero).  On every other configuration,
- * or with certify on, RPS3_FORCES_LEAN is RPS3_FORCES_ONLY.
- * rps3_inverse_batch runs the same pass (bitwise the loop of rps3_inverse
- * on one machine); it writes F, cond, status, warn and niter, and NaN into
- * every other output array given (the shares zero) for the points
- * computed.
+ *   RPS3_OUT_FORCES        F: the actuating forces (34).
+ *   RPS3_OUT_EFFECTS       F_effect: the share of each selected effect
+ *                          (zero for effects not selected).  Without it
+ *                          the selected effects' loads are summed and
+ *                          solved once (F equal to the shares' sum to
+ *                          rounding, ~1e-15 of the forces' scale).
+ *   RPS3_OUT_THETA         theta by the closed form (39).  The multiroot
+ *                          route solves for theta, so there d->theta is
+ *                          the solve's root whatever the bit (the next
+ *                          point's warm start).  Without it phi and dphi
+ *                          are still the pose's.
+ *   RPS3_OUT_LAMBDA        lambda, has_lambda = 1 (Lagrange).  NaN, and
+ *                          has_lambda 0, without it or under Newton-Euler.
+ *   RPS3_OUT_TRANSMISSION  transmission (the force transmission).
+ *   RPS3_OUT_CERTIFY       the energy-rate certificate: power, dTdt, dPdt,
+ *                          friction_power, energy_residual, energy_scale.
+ *                          It needs the rates and accelerations even for
+ *                          a static selection.
+ *
+ * The checks do not depend on the bits: status and warn are the same for
+ * every subset (tests/test_outputs.c).  The lambda system's condition
+ * number is always computed (d->cond; RPS3_ESING above opt.cond_max,
+ * RPS3_WARN_ILLCOND above opt.cond_warn), and so is the finiteness of
+ * every quantity the point computes (RPS3_ERANGE).  Without
+ * RPS3_OUT_TRANSMISSION the force transmission check (RPS3_ESING above
+ * opt.trans_max, RPS3_WARN_TRANS above opt.trans_warn) is still decided:
+ * either by an upper bound that proves the transmission below both
+ * thresholds,
+ *   T <= (sqrt3 / 3) (1 + 4 / rho) (1 + 2 sqrt3 r |(df/dtheta)^-1|_inf
+ *        (l_1 + l_2 + l_3))
+ * with f_k = |b_i - b_j|^2 - 3 r^2 the constraints (8)-(10) in metres
+ * (the platform twist per unit link rate through their Jacobian, whose
+ * df/dl entries are at most 2 sqrt3 r, and the ball joints at distance r
+ * from the centre), or, where the bound does not prove it, by computing
+ * the transmission as with the bit.
+ *
+ * The leanest pass.  With outputs = RPS3_OUT_FORCES (F alone) on the
+ * batch kernel's configurations (closed-form theta, Lagrange, no effect
+ * beyond the paper's four), rps3_inverse computes a point in one pass that
+ * forms F, the condition number and the bound above and nothing else, in
+ * about 40 % of the time of the pass with the transmission
+ * (docs/performance.md): a controller's path, with every check.  A point
+ * the pass cannot keep (non-finite, unreachable, an angle beyond 1e5 rad,
+ * cond or the bound near or above a threshold) goes through the stages,
+ * whose status and warn it then has.  The pass leaves d->stage 0: the
+ * positions, rates and mode of d are not this point's (a later stage call
+ * returns RPS3_ESTATE instead of reading them), and l, c, dl, ddl are
+ * NaN.  Where the CPU has fused multiply-adds the pass uses them, so its
+ * last bits differ between CPUs with and without FMA (F within 8 eps cond
+ * of the point's force scale of the default's either way;
+ * tests/test_batch_kernel.c).  rps3_inverse_batch runs the same pass
+ * (bitwise the loop of rps3_inverse on one machine).
  */
-enum rps3_forces {
-  RPS3_FORCES_ALL = 0,  /* every output (the default) */
-  RPS3_FORCES_ONLY = 1, /* F alone, every check (the controller's path) */
-  RPS3_FORCES_LEAN = 2  /* F alone, checks as said above */
+enum rps3_output {
+  RPS3_OUT_FORCES = 1 << 0,
+  RPS3_OUT_EFFECTS = 1 << 1,
+  RPS3_OUT_THETA = 1 << 2,
+  RPS3_OUT_LAMBDA = 1 << 3,
+  RPS3_OUT_TRANSMISSION = 1 << 4,
+  RPS3_OUT_CERTIFY = 1 << 5
 };
+#define RPS3_NOUTPUT 6
+#define RPS3_OUT_ALL ((1 << RPS3_NOUTPUT) - 1)
+
+/* Name of output index k (0 <= k < RPS3_NOUTPUT), e.g. "forces", "effects",
+   "theta", "lambda", "transmission", "certify"; index k is the bit 1 << k.
+   NULL for k out of range. */
+RPS3_API const char *rps3_output_name(int k);
+
+/* Index of the output with this name, or -1 if there is none. */
+RPS3_API int rps3_output_index(const char *name);
 
 typedef struct {
   int effects;             /* selected effects, RPS3_EFF_* bits */
@@ -286,27 +314,10 @@ typedef struct {
                               solution when it has one (rps3_inverse's
                               multiroot route: moved along the change of
                               the lengths, rps3_inverse); 0: always cold */
-  int certify;             /* 1: compute the energy-rate residual (needs
-                              rates even for a static scene); default 1 */
-  int forces_only;         /* enum rps3_forces.  RPS3_FORCES_ONLY (1): a
-                              controller's path: rps3_inverse and
-                              rps3_invdyn compute F alone, from the sum of
-                              the selected effects' loads in one solve
-                              (equal to the default's F to rounding,
-                              ~1e-15 of the forces' scale); F_effect is
-                              left zero, and on the closed-form route theta
-                              is not computed (NaN; phi, dphi are).  lambda,
-                              cond, warn and the singularity check are as
-                              by default.  With certify off, the closed-form
-                              route, Lagrange and no effect beyond the
-                              paper's four, rps3_inverse computes the point
-                              in the batch kernel's lean pass (the summed
-                              load solved once; below).
-                              RPS3_FORCES_LEAN (2): F without the force
-                              transmission, in rps3_inverse's leanest pass;
-                              what it checks and what it gives up is said
-                              at enum rps3_forces.  Default 0
-                              (RPS3_FORCES_ALL) */
+  int outputs;             /* what rps3_inverse and rps3_invdyn report:
+                              RPS3_OUT_* bits (enum rps3_output), default
+                              RPS3_OUT_ALL; the checks do not depend on
+                              them */
   double cond_warn;        /* set RPS3_WARN_ILLCOND above this 1-norm
                               condition number of the lambda system (1e6) */
   double cond_max;         /* RPS3_ESING above this (1e13) */
@@ -472,14 +483,15 @@ typedef struct {
                           towards singular configurations, also where cond
                           stays small (a level platform lowered to the
                           base); both methods */
-  double power;        /* actuator power sum F_i dl_i [W] (certify) */
+  double power;        /* actuator power sum F_i dl_i [W]; this and the
+                          certificate's terms below: RPS3_OUT_CERTIFY */
   double dTdt;         /* rate of kinetic energy of the selected effects [W] */
   double dPdt;         /* rate of potential energy of the selected effects [W] */
   double friction_power; /* power of the pin friction torques (<= 0) [W] */
   double energy_residual; /* power + friction_power - dTdt - dPdt [W]; zero
                              up to rounding when the forces are right;
-                             finite whenever the status is RPS3_OK; 0 when
-                             certify is off */
+                             finite whenever the status is RPS3_OK; NaN
+                             without RPS3_OUT_CERTIFY */
   double energy_scale; /* sum of the magnitudes of the terms above [W], to
                           make the residual relative */
 
@@ -625,9 +637,11 @@ RPS3_API void rps3_omega_paper(const rps3_model *m, const rps3_data *d,
 /*
  * Inverse dynamics of the selected effects (m->opt.effects) by
  * m->opt.method, after the position stage and, when a dynamic effect is
- * selected (or opt.certify), the velocity and acceleration stages.
+ * selected (or RPS3_OUT_CERTIFY), the velocity and acceleration stages.
  * Writes F, F_effect, lambda (Lagrange), cond, warn and, with
- * opt.certify, the energy-rate certificate.  Returns RPS3_OK, RPS3_EINVAL,
+ * RPS3_OUT_CERTIFY, the energy-rate certificate; the results of the
+ * outputs left out of opt.outputs are NaN (enum rps3_output).  Returns
+ * RPS3_OK, RPS3_EINVAL,
  * RPS3_ESTATE, RPS3_ESING or RPS3_ERANGE (a force, multiplier or power not
  * finite, e.g. M = 1e300 kg).
  */
@@ -637,7 +651,8 @@ RPS3_API int rps3_invdyn(const rps3_model *m, rps3_data *d);
  * Whole pipeline for one point: the caller sets d->pose, d->dpose,
  * d->ddpose; theta comes from opt.theta (closed form, or multiroot warm
  * started from the previous point of the same data); velocities and
- * accelerations are computed only when a selected effect or certify needs
+ * accelerations are computed only when a selected effect or the
+ * certificate (RPS3_OUT_CERTIFY) needs
  * them.  Returns the first failing stage's status (any of the stages'
  * codes above).
  *
@@ -662,10 +677,9 @@ RPS3_API int rps3_invdyn(const rps3_model *m, rps3_data *d);
  * path).  A point the kernel does not certify
  * (non-finite, unreachable, overflowing, near or past a threshold) goes
  * through the stages, so status and warn are always theirs; d then holds
- * everything the stages leave.  With opt.forces_only = RPS3_FORCES_LEAN
- * (and certify off) the pass computes F alone and leaves the rest of d
- * unwritten, d->stage 0: what it checks and gives up is said at enum
- * rps3_forces.
+ * everything the stages leave.  With opt.outputs = RPS3_OUT_FORCES the
+ * point goes through the leanest pass, which leaves d->stage 0 (enum
+ * rps3_output).
  */
 RPS3_API int rps3_inverse(const rps3_model *m, rps3_data *d);
 
@@ -685,13 +699,17 @@ RPS3_API int rps3_inverse(const rps3_model *m, rps3_data *d);
  *
  * Vectorised kernel.  rps3_inverse_batch with the closed-form theta, the
  * Lagrange formulation and no effect beyond the paper's four (payload and
- * pin friction not selected) -- with or without the certificate, and with
- * forces_only -- computes blocks of points in one straight-line loop the
+ * pin friction not selected) -- whatever opt.outputs -- computes blocks of points in one straight-line loop the
  * compiler vectorises (AVX2 or AVX-512 where the CPU has them), more than
  * ten times the points per second of the per-point loop
  * (docs/performance.md); with out->theta NULL and without the certificate
- * it leaves theta and the certificate out as well; with
- * RPS3_FORCES_LEAN it runs the lean pass (enum rps3_forces).  rps3_inverse
+ * it leaves theta and the certificate out as well; with outputs =
+ * RPS3_OUT_FORCES it runs the leanest pass (enum rps3_output).  The
+ * arrays of outputs left out of opt.outputs are NaN at the points
+ * computed (F_effect: RPS3_OUT_EFFECTS; theta: RPS3_OUT_THETA on the
+ * closed-form route; lambda; transmission; energy_residual and
+ * energy_scale: RPS3_OUT_CERTIFY), and so are l, c, dl and ddl at the
+ * points of the leanest pass.  rps3_inverse
  * runs the same loop body on its one point, so the batch and the loop of
  * rps3_inverse agree bit for bit (tests/test_batch_kernel.c).  Against
  * the per-point stages (the path of every other configuration) the
@@ -726,8 +744,9 @@ typedef struct {
   const double *pose;    /* 3 n: alpha, beta, z_c [rad, rad, m] (inverse,
                             ik) */
   const double *dpose;   /* 3 n: pose rates [rad/s, rad/s, m/s] (inverse,
-                            required when a selected effect or opt.certify
-                            needs rates, else may be NULL) */
+                            required when a selected effect or
+                            RPS3_OUT_CERTIFY needs rates, else may be
+                            NULL) */
   const double *ddpose;  /* 3 n: pose accelerations [rad/s^2, rad/s^2,
                             m/s^2] (inverse, same rule as dpose) */
   const double *l;       /* 3 n: link lengths [m] (fk) */
@@ -736,15 +755,24 @@ typedef struct {
 } rps3_batch_in;
 
 /* Outputs of the batch functions; each writes the arrays it computes that
-   are not NULL; status is required. */
+   are not NULL (zero the structure, then set the arrays wanted); status is
+   required. */
 typedef struct {
   int *status;           /* n: rps3_status of each point */
   int *warn;             /* n: RPS3_WARN_* bits of each point */
   double *pose;          /* 3 n: poses (fk) [rad, rad, m] */
+  double *c;             /* 3 n: platform centre x_c, y_c, z_c (inverse, ik,
+                            fk) [m], eqs. (3)-(4) */
   double *l;             /* 3 n: link lengths (ik, inverse) [m] */
+  double *dl;            /* 3 n: link rates (inverse) [m/s]; NaN when no
+                            selected effect nor the certificate needs rates */
+  double *ddl;           /* 3 n: link accelerations (inverse) [m/s^2]; NaN
+                            as dl */
   double *theta;         /* 3 n: link angles (all) [rad] */
   int *niter;            /* n: iterations of the theta solve (fk; inverse
                             with the multiroot route), 0 in closed form */
+  double *solve_resid;   /* n: max |f_k| after the theta solve (inverse,
+                            fk) [-]; 0 in closed form */
   double *F;             /* 3 n: actuating forces (inverse) [N] */
   double *F_effect;      /* RPS3_NEFFECT 3 n: share of effect k in F_j of
                             point i at [(k * 3 + j) * n + i] (inverse) [N] */
@@ -752,25 +780,15 @@ typedef struct {
                             not computed (Newton-Euler: has_lambda 0) */
   double *cond;          /* n: condition number of the lambda system
                             (inverse) [-] */
-  double *energy_residual; /* n: energy-rate residual (inverse) [W]; 0 when
-                              opt.certify is off */
+  double *transmission;  /* n: force transmission (inverse) [-], as
+                            d->transmission */
+  double *energy_residual; /* n: energy-rate residual (inverse) [W]; NaN
+                              without RPS3_OUT_CERTIFY */
+  double *energy_scale;  /* n: scale of the energy-rate residual (inverse)
+                            [W]; NaN without RPS3_OUT_CERTIFY */
   size_t nfail;          /* written: number of points whose status is not
                             RPS3_OK */
   size_t first_fail;     /* written: index of the first of them (n if none) */
-  /* (a caller that zeroes the struct, as every caller should, leaves the
-     members below NULL: not written; new members go at the end only) */
-  double *transmission;  /* n: force transmission (inverse) [-], as
-                            d->transmission */
-  double *dl;            /* 3 n: link rates (inverse) [m/s]; NaN when no
-                            selected effect nor the certificate needs rates */
-  double *ddl;           /* 3 n: link accelerations (inverse) [m/s^2]; NaN
-                            as dl */
-  double *c;             /* 3 n: platform centre x_c, y_c, z_c (inverse, ik)
-                            [m], eqs. (3)-(4) */
-  double *energy_scale;  /* n: scale of the energy-rate residual (inverse)
-                            [W]; 0 when opt.certify is off */
-  double *solve_resid;   /* n: max |f_k| after the theta solve (inverse,
-                            fk) [-]; 0 in closed form */
 } rps3_batch_out;
 
 /*
@@ -1159,10 +1177,8 @@ RPS3_API int rps3_traj_eval(const rps3_model *m, const rps3_traj *tr, double t,
     "1", "opt.max_iter")                                                      \
   X(RPS3_F_WARM_START, RPS3_IN_MODEL, opt.warm_start, 1, 1, 0, 0, 1, "-",     \
     "opt.warm_start")                                                         \
-  X(RPS3_F_CERTIFY, RPS3_IN_MODEL, opt.certify, 1, 1, 0, 0, 1, "-",           \
-    "opt.certify")                                                            \
-  X(RPS3_F_FORCES_ONLY, RPS3_IN_MODEL, opt.forces_only, 1, 1, 0, 0, 2, "-",   \
-    "opt.forces_only")                                                        \
+  X(RPS3_F_OUTPUTS, RPS3_IN_MODEL, opt.outputs, 1, 1, 0, 0, RPS3_OUT_ALL,    \
+    "-", "opt.outputs")                                                       \
   X(RPS3_F_COND_WARN, RPS3_IN_MODEL, opt.cond_warn, 1, 0, 1, 0, HUGE_VAL,     \
     "1", "opt.cond_warn")                                                     \
   X(RPS3_F_COND_MAX, RPS3_IN_MODEL, opt.cond_max, 1, 0, 1, 0, HUGE_VAL, "1",  \
@@ -1396,7 +1412,7 @@ struct rps3_fd_state; /* internal: a forward-dynamics state */
  * controller with rate > 0 whose measurement is exact (no noise, no
  * quantisation: then l, dl below are the measured ones bit for bit); NULL
  * otherwise (noise or quantisation on, a continuous controller).  The
- * state is a lean one: no pose, no positions (s->d holds them after the
+ * state is a lean one: no pose, no positions (rps3_sim_data holds them after the
  * call of rps3_sim_advance).  What the controller may take is its own
  * decision: e.g. theta and its rates when its model has the plant's R and
  * rho, Mq and hq only when its masses and effects are the plant's too.
@@ -1450,17 +1466,9 @@ typedef struct {
   rps3_control_plant_fn fn_plant; /* the law with RPS3_CTRL_USES_PLANT */
 } rps3_controller;
 
-struct rps3_sim_gsl; /* internal: GSL driver */
-
+/* What a simulation reports of its state (rps3_sim_now): the state at
+   s's time after rps3_sim_advance, or where the run stopped. */
 typedef struct {
-  rps3_model plant;        /* the simulated mechanism (a copy) */
-  rps3_sim_options opt;
-  rps3_data *d;            /* plant workspace: after rps3_sim_advance the
-                              positions, rates and accelerations of the
-                              state at t, all of them.  During a call it is
-                              the integrator's scratch: a stage, and the
-                              end of a control period inside the call, form
-                              theta, its rates and ddl alone (d->stage 0) */
   double t;                /* simulated time [s] */
   double y[8];             /* l [m], dl [m/s], W_F, W_f [J] */
   double F_cmd[3];         /* last commanded forces [N] */
@@ -1477,15 +1485,27 @@ typedef struct {
   long nevals;             /* forward dynamics evaluations */
   long nticks;             /* controller calls at the control rate */
   long nsat;               /* ticks with a saturated actuator */
-  /* internal */
-  const rps3_controller *ctrl; /* during rps3_sim_advance */
-  double t0;               /* start time [s] */
-  long last_tick;          /* index of the last tick served, -1 before */
-  unsigned long long rng;  /* noise generator state */
-  double spare;            /* second normal deviate of Box-Muller, or NaN */
-  int started;
-  struct rps3_sim_gsl *gsl;
-} rps3_sim;
+} rps3_sim_report;
+
+/* A simulation: the plant (a copy), its options, its workspace, the
+   integrator and the report, opaque (src/sim.h); read it through
+   rps3_sim_now, rps3_sim_data, rps3_sim_plant and rps3_sim_opts. */
+typedef struct rps3_sim rps3_sim;
+
+/* The report of s (valid until s is freed; rps3_sim_start and
+   rps3_sim_advance update it), NULL for s NULL. */
+RPS3_API const rps3_sim_report *rps3_sim_now(const rps3_sim *s);
+
+/* The plant workspace of s, read-only: after rps3_sim_advance the
+   positions, rates and accelerations of the state at its time, all of
+   them, and after a failure err, which says why.  During a call it is the
+   integrator's scratch.  NULL for s NULL. */
+RPS3_API const rps3_data *rps3_sim_data(const rps3_sim *s);
+
+/* The simulated plant (the copy s made) and the options of s; NULL for s
+   NULL. */
+RPS3_API const rps3_model *rps3_sim_plant(const rps3_sim *s);
+RPS3_API const rps3_sim_options *rps3_sim_opts(const rps3_sim *s);
 
 /*
  * Allocate a simulation of the plant (initialised; its options choose the
@@ -1525,24 +1545,25 @@ RPS3_API int rps3_sim_check_rate(const rps3_sim_options *o, double rate,
  * rates: the closed-form inverse kinematics fixes l, dl and the assembly
  * mode.  Clears the work, the counters, the status, reseeds the noise.
  * Returns RPS3_OK or the status of rps3_ik / rps3_velocity / rps3_fwddyn
- * (with zero forces) at the start, also stored in s->status; RPS3_EINVAL
+ * (with zero forces) at the start, also stored in the report's status (rps3_sim_now); RPS3_EINVAL
  * (nothing changed) for s, pose or dpose NULL or t0 not finite.
  */
 RPS3_API int rps3_sim_start(rps3_sim *s, double t0, const double pose[3],
                             const double dpose[3]);
 
 /*
- * Advance from s->t to t_end under controller c (not NULL), calling it at
- * the ticks t0 + k / rate that fall in [s->t, t_end) (or at every
- * evaluation when rate is 0).  On return s->t = t_end and the fields of s
- * describe that state; or the run stopped: s->status != RPS3_OK,
- * s->failed_at the time, d->err the message, and the state the last good
+ * Advance from s's time t (rps3_sim_now(s)->t) to t_end under controller
+ * c (not NULL), calling it at the ticks t0 + k / rate that fall in
+ * [t, t_end) (or at every evaluation when rate is 0).  On return the
+ * report's t = t_end and the report (rps3_sim_now) and the workspace
+ * (rps3_sim_data) describe that state; or the run stopped: the report's
+ * status != RPS3_OK, failed_at the time, the workspace's err the message, and the state the last good
  * one (RPS3_ESING at the singular surface for every integrator, "singular
  * configuration at t = T s: " and its measure: see the section's
- * comment).  Returns s->status; after a failure it returns that status again
+ * comment).  Returns the report's status; after a failure it returns that status again
  * without integrating.  An invalid call changes nothing and returns
  * RPS3_EINVAL with d->err's message: c or c->fn NULL, t_end not finite or
- * before s->t (t_end = s->t does nothing), or a rate outside
+ * before the report's t (t_end = t does nothing), or a rate outside
  * rps3_sim_check_rate's limits; RPS3_ESTATE before rps3_sim_start.  Allocates nothing.  The state is reported (d's
  * positions, pose and rates; T, P, the energy residual) at the call's end
  * only, or where the run stopped: one call over many control periods
@@ -1597,27 +1618,10 @@ typedef enum {
 RPS3_API const char *rps3_ctrl_name(int kind);
 RPS3_API int rps3_ctrl_index(const char *name);
 
-typedef struct {
-  rps3_ctrl_kind kind;
-  double kp, kd;        /* gains, units above */
-  rps3_model model;     /* the controller's model (a copy, initialised) */
-  rps3_traj traj;       /* desired motion (a copy) */
-  /* last tick, for logging */
-  double t;             /* time of the last call [s] */
-  double l_des[3];      /* desired lengths [m] */
-  double dl_des[3];     /* desired rates [m/s] */
-  double F_ff[3];       /* feedforward forces of the desired motion [N]:
-                           open loop only, which applies them (NaN for the
-                           others, which do not compute them) */
-  rps3_data *des;       /* workspace of the desired motion */
-  rps3_data *meas;      /* workspace at the measured state (PD + gravity,
-                           computed torque); its err says why a call failed */
-  /* internal */
-  double t_meas;        /* time of meas's last solved state [s], NaN: none */
-  struct rps3_fd_state *fd; /* the model's state at the last measured one
-                               (owned: a copy of the structure would share
-                               it; use one rps3_ctrl_alloc per controller) */
-} rps3_ctrl;
+/* A library controller: its kind, gains, model (a copy), trajectory (a
+   copy) and workspaces, opaque (src/control.h); what a caller reads is
+   read through the functions below. */
+typedef struct rps3_ctrl rps3_ctrl;
 
 /*
  * Allocate a controller of this kind with gains kp, kd (finite, >= 0),
@@ -1638,8 +1642,9 @@ RPS3_API void rps3_ctrl_free(rps3_ctrl *c);
  * the model's stages (e.g. RPS3_ENOCONV when measured lengths have no
  * assembly near the last one), RPS3_EINVAL for a NULL pointer, a kind out
  * of range, or a time or measured length or rate not finite (a sensor
- * glitch: no law turns it into a force; meas->err names the input), or
- * RPS3_ERANGE for a force that overflows (meas->err).  Allocates nothing.
+ * glitch: no law turns it into a force; the err of rps3_ctrl_measured
+ * names the input), or RPS3_ERANGE for a force that overflows (the same
+ * err).  Allocates nothing.
  * Bind it with rps3_ctrl_bind, or as
  *   rps3_controller c = {rps3_ctrl_update, ctrl, 1000.0};
  * which solves every measured state itself.
@@ -2005,6 +2010,26 @@ RPS3_API int rps3_design_task_eval(rps3_design_ws *w, const rps3_design *ds,
                                    const rps3_design_opts *o,
                                    const rps3_traj *tr, size_t nsamples,
                                    int link_mass, rps3_design_task *res);
+
+/*
+ * The last tick of controller c, for logging: its time t [s], the desired
+ * lengths l_des [m] and rates dl_des [m/s], and the feedforward forces
+ * F_ff of the desired motion [N] (open loop only, which applies them; NaN
+ * for the others, which do not compute them).  Before the first call, t
+ * and every value are NaN.  Any output may be NULL.  Returns RPS3_OK, or
+ * RPS3_EINVAL for c NULL (the outputs given are then NaN).
+ */
+RPS3_API int rps3_ctrl_last(const rps3_ctrl *c, double *t, double l_des[3],
+                            double dl_des[3], double F_ff[3]);
+
+/*
+ * The workspaces of controller c, read-only: the desired motion's
+ * (rps3_ctrl_desired: l, dl, ddl of the trajectory at the last tick) and
+ * the measured state's (rps3_ctrl_measured: theta, warn and, after a
+ * failed call, err, which says why).  NULL for c NULL.
+ */
+RPS3_API const rps3_data *rps3_ctrl_desired(const rps3_ctrl *c);
+RPS3_API const rps3_data *rps3_ctrl_measured(const rps3_ctrl *c);
 
 #ifdef __cplusplus
 }

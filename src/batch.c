@@ -203,6 +203,41 @@ static void finish_block(const rps3_model *m, rps3_data *d,
   }
 }
 
+/* NaN into component c of a batch output at the points of the block
+   that computed (status RPS3_OK) */
+static void lean_fill(double *a, int c, size_t i0, int nb, size_t n,
+                      const int *status, double v) {
+  int p;
+  if (a == NULL) return;
+  for (p = 0; p < nb; p++)
+    if (status[i0 + (size_t)p] == RPS3_OK) AT(a, c, i0 + (size_t)p, n) = v;
+}
+
+/* NaN into the arrays of the outputs left out of opt.outputs at the
+   points of the block that computed, as rps3_outputs_clear leaves d (and
+   theta, on the kernel's closed-form route); lean: the leanest pass, which
+   writes F and cond alone */
+static void clear_block(const rps3_model *m, rps3_batch_out *out, size_t i0,
+                        int nb, size_t n) {
+  const double nan = (double)NAN;
+  const int o = m->opt.outputs;
+  const int *st = out->status;
+  int c, k;
+  for (c = 0; c < 3; c++) {
+    if (!(o & RPS3_OUT_FORCES)) lean_fill(out->F, c, i0, nb, n, st, nan);
+    if (!(o & RPS3_OUT_THETA)) lean_fill(out->theta, c, i0, nb, n, st, nan);
+    if (!(o & RPS3_OUT_LAMBDA)) lean_fill(out->lambda, c, i0, nb, n, st, nan);
+    for (k = 0; k < RPS3_NEFFECT && !(o & RPS3_OUT_EFFECTS); k++)
+      lean_fill(out->F_effect, 3 * k + c, i0, nb, n, st, nan);
+  }
+  if (!(o & RPS3_OUT_TRANSMISSION))
+    lean_fill(out->transmission, 0, i0, nb, n, st, nan);
+  if (!(o & RPS3_OUT_CERTIFY)) {
+    lean_fill(out->energy_residual, 0, i0, nb, n, st, nan);
+    lean_fill(out->energy_scale, 0, i0, nb, n, st, nan);
+  }
+}
+
 /* the points i0 .. i0 + nb - 1 of rps3_inverse_batch through the kernel,
    which writes into the caller's arrays; then the points it does not
    certify by the scalar path, which overwrites them */
@@ -234,13 +269,14 @@ static void kernel_block(const rps3_model *m, rps3_data *d,
   o.scale = dst(out->energy_scale, 0, i0, n, o.scale);
   /* neither theta nor the certificate when no one reads them; the
      summed load solved once only where rps3_inverse solves it so
-     (forces_only without the certificate), so that every point is
-     bitwise what rps3_inverse gives it */
+     (rps3_kernel_summed), so that every point is bitwise what
+     rps3_inverse gives it */
   rps3_kernel_block(m, in, i0, nb, rates,
-                    m->opt.certify || (out->theta && !m->opt.forces_only)
+                    rps3_kernel_summed(m) ? RPS3_KFORCES
+                    : (m->opt.outputs & RPS3_OUT_CERTIFY) ||
+                            (out->theta && (m->opt.outputs & RPS3_OUT_THETA))
                         ? RPS3_KFULL
-                    : !m->opt.forces_only ? RPS3_KLEAN
-                                          : RPS3_KFORCES,
+                        : RPS3_KLEAN,
                     &o);
   /* z_c is the pose's own; without rates (no effect nor the certificate
      needs them) the rates are not computed, as in rps3_inverse; closed
@@ -255,34 +291,23 @@ static void kernel_block(const rps3_model *m, rps3_data *d,
     }
   if (out->solve_resid)
     memset(out->solve_resid + i0, 0, (size_t)nb * sizeof(double));
-  for (c = 0; c < 3; c++) {
-    /* as rps3_inverse with forces_only: no theta, no shares */
-    for (p = 0; p < nb && out->theta && m->opt.forces_only; p++)
-      o.theta[c][p] = (double)NAN;
-    /* the shares of effects not selected are exactly zero */
+  /* the shares of effects not selected are exactly zero */
+  for (c = 0; c < 3; c++)
     for (k = 0; k < RPS3_NEFFECT && out->F_effect; k++)
-      if (k >= RPS3_KNEFF || !(m->opt.effects & (1 << k)) ||
-          m->opt.forces_only)
+      if (k >= RPS3_KNEFF || !(m->opt.effects & (1 << k)))
         memset(out->F_effect + (size_t)(3 * k + c) * n + i0, 0,
                (size_t)nb * sizeof(double));
-  }
   finish_block(m, d, in, out, i0, nb, kb, first);
+  /* the outputs left out: NaN, as rps3_inverse leaves them (the scalar
+     path's points are NaN already) */
+  clear_block(m, out, i0, nb, n);
 }
 
-/* NaN into component c of a batch output at the points of the block
-   that computed (status RPS3_OK), v for the shares */
-static void lean_fill(double *a, int c, size_t i0, int nb, size_t n,
-                      const int *status, double v) {
-  int p;
-  if (a == NULL) return;
-  for (p = 0; p < nb; p++)
-    if (status[i0 + (size_t)p] == RPS3_OK) AT(a, c, i0 + (size_t)p, n) = v;
-}
 
-/* RPS3_FORCES_LEAN: the points i0 .. i0 + nb - 1 through the lean pass,
-   F and cond into the caller's arrays, the points it does not keep by
-   the scalar path; then, as rps3_inverse leaves nothing else for them,
-   NaN into every other output of the points computed (the shares zero) */
+/* outputs = RPS3_OUT_FORCES: the points i0 .. i0 + nb - 1 through the
+   leanest pass, F and cond into the caller's arrays, the points it does
+   not keep by the scalar path; then, as rps3_inverse leaves nothing else
+   for them, NaN into every other output of the points computed */
 static void lean_block(const rps3_model *m, rps3_data *d,
                        const rps3_batch_in *in, rps3_batch_out *out,
                        size_t i0, int nb, int rates, rps3_kblock *kb,
@@ -290,33 +315,34 @@ static void lean_block(const rps3_model *m, rps3_data *d,
   const double nan = (double)NAN;
   size_t n = in->n;
   double *F[3];
-  int c, k;
+  int c, p;
   for (c = 0; c < 3; c++) F[c] = dst(out->F, c, i0, n, kb->F[c]);
   rps3_kernel_block_bare(m, in, i0, nb, rates, F,
                          dst(out->cond, 0, i0, n, kb->cond), kb->ok);
   finish_block(m, d, in, out, i0, nb, kb, first);
-  for (c = 0; c < 3; c++) {
-    lean_fill(out->l, c, i0, nb, n, out->status, nan);
-    lean_fill(out->theta, c, i0, nb, n, out->status, nan);
-    lean_fill(out->lambda, c, i0, nb, n, out->status, nan);
-    lean_fill(out->dl, c, i0, nb, n, out->status, nan);
-    lean_fill(out->ddl, c, i0, nb, n, out->status, nan);
-    lean_fill(out->c, c, i0, nb, n, out->status, nan);
-    for (k = 0; k < RPS3_NEFFECT; k++)
-      lean_fill(out->F_effect, 3 * k + c, i0, nb, n, out->status, 0.0);
+  clear_block(m, out, i0, nb, n);
+  /* the pass's own points have no kinematics (rps3_inverse leaves l, c,
+     dl, ddl NaN for them); the stages' points keep theirs */
+  for (p = 0; p < nb && (out->l || out->dl || out->ddl || out->c ||
+                         out->solve_resid);
+       p++) {
+    size_t i = i0 + (size_t)p;
+    if (kb->ok[p] == 0.0) continue;
+    for (c = 0; c < 3; c++) {
+      if (out->l) AT(out->l, c, i, n) = nan;
+      if (out->dl) AT(out->dl, c, i, n) = nan;
+      if (out->ddl) AT(out->ddl, c, i, n) = nan;
+      if (out->c) AT(out->c, c, i, n) = nan;
+    }
+    if (out->solve_resid) out->solve_resid[i] = nan;
   }
-  lean_fill(out->transmission, 0, i0, nb, n, out->status, nan);
-  lean_fill(out->energy_residual, 0, i0, nb, n, out->status, nan);
-  lean_fill(out->energy_scale, 0, i0, nb, n, out->status, nan);
-  lean_fill(out->solve_resid, 0, i0, nb, n, out->status, nan);
 }
 
 int rps3_inverse_kernel_point(const rps3_model *m, rps3_data *d) {
-  /* the controller's path leaves out theta and the shares, and solves
-     the summed load once; either way d is left as the stages leave it */
-  const int lean = m->opt.forces_only && !m->opt.certify;
-  const int need_rates =
-      (m->opt.effects & RPS3_EFF_DYNAMIC) != 0 || m->opt.certify;
+  /* without shares, theta and the certificate the pass solves the summed
+     load once; either way d is left as the stages leave it */
+  const int lean = rps3_kernel_summed(m);
+  const int need_rates = rps3_need_rates(m);
   rps3_batch_in in;
   rps3_kout o;
   double theta[3], Fe[RPS3_KNEFF][3], eres, scale, mode, ok;
@@ -335,8 +361,7 @@ int rps3_inverse_kernel_point(const rps3_model *m, rps3_data *d) {
     o.dl[c] = &d->dl[c];
     o.ddl[c] = &d->ddl[c];
     for (k = 0; k < RPS3_KNEFF; k++)
-      o.Fe[k][c] = lean || m->opt.forces_only ? &Fe[k][c]
-                                               : &d->F_effect[k][c];
+      o.Fe[k][c] = lean ? &Fe[k][c] : &d->F_effect[k][c];
   }
   o.c[0] = &d->c[0];
   o.c[1] = &d->c[1];
@@ -352,23 +377,23 @@ int rps3_inverse_kernel_point(const rps3_model *m, rps3_data *d) {
   if (ok == 0.0) return 0;
   d->c[2] = d->pose[2];
   for (c = 0; c < 3; c++) {
-    /* forces_only: theta is not computed on this route (rps3.h) */
-    if (lean || m->opt.forces_only) d->theta[c] = (double)NAN;
+    /* theta by (39) only when asked for (rps3.h, RPS3_OUT_THETA) */
+    if (!(m->opt.outputs & RPS3_OUT_THETA)) d->theta[c] = (double)NAN;
     if (!need_rates) d->dl[c] = d->ddl[c] = (double)NAN;
   }
-  /* no shares with forces_only; the effects beyond the kernel's four are
-     not selected */
-  for (k = lean || m->opt.forces_only ? 0 : RPS3_KNEFF; k < RPS3_NEFFECT;
-       k++)
+  /* the effects beyond the kernel's four are not selected */
+  for (k = RPS3_KNEFF; k < RPS3_NEFFECT; k++)
     for (c = 0; c < 3; c++) d->F_effect[k][c] = 0.0;
   d->has_lambda = 1;
   d->mode = (int)mode;
   d->warn = 0;
-  d->energy_residual = m->opt.certify ? eres : 0.0;
-  d->energy_scale = m->opt.certify ? scale : 0.0;
-  /* everything the stages leave: positions (theta by (39) unless
-     forces_only), rates and accelerations when needed, the dynamics */
-  d->have_theta = !m->opt.forces_only;
+  d->energy_residual = eres;
+  d->energy_scale = scale;
+  /* the outputs left out: NaN (the shares of the summed solve included) */
+  rps3_outputs_clear(m, d);
+  /* everything the stages leave: positions (theta by (39) when asked
+     for), rates and accelerations when needed, the dynamics */
+  d->have_theta = (m->opt.outputs & RPS3_OUT_THETA) != 0;
   d->stage = RPS3_STAGE_POS | RPS3_STAGE_DYN |
              (need_rates ? RPS3_STAGE_VEL | RPS3_STAGE_ACC : 0);
   return 1;
@@ -394,7 +419,7 @@ int rps3_inverse_batch(const rps3_model *m, rps3_data *d,
   if (status != RPS3_OK) return status;
   /* the rates are read only when an effect (or the certificate) needs
      them, as in rps3_inverse */
-  need_rates = (m->opt.effects & RPS3_EFF_DYNAMIC) || m->opt.certify;
+  need_rates = rps3_need_rates(m);
   if (need_rates && in->n > 0 && (in->dpose == NULL || in->ddpose == NULL))
     RPS3_ERROR(d, RPS3_EINVAL,
                "batch in.%s is NULL, and the selected effects or the "
@@ -411,8 +436,7 @@ int rps3_inverse_batch(const rps3_model *m, rps3_data *d,
     memset(&first, 0, sizeof(first));
     out->nfail = 0;
     out->first_fail = n;
-    const int lean =
-        m->opt.forces_only == RPS3_FORCES_LEAN && !m->opt.certify;
+    const int lean = m->opt.outputs == RPS3_OUT_FORCES;
     for (i0 = 0; i0 < n; i0 += RPS3_KBLOCK) {
       int nb = n - i0 < RPS3_KBLOCK ? (int)(n - i0) : RPS3_KBLOCK;
       if (lean)

@@ -12,7 +12,7 @@
  * Lagrange loads and the energy-rate certificate as in invdyn.c.  What
  * differs, all at the level of rounding:
  *   - sin and cos of alpha and beta / 2 by the polynomial ksincos
- *     (batch_trig.h; within 3 ulp of libm), sin and cos of beta from
+ *     (batch_trig.h, the lean pass's too; within 3 ulp of libm), sin and cos of beta from
  *     the half angle; theta by katan2 (within 4 ulp of libm's atan2);
  *   - the lambda system (df/dtheta)^T solved by its adjugate (the matrix
  *     has two non-zeros a row), and its 1-norm condition number from the
@@ -30,6 +30,7 @@
  * is the scalar path's, point by point.
  */
 #include <float.h>
+#include <string.h>
 
 #include "batch_kernel.h"
 #include "batch_kmech.h"
@@ -46,13 +47,13 @@
 #define KMARGIN 1e-6
 
 void rps3_ksincos(double x, double *s, double *c) {
-  ksc r = ksincos(x);
+  ksc r = ksincos(x, 0);
   *s = r.s;
   *c = r.c;
 }
 double rps3_katan2(double y, double x) { return katan2(y, x); }
 void rps3_ksincos_e(double x, int fu, double *s, double *c) {
-  ksc r = fu ? ksincos_e(x, 1) : ksincos_e(x, 0);
+  ksc r = fu ? ksincos(x, 1) : ksincos(x, 0);
   *s = r.s;
   *c = r.c;
 }
@@ -92,58 +93,31 @@ KINLINE void kpoint(const kconst *K, const double *restrict pa,
   {
     double alpha = pa[p], beta = pb[p];
     double da = va[p], db = vb[p], dda = aa[p], ddb = ab[p];
-    double ca, sa, hs, hc, sb, cb, vb2, C, S, det, idet, cond, trans, fin;
+    double det, idet, cond, trans, fin;
     double pw, sc, dT, dP, v1, v2, v3, g1, i1, eres;
     kv3 rx, ry, rz, c, w, vc, dw, ac, cdd, lc, le, ta, tb, r0, r1, r2;
     kv3 wl[RPS3_KNEFF], wt[RPS3_KNEFF], lam[RPS3_KNEFF], Fe[RPS3_KNEFF];
     kv3 F, lamt, g6, t;
     klink L0, L1, L2;
     krow j0, j1, j2;
-    /* an angle the reduction does not serve is no point of the kernel's:
-       it is left to the scalar path */
-    double in_range = ((fabs(alpha) <= RPS3_KANGLE_MAX) &
-                       (fabs(beta) <= RPS3_KANGLE_MAX))
-                          ? 1.0
-                          : 0.0;
-    ksc tr = ksincos(alpha);
-    sa = tr.s;
-    ca = tr.c;
-    tr = ksincos(0.5 * beta);
-    hs = tr.s;
-    hc = tr.c;
-    /* beta from its half angle; 1 - cos(beta) as 2 sin^2(beta/2) */
-    sb = 2.0 * hs * hc;
-    vb2 = 2.0 * hs * hs;
-    cb = 1.0 - vb2;
-    C = ca * ca - sa * sa;
-    S = 2.0 * sa * ca;
-
-    /* orientation Rz(alpha) Ry(beta) Rz(-alpha) (2) by columns, centre
-       (3)-(4) */
-    rx = kv(1.0 - vb2 * ca * ca, -vb2 * ca * sa, -sb * ca);
-    ry = kv(-vb2 * ca * sa, 1.0 - vb2 * sa * sa, -sb * sa);
-    rz = kv(sb * ca, sb * sa, cb);
-    c = kv(-0.5 * K->r * vb2 * C, 0.5 * K->r * vb2 * S, pz[p]);
+    /* the frame, its twist and the twist's rate; an angle the
+       reduction does not serve is no point of the kernel's: it is left
+       to the scalar path */
+    const kpose P = kpose_eval(K->r, alpha, beta, pz[p], da, db, vz[p], dda,
+                               ddb, az[p], 0);
+    const double in_range = P.in_range;
+    rx = P.rx;
+    ry = P.ry;
+    rz = P.rz;
+    c = P.c;
+    w = P.w;
+    vc = P.vc;
+    dw = P.dw;
+    ac = P.ac;
     L0 = link_pos(K, 0, rx, ry, c, full);
     L1 = link_pos(K, 1, rx, ry, c, full);
     L2 = link_pos(K, 2, rx, ry, c, full);
 
-    /* angular and centre velocity and acceleration (velocity.c) */
-    w = kv(-da * sb * ca - db * sa, -da * sb * sa + db * ca, da * vb2);
-    vc = kv(-0.5 * K->r * (sb * db * C - 2.0 * vb2 * S * da),
-            0.5 * K->r * (sb * db * S + 2.0 * vb2 * C * da), vz[p]);
-    {
-      double dvb = sb * db, ddvb = cb * db * db + sb * ddb;
-      double dC = -2.0 * S * da, dS = 2.0 * C * da;
-      double ddC = -4.0 * C * da * da - 2.0 * S * dda;
-      double ddS = -4.0 * S * da * da + 2.0 * C * dda;
-      kv3 adot = kcross(w, rz);
-      dw = kv(dda * -rz.x - da * adot.x - ddb * sa - db * da * ca,
-              dda * -rz.y - da * adot.y + ddb * ca - db * da * sa,
-              dda * vb2 - da * adot.z);
-      ac = kv(-0.5 * K->r * (ddvb * C + 2.0 * dvb * dC + vb2 * ddC),
-              0.5 * K->r * (ddvb * S + 2.0 * dvb * dS + vb2 * ddS), az[p]);
-    }
     L0 = link_rates(L0, w, vc, dw, ac);
     L1 = link_rates(L1, w, vc, dw, ac);
     L2 = link_rates(L2, w, vc, dw, ac);
@@ -225,11 +199,11 @@ KINLINE void kpoint(const kconst *K, const double *restrict pa,
     wt[3] = kscale(K->sel[3] * K->Jlink, kv(L0.ddth, L1.ddth, L2.ddth));
 
     /* (df/dtheta)^T lambda = -wt per effect, then (34); F and lambda
-       are the sums of the effects' (with forces_only too, where the
-       scalar path solves the summed load once: the same to rounding) */
+       are the sums of the effects' (without shares the scalar path
+       solves the summed load once: the same to rounding) */
     if (full < 0) {
       /* no shares asked for: the summed load solved once, as the
-         scalar path's forces_only */
+         scalar path does without RPS3_OUT_EFFECTS */
       lamt = klambda(r0, r1, r2,
                      kadd(kadd(kadd(wt[0], wt[1]), wt[2]), wt[3]));
       F = kforces(kadd(kadd(kadd(wl[0], wl[1]), wl[2]), wl[3]), lamt, lc,
@@ -388,14 +362,9 @@ void rps3_kernel_block(const rps3_model *m, const rps3_batch_in *in,
   }
   for (e = 0; e < RPS3_KNEFF; e++)
     K.sel[e] = (m->opt.effects & (1 << e)) ? 1.0 : 0.0;
-  K.certify = m->opt.certify ? 1.0 : 0.0;
+  K.certify = (m->opt.outputs & RPS3_OUT_CERTIFY) ? 1.0 : 0.0;
   K.rates = rates ? 1.0 : 0.0;
-  K.cond_lim = (m->opt.cond_warn < m->opt.cond_max ? m->opt.cond_warn
-                                                   : m->opt.cond_max) *
-               (1.0 - KMARGIN);
-  K.trans_lim = (m->opt.trans_warn < m->opt.trans_max ? m->opt.trans_warn
-                                                      : m->opt.trans_max) *
-                (1.0 - KMARGIN);
+  rps3_sing_certify_limits(m, KMARGIN, &K.cond_lim, &K.trans_lim);
   if (rates)
     kloop(&K, pose, pose + n, pose + 2 * n, in->dpose + i0,
           in->dpose + n + i0, in->dpose + 2 * n + i0, in->ddpose + i0,
@@ -405,7 +374,7 @@ void rps3_kernel_block(const rps3_model *m, const rps3_batch_in *in,
           zero, nb, o);
 }
 
-/* The lean pass (RPS3_FORCES_LEAN) fuses the multiply-adds of its dot
+/* The leanest pass (outputs = RPS3_OUT_FORCES) fuses the multiply-adds of its dot
    and cross products (kma) where the CPU has FMA: about a fifth fewer
    instructions.  The choice is made once a call, by the CPU, for the
    block loop and the one-point function alike, so that the batch is the
@@ -425,6 +394,12 @@ void rps3_kernel_block(const rps3_model *m, const rps3_batch_in *in,
 /* the rates of a static selection: zero, as rps3_inverse leaves them
    unread */
 static const double kzero3[3] = {0.0, 0.0, 0.0};
+
+/* the results the leanest pass does not compute (F_effect's size) */
+#define KNAN ((double)NAN)
+static const double knan[RPS3_NEFFECT * 3] = {
+    KNAN, KNAN, KNAN, KNAN, KNAN, KNAN, KNAN, KNAN, KNAN,
+    KNAN, KNAN, KNAN, KNAN, KNAN, KNAN, KNAN, KNAN, KNAN};
 
 /* the lean pass over a block: F, cond and ok only */
 KCLONES
@@ -496,12 +471,28 @@ KINLINE int lean_point(const rps3_model *m, rps3_data *d, int fu) {
     r = kbare(&K, d->pose[0], d->pose[1], d->pose[2], dp[0], dp[1], dp[2],
               ddp[0], ddp[1], ddp[2], 0);
   if (r.ok == 0.0) return 0;
-  /* nothing but F and cond is this point's (rps3.h, enum rps3_forces) */
+  /* nothing but F and cond is this point's (rps3.h, enum rps3_output):
+     every other result NaN; the kinematics (positions, rates, mode) are
+     not this point's, which d->stage 0 says */
   d->F[0] = r.F.x;
   d->F[1] = r.F.y;
   d->F[2] = r.F.z;
   d->cond = r.cond;
-  d->transmission = (double)NAN;
+  /* the NaNs once: a data the last call left from this pass (stage 0)
+     and whose results are still NaN needs no second fill.  Every other
+     writer of these results writes each group whole (rps3_invdyn, the
+     kernel's point, the position stages' theta), its first component
+     included, so a NaN there stands for the group */
+  if (!(d->stage == 0 && d->F_effect[0][0] != d->F_effect[0][0] &&
+        d->theta[0] != d->theta[0] && d->lambda[0] != d->lambda[0] &&
+        d->transmission != d->transmission &&
+        d->energy_scale != d->energy_scale)) {
+    memcpy(d->F_effect, knan, sizeof(d->F_effect));
+    memcpy(d->theta, knan, sizeof(d->theta));
+    memcpy(d->lambda, knan, sizeof(d->lambda));
+    d->transmission = d->power = d->dTdt = d->dPdt = d->friction_power =
+        d->energy_residual = d->energy_scale = (double)NAN;
+  }
   d->warn = 0;
   d->stage = 0;
   d->have_theta = 0;
@@ -522,4 +513,12 @@ int rps3_inverse_lean_point(const rps3_model *m, rps3_data *d) {
 
 int rps3_inverse_lean_point_unfused(const rps3_model *m, rps3_data *d) {
   return lean_point(m, d, 0);
+}
+
+double rps3_lean_trans_bound(const rps3_model *m, const double pose[3]) {
+  kbconst K;
+  kbout r;
+  kbconst_set(&K, m, KMARGIN);
+  r = kbare(&K, pose[0], pose[1], pose[2], 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0);
+  return r.tbound;
 }

@@ -69,6 +69,14 @@ static inline int rps3_kernel_covers(const rps3_model *m) {
          (m->opt.effects & ~RPS3_EFF_DEFAULT) == 0;
 }
 
+/* 1 when rps3_inverse and the batch solve the summed load once on the
+   kernel's route (RPS3_KFORCES): no shares, no theta and no certificate
+   asked for (rps3.h, enum rps3_output) */
+static inline int rps3_kernel_summed(const rps3_model *m) {
+  return !(m->opt.outputs &
+           (RPS3_OUT_EFFECTS | RPS3_OUT_THETA | RPS3_OUT_CERTIFY));
+}
+
 /* points i0 .. i0 + nb - 1 (nb <= RPS3_KBLOCK; 1 for RPS3_KDATA) of the
    batch into *o; the rates are read when rates is 1, else taken as zero;
    RPS3_KLEAN computes neither theta nor the certificate (o->theta is then
@@ -82,22 +90,22 @@ void rps3_kernel_block(const rps3_model *m, const rps3_batch_in *in,
    d->dpose, d->ddpose) by the kernel.  Returns 1 when the kernel certified
    it and d holds its results -- everything the stages would leave in d
    -- or 0 when the point is the stages' (nothing of d is then
-   meaningful: the caller computes it by the stages).  With forces_only
-   and without the certificate, the lean pass (no theta, no shares, the
-   summed load solved once) */
+   meaningful: the caller computes it by the stages).  With
+   rps3_kernel_summed, the pass without theta and shares (the summed load
+   solved once) */
 int rps3_inverse_kernel_point(const rps3_model *m, rps3_data *d);
 
-/* RPS3_FORCES_LEAN: the lean pass over points i0 .. i0 + nb - 1 of the
+/* outputs = RPS3_OUT_FORCES: the leanest pass over points i0 .. i0 + nb - 1 of the
    batch: F (into F[c][p]), cond and ok (1: the pass's point, 0: the
    stages'); the rates read when rates is 1, else taken as zero */
 void rps3_kernel_block_bare(const rps3_model *m, const rps3_batch_in *in,
                             size_t i0, int nb, int rates, double *const F[3],
                             double *cond, double *ok);
 
-/* rps3_inverse with RPS3_FORCES_LEAN on the kernel's configurations,
-   certify off: the lean pass on d->pose (d->dpose, d->ddpose when an
-   effect needs them).  Returns 1 when the pass kept the point (d->F,
-   d->cond written, d->stage 0, d->transmission NaN, warn 0), or 0 when
+/* rps3_inverse with outputs = RPS3_OUT_FORCES on the kernel's
+   configurations: the leanest pass on d->pose (d->dpose, d->ddpose when
+   an effect needs them).  Returns 1 when the pass kept the point (d->F,
+   d->cond written, the other results NaN, d->stage 0, warn 0), or 0 when
    the point is the stages' (d untouched) */
 int rps3_inverse_lean_point(const rps3_model *m, rps3_data *d);
 
@@ -108,13 +116,18 @@ int rps3_inverse_lean_point_unfused(const rps3_model *m, rps3_data *d);
 /* rps3_inverse by the stages alone (the kernel's fallback) */
 int rps3_inverse_stages(const rps3_model *m, rps3_data *d);
 
-/* the kernel's sine and cosine, and its atan2 for y > 0, one value at a
-   time (for the tests: the accuracy against libm) */
+/* the vector code's sine and cosine (batch_trig.h's ksincos without
+   fused multiply-adds), and its atan2 for y > 0, one value at a time (for
+   the tests: the accuracy against libm) */
 void rps3_ksincos(double x, double *s, double *c);
 double rps3_katan2(double y, double x);
-/* the lean pass's sine and cosine (Estrin's scheme; fu = 1: fused
+/* the same sine and cosine with fu as the lean pass picks it (1: fused
    multiply-adds), for the same tests */
 void rps3_ksincos_e(double x, int fu, double *s, double *c);
+
+/* the leanest pass's upper bound of the force transmission at a pose (for
+   the tests: against the stages' transmission) */
+double rps3_lean_trans_bound(const rps3_model *m, const double pose[3]);
 
 /* the largest |angle| the kernel's range reduction serves [rad] */
 #define RPS3_KANGLE_MAX 1.0e5

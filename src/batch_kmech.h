@@ -115,10 +115,9 @@ typedef struct {
 KINLINE krow jac_row(klink Lk, klink Lj) {
   krow r;
   kv3 D = ksub(Lk.b, Lj.b);
-  r.lc = 2.0 * kdot(D, Lk.phi);
-  r.le = -2.0 * kdot(D, Lj.phi);
-  r.ta = 2.0 * Lk.l * kdot(D, Lk.dphi);
-  r.tb = -2.0 * Lj.l * kdot(D, Lj.dphi);
+  /* the scalar stages' row (src/cjac.h), over kv3 */
+  RPS3_CJAC_ROW(kdot, D, Lk.phi, Lk.dphi, Lk.l, Lj.phi, Lj.dphi, Lj.l, r.lc,
+                r.le, r.ta, r.tb);
   return r;
 }
 
@@ -228,11 +227,83 @@ KINLINE kv3 kcrossf(kv3 a, kv3 b, int fu) {
             kma(a.x, b.y, -(a.y * b.x), fu));
 }
 
-/* the constants of the lean pass (RPS3_FORCES_LEAN), each effect's
+/*
+ * A pose and its rates -> the platform frame (2) by columns, its centre
+ * (3)-(4), its angular and centre velocity and their rates (the scalar
+ * stages' rps3_pose_frame, rps3_pose_twist and rps3_pose_twist_rate in
+ * src/velocity.c), with the trigonometry they share: the one source of
+ * the kernel (fu = 0) and the lean pass.  r is the platform radius;
+ * in_range is 0 for an angle the sine's reduction does not serve (a point
+ * left to the scalar path).
+ */
+typedef struct {
+  double ca, sa, sb, cb, vb2, C, S, in_range;
+  kv3 rx, ry, rz, c, w, vc, dw, ac;
+} kpose;
+
+KINLINE kpose kpose_eval(double r, double alpha, double beta, double z,
+                         double da, double db, double dz, double dda,
+                         double ddb, double ddz, int fu) {
+  kpose P;
+  double ca, sa, hs, hc, sb, cb, vb2, C, S;
+  ksc tr = ksincos(alpha, fu);
+  P.in_range = ((fabs(alpha) <= RPS3_KANGLE_MAX) &
+                (fabs(beta) <= RPS3_KANGLE_MAX))
+                   ? 1.0
+                   : 0.0;
+  sa = tr.s;
+  ca = tr.c;
+  tr = ksincos(0.5 * beta, fu);
+  hs = tr.s;
+  hc = tr.c;
+  /* beta from its half angle; 1 - cos(beta) as 2 sin^2(beta/2) */
+  sb = 2.0 * hs * hc;
+  vb2 = 2.0 * hs * hs;
+  cb = 1.0 - vb2;
+  C = ca * ca - sa * sa;
+  S = 2.0 * sa * ca;
+
+  /* orientation Rz(alpha) Ry(beta) Rz(-alpha) (2) by columns, centre
+     (3)-(4) */
+  P.rx = kv(1.0 - vb2 * ca * ca, -vb2 * ca * sa, -sb * ca);
+  P.ry = kv(-vb2 * ca * sa, 1.0 - vb2 * sa * sa, -sb * sa);
+  P.rz = kv(sb * ca, sb * sa, cb);
+  P.c = kv(-0.5 * r * vb2 * C, 0.5 * r * vb2 * S, z);
+
+  /* angular and centre velocity and acceleration (velocity.c) */
+  P.w = kv(-da * sb * ca - db * sa, -da * sb * sa + db * ca, da * vb2);
+  P.vc = kv(-0.5 * r * (sb * db * C - 2.0 * vb2 * S * da),
+            0.5 * r * (sb * db * S + 2.0 * vb2 * C * da), dz);
+  {
+    double dvb = sb * db, ddvb = cb * db * db + sb * ddb;
+    double dC = -2.0 * S * da, dS = 2.0 * C * da;
+    double ddC = -4.0 * C * da * da - 2.0 * S * dda;
+    double ddS = -4.0 * S * da * da + 2.0 * C * dda;
+    /* fu = 0: exactly kcross (x + (-y) is x - y) */
+    kv3 adot = kcrossf(P.w, P.rz, fu);
+    P.dw = kv(dda * -P.rz.x - da * adot.x - ddb * sa - db * da * ca,
+              dda * -P.rz.y - da * adot.y + ddb * ca - db * da * sa,
+              dda * vb2 - da * adot.z);
+    P.ac = kv(-0.5 * r * (ddvb * C + 2.0 * dvb * dC + vb2 * ddC),
+              0.5 * r * (ddvb * S + 2.0 * dvb * dS + vb2 * ddS), ddz);
+  }
+  P.ca = ca;
+  P.sa = sa;
+  P.sb = sb;
+  P.cb = cb;
+  P.vb2 = vb2;
+  P.C = C;
+  P.S = S;
+  return P;
+}
+
+/* the constants of the leanest pass (outputs = RPS3_OUT_FORCES), each effect's
    selection folded into its coefficient (0 keeps a NaN: 0 * inf) */
 typedef struct {
   double r, g3, m6, mgd, jl; /* r; M g / 3, M / 6, m g d, Jlink, selected */
   double cond_lim, trans_lim;
+  double tb0, tb1; /* the transmission bound's (sqrt3 / 3) (1 + 4 / rho)
+                      and sqrt3 r (kbare) */
   /* the geometry, read from the model where it is (the block's outputs
      are restrict pointers: the loads are hoisted out of the loop) */
   const double (*pin)[3], (*u)[3], (*body)[3]; /* z components are zero */
@@ -248,12 +319,9 @@ KINLINE void kbconst_set(kbconst *K, const rps3_model *m, double margin) {
   K->m6 = (e & RPS3_EFF_PLATFORM_INERTIA) ? m->M * (1.0 / 6.0) : 0.0;
   K->mgd = (e & RPS3_EFF_LINK_GRAVITY) ? m->m * m->g * m->d : 0.0;
   K->jl = (e & RPS3_EFF_LINK_INERTIA) ? m->Jlink : 0.0;
-  K->cond_lim = (m->opt.cond_warn < m->opt.cond_max ? m->opt.cond_warn
-                                                    : m->opt.cond_max) *
-                (1.0 - margin);
-  K->trans_lim = (m->opt.trans_warn < m->opt.trans_max ? m->opt.trans_warn
-                                                       : m->opt.trans_max) *
-                 (1.0 - margin);
+  rps3_sing_certify_limits(m, margin, &K->cond_lim, &K->trans_lim);
+  K->tb0 = RPS3_SQRT3 / 3.0 * (1.0 + 4.0 / m->rho);
+  K->tb1 = RPS3_SQRT3 * m->r;
 }
 
 /* one link of the lean pass: the link vector v = b - pin = l phi (5)-(7),
@@ -262,7 +330,7 @@ KINLINE void kbconst_set(kbconst *K, const rps3_model *m, double margin) {
    early: fewer values live at once) */
 typedef struct {
   kv3 rho, v, q;
-  double il, il2, ok; /* 1 / l, 1 / l^2, reachable (1/0) */
+  double l, il, il2, ok; /* l, 1 / l, 1 / l^2, reachable (1/0) */
   double wl, wt, s;   /* l wl_i, wt_i of invdyn.c, the load's size [N] */
 } kblink;
 
@@ -279,6 +347,7 @@ KINLINE kblink kblink_pos(const kbconst *K, int i, kv3 rx, kv3 ry, kv3 c,
            c.z + L.rho.z);
   l2 = kdotf(L.v, L.v, fu);
   l = sqrt(l2);
+  L.l = l;
   radial = kma(L.v.x, K->u[i][0], L.v.y * K->u[i][1], fu); /* -l cos th */
   L.q = kv(L.v.z * K->u[i][0], L.v.z * K->u[i][1], -radial);
   L.ok = ((l2 > 0.0) & (L.v.z > 0.0)) ? 1.0 : 0.0;
@@ -320,6 +389,7 @@ KINLINE kblink kblink_load(const kbconst *K, kblink L, kv3 w, kv3 vc,
 typedef struct {
   kv3 F;
   double cond, ok;
+  double tbound; /* an upper bound of the force transmission */
 } kbout;
 
 /*
@@ -339,50 +409,21 @@ KINLINE kbout kbare(const kbconst *K, double alpha, double beta, double z,
                     double da, double db, double dz, double dda, double ddb,
                     double ddz, int fu) {
   kbout o;
-  double ca, sa, hs, hc, sb, cb, vb2, C, S, det, idet, an, in, s;
+  double det, idet, an, in, s;
   double ta0, ta1, ta2, tb0, tb1, tb2, e0, e1, e2, g0, g1, g2, m0, m1, m2;
-  kv3 rx, ry, rz, c, w, vc, dw, ac, D;
+  kv3 rx, ry, c, w, vc, dw, ac, D;
   kv3 a0, a1, a2; /* rows of the adjugate of Jt */
   kblink L0, L1, L2;
-  double in_range = ((fabs(alpha) <= RPS3_KANGLE_MAX) &
-                     (fabs(beta) <= RPS3_KANGLE_MAX))
-                        ? 1.0
-                        : 0.0;
-  ksc tr = ksincos_e(alpha, fu);
-  sa = tr.s;
-  ca = tr.c;
-  tr = ksincos_e(0.5 * beta, fu);
-  hs = tr.s;
-  hc = tr.c;
-  /* beta from its half angle; 1 - cos(beta) as 2 sin^2(beta/2) */
-  sb = 2.0 * hs * hc;
-  vb2 = 2.0 * hs * hs;
-  cb = 1.0 - vb2;
-  C = ca * ca - sa * sa;
-  S = 2.0 * sa * ca;
-
-  /* orientation (2) by columns, centre (3)-(4) */
-  rx = kv(1.0 - vb2 * ca * ca, -vb2 * ca * sa, -sb * ca);
-  ry = kv(-vb2 * ca * sa, 1.0 - vb2 * sa * sa, -sb * sa);
-  rz = kv(sb * ca, sb * sa, cb);
-  c = kv(-0.5 * K->r * vb2 * C, 0.5 * K->r * vb2 * S, z);
-
-  /* angular and centre velocity and acceleration (velocity.c) */
-  w = kv(-da * sb * ca - db * sa, -da * sb * sa + db * ca, da * vb2);
-  vc = kv(-0.5 * K->r * (sb * db * C - 2.0 * vb2 * S * da),
-          0.5 * K->r * (sb * db * S + 2.0 * vb2 * C * da), dz);
-  {
-    double dvb = sb * db, ddvb = cb * db * db + sb * ddb;
-    double dC = -2.0 * S * da, dS = 2.0 * C * da;
-    double ddC = -4.0 * C * da * da - 2.0 * S * dda;
-    double ddS = -4.0 * S * da * da + 2.0 * C * dda;
-    kv3 adot = kcrossf(w, rz, fu);
-    dw = kv(dda * -rz.x - da * adot.x - ddb * sa - db * da * ca,
-            dda * -rz.y - da * adot.y + ddb * ca - db * da * sa,
-            dda * vb2 - da * adot.z);
-    ac = kv(-0.5 * K->r * (ddvb * C + 2.0 * dvb * dC + vb2 * ddC),
-            0.5 * K->r * (ddvb * S + 2.0 * dvb * dS + vb2 * ddS), ddz);
-  }
+  const kpose P = kpose_eval(K->r, alpha, beta, z, da, db, dz, dda, ddb,
+                             ddz, fu);
+  const double in_range = P.in_range;
+  rx = P.rx;
+  ry = P.ry;
+  c = P.c;
+  w = P.w;
+  vc = P.vc;
+  dw = P.dw;
+  ac = P.ac;
 
   /* the links and the halved constraint Jacobian of (8)-(10), row k =
      0, 1, 2 (j = k + 1) in theta, Jt = [ta0 tb0 0; 0 ta1 tb1; tb2 0 ta2],
@@ -435,16 +476,23 @@ KINLINE kbout kbare(const kbconst *K, double alpha, double beta, double z,
   in = s > in ? s : in;
   o.cond = det != 0.0 ? an * in * fabs(idet) : HUGE_VAL;
 
+  /* an upper bound of the force transmission (invdyn.c): row i is the
+     platform twist (vc, omega) at l' = e_i, the balls moving at
+     b_j' = [j == i] phi_j + x_j q_j, x = -Jt^-1 (df/dl) e_i; with |D_k| =
+     sqrt3 r the entries of df/dl are at most sqrt3 r (halved rows), so
+     sum_j |b_j'| <= S = 1 + sqrt3 r |Jt^-1|_inf (l_1 + l_2 + l_3); then
+     |vc| <= S / 3 and, the balls at r from the centre
+     (rps3_omega_from_balls), |omega| <= (2 / (3 r)) 2 S, so that
+     |vc|_1 + R |omega|_1 <= sqrt3 (|vc| + R |omega|) <= tb0 S.
+     |Jt^-1|_inf is the adjugate's largest row sum over |det| */
+  o.tbound = K->tb0 * (1.0 + K->tb1 * in * fabs(idet) * (L0.l + L1.l + L2.l));
   /* the pass's point: finite, reachable, below the thresholds, and the
-     forces within trans_lim times the largest link load */
-  s = L1.s > L0.s ? L1.s : L0.s;
-  s = L2.s > s ? L2.s : s;
-  an = fabs(o.F.x);
-  an = fabs(o.F.y) > an ? fabs(o.F.y) : an;
-  an = fabs(o.F.z) > an ? fabs(o.F.z) : an;
+     transmission provably below them too */
+  /* finite F: finite loads (a load that is not finite makes F so) */
+  an = fabs(o.F.x) + fabs(o.F.y) + fabs(o.F.z);
   o.ok = ((in_range * L0.ok * L1.ok * L2.ok != 0.0) &
-          (an + s + o.cond <= DBL_MAX) & (o.cond <= K->cond_lim) &
-          (an <= K->trans_lim * s))
+          (an + o.cond + o.tbound <= DBL_MAX) & (o.cond <= K->cond_lim) &
+          (o.tbound <= K->trans_lim))
              ? 1.0
              : 0.0;
   return o;

@@ -38,64 +38,29 @@
 
 /*
  * sin x and cos x for |x| <= RPS3_KANGLE_MAX, without a branch or a table:
- * x = k pi/2 + r with |r| <= pi/4 (Cody-Waite reduction), the Taylor
- * series of sin r to r^17 and of cos r to r^16 (truncation below 1e-19 on
- * |r| <= pi/4, so the error is the rounding of the evaluation), and the
- * quadrant k mod 4 by selects.  A NaN gives NaN; beyond the range the
- * result is wrong, and the kernel leaves such points to the scalar path.
+ * the one sine and cosine of the vector code (the batch kernel and the
+ * lean pass; libm everywhere else).  x = k pi/2 + r with |r| <= pi/4
+ * (Cody-Waite reduction), the Taylor series of sin r to r^17 and of cos r
+ * to r^16 (truncation below 1e-19 on |r| <= pi/4, so the error is the
+ * rounding of the evaluation), and the quadrant k mod 4 by selects.  The
+ * series are evaluated by Estrin's scheme: the terms grouped in pairs and
+ * powers of r^4 and r^8, so that the longest chain of dependent operations
+ * is about half as long as Horner's (every quantity of a point depends on
+ * the pose's sines).  With fu = 1 each pair a + b r^2 is one fused
+ * multiply-add (fma: the CPU's instruction where the lean pass uses it).
+ * Within 3 ulp of libm either way (tests/test_batch_kernel.c).  A NaN
+ * gives NaN; beyond the range the result is wrong, and the kernel leaves
+ * such points to the scalar path.
  */
 typedef struct {
   double s, c;
 } ksc;
 
-KINLINE ksc ksincos(double x) {
-  ksc out;
-  double k = (x * TWO_OVER_PI + SHIFT) - SHIFT;
-  double r = ((x - k * P1) - k * P2) - k * P3;
-  double r2 = r * r;
-  double ps = r + r * r2 *
-                      (-1.0 / 6.0 +
-                       r2 * (1.0 / 120.0 +
-                             r2 * (-1.0 / 5040.0 +
-                                   r2 * (1.0 / 362880.0 +
-                                         r2 * (-1.0 / 39916800.0 +
-                                               r2 * (1.0 / 6227020800.0 +
-                                                     r2 * (-1.0 / 1307674368000.0 +
-                                                           r2 * (1.0 / 355687428096000.0))))))));
-  double pc = 1.0 - 0.5 * r2 +
-              r2 * r2 *
-                  (1.0 / 24.0 +
-                   r2 * (-1.0 / 720.0 +
-                         r2 * (1.0 / 40320.0 +
-                               r2 * (-1.0 / 3628800.0 +
-                                     r2 * (1.0 / 479001600.0 +
-                                           r2 * (-1.0 / 87178291200.0 +
-                                                 r2 * (1.0 / 20922789888000.0)))))));
-  /* the quadrant k mod 4 as q = k - 4 round(k / 4) in {-2, ..., 2}, in
-     floating point: no conversion to an integer (undefined for a NaN) */
-  double q = k - 4.0 * ((0.25 * k + SHIFT) - SHIFT);
-  double sn = ((q == 1.0) | (q == -1.0)) ? pc : ps;
-  double cs = ((q == 1.0) | (q == -1.0)) ? ps : pc;
-  out.s = ((q >= 2.0) | (q <= -1.0)) ? -sn : sn; /* k mod 4 = 2, 3 */
-  out.c = ((q >= 1.0) | (q <= -2.0)) ? -cs : cs; /* k mod 4 = 1, 2 */
-  return out;
-}
-
-/*
- * The same sine and cosine with the series evaluated by Estrin's scheme
- * instead of Horner's: the same terms, grouped in pairs and powers of r^4
- * and r^8, so that the longest chain of dependent operations is about half
- * as long (the lean pass of rps3_inverse waits on it: every quantity of a
- * point depends on the pose's sines).  With fu = 1 each pair a + b r^2 is
- * one fused multiply-add (fma: the CPU's instruction where the lean pass
- * uses it).  Within 3 ulp of libm either way (tests/test_batch_kernel.c);
- * the last bits may differ from ksincos's.
- */
 KINLINE double kmaf(double a, double b, double c, int fu) {
   return fu ? fma(a, b, c) : a * b + c;
 }
 
-KINLINE ksc ksincos_e(double x, int fu) {
+KINLINE ksc ksincos(double x, int fu) {
   ksc out;
   double k = (x * TWO_OVER_PI + SHIFT) - SHIFT;
   double r = ((x - k * P1) - k * P2) - k * P3;
@@ -117,11 +82,13 @@ KINLINE ksc ksincos_e(double x, int fu) {
                     kmaf(r2, -1.0 / 87178291200.0, 1.0 / 479001600.0, fu),
                     fu),
       1.0 - 0.5 * r2, fu);
+  /* the quadrant k mod 4 as q = k - 4 round(k / 4) in {-2, ..., 2}, in
+     floating point: no conversion to an integer (undefined for a NaN) */
   double q = k - 4.0 * ((0.25 * k + SHIFT) - SHIFT);
   double sn = ((q == 1.0) | (q == -1.0)) ? pc : ps;
   double cs = ((q == 1.0) | (q == -1.0)) ? ps : pc;
-  out.s = ((q >= 2.0) | (q <= -1.0)) ? -sn : sn;
-  out.c = ((q >= 1.0) | (q <= -2.0)) ? -cs : cs;
+  out.s = ((q >= 2.0) | (q <= -1.0)) ? -sn : sn; /* k mod 4 = 2, 3 */
+  out.c = ((q >= 1.0) | (q <= -2.0)) ? -cs : cs; /* k mod 4 = 1, 2 */
   return out;
 }
 

@@ -8,7 +8,7 @@
 #include <stdlib.h>
 #include <string.h>
 
-#include "fwddyn.h"
+#include "control.h"
 
 static const char *const CTRL_NAME[RPS3_NCTRL] = {
     "open_loop", "pd", "pd_gravity", "computed_torque"};
@@ -26,7 +26,7 @@ int rps3_ctrl_alloc(rps3_ctrl_kind kind, double kp, double kd,
                     const rps3_model *model, const rps3_traj *traj,
                     rps3_ctrl **out, char *err, size_t errsz) {
   rps3_ctrl *c;
-  int st;
+  int st, k;
   if (out == NULL) return RPS3_EINVAL;
   *out = NULL;
   if (model == NULL || !model->valid || traj == NULL) {
@@ -58,6 +58,8 @@ int rps3_ctrl_alloc(rps3_ctrl_kind kind, double kp, double kd,
   c->traj = *traj;
   c->t = (double)NAN;
   c->t_meas = (double)NAN;
+  for (k = 0; k < 3; k++)
+    c->l_des[k] = c->dl_des[k] = c->F_ff[k] = (double)NAN;
   c->fd = (rps3_fd_state *)calloc(1, sizeof(*c->fd));
   if (c->fd == NULL || rps3_data_alloc(&c->model, &c->des) != RPS3_OK ||
       rps3_data_alloc(&c->model, &c->meas) != RPS3_OK) {
@@ -96,7 +98,12 @@ static int desired(rps3_ctrl *c, double t) {
     st = rps3_inverse(&c->model, d);
     if (st != RPS3_OK) return st;
     v3_copy(c->F_ff, d->F);
-    if (!(c->model.opt.effects & RPS3_EFF_DYNAMIC) && !c->model.opt.certify) {
+    if (!(d->stage & RPS3_STAGE_POS)) {
+      /* the leanest pass (outputs = RPS3_OUT_FORCES) forms F alone: the
+         desired link motion by the closed form */
+      st = rps3_link_motion(&c->model, d, 0);
+      if (st != RPS3_OK) return st;
+    } else if (!rps3_need_rates(&c->model)) {
       /* a static model's forces need no rates, and rps3_inverse computes
          none; the controller still tracks the desired link rates */
       st = rps3_ik(&c->model, d);
@@ -302,4 +309,25 @@ int rps3_ctrl_update_plant(void *state, double t, const double l[3],
     return invdyn_at(c, t, l, dl, a, plant, F);
   }
   return force_finite(c, F);
+}
+
+int rps3_ctrl_last(const rps3_ctrl *c, double *t, double l_des[3],
+                   double dl_des[3], double F_ff[3]) {
+  const double nan = (double)NAN;
+  int k;
+  if (t != NULL) *t = c ? c->t : nan;
+  for (k = 0; k < 3; k++) {
+    if (l_des != NULL) l_des[k] = c ? c->l_des[k] : nan;
+    if (dl_des != NULL) dl_des[k] = c ? c->dl_des[k] : nan;
+    if (F_ff != NULL) F_ff[k] = c ? c->F_ff[k] : nan;
+  }
+  return c ? RPS3_OK : RPS3_EINVAL;
+}
+
+const rps3_data *rps3_ctrl_desired(const rps3_ctrl *c) {
+  return c ? c->des : NULL;
+}
+
+const rps3_data *rps3_ctrl_measured(const rps3_ctrl *c) {
+  return c ? c->meas : NULL;
 }

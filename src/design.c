@@ -324,7 +324,7 @@ static int ws_design(rps3_design_ws *w, const rps3_design *ds,
   /* the indices' model: positions and the force transmission only */
   *s = w->model;
   s->opt.effects = RPS3_EFF_PLATFORM_GRAVITY;
-  s->opt.certify = 0;
+  s->opt.outputs = RPS3_OUT_ALL & ~RPS3_OUT_CERTIFY;
   s->opt.cond_max = 1e300;
   s->opt.trans_max = 1e300;
   s->opt.trans_warn = 1e300;
@@ -722,7 +722,7 @@ int rps3_design_task_eval(rps3_design_ws *w, const rps3_design *ds,
   *dm = w->model;
   if (!link_mass_on)
     dm->opt.effects &= ~(RPS3_EFF_LINK_GRAVITY | RPS3_EFF_LINK_INERTIA);
-  dm->opt.certify = 0;
+  dm->opt.outputs = RPS3_OUT_ALL & ~RPS3_OUT_CERTIFY;
   if (rps3_model_init(dm, err, sizeof err) != RPS3_OK)
     RPS3_ERROR(w, RPS3_EINVAL, "task model: %.200s", err);
   if (rps3_traj_check(dm, tr, err, sizeof err) != RPS3_OK)

@@ -1,5 +1,5 @@
 /*
- * error.c - version, status strings, effect and solver names.
+ * error.c - version, status strings, effect, output and solver names.
  */
 #include <string.h>
 
@@ -43,6 +43,18 @@ int rps3_effect_index(const char *name) {
   for (k = 0; k < RPS3_NEFFECT; k++)
     if (strcmp(name, effect_names[k]) == 0) return k;
   return -1;
+}
+
+/* index k is bit 1 << k of enum rps3_output */
+static const char *const output_names[RPS3_NOUTPUT] = {
+    "forces", "effects", "theta", "lambda", "transmission", "certify"};
+
+const char *rps3_output_name(int k) {
+  return (k >= 0 && k < RPS3_NOUTPUT) ? output_names[k] : NULL;
+}
+
+int rps3_output_index(const char *name) {
+  return rps3_name_lookup(output_names, RPS3_NOUTPUT, name);
 }
 
 static const char *const solver_names[RPS3_NSOLVER] = {

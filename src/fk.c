@@ -19,7 +19,7 @@
 /* parameters of (8)-(10) in the paper's normalized form, L = l / R */
 typedef struct {
   double L[3];
-  double k;   /* 3 - 3 rho^2 */
+  double r3;  /* 3 rho^2: the constant of (8)-(10) in units of R^2 */
   /* broyden only: the residual at the current iterate, and whether a
      trial point gave back exactly that residual (see gsl_f) */
   double fcur[3];
@@ -58,22 +58,28 @@ struct rps3_solver_state {
 };
 
 /* (8)-(10) and their analytic Jacobian from the cosines c and sines s of
-   theta; f or J may be NULL: GSL's function-only and Jacobian-only
-   evaluations compute only what they return (each output's arithmetic is
-   the same either way) */
+   theta, in the links' planes (src/cjac.h) in units of R: h_i = 1 - L_i
+   cos theta_i, Z_i = L_i sin theta_i; f or J may be NULL: GSL's
+   function-only and Jacobian-only evaluations compute only what they
+   return (each output's arithmetic is the same either way) */
 static void constraints_trig(const theta_params *p, const double c[3],
                              const double s[3], double f[3], double J[3][3]) {
+  double h[3], Z[3];
   int k;
   for (k = 0; k < 3; k++) {
-    int i = k, j = (k + 1) % 3;
-    double Li = p->L[i], Lj = p->L[j], LL = Li * Lj;
-    if (f != NULL)
-      f[k] = Li * Li + Lj * Lj + p->k + LL * c[i] * c[j] -
-             2.0 * LL * s[i] * s[j] - 3.0 * Li * c[i] - 3.0 * Lj * c[j];
+    h[k] = 1.0 - p->L[k] * c[k];
+    Z[k] = p->L[k] * s[k];
+  }
+  for (k = 0; k < 3; k++) {
+    const int i = k, j = (k + 1) % 3;
+    const rps3_plane_pair q =
+        rps3_plane_pair_eval(h[i], h[j], Z[i], Z[j], p->L[i], p->L[j], c[i],
+                             s[i], c[j], s[j], p->r3);
+    if (f != NULL) f[k] = q.f;
     if (J != NULL) {
       J[k][0] = J[k][1] = J[k][2] = 0.0;
-      J[k][i] = -LL * s[i] * c[j] - 2.0 * LL * c[i] * s[j] + 3.0 * Li * s[i];
-      J[k][j] = -LL * c[i] * s[j] - 2.0 * LL * s[i] * c[j] + 3.0 * Lj * s[j];
+      J[k][i] = q.at;
+      J[k][j] = q.bt;
     }
   }
 }
@@ -388,7 +394,7 @@ int rps3_theta_solve_with(const rps3_model *m, rps3_data *d, rps3_cjac *J) {
     s->p.L[i] = d->l[i] / m->R;
     GV(s->x, i) = d->theta[i];
   }
-  s->p.k = 3.0 - 3.0 * m->rho * m->rho;
+  s->p.r3 = 3.0 * m->rho * m->rho;
   unsafe = step_unsafe(m, &s->p, d->theta);
   if (unsafe != NULL)
     RPS3_ERROR(d, RPS3_ENOCONV, "%s at the starting point theta = (%.6g, "
@@ -567,7 +573,7 @@ void rps3_theta_constraints(const double L[3], double rho, const double th[3],
   theta_params p;
   int i;
   for (i = 0; i < 3; i++) p.L[i] = L[i];
-  p.k = 3.0 - 3.0 * rho * rho;
+  p.r3 = 3.0 * rho * rho;
   constraints(&p, th, f, J);
 }
 
@@ -579,6 +585,6 @@ void rps3_theta_constraints_trig(const double L[3], double rho,
   theta_params p;
   int i;
   for (i = 0; i < 3; i++) p.L[i] = L[i];
-  p.k = 3.0 - 3.0 * rho * rho;
+  p.r3 = 3.0 * rho * rho;
   constraints_trig(&p, c, s, f, J);
 }

@@ -241,21 +241,16 @@ static double mass_cond(const double Mq[3][3]) {
    far below cond_max), and its inverse from that factor when it passes */
 static int mass_decide(const rps3_model *m, rps3_data *d, rps3_fd_state *k) {
   double A[3][3], Ai[3][3], piv;
-  int bad;
+  int bad, st;
   memcpy(A, d->Mq, sizeof(A));
   bad = mass_chol_inverse(M3C(A), Ai, &piv);
   if (bad) {
     d->Mcond = mass_cond(M3C(A));
-    RPS3_ERROR(d, RPS3_ESING,
-               "singular configuration: Mq not positive definite: pivot %d "
-               "of its Cholesky factor %.3g times its diagonal entry "
-               "(condition number %.3g)", bad, piv, d->Mcond);
+    return rps3_sing_mass_indefinite(d, bad, piv, d->Mcond);
   }
   d->Mcond = cond1_of(&A[0][0], &Ai[0][0]);
-  if (!(d->Mcond <= m->opt.cond_max))
-    RPS3_ERROR(d, RPS3_ESING,
-               "singular configuration: condition number of Mq %.3g above "
-               "cond_max %.3g", d->Mcond, m->opt.cond_max);
+  st = rps3_sing_check(m, d, RPS3_SING_MQ, d->Mcond);
+  if (st != RPS3_OK) return st;
   memcpy(k->Minv, Ai, sizeof(Ai));
   return RPS3_OK;
 }
@@ -484,7 +479,7 @@ int rps3_fwddyn_accel(const rps3_model *m, rps3_data *d,
       RPS3_CHECK_FINITE(d, d->hq, 3, "hq");
     }
     RPS3_ERROR(d, RPS3_ESING,
-               "singular configuration: acceleration ddl = Mq^-1 (F - hq) not "
+               RPS3_SING_PREFIX "acceleration ddl = Mq^-1 (F - hq) not "
                "finite");
   }
   v3_copy(d->ddl, x);

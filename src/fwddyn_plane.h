@@ -52,15 +52,17 @@ FD_INLINE void plane_constraints(const rps3_model *m, plane *p,
     Z[i] = p->l[i] * p->s[i];
   }
   for (q = 0; q < 3; q++) {
+    /* pair q of (8)-(10) in the links' planes (src/cjac.h) */
     const int j = (q + 1) % 3;
-    i = q;
-    p->A[q] = 2.0 * h[i] + h[j];
-    p->B[q] = 2.0 * h[j] + h[i];
-    p->E[q] = 2.0 * (Z[i] - Z[j]);
-    f[q] = h[i] * h[i] + h[j] * h[j] + h[i] * h[j] +
-           0.25 * p->E[q] * p->E[q] - r3;
-    p->at[q] = p->l[i] * (p->A[q] * p->s[i] + p->E[q] * p->c[i]);
-    p->bt[q] = p->l[j] * (p->B[q] * p->s[j] - p->E[q] * p->c[j]);
+    const rps3_plane_pair pq =
+        rps3_plane_pair_eval(h[q], h[j], Z[q], Z[j], p->l[q], p->l[j],
+                             p->c[q], p->s[q], p->c[j], p->s[j], r3);
+    p->A[q] = pq.A;
+    p->B[q] = pq.B;
+    p->E[q] = pq.E;
+    f[q] = pq.f;
+    p->at[q] = pq.at;
+    p->bt[q] = pq.bt;
   }
 }
 
@@ -134,25 +136,23 @@ static inline double plane_cond1(const plane *p) {
 static inline int plane_jacobian(const rps3_model *m, rps3_data *d,
                                  plane *p) {
   double det, cond;
-  int i, q;
+  int q;
   for (q = 0; q < 3; q++) {
     const int j = (q + 1) % 3;
-    i = q;
-    p->al[q] = p->E[q] * p->s[i] - p->A[q] * p->c[i];
-    p->bl[q] = -p->B[q] * p->c[j] - p->E[q] * p->s[j];
+    rps3_plane_pair pq;
+    pq.A = p->A[q];
+    pq.B = p->B[q];
+    pq.E = p->E[q];
+    rps3_plane_pair_dl(&pq, p->c[q], p->s[q], p->c[j], p->s[j], &p->al[q],
+                       &p->bl[q]);
   }
   det = plane_det(p);
   d->mode = (det > 0.0) - (det < 0.0);
   if (!(fabs(det) > 0.0) || !(fabs(det) < HUGE_VAL))
-    RPS3_ERROR(d, RPS3_ESING,
-               "singular configuration: det df/dtheta = %.3g", det);
+    return rps3_sing_decide(m, d, RPS3_SING_JT, HUGE_VAL);
   plane_inverse(p, det);
   cond = plane_cond1(p);
-  if (!(cond <= m->opt.cond_max))
-    RPS3_ERROR(d, RPS3_ESING,
-               "singular configuration: condition number of df/dtheta %.3g "
-               "above cond_max %.3g", cond, m->opt.cond_max);
-  return RPS3_OK;
+  return rps3_sing_check(m, d, RPS3_SING_JT, cond);
 }
 
 /* G = -X df/dl (column j of df/dl holds al[j] and bl[j - 1]); the rates
@@ -292,7 +292,7 @@ static inline void platform_motion(const rps3_model *m, const plane *p,
 static inline int invdyn_limits(const rps3_model *m, rps3_data *d,
                                 const plane *p, const rps3_fd_state *k) {
   double nr = 0.0, nx = 0.0, T = 0.0;
-  int q;
+  int q, st;
   for (q = 0; q < 3; q++) {
     const double sj =
         fabs(p->Jc[0][q]) + fabs(p->Jc[1][q]) + fabs(p->Jc[2][q]) +
@@ -303,18 +303,9 @@ static inline int invdyn_limits(const rps3_model *m, rps3_data *d,
   }
   d->cond = nr * nx;
   d->transmission = T;
-  if (!(d->cond <= m->opt.cond_max))
-    RPS3_ERROR(d, RPS3_ESING,
-               "lambda system condition number %.3g exceeds cond_max %.3g",
-               d->cond, m->opt.cond_max);
-  if (d->cond > m->opt.cond_warn) d->warn |= RPS3_WARN_ILLCOND;
-  if (!(T >= 0.0 && T <= m->opt.trans_max))
-    RPS3_ERROR(d, RPS3_ESING,
-               "force transmission %.3g exceeds trans_max %.3g: an actuator "
-               "would carry that many times the load on the platform",
-               T, m->opt.trans_max);
-  if (T > m->opt.trans_warn) d->warn |= RPS3_WARN_TRANS;
-  return RPS3_OK;
+  st = rps3_sing_check(m, d, RPS3_SING_LAMBDA, d->cond);
+  if (st != RPS3_OK) return st;
+  return rps3_sing_check(m, d, RPS3_SING_TRANS, T);
 }
 
 /* fwddyn_body.c: world inertia rot diag(I) rot^T; a rigid body's terms

@@ -55,10 +55,8 @@ static int state_shared(const rps3_model *m, rps3_data *d, rps3_fd_state *k,
   /* m's checks: df/dtheta's condition (plane_jacobian's), the lambda
      system's and the transmission (invdyn_limits), the mode */
   cond = plane_cond1(p);
-  if (!(cond <= m->opt.cond_max))
-    RPS3_ERROR(d, RPS3_ESING,
-               "constraint Jacobian df/dtheta: condition number %.3g exceeds "
-               "cond_max %.3g", cond, m->opt.cond_max);
+  st = rps3_sing_check(m, d, RPS3_SING_JT, cond);
+  if (st != RPS3_OK) return st;
   st = invdyn_limits(m, d, p, src);
   if (st != RPS3_OK) return st;
   st = mode_refused(m, d, k);

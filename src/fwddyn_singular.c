@@ -73,7 +73,7 @@ int rps3_fd_solve_failed_singular(const rps3_model *m, rps3_data *d,
     if (j > SING_SAMPLES) return RPS3_OK;
   }
   RPS3_ERROR(d, RPS3_ESING,
-             "singular configuration: no theta near the last root, twice "
+             RPS3_SING_PREFIX "no theta near the last root, twice "
              "its Newton step crosses det df/dtheta = 0 (from %.3g to %.3g; "
              "condition number of df/dtheta %.3g at the root)", det0, det,
              cond);

@@ -73,7 +73,7 @@ int rps3_ik_with(const rps3_model *m, rps3_data *d, rps3_pose_trig *t,
     if (theta == RPS3_IK_NO_THETA) continue; /* the solve takes over */
     /* (39) with atan2, so that theta > pi/2 is found too; the link
        directions (29) from the same two components, without more trig.
-       The forces need only the directions: forces_only skips atan2 */
+       The forces need only the directions: without RPS3_OUT_THETA, no atan2 */
     d->theta[i] = (theta == RPS3_IK_THETA) ? atan2(vz, -radial) : (double)NAN;
     set_link_dir(d, i, m->radial[i], -radial / d->l[i], vz / d->l[i]);
   }
@@ -83,7 +83,7 @@ int rps3_ik_with(const rps3_model *m, rps3_data *d, rps3_pose_trig *t,
   RPS3_CHECK_FINITE(d, d->b, 9, "b");
   RPS3_CHECK_FINITE(d, d->l, 3, "l");
   if (theta == RPS3_IK_NO_THETA) return RPS3_OK;
-  /* the mode needs only the link directions, which forces_only also has;
+  /* the mode needs only the link directions, which RPS3_IK_DIRS also has;
      the positions are final: the Jacobian for the later stages */
   if (J == NULL) J = &own;
   rps3_cjac_eval(d, J);
@@ -136,16 +136,14 @@ void rps3_constraint_jacobian(const rps3_data *d, double Jl[3][3],
                               double Jt[3][3]) {
   int k;
   for (k = 0; k < 3; k++) {
-    /* f_k = |b_i - b_j|^2 - 3 r^2 for the pairs (1,2), (2,3), (3,1) of
-       (8)-(10); d b_i / d l_i = phi_i, d b_i / d theta_i = l_i dphi_i */
+    /* the pairs (1,2), (2,3), (3,1) of (8)-(10), src/cjac.h */
     int i = k, j = (k + 1) % 3, q;
     double D[3];
     v3_sub(D, d->b[i], d->b[j]);
     for (q = 0; q < 3; q++) Jl[k][q] = Jt[k][q] = 0.0;
-    Jl[k][i] = 2.0 * v3_dot(D, d->phi[i]);
-    Jl[k][j] = -2.0 * v3_dot(D, d->phi[j]);
-    Jt[k][i] = 2.0 * d->l[i] * v3_dot(D, d->dphi[i]);
-    Jt[k][j] = -2.0 * d->l[j] * v3_dot(D, d->dphi[j]);
+    RPS3_CJAC_ROW(v3_dot, D, d->phi[i], d->dphi[i], d->l[i], d->phi[j],
+                  d->dphi[j], d->l[j], Jl[k][i], Jl[k][j], Jt[k][i],
+                  Jt[k][j]);
   }
 }
 

@@ -10,6 +10,8 @@
 #include <string.h>
 
 #include "rps3.h"
+#include "policy.h"
+#include "cjac.h"
 
 #define RPS3_SQRT3 1.7320508075688772935
 #define RPS3_PI 3.14159265358979323846
@@ -154,7 +156,7 @@ enum {
   RPS3_IK_NO_THETA = 0, /* neither theta (39) nor the link directions: the
                            multiroot route computes them from the lengths */
   RPS3_IK_THETA = 1,    /* theta by (39) and the link directions */
-  RPS3_IK_DIRS = 2      /* the link directions only, theta NaN (forces_only) */
+  RPS3_IK_DIRS = 2      /* the link directions only, theta NaN (no RPS3_OUT_THETA) */
 };
 
 /*
@@ -201,6 +203,15 @@ int rps3_theta_solve_with(const rps3_model *m, rps3_data *d, rps3_cjac *J);
    than max_step rad; one use of what was kept) */
 void rps3_root_keep(rps3_data *d, const rps3_cjac *J);
 void rps3_root_predict(rps3_data *d, double max_step);
+/* 1 when rps3_inverse and rps3_invdyn need the rates and accelerations:
+   a dynamic effect is selected, or the certificate asked for */
+static inline int rps3_need_rates(const rps3_model *m) {
+  return (m->opt.effects & RPS3_EFF_DYNAMIC) ||
+         (m->opt.outputs & RPS3_OUT_CERTIFY);
+}
+/* NaN into d's results of the outputs left out of m->opt.outputs (theta
+   aside: the position stage's), has_lambda 0 without lambda (invdyn.c) */
+void rps3_outputs_clear(const rps3_model *m, rps3_data *d);
 /* rps3_invdyn with this point's Jacobian (NULL: built here) */
 int rps3_invdyn_with(const rps3_model *m, rps3_data *d, rps3_cjac *J);
 int rps3_velocity_with(const rps3_model *m, rps3_data *d,

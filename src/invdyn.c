@@ -214,8 +214,9 @@ static int lagrange(const rps3_model *m, rps3_data *d, const double Jl[3][3],
     for (i = 0; i < 3; i++) lam[i][ns] = -w[ns][3 + i];
     sel[ns++] = e;
   }
-  /* forces_only: the sum of the loads in one column, no shares */
-  if (m->opt.forces_only && ns > 0) {
+  /* no shares asked for (RPS3_OUT_EFFECTS): the sum of the loads in one
+     column */
+  if (!(m->opt.outputs & RPS3_OUT_EFFECTS) && ns > 0) {
     for (n = 1; n < ns; n++)
       for (i = 0; i < 6; i++) w[0][i] += w[n][i];
     for (i = 0; i < 3; i++) lam[i][0] = -w[0][3 + i];
@@ -352,7 +353,7 @@ static int newton_euler(const rps3_model *m, rps3_data *d) {
       x[r] = wf[r];
       x[3 + r] = wm[r];
     }
-    if (m->opt.forces_only) {
+    if (!(m->opt.outputs & RPS3_OUT_EFFECTS)) {
       /* the sum of the wrenches, solved once below: no shares */
       for (r = 0; r < 6; r++) xsum[r] += x[r];
       continue;
@@ -363,7 +364,7 @@ static int newton_euler(const rps3_model *m, rps3_data *d) {
       d->F[i] += x[i];
     }
   }
-  if (m->opt.forces_only) {
+  if (!(m->opt.outputs & RPS3_OUT_EFFECTS)) {
     rps3_lu_solve(6, LU, perm, xsum);
     for (i = 0; i < 3; i++) d->F[i] = xsum[i];
   }
@@ -494,12 +495,12 @@ int rps3_invdyn_with(const rps3_model *m, rps3_data *d, rps3_cjac *J) {
   if (m == NULL || d == NULL || !m->valid) return RPS3_EINVAL;
   if (!(d->stage & RPS3_STAGE_POS))
     RPS3_ERROR(d, RPS3_ESTATE, "inverse dynamics needs positions");
-  need_rates = (m->opt.effects & RPS3_EFF_DYNAMIC) || m->opt.certify;
+  need_rates = rps3_need_rates(m);
   if (need_rates && (d->stage & (RPS3_STAGE_VEL | RPS3_STAGE_ACC)) !=
                         (RPS3_STAGE_VEL | RPS3_STAGE_ACC))
     RPS3_ERROR(d, RPS3_ESTATE,
-               "the selected effects (or certify) need velocities and "
-               "accelerations");
+               "the selected effects (or the certificate, RPS3_OUT_CERTIFY) "
+               "need velocities and accelerations");
   d->stage &= ~RPS3_STAGE_DYN;
   memset(d->F, 0, sizeof(d->F));
   memset(d->F_effect, 0, sizeof(d->F_effect));
@@ -515,34 +516,21 @@ int rps3_invdyn_with(const rps3_model *m, rps3_data *d, rps3_cjac *J) {
     rps3_cjac_eval(d, J);
   }
   rps3_cjac_factor(J);
-  if (J->sing) {
-    d->cond = HUGE_VAL;
-    RPS3_ERROR(d, RPS3_ESING,
-               "lambda system singular (zero pivot) at theta = (%.6g, %.6g, "
-               "%.6g)", d->theta[0], d->theta[1], d->theta[2]);
-  }
-  d->cond = J->cond;
-  if (!(d->cond <= m->opt.cond_max))
-    RPS3_ERROR(d, RPS3_ESING,
-               "lambda system condition number %.3g exceeds cond_max %.3g",
-               d->cond, m->opt.cond_max);
-  if (d->cond > m->opt.cond_warn) d->warn |= RPS3_WARN_ILLCOND;
+  d->cond = J->sing ? HUGE_VAL : J->cond;
+  status = rps3_sing_check(m, d, RPS3_SING_LAMBDA, d->cond);
+  if (status != RPS3_OK) return status;
 
   /* force transmission: the condition number measures lost digits, not
      how much force a load takes; both limits are the caller's */
   d->transmission = transmission(m, d, J);
-  if (!(d->transmission >= 0.0 && d->transmission <= m->opt.trans_max))
-    RPS3_ERROR(d, RPS3_ESING,
-               "force transmission %.3g exceeds trans_max %.3g: an actuator "
-               "would carry that many times the load on the platform",
-               d->transmission, m->opt.trans_max);
-  if (d->transmission > m->opt.trans_warn) d->warn |= RPS3_WARN_TRANS;
+  status = rps3_sing_check(m, d, RPS3_SING_TRANS, d->transmission);
+  if (status != RPS3_OK) return status;
 
   status = (m->opt.method == RPS3_LAGRANGE)
                ? lagrange(m, d, M3C(J->Jl), J->LU, J->perm)
                                             : newton_euler(m, d);
   if (status != RPS3_OK) return status;
-  if (m->opt.certify)
+  if (m->opt.outputs & RPS3_OUT_CERTIFY)
     certify(m, d);
   else
     d->power = d->dTdt = d->dPdt = d->friction_power = d->energy_residual =
@@ -558,6 +546,29 @@ int rps3_invdyn_with(const rps3_model *m, rps3_data *d, rps3_cjac *J) {
   RPS3_CHECK_FINITE(d, &d->friction_power, 1, "friction_power");
   RPS3_CHECK_FINITE(d, &d->energy_residual, 1, "energy_residual");
   RPS3_CHECK_FINITE(d, &d->energy_scale, 1, "energy_scale");
+  rps3_outputs_clear(m, d);
   d->stage |= RPS3_STAGE_DYN;
   return RPS3_OK;
+}
+
+/* NaN into the results of the outputs left out (rps3.h, enum
+   rps3_output), after their checks: none holds a value the caller did
+   not ask for, or another point's */
+void rps3_outputs_clear(const rps3_model *m, rps3_data *d) {
+  const int out = m->opt.outputs;
+  const double nan = (double)NAN;
+  int i, k;
+  if (!(out & RPS3_OUT_FORCES))
+    for (i = 0; i < 3; i++) d->F[i] = nan;
+  if (!(out & RPS3_OUT_EFFECTS))
+    for (k = 0; k < RPS3_NEFFECT; k++)
+      for (i = 0; i < 3; i++) d->F_effect[k][i] = nan;
+  if (!(out & RPS3_OUT_LAMBDA) || !d->has_lambda) {
+    for (i = 0; i < 3; i++) d->lambda[i] = nan;
+    d->has_lambda = 0;
+  }
+  if (!(out & RPS3_OUT_TRANSMISSION)) d->transmission = nan;
+  if (!(out & RPS3_OUT_CERTIFY))
+    d->power = d->dTdt = d->dPdt = d->friction_power = d->energy_residual =
+        d->energy_scale = nan;
 }

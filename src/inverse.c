@@ -83,10 +83,9 @@ static int check_own_root(const rps3_model *m, rps3_data *d, rps3_cjac *J,
 
 int rps3_inverse(const rps3_model *m, rps3_data *d) {
   if (m == NULL || d == NULL || !m->valid) return RPS3_EINVAL;
-  /* F alone without the transmission (rps3.h, enum rps3_forces): the lean
-     pass, or the stages for a point it does not keep */
-  if (m->opt.forces_only == RPS3_FORCES_LEAN && !m->opt.certify &&
-      rps3_kernel_covers(m))
+  /* F alone (rps3.h, enum rps3_output): the leanest pass, or the stages
+     for a point it does not keep */
+  if (m->opt.outputs == RPS3_OUT_FORCES && rps3_kernel_covers(m))
     return rps3_inverse_lean_point(m, d) ? RPS3_OK : rps3_inverse_stages(m, d);
   /* on the kernel's configurations (closed form, Lagrange, the paper's
      effects) the point in the kernel's one straight-line pass, which
@@ -109,8 +108,8 @@ int rps3_inverse_stages(const rps3_model *m, rps3_data *d) {
   multiroot = (m->opt.theta == RPS3_THETA_MULTIROOT);
   status = rps3_ik_with(m, d, &trig,
                         multiroot ? RPS3_IK_NO_THETA
-                                  : m->opt.forces_only ? RPS3_IK_DIRS
-                                                       : RPS3_IK_THETA,
+                        : (m->opt.outputs & RPS3_OUT_THETA) ? RPS3_IK_THETA
+                                                            : RPS3_IK_DIRS,
                         &J);
   if (status != RPS3_OK) return status;
   if (multiroot) {
@@ -133,7 +132,7 @@ int rps3_inverse_stages(const rps3_model *m, rps3_data *d) {
   }
 
   /* rates only when an effect (or the certificate) needs them */
-  need_rates = (m->opt.effects & RPS3_EFF_DYNAMIC) || m->opt.certify;
+  need_rates = rps3_need_rates(m);
   if (need_rates) {
     status = rps3_velocity_with(m, d, &trig);
     if (status != RPS3_OK) return status;

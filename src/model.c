@@ -15,8 +15,7 @@ void rps3_options_default(rps3_options *opt) {
   opt->tol = 1e-12;
   opt->max_iter = 50;
   opt->warm_start = 1;
-  opt->certify = 1;
-  opt->forces_only = 0;
+  opt->outputs = RPS3_OUT_ALL;
   opt->cond_warn = 1e6;
   opt->cond_max = 1e13;
   opt->trans_warn = 100.0;

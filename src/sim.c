@@ -91,7 +91,7 @@ static int evaluate(rps3_sim *s, double t, const double y[], int lean,
   int st;
   if (s->ctrl != NULL && s->ctrl->rate == 0.0) {
     /* a continuous law is offered no plant state: it acts before it */
-    st = call_law(s->ctrl, t, y, y + 3, NULL, s->F_cmd);
+    st = call_law(s->ctrl, t, y, y + 3, NULL, s->now.F_cmd);
     if (st != RPS3_OK) {
       if (d->err.code != st)
         snprintf(d->err.msg, sizeof(d->err.msg),
@@ -100,21 +100,21 @@ static int evaluate(rps3_sim *s, double t, const double y[], int lean,
       d->err.code = st;
       return st;
     }
-    rps3_sim_saturate(s, s->F_cmd, s->F);
+    rps3_sim_saturate(s, s->now.F_cmd, s->now.F);
   }
   st = plant_state(s, y, lean, keep);
-  v3_copy(d->F, s->F);
+  v3_copy(d->F, s->now.F);
   if (st == RPS3_OK) st = rps3_fwddyn_accel(&s->plant, d, &s->gsl->fd);
-  s->nevals++;
+  s->now.nevals++;
   if (st != RPS3_OK) return st;
-  if (d->mode != s->mode) {
+  if (d->mode != s->now.mode) {
     /* the mode is the sign of det df/dtheta: it changes only across the
        singular surface */
     d->ddl[0] = d->ddl[1] = d->ddl[2] = (double)NAN;
     d->err.code = RPS3_ESING;
     snprintf(d->err.msg, sizeof(d->err.msg),
-             "singular configuration: det df/dtheta changed sign, assembly "
-             "mode %+d to %+d (theta = %.6g, %.6g, %.6g)", s->mode, d->mode,
+             RPS3_SING_PREFIX "det df/dtheta changed sign, assembly "
+             "mode %+d to %+d (theta = %.6g, %.6g, %.6g)", s->now.mode, d->mode,
              d->theta[0], d->theta[1], d->theta[2]);
     return RPS3_ESING;
   }
@@ -125,7 +125,7 @@ static int evaluate(rps3_sim *s, double t, const double y[], int lean,
    ..." from the forward dynamics' state) says when: "singular
    configuration at t = T s: ..."; the message is cut to its buffer */
 static void sing_at(rps3_sim *s, int status, double t) {
-  static const char pre[] = "singular configuration: ";
+  static const char pre[] = RPS3_SING_PREFIX;
   rps3_error *e = &s->d->err;
   char rest[sizeof(e->msg)];
   if (status != RPS3_ESING || strncmp(e->msg, pre, sizeof(pre) - 1) != 0)
@@ -145,8 +145,8 @@ int rps3_sim_rhs(double t, const double y[], double dydt[], void *params) {
   st = evaluate(s, t, y, 1, 0);
   if (st != RPS3_OK) {
     sing_at(s, st, t);
-    s->status = st;
-    s->failed_at = t;
+    s->now.status = st;
+    s->now.failed_at = t;
     return GSL_EBADFUNC;
   }
   if (s->plant.opt.effects & RPS3_EFF_PIN_FRICTION)
@@ -184,16 +184,16 @@ int rps3_sim_jac(double t, const double y[], double *dfdy, double dfdt[],
   return GSL_SUCCESS;
 }
 
-/* T and P of the state at s->t (the plant data was just evaluated there) */
+/* T and P of the state at s->now.t (the plant data was just evaluated there) */
 static void update_energy(rps3_sim *s) {
-  rps3_energy(&s->plant, s->d, &s->T, &s->P, NULL);
-  s->energy_residual = s->T + s->P - s->E0 - s->y[6] - s->y[7];
+  rps3_energy(&s->plant, s->d, &s->now.T, &s->now.P, NULL);
+  s->now.energy_residual = s->now.T + s->now.P - s->now.E0 - s->now.y[6] - s->now.y[7];
 }
 
 static int fail(rps3_sim *s, int status, double t) {
-  if (s->status == RPS3_OK) sing_at(s, status, t);
-  s->status = status;
-  s->failed_at = t;
+  if (s->now.status == RPS3_OK) sing_at(s, status, t);
+  s->now.status = status;
+  s->now.failed_at = t;
   return status;
 }
 
@@ -205,18 +205,18 @@ int rps3_sim_start(rps3_sim *s, double t0, const double pose[3],
     return RPS3_EINVAL;
   d = s->d;
   rps3_data_reset(d);
-  s->t = s->t0 = t0;
-  s->nsteps = s->nevals = s->nticks = s->nsat = 0;
+  s->now.t = s->t0 = t0;
+  s->now.nsteps = s->now.nevals = s->now.nticks = s->now.nsat = 0;
   s->last_tick = -1;
   s->rng = (unsigned long long)s->opt.seed;
   s->spare = (double)NAN;
   s->ctrl = NULL;
-  s->status = RPS3_OK;
-  s->failed_at = (double)NAN;
+  s->now.status = RPS3_OK;
+  s->now.failed_at = (double)NAN;
   s->started = 0;
   s->gsl->have_k = 0;
-  memset(s->F, 0, sizeof(s->F));
-  memset(s->F_cmd, 0, sizeof(s->F_cmd));
+  memset(s->now.F, 0, sizeof(s->now.F));
+  memset(s->now.F_cmd, 0, sizeof(s->now.F_cmd));
   /* the closed form fixes the assembly mode; the solve tracks it on */
   v3_copy(d->pose, pose);
   v3_copy(d->dpose, dpose);
@@ -225,25 +225,25 @@ int rps3_sim_start(rps3_sim *s, double t0, const double pose[3],
   if (st != RPS3_OK) return fail(s, st, t0);
   d->have_theta = 1;
   for (i = 0; i < 3; i++) {
-    s->y[i] = s->l_meas[i] = d->l[i];
-    s->y[3 + i] = s->dl_meas[i] = d->dl[i];
+    s->now.y[i] = s->now.l_meas[i] = d->l[i];
+    s->now.y[3 + i] = s->now.dl_meas[i] = d->dl[i];
   }
-  s->y[6] = s->y[7] = 0.0;
+  s->now.y[6] = s->now.y[7] = 0.0;
   /* the mode the run must keep: evaluate once, with zero forces */
-  v3_copy(d->F, s->F);
+  v3_copy(d->F, s->now.F);
   st = rps3_fwddyn(&s->plant, d);
   if (st != RPS3_OK) return fail(s, st, t0);
-  s->mode = d->mode;
-  rps3_energy(&s->plant, d, &s->T, &s->P, NULL);
-  s->E0 = s->T + s->P;
-  s->energy_residual = 0.0;
+  s->now.mode = d->mode;
+  rps3_energy(&s->plant, d, &s->now.T, &s->now.P, NULL);
+  s->now.E0 = s->now.T + s->now.P;
+  s->now.energy_residual = 0.0;
   s->gsl->reported = 1;
   s->started = 1;
   return RPS3_OK;
 }
 
 /* the plant's state at a tick for a controller that declares
-   RPS3_CTRL_USES_PLANT, into *v: the state the run keeps at s->y (settle's,
+   RPS3_CTRL_USES_PLANT, into *v: the state the run keeps at s->now.y (settle's,
    which the next period's first stage reuses; evaluated here at a run's
    first tick, where the first stage then reuses it); NULL when the
    measurement is not the state (noise, quantisation) */
@@ -252,10 +252,10 @@ static const rps3_plant_state *offer_plant(rps3_sim *s, rps3_plant_state *v,
   const rps3_fd_state *k = &s->gsl->fd;
   *status = RPS3_OK;
   if (!keeps_plant(s)) return NULL;
-  *status = plant_state(s, s->y, 1, 1);
+  *status = plant_state(s, s->now.y, 1, 1);
   if (*status != RPS3_OK) return NULL;
   v->model = &s->plant;
-  v->t = s->t;
+  v->t = s->now.t;
   v3_copy(v->l, k->kin.l);
   v3_copy(v->dl, k->kin.dl);
   v3_copy(v->theta, k->th);
@@ -274,31 +274,31 @@ static int tick(rps3_sim *s, const rps3_controller *c) {
   const rps3_plant_state *plant = NULL;
   int st, i;
   for (i = 0; i < 3; i++) {
-    s->l_meas[i] = rps3_sim_measure(s, s->y[i], s->opt.noise_l, s->opt.quant_l);
-    s->dl_meas[i] = rps3_sim_measure(s, s->y[3 + i], s->opt.noise_dl, s->opt.quant_dl);
+    s->now.l_meas[i] = rps3_sim_measure(s, s->now.y[i], s->opt.noise_l, s->opt.quant_l);
+    s->now.dl_meas[i] = rps3_sim_measure(s, s->now.y[3 + i], s->opt.noise_dl, s->opt.quant_dl);
   }
   if (c->caps & RPS3_CTRL_USES_PLANT) {
     plant = offer_plant(s, &view, &st);
-    if (st != RPS3_OK) return fail(s, st, s->t);
+    if (st != RPS3_OK) return fail(s, st, s->now.t);
   }
-  st = call_law(c, s->t, s->l_meas, s->dl_meas, plant, s->F_cmd);
-  s->nticks++;
+  st = call_law(c, s->now.t, s->now.l_meas, s->now.dl_meas, plant, s->now.F_cmd);
+  s->now.nticks++;
   if (st != RPS3_OK) {
     s->d->err.code = st;
     snprintf(s->d->err.msg, sizeof(s->d->err.msg),
              "controller returned %d (%s) at t = %.9g s", st,
-             rps3_strerror(st), s->t);
-    return fail(s, st, s->t);
+             rps3_strerror(st), s->now.t);
+    return fail(s, st, s->now.t);
   }
   for (i = 0; i < 3; i++)
-    if (!isfinite(s->F_cmd[i])) {
+    if (!isfinite(s->now.F_cmd[i])) {
       s->d->err.code = RPS3_EINVAL;
       snprintf(s->d->err.msg, sizeof(s->d->err.msg),
-               "controller force F%d = %g at t = %.9g s", i + 1, s->F_cmd[i],
-               s->t);
-      return fail(s, RPS3_EINVAL, s->t);
+               "controller force F%d = %g at t = %.9g s", i + 1, s->now.F_cmd[i],
+               s->now.t);
+      return fail(s, RPS3_EINVAL, s->now.t);
     }
-  s->nsat += rps3_sim_saturate(s, s->F_cmd, s->F);
+  s->now.nsat += rps3_sim_saturate(s, s->now.F_cmd, s->now.F);
   return RPS3_OK;
 }
 
@@ -312,15 +312,15 @@ static int rk4_step(rps3_sim *s, double t, double h) {
   struct rps3_sim_gsl *g = s->gsl;
   static const double c[4] = {0.0, 0.5, 0.5, 1.0};
   int j, i, st;
-  st = rps3_sim_rhs(t, s->y, g->k[0], s);
+  st = rps3_sim_rhs(t, s->now.y, g->k[0], s);
   for (j = 1; j < 4 && st == GSL_SUCCESS; j++) {
     const double ch = c[j] * h;
-    for (i = 0; i < NY; i++) g->ys[i] = s->y[i] + ch * g->k[j - 1][i];
+    for (i = 0; i < NY; i++) g->ys[i] = s->now.y[i] + ch * g->k[j - 1][i];
     st = rps3_sim_rhs(t + ch, g->ys, g->k[j], s);
   }
   if (st != GSL_SUCCESS) return st;
   for (i = 0; i < NY; i++)
-    s->y[i] += h / 6.0 *
+    s->now.y[i] += h / 6.0 *
                (g->k[0][i] + 2.0 * g->k[1][i] + 2.0 * g->k[2][i] + g->k[3][i]);
   return GSL_SUCCESS;
 }
@@ -344,11 +344,11 @@ static int stopped_short(rps3_sim *s, double t) {
   int st, i;
   v3_copy(th, d->theta);
   s->gsl->have_k = 0;
-  if (evaluate(s, t, s->y, 1, 0) != RPS3_OK) return RPS3_OK;
+  if (evaluate(s, t, s->now.y, 1, 0) != RPS3_OK) return RPS3_OK;
   v3_copy(ddl, d->ddl);
-  memcpy(yp, s->y, sizeof(yp));
+  memcpy(yp, s->now.y, sizeof(yp));
   for (i = 0; i < 3; i++) {
-    yp[i] += h * s->y[3 + i] + 0.5 * h * h * ddl[i];
+    yp[i] += h * s->now.y[3 + i] + 0.5 * h * h * ddl[i];
     yp[3 + i] += h * ddl[i];
   }
   st = evaluate(s, t + h, yp, 1, 0);
@@ -359,10 +359,10 @@ static int stopped_short(rps3_sim *s, double t) {
   return st == RPS3_ESING ? st : RPS3_OK;
 }
 
-/* integrate y from s->t to t1 with the forces as they are */
+/* integrate y from s->now.t to t1 with the forces as they are */
 static int integrate(rps3_sim *s, double t1) {
   struct rps3_sim_gsl *g = s->gsl;
-  double t = s->t, span = t1 - s->t;
+  double t = s->now.t, span = t1 - s->now.t;
   int st;
   if (!(span > 0.0)) return RPS3_OK;
   if (g->fixed) {
@@ -374,7 +374,7 @@ static int integrate(rps3_sim *s, double t1) {
       snprintf(s->d->err.msg, sizeof(s->d->err.msg),
                "%.0f steps of h = %g s for %g s exceed max_steps %ld", n,
                s->opt.h, span, s->opt.max_steps);
-      return fail(s, RPS3_ENOCONV, s->t);
+      return fail(s, RPS3_ENOCONV, s->now.t);
     }
     long k, nk = (long)n;
     double h = span / n;
@@ -385,29 +385,29 @@ static int integrate(rps3_sim *s, double t1) {
       /* on failure y stays at the start of the step */
       st = (s->opt.integrator == RPS3_INT_RK4)
                ? rk4_step(s, t, h)
-               : gsl_odeiv2_step_apply(g->stp, t, h, s->y, g->yerr, NULL,
+               : gsl_odeiv2_step_apply(g->stp, t, h, s->now.y, g->yerr, NULL,
                                        NULL, &g->sys);
       if (st == GSL_SUCCESS) {
-        t = (k + 1 == nk) ? t1 : s->t + (double)(k + 1) * h;
-        s->nsteps++;
+        t = (k + 1 == nk) ? t1 : s->now.t + (double)(k + 1) * h;
+        s->now.nsteps++;
       }
     }
   } else {
-    /* the force may have jumped at s->t: forget the step history */
+    /* the force may have jumped at s->now.t: forget the step history */
     gsl_odeiv2_driver_reset(g->drv);
-    st = gsl_odeiv2_driver_apply(g->drv, &t, t1, s->y);
-    s->nsteps += (long)g->drv->n;
+    st = gsl_odeiv2_driver_apply(g->drv, &t, t1, s->now.y);
+    s->now.nsteps += (long)g->drv->n;
   }
   /* a failure of the plant or the controller was recorded by rhs, with
      its own message; GSL reports it as GSL_EBADFUNC or, from inside a
      fixed step, as a failure of its own */
-  if (st != GSL_SUCCESS) s->t = t; /* the last completed step's, y's */
-  if (s->status != RPS3_OK) return s->status;
+  if (st != GSL_SUCCESS) s->now.t = t; /* the last completed step's, y's */
+  if (s->now.status != RPS3_OK) return s->now.status;
   if (st != GSL_SUCCESS && stopped_short(s, t) == RPS3_ESING) {
     /* the probe's message, "singular configuration: ...", says what */
     rps3_error *e = &s->d->err;
     char rest[sizeof(e->msg)];
-    const size_t np = sizeof("singular configuration: ") - 1;
+    const size_t np = sizeof(RPS3_SING_PREFIX) - 1;
     memcpy(rest, e->msg + np, sizeof(rest) - np);
     rest[sizeof(rest) - np - 1] = '\0';
     e->code = RPS3_ESING;
@@ -415,8 +415,8 @@ static int integrate(rps3_sim *s, double t1) {
              "singular configuration at t = %.9g s (%s stopped a step of "
              "%g s short): %.160s", t,
              rps3_integrator_name(s->opt.integrator), s->opt.h, rest);
-    s->status = RPS3_ESING;
-    s->failed_at = t;
+    s->now.status = RPS3_ESING;
+    s->now.failed_at = t;
     return RPS3_ESING;
   }
   if (st != GSL_SUCCESS) {
@@ -426,7 +426,7 @@ static int integrate(rps3_sim *s, double t1) {
              rps3_integrator_name(s->opt.integrator), t, gsl_strerror(st));
     return fail(s, RPS3_ENOCONV, t);
   }
-  s->t = t1;
+  s->now.t = t1;
   return RPS3_OK;
 }
 
@@ -439,37 +439,37 @@ static int integrate(rps3_sim *s, double t1) {
 static int settle(rps3_sim *s, int report) {
   int i, st;
   for (i = 0; i < 3; i++)
-    if (!(s->y[i] >= s->opt.l_min && s->y[i] <= s->opt.l_max)) {
+    if (!(s->now.y[i] >= s->opt.l_min && s->now.y[i] <= s->opt.l_max)) {
       s->d->err.code = RPS3_EREACH;
       snprintf(s->d->err.msg, sizeof(s->d->err.msg),
                "link %d length %.9g m left the stroke [%g, %g] m at t = "
-               "%.9g s", i + 1, s->y[i], s->opt.l_min, s->opt.l_max, s->t);
-      return fail(s, RPS3_EREACH, s->t);
+               "%.9g s", i + 1, s->now.y[i], s->opt.l_min, s->opt.l_max, s->now.t);
+      return fail(s, RPS3_EREACH, s->now.t);
     }
-  st = evaluate(s, s->t, s->y, !report, keeps_plant(s));
-  if (st != RPS3_OK) return fail(s, st, s->t);
+  st = evaluate(s, s->now.t, s->now.y, !report, keeps_plant(s));
+  if (st != RPS3_OK) return fail(s, st, s->now.t);
   s->gsl->reported = report;
   if (report) update_energy(s);
   return RPS3_OK;
 }
 
 /* a run stopped inside a call: the report of the state it stopped at
-   (s->t, s->y: the last good one), with the failure's status, time and
+   (s->now.t, s->now.y: the last good one), with the failure's status, time and
    message kept; NaN where that state cannot be evaluated either (the
    controller is not called again) */
 static void report_failed(rps3_sim *s) {
   const rps3_error err = s->d->err;
   const rps3_controller *c = s->ctrl;
-  const int status = s->status;
-  const double at = s->failed_at;
+  const int status = s->now.status;
+  const double at = s->now.failed_at;
   rps3_data *d = s->d;
   int i;
   s->ctrl = NULL;
-  s->status = RPS3_OK;
-  if (evaluate(s, s->t, s->y, 0, 0) == RPS3_OK) {
+  s->now.status = RPS3_OK;
+  if (evaluate(s, s->now.t, s->now.y, 0, 0) == RPS3_OK) {
     update_energy(s);
   } else {
-    s->T = s->P = s->energy_residual = (double)NAN;
+    s->now.T = s->now.P = s->now.energy_residual = (double)NAN;
     rps3_fd_positions_unset(d);
     for (i = 0; i < 3; i++)
       d->pose[i] = d->dpose[i] = d->vc[i] = d->omega[i] = d->ddl[i] =
@@ -478,18 +478,18 @@ static void report_failed(rps3_sim *s) {
   }
   s->gsl->reported = 1;
   d->err = err;
-  s->status = status;
-  s->failed_at = at;
+  s->now.status = status;
+  s->now.failed_at = at;
   s->ctrl = c;
 }
 
-/* the report of the state at s->t after a call whose last segment was a
+/* the report of the state at s->now.t after a call whose last segment was a
    rounding sliver (no settle) following a lean one */
 static int report_end(rps3_sim *s) {
   int st;
   if (s->gsl->reported) return RPS3_OK;
-  st = evaluate(s, s->t, s->y, 0, keeps_plant(s));
-  if (st != RPS3_OK) return fail(s, st, s->t);
+  st = evaluate(s, s->now.t, s->now.y, 0, keeps_plant(s));
+  if (st != RPS3_OK) return fail(s, st, s->now.t);
   s->gsl->reported = 1;
   update_energy(s);
   return RPS3_OK;
@@ -506,7 +506,7 @@ int rps3_sim_advance(rps3_sim *s, const rps3_controller *c, double t_end) {
   int st;
   if (s == NULL) return RPS3_EINVAL;
   if (!s->started) return RPS3_ESTATE;
-  if (s->status != RPS3_OK) return s->status;
+  if (s->now.status != RPS3_OK) return s->now.status;
   if (c == NULL || !law_declared(c) || !isfinite(t_end)) {
     s->d->err.code = RPS3_EINVAL;
     snprintf(s->d->err.msg, sizeof(s->d->err.msg),
@@ -515,11 +515,11 @@ int rps3_sim_advance(rps3_sim *s, const rps3_controller *c, double t_end) {
              t_end);
     return RPS3_EINVAL;
   }
-  if (t_end < s->t) {
+  if (t_end < s->now.t) {
     s->d->err.code = RPS3_EINVAL;
     snprintf(s->d->err.msg, sizeof(s->d->err.msg),
              "t_end = %.17g s is before the simulation's time t = %.17g s",
-             t_end, s->t);
+             t_end, s->now.t);
     return RPS3_EINVAL;
   }
   /* the rate's limits over the call's times (a few operations: the loop
@@ -536,35 +536,35 @@ int rps3_sim_advance(rps3_sim *s, const rps3_controller *c, double t_end) {
     /* continuous force law: one integration, forces at every evaluation */
     st = integrate(s, t_end);
     if (st == RPS3_OK) st = settle(s, 1);
-    if (s->status != RPS3_OK) report_failed(s);
+    if (s->now.status != RPS3_OK) report_failed(s);
     s->ctrl = NULL;
-    return s->status;
+    return s->now.status;
   }
-  while (s->t < t_end) {
+  while (s->now.t < t_end) {
     /* tick k at t0 + k / rate, counted from the start (no drift); a time
        within TICK_SLACK periods of a tick is at it (times the caller
        computes, such as 1e-3 * k, differ from it by rounding) */
-    double k = floor((s->t - s->t0) * c->rate + TICK_SLACK);
+    double k = floor((s->now.t - s->t0) * c->rate + TICK_SLACK);
     double t_next = s->t0 + (k + 1.0) / c->rate, t1 = fmin(t_next, t_end);
     if ((long)k > s->last_tick &&
-        fabs(s->t - (s->t0 + k / c->rate)) <= TICK_SLACK / c->rate) {
+        fabs(s->now.t - (s->t0 + k / c->rate)) <= TICK_SLACK / c->rate) {
       s->last_tick = (long)k;
       st = tick(s, c);
       if (st != RPS3_OK) break;
     }
-    if (t1 - s->t <= TICK_SLACK / c->rate) {
+    if (t1 - s->now.t <= TICK_SLACK / c->rate) {
       /* a rounding sliver, not a step */
-      s->t = t1;
+      s->now.t = t1;
       continue;
     }
     st = integrate(s, t1);
     if (st == RPS3_OK) st = settle(s, t1 == t_end);
     if (st != RPS3_OK) break;
   }
-  if (s->status == RPS3_OK)
+  if (s->now.status == RPS3_OK)
     report_end(s);
   else
     report_failed(s);
   s->ctrl = NULL;
-  return s->status;
+  return s->now.status;
 }

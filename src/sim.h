@@ -33,6 +33,22 @@ struct rps3_sim_gsl {
                                the state at s->t (settle, report_end) */
 };
 
+/* the simulation (opaque in rps3.h): the report the caller reads, the
+   plant and its workspace, the run's own state */
+struct rps3_sim {
+  rps3_sim_report now;     /* rps3_sim_now */
+  rps3_model plant;        /* the simulated mechanism (a copy) */
+  rps3_sim_options opt;
+  rps3_data *d;            /* plant workspace (rps3_sim_data) */
+  const rps3_controller *ctrl; /* during rps3_sim_advance */
+  double t0;               /* start time [s] */
+  long last_tick;          /* index of the last tick served, -1 before */
+  unsigned long long rng;  /* noise generator state */
+  double spare;            /* second normal deviate of Box-Muller, or NaN */
+  int started;
+  struct rps3_sim_gsl *gsl;
+};
+
 /* f(t, y) of y = (l, dl, W_F, W_f), and its Jacobian by forward
    differences for the implicit methods (GSL's calling conventions) */
 /* sensors and actuators (src/sim_measure.c): x as measured (noise of

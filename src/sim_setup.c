@@ -188,8 +188,8 @@ int rps3_sim_alloc(const rps3_model *plant, const rps3_sim_options *o,
   if (s == NULL) return RPS3_ENOMEM;
   s->plant = *plant;
   s->opt = *o;
-  s->status = RPS3_ESTATE;
-  s->failed_at = (double)NAN;
+  s->now.status = RPS3_ESTATE;
+  s->now.failed_at = (double)NAN;
   s->gsl = (struct rps3_sim_gsl *)calloc(1, sizeof(*s->gsl));
   if (s->gsl == NULL || rps3_data_alloc(&s->plant, &s->d) != RPS3_OK) {
     rps3_sim_free(s);
@@ -230,4 +230,18 @@ void rps3_sim_free(rps3_sim *s) {
   free(s->gsl);
   rps3_data_free(s->d);
   free(s);
+}
+
+const rps3_sim_report *rps3_sim_now(const rps3_sim *s) {
+  return s ? &s->now : NULL;
+}
+
+const rps3_data *rps3_sim_data(const rps3_sim *s) { return s ? s->d : NULL; }
+
+const rps3_model *rps3_sim_plant(const rps3_sim *s) {
+  return s ? &s->plant : NULL;
+}
+
+const rps3_sim_options *rps3_sim_opts(const rps3_sim *s) {
+  return s ? &s->opt : NULL;
 }

@@ -37,14 +37,9 @@ int rps3_jt_factor(const rps3_model *m, rps3_data *d, const double Jt[3][3],
   int i, k;
   for (i = 0; i < 3; i++)
     for (k = 0; k < 3; k++) A[3 * i + k] = LU[3 * i + k] = Jt[i][k];
-  if (rps3_lu_factor(3, LU, perm) != 0)
-    RPS3_ERROR(d, RPS3_ESING, "constraint Jacobian df/dtheta is singular");
-  cond = rps3_lu_cond1(3, A, LU, perm);
-  if (!(cond <= m->opt.cond_max))
-    RPS3_ERROR(d, RPS3_ESING,
-               "constraint Jacobian df/dtheta: condition number %.3g exceeds "
-               "cond_max %.3g", cond, m->opt.cond_max);
-  return RPS3_OK;
+  cond = rps3_lu_factor(3, LU, perm) != 0 ? HUGE_VAL
+                                           : rps3_lu_cond1(3, A, LU, perm);
+  return rps3_sing_check(m, d, RPS3_SING_JT, cond);
 }
 
 /* solve (df/dtheta) x = rhs, after rps3_jt_factor's test */

@@ -74,13 +74,15 @@ int main(int argc, char **argv) {
   clock_gettime(CLOCK_MONOTONIC, &next);
   c0 = cpu_seconds();
   for (k = 1; k <= ticks; k++) {
+    double l_des[3];
     int i;
     status = rps3_sim_advance(s, &ctl, (double)k / RATE_HZ);
     if (status != RPS3_OK) goto fail_sim;
-    /* c->l_des: what the controller wanted at the last tick; s->y: where
+    /* l_des: what the controller wanted at the last tick; rps3_sim_now(s)->y: where
        the plant is now, one period later */
+    rps3_ctrl_last(c, NULL, l_des, NULL, NULL);
     for (i = 0; i < 3; i++) {
-      double e = s->y[i] - c->l_des[i];
+      double e = rps3_sim_now(s)->y[i] - l_des[i];
       if (e < 0) e = -e;
       if (e > emax && k > 1) emax = e;
     }
@@ -98,7 +100,7 @@ int main(int argc, char **argv) {
          "model: |l - l_d(t - 1 ms)| <= %.3g m; %ld fwddyn evaluations; "
          "energy residual %.2g J; CPU %.3g s (%.0fx real time)\n",
          seconds, RATE_HZ, light ? "a massless-link" : "the plant's", emax,
-         s->nevals, s->energy_residual, c1 - c0,
+         rps3_sim_now(s)->nevals, rps3_sim_now(s)->energy_residual, c1 - c0,
          seconds / (c1 - c0 > 0 ? c1 - c0 : 1e-9));
 
   /* the same run as one call: the state is reported at the call's end
@@ -124,8 +126,8 @@ int main(int argc, char **argv) {
   return 0;
 
 fail_sim:
-  fprintf(stderr, "simulation stopped at t = %g s: %s: %s\n", s->failed_at,
-          rps3_strerror(s->status), s->d->err.msg);
+  fprintf(stderr, "simulation stopped at t = %g s: %s: %s\n", rps3_sim_now(s)->failed_at,
+          rps3_strerror(rps3_sim_now(s)->status), rps3_sim_data(s)->err.msg);
   rps3_ctrl_free(c);
   rps3_sim_free(s);
   return 1;

@@ -67,13 +67,13 @@ int rps3_shim_sim(const double *par, int effects, int integrator, double h,
   for (k = 0; k <= n && st == RPS3_OK; k++) {
     if (k > 0) st = rps3_sim_advance(s, &c, k * dt);
     if (st != RPS3_OK) break;
-    memcpy(l + 3 * k, s->y, 3 * sizeof(double));
-    T[k] = s->T;
-    P[k] = s->P;
-    W[k] = s->y[6] + s->y[7];
+    memcpy(l + 3 * k, rps3_sim_now(s)->y, 3 * sizeof(double));
+    T[k] = rps3_sim_now(s)->T;
+    P[k] = rps3_sim_now(s)->P;
+    W[k] = rps3_sim_now(s)->y[6] + rps3_sim_now(s)->y[7];
   }
   if (st != RPS3_OK) {
-    strncpy(err, s->d->err.msg, (size_t)errsz - 1);
+    strncpy(err, rps3_sim_data(s)->err.msg, (size_t)errsz - 1);
     err[errsz - 1] = '\0';
   }
   rps3_sim_free(s);

@@ -120,7 +120,7 @@ static void interposer_sees_gsl_and_init(void **state) {
    and method, all effects (effects 0) or the given ones; zero allocations
    and frees after init */
 static void run_trajectory(rps3_theta_route theta, rps3_method method,
-                           int warm, int effects, int forces_only) {
+                           int warm, int effects, int outputs) {
   rps3_model m;
   rps3_data *d = NULL;
   rps3_traj tr;
@@ -132,9 +132,7 @@ static void run_trajectory(rps3_theta_route theta, rps3_method method,
   m.opt.warm_start = warm;
   m.opt.solver = RPS3_SOLVER_HYBRIDSJ;
   if (effects) m.opt.effects = effects;
-  m.opt.forces_only = forces_only;
-  /* the lean pass applies with the certificate off */
-  if (forces_only == RPS3_FORCES_LEAN) m.opt.certify = 0;
+  m.opt.outputs = outputs;
   assert_int_equal(rps3_model_init(&m, NULL, 0), RPS3_OK);
   rps3_traj_default(&tr);
   /* the helix of Table II scaled to this model's platform (r* < r/2) */
@@ -172,7 +170,7 @@ static void run_trajectory(rps3_theta_route theta, rps3_method method,
 
 static void closed_form_lagrange(void **state) {
   (void)state;
-  run_trajectory(RPS3_THETA_CLOSED_FORM, RPS3_LAGRANGE, 1, 0, 0);
+  run_trajectory(RPS3_THETA_CLOSED_FORM, RPS3_LAGRANGE, 1, 0, RPS3_OUT_ALL);
 }
 
 /* the paper's effects: rps3_inverse runs the one-point kernel, with every
@@ -180,31 +178,31 @@ static void closed_form_lagrange(void **state) {
 static void closed_form_kernel(void **state) {
   (void)state;
   run_trajectory(RPS3_THETA_CLOSED_FORM, RPS3_LAGRANGE, 1, RPS3_EFF_DEFAULT,
-                 RPS3_FORCES_ALL);
+                 RPS3_OUT_ALL);
   run_trajectory(RPS3_THETA_CLOSED_FORM, RPS3_LAGRANGE, 1, RPS3_EFF_DEFAULT,
-                 RPS3_FORCES_ONLY);
+                 RPS3_OUT_FORCES | RPS3_OUT_TRANSMISSION);
   run_trajectory(RPS3_THETA_CLOSED_FORM, RPS3_LAGRANGE, 1, RPS3_EFF_DEFAULT,
-                 RPS3_FORCES_LEAN);
+                 RPS3_OUT_FORCES);
 }
 
 static void closed_form_newton_euler(void **state) {
   (void)state;
-  run_trajectory(RPS3_THETA_CLOSED_FORM, RPS3_NEWTON_EULER, 1, 0, 0);
+  run_trajectory(RPS3_THETA_CLOSED_FORM, RPS3_NEWTON_EULER, 1, 0, RPS3_OUT_ALL);
 }
 
 static void warm_multiroot_lagrange(void **state) {
   (void)state;
-  run_trajectory(RPS3_THETA_MULTIROOT, RPS3_LAGRANGE, 1, 0, 0);
+  run_trajectory(RPS3_THETA_MULTIROOT, RPS3_LAGRANGE, 1, 0, RPS3_OUT_ALL);
 }
 
 static void warm_multiroot_newton_euler(void **state) {
   (void)state;
-  run_trajectory(RPS3_THETA_MULTIROOT, RPS3_NEWTON_EULER, 1, 0, 0);
+  run_trajectory(RPS3_THETA_MULTIROOT, RPS3_NEWTON_EULER, 1, 0, RPS3_OUT_ALL);
 }
 
 static void cold_multiroot_lagrange(void **state) {
   (void)state;
-  run_trajectory(RPS3_THETA_MULTIROOT, RPS3_LAGRANGE, 0, 0, 0);
+  run_trajectory(RPS3_THETA_MULTIROOT, RPS3_LAGRANGE, 0, 0, RPS3_OUT_ALL);
 }
 
 /* a table of the pose and a path of shape table: the spline's slopes
@@ -419,7 +417,7 @@ static void simulation_loop(void **state) {
     count_stop();
     print_message("simulation, %s: %ld steps, %ld evaluations, %ld "
                   "allocations, %ld frees\n", rps3_integrator_name(integ[k]),
-                  s->nsteps, s->nevals, n_alloc, n_free);
+                  rps3_sim_now(s)->nsteps, rps3_sim_now(s)->nevals, n_alloc, n_free);
     assert_int_equal(st, RPS3_OK);
     /* GSL 2.7's implicit steppers allocate in their steps (documented in
        rps3.h); the count shows the interposer sees GSL's steppers */

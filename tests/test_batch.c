@@ -97,7 +97,8 @@ static void inverse_like_loop(rps3_theta_route theta, rps3_method method,
   m.opt.theta = theta;
   m.opt.method = method;
   m.opt.effects = effects;
-  m.opt.certify = certify;
+  m.opt.outputs = (certify) ? (m.opt.outputs | RPS3_OUT_CERTIFY)
+      : (m.opt.outputs & ~RPS3_OUT_CERTIFY);
   assert_int_equal(rps3_model_init(&m, NULL, 0), RPS3_OK);
   assert_int_equal(rps3_data_alloc(&m, &db), RPS3_OK);
   assert_int_equal(rps3_data_alloc(&m, &dl), RPS3_OK);
@@ -206,7 +207,7 @@ static void static_without_rates(void **state) {
   assert_non_null(a);
   model_entropy(&m);
   m.opt.effects = RPS3_EFF_PLATFORM_GRAVITY | RPS3_EFF_LINK_GRAVITY;
-  m.opt.certify = 0;
+  m.opt.outputs &= ~RPS3_OUT_CERTIFY;
   assert_int_equal(rps3_model_init(&m, NULL, 0), RPS3_OK);
   assert_int_equal(rps3_data_alloc(&m, &db), RPS3_OK);
   assert_int_equal(rps3_data_alloc(&m, &dl), RPS3_OK);

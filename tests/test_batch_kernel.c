@@ -16,6 +16,8 @@
 #include "testutil.h"
 #include "batch_kernel.h"
 
+/* the former controller's path: F, lambda and the transmission */
+#define OUT_ONLY (RPS3_OUT_FORCES | RPS3_OUT_LAMBDA | RPS3_OUT_TRANSMISSION)
 #define N 2000
 #define EPS DBL_EPSILON
 
@@ -192,7 +194,7 @@ static void compare(const rps3_model *m, arrays *a, worst *w) {
   memset(&out, 0, sizeof(out));
   out_every(&out, a);
   assert_int_equal(rps3_inverse_batch(m, db, &in, &out), RPS3_OK);
-  if (!m->opt.certify) {
+  if (!(m->opt.outputs & RPS3_OUT_CERTIFY)) {
     /* without theta asked for, the kernel leaves out (39) and the
        certificate: the forces are the same operations, bit for bit */
     rps3_batch_out lean = out;
@@ -221,7 +223,7 @@ static void compare(const rps3_model *m, arrays *a, worst *w) {
       dl->ddpose[c] = AT(a->ddpose, c, i);
     }
     /* the stages themselves: rps3_inverse takes the kernel too, for
-       forces_only without the certificate */
+       F alone without the certificate */
     s = rps3_inverse_stages(m, dl);
     assert_int_equal(a->status[i], s);
     assert_int_equal(a->warn[i], dl->warn);
@@ -235,7 +237,7 @@ static void compare(const rps3_model *m, arrays *a, worst *w) {
     for (c = 0; c < 3; c++) {
       double e;
       track(&w->l, ulps(AT(a->l, c, i), dl->l[c]) / 4.0);
-      if (m->opt.forces_only)
+      if (!(m->opt.outputs & RPS3_OUT_THETA))
         assert_true(isnan(AT(a->theta, c, i)) && isnan(dl->theta[c]));
       else
         track(&w->theta, fabs(AT(a->theta, c, i) - dl->theta[c]) /
@@ -244,8 +246,11 @@ static void compare(const rps3_model *m, arrays *a, worst *w) {
       for (k = 0; k < RPS3_NEFFECT; k++) {
         e = fabs(AT(a->F_effect, 3 * k + c, i) - dl->F_effect[k][c]);
         track(&w->F, e / (tol * fs));
-        /* an effect not selected: exactly zero, as in rps3_invdyn */
-        if (!(m->opt.effects & (1 << k)) || m->opt.forces_only)
+        /* no shares asked for: NaN; an effect not selected: exactly
+           zero, as in rps3_invdyn */
+        if (!(m->opt.outputs & RPS3_OUT_EFFECTS))
+          assert_true(isnan(AT(a->F_effect, 3 * k + c, i)));
+        else if (!(m->opt.effects & (1 << k)))
           assert_true(AT(a->F_effect, 3 * k + c, i) == 0.0);
       }
       /* lambda [N/m] times a lever [m] is a force */
@@ -326,8 +331,11 @@ static void agrees(int table2, int effects, int certify, int forces_only,
   else
     model_entropy(&m);
   m.opt.effects = effects;
-  m.opt.certify = certify;
-  m.opt.forces_only = forces_only;
+  m.opt.outputs = (certify) ? (m.opt.outputs | RPS3_OUT_CERTIFY)
+      : (m.opt.outputs & ~RPS3_OUT_CERTIFY);
+  /* forces_only: F, lambda and the transmission, no shares, no theta */
+  if (forces_only)
+    m.opt.outputs = OUT_ONLY | (certify ? RPS3_OUT_CERTIFY : 0);
   if (cond_warn > 0) m.opt.cond_warn = cond_warn;
   if (trans_warn > 0) m.opt.trans_warn = trans_warn;
   assert_int_equal(rps3_model_init(&m, NULL, 0), RPS3_OK);
@@ -358,7 +366,7 @@ static void entropy_model_each_selection(void **state) {
   agrees(0, RPS3_EFF_DEFAULT, 1, 0, 0, 0, "entropy model, four effects", 0);
   agrees(0, RPS3_EFF_PLATFORM_GRAVITY | RPS3_EFF_LINK_INERTIA, 0, 0, 0, 0,
          "entropy model, two effects, no certificate", 0);
-  agrees(0, RPS3_EFF_DEFAULT, 0, 1, 0, 0, "entropy model, forces_only", 0);
+  agrees(0, RPS3_EFF_DEFAULT, 0, 1, 0, 0, "entropy model, F, lambda, transmission", 0);
 }
 
 /*
@@ -412,7 +420,7 @@ static void data_compare(const rps3_model *m, const rps3_data *dk,
                          (tol * fs));
     }
   for (c = 0; c < 3; c++) {
-    if (!m->opt.forces_only)
+    if (m->opt.outputs & RPS3_OUT_THETA)
       track(&w->theta, fabs(dk->theta[c] - ds->theta[c]) /
                            (2.0 * (nextafter(PI, 4.0) - PI)));
     else
@@ -435,12 +443,15 @@ static void data_compare(const rps3_model *m, const rps3_data *dk,
   track(&w->eres, fabs(dk->energy_residual - ds->energy_residual) /
                       (tol * es));
   track(&w->escale, fabs(dk->energy_scale - ds->energy_scale) / (tol * es));
-  assert_true(dk->friction_power == 0.0 && ds->friction_power == 0.0);
+  if (m->opt.outputs & RPS3_OUT_CERTIFY)
+    assert_true(dk->friction_power == 0.0 && ds->friction_power == 0.0);
+  else
+    assert_true(isnan(dk->friction_power) && isnan(ds->friction_power));
 }
 
 static void scalar_compare(const rps3_model *m, const arrays *a, worst *w) {
   rps3_data *dk = NULL, *ds = NULL, *dx = NULL;
-  const int lean = m->opt.forces_only && !m->opt.certify;
+  const int lean = m->opt.outputs == RPS3_OUT_FORCES;
   int i, c;
   assert_int_equal(rps3_data_alloc(m, &dk), RPS3_OK);
   assert_int_equal(rps3_data_alloc(m, &ds), RPS3_OK);
@@ -475,7 +486,9 @@ static void scalar_compare(const rps3_model *m, const arrays *a, worst *w) {
       for (e = 0; e < RPS3_NEFFECT; e++)
         for (c = 0; c < 3; c++) {
           track(&fs, fabs(ds->F_effect[e][c]));
-          if (m->opt.forces_only || !(m->opt.effects & (1 << e)))
+          if (!(m->opt.outputs & RPS3_OUT_EFFECTS))
+            assert_true(isnan(dk->F_effect[e][c]));
+          else if (!(m->opt.effects & (1 << e)))
             assert_true(dk->F_effect[e][c] == 0.0);
         }
     }
@@ -536,7 +549,7 @@ static void scalar_path_by_the_kernel(void **state) {
          1);
   agrees(0, RPS3_EFF_DEFAULT, 0, 0, 0, 0, "rps3_inverse, no certificate", 1);
   agrees(0, RPS3_EFF_DEFAULT, 1, 1, 0, 0,
-         "rps3_inverse, forces_only, certify", 1);
+         "rps3_inverse, F, lambda, transmission, certify", 1);
   agrees(0, RPS3_EFF_PLATFORM_GRAVITY | RPS3_EFF_LINK_GRAVITY, 0, 0, 0, 0,
          "rps3_inverse, static, no rates", 1);
   agrees(0, RPS3_EFF_PLATFORM_GRAVITY | RPS3_EFF_LINK_INERTIA, 1, 0, 0, 0,
@@ -567,14 +580,15 @@ static void batch_is_the_loop_bitwise(void **state) {
       rps3_batch_out out;
       model_entropy(&m);
       m.opt.effects = RPS3_EFF_DEFAULT;
-      m.opt.certify = cfg & 1;
-      m.opt.forces_only = (cfg >> 1) & 1;
+      m.opt.outputs = (cfg & 1) ? (m.opt.outputs | RPS3_OUT_CERTIFY)
+      : (m.opt.outputs & ~RPS3_OUT_CERTIFY);
+      if ((cfg >> 1) & 1)
+        m.opt.outputs = OUT_ONLY | (m.opt.outputs & RPS3_OUT_CERTIFY);
       if (cfg & 4) m.opt.trans_warn = 2.9;
-      /* 8 .. 13: RPS3_FORCES_LEAN, with and without the certificate (with
-         it, RPS3_FORCES_ONLY), a lowered warning threshold, a static
-         selection (no rates read) */
+      /* 8 .. 13: F alone (the leanest pass), and with the certificate, a
+         lowered warning threshold, a static selection (no rates read) */
       if (cfg >= 8) {
-        m.opt.forces_only = RPS3_FORCES_LEAN;
+        m.opt.outputs = RPS3_OUT_FORCES | (m.opt.outputs & RPS3_OUT_CERTIFY);
         if (cfg >= 12)
           m.opt.effects = RPS3_EFF_PLATFORM_GRAVITY | RPS3_EFF_LINK_GRAVITY;
       }
@@ -603,22 +617,29 @@ static void batch_is_the_loop_bitwise(void **state) {
         }
         assert_int_equal(rps3_inverse(&m, dl), a->status[i]);
         if (a->status[i] != RPS3_OK) continue;
-        if (m.opt.forces_only == RPS3_FORCES_LEAN && !m.opt.certify) {
-          /* F, cond, warn; every other output NaN (the shares zero) */
+        if (m.opt.outputs == RPS3_OUT_FORCES) {
+          /* F, cond, warn; every other output NaN, and the kinematics at
+             the pass's own points (the stages' points keep theirs) */
           for (c = 0; c < 3; c++)
             assert_memory_equal(&dl->F[c], &AT(a->F, c, i), sizeof(double));
           if (!sel) continue;
           assert_memory_equal(&dl->cond, &a->cond[i], sizeof(double));
           assert_int_equal(dl->warn, a->warn[i]);
           for (c = 0; c < 3; c++) {
-            assert_true(isnan(AT(a->l, c, i)) && isnan(AT(a->theta, c, i)));
-            assert_true(isnan(AT(a->lambda, c, i)) && isnan(AT(a->dl, c, i)));
-            assert_true(isnan(AT(a->ddl, c, i)) && isnan(AT(a->cpos, c, i)));
+            assert_true(isnan(AT(a->theta, c, i)) && isnan(dl->theta[c]));
+            assert_true(isnan(AT(a->lambda, c, i)) && isnan(dl->lambda[c]));
+            if (dl->stage == 0)
+              assert_true(isnan(AT(a->l, c, i)) && isnan(AT(a->dl, c, i)) &&
+                          isnan(AT(a->ddl, c, i)) &&
+                          isnan(AT(a->cpos, c, i)));
             for (k = 0; k < RPS3_NEFFECT; k++)
-              assert_true(AT(a->F_effect, 3 * k + c, i) == 0.0);
+              assert_true(isnan(AT(a->F_effect, 3 * k + c, i)) &&
+                          isnan(dl->F_effect[k][c]));
           }
           assert_true(isnan(a->trans[i]) && isnan(a->eres[i]));
-          assert_true(isnan(a->escale[i]) && isnan(a->sres[i]));
+          assert_true(isnan(a->escale[i]));
+          assert_true(isnan(dl->transmission) && isnan(dl->energy_residual));
+          if (dl->stage == 0) assert_true(isnan(a->sres[i]));
           lean_kept += dl->stage == 0;
           continue;
         }
@@ -632,7 +653,7 @@ static void batch_is_the_loop_bitwise(void **state) {
           assert_memory_equal(&dl->ddl[c], &AT(a->ddl, c, i),
                               sizeof(double));
           assert_memory_equal(&dl->c[c], &AT(a->cpos, c, i), sizeof(double));
-          if (m.opt.forces_only)
+          if (!(m.opt.outputs & RPS3_OUT_THETA))
             assert_true(isnan(dl->theta[c]) && isnan(AT(a->theta, c, i)));
           else
             assert_memory_equal(&dl->theta[c], &AT(a->theta, c, i),
@@ -780,8 +801,7 @@ static void hard_points_by_the_scalar_path(void **state) {
   assert_int_equal((int)out.nfail, 6);
   /* the same points through rps3_inverse on the controller's path (the
      kernel first): the stages' status, point by point */
-  m.opt.forces_only = 1;
-  m.opt.certify = 0;
+  m.opt.outputs = OUT_ONLY;
   assert_int_equal(rps3_model_init(&m, NULL, 0), RPS3_OK);
   for (i = 0; i < NH; i++) {
     for (c = 0; c < 3; c++) {
@@ -813,7 +833,8 @@ static void hard_points_by_the_scalar_path(void **state) {
  * cond in units of their tolerances.
  */
 typedef struct {
-  rps3_model def, only, lean; /* forces_only 0, 1, 2; certify off */
+  rps3_model def, only, lean; /* every output but the certificate;
+                                 OUT_ONLY; F alone */
   rps3_data *dd, *df, *dl;
   double wF, wc; /* worst F and cond, in units of the tolerance */
   int kept, handed, gave_up;
@@ -822,12 +843,11 @@ typedef struct {
 static void lean_setup(lean_bench *b, const rps3_model *m) {
   memset(b, 0, sizeof(*b));
   b->def = *m;
-  b->def.opt.certify = 0;
-  b->def.opt.forces_only = RPS3_FORCES_ALL;
+  b->def.opt.outputs = RPS3_OUT_ALL & ~RPS3_OUT_CERTIFY;
   b->only = b->def;
-  b->only.opt.forces_only = RPS3_FORCES_ONLY;
+  b->only.opt.outputs = OUT_ONLY;
   b->lean = b->def;
-  b->lean.opt.forces_only = RPS3_FORCES_LEAN;
+  b->lean.opt.outputs = RPS3_OUT_FORCES;
   assert_int_equal(rps3_model_init(&b->def, NULL, 0), RPS3_OK);
   assert_int_equal(rps3_model_init(&b->only, NULL, 0), RPS3_OK);
   assert_int_equal(rps3_model_init(&b->lean, NULL, 0), RPS3_OK);
@@ -861,8 +881,18 @@ static int lean_point(lean_bench *b, const double p[3], const double dp[3],
     assert_true(isnan(b->dl->transmission));
     assert_int_equal(b->dl->have_theta, 0);
     assert_int_equal(b->dl->has_lambda, 0);
+    for (c = 0; c < 3; c++) {
+      assert_true(isnan(b->dl->theta[c]) && isnan(b->dl->lambda[c]));
+      for (k = 0; k < RPS3_NEFFECT; k++)
+        assert_true(isnan(b->dl->F_effect[k][c]));
+    }
+    assert_true(isnan(b->dl->energy_residual) && isnan(b->dl->power));
     assert_int_equal(rps3_inverse(&b->def, b->dd), RPS3_OK);
+    /* the checks are not given up: a point the pass keeps is one whose
+       transmission the stages find below both thresholds (the bound) */
     if (sf != RPS3_OK || (b->df->warn & RPS3_WARN_TRANS)) b->gave_up++;
+    assert_int_equal(sf, RPS3_OK);
+    assert_int_equal(b->df->warn, 0);
     for (c = 0; c < 3; c++) {
       track(&fs, fabs(b->dd->F[c]));
       for (k = 0; k < RPS3_NEFFECT; k++)
@@ -993,17 +1023,19 @@ static void lean_hard_poses(void **state) {
     lean_point(&b, p, dp, ddp);
   }
   /* a level platform lowered to the base: forces without bound, cond
-     small; the lean pass hands it over, and the stages warn or fail */
+     small; where the transmission bound does not clear it the lean pass
+     hands it over (lean_point: the stages' status and warning), and low
+     enough the stages warn or fail */
   p[0] = 0.4127;
   p[1] = 0.0;
   for (k = 1; k <= 8; k++) {
     p[2] = 0.2286 * pow(10.0, -(double)k);
-    if (lean_point(&b, p, dp, ddp) == 0) {
-      st = rps3_inverse(&b.lean, b.dl);
-      assert_true(st == RPS3_ESING ||
-                  (st == RPS3_OK && (b.dl->warn & RPS3_WARN_TRANS)));
-    }
+    lean_point(&b, p, dp, ddp);
   }
+  assert_int_equal(lean_point(&b, p, dp, ddp), 0);
+  st = rps3_inverse(&b.lean, b.dl);
+  assert_true(st == RPS3_ESING ||
+              (st == RPS3_OK && (b.dl->warn & RPS3_WARN_TRANS)));
   p[2] = 0.2286e-4;
   assert_int_equal(lean_point(&b, p, dp, ddp), 0);
   /* inputs the pass leaves to the stages */
@@ -1081,10 +1113,10 @@ static void lean_leaves_no_stale_stage(void **state) {
   int c;
   (void)state;
   rps3_model_default(&m);
-  m.opt.certify = 0;
+  m.opt.outputs &= ~RPS3_OUT_CERTIFY;
   assert_int_equal(rps3_model_init(&m, NULL, 0), RPS3_OK);
   ml = m;
-  ml.opt.forces_only = RPS3_FORCES_LEAN;
+  ml.opt.outputs = RPS3_OUT_FORCES;
   assert_int_equal(rps3_model_init(&ml, NULL, 0), RPS3_OK);
   assert_int_equal(rps3_data_alloc(&m, &d), RPS3_OK);
   for (c = 0; c < 3; c++) {
@@ -1100,6 +1132,22 @@ static void lean_leaves_no_stale_stage(void **state) {
   assert_int_equal(rps3_inverse(&ml, d), RPS3_OK);
   assert_int_equal(d->stage, 0);
   assert_true(isnan(d->transmission));
+  /* every result but F and cond NaN, after a whole point and again after
+     a point of the pass itself (which fills the NaNs once) */
+  for (c = 0; c < 2; c++) {
+    int i, k;
+    for (i = 0; i < 3; i++) {
+      assert_true(isnan(d->theta[i]) && isnan(d->lambda[i]));
+      assert_true(isfinite(d->F[i]));
+      for (k = 0; k < RPS3_NEFFECT; k++) assert_true(isnan(d->F_effect[k][i]));
+    }
+    assert_true(isnan(d->power) && isnan(d->dTdt) && isnan(d->dPdt) &&
+                isnan(d->friction_power) && isnan(d->energy_residual) &&
+                isnan(d->energy_scale) && isfinite(d->cond));
+    d->pose[0] = 1.211;
+    assert_int_equal(rps3_inverse(&ml, d), RPS3_OK);
+    assert_int_equal(d->stage, 0);
+  }
   assert_int_equal(rps3_invdyn(&m, d), RPS3_ESTATE);
   assert_int_equal(rps3_velocity(&m, d), RPS3_ESTATE);
   assert_int_equal(rps3_acceleration(&m, d), RPS3_ESTATE);
@@ -1113,8 +1161,64 @@ static void lean_leaves_no_stale_stage(void **state) {
   rps3_data_free(d);
 }
 
+/* the leanest pass's transmission bound is one: at least the stages'
+   transmission at every pose, on Table II and the high-entropy model,
+   along random trajectories, tilted and lowered platforms and towards the
+   singular pose (the pass keeps a point only below it: lean_point) */
+static void lean_bound_holds(void **state) {
+  arrays *a = calloc(1, sizeof(*a));
+  int table2, i, c, k, n = 0;
+  double tightest = HUGE_VAL, loose = 0.0;
+  (void)state;
+  assert_non_null(a);
+  for (table2 = 0; table2 < 2; table2++) {
+    rps3_model m;
+    rps3_data *d = NULL;
+    uint64_t seed;
+    if (table2)
+      rps3_model_default(&m);
+    else
+      model_entropy(&m);
+    m.opt.effects = RPS3_EFF_DEFAULT;
+    m.opt.trans_max = m.opt.trans_warn = 1e300; /* every transmission */
+    m.opt.cond_max = m.opt.cond_warn = 1e300;
+    assert_int_equal(rps3_model_init(&m, NULL, 0), RPS3_OK);
+    assert_int_equal(rps3_data_alloc(&m, &d), RPS3_OK);
+    for (seed = 0; seed < 3; seed++) {
+      make_points(&m, a, 0xb0d + seed);
+      for (i = 0; i < N; i++) {
+        double p[3], bound;
+        for (c = 0; c < 3; c++) {
+          p[c] = d->pose[c] = AT(a->pose, c, i);
+          d->dpose[c] = d->ddpose[c] = 0.0;
+        }
+        /* tilted further, and lowered towards the base */
+        for (k = 0; k < 3; k++) {
+          if (k == 1) d->pose[1] = p[1] = 2.5 * p[1];
+          if (k == 2) d->pose[2] = p[2] = 0.05 * p[2];
+          if (rps3_inverse_stages(&m, d) != RPS3_OK) continue;
+          bound = rps3_lean_trans_bound(&m, p);
+          n++;
+          if (bound / d->transmission < tightest) tightest = bound / d->transmission;
+          if (bound / d->transmission > loose) loose = bound / d->transmission;
+          if (!(bound >= d->transmission * (1.0 - 1e-12)))
+            fail_msg("pose (%g, %g, %g): bound %.17g below the "
+                     "transmission %.17g", p[0], p[1], p[2], bound,
+                     d->transmission);
+        }
+      }
+    }
+    rps3_data_free(d);
+  }
+  print_message("transmission bound: %d poses, bound / transmission in "
+                "[%.3g, %.3g]\n", n, tightest, loose);
+  assert_true(n > 1000);
+  free(a);
+}
+
 int main(void) {
   const struct CMUnitTest tests[] = {
+      cmocka_unit_test(lean_bound_holds),
       cmocka_unit_test(sincos_within_3_ulp),
       cmocka_unit_test(atan2_within_4_ulp),
       cmocka_unit_test(transmission_by_virtual_power),

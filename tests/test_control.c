@@ -9,6 +9,18 @@
  */
 #include "testutil.h"
 
+/* the controller's last desired length and rate i (rps3_ctrl_last) */
+static double ctrl_l_des(const rps3_ctrl *c, int i) {
+  double l[3];
+  assert_int_equal(rps3_ctrl_last(c, NULL, l, NULL, NULL), RPS3_OK);
+  return l[i];
+}
+static double ctrl_dl_des(const rps3_ctrl *c, int i) {
+  double dl[3];
+  assert_int_equal(rps3_ctrl_last(c, NULL, NULL, dl, NULL), RPS3_OK);
+  return dl[i];
+}
+
 static void pd_tracks_the_desired_rates(void **state) {
   const int effects[3] = {RPS3_EFF_PLATFORM_GRAVITY | RPS3_EFF_LINK_GRAVITY,
                           RPS3_EFF_DEFAULT, RPS3_EFF_PLATFORM_GRAVITY};
@@ -23,8 +35,9 @@ static void pd_tracks_the_desired_rates(void **state) {
       rps3_traj_default(&tr);
       rps3_model_default(&cm);
       cm.opt.effects = effects[e];
-      cm.opt.forces_only = fo; /* the runner's controllers: forces_only */
-      cm.opt.certify = 0;     /* no rates for a static model then */
+      /* fo: the runner's controllers, F alone (the leanest pass); else
+         every output but the certificate (no rates for a static model) */
+      cm.opt.outputs = fo ? RPS3_OUT_FORCES : RPS3_OUT_ALL & ~RPS3_OUT_CERTIFY;
       assert_int_equal(rps3_model_init(&cm, NULL, 0), RPS3_OK);
       rps3_model_default(&om);
       assert_int_equal(rps3_model_init(&om, NULL, 0), RPS3_OK);
@@ -45,7 +58,7 @@ static void pd_tracks_the_desired_rates(void **state) {
           /* the same rates by another route: to rounding of m/s values
              of ~0.1 (1e-15 seen) */
           CHECK_REL(F[i], od->dl[i], 1e-12, 1.0,
-                    "effects %#x forces_only %d t %g: F%d = kd dl_des", effects[e],
+                    "effects %#x F alone %d t %g: F%d = kd dl_des", effects[e],
                     fo, t, i);
       }
       rps3_ctrl_free(c);
@@ -74,7 +87,7 @@ static void every_kind_logs_the_desired_motion(void **state) {
       rps3_model_default(&cm);
       cm.opt.effects = e ? RPS3_EFF_DEFAULT
                          : RPS3_EFF_PLATFORM_GRAVITY | RPS3_EFF_LINK_GRAVITY;
-      cm.opt.certify = 0;
+      cm.opt.outputs &= ~RPS3_OUT_CERTIFY;
       assert_int_equal(rps3_model_init(&cm, NULL, 0), RPS3_OK);
       rps3_model_default(&om);
       assert_int_equal(rps3_model_init(&om, NULL, 0), RPS3_OK);
@@ -92,9 +105,9 @@ static void every_kind_logs_the_desired_motion(void **state) {
         assert_int_equal(rps3_ctrl_update(c, t, od->l, od->dl, F), RPS3_OK);
         for (i = 0; i < 3; i++) {
           /* lengths ~0.2 m and rates ~0.1 m/s by two routes: rounding */
-          CHECK_REL(c->l_des[i], od->l[i], 1e-12, 1.0,
+          CHECK_REL(ctrl_l_des(c, i), od->l[i], 1e-12, 1.0,
                     "kind %d effects %d t %g: l_des%d", kind, e, t, i);
-          CHECK_REL(c->dl_des[i], od->dl[i], 1e-12, 1.0,
+          CHECK_REL(ctrl_dl_des(c, i), od->dl[i], 1e-12, 1.0,
                     "kind %d effects %d t %g: dl_des%d", kind, e, t, i);
           assert_true(isfinite(F[i]));
         }
@@ -225,9 +238,9 @@ static void laws_are_the_model_inverse_dynamics(void **state) {
           assert_int_equal(rps3_ctrl_update(c, t, l, dl, F), RPS3_OK);
           /* the oracle at the measured state, warm from the desired theta */
           for (i = 0; i < 3; i++) {
-            double er = c->l_des[i] - l[i], de = c->dl_des[i] - dl[i];
+            double er = ctrl_l_des(c, i) - l[i], de = ctrl_dl_des(c, i) - dl[i];
             a[i] = (kinds[q] == RPS3_CTRL_COMPUTED_TORQUE)
-                       ? c->des->ddl[i] + kp * er + kd * de
+                       ? rps3_ctrl_desired(c)->ddl[i] + kp * er + kd * de
                        : 0.0;
             od->l[i] = l[i];
           }
@@ -244,11 +257,11 @@ static void laws_are_the_model_inverse_dynamics(void **state) {
           for (i = 0; i < 3; i++) {
             double want = od->F[i];
             if (kinds[q] == RPS3_CTRL_PD_GRAVITY)
-              want += kp * (c->l_des[i] - l[i]) + kd * (c->dl_des[i] - dl[i]);
+              want += kp * (ctrl_l_des(c, i) - l[i]) + kd * (ctrl_dl_des(c, i) - dl[i]);
             CHECK_REL(F[i], want, 1e-10, scale,
                       "kind %d effects %#x method %d t %g: F%d", (int)kinds[q],
                       eff, meth, t, i);
-            CHECK_REL(c->meas->theta[i], od->theta[i], 1e-10, 1.0,
+            CHECK_REL(rps3_ctrl_measured(c)->theta[i], od->theta[i], 1e-10, 1.0,
                       "kind %d effects %#x t %g: theta%d", (int)kinds[q], eff,
                       t, i);
           }
@@ -262,7 +275,7 @@ static void laws_are_the_model_inverse_dynamics(void **state) {
  * What rps3_invdyn reports of a configuration, the controllers report at
  * the measured state too: with opt.trans_warn or opt.cond_warn below the
  * state's force transmission or condition number, RPS3_WARN_TRANS or
- * RPS3_WARN_ILLCOND in c->meas->warn, as in the oracle's; with
+ * RPS3_WARN_ILLCOND in rps3_ctrl_measured(c)->warn, as in the oracle's; with
  * opt.trans_max or opt.cond_max below them, RPS3_ESING from both; with
  * opt.mode asking for the other assembly mode, RPS3_EMODE from both.
  */
@@ -333,9 +346,9 @@ static void laws_keep_the_model_limits(void **state) {
       st = rps3_ctrl_update(c, t, l, dl, F);
       if (st != want_st)
         fail_msg("kind %d variant %d: status %d (%s), the oracle's %d",
-                 (int)kinds[q], v, st, c->meas->err.msg, want_st);
+                 (int)kinds[q], v, st, rps3_ctrl_measured(c)->err.msg, want_st);
       if (st == RPS3_OK)
-        assert_int_equal(c->meas->warn & (RPS3_WARN_TRANS | RPS3_WARN_ILLCOND),
+        assert_int_equal(rps3_ctrl_measured(c)->warn & (RPS3_WARN_TRANS | RPS3_WARN_ILLCOND),
                          want_warn);
       assert_true(v != 0 || (want_warn & RPS3_WARN_TRANS));
       assert_true(v != 2 || (want_warn & RPS3_WARN_ILLCOND));
@@ -390,17 +403,17 @@ static void non_finite_measurements(void **state) {
                    which, bad[b], st, F[0], F[1], F[2]);
         snprintf(want, sizeof want, "measured %s%d", which < 3 ? "l" : "dl",
                  which % 3 + 1);
-        if (strstr(c->meas->err.msg, want) == NULL)
-          fail_msg("kind %d: '%s' does not name %s", kind, c->meas->err.msg,
+        if (strstr(rps3_ctrl_measured(c)->err.msg, want) == NULL)
+          fail_msg("kind %d: '%s' does not name %s", kind, rps3_ctrl_measured(c)->err.msg,
                    want);
       }
     assert_int_equal(rps3_ctrl_update(c, (double)NAN, d->l, d->dl, F),
                      RPS3_EINVAL);
-    assert_non_null(strstr(c->meas->err.msg, "time t"));
+    assert_non_null(strstr(rps3_ctrl_measured(c)->err.msg, "time t"));
     /* an infinite time too, not only NaN */
     assert_int_equal(rps3_ctrl_update(c, (double)INFINITY, d->l, d->dl, F),
                      RPS3_EINVAL);
-    assert_non_null(strstr(c->meas->err.msg, "time t"));
+    assert_non_null(strstr(rps3_ctrl_measured(c)->err.msg, "time t"));
     /* the next good measurement: a finite force */
     assert_int_equal(rps3_ctrl_update(c, 1.0, d->l, d->dl, F), RPS3_OK);
     assert_true(isfinite(F[0]) && isfinite(F[1]) && isfinite(F[2]));
@@ -417,7 +430,7 @@ static void non_finite_measurements(void **state) {
       assert_true(st != RPS3_OK);
       if (kind == RPS3_CTRL_PD) { /* the others' model refuses l first */
         assert_int_equal(st, RPS3_ERANGE);
-        assert_non_null(strstr(big->meas->err.msg, "not finite"));
+        assert_non_null(strstr(rps3_ctrl_measured(big)->err.msg, "not finite"));
       }
       rps3_ctrl_free(big);
     }
@@ -426,9 +439,50 @@ static void non_finite_measurements(void **state) {
   }
 }
 
+/* the opaque controller's accessors: NaN before the first tick, the
+   tick's values after it (the desired workspace's own), NULL and
+   RPS3_EINVAL for no controller */
+static void accessors_of_the_opaque_controller(void **state) {
+  rps3_model m;
+  rps3_traj tr;
+  rps3_ctrl *c = NULL;
+  const rps3_data *des;
+  double t, l[3], dl[3], ff[3], F[3];
+  int i;
+  (void)state;
+  rps3_model_default(&m);
+  assert_int_equal(rps3_model_init(&m, NULL, 0), RPS3_OK);
+  rps3_traj_default(&tr);
+  assert_int_equal(rps3_ctrl_alloc(RPS3_CTRL_OPEN_LOOP, 0.0, 0.0, &m, &tr, &c,
+                                   NULL, 0),
+                   RPS3_OK);
+  assert_int_equal(rps3_ctrl_last(c, &t, l, dl, ff), RPS3_OK);
+  assert_true(isnan(t));
+  for (i = 0; i < 3; i++)
+    assert_true(isnan(l[i]) && isnan(dl[i]) && isnan(ff[i]));
+  des = rps3_ctrl_desired(c);
+  assert_non_null(des);
+  assert_non_null(rps3_ctrl_measured(c));
+  assert_int_equal(rps3_ctrl_update(c, 0.37, l, l, F), RPS3_EINVAL); /* NaN */
+  for (i = 0; i < 3; i++) l[i] = dl[i] = 0.25;
+  assert_int_equal(rps3_ctrl_update(c, 0.37, l, dl, F), RPS3_OK);
+  assert_int_equal(rps3_ctrl_last(c, &t, l, dl, ff), RPS3_OK);
+  assert_true(t == 0.37);
+  for (i = 0; i < 3; i++) {
+    assert_true(l[i] == des->l[i] && dl[i] == des->dl[i]);
+    assert_true(ff[i] == F[i]); /* the open loop applies F_ff */
+  }
+  assert_int_equal(rps3_ctrl_last(NULL, &t, l, NULL, NULL), RPS3_EINVAL);
+  assert_true(isnan(t) && isnan(l[0]));
+  assert_null(rps3_ctrl_desired(NULL));
+  assert_null(rps3_ctrl_measured(NULL));
+  rps3_ctrl_free(c);
+}
+
 int main(void) {
   const struct CMUnitTest tests[] = {
       cmocka_unit_test(pd_tracks_the_desired_rates),
+      cmocka_unit_test(accessors_of_the_opaque_controller),
       cmocka_unit_test(every_kind_logs_the_desired_motion),
       cmocka_unit_test(repeated_and_earlier_times),
       cmocka_unit_test(laws_are_the_model_inverse_dynamics),

@@ -539,7 +539,7 @@ static void brute_force_agrees(void **state) {
                    RPS3_OK);
   assert_int_equal(rps3_design_model(&ds, &m, NULL, 0), RPS3_OK);
   m.opt.effects = RPS3_EFF_PLATFORM_GRAVITY;
-  m.opt.certify = 0;
+  m.opt.outputs = RPS3_OUT_ALL & ~RPS3_OUT_CERTIFY;
   m.opt.trans_max = m.opt.trans_warn = m.opt.cond_max = m.opt.cond_warn = 1e300;
   assert_int_equal(rps3_model_init(&m, NULL, 0), RPS3_OK);
   assert_int_equal(rps3_data_alloc(&m, &d), RPS3_OK);

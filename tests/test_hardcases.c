@@ -593,7 +593,7 @@ static void zero_rates(void **state) {
   d = setup(&m);
   ms = m;
   ms.opt.effects = RPS3_EFF_PLATFORM_GRAVITY | RPS3_EFF_LINK_GRAVITY;
-  ms.opt.certify = 0;
+  ms.opt.outputs &= ~RPS3_OUT_CERTIFY;
   ms.payload.mass = 0.0;
   assert_int_equal(rps3_model_init(&ms, NULL, 0), RPS3_OK);
   m.payload.mass = 0.0;
@@ -858,7 +858,7 @@ static void bad_guesses(void **state) {
     m.opt.solver = (rps3_solver)s;
     m.opt.max_iter = 200;
     m.opt.effects = RPS3_EFF_PLATFORM_GRAVITY;
-    m.opt.certify = 0;
+    m.opt.outputs &= ~RPS3_OUT_CERTIFY;
     assert_int_equal(rps3_model_init(&m, NULL, 0), RPS3_OK);
     assert_int_equal(rps3_data_alloc(&m, &d), RPS3_OK);
     assert_int_equal(rps3_data_alloc(&m, &e), RPS3_OK);

@@ -119,13 +119,125 @@ static void effects_separate(void **state) {
 }
 
 /*
- * opt.forces_only (a controller's path) gives the default's forces from the
- * summed loads: the same F to rounding (1e-15 of the forces' scale seen;
- * TOL_EXACT), the same lambda, cond and warnings, no shares, and on the
- * closed-form route no theta.  Both methods, both theta routes, every
+ * Every subset of opt.outputs, both methods and both theta routes, on
+ * random trajectories of the high-entropy model: a result whose bit is set
+ * equals the default's (every output) to rounding (TOL_EXACT of the
+ * forces' scale: the summed solve without shares), a result whose bit is
+ * not set is NaN, and status and warn are the default's.  At the singular
+ * pose (the lambda system's zero determinant) every subset is RPS3_ESING,
+ * and a lowered trans_warn warns whatever the bits (the transmission check
+ * is decided without RPS3_OUT_TRANSMISSION too).
+ */
+static void outputs_each_bit(void **state) {
+  rps3_model full, sub;
+  rps3_data *df, *ds;
+  rps3_traj tr;
+  uint64_t seed = 9131;
+  int method, route, bits, k, i, e;
+  (void)state;
+  for (method = 0; method < 2; method++)
+    for (route = 0; route < 2; route++)
+      for (bits = 0; bits <= RPS3_OUT_ALL; bits++) {
+        model_entropy(&full);
+        full.opt.method = (rps3_method)method;
+        full.opt.theta = (rps3_theta_route)route;
+        sub = full;
+        sub.opt.outputs = bits;
+        assert_int_equal(rps3_model_init(&full, NULL, 0), RPS3_OK);
+        assert_int_equal(rps3_model_init(&sub, NULL, 0), RPS3_OK);
+        assert_int_equal(rps3_data_alloc(&full, &df), RPS3_OK);
+        assert_int_equal(rps3_data_alloc(&sub, &ds), RPS3_OK);
+        traj_random(&tr, &seed);
+        for (k = 0; k <= 10; k++) {
+          double t = 0.2 * k, fs;
+          run_point(&full, df, &tr, t);
+          run_point(&sub, ds, &tr, t);
+          assert_int_equal(ds->warn, df->warn);
+          fs = fscale(df);
+          assert_true(ds->cond == ds->cond);
+          CHECK_REL(ds->cond, df->cond, TOL_EXACT * df->cond, 1.0, "cond");
+          for (i = 0; i < 3; i++) {
+            if (bits & RPS3_OUT_FORCES)
+              CHECK_REL(ds->F[i], df->F[i], TOL_EXACT, fs, "F%d bits %#x", i,
+                        bits);
+            else
+              assert_true(isnan(ds->F[i]));
+            for (e = 0; e < RPS3_NEFFECT; e++)
+              if (bits & RPS3_OUT_EFFECTS)
+                assert_true(ds->F_effect[e][i] == df->F_effect[e][i]);
+              else
+                assert_true(isnan(ds->F_effect[e][i]));
+            if ((bits & RPS3_OUT_LAMBDA) && method == RPS3_LAGRANGE)
+              CHECK_REL(ds->lambda[i], df->lambda[i], TOL_EXACT,
+                        fabs(df->lambda[0]) + fabs(df->lambda[1]) +
+                            fabs(df->lambda[2]) + 1e-300,
+                        "lambda%d", i);
+            else
+              assert_true(isnan(ds->lambda[i]) && !ds->has_lambda);
+            if ((bits & RPS3_OUT_THETA) || route == RPS3_THETA_MULTIROOT)
+              assert_true(ds->theta[i] == df->theta[i]);
+            else
+              assert_true(isnan(ds->theta[i]));
+          }
+          if (bits & RPS3_OUT_TRANSMISSION)
+            CHECK_REL(ds->transmission, df->transmission, TOL_EXACT,
+                      df->transmission, "transmission");
+          else
+            assert_true(isnan(ds->transmission));
+          if (bits & RPS3_OUT_CERTIFY)
+            CHECK_REL(ds->energy_residual, df->energy_residual, TOL_EXACT,
+                      df->energy_scale + 1e-300, "energy residual");
+          else
+            assert_true(isnan(ds->energy_residual) &&
+                        isnan(ds->energy_scale) && isnan(ds->power));
+        }
+        rps3_data_free(df);
+        rps3_data_free(ds);
+      }
+  /* the checks with every subset: the singular pose, a lowered trans_warn */
+  for (bits = 0; bits <= RPS3_OUT_ALL; bits++)
+    for (route = 0; route < 2; route++) {
+      double bs;
+      rps3_model_default(&sub);
+      sub.opt.outputs = bits;
+      sub.opt.theta = (rps3_theta_route)route;
+      assert_int_equal(rps3_model_init(&sub, NULL, 0), RPS3_OK);
+      assert_int_equal(rps3_data_alloc(&sub, &ds), RPS3_OK);
+      bs = singular_beta(&sub, ds, 0.25, 0.6, 1.0);
+      ds->pose[0] = 0.0;
+      ds->pose[1] = bs;
+      ds->pose[2] = 0.25;
+      for (i = 0; i < 3; i++) ds->dpose[i] = ds->ddpose[i] = 0.0;
+      if (route == RPS3_THETA_CLOSED_FORM)
+        assert_int_equal(rps3_inverse(&sub, ds), RPS3_ESING);
+      rps3_data_free(ds);
+      /* a transmission of 2.4 above a warning threshold of 2 */
+      sub.opt.trans_warn = 2.0;
+      sub.opt.theta = RPS3_THETA_CLOSED_FORM;
+      assert_int_equal(rps3_model_init(&sub, NULL, 0), RPS3_OK);
+      assert_int_equal(rps3_data_alloc(&sub, &ds), RPS3_OK);
+      ds->pose[0] = 0.3;
+      ds->pose[1] = 0.0;
+      ds->pose[2] = sub.R;
+      assert_int_equal(rps3_inverse(&sub, ds), RPS3_OK);
+      assert_true(ds->warn & RPS3_WARN_TRANS);
+      /* and a trans_max below it: RPS3_ESING */
+      sub.opt.trans_max = 2.1;
+      assert_int_equal(rps3_model_init(&sub, NULL, 0), RPS3_OK);
+      assert_int_equal(rps3_inverse(&sub, ds), RPS3_ESING);
+      rps3_data_free(ds);
+    }
+}
+
+/*
+ * outputs without RPS3_OUT_EFFECTS and RPS3_OUT_THETA (F, lambda and the
+ * transmission) give the default's forces from the summed loads: the same F
+ * to rounding (1e-15 of the forces' scale seen; TOL_EXACT), the same
+ * lambda, cond and warnings, the shares NaN, and on the closed-form route
+ * theta NaN.  Both methods, both theta routes, every
  * effect, high-entropy parameters along random trajectories.
  */
-static void forces_only_matches(void **state) {
+static void summed_forces_match(void **state) {
   rps3_model full, fo;
   rps3_data *df, *dfo;
   rps3_traj tr;
@@ -137,9 +249,9 @@ static void forces_only_matches(void **state) {
       model_entropy(&full);
       full.opt.method = (rps3_method)method;
       full.opt.theta = (rps3_theta_route)route;
-      full.opt.certify = 0;
+      full.opt.outputs &= ~RPS3_OUT_CERTIFY;
       fo = full;
-      fo.opt.forces_only = 1;
+      fo.opt.outputs = RPS3_OUT_FORCES | RPS3_OUT_LAMBDA | RPS3_OUT_TRANSMISSION;
       assert_int_equal(rps3_model_init(&full, NULL, 0), RPS3_OK);
       assert_int_equal(rps3_model_init(&fo, NULL, 0), RPS3_OK);
       assert_int_equal(rps3_data_alloc(&full, &df), RPS3_OK);
@@ -153,14 +265,18 @@ static void forces_only_matches(void **state) {
           assert_true(dfo->cond == df->cond && dfo->warn == df->warn);
           for (i = 0; i < 3; i++) {
             CHECK_REL(dfo->F[i], df->F[i], TOL_EXACT, fscale(df),
-                      "forces_only F%d (method %d, route %d)", i, method,
+                      "summed F%d (method %d, route %d)", i, method,
                       route);
-            CHECK_REL(dfo->lambda[i], df->lambda[i], TOL_EXACT,
-                      fabs(df->lambda[0]) + fabs(df->lambda[1]) +
-                          fabs(df->lambda[2]) + 1e-300,
-                      "forces_only lambda%d", i);
+            if (method == RPS3_LAGRANGE)
+              CHECK_REL(dfo->lambda[i], df->lambda[i], TOL_EXACT,
+                        fabs(df->lambda[0]) + fabs(df->lambda[1]) +
+                            fabs(df->lambda[2]) + 1e-300,
+                        "summed lambda%d", i);
+            else /* Newton-Euler has no multipliers: NaN */
+              assert_true(isnan(dfo->lambda[i]) && isnan(df->lambda[i]) &&
+                          !dfo->has_lambda && !df->has_lambda);
             for (e = 0; e < RPS3_NEFFECT; e++)
-              assert_true(dfo->F_effect[e][i] == 0.0);
+              assert_true(isnan(dfo->F_effect[e][i]));
             if (route == RPS3_THETA_CLOSED_FORM)
               assert_true(isnan(dfo->theta[i]));
             else
@@ -213,7 +329,7 @@ static void shared_jacobian_never_stale(void **state) {
       model_entropy(&m);
       m.opt.method = (rps3_method)method;
       m.opt.theta = (rps3_theta_route)route;
-      m.opt.certify = 1;
+      m.opt.outputs |= RPS3_OUT_CERTIFY;
       mc = m;
       mc.opt.theta = RPS3_THETA_CLOSED_FORM;
       assert_int_equal(rps3_model_init(&m, NULL, 0), RPS3_OK);
@@ -297,7 +413,8 @@ static void static_closed_form(void **state) {
       model_entropy(&m);
       memset(m.payload.com, 0, sizeof m.payload.com);
       m.opt.method = (rps3_method)method;
-      m.opt.certify = certify;
+      m.opt.outputs = (certify) ? (m.opt.outputs | RPS3_OUT_CERTIFY)
+      : (m.opt.outputs & ~RPS3_OUT_CERTIFY);
       m.opt.effects = RPS3_EFF_ALL; /* inertia and friction vanish at rest */
       assert_int_equal(rps3_model_init(&m, NULL, 0), RPS3_OK);
       assert_int_equal(rps3_data_alloc(&m, &d), RPS3_OK);
@@ -328,7 +445,7 @@ static void static_scene_needs_no_rates(void **state) {
   (void)state;
   rps3_model_default(&m);
   m.opt.effects = RPS3_EFF_PLATFORM_GRAVITY | RPS3_EFF_LINK_GRAVITY;
-  m.opt.certify = 0;
+  m.opt.outputs &= ~RPS3_OUT_CERTIFY;
   assert_int_equal(rps3_model_init(&m, NULL, 0), RPS3_OK);
   assert_int_equal(rps3_data_alloc(&m, &d), RPS3_OK);
   assert_int_equal(rps3_invdyn(&m, d), RPS3_ESTATE);
@@ -413,7 +530,8 @@ int main(void) {
       cmocka_unit_test(paper_trajectory),
       cmocka_unit_test(random_trajectories),
       cmocka_unit_test(effects_separate),
-      cmocka_unit_test(forces_only_matches),
+      cmocka_unit_test(summed_forces_match),
+      cmocka_unit_test(outputs_each_bit),
       cmocka_unit_test(shared_jacobian_never_stale),
       cmocka_unit_test(static_closed_form),
       cmocka_unit_test(static_scene_needs_no_rates),

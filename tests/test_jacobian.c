@@ -143,6 +143,50 @@ static void theta_solve_jacobian(void **state) {
   rps3_data_free(d);
 }
 
+/* the two forms of src/cjac.h, the positions' (the lambda system, the
+   batch kernel) and the links' planes' (the theta solve, the forward
+   dynamics), are one Jacobian: entry by entry at the positions inverse
+   kinematics leaves, and f = 0 there, to rounding of the entries' size */
+static void cjac_forms_agree(void **state) {
+  rps3_model m;
+  rps3_data *d;
+  uint64_t seed = 4127;
+  int n, tried = 0, i, k;
+  (void)state;
+  model_entropy(&m);
+  assert_int_equal(rps3_model_init(&m, NULL, 0), RPS3_OK);
+  assert_int_equal(rps3_data_alloc(&m, &d), RPS3_OK);
+  for (n = 0; n < 300; n++) {
+    double Jl[3][3], Jt[3][3], h[3], Z[3], c[3], sn[3], sl, st;
+    if (random_pose(&m, d, &seed) != RPS3_OK) continue;
+    tried++;
+    rps3_constraint_jacobian(d, Jl, Jt);
+    sl = maxabs33(M3C(Jl));
+    st = maxabs33(M3C(Jt));
+    for (i = 0; i < 3; i++) {
+      c[i] = cos(d->theta[i]);
+      sn[i] = sin(d->theta[i]);
+      h[i] = m.R - d->l[i] * c[i];
+      Z[i] = d->l[i] * sn[i];
+    }
+    for (k = 0; k < 3; k++) {
+      const int j = (k + 1) % 3;
+      double al, bl;
+      const rps3_plane_pair q = rps3_plane_pair_eval(
+          h[k], h[j], Z[k], Z[j], d->l[k], d->l[j], c[k], sn[k], c[j], sn[j],
+          3.0 * m.r * m.r);
+      rps3_plane_pair_dl(&q, c[k], sn[k], c[j], sn[j], &al, &bl);
+      CHECK_REL(q.f, 0.0, TOL_EXACT, m.R * m.R, "f%d pose %d", k, n);
+      CHECK_REL(q.at, Jt[k][k], TOL_EXACT, st, "at%d pose %d", k, n);
+      CHECK_REL(q.bt, Jt[k][j], TOL_EXACT, st, "bt%d pose %d", k, n);
+      CHECK_REL(al, Jl[k][k], TOL_EXACT, sl, "al%d pose %d", k, n);
+      CHECK_REL(bl, Jl[k][j], TOL_EXACT, sl, "bl%d pose %d", k, n);
+    }
+  }
+  assert_true(tried > 200);
+  rps3_data_free(d);
+}
+
 /* the constraint Jacobian in metres of the lambda system and the joint
    route, at the positions inverse kinematics leaves in the data */
 static void constraint_jacobian(void **state) {
@@ -383,6 +427,7 @@ int main(void) {
   const struct CMUnitTest tests[] = {
       cmocka_unit_test(theta_solve_jacobian),
       cmocka_unit_test(constraint_jacobian),
+      cmocka_unit_test(cjac_forms_agree),
       cmocka_unit_test(velocity_map),
   };
   return cmocka_run_group_tests(tests, NULL, NULL);

@@ -190,14 +190,16 @@ def test_batch_equals_points_one_by_one():
 
 
 def test_lean_forces_as_every_output():
-    """forces="lean" (the library's RPS3_FORCES_LEAN, certify off) gives the
-    default path's forces to rounding (the C tests hold it to 8 eps cond of
-    the force scale; the paper's effects along a sine stay far from any
+    """outputs=["forces"] (the library's leanest pass) gives the default
+    path's forces to rounding (the C tests hold it to 8 eps cond of the
+    force scale; the paper's effects along a sine stay far from any
     singular pose, cond < 1e3), NaN for what it does not compute, and the
     same statuses."""
     effects = list(rps3.DEFAULT_EFFECTS)
-    full = rps3.Model(effects=effects, certify=False)
-    lean = rps3.Model(effects=effects, certify=False, forces="lean")
+    every = [o for o in rps3.OUTPUTS if o != "certify"]
+    full = rps3.Model(effects=effects, outputs=every)
+    lean = rps3.Model(effects=effects, outputs=["forces"])
+    assert lean.outputs == ("forces",) and full.outputs == tuple(every)
     tr = sine_points(full, 500)
     a = full.inverse(tr.pose, tr.dpose, tr.ddpose)
     b = lean.inverse(tr.pose, tr.dpose, tr.ddpose)
@@ -207,6 +209,20 @@ def test_lean_forces_as_every_output():
     np.testing.assert_allclose(b.force, a.force, rtol=0, atol=1e-12 * scale)
     np.testing.assert_allclose(b.condition, a.condition, rtol=1e-12)
     assert np.all(np.isnan(b.transmission)) and np.all(np.isnan(b.theta))
+    assert np.all(np.isnan(b.lambda_)) and np.all(np.isnan(b.energy_residual))
+    assert all(np.all(np.isnan(v)) for v in b.shares.values())
+    assert np.all(np.isnan(a.energy_residual))
+
+
+def test_outputs_argument_errors():
+    """An unknown output name is refused with a close match; a string is
+    not a list."""
+    with pytest.raises(ValueError, match="did you mean 'transmission'"):
+        rps3.Model(outputs=["transmision"])
+    with pytest.raises(ValueError, match="^outputs: expected a list"):
+        rps3.Model(outputs="forces")
+    with pytest.raises(ValueError, match="given twice"):
+        rps3.Model(outputs=["forces", "forces"])
 
 
 def test_failing_points_are_recorded_and_the_others_computed():
@@ -488,7 +504,7 @@ def test_open_dataset_warns_on_a_part(tmp_path):
     (dict(effects=["link_gravity", "link_gravity"]), "effects"),
     (dict(method="euler"), "method"),
     (dict(theta="numeric"), "theta"),
-    (dict(forces="some"), "forces"),
+    (dict(outputs=["some"]), "outputs"),
     (dict(solver="bisect"), "solver"),
     (dict(tol=0.0), "tol"),
     (dict(max_iter=2.5), "max_iter"),
@@ -540,7 +556,8 @@ def test_arrays_of_the_wrong_shape_or_missing_rates():
     with pytest.raises(ValueError, match="^guess: shape"):
         model.fk(np.full((5, 3), 0.3), guess=np.zeros((4, 3)))
     # a static selection needs no rates
-    static = rps3.Model(effects=["platform_gravity"], certify=False)
+    static = rps3.Model(effects=["platform_gravity"],
+                        outputs=["forces", "effects", "theta"])
     assert static.inverse(tr.pose).ok.all()
     # an empty batch is empty, not an error
     assert model.inverse(np.zeros((0, 3)), np.zeros((0, 3)),
@@ -642,8 +659,8 @@ def test_number_arguments_cover_every_parameter():
     """The table above names every parameter of the public functions
     that takes numbers: a new one must be added to it."""
     import inspect
-    words = {"effects", "method", "theta", "solver", "forces", "warm_start",
-             "certify", "model", "samples", "self"}
+    words = {"effects", "method", "theta", "solver", "outputs", "warm_start",
+             "model", "samples", "self"}
     covered = {(f, a) for f, _, _, a, _ in NUMBER_ARGUMENTS}
     for fname, fn in (("Model", rps3.Model.__init__), ("ik", rps3.Model.ik),
                       ("fk", rps3.Model.fk), ("inverse", rps3.Model.inverse),

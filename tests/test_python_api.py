@@ -279,8 +279,8 @@ def test_library_controllers_as_the_runner(runner):
     for kind, (kp, kd) in gains.items():
         for ratio in (0.5, 0.0):
             # the runner's controller model computes F alone (rps3.h,
-            # forces_only), and the plant starts at the trajectory's rates
-            cmodel = rps3.Model(m_over_M=ratio, forces="only", certify=False)
+            # RPS3_OUT_FORCES), and the plant starts at the trajectory's rates
+            cmodel = rps3.Model(m_over_M=ratio, outputs=["forces"])
             ctl = control.Library(kind, cmodel, traj, kp=kp, kd=kd, rate=1000.0)
             res = sim.simulate(plant, ctl, t, traj.pose[0], traj.dpose[0])
             case = ds.sel(controller=kind, m_over_M=ratio)

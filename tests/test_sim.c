@@ -4,6 +4,7 @@
    in a clean status. */
 #include <stdlib.h>
 
+#include "control.h" /* white-box: a controller's workspaces, a bogus kind */
 #include "testutil.h"
 #include "bench/user_law.h"
 
@@ -37,7 +38,7 @@ static void start_on(rps3_sim *s, const rps3_model *m, const rps3_traj *tr,
   double pose[3], dpose[3];
   assert_int_equal(rps3_traj_eval(m, tr, t, pose, dpose, NULL), RPS3_OK);
   if (rps3_sim_start(s, t, pose, dpose) != RPS3_OK)
-    fail_msg("start at t = %g: %s", t, s->d->err.msg);
+    fail_msg("start at t = %g: %s", t, rps3_sim_data(s)->err.msg);
 }
 
 /* largest |l - l_d| [m] at t, l_d by the closed form from the pose */
@@ -92,8 +93,8 @@ static void round_trip(const rps3_traj *tr, int eff, double *worst) {
       double t0 = (T - win) * (0.037 + 0.19 * k), e;
       start_on(s, &m, tr, t0);
       if (rps3_sim_advance(s, &ctl, t0 + win) != RPS3_OK)
-        fail_msg("effects %d, t0 = %g: %s", eff, t0, s->d->err.msg);
-      e = length_error(&m, tr, w, s->y, t0 + win);
+        fail_msg("effects %d, t0 = %g: %s", eff, t0, rps3_sim_data(s)->err.msg);
+      e = length_error(&m, tr, w, rps3_sim_now(s)->y, t0 + win);
       if (e > *worst) *worst = e;
       if (!(e <= 1e-9))
         fail_msg("effects %d, window at %g s: |l - l_d| = %.3g m", eff, t0, e);
@@ -149,7 +150,7 @@ static void rk4_converges_at_order_4(void **state) {
       rps3_controller ctl = {rps3_ctrl_update, c, 0.0, 0u, NULL};
       start_on(s, &m, &tr, 0.3);
       assert_int_equal(rps3_sim_advance(s, &ctl, 0.5), RPS3_OK);
-      e[k] = length_error(&m, &tr, w, s->y, 0.5);
+      e[k] = length_error(&m, &tr, w, rps3_sim_now(s)->y, 0.5);
     }
     rps3_data_free(w);
     rps3_ctrl_free(c);
@@ -206,27 +207,27 @@ static void energy_balance(void **state) {
         rps3_controller free_motion = {zero_force, NULL, 0.0, 0u, NULL};
         rps3_controller pd = rps3_ctrl_bind(c, 1000.0);
         start_on(s, &m, &tr, 0.0);
-        scale = fabs(s->T) + fabs(s->P);
+        scale = fabs(rps3_sim_now(s)->T) + fabs(rps3_sim_now(s)->P);
         for (k = 1; k <= 200; k++) {
           /* 0.1 s free, then the controller catches it */
           const rps3_controller *ctl = (k <= 100) ? &free_motion : &pd;
           if (rps3_sim_advance(s, ctl, 1e-3 * k) != RPS3_OK)
-            fail_msg("t = %g: %s", 1e-3 * k, s->d->err.msg);
-          worst_step = fmax(worst_step, fabs(s->energy_residual - prev));
-          prev = s->energy_residual;
+            fail_msg("t = %g: %s", 1e-3 * k, rps3_sim_data(s)->err.msg);
+          worst_step = fmax(worst_step, fabs(rps3_sim_now(s)->energy_residual - prev));
+          prev = rps3_sim_now(s)->energy_residual;
           if (k == 100 && fr == 0)
-            CHECK_REL(s->T + s->P, s->E0, 1e-8, scale,
+            CHECK_REL(rps3_sim_now(s)->T + rps3_sim_now(s)->P, rps3_sim_now(s)->E0, 1e-8, scale,
                       "free motion keeps T + P (%s)",
                       rps3_integrator_name(integ));
         }
       }
       print_message("%s, friction %d: energy residual %.3g J over the run, "
                     "worst step %.3g J, W_F %.4g J, W_f %.4g J\n",
-                    rps3_integrator_name(integ), fr, s->energy_residual,
-                    worst_step, s->y[6], s->y[7]);
-      CHECK_REL(s->energy_residual, 0.0, 1e-8, scale, "run");
+                    rps3_integrator_name(integ), fr, rps3_sim_now(s)->energy_residual,
+                    worst_step, rps3_sim_now(s)->y[6], rps3_sim_now(s)->y[7]);
+      CHECK_REL(rps3_sim_now(s)->energy_residual, 0.0, 1e-8, scale, "run");
       CHECK_REL(worst_step, 0.0, 1e-8, scale, "per step");
-      if (fr) assert_true(s->y[7] < 0.0);
+      if (fr) assert_true(rps3_sim_now(s)->y[7] < 0.0);
       rps3_ctrl_free(c);
       rps3_sim_free(s);
     }
@@ -253,7 +254,7 @@ static int closed_loop(const rps3_model *plant, const rps3_model *cm,
     for (k = 1; k <= n; k++) {
       st = rps3_sim_advance(s, &ctl, 1e-3 * k);
       if (st != RPS3_OK) break;
-      *emax = fmax(*emax, length_error(plant, tr, w, s->y, 1e-3 * k));
+      *emax = fmax(*emax, length_error(plant, tr, w, rps3_sim_now(s)->y, 1e-3 * k));
     }
   }
   rps3_data_free(w);
@@ -361,19 +362,19 @@ static void one_call_or_one_per_period(void **state) {
       }
       start_on(b, &plant, &tr, 0.0);
       assert_int_equal(rps3_sim_advance(b, &ctl_b, end), RPS3_OK);
-      for (i = 0; i < 8; i++) assert_true(a->y[i] == b->y[i]);
+      for (i = 0; i < 8; i++) assert_true(rps3_sim_now(a)->y[i] == rps3_sim_now(b)->y[i]);
       for (i = 0; i < 3; i++) {
-        assert_true(a->d->pose[i] == b->d->pose[i]);
-        assert_true(a->d->dpose[i] == b->d->dpose[i]);
-        assert_true(a->d->ddl[i] == b->d->ddl[i] || k);
-        assert_true(a->d->b[i][2] == b->d->b[i][2]);
-        assert_true(isfinite(b->d->pose[i]) && isfinite(b->d->ddtheta[i]));
+        assert_true(rps3_sim_data(a)->pose[i] == rps3_sim_data(b)->pose[i]);
+        assert_true(rps3_sim_data(a)->dpose[i] == rps3_sim_data(b)->dpose[i]);
+        assert_true(rps3_sim_data(a)->ddl[i] == rps3_sim_data(b)->ddl[i] || k);
+        assert_true(rps3_sim_data(a)->b[i][2] == rps3_sim_data(b)->b[i][2]);
+        assert_true(isfinite(rps3_sim_data(b)->pose[i]) && isfinite(rps3_sim_data(b)->ddtheta[i]));
       }
-      assert_true(a->T == b->T && a->P == b->P);
-      assert_true(a->energy_residual == b->energy_residual);
-      assert_int_equal(a->nticks + k, b->nticks);
-      assert_int_equal(b->d->stage & RPS3_STAGE_POS, RPS3_STAGE_POS);
-      if (!k) assert_int_equal(a->nevals, b->nevals);
+      assert_true(rps3_sim_now(a)->T == rps3_sim_now(b)->T && rps3_sim_now(a)->P == rps3_sim_now(b)->P);
+      assert_true(rps3_sim_now(a)->energy_residual == rps3_sim_now(b)->energy_residual);
+      assert_int_equal(rps3_sim_now(a)->nticks + k, rps3_sim_now(b)->nticks);
+      assert_int_equal(rps3_sim_data(b)->stage & RPS3_STAGE_POS, RPS3_STAGE_POS);
+      if (!k) assert_int_equal(rps3_sim_now(a)->nevals, rps3_sim_now(b)->nevals);
     }
 
     /* the ticks of a run, replayed outside a simulation.  The lent state
@@ -391,11 +392,11 @@ static void one_call_or_one_per_period(void **state) {
       ca->meas->solve_niter = -1;
       assert_int_equal(rps3_sim_advance(a, &ctl_a, 1e-3 * k), RPS3_OK);
       if (k > 1) assert_int_equal(ca->meas->solve_niter, -1);
-      assert_int_equal(rps3_ctrl_update(cr, ca->t, a->l_meas, a->dl_meas, F),
+      assert_int_equal(rps3_ctrl_update(cr, ca->t, rps3_sim_now(a)->l_meas, rps3_sim_now(a)->dl_meas, F),
                        RPS3_OK);
       assert_true(cr->meas->solve_niter >= 0);
       for (i = 0; i < 3; i++)
-        CHECK_REL(F[i], a->F_cmd[i], 1e-10, 1.0, "model %d tick %d F%d", v, k,
+        CHECK_REL(F[i], rps3_sim_now(a)->F_cmd[i], 1e-10, 1.0, "model %d tick %d F%d", v, k,
                   i);
     }
     rps3_sim_free(a);
@@ -420,8 +421,8 @@ static int failing_ct(void *state, double t, const double l[3],
 }
 
 /*
- * A run that stops inside a call reports the state it stopped at (s->t,
- * s->y: the last good one), not the end of an earlier call: the same as a
+ * A run that stops inside a call reports the state it stopped at (rps3_sim_now(s)->t,
+ * rps3_sim_now(s)->y: the last good one), not the end of an earlier call: the same as a
  * run that called every period up to there, to the solve's tolerance; the
  * status and message stay the failure's.  The controller fails at its
  * tick at 0.5 s, after a first call to 0.1 s and inside a second to 1 s.
@@ -453,22 +454,22 @@ static void report_where_the_run_stopped(void **state) {
     assert_int_equal(rps3_sim_advance(a, &ca, k / 1000.0), RPS3_OK);
   assert_int_equal(rps3_sim_advance(b, &cb, 0.1), RPS3_OK);
   assert_int_equal(rps3_sim_advance(b, &cb, 1.0), RPS3_ERANGE);
-  assert_true(b->t == 0.5 && b->failed_at == 0.5);
-  assert_int_equal(b->status, RPS3_ERANGE);
-  assert_non_null(strstr(b->d->err.msg, "controller returned"));
-  for (i = 0; i < 6; i++) assert_true(a->y[i] == b->y[i]);
+  assert_true(rps3_sim_now(b)->t == 0.5 && rps3_sim_now(b)->failed_at == 0.5);
+  assert_int_equal(rps3_sim_now(b)->status, RPS3_ERANGE);
+  assert_non_null(strstr(rps3_sim_data(b)->err.msg, "controller returned"));
+  for (i = 0; i < 6; i++) assert_true(rps3_sim_now(a)->y[i] == rps3_sim_now(b)->y[i]);
   for (i = 0; i < 3; i++) {
-    CHECK_REL(b->d->pose[i], a->d->pose[i], 1e-12, 1.0, "pose%d", i);
-    CHECK_REL(b->d->dpose[i], a->d->dpose[i], 1e-10, 1.0, "dpose%d", i);
-    CHECK_REL(b->d->c[i], a->d->c[i], 1e-12, 1.0, "c%d", i);
+    CHECK_REL(rps3_sim_data(b)->pose[i], rps3_sim_data(a)->pose[i], 1e-12, 1.0, "pose%d", i);
+    CHECK_REL(rps3_sim_data(b)->dpose[i], rps3_sim_data(a)->dpose[i], 1e-10, 1.0, "dpose%d", i);
+    CHECK_REL(rps3_sim_data(b)->c[i], rps3_sim_data(a)->c[i], 1e-12, 1.0, "c%d", i);
   }
-  CHECK_REL(b->T, a->T, 1e-10, 1.0, "T");
-  CHECK_REL(b->P, a->P, 1e-12, 1.0, "P");
-  CHECK_REL(b->energy_residual, a->energy_residual, 1e-9, 1e-12,
+  CHECK_REL(rps3_sim_now(b)->T, rps3_sim_now(a)->T, 1e-10, 1.0, "T");
+  CHECK_REL(rps3_sim_now(b)->P, rps3_sim_now(a)->P, 1e-12, 1.0, "P");
+  CHECK_REL(rps3_sim_now(b)->energy_residual, rps3_sim_now(a)->energy_residual, 1e-9, 1e-12,
             "energy residual");
   /* the stopped run answers with its status, and stays where it was */
   assert_int_equal(rps3_sim_advance(b, &cb, 2.0), RPS3_ERANGE);
-  assert_true(b->t == 0.5);
+  assert_true(rps3_sim_now(b)->t == 0.5);
   rps3_sim_free(a);
   rps3_sim_free(b);
   rps3_ctrl_free(fa.c);
@@ -491,7 +492,7 @@ static int probing(void *state, double t, const double l[3],
   probe *p = (probe *)state;
   int i;
   for (i = 0; i < 3; i++) {
-    double e = l[i] - p->s->y[i];
+    double e = l[i] - rps3_sim_now(p->s)->y[i];
     p->sum += e;
     p->sum2 += e * e;
     p->n++;
@@ -534,9 +535,9 @@ static void noise_and_quantisation(void **state) {
       start_on(s, &m, &tr, 0.0);
       assert_int_equal(rps3_sim_advance(s, &ctl, 2.0), RPS3_OK);
     }
-    if (run == 0) memcpy(y1, s->y, sizeof(y1));
-    if (run == 1) assert_memory_equal(y1, s->y, sizeof(y1));
-    if (run == 2) assert_true(memcmp(y1, s->y, sizeof(y1)) != 0);
+    if (run == 0) memcpy(y1, rps3_sim_now(s)->y, sizeof(y1));
+    if (run == 1) assert_memory_equal(y1, rps3_sim_now(s)->y, sizeof(y1));
+    if (run == 2) assert_true(memcmp(y1, rps3_sim_now(s)->y, sizeof(y1)) != 0);
     if (run < 3) {
       /* 6000 samples: the mean within 4 sigma / sqrt(n), the spread 5% */
       double mean = p.sum / (double)p.n;
@@ -581,20 +582,20 @@ static void singular_surface_every_integrator(void **state) {
     assert_int_equal(rps3_sim_alloc(&m, &o, &s, NULL, 0), RPS3_OK);
     assert_int_equal(rps3_sim_start(s, 0.0, pose, dpose), RPS3_OK);
     st = rps3_sim_advance(s, &ctl, 1.0);
-    msg = s->d->err.msg;
+    msg = rps3_sim_data(s)->err.msg;
     print_message("%s: status %d, failed_at %.6g s, message: %s\n",
-                  rps3_integrator_name(it), st, s->failed_at, msg);
+                  rps3_integrator_name(it), st, rps3_sim_now(s)->failed_at, msg);
     assert_int_equal(st, RPS3_ESING);
-    assert_int_equal(s->d->err.code, RPS3_ESING);
+    assert_int_equal(rps3_sim_data(s)->err.code, RPS3_ESING);
     assert_true(strncmp(msg, "singular configuration at t = ", 30) == 0);
     assert_true(strstr(msg, "condition number") != NULL ||
                 strstr(msg, "not positive definite") != NULL ||
                 strstr(msg, "det df/dtheta") != NULL);
     /* the same surface: the integrators stop within 1 ms of each other
        (rk4 at a step of 1 ms) */
-    if (isnan(t_first)) t_first = s->failed_at;
-    assert_true(fabs(s->failed_at - t_first) < 1e-3);
-    assert_true(s->failed_at > 0.1 && s->failed_at < 0.5);
+    if (isnan(t_first)) t_first = rps3_sim_now(s)->failed_at;
+    assert_true(fabs(rps3_sim_now(s)->failed_at - t_first) < 1e-3);
+    assert_true(rps3_sim_now(s)->failed_at > 0.1 && rps3_sim_now(s)->failed_at < 0.5);
     rps3_sim_free(s);
   }
   /* rk4imp at a step of 1.5 ms: its iteration diverges a step before the
@@ -610,10 +611,10 @@ static void singular_surface_every_integrator(void **state) {
     assert_int_equal(rps3_sim_alloc(&m, &o, &s, NULL, 0), RPS3_OK);
     assert_int_equal(rps3_sim_start(s, 0.0, pose, dpose), RPS3_OK);
     assert_int_equal(rps3_sim_advance(s, &ctl, 1.0), RPS3_ESING);
-    print_message("rk4imp, h = 1.5 ms: %s\n", s->d->err.msg);
-    assert_non_null(strstr(s->d->err.msg, "rk4imp stopped a step of"));
-    assert_non_null(strstr(s->d->err.msg, "det df/dtheta"));
-    assert_true(s->failed_at < t_first && s->failed_at > t_first - 2.0 * o.h);
+    print_message("rk4imp, h = 1.5 ms: %s\n", rps3_sim_data(s)->err.msg);
+    assert_non_null(strstr(rps3_sim_data(s)->err.msg, "rk4imp stopped a step of"));
+    assert_non_null(strstr(rps3_sim_data(s)->err.msg, "det df/dtheta"));
+    assert_true(rps3_sim_now(s)->failed_at < t_first && rps3_sim_now(s)->failed_at > t_first - 2.0 * o.h);
     rps3_sim_free(s);
   }
 }
@@ -641,10 +642,10 @@ static void hard_cases(void **state) {
     assert_int_equal(rps3_sim_start(s, 0.0, pose, dpose), RPS3_OK);
     st = rps3_sim_advance(s, &ctl, 3.0);
     print_message("falling platform: %s at t = %.4g s: %s\n",
-                  rps3_strerror(st), s->failed_at, s->d->err.msg);
+                  rps3_strerror(st), rps3_sim_now(s)->failed_at, rps3_sim_data(s)->err.msg);
     assert_int_equal(st, RPS3_ESING);
-    assert_true(s->failed_at > 0.0 && s->failed_at < 3.0);
-    for (k = 0; k < 8; k++) assert_true(isfinite(s->y[k]));
+    assert_true(rps3_sim_now(s)->failed_at > 0.0 && rps3_sim_now(s)->failed_at < 3.0);
+    for (k = 0; k < 8; k++) assert_true(isfinite(rps3_sim_now(s)->y[k]));
     assert_int_equal(rps3_sim_advance(s, &ctl, 4.0), st); /* stays stopped */
   }
   rps3_sim_free(s);
@@ -668,18 +669,18 @@ static void hard_cases(void **state) {
                      &e, &s);
     print_message("towards beta* = %.4f: %s (t = %.4g s) %s; final beta "
                   "%.4f, tracking error %.3g m\n", bs, rps3_strerror(st),
-                  s->failed_at, s->d->err.msg, s->d->pose[1], e);
+                  rps3_sim_now(s)->failed_at, rps3_sim_data(s)->err.msg, rps3_sim_data(s)->pose[1], e);
     if (st == RPS3_OK) {
       /* stable: the plant cannot cross the singular surface (its mass
          matrix grows without bound there); it ends on its side, on its
          assembly mode, while the path ends at beta* + 0.2 */
-      assert_true(s->d->pose[1] < bs);
-      assert_int_equal(s->d->mode, s->mode);
+      assert_true(rps3_sim_data(s)->pose[1] < bs);
+      assert_int_equal(rps3_sim_data(s)->mode, rps3_sim_now(s)->mode);
     } else {
       assert_true(st == RPS3_ESING || st == RPS3_EBRANCH ||
                   st == RPS3_ENOCONV);
-      assert_true(s->failed_at > 0.0 && s->failed_at < 2.0);
-      assert_true(strlen(s->d->err.msg) > 0);
+      assert_true(rps3_sim_now(s)->failed_at > 0.0 && rps3_sim_now(s)->failed_at < 2.0);
+      assert_true(strlen(rps3_sim_data(s)->err.msg) > 0);
     }
     rps3_sim_free(s);
   }
@@ -689,9 +690,9 @@ static void hard_cases(void **state) {
   o.fmax = 0.5;
   st = closed_loop(&m, &m, &tr, RPS3_CTRL_PD_GRAVITY, 2000.0, 40.0, &o, &e, &s);
   print_message("fmax 0.5 N: %s, %ld of %ld ticks saturated, error %.3g m\n",
-                rps3_strerror(st), s->nsat, s->nticks, e);
-  assert_true(s->nsat > 0);
-  assert_true(st == RPS3_OK || s->failed_at > 0.0);
+                rps3_strerror(st), rps3_sim_now(s)->nsat, rps3_sim_now(s)->nticks, e);
+  assert_true(rps3_sim_now(s)->nsat > 0);
+  assert_true(st == RPS3_OK || rps3_sim_now(s)->failed_at > 0.0);
   rps3_sim_free(s);
   o.fmax = 0.0;
 
@@ -707,7 +708,7 @@ static void hard_cases(void **state) {
   o.l_max = 0.3;
   st = closed_loop(&m, &m, &tr, RPS3_CTRL_PD, 20.0, 1.0, &o, &e, &s);
   assert_int_equal(st, RPS3_EREACH);
-  assert_non_null(strstr(s->d->err.msg, "stroke"));
+  assert_non_null(strstr(rps3_sim_data(s)->err.msg, "stroke"));
   rps3_sim_free(s);
 }
 
@@ -743,10 +744,10 @@ static void stick_slip(void **state) {
     o.epsabs = o.epsrel = 1e-8;
     st = closed_loop(&m, &m, &tr, RPS3_CTRL_PD_GRAVITY, 3000.0, 20.0, &o, &e,
                      &s);
-    evals[k] = s->nevals;
+    evals[k] = rps3_sim_now(s)->nevals;
     print_message("stick-slip, %s: %s, %ld steps, %ld evaluations, error "
                   "%.3g m\n", k ? "tanh(dtheta / 1e-3)" : "exact sign",
-                  rps3_strerror(st), s->nsteps, s->nevals, e);
+                  rps3_strerror(st), rps3_sim_now(s)->nsteps, rps3_sim_now(s)->nevals, e);
     assert_int_equal(st, RPS3_OK);
     rps3_sim_free(s);
   }
@@ -895,33 +896,33 @@ static void bounded_calls(void **state) {
   assert_int_equal(rps3_sim_advance(
                        s, &(rps3_controller){zero_force, NULL, 1000.0, 0u, NULL}, 0.01),
                    RPS3_OK);
-  memcpy(y0, s->y, sizeof y0);
+  memcpy(y0, rps3_sim_now(s)->y, sizeof y0);
   {
     const double bad_rate[3] = {1e9, 1e300, (double)INFINITY};
     int k;
     for (k = 0; k < 3; k++) {
       rps3_controller c = {zero_force, NULL, bad_rate[k], 0u, NULL};
       assert_int_equal(rps3_sim_advance(s, &c, 1.0), RPS3_EINVAL);
-      assert_non_null(strstr(s->d->err.msg, "simulate.rate = "));
+      assert_non_null(strstr(rps3_sim_data(s)->err.msg, "simulate.rate = "));
     }
   }
   {
     rps3_controller c = {zero_force, NULL, 1000.0, 0u, NULL};
     assert_int_equal(rps3_sim_advance(s, &c, 1e300), RPS3_EINVAL);
-    assert_non_null(strstr(s->d->err.msg, "control periods a run"));
+    assert_non_null(strstr(rps3_sim_data(s)->err.msg, "control periods a run"));
     assert_int_equal(rps3_sim_advance(s, &c, 0.005), RPS3_EINVAL);
-    assert_non_null(strstr(s->d->err.msg, "is before the simulation's time"));
+    assert_non_null(strstr(rps3_sim_data(s)->err.msg, "is before the simulation's time"));
     assert_int_equal(rps3_sim_advance(s, &c, (double)NAN), RPS3_EINVAL);
     assert_int_equal(rps3_sim_advance(s, NULL, 1.0), RPS3_EINVAL);
     assert_int_equal(rps3_sim_advance(
                          s, &(rps3_controller){NULL, NULL, 1000.0, 0u, NULL}, 1.0),
                      RPS3_EINVAL);
-    assert_true(s->t == 0.01 && memcmp(y0, s->y, sizeof y0) == 0);
-    assert_int_equal(s->status, RPS3_OK);
+    assert_true(rps3_sim_now(s)->t == 0.01 && memcmp(y0, rps3_sim_now(s)->y, sizeof y0) == 0);
+    assert_int_equal(rps3_sim_now(s)->status, RPS3_OK);
     assert_int_equal(rps3_sim_advance(s, &c, 0.01), RPS3_OK); /* t_end = t */
-    assert_true(s->t == 0.01);
+    assert_true(rps3_sim_now(s)->t == 0.01);
     assert_int_equal(rps3_sim_advance(s, &c, 0.02), RPS3_OK);
-    assert_true(s->t == 0.02);
+    assert_true(rps3_sim_now(s)->t == 0.02);
   }
   {
     /* a continuous controller to a far t_end: max_steps ends the call */
@@ -961,12 +962,12 @@ static void implicit_integrators(void **state) {
       rps3_controller ctl = {rps3_ctrl_update, c, 0.0, 0u, NULL};
       start_on(s, &m, &tr, 0.7);
       if (rps3_sim_advance(s, &ctl, 0.75) != RPS3_OK)
-        fail_msg("%s: %s", rps3_integrator_name(integ), s->d->err.msg);
-      e = length_error(&m, &tr, w, s->y, 0.75);
+        fail_msg("%s: %s", rps3_integrator_name(integ), rps3_sim_data(s)->err.msg);
+      e = length_error(&m, &tr, w, rps3_sim_now(s)->y, 0.75);
     }
     print_message("%s: |l - l_d| %.3g m after 0.05 s, %ld steps, %ld "
-                  "evaluations\n", rps3_integrator_name(integ), e, s->nsteps,
-                  s->nevals);
+                  "evaluations\n", rps3_integrator_name(integ), e, rps3_sim_now(s)->nsteps,
+                  rps3_sim_now(s)->nevals);
     assert_true(e < 1e-8);
     rps3_data_free(w);
     rps3_ctrl_free(c);
@@ -1065,20 +1066,20 @@ static void user_law_with_plant_is_library_law(void **state) {
     assert_int_equal(rps3_sim_advance(b, &lb, k / 1000.0), RPS3_OK);
     if (k % 10 == 0 || k == 1) {
       for (i = 0; i < 3; i++)
-        CHECK_REL(b->F_cmd[i], a->F_cmd[i], TOL_EXACT, 1.0, "t %d F%d", k, i);
+        CHECK_REL(rps3_sim_now(b)->F_cmd[i], rps3_sim_now(a)->F_cmd[i], TOL_EXACT, 1.0, "t %d F%d", k, i);
       for (i = 0; i < 6; i++)
-        CHECK_REL(b->y[i], a->y[i], TOL_EXACT, 1e-3, "t %d y%d", k, i);
+        CHECK_REL(rps3_sim_now(b)->y[i], rps3_sim_now(a)->y[i], TOL_EXACT, 1e-3, "t %d y%d", k, i);
     }
   }
   /* one call over the run: the fallback of the law, its own solve */
   assert_int_equal(rps3_sim_advance(c, &lc, n / 1000.0), RPS3_OK);
   for (i = 0; i < 6; i++)
-    CHECK_REL(c->y[i], a->y[i], TOL_PHYS, 1e-3, "own solve y%d", i);
-  assert_int_equal(ub.offered, b->nticks);
+    CHECK_REL(rps3_sim_now(c)->y[i], rps3_sim_now(a)->y[i], TOL_PHYS, 1e-3, "own solve y%d", i);
+  assert_int_equal(ub.offered, rps3_sim_now(b)->nticks);
   assert_int_equal(ub.solved, 0);
   assert_int_equal(uc.offered, 0);
-  assert_int_equal(uc.solved, c->nticks);
-  assert_int_equal(a->nevals, b->nevals);
+  assert_int_equal(uc.solved, rps3_sim_now(c)->nticks);
+  assert_int_equal(rps3_sim_now(a)->nevals, rps3_sim_now(b)->nevals);
   rps3_sim_free(a);
   rps3_sim_free(b);
   rps3_sim_free(c);
@@ -1106,12 +1107,12 @@ static int probe_plant(void *state, double t, const double l[3],
   p->calls++;
   if (plant != NULL) {
     p->offered++;
-    assert_ptr_equal(plant->model, &p->s->plant);
-    assert_true(plant->t == t && t == p->s->t);
+    assert_ptr_equal(plant->model, rps3_sim_plant(p->s));
+    assert_true(plant->t == t && t == rps3_sim_now(p->s)->t);
     for (i = 0; i < 3; i++) {
       /* the measurement is the plant's state, bit for bit */
       assert_true(plant->l[i] == l[i] && plant->dl[i] == dl[i]);
-      assert_true(l[i] == p->s->y[i] && dl[i] == p->s->y[3 + i]);
+      assert_true(l[i] == rps3_sim_now(p->s)->y[i] && dl[i] == rps3_sim_now(p->s)->y[3 + i]);
       w->l[i] = l[i];
       w->dl[i] = dl[i];
       w->F[i] = 0.0;
@@ -1119,7 +1120,7 @@ static int probe_plant(void *state, double t, const double l[3],
     if (rps3_fwddyn(plant->model, w) != RPS3_OK)
       fail_msg("t %g: %s", t, w->err.msg);
     assert_int_equal(plant->mode, w->mode);
-    assert_int_equal(plant->mode, p->s->mode);
+    assert_int_equal(plant->mode, rps3_sim_now(p->s)->mode);
     for (i = 0; i < 3; i++) {
       /* two theta solves to their tolerance */
       CHECK_REL(plant->theta[i], w->theta[i], TOL_PHYS, 1.0, "t %g th%d", t,
@@ -1186,8 +1187,8 @@ static void plant_state_is_the_plant(void **state) {
     assert_int_equal(rps3_sim_advance(s, &ctl, 0.3), RPS3_OK);
     assert_true(p.calls > 0);
     if (v < 2) {
-      assert_int_equal(s->nticks, 300);
-      assert_int_equal(p.offered, s->nticks);
+      assert_int_equal(rps3_sim_now(s)->nticks, 300);
+      assert_int_equal(p.offered, rps3_sim_now(s)->nticks);
     } else {
       assert_int_equal(p.offered, 0);
     }
@@ -1265,17 +1266,46 @@ static void law_without_capability(void **state) {
   assert_int_equal(n, 20);
   c.caps = 2u; /* no such capability */
   assert_int_equal(rps3_sim_advance(s, &c, 0.03), RPS3_EINVAL);
-  assert_non_null(strstr(s->d->err.msg, "caps"));
+  assert_non_null(strstr(rps3_sim_data(s)->err.msg, "caps"));
   c.caps = RPS3_CTRL_USES_PLANT;
   c.fn_plant = NULL;
   assert_int_equal(rps3_sim_advance(s, &c, 0.03), RPS3_EINVAL);
   assert_int_equal(n, 20);
-  assert_true(s->t == 0.02);
+  assert_true(rps3_sim_now(s)->t == 0.02);
+  rps3_sim_free(s);
+}
+
+/* the opaque simulation's accessors: its report, workspace, plant and
+   options; NULL for no simulation */
+static void accessors_of_the_opaque_simulation(void **state) {
+  rps3_model plant;
+  rps3_sim_options o;
+  rps3_sim *s = NULL;
+  const double pose[3] = {0.3, 0.2, 0.25}, zero[3] = {0.0, 0.0, 0.0};
+  (void)state;
+  rps3_model_default(&plant);
+  assert_int_equal(rps3_model_init(&plant, NULL, 0), RPS3_OK);
+  rps3_sim_options_default(&o);
+  o.h = 5e-4;
+  assert_int_equal(rps3_sim_alloc(&plant, &o, &s, NULL, 0), RPS3_OK);
+  assert_int_equal(rps3_sim_start(s, 0.125, pose, zero), RPS3_OK);
+  assert_true(rps3_sim_now(s)->t == 0.125);
+  assert_int_equal(rps3_sim_now(s)->status, RPS3_OK);
+  assert_true(isnan(rps3_sim_now(s)->failed_at));
+  assert_true(rps3_sim_data(s)->pose[2] == 0.25);
+  assert_true(rps3_sim_now(s)->y[0] == rps3_sim_data(s)->l[0]);
+  assert_true(rps3_sim_plant(s)->R == plant.R && rps3_sim_plant(s) != &plant);
+  assert_true(rps3_sim_opts(s)->h == 5e-4);
+  assert_null(rps3_sim_now(NULL));
+  assert_null(rps3_sim_data(NULL));
+  assert_null(rps3_sim_plant(NULL));
+  assert_null(rps3_sim_opts(NULL));
   rps3_sim_free(s);
 }
 
 int main(void) {
   const struct CMUnitTest tests[] = {
+      cmocka_unit_test(accessors_of_the_opaque_simulation),
       cmocka_unit_test(round_trip_every_effect),
       cmocka_unit_test(rk4_converges_at_order_4),
       cmocka_unit_test(energy_balance),

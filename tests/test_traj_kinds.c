@@ -380,7 +380,7 @@ static int run_would_fail(const rps3_model *m, const rps3_traj *tr) {
   double T = rps3_traj_duration(tr);
   int i, bad = 0;
   mc.opt.effects |= RPS3_EFF_PLATFORM_INERTIA | RPS3_EFF_LINK_INERTIA;
-  mc.opt.certify = 1;
+  mc.opt.outputs |= RPS3_OUT_CERTIFY;
   assert_int_equal(rps3_model_init(&mc, NULL, 0), RPS3_OK);
   assert_int_equal(rps3_data_alloc(&mc, &d), RPS3_OK);
   for (i = 0; i <= 4096 && !bad; i++) {

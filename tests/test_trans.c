@@ -12,7 +12,7 @@ static rps3_data *make(rps3_model *m, int effects, int method) {
   rps3_model_default(m);
   m->opt.effects = effects;
   m->opt.method = method;
-  m->opt.certify = 0;
+  m->opt.outputs &= ~RPS3_OUT_CERTIFY;
   assert_int_equal(rps3_model_init(m, NULL, 0), RPS3_OK);
   assert_int_equal(rps3_data_alloc(m, &d), RPS3_OK);
   return d;
@@ -297,7 +297,7 @@ static void transmission_from_inputs(void **state) {
   model_entropy(&m);
   m.M = m.m = m.link_Ic = 0.0;
   m.opt.effects = RPS3_EFF_PAYLOAD;
-  m.opt.certify = 0;
+  m.opt.outputs &= ~RPS3_OUT_CERTIFY;
   assert_int_equal(rps3_model_init(&m, NULL, 0), RPS3_OK);
   assert_int_equal(rps3_data_alloc(&m, &d), RPS3_OK);
   for (n = 0; n < 2000; n++) {

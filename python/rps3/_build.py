@@ -426,43 +426,45 @@ typedef struct {
 static void rps3py_sim_record(const rps3_sim *s, const rps3_ctrl *ctrl,
                               size_t n, size_t i, rps3py_sim_out *o) {
   double w[2];
-  w[0] = s->y[6];
-  w[1] = s->y[7];
-  rps3py_put(o->l, s->y, 3, n, i); rps3py_put(o->dl, s->y + 3, 3, n, i);
-  rps3py_put(o->pose, s->d->pose, 3, n, i);
-  rps3py_put(o->dpose, s->d->dpose, 3, n, i);
-  rps3py_put(o->F, s->F, 3, n, i); rps3py_put(o->F_cmd, s->F_cmd, 3, n, i);
-  rps3py_put(o->l_meas, s->l_meas, 3, n, i);
-  rps3py_put(o->dl_meas, s->dl_meas, 3, n, i);
-  if (s->nsteps == 0 && s->nticks == 0) {
+  w[0] = rps3_sim_now(s)->y[6];
+  w[1] = rps3_sim_now(s)->y[7];
+  rps3py_put(o->l, rps3_sim_now(s)->y, 3, n, i); rps3py_put(o->dl, rps3_sim_now(s)->y + 3, 3, n, i);
+  rps3py_put(o->pose, rps3_sim_data(s)->pose, 3, n, i);
+  rps3py_put(o->dpose, rps3_sim_data(s)->dpose, 3, n, i);
+  rps3py_put(o->F, rps3_sim_now(s)->F, 3, n, i); rps3py_put(o->F_cmd, rps3_sim_now(s)->F_cmd, 3, n, i);
+  rps3py_put(o->l_meas, rps3_sim_now(s)->l_meas, 3, n, i);
+  rps3py_put(o->dl_meas, rps3_sim_now(s)->dl_meas, 3, n, i);
+  if (rps3_sim_now(s)->nsteps == 0 && rps3_sim_now(s)->nticks == 0) {
     /* the start, before any advance: no force commanded yet (NaN, as the
        runner writes it) */
     rps3py_nan(o->F, 3, n, i); rps3py_nan(o->F_cmd, 3, n, i);
     rps3py_nan(o->l_meas, 3, n, i); rps3py_nan(o->dl_meas, 3, n, i);
     rps3py_nan(o->l_des, 3, n, i); rps3py_nan(o->dl_des, 3, n, i);
   } else if (ctrl != NULL) {
-    rps3py_put(o->l_des, ctrl->l_des, 3, n, i);
-    rps3py_put(o->dl_des, ctrl->dl_des, 3, n, i);
+    double l_des[3], dl_des[3];
+    rps3_ctrl_last(ctrl, NULL, l_des, dl_des, NULL);
+    rps3py_put(o->l_des, l_des, 3, n, i);
+    rps3py_put(o->dl_des, dl_des, 3, n, i);
   } else {
     rps3py_nan(o->l_des, 3, n, i); rps3py_nan(o->dl_des, 3, n, i);
   }
-  rps3py_put(o->T, &s->T, 1, n, i); rps3py_put(o->P, &s->P, 1, n, i);
+  rps3py_put(o->T, &rps3_sim_now(s)->T, 1, n, i); rps3py_put(o->P, &rps3_sim_now(s)->P, 1, n, i);
   rps3py_put(o->W, w, 2, n, i);
-  rps3py_put(o->residual, &s->energy_residual, 1, n, i);
+  rps3py_put(o->residual, &rps3_sim_now(s)->energy_residual, 1, n, i);
   o->status[i] = RPS3_OK;
 }
 
-/* the run through the output times t[0..n) (increasing, t[0] >= s->t):
+/* the run through the output times t[0..n) (increasing, t[0] >= rps3_sim_now(s)->t):
    rps3_sim_advance to each, the state recorded there; a time equal to
-   s->t records the state without advancing.  After a failure the times
+   rps3_sim_now(s)->t records the state without advancing.  After a failure the times
    past it hold NaN and the status.  Returns the number of times reached */
 static size_t rps3py_sim_run(rps3_sim *s, const rps3_controller *c,
                              const rps3_ctrl *ctrl, size_t n,
                              const double *t, rps3py_sim_out *o) {
   size_t i, done = 0;
-  int st = s->status;
+  int st = rps3_sim_now(s)->status;
   for (i = 0; i < n; i++) {
-    if (st == RPS3_OK && t[i] > s->t) st = rps3_sim_advance(s, c, t[i]);
+    if (st == RPS3_OK && t[i] > rps3_sim_now(s)->t) st = rps3_sim_advance(s, c, t[i]);
     if (st != RPS3_OK) break;
     rps3py_sim_record(s, ctrl, n, i, o);
     done++;

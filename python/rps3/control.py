@@ -98,12 +98,16 @@ class Library(Controller):
     @property
     def l_des(self) -> np.ndarray:
         """Desired link lengths at the last tick [m]."""
-        return np.array(list(self._ctrl.l_des))
+        out = ffi.new("double[3]")
+        lib.rps3_ctrl_last(self._ctrl, ffi.NULL, out, ffi.NULL, ffi.NULL)
+        return np.array(list(out))
 
     @property
     def dl_des(self) -> np.ndarray:
         """Desired link rates at the last tick [m/s]."""
-        return np.array(list(self._ctrl.dl_des))
+        out = ffi.new("double[3]")
+        lib.rps3_ctrl_last(self._ctrl, ffi.NULL, ffi.NULL, out, ffi.NULL)
+        return np.array(list(out))
 
     def __repr__(self) -> str:
         return (f"rps3.control.Library({self.kind!r}, kp={self.kp!r}, "

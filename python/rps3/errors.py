@@ -85,6 +85,13 @@ class ModeError(Rps3Error):
     status = lib.RPS3_EMODE
 
 
+class EmptyWorkspaceError(Rps3Error):
+    """RPS3_EEMPTY: no pose of the set a design is evaluated on is
+    reachable (rps3.design reports it as ``empty``, never raises it)."""
+
+    status = lib.RPS3_EEMPTY
+
+
 class InvalidError(Rps3Error, ValueError):
     """RPS3_EINVAL: an argument the library rejected."""
 
@@ -97,10 +104,17 @@ class StateError(Rps3Error):
     status = lib.RPS3_ESTATE
 
 
+class ConvergenceWarning(RuntimeWarning):
+    """An optimiser of rps3.design stopped without meeting its tolerances,
+    or returned a design that breaks a constraint: the result says which
+    (``converged``, ``feasible``, ``status``)."""
+
+
 _CLASSES: dict[int, type[Rps3Error]] = {
     c.status: c for c in (ReachError, NoConvergenceError, BranchError,
                           SingularError, DomainError, ResultRangeError,
-                          ModeError, InvalidError, StateError)}
+                          ModeError, EmptyWorkspaceError, InvalidError,
+                          StateError)}
 
 
 def error(status: int, message: str) -> Exception:

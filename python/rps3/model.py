@@ -4,6 +4,8 @@ points)."""
 
 from __future__ import annotations
 
+import difflib
+
 from collections.abc import Iterable, Sequence
 from dataclasses import dataclass
 from typing import Any
@@ -37,8 +39,10 @@ _METHODS = {"lagrange": lib.RPS3_LAGRANGE,
             "newton_euler": lib.RPS3_NEWTON_EULER}
 _THETA = {"closed_form": lib.RPS3_THETA_CLOSED_FORM,
           "multiroot": lib.RPS3_THETA_MULTIROOT}
-_FORCES = {"all": lib.RPS3_FORCES_ALL, "only": lib.RPS3_FORCES_ONLY,
-           "lean": lib.RPS3_FORCES_LEAN}
+#: names of the results ``inverse`` can compute (the library's
+#: ``RPS3_OUT_*`` bits, include/rps3.h enum rps3_output), all by default
+OUTPUTS: tuple[str, ...] = tuple(text(lib.rps3_output_name(k))
+                                 for k in range(lib.RPS3_NOUTPUT))
 
 # the library's dotted field names -> Model's keyword arguments
 _KEYWORD = {"payload.mass": "payload", "payload.com": "payload",
@@ -88,7 +92,7 @@ class Dynamics:
     lambda_: FloatArray    #: multipliers of (8)-(10), (n, 3) [N/m]; NaN under newton_euler
     condition: FloatArray  #: 1-norm condition number of the lambda system, (n,)
     transmission: FloatArray  #: force transmission (n,): largest |F_i| per unit platform load [-]
-    energy_residual: FloatArray  #: energy-rate residual (n,) [W]; 0 without certify
+    energy_residual: FloatArray  #: energy-rate residual (n,) [W]; NaN without the output "certify"
     l: FloatArray          #: link lengths, (n, 3) [m]
     theta: FloatArray      #: link angles, (n, 3) [rad]
     status: IntArray       #: rps3 status code per point, 0 = ok
@@ -101,16 +105,23 @@ class Dynamics:
 
 
 def _effect_bits(effects: Iterable[str]) -> int:
-    if isinstance(effects, str):
-        raise ValueError(f"effects: expected a list of names, got {effects!r}")
+    return _name_bits(effects, "effects", "effect", EFFECTS)
+
+
+def _name_bits(names: Iterable[str], arg: str, what: str,
+               known: tuple[str, ...]) -> int:
+    if isinstance(names, str):
+        raise ValueError(f"{arg}: expected a list of names, got {names!r}")
     bits = 0
-    for name in effects:
-        k = lib.rps3_effect_index(str(name).encode())
+    for name in names:
+        k = known.index(name) if name in known else -1
         if k < 0:
-            raise ValueError(f"effects: unknown effect {name!r}; known: "
-                             f"{', '.join(EFFECTS)}")
+            close = difflib.get_close_matches(str(name), known, n=1)
+            hint = f" (did you mean {close[0]!r}?)" if close else ""
+            raise ValueError(f"{arg}: unknown {what} {name!r}{hint}; known: "
+                             f"{', '.join(known)}")
         if bits & (1 << k):
-            raise ValueError(f"effects: {name!r} is given twice")
+            raise ValueError(f"{arg}: {name!r} is given twice")
         bits |= 1 << k
     return bits
 
@@ -166,15 +177,15 @@ class Model:
         tol: theta solve tolerance on the dimensionless (8)-(10) [-].
         max_iter: theta solve iteration limit.
         warm_start: start each theta solve from the previous point's.
-        certify: compute the energy-rate residual per point.
         cond_warn: condition number above which a point is flagged [-].
         cond_max: condition number above which a point fails [-].
-        forces: what ``inverse`` computes: ``"all"`` (the default: every
-            output), ``"only"`` (the forces alone, every check) or
-            ``"lean"`` (the forces and the condition number alone, without
-            the force transmission, in about 40 % of the time: the
-            library's ``RPS3_FORCES_LEAN``, with certify off; docs/library.md
-            says what it checks).  The outputs not computed are NaN.
+        outputs: names of the results ``inverse`` computes, from
+            ``rps3.OUTPUTS`` (default: all): ``"forces"``, ``"effects"``
+            (the per-effect shares), ``"theta"``, ``"lambda"``,
+            ``"transmission"``, ``"certify"`` (the energy-rate residual).
+            The results left out are NaN; the checks (status, warn) do not
+            depend on them.  ``["forces"]`` alone is the library's leanest
+            pass (docs/library.md).
 
     Raises:
         ValueError: naming the argument, when a value is out of range or an
@@ -202,9 +213,9 @@ class Model:
                  method: str | None = None, theta: str | None = None,
                  solver: str | None = None, tol: float | None = None,
                  max_iter: int | None = None, warm_start: bool | None = None,
-                 certify: bool | None = None, cond_warn: float | None = None,
+                 cond_warn: float | None = None,
                  cond_max: float | None = None,
-                 forces: str | None = None) -> None:
+                 outputs: Sequence[str] | None = None) -> None:
         c = ffi.new("rps3_model *")
         lib.rps3_model_default(c)
         keyword = dict(_KEYWORD)
@@ -234,8 +245,8 @@ class Model:
             o.method = _choice(_METHODS, method, "method")
         if theta is not None:
             o.theta = _choice(_THETA, theta, "theta")
-        if forces is not None:
-            o.forces_only = _choice(_FORCES, forces, "forces")
+        if outputs is not None:
+            o.outputs = _name_bits(outputs, "outputs", "output", OUTPUTS)
         if solver is not None:
             k = lib.rps3_solver_index(str(solver).encode())
             if k < 0:
@@ -245,8 +256,7 @@ class Model:
                            ("cond_max", cond_max)):
             if fval is not None:
                 setattr(o, name, _number(fval, name))
-        for name, ival in (("max_iter", max_iter), ("warm_start", warm_start),
-                           ("certify", certify)):
+        for name, ival in (("max_iter", max_iter), ("warm_start", warm_start)):
             if ival is not None:
                 num = _number(ival, name)
                 if num != int(num) or abs(num) > 2**31 - 1:
@@ -285,6 +295,12 @@ class Model:
         """Names of the selected effects, in the library's order."""
         return tuple(n for k, n in enumerate(EFFECTS)
                      if self._c.opt.effects & (1 << k))
+
+    @property
+    def outputs(self) -> tuple[str, ...]:
+        """Names of the results ``inverse`` computes, in the library's order."""
+        return tuple(n for k, n in enumerate(OUTPUTS)
+                     if self._c.opt.outputs & (1 << k))
 
     def __getattr__(self, name: str) -> float:
         # the model's numbers, read from the validated C structure
@@ -373,7 +389,8 @@ class Model:
         Args:
             pose: (n, 3) or (3,) array of (alpha, beta, z_c) [rad, rad, m].
             dpose: its time derivative [rad/s, rad/s, m/s], same shape;
-                needed when an inertial effect or certify is selected.
+                needed when an inertial effect or the output "certify" is
+                selected.
             ddpose: second derivative [rad/s^2, rad/s^2, m/s^2], same shape.
 
         Returns:
@@ -395,11 +412,13 @@ class Model:
                 raise ValueError(f"{name}: shape {np.shape(value)} differs from "
                                  f"that of pose {np.shape(pose)}")
             inputs[name] = v
-        needs = (self._c.opt.effects & lib.RPS3_EFF_DYNAMIC) or self._c.opt.certify
+        needs = ((self._c.opt.effects & lib.RPS3_EFF_DYNAMIC)
+                 or (self._c.opt.outputs & lib.RPS3_OUT_CERTIFY))
         missing = [k for k in ("dpose", "ddpose") if k not in inputs]
         if needs and missing and n > 0:
             raise ValueError(f"{missing[0]}: needed by the effects "
-                             f"{list(self.effects)} or certify, and not given")
+                             f"{list(self.effects)} or the output 'certify', "
+                             "and not given")
         out = results(n, {"F": (3,), "F_effect": (lib.RPS3_NEFFECT, 3),
                           "lambda": (3,), "cond": (), "transmission": (),
                           "energy_residual": (),

@@ -10,6 +10,9 @@ The analysis scripts (analysis/*.py) draw with these::
     plot.legend(ax)
     plot.save(fig, "out/fig3.pdf")             # the format from the suffix
 
+``atlas``, ``mark`` and ``front`` draw the design study's performance
+atlas and Pareto fronts (docs/design-optimisation.md).
+
 ``save`` writes PDF, SVG or PNG as the file's suffix says (``dpi`` is the
 raster resolution: of a PNG, and of any image inside a PDF or SVG);
 ``add_output_args`` and ``output_path`` give every script the same
@@ -196,3 +199,51 @@ def note(fig: Figure, text: str) -> None:
 def warned_samples(ax: Axes) -> list:
     """The warned-sample artists of ax (gid WARNED_GID): for tests."""
     return [a for a in ax.get_lines() if a.get_gid() == WARNED_GID]
+
+
+# ------------------------------------------------------------------ design
+# (docs/design-optimisation.md) an index over two design parameters, a
+# Pareto front, designs marked on either
+
+#: the good-transmission threshold Liu et al. use (LTI >= 0.7: the
+#: pressure angle below about 45.6 degrees)
+LTI_GOOD = 0.7
+
+
+def atlas(ax: Axes, x: np.ndarray, y: np.ndarray, values: np.ndarray,
+          label: str, *, levels: Sequence[float] | None = None,
+          cmap: str = "viridis", colorbar: bool = True) -> Any:
+    """A performance atlas: values[j, i] of the design at (x[i], y[j])
+    as filled colours with labelled contour lines; NaN cells (no design,
+    or an empty workspace) stay white.  label: what the colour is, with
+    its unit.  Returns the filled-contour set (its colorbar beside)."""
+    vals = np.ma.masked_invalid(np.asarray(values, float))
+    filled = ax.contourf(x, y, vals, levels=12 if levels is None else levels,
+                         cmap=cmap)
+    lines = ax.contour(x, y, vals, levels=np.asarray(filled.levels)[::2], colors="k",
+                       linewidths=0.6)
+    ax.clabel(lines, fontsize=7, fmt="%.3g")
+    if colorbar:
+        ax.figure.colorbar(filled, ax=ax, label=label)
+    filled.set_gid("rps3-atlas")
+    return filled
+
+
+def mark(ax: Axes, x: float, y: float, label: str, i: int = 0) -> Any:
+    """One design on an atlas or a front: a marker of style i, in the
+    legend as label."""
+    (art,) = ax.plot([x], [y], linestyle="none", marker=MARKERS[i % len(MARKERS)],
+                     markersize=8, markerfacecolor="white", markeredgecolor="k",
+                     markeredgewidth=1.5, label=label, zorder=6)
+    return art
+
+
+def front(ax: Axes, x: np.ndarray, y: np.ndarray, label: str, i: int = 0) -> Any:
+    """A Pareto front (points sorted along x, joined as a staircase of the
+    non-dominated set), in curve style i."""
+    order = np.argsort(np.asarray(x))
+    st = curve_style(i)
+    st["markevery"] = 1
+    (art,) = ax.plot(np.asarray(x)[order], np.asarray(y)[order], color="k",
+                     label=label, drawstyle="steps-post", **st)
+    return art

@@ -141,6 +141,7 @@ class Simulation:
                              "invalid simulation options")
         check(st, err)
         self._s = ffi.gc(out[0], lib.rps3_sim_free)
+        self._started = False
         self.last_result: SimResult | None = None
 
     # ------------------------------------------------------------ state
@@ -148,22 +149,22 @@ class Simulation:
     @property
     def t(self) -> float:
         """Simulated time [s]."""
-        return float(self._s.t)
+        return float(lib.rps3_sim_now(self._s).t)
 
     @property
     def status(self) -> int:
         """0, or the status that stopped the run."""
-        return int(self._s.status)
+        return int(lib.rps3_sim_now(self._s).status)
 
     @property
     def E0(self) -> float:
         """T + P at the start [J]."""
-        return float(self._s.E0)
+        return float(lib.rps3_sim_now(self._s).E0)
 
     @property
     def mode(self) -> int:
         """The tracked assembly mode (+1 the level platform's side)."""
-        return int(self._s.mode)
+        return int(lib.rps3_sim_now(self._s).mode)
 
     def start(self, pose: ArrayLike, dpose: ArrayLike = (0.0, 0.0, 0.0),
               t0: float = 0.0) -> None:
@@ -185,7 +186,8 @@ class Simulation:
         t = real_number(t0, "t0")
         st = lib.rps3_sim_start(self._s, t, ffi.new("double[3]", list(p)),
                                 ffi.new("double[3]", list(v)))
-        check(st, self._s.d.err.msg)
+        self._started = st == lib.RPS3_OK
+        check(st, lib.rps3_sim_data(self._s).err.msg)
 
     def run(self, t: ArrayLike, controller: Controller, *,
             check_status: bool = True) -> SimResult:
@@ -213,7 +215,7 @@ class Simulation:
         if not isinstance(controller, Controller):
             raise TypeError(f"controller: expected an rps3.control controller, "
                             f"got {type(controller).__name__}")
-        if not self._s.started:
+        if not self._started:
             raise rps3_state("run: start() the simulation first")
         times = real_array(t, "t")
         if times.ndim == 0:
@@ -222,9 +224,9 @@ class Simulation:
             raise ValueError(f"t: expected a 1-d array of times, got shape {times.shape}")
         times = np.ascontiguousarray(times)
         n = times.size
-        if n and times[0] < self._s.t:
+        if n and times[0] < lib.rps3_sim_now(self._s).t:
             raise ValueError(f"t: the first time {times[0]!r} is before the "
-                             f"simulated time {float(self._s.t)!r}")
+                             f"simulated time {float(lib.rps3_sim_now(self._s).t)!r}")
         if n > 1 and not (np.diff(times) > 0).all():
             i = int(np.flatnonzero(np.diff(times) <= 0)[0]) + 1
             raise ValueError(f"t: not strictly increasing at index {i}")
@@ -240,7 +242,7 @@ class Simulation:
             setattr(o, name, keep[-1])
         lib.rps3py_sim_run(self._s, controller._c, controller._ctrl, n,
                            buf(times), o)
-        s = self._s
+        s = lib.rps3_sim_now(self._s)
         status = int(s.status)
         res = SimResult(
             t=times, **{k: np.moveaxis(out[k], -1, 0)
@@ -251,7 +253,7 @@ class Simulation:
             T=out["T"], P=out["P"], work=out["W"][0],
             work_friction=out["W"][1], energy_residual=out["residual"],
             status_t=out["status"], status=status,
-            message=text(s.d.err.msg) if status else "",
+            message=text(lib.rps3_sim_data(self._s).err.msg) if status else "",
             failed_at=float(s.failed_at), nsteps=int(s.nsteps),
             nevals=int(s.nevals), nticks=int(s.nticks), nsat=int(s.nsat))
         self.last_result = res

@@ -182,6 +182,15 @@ static int agree(const world *w, int code, int *first) {
   return all[0];
 }
 
+/* a usage error, said by rank 0: "rps3-run: MSG" and where --help is */
+static int usage_error(const world *w, const char *msg) {
+  if (w->rank == 0) {
+    fprintf(stderr, "rps3-run: %s\n", msg);
+    cli_try("rps3-run");
+  }
+  return EXIT_USAGE;
+}
+
 /*
  * The command line against the launch: under mpirun the ranks are the
  * shards (a's shard set from w), --copy needs mpirun, --resume a shard;
@@ -191,26 +200,19 @@ static int agree(const world *w, int code, int *first) {
 static int args_for_world(run_args *a, const world *w) {
   char err[512];
   if (w->size > 1) {
-    if (a->shard_arg) {
-      if (w->rank == 0) {
-        fprintf(stderr,
-                "rps3-run: --shard is for runs without mpirun; "
-                "under mpirun the ranks are the shards\n");
-        cli_try("rps3-run");
-      }
-      return EXIT_USAGE;
-    }
+    if (a->shard_arg)
+      return usage_error(w,
+                         "--shard is for runs without mpirun; under "
+                         "mpirun the ranks are the shards");
     a->shard = (size_t)w->rank;
     a->nshard = (size_t)w->size;
     /* each rank's file is a part like those of --shard */
     snprintf(a->shard_text, sizeof a->shard_text, "%d/%d", w->rank, w->size);
     a->shard_arg = a->shard_text;
   } else if (a->copy) {
-    fprintf(stderr,
-            "rps3-run: --copy is for rps3-run-mpi under mpirun and "
-            "for merge; a run without them writes one whole file\n");
-    cli_try("rps3-run");
-    return EXIT_USAGE;
+    return usage_error(w,
+                       "--copy is for rps3-run-mpi under mpirun and for "
+                       "merge; a run without them writes one whole file");
   }
   /* where the output goes is checked before anything is computed */
   if (a->out_path && !a->check) {
@@ -222,15 +224,10 @@ static int args_for_world(run_args *a, const world *w) {
     }
     if (w->rank == 0) stale_report("rps3-run", a->out_path);
   }
-  if (a->resume && (!a->shard_arg || w->size > 1)) {
-    if (w->rank == 0) {
-      fprintf(stderr,
-              "rps3-run: --resume is for --shard K/N runs (it "
-              "skips a part that is complete already)\n");
-      cli_try("rps3-run");
-    }
-    return EXIT_USAGE;
-  }
+  if (a->resume && (!a->shard_arg || w->size > 1))
+    return usage_error(w,
+                       "--resume is for --shard K/N runs (it skips a part "
+                       "that is complete already)");
   return -1;
 }
 
@@ -258,16 +255,11 @@ static int run_simulated(scene *s, const run_args *a, const world *w, int argc,
   sim_args sa;
   int code;
   char *cmd;
-  if (a->fields != out_fields_all()) {
-    if (w->rank == 0) {
-      fprintf(stderr,
-              "rps3-run: --fields selects variables of the "
-              "inverse-dynamics file; a scene with a simulate "
-              "section writes the simulation file whole\n");
-      cli_try("rps3-run");
-    }
-    return EXIT_USAGE;
-  }
+  if (a->fields != out_fields_all())
+    return usage_error(w,
+                       "--fields selects variables of the "
+                       "inverse-dynamics file; a scene with a simulate "
+                       "section writes the simulation file whole");
   sa.out_path = a->out_path;
   sa.check = a->check;
   sa.quiet = a->quiet;
@@ -281,21 +273,176 @@ static int run_simulated(scene *s, const run_args *a, const world *w, int argc,
   return code;
 }
 
+/* the scene and its sweep plan, checked by every rank before anything is
+   written (rank 0 says what is wrong, or else the ranks that fail):
+   EXIT_OK with s loaded, else the exit code with s freed */
+static int run_load(const run_args *a, const world *w, scene *s,
+                    sweep_plan *plan) {
+  scene_error serr;
+  int code = EXIT_OK, first, worst;
+  if (scene_load(s, a->scene_path, &serr))
+    code = EXIT_USAGE;
+  else if (w->rank == 0)
+    /* values valid but likely in the wrong unit: said (before a case that
+       fails because of them), not refused */
+    scene_warnings_print(s, stderr);
+  /* a design study is planned by run_design (exec/design_run.h) */
+  if (code == EXIT_OK && !design_wanted(s) && sweep_plan_make(s, plan, &serr)) {
+    scene_free(s);
+    code = EXIT_USAGE;
+  }
+  worst = agree(w, code, &first);
+  if (code && (w->rank == 0 || first == EXIT_OK))
+    scene_error_print(a->scene_path, &serr);
+  if (worst && !code) scene_free(s);
+  return worst;
+}
+
+/* 1 when OUT.h5 is already this shard's complete part of this scene and
+   these data (--resume), not computed again; the exit code in *code */
+static int run_resumed(const run_args *a, const scene *s,
+                       const sweep_plan *plan, const sweep_opts *opts,
+                       const char *inputs, int *code) {
+  size_t nfailed = 0,
+         ncase = sweep_shard_cases(s, plan, opts->shard, opts->nshard);
+  char names[1024];
+  if (!a->resume ||
+      !parts_resume(a->out_path, opts->shard, opts->nshard, s->text,
+                    out_fields_text(a->fields, names, sizeof names), inputs,
+                    &nfailed))
+    return 0;
+  if (!a->quiet)
+    fprintf(stderr,
+            "rps3-run: %s is shard %zu/%zu of this scene, "
+            "complete (%zu case%s, %zu failed): not run again\n",
+            a->out_path, opts->shard, opts->nshard, ncase,
+            ncase == 1 ? "" : "s", nfailed);
+  *code = nfailed && !a->failed_ok ? EXIT_FAILED_CASES : EXIT_OK;
+  return 1;
+}
+
+/* the progress of this rank's shard */
+static void run_progress(progress *pr, const run_args *a, const world *w,
+                         const scene *s, const sweep_plan *plan,
+                         const sweep_opts *opts) {
+  progress_start(pr, sweep_shard_cases(s, plan, opts->shard, opts->nshard),
+                 a->quiet || w->rank != 0);
+  pr->njob_all = sweep_njob(s, plan);
+  pr->njob = sweep_shard_jobs(s, plan, opts->shard, opts->nshard);
+  /* the shard's samples, in proportion to its cases (exact unsharded) */
+  pr->npoint = s->ncase ? (size_t)((double)plan->npoint * (double)pr->ncase /
+                                   (double)s->ncase)
+                        : 0;
+}
+
+/* the sweep computed into the file at tmpout_path(); the exit code */
+static int run_file(const run_args *a, const scene *s, const sweep_plan *plan,
+                    const sweep_opts *opts, out_block *block,
+                    const out_meta *meta, progress *pr, sweep_stats *st) {
+  char err[512];
+  out_file *f =
+      out_create(tmpout_path(), s, &plan->first, plan->nt, plan->grid_common,
+                 plan->chunk_points, block, meta, err, sizeof err);
+  memset(st, 0, sizeof *st);
+  if (!f) {
+    fprintf(stderr, "rps3-run: %s: %s\n", a->out_path, err);
+    return EXIT_IO;
+  }
+  if (sweep_run_opts(s, plan, f, block, opts, pr, st, err, sizeof err)) {
+    fprintf(stderr, "rps3-run: %s: %s\n", a->out_path, err);
+    out_close(f, NULL, 0);
+    return EXIT_IO;
+  }
+  if (out_close(f, err, sizeof err)) {
+    fprintf(stderr, "rps3-run: %s: %s\n", a->out_path, err);
+    return EXIT_IO;
+  }
+  return EXIT_OK;
+}
+
+/* the sweep written under a temporary name in the same directory and
+   renamed at the end (tmpout.h), or joined with the other ranks' parts;
+   the exit code */
+static int run_write(const run_args *a, const world *w, const scene *s,
+                     const sweep_plan *plan, const sweep_opts *opts,
+                     const char *inputs, int argc, char **argv) {
+  int code = EXIT_OK;
+  char *cmd = cli_command_line(argc, argv);
+  out_block block;
+  out_meta meta;
+  progress pr;
+  sweep_stats st;
+  memset(&block, 0, sizeof block);
+  memset(&meta, 0, sizeof meta);
+  if (!cmd || out_block_alloc(&block, plan->tile_cases, plan->tile_points,
+                              plan->first.model.opt.effects)) {
+    fprintf(stderr, "rps3-run: out of memory\n");
+    code = EXIT_IO;
+  }
+  block.fields = a->fields;
+  meta.command_line = cmd;
+  meta.gzip = a->gzip;
+  meta.shard = a->shard_arg;
+  meta.fields = a->fields;
+  meta.inputs = inputs;
+  if (code == EXIT_OK && tmpout_name(a->out_path, w->rank)) code = EXIT_USAGE;
+  if ((code = agree(w, code, NULL)) == EXIT_OK) {
+    tmpout_arm();
+    run_progress(&pr, a, w, s, plan, opts);
+    code = run_file(a, s, plan, opts, &block, &meta, &pr, &st);
+    if (w->size > 1)
+      code = ranks_join(w, code, a->copy, a->out_path, cmd, &pr, &st, s->ncase);
+    else if (code != EXIT_OK || tmpout_commit(a->out_path))
+      code = EXIT_IO;
+    else {
+      progress_finish(&pr, st.cases_done, st.points_done, st.nfailed);
+      code = st.nfailed ? EXIT_FAILED_CASES : EXIT_OK;
+    }
+  }
+  /* a complete file with failed cases, as a success (for schedulers) */
+  if (code == EXIT_FAILED_CASES && a->failed_ok) code = EXIT_OK;
+  tmpout_discard();
+  out_block_free(&block);
+  free(cmd);
+  return code;
+}
+
+/* the inverse dynamics of a checked scene into OUT.h5: room, the input
+   files recorded, --resume, the leftovers of killed runs, the sweep; the
+   exit code */
+static int run_sweep(const run_args *a, const world *w, const scene *s,
+                     const sweep_plan *plan, const sweep_opts *opts,
+                     const pre_opts *pre, int argc, char **argv) {
+  int code = EXIT_OK;
+  char err[512], *inputs = NULL;
+  if (w->rank == 0 && pre_room(s, plan, opts, pre, a->out_path))
+    code = EXIT_USAGE;
+  /* the files the scene read, by content (inputs.h): recorded in the
+     file, compared by --resume and merge (each rank its own, before the
+     ranks agree to go on) */
+  if (code == EXIT_OK && !(inputs = inputs_record(s, err, sizeof err))) {
+    fprintf(stderr, "rps3-run: %s: %s\n", a->scene_path, err);
+    code = EXIT_IO;
+  }
+  if ((code = agree(w, code, NULL)) == EXIT_OK &&
+      !run_resumed(a, s, plan, opts, inputs, &code)) {
+    /* what killed runs of this output left on this host */
+    if (w->rank == 0) tmpout_clean(a->out_path, 0, 1);
+    code = run_write(a, w, s, plan, opts, inputs, argc, argv);
+  }
+  free(inputs);
+  return code;
+}
+
+/* rps3-run SCENE.yaml: parse, check, then simulate, check only or run the
+   sweep; the exit code */
 static int run_main(int argc, char **argv, const world *w) {
   int code;
   run_args a;
-  char err[512];
   scene s;
-  scene_error serr;
   sweep_plan plan;
   sweep_opts opts = {1, 0, 1};
   pre_opts pre;
-  sweep_stats st;
-  out_block block;
-  out_meta meta;
-  out_file *f;
-  progress pr;
-  char *cmd, *inputs;
 
   /* the command line (run_cli.h) */
   if ((code = run_args_parse(argc, argv, &a)) >= 0) return code;
@@ -303,157 +450,26 @@ static int run_main(int argc, char **argv, const world *w) {
   opts.nthread = a.nthread;
   opts.shard = a.shard;
   opts.nshard = a.nshard;
-  /* the scene and every case are checked before anything is written (by
-     every rank; rank 0 says what is wrong, or else the ranks that fail) */
-  code = EXIT_OK;
-  if (scene_load(&s, a.scene_path, &serr))
-    code = EXIT_USAGE;
-  else if (w->rank == 0)
-    /* values valid but likely in the wrong unit: said (before a case that
-       fails because of them), not refused */
-    scene_warnings_print(&s, stderr);
-  /* a design study is planned by run_design (exec/design_run.h) */
-  if (code == EXIT_OK && !design_wanted(&s) &&
-      sweep_plan_make(&s, &plan, &serr)) {
-    scene_free(&s);
-    code = EXIT_USAGE;
-  }
-  {
-    int first, worst = agree(w, code, &first);
-    if (code && (w->rank == 0 || first == EXIT_OK))
-      scene_error_print(a.scene_path, &serr);
-    if (worst) {
-      if (!code) scene_free(&s);
-      return worst;
-    }
-  }
-  /* a design study: its designs into its own file (run_design.h) */
-  if (design_wanted(&s)) {
-    code = run_design(&s, &a, w, argc, argv, ranks_join);
-    scene_free(&s);
-    return code;
-  }
-  /* a scene with a simulate section is simulated instead (simulate.h) */
-  if (sim_wanted(&s)) {
-    code = run_simulated(&s, &a, w, argc, argv);
-    scene_free(&s);
-    return code;
-  }
+  if ((code = run_load(&a, w, &s, &plan)) != EXIT_OK) return code;
   pre.rank = w->rank;
   pre.nrank = w->size;
   pre.copy = a.copy;
   pre.gzip = a.gzip;
   pre.quiet = a.quiet;
   pre.fields = a.fields;
-  if (pre_jobs(&s, &plan, &opts, &pre)) {
-    scene_free(&s);
-    return EXIT_USAGE;
-  }
-  use_the_cores(&opts, w);
-  if (a.check) {
-    if (w->rank == 0) pre_check_print(a.scene_path, &s, &plan, &opts, &pre);
-    scene_free(&s);
-    return EXIT_OK;
-  }
-  if (w->rank == 0 && pre_room(&s, &plan, &opts, &pre, a.out_path))
+  if (design_wanted(&s)) /* its designs into its own file (run_design.h) */
+    code = run_design(&s, &a, w, argc, argv, ranks_join);
+  else if (sim_wanted(&s)) /* simulated instead (simulate.h) */
+    code = run_simulated(&s, &a, w, argc, argv);
+  else if (pre_jobs(&s, &plan, &opts, &pre))
     code = EXIT_USAGE;
-  /* the files the scene read, by content (inputs.h): recorded in the
-     file, compared by --resume and merge (each rank its own, before the
-     ranks agree to go on) */
-  inputs = NULL;
-  if (code == EXIT_OK && !(inputs = inputs_record(&s, err, sizeof err))) {
-    fprintf(stderr, "rps3-run: %s: %s\n", a.scene_path, err);
-    code = EXIT_IO;
+  else {
+    use_the_cores(&opts, w);
+    if (!a.check)
+      code = run_sweep(&a, w, &s, &plan, &opts, &pre, argc, argv);
+    else if (w->rank == 0)
+      pre_check_print(a.scene_path, &s, &plan, &opts, &pre);
   }
-  if ((code = agree(w, code, NULL)) != EXIT_OK) {
-    free(inputs);
-    scene_free(&s);
-    return code;
-  }
-
-  /* a complete part of this scene and these data is not computed again */
-  if (a.resume && !a.check) {
-    size_t nfailed = 0,
-           ncase = sweep_shard_cases(&s, &plan, opts.shard, opts.nshard);
-    char names[1024];
-    if (parts_resume(a.out_path, opts.shard, opts.nshard, s.text,
-                     out_fields_text(a.fields, names, sizeof names), inputs,
-                     &nfailed)) {
-      if (!a.quiet)
-        fprintf(stderr,
-                "rps3-run: %s is shard %zu/%zu of this scene, "
-                "complete (%zu case%s, %zu failed): not run again\n",
-                a.out_path, opts.shard, opts.nshard, ncase,
-                ncase == 1 ? "" : "s", nfailed);
-      free(inputs);
-      scene_free(&s);
-      return nfailed && !a.failed_ok ? EXIT_FAILED_CASES : EXIT_OK;
-    }
-  }
-  /* what killed runs of this output left on this host */
-  if (w->rank == 0) tmpout_clean(a.out_path, 0, 1);
-
-  memset(&block, 0, sizeof block);
-  cmd = cli_command_line(argc, argv);
-  if (!cmd || out_block_alloc(&block, plan.tile_cases, plan.tile_points,
-                              plan.first.model.opt.effects)) {
-    fprintf(stderr, "rps3-run: out of memory\n");
-    code = EXIT_IO;
-  }
-  block.fields = a.fields;
-  meta.command_line = cmd;
-  meta.gzip = a.gzip;
-  meta.shard = a.shard_arg;
-  meta.fields = a.fields;
-  meta.inputs = inputs;
-
-  /* write under a temporary name in the same directory, rename at the end
-     (tmpout.h) */
-  if (code == EXIT_OK && tmpout_name(a.out_path, w->rank)) code = EXIT_USAGE;
-  if ((code = agree(w, code, NULL)) != EXIT_OK) goto done;
-  tmpout_arm();
-  progress_start(&pr, sweep_shard_cases(&s, &plan, opts.shard, opts.nshard),
-                 a.quiet || w->rank != 0);
-  pr.njob_all = sweep_njob(&s, &plan);
-  pr.njob = sweep_shard_jobs(&s, &plan, opts.shard, opts.nshard);
-  /* the shard's samples, in proportion to its cases (exact unsharded) */
-  pr.npoint =
-      s.ncase
-          ? (size_t)((double)plan.npoint * (double)pr.ncase / (double)s.ncase)
-          : 0;
-  f = out_create(tmpout_path(), &s, &plan.first, plan.nt, plan.grid_common,
-                 plan.chunk_points, &block, &meta, err, sizeof err);
-  if (!f) {
-    fprintf(stderr, "rps3-run: %s: %s\n", a.out_path, err);
-    code = EXIT_IO;
-    memset(&st, 0, sizeof st);
-  } else if (sweep_run_opts(&s, &plan, f, &block, &opts, &pr, &st, err,
-                            sizeof err)) {
-    fprintf(stderr, "rps3-run: %s: %s\n", a.out_path, err);
-    out_close(f, NULL, 0);
-    code = EXIT_IO;
-  } else if (out_close(f, err, sizeof err)) {
-    fprintf(stderr, "rps3-run: %s: %s\n", a.out_path, err);
-    code = EXIT_IO;
-  }
-  if (w->size > 1) {
-    code = ranks_join(w, code, a.copy, a.out_path, cmd, &pr, &st, s.ncase);
-    goto done;
-  }
-  if (code != EXIT_OK || tmpout_commit(a.out_path)) {
-    code = EXIT_IO;
-    goto done;
-  }
-  progress_finish(&pr, st.cases_done, st.points_done, st.nfailed);
-  code = st.nfailed ? EXIT_FAILED_CASES : EXIT_OK;
-
-done:
-  /* a complete file with failed cases, as a success (for schedulers) */
-  if (code == EXIT_FAILED_CASES && a.failed_ok) code = EXIT_OK;
-  tmpout_discard();
-  out_block_free(&block);
-  free(cmd);
-  free(inputs);
   scene_free(&s);
   return code;
 }

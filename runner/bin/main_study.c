@@ -42,20 +42,12 @@
  * SIGKILL, by the next run of the same OUT.h5) and renamed when complete.
  * Exit codes: 0 ok, 2 bad command line, 3 the file could not be written.
  *
- * This file: the command line and the temporary file; study.h lists the
- * others.
+ * This file: the command line; study.h lists the others.
  */
 #include <stdio.h>
-#include <stdlib.h>
 #include <string.h>
 
-#include <gsl/gsl_errno.h>
-
 #include "core/cli.h"
-#include "core/h5err.h"
-#include "core/safeio.h"
-#include "core/signals.h"
-#include "core/tmpout.h"
 #include "study/study.h"
 
 /* ----------------------------------------------------------------- main */
@@ -64,13 +56,12 @@
 enum { O_OUTPUT, O_SAMPLES, O_REPEATS, O_QUICK, O_VERSION, O_HELP, O_N };
 
 static const cli_opt STUDY_OPTS[O_N] = {
-    {"output", 'o', "OUT.h5", 0, 0, 0,
-     "output file (written under a temporary name,\nrenamed when complete)"},
+    CLI_ROW_OUTPUT,
     {"samples", 0, "N", 1, 10, 1000000, "samples per trajectory (default 400)"},
     {"repeats", 0, "R", 1, 1, 1000, "timed passes per setting (default 9)"},
     {"quick", 0, NULL, 0, 0, 0, "a coarse workspace grid"},
-    {"version", 0, NULL, 0, 0, 0, "print the version"},
-    {"help", 'h', NULL, 0, 0, 0, "print this help"},
+    CLI_ROW_VERSION,
+    CLI_ROW_HELP,
 };
 
 static void usage(FILE *out) {
@@ -97,20 +88,34 @@ static void usage(FILE *out) {
   fprintf(out, "\nExit status: 0 ok, 2 bad command line, 3 cannot write.\n");
 }
 
+/* what the command line asks */
+typedef struct {
+  const char *study; /* "accuracy" or "workspace" */
+  size_t samples;
+  int repeats, quick;
+} study_args;
+
+static int study_write(const char *path, const char *cmdline, const void *arg) {
+  const study_args *a = arg;
+  if (!strcmp(a->study, "accuracy"))
+    return study_accuracy(path, cmdline, a->samples, a->repeats);
+  return study_workspace(path, cmdline, a->quick);
+}
+
 static int study_main(int argc, char **argv) {
-  const char *out = NULL, *in[1], *arg, *study;
-  char *cmdline, err[4096 + 512], **op;
-  size_t samples = 400;
-  int repeats = 9, quick = 0, row, rc, nop;
+  const char *out = NULL, *arg;
+  char **op;
+  study_args a = {NULL, 400, 9, 0};
+  int row, nop;
   unsigned long v;
   cli c;
   cli_start(&c, "rps3-study", STUDY_OPTS, O_N, argc, argv);
   while ((row = cli_next(&c, &arg, &v)) != CLI_END) {
     switch (row) {
     case O_OUTPUT: out = arg; break;
-    case O_SAMPLES: samples = (size_t)v; break;
-    case O_REPEATS: repeats = (int)v; break;
-    case O_QUICK: quick = 1; break;
+    case O_SAMPLES: a.samples = (size_t)v; break;
+    case O_REPEATS: a.repeats = (int)v; break;
+    case O_QUICK: a.quick = 1; break;
     case O_VERSION: cli_version(stdout, "rps3-study"); return EXIT_OK;
     case O_HELP: usage(stdout); return EXIT_OK;
     default: return EXIT_USAGE;
@@ -124,58 +129,18 @@ static int study_main(int argc, char **argv) {
       cli_usage_error(&c, "one study at a time ('%s' and '%s')", op[0], op[1]);
     return EXIT_USAGE;
   }
-  study = op[0];
-  if (strcmp(study, "accuracy") && strcmp(study, "workspace")) {
-    cli_usage_error(&c, "unknown study '%s' (accuracy or workspace)", study);
+  a.study = op[0];
+  if (strcmp(a.study, "accuracy") && strcmp(a.study, "workspace")) {
+    cli_usage_error(&c, "unknown study '%s' (accuracy or workspace)", a.study);
     return EXIT_USAGE;
   }
   if (!out) {
     cli_usage_error(&c, "missing -o OUT.h5");
     return EXIT_USAGE;
   }
-  in[0] = argv[0];
-  if (out_path_check(out, in, 0, err, sizeof err)) {
-    fprintf(stderr, "rps3-study: %s\n", err);
-    return EXIT_USAGE;
-  }
-  if (!(cmdline = cli_command_line(argc, argv))) {
-    fprintf(stderr, "rps3-study: out of memory\n");
-    return EXIT_IO;
-  }
-  /* what killed runs of this output left: reported, and removed when
-     their process was of this host */
-  stale_report("rps3-study", out);
-  tmpout_clean(out, 0, 1);
-  if (tmpout_name(out, 0)) {
-    free(cmdline);
-    return EXIT_USAGE;
-  }
-  tmpout_arm();
-  if (!strcmp(study, "accuracy"))
-    rc = study_accuracy(tmpout_path(), cmdline, samples, repeats);
-  else
-    rc = study_workspace(tmpout_path(), cmdline, quick);
-  if (rc != EXIT_OK) {
-    h5_cause(err, sizeof err);
-    if (err[0]) fprintf(stderr, "rps3-study: %s: HDF5: %s\n", out, err);
-  } else if (tmpout_commit(out)) {
-    rc = EXIT_IO;
-  }
-  if (rc != EXIT_OK) {
-    tmpout_discard();
-    fprintf(stderr, "rps3-study: %s not written\n", out);
-  }
-  free(cmdline);
-  return rc;
+  return study_output("rps3-study", out, argc, argv, study_write, &a);
 }
 
 int main(int argc, char **argv) {
-  /* fds 0-2 open, HDF5 without atexit, then the signal policy of
-     signals.h: the temporary file is removed by a signal that ends us */
-  proc_init();
-  tmpout_prog("rps3-study");
-  sig_init();
-  gsl_set_error_handler_off();
-  h5_errors_capture();
-  return proc_exit(study_main(argc, argv));
+  return study_prog("rps3-study", study_main, argc, argv);
 }

@@ -40,8 +40,7 @@ enum {
 };
 
 static const cli_opt RUN_OPTS[O_N] = {
-    {"output", 'o', "OUT.h5", 0, 0, 0,
-     "output file (written under a temporary name,\nrenamed when complete)"},
+    CLI_ROW_OUTPUT,
     {"quiet", 'q', NULL, 0, 0, 0, "no progress on stderr"},
     {"gzip", 0, "LEVEL", 1, 0, 9,
      "deflate the datasets at LEVEL (default 0: not\ndeflated)"},
@@ -66,8 +65,8 @@ static const cli_opt RUN_OPTS[O_N] = {
      "... of OUT.h5 of a scene with a simulate section"},
     {"design-schema", 0, NULL, 0, 0, 0,
      "... of OUT.h5 of a scene with a design section"},
-    {"version", 0, NULL, 0, 0, 0, "print the version"},
-    {"help", 'h', NULL, 0, 0, 0, "print this help"},
+    CLI_ROW_VERSION,
+    CLI_ROW_HELP,
 };
 
 static void usage(FILE *out) {
@@ -135,8 +134,8 @@ static int print_and_end(int row) {
   case O_HELP: usage(stdout); return 1;
   case O_VERSION: cli_version(stdout, "rps3-run"); return 1;
   case O_KEYS: scene_keys_print(); return 1;
-  case O_SCHEMA: out_schema_print(); return 1;
-  case O_SIM_SCHEMA: sim_schema_print(); return 1;
+  case O_SCHEMA: out_schema_print(OUT_INV); return 1;
+  case O_SIM_SCHEMA: out_schema_print(OUT_SIM); return 1;
   case O_DESIGN_SCHEMA: design_schema_print(); return 1;
   default: return 0;
   }

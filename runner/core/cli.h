@@ -26,6 +26,17 @@ typedef struct {
   const char *doc; /* --help text; '\n' continues on the next line */
 } cli_opt;
 
+/* the rows every program's table has */
+#define CLI_ROW_OUTPUT                                                         \
+  {                                                                            \
+    "output", 'o', "OUT.h5", 0, 0, 0,                                          \
+        "output file (written under a temporary name,\nrenamed when complete)" \
+  }
+#define CLI_ROW_VERSION \
+  { "version", 0, NULL, 0, 0, 0, "print the version" }
+#define CLI_ROW_HELP \
+  { "help", 'h', NULL, 0, 0, 0, "print this help" }
+
 /* a parse in progress (getopt_long's own state is process-wide: one
    parse at a time) */
 typedef struct {

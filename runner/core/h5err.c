@@ -12,13 +12,15 @@
 
 typedef struct {
   char outer[200];
+  char filter[200];
   char inner[400];
   unsigned n;
 } walk;
 
 static herr_t walk_cb(unsigned n, const H5E_error2_t *e, void *data) {
   walk *w = data;
-  const char *d = e->desc ? e->desc : "?";
+  const char *d = e->desc != NULL && e->desc[0] != '\0' ? e->desc : NULL;
+  if (d == NULL) d = e->func_name != NULL ? e->func_name : "?";
   /* H5E_WALK_DOWNWARD: from the API call (n == 0) to the innermost */
   if (n == 0) {
     /* the system's part, when the outermost has one, is said below */
@@ -26,6 +28,9 @@ static herr_t walk_cb(unsigned n, const H5E_error2_t *e, void *data) {
     int len = cut ? (int)(cut - d) : (int)strlen(d);
     snprintf(w->outer, sizeof w->outer, "%.*s", len, d);
   }
+  /* a missing filter: the innermost is then the plugin search */
+  if (w->filter[0] == '\0' && strstr(d, "filter") != NULL)
+    snprintf(w->filter, sizeof w->filter, "%s", d);
   snprintf(w->inner, sizeof w->inner, "%s", d);
   w->n = n + 1;
   return 0;
@@ -72,7 +77,12 @@ void h5_cause(char *buf, size_t sz) {
   int e;
   const char *words;
   buf[0] = '\0';
-  if (w.n == 0) H5Ewalk2(H5E_DEFAULT, H5E_WALK_DOWNWARD, walk_cb, &w);
+  /* a failure still on the stack (printing off, no call since) is the
+     last one; else the capture's */
+  if (H5Eget_num(H5E_DEFAULT) > 0) {
+    memset(&w, 0, sizeof w);
+    H5Ewalk2(H5E_DEFAULT, H5E_WALK_DOWNWARD, walk_cb, &w);
+  }
   H5Eclear2(H5E_DEFAULT);
   memset(&last, 0, sizeof last);
   if (w.n == 0) return;
@@ -82,6 +92,8 @@ void h5_cause(char *buf, size_t sz) {
     snprintf(buf, sz, "%s: %s", w.outer, words);
   else if (e)
     snprintf(buf, sz, "%s: %s", w.outer, strerror(e));
+  else if (w.filter[0] != '\0' && strcmp(w.filter, w.inner) != 0)
+    snprintf(buf, sz, "%s: %s (%s)", w.outer, w.filter, w.inner);
   else if (w.n > 1 && strcmp(w.outer, w.inner) != 0)
     snprintf(buf, sz, "%s: %s", w.outer, w.inner);
   else

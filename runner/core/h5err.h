@@ -23,8 +23,10 @@ void h5_errors_capture(void);
  * OUTER is the outermost description and CAUSE the innermost, named in
  * words for what a user can act on (another process holds the file's lock,
  * no space left on the device, read-only file system, no such file or
- * directory, file too large for ulimit -f, ...); "" when no call failed
- * since the last h5_cause.  The capture and the stack are then cleared.
+ * directory, file too large for ulimit -f, ...), with a missing filter
+ * between them when the stack names one; "" when no call failed since the
+ * last h5_cause.  A failure still on the stack (printing off, as while a
+ * table is read) comes before the capture.  Both are then cleared.
  */
 void h5_cause(char *buf, size_t sz);
 

@@ -51,7 +51,7 @@ static int dir_of(const char *path, char *dir, size_t sz) {
   return 0;
 }
 
-static const char *kind_of(mode_t m) {
+const char *file_kind(mode_t m) {
   return S_ISDIR(m)    ? "a directory"
          : S_ISLNK(m)  ? "a symbolic link"
          : S_ISCHR(m)  ? "a character device"
@@ -79,7 +79,7 @@ int out_path_check(const char *out, const char *const *in, size_t ninput,
       snprintf(err, errsz,
                "-o %s is %s: the output must be a new or a regular file "
                "(it is replaced when the run is complete)",
-               out, kind_of(so.st_mode));
+               out, file_kind(so.st_mode));
       return -1;
     }
     for (i = 0; i < ninput; i++)
@@ -111,6 +111,66 @@ int out_path_check(const char *out, const char *const *in, size_t ninput,
     return -1;
   }
   return 0;
+}
+
+/* the end of file_read_all: the file closed, the buffer freed on -1 */
+static int read_done(int fd, char *buf, int rc) {
+  close(fd);
+  if (rc) free(buf);
+  return rc;
+}
+
+int file_read_all(const char *path, size_t max, const char *kind_rule,
+                  const char *size_rule, char **text, size_t *len, char *why,
+                  size_t whysz) {
+  struct stat st;
+  size_t got = 0, cap;
+  char *buf = NULL;
+  /* O_NONBLOCK: opening a FIFO must not wait for a writer */
+  int fd = open(path, O_RDONLY | O_NONBLOCK);
+  *text = NULL;
+  *len = 0;
+  if (fd < 0) {
+    snprintf(why, whysz, "cannot open: %s", strerror(errno));
+    return -1;
+  }
+  if (fstat(fd, &st) != 0) {
+    snprintf(why, whysz, "cannot read: %s", strerror(errno));
+    return read_done(fd, buf, -1);
+  }
+  if (!S_ISREG(st.st_mode)) {
+    snprintf(why, whysz, "is %s: %s", file_kind(st.st_mode), kind_rule);
+    return read_done(fd, buf, -1);
+  }
+  if ((unsigned long long)st.st_size > (unsigned long long)max) {
+    snprintf(why, whysz, "is %lld bytes: %s", (long long)st.st_size,
+             size_rule);
+    return read_done(fd, buf, -1);
+  }
+  /* one byte more than fstat said: a file that grew since is refused */
+  cap = (size_t)st.st_size + 1;
+  if ((buf = malloc(cap + 1)) == NULL) {
+    snprintf(why, whysz, "out of memory");
+    return read_done(fd, buf, -1);
+  }
+  while (got < cap) {
+    ssize_t n = read(fd, buf + got, cap - got);
+    if (n < 0 && errno == EINTR) continue;
+    if (n < 0) {
+      snprintf(why, whysz, "cannot read: %s", strerror(errno));
+      return read_done(fd, buf, -1);
+    }
+    if (n == 0) break;
+    got += (size_t)n;
+  }
+  if (got == cap) {
+    snprintf(why, whysz, "changed while it was read");
+    return read_done(fd, buf, -1);
+  }
+  buf[got] = '\0';
+  *text = buf;
+  *len = got;
+  return read_done(fd, buf, 0);
 }
 
 /* the pid of NAME = BASE.tmp.PID or BASE.tmp.PID.partR; 0 if not one */

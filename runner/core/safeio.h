@@ -8,6 +8,7 @@
 #define RPS3_RUNNER_SAFEIO_H
 
 #include <stddef.h>
+#include <sys/types.h>
 
 /* the exit code of a failed write (every program's EXIT_IO) */
 #define SIG_EXIT_IO 3
@@ -45,6 +46,23 @@ int out_path_check(const char *out, const char *const *in, size_t ninput,
  * temporaries of killed runs (SIGKILL, power loss).  Returns their number.
  */
 size_t stale_report(const char *prog, const char *out);
+
+/* What a file of mode m is, in words ("a directory", "a FIFO", ...), for
+   a refusal of what is not a regular file. */
+const char *file_kind(mode_t m);
+
+/*
+ * Read the regular file at path, of at most max bytes, into *text (malloc'd,
+ * NUL-terminated) and *len.  What is not a regular file (a FIFO, /dev/zero,
+ * a directory) and a larger file are refused before they are read; a FIFO
+ * is not waited for.  Returns 0, or -1 with why set to what follows the
+ * file's name: "cannot open: CAUSE", "is a FIFO: KIND_RULE", "is N bytes:
+ * SIZE_RULE", "changed while it was read", "out of memory" or "cannot
+ * read: CAUSE".
+ */
+int file_read_all(const char *path, size_t max, const char *kind_rule,
+                  const char *size_rule, char **text, size_t *len, char *why,
+                  size_t whysz);
 
 /* Bytes available to this user on the file system of out's directory;
    -1 when unknown. */

@@ -85,8 +85,6 @@ int tmp_set(const char *path) {
   return 0;
 }
 
-const char *tmp_name(void) { return have_tmp ? tmp_path : ""; }
-
 int tmp_commit(const char *out, char *err, size_t errsz) {
   int rc = -1;
   if (!have_tmp) {

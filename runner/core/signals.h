@@ -34,9 +34,6 @@ void sig_block(int how);
    -1 when it is too long. */
 int tmp_set(const char *path);
 
-/* The current temporary file's name ("" when none). */
-const char *tmp_name(void);
-
 /*
  * Make the temporary file durable and rename it to out: fsync the file,
  * rename, fsync the directory, so that a power loss cannot leave an OUT

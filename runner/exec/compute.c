@@ -67,7 +67,7 @@ static void store3(double *dst, const double *src, size_t n) {
    field at a time (each a sequential stream of writes), the fields the
    file gets; the batch wrote condition, transmission, the energy residual
    and scale and the solve residual into the block itself */
-static void store_batch(const rps3_model *m, const scratch *x, size_t n,
+static void store_batch(const scratch *x, size_t n,
                         out_block *b, size_t j) {
   /* the [3][n] outputs, and the one-column ones */
   const struct {
@@ -106,10 +106,6 @@ static void store_batch(const rps3_model *m, const scratch *x, size_t n,
     niter[i] = x->niter[i];
     warn[i] = x->warn[i];
   }
-  /* with certify off the library writes 0: say "not computed" instead */
-  for (i = 0; i < n && !m->opt.certify; i++)
-    ((double *)b->energy_residual)[j + i] = ((double *)b->energy_scale)[j + i] =
-        (double)NAN;
 }
 
 /*
@@ -119,86 +115,102 @@ static void store_batch(const rps3_model *m, const scratch *x, size_t n,
  * rounding, docs/library.md) and the per-point loop elsewhere (bitwise).  A
  * case still stops at its first failing sample, with the same message.
  */
+/* the trajectory at samples k .. k + n - 1 into x, structure of arrays,
+   up to a sample it cannot give: returns the samples it gave (the batch,
+   packed to their number) and the status of the one after in *trc, its
+   pose and rates in p, dp, ddp */
+static size_t batch_traj(const scene_case *c, scratch *x, size_t k, size_t n,
+                         int *trc, double p[3], double dp[3], double ddp[3]) {
+  size_t i, q;
+  *trc = RPS3_OK;
+  for (i = 0; i < n; i++) {
+    x->t[i] = scene_case_time(c, k + i);
+    *trc = rps3_traj_eval(&c->model, &c->traj, x->t[i], p, dp, ddp);
+    if (*trc != RPS3_OK) break;
+    for (q = 0; q < 3; q++) {
+      x->pose[q * n + i] = p[q];
+      x->dpose[q * n + i] = dp[q];
+      x->ddpose[q * n + i] = ddp[q];
+    }
+  }
+  /* the i samples before a failure, packed to a batch of i */
+  for (q = 1; i < n && q < 3; q++) {
+    memmove(x->pose + q * i, x->pose + q * n, i * sizeof(double));
+    memmove(x->dpose + q * i, x->dpose + q * n, i * sizeof(double));
+    memmove(x->ddpose + q * i, x->ddpose + q * n, i * sizeof(double));
+  }
+  return i;
+}
+
+/* the batch's inputs and outputs: the scratch, and the per-point values
+   of one column straight into the block at row j */
+static void batch_io(scratch *x, size_t n, out_block *b, size_t j,
+                     rps3_batch_in *in, rps3_batch_out *out) {
+  memset(in, 0, sizeof *in);
+  memset(out, 0, sizeof *out);
+  in->n = n;
+  in->pose = x->pose;
+  in->dpose = x->dpose;
+  in->ddpose = x->ddpose;
+  out->status = x->status;
+  out->warn = x->warn;
+  out->l = x->l;
+  out->theta = x->theta;
+  out->niter = x->niter;
+  out->F = x->F;
+  out->F_effect = x->Fe;
+  out->lambda = x->lambda;
+  out->cond = (double *)b->condition + j;
+  out->energy_residual = (double *)b->energy_residual + j;
+  out->transmission = (double *)b->transmission + j;
+  out->dl = x->dl;
+  out->ddl = x->ddl;
+  out->c = x->c;
+  out->energy_scale = (double *)b->energy_scale + j;
+  out->solve_resid = (double *)b->solve_resid + j;
+}
+
+/* the batch failed with rc at sample k + i: the case's message, without
+   the batch's "point I: " */
+static int batch_failed(const rps3_data *d, int rc, const scratch *x, size_t k,
+                        size_t i, out_block *b, size_t slot,
+                        size_t *failed_at) {
+  const char *msg = d->err.msg, *colon = strstr(msg, ": ");
+  if (strncmp(msg, "point ", 6) == 0 && colon) msg = colon + 2;
+  *failed_at = k + i;
+  snprintf(b->msg[slot], sizeof b->msg[slot], "t = %.9g s (sample %zu): %s: %s",
+           x->t[i], k + i, rps3_strerror(rc), msg);
+  return rc;
+}
+
 static int compute_batch(const scene_case *c, rps3_data *d, size_t k0,
                          size_t nk, out_block *b, size_t slot,
                          size_t *failed_at) {
-  const rps3_model *m = &c->model;
   scratch x;
-  size_t k, i, n;
-  int rc;
+  size_t k, n;
   scratch_of(b, &x);
   for (k = k0; k < k0 + nk; k += n) {
     rps3_batch_in in;
     rps3_batch_out out;
-    int trc = RPS3_OK;
     double p[3], dp[3], ddp[3];
     const size_t j = slot * b->points + (k - k0);
+    int trc, rc;
+    /* the trajectory up to a sample it cannot give: the samples before it
+       are computed first, and one of them failing is the case's first
+       failure */
     n = k0 + nk - k < OUT_BATCH ? k0 + nk - k : OUT_BATCH;
-    /* the trajectory, structure of arrays, up to a sample it cannot give:
-       the samples before it are computed first, and one of them failing
-       is the case's first failure */
-    for (i = 0; i < n; i++) {
-      int q;
-      x.t[i] = scene_case_time(c, k + i);
-      trc = rps3_traj_eval(m, &c->traj, x.t[i], p, dp, ddp);
-      if (trc != RPS3_OK) break;
-      for (q = 0; q < 3; q++) {
-        x.pose[(size_t)q * n + i] = p[q];
-        x.dpose[(size_t)q * n + i] = dp[q];
-        x.ddpose[(size_t)q * n + i] = ddp[q];
-      }
-    }
-    if (trc != RPS3_OK) {
-      /* the i samples before it, packed to a batch of i */
-      size_t bad = i, q;
-      if (bad == 0)
-        return traj_failed(b, slot, trc, x.t[0], k, p, dp, ddp, failed_at);
-      for (q = 1; q < 3; q++) {
-        memmove(x.pose + q * bad, x.pose + q * n, bad * sizeof(double));
-        memmove(x.dpose + q * bad, x.dpose + q * n, bad * sizeof(double));
-        memmove(x.ddpose + q * bad, x.ddpose + q * n, bad * sizeof(double));
-      }
-      n = bad;
-    }
-    memset(&in, 0, sizeof in);
-    memset(&out, 0, sizeof out);
-    in.n = n;
-    in.pose = x.pose;
-    in.dpose = x.dpose;
-    in.ddpose = x.ddpose;
-    out.status = x.status;
-    out.warn = x.warn;
-    out.l = x.l;
-    out.theta = x.theta;
-    out.niter = x.niter;
-    out.F = x.F;
-    out.F_effect = x.Fe;
-    out.lambda = x.lambda;
-    /* the per-point values straight into the block */
-    out.cond = (double *)b->condition + j;
-    out.energy_residual = (double *)b->energy_residual + j;
-    out.transmission = (double *)b->transmission + j;
-    out.dl = x.dl;
-    out.ddl = x.ddl;
-    out.c = x.c;
-    out.energy_scale = (double *)b->energy_scale + j;
-    out.solve_resid = (double *)b->solve_resid + j;
-    rc = rps3_inverse_batch(m, d, &in, &out);
+    n = batch_traj(c, &x, k, n, &trc, p, dp, ddp);
+    if (n == 0)
+      return traj_failed(b, slot, trc, x.t[0], k, p, dp, ddp, failed_at);
+    batch_io(&x, n, b, j, &in, &out);
+    rc = rps3_inverse_batch(&c->model, d, &in, &out);
     if (rc == RPS3_OK && out.nfail) rc = out.status[out.first_fail];
-    if (rc != RPS3_OK) {
-      /* the library's message, without the batch's "point I: " */
-      const char *msg = d->err.msg, *colon = strstr(msg, ": ");
-      i = out.nfail ? out.first_fail : 0;
-      if (strncmp(msg, "point ", 6) == 0 && colon) msg = colon + 2;
-      *failed_at = k + i;
-      snprintf(b->msg[slot], sizeof b->msg[slot],
-               "t = %.9g s (sample %zu): %s: %s", x.t[i], k + i,
-               rps3_strerror(rc), msg);
-      return rc;
-    }
+    if (rc != RPS3_OK)
+      return batch_failed(d, rc, &x, k, out.nfail ? out.first_fail : 0, b, slot,
+                          failed_at);
     if (trc != RPS3_OK)
       return traj_failed(b, slot, trc, x.t[n], k + n, p, dp, ddp, failed_at);
-    store_batch(m, &x, n, b, j);
+    store_batch(&x, n, b, j);
   }
   return RPS3_OK;
 }

@@ -3,7 +3,6 @@
  */
 #include "design_run.h"
 
-#include <pthread.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -11,6 +10,7 @@
 
 #include "core/safeio.h"
 #include "estimate.h"
+#include "pool.h"
 
 /* ------------------------------------------------------------------ plan */
 
@@ -205,108 +205,118 @@ static size_t eval_design(const scene *s, const design_plan *p, size_t index,
   return done;
 }
 
-/* one work unit on one thread */
+/* a design study as a job of the pool (pool.h): its items are this
+   shard's work units, its slots tiles of one unit's designs */
 typedef struct {
   const scene *s;
   const design_plan *p;
-  worker_ws w;
-  design_tile t;
-  size_t unit;   /* the unit to compute */
-  size_t c0, nc; /* its designs */
-  size_t points; /* poses and samples evaluated */
-  int busy;
-} unit_job;
+  design_file *f;
+  progress *pr;
+  design_stats *st;
+} design_job;
 
-static void unit_compute(unit_job *u) {
-  size_t j;
-  u->points = 0;
-  u->c0 = u->unit * u->p->unit;
-  u->nc = u->c0 + u->p->unit <= u->p->ncase ? u->p->unit : u->p->ncase - u->c0;
-  for (j = 0; j < u->nc; j++)
-    u->points += eval_design(u->s, u->p, u->c0 + j, &u->w, &u->t, j);
+/* what describes a filled tile: its designs, the poses and samples
+   evaluated */
+typedef struct {
+  size_t c0, nc, points;
+} unit_info;
+
+/* pool_job.worker_begin: a worker's workspace and pose arrays */
+static void *design_worker_begin(void *ctx) {
+  const design_job *J = ctx;
+  worker_ws *w = malloc(sizeof *w);
+  if (w && worker_alloc(w, J->p->npose)) {
+    free(w);
+    w = NULL;
+  }
+  return w;
 }
 
-static void *unit_thread(void *arg) {
-  unit_compute(arg);
-  return NULL;
+static void design_worker_end(void *ctx, void *wctx) {
+  (void)ctx;
+  if (wctx) worker_free(wctx);
+  free(wctx);
+}
+
+/* pool_job.run: work unit u on worker w, into its slot */
+static int design_item(void *ctx, void *wctx, size_t u, pool_worker *w,
+                       char *err, size_t errsz) {
+  const design_job *J = ctx;
+  design_tile *t = pool_slot(w);
+  unit_info in;
+  size_t j;
+  in.c0 = u * J->p->unit;
+  in.nc = in.c0 + J->p->unit <= J->p->ncase ? J->p->unit : J->p->ncase - in.c0;
+  in.points = 0;
+  for (j = 0; j < in.nc; j++)
+    in.points += eval_design(J->s, J->p, in.c0 + j, wctx, t, j);
+  return pool_emit(w, &in, err, errsz) ? 0 : -1;
+}
+
+/* pool_job.write: a unit's designs to the file, counted */
+static int design_write(void *ctx, void *slot, const void *info, char *err,
+                        size_t errsz) {
+  design_job *J = ctx;
+  const design_tile *t = slot;
+  const unit_info *in = info;
+  design_stats *st = J->st;
+  size_t j;
+  if (design_out_write(J->f, t, in->c0, in->nc, err, errsz)) return -1;
+  for (j = 0; j < in->nc; j++) {
+    int32_t status = ((int32_t *)t->buf[DO_status])[j];
+    if (status != 0) {
+      if (st->nfailed == 0)
+        progress_failure(J->pr, in->c0 + j, "",
+                         ((char **)t->buf[DO_message])[j]);
+      st->nfailed++;
+    } else if (((int64_t *)t->buf[DO_nreach])[j] == 0)
+      st->nempty++;
+  }
+  st->cases_done += in->nc;
+  st->points_done += in->points;
+  progress_update(J->pr, st->cases_done, st->points_done);
+  return 0;
 }
 
 int design_run(const scene *s, const design_plan *p, design_file *f,
                size_t shard, size_t nshard, int nthread, progress *pr,
                design_stats *st, char *err, size_t errsz) {
-  unit_job *job;
-  pthread_t *tid;
-  size_t next = shard, i, j;
-  int n, rc = 0;
+  design_job J;
+  pool_job job;
+  design_tile *tiles;
+  size_t i, nslot;
+  int rc = -1;
   memset(st, 0, sizeof *st);
   if (nthread < 1) nthread = 1;
-  job = calloc((size_t)nthread, sizeof *job);
-  tid = calloc((size_t)nthread, sizeof *tid);
-  if (!job || !tid) {
-    free(job);
-    free(tid);
-    snprintf(err, errsz, "out of memory");
-    return -1;
+  nslot = pool_nslot(nthread);
+  J.s = s;
+  J.p = p;
+  J.f = f;
+  J.pr = pr;
+  J.st = st;
+  memset(&job, 0, sizeof job);
+  job.ctx = &J;
+  job.nitem = p->nunit;
+  job.first = shard;
+  job.stride = nshard;
+  job.info_size = sizeof(unit_info);
+  job.worker_begin = design_worker_begin;
+  job.worker_end = design_worker_end;
+  job.run = design_item;
+  job.write = design_write;
+  tiles = calloc(nslot, sizeof *tiles);
+  job.slot = calloc(nslot, sizeof *job.slot);
+  snprintf(err, errsz, "out of memory for the tiles of %d thread%s", nthread,
+           nthread == 1 ? "" : "s");
+  for (i = 0; tiles && job.slot && i < nslot; i++) {
+    if (design_tile_alloc(&tiles[i], p->unit, p->npose, p->task, p->per_pose))
+      break;
+    job.slot[i] = &tiles[i];
   }
-  for (n = 0; n < nthread && rc == 0; n++) {
-    job[n].s = s;
-    job[n].p = p;
-    if (worker_alloc(&job[n].w, p->npose) ||
-        design_tile_alloc(&job[n].t, p->unit, p->npose, p->task, p->per_pose)) {
-      snprintf(err, errsz, "out of memory for the tiles of %d thread%s",
-               nthread, nthread == 1 ? "" : "s");
-      rc = -1;
-    }
-  }
-  /* rounds of up to nthread units of this shard, computed at once and
-     written in order by this thread (HDF5 is not thread-safe here) */
-  while (rc == 0 && next < p->nunit) {
-    int m = 0;
-    for (n = 0; n < nthread && next < p->nunit; n++, next += nshard) {
-      job[n].unit = next;
-      m++;
-    }
-    /* one unit: on this thread; a thread that cannot start: its unit on
-       this thread too (the same numbers either way) */
-    if (m == 1)
-      unit_compute(&job[0]);
-    else
-      for (n = 0; n < m; n++) {
-        job[n].busy = pthread_create(&tid[n], NULL, unit_thread, &job[n]) == 0;
-        if (!job[n].busy) unit_compute(&job[n]);
-      }
-    for (n = 0; n < m; n++)
-      if (job[n].busy) {
-        pthread_join(tid[n], NULL);
-        job[n].busy = 0;
-      }
-    for (n = 0; n < m && rc == 0; n++) {
-      unit_job *u = &job[n];
-      if (design_out_write(f, &u->t, u->c0, u->nc, err, errsz)) {
-        rc = -1;
-        break;
-      }
-      for (j = 0; j < u->nc; j++) {
-        int32_t status = ((int32_t *)u->t.buf[DO_status])[j];
-        if (status != 0) {
-          if (st->nfailed == 0)
-            progress_failure(pr, u->c0 + j, "",
-                             ((char **)u->t.buf[DO_message])[j]);
-          st->nfailed++;
-        } else if (((int64_t *)u->t.buf[DO_nreach])[j] == 0)
-          st->nempty++;
-      }
-      st->cases_done += u->nc;
-      st->points_done += u->points;
-      progress_update(pr, st->cases_done, st->points_done);
-    }
-  }
-  for (i = 0; i < (size_t)nthread; i++) {
-    worker_free(&job[i].w);
-    design_tile_free(&job[i].t);
-  }
-  free(job);
-  free(tid);
+  if (tiles && job.slot && i == nslot) rc = pool_run(&job, nthread, err, errsz);
+  for (i = 0; tiles && i < nslot; i++) design_tile_free(&tiles[i]);
+  free(tiles);
+  free(job.slot);
   return rc;
 }
 

@@ -3,8 +3,8 @@
  * (output/design_output.h): every design built and checked before
  * anything is written, then evaluated by the library (rps3_design_eval_grid
  * over the section's grid, rps3_design_task_eval along the trajectory when
- * the scene has one) in work units of whole designs, on -j threads, for
- * one shard or all.
+ * the scene has one) in work units of whole designs, on -j threads (the
+ * runner's worker pool, pool.h), for one shard or all.
  *
  * A work unit is one chunk row of every dataset: up to about
  * DESIGN_UNIT_POSES poses of evaluation, the units sharing the designs

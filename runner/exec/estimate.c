@@ -67,8 +67,8 @@ double est_file_bytes(const scene *s, const sweep_plan *p, out_mask fields) {
   for (e = 0; e < RPS3_NEFFECT; e++)
     if (p->first.model.opt.effects & (1 << e)) neff += 1;
 
-#define EST_FIELD(name, shape, type, ...)                               \
-  if (fields >> OUT_##name & 1) {                                       \
+#define EST_FIELD(id, name, files, shape, type, ...)                    \
+  if (fields >> OUT_##id & 1) {                                         \
     double cols = shape == OUT_CTEL                      ? 3 * neff     \
                   : shape == OUT_CTL || shape == OUT_CTK ? 3            \
                                                          : 1;           \

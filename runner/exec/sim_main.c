@@ -1,7 +1,7 @@
 /*
  * sim_main.c - rps3-run on a simulated scene (simulate.h): check every
- * case, then simulate them (on this thread, case by case through
- * sim_run.c, or on -j threads through sim_pool.c) into the file of
+ * case, then simulate them (sim_run.c) as a job of the worker pool
+ * (pool.h, on this thread or on -j threads) into the file of
  * sim_output.h, a window of samples at a time, under a temporary name
  * renamed when complete (tmpout.h).
  */
@@ -19,50 +19,46 @@
 #include <time.h>
 #include <unistd.h>
 
+/* a simulation as a job of the pool (pool.h): its items are the cases,
+   its slots tiles */
 typedef struct {
-  sim_sink base;
-  sim_file *f;
-  int common;
-  char *err;
-  size_t errsz;
-} direct_sink;
+  const scene *s;
+  const sim_plan *p;
+  out_file *f;
+  progress *pr;
+  size_t done, points, nfailed;
+} sim_job;
 
-static sim_tile *direct_put(sim_sink *k, sim_tile *t) {
-  direct_sink *d = (direct_sink *)(void *)k;
-  if ((t->nk > 0 &&
-       sim_file_window(d->f, &t->w, t->c, t->k0, t->nk,
-                       d->common ? NULL : t->times, d->err, d->errsz)) ||
-      (t->last && sim_file_case(d->f, &t->v, t->c, d->err, d->errsz)))
-    return NULL;
-  return t;
+/* pool_job.run: case i on worker w */
+static int sim_item(void *ctx, void *wctx, size_t i, pool_worker *w, char *err,
+                    size_t errsz) {
+  const sim_job *J = ctx;
+  (void)wctx;
+  return sim_run_case(J->s, i, w, err, errsz);
 }
 
-/* every case on this thread */
-static int run_direct(const scene *s, const sim_plan *p, sim_file *f,
-                      progress *pr, size_t *nfailed, char *err, size_t errsz) {
-  direct_sink d;
-  sim_tile tile, *t = &tile;
-  size_t i, points = 0;
-  if (sim_tile_alloc(&tile, p->nt < SIM_WINDOW ? p->nt : SIM_WINDOW)) {
-    snprintf(err, errsz, "out of memory");
+/* pool_job.write: one window (and the case's values with its last one) to
+   the file, counted */
+static int sim_write(void *ctx, void *slot, const void *info, char *err,
+                     size_t errsz) {
+  sim_job *J = ctx;
+  const sim_tile *t = slot;
+  (void)info;
+  if ((t->nk > 0 &&
+       sim_file_window(J->f, &t->w, t->c, t->k0, t->nk,
+                       J->p->common ? NULL : t->times, err, errsz)) ||
+      (t->last && sim_file_case(J->f, &t->v, t->c, err, errsz)))
     return -1;
-  }
-  d.base.put = direct_put;
-  d.f = f;
-  d.common = p->common;
-  d.err = err;
-  d.errsz = errsz;
-  for (i = 0; i < s->ncase && t; i++) {
-    t = sim_run_case(s, i, (size_t)-1, t, &d.base, err, errsz);
-    if (t && t->v.status != RPS3_OK) {
-      ++*nfailed;
-      sim_failure(s, pr, t);
+  J->points += t->nk;
+  if (t->last) {
+    J->done++;
+    if (t->v.status != RPS3_OK) {
+      J->nfailed++;
+      sim_failure(J->s, J->pr, t);
     }
-    points += t ? t->k0 + t->nk : 0;
-    progress_update(pr, i + 1, points);
+    progress_update(J->pr, J->done, J->points);
   }
-  sim_tile_free(&tile);
-  return t ? 0 : -1;
+  return 0;
 }
 
 /*
@@ -70,12 +66,39 @@ static int run_direct(const scene *s, const sim_plan *p, sim_file *f,
  * *nfailed counts the cases with a status.  The file does not depend on
  * nthread.  Returns 0, or -1 with err set.
  */
-static int sim_run_all(const scene *s, const sim_plan *p, sim_file *f,
+static int sim_run_all(const scene *s, const sim_plan *p, out_file *f,
                        int nthread, progress *pr, size_t *nfailed, char *err,
                        size_t errsz) {
-  if (nthread <= 1 || s->ncase < 2)
-    return run_direct(s, p, f, pr, nfailed, err, errsz);
-  return sim_pool_run(s, p, f, nthread, pr, nfailed, err, errsz);
+  sim_job J;
+  pool_job job;
+  sim_tile *tiles;
+  size_t i, nslot = pool_nslot(nthread);
+  size_t points = p->nt < SIM_WINDOW ? p->nt : SIM_WINDOW;
+  int rc = -1;
+  memset(&J, 0, sizeof J);
+  J.s = s;
+  J.p = p;
+  J.f = f;
+  J.pr = pr;
+  memset(&job, 0, sizeof job);
+  job.ctx = &J;
+  job.nitem = s->ncase;
+  job.stride = 1;
+  job.run = sim_item;
+  job.write = sim_write;
+  tiles = calloc(nslot, sizeof *tiles);
+  job.slot = calloc(nslot, sizeof *job.slot);
+  snprintf(err, errsz, "out of memory");
+  for (i = 0; tiles && job.slot && i < nslot; i++) {
+    if (sim_tile_alloc(&tiles[i], points)) break;
+    job.slot[i] = &tiles[i];
+  }
+  if (tiles && job.slot && i == nslot) rc = pool_run(&job, nthread, err, errsz);
+  for (i = 0; tiles && i < nslot; i++) sim_tile_free(&tiles[i]);
+  free(tiles);
+  free(job.slot);
+  *nfailed = J.nfailed;
+  return rc;
 }
 
 /* ---------------------------------------------------------- estimate */
@@ -130,15 +153,91 @@ static double *time_axis(const sim_plan *p) {
   return t;
 }
 
+/* -j beyond the cores or the cases computes nothing faster */
+static int sim_threads(const scene *s, int nthread) {
+  long cores = sysconf(_SC_NPROCESSORS_ONLN);
+  if (cores >= 1 && nthread > cores) {
+    fprintf(stderr,
+            "rps3-run: warning: -j %d on %ld core%s: computing on "
+            "%ld thread%s\n",
+            nthread, cores, cores == 1 ? "" : "s", cores,
+            cores == 1 ? "" : "s");
+    nthread = (int)cores;
+  }
+  if ((size_t)nthread > s->ncase) nthread = (int)s->ncase;
+  return nthread;
+}
+
+/* the size of the output against the file system's free space: 0, or -1
+   (said why) when it cannot fit uncompressed */
+static int sim_space(const scene *s, const sim_plan *p, const sim_args *a,
+                     double need, const char *when) {
+  double avail = disk_free(a->out_path);
+  char e1[32], e2[32];
+  if (!a->quiet)
+    fprintf(stderr,
+            "rps3-run: %zu simulated case%s, %zu samples: %s about "
+            "%s%s, %s\n",
+            s->ncase, s->ncase == 1 ? "" : "s", p->npoint, a->out_path,
+            est_human(need, e1, sizeof e1),
+            a->gzip ? " before compression" : "", when);
+  if (avail >= 0 && need > avail && !a->gzip) {
+    fprintf(stderr,
+            "rps3-run: %s: the output needs about %s, the file "
+            "system has %s free: nothing written\n",
+            a->out_path, est_human(need, e1, sizeof e1),
+            est_human(avail, e2, sizeof e2));
+    return -1;
+  }
+  return 0;
+}
+
+/* every case into the file under its temporary name, renamed when
+   complete: the exit code */
+static int sim_write_file(const scene *s, const sim_plan *p, const sim_args *a,
+                          int nthread) {
+  progress pr;
+  out_file *f;
+  double *times;
+  size_t nfailed = 0;
+  int rc;
+  char err[768];
+  tmpout_clean(a->out_path, 0, 1);
+  if (tmpout_name(a->out_path, 0)) return EXIT_USAGE;
+  times = time_axis(p);
+  if (p->common && !times) {
+    fprintf(stderr, "rps3-run: out of memory\n");
+    return EXIT_IO;
+  }
+  tmpout_arm();
+  progress_start(&pr, s->ncase, a->quiet);
+  pr.npoint = p->npoint;
+  err[0] = '\0';
+  f = sim_file_create(tmpout_path(), s, p->nt, times,
+                      p->nt < SIM_WINDOW ? p->nt : SIM_WINDOW, a->gzip,
+                      a->command_line, err, sizeof err);
+  free(times);
+  rc = f ? sim_run_all(s, p, f, nthread, &pr, &nfailed, err, sizeof err) : -1;
+  if (f && out_close(f, rc ? NULL : err, sizeof err) && rc == 0) rc = -1;
+  if (rc) {
+    fprintf(stderr, "rps3-run: %s: %s\n", a->out_path, err);
+    tmpout_discard();
+    return EXIT_IO;
+  }
+  if (tmpout_commit(a->out_path)) {
+    tmpout_discard();
+    return EXIT_IO;
+  }
+  progress_finish(&pr, s->ncase, p->npoint, nfailed);
+  return nfailed ? EXIT_FAILED_CASES : EXIT_OK;
+}
+
 int sim_main(const scene *s, const sim_args *a) {
   sim_plan p;
   scene_error serr;
-  progress pr;
-  sim_file *f;
-  double *times, need, avail;
-  size_t nfailed = 0;
-  int rc, nthread;
-  char err[768], e1[32], e2[32], when[160] = "";
+  double need;
+  int nthread;
+  char e1[32], when[160] = "";
   if (sim_plan_make(s, &p, &serr)) {
     scene_error_print(s->file, &serr);
     return EXIT_USAGE;
@@ -152,20 +251,7 @@ int sim_main(const scene *s, const sim_args *a) {
             s->file);
     return EXIT_USAGE;
   }
-  {
-    /* threads beyond the cores or the cases compute nothing faster */
-    long cores = sysconf(_SC_NPROCESSORS_ONLN);
-    nthread = a->nthread;
-    if (cores >= 1 && nthread > cores) {
-      fprintf(stderr,
-              "rps3-run: warning: -j %d on %ld core%s: computing on "
-              "%ld thread%s\n",
-              nthread, cores, cores == 1 ? "" : "s", cores,
-              cores == 1 ? "" : "s");
-      nthread = (int)cores;
-    }
-    if ((size_t)nthread > s->ncase) nthread = (int)s->ncase;
-  }
+  nthread = sim_threads(s, a->nthread);
   if (a->check || !a->quiet) run_time(s, &p, nthread, when, sizeof when);
   if (a->check) {
     printf(
@@ -176,48 +262,6 @@ int sim_main(const scene *s, const sim_args *a) {
         est_human(need, e1, sizeof e1), when);
     return EXIT_OK;
   }
-  avail = disk_free(a->out_path);
-  if (!a->quiet)
-    fprintf(stderr,
-            "rps3-run: %zu simulated case%s, %zu samples: %s about "
-            "%s%s, %s\n",
-            s->ncase, s->ncase == 1 ? "" : "s", p.npoint, a->out_path,
-            est_human(need, e1, sizeof e1),
-            a->gzip ? " before compression" : "", when);
-  if (avail >= 0 && need > avail && !a->gzip) {
-    fprintf(stderr,
-            "rps3-run: %s: the output needs about %s, the file "
-            "system has %s free: nothing written\n",
-            a->out_path, est_human(need, e1, sizeof e1),
-            est_human(avail, e2, sizeof e2));
-    return EXIT_USAGE;
-  }
-  tmpout_clean(a->out_path, 0, 1);
-  if (tmpout_name(a->out_path, 0)) return EXIT_USAGE;
-  times = time_axis(&p);
-  if (p.common && !times) {
-    fprintf(stderr, "rps3-run: out of memory\n");
-    return EXIT_IO;
-  }
-  tmpout_arm();
-  progress_start(&pr, s->ncase, a->quiet);
-  pr.npoint = p.npoint;
-  err[0] = '\0';
-  f = sim_file_create(tmpout_path(), s, p.nt, times,
-                      p.nt < SIM_WINDOW ? p.nt : SIM_WINDOW, a->gzip,
-                      a->command_line, err, sizeof err);
-  free(times);
-  rc = f ? sim_run_all(s, &p, f, nthread, &pr, &nfailed, err, sizeof err) : -1;
-  if (f && sim_file_close(f, rc ? NULL : err, sizeof err) && rc == 0) rc = -1;
-  if (rc) {
-    fprintf(stderr, "rps3-run: %s: %s\n", a->out_path, err);
-    tmpout_discard();
-    return EXIT_IO;
-  }
-  if (tmpout_commit(a->out_path)) {
-    tmpout_discard();
-    return EXIT_IO;
-  }
-  progress_finish(&pr, s->ncase, p.npoint, nfailed);
-  return nfailed ? EXIT_FAILED_CASES : EXIT_OK;
+  if (sim_space(s, &p, a, need, when)) return EXIT_USAGE;
+  return sim_write_file(s, &p, a, nthread);
 }

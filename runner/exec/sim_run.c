@@ -1,7 +1,7 @@
 /*
  * sim_run.c - one simulated case (simulate.h), window by window into the
- * tiles of sim_run.h; the whole run is sim_main.c's, on this thread or on
- * the worker threads of sim_pool.c.
+ * tiles of sim_run.h; the whole run is sim_main.c's, a job of the worker
+ * pool (pool.h).
  */
 #include "sim_run.h"
 #include "core/exit_codes.h"
@@ -46,38 +46,39 @@ static int reference(const scene_case *c, rps3_data *r, double t) {
 /* sample j of the window: the plant's state, the reference, the forces */
 static void store(sim_window *w, sim_case_values *v, size_t j,
                   const rps3_sim *sim, const rps3_data *r, int first) {
-  const rps3_data *d = sim->d;
+  const rps3_data *d = rps3_sim_data(sim);
+  const rps3_sim_report *now = rps3_sim_now(sim);
   double e;
   int i;
   for (i = 0; i < 3; i++) {
     size_t x = 3 * j + (size_t)i;
-    w->buf[SIM_length][x] = sim->y[i];
-    w->buf[SIM_length_rate][x] = sim->y[3 + i];
-    w->buf[SIM_length_ref][x] = r->l[i];
-    w->buf[SIM_length_rate_ref][x] = r->dl[i];
-    e = r->l[i] - sim->y[i];
-    w->buf[SIM_tracking_error][x] = e;
+    w->buf[OUT_sim_length][x] = now->y[i];
+    w->buf[OUT_sim_length_rate][x] = now->y[3 + i];
+    w->buf[OUT_length_ref][x] = r->l[i];
+    w->buf[OUT_length_rate_ref][x] = r->dl[i];
+    e = r->l[i] - now->y[i];
+    w->buf[OUT_tracking_error][x] = e;
     if (fabs(e) > v->tracking_error_max) v->tracking_error_max = fabs(e);
     /* no force has acted yet at the start */
-    w->buf[SIM_force_cmd][x] = first ? (double)NAN : sim->F_cmd[i];
-    w->buf[SIM_force][x] = first ? (double)NAN : sim->F[i];
-    w->buf[SIM_theta][x] = d->theta[i];
+    w->buf[OUT_force_cmd][x] = first ? (double)NAN : now->F_cmd[i];
+    w->buf[OUT_sim_force][x] = first ? (double)NAN : now->F[i];
+    w->buf[OUT_sim_theta][x] = d->theta[i];
   }
-  w->buf[SIM_alpha][j] = d->pose[0];
-  w->buf[SIM_beta][j] = d->pose[1];
-  w->buf[SIM_z_c][j] = d->pose[2];
-  w->buf[SIM_x_c][j] = d->c[0];
-  w->buf[SIM_y_c][j] = d->c[1];
-  w->buf[SIM_alpha_ref][j] = r->pose[0];
-  w->buf[SIM_beta_ref][j] = r->pose[1];
-  w->buf[SIM_z_c_ref][j] = r->pose[2];
-  w->buf[SIM_x_c_ref][j] = r->c[0];
-  w->buf[SIM_y_c_ref][j] = r->c[1];
-  w->buf[SIM_kinetic_energy][j] = sim->T;
-  w->buf[SIM_potential_energy][j] = sim->P;
-  w->buf[SIM_work_actuators][j] = sim->y[6];
-  w->buf[SIM_work_friction][j] = sim->y[7];
-  w->buf[SIM_energy_residual][j] = sim->energy_residual;
+  w->buf[OUT_sim_alpha][j] = d->pose[0];
+  w->buf[OUT_beta][j] = d->pose[1];
+  w->buf[OUT_z_c][j] = d->pose[2];
+  w->buf[OUT_x_c][j] = d->c[0];
+  w->buf[OUT_y_c][j] = d->c[1];
+  w->buf[OUT_alpha_ref][j] = r->pose[0];
+  w->buf[OUT_beta_ref][j] = r->pose[1];
+  w->buf[OUT_z_c_ref][j] = r->pose[2];
+  w->buf[OUT_x_c_ref][j] = r->c[0];
+  w->buf[OUT_y_c_ref][j] = r->c[1];
+  w->buf[OUT_kinetic_energy][j] = now->T;
+  w->buf[OUT_potential_energy][j] = now->P;
+  w->buf[OUT_work_actuators][j] = now->y[6];
+  w->buf[OUT_work_friction][j] = now->y[7];
+  w->buf[OUT_sim_energy_residual][j] = now->energy_residual;
 }
 
 /* the message of a failure at sample k (time t_k): the simulation's, and
@@ -85,22 +86,22 @@ static void store(sim_window *w, sim_case_values *v, size_t j,
 static void failure(sim_case_values *w, const sim_work *wk, int st, size_t k,
                     double t_k) {
   const rps3_sim *sim = wk->sim;
-  const rps3_ctrl *ctrl = wk->ctrl;
-  const char *why =
-      ctrl && ctrl->meas->err.code != RPS3_OK  ? ctrl->meas->err.msg
-      : ctrl && ctrl->des->err.code != RPS3_OK ? ctrl->des->err.msg
-                                               : "";
-  double t = isnan(sim->failed_at) ? t_k : sim->failed_at;
+  const rps3_data *meas = rps3_ctrl_measured(wk->ctrl);
+  const rps3_data *des = rps3_ctrl_desired(wk->ctrl);
+  const char *why = meas && meas->err.code != RPS3_OK ? meas->err.msg
+                    : des && des->err.code != RPS3_OK ? des->err.msg
+                                                      : "";
+  double t = isnan(rps3_sim_now(sim)->failed_at) ? t_k : rps3_sim_now(sim)->failed_at;
   w->status = st;
   w->failed_at = (int32_t)k;
   w->failed_time = t;
   snprintf(w->message, sizeof w->message,
            "t = %.9g s (before sample %zu): "
            "%s: %s%s%s%s",
-           t, k, rps3_strerror(st), sim->d->err.msg,
-           why[0] && strstr(sim->d->err.msg, "controller") ? " (" : "",
-           why[0] && strstr(sim->d->err.msg, "controller") ? why : "",
-           why[0] && strstr(sim->d->err.msg, "controller") ? ")" : "");
+           t, k, rps3_strerror(st), rps3_sim_data(sim)->err.msg,
+           why[0] && strstr(rps3_sim_data(sim)->err.msg, "controller") ? " (" : "",
+           why[0] && strstr(rps3_sim_data(sim)->err.msg, "controller") ? why : "",
+           why[0] && strstr(rps3_sim_data(sim)->err.msg, "controller") ? ")" : "");
 }
 
 /*
@@ -160,43 +161,43 @@ static int start(const scene_case *c, const sim_case *sc, sim_work *wk,
 }
 
 /* hand the window of t over; the case's values with its last one */
-static sim_tile *flush(sim_sink *k, sim_tile *t, size_t c, size_t k0, size_t nk,
-                       const sim_case_values *v, int last) {
+static sim_tile *flush(pool_worker *w, sim_tile *t, size_t c, size_t k0,
+                       size_t nk, const sim_case_values *v, int last, char *err,
+                       size_t errsz) {
   t->c = c;
   t->k0 = k0;
   t->nk = nk;
   t->last = last;
   if (last) t->v = *v;
-  return k->put(k, t);
+  return pool_emit(w, NULL, err, errsz);
 }
 
-sim_tile *sim_run_case(const scene *s, size_t i, size_t limit, sim_tile *t,
-                       sim_sink *k, char *err, size_t errsz) {
+int sim_run_case(const scene *s, size_t i, pool_worker *w, char *err,
+                 size_t errsz) {
+  sim_tile *t = pool_slot(w);
   scene_case c;
   sim_case sc;
   scene_error serr;
   sim_work wk;
   rps3_controller ctl;
   sim_case_values v;
-  size_t n, nrun, j = 0, k0 = 0;
+  size_t n, j = 0, k0 = 0;
   int st;
   if (scene_case_build(s, i, &c, &serr) || sim_case_build(s, &c, &sc, &serr)) {
     snprintf(err, errsz, "case %zu: %s", i, serr.what);
-    return NULL;
+    return -1;
   }
-  /* the pilot of the estimate runs the first samples only */
-  nrun = sc.nt < limit ? sc.nt : limit;
-  if (start(&c, &sc, &wk, &ctl, &st, err, errsz)) return NULL;
+  if (start(&c, &sc, &wk, &ctl, &st, err, errsz)) return -1;
   memset(&v, 0, sizeof v);
   v.failed_time = (double)NAN;
   v.failed_at = -1;
-  for (n = 0; n < nrun && t; n++) {
+  for (n = 0; n < sc.nt && t; n++) {
     double tn = sim_case_time(&c, &sc, n);
     if (st == RPS3_OK && n > 0)
       /* a tick just behind the state (samples closer than the slack) is
          the state's time: the library refuses a t_end before it */
       st = rps3_sim_advance(wk.sim, &ctl,
-                            fmax(tick_time(tn, sc.rate), wk.sim->t));
+                            fmax(tick_time(tn, sc.rate), rps3_sim_now(wk.sim)->t));
     if (st == RPS3_OK) st = reference(&c, wk.ref, tn);
     if (st != RPS3_OK) {
       failure(&v, &wk, st, n, tn);
@@ -204,33 +205,30 @@ sim_tile *sim_run_case(const scene *s, size_t i, size_t limit, sim_tile *t,
     }
     store(&t->w, &v, j, wk.sim, wk.ref, n == 0);
     t->times[j] = tn;
-    if (++j == t->w.points && n + 1 < nrun) {
-      t = flush(k, t, i, k0, j, &v, 0);
+    if (++j == t->w.points && n + 1 < sc.nt) {
+      t = flush(w, t, i, k0, j, &v, 0, err, errsz);
       k0 += j;
       j = 0;
     }
   }
-  v.nsteps = wk.sim->nsteps;
-  v.nevals = wk.sim->nevals;
-  v.nticks = wk.sim->nticks;
-  v.nsat = wk.sim->nsat;
+  v.nsteps = rps3_sim_now(wk.sim)->nsteps;
+  v.nevals = rps3_sim_now(wk.sim)->nevals;
+  v.nticks = rps3_sim_now(wk.sim)->nticks;
+  v.nsat = rps3_sim_now(wk.sim)->nsat;
   work_free(&wk);
   /* the samples up to the end or the failure (those after a failure keep
      the fill, NaN), with the case's values and its resolved scene */
   if (t && scene_case_yaml(&c, &t->yaml)) {
     snprintf(err, errsz, "case %zu: cannot write its scene", i);
-    return NULL;
+    return -1;
   }
   if (t) {
     v.scene_resolved = t->yaml.s;
-    t = flush(k, t, i, k0, j, &v, 1);
+    t = flush(w, t, i, k0, j, &v, 1, err, errsz);
   }
-  return t;
+  return t ? 0 : -1;
 }
 
-/* ---------------------------------------------------------- one thread */
-
-/* the sink of one thread: write at once */
 /* the first failed case's reason on stderr (progress_failure) */
 void sim_failure(const scene *s, progress *pr, const sim_tile *t) {
   char what[512];
@@ -279,17 +277,17 @@ int sim_pilot_case(const scene *s, size_t i, double *cpu, double *sim,
     double tn = sim_case_time(&c, &sc, n);
     if (n > 0) tn = tick_time(tn, sc.rate);
     /* the sample's time in chunks, each against the budget */
-    while (st == RPS3_OK && wk.sim->t < tn) {
-      t = wk.sim->t + chunk < tn ? wk.sim->t + chunk : tn;
-      if (t > t_stop) t = t_stop > wk.sim->t ? t_stop : wk.sim->t;
-      if (t <= wk.sim->t || cpu_seconds() - c0 > PILOT_CPU) break;
+    while (st == RPS3_OK && rps3_sim_now(wk.sim)->t < tn) {
+      t = rps3_sim_now(wk.sim)->t + chunk < tn ? rps3_sim_now(wk.sim)->t + chunk : tn;
+      if (t > t_stop) t = t_stop > rps3_sim_now(wk.sim)->t ? t_stop : rps3_sim_now(wk.sim)->t;
+      if (t <= rps3_sim_now(wk.sim)->t || cpu_seconds() - c0 > PILOT_CPU) break;
       st = rps3_sim_advance(wk.sim, &ctl, t);
     }
-    if (st != RPS3_OK || wk.sim->t < tn) break;
+    if (st != RPS3_OK || rps3_sim_now(wk.sim)->t < tn) break;
     if (reference(&c, wk.ref, tn) != RPS3_OK) break;
     ++*samples;
   }
-  *sim += wk.sim->t;
+  *sim += rps3_sim_now(wk.sim)->t;
   *cpu += cpu_seconds() - c0;
   work_free(&wk);
   return 0;

@@ -1,8 +1,8 @@
 /*
  * sim_run.h - inside rps3-run's simulation (simulate.h): a case simulated
- * window by window, each window handed to a sink as a tile; the sink
- * writes it (one thread) or queues it for the writing thread (sim_pool.c,
- * -j N).  Only the thread that created the file calls HDF5.
+ * window by window, each window a tile (a slot of the worker pool, pool.h)
+ * that the pool writes at once (one thread) or queues for the writing
+ * thread (-j N).  Only the thread that created the file calls HDF5.
  */
 #ifndef RPS3_RUNNER_SIM_RUN_H
 #define RPS3_RUNNER_SIM_RUN_H
@@ -11,6 +11,7 @@
 
 #include "core/progress.h"
 #include "output/sim_output.h"
+#include "pool.h"
 #include "simulate.h"
 
 /* samples per window (and chunk) of a case: memory does not grow with the
@@ -31,21 +32,13 @@ typedef struct {
 int sim_tile_alloc(sim_tile *t, size_t points);
 void sim_tile_free(sim_tile *t);
 
-/* where the tiles go: put hands t over and returns the tile to fill next
-   (t itself when it was written at once), or NULL to stop */
-typedef struct sim_sink sim_sink;
-struct sim_sink {
-  sim_tile *(*put)(sim_sink *k, sim_tile *t);
-};
-
 /*
- * Simulate case i of s (built and checked by the plan), its first `limit`
- * samples at most, into tiles through k, starting with tile t.  Returns the
- * tile it holds at the end, or NULL when the sink stopped or memory ran out
- * (err set, when known).
+ * Simulate case i of s (built and checked by the plan) on worker w of the
+ * pool, into its tiles (pool_slot, pool_emit).  Returns 0, or -1 when the
+ * pool stopped or memory ran out (err set).
  */
-sim_tile *sim_run_case(const scene *s, size_t i, size_t limit, sim_tile *t,
-                       sim_sink *k, char *err, size_t errsz);
+int sim_run_case(const scene *s, size_t i, pool_worker *w, char *err,
+                 size_t errsz);
 
 /* the estimate's pilot: up to PILOT_CASES cases spread over the sweep,
    each simulated for PILOT_SAMPLES samples at most and within a budget of
@@ -66,11 +59,6 @@ sim_tile *sim_run_case(const scene *s, size_t i, size_t limit, sim_tile *t,
  */
 int sim_pilot_case(const scene *s, size_t i, double *cpu, double *sim,
                    size_t *samples);
-
-/* every case on nthread >= 2 worker threads (sim_pool.c; sim_main.c
-   runs a single thread itself) */
-int sim_pool_run(const scene *s, const sim_plan *p, sim_file *f, int nthread,
-                 progress *pr, size_t *nfailed, char *err, size_t errsz);
 
 /* Print the reason of the first failed case (tile t, its last window) once,
    also when quiet. */

@@ -93,9 +93,8 @@ static int ctrl_model(const scene *s, const scene_case *c, sim_case *sc,
   if (!isnan(v->model_viscous)) cm->friction.viscous = v->model_viscous;
   if (!isnan(v->model_coulomb)) cm->friction.coulomb = v->model_coulomb;
   if (v->model_effects >= 0) cm->opt.effects = v->model_effects;
-  /* a controller's path: F alone, no certificate (rps3.h, forces_only) */
-  cm->opt.forces_only = 1;
-  cm->opt.certify = 0;
+  /* a controller's path: F alone, every check (rps3.h, enum rps3_output) */
+  cm->opt.outputs = RPS3_OUT_FORCES;
   if (rps3_model_validate(cm, &chk) == RPS3_OK &&
       rps3_model_init(cm, chk.msg, sizeof chk.msg) == RPS3_OK)
     return 0;
@@ -137,25 +136,10 @@ static int grid(const scene *s, const scene_case *c, sim_case *sc,
   return 0;
 }
 
-int sim_case_build(const scene *s, const scene_case *c, sim_case *sc,
-                   scene_error *err) {
-  const scene_sim *v = &c->v.sim;
-  const int inertia =
-      RPS3_EFF_PLATFORM_INERTIA | RPS3_EFF_LINK_INERTIA | RPS3_EFF_PAYLOAD;
-  int pd, st;
-  char msg[320];
-  rps3_sim *sim = NULL;
-  rps3_ctrl *ctrl = NULL;
-  memset(sc, 0, sizeof *sc);
-  if (!(c->model.opt.effects & inertia)) {
-    memset(err, 0, sizeof *err);
-    err->mark = s->mark[K_EFFECTS];
-    snprintf(err->path, sizeof err->path, "effects");
-    snprintf(err->what, sizeof err->what,
-             "a simulated plant needs a mass to accelerate: list "
-             "platform_inertia, link_inertia or payload");
-    return -1;
-  }
+/* the controller's gains (each kind's default when not given), rate and
+   the integrator's options of the case's simulate section */
+static void case_options(const scene_sim *v, sim_case *sc) {
+  int pd;
   sc->kind = (rps3_ctrl_kind)v->controller;
   pd = sc->kind == RPS3_CTRL_PD || sc->kind == RPS3_CTRL_PD_GRAVITY;
   sc->kp = !isnan(v->kp)                           ? v->kp
@@ -180,18 +164,24 @@ int sim_case_build(const scene *s, const scene_case *c, sim_case *sc,
   sc->opt.quant_l = v->quant_l;
   sc->opt.quant_dl = v->quant_dl;
   sc->opt.seed = (unsigned long)v->seed;
-  if (ctrl_model(s, c, sc, err) || grid(s, c, sc, err)) return -1;
-  /* the library's own checks of the options and the controller */
-  st = rps3_sim_alloc(&c->model, &sc->opt, &sim, msg, sizeof msg);
+}
+
+/* the library's own checks of the options, the rate over the run and the
+   controller: a status, with msg */
+static int library_checks(const scene_case *c, const sim_case *sc, char *msg,
+                          size_t sz) {
+  rps3_sim *sim = NULL;
+  rps3_ctrl *ctrl = NULL;
+  int st = rps3_sim_alloc(&c->model, &sc->opt, &sim, msg, sz);
   /* the rate's limits over the run (rps3_sim_advance refuses the same) */
   if (st == RPS3_OK)
-    st = rps3_sim_check_rate(&sc->opt, sc->rate, sc->duration, msg, sizeof msg);
+    st = rps3_sim_check_rate(&sc->opt, sc->rate, sc->duration, msg, sz);
   if (st == RPS3_OK && sc->rate == 0.0 &&
       (sc->opt.integrator == RPS3_INT_RK4 ||
        sc->opt.integrator == RPS3_INT_RK4IMP) &&
       ceil(sc->step / sc->opt.h - 1e-6) > (double)sc->opt.max_steps) {
     /* a continuous controller: one integration a sample */
-    snprintf(msg, sizeof msg,
+    snprintf(msg, sz,
              "simulate.h = %.17g: a sample step of %.6g s takes %.6g steps "
              "of h, more than max_steps = %ld",
              sc->opt.h, sc->step, ceil(sc->step / sc->opt.h - 1e-6),
@@ -200,23 +190,49 @@ int sim_case_build(const scene *s, const scene_case *c, sim_case *sc,
   }
   if (st == RPS3_OK)
     st = rps3_ctrl_alloc(sc->kind, sc->kp, sc->kd, &sc->ctrl_model, &c->traj,
-                         &ctrl, msg, sizeof msg);
+                         &ctrl, msg, sz);
   rps3_sim_free(sim);
   rps3_ctrl_free(ctrl);
-  if (st == RPS3_ENOMEM) {
+  return st;
+}
+
+/* the library's refusal st (msg) at its key: "simulate.NAME =
+   0.20000000000000001: why" said as "NAME = 0.2: why" */
+static void library_error(const scene *s, const scene_case *c, int st,
+                          const char *msg, scene_error *err) {
+  const char *eq = strstr(msg, " = "), *why = eq ? strstr(eq, ": ") : NULL;
+  char short_msg[320];
+  if (st == RPS3_ENOMEM)
     key_error(s, c->index, -1, "out of memory", err);
+  else if (eq && why && strncmp(msg, "simulate.", 9) == 0) {
+    snprintf(short_msg, sizeof short_msg, "%.*s = %.9g%s", (int)(eq - msg - 9),
+             msg + 9, strtod(eq + 3, NULL), why);
+    key_error(s, c->index, key_of_message(msg), short_msg, err);
+  } else
+    key_error(s, c->index, key_of_message(msg), msg, err);
+}
+
+int sim_case_build(const scene *s, const scene_case *c, sim_case *sc,
+                   scene_error *err) {
+  const int inertia =
+      RPS3_EFF_PLATFORM_INERTIA | RPS3_EFF_LINK_INERTIA | RPS3_EFF_PAYLOAD;
+  int st;
+  char msg[320];
+  memset(sc, 0, sizeof *sc);
+  if (!(c->model.opt.effects & inertia)) {
+    memset(err, 0, sizeof *err);
+    err->mark = s->mark[K_EFFECTS];
+    snprintf(err->path, sizeof err->path, "effects");
+    snprintf(err->what, sizeof err->what,
+             "a simulated plant needs a mass to accelerate: list "
+             "platform_inertia, link_inertia or payload");
     return -1;
   }
+  case_options(&c->v.sim, sc);
+  if (ctrl_model(s, c, sc, err) || grid(s, c, sc, err)) return -1;
+  st = library_checks(c, sc, msg, sizeof msg);
   if (st != RPS3_OK) {
-    /* "simulate.NAME = 0.20000000000000001: why" said as "NAME = 0.2: why" */
-    const char *eq = strstr(msg, " = "), *why = eq ? strstr(eq, ": ") : NULL;
-    char short_msg[sizeof msg];
-    if (eq && why && strncmp(msg, "simulate.", 9) == 0) {
-      snprintf(short_msg, sizeof short_msg, "%.*s = %.9g%s",
-               (int)(eq - msg - 9), msg + 9, strtod(eq + 3, NULL), why);
-      key_error(s, c->index, key_of_message(msg), short_msg, err);
-    } else
-      key_error(s, c->index, key_of_message(msg), msg, err);
+    library_error(s, c, st, msg, err);
     return -1;
   }
   return 0;

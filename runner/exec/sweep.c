@@ -4,13 +4,11 @@
  * cases of a tile are independent of each other.
  *
  * A job (a tile of whole cases, or one long case in windows) turns into
- * one or more tiles to write, each handed to a sink: the serial sink writes
- * it at once and gives the same block back; the threaded sink
- * (sweep_threads.c) queues it for the writing thread and gives back a free
- * block of the pool.
+ * one or more tiles to write, each handed to the worker pool (pool.h, the
+ * run is a job of it), which writes the tile at once on one thread, or
+ * queues it for the writing thread and gives back a free block.
  */
 #include "sweep.h"
-#include "sweep_int.h"
 
 #include <stdint.h>
 #include <stdio.h>
@@ -18,6 +16,19 @@
 #include <string.h>
 
 #include "compute.h"
+#include "pool.h"
+
+/* a filled block to write: slots [0, nc) are cases c0 .., samples
+   [k0, k0 + nk); and what it adds to the run's counts */
+typedef struct {
+  size_t c0, nc, k0, nk;
+  int with_case;      /* write the per-case fields too */
+  size_t blank_below; /* > 0: first write the (blank) block over the windows
+                         [0, blank_below) of case c0: a late failure */
+  size_t cases;       /* cases this tile completes */
+  size_t points;      /* samples computed */
+  size_t failed;      /* cases that failed */
+} tile;
 
 /* round n up to a multiple of q */
 static size_t round_up(size_t n, size_t q) { return (n + q - 1) / q * q; }
@@ -197,8 +208,8 @@ static size_t slot_status(out_block *b, size_t slot, int rc, size_t failed_at) {
 /* ----------------------------------------------------------------- tiles */
 
 /* write tile t of block b to f */
-int sweep_tile_write(out_file *f, const out_block *b, const tile *t, char *err,
-                     size_t errsz) {
+static int sweep_tile_write(out_file *f, const out_block *b, const tile *t,
+                            char *err, size_t errsz) {
   size_t w;
   for (w = 0; w < t->blank_below; w += b->points)
     if (out_write(f, b, t->c0, 1, w, b->points, 0, err, errsz)) return -1;
@@ -226,8 +237,8 @@ void sweep_case_label(const scene *s, size_t c, char *buf, size_t sz) {
 
 /* count a written tile of block b and show the progress, and the reason
    of the run's first failed case (also when quiet) */
-void sweep_tile_count(const scene *s, const out_block *b, const tile *t,
-                      sweep_stats *st, progress *pr) {
+static void sweep_tile_count(const scene *s, const out_block *b, const tile *t,
+                             sweep_stats *st, progress *pr) {
   st->cases_done += t->cases;
   st->points_done += t->points;
   st->nfailed += t->failed;
@@ -260,7 +271,7 @@ size_t sweep_shard_jobs(const scene *s, const sweep_plan *p, size_t shard,
 /* the job after j of a shard of nshard, or nj when none: j + nshard
    without wrapping around (--shard 1/18446744073709551615 would otherwise
    come back to job 0) */
-size_t sweep_next_job(size_t j, size_t nshard, size_t nj) {
+static size_t sweep_next_job(size_t j, size_t nshard, size_t nj) {
   return nj - j > nshard ? j + nshard : nj;
 }
 
@@ -273,15 +284,48 @@ size_t sweep_shard_cases(const scene *s, const sweep_plan *p, size_t shard,
   return n;
 }
 
+/* a sweep as a job of the pool (pool.h): its items are the jobs of the
+   shard, its slots tile blocks */
+typedef struct {
+  const scene *s;
+  const sweep_plan *p;
+  out_file *f;
+  out_layout layout; /* the file's chunks, for out_pack */
+  sweep_stats *st;
+  progress *pr;
+} sweep_job;
+
+/* hand the filled tile t of *b to the pool, and take the block to fill
+   next into *b: 0, or -1 with err */
+static int emit(const sweep_job *J, pool_worker *w, out_block **b,
+                const tile *t, char *err, size_t errsz) {
+  /* on threads, deflate and checksum here, in parallel, not on the writing
+     thread.  On one thread and uncompressed, the chunks as the file stores
+     them (out_pack: the Fletcher-32 here, full chunks stored from the
+     block's own buffers) cost less than HDF5's filter pipeline (a copy of
+     the tile into each chunk, another into the filter's buffer);
+     compressed, deflate is the cost either way, and -j 1 keeps HDF5's own
+     filters.  A late failure's blank windows go through HDF5 too. */
+  (*b)->packed = 0;
+  if ((pool_threaded(w) || J->layout.gzip == 0) && t->blank_below == 0 &&
+      out_pack(&J->layout, *b, t->c0, t->nc, t->k0, t->nk)) {
+    snprintf(err, errsz, "cannot pack cases %zu-%zu: out of memory", t->c0,
+             t->c0 + t->nc - 1);
+    return -1;
+  }
+  *b = pool_emit(w, t, err, errsz);
+  return *b ? 0 : -1;
+}
+
 /* 1 when jobs are long cases in windows, 0 when they are tiles of cases */
 static int in_windows(const sweep_plan *p) {
   return p->tile_cases == 1 && p->nt > p->tile_points;
 }
 
 /* job j as a tile of whole cases */
-static int job_whole(const scene *s, const sweep_plan *p, size_t j,
-                     out_block **bp, rps3_data *ws[], sink *k, char *err,
-                     size_t errsz) {
+static int job_whole(const sweep_job *J, size_t j, out_block **bp,
+                     rps3_data *ws[], pool_worker *w, char *err, size_t errsz) {
+  const scene *s = J->s;
   out_block *b = *bp;
   tile t;
   size_t slot;
@@ -306,23 +350,24 @@ static int job_whole(const scene *s, const sweep_plan *p, size_t j,
     t.points += rc ? failed_at : c.nt;
     /* the samples of the tile's longest case: chunks past it stay
        unallocated (they read as the blanks, the fill values) */
-    if (plan_extent(p, c.nt) > t.nk) t.nk = plan_extent(p, c.nt);
+    if (plan_extent(J->p, c.nt) > t.nk) t.nk = plan_extent(J->p, c.nt);
   }
-  return k->emit(k, bp, &t, err, errsz);
+  return emit(J, w, bp, &t, err, errsz);
 }
 
 /* job j as one case, in windows of b->points samples; the workspace goes
    from one window to the next (the warm start), the blocks may not */
-static int job_windows(const scene *s, const sweep_plan *p, size_t j,
-                       out_block **bp, rps3_data *ws[], sink *k, char *err,
+static int job_windows(const sweep_job *J, size_t j, out_block **bp,
+                       rps3_data *ws[], pool_worker *w, char *err,
                        size_t errsz) {
   scene_case c;
   rps3_data *d;
   size_t k0, nk, end;
-  if (case_begin(s, j, &c, err, errsz) || !(d = workspace(ws, &c, err, errsz)))
+  if (case_begin(J->s, j, &c, err, errsz) ||
+      !(d = workspace(ws, &c, err, errsz)))
     return -1;
   /* windows past the case's last chunk are not written */
-  end = plan_extent(p, c.nt);
+  end = plan_extent(J->p, c.nt);
   for (k0 = 0; k0 < end; k0 += nk) {
     out_block *b = *bp;
     size_t failed_at = 0, ncomp;
@@ -344,76 +389,105 @@ static int job_windows(const scene *s, const sweep_plan *p, size_t j,
       t.with_case = 1;
       t.cases = 1;
       t.points = failed_at - k0;
-      return k->emit(k, bp, &t, err, errsz);
+      return emit(J, w, bp, &t, err, errsz);
     }
     if (ncomp < nk) out_block_blank(b, 0, ncomp);
     t.with_case = k0 + nk >= end;
     t.cases = (size_t)t.with_case;
     t.points = ncomp;
-    if (k->emit(k, bp, &t, err, errsz)) return -1;
+    if (emit(J, w, bp, &t, err, errsz)) return -1;
   }
   return 0;
 }
 
-int sweep_job_run(const scene *s, const sweep_plan *p, size_t j, out_block **bp,
-                  rps3_data *ws[], sink *k, char *err, size_t errsz) {
-  return in_windows(p) ? job_windows(s, p, j, bp, ws, k, err, errsz)
-                       : job_whole(s, p, j, bp, ws, k, err, errsz);
-}
-
-void sweep_workspaces_free(rps3_data *ws[RPS3_NSOLVER]) {
+static void sweep_workspaces_free(rps3_data *ws[RPS3_NSOLVER]) {
   int k;
   for (k = 0; k < RPS3_NSOLVER; k++) rps3_data_free(ws[k]);
 }
 
-/* ---------------------------------------------------------------- serial */
+/* ------------------------------------------------------------------- run */
 
-typedef struct {
-  sink base;
-  const scene *s;
-  out_file *f;
-  out_layout layout; /* the file's chunks, for out_pack */
-  sweep_stats *st;
-  progress *pr;
-} serial_sink;
+/* pool_job.run: job j of the sweep on worker w (a tile of whole cases, or
+   one long case in windows); ws holds the workspaces, one per solver
+   kind, allocated on first use */
+static int sweep_item(void *ctx, void *wctx, size_t j, pool_worker *w,
+                      char *err, size_t errsz) {
+  const sweep_job *J = ctx;
+  out_block *b = pool_slot(w);
+  return in_windows(J->p) ? job_windows(J, j, &b, wctx, w, err, errsz)
+                          : job_whole(J, j, &b, wctx, w, err, errsz);
+}
 
-static int serial_emit(sink *k, out_block **b, const tile *t, char *err,
+/* pool_job.write: a filled block to the file, counted */
+static int sweep_write(void *ctx, void *slot, const void *info, char *err,
                        size_t errsz) {
-  serial_sink *ss = (serial_sink *)k;
-  /* uncompressed, the chunks as the file stores them (out_pack: the
-     Fletcher-32 here, full chunks stored from the block's own buffers)
-     cost less than HDF5's filter pipeline (a copy of the tile into each
-     chunk, another into the filter's buffer); compressed, deflate is the
-     cost either way, and -j 1 keeps HDF5's own filters.  A late failure's
-     blank windows go through HDF5 too. */
-  (*b)->packed = 0;
-  if (ss->layout.gzip == 0 && t->blank_below == 0 &&
-      out_pack(&ss->layout, *b, t->c0, t->nc, t->k0, t->nk)) {
-    snprintf(err, errsz, "cannot pack cases %zu-%zu: out of memory", t->c0,
-             t->c0 + t->nc - 1);
-    return -1;
-  }
-  if (sweep_tile_write(ss->f, *b, t, err, errsz)) return -1;
-  sweep_tile_count(ss->s, *b, t, ss->st, ss->pr);
+  const sweep_job *J = ctx;
+  if (sweep_tile_write(J->f, slot, info, err, errsz)) return -1;
+  sweep_tile_count(J->s, slot, info, J->st, J->pr);
   return 0;
 }
 
-int sweep_run_serial(const scene *s, const sweep_plan *p, out_file *f,
-                     out_block *b, const sweep_opts *o, progress *pr,
-                     sweep_stats *st, char *err, size_t errsz) {
-  rps3_data *ws[RPS3_NSOLVER];
-  serial_sink ss;
-  size_t j, nj = sweep_njob(s, p);
-  int rc = 0;
-  memset(ws, 0, sizeof ws);
-  ss.base.emit = serial_emit;
-  ss.s = s;
-  ss.f = f;
-  out_file_layout(f, &ss.layout);
-  ss.st = st;
-  ss.pr = pr;
-  for (j = o->shard; j < nj && rc == 0; j = sweep_next_job(j, o->nshard, nj))
-    rc = sweep_job_run(s, p, j, &b, ws, &ss.base, err, errsz);
-  sweep_workspaces_free(ws);
+/* a worker's workspaces, one per solver kind, allocated on first use */
+static void *workspaces_begin(void *ctx) {
+  (void)ctx;
+  return calloc(RPS3_NSOLVER, sizeof(rps3_data *));
+}
+
+static void workspaces_end(void *ctx, void *wctx) {
+  (void)ctx;
+  if (wctx) sweep_workspaces_free(wctx);
+  free(wctx);
+}
+
+int sweep_run_opts(const scene *s, const sweep_plan *p, out_file *f,
+                   out_block *b, const sweep_opts *o, progress *pr,
+                   sweep_stats *st, char *err, size_t errsz) {
+  sweep_job J;
+  pool_job job;
+  size_t i, nslot;
+  out_block *blocks = NULL;
+  int rc = -1;
+  memset(st, 0, sizeof *st);
+  if (o->nshard < 1 || o->shard >= o->nshard || o->nthread < 1) {
+    snprintf(err, errsz, "bad shard %zu/%zu or thread count %d", o->shard,
+             o->nshard, o->nthread);
+    return -1;
+  }
+  J.s = s;
+  J.p = p;
+  J.f = f;
+  out_file_layout(f, &J.layout);
+  J.st = st;
+  J.pr = pr;
+  memset(&job, 0, sizeof job);
+  job.ctx = &J;
+  job.nitem = sweep_njob(s, p);
+  job.first = o->shard;
+  job.stride = o->nshard;
+  job.info_size = sizeof(tile);
+  job.worker_begin = workspaces_begin;
+  job.worker_end = workspaces_end;
+  job.run = sweep_item;
+  job.write = sweep_write;
+  /* slot 0 is the caller's block; the others are allocated like it */
+  nslot = pool_nslot(o->nthread);
+  job.slot = calloc(nslot, sizeof *job.slot);
+  blocks = calloc(nslot, sizeof *blocks);
+  snprintf(err, errsz, "out of memory");
+  if (!job.slot || !blocks) goto done;
+  job.slot[0] = b;
+  for (i = 1; i < nslot; i++) {
+    if (out_block_alloc(&blocks[i], b->cases, b->points,
+                        p->first.model.opt.effects))
+      goto done;
+    blocks[i].fields = b->fields;
+    job.slot[i] = &blocks[i];
+  }
+  rc = pool_run(&job, o->nthread, err, errsz);
+done:
+  if (blocks)
+    for (i = 1; i < nslot; i++) out_block_free(&blocks[i]);
+  free(blocks);
+  free(job.slot);
   return rc;
 }

@@ -2,8 +2,8 @@
  * sweep.h - run every case of a scene into an open output file.
  *
  * First sweep_plan() builds and validates every case (nothing is written
- * if one is invalid) and finds the time axis; then sweep_run() computes
- * the cases tile by tile and streams each tile to the file.
+ * if one is invalid) and finds the time axis; then sweep_run_opts()
+ * computes the cases tile by tile and streams each tile to the file.
  *
  * The work is cut into jobs: job j is the cases [j tile_cases,
  * (j + 1) tile_cases), one tile and one chunk row of the file; when a case
@@ -69,15 +69,6 @@ typedef struct {
  */
 int sweep_plan_make(const scene *s, sweep_plan *p, scene_error *err);
 
-/*
- * Compute all cases of s into f, using block b (allocated for the plan's
- * tile).  Failing cases are recorded in status/message/failed_at with NaN
- * rows, and the sweep goes on.  Returns 0, or -1 with err set when the file
- * cannot be written or memory runs out.
- */
-int sweep_run(const scene *s, const sweep_plan *p, out_file *f, out_block *b,
-              progress *pr, sweep_stats *st, char *err, size_t errsz);
-
 /* Number of jobs of a plan: ceil(ncase / tile_cases). */
 size_t sweep_njob(const scene *s, const sweep_plan *p);
 
@@ -90,14 +81,18 @@ size_t sweep_shard_cases(const scene *s, const sweep_plan *p, size_t shard,
                          size_t nshard);
 
 /*
- * sweep_run with threads and a shard.  With o->nthread > 1, o->nthread
- * worker threads compute jobs into a pool of o->nthread + 2 tiles (b and
- * o->nthread + 1 more, allocated here): memory is bounded by the pool
- * whatever the sweep size.  The calling thread writes each tile as it
- * comes.  Tiles may reach the file in any order; each hyperslab is written
- * once (a failing long case rewrites its own earlier windows, in order),
- * so the datasets do not depend on the order.  Cases of other shards are
- * not written: their chunks stay unallocated (fill values: NaN, -1, "").
+ * Compute the cases of s of a shard into f, using block b (allocated for
+ * the plan's tile), as a job of the worker pool (pool.h).  Failing cases
+ * are recorded in status/message/failed_at with NaN rows, and the sweep
+ * goes on.  With o->nthread > 1, o->nthread worker threads compute jobs
+ * into o->nthread + 2 tiles (b and o->nthread + 1 more, allocated here):
+ * memory is bounded by them whatever the sweep size.  The calling thread
+ * writes each tile as it comes.  Tiles may reach the file in any order;
+ * each hyperslab is written once (a failing long case rewrites its own
+ * earlier windows, in order), so the datasets do not depend on the order.
+ * Cases of other shards are not written: their chunks stay unallocated
+ * (fill values: NaN, -1, "").  Returns 0, or -1 with err set when the file
+ * cannot be written or memory runs out.
  */
 int sweep_run_opts(const scene *s, const sweep_plan *p, out_file *f,
                    out_block *b, const sweep_opts *o, progress *pr,

@@ -92,7 +92,8 @@ static char *history_line(const char *now, const char *command_line) {
   return line;
 }
 
-int out_cf_conventions(hid_t file, hid_t str) {
+/* Conventions and git_revision */
+static int out_cf_conventions(hid_t file, hid_t str) {
   return out_h5_attr(file, str, "Conventions", OUT_CF_CONVENTIONS) < 0 ||
                  out_h5_attr(file, str, "git_revision", rps3_git_revision) < 0
              ? -1
@@ -164,9 +165,9 @@ int out_cf_status(hid_t ds, hid_t str) { return flags(ds, str, 1); }
 
 int out_cf_field(hid_t ds, hid_t str, int i) {
   if (out_cf_long_name(ds, str, out_field_table[i].long_name) < 0) return -1;
-  if (i != OUT_status && i != OUT_warn) return 0;
+  if (out_field_table[i].flags == OUT_FLAGS_NONE) return 0;
   /* status: its values; warn: its bits */
-  return flags(ds, str, i == OUT_status);
+  return flags(ds, str, out_field_table[i].flags == OUT_FLAGS_STATUS);
 }
 
 int out_cf_time(hid_t ds, hid_t str) {
@@ -233,7 +234,7 @@ static const char *gain_units(const scene *s, char *buf) {
 const char *out_cf_axis_units(const scene *s, size_t a, char *buf, size_t sz) {
   const scene_axis *ax = &s->axis[a];
   const scene_key_info *ki = scene_key_get(ax->key);
-  const char *u = ki->unit;
+  const char *u = ki->f->unit;
   int k;
   if (ki->type == KEY_ENUM || ki->type == KEY_BOOL || strcmp(u, "-") == 0) {
     snprintf(buf, sz, "1");

@@ -27,20 +27,19 @@ extern const char *const rps3_git_revision;
 int out_cf_root(hid_t file, hid_t str, const char *now,
                 const char *command_line);
 
-/* Conventions and git_revision alone (the history written apart, as by
-   out_stamp); 0 or -1 */
-int out_cf_conventions(hid_t file, hid_t str);
-
 /* append a history line for a command that rewrote the file (merge); 0 or
    -1 */
 int out_cf_history_add(hid_t file, hid_t str, const char *now,
                        const char *command_line);
 
-/* long_name of schema field i, and its flags (status, warn); 0 or -1 */
+/* long_name of schema field i, and its flags (the flags column of the
+   schema: flag_values and flag_meanings of a status, every rps3_status
+   and OUT_STATUS_NOT_COMPUTED; flag_masks of the warning bits); 0 or -1 */
 int out_cf_field(hid_t ds, hid_t str, int i);
 
-/* flag_values and flag_meanings of a status variable: every rps3_status
-   and OUT_STATUS_NOT_COMPUTED; 0 or -1 */
+/* flag_values and flag_meanings of a status variable outside the schema
+   (a design study's file): every rps3_status and OUT_STATUS_NOT_COMPUTED;
+   0 or -1 */
 int out_cf_status(hid_t ds, hid_t str);
 
 /* long_name of a coordinate or other variable; 0 or -1 */

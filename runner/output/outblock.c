@@ -12,8 +12,9 @@
 
 /* ------------------------------------------------------------ the schema */
 
-#define OUT_FIELD_ROW(name, shape, type, units, long_name, doc) \
-  {#name, shape, type, units, long_name, doc},
+#define OUT_FIELD_ROW(id, name, files, shape, type, flags, units, long_name, \
+                      doc)                                                   \
+  {#name, files, shape, type, flags, units, long_name, doc},
 const out_field_info out_field_table[OUT_NFIELD] = {
     RPS3_OUTPUT_FIELDS(OUT_FIELD_ROW)};
 #undef OUT_FIELD_ROW
@@ -32,26 +33,38 @@ size_t out_columns(out_shape shape, int neffect) {
 static size_t type_size(out_type type) {
   return type == OUT_F64   ? sizeof(double)
          : type == OUT_I32 ? sizeof(int32_t)
+         : type == OUT_I64 ? sizeof(int64_t)
                            : sizeof(char *);
 }
+
+/* 1 when field i is in the inverse sweep's file (a member of out_block) */
+static int inv(int i) { return (out_field_table[i].files & OUT_INV) != 0; }
 
 /* the buffer of field i of b */
 void *out_block_field(const out_block *b, int i) {
   switch (i) {
-#define OUT_BLOCK_CASE(name, ...) \
-  case OUT_##name: return b->name;
+#define OUT_BLOCK_CASE(id, name, files, ...) OUT_CASE_##files(id)
+#define OUT_CASE_OUT_INV(id) \
+  case OUT_##id: return b->id;
+#define OUT_CASE_OUT_BOTH OUT_CASE_OUT_INV
+#define OUT_CASE_OUT_SIM(id)
     RPS3_OUTPUT_FIELDS(OUT_BLOCK_CASE)
-#undef OUT_BLOCK_CASE
+  default: break;
   }
   return NULL;
 }
 
 static void block_field_set(out_block *b, int i, void *p) {
   switch (i) {
-#define OUT_BLOCK_SET(name, ...) \
-  case OUT_##name: b->name = p; break;
-    RPS3_OUTPUT_FIELDS(OUT_BLOCK_SET)
-#undef OUT_BLOCK_SET
+#undef OUT_CASE_OUT_INV
+#define OUT_CASE_OUT_INV(id) \
+  case OUT_##id: b->id = p; break;
+    RPS3_OUTPUT_FIELDS(OUT_BLOCK_CASE)
+#undef OUT_CASE_OUT_INV
+#undef OUT_CASE_OUT_BOTH
+#undef OUT_CASE_OUT_SIM
+#undef OUT_BLOCK_CASE
+  default: break;
   }
 }
 
@@ -71,7 +84,9 @@ int out_block_alloc(out_block *b, size_t cases, size_t points, int effects) {
     if (effects & (1 << e)) b->effect[b->neffect++] = e;
   /* the per-sample buffers with OUT_SLACK bytes more (out_pack) */
   for (i = 0; i < OUT_NFIELD; i++) {
-    void *p = calloc(
+    void *p;
+    if (!inv(i)) continue;
+    p = calloc(
         1, cases * slot_elems(b, i) * type_size(out_field_table[i].type) +
                OUT_SLACK);
     if (!p) goto fail;
@@ -115,7 +130,7 @@ void out_block_blank(out_block *b, size_t slot, size_t k) {
     size_t cols = out_columns(out_field_table[i].shape, b->neffect);
     size_t lo = (slot * b->points + k) * cols,
            hi = (slot + 1) * b->points * cols;
-    if (out_field_table[i].shape == OUT_C) continue;
+    if (out_field_table[i].shape == OUT_C || !inv(i)) continue;
     if (out_field_table[i].type == OUT_F64) {
       double *p = out_block_field(b, i);
       for (j = lo; j < hi; j++) p[j] = (double)NAN;
@@ -128,29 +143,39 @@ void out_block_blank(out_block *b, size_t slot, size_t k) {
     b->t[j] = (double)NAN;
 }
 
-void out_schema_print(void) {
+void out_schema_print(int files) {
   static const char *const dims[] = {"case", "case, time", "case, time, link",
                                      "case, time, constraint",
                                      "case, time, effect, link"};
+  static const char *const types[] = {"float64", "int32", "int64", "string"};
   int i;
   printf("| dataset | dimensions | type | units | description |\n");
   printf("|---|---|---|---|---|\n");
   for (i = 0; i < OUT_NFIELD; i++)
-    printf("| `%s` | %s | %s | %s | %s |\n", out_field_table[i].name,
-           dims[out_field_table[i].shape],
-           out_field_table[i].type == OUT_F64   ? "float64"
-           : out_field_table[i].type == OUT_I32 ? "int32"
-                                                : "string",
-           out_field_table[i].units, out_field_table[i].doc);
+    if (out_field_table[i].files & files)
+      printf("| `%s` | %s | %s | %s | %s |\n", out_field_table[i].name,
+             dims[out_field_table[i].shape], types[out_field_table[i].type],
+             out_field_table[i].units, out_field_table[i].doc);
 }
 
 /* ---------------------------------------------------------------- fields */
 
-out_mask out_fields_all(void) { return ((out_mask)1 << OUT_NFIELD) - 1; }
+out_mask out_fields_of(int files) {
+  out_mask m = 0;
+  int i;
+  for (i = 0; i < OUT_NFIELD; i++)
+    if (out_field_table[i].files & files) m |= (out_mask)1 << i;
+  return m;
+}
 
-/* 1 when field i is per case and sample (a --fields choice), 0 when it is
-   per case (always written: what a reader needs to read the rest) */
-static int per_point(int i) { return out_field_table[i].shape != OUT_C; }
+out_mask out_fields_all(void) { return out_fields_of(OUT_INV); }
+
+/* 1 when field i is per case and sample of the inverse sweep (a --fields
+   choice), 0 when it is per case (always written: what a reader needs to
+   read the rest) or not the inverse sweep's */
+static int per_point(int i) {
+  return out_field_table[i].shape != OUT_C && inv(i);
+}
 
 int out_fields_parse(const char *list, out_mask *mask, char *err,
                      size_t errsz) {
@@ -158,7 +183,7 @@ int out_fields_parse(const char *list, out_mask *mask, char *err,
   out_mask m = 0;
   int i;
   for (i = 0; i < OUT_NFIELD; i++)
-    if (!per_point(i)) m |= (out_mask)1 << i;
+    if (inv(i) && !per_point(i)) m |= (out_mask)1 << i;
   for (;;) {
     size_t len = strcspn(p, ",");
     int found = -1;

@@ -20,99 +20,210 @@
    CTK [case, time, constraint], CTEL [case, time, effect, link] */
 typedef enum { OUT_C, OUT_CT, OUT_CTL, OUT_CTK, OUT_CTEL } out_shape;
 
-/* element types: double (NaN for missing), int32 (-1 for missing), string */
+/* element types: double (NaN for missing), int32 and int64 (-1 for
+   missing), string */
+typedef enum { OUT_F64, OUT_I32, OUT_I64, OUT_STR } out_type;
 
-/* the fill value of `status`: a case not computed (by this shard, or not
+/* the files a field is in: the inverse sweep's, the simulation's */
+#define OUT_INV 1
+#define OUT_SIM 2
+#define OUT_BOTH 3
+
+/* the CF flag attributes of a field (out_cf.h): none, flag_values of a
+   status (every rps3_status and OUT_STATUS_NOT_COMPUTED), flag_masks of
+   the warning bits */
+typedef enum { OUT_FLAGS_NONE, OUT_FLAGS_STATUS, OUT_FLAGS_WARN } out_flags;
+
+/* the fill value of a status: a case not computed (by this shard, or not
    yet); distinct from every rps3_status, RPS3_EINVAL = -1 included */
 #define OUT_STATUS_NOT_COMPUTED (-1000)
-typedef enum { OUT_F64, OUT_I32, OUT_STR } out_type;
 
-/* X(name, shape, type, units (UDUNITS), long_name (CF), description) */
-#define RPS3_OUTPUT_FIELDS(X)                                                 \
-  X(force, OUT_CTL, OUT_F64, "N", "actuating force along the link",           \
-    "total actuating force F_i along link i, eq. (34); positive extends "     \
-    "the link")                                                               \
-  X(force_by_effect, OUT_CTEL, OUT_F64, "N",                                  \
-    "actuating force by physical effect",                                     \
-    "share of each selected effect in the actuating force; the shares "       \
-    "sum to force")                                                           \
-  X(length, OUT_CTL, OUT_F64, "m", "link length",                             \
-    "link length l_i = R L_i, eqs. (5)-(7)")                                  \
-  X(length_rate, OUT_CTL, OUT_F64, "m/s", "link extension rate",              \
-    "link extension rate dl_i/dt (NaN when no effect needs rates)")           \
-  X(length_accel, OUT_CTL, OUT_F64, "m/s^2", "link extension acceleration",   \
-    "link extension acceleration d2l_i/dt2 (NaN when no effect needs "        \
-    "it)")                                                                    \
-  X(theta, OUT_CTL, OUT_F64, "rad", "link angle to the base plane",           \
-    "angle theta_i between link i and the base plane, eq. (39) or "           \
-    "(8)-(10)")                                                               \
-  X(alpha, OUT_CT, OUT_F64, "rad", "platform precession angle",               \
-    "precession angle alpha of the platform (Z-Y-Z Euler angles, eq. "        \
-    "(2))")                                                                   \
-  X(beta, OUT_CT, OUT_F64, "rad", "platform nutation angle",                  \
-    "nutation angle beta of the platform")                                    \
-  X(z_c, OUT_CT, OUT_F64, "m", "platform centre height",                      \
-    "height z_c of the platform centre")                                      \
-  X(x_c, OUT_CT, OUT_F64, "m", "platform centre x",                           \
-    "platform centre x_c, eq. (3) times R")                                   \
-  X(y_c, OUT_CT, OUT_F64, "m", "platform centre y",                           \
-    "platform centre y_c, eq. (4) times R")                                   \
-  X(lambda, OUT_CTK, OUT_F64, "N/m", "constraint Lagrange multiplier",        \
-    "Lagrange multipliers lambda_k of the constraints (8)-(10) written "      \
-    "in metres (f_k = norm(b_i - b_j)^2 - 3 r^2), eq. (34); NaN under "       \
-    "newton_euler, which does not compute them")                              \
-  X(energy_residual, OUT_CT, OUT_F64, "W", "energy-rate residual",            \
-    "actuator power + friction power - dT/dt - dP/dt; zero up to "            \
-    "rounding when the forces are right (NaN when solver.certify is "         \
-    "false)")                                                                 \
-  X(energy_scale, OUT_CT, OUT_F64, "W", "energy-rate scale",                  \
-    "sum of the magnitudes of the terms of energy_residual, its scale")       \
-  X(condition, OUT_CT, OUT_F64, "1",                                          \
-    "condition number of the constraint Jacobian",                            \
-    "1-norm condition number of the constraint Jacobian df/dtheta")           \
-  X(transmission, OUT_CT, OUT_F64, "1", "force transmission",                 \
-    "force transmission: largest actuator force per unit platform load "      \
-    "(force, moment / R); warn above 100, refused above 1e8")                 \
-  X(solve_niter, OUT_CT, OUT_I32, "1", "theta solve iterations",              \
-    "iterations of the multiroot theta solve (0 for closed_form; -1 "         \
-    "missing)")                                                               \
-  X(solve_resid, OUT_CT, OUT_F64, "1", "theta solve residual",                \
-    "max_k abs(f_k) after the theta solve, lengths in units of R")            \
-  X(warn, OUT_CT, OUT_I32, "1", "warning bits",                               \
-    "warning bits: 1 ill-conditioned lambda system, 2 alpha undefined, "      \
-    "4 assembly mode changed, 8 transmission above trans_warn (-1 "           \
-    "missing)")                                                               \
-  X(status, OUT_C, OUT_I32, "1", "status of the case",                        \
-    "0 = ok, else the rps3_status code of the first failing sample; "         \
-    "-1000 = not computed (a case of another shard, or of a killed "          \
-    "part)")                                                                  \
-  X(failed_at, OUT_C, OUT_I32, "1", "time index of the first failing sample", \
-    "time index of the first failing sample, -1 if none")                     \
-  X(message, OUT_C, OUT_STR, "1", "failure message",                          \
-    "why the case failed, empty if it did not")                               \
-  X(scene_resolved, OUT_C, OUT_STR, "1", "resolved scene of the case",        \
-    "the case's full scene as YAML (no sweep): rerun it alone with "          \
+/*
+ * The one table of what a runner file holds per case and per sample, in
+ * the inverse sweep's files and the simulation's: X(id, name, files,
+ * shape, type, flags, units (UDUNITS), long_name (CF), description).  id
+ * names the field in the code (OUT_id), name the dataset; a name in both
+ * kinds of file with another meaning has a row of each.  Another kind of
+ * file is a new files bit, its rows, and an empty OUT_MEMBER_ of its bit
+ * (its fields are no members of the sweep's out_block); output.h writes
+ * its windows and per-case values (out_open, out_write_window,
+ * out_write_case).
+ */
+#define RPS3_OUTPUT_FIELDS(X)                                                  \
+  X(force, force, OUT_INV, OUT_CTL, OUT_F64, OUT_FLAGS_NONE, "N",              \
+    "actuating force along the link",                                          \
+    "total actuating force F_i along link i, eq. (34); positive extends "      \
+    "the link")                                                                \
+  X(force_by_effect, force_by_effect, OUT_INV, OUT_CTEL, OUT_F64,              \
+    OUT_FLAGS_NONE, "N", "actuating force by physical effect",                 \
+    "share of each selected effect in the actuating force; the shares "        \
+    "sum to force")                                                            \
+  X(length, length, OUT_INV, OUT_CTL, OUT_F64, OUT_FLAGS_NONE, "m",            \
+    "link length", "link length l_i = R L_i, eqs. (5)-(7)")                    \
+  X(length_rate, length_rate, OUT_INV, OUT_CTL, OUT_F64, OUT_FLAGS_NONE,       \
+    "m/s", "link extension rate",                                              \
+    "link extension rate dl_i/dt (NaN when no effect needs rates)")            \
+  X(length_accel, length_accel, OUT_INV, OUT_CTL, OUT_F64, OUT_FLAGS_NONE,     \
+    "m/s^2", "link extension acceleration",                                    \
+    "link extension acceleration d2l_i/dt2 (NaN when no effect needs "         \
+    "it)")                                                                     \
+  X(theta, theta, OUT_INV, OUT_CTL, OUT_F64, OUT_FLAGS_NONE, "rad",            \
+    "link angle to the base plane",                                            \
+    "angle theta_i between link i and the base plane, eq. (39) or "            \
+    "(8)-(10)")                                                                \
+  X(alpha, alpha, OUT_INV, OUT_CT, OUT_F64, OUT_FLAGS_NONE, "rad",             \
+    "platform precession angle",                                               \
+    "precession angle alpha of the platform (Z-Y-Z Euler angles, eq. "         \
+    "(2))")                                                                    \
+  X(sim_length, length, OUT_SIM, OUT_CTL, OUT_F64, OUT_FLAGS_NONE, "m",        \
+    "link length", "link length l_i of the simulated plant")                   \
+  X(sim_length_rate, length_rate, OUT_SIM, OUT_CTL, OUT_F64, OUT_FLAGS_NONE,   \
+    "m/s", "link extension rate", "link rate dl_i/dt of the plant")            \
+  X(length_ref, length_ref, OUT_SIM, OUT_CTL, OUT_F64, OUT_FLAGS_NONE, "m",    \
+    "reference link length",                                                   \
+    "reference link length l_d,i: the trajectory's pose through the "          \
+    "closed form (after the trajectory: its final pose)")                      \
+  X(length_rate_ref, length_rate_ref, OUT_SIM, OUT_CTL, OUT_F64,               \
+    OUT_FLAGS_NONE, "m/s", "reference link extension rate",                    \
+    "reference link rate dl_d,i/dt (0 after the trajectory)")                  \
+  X(tracking_error, tracking_error, OUT_SIM, OUT_CTL, OUT_F64, OUT_FLAGS_NONE, \
+    "m", "link length tracking error",                                         \
+    "l_d,i - l_i, the controller's e from the true lengths")                   \
+  X(force_cmd, force_cmd, OUT_SIM, OUT_CTL, OUT_F64, OUT_FLAGS_NONE, "N",      \
+    "commanded actuating force",                                               \
+    "force commanded by the controller at the last tick before t "             \
+    "(held over the control period ending at t); NaN at t = 0")                \
+  X(sim_force, force, OUT_SIM, OUT_CTL, OUT_F64, OUT_FLAGS_NONE, "N",          \
+    "applied actuating force",                                                 \
+    "force applied to the link: force_cmd after saturation at fmax")           \
+  X(sim_theta, theta, OUT_SIM, OUT_CTL, OUT_F64, OUT_FLAGS_NONE, "rad",        \
+    "link angle to the base plane", "angle theta_i of link i to the base")     \
+  X(sim_alpha, alpha, OUT_SIM, OUT_CT, OUT_F64, OUT_FLAGS_NONE, "rad",         \
+    "platform precession angle", "precession angle alpha of the platform")     \
+  X(beta, beta, OUT_BOTH, OUT_CT, OUT_F64, OUT_FLAGS_NONE, "rad",              \
+    "platform nutation angle", "nutation angle beta of the platform")          \
+  X(z_c, z_c, OUT_BOTH, OUT_CT, OUT_F64, OUT_FLAGS_NONE, "m",                  \
+    "platform centre height", "height z_c of the platform centre")             \
+  X(x_c, x_c, OUT_BOTH, OUT_CT, OUT_F64, OUT_FLAGS_NONE, "m",                  \
+    "platform centre x", "platform centre x_c, eq. (3) times R")               \
+  X(y_c, y_c, OUT_BOTH, OUT_CT, OUT_F64, OUT_FLAGS_NONE, "m",                  \
+    "platform centre y", "platform centre y_c, eq. (4) times R")               \
+  X(lambda, lambda, OUT_INV, OUT_CTK, OUT_F64, OUT_FLAGS_NONE, "N/m",          \
+    "constraint Lagrange multiplier",                                          \
+    "Lagrange multipliers lambda_k of the constraints (8)-(10) written "       \
+    "in metres (f_k = norm(b_i - b_j)^2 - 3 r^2), eq. (34); NaN under "        \
+    "newton_euler, which does not compute them")                               \
+  X(energy_residual, energy_residual, OUT_INV, OUT_CT, OUT_F64,                \
+    OUT_FLAGS_NONE, "W", "energy-rate residual",                               \
+    "actuator power + friction power - dT/dt - dP/dt; zero up to "             \
+    "rounding when the forces are right (NaN when solver.outputs leaves "      \
+    "out certify)")                                                            \
+  X(energy_scale, energy_scale, OUT_INV, OUT_CT, OUT_F64, OUT_FLAGS_NONE, "W", \
+    "energy-rate scale",                                                       \
+    "sum of the magnitudes of the terms of energy_residual, its scale")        \
+  X(condition, condition, OUT_INV, OUT_CT, OUT_F64, OUT_FLAGS_NONE, "1",       \
+    "condition number of the constraint Jacobian",                             \
+    "1-norm condition number of the constraint Jacobian df/dtheta")            \
+  X(transmission, transmission, OUT_INV, OUT_CT, OUT_F64, OUT_FLAGS_NONE, "1", \
+    "force transmission",                                                      \
+    "force transmission: largest actuator force per unit platform load "       \
+    "(force, moment / R); warn above 100, refused above 1e8")                  \
+  X(solve_niter, solve_niter, OUT_INV, OUT_CT, OUT_I32, OUT_FLAGS_NONE, "1",   \
+    "theta solve iterations",                                                  \
+    "iterations of the multiroot theta solve (0 for closed_form; -1 "          \
+    "missing)")                                                                \
+  X(solve_resid, solve_resid, OUT_INV, OUT_CT, OUT_F64, OUT_FLAGS_NONE, "1",   \
+    "theta solve residual",                                                    \
+    "max_k abs(f_k) after the theta solve, lengths in units of R")             \
+  X(warn, warn, OUT_INV, OUT_CT, OUT_I32, OUT_FLAGS_WARN, "1", "warning bits", \
+    "warning bits: 1 ill-conditioned lambda system, 2 alpha undefined, "       \
+    "4 assembly mode changed, 8 transmission above trans_warn (-1 "            \
+    "missing)")                                                                \
+  X(status, status, OUT_INV, OUT_C, OUT_I32, OUT_FLAGS_STATUS, "1",            \
+    "status of the case",                                                      \
+    "0 = ok, else the rps3_status code of the first failing sample; "          \
+    "-1000 = not computed (a case of another shard, or of a killed "           \
+    "part)")                                                                   \
+  X(failed_at, failed_at, OUT_INV, OUT_C, OUT_I32, OUT_FLAGS_NONE, "1",        \
+    "time index of the first failing sample",                                  \
+    "time index of the first failing sample, -1 if none")                      \
+  X(alpha_ref, alpha_ref, OUT_SIM, OUT_CT, OUT_F64, OUT_FLAGS_NONE, "rad",     \
+    "reference platform precession angle", "reference alpha (the trajectory)") \
+  X(beta_ref, beta_ref, OUT_SIM, OUT_CT, OUT_F64, OUT_FLAGS_NONE, "rad",       \
+    "reference platform nutation angle", "reference beta")                     \
+  X(z_c_ref, z_c_ref, OUT_SIM, OUT_CT, OUT_F64, OUT_FLAGS_NONE, "m",           \
+    "reference platform centre height", "reference z_c")                       \
+  X(x_c_ref, x_c_ref, OUT_SIM, OUT_CT, OUT_F64, OUT_FLAGS_NONE, "m",           \
+    "reference platform centre x", "reference x_c")                            \
+  X(y_c_ref, y_c_ref, OUT_SIM, OUT_CT, OUT_F64, OUT_FLAGS_NONE, "m",           \
+    "reference platform centre y", "reference y_c")                            \
+  X(kinetic_energy, kinetic_energy, OUT_SIM, OUT_CT, OUT_F64, OUT_FLAGS_NONE,  \
+    "J", "kinetic energy", "kinetic energy T of the plant")                    \
+  X(potential_energy, potential_energy, OUT_SIM, OUT_CT, OUT_F64,              \
+    OUT_FLAGS_NONE, "J", "potential energy",                                   \
+    "potential energy P of the plant (zero on the base plane)")                \
+  X(work_actuators, work_actuators, OUT_SIM, OUT_CT, OUT_F64, OUT_FLAGS_NONE,  \
+    "J", "work of the actuators",                                              \
+    "work of the applied forces since t = 0, integral of F . dl/dt")           \
+  X(work_friction, work_friction, OUT_SIM, OUT_CT, OUT_F64, OUT_FLAGS_NONE,    \
+    "J", "work of the pin friction",                                           \
+    "work of the pin friction since t = 0 (<= 0)")                             \
+  X(sim_energy_residual, energy_residual, OUT_SIM, OUT_CT, OUT_F64,            \
+    OUT_FLAGS_NONE, "J", "energy balance residual",                            \
+    "T + P - (T + P)(0) - work_actuators - work_friction: the "                \
+    "integration error")                                                       \
+  X(tracking_error_max, tracking_error_max, OUT_SIM, OUT_C, OUT_F64,           \
+    OUT_FLAGS_NONE, "m", "largest link length tracking error",                 \
+    "largest abs(tracking_error) over the samples reached and the "            \
+    "links")                                                                   \
+  X(sim_status, status, OUT_SIM, OUT_C, OUT_I32, OUT_FLAGS_STATUS, "1",        \
+    "simulation status",                                                       \
+    "0 = ok, else the rps3_status that stopped the simulation; -1000 "         \
+    "= not computed")                                                          \
+  X(sim_failed_at, failed_at, OUT_SIM, OUT_C, OUT_I32, OUT_FLAGS_NONE, "1",    \
+    "first sample not reached",                                                \
+    "first time index not reached (NaN from there on), -1 if none")            \
+  X(failed_time, failed_time, OUT_SIM, OUT_C, OUT_F64, OUT_FLAGS_NONE, "s",    \
+    "time of the failure", "simulated time of the failure, NaN if none")       \
+  X(nsteps, nsteps, OUT_SIM, OUT_C, OUT_I64, OUT_FLAGS_NONE, "1",              \
+    "integrator steps", "integrator steps")                                    \
+  X(nevals, nevals, OUT_SIM, OUT_C, OUT_I64, OUT_FLAGS_NONE, "1",              \
+    "forward dynamics evaluations", "forward dynamics evaluations")            \
+  X(nticks, nticks, OUT_SIM, OUT_C, OUT_I64, OUT_FLAGS_NONE, "1",              \
+    "controller ticks", "controller calls at the control rate")                \
+  X(nsat, nsat, OUT_SIM, OUT_C, OUT_I64, OUT_FLAGS_NONE, "1",                  \
+    "saturated ticks", "ticks with a saturated actuator")                      \
+  X(message, message, OUT_BOTH, OUT_C, OUT_STR, OUT_FLAGS_NONE, "1",           \
+    "failure message", "why the case failed, empty if it did not")             \
+  X(scene_resolved, scene_resolved, OUT_BOTH, OUT_C, OUT_STR, OUT_FLAGS_NONE,  \
+    "1", "resolved scene of the case",                                         \
+    "the case's full scene as YAML (no sweep): rerun it alone with "           \
     "rps3-run")
 
-#define OUT_FIELD_ID(name, ...) OUT_##name,
+#define OUT_FIELD_ID(id, ...) OUT_##id,
 typedef enum { RPS3_OUTPUT_FIELDS(OUT_FIELD_ID) OUT_NFIELD } out_field;
 #undef OUT_FIELD_ID
 
 /* a row of the schema, and the table (outblock.c) */
 typedef struct {
   const char *name;
+  int files; /* OUT_INV, OUT_SIM or both */
   out_shape shape;
   out_type type;
+  out_flags flags;
   const char *units;     /* UDUNITS-2 spelling */
   const char *long_name; /* CF long_name */
   const char *doc;
 } out_field_info;
 extern const out_field_info out_field_table[OUT_NFIELD];
 
-/* a set of fields: bit i for field i (OUT_NFIELD < 32) */
-typedef uint32_t out_mask;
+/* a set of fields: bit i for field i (OUT_NFIELD < 64) */
+typedef uint64_t out_mask;
 
-/* every field */
+/* the fields of the files `files` (OUT_INV, OUT_SIM) */
+out_mask out_fields_of(int files);
+
+/* every field of the inverse sweep's file */
 out_mask out_fields_all(void);
 
 /*
@@ -127,6 +238,11 @@ int out_fields_parse(const char *list, out_mask *mask, char *err, size_t errsz);
    buf: the root attribute `fields` */
 const char *out_fields_text(out_mask mask, char *buf, size_t sz);
 
+/* the members of out_block: a buffer per field of the inverse sweep */
+#define OUT_MEMBER_OUT_INV(id) void *id;
+#define OUT_MEMBER_OUT_BOTH(id) void *id;
+#define OUT_MEMBER_OUT_SIM(id)
+
 /*
  * The buffers of one tile: up to `cases` cases of up to `points` samples.
  * Each field's buffer is [cases][points][columns] (C order, the layout of
@@ -139,7 +255,7 @@ typedef struct {
   size_t points;            /* samples per slot */
   int neffect;              /* effects in force_by_effect */
   int effect[RPS3_NEFFECT]; /* their effect indices, in file order */
-#define OUT_BLOCK_MEMBER(name, shape, type, ...) void *name;
+#define OUT_BLOCK_MEMBER(id, name, files, ...) OUT_MEMBER_##files(id)
   RPS3_OUTPUT_FIELDS(OUT_BLOCK_MEMBER)
 #undef OUT_BLOCK_MEMBER
   double *t;        /* time of each sample [cases][points] */
@@ -222,7 +338,8 @@ void out_block_blank(out_block *b, size_t slot, size_t k);
 /* the buffer of field i of b */
 void *out_block_field(const out_block *b, int i);
 
-/* print the schema (markdown) on stdout: name, dimensions, units, doc */
-void out_schema_print(void);
+/* print the schema of the files `files` (OUT_INV, OUT_SIM) as markdown on
+   stdout: name, dimensions, type, units, description */
+void out_schema_print(int files);
 
 #endif /* RPS3_RUNNER_OUTBLOCK_H */

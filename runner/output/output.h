@@ -35,13 +35,44 @@ typedef struct {
 
 typedef struct out_file out_file;
 
+/* what a file holds and how it is chunked (out_open) */
+typedef struct {
+  int files;            /* OUT_INV or OUT_SIM: the rows of the schema */
+  const char *title;    /* root attribute title */
+  const char *content;  /* root attribute content, NULL for none */
+  const char *time_doc; /* description of the common time axis */
+  size_t nt;            /* samples along time: the most of any case */
+  int grid_common;      /* 1: every case has the time grid of time() */
+  double (*time)(const void *ctx, size_t k); /* time of sample k [s] */
+  const void *time_ctx;
+  size_t tile_cases;   /* case extent of a per-sample chunk */
+  size_t case_chunk;   /* case extent of a per-case chunk */
+  size_t chunk_points; /* time extent of a chunk */
+  int case_cache;      /* 1: the per-case fields are written a case at a
+                          time: they get a chunk cache */
+  int neffect;         /* the effects of force_by_effect ... */
+  const int *effect;   /* ... their indices, in file order */
+} out_spec;
+
 /*
- * Create the file at `path` (truncating it) for the cases of s: all
- * datasets, dimension scales, attributes, the scene text, the swept keys
- * and, when the grid is common to all cases (grid_common), the time axis
- * from `first`.  nt is the largest number of samples of any case; chunks
- * are [b->cases, chunk_points, ...] (a tile is a whole number of chunks).
- * Returns NULL with a message in err.
+ * Create the file at `path` (truncating it) for the cases of s and the
+ * fields of meta->fields among sp->files: the root attributes, the scene
+ * text, the dimension scales (case, time or sample, link; constraint and
+ * effect in an inverse sweep's file), the swept keys, every field's
+ * dataset with its units, description, CF attributes and fill value, and
+ * case_time when the grid differs between cases.  Returns NULL with a
+ * message in err.
+ */
+out_file *out_open(const char *path, const scene *s, const out_spec *sp,
+                   const out_meta *meta, char *err, size_t errsz);
+
+/*
+ * An inverse sweep's file (out_open): create the file at `path` (truncating it)
+ * for the cases of s: all datasets, dimension scales, attributes, the scene
+ * text, the swept keys and, when the grid is common to all cases (grid_common),
+ * the time axis from `first`.  nt is the largest number of samples of any case;
+ * chunks are [b->cases, chunk_points, ...] (a tile is a whole number of
+ * chunks). Returns NULL with a message in err.
  */
 out_file *out_create(const char *path, const scene *s, const scene_case *first,
                      size_t nt, int grid_common, size_t chunk_points,
@@ -59,6 +90,23 @@ void out_file_layout(const out_file *f, out_layout *L);
  */
 int out_write(out_file *f, const out_block *b, size_t c0, size_t nc, size_t k0,
               size_t nk, int with_case, char *err, size_t errsz);
+
+/*
+ * Write samples [k0, k0 + nk) of case c from a window of that case alone:
+ * buf[i] holds `points` rows of the columns of per-sample field i (of the
+ * field's type) for every such field of the file; times the samples'
+ * times, written to case_time when the grid differs (NULL otherwise).
+ * 0 or -1 with err.
+ */
+int out_write_window(out_file *f, void *const buf[], size_t points, size_t c,
+                     size_t k0, size_t nk, const double *times, char *err,
+                     size_t errsz);
+
+/* Write the per-case fields of case c: val[i] points at field i's value
+   (a const char * for a string) for every such field of the file.  0 or
+   -1 with err. */
+int out_write_case(out_file *f, const void *const val[], size_t c, char *err,
+                   size_t errsz);
 
 /* Flush and close the file; returns 0 or -1 with err set.  f is freed
    either way; NULL is accepted. */

@@ -79,7 +79,7 @@ static int check_grid(parse_ctx *c, int ax, double *poses) {
 static const int not_in_design[] = {
     K_LINK_IC, K_PAY_INERTIA, K_VISCOUS,  K_COULOMB,    K_VREG,      K_EFFECTS,
     K_THETA,   K_METHOD,      K_TOL,      K_MAX_ITER,   K_SOLVER,    K_WARM,
-    K_CERTIFY, K_COND_WARN,   K_COND_MAX, K_TRANS_WARN, K_TRANS_MAX, K_MODE};
+    K_OUTPUTS, K_COND_WARN,   K_COND_MAX, K_TRANS_WARN, K_TRANS_MAX, K_MODE};
 
 int design_key_unread(int k) {
   size_t i;
@@ -233,8 +233,10 @@ static int check_range(const scene *s, size_t index, int klo, int khi,
   return -1;
 }
 
-/* the scene key that sets design field id in scene s */
+/* the scene key that sets design field id in scene s (a design key's row
+   is the library's, placed in scene_values.design) */
 static int key_of_field(const scene *s, int id) {
+  const rps3_field_info *f = rps3_design_field(id);
   int k;
   switch (id) {
   case RPS3_DF_R: return K_R;
@@ -247,7 +249,9 @@ static int key_of_field(const scene *s, int id) {
   case RPS3_DF_G: return K_G;
   default:
     for (k = 0; k < SCENE_NKEY; k++)
-      if (scene_keys[k].src == SRC_DES && scene_keys[k].field == id) return k;
+      if (f && scene_keys[k].src == SRC_DES &&
+          scene_keys[k].f->offset == offsetof(scene_values, design) + f->offset)
+        return k;
     return K_DES_STROKE_MIN;
   }
 }

@@ -24,81 +24,78 @@
 
 /* ------------------------------------------------------------- key table */
 
-/* the runner's own fields, rows shaped like the library's */
-#define OWN_ROW(ID, IN, MEMBER, N, IS_INT, LO, LO_OPEN, HI, UNIT, NAME, FILLS) \
-  {NAME, IN, offsetof(scene_own, MEMBER), N, IS_INT, LO, LO_OPEN, HI, UNIT},
-static const rps3_field_info own_fields[SCENE_NOWN] = {
-    SCENE_OWN_FIELDS(OWN_ROW)};
-#undef OWN_ROW
-#define OWN_FILLS(ID, IN, MEMBER, N, IS_INT, LO, LO_OPEN, HI, UNIT, NAME, \
-                  FILLS)                                                  \
-  FILLS,
-static const int own_fills[SCENE_NOWN] = {SCENE_OWN_FIELDS(OWN_FILLS)};
-#undef OWN_FILLS
+/* the library's rows (RPS3_FIELDS), with the offset of each value in
+   scene_values */
+#define OFF_RPS3_IN_MODEL(MEMBER) offsetof(scene_values, model.MEMBER)
+#define OFF_RPS3_IN_TRAJ(MEMBER) offsetof(scene_values, traj.MEMBER)
+#define OFF_RPS3_IN_HELIX OFF_RPS3_IN_TRAJ
+#define OFF_RPS3_IN_SINE OFF_RPS3_IN_TRAJ
+#define OFF_RPS3_IN_WAYPOINTS OFF_RPS3_IN_TRAJ
+#define OFF_RPS3_IN_PATH OFF_RPS3_IN_TRAJ
+#define OFF_RPS3_IN_TABLE OFF_RPS3_IN_TRAJ
+#define LIB_ROW(ID, IN, MEMBER, N, IS_INT, LO, LO_OPEN, HI, UNIT, NAME) \
+  {NAME, IN, OFF_##IN(MEMBER), N, IS_INT, LO, LO_OPEN, HI, UNIT},
+static const rps3_field_info lib_fields[RPS3_NFIELD] = {RPS3_FIELDS(LIB_ROW)};
+#undef LIB_ROW
 
-/* the simulate section's fields (scene_sim.h) and their defaults (the key
-   table's text for a default that is not a value: scene_emit.c) */
-#define SIM_ROW(ID, MEMBER, IS_INT, LO, LO_OPEN, HI, UNIT, DEF, DEFTEXT) \
-  {"simulate." #MEMBER,                                                  \
-   RPS3_IN_MODEL,                                                        \
-   offsetof(scene_sim, MEMBER),                                          \
-   1,                                                                    \
-   IS_INT,                                                               \
-   LO,                                                                   \
-   LO_OPEN,                                                              \
-   HI,                                                                   \
-   UNIT},
-static const rps3_field_info sim_fields[SCENE_NSIM] = {
-    SCENE_SIM_FIELDS(SIM_ROW)};
-#undef SIM_ROW
-#define SIM_DEF(ID, MEMBER, IS_INT, LO, LO_OPEN, HI, UNIT, DEF, DEFTEXT) DEF,
-static const double sim_default[SCENE_NSIM] = {SCENE_SIM_FIELDS(SIM_DEF)};
-#undef SIM_DEF
+/* the rows of the OWN, SIM and DSEC keys, shaped like the library's (a LIB
+   or DES key's entry is unused); FIELD_SRC(PATH, ...) turns a key's FIELD
+   into the row */
+#define FIELD_LIB(PATH, ID) \
+  { NULL, 0, 0, 0, 0, 0, 0, 0, NULL }
+#define FIELD_OWN(PATH, MEMBER, IN, IS_INT, LO, LO_OPEN, HI, UNIT, FILLS) \
+  { PATH, IN, offsetof(scene_values, MEMBER), 1, IS_INT, LO, LO_OPEN, HI, UNIT }
+#define FIELD_SIM(PATH, MEMBER, IS_INT, LO, LO_OPEN, HI, UNIT, DEF, DEFTEXT) \
+  FIELD_OWN(PATH, MEMBER, RPS3_IN_MODEL, IS_INT, LO, LO_OPEN, HI, UNIT, -1)
+#define FIELD_DES FIELD_LIB
+#define FIELD_DSEC(PATH, MEMBER, N, IS_INT, LO, LO_OPEN, HI, UNIT)      \
+  {                                                                     \
+    PATH, RPS3_IN_MODEL, offsetof(scene_values, MEMBER), N, IS_INT, LO, \
+        LO_OPEN, HI, UNIT                                               \
+  }
+#define APPLY(M, ...) M(__VA_ARGS__)
+#define ARGS(...) __VA_ARGS__
+#define UNPACK_LIB(FIELD) FIELD
+#define UNPACK_OWN(FIELD) ARGS FIELD
+#define UNPACK_SIM(FIELD) ARGS FIELD
+#define UNPACK_DES(FIELD) FIELD
+#define UNPACK_DSEC(FIELD) ARGS FIELD
+#define FIELD_ROW(ID, PATH, TYPE, SRC, FIELD, REQ, SYM, DOC) \
+  APPLY(FIELD_##SRC, PATH, UNPACK_##SRC(FIELD)),
+static const rps3_field_info key_fields[SCENE_NKEY] = {SCENE_KEYS(FIELD_ROW)};
+#undef FIELD_ROW
 
-/* the design section's fields (scene_design.h) */
-#define DES_ROW(ID, MEMBER, N, IS_INT, LO, LO_OPEN, HI, UNIT) \
-  {"design." #MEMBER,                                         \
-   RPS3_IN_MODEL,                                             \
-   offsetof(scene_design, MEMBER),                            \
-   N,                                                         \
-   IS_INT,                                                    \
-   LO,                                                        \
-   LO_OPEN,                                                   \
-   HI,                                                        \
+/* the design keys' rows (SRC_DES): the library's rows of rps3_design
+   (RPS3_DESIGN_FIELDS), placed in scene_values.design; a design field is of
+   every trajectory kind */
+#define DES_ROW(ID, MEMBER, LO, LO_OPEN, HI, UNIT, NAME) \
+  {NAME,                                                 \
+   RPS3_IN_MODEL,                                        \
+   offsetof(scene_values, design.MEMBER),                \
+   1,                                                    \
+   0,                                                    \
+   LO,                                                   \
+   LO_OPEN,                                              \
+   HI,                                                   \
    UNIT},
-static const rps3_field_info des_fields[SCENE_NDES] = {
-    SCENE_DESIGN_FIELDS(DES_ROW)};
+static const rps3_field_info design_fields[RPS3_NDESIGN_FIELD] = {
+    RPS3_DESIGN_FIELDS(DES_ROW)};
 #undef DES_ROW
 
-/* the rows as written; scene_keys[] adds what their field's row says */
-#define KEY_ROW(ID, PATH, TYPE, SRC, FIELD, REQ, SYM, DOC) \
-  {PATH, TYPE, SRC_##SRC, FIELD, NULL, 0, REQ, NULL, SYM, DOC},
-static const scene_key_info key_rows[SCENE_NKEY] = {SCENE_KEYS(KEY_ROW)};
+/* the key rows: the field's row, what it fills, the default */
+#define INFO_LIB(K, ID) &lib_fields[ID], ID, 0, NULL
+#define INFO_OWN(K, MEMBER, IN, IS_INT, LO, LO_OPEN, HI, UNIT, FILLS) \
+  &key_fields[K], FILLS, 0, NULL
+#define INFO_SIM(K, MEMBER, IS_INT, LO, LO_OPEN, HI, UNIT, DEF, DEFTEXT) \
+  &key_fields[K], -1, DEF, DEFTEXT
+#define INFO_DES(K, ID) &design_fields[ID], -1, 0, NULL
+#define INFO_DSEC(K, MEMBER, N, IS_INT, LO, LO_OPEN, HI, UNIT) \
+  &key_fields[K], -1, 0, NULL
+#define KEY_ROW(ID, PATH, TYPE, SRC, FIELD, REQ, SYM, DOC)            \
+  {PATH, TYPE, SRC_##SRC, APPLY(INFO_##SRC, ID, UNPACK_##SRC(FIELD)), \
+   REQ,  SYM,  DOC},
+const scene_key_info scene_keys[SCENE_NKEY] = {SCENE_KEYS(KEY_ROW)};
 #undef KEY_ROW
-scene_key_info scene_keys[SCENE_NKEY];
-
-/* complete scene_keys[] from key_rows[] and the field rows, once; called from
-   the entry points, before any thread starts */
-void scene_keys_build(void) {
-  static int built;
-  int k;
-  if (built) return;
-  for (k = 0; k < SCENE_NKEY; k++) {
-    scene_key_info *ki = &scene_keys[k];
-    *ki = key_rows[k];
-    ki->f = ki->src == SRC_OWN    ? &own_fields[ki->field]
-            : ki->src == SRC_SIM  ? &sim_fields[ki->field]
-            : ki->src == SRC_DES  ? rps3_design_field(ki->field)
-            : ki->src == SRC_DSEC ? &des_fields[ki->field]
-                                  : rps3_field(ki->field);
-    ki->unit = ki->f->unit;
-    /* a design field's row is of rps3_design (RPS3_IN_DESIGN), not of a
-       trajectory kind */
-    ki->kind = ki->src != SRC_DES && ki->f->in >= RPS3_IN_HELIX ? ki->f->in - 1
-                                                                : FOR_ALL;
-  }
-  built = 1;
-}
 
 /* the path shapes (bits 1 << rps3_path_shape) that use key k, for the
    keys marked REQ_SHAPE; 0 for any other key */
@@ -121,24 +118,20 @@ int scene_shape_mask(int k) {
   }
 }
 
-/* the library field key k fills, directly or converted (-1: none) */
-int scene_key_fills(int k) {
-  if (scene_keys[k].src == SRC_SIM)
-    return -1; /* the controller's model and the simulation: not the plant */
-  if (scene_keys[k].src == SRC_DES || scene_keys[k].src == SRC_DSEC)
-    return -1; /* the design study's own */
-  return scene_keys[k].src == SRC_OWN ? own_fills[scene_keys[k].field]
-                                      : scene_keys[k].field;
+const scene_key_info *scene_key_get(int k) {
+  return (k >= 0 && k < SCENE_NKEY) ? &scene_keys[k] : NULL;
 }
 
-const scene_key_info *scene_key_get(int k) {
-  scene_keys_build();
-  return (k >= 0 && k < SCENE_NKEY) ? &scene_keys[k] : NULL;
+int scene_key_kind(const scene_key_info *ki) {
+  return ki->f->in >= RPS3_IN_HELIX ? ki->f->in - 1 : FOR_ALL;
+}
+
+int scene_key_applies(const scene_key_info *ki, int kind) {
+  return scene_key_kind(ki) == FOR_ALL || scene_key_kind(ki) == kind;
 }
 
 int scene_key_find(const char *path) {
   int k;
-  scene_keys_build();
   for (k = 0; k < SCENE_NKEY; k++)
     if (strcmp(scene_keys[k].path, path) == 0) return k;
   return -1;
@@ -209,17 +202,20 @@ void scene_effect_list(char *buf, size_t sz) {
                             rps3_effect_name(e));
 }
 
+void scene_output_list(char *buf, size_t sz) {
+  int e;
+  size_t len = 0;
+  buf[0] = '\0';
+  for (e = 0; e < RPS3_NOUTPUT && len < sz; e++)
+    len += (size_t)snprintf(buf + len, sz - len, "%s%s", e ? ", " : "",
+                            rps3_output_name(e));
+}
+
 /* -------------------------------------------------------------- values */
 
 /* where key k's value is stored in v */
 static char *value_at(scene_values *v, int k) {
-  char *base = scene_keys[k].src == SRC_OWN           ? (char *)&v->own
-               : scene_keys[k].src == SRC_SIM         ? (char *)&v->sim
-               : scene_keys[k].src == SRC_DES         ? (char *)&v->design
-               : scene_keys[k].src == SRC_DSEC        ? (char *)&v->des
-               : scene_keys[k].f->in == RPS3_IN_MODEL ? (char *)&v->model
-                                                      : (char *)&v->traj;
-  return base + scene_keys[k].f->offset;
+  return (char *)v + scene_keys[k].f->offset;
 }
 
 double *scene_real_at(scene_values *v, int k) {
@@ -232,7 +228,6 @@ int *scene_int_at(scene_values *v, int k) {
 
 double scene_value_real(const scene_values *v, int k, int comp) {
   double x;
-  scene_keys_build();
   memcpy(&x,
          value_at((scene_values *)(void *)v, k) +
              (size_t)(comp < 0 ? 0 : comp) * sizeof x,
@@ -252,15 +247,13 @@ void scene_value_set(scene_values *v, int k, int comp, double x) {
 /* defaults: the library's Table II model, options and helix; the runner's
    own values are those the library's defaults imply */
 void scene_values_default(scene_values *v) {
-  int i;
+  int k;
   memset(v, 0, sizeof *v);
-  for (i = 0; i < SCENE_NSIM; i++) {
-    char *p = (char *)&v->sim + sim_fields[i].offset;
-    if (sim_fields[i].is_int)
-      *(int *)(void *)p = (int)sim_default[i];
-    else
-      *(double *)(void *)p = sim_default[i];
-  }
+  for (k = 0; k < SCENE_NKEY; k++)
+    if (scene_keys[k].src == SRC_SIM && scene_keys[k].f->is_int)
+      *scene_int_at(v, k) = (int)scene_keys[k].def;
+    else if (scene_keys[k].src == SRC_SIM) /* a list: 0, the rest too */
+      *scene_real_at(v, k) = scene_keys[k].def;
   {
     rps3_design_opts o;
     rps3_design_opts_default(&o);

@@ -29,6 +29,7 @@ typedef enum {
   KEY_ENUM,    /* one of a list of names, stored as the library's enum */
   KEY_REAL3,   /* list of three finite doubles; a sweep picks one: key[k] */
   KEY_EFFECTS, /* list of effect names, stored as RPS3_EFF_* bits */
+  KEY_OUTPUTS, /* list of output names, stored as RPS3_OUT_* bits */
   KEY_TIMES,   /* list of at least 2 numbers (waypoint times) */
   KEY_POSES,   /* list of lists of 3 numbers (waypoint poses) */
   KEY_FILE     /* a file name, relative to the scene (a table) */
@@ -63,25 +64,6 @@ typedef struct {
   double dt;          /* time step [s] */
 } scene_own;
 
-/*
- * SCENE_OWN_FIELDS X(ID, IN, MEMBER, N, IS_INT, LO, LO_OPEN, HI, UNIT, NAME,
- *                    FILLS): rows shaped like the library's RPS3_FIELDS, for
- * the members of scene_own; IN says which trajectory kinds it serves, FILLS
- * the library field it is turned into (-1: none).
- */
-#define SCENE_OWN_FIELDS(X)                                            \
-  X(OWN_M_OVER_M, RPS3_IN_MODEL, m_over_M, 1, 0, 0, 0, HUGE_VAL, "1",  \
-    "m_over_M", RPS3_F_LINK_MASS)                                      \
-  X(OWN_BLEND_RATIO, RPS3_IN_HELIX, blend_ratio, 1, 0, 0, 1, 0.5, "1", \
-    "blend_ratio", RPS3_F_HELIX_BLEND)                                 \
-  X(OWN_SAMPLES, RPS3_IN_TRAJ, samples, 1, 1, 2, 0, 2147483647.0, "1", \
-    "samples", -1)                                                     \
-  X(OWN_DT, RPS3_IN_TRAJ, dt, 1, 0, 0, 1, HUGE_VAL, "s", "dt", -1)
-
-#define SCENE_OWN_ID(ID, ...) ID,
-enum { SCENE_OWN_FIELDS(SCENE_OWN_ID) SCENE_NOWN };
-#undef SCENE_OWN_ID
-
 /* every value a scene can set: the library's structures, filled through
    the offsets of RPS3_FIELDS, and the runner's own */
 typedef struct {
@@ -97,13 +79,28 @@ typedef struct {
 
 /*
  * SCENE_KEYS X(ID, path, type, SRC, FIELD, req, symbol, doc): each key of a
- * scene file.  SRC LIB: FIELD is the library field it fills (rps3_field_id),
- * whose row gives the offset, the range (the library's own validation, read,
- * not repeated), the unit and the trajectory kind; SRC OWN: FIELD is a row
- * of SCENE_OWN_FIELDS.  The rules that involve several fields are the
- * library's, run when a case is built; a failure comes back as a field id
- * and is mapped to the key (or the swept value) that set it.  Defaults are
- * those of rps3_model_default() and rps3_traj_default().
+ * scene file, one row, which drives parsing, checks, units, did-you-mean,
+ * the resolved YAML and `rps3-run --keys`.  SRC says where the value lives:
+ *  - LIB: FIELD is the library field it fills (rps3_field_id), whose row of
+ *    RPS3_FIELDS gives the place, the range (the library's own validation,
+ *    read, not repeated), the unit and the trajectory kind;
+ *  - OWN: a value only the runner has (scene_own), FIELD the row
+ *    (MEMBER, IN, IS_INT, LO, LO_OPEN, HI, UNIT, FILLS) shaped like the
+ *    library's, FILLS the library field it is turned into (-1: none);
+ *  - SIM: a value of the simulate section (scene_sim), FIELD the row
+ *    (MEMBER, IS_INT, LO, LO_OPEN, HI, UNIT, DEFAULT, DEFTEXT), DEFTEXT the
+ *    key table's text when DEFAULT is SIM_UNSET (NULL: the value);
+ *  - DES: a field of a design study's rps3_design, FIELD its id
+ *    (rps3_design_field_id), whose row of RPS3_DESIGN_FIELDS gives the
+ *    range and the unit (scene_design.h);
+ *  - DSEC: a value of the design section (scene_design), FIELD the row
+ *    (MEMBER, N, IS_INT, LO, LO_OPEN, HI, UNIT); its defaults are
+ *    rps3_design_opts_default's.
+ * The rules that involve several fields are the library's, run when a case
+ * is built; a failure comes back as a field id and is mapped to the key (or
+ * the swept value) that set it.  Defaults are those of rps3_model_default()
+ * and rps3_traj_default().  The simulate.model.* keys stay together (the
+ * resolved scene writes sections in the order of the rows).
  */
 #define SCENE_KEYS(X)                                                          \
   X(K_R, "manipulator.R", KEY_REAL, LIB, RPS3_F_R, REQ_YES, "R",               \
@@ -112,7 +109,8 @@ typedef struct {
     "platform radius r (centre to the ball joints) over R")                    \
   X(K_M, "manipulator.M", KEY_REAL, LIB, RPS3_F_PLATFORM_MASS, REQ_YES, "M",   \
     "platform mass, a uniform disc of radius r")                               \
-  X(K_M_OVER_M, "manipulator.m_over_M", KEY_REAL, OWN, OWN_M_OVER_M,           \
+  X(K_M_OVER_M, "manipulator.m_over_M", KEY_REAL, OWN,                         \
+    (own.m_over_M, RPS3_IN_MODEL, 0, 0, 0, HUGE_VAL, "1", RPS3_F_LINK_MASS),   \
     REQ_ONE_MASS, "m/M",                                                       \
     "mass of each link over M; give this or manipulator.m")                    \
   X(K_MASS, "manipulator.m", KEY_REAL, LIB, RPS3_F_LINK_MASS, REQ_ONE_MASS,    \
@@ -158,7 +156,8 @@ typedef struct {
     REQ_ONE_BLEND, "t_a",                                                      \
     "parabolic blend at both ends, t_a <= T*/2; t_b = T* - t_a; or give "      \
     "blend_ratio")                                                             \
-  X(K_BLEND_RATIO, "trajectory.blend_ratio", KEY_REAL, OWN, OWN_BLEND_RATIO,   \
+  X(K_BLEND_RATIO, "trajectory.blend_ratio", KEY_REAL, OWN,                    \
+    (own.blend_ratio, RPS3_IN_HELIX, 0, 0, 1, 0.5, "1", RPS3_F_HELIX_BLEND),   \
     REQ_ONE_BLEND, "t_a/T*",                                                   \
     "the blend as a fraction of T* (Table II: 0.1), so that a sweep of T* "    \
     "keeps the shape of the motion; or give blend")                            \
@@ -228,9 +227,11 @@ typedef struct {
     "CSV or HDF5 file of rows t, alpha, beta, z_c [, rates NAME_dot [, "       \
     "accelerations NAME_ddot]], relative to the scene; interpolated by a "     \
     "spline or Hermite polynomials (docs/trajectories.md)")                    \
-  X(K_SAMPLES, "trajectory.samples", KEY_INT, OWN, OWN_SAMPLES, REQ_ONE_GRID,  \
+  X(K_SAMPLES, "trajectory.samples", KEY_INT, OWN,                             \
+    (own.samples, RPS3_IN_TRAJ, 1, 2, 0, 2147483647.0, "1", -1), REQ_ONE_GRID, \
     "-", "time samples over the span, both ends included; or give dt")         \
-  X(K_DT, "trajectory.dt", KEY_REAL, OWN, OWN_DT, REQ_ONE_GRID, "-",           \
+  X(K_DT, "trajectory.dt", KEY_REAL, OWN,                                      \
+    (own.dt, RPS3_IN_TRAJ, 0, 0, 1, HUGE_VAL, "s", -1), REQ_ONE_GRID, "-",     \
     "time step; the span must be a whole number of steps; or give samples")    \
   X(K_EFFECTS, "effects", KEY_EFFECTS, LIB, RPS3_F_EFFECTS, REQ_NO, "-",       \
     "effects to compute (default: the paper's four, plus payload and "         \
@@ -247,8 +248,10 @@ typedef struct {
     "GSL multiroot solver (hybridsj, hybridj, newton, ...)")                   \
   X(K_WARM, "solver.warm_start", KEY_BOOL, LIB, RPS3_F_WARM_START, REQ_NO,     \
     "-", "theta solve starts from the previous sample of the case")            \
-  X(K_CERTIFY, "solver.certify", KEY_BOOL, LIB, RPS3_F_CERTIFY, REQ_NO, "-",   \
-    "compute the energy-rate residual at every sample")                        \
+  X(K_OUTPUTS, "solver.outputs", KEY_OUTPUTS, LIB, RPS3_F_OUTPUTS, REQ_NO,     \
+    "-",                                                                       \
+    "results to compute (default: all): forces, effects, theta, lambda, "      \
+    "transmission, certify (the energy-rate residual); the others are NaN")    \
   X(K_COND_WARN, "solver.cond_warn", KEY_REAL, LIB, RPS3_F_COND_WARN, REQ_NO,  \
     "-", "warn above this condition number")                                   \
   X(K_COND_MAX, "solver.cond_max", KEY_REAL, LIB, RPS3_F_COND_MAX, REQ_NO,     \
@@ -262,7 +265,101 @@ typedef struct {
   X(K_MODE, "solver.mode", KEY_INT, LIB, RPS3_F_MODE, REQ_NO, "-",             \
     "assembly mode the theta solve must return: 0 any, 1 the level "           \
     "platform's (det df/dtheta > 0), -1 the other")                            \
-  SCENE_SIM_KEYS(X)                                                            \
+  X(K_SIM_CONTROLLER, "simulate.controller", KEY_ENUM, SIM,                    \
+    (sim.controller, 1, 0, 0, RPS3_NCTRL - 1, "-", RPS3_CTRL_COMPUTED_TORQUE,  \
+     NULL),                                                                    \
+    REQ_NO, "-",                                                               \
+    "the control law (docs/simulation.md): open_loop (the inverse dynamics "   \
+    "of the desired motion), pd, pd_gravity or computed_torque")               \
+  X(K_SIM_KP, "simulate.kp", KEY_REAL, SIM,                                    \
+    (sim.kp, 0, 0, 0, HUGE_VAL, "N/m or 1/s^2", SIM_UNSET,                     \
+     "by kind: pd 2000, computed_torque 400"),                                 \
+    REQ_NO, "-",                                                               \
+    "position gain: N/m for pd and pd_gravity, 1/s^2 for computed_torque "     \
+    "(e'' + kd e' + kp e = 0); unused by open_loop")                           \
+  X(K_SIM_KD, "simulate.kd", KEY_REAL, SIM,                                    \
+    (sim.kd, 0, 0, 0, HUGE_VAL, "N s/m or 1/s", SIM_UNSET,                     \
+     "by kind: pd 40, computed_torque 40"),                                    \
+    REQ_NO, "-",                                                               \
+    "rate gain: N s/m for pd and pd_gravity, 1/s for computed_torque")         \
+  X(K_SIM_RATE, "simulate.rate", KEY_REAL, SIM,                                \
+    (sim.rate, 0, 0, 0, HUGE_VAL, "Hz", 1000.0, NULL), REQ_NO, "-",            \
+    "control rate, zero-order hold; 0: the controller at every evaluation "    \
+    "(a continuous law)")                                                      \
+  X(K_SIM_INTEGRATOR, "simulate.integrator", KEY_ENUM, SIM,                    \
+    (sim.integrator, 1, 0, 0, RPS3_NINTEGRATOR - 1, "-", RPS3_INT_RK4, NULL),  \
+    REQ_NO, "-",                                                               \
+    "rk4 (fixed step, real time), rkf45, rk8pd (adaptive), msbdf, rk4imp "     \
+    "(implicit, stiff friction)")                                              \
+  X(K_SIM_H, "simulate.h", KEY_REAL, SIM,                                      \
+    (sim.h, 0, 0, 1, HUGE_VAL, "s", 1e-3, NULL), REQ_NO, "-",                  \
+    "step of rk4 and rk4imp (the largest dividing each control period), "      \
+    "first step of the adaptive ones")                                         \
+  X(K_SIM_TOL, "simulate.tolerance", KEY_REAL, SIM,                            \
+    (sim.tolerance, 0, 0, 1, HUGE_VAL, "1", 1e-9, NULL), REQ_NO, "-",          \
+    "adaptive integrators: epsabs = epsrel on (l, dl, work)")                  \
+  X(K_SIM_MAX_STEPS, "simulate.max_steps", KEY_INT, SIM,                       \
+    (sim.max_steps, 1, 1, 0, 2147483647.0, "1", 100000, NULL), REQ_NO, "-",    \
+    "integrator steps per control period before the run fails")                \
+  X(K_SIM_DURATION, "simulate.duration", KEY_REAL, SIM,                        \
+    (sim.duration, 0, 0, 1, HUGE_VAL, "s", SIM_UNSET,                          \
+     "the trajectory's span"),                                                 \
+    REQ_NO, "-",                                                               \
+    "simulated time, a whole number of the trajectory's time steps; past "     \
+    "the trajectory the reference is its final pose at rest")                  \
+  X(K_SIM_START_OFFSET, "simulate.start_offset", KEY_REAL3, SIM,               \
+    (sim.start_offset, 0, -HUGE_VAL, 0, HUGE_VAL, "rad, rad, m", 0.0, NULL),   \
+    REQ_NO, "-",                                                               \
+    "the plant starts at the trajectory's first pose plus this [alpha, "       \
+    "beta, z_c] offset, at its rates: an initial error to correct")            \
+  X(K_SIM_FMAX, "simulate.fmax", KEY_REAL, SIM,                                \
+    (sim.fmax, 0, 0, 0, HUGE_VAL, "N", 0.0, NULL), REQ_NO, "-",                \
+    "actuator saturation abs(F_i) <= fmax; 0: none")                           \
+  X(K_SIM_L_MIN, "simulate.l_min", KEY_REAL, SIM,                              \
+    (sim.l_min, 0, 0, 0, HUGE_VAL, "m", 0.0, NULL), REQ_NO, "-",               \
+    "shortest link (stroke); a shorter one ends the case (reach)")             \
+  X(K_SIM_L_MAX, "simulate.l_max", KEY_REAL, SIM,                              \
+    (sim.l_max, 0, 0, 0, HUGE_VAL, "m", 0.0, NULL), REQ_NO, "-",               \
+    "longest link (stroke); 0: no limit")                                      \
+  X(K_SIM_NOISE_L, "simulate.noise_l", KEY_REAL, SIM,                          \
+    (sim.noise_l, 0, 0, 0, HUGE_VAL, "m", 0.0, NULL), REQ_NO, "-",             \
+    "standard deviation of the measured link lengths (Gaussian)")              \
+  X(K_SIM_NOISE_DL, "simulate.noise_dl", KEY_REAL, SIM,                        \
+    (sim.noise_dl, 0, 0, 0, HUGE_VAL, "m/s", 0.0, NULL), REQ_NO, "-",          \
+    "standard deviation of the measured link rates")                           \
+  X(K_SIM_QUANT_L, "simulate.quant_l", KEY_REAL, SIM,                          \
+    (sim.quant_l, 0, 0, 0, HUGE_VAL, "m", 0.0, NULL), REQ_NO, "-",             \
+    "quantum of the measured lengths (an encoder); 0: none")                   \
+  X(K_SIM_QUANT_DL, "simulate.quant_dl", KEY_REAL, SIM,                        \
+    (sim.quant_dl, 0, 0, 0, HUGE_VAL, "m/s", 0.0, NULL), REQ_NO, "-",          \
+    "quantum of the measured rates; 0: none")                                  \
+  X(K_SIM_SEED, "simulate.seed", KEY_INT, SIM,                                 \
+    (sim.seed, 1, 0, 0, 2147483647.0, "1", 24301, NULL), REQ_NO, "-",          \
+    "seed of the noise generator (runs are reproducible)")                     \
+  X(K_SIM_MODEL_M, "simulate.model.M", KEY_REAL, SIM,                          \
+    (sim.model_M, 0, 0, 0, HUGE_VAL, "kg", SIM_UNSET, "the plant's"), REQ_NO,  \
+    "M", "the controller's platform mass")                                     \
+  X(K_SIM_MODEL_M_OVER_M, "simulate.model.m_over_M", KEY_REAL, SIM,            \
+    (sim.model_m_over_M, 0, 0, 0, HUGE_VAL, "1", SIM_UNSET, "the plant's"),    \
+    REQ_NO, "m/M",                                                             \
+    "the controller's link mass over its M (0: the paper's case 1)")           \
+  X(K_SIM_MODEL_PAY_MASS, "simulate.model.payload.mass", KEY_REAL, SIM,        \
+    (sim.model_payload_mass, 0, 0, 0, HUGE_VAL, "kg", SIM_UNSET,               \
+     "the plant's"),                                                           \
+    REQ_NO, "-",                                                               \
+    "the controller's payload mass (its centre and inertia: the plant's)")     \
+  X(K_SIM_MODEL_VISCOUS, "simulate.model.pin_friction.viscous", KEY_REAL, SIM, \
+    (sim.model_viscous, 0, 0, 0, HUGE_VAL, "N m s/rad", SIM_UNSET,             \
+     "the plant's"),                                                           \
+    REQ_NO, "-", "the controller's viscous pin friction")                      \
+  X(K_SIM_MODEL_COULOMB, "simulate.model.pin_friction.coulomb", KEY_REAL, SIM, \
+    (sim.model_coulomb, 0, 0, 0, HUGE_VAL, "N m", SIM_UNSET, "the plant's"),   \
+    REQ_NO, "-", "the controller's Coulomb pin friction")                      \
+  X(K_SIM_MODEL_EFFECTS, "simulate.model.effects", KEY_EFFECTS, SIM,           \
+    (sim.model_effects, 1, 0, 0, RPS3_EFF_ALL, "-", -1, "the plant's"),        \
+    REQ_NO, "-",                                                               \
+    "the effects the controller's model computes (pd_gravity: its weights; "   \
+    "computed_torque, open_loop: its feedforward)")                            \
   SCENE_DESIGN_KEYS(X)
 
 #define SCENE_KEY_ID(ID, ...) ID,
@@ -276,23 +373,32 @@ enum { SRC_LIB = 0, SRC_OWN = 1, SRC_SIM = 2, SRC_DES = 3, SRC_DSEC = 4 };
    rps3_design, or of the design section */
 #define SCENE_KEY_IS_DESIGN(ki) ((ki)->src == SRC_DES || (ki)->src == SRC_DSEC)
 
-/* one row of SCENE_KEYS, with its field's row resolved */
+/* one row of SCENE_KEYS, with its field's row */
 typedef struct {
   const char *path;
   key_type type;
-  int src;                  /* SRC_LIB or SRC_OWN */
-  int field;                /* rps3_field_id (SRC_LIB), OWN_* (SRC_OWN) or SIM_*
-                               (SRC_SIM) */
-  const rps3_field_info *f; /* the field's row: offset, range, unit */
-  int kind;                 /* FOR_*, from the field's IN */
+  int src;                  /* SRC_* */
+  const rps3_field_info *f; /* its row: offset in scene_values, range, unit,
+                               trajectory kind (IN) */
+  int fills;                /* the library field it fills, directly or
+                               converted (-1: none; SRC_SIM: not the plant;
+                               SRC_DES, SRC_DSEC: the design study's own) */
+  double def;               /* SRC_SIM: the default (SIM_UNSET: not given) */
+  const char *deftext;      /* SRC_SIM: the default as the key list says it
+                               (NULL: the value) */
   int req;                  /* REQ_* */
-  const char *unit;
   const char *symbol;
   const char *doc;
 } scene_key_info;
 
 /* the row of key k (0 <= k < SCENE_NKEY) */
 const scene_key_info *scene_key_get(int k);
+
+/* the trajectory kind key row ki belongs to (FOR_*) */
+int scene_key_kind(const scene_key_info *ki);
+
+/* 1 when key row ki applies to trajectory kind `kind` */
+int scene_key_applies(const scene_key_info *ki, int kind);
 
 /* component comp (0 for a scalar) of number key k (KEY_REAL, KEY_REAL3)
    in v */

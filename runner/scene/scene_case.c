@@ -26,7 +26,7 @@ size_t scene_case_coord(const scene *s, size_t index, size_t a) {
 static int keys_filling(const scene *s, int id, int *out, int max) {
   int k, n = 0;
   for (k = 0; k < SCENE_NKEY && n < max; k++)
-    if (id >= 0 && scene_key_fills(k) == id && s->given[k]) out[n++] = k;
+    if (id >= 0 && scene_keys[k].fills == id && s->given[k]) out[n++] = k;
   return n;
 }
 

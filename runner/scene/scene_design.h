@@ -7,13 +7,12 @@
  * link_density 0, the default, exactly the link mass and centroid of any
  * scene); the stroke, the joint ranges, the link radius and the rod's
  * density are the keys below, whose rows are the library's
- * (rps3_design_field: range and unit read, not repeated).  The `design:`
+ * (RPS3_DESIGN_FIELDS: range and unit read, not repeated).  The `design:`
  * section is the runner's own: the grid of poses over alpha, beta and z_c
  * and how the indices are evaluated (rps3_design_opts).  Each case of a
  * design study's sweep is one design (docs/runner.md, "Design studies").
  *
- * Header only, like scene_sim.h, so that everything that parses scenes sees
- * the same rows.
+ * Header only: its rows are rows of scene.h's one key table, SCENE_KEYS.
  */
 #ifndef RPS3_RUNNER_SCENE_DESIGN_H
 #define RPS3_RUNNER_SCENE_DESIGN_H
@@ -34,33 +33,16 @@ typedef struct {
 } scene_design;
 
 /*
- * SCENE_DESIGN_FIELDS X(ID, MEMBER, N, IS_INT, LO, LO_OPEN, HI, UNIT,
- *                       DEFAULT): rows shaped like the library's
- * RPS3_FIELDS for the members of scene_design.  The grid's own rules (lo <=
- * hi, whole counts) are design.c's; the defaults of the options are
- * rps3_design_opts_default's (scene_values_default).
- */
-#define SCENE_DESIGN_FIELDS(X)                                               \
-  X(DES_GRID_ALPHA, grid_alpha, 3, 0, -HUGE_VAL, 0, HUGE_VAL, "rad, rad, 1") \
-  X(DES_GRID_BETA, grid_beta, 3, 0, -HUGE_VAL, 0, HUGE_VAL, "rad, rad, 1")   \
-  X(DES_GRID_Z_C, grid_z_c, 3, 0, -HUGE_VAL, 0, HUGE_VAL, "m, m, 1")         \
-  X(DES_GOOD_LTI, good_lti, 1, 0, 0, 0, 1, "1")                              \
-  X(DES_LENGTH, length, 1, 0, 0, 0, HUGE_VAL, "m")                           \
-  X(DES_COND_SING, cond_sing, 1, 0, 1, 0, HUGE_VAL, "1")                     \
-  X(DES_PER_POSE, per_pose, 1, 1, 0, 0, 1, "-")
-
-#define SCENE_DESIGN_ID(ID, ...) ID,
-enum { SCENE_DESIGN_FIELDS(SCENE_DESIGN_ID) SCENE_NDES };
-#undef SCENE_DESIGN_ID
-
-/*
  * The keys, rows of SCENE_KEYS (scene.h): X(ID, path, type, SRC, FIELD,
  * req, symbol, doc).  SRC DES: FIELD is an rps3_design_field_id (the
- * library's row); SRC DSEC: a row of SCENE_DESIGN_FIELDS.  The
- * manipulator's design keys stand with the other manipulator keys (the
- * resolved scene writes sections in the order of the rows), the design
- * section's at the end.  "required" means: in a design study (a scene
- * without a design section may not give them).
+ * library's row of RPS3_DESIGN_FIELDS); SRC DSEC: FIELD is the row (MEMBER,
+ * N, IS_INT, LO, LO_OPEN, HI, UNIT) of a member of scene_design, shaped like
+ * the library's; the grid's own rules (lo <= hi, whole counts) are
+ * design.c's, the defaults of the options rps3_design_opts_default's
+ * (scene_values_default).  The manipulator's design keys stand with the
+ * other manipulator keys (the resolved scene writes sections in the order
+ * of the rows), the design section's at the end.  "required" means: in a design
+ * study (a scene without a design section may not give them).
  */
 #define SCENE_DESIGN_MANIP_KEYS(X)                                            \
   X(K_DES_STROKE_MIN, "manipulator.stroke.min", KEY_REAL, DES, RPS3_DF_L_MIN, \
@@ -88,27 +70,31 @@ enum { SCENE_DESIGN_FIELDS(SCENE_DESIGN_ID) SCENE_NDES };
     "actuator body m at d; 0: the link is m at d")
 
 #define SCENE_DESIGN_KEYS(X)                                                  \
-  X(K_DES_ALPHA, "design.alpha", KEY_REAL3, DSEC, DES_GRID_ALPHA, REQ_YES,    \
+  X(K_DES_ALPHA, "design.alpha", KEY_REAL3, DSEC,                             \
+    (des.grid_alpha, 3, 0, -HUGE_VAL, 0, HUGE_VAL, "rad, rad, 1"), REQ_YES,   \
     "alpha",                                                                  \
     "pose grid: [lo, hi, cells] of the precession angle alpha; poses at the " \
     "cell centres")                                                           \
-  X(K_DES_BETA, "design.beta", KEY_REAL3, DSEC, DES_GRID_BETA, REQ_YES,       \
+  X(K_DES_BETA, "design.beta", KEY_REAL3, DSEC,                               \
+    (des.grid_beta, 3, 0, -HUGE_VAL, 0, HUGE_VAL, "rad, rad, 1"), REQ_YES,    \
     "beta", "pose grid: [lo, hi, cells] of the nutation angle beta")          \
-  X(K_DES_Z_C, "design.z_c", KEY_REAL3, DSEC, DES_GRID_Z_C, REQ_YES, "z_c",   \
+  X(K_DES_Z_C, "design.z_c", KEY_REAL3, DSEC,                                 \
+    (des.grid_z_c, 3, 0, -HUGE_VAL, 0, HUGE_VAL, "m, m, 1"), REQ_YES, "z_c",  \
     "pose grid: [lo, hi, cells] of the platform centre height z_c")           \
-  X(K_DES_GOOD_LTI, "design.good_lti", KEY_REAL, DSEC, DES_GOOD_LTI, REQ_NO,  \
-    "-",                                                                      \
+  X(K_DES_GOOD_LTI, "design.good_lti", KEY_REAL, DSEC,                        \
+    (des.good_lti, 1, 0, 0, 0, 1, "1"), REQ_NO, "-",                          \
     "good transmission: a reachable pose whose local transmission index LTI " \
     "is at least this")                                                       \
-  X(K_DES_LENGTH, "design.length", KEY_REAL, DSEC, DES_LENGTH, REQ_NO, "L",   \
+  X(K_DES_LENGTH, "design.length", KEY_REAL, DSEC,                            \
+    (des.length, 1, 0, 0, 0, HUGE_VAL, "m"), REQ_NO, "L",                     \
     "characteristic length of the homogeneous condition number; 0: the "      \
     "platform radius r")                                                      \
-  X(K_DES_COND_SING, "design.cond_sing", KEY_REAL, DSEC, DES_COND_SING,       \
-    REQ_NO, "-",                                                              \
+  X(K_DES_COND_SING, "design.cond_sing", KEY_REAL, DSEC,                      \
+    (des.cond_sing, 1, 0, 1, 0, HUGE_VAL, "1"), REQ_NO, "-",                  \
     "a pose whose homogeneous condition number is above this is singular "    \
     "(not reachable)")                                                        \
-  X(K_DES_PER_POSE, "design.per_pose", KEY_BOOL, DSEC, DES_PER_POSE, REQ_NO,  \
-    "-",                                                                      \
+  X(K_DES_PER_POSE, "design.per_pose", KEY_BOOL, DSEC,                        \
+    (des.per_pose, 1, 1, 0, 0, 1, "-"), REQ_NO, "-",                          \
     "also write the indices of every pose ([case, z_c, beta, alpha] "         \
     "datasets)")
 

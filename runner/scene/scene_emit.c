@@ -15,13 +15,6 @@
 
 #include <yaml.h>
 
-/* the key table's text for a simulate default that is not a value */
-#define SIM_DEFTEXT(ID, MEMBER, IS_INT, LO, LO_OPEN, HI, UNIT, DEF, DEFTEXT) \
-  DEFTEXT,
-static const char *const sim_deftext[SCENE_NSIM] = {
-    SCENE_SIM_FIELDS(SIM_DEFTEXT)};
-#undef SIM_DEFTEXT
-
 /* ----------------------------------------------------------------- emit */
 
 void scene_text_free(scene_text *t) {
@@ -81,6 +74,18 @@ static int emit_close(yaml_emitter_t *em, int seq) {
   return yaml_emitter_emit(em, &ev);
 }
 
+/* x[0..n) as a flow list of numbers */
+static int emit_reals(yaml_emitter_t *em, const double *x, size_t n) {
+  char buf[64];
+  size_t i;
+  int ok = emit_open(em, 1, 1);
+  for (i = 0; i < n && ok; i++) {
+    scene_format_real(buf, sizeof buf, x[i]);
+    ok = emit_scalar(em, buf);
+  }
+  return ok && emit_close(em, 1);
+}
+
 /* the value of key k of v, as YAML events */
 static int emit_value(yaml_emitter_t *em, int k, const scene_values *v) {
   char buf[64];
@@ -92,13 +97,7 @@ static int emit_value(yaml_emitter_t *em, int k, const scene_values *v) {
   case KEY_REAL:
     scene_format_real(buf, sizeof buf, *scene_real_at(w, k));
     return emit_scalar(em, buf);
-  case KEY_REAL3:
-    ok = emit_open(em, 1, 1);
-    for (i = 0; i < 3 && ok; i++) {
-      scene_format_real(buf, sizeof buf, scene_real_at(w, k)[i]);
-      ok = emit_scalar(em, buf);
-    }
-    return ok && emit_close(em, 1);
+  case KEY_REAL3: return emit_reals(em, scene_real_at(w, k), 3);
   case KEY_INT:
     snprintf(buf, sizeof buf, "%d", *scene_int_at(w, k));
     return emit_scalar(em, buf);
@@ -111,23 +110,17 @@ static int emit_value(yaml_emitter_t *em, int k, const scene_values *v) {
       if (*scene_int_at(w, k) & (1 << i))
         ok = emit_scalar(em, rps3_effect_name(i));
     return ok && emit_close(em, 1);
-  case KEY_TIMES:
+  case KEY_OUTPUTS:
     ok = emit_open(em, 1, 1);
-    for (r = 0; r < v->traj.wp.n && ok; r++) {
-      scene_format_real(buf, sizeof buf, v->traj.wp.time[r]);
-      ok = emit_scalar(em, buf);
-    }
+    for (i = 0; i < RPS3_NOUTPUT && ok; i++)
+      if (*scene_int_at(w, k) & (1 << i))
+        ok = emit_scalar(em, rps3_output_name(i));
     return ok && emit_close(em, 1);
+  case KEY_TIMES: return emit_reals(em, v->traj.wp.time, v->traj.wp.n);
   case KEY_POSES:
     ok = emit_open(em, 1, 0);
-    for (r = 0; r < v->traj.wp.n && ok; r++) {
-      ok = emit_open(em, 1, 1);
-      for (i = 0; i < 3 && ok; i++) {
-        scene_format_real(buf, sizeof buf, v->traj.wp.pose[r][i]);
-        ok = emit_scalar(em, buf);
-      }
-      ok = ok && emit_close(em, 1);
-    }
+    for (r = 0; r < v->traj.wp.n && ok; r++)
+      ok = emit_reals(em, v->traj.wp.pose[r], 3);
     return ok && emit_close(em, 1);
   case KEY_FILE:
     file = k == K_PATH_FILE ? v->path_file : v->table_file;
@@ -140,7 +133,7 @@ static int emit_value(yaml_emitter_t *em, int k, const scene_values *v) {
    the way the scene gave them. */
 static int case_has_key(const scene_case *c, int k) {
   const scene_key_info *ki = scene_key_get(k);
-  if (ki->kind != FOR_ALL && ki->kind != (int)c->v.traj.kind) return 0;
+  if (!scene_key_applies(ki, c->v.traj.kind)) return 0;
   /* the design keys in a design study; no trajectory where it has none */
   if (SCENE_KEY_IS_DESIGN(ki)) return c->design;
   if (c->design && design_key_unread(k)) return 0;
@@ -231,33 +224,34 @@ static void range_text(const rps3_field_info *f, char *buf, size_t sz) {
     snprintf(buf, sz, "%c%s, %s]", f->lo_open ? '(' : '[', lo, hi);
 }
 
+/* the type column of each key_type; an enum lists its names */
+static const char *const type_text[] = {[KEY_REAL] = "number",
+                                        [KEY_INT] = "integer",
+                                        [KEY_BOOL] = "bool",
+                                        [KEY_REAL3] = "[3 numbers]",
+                                        [KEY_EFFECTS] = "[effect names]",
+                                        [KEY_OUTPUTS] = "[output names]",
+                                        [KEY_TIMES] = "[numbers]",
+                                        [KEY_POSES] = "[[3 numbers], ...]",
+                                        [KEY_FILE] = "file name"};
+
 void scene_keys_print(void) {
   scene_values v;
   char def[64], names[256], range[80];
   int k;
-  (void)scene_key_get(0); /* builds the key table */
   scene_values_default(&v);
   printf("| key | type | unit | range | paper | default | meaning |\n");
   printf("|---|---|---|---|---|---|---|\n");
   for (k = 0; k < SCENE_NKEY; k++) {
     const scene_key_info *ki = scene_key_get(k);
-    const char *type = "";
-    switch (ki->type) {
-    case KEY_REAL: type = "number"; break;
-    case KEY_REAL3: type = "[3 numbers]"; break;
-    case KEY_INT: type = "integer"; break;
-    case KEY_BOOL: type = "bool"; break;
-    case KEY_ENUM:
+    const char *type = type_text[ki->type];
+    int kind = scene_key_kind(ki);
+    if (ki->type == KEY_ENUM) {
       scene_enum_list(k, names, sizeof names);
       type = names;
-      break;
-    case KEY_EFFECTS: type = "[effect names]"; break;
-    case KEY_TIMES: type = "[numbers]"; break;
-    case KEY_POSES: type = "[[3 numbers], ...]"; break;
-    case KEY_FILE: type = "file name"; break;
     }
-    if (ki->src == SRC_SIM && sim_deftext[ki->field])
-      snprintf(def, sizeof def, "%s", sim_deftext[ki->field]);
+    if (ki->deftext)
+      snprintf(def, sizeof def, "%s", ki->deftext);
     else if (ki->req == REQ_YES && SCENE_KEY_IS_DESIGN(ki))
       snprintf(def, sizeof def, "required in a design study");
     else if (ki->req == REQ_YES)
@@ -282,9 +276,9 @@ void scene_keys_print(void) {
     range_text(ki->f, range, sizeof range);
     printf(
         "| `%s`%s%s%s | %s | %s | %s | %s | %s | %s |\n", ki->path,
-        ki->kind != FOR_ALL ? " (" : "",
-        ki->kind != FOR_ALL ? scene_enum_name(K_KIND, ki->kind) : "",
-        ki->kind != FOR_ALL ? ")" : "", type, ki->unit,
+        kind != FOR_ALL ? " (" : "",
+        kind != FOR_ALL ? scene_enum_name(K_KIND, kind) : "",
+        kind != FOR_ALL ? ")" : "", type, ki->f->unit,
         (ki->type == KEY_REAL || ki->type == KEY_REAL3 || ki->type == KEY_INT)
             ? range
             : "-",

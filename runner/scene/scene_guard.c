@@ -2,102 +2,28 @@
  * scene_guard.c - see scene_guard.h.
  */
 #include "scene_guard.h"
+#include "scene_int.h"
+#include "core/safeio.h"
 
-#include <errno.h>
-#include <fcntl.h>
-#include <stdarg.h>
 #include <stdio.h>
-#include <stdlib.h>
 #include <string.h>
-#include <sys/stat.h>
-#include <unistd.h>
 
 #include <yaml.h>
 
-static void guard_error(scene_error *err, int line, int column,
-                        const char *path, const char *fmt, ...) {
-  va_list ap;
-  err->mark.line = line;
-  err->mark.column = column;
-  snprintf(err->path, sizeof err->path, "%s", path);
-  va_start(ap, fmt);
-  vsnprintf(err->what, sizeof err->what, fmt, ap);
-  va_end(ap);
-}
-
-static const char *file_kind(mode_t m) {
-  return S_ISDIR(m)    ? "a directory"
-         : S_ISCHR(m)  ? "a character device"
-         : S_ISBLK(m)  ? "a block device"
-         : S_ISFIFO(m) ? "a FIFO"
-         : S_ISSOCK(m) ? "a socket"
-                       : "not a regular file";
-}
+/* errors before any line: about the file */
+static const scene_mark nowhere = {0, 0};
 
 int scene_read_guarded(const char *path, char **text, size_t *len,
                        scene_error *err) {
-  struct stat st;
-  size_t got = 0;
-  char *buf;
-  /* O_NONBLOCK: opening a FIFO must not wait for a writer */
-  int fd = open(path, O_RDONLY | O_NONBLOCK);
-  *text = NULL;
-  *len = 0;
-  if (fd < 0) {
-    guard_error(err, 0, 0, "(file)", "cannot open: %s", strerror(errno));
-    return -1;
-  }
-  if (fstat(fd, &st) != 0) {
-    guard_error(err, 0, 0, "(file)", "cannot read: %s", strerror(errno));
-    close(fd);
-    return -1;
-  }
-  if (!S_ISREG(st.st_mode)) {
-    guard_error(err, 0, 0, "(file)",
-                "is %s: a scene is a regular file (YAML text)",
-                file_kind(st.st_mode));
-    close(fd);
-    return -1;
-  }
-  if (st.st_size > (off_t)SCENE_MAX_BYTES) {
-    guard_error(err, 0, 0, "(file)",
-                "is %lld bytes: a scene is at most %u bytes (1 MiB)",
-                (long long)st.st_size, (unsigned)SCENE_MAX_BYTES);
-    close(fd);
-    return -1;
-  }
-  /* one byte more than the limit: a file that grew since fstat */
-  buf = malloc((size_t)SCENE_MAX_BYTES + 2);
-  if (!buf) {
-    guard_error(err, 0, 0, "(file)", "out of memory");
-    close(fd);
-    return -1;
-  }
-  for (;;) {
-    ssize_t n = read(fd, buf + got, (size_t)SCENE_MAX_BYTES + 1 - got);
-    if (n < 0 && errno == EINTR) continue;
-    if (n < 0) {
-      guard_error(err, 0, 0, "(file)", "cannot read: %s", strerror(errno));
-      free(buf);
-      close(fd);
-      return -1;
-    }
-    if (n == 0) break;
-    got += (size_t)n;
-    if (got > SCENE_MAX_BYTES) {
-      guard_error(err, 0, 0, "(file)",
-                  "is more than %u bytes: a scene is at most 1 MiB",
-                  (unsigned)SCENE_MAX_BYTES);
-      free(buf);
-      close(fd);
-      return -1;
-    }
-  }
-  close(fd);
-  buf[got] = '\0';
-  *text = buf;
-  *len = got;
-  return 0;
+  char why[200], size_rule[64];
+  snprintf(size_rule, sizeof size_rule, "a scene is at most %u bytes (1 MiB)",
+           (unsigned)SCENE_MAX_BYTES);
+  if (file_read_all(path, SCENE_MAX_BYTES,
+                    "a scene is a regular file (YAML text)", size_rule, text,
+                    len, why, sizeof why) == 0)
+    return 0;
+  scene_error_set(err, nowhere, "(file)", "%s", why);
+  return -1;
 }
 
 /* the UTF-16 or UTF-32 encoding of a text, from its BOM or its NUL bytes
@@ -142,27 +68,27 @@ static size_t utf8_len(const unsigned char *t, size_t n) {
    libyaml counts them) */
 static int check_bytes(const unsigned char *t, size_t n, scene_error *err) {
   size_t i = 0;
-  int line = 1, col = 1;
+  scene_mark at = {1, 1};
   while (i < n) {
     size_t k;
     if (t[i] == 0) {
-      guard_error(err, line, col, "(file)",
-                  "a NUL byte (byte %zu): not a text file", i);
+      scene_error_set(err, at, "(file)",
+                      "a NUL byte (byte %zu): not a text file", i);
       return -1;
     }
     k = utf8_len(t + i, n - i);
     if (k == 0) {
-      guard_error(err, line, col, "(file)",
-                  "invalid UTF-8 (byte %zu is 0x%02X): a scene is UTF-8 "
-                  "text",
-                  i, t[i]);
+      scene_error_set(err, at, "(file)",
+                      "invalid UTF-8 (byte %zu is 0x%02X): a scene is UTF-8 "
+                      "text",
+                      i, t[i]);
       return -1;
     }
     if (t[i] == '\n' || (t[i] == '\r' && (i + 1 == n || t[i + 1] != '\n'))) {
-      line++;
-      col = 1;
+      at.line++;
+      at.column = 1;
     } else if (t[i] != '\r')
-      col++;
+      at.column++;
     i += k;
   }
   return 0;
@@ -259,12 +185,11 @@ static int check_events(const char *text, size_t len, scene_error *err) {
           static const char core[] = "tag:yaml.org,2002:";
           const char *tag = tag_of(&e);
           int is_core = strncmp(tag, core, sizeof core - 1) == 0;
-          guard_error(err, (int)e.start_mark.line + 1,
-                      (int)e.start_mark.column + 1, path,
-                      "YAML tag '%s%s' is not accepted: write the value "
-                      "plainly (only !!int and !!float may tag a number)",
-                      is_core ? "!!" : "",
-                      is_core ? tag + sizeof core - 1 : tag);
+          scene_error_set(err, scene_mark_of(&e.start_mark), path,
+                          "YAML tag '%s%s' is not accepted: write the value "
+                          "plainly (only !!int and !!float may tag a number)",
+                          is_core ? "!!" : "",
+                          is_core ? tag + sizeof core - 1 : tag);
         }
         rc = -1;
         break;
@@ -275,10 +200,9 @@ static int check_events(const char *text, size_t len, scene_error *err) {
       }
       if (d == SCENE_MAX_DEPTH) {
         path_of(st, d, path, sizeof path);
-        guard_error(err, (int)e.start_mark.line + 1,
-                    (int)e.start_mark.column + 1, path,
-                    "nested more than %d levels deep: a scene needs 3",
-                    SCENE_MAX_DEPTH);
+        scene_error_set(err, scene_mark_of(&e.start_mark), path,
+                        "nested more than %d levels deep: a scene needs 3",
+                        SCENE_MAX_DEPTH);
         rc = -1;
         break;
       }
@@ -305,10 +229,10 @@ int scene_text_guard(const char *text, size_t len, scene_error *err) {
   const unsigned char *t = (const unsigned char *)text;
   const char *wide = wide_encoding(t, len);
   if (wide) {
-    guard_error(err, 0, 0, "(file)",
-                "is %s text: save the scene as UTF-8 (e.g. iconv -f UTF-16 "
-                "-t UTF-8)",
-                wide);
+    scene_error_set(err, nowhere, "(file)",
+                    "is %s text: save the scene as UTF-8 (e.g. iconv -f UTF-16 "
+                    "-t UTF-8)",
+                    wide);
     return -1;
   }
   if (check_bytes(t, len, err)) return -1;

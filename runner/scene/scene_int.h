@@ -28,16 +28,8 @@ typedef struct {
 
 /* ------------------------------------------------------ scene.c: keys */
 
-/* complete scene_keys[] from the key rows and the field rows, once; called
-   from the entry points, before any thread starts */
-void scene_keys_build(void);
-
-/* the key table's rows completed with their field's row; filled by the
-   entry points (scene_key_get, scene_key_find, scene_load) before use */
-extern scene_key_info scene_keys[SCENE_NKEY];
-
-/* the library field key k fills, directly or converted (-1: none) */
-int scene_key_fills(int k);
+/* the rows of SCENE_KEYS with their field's row */
+extern const scene_key_info scene_keys[SCENE_NKEY];
 
 /* the enum value of key k named name, or -1 */
 int scene_enum_find(int k, const char *name);
@@ -47,6 +39,8 @@ void scene_enum_hint(char *buf, size_t sz, int k, const char *word);
 
 /* "a, b, c": the effect names */
 void scene_effect_list(char *buf, size_t sz);
+/* the same for the output names (rps3_output_name) */
+void scene_output_list(char *buf, size_t sz);
 
 /* set key k (component comp of a KEY_REAL3) to x */
 void scene_value_set(scene_values *v, int k, int comp, double x);

@@ -26,7 +26,6 @@ int scene_load(scene *s, const char *path, scene_error *err) {
   parse_ctx c;
   int rc = -1;
 
-  scene_keys_build();
   memset(s, 0, sizeof *s);
   memset(err, 0, sizeof *err);
   scene_values_default(&s->base);

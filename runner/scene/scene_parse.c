@@ -19,71 +19,75 @@
 
 /* ---------------------------------------------------------------- parse */
 
-/* mapping sections; the index is the slot in scene.section */
-static const char *const sections[] = {"",
-                                       "manipulator",
-                                       "trajectory",
-                                       "solver",
-                                       "manipulator.payload",
-                                       "manipulator.pin_friction",
-                                       "trajectory.waypoints",
-                                       "trajectory.path",
-                                       "trajectory.table",
-                                       "simulate",
-                                       "simulate.model",
-                                       "simulate.model.payload",
-                                       "simulate.model.pin_friction",
-                                       "manipulator.stroke",
-                                       "manipulator.pin",
-                                       "manipulator.ball",
-                                       "design"};
-#define NSECTION (sizeof sections / sizeof sections[0])
+/* the sections are the dotted prefixes of the key table's paths: a key
+   added to the table brings its section */
 
-static int section_find(const char *path) {
-  size_t i;
-  for (i = 1; i < NSECTION; i++)
-    if (strcmp(sections[i], path) == 0) return (int)i;
-  return -1;
+/* the most sections, and the longest section path */
+#define NSECTION (2 * SCENE_NKEY)
+#define SECTION_LEN 80
+
+/* 1 when path is a section: some key's path goes on under it */
+static int is_section(const char *path) {
+  size_t len = strlen(path);
+  int k;
+  for (k = 0; k < SCENE_NKEY; k++)
+    if (strncmp(scene_keys[k].path, path, len) == 0 &&
+        scene_keys[k].path[len] == '.')
+      return 1;
+  return 0;
+}
+
+/* the names directly under prefix ("" the root), each once, in the order
+   of the key table; with sub, "b" of a key a.b.c becomes "a.b" (the
+   sections), else only the names of keys count.  Their number. */
+static size_t names_under(const char *prefix, int sub,
+                          char (*name)[SECTION_LEN], size_t max) {
+  size_t plen = strlen(prefix), n = 0, i;
+  int k;
+  for (k = 0; k < SCENE_NKEY && n < max; k++) {
+    const char *p = scene_keys[k].path, *rest, *dot;
+    size_t len;
+    if (plen && (strncmp(p, prefix, plen) != 0 || p[plen] != '.')) continue;
+    rest = plen ? p + plen + 1 : p;
+    dot = strchr(rest, '.');
+    if (sub != (dot != NULL)) continue;
+    len = dot ? (size_t)(dot - p) : strlen(p);
+    for (i = 0; i < n; i++)
+      if (strncmp(name[i], p, len) == 0 && name[i][len] == '\0') break;
+    if (i < n) continue;
+    snprintf(name[n++], SECTION_LEN, "%.*s", (int)len, p);
+  }
+  return n;
 }
 
 /* " (did you mean ...?)" for a mistyped dotted key: every key and section
    is a candidate (a key in the wrong section included); sections only when
-   with_sections */
+   with_sections, shallow ones first */
 void scene_key_hint(char *buf, size_t sz, const char *word, int with_sections) {
   const char *cand[SCENE_NKEY + NSECTION + 1];
-  size_t n = 0, i;
+  char sec[NSECTION][SECTION_LEN];
+  size_t n = 0, nsec = 0, i;
   int k;
   for (k = 0; k < SCENE_NKEY; k++) cand[n++] = scene_keys[k].path;
-  for (i = 1; i < NSECTION && with_sections; i++) cand[n++] = sections[i];
+  /* the sections by depth: those under the root, then under each of them */
+  for (i = 0; with_sections && i <= nsec && nsec < NSECTION; i++)
+    nsec += names_under(i ? sec[i - 1] : "", 1, sec + nsec, NSECTION - nsec);
+  for (i = 0; i < nsec; i++) cand[n++] = sec[i];
   if (with_sections) cand[n++] = "sweep";
   hint_text(buf, sz, word, cand, n);
 }
 
 /* "a, b, c" of the keys and sections directly under prefix */
 static void keys_under(const char *prefix, char *buf, size_t sz) {
-  size_t plen = strlen(prefix), len = 0, i;
-  int k;
+  char name[NSECTION][SECTION_LEN];
+  size_t n = names_under(prefix, 0, name, NSECTION), len = 0, i, plen;
+  n += names_under(prefix, 1, name + n, NSECTION - n);
+  plen = prefix[0] ? strlen(prefix) + 1 : 0;
   buf[0] = '\0';
-  if (plen == 0) {
-    snprintf(buf, sz,
-             "manipulator, trajectory, effects, solver, simulate, design, "
-             "sweep");
-    return;
-  }
-  for (k = 0; k < SCENE_NKEY && len < sz; k++) {
-    const char *p = scene_keys[k].path;
-    if (strncmp(p, prefix, plen) == 0 && p[plen] == '.' &&
-        !strchr(p + plen + 1, '.'))
-      len += (size_t)snprintf(buf + len, sz - len, "%s%s", len ? ", " : "",
-                              p + plen + 1);
-  }
-  for (i = 1; i < NSECTION && len < sz; i++) {
-    const char *p = sections[i];
-    if (strncmp(p, prefix, plen) == 0 && p[plen] == '.' &&
-        !strchr(p + plen + 1, '.'))
-      len += (size_t)snprintf(buf + len, sz - len, "%s%s", len ? ", " : "",
-                              p + plen + 1);
-  }
+  for (i = 0; i < n && len < sz; i++)
+    len += (size_t)snprintf(buf + len, sz - len, "%s%s", len ? ", " : "",
+                            name[i] + plen);
+  if (!prefix[0] && len < sz) snprintf(buf + len, sz - len, ", sweep");
 }
 
 yaml_node_t *scene_node_get(parse_ctx *c, int id) {
@@ -225,6 +229,7 @@ int scene_parse_scalar(parse_ctx *c, int k, const yaml_node_t *n,
     *out = v;
     return 0;
   case KEY_EFFECTS:
+  case KEY_OUTPUTS:
   default: scene_error_set(c->err, mk, path, "not a scalar key"); return -1;
   }
 }
@@ -367,8 +372,16 @@ static int parse_value(parse_ctx *c, int k, const yaml_node_t *n,
   if (scene_keys[k].type == KEY_TIMES || scene_keys[k].type == KEY_POSES)
     return parse_rows(c, k, n, v);
   if (scene_keys[k].type == KEY_FILE) return parse_file(c, k, n, v);
-  if (scene_keys[k].type == KEY_EFFECTS) {
-    scene_effect_list(list, sizeof list);
+  if (scene_keys[k].type == KEY_EFFECTS || scene_keys[k].type == KEY_OUTPUTS) {
+    /* a list of names, each one bit: the effects, or the outputs */
+    const int outs = scene_keys[k].type == KEY_OUTPUTS;
+    const int nname = outs ? RPS3_NOUTPUT : RPS3_NEFFECT;
+    const char *what = outs ? "output" : "effect";
+    const char *(*name_of)(int) = outs ? rps3_output_name : rps3_effect_name;
+    if (outs)
+      scene_output_list(list, sizeof list);
+    else
+      scene_effect_list(list, sizeof list);
     if (n->type != YAML_SEQUENCE_NODE ||
         n->data.sequence.items.top == n->data.sequence.items.start) {
       scene_error_set(
@@ -382,27 +395,27 @@ static int parse_value(parse_ctx *c, int k, const yaml_node_t *n,
       const yaml_node_t *item = scene_node_get(c, *it);
       scene_mark im = scene_mark_of(&item->start_mark);
       e = (item->type == YAML_SCALAR_NODE && !is_null(item))
-              ? rps3_effect_index(scene_scalar_text(item))
+              ? (outs ? rps3_output_index(scene_scalar_text(item))
+                      : rps3_effect_index(scene_scalar_text(item)))
               : -1;
       if (e < 0) {
-        const char *cand[RPS3_NEFFECT];
+        const char *cand[RPS3_NEFFECT > RPS3_NOUTPUT ? RPS3_NEFFECT
+                                                     : RPS3_NOUTPUT];
         char hint[160] = "";
         int j;
-        for (j = 0; j < RPS3_NEFFECT; j++) cand[j] = rps3_effect_name(j);
+        for (j = 0; j < nname; j++) cand[j] = name_of(j);
         if (item->type == YAML_SCALAR_NODE)
-          hint_text(hint, sizeof hint, scene_scalar_text(item), cand,
-                    RPS3_NEFFECT);
-        scene_error_set(c->err, im, path,
-                        "unknown effect %s%s%s%s; expected %s",
-                        item->type == YAML_SCALAR_NODE ? "'" : "",
+          hint_text(hint, sizeof hint, scene_scalar_text(item), cand, nname);
+        scene_error_set(c->err, im, path, "unknown %s %s%s%s%s; expected %s",
+                        what, item->type == YAML_SCALAR_NODE ? "'" : "",
                         item->type == YAML_SCALAR_NODE ? scene_scalar_text(item)
                                                        : scene_node_kind(item),
                         item->type == YAML_SCALAR_NODE ? "'" : "", hint, list);
         return -1;
       }
       if (bits & (1 << e)) {
-        scene_error_set(c->err, im, path, "effect '%s' listed twice",
-                        rps3_effect_name(e));
+        scene_error_set(c->err, im, path, "%s '%s' listed twice", what,
+                        name_of(e));
         return -1;
       }
       bits |= 1 << e;
@@ -451,6 +464,10 @@ int scene_mapping_key(parse_ctx *c, const yaml_node_t *map,
   return 0;
 }
 
+/* the sections whose marks scene.section keeps, by slot */
+static const char *const top_sections[4] = {"", "manipulator", "trajectory",
+                                            "solver"};
+
 /* walk a mapping section, storing each key it holds into the base values */
 int scene_walk_section(parse_ctx *c, const yaml_node_t *map,
                        const char *prefix) {
@@ -468,15 +485,16 @@ int scene_walk_section(parse_ctx *c, const yaml_node_t *map,
       c->sweep_node = pair->value;
       continue;
     }
-    sec = section_find(full);
-    if (sec > 0) {
+    if (is_section(full)) {
       if (val->type != YAML_MAPPING_NODE) {
         scene_error_set(c->err, scene_mark_of(&val->start_mark), full,
                         "expected a mapping of keys, got %s",
                         scene_node_kind(val));
         return -1;
       }
-      if (sec < 4) s->section[sec] = scene_mark_of(&val->start_mark);
+      for (sec = 1; sec < 4; sec++)
+        if (strcmp(full, top_sections[sec]) == 0)
+          s->section[sec] = scene_mark_of(&val->start_mark);
       if (strcmp(full, "simulate") == 0)
         s->simulate = scene_mark_of(&val->start_mark);
       if (strcmp(full, "design") == 0)

@@ -21,127 +21,162 @@
 
 /* ---------------------------------------------------------------- sweep */
 
-/* one value of a {from, to, ...} range mapping, or NULL */
-static const yaml_node_t *range_get(parse_ctx *c, const yaml_node_t *map,
-                                    const char *name) {
-  yaml_node_pair_t *p;
-  for (p = map->data.mapping.pairs.start; p < map->data.mapping.pairs.top;
-       p++) {
-    const yaml_node_t *kn = scene_node_get(c, p->key);
-    if (kn->type == YAML_SCALAR_NODE &&
-        strcmp(scene_scalar_text(kn), name) == 0)
-      return scene_node_get(c, p->value);
-  }
-  return NULL;
-}
+/* the nodes of a {from, to, num} or {from, to, step} mapping */
+typedef struct {
+  const yaml_node_t *from, *to, *num, *step;
+} range_nodes;
 
-/* expand a {from, to, num} or {from, to, step} mapping into ax */
-static int sweep_range(parse_ctx *c, scene_axis *ax, const yaml_node_t *map) {
-  const scene_key_info *ki = &scene_keys[ax->key];
-  scene_mark mk = scene_mark_of(&map->start_mark);
-  const yaml_node_t *nf, *nt, *nn, *ns;
+/* the nodes of range mapping map of axis ax: no other key (none twice:
+   scene_mapping_key), from, to and one of num and step; 0 or -1 */
+static int range_read(parse_ctx *c, const scene_axis *ax,
+                      const yaml_node_t *map, range_nodes *r) {
+  static const char *const names[4] = {"from", "to", "num", "step"};
+  const yaml_node_t **slot[4];
   yaml_node_pair_t *p;
-  double from, to, num = 0, step = 0, span;
-  int integer = ki->type == KEY_INT;
-  size_t i, n;
   char sub[160];
-
-  if (ki->type != KEY_REAL && ki->type != KEY_REAL3 && !integer) {
-    scene_error_set(c->err, mk, ax->path,
-                    "a range needs a numeric key; give a list of values");
-    return -1;
-  }
+  slot[0] = &r->from;
+  slot[1] = &r->to;
+  slot[2] = &r->num;
+  slot[3] = &r->step;
+  memset(r, 0, sizeof *r);
   for (p = map->data.mapping.pairs.start; p < map->data.mapping.pairs.top;
        p++) {
     const char *name;
+    int k;
     if (scene_mapping_key(c, map, p, ax->path, &name)) return -1;
-    if (strcmp(name, "from") && strcmp(name, "to") && strcmp(name, "num") &&
-        strcmp(name, "step")) {
+    for (k = 0; k < 4 && strcmp(name, names[k]) != 0; k++)
+      ;
+    if (k == 4) {
       snprintf(sub, sizeof sub, "%s.%s", ax->path, name);
       scene_error_set(c->err,
                       scene_mark_of(&scene_node_get(c, p->key)->start_mark),
                       sub, "unknown key; expected from, to and num or step");
       return -1;
     }
+    *slot[k] = scene_node_get(c, p->value);
   }
-  nf = range_get(c, map, "from");
-  nt = range_get(c, map, "to");
-  nn = range_get(c, map, "num");
-  ns = range_get(c, map, "step");
-  if (!nf || !nt || (!nn == !ns)) {
-    scene_error_set(c->err, mk, ax->path,
+  if (!r->from || !r->to || (!r->num == !r->step)) {
+    scene_error_set(c->err, scene_mark_of(&map->start_mark), ax->path,
                     "a range needs from, to and exactly one of num and step");
     return -1;
   }
-  snprintf(sub, sizeof sub, "%s.from", ax->path);
-  if (scene_parse_number(c, nf, sub, integer, &from)) return -1;
-  snprintf(sub, sizeof sub, "%s.to", ax->path);
-  if (scene_parse_number(c, nt, sub, integer, &to)) return -1;
-  span = to - from;
-  if (nn) {
-    snprintf(sub, sizeof sub, "%s.num", ax->path);
-    if (scene_parse_number(c, nn, sub, 1, &num)) return -1;
+  return 0;
+}
+
+/* entry `name` of axis ax's range, node n, as a number; 0 or -1 */
+static int range_number(parse_ctx *c, const scene_axis *ax,
+                        const yaml_node_t *n, const char *name, int integer,
+                        double *x) {
+  char sub[160];
+  snprintf(sub, sizeof sub, "%s.%s", ax->path, name);
+  return scene_parse_number(c, n, sub, integer, x);
+}
+
+/* the number of values of range r from `from` to `to`, counted before
+   anything is allocated; *step is 0 for a range by num.  0 or -1 */
+static int range_count(parse_ctx *c, const scene_axis *ax, const range_nodes *r,
+                       int integer, double from, double to, double *step,
+                       size_t *n) {
+  const yaml_node_t *nd = r->num ? r->num : r->step;
+  scene_mark mk = scene_mark_of(&nd->start_mark);
+  double span = to - from, num, q;
+  char sub[160];
+  snprintf(sub, sizeof sub, "%s.%s", ax->path, r->num ? "num" : "step");
+  *step = 0;
+  if (r->num) {
+    if (range_number(c, ax, nd, "num", 1, &num)) return -1;
     if (num < 1 || (num == 1 && from != to)) {
-      scene_error_set(c->err, scene_mark_of(&nn->start_mark), sub,
+      scene_error_set(c->err, mk, sub,
                       "must be >= 2 (or 1 with from == to), got %.0f", num);
       return -1;
     }
-    /* counted before anything is allocated for the values */
     if (num * c->ncase > MAX_CASES) {
-      scene_error_set(c->err, scene_mark_of(&nn->start_mark), sub,
+      scene_error_set(c->err, mk, sub,
                       "%.0f values make the sweep more than %.0f cases", num,
                       MAX_CASES);
       return -1;
     }
-    n = (size_t)num;
-  } else {
-    double q;
-    snprintf(sub, sizeof sub, "%s.step", ax->path);
-    if (scene_parse_number(c, ns, sub, integer, &step)) return -1;
-    q = span / step;
-    if (step == 0 || q < 0) {
-      scene_error_set(c->err, scene_mark_of(&ns->start_mark), sub,
-                      "must be non-zero with the sign of to - from, got %s",
-                      scene_scalar_text(ns));
-      return -1;
-    }
-    if (!(span - span == 0)) {
-      scene_error_set(c->err, scene_mark_of(&ns->start_mark), sub,
-                      "to - from overflows (%s to %s): not a range of numbers",
-                      scene_scalar_text(nf), scene_scalar_text(nt));
-      return -1;
-    }
-    if ((q + 1) * c->ncase > MAX_CASES) {
-      scene_error_set(c->err, scene_mark_of(&ns->start_mark), sub,
-                      "gives %.3g values: the sweep would have more than %.0f "
-                      "cases",
-                      q + 1, MAX_CASES);
-      return -1;
-    }
-    n = (size_t)floor(q + SCENE_WHOLE_RTOL) + 1;
+    *n = (size_t)num;
+    return 0;
   }
+  if (range_number(c, ax, nd, "step", integer, step)) return -1;
+  q = span / *step;
+  if (*step == 0 || q < 0) {
+    scene_error_set(c->err, mk, sub,
+                    "must be non-zero with the sign of to - from, got %s",
+                    scene_scalar_text(nd));
+    return -1;
+  }
+  if (!(span - span == 0)) {
+    scene_error_set(c->err, mk, sub,
+                    "to - from overflows (%s to %s): not a range of numbers",
+                    scene_scalar_text(r->from), scene_scalar_text(r->to));
+    return -1;
+  }
+  if ((q + 1) * c->ncase > MAX_CASES) {
+    scene_error_set(c->err, mk, sub,
+                    "gives %.3g values: the sweep would have more than %.0f "
+                    "cases",
+                    q + 1, MAX_CASES);
+    return -1;
+  }
+  *n = (size_t)floor(q + SCENE_WHOLE_RTOL) + 1;
+  return 0;
+}
+
+/* value i of n of a range from `from` to `to` by num (step 0) or step */
+static double range_value(size_t i, size_t n, double from, double to,
+                          double step) {
+  double span = to - from, x;
+  if (step == 0 && !(span - span == 0))
+    /* to - from overflows ({from: -1e308, to: 1e308}): weights instead,
+       so that each value is a number and its range check speaks */
+    return (i + 1 == n) ? to
+                        : from * (1 - (double)i / (double)(n - 1)) +
+                              to * ((double)i / (double)(n - 1));
+  if (step == 0)
+    return (i + 1 == n) ? to : from + span * (double)i / (double)(n - 1);
+  x = from + (double)i * step;
+  /* the last step lands on `to` up to rounding: take `to` itself */
+  if (i + 1 == n && fabs(x - to) <= SCENE_WHOLE_RTOL * fabs(step)) x = to;
+  return x;
+}
+
+/* room for the n values of axis ax; 0 or -1 */
+static int axis_alloc(parse_ctx *c, scene_axis *ax, size_t n, scene_mark mk,
+                      const char *what) {
   ax->n = n;
   ax->val = malloc(n * sizeof *ax->val);
   ax->mark = malloc(n * sizeof *ax->mark);
   if (!ax->val || !ax->mark) {
-    scene_error_set(c->err, mk, ax->path, "out of memory for %zu values", n);
+    scene_error_set(c->err, mk, ax->path, what, n);
     return -1;
   }
+  return 0;
+}
+
+/* expand a {from, to, num} or {from, to, step} mapping into ax */
+static int sweep_range(parse_ctx *c, scene_axis *ax, const yaml_node_t *map) {
+  const scene_key_info *ki = &scene_keys[ax->key];
+  scene_mark mk = scene_mark_of(&map->start_mark);
+  range_nodes r;
+  double from, to, step;
+  int integer = ki->type == KEY_INT;
+  size_t i, n;
+
+  if (ki->type != KEY_REAL && ki->type != KEY_REAL3 && !integer) {
+    scene_error_set(c->err, mk, ax->path,
+                    "a range needs a numeric key; give a list of values");
+    return -1;
+  }
+  if (range_read(c, ax, map, &r) ||
+      range_number(c, ax, r.from, "from", integer, &from) ||
+      range_number(c, ax, r.to, "to", integer, &to) ||
+      range_count(c, ax, &r, integer, from, to, &step, &n) ||
+      axis_alloc(c, ax, n, mk, "out of memory for %zu values"))
+    return -1;
   for (i = 0; i < n; i++) {
-    double x;
-    if (nn && !(span - span == 0))
-      /* to - from overflows ({from: -1e308, to: 1e308}): weights instead,
-         so that each value is a number and its range check speaks */
-      x = (i + 1 == n) ? to
-                       : from * (1 - (double)i / (double)(n - 1)) +
-                             to * ((double)i / (double)(n - 1));
-    else if (nn)
-      x = (i + 1 == n) ? to : from + span * (double)i / (double)(n - 1);
-    else
-      x = from + (double)i * step;
-    /* the last step lands on `to` up to rounding: take `to` itself */
-    if (!nn && i + 1 == n && fabs(x - to) <= SCENE_WHOLE_RTOL * fabs(step))
-      x = to;
+    double x = range_value(i, n, from, to, step);
     if (integer && x != floor(x)) {
       scene_error_set(c->err, mk, ax->path,
                       "value %zu of the range, %g, is not an integer", i, x);
@@ -154,11 +189,107 @@ static int sweep_range(parse_ctx *c, scene_axis *ax, const yaml_node_t *map) {
   return 0;
 }
 
+/* the key of sweep entry `name` (at km) into ax: a scene key, or one
+   component of a list key, that may be swept, of the scene's kind and not
+   swept before; 0 or -1 */
+static int sweep_key(parse_ctx *c, scene_axis *ax, const char *name,
+                     scene_mark km) {
+  scene *s = c->s;
+  const scene_key_info *ki;
+  const char *br;
+  char base[80];
+  size_t a;
+  if (strlen(name) >= sizeof ax->path) {
+    scene_error_set(c->err, km, "sweep", "key '%.40s...' is too long", name);
+    return -1;
+  }
+  snprintf(ax->path, sizeof ax->path, "%s", name);
+  ax->comp = -1;
+  /* "key[k]" picks component k of a list key */
+  br = strchr(name, '[');
+  snprintf(base, sizeof base, "%.*s",
+           (int)(br ? (size_t)(br - name) : strlen(name)), name);
+  ax->key = scene_key_find(base);
+  if (ax->key < 0) {
+    char hint[200];
+    scene_key_hint(hint, sizeof hint, base, 0);
+    scene_error_set(c->err, km, name, "not a scene key%s; see rps3-run --keys",
+                    hint);
+    return -1;
+  }
+  ki = &scene_keys[ax->key];
+  if (br) {
+    if (ki->type != KEY_REAL3 || !(br[1] >= '0' && br[1] <= '2') ||
+        strcmp(br + 2, "]") != 0) {
+      scene_error_set(c->err, km, name,
+                      ki->type == KEY_REAL3
+                          ? "component must be [0], [1] or [2]"
+                          : "only a list key takes a component [k]");
+      return -1;
+    }
+    ax->comp = br[1] - '0';
+  } else if (ki->type == KEY_REAL3) {
+    scene_error_set(c->err, km, name,
+                    "a list key: sweep one component, as %s[0], [1] or [2]",
+                    name);
+    return -1;
+  }
+  if (ki->type == KEY_EFFECTS || ki->type == KEY_OUTPUTS ||
+      ki->type == KEY_TIMES ||
+      ki->type == KEY_POSES || ki->type == KEY_FILE || ax->key == K_KIND ||
+      ax->key == K_PATH_SHAPE) {
+    scene_error_set(c->err, km, name,
+                    "cannot be swept (it decides what a case computes); write "
+                    "one scene per value");
+    return -1;
+  }
+  if (!scene_key_applies(ki, s->base.traj.kind)) {
+    scene_error_set(c->err, km, name, "not a key of a %s trajectory",
+                    scene_enum_name(K_KIND, (int)s->base.traj.kind));
+    return -1;
+  }
+  for (a = 0; a + 1 < s->naxis; a++)
+    if (s->axis[a].key == ax->key && s->axis[a].comp == ax->comp) {
+      scene_error_set(c->err, km, name, "swept twice (also as %s)",
+                      s->axis[a].path);
+      return -1;
+    }
+  return 0;
+}
+
+/* the values of axis ax: a list, a range mapping; 0 or -1 */
+static int sweep_values(parse_ctx *c, scene_axis *ax, const yaml_node_t *val,
+                        scene_mark km) {
+  yaml_node_item_t *it;
+  size_t i, n;
+  if (val->type == YAML_MAPPING_NODE) return sweep_range(c, ax, val);
+  if (val->type != YAML_SEQUENCE_NODE) {
+    scene_error_set(c->err, scene_mark_of(&val->start_mark), ax->path,
+                    "expected a list of values, {from, to, num} or "
+                    "{from, to, step}, got %s",
+                    scene_node_kind(val));
+    return -1;
+  }
+  n = (size_t)(val->data.sequence.items.top - val->data.sequence.items.start);
+  if (n == 0) {
+    scene_error_set(c->err, scene_mark_of(&val->start_mark), ax->path,
+                    "empty list of values");
+    return -1;
+  }
+  if (axis_alloc(c, ax, n, km, "out of memory")) return -1;
+  for (i = 0, it = val->data.sequence.items.start; i < n; i++, it++) {
+    const yaml_node_t *item = scene_node_get(c, *it);
+    if (scene_parse_scalar(c, ax->key, item, ax->path, &ax->val[i])) return -1;
+    ax->mark[i] = scene_mark_of(&item->start_mark);
+  }
+  return 0;
+}
+
 /* parse the sweep mapping into s->axis */
 int scene_parse_sweep(parse_ctx *c, const yaml_node_t *map) {
   scene *s = c->s;
   yaml_node_pair_t *pair;
-  size_t a, npair;
+  size_t npair;
   double ncase = 1;
 
   if (map->type != YAML_MAPPING_NODE ||
@@ -178,100 +309,14 @@ int scene_parse_sweep(parse_ctx *c, const yaml_node_t *map) {
   }
   for (pair = map->data.mapping.pairs.start; pair < map->data.mapping.pairs.top;
        pair++) {
-    const yaml_node_t *kn = scene_node_get(c, pair->key);
-    const yaml_node_t *val = scene_node_get(c, pair->value);
-    scene_mark km = scene_mark_of(&kn->start_mark);
+    scene_mark km = scene_mark_of(&scene_node_get(c, pair->key)->start_mark);
     /* counted at once, so that scene_free frees a half-built axis */
     scene_axis *ax = &s->axis[s->naxis++];
-    const scene_key_info *ki;
-    const char *name, *br;
-    char base[80];
-    if (scene_mapping_key(c, map, pair, "sweep", &name)) return -1;
-    if (strlen(name) >= sizeof ax->path) {
-      scene_error_set(c->err, km, "sweep", "key '%.40s...' is too long", name);
+    const char *name;
+    if (scene_mapping_key(c, map, pair, "sweep", &name) ||
+        sweep_key(c, ax, name, km) ||
+        sweep_values(c, ax, scene_node_get(c, pair->value), km))
       return -1;
-    }
-    snprintf(ax->path, sizeof ax->path, "%s", name);
-    ax->comp = -1;
-    /* "key[k]" picks component k of a list key */
-    br = strchr(name, '[');
-    snprintf(base, sizeof base, "%.*s",
-             (int)(br ? (size_t)(br - name) : strlen(name)), name);
-    ax->key = scene_key_find(base);
-    if (ax->key < 0) {
-      char hint[200];
-      scene_key_hint(hint, sizeof hint, base, 0);
-      scene_error_set(c->err, km, name,
-                      "not a scene key%s; see rps3-run --keys", hint);
-      return -1;
-    }
-    ki = &scene_keys[ax->key];
-    if (br) {
-      if (ki->type != KEY_REAL3 || !(br[1] >= '0' && br[1] <= '2') ||
-          strcmp(br + 2, "]") != 0) {
-        scene_error_set(c->err, km, name,
-                        ki->type == KEY_REAL3
-                            ? "component must be [0], [1] or [2]"
-                            : "only a list key takes a component [k]");
-        return -1;
-      }
-      ax->comp = br[1] - '0';
-    } else if (ki->type == KEY_REAL3) {
-      scene_error_set(c->err, km, name,
-                      "a list key: sweep one component, as %s[0], [1] or [2]",
-                      name);
-      return -1;
-    }
-    if (ki->type == KEY_EFFECTS || ki->type == KEY_TIMES ||
-        ki->type == KEY_POSES || ki->type == KEY_FILE || ax->key == K_KIND ||
-        ax->key == K_PATH_SHAPE) {
-      scene_error_set(
-          c->err, km, name,
-          "cannot be swept (it decides what a case computes); write "
-          "one scene per value");
-      return -1;
-    }
-    if (ki->kind != FOR_ALL && ki->kind != (int)s->base.traj.kind) {
-      scene_error_set(c->err, km, name, "not a key of a %s trajectory",
-                      scene_enum_name(K_KIND, (int)s->base.traj.kind));
-      return -1;
-    }
-    for (a = 0; a + 1 < s->naxis; a++)
-      if (s->axis[a].key == ax->key && s->axis[a].comp == ax->comp) {
-        scene_error_set(c->err, km, name, "swept twice (also as %s)",
-                        s->axis[a].path);
-        return -1;
-      }
-    if (val->type == YAML_SEQUENCE_NODE) {
-      yaml_node_item_t *it;
-      size_t i, n = (size_t)(val->data.sequence.items.top -
-                             val->data.sequence.items.start);
-      if (n == 0) {
-        scene_error_set(c->err, scene_mark_of(&val->start_mark), name,
-                        "empty list of values");
-        return -1;
-      }
-      ax->n = n;
-      ax->val = malloc(n * sizeof *ax->val);
-      ax->mark = malloc(n * sizeof *ax->mark);
-      if (!ax->val || !ax->mark) {
-        scene_error_set(c->err, km, name, "out of memory");
-        return -1;
-      }
-      for (i = 0, it = val->data.sequence.items.start; i < n; i++, it++) {
-        const yaml_node_t *item = scene_node_get(c, *it);
-        if (scene_parse_scalar(c, ax->key, item, name, &ax->val[i])) return -1;
-        ax->mark[i] = scene_mark_of(&item->start_mark);
-      }
-    } else if (val->type == YAML_MAPPING_NODE) {
-      if (sweep_range(c, ax, val)) return -1;
-    } else {
-      scene_error_set(c->err, scene_mark_of(&val->start_mark), name,
-                      "expected a list of values, {from, to, num} or "
-                      "{from, to, step}, got %s",
-                      scene_node_kind(val));
-      return -1;
-    }
     ncase *= (double)ax->n;
     c->ncase = ncase;
     if (ncase > MAX_CASES) {
@@ -351,7 +396,7 @@ int scene_check_keys(parse_ctx *c) {
   if (scene_design_check_keys(c)) return -1;
   for (k = 0; k < SCENE_NKEY; k++) {
     const scene_key_info *ki = &scene_keys[k];
-    int applies = ki->kind == FOR_ALL || ki->kind == (int)s->base.traj.kind;
+    int applies = scene_key_applies(ki, s->base.traj.kind);
     int sec = strncmp(ki->path, "manipulator", 11) == 0 ? 1 : 2;
     if (SCENE_KEY_IS_DESIGN(ki) || (no_traj && sec == 2)) continue;
     if (!applies && s->given[k]) {
@@ -371,8 +416,7 @@ int scene_check_keys(parse_ctx *c) {
     static const int one_of[3][2] = {
         {K_M_OVER_M, K_MASS}, {K_SAMPLES, K_DT}, {K_BLEND, K_BLEND_RATIO}};
     int a = one_of[pair][0], b = one_of[pair][1];
-    if ((scene_keys[a].kind != FOR_ALL &&
-         scene_keys[a].kind != (int)s->base.traj.kind) ||
+    if (!scene_key_applies(&scene_keys[a], s->base.traj.kind) ||
         (no_traj && pair > 0))
       continue;
     if (!s->given[a] && !s->given[b]) {

@@ -25,10 +25,10 @@
 enum { Q_NONE, Q_LENGTH, Q_BETA, Q_ANGLE };
 
 static int quantity(const scene_key_info *ki, int comp) {
-  if (strcmp(ki->unit, "m") == 0) return Q_LENGTH;
-  if (strcmp(ki->unit, "rad, rad, m") == 0) /* a pose: alpha, beta, z_c */
+  if (strcmp(ki->f->unit, "m") == 0) return Q_LENGTH;
+  if (strcmp(ki->f->unit, "rad, rad, m") == 0) /* a pose: alpha, beta, z_c */
     return comp == 2 ? Q_LENGTH : comp == 1 ? Q_BETA : Q_NONE;
-  if (strcmp(ki->unit, "rad") == 0) return Q_ANGLE;
+  if (strcmp(ki->f->unit, "rad") == 0) return Q_ANGLE;
   return Q_NONE;
 }
 
@@ -108,9 +108,7 @@ void scene_warnings_print(const scene *s, FILE *out) {
   size_t r;
   for (k = 0; k < SCENE_NKEY; k++) {
     const scene_key_info *ki = scene_key_get(k);
-    if (!s->given[k] ||
-        (ki->kind != FOR_ALL && ki->kind != (int)s->base.traj.kind))
-      continue;
+    if (!s->given[k] || !scene_key_applies(ki, s->base.traj.kind)) continue;
     if (ki->type == KEY_REAL) {
       const char *why;
       if (axis_warn(out, s, k, -1)) continue;

@@ -10,6 +10,7 @@
 
 #include "table.h"
 #include "core/hint.h"
+#include "core/safeio.h"
 #include "table_int.h"
 
 #include <errno.h>
@@ -141,8 +142,8 @@ int table_columns_check(const int have[TABLE_NCOL], int what, int hdf5,
 static int parse_field(char *s, char *e, double *x, const char *file, int line,
                        const char *start, const char *name, char *err,
                        size_t errsz) {
-  char *end, keep;
-  int col, len, more, fail = 0;
+  char *end, keep, q[48], why[300] = "";
+  int col;
   while (s < e && (*s == ' ' || *s == '\t')) s++;
   while (e > s && (e[-1] == ' ' || e[-1] == '\t')) e--;
   col = (int)(s - start) + 1; /* of the number itself, blanks skipped */
@@ -152,39 +153,28 @@ static int parse_field(char *s, char *e, double *x, const char *file, int line,
     return -1;
   }
   /* the field as quoted in a message: its first 40 bytes */
-  len = e - s > 40 ? 40 : (int)(e - s);
-  more = e - s > 40;
+  snprintf(q, sizeof q, "'%.*s'%s", e - s > 40 ? 40 : (int)(e - s), s,
+           e - s > 40 ? "..." : "");
   keep = *e;
   *e = '\0';
   errno = 0;
   *x = strtod(s, &end);
-  if (end != e) {
-    table_err(err, errsz,
-              "%s:%d:%d: column %s: expected a number, got "
-              "'%.*s'%s",
-              file, line, col, name, len, s, more ? "..." : "");
-    fail = 1;
-  } else if (!isfinite(*x) || (errno == ERANGE && fabs(*x) > 1.0)) {
-    table_err(err, errsz,
-              "%s:%d:%d: column %s: '%.*s'%s is not a finite "
-              "number%s",
-              file, line, col, name, len, s, more ? "..." : "",
-              errno == ERANGE ? " (beyond the largest double, 1.8e308)" : "");
-    fail = 1;
-  } else if (*x == 0.0 && errno == ERANGE) {
-    table_err(err, errsz,
-              "%s:%d:%d: column %s: '%.*s'%s underflows to 0 "
-              "(nonzero but below 4.9e-324 in magnitude, the smallest "
-              "double): write 0 or a normal number",
-              file, line, col, name, len, s, more ? "..." : "");
-    fail = 1;
-  } else if (fpclassify(*x) == FP_SUBNORMAL) {
-    table_err(err, errsz, "%s:%d:%d: column %s: '%.*s'%s is " TABLE_SUBNORMAL,
-              file, line, col, name, len, s, more ? "..." : "");
-    fail = 1;
-  }
+  if (end != e)
+    snprintf(why, sizeof why, "expected a number, got %s", q);
+  else if (!isfinite(*x) || (errno == ERANGE && fabs(*x) > 1.0))
+    snprintf(why, sizeof why, "%s is not a finite number%s", q,
+             errno == ERANGE ? " (beyond the largest double, 1.8e308)" : "");
+  else if (*x == 0.0 && errno == ERANGE)
+    snprintf(why, sizeof why,
+             "%s underflows to 0 (nonzero but below 4.9e-324 in magnitude, "
+             "the smallest double): write 0 or a normal number",
+             q);
+  else if (fpclassify(*x) == FP_SUBNORMAL)
+    snprintf(why, sizeof why, "%s is " TABLE_SUBNORMAL, q);
   *e = keep;
-  return fail ? -1 : 0;
+  if (why[0] == '\0') return 0;
+  table_err(err, errsz, "%s:%d:%d: column %s: %s", file, line, col, name, why);
+  return -1;
 }
 
 /* the header line [s, e): column c of the file is col[c] (0..TABLE_NCOL-1) */
@@ -228,54 +218,36 @@ static int csv_header(const char *s, const char *e, int what, int *col,
   return table_columns_check(have, what, 0, file, err, errsz);
 }
 
-/* a table is a regular file of at most TABLE_MAX_BYTES: checked by
-   stat() before anything opens it (opening a FIFO would wait for a
-   writer, a device would never end) */
+/* a table is a regular file of at most TABLE_MAX_BYTES: checked before
+   anything opens it (opening a FIFO would wait for a writer, a device
+   would never end); what it must be, said after its name */
+static const char kind_rule[] = "a table is a regular file of at most 1 GiB";
+
 int table_regular_file(const char *path, char *err, size_t errsz) {
   struct stat st;
   if (stat(path, &st) != 0) {
     table_err(err, errsz, "%s: cannot open: %s", path, strerror(errno));
     return -1;
   }
-  if (!S_ISREG(st.st_mode) || (double)st.st_size > TABLE_MAX_BYTES) {
-    table_err(err, errsz, "%s: not a regular file of at most 1 GiB", path);
-    return -1;
-  }
-  return 0;
+  if (!S_ISREG(st.st_mode))
+    table_err(err, errsz, "%s: is %s: %s", path, file_kind(st.st_mode),
+              kind_rule);
+  else if ((double)st.st_size > TABLE_MAX_BYTES)
+    table_err(err, errsz, "%s: is %lld bytes: %s", path,
+              (long long)st.st_size, kind_rule);
+  else
+    return 0;
+  return -1;
 }
 
 /* the whole file into a NUL-terminated buffer (a regular file only) */
 static char *slurp(const char *path, size_t *len, char *err, size_t errsz) {
-  FILE *f;
-  struct stat st;
-  char *buf;
-  if (table_regular_file(path, err, errsz)) return NULL;
-  f = fopen(path, "rb");
-  if (!f) {
-    table_err(err, errsz, "%s: cannot open: %s", path, strerror(errno));
-    return NULL;
-  }
-  if (fstat(fileno(f), &st) != 0 || !S_ISREG(st.st_mode) ||
-      (double)st.st_size > TABLE_MAX_BYTES) {
-    table_err(err, errsz, "%s: not a regular file of at most 1 GiB", path);
-    fclose(f);
-    return NULL;
-  }
-  buf = malloc((size_t)st.st_size + 1);
-  if (!buf) {
-    table_err(err, errsz, "%s: out of memory", path);
-    fclose(f);
-    return NULL;
-  }
-  *len = fread(buf, 1, (size_t)st.st_size, f);
-  buf[*len] = '\0';
-  if (ferror(f)) {
-    table_err(err, errsz, "%s: read error: %s", path, strerror(errno));
-    free(buf);
-    buf = NULL;
-  }
-  fclose(f);
-  return buf;
+  char *buf, why[200];
+  if (file_read_all(path, (size_t)TABLE_MAX_BYTES, kind_rule, kind_rule, &buf,
+                    len, why, sizeof why) == 0)
+    return buf;
+  table_err(err, errsz, "%s: %s", path, why);
+  return NULL;
 }
 
 /* the end of the line that starts at p: its CR or LF, or the text's NUL;
@@ -403,89 +375,107 @@ static const char *num(char buf[32], double x) {
 #define DERIV_MAX                                             \
   (DBL_MAX / 64.0) /* the Hermite polynomials' factors (up to \
                       20) on top of change / h^2 */
+
+/* the step from row r - 1 to row r of t's times: increasing, within the
+   range of a double and not too small; 0 or -1 with err set */
+static int table_step_time(const table_data *t, int what, size_t r,
+                           const char *where, char *err, size_t errsz) {
+  char lt[40], n1[32], n2[32];
+  double scale = fmax(fabs(t->time[0]), fabs(t->time[t->n - 1]));
+  double h = t->time[r] - t->time[r - 1];
+  col_label(t, what, 0, lt, sizeof lt);
+  num(n1, t->time[r]);
+  num(n2, t->time[r - 1]);
+  if (!(t->time[r] > t->time[r - 1])) {
+    table_err(err, errsz,
+              "%s: %s: %s after %s: times must "
+              "increase strictly",
+              where, lt, n1, n2);
+    return -1;
+  }
+  if (!isfinite(t->time[r] - t->time[0])) {
+    table_err(err, errsz,
+              "%s: %s: %s is more than 1.8e308 s after the "
+              "first row's %s: the time range overflows a double (the "
+              "times must span less than 1.8e308 s)",
+              where, lt, n1, num(n2, t->time[0]));
+    return -1;
+  }
+  if (h < scale * TIME_RESOLUTION) {
+    table_err(err, errsz,
+              "%s: %s: %s after %s: the rows are %.3g s "
+              "apart, too close relative to the time scale %.3g s (the "
+              "largest |t|): a step must be at least 1.5e-11 of it, or the "
+              "time within the step rounds by more than 1.5e-5 of the step;"
+              " subtract an offset from the times or thin the rows",
+              where, lt, n1, n2, h, scale);
+    return -1;
+  }
+  if (h * h < DBL_MIN) {
+    table_err(err, errsz,
+              "%s: %s: %s after %s: the rows are %.3g s "
+              "apart, a spacing too small for a double: the interpolant's "
+              "acceleration divides by the step squared, which underflows "
+              "below 1.5e-154 s",
+              where, lt, n1, n2, h);
+    return -1;
+  }
+  return 0;
+}
+
+/* value k over the step from row r - 1 to row r: its change, and the
+   interpolant's acceleration, within the range of a double; 0 or -1 with
+   err set */
+static int table_step_value(const table_data *t, int what, size_t r, int k,
+                            const char *where, char *err, size_t errsz) {
+  char lc[40], lr[40], n1[32], n2[32];
+  double h = t->time[r] - t->time[r - 1];
+  double dv = t->value[r][k] - t->value[r - 1][k], mv, mr, ma;
+  col_label(t, what, 1 + k, lc, sizeof lc);
+  if (!isfinite(dv)) {
+    table_err(err, errsz,
+              "%s: %s: %s after %s: the change between "
+              "the rows overflows a double",
+              where, lc, num(n1, t->value[r][k]), num(n2, t->value[r - 1][k]));
+    return -1;
+  }
+  /* the interpolant's acceleration: change / h^2, and with the file's
+     rates rate / h, with its accelerations their own */
+  mv = fabs(dv) / h / h;
+  mr = t->rates_given ? (fabs(t->rate[r][k]) + fabs(t->rate[r - 1][k])) / h
+                      : 0.0;
+  ma = t->acc != NULL ? fabs(t->acc[r][k]) + fabs(t->acc[r - 1][k]) : 0.0;
+  if (mv + mr + ma < DERIV_MAX) return 0;
+  if (mv >= mr && mv >= ma) {
+    table_err(err, errsz,
+              "%s: %s: changes by %.3g in %.3g s from the "
+              "previous row: the spacing of the rows is too small for "
+              "so large a change, the interpolant's rate and acceleration "
+              "across the step (of order change / step^2) overflow a "
+              "double",
+              where, lc, dv, h);
+    return -1;
+  }
+  col_label(t, what, mr >= ma ? 4 + k : 7 + k, lr, sizeof lr);
+  table_err(err, errsz,
+            "%s: %s: %.3g and %.3g across a step of %.3g s:"
+            " the interpolant's acceleration there (of order %s) "
+            "overflows a double",
+            where, lr, mr >= ma ? t->rate[r - 1][k] : t->acc[r - 1][k],
+            mr >= ma ? t->rate[r][k] : t->acc[r][k], h,
+            mr >= ma ? "rate / step" : "the accelerations themselves");
+  return -1;
+}
+
 static int table_steps(table_data *t, int what, char *err, size_t errsz) {
   size_t r;
   int k;
-  char where[300], lt[40], lc[40], n1[32], n2[32];
-  double scale = fmax(fabs(t->time[0]), fabs(t->time[t->n - 1]));
-  col_label(t, what, 0, lt, sizeof lt);
+  char where[300];
   for (r = 1; r < t->n; r++) {
-    double h = t->time[r] - t->time[r - 1];
     table_where(t, r, where, sizeof where);
-    if (!(t->time[r] > t->time[r - 1])) {
-      table_err(err, errsz,
-                "%s: %s: %s after %s: times must "
-                "increase strictly",
-                where, lt, num(n1, t->time[r]), num(n2, t->time[r - 1]));
-      return -1;
-    }
-    if (!isfinite(t->time[r] - t->time[0])) {
-      table_err(err, errsz,
-                "%s: %s: %s is more than 1.8e308 s after the "
-                "first row's %s: the time range overflows a double (the "
-                "times must span less than 1.8e308 s)",
-                where, lt, num(n1, t->time[r]), num(n2, t->time[0]));
-      return -1;
-    }
-    if (h < scale * TIME_RESOLUTION) {
-      table_err(err, errsz,
-                "%s: %s: %s after %s: the rows are %.3g s "
-                "apart, too close relative to the time scale %.3g s (the "
-                "largest |t|): a step must be at least 1.5e-11 of it, or the "
-                "time within the step rounds by more than 1.5e-5 of the step;"
-                " subtract an offset from the times or thin the rows",
-                where, lt, num(n1, t->time[r]), num(n2, t->time[r - 1]), h,
-                scale);
-      return -1;
-    }
-    if (h * h < DBL_MIN) {
-      table_err(err, errsz,
-                "%s: %s: %s after %s: the rows are %.3g s "
-                "apart, a spacing too small for a double: the interpolant's "
-                "acceleration divides by the step squared, which underflows "
-                "below 1.5e-154 s",
-                where, lt, num(n1, t->time[r]), num(n2, t->time[r - 1]), h);
-      return -1;
-    }
-    for (k = 0; k < 3; k++) {
-      double dv = t->value[r][k] - t->value[r - 1][k], mv, mr, ma;
-      col_label(t, what, 1 + k, lc, sizeof lc);
-      if (!isfinite(dv)) {
-        table_err(err, errsz,
-                  "%s: %s: %s after %s: the change between "
-                  "the rows overflows a double",
-                  where, lc, num(n1, t->value[r][k]),
-                  num(n2, t->value[r - 1][k]));
-        return -1;
-      }
-      /* the interpolant's acceleration: change / h^2, and with the
-         file's rates rate / h, with its accelerations their own */
-      mv = fabs(dv) / h / h;
-      mr = t->rates_given ? (fabs(t->rate[r][k]) + fabs(t->rate[r - 1][k])) / h
-                          : 0.0;
-      ma = t->acc != NULL ? fabs(t->acc[r][k]) + fabs(t->acc[r - 1][k]) : 0.0;
-      if (mv + mr + ma < DERIV_MAX) continue;
-      if (mv >= mr && mv >= ma) {
-        table_err(err, errsz,
-                  "%s: %s: changes by %.3g in %.3g s from the "
-                  "previous row: the spacing of the rows is too small for "
-                  "so large a change, the interpolant's rate and acceleration "
-                  "across the step (of order change / step^2) overflow a "
-                  "double",
-                  where, lc, dv, h);
-      } else {
-        char lr[40];
-        col_label(t, what, mr >= ma ? 4 + k : 7 + k, lr, sizeof lr);
-        table_err(err, errsz,
-                  "%s: %s: %.3g and %.3g across a step of %.3g s:"
-                  " the interpolant's acceleration there (of order %s) "
-                  "overflows a double",
-                  where, lr, mr >= ma ? t->rate[r - 1][k] : t->acc[r - 1][k],
-                  mr >= ma ? t->rate[r][k] : t->acc[r][k], h,
-                  mr >= ma ? "rate / step" : "the accelerations themselves");
-      }
-      return -1;
-    }
+    if (table_step_time(t, what, r, where, err, errsz)) return -1;
+    for (k = 0; k < 3; k++)
+      if (table_step_value(t, what, r, k, where, err, errsz)) return -1;
   }
   return 0;
 }

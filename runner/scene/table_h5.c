@@ -26,6 +26,8 @@
 
 #include <hdf5.h>
 
+#include "core/h5err.h"
+
 /* the units each column must be in, in the spellings a units attribute may
    use for them (UDUNITS symbols and names); "" ends a list */
 static const char *const col_units[2][TABLE_NCOL][6] = {
@@ -86,43 +88,16 @@ static void h5_units(hid_t d, char *buf, size_t sz) {
   H5Aclose(a);
 }
 
-/* the cause of the last failed HDF5 call, from the error stack (printing
-   is off while a table is read): "OUTER: INNER" (the API call's failure,
-   the innermost function's), with a missing filter between them when the
-   stack names one (the innermost is then the plugin search), or a plain
-   sentence when HDF5 recorded none; the stack is then cleared */
-typedef struct {
-  char outer[120];
-  char filter[120];
-  char inner[120];
-  unsigned n;
-} h5_walk;
-
-static herr_t h5_walk_cb(unsigned n, const H5E_error2_t *e, void *data) {
-  h5_walk *w = data;
-  const char *d = e->desc != NULL && e->desc[0] != '\0' ? e->desc : NULL;
-  if (d == NULL) d = e->func_name != NULL ? e->func_name : "?";
-  if (n == 0) snprintf(w->outer, sizeof w->outer, "%s", d);
-  if (w->filter[0] == '\0' && strstr(d, "filter") != NULL)
-    snprintf(w->filter, sizeof w->filter, "%s", d);
-  snprintf(w->inner, sizeof w->inner, "%s", d);
-  w->n = n + 1;
-  return 0;
-}
-
-static void h5_why(char *buf, size_t sz) {
-  h5_walk w;
-  memset(&w, 0, sizeof w);
-  H5Ewalk2(H5E_DEFAULT, H5E_WALK_DOWNWARD, h5_walk_cb, &w);
-  H5Eclear2(H5E_DEFAULT);
-  if (w.n == 0)
-    snprintf(buf, sz, "the HDF5 library gave no cause");
-  else if (w.filter[0] != '\0' && strcmp(w.filter, w.inner) != 0)
-    snprintf(buf, sz, "%s: %s (%s)", w.outer, w.filter, w.inner);
-  else if (w.n > 1 && strcmp(w.outer, w.inner) != 0)
-    snprintf(buf, sz, "%s: %s", w.outer, w.inner);
-  else
-    snprintf(buf, sz, "%s", w.outer);
+/* "FILE: dataset /NAME: cannot WHAT: CAUSE" for the HDF5 call that just
+   failed (printing is off while a table is read; h5err.h), the cause a
+   plain sentence when HDF5 recorded none; NAME NULL for the file itself */
+static void h5_fail(char *err, size_t errsz, const char *path,
+                    const char *name, const char *what) {
+  char why[400];
+  h5_cause(why, sizeof why);
+  table_err(err, errsz, "%s: %s%s%scannot %s: %s", path,
+            name ? "dataset /" : "", name ? name : "", name ? ": " : "", what,
+            why[0] ? why : "the HDF5 library gave no cause");
 }
 
 /* a units attribute must name the column's SI unit: a column in degrees
@@ -162,14 +137,12 @@ static const char *class_name(H5T_class_t c) {
 static int h5_link_check(hid_t f, const char *path, const char *name, char *err,
                          size_t errsz) {
   H5L_info_t li;
-  char why[400], *val;
+  char *val;
   const char *file = NULL, *obj = NULL;
   unsigned flags;
   int rc = -1;
   if (H5Lget_info(f, name, &li, H5P_DEFAULT) < 0) {
-    h5_why(why, sizeof why);
-    table_err(err, errsz, "%s: dataset /%s: cannot read its link: %s", path,
-              name, why);
+    h5_fail(err, errsz, path, name, "read its link");
     return -1;
   }
   if (li.type == H5L_TYPE_HARD) return 0;
@@ -187,9 +160,7 @@ static int h5_link_check(hid_t f, const char *path, const char *name, char *err,
     return -1;
   }
   if (H5Lget_val(f, name, val, li.u.val_size, H5P_DEFAULT) < 0) {
-    h5_why(why, sizeof why);
-    table_err(err, errsz, "%s: dataset /%s: cannot read its link: %s", path,
-              name, why);
+    h5_fail(err, errsz, path, name, "read its link");
   } else if (li.type == H5L_TYPE_SOFT) {
     if (H5Oexists_by_name(f, name, H5P_DEFAULT) > 0)
       rc = 0;
@@ -243,12 +214,9 @@ static int h5_source_exists(hid_t f, const char *path, const char *file,
 static int h5_storage_check(hid_t f, hid_t d, const char *path,
                             const char *name, char *err, size_t errsz) {
   hid_t p = H5Dget_create_plist(d);
-  char why[400];
   int rc = -1, next;
   if (p < 0) {
-    h5_why(why, sizeof why);
-    table_err(err, errsz, "%s: dataset /%s: cannot read how it is stored: %s",
-              path, name, why);
+    h5_fail(err, errsz, path, name, "read how it is stored");
     return -1;
   }
   next = H5Pget_external_count(p);
@@ -299,25 +267,79 @@ static int h5_storage_check(hid_t f, hid_t d, const char *path,
 /* the largest table, as read or held in memory [bytes] */
 #define MAX_BYTES TABLE_MAX_BYTES
 
+/* the element size of column d's numbers (integers or floating point);
+   0 or -1 with err set */
+static int h5_column_type(hid_t d, const char *path, const char *name,
+                          size_t *el, char *err, size_t errsz) {
+  hid_t ty;
+  H5T_class_t cls;
+  if ((ty = H5Dget_type(d)) < 0 || (cls = H5Tget_class(ty)) == H5T_NO_CLASS) {
+    h5_fail(err, errsz, path, name, "read its type");
+    if (ty >= 0) H5Tclose(ty);
+    return -1;
+  }
+  *el = H5Tget_size(ty);
+  H5Tclose(ty);
+  if (cls != H5T_INTEGER && cls != H5T_FLOAT) {
+    table_err(err, errsz,
+              "%s: dataset /%s: of %s type, not numbers (a column "
+              "holds integers or floating-point numbers)",
+              path, name, class_name(cls));
+    return -1;
+  }
+  return 0;
+}
+
+/* the rows of column d, which has one dimension; 0 or -1 with err set */
+static int h5_column_rows(hid_t d, const char *path, const char *name,
+                          hsize_t *rows, char *err, size_t errsz) {
+  hid_t sp = H5Dget_space(d);
+  int nd;
+  H5S_class_t type;
+  if (sp < 0) {
+    h5_fail(err, errsz, path, name, "read its shape");
+    return -1;
+  }
+  nd = H5Sget_simple_extent_ndims(sp);
+  type = H5Sget_simple_extent_type(sp);
+  if (type == H5S_SIMPLE && nd == 1 &&
+      H5Sget_simple_extent_dims(sp, rows, NULL) == 1) {
+    H5Sclose(sp);
+    return 0;
+  }
+  H5Sclose(sp);
+  H5Eclear2(H5E_DEFAULT);
+  if (type == H5S_NULL)
+    table_err(err, errsz,
+              "%s: dataset /%s: holds nothing (a null "
+              "dataspace); a column has one dimension",
+              path, name);
+  else if (type == H5S_SCALAR || nd == 0)
+    table_err(err, errsz,
+              "%s: dataset /%s: a single value (a scalar); a "
+              "column has one dimension",
+              path, name);
+  else
+    table_err(err, errsz,
+              "%s: dataset /%s: %d dimensions; a column has "
+              "one",
+              path, name, nd);
+  return -1;
+}
+
 /* column c (named name): open it and check everything but its rows'
    values; rows and the bytes it declares (as read: elements of at least a
    double's 8 bytes) out.  0, or -1 with err set (d closed) */
 static int h5_open_column(hid_t f, const char *path, const char *name, int what,
                           int c, hid_t *out, hsize_t *rows, double *bytes,
                           char *err, size_t errsz) {
-  hid_t d, ty = -1, sp = -1;
-  H5T_class_t cls;
-  hsize_t dims[1];
+  hid_t d;
   size_t el;
-  char why[400];
-  int nd, rc = -1;
   H5I_type_t kind;
   if (h5_link_check(f, path, name, err, errsz)) return -1;
   d = H5Oopen(f, name, H5P_DEFAULT);
   if (d < 0) {
-    h5_why(why, sizeof why);
-    table_err(err, errsz, "%s: dataset /%s: cannot be opened: %s", path, name,
-              why);
+    h5_fail(err, errsz, path, name, "be opened");
     return -1;
   }
   kind = H5Iget_type(d);
@@ -326,70 +348,27 @@ static int h5_open_column(hid_t f, const char *path, const char *name, int what,
               kind == H5I_GROUP      ? "group"
               : kind == H5I_DATATYPE ? "named datatype"
                                      : "object of another kind");
-    goto done;
+    H5Oclose(d);
+    return -1;
   }
-  if (h5_storage_check(f, d, path, name, err, errsz)) goto done;
-  if ((ty = H5Dget_type(d)) < 0 || (cls = H5Tget_class(ty)) == H5T_NO_CLASS) {
-    h5_why(why, sizeof why);
-    table_err(err, errsz, "%s: dataset /%s: cannot read its type: %s", path,
-              name, why);
-    goto done;
+  if (h5_storage_check(f, d, path, name, err, errsz) ||
+      h5_column_type(d, path, name, &el, err, errsz) ||
+      h5_column_rows(d, path, name, rows, err, errsz) ||
+      h5_units_check(d, path, name, what, c, err, errsz)) {
+    H5Oclose(d);
+    return -1;
   }
-  if (cls != H5T_INTEGER && cls != H5T_FLOAT) {
-    table_err(err, errsz,
-              "%s: dataset /%s: of %s type, not numbers (a column "
-              "holds integers or floating-point numbers)",
-              path, name, class_name(cls));
-    goto done;
-  }
-  el = H5Tget_size(ty);
-  if ((sp = H5Dget_space(d)) < 0) {
-    h5_why(why, sizeof why);
-    table_err(err, errsz, "%s: dataset /%s: cannot read its shape: %s", path,
-              name, why);
-    goto done;
-  }
-  nd = H5Sget_simple_extent_ndims(sp);
-  if (H5Sget_simple_extent_type(sp) != H5S_SIMPLE || nd != 1 ||
-      H5Sget_simple_extent_dims(sp, dims, NULL) != 1) {
-    H5Eclear2(H5E_DEFAULT);
-    if (H5Sget_simple_extent_type(sp) == H5S_NULL)
-      table_err(err, errsz,
-                "%s: dataset /%s: holds nothing (a null "
-                "dataspace); a column has one dimension",
-                path, name);
-    else if (H5Sget_simple_extent_type(sp) == H5S_SCALAR || nd == 0)
-      table_err(err, errsz,
-                "%s: dataset /%s: a single value (a scalar); a "
-                "column has one dimension",
-                path, name);
-    else
-      table_err(err, errsz,
-                "%s: dataset /%s: %d dimensions; a column has "
-                "one",
-                path, name, nd);
-    goto done;
-  }
-  if (h5_units_check(d, path, name, what, c, err, errsz)) goto done;
-  *rows = dims[0];
-  *bytes =
-      (double)dims[0] * (double)(el > sizeof(double) ? el : sizeof(double));
+  *bytes = (double)*rows * (double)(el > sizeof(double) ? el : sizeof(double));
   if (*bytes > MAX_BYTES) {
     table_err(err, errsz,
               "%s: dataset /%s: declares %llu rows of %zu-byte "
               "numbers, %.3g GB as read: above the table limit of 1 GiB",
-              path, name, (unsigned long long)dims[0], el, *bytes / 1e9);
-    goto done;
-  }
-  rc = 0;
-done:
-  if (sp >= 0) H5Sclose(sp);
-  if (ty >= 0) H5Tclose(ty);
-  if (rc)
+              path, name, (unsigned long long)*rows, el, *bytes / 1e9);
     H5Oclose(d);
-  else
-    *out = d;
-  return rc;
+    return -1;
+  }
+  *out = d;
+  return 0;
 }
 
 /* the values of column c, read from d into the table's arrays (a strided
@@ -399,7 +378,6 @@ static int h5_read_column(hid_t d, table_data *t, const char *name, int c,
   hid_t ms = -1;
   herr_t x;
   size_t r;
-  char why[400];
   if (t->n == 0) return 0;
   if (c == 0) {
     x = H5Dread(d, H5T_NATIVE_DOUBLE, H5S_ALL, H5S_ALL, H5P_DEFAULT, t->time);
@@ -420,9 +398,7 @@ static int h5_read_column(hid_t d, table_data *t, const char *name, int c,
       x = H5Dread(d, H5T_NATIVE_DOUBLE, ms, H5S_ALL, H5P_DEFAULT, base);
   }
   if (x < 0) {
-    h5_why(why, sizeof why);
-    table_err(err, errsz, "%s: dataset /%s: cannot read it as numbers: %s",
-              t->path, name, why);
+    h5_fail(err, errsz, t->path, name, "read it as numbers");
     if (ms >= 0) H5Sclose(ms);
     return -1;
   }
@@ -451,7 +427,6 @@ int table_h5_read(table_data *t, int what, char *err, size_t errsz) {
   hid_t f, d[TABLE_NCOL];
   hsize_t rows;
   double bytes, sum = 0.0;
-  char why[400];
   int have[TABLE_NCOL] = {0}, c, rc = -1;
   const char *const *names = table_col_names[what];
   for (c = 0; c < TABLE_NCOL; c++) d[c] = -1;
@@ -461,8 +436,7 @@ int table_h5_read(table_data *t, int what, char *err, size_t errsz) {
   H5Eclear2(H5E_DEFAULT);
   f = H5Fopen(t->path, H5F_ACC_RDONLY, H5P_DEFAULT);
   if (f < 0) {
-    h5_why(why, sizeof why);
-    table_err(err, errsz, "%s: cannot open as an HDF5 file: %s", t->path, why);
+    h5_fail(err, errsz, t->path, NULL, "open as an HDF5 file");
     H5Eset_auto2(H5E_DEFAULT, fn, data);
     return -1;
   }
@@ -470,11 +444,8 @@ int table_h5_read(table_data *t, int what, char *err, size_t errsz) {
     htri_t x = H5Lexists(f, names[c], H5P_DEFAULT);
     if (x < 0) {
       /* not absent: the file's root cannot be read (a damaged file) */
-      h5_why(why, sizeof why);
-      table_err(err, errsz,
-                "%s: dataset /%s: cannot look it up in the "
-                "file's root group: %s",
-                t->path, names[c], why);
+      h5_fail(err, errsz, t->path, names[c],
+              "look it up in the file's root group");
       goto done;
     }
     have[c] = x > 0;

@@ -25,6 +25,107 @@ static const cli_opt MERGE_OPTS[3] = {
     {"failed-ok", 0, NULL, 0, 0, 0, "exit 0, not 1, when some cases failed"},
     {"quiet", 'q', NULL, 0, 0, 0, "say nothing when all went well"}};
 
+/* what merge was asked, and the parts by shard */
+typedef struct {
+  const char *out_path, **part, **byk;
+  size_t npart, n; /* parts given, shards of the run */
+  int quiet, copy, failed_ok;
+} merge_run;
+
+/* the options and operands into m: 0, or -1 (said why) */
+static int merge_args(merge_run *m, int argc, char **argv) {
+  cli c;
+  const char *arg;
+  unsigned long v;
+  char **op;
+  int row, nop, i;
+  cli_start(&c, "rps3-run merge", MERGE_OPTS, 3, argc, argv);
+  c.help_cmd = "rps3-run"; /* its --help lists merge's options */
+  while ((row = cli_next(&c, &arg, &v)) != CLI_END) {
+    if (row == CLI_BAD) return -1;
+    if (row == 0)
+      m->copy = 1;
+    else if (row == 1)
+      m->failed_ok = 1;
+    else
+      m->quiet = 1;
+  }
+  nop = cli_operands(&c, &op);
+  if (nop > 0) m->out_path = op[0];
+  for (i = 1; i < nop; i++) m->part[m->npart++] = op[i];
+  if (!m->out_path || m->npart == 0) {
+    cli_usage_error(&c, "%s (rps3-run merge OUT.h5 PART.h5...)",
+                    m->out_path ? "missing the part files"
+                                : "missing OUT.h5 and the part files");
+    return -1;
+  }
+  return 0;
+}
+
+/* every shard 0..N-1 exactly once, each complete, of one build and one
+   set of inputs, OUT.h5 none of them: 0, or -1 (said why) */
+static int merge_parts_check(merge_run *m, int *bad) {
+  char err[768];
+  size_t i;
+  for (i = 0; i < m->n; i++)
+    if (m->byk[i] &&
+        join_part_check(m->byk[i], i, m->n, NULL, err, sizeof err)) {
+      fprintf(stderr, "rps3-run merge: %s\n", err);
+      bad[i] = 1;
+    }
+  if (m->npart != m->n)
+    fprintf(stderr,
+            "rps3-run merge: %zu part%s given, the run has %zu shards\n",
+            m->npart, m->npart == 1 ? "" : "s", m->n);
+  if (parts_report(stderr, m->byk, bad, m->n)) return -1;
+  if (out_path_check(m->out_path, m->part, m->npart, err, sizeof err) ||
+      (stale_report("rps3-run merge", m->out_path),
+       verify_same_versions(m->byk, m->n, err, sizeof err))) {
+    fprintf(stderr, "rps3-run merge: %s\n", err);
+    return -1;
+  }
+  /* the same data too: a table measured again between the shards makes
+     parts of two runs under one scene text */
+  if (verify_parts_inputs(m->byk, m->n, bad, "rps3-run merge", stderr)) {
+    parts_report(stderr, m->byk, bad, m->n);
+    return -1;
+  }
+  return 0;
+}
+
+/* every chunk of every part decodes (checksums, compression), then the
+   merged file under a temporary name, renamed when complete: 0, or -1
+   (said why) */
+static int merge_write(const merge_run *m, const char *cmd, size_t *nfailed) {
+  const char **src = calloc(m->n, sizeof *src);
+  size_t i, *ks = calloc(m->n, sizeof *ks);
+  char err[768];
+  int rc = -1;
+  snprintf(err, sizeof err, "out of memory");
+  for (i = 0; src && ks && i < m->n; i++)
+    if (verify_file(m->byk[i], err, sizeof err)) break;
+  if (i < m->n || !src || !ks)
+    fprintf(stderr, "rps3-run merge: %s\n", err);
+  else if (tmpout_name(m->out_path, 0) == 0) {
+    tmpout_arm();
+    for (i = 1; i < m->n; i++) {
+      src[i - 1] = m->byk[i];
+      ks[i - 1] = i;
+    }
+    if (m->copy ? merge_copy_file(m->byk[0], tmpout_path(), err, sizeof err) ||
+                      merge_parts(tmpout_path(), src, ks, m->n - 1, m->n, cmd,
+                                  nfailed, err, sizeof err)
+                : join_vds(tmpout_path(), m->byk, m->n, cmd, nfailed, err,
+                           sizeof err))
+      fprintf(stderr, "rps3-run merge: %s\n", err);
+    else
+      rc = tmpout_commit(m->out_path) ? -1 : 0;
+  }
+  free(src);
+  free(ks);
+  return rc;
+}
+
 /*
  * rps3-run merge OUT.h5 PART.h5 ...: the parts of shards 0..N-1, in any
  * order.  By default OUT.h5 is a file of virtual datasets over the parts
@@ -34,118 +135,38 @@ static const cli_opt MERGE_OPTS[3] = {
  * the command that makes it again (parts.h).
  */
 int merge_main(int argc, char **argv, const char *cmd) {
-  const char *out_path = NULL, **part = NULL, **byk = NULL, **src = NULL;
-  size_t npart = 0, n = 0, i, *ks = NULL, nfailed = 0;
-  int quiet = 0, copy = 0, failed_ok = 0, code = EXIT_USAGE, *bad = NULL;
-  char err[768], **op;
-  cli c;
-  const char *arg;
-  unsigned long v;
-  int row, nop;
-
-  part = calloc((size_t)argc, sizeof *part);
-  if (!part) {
+  merge_run m;
+  size_t nfailed = 0;
+  int code = EXIT_USAGE, *bad = NULL;
+  char err[768];
+  memset(&m, 0, sizeof m);
+  m.part = calloc((size_t)argc, sizeof *m.part);
+  if (!m.part) {
     fprintf(stderr, "rps3-run: out of memory\n");
     return EXIT_IO;
   }
-  cli_start(&c, "rps3-run merge", MERGE_OPTS, 3, argc, argv);
-  c.help_cmd = "rps3-run"; /* its --help lists merge's options */
-  while ((row = cli_next(&c, &arg, &v)) != CLI_END) {
-    if (row == CLI_BAD) goto done;
-    if (row == 0)
-      copy = 1;
-    else if (row == 1)
-      failed_ok = 1;
-    else
-      quiet = 1;
-  }
-  nop = cli_operands(&c, &op);
-  if (nop > 0) out_path = op[0];
-  for (i = 1; i < (size_t)nop; i++) part[npart++] = op[i];
-  if (!out_path || npart == 0) {
-    cli_usage_error(&c, "%s (rps3-run merge OUT.h5 PART.h5...)",
-                    out_path ? "missing the part files"
-                             : "missing OUT.h5 "
-                               "and the part "
-                               "files");
-    goto done;
-  }
-
-  /* every shard 0..N-1 exactly once, each complete */
-  if (parts_by_shard(part, npart, &byk, &n, err, sizeof err)) {
+  if (merge_args(&m, argc, argv)) goto done;
+  if (parts_by_shard(m.part, m.npart, &m.byk, &m.n, err, sizeof err)) {
     fprintf(stderr, "rps3-run merge: %s\n", err);
     goto done;
   }
-  bad = calloc(n, sizeof *bad);
-  src = calloc(n, sizeof *src);
-  ks = calloc(n, sizeof *ks);
-  if (!bad || !src || !ks) {
+  if (!(bad = calloc(m.n, sizeof *bad))) {
     fprintf(stderr, "rps3-run: out of memory\n");
     code = EXIT_IO;
     goto done;
   }
-  for (i = 0; i < n; i++)
-    if (byk[i] && join_part_check(byk[i], i, n, NULL, err, sizeof err)) {
-      fprintf(stderr, "rps3-run merge: %s\n", err);
-      bad[i] = 1;
-    }
-  if (npart != n)
-    fprintf(stderr,
-            "rps3-run merge: %zu part%s given, the run has %zu "
-            "shards\n",
-            npart, npart == 1 ? "" : "s", n);
-  if (parts_report(stderr, byk, bad, n)) goto done;
-  if (out_path_check(out_path, part, npart, err, sizeof err)) {
-    fprintf(stderr, "rps3-run merge: %s\n", err);
-    goto done;
-  }
-  stale_report("rps3-run merge", out_path);
-  if (verify_same_versions(byk, n, err, sizeof err)) {
-    fprintf(stderr, "rps3-run merge: %s\n", err);
-    goto done;
-  }
-  /* the same data too: a table measured again between the shards makes
-     parts of two runs under one scene text */
-  if (verify_parts_inputs(byk, n, bad, "rps3-run merge", stderr)) {
-    parts_report(stderr, byk, bad, n);
-    goto done;
-  }
-
-  /* every chunk of every part decodes (checksums, compression) before the
-     merged file can claim the parts' cases */
+  if (merge_parts_check(&m, bad)) goto done;
   code = EXIT_IO;
-  for (i = 0; i < n; i++)
-    if (verify_file(byk[i], err, sizeof err)) {
-      fprintf(stderr, "rps3-run merge: %s\n", err);
-      goto done;
-    }
-  if (tmpout_name(out_path, 0)) goto done;
-  tmpout_arm();
-  for (i = 1; i < n; i++) {
-    src[i - 1] = byk[i];
-    ks[i - 1] = i;
-  }
-  if (copy ? merge_copy_file(byk[0], tmpout_path(), err, sizeof err) ||
-                 merge_parts(tmpout_path(), src, ks, n - 1, n, cmd, &nfailed,
-                             err, sizeof err)
-           : join_vds(tmpout_path(), byk, n, cmd, &nfailed, err, sizeof err)) {
-    fprintf(stderr, "rps3-run merge: %s\n", err);
-    goto done;
-  }
-  if (tmpout_commit(out_path)) goto done;
-  if (!quiet)
-    fprintf(stderr,
-            "rps3-run: %s %zu part%s into %s (%zu failed "
-            "case%s)\n",
-            copy ? "merged" : "joined", n, n == 1 ? "" : "s", out_path, nfailed,
-            nfailed == 1 ? "" : "s");
-  code = nfailed && !failed_ok ? EXIT_FAILED_CASES : EXIT_OK;
+  if (merge_write(&m, cmd, &nfailed)) goto done;
+  if (!m.quiet)
+    fprintf(stderr, "rps3-run: %s %zu part%s into %s (%zu failed case%s)\n",
+            m.copy ? "merged" : "joined", m.n, m.n == 1 ? "" : "s", m.out_path,
+            nfailed, nfailed == 1 ? "" : "s");
+  code = nfailed && !m.failed_ok ? EXIT_FAILED_CASES : EXIT_OK;
 done:
   tmpout_discard();
-  free(part);
-  free(byk);
+  free(m.part);
+  free(m.byk);
   free(bad);
-  free(src);
-  free(ks);
   return code;
 }

@@ -448,15 +448,105 @@ static char *link_name(const char *path, const char *dir) {
   return out;
 }
 
+/* the directory of path, malloc'd: "." when it has none */
+static char *dir_of(const char *path) {
+  const char *slash = strrchr(path, '/');
+  char *dir = malloc(slash ? (size_t)(slash - path) + 2 : 2);
+  if (!dir) return NULL;
+  if (!slash)
+    strcpy(dir, ".");
+  else if (slash == path)
+    strcpy(dir, "/");
+  else {
+    memcpy(dir, path, (size_t)(slash - path));
+    dir[slash - path] = '\0';
+  }
+  return dir;
+}
+
+/* part 0 open in w->src; every part complete, of the scene and inputs of
+   part 0, and its name as dst's directory stores it into link[]: 0 or -1
+   with w->err */
+static int parts_open(walk *w, char **link, const char *link_dir) {
+  char *text0 = NULL, *inputs0 = NULL, is0[4200];
+  size_t k;
+  int rc = -1;
+  if ((w->src = H5Fopen(w->part[0], H5F_ACC_RDONLY, H5P_DEFAULT)) < 0 ||
+      !(text0 = merge_read_text(w->src, "scene", 0))) {
+    out_fail(w->err, w->errsz, "%s: not an rps3-run file", w->part[0]);
+    return -1;
+  }
+  inputs0 = merge_read_text(w->src, INPUTS_ATTR, 1);
+  snprintf(is0, sizeof is0, "%s read", w->part[0]);
+  for (k = 0; k < w->n; k++) {
+    if (join_part_check(w->part[k], k, w->n, text0, w->err, w->errsz)) break;
+    /* the same content of every file the scene reads (inputs.h) */
+    if (k > 0 && verify_inputs_as(w->part[k], inputs0, is0, w->err, w->errsz))
+      break;
+    if (!(link[k] = link_name(w->part[k], link_dir))) {
+      snprintf(w->err, w->errsz, "%s: cannot resolve its path", w->part[k]);
+      break;
+    }
+  }
+  if (k == w->n) rc = 0;
+  free(text0);
+  free(inputs0);
+  return rc;
+}
+
+/* the joined file dst: part 0's objects, virtual datasets over the parts
+   and part 0's root attributes, stamped; 0 or -1 with w->err */
+static int joined_write(walk *w, const char *dst, const char *command_line) {
+  /* the 1.10 file format, whatever the library: 1.12 and later encode
+     hyperslab selections (the virtual maps) in a form 1.10 cannot read */
+  hid_t fapl = H5Pcreate(H5P_FILE_ACCESS);
+  int ok = fapl >= 0 &&
+           H5Pset_libver_bounds(fapl, H5F_LIBVER_V110, H5F_LIBVER_V110) >= 0 &&
+           (w->dst = H5Fcreate(dst, H5F_ACC_TRUNC, H5P_DEFAULT, fapl)) >= 0;
+  if (fapl >= 0) H5Pclose(fapl);
+  if (!ok) {
+    out_fail(w->err, w->errsz, "cannot create %s", dst);
+    return -1;
+  }
+  if (!parts_agree(w) ||
+      H5Ovisit(w->src, H5_INDEX_NAME, H5_ITER_INC, make_object, w) < 0 ||
+      H5Ovisit(w->src, H5_INDEX_NAME, H5_ITER_INC, make_scales, w) < 0)
+    return -1;
+  if (copy_attrs(w->src, w->dst) < 0 || out_stamp(w->dst, command_line) < 0) {
+    out_fail(w->err, w->errsz, "%s: cannot write the root attributes", dst);
+    return -1;
+  }
+  return 0;
+}
+
+/* the failed cases, counted through the virtual datasets (the parts); 0
+   or -1 with err */
+static int joined_count(hid_t file, const char *dst, const char *link_dir,
+                        size_t *nfailed, char *err, size_t errsz) {
+  size_t unset = 0;
+  if (merge_count_failed(file, nfailed, &unset) < 0) {
+    out_fail(err, errsz, "%s: cannot read status through the parts", dst);
+    return -1;
+  }
+  /* every part has all its statuses (checked before): a case never
+     written here is a part HDF5 could not open through the virtual
+     dataset (it then reads the fill value, silently) */
+  if (unset) {
+    snprintf(err, errsz,
+             "%s: %zu cases unreadable through the virtual datasets (a part "
+             "that cannot be opened from %s)",
+             dst, unset, link_dir);
+    return -1;
+  }
+  return 0;
+}
+
 int join_vds(const char *dst, const char *const *part, size_t n,
              const char *command_line, size_t *nfailed, char *err,
              size_t errsz) {
   walk w;
-  char **link = calloc(n, sizeof *link), *text0 = NULL, *link_dir = NULL;
-  char *inputs0 = NULL, is0[4200];
-  const char *slash = strrchr(dst, '/');
-  hid_t fapl = -1;
-  size_t k, unset = 0;
+  char **link = calloc(n, sizeof *link), *link_dir = dir_of(dst);
+  size_t k;
   int rc = -1;
   w.src = w.dst = -1;
   w.part = part;
@@ -464,78 +554,17 @@ int join_vds(const char *dst, const char *const *part, size_t n,
   w.err = err;
   w.errsz = errsz;
   w.link = (const char *const *)link;
-  /* the directory of dst: "." when it has none */
-  if (link) link_dir = slash ? malloc((size_t)(slash - dst) + 2) : malloc(2);
-  if (!link || !link_dir) {
-    free(link);
+  if (!link || !link_dir)
     snprintf(err, errsz, "out of memory");
-    return -1;
+  else if (parts_open(&w, link, link_dir) == 0 &&
+           joined_write(&w, dst, command_line) == 0) {
+    H5Fclose(w.src);
+    w.src = -1;
+    rc = joined_count(w.dst, dst, link_dir, nfailed, err, errsz);
   }
-  if (!slash)
-    strcpy(link_dir, ".");
-  else if (slash == dst)
-    strcpy(link_dir, "/");
-  else {
-    memcpy(link_dir, dst, (size_t)(slash - dst));
-    link_dir[slash - dst] = '\0';
-  }
-  if ((w.src = H5Fopen(part[0], H5F_ACC_RDONLY, H5P_DEFAULT)) < 0 ||
-      !(text0 = merge_read_text(w.src, "scene", 0))) {
-    out_fail(err, errsz, "%s: not an rps3-run file", part[0]);
-    goto done;
-  }
-  inputs0 = merge_read_text(w.src, INPUTS_ATTR, 1);
-  snprintf(is0, sizeof is0, "%s read", part[0]);
-  for (k = 0; k < n; k++) {
-    if (join_part_check(part[k], k, n, text0, err, errsz)) goto done;
-    /* the same content of every file the scene reads (inputs.h) */
-    if (k > 0 && verify_inputs_as(part[k], inputs0, is0, err, errsz)) goto done;
-    if (!(link[k] = link_name(part[k], link_dir))) {
-      snprintf(err, errsz, "%s: cannot resolve its path", part[k]);
-      goto done;
-    }
-  }
-  /* the 1.10 file format, whatever the library: 1.12 and later encode
-     hyperslab selections (the virtual maps) in a form 1.10 cannot read */
-  if ((fapl = H5Pcreate(H5P_FILE_ACCESS)) < 0 ||
-      H5Pset_libver_bounds(fapl, H5F_LIBVER_V110, H5F_LIBVER_V110) < 0 ||
-      (w.dst = H5Fcreate(dst, H5F_ACC_TRUNC, H5P_DEFAULT, fapl)) < 0) {
-    out_fail(err, errsz, "cannot create %s", dst);
-    goto done;
-  }
-  if (!parts_agree(&w) ||
-      H5Ovisit(w.src, H5_INDEX_NAME, H5_ITER_INC, make_object, &w) < 0 ||
-      H5Ovisit(w.src, H5_INDEX_NAME, H5_ITER_INC, make_scales, &w) < 0)
-    goto done;
-  if (copy_attrs(w.src, w.dst) < 0 || out_stamp(w.dst, command_line) < 0) {
-    out_fail(err, errsz, "%s: cannot write the root attributes", dst);
-    goto done;
-  }
-  /* counted through the virtual datasets, that is, the parts */
-  H5Fclose(w.src);
-  w.src = -1;
-  if (merge_count_failed(w.dst, nfailed, &unset) < 0) {
-    out_fail(err, errsz, "%s: cannot read status through the parts", dst);
-    goto done;
-  }
-  /* every part has all its statuses (checked above): a case never written
-     here is a part HDF5 could not open through the virtual dataset (it
-     then reads the fill value, silently) */
-  if (unset) {
-    snprintf(err, errsz,
-             "%s: %zu cases unreadable through the virtual datasets (a part "
-             "that cannot be opened from %s)",
-             dst, unset, link_dir);
-    goto done;
-  }
-  rc = 0;
-done:
-  for (k = 0; k < n; k++) free(link[k]);
+  for (k = 0; link && k < n; k++) free(link[k]);
   free(link);
   free(link_dir);
-  free(text0);
-  free(inputs0);
-  if (fapl >= 0) H5Pclose(fapl);
   if (w.src >= 0) H5Fclose(w.src);
   if (w.dst >= 0 && H5Fclose(w.dst) < 0 && rc == 0) {
     out_fail(err, errsz, "%s: cannot close", dst);

@@ -3,13 +3,16 @@
  * accuracy study, the state of one configuration on one trajectory, the
  * reference it is graded against, and the HDF5 file both studies write.
  *
- *   main_study.c       command line, temporary file, exit codes
+ *   main_study.c       rps3-study's command line
+ *   main_simstudy.c    rps3-simstudy's command line
+ *   study_run.c        both programs' set-up and output file
  *   study_points.c     the trajectories, the configurations, one point
  *                      by a configuration's route, the energy
  *   study_accuracy.c   the reference, the passes, the accuracy file
  *   study_workspace.c  the workspace grid and its file
  *   study_h5.c         root attributes, datasets with units and scales
  *   study_ref.c        the force reference (Kane's equations)
+ *   study_sim.c        rps3-simstudy: tracking and simulation accuracy
  */
 #ifndef RPS3_RUNNER_STUDY_H
 #define RPS3_RUNNER_STUDY_H
@@ -33,7 +36,9 @@
 /* a quiet NaN as a double (DNAN is a float) */
 #define DNAN ((double)NAN)
 
-enum { EXIT_OK = 0, EXIT_USAGE = 2, EXIT_IO = 3 };
+/* the exit codes; EXIT_RUN: rps3-simstudy, a run that must succeed
+   failed */
+enum { EXIT_OK = 0, EXIT_USAGE = 2, EXIT_IO = 3, EXIT_RUN = 4 };
 
 /* ------------------------------------------------------ configurations */
 
@@ -157,6 +162,31 @@ int study_accuracy(const char *path, const char *cmdline, size_t nsamp,
 
 /* the workspace study into the HDF5 file path: an EXIT_* code */
 int study_workspace(const char *path, const char *cmdline, int quick);
+
+/* rps3-simstudy's file at path: tracking and simulation accuracy
+   (study_sim.c); EXIT_OK or EXIT_IO, or exits EXIT_RUN when a run that
+   must succeed fails */
+int study_sim(const char *path, const char *cmdline, int quick);
+
+/* ------------------------------------------------ study_run.c */
+
+/* the process set-up of a study program named prog (fds, signals,
+   temporary file, GSL's and HDF5's errors), then body's exit code */
+int study_prog(const char *prog, int (*body)(int, char **), int argc,
+               char **argv);
+
+/* what writes a study's file at path, with the command line for its
+   attributes: an exit code */
+typedef int (*study_writer)(const char *path, const char *cmdline,
+                            const void *arg);
+
+/*
+ * OUT.h5 checked, the leftovers of killed runs of it reported and removed,
+ * written by write(TMP, command line, arg) under a temporary name and
+ * renamed when complete; messages "PROG: ..." on stderr.  The exit code.
+ */
+int study_output(const char *prog, const char *out, int argc, char **argv,
+                 study_writer write, const void *arg);
 
 /* ------------------------------------------------ study_h5.c */
 

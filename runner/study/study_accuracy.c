@@ -421,38 +421,33 @@ static int write_results(study_h5 *o, const study_result res[][MAXCFG],
           "W_k the trapezoid of the power sum F_i dl_i, E = T + P")
   RES_F64("mean_iterations", mean_iter, "1",
           "theta solve iterations per sample")
-  for (t = 0; t < NTRAJ; t++)
-    for (c = 0; c < ncfg; c++) tiv[t * ncfg + c] = res[t][c].nfail;
-  rc |= study_h5_write(o, "failed_samples", H5T_NATIVE_INT32, 2, dims, tiv, "1",
-                       "samples whose pipeline returned an error "
-                       "(errors are measured over the others)",
-                       s_tc);
-  for (t = 0; t < NTRAJ; t++)
-    for (c = 0; c < ncfg; c++) tiv[t * ncfg + c] = res[t][c].status;
-  rc |= study_h5_write(o, "status", H5T_NATIVE_INT32, 2, dims, tiv, "1",
-                       "rps3_status of the first failing sample, 0 if none",
-                       s_tc);
-  for (t = 0; t < NTRAJ; t++) fl[t] = ref[t].floor_ref;
-  rc |= study_h5_write(o, "reference_floor_force", H5T_NATIVE_DOUBLE, 1, &dt1,
-                       fl, "1",
-                       "the reference's own rounding error / max |F_ref|: "
-                       "its double twin's distance from it x LDBL_EPSILON / "
-                       "DBL_EPSILON",
+#define RES_I32(name, field, doc)                                   \
+  for (t = 0; t < NTRAJ; t++)                                       \
+    for (c = 0; c < ncfg; c++) tiv[t * ncfg + c] = res[t][c].field; \
+  rc |= study_h5_write(o, name, H5T_NATIVE_INT32, 2, dims, tiv, "1", doc, s_tc);
+  RES_I32("failed_samples", nfail,
+          "samples whose pipeline returned an error "
+          "(errors are measured over the others)")
+  RES_I32("status", status,
+          "rps3_status of the first failing sample, 0 if none")
+#define REF_F64(name, field, units, doc)                                    \
+  for (t = 0; t < NTRAJ; t++) fl[t] = ref[t].field;                         \
+  rc |= study_h5_write(o, name, H5T_NATIVE_DOUBLE, 1, &dt1, fl, units, doc, \
                        s_t);
-  for (t = 0; t < NTRAJ; t++) fl[t] = ref[t].floor_theta;
-  rc |= study_h5_write(o, "reference_floor_theta", H5T_NATIVE_DOUBLE, 1, &dt1,
-                       fl, "rad",
-                       "max |theta_closed_form - theta_long_double| on the "
-                       "grid",
-                       s_t);
-  for (t = 0; t < NTRAJ; t++) fl[t] = ref[t].fscale;
-  rc |= study_h5_write(o, "reference_force_max", H5T_NATIVE_DOUBLE, 1, &dt1, fl,
-                       "N", "max |F_ref| over the grid: the force_error scale",
-                       s_t);
-  for (t = 0; t < NTRAJ; t++) fl[t] = ref[t].peak;
-  rc |=
-      study_h5_write(o, "reference_peak_force", H5T_NATIVE_DOUBLE, 1, &dt1, fl,
-                     "N", "peak |F| over 200001 samples of the span", s_t);
+  REF_F64("reference_floor_force", floor_ref, "1",
+          "the reference's own rounding error / max |F_ref|: "
+          "its double twin's distance from it x LDBL_EPSILON / "
+          "DBL_EPSILON")
+  REF_F64("reference_floor_theta", floor_theta, "rad",
+          "max |theta_closed_form - theta_long_double| on the "
+          "grid")
+  REF_F64("reference_force_max", fscale, "N",
+          "max |F_ref| over the grid: the force_error scale")
+  REF_F64("reference_peak_force", peak, "N",
+          "peak |F| over 200001 samples of the span")
+#undef RES_F64
+#undef RES_I32
+#undef REF_F64
   return rc ? -1 : 0;
 }
 

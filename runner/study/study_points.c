@@ -298,7 +298,8 @@ int study_runner_init(study_runner *r, const study_config *c,
   r->model.opt.warm_start = c->warm;
   r->model.opt.method = c->method;
   r->model.opt.effects = c->effects;
-  r->model.opt.certify = c->study == S_DT;
+  r->model.opt.outputs =
+      c->study == S_DT ? RPS3_OUT_ALL : RPS3_OUT_ALL & ~RPS3_OUT_CERTIFY;
   r->model.opt.max_iter = 100;
   if (rps3_model_init(&r->model, err, sizeof err) != RPS3_OK) {
     fprintf(stderr, "rps3-study: %s: %s\n", c->label, err);

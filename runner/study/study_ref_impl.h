@@ -113,35 +113,21 @@ typedef struct {
 static int S(kinematics)(const rps3_model *m, const S(jet) q[3], S(kin) * k) {
   REAL R = (REAL)m->R, r = (REAL)m->rho * R, d = (REAL)m->d;
   REAL pi = RATAN2(0, -1), cp[3], sp[3];
-  S(jet) A[3][3], B[3][3], T[3][3], w[3][3], rhs[2];
+  S(jet) T[3][3], w[3][3], rhs[2];
   S(jet) ca = S(jcos)(q[0]), sa = S(jsin)(q[0]);
   S(jet) cb = S(jcos)(q[1]), sb = S(jsin)(q[1]);
   S(jet) zero = S(jk)(0), one = S(jk)(1);
+  /* rot = Rz(alpha) Ry(beta) Rz(-alpha), the spin gamma = -alpha of (2) */
+  S(jet) A[3][3] = {{ca, S(jscale)(-1, sa), zero}, {sa, ca, zero},
+                    {zero, zero, one}};
+  S(jet) B[3][3] = {{cb, zero, sb}, {zero, one, zero},
+                    {S(jscale)(-1, sb), zero, cb}};
   REAL det;
   int i, j, n;
   for (i = 0; i < 3; i++) {
     cp[i] = RCOS(2 * pi * (REAL)i / 3);
     sp[i] = RSIN(2 * pi * (REAL)i / 3);
   }
-  /* rot = Rz(alpha) Ry(beta) Rz(-alpha), the spin gamma = -alpha of (2) */
-  A[0][0] = ca;
-  A[0][1] = S(jscale)(-1, sa);
-  A[0][2] = zero;
-  A[1][0] = sa;
-  A[1][1] = ca;
-  A[1][2] = zero;
-  A[2][0] = zero;
-  A[2][1] = zero;
-  A[2][2] = one;
-  B[0][0] = cb;
-  B[0][1] = zero;
-  B[0][2] = sb;
-  B[1][0] = zero;
-  B[1][1] = one;
-  B[1][2] = zero;
-  B[2][0] = S(jscale)(-1, sb);
-  B[2][1] = zero;
-  B[2][2] = cb;
   for (i = 0; i < 3; i++)
     for (j = 0; j < 3; j++) {
       T[i][j] = zero;

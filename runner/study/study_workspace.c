@@ -131,7 +131,7 @@ static int grid_compute(ws_grid *g) {
     rps3_model_default(&m);
     m.rho = rhos[ir];
     m.opt.effects = RPS3_EFF_PLATFORM_GRAVITY | RPS3_EFF_LINK_GRAVITY;
-    m.opt.certify = 0;
+    m.opt.outputs = RPS3_OUT_ALL & ~RPS3_OUT_CERTIFY;
     if (rps3_model_init(&m, err, sizeof err) != RPS3_OK ||
         rps3_data_alloc(&m, &d) != RPS3_OK) {
       fprintf(stderr, "rps3-study: workspace model: %s\n", err);

@@ -74,7 +74,7 @@ int main(int argc, char **argv) {
   gsl_set_error_handler_off();
   rps3_model_default(&m);
   m.opt.effects = RPS3_EFF_DEFAULT; /* the paper's four effects */
-  m.opt.certify = 0;
+  m.opt.outputs &= ~RPS3_OUT_CERTIFY;
   if (rps3_model_init(&m, err, sizeof(err)) != RPS3_OK ||
       rps3_data_alloc(&m, &d) != RPS3_OK) {
     fprintf(stderr, "anchor-check: model: %s\n", err);

@@ -270,9 +270,9 @@ static void run_batch(bench_case *c, const points *pt, long ncalls) {
   case K_SIM:
     for (i = 0; i < ncalls; i++) {
       rps3_controller ctl = sim_law(c);
-      if (c->tick == pt->n - 1 || c->sim->status != RPS3_OK) {
+      if (c->tick == pt->n - 1 || rps3_sim_now(c->sim)->status != RPS3_OK) {
         /* the end of the helix: start it again */
-        if (c->sim->status != RPS3_OK) c->failures++;
+        if (rps3_sim_now(c->sim)->status != RPS3_OK) c->failures++;
         rps3_sim_start(c->sim, 0.0, pt->pose[0], pt->dpose[0]);
         c->tick = 0;
       }
@@ -298,8 +298,8 @@ static void run_batch(bench_case *c, const points *pt, long ncalls) {
     long left = ncalls;
     while (left > 0) {
       long k;
-      if (c->tick == pt->n - 1 || c->sim->status != RPS3_OK) {
-        if (c->sim->status != RPS3_OK) c->failures++;
+      if (c->tick == pt->n - 1 || rps3_sim_now(c->sim)->status != RPS3_OK) {
+        if (rps3_sim_now(c->sim)->status != RPS3_OK) c->failures++;
         rps3_sim_start(c->sim, 0.0, pt->pose[0], pt->dpose[0]);
         c->tick = 0;
       }
@@ -351,7 +351,8 @@ static void make_model(rps3_model *m, scene s, rps3_method method,
   m->opt.method = method;
   m->opt.theta = theta;
   m->opt.warm_start = warm;
-  m->opt.certify = certify;
+  m->opt.outputs = (certify) ? (m->opt.outputs | RPS3_OUT_CERTIFY)
+      : (m->opt.outputs & ~RPS3_OUT_CERTIFY);
   if (rps3_model_init(m, err, sizeof(err)) != RPS3_OK) {
     fprintf(stderr, "rps3-bench: model: %s\n", err);
     exit(2);
@@ -512,9 +513,9 @@ static const struct {
     {"pipeline_closed_lagrange_paper_nocert", "anchor_generated",
      "scalar rps3_inverse / generated code, the paper's four effects"},
     {"pipeline_closed_lagrange_paper_forces", "anchor_generated",
-     "scalar rps3_inverse, forces_only / generated code"},
+     "scalar rps3_inverse, F and the transmission / generated code"},
     {"pipeline_closed_lagrange_paper_lean", "anchor_generated",
-     "scalar rps3_inverse, RPS3_FORCES_LEAN / generated code (goal <= 1)"},
+     "scalar rps3_inverse, F alone (RPS3_OUT_FORCES) / generated code (goal <= 1)"},
     {"batch_closed_lagrange_paper_nocert", "anchor_generated",
      "rps3_inverse_batch per point / generated code, the same forces"},
     {"stages_closed_lagrange_paper_nocert",
@@ -522,7 +523,7 @@ static const struct {
      "per-point stages / rps3_inverse_batch per point (goal >= 10)"},
     {"stages_closed_lagrange_paper_nocert",
      "batch_closed_lagrange_paper_lean",
-     "the same, RPS3_FORCES_LEAN (no transmission; goal >= 10)"},
+     "the same, F alone (RPS3_OUT_FORCES; goal >= 10)"},
     {"stages_closed_lagrange_paper", "batch_closed_lagrange_paper_all",
      "the same, certify on, every output (goal >= 10)"},
     {"stages_closed_lagrange_paper_nocert",
@@ -730,17 +731,17 @@ int main(int argc, char **argv) {
        RPS3_LAGRANGE, RPS3_THETA_CLOSED_FORM, 1, 1, BENCH_NONE, 0);
   cases[ncase - 1].stages = 1;
   CASE("pipeline_closed_lagrange_paper_forces", "rps3_inverse, closed-form "
-       "theta, the paper's effects, Lagrange, certify off, opt.forces_only "
-       "(the controller's path: F only, the outputs of the generated code)",
+       "theta, the paper's effects, Lagrange, opt.outputs = RPS3_OUT_FORCES | "
+       "RPS3_OUT_TRANSMISSION (F and the transmission)",
        K_INVERSE, SCENE_PAPER, RPS3_LAGRANGE, RPS3_THETA_CLOSED_FORM, 1, 0,
        BENCH_NONE, 0);
-  cases[ncase - 1].m.opt.forces_only = 1;
+  cases[ncase - 1].m.opt.outputs = RPS3_OUT_FORCES | RPS3_OUT_TRANSMISSION;
   CASE("pipeline_closed_lagrange_paper_lean", "rps3_inverse, closed-form "
-       "theta, the paper's effects, Lagrange, certify off, opt.forces_only "
-       "= RPS3_FORCES_LEAN (F alone without the force transmission, the "
+       "theta, the paper's effects, Lagrange, opt.outputs = RPS3_OUT_FORCES "
+       "(F alone, the leanest pass, every check; the "
        "outputs of the generated code)", K_INVERSE, SCENE_PAPER,
        RPS3_LAGRANGE, RPS3_THETA_CLOSED_FORM, 1, 0, BENCH_NONE, 0);
-  cases[ncase - 1].m.opt.forces_only = RPS3_FORCES_LEAN;
+  cases[ncase - 1].m.opt.outputs = RPS3_OUT_FORCES;
   CASE("anchor_generated", "SymPy-generated CSE'd C (tests/bench/"
        "gen_anchor.py): pose, rates, accelerations -> F, the paper's four "
        "effects", K_ANCHOR, SCENE_PAPER, RPS3_LAGRANGE,
@@ -751,10 +752,10 @@ int main(int argc, char **argv) {
        RPS3_LAGRANGE, RPS3_THETA_CLOSED_FORM, 1, 0, BENCH_NONE, 0);
   CASE("batch_closed_lagrange_paper_lean", "rps3_inverse_batch, 1000 "
        "points a call (time per point), closed-form theta, the paper's "
-       "effects, Lagrange, certify off, F only, opt.forces_only = "
-       "RPS3_FORCES_LEAN (no force transmission)", K_BATCH, SCENE_PAPER,
+       "effects, Lagrange, F only, opt.outputs = RPS3_OUT_FORCES (the "
+       "leanest pass)", K_BATCH, SCENE_PAPER,
        RPS3_LAGRANGE, RPS3_THETA_CLOSED_FORM, 1, 0, BENCH_NONE, 0);
-  cases[ncase - 1].m.opt.forces_only = RPS3_FORCES_LEAN;
+  cases[ncase - 1].m.opt.outputs = RPS3_OUT_FORCES;
   CASE("pipeline_closed_lagrange_paper", "rps3_inverse, closed-form theta, "
        "the paper's effects, Lagrange, certify on (the default)", K_INVERSE,
        SCENE_PAPER, RPS3_LAGRANGE, RPS3_THETA_CLOSED_FORM, 1, 1, BENCH_NONE,

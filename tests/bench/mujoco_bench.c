@@ -136,7 +136,7 @@ int main(int argc, char **argv) {
   gsl_set_error_handler_off();
   rps3_model_default(&rm);
   rm.opt.effects = RPS3_EFF_DEFAULT; /* the paper's four effects */
-  rm.opt.certify = 0;
+  rm.opt.outputs &= ~RPS3_OUT_CERTIFY;
   if (rps3_model_init(&rm, err, sizeof(err)) != RPS3_OK ||
       rps3_data_alloc(&rm, &rd) != RPS3_OK) {
     fprintf(stderr, "rps3-mujoco-bench: %s\n", err);

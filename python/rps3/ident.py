@@ -1,0 +1,807 @@
+"""Identification of the manipulator's inertia and friction parameters from
+a regressor, F = Y(q, qd, qdd) pi (docs/identification.md).
+
+    lay = rps3.ident.Layout(legs="each", friction=("prismatic",))
+    base = rps3.ident.base_parameters(Y_rich, lay.names)  # structural, (3N, p) Y
+    est = rps3.ident.ols(Y, F, base=base)                 # base parameters, 95 % intervals
+    fit = rps3.ident.consistent(Y, F, lay)                # standard parameters, LMI
+    print(rps3.ident.consistency_report(fit.pi, lay))
+
+The standard parameters are those of seven rigid bodies (the platform, and
+per leg the cylinder turning about its pin and the piston sliding in it),
+10 each, in the order of :data:`STANDARD_NAMES`, then the friction
+coefficients.  Every function works on any stacked regressor (Y, F): rows
+are force equations (one per actuator and sample), columns parameters.
+Y may be given as (n, 3, p) with F (n, 3) (three actuators per sample) or
+as (N, p) with F (N,).
+
+The estimators need scipy (QR, the Butterworth filter, Student's t) and,
+for :func:`consistent`, cvxpy with the Clarabel solver: the package's
+``ident`` extra.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+from typing import Any
+
+import numpy as np
+from numpy.typing import ArrayLike
+
+#: the seven bodies, in the order of the standard parameters
+BODIES: tuple[str, ...] = ("platform", "cylinder1", "piston1", "cylinder2",
+                           "piston2", "cylinder3", "piston3")
+#: a body's 10 standard parameters: mass [kg], first moment m c [kg m] in the
+#: body's axes from its origin, inertia about the origin [kg m^2]
+INERTIAL: tuple[str, ...] = ("m", "mcx", "mcy", "mcz", "Ixx", "Ixy", "Ixz",
+                             "Iyy", "Iyz", "Izz")
+#: friction kinds: viscous fv [N s/m | N m s/rad] and Coulomb fc [N | N m]
+FRICTION_KINDS: tuple[str, ...] = ("prismatic", "pin")
+N_BODY_PARAMETERS = 70
+N_STANDARD = 82
+#: names of the 82 standard parameters: body.parameter, then
+#: prismatic1.fv, prismatic1.fc, ..., pin3.fc
+STANDARD_NAMES: tuple[str, ...] = tuple(
+    [f"{b}.{p}" for b in BODIES for p in INERTIAL]
+    + [f"{k}{i}.{c}" for k in FRICTION_KINDS for i in (1, 2, 3)
+       for c in ("fv", "fc")])
+
+
+class NotExcitingError(ValueError):
+    """The data do not determine every parameter: the message names the
+    parameter combinations left undetermined and the condition number."""
+
+    def __init__(self, message: str, cond: float, unidentifiable: list[str]):
+        super().__init__(message)
+        self.cond = cond
+        self.unidentifiable = unidentifiable
+
+
+class InconsistentFitError(RuntimeError):
+    """The constrained fit did not reach a certified physically consistent
+    optimum (solver status, or a pseudo-inertia eigenvalue below the
+    tolerance)."""
+
+
+# ------------------------------------------------------------------ layout
+
+@dataclass(frozen=True)
+class Layout:
+    """Which parameters a model has: every leg its own bodies
+    (``legs="each"``) or three identical legs (``"identical"``: one
+    cylinder and one piston, each leg's in its own axes); which friction
+    kinds; and friction coefficients per leg or one pair per kind shared
+    by the three legs (``friction_per_leg``, by default as the legs: per
+    leg for "each", shared for "identical").
+
+    ``matrix`` maps the layout's parameters to the 82 standard ones
+    (pi_standard = matrix @ pi), so a standard regressor Y gives the
+    layout's as Y @ matrix (:meth:`regressor`)."""
+
+    legs: str = "each"
+    friction: tuple[str, ...] = ("prismatic", "pin")
+    friction_per_leg: bool | None = None
+
+    def __post_init__(self) -> None:
+        if self.legs not in ("each", "identical"):
+            raise ValueError(f"legs: expected 'each' or 'identical', got {self.legs!r}")
+        if isinstance(self.friction, str):
+            raise ValueError(f"friction: expected a tuple of kinds, got {self.friction!r}")
+        for k in self.friction:
+            if k not in FRICTION_KINDS:
+                raise ValueError(f"friction: unknown kind {k!r}; known: "
+                                 f"{', '.join(FRICTION_KINDS)}")
+
+    @property
+    def per_leg(self) -> bool:
+        """Whether each leg has its own friction coefficients."""
+        return (self.legs == "each" if self.friction_per_leg is None
+                else bool(self.friction_per_leg))
+
+    @property
+    def bodies(self) -> tuple[str, ...]:
+        """The layout's bodies (each 10 parameters, first in the vector)."""
+        return BODIES if self.legs == "each" else ("platform", "cylinder", "piston")
+
+    @property
+    def names(self) -> tuple[str, ...]:
+        out = [f"{b}.{p}" for b in self.bodies for p in INERTIAL]
+        legs: tuple[Any, ...] = (1, 2, 3) if self.per_leg else ("",)
+        for k in FRICTION_KINDS:
+            if k in self.friction:
+                out += [f"{k}{i}.{c}" for i in legs for c in ("fv", "fc")]
+        return tuple(out)
+
+    @property
+    def n(self) -> int:
+        return len(self.names)
+
+    @property
+    def friction_indices(self) -> np.ndarray:
+        return np.arange(10 * len(self.bodies), self.n)
+
+    @property
+    def matrix(self) -> np.ndarray:
+        S = np.zeros((N_STANDARD, self.n))
+        std = {name: k for k, name in enumerate(STANDARD_NAMES)}
+        for j, name in enumerate(self.names):
+            head, par = name.split(".")
+            if name in std:
+                S[std[name], j] = 1.0
+            else:                      # shared by the three legs
+                for i in (1, 2, 3):
+                    S[std[f"{head}{i}.{par}"], j] = 1.0
+        return S
+
+    def regressor(self, Y: ArrayLike) -> np.ndarray:
+        """The layout's regressor from a standard one (..., 82)."""
+        return np.asarray(Y, float) @ self.matrix
+
+
+# ------------------------------------------------------- body parameters
+
+def body_parameters(mass: float, com: ArrayLike = (0.0, 0.0, 0.0),
+                    inertia: ArrayLike | None = None) -> np.ndarray:
+    """The 10 standard parameters of a body from its mass [kg], centre of
+    mass [m] and inertia about the centre of mass [kg m^2] (3x3, or 3
+    principal moments along the body's axes), in the body's axes."""
+    c = np.asarray(com, float).reshape(3)
+    Ic = np.zeros((3, 3)) if inertia is None else np.asarray(inertia, float)
+    if Ic.shape == (3,):
+        Ic = np.diag(Ic)
+    I = Ic + mass * (c @ c * np.eye(3) - np.outer(c, c))   # parallel axes
+    return np.array([mass, *(mass * c), I[0, 0], I[0, 1], I[0, 2], I[1, 1],
+                     I[1, 2], I[2, 2]])
+
+
+def inertia_matrix(p10: ArrayLike) -> np.ndarray:
+    """The 3x3 inertia about the origin from a body's 10 parameters."""
+    p = np.asarray(p10, float)
+    return np.array([[p[4], p[5], p[6]], [p[5], p[7], p[8]], [p[6], p[8], p[9]]])
+
+
+def pseudo_inertia(p10: ArrayLike) -> np.ndarray:
+    """The 4x4 pseudo-inertia [[Sigma, h], [h^T, m]] of a body, Sigma =
+    tr(I)/2 1 - I the second moment of its mass about the origin: positive
+    semidefinite exactly when some mass distribution has these parameters."""
+    p = np.asarray(p10, float)
+    I = inertia_matrix(p)
+    J = np.zeros((4, 4))
+    J[:3, :3] = 0.5 * np.trace(I) * np.eye(3) - I
+    J[:3, 3] = J[3, :3] = p[1:4]
+    J[3, 3] = p[0]
+    return J
+
+
+def standard_parameters(*, R: float = 0.2286, rho: float = 0.5,
+                        M: float = 0.18, m: float = 0.09, d: float = 0.1524,
+                        link_Ic: float = 0.0,
+                        payload: dict[str, Any] | None = None,
+                        pin_friction: dict[str, float] | None = None,
+                        prismatic_friction: dict[str, float] | None = None
+                        ) -> np.ndarray:
+    """The 82 standard parameters of the paper's model (rps3.Model's
+    arguments of the same names): the platform a uniform disc of radius
+    r = rho R (I = diag(1/4, 1/4, 1/2) M r^2) plus a rigid payload (mass,
+    com, principal inertia about its centre of mass, platform axes), each
+    cylinder a point mass m at d from the pin along the link plus link_Ic
+    about the pin direction, massless pistons; pin friction (viscous,
+    coulomb) per pin, prismatic friction (viscous, coulomb) per actuator."""
+    r = rho * R
+    pi = np.zeros(N_STANDARD)
+    plat = body_parameters(M, inertia=[M * r**2 / 4, M * r**2 / 4, M * r**2 / 2])
+    if payload:
+        plat += body_parameters(payload.get("mass", 0.0), payload.get("com", (0, 0, 0)),
+                                payload.get("inertia", (0, 0, 0)))
+    pi[0:10] = plat
+    cyl = body_parameters(m, com=(d, 0.0, 0.0), inertia=[0.0, link_Ic, link_Ic])
+    for i in range(3):
+        pi[10 + 20 * i:20 + 20 * i] = cyl
+    for k, fr in ((0, prismatic_friction), (1, pin_friction)):
+        if fr:
+            for i in range(3):
+                pi[N_BODY_PARAMETERS + 6 * k + 2 * i] = fr.get("viscous", 0.0)
+                pi[N_BODY_PARAMETERS + 6 * k + 2 * i + 1] = fr.get("coulomb", 0.0)
+    return pi
+
+
+# -------------------------------------------------------------- utilities
+
+def _stacked(Y: ArrayLike, F: ArrayLike | None = None,
+             n_act: int = 3) -> tuple[np.ndarray, np.ndarray | None, np.ndarray]:
+    """(N, p) Y, (N,) F and each row's actuator index."""
+    Ya = np.asarray(Y, float)
+    if Ya.ndim == 3:
+        if Ya.shape[1] != n_act:
+            raise ValueError(f"Y: expected (n, {n_act}, p), got shape {Ya.shape}")
+        act = np.tile(np.arange(Ya.shape[1]), Ya.shape[0])
+        Ya = Ya.reshape(-1, Ya.shape[2])
+    elif Ya.ndim == 2:
+        act = np.arange(Ya.shape[0]) % n_act
+    else:
+        raise ValueError(f"Y: expected (n, 3, p) or (N, p), got shape {Ya.shape}")
+    Fa = None
+    if F is not None:
+        Fa = np.asarray(F, float).reshape(-1)
+        if Fa.shape[0] != Ya.shape[0]:
+            raise ValueError(f"F: {Fa.shape[0]} force values for {Ya.shape[0]} "
+                             "regressor rows")
+        if not np.all(np.isfinite(Fa)):
+            raise ValueError("F: holds a non-finite value")
+    if not np.all(np.isfinite(Ya)):
+        raise ValueError("Y: holds a non-finite value")
+    return Ya, Fa, act
+
+
+def _need(module: str) -> Any:
+    """Import an optional dependency, or say which extra brings it."""
+    import importlib
+
+    try:
+        return importlib.import_module(module)
+    except ImportError as exc:
+        raise ImportError(f"rps3.ident needs {module.split('.')[0]}: "
+                          "pip install 'rps3[ident]' (scipy, cvxpy, clarabel)") from exc
+
+
+def _column_scale(Y: np.ndarray) -> np.ndarray:
+    s = np.linalg.norm(Y, axis=0)
+    return np.where(s > 0, s, 1.0)
+
+
+def _r_factor(A: np.ndarray, block: int = 128) -> np.ndarray:
+    """The R factor of a tall A's QR (A^T A = R^T R), by a tree of QRs of
+    row blocks: the same R as one QR, without the multi-threaded LAPACK
+    call that a busy machine slows a hundredfold."""
+    R = np.asarray(A, float)
+    n = R.shape[1]
+    while R.shape[0] > 2 * max(n, block):
+        R = np.vstack([np.asarray(np.linalg.qr(R[i:i + block], mode="r"))
+                       for i in range(0, R.shape[0], block)])
+    return np.asarray(np.linalg.qr(R, mode="r"))
+
+
+#: rank tolerance of :func:`base_parameters`: a column-scaled regressor's
+#: R diagonal below RANK_TOL times its largest is taken as zero
+RANK_TOL = 1e-7
+#: condition number of the column-scaled base regressor above which data
+#: are refused as not exciting (noise 1 % would move a parameter by ~1e4 %)
+COND_MAX = 1e6
+
+
+@dataclass(frozen=True)
+class Base:
+    """The base parameters of a regressor: the columns kept
+    (``independent``, indices into the standard names) and the grouping
+    ``K`` (r x p): base = K @ pi, Y @ pi = Y[:, independent] @ base."""
+
+    names: tuple[str, ...]        #: names of Y's columns
+    independent: np.ndarray       #: (r,) column indices, in the names' order
+    K: np.ndarray                 #: (r, p) grouping matrix
+    rdiag: np.ndarray             #: |R_kk| / |R_00| of the pivoted QR
+    tol: float                    #: rank tolerance used
+    unidentifiable: tuple[str, ...]  #: parameters absent from every base one
+
+    @property
+    def rank(self) -> int:
+        return len(self.independent)
+
+    @property
+    def base_names(self) -> tuple[str, ...]:
+        return tuple(self.names[k] for k in self.independent)
+
+    def reduce(self, Y: ArrayLike) -> np.ndarray:
+        """The base regressor: Y's independent columns."""
+        return np.asarray(Y, float)[..., self.independent]
+
+    def of(self, pi: ArrayLike) -> np.ndarray:
+        """The base parameters of standard parameters pi."""
+        return self.K @ np.asarray(pi, float)
+
+    def relations(self, digits: int = 6) -> list[tuple[str, str]]:
+        """(base name, 'name + c * name + ...') for each base parameter."""
+        out = []
+        for r, k in enumerate(self.independent):
+            terms = [self.names[k]]
+            for j in np.flatnonzero(np.abs(self.K[r]) > 1e-9):
+                if j == k:
+                    continue
+                c = self.K[r, j]
+                terms.append(f"{'+' if c > 0 else '-'} {abs(c):.{digits}g} "
+                             f"{self.names[j]}")
+            out.append((self.names[k], " ".join(terms)))
+        return out
+
+
+def base_parameters(Y: ArrayLike, names: tuple[str, ...] | list[str],
+                    tol: float = RANK_TOL, order: ArrayLike | None = None) -> Base:
+    """Base parameters of a regressor stacked over exciting states.
+
+    The rank comes from a rank-revealing QR (column pivoting,
+    scipy.linalg.qr) of Y with unit-norm columns: R_kk below tol * R_00 is
+    zero.  The columns kept are then chosen greedily in ``order`` (default
+    the names' order): a column is kept when it is not a combination of
+    the columns kept before it (relative residual above tol), so a
+    dependent parameter regroups into the earlier-listed ones.  The
+    grouping coefficients are the least-squares solution
+    Y_dep = Y_ind beta; K = [1 beta] in the columns' order.
+
+    Raises:
+        ValueError: the greedy selection disagrees with the QR's rank (the
+            tolerance falls in no gap of the R diagonal).
+    """
+    qr = _need("scipy.linalg").qr
+    Ya, _, _ = _stacked(Y)
+    p = Ya.shape[1]
+    if len(names) != p:
+        raise ValueError(f"names: {len(names)} names for {p} columns")
+    s = np.linalg.norm(Ya, axis=0)
+    zero = s <= tol * s.max()
+    Ys = Ya / np.where(zero, 1.0, s)
+    Ys[:, zero] = 0.0
+    Ys = _r_factor(Ys)          # same column geometry: Y^T Y = R^T R
+    _, Rm, _ = qr(Ys, mode="economic", pivoting=True)
+    rd = np.abs(np.diag(Rm))
+    rd = rd / rd[0]
+    rank = int(np.sum(rd > tol))
+    sel: list[int] = []
+    Qb = np.zeros((Ys.shape[0], 0))
+    for j in (range(p) if order is None else np.asarray(order, int)):
+        if zero[j]:
+            continue
+        v = Ys[:, j] - Qb @ (Qb.T @ Ys[:, j])
+        v = v - Qb @ (Qb.T @ v)                # re-orthogonalised
+        nv = np.linalg.norm(v)
+        if nv > tol:
+            sel.append(int(j))
+            Qb = np.column_stack([Qb, v / nv])
+    if len(sel) != rank:
+        raise ValueError(f"base_parameters: the greedy selection keeps {len(sel)} "
+                         f"columns where the pivoted QR finds rank {rank}; "
+                         f"tol = {tol:g} is in no gap of the R diagonal")
+    ind = np.array(sorted(sel))
+    dep = np.setdiff1d(np.arange(p), ind)
+    Rs = Ys * np.where(zero, 0.0, s)       # R of the unscaled Y
+    beta = np.linalg.lstsq(Rs[:, ind], Rs[:, dep], rcond=None)[0]
+    K = np.zeros((len(ind), p))
+    K[np.arange(len(ind)), ind] = 1.0
+    K[:, dep] = beta
+    K[:, zero] = 0.0
+    unid = tuple(names[j] for j in range(p) if np.all(np.abs(K[:, j]) < 1e-12))
+    return Base(tuple(names), ind, K, rd, tol, unid)
+
+
+# ------------------------------------------------------------ excitation
+
+def check_excitation(Y: np.ndarray, names: tuple[str, ...],
+                     cond_max: float = COND_MAX) -> float:
+    """The condition number of Y with unit-norm columns.
+
+    Raises:
+        NotExcitingError: it exceeds cond_max.  The message names the
+            parameters the data do not determine: the columns that are
+            zero, and those with a component of 10 % or more in the span of
+            the right singular vectors of the singular values below
+            s_max / cond_max (the unexcited directions), and gives those
+            directions' leading terms.  ``unidentifiable`` lists the names.
+    """
+    s = np.linalg.norm(Y, axis=0)
+    dead = s <= 1e-300
+    live = np.flatnonzero(~dead)
+    Ys = Y[:, live] / s[live]
+    # the singular values of Y's R factor are Y's (the SVD of the small R
+    # costs little where that of the tall Y costs much)
+    Rf = _r_factor(Ys) if Ys.shape[0] > Ys.shape[1] else Ys
+    sv = np.zeros(0)
+    if len(live):
+        _, sv, Vt = np.linalg.svd(Rf, full_matrices=False)
+    if len(live) and len(sv) < len(live):        # fewer rows than columns
+        sv = np.concatenate([sv, np.zeros(len(live) - len(sv))])
+    cond = (float(sv[0] / sv[-1]) if len(sv) and sv[-1] > 0 else float("inf"))
+    if cond <= cond_max and not dead.any():
+        return cond
+    weak_k = (np.flatnonzero(sv < sv[0] / cond_max) if len(sv)
+              else np.zeros(0, int))
+    combos, involved = [], set()
+    if len(weak_k):
+        _, _, Vfull = np.linalg.svd(Rf, full_matrices=True)
+        V = Vfull[weak_k]
+        share = np.linalg.norm(V, axis=0)
+        involved = {live[j] for j in np.flatnonzero(share >= 0.1)}
+        for v in V[:4]:
+            top = [j for j in np.argsort(-np.abs(v)) if abs(v[j]) > 0.1 * np.abs(v).max()][:5]
+            combos.append(" ".join(f"{v[j] / np.abs(v).max():+.2f} {names[live[j]]}"
+                                   for j in top))
+    bad = [names[j] for j in range(len(names)) if dead[j] or j in involved]
+    n_weak = int(dead.sum()) + len(weak_k)
+    msg = (f"the data do not excite {n_weak} of {len(names)} parameter directions "
+           f"(condition number {cond:.3g} of the column-scaled regressor, limit "
+           f"{cond_max:.3g}); not determined: {', '.join(bad)}")
+    if dead.any():
+        msg += f" (absent from the data: {', '.join(names[j] for j in np.flatnonzero(dead))})"
+    if combos:
+        msg += "; unexcited directions: " + "; ".join(combos) + (
+            f"; and {len(weak_k) - len(combos)} more" if len(weak_k) > len(combos) else "")
+    raise NotExcitingError(msg, cond, bad)
+
+
+# ------------------------------------------------------------- estimators
+
+@dataclass(frozen=True)
+class Estimate:
+    """A least-squares estimate with its covariance."""
+
+    theta: np.ndarray        #: the estimated parameters, (p,)
+    names: tuple[str, ...]   #: their names
+    cov: np.ndarray          #: covariance of theta, (p, p)
+    ci95: np.ndarray         #: 95 % intervals, (p, 2)
+    sigma: np.ndarray        #: noise standard deviation per actuator [N], (3,)
+    residual: np.ndarray     #: F - Y theta, (N,) [N]
+    cond: float              #: condition number of the column-scaled regressor
+    dof: int                 #: rows minus parameters
+    method: str
+
+    @property
+    def std(self) -> np.ndarray:
+        return np.sqrt(np.diag(self.cov))
+
+
+def _prepare(Y: ArrayLike, F: ArrayLike, base: Base | None,
+             names: tuple[str, ...] | None, cond_max: float):
+    Ya, Fa, act = _stacked(Y, F)
+    if base is not None:
+        Ya = base.reduce(Ya)
+        nm = base.base_names
+    else:
+        nm = tuple(names) if names is not None else tuple(
+            f"p{k}" for k in range(Ya.shape[1]))
+    if len(nm) != Ya.shape[1]:
+        raise ValueError(f"names: {len(nm)} names for {Ya.shape[1]} columns")
+    if Ya.shape[0] <= Ya.shape[1]:
+        raise ValueError(f"Y: {Ya.shape[0]} rows for {Ya.shape[1]} parameters")
+    cond = check_excitation(Ya, nm, cond_max)
+    return Ya, Fa, act, nm, cond
+
+
+def _tquant(dof: int) -> float:
+    return float(_need("scipy.stats").t.ppf(0.975, dof))
+
+
+def _finish(theta, cov, Ya, Fa, act, nm, cond, method, sigma=None):
+    r = Fa - Ya @ theta
+    dof = Ya.shape[0] - Ya.shape[1]
+    if sigma is None:
+        sigma = np.array([np.sqrt(np.mean(r[act == a] ** 2)) for a in range(3)])
+    half = _tquant(dof) * np.sqrt(np.diag(cov))
+    return Estimate(theta, nm, cov, np.column_stack([theta - half, theta + half]),
+                    sigma, r, cond, dof, method)
+
+
+def ols(Y: ArrayLike, F: ArrayLike, *, base: Base | None = None,
+        names: tuple[str, ...] | None = None, cond_max: float = COND_MAX) -> Estimate:
+    """Ordinary least squares, theta = argmin |F - Y theta|^2, on the base
+    regressor (``base`` given) or on Y as it is.  cov = s^2 (Y^T Y)^-1,
+    s^2 = |r|^2 / (N - p); 95 % intervals theta +- t(0.975, N - p) std.
+
+    Raises:
+        NotExcitingError: the data do not determine the parameters.
+    """
+    Ya, Fa, act, nm, cond = _prepare(Y, F, base, names, cond_max)
+    theta, cov = _lsq(Ya, Fa)
+    return _finish(theta, cov, Ya, Fa, act, nm, cond, "ols")
+
+
+def _lsq(Ya: np.ndarray, Fa: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """Least squares by a QR of the column-scaled Y: theta and
+    s^2 (Y^T Y)^-1, s^2 = |r|^2 / (N - p)."""
+    d = _column_scale(Ya)
+    p = Ya.shape[1]
+    Ra = _r_factor(np.column_stack([Ya / d, Fa]))   # [[R, Q^T F], [0, |r|]]
+    Ri = np.linalg.inv(Ra[:p, :p])
+    theta = (Ri @ Ra[:p, p]) / d
+    r = Fa - Ya @ theta
+    s2 = r @ r / (Ya.shape[0] - Ya.shape[1])
+    cov = s2 * (Ri @ Ri.T) / np.outer(d, d)
+    return theta, cov
+
+
+def wls(Y: ArrayLike, F: ArrayLike, *, base: Base | None = None,
+        names: tuple[str, ...] | None = None, cond_max: float = COND_MAX) -> Estimate:
+    """Weighted least squares with each actuator's noise variance
+    estimated from an OLS fit's residuals, sigma_a^2 = |r_a|^2 / (N_a -
+    p N_a / N) (the rows' share of the degrees of freedom); rows weighted
+    by 1 / sigma_a.  cov = (Y^T W Y)^-1 s_w^2, s_w^2 the weighted residual
+    variance (about 1)."""
+    Ya, Fa, act, nm, cond = _prepare(Y, F, base, names, cond_max)
+    theta0, _ = _lsq(Ya, Fa)
+    r0 = Fa - Ya @ theta0
+    N, p = Ya.shape
+    sig = np.zeros(3)
+    for a in range(3):
+        Na = int(np.sum(act == a))
+        sig[a] = np.sqrt(r0[act == a] @ r0[act == a] / (Na - p * Na / N))
+    if np.any(sig <= 0):
+        raise ValueError("wls: an actuator's residual variance is zero "
+                         "(noise-free data: use ols)")
+    w = 1.0 / sig[act]
+    Yw, Fw = Ya * w[:, None], Fa * w
+    theta, cov = _lsq(Yw, Fw)
+    return _finish(theta, cov, Ya, Fa, act, nm, cond, "wls", sigma=sig)
+
+
+def iv(Y: ArrayLike, F: ArrayLike, Z: ArrayLike, *, base: Base | None = None,
+       names: tuple[str, ...] | None = None, cond_max: float = COND_MAX) -> Estimate:
+    """Instrumental variables: theta = (Z^T Y)^-1 Z^T F, with instruments Z
+    of Y's shape correlated with the noise-free regressor and not with the
+    noise in Y (e.g. the regressor of the reference trajectory, or of a
+    simulation with a previous estimate).  cov = s^2 (Z^T Y)^-1 Z^T Z
+    (Y^T Z)^-1, s^2 = |F - Y theta|^2 / (N - p)."""
+    Ya, Fa, act, nm, cond = _prepare(Y, F, base, names, cond_max)
+    Za, _, _ = _stacked(Z)
+    if base is not None:
+        Za = base.reduce(Za)
+    if Za.shape != Ya.shape:
+        raise ValueError(f"Z: shape {Za.shape} differs from Y's {Ya.shape}")
+    check_excitation(Za, nm, cond_max)
+    ZY = Za.T @ Ya
+    theta = np.linalg.solve(ZY, Za.T @ Fa)
+    r = Fa - Ya @ theta
+    s2 = r @ r / (Ya.shape[0] - Ya.shape[1])
+    ZYi = np.linalg.inv(ZY)
+    cov = s2 * ZYi @ (Za.T @ Za) @ ZYi.T
+    return _finish(theta, cov, Ya, Fa, act, nm, cond, "iv")
+
+
+# --------------------------------------------------- filtering of signals
+
+#: order of the Butterworth filter of :func:`zero_phase_filter` (applied
+#: forward and backward: the result has order 8 and zero phase)
+FILTER_ORDER = 4
+
+
+def zero_phase_filter(x: ArrayLike, fs: float, cutoff: float,
+                      order: int = FILTER_ORDER) -> np.ndarray:
+    """x (n, ...) low-pass filtered along axis 0 by a Butterworth filter of
+    the given order and cut-off [Hz] applied forward and backward
+    (scipy.signal.filtfilt): zero phase, gain |H(f)|^2, so 1/2 (-6 dB) at
+    the cut-off.  Choose the cut-off a few times (3-5) above the highest
+    frequency of the excitation and well below the noise's band.  Apply
+    the same filter to the regressor's columns, the forces and any
+    instruments (parallel filtering: their distortions, Coulomb's sign
+    steps among them, then match), drop the ends' transients and decimate
+    to about 2.5 times the cut-off so the remaining noise is about white
+    (docs/identification.md, "Estimators")."""
+    signal = _need("scipy.signal")
+    if not 0 < cutoff < fs / 2:
+        raise ValueError(f"cutoff: {cutoff} Hz is not inside (0, fs/2 = {fs / 2} Hz)")
+    b, a = signal.butter(order, cutoff / (fs / 2))
+    return np.asarray(signal.filtfilt(b, a, np.asarray(x, float), axis=0))
+
+
+def differentiate(t: ArrayLike, x: ArrayLike, cutoff: float,
+                  order: int = FILTER_ORDER) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """Positions sampled at uniform times t (n,) [s] filtered
+    (:func:`zero_phase_filter`, cut-off [Hz]) and differentiated twice by
+    second-order central differences (np.gradient): (x, x', x'')."""
+    ta = np.asarray(t, float)
+    h = np.diff(ta)
+    if ta.ndim != 1 or len(ta) < 3 or np.ptp(h) > 1e-9 * h.mean():
+        raise ValueError("t: expected at least 3 uniformly spaced sample times")
+    xf = zero_phase_filter(x, 1.0 / h.mean(), cutoff, order)
+    dx = np.gradient(xf, ta, axis=0)
+    return xf, dx, np.gradient(dx, ta, axis=0)
+
+
+# ------------------------------------------------- physical consistency
+
+#: a pseudo-inertia eigenvalue down to -EIG_TOL times the body's largest
+#: counts as zero (the interior-point solver's feasibility tolerance is
+#: ~1e-8 relative)
+EIG_TOL = 1e-6
+
+
+@dataclass(frozen=True)
+class BodyReport:
+    name: str
+    eig: np.ndarray                  #: pseudo-inertia eigenvalues
+    mass: float
+    com: np.ndarray | None           #: centre of mass (body axes) [m], None if m <= 0
+    principal: np.ndarray | None     #: principal moments about the com [kg m^2]
+    triangle: bool                   #: I1 + I2 >= I3 for every permutation
+    ok: bool
+
+
+def _fmt(v: np.ndarray) -> str:
+    return "[" + " ".join(f"{x:.3g}" for x in v) + "]"
+
+
+@dataclass(frozen=True)
+class ConsistencyReport:
+    bodies: list[BodyReport]
+    friction: dict[str, float] = field(default_factory=dict)
+    ok: bool = True
+
+    def __str__(self) -> str:
+        lines = []
+        for b in self.bodies:
+            lines.append(f"{b.name}: {'consistent' if b.ok else 'NOT consistent'}; "
+                         f"pseudo-inertia eigenvalues "
+                         f"{_fmt(b.eig)}; mass {b.mass:.4g} kg"
+                         + ("" if b.principal is None else
+                            f"; principal moments {_fmt(b.principal)}"
+                            f" kg m^2, triangle inequalities "
+                            f"{'hold' if b.triangle else 'FAIL'}"))
+        bad = [k for k, v in self.friction.items() if v < 0]
+        lines.append("friction: " + ("all >= 0" if not bad else
+                                     "NEGATIVE " + ", ".join(bad)))
+        return "\n".join(lines)
+
+
+def consistency_report(pi: ArrayLike, layout: Layout,
+                       eig_tol: float = EIG_TOL) -> ConsistencyReport:
+    """Per body: its pseudo-inertia's eigenvalues (>= -eig_tol times the
+    largest: consistent), mass, centre of mass, principal moments about
+    the centre of mass and the triangle inequalities; the friction
+    coefficients' signs."""
+    p = np.asarray(pi, float)
+    if p.shape != (layout.n,):
+        raise ValueError(f"pi: expected {layout.n} parameters, got shape {p.shape}")
+    reps = []
+    for k, name in enumerate(layout.bodies):
+        q = p[10 * k:10 * k + 10]
+        eig = np.linalg.eigvalsh(pseudo_inertia(q))
+        scale = max(np.abs(eig).max(), 1e-300)
+        ok = bool(eig.min() >= -eig_tol * scale)
+        com = principal = None
+        tri = True
+        if q[0] > 0:
+            com = q[1:4] / q[0]
+            Ic = inertia_matrix(q) - q[0] * (com @ com * np.eye(3) - np.outer(com, com))
+            principal = np.linalg.eigvalsh(Ic)
+            # the principal moments are sums of two eigenvalues of the
+            # centroidal second moment: the pseudo-inertia's tolerance, twice
+            tol = 2 * eig_tol * scale
+            tri = bool(principal.min() >= -tol and
+                       principal[0] + principal[1] >= principal[2] - tol)
+        reps.append(BodyReport(name, eig, float(q[0]), com, principal, tri,
+                               ok and tri))
+    fr = {layout.names[j]: float(p[j]) for j in layout.friction_indices}
+    tol = eig_tol * max([abs(v) for v in fr.values()] + [1e-300])
+    ok = all(b.ok for b in reps) and all(v >= -tol for v in fr.values())
+    return ConsistencyReport(reps, fr, ok)
+
+
+@dataclass(frozen=True)
+class ConsistentFit:
+    pi: np.ndarray               #: standard parameters of the layout, (p,)
+    names: tuple[str, ...]
+    status: str                  #: the solver's status
+    residual: np.ndarray         #: F - Y pi [N]
+    report: ConsistencyReport
+
+
+def _lmi_problem(layout: Layout) -> Any:
+    cp = _need("cvxpy")
+
+    pi = cp.Variable(layout.n)
+    cons = []
+    Js = []
+    for k in range(len(layout.bodies)):
+        q = pi[10 * k:10 * k + 10]
+        J = cp.Variable((4, 4), PSD=True)
+        tr = (q[4] + q[7] + q[9]) / 2
+        cons += [J[0, 0] == tr - q[4], J[1, 1] == tr - q[7], J[2, 2] == tr - q[9],
+                 J[0, 1] == -q[5], J[0, 2] == -q[6], J[1, 2] == -q[8],
+                 J[0, 3] == q[1], J[1, 3] == q[2], J[2, 3] == q[3], J[3, 3] == q[0]]
+        Js.append(J)
+    fi = layout.friction_indices
+    if len(fi):
+        cons.append(pi[fi] >= 0)
+    return cp, pi, cons, Js
+
+
+#: weight of the total pseudo-inertia trace sum_b (m_b + tr Sigma_b) [1/kg]
+#: against the squared residual over |F|^2 in :func:`consistent`: it picks
+#: the lightest, most compact bodies among the fits the data cannot tell
+#: apart, and moves the fit by about LMI_REG / (|F|^2 curvature): far below
+#: the noise (tests/test_ident.py measures the bias on exact data)
+LMI_REG = 1e-9
+
+
+def consistent(Y: ArrayLike, F: ArrayLike, layout: Layout, *,
+               base: Base | None = None, cond_max: float = COND_MAX,
+               weights: ArrayLike | None = None, eig_tol: float = EIG_TOL,
+               solver: str = "CLARABEL") -> ConsistentFit:
+    """Physically consistent least squares on the layout's standard
+    parameters: minimise |W (F - Y pi)|^2 subject to every body's 4x4
+    pseudo-inertia positive semidefinite and every friction coefficient
+    >= 0 (a semidefinite program, cvxpy with Clarabel).  Y is the layout's
+    regressor (Layout.regressor); weights (per row, or per actuator (3,))
+    e.g. 1 / sigma from :func:`wls`.  The standard parameters the data do
+    not determine are fixed by a small penalty on the total pseudo-inertia
+    trace, LMI_REG sum_b (m_b + tr Sigma_b), added to the normalised
+    squared residual: the lightest, most compact bodies among the fits
+    the data cannot tell apart.  With ``base`` (the layout's structural
+    base parameters) the data must excite every base parameter, as for
+    :func:`ols`; without it, directions the data leave unexcited are set
+    by that penalty alone.
+
+    Raises:
+        NotExcitingError: with ``base``, the data do not determine the
+            base parameters (:func:`check_excitation`).
+        InconsistentFitError: the solver's status is not optimal, or a
+            pseudo-inertia eigenvalue or a friction coefficient of the
+            result is below -eig_tol (relative).
+    """
+    Ya, Fa_, act = _stacked(Y, F)
+    assert Fa_ is not None
+    Fa = Fa_
+    if Ya.shape[1] != layout.n:
+        raise ValueError(f"Y: {Ya.shape[1]} columns, the layout has {layout.n} parameters")
+    if base is not None:
+        if base.K.shape[1] != layout.n:
+            raise ValueError("base: computed for another layout")
+        check_excitation(base.reduce(Ya), base.base_names, cond_max)
+    w = np.ones(len(Fa))
+    if weights is not None:
+        wa = np.asarray(weights, float).reshape(-1)
+        if wa.size not in (3, len(Fa)) or not np.all(wa > 0):
+            raise ValueError(f"weights: expected 3 (per actuator) or {len(Fa)} "
+                             "(per row) positive numbers")
+        w = wa[act] if wa.size == 3 else wa
+    Yw, Fw = Ya * w[:, None], Fa * w
+    scale = np.linalg.norm(Fw) or 1.0
+    cs = _column_scale(Yw)
+    p = layout.n
+    # |Yw pi - Fw|^2 = |R (cs pi) - z|^2 + rho^2 from the R factor of the
+    # scaled [Yw, Fw]: a p-row objective, and numbers near 1 for the solver
+    Ra = _r_factor(np.column_stack([Yw / cs, Fw])) / scale
+    cp, pi, cons, Js = _lmi_problem(layout)
+    fit = cp.sum_squares(Ra[:p, :p] @ cp.multiply(cs, pi) - Ra[:p, p])
+    # the parameters the data do not determine: a tie-break of weight
+    # LMI_REG per kg (or kg m^2) of total pseudo-inertia trace
+    size = sum(cp.trace(J) for J in Js)
+    prob = cp.Problem(cp.Minimize(fit + LMI_REG * size), cons)
+    prob.solve(solver=solver)
+    if prob.status != "optimal" or pi.value is None:
+        raise InconsistentFitError(f"consistent: the solver {solver} ended with "
+                                   f"status {prob.status!r}")
+    est = np.asarray(pi.value, float)
+    rep = consistency_report(est, layout, eig_tol)
+    if not rep.ok:
+        raise InconsistentFitError("consistent: the solution is not physically "
+                                   "consistent within the tolerance:\n" + str(rep))
+    return ConsistentFit(est, layout.names, prob.status, Fa - Ya @ est, rep)
+
+
+def base_consistent(theta: ArrayLike, base: Base, layout: Layout,
+                    solver: str = "CLARABEL") -> bool:
+    """Whether base parameters theta (e.g. an OLS estimate) are those of
+    some physically consistent standard parameters: the feasibility of
+    K pi = theta with every pseudo-inertia PSD and friction >= 0 (an SDP)."""
+    if base.K.shape[1] != layout.n:
+        raise ValueError("base: computed for another layout")
+    cp, pi, cons, _ = _lmi_problem(layout)
+    th = np.asarray(theta, float)
+    sc = np.where(np.abs(th) > 0, np.abs(th), 1.0)
+    cons.append(cp.multiply(1.0 / sc, base.K @ pi) == th / sc)
+    prob = cp.Problem(cp.Minimize(0), cons)
+    prob.solve(solver=solver)
+    return prob.status == "optimal"
+
+
+# ------------------------------------------- data in, parameters out
+
+def load(path: Any) -> Any:
+    """A measured motion from a CSV or HDF5 table (rps3.ident_io.load)."""
+    from rps3 import ident_io
+
+    return ident_io.load(path)
+
+
+if __name__ == "__main__":
+    import sys
+
+    from rps3 import ident_io as _io
+
+    sys.exit(_io.main())

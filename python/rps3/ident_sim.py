@@ -1,0 +1,178 @@
+"""Identification on simulated data (docs/identification.md, "Monte Carlo
+on simulated data"): the paper model simulated (rps3.sim) while a PD law
+tracks an exciting trajectory, force noise added, the fit repeated.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+from typing import Any
+
+import numpy as np
+
+from rps3 import ident_io as _io
+from rps3 import ident_paper as _ip
+
+#: a base parameter counts in the error statistics when its columns carry
+#: at least this share of the RMS force (smaller ones are within the noise)
+CONTRIBUTION_MIN = 0.01
+
+
+@dataclass(frozen=True)
+class Simulated:
+    """A simulated run: times t (n,) [s], lengths l, rates dl [m/s],
+    accelerations ddl [m/s^2] (the plant's forward dynamics at the applied
+    forces), applied forces F [N], all (n, 3); the true parameters of the
+    set."""
+
+    t: np.ndarray
+    l: np.ndarray
+    dl: np.ndarray
+    ddl: np.ndarray
+    F: np.ndarray
+    theta_true: np.ndarray
+    pset: _ip.PaperSet
+    geometry: _ip.Geometry
+
+
+def simulate(fourier: _ip.Fourier, truth: dict[str, Any], *, periods: float = 1.0,
+             dt: float = 0.005, geometry: _ip.Geometry | None = None,
+             pset: _ip.PaperSet | None = None, kp: float = 2000.0,
+             kd: float = 40.0) -> Simulated:
+    """The plant of Model arguments ``truth`` (every effect its arguments
+    give) under the library's PD law (kp [N/m], kd [N s/m], 1 kHz) tracking
+    the Fourier trajectory, sampled every dt [s] over ``periods``
+    periods."""
+    from rps3 import control, dynamics, sim, trajectory
+
+    geo = geometry or _ip.Geometry()
+    ps = pset or _ip.PaperSet()
+    effects = ["platform_gravity", "link_gravity", "platform_inertia", "link_inertia"]
+    if "payload" in truth:
+        effects.append("payload")
+    if "friction" in truth:
+        effects.append("pin_friction")
+    fr = dict(truth.get("friction", {}))
+    if fr:
+        fr.setdefault("vreg", geo.vreg)
+    args = {k: v for k, v in truth.items() if k not in ("friction", "d")}
+    if "d" in truth and truth["d"] != geo.d:
+        raise ValueError(f"truth: d = {truth['d']} differs from the geometry's {geo.d}")
+    plant = geo.model(effects=effects, **args, **({"friction": fr} if fr else {}))
+    span = periods * fourier.period
+    rows = np.linspace(0.0, span, int(round(span / 0.01)) + 1)
+    q, dq, ddq = fourier.eval(rows)
+    n = int(round(span / dt)) + 1
+    traj = trajectory.table(rows, q, dq, ddq, samples=n, model=plant)
+    res = sim.simulate(plant, control.pd(plant, traj, kp=kp, kd=kd), traj.t,
+                       traj.pose[0], traj.dpose[0])
+    keep = np.all(np.isfinite(res.force), axis=1)
+    t, l, dl, F = res.t[keep], res.l[keep], res.dl[keep], res.force[keep]
+    ddl = dynamics.forward(plant, l, dl, F).ddl
+    theta = _ip.paper_parameters(pset=ps, R=geo.R, rho=geo.rho, **truth)
+    return Simulated(t, l, dl, np.asarray(ddl), F, theta, ps, geo)
+
+
+@dataclass(frozen=True)
+class Study:
+    """The statistics of a Monte Carlo study."""
+
+    runs: int
+    names: tuple[str, ...]           #: base parameters
+    truth: np.ndarray                #: their true values
+    contribution: np.ndarray         #: RMS force share of each (truth)
+    counted: np.ndarray              #: contribution >= CONTRIBUTION_MIN
+    median_rel_error: np.ndarray     #: per parameter, |theta - truth| / |truth|
+    bias: np.ndarray                 #: mean (theta - truth) / |truth|
+    coverage: np.ndarray             #: share of runs whose 95 % interval holds the truth
+    source: dict[str, str]
+
+    def summary(self) -> str:
+        lines = [f"{self.runs} runs; rates and accelerations: "
+                 f"{self.source.get('rates', '?')}"]
+        for k, n in enumerate(self.names):
+            lines.append(f"{n:12s} share {self.contribution[k]:7.2%}  median |err| "
+                         f"{self.median_rel_error[k]:9.3%}  bias {self.bias[k]:+9.3%}  "
+                         f"coverage {self.coverage[k]:6.1%}"
+                         + ("" if self.counted[k] else "  (below 1 %: not counted)"))
+        c = self.counted
+        lines.append(f"counted: median relative error {np.median(self.median_rel_error[c]):.3%}, "
+                     f"coverage {np.mean(self.coverage[c]):.1%}")
+        return "\n".join(lines)
+
+
+def monte_carlo(s: Simulated, *, runs: int, force_noise: float = 0.01,
+                stroke_noise: float | None = None, seed: int = 0,
+                cutoff: float = _io.CUTOFF, method: str = "wls") -> Study:
+    """``runs`` fits of the simulated data with Gaussian force noise of
+    ``force_noise`` times each actuator's RMS force (different levels per
+    actuator: ``wls`` by default, whose intervals assume them; OLS's
+    assume one level and cover less); with
+    ``stroke_noise`` [m], lengths with that noise and no rates or
+    accelerations (the fit differentiates them with the cut-off [Hz]),
+    else the simulation's exact states."""
+    rng = np.random.default_rng(seed)
+    rmsF = np.sqrt(np.mean(s.F**2, axis=0))
+    ests, cis = [], []
+    base = _ip.structural_base(s.geometry, s.pset)
+    truth = base.of(s.theta_true)
+    src: dict[str, str] = {}
+    contribution = np.zeros(len(truth))
+    for k in range(runs):
+        F = s.F + rng.normal(size=s.F.shape) * force_noise * rmsF
+        if stroke_noise is None:
+            d = _io.Data("simulated", s.t, s.l, s.dl, s.ddl, F, "",
+                         {"rates": "measured", "accelerations": "measured"})
+        else:
+            ln = s.l + rng.normal(size=s.l.shape) * stroke_noise
+            d = _io.Data("simulated", s.t, ln, None, None, F, "",
+                         {"rates": "none", "accelerations": "none"})
+        res = _io.fit(d, geometry=s.geometry, pset=s.pset, method=method, cutoff=cutoff)
+        ests.append(res.estimate.theta)
+        cis.append(res.estimate.ci95)
+        src = res.source
+        if k == 0:
+            Yb = res.Y.reshape(-1, len(truth))
+            rms = np.sqrt(np.mean(res.F**2))
+            contribution = np.sqrt(np.mean((Yb * truth) ** 2, axis=0)) / rms
+    E = np.array(ests)
+    C = np.array(cis)
+    scale = np.abs(truth).clip(1e-300)
+    rel = (E - truth) / scale
+    cover = np.mean((C[:, :, 0] <= truth) & (truth <= C[:, :, 1]), axis=0)
+    return Study(runs, base.base_names, truth, contribution,
+                 contribution >= CONTRIBUTION_MIN, np.median(np.abs(rel), axis=0),
+                 rel.mean(axis=0), cover, src)
+
+
+#: the plant of the studies: Table II with a link inertia and pin friction
+TRUTH: dict[str, Any] = {"M": 0.18, "m": 0.09, "d": 0.1524, "link_Ic": 2.0e-4,
+                         "friction": {"viscous": 0.02, "coulomb": 0.01}}
+
+
+def study(runs: int = 200, seed: int = 1, out: str | None = None) -> str:
+    """The full study (``make ident``): an optimised excitation, the
+    simulated run over two periods, ``runs`` fits with measured states and
+    ``runs`` with differentiated ones; the summaries (and figures into the
+    directory ``out``)."""
+    geo = _ip.Geometry(vreg=0.01)
+    ex = _ip.design(geometry=geo, seed=seed, f0=0.2, harmonics=5,
+                    amplitude=(0.8, 0.1, 0.02), maxiter=2000)
+    s = simulate(ex.fourier, TRUTH, periods=2.0, geometry=geo)
+    a = monte_carlo(s, runs=runs, seed=seed)
+    b = monte_carlo(s, runs=runs, seed=seed + 1, stroke_noise=1e-5)
+    text = (f"excitation: cond {ex.cond:.3g} (start {ex.cond_start:.3g}), converged "
+            f"{ex.converged} ({ex.message}), seed {ex.seed}\n"
+            f"--- force noise 1 % of RMS, measured states\n{a.summary()}\n"
+            f"--- force noise 1 %, stroke noise 1e-5 m, differentiated states\n"
+            f"{b.summary()}\n")
+    if out:
+        import os
+
+        from rps3 import ident_plot
+
+        os.makedirs(out, exist_ok=True)
+        ident_plot.excitation(os.path.join(out, "ident_excitation.png"), ex.fourier)
+        with open(os.path.join(out, "ident_study.txt"), "w", encoding="utf-8") as fh:
+            fh.write(text)
+    return text

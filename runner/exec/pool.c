@@ -1,0 +1,273 @@
+/*
+ * pool.c - see pool.h.  The slots are each free, being filled by a worker,
+ * queued for writing (first in, first out) or being written.  Each worker
+ * holds one slot at a time, so with nthread + 2 slots the writer always
+ * has one to give back and no one waits forever.
+ */
+#include "pool.h"
+
+#include <pthread.h>
+#include <signal.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+/* a worker holds no slot */
+#define NO_SLOT ((size_t)-1)
+
+typedef struct {
+  const pool_job *job;
+  int threaded;
+  pthread_mutex_t mu;
+  pthread_cond_t ready_cv; /* a slot is ready, or a worker ended */
+  pthread_cond_t free_cv;  /* a slot is free, or the run stops */
+  size_t nslot;
+  size_t *free_ix; /* [nslot] stack of free slots */
+  size_t nfree;
+  size_t *ready_ix;          /* [nslot] ring of filled slots ... */
+  unsigned char *ready_info; /* [nslot][info_size] ... and their infos */
+  size_t ready_head, nready;
+  size_t next;   /* the next item to take */
+  int nactive;   /* workers still running */
+  int stop;      /* 1: a callback failed */
+  char err[768]; /* the first failure */
+} pool;
+
+struct pool_worker {
+  pool *P;
+  size_t held; /* the slot this worker fills */
+  void *wctx;  /* job->worker_begin's state */
+};
+
+size_t pool_nslot(int nthread) {
+  return nthread <= 1 ? 1 : (size_t)nthread + 2;
+}
+
+void *pool_slot(pool_worker *w) { return w->P->job->slot[w->held]; }
+
+int pool_threaded(const pool_worker *w) { return w->P->threaded; }
+
+/* the item after i, without wrapping around (a stride as large as
+   SIZE_MAX would otherwise come back to item 0) */
+static size_t next_item(const pool_job *J, size_t i) {
+  return J->nitem - i > J->stride ? i + J->stride : J->nitem;
+}
+
+/* stop the run with this error (the first one wins); mu held */
+static void pool_fail(pool *P, const char *msg) {
+  if (!P->stop) snprintf(P->err, sizeof P->err, "%s", msg);
+  P->stop = 1;
+  pthread_cond_broadcast(&P->free_cv);
+  pthread_cond_broadcast(&P->ready_cv);
+}
+
+/* a free slot for w, waiting for one; -1 when the run stops (mu held) */
+static int take_free(pool *P, pool_worker *w) {
+  while (P->nfree == 0 && !P->stop) pthread_cond_wait(&P->free_cv, &P->mu);
+  if (P->stop) return -1;
+  w->held = P->free_ix[--P->nfree];
+  return 0;
+}
+
+void *pool_emit(pool_worker *w, const void *info, char *err, size_t errsz) {
+  pool *P = w->P;
+  const pool_job *J = P->job;
+  size_t r;
+  /* one thread: write it now and fill the same slot again */
+  if (!P->threaded)
+    return J->write(J->ctx, J->slot[w->held], info, err, errsz)
+               ? NULL
+               : J->slot[w->held];
+  pthread_mutex_lock(&P->mu);
+  r = (P->ready_head + P->nready) % P->nslot;
+  P->ready_ix[r] = w->held;
+  if (J->info_size)
+    memcpy(P->ready_info + r * J->info_size, info, J->info_size);
+  P->nready++;
+  w->held = NO_SLOT;
+  pthread_cond_signal(&P->ready_cv);
+  if (take_free(P, w)) {
+    pthread_mutex_unlock(&P->mu);
+    snprintf(err, errsz, "stopped");
+    return NULL;
+  }
+  pthread_mutex_unlock(&P->mu);
+  return J->slot[w->held];
+}
+
+/* a worker thread: items in turn until none is left or the run stops */
+static void *worker_main(void *arg) {
+  pool_worker *w = arg;
+  pool *P = w->P;
+  const pool_job *J = P->job;
+  char err[768];
+  if (J->worker_begin && !(w->wctx = J->worker_begin(J->ctx))) {
+    pthread_mutex_lock(&P->mu);
+    pool_fail(P, "out of memory");
+  } else {
+    pthread_mutex_lock(&P->mu);
+    /* a slot to fill; a worker that starts late may find them all queued
+       for writing */
+    if (take_free(P, w) == 0)
+      for (;;) {
+        size_t i = P->next;
+        int rc;
+        if (P->stop || i >= J->nitem) break;
+        P->next = next_item(J, i);
+        pthread_mutex_unlock(&P->mu);
+        err[0] = '\0';
+        rc = J->run(J->ctx, w->wctx, i, w, err, sizeof err);
+        pthread_mutex_lock(&P->mu);
+        if (rc) {
+          pool_fail(P, err[0] ? err : "a worker stopped");
+          break;
+        }
+      }
+  }
+  /* give the slot back (none when pool_emit stopped) */
+  if (w->held != NO_SLOT) P->free_ix[P->nfree++] = w->held;
+  /* the writer stops when no worker is left */
+  P->nactive--;
+  pthread_cond_broadcast(&P->ready_cv);
+  pthread_cond_broadcast(&P->free_cv);
+  pthread_mutex_unlock(&P->mu);
+  if (J->worker_end) J->worker_end(J->ctx, w->wctx);
+  return NULL;
+}
+
+/* the calling thread: write the slots as the workers queue them, until
+   every worker is done or the run stops */
+static void pool_write(pool *P) {
+  const pool_job *J = P->job;
+  unsigned char info[POOL_INFO_MAX];
+  char err[768];
+  pthread_mutex_lock(&P->mu);
+  for (;;) {
+    size_t ix;
+    int rc;
+    while (P->nready == 0 && P->nactive > 0 && !P->stop)
+      pthread_cond_wait(&P->ready_cv, &P->mu);
+    if (P->stop || P->nready == 0) break;
+    ix = P->ready_ix[P->ready_head];
+    if (J->info_size)
+      memcpy(info, P->ready_info + P->ready_head * J->info_size, J->info_size);
+    P->ready_head = (P->ready_head + 1) % P->nslot;
+    P->nready--;
+    pthread_mutex_unlock(&P->mu);
+    err[0] = '\0';
+    rc = J->write(J->ctx, J->slot[ix], info, err, sizeof err);
+    pthread_mutex_lock(&P->mu);
+    if (rc) {
+      pool_fail(P, err);
+      break;
+    }
+    P->free_ix[P->nfree++] = ix;
+    pthread_cond_signal(&P->free_cv);
+  }
+  pthread_mutex_unlock(&P->mu);
+}
+
+/* every item on the calling thread, each slot written as it is emitted */
+static int run_serial(pool *P, char *err, size_t errsz) {
+  const pool_job *J = P->job;
+  pool_worker w;
+  size_t i;
+  int rc = 0;
+  w.P = P;
+  w.held = 0;
+  w.wctx = NULL;
+  if (J->worker_begin && !(w.wctx = J->worker_begin(J->ctx))) {
+    snprintf(err, errsz, "out of memory");
+    return -1;
+  }
+  for (i = J->first; i < J->nitem && rc == 0; i = next_item(J, i))
+    rc = J->run(J->ctx, w.wctx, i, &w, err, errsz);
+  if (J->worker_end) J->worker_end(J->ctx, w.wctx);
+  return rc;
+}
+
+/* start nthread workers with the signals blocked; 0, or -1 when one
+   could not start (the run is then stopped) */
+static int start_workers(pool *P, pool_worker *w, pthread_t *tid, int nthread,
+                         int *started) {
+  sigset_t all, old;
+  int rc = 0;
+  /* workers take no signals: the handlers run on the calling thread */
+  sigfillset(&all);
+  pthread_sigmask(SIG_BLOCK, &all, &old);
+  for (*started = 0; *started < nthread; ++*started) {
+    pool_worker *wk = &w[*started];
+    wk->P = P;
+    wk->held = NO_SLOT;
+    pthread_mutex_lock(&P->mu);
+    P->nactive++;
+    pthread_mutex_unlock(&P->mu);
+    if (pthread_create(&tid[*started], NULL, worker_main, wk)) {
+      pthread_mutex_lock(&P->mu);
+      P->nactive--;
+      pool_fail(P, "cannot start a thread");
+      pthread_mutex_unlock(&P->mu);
+      rc = -1;
+      break;
+    }
+  }
+  pthread_sigmask(SIG_SETMASK, &old, NULL);
+  return rc;
+}
+
+/* the workers, the writer on this thread, then the join */
+static int run_threads(pool *P, int nthread, char *err, size_t errsz) {
+  pool_worker *w = calloc((size_t)nthread, sizeof *w);
+  pthread_t *tid = calloc((size_t)nthread, sizeof *tid);
+  int started = 0, i;
+  if (!w || !tid) {
+    free(w);
+    free(tid);
+    snprintf(err, errsz, "out of memory");
+    return -1;
+  }
+  start_workers(P, w, tid, nthread, &started);
+  pool_write(P);
+  for (i = 0; i < started; i++) pthread_join(tid[i], NULL);
+  free(w);
+  free(tid);
+  if (P->stop) snprintf(err, errsz, "%s", P->err);
+  return P->stop ? -1 : 0;
+}
+
+int pool_run(const pool_job *job, int nthread, char *err, size_t errsz) {
+  pool P;
+  size_t i;
+  int rc = -1;
+  memset(&P, 0, sizeof P);
+  P.job = job;
+  P.threaded = nthread > 1;
+  P.next = job->first;
+  if (job->info_size > POOL_INFO_MAX || nthread < 1) {
+    snprintf(err, errsz, "bad pool: %zu bytes of info, %d threads",
+             job->info_size, nthread);
+    return -1;
+  }
+  if (!P.threaded) return run_serial(&P, err, errsz);
+  P.nslot = pool_nslot(nthread);
+  P.free_ix = calloc(P.nslot, sizeof *P.free_ix);
+  P.ready_ix = calloc(P.nslot, sizeof *P.ready_ix);
+  P.ready_info = calloc(P.nslot, job->info_size ? job->info_size : 1);
+  if (!P.free_ix || !P.ready_ix || !P.ready_info)
+    snprintf(err, errsz, "out of memory");
+  else if (pthread_mutex_init(&P.mu, NULL) ||
+           pthread_cond_init(&P.ready_cv, NULL) ||
+           pthread_cond_init(&P.free_cv, NULL))
+    snprintf(err, errsz, "cannot set up the threads");
+  else {
+    for (i = 0; i < P.nslot; i++) P.free_ix[P.nfree++] = i;
+    rc = run_threads(&P, nthread, err, errsz);
+    pthread_cond_destroy(&P.free_cv);
+    pthread_cond_destroy(&P.ready_cv);
+    pthread_mutex_destroy(&P.mu);
+  }
+  free(P.free_ix);
+  free(P.ready_ix);
+  free(P.ready_info);
+  return rc;
+}

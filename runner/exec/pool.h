@@ -1,0 +1,79 @@
+/*
+ * pool.h - the runner's one worker pool.  A job is a set of items (the
+ * inverse sweep's jobs of whole cases or windows, the simulation's cases,
+ * ...) computed on worker threads into the job's slots (tile buffers); each
+ * filled slot goes to the calling thread, the only one that writes (HDF5 is
+ * not thread-safe), and comes back free.  The slots circulate, so memory is
+ * bounded by them whatever the number of items; an item depends on nothing
+ * but its index, so what is written does not depend on the threads.
+ *
+ * The pool stops at the first error a callback returns (out of memory, a
+ * write that failed): the workers finish the slot they hold and end, and
+ * pool_run returns that first error.  A case that fails numerically is not
+ * an error of the pool: the job records it in its slot (status, message)
+ * and the other cases go on.  The workers block the signals, so that the
+ * handlers of core/signals.h (remove the temporary file, die) run on the
+ * calling thread.
+ */
+#ifndef RPS3_RUNNER_POOL_H
+#define RPS3_RUNNER_POOL_H
+
+#include <stddef.h>
+
+typedef struct pool_worker pool_worker;
+
+/* what the pool runs: plain data and callbacks; ctx is the job's own */
+typedef struct {
+  void *ctx;
+  /* the items first, first + stride, ... below nitem (stride 1: all; a
+     shard's items otherwise) */
+  size_t nitem, first, stride;
+  /* the slots: pool_nslot(nthread) of them, allocated by the caller */
+  void **slot;
+  /* bytes of what describes a filled slot (pool_emit's info), copied with
+     it to the writer; at most POOL_INFO_MAX */
+  size_t info_size;
+  /* a worker's own state (workspaces), made when it starts and freed when
+     it ends; both NULL when the job has none */
+  void *(*worker_begin)(void *ctx);
+  void (*worker_end)(void *ctx, void *wctx);
+  /* Compute item i on a worker, filling pool_slot(w) and handing it over
+     with pool_emit as often as needed.  0, or -1 with err: the run stops. */
+  int (*run)(void *ctx, void *wctx, size_t i, pool_worker *w, char *err,
+             size_t errsz);
+  /* Write a filled slot with its info, on the calling thread (count it,
+     show progress).  0, or -1 with err: the run stops. */
+  int (*write)(void *ctx, void *slot, const void *info, char *err,
+               size_t errsz);
+} pool_job;
+
+/* the largest info_size */
+#define POOL_INFO_MAX 128
+
+/* Slots a job needs on nthread threads: 1 on one thread (the calling one
+   computes and writes in turn), else nthread + 2 (a worker holds one at a
+   time: the writer always has one to give back). */
+size_t pool_nslot(int nthread);
+
+/*
+ * Run every item of job on nthread worker threads (1: on the calling
+ * thread, each slot written as soon as it is emitted).  Returns 0, or -1
+ * with err set to the first error (a callback's, or "cannot start a
+ * thread", "out of memory").
+ */
+int pool_run(const pool_job *job, int nthread, char *err, size_t errsz);
+
+/* The slot worker w fills now (inside job->run). */
+void *pool_slot(pool_worker *w);
+
+/*
+ * Hand the slot w fills, described by info (job->info_size bytes), to the
+ * writer and take the next one to fill (inside job->run).  Returns that
+ * slot, or NULL when the run stops (err set): run then returns -1.
+ */
+void *pool_emit(pool_worker *w, const void *info, char *err, size_t errsz);
+
+/* 1 when the items run on worker threads, 0 on the calling thread */
+int pool_threaded(const pool_worker *w);
+
+#endif /* RPS3_RUNNER_POOL_H */
