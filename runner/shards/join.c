@@ -125,95 +125,22 @@ static int map_part(hid_t dcpl, hid_t vsp, hid_t ssp, int rank,
   return 0;
 }
 
-/* the chunked datasets of part 0, their shapes and chunks */
-typedef struct {
-  char (*name)[256];
-  int *rank;
-  hsize_t (*dims)[H5S_MAX_RANK], (*chunk)[H5S_MAX_RANK];
-  size_t n, cap;
-} shapes;
-
-/* H5Ovisit: collect the chunked datasets of part 0 */
-static herr_t collect_shape(hid_t root, const char *name, const H5O_info_t *oi,
-                            void *data) {
-  shapes *sh = data;
-  hid_t ds, sp = -1, pl = -1;
-  int rc = 0;
-  if (oi->type != H5O_TYPE_DATASET) return 0;
-  if ((ds = H5Dopen2(root, name, H5P_DEFAULT)) < 0) return -1;
-  if ((pl = H5Dget_create_plist(ds)) >= 0 && H5Pget_layout(pl) == H5D_CHUNKED) {
-    if (sh->n == sh->cap) {
-      size_t cap = 2 * sh->cap + 16;
-      void *a = realloc(sh->name, cap * sizeof *sh->name),
-           *b = realloc(sh->rank, cap * sizeof *sh->rank);
-      void *c = realloc(sh->dims, cap * sizeof *sh->dims),
-           *d = realloc(sh->chunk, cap * sizeof *sh->chunk);
-      if (a) sh->name = a;
-      if (b) sh->rank = b;
-      if (c) sh->dims = c;
-      if (d) sh->chunk = d;
-      if (!a || !b || !c || !d)
-        rc = -1;
-      else
-        sh->cap = cap;
-    }
-    if (rc == 0 && strlen(name) < sizeof sh->name[0] &&
-        (sp = H5Dget_space(ds)) >= 0 &&
-        (sh->rank[sh->n] =
-             H5Sget_simple_extent_dims(sp, sh->dims[sh->n], NULL)) > 0 &&
-        H5Pget_chunk(pl, sh->rank[sh->n], sh->chunk[sh->n]) == sh->rank[sh->n])
-      strcpy(sh->name[sh->n++], name);
-    else
-      rc = -1;
-  }
-  if (sp >= 0) H5Sclose(sp);
-  if (pl >= 0) H5Pclose(pl);
-  H5Dclose(ds);
-  return rc;
-}
-
 /* 1 when every part has the chunked datasets of part 0 with its shapes
    and chunks; each part opened once */
 static int parts_agree(const walk *w) {
-  shapes sh;
-  size_t k, i;
-  int ok = 1;
-  memset(&sh, 0, sizeof sh);
-  if (H5Ovisit(w->src, H5_INDEX_NAME, H5_ITER_INC, collect_shape, &sh) < 0) {
+  merge_chunked list;
+  hsize_t dims[H5S_MAX_RANK], chunk[H5S_MAX_RANK];
+  size_t k;
+  int i, ok = merge_list_chunked(w->src, &list) == 0;
+  if (!ok)
     out_fail(w->err, w->errsz, "%s: cannot list its datasets", w->part[0]);
-    ok = 0;
-  }
   for (k = 1; ok && k < w->n; k++) {
     hid_t f = H5Fopen(w->part[k], H5F_ACC_RDONLY, H5P_DEFAULT);
-    for (i = 0; ok && i < sh.n; i++) {
-      hid_t ds = -1, sp = -1, pl = -1;
-      hsize_t d[H5S_MAX_RANK], c[H5S_MAX_RANK];
-      int r = sh.rank[i];
-      ok = f >= 0 && H5Lexists(f, sh.name[i], H5P_DEFAULT) > 0 &&
-           (ds = H5Dopen2(f, sh.name[i], H5P_DEFAULT)) >= 0 &&
-           (sp = H5Dget_space(ds)) >= 0 &&
-           (pl = H5Dget_create_plist(ds)) >= 0 &&
-           H5Sget_simple_extent_dims(sp, d, NULL) == r &&
-           H5Pget_chunk(pl, r, c) == r &&
-           memcmp(d, sh.dims[i], (size_t)r * sizeof *d) == 0 &&
-           memcmp(c, sh.chunk[i], (size_t)r * sizeof *c) == 0;
-      if (pl >= 0) H5Pclose(pl);
-      if (sp >= 0) H5Sclose(sp);
-      if (ds >= 0) H5Dclose(ds);
-      if (!ok) {
-        H5Eclear2(H5E_DEFAULT);
-        snprintf(w->err, w->errsz,
-                 "%s: dataset %s missing or of another shape or chunks: not "
-                 "a part of the same run",
-                 w->part[k], sh.name[i]);
-      }
-    }
+    for (i = 0; ok && i < list.n; i++)
+      ok = f >= 0 && merge_same_layout(w->src, f, list.name[i], dims, chunk,
+                                       w->part[k], w->err, w->errsz) > 0;
     if (f >= 0) H5Fclose(f);
   }
-  free(sh.name);
-  free(sh.rank);
-  free(sh.dims);
-  free(sh.chunk);
   return ok;
 }
 
@@ -379,7 +306,7 @@ int join_part_check(const char *path, size_t k, size_t n, const char *text0,
     return -1;
   }
   if (text0 &&
-      (!(text = merge_read_text(f, "scene", 0)) || strcmp(text, text0) != 0)) {
+      (!(text = verify_read_text(f, "scene", 0)) || strcmp(text, text0) != 0)) {
     snprintf(err, errsz, "%s: not a part of the same scene", path);
     goto done;
   }
@@ -472,11 +399,11 @@ static int parts_open(walk *w, char **link, const char *link_dir) {
   size_t k;
   int rc = -1;
   if ((w->src = H5Fopen(w->part[0], H5F_ACC_RDONLY, H5P_DEFAULT)) < 0 ||
-      !(text0 = merge_read_text(w->src, "scene", 0))) {
+      !(text0 = verify_read_text(w->src, "scene", 0))) {
     out_fail(w->err, w->errsz, "%s: not an rps3-run file", w->part[0]);
     return -1;
   }
-  inputs0 = merge_read_text(w->src, INPUTS_ATTR, 1);
+  inputs0 = verify_read_text(w->src, INPUTS_ATTR, 1);
   snprintf(is0, sizeof is0, "%s read", w->part[0]);
   for (k = 0; k < w->n; k++) {
     if (join_part_check(w->part[k], k, w->n, text0, w->err, w->errsz)) break;

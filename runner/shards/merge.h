@@ -42,10 +42,23 @@ int merge_parts(const char *dst, const char *const *src, const size_t *k,
                 size_t nsrc, size_t n, const char *command_line,
                 size_t *nfailed, char *err, size_t errsz);
 
-/* A root string attribute (is_attr 1) or the scalar string dataset `name`
-   of an open file, as a malloc'd string (NULL when absent or not a
-   string). */
-char *merge_read_text(hid_t file, const char *name, int is_attr);
+/* the chunked datasets of a file by name: the per-case variables */
+#define MERGE_MAX_CHUNKED 64
+typedef struct {
+  char name[MERGE_MAX_CHUNKED][256];
+  int n;
+} merge_chunked;
+
+/* The chunked datasets of an open file, in every group.  Returns 0 or -1
+   (more than MERGE_MAX_CHUNKED, or a name too long). */
+int merge_list_chunked(hid_t file, merge_chunked *l);
+
+/* The rank of dataset `name` of the open files fa and fb when both have it
+   with the same shape and chunks (*dims, *chunk: fa's), else -1 with err
+   saying that b_path (file fb) is not a part of the same run. */
+int merge_same_layout(hid_t fa, hid_t fb, const char *name,
+                      hsize_t dims[H5S_MAX_RANK], hsize_t chunk[H5S_MAX_RANK],
+                      const char *b_path, char *err, size_t errsz);
 
 /* The cases of an open rps3-run file whose status is not 0 (*nfailed) and,
    when nunset is not NULL, of those the ones never written (status -1,

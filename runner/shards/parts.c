@@ -157,16 +157,6 @@ char *parts_rerun_command(const char *model, size_t k, size_t n) {
   return t.s;
 }
 
-/* the command_line of a part file (malloc'd) or NULL */
-static char *command_of(const char *path) {
-  hid_t f = H5Fopen(path, H5F_ACC_RDONLY, H5P_DEFAULT);
-  char *v;
-  if (f < 0) return NULL;
-  v = merge_read_text(f, "command_line", 1);
-  H5Fclose(f);
-  return v;
-}
-
 size_t parts_report(FILE *out, const char *const *byk, const int *bad,
                     size_t n) {
   size_t k, nmiss = 0;
@@ -185,7 +175,7 @@ size_t parts_report(FILE *out, const char *const *byk, const int *bad,
     if (!byk[k] || (bad && bad[k]))
       fprintf(out, "%s%zu", nmiss++ ? "," : "", k);
   fprintf(out, "\n");
-  if (model) cmd = command_of(model);
+  if (model) cmd = verify_root_attr(model, "command_line");
   if (!cmd) {
     fprintf(out, "  (rps3-run SCENE -o PART --shard K/%zu for each)\n", n);
     return nmiss;

@@ -150,23 +150,42 @@ int verify_file(const char *path, char *err, size_t errsz) {
   return rc;
 }
 
-char *verify_root_attr(const char *path, const char *name) {
-  hid_t f = H5Fopen(path, H5F_ACC_RDONLY, H5P_DEFAULT), a = -1, t = -1;
+/* the files' strings are UTF-8; HDF5 converts no character sets */
+char *verify_read_text(hid_t file, const char *name, int is_attr) {
+  hid_t obj, str = H5Tcopy(H5T_C_S1);
   char *v = NULL, *copy = NULL;
-  if (f >= 0 && H5Aexists(f, name) > 0) a = H5Aopen(f, name, H5P_DEFAULT);
-  if (a >= 0) {
-    t = H5Tcopy(H5T_C_S1);
-    if (t >= 0 && H5Tset_size(t, H5T_VARIABLE) >= 0 &&
-        H5Tset_cset(t, H5T_CSET_UTF8) >= 0 && H5Aread(a, t, &v) >= 0 && v) {
-      copy = malloc(strlen(v) + 1);
-      if (copy) strcpy(copy, v);
-    }
+  herr_t rc;
+  if (str < 0 || H5Tset_size(str, H5T_VARIABLE) < 0 ||
+      H5Tset_cset(str, H5T_CSET_UTF8) < 0 ||
+      (is_attr ? H5Aexists(file, name) : H5Lexists(file, name, H5P_DEFAULT)) <=
+          0 ||
+      (obj = is_attr ? H5Aopen(file, name, H5P_DEFAULT)
+                     : H5Dopen2(file, name, H5P_DEFAULT)) < 0) {
+    H5Tclose(str);
+    return NULL;
   }
+  if (is_attr) {
+    rc = H5Aread(obj, str, &v);
+    H5Aclose(obj);
+  } else {
+    rc = H5Dread(obj, str, H5S_ALL, H5S_ALL, H5P_DEFAULT, &v);
+    H5Dclose(obj);
+  }
+  if (rc >= 0 && v) {
+    copy = malloc(strlen(v) + 1);
+    if (copy) strcpy(copy, v);
+  }
+  /* the library allocated v: give it back with the library's free */
   if (v) H5free_memory(v);
-  if (t >= 0) H5Tclose(t);
-  if (a >= 0) H5Aclose(a);
-  if (f >= 0) H5Fclose(f);
+  H5Tclose(str);
   return copy;
+}
+
+char *verify_root_attr(const char *path, const char *name) {
+  hid_t f = H5Fopen(path, H5F_ACC_RDONLY, H5P_DEFAULT);
+  char *v = f >= 0 ? verify_read_text(f, name, 1) : NULL;
+  if (f >= 0) H5Fclose(f);
+  return v;
 }
 
 int verify_same_versions(const char *const *path, size_t n, char *err,
