@@ -306,7 +306,7 @@ int join_part_check(const char *path, size_t k, size_t n, const char *text0,
     return -1;
   }
   if (text0 &&
-      (!(text = verify_read_text(f, "scene", 0)) || strcmp(text, text0) != 0)) {
+      (!(text = out_h5_read_text(f, "scene", 0)) || strcmp(text, text0) != 0)) {
     snprintf(err, errsz, "%s: not a part of the same scene", path);
     goto done;
   }
@@ -399,11 +399,11 @@ static int parts_open(walk *w, char **link, const char *link_dir) {
   size_t k;
   int rc = -1;
   if ((w->src = H5Fopen(w->part[0], H5F_ACC_RDONLY, H5P_DEFAULT)) < 0 ||
-      !(text0 = verify_read_text(w->src, "scene", 0))) {
+      !(text0 = out_h5_read_text(w->src, "scene", 0))) {
     out_fail(w->err, w->errsz, "%s: not an rps3-run file", w->part[0]);
     return -1;
   }
-  inputs0 = verify_read_text(w->src, INPUTS_ATTR, 1);
+  inputs0 = out_h5_read_text(w->src, INPUTS_ATTR, 1);
   snprintf(is0, sizeof is0, "%s read", w->part[0]);
   for (k = 0; k < w->n; k++) {
     if (join_part_check(w->part[k], k, w->n, text0, w->err, w->errsz)) break;

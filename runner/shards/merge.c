@@ -57,10 +57,10 @@ int merge_shard_of(const char *path, size_t *k, size_t *n, char *err,
     out_fail(err, errsz, "%s: cannot open", path);
     return -1;
   }
-  v = verify_read_text(f, MERGE_SHARD_ATTR, 1);
+  v = out_h5_read_text(f, MERGE_SHARD_ATTR, 1);
   {
     /* a simulation (sim_output.h) is never a part: say so by name */
-    char *content = verify_read_text(f, "content", 1);
+    char *content = out_h5_read_text(f, "content", 1);
     int sim = content && strcmp(content, "simulation") == 0;
     free(content);
     if (sim) {
@@ -323,8 +323,8 @@ int merge_parts(const char *dst, const char *const *src, const size_t *k,
     out_fail(err, errsz, "%s: cannot open", dst);
     return -1;
   }
-  text = verify_read_text(fd, "scene", 0);
-  inputs0 = verify_read_text(fd, INPUTS_ATTR, 1);
+  text = out_h5_read_text(fd, "scene", 0);
+  inputs0 = out_h5_read_text(fd, INPUTS_ATTR, 1);
   if (!text || merge_list_chunked(fd, &list) < 0 || list.n == 0) {
     out_fail(err, errsz, "%s: not an rps3-run file", dst);
     goto done;
@@ -337,7 +337,7 @@ int merge_parts(const char *dst, const char *const *src, const size_t *k,
       goto done;
     }
     /* the same scene, byte for byte */
-    other = verify_read_text(fs, "scene", 0);
+    other = out_h5_read_text(fs, "scene", 0);
     if (!other || strcmp(other, text) != 0) {
       snprintf(err, errsz, "%s: not a part of the same scene", src[i]);
       free(other);

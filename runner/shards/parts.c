@@ -12,6 +12,7 @@
 
 #include "join.h"
 #include "merge.h"
+#include "output/out_h5.h"
 #include "verify.h"
 
 int parts_by_shard(const char *const *part, size_t npart, const char ***byk,

@@ -10,6 +10,7 @@
 #include <hdf5.h>
 
 #include "core/h5err.h"
+#include "output/out_h5.h"
 #include "scene/inputs.h"
 
 /* bytes read at a time at most, for datasets without chunks */
@@ -150,40 +151,9 @@ int verify_file(const char *path, char *err, size_t errsz) {
   return rc;
 }
 
-/* the files' strings are UTF-8; HDF5 converts no character sets */
-char *verify_read_text(hid_t file, const char *name, int is_attr) {
-  hid_t obj, str = H5Tcopy(H5T_C_S1);
-  char *v = NULL, *copy = NULL;
-  herr_t rc;
-  if (str < 0 || H5Tset_size(str, H5T_VARIABLE) < 0 ||
-      H5Tset_cset(str, H5T_CSET_UTF8) < 0 ||
-      (is_attr ? H5Aexists(file, name) : H5Lexists(file, name, H5P_DEFAULT)) <=
-          0 ||
-      (obj = is_attr ? H5Aopen(file, name, H5P_DEFAULT)
-                     : H5Dopen2(file, name, H5P_DEFAULT)) < 0) {
-    H5Tclose(str);
-    return NULL;
-  }
-  if (is_attr) {
-    rc = H5Aread(obj, str, &v);
-    H5Aclose(obj);
-  } else {
-    rc = H5Dread(obj, str, H5S_ALL, H5S_ALL, H5P_DEFAULT, &v);
-    H5Dclose(obj);
-  }
-  if (rc >= 0 && v) {
-    copy = malloc(strlen(v) + 1);
-    if (copy) strcpy(copy, v);
-  }
-  /* the library allocated v: give it back with the library's free */
-  if (v) H5free_memory(v);
-  H5Tclose(str);
-  return copy;
-}
-
 char *verify_root_attr(const char *path, const char *name) {
   hid_t f = H5Fopen(path, H5F_ACC_RDONLY, H5P_DEFAULT);
-  char *v = f >= 0 ? verify_read_text(f, name, 1) : NULL;
+  char *v = f >= 0 ? out_h5_read_text(f, name, 1) : NULL;
   if (f >= 0) H5Fclose(f);
   return v;
 }

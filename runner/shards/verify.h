@@ -11,8 +11,6 @@
 #include <stddef.h>
 #include <stdio.h>
 
-#include <hdf5.h>
-
 /*
  * Read every dataset of the file at path, a block of rows at a time (one
  * chunk row for chunked datasets; memory stays at a few chunks), so that
@@ -29,11 +27,6 @@ int verify_file(const char *path, char *err, size_t errsz);
  */
 int verify_same_versions(const char *const *path, size_t n, char *err,
                          size_t errsz);
-
-/* A root string attribute (is_attr 1) or the scalar string dataset `name`
-   of an open file, as a malloc'd string (NULL when absent or not a
-   string). */
-char *verify_read_text(hid_t file, const char *name, int is_attr);
 
 /* the root string attribute `name` of the file at path (malloc'd), or
    NULL when it has none or cannot be read */
