@@ -79,7 +79,8 @@ int out_cf_root(hid_t file, hid_t str, const char *now,
   return rc;
 }
 
-int out_cf_history_add(hid_t file, hid_t str, const char *now,
+/* append a history line for a command that rewrote the file (merge) */
+static int history_add(hid_t file, hid_t str, const char *now,
                        const char *command_line) {
   char *old = out_h5_read_text(file, "history", 1),
        *line = history_line(now, command_line);
@@ -240,7 +241,7 @@ int out_stamp(hid_t file, const char *command_line) {
   if (str >= 0 && H5Tset_size(str, H5T_VARIABLE) >= 0 &&
       H5Tset_cset(str, H5T_CSET_UTF8) >= 0 &&
       out_h5_attrs(file, str, kv, 2) >= 0 &&
-      out_cf_history_add(file, str, now, command_line) >= 0)
+      history_add(file, str, now, command_line) >= 0)
     rc = 0;
   if (str >= 0) H5Tclose(str);
   return rc;

@@ -121,7 +121,9 @@ static void put_part_name(text *t, const char *was, size_t len, size_t k0,
   put(t, hit + hitlen, len - (size_t)(hit - was) - hitlen);
 }
 
-char *parts_rerun_command(const char *model, size_t k, size_t n) {
+/* the command that makes shard k again, from the command_line of a part
+   `model` (malloc'd; NULL when out of memory or when `model` has none) */
+static char *rerun_command(const char *model, size_t k, size_t n) {
   text t = {NULL, 0, 0, 0};
   const char *p = model, *e;
   size_t k0 = (size_t)-1;
@@ -184,7 +186,7 @@ size_t parts_report(FILE *out, const char *const *byk, const int *bad,
   fprintf(out, "  from the directory the parts were made in:\n");
   for (k = 0; k < n; k++)
     if (!byk[k] || (bad && bad[k])) {
-      char *c = parts_rerun_command(cmd, k, n);
+      char *c = rerun_command(cmd, k, n);
       fprintf(out, "  %s\n", c ? c : "(out of memory)");
       free(c);
     }
