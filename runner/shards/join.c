@@ -289,10 +289,8 @@ static herr_t make_scales(hid_t root, const char *name, const H5O_info_t *oi,
 
 int join_part_check(const char *path, size_t k, size_t n, const char *text0,
                     char *err, size_t errsz) {
-  size_t kk, nn;
-  hid_t f = -1, ds = -1, sp = -1, pl = -1, ms = -1;
-  hsize_t dims = 0, c0 = 0, row, nrow, start, count;
-  int32_t *buf = NULL;
+  size_t kk, nn, nfailed, unset, first = 0;
+  hid_t f;
   char *text = NULL;
   int rc = -1;
   if (merge_shard_of(path, &kk, &nn, err, errsz)) return -1;
@@ -306,50 +304,19 @@ int join_part_check(const char *path, size_t k, size_t n, const char *text0,
     return -1;
   }
   if (text0 &&
-      (!(text = out_h5_read_text(f, "scene", 0)) || strcmp(text, text0) != 0)) {
+      (!(text = out_h5_read_text(f, "scene", 0)) || strcmp(text, text0) != 0))
     snprintf(err, errsz, "%s: not a part of the same scene", path);
-    goto done;
-  }
-  if ((ds = H5Dopen2(f, "status", H5P_DEFAULT)) < 0 ||
-      (sp = H5Dget_space(ds)) < 0 || (pl = H5Dget_create_plist(ds)) < 0 ||
-      H5Sget_simple_extent_dims(sp, &dims, NULL) != 1 ||
-      H5Pget_chunk(pl, 1, &c0) != 1 || c0 < 1 ||
-      !(buf = malloc((size_t)c0 * sizeof *buf))) {
+  else if (merge_count_failed(f, k, n, &nfailed, &unset, &first) < 0)
     out_fail(err, errsz, "%s: cannot read status", path);
-    goto done;
-  }
   /* every case of the part has a status: OUT_STATUS_NOT_COMPUTED is the
      fill value of a case never written (a part killed before its end) */
-  nrow = (dims + c0 - 1) / c0;
-  for (row = k; row < nrow; row += n) {
-    size_t i;
-    start = row * c0;
-    count = dims - start < c0 ? dims - start : c0;
-    if ((ms = H5Screate_simple(1, &count, NULL)) < 0 ||
-        H5Sselect_hyperslab(sp, H5S_SELECT_SET, &start, NULL, &count, NULL) <
-            0 ||
-        H5Dread(ds, H5T_NATIVE_INT32, ms, sp, H5P_DEFAULT, buf) < 0) {
-      out_fail(err, errsz, "%s: cannot read status", path);
-      goto done;
-    }
-    H5Sclose(ms);
-    ms = -1;
-    for (i = 0; i < (size_t)count; i++)
-      if (buf[i] == OUT_STATUS_NOT_COMPUTED) {
-        snprintf(err, errsz,
-                 "%s: case %llu was never written: the part is incomplete",
-                 path, (unsigned long long)(start + i));
-        goto done;
-      }
-  }
-  rc = 0;
-done:
-  free(buf);
+  else if (unset)
+    snprintf(err, errsz,
+             "%s: case %zu was never written: the part is incomplete", path,
+             first);
+  else
+    rc = 0;
   free(text);
-  if (ms >= 0) H5Sclose(ms);
-  if (pl >= 0) H5Pclose(pl);
-  if (sp >= 0) H5Sclose(sp);
-  if (ds >= 0) H5Dclose(ds);
   H5Fclose(f);
   return rc;
 }
@@ -451,7 +418,7 @@ static int joined_write(walk *w, const char *dst, const char *command_line) {
 static int joined_count(hid_t file, const char *dst, const char *link_dir,
                         size_t *nfailed, char *err, size_t errsz) {
   size_t unset = 0;
-  if (merge_count_failed(file, nfailed, &unset) < 0) {
+  if (merge_count_failed(file, 0, 1, nfailed, &unset, NULL) < 0) {
     out_fail(err, errsz, "%s: cannot read status through the parts", dst);
     return -1;
   }

@@ -274,36 +274,48 @@ done:
   return rc;
 }
 
-/* cases with status != 0 */
-int merge_count_failed(hid_t file, size_t *nfailed, size_t *nunset) {
-  hid_t ds = H5Dopen2(file, "status", H5P_DEFAULT), fs = -1, ms = -1;
-  hsize_t n = 0, r0, nr, run = 65536;
-  int32_t *buf = malloc((size_t)run * sizeof *buf);
+/* the statuses of the chunk rows r % n == k, read a block of rows at a
+   time: one chunk row when n > 1, else chunk rows up to RUN_ROWS rows */
+int merge_count_failed(hid_t file, size_t k, size_t n, size_t *nfailed,
+                       size_t *nunset, size_t *first_unset) {
+  enum { RUN_ROWS = 65536 };
+  hid_t ds = H5Dopen2(file, "status", H5P_DEFAULT), fs = -1, pl = -1, ms = -1;
+  hsize_t dims = 0, c0 = 0, span, start, count;
+  int32_t *buf = NULL;
   int rc = -1;
   size_t i;
-  *nfailed = 0;
-  if (nunset) *nunset = 0;
-  if (ds < 0 || !buf || (fs = H5Dget_space(ds)) < 0 ||
-      H5Sget_simple_extent_dims(fs, &n, NULL) != 1)
+  *nfailed = *nunset = 0;
+  if (ds < 0 || (fs = H5Dget_space(ds)) < 0 ||
+      (pl = H5Dget_create_plist(ds)) < 0 ||
+      H5Sget_simple_extent_dims(fs, &dims, NULL) != 1)
     goto done;
-  for (r0 = 0; r0 < n; r0 += nr) {
-    nr = n - r0 < run ? n - r0 : run;
-    ms = H5Screate_simple(1, &nr, NULL);
-    if (ms < 0 ||
-        H5Sselect_hyperslab(fs, H5S_SELECT_SET, &r0, NULL, &nr, NULL) < 0 ||
+  /* a joined file's status is virtual: no chunks, read in runs */
+  if (H5Pget_layout(pl) != H5D_CHUNKED)
+    c0 = RUN_ROWS;
+  else if (H5Pget_chunk(pl, 1, &c0) != 1 || c0 < 1)
+    goto done;
+  span = n > 1 || c0 >= RUN_ROWS ? c0 : c0 * (RUN_ROWS / c0);
+  if (!(buf = malloc((size_t)span * sizeof *buf))) goto done;
+  for (start = k * c0; start < dims; start += n * span) {
+    count = dims - start < span ? dims - start : span;
+    if ((ms = H5Screate_simple(1, &count, NULL)) < 0 ||
+        H5Sselect_hyperslab(fs, H5S_SELECT_SET, &start, NULL, &count, NULL) <
+            0 ||
         H5Dread(ds, H5T_NATIVE_INT32, ms, fs, H5P_DEFAULT, buf) < 0)
       goto done;
     H5Sclose(ms);
     ms = -1;
-    for (i = 0; i < (size_t)nr; i++) {
+    for (i = 0; i < (size_t)count; i++) {
       *nfailed += buf[i] != 0;
-      if (nunset) *nunset += buf[i] == OUT_STATUS_NOT_COMPUTED;
+      if (buf[i] == OUT_STATUS_NOT_COMPUTED && (*nunset)++ == 0 && first_unset)
+        *first_unset = (size_t)start + i;
     }
   }
   rc = 0;
 done:
   free(buf);
   if (ms >= 0) H5Sclose(ms);
+  if (pl >= 0) H5Pclose(pl);
   if (fs >= 0) H5Sclose(fs);
   if (ds >= 0) H5Dclose(ds);
   return rc;
@@ -316,7 +328,7 @@ int merge_parts(const char *dst, const char *const *src, const size_t *k,
   merge_chunked list;
   chunk_buf cb = {NULL, 0};
   char *text = NULL, *inputs0 = NULL;
-  size_t i;
+  size_t i, unset;
   int j, rc = -1;
 
   if (fd < 0) {
@@ -368,7 +380,7 @@ int merge_parts(const char *dst, const char *const *src, const size_t *k,
     out_fail(err, errsz, "%s: cannot write the root attributes", dst);
     goto done;
   }
-  if (merge_count_failed(fd, nfailed, NULL) < 0) {
+  if (merge_count_failed(fd, 0, 1, nfailed, &unset, NULL) < 0) {
     out_fail(err, errsz, "%s: cannot read status", dst);
     goto done;
   }

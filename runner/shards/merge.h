@@ -60,10 +60,13 @@ int merge_same_layout(hid_t fa, hid_t fb, const char *name,
                       hsize_t dims[H5S_MAX_RANK], hsize_t chunk[H5S_MAX_RANK],
                       const char *b_path, char *err, size_t errsz);
 
-/* The cases of an open rps3-run file whose status is not 0 (*nfailed) and,
-   when nunset is not NULL, of those the ones never written (status -1,
-   the fill value).  Returns 0 or -1. */
-int merge_count_failed(hid_t file, size_t *nfailed, size_t *nunset);
+/* Of the cases of the chunk rows r % n == k of an open rps3-run file (k 0,
+   n 1: all), those whose status is not 0 (*nfailed) and of those the ones
+   never written (*nunset: status OUT_STATUS_NOT_COMPUTED, the fill
+   value), the first of them in *first_unset when not NULL.  Returns 0 or
+   -1. */
+int merge_count_failed(hid_t file, size_t k, size_t n, size_t *nfailed,
+                       size_t *nunset, size_t *first_unset);
 
 /* Copy the file `from` byte for byte to `to` (created or truncated).
    Returns 0 or -1 with err set. */

@@ -199,7 +199,7 @@ int parts_resume(const char *path, size_t k, size_t n, const char *text0,
   char err[768], *have;
   hid_t f;
   int rc = -1, same;
-  size_t nall = 0, unset = 0;
+  size_t unset = 0;
   if (access(path, F_OK) != 0) return 0;
   if (join_part_check(path, k, n, text0, err, sizeof err)) {
     fprintf(stderr, "rps3-run: --resume: %s: running shard %zu/%zu again\n",
@@ -227,7 +227,7 @@ int parts_resume(const char *path, size_t k, size_t n, const char *text0,
   }
   f = H5Fopen(path, H5F_ACC_RDONLY, H5P_DEFAULT);
   if (f >= 0) {
-    rc = merge_count_failed(f, &nall, &unset);
+    rc = merge_count_failed(f, k, n, nfailed, &unset, NULL);
     H5Fclose(f);
   }
   if (rc < 0) {
@@ -237,9 +237,7 @@ int parts_resume(const char *path, size_t k, size_t n, const char *text0,
             path, k, n);
     return 0;
   }
-  /* the cases of the other shards read as the fill value (not computed):
-     they are no failure of this one, whose every case join_part_check
-     found written */
-  *nfailed = nall - unset;
+  /* the cases of this shard only: the other shards' read as the fill
+     value (not computed), no failure of this one */
   return 1;
 }
