@@ -287,40 +287,6 @@ static herr_t make_scales(hid_t root, const char *name, const H5O_info_t *oi,
   return rc;
 }
 
-int join_part_check(const char *path, size_t k, size_t n, const char *text0,
-                    char *err, size_t errsz) {
-  size_t kk, nn, nfailed, unset, first = 0;
-  hid_t f;
-  char *text = NULL;
-  int rc = -1;
-  if (merge_shard_of(path, &kk, &nn, err, errsz)) return -1;
-  if (kk != k || nn != n) {
-    snprintf(err, errsz, "%s is shard %zu/%zu, not %zu/%zu", path, kk, nn, k,
-             n);
-    return -1;
-  }
-  if ((f = H5Fopen(path, H5F_ACC_RDONLY, H5P_DEFAULT)) < 0) {
-    out_fail(err, errsz, "%s: cannot open", path);
-    return -1;
-  }
-  if (text0 &&
-      (!(text = out_h5_read_text(f, "scene", 0)) || strcmp(text, text0) != 0))
-    snprintf(err, errsz, "%s: not a part of the same scene", path);
-  else if (merge_count_failed(f, k, n, &nfailed, &unset, &first) < 0)
-    out_fail(err, errsz, "%s: cannot read status", path);
-  /* every case of the part has a status: OUT_STATUS_NOT_COMPUTED is the
-     fill value of a case never written (a part killed before its end) */
-  else if (unset)
-    snprintf(err, errsz,
-             "%s: case %zu was never written: the part is incomplete", path,
-             first);
-  else
-    rc = 0;
-  free(text);
-  H5Fclose(f);
-  return rc;
-}
-
 /* the name of `path` as the joined file in `dir` stores it: relative to
    dir when below it, else absolute (malloc'd; NULL when it cannot be
    resolved) */
@@ -373,7 +339,7 @@ static int parts_open(walk *w, char **link, const char *link_dir) {
   inputs0 = out_h5_read_text(w->src, INPUTS_ATTR, 1);
   snprintf(is0, sizeof is0, "%s read", w->part[0]);
   for (k = 0; k < w->n; k++) {
-    if (join_part_check(w->part[k], k, w->n, text0, w->err, w->errsz)) break;
+    if (merge_part_check(w->part[k], k, w->n, text0, w->err, w->errsz)) break;
     /* the same content of every file the scene reads (inputs.h) */
     if (k > 0 && verify_inputs_as(w->part[k], inputs0, is0, w->err, w->errsz))
       break;

@@ -190,19 +190,18 @@ typedef struct {
   size_t size;
 } chunk_buf;
 
-/* copy the chunk at `off` if src has it (*have: 1, else 0): as stored
-   when `raw`, else by value */
+/* copy the chunk at `off` if src has it: as stored when `raw`, else by
+   value */
 static int copy_chunk(hid_t dst, hid_t src, int rank, const hsize_t *off,
                       const hsize_t *dims, const hsize_t *chunk, int raw,
-                      chunk_buf *cb, int *have) {
+                      chunk_buf *cb) {
   unsigned mask = 0;
   uint32_t filters = 0;
   haddr_t addr;
   hsize_t size = 0, count[H5S_MAX_RANK];
   int r;
   if (H5Dget_chunk_info_by_coord(src, off, &mask, &addr, &size) < 0) return -1;
-  *have = size > 0;
-  if (!*have) return 0;
+  if (size == 0) return 0;
   if (!raw) {
     /* the chunk's region, cut at the dataset's edge */
     for (r = 0; r < rank; r++)
@@ -228,7 +227,7 @@ static int copy_dataset(hid_t fdst, hid_t fsrc, const char *name,
   hid_t dst = -1, src = -1, type = -1;
   hsize_t ddims[H5S_MAX_RANK], dchunk[H5S_MAX_RANK], off[H5S_MAX_RANK];
   hsize_t row, nrow;
-  int rank, r, raw, rc = -1, status = strcmp(name, "status") == 0;
+  int rank, r, raw, rc = -1;
 
   rank = merge_same_layout(fdst, fsrc, name, ddims, dchunk, src_path, err,
                            errsz);
@@ -244,18 +243,11 @@ static int copy_dataset(hid_t fdst, hid_t fsrc, const char *name,
     /* every chunk of the row: odometer over the other axes */
     for (r = 1; r < rank; r++) off[r] = 0;
     for (;;) {
-      int have;
-      if (copy_chunk(dst, src, rank, off, ddims, dchunk, raw, cb, &have) < 0) {
+      /* windows after a failing sample are never written: they read as
+         the fill value */
+      if (copy_chunk(dst, src, rank, off, ddims, dchunk, raw, cb) < 0) {
         out_fail(err, errsz, "%s: cannot copy a chunk of %s at case %llu",
                  src_path, name, (unsigned long long)off[0]);
-        goto done;
-      }
-      /* windows after a failing sample are never written (they read as
-         the fill value), but every case of a part has its status */
-      if (!have && status) {
-        snprintf(err, errsz,
-                 "%s: cases from %llu are missing: the part is incomplete",
-                 src_path, (unsigned long long)off[0]);
         goto done;
       }
       for (r = rank - 1; r >= 1; r--) {
@@ -321,6 +313,40 @@ done:
   return rc;
 }
 
+int merge_part_check(const char *path, size_t k, size_t n, const char *text0,
+                     char *err, size_t errsz) {
+  size_t kk, nn, nfailed, unset, first = 0;
+  hid_t f;
+  char *text = NULL;
+  int rc = -1;
+  if (merge_shard_of(path, &kk, &nn, err, errsz)) return -1;
+  if (kk != k || nn != n) {
+    snprintf(err, errsz, "%s is shard %zu/%zu, not %zu/%zu", path, kk, nn, k,
+             n);
+    return -1;
+  }
+  if ((f = H5Fopen(path, H5F_ACC_RDONLY, H5P_DEFAULT)) < 0) {
+    out_fail(err, errsz, "%s: cannot open", path);
+    return -1;
+  }
+  if (text0 &&
+      (!(text = out_h5_read_text(f, "scene", 0)) || strcmp(text, text0) != 0))
+    snprintf(err, errsz, "%s: not a part of the same scene", path);
+  else if (merge_count_failed(f, k, n, &nfailed, &unset, &first) < 0)
+    out_fail(err, errsz, "%s: cannot read status", path);
+  /* every case of the part has a status: OUT_STATUS_NOT_COMPUTED is the
+     fill value of a case never written (a part killed before its end) */
+  else if (unset)
+    snprintf(err, errsz,
+             "%s: case %zu was never written: the part is incomplete", path,
+             first);
+  else
+    rc = 0;
+  free(text);
+  H5Fclose(f);
+  return rc;
+}
+
 int merge_parts(const char *dst, const char *const *src, const size_t *k,
                 size_t nsrc, size_t n, const char *command_line,
                 size_t *nfailed, char *err, size_t errsz) {
@@ -342,24 +368,14 @@ int merge_parts(const char *dst, const char *const *src, const size_t *k,
     goto done;
   }
   for (i = 0; i < nsrc; i++) {
-    hid_t fs = H5Fopen(src[i], H5F_ACC_RDONLY, H5P_DEFAULT);
-    char *other;
-    if (fs < 0) {
+    hid_t fs;
+    /* complete, of the same scene byte for byte and the same content of
+       every file it reads (inputs.h) */
+    if (merge_part_check(src[i], k[i], n, text, err, errsz) ||
+        verify_inputs_as(src[i], inputs0, "part 0 read", err, errsz))
+      goto done;
+    if ((fs = H5Fopen(src[i], H5F_ACC_RDONLY, H5P_DEFAULT)) < 0) {
       out_fail(err, errsz, "%s: cannot open", src[i]);
-      goto done;
-    }
-    /* the same scene, byte for byte */
-    other = out_h5_read_text(fs, "scene", 0);
-    if (!other || strcmp(other, text) != 0) {
-      snprintf(err, errsz, "%s: not a part of the same scene", src[i]);
-      free(other);
-      H5Fclose(fs);
-      goto done;
-    }
-    free(other);
-    /* and the same content of every file it reads (inputs.h) */
-    if (verify_inputs_as(src[i], inputs0, "part 0 read", err, errsz)) {
-      H5Fclose(fs);
       goto done;
     }
     for (j = 0; j < list.n; j++)

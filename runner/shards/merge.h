@@ -28,11 +28,20 @@ int merge_shard_of(const char *path, size_t *k, size_t *n, char *err,
                    size_t errsz);
 
 /*
+ * Check the part file at `path`: shard k of n (root attribute), the scene
+ * text `scene` byte for byte when not NULL, and every case of the part has
+ * its status (none left at the fill value -1: all its jobs were written).
+ * Returns 0, or -1 with err set saying what is wrong.
+ */
+int merge_part_check(const char *path, size_t k, size_t n, const char *text0,
+                     char *err, size_t errsz);
+
+/*
  * Copy into the file at `dst` (a complete rps3-run file of the same scene,
  * for instance part 0 itself) the cases of the nsrc part files src[i],
  * each holding shard k[i] of n.  Every chunked dataset of dst must be in
- * each part with the same shape and chunks, each part must hold all of its
- * cases (their `status` chunks) and have dst's scene and record of input
+ * each part with the same shape and chunks, each part must be complete
+ * (merge_part_check) and have dst's scene and record of input
  * files (inputs.h).  Then dst loses its shard attribute,
  * and gets `command_line` and `created_utc` of this merge; *nfailed is the
  * number of cases of dst whose status is not 0.  Returns 0, or -1 with err

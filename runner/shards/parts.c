@@ -201,7 +201,7 @@ int parts_resume(const char *path, size_t k, size_t n, const char *text0,
   int rc = -1, same;
   size_t unset = 0;
   if (access(path, F_OK) != 0) return 0;
-  if (join_part_check(path, k, n, text0, err, sizeof err)) {
+  if (merge_part_check(path, k, n, text0, err, sizeof err)) {
     fprintf(stderr, "rps3-run: --resume: %s: running shard %zu/%zu again\n",
             err, k, n);
     return 0;

@@ -35,7 +35,7 @@ size_t parts_report(FILE *out, const char *const *byk, const int *bad,
 
 /*
  * rps3-run --resume: 1 when the file at `path` is already shard k of n of
- * the scene whose text is text0, complete (join_part_check), with the
+ * the scene whose text is text0, complete (merge_part_check), with the
  * per-sample fields `fields` (the root attribute, out_fields_text),
  * computed from the same content of every file the scene reads (`inputs`,
  * the record of inputs.h), with *nfailed the failed cases of this shard;
