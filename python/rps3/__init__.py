@@ -17,8 +17,7 @@ from rps3._rps3 import ffi as _ffi
 from rps3._rps3 import lib as _lib
 from rps3.errors import Rps3Error
 from rps3.io import open_dataset
-from rps3.model import (DEFAULT_EFFECTS, EFFECTS, OUTPUTS, Dynamics, Kinematics,
-                        Model, Pose)
+from rps3.model import DEFAULT_EFFECTS, EFFECTS, OUTPUTS, Dynamics, Kinematics, Model, Pose
 
 __version__: str = _ffi.string(_lib.rps3_version()).decode()
 

@@ -428,10 +428,12 @@ static void rps3py_sim_record(const rps3_sim *s, const rps3_ctrl *ctrl,
   double w[2];
   w[0] = rps3_sim_now(s)->y[6];
   w[1] = rps3_sim_now(s)->y[7];
-  rps3py_put(o->l, rps3_sim_now(s)->y, 3, n, i); rps3py_put(o->dl, rps3_sim_now(s)->y + 3, 3, n, i);
+  rps3py_put(o->l, rps3_sim_now(s)->y, 3, n, i);
+  rps3py_put(o->dl, rps3_sim_now(s)->y + 3, 3, n, i);
   rps3py_put(o->pose, rps3_sim_data(s)->pose, 3, n, i);
   rps3py_put(o->dpose, rps3_sim_data(s)->dpose, 3, n, i);
-  rps3py_put(o->F, rps3_sim_now(s)->F, 3, n, i); rps3py_put(o->F_cmd, rps3_sim_now(s)->F_cmd, 3, n, i);
+  rps3py_put(o->F, rps3_sim_now(s)->F, 3, n, i);
+  rps3py_put(o->F_cmd, rps3_sim_now(s)->F_cmd, 3, n, i);
   rps3py_put(o->l_meas, rps3_sim_now(s)->l_meas, 3, n, i);
   rps3py_put(o->dl_meas, rps3_sim_now(s)->dl_meas, 3, n, i);
   if (rps3_sim_now(s)->nsteps == 0 && rps3_sim_now(s)->nticks == 0) {

@@ -5,7 +5,6 @@ points)."""
 from __future__ import annotations
 
 import difflib
-
 from collections.abc import Iterable, Sequence
 from dataclasses import dataclass
 from typing import Any

@@ -9,6 +9,7 @@
 #include <time.h>
 
 #include "compute.h"
+#include "core/safeio.h"
 #include "output/output.h"
 
 /* HDF5's global heap: a variable-length string is a 16-byte reference in
@@ -197,4 +198,25 @@ const char *est_human_time(double seconds, char *buf, size_t sz) {
   else
     snprintf(buf, sz, "%.3g days", seconds / 86400);
   return buf;
+}
+
+int est_room(const char *out_path, const char *kind, size_t ncase,
+             size_t npoint, double need, int gzip, int quiet,
+             const char *when) {
+  double avail = disk_free(out_path);
+  char e1[32], e2[32];
+  if (!quiet)
+    fprintf(stderr, "rps3-run: %zu %scase%s, %zu samples: %s about %s%s, %s\n",
+            ncase, kind, ncase == 1 ? "" : "s", npoint, out_path,
+            est_human(need, e1, sizeof e1), gzip ? " before compression" : "",
+            when);
+  if (avail >= 0 && need > avail && !gzip) {
+    fprintf(stderr,
+            "rps3-run: %s: the output needs about %s, the file "
+            "system has %s free: nothing written\n",
+            out_path, est_human(need, e1, sizeof e1),
+            est_human(avail, e2, sizeof e2));
+    return -1;
+  }
+  return 0;
 }

@@ -5,7 +5,6 @@
 
 #include <stdio.h>
 
-#include "core/safeio.h"
 #include "estimate.h"
 
 int pre_jobs(const scene *s, const sweep_plan *p, const sweep_opts *o,
@@ -104,28 +103,13 @@ void pre_check_print(const char *scene_path, const scene *s,
 int pre_room(const scene *s, const sweep_plan *p, const sweep_opts *o,
              const pre_opts *po, const char *out_path) {
   double est = est_file_bytes(s, p, po->fields), need = est;
-  double avail = disk_free(out_path);
-  char e1[32], e2[32], when[128];
+  char when[128] = "";
   est_cost c;
   if (o->nshard > 1 && po->nrank == 1)
     need = est * (double)sweep_shard_cases(s, p, o->shard, o->nshard) /
            (double)s->ncase;
   if (po->nrank > 1) need = po->copy ? 2 * est : est;
-  if (!po->quiet)
-    fprintf(stderr,
-            "rps3-run: %zu case%s, %zu samples: %s about %s%s, "
-            "%s\n",
-            s->ncase, s->ncase == 1 ? "" : "s", p->npoint, out_path,
-            est_human(need, e1, sizeof e1),
-            po->gzip ? " before compression" : "",
-            (run_time(s, p, o, po, &c, when, sizeof when), when));
-  if (avail >= 0 && need > avail && !po->gzip) {
-    fprintf(stderr,
-            "rps3-run: %s: the output needs about %s, the file "
-            "system has %s free: nothing written\n",
-            out_path, est_human(need, e1, sizeof e1),
-            est_human(avail, e2, sizeof e2));
-    return -1;
-  }
-  return 0;
+  if (!po->quiet) run_time(s, p, o, po, &c, when, sizeof when);
+  return est_room(out_path, "", s->ncase, p->npoint, need, po->gzip,
+                  po->quiet, when);
 }

@@ -6,7 +6,6 @@
  * renamed when complete (tmpout.h).
  */
 #include "core/exit_codes.h"
-#include "core/safeio.h"
 #include "core/tmpout.h"
 #include "estimate.h"
 #include "sim_run.h"
@@ -168,30 +167,6 @@ static int sim_threads(const scene *s, int nthread) {
   return nthread;
 }
 
-/* the size of the output against the file system's free space: 0, or -1
-   (said why) when it cannot fit uncompressed */
-static int sim_space(const scene *s, const sim_plan *p, const sim_args *a,
-                     double need, const char *when) {
-  double avail = disk_free(a->out_path);
-  char e1[32], e2[32];
-  if (!a->quiet)
-    fprintf(stderr,
-            "rps3-run: %zu simulated case%s, %zu samples: %s about "
-            "%s%s, %s\n",
-            s->ncase, s->ncase == 1 ? "" : "s", p->npoint, a->out_path,
-            est_human(need, e1, sizeof e1),
-            a->gzip ? " before compression" : "", when);
-  if (avail >= 0 && need > avail && !a->gzip) {
-    fprintf(stderr,
-            "rps3-run: %s: the output needs about %s, the file "
-            "system has %s free: nothing written\n",
-            a->out_path, est_human(need, e1, sizeof e1),
-            est_human(avail, e2, sizeof e2));
-    return -1;
-  }
-  return 0;
-}
-
 /* every case into the file under its temporary name, renamed when
    complete: the exit code */
 static int sim_write_file(const scene *s, const sim_plan *p, const sim_args *a,
@@ -262,6 +237,8 @@ int sim_main(const scene *s, const sim_args *a) {
         est_human(need, e1, sizeof e1), when);
     return EXIT_OK;
   }
-  if (sim_space(s, &p, a, need, when)) return EXIT_USAGE;
+  if (est_room(a->out_path, "simulated ", s->ncase, p.npoint, need, a->gzip,
+               a->quiet, when))
+    return EXIT_USAGE;
   return sim_write_file(s, &p, a, nthread);
 }

@@ -43,12 +43,6 @@ static const struct {
 #define NSTATUS (sizeof status_flags / sizeof status_flags[0])
 #define NWARN (sizeof warn_flags / sizeof warn_flags[0])
 
-/* a string attribute, replacing one of the same name */
-static int attr_set(hid_t obj, hid_t str, const char *name, const char *v) {
-  if (H5Aexists(obj, name) > 0 && H5Adelete(obj, name) < 0) return -1;
-  return out_h5_attr(obj, str, name, v);
-}
-
 /* a 1-D int32 attribute */
 static int attr_i32(hid_t obj, const char *name, const int32_t *v, size_t n) {
   hsize_t dim = n;
@@ -64,23 +58,6 @@ static int attr_i32(hid_t obj, const char *name, const int32_t *v, size_t n) {
   return rc;
 }
 
-/* the string attribute `name` of obj (malloc'd), or NULL */
-static char *attr_get(hid_t obj, const char *name) {
-  hid_t a, t;
-  char *v = NULL, *copy = NULL;
-  if (H5Aexists(obj, name) <= 0 || (a = H5Aopen(obj, name, H5P_DEFAULT)) < 0)
-    return NULL;
-  t = H5Aget_type(a);
-  if (t >= 0 && H5Tis_variable_str(t) > 0 && H5Aread(a, t, &v) >= 0 && v) {
-    copy = malloc(strlen(v) + 1);
-    if (copy) strcpy(copy, v);
-    H5free_memory(v);
-  }
-  if (t >= 0) H5Tclose(t);
-  H5Aclose(a);
-  return copy;
-}
-
 /* "NOW COMMAND (rps3 VERSION, git REVISION)" (malloc'd) */
 static char *history_line(const char *now, const char *command_line) {
   size_t len = strlen(now) + strlen(command_line) + strlen(rps3_version()) +
@@ -92,28 +69,21 @@ static char *history_line(const char *now, const char *command_line) {
   return line;
 }
 
-/* Conventions and git_revision */
-static int out_cf_conventions(hid_t file, hid_t str) {
-  return out_h5_attr(file, str, "Conventions", OUT_CF_CONVENTIONS) < 0 ||
-                 out_h5_attr(file, str, "git_revision", rps3_git_revision) < 0
-             ? -1
-             : 0;
-}
-
 int out_cf_root(hid_t file, hid_t str, const char *now,
                 const char *command_line) {
   char *line = history_line(now, command_line);
-  int rc = line && out_cf_conventions(file, str) >= 0 &&
-                   out_h5_attr(file, str, "history", line) >= 0
-               ? 0
-               : -1;
+  const char *const kv[][2] = {{"Conventions", OUT_CF_CONVENTIONS},
+                               {"git_revision", rps3_git_revision},
+                               {"history", line}};
+  int rc = line ? out_h5_attrs(file, str, kv, 3) : -1;
   free(line);
   return rc;
 }
 
-int out_cf_history_add(hid_t file, hid_t str, const char *now,
+/* append a history line for a command that rewrote the file (merge) */
+static int history_add(hid_t file, hid_t str, const char *now,
                        const char *command_line) {
-  char *old = attr_get(file, "history"),
+  char *old = out_h5_read_text(file, "history", 1),
        *line = history_line(now, command_line);
   char *all = NULL;
   int rc = -1;
@@ -124,7 +94,8 @@ int out_cf_history_add(hid_t file, hid_t str, const char *now,
     all = malloc(len);
     if (all) {
       snprintf(all, len, "%s%s%s", old ? old : "", old ? "\n" : "", line);
-      rc = attr_set(file, str, "history", all);
+      const char *const kv[][2] = {{"history", all}};
+      rc = out_h5_attrs(file, str, kv, 1);
     }
   }
   free(old);
@@ -173,11 +144,10 @@ int out_cf_field(hid_t ds, hid_t str, int i) {
 int out_cf_time(hid_t ds, hid_t str) {
   /* the calendar of the nominal reference date: proleptic Gregorian,
      which every reader decodes */
-  return out_h5_attr(ds, str, "standard_name", "time") < 0 ||
-                 out_h5_attr(ds, str, "calendar", "proleptic_gregorian") < 0 ||
-                 out_h5_attr(ds, str, "axis", "T") < 0
-             ? -1
-             : 0;
+  static const char *const kv[][2] = {{"standard_name", "time"},
+                                      {"calendar", "proleptic_gregorian"},
+                                      {"axis", "T"}};
+  return out_h5_attrs(ds, str, kv, 3);
 }
 
 const char *out_cf_key_name(const char *key, char *buf, size_t sz) {
@@ -198,11 +168,9 @@ const char *out_cf_key_name(const char *key, char *buf, size_t sz) {
 
 int out_cf_swept_key(hid_t ds, hid_t str, const char *key) {
   char long_name[160];
+  const char *const kv[][2] = {{"long_name", long_name}, {"scene_key", key}};
   snprintf(long_name, sizeof long_name, "swept scene key %s", key);
-  return out_cf_long_name(ds, str, long_name) < 0 ||
-                 out_h5_attr(ds, str, "scene_key", key) < 0
-             ? -1
-             : 0;
+  return out_h5_attrs(ds, str, kv, 2);
 }
 
 /* a controller gain's unit is "A or B" (scene_sim.h): A for pd and
@@ -268,18 +236,15 @@ char *out_h5_coordinates(const scene *s, int with_case_time) {
 
 int out_stamp(hid_t file, const char *command_line) {
   char now[32];
+  const char *const kv[][2] = {{"created_utc", now},
+                               {"command_line", command_line}};
   hid_t str = H5Tcopy(H5T_C_S1);
   int rc = -1;
   out_utc_now(now);
   if (str >= 0 && H5Tset_size(str, H5T_VARIABLE) >= 0 &&
       H5Tset_cset(str, H5T_CSET_UTF8) >= 0 &&
-      (H5Aexists(file, "created_utc") <= 0 ||
-       H5Adelete(file, "created_utc") >= 0) &&
-      (H5Aexists(file, "command_line") <= 0 ||
-       H5Adelete(file, "command_line") >= 0) &&
-      out_h5_attr(file, str, "created_utc", now) >= 0 &&
-      out_h5_attr(file, str, "command_line", command_line) >= 0 &&
-      out_cf_history_add(file, str, now, command_line) >= 0)
+      out_h5_attrs(file, str, kv, 2) >= 0 &&
+      history_add(file, str, now, command_line) >= 0)
     rc = 0;
   if (str >= 0) H5Tclose(str);
   return rc;

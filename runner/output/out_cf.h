@@ -27,11 +27,6 @@ extern const char *const rps3_git_revision;
 int out_cf_root(hid_t file, hid_t str, const char *now,
                 const char *command_line);
 
-/* append a history line for a command that rewrote the file (merge); 0 or
-   -1 */
-int out_cf_history_add(hid_t file, hid_t str, const char *now,
-                       const char *command_line);
-
 /* long_name of schema field i, and its flags (the flags column of the
    schema: flag_values and flag_meanings of a status, every rps3_status
    and OUT_STATUS_NOT_COMPUTED; flag_masks of the warning bits); 0 or -1 */

@@ -43,6 +43,47 @@ int out_h5_attr(hid_t obj, hid_t str, const char *name, const char *value) {
   return rc;
 }
 
+int out_h5_attrs(hid_t obj, hid_t str, const char *const (*kv)[2], size_t n) {
+  size_t i;
+  for (i = 0; i < n; i++)
+    if (kv[i][1] && ((H5Aexists(obj, kv[i][0]) > 0 &&
+                      H5Adelete(obj, kv[i][0]) < 0) ||
+                     out_h5_attr(obj, str, kv[i][0], kv[i][1]) < 0))
+      return -1;
+  return 0;
+}
+
+/* the files' strings are UTF-8; HDF5 converts no character sets */
+char *out_h5_read_text(hid_t loc, const char *name, int is_attr) {
+  hid_t obj, str = H5Tcopy(H5T_C_S1);
+  char *v = NULL, *copy = NULL;
+  herr_t rc;
+  if (str < 0 || H5Tset_size(str, H5T_VARIABLE) < 0 ||
+      H5Tset_cset(str, H5T_CSET_UTF8) < 0 ||
+      (is_attr ? H5Aexists(loc, name) : H5Lexists(loc, name, H5P_DEFAULT)) <=
+          0 ||
+      (obj = is_attr ? H5Aopen(loc, name, H5P_DEFAULT)
+                     : H5Dopen2(loc, name, H5P_DEFAULT)) < 0) {
+    H5Tclose(str);
+    return NULL;
+  }
+  if (is_attr) {
+    rc = H5Aread(obj, str, &v);
+    H5Aclose(obj);
+  } else {
+    rc = H5Dread(obj, str, H5S_ALL, H5S_ALL, H5P_DEFAULT, &v);
+    H5Dclose(obj);
+  }
+  if (rc >= 0 && v) {
+    copy = malloc(strlen(v) + 1);
+    if (copy) strcpy(copy, v);
+  }
+  /* the library allocated v: give it back with the library's free */
+  if (v) H5free_memory(v);
+  H5Tclose(str);
+  return copy;
+}
+
 /* a dataset with units and description attributes; chunk may be NULL
    (contiguous) */
 hid_t out_h5_dataset(hid_t file, hid_t str, const char *name, hid_t type,

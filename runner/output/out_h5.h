@@ -22,6 +22,14 @@ void out_utc_now(char now[32]);
 /* a scalar string attribute (str: the file's UTF-8 string type); 0 or -1 */
 int out_h5_attr(hid_t obj, hid_t str, const char *name, const char *value);
 
+/* the n string attributes kv[i][0] = kv[i][1], in order, each replacing
+   one of the same name; a NULL value writes none.  0 or -1 */
+int out_h5_attrs(hid_t obj, hid_t str, const char *const (*kv)[2], size_t n);
+
+/* a string attribute (is_attr 1) or the scalar string dataset `name` of
+   obj, as a malloc'd string (NULL when absent or not a string) */
+char *out_h5_read_text(hid_t obj, const char *name, int is_attr);
+
 /* a dataset with units and description attributes, as the runner's own:
    chunk NULL for contiguous, else Fletcher-32 (and deflate at gzip) on
    every chunk, fill value fill (NULL: HDF5's), no chunk cache; or -1 */

@@ -57,14 +57,11 @@ static int field_rank(const out_field_info *fi) {
    files, the shard */
 static int root_attrs_inv(hid_t file, hid_t str, const out_meta *meta) {
   char fields[1024];
-  return (out_h5_attr(file, str, "fields",
-                      out_fields_text(meta->fields, fields, sizeof fields)) <
-              0 ||
-          out_h5_attr(file, str, INPUTS_ATTR,
-                      meta->inputs ? meta->inputs : "") < 0 ||
-          (meta->shard && out_h5_attr(file, str, "shard", meta->shard) < 0))
-             ? -1
-             : 0;
+  const char *const kv[][2] = {
+      {"fields", out_fields_text(meta->fields, fields, sizeof fields)},
+      {INPUTS_ATTR, meta->inputs ? meta->inputs : ""},
+      {"shard", meta->shard}};
+  return out_h5_attrs(file, str, kv, 3);
 }
 
 /* the root attributes: versions, time of creation, command line, CF's,
@@ -74,19 +71,19 @@ static int root_attrs(const out_file *f, const out_spec *sp,
   char now[32], h5v[32];
   unsigned maj, min, rel;
   hid_t file = f->file, str = f->str;
+  const char *const kv[][2] = {{"rps3_version", rps3_version()},
+                               {"created_utc", now},
+                               {"command_line", meta->command_line},
+                               {"gsl_version", gsl_version},
+                               {"hdf5_version", h5v},
+                               {"yaml_version", yaml_get_version_string()}};
+  const char *const kv2[][2] = {{"title", sp->title}, {"content", sp->content}};
   out_utc_now(now);
   H5get_libversion(&maj, &min, &rel);
   snprintf(h5v, sizeof h5v, "%u.%u.%u", maj, min, rel);
-  return (out_h5_attr(file, str, "rps3_version", rps3_version()) < 0 ||
-          out_h5_attr(file, str, "created_utc", now) < 0 ||
-          out_h5_attr(file, str, "command_line", meta->command_line) < 0 ||
-          out_h5_attr(file, str, "gsl_version", gsl_version) < 0 ||
-          out_h5_attr(file, str, "hdf5_version", h5v) < 0 ||
-          out_h5_attr(file, str, "yaml_version", yaml_get_version_string()) <
-              0 ||
+  return (out_h5_attrs(file, str, kv, 6) < 0 ||
           out_cf_root(file, str, now, meta->command_line) < 0 ||
-          out_h5_attr(file, str, "title", sp->title) < 0 ||
-          (sp->content && out_h5_attr(file, str, "content", sp->content) < 0) ||
+          out_h5_attrs(file, str, kv2, 2) < 0 ||
           (f->files == OUT_INV && root_attrs_inv(file, str, meta) < 0))
              ? -1
              : 0;

@@ -69,7 +69,7 @@ static int merge_parts_check(merge_run *m, int *bad) {
   size_t i;
   for (i = 0; i < m->n; i++)
     if (m->byk[i] &&
-        join_part_check(m->byk[i], i, m->n, NULL, err, sizeof err)) {
+        merge_part_check(m->byk[i], i, m->n, NULL, err, sizeof err)) {
       fprintf(stderr, "rps3-run merge: %s\n", err);
       bad[i] = 1;
     }

@@ -125,95 +125,22 @@ static int map_part(hid_t dcpl, hid_t vsp, hid_t ssp, int rank,
   return 0;
 }
 
-/* the chunked datasets of part 0, their shapes and chunks */
-typedef struct {
-  char (*name)[256];
-  int *rank;
-  hsize_t (*dims)[H5S_MAX_RANK], (*chunk)[H5S_MAX_RANK];
-  size_t n, cap;
-} shapes;
-
-/* H5Ovisit: collect the chunked datasets of part 0 */
-static herr_t collect_shape(hid_t root, const char *name, const H5O_info_t *oi,
-                            void *data) {
-  shapes *sh = data;
-  hid_t ds, sp = -1, pl = -1;
-  int rc = 0;
-  if (oi->type != H5O_TYPE_DATASET) return 0;
-  if ((ds = H5Dopen2(root, name, H5P_DEFAULT)) < 0) return -1;
-  if ((pl = H5Dget_create_plist(ds)) >= 0 && H5Pget_layout(pl) == H5D_CHUNKED) {
-    if (sh->n == sh->cap) {
-      size_t cap = 2 * sh->cap + 16;
-      void *a = realloc(sh->name, cap * sizeof *sh->name),
-           *b = realloc(sh->rank, cap * sizeof *sh->rank);
-      void *c = realloc(sh->dims, cap * sizeof *sh->dims),
-           *d = realloc(sh->chunk, cap * sizeof *sh->chunk);
-      if (a) sh->name = a;
-      if (b) sh->rank = b;
-      if (c) sh->dims = c;
-      if (d) sh->chunk = d;
-      if (!a || !b || !c || !d)
-        rc = -1;
-      else
-        sh->cap = cap;
-    }
-    if (rc == 0 && strlen(name) < sizeof sh->name[0] &&
-        (sp = H5Dget_space(ds)) >= 0 &&
-        (sh->rank[sh->n] =
-             H5Sget_simple_extent_dims(sp, sh->dims[sh->n], NULL)) > 0 &&
-        H5Pget_chunk(pl, sh->rank[sh->n], sh->chunk[sh->n]) == sh->rank[sh->n])
-      strcpy(sh->name[sh->n++], name);
-    else
-      rc = -1;
-  }
-  if (sp >= 0) H5Sclose(sp);
-  if (pl >= 0) H5Pclose(pl);
-  H5Dclose(ds);
-  return rc;
-}
-
 /* 1 when every part has the chunked datasets of part 0 with its shapes
    and chunks; each part opened once */
 static int parts_agree(const walk *w) {
-  shapes sh;
-  size_t k, i;
-  int ok = 1;
-  memset(&sh, 0, sizeof sh);
-  if (H5Ovisit(w->src, H5_INDEX_NAME, H5_ITER_INC, collect_shape, &sh) < 0) {
+  merge_chunked list;
+  hsize_t dims[H5S_MAX_RANK], chunk[H5S_MAX_RANK];
+  size_t k;
+  int i, ok = merge_list_chunked(w->src, &list) == 0;
+  if (!ok)
     out_fail(w->err, w->errsz, "%s: cannot list its datasets", w->part[0]);
-    ok = 0;
-  }
   for (k = 1; ok && k < w->n; k++) {
     hid_t f = H5Fopen(w->part[k], H5F_ACC_RDONLY, H5P_DEFAULT);
-    for (i = 0; ok && i < sh.n; i++) {
-      hid_t ds = -1, sp = -1, pl = -1;
-      hsize_t d[H5S_MAX_RANK], c[H5S_MAX_RANK];
-      int r = sh.rank[i];
-      ok = f >= 0 && H5Lexists(f, sh.name[i], H5P_DEFAULT) > 0 &&
-           (ds = H5Dopen2(f, sh.name[i], H5P_DEFAULT)) >= 0 &&
-           (sp = H5Dget_space(ds)) >= 0 &&
-           (pl = H5Dget_create_plist(ds)) >= 0 &&
-           H5Sget_simple_extent_dims(sp, d, NULL) == r &&
-           H5Pget_chunk(pl, r, c) == r &&
-           memcmp(d, sh.dims[i], (size_t)r * sizeof *d) == 0 &&
-           memcmp(c, sh.chunk[i], (size_t)r * sizeof *c) == 0;
-      if (pl >= 0) H5Pclose(pl);
-      if (sp >= 0) H5Sclose(sp);
-      if (ds >= 0) H5Dclose(ds);
-      if (!ok) {
-        H5Eclear2(H5E_DEFAULT);
-        snprintf(w->err, w->errsz,
-                 "%s: dataset %s missing or of another shape or chunks: not "
-                 "a part of the same run",
-                 w->part[k], sh.name[i]);
-      }
-    }
+    for (i = 0; ok && i < list.n; i++)
+      ok = f >= 0 && merge_same_layout(w->src, f, list.name[i], dims, chunk,
+                                       w->part[k], w->err, w->errsz) > 0;
     if (f >= 0) H5Fclose(f);
   }
-  free(sh.name);
-  free(sh.rank);
-  free(sh.dims);
-  free(sh.chunk);
   return ok;
 }
 
@@ -360,73 +287,6 @@ static herr_t make_scales(hid_t root, const char *name, const H5O_info_t *oi,
   return rc;
 }
 
-int join_part_check(const char *path, size_t k, size_t n, const char *text0,
-                    char *err, size_t errsz) {
-  size_t kk, nn;
-  hid_t f = -1, ds = -1, sp = -1, pl = -1, ms = -1;
-  hsize_t dims = 0, c0 = 0, row, nrow, start, count;
-  int32_t *buf = NULL;
-  char *text = NULL;
-  int rc = -1;
-  if (merge_shard_of(path, &kk, &nn, err, errsz)) return -1;
-  if (kk != k || nn != n) {
-    snprintf(err, errsz, "%s is shard %zu/%zu, not %zu/%zu", path, kk, nn, k,
-             n);
-    return -1;
-  }
-  if ((f = H5Fopen(path, H5F_ACC_RDONLY, H5P_DEFAULT)) < 0) {
-    out_fail(err, errsz, "%s: cannot open", path);
-    return -1;
-  }
-  if (text0 &&
-      (!(text = merge_read_text(f, "scene", 0)) || strcmp(text, text0) != 0)) {
-    snprintf(err, errsz, "%s: not a part of the same scene", path);
-    goto done;
-  }
-  if ((ds = H5Dopen2(f, "status", H5P_DEFAULT)) < 0 ||
-      (sp = H5Dget_space(ds)) < 0 || (pl = H5Dget_create_plist(ds)) < 0 ||
-      H5Sget_simple_extent_dims(sp, &dims, NULL) != 1 ||
-      H5Pget_chunk(pl, 1, &c0) != 1 || c0 < 1 ||
-      !(buf = malloc((size_t)c0 * sizeof *buf))) {
-    out_fail(err, errsz, "%s: cannot read status", path);
-    goto done;
-  }
-  /* every case of the part has a status: OUT_STATUS_NOT_COMPUTED is the
-     fill value of a case never written (a part killed before its end) */
-  nrow = (dims + c0 - 1) / c0;
-  for (row = k; row < nrow; row += n) {
-    size_t i;
-    start = row * c0;
-    count = dims - start < c0 ? dims - start : c0;
-    if ((ms = H5Screate_simple(1, &count, NULL)) < 0 ||
-        H5Sselect_hyperslab(sp, H5S_SELECT_SET, &start, NULL, &count, NULL) <
-            0 ||
-        H5Dread(ds, H5T_NATIVE_INT32, ms, sp, H5P_DEFAULT, buf) < 0) {
-      out_fail(err, errsz, "%s: cannot read status", path);
-      goto done;
-    }
-    H5Sclose(ms);
-    ms = -1;
-    for (i = 0; i < (size_t)count; i++)
-      if (buf[i] == OUT_STATUS_NOT_COMPUTED) {
-        snprintf(err, errsz,
-                 "%s: case %llu was never written: the part is incomplete",
-                 path, (unsigned long long)(start + i));
-        goto done;
-      }
-  }
-  rc = 0;
-done:
-  free(buf);
-  free(text);
-  if (ms >= 0) H5Sclose(ms);
-  if (pl >= 0) H5Pclose(pl);
-  if (sp >= 0) H5Sclose(sp);
-  if (ds >= 0) H5Dclose(ds);
-  H5Fclose(f);
-  return rc;
-}
-
 /* the name of `path` as the joined file in `dir` stores it: relative to
    dir when below it, else absolute (malloc'd; NULL when it cannot be
    resolved) */
@@ -472,14 +332,14 @@ static int parts_open(walk *w, char **link, const char *link_dir) {
   size_t k;
   int rc = -1;
   if ((w->src = H5Fopen(w->part[0], H5F_ACC_RDONLY, H5P_DEFAULT)) < 0 ||
-      !(text0 = merge_read_text(w->src, "scene", 0))) {
+      !(text0 = out_h5_read_text(w->src, "scene", 0))) {
     out_fail(w->err, w->errsz, "%s: not an rps3-run file", w->part[0]);
     return -1;
   }
-  inputs0 = merge_read_text(w->src, INPUTS_ATTR, 1);
+  inputs0 = out_h5_read_text(w->src, INPUTS_ATTR, 1);
   snprintf(is0, sizeof is0, "%s read", w->part[0]);
   for (k = 0; k < w->n; k++) {
-    if (join_part_check(w->part[k], k, w->n, text0, w->err, w->errsz)) break;
+    if (merge_part_check(w->part[k], k, w->n, text0, w->err, w->errsz)) break;
     /* the same content of every file the scene reads (inputs.h) */
     if (k > 0 && verify_inputs_as(w->part[k], inputs0, is0, w->err, w->errsz))
       break;
@@ -524,7 +384,7 @@ static int joined_write(walk *w, const char *dst, const char *command_line) {
 static int joined_count(hid_t file, const char *dst, const char *link_dir,
                         size_t *nfailed, char *err, size_t errsz) {
   size_t unset = 0;
-  if (merge_count_failed(file, nfailed, &unset) < 0) {
+  if (merge_count_failed(file, 0, 1, nfailed, &unset, NULL) < 0) {
     out_fail(err, errsz, "%s: cannot read status through the parts", dst);
     return -1;
   }

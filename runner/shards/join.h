@@ -22,18 +22,9 @@
 #include <stddef.h>
 
 /*
- * Check the part file at `path`: shard k of n (root attribute), the scene
- * text `scene` byte for byte when not NULL, and every case of the part has
- * its status (none left at the fill value -1: all its jobs were written).
- * Returns 0, or -1 with err set saying what is wrong.
- */
-int join_part_check(const char *path, size_t k, size_t n, const char *text0,
-                    char *err, size_t errsz);
-
-/*
  * Create the file `dst` (truncated if it exists) joining the n parts
  * part[k] (part[k] is shard k of n) by virtual datasets, each checked with
- * join_part_check against part 0's scene, with the same record of input
+ * merge_part_check against part 0's scene, with the same record of input
  * files (inputs.h) and the same shapes and chunks as part 0.  The names of the
  * parts are stored relative to the directory of dst when below it (dst is
  * renamed within it).  The root attributes are part 0's without `shard`, with

@@ -21,76 +21,31 @@
 #include "scene/inputs.h"
 #include "verify.h"
 
-/* the chunked datasets of a file by name: the per-case variables */
-#define MAX_CHUNKED 64
-
-typedef struct {
-  char name[MAX_CHUNKED][96];
-  int n;
-} chunked_list;
-
-static herr_t collect_chunked(hid_t g, const char *name, const H5L_info_t *li,
-                              void *data) {
-  chunked_list *l = data;
+/* H5Ovisit: the chunked datasets, by name */
+static herr_t collect_chunked(hid_t root, const char *name,
+                              const H5O_info_t *oi, void *data) {
+  merge_chunked *l = data;
   hid_t ds, dcpl;
-  (void)li;
-  ds = H5Oopen(g, name, H5P_DEFAULT);
-  if (ds < 0) return -1;
-  if (H5Iget_type(ds) != H5I_DATASET) {
-    H5Oclose(ds);
-    return 0;
-  }
+  int rc = 0;
+  if (oi->type != H5O_TYPE_DATASET) return 0;
+  if ((ds = H5Dopen2(root, name, H5P_DEFAULT)) < 0) return -1;
   dcpl = H5Dget_create_plist(ds);
   if (dcpl >= 0 && H5Pget_layout(dcpl) == H5D_CHUNKED) {
-    if (l->n == MAX_CHUNKED || strlen(name) >= sizeof l->name[0]) {
-      H5Pclose(dcpl);
-      H5Oclose(ds);
-      return -1;
-    }
-    strcpy(l->name[l->n++], name);
+    if (l->n == MERGE_MAX_CHUNKED || strlen(name) >= sizeof l->name[0])
+      rc = -1;
+    else
+      strcpy(l->name[l->n++], name);
   }
   if (dcpl >= 0) H5Pclose(dcpl);
-  H5Oclose(ds);
-  return 0;
+  H5Dclose(ds);
+  return rc;
 }
 
-/* a root string attribute or the scalar string dataset `scene`, as a
-   malloc'd string (NULL when absent or not a string) */
-char *merge_read_text(hid_t file, const char *name, int is_attr) {
-  hid_t obj, str = H5Tcopy(H5T_C_S1);
-  char *v = NULL, *copy = NULL;
-  herr_t rc;
-  /* the files' strings are UTF-8; HDF5 converts no character sets */
-  if (str < 0 || H5Tset_size(str, H5T_VARIABLE) < 0 ||
-      H5Tset_cset(str, H5T_CSET_UTF8) < 0) {
-    H5Tclose(str);
-    return NULL;
-  }
-  if (is_attr) {
-    if (H5Aexists(file, name) <= 0 ||
-        (obj = H5Aopen(file, name, H5P_DEFAULT)) < 0) {
-      H5Tclose(str);
-      return NULL;
-    }
-    rc = H5Aread(obj, str, &v);
-    H5Aclose(obj);
-  } else {
-    if (H5Lexists(file, name, H5P_DEFAULT) <= 0 ||
-        (obj = H5Dopen2(file, name, H5P_DEFAULT)) < 0) {
-      H5Tclose(str);
-      return NULL;
-    }
-    rc = H5Dread(obj, str, H5S_ALL, H5S_ALL, H5P_DEFAULT, &v);
-    H5Dclose(obj);
-  }
-  if (rc >= 0 && v) {
-    copy = malloc(strlen(v) + 1);
-    if (copy) strcpy(copy, v);
-  }
-  /* the library allocated v: give it back with the library's free */
-  if (v) H5free_memory(v);
-  H5Tclose(str);
-  return copy;
+int merge_list_chunked(hid_t file, merge_chunked *l) {
+  l->n = 0;
+  return H5Ovisit(file, H5_INDEX_NAME, H5_ITER_INC, collect_chunked, l) < 0
+             ? -1
+             : 0;
 }
 
 int merge_shard_of(const char *path, size_t *k, size_t *n, char *err,
@@ -102,10 +57,10 @@ int merge_shard_of(const char *path, size_t *k, size_t *n, char *err,
     out_fail(err, errsz, "%s: cannot open", path);
     return -1;
   }
-  v = merge_read_text(f, MERGE_SHARD_ATTR, 1);
+  v = out_h5_read_text(f, MERGE_SHARD_ATTR, 1);
   {
     /* a simulation (sim_output.h) is never a part: say so by name */
-    char *content = merge_read_text(f, "content", 1);
+    char *content = out_h5_read_text(f, "content", 1);
     int sim = content && strcmp(content, "simulation") == 0;
     free(content);
     if (sim) {
@@ -146,6 +101,32 @@ static int shape_of(hid_t ds, hsize_t dims[H5S_MAX_RANK],
   }
   if (sp >= 0) H5Sclose(sp);
   if (dcpl >= 0) H5Pclose(dcpl);
+  return rank;
+}
+
+int merge_same_layout(hid_t fa, hid_t fb, const char *name,
+                      hsize_t dims[H5S_MAX_RANK], hsize_t chunk[H5S_MAX_RANK],
+                      const char *b_path, char *err, size_t errsz) {
+  hid_t a = H5Dopen2(fa, name, H5P_DEFAULT), b = -1;
+  hsize_t bdims[H5S_MAX_RANK], bchunk[H5S_MAX_RANK];
+  int rank = -1;
+  if (a >= 0 && H5Lexists(fb, name, H5P_DEFAULT) > 0 &&
+      (b = H5Dopen2(fb, name, H5P_DEFAULT)) >= 0) {
+    rank = shape_of(a, dims, chunk);
+    if (rank < 1 || shape_of(b, bdims, bchunk) != rank ||
+        memcmp(dims, bdims, (size_t)rank * sizeof *dims) ||
+        memcmp(chunk, bchunk, (size_t)rank * sizeof *chunk))
+      rank = -1;
+  }
+  if (rank < 0) {
+    H5Eclear2(H5E_DEFAULT);
+    snprintf(err, errsz,
+             "%s: dataset %s missing or of another shape or chunks: not a "
+             "part of the same run",
+             b_path, name);
+  }
+  if (b >= 0) H5Dclose(b);
+  if (a >= 0) H5Dclose(a);
   return rank;
 }
 
@@ -209,19 +190,18 @@ typedef struct {
   size_t size;
 } chunk_buf;
 
-/* copy the chunk at `off` if src has it (*have: 1, else 0): as stored
-   when `raw`, else by value */
+/* copy the chunk at `off` if src has it: as stored when `raw`, else by
+   value */
 static int copy_chunk(hid_t dst, hid_t src, int rank, const hsize_t *off,
                       const hsize_t *dims, const hsize_t *chunk, int raw,
-                      chunk_buf *cb, int *have) {
+                      chunk_buf *cb) {
   unsigned mask = 0;
   uint32_t filters = 0;
   haddr_t addr;
   hsize_t size = 0, count[H5S_MAX_RANK];
   int r;
   if (H5Dget_chunk_info_by_coord(src, off, &mask, &addr, &size) < 0) return -1;
-  *have = size > 0;
-  if (!*have) return 0;
+  if (size == 0) return 0;
   if (!raw) {
     /* the chunk's region, cut at the dataset's edge */
     for (r = 0; r < rank; r++)
@@ -244,28 +224,16 @@ static int copy_chunk(hid_t dst, hid_t src, int rank, const hsize_t *off,
 static int copy_dataset(hid_t fdst, hid_t fsrc, const char *name,
                         const char *src_path, size_t k, size_t n, chunk_buf *cb,
                         char *err, size_t errsz) {
-  hid_t dst = H5Dopen2(fdst, name, H5P_DEFAULT), src = -1, type = -1;
-  hsize_t ddims[H5S_MAX_RANK], dchunk[H5S_MAX_RANK];
-  hsize_t sdims[H5S_MAX_RANK], schunk[H5S_MAX_RANK], off[H5S_MAX_RANK];
+  hid_t dst = -1, src = -1, type = -1;
+  hsize_t ddims[H5S_MAX_RANK], dchunk[H5S_MAX_RANK], off[H5S_MAX_RANK];
   hsize_t row, nrow;
-  int rank, r, raw, rc = -1, status = strcmp(name, "status") == 0;
+  int rank, r, raw, rc = -1;
 
-  if (dst < 0 || H5Lexists(fsrc, name, H5P_DEFAULT) <= 0 ||
-      (src = H5Dopen2(fsrc, name, H5P_DEFAULT)) < 0) {
-    snprintf(err, errsz, "%s: has no dataset %s", src_path, name);
-    H5Eclear2(H5E_DEFAULT);
+  rank = merge_same_layout(fdst, fsrc, name, ddims, dchunk, src_path, err,
+                           errsz);
+  if (rank < 1 || (dst = H5Dopen2(fdst, name, H5P_DEFAULT)) < 0 ||
+      (src = H5Dopen2(fsrc, name, H5P_DEFAULT)) < 0)
     goto done;
-  }
-  rank = shape_of(dst, ddims, dchunk);
-  if (rank < 1 || shape_of(src, sdims, schunk) != rank ||
-      memcmp(ddims, sdims, (size_t)rank * sizeof *ddims) ||
-      memcmp(dchunk, schunk, (size_t)rank * sizeof *dchunk)) {
-    snprintf(err, errsz,
-             "%s: dataset %s differs in shape or chunks: not a part of the "
-             "same run",
-             src_path, name);
-    goto done;
-  }
   /* chunks as stored when both encode them alike; strings by value */
   type = H5Dget_type(src);
   raw = type >= 0 && H5Tis_variable_str(type) == 0 && same_filters(dst, src);
@@ -275,18 +243,11 @@ static int copy_dataset(hid_t fdst, hid_t fsrc, const char *name,
     /* every chunk of the row: odometer over the other axes */
     for (r = 1; r < rank; r++) off[r] = 0;
     for (;;) {
-      int have;
-      if (copy_chunk(dst, src, rank, off, ddims, dchunk, raw, cb, &have) < 0) {
+      /* windows after a failing sample are never written: they read as
+         the fill value */
+      if (copy_chunk(dst, src, rank, off, ddims, dchunk, raw, cb) < 0) {
         out_fail(err, errsz, "%s: cannot copy a chunk of %s at case %llu",
                  src_path, name, (unsigned long long)off[0]);
-        goto done;
-      }
-      /* windows after a failing sample are never written (they read as
-         the fill value), but every case of a part has its status */
-      if (!have && status) {
-        snprintf(err, errsz,
-                 "%s: cases from %llu are missing: the part is incomplete",
-                 src_path, (unsigned long long)off[0]);
         goto done;
       }
       for (r = rank - 1; r >= 1; r--) {
@@ -305,38 +266,84 @@ done:
   return rc;
 }
 
-/* cases with status != 0 */
-int merge_count_failed(hid_t file, size_t *nfailed, size_t *nunset) {
-  hid_t ds = H5Dopen2(file, "status", H5P_DEFAULT), fs = -1, ms = -1;
-  hsize_t n = 0, r0, nr, run = 65536;
-  int32_t *buf = malloc((size_t)run * sizeof *buf);
+/* the statuses of the chunk rows r % n == k, read a block of rows at a
+   time: one chunk row when n > 1, else chunk rows up to RUN_ROWS rows */
+int merge_count_failed(hid_t file, size_t k, size_t n, size_t *nfailed,
+                       size_t *nunset, size_t *first_unset) {
+  enum { RUN_ROWS = 65536 };
+  hid_t ds = H5Dopen2(file, "status", H5P_DEFAULT), fs = -1, pl = -1, ms = -1;
+  hsize_t dims = 0, c0 = 0, span, start, count;
+  int32_t *buf = NULL;
   int rc = -1;
   size_t i;
-  *nfailed = 0;
-  if (nunset) *nunset = 0;
-  if (ds < 0 || !buf || (fs = H5Dget_space(ds)) < 0 ||
-      H5Sget_simple_extent_dims(fs, &n, NULL) != 1)
+  *nfailed = *nunset = 0;
+  if (ds < 0 || (fs = H5Dget_space(ds)) < 0 ||
+      (pl = H5Dget_create_plist(ds)) < 0 ||
+      H5Sget_simple_extent_dims(fs, &dims, NULL) != 1)
     goto done;
-  for (r0 = 0; r0 < n; r0 += nr) {
-    nr = n - r0 < run ? n - r0 : run;
-    ms = H5Screate_simple(1, &nr, NULL);
-    if (ms < 0 ||
-        H5Sselect_hyperslab(fs, H5S_SELECT_SET, &r0, NULL, &nr, NULL) < 0 ||
+  /* a joined file's status is virtual: no chunks, read in runs */
+  if (H5Pget_layout(pl) != H5D_CHUNKED)
+    c0 = RUN_ROWS;
+  else if (H5Pget_chunk(pl, 1, &c0) != 1 || c0 < 1)
+    goto done;
+  span = n > 1 || c0 >= RUN_ROWS ? c0 : c0 * (RUN_ROWS / c0);
+  if (!(buf = malloc((size_t)span * sizeof *buf))) goto done;
+  for (start = k * c0; start < dims; start += n * span) {
+    count = dims - start < span ? dims - start : span;
+    if ((ms = H5Screate_simple(1, &count, NULL)) < 0 ||
+        H5Sselect_hyperslab(fs, H5S_SELECT_SET, &start, NULL, &count, NULL) <
+            0 ||
         H5Dread(ds, H5T_NATIVE_INT32, ms, fs, H5P_DEFAULT, buf) < 0)
       goto done;
     H5Sclose(ms);
     ms = -1;
-    for (i = 0; i < (size_t)nr; i++) {
+    for (i = 0; i < (size_t)count; i++) {
       *nfailed += buf[i] != 0;
-      if (nunset) *nunset += buf[i] == OUT_STATUS_NOT_COMPUTED;
+      if (buf[i] == OUT_STATUS_NOT_COMPUTED && (*nunset)++ == 0 && first_unset)
+        *first_unset = (size_t)start + i;
     }
   }
   rc = 0;
 done:
   free(buf);
   if (ms >= 0) H5Sclose(ms);
+  if (pl >= 0) H5Pclose(pl);
   if (fs >= 0) H5Sclose(fs);
   if (ds >= 0) H5Dclose(ds);
+  return rc;
+}
+
+int merge_part_check(const char *path, size_t k, size_t n, const char *text0,
+                     char *err, size_t errsz) {
+  size_t kk, nn, nfailed, unset, first = 0;
+  hid_t f;
+  char *text = NULL;
+  int rc = -1;
+  if (merge_shard_of(path, &kk, &nn, err, errsz)) return -1;
+  if (kk != k || nn != n) {
+    snprintf(err, errsz, "%s is shard %zu/%zu, not %zu/%zu", path, kk, nn, k,
+             n);
+    return -1;
+  }
+  if ((f = H5Fopen(path, H5F_ACC_RDONLY, H5P_DEFAULT)) < 0) {
+    out_fail(err, errsz, "%s: cannot open", path);
+    return -1;
+  }
+  if (text0 &&
+      (!(text = out_h5_read_text(f, "scene", 0)) || strcmp(text, text0) != 0))
+    snprintf(err, errsz, "%s: not a part of the same scene", path);
+  else if (merge_count_failed(f, k, n, &nfailed, &unset, &first) < 0)
+    out_fail(err, errsz, "%s: cannot read status", path);
+  /* every case of the part has a status: OUT_STATUS_NOT_COMPUTED is the
+     fill value of a case never written (a part killed before its end) */
+  else if (unset)
+    snprintf(err, errsz,
+             "%s: case %zu was never written: the part is incomplete", path,
+             first);
+  else
+    rc = 0;
+  free(text);
+  H5Fclose(f);
   return rc;
 }
 
@@ -344,45 +351,31 @@ int merge_parts(const char *dst, const char *const *src, const size_t *k,
                 size_t nsrc, size_t n, const char *command_line,
                 size_t *nfailed, char *err, size_t errsz) {
   hid_t fd = H5Fopen(dst, H5F_ACC_RDWR, H5P_DEFAULT);
-  chunked_list list;
+  merge_chunked list;
   chunk_buf cb = {NULL, 0};
   char *text = NULL, *inputs0 = NULL;
-  size_t i;
+  size_t i, unset;
   int j, rc = -1;
 
   if (fd < 0) {
     out_fail(err, errsz, "%s: cannot open", dst);
     return -1;
   }
-  list.n = 0;
-  text = merge_read_text(fd, "scene", 0);
-  inputs0 = merge_read_text(fd, INPUTS_ATTR, 1);
-  if (!text ||
-      H5Literate(fd, H5_INDEX_NAME, H5_ITER_INC, NULL, collect_chunked, &list) <
-          0 ||
-      list.n == 0) {
+  text = out_h5_read_text(fd, "scene", 0);
+  inputs0 = out_h5_read_text(fd, INPUTS_ATTR, 1);
+  if (!text || merge_list_chunked(fd, &list) < 0 || list.n == 0) {
     out_fail(err, errsz, "%s: not an rps3-run file", dst);
     goto done;
   }
   for (i = 0; i < nsrc; i++) {
-    hid_t fs = H5Fopen(src[i], H5F_ACC_RDONLY, H5P_DEFAULT);
-    char *other;
-    if (fs < 0) {
+    hid_t fs;
+    /* complete, of the same scene byte for byte and the same content of
+       every file it reads (inputs.h) */
+    if (merge_part_check(src[i], k[i], n, text, err, errsz) ||
+        verify_inputs_as(src[i], inputs0, "part 0 read", err, errsz))
+      goto done;
+    if ((fs = H5Fopen(src[i], H5F_ACC_RDONLY, H5P_DEFAULT)) < 0) {
       out_fail(err, errsz, "%s: cannot open", src[i]);
-      goto done;
-    }
-    /* the same scene, byte for byte */
-    other = merge_read_text(fs, "scene", 0);
-    if (!other || strcmp(other, text) != 0) {
-      snprintf(err, errsz, "%s: not a part of the same scene", src[i]);
-      free(other);
-      H5Fclose(fs);
-      goto done;
-    }
-    free(other);
-    /* and the same content of every file it reads (inputs.h) */
-    if (verify_inputs_as(src[i], inputs0, "part 0 read", err, errsz)) {
-      H5Fclose(fs);
       goto done;
     }
     for (j = 0; j < list.n; j++)
@@ -403,7 +396,7 @@ int merge_parts(const char *dst, const char *const *src, const size_t *k,
     out_fail(err, errsz, "%s: cannot write the root attributes", dst);
     goto done;
   }
-  if (merge_count_failed(fd, nfailed, NULL) < 0) {
+  if (merge_count_failed(fd, 0, 1, nfailed, &unset, NULL) < 0) {
     out_fail(err, errsz, "%s: cannot read status", dst);
     goto done;
   }

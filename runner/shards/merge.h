@@ -28,11 +28,20 @@ int merge_shard_of(const char *path, size_t *k, size_t *n, char *err,
                    size_t errsz);
 
 /*
+ * Check the part file at `path`: shard k of n (root attribute), the scene
+ * text `scene` byte for byte when not NULL, and every case of the part has
+ * its status (none left at the fill value -1: all its jobs were written).
+ * Returns 0, or -1 with err set saying what is wrong.
+ */
+int merge_part_check(const char *path, size_t k, size_t n, const char *text0,
+                     char *err, size_t errsz);
+
+/*
  * Copy into the file at `dst` (a complete rps3-run file of the same scene,
  * for instance part 0 itself) the cases of the nsrc part files src[i],
  * each holding shard k[i] of n.  Every chunked dataset of dst must be in
- * each part with the same shape and chunks, each part must hold all of its
- * cases (their `status` chunks) and have dst's scene and record of input
+ * each part with the same shape and chunks, each part must be complete
+ * (merge_part_check) and have dst's scene and record of input
  * files (inputs.h).  Then dst loses its shard attribute,
  * and gets `command_line` and `created_utc` of this merge; *nfailed is the
  * number of cases of dst whose status is not 0.  Returns 0, or -1 with err
@@ -42,15 +51,31 @@ int merge_parts(const char *dst, const char *const *src, const size_t *k,
                 size_t nsrc, size_t n, const char *command_line,
                 size_t *nfailed, char *err, size_t errsz);
 
-/* A root string attribute (is_attr 1) or the scalar string dataset `name`
-   of an open file, as a malloc'd string (NULL when absent or not a
-   string). */
-char *merge_read_text(hid_t file, const char *name, int is_attr);
+/* the chunked datasets of a file by name: the per-case variables */
+#define MERGE_MAX_CHUNKED 64
+typedef struct {
+  char name[MERGE_MAX_CHUNKED][256];
+  int n;
+} merge_chunked;
 
-/* The cases of an open rps3-run file whose status is not 0 (*nfailed) and,
-   when nunset is not NULL, of those the ones never written (status -1,
-   the fill value).  Returns 0 or -1. */
-int merge_count_failed(hid_t file, size_t *nfailed, size_t *nunset);
+/* The chunked datasets of an open file, in every group.  Returns 0 or -1
+   (more than MERGE_MAX_CHUNKED, or a name too long). */
+int merge_list_chunked(hid_t file, merge_chunked *l);
+
+/* The rank of dataset `name` of the open files fa and fb when both have it
+   with the same shape and chunks (*dims, *chunk: fa's), else -1 with err
+   saying that b_path (file fb) is not a part of the same run. */
+int merge_same_layout(hid_t fa, hid_t fb, const char *name,
+                      hsize_t dims[H5S_MAX_RANK], hsize_t chunk[H5S_MAX_RANK],
+                      const char *b_path, char *err, size_t errsz);
+
+/* Of the cases of the chunk rows r % n == k of an open rps3-run file (k 0,
+   n 1: all), those whose status is not 0 (*nfailed) and of those the ones
+   never written (*nunset: status OUT_STATUS_NOT_COMPUTED, the fill
+   value), the first of them in *first_unset when not NULL.  Returns 0 or
+   -1. */
+int merge_count_failed(hid_t file, size_t k, size_t n, size_t *nfailed,
+                       size_t *nunset, size_t *first_unset);
 
 /* Copy the file `from` byte for byte to `to` (created or truncated).
    Returns 0 or -1 with err set. */

@@ -12,6 +12,7 @@
 
 #include "join.h"
 #include "merge.h"
+#include "output/out_h5.h"
 #include "verify.h"
 
 int parts_by_shard(const char *const *part, size_t npart, const char ***byk,
@@ -120,7 +121,9 @@ static void put_part_name(text *t, const char *was, size_t len, size_t k0,
   put(t, hit + hitlen, len - (size_t)(hit - was) - hitlen);
 }
 
-char *parts_rerun_command(const char *model, size_t k, size_t n) {
+/* the command that makes shard k again, from the command_line of a part
+   `model` (malloc'd; NULL when out of memory or when `model` has none) */
+static char *rerun_command(const char *model, size_t k, size_t n) {
   text t = {NULL, 0, 0, 0};
   const char *p = model, *e;
   size_t k0 = (size_t)-1;
@@ -157,16 +160,6 @@ char *parts_rerun_command(const char *model, size_t k, size_t n) {
   return t.s;
 }
 
-/* the command_line of a part file (malloc'd) or NULL */
-static char *command_of(const char *path) {
-  hid_t f = H5Fopen(path, H5F_ACC_RDONLY, H5P_DEFAULT);
-  char *v;
-  if (f < 0) return NULL;
-  v = merge_read_text(f, "command_line", 1);
-  H5Fclose(f);
-  return v;
-}
-
 size_t parts_report(FILE *out, const char *const *byk, const int *bad,
                     size_t n) {
   size_t k, nmiss = 0;
@@ -185,7 +178,7 @@ size_t parts_report(FILE *out, const char *const *byk, const int *bad,
     if (!byk[k] || (bad && bad[k]))
       fprintf(out, "%s%zu", nmiss++ ? "," : "", k);
   fprintf(out, "\n");
-  if (model) cmd = command_of(model);
+  if (model) cmd = verify_root_attr(model, "command_line");
   if (!cmd) {
     fprintf(out, "  (rps3-run SCENE -o PART --shard K/%zu for each)\n", n);
     return nmiss;
@@ -193,7 +186,7 @@ size_t parts_report(FILE *out, const char *const *byk, const int *bad,
   fprintf(out, "  from the directory the parts were made in:\n");
   for (k = 0; k < n; k++)
     if (!byk[k] || (bad && bad[k])) {
-      char *c = parts_rerun_command(cmd, k, n);
+      char *c = rerun_command(cmd, k, n);
       fprintf(out, "  %s\n", c ? c : "(out of memory)");
       free(c);
     }
@@ -206,9 +199,9 @@ int parts_resume(const char *path, size_t k, size_t n, const char *text0,
   char err[768], *have;
   hid_t f;
   int rc = -1, same;
-  size_t nall = 0, unset = 0;
+  size_t unset = 0;
   if (access(path, F_OK) != 0) return 0;
-  if (join_part_check(path, k, n, text0, err, sizeof err)) {
+  if (merge_part_check(path, k, n, text0, err, sizeof err)) {
     fprintf(stderr, "rps3-run: --resume: %s: running shard %zu/%zu again\n",
             err, k, n);
     return 0;
@@ -234,7 +227,7 @@ int parts_resume(const char *path, size_t k, size_t n, const char *text0,
   }
   f = H5Fopen(path, H5F_ACC_RDONLY, H5P_DEFAULT);
   if (f >= 0) {
-    rc = merge_count_failed(f, &nall, &unset);
+    rc = merge_count_failed(f, k, n, nfailed, &unset, NULL);
     H5Fclose(f);
   }
   if (rc < 0) {
@@ -244,9 +237,7 @@ int parts_resume(const char *path, size_t k, size_t n, const char *text0,
             path, k, n);
     return 0;
   }
-  /* the cases of the other shards read as the fill value (not computed):
-     they are no failure of this one, whose every case join_part_check
-     found written */
-  *nfailed = nall - unset;
+  /* the cases of this shard only: the other shards' read as the fill
+     value (not computed), no failure of this one */
   return 1;
 }

@@ -25,12 +25,6 @@ int parts_by_shard(const char *const *part, size_t npart, const char ***byk,
                    size_t *n, char *err, size_t errsz);
 
 /*
- * The command that makes shard k again, from the command_line of a part
- * `model` (malloc'd; NULL when out of memory or when `model` has none).
- */
-char *parts_rerun_command(const char *model, size_t k, size_t n);
-
-/*
  * Tell `out` which of the n shards are missing (byk[k] NULL) or, when
  * bad[k] is set, incomplete: their indices as one comma-separated list (as
  * `sbatch --array=` takes it) and the command that makes each again.
@@ -41,7 +35,7 @@ size_t parts_report(FILE *out, const char *const *byk, const int *bad,
 
 /*
  * rps3-run --resume: 1 when the file at `path` is already shard k of n of
- * the scene whose text is text0, complete (join_part_check), with the
+ * the scene whose text is text0, complete (merge_part_check), with the
  * per-sample fields `fields` (the root attribute, out_fields_text),
  * computed from the same content of every file the scene reads (`inputs`,
  * the record of inputs.h), with *nfailed the failed cases of this shard;

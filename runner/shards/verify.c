@@ -10,6 +10,7 @@
 #include <hdf5.h>
 
 #include "core/h5err.h"
+#include "output/out_h5.h"
 #include "scene/inputs.h"
 
 /* bytes read at a time at most, for datasets without chunks */
@@ -151,22 +152,10 @@ int verify_file(const char *path, char *err, size_t errsz) {
 }
 
 char *verify_root_attr(const char *path, const char *name) {
-  hid_t f = H5Fopen(path, H5F_ACC_RDONLY, H5P_DEFAULT), a = -1, t = -1;
-  char *v = NULL, *copy = NULL;
-  if (f >= 0 && H5Aexists(f, name) > 0) a = H5Aopen(f, name, H5P_DEFAULT);
-  if (a >= 0) {
-    t = H5Tcopy(H5T_C_S1);
-    if (t >= 0 && H5Tset_size(t, H5T_VARIABLE) >= 0 &&
-        H5Tset_cset(t, H5T_CSET_UTF8) >= 0 && H5Aread(a, t, &v) >= 0 && v) {
-      copy = malloc(strlen(v) + 1);
-      if (copy) strcpy(copy, v);
-    }
-  }
-  if (v) H5free_memory(v);
-  if (t >= 0) H5Tclose(t);
-  if (a >= 0) H5Aclose(a);
+  hid_t f = H5Fopen(path, H5F_ACC_RDONLY, H5P_DEFAULT);
+  char *v = f >= 0 ? out_h5_read_text(f, name, 1) : NULL;
   if (f >= 0) H5Fclose(f);
-  return copy;
+  return v;
 }
 
 int verify_same_versions(const char *const *path, size_t n, char *err,
