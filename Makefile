@@ -73,6 +73,9 @@ RUN_SRC = $(foreach d,$(RUN_DIRS),$(wildcard runner/$(d)/*.c))
 WORLD_STUB = $(B)/runner/mpi/world_stub.o
 WORLD_MPI = $(B)/runner-mpi/mpi/world_mpi.o
 RUN_MAINS = runner/bin/main_run.c runner/bin/main_study.c runner/bin/main_simstudy.c
+# rps3-run's design studies (run_design.c calls main_run.c's join of the ranks)
+RUN_MAINS += runner/bin/run_design.c
+RUN_DESIGN_OBJ = $(B)/runner/bin/run_design.o
 # rps3-study's own files (study.h); the rest is every program's
 STUDY_SRC = $(wildcard runner/study/*.c)
 STUDY_OBJ = $(STUDY_SRC:runner/%.c=$(B)/runner/%.o)
@@ -245,7 +248,7 @@ $(B)/runner/gitrev.c: FORCE
 $(B)/runner/gitrev.o: $(B)/runner/gitrev.c $(FLAGS_STAMP)
 	$(CC) $(WARN) $(OPT) -c $< -o $@
 FORCE:
-$(B)/rps3-run: $(B)/runner/bin/main_run.o $(RUN_OBJ) $(WORLD_STUB) $(B)/librps3.a
+$(B)/rps3-run: $(B)/runner/bin/main_run.o $(RUN_DESIGN_OBJ) $(RUN_OBJ) $(WORLD_STUB) $(B)/librps3.a
 	$(CC) -o $@ $^ $(HDF5_LIBS) $(YAML_LIBS) $(GSL_LIBS) $(CRYPTO_LIBS) -lz -lpthread -lm
 $(B)/rps3-study: $(B)/runner/bin/main_study.o $(STUDY_OBJ) $(RUN_OBJ) $(B)/librps3.a
 	$(CC) -o $@ $^ $(HDF5_LIBS) $(YAML_LIBS) $(GSL_LIBS) $(CRYPTO_LIBS) -lz -lpthread -lm
@@ -260,7 +263,7 @@ runner-mpi: $(B)/rps3-run-mpi
 $(WORLD_MPI): runner/mpi/world_mpi.c $(FLAGS_STAMP) | $(DEPS)
 	@mkdir -p $(@D)
 	$(CC) $(CPPFLAGS_ALL) -Irunner $(MPI_CFLAGS) $(WARN) $(OPT) -MMD -MP -c $< -o $@
-$(B)/rps3-run-mpi: $(B)/runner/bin/main_run.o $(RUN_OBJ) $(WORLD_MPI) $(B)/librps3.a
+$(B)/rps3-run-mpi: $(B)/runner/bin/main_run.o $(RUN_DESIGN_OBJ) $(RUN_OBJ) $(WORLD_MPI) $(B)/librps3.a
 	$(CC) -o $@ $^ $(HDF5_LIBS) $(YAML_LIBS) $(GSL_LIBS) $(MPI_LIBS) $(CRYPTO_LIBS) -lz -lpthread -lm
 
 # ------------------------------------------------------------------- tests
@@ -356,6 +359,12 @@ bench: $(B)/rps3-bench $(B)/rps3-mujoco-bench runner venv-check
 scaling: runner runner-mpi venv-check
 	$(VPY) tests/bench/scaling.py
 
+# what a design study costs in rps3-run, and the 10^5 x 10^3 target from it
+# (docs/runner.md, "Design studies")
+.PHONY: bench-design
+bench-design: runner venv
+	$(VPY) tests/bench/design_bench.py
+
 # ---------------------------------------------------------------- mutation
 # which test kills which hand-made mutation of src/ (tests/mutation.py, in a
 # temporary copy of the tree): writes docs/mutations.md, exits 1 when a
@@ -384,7 +393,7 @@ FUZZ_TIME ?= 20
 FUZZ_SCENE_SRC = runner/scene/scene.c runner/scene/scene_load.c runner/scene/scene_parse.c \
   runner/scene/scene_sweep.c runner/scene/scene_case.c runner/scene/scene_emit.c \
   runner/scene/scene_guard.c runner/scene/table.c runner/scene/table_read.c \
-  runner/scene/table_h5.c runner/core/hint.c runner/core/h5err.c \
+  runner/scene/table_h5.c runner/scene/design.c runner/core/hint.c runner/core/h5err.c \
   runner/core/safeio.c
 $(B)/fuzz_scene: tests/fuzz/fuzz_scene.c $(FUZZ_SCENE_SRC) $(wildcard runner/scene/*.h) runner/core/hint.h runner/core/h5err.h runner/core/safeio.h $(LIB_SRC) | $(DEPS)
 	@mkdir -p $(@D)
@@ -568,7 +577,13 @@ docs: $(B)/rps3-run
 	     /^\| dataset \| dimensions/ { printf "%s", t; skip = 1; next } \
 	     skip && /^\|/ { next } { skip = 0; print }' \
 	  $(B)/sim_schema.md $(B)/runner.md.new > $(B)/runner.md.new2
-	mv $(B)/runner.md.new2 docs/runner.md
+	$(B)/rps3-run --design-schema > $(B)/design_schema.md
+	awk 'FNR == NR { t = t $$0 "\n"; next } \
+	     /^\| design variable \| dimensions/ { printf "%s", t; skip = 1; next } \
+	     skip && /^\|/ { next } { skip = 0; print }' \
+	  $(B)/design_schema.md $(B)/runner.md.new2 > $(B)/runner.md.new3
+	mv $(B)/runner.md.new3 docs/runner.md
+	rm -f $(B)/runner.md.new2
 	rm -f $(B)/runner.md.new
 
 clean:

@@ -145,7 +145,9 @@ def check_file(f, path=None):
     # the samples' dimension: time, or sample where the cases' time grids
     # differ (case_time then holds the seconds)
     missing = [k for k in ("scene", "status", "case") if k not in f]
-    if "time" not in f and "sample" not in f:
+    # a design study's file (content "design") has poses, not samples
+    if ("time" not in f and "sample" not in f
+            and text(f.attrs.get("content", "")) != "design"):
         missing.append("time")
     if missing:
         raise ValueError(f"{path}: an rps3 file but not one of rps3-run's "

@@ -47,6 +47,8 @@
 #include "output/output.h"
 #include "output/sim_output.h"
 #include "run_cli.h"
+#include "run_design.h"
+#include "scene/design.h"
 #include "scene/inputs.h"
 #include "scene/scene.h"
 #include "shards/cmd_merge.h"
@@ -284,7 +286,8 @@ static int run_load(const run_args *a, const world *w, scene *s,
     /* values valid but likely in the wrong unit: said (before a case that
        fails because of them), not refused */
     scene_warnings_print(s, stderr);
-  if (code == EXIT_OK && sweep_plan_make(s, plan, &serr)) {
+  /* a design study is planned by run_design (exec/design_run.h) */
+  if (code == EXIT_OK && !design_wanted(s) && sweep_plan_make(s, plan, &serr)) {
     scene_free(s);
     code = EXIT_USAGE;
   }
@@ -454,7 +457,9 @@ static int run_main(int argc, char **argv, const world *w) {
   pre.gzip = a.gzip;
   pre.quiet = a.quiet;
   pre.fields = a.fields;
-  if (sim_wanted(&s)) /* simulated instead (simulate.h) */
+  if (design_wanted(&s)) /* its designs into its own file (run_design.h) */
+    code = run_design(&s, &a, w, argc, argv, ranks_join);
+  else if (sim_wanted(&s)) /* simulated instead (simulate.h) */
     code = run_simulated(&s, &a, w, argc, argv);
   else if (pre_jobs(&s, &plan, &opts, &pre))
     code = EXIT_USAGE;

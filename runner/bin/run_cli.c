@@ -11,6 +11,7 @@
 #include "core/exit_codes.h"
 #include "core/safeio.h"
 #include "core/tmpout.h"
+#include "output/design_output.h"
 #include "output/sim_output.h"
 #include "scene/scene.h"
 
@@ -32,6 +33,7 @@ enum {
   O_KEYS,
   O_SCHEMA,
   O_SIM_SCHEMA,
+  O_DESIGN_SCHEMA,
   O_VERSION,
   O_HELP,
   O_N
@@ -61,6 +63,8 @@ static const cli_opt RUN_OPTS[O_N] = {
     {"schema", 0, NULL, 0, 0, 0, "print the datasets of OUT.h5 (markdown)"},
     {"sim-schema", 0, NULL, 0, 0, 0,
      "... of OUT.h5 of a scene with a simulate section"},
+    {"design-schema", 0, NULL, 0, 0, 0,
+     "... of OUT.h5 of a scene with a design section"},
     CLI_ROW_VERSION,
     CLI_ROW_HELP,
 };
@@ -73,8 +77,8 @@ static void usage(FILE *out) {
           "[--quiet]\n"
           "       mpirun -n N rps3-run-mpi SCENE.yaml -o OUT.h5 [OPTION]...\n"
           "       rps3-run --clean OUT.h5 [--force]\n"
-          "       rps3-run --keys | --schema | --sim-schema | --version | "
-          "--help\n"
+          "       rps3-run --keys | --schema | --sim-schema | --design-schema\n"
+          "       rps3-run --version | --help\n"
           "\n"
           "Run the scenes of the Lee & Shah 3-RPS manipulator into HDF5 "
           "files.\n"
@@ -132,6 +136,7 @@ static int print_and_end(int row) {
   case O_KEYS: scene_keys_print(); return 1;
   case O_SCHEMA: out_schema_print(OUT_INV); return 1;
   case O_SIM_SCHEMA: out_schema_print(OUT_SIM); return 1;
+  case O_DESIGN_SCHEMA: design_schema_print(); return 1;
   default: return 0;
   }
 }

@@ -132,6 +132,8 @@ static int flags(hid_t ds, hid_t str, int status) {
              : 0;
 }
 
+int out_cf_status(hid_t ds, hid_t str) { return flags(ds, str, 1); }
+
 int out_cf_field(hid_t ds, hid_t str, int i) {
   if (out_cf_long_name(ds, str, out_field_table[i].long_name) < 0) return -1;
   if (out_field_table[i].flags == OUT_FLAGS_NONE) return 0;

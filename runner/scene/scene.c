@@ -38,23 +38,49 @@
 static const rps3_field_info lib_fields[RPS3_NFIELD] = {RPS3_FIELDS(LIB_ROW)};
 #undef LIB_ROW
 
-/* the rows of the OWN and SIM keys, shaped like the library's (a LIB key's
-   entry is unused); FIELD_SRC(PATH, ...) turns a key's FIELD into the row */
+/* the rows of the OWN, SIM and DSEC keys, shaped like the library's (a LIB
+   or DES key's entry is unused); FIELD_SRC(PATH, ...) turns a key's FIELD
+   into the row */
 #define FIELD_LIB(PATH, ID) \
   { NULL, 0, 0, 0, 0, 0, 0, 0, NULL }
 #define FIELD_OWN(PATH, MEMBER, IN, IS_INT, LO, LO_OPEN, HI, UNIT, FILLS) \
   { PATH, IN, offsetof(scene_values, MEMBER), 1, IS_INT, LO, LO_OPEN, HI, UNIT }
 #define FIELD_SIM(PATH, MEMBER, IS_INT, LO, LO_OPEN, HI, UNIT, DEF, DEFTEXT) \
   FIELD_OWN(PATH, MEMBER, RPS3_IN_MODEL, IS_INT, LO, LO_OPEN, HI, UNIT, -1)
+#define FIELD_DES FIELD_LIB
+#define FIELD_DSEC(PATH, MEMBER, N, IS_INT, LO, LO_OPEN, HI, UNIT)      \
+  {                                                                     \
+    PATH, RPS3_IN_MODEL, offsetof(scene_values, MEMBER), N, IS_INT, LO, \
+        LO_OPEN, HI, UNIT                                               \
+  }
 #define APPLY(M, ...) M(__VA_ARGS__)
 #define ARGS(...) __VA_ARGS__
 #define UNPACK_LIB(FIELD) FIELD
 #define UNPACK_OWN(FIELD) ARGS FIELD
 #define UNPACK_SIM(FIELD) ARGS FIELD
+#define UNPACK_DES(FIELD) FIELD
+#define UNPACK_DSEC(FIELD) ARGS FIELD
 #define FIELD_ROW(ID, PATH, TYPE, SRC, FIELD, REQ, SYM, DOC) \
   APPLY(FIELD_##SRC, PATH, UNPACK_##SRC(FIELD)),
 static const rps3_field_info key_fields[SCENE_NKEY] = {SCENE_KEYS(FIELD_ROW)};
 #undef FIELD_ROW
+
+/* the design keys' rows (SRC_DES): the library's rows of rps3_design
+   (RPS3_DESIGN_FIELDS), placed in scene_values.design; a design field is of
+   every trajectory kind */
+#define DES_ROW(ID, MEMBER, LO, LO_OPEN, HI, UNIT, NAME) \
+  {NAME,                                                 \
+   RPS3_IN_MODEL,                                        \
+   offsetof(scene_values, design.MEMBER),                \
+   1,                                                    \
+   0,                                                    \
+   LO,                                                   \
+   LO_OPEN,                                              \
+   HI,                                                   \
+   UNIT},
+static const rps3_field_info design_fields[RPS3_NDESIGN_FIELD] = {
+    RPS3_DESIGN_FIELDS(DES_ROW)};
+#undef DES_ROW
 
 /* the key rows: the field's row, what it fills, the default */
 #define INFO_LIB(K, ID) &lib_fields[ID], ID, 0, NULL
@@ -62,6 +88,9 @@ static const rps3_field_info key_fields[SCENE_NKEY] = {SCENE_KEYS(FIELD_ROW)};
   &key_fields[K], FILLS, 0, NULL
 #define INFO_SIM(K, MEMBER, IS_INT, LO, LO_OPEN, HI, UNIT, DEF, DEFTEXT) \
   &key_fields[K], -1, DEF, DEFTEXT
+#define INFO_DES(K, ID) &design_fields[ID], -1, 0, NULL
+#define INFO_DSEC(K, MEMBER, N, IS_INT, LO, LO_OPEN, HI, UNIT) \
+  &key_fields[K], -1, 0, NULL
 #define KEY_ROW(ID, PATH, TYPE, SRC, FIELD, REQ, SYM, DOC)            \
   {PATH, TYPE, SRC_##SRC, APPLY(INFO_##SRC, ID, UNPACK_##SRC(FIELD)), \
    REQ,  SYM,  DOC},
@@ -225,6 +254,14 @@ void scene_values_default(scene_values *v) {
       *scene_int_at(v, k) = (int)scene_keys[k].def;
     else if (scene_keys[k].src == SRC_SIM) /* a list: 0, the rest too */
       *scene_real_at(v, k) = scene_keys[k].def;
+  {
+    rps3_design_opts o;
+    rps3_design_opts_default(&o);
+    rps3_design_default(&v->design);
+    v->des.good_lti = o.lti_good;
+    v->des.length = o.length;
+    v->des.cond_sing = o.cond_sing;
+  }
   rps3_model_default(&v->model);
   rps3_traj_default(&v->traj);
   v->own.m_over_M = v->model.M > 0 ? v->model.m / v->model.M : 0;

@@ -17,6 +17,7 @@
 
 #include "mark.h"
 #include "rps3.h"
+#include "scene_design.h"
 #include "scene_sim.h"
 #include "table.h"
 
@@ -72,6 +73,8 @@ typedef struct {
   const char *table_file; /* kind table: the file, absolute (the scene's) */
   const char *path_file;  /* path shape table: the file, absolute */
   scene_sim sim;          /* the simulate section (scene_sim.h) */
+  rps3_design design;     /* a design study's design (scene_design.h) */
+  scene_design des;       /* its design section */
 } scene_values;
 
 /*
@@ -86,7 +89,13 @@ typedef struct {
  *    library's, FILLS the library field it is turned into (-1: none);
  *  - SIM: a value of the simulate section (scene_sim), FIELD the row
  *    (MEMBER, IS_INT, LO, LO_OPEN, HI, UNIT, DEFAULT, DEFTEXT), DEFTEXT the
- *    key table's text when DEFAULT is SIM_UNSET (NULL: the value).
+ *    key table's text when DEFAULT is SIM_UNSET (NULL: the value);
+ *  - DES: a field of a design study's rps3_design, FIELD its id
+ *    (rps3_design_field_id), whose row of RPS3_DESIGN_FIELDS gives the
+ *    range and the unit (scene_design.h);
+ *  - DSEC: a value of the design section (scene_design), FIELD the row
+ *    (MEMBER, N, IS_INT, LO, LO_OPEN, HI, UNIT); its defaults are
+ *    rps3_design_opts_default's.
  * The rules that involve several fields are the library's, run when a case
  * is built; a failure comes back as a field id and is mapped to the key (or
  * the swept value) that set it.  Defaults are those of rps3_model_default()
@@ -131,6 +140,7 @@ typedef struct {
   X(K_VREG, "manipulator.pin_friction.vreg", KEY_REAL, LIB, RPS3_F_VREG,       \
     REQ_NO, "-",                                                               \
     "Coulomb law tanh(dtheta / vreg) instead of sign(dtheta); 0 = sign")       \
+  SCENE_DESIGN_MANIP_KEYS(X)                                                   \
   X(K_KIND, "trajectory.kind", KEY_ENUM, LIB, RPS3_F_KIND, REQ_YES, "-",       \
     "helix (the paper's section VI), sine, waypoints, path or table "          \
     "(docs/trajectories.md)")                                                  \
@@ -349,14 +359,19 @@ typedef struct {
     (sim.model_effects, 1, 0, 0, RPS3_EFF_ALL, "-", -1, "the plant's"),        \
     REQ_NO, "-",                                                               \
     "the effects the controller's model computes (pd_gravity: its weights; "   \
-    "computed_torque, open_loop: its feedforward)")
+    "computed_torque, open_loop: its feedforward)")                            \
+  SCENE_DESIGN_KEYS(X)
 
 #define SCENE_KEY_ID(ID, ...) ID,
 typedef enum { SCENE_KEYS(SCENE_KEY_ID) SCENE_NKEY } scene_key;
 #undef SCENE_KEY_ID
 
 /* where a key's value is stored */
-enum { SRC_LIB = 0, SRC_OWN = 1, SRC_SIM = 2 };
+enum { SRC_LIB = 0, SRC_OWN = 1, SRC_SIM = 2, SRC_DES = 3, SRC_DSEC = 4 };
+
+/* a key of a design study (scene_design.h): a field of the library's
+   rps3_design, or of the design section */
+#define SCENE_KEY_IS_DESIGN(ki) ((ki)->src == SRC_DES || (ki)->src == SRC_DSEC)
 
 /* one row of SCENE_KEYS, with its field's row */
 typedef struct {
@@ -366,7 +381,8 @@ typedef struct {
   const rps3_field_info *f; /* its row: offset in scene_values, range, unit,
                                trajectory kind (IN) */
   int fills;                /* the library field it fills, directly or
-                               converted (-1: none; SRC_SIM: not the plant) */
+                               converted (-1: none; SRC_SIM: not the plant;
+                               SRC_DES, SRC_DSEC: the design study's own) */
   double def;               /* SRC_SIM: the default (SIM_UNSET: not given) */
   const char *deftext;      /* SRC_SIM: the default as the key list says it
                                (NULL: the value) */
@@ -410,6 +426,7 @@ typedef struct {
   scene_mark mark[SCENE_NKEY];     /* where each given key's value is */
   scene_mark section[4];           /* root, manipulator, trajectory, solver */
   scene_mark simulate;             /* the simulate section; line 0: none */
+  scene_mark design;               /* the design section; line 0: none */
   size_t naxis;
   scene_axis *axis; /* the sweep, in file order */
   size_t ncase;     /* product of the axis lengths (1: no sweep) */
@@ -437,6 +454,8 @@ typedef struct {
   int by_dt;          /* 1: grid from dt, 0: from samples */
   int by_blend_ratio; /* 1: t_a from blend_ratio, 0: from blend */
   int simulate;       /* 1: the scene has a simulate section */
+  int design;         /* 1: the scene has a design section */
+  int no_traj;        /* 1: a design study without a trajectory section */
 } scene_case;
 
 /*

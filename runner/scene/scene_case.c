@@ -178,6 +178,8 @@ int scene_case_build(const scene *s, size_t index, scene_case *c,
   c->by_dt = s->given[K_DT];
   c->by_blend_ratio = s->given[K_BLEND_RATIO];
   c->simulate = s->simulate.line > 0;
+  c->design = s->design.line > 0;
+  c->no_traj = c->design && s->section[2].line == 0;
   c->v = s->base;
   for (a = 0; a < s->naxis; a++)
     scene_value_set(&c->v, s->axis[a].key, s->axis[a].comp,
@@ -192,10 +194,13 @@ int scene_case_build(const scene *s, size_t index, scene_case *c,
   if (effects_rule(s, index, c, err)) return -1;
 
   if (rps3_model_validate(&c->model, &chk) != RPS3_OK ||
-      rps3_traj_validate(&c->model, &c->traj, &chk) != RPS3_OK) {
+      (!c->no_traj &&
+       rps3_traj_validate(&c->model, &c->traj, &chk) != RPS3_OK)) {
     case_error(s, index, chk.msg, &chk, -1, err);
     return -1;
   }
+  /* a design study without a task: no trajectory, no time grid */
+  if (c->no_traj) return 0;
   c->span = rps3_traj_duration(&c->traj);
   if (s->given[K_SAMPLES]) {
     c->nt = (size_t)c->v.own.samples;

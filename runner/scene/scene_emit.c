@@ -4,6 +4,7 @@
  * (scene_keys_print: `rps3-run --keys`, docs/runner.md).  Both read the
  * key table of scene.h row by row.
  */
+#include "design.h"
 #include "scene.h"
 #include "scene_int.h"
 
@@ -133,6 +134,10 @@ static int emit_value(yaml_emitter_t *em, int k, const scene_values *v) {
 static int case_has_key(const scene_case *c, int k) {
   const scene_key_info *ki = scene_key_get(k);
   if (!scene_key_applies(ki, c->v.traj.kind)) return 0;
+  /* the design keys in a design study; no trajectory where it has none */
+  if (SCENE_KEY_IS_DESIGN(ki)) return c->design;
+  if (c->design && design_key_unread(k)) return 0;
+  if (c->no_traj && strncmp(ki->path, "trajectory.", 11) == 0) return 0;
   if (ki->src == SRC_SIM) {
     /* written when simulated; "not given" (NaN, -1) is not a value */
     scene_values *w = (scene_values *)(void *)&c->v; /* read only */
@@ -247,6 +252,8 @@ void scene_keys_print(void) {
     }
     if (ki->deftext)
       snprintf(def, sizeof def, "%s", ki->deftext);
+    else if (ki->req == REQ_YES && SCENE_KEY_IS_DESIGN(ki))
+      snprintf(def, sizeof def, "required in a design study");
     else if (ki->req == REQ_YES)
       snprintf(def, sizeof def, "required");
     else if (ki->req == REQ_SHAPE)

@@ -112,4 +112,11 @@ void scene_values_default(scene_values *v);
 /* x as the scene's files write it: shortest text that reads back equal */
 void scene_format_real(char *buf, size_t sz, double x);
 
+/* ------------------------------------------------- design.c: design keys */
+
+/* the design keys against the design section: given (or swept) only in a
+   scene that has one, its required keys there, no simulate section beside
+   it, its grid not swept; 0 or -1 with the error set */
+int scene_design_check_keys(parse_ctx *c);
+
 #endif /* RPS3_RUNNER_SCENE_INT_H */

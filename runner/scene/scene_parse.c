@@ -497,6 +497,8 @@ int scene_walk_section(parse_ctx *c, const yaml_node_t *map,
           s->section[sec] = scene_mark_of(&val->start_mark);
       if (strcmp(full, "simulate") == 0)
         s->simulate = scene_mark_of(&val->start_mark);
+      if (strcmp(full, "design") == 0)
+        s->design = scene_mark_of(&val->start_mark);
       if (scene_walk_section(c, val, full)) return -1;
       continue;
     }

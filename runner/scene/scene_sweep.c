@@ -385,16 +385,20 @@ static int check_shape(parse_ctx *c) {
 int scene_check_keys(parse_ctx *c) {
   scene *s = c->s;
   int k, pair;
-  if (s->section[1].line == 0 || s->section[2].line == 0) {
+  /* a design study needs no trajectory (it is the optional task) */
+  int design = s->design.line > 0, no_traj = design && s->section[2].line == 0;
+  if (s->section[1].line == 0 || (s->section[2].line == 0 && !design)) {
     scene_error_set(c->err, s->section[0],
                     s->section[1].line == 0 ? "manipulator" : "trajectory",
                     "missing required section");
     return -1;
   }
+  if (scene_design_check_keys(c)) return -1;
   for (k = 0; k < SCENE_NKEY; k++) {
     const scene_key_info *ki = &scene_keys[k];
     int applies = scene_key_applies(ki, s->base.traj.kind);
     int sec = strncmp(ki->path, "manipulator", 11) == 0 ? 1 : 2;
+    if (SCENE_KEY_IS_DESIGN(ki) || (no_traj && sec == 2)) continue;
     if (!applies && s->given[k]) {
       scene_error_set(c->err, s->mark[k], ki->path,
                       "not a key of a %s trajectory",
@@ -412,7 +416,9 @@ int scene_check_keys(parse_ctx *c) {
     static const int one_of[3][2] = {
         {K_M_OVER_M, K_MASS}, {K_SAMPLES, K_DT}, {K_BLEND, K_BLEND_RATIO}};
     int a = one_of[pair][0], b = one_of[pair][1];
-    if (!scene_key_applies(&scene_keys[a], s->base.traj.kind)) continue;
+    if (!scene_key_applies(&scene_keys[a], s->base.traj.kind) ||
+        (no_traj && pair > 0))
+      continue;
     if (!s->given[a] && !s->given[b]) {
       scene_error_set(c->err, s->section[pair ? 2 : 1], scene_keys[a].path,
                       "missing: give %s or %s", leaf(scene_keys[a].path),

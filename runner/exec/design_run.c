@@ -1,0 +1,473 @@
+/*
+ * design_run.c - see design_run.h.
+ */
+#include "design_run.h"
+
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <time.h>
+
+#include "core/safeio.h"
+#include "estimate.h"
+#include "pool.h"
+
+/* ------------------------------------------------------------------ plan */
+
+int design_plan_make(const scene *s, design_plan *p, scene_error *err) {
+  rps3_design_grid gr;
+  scene_case c;
+  size_t i, per;
+  memset(p, 0, sizeof *p);
+  p->ncase = s->ncase;
+  design_grid(s, &gr);
+  p->npose = rps3_design_grid_size(&gr);
+  p->task = s->section[2].line > 0;
+  p->per_pose = s->base.des.per_pose;
+  /* every design is checked before anything is written */
+  for (i = 0; i < s->ncase; i++) {
+    if (design_case_build(s, i, &c, err)) return -1;
+    if (i == 0) p->nsample = p->task ? c.nt : 0;
+    /* the task's samples: one grid for every design (the sweep may not
+       change the trajectory's span) */
+    if (p->task && c.nt > p->nsample) p->nsample = c.nt;
+  }
+  /* work units: about DESIGN_UNIT_POSES poses each, the designs shared
+     evenly */
+  per = DESIGN_UNIT_POSES / (p->npose + p->nsample);
+  if (per < 1) per = 1;
+  p->nunit = (p->ncase + per - 1) / per;
+  p->unit = (p->ncase + p->nunit - 1) / p->nunit;
+  return 0;
+}
+
+size_t design_shard_units(const design_plan *p, size_t k, size_t n) {
+  return k < p->nunit ? (p->nunit - k + n - 1) / n : 0;
+}
+
+size_t design_shard_cases(const design_plan *p, size_t k, size_t n) {
+  size_t j, c = 0;
+  for (j = k; j < p->nunit; j += n)
+    c += (j + 1) * p->unit < p->ncase ? p->unit : p->ncase - j * p->unit;
+  return c;
+}
+
+double design_file_bytes(const scene *s, const design_plan *p) {
+  design_tile t;
+  memset(&t, 0, sizeof t);
+  t.npose = p->npose;
+  t.task = p->task;
+  t.per_pose = p->per_pose;
+  /* the designs' variables, their scene_resolved (about the scene's
+     size), the swept keys, and HDF5's metadata (a bound) */
+  return (double)p->ncase *
+             ((double)design_bytes_per_design(&t) + (double)s->text_len +
+              8.0 * (double)(s->naxis + 1)) +
+         65536.0;
+}
+
+/* ------------------------------------------------------------- evaluate */
+
+/* what a worker needs: a workspace and the arrays of one design's poses */
+typedef struct {
+  rps3_design_ws *ws;
+  int *flags; /* npose */
+  double *c;  /* 3 npose */
+  scene_text yaml;
+} worker_ws;
+
+static void worker_free(worker_ws *w) {
+  rps3_design_ws_free(w->ws);
+  free(w->flags);
+  free(w->c);
+  scene_text_free(&w->yaml);
+  memset(w, 0, sizeof *w);
+}
+
+static int worker_alloc(worker_ws *w, size_t npose) {
+  memset(w, 0, sizeof *w);
+  w->flags = malloc(npose * sizeof *w->flags);
+  w->c = malloc(3 * npose * sizeof *w->c);
+  if (!w->flags || !w->c || rps3_design_ws_alloc(&w->ws) != RPS3_OK) {
+    worker_free(w);
+    return -1;
+  }
+  return 0;
+}
+
+static char *dup_text(const char *s) {
+  char *d = malloc(strlen(s) + 1);
+  if (d) strcpy(d, s);
+  return d;
+}
+
+#define F64(t, i) ((double *)(t)->buf[i])
+#define I32(t, i) ((int32_t *)(t)->buf[i])
+#define I64(t, i) ((int64_t *)(t)->buf[i])
+#define STR(t, i) ((char **)(t)->buf[i])
+
+/* design `index` into slot j of t; the poses and samples it evaluated */
+static size_t eval_design(const scene *s, const design_plan *p, size_t index,
+                          worker_ws *w, design_tile *t, size_t j) {
+  rps3_design_grid gr;
+  rps3_design_opts o;
+  rps3_design_out out;
+  rps3_design_summary sum;
+  rps3_design d;
+  scene_case c;
+  scene_error err;
+  size_t n = p->npose, k, done = 0;
+  int rc;
+  design_tile_clear(t, j);
+  if (design_case_build(s, index, &c, &err)) {
+    /* checked by design_plan_make: only a changed scene gets here */
+    I32(t, DO_status)[j] = RPS3_EINVAL;
+    STR(t, DO_message)[j] = dup_text(err.what);
+    return 0;
+  }
+  design_grid(s, &gr);
+  design_opts(s, &o);
+  design_of_case(&c, &d);
+  memset(&out, 0, sizeof out);
+  out.flags =
+      p->per_pose ? (int *)(void *)(I32(t, DO_pose_flags) + j * n) : w->flags;
+  out.c = w->c;
+  if (p->per_pose) {
+    out.lti = F64(t, DO_lti) + j * n;
+    out.oti = F64(t, DO_oti) + j * n;
+    out.cti = F64(t, DO_cti) + j * n;
+    out.cond_h = F64(t, DO_cond_h) + j * n;
+    out.transmission = F64(t, DO_transmission) + j * n;
+    out.spin = F64(t, DO_spin) + j * n;
+    out.clearance = F64(t, DO_clearance) + j * n;
+  }
+  rc = rps3_design_eval_grid(w->ws, &d, &o, &gr, &out, &sum);
+  if (rc != RPS3_OK && rc != RPS3_EEMPTY) {
+    I32(t, DO_status)[j] = rc;
+    STR(t, DO_message)[j] = dup_text(w->ws->err.msg);
+    return 0;
+  }
+  done += n;
+  if (p->per_pose)
+    for (k = 0; k < n; k++) {
+      F64(t, DO_x_c)[j * n + k] = w->c[k];
+      F64(t, DO_y_c)[j * n + k] = w->c[n + k];
+    }
+  I64(t, DO_nreach)[j] = (int64_t)sum.nreach;
+  F64(t, DO_reach_fraction)[j] = sum.reach_fraction;
+  F64(t, DO_volume)[j] = sum.volume;
+  F64(t, DO_gti)[j] = sum.gti;
+  F64(t, DO_good_fraction)[j] = sum.good_fraction;
+  F64(t, DO_lti_min)[j] = sum.lti_min;
+  F64(t, DO_cond_h_max)[j] = sum.cond_h_max;
+  F64(t, DO_trans_max)[j] = sum.trans_max;
+  F64(t, DO_xc_max)[j] = sum.xc_max;
+  F64(t, DO_yc_max)[j] = sum.yc_max;
+  F64(t, DO_spin_max)[j] = sum.spin_max;
+  F64(t, DO_l_lo)[j] = sum.l_lo;
+  F64(t, DO_l_hi)[j] = sum.l_hi;
+  I32(t, DO_flags_any)[j] = sum.flags_any;
+  for (k = 0; k < RPS3_DESIGN_NFLAG; k++)
+    I64(t, DO_nflag)[j * RPS3_DESIGN_NFLAG + k] = (int64_t)sum.nflag[k];
+  F64(t, DO_link_mass)[j] = w->ws->model.m;
+  F64(t, DO_link_d)[j] = w->ws->model.d;
+  F64(t, DO_link_Ic)[j] = w->ws->model.link_Ic;
+  I32(t, DO_status)[j] = 0;
+  if (p->task) {
+    rps3_design_task res;
+    rc = rps3_design_task_eval(w->ws, &d, &o, &c.traj, c.nt,
+                               RPS3_DESIGN_LINK_MASS, &res);
+    if (rc != RPS3_OK && rc != RPS3_EREACH) {
+      /* a task this design cannot even be asked: the design failed */
+      I32(t, DO_status)[j] = rc;
+      STR(t, DO_message)[j] = dup_text(w->ws->err.msg);
+    } else {
+      done += res.nsamples;
+      I32(t, DO_task_status)[j] = rc;
+      if (rc != RPS3_OK) STR(t, DO_task_message)[j] = dup_text(w->ws->err.msg);
+      F64(t, DO_task_fail_time)[j] = res.fail_time;
+      I32(t, DO_task_fail_flags)[j] = rc != RPS3_OK ? res.fail_flags : 0;
+      /* statistics of no sample (the task leaves the workspace at its
+         start) are not numbers: NaN, as the fill */
+      if (res.nsamples > 0) F64(t, DO_task_lti_min)[j] = res.lti_min;
+      for (k = 0; k < 3 && res.nsamples > 0; k++) {
+        F64(t, DO_task_F_peak)[3 * j + k] = res.F_peak[k];
+        F64(t, DO_task_F_rms)[3 * j + k] = res.F_rms[k];
+        F64(t, DO_task_P_peak)[3 * j + k] = res.P_peak[k];
+        F64(t, DO_task_v_peak)[3 * j + k] = res.v_peak[k];
+        F64(t, DO_task_l_lo)[3 * j + k] = res.l_lo[k];
+        F64(t, DO_task_l_hi)[3 * j + k] = res.l_hi[k];
+      }
+    }
+  }
+  if (scene_case_yaml(&c, &w->yaml) == 0)
+    STR(t, DO_scene_resolved)[j] = dup_text(w->yaml.s);
+  return done;
+}
+
+/* a design study as a job of the pool (pool.h): its items are this
+   shard's work units, its slots tiles of one unit's designs */
+typedef struct {
+  const scene *s;
+  const design_plan *p;
+  design_file *f;
+  progress *pr;
+  design_stats *st;
+} design_job;
+
+/* what describes a filled tile: its designs, the poses and samples
+   evaluated */
+typedef struct {
+  size_t c0, nc, points;
+} unit_info;
+
+/* pool_job.worker_begin: a worker's workspace and pose arrays */
+static void *design_worker_begin(void *ctx) {
+  const design_job *J = ctx;
+  worker_ws *w = malloc(sizeof *w);
+  if (w && worker_alloc(w, J->p->npose)) {
+    free(w);
+    w = NULL;
+  }
+  return w;
+}
+
+static void design_worker_end(void *ctx, void *wctx) {
+  (void)ctx;
+  if (wctx) worker_free(wctx);
+  free(wctx);
+}
+
+/* pool_job.run: work unit u on worker w, into its slot */
+static int design_item(void *ctx, void *wctx, size_t u, pool_worker *w,
+                       char *err, size_t errsz) {
+  const design_job *J = ctx;
+  design_tile *t = pool_slot(w);
+  unit_info in;
+  size_t j;
+  in.c0 = u * J->p->unit;
+  in.nc = in.c0 + J->p->unit <= J->p->ncase ? J->p->unit : J->p->ncase - in.c0;
+  in.points = 0;
+  for (j = 0; j < in.nc; j++)
+    in.points += eval_design(J->s, J->p, in.c0 + j, wctx, t, j);
+  return pool_emit(w, &in, err, errsz) ? 0 : -1;
+}
+
+/* pool_job.write: a unit's designs to the file, counted */
+static int design_write(void *ctx, void *slot, const void *info, char *err,
+                        size_t errsz) {
+  design_job *J = ctx;
+  const design_tile *t = slot;
+  const unit_info *in = info;
+  design_stats *st = J->st;
+  size_t j;
+  if (design_out_write(J->f, t, in->c0, in->nc, err, errsz)) return -1;
+  for (j = 0; j < in->nc; j++) {
+    int32_t status = ((int32_t *)t->buf[DO_status])[j];
+    if (status != 0) {
+      if (st->nfailed == 0)
+        progress_failure(J->pr, in->c0 + j, "",
+                         ((char **)t->buf[DO_message])[j]);
+      st->nfailed++;
+    } else if (((int64_t *)t->buf[DO_nreach])[j] == 0)
+      st->nempty++;
+  }
+  st->cases_done += in->nc;
+  st->points_done += in->points;
+  progress_update(J->pr, st->cases_done, st->points_done);
+  return 0;
+}
+
+int design_run(const scene *s, const design_plan *p, design_file *f,
+               size_t shard, size_t nshard, int nthread, progress *pr,
+               design_stats *st, char *err, size_t errsz) {
+  design_job J;
+  pool_job job;
+  design_tile *tiles;
+  size_t i, nslot;
+  int rc = -1;
+  memset(st, 0, sizeof *st);
+  if (nthread < 1) nthread = 1;
+  nslot = pool_nslot(nthread);
+  J.s = s;
+  J.p = p;
+  J.f = f;
+  J.pr = pr;
+  J.st = st;
+  memset(&job, 0, sizeof job);
+  job.ctx = &J;
+  job.nitem = p->nunit;
+  job.first = shard;
+  job.stride = nshard;
+  job.info_size = sizeof(unit_info);
+  job.worker_begin = design_worker_begin;
+  job.worker_end = design_worker_end;
+  job.run = design_item;
+  job.write = design_write;
+  tiles = calloc(nslot, sizeof *tiles);
+  job.slot = calloc(nslot, sizeof *job.slot);
+  snprintf(err, errsz, "out of memory for the tiles of %d thread%s", nthread,
+           nthread == 1 ? "" : "s");
+  for (i = 0; tiles && job.slot && i < nslot; i++) {
+    if (design_tile_alloc(&tiles[i], p->unit, p->npose, p->task, p->per_pose))
+      break;
+    job.slot[i] = &tiles[i];
+  }
+  if (tiles && job.slot && i == nslot) rc = pool_run(&job, nthread, err, errsz);
+  for (i = 0; tiles && i < nslot; i++) design_tile_free(&tiles[i]);
+  free(tiles);
+  free(job.slot);
+  return rc;
+}
+
+/* ------------------------------------------------------------- estimate */
+
+static double cpu_now(void) {
+  struct timespec ts;
+  clock_gettime(CLOCK_PROCESS_CPUTIME_ID, &ts);
+  return (double)ts.tv_sec + 1e-9 * (double)ts.tv_nsec;
+}
+
+/* poses of the coarser grid that times a design of a large grid */
+#define DESIGN_TIMED_POSES 8192
+
+/* CPU seconds of design `index` of a grid larger than DESIGN_TIMED_POSES:
+   its evaluation on a coarser grid of the same box, scaled by the poses
+   (a pose costs the same wherever it is), plus its task; -1 on failure */
+static double time_coarse(const scene *s, const design_plan *p, size_t index,
+                          worker_ws *w) {
+  rps3_design_grid gr;
+  rps3_design_opts o;
+  rps3_design_out out;
+  rps3_design_summary sum;
+  rps3_design_task res;
+  rps3_design d;
+  scene_case c;
+  scene_error err;
+  double t0, spent;
+  size_t n;
+  int k, big;
+  if (design_case_build(s, index, &c, &err)) return -1;
+  design_grid(s, &gr);
+  design_opts(s, &o);
+  design_of_case(&c, &d);
+  /* halve the axis of most cells until the grid has at most
+     DESIGN_TIMED_POSES poses (w's arrays) */
+  while ((n = rps3_design_grid_size(&gr)) > DESIGN_TIMED_POSES) {
+    for (big = 0, k = 1; k < 3; k++)
+      if (gr.n[k] > gr.n[big]) big = k;
+    gr.n[big] = (gr.n[big] + 1) / 2;
+  }
+  memset(&out, 0, sizeof out);
+  out.flags = w->flags;
+  out.c = w->c;
+  t0 = cpu_now();
+  (void)rps3_design_eval_grid(w->ws, &d, &o, &gr, &out, &sum);
+  spent = (cpu_now() - t0) * (double)p->npose / (double)n;
+  if (p->task) {
+    t0 = cpu_now();
+    (void)rps3_design_task_eval(w->ws, &d, &o, &c.traj, c.nt,
+                                RPS3_DESIGN_LINK_MASS, &res);
+    spent += cpu_now() - t0;
+  }
+  return spent;
+}
+
+double design_cost_measure(const scene *s, const design_plan *p) {
+  worker_ws w;
+  design_tile t;
+  size_t i, timed = 0, step;
+  double t0, spent = 0, used = 0, one;
+  int coarse = p->npose > DESIGN_TIMED_POSES;
+  /* a large grid is timed on a coarser one: the estimate's own cost is
+     bounded whatever the grid */
+  if (worker_alloc(&w, coarse ? DESIGN_TIMED_POSES : p->npose)) return -1;
+  if (design_tile_alloc(&t, 1, coarse ? 1 : p->npose, p->task, p->per_pose)) {
+    worker_free(&w);
+    return -1;
+  }
+  /* up to 8 designs spread over the study, at most about 0.2 s */
+  step = p->ncase > 8 ? p->ncase / 8 : 1;
+  for (i = 0; i < p->ncase && timed < 8 && used < 0.2; i += step) {
+    t0 = cpu_now();
+    if (coarse) {
+      if ((one = time_coarse(s, p, i, &w)) < 0) break;
+      spent += one;
+    } else {
+      (void)eval_design(s, p, i, &w, &t, 0);
+      spent += cpu_now() - t0;
+    }
+    used += cpu_now() - t0;
+    timed++;
+  }
+  design_tile_free(&t);
+  worker_free(&w);
+  return timed ? spent / (double)timed : -1;
+}
+
+int design_preflight(const char *scene_path, const scene *s,
+                     const design_plan *p, size_t shard, size_t nshard,
+                     int nrank, int nthread, int gzip, int check, int quiet,
+                     const char *out_path) {
+  char e1[32], e2[32], tt[32];
+  size_t cases = design_shard_cases(p, shard, nshard);
+  size_t units = design_shard_units(p, shard, nshard);
+  double bytes = design_file_bytes(s, p), per = design_cost_measure(s, p);
+  double need = nrank > 1
+                    ? bytes
+                    : bytes * (double)cases / (double)(p->ncase ? p->ncase : 1);
+  int threads = (size_t)nthread < units ? nthread : (int)units;
+  double avail;
+  if (threads < 1) threads = 1;
+  if (nshard > p->nunit && nrank == 1) {
+    fprintf(stderr,
+            "rps3-run: --shard %zu/%zu: the design study has %zu work "
+            "unit%s (of up to %zu design%s), so at most %zu shard%s can "
+            "have work: use --shard K/%zu or fewer (rps3-run SCENE --check "
+            "counts the work units)\n",
+            shard, nshard, p->nunit, p->nunit == 1 ? "" : "s", p->unit,
+            p->unit == 1 ? "" : "s", p->nunit, p->nunit == 1 ? "" : "s",
+            p->nunit);
+    return -1;
+  }
+  if (check) {
+    printf(
+        "%s: design study: %zu design%s x %zu poses%s; output about %s "
+        "uncompressed\n",
+        scene_path, p->ncase, p->ncase == 1 ? "" : "s", p->npose,
+        p->task ? " and the task" : "", est_human(bytes, e1, sizeof e1));
+    if (per >= 0)
+      printf(
+          "run time about %s on %d thread%s (an estimate: %.3g ms a "
+          "design, timed on a few designs)\n",
+          est_human_time(per * (double)p->ncase / threads, tt, sizeof tt),
+          threads, threads == 1 ? "" : "s", 1e3 * per);
+    printf(
+        "%zu work unit%s of up to %zu design%s: at most %zu shard%s, "
+        "rank%s or thread%s ha%s work\n",
+        p->nunit, p->nunit == 1 ? "" : "s", p->unit, p->unit == 1 ? "" : "s",
+        p->nunit, p->nunit == 1 ? "" : "s", p->nunit == 1 ? "" : "s",
+        p->nunit == 1 ? "" : "s", p->nunit == 1 ? "s" : "ve");
+    return 0;
+  }
+  if (!quiet)
+    fprintf(stderr,
+            "rps3-run: design study: %zu design%s x %zu poses: %s about "
+            "%s%s, run time about %s on %d thread%s\n",
+            cases, cases == 1 ? "" : "s", p->npose, out_path,
+            est_human(need, e1, sizeof e1), gzip ? " before compression" : "",
+            per >= 0
+                ? est_human_time(per * (double)cases / threads, tt, sizeof tt)
+                : "unknown",
+            threads, threads == 1 ? "" : "s");
+  avail = disk_free(out_path);
+  if (avail >= 0 && need > avail && !gzip) {
+    fprintf(stderr,
+            "rps3-run: %s: the output needs about %s, the file system has "
+            "%s free: nothing written\n",
+            out_path, est_human(need, e1, sizeof e1),
+            est_human(avail, e2, sizeof e2));
+    return -1;
+  }
+  return 0;
+}

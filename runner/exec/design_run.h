@@ -1,0 +1,90 @@
+/*
+ * design_run.h - running a design study (scene/design.h) into its file
+ * (output/design_output.h): every design built and checked before
+ * anything is written, then evaluated by the library (rps3_design_eval_grid
+ * over the section's grid, rps3_design_task_eval along the trajectory when
+ * the scene has one) in work units of whole designs, on -j threads (the
+ * runner's worker pool, pool.h), for one shard or all.
+ *
+ * A work unit is one chunk row of every dataset: up to about
+ * DESIGN_UNIT_POSES poses of evaluation, the units sharing the designs
+ * evenly, as a sweep's work units share its cases (docs/scale-out.md).
+ * Shard K of N computes the units j with j mod N = K: its part merges and
+ * joins with `rps3-run merge` as a sweep's part does.
+ */
+#ifndef RPS3_RUNNER_DESIGN_RUN_H
+#define RPS3_RUNNER_DESIGN_RUN_H
+
+#include <stddef.h>
+
+#include "core/progress.h"
+#include "output/design_output.h"
+#include "scene/design.h"
+
+/* poses of evaluation per work unit (a unit is at least one design) */
+#define DESIGN_UNIT_POSES 65536
+
+typedef struct {
+  size_t ncase;   /* designs */
+  size_t npose;   /* poses of the grid */
+  size_t unit;    /* designs per work unit */
+  size_t nunit;   /* work units */
+  int task;       /* the scene has a trajectory: the task is evaluated */
+  int per_pose;   /* the per-pose indices are written */
+  size_t nsample; /* samples of the task (its time grid) */
+} design_plan;
+
+typedef struct {
+  size_t cases_done;
+  size_t points_done; /* poses and task samples evaluated */
+  size_t nfailed;     /* designs with a non-zero status */
+  size_t nempty;      /* designs with an empty workspace */
+} design_stats;
+
+/*
+ * Build and check every design of s (design_case_build) and lay out the
+ * work units.  Returns 0, or -1 with err at the swept value or key of the
+ * first invalid design.
+ */
+int design_plan_make(const scene *s, design_plan *p, scene_error *err);
+
+/* designs of shard k of n (all for n = 1) */
+size_t design_shard_cases(const design_plan *p, size_t k, size_t n);
+
+/* work units of shard k of n */
+size_t design_shard_units(const design_plan *p, size_t k, size_t n);
+
+/* bytes of the file (uncompressed: an upper bound with --gzip) */
+double design_file_bytes(const scene *s, const design_plan *p);
+
+/*
+ * CPU seconds of one design, timed on up to 8 designs spread over the
+ * study (at most about 0.2 s of evaluation), or -1 when none could be
+ * timed.
+ */
+double design_cost_measure(const scene *s, const design_plan *p);
+
+/*
+ * What --check prints (stdout) and a run prints first (stderr, unless
+ * quiet): designs, poses, size, estimated time, work units.  For a run,
+ * refuses (returns -1, nothing written) an output larger than the free
+ * space of out_path's file system (not with gzip: the size is then an
+ * upper bound) and --shard K/N with N above the work units.
+ */
+int design_preflight(const char *scene_path, const scene *s,
+                     const design_plan *p, size_t shard, size_t nshard,
+                     int nrank, int nthread, int gzip, int check, int quiet,
+                     const char *out_path);
+
+/*
+ * Evaluate the designs of shard `shard` of `nshard` into f on nthread
+ * threads (the calling thread writes), progress on pr, counts in st.
+ * A design that fails is a row of its file (status, message), not a
+ * failure of the run.  Returns 0, or -1 with err set (the file could not
+ * be written, out of memory).
+ */
+int design_run(const scene *s, const design_plan *p, design_file *f,
+               size_t shard, size_t nshard, int nthread, progress *pr,
+               design_stats *st, char *err, size_t errsz);
+
+#endif /* RPS3_RUNNER_DESIGN_RUN_H */
