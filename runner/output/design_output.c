@@ -244,30 +244,7 @@ static int make_scales(design_file *f, const scene *s, const design_tile *t,
 
 /* the swept keys, [case], on the case scale (as a sweep's file) */
 static int write_swept_keys(design_file *f, const scene *s, hid_t dcase) {
-  size_t a;
-  for (a = 0; a < s->naxis; a++) {
-    const scene_key_info *ki = scene_key_get(s->axis[a].key);
-    char doc[400], units[32], name[160];
-    hsize_t nc = s->ncase;
-    hid_t type = (ki->type == KEY_REAL || ki->type == KEY_REAL3)
-                     ? H5T_NATIVE_DOUBLE
-                 : ki->type == KEY_ENUM ? f->str
-                                        : H5T_NATIVE_INT32;
-    hid_t ds;
-    int bad;
-    snprintf(doc, sizeof doc, "swept scene key %s: %s (paper: %s)",
-             s->axis[a].path, ki->doc, ki->symbol);
-    ds = out_h5_dataset(f->file, f->str,
-                        out_cf_key_name(s->axis[a].path, name, sizeof name),
-                        type, 1, &nc, NULL, 0, NULL,
-                        out_cf_axis_units(s, a, units, sizeof units), doc);
-    bad = ds < 0 || out_cf_swept_key(ds, f->str, s->axis[a].path) < 0 ||
-          H5DSattach_scale(ds, dcase, 0) < 0 ||
-          out_h5_axis(ds, f->str, s, a) < 0;
-    if (ds >= 0) H5Dclose(ds);
-    if (bad) return -1;
-  }
-  return 0;
+  return out_cf_swept_keys(f->file, f->str, s, dcase, NULL);
 }
 
 /* flag_masks and flag_meanings of a variable of reachability flags */

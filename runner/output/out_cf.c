@@ -8,6 +8,8 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include <hdf5_hl.h>
+
 #include "out_h5.h"
 #include "outblock.h"
 
@@ -248,4 +250,35 @@ int out_stamp(hid_t file, const char *command_line) {
     rc = 0;
   if (str >= 0) H5Tclose(str);
   return rc;
+}
+
+int out_cf_swept_keys(hid_t file, hid_t str, const scene *s, hid_t dcase,
+                      size_t *bad) {
+  size_t a;
+  for (a = 0; a < s->naxis; a++) {
+    const scene_key_info *ki = scene_key_get(s->axis[a].key);
+    char doc[400], units[32], name[160];
+    hsize_t nc = s->ncase;
+    hid_t type = (ki->type == KEY_REAL || ki->type == KEY_REAL3)
+                     ? H5T_NATIVE_DOUBLE
+                 : ki->type == KEY_ENUM ? str
+                                        : H5T_NATIVE_INT32;
+    hid_t ds;
+    int fail;
+    snprintf(doc, sizeof doc, "swept scene key %s: %s (paper: %s)",
+             s->axis[a].path, ki->doc, ki->symbol);
+    /* the variable has the key's CF name, the key in scene_key */
+    ds = out_h5_dataset(file, str,
+                        out_cf_key_name(s->axis[a].path, name, sizeof name),
+                        type, 1, &nc, NULL, 0, NULL,
+                        out_cf_axis_units(s, a, units, sizeof units), doc);
+    fail = ds < 0 || out_cf_swept_key(ds, str, s->axis[a].path) < 0 ||
+           H5DSattach_scale(ds, dcase, 0) < 0 || out_h5_axis(ds, str, s, a) < 0;
+    if (ds >= 0) H5Dclose(ds);
+    if (fail) {
+      if (bad) *bad = a;
+      return -1;
+    }
+  }
+  return 0;
 }

@@ -74,6 +74,12 @@ int out_cf_swept_key(hid_t ds, hid_t str, const char *key);
    enums and bools */
 const char *out_cf_axis_units(const scene *s, size_t a, char *buf, size_t sz);
 
+/* the swept keys of s, [case], each a variable with the key's CF name on
+   the case scale dcase (the key itself in scene_key, its values, units and
+   axis attributes), in file; 0, or -1 with *bad the axis that failed */
+int out_cf_swept_keys(hid_t file, hid_t str, const scene *s, hid_t dcase,
+                      size_t *bad);
+
 /* Set (replace) the root attributes created_utc (now) and command_line of
    an open file.  Returns 0 or -1. */
 int out_stamp(hid_t file, const char *command_line);
