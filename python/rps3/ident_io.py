@@ -17,6 +17,7 @@ from typing import Any
 import numpy as np
 
 from rps3 import ident as _id
+from rps3 import ident_consistent as _ic
 from rps3 import ident_paper as _ip
 
 #: the columns of a data table: name -> (units it must be in, the spellings
@@ -358,7 +359,7 @@ def fit(data: Data, *, geometry: _ip.Geometry | None = None,
         if args is not None:
             std = _ip.standard_of(theta, ps, d=geo.d, M=M, R=geo.R, rho=geo.rho)
             assert std is not None
-            r = _id.consistency_report(std[0], std[1])
+            r = _ic.consistency_report(std[0], std[1])
             rep, ok = str(r), r.ok
         else:
             rep = "not physically consistent: " + why
