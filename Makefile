@@ -368,7 +368,8 @@ bench-design: runner venv
 # ---------------------------------------------------------------- mutation
 # which test kills which hand-made mutation of src/ (tests/mutation.py, in a
 # temporary copy of the tree): writes docs/mutations.md, exits 1 when a
-# mutation survives.  About a minute per mutation; not part of `check`.
+# mutation survives.  Each mutation's tests run until the first kill, the
+# one docs/mutations.md names first; not part of `check`.
 mutation: venv-check
 	nice $(VPY) tests/mutation.py -o docs/mutations.md
 
