@@ -538,6 +538,21 @@ BATCH_TEMPLATE = """\
 
 #include "{hname}"
 
+/* With GCC and glibc's libmvec (the Makefile defines RPS3_ANCHOR_LIBMVEC
+   when -lmvec links, and builds this file with -fno-builtin-sin
+   -fno-builtin-cos so that the two calls are not fused into a scalar
+   sincos), sin and cos are declared with their vector variants, as
+   glibc's own <math.h> declares them under -ffast-math only: the sines and
+   cosines of a block of points are vector calls too (within 4 ulp of the
+   scalar libm, glibc's bound).  Otherwise they are libm's scalar calls. */
+#if defined(RPS3_ANCHOR_LIBMVEC) && defined(__GNUC__) && !defined(__clang__)
+#define ANCHOR_VEC_TRIG 1
+__attribute__((simd("notinbranch"))) double sin(double);
+__attribute__((simd("notinbranch"))) double cos(double);
+#else
+#define ANCHOR_VEC_TRIG 0
+#endif
+
 /* the library's batch kernel's clones (src/batch_kmech.h KCLONES): the
    loop also for AVX2 + FMA and AVX-512 where GCC or clang make ifuncs */
 #if defined(__x86_64__) && defined(__linux__) && \\
@@ -551,16 +566,23 @@ BATCH_TEMPLATE = """\
 /* points a block: the sines and cosines of a block stay in L1 */
 #define ABLOCK 64
 
+/* static and called below, as the library's kernels: clang makes the
+   ifunc of a cloned function under its own name only for the calls in its
+   file */
 ACLONES
-void {func}(const double par[6], int n, const double *restrict pose,
-    const double *restrict dpose, const double *restrict ddpose,
-    double *restrict F, int *restrict status) {{
+static void batch_loop(const double *restrict par, int n,
+    const double *restrict pose, const double *restrict dpose,
+    const double *restrict ddpose, double *restrict F,
+    int *restrict status) {{
   int i0;
   for (i0 = 0; i0 < n; i0 += ABLOCK) {{
     const int nb = n - i0 < ABLOCK ? n - i0 : ABLOCK;
     double cos_a[ABLOCK], sin_a[ABLOCK], cos_b[ABLOCK], sin_b[ABLOCK];
     int i;
-    /* libm, as {scalar}: no vector variant under these flags */
+    /* the only transcendental calls, first */
+#if ANCHOR_VEC_TRIG
+#pragma omp simd
+#endif
     for (i = 0; i < nb; i++) {{
       cos_a[i] = cos(pose[i0 + i]);
       sin_a[i] = sin(pose[i0 + i]);
@@ -573,6 +595,11 @@ void {func}(const double par[6], int n, const double *restrict pose,
 {body}
     }}
   }}
+}}
+
+void {func}(const double par[6], int n, const double *pose,
+    const double *dpose, const double *ddpose, double *F, int *status) {{
+  batch_loop(par, n, pose, dpose, ddpose, F, status);
 }}
 """
 
@@ -592,7 +619,7 @@ def write_batch(path, hname, prog, defs, D, printer):
     ca, sa, cb, sb = D["trig"]
     block = {ca: "cos_a[i]", sa: "sin_a[i]", cb: "cos_b[i]", sb: "sin_b[i]"}
     taken = {"par", "n", "pose", "dpose", "ddpose", "F", "status", "i0",
-             "nb", "cos_a", "sin_a", "cos_b", "sin_b", "i", "k"}
+             "nb", "cos_a", "sin_a", "cos_b", "sin_b", "i", "k", "batch_loop"}
     lines = []
     for s in prog:
         assert str(s) not in taken, s
