@@ -1060,17 +1060,21 @@ int main(int argc, char **argv) {
   print_ratios(rat, nratio, batches);
   print_ratio_goals(rat, nratio);
   /* the verdict on the user's own controller with the plant's state,
-     after the ratio goals' lines */
+     after the ratio goals' lines: on the thread's CPU time, which a
+     shared machine does not inflate by descheduling the thread (a batch
+     of 2000 periods lasts milliseconds, a time slice); the wall time is
+     printed beside it */
   for (i = 0; i < ncase; i++)
     if (strstr(rows[i].name, "_user_plant_") != NULL)
       printf("goal: a user's computed torque offered the plant's state, "
              "%s, >= 1000x real time (<= %.0f ns a 1 ms period): median "
-             "%.1f ns = %.0fx real time (cpu %.1f ns = %.0fx): %s\n",
+             "cpu %.1f ns = %.0fx real time (wall %.1f ns = %.0fx): %s\n",
              strstr(rows[i].name, "_run_") ? "the helix as one run"
                                             : "a call every period",
-             TARGET_SIM_NS, rows[i].median_ns, 1e6 / rows[i].median_ns,
-             rows[i].cpu_median_ns, 1e6 / rows[i].cpu_median_ns,
-             rows[i].median_ns <= TARGET_SIM_NS ? "met" : "NOT met");
+             TARGET_SIM_NS, rows[i].cpu_median_ns,
+             1e6 / rows[i].cpu_median_ns, rows[i].median_ns,
+             1e6 / rows[i].median_ns,
+             rows[i].cpu_median_ns <= TARGET_SIM_NS ? "met" : "NOT met");
 
   snprintf(trajdoc, sizeof(trajdoc),
            "helix of Table II sampled at %.0f Hz (%d points), walked forward "
