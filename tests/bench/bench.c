@@ -849,9 +849,10 @@ int main(int argc, char **argv) {
        RPS3_THETA_CLOSED_FORM, 1, 0, BENCH_NONE, 0);
   CASE("anchor_generated_batch", "the generated code of anchor_generated "
        "in a loop over 1000 points a call as structures of arrays (time per "
-       "point; rps3_anchor_forces_batch): libm's sines and cosines a block "
-       "of 64 points, the rest a #pragma omp simd loop built with the batch "
-       "kernel's flags and target clones", K_ANCHOR_BATCH, SCENE_PAPER,
+       "point; rps3_anchor_forces_batch): the sines and cosines of a block "
+       "of 64 points (glibc's vector ones where libmvec links, else libm's), "
+       "then a #pragma omp simd loop, built with the batch kernel's flags "
+       "and target clones", K_ANCHOR_BATCH, SCENE_PAPER,
        RPS3_LAGRANGE, RPS3_THETA_CLOSED_FORM, 1, 0, BENCH_NONE, 0);
   CASE("batch_closed_lagrange_paper_nocert", "rps3_inverse_batch, 1000 "
        "points a call (time per point), closed-form theta, the paper's "
