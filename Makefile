@@ -319,18 +319,31 @@ check-slurm: all venv-check
 # Its anchor is C generated at build time by tests/bench/gen_anchor.py
 # (SymPy: the paper's model in pose coordinates, cse, ccode) into
 # $(B)/anchor/; anchor-check (run by check-py) holds it to the library.
+# The batched anchor (the same program in a loop over structures of arrays,
+# generated beside it) is compiled as the library's batch kernel is: its
+# flags and target clones, so that the compiler vectorises it alike.
+# With glibc's libmvec (when -lmvec links), its vector sin and cos too.
 ANCHOR = $(B)/anchor/anchor_gen.c
+ANCHOR_BATCH = $(B)/anchor/anchor_gen_batch.o
+ANCHOR_MVEC = $(shell printf 'int main(void) { return 0; }\n' | \
+  $(CC) -x c - -lmvec -o /dev/null 2>/dev/null && echo 1)
+ANCHOR_LIBS = $(if $(ANCHOR_MVEC),-lmvec) -lm
 $(ANCHOR): tests/bench/gen_anchor.py | $(VENV)/.check
 	$(VPY) tests/bench/gen_anchor.py -o $@
-$(B)/anchor-check: tests/bench/anchor_check.c $(ANCHOR) $(B)/librps3.a
+$(B)/anchor/anchor_gen_batch.c: $(ANCHOR) ;
+$(ANCHOR_BATCH): $(B)/anchor/anchor_gen_batch.c $(FLAGS_STAMP)
+	$(CC) $(CPPFLAGS_ALL) $(WARN) -O2 $(KERNEL_FLAGS) \
+	  $(if $(ANCHOR_MVEC),-DRPS3_ANCHOR_LIBMVEC -fno-builtin-sin -fno-builtin-cos) -c $< -o $@
+$(B)/anchor-check: tests/bench/anchor_check.c $(ANCHOR) $(ANCHOR_BATCH) $(B)/librps3.a
 	$(CC) $(CPPFLAGS_ALL) -I$(B)/anchor $(GSL_CFLAGS) $(WARN) -O2 $< $(ANCHOR) \
-	  -o $@ $(B)/librps3.a $(GSL_LIBS) -lm
+	  $(ANCHOR_BATCH) -o $@ $(B)/librps3.a $(GSL_LIBS) $(ANCHOR_LIBS)
 check-py: $(B)/anchor-check
 BENCH_SRC = tests/bench/bench.c tests/bench/bench_h5.c
-$(B)/rps3-bench: $(BENCH_SRC) $(wildcard tests/bench/*.h) $(ANCHOR) $(B)/librps3.a
+$(B)/rps3-bench: $(BENCH_SRC) $(wildcard tests/bench/*.h) $(ANCHOR) $(ANCHOR_BATCH) $(B)/librps3.a
 	@mkdir -p $(@D)
 	$(CC) $(CPPFLAGS_ALL) -I$(B)/anchor $(GSL_CFLAGS) $(HDF5_CFLAGS) $(WARN) -O2 \
-	  $(BENCH_SRC) $(ANCHOR) -o $@ $(B)/librps3.a $(HDF5_LIBS) $(GSL_LIBS) -lm
+	  $(BENCH_SRC) $(ANCHOR) $(ANCHOR_BATCH) -o $@ $(B)/librps3.a $(HDF5_LIBS) $(GSL_LIBS) \
+	  $(ANCHOR_LIBS)
 # rps3-mujoco-bench (tests/bench/mujoco_bench.c): MuJoCo's mj_inverse on the
 # same states, from the C library of the pinned `mujoco` wheel in .venv
 MUJOCO_DIR = $(shell $(VPY) -c 'import mujoco, os; print(os.path.dirname(mujoco.__file__))' 2>/dev/null)
@@ -368,7 +381,8 @@ bench-design: runner venv
 # ---------------------------------------------------------------- mutation
 # which test kills which hand-made mutation of src/ (tests/mutation.py, in a
 # temporary copy of the tree): writes docs/mutations.md, exits 1 when a
-# mutation survives.  About a minute per mutation; not part of `check`.
+# mutation survives.  Each mutation's tests run until the first kill, the
+# one docs/mutations.md names first; not part of `check`.
 mutation: venv-check
 	nice $(VPY) tests/mutation.py -o docs/mutations.md
 

@@ -1,17 +1,29 @@
 """Which tests kill which mutation of the library: proof that the oracles
 can fail.
 
-    .venv/bin/python tests/mutation.py [-o docs/mutations.md] [NAME ...]
+    .venv/bin/python tests/mutation.py [-o docs/mutations.md] [--all] [NAME ...]
     make mutation          # the same, writes docs/mutations.md
 
 Each mutation below is a one-line change to src/ that a wrong model, a
-wrong derivation or a typo could make.  The tracked tree is copied into a
-temporary directory (never this one: the worktree's files are only read),
-built once, and checked to pass; then each mutation in turn is written into
-the copy, the library, runner and tests are rebuilt, and every test of the
-suite below runs; the copy's file is restored before the next one.  A test
-that fails (or does not finish) kills the mutation.  Every mutation must be
-killed: the script exits 1 when one survives.
+wrong derivation or a typo could make.  Every entry's original text must
+occur exactly once in its file (checked for all of them before anything is
+built).  The tracked tree is copied into a temporary directory (never this
+one: the worktree's files are only read), built once, and the whole suite
+is checked to pass there, timing each test; then each mutation in turn is
+written into the copy and its tests run until the first one fails (or does
+not finish): that test kills the mutation, and the copy's file is restored
+before the next one.  Only what a test needs is rebuilt before it runs
+(make's dependencies: the library objects the change reaches, then that
+test program, or the library, runner and anchor before pytest).  Every
+mutation must be killed: the script exits 1 when one survives.  A survivor
+has run the whole suite, so stopping at the first kill weakens nothing.
+
+The order of the tests: the ones that killed the mutation in the last
+run (read from the page this run writes, -o, when it exists) first, C
+test programs before pytest, then every other C test program, then the
+pytest files; within each group the fastest of the unmutated run first.
+--all runs every test on every mutation (the full matrix of which tests
+kill what; several times slower).
 
 The suite: every C test program (tests/test_*.c), and the pytest files that
 compare the library with truths it did not compute: the SymPy and MuJoCo
@@ -22,11 +34,12 @@ oracles (test_oracles.py, test_sim_mujoco.py), the generated anchor
 out: the package links the library statically into .venv, which the copy
 shares, so they would test the unmutated library.
 
-About 1 minute per mutation on one core; not part of `make check`.
+Not part of `make check`.
 """
 
 import argparse
 import os
+import re
 import shutil
 import subprocess
 import sys
@@ -415,38 +428,163 @@ def c_tests(tree):
                   if f.startswith("test_") and f.endswith(".c"))
 
 
-def build(tree):
-    bins = [f"build/tests/{t}" for t in c_tests(tree)]
-    b = sh(["make", "-s", "-j2", "lib", "runner", "study-bin",
-            "build/anchor-check"] + bins, tree)
+# what the pytest files run: the runner, rps3-study, build/anchor-check,
+# and the oracles' shims link build/librps3.so
+PY_TARGETS = ["lib", "runner", "study-bin", "build/anchor-check"]
+
+
+def make(tree, targets):
+    """Bring targets up to date in the copy; (ok, the end of stderr)."""
+    b = sh(["make", "-s", "-j2"] + list(targets), tree)
     return b.returncode == 0, b.stderr[-2000:]
 
 
-def run_suite(tree):
-    """The names of the tests that fail in the tree as it is."""
-    killed = []
-    for t in c_tests(tree):
-        p = sh([f"build/tests/{t}"], tree, C_TIMEOUT)
-        if p is None or p.returncode != 0:
-            killed.append(t + (" (timeout)" if p is None else ""))
+def check_originals(tree, muts):
+    """Every mutation's original text occurs exactly once in its file."""
+    bad = []
+    for name, path, old, _new, _what in muts:
+        f = os.path.join(tree, path)
+        n = open(f).read().count(old) if os.path.isfile(f) else 0
+        if n != 1:
+            bad.append(f"{name}: the original text occurs {n} times in {path}")
+    return bad
+
+
+def py_id(case):
+    """A junit testcase as (label file::name, pytest node id), parameters
+    dropped: the label is what the page shows, the node runs the test with
+    all its parameters."""
+    parts = case.get("classname", "").split(".")
+    mods = [i for i, x in enumerate(parts) if x.startswith("test_")]
+    i = mods[0] if mods else len(parts) - 1
+    name = case.get("name").split("[")[0]
+    rest = "::".join(parts[i + 1:] + [name])
+    return f"{parts[i]}::{rest}", f"tests/{parts[i]}.py::{rest}"
+
+
+def run_c(tree, t, times=None):
+    """Run one C test program (built first); a failure's label or None."""
+    ok, _ = make(tree, [f"build/tests/{t}"])
+    if not ok:
+        return "the build (-Werror)"
+    t0 = time.monotonic()
+    p = sh([f"build/tests/{t}"], tree, C_TIMEOUT)
+    if times is not None:
+        times[t] = time.monotonic() - t0
+    if p is None:
+        return t + " (timeout)"
+    return t if p.returncode != 0 else None
+
+
+def run_pytest(tree, args, stop, times=None, nodes=None):
+    """Run pytest on files or node ids; the labels of the failed tests.
+    stop: stop at the first failure (-x); times and nodes, when given,
+    collect each file's time and the node ids that ran."""
     xml = os.path.join(tree, "junit.xml")
     if os.path.exists(xml):
         os.remove(xml)
-    p = sh([VPY, "-m", "pytest", "-q", "-p", "no:cacheprovider",
-            "-k", PYTEST_DESELECT, f"--junitxml={xml}"] + PYTESTS, tree,
+    p = sh([VPY, "-m", "pytest", "-q", "-p", "no:cacheprovider"]
+           + (["-x"] if stop else []) +
+           ["-k", PYTEST_DESELECT, f"--junitxml={xml}"] + list(args), tree,
            PY_TIMEOUT)
     if p is None or not os.path.exists(xml):
-        return killed + ["pytest (timeout or crash)"]
-    seen = set()
+        return ["pytest (timeout or crash)"]
+    failed = []
     for case in ET.parse(xml).getroot().iter("testcase"):
+        label, node = py_id(case)
+        if nodes is not None:
+            nodes.add(node)
+        if times is not None:
+            f = label.split("::")[0]
+            times[f] = times.get(f, 0.0) + float(case.get("time", 0))
         if case.find("failure") is None and case.find("error") is None:
             continue
-        mod = case.get("classname", "").split(".")[-1]
-        name = f"{mod}::{case.get('name').split('[')[0]}"
-        if name not in seen:
-            seen.add(name)
-            killed.append(name)
+        if label not in failed:
+            failed.append(label)
+    if p.returncode not in (0, 1, 5) and not failed:
+        failed.append(f"pytest (exit {p.returncode})")
+    return failed
+
+
+def previous_kills(page):
+    """{mutation name: [tests]} from the tables of a page this script
+    wrote (a missing page: none)."""
+    kills = {}
+    if not page or not os.path.exists(page):
+        return kills
+    for line in open(page):
+        cells = line.split("|")
+        if len(cells) < 5 or ":" not in cells[1]:
+            continue
+        name = cells[1].strip().split(":")[0]
+        tests = [t.replace(" (timeout)", "")
+                 for t in re.findall(r"`([^`]+)`", cells[3])]
+        kills[name] = [t for t in tests if t.startswith("test_")]
+    return kills
+
+
+def order(ctests, pyfiles, previous, times, nodes):
+    """The plan of one mutation: ("c", program) and ("py", [args])
+    steps, the previous killers first (C before pytest), then every other
+    C program, then the pytest files; the fastest first in each group.
+    A previous pytest killer runs first only if it is among the nodes that
+    ran in the unmutated copy (a renamed test is not an error)."""
+    fast = lambda x: times.get(x, 0.0)  # noqa: E731
+    prev_c = sorted((t for t in previous if t in ctests), key=fast)
+    prev_py = []
+    for t in previous:
+        mod, _, rest = t.partition("::")
+        node = f"tests/{mod}.py::{rest}"
+        if f"tests/{mod}.py" in pyfiles and node in nodes:
+            prev_py.append(node)
+    plan = [("c", t) for t in prev_c]
+    if prev_py:
+        plan.append(("py", prev_py))
+    plan += [("c", t) for t in sorted(ctests, key=fast) if t not in prev_c]
+    files = sorted(pyfiles, key=lambda f: fast(os.path.basename(f)[:-3]))
+    plan.append(("py", files))
+    return plan
+
+
+def run_plan(tree, plan, stop):
+    """The labels of the tests of the plan that fail in the tree as it is,
+    up to the first one when stop.  The library is built first: a change
+    that does not compile is killed by the build."""
+    ok, _ = make(tree, ["build/librps3.a"])
+    if not ok:
+        return ["the build (-Werror)"]
+    killed, built_py = [], False
+    for kind, what in plan:
+        if kind == "c":
+            k = run_c(tree, what)
+            if k:
+                killed.append(k)
+        else:
+            if not built_py:
+                ok, _ = make(tree, PY_TARGETS)
+                if not ok:
+                    return killed + ["the build (-Werror)"]
+                built_py = True
+            killed += [k for k in run_pytest(tree, what, stop)
+                       if k not in killed]
+        if killed and stop:
+            break
     return killed
+
+
+def baseline(tree, ctests):
+    """Build everything, run every test of the unmutated copy; the failed
+    tests, each test's time (s) and the pytest node ids."""
+    ok, err = make(tree, PY_TARGETS + [f"build/tests/{t}" for t in ctests])
+    if not ok:
+        sys.exit(f"the unmutated tree does not build:\n{err}")
+    times, failed, nodes = {}, [], set()
+    for t in ctests:
+        k = run_c(tree, t, times)
+        if k:
+            failed.append(k)
+    failed += run_pytest(tree, PYTESTS, False, times, nodes)
+    return failed, times, nodes
 
 
 def where(tree, path, old):
@@ -454,7 +592,7 @@ def where(tree, path, old):
     return f"{path}:{text[:text.index(old)].count(chr(10)) + 1}"
 
 
-def table(rows, elapsed):
+def table(rows, elapsed, stop):
     out = ["| mutation | where | killed by | survived? |", "|---|---|---|---|"]
     for name, what, loc, killed in rows:
         cell = ", ".join(f"`{k}`" for k in killed) if killed else "nothing"
@@ -463,36 +601,48 @@ def table(rows, elapsed):
     n = sum(1 for r in rows if r[3])
     out.append("")
     out.append(f"{n} of {len(rows)} mutations killed "
-               f"({elapsed / 60:.0f} min).")
+               f"({elapsed / 60:.0f} min"
+               f"{', stopping at the first kill' if stop else ', every test'}"
+               ").")
     return "\n".join(out) + "\n"
 
 
 HEADER = """# Mutations: which test kills which wrong model
 
-`make mutation` (tests/mutation.py, about a minute per mutation; not part
-of `make check`) copies the tracked tree into a temporary directory, writes
-one hand-made mutation of `src/` at a time into the copy, rebuilds, and runs
-every C test program and the pytest files that compare the library with
-truths it did not compute (SymPy, MuJoCo, the generated anchor, the
-paper's tables, the golden file, the accuracy study's long-double
-reference).  Each row names the tests that failed on that mutation; every
-mutation must be killed (the script exits 1 when one survives).  Tests
-named `test_x` are the C programs `tests/test_x.c`; `file::test` are
-pytest tests.  The table below is the output of the last run.
+`make mutation` (tests/mutation.py; not part of `make check`) copies the
+tracked tree into a temporary directory, checks that every test passes
+there, then writes one hand-made mutation of `src/` at a time into the
+copy and runs the tests until one fails: every C test program and the
+pytest files that compare the library with truths it did not compute
+(SymPy, MuJoCo, the generated anchor, the paper's tables, the golden file,
+the accuracy study's long-double reference).  Each row names the test that
+killed the mutation: the first to fail, in an order that puts the test
+named here by the last run first, then the C test programs, then pytest
+(only what a test needs is rebuilt before it runs).  A mutation that no
+test kills has run the whole suite; every mutation must be killed (the
+script exits 1 when one survives).  Tests named `test_x` are the C
+programs `tests/test_x.c`; `file::test` are pytest tests.  The table below
+is the output of the last run.
 
-What to read in it: a mutation caught only by oracles that read the
-model's inputs (`test_study_ref`, `test_oracles`, `test_anchor`,
-`test_trans`, `test_jacobian`) is one the library's own identities cannot
-see: the energy balance holds for any link inertia, Lagrange and
-Newton-Euler read the same derived fields, and a Newton solve converges
-with a Jacobian 0.1 % off.
+One test per row says that the mutation is caught, not by what alone:
+`tests/mutation.py --all` runs every test on every mutation and names them
+all.  A mutation caught only by oracles that read the model's inputs
+(`test_study_ref`, `test_oracles`, `test_anchor`, `test_trans`,
+`test_jacobian`) is one the library's own identities cannot see: the
+energy balance holds for any link inertia, Lagrange and Newton-Euler read
+the same derived fields, and a Newton solve converges with a Jacobian
+0.1 % off.
 
 """
 
 
 def main():
     ap = argparse.ArgumentParser(description=__doc__.split("\n")[0])
-    ap.add_argument("-o", "--output", help="write the markdown page here")
+    ap.add_argument("-o", "--output", help="write the markdown page here; "
+                    "the tests it names run first")
+    ap.add_argument("--all", action="store_true",
+                    help="run every test on every mutation, not only up to "
+                    "the first that kills it")
     ap.add_argument("-k", "--keep", action="store_true",
                     help="keep the temporary copy (its path is printed)")
     ap.add_argument("names", nargs="*", help="mutations to run (default all)")
@@ -500,16 +650,19 @@ def main():
     unknown = set(a.names) - {m[0] for m in MUTATIONS}
     if unknown:
         sys.exit(f"unknown mutations: {', '.join(sorted(unknown))}")
+    bad = check_originals(ROOT, MUTATIONS)
+    if bad:
+        sys.exit("\n".join(bad))
     muts = [m for m in MUTATIONS if not a.names or m[0] in a.names]
+    previous = previous_kills(a.output)
+    stop = not a.all
     t0 = time.monotonic()
     tree = tempfile.mkdtemp(prefix="rps3-mutation-")
     rows = []
     try:
         copy_tree(tree)
-        ok, err = build(tree)
-        if not ok:
-            sys.exit(f"the unmutated tree does not build:\n{err}")
-        base = run_suite(tree)
+        ctests = c_tests(tree)
+        base, times, nodes = baseline(tree, ctests)
         if base:
             sys.exit(f"the unmutated tree fails: {', '.join(base)}")
         print(f"unmutated tree passes ({time.monotonic() - t0:.0f} s)",
@@ -520,24 +673,27 @@ def main():
             if src.count(old) != 1:
                 sys.exit(f"{name}: the original text is not in {path} once")
             loc = where(tree, path, old)
+            plan = order(ctests, PYTESTS,
+                         previous.get(name, []) if stop else [], times,
+                         nodes)
+            t1 = time.monotonic()
             with open(p, "w") as fh:
                 fh.write(src.replace(old, new))
             try:
-                ok, err = build(tree)
-                killed = run_suite(tree) if ok else ["the build (-Werror)"]
+                killed = run_plan(tree, plan, stop)
             finally:
                 with open(p, "w") as fh:
                     fh.write(src)
             rows.append((name, what, loc, killed))
             print(f"{name} ({loc}): "
-                  f"{', '.join(killed) if killed else 'SURVIVES'}",
-                  flush=True)
+                  f"{', '.join(killed) if killed else 'SURVIVES'} "
+                  f"({time.monotonic() - t1:.0f} s)", flush=True)
     finally:
         if a.keep:
             print(f"kept {tree}")
         else:
             shutil.rmtree(tree, ignore_errors=True)
-    page = table(rows, time.monotonic() - t0)
+    page = table(rows, time.monotonic() - t0, stop)
     if a.output:
         with open(a.output, "w") as fh:
             fh.write(HEADER + page)

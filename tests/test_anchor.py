@@ -5,7 +5,7 @@ compares the forces of the C that tests/bench/gen_anchor.py generates with
 SymPy -- the paper's model written in the pose coordinates by virtual
 power and solved through (dl/dq)^T F = Q, no multipliers -- with
 rps3_inverse's (the multipliers of (23), (34)) on the paper's helix and
-20000 random states.
+20000 random states, and the batched anchor with the scalar one.
 Both derivations are exact: they must agree to rounding, 1e-13 of the sum
 of the effects' magnitudes (measured 1.7e-14).  The generator's own checks
 before it writes must fail on a wrong program.
@@ -29,6 +29,20 @@ def test_generated_anchor_matches_library():
     assert res.returncode == 0, res.stdout + res.stderr
     assert "PASS" in res.stdout
     assert "21001 states" in res.stdout
+
+
+def test_batched_anchor_matches_scalar():
+    """The batched anchor (the generated assignments in a vectorised loop
+    over structures of arrays, compiled with the batch kernel's flags; the
+    benchmark's anchor_generated_batch) gives the scalar anchor's forces
+    and statuses on the same 21001 states in one call."""
+    assert os.path.exists(CHECK), "build it first: make build/anchor-check"
+    res = subprocess.run([CHECK, "1e-13"], capture_output=True, text=True,
+                         timeout=120)
+    line = [x for x in res.stdout.splitlines() if "batched anchor" in x]
+    assert len(line) == 1, res.stdout + res.stderr
+    assert "21001 states in one call" in line[0]
+    assert line[0].endswith("PASS"), line[0]
 
 
 def _generator():
