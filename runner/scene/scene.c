@@ -24,8 +24,8 @@
 
 /* ------------------------------------------------------------- key table */
 
-/* the library's rows (RPS3_FIELDS), with the offset of each value in
-   scene_values */
+/* the library's rows (RPS3_FIELDS, RPS3_DESIGN_FIELDS) relocated into
+   scene_values; a design field is of every trajectory kind */
 #define OFF_RPS3_IN_MODEL(MEMBER) offsetof(scene_values, model.MEMBER)
 #define OFF_RPS3_IN_TRAJ(MEMBER) offsetof(scene_values, traj.MEMBER)
 #define OFF_RPS3_IN_HELIX OFF_RPS3_IN_TRAJ
@@ -36,38 +36,6 @@
 #define LIB_ROW(ID, IN, MEMBER, N, IS_INT, LO, LO_OPEN, HI, UNIT, NAME) \
   {NAME, IN, OFF_##IN(MEMBER), N, IS_INT, LO, LO_OPEN, HI, UNIT},
 static const rps3_field_info lib_fields[RPS3_NFIELD] = {RPS3_FIELDS(LIB_ROW)};
-#undef LIB_ROW
-
-/* the rows of the OWN, SIM and DSEC keys, shaped like the library's (a LIB
-   or DES key's entry is unused); FIELD_SRC(PATH, ...) turns a key's FIELD
-   into the row */
-#define FIELD_LIB(PATH, ID) \
-  { NULL, 0, 0, 0, 0, 0, 0, 0, NULL }
-#define FIELD_OWN(PATH, MEMBER, IN, IS_INT, LO, LO_OPEN, HI, UNIT, FILLS) \
-  { PATH, IN, offsetof(scene_values, MEMBER), 1, IS_INT, LO, LO_OPEN, HI, UNIT }
-#define FIELD_SIM(PATH, MEMBER, IS_INT, LO, LO_OPEN, HI, UNIT, DEF, DEFTEXT) \
-  FIELD_OWN(PATH, MEMBER, RPS3_IN_MODEL, IS_INT, LO, LO_OPEN, HI, UNIT, -1)
-#define FIELD_DES FIELD_LIB
-#define FIELD_DSEC(PATH, MEMBER, N, IS_INT, LO, LO_OPEN, HI, UNIT)      \
-  {                                                                     \
-    PATH, RPS3_IN_MODEL, offsetof(scene_values, MEMBER), N, IS_INT, LO, \
-        LO_OPEN, HI, UNIT                                               \
-  }
-#define APPLY(M, ...) M(__VA_ARGS__)
-#define ARGS(...) __VA_ARGS__
-#define UNPACK_LIB(FIELD) FIELD
-#define UNPACK_OWN(FIELD) ARGS FIELD
-#define UNPACK_SIM(FIELD) ARGS FIELD
-#define UNPACK_DES(FIELD) FIELD
-#define UNPACK_DSEC(FIELD) ARGS FIELD
-#define FIELD_ROW(ID, PATH, TYPE, SRC, FIELD, REQ, SYM, DOC) \
-  APPLY(FIELD_##SRC, PATH, UNPACK_##SRC(FIELD)),
-static const rps3_field_info key_fields[SCENE_NKEY] = {SCENE_KEYS(FIELD_ROW)};
-#undef FIELD_ROW
-
-/* the design keys' rows (SRC_DES): the library's rows of rps3_design
-   (RPS3_DESIGN_FIELDS), placed in scene_values.design; a design field is of
-   every trajectory kind */
 #define DES_ROW(ID, MEMBER, LO, LO_OPEN, HI, UNIT, NAME) \
   {NAME,                                                 \
    RPS3_IN_MODEL,                                        \
@@ -80,22 +48,40 @@ static const rps3_field_info key_fields[SCENE_NKEY] = {SCENE_KEYS(FIELD_ROW)};
    UNIT},
 static const rps3_field_info design_fields[RPS3_NDESIGN_FIELD] = {
     RPS3_DESIGN_FIELDS(DES_ROW)};
-#undef DES_ROW
 
-/* the key rows: the field's row, what it fills, the default */
-#define INFO_LIB(K, ID) &lib_fields[ID], ID, 0, NULL
-#define INFO_OWN(K, MEMBER, IN, IS_INT, LO, LO_OPEN, HI, UNIT, FILLS) \
-  &key_fields[K], FILLS, 0, NULL
-#define INFO_SIM(K, MEMBER, IS_INT, LO, LO_OPEN, HI, UNIT, DEF, DEFTEXT) \
-  &key_fields[K], -1, DEF, DEFTEXT
-#define INFO_DES(K, ID) &design_fields[ID], -1, 0, NULL
-#define INFO_DSEC(K, MEMBER, N, IS_INT, LO, LO_OPEN, HI, UNIT) \
-  &key_fields[K], -1, 0, NULL
-#define KEY_ROW(ID, PATH, TYPE, SRC, FIELD, REQ, SYM, DOC)            \
-  {PATH, TYPE, SRC_##SRC, APPLY(INFO_##SRC, ID, UNPACK_##SRC(FIELD)), \
-   REQ,  SYM,  DOC},
+/* each SRC's FIELD as the tail of a scene_key_info: f, fills, dfield, def,
+   deftext, and the own row (MEMBER, IN, LO, LO_OPEN, HI, UNIT) */
+#define ROW_OWN(K, T, M, IN, LO, LO_OPEN, HI, UNIT, FILLS, DEF, DEFTEXT)      \
+  &scene_keys[K].own, FILLS, -1, DEF, DEFTEXT, {                              \
+#M, IN, offsetof(scene_values, M), 1, T != KEY_REAL &&T != KEY_REAL3, LO, \
+        LO_OPEN, HI, UNIT                                                     \
+  }
+#define INFO_LIB(K, T, ID) \
+  &lib_fields[ID], ID, -1, 0, NULL, { NULL, 0, 0, 0, 0, 0, 0, 0, NULL }
+#define INFO_DES(K, T, ID) \
+  &design_fields[ID], -1, ID, 0, NULL, { NULL, 0, 0, 0, 0, 0, 0, 0, NULL }
+#define INFO_OWN(K, T, M, IN, LO, LO_OPEN, HI, UNIT, FILLS) \
+  ROW_OWN(K, T, M, IN, LO, LO_OPEN, HI, UNIT, FILLS, 0, NULL)
+#define INFO_SIM(K, T, M, LO, LO_OPEN, HI, UNIT, DEF, DEFTEXT) \
+  ROW_OWN(K, T, M, RPS3_IN_MODEL, LO, LO_OPEN, HI, UNIT, -1, DEF, DEFTEXT)
+#define INFO_DSEC(K, T, M, LO, LO_OPEN, HI, UNIT) \
+  ROW_OWN(K, T, M, RPS3_IN_MODEL, LO, LO_OPEN, HI, UNIT, -1, 0, NULL)
+#define APPLY(M, ...) M(__VA_ARGS__)
+#define ARGS(...) __VA_ARGS__
+#define UNPACK_LIB(FIELD) FIELD
+#define UNPACK_DES(FIELD) FIELD
+#define UNPACK_OWN(FIELD) ARGS FIELD
+#define UNPACK_SIM(FIELD) ARGS FIELD
+#define UNPACK_DSEC(FIELD) ARGS FIELD
+#define KEY_ROW(ID, PATH, TYPE, SRC, FIELD, REQ, SYM, DOC) \
+  {PATH,                                                   \
+   TYPE,                                                   \
+   SRC_##SRC,                                              \
+   REQ,                                                    \
+   SYM,                                                    \
+   DOC,                                                    \
+   APPLY(INFO_##SRC, ID, TYPE, UNPACK_##SRC(FIELD))},
 const scene_key_info scene_keys[SCENE_NKEY] = {SCENE_KEYS(KEY_ROW)};
-#undef KEY_ROW
 
 /* the path shapes (bits 1 << rps3_path_shape) that use key k, for the
    keys marked REQ_SHAPE; 0 for any other key */
@@ -254,14 +240,8 @@ void scene_values_default(scene_values *v) {
       *scene_int_at(v, k) = (int)scene_keys[k].def;
     else if (scene_keys[k].src == SRC_SIM) /* a list: 0, the rest too */
       *scene_real_at(v, k) = scene_keys[k].def;
-  {
-    rps3_design_opts o;
-    rps3_design_opts_default(&o);
-    rps3_design_default(&v->design);
-    v->des.good_lti = o.lti_good;
-    v->des.length = o.length;
-    v->des.cond_sing = o.cond_sing;
-  }
+  rps3_design_opts_default(&v->des.opts);
+  rps3_design_default(&v->design);
   rps3_model_default(&v->model);
   rps3_traj_default(&v->traj);
   v->own.m_over_M = v->model.M > 0 ? v->model.m / v->model.M : 0;

@@ -2,8 +2,8 @@
  * scene_guard.c - see scene_guard.h.
  */
 #include "scene_guard.h"
-#include "scene_int.h"
 #include "core/safeio.h"
+#include "scene_int.h"
 
 #include <stdio.h>
 #include <string.h>

@@ -10,7 +10,7 @@
 
 #include <stddef.h>
 
-#include "mark.h"
+#include "scene.h"
 
 /* the largest scene file: the configs are a few kB, a scene with long
    sweep lists a few hundred */

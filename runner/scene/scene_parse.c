@@ -399,8 +399,8 @@ static int parse_value(parse_ctx *c, int k, const yaml_node_t *n,
                       : rps3_effect_index(scene_scalar_text(item)))
               : -1;
       if (e < 0) {
-        const char *cand[RPS3_NEFFECT > RPS3_NOUTPUT ? RPS3_NEFFECT
-                                                     : RPS3_NOUTPUT];
+        const char
+            *cand[RPS3_NEFFECT > RPS3_NOUTPUT ? RPS3_NEFFECT : RPS3_NOUTPUT];
         char hint[160] = "";
         int j;
         for (j = 0; j < nname; j++) cand[j] = name_of(j);

@@ -235,9 +235,8 @@ static int sweep_key(parse_ctx *c, scene_axis *ax, const char *name,
     return -1;
   }
   if (ki->type == KEY_EFFECTS || ki->type == KEY_OUTPUTS ||
-      ki->type == KEY_TIMES ||
-      ki->type == KEY_POSES || ki->type == KEY_FILE || ax->key == K_KIND ||
-      ax->key == K_PATH_SHAPE) {
+      ki->type == KEY_TIMES || ki->type == KEY_POSES || ki->type == KEY_FILE ||
+      ax->key == K_KIND || ax->key == K_PATH_SHAPE) {
     scene_error_set(c->err, km, name,
                     "cannot be swept (it decides what a case computes); write "
                     "one scene per value");

@@ -233,8 +233,8 @@ int table_regular_file(const char *path, char *err, size_t errsz) {
     table_err(err, errsz, "%s: is %s: %s", path, file_kind(st.st_mode),
               kind_rule);
   else if ((double)st.st_size > TABLE_MAX_BYTES)
-    table_err(err, errsz, "%s: is %lld bytes: %s", path,
-              (long long)st.st_size, kind_rule);
+    table_err(err, errsz, "%s: is %lld bytes: %s", path, (long long)st.st_size,
+              kind_rule);
   else
     return 0;
   return -1;

@@ -91,8 +91,8 @@ static void h5_units(hid_t d, char *buf, size_t sz) {
 /* "FILE: dataset /NAME: cannot WHAT: CAUSE" for the HDF5 call that just
    failed (printing is off while a table is read; h5err.h), the cause a
    plain sentence when HDF5 recorded none; NAME NULL for the file itself */
-static void h5_fail(char *err, size_t errsz, const char *path,
-                    const char *name, const char *what) {
+static void h5_fail(char *err, size_t errsz, const char *path, const char *name,
+                    const char *what) {
   char why[400];
   h5_cause(why, sizeof why);
   table_err(err, errsz, "%s: %s%s%scannot %s: %s", path,
