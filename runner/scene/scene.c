@@ -123,7 +123,7 @@ int scene_key_find(const char *path) {
   return -1;
 }
 
-/* ---------------------------------------------------------- enum names */
+/* ------------------------------------------- names of enums and lists */
 
 static const char *const kind_names[] = {NULL,        "helix", "sine",
                                          "waypoints", "path",  "table"};
@@ -131,35 +131,38 @@ static const char *const shape_names[] = {"line", "circle", "helix", "table"};
 static const char *const theta_names[] = {"closed_form", "multiroot"};
 static const char *const method_names[] = {"lagrange", "newton_euler"};
 
+/* the values of key k that have names: [*lo, *hi] (an enum: the library's
+   range of the field; a list: its bits) */
+static void name_range(int k, int *lo, int *hi) {
+  *lo = scene_keys[k].type == KEY_ENUM ? (int)scene_keys[k].f->lo : 0;
+  *hi = scene_keys[k].type == KEY_EFFECTS   ? RPS3_NEFFECT - 1
+        : scene_keys[k].type == KEY_OUTPUTS ? RPS3_NOUTPUT - 1
+                                            : (int)scene_keys[k].f->hi;
+}
+
 const char *scene_enum_name(int k, int value) {
+  int lo, hi;
+  name_range(k, &lo, &hi);
+  if (value < lo || value > hi) return NULL;
+  if (scene_keys[k].type == KEY_EFFECTS) return rps3_effect_name(value);
+  if (scene_keys[k].type == KEY_OUTPUTS) return rps3_output_name(value);
   switch (k) {
-  case K_KIND:
-    return (value >= RPS3_TRAJ_HELIX && value <= RPS3_TRAJ_TABLE)
-               ? kind_names[value]
-               : NULL;
-  case K_THETA: return (value == 0 || value == 1) ? theta_names[value] : NULL;
-  case K_METHOD: return (value == 0 || value == 1) ? method_names[value] : NULL;
+  case K_KIND: return kind_names[value];
+  case K_THETA: return theta_names[value];
+  case K_METHOD: return method_names[value];
   case K_SOLVER: return rps3_solver_name(value);
   case K_WP_LAW:
   case K_PATH_LAW: return rps3_time_law_name(value);
-  case K_PATH_SHAPE:
-    return (value >= 0 && value <= RPS3_PATH_TABLE) ? shape_names[value] : NULL;
+  case K_PATH_SHAPE: return shape_names[value];
   case K_SIM_CONTROLLER: return rps3_ctrl_name(value);
   case K_SIM_INTEGRATOR: return rps3_integrator_name(value);
   default: return NULL;
   }
 }
 
-/* range of enum values of key k: [*lo, *hi] */
-static void enum_range(int k, int *lo, int *hi) {
-  /* the library's range of the field */
-  *lo = (int)scene_keys[k].f->lo;
-  *hi = (int)scene_keys[k].f->hi;
-}
-
 int scene_enum_find(int k, const char *name) {
   int v, lo, hi;
-  enum_range(k, &lo, &hi);
+  name_range(k, &lo, &hi);
   for (v = lo; v <= hi; v++) {
     const char *n = scene_enum_name(k, v);
     if (n && strcmp(n, name) == 0) return v;
@@ -167,34 +170,25 @@ int scene_enum_find(int k, const char *name) {
   return -1;
 }
 
-/* "a, b or c" list of the names of key k into buf */
 void scene_enum_list(int k, char *buf, size_t sz) {
   int v, lo, hi;
   size_t len = 0;
-  enum_range(k, &lo, &hi);
+  const char *last = scene_keys[k].type == KEY_ENUM ? " or " : ", ";
+  name_range(k, &lo, &hi);
   buf[0] = '\0';
   for (v = lo; v <= hi && len < sz; v++)
     len += (size_t)snprintf(buf + len, sz - len, "%s%s",
-                            v == lo ? "" : (v == hi ? " or " : ", "),
+                            v == lo ? "" : (v == hi ? last : ", "),
                             scene_enum_name(k, v));
 }
 
-void scene_effect_list(char *buf, size_t sz) {
-  int e;
-  size_t len = 0;
-  buf[0] = '\0';
-  for (e = 0; e < RPS3_NEFFECT && len < sz; e++)
-    len += (size_t)snprintf(buf + len, sz - len, "%s%s", e ? ", " : "",
-                            rps3_effect_name(e));
-}
-
-void scene_output_list(char *buf, size_t sz) {
-  int e;
-  size_t len = 0;
-  buf[0] = '\0';
-  for (e = 0; e < RPS3_NOUTPUT && len < sz; e++)
-    len += (size_t)snprintf(buf + len, sz - len, "%s%s", e ? ", " : "",
-                            rps3_output_name(e));
+void scene_enum_hint(char *buf, size_t sz, int k, const char *word) {
+  const char *cand[64];
+  int v, lo, hi;
+  size_t n = 0;
+  name_range(k, &lo, &hi);
+  for (v = lo; v <= hi && n < 64; v++) cand[n++] = scene_enum_name(k, v);
+  hint_text(buf, sz, word, cand, n);
 }
 
 /* -------------------------------------------------------------- values */
@@ -246,16 +240,6 @@ void scene_values_default(scene_values *v) {
   rps3_traj_default(&v->traj);
   v->own.m_over_M = v->model.M > 0 ? v->model.m / v->model.M : 0;
   v->own.blend_ratio = v->traj.helix.blend / v->traj.helix.period;
-}
-
-/* " (did you mean ...?)" for an enum value of key k */
-void scene_enum_hint(char *buf, size_t sz, int k, const char *word) {
-  const char *cand[64];
-  int v, lo, hi;
-  size_t n = 0;
-  enum_range(k, &lo, &hi);
-  for (v = lo; v <= hi && n < 64; v++) cand[n++] = scene_enum_name(k, v);
-  hint_text(buf, sz, word, cand, n);
 }
 
 /* ---------------------------------------------------------------- errors */

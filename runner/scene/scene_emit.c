@@ -105,16 +105,11 @@ static int emit_value(yaml_emitter_t *em, int k, const scene_values *v) {
   case KEY_ENUM:
     return emit_scalar(em, scene_enum_name(k, *scene_int_at(w, k)));
   case KEY_EFFECTS:
-    ok = emit_open(em, 1, 1);
-    for (i = 0; i < RPS3_NEFFECT && ok; i++)
-      if (*scene_int_at(w, k) & (1 << i))
-        ok = emit_scalar(em, rps3_effect_name(i));
-    return ok && emit_close(em, 1);
   case KEY_OUTPUTS:
     ok = emit_open(em, 1, 1);
-    for (i = 0; i < RPS3_NOUTPUT && ok; i++)
+    for (i = 0; scene_enum_name(k, i) && ok; i++)
       if (*scene_int_at(w, k) & (1 << i))
-        ok = emit_scalar(em, rps3_output_name(i));
+        ok = emit_scalar(em, scene_enum_name(k, i));
     return ok && emit_close(em, 1);
   case KEY_TIMES: return emit_reals(em, v->traj.wp.time, v->traj.wp.n);
   case KEY_POSES:

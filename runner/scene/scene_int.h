@@ -31,16 +31,14 @@ typedef struct {
 /* the rows of SCENE_KEYS with their field's row */
 extern const scene_key_info scene_keys[SCENE_NKEY];
 
-/* the enum value of key k named name, or -1 */
+/* the value of enum or name list key k named name, or -1 */
 int scene_enum_find(int k, const char *name);
 
-/* " (did you mean ...?)" for an enum value of key k */
+/* " (did you mean ...?)" for a value of key k */
 void scene_enum_hint(char *buf, size_t sz, int k, const char *word);
 
-/* "a, b, c": the effect names */
-void scene_effect_list(char *buf, size_t sz);
-/* the same for the output names (rps3_output_name) */
-void scene_output_list(char *buf, size_t sz);
+/* "a, b or c" (a list key: "a, b, c"): the names of key k into buf */
+void scene_enum_list(int k, char *buf, size_t sz);
 
 /* set key k (component comp of a KEY_REAL3) to x */
 void scene_value_set(scene_values *v, int k, int comp, double x);
@@ -98,9 +96,6 @@ int scene_check_keys(parse_ctx *c);
 /* the path shapes (bits 1 << rps3_path_shape) that use key k, for the
    keys that belong to some shapes only; 0 for any other key */
 int scene_shape_mask(int k);
-
-/* "a, b or c": the names of enum key k into buf */
-void scene_enum_list(int k, char *buf, size_t sz);
 
 /* where number or int key k's value is stored in v */
 double *scene_real_at(scene_values *v, int k);

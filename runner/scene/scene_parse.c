@@ -374,14 +374,8 @@ static int parse_value(parse_ctx *c, int k, const yaml_node_t *n,
   if (scene_keys[k].type == KEY_FILE) return parse_file(c, k, n, v);
   if (scene_keys[k].type == KEY_EFFECTS || scene_keys[k].type == KEY_OUTPUTS) {
     /* a list of names, each one bit: the effects, or the outputs */
-    const int outs = scene_keys[k].type == KEY_OUTPUTS;
-    const int nname = outs ? RPS3_NOUTPUT : RPS3_NEFFECT;
-    const char *what = outs ? "output" : "effect";
-    const char *(*name_of)(int) = outs ? rps3_output_name : rps3_effect_name;
-    if (outs)
-      scene_output_list(list, sizeof list);
-    else
-      scene_effect_list(list, sizeof list);
+    const char *what = scene_keys[k].type == KEY_OUTPUTS ? "output" : "effect";
+    scene_enum_list(k, list, sizeof list);
     if (n->type != YAML_SEQUENCE_NODE ||
         n->data.sequence.items.top == n->data.sequence.items.start) {
       scene_error_set(
@@ -394,28 +388,20 @@ static int parse_value(parse_ctx *c, int k, const yaml_node_t *n,
          it++) {
       const yaml_node_t *item = scene_node_get(c, *it);
       scene_mark im = scene_mark_of(&item->start_mark);
-      e = (item->type == YAML_SCALAR_NODE && !is_null(item))
-              ? (outs ? rps3_output_index(scene_scalar_text(item))
-                      : rps3_effect_index(scene_scalar_text(item)))
-              : -1;
+      int scalar = item->type == YAML_SCALAR_NODE;
+      const char *t = scalar ? scene_scalar_text(item) : scene_node_kind(item);
+      char hint[160] = "";
+      e = scalar && !is_null(item) ? scene_enum_find(k, t) : -1;
       if (e < 0) {
-        const char
-            *cand[RPS3_NEFFECT > RPS3_NOUTPUT ? RPS3_NEFFECT : RPS3_NOUTPUT];
-        char hint[160] = "";
-        int j;
-        for (j = 0; j < nname; j++) cand[j] = name_of(j);
-        if (item->type == YAML_SCALAR_NODE)
-          hint_text(hint, sizeof hint, scene_scalar_text(item), cand, nname);
+        if (scalar) scene_enum_hint(hint, sizeof hint, k, t);
         scene_error_set(c->err, im, path, "unknown %s %s%s%s%s; expected %s",
-                        what, item->type == YAML_SCALAR_NODE ? "'" : "",
-                        item->type == YAML_SCALAR_NODE ? scene_scalar_text(item)
-                                                       : scene_node_kind(item),
-                        item->type == YAML_SCALAR_NODE ? "'" : "", hint, list);
+                        what, scalar ? "'" : "", t, scalar ? "'" : "", hint,
+                        list);
         return -1;
       }
       if (bits & (1 << e)) {
         scene_error_set(c->err, im, path, "%s '%s' listed twice", what,
-                        name_of(e));
+                        scene_enum_name(k, e));
         return -1;
       }
       bits |= 1 << e;
