@@ -36,17 +36,16 @@ static int check_grid(parse_ctx *c, int ax, double *poses) {
   scene_format_real(a, sizeof a, g[0]);
   scene_format_real(b, sizeof b, g[1]);
   if (g[2] != floor(g[2]) || g[2] < 1) {
-    scene_error_set(c->err, s->mark[k], path,
-                    "cells = %g: [lo, hi, cells] needs a whole number of "
-                    "cells >= 1",
-                    g[2]);
+    scene_error_set(
+        c->err, s->mark[k], path,
+        "cells = %g: [lo, hi, cells] needs a whole number of cells >= 1", g[2]);
     return -1;
   }
   if (!(g[0] <= g[1])) {
-    scene_error_set(c->err, s->mark[k], path,
-                    "lo = %s is above hi = %s: the range [lo, hi, cells] is "
-                    "inverted",
-                    a, b);
+    scene_error_set(
+        c->err, s->mark[k], path,
+        "lo = %s is above hi = %s: the range [lo, hi, cells] is inverted", a,
+        b);
     return -1;
   }
   *poses *= g[2];
@@ -110,11 +109,11 @@ int scene_design_check_keys(parse_ctx *c) {
   }
   for (k = 0; k < SCENE_NKEY; k++)
     if (s->given[k] && design_key_unread(k)) {
-      scene_error_set(c->err, s->mark[k], scene_keys[k].path,
-                      "a design study does not read this key: its model is "
-                      "rps3_design_model's (the link inertia from the mass "
-                      "model, the default effects and solver; docs/runner.md, "
-                      "\"Design studies\")");
+      scene_error_set(
+          c->err, s->mark[k], scene_keys[k].path,
+          "a design study does not read this key: its model is "
+          "rps3_design_model's (the link inertia from the mass model, the "
+          "default effects and solver; docs/runner.md, \"Design studies\")");
       return -1;
     }
   /* the design's payload is a point on the platform normal */
@@ -126,11 +125,9 @@ int scene_design_check_keys(parse_ctx *c) {
   for (k = 0; k < SCENE_NKEY; k++)
     if (SCENE_KEY_IS_DESIGN(&scene_keys[k]) && scene_keys[k].req == REQ_YES &&
         !s->given[k]) {
-      scene_error_set(c->err,
-                      scene_keys[k].src == SRC_DES ? s->section[1] : s->design,
-                      scene_keys[k].path,
-                      "missing required key of a design "
-                      "study");
+      scene_error_set(
+          c->err, scene_keys[k].src == SRC_DES ? s->section[1] : s->design,
+          scene_keys[k].path, "missing required key of a design study");
       return -1;
     }
   for (a = 0; a < s->naxis; a++) {
@@ -144,8 +141,8 @@ int scene_design_check_keys(parse_ctx *c) {
     if (s->section[2].line == 0 &&
         strncmp(scene_keys[k].path, "trajectory.", 11) == 0) {
       scene_error_set(c->err, s->axis[a].mark[0], s->axis[a].path,
-                      "the design study has no trajectory section (no "
-                      "task): nothing reads this key");
+                      "the design study has no trajectory section (no task): "
+                      "nothing reads this key");
       return -1;
     }
   }
@@ -158,18 +155,18 @@ int scene_design_check_keys(parse_ctx *c) {
     double v = 0;
     design_grid(s, &gr);
     if (rps3_design_grid_cell(&gr, &v) != RPS3_OK || !isfinite(v)) {
-      scene_error_set(c->err, s->design, "design",
-                      "the volume of a grid cell, (hi - lo) / cells of "
-                      "alpha, beta and z_c multiplied, is not a finite "
-                      "number: not a grid of poses");
+      scene_error_set(
+          c->err, s->design, "design",
+          "the volume of a grid cell, (hi - lo) / cells of alpha, beta and z_c "
+          "multiplied, is not a finite number: not a grid of poses");
       return -1;
     }
   }
   return 0;
 off_axis:
   scene_error_set(c->err, s->mark[K_PAY_COM], scene_keys[K_PAY_COM].path,
-                  "a design's payload is a point on the platform normal: "
-                  "give [0, 0, height] (and sweep only [2])");
+                  "a design's payload is a point on the platform normal: give "
+                  "[0, 0, height] (and sweep only [2])");
   return -1;
 }
 

@@ -117,8 +117,8 @@ char *inputs_record(const scene *s, char *err, size_t errsz) {
     if (!t) {
       /* every file a scene reads must be in the record */
       snprintf(err, errsz,
-               "%s: a file key whose file the record of input "
-               "files does not know (runner/inputs.c)",
+               "%s: a file key whose file the record of input files does not "
+               "know (runner/inputs.c)",
                ki->path);
       free(rec);
       return NULL;
@@ -131,9 +131,8 @@ char *inputs_record(const scene *s, char *err, size_t errsz) {
     }
     if (!same_rows(t, s, file, what)) {
       snprintf(err, errsz,
-               "%s: %s changed while this run read it (its "
-               "rows now are not those read): run again once "
-               "it is written",
+               "%s: %s changed while this run read it (its rows now are not "
+               "those read): run again once it is written",
                ki->path, file);
       free(rec);
       return NULL;

@@ -137,8 +137,8 @@ static int effects_rule(const scene *s, size_t index, scene_case *c,
               : (m->payload.mass > 0 ? K_PAY_MASS : K_PAY_INERTIA);
     if (!(j ? fric : pay) || (eff & bit)) continue;
     snprintf(msg, sizeof msg,
-             "leaves out %s, but %s is configured (%d:%d); add %s to the "
-             "list, or remove the %s",
+             "leaves out %s, but %s is configured (%d:%d); add %s to the list, "
+             "or remove the %s",
              j ? "pin_friction" : "payload", scene_keys[k].path,
              s->mark[k].line, s->mark[k].column, j ? "pin_friction" : "payload",
              j ? "friction" : "payload");
@@ -157,14 +157,14 @@ static void dt_error(const scene *s, size_t index, const scene_case *c,
   scene_format_real(sb, sizeof sb, c->v.own.dt);
   if (q >= 2147483646.0)
     snprintf(msg, sizeof msg,
-             "dt = %s s over the span %s s is %.6g steps: at most "
-             "2147483646 samples per case",
+             "dt = %s s over the span %s s is %.6g steps: at most 2147483646 "
+             "samples per case",
              sb, sa, q);
   else
-    snprintf(msg, sizeof msg,
-             "the span %s s is not a whole number of steps dt = %s s "
-             "(%.6g steps)",
-             sa, sb, q);
+    snprintf(
+        msg, sizeof msg,
+        "the span %s s is not a whole number of steps dt = %s s (%.6g steps)",
+        sa, sb, q);
   case_error(s, index, msg, NULL, K_DT, err);
 }
 

@@ -78,10 +78,9 @@ static int check_bytes(const unsigned char *t, size_t n, scene_error *err) {
     }
     k = utf8_len(t + i, n - i);
     if (k == 0) {
-      scene_error_set(err, at, "(file)",
-                      "invalid UTF-8 (byte %zu is 0x%02X): a scene is UTF-8 "
-                      "text",
-                      i, t[i]);
+      scene_error_set(
+          err, at, "(file)",
+          "invalid UTF-8 (byte %zu is 0x%02X): a scene is UTF-8 text", i, t[i]);
       return -1;
     }
     if (t[i] == '\n' || (t[i] == '\r' && (i + 1 == n || t[i + 1] != '\n'))) {
@@ -229,10 +228,10 @@ int scene_text_guard(const char *text, size_t len, scene_error *err) {
   const unsigned char *t = (const unsigned char *)text;
   const char *wide = wide_encoding(t, len);
   if (wide) {
-    scene_error_set(err, nowhere, "(file)",
-                    "is %s text: save the scene as UTF-8 (e.g. iconv -f UTF-16 "
-                    "-t UTF-8)",
-                    wide);
+    scene_error_set(
+        err, nowhere, "(file)",
+        "is %s text: save the scene as UTF-8 (e.g. iconv -f UTF-16 -t UTF-8)",
+        wide);
     return -1;
   }
   if (check_bytes(t, len, err)) return -1;

@@ -114,10 +114,10 @@ static int range_count(parse_ctx *c, const scene_axis *ax, const range_nodes *r,
     return -1;
   }
   if ((q + 1) * c->ncase > MAX_CASES) {
-    scene_error_set(c->err, mk, sub,
-                    "gives %.3g values: the sweep would have more than %.0f "
-                    "cases",
-                    q + 1, MAX_CASES);
+    scene_error_set(
+        c->err, mk, sub,
+        "gives %.3g values: the sweep would have more than %.0f cases", q + 1,
+        MAX_CASES);
     return -1;
   }
   *n = (size_t)floor(q + SCENE_WHOLE_RTOL) + 1;
@@ -264,8 +264,8 @@ static int sweep_values(parse_ctx *c, scene_axis *ax, const yaml_node_t *val,
   if (val->type == YAML_MAPPING_NODE) return sweep_range(c, ax, val);
   if (val->type != YAML_SEQUENCE_NODE) {
     scene_error_set(c->err, scene_mark_of(&val->start_mark), ax->path,
-                    "expected a list of values, {from, to, num} or "
-                    "{from, to, step}, got %s",
+                    "expected a list of values, {from, to, num} or {from, to, "
+                    "step}, got %s",
                     scene_node_kind(val));
     return -1;
   }

@@ -35,8 +35,7 @@ static int quantity(const scene_key_info *ki, int comp) {
 /* the reason x of quantity q looks wrong, or NULL */
 static const char *suspect(int q, double x) {
   if (q == Q_LENGTH && fabs(x) > WARN_LENGTH_MAX)
-    return "m looks like millimetres (above 10 m); scene lengths are in "
-           "metres";
+    return "m looks like millimetres (above 10 m); scene lengths are in metres";
   if (q == Q_BETA && fabs(x) > WARN_BETA_MAX)
     return "rad looks like degrees (beta above pi/2 rad = 90 deg); scene "
            "angles are in radians";

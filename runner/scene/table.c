@@ -1,12 +1,13 @@
 /*
- * table.c - read a table of samples from a CSV or an HDF5 file (table.h).
- * Every row is checked where it is read, so that an error names the file,
- * the line (or row) and the column: a number that is not one, NaN or
- * infinity, a time that does not increase.  Reachability is the library's
- * (rps3_traj_check), mapped back to the row by table_where.
+ * table.c - read a table of samples (table.h): the file named relative to
+ * the scene, its rows read from CSV here or from HDF5 (table_h5.c), then
+ * checked and completed as a whole.  Every row is checked where it is
+ * read, so that an error names the file, the line (or row) and the column:
+ * a number that is not one, NaN or infinity, a time that does not
+ * increase.  Reachability is the library's (rps3_traj_check), mapped back
+ * to the row by table_where.
  */
-/* realpath() is XSI */
-#define _XOPEN_SOURCE 700
+#define _XOPEN_SOURCE 700 /* realpath */
 
 #include "table.h"
 #include "core/hint.h"
@@ -76,8 +77,8 @@ int table_alloc_rows(table_data *t, size_t n, int with_acc, int with_line,
                (with_line ? (double)sizeof(int) : 0.0);
   if ((double)n * row > TABLE_MAX_BYTES) {
     table_err(err, errsz,
-              "%s: %zu rows need %.3g GB in memory (%.0f bytes a "
-              "row): above the table limit of 1 GiB",
+              "%s: %zu rows need %.3g GB in memory (%.0f bytes a row): above "
+              "the table limit of 1 GiB",
               t->path, n, (double)n * row / 1e9, row);
     return -1;
   }
@@ -127,10 +128,10 @@ int table_columns_check(const int have[TABLE_NCOL], int what, int hdf5,
       return -1;
     }
   if (have[7] && !have[4]) {
-    table_err(err, errsz,
-              "%s: accelerations (%s%s, ...) need the rates (%s%s, ...) as "
-              "well",
-              file, kind, n[7], kind, n[4]);
+    table_err(
+        err, errsz,
+        "%s: accelerations (%s%s, ...) need the rates (%s%s, ...) as well",
+        file, kind, n[7], kind, n[4]);
     return -1;
   }
   return 0;
@@ -166,8 +167,8 @@ static int parse_field(char *s, char *e, double *x, const char *file, int line,
              errno == ERANGE ? " (beyond the largest double, 1.8e308)" : "");
   else if (*x == 0.0 && errno == ERANGE)
     snprintf(why, sizeof why,
-             "%s underflows to 0 (nonzero but below 4.9e-324 in magnitude, "
-             "the smallest double): write 0 or a normal number",
+             "%s underflows to 0 (nonzero but below 4.9e-324 in magnitude, the "
+             "smallest double): write 0 or a normal number",
              q);
   else if (fpclassify(*x) == FP_SUBNORMAL)
     snprintf(why, sizeof why, "%s is " TABLE_SUBNORMAL, q);
@@ -266,7 +267,7 @@ static int csv_skip(const char *s, const char *e) {
   return s == e || *s == '#';
 }
 
-int table_csv_read(table_data *t, int what, char *err, size_t errsz) {
+static int table_csv_read(table_data *t, int what, char *err, size_t errsz) {
   size_t len, rows = 0, r = 0;
   char *text = slurp(t->path, &len, err, errsz), *p, *e;
   int have[TABLE_NCOL] = {0}, col[TABLE_NCOL], ncol = 0, line, header = 0,
@@ -293,8 +294,8 @@ int table_csv_read(table_data *t, int what, char *err, size_t errsz) {
           (memchr(p, ';', (size_t)(e - p)) ||
            memchr(p, '\t', (size_t)(e - p)))) {
         table_err(err, errsz,
-                  "%s:%d: the columns are separated by %s; a table "
-                  "separates them by commas",
+                  "%s:%d: the columns are separated by %s; a table separates "
+                  "them by commas",
                   t->path, line,
                   memchr(p, ';', (size_t)(e - p)) ? "semicolons" : "tabs");
         goto done;
@@ -320,9 +321,8 @@ int table_csv_read(table_data *t, int what, char *err, size_t errsz) {
       f = q + 1;
       if (c + 1 == ncol && q < e) {
         table_err(err, errsz,
-                  "%s:%d:%d: more fields than the header's %d "
-                  "columns",
-                  t->path, line, (int)(q - p) + 1, ncol);
+                  "%s:%d:%d: more fields than the header's %d columns", t->path,
+                  line, (int)(q - p) + 1, ncol);
         goto done;
       }
     }
@@ -387,36 +387,33 @@ static int table_step_time(const table_data *t, int what, size_t r,
   num(n1, t->time[r]);
   num(n2, t->time[r - 1]);
   if (!(t->time[r] > t->time[r - 1])) {
-    table_err(err, errsz,
-              "%s: %s: %s after %s: times must "
-              "increase strictly",
+    table_err(err, errsz, "%s: %s: %s after %s: times must increase strictly",
               where, lt, n1, n2);
     return -1;
   }
   if (!isfinite(t->time[r] - t->time[0])) {
-    table_err(err, errsz,
-              "%s: %s: %s is more than 1.8e308 s after the "
-              "first row's %s: the time range overflows a double (the "
-              "times must span less than 1.8e308 s)",
-              where, lt, n1, num(n2, t->time[0]));
+    table_err(
+        err, errsz,
+        "%s: %s: %s is more than 1.8e308 s after the first row's %s: the time "
+        "range overflows a double (the times must span less than 1.8e308 s)",
+        where, lt, n1, num(n2, t->time[0]));
     return -1;
   }
   if (h < scale * TIME_RESOLUTION) {
-    table_err(err, errsz,
-              "%s: %s: %s after %s: the rows are %.3g s "
-              "apart, too close relative to the time scale %.3g s (the "
-              "largest |t|): a step must be at least 1.5e-11 of it, or the "
-              "time within the step rounds by more than 1.5e-5 of the step;"
-              " subtract an offset from the times or thin the rows",
-              where, lt, n1, n2, h, scale);
+    table_err(
+        err, errsz,
+        "%s: %s: %s after %s: the rows are %.3g s apart, too close relative to "
+        "the time scale %.3g s (the largest |t|): a step must be at least "
+        "1.5e-11 of it, or the time within the step rounds by more than 1.5e-5 "
+        "of the step; subtract an offset from the times or thin the rows",
+        where, lt, n1, n2, h, scale);
     return -1;
   }
   if (h * h < DBL_MIN) {
     table_err(err, errsz,
-              "%s: %s: %s after %s: the rows are %.3g s "
-              "apart, a spacing too small for a double: the interpolant's "
-              "acceleration divides by the step squared, which underflows "
-              "below 1.5e-154 s",
+              "%s: %s: %s after %s: the rows are %.3g s apart, a spacing too "
+              "small for a double: the interpolant's acceleration divides by "
+              "the step squared, which underflows below 1.5e-154 s",
               where, lt, n1, n2, h);
     return -1;
   }
@@ -433,10 +430,10 @@ static int table_step_value(const table_data *t, int what, size_t r, int k,
   double dv = t->value[r][k] - t->value[r - 1][k], mv, mr, ma;
   col_label(t, what, 1 + k, lc, sizeof lc);
   if (!isfinite(dv)) {
-    table_err(err, errsz,
-              "%s: %s: %s after %s: the change between "
-              "the rows overflows a double",
-              where, lc, num(n1, t->value[r][k]), num(n2, t->value[r - 1][k]));
+    table_err(
+        err, errsz,
+        "%s: %s: %s after %s: the change between the rows overflows a double",
+        where, lc, num(n1, t->value[r][k]), num(n2, t->value[r - 1][k]));
     return -1;
   }
   /* the interpolant's acceleration: change / h^2, and with the file's
@@ -448,19 +445,17 @@ static int table_step_value(const table_data *t, int what, size_t r, int k,
   if (mv + mr + ma < DERIV_MAX) return 0;
   if (mv >= mr && mv >= ma) {
     table_err(err, errsz,
-              "%s: %s: changes by %.3g in %.3g s from the "
-              "previous row: the spacing of the rows is too small for "
-              "so large a change, the interpolant's rate and acceleration "
-              "across the step (of order change / step^2) overflow a "
-              "double",
+              "%s: %s: changes by %.3g in %.3g s from the previous row: the "
+              "spacing of the rows is too small for so large a change, the "
+              "interpolant's rate and acceleration across the step (of order "
+              "change / step^2) overflow a double",
               where, lc, dv, h);
     return -1;
   }
   col_label(t, what, mr >= ma ? 4 + k : 7 + k, lr, sizeof lr);
   table_err(err, errsz,
-            "%s: %s: %.3g and %.3g across a step of %.3g s:"
-            " the interpolant's acceleration there (of order %s) "
-            "overflows a double",
+            "%s: %s: %.3g and %.3g across a step of %.3g s: the interpolant's "
+            "acceleration there (of order %s) overflows a double",
             where, lr, mr >= ma ? t->rate[r - 1][k] : t->acc[r - 1][k],
             mr >= ma ? t->rate[r][k] : t->acc[r][k], h,
             mr >= ma ? "rate / step" : "the accelerations themselves");
@@ -482,7 +477,7 @@ static int table_steps(table_data *t, int what, char *err, size_t errsz) {
 
 /* the rows checked (table_steps); then the rates a table lacks, from the
    spline */
-int table_finish(table_data *t, int what, char *err, size_t errsz) {
+static int table_finish(table_data *t, int what, char *err, size_t errsz) {
   size_t r;
   char where[300];
   double *work;
@@ -491,8 +486,8 @@ int table_finish(table_data *t, int what, char *err, size_t errsz) {
     table_err(err, errsz, "%s: %zu rows; a table needs at least %d%s", t->path,
               t->n, min,
               t->rates_given ? ""
-                             : " without rate columns (the not-a-knot "
-                               "spline that gives the rates)");
+                             : " without rate columns (the not-a-knot spline "
+                               "that gives the rates)");
     return -1;
   }
   if (table_steps(t, what, err, errsz)) return -1;
@@ -515,13 +510,96 @@ int table_finish(table_data *t, int what, char *err, size_t errsz) {
         table_where(t, r, where, sizeof where);
         col_label(t, what, 1 + k, lc, sizeof lc);
         table_err(err, errsz,
-                  "%s: %s: the spline's rate at this row "
-                  "overflows a double (the values change too fast for the "
-                  "spacing of the rows)",
+                  "%s: %s: the spline's rate at this row overflows a double "
+                  "(the values change too fast for the spacing of the rows)",
                   where, lc);
         return -1;
       }
   table_err(err, errsz, "%s: the spline of the rows failed (%s)", t->path,
             rps3_strerror(x));
   return -1;
+}
+
+/* the path of name relative to the directory of scene_file */
+static char *path_join(const char *scene_file, const char *name) {
+  const char *slash = strrchr(scene_file, '/');
+  size_t dir =
+      (name[0] == '/' || !slash) ? 0 : (size_t)(slash - scene_file) + 1;
+  char *p = malloc(dir + strlen(name) + 1);
+  if (p) {
+    memcpy(p, scene_file, dir);
+    strcpy(p + dir, name);
+  }
+  return p;
+}
+
+static int ends_with(const char *s, const char *tail) {
+  size_t a = strlen(s), b = strlen(tail);
+  return a >= b && strcmp(s + a - b, tail) == 0;
+}
+
+/* err made printable text: a control character or a byte that is not
+   part of valid UTF-8 (a file's bytes quoted in a message) becomes \xNN */
+static void table_printable(char *err, size_t errsz) {
+  char in[1024];
+  size_t i = 0, o = 0;
+  if (errsz == 0) return;
+  snprintf(in, sizeof in, "%s", err);
+  while (in[i] != '\0' && o + 1 < errsz) {
+    unsigned char b = (unsigned char)in[i];
+    size_t n = b < 0x80             ? 1
+               : (b & 0xE0) == 0xC0 ? 2
+               : (b & 0xF0) == 0xE0 ? 3
+               : (b & 0xF8) == 0xF0 ? 4
+                                    : 0,
+           j;
+    int ok = n != 0 && b != 0x7F && (b >= 0x20 || n != 1) && b != 0xC0 &&
+             b != 0xC1 && b < 0xF5;
+    for (j = 1; ok && j < n; j++)
+      ok = ((unsigned char)in[i + j] & 0xC0) == 0x80;
+    /* C1 controls (U+0080..U+009F) are not printable either */
+    if (ok && n == 2 && b == 0xC2 && (unsigned char)in[i + 1] < 0xA0) ok = 0;
+    if (ok && o + n < errsz) {
+      memcpy(err + o, in + i, n);
+      o += n;
+      i += n;
+    } else if (!ok && o + 4 < errsz) {
+      snprintf(err + o, 5, "\\x%02X", b);
+      o += 4;
+      i++;
+    } else {
+      break;
+    }
+  }
+  err[o] = '\0';
+}
+
+int table_read(table_data *t, const char *scene_file, const char *name,
+               int what, char *err, size_t errsz) {
+  char *abs;
+  memset(t, 0, sizeof *t);
+  if (errsz > 0) err[0] = '\0';
+  if (name[0] == '\0') {
+    table_err(err, errsz, "an empty file name");
+    return -1;
+  }
+  t->path = path_join(scene_file, name);
+  if (!t->path) {
+    table_err(err, errsz, "out of memory");
+    return -1;
+  }
+  t->hdf5 = ends_with(name, ".h5") || ends_with(name, ".hdf5");
+  if ((t->hdf5 ? table_h5_read(t, what, err, errsz)
+               : table_csv_read(t, what, err, errsz)) != 0 ||
+      table_finish(t, what, err, errsz) != 0) {
+    /* every failure sets its message; should one not, the file is named */
+    if (errsz > 0 && err[0] == '\0')
+      table_err(err, errsz, "%s: cannot read the table", t->path);
+    table_printable(err, errsz);
+    table_free(t);
+    return -1;
+  }
+  abs = realpath(t->path, NULL);
+  t->abs = abs ? abs : t->path;
+  return 0;
 }

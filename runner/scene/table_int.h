@@ -24,9 +24,9 @@ void table_err(char *err, size_t errsz, const char *fmt, ...)
 #define TABLE_MAX_BYTES (1024.0 * 1024.0 * 1024.0)
 
 /* why a subnormal number is refused (after "VALUE is ") */
-#define TABLE_SUBNORMAL                                                 \
-  "subnormal (nonzero but below 2.2e-308 in magnitude, where a double " \
-  "loses precision): write 0 or a normal number"
+#define TABLE_SUBNORMAL                                                       \
+  "subnormal (nonzero but below 2.2e-308 in magnitude, where a double loses " \
+  "precision): write 0 or a normal number"
 
 /* the arrays for n rows; acc only when the file has accelerations, line
    (the CSV line of each row) with with_line; refused above TABLE_MAX_BYTES
@@ -49,12 +49,5 @@ int table_regular_file(const char *path, char *err, size_t errsz);
 
 /* the columns of `what` from the HDF5 file t->path into t: 0, or -1 */
 int table_h5_read(table_data *t, int what, char *err, size_t errsz);
-
-/* the checks and completion of a table once its rows are read (table.c):
-   0, or -1 with err set */
-int table_finish(table_data *t, int what, char *err, size_t errsz);
-
-/* the rows of a CSV file (table.c) */
-int table_csv_read(table_data *t, int what, char *err, size_t errsz);
 
 #endif /* RPS3_RUNNER_TABLE_INT_H */
