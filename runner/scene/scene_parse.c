@@ -9,6 +9,7 @@
 
 #include <ctype.h>
 #include <errno.h>
+#include <limits.h>
 #include <math.h>
 #include <stddef.h>
 #include <stdio.h>
@@ -180,58 +181,71 @@ int scene_check_range(parse_ctx *c, int k, double x, scene_mark mk,
   return 0;
 }
 
-/* one scalar value of key k (not a list key) as a number: the value itself,
-   an integer, 0/1 for a bool, the enum value for a name */
+/* one scalar value of key k as a number: the value itself (a number key,
+   or one item of a list of numbers), an integer, 0/1 for a bool, the enum
+   value for a name */
 int scene_parse_scalar(parse_ctx *c, int k, const yaml_node_t *n,
                        const char *path, double *out) {
-  char list[256];
+  char list[256], hint[160];
   scene_mark mk = scene_mark_of(&n->start_mark);
-  const char *t;
-  int v;
+  int scalar = n->type == YAML_SCALAR_NODE, v;
+  const char *t = scalar ? scene_scalar_text(n) : scene_node_kind(n);
   switch (scene_keys[k].type) {
   case KEY_REAL:
   case KEY_REAL3:
-    if (scene_parse_number(c, n, path, 0, out)) return -1;
-    return scene_check_range(c, k, *out, mk, path);
+  case KEY_TIMES:
   case KEY_INT:
-    if (scene_parse_number(c, n, path, 1, out)) return -1;
+    if (scene_parse_number(c, n, path, scene_keys[k].type == KEY_INT, out))
+      return -1;
     return scene_check_range(c, k, *out, mk, path);
   case KEY_BOOL:
-    if (n->type == YAML_SCALAR_NODE &&
-        n->data.scalar.style == YAML_PLAIN_SCALAR_STYLE) {
-      t = scene_scalar_text(n);
-      if (strcmp(t, "true") == 0 || strcmp(t, "false") == 0) {
-        *out = t[0] == 't';
-        return 0;
-      }
+    if (scalar && n->data.scalar.style == YAML_PLAIN_SCALAR_STYLE &&
+        (strcmp(t, "true") == 0 || strcmp(t, "false") == 0)) {
+      *out = t[0] == 't';
+      return 0;
     }
-    scene_error_set(
-        c->err, mk, path, "expected true or false, got %s%s%s%s",
-        n->type == YAML_SCALAR_NODE ? "'" : "",
-        n->type == YAML_SCALAR_NODE ? scene_scalar_text(n) : scene_node_kind(n),
-        n->type == YAML_SCALAR_NODE ? "'" : "", "");
+    scene_error_set(c->err, mk, path, "expected true or false, got %s%s%s",
+                    scalar ? "'" : "", t, scalar ? "'" : "");
     return -1;
   case KEY_ENUM:
     scene_enum_list(k, list, sizeof list);
-    if (n->type != YAML_SCALAR_NODE || is_null(n)) {
+    if (!scalar || is_null(n)) {
       scene_error_set(c->err, mk, path, "expected one of %s, got %s", list,
                       scene_node_kind(n));
       return -1;
     }
-    v = scene_enum_find(k, scene_scalar_text(n));
+    v = scene_enum_find(k, t);
     if (v < 0) {
-      char hint[160];
-      scene_enum_hint(hint, sizeof hint, k, scene_scalar_text(n));
-      scene_error_set(c->err, mk, path, "unknown value '%s'%s; expected %s",
-                      scene_scalar_text(n), hint, list);
+      scene_enum_hint(hint, sizeof hint, k, t);
+      scene_error_set(c->err, mk, path, "unknown value '%s'%s; expected %s", t,
+                      hint, list);
       return -1;
     }
     *out = v;
     return 0;
-  case KEY_EFFECTS:
-  case KEY_OUTPUTS:
   default: scene_error_set(c->err, mk, path, "not a scalar key"); return -1;
   }
+}
+
+/* the length of list node n when it holds min to max items, else -1 with
+   "expected WHAT, got OTHER" (OTHER for a list of another length, else the
+   node's kind) */
+static long list_len(parse_ctx *c, const yaml_node_t *n, const char *path,
+                     long min, long max, const char *what, const char *other) {
+  long len =
+      n->type != YAML_SEQUENCE_NODE
+          ? -1
+          : (long)(n->data.sequence.items.top - n->data.sequence.items.start);
+  if (len >= min && len <= max) return len;
+  scene_error_set(c->err, scene_mark_of(&n->start_mark), path,
+                  "expected %s, got %s", what,
+                  len >= 0 ? other : scene_node_kind(n));
+  return -1;
+}
+
+/* item i of list node n */
+static const yaml_node_t *item_of(parse_ctx *c, const yaml_node_t *n, long i) {
+  return scene_node_get(c, n->data.sequence.items.start[i]);
 }
 
 /* the rows of a waypoints list key: times (numbers) or poses (lists of 3
@@ -241,23 +255,18 @@ static int parse_rows(parse_ctx *c, int k, const yaml_node_t *n,
   const char *path = scene_keys[k].path;
   int poses = scene_keys[k].type == KEY_POSES;
   scene *s = c->s;
-  yaml_node_item_t *it;
-  size_t i, rows;
+  long i, j,
+      rows = list_len(c, n, path, 2, LONG_MAX,
+                      poses ? "a list of at least 2 poses [alpha, beta, "
+                              "z_c]"
+                            : "a list of at least 2 numbers",
+                      "a shorter list");
   double *dst;
   scene_mark *marks;
   char sub[160];
-  if (n->type != YAML_SEQUENCE_NODE ||
-      n->data.sequence.items.top - n->data.sequence.items.start < 2) {
-    scene_error_set(
-        c->err, scene_mark_of(&n->start_mark), path,
-        "expected a list of at least 2 %s, got %s",
-        poses ? "poses [alpha, beta, z_c]" : "numbers",
-        n->type == YAML_SEQUENCE_NODE ? "a shorter list" : scene_node_kind(n));
-    return -1;
-  }
-  rows = (size_t)(n->data.sequence.items.top - n->data.sequence.items.start);
-  dst = malloc(rows * (poses ? 3 : 1) * sizeof *dst);
-  marks = malloc(rows * sizeof *marks);
+  if (rows < 0) return -1;
+  dst = malloc((size_t)rows * (poses ? 3 : 1) * sizeof *dst);
+  marks = malloc((size_t)rows * sizeof *marks);
   if (!dst || !marks) {
     free(dst);
     free(marks);
@@ -267,41 +276,25 @@ static int parse_rows(parse_ctx *c, int k, const yaml_node_t *n,
   }
   if (poses) {
     s->wp_pose = (double(*)[3])(void *)dst;
-    s->wp_npose = rows;
+    s->wp_npose = (size_t)rows;
     s->wp_pose_mark = marks;
     v->traj.wp.pose = (const double(*)[3])s->wp_pose;
   } else {
-    s->wp_time = dst;
-    s->wp_ntime = rows;
+    v->traj.wp.time = s->wp_time = dst;
+    s->wp_ntime = (size_t)rows;
     s->wp_time_mark = marks;
-    v->traj.wp.time = dst;
   }
-  for (i = 0, it = n->data.sequence.items.start; i < rows; i++, it++) {
-    const yaml_node_t *item = scene_node_get(c, *it);
+  for (i = 0; i < rows; i++) {
+    const yaml_node_t *item = item_of(c, n, i);
     marks[i] = scene_mark_of(&item->start_mark);
-    snprintf(sub, sizeof sub, "%s[%zu]", path, i);
-    if (!poses) {
-      if (scene_parse_number(c, item, sub, 0, &dst[i]) ||
-          scene_check_range(c, k, dst[i], marks[i], sub))
-        return -1;
-      continue;
-    }
-    if (item->type != YAML_SEQUENCE_NODE ||
-        item->data.sequence.items.top - item->data.sequence.items.start != 3) {
-      scene_error_set(
-          c->err, marks[i], sub, "expected a pose [alpha, beta, z_c], got %s",
-          item->type == YAML_SEQUENCE_NODE ? "a list of another length"
-                                           : scene_node_kind(item));
+    snprintf(sub, sizeof sub, "%s[%ld]", path, i);
+    if (poses ? list_len(c, item, sub, 3, 3, "a pose [alpha, beta, z_c]",
+                         "a list of another length") < 0
+              : scene_parse_scalar(c, k, item, sub, &dst[i]))
       return -1;
-    }
-    {
-      yaml_node_item_t *jt = item->data.sequence.items.start;
-      int j;
-      for (j = 0; j < 3; j++, jt++)
-        if (scene_parse_number(c, scene_node_get(c, *jt), sub, 0,
-                               &dst[3 * i + (size_t)j]))
-          return -1;
-    }
+    for (j = 0; poses && j < 3; j++)
+      if (scene_parse_number(c, item_of(c, item, j), sub, 0, &dst[3 * i + j]))
+        return -1;
   }
   return 0;
 }
@@ -344,74 +337,71 @@ static int parse_file(parse_ctx *c, int k, const yaml_node_t *n,
   return 0;
 }
 
+/* a list of names, each one bit: the effects, or the outputs */
+static int parse_names(parse_ctx *c, int k, const yaml_node_t *n,
+                       scene_values *v) {
+  const char *path = scene_keys[k].path;
+  const char *what = scene_keys[k].type == KEY_OUTPUTS ? "output" : "effect";
+  char list[256], expected[300];
+  long i, len;
+  int e, bits = 0;
+  scene_enum_list(k, list, sizeof list);
+  snprintf(expected, sizeof expected, "a non-empty list of %s", list);
+  len = list_len(c, n, path, 1, LONG_MAX, expected, "an empty list");
+  for (i = 0; i < len; i++) {
+    const yaml_node_t *item = item_of(c, n, i);
+    scene_mark im = scene_mark_of(&item->start_mark);
+    int scalar = item->type == YAML_SCALAR_NODE;
+    const char *t = scalar ? scene_scalar_text(item) : scene_node_kind(item);
+    char hint[160] = "";
+    e = scalar && !is_null(item) ? scene_enum_find(k, t) : -1;
+    if (e < 0) {
+      if (scalar) scene_enum_hint(hint, sizeof hint, k, t);
+      scene_error_set(c->err, im, path, "unknown %s %s%s%s%s; expected %s",
+                      what, scalar ? "'" : "", t, scalar ? "'" : "", hint,
+                      list);
+      return -1;
+    }
+    if (bits & (1 << e)) {
+      scene_error_set(c->err, im, path, "%s '%s' listed twice", what,
+                      scene_enum_name(k, e));
+      return -1;
+    }
+    bits |= 1 << e;
+  }
+  *scene_int_at(v, k) = bits;
+  return len < 0 ? -1 : 0;
+}
+
 /* the value node n of key k into v (the whole key, lists included) */
 static int parse_value(parse_ctx *c, int k, const yaml_node_t *n,
                        scene_values *v) {
   const char *path = scene_keys[k].path;
-  scene_mark mk = scene_mark_of(&n->start_mark);
-  char sub[160], list[256];
-  yaml_node_item_t *it;
+  char sub[160];
   double x;
-  int i, e, bits;
-
-  if (scene_keys[k].type == KEY_REAL3) {
-    if (n->type != YAML_SEQUENCE_NODE ||
-        n->data.sequence.items.top - n->data.sequence.items.start != 3) {
-      scene_error_set(c->err, mk, path, "expected a list of 3 numbers, got %s",
-                      n->type == YAML_SEQUENCE_NODE ? "a list of another length"
-                                                    : scene_node_kind(n));
+  int i;
+  switch (scene_keys[k].type) {
+  case KEY_REAL3:
+    if (list_len(c, n, path, 3, 3, "a list of 3 numbers",
+                 "a list of another length") < 0)
       return -1;
-    }
-    for (i = 0, it = n->data.sequence.items.start; i < 3; i++, it++) {
+    for (i = 0; i < 3; i++) {
       snprintf(sub, sizeof sub, "%s[%d]", path, i);
-      if (scene_parse_scalar(c, k, scene_node_get(c, *it), sub, &x)) return -1;
-      scene_real_at(v, k)[i] = x;
+      if (scene_parse_scalar(c, k, item_of(c, n, i), sub,
+                             &scene_real_at(v, k)[i]))
+        return -1;
     }
     return 0;
-  }
-  if (scene_keys[k].type == KEY_TIMES || scene_keys[k].type == KEY_POSES)
-    return parse_rows(c, k, n, v);
-  if (scene_keys[k].type == KEY_FILE) return parse_file(c, k, n, v);
-  if (scene_keys[k].type == KEY_EFFECTS || scene_keys[k].type == KEY_OUTPUTS) {
-    /* a list of names, each one bit: the effects, or the outputs */
-    const char *what = scene_keys[k].type == KEY_OUTPUTS ? "output" : "effect";
-    scene_enum_list(k, list, sizeof list);
-    if (n->type != YAML_SEQUENCE_NODE ||
-        n->data.sequence.items.top == n->data.sequence.items.start) {
-      scene_error_set(
-          c->err, mk, path, "expected a non-empty list of %s, got %s", list,
-          n->type == YAML_SEQUENCE_NODE ? "an empty list" : scene_node_kind(n));
-      return -1;
-    }
-    bits = 0;
-    for (it = n->data.sequence.items.start; it < n->data.sequence.items.top;
-         it++) {
-      const yaml_node_t *item = scene_node_get(c, *it);
-      scene_mark im = scene_mark_of(&item->start_mark);
-      int scalar = item->type == YAML_SCALAR_NODE;
-      const char *t = scalar ? scene_scalar_text(item) : scene_node_kind(item);
-      char hint[160] = "";
-      e = scalar && !is_null(item) ? scene_enum_find(k, t) : -1;
-      if (e < 0) {
-        if (scalar) scene_enum_hint(hint, sizeof hint, k, t);
-        scene_error_set(c->err, im, path, "unknown %s %s%s%s%s; expected %s",
-                        what, scalar ? "'" : "", t, scalar ? "'" : "", hint,
-                        list);
-        return -1;
-      }
-      if (bits & (1 << e)) {
-        scene_error_set(c->err, im, path, "%s '%s' listed twice", what,
-                        scene_enum_name(k, e));
-        return -1;
-      }
-      bits |= 1 << e;
-    }
-    *scene_int_at(v, k) = bits;
+  case KEY_TIMES:
+  case KEY_POSES: return parse_rows(c, k, n, v);
+  case KEY_FILE: return parse_file(c, k, n, v);
+  case KEY_EFFECTS:
+  case KEY_OUTPUTS: return parse_names(c, k, n, v);
+  default:
+    if (scene_parse_scalar(c, k, n, path, &x)) return -1;
+    scene_value_set(v, k, -1, x);
     return 0;
   }
-  if (scene_parse_scalar(c, k, n, path, &x)) return -1;
-  scene_value_set(v, k, -1, x);
-  return 0;
 }
 
 /* the keys of a mapping must be plain scalars and appear once */
