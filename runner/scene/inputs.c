@@ -58,17 +58,6 @@ done:
   return rc;
 }
 
-/* the table that key k of the key table read into s (its file: ->abs,
-   NULL when none), with the columns it was read as; NULL for a file key
-   this function does not know */
-static const table_data *table_of(const scene *s, int k, int *what) {
-  switch (k) {
-  case K_TABLE_FILE: *what = TABLE_POSE; return &s->table;
-  case K_PATH_FILE: *what = TABLE_CENTRE; return &s->path_table;
-  default: return NULL;
-  }
-}
-
 /* n rows of m doubles equal bit for bit (both absent counts as equal) */
 static int same_doubles(const void *a, const void *b, size_t n, size_t m) {
   if (!a || !b) return !a && !b;
@@ -113,16 +102,8 @@ char *inputs_record(const scene *s, char *err, size_t errsz) {
     size_t add;
     char *grown;
     if (ki->type != KEY_FILE) continue;
-    t = table_of(s, k, &what);
-    if (!t) {
-      /* every file a scene reads must be in the record */
-      snprintf(err, errsz,
-               "%s: a file key whose file the record of input files does not "
-               "know (runner/inputs.c)",
-               ki->path);
-      free(rec);
-      return NULL;
-    }
+    what = SCENE_TABLE_OF(k);
+    t = &s->table[what];
     file = t->abs;
     if (!file || !s->given[k]) continue;
     if (inputs_sha256(file, hex, err, errsz)) {

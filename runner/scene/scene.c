@@ -281,8 +281,8 @@ void scene_free(scene *s) {
   free(s->wp_pose);
   free(s->wp_time_mark);
   free(s->wp_pose_mark);
-  table_free(&s->table);
-  table_free(&s->path_table);
+  table_free(&s->table[TABLE_POSE]);
+  table_free(&s->table[TABLE_CENTRE]);
   free(s->path_psi);
   free(s->text);
   free(s->file);

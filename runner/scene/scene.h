@@ -136,11 +136,11 @@ typedef struct {
   rps3_model model;
   rps3_traj traj;
   scene_own own;
-  const char *table_file; /* kind table: the file, absolute (the scene's) */
-  const char *path_file;  /* path shape table: the file, absolute */
-  scene_sim sim;          /* the simulate section */
-  rps3_design design;     /* a design study's design */
-  scene_design des;       /* its design section */
+  const char *file[2]; /* the tables' files, absolute: [TABLE_POSE] the
+                          kind table, [TABLE_CENTRE] the path's */
+  scene_sim sim;       /* the simulate section */
+  rps3_design design;  /* a design study's design */
+  scene_design des;    /* its design section */
 } scene_values;
 
 /* ranges of the runner's own values (LO, LO_OPEN, HI) */
@@ -516,6 +516,9 @@ double scene_value_real(const scene_values *v, int k, int comp);
 /* the key with this dotted path, or -1 */
 int scene_key_find(const char *path);
 
+/* the table (TABLE_POSE or TABLE_CENTRE) file key k reads */
+#define SCENE_TABLE_OF(k) ((k) == K_PATH_FILE ? TABLE_CENTRE : TABLE_POSE)
+
 /* one sweep axis: a key (or one component of a KEY_REAL3) and its values */
 typedef struct {
   char path[80];    /* as written, e.g. "trajectory.amp[2]" */
@@ -544,10 +547,8 @@ typedef struct {
   double (*wp_pose)[3];
   size_t wp_ntime, wp_npose;
   scene_mark *wp_time_mark, *wp_pose_mark; /* where each row is */
-  table_data table;      /* kind table: the samples; base.traj.table views
-                            them */
-  table_data path_table; /* path shape table: the centre's samples */
-  double *path_psi;      /* their polar angles, unwrapped */
+  table_data table[2]; /* the tables (SCENE_TABLE_OF); base.traj views them */
+  double *path_psi;    /* the path's: its polar angles, unwrapped */
 } scene;
 
 /* one case, ready to compute */

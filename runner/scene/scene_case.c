@@ -76,7 +76,7 @@ static void case_error(const scene *s, size_t index, const char *msg,
   for (j = 0; j < 2 && chk != NULL && chk->comp >= 0; j++) {
     int lo = j ? RPS3_F_PATH_TABLE_TIME : RPS3_F_TABLE_TIME;
     int key = j ? K_PATH_FILE : K_TABLE_FILE;
-    const table_data *t = j ? &s->path_table : &s->table;
+    const table_data *t = &s->table[SCENE_TABLE_OF(key)];
     char where[300];
     if (chk->field < lo || chk->field > lo + 3 || (size_t)chk->comp >= t->n)
       continue;

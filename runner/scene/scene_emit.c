@@ -118,7 +118,7 @@ static int emit_value(yaml_emitter_t *em, int k, const scene_values *v) {
       ok = emit_reals(em, v->traj.wp.pose[r], 3);
     return ok && emit_close(em, 1);
   case KEY_FILE:
-    file = k == K_PATH_FILE ? v->path_file : v->table_file;
+    file = v->file[SCENE_TABLE_OF(k)];
     return emit_scalar(em, file != NULL ? file : "");
   }
   return 0;

@@ -304,23 +304,22 @@ static int parse_rows(parse_ctx *c, int k, const yaml_node_t *n,
 static int parse_file(parse_ctx *c, int k, const yaml_node_t *n,
                       scene_values *v) {
   scene *s = c->s;
-  int path = k == K_PATH_FILE;
-  table_data *t = path ? &s->path_table : &s->table;
+  int what = SCENE_TABLE_OF(k);
+  table_data *t = &s->table[what];
   char msg[sizeof c->err->what];
   if (n->type != YAML_SCALAR_NODE || is_null(n)) {
     scene_error_set(c->err, scene_mark_of(&n->start_mark), scene_keys[k].path,
                     "expected a file name, got %s", scene_node_kind(n));
     return -1;
   }
-  if (table_read(t, s->file, scene_scalar_text(n),
-                 path ? TABLE_CENTRE : TABLE_POSE, msg, sizeof msg)) {
+  if (table_read(t, s->file, scene_scalar_text(n), what, msg, sizeof msg)) {
     scene_error_set(c->err, scene_mark_of(&n->start_mark), scene_keys[k].path,
                     "%s", msg);
     return -1;
   }
-  if (!path) {
+  v->file[what] = t->abs;
+  if (what == TABLE_POSE) {
     v->traj.table = table_view(t);
-    v->table_file = t->abs;
     return 0;
   }
   /* a path: the polar angles of the rows, followed continuously */
@@ -333,7 +332,6 @@ static int parse_file(parse_ctx *c, int k, const yaml_node_t *n,
   rps3_table_unwrap(t->n, (const double(*)[3])t->value, s->path_psi);
   v->traj.path.table = table_view(t);
   v->traj.path.table_psi = s->path_psi;
-  v->path_file = t->abs;
   return 0;
 }
 

@@ -61,22 +61,21 @@ static void warn(FILE *out, const scene *s, scene_mark mk, const char *key,
 }
 
 /* the rows of a table: the first suspect value, named by its line */
-static void table_warn(FILE *out, const scene *s, const table_data *t, int k,
-                       int centre) {
+static void table_warn(FILE *out, const scene *s, int k, int what) {
+  const table_data *t = &s->table[what];
   size_t r;
   int c;
   char where[300];
-  static const char *const pose_names[3] = {"alpha", "beta", "z_c"};
-  static const char *const centre_names[3] = {"x", "y", "z"};
   for (r = 0; r < t->n; r++)
     for (c = 0; c < 3; c++) {
-      int q = centre ? Q_LENGTH : c == 2 ? Q_LENGTH : c == 1 ? Q_BETA : Q_NONE;
+      int q = what == TABLE_CENTRE || c == 2 ? Q_LENGTH
+              : c == 1                       ? Q_BETA
+                                             : Q_NONE;
       const char *why = suspect(q, t->value[r][c]);
       if (why == NULL) continue;
       table_where(t, r, where, sizeof where);
       warn(out, s, s->mark[k], scene_key_get(k)->path, "%s: column %s: %.9g %s",
-           where, centre ? centre_names[c] : pose_names[c], t->value[r][c],
-           why);
+           where, table_col_names[what][1 + c], t->value[r][c], why);
       return;
     }
 }
@@ -142,8 +141,7 @@ void scene_warnings_print(const scene *s, FILE *out) {
         }
       }
     } else if (ki->type == KEY_FILE) {
-      int centre = k == K_PATH_FILE;
-      table_warn(out, s, centre ? &s->path_table : &s->table, k, centre);
+      table_warn(out, s, k, SCENE_TABLE_OF(k));
     }
   }
 }

@@ -9,11 +9,6 @@
 
 #include "table.h"
 
-/* the columns: 0 time, 1-3 values, 4-6 rates, 7-9 accelerations; their
-   names for TABLE_POSE and TABLE_CENTRE */
-#define TABLE_NCOL 10
-extern const char *const table_col_names[2][TABLE_NCOL];
-
 /* err = the formatted message */
 void table_err(char *err, size_t errsz, const char *fmt, ...)
     __attribute__((format(printf, 3, 4)));
