@@ -83,8 +83,6 @@ static const rps3_field_info design_fields[RPS3_NDESIGN_FIELD] = {
    APPLY(INFO_##SRC, ID, TYPE, UNPACK_##SRC(FIELD))},
 const scene_key_info scene_keys[SCENE_NKEY] = {SCENE_KEYS(KEY_ROW)};
 
-/* the path shapes (bits 1 << rps3_path_shape) that use key k, for the
-   keys marked REQ_SHAPE; 0 for any other key */
 int scene_shape_mask(int k) {
   const int line = 1 << RPS3_PATH_LINE, circle = 1 << RPS3_PATH_CIRCLE,
             helix = 1 << RPS3_PATH_HELIX;
@@ -215,7 +213,6 @@ double scene_value_real(const scene_values *v, int k, int comp) {
   return x;
 }
 
-/* set key k (component comp of a KEY_REAL3) to x */
 void scene_value_set(scene_values *v, int k, int comp, double x) {
   switch (scene_keys[k].type) {
   case KEY_REAL: *scene_real_at(v, k) = x; break;
@@ -224,8 +221,7 @@ void scene_value_set(scene_values *v, int k, int comp, double x) {
   }
 }
 
-/* defaults: the library's Table II model, options and helix; the runner's
-   own values are those the library's defaults imply */
+/* the runner's own values are those the library's defaults imply */
 void scene_values_default(scene_values *v) {
   int k;
   memset(v, 0, sizeof *v);

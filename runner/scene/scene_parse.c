@@ -117,7 +117,6 @@ const char *scene_node_kind(const yaml_node_t *n) {
   return "a scalar";
 }
 
-/* a plain scalar as a number; 0 or -1 with the error set */
 int scene_parse_number(parse_ctx *c, const yaml_node_t *n, const char *path,
                        int integer, double *out) {
   const char *t, *p;
@@ -152,7 +151,6 @@ int scene_parse_number(parse_ctx *c, const yaml_node_t *n, const char *path,
   return 0;
 }
 
-/* shortest %g form of x that reads back as x */
 void scene_format_real(char *buf, size_t sz, double x) {
   int prec;
   for (prec = 15; prec <= 17; prec++) {
@@ -161,7 +159,6 @@ void scene_format_real(char *buf, size_t sz, double x) {
   }
 }
 
-/* x against the range of key k */
 int scene_check_range(parse_ctx *c, int k, double x, scene_mark mk,
                       const char *path) {
   const rps3_field_info *f = scene_keys[k].f;
@@ -402,7 +399,6 @@ static int parse_value(parse_ctx *c, int k, const yaml_node_t *n,
   }
 }
 
-/* the keys of a mapping must be plain scalars and appear once */
 int scene_mapping_key(parse_ctx *c, const yaml_node_t *map,
                       const yaml_node_pair_t *pair, const char *prefix,
                       const char **name) {
@@ -442,7 +438,6 @@ int scene_mapping_key(parse_ctx *c, const yaml_node_t *map,
 static const char *const top_sections[4] = {"", "manipulator", "trajectory",
                                             "solver"};
 
-/* walk a mapping section, storing each key it holds into the base values */
 int scene_walk_section(parse_ctx *c, const yaml_node_t *map,
                        const char *prefix) {
   yaml_node_pair_t *pair;

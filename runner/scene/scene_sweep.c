@@ -21,24 +21,18 @@
 
 /* ---------------------------------------------------------------- sweep */
 
-/* the nodes of a {from, to, num} or {from, to, step} mapping */
-typedef struct {
-  const yaml_node_t *from, *to, *num, *step;
-} range_nodes;
+/* the nodes of a {from, to, num} or {from, to, step} mapping, by R_* */
+enum { R_FROM, R_TO, R_NUM, R_STEP };
+typedef const yaml_node_t *range_nodes[4];
 
 /* the nodes of range mapping map of axis ax: no other key (none twice:
    scene_mapping_key), from, to and one of num and step; 0 or -1 */
 static int range_read(parse_ctx *c, const scene_axis *ax,
-                      const yaml_node_t *map, range_nodes *r) {
+                      const yaml_node_t *map, range_nodes r) {
   static const char *const names[4] = {"from", "to", "num", "step"};
-  const yaml_node_t **slot[4];
   yaml_node_pair_t *p;
   char sub[160];
-  slot[0] = &r->from;
-  slot[1] = &r->to;
-  slot[2] = &r->num;
-  slot[3] = &r->step;
-  memset(r, 0, sizeof *r);
+  memset(r, 0, sizeof(range_nodes));
   for (p = map->data.mapping.pairs.start; p < map->data.mapping.pairs.top;
        p++) {
     const char *name;
@@ -53,9 +47,9 @@ static int range_read(parse_ctx *c, const scene_axis *ax,
                       sub, "unknown key; expected from, to and num or step");
       return -1;
     }
-    *slot[k] = scene_node_get(c, p->value);
+    r[k] = scene_node_get(c, p->value);
   }
-  if (!r->from || !r->to || (!r->num == !r->step)) {
+  if (!r[R_FROM] || !r[R_TO] || (!r[R_NUM] == !r[R_STEP])) {
     scene_error_set(c->err, scene_mark_of(&map->start_mark), ax->path,
                     "a range needs from, to and exactly one of num and step");
     return -1;
@@ -74,16 +68,16 @@ static int range_number(parse_ctx *c, const scene_axis *ax,
 
 /* the number of values of range r from `from` to `to`, counted before
    anything is allocated; *step is 0 for a range by num.  0 or -1 */
-static int range_count(parse_ctx *c, const scene_axis *ax, const range_nodes *r,
+static int range_count(parse_ctx *c, const scene_axis *ax, range_nodes r,
                        int integer, double from, double to, double *step,
                        size_t *n) {
-  const yaml_node_t *nd = r->num ? r->num : r->step;
+  const yaml_node_t *nd = r[R_NUM] ? r[R_NUM] : r[R_STEP];
   scene_mark mk = scene_mark_of(&nd->start_mark);
   double span = to - from, num, q;
   char sub[160];
-  snprintf(sub, sizeof sub, "%s.%s", ax->path, r->num ? "num" : "step");
+  snprintf(sub, sizeof sub, "%s.%s", ax->path, r[R_NUM] ? "num" : "step");
   *step = 0;
-  if (r->num) {
+  if (r[R_NUM]) {
     if (range_number(c, ax, nd, "num", 1, &num)) return -1;
     if (num < 1 || (num == 1 && from != to)) {
       scene_error_set(c->err, mk, sub,
@@ -110,7 +104,7 @@ static int range_count(parse_ctx *c, const scene_axis *ax, const range_nodes *r,
   if (!(span - span == 0)) {
     scene_error_set(c->err, mk, sub,
                     "to - from overflows (%s to %s): not a range of numbers",
-                    scene_scalar_text(r->from), scene_scalar_text(r->to));
+                    scene_scalar_text(r[R_FROM]), scene_scalar_text(r[R_TO]));
     return -1;
   }
   if ((q + 1) * c->ncase > MAX_CASES) {
@@ -163,16 +157,15 @@ static int sweep_range(parse_ctx *c, scene_axis *ax, const yaml_node_t *map) {
   double from, to, step;
   int integer = ki->type == KEY_INT;
   size_t i, n;
-
   if (ki->type != KEY_REAL && ki->type != KEY_REAL3 && !integer) {
     scene_error_set(c->err, mk, ax->path,
                     "a range needs a numeric key; give a list of values");
     return -1;
   }
-  if (range_read(c, ax, map, &r) ||
-      range_number(c, ax, r.from, "from", integer, &from) ||
-      range_number(c, ax, r.to, "to", integer, &to) ||
-      range_count(c, ax, &r, integer, from, to, &step, &n) ||
+  if (range_read(c, ax, map, r) ||
+      range_number(c, ax, r[R_FROM], "from", integer, &from) ||
+      range_number(c, ax, r[R_TO], "to", integer, &to) ||
+      range_count(c, ax, r, integer, from, to, &step, &n) ||
       axis_alloc(c, ax, n, mk, "out of memory for %zu values"))
     return -1;
   for (i = 0; i < n; i++) {
@@ -259,24 +252,20 @@ static int sweep_key(parse_ctx *c, scene_axis *ax, const char *name,
 /* the values of axis ax: a list, a range mapping; 0 or -1 */
 static int sweep_values(parse_ctx *c, scene_axis *ax, const yaml_node_t *val,
                         scene_mark km) {
-  yaml_node_item_t *it;
-  size_t i, n;
+  yaml_node_item_t *it = val->data.sequence.items.start;
+  size_t i, n = (size_t)(val->data.sequence.items.top - it);
   if (val->type == YAML_MAPPING_NODE) return sweep_range(c, ax, val);
-  if (val->type != YAML_SEQUENCE_NODE) {
+  if (val->type != YAML_SEQUENCE_NODE || n == 0) {
     scene_error_set(c->err, scene_mark_of(&val->start_mark), ax->path,
-                    "expected a list of values, {from, to, num} or {from, to, "
-                    "step}, got %s",
+                    val->type != YAML_SEQUENCE_NODE
+                        ? "expected a list of values, {from, to, num} or "
+                          "{from, to, step}, got %s"
+                        : "empty list of values",
                     scene_node_kind(val));
     return -1;
   }
-  n = (size_t)(val->data.sequence.items.top - val->data.sequence.items.start);
-  if (n == 0) {
-    scene_error_set(c->err, scene_mark_of(&val->start_mark), ax->path,
-                    "empty list of values");
-    return -1;
-  }
   if (axis_alloc(c, ax, n, km, "out of memory")) return -1;
-  for (i = 0, it = val->data.sequence.items.start; i < n; i++, it++) {
+  for (i = 0; i < n; i++, it++) {
     const yaml_node_t *item = scene_node_get(c, *it);
     if (scene_parse_scalar(c, ax->key, item, ax->path, &ax->val[i])) return -1;
     ax->mark[i] = scene_mark_of(&item->start_mark);
@@ -284,13 +273,11 @@ static int sweep_values(parse_ctx *c, scene_axis *ax, const yaml_node_t *val,
   return 0;
 }
 
-/* parse the sweep mapping into s->axis */
 int scene_parse_sweep(parse_ctx *c, const yaml_node_t *map) {
   scene *s = c->s;
   yaml_node_pair_t *pair;
   size_t npair;
   double ncase = 1;
-
   if (map->type != YAML_MAPPING_NODE ||
       map->data.mapping.pairs.top == map->data.mapping.pairs.start) {
     scene_error_set(c->err, scene_mark_of(&map->start_mark), "sweep",
@@ -380,7 +367,6 @@ static int check_shape(parse_ctx *c) {
   return 0;
 }
 
-/* required keys, keys of the other trajectory kind, one-of pairs */
 int scene_check_keys(parse_ctx *c) {
   scene *s = c->s;
   int k, pair;

@@ -67,7 +67,6 @@ rps3_table table_view(const table_data *t) {
   return v;
 }
 
-/* the arrays for n rows; acc only when the file has accelerations */
 int table_alloc_rows(table_data *t, size_t n, int with_acc, int with_line,
                      char *err, size_t errsz) {
   size_t m = n ? n : 1; /* a table of no rows is refused later */
@@ -95,7 +94,6 @@ int table_alloc_rows(table_data *t, size_t n, int with_acc, int with_line,
   return -1;
 }
 
-/* where column c of row r goes */
 double *table_cell(table_data *t, size_t r, int c) {
   if (c == 0) return &t->time[r];
   if (c < 4) return &t->value[r][c - 1];
@@ -103,10 +101,14 @@ double *table_cell(table_data *t, size_t r, int c) {
   return &t->acc[r][c - 7];
 }
 
-/* which of the columns are present: t and the values always, the rates
-   all or none, the accelerations all or none and only with the rates; a
-   column is named as the file holds it ("column NAME" in a CSV file,
-   "dataset /NAME" in an HDF5 one) */
+const char *table_bad_number(double x) {
+  if (!isfinite(x)) return "is not a finite number";
+  if (fpclassify(x) == FP_SUBNORMAL)
+    return "is subnormal (nonzero but below 2.2e-308 in magnitude, where a "
+           "double loses precision): write 0 or a normal number";
+  return NULL;
+}
+
 int table_columns_check(const int have[TABLE_NCOL], int what, int hdf5,
                         const char *file, char *err, size_t errsz) {
   int c, g;
@@ -162,16 +164,16 @@ static int parse_field(char *s, char *e, double *x, const char *file, int line,
   *x = strtod(s, &end);
   if (end != e)
     snprintf(why, sizeof why, "expected a number, got %s", q);
-  else if (!isfinite(*x) || (errno == ERANGE && fabs(*x) > 1.0))
-    snprintf(why, sizeof why, "%s is not a finite number%s", q,
-             errno == ERANGE ? " (beyond the largest double, 1.8e308)" : "");
+  else if (table_bad_number(*x))
+    snprintf(why, sizeof why, "%s %s%s", q, table_bad_number(*x),
+             !isfinite(*x) && errno == ERANGE
+                 ? " (beyond the largest double, 1.8e308)"
+                 : "");
   else if (*x == 0.0 && errno == ERANGE)
     snprintf(why, sizeof why,
              "%s underflows to 0 (nonzero but below 4.9e-324 in magnitude, the "
              "smallest double): write 0 or a normal number",
              q);
-  else if (fpclassify(*x) == FP_SUBNORMAL)
-    snprintf(why, sizeof why, "%s is " TABLE_SUBNORMAL, q);
   *e = keep;
   if (why[0] == '\0') return 0;
   table_err(err, errsz, "%s:%d:%d: column %s: %s", file, line, col, name, why);

@@ -393,14 +393,9 @@ static int h5_read_column(hid_t d, table_data *t, const char *name, int c,
   if (ms >= 0) H5Sclose(ms);
   for (r = 0; r < t->n; r++) {
     double v = *table_cell(t, r, c);
-    if (!isfinite(v)) {
-      col_err(err, errsz, t->path, name, ", row %zu: %g is not a finite number",
-              r, v);
-      return -1;
-    }
-    if (fpclassify(v) == FP_SUBNORMAL) {
-      col_err(err, errsz, t->path, name, ", row %zu: %g is %s", r, v,
-              TABLE_SUBNORMAL);
+    if (table_bad_number(v)) {
+      col_err(err, errsz, t->path, name, ", row %zu: %g %s", r, v,
+              table_bad_number(v));
       return -1;
     }
   }

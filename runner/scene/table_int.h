@@ -9,7 +9,6 @@
 
 #include "table.h"
 
-/* err = the formatted message */
 void table_err(char *err, size_t errsz, const char *fmt, ...)
     __attribute__((format(printf, 3, 4)));
 
@@ -18,10 +17,9 @@ void table_err(char *err, size_t errsz, const char *fmt, ...)
    are ~80 MB */
 #define TABLE_MAX_BYTES (1024.0 * 1024.0 * 1024.0)
 
-/* why a subnormal number is refused (after "VALUE is ") */
-#define TABLE_SUBNORMAL                                                       \
-  "subnormal (nonzero but below 2.2e-308 in magnitude, where a double loses " \
-  "precision): write 0 or a normal number"
+/* why x cannot be a table's number ("is not a finite number", "is
+   subnormal ..."; a subnormal loses precision), or NULL */
+const char *table_bad_number(double x);
 
 /* the arrays for n rows; acc only when the file has accelerations, line
    (the CSV line of each row) with with_line; refused above TABLE_MAX_BYTES
