@@ -170,25 +170,6 @@ off_axis:
   return -1;
 }
 
-/* err = what, at the value of key k that design `index` takes: its swept
-   value, else the key in the file, else the design section */
-static void design_error(const scene *s, size_t index, int k, scene_error *err,
-                         const char *what) {
-  size_t a;
-  scene_mark mk = s->design;
-  const char *path = scene_keys[k].path;
-  if (s->given[k]) mk = s->mark[k];
-  for (a = 0; a < s->naxis; a++)
-    if (s->axis[a].key == k) {
-      mk = s->axis[a].mark[scene_case_coord(s, index, a)];
-      path = s->axis[a].path;
-    }
-  if (s->naxis > 0)
-    scene_error_set(err, mk, path, "case %zu: %s", index, what);
-  else
-    scene_error_set(err, mk, path, "%s", what);
-}
-
 /* 1 when key k is swept */
 static int swept(const scene *s, int k) {
   size_t a;
@@ -221,7 +202,8 @@ static int check_range(const scene *s, size_t index, int klo, int khi,
   snprintf(what, sizeof what,
            "%s [min, max] = [%s, %s] %s is %s: needs min < max", name, a, b,
            unit, lo == hi ? "empty" : "inverted");
-  design_error(s, index, blame_of(s, klo, khi), err, what);
+  scene_case_error(s, index, what, NULL, blame_of(s, klo, khi), &s->design,
+                   err);
   return -1;
 }
 
@@ -270,7 +252,7 @@ int design_case_build(const scene *s, size_t index, scene_case *c,
     int k = key_of_field(s, chk.field);
     if (chk.related[0] >= 0)
       k = blame_of(s, k, key_of_field(s, chk.related[0]));
-    design_error(s, index, k, err, chk.msg);
+    scene_case_error(s, index, chk.msg, NULL, k, &s->design, err);
     return -1;
   }
   return 0;

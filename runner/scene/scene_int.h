@@ -107,6 +107,18 @@ void scene_values_default(scene_values *v);
 /* x as the scene's files write it: shortest text that reads back equal */
 void scene_format_real(char *buf, size_t sz, double x);
 
+/* ----------------------------------------------------- scene_case.c */
+
+/* err = msg ("case N: msg" in a sweep) at the value case `index` takes of
+   a key that sets one of the fields the failed rule chk reads (first_key
+   first, then the failing field, then the related ones; a list key's axis
+   when it is the failing component or the whole key): its swept value,
+   else the key given in the file, else at (path first_key's); without at,
+   the first swept value, else the manipulator section */
+void scene_case_error(const scene *s, size_t index, const char *msg,
+                      const rps3_check *chk, int first_key,
+                      const scene_mark *at, scene_error *err);
+
 /* ------------------------------------------------- design.c: design keys */
 
 /* the design keys against the design section: given (or swept) only in a
