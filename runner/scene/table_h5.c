@@ -259,9 +259,6 @@ static int h5_storage_check(hid_t f, hid_t d, const char *path,
   return rc;
 }
 
-/* the largest table, as read or held in memory [bytes] */
-#define MAX_BYTES TABLE_MAX_BYTES
-
 /* the element size of column d's numbers (integers or floating point);
    0 or -1 with err set */
 static int h5_column_type(hid_t d, const char *path, const char *name,
@@ -347,7 +344,7 @@ static int h5_open_column(hid_t f, const char *path, const char *name, int what,
     return -1;
   }
   *bytes = (double)*rows * (double)(el > sizeof(double) ? el : sizeof(double));
-  if (*bytes > MAX_BYTES) {
+  if (*bytes > TABLE_MAX_BYTES) {
     col_err(err, errsz, path, name,
             ": declares %llu rows of %zu-byte numbers, %.3g GB as read: above "
             "the table limit of 1 GiB",
@@ -363,34 +360,29 @@ static int h5_open_column(hid_t f, const char *path, const char *name, int what,
    memory selection: column k of the n x 3 array), each checked */
 static int h5_read_column(hid_t d, table_data *t, const char *name, int c,
                           char *err, size_t errsz) {
-  hid_t ms = -1;
+  hsize_t dims[2], start[2] = {0, 0}, count[2];
+  hid_t ms;
   herr_t x;
   size_t r;
   if (t->n == 0) return 0;
-  if (c == 0) {
-    x = H5Dread(d, H5T_NATIVE_DOUBLE, H5S_ALL, H5S_ALL, H5P_DEFAULT, t->time);
-  } else {
-    hsize_t dims[2], start[2], count[2];
-    double *base = c < 4 ? t->value[0] : c < 7 ? t->rate[0] : t->acc[0];
-    dims[0] = t->n;
-    dims[1] = 3;
-    start[0] = 0;
-    start[1] = (hsize_t)((c - 1) % 3);
-    count[0] = t->n;
-    count[1] = 1;
-    ms = H5Screate_simple(2, dims, NULL);
-    x = ms < 0
-            ? -1
-            : H5Sselect_hyperslab(ms, H5S_SELECT_SET, start, NULL, count, NULL);
-    if (x >= 0)
-      x = H5Dread(d, H5T_NATIVE_DOUBLE, ms, H5S_ALL, H5P_DEFAULT, base);
-  }
-  if (x < 0) {
-    h5_fail(err, errsz, t->path, name, "read it as numbers");
-    if (ms >= 0) H5Sclose(ms);
-    return -1;
-  }
+  dims[0] = count[0] = t->n;
+  dims[1] = c ? 3 : 1;
+  count[1] = 1;
+  if (c) start[1] = (hsize_t)((c - 1) % 3);
+  ms = H5Screate_simple(2, dims, NULL);
+  x = ms < 0
+          ? -1
+          : H5Sselect_hyperslab(ms, H5S_SELECT_SET, start, NULL, count, NULL);
+  if (x >= 0)
+    x = H5Dread(d, H5T_NATIVE_DOUBLE, ms, H5S_ALL, H5P_DEFAULT,
+                c == 0  ? t->time
+                : c < 4 ? t->value[0]
+                : c < 7 ? t->rate[0]
+                        : t->acc[0]);
+  /* the cause first: a successful call clears HDF5's error stack */
+  if (x < 0) h5_fail(err, errsz, t->path, name, "read it as numbers");
   if (ms >= 0) H5Sclose(ms);
+  if (x < 0) return -1;
   for (r = 0; r < t->n; r++) {
     double v = *table_cell(t, r, c);
     if (table_bad_number(v)) {
@@ -447,7 +439,7 @@ int table_h5_read(table_data *t, int what, char *err, size_t errsz) {
       goto done;
     }
     sum += bytes;
-    if (sum > MAX_BYTES) {
+    if (sum > TABLE_MAX_BYTES) {
       col_err(err, errsz, t->path, names[c],
               ": with it the datasets declare %.3g GB as read (%zu rows each): "
               "above the table limit of 1 GiB",
