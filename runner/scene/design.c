@@ -27,8 +27,7 @@ void design_opts(const scene *s, rps3_design_opts *o) { *o = s->base.des.opts; }
 
 /* grid key ax (alpha, beta, z_c): lo <= hi, cells a whole number >= 1,
    and the grid at most DESIGN_MAX_POSES poses */
-static int check_grid(parse_ctx *c, int ax, double *poses) {
-  scene *s = c->s;
+static int check_grid(const scene *s, int ax, double *poses, scene_error *err) {
   int k = K_DES_ALPHA + ax;
   const double *g = s->base.des.grid[ax];
   const char *path = scene_keys[k].path;
@@ -37,21 +36,21 @@ static int check_grid(parse_ctx *c, int ax, double *poses) {
   scene_format_real(b, sizeof b, g[1]);
   if (g[2] != floor(g[2]) || g[2] < 1) {
     scene_error_set(
-        c->err, s->mark[k], path,
+        err, s->mark[k], path,
         "cells = %g: [lo, hi, cells] needs a whole number of cells >= 1", g[2]);
     return -1;
   }
   if (!(g[0] <= g[1])) {
     scene_error_set(
-        c->err, s->mark[k], path,
+        err, s->mark[k], path,
         "lo = %s is above hi = %s: the range [lo, hi, cells] is inverted", a,
         b);
     return -1;
   }
   *poses *= g[2];
   if (*poses > DESIGN_MAX_POSES) {
-    scene_error_set(c->err, s->mark[k], path,
-                    "the grid has more than %.0f poses", DESIGN_MAX_POSES);
+    scene_error_set(err, s->mark[k], path, "the grid has more than %.0f poses",
+                    DESIGN_MAX_POSES);
     return -1;
   }
   return 0;
@@ -84,8 +83,7 @@ int design_key_unread(int k) {
   return 1;
 }
 
-int scene_design_check_keys(parse_ctx *c) {
-  scene *s = c->s;
+int scene_design_check_keys(const scene *s, scene_error *err) {
   int k, ax;
   size_t a;
   double poses = 1;
@@ -93,7 +91,7 @@ int scene_design_check_keys(parse_ctx *c) {
     /* a design key in a scene that computes no design would be ignored */
     for (k = 0; k < SCENE_NKEY; k++)
       if (SCENE_KEY_IS_DESIGN(&scene_keys[k]) && s->given[k]) {
-        scene_error_set(c->err, s->mark[k], scene_keys[k].path,
+        scene_error_set(err, s->mark[k], scene_keys[k].path,
                         "only a design study reads this key: add a design "
                         "section (docs/runner.md, \"Design studies\")");
         return -1;
@@ -101,7 +99,7 @@ int scene_design_check_keys(parse_ctx *c) {
     return 0;
   }
   if (s->simulate.line > 0) {
-    scene_error_set(c->err, s->design, "design",
+    scene_error_set(err, s->design, "design",
                     "a scene is a design study or a simulation, not both "
                     "(simulate section at %d:%d)",
                     s->simulate.line, s->simulate.column);
@@ -110,7 +108,7 @@ int scene_design_check_keys(parse_ctx *c) {
   for (k = 0; k < SCENE_NKEY; k++)
     if (s->given[k] && design_key_unread(k)) {
       scene_error_set(
-          c->err, s->mark[k], scene_keys[k].path,
+          err, s->mark[k], scene_keys[k].path,
           "a design study does not read this key: its model is "
           "rps3_design_model's (the link inertia from the mass model, the "
           "default effects and solver; docs/runner.md, \"Design studies\")");
@@ -126,28 +124,28 @@ int scene_design_check_keys(parse_ctx *c) {
     if (SCENE_KEY_IS_DESIGN(&scene_keys[k]) && scene_keys[k].req == REQ_YES &&
         !s->given[k]) {
       scene_error_set(
-          c->err, scene_keys[k].src == SRC_DES ? s->section[1] : s->design,
+          err, scene_keys[k].src == SRC_DES ? s->section[1] : s->design,
           scene_keys[k].path, "missing required key of a design study");
       return -1;
     }
   for (a = 0; a < s->naxis; a++) {
     k = s->axis[a].key;
     if ((k >= K_DES_ALPHA && k <= K_DES_Z_C) || k == K_DES_PER_POSE) {
-      scene_error_set(c->err, s->axis[a].mark[0], s->axis[a].path,
+      scene_error_set(err, s->axis[a].mark[0], s->axis[a].path,
                       "cannot be swept (it decides the shape of the file); "
                       "write one scene per value");
       return -1;
     }
     if (s->section[2].line == 0 &&
         strncmp(scene_keys[k].path, "trajectory.", 11) == 0) {
-      scene_error_set(c->err, s->axis[a].mark[0], s->axis[a].path,
+      scene_error_set(err, s->axis[a].mark[0], s->axis[a].path,
                       "the design study has no trajectory section (no task): "
                       "nothing reads this key");
       return -1;
     }
   }
   for (ax = 0; ax < 3; ax++)
-    if (check_grid(c, ax, &poses)) return -1;
+    if (check_grid(s, ax, &poses, err)) return -1;
   /* the volume of a cell in (alpha, beta, z_c): the workspace volume is
      counted in it */
   {
@@ -156,7 +154,7 @@ int scene_design_check_keys(parse_ctx *c) {
     design_grid(s, &gr);
     if (rps3_design_grid_cell(&gr, &v) != RPS3_OK || !isfinite(v)) {
       scene_error_set(
-          c->err, s->design, "design",
+          err, s->design, "design",
           "the volume of a grid cell, (hi - lo) / cells of alpha, beta and z_c "
           "multiplied, is not a finite number: not a grid of poses");
       return -1;
@@ -164,7 +162,7 @@ int scene_design_check_keys(parse_ctx *c) {
   }
   return 0;
 off_axis:
-  scene_error_set(c->err, s->mark[K_PAY_COM], scene_keys[K_PAY_COM].path,
+  scene_error_set(err, s->mark[K_PAY_COM], scene_keys[K_PAY_COM].path,
                   "a design's payload is a point on the platform normal: give "
                   "[0, 0, height] (and sweep only [2])");
   return -1;

@@ -1,8 +1,8 @@
 /*
- * scene_int.h - what the scene files share: scene.c (key table, enum
- * names, values, errors, load), scene_parse.c (YAML nodes), scene_sweep.c
- * (sweep, checks), scene_case.c (cases) and scene_emit.c; not for the
- * programs (they use scene.h).
+ * scene_int.h - what the scene files share: scene.c (key table, names,
+ * values, errors), scene_parse.c (YAML nodes, sweep, checks), scene_load.c,
+ * scene_case.c (cases), scene_emit.c and design.c; not for the programs
+ * (they use scene.h).
  */
 #ifndef RPS3_RUNNER_SCENE_INT_H
 #define RPS3_RUNNER_SCENE_INT_H
@@ -12,15 +12,6 @@
 #include "scene.h"
 
 #include <yaml.h>
-
-/* the parse of one scene file (scene_load) */
-typedef struct {
-  yaml_document_t *doc;
-  scene *s;
-  scene_error *err;
-  int sweep_node; /* node id of the sweep mapping, 0 if none */
-  double ncase;   /* cases of the sweep keys read so far */
-} parse_ctx;
 
 /* a value counts as equal to a whole number within this many ulps of its
    size: used for the range expansion and for span / dt */
@@ -50,46 +41,15 @@ void scene_error_set(scene_error *err, scene_mark mark, const char *path,
 /* libyaml's 0-based mark as the scene's 1-based line and column */
 scene_mark scene_mark_of(const yaml_mark_t *m);
 
-/* ----------------------------------------------- scene_parse.c: nodes */
-
-yaml_node_t *scene_node_get(parse_ctx *c, int id);
-const char *scene_scalar_text(const yaml_node_t *n);
+/* ------------------------------------------------------ scene_parse.c */
 
 /* "a mapping", "a list", "nothing", "a quoted string" or "a scalar" */
 const char *scene_node_kind(const yaml_node_t *n);
 
-/* a plain scalar as a number (an integer if integer); 0 or -1 with the
-   error set */
-int scene_parse_number(parse_ctx *c, const yaml_node_t *n, const char *path,
-                       int integer, double *out);
-
-/* x against the range of key k; 0 or -1 with the error set */
-int scene_check_range(parse_ctx *c, int k, double x, scene_mark mk,
-                      const char *path);
-
-/* one scalar value of key k (not a list key) as a number */
-int scene_parse_scalar(parse_ctx *c, int k, const yaml_node_t *n,
-                       const char *path, double *out);
-
-/* the name of a mapping's key (a plain scalar given once), or -1 */
-int scene_mapping_key(parse_ctx *c, const yaml_node_t *map,
-                      const yaml_node_pair_t *pair, const char *prefix,
-                      const char **name);
-
-/* " (did you mean ...?)" for a mistyped dotted key */
-void scene_key_hint(char *buf, size_t sz, const char *word, int with_sections);
-
-/* walk a mapping section into the scene's base values */
-int scene_walk_section(parse_ctx *c, const yaml_node_t *map,
-                       const char *prefix);
-
-/* ---------------------------------------- scene_sweep.c: sweep, checks */
-
-/* the sweep mapping into c->s->axis */
-int scene_parse_sweep(parse_ctx *c, const yaml_node_t *map);
-
-/* the keys given, after the whole file is read */
-int scene_check_keys(parse_ctx *c);
+/* the sections of document doc (its root mapping root) into s: their keys,
+   the sweep, then the checks of the keys given; 0 or -1 with err set */
+int scene_parse_doc(scene *s, yaml_document_t *doc, const yaml_node_t *root,
+                    scene_error *err);
 
 /* ------------------------------------------- scene_values and emitting */
 
@@ -124,6 +84,6 @@ void scene_case_error(const scene *s, size_t index, const char *msg,
 /* the design keys against the design section: given (or swept) only in a
    scene that has one, its required keys there, no simulate section beside
    it, its grid not swept; 0 or -1 with the error set */
-int scene_design_check_keys(parse_ctx *c);
+int scene_design_check_keys(const scene *s, scene_error *err);
 
 #endif /* RPS3_RUNNER_SCENE_INT_H */

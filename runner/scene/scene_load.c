@@ -266,7 +266,6 @@ int scene_load(scene *s, const char *path, scene_error *err) {
   yaml_parser_t parser;
   yaml_document_t doc, extra;
   yaml_node_t *root;
-  parse_ctx c;
   int rc = -1;
 
   memset(s, 0, sizeof *s);
@@ -298,11 +297,6 @@ int scene_load(scene *s, const char *path, scene_error *err) {
     goto fail;
   }
   root = yaml_document_get_root_node(&doc);
-  memset(&c, 0, sizeof c);
-  c.ncase = 1;
-  c.doc = &doc;
-  c.s = s;
-  c.err = err;
   s->section[0].line = 1;
   s->section[0].column = 1;
   if (!root) {
@@ -323,11 +317,7 @@ int scene_load(scene *s, const char *path, scene_error *err) {
                         "a second YAML document; a scene is one document");
       else {
         s->section[0] = scene_mark_of(&root->start_mark);
-        if (scene_walk_section(&c, root, "") == 0 &&
-            (c.sweep_node == 0 ||
-             scene_parse_sweep(&c, scene_node_get(&c, c.sweep_node)) == 0) &&
-            scene_check_keys(&c) == 0)
-          rc = 0;
+        rc = scene_parse_doc(s, &doc, root, err);
       }
       yaml_document_delete(&extra);
     }
