@@ -5,9 +5,8 @@
  * Parsing is table driven: SCENE_KEYS (scene.h) names every leaf key with
  * its type, range and unit.  Each error carries the libyaml mark of the node
  * it is about, so that the runner can print FILE:LINE:COLUMN: key: what.
- * scene_load.c reads a file with libyaml's document API; the YAML nodes
- * are read in scene_parse.c, the sweep and the checks of the
- * given keys are in scene_sweep.c, each case is built in scene_case.c and
+ * scene_load.c reads a file with libyaml's document API; its nodes, sweep
+ * and checks are scene_parse.c's, each case is built in scene_case.c and
  * written back as YAML in scene_emit.c.
  */
 #include "scene.h"

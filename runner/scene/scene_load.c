@@ -1,8 +1,8 @@
 /*
  * scene_load.c - scene_load (scene.h): the file checked before libyaml
- * sees it, then read with libyaml's document API, its sections walked
- * (scene_parse.c), its sweep read and its keys checked (scene_sweep.c)
- * against the key table (scene.c).
+ * sees it, then read with libyaml's document API, its sections walked, its
+ * sweep read and its keys checked (scene_parse.c) against the key table
+ * (scene.c).
  *
  * The checks before parsing: a regular file of at most SCENE_MAX_BYTES,
  * UTF-8 text without NUL bytes, nested at most SCENE_MAX_DEPTH deep, with
