@@ -599,7 +599,7 @@ int scene_case_same_grid(const scene_case *a, const scene_case *b);
  * COL: warning: key: VALUE m looks like millimetres (above 10 m) ..." for a
  * length above 10 m, and likewise beta above pi/2 rad or another angle
  * beyond 2 pi rad (degrees), in the file, a sweep or a table's rows
- * (scene_warn.c).  Once per key; nothing for a sane scene.
+ * Once per key; nothing for a sane scene.
  */
 void scene_warnings_print(const scene *s, FILE *out);
 
