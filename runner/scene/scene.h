@@ -46,15 +46,9 @@ typedef enum {
   KEY_FILE     /* a file name, relative to the scene (a table) */
 } key_type;
 
-/* which trajectory kinds a key belongs to (the kind of its field) */
-enum {
-  FOR_ALL = 0,
-  FOR_HELIX = RPS3_TRAJ_HELIX,
-  FOR_SINE = RPS3_TRAJ_SINE,
-  FOR_WAYPOINTS = RPS3_TRAJ_WAYPOINTS,
-  FOR_PATH = RPS3_TRAJ_PATH,
-  FOR_TABLE = RPS3_TRAJ_TABLE
-};
+/* the trajectory kind of a key that belongs to every kind (scene_key_kind:
+   else the rps3_traj_kind of its field) */
+enum { FOR_ALL = 0 };
 
 /* how a key must be given: required, optional (a default), or exactly one
    of a pair (REQ_ONE_*) */
@@ -503,7 +497,7 @@ typedef struct {
 /* the row of key k (0 <= k < SCENE_NKEY) */
 const scene_key_info *scene_key_get(int k);
 
-/* the trajectory kind key row ki belongs to (FOR_*) */
+/* the trajectory kind key row ki belongs to (FOR_ALL: every kind) */
 int scene_key_kind(const scene_key_info *ki);
 
 /* 1 when key row ki applies to trajectory kind `kind` */

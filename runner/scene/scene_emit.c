@@ -57,6 +57,7 @@ static int emit_scalar(yaml_emitter_t *em, const char *text) {
   return yaml_emitter_emit(em, &ev);
 }
 
+/* a list (in flow style with flow), or a block mapping */
 static int emit_open(yaml_emitter_t *em, int seq, int flow) {
   yaml_event_t ev;
   if (seq)
@@ -64,9 +65,8 @@ static int emit_open(yaml_emitter_t *em, int seq, int flow) {
         &ev, NULL, NULL, 1,
         flow ? YAML_FLOW_SEQUENCE_STYLE : YAML_BLOCK_SEQUENCE_STYLE);
   else
-    yaml_mapping_start_event_initialize(
-        &ev, NULL, NULL, 1,
-        flow ? YAML_FLOW_MAPPING_STYLE : YAML_BLOCK_MAPPING_STYLE);
+    yaml_mapping_start_event_initialize(&ev, NULL, NULL, 1,
+                                        YAML_BLOCK_MAPPING_STYLE);
   return yaml_emitter_emit(em, &ev);
 }
 

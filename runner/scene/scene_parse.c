@@ -738,21 +738,19 @@ static int sweep_key(parse_ctx *c, scene_axis *ax, const char *name,
 /* the values of axis ax: a list, a range mapping; 0 or -1 */
 static int sweep_values(parse_ctx *c, scene_axis *ax, const yaml_node_t *val,
                         scene_mark km) {
-  yaml_node_item_t *it = val->data.sequence.items.start;
-  size_t i, n = (size_t)(val->data.sequence.items.top - it);
+  long i, n;
   if (val->type == YAML_MAPPING_NODE) return sweep_range(c, ax, val);
-  if (val->type != YAML_SEQUENCE_NODE || n == 0) {
+  if (val->type == YAML_SEQUENCE_NODE &&
+      val->data.sequence.items.top == val->data.sequence.items.start) {
     scene_error_set(c->err, scene_mark_of(&val->start_mark), ax->path,
-                    val->type != YAML_SEQUENCE_NODE
-                        ? "expected a list of values, {from, to, num} or "
-                          "{from, to, step}, got %s"
-                        : "empty list of values",
-                    scene_node_kind(val));
+                    "empty list of values");
     return -1;
   }
-  if (axis_alloc(c, ax, n, km, "out of memory")) return -1;
-  for (i = 0; i < n; i++, it++) {
-    const yaml_node_t *item = scene_node_get(c, *it);
+  n = list_len(c, val, ax->path, 1, LONG_MAX,
+               "a list of values, {from, to, num} or {from, to, step}", "");
+  if (n < 0 || axis_alloc(c, ax, (size_t)n, km, "out of memory")) return -1;
+  for (i = 0; i < n; i++) {
+    const yaml_node_t *item = item_of(c, val, i);
     if (scene_parse_scalar(c, ax->key, item, ax->path, &ax->val[i])) return -1;
     ax->mark[i] = scene_mark_of(&item->start_mark);
   }
