@@ -32,33 +32,28 @@
 #define OFF_RPS3_IN_WAYPOINTS OFF_RPS3_IN_TRAJ
 #define OFF_RPS3_IN_PATH OFF_RPS3_IN_TRAJ
 #define OFF_RPS3_IN_TABLE OFF_RPS3_IN_TRAJ
+/* a braced initializer, as a macro so that rows pack like calls */
+#define ROW(...) \
+  { __VA_ARGS__ }
 #define LIB_ROW(ID, IN, MEMBER, N, IS_INT, LO, LO_OPEN, HI, UNIT, NAME) \
-  {NAME, IN, OFF_##IN(MEMBER), N, IS_INT, LO, LO_OPEN, HI, UNIT},
+  ROW(NAME, IN, OFF_##IN(MEMBER), N, IS_INT, LO, LO_OPEN, HI, UNIT),
 static const rps3_field_info lib_fields[RPS3_NFIELD] = {RPS3_FIELDS(LIB_ROW)};
-#define DES_ROW(ID, MEMBER, LO, LO_OPEN, HI, UNIT, NAME) \
-  {NAME,                                                 \
-   RPS3_IN_MODEL,                                        \
-   offsetof(scene_values, design.MEMBER),                \
-   1,                                                    \
-   0,                                                    \
-   LO,                                                   \
-   LO_OPEN,                                              \
-   HI,                                                   \
-   UNIT},
+#define DES_ROW(ID, MEMBER, LO, LO_OPEN, HI, UNIT, NAME)                    \
+  ROW(NAME, RPS3_IN_MODEL, offsetof(scene_values, design.MEMBER), 1, 0, LO, \
+      LO_OPEN, HI, UNIT),
 static const rps3_field_info design_fields[RPS3_NDESIGN_FIELD] = {
     RPS3_DESIGN_FIELDS(DES_ROW)};
 
 /* each SRC's FIELD as the tail of a scene_key_info: f, fills, dfield, def,
-   deftext, and the own row (MEMBER, IN, LO, LO_OPEN, HI, UNIT) */
-#define ROW_OWN(K, T, M, IN, LO, LO_OPEN, HI, UNIT, FILLS, DEF, DEFTEXT)      \
-  &scene_keys[K].own, FILLS, -1, DEF, DEFTEXT, {                              \
-#M, IN, offsetof(scene_values, M), 1, T != KEY_REAL &&T != KEY_REAL3, LO, \
-        LO_OPEN, HI, UNIT                                                     \
-  }
-#define INFO_LIB(K, T, ID) \
-  &lib_fields[ID], ID, -1, 0, NULL, { NULL, 0, 0, 0, 0, 0, 0, 0, NULL }
-#define INFO_DES(K, T, ID) \
-  &design_fields[ID], -1, ID, 0, NULL, { NULL, 0, 0, 0, 0, 0, 0, 0, NULL }
+   deftext, and the own row (MEMBER, IN, LO, LO_OPEN, HI, UNIT; an int
+   unless a number key) */
+#define ROW_OWN(K, T, M, IN, LO, LO_OPEN, HI, UNIT, FILLS, DEF, DEFTEXT) \
+  &scene_keys[K].own, FILLS, -1, DEF, DEFTEXT,                           \
+      ROW(NULL, IN, offsetof(scene_values, M), 1,                        \
+          T != KEY_REAL && T != KEY_REAL3, LO, LO_OPEN, HI, UNIT)
+#define NO_ROW ROW(NULL, 0, 0, 0, 0, 0, 0, 0, NULL)
+#define INFO_LIB(K, T, ID) &lib_fields[ID], ID, -1, 0, NULL, NO_ROW
+#define INFO_DES(K, T, ID) &design_fields[ID], -1, ID, 0, NULL, NO_ROW
 #define INFO_OWN(K, T, M, IN, LO, LO_OPEN, HI, UNIT, FILLS) \
   ROW_OWN(K, T, M, IN, LO, LO_OPEN, HI, UNIT, FILLS, 0, NULL)
 #define INFO_SIM(K, T, M, LO, LO_OPEN, HI, UNIT, DEF, DEFTEXT) \
@@ -73,13 +68,8 @@ static const rps3_field_info design_fields[RPS3_NDESIGN_FIELD] = {
 #define UNPACK_SIM(FIELD) ARGS FIELD
 #define UNPACK_DSEC(FIELD) ARGS FIELD
 #define KEY_ROW(ID, PATH, TYPE, SRC, FIELD, REQ, SYM, DOC) \
-  {PATH,                                                   \
-   TYPE,                                                   \
-   SRC_##SRC,                                              \
-   REQ,                                                    \
-   SYM,                                                    \
-   DOC,                                                    \
-   APPLY(INFO_##SRC, ID, TYPE, UNPACK_##SRC(FIELD))},
+  ROW(PATH, TYPE, SRC_##SRC, REQ, SYM, DOC,                \
+      APPLY(INFO_##SRC, ID, TYPE, UNPACK_##SRC(FIELD))),
 const scene_key_info scene_keys[SCENE_NKEY] = {SCENE_KEYS(KEY_ROW)};
 
 int scene_shape_mask(int k) {
@@ -235,6 +225,15 @@ void scene_values_default(scene_values *v) {
   rps3_traj_default(&v->traj);
   v->own.m_over_M = v->model.M > 0 ? v->model.m / v->model.M : 0;
   v->own.blend_ratio = v->traj.helix.blend / v->traj.helix.period;
+}
+
+/* the shortest %g form of x that reads back as x */
+void scene_format_real(char *buf, size_t sz, double x) {
+  int prec;
+  for (prec = 15; prec <= 17; prec++) {
+    snprintf(buf, sz, "%.*g", prec, x);
+    if (strtod(buf, NULL) == x) return;
+  }
 }
 
 /* ---------------------------------------------------------------- errors */

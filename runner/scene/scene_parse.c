@@ -164,14 +164,6 @@ static int scene_parse_number(parse_ctx *c, const yaml_node_t *n,
   return 0;
 }
 
-void scene_format_real(char *buf, size_t sz, double x) {
-  int prec;
-  for (prec = 15; prec <= 17; prec++) {
-    snprintf(buf, sz, "%.*g", prec, x);
-    if (strtod(buf, NULL) == x) return;
-  }
-}
-
 static int scene_check_range(parse_ctx *c, int k, double x, scene_mark mk,
                              const char *path) {
   const rps3_field_info *f = scene_keys[k].f;

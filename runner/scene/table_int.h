@@ -1,6 +1,6 @@
 /*
- * table_int.h - what the CSV reader (table.c) and the HDF5 reader
- * (table_h5.c) of a table share.
+ * table_int.h - what the CSV reader (table.c), the HDF5 reader
+ * (table_h5.c) and table_read.c share.
  */
 #ifndef RPS3_RUNNER_TABLE_INT_H
 #define RPS3_RUNNER_TABLE_INT_H
@@ -42,5 +42,8 @@ int table_regular_file(const char *path, char *err, size_t errsz);
 
 /* the columns of `what` from the HDF5 file t->path into t: 0, or -1 */
 int table_h5_read(table_data *t, int what, char *err, size_t errsz);
+
+/* the rows of the CSV file t->path into t: 0, or -1 */
+int table_csv_read(table_data *t, int what, char *err, size_t errsz);
 
 #endif /* RPS3_RUNNER_TABLE_INT_H */
