@@ -1,5 +1,5 @@
 /*
- * design.c - the design keys (scene_design.h) against the scene: the
+ * design.c - the design keys (SCENE_KEYS, scene.h) against the scene: the
  * checks after the whole file is read (scene_design_check_keys), and each
  * design of a design study built and checked (design.h).
  */
