@@ -175,7 +175,7 @@ int out_cf_swept_key(hid_t ds, hid_t str, const char *key) {
   return out_h5_attrs(ds, str, kv, 2);
 }
 
-/* a controller gain's unit is "A or B" (scene.h): A for pd and
+/* a controller gain's unit is "A or B" (scene_sim.h): A for pd and
    pd_gravity (a force per error), B for computed_torque (an
    acceleration per error).  When every case's controller is of one family,
    buf becomes that unit, which UDUNITS parses; a sweep of controllers of
