@@ -1,5 +1,5 @@
 /*
- * design.c - the design keys (scene_design.h) against the scene: the
+ * design.c - the design keys (SCENE_KEYS, scene.h) against the scene: the
  * checks after the whole file is read (scene_design_check_keys), and each
  * design of a design study built and checked (design.h).
  */
@@ -13,91 +13,85 @@
 
 int design_wanted(const scene *s) { return s->design.line > 0; }
 
-/* the grid keys, in the library's axis order */
-static const int grid_key[3] = {K_DES_ALPHA, K_DES_BETA, K_DES_Z_C};
-
-/* the [lo, hi, cells] of grid axis ax */
-static const double *grid_of(const scene_values *v, int ax) {
-  return ax == 0   ? v->des.grid_alpha
-         : ax == 1 ? v->des.grid_beta
-                   : v->des.grid_z_c;
-}
-
 void design_grid(const scene *s, rps3_design_grid *gr) {
   int ax;
   for (ax = 0; ax < 3; ax++) {
-    const double *g = grid_of(&s->base, ax);
+    const double *g = s->base.des.grid[ax];
     gr->lo[ax] = g[0];
     gr->hi[ax] = g[1];
     gr->n[ax] = (size_t)g[2];
   }
 }
 
-void design_opts(const scene *s, rps3_design_opts *o) {
-  rps3_design_opts_default(o);
-  o->lti_good = s->base.des.good_lti;
-  o->length = s->base.des.length;
-  o->cond_sing = s->base.des.cond_sing;
-}
+void design_opts(const scene *s, rps3_design_opts *o) { *o = s->base.des.opts; }
 
-/* one grid key: lo <= hi, cells a whole number >= 1, and the grid at most
-   DESIGN_MAX_POSES poses */
-static int check_grid(parse_ctx *c, int ax, double *poses) {
-  scene *s = c->s;
-  int k = grid_key[ax];
-  const double *g = grid_of(&s->base, ax);
+/* grid key ax (alpha, beta, z_c): lo <= hi, cells a whole number >= 1,
+   and the grid at most DESIGN_MAX_POSES poses */
+static int check_grid(const scene *s, int ax, double *poses, scene_error *err) {
+  int k = K_DES_ALPHA + ax;
+  const double *g = s->base.des.grid[ax];
   const char *path = scene_keys[k].path;
   char a[32], b[32];
   scene_format_real(a, sizeof a, g[0]);
   scene_format_real(b, sizeof b, g[1]);
   if (g[2] != floor(g[2]) || g[2] < 1) {
-    scene_error_set(c->err, s->mark[k], path,
-                    "cells = %g: [lo, hi, cells] needs a whole number of "
-                    "cells >= 1",
-                    g[2]);
+    scene_error_set(
+        err, s->mark[k], path,
+        "cells = %g: [lo, hi, cells] needs a whole number of cells >= 1", g[2]);
     return -1;
   }
   if (!(g[0] <= g[1])) {
-    scene_error_set(c->err, s->mark[k], path,
-                    "lo = %s is above hi = %s: the range [lo, hi, cells] is "
-                    "inverted",
-                    a, b);
+    scene_error_set(
+        err, s->mark[k], path,
+        "lo = %s is above hi = %s: the range [lo, hi, cells] is inverted", a,
+        b);
     return -1;
   }
   *poses *= g[2];
   if (*poses > DESIGN_MAX_POSES) {
-    scene_error_set(c->err, s->mark[k], path,
-                    "the grid has more than %.0f poses", DESIGN_MAX_POSES);
+    scene_error_set(err, s->mark[k], path, "the grid has more than %.0f poses",
+                    DESIGN_MAX_POSES);
     return -1;
   }
   return 0;
 }
 
-/* the keys a design's model does not read (rps3_design_model makes the
-   link inertia from the mass model, the default effects and options): a
-   design study refuses them rather than ignore them */
-static const int not_in_design[] = {
-    K_LINK_IC, K_PAY_INERTIA, K_VISCOUS,  K_COULOMB,    K_VREG,      K_EFFECTS,
-    K_THETA,   K_METHOD,      K_TOL,      K_MAX_ITER,   K_SOLVER,    K_WARM,
-    K_OUTPUTS, K_COND_WARN,   K_COND_MAX, K_TRANS_WARN, K_TRANS_MAX, K_MODE};
+/* the library field each design field that is not a design key is made
+   of (design_of_case) */
+static const int model_field[][2] = {
+    {RPS3_DF_R, RPS3_F_R},
+    {RPS3_DF_RHO, RPS3_F_RHO},
+    {RPS3_DF_M, RPS3_F_PLATFORM_MASS},
+    {RPS3_DF_PAYLOAD, RPS3_F_PAYLOAD_MASS},
+    {RPS3_DF_PAYLOAD_HEIGHT, RPS3_F_PAYLOAD_COM},
+    {RPS3_DF_ACTUATOR_MASS, RPS3_F_LINK_MASS},
+    {RPS3_DF_ACTUATOR_D, RPS3_F_D},
+    {RPS3_DF_G, RPS3_F_G}};
+#define NMODEL_FIELD (sizeof model_field / sizeof model_field[0])
 
+/* a design's model is rps3_design_model's: of the manipulator, solver and
+   effects keys it reads those that fill a design field, and a design
+   study refuses the others rather than ignore them */
 int design_key_unread(int k) {
+  const scene_key_info *ki = &scene_keys[k];
   size_t i;
-  for (i = 0; i < sizeof not_in_design / sizeof not_in_design[0]; i++)
-    if (not_in_design[i] == k) return 1;
-  return 0;
+  if ((ki->src != SRC_LIB && ki->src != SRC_OWN) ||
+      strncmp(ki->path, "trajectory.", 11) == 0)
+    return 0;
+  for (i = 0; i < NMODEL_FIELD; i++)
+    if (model_field[i][1] == ki->fills) return 0;
+  return 1;
 }
 
-int scene_design_check_keys(parse_ctx *c) {
-  scene *s = c->s;
+int scene_design_check_keys(const scene *s, scene_error *err) {
   int k, ax;
-  size_t a, i;
+  size_t a;
   double poses = 1;
   if (!design_wanted(s)) {
     /* a design key in a scene that computes no design would be ignored */
     for (k = 0; k < SCENE_NKEY; k++)
       if (SCENE_KEY_IS_DESIGN(&scene_keys[k]) && s->given[k]) {
-        scene_error_set(c->err, s->mark[k], scene_keys[k].path,
+        scene_error_set(err, s->mark[k], scene_keys[k].path,
                         "only a design study reads this key: add a design "
                         "section (docs/runner.md, \"Design studies\")");
         return -1;
@@ -105,20 +99,19 @@ int scene_design_check_keys(parse_ctx *c) {
     return 0;
   }
   if (s->simulate.line > 0) {
-    scene_error_set(c->err, s->design, "design",
+    scene_error_set(err, s->design, "design",
                     "a scene is a design study or a simulation, not both "
                     "(simulate section at %d:%d)",
                     s->simulate.line, s->simulate.column);
     return -1;
   }
-  for (i = 0; i < sizeof not_in_design / sizeof not_in_design[0]; i++)
-    if (s->given[not_in_design[i]]) {
-      k = not_in_design[i];
-      scene_error_set(c->err, s->mark[k], scene_keys[k].path,
-                      "a design study does not read this key: its model is "
-                      "rps3_design_model's (the link inertia from the mass "
-                      "model, the default effects and solver; docs/runner.md, "
-                      "\"Design studies\")");
+  for (k = 0; k < SCENE_NKEY; k++)
+    if (s->given[k] && design_key_unread(k)) {
+      scene_error_set(
+          err, s->mark[k], scene_keys[k].path,
+          "a design study does not read this key: its model is "
+          "rps3_design_model's (the link inertia from the mass model, the "
+          "default effects and solver; docs/runner.md, \"Design studies\")");
       return -1;
     }
   /* the design's payload is a point on the platform normal */
@@ -130,32 +123,29 @@ int scene_design_check_keys(parse_ctx *c) {
   for (k = 0; k < SCENE_NKEY; k++)
     if (SCENE_KEY_IS_DESIGN(&scene_keys[k]) && scene_keys[k].req == REQ_YES &&
         !s->given[k]) {
-      scene_error_set(c->err,
-                      scene_keys[k].src == SRC_DES ? s->section[1] : s->design,
-                      scene_keys[k].path,
-                      "missing required key of a design "
-                      "study");
+      scene_error_set(
+          err, scene_keys[k].src == SRC_DES ? s->section[1] : s->design,
+          scene_keys[k].path, "missing required key of a design study");
       return -1;
     }
   for (a = 0; a < s->naxis; a++) {
     k = s->axis[a].key;
-    if (k == K_DES_ALPHA || k == K_DES_BETA || k == K_DES_Z_C ||
-        k == K_DES_PER_POSE) {
-      scene_error_set(c->err, s->axis[a].mark[0], s->axis[a].path,
+    if ((k >= K_DES_ALPHA && k <= K_DES_Z_C) || k == K_DES_PER_POSE) {
+      scene_error_set(err, s->axis[a].mark[0], s->axis[a].path,
                       "cannot be swept (it decides the shape of the file); "
                       "write one scene per value");
       return -1;
     }
     if (s->section[2].line == 0 &&
         strncmp(scene_keys[k].path, "trajectory.", 11) == 0) {
-      scene_error_set(c->err, s->axis[a].mark[0], s->axis[a].path,
-                      "the design study has no trajectory section (no "
-                      "task): nothing reads this key");
+      scene_error_set(err, s->axis[a].mark[0], s->axis[a].path,
+                      "the design study has no trajectory section (no task): "
+                      "nothing reads this key");
       return -1;
     }
   }
   for (ax = 0; ax < 3; ax++)
-    if (check_grid(c, ax, &poses)) return -1;
+    if (check_grid(s, ax, &poses, err)) return -1;
   /* the volume of a cell in (alpha, beta, z_c): the workspace volume is
      counted in it */
   {
@@ -163,38 +153,19 @@ int scene_design_check_keys(parse_ctx *c) {
     double v = 0;
     design_grid(s, &gr);
     if (rps3_design_grid_cell(&gr, &v) != RPS3_OK || !isfinite(v)) {
-      scene_error_set(c->err, s->design, "design",
-                      "the volume of a grid cell, (hi - lo) / cells of "
-                      "alpha, beta and z_c multiplied, is not a finite "
-                      "number: not a grid of poses");
+      scene_error_set(
+          err, s->design, "design",
+          "the volume of a grid cell, (hi - lo) / cells of alpha, beta and z_c "
+          "multiplied, is not a finite number: not a grid of poses");
       return -1;
     }
   }
   return 0;
 off_axis:
-  scene_error_set(c->err, s->mark[K_PAY_COM], scene_keys[K_PAY_COM].path,
-                  "a design's payload is a point on the platform normal: "
-                  "give [0, 0, height] (and sweep only [2])");
+  scene_error_set(err, s->mark[K_PAY_COM], scene_keys[K_PAY_COM].path,
+                  "a design's payload is a point on the platform normal: give "
+                  "[0, 0, height] (and sweep only [2])");
   return -1;
-}
-
-/* err = what, at the value of key k that design `index` takes: its swept
-   value, else the key in the file, else the design section */
-static void design_error(const scene *s, size_t index, int k, scene_error *err,
-                         const char *what) {
-  size_t a;
-  scene_mark mk = s->design;
-  const char *path = scene_keys[k].path;
-  if (s->given[k]) mk = s->mark[k];
-  for (a = 0; a < s->naxis; a++)
-    if (s->axis[a].key == k) {
-      mk = s->axis[a].mark[scene_case_coord(s, index, a)];
-      path = s->axis[a].path;
-    }
-  if (s->naxis > 0)
-    scene_error_set(err, mk, path, "case %zu: %s", index, what);
-  else
-    scene_error_set(err, mk, path, "%s", what);
 }
 
 /* 1 when key k is swept */
@@ -229,31 +200,24 @@ static int check_range(const scene *s, size_t index, int klo, int khi,
   snprintf(what, sizeof what,
            "%s [min, max] = [%s, %s] %s is %s: needs min < max", name, a, b,
            unit, lo == hi ? "empty" : "inverted");
-  design_error(s, index, blame_of(s, klo, khi), err, what);
+  scene_case_error(s, index, what, NULL, blame_of(s, klo, khi), &s->design,
+                   err);
   return -1;
 }
 
-/* the scene key that sets design field id in scene s (a design key's row
-   is the library's, placed in scene_values.design) */
+/* the scene key that sets design field id in scene s: its design key, or
+   the key (given, if any) that fills its library field */
 static int key_of_field(const scene *s, int id) {
-  const rps3_field_info *f = rps3_design_field(id);
-  int k;
-  switch (id) {
-  case RPS3_DF_R: return K_R;
-  case RPS3_DF_RHO: return K_RHO;
-  case RPS3_DF_M: return K_M;
-  case RPS3_DF_PAYLOAD: return K_PAY_MASS;
-  case RPS3_DF_PAYLOAD_HEIGHT: return K_PAY_COM;
-  case RPS3_DF_ACTUATOR_MASS: return s->given[K_M_OVER_M] ? K_M_OVER_M : K_MASS;
-  case RPS3_DF_ACTUATOR_D: return K_D;
-  case RPS3_DF_G: return K_G;
-  default:
-    for (k = 0; k < SCENE_NKEY; k++)
-      if (f && scene_keys[k].src == SRC_DES &&
-          scene_keys[k].f->offset == offsetof(scene_values, design) + f->offset)
-        return k;
-    return K_DES_STROKE_MIN;
+  int k, lib = -1, first = -1;
+  size_t i;
+  for (i = 0; i < NMODEL_FIELD; i++)
+    if (model_field[i][0] == id) lib = model_field[i][1];
+  for (k = 0; k < SCENE_NKEY; k++) {
+    if (scene_keys[k].dfield == id && id >= 0) return k;
+    if (lib >= 0 && scene_keys[k].fills == lib && first < 0) first = k;
+    if (lib >= 0 && scene_keys[k].fills == lib && s->given[k]) return k;
   }
+  return first >= 0 ? first : K_DES_STROKE_MIN;
 }
 
 void design_of_case(const scene_case *c, rps3_design *d) {
@@ -286,7 +250,7 @@ int design_case_build(const scene *s, size_t index, scene_case *c,
     int k = key_of_field(s, chk.field);
     if (chk.related[0] >= 0)
       k = blame_of(s, k, key_of_field(s, chk.related[0]));
-    design_error(s, index, k, err, chk.msg);
+    scene_case_error(s, index, chk.msg, NULL, k, &s->design, err);
     return -1;
   }
   return 0;

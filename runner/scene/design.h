@@ -1,6 +1,6 @@
 /*
  * design.h - a scene with a `design:` section is a design study: each case
- * of its sweep is one design (the manipulator keys, scene_design.h), whose
+ * of its sweep is one design (the manipulator keys, scene.h), whose
  * indices are computed over the section's grid of poses (alpha, beta, z_c)
  * and, when the scene has a trajectory, along it as the reference task
  * (docs/runner.md, "Design studies").

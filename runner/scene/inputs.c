@@ -58,17 +58,6 @@ done:
   return rc;
 }
 
-/* the table that key k of the key table read into s (its file: ->abs,
-   NULL when none), with the columns it was read as; NULL for a file key
-   this function does not know */
-static const table_data *table_of(const scene *s, int k, int *what) {
-  switch (k) {
-  case K_TABLE_FILE: *what = TABLE_POSE; return &s->table;
-  case K_PATH_FILE: *what = TABLE_CENTRE; return &s->path_table;
-  default: return NULL;
-  }
-}
-
 /* n rows of m doubles equal bit for bit (both absent counts as equal) */
 static int same_doubles(const void *a, const void *b, size_t n, size_t m) {
   if (!a || !b) return !a && !b;
@@ -100,56 +89,33 @@ static int same_rows(const table_data *t, const scene *s, const char *file,
 char *inputs_record(const scene *s, char *err, size_t errsz) {
   char *rec = NULL, hex[INPUTS_HEX];
   size_t len = 0;
-  int k, what = 0;
-  rec = calloc(1, 1);
-  if (!rec) {
+  int k, rc = 0;
+  FILE *m = open_memstream(&rec, &len);
+  if (!m) {
     snprintf(err, errsz, "out of memory");
     return NULL;
   }
-  for (k = 0; k < SCENE_NKEY; k++) {
+  for (k = 0; k < SCENE_NKEY && rc == 0; k++) {
     const scene_key_info *ki = scene_key_get(k);
-    const table_data *t;
-    const char *file;
-    size_t add;
-    char *grown;
-    if (ki->type != KEY_FILE) continue;
-    t = table_of(s, k, &what);
-    if (!t) {
-      /* every file a scene reads must be in the record */
+    const table_data *t = &s->table[SCENE_TABLE_OF(k)];
+    if (ki->type != KEY_FILE || !t->abs || !s->given[k]) continue;
+    rc = inputs_sha256(t->abs, hex, err, errsz);
+    if (rc == 0 && !same_rows(t, s, t->abs, SCENE_TABLE_OF(k))) {
       snprintf(err, errsz,
-               "%s: a file key whose file the record of input "
-               "files does not know (runner/inputs.c)",
-               ki->path);
-      free(rec);
-      return NULL;
+               "%s: %s changed while this run read it (its rows now are not "
+               "those read): run again once it is written",
+               ki->path, t->abs);
+      rc = -1;
     }
-    file = t->abs;
-    if (!file || !s->given[k]) continue;
-    if (inputs_sha256(file, hex, err, errsz)) {
-      free(rec);
-      return NULL;
-    }
-    if (!same_rows(t, s, file, what)) {
-      snprintf(err, errsz,
-               "%s: %s changed while this run read it (its "
-               "rows now are not those read): run again once "
-               "it is written",
-               ki->path, file);
-      free(rec);
-      return NULL;
-    }
-    add = strlen(ki->path) + 8 + strlen(hex) + 1 + strlen(file) + 2;
-    grown = realloc(rec, len + add);
-    if (!grown) {
-      snprintf(err, errsz, "out of memory");
-      free(rec);
-      return NULL;
-    }
-    rec = grown;
-    len += (size_t)snprintf(rec + len, add, "%s sha256:%s %s\n", ki->path, hex,
-                            file);
+    if (rc == 0) fprintf(m, "%s sha256:%s %s\n", ki->path, hex, t->abs);
   }
-  return rec;
+  if (fclose(m) != 0 && rc == 0) {
+    snprintf(err, errsz, "out of memory");
+    rc = -1;
+  }
+  if (rc == 0) return rec;
+  free(rec);
+  return NULL;
 }
 
 /* one line of a record: its key, digest and path, and the next line */
@@ -212,37 +178,39 @@ static int first_difference(const char *from, const char *to, rec_line *lf,
 int inputs_differ(const char *a, const char *b, char *key, size_t keysz,
                   char *path, size_t pathsz, char *da, char *db, size_t dsz) {
   static const char none[] = "none", unrec[] = "not recorded";
-  rec_line la, lb;
+  rec_line la, lb, *l = &la;
+  const char *x, *y, *p = a ? a : b;
+  size_t nx, ny;
   int in;
   key[0] = path[0] = da[0] = db[0] = '\0';
   if (!a || !b) {
     /* a file written before records were kept: what it read is unknown,
        unless the scene (compared elsewhere) reads no file */
-    const char *p = a ? a : b;
-    if (!a && !b) return 0;
-    if (!next_line(&p, &la)) return 0;
-    put(key, keysz, la.key, la.nkey);
-    put(path, pathsz, la.path ? la.path : "", la.npath);
-    put(da, dsz, a ? la.dig : unrec, a ? la.ndig : strlen(unrec));
-    put(db, dsz, b ? la.dig : unrec, b ? la.ndig : strlen(unrec));
-    return 1;
+    if (!p || !next_line(&p, &la)) return 0;
+    x = a ? la.dig : unrec;
+    nx = a ? la.ndig : strlen(unrec);
+    y = b ? la.dig : unrec;
+    ny = b ? la.ndig : strlen(unrec);
+  } else if (first_difference(a, b, &la, &lb, &in)) {
+    x = la.dig;
+    nx = la.ndig;
+    y = in ? lb.dig : none;
+    ny = in ? lb.ndig : 4;
+  } else if (first_difference(b, a, &lb, &la, &in)) {
+    /* a key that only b has */
+    l = &lb;
+    x = none;
+    nx = 4;
+    y = lb.dig;
+    ny = lb.ndig;
+  } else {
+    return 0;
   }
-  if (first_difference(a, b, &la, &lb, &in)) {
-    put(key, keysz, la.key, la.nkey);
-    put(path, pathsz, la.path ? la.path : "", la.npath);
-    put(da, dsz, la.dig, la.ndig);
-    put(db, dsz, in ? lb.dig : none, in ? lb.ndig : 4);
-    return 1;
-  }
-  /* a key that only b has */
-  if (first_difference(b, a, &lb, &la, &in)) {
-    put(key, keysz, lb.key, lb.nkey);
-    put(path, pathsz, lb.path ? lb.path : "", lb.npath);
-    put(da, dsz, none, 4);
-    put(db, dsz, lb.dig, lb.ndig);
-    return 1;
-  }
-  return 0;
+  put(key, keysz, l->key, l->nkey);
+  put(path, pathsz, l->path ? l->path : "", l->npath);
+  put(da, dsz, x, nx);
+  put(db, dsz, y, ny);
+  return 1;
 }
 
 int inputs_find(const char *rec, const char *key, char *dig, size_t dsz,

@@ -5,9 +5,8 @@
  * Parsing is table driven: SCENE_KEYS (scene.h) names every leaf key with
  * its type, range and unit.  Each error carries the libyaml mark of the node
  * it is about, so that the runner can print FILE:LINE:COLUMN: key: what.
- * scene_load.c reads a file with libyaml's document API; the YAML nodes
- * are read in scene_parse.c, the sweep and the checks of the
- * given keys are in scene_sweep.c, each case is built in scene_case.c and
+ * scene_load.c reads a file with libyaml's document API; its nodes, sweep
+ * and checks are scene_parse.c's, each case is built in scene_case.c and
  * written back as YAML in scene_emit.c.
  */
 #include "scene.h"
@@ -24,8 +23,8 @@
 
 /* ------------------------------------------------------------- key table */
 
-/* the library's rows (RPS3_FIELDS), with the offset of each value in
-   scene_values */
+/* the library's rows (RPS3_FIELDS, RPS3_DESIGN_FIELDS) relocated into
+   scene_values; a design field is of every trajectory kind */
 #define OFF_RPS3_IN_MODEL(MEMBER) offsetof(scene_values, model.MEMBER)
 #define OFF_RPS3_IN_TRAJ(MEMBER) offsetof(scene_values, traj.MEMBER)
 #define OFF_RPS3_IN_HELIX OFF_RPS3_IN_TRAJ
@@ -33,72 +32,46 @@
 #define OFF_RPS3_IN_WAYPOINTS OFF_RPS3_IN_TRAJ
 #define OFF_RPS3_IN_PATH OFF_RPS3_IN_TRAJ
 #define OFF_RPS3_IN_TABLE OFF_RPS3_IN_TRAJ
+/* a braced initializer, as a macro so that rows pack like calls */
+#define ROW(...) \
+  { __VA_ARGS__ }
 #define LIB_ROW(ID, IN, MEMBER, N, IS_INT, LO, LO_OPEN, HI, UNIT, NAME) \
-  {NAME, IN, OFF_##IN(MEMBER), N, IS_INT, LO, LO_OPEN, HI, UNIT},
+  ROW(NAME, IN, OFF_##IN(MEMBER), N, IS_INT, LO, LO_OPEN, HI, UNIT),
 static const rps3_field_info lib_fields[RPS3_NFIELD] = {RPS3_FIELDS(LIB_ROW)};
-#undef LIB_ROW
+#define DES_ROW(ID, MEMBER, LO, LO_OPEN, HI, UNIT, NAME)                    \
+  ROW(NAME, RPS3_IN_MODEL, offsetof(scene_values, design.MEMBER), 1, 0, LO, \
+      LO_OPEN, HI, UNIT),
+static const rps3_field_info design_fields[RPS3_NDESIGN_FIELD] = {
+    RPS3_DESIGN_FIELDS(DES_ROW)};
 
-/* the rows of the OWN, SIM and DSEC keys, shaped like the library's (a LIB
-   or DES key's entry is unused); FIELD_SRC(PATH, ...) turns a key's FIELD
-   into the row */
-#define FIELD_LIB(PATH, ID) \
-  { NULL, 0, 0, 0, 0, 0, 0, 0, NULL }
-#define FIELD_OWN(PATH, MEMBER, IN, IS_INT, LO, LO_OPEN, HI, UNIT, FILLS) \
-  { PATH, IN, offsetof(scene_values, MEMBER), 1, IS_INT, LO, LO_OPEN, HI, UNIT }
-#define FIELD_SIM(PATH, MEMBER, IS_INT, LO, LO_OPEN, HI, UNIT, DEF, DEFTEXT) \
-  FIELD_OWN(PATH, MEMBER, RPS3_IN_MODEL, IS_INT, LO, LO_OPEN, HI, UNIT, -1)
-#define FIELD_DES FIELD_LIB
-#define FIELD_DSEC(PATH, MEMBER, N, IS_INT, LO, LO_OPEN, HI, UNIT)      \
-  {                                                                     \
-    PATH, RPS3_IN_MODEL, offsetof(scene_values, MEMBER), N, IS_INT, LO, \
-        LO_OPEN, HI, UNIT                                               \
-  }
+/* each SRC's FIELD as the tail of a scene_key_info: f, fills, dfield, def,
+   deftext, and the own row (MEMBER, IN, LO, LO_OPEN, HI, UNIT; an int
+   unless a number key) */
+#define ROW_OWN(K, T, M, IN, LO, LO_OPEN, HI, UNIT, FILLS, DEF, DEFTEXT) \
+  &scene_keys[K].own, FILLS, -1, DEF, DEFTEXT,                           \
+      ROW(NULL, IN, offsetof(scene_values, M), 1,                        \
+          T != KEY_REAL && T != KEY_REAL3, LO, LO_OPEN, HI, UNIT)
+#define NO_ROW ROW(NULL, 0, 0, 0, 0, 0, 0, 0, NULL)
+#define INFO_LIB(K, T, ID) &lib_fields[ID], ID, -1, 0, NULL, NO_ROW
+#define INFO_DES(K, T, ID) &design_fields[ID], -1, ID, 0, NULL, NO_ROW
+#define INFO_OWN(K, T, M, IN, LO, LO_OPEN, HI, UNIT, FILLS) \
+  ROW_OWN(K, T, M, IN, LO, LO_OPEN, HI, UNIT, FILLS, 0, NULL)
+#define INFO_SIM(K, T, M, LO, LO_OPEN, HI, UNIT, DEF, DEFTEXT) \
+  ROW_OWN(K, T, M, RPS3_IN_MODEL, LO, LO_OPEN, HI, UNIT, -1, DEF, DEFTEXT)
+#define INFO_DSEC(K, T, M, LO, LO_OPEN, HI, UNIT) \
+  ROW_OWN(K, T, M, RPS3_IN_MODEL, LO, LO_OPEN, HI, UNIT, -1, 0, NULL)
 #define APPLY(M, ...) M(__VA_ARGS__)
 #define ARGS(...) __VA_ARGS__
 #define UNPACK_LIB(FIELD) FIELD
+#define UNPACK_DES(FIELD) FIELD
 #define UNPACK_OWN(FIELD) ARGS FIELD
 #define UNPACK_SIM(FIELD) ARGS FIELD
-#define UNPACK_DES(FIELD) FIELD
 #define UNPACK_DSEC(FIELD) ARGS FIELD
-#define FIELD_ROW(ID, PATH, TYPE, SRC, FIELD, REQ, SYM, DOC) \
-  APPLY(FIELD_##SRC, PATH, UNPACK_##SRC(FIELD)),
-static const rps3_field_info key_fields[SCENE_NKEY] = {SCENE_KEYS(FIELD_ROW)};
-#undef FIELD_ROW
-
-/* the design keys' rows (SRC_DES): the library's rows of rps3_design
-   (RPS3_DESIGN_FIELDS), placed in scene_values.design; a design field is of
-   every trajectory kind */
-#define DES_ROW(ID, MEMBER, LO, LO_OPEN, HI, UNIT, NAME) \
-  {NAME,                                                 \
-   RPS3_IN_MODEL,                                        \
-   offsetof(scene_values, design.MEMBER),                \
-   1,                                                    \
-   0,                                                    \
-   LO,                                                   \
-   LO_OPEN,                                              \
-   HI,                                                   \
-   UNIT},
-static const rps3_field_info design_fields[RPS3_NDESIGN_FIELD] = {
-    RPS3_DESIGN_FIELDS(DES_ROW)};
-#undef DES_ROW
-
-/* the key rows: the field's row, what it fills, the default */
-#define INFO_LIB(K, ID) &lib_fields[ID], ID, 0, NULL
-#define INFO_OWN(K, MEMBER, IN, IS_INT, LO, LO_OPEN, HI, UNIT, FILLS) \
-  &key_fields[K], FILLS, 0, NULL
-#define INFO_SIM(K, MEMBER, IS_INT, LO, LO_OPEN, HI, UNIT, DEF, DEFTEXT) \
-  &key_fields[K], -1, DEF, DEFTEXT
-#define INFO_DES(K, ID) &design_fields[ID], -1, 0, NULL
-#define INFO_DSEC(K, MEMBER, N, IS_INT, LO, LO_OPEN, HI, UNIT) \
-  &key_fields[K], -1, 0, NULL
-#define KEY_ROW(ID, PATH, TYPE, SRC, FIELD, REQ, SYM, DOC)            \
-  {PATH, TYPE, SRC_##SRC, APPLY(INFO_##SRC, ID, UNPACK_##SRC(FIELD)), \
-   REQ,  SYM,  DOC},
+#define KEY_ROW(ID, PATH, TYPE, SRC, FIELD, REQ, SYM, DOC) \
+  ROW(PATH, TYPE, SRC_##SRC, REQ, SYM, DOC,                \
+      APPLY(INFO_##SRC, ID, TYPE, UNPACK_##SRC(FIELD))),
 const scene_key_info scene_keys[SCENE_NKEY] = {SCENE_KEYS(KEY_ROW)};
-#undef KEY_ROW
 
-/* the path shapes (bits 1 << rps3_path_shape) that use key k, for the
-   keys marked REQ_SHAPE; 0 for any other key */
 int scene_shape_mask(int k) {
   const int line = 1 << RPS3_PATH_LINE, circle = 1 << RPS3_PATH_CIRCLE,
             helix = 1 << RPS3_PATH_HELIX;
@@ -137,7 +110,7 @@ int scene_key_find(const char *path) {
   return -1;
 }
 
-/* ---------------------------------------------------------- enum names */
+/* ------------------------------------------- names of enums and lists */
 
 static const char *const kind_names[] = {NULL,        "helix", "sine",
                                          "waypoints", "path",  "table"};
@@ -145,35 +118,38 @@ static const char *const shape_names[] = {"line", "circle", "helix", "table"};
 static const char *const theta_names[] = {"closed_form", "multiroot"};
 static const char *const method_names[] = {"lagrange", "newton_euler"};
 
+/* the values of key k that have names: [*lo, *hi] (an enum: the library's
+   range of the field; a list: its bits) */
+static void name_range(int k, int *lo, int *hi) {
+  *lo = scene_keys[k].type == KEY_ENUM ? (int)scene_keys[k].f->lo : 0;
+  *hi = scene_keys[k].type == KEY_EFFECTS   ? RPS3_NEFFECT - 1
+        : scene_keys[k].type == KEY_OUTPUTS ? RPS3_NOUTPUT - 1
+                                            : (int)scene_keys[k].f->hi;
+}
+
 const char *scene_enum_name(int k, int value) {
+  int lo, hi;
+  name_range(k, &lo, &hi);
+  if (value < lo || value > hi) return NULL;
+  if (scene_keys[k].type == KEY_EFFECTS) return rps3_effect_name(value);
+  if (scene_keys[k].type == KEY_OUTPUTS) return rps3_output_name(value);
   switch (k) {
-  case K_KIND:
-    return (value >= RPS3_TRAJ_HELIX && value <= RPS3_TRAJ_TABLE)
-               ? kind_names[value]
-               : NULL;
-  case K_THETA: return (value == 0 || value == 1) ? theta_names[value] : NULL;
-  case K_METHOD: return (value == 0 || value == 1) ? method_names[value] : NULL;
+  case K_KIND: return kind_names[value];
+  case K_THETA: return theta_names[value];
+  case K_METHOD: return method_names[value];
   case K_SOLVER: return rps3_solver_name(value);
   case K_WP_LAW:
   case K_PATH_LAW: return rps3_time_law_name(value);
-  case K_PATH_SHAPE:
-    return (value >= 0 && value <= RPS3_PATH_TABLE) ? shape_names[value] : NULL;
+  case K_PATH_SHAPE: return shape_names[value];
   case K_SIM_CONTROLLER: return rps3_ctrl_name(value);
   case K_SIM_INTEGRATOR: return rps3_integrator_name(value);
   default: return NULL;
   }
 }
 
-/* range of enum values of key k: [*lo, *hi] */
-static void enum_range(int k, int *lo, int *hi) {
-  /* the library's range of the field */
-  *lo = (int)scene_keys[k].f->lo;
-  *hi = (int)scene_keys[k].f->hi;
-}
-
 int scene_enum_find(int k, const char *name) {
   int v, lo, hi;
-  enum_range(k, &lo, &hi);
+  name_range(k, &lo, &hi);
   for (v = lo; v <= hi; v++) {
     const char *n = scene_enum_name(k, v);
     if (n && strcmp(n, name) == 0) return v;
@@ -181,34 +157,25 @@ int scene_enum_find(int k, const char *name) {
   return -1;
 }
 
-/* "a, b or c" list of the names of key k into buf */
 void scene_enum_list(int k, char *buf, size_t sz) {
   int v, lo, hi;
   size_t len = 0;
-  enum_range(k, &lo, &hi);
+  const char *last = scene_keys[k].type == KEY_ENUM ? " or " : ", ";
+  name_range(k, &lo, &hi);
   buf[0] = '\0';
   for (v = lo; v <= hi && len < sz; v++)
     len += (size_t)snprintf(buf + len, sz - len, "%s%s",
-                            v == lo ? "" : (v == hi ? " or " : ", "),
+                            v == lo ? "" : (v == hi ? last : ", "),
                             scene_enum_name(k, v));
 }
 
-void scene_effect_list(char *buf, size_t sz) {
-  int e;
-  size_t len = 0;
-  buf[0] = '\0';
-  for (e = 0; e < RPS3_NEFFECT && len < sz; e++)
-    len += (size_t)snprintf(buf + len, sz - len, "%s%s", e ? ", " : "",
-                            rps3_effect_name(e));
-}
-
-void scene_output_list(char *buf, size_t sz) {
-  int e;
-  size_t len = 0;
-  buf[0] = '\0';
-  for (e = 0; e < RPS3_NOUTPUT && len < sz; e++)
-    len += (size_t)snprintf(buf + len, sz - len, "%s%s", e ? ", " : "",
-                            rps3_output_name(e));
+void scene_enum_hint(char *buf, size_t sz, int k, const char *word) {
+  const char *cand[64];
+  int v, lo, hi;
+  size_t n = 0;
+  name_range(k, &lo, &hi);
+  for (v = lo; v <= hi && n < 64; v++) cand[n++] = scene_enum_name(k, v);
+  hint_text(buf, sz, word, cand, n);
 }
 
 /* -------------------------------------------------------------- values */
@@ -235,7 +202,6 @@ double scene_value_real(const scene_values *v, int k, int comp) {
   return x;
 }
 
-/* set key k (component comp of a KEY_REAL3) to x */
 void scene_value_set(scene_values *v, int k, int comp, double x) {
   switch (scene_keys[k].type) {
   case KEY_REAL: *scene_real_at(v, k) = x; break;
@@ -244,8 +210,7 @@ void scene_value_set(scene_values *v, int k, int comp, double x) {
   }
 }
 
-/* defaults: the library's Table II model, options and helix; the runner's
-   own values are those the library's defaults imply */
+/* the runner's own values are those the library's defaults imply */
 void scene_values_default(scene_values *v) {
   int k;
   memset(v, 0, sizeof *v);
@@ -254,28 +219,21 @@ void scene_values_default(scene_values *v) {
       *scene_int_at(v, k) = (int)scene_keys[k].def;
     else if (scene_keys[k].src == SRC_SIM) /* a list: 0, the rest too */
       *scene_real_at(v, k) = scene_keys[k].def;
-  {
-    rps3_design_opts o;
-    rps3_design_opts_default(&o);
-    rps3_design_default(&v->design);
-    v->des.good_lti = o.lti_good;
-    v->des.length = o.length;
-    v->des.cond_sing = o.cond_sing;
-  }
+  rps3_design_opts_default(&v->des.opts);
+  rps3_design_default(&v->design);
   rps3_model_default(&v->model);
   rps3_traj_default(&v->traj);
   v->own.m_over_M = v->model.M > 0 ? v->model.m / v->model.M : 0;
   v->own.blend_ratio = v->traj.helix.blend / v->traj.helix.period;
 }
 
-/* " (did you mean ...?)" for an enum value of key k */
-void scene_enum_hint(char *buf, size_t sz, int k, const char *word) {
-  const char *cand[64];
-  int v, lo, hi;
-  size_t n = 0;
-  enum_range(k, &lo, &hi);
-  for (v = lo; v <= hi && n < 64; v++) cand[n++] = scene_enum_name(k, v);
-  hint_text(buf, sz, word, cand, n);
+/* the shortest %g form of x that reads back as x */
+void scene_format_real(char *buf, size_t sz, double x) {
+  int prec;
+  for (prec = 15; prec <= 17; prec++) {
+    snprintf(buf, sz, "%.*g", prec, x);
+    if (strtod(buf, NULL) == x) return;
+  }
 }
 
 /* ---------------------------------------------------------------- errors */
@@ -317,8 +275,8 @@ void scene_free(scene *s) {
   free(s->wp_pose);
   free(s->wp_time_mark);
   free(s->wp_pose_mark);
-  table_free(&s->table);
-  table_free(&s->path_table);
+  table_free(&s->table[TABLE_POSE]);
+  table_free(&s->table[TABLE_CENTRE]);
   free(s->path_psi);
   free(s->text);
   free(s->file);

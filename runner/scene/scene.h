@@ -12,14 +12,25 @@
 #ifndef RPS3_RUNNER_SCENE_H
 #define RPS3_RUNNER_SCENE_H
 
+#include <math.h>
 #include <stddef.h>
 #include <stdio.h>
 
-#include "mark.h"
 #include "rps3.h"
-#include "scene_design.h"
-#include "scene_sim.h"
 #include "table.h"
+
+/* a position in the scene file, both 1-based; 0:0 when not known */
+typedef struct {
+  int line;
+  int column;
+} scene_mark;
+
+/* one error, printed as FILE:LINE:COLUMN: path: what */
+typedef struct {
+  scene_mark mark;
+  char path[128]; /* dotted key path, "yaml" for a syntax error */
+  char what[512]; /* what is wrong, with the offending value */
+} scene_error;
 
 /* value types of scene keys */
 typedef enum {
@@ -35,15 +46,9 @@ typedef enum {
   KEY_FILE     /* a file name, relative to the scene (a table) */
 } key_type;
 
-/* which trajectory kinds a key belongs to (the kind of its field) */
-enum {
-  FOR_ALL = 0,
-  FOR_HELIX = RPS3_TRAJ_HELIX,
-  FOR_SINE = RPS3_TRAJ_SINE,
-  FOR_WAYPOINTS = RPS3_TRAJ_WAYPOINTS,
-  FOR_PATH = RPS3_TRAJ_PATH,
-  FOR_TABLE = RPS3_TRAJ_TABLE
-};
+/* the trajectory kind of a key that belongs to every kind (scene_key_kind:
+   else the rps3_traj_kind of its field) */
+enum { FOR_ALL = 0 };
 
 /* how a key must be given: required, optional (a default), or exactly one
    of a pair (REQ_ONE_*) */
@@ -53,7 +58,7 @@ enum {
   REQ_ONE_MASS = 2,  /* m_over_M | m */
   REQ_ONE_GRID = 3,  /* samples | dt */
   REQ_ONE_BLEND = 4, /* blend | blend_ratio */
-  REQ_SHAPE = 5      /* required by some path shapes (scene_shape_keys) */
+  REQ_SHAPE = 5      /* required by some path shapes (scene_shape_mask) */
 };
 
 /* the values only the runner has; a case turns them into library fields */
@@ -64,18 +69,78 @@ typedef struct {
   double dt;          /* time step [s] */
 } scene_own;
 
+/*
+ * The simulate section: the controller, its gains and its own model of the
+ * mechanism, the control rate, the integrator, the duration, the
+ * measurement and the actuators; the plant is the scene's manipulator.  A
+ * default NaN (an int -1) means "not given": for the gains the controller
+ * kind's default, for the duration the trajectory's span, for the
+ * controller's model the plant's value.  The parser takes finite numbers
+ * only, so the sentinel never collides with a value.
+ */
+typedef struct {
+  int controller;           /* rps3_ctrl_kind */
+  double kp, kd;            /* gains (units by kind); NaN: the kind's */
+  double rate;              /* control rate [Hz]; 0: continuous */
+  int integrator;           /* rps3_integrator */
+  double h;                 /* fixed step / first step [s] */
+  double tolerance;         /* epsabs = epsrel of the adaptive methods */
+  int max_steps;            /* integrator steps per control period */
+  double duration;          /* simulated time [s]; NaN: the trajectory's */
+  double start_offset[3];   /* the plant's start pose minus the trajectory's
+                               [rad, rad, m] */
+  double fmax;              /* actuator saturation [N]; 0: none */
+  double l_min, l_max;      /* stroke [m]; l_max 0: none */
+  double noise_l, noise_dl; /* measurement noise, standard deviations */
+  double quant_l, quant_dl; /* measurement quanta; 0: none */
+  int seed;                 /* noise generator seed */
+  /* the controller's model: NaN (effects -1) = the plant's value */
+  double model_M, model_m_over_M, model_payload_mass, model_viscous,
+      model_coulomb;
+  int model_effects; /* RPS3_EFF_* bits */
+} scene_sim;
+
+/* default gains by controller kind (rps3-simstudy's, docs/simulation.md):
+   PD [N/m, N s/m], computed torque [1/s^2, 1/s]; open loop has none */
+#define SIM_KP_PD 2000.0
+#define SIM_KD_PD 40.0
+#define SIM_KP_CT 400.0
+#define SIM_KD_CT 40.0
+
+/* the default of a value not given (NAN is a float) */
+#define SIM_UNSET ((double)NAN)
+
+/*
+ * The design section of a design study (docs/runner.md, "Design
+ * studies"): the grid of poses over alpha, beta and z_c, how the indices
+ * are evaluated, and whether the per-pose indices are written.  The design
+ * variables are the fields of the library's rps3_design: the manipulator
+ * keys every scene has, and the stroke, joint ranges, link radius and rod
+ * density keys (DES rows, whose range and unit are the library's).
+ */
+typedef struct {
+  double grid[3][3];     /* alpha, beta, z_c: lo, hi, cells */
+  rps3_design_opts opts; /* lti_good, length, cond_sing */
+  int per_pose;          /* write the per-pose indices */
+} scene_design;
+
 /* every value a scene can set: the library's structures, filled through
    the offsets of RPS3_FIELDS, and the runner's own */
 typedef struct {
   rps3_model model;
   rps3_traj traj;
   scene_own own;
-  const char *table_file; /* kind table: the file, absolute (the scene's) */
-  const char *path_file;  /* path shape table: the file, absolute */
-  scene_sim sim;          /* the simulate section (scene_sim.h) */
-  rps3_design design;     /* a design study's design (scene_design.h) */
-  scene_design des;       /* its design section */
+  const char *file[2]; /* the tables' files, absolute: [TABLE_POSE] the
+                          kind table, [TABLE_CENTRE] the path's */
+  scene_sim sim;       /* the simulate section */
+  rps3_design design;  /* a design study's design */
+  scene_design des;    /* its design section */
 } scene_values;
+
+/* ranges of the runner's own values (LO, LO_OPEN, HI) */
+#define GE0 0, 0, HUGE_VAL
+#define GT0 0, 1, HUGE_VAL
+#define ANY -HUGE_VAL, 0, HUGE_VAL
 
 /*
  * SCENE_KEYS X(ID, path, type, SRC, FIELD, req, symbol, doc): each key of a
@@ -84,23 +149,21 @@ typedef struct {
  *  - LIB: FIELD is the library field it fills (rps3_field_id), whose row of
  *    RPS3_FIELDS gives the place, the range (the library's own validation,
  *    read, not repeated), the unit and the trajectory kind;
- *  - OWN: a value only the runner has (scene_own), FIELD the row
- *    (MEMBER, IN, IS_INT, LO, LO_OPEN, HI, UNIT, FILLS) shaped like the
- *    library's, FILLS the library field it is turned into (-1: none);
- *  - SIM: a value of the simulate section (scene_sim), FIELD the row
- *    (MEMBER, IS_INT, LO, LO_OPEN, HI, UNIT, DEFAULT, DEFTEXT), DEFTEXT the
- *    key table's text when DEFAULT is SIM_UNSET (NULL: the value);
  *  - DES: a field of a design study's rps3_design, FIELD its id
  *    (rps3_design_field_id), whose row of RPS3_DESIGN_FIELDS gives the
- *    range and the unit (scene_design.h);
- *  - DSEC: a value of the design section (scene_design), FIELD the row
- *    (MEMBER, N, IS_INT, LO, LO_OPEN, HI, UNIT); its defaults are
- *    rps3_design_opts_default's.
+ *    range and the unit; "required" means in a design study;
+ *  - OWN, SIM, DSEC: a value only the runner has, FIELD the row shaped like
+ *    the library's: MEMBER of scene_values, the range (LO, LO_OPEN, HI) and
+ *    the UNIT; an OWN value (scene_own) also has the trajectory kind IN and
+ *    FILLS, the library field it is turned into (-1: none); a SIM value
+ *    (scene_sim) its DEFAULT and DEFTEXT, the key list's text when DEFAULT
+ *    is SIM_UNSET (NULL: the value); a DSEC value (scene_design) takes the
+ *    defaults of rps3_design_opts_default.
  * The rules that involve several fields are the library's, run when a case
  * is built; a failure comes back as a field id and is mapped to the key (or
  * the swept value) that set it.  Defaults are those of rps3_model_default()
- * and rps3_traj_default().  The simulate.model.* keys stay together (the
- * resolved scene writes sections in the order of the rows).
+ * and rps3_traj_default().  The resolved scene writes sections in the order
+ * of the rows, so the keys of a section stay together.
  */
 #define SCENE_KEYS(X)                                                          \
   X(K_R, "manipulator.R", KEY_REAL, LIB, RPS3_F_R, REQ_YES, "R",               \
@@ -110,9 +173,8 @@ typedef struct {
   X(K_M, "manipulator.M", KEY_REAL, LIB, RPS3_F_PLATFORM_MASS, REQ_YES, "M",   \
     "platform mass, a uniform disc of radius r")                               \
   X(K_M_OVER_M, "manipulator.m_over_M", KEY_REAL, OWN,                         \
-    (own.m_over_M, RPS3_IN_MODEL, 0, 0, 0, HUGE_VAL, "1", RPS3_F_LINK_MASS),   \
-    REQ_ONE_MASS, "m/M",                                                       \
-    "mass of each link over M; give this or manipulator.m")                    \
+    (own.m_over_M, RPS3_IN_MODEL, GE0, "1", RPS3_F_LINK_MASS), REQ_ONE_MASS,   \
+    "m/M", "mass of each link over M; give this or manipulator.m")             \
   X(K_MASS, "manipulator.m", KEY_REAL, LIB, RPS3_F_LINK_MASS, REQ_ONE_MASS,    \
     "m", "mass of each link; give this or m_over_M")                           \
   X(K_D, "manipulator.d", KEY_REAL, LIB, RPS3_F_D, REQ_YES, "d_i",             \
@@ -121,8 +183,7 @@ typedef struct {
     "gravitational acceleration, along -Z")                                    \
   X(K_LINK_IC, "manipulator.link_Ic", KEY_REAL, LIB, RPS3_F_LINK_IC, REQ_NO,   \
     "-",                                                                       \
-    "link inertia about its centroid, about the pin axis (0 in the "           \
-    "paper)")                                                                  \
+    "link inertia about its centroid, about the pin axis (0 in the paper)")    \
   X(K_PAY_MASS, "manipulator.payload.mass", KEY_REAL, LIB,                     \
     RPS3_F_PAYLOAD_MASS, REQ_NO, "-",                                          \
     "payload fixed to the platform (effect payload)")                          \
@@ -140,7 +201,29 @@ typedef struct {
   X(K_VREG, "manipulator.pin_friction.vreg", KEY_REAL, LIB, RPS3_F_VREG,       \
     REQ_NO, "-",                                                               \
     "Coulomb law tanh(dtheta / vreg) instead of sign(dtheta); 0 = sign")       \
-  SCENE_DESIGN_MANIP_KEYS(X)                                                   \
+  X(K_DES_STROKE_MIN, "manipulator.stroke.min", KEY_REAL, DES, RPS3_DF_L_MIN,  \
+    REQ_YES, "l_min",                                                          \
+    "design: shortest link length l_i (the actuator retracted)")               \
+  X(K_DES_STROKE_MAX, "manipulator.stroke.max", KEY_REAL, DES, RPS3_DF_L_MAX,  \
+    REQ_YES, "l_max",                                                          \
+    "design: longest link length l_i (the actuator extended), above min")      \
+  X(K_DES_PIN_MIN, "manipulator.pin.min", KEY_REAL, DES, RPS3_DF_THETA_MIN,    \
+    REQ_NO, "theta_i",                                                         \
+    "design: smallest pin joint angle theta_i, link to base plane (39)")       \
+  X(K_DES_PIN_MAX, "manipulator.pin.max", KEY_REAL, DES, RPS3_DF_THETA_MAX,    \
+    REQ_NO, "theta_i", "design: largest pin joint angle theta_i, above min")   \
+  X(K_DES_BALL_MAX, "manipulator.ball.max", KEY_REAL, DES, RPS3_DF_BALL_MAX,   \
+    REQ_NO, "-",                                                               \
+    "design: ball joint cone half-angle, the largest angle between a link "    \
+    "and the platform normal")                                                 \
+  X(K_DES_LINK_RADIUS, "manipulator.link_radius", KEY_REAL, DES,               \
+    RPS3_DF_LINK_RADIUS, REQ_NO, "-",                                          \
+    "design: radius of a link's capsule for interference between links; 0: "   \
+    "not checked")                                                             \
+  X(K_DES_LINK_DENSITY, "manipulator.link_density", KEY_REAL, DES,             \
+    RPS3_DF_LINK_DENSITY, REQ_NO, "-",                                         \
+    "design: mass per length of a link's rod (pin to l_max), added to the "    \
+    "actuator body m at d; 0: the link is m at d")                             \
   X(K_KIND, "trajectory.kind", KEY_ENUM, LIB, RPS3_F_KIND, REQ_YES, "-",       \
     "helix (the paper's section VI), sine, waypoints, path or table "          \
     "(docs/trajectories.md)")                                                  \
@@ -157,7 +240,7 @@ typedef struct {
     "parabolic blend at both ends, t_a <= T*/2; t_b = T* - t_a; or give "      \
     "blend_ratio")                                                             \
   X(K_BLEND_RATIO, "trajectory.blend_ratio", KEY_REAL, OWN,                    \
-    (own.blend_ratio, RPS3_IN_HELIX, 0, 0, 1, 0.5, "1", RPS3_F_HELIX_BLEND),   \
+    (own.blend_ratio, RPS3_IN_HELIX, 0, 1, 0.5, "1", RPS3_F_HELIX_BLEND),      \
     REQ_ONE_BLEND, "t_a/T*",                                                   \
     "the blend as a fraction of T* (Table II: 0.1), so that a sweep of T* "    \
     "keeps the shape of the motion; or give blend")                            \
@@ -228,10 +311,10 @@ typedef struct {
     "accelerations NAME_ddot]], relative to the scene; interpolated by a "     \
     "spline or Hermite polynomials (docs/trajectories.md)")                    \
   X(K_SAMPLES, "trajectory.samples", KEY_INT, OWN,                             \
-    (own.samples, RPS3_IN_TRAJ, 1, 2, 0, 2147483647.0, "1", -1), REQ_ONE_GRID, \
+    (own.samples, RPS3_IN_TRAJ, 2, 0, 2147483647.0, "1", -1), REQ_ONE_GRID,    \
     "-", "time samples over the span, both ends included; or give dt")         \
   X(K_DT, "trajectory.dt", KEY_REAL, OWN,                                      \
-    (own.dt, RPS3_IN_TRAJ, 0, 0, 1, HUGE_VAL, "s", -1), REQ_ONE_GRID, "-",     \
+    (own.dt, RPS3_IN_TRAJ, GT0, "s", -1), REQ_ONE_GRID, "-",                   \
     "time step; the span must be a whole number of steps; or give samples")    \
   X(K_EFFECTS, "effects", KEY_EFFECTS, LIB, RPS3_F_EFFECTS, REQ_NO, "-",       \
     "effects to compute (default: the paper's four, plus payload and "         \
@@ -258,109 +341,128 @@ typedef struct {
     "-", "fail (singular) above this condition number")                        \
   X(K_TRANS_WARN, "solver.trans_warn", KEY_REAL, LIB, RPS3_F_TRANS_WARN,       \
     REQ_NO, "-",                                                               \
-    "warn above this force transmission (actuator force per "                  \
-    "unit platform load)")                                                     \
+    "warn above this force transmission (actuator force per unit platform "    \
+    "load)")                                                                   \
   X(K_TRANS_MAX, "solver.trans_max", KEY_REAL, LIB, RPS3_F_TRANS_MAX, REQ_NO,  \
     "-", "fail (singular) above this force transmission")                      \
   X(K_MODE, "solver.mode", KEY_INT, LIB, RPS3_F_MODE, REQ_NO, "-",             \
     "assembly mode the theta solve must return: 0 any, 1 the level "           \
     "platform's (det df/dtheta > 0), -1 the other")                            \
   X(K_SIM_CONTROLLER, "simulate.controller", KEY_ENUM, SIM,                    \
-    (sim.controller, 1, 0, 0, RPS3_NCTRL - 1, "-", RPS3_CTRL_COMPUTED_TORQUE,  \
+    (sim.controller, 0, 0, RPS3_NCTRL - 1, "-", RPS3_CTRL_COMPUTED_TORQUE,     \
      NULL),                                                                    \
     REQ_NO, "-",                                                               \
     "the control law (docs/simulation.md): open_loop (the inverse dynamics "   \
     "of the desired motion), pd, pd_gravity or computed_torque")               \
   X(K_SIM_KP, "simulate.kp", KEY_REAL, SIM,                                    \
-    (sim.kp, 0, 0, 0, HUGE_VAL, "N/m or 1/s^2", SIM_UNSET,                     \
+    (sim.kp, GE0, "N/m or 1/s^2", SIM_UNSET,                                   \
      "by kind: pd 2000, computed_torque 400"),                                 \
     REQ_NO, "-",                                                               \
     "position gain: N/m for pd and pd_gravity, 1/s^2 for computed_torque "     \
     "(e'' + kd e' + kp e = 0); unused by open_loop")                           \
   X(K_SIM_KD, "simulate.kd", KEY_REAL, SIM,                                    \
-    (sim.kd, 0, 0, 0, HUGE_VAL, "N s/m or 1/s", SIM_UNSET,                     \
+    (sim.kd, GE0, "N s/m or 1/s", SIM_UNSET,                                   \
      "by kind: pd 40, computed_torque 40"),                                    \
     REQ_NO, "-",                                                               \
     "rate gain: N s/m for pd and pd_gravity, 1/s for computed_torque")         \
   X(K_SIM_RATE, "simulate.rate", KEY_REAL, SIM,                                \
-    (sim.rate, 0, 0, 0, HUGE_VAL, "Hz", 1000.0, NULL), REQ_NO, "-",            \
-    "control rate, zero-order hold; 0: the controller at every evaluation "    \
-    "(a continuous law)")                                                      \
+    (sim.rate, GE0, "Hz", 1000.0, NULL), REQ_NO, "-",                          \
+    "control rate, zero-order hold; 0: the controller at every evaluation (a " \
+    "continuous law)")                                                         \
   X(K_SIM_INTEGRATOR, "simulate.integrator", KEY_ENUM, SIM,                    \
-    (sim.integrator, 1, 0, 0, RPS3_NINTEGRATOR - 1, "-", RPS3_INT_RK4, NULL),  \
+    (sim.integrator, 0, 0, RPS3_NINTEGRATOR - 1, "-", RPS3_INT_RK4, NULL),     \
     REQ_NO, "-",                                                               \
     "rk4 (fixed step, real time), rkf45, rk8pd (adaptive), msbdf, rk4imp "     \
     "(implicit, stiff friction)")                                              \
-  X(K_SIM_H, "simulate.h", KEY_REAL, SIM,                                      \
-    (sim.h, 0, 0, 1, HUGE_VAL, "s", 1e-3, NULL), REQ_NO, "-",                  \
+  X(K_SIM_H, "simulate.h", KEY_REAL, SIM, (sim.h, GT0, "s", 1e-3, NULL),       \
+    REQ_NO, "-",                                                               \
     "step of rk4 and rk4imp (the largest dividing each control period), "      \
     "first step of the adaptive ones")                                         \
   X(K_SIM_TOL, "simulate.tolerance", KEY_REAL, SIM,                            \
-    (sim.tolerance, 0, 0, 1, HUGE_VAL, "1", 1e-9, NULL), REQ_NO, "-",          \
+    (sim.tolerance, GT0, "1", 1e-9, NULL), REQ_NO, "-",                        \
     "adaptive integrators: epsabs = epsrel on (l, dl, work)")                  \
   X(K_SIM_MAX_STEPS, "simulate.max_steps", KEY_INT, SIM,                       \
-    (sim.max_steps, 1, 1, 0, 2147483647.0, "1", 100000, NULL), REQ_NO, "-",    \
+    (sim.max_steps, 1, 0, 2147483647.0, "1", 100000, NULL), REQ_NO, "-",       \
     "integrator steps per control period before the run fails")                \
   X(K_SIM_DURATION, "simulate.duration", KEY_REAL, SIM,                        \
-    (sim.duration, 0, 0, 1, HUGE_VAL, "s", SIM_UNSET,                          \
-     "the trajectory's span"),                                                 \
-    REQ_NO, "-",                                                               \
-    "simulated time, a whole number of the trajectory's time steps; past "     \
-    "the trajectory the reference is its final pose at rest")                  \
+    (sim.duration, GT0, "s", SIM_UNSET, "the trajectory's span"), REQ_NO, "-", \
+    "simulated time, a whole number of the trajectory's time steps; past the " \
+    "trajectory the reference is its final pose at rest")                      \
   X(K_SIM_START_OFFSET, "simulate.start_offset", KEY_REAL3, SIM,               \
-    (sim.start_offset, 0, -HUGE_VAL, 0, HUGE_VAL, "rad, rad, m", 0.0, NULL),   \
-    REQ_NO, "-",                                                               \
-    "the plant starts at the trajectory's first pose plus this [alpha, "       \
-    "beta, z_c] offset, at its rates: an initial error to correct")            \
+    (sim.start_offset, ANY, "rad, rad, m", 0.0, NULL), REQ_NO, "-",            \
+    "the plant starts at the trajectory's first pose plus this [alpha, beta, " \
+    "z_c] offset, at its rates: an initial error to correct")                  \
   X(K_SIM_FMAX, "simulate.fmax", KEY_REAL, SIM,                                \
-    (sim.fmax, 0, 0, 0, HUGE_VAL, "N", 0.0, NULL), REQ_NO, "-",                \
+    (sim.fmax, GE0, "N", 0.0, NULL), REQ_NO, "-",                              \
     "actuator saturation abs(F_i) <= fmax; 0: none")                           \
   X(K_SIM_L_MIN, "simulate.l_min", KEY_REAL, SIM,                              \
-    (sim.l_min, 0, 0, 0, HUGE_VAL, "m", 0.0, NULL), REQ_NO, "-",               \
+    (sim.l_min, GE0, "m", 0.0, NULL), REQ_NO, "-",                             \
     "shortest link (stroke); a shorter one ends the case (reach)")             \
   X(K_SIM_L_MAX, "simulate.l_max", KEY_REAL, SIM,                              \
-    (sim.l_max, 0, 0, 0, HUGE_VAL, "m", 0.0, NULL), REQ_NO, "-",               \
+    (sim.l_max, GE0, "m", 0.0, NULL), REQ_NO, "-",                             \
     "longest link (stroke); 0: no limit")                                      \
   X(K_SIM_NOISE_L, "simulate.noise_l", KEY_REAL, SIM,                          \
-    (sim.noise_l, 0, 0, 0, HUGE_VAL, "m", 0.0, NULL), REQ_NO, "-",             \
+    (sim.noise_l, GE0, "m", 0.0, NULL), REQ_NO, "-",                           \
     "standard deviation of the measured link lengths (Gaussian)")              \
   X(K_SIM_NOISE_DL, "simulate.noise_dl", KEY_REAL, SIM,                        \
-    (sim.noise_dl, 0, 0, 0, HUGE_VAL, "m/s", 0.0, NULL), REQ_NO, "-",          \
+    (sim.noise_dl, GE0, "m/s", 0.0, NULL), REQ_NO, "-",                        \
     "standard deviation of the measured link rates")                           \
   X(K_SIM_QUANT_L, "simulate.quant_l", KEY_REAL, SIM,                          \
-    (sim.quant_l, 0, 0, 0, HUGE_VAL, "m", 0.0, NULL), REQ_NO, "-",             \
+    (sim.quant_l, GE0, "m", 0.0, NULL), REQ_NO, "-",                           \
     "quantum of the measured lengths (an encoder); 0: none")                   \
   X(K_SIM_QUANT_DL, "simulate.quant_dl", KEY_REAL, SIM,                        \
-    (sim.quant_dl, 0, 0, 0, HUGE_VAL, "m/s", 0.0, NULL), REQ_NO, "-",          \
+    (sim.quant_dl, GE0, "m/s", 0.0, NULL), REQ_NO, "-",                        \
     "quantum of the measured rates; 0: none")                                  \
   X(K_SIM_SEED, "simulate.seed", KEY_INT, SIM,                                 \
-    (sim.seed, 1, 0, 0, 2147483647.0, "1", 24301, NULL), REQ_NO, "-",          \
+    (sim.seed, 0, 0, 2147483647.0, "1", 24301, NULL), REQ_NO, "-",             \
     "seed of the noise generator (runs are reproducible)")                     \
   X(K_SIM_MODEL_M, "simulate.model.M", KEY_REAL, SIM,                          \
-    (sim.model_M, 0, 0, 0, HUGE_VAL, "kg", SIM_UNSET, "the plant's"), REQ_NO,  \
-    "M", "the controller's platform mass")                                     \
+    (sim.model_M, GE0, "kg", SIM_UNSET, "the plant's"), REQ_NO, "M",           \
+    "the controller's platform mass")                                          \
   X(K_SIM_MODEL_M_OVER_M, "simulate.model.m_over_M", KEY_REAL, SIM,            \
-    (sim.model_m_over_M, 0, 0, 0, HUGE_VAL, "1", SIM_UNSET, "the plant's"),    \
-    REQ_NO, "m/M",                                                             \
+    (sim.model_m_over_M, GE0, "1", SIM_UNSET, "the plant's"), REQ_NO, "m/M",   \
     "the controller's link mass over its M (0: the paper's case 1)")           \
   X(K_SIM_MODEL_PAY_MASS, "simulate.model.payload.mass", KEY_REAL, SIM,        \
-    (sim.model_payload_mass, 0, 0, 0, HUGE_VAL, "kg", SIM_UNSET,               \
-     "the plant's"),                                                           \
-    REQ_NO, "-",                                                               \
+    (sim.model_payload_mass, GE0, "kg", SIM_UNSET, "the plant's"), REQ_NO,     \
+    "-",                                                                       \
     "the controller's payload mass (its centre and inertia: the plant's)")     \
   X(K_SIM_MODEL_VISCOUS, "simulate.model.pin_friction.viscous", KEY_REAL, SIM, \
-    (sim.model_viscous, 0, 0, 0, HUGE_VAL, "N m s/rad", SIM_UNSET,             \
-     "the plant's"),                                                           \
-    REQ_NO, "-", "the controller's viscous pin friction")                      \
+    (sim.model_viscous, GE0, "N m s/rad", SIM_UNSET, "the plant's"), REQ_NO,   \
+    "-", "the controller's viscous pin friction")                              \
   X(K_SIM_MODEL_COULOMB, "simulate.model.pin_friction.coulomb", KEY_REAL, SIM, \
-    (sim.model_coulomb, 0, 0, 0, HUGE_VAL, "N m", SIM_UNSET, "the plant's"),   \
-    REQ_NO, "-", "the controller's Coulomb pin friction")                      \
+    (sim.model_coulomb, GE0, "N m", SIM_UNSET, "the plant's"), REQ_NO, "-",    \
+    "the controller's Coulomb pin friction")                                   \
   X(K_SIM_MODEL_EFFECTS, "simulate.model.effects", KEY_EFFECTS, SIM,           \
-    (sim.model_effects, 1, 0, 0, RPS3_EFF_ALL, "-", -1, "the plant's"),        \
-    REQ_NO, "-",                                                               \
+    (sim.model_effects, 0, 0, RPS3_EFF_ALL, "-", -1, "the plant's"), REQ_NO,   \
+    "-",                                                                       \
     "the effects the controller's model computes (pd_gravity: its weights; "   \
     "computed_torque, open_loop: its feedforward)")                            \
-  SCENE_DESIGN_KEYS(X)
+  X(K_DES_ALPHA, "design.alpha", KEY_REAL3, DSEC,                              \
+    (des.grid[0], ANY, "rad, rad, 1"), REQ_YES, "alpha",                       \
+    "pose grid: [lo, hi, cells] of the precession angle alpha; poses at the "  \
+    "cell centres")                                                            \
+  X(K_DES_BETA, "design.beta", KEY_REAL3, DSEC,                                \
+    (des.grid[1], ANY, "rad, rad, 1"), REQ_YES, "beta",                        \
+    "pose grid: [lo, hi, cells] of the nutation angle beta")                   \
+  X(K_DES_Z_C, "design.z_c", KEY_REAL3, DSEC, (des.grid[2], ANY, "m, m, 1"),   \
+    REQ_YES, "z_c",                                                            \
+    "pose grid: [lo, hi, cells] of the platform centre height z_c")            \
+  X(K_DES_GOOD_LTI, "design.good_lti", KEY_REAL, DSEC,                         \
+    (des.opts.lti_good, 0, 0, 1, "1"), REQ_NO, "-",                            \
+    "good transmission: a reachable pose whose local transmission index LTI "  \
+    "is at least this")                                                        \
+  X(K_DES_LENGTH, "design.length", KEY_REAL, DSEC,                             \
+    (des.opts.length, GE0, "m"), REQ_NO, "L",                                  \
+    "characteristic length of the homogeneous condition number; 0: the "       \
+    "platform radius r")                                                       \
+  X(K_DES_COND_SING, "design.cond_sing", KEY_REAL, DSEC,                       \
+    (des.opts.cond_sing, 1, 0, HUGE_VAL, "1"), REQ_NO, "-",                    \
+    "a pose whose homogeneous condition number is above this is singular "     \
+    "(not reachable)")                                                         \
+  X(K_DES_PER_POSE, "design.per_pose", KEY_BOOL, DSEC,                         \
+    (des.per_pose, 0, 0, 1, "-"), REQ_NO, "-",                                 \
+    "also write the indices of every pose ([case, z_c, beta, alpha] "          \
+    "datasets)")
 
 #define SCENE_KEY_ID(ID, ...) ID,
 typedef enum { SCENE_KEYS(SCENE_KEY_ID) SCENE_NKEY } scene_key;
@@ -369,32 +471,33 @@ typedef enum { SCENE_KEYS(SCENE_KEY_ID) SCENE_NKEY } scene_key;
 /* where a key's value is stored */
 enum { SRC_LIB = 0, SRC_OWN = 1, SRC_SIM = 2, SRC_DES = 3, SRC_DSEC = 4 };
 
-/* a key of a design study (scene_design.h): a field of the library's
-   rps3_design, or of the design section */
+/* a key of a design study: a field of the library's rps3_design, or of the
+   design section */
 #define SCENE_KEY_IS_DESIGN(ki) ((ki)->src == SRC_DES || (ki)->src == SRC_DSEC)
 
 /* one row of SCENE_KEYS, with its field's row */
 typedef struct {
   const char *path;
   key_type type;
-  int src;                  /* SRC_* */
+  int src; /* SRC_* */
+  int req; /* REQ_* */
+  const char *symbol;
+  const char *doc;
   const rps3_field_info *f; /* its row: offset in scene_values, range, unit,
                                trajectory kind (IN) */
-  int fills;                /* the library field it fills, directly or
-                               converted (-1: none; SRC_SIM: not the plant;
-                               SRC_DES, SRC_DSEC: the design study's own) */
+  int fills;                /* the library field it fills, directly or converted
+                               (-1: none) */
+  int dfield;               /* SRC_DES: its rps3_design_field_id, else -1 */
   double def;               /* SRC_SIM: the default (SIM_UNSET: not given) */
   const char *deftext;      /* SRC_SIM: the default as the key list says it
                                (NULL: the value) */
-  int req;                  /* REQ_* */
-  const char *symbol;
-  const char *doc;
+  rps3_field_info own;      /* the row of an OWN, SIM or DSEC key */
 } scene_key_info;
 
 /* the row of key k (0 <= k < SCENE_NKEY) */
 const scene_key_info *scene_key_get(int k);
 
-/* the trajectory kind key row ki belongs to (FOR_*) */
+/* the trajectory kind key row ki belongs to (FOR_ALL: every kind) */
 int scene_key_kind(const scene_key_info *ki);
 
 /* 1 when key row ki applies to trajectory kind `kind` */
@@ -406,6 +509,9 @@ double scene_value_real(const scene_values *v, int k, int comp);
 
 /* the key with this dotted path, or -1 */
 int scene_key_find(const char *path);
+
+/* the table (TABLE_POSE or TABLE_CENTRE) file key k reads */
+#define SCENE_TABLE_OF(k) ((k) == K_PATH_FILE ? TABLE_CENTRE : TABLE_POSE)
 
 /* one sweep axis: a key (or one component of a KEY_REAL3) and its values */
 typedef struct {
@@ -435,10 +541,8 @@ typedef struct {
   double (*wp_pose)[3];
   size_t wp_ntime, wp_npose;
   scene_mark *wp_time_mark, *wp_pose_mark; /* where each row is */
-  table_data table;      /* kind table: the samples; base.traj.table views
-                            them */
-  table_data path_table; /* path shape table: the centre's samples */
-  double *path_psi;      /* their polar angles, unwrapped */
+  table_data table[2]; /* the tables (SCENE_TABLE_OF); base.traj views them */
+  double *path_psi;    /* the path's: its polar angles, unwrapped */
 } scene;
 
 /* one case, ready to compute */
@@ -489,7 +593,7 @@ int scene_case_same_grid(const scene_case *a, const scene_case *b);
  * COL: warning: key: VALUE m looks like millimetres (above 10 m) ..." for a
  * length above 10 m, and likewise beta above pi/2 rad or another angle
  * beyond 2 pi rad (degrees), in the file, a sweep or a table's rows
- * (scene_warn.c).  Once per key; nothing for a sane scene.
+ * Once per key; nothing for a sane scene.
  */
 void scene_warnings_print(const scene *s, FILE *out);
 

@@ -30,13 +30,9 @@ static int keys_filling(const scene *s, int id, int *out, int max) {
   return n;
 }
 
-/* where to point an error about case `index`: a swept value of a key that
-   sets one of the fields the failed rule reads (the failing field first,
-   then the related ones; a list key's axis when it is the failing
-   component or the whole key), else such a key given in the file, else the
-   first swept value, else the manipulator section */
-static void case_error(const scene *s, size_t index, const char *msg,
-                       const rps3_check *chk, int first_key, scene_error *err) {
+void scene_case_error(const scene *s, size_t index, const char *msg,
+                      const rps3_check *chk, int first_key,
+                      const scene_mark *at, scene_error *err) {
   int named[16], comp[16], n = 0, i, j, m;
   size_t a;
   char what[sizeof err->what];
@@ -76,7 +72,7 @@ static void case_error(const scene *s, size_t index, const char *msg,
   for (j = 0; j < 2 && chk != NULL && chk->comp >= 0; j++) {
     int lo = j ? RPS3_F_PATH_TABLE_TIME : RPS3_F_TABLE_TIME;
     int key = j ? K_PATH_FILE : K_TABLE_FILE;
-    const table_data *t = j ? &s->path_table : &s->table;
+    const table_data *t = &s->table[SCENE_TABLE_OF(key)];
     char where[300];
     if (chk->field < lo || chk->field > lo + 3 || (size_t)chk->comp >= t->n)
       continue;
@@ -99,12 +95,13 @@ static void case_error(const scene *s, size_t index, const char *msg,
                       what);
       return;
     }
-  if (s->naxis > 0) {
+  if (at != NULL)
+    scene_error_set(err, *at, scene_keys[first_key].path, "%s", what);
+  else if (s->naxis > 0)
     scene_error_set(err, s->axis[0].mark[scene_case_coord(s, index, 0)],
                     s->axis[0].path, "%s", what);
-    return;
-  }
-  scene_error_set(err, s->section[1], "manipulator", "%s", what);
+  else
+    scene_error_set(err, s->section[1], "manipulator", "%s", what);
 }
 
 /*
@@ -137,12 +134,12 @@ static int effects_rule(const scene *s, size_t index, scene_case *c,
               : (m->payload.mass > 0 ? K_PAY_MASS : K_PAY_INERTIA);
     if (!(j ? fric : pay) || (eff & bit)) continue;
     snprintf(msg, sizeof msg,
-             "leaves out %s, but %s is configured (%d:%d); add %s to the "
-             "list, or remove the %s",
+             "leaves out %s, but %s is configured (%d:%d); add %s to the list, "
+             "or remove the %s",
              j ? "pin_friction" : "payload", scene_keys[k].path,
              s->mark[k].line, s->mark[k].column, j ? "pin_friction" : "payload",
              j ? "friction" : "payload");
-    case_error(s, index, msg, NULL, K_EFFECTS, err);
+    scene_case_error(s, index, msg, NULL, K_EFFECTS, NULL, err);
     return -1;
   }
   return 0;
@@ -157,15 +154,15 @@ static void dt_error(const scene *s, size_t index, const scene_case *c,
   scene_format_real(sb, sizeof sb, c->v.own.dt);
   if (q >= 2147483646.0)
     snprintf(msg, sizeof msg,
-             "dt = %s s over the span %s s is %.6g steps: at most "
-             "2147483646 samples per case",
+             "dt = %s s over the span %s s is %.6g steps: at most 2147483646 "
+             "samples per case",
              sb, sa, q);
   else
-    snprintf(msg, sizeof msg,
-             "the span %s s is not a whole number of steps dt = %s s "
-             "(%.6g steps)",
-             sa, sb, q);
-  case_error(s, index, msg, NULL, K_DT, err);
+    snprintf(
+        msg, sizeof msg,
+        "the span %s s is not a whole number of steps dt = %s s (%.6g steps)",
+        sa, sb, q);
+  scene_case_error(s, index, msg, NULL, K_DT, NULL, err);
 }
 
 int scene_case_build(const scene *s, size_t index, scene_case *c,
@@ -196,7 +193,7 @@ int scene_case_build(const scene *s, size_t index, scene_case *c,
   if (rps3_model_validate(&c->model, &chk) != RPS3_OK ||
       (!c->no_traj &&
        rps3_traj_validate(&c->model, &c->traj, &chk) != RPS3_OK)) {
-    case_error(s, index, chk.msg, &chk, -1, err);
+    scene_case_error(s, index, chk.msg, &chk, -1, NULL, err);
     return -1;
   }
   /* a design study without a task: no trajectory, no time grid */

@@ -1,14 +1,19 @@
 /*
  * scene_emit.c - a case written back as YAML (scene_case_yaml: the resolved
  * scene of every case, which reruns alone) and the key table as markdown
- * (scene_keys_print: `rps3-run --keys`, docs/runner.md).  Both read the
- * key table of scene.h row by row.
+ * (scene_keys_print: `rps3-run --keys`, docs/runner.md), both row by row of
+ * the key table of scene.h; and the values that look like a unit mistake
+ * (scene_warnings_print): a length in millimetres, an angle in degrees.
+ * The scene is SI (metres, radians); such a value is valid, so it is not
+ * refused, but it is named on stderr with its place in the file, once per
+ * key.
  */
 #include "design.h"
 #include "scene.h"
 #include "scene_int.h"
 
 #include <math.h>
+#include <stdarg.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -52,6 +57,7 @@ static int emit_scalar(yaml_emitter_t *em, const char *text) {
   return yaml_emitter_emit(em, &ev);
 }
 
+/* a list (in flow style with flow), or a block mapping */
 static int emit_open(yaml_emitter_t *em, int seq, int flow) {
   yaml_event_t ev;
   if (seq)
@@ -59,9 +65,8 @@ static int emit_open(yaml_emitter_t *em, int seq, int flow) {
         &ev, NULL, NULL, 1,
         flow ? YAML_FLOW_SEQUENCE_STYLE : YAML_BLOCK_SEQUENCE_STYLE);
   else
-    yaml_mapping_start_event_initialize(
-        &ev, NULL, NULL, 1,
-        flow ? YAML_FLOW_MAPPING_STYLE : YAML_BLOCK_MAPPING_STYLE);
+    yaml_mapping_start_event_initialize(&ev, NULL, NULL, 1,
+                                        YAML_BLOCK_MAPPING_STYLE);
   return yaml_emitter_emit(em, &ev);
 }
 
@@ -105,16 +110,11 @@ static int emit_value(yaml_emitter_t *em, int k, const scene_values *v) {
   case KEY_ENUM:
     return emit_scalar(em, scene_enum_name(k, *scene_int_at(w, k)));
   case KEY_EFFECTS:
-    ok = emit_open(em, 1, 1);
-    for (i = 0; i < RPS3_NEFFECT && ok; i++)
-      if (*scene_int_at(w, k) & (1 << i))
-        ok = emit_scalar(em, rps3_effect_name(i));
-    return ok && emit_close(em, 1);
   case KEY_OUTPUTS:
     ok = emit_open(em, 1, 1);
-    for (i = 0; i < RPS3_NOUTPUT && ok; i++)
+    for (i = 0; scene_enum_name(k, i) && ok; i++)
       if (*scene_int_at(w, k) & (1 << i))
-        ok = emit_scalar(em, rps3_output_name(i));
+        ok = emit_scalar(em, scene_enum_name(k, i));
     return ok && emit_close(em, 1);
   case KEY_TIMES: return emit_reals(em, v->traj.wp.time, v->traj.wp.n);
   case KEY_POSES:
@@ -123,7 +123,7 @@ static int emit_value(yaml_emitter_t *em, int k, const scene_values *v) {
       ok = emit_reals(em, v->traj.wp.pose[r], 3);
     return ok && emit_close(em, 1);
   case KEY_FILE:
-    file = k == K_PATH_FILE ? v->path_file : v->table_file;
+    file = v->file[SCENE_TABLE_OF(k)];
     return emit_scalar(em, file != NULL ? file : "");
   }
   return 0;
@@ -283,5 +283,136 @@ void scene_keys_print(void) {
             ? range
             : "-",
         ki->symbol, def, ki->doc);
+  }
+}
+
+/* ------------------------------------------------------------ warnings */
+
+/* the largest 3-RPS manipulators built are about a metre across: a length
+   above 10 m is most likely millimetres */
+#define WARN_LENGTH_MAX 10.0
+/* beta above 90 degrees tilts the platform past the vertical: most likely
+   degrees (the paper's tilts are a few degrees, 0.1 rad) */
+#define WARN_BETA_MAX 1.5707963267948966
+/* another angle (an azimuth, a phase) beyond a full turn: most likely
+   degrees */
+#define WARN_ANGLE_MAX 6.283185307179586
+
+/* what kind of quantity component comp of key k is */
+enum { Q_NONE, Q_LENGTH, Q_BETA, Q_ANGLE };
+
+static int quantity(const scene_key_info *ki, int comp) {
+  if (strcmp(ki->f->unit, "m") == 0) return Q_LENGTH;
+  if (strcmp(ki->f->unit, "rad, rad, m") == 0) /* a pose: alpha, beta, z_c */
+    return comp == 2 ? Q_LENGTH : comp == 1 ? Q_BETA : Q_NONE;
+  if (strcmp(ki->f->unit, "rad") == 0) return Q_ANGLE;
+  return Q_NONE;
+}
+
+/* the reason x of quantity q looks wrong, or NULL */
+static const char *suspect(int q, double x) {
+  if (q == Q_LENGTH && fabs(x) > WARN_LENGTH_MAX)
+    return "m looks like millimetres (above 10 m); scene lengths are in metres";
+  if (q == Q_BETA && fabs(x) > WARN_BETA_MAX)
+    return "rad looks like degrees (beta above pi/2 rad = 90 deg); scene "
+           "angles are in radians";
+  if (q == Q_ANGLE && fabs(x) > WARN_ANGLE_MAX)
+    return "rad looks like degrees (above 2 pi rad = 360 deg); scene angles "
+           "are in radians";
+  return NULL;
+}
+
+static void warn(FILE *out, const scene *s, scene_mark mk, const char *key,
+                 const char *fmt, ...) __attribute__((format(printf, 5, 6)));
+static void warn(FILE *out, const scene *s, scene_mark mk, const char *key,
+                 const char *fmt, ...) {
+  va_list ap;
+  if (mk.line > 0)
+    fprintf(out, "%s:%d:%d: warning: %s: ", s->file, mk.line, mk.column, key);
+  else
+    fprintf(out, "%s: warning: %s: ", s->file, key);
+  va_start(ap, fmt);
+  vfprintf(out, fmt, ap);
+  va_end(ap);
+  fputc('\n', out);
+}
+
+/* the rows of a table: the first suspect value, named by its line */
+static void table_warn(FILE *out, const scene *s, int k, int what) {
+  const table_data *t = &s->table[what];
+  size_t r;
+  int c;
+  char where[300];
+  for (r = 0; r < t->n; r++)
+    for (c = 0; c < 3; c++) {
+      int q = what == TABLE_CENTRE || c == 2 ? Q_LENGTH
+              : c == 1                       ? Q_BETA
+                                             : Q_NONE;
+      const char *why = suspect(q, t->value[r][c]);
+      if (why == NULL) continue;
+      table_where(t, r, where, sizeof where);
+      warn(out, s, s->mark[k], scene_key_get(k)->path, "%s: column %s: %.9g %s",
+           where, table_col_names[what][1 + c], t->value[r][c], why);
+      return;
+    }
+}
+
+/* a swept key (or one component of it): the first suspect value */
+static int axis_warn(FILE *out, const scene *s, int k, int comp) {
+  size_t a, i;
+  const scene_key_info *ki = scene_key_get(k);
+  int swept = 0;
+  for (a = 0; a < s->naxis; a++) {
+    const scene_axis *ax = &s->axis[a];
+    if (ax->key != k || (comp >= 0 && ax->comp != comp && ax->comp >= 0))
+      continue;
+    swept = 1;
+    for (i = 0; i < ax->n; i++) {
+      const char *why = suspect(quantity(ki, ax->comp), ax->val[i]);
+      if (why != NULL) {
+        warn(out, s, ax->mark[i], ax->path, "%.9g %s", ax->val[i], why);
+        return 1;
+      }
+    }
+  }
+  return swept;
+}
+
+void scene_warnings_print(const scene *s, FILE *out) {
+  int k, comp;
+  size_t r;
+  for (k = 0; k < SCENE_NKEY; k++) {
+    const scene_key_info *ki = scene_key_get(k);
+    if (!s->given[k] || !scene_key_applies(ki, s->base.traj.kind)) continue;
+    for (comp = 0; comp < (ki->type == KEY_REAL3 ? 3 : ki->type == KEY_REAL);
+         comp++) {
+      double x = scene_value_real(&s->base, k, comp);
+      const char *why = suspect(quantity(ki, comp), x);
+      char key[160];
+      if (axis_warn(out, s, k, ki->type == KEY_REAL ? -1 : comp) || !why)
+        continue;
+      if (ki->type == KEY_REAL)
+        snprintf(key, sizeof key, "%s", ki->path);
+      else
+        snprintf(key, sizeof key, "%s[%d]", ki->path, comp);
+      warn(out, s, s->mark[k], key, "%.9g %s", x, why);
+      break;
+    }
+    if (ki->type == KEY_POSES) {
+      for (r = 0; r < s->wp_npose; r++) {
+        const char *why = NULL;
+        for (comp = 1; comp < 3 && why == NULL; comp++)
+          why = suspect(quantity(ki, comp), s->wp_pose[r][comp]);
+        if (why != NULL) {
+          char key[160];
+          snprintf(key, sizeof key, "%s[%zu][%d]", ki->path, r, comp - 1);
+          warn(out, s, s->wp_pose_mark[r], key, "%.9g %s",
+               s->wp_pose[r][comp - 1], why);
+          break;
+        }
+      }
+    } else if (ki->type == KEY_FILE) {
+      table_warn(out, s, k, SCENE_TABLE_OF(k));
+    }
   }
 }

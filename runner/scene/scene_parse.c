@@ -1,7 +1,10 @@
 /*
  * scene_parse.c - read the YAML nodes of a scene: each section's keys, each
  * key's value against its row of the key table (scene.c), with the libyaml
- * mark of the node an error is about.
+ * mark of the node an error is about; the sweep, its axes each a list of
+ * values or a {from, to, num} or {from, to, step} range; and the checks,
+ * after the whole file is read, of the keys it gives (required, of its kind
+ * and shape, one of a pair).
  */
 #include "core/hint.h"
 #include "scene.h"
@@ -9,6 +12,7 @@
 
 #include <ctype.h>
 #include <errno.h>
+#include <limits.h>
 #include <math.h>
 #include <stddef.h>
 #include <stdio.h>
@@ -16,6 +20,15 @@
 #include <string.h>
 
 #include <yaml.h>
+
+/* the parse of one scene file */
+typedef struct {
+  yaml_document_t *doc;
+  scene *s;
+  scene_error *err;
+  int sweep_node; /* node id of the sweep mapping, 0 if none */
+  double ncase;   /* cases of the sweep keys read so far */
+} parse_ctx;
 
 /* ---------------------------------------------------------------- parse */
 
@@ -63,7 +76,8 @@ static size_t names_under(const char *prefix, int sub,
 /* " (did you mean ...?)" for a mistyped dotted key: every key and section
    is a candidate (a key in the wrong section included); sections only when
    with_sections, shallow ones first */
-void scene_key_hint(char *buf, size_t sz, const char *word, int with_sections) {
+static void scene_key_hint(char *buf, size_t sz, const char *word,
+                           int with_sections) {
   const char *cand[SCENE_NKEY + NSECTION + 1];
   char sec[NSECTION][SECTION_LEN];
   size_t n = 0, nsec = 0, i;
@@ -90,11 +104,11 @@ static void keys_under(const char *prefix, char *buf, size_t sz) {
   if (!prefix[0] && len < sz) snprintf(buf + len, sz - len, ", sweep");
 }
 
-yaml_node_t *scene_node_get(parse_ctx *c, int id) {
+static yaml_node_t *scene_node_get(parse_ctx *c, int id) {
   return yaml_document_get_node(c->doc, id);
 }
 
-const char *scene_scalar_text(const yaml_node_t *n) {
+static const char *scene_scalar_text(const yaml_node_t *n) {
   return (const char *)n->data.scalar.value;
 }
 
@@ -116,9 +130,8 @@ const char *scene_node_kind(const yaml_node_t *n) {
   return "a scalar";
 }
 
-/* a plain scalar as a number; 0 or -1 with the error set */
-int scene_parse_number(parse_ctx *c, const yaml_node_t *n, const char *path,
-                       int integer, double *out) {
+static int scene_parse_number(parse_ctx *c, const yaml_node_t *n,
+                              const char *path, int integer, double *out) {
   const char *t, *p;
   char *end;
   scene_mark mk = scene_mark_of(&n->start_mark);
@@ -151,18 +164,8 @@ int scene_parse_number(parse_ctx *c, const yaml_node_t *n, const char *path,
   return 0;
 }
 
-/* shortest %g form of x that reads back as x */
-void scene_format_real(char *buf, size_t sz, double x) {
-  int prec;
-  for (prec = 15; prec <= 17; prec++) {
-    snprintf(buf, sz, "%.*g", prec, x);
-    if (strtod(buf, NULL) == x) return;
-  }
-}
-
-/* x against the range of key k */
-int scene_check_range(parse_ctx *c, int k, double x, scene_mark mk,
-                      const char *path) {
+static int scene_check_range(parse_ctx *c, int k, double x, scene_mark mk,
+                             const char *path) {
   const rps3_field_info *f = scene_keys[k].f;
   char lo[32], hi[32], got[32];
   scene_format_real(lo, sizeof lo, f->lo);
@@ -180,58 +183,71 @@ int scene_check_range(parse_ctx *c, int k, double x, scene_mark mk,
   return 0;
 }
 
-/* one scalar value of key k (not a list key) as a number: the value itself,
-   an integer, 0/1 for a bool, the enum value for a name */
-int scene_parse_scalar(parse_ctx *c, int k, const yaml_node_t *n,
-                       const char *path, double *out) {
-  char list[256];
+/* one scalar value of key k as a number: the value itself (a number key,
+   or one item of a list of numbers), an integer, 0/1 for a bool, the enum
+   value for a name */
+static int scene_parse_scalar(parse_ctx *c, int k, const yaml_node_t *n,
+                              const char *path, double *out) {
+  char list[256], hint[160];
   scene_mark mk = scene_mark_of(&n->start_mark);
-  const char *t;
-  int v;
+  int scalar = n->type == YAML_SCALAR_NODE, v;
+  const char *t = scalar ? scene_scalar_text(n) : scene_node_kind(n);
   switch (scene_keys[k].type) {
   case KEY_REAL:
   case KEY_REAL3:
-    if (scene_parse_number(c, n, path, 0, out)) return -1;
-    return scene_check_range(c, k, *out, mk, path);
+  case KEY_TIMES:
   case KEY_INT:
-    if (scene_parse_number(c, n, path, 1, out)) return -1;
+    if (scene_parse_number(c, n, path, scene_keys[k].type == KEY_INT, out))
+      return -1;
     return scene_check_range(c, k, *out, mk, path);
   case KEY_BOOL:
-    if (n->type == YAML_SCALAR_NODE &&
-        n->data.scalar.style == YAML_PLAIN_SCALAR_STYLE) {
-      t = scene_scalar_text(n);
-      if (strcmp(t, "true") == 0 || strcmp(t, "false") == 0) {
-        *out = t[0] == 't';
-        return 0;
-      }
+    if (scalar && n->data.scalar.style == YAML_PLAIN_SCALAR_STYLE &&
+        (strcmp(t, "true") == 0 || strcmp(t, "false") == 0)) {
+      *out = t[0] == 't';
+      return 0;
     }
-    scene_error_set(
-        c->err, mk, path, "expected true or false, got %s%s%s%s",
-        n->type == YAML_SCALAR_NODE ? "'" : "",
-        n->type == YAML_SCALAR_NODE ? scene_scalar_text(n) : scene_node_kind(n),
-        n->type == YAML_SCALAR_NODE ? "'" : "", "");
+    scene_error_set(c->err, mk, path, "expected true or false, got %s%s%s",
+                    scalar ? "'" : "", t, scalar ? "'" : "");
     return -1;
   case KEY_ENUM:
     scene_enum_list(k, list, sizeof list);
-    if (n->type != YAML_SCALAR_NODE || is_null(n)) {
+    if (!scalar || is_null(n)) {
       scene_error_set(c->err, mk, path, "expected one of %s, got %s", list,
                       scene_node_kind(n));
       return -1;
     }
-    v = scene_enum_find(k, scene_scalar_text(n));
+    v = scene_enum_find(k, t);
     if (v < 0) {
-      char hint[160];
-      scene_enum_hint(hint, sizeof hint, k, scene_scalar_text(n));
-      scene_error_set(c->err, mk, path, "unknown value '%s'%s; expected %s",
-                      scene_scalar_text(n), hint, list);
+      scene_enum_hint(hint, sizeof hint, k, t);
+      scene_error_set(c->err, mk, path, "unknown value '%s'%s; expected %s", t,
+                      hint, list);
       return -1;
     }
     *out = v;
     return 0;
-  case KEY_EFFECTS:
-  case KEY_OUTPUTS:
   default: scene_error_set(c->err, mk, path, "not a scalar key"); return -1;
   }
+}
+
+/* the length of list node n when it holds min to max items, else -1 with
+   "expected WHAT, got OTHER" (OTHER for a list of another length, else the
+   node's kind) */
+static long list_len(parse_ctx *c, const yaml_node_t *n, const char *path,
+                     long min, long max, const char *what, const char *other) {
+  long len =
+      n->type != YAML_SEQUENCE_NODE
+          ? -1
+          : (long)(n->data.sequence.items.top - n->data.sequence.items.start);
+  if (len >= min && len <= max) return len;
+  scene_error_set(c->err, scene_mark_of(&n->start_mark), path,
+                  "expected %s, got %s", what,
+                  len >= 0 ? other : scene_node_kind(n));
+  return -1;
+}
+
+/* item i of list node n */
+static const yaml_node_t *item_of(parse_ctx *c, const yaml_node_t *n, long i) {
+  return scene_node_get(c, n->data.sequence.items.start[i]);
 }
 
 /* the rows of a waypoints list key: times (numbers) or poses (lists of 3
@@ -241,23 +257,18 @@ static int parse_rows(parse_ctx *c, int k, const yaml_node_t *n,
   const char *path = scene_keys[k].path;
   int poses = scene_keys[k].type == KEY_POSES;
   scene *s = c->s;
-  yaml_node_item_t *it;
-  size_t i, rows;
+  long i, j,
+      rows = list_len(c, n, path, 2, LONG_MAX,
+                      poses ? "a list of at least 2 poses [alpha, beta, "
+                              "z_c]"
+                            : "a list of at least 2 numbers",
+                      "a shorter list");
   double *dst;
   scene_mark *marks;
   char sub[160];
-  if (n->type != YAML_SEQUENCE_NODE ||
-      n->data.sequence.items.top - n->data.sequence.items.start < 2) {
-    scene_error_set(
-        c->err, scene_mark_of(&n->start_mark), path,
-        "expected a list of at least 2 %s, got %s",
-        poses ? "poses [alpha, beta, z_c]" : "numbers",
-        n->type == YAML_SEQUENCE_NODE ? "a shorter list" : scene_node_kind(n));
-    return -1;
-  }
-  rows = (size_t)(n->data.sequence.items.top - n->data.sequence.items.start);
-  dst = malloc(rows * (poses ? 3 : 1) * sizeof *dst);
-  marks = malloc(rows * sizeof *marks);
+  if (rows < 0) return -1;
+  dst = malloc((size_t)rows * (poses ? 3 : 1) * sizeof *dst);
+  marks = malloc((size_t)rows * sizeof *marks);
   if (!dst || !marks) {
     free(dst);
     free(marks);
@@ -267,41 +278,25 @@ static int parse_rows(parse_ctx *c, int k, const yaml_node_t *n,
   }
   if (poses) {
     s->wp_pose = (double(*)[3])(void *)dst;
-    s->wp_npose = rows;
+    s->wp_npose = (size_t)rows;
     s->wp_pose_mark = marks;
     v->traj.wp.pose = (const double(*)[3])s->wp_pose;
   } else {
-    s->wp_time = dst;
-    s->wp_ntime = rows;
+    v->traj.wp.time = s->wp_time = dst;
+    s->wp_ntime = (size_t)rows;
     s->wp_time_mark = marks;
-    v->traj.wp.time = dst;
   }
-  for (i = 0, it = n->data.sequence.items.start; i < rows; i++, it++) {
-    const yaml_node_t *item = scene_node_get(c, *it);
+  for (i = 0; i < rows; i++) {
+    const yaml_node_t *item = item_of(c, n, i);
     marks[i] = scene_mark_of(&item->start_mark);
-    snprintf(sub, sizeof sub, "%s[%zu]", path, i);
-    if (!poses) {
-      if (scene_parse_number(c, item, sub, 0, &dst[i]) ||
-          scene_check_range(c, k, dst[i], marks[i], sub))
-        return -1;
-      continue;
-    }
-    if (item->type != YAML_SEQUENCE_NODE ||
-        item->data.sequence.items.top - item->data.sequence.items.start != 3) {
-      scene_error_set(
-          c->err, marks[i], sub, "expected a pose [alpha, beta, z_c], got %s",
-          item->type == YAML_SEQUENCE_NODE ? "a list of another length"
-                                           : scene_node_kind(item));
+    snprintf(sub, sizeof sub, "%s[%ld]", path, i);
+    if (poses ? list_len(c, item, sub, 3, 3, "a pose [alpha, beta, z_c]",
+                         "a list of another length") < 0
+              : scene_parse_scalar(c, k, item, sub, &dst[i]))
       return -1;
-    }
-    {
-      yaml_node_item_t *jt = item->data.sequence.items.start;
-      int j;
-      for (j = 0; j < 3; j++, jt++)
-        if (scene_parse_number(c, scene_node_get(c, *jt), sub, 0,
-                               &dst[3 * i + (size_t)j]))
-          return -1;
-    }
+    for (j = 0; poses && j < 3; j++)
+      if (scene_parse_number(c, item_of(c, item, j), sub, 0, &dst[3 * i + j]))
+        return -1;
   }
   return 0;
 }
@@ -311,23 +306,22 @@ static int parse_rows(parse_ctx *c, int k, const yaml_node_t *n,
 static int parse_file(parse_ctx *c, int k, const yaml_node_t *n,
                       scene_values *v) {
   scene *s = c->s;
-  int path = k == K_PATH_FILE;
-  table_data *t = path ? &s->path_table : &s->table;
+  int what = SCENE_TABLE_OF(k);
+  table_data *t = &s->table[what];
   char msg[sizeof c->err->what];
   if (n->type != YAML_SCALAR_NODE || is_null(n)) {
     scene_error_set(c->err, scene_mark_of(&n->start_mark), scene_keys[k].path,
                     "expected a file name, got %s", scene_node_kind(n));
     return -1;
   }
-  if (table_read(t, s->file, scene_scalar_text(n),
-                 path ? TABLE_CENTRE : TABLE_POSE, msg, sizeof msg)) {
+  if (table_read(t, s->file, scene_scalar_text(n), what, msg, sizeof msg)) {
     scene_error_set(c->err, scene_mark_of(&n->start_mark), scene_keys[k].path,
                     "%s", msg);
     return -1;
   }
-  if (!path) {
+  v->file[what] = t->abs;
+  if (what == TABLE_POSE) {
     v->traj.table = table_view(t);
-    v->table_file = t->abs;
     return 0;
   }
   /* a path: the polar angles of the rows, followed continuously */
@@ -340,98 +334,79 @@ static int parse_file(parse_ctx *c, int k, const yaml_node_t *n,
   rps3_table_unwrap(t->n, (const double(*)[3])t->value, s->path_psi);
   v->traj.path.table = table_view(t);
   v->traj.path.table_psi = s->path_psi;
-  v->path_file = t->abs;
   return 0;
+}
+
+/* a list of names, each one bit: the effects, or the outputs */
+static int parse_names(parse_ctx *c, int k, const yaml_node_t *n,
+                       scene_values *v) {
+  const char *path = scene_keys[k].path;
+  const char *what = scene_keys[k].type == KEY_OUTPUTS ? "output" : "effect";
+  char list[256], expected[300];
+  long i, len;
+  int e, bits = 0;
+  scene_enum_list(k, list, sizeof list);
+  snprintf(expected, sizeof expected, "a non-empty list of %s", list);
+  len = list_len(c, n, path, 1, LONG_MAX, expected, "an empty list");
+  for (i = 0; i < len; i++) {
+    const yaml_node_t *item = item_of(c, n, i);
+    scene_mark im = scene_mark_of(&item->start_mark);
+    int scalar = item->type == YAML_SCALAR_NODE;
+    const char *t = scalar ? scene_scalar_text(item) : scene_node_kind(item);
+    char hint[160] = "";
+    e = scalar && !is_null(item) ? scene_enum_find(k, t) : -1;
+    if (e < 0) {
+      if (scalar) scene_enum_hint(hint, sizeof hint, k, t);
+      scene_error_set(c->err, im, path, "unknown %s %s%s%s%s; expected %s",
+                      what, scalar ? "'" : "", t, scalar ? "'" : "", hint,
+                      list);
+      return -1;
+    }
+    if (bits & (1 << e)) {
+      scene_error_set(c->err, im, path, "%s '%s' listed twice", what,
+                      scene_enum_name(k, e));
+      return -1;
+    }
+    bits |= 1 << e;
+  }
+  *scene_int_at(v, k) = bits;
+  return len < 0 ? -1 : 0;
 }
 
 /* the value node n of key k into v (the whole key, lists included) */
 static int parse_value(parse_ctx *c, int k, const yaml_node_t *n,
                        scene_values *v) {
   const char *path = scene_keys[k].path;
-  scene_mark mk = scene_mark_of(&n->start_mark);
-  char sub[160], list[256];
-  yaml_node_item_t *it;
+  char sub[160];
   double x;
-  int i, e, bits;
-
-  if (scene_keys[k].type == KEY_REAL3) {
-    if (n->type != YAML_SEQUENCE_NODE ||
-        n->data.sequence.items.top - n->data.sequence.items.start != 3) {
-      scene_error_set(c->err, mk, path, "expected a list of 3 numbers, got %s",
-                      n->type == YAML_SEQUENCE_NODE ? "a list of another length"
-                                                    : scene_node_kind(n));
+  int i;
+  switch (scene_keys[k].type) {
+  case KEY_REAL3:
+    if (list_len(c, n, path, 3, 3, "a list of 3 numbers",
+                 "a list of another length") < 0)
       return -1;
-    }
-    for (i = 0, it = n->data.sequence.items.start; i < 3; i++, it++) {
+    for (i = 0; i < 3; i++) {
       snprintf(sub, sizeof sub, "%s[%d]", path, i);
-      if (scene_parse_scalar(c, k, scene_node_get(c, *it), sub, &x)) return -1;
-      scene_real_at(v, k)[i] = x;
+      if (scene_parse_scalar(c, k, item_of(c, n, i), sub,
+                             &scene_real_at(v, k)[i]))
+        return -1;
     }
     return 0;
-  }
-  if (scene_keys[k].type == KEY_TIMES || scene_keys[k].type == KEY_POSES)
-    return parse_rows(c, k, n, v);
-  if (scene_keys[k].type == KEY_FILE) return parse_file(c, k, n, v);
-  if (scene_keys[k].type == KEY_EFFECTS || scene_keys[k].type == KEY_OUTPUTS) {
-    /* a list of names, each one bit: the effects, or the outputs */
-    const int outs = scene_keys[k].type == KEY_OUTPUTS;
-    const int nname = outs ? RPS3_NOUTPUT : RPS3_NEFFECT;
-    const char *what = outs ? "output" : "effect";
-    const char *(*name_of)(int) = outs ? rps3_output_name : rps3_effect_name;
-    if (outs)
-      scene_output_list(list, sizeof list);
-    else
-      scene_effect_list(list, sizeof list);
-    if (n->type != YAML_SEQUENCE_NODE ||
-        n->data.sequence.items.top == n->data.sequence.items.start) {
-      scene_error_set(
-          c->err, mk, path, "expected a non-empty list of %s, got %s", list,
-          n->type == YAML_SEQUENCE_NODE ? "an empty list" : scene_node_kind(n));
-      return -1;
-    }
-    bits = 0;
-    for (it = n->data.sequence.items.start; it < n->data.sequence.items.top;
-         it++) {
-      const yaml_node_t *item = scene_node_get(c, *it);
-      scene_mark im = scene_mark_of(&item->start_mark);
-      e = (item->type == YAML_SCALAR_NODE && !is_null(item))
-              ? (outs ? rps3_output_index(scene_scalar_text(item))
-                      : rps3_effect_index(scene_scalar_text(item)))
-              : -1;
-      if (e < 0) {
-        const char *cand[RPS3_NEFFECT > RPS3_NOUTPUT ? RPS3_NEFFECT
-                                                     : RPS3_NOUTPUT];
-        char hint[160] = "";
-        int j;
-        for (j = 0; j < nname; j++) cand[j] = name_of(j);
-        if (item->type == YAML_SCALAR_NODE)
-          hint_text(hint, sizeof hint, scene_scalar_text(item), cand, nname);
-        scene_error_set(c->err, im, path, "unknown %s %s%s%s%s; expected %s",
-                        what, item->type == YAML_SCALAR_NODE ? "'" : "",
-                        item->type == YAML_SCALAR_NODE ? scene_scalar_text(item)
-                                                       : scene_node_kind(item),
-                        item->type == YAML_SCALAR_NODE ? "'" : "", hint, list);
-        return -1;
-      }
-      if (bits & (1 << e)) {
-        scene_error_set(c->err, im, path, "%s '%s' listed twice", what,
-                        name_of(e));
-        return -1;
-      }
-      bits |= 1 << e;
-    }
-    *scene_int_at(v, k) = bits;
+  case KEY_TIMES:
+  case KEY_POSES: return parse_rows(c, k, n, v);
+  case KEY_FILE: return parse_file(c, k, n, v);
+  case KEY_EFFECTS:
+  case KEY_OUTPUTS: return parse_names(c, k, n, v);
+  default:
+    if (scene_parse_scalar(c, k, n, path, &x)) return -1;
+    scene_value_set(v, k, -1, x);
     return 0;
   }
-  if (scene_parse_scalar(c, k, n, path, &x)) return -1;
-  scene_value_set(v, k, -1, x);
-  return 0;
 }
 
-/* the keys of a mapping must be plain scalars and appear once */
-int scene_mapping_key(parse_ctx *c, const yaml_node_t *map,
-                      const yaml_node_pair_t *pair, const char *prefix,
-                      const char **name) {
+static int scene_mapping_key(parse_ctx *c, const yaml_node_t *map,
+                             const yaml_node_pair_t *pair, const char *prefix,
+                             const char **name) {
   const yaml_node_t *kn = scene_node_get(c, pair->key);
   const yaml_node_pair_t *q;
   scene_mark mk = scene_mark_of(&kn->start_mark);
@@ -468,9 +443,8 @@ int scene_mapping_key(parse_ctx *c, const yaml_node_t *map,
 static const char *const top_sections[4] = {"", "manipulator", "trajectory",
                                             "solver"};
 
-/* walk a mapping section, storing each key it holds into the base values */
-int scene_walk_section(parse_ctx *c, const yaml_node_t *map,
-                       const char *prefix) {
+static int scene_walk_section(parse_ctx *c, const yaml_node_t *map,
+                              const char *prefix) {
   yaml_node_pair_t *pair;
   char full[160], list[512];
   scene *s = c->s;
@@ -516,5 +490,432 @@ int scene_walk_section(parse_ctx *c, const yaml_node_t *map,
     s->given[k] = 1;
     s->mark[k] = scene_mark_of(&val->start_mark);
   }
+  return 0;
+}
+
+/* the most cases a sweep may expand to: every case is built and checked
+   before a run (about 1 us each: 10 s at the limit); more is several runs */
+#define MAX_CASES 10000000.0
+
+/* ---------------------------------------------------------------- sweep */
+
+/* the nodes of a {from, to, num} or {from, to, step} mapping, by R_* */
+enum { R_FROM, R_TO, R_NUM, R_STEP };
+typedef const yaml_node_t *range_nodes[4];
+
+/* the nodes of range mapping map of axis ax: no other key (none twice:
+   scene_mapping_key), from, to and one of num and step; 0 or -1 */
+static int range_read(parse_ctx *c, const scene_axis *ax,
+                      const yaml_node_t *map, range_nodes r) {
+  static const char *const names[4] = {"from", "to", "num", "step"};
+  yaml_node_pair_t *p;
+  char sub[160];
+  memset(r, 0, sizeof(range_nodes));
+  for (p = map->data.mapping.pairs.start; p < map->data.mapping.pairs.top;
+       p++) {
+    const char *name;
+    int k;
+    if (scene_mapping_key(c, map, p, ax->path, &name)) return -1;
+    for (k = 0; k < 4 && strcmp(name, names[k]) != 0; k++)
+      ;
+    if (k == 4) {
+      snprintf(sub, sizeof sub, "%s.%s", ax->path, name);
+      scene_error_set(c->err,
+                      scene_mark_of(&scene_node_get(c, p->key)->start_mark),
+                      sub, "unknown key; expected from, to and num or step");
+      return -1;
+    }
+    r[k] = scene_node_get(c, p->value);
+  }
+  if (!r[R_FROM] || !r[R_TO] || (!r[R_NUM] == !r[R_STEP])) {
+    scene_error_set(c->err, scene_mark_of(&map->start_mark), ax->path,
+                    "a range needs from, to and exactly one of num and step");
+    return -1;
+  }
+  return 0;
+}
+
+/* entry `name` of axis ax's range, node n, as a number; 0 or -1 */
+static int range_number(parse_ctx *c, const scene_axis *ax,
+                        const yaml_node_t *n, const char *name, int integer,
+                        double *x) {
+  char sub[160];
+  snprintf(sub, sizeof sub, "%s.%s", ax->path, name);
+  return scene_parse_number(c, n, sub, integer, x);
+}
+
+/* the number of values of range r from `from` to `to`, counted before
+   anything is allocated; *step is 0 for a range by num.  0 or -1 */
+static int range_count(parse_ctx *c, const scene_axis *ax, range_nodes r,
+                       int integer, double from, double to, double *step,
+                       size_t *n) {
+  const yaml_node_t *nd = r[R_NUM] ? r[R_NUM] : r[R_STEP];
+  scene_mark mk = scene_mark_of(&nd->start_mark);
+  double span = to - from, num, q;
+  char sub[160];
+  snprintf(sub, sizeof sub, "%s.%s", ax->path, r[R_NUM] ? "num" : "step");
+  *step = 0;
+  if (r[R_NUM]) {
+    if (range_number(c, ax, nd, "num", 1, &num)) return -1;
+    if (num < 1 || (num == 1 && from != to)) {
+      scene_error_set(c->err, mk, sub,
+                      "must be >= 2 (or 1 with from == to), got %.0f", num);
+      return -1;
+    }
+    if (num * c->ncase > MAX_CASES) {
+      scene_error_set(c->err, mk, sub,
+                      "%.0f values make the sweep more than %.0f cases", num,
+                      MAX_CASES);
+      return -1;
+    }
+    *n = (size_t)num;
+    return 0;
+  }
+  if (range_number(c, ax, nd, "step", integer, step)) return -1;
+  q = span / *step;
+  if (*step == 0 || q < 0) {
+    scene_error_set(c->err, mk, sub,
+                    "must be non-zero with the sign of to - from, got %s",
+                    scene_scalar_text(nd));
+    return -1;
+  }
+  if (!(span - span == 0)) {
+    scene_error_set(c->err, mk, sub,
+                    "to - from overflows (%s to %s): not a range of numbers",
+                    scene_scalar_text(r[R_FROM]), scene_scalar_text(r[R_TO]));
+    return -1;
+  }
+  if ((q + 1) * c->ncase > MAX_CASES) {
+    scene_error_set(
+        c->err, mk, sub,
+        "gives %.3g values: the sweep would have more than %.0f cases", q + 1,
+        MAX_CASES);
+    return -1;
+  }
+  *n = (size_t)floor(q + SCENE_WHOLE_RTOL) + 1;
+  return 0;
+}
+
+/* value i of n of a range from `from` to `to` by num (step 0) or step */
+static double range_value(size_t i, size_t n, double from, double to,
+                          double step) {
+  double span = to - from, x;
+  if (step == 0 && !(span - span == 0))
+    /* to - from overflows ({from: -1e308, to: 1e308}): weights instead,
+       so that each value is a number and its range check speaks */
+    return (i + 1 == n) ? to
+                        : from * (1 - (double)i / (double)(n - 1)) +
+                              to * ((double)i / (double)(n - 1));
+  if (step == 0)
+    return (i + 1 == n) ? to : from + span * (double)i / (double)(n - 1);
+  x = from + (double)i * step;
+  /* the last step lands on `to` up to rounding: take `to` itself */
+  if (i + 1 == n && fabs(x - to) <= SCENE_WHOLE_RTOL * fabs(step)) x = to;
+  return x;
+}
+
+/* room for the n values of axis ax; 0 or -1 */
+static int axis_alloc(parse_ctx *c, scene_axis *ax, size_t n, scene_mark mk,
+                      const char *what) {
+  ax->n = n;
+  ax->val = malloc(n * sizeof *ax->val);
+  ax->mark = malloc(n * sizeof *ax->mark);
+  if (!ax->val || !ax->mark) {
+    scene_error_set(c->err, mk, ax->path, what, n);
+    return -1;
+  }
+  return 0;
+}
+
+/* expand a {from, to, num} or {from, to, step} mapping into ax */
+static int sweep_range(parse_ctx *c, scene_axis *ax, const yaml_node_t *map) {
+  const scene_key_info *ki = &scene_keys[ax->key];
+  scene_mark mk = scene_mark_of(&map->start_mark);
+  range_nodes r;
+  double from, to, step;
+  int integer = ki->type == KEY_INT;
+  size_t i, n;
+  if (ki->type != KEY_REAL && ki->type != KEY_REAL3 && !integer) {
+    scene_error_set(c->err, mk, ax->path,
+                    "a range needs a numeric key; give a list of values");
+    return -1;
+  }
+  if (range_read(c, ax, map, r) ||
+      range_number(c, ax, r[R_FROM], "from", integer, &from) ||
+      range_number(c, ax, r[R_TO], "to", integer, &to) ||
+      range_count(c, ax, r, integer, from, to, &step, &n) ||
+      axis_alloc(c, ax, n, mk, "out of memory for %zu values"))
+    return -1;
+  for (i = 0; i < n; i++) {
+    double x = range_value(i, n, from, to, step);
+    if (integer && x != floor(x)) {
+      scene_error_set(c->err, mk, ax->path,
+                      "value %zu of the range, %g, is not an integer", i, x);
+      return -1;
+    }
+    if (scene_check_range(c, ax->key, x, mk, ax->path)) return -1;
+    ax->val[i] = x;
+    ax->mark[i] = mk;
+  }
+  return 0;
+}
+
+/* the key of sweep entry `name` (at km) into ax: a scene key, or one
+   component of a list key, that may be swept, of the scene's kind and not
+   swept before; 0 or -1 */
+static int sweep_key(parse_ctx *c, scene_axis *ax, const char *name,
+                     scene_mark km) {
+  scene *s = c->s;
+  const scene_key_info *ki;
+  const char *br;
+  char base[80];
+  size_t a;
+  if (strlen(name) >= sizeof ax->path) {
+    scene_error_set(c->err, km, "sweep", "key '%.40s...' is too long", name);
+    return -1;
+  }
+  snprintf(ax->path, sizeof ax->path, "%s", name);
+  ax->comp = -1;
+  /* "key[k]" picks component k of a list key */
+  br = strchr(name, '[');
+  snprintf(base, sizeof base, "%.*s",
+           (int)(br ? (size_t)(br - name) : strlen(name)), name);
+  ax->key = scene_key_find(base);
+  if (ax->key < 0) {
+    char hint[200];
+    scene_key_hint(hint, sizeof hint, base, 0);
+    scene_error_set(c->err, km, name, "not a scene key%s; see rps3-run --keys",
+                    hint);
+    return -1;
+  }
+  ki = &scene_keys[ax->key];
+  if (br) {
+    if (ki->type != KEY_REAL3 || !(br[1] >= '0' && br[1] <= '2') ||
+        strcmp(br + 2, "]") != 0) {
+      scene_error_set(c->err, km, name,
+                      ki->type == KEY_REAL3
+                          ? "component must be [0], [1] or [2]"
+                          : "only a list key takes a component [k]");
+      return -1;
+    }
+    ax->comp = br[1] - '0';
+  } else if (ki->type == KEY_REAL3) {
+    scene_error_set(c->err, km, name,
+                    "a list key: sweep one component, as %s[0], [1] or [2]",
+                    name);
+    return -1;
+  }
+  if (ki->type == KEY_EFFECTS || ki->type == KEY_OUTPUTS ||
+      ki->type == KEY_TIMES || ki->type == KEY_POSES || ki->type == KEY_FILE ||
+      ax->key == K_KIND || ax->key == K_PATH_SHAPE) {
+    scene_error_set(c->err, km, name,
+                    "cannot be swept (it decides what a case computes); write "
+                    "one scene per value");
+    return -1;
+  }
+  if (!scene_key_applies(ki, s->base.traj.kind)) {
+    scene_error_set(c->err, km, name, "not a key of a %s trajectory",
+                    scene_enum_name(K_KIND, (int)s->base.traj.kind));
+    return -1;
+  }
+  for (a = 0; a + 1 < s->naxis; a++)
+    if (s->axis[a].key == ax->key && s->axis[a].comp == ax->comp) {
+      scene_error_set(c->err, km, name, "swept twice (also as %s)",
+                      s->axis[a].path);
+      return -1;
+    }
+  return 0;
+}
+
+/* the values of axis ax: a list, a range mapping; 0 or -1 */
+static int sweep_values(parse_ctx *c, scene_axis *ax, const yaml_node_t *val,
+                        scene_mark km) {
+  long i, n;
+  if (val->type == YAML_MAPPING_NODE) return sweep_range(c, ax, val);
+  if (val->type == YAML_SEQUENCE_NODE &&
+      val->data.sequence.items.top == val->data.sequence.items.start) {
+    scene_error_set(c->err, scene_mark_of(&val->start_mark), ax->path,
+                    "empty list of values");
+    return -1;
+  }
+  n = list_len(c, val, ax->path, 1, LONG_MAX,
+               "a list of values, {from, to, num} or {from, to, step}", "");
+  if (n < 0 || axis_alloc(c, ax, (size_t)n, km, "out of memory")) return -1;
+  for (i = 0; i < n; i++) {
+    const yaml_node_t *item = item_of(c, val, i);
+    if (scene_parse_scalar(c, ax->key, item, ax->path, &ax->val[i])) return -1;
+    ax->mark[i] = scene_mark_of(&item->start_mark);
+  }
+  return 0;
+}
+
+static int scene_parse_sweep(parse_ctx *c, const yaml_node_t *map) {
+  scene *s = c->s;
+  yaml_node_pair_t *pair;
+  size_t npair;
+  double ncase = 1;
+  if (map->type != YAML_MAPPING_NODE ||
+      map->data.mapping.pairs.top == map->data.mapping.pairs.start) {
+    scene_error_set(c->err, scene_mark_of(&map->start_mark), "sweep",
+                    "expected a mapping of dotted keys to values, got %s",
+                    map->type == YAML_MAPPING_NODE ? "an empty mapping"
+                                                   : scene_node_kind(map));
+    return -1;
+  }
+  npair = (size_t)(map->data.mapping.pairs.top - map->data.mapping.pairs.start);
+  s->axis = calloc(npair, sizeof *s->axis);
+  if (!s->axis) {
+    scene_error_set(c->err, scene_mark_of(&map->start_mark), "sweep",
+                    "out of memory");
+    return -1;
+  }
+  for (pair = map->data.mapping.pairs.start; pair < map->data.mapping.pairs.top;
+       pair++) {
+    scene_mark km = scene_mark_of(&scene_node_get(c, pair->key)->start_mark);
+    /* counted at once, so that scene_free frees a half-built axis */
+    scene_axis *ax = &s->axis[s->naxis++];
+    const char *name;
+    if (scene_mapping_key(c, map, pair, "sweep", &name) ||
+        sweep_key(c, ax, name, km) ||
+        sweep_values(c, ax, scene_node_get(c, pair->value), km))
+      return -1;
+    ncase *= (double)ax->n;
+    c->ncase = ncase;
+    if (ncase > MAX_CASES) {
+      scene_error_set(c->err, km, name, "the sweep has more than %.0f cases",
+                      MAX_CASES);
+      return -1;
+    }
+    /* a swept key counts as given; its mark is its first value */
+    s->given[ax->key] = 1;
+    if (s->mark[ax->key].line == 0) s->mark[ax->key] = ax->mark[0];
+  }
+  s->ncase = (size_t)ncase;
+  return 0;
+}
+
+/* ---------------------------------------------------------------- checks */
+
+/* last component of a dotted path */
+static const char *leaf(const char *path) {
+  const char *p = strrchr(path, '.');
+  return p ? p + 1 : path;
+}
+
+/* a waypoints scene has as many poses as times */
+static int check_waypoints(parse_ctx *c) {
+  scene *s = c->s;
+  if (s->base.traj.kind != RPS3_TRAJ_WAYPOINTS) return 0;
+  if (s->wp_ntime != s->wp_npose) {
+    scene_error_set(c->err, s->mark[K_WP_POSES], scene_keys[K_WP_POSES].path,
+                    "%zu poses for %zu times (trajectory.waypoints.times at "
+                    "%d:%d); give one pose per time",
+                    s->wp_npose, s->wp_ntime, s->mark[K_WP_TIMES].line,
+                    s->mark[K_WP_TIMES].column);
+    return -1;
+  }
+  s->base.traj.wp.n = s->wp_ntime;
+  return 0;
+}
+
+/* a path scene gives the keys of its shape, and no others */
+static int check_shape(parse_ctx *c) {
+  scene *s = c->s;
+  int k, shape = (int)s->base.traj.path.shape;
+  if (s->base.traj.kind != RPS3_TRAJ_PATH) return 0;
+  for (k = 0; k < SCENE_NKEY; k++) {
+    int mask = scene_shape_mask(k);
+    if (mask == 0) continue;
+    if (s->given[k] && !(mask & (1 << shape))) {
+      scene_error_set(c->err, s->mark[k], scene_keys[k].path,
+                      "not a key of a %s path",
+                      scene_enum_name(K_PATH_SHAPE, shape));
+      return -1;
+    }
+    if (!s->given[k] && scene_keys[k].req == REQ_SHAPE &&
+        (mask & (1 << shape))) {
+      scene_error_set(c->err, s->mark[K_PATH_SHAPE], scene_keys[k].path,
+                      "missing required key of a %s path",
+                      scene_enum_name(K_PATH_SHAPE, shape));
+      return -1;
+    }
+  }
+  return 0;
+}
+
+static int scene_check_keys(parse_ctx *c) {
+  scene *s = c->s;
+  int k, pair;
+  /* a design study needs no trajectory (it is the optional task) */
+  int design = s->design.line > 0, no_traj = design && s->section[2].line == 0;
+  if (s->section[1].line == 0 || (s->section[2].line == 0 && !design)) {
+    scene_error_set(c->err, s->section[0],
+                    s->section[1].line == 0 ? "manipulator" : "trajectory",
+                    "missing required section");
+    return -1;
+  }
+  if (scene_design_check_keys(s, c->err)) return -1;
+  for (k = 0; k < SCENE_NKEY; k++) {
+    const scene_key_info *ki = &scene_keys[k];
+    int applies = scene_key_applies(ki, s->base.traj.kind);
+    int sec = strncmp(ki->path, "manipulator", 11) == 0 ? 1 : 2;
+    if (SCENE_KEY_IS_DESIGN(ki) || (no_traj && sec == 2)) continue;
+    if (!applies && s->given[k]) {
+      scene_error_set(c->err, s->mark[k], ki->path,
+                      "not a key of a %s trajectory",
+                      scene_enum_name(K_KIND, (int)s->base.traj.kind));
+      return -1;
+    }
+    if (applies && ki->req == REQ_YES && !s->given[k]) {
+      scene_error_set(c->err, s->section[sec], ki->path,
+                      "missing required key");
+      return -1;
+    }
+  }
+  if (check_waypoints(c) || check_shape(c)) return -1;
+  for (pair = 0; pair < 3; pair++) {
+    static const int one_of[3][2] = {
+        {K_M_OVER_M, K_MASS}, {K_SAMPLES, K_DT}, {K_BLEND, K_BLEND_RATIO}};
+    int a = one_of[pair][0], b = one_of[pair][1];
+    if (!scene_key_applies(&scene_keys[a], s->base.traj.kind) ||
+        (no_traj && pair > 0))
+      continue;
+    if (!s->given[a] && !s->given[b]) {
+      scene_error_set(c->err, s->section[pair ? 2 : 1], scene_keys[a].path,
+                      "missing: give %s or %s", leaf(scene_keys[a].path),
+                      leaf(scene_keys[b].path));
+      return -1;
+    }
+    if (s->given[a] && s->given[b]) {
+      int later = (s->mark[a].line > s->mark[b].line ||
+                   (s->mark[a].line == s->mark[b].line &&
+                    s->mark[a].column > s->mark[b].column))
+                      ? a
+                      : b;
+      int other = later == a ? b : a;
+      scene_error_set(c->err, s->mark[later], scene_keys[later].path,
+                      "give either %s or %s, not both (%s is at %d:%d)",
+                      leaf(scene_keys[a].path), leaf(scene_keys[b].path),
+                      scene_keys[other].path, s->mark[other].line,
+                      s->mark[other].column);
+      return -1;
+    }
+  }
+  return 0;
+}
+
+int scene_parse_doc(scene *s, yaml_document_t *doc, const yaml_node_t *root,
+                    scene_error *err) {
+  parse_ctx c;
+  memset(&c, 0, sizeof c);
+  c.ncase = 1;
+  c.doc = doc;
+  c.s = s;
+  c.err = err;
+  if (scene_walk_section(&c, root, "") ||
+      (c.sweep_node != 0 &&
+       scene_parse_sweep(&c, scene_node_get(&c, c.sweep_node))) ||
+      scene_check_keys(&c))
+    return -1;
   return 0;
 }

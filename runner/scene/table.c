@@ -1,12 +1,11 @@
 /*
- * table.c - read a table of samples from a CSV or an HDF5 file (table.h).
+ * table.c - the rows of a CSV table, and what the CSV and the HDF5 reader
+ * (table_h5.c) share: the columns, the cells, the checks of a number.
  * Every row is checked where it is read, so that an error names the file,
  * the line (or row) and the column: a number that is not one, NaN or
- * infinity, a time that does not increase.  Reachability is the library's
- * (rps3_traj_check), mapped back to the row by table_where.
+ * infinity.
  */
-/* realpath() is XSI */
-#define _XOPEN_SOURCE 700
+#define _XOPEN_SOURCE 700 /* stat */
 
 #include "table.h"
 #include "core/hint.h"
@@ -66,7 +65,6 @@ rps3_table table_view(const table_data *t) {
   return v;
 }
 
-/* the arrays for n rows; acc only when the file has accelerations */
 int table_alloc_rows(table_data *t, size_t n, int with_acc, int with_line,
                      char *err, size_t errsz) {
   size_t m = n ? n : 1; /* a table of no rows is refused later */
@@ -76,8 +74,8 @@ int table_alloc_rows(table_data *t, size_t n, int with_acc, int with_line,
                (with_line ? (double)sizeof(int) : 0.0);
   if ((double)n * row > TABLE_MAX_BYTES) {
     table_err(err, errsz,
-              "%s: %zu rows need %.3g GB in memory (%.0f bytes a "
-              "row): above the table limit of 1 GiB",
+              "%s: %zu rows need %.3g GB in memory (%.0f bytes a row): above "
+              "the table limit of 1 GiB",
               t->path, n, (double)n * row / 1e9, row);
     return -1;
   }
@@ -94,7 +92,6 @@ int table_alloc_rows(table_data *t, size_t n, int with_acc, int with_line,
   return -1;
 }
 
-/* where column c of row r goes */
 double *table_cell(table_data *t, size_t r, int c) {
   if (c == 0) return &t->time[r];
   if (c < 4) return &t->value[r][c - 1];
@@ -102,10 +99,14 @@ double *table_cell(table_data *t, size_t r, int c) {
   return &t->acc[r][c - 7];
 }
 
-/* which of the columns are present: t and the values always, the rates
-   all or none, the accelerations all or none and only with the rates; a
-   column is named as the file holds it ("column NAME" in a CSV file,
-   "dataset /NAME" in an HDF5 one) */
+const char *table_bad_number(double x) {
+  if (!isfinite(x)) return "is not a finite number";
+  if (fpclassify(x) == FP_SUBNORMAL)
+    return "is subnormal (nonzero but below 2.2e-308 in magnitude, where a "
+           "double loses precision): write 0 or a normal number";
+  return NULL;
+}
+
 int table_columns_check(const int have[TABLE_NCOL], int what, int hdf5,
                         const char *file, char *err, size_t errsz) {
   int c, g;
@@ -127,10 +128,10 @@ int table_columns_check(const int have[TABLE_NCOL], int what, int hdf5,
       return -1;
     }
   if (have[7] && !have[4]) {
-    table_err(err, errsz,
-              "%s: accelerations (%s%s, ...) need the rates (%s%s, ...) as "
-              "well",
-              file, kind, n[7], kind, n[4]);
+    table_err(
+        err, errsz,
+        "%s: accelerations (%s%s, ...) need the rates (%s%s, ...) as well",
+        file, kind, n[7], kind, n[4]);
     return -1;
   }
   return 0;
@@ -161,16 +162,16 @@ static int parse_field(char *s, char *e, double *x, const char *file, int line,
   *x = strtod(s, &end);
   if (end != e)
     snprintf(why, sizeof why, "expected a number, got %s", q);
-  else if (!isfinite(*x) || (errno == ERANGE && fabs(*x) > 1.0))
-    snprintf(why, sizeof why, "%s is not a finite number%s", q,
-             errno == ERANGE ? " (beyond the largest double, 1.8e308)" : "");
+  else if (table_bad_number(*x))
+    snprintf(why, sizeof why, "%s %s%s", q, table_bad_number(*x),
+             !isfinite(*x) && errno == ERANGE
+                 ? " (beyond the largest double, 1.8e308)"
+                 : "");
   else if (*x == 0.0 && errno == ERANGE)
     snprintf(why, sizeof why,
-             "%s underflows to 0 (nonzero but below 4.9e-324 in magnitude, "
-             "the smallest double): write 0 or a normal number",
+             "%s underflows to 0 (nonzero but below 4.9e-324 in magnitude, the "
+             "smallest double): write 0 or a normal number",
              q);
-  else if (fpclassify(*x) == FP_SUBNORMAL)
-    snprintf(why, sizeof why, "%s is " TABLE_SUBNORMAL, q);
   *e = keep;
   if (why[0] == '\0') return 0;
   table_err(err, errsz, "%s:%d:%d: column %s: %s", file, line, col, name, why);
@@ -233,8 +234,8 @@ int table_regular_file(const char *path, char *err, size_t errsz) {
     table_err(err, errsz, "%s: is %s: %s", path, file_kind(st.st_mode),
               kind_rule);
   else if ((double)st.st_size > TABLE_MAX_BYTES)
-    table_err(err, errsz, "%s: is %lld bytes: %s", path,
-              (long long)st.st_size, kind_rule);
+    table_err(err, errsz, "%s: is %lld bytes: %s", path, (long long)st.st_size,
+              kind_rule);
   else
     return 0;
   return -1;
@@ -293,8 +294,8 @@ int table_csv_read(table_data *t, int what, char *err, size_t errsz) {
           (memchr(p, ';', (size_t)(e - p)) ||
            memchr(p, '\t', (size_t)(e - p)))) {
         table_err(err, errsz,
-                  "%s:%d: the columns are separated by %s; a table "
-                  "separates them by commas",
+                  "%s:%d: the columns are separated by %s; a table separates "
+                  "them by commas",
                   t->path, line,
                   memchr(p, ';', (size_t)(e - p)) ? "semicolons" : "tabs");
         goto done;
@@ -320,9 +321,8 @@ int table_csv_read(table_data *t, int what, char *err, size_t errsz) {
       f = q + 1;
       if (c + 1 == ncol && q < e) {
         table_err(err, errsz,
-                  "%s:%d:%d: more fields than the header's %d "
-                  "columns",
-                  t->path, line, (int)(q - p) + 1, ncol);
+                  "%s:%d:%d: more fields than the header's %d columns", t->path,
+                  line, (int)(q - p) + 1, ncol);
         goto done;
       }
     }
@@ -339,189 +339,4 @@ int table_csv_read(table_data *t, int what, char *err, size_t errsz) {
 done:
   free(text);
   return rc;
-}
-
-/* the label of column c in a message: "column NAME" (CSV) or "dataset
-   /NAME" (HDF5) */
-static void col_label(const table_data *t, int what, int c, char *buf,
-                      size_t sz) {
-  snprintf(buf, sz, "%s%s", t->hdf5 ? "dataset /" : "column ",
-           table_col_names[what][c]);
-}
-
-/* x in the fewest significant digits (15 to 17) that read back as x,
-   as the file most likely wrote it */
-static const char *num(char buf[32], double x) {
-  int p;
-  for (p = 15; p < 17; p++) {
-    snprintf(buf, 32, "%.*g", p, x);
-    if (strtod(buf, NULL) == x) return buf;
-  }
-  snprintf(buf, 32, "%.17g", x);
-  return buf;
-}
-
-/* the rows' times and their steps, each named at its row: strictly
-   increasing; their span a finite double (rps3_table_duration and the
-   time within the table are differences of times); every step at least
-   TIME_RESOLUTION of the largest |t| (the interpolant finds the time
-   within a step as (t0 + t - t_i) / h, rounded to a unit in the last
-   place of the times); and no step so short for the change of a value
-   that the interpolant's rate (~ change / h) or acceleration (~ change /
-   h^2) overflows */
-#define TIME_RESOLUTION                             \
-  0x1p-36 /* 2^16 units in the last place: the time \
-             within a step rounds by <= 1.5e-5 of it */
-#define DERIV_MAX                                             \
-  (DBL_MAX / 64.0) /* the Hermite polynomials' factors (up to \
-                      20) on top of change / h^2 */
-
-/* the step from row r - 1 to row r of t's times: increasing, within the
-   range of a double and not too small; 0 or -1 with err set */
-static int table_step_time(const table_data *t, int what, size_t r,
-                           const char *where, char *err, size_t errsz) {
-  char lt[40], n1[32], n2[32];
-  double scale = fmax(fabs(t->time[0]), fabs(t->time[t->n - 1]));
-  double h = t->time[r] - t->time[r - 1];
-  col_label(t, what, 0, lt, sizeof lt);
-  num(n1, t->time[r]);
-  num(n2, t->time[r - 1]);
-  if (!(t->time[r] > t->time[r - 1])) {
-    table_err(err, errsz,
-              "%s: %s: %s after %s: times must "
-              "increase strictly",
-              where, lt, n1, n2);
-    return -1;
-  }
-  if (!isfinite(t->time[r] - t->time[0])) {
-    table_err(err, errsz,
-              "%s: %s: %s is more than 1.8e308 s after the "
-              "first row's %s: the time range overflows a double (the "
-              "times must span less than 1.8e308 s)",
-              where, lt, n1, num(n2, t->time[0]));
-    return -1;
-  }
-  if (h < scale * TIME_RESOLUTION) {
-    table_err(err, errsz,
-              "%s: %s: %s after %s: the rows are %.3g s "
-              "apart, too close relative to the time scale %.3g s (the "
-              "largest |t|): a step must be at least 1.5e-11 of it, or the "
-              "time within the step rounds by more than 1.5e-5 of the step;"
-              " subtract an offset from the times or thin the rows",
-              where, lt, n1, n2, h, scale);
-    return -1;
-  }
-  if (h * h < DBL_MIN) {
-    table_err(err, errsz,
-              "%s: %s: %s after %s: the rows are %.3g s "
-              "apart, a spacing too small for a double: the interpolant's "
-              "acceleration divides by the step squared, which underflows "
-              "below 1.5e-154 s",
-              where, lt, n1, n2, h);
-    return -1;
-  }
-  return 0;
-}
-
-/* value k over the step from row r - 1 to row r: its change, and the
-   interpolant's acceleration, within the range of a double; 0 or -1 with
-   err set */
-static int table_step_value(const table_data *t, int what, size_t r, int k,
-                            const char *where, char *err, size_t errsz) {
-  char lc[40], lr[40], n1[32], n2[32];
-  double h = t->time[r] - t->time[r - 1];
-  double dv = t->value[r][k] - t->value[r - 1][k], mv, mr, ma;
-  col_label(t, what, 1 + k, lc, sizeof lc);
-  if (!isfinite(dv)) {
-    table_err(err, errsz,
-              "%s: %s: %s after %s: the change between "
-              "the rows overflows a double",
-              where, lc, num(n1, t->value[r][k]), num(n2, t->value[r - 1][k]));
-    return -1;
-  }
-  /* the interpolant's acceleration: change / h^2, and with the file's
-     rates rate / h, with its accelerations their own */
-  mv = fabs(dv) / h / h;
-  mr = t->rates_given ? (fabs(t->rate[r][k]) + fabs(t->rate[r - 1][k])) / h
-                      : 0.0;
-  ma = t->acc != NULL ? fabs(t->acc[r][k]) + fabs(t->acc[r - 1][k]) : 0.0;
-  if (mv + mr + ma < DERIV_MAX) return 0;
-  if (mv >= mr && mv >= ma) {
-    table_err(err, errsz,
-              "%s: %s: changes by %.3g in %.3g s from the "
-              "previous row: the spacing of the rows is too small for "
-              "so large a change, the interpolant's rate and acceleration "
-              "across the step (of order change / step^2) overflow a "
-              "double",
-              where, lc, dv, h);
-    return -1;
-  }
-  col_label(t, what, mr >= ma ? 4 + k : 7 + k, lr, sizeof lr);
-  table_err(err, errsz,
-            "%s: %s: %.3g and %.3g across a step of %.3g s:"
-            " the interpolant's acceleration there (of order %s) "
-            "overflows a double",
-            where, lr, mr >= ma ? t->rate[r - 1][k] : t->acc[r - 1][k],
-            mr >= ma ? t->rate[r][k] : t->acc[r][k], h,
-            mr >= ma ? "rate / step" : "the accelerations themselves");
-  return -1;
-}
-
-static int table_steps(table_data *t, int what, char *err, size_t errsz) {
-  size_t r;
-  int k;
-  char where[300];
-  for (r = 1; r < t->n; r++) {
-    table_where(t, r, where, sizeof where);
-    if (table_step_time(t, what, r, where, err, errsz)) return -1;
-    for (k = 0; k < 3; k++)
-      if (table_step_value(t, what, r, k, where, err, errsz)) return -1;
-  }
-  return 0;
-}
-
-/* the rows checked (table_steps); then the rates a table lacks, from the
-   spline */
-int table_finish(table_data *t, int what, char *err, size_t errsz) {
-  size_t r;
-  char where[300];
-  double *work;
-  int min = t->rates_given ? 2 : 4, k, x;
-  if (t->n < (size_t)min) {
-    table_err(err, errsz, "%s: %zu rows; a table needs at least %d%s", t->path,
-              t->n, min,
-              t->rates_given ? ""
-                             : " without rate columns (the not-a-knot "
-                               "spline that gives the rates)");
-    return -1;
-  }
-  if (table_steps(t, what, err, errsz)) return -1;
-  if (t->rates_given) return 0;
-  work = malloc(t->n * sizeof *work);
-  if (!work) {
-    table_err(err, errsz, "%s: out of memory for the spline of %zu rows",
-              t->path, t->n);
-    return -1;
-  }
-  x = rps3_table_spline(t->n, t->time, (const double(*)[3])t->value, t->rate,
-                        work);
-  free(work);
-  if (x == RPS3_OK) return 0;
-  /* the rows passed table_steps: name the first rate that overflowed */
-  for (r = 0; r < t->n; r++)
-    for (k = 0; k < 3; k++)
-      if (!isfinite(t->rate[r][k])) {
-        char lc[40];
-        table_where(t, r, where, sizeof where);
-        col_label(t, what, 1 + k, lc, sizeof lc);
-        table_err(err, errsz,
-                  "%s: %s: the spline's rate at this row "
-                  "overflows a double (the values change too fast for the "
-                  "spacing of the rows)",
-                  where, lc);
-        return -1;
-      }
-  table_err(err, errsz, "%s: the spline of the rows failed (%s)", t->path,
-            rps3_strerror(x));
-  return -1;
 }

@@ -41,6 +41,11 @@ typedef struct {
 /* which columns a table holds */
 enum { TABLE_POSE = 0, TABLE_CENTRE = 1 };
 
+/* the columns: 0 time, 1-3 values, 4-6 rates, 7-9 accelerations; their
+   names for TABLE_POSE and TABLE_CENTRE */
+#define TABLE_NCOL 10
+extern const char *const table_col_names[2][TABLE_NCOL];
+
 /*
  * Read the table `name` (relative to the directory of scene_file unless
  * absolute; HDF5 when it ends in .h5 or .hdf5, else CSV) with the columns

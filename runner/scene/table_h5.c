@@ -18,6 +18,7 @@
 #include "table_int.h"
 
 #include <math.h>
+#include <stdarg.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -28,29 +29,21 @@
 
 #include "core/h5err.h"
 
-/* the units each column must be in, in the spellings a units attribute may
+/* the units a column may be in, in the spellings a units attribute may
    use for them (UDUNITS symbols and names); "" ends a list */
-static const char *const col_units[2][TABLE_NCOL][6] = {
-    {{"s", "second", "seconds", ""},
-     {"rad", "radian", "radians", ""},
-     {"rad", "radian", "radians", ""},
-     {"m", "meter", "metre", "meters", "metres", ""},
-     {"rad/s", "rad s-1", ""},
-     {"rad/s", "rad s-1", ""},
-     {"m/s", "m s-1", ""},
-     {"rad/s^2", "rad/s2", "rad s-2", ""},
-     {"rad/s^2", "rad/s2", "rad s-2", ""},
-     {"m/s^2", "m/s2", "m s-2", ""}},
-    {{"s", "second", "seconds", ""},
-     {"m", "meter", "metre", "meters", "metres", ""},
-     {"m", "meter", "metre", "meters", "metres", ""},
-     {"m", "meter", "metre", "meters", "metres", ""},
-     {"m/s", "m s-1", ""},
-     {"m/s", "m s-1", ""},
-     {"m/s", "m s-1", ""},
-     {"m/s^2", "m/s2", "m s-2", ""},
-     {"m/s^2", "m/s2", "m s-2", ""},
-     {"m/s^2", "m/s2", "m s-2", ""}}};
+static const char *const unit_spellings[7][6] = {
+    {"s", "second", "seconds", ""},
+    {"rad", "radian", "radians", ""},
+    {"m", "meter", "metre", "meters", "metres", ""},
+    {"rad/s", "rad s-1", ""},
+    {"m/s", "m s-1", ""},
+    {"rad/s^2", "rad/s2", "rad s-2", ""},
+    {"m/s^2", "m/s2", "m s-2", ""}};
+
+/* the units of each column (a row of unit_spellings) for TABLE_POSE and
+   TABLE_CENTRE */
+static const int col_units[2][TABLE_NCOL] = {{0, 1, 1, 2, 3, 3, 4, 5, 5, 6},
+                                             {0, 2, 2, 2, 4, 4, 4, 6, 6, 6}};
 
 /* the dataset's units attribute into buf, cut to sz ("" when it has none
    or it is not a string): fixed-length and variable-length strings alike */
@@ -88,11 +81,25 @@ static void h5_units(hid_t d, char *buf, size_t sz) {
   H5Aclose(a);
 }
 
+/* err = "FILE: dataset /NAME" and the formatted rest (": what", or
+   ", row R: what") */
+static void col_err(char *err, size_t errsz, const char *path, const char *name,
+                    const char *fmt, ...) __attribute__((format(printf, 5, 6)));
+static void col_err(char *err, size_t errsz, const char *path, const char *name,
+                    const char *fmt, ...) {
+  va_list ap;
+  int n = snprintf(err, errsz, "%s: dataset /%s", path, name);
+  va_start(ap, fmt);
+  if (n >= 0 && (size_t)n < errsz)
+    vsnprintf(err + n, errsz - (size_t)n, fmt, ap);
+  va_end(ap);
+}
+
 /* "FILE: dataset /NAME: cannot WHAT: CAUSE" for the HDF5 call that just
    failed (printing is off while a table is read; h5err.h), the cause a
    plain sentence when HDF5 recorded none; NAME NULL for the file itself */
-static void h5_fail(char *err, size_t errsz, const char *path,
-                    const char *name, const char *what) {
+static void h5_fail(char *err, size_t errsz, const char *path, const char *name,
+                    const char *what) {
   char why[400];
   h5_cause(why, sizeof why);
   table_err(err, errsz, "%s: %s%s%scannot %s: %s", path,
@@ -104,32 +111,27 @@ static void h5_fail(char *err, size_t errsz, const char *path,
    or millimetres is refused rather than misread */
 static int h5_units_check(hid_t d, const char *path, const char *name, int what,
                           int c, char *err, size_t errsz) {
+  const char *const *ok = unit_spellings[col_units[what][c]];
   char units[64];
   int i;
   h5_units(d, units, sizeof units);
   if (units[0] == '\0') return 0;
-  for (i = 0; col_units[what][c][i][0] != '\0'; i++)
-    if (strcmp(units, col_units[what][c][i]) == 0) return 0;
-  table_err(err, errsz,
-            "%s: dataset /%s: units '%s', but the table is in "
-            "%s: convert the column",
-            path, name, units, col_units[what][c][0]);
+  for (i = 0; ok[i][0] != '\0'; i++)
+    if (strcmp(units, ok[i]) == 0) return 0;
+  col_err(err, errsz, path, name,
+          ": units '%s', but the table is in %s: convert the column", units,
+          ok[0]);
   return -1;
 }
 
+/* the type classes that are not numbers, as a message names them */
 static const char *class_name(H5T_class_t c) {
-  switch (c) {
-  case H5T_COMPOUND: return "a compound";
-  case H5T_STRING: return "a string";
-  case H5T_ENUM: return "an enumeration";
-  case H5T_ARRAY: return "an array";
-  case H5T_VLEN: return "a variable-length";
-  case H5T_OPAQUE: return "an opaque";
-  case H5T_BITFIELD: return "a bit field";
-  case H5T_REFERENCE: return "a reference";
-  case H5T_TIME: return "a time";
-  default: return "an unknown";
-  }
+  static const char *const name[] = {
+      "an integer",     "a floating-point",  "a time",     "a string",
+      "a bit field",    "an opaque",         "a compound", "a reference",
+      "an enumeration", "a variable-length", "an array"};
+  return c >= 0 && (size_t)c < sizeof name / sizeof name[0] ? name[c]
+                                                            : "an unknown";
 }
 
 /* the link of a column: a hard link, or a soft link to an object of this
@@ -147,16 +149,16 @@ static int h5_link_check(hid_t f, const char *path, const char *name, char *err,
   }
   if (li.type == H5L_TYPE_HARD) return 0;
   if (li.type != H5L_TYPE_SOFT && li.type != H5L_TYPE_EXTERNAL) {
-    table_err(err, errsz,
-              "%s: dataset /%s: a user-defined link (type %d): a "
-              "table's columns are datasets of the file itself",
-              path, name, (int)li.type);
+    col_err(err, errsz, path, name,
+            ": a user-defined link (type %d): a table's columns are datasets "
+            "of the file itself",
+            (int)li.type);
     return -1;
   }
   /* the link's value: a path (soft), or a file and a path (external) */
   if (li.u.val_size > 65536 || (val = calloc(li.u.val_size + 1, 1)) == NULL) {
-    table_err(err, errsz, "%s: dataset /%s: a %s link of %zu bytes", path, name,
-              li.type == H5L_TYPE_SOFT ? "soft" : "external", li.u.val_size);
+    col_err(err, errsz, path, name, ": a %s link of %zu bytes",
+            li.type == H5L_TYPE_SOFT ? "soft" : "external", li.u.val_size);
     return -1;
   }
   if (H5Lget_val(f, name, val, li.u.val_size, H5P_DEFAULT) < 0) {
@@ -165,23 +167,21 @@ static int h5_link_check(hid_t f, const char *path, const char *name, char *err,
     if (H5Oexists_by_name(f, name, H5P_DEFAULT) > 0)
       rc = 0;
     else
-      table_err(err, errsz,
-                "%s: dataset /%s: a soft link to '%.200s', which "
-                "names no object of the file (a dangling link)",
-                path, name, val);
+      col_err(err, errsz, path, name,
+              ": a soft link to '%.200s', which names no object of the file (a "
+              "dangling link)",
+              val);
     H5Eclear2(H5E_DEFAULT);
   } else if (H5Lunpack_elink_val(val, li.u.val_size, &flags, &file, &obj) >=
              0) {
-    table_err(err, errsz,
-              "%s: dataset /%s: an external link to %.200s:%.200s:"
-              " a table's columns must be stored in the table file itself",
-              path, name, file, obj);
+    col_err(err, errsz, path, name,
+            ": an external link to %.200s:%.200s: a table's columns must be "
+            "stored in the table file itself",
+            file, obj);
   } else {
-    table_err(err, errsz,
-              "%s: dataset /%s: an external link (to another "
-              "file): a table's columns must be stored in the table file "
-              "itself",
-              path, name);
+    col_err(err, errsz, path, name,
+            ": an external link (to another file): a table's columns must be "
+            "stored in the table file itself");
   }
   free(val);
   return rc;
@@ -227,20 +227,16 @@ static int h5_storage_check(hid_t f, hid_t d, const char *path,
         H5Pget_virtual_filename(p, 0, file, sizeof file) >= 0 &&
         H5Pget_virtual_dsetname(p, 0, dset, sizeof dset) >= 0) {
       file[sizeof file - 1] = dset[sizeof dset - 1] = '\0';
-      table_err(
-          err, errsz,
-          "%s: dataset /%s: a virtual dataset, its rows in "
-          "%.200s:%.200s%s%s: a table's columns must be stored in the "
-          "table file itself",
-          path, name, file, dset,
-          h5_source_exists(f, path, file, dset) ? "" : ", which is missing",
-          nsrc > 1 ? " and other sources" : "");
+      col_err(err, errsz, path, name,
+              ": a virtual dataset, its rows in %.200s:%.200s%s%s: a table's "
+              "columns must be stored in the table file itself",
+              file, dset,
+              h5_source_exists(f, path, file, dset) ? "" : ", which is missing",
+              nsrc > 1 ? " and other sources" : "");
     } else {
-      table_err(err, errsz,
-                "%s: dataset /%s: a virtual dataset (its rows in "
-                "other datasets): a table's columns must be stored in the "
-                "table file itself",
-                path, name);
+      col_err(err, errsz, path, name,
+              ": a virtual dataset (its rows in other datasets): a table's "
+              "columns must be stored in the table file itself");
     }
     H5Eclear2(H5E_DEFAULT);
   } else if (next != 0) {
@@ -252,20 +248,16 @@ static int h5_storage_check(hid_t f, hid_t d, const char *path,
     else
       snprintf(file, sizeof file, "?");
     H5Eclear2(H5E_DEFAULT);
-    table_err(err, errsz,
-              "%s: dataset /%s: stored in the external raw file "
-              "'%.200s'%s: a table's columns must be stored in the table file "
-              "itself",
-              path, name, file, next > 1 ? " and others" : "");
+    col_err(err, errsz, path, name,
+            ": stored in the external raw file '%.200s'%s: a table's columns "
+            "must be stored in the table file itself",
+            file, next > 1 ? " and others" : "");
   } else {
     rc = 0;
   }
   H5Pclose(p);
   return rc;
 }
-
-/* the largest table, as read or held in memory [bytes] */
-#define MAX_BYTES TABLE_MAX_BYTES
 
 /* the element size of column d's numbers (integers or floating point);
    0 or -1 with err set */
@@ -281,10 +273,10 @@ static int h5_column_type(hid_t d, const char *path, const char *name,
   *el = H5Tget_size(ty);
   H5Tclose(ty);
   if (cls != H5T_INTEGER && cls != H5T_FLOAT) {
-    table_err(err, errsz,
-              "%s: dataset /%s: of %s type, not numbers (a column "
-              "holds integers or floating-point numbers)",
-              path, name, class_name(cls));
+    col_err(err, errsz, path, name,
+            ": of %s type, not numbers (a column holds integers or "
+            "floating-point numbers)",
+            class_name(cls));
     return -1;
   }
   return 0;
@@ -310,20 +302,13 @@ static int h5_column_rows(hid_t d, const char *path, const char *name,
   H5Sclose(sp);
   H5Eclear2(H5E_DEFAULT);
   if (type == H5S_NULL)
-    table_err(err, errsz,
-              "%s: dataset /%s: holds nothing (a null "
-              "dataspace); a column has one dimension",
-              path, name);
+    col_err(err, errsz, path, name,
+            ": holds nothing (a null dataspace); a column has one dimension");
   else if (type == H5S_SCALAR || nd == 0)
-    table_err(err, errsz,
-              "%s: dataset /%s: a single value (a scalar); a "
-              "column has one dimension",
-              path, name);
+    col_err(err, errsz, path, name,
+            ": a single value (a scalar); a column has one dimension");
   else
-    table_err(err, errsz,
-              "%s: dataset /%s: %d dimensions; a column has "
-              "one",
-              path, name, nd);
+    col_err(err, errsz, path, name, ": %d dimensions; a column has one", nd);
   return -1;
 }
 
@@ -344,10 +329,10 @@ static int h5_open_column(hid_t f, const char *path, const char *name, int what,
   }
   kind = H5Iget_type(d);
   if (kind != H5I_DATASET) {
-    table_err(err, errsz, "%s: dataset /%s: a %s, not a dataset", path, name,
-              kind == H5I_GROUP      ? "group"
-              : kind == H5I_DATATYPE ? "named datatype"
-                                     : "object of another kind");
+    col_err(err, errsz, path, name, ": a %s, not a dataset",
+            kind == H5I_GROUP      ? "group"
+            : kind == H5I_DATATYPE ? "named datatype"
+                                   : "object of another kind");
     H5Oclose(d);
     return -1;
   }
@@ -359,11 +344,11 @@ static int h5_open_column(hid_t f, const char *path, const char *name, int what,
     return -1;
   }
   *bytes = (double)*rows * (double)(el > sizeof(double) ? el : sizeof(double));
-  if (*bytes > MAX_BYTES) {
-    table_err(err, errsz,
-              "%s: dataset /%s: declares %llu rows of %zu-byte "
-              "numbers, %.3g GB as read: above the table limit of 1 GiB",
-              path, name, (unsigned long long)*rows, el, *bytes / 1e9);
+  if (*bytes > TABLE_MAX_BYTES) {
+    col_err(err, errsz, path, name,
+            ": declares %llu rows of %zu-byte numbers, %.3g GB as read: above "
+            "the table limit of 1 GiB",
+            (unsigned long long)*rows, el, *bytes / 1e9);
     H5Oclose(d);
     return -1;
   }
@@ -375,46 +360,34 @@ static int h5_open_column(hid_t f, const char *path, const char *name, int what,
    memory selection: column k of the n x 3 array), each checked */
 static int h5_read_column(hid_t d, table_data *t, const char *name, int c,
                           char *err, size_t errsz) {
-  hid_t ms = -1;
+  hsize_t dims[2], start[2] = {0, 0}, count[2];
+  hid_t ms;
   herr_t x;
   size_t r;
   if (t->n == 0) return 0;
-  if (c == 0) {
-    x = H5Dread(d, H5T_NATIVE_DOUBLE, H5S_ALL, H5S_ALL, H5P_DEFAULT, t->time);
-  } else {
-    hsize_t dims[2], start[2], count[2];
-    double *base = c < 4 ? t->value[0] : c < 7 ? t->rate[0] : t->acc[0];
-    dims[0] = t->n;
-    dims[1] = 3;
-    start[0] = 0;
-    start[1] = (hsize_t)((c - 1) % 3);
-    count[0] = t->n;
-    count[1] = 1;
-    ms = H5Screate_simple(2, dims, NULL);
-    x = ms < 0
-            ? -1
-            : H5Sselect_hyperslab(ms, H5S_SELECT_SET, start, NULL, count, NULL);
-    if (x >= 0)
-      x = H5Dread(d, H5T_NATIVE_DOUBLE, ms, H5S_ALL, H5P_DEFAULT, base);
-  }
-  if (x < 0) {
-    h5_fail(err, errsz, t->path, name, "read it as numbers");
-    if (ms >= 0) H5Sclose(ms);
-    return -1;
-  }
+  dims[0] = count[0] = t->n;
+  dims[1] = c ? 3 : 1;
+  count[1] = 1;
+  if (c) start[1] = (hsize_t)((c - 1) % 3);
+  ms = H5Screate_simple(2, dims, NULL);
+  x = ms < 0
+          ? -1
+          : H5Sselect_hyperslab(ms, H5S_SELECT_SET, start, NULL, count, NULL);
+  if (x >= 0)
+    x = H5Dread(d, H5T_NATIVE_DOUBLE, ms, H5S_ALL, H5P_DEFAULT,
+                c == 0  ? t->time
+                : c < 4 ? t->value[0]
+                : c < 7 ? t->rate[0]
+                        : t->acc[0]);
+  /* the cause first: a successful call clears HDF5's error stack */
+  if (x < 0) h5_fail(err, errsz, t->path, name, "read it as numbers");
   if (ms >= 0) H5Sclose(ms);
+  if (x < 0) return -1;
   for (r = 0; r < t->n; r++) {
     double v = *table_cell(t, r, c);
-    if (!isfinite(v)) {
-      table_err(err, errsz,
-                "%s: dataset /%s, row %zu: %g is not a finite "
-                "number",
-                t->path, name, r, v);
-      return -1;
-    }
-    if (fpclassify(v) == FP_SUBNORMAL) {
-      table_err(err, errsz, "%s: dataset /%s, row %zu: %g is %s", t->path, name,
-                r, v, TABLE_SUBNORMAL);
+    if (table_bad_number(v)) {
+      col_err(err, errsz, t->path, name, ", row %zu: %g %s", r, v,
+              table_bad_number(v));
       return -1;
     }
   }
@@ -461,17 +434,16 @@ int table_h5_read(table_data *t, int what, char *err, size_t errsz) {
     if (c == 0) {
       t->n = (size_t)rows;
     } else if (rows != (hsize_t)t->n) {
-      table_err(err, errsz, "%s: dataset /%s: %llu rows, /t has %zu", t->path,
-                names[c], (unsigned long long)rows, t->n);
+      col_err(err, errsz, t->path, names[c], ": %llu rows, /t has %zu",
+              (unsigned long long)rows, t->n);
       goto done;
     }
     sum += bytes;
-    if (sum > MAX_BYTES) {
-      table_err(err, errsz,
-                "%s: dataset /%s: with it the datasets declare "
-                "%.3g GB as read (%zu rows each): above the table limit of "
-                "1 GiB",
-                t->path, names[c], sum / 1e9, t->n);
+    if (sum > TABLE_MAX_BYTES) {
+      col_err(err, errsz, t->path, names[c],
+              ": with it the datasets declare %.3g GB as read (%zu rows each): "
+              "above the table limit of 1 GiB",
+              sum / 1e9, t->n);
       goto done;
     }
   }

@@ -1,6 +1,6 @@
 /*
- * table_int.h - what the CSV reader (table.c) and the HDF5 reader
- * (table_h5.c) of a table share.
+ * table_int.h - what the CSV reader (table.c), the HDF5 reader
+ * (table_h5.c) and table_read.c share.
  */
 #ifndef RPS3_RUNNER_TABLE_INT_H
 #define RPS3_RUNNER_TABLE_INT_H
@@ -9,12 +9,6 @@
 
 #include "table.h"
 
-/* the columns: 0 time, 1-3 values, 4-6 rates, 7-9 accelerations; their
-   names for TABLE_POSE and TABLE_CENTRE */
-#define TABLE_NCOL 10
-extern const char *const table_col_names[2][TABLE_NCOL];
-
-/* err = the formatted message */
 void table_err(char *err, size_t errsz, const char *fmt, ...)
     __attribute__((format(printf, 3, 4)));
 
@@ -23,10 +17,9 @@ void table_err(char *err, size_t errsz, const char *fmt, ...)
    are ~80 MB */
 #define TABLE_MAX_BYTES (1024.0 * 1024.0 * 1024.0)
 
-/* why a subnormal number is refused (after "VALUE is ") */
-#define TABLE_SUBNORMAL                                                 \
-  "subnormal (nonzero but below 2.2e-308 in magnitude, where a double " \
-  "loses precision): write 0 or a normal number"
+/* why x cannot be a table's number ("is not a finite number", "is
+   subnormal ..."; a subnormal loses precision), or NULL */
+const char *table_bad_number(double x);
 
 /* the arrays for n rows; acc only when the file has accelerations, line
    (the CSV line of each row) with with_line; refused above TABLE_MAX_BYTES
@@ -50,11 +43,7 @@ int table_regular_file(const char *path, char *err, size_t errsz);
 /* the columns of `what` from the HDF5 file t->path into t: 0, or -1 */
 int table_h5_read(table_data *t, int what, char *err, size_t errsz);
 
-/* the checks and completion of a table once its rows are read (table.c):
-   0, or -1 with err set */
-int table_finish(table_data *t, int what, char *err, size_t errsz);
-
-/* the rows of a CSV file (table.c) */
+/* the rows of the CSV file t->path into t: 0, or -1 */
 int table_csv_read(table_data *t, int what, char *err, size_t errsz);
 
 #endif /* RPS3_RUNNER_TABLE_INT_H */
