@@ -128,7 +128,7 @@ int rps3_inverse_stages(const rps3_model *m, rps3_data *d) {
     if (status != RPS3_OK) return status;
     status = check_own_root(m, d, &J, c39, s39);
     if (status != RPS3_OK) return status;
-    rps3_root_keep(d, &J);
+    rps3_root_keep(m, d, &J);
   }
 
   /* rates only when an effect (or the certificate) needs them */
