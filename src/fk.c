@@ -344,14 +344,19 @@ int rps3_theta_newton(const rps3_model *m, rps3_closure *q, int have_trig,
     x[0] = (a[1] * a[2] * f[0] - b[0] * a[2] * f[1] + b[0] * b[1] * f[2]) * id;
     x[1] = (b[1] * b[2] * f[0] + a[0] * a[2] * f[1] - a[0] * b[1] * f[2]) * id;
     x[2] = (a[0] * a[1] * f[2] - a[1] * b[2] * f[0] + b[0] * b[2] * f[1]) * id;
-    /* a correction beyond RPS3_THETA_PREDICT_MAX: not a warm start (the
+    /* a correction beyond RPS3_THETA_WARM_MAX: not a warm start (the
        multiroot route's trust region copes with it, where Newton's full
        step may jump to another root) */
     big = max3abs(x);
-    if (!(big <= RPS3_THETA_PREDICT_MAX)) return -1;
+    if (!(big <= RPS3_THETA_WARM_MAX)) return -1;
     for (i = 0; i < 3; i++) th[i] -= x[i];
-    rps3_trig_step(c, sn, x); /* cos and sin of theta - x */
-    ex = 0;
+    if (big <= RPS3_THETA_PREDICT_MAX) {
+      rps3_trig_step(c, sn, x); /* cos and sin of theta - x */
+      ex = 0;
+    } else {
+      trig3(th, c, sn);
+      ex = 1;
+    }
   }
   *niter = it;
   *resid = res / (q->R * q->R);
@@ -367,24 +372,7 @@ int rps3_theta_newton(const rps3_model *m, rps3_closure *q, int have_trig,
   /* the pair terms at the folded angles' own trig */
   if (fold) rps3_closure_eval(q, f);
   *exact = ex;
-  return 0;
-}
-
-int rps3_theta_predict(const rps3_closure *q0, const double X[3][3],
-                       const double G[3][3], const double l[3],
-                       double max_step, double th[3]) {
-  double dl[3], u[3], x[3], hd[3], Zd[3], hdd[3], Zdd[3], big;
-  int i;
-  /* theta' = G dl, and (df/dtheta) theta'' = x, the velocity products */
-  v3_sub(dl, l, q0->l);
-  m3_mulv(u, G, dl);
-  rps3_closure_bias(q0, dl, u, x, hd, Zd, hdd, Zdd);
-  m3_mulv(x, X, x);
-  for (i = 0; i < 3; i++) u[i] += 0.5 * x[i];
-  big = max3abs(u);
-  if (!(big <= max_step) || !v3_finite(u)) return 0;
-  v3_axpy(th, q0->th, 1.0, u);
-  return 1;
+  return fold;
 }
 
 void rps3_root_keep(const rps3_model *m, rps3_data *d, const rps3_cjac *J) {
@@ -418,12 +406,21 @@ void rps3_root_keep(const rps3_model *m, rps3_data *d, const rps3_cjac *J) {
 
 void rps3_root_predict(rps3_data *d, double max_step) {
   struct rps3_solver_state *s = d->solver;
+  const rps3_closure *q = &s->root;
+  double dl[3], u[3], x[3], hd[3], Zd[3], hdd[3], Zdd[3], Hv[3], v2;
   int ok = s->root_ok && d->have_theta &&
-           memcmp(d->theta, s->root.th, sizeof(s->root.th)) == 0;
+           memcmp(d->theta, q->th, sizeof(q->th)) == 0;
   s->root_ok = 0; /* one use */
-  if (ok)
-    rps3_theta_predict(&s->root, M3C(s->root_X), M3C(s->root_G), d->l,
-                       max_step, d->theta);
+  if (!ok) return;
+  /* the second order along the chord itself: theta'' for l' = dl,
+     (df/dtheta) theta'' = x, the velocity products of (8)-(10) */
+  v3_sub(dl, d->l, q->l);
+  m3_mulv(u, M3C(s->root_G), dl);
+  rps3_closure_bias(q, dl, u, x, hd, Zd, hdd, Zdd);
+  m3_mulv(Hv, M3C(s->root_X), x);
+  v2 = v3_dot(dl, dl);
+  rps3_theta_predict(d->theta, d->l, q->l, q->th, M3C(s->root_G), dl, Hv,
+                     v2 > 0.0 ? 1.0 / v2 : 0.0, max_step);
 }
 
 int rps3_theta_solve(const rps3_model *m, rps3_data *d) {
@@ -477,7 +474,7 @@ int rps3_theta_solve_with(const rps3_model *m, rps3_data *d, rps3_cjac *J) {
     int exact;
     v3_copy(q.th, d->theta);
     if (rps3_theta_newton(m, &q, 0, &d->solve_niter, &d->solve_resid,
-                          &exact) == 0) {
+                          &exact) >= 0) {
       v3_copy(th, q.th);
       /* the root's libm trig, for the positions and the next evaluation
          there (a series-stepped one gives way to libm's below) */

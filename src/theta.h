@@ -29,6 +29,23 @@
    G grows) starts from the last root itself */
 #define RPS3_THETA_PREDICT_MAX 1e-2
 
+/* largest Newton correction [rad] of the warm path: beyond it the
+   linearisation's error, of relative order the step (theta enters
+   through its cosine and sine), passes 10 %, a full Newton step may jump
+   to another root, and the start is not warm: the multiroot route, whose
+   trust region copes with it, takes over (tests/test_hardcases.c,
+   bad_guesses, counts the roots either finds from far starts) */
+#define RPS3_THETA_WARM_MAX 0.1
+
+/* the pieces below are meant to compile into their callers' loops (GCC
+   otherwise keeps some out of line: a call, and its arguments through
+   memory) */
+#if defined(__GNUC__)
+#define THETA_INLINE static inline __attribute__((always_inline))
+#else
+#define THETA_INLINE static inline
+#endif
+
 /* (8)-(10) at one theta: the lengths, theta, its cosines and sines, and
    each pair's terms there (rps3_plane_pair), in one unit of length */
 typedef struct {
@@ -42,7 +59,7 @@ typedef struct {
 
 /* the pairs of (8)-(10) at q's l, c, s: f_k into f and A, B, E, at, bt
    into q */
-static inline void rps3_closure_eval(rps3_closure *q, double f[3]) {
+THETA_INLINE void rps3_closure_eval(rps3_closure *q, double f[3]) {
   double h[3], Z[3];
   int i, k;
   for (i = 0; i < 3; i++) {
@@ -72,7 +89,7 @@ static inline void rps3_closure_eval(rps3_closure *q, double f[3]) {
  * l'' = 0), and the rates h', Z' and the accelerations h''0, Z''0 of the
  * ball joints in their planes.
  */
-static inline void rps3_closure_bias(const rps3_closure *q,
+THETA_INLINE void rps3_closure_bias(const rps3_closure *q,
                                      const double dl[3], const double dth[3],
                                      double x[3], double hd[3], double Zd[3],
                                      double hdd[3], double Zdd[3]) {
@@ -106,7 +123,7 @@ static inline void rps3_closure_bias(const rps3_closure *q,
  * small change of one: a sincos of theta costs more than the rest of a
  * Newton step.
  */
-static inline void rps3_trig_step(double c[3], double sn[3],
+THETA_INLINE void rps3_trig_step(double c[3], double sn[3],
                                   const double e[3]) {
   const double a0 = fabs(e[0]), a1 = fabs(e[1]), a2 = fabs(e[2]);
   const double m01 = a0 > a1 ? a0 : a1, big = m01 > a2 ? m01 : a2;
@@ -136,9 +153,11 @@ static inline void rps3_trig_step(double c[3], double sn[3],
  * sines in q->c, q->s when have_trig (else taken here), at most
  * min(8, opt.max_iter) steps, to rps3_theta_solve's test max |f_k| / R^2
  * <= opt.tol.  A correction of at most RPS3_THETA_PREDICT_MAX moves the
- * cosines and sines by rps3_trig_step, a larger one takes sincos.
- * Returns 0 when it converged to a root in (0, pi) (after folding whole
- * turns; the folded angles' cosines and sines by sincos): the root in
+ * cosines and sines by rps3_trig_step, a larger one takes sincos, and one
+ * beyond RPS3_THETA_WARM_MAX gives up.
+ * Returns 0 when it converged to a root in (0, pi), 1 when to one after
+ * folding whole turns (the folded angles' cosines and sines by sincos),
+ * with the root in
  * q->th, its cosines and sines in q->c, q->s, the pair terms there in q,
  * the steps in *niter, max |f_k| / R^2 in *resid, and *exact 1 when c, s
  * are libm's cos and sin of th (no series step since the last sincos).
@@ -152,18 +171,44 @@ int rps3_theta_newton(const rps3_model *m, rps3_closure *q, int have_trig,
 
 /*
  * The root predictor: the start of the next theta solve at the lengths l
- * from a root q0 (lengths q0->l, root q0->th, its cosines, sines and pair
- * terms; X = (df/dtheta)^-1 and G = -X df/dl there), moved along the
- * chord l(s) = q0->l + s dl, dl = l - q0->l, to second order: (8)-(10)
- * hold along theta(s) with
- *   theta' = G dl,  (df/dtheta) theta'' = x (rps3_closure_bias),
- * and th = q0->th + theta' + theta''/2 is off by O(|dl|^3).  Writes th
- * and returns 1, or returns 0 and leaves th alone when the step exceeds
- * max_step [rad] or is not finite (the last root is then the start).
- * Any one unit of length, q0's.
+ * from a root th0 at the lengths l0, where G = dtheta/dl = -(df/dtheta)^-1
+ * (df/dl), moved along dl = l - l0 to second order along a direction v of
+ * the lengths whose theta'' the caller has, Hv (theta'' for l' = v, l'' =
+ * 0: (df/dtheta) Hv = x of rps3_closure_bias), iv2 = 1 / |v|^2 (0 when v
+ * = 0, for the first order alone):
+ *   th = th0 + G dl + (tau^2 / 2) Hv,  tau = dl . v / |v|^2,
+ * theta along l(s) = l0 + s dl being th0 + s G dl + (s^2 / 2) theta''.
+ * With v = dl (the multiroot route's chord: rps3_root_predict) the start
+ * is off by O(|dl|^3); with v the last state's rates (the forward
+ * dynamics, whose bias along them is formed already) by O(|dl|^3) along
+ * them and O(|dl| |dl - tau v|) across, O(h^3) for an integrator's stages
+ * (RK4's second and fourth lie along the rates, its third off them by
+ * O(h^2)).  Writes th and returns 1, or returns 0 and leaves th alone
+ * when the step exceeds max_step [rad] or is not finite (the last root is
+ * then the start).  th may be th0.
  */
-int rps3_theta_predict(const rps3_closure *q0, const double X[3][3],
-                       const double G[3][3], const double l[3],
-                       double max_step, double th[3]);
+THETA_INLINE int rps3_theta_predict(double th[3], const double l[3],
+                                    const double l0[3], const double th0[3],
+                                    const double G[3][3], const double v[3],
+                                    const double Hv[3], double iv2,
+                                    double max_step) {
+  double dl[3], u[3], tau, h, big;
+  int i;
+  for (i = 0; i < 3; i++) dl[i] = l[i] - l0[i];
+  tau = (dl[0] * v[0] + dl[1] * v[1] + dl[2] * v[2]) * iv2;
+  h = 0.5 * tau * tau;
+  for (i = 0; i < 3; i++)
+    u[i] = G[i][0] * dl[0] + G[i][1] * dl[1] + G[i][2] * dl[2] + h * Hv[i];
+  {
+    const double a0 = fabs(u[0]), a1 = fabs(u[1]), a2 = fabs(u[2]);
+    const double m01 = a0 > a1 ? a0 : a1;
+    big = m01 > a2 ? m01 : a2;
+  }
+  /* a NaN in u fails the first test or the second */
+  if (!(big <= max_step) || !(u[0] + u[1] + u[2] == u[0] + u[1] + u[2]))
+    return 0;
+  for (i = 0; i < 3; i++) th[i] = th0[i] + u[i];
+  return 1;
+}
 
 #endif /* RPS3_THETA_H */
