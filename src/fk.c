@@ -407,20 +407,19 @@ void rps3_root_keep(const rps3_model *m, rps3_data *d, const rps3_cjac *J) {
 void rps3_root_predict(rps3_data *d, double max_step) {
   struct rps3_solver_state *s = d->solver;
   const rps3_closure *q = &s->root;
-  double dl[3], u[3], x[3], hd[3], Zd[3], hdd[3], Zdd[3], Hv[3], v2;
+  double dl[3], u[3], x[3], hd[3], Zd[3], hdd[3], Zdd[3], Hv[3];
   int ok = s->root_ok && d->have_theta &&
            memcmp(d->theta, q->th, sizeof(q->th)) == 0;
   s->root_ok = 0; /* one use */
   if (!ok) return;
-  /* the second order along the chord itself: theta'' for l' = dl,
-     (df/dtheta) theta'' = x, the velocity products of (8)-(10) */
+  /* the second order along the chord itself (tau = 1): theta'' for l' =
+     dl, (df/dtheta) theta'' = x, the velocity products of (8)-(10) */
   v3_sub(dl, d->l, q->l);
   m3_mulv(u, M3C(s->root_G), dl);
   rps3_closure_bias(q, dl, u, x, hd, Zd, hdd, Zdd);
   m3_mulv(Hv, M3C(s->root_X), x);
-  v2 = v3_dot(dl, dl);
-  rps3_theta_predict(d->theta, d->l, q->l, q->th, M3C(s->root_G), dl, Hv,
-                     v2 > 0.0 ? 1.0 / v2 : 0.0, max_step);
+  rps3_theta_predict(d->theta, d->l, q->l, q->th, M3C(s->root_G), Hv, 1.0,
+                     max_step);
 }
 
 int rps3_theta_solve(const rps3_model *m, rps3_data *d) {

@@ -300,9 +300,13 @@ int rps3_fwddyn_state(const rps3_model *m, rps3_data *d, rps3_fd_state *k,
        the tolerance, and no Newton step is taken.  A step of more than RPS3_FD_PREDICT_MAX
        (near a singular configuration, where G grows) is not taken: the
        start stays where the last root was, as does the fall-back */
-    if ((flags & RPS3_FD_PREDICT) && m->opt.warm_start && d->have_theta)
-      rps3_theta_predict(d->theta, d->l, k->l, d->theta, M3C(k->G), k->dl,
-                         k->ddth_b, k->idl2, RPS3_FD_PREDICT_MAX);
+    if ((flags & RPS3_FD_PREDICT) && m->opt.warm_start && d->have_theta) {
+      double dlen[3];
+      v3_sub(dlen, d->l, k->l);
+      rps3_theta_predict(d->theta, d->l, k->l, d->theta, M3C(k->G),
+                         k->ddth_b, v3_dot(dlen, k->dl) * k->idl2,
+                         RPS3_FD_PREDICT_MAX);
+    }
     /* a state started near the last root moves that root's cosines and
        sines by the change of theta (exact: the two are within a factor of
        two); every TRIG_RESYNC-th takes sincos, so that the series'

@@ -172,31 +172,32 @@ int rps3_theta_newton(const rps3_model *m, rps3_closure *q, int have_trig,
 /*
  * The root predictor: the start of the next theta solve at the lengths l
  * from a root th0 at the lengths l0, where G = dtheta/dl = -(df/dtheta)^-1
- * (df/dl), moved along dl = l - l0 to second order along a direction v of
- * the lengths whose theta'' the caller has, Hv (theta'' for l' = v, l'' =
- * 0: (df/dtheta) Hv = x of rps3_closure_bias), iv2 = 1 / |v|^2 (0 when v
- * = 0, for the first order alone):
- *   th = th0 + G dl + (tau^2 / 2) Hv,  tau = dl . v / |v|^2,
- * theta along l(s) = l0 + s dl being th0 + s G dl + (s^2 / 2) theta''.
- * With v = dl (the multiroot route's chord: rps3_root_predict) the start
- * is off by O(|dl|^3); with v the last state's rates (the forward
- * dynamics, whose bias along them is formed already) by O(|dl|^3) along
- * them and O(|dl| |dl - tau v|) across, O(h^3) for an integrator's stages
- * (RK4's second and fourth lie along the rates, its third off them by
- * O(h^2)).  Writes th and returns 1, or returns 0 and leaves th alone
- * when the step exceeds max_step [rad] or is not finite (the last root is
- * then the start).  th may be th0.
+ * (df/dl), to second order along a motion whose theta'' the caller has:
+ *   th = th0 + G (l - l0) + (tau^2 / 2) Hv,
+ * Hv the theta'' of l' = v, l'' = 0 for a direction v of the lengths
+ * ((df/dtheta) Hv = x of rps3_closure_bias) and tau the motion's parameter
+ * along it, theta along l(s) = l0 + s v being th0 + s G v + (s^2 / 2) Hv.
+ * The callers' v and tau:
+ *   - the multiroot route (rps3_root_predict): the chord itself, v = l -
+ *     l0 and tau = 1, off by O(|l - l0|^3);
+ *   - the forward dynamics: the last state's rates, whose bias Hv is
+ *     formed already, and tau = (l - l0) . v / |v|^2, off by O(h^3) for an
+ *     integrator's stages (RK4's second and fourth lie along the rates,
+ *     its third off them by O(h^2));
+ *   - a controller's measured state: the last state's rates and tau the
+ *     time since it (G (l - l0) carries the length change exactly).
+ * Writes th and returns 1, or returns 0 and leaves th alone when the step
+ * exceeds max_step [rad] or is not finite (the last root is then the
+ * start).  th may be th0.
  */
 THETA_INLINE int rps3_theta_predict(double th[3], const double l[3],
                                     const double l0[3], const double th0[3],
-                                    const double G[3][3], const double v[3],
-                                    const double Hv[3], double iv2,
-                                    double max_step) {
-  double dl[3], u[3], tau, h, big;
+                                    const double G[3][3], const double Hv[3],
+                                    double tau, double max_step) {
+  const double h = 0.5 * tau * tau;
+  double dl[3], u[3], big;
   int i;
   for (i = 0; i < 3; i++) dl[i] = l[i] - l0[i];
-  tau = (dl[0] * v[0] + dl[1] * v[1] + dl[2] * v[2]) * iv2;
-  h = 0.5 * tau * tau;
   for (i = 0; i < 3; i++)
     u[i] = G[i][0] * dl[0] + G[i][1] * dl[1] + G[i][2] * dl[2] + h * Hv[i];
   {

@@ -126,7 +126,7 @@ MUTATIONS = [
     ("theta-predict-second-order", "src/theta.h",
      "h = 0.5 * tau * tau;",
      "h = 0.6 * tau * tau;",
-     "the root predictor (multiroot route and forward dynamics): the"
+     "the root predictor (multiroot route, forward dynamics, controllers): the"
      " predicted start's second-order term, 20 % off"),
     ("fd-share-geometry", "src/fwddyn_shared.c",
      "m->R != src_model->R || m->r != src_model->r ||",
