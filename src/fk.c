@@ -1,6 +1,10 @@
 /*
- * fk.c - the theta solve of (8)-(10) with GSL multiroot, and forward
- * kinematics l -> theta -> pose, (11)-(20).
+ * fk.c - the theta solve of (8)-(10), and forward kinematics l -> theta ->
+ * pose, (11)-(20).  One solve for every caller: from a warm start the
+ * Newton path in the links' planes (rps3_theta_newton, which the forward
+ * dynamics calls too), else, and wherever it gives up, GSL's multiroot,
+ * which decides and reports; the multiroot route's start from the root
+ * predictor of src/theta.h (rps3_root_keep, rps3_root_predict).
  *
  * The solver and its vectors are allocated once, in rps3_data_alloc().  For
  * the default hybridsj (and hybridj) GSL 2.7 allocates only in _alloc, so a

@@ -327,10 +327,10 @@ static inline void poison(rps3_data *d) {
   d->stage &= RPS3_STAGE_POS | RPS3_STAGE_VEL;
 }
 
-/* fwddyn_theta.c: theta from d->l (p->l) by Newton's method from
-   d->theta (its cosines and sines in p->c, p->s when have_trig, else
-   taken here), to a root rps3_theta_solve would accept; 0 with the root's
-   cosines and sines in p->c, p->s, plane_constraints evaluated there, and
+/* fwddyn_theta.c: theta from d->l by the theta solve's warm Newton path
+   (rps3_theta_newton) from d->theta (its cosines and sines in p->q when
+   have_trig, else taken there), to a root rps3_theta_solve would accept;
+   0 with the root's cosines and sines and the pair terms in p->q, and
    the positions (when `positions`, else NaN when `unset`) and pose (when
    `pose`, else NaN when `unset`) written, -1 for the caller to fall back
    to rps3_fk */
