@@ -297,9 +297,10 @@ int rps3_fwddyn_state(const rps3_model *m, rps3_data *d, rps3_fd_state *k,
        theta'' is formed already (rps3_theta_predict): an integrator's
        next stage lies along them (RK4's second and fourth stages to
        O(h^3)), the start is within O(h^3) of the root, most often within
-       the tolerance, and no Newton step is taken.  A step of more than RPS3_FD_PREDICT_MAX
-       (near a singular configuration, where G grows) is not taken: the
-       start stays where the last root was, as does the fall-back */
+       the tolerance, and no Newton step is taken.  A step of more than
+       RPS3_FD_PREDICT_MAX (near a singular configuration, where G grows)
+       is not taken: the start stays where the last root was, as does the
+       fall-back */
     if ((flags & RPS3_FD_PREDICT) && m->opt.warm_start && d->have_theta) {
       double dlen[3];
       v3_sub(dlen, d->l, k->l);

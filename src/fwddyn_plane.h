@@ -54,7 +54,8 @@ FD_INLINE void plane_constraints(const rps3_model *m, plane *p,
 /* det df/dtheta: column i of df/dtheta holds at[i] and bt[i - 1], a
    cyclic bidiagonal matrix */
 static inline double plane_det(const plane *p) {
-  return p->q.at[0] * (p->q.at[1] * p->q.at[2]) + p->q.bt[0] * (p->q.bt[1] * p->q.bt[2]);
+  const double *a = p->q.at, *b = p->q.bt;
+  return a[0] * (a[1] * a[2]) + b[0] * (b[1] * b[2]);
 }
 
 /* X = (df/dtheta)^-1 by its adjugate, det its determinant (plane_det) */
@@ -98,8 +99,8 @@ static inline int plane_jacobian(const rps3_model *m, rps3_data *d,
     pq.A = p->q.A[q];
     pq.B = p->q.B[q];
     pq.E = p->q.E[q];
-    rps3_plane_pair_dl(&pq, p->q.c[q], p->q.s[q], p->q.c[j], p->q.s[j], &p->al[q],
-                       &p->bl[q]);
+    rps3_plane_pair_dl(&pq, p->q.c[q], p->q.s[q], p->q.c[j], p->q.s[j],
+                       &p->al[q], &p->bl[q]);
   }
   det = plane_det(p);
   d->mode = (det > 0.0) - (det < 0.0);
@@ -142,7 +143,8 @@ static inline void plane_rates(plane *p, const double u[3][2]) {
   for (j = 0; j < 3; j++) {
     /* dh_i/dl_j' = l_i sin_i G_ij - cos_j [i = j], dZ_i/dl_j' = l_i cos_i
        G_ij + sin_j [i = j] */
-    double sh0 = -p->q.c[j] * u[j][0], sh1 = -p->q.c[j] * u[j][1], sz = p->q.s[j];
+    double sh0 = -p->q.c[j] * u[j][0], sh1 = -p->q.c[j] * u[j][1],
+           sz = p->q.s[j];
     for (i = 0; i < 3; i++) {
       const double gh = p->q.l[i] * p->q.s[i] * p->G[i][j];
       sh0 += gh * u[i][0];
