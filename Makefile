@@ -194,12 +194,13 @@ lib: $(B)/librps3.a $(B)/librps3.so $(B)/librps3-pic.a
 KERNEL_FLAGS = -fopenmp-simd -fno-math-errno -fno-trapping-math -ffp-contract=off
 $(B)/obj/batch_kernel.o $(B)/pic/batch_kernel.o $(B)/san/batch_kernel.o: XFLAGS = $(KERNEL_FLAGS)
 # the simulation's per-evaluation path (forward dynamics, the integrator's
-# stages, the controllers and their desired motion) is loops of three:
+# stages, the controllers and their desired motion, the theta solve) is
+# loops of three:
 # unrolled, they take a third fewer instructions (docs/simulation.md);
 # unrolling does not reorder any arithmetic, so the results are the same
 # bits
 SIM_FLAGS = -funroll-loops -fno-math-errno
-$(foreach f,fwddyn fwddyn_theta fwddyn_shared fwddyn_body fwddyn_singular sim sim_measure control velocity,$(B)/obj/$(f).o $(B)/pic/$(f).o): XFLAGS = $(SIM_FLAGS)
+$(foreach f,fk fwddyn fwddyn_theta fwddyn_shared fwddyn_body fwddyn_singular sim sim_measure control velocity,$(B)/obj/$(f).o $(B)/pic/$(f).o): XFLAGS = $(SIM_FLAGS)
 # the design's per-pose path: the 6x6 LU and inverse with their loops
 # unrolled (the same operations in the same order), 14 % fewer instructions
 $(foreach f,linalg design design_eval,$(B)/obj/$(f).o $(B)/pic/$(f).o): XFLAGS = -funroll-loops

@@ -544,10 +544,14 @@ RPS3_API int rps3_ik(const rps3_model *m, rps3_data *d);
 RPS3_API int rps3_theta_guess(const rps3_model *m, rps3_data *d);
 
 /*
- * Solve the constraints (8)-(10) for theta given the link lengths d->l, with
- * the GSL multiroot solver m->opt.solver (analytic Jacobian for the fdf
- * solvers), starting from d->theta when m->opt.warm_start and d->have_theta,
- * else from rps3_theta_guess().  Converged when max_k |f_k| <= opt.tol;
+ * Solve the constraints (8)-(10) for theta given the link lengths d->l.
+ * From a warm start (d->theta when m->opt.warm_start and d->have_theta)
+ * Newton's method in the links' planes, at most 8 steps of at most 0.1 rad
+ * each, the path rps3_fwddyn takes too; where it does not converge to a
+ * root in (0, pi), and from a cold start (rps3_theta_guess()), the GSL
+ * multiroot solver m->opt.solver (analytic Jacobian for the fdf solvers)
+ * from the same start, which decides and reports.  Converged when max_k
+ * |f_k| <= opt.tol;
  * writes d->theta, solve_niter, solve_resid, and the
  * positions b, c, rot, phi, dphi via (11)-(20).
  * Returns RPS3_OK, RPS3_EINVAL (bad lengths, or constraints that do not
@@ -663,8 +667,9 @@ RPS3_API int rps3_invdyn(const rps3_model *m, rps3_data *d);
  * while d->theta is still the root the last call returned, bit for bit
  * (a theta the caller wrote is the start as written).  As
  * rps3_theta_solve does with any start, a start within opt.tol is the
- * root (0 iterations, d->solve_resid its residual); GSL's solver runs
- * from it otherwise.  So the solve stops where the tolerance says, not
+ * root (0 iterations, d->solve_resid its residual); the warm Newton path
+ * (GSL's solver where it gives up) runs from it otherwise.  So the solve
+ * stops where the tolerance says, not
  * below it: its theta error is up to about cond x tol, as documented for
  * the route.  A step above 0.01 rad is not predicted (the last root is the
  * start).

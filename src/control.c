@@ -145,16 +145,11 @@ static int desired(rps3_ctrl *c, double t) {
 static void predict_theta(rps3_ctrl *c, const double l[3], double t) {
   const rps3_fd_state *k = c->fd;
   rps3_data *d = c->meas;
-  double x[3], dl[3], dt = t - c->t_meas, h, big = 0.0;
-  int i;
+  const double dt = t - c->t_meas;
   if (!(dt > 0.0 && dt < HUGE_VAL)) return;
-  h = 0.5 * dt * dt;
-  v3_sub(dl, l, k->l);
-  m3_mulv(x, M3C(k->G), dl);
-  v3_axpy(x, x, h, k->ddth_b);
-  for (i = 0; i < 3; i++) big = fmax(big, fabs(x[i]));
-  if (big <= RPS3_FD_PREDICT_MAX && v3_finite(x))
-    v3_axpy(d->theta, d->theta, 1.0, x);
+  /* the theta solve's root predictor along the last rates, tau = dt */
+  rps3_theta_predict(d->theta, l, k->l, d->theta, M3C(k->G), k->ddth_b, dt,
+                     RPS3_FD_PREDICT_MAX);
 }
 
 /*

@@ -1,6 +1,10 @@
 /*
- * fk.c - the theta solve of (8)-(10) with GSL multiroot, and forward
- * kinematics l -> theta -> pose, (11)-(20).
+ * fk.c - the theta solve of (8)-(10), and forward kinematics l -> theta ->
+ * pose, (11)-(20).  One solve for every caller: from a warm start the
+ * Newton path in the links' planes (rps3_theta_newton, which the forward
+ * dynamics calls too), else, and wherever it gives up, GSL's multiroot,
+ * which decides and reports; the multiroot route's start from the root
+ * predictor of src/theta.h (rps3_root_keep, rps3_root_predict).
  *
  * The solver and its vectors are allocated once, in rps3_data_alloc().  For
  * the default hybridsj (and hybridj) GSL 2.7 allocates only in _alloc, so a
@@ -15,23 +19,24 @@
 
 #include "internal.h"
 #include "linalg.h"
+#include "theta.h"
 
-/* parameters of (8)-(10) in the paper's normalized form, L = l / R */
+/* parameters of (8)-(10) in the paper's normalized form: the closure in
+   units of R (q.R = 1, q.l = l / R, q.r3 = 3 rho^2) */
 typedef struct {
-  double L[3];
-  double r3;  /* 3 rho^2: the constant of (8)-(10) in units of R^2 */
+  /* the lengths and, as a memo of the last evaluation, its theta, cosines
+     and sines and pair terms: the positions after the solve reuse them
+     when the root is that theta (as it is whenever the last trial step
+     was accepted), and so does the next evaluation at the same theta --
+     the next point's warm start, from this root.  A memo of a pure
+     function, keyed on theta's bits (NaN until the first evaluation), so
+     never stale */
+  rps3_closure q;
   /* broyden only: the residual at the current iterate, and whether a
      trial point gave back exactly that residual (see gsl_f) */
   double fcur[3];
   int watch;
   int stalled;
-  /* the last evaluation's theta and its cosines and sines: the positions
-     after the solve reuse them when the root is that theta (as it is
-     whenever the last trial step was accepted), and so does the next
-     evaluation at the same theta -- the next point's warm start, from this
-     root.  A memo of a pure function, keyed on theta's bits (NaN until
-     the first evaluation), so never stale */
-  double th_last[3], c_last[3], s_last[3];
   /* f and J at the starting point, evaluated by the check before _set:
      _set's own evaluation there takes them instead of computing them
      again (primed until it does) */
@@ -49,40 +54,13 @@ struct rps3_solver_state {
   gsl_multiroot_function fn_f;
   theta_params p;
   /* rps3_inverse's multiroot route: its last root and what the next
-     point's predicted start needs there (rps3_root_keep); one use, by the
-     next call, and only while d->theta is still this root, bit for bit */
+     point's predicted start needs there (rps3_root_keep), in metres; one
+     use, by the next call, and only while d->theta is still this root,
+     bit for bit */
   int root_ok;
-  double root_theta[3], root_l[3];
-  double root_Jl[3][3], root_Jti[3][3]; /* df/dl, (df/dtheta)^-1 */
-  double root_D[3][3], root_phi[3][3], root_dphi[3][3];
+  rps3_closure root;
+  double root_X[3][3], root_G[3][3]; /* (df/dtheta)^-1, dtheta/dl */
 };
-
-/* (8)-(10) and their analytic Jacobian from the cosines c and sines s of
-   theta, in the links' planes (src/cjac.h) in units of R: h_i = 1 - L_i
-   cos theta_i, Z_i = L_i sin theta_i; f or J may be NULL: GSL's
-   function-only and Jacobian-only evaluations compute only what they
-   return (each output's arithmetic is the same either way) */
-static void constraints_trig(const theta_params *p, const double c[3],
-                             const double s[3], double f[3], double J[3][3]) {
-  double h[3], Z[3];
-  int k;
-  for (k = 0; k < 3; k++) {
-    h[k] = 1.0 - p->L[k] * c[k];
-    Z[k] = p->L[k] * s[k];
-  }
-  for (k = 0; k < 3; k++) {
-    const int i = k, j = (k + 1) % 3;
-    const rps3_plane_pair q =
-        rps3_plane_pair_eval(h[i], h[j], Z[i], Z[j], p->L[i], p->L[j], c[i],
-                             s[i], c[j], s[j], p->r3);
-    if (f != NULL) f[k] = q.f;
-    if (J != NULL) {
-      J[k][0] = J[k][1] = J[k][2] = 0.0;
-      J[k][i] = q.at;
-      J[k][j] = q.bt;
-    }
-  }
-}
 
 static void trig3(const double th[3], double c[3], double s[3]) {
   int k;
@@ -94,19 +72,36 @@ static void trig3(const double th[3], double c[3], double s[3]) {
   }
 }
 
-static void constraints(const theta_params *p, const double th[3],
-                        double f[3], double J[3][3]) {
-  double c[3], s[3];
-  trig3(th, c, s);
-  constraints_trig(p, c, s, f, J);
+/* df/dtheta of the closure q evaluated: row k holds at[k] at column k and
+   bt[k] at column k + 1 */
+static void closure_jac(const rps3_closure *q, double J[3][3]) {
+  int k;
+  for (k = 0; k < 3; k++) {
+    J[k][0] = J[k][1] = J[k][2] = 0.0;
+    J[k][k] = q->at[k];
+    J[k][(k + 1) % 3] = q->bt[k];
+  }
 }
 
-/* an evaluation by GSL: f and J as constraints(), keeping theta's trig
-   for the positions after the solve (and taking it when theta is the last
-   evaluation's, bit for bit); the start's f and J from the check before
-   _set when theta is that start */
+/* (8)-(10) and their analytic Jacobian (f or J may be NULL) at theta th for
+   the lengths of q0, in q0's unit */
+static void constraints(const rps3_closure *q0, const double th[3],
+                        double f[3], double J[3][3]) {
+  rps3_closure q = *q0;
+  double fv[3];
+  trig3(th, q.c, q.s);
+  rps3_closure_eval(&q, fv);
+  if (f != NULL) v3_copy(f, fv);
+  if (J != NULL) closure_jac(&q, J);
+}
+
+/* an evaluation by GSL: f and J (either may be NULL) as constraints(),
+   keeping theta's trig in the memo p->q for the positions after the solve
+   (and taking it when theta is the last evaluation's, bit for bit); the
+   start's f and J from the check before _set when theta is that start */
 static void evaluate(theta_params *p, const double th[3], double f[3],
                      double J[3][3]) {
+  double fv[3];
   if (p->primed && th[0] == p->th0[0] && th[1] == p->th0[1] &&
       th[2] == p->th0[2]) {
     p->primed = 0;
@@ -114,11 +109,13 @@ static void evaluate(theta_params *p, const double th[3], double f[3],
     if (J != NULL) memcpy(J, p->J0, sizeof(p->J0));
     return;
   }
-  if (memcmp(th, p->th_last, sizeof(p->th_last)) != 0) {
-    v3_copy(p->th_last, th);
-    trig3(th, p->c_last, p->s_last);
+  if (memcmp(th, p->q.th, sizeof(p->q.th)) != 0) {
+    v3_copy(p->q.th, th);
+    trig3(th, p->q.c, p->q.s);
   }
-  constraints_trig(p, p->c_last, p->s_last, f, J);
+  rps3_closure_eval(&p->q, fv);
+  if (f != NULL) v3_copy(f, fv);
+  if (J != NULL) closure_jac(&p->q, J);
 }
 
 /* the components of a GSL vector (read and written in place: the views'
@@ -192,7 +189,7 @@ int rps3_solver_alloc(const rps3_model *m, struct rps3_solver_state **out) {
   if (s == NULL) return RPS3_ENOMEM;
   s->kind = m->opt.solver;
   s->fdf = (tfdf != NULL);
-  s->p.th_last[0] = s->p.th_last[1] = s->p.th_last[2] = (double)NAN;
+  s->p.q.th[0] = s->p.q.th[1] = s->p.q.th[2] = (double)NAN;
   s->x = gsl_vector_alloc(3);
   if (s->fdf)
     s->sfdf = gsl_multiroot_fdfsolver_alloc(tfdf, 3);
@@ -282,7 +279,7 @@ static const char *step_unsafe(const rps3_model *m, const theta_params *p,
   case RPS3_SOLVER_BROYDEN: break;
   default: return NULL;
   }
-  constraints(p, th, f, J);
+  constraints(&p->q, th, f, J);
   if (!(cond3(M3C(J)) <= m->opt.cond_max))
     return "singular constraint Jacobian";
   if (m->opt.solver == RPS3_SOLVER_NEWTON ||
@@ -294,7 +291,7 @@ static const char *step_unsafe(const rps3_model *m, const theta_params *p,
     if (h == 0.0) h = GSL_SQRT_DBL_EPSILON;
     v3_copy(xs, th);
     xs[k] = th[k] + h;
-    constraints(p, xs, f1, NULL);
+    constraints(&p->q, xs, f1, NULL);
     for (i = 0; i < 3; i++) Jd[i][k] = (f1[i] - f[i]) / h;
   }
   for (k = 0; k < 3; k++) {
@@ -313,46 +310,120 @@ static const char *step_unsafe(const rps3_model *m, const theta_params *p,
   return NULL;
 }
 
-void rps3_root_keep(rps3_data *d, const rps3_cjac *J) {
+/* the Newton path's most steps: from a warm start one or two converge;
+   more go to the multiroot route, whose trust region copes with a start
+   far from the root */
+#define NEWTON_MAX 8
+
+/* max |v_k| (fmax is a call at -O2); a NaN is dropped, and each use below
+   is preceded or followed by a test that a NaN fails */
+static inline double max3abs(const double v[3]) {
+  const double a = fabs(v[0]), b = fabs(v[1]), c = fabs(v[2]);
+  const double ab = a > b ? a : b;
+  return ab > c ? ab : c;
+}
+
+int rps3_theta_newton(const rps3_model *m, rps3_closure *q, int have_trig,
+                      int *niter, double *resid, int *exact) {
+  /* the test of rps3_theta_solve, max |f_k| / R^2 <= tol, in q's unit */
+  const double tol = m->opt.tol * q->R * q->R;
+  const int max_it = m->opt.max_iter < NEWTON_MAX ? m->opt.max_iter
+                                                  : NEWTON_MAX;
+  double *th = q->th, *c = q->c, *sn = q->s, f[3], res;
+  int it, i, fold = 0, ex = !have_trig;
+  if (!have_trig) trig3(th, c, sn);
+  for (it = 0;; it++) {
+    const double *a = q->at, *b = q->bt;
+    double x[3], det, id, big;
+    rps3_closure_eval(q, f);
+    res = max3abs(f);
+    if (!(fabs(f[0]) + fabs(f[1]) + fabs(f[2]) < HUGE_VAL)) return -1;
+    if (res <= tol) break;
+    if (it >= max_it) return -1;
+    /* J x = f for the cyclic bidiagonal J = df/dtheta (J[k][k] = a_k,
+       J[k][k+1] = b_k) by its adjugate: det = a0 a1 a2 + b0 b1 b2 */
+    det = a[0] * (a[1] * a[2]) + b[0] * (b[1] * b[2]);
+    if (!(fabs(det) > 0.0 && fabs(det) < HUGE_VAL)) return -1;
+    id = 1.0 / det;
+    x[0] = (a[1] * a[2] * f[0] - b[0] * a[2] * f[1] + b[0] * b[1] * f[2]) * id;
+    x[1] = (b[1] * b[2] * f[0] + a[0] * a[2] * f[1] - a[0] * b[1] * f[2]) * id;
+    x[2] = (a[0] * a[1] * f[2] - a[1] * b[2] * f[0] + b[0] * b[2] * f[1]) * id;
+    /* a correction beyond RPS3_THETA_WARM_MAX: not a warm start (the
+       multiroot route's trust region copes with it, where Newton's full
+       step may jump to another root) */
+    big = max3abs(x);
+    if (!(big <= RPS3_THETA_WARM_MAX)) return -1;
+    for (i = 0; i < 3; i++) th[i] -= x[i];
+    if (big <= RPS3_THETA_PREDICT_MAX) {
+      rps3_trig_step(c, sn, x); /* cos and sin of theta - x */
+      ex = 0;
+    } else {
+      trig3(th, c, sn);
+      ex = 1;
+    }
+  }
+  *niter = it;
+  *resid = res / (q->R * q->R);
+  /* the branch 0 < theta < pi, after folding whole turns */
+  for (i = 0; i < 3; i++) {
+    if (th[i] > 0.0 && th[i] < RPS3_PI) continue;
+    th[i] = remainder(th[i], 2.0 * RPS3_PI);
+    fold = 1;
+    if (!(th[i] > 0.0 && th[i] < RPS3_PI)) return -1;
+    c[i] = cos(th[i]);
+    sn[i] = sin(th[i]);
+  }
+  /* the pair terms at the folded angles' own trig */
+  if (fold) rps3_closure_eval(q, f);
+  *exact = ex;
+  return fold;
+}
+
+void rps3_root_keep(const rps3_model *m, rps3_data *d, const rps3_cjac *J) {
   struct rps3_solver_state *s = d->solver;
+  rps3_closure *q = &s->root;
+  double f[3];
   int i, k;
   s->root_ok = J->factored && !J->sing;
   if (!s->root_ok) return;
+  /* the root in the links' planes, in metres: cos and sin theta are the
+     link directions' vertical components (29) */
+  q->R = m->R;
+  q->r3 = 3.0 * m->r * m->r;
   for (i = 0; i < 3; i++) {
-    s->root_theta[i] = d->theta[i];
-    s->root_l[i] = d->l[i];
-    v3_sub(s->root_D[i], d->b[i], d->b[(i + 1) % 3]);
-    v3_copy(s->root_phi[i], d->phi[i]);
-    v3_copy(s->root_dphi[i], d->dphi[i]);
-    for (k = 0; k < 3; k++) {
-      s->root_Jl[i][k] = J->Jl[i][k];
-      /* (df/dtheta)^-1 = (A^-1)^T for the lambda system A = (df/dtheta)^T */
-      s->root_Jti[i][k] = J->Ainv[3 * k + i];
-    }
+    q->l[i] = d->l[i];
+    q->th[i] = d->theta[i];
+    q->c[i] = d->dphi[i][2];
+    q->s[i] = d->phi[i][2];
   }
+  rps3_closure_eval(q, f);
+  /* (df/dtheta)^-1 = (A^-1)^T for the lambda system A = (df/dtheta)^T,
+     and G = -(df/dtheta)^-1 (df/dl) */
+  for (i = 0; i < 3; i++)
+    for (k = 0; k < 3; k++) s->root_X[i][k] = J->Ainv[3 * k + i];
+  for (i = 0; i < 3; i++)
+    for (k = 0; k < 3; k++)
+      s->root_G[i][k] = -(s->root_X[i][0] * J->Jl[0][k] +
+                          s->root_X[i][1] * J->Jl[1][k] +
+                          s->root_X[i][2] * J->Jl[2][k]);
 }
 
 void rps3_root_predict(rps3_data *d, double max_step) {
   struct rps3_solver_state *s = d->solver;
-  double dl[3], u[3], x[3], kn[3][3], big = 0.0;
-  int i, ok = s->root_ok && d->have_theta &&
-              memcmp(d->theta, s->root_theta, sizeof(s->root_theta)) == 0;
+  const rps3_closure *q = &s->root;
+  double dl[3], u[3], x[3], hd[3], Zd[3], hdd[3], Zdd[3], Hv[3];
+  int ok = s->root_ok && d->have_theta &&
+           memcmp(d->theta, q->th, sizeof(q->th)) == 0;
   s->root_ok = 0; /* one use */
   if (!ok) return;
-  /* theta' = G dl = -(df/dtheta)^-1 (df/dl) dl */
-  v3_sub(dl, d->l, s->root_l);
-  m3_mulv(x, M3C(s->root_Jl), dl);
-  m3_mulv(u, M3C(s->root_Jti), x);
-  v3_scale(u, -1.0, u);
-  /* (df/dtheta) theta'' = x, the velocity products of (8)-(10) */
-  rps3_constraint_acc_rhs(M3C(s->root_D), M3C(s->root_phi),
-                          M3C(s->root_dphi), s->root_l, dl, u, NULL, kn, x);
-  m3_mulv(x, M3C(s->root_Jti), x);
-  for (i = 0; i < 3; i++) {
-    u[i] += 0.5 * x[i];
-    big = fmax(big, fabs(u[i]));
-  }
-  if (big <= max_step) v3_axpy(d->theta, d->theta, 1.0, u);
+  /* the second order along the chord itself (tau = 1): theta'' for l' =
+     dl, (df/dtheta) theta'' = x, the velocity products of (8)-(10) */
+  v3_sub(dl, d->l, q->l);
+  m3_mulv(u, M3C(s->root_G), dl);
+  rps3_closure_bias(q, dl, u, x, hd, Zd, hdd, Zdd);
+  m3_mulv(Hv, M3C(s->root_X), x);
+  rps3_theta_predict(d->theta, d->l, q->l, q->th, M3C(s->root_G), Hv, 1.0,
+                     max_step);
 }
 
 int rps3_theta_solve(const rps3_model *m, rps3_data *d) {
@@ -364,7 +435,7 @@ int rps3_theta_solve_with(const rps3_model *m, rps3_data *d, rps3_cjac *J) {
   rps3_cjac own;
   double th[3], f[3], resid0;
   const char *unsafe;
-  int i, iter, status, prev_mode, same;
+  int i, iter, status, prev_mode, same, warm;
   if (m == NULL || d == NULL || !m->valid) return RPS3_EINVAL;
   s = d->solver;
   if (s->kind != m->opt.solver)
@@ -382,7 +453,8 @@ int rps3_theta_solve_with(const rps3_model *m, rps3_data *d, rps3_cjac *J) {
   /* starting point: explicit warm start, else the level-platform guess;
      a warm start remembers the mode it starts from */
   prev_mode = RPS3_MODE_ANY;
-  if (m->opt.warm_start && d->have_theta && v3_finite(d->theta)) {
+  warm = m->opt.warm_start && d->have_theta && v3_finite(d->theta);
+  if (warm) {
     prev_mode = d->mode;
   } else {
     status = rps3_theta_guess(m, d);
@@ -390,11 +462,32 @@ int rps3_theta_solve_with(const rps3_model *m, rps3_data *d, rps3_cjac *J) {
   }
   d->mode = RPS3_MODE_ANY;
   s->p.primed = 0;
+  s->p.q.R = 1.0;
+  s->p.q.r3 = 3.0 * m->rho * m->rho;
   for (i = 0; i < 3; i++) {
-    s->p.L[i] = d->l[i] / m->R;
+    s->p.q.l[i] = d->l[i] / m->R;
     GV(s->x, i) = d->theta[i];
   }
-  s->p.r3 = 3.0 * m->rho * m->rho;
+
+  /* a warm start: the Newton path in the links' planes, in units of R as
+     GSL's evaluations; where it does not converge (to a root in (0, pi)),
+     the multiroot route from the same start decides and reports */
+  if (warm) {
+    rps3_closure q = s->p.q;
+    int exact;
+    v3_copy(q.th, d->theta);
+    if (rps3_theta_newton(m, &q, 0, &d->solve_niter, &d->solve_resid,
+                          &exact) >= 0) {
+      v3_copy(th, q.th);
+      /* the root's libm trig, for the positions and the next evaluation
+         there (a series-stepped one gives way to libm's below) */
+      if (exact) s->p.q = q;
+      goto root;
+    }
+    d->solve_niter = 0;
+    d->solve_resid = 0.0;
+  }
+
   unsafe = step_unsafe(m, &s->p, d->theta);
   if (unsafe != NULL)
     RPS3_ERROR(d, RPS3_ENOCONV, "%s at the starting point theta = (%.6g, "
@@ -493,12 +586,12 @@ root:
       RPS3_ERROR(d, RPS3_EBRANCH,
                  "link %d: theta = %.6g rad is outside (0, pi)", i + 1, t);
     d->theta[i] = t;
-    same = same && t == s->p.th_last[i];
+    same = same && t == s->p.q.th[i];
   }
   /* (12)-(14) with the trig of the last evaluation when it was at this
      theta (bitwise: the same cos and sin) */
   if (same)
-    rps3_links_from_trig(m, d, s->p.c_last, s->p.s_last);
+    rps3_links_from_trig(m, d, s->p.q.c, s->p.q.s);
   else
     rps3_links_from_joints(m, d);
   rps3_frame_from_balls(m, d);
@@ -570,11 +663,11 @@ void rps3_pose_from_frame(rps3_data *d) {
    ratio rho: the tests check J against differences of f */
 void rps3_theta_constraints(const double L[3], double rho, const double th[3],
                             double f[3], double J[3][3]) {
-  theta_params p;
-  int i;
-  for (i = 0; i < 3; i++) p.L[i] = L[i];
-  p.r3 = 3.0 * rho * rho;
-  constraints(&p, th, f, J);
+  rps3_closure q;
+  q.R = 1.0;
+  q.r3 = 3.0 * rho * rho;
+  v3_copy(q.l, L);
+  constraints(&q, th, f, J);
 }
 
 /* the same from theta's cosines c and sines s, which a caller keeps for
@@ -582,9 +675,14 @@ void rps3_theta_constraints(const double L[3], double rho, const double th[3],
 void rps3_theta_constraints_trig(const double L[3], double rho,
                                  const double c[3], const double s[3],
                                  double f[3], double J[3][3]) {
-  theta_params p;
-  int i;
-  for (i = 0; i < 3; i++) p.L[i] = L[i];
-  p.r3 = 3.0 * rho * rho;
-  constraints_trig(&p, c, s, f, J);
+  rps3_closure q;
+  double fv[3];
+  q.R = 1.0;
+  q.r3 = 3.0 * rho * rho;
+  v3_copy(q.l, L);
+  v3_copy(q.c, c);
+  v3_copy(q.s, s);
+  rps3_closure_eval(&q, fv);
+  if (f != NULL) v3_copy(f, fv);
+  if (J != NULL) closure_jac(&q, J);
 }

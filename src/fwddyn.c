@@ -255,7 +255,7 @@ static int mass_decide(const rps3_model *m, rps3_data *d, rps3_fd_state *k) {
   return RPS3_OK;
 }
 
-/* evaluations whose start trigonometry fd_trig_step moves before one
+/* evaluations whose start trigonometry rps3_trig_step moves before one
    takes sincos again: the phase's rounding, an ulp a step at most, stays
    below 1e-13 rad (the solve's tolerance is 1e-12) */
 #define TRIG_RESYNC 256
@@ -268,7 +268,7 @@ int rps3_fwddyn_state(const rps3_model *m, rps3_data *d, rps3_fd_state *k,
      stage, which reads theta alone, unless a payload needs them */
   const int positions = !lean || payload;
   plane p;
-  double dl[3], *c = p.c, *sn = p.s, bound;
+  double dl[3], *c = p.q.c, *sn = p.q.s, bound;
   int status, pd, trig = 0;
   if (!v3_finite(d->dl)) {
     poison(d);
@@ -292,27 +292,21 @@ int rps3_fwddyn_state(const rps3_model *m, rps3_data *d, rps3_fd_state *k,
     v3_copy(th0, d->theta);
     d->stage = 0;
     d->warn = 0;
-    /* the start moved along the last state's tangent, theta + G (l -
-       l_last): within O(|l - l_last|^2) of the root, one Newton step
-       instead of two.  A step of more than RPS3_FD_PREDICT_MAX (near a
-       singular configuration, where G grows) is not taken: the start
-       stays where
-       the last root was, as does the fall-back */
+    /* the start predicted from the last root along the change of the
+       lengths, to second order along the last state's rates, whose bias
+       theta'' is formed already (rps3_theta_predict): an integrator's
+       next stage lies along them (RK4's second and fourth stages to
+       O(h^3)), the start is within O(h^3) of the root, most often within
+       the tolerance, and no Newton step is taken.  A step of more than
+       RPS3_FD_PREDICT_MAX (near a singular configuration, where G grows)
+       is not taken: the start stays where the last root was, as does the
+       fall-back */
     if ((flags & RPS3_FD_PREDICT) && m->opt.warm_start && d->have_theta) {
-      double dlen[3], dth[3], tau;
+      double dlen[3];
       v3_sub(dlen, d->l, k->l);
-      m3_mulv(dth, M3C(k->G), dlen);
-      /* and to second order along the last state's rates: l - l_last =
-         tau l'_last + (a part across them) carries theta'' tau^2 / 2 =
-         ddtheta_bias(l'_last) tau^2 / 2 beyond G (l - l_last).  An
-         integrator's next stage lies along them (RK4's second and fourth
-         stages to O(h^3)): the start is within O(h^3) of the root, most
-         often within the tolerance, and no Newton step is taken */
-      tau = v3_dot(dlen, k->dl) * k->idl2;
-      v3_axpy(dth, dth, 0.5 * tau * tau, k->ddth_b);
-      if (max2(max2(fabs(dth[0]), fabs(dth[1])), fabs(dth[2])) <=
-          RPS3_FD_PREDICT_MAX)
-        v3_axpy(d->theta, d->theta, 1.0, dth);
+      rps3_theta_predict(d->theta, d->l, k->l, d->theta, M3C(k->G),
+                         k->ddth_b, v3_dot(dlen, k->dl) * k->idl2,
+                         RPS3_FD_PREDICT_MAX);
     }
     /* a state started near the last root moves that root's cosines and
        sines by the change of theta (exact: the two are within a factor of
@@ -326,7 +320,7 @@ int rps3_fwddyn_state(const rps3_model *m, rps3_data *d, rps3_fd_state *k,
           RPS3_FD_PREDICT_MAX) {
         v3_copy(c, k->c);
         v3_copy(sn, k->s);
-        fd_trig_step(c, sn, e);
+        rps3_trig_step(c, sn, e);
         trig = 1;
       }
     }
@@ -354,7 +348,8 @@ int rps3_fwddyn_state(const rps3_model *m, rps3_data *d, rps3_fd_state *k,
         return status;
       }
       for (i = 0; i < 3; i++) {
-        p.l[i] = d->l[i];
+        p.q.l[i] = d->l[i];
+        p.q.th[i] = d->theta[i];
         c[i] = d->dphi[i][2]; /* cos theta_i (29) */
         sn[i] = d->phi[i][2]; /* sin theta_i */
       }

@@ -12,12 +12,12 @@
 #define RPS3_FWDDYN_H
 
 #include "internal.h"
+#include "theta.h"
 
 /* largest predicted change of a theta_i [rad] from the last root, for the
-   plant's stages and the controllers' ticks: ~0.6 degree, many steps of
-   any run that keeps its accuracy; a larger one (near a singular
-   configuration, where G grows) starts from the last root itself */
-#define RPS3_FD_PREDICT_MAX 1e-2
+   plant's stages and the controllers' ticks: the theta solve's
+   (src/theta.h) */
+#define RPS3_FD_PREDICT_MAX RPS3_THETA_PREDICT_MAX
 
 /*
  * A state in the links' planes.  Link i moves in the vertical plane of pin
@@ -36,9 +36,9 @@
  * inputs as far as the compiler knows.  Its steps are in fwddyn_plane.h.
  */
 typedef struct {
-  double l[3], dl[3], c[3], s[3]; /* lengths, rates, cos and sin theta */
-  double A[3], B[3], E[3];        /* of pair k, above */
-  double at[3], bt[3];            /* df_k/dtheta_k, df_k/dtheta_(k+1) */
+  rps3_closure q;                 /* lengths, theta, its cos and sin, and
+                                     A, B, E, at, bt of pair k, in metres */
+  double dl[3];                   /* rates */
   double al[3], bl[3];            /* df_k/dl_k, df_k/dl_(k+1) */
   double X[3][3];                 /* (df/dtheta)^-1 */
   double G[3][3];                 /* dtheta'/dl' = -X df/dl */
@@ -81,7 +81,8 @@ typedef struct rps3_fd_state {
 enum {
   RPS3_FD_PREDICT = 1, /* *k holds the last state this d was evaluated at,
                           successfully (d->theta its root): the theta solve
-                          starts from theta + G (l - k->l) */
+                          starts from the root predictor's start
+                          (rps3_theta_predict) */
   RPS3_FD_LEAN = 2,    /* an integrator's stage, which reads the
                           accelerations and theta' only: the positions
                           (ball joints, link directions, frame), the pose,

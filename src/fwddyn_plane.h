@@ -40,71 +40,27 @@ static inline double max2(double a, double b) { return a > b ? a : b; }
 /* the state in the links' planes: `plane`, in fwddyn.h */
 
 /* the constraints f_k [m^2] at p's l, c, s and their derivatives in
-   theta (at, bt), with A, B, E: one Newton iteration's evaluation, whose
-   last is the state's (plane_jacobian reads it) */
+   theta (at, bt), with A, B, E (rps3_closure_eval, in metres): one Newton
+   iteration's evaluation, whose last is the state's (plane_jacobian reads
+   it); the series step of theta's cosines and sines is rps3_trig_step
+   (src/theta.h) */
 FD_INLINE void plane_constraints(const rps3_model *m, plane *p,
-                                     double f[3]) {
-  const double r3 = 3.0 * m->r * m->r;
-  double h[3], Z[3];
-  int i, q;
-  for (i = 0; i < 3; i++) {
-    h[i] = m->R - p->l[i] * p->c[i];
-    Z[i] = p->l[i] * p->s[i];
-  }
-  for (q = 0; q < 3; q++) {
-    /* pair q of (8)-(10) in the links' planes (src/cjac.h) */
-    const int j = (q + 1) % 3;
-    const rps3_plane_pair pq =
-        rps3_plane_pair_eval(h[q], h[j], Z[q], Z[j], p->l[q], p->l[j],
-                             p->c[q], p->s[q], p->c[j], p->s[j], r3);
-    p->A[q] = pq.A;
-    p->B[q] = pq.B;
-    p->E[q] = pq.E;
-    f[q] = pq.f;
-    p->at[q] = pq.at;
-    p->bt[q] = pq.bt;
-  }
-}
-
-/* c, sn of theta - e for |e| <= RPS3_FD_PREDICT_MAX: the series of cos e
-   to e^6 / 720 and of sin e to e^7 / 5040 (the next terms, e^8 / 40320
-   and e^9 / 362880, are below 2.5e-21), or, for |e| <= 1e-5 (a Newton
-   correction, or a predicted step of a slow motion), to e^2 / 2 and e^3
-   / 6 (the next, e^4 / 24 and e^5 / 120, below 4.2e-22); then back onto
-   the unit circle to first order, (3 - |.|^2) / 2, so that the rounding
-   of many steps does not build up in the magnitude (rps3_fwddyn_state
-   bounds the steps between two sincos) */
-FD_INLINE void fd_trig_step(double c[3], double sn[3], const double e[3]) {
-  const double big = max2(max2(fabs(e[0]), fabs(e[1])), fabs(e[2]));
-  int i;
-  for (i = 0; i < 3; i++) {
-    const double x = e[i], x2 = x * x;
-    double ce, se, cn, snn, g;
-    if (big <= 1e-5) {
-      ce = 1.0 - 0.5 * x2;
-      se = x - x * x2 * (1.0 / 6.0);
-    } else {
-      ce = 1.0 - x2 * (0.5 - x2 * (1.0 / 24.0 - x2 * (1.0 / 720.0)));
-      se = x * (1.0 - x2 * (1.0 / 6.0 -
-                            x2 * (1.0 / 120.0 - x2 * (1.0 / 5040.0))));
-    }
-    cn = c[i] * ce + sn[i] * se;
-    snn = sn[i] * ce - c[i] * se;
-    g = 1.5 - 0.5 * (cn * cn + snn * snn);
-    c[i] = cn * g;
-    sn[i] = snn * g;
-  }
+                                 double f[3]) {
+  p->q.R = m->R;
+  p->q.r3 = 3.0 * m->r * m->r;
+  rps3_closure_eval(&p->q, f);
 }
 
 /* det df/dtheta: column i of df/dtheta holds at[i] and bt[i - 1], a
    cyclic bidiagonal matrix */
 static inline double plane_det(const plane *p) {
-  return p->at[0] * (p->at[1] * p->at[2]) + p->bt[0] * (p->bt[1] * p->bt[2]);
+  const double *a = p->q.at, *b = p->q.bt;
+  return a[0] * (a[1] * a[2]) + b[0] * (b[1] * b[2]);
 }
 
 /* X = (df/dtheta)^-1 by its adjugate, det its determinant (plane_det) */
 static inline void plane_inverse(plane *p, double det) {
-  const double *a = p->at, *b = p->bt, id = 1.0 / det;
+  const double *a = p->q.at, *b = p->q.bt, id = 1.0 / det;
   p->X[0][0] = a[1] * a[2] * id;
   p->X[0][1] = -b[0] * a[2] * id;
   p->X[0][2] = b[0] * b[1] * id;
@@ -122,7 +78,7 @@ static inline double plane_cond1(const plane *p) {
   double n1 = 0.0, ni = 0.0;
   int i;
   for (i = 0; i < 3; i++) {
-    n1 = max2(n1, fabs(p->at[i]) + fabs(p->bt[(i + 2) % 3]));
+    n1 = max2(n1, fabs(p->q.at[i]) + fabs(p->q.bt[(i + 2) % 3]));
     ni = max2(ni, fabs(p->X[0][i]) + fabs(p->X[1][i]) + fabs(p->X[2][i]));
   }
   return n1 * ni;
@@ -140,11 +96,11 @@ static inline int plane_jacobian(const rps3_model *m, rps3_data *d,
   for (q = 0; q < 3; q++) {
     const int j = (q + 1) % 3;
     rps3_plane_pair pq;
-    pq.A = p->A[q];
-    pq.B = p->B[q];
-    pq.E = p->E[q];
-    rps3_plane_pair_dl(&pq, p->c[q], p->s[q], p->c[j], p->s[j], &p->al[q],
-                       &p->bl[q]);
+    pq.A = p->q.A[q];
+    pq.B = p->q.B[q];
+    pq.E = p->q.E[q];
+    rps3_plane_pair_dl(&pq, p->q.c[q], p->q.s[q], p->q.c[j], p->q.s[j],
+                       &p->al[q], &p->bl[q]);
   }
   det = plane_det(p);
   d->mode = (det > 0.0) - (det < 0.0);
@@ -171,28 +127,14 @@ static inline void plane_rates(plane *p, const double u[3][2]) {
     for (i = 0; i < 3; i++)
       p->G[i][j] = -(p->X[i][j] * p->al[j] + p->X[i][k] * p->bl[k]);
   }
-  for (i = 0; i < 3; i++) {
-    const double th = p->G[i][0] * p->dl[0] + p->G[i][1] * p->dl[1] +
-                      p->G[i][2] * p->dl[2];
-    const double lth = p->l[i] * th, v = 2.0 * p->dl[i] * th;
-    p->dth[i] = th;
-    p->hd[i] = p->s[i] * lth - p->c[i] * p->dl[i];
-    p->Zd[i] = p->s[i] * p->dl[i] + p->c[i] * lth;
-    p->hdd[i] = p->s[i] * v + p->c[i] * lth * th;
-    p->Zdd[i] = p->c[i] * v - p->s[i] * lth * th;
-  }
-  for (q = 0; q < 3; q++) {
-    const int j2 = (q + 1) % 3;
-    const double dz = p->Zd[q] - p->Zd[j2];
-    x[q] = -(2.0 * (p->hd[q] * p->hd[q] + p->hd[j2] * p->hd[j2] +
-                    p->hd[q] * p->hd[j2] + dz * dz) +
-             p->A[q] * p->hdd[q] + p->B[q] * p->hdd[j2] +
-             p->E[q] * (p->Zdd[q] - p->Zdd[j2]));
-  }
+  for (i = 0; i < 3; i++)
+    p->dth[i] = p->G[i][0] * p->dl[0] + p->G[i][1] * p->dl[1] +
+                p->G[i][2] * p->dl[2];
+  rps3_closure_bias(&p->q, p->dl, p->dth, x, p->hd, p->Zd, p->hdd, p->Zdd);
   for (i = 0; i < 3; i++) {
     p->ddb[i] = p->X[i][0] * x[0] + p->X[i][1] * x[1] + p->X[i][2] * x[2];
-    p->hdd[i] += p->l[i] * p->s[i] * p->ddb[i];
-    p->Zdd[i] += p->l[i] * p->c[i] * p->ddb[i];
+    p->hdd[i] += p->q.l[i] * p->q.s[i] * p->ddb[i];
+    p->Zdd[i] += p->q.l[i] * p->q.c[i] * p->ddb[i];
   }
   for (q = 0; q < 2; q++)
     p->acb[q] = (p->hdd[0] * u[0][q] + p->hdd[1] * u[1][q] +
@@ -201,12 +143,13 @@ static inline void plane_rates(plane *p, const double u[3][2]) {
   for (j = 0; j < 3; j++) {
     /* dh_i/dl_j' = l_i sin_i G_ij - cos_j [i = j], dZ_i/dl_j' = l_i cos_i
        G_ij + sin_j [i = j] */
-    double sh0 = -p->c[j] * u[j][0], sh1 = -p->c[j] * u[j][1], sz = p->s[j];
+    double sh0 = -p->q.c[j] * u[j][0], sh1 = -p->q.c[j] * u[j][1],
+           sz = p->q.s[j];
     for (i = 0; i < 3; i++) {
-      const double gh = p->l[i] * p->s[i] * p->G[i][j];
+      const double gh = p->q.l[i] * p->q.s[i] * p->G[i][j];
       sh0 += gh * u[i][0];
       sh1 += gh * u[i][1];
-      sz += p->l[i] * p->c[i] * p->G[i][j];
+      sz += p->q.l[i] * p->q.c[i] * p->G[i][j];
     }
     p->Jc[0][j] = sh0 * third;
     p->Jc[1][j] = sh1 * third;
@@ -232,10 +175,10 @@ static inline void platform_motion(const rps3_model *m, const plane *p,
   double P[3][3], Q[3][3], rho[3][3], b[3][3], cen[3], e[3], a[3], w[3];
   int i, j, q;
   for (i = 0; i < 3; i++) {
-    const double h = m->R - p->l[i] * p->c[i];
+    const double h = m->R - p->q.l[i] * p->q.c[i];
     b[i][0] = h * u[i][0];
     b[i][1] = h * u[i][1];
-    b[i][2] = p->l[i] * p->s[i];
+    b[i][2] = p->q.l[i] * p->q.s[i];
   }
   for (q = 0; q < 3; q++) {
     cen[q] = (b[0][q] + b[1][q] + b[2][q]) * third;
@@ -257,9 +200,9 @@ static inline void platform_motion(const rps3_model *m, const plane *p,
     double wj[3] = {0.0, 0.0, 0.0}, oj[3];
     for (i = 0; i < 3; i++) {
       const double gh =
-          p->l[i] * p->s[i] * p->G[i][j] - (i == j ? p->c[i] : 0.0);
+          p->q.l[i] * p->q.s[i] * p->G[i][j] - (i == j ? p->q.c[i] : 0.0);
       const double gz =
-          p->l[i] * p->c[i] * p->G[i][j] + (i == j ? p->s[i] : 0.0);
+          p->q.l[i] * p->q.c[i] * p->G[i][j] + (i == j ? p->q.s[i] : 0.0);
       for (q = 0; q < 3; q++) wj[q] += gh * P[i][q] + gz * Q[i][q];
     }
     omega_of_sum(oj, wj, a, wk);
@@ -297,7 +240,7 @@ static inline int invdyn_limits(const rps3_model *m, rps3_data *d,
     const double sj =
         fabs(p->Jc[0][q]) + fabs(p->Jc[1][q]) + fabs(p->Jc[2][q]) +
         m->R * (fabs(k->Jw[0][q]) + fabs(k->Jw[1][q]) + fabs(k->Jw[2][q]));
-    nr = max2(nr, fabs(p->at[q]) + fabs(p->bt[q]));
+    nr = max2(nr, fabs(p->q.at[q]) + fabs(p->q.bt[q]));
     nx = max2(nx, fabs(p->X[q][0]) + fabs(p->X[q][1]) + fabs(p->X[q][2]));
     if (sj > T || !isfinite(sj)) T = sj;
   }
@@ -330,14 +273,14 @@ FD_INLINE void assemble(const rps3_model *m, rps3_data *d,
   double Jp[3], tau[3], sig[3], Mq[3][3], hq[3];
   int i, j, q;
   for (i = 0; i < 3; i++) {
-    const double mbl = mb * p->l[i];
-    Jp[i] = mbl * p->l[i];
+    const double mbl = mb * p->q.l[i];
+    Jp[i] = mbl * p->q.l[i];
     tau[i] = 2.0 * mbl * p->dl[i] * p->dth[i];
     sig[i] = -mbl * p->dth[i] * p->dth[i];
     if (eff & RPS3_EFF_LINK_INERTIA) Jp[i] += m->Jlink;
     tau[i] += Jp[i] * p->ddb[i];
     /* (22): d/dtheta of m g d sin(theta) */
-    if (eff & RPS3_EFF_LINK_GRAVITY) tau[i] += m->m * m->g * m->d * p->c[i];
+    if (eff & RPS3_EFF_LINK_GRAVITY) tau[i] += m->m * m->g * m->d * p->q.c[i];
     if (eff & RPS3_EFF_PIN_FRICTION)
       tau[i] -= rps3_friction_torque(m, p->dth[i]);
   }
@@ -386,10 +329,10 @@ static inline void poison(rps3_data *d) {
   d->stage &= RPS3_STAGE_POS | RPS3_STAGE_VEL;
 }
 
-/* fwddyn_theta.c: theta from d->l (p->l) by Newton's method from
-   d->theta (its cosines and sines in p->c, p->s when have_trig, else
-   taken here), to a root rps3_theta_solve would accept; 0 with the root's
-   cosines and sines in p->c, p->s, plane_constraints evaluated there, and
+/* fwddyn_theta.c: theta from d->l by the theta solve's warm Newton path
+   (rps3_theta_newton) from d->theta (its cosines and sines in p->q when
+   have_trig, else taken there), to a root rps3_theta_solve would accept;
+   0 with the root's cosines and sines and the pair terms in p->q, and
    the positions (when `positions`, else NaN when `unset`) and pose (when
    `pose`, else NaN when `unset`) written, -1 for the caller to fall back
    to rps3_fk */

@@ -42,12 +42,12 @@ static int state_shared(const rps3_model *m, rps3_data *d, rps3_fd_state *k,
      state part has no accelerations to form: no Jc, Jw, ac_b) */
   memcpy(k->G, p->G, sizeof(p->G));
   v3_copy(k->ddth_b, p->ddb);
-  v3_copy(k->l, p->l);
+  v3_copy(k->l, p->q.l);
   v3_copy(k->dl, p->dl);
   k->idl2 = src->idl2;
   v3_copy(k->th, src->th);
-  v3_copy(k->c, p->c);
-  v3_copy(k->s, p->s);
+  v3_copy(k->c, p->q.c);
+  v3_copy(k->s, p->q.s);
   k->have_trig = 1;
   k->nrot = src->nrot;
   k->have_w = 0;
@@ -84,7 +84,7 @@ int rps3_fwddyn_state_shared(const rps3_model *m, rps3_data *d,
       (m->opt.effects & RPS3_EFF_PAYLOAD))
     return 0;
   for (i = 0; i < 3; i++)
-    if (!(d->l[i] == src->kin.l[i] && d->dl[i] == src->kin.dl[i])) return 0;
+    if (!(d->l[i] == src->kin.q.l[i] && d->dl[i] == src->kin.dl[i])) return 0;
   *status = state_shared(m, d, k, src_model, src);
   poison(d); /* no acceleration: Mq and hq are the answer */
   if (*status == RPS3_OK) k->mode = d->mode;

@@ -14,9 +14,9 @@ static double det_at(const rps3_model *m, plane *p, const double l[3],
                      const double th[3], double f[3]) {
   int i;
   for (i = 0; i < 3; i++) {
-    p->l[i] = l[i];
-    p->c[i] = cos(th[i]);
-    p->s[i] = sin(th[i]);
+    p->q.l[i] = l[i];
+    p->q.c[i] = cos(th[i]);
+    p->q.s[i] = sin(th[i]);
   }
   plane_constraints(m, p, f);
   return plane_det(p);

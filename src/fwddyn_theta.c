@@ -1,35 +1,10 @@
 /*
  * fwddyn_theta.c - the positions of a forward-dynamics state: theta from
- * the link lengths by Newton's method on (8)-(10), with theta's cosines
- * and sines moved by their series along a step instead of recomputed.
+ * the link lengths by the theta solve's warm Newton path
+ * (rps3_theta_newton, src/fk.c) in the links' planes, in metres, and what
+ * a state needs of the root's positions.
  */
 #include "fwddyn_plane.h"
-
-/*
- * Positions from l by Newton's method on (8)-(10) from the warm start: in a
- * simulation the previous evaluation's theta is within a step of the
- * answer, and one Newton step converges where GSL's hybridsj costs its
- * set-up on every call.  The same convergence test as rps3_theta_solve
- * (max |f_k| / R^2 <= opt.tol); each iteration evaluates f with its
- * Jacobian (plane_constraints), and the last evaluation, at the root, is
- * the state's: plane_jacobian does not form it again.
- * A step moves theta's cosine and sine by their Taylor series instead of
- * another sincos, and so does the predicted start of an integrator's
- * stage from the last root's (a full evaluation takes sincos of its
- * start, so that the series' rounding never accumulates over more than a
- * control period's stages).  Returns 0 when it converged to a root that
- * rps3_theta_solve would accept (0 < theta < pi, not the spun platform),
- * with theta's cosines and sines in c, sn; otherwise the caller falls back
- * to rps3_fk, which decides and reports.  The positions (ball joints, link
- * directions, frame) are written unless `positions` is 0, and the pose
- * when `pose`.
- */
-#define NEWTON_MAX 8
-/* largest Newton correction [rad] that moves cos and sin by trig_step's
-   series (exact to the rounding up to PREDICT_MAX); a larger one, far
-   from any root a warm start gives, takes sincos */
-#define TAYLOR_MAX RPS3_FD_PREDICT_MAX
-
 
 void rps3_fd_positions_unset(rps3_data *d) {
   const double nan = (double)NAN;
@@ -41,74 +16,44 @@ void rps3_fd_positions_unset(rps3_data *d) {
   }
 }
 
+/*
+ * Positions from l by the warm Newton path from d->theta: in a simulation
+ * the previous evaluation's theta (or the predicted start) is within a
+ * step of the answer, and one Newton step converges where GSL's hybridsj
+ * costs its set-up on every call.  Its last evaluation, at the root, is
+ * the state's: plane_jacobian does not form it again.  A state started
+ * near the last root moves that root's cosines and sines (have_trig), and
+ * the Newton steps move them by their series, instead of another sincos.
+ * Returns 0 when it converged to a root that rps3_theta_solve would accept
+ * (0 < theta < pi, not the spun platform), with theta's cosines and sines
+ * in p->q; otherwise the caller falls back to rps3_fk, which decides and
+ * reports.  The positions (ball joints, link directions, frame) are
+ * written unless `positions` is 0, and the pose when `pose`.
+ */
 int rps3_fd_theta_newton(const rps3_model *m, rps3_data *d, plane *p,
                          int have_trig, int positions, int pose,
                          int unset) {
-  /* the test of rps3_theta_solve, max |f_k| / R^2 <= tol, in m^2 */
-  const double tol = m->opt.tol * m->R * m->R;
-  double *c = p->c, *sn = p->s, th[3], f[3], resid;
-  int it, i, fold = 0;
+  rps3_closure *q = &p->q;
+  const double *c = q->c, *sn = q->s;
+  int i, fold, exact;
   if (!(m->opt.warm_start && d->have_theta && v3_finite(d->theta)) ||
       !v3_finite(d->l) || !(d->l[0] > 0 && d->l[1] > 0 && d->l[2] > 0))
     return -1;
+  q->R = m->R;
+  q->r3 = 3.0 * m->r * m->r;
   for (i = 0; i < 3; i++) {
-    p->l[i] = d->l[i];
-    th[i] = d->theta[i];
+    q->l[i] = d->l[i];
+    q->th[i] = d->theta[i];
   }
-  if (!have_trig)
-    for (i = 0; i < 3; i++) {
-      const double t = th[i]; /* one sincos */
-      c[i] = cos(t);
-      sn[i] = sin(t);
-    }
-  for (it = 0;; it++) {
-    const double *a = p->at, *b = p->bt;
-    double x[3], det, id, big;
-    plane_constraints(m, p, f);
-    resid = max2(max2(fabs(f[0]), fabs(f[1])), fabs(f[2]));
-    if (!(fabs(f[0]) + fabs(f[1]) + fabs(f[2]) < HUGE_VAL)) return -1;
-    if (resid <= tol) break;
-    if (it == NEWTON_MAX) return -1;
-    /* J x = f, J[k][k] = a_k, J[k][k+1] = b_k: the adjugate
-       (plane_jacobian) */
-    det = a[0] * (a[1] * a[2]) + b[0] * (b[1] * b[2]);
-    if (!(fabs(det) > 0.0 && fabs(det) < HUGE_VAL)) return -1;
-    id = 1.0 / det;
-    x[0] = (a[1] * a[2] * f[0] - b[0] * a[2] * f[1] + b[0] * b[1] * f[2]) * id;
-    x[1] = (b[1] * b[2] * f[0] + a[0] * a[2] * f[1] - a[0] * b[1] * f[2]) * id;
-    x[2] = (a[0] * a[1] * f[2] - a[1] * b[2] * f[0] + b[0] * b[2] * f[1]) * id;
-    big = max2(max2(fabs(x[0]), fabs(x[1])), fabs(x[2]));
-    if (!(big < HUGE_VAL)) return -1;
-    for (i = 0; i < 3; i++) th[i] -= x[i];
-    if (big <= TAYLOR_MAX) {
-      fd_trig_step(c, sn, x); /* cos and sin of theta - x */
-    } else {
-      for (i = 0; i < 3; i++) {
-        const double t = th[i];
-        c[i] = cos(t);
-        sn[i] = sin(t);
-      }
-    }
-  }
-  resid /= m->R * m->R;
-  d->solve_niter = it;
-  d->solve_resid = resid;
-  for (i = 0; i < 3; i++) {
-    d->theta[i] = th[i];
-    if (th[i] > 0.0 && th[i] < RPS3_PI) continue;
-    d->theta[i] = remainder(th[i], 2.0 * RPS3_PI);
-    fold = 1;
-    if (!(d->theta[i] > 0.0 && d->theta[i] < RPS3_PI)) return -1;
-    c[i] = cos(d->theta[i]);
-    sn[i] = sin(d->theta[i]);
-  }
-  /* the state's constraint terms at the folded angles' own trig */
-  if (fold) plane_constraints(m, p, f);
+  fold = rps3_theta_newton(m, q, have_trig, &d->solve_niter,
+                           &d->solve_resid, &exact);
+  if (fold < 0) return -1;
+  v3_copy(d->theta, q->th);
   if (positions || fold) {
     rps3_links_from_trig(m, d, c, sn);
     rps3_frame_from_balls(m, d);
     if (d->rot[0][0] + d->rot[1][1] < 0.0) return -1; /* spun platform */
-  } else if (it == 0 && have_trig) {
+  } else if (d->solve_niter == 0 && have_trig) {
     /* the start, a root that passed this test moved by at most
        RPS3_FD_PREDICT_MAX, is the root: n_x + o_y, 1 + cos(beta) >= 0 on
        the platform of (2) and 2 - O(beta^2) wherever a run goes, cannot

@@ -70,8 +70,10 @@ static int check_own_root(const rps3_model *m, rps3_data *d, rps3_cjac *J,
  * start theta + theta' + theta''/2 is off by O(|dl|^3): ~1e-14 rad on the
  * paper's helix at 1 kHz.  Only the lengths and the last root enter; the
  * start knows nothing of the pose's own theta (39), which the route checks
- * its root against.  rps3_theta_solve takes a start within the tolerance
- * as the root, GSL's solver otherwise.  What the prediction needs is kept
+ * its root against (the predictor is src/theta.h's, rps3_theta_predict,
+ * along the chord).  rps3_theta_solve takes a start within the tolerance
+ * as the root, its warm Newton path otherwise, and GSL's solver where that
+ * gives up.  What the prediction needs is kept
  * with the root in d's solver state (rps3_root_keep, after the own-root
  * check), private, so that a caller's writes to d's positions cannot
  * mislead it; it serves the next call only, and only while d->theta is
@@ -128,7 +130,7 @@ int rps3_inverse_stages(const rps3_model *m, rps3_data *d) {
     if (status != RPS3_OK) return status;
     status = check_own_root(m, d, &J, c39, s39);
     if (status != RPS3_OK) return status;
-    rps3_root_keep(d, &J);
+    rps3_root_keep(m, d, &J);
   }
 
   /* rates only when an effect (or the certificate) needs them */

@@ -256,7 +256,7 @@ static const rps3_plant_state *offer_plant(rps3_sim *s, rps3_plant_state *v,
   if (*status != RPS3_OK) return NULL;
   v->model = &s->plant;
   v->t = s->now.t;
-  v3_copy(v->l, k->kin.l);
+  v3_copy(v->l, k->kin.q.l);
   v3_copy(v->dl, k->kin.dl);
   v3_copy(v->theta, k->th);
   v3_copy(v->dtheta, k->kin.dth);

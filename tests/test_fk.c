@@ -1,6 +1,9 @@
-/* test_fk.c - the multiroot theta solve of (8)-(10) and forward kinematics
-   (11)-(20): round trips, every solver, warm starts, error codes. */
+/* test_fk.c - the theta solve of (8)-(10) (its warm Newton path, the
+   multiroot route, the root predictor) and forward kinematics (11)-(20):
+   round trips, every solver, warm starts, error codes. */
+#include "internal.h"
 #include "testutil.h"
+#include "theta.h"
 
 static int setup_model(rps3_model *m, rps3_solver s) {
   model_entropy(m);
@@ -301,6 +304,162 @@ static void positions_of_the_root(void **state) {
   }
 }
 
+/* the closure of model m at lengths l in metres (R = m.R) or in units of
+   R (R = 1), theta th */
+static rps3_closure closure_at(const rps3_model *m, const double l[3],
+                               const double th[3], int metres) {
+  rps3_closure q;
+  int i;
+  q.R = metres ? m->R : 1.0;
+  q.r3 = metres ? 3.0 * m->r * m->r : 3.0 * m->rho * m->rho;
+  for (i = 0; i < 3; i++) {
+    q.l[i] = metres ? l[i] : l[i] / m->R;
+    q.th[i] = th[i];
+  }
+  return q;
+}
+
+/*
+ * The warm Newton path of the theta solve (rps3_theta_newton, the one the
+ * multiroot route and the forward dynamics share) converges
+ * quadratically: from 2e-3 rad off the closed form (39), three steps at
+ * most (2e-3 -> ~4e-6 -> ~2e-11 -> rounding), to the closed form, in
+ * metres and in units of R alike.  A start 0.3 rad off is no warm start
+ * (the first correction passes RPS3_THETA_WARM_MAX): the path gives up,
+ * and rps3_theta_solve takes the multiroot route from there to the same
+ * root.
+ */
+static void warm_newton_path(void **state) {
+  rps3_model m;
+  rps3_data *d;
+  uint64_t seed = 517;
+  int n, tried = 0, i;
+  (void)state;
+  assert_int_equal(setup_model(&m, RPS3_SOLVER_HYBRIDSJ), RPS3_OK);
+  assert_int_equal(rps3_data_alloc(&m, &d), RPS3_OK);
+  for (n = 0; n < 200; n++) {
+    double th[3], start[3];
+    int u;
+    d->pose[0] = rnd_uniform(&seed, -3.1, 3.1);
+    d->pose[1] = rnd_uniform(&seed, 0.01, 0.45);
+    d->pose[2] = rnd_uniform(&seed, 0.15, 0.45);
+    if (rps3_inverse(&m, d) != RPS3_OK || !(d->cond < 1e3)) continue;
+    tried++;
+    memcpy(th, d->theta, sizeof th);
+    for (i = 0; i < 3; i++) start[i] = th[i] + rnd_uniform(&seed, -2e-3, 2e-3);
+    for (u = 0; u < 2; u++) {
+      rps3_closure q = closure_at(&m, d->l, start, u);
+      int niter = -1, exact = -1;
+      double resid = -1.0;
+      if (rps3_theta_newton(&m, &q, 0, &niter, &resid, &exact) != 0)
+        fail_msg("pose %d (%s): the warm Newton path did not converge", n,
+                 u ? "metres" : "units of R");
+      assert_true(niter >= 1 && niter <= 3);
+      assert_true(resid <= m.opt.tol);
+      assert_int_equal(exact, 0); /* series-stepped trig */
+      for (i = 0; i < 3; i++) {
+        CHECK_REL(q.th[i], th[i], TOL_EXACT, 1.0, "pose %d theta%d", n, i);
+        CHECK_REL(q.c[i], cos(q.th[i]), TOL_EXACT, 1.0, "cos theta%d", i);
+        CHECK_REL(q.s[i], sin(q.th[i]), TOL_EXACT, 1.0, "sin theta%d", i);
+      }
+    }
+  }
+  assert_true(tried > 100);
+
+  /* far: Newton gives up, the multiroot route finds the root */
+  d->pose[0] = 0.7385;
+  d->pose[1] = 0.2113;
+  d->pose[2] = 0.3117;
+  assert_int_equal(rps3_ik(&m, d), RPS3_OK);
+  {
+    double th[3], start[3];
+    rps3_closure q;
+    int niter, exact;
+    double resid;
+    memcpy(th, d->theta, sizeof th);
+    for (i = 0; i < 3; i++) start[i] = th[i] + (i == 1 ? -0.3 : 0.3);
+    q = closure_at(&m, d->l, start, 1);
+    assert_int_equal(rps3_theta_newton(&m, &q, 0, &niter, &resid, &exact),
+                     -1);
+    memcpy(d->theta, start, sizeof start);
+    d->have_theta = 1;
+    if (rps3_theta_solve(&m, d) != RPS3_OK) fail_msg("%s", d->err.msg);
+    assert_true(d->solve_niter >= 2);
+    for (i = 0; i < 3; i++)
+      CHECK_REL(d->theta[i], th[i], 1e-10, 1.0, "multiroot theta%d", i);
+  }
+  rps3_data_free(d);
+}
+
+/*
+ * The root predictor (rps3_theta_predict in the links' planes, fed by
+ * rps3_root_predict with the chord's own second derivative) against the
+ * formula it replaced, written from the positions: theta' = -(df/dtheta)^-1
+ * (df/dl) dl from the constraint Jacobian of the ball joints
+ * (rps3_constraint_jacobian), theta'' from the velocity products of
+ * |b_i - b_j|^2 (rps3_constraint_acc_rhs), start theta + theta' +
+ * theta''/2.  The two agree to rounding; the second-order term alone is
+ * ~1e-6 rad here, so a wrong coefficient shows.
+ */
+static void predictor_positions_oracle(void **state) {
+  const double p0[3] = {0.7, 0.25, 0.3}, v[3] = {1.0, 0.3, 0.05};
+  rps3_model m;
+  rps3_data *d, *e;
+  int n, i, k;
+  (void)state;
+  assert_int_equal(setup_model(&m, RPS3_SOLVER_HYBRIDSJ), RPS3_OK);
+  m.opt.theta = RPS3_THETA_MULTIROOT;
+  m.opt.effects = RPS3_EFF_PLATFORM_GRAVITY;
+  assert_int_equal(rps3_model_init(&m, NULL, 0), RPS3_OK);
+  assert_int_equal(rps3_data_alloc(&m, &d), RPS3_OK);
+  assert_int_equal(rps3_data_alloc(&m, &e), RPS3_OK);
+  for (n = 0; n < 4; n++) {
+    const double h = 4e-3 / (double)(1 << n);
+    double Jl[3][3], Jt[3][3], Ji[3][3], D[3][3], dl[3], u[3], x[3],
+        kn[3][3], want[3], det, second = 0.0;
+    memcpy(d->pose, p0, sizeof p0);
+    d->have_theta = 0;
+    if (rps3_inverse(&m, d) != RPS3_OK) fail_msg("%s", d->err.msg);
+    /* the oracle at the root d holds */
+    rps3_constraint_jacobian(d, Jl, Jt);
+    det = Jt[0][0] * (Jt[1][1] * Jt[2][2] - Jt[1][2] * Jt[2][1]) -
+          Jt[0][1] * (Jt[1][0] * Jt[2][2] - Jt[1][2] * Jt[2][0]) +
+          Jt[0][2] * (Jt[1][0] * Jt[2][1] - Jt[1][1] * Jt[2][0]);
+    for (i = 0; i < 3; i++)
+      for (k = 0; k < 3; k++) {
+        const int i1 = (i + 1) % 3, i2 = (i + 2) % 3, k1 = (k + 1) % 3,
+                  k2 = (k + 2) % 3;
+        Ji[k][i] = (Jt[i1][k1] * Jt[i2][k2] - Jt[i1][k2] * Jt[i2][k1]) / det;
+      }
+    for (i = 0; i < 3; i++)
+      for (k = 0; k < 3; k++) D[i][k] = d->b[i][k] - d->b[(i + 1) % 3][k];
+    for (k = 0; k < 3; k++) e->pose[k] = p0[k] + v[k] * h;
+    assert_int_equal(rps3_ik(&m, e), RPS3_OK);
+    for (i = 0; i < 3; i++) dl[i] = e->l[i] - d->l[i];
+    for (i = 0; i < 3; i++) {
+      x[i] = 0.0;
+      for (k = 0; k < 3; k++) x[i] += Jl[i][k] * dl[k];
+    }
+    for (i = 0; i < 3; i++)
+      u[i] = -(Ji[i][0] * x[0] + Ji[i][1] * x[1] + Ji[i][2] * x[2]);
+    rps3_constraint_acc_rhs(M3C(D), M3C(d->phi), M3C(d->dphi), d->l, dl, u,
+                            NULL, kn, x);
+    for (i = 0; i < 3; i++) {
+      const double dd = Ji[i][0] * x[0] + Ji[i][1] * x[1] + Ji[i][2] * x[2];
+      want[i] = d->theta[i] + u[i] + 0.5 * dd;
+      second = fmax(second, fabs(0.5 * dd));
+    }
+    /* the library's, from the root it kept */
+    memcpy(d->l, e->l, sizeof(d->l));
+    rps3_root_predict(d, 1e-2);
+    for (i = 0; i < 3; i++)
+      CHECK_REL(d->theta[i], want[i], TOL_EXACT, 1.0, "h %g theta%d", h, i);
+    if (n == 0) assert_true(second > 1e-7);
+  }
+  rps3_data_free(d);
+  rps3_data_free(e);
+}
+
 /* beta = 0: alpha is a free gauge; FK says so and stays finite */
 static void level_platform(void **state) {
   rps3_model m;
@@ -327,6 +486,8 @@ int main(void) {
       cmocka_unit_test(warm_start_pays),
       cmocka_unit_test(held_pose_is_its_own_root),
       cmocka_unit_test(predicted_start_is_third_order),
+      cmocka_unit_test(warm_newton_path),
+      cmocka_unit_test(predictor_positions_oracle),
       cmocka_unit_test(error_codes),
       cmocka_unit_test(level_platform),
       cmocka_unit_test(positions_of_the_root),

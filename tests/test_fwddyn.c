@@ -894,6 +894,56 @@ static void shared_dynamics_every_field(void **state) {
   rps3_data_free(od);
 }
 
+/*
+ * The forward dynamics' theta solve is rps3_theta_solve's: the same warm
+ * Newton path (in metres there, in units of R here) from the same start
+ * takes the same steps to the same root, to rounding; from a start beyond
+ * a warm one (0.3 rad off: the path gives up) both take the multiroot
+ * route from there, and find the same root or fail with the same status.
+ */
+static void theta_solve_is_the_solves(void **state) {
+  uint64_t s = 0x7e7a501dull;
+  rps3_model m;
+  rps3_data *inv, *fd, *ts;
+  int n, i, far, st, agree[2] = {0, 0};
+  (void)state;
+  model_entropy(&m);
+  assert_int_equal(rps3_model_init(&m, NULL, 0), RPS3_OK);
+  assert_int_equal(rps3_data_alloc(&m, &inv), RPS3_OK);
+  assert_int_equal(rps3_data_alloc(&m, &fd), RPS3_OK);
+  assert_int_equal(rps3_data_alloc(&m, &ts), RPS3_OK);
+  for (far = 0; far < 2; far++)
+    for (n = 0; n < 40; n++) {
+      double start[3];
+      random_state(&m, inv, &s);
+      if (!(inv->cond < 1e3)) continue;
+      for (i = 0; i < 3; i++)
+        start[i] = inv->theta[i] + (far ? (i == 1 ? -0.3 : 0.3)
+                                        : rnd_uniform(&s, -1e-3, 1e-3));
+      load_state(fd, inv);
+      load_state(ts, inv);
+      memcpy(fd->theta, start, sizeof start);
+      memcpy(ts->theta, start, sizeof start);
+      st = rps3_fwddyn(&m, fd);
+      assert_int_equal(rps3_theta_solve(&m, ts), st);
+      if (st != RPS3_OK) {
+        assert_true(far); /* the multiroot route's failure, from both */
+        continue;
+      }
+      agree[far]++;
+      if (!far) assert_int_equal(fd->solve_niter, ts->solve_niter);
+      for (i = 0; i < 3; i++)
+        CHECK_REL(fd->theta[i], ts->theta[i], TOL_EXACT, 1.0,
+                  "%s start %d: theta%d", far ? "far" : "warm", n, i);
+    }
+  print_message("same root from %d warm and %d far starts\n", agree[0],
+                agree[1]);
+  assert_true(agree[0] > 20 && agree[1] > 10);
+  rps3_data_free(inv);
+  rps3_data_free(fd);
+  rps3_data_free(ts);
+}
+
 int main(void) {
   const struct CMUnitTest tests[] = {
       cmocka_unit_test(inverts_inverse_dynamics),
@@ -907,6 +957,7 @@ int main(void) {
       cmocka_unit_test(warm_start_a_turn_away),
       cmocka_unit_test(predicted_trig_path),
       cmocka_unit_test(predicted_start_second_order),
+      cmocka_unit_test(theta_solve_is_the_solves),
       cmocka_unit_test(shared_state_is_own_state),
       cmocka_unit_test(scratch_mass_condition),
       cmocka_unit_test(shared_dynamics_every_field),
