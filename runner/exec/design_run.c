@@ -24,6 +24,7 @@ int design_plan_make(const scene *s, design_plan *p, scene_error *err) {
   p->npose = rps3_design_grid_size(&gr);
   p->task = s->section[2].line > 0;
   p->per_pose = s->base.des.per_pose;
+  p->files = OUT_DES | (p->task ? OUT_TASK : 0) | (p->per_pose ? OUT_POSE : 0);
   /* every design is checked before anything is written */
   for (i = 0; i < s->ncase; i++) {
     if (design_case_build(s, i, &c, err)) return -1;
@@ -52,18 +53,90 @@ size_t design_shard_cases(const design_plan *p, size_t k, size_t n) {
   return c;
 }
 
+/* a tile: the rows of up to `cap` designs of every field of the file, the
+   buffers of out_write_case (strings owned) */
+typedef struct {
+  size_t cap, npose;
+  void *buf[OUT_NFIELD];
+} design_tile;
+
+/* values per design of field i */
+static size_t inner(const design_tile *t, int i) {
+  return out_columns(out_field_table[i].shape, t->npose);
+}
+
+/* reset slot j: the fill values, no strings */
+static void tile_clear(design_tile *t, size_t j) {
+  int i;
+  for (i = 0; i < OUT_NFIELD; i++)
+    if (t->buf[i] && out_field_table[i].type == OUT_STR) {
+      free(((char **)t->buf[i])[j]);
+      ((char **)t->buf[i])[j] = NULL;
+    } else if (t->buf[i])
+      out_fill_n((char *)t->buf[i] +
+                     j * inner(t, i) * out_type_size(out_field_table[i].type),
+                 inner(t, i), i);
+}
+
+static void tile_free(design_tile *t) {
+  size_t j;
+  int i;
+  for (i = 0; i < OUT_NFIELD; i++)
+    if (t->buf[i] && out_field_table[i].type == OUT_STR)
+      for (j = 0; j < t->cap; j++) free(((char **)t->buf[i])[j]);
+  for (i = 0; i < OUT_NFIELD; i++) free(t->buf[i]);
+  memset(t, 0, sizeof *t);
+}
+
+/* 0, or -1 (out of memory; the tile then freed) */
+static int tile_alloc(design_tile *t, size_t cap, size_t npose, int files) {
+  size_t j;
+  int i;
+  memset(t, 0, sizeof *t);
+  t->cap = cap;
+  t->npose = npose;
+  for (i = 0; i < OUT_NFIELD; i++)
+    if ((out_field_table[i].files & files) &&
+        !(t->buf[i] = calloc(cap * inner(t, i),
+                             out_type_size(out_field_table[i].type)))) {
+      tile_free(t);
+      return -1;
+    }
+  for (j = 0; j < cap; j++) tile_clear(t, j);
+  return 0;
+}
+
 double design_file_bytes(const scene *s, const design_plan *p) {
-  design_tile t;
-  memset(&t, 0, sizeof t);
-  t.npose = p->npose;
-  t.task = p->task;
-  t.per_pose = p->per_pose;
-  /* the designs' variables, their scene_resolved (about the scene's
-     size), the swept keys, and HDF5's metadata (a bound) */
+  double row = 0;
+  int i;
+  /* the designs' variables (a message about 64 bytes), their
+     scene_resolved (about the scene's size), the swept keys, and HDF5's
+     metadata (a bound) */
+  for (i = 0; i < OUT_NFIELD; i++)
+    if (out_field_table[i].files & p->files)
+      row += (double)out_columns(out_field_table[i].shape, p->npose) *
+             (out_field_table[i].type == OUT_STR
+                  ? 64.0
+                  : (double)out_type_size(out_field_table[i].type));
   return (double)p->ncase *
-             ((double)design_bytes_per_design(&t) + (double)s->text_len +
-              8.0 * (double)(s->naxis + 1)) +
+             (row + (double)s->text_len + 8.0 * (double)(s->naxis + 1)) +
          65536.0;
+}
+
+out_file *design_file_open(const char *path, const scene *s,
+                           const design_plan *p, const out_meta *meta,
+                           char *err, size_t errsz) {
+  out_spec sp;
+  memset(&sp, 0, sizeof sp);
+  sp.files = p->files;
+  sp.row = "design";
+  sp.title =
+      "rps3: design study of the Lee & Shah 3-RPS manipulator, indices per "
+      "design over a grid of poses";
+  sp.content = "design";
+  sp.grid_common = 1;
+  sp.tile_cases = sp.case_chunk = p->unit < p->ncase ? p->unit : p->ncase;
+  return out_open(path, s, &sp, meta, err, errsz);
 }
 
 /* ------------------------------------------------------------- evaluate */
@@ -118,11 +191,11 @@ static size_t eval_design(const scene *s, const design_plan *p, size_t index,
   scene_error err;
   size_t n = p->npose, k, done = 0;
   int rc;
-  design_tile_clear(t, j);
+  tile_clear(t, j);
   if (design_case_build(s, index, &c, &err)) {
     /* checked by design_plan_make: only a changed scene gets here */
-    I32(t, DO_status)[j] = RPS3_EINVAL;
-    STR(t, DO_message)[j] = dup_text(err.what);
+    I32(t, OUT_des_status)[j] = RPS3_EINVAL;
+    STR(t, OUT_des_message)[j] = dup_text(err.what);
     return 0;
   }
   design_grid(s, &gr);
@@ -130,78 +203,78 @@ static size_t eval_design(const scene *s, const design_plan *p, size_t index,
   design_of_case(&c, &d);
   memset(&out, 0, sizeof out);
   out.flags =
-      p->per_pose ? (int *)(void *)(I32(t, DO_pose_flags) + j * n) : w->flags;
+      p->per_pose ? (int *)(void *)(I32(t, OUT_pose_flags) + j * n) : w->flags;
   out.c = w->c;
   if (p->per_pose) {
-    out.lti = F64(t, DO_lti) + j * n;
-    out.oti = F64(t, DO_oti) + j * n;
-    out.cti = F64(t, DO_cti) + j * n;
-    out.cond_h = F64(t, DO_cond_h) + j * n;
-    out.transmission = F64(t, DO_transmission) + j * n;
-    out.spin = F64(t, DO_spin) + j * n;
-    out.clearance = F64(t, DO_clearance) + j * n;
+    out.lti = F64(t, OUT_lti) + j * n;
+    out.oti = F64(t, OUT_oti) + j * n;
+    out.cti = F64(t, OUT_cti) + j * n;
+    out.cond_h = F64(t, OUT_cond_h) + j * n;
+    out.transmission = F64(t, OUT_des_transmission) + j * n;
+    out.spin = F64(t, OUT_spin) + j * n;
+    out.clearance = F64(t, OUT_clearance) + j * n;
   }
   rc = rps3_design_eval_grid(w->ws, &d, &o, &gr, &out, &sum);
   if (rc != RPS3_OK && rc != RPS3_EEMPTY) {
-    I32(t, DO_status)[j] = rc;
-    STR(t, DO_message)[j] = dup_text(w->ws->err.msg);
+    I32(t, OUT_des_status)[j] = rc;
+    STR(t, OUT_des_message)[j] = dup_text(w->ws->err.msg);
     return 0;
   }
   done += n;
   if (p->per_pose)
     for (k = 0; k < n; k++) {
-      F64(t, DO_x_c)[j * n + k] = w->c[k];
-      F64(t, DO_y_c)[j * n + k] = w->c[n + k];
+      F64(t, OUT_des_x_c)[j * n + k] = w->c[k];
+      F64(t, OUT_des_y_c)[j * n + k] = w->c[n + k];
     }
-  I64(t, DO_nreach)[j] = (int64_t)sum.nreach;
-  F64(t, DO_reach_fraction)[j] = sum.reach_fraction;
-  F64(t, DO_volume)[j] = sum.volume;
-  F64(t, DO_gti)[j] = sum.gti;
-  F64(t, DO_good_fraction)[j] = sum.good_fraction;
-  F64(t, DO_lti_min)[j] = sum.lti_min;
-  F64(t, DO_cond_h_max)[j] = sum.cond_h_max;
-  F64(t, DO_trans_max)[j] = sum.trans_max;
-  F64(t, DO_xc_max)[j] = sum.xc_max;
-  F64(t, DO_yc_max)[j] = sum.yc_max;
-  F64(t, DO_spin_max)[j] = sum.spin_max;
-  F64(t, DO_l_lo)[j] = sum.l_lo;
-  F64(t, DO_l_hi)[j] = sum.l_hi;
-  I32(t, DO_flags_any)[j] = sum.flags_any;
+  I64(t, OUT_nreach)[j] = (int64_t)sum.nreach;
+  F64(t, OUT_reach_fraction)[j] = sum.reach_fraction;
+  F64(t, OUT_volume)[j] = sum.volume;
+  F64(t, OUT_gti)[j] = sum.gti;
+  F64(t, OUT_good_fraction)[j] = sum.good_fraction;
+  F64(t, OUT_lti_min)[j] = sum.lti_min;
+  F64(t, OUT_cond_h_max)[j] = sum.cond_h_max;
+  F64(t, OUT_trans_max)[j] = sum.trans_max;
+  F64(t, OUT_xc_max)[j] = sum.xc_max;
+  F64(t, OUT_yc_max)[j] = sum.yc_max;
+  F64(t, OUT_spin_max)[j] = sum.spin_max;
+  F64(t, OUT_l_lo)[j] = sum.l_lo;
+  F64(t, OUT_l_hi)[j] = sum.l_hi;
+  I32(t, OUT_flags_any)[j] = sum.flags_any;
   for (k = 0; k < RPS3_DESIGN_NFLAG; k++)
-    I64(t, DO_nflag)[j * RPS3_DESIGN_NFLAG + k] = (int64_t)sum.nflag[k];
-  F64(t, DO_link_mass)[j] = w->ws->model.m;
-  F64(t, DO_link_d)[j] = w->ws->model.d;
-  F64(t, DO_link_Ic)[j] = w->ws->model.link_Ic;
-  I32(t, DO_status)[j] = 0;
+    I64(t, OUT_nflag)[j * RPS3_DESIGN_NFLAG + k] = (int64_t)sum.nflag[k];
+  F64(t, OUT_link_mass)[j] = w->ws->model.m;
+  F64(t, OUT_link_d)[j] = w->ws->model.d;
+  F64(t, OUT_link_Ic)[j] = w->ws->model.link_Ic;
+  I32(t, OUT_des_status)[j] = 0;
   if (p->task) {
     rps3_design_task res;
     rc = rps3_design_task_eval(w->ws, &d, &o, &c.traj, c.nt,
                                RPS3_DESIGN_LINK_MASS, &res);
     if (rc != RPS3_OK && rc != RPS3_EREACH) {
       /* a task this design cannot even be asked: the design failed */
-      I32(t, DO_status)[j] = rc;
-      STR(t, DO_message)[j] = dup_text(w->ws->err.msg);
+      I32(t, OUT_des_status)[j] = rc;
+      STR(t, OUT_des_message)[j] = dup_text(w->ws->err.msg);
     } else {
       done += res.nsamples;
-      I32(t, DO_task_status)[j] = rc;
-      if (rc != RPS3_OK) STR(t, DO_task_message)[j] = dup_text(w->ws->err.msg);
-      F64(t, DO_task_fail_time)[j] = res.fail_time;
-      I32(t, DO_task_fail_flags)[j] = rc != RPS3_OK ? res.fail_flags : 0;
+      I32(t, OUT_task_status)[j] = rc;
+      if (rc != RPS3_OK) STR(t, OUT_task_message)[j] = dup_text(w->ws->err.msg);
+      F64(t, OUT_task_fail_time)[j] = res.fail_time;
+      I32(t, OUT_task_fail_flags)[j] = rc != RPS3_OK ? res.fail_flags : 0;
       /* statistics of no sample (the task leaves the workspace at its
          start) are not numbers: NaN, as the fill */
-      if (res.nsamples > 0) F64(t, DO_task_lti_min)[j] = res.lti_min;
+      if (res.nsamples > 0) F64(t, OUT_task_lti_min)[j] = res.lti_min;
       for (k = 0; k < 3 && res.nsamples > 0; k++) {
-        F64(t, DO_task_F_peak)[3 * j + k] = res.F_peak[k];
-        F64(t, DO_task_F_rms)[3 * j + k] = res.F_rms[k];
-        F64(t, DO_task_P_peak)[3 * j + k] = res.P_peak[k];
-        F64(t, DO_task_v_peak)[3 * j + k] = res.v_peak[k];
-        F64(t, DO_task_l_lo)[3 * j + k] = res.l_lo[k];
-        F64(t, DO_task_l_hi)[3 * j + k] = res.l_hi[k];
+        F64(t, OUT_task_F_peak)[3 * j + k] = res.F_peak[k];
+        F64(t, OUT_task_F_rms)[3 * j + k] = res.F_rms[k];
+        F64(t, OUT_task_P_peak)[3 * j + k] = res.P_peak[k];
+        F64(t, OUT_task_v_peak)[3 * j + k] = res.v_peak[k];
+        F64(t, OUT_task_l_lo)[3 * j + k] = res.l_lo[k];
+        F64(t, OUT_task_l_hi)[3 * j + k] = res.l_hi[k];
       }
     }
   }
   if (scene_case_yaml(&c, &w->yaml) == 0)
-    STR(t, DO_scene_resolved)[j] = dup_text(w->yaml.s);
+    STR(t, OUT_des_scene_resolved)[j] = dup_text(w->yaml.s);
   return done;
 }
 
@@ -210,7 +283,7 @@ static size_t eval_design(const scene *s, const design_plan *p, size_t index,
 typedef struct {
   const scene *s;
   const design_plan *p;
-  design_file *f;
+  out_file *f;
   progress *pr;
   design_stats *st;
 } design_job;
@@ -261,15 +334,17 @@ static int design_write(void *ctx, void *slot, const void *info, char *err,
   const unit_info *in = info;
   design_stats *st = J->st;
   size_t j;
-  if (design_out_write(J->f, t, in->c0, in->nc, err, errsz)) return -1;
+  if (out_write_case(J->f, (const void *const *)t->buf, in->c0, in->nc, err,
+                     errsz))
+    return -1;
   for (j = 0; j < in->nc; j++) {
-    int32_t status = ((int32_t *)t->buf[DO_status])[j];
+    int32_t status = ((int32_t *)t->buf[OUT_des_status])[j];
     if (status != 0) {
       if (st->nfailed == 0)
         progress_failure(J->pr, in->c0 + j, "",
-                         ((char **)t->buf[DO_message])[j]);
+                         ((char **)t->buf[OUT_des_message])[j]);
       st->nfailed++;
-    } else if (((int64_t *)t->buf[DO_nreach])[j] == 0)
+    } else if (((int64_t *)t->buf[OUT_nreach])[j] == 0)
       st->nempty++;
   }
   st->cases_done += in->nc;
@@ -278,9 +353,9 @@ static int design_write(void *ctx, void *slot, const void *info, char *err,
   return 0;
 }
 
-int design_run(const scene *s, const design_plan *p, design_file *f,
-               size_t shard, size_t nshard, int nthread, progress *pr,
-               design_stats *st, char *err, size_t errsz) {
+int design_run(const scene *s, const design_plan *p, out_file *f, size_t shard,
+               size_t nshard, int nthread, progress *pr, design_stats *st,
+               char *err, size_t errsz) {
   design_job J;
   pool_job job;
   design_tile *tiles;
@@ -309,12 +384,11 @@ int design_run(const scene *s, const design_plan *p, design_file *f,
   snprintf(err, errsz, "out of memory for the tiles of %d thread%s", nthread,
            nthread == 1 ? "" : "s");
   for (i = 0; tiles && job.slot && i < nslot; i++) {
-    if (design_tile_alloc(&tiles[i], p->unit, p->npose, p->task, p->per_pose))
-      break;
+    if (tile_alloc(&tiles[i], p->unit, p->npose, p->files)) break;
     job.slot[i] = &tiles[i];
   }
   if (tiles && job.slot && i == nslot) rc = pool_run(&job, nthread, err, errsz);
-  for (i = 0; tiles && i < nslot; i++) design_tile_free(&tiles[i]);
+  for (i = 0; tiles && i < nslot; i++) tile_free(&tiles[i]);
   free(tiles);
   free(job.slot);
   return rc;
@@ -382,7 +456,7 @@ double design_cost_measure(const scene *s, const design_plan *p) {
   /* a large grid is timed on a coarser one: the estimate's own cost is
      bounded whatever the grid */
   if (worker_alloc(&w, coarse ? DESIGN_TIMED_POSES : p->npose)) return -1;
-  if (design_tile_alloc(&t, 1, coarse ? 1 : p->npose, p->task, p->per_pose)) {
+  if (tile_alloc(&t, 1, coarse ? 1 : p->npose, p->files)) {
     worker_free(&w);
     return -1;
   }
@@ -400,7 +474,7 @@ double design_cost_measure(const scene *s, const design_plan *p) {
     used += cpu_now() - t0;
     timed++;
   }
-  design_tile_free(&t);
+  tile_free(&t);
   worker_free(&w);
   return timed ? spent / (double)timed : -1;
 }

@@ -1,10 +1,11 @@
 /*
  * design_run.h - running a design study (scene/design.h) into its file
- * (output/design_output.h): every design built and checked before
- * anything is written, then evaluated by the library (rps3_design_eval_grid
- * over the section's grid, rps3_design_task_eval along the trajectory when
- * the scene has one) in work units of whole designs, on -j threads (the
- * runner's worker pool, pool.h), for one shard or all.
+ * (the OUT_DESIGN rows of output/outblock.h, one row per design, the swept
+ * keys its coordinates, as a sweep's file): every design built and checked
+ * before anything is written, then evaluated by the library
+ * (rps3_design_eval_grid over the section's grid, rps3_design_task_eval along
+ * the trajectory when the scene has one) in work units of whole designs, on -j
+ * threads (the runner's worker pool, pool.h), for one shard or all.
  *
  * A work unit is one chunk row of every dataset: up to about
  * DESIGN_UNIT_POSES poses of evaluation, the units sharing the designs
@@ -18,7 +19,7 @@
 #include <stddef.h>
 
 #include "core/progress.h"
-#include "output/design_output.h"
+#include "output/output.h"
 #include "scene/design.h"
 
 /* poses of evaluation per work unit (a unit is at least one design) */
@@ -31,6 +32,7 @@ typedef struct {
   size_t nunit;   /* work units */
   int task;       /* the scene has a trajectory: the task is evaluated */
   int per_pose;   /* the per-pose indices are written */
+  int files;      /* the OUT_DESIGN bits of the file's fields */
   size_t nsample; /* samples of the task (its time grid) */
 } design_plan;
 
@@ -76,6 +78,12 @@ int design_preflight(const char *scene_path, const scene *s,
                      int nrank, int nthread, int gzip, int check, int quiet,
                      const char *out_path);
 
+/* Create the file at `path` for the designs of s (out_open, chunks of a
+   work unit); NULL with a message in err.  Closed with out_close. */
+out_file *design_file_open(const char *path, const scene *s,
+                           const design_plan *p, const out_meta *meta,
+                           char *err, size_t errsz);
+
 /*
  * Evaluate the designs of shard `shard` of `nshard` into f on nthread
  * threads (the calling thread writes), progress on pr, counts in st.
@@ -83,8 +91,8 @@ int design_preflight(const char *scene_path, const scene *s,
  * failure of the run.  Returns 0, or -1 with err set (the file could not
  * be written, out of memory).
  */
-int design_run(const scene *s, const design_plan *p, design_file *f,
-               size_t shard, size_t nshard, int nthread, progress *pr,
-               design_stats *st, char *err, size_t errsz);
+int design_run(const scene *s, const design_plan *p, out_file *f, size_t shard,
+               size_t nshard, int nthread, progress *pr, design_stats *st,
+               char *err, size_t errsz);
 
 #endif /* RPS3_RUNNER_DESIGN_RUN_H */

@@ -44,6 +44,7 @@ static const struct {
 
 #define NSTATUS (sizeof status_flags / sizeof status_flags[0])
 #define NWARN (sizeof warn_flags / sizeof warn_flags[0])
+#define NFLAG (NSTATUS > NWARN ? NSTATUS : NWARN)
 
 /* a 1-D int32 attribute */
 static int attr_i32(hid_t obj, const char *name, const int32_t *v, size_t n) {
@@ -110,37 +111,37 @@ int out_cf_long_name(hid_t ds, hid_t str, const char *long_name) {
   return out_h5_attr(ds, str, "long_name", long_name);
 }
 
-/* the words of a flag table, space-separated, into buf */
-static void flag_words(char *buf, size_t sz, int status) {
-  size_t i, n = 0, count = status ? NSTATUS : NWARN;
-  buf[0] = '\0';
-  for (i = 0; i < count && n < sz; i++)
-    n += (size_t)snprintf(
-        buf + n, sz - n, "%s%s", i ? " " : "",
-        status ? status_flags[i].meaning : warn_flags[i].meaning);
-}
-
-/* flag_values (status) or flag_masks (warn), and flag_meanings */
-static int flags(hid_t ds, hid_t str, int status) {
-  int32_t v[NSTATUS > NWARN ? NSTATUS : NWARN];
+/* flag_values (a status) or flag_masks (the warning bits, the
+   reachability flags), and flag_meanings */
+static int flags(hid_t ds, hid_t str, out_flags kind) {
+  int32_t v[NFLAG > RPS3_DESIGN_NFLAG ? NFLAG : RPS3_DESIGN_NFLAG];
   char words[512];
-  size_t k, n = status ? NSTATUS : NWARN;
-  for (k = 0; k < n; k++)
-    v[k] = status ? status_flags[k].value : warn_flags[k].mask;
-  flag_words(words, sizeof words, status);
-  return attr_i32(ds, status ? "flag_values" : "flag_masks", v, n) < 0 ||
+  size_t k, len = 0,
+            n = kind == OUT_FLAGS_STATUS ? NSTATUS
+                : kind == OUT_FLAGS_WARN ? NWARN
+                                         : RPS3_DESIGN_NFLAG;
+  words[0] = '\0';
+  for (k = 0; k < n && len < sizeof words; k++) {
+    const char *w = kind == OUT_FLAGS_STATUS ? status_flags[k].meaning
+                    : kind == OUT_FLAGS_WARN ? warn_flags[k].meaning
+                                             : rps3_design_flag_name((int)k);
+    v[k] = kind == OUT_FLAGS_STATUS ? status_flags[k].value
+           : kind == OUT_FLAGS_WARN ? warn_flags[k].mask
+                                    : (int32_t)1 << k;
+    len += (size_t)snprintf(words + len, sizeof words - len, "%s%s",
+                            k ? " " : "", w);
+  }
+  return attr_i32(ds, kind == OUT_FLAGS_STATUS ? "flag_values" : "flag_masks",
+                  v, n) < 0 ||
                  out_h5_attr(ds, str, "flag_meanings", words) < 0
              ? -1
              : 0;
 }
 
-int out_cf_status(hid_t ds, hid_t str) { return flags(ds, str, 1); }
-
 int out_cf_field(hid_t ds, hid_t str, int i) {
   if (out_cf_long_name(ds, str, out_field_table[i].long_name) < 0) return -1;
   if (out_field_table[i].flags == OUT_FLAGS_NONE) return 0;
-  /* status: its values; warn: its bits */
-  return flags(ds, str, out_field_table[i].flags == OUT_FLAGS_STATUS);
+  return flags(ds, str, out_field_table[i].flags);
 }
 
 int out_cf_time(hid_t ds, hid_t str) {
@@ -268,10 +269,9 @@ int out_cf_swept_keys(hid_t file, hid_t str, const scene *s, hid_t dcase,
     snprintf(doc, sizeof doc, "swept scene key %s: %s (paper: %s)",
              s->axis[a].path, ki->doc, ki->symbol);
     /* the variable has the key's CF name, the key in scene_key */
-    ds = out_h5_dataset(file, str,
-                        out_cf_key_name(s->axis[a].path, name, sizeof name),
-                        type, 1, &nc, NULL, 0, NULL,
-                        out_cf_axis_units(s, a, units, sizeof units), doc);
+    ds = out_h5_dataset(
+        file, str, out_cf_key_name(s->axis[a].path, name, sizeof name), type, 1,
+        &nc, NULL, 0, NULL, out_cf_axis_units(s, a, units, sizeof units), doc);
     fail = ds < 0 || out_cf_swept_key(ds, str, s->axis[a].path) < 0 ||
            H5DSattach_scale(ds, dcase, 0) < 0 || out_h5_axis(ds, str, s, a) < 0;
     if (ds >= 0) H5Dclose(ds);

@@ -29,13 +29,9 @@ int out_cf_root(hid_t file, hid_t str, const char *now,
 
 /* long_name of schema field i, and its flags (the flags column of the
    schema: flag_values and flag_meanings of a status, every rps3_status
-   and OUT_STATUS_NOT_COMPUTED; flag_masks of the warning bits); 0 or -1 */
+   and OUT_STATUS_NOT_COMPUTED; flag_masks of the warning bits or of the
+   reachability flags); 0 or -1 */
 int out_cf_field(hid_t ds, hid_t str, int i);
-
-/* flag_values and flag_meanings of a status variable outside the schema
-   (a design study's file): every rps3_status and OUT_STATUS_NOT_COMPUTED;
-   0 or -1 */
-int out_cf_status(hid_t ds, hid_t str);
 
 /* long_name of a coordinate or other variable; 0 or -1 */
 int out_cf_long_name(hid_t ds, hid_t str, const char *long_name);

@@ -46,9 +46,9 @@ int out_h5_attr(hid_t obj, hid_t str, const char *name, const char *value) {
 int out_h5_attrs(hid_t obj, hid_t str, const char *const (*kv)[2], size_t n) {
   size_t i;
   for (i = 0; i < n; i++)
-    if (kv[i][1] && ((H5Aexists(obj, kv[i][0]) > 0 &&
-                      H5Adelete(obj, kv[i][0]) < 0) ||
-                     out_h5_attr(obj, str, kv[i][0], kv[i][1]) < 0))
+    if (kv[i][1] &&
+        ((H5Aexists(obj, kv[i][0]) > 0 && H5Adelete(obj, kv[i][0]) < 0) ||
+         out_h5_attr(obj, str, kv[i][0], kv[i][1]) < 0))
       return -1;
   return 0;
 }

@@ -193,7 +193,7 @@ int out_pack(const out_layout *L, out_block *b, size_t c0, size_t nc, size_t k0,
   b->npk = 0;
   b->pk_len = 0;
   for (i = 0; i < OUT_NFIELD; i++)
-    if (out_field_table[i].shape != OUT_C && (L->fields >> i & 1) &&
+    if (out_field_table[i].shape != OUT_C && OUT_HAS(L->fields, i) &&
         pack_field(L, b, i, c0, nc, k0, nk))
       return -1;
   if (L->case_time && pack_field(L, b, OUT_NFIELD, c0, nc, k0, nk)) return -1;
