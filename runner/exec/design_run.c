@@ -106,7 +106,8 @@ static int tile_alloc(design_tile *t, size_t cap, size_t npose, int files) {
   return 0;
 }
 
-double design_file_bytes(const scene *s, const design_plan *p) {
+/* bytes of the file (uncompressed: an upper bound with --gzip) */
+static double design_file_bytes(const scene *s, const design_plan *p) {
   double row = 0;
   int i;
   /* the designs' variables (a message about 64 bytes), their
@@ -168,16 +169,76 @@ static int worker_alloc(worker_ws *w, size_t npose) {
   return 0;
 }
 
-static char *dup_text(const char *s) {
-  char *d = malloc(strlen(s) + 1);
-  if (d) strcpy(d, s);
-  return d;
-}
-
 #define F64(t, i) ((double *)(t)->buf[i])
 #define I32(t, i) ((int32_t *)(t)->buf[i])
 #define I64(t, i) ((int64_t *)(t)->buf[i])
 #define STR(t, i) ((char **)(t)->buf[i])
+
+/* the summaries of rps3_design_summary that are variables of their name,
+   the task's per-link statistics of rps3_design_task (task_NAME), and the
+   per-pose arrays of rps3_design_out (the variable's id) */
+#define SUM_FIELDS(X)                                                     \
+  X(reach_fraction)                                                       \
+  X(volume) X(gti) X(good_fraction) X(lti_min) X(cond_h_max) X(trans_max) \
+      X(xc_max) X(yc_max) X(spin_max) X(l_lo) X(l_hi)
+#define TASK_LINK_FIELDS(X) \
+  X(F_peak) X(F_rms) X(P_peak) X(v_peak) X(l_lo) X(l_hi)
+#define POSE_FIELDS(X)                                                        \
+  X(lti, lti)                                                                 \
+  X(oti, oti) X(cti, cti) X(cond_h, cond_h) X(transmission, des_transmission) \
+      X(spin, spin) X(clearance, clearance)
+
+/* design slot j failed with status rc: why */
+static void design_failed(design_tile *t, size_t j, int rc, const char *why) {
+  I32(t, OUT_des_status)[j] = rc;
+  STR(t, OUT_des_message)[j] = strdup(why);
+}
+
+/* the summary of a design's grid and its model into slot j */
+static void store_summary(design_tile *t, size_t j,
+                          const rps3_design_summary *sum,
+                          const rps3_model *model) {
+  size_t k;
+#define STORE(m) F64(t, OUT_##m)[j] = sum->m;
+  SUM_FIELDS(STORE)
+#undef STORE
+  I64(t, OUT_nreach)[j] = (int64_t)sum->nreach;
+  I32(t, OUT_flags_any)[j] = sum->flags_any;
+  for (k = 0; k < RPS3_DESIGN_NFLAG; k++)
+    I64(t, OUT_nflag)[j * RPS3_DESIGN_NFLAG + k] = (int64_t)sum->nflag[k];
+  F64(t, OUT_link_mass)[j] = model->m;
+  F64(t, OUT_link_d)[j] = model->d;
+  F64(t, OUT_link_Ic)[j] = model->link_Ic;
+  I32(t, OUT_des_status)[j] = 0;
+}
+
+/* the task of design d of case c into slot j; the samples evaluated */
+static size_t eval_task(worker_ws *w, const rps3_design *d,
+                        const rps3_design_opts *o, const scene_case *c,
+                        design_tile *t, size_t j) {
+  rps3_design_task res;
+  size_t k;
+  int rc = rps3_design_task_eval(w->ws, d, o, &c->traj, c->nt,
+                                 RPS3_DESIGN_LINK_MASS, &res);
+  if (rc != RPS3_OK && rc != RPS3_EREACH) {
+    /* a task this design cannot even be asked: the design failed */
+    design_failed(t, j, rc, w->ws->err.msg);
+    return 0;
+  }
+  I32(t, OUT_task_status)[j] = rc;
+  if (rc != RPS3_OK) STR(t, OUT_task_message)[j] = strdup(w->ws->err.msg);
+  F64(t, OUT_task_fail_time)[j] = res.fail_time;
+  I32(t, OUT_task_fail_flags)[j] = rc != RPS3_OK ? res.fail_flags : 0;
+  /* statistics of no sample (the task leaves the workspace at its start)
+     are not numbers: NaN, as the fill */
+  if (res.nsamples > 0) F64(t, OUT_task_lti_min)[j] = res.lti_min;
+  for (k = 0; k < 3 && res.nsamples > 0; k++) {
+#define STORE(m) F64(t, OUT_task_##m)[3 * j + k] = res.m[k];
+    TASK_LINK_FIELDS(STORE)
+#undef STORE
+  }
+  return res.nsamples;
+}
 
 /* design `index` into slot j of t; the poses and samples it evaluated */
 static size_t eval_design(const scene *s, const design_plan *p, size_t index,
@@ -189,13 +250,12 @@ static size_t eval_design(const scene *s, const design_plan *p, size_t index,
   rps3_design d;
   scene_case c;
   scene_error err;
-  size_t n = p->npose, k, done = 0;
+  size_t n = p->npose, k, done = n;
   int rc;
   tile_clear(t, j);
   if (design_case_build(s, index, &c, &err)) {
     /* checked by design_plan_make: only a changed scene gets here */
-    I32(t, OUT_des_status)[j] = RPS3_EINVAL;
-    STR(t, OUT_des_message)[j] = dup_text(err.what);
+    design_failed(t, j, RPS3_EINVAL, err.what);
     return 0;
   }
   design_grid(s, &gr);
@@ -205,76 +265,22 @@ static size_t eval_design(const scene *s, const design_plan *p, size_t index,
   out.flags =
       p->per_pose ? (int *)(void *)(I32(t, OUT_pose_flags) + j * n) : w->flags;
   out.c = w->c;
-  if (p->per_pose) {
-    out.lti = F64(t, OUT_lti) + j * n;
-    out.oti = F64(t, OUT_oti) + j * n;
-    out.cti = F64(t, OUT_cti) + j * n;
-    out.cond_h = F64(t, OUT_cond_h) + j * n;
-    out.transmission = F64(t, OUT_des_transmission) + j * n;
-    out.spin = F64(t, OUT_spin) + j * n;
-    out.clearance = F64(t, OUT_clearance) + j * n;
-  }
+#define POSE(m, id) out.m = p->per_pose ? F64(t, OUT_##id) + j * n : NULL;
+  POSE_FIELDS(POSE)
+#undef POSE
   rc = rps3_design_eval_grid(w->ws, &d, &o, &gr, &out, &sum);
   if (rc != RPS3_OK && rc != RPS3_EEMPTY) {
-    I32(t, OUT_des_status)[j] = rc;
-    STR(t, OUT_des_message)[j] = dup_text(w->ws->err.msg);
+    design_failed(t, j, rc, w->ws->err.msg);
     return 0;
   }
-  done += n;
-  if (p->per_pose)
-    for (k = 0; k < n; k++) {
-      F64(t, OUT_des_x_c)[j * n + k] = w->c[k];
-      F64(t, OUT_des_y_c)[j * n + k] = w->c[n + k];
-    }
-  I64(t, OUT_nreach)[j] = (int64_t)sum.nreach;
-  F64(t, OUT_reach_fraction)[j] = sum.reach_fraction;
-  F64(t, OUT_volume)[j] = sum.volume;
-  F64(t, OUT_gti)[j] = sum.gti;
-  F64(t, OUT_good_fraction)[j] = sum.good_fraction;
-  F64(t, OUT_lti_min)[j] = sum.lti_min;
-  F64(t, OUT_cond_h_max)[j] = sum.cond_h_max;
-  F64(t, OUT_trans_max)[j] = sum.trans_max;
-  F64(t, OUT_xc_max)[j] = sum.xc_max;
-  F64(t, OUT_yc_max)[j] = sum.yc_max;
-  F64(t, OUT_spin_max)[j] = sum.spin_max;
-  F64(t, OUT_l_lo)[j] = sum.l_lo;
-  F64(t, OUT_l_hi)[j] = sum.l_hi;
-  I32(t, OUT_flags_any)[j] = sum.flags_any;
-  for (k = 0; k < RPS3_DESIGN_NFLAG; k++)
-    I64(t, OUT_nflag)[j * RPS3_DESIGN_NFLAG + k] = (int64_t)sum.nflag[k];
-  F64(t, OUT_link_mass)[j] = w->ws->model.m;
-  F64(t, OUT_link_d)[j] = w->ws->model.d;
-  F64(t, OUT_link_Ic)[j] = w->ws->model.link_Ic;
-  I32(t, OUT_des_status)[j] = 0;
-  if (p->task) {
-    rps3_design_task res;
-    rc = rps3_design_task_eval(w->ws, &d, &o, &c.traj, c.nt,
-                               RPS3_DESIGN_LINK_MASS, &res);
-    if (rc != RPS3_OK && rc != RPS3_EREACH) {
-      /* a task this design cannot even be asked: the design failed */
-      I32(t, OUT_des_status)[j] = rc;
-      STR(t, OUT_des_message)[j] = dup_text(w->ws->err.msg);
-    } else {
-      done += res.nsamples;
-      I32(t, OUT_task_status)[j] = rc;
-      if (rc != RPS3_OK) STR(t, OUT_task_message)[j] = dup_text(w->ws->err.msg);
-      F64(t, OUT_task_fail_time)[j] = res.fail_time;
-      I32(t, OUT_task_fail_flags)[j] = rc != RPS3_OK ? res.fail_flags : 0;
-      /* statistics of no sample (the task leaves the workspace at its
-         start) are not numbers: NaN, as the fill */
-      if (res.nsamples > 0) F64(t, OUT_task_lti_min)[j] = res.lti_min;
-      for (k = 0; k < 3 && res.nsamples > 0; k++) {
-        F64(t, OUT_task_F_peak)[3 * j + k] = res.F_peak[k];
-        F64(t, OUT_task_F_rms)[3 * j + k] = res.F_rms[k];
-        F64(t, OUT_task_P_peak)[3 * j + k] = res.P_peak[k];
-        F64(t, OUT_task_v_peak)[3 * j + k] = res.v_peak[k];
-        F64(t, OUT_task_l_lo)[3 * j + k] = res.l_lo[k];
-        F64(t, OUT_task_l_hi)[3 * j + k] = res.l_hi[k];
-      }
-    }
+  for (k = 0; p->per_pose && k < n; k++) {
+    F64(t, OUT_des_x_c)[j * n + k] = w->c[k];
+    F64(t, OUT_des_y_c)[j * n + k] = w->c[n + k];
   }
+  store_summary(t, j, &sum, &w->ws->model);
+  if (p->task) done += eval_task(w, &d, &o, &c, t, j);
   if (scene_case_yaml(&c, &w->yaml) == 0)
-    STR(t, OUT_des_scene_resolved)[j] = dup_text(w->yaml.s);
+    STR(t, OUT_des_scene_resolved)[j] = strdup(w->yaml.s);
   return done;
 }
 
@@ -447,7 +453,10 @@ static double time_coarse(const scene *s, const design_plan *p, size_t index,
   return spent;
 }
 
-double design_cost_measure(const scene *s, const design_plan *p) {
+/* CPU seconds of one design, timed on up to 8 designs spread over the
+   study (at most about 0.2 s of evaluation), or -1 when none could be
+   timed */
+static double design_cost_measure(const scene *s, const design_plan *p) {
   worker_ws w;
   design_tile t;
   size_t i, timed = 0, step;

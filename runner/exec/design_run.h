@@ -56,16 +56,6 @@ size_t design_shard_cases(const design_plan *p, size_t k, size_t n);
 /* work units of shard k of n */
 size_t design_shard_units(const design_plan *p, size_t k, size_t n);
 
-/* bytes of the file (uncompressed: an upper bound with --gzip) */
-double design_file_bytes(const scene *s, const design_plan *p);
-
-/*
- * CPU seconds of one design, timed on up to 8 designs spread over the
- * study (at most about 0.2 s of evaluation), or -1 when none could be
- * timed.
- */
-double design_cost_measure(const scene *s, const design_plan *p);
-
 /*
  * What --check prints (stdout) and a run prints first (stderr, unless
  * quiet): designs, poses, size, estimated time, work units.  For a run,

@@ -153,7 +153,11 @@ int out_cf_time(hid_t ds, hid_t str) {
   return out_h5_attrs(ds, str, kv, 3);
 }
 
-const char *out_cf_key_name(const char *key, char *buf, size_t sz) {
+/* the variable name of a swept scene key: CF names are made of letters,
+   digits and underscores (CF-1.10 section 2.3), so "." is written "__"
+   and "[k]" "_k" ("trajectory.amp[2]" -> "trajectory__amp_2"; the same
+   mapping in python/rps3/h5io.py, key_name); into buf */
+static const char *key_name(const char *key, char *buf, size_t sz) {
   size_t n = 0;
   const char *c;
   for (c = key; *c && n + 2 < sz; c++) {
@@ -169,7 +173,8 @@ const char *out_cf_key_name(const char *key, char *buf, size_t sz) {
   return buf;
 }
 
-int out_cf_swept_key(hid_t ds, hid_t str, const char *key) {
+/* long_name "swept scene key KEY" and scene_key = KEY */
+static int swept_key_attrs(hid_t ds, hid_t str, const char *key) {
   char long_name[160];
   const char *const kv[][2] = {{"long_name", long_name}, {"scene_key", key}};
   snprintf(long_name, sizeof long_name, "swept scene key %s", key);
@@ -202,7 +207,10 @@ static const char *gain_units(const scene *s, char *buf) {
   return buf;
 }
 
-const char *out_cf_axis_units(const scene *s, size_t a, char *buf, size_t sz) {
+/* the UDUNITS-2 units of sweep axis a of s into buf: the component's unit
+   of a list key ("rad, rad, m"[2] -> "m"), "1" for dimensionless keys,
+   enums and bools */
+static const char *axis_units(const scene *s, size_t a, char *buf, size_t sz) {
   const scene_axis *ax = &s->axis[a];
   const scene_key_info *ki = scene_key_get(ax->key);
   const char *u = ki->f->unit;
@@ -224,14 +232,14 @@ char *out_h5_coordinates(const scene *s, int with_case_time) {
   size_t a, len = 1;
   char *c, name[160];
   for (a = 0; a < s->naxis; a++)
-    len += strlen(out_cf_key_name(s->axis[a].path, name, sizeof name)) + 1;
+    len += strlen(key_name(s->axis[a].path, name, sizeof name)) + 1;
   len += with_case_time ? strlen(" case_time") : 0;
   c = malloc(len);
   if (!c) return NULL;
   c[0] = '\0';
   for (a = 0; a < s->naxis; a++) {
     if (a) strcat(c, " ");
-    strcat(c, out_cf_key_name(s->axis[a].path, name, sizeof name));
+    strcat(c, key_name(s->axis[a].path, name, sizeof name));
   }
   if (with_case_time) strcat(c, s->naxis ? " case_time" : "case_time");
   return c;
@@ -253,6 +261,32 @@ int out_stamp(hid_t file, const char *command_line) {
   return rc;
 }
 
+/* the swept values of axis a, case by case, in runs of OUT_AXIS_RUN
+   cases, into its variable of type `type` */
+static int swept_values(hid_t ds, hid_t type, const scene *s, size_t a) {
+  const scene_axis *ax = &s->axis[a];
+  const scene_key_info *ki = scene_key_get(ax->key);
+  size_t c0, i, n;
+  int rc = 0;
+  void *buf = malloc(OUT_AXIS_RUN * sizeof(double));
+  if (!buf) return -1;
+  for (c0 = 0; c0 < s->ncase && rc == 0; c0 += n) {
+    n = s->ncase - c0 < OUT_AXIS_RUN ? s->ncase - c0 : OUT_AXIS_RUN;
+    for (i = 0; i < n; i++) {
+      double x = ax->val[scene_case_coord(s, c0 + i, a)];
+      if (ki->type == KEY_REAL || ki->type == KEY_REAL3)
+        ((double *)buf)[i] = x;
+      else if (ki->type == KEY_ENUM)
+        ((const char **)buf)[i] = scene_enum_name(ax->key, (int)x);
+      else
+        ((int32_t *)buf)[i] = (int32_t)x;
+    }
+    rc = out_h5_tile(ds, H5P_DEFAULT, type, 0, n, 1, buf, c0, n, 0, 1);
+  }
+  free(buf);
+  return rc;
+}
+
 int out_cf_swept_keys(hid_t file, hid_t str, const scene *s, hid_t dcase,
                       size_t *bad) {
   size_t a;
@@ -269,11 +303,12 @@ int out_cf_swept_keys(hid_t file, hid_t str, const scene *s, hid_t dcase,
     snprintf(doc, sizeof doc, "swept scene key %s: %s (paper: %s)",
              s->axis[a].path, ki->doc, ki->symbol);
     /* the variable has the key's CF name, the key in scene_key */
-    ds = out_h5_dataset(
-        file, str, out_cf_key_name(s->axis[a].path, name, sizeof name), type, 1,
-        &nc, NULL, 0, NULL, out_cf_axis_units(s, a, units, sizeof units), doc);
-    fail = ds < 0 || out_cf_swept_key(ds, str, s->axis[a].path) < 0 ||
-           H5DSattach_scale(ds, dcase, 0) < 0 || out_h5_axis(ds, str, s, a) < 0;
+    ds = out_h5_dataset(file, str, key_name(s->axis[a].path, name, sizeof name),
+                        type, 1, &nc, NULL, 0, NULL,
+                        axis_units(s, a, units, sizeof units), doc);
+    fail = ds < 0 || swept_key_attrs(ds, str, s->axis[a].path) < 0 ||
+           H5DSattach_scale(ds, dcase, 0) < 0 ||
+           swept_values(ds, type, s, a) < 0;
     if (ds >= 0) H5Dclose(ds);
     if (fail) {
       if (bad) *bad = a;

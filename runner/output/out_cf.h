@@ -55,21 +55,6 @@ int out_cf_time(hid_t ds, hid_t str);
    in CF) */
 #define OUT_CF_SAMPLE_DIM(grid_common) ((grid_common) ? "time" : "sample")
 
-/* the variable name of a swept scene key: CF names are made of letters,
-   digits and underscores (CF-1.10 section 2.3), so "." is written "__"
-   and "[k]" "_k" ("trajectory.amp[2]" -> "trajectory__amp_2"; the same
-   mapping in python/rps3/h5io.py, key_name); into buf */
-const char *out_cf_key_name(const char *key, char *buf, size_t sz);
-
-/* the attributes of a swept key's variable: long_name "swept scene key
-   KEY" and scene_key = KEY, the dotted key of the scene; 0 or -1 */
-int out_cf_swept_key(hid_t ds, hid_t str, const char *key);
-
-/* the UDUNITS-2 units of sweep axis a of s into buf: the component's unit
-   of a list key ("rad, rad, m"[2] -> "m"), "1" for dimensionless keys,
-   enums and bools */
-const char *out_cf_axis_units(const scene *s, size_t a, char *buf, size_t sz);
-
 /* the swept keys of s, [case], each a variable with the key's CF name on
    the case scale dcase (the key itself in scene_key, its values, units and
    axis attributes), in file; 0, or -1 with *bad the axis that failed */

@@ -7,36 +7,6 @@
 #include <stdio.h>
 #include <stdlib.h>
 
-/* rows [c0, c0 + nc) of a dataset from slots [0, nc) of a [cases][points]
-   [the other axes] buffer: along time (timed 1) samples [k0, k0 + nk),
-   the other axes whole */
-static int write_tile(hid_t ds, hid_t dxpl, hid_t type, int timed, size_t cases,
-                      size_t points, const void *buf, size_t c0, size_t nc,
-                      size_t k0, size_t nk) {
-  hsize_t mdims[4], start[4] = {0, 0, 0, 0}, count[4], fstart[4] = {0, 0, 0, 0};
-  hid_t fs = H5Dget_space(ds), ms = -1;
-  int r, rank = fs < 0 ? -1 : H5Sget_simple_extent_dims(fs, count, NULL);
-  int rc = -1;
-  for (r = 0; r < rank; r++) mdims[r] = count[r];
-  mdims[0] = cases;
-  count[0] = nc;
-  fstart[0] = c0;
-  if (timed) {
-    mdims[1] = points;
-    count[1] = nk;
-    fstart[1] = k0;
-  }
-  if (rank > 0) ms = H5Screate_simple(rank, mdims, NULL);
-  if (ms >= 0 &&
-      H5Sselect_hyperslab(ms, H5S_SELECT_SET, start, NULL, count, NULL) >= 0 &&
-      H5Sselect_hyperslab(fs, H5S_SELECT_SET, fstart, NULL, count, NULL) >= 0 &&
-      H5Dwrite(ds, type, ms, fs, dxpl, buf) >= 0)
-    rc = 0;
-  if (fs >= 0) H5Sclose(fs);
-  if (ms >= 0) H5Sclose(ms);
-  return rc;
-}
-
 void out_file_layout(const out_file *f, out_layout *L) { *L = f->layout; }
 
 /* write the chunks out_pack made, as they are */
@@ -74,17 +44,17 @@ int out_write(out_file *f, const out_block *b, size_t c0, size_t nc, size_t k0,
     if ((fi->shape == OUT_C && !with_case) || f->ds[i] < 0 ||
         (fi->shape != OUT_C && b->packed))
       continue;
-    if (write_tile(f->ds[i], f->dxpl, out_field_type(f, fi), fi->shape != OUT_C,
-                   b->cases, b->points, out_block_field(b, i), c0, nc, k0,
-                   nk) < 0) {
+    if (out_h5_tile(f->ds[i], f->dxpl, out_field_type(f, fi),
+                    fi->shape != OUT_C, b->cases, b->points,
+                    out_block_field(b, i), c0, nc, k0, nk) < 0) {
       out_fail(err, errsz, "cannot write %s of cases %zu-%zu", fi->name, c0,
                c0 + nc - 1);
       return -1;
     }
   }
   if (f->case_time >= 0 && !b->packed &&
-      write_tile(f->case_time, f->dxpl, H5T_NATIVE_DOUBLE, 1, b->cases,
-                 b->points, b->t, c0, nc, k0, nk) < 0) {
+      out_h5_tile(f->case_time, f->dxpl, H5T_NATIVE_DOUBLE, 1, b->cases,
+                  b->points, b->t, c0, nc, k0, nk) < 0) {
     out_fail(err, errsz, "cannot write case_time of cases %zu-%zu", c0,
              c0 + nc - 1);
     return -1;
@@ -99,15 +69,15 @@ int out_write_window(out_file *f, void *const buf[], size_t points, size_t c,
   for (i = 0; i < OUT_NFIELD; i++) {
     const out_field_info *fi = &out_field_table[i];
     if (fi->shape == OUT_C || f->ds[i] < 0) continue;
-    if (write_tile(f->ds[i], f->dxpl, out_field_type(f, fi), 1, 1, points,
-                   buf[i], c, 1, k0, nk) < 0) {
+    if (out_h5_tile(f->ds[i], f->dxpl, out_field_type(f, fi), 1, 1, points,
+                    buf[i], c, 1, k0, nk) < 0) {
       out_fail(err, errsz, "cannot write %s of case %zu", fi->name, c);
       return -1;
     }
   }
   if (f->case_time >= 0 && times &&
-      write_tile(f->case_time, f->dxpl, H5T_NATIVE_DOUBLE, 1, 1, points, times,
-                 c, 1, k0, nk) < 0) {
+      out_h5_tile(f->case_time, f->dxpl, H5T_NATIVE_DOUBLE, 1, 1, points, times,
+                  c, 1, k0, nk) < 0) {
     out_fail(err, errsz, "cannot write case_time of case %zu", c);
     return -1;
   }
@@ -129,8 +99,8 @@ int out_write_case(out_file *f, const void *const val[], size_t c0, size_t nc,
                    ? ((const char *const *)val[i])[j]
                    : "";
     if (v && fi->type == OUT_STR) v = str;
-    if (!v || write_tile(f->ds[i], f->dxpl, out_field_type(f, fi), 0, nc, 1, v,
-                         c0, nc, 0, 1) < 0) {
+    if (!v || out_h5_tile(f->ds[i], f->dxpl, out_field_type(f, fi), 0, nc, 1, v,
+                          c0, nc, 0, 1) < 0) {
       if (nc == 1)
         out_fail(err, errsz, "cannot write %s of %s %zu", fi->name, f->row, c0);
       else

@@ -136,7 +136,8 @@ static int scale_fill(hid_t ds, scales *sc) {
   for (c0 = 0; rc == 0 && c0 < n; c0 += m) {
     m = n - c0 < OUT_AXIS_RUN ? n - c0 : OUT_AXIS_RUN;
     for (k = 0; k < m; k++) v[k] = axis_value(sc, c0 + k);
-    rc = out_h5_rows(ds, H5T_NATIVE_DOUBLE, c0, m, v);
+    rc = out_h5_tile(ds, H5P_DEFAULT, H5T_NATIVE_DOUBLE, 0, m, 1, v, c0, m, 0,
+                     1);
   }
   free(v);
   return rc;
