@@ -15,13 +15,12 @@
 /* ------------------------------------------------------------------ plan */
 
 int design_plan_make(const scene *s, design_plan *p, scene_error *err) {
-  rps3_design_grid gr;
   scene_case c;
   size_t i, per;
   memset(p, 0, sizeof *p);
   p->ncase = s->ncase;
-  design_grid(s, &gr);
-  p->npose = rps3_design_grid_size(&gr);
+  design_grid(s, &p->gr);
+  p->npose = rps3_design_grid_size(&p->gr);
   p->task = s->section[2].line > 0;
   p->per_pose = s->base.des.per_pose;
   p->files = OUT_DES | (p->task ? OUT_TASK : 0) | (p->per_pose ? OUT_POSE : 0);
@@ -179,13 +178,15 @@ static int worker_alloc(worker_ws *w, size_t npose) {
    per-pose arrays of rps3_design_out (the variable's id) */
 #define SUM_FIELDS(X)                                                     \
   X(reach_fraction)                                                       \
-  X(volume) X(gti) X(good_fraction) X(lti_min) X(cond_h_max) X(trans_max) \
-      X(xc_max) X(yc_max) X(spin_max) X(l_lo) X(l_hi)
+  X(volume)                                                               \
+  X(gti) X(good_fraction) X(lti_min) X(cond_h_max) X(trans_max) X(xc_max) \
+      X(yc_max) X(spin_max) X(l_lo) X(l_hi)
 #define TASK_LINK_FIELDS(X) \
   X(F_peak) X(F_rms) X(P_peak) X(v_peak) X(l_lo) X(l_hi)
-#define POSE_FIELDS(X)                                                        \
-  X(lti, lti)                                                                 \
-  X(oti, oti) X(cti, cti) X(cond_h, cond_h) X(transmission, des_transmission) \
+#define POSE_FIELDS(X)                                            \
+  X(lti, lti)                                                     \
+  X(oti, oti)                                                     \
+  X(cti, cti) X(cond_h, cond_h) X(transmission, des_transmission) \
       X(spin, spin) X(clearance, clearance)
 
 /* design slot j failed with status rc: why */
@@ -243,7 +244,6 @@ static size_t eval_task(worker_ws *w, const rps3_design *d,
 /* design `index` into slot j of t; the poses and samples it evaluated */
 static size_t eval_design(const scene *s, const design_plan *p, size_t index,
                           worker_ws *w, design_tile *t, size_t j) {
-  rps3_design_grid gr;
   rps3_design_opts o;
   rps3_design_out out;
   rps3_design_summary sum;
@@ -258,7 +258,6 @@ static size_t eval_design(const scene *s, const design_plan *p, size_t index,
     design_failed(t, j, RPS3_EINVAL, err.what);
     return 0;
   }
-  design_grid(s, &gr);
   design_opts(s, &o);
   design_of_case(&c, &d);
   memset(&out, 0, sizeof out);
@@ -268,7 +267,7 @@ static size_t eval_design(const scene *s, const design_plan *p, size_t index,
 #define POSE(m, id) out.m = p->per_pose ? F64(t, OUT_##id) + j * n : NULL;
   POSE_FIELDS(POSE)
 #undef POSE
-  rc = rps3_design_eval_grid(w->ws, &d, &o, &gr, &out, &sum);
+  rc = rps3_design_eval_grid(w->ws, &d, &o, &p->gr, &out, &sum);
   if (rc != RPS3_OK && rc != RPS3_EEMPTY) {
     design_failed(t, j, rc, w->ws->err.msg);
     return 0;
@@ -411,76 +410,49 @@ static double cpu_now(void) {
 /* poses of the coarser grid that times a design of a large grid */
 #define DESIGN_TIMED_POSES 8192
 
-/* CPU seconds of design `index` of a grid larger than DESIGN_TIMED_POSES:
-   its evaluation on a coarser grid of the same box, scaled by the poses
-   (a pose costs the same wherever it is), plus its task; -1 on failure */
-static double time_coarse(const scene *s, const design_plan *p, size_t index,
-                          worker_ws *w) {
-  rps3_design_grid gr;
-  rps3_design_opts o;
-  rps3_design_out out;
-  rps3_design_summary sum;
-  rps3_design_task res;
-  rps3_design d;
-  scene_case c;
-  scene_error err;
-  double t0, spent;
-  size_t n;
-  int k, big;
-  if (design_case_build(s, index, &c, &err)) return -1;
-  design_grid(s, &gr);
-  design_opts(s, &o);
-  design_of_case(&c, &d);
-  /* halve the axis of most cells until the grid has at most
-     DESIGN_TIMED_POSES poses (w's arrays) */
-  while ((n = rps3_design_grid_size(&gr)) > DESIGN_TIMED_POSES) {
-    for (big = 0, k = 1; k < 3; k++)
-      if (gr.n[k] > gr.n[big]) big = k;
-    gr.n[big] = (gr.n[big] + 1) / 2;
-  }
-  memset(&out, 0, sizeof out);
-  out.flags = w->flags;
-  out.c = w->c;
-  t0 = cpu_now();
-  (void)rps3_design_eval_grid(w->ws, &d, &o, &gr, &out, &sum);
-  spent = (cpu_now() - t0) * (double)p->npose / (double)n;
-  if (p->task) {
-    t0 = cpu_now();
-    (void)rps3_design_task_eval(w->ws, &d, &o, &c.traj, c.nt,
-                                RPS3_DESIGN_LINK_MASS, &res);
-    spent += cpu_now() - t0;
-  }
-  return spent;
+/* CPU seconds of eval_design of design i on the plan q */
+static double timed_eval(const scene *s, const design_plan *q, size_t i,
+                         worker_ws *w, design_tile *t) {
+  double t0 = cpu_now();
+  (void)eval_design(s, q, i, w, t, 0);
+  return cpu_now() - t0;
 }
 
 /* CPU seconds of one design, timed on up to 8 designs spread over the
    study (at most about 0.2 s of evaluation), or -1 when none could be
    timed */
 static double design_cost_measure(const scene *s, const design_plan *p) {
+  design_plan q = *p, q1;
   worker_ws w;
   design_tile t;
   size_t i, timed = 0, step;
-  double t0, spent = 0, used = 0, one;
-  int coarse = p->npose > DESIGN_TIMED_POSES;
-  /* a large grid is timed on a coarser one: the estimate's own cost is
-     bounded whatever the grid */
-  if (worker_alloc(&w, coarse ? DESIGN_TIMED_POSES : p->npose)) return -1;
-  if (tile_alloc(&t, 1, coarse ? 1 : p->npose, p->files)) {
+  double spent = 0, used = 0, grid, task;
+  int k, big;
+  /* the grid on one of at most DESIGN_TIMED_POSES poses of the same box
+     (the axis of most cells halved), its time scaled by the poses (a pose
+     costs the same wherever it is), and the task on a grid of one pose:
+     the estimate's own cost is bounded whatever the grid */
+  while (rps3_design_grid_size(&q.gr) > DESIGN_TIMED_POSES) {
+    for (big = 0, k = 1; k < 3; k++)
+      if (q.gr.n[k] > q.gr.n[big]) big = k;
+    q.gr.n[big] = (q.gr.n[big] + 1) / 2;
+  }
+  q.npose = rps3_design_grid_size(&q.gr);
+  q.task = 0;
+  q1 = q;
+  q1.gr.n[0] = q1.gr.n[1] = q1.gr.n[2] = q1.npose = 1;
+  q1.task = p->task;
+  if (worker_alloc(&w, q.npose)) return -1;
+  if (tile_alloc(&t, 1, q.npose, p->files)) {
     worker_free(&w);
     return -1;
   }
-  /* up to 8 designs spread over the study, at most about 0.2 s */
   step = p->ncase > 8 ? p->ncase / 8 : 1;
   for (i = 0; i < p->ncase && timed < 8 && used < 0.2; i += step) {
-    t0 = cpu_now();
-    if (coarse) {
-      if ((one = time_coarse(s, p, i, &w)) < 0) break;
-      spent += one;
-    } else {
-      (void)eval_design(s, p, i, &w, &t, 0);
-      spent += cpu_now() - t0;
-    }
-    used += cpu_now() - t0;
+    grid = timed_eval(s, &q, i, &w, &t);
+    task = p->task ? timed_eval(s, &q1, i, &w, &t) : 0;
+    spent += grid * (double)p->npose / (double)q.npose + task;
+    used += grid + task;
     timed++;
   }
   tile_free(&t);

@@ -26,14 +26,15 @@
 #define DESIGN_UNIT_POSES 65536
 
 typedef struct {
-  size_t ncase;   /* designs */
-  size_t npose;   /* poses of the grid */
-  size_t unit;    /* designs per work unit */
-  size_t nunit;   /* work units */
-  int task;       /* the scene has a trajectory: the task is evaluated */
-  int per_pose;   /* the per-pose indices are written */
-  int files;      /* the OUT_DESIGN bits of the file's fields */
-  size_t nsample; /* samples of the task (its time grid) */
+  size_t ncase;        /* designs */
+  rps3_design_grid gr; /* the pose grid */
+  size_t npose;        /* its poses */
+  size_t unit;         /* designs per work unit */
+  size_t nunit;        /* work units */
+  int task;            /* the scene has a trajectory: the task is evaluated */
+  int per_pose;        /* the per-pose indices are written */
+  int files;           /* the OUT_DESIGN bits of the file's fields */
+  size_t nsample;      /* samples of the task (its time grid) */
 } design_plan;
 
 typedef struct {

@@ -173,14 +173,6 @@ static const char *key_name(const char *key, char *buf, size_t sz) {
   return buf;
 }
 
-/* long_name "swept scene key KEY" and scene_key = KEY */
-static int swept_key_attrs(hid_t ds, hid_t str, const char *key) {
-  char long_name[160];
-  const char *const kv[][2] = {{"long_name", long_name}, {"scene_key", key}};
-  snprintf(long_name, sizeof long_name, "swept scene key %s", key);
-  return out_h5_attrs(ds, str, kv, 2);
-}
-
 /* a controller gain's unit is "A or B" (scene_sim.h): A for pd and
    pd_gravity (a force per error), B for computed_torque (an
    acceleration per error).  When every case's controller is of one family,
@@ -262,29 +254,27 @@ int out_stamp(hid_t file, const char *command_line) {
 }
 
 /* the swept values of axis a, case by case, in runs of OUT_AXIS_RUN
-   cases, into its variable of type `type` */
-static int swept_values(hid_t ds, hid_t type, const scene *s, size_t a) {
+   cases: an enum's names, else the values (an int key's whole numbers
+   convert exactly to its int32) */
+static int swept_values(hid_t ds, hid_t str, const scene *s, size_t a) {
   const scene_axis *ax = &s->axis[a];
-  const scene_key_info *ki = scene_key_get(ax->key);
+  int is_enum = scene_key_get(ax->key)->type == KEY_ENUM, rc = 0;
   size_t c0, i, n;
-  int rc = 0;
   void *buf = malloc(OUT_AXIS_RUN * sizeof(double));
-  if (!buf) return -1;
-  for (c0 = 0; c0 < s->ncase && rc == 0; c0 += n) {
+  for (c0 = 0; buf && c0 < s->ncase && rc == 0; c0 += n) {
     n = s->ncase - c0 < OUT_AXIS_RUN ? s->ncase - c0 : OUT_AXIS_RUN;
     for (i = 0; i < n; i++) {
       double x = ax->val[scene_case_coord(s, c0 + i, a)];
-      if (ki->type == KEY_REAL || ki->type == KEY_REAL3)
-        ((double *)buf)[i] = x;
-      else if (ki->type == KEY_ENUM)
+      if (is_enum)
         ((const char **)buf)[i] = scene_enum_name(ax->key, (int)x);
       else
-        ((int32_t *)buf)[i] = (int32_t)x;
+        ((double *)buf)[i] = x;
     }
-    rc = out_h5_tile(ds, H5P_DEFAULT, type, 0, n, 1, buf, c0, n, 0, 1);
+    rc = out_h5_tile(ds, H5P_DEFAULT, is_enum ? str : H5T_NATIVE_DOUBLE, 0, n,
+                     1, buf, c0, n, 0, 1);
   }
   free(buf);
-  return rc;
+  return buf ? rc : -1;
 }
 
 int out_cf_swept_keys(hid_t file, hid_t str, const scene *s, hid_t dcase,
@@ -292,7 +282,9 @@ int out_cf_swept_keys(hid_t file, hid_t str, const scene *s, hid_t dcase,
   size_t a;
   for (a = 0; a < s->naxis; a++) {
     const scene_key_info *ki = scene_key_get(s->axis[a].key);
-    char doc[400], units[32], name[160];
+    char doc[400], units[32], name[160], long_name[160];
+    const char *const kv[][2] = {{"long_name", long_name},
+                                 {"scene_key", s->axis[a].path}};
     hsize_t nc = s->ncase;
     hid_t type = (ki->type == KEY_REAL || ki->type == KEY_REAL3)
                      ? H5T_NATIVE_DOUBLE
@@ -302,13 +294,15 @@ int out_cf_swept_keys(hid_t file, hid_t str, const scene *s, hid_t dcase,
     int fail;
     snprintf(doc, sizeof doc, "swept scene key %s: %s (paper: %s)",
              s->axis[a].path, ki->doc, ki->symbol);
+    snprintf(long_name, sizeof long_name, "swept scene key %s",
+             s->axis[a].path);
     /* the variable has the key's CF name, the key in scene_key */
     ds = out_h5_dataset(file, str, key_name(s->axis[a].path, name, sizeof name),
                         type, 1, &nc, NULL, 0, NULL,
                         axis_units(s, a, units, sizeof units), doc);
-    fail = ds < 0 || swept_key_attrs(ds, str, s->axis[a].path) < 0 ||
+    fail = ds < 0 || out_h5_attrs(ds, str, kv, 2) < 0 ||
            H5DSattach_scale(ds, dcase, 0) < 0 ||
-           swept_values(ds, type, s, a) < 0;
+           swept_values(ds, str, s, a) < 0;
     if (ds >= 0) H5Dclose(ds);
     if (fail) {
       if (bad) *bad = a;

@@ -35,81 +35,77 @@ static int write_packed(out_file *f, const out_block *b, char *err,
   return 0;
 }
 
-int out_write(out_file *f, const out_block *b, size_t c0, size_t nc, size_t k0,
-              size_t nk, int with_case, char *err, size_t errsz) {
-  int i;
-  if (b->packed && write_packed(f, b, err, errsz)) return -1;
-  for (i = 0; i < OUT_NFIELD; i++) {
+/* a write of field `name` failed: of which cases */
+static void rows_fail(const out_file *f, const char *name, size_t c0, size_t nc,
+                      char *err, size_t errsz) {
+  if (nc == 1)
+    out_fail(err, errsz, "cannot write %s of %s %zu", name, f->row, c0);
+  else
+    out_fail(err, errsz, "cannot write %s of %ss %zu-%zu", name, f->row, c0,
+             c0 + nc - 1);
+}
+
+/* the fields of f with a time axis (timed 1) or those without (0) from
+   buf[i], [cases][points][the other axes] (a NULL string written empty),
+   into cases c0 .. c0 + nc - 1, samples k0 .. k0 + nk - 1; and case_time
+   from t, when the file has it and t is not NULL */
+static int write_fields(out_file *f, const void *const buf[], const double *t,
+                        int timed, size_t cases, size_t points, size_t c0,
+                        size_t nc, size_t k0, size_t nk, char *err,
+                        size_t errsz) {
+  const char **str = timed ? NULL : malloc(cases * sizeof *str);
+  size_t j;
+  int i, rc = timed || str ? 0 : -1;
+  for (i = 0; rc == 0 && i < OUT_NFIELD; i++) {
     const out_field_info *fi = &out_field_table[i];
-    if ((fi->shape == OUT_C && !with_case) || f->ds[i] < 0 ||
-        (fi->shape != OUT_C && b->packed))
+    const void *v = buf[i];
+    if (out_shape_has(fi->shape, OUT_AX_TIME) != timed || f->ds[i] < 0)
       continue;
-    if (out_h5_tile(f->ds[i], f->dxpl, out_field_type(f, fi),
-                    fi->shape != OUT_C, b->cases, b->points,
-                    out_block_field(b, i), c0, nc, k0, nk) < 0) {
-      out_fail(err, errsz, "cannot write %s of cases %zu-%zu", fi->name, c0,
-               c0 + nc - 1);
-      return -1;
+    for (j = 0; v && fi->type == OUT_STR && j < nc; j++)
+      str[j] = ((const char *const *)buf[i])[j]
+                   ? ((const char *const *)buf[i])[j]
+                   : "";
+    if (v && fi->type == OUT_STR) v = str;
+    if (!v || out_h5_tile(f->ds[i], f->dxpl, out_field_type(f, fi), timed,
+                          cases, points, v, c0, nc, k0, nk) < 0) {
+      rows_fail(f, fi->name, c0, nc, err, errsz);
+      rc = -1;
     }
   }
-  if (f->case_time >= 0 && !b->packed &&
-      out_h5_tile(f->case_time, f->dxpl, H5T_NATIVE_DOUBLE, 1, b->cases,
-                  b->points, b->t, c0, nc, k0, nk) < 0) {
-    out_fail(err, errsz, "cannot write case_time of cases %zu-%zu", c0,
-             c0 + nc - 1);
-    return -1;
+  if (rc == 0 && f->case_time >= 0 && t &&
+      out_h5_tile(f->case_time, f->dxpl, H5T_NATIVE_DOUBLE, 1, cases, points, t,
+                  c0, nc, k0, nk) < 0) {
+    rows_fail(f, "case_time", c0, nc, err, errsz);
+    rc = -1;
   }
-  return 0;
+  if (!timed && !str) snprintf(err, errsz, "out of memory");
+  free(str);
+  return rc;
+}
+
+int out_write(out_file *f, const out_block *b, size_t c0, size_t nc, size_t k0,
+              size_t nk, int with_case, char *err, size_t errsz) {
+  const void *buf[OUT_NFIELD];
+  int i;
+  for (i = 0; i < OUT_NFIELD; i++) buf[i] = out_block_field(b, i);
+  return (b->packed && write_packed(f, b, err, errsz)) ||
+                 (with_case && write_fields(f, buf, NULL, 0, b->cases, 1, c0,
+                                            nc, 0, 1, err, errsz)) ||
+                 (!b->packed &&
+                  write_fields(f, buf, b->t, 1, b->cases, b->points, c0, nc, k0,
+                               nk, err, errsz))
+             ? -1
+             : 0;
 }
 
 int out_write_window(out_file *f, void *const buf[], size_t points, size_t c,
                      size_t k0, size_t nk, const double *times, char *err,
                      size_t errsz) {
-  int i;
-  for (i = 0; i < OUT_NFIELD; i++) {
-    const out_field_info *fi = &out_field_table[i];
-    if (fi->shape == OUT_C || f->ds[i] < 0) continue;
-    if (out_h5_tile(f->ds[i], f->dxpl, out_field_type(f, fi), 1, 1, points,
-                    buf[i], c, 1, k0, nk) < 0) {
-      out_fail(err, errsz, "cannot write %s of case %zu", fi->name, c);
-      return -1;
-    }
-  }
-  if (f->case_time >= 0 && times &&
-      out_h5_tile(f->case_time, f->dxpl, H5T_NATIVE_DOUBLE, 1, 1, points, times,
-                  c, 1, k0, nk) < 0) {
-    out_fail(err, errsz, "cannot write case_time of case %zu", c);
-    return -1;
-  }
-  return 0;
+  return write_fields(f, (const void *const *)buf, times, 1, 1, points, c, 1,
+                      k0, nk, err, errsz);
 }
 
 int out_write_case(out_file *f, const void *const val[], size_t c0, size_t nc,
                    char *err, size_t errsz) {
-  const char **str = malloc(nc * sizeof *str);
-  size_t j;
-  int i, rc = str ? 0 : -1;
-  for (i = 0; rc == 0 && i < OUT_NFIELD; i++) {
-    const out_field_info *fi = &out_field_table[i];
-    const void *v = val[i];
-    if (out_shape_has(fi->shape, OUT_AX_TIME) || f->ds[i] < 0) continue;
-    /* empty strings, not NULL pointers, where nothing was said */
-    for (j = 0; v && fi->type == OUT_STR && j < nc; j++)
-      str[j] = ((const char *const *)val[i])[j]
-                   ? ((const char *const *)val[i])[j]
-                   : "";
-    if (v && fi->type == OUT_STR) v = str;
-    if (!v || out_h5_tile(f->ds[i], f->dxpl, out_field_type(f, fi), 0, nc, 1, v,
-                          c0, nc, 0, 1) < 0) {
-      if (nc == 1)
-        out_fail(err, errsz, "cannot write %s of %s %zu", fi->name, f->row, c0);
-      else
-        out_fail(err, errsz, "cannot write %s of %ss %zu-%zu", fi->name, f->row,
-                 c0, c0 + nc - 1);
-      rc = -1;
-    }
-  }
-  if (!str) snprintf(err, errsz, "out of memory");
-  free(str);
-  return rc;
+  return write_fields(f, val, NULL, 0, nc, 1, c0, nc, 0, 1, err, errsz);
 }

@@ -77,7 +77,10 @@ const void *out_fill(int i) {
 void out_fill_n(void *dst, size_t n, int i) {
   size_t esz = out_type_size(out_field_table[i].type), k;
   const void *v = out_fill(i);
-  for (k = 0; k < n; k++) memcpy((char *)dst + k * esz, v, esz);
+  /* memcpy: dst may be unaligned (a packed chunk); of a constant size, a
+     store */
+  for (k = 0; esz == 8 && k < n; k++) memcpy((char *)dst + k * 8, v, 8);
+  for (k = 0; esz == 4 && k < n; k++) memcpy((char *)dst + k * 4, v, 4);
 }
 
 /* 1 when field i is in the inverse sweep's file (a member of out_block) */
