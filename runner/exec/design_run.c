@@ -150,22 +150,24 @@ typedef struct {
 } worker_ws;
 
 static void worker_free(worker_ws *w) {
+  if (!w) return;
   rps3_design_ws_free(w->ws);
   free(w->flags);
   free(w->c);
   scene_text_free(&w->yaml);
-  memset(w, 0, sizeof *w);
+  free(w);
 }
 
-static int worker_alloc(worker_ws *w, size_t npose) {
-  memset(w, 0, sizeof *w);
-  w->flags = malloc(npose * sizeof *w->flags);
-  w->c = malloc(3 * npose * sizeof *w->c);
-  if (!w->flags || !w->c || rps3_design_ws_alloc(&w->ws) != RPS3_OK) {
+/* a worker for grids of up to npose poses; NULL when out of memory */
+static worker_ws *worker_new(size_t npose) {
+  worker_ws *w = calloc(1, sizeof *w);
+  if (w && (!(w->flags = malloc(npose * sizeof *w->flags)) ||
+            !(w->c = malloc(3 * npose * sizeof *w->c)) ||
+            rps3_design_ws_alloc(&w->ws) != RPS3_OK)) {
     worker_free(w);
-    return -1;
+    w = NULL;
   }
-  return 0;
+  return w;
 }
 
 #define F64(t, i) ((double *)(t)->buf[i])
@@ -176,18 +178,20 @@ static int worker_alloc(worker_ws *w, size_t npose) {
 /* the summaries of rps3_design_summary that are variables of their name,
    the task's per-link statistics of rps3_design_task (task_NAME), and the
    per-pose arrays of rps3_design_out (the variable's id) */
-#define SUM_FIELDS(X)                                                     \
-  X(reach_fraction)                                                       \
-  X(volume)                                                               \
-  X(gti) X(good_fraction) X(lti_min) X(cond_h_max) X(trans_max) X(xc_max) \
-      X(yc_max) X(spin_max) X(l_lo) X(l_hi)
+#define SUM_FIELDS(X)                                                        \
+  X(reach_fraction)                                                          \
+  X(volume)                                                                  \
+  X(gti)                                                                     \
+  X(good_fraction) X(lti_min) X(cond_h_max) X(trans_max) X(xc_max) X(yc_max) \
+      X(spin_max) X(l_lo) X(l_hi)
 #define TASK_LINK_FIELDS(X) \
   X(F_peak) X(F_rms) X(P_peak) X(v_peak) X(l_lo) X(l_hi)
-#define POSE_FIELDS(X)                                            \
-  X(lti, lti)                                                     \
-  X(oti, oti)                                                     \
-  X(cti, cti) X(cond_h, cond_h) X(transmission, des_transmission) \
-      X(spin, spin) X(clearance, clearance)
+#define POSE_FIELDS(X)                                              \
+  X(lti, lti)                                                       \
+  X(oti, oti)                                                       \
+  X(cti, cti)                                                       \
+  X(cond_h, cond_h) X(transmission, des_transmission) X(spin, spin) \
+      X(clearance, clearance)
 
 /* design slot j failed with status rc: why */
 static void design_failed(design_tile *t, size_t j, int rc, const char *why) {
@@ -301,19 +305,12 @@ typedef struct {
 
 /* pool_job.worker_begin: a worker's workspace and pose arrays */
 static void *design_worker_begin(void *ctx) {
-  const design_job *J = ctx;
-  worker_ws *w = malloc(sizeof *w);
-  if (w && worker_alloc(w, J->p->npose)) {
-    free(w);
-    w = NULL;
-  }
-  return w;
+  return worker_new(((const design_job *)ctx)->p->npose);
 }
 
 static void design_worker_end(void *ctx, void *wctx) {
   (void)ctx;
-  if (wctx) worker_free(wctx);
-  free(wctx);
+  worker_free(wctx);
 }
 
 /* pool_job.run: work unit u on worker w, into its slot */
@@ -342,16 +339,13 @@ static int design_write(void *ctx, void *slot, const void *info, char *err,
   if (out_write_case(J->f, (const void *const *)t->buf, in->c0, in->nc, err,
                      errsz))
     return -1;
-  for (j = 0; j < in->nc; j++) {
-    int32_t status = ((int32_t *)t->buf[OUT_des_status])[j];
-    if (status != 0) {
+  for (j = 0; j < in->nc; j++)
+    if (I32(t, OUT_des_status)[j] != 0) {
       if (st->nfailed == 0)
-        progress_failure(J->pr, in->c0 + j, "",
-                         ((char **)t->buf[OUT_des_message])[j]);
+        progress_failure(J->pr, in->c0 + j, "", STR(t, OUT_des_message)[j]);
       st->nfailed++;
-    } else if (((int64_t *)t->buf[OUT_nreach])[j] == 0)
+    } else if (I64(t, OUT_nreach)[j] == 0)
       st->nempty++;
-  }
   st->cases_done += in->nc;
   st->points_done += in->points;
   progress_update(J->pr, st->cases_done, st->points_done);
@@ -361,7 +355,7 @@ static int design_write(void *ctx, void *slot, const void *info, char *err,
 int design_run(const scene *s, const design_plan *p, out_file *f, size_t shard,
                size_t nshard, int nthread, progress *pr, design_stats *st,
                char *err, size_t errsz) {
-  design_job J;
+  design_job J = {s, p, f, pr, st};
   pool_job job;
   design_tile *tiles;
   size_t i, nslot;
@@ -369,11 +363,6 @@ int design_run(const scene *s, const design_plan *p, out_file *f, size_t shard,
   memset(st, 0, sizeof *st);
   if (nthread < 1) nthread = 1;
   nslot = pool_nslot(nthread);
-  J.s = s;
-  J.p = p;
-  J.f = f;
-  J.pr = pr;
-  J.st = st;
   memset(&job, 0, sizeof job);
   job.ctx = &J;
   job.nitem = p->nunit;
@@ -423,7 +412,7 @@ static double timed_eval(const scene *s, const design_plan *q, size_t i,
    timed */
 static double design_cost_measure(const scene *s, const design_plan *p) {
   design_plan q = *p, q1;
-  worker_ws w;
+  worker_ws *w;
   design_tile t;
   size_t i, timed = 0, step;
   double spent = 0, used = 0, grid, task;
@@ -442,21 +431,21 @@ static double design_cost_measure(const scene *s, const design_plan *p) {
   q1 = q;
   q1.gr.n[0] = q1.gr.n[1] = q1.gr.n[2] = q1.npose = 1;
   q1.task = p->task;
-  if (worker_alloc(&w, q.npose)) return -1;
+  if (!(w = worker_new(q.npose))) return -1;
   if (tile_alloc(&t, 1, q.npose, p->files)) {
-    worker_free(&w);
+    worker_free(w);
     return -1;
   }
   step = p->ncase > 8 ? p->ncase / 8 : 1;
   for (i = 0; i < p->ncase && timed < 8 && used < 0.2; i += step) {
-    grid = timed_eval(s, &q, i, &w, &t);
-    task = p->task ? timed_eval(s, &q1, i, &w, &t) : 0;
+    grid = timed_eval(s, &q, i, w, &t);
+    task = p->task ? timed_eval(s, &q1, i, w, &t) : 0;
     spent += grid * (double)p->npose / (double)q.npose + task;
     used += grid + task;
     timed++;
   }
   tile_free(&t);
-  worker_free(&w);
+  worker_free(w);
   return timed ? spent / (double)timed : -1;
 }
 
@@ -464,7 +453,7 @@ int design_preflight(const char *scene_path, const scene *s,
                      const design_plan *p, size_t shard, size_t nshard,
                      int nrank, int nthread, int gzip, int check, int quiet,
                      const char *out_path) {
-  char e1[32], e2[32], tt[32];
+  char e1[32], tt[32];
   size_t cases = design_shard_cases(p, shard, nshard);
   size_t units = design_shard_units(p, shard, nshard);
   double bytes = design_file_bytes(s, p), per = design_cost_measure(s, p);
@@ -472,7 +461,6 @@ int design_preflight(const char *scene_path, const scene *s,
                     ? bytes
                     : bytes * (double)cases / (double)(p->ncase ? p->ncase : 1);
   int threads = (size_t)nthread < units ? nthread : (int)units;
-  double avail;
   if (threads < 1) threads = 1;
   if (nshard > p->nunit && nrank == 1) {
     fprintf(stderr,
@@ -515,14 +503,6 @@ int design_preflight(const char *scene_path, const scene *s,
                 ? est_human_time(per * (double)cases / threads, tt, sizeof tt)
                 : "unknown",
             threads, threads == 1 ? "" : "s");
-  avail = disk_free(out_path);
-  if (avail >= 0 && need > avail && !gzip) {
-    fprintf(stderr,
-            "rps3-run: %s: the output needs about %s, the file system has "
-            "%s free: nothing written\n",
-            out_path, est_human(need, e1, sizeof e1),
-            est_human(avail, e2, sizeof e2));
-    return -1;
-  }
-  return 0;
+  /* the room (est_room's own line is this one's) */
+  return est_room(out_path, "", cases, 0, need, gzip, 1, "");
 }

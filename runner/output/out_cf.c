@@ -218,8 +218,6 @@ static const char *axis_units(const scene *s, size_t a, char *buf, size_t sz) {
   return gain_units(s, buf);
 }
 
-/* "a b c": the coordinates attribute, the swept keys' variables (CF
-   names, out_cf_key_name) and case_time when with_case_time */
 char *out_h5_coordinates(const scene *s, int with_case_time) {
   size_t a, len = 1;
   char *c, name[160];

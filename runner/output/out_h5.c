@@ -80,8 +80,6 @@ char *out_h5_read_text(hid_t loc, const char *name, int is_attr) {
   return copy;
 }
 
-/* a dataset with units and description attributes; chunk may be NULL
-   (contiguous) */
 hid_t out_h5_dataset(hid_t file, hid_t str, const char *name, hid_t type,
                      int rank, const hsize_t *dims, const hsize_t *chunk,
                      int gzip, const void *fill, const char *units,
@@ -118,7 +116,6 @@ done:
   return ds;
 }
 
-/* write all of a small dataset */
 int out_h5_write_all(hid_t ds, hid_t type, const void *data) {
   return H5Dwrite(ds, type, H5S_ALL, H5S_ALL, H5P_DEFAULT, data) < 0 ? -1 : 0;
 }
@@ -150,7 +147,6 @@ int out_h5_tile(hid_t ds, hid_t dxpl, hid_t type, int timed, size_t cases,
   return rc;
 }
 
-/* a dimension scale: a 1-D dataset named after its dimension */
 hid_t out_h5_scale(hid_t file, hid_t str, const char *name, hid_t type,
                    size_t n, const void *data, const char *units,
                    const char *doc) {
@@ -166,7 +162,6 @@ hid_t out_h5_scale(hid_t file, hid_t str, const char *name, hid_t type,
   return ds;
 }
 
-/* the time now, ISO 8601 in UTC */
 void out_utc_now(char now[32]) {
   time_t t = time(NULL);
   struct tm tm;

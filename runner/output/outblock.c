@@ -86,39 +86,23 @@ void out_fill_n(void *dst, size_t n, int i) {
 /* 1 when field i is in the inverse sweep's file (a member of out_block) */
 static int inv(int i) { return (out_field_table[i].files & OUT_INV) != 0; }
 
-/* the buffer of field i of b */
-void *out_block_field(const out_block *b, int i) {
-  switch (i) {
-#define OUT_BLOCK_CASE(id, name, files, ...) OUT_CASE_##files(id)
-#define OUT_CASE_OUT_INV(id) \
-  case OUT_##id:             \
-    return b->id;
-#define OUT_CASE_OUT_BOTH OUT_CASE_OUT_INV
-#define OUT_CASE_OUT_SIM(id)
-#define OUT_CASE_OUT_DES(id)
-#define OUT_CASE_OUT_TASK(id)
-#define OUT_CASE_OUT_POSE(id)
-    RPS3_OUTPUT_FIELDS(OUT_BLOCK_CASE)
-  default: break;
-  }
-  return NULL;
+/* where field i's buffer is in out_block; 0: no member, a field of
+   another kind of file */
+#define OUT_OFF_OUT_INV(id) offsetof(out_block, id),
+#define OUT_OFF_OUT_BOTH OUT_OFF_OUT_INV
+#define OUT_OFF_OUT_SIM(id) 0,
+#define OUT_OFF_OUT_DES(id) 0,
+#define OUT_OFF_OUT_TASK(id) 0,
+#define OUT_OFF_OUT_POSE(id) 0,
+#define OUT_OFF(id, name, files, ...) OUT_OFF_##files(id)
+static const size_t member_off[OUT_NFIELD] = {RPS3_OUTPUT_FIELDS(OUT_OFF)};
+
+static void **member(const out_block *b, int i) {
+  return (void **)((const char *)b + member_off[i]);
 }
 
-static void block_field_set(out_block *b, int i, void *p) {
-  switch (i) {
-#undef OUT_CASE_OUT_INV
-#define OUT_CASE_OUT_INV(id) \
-  case OUT_##id: b->id = p; break;
-    RPS3_OUTPUT_FIELDS(OUT_BLOCK_CASE)
-#undef OUT_CASE_OUT_INV
-#undef OUT_CASE_OUT_BOTH
-#undef OUT_CASE_OUT_SIM
-#undef OUT_CASE_OUT_DES
-#undef OUT_CASE_OUT_TASK
-#undef OUT_CASE_OUT_POSE
-#undef OUT_BLOCK_CASE
-  default: break;
-  }
+void *out_block_field(const out_block *b, int i) {
+  return member_off[i] ? *member(b, i) : NULL;
 }
 
 /* elements of field i per slot */
@@ -143,7 +127,7 @@ int out_block_alloc(out_block *b, size_t cases, size_t points, int effects) {
         1, cases * slot_elems(b, i) * out_type_size(out_field_table[i].type) +
                OUT_SLACK);
     if (!p) goto fail;
-    block_field_set(b, i, p);
+    *member(b, i) = p;
   }
   b->t = calloc(1, cases * points * sizeof *b->t + OUT_SLACK);
   b->yaml = calloc(cases, sizeof *b->yaml);

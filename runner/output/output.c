@@ -30,8 +30,8 @@ hid_t out_field_type(const out_file *f, const out_field_info *fi) {
 }
 
 /* the root attributes: versions, time of creation, command line, CF's,
-   title and content; but in a simulation's file, the fields, the input
-   files and the shard */
+   title and content, and (not in a simulation's file) the fields, the
+   input files and the shard */
 static int root_attrs(const out_file *f, const out_spec *sp,
                       const out_meta *meta) {
   char now[32], h5v[32], fields[1024];
