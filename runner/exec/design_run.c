@@ -129,7 +129,6 @@ out_file *design_file_open(const char *path, const scene *s,
   out_spec sp;
   memset(&sp, 0, sizeof sp);
   sp.files = p->files;
-  sp.row = "design";
   sp.title =
       "rps3: design study of the Lee & Shah 3-RPS manipulator, indices per "
       "design over a grid of poses";

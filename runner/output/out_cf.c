@@ -13,38 +13,39 @@
 #include "out_h5.h"
 #include "outblock.h"
 
+/* a CF flag: its value (or mask) and its word */
+typedef struct {
+  int32_t value;
+  const char *meaning;
+} flag_word;
+
 /* the statuses a case can end with, as CF flag words: every rps3_status
    (include/rps3.h; tests/test_cf.py checks that none is missing against
    rps3_strerror) and the runner's "not computed" */
-static const struct {
-  int32_t value;
-  const char *meaning;
-} status_flags[] = {{RPS3_OK, "ok"},
-                    {RPS3_EREACH, "pose_unreachable"},
-                    {RPS3_ENOCONV, "theta_solve_not_converged"},
-                    {RPS3_EBRANCH, "theta_outside_branch"},
-                    {RPS3_ESING, "singular_configuration"},
-                    {RPS3_EDOMAIN, "time_outside_span"},
-                    {RPS3_ERANGE, "result_not_finite"},
-                    {RPS3_EMODE, "other_assembly_mode"},
-                    {RPS3_EEMPTY, "empty_workspace"},
-                    {RPS3_EINVAL, "invalid_argument"},
-                    {RPS3_ENOMEM, "out_of_memory"},
-                    {RPS3_ESTATE, "stage_out_of_order"},
-                    {OUT_STATUS_NOT_COMPUTED, "not_computed"}};
+static const flag_word status_flags[] = {
+    {RPS3_OK, "ok"},
+    {RPS3_EREACH, "pose_unreachable"},
+    {RPS3_ENOCONV, "theta_solve_not_converged"},
+    {RPS3_EBRANCH, "theta_outside_branch"},
+    {RPS3_ESING, "singular_configuration"},
+    {RPS3_EDOMAIN, "time_outside_span"},
+    {RPS3_ERANGE, "result_not_finite"},
+    {RPS3_EMODE, "other_assembly_mode"},
+    {RPS3_EEMPTY, "empty_workspace"},
+    {RPS3_EINVAL, "invalid_argument"},
+    {RPS3_ENOMEM, "out_of_memory"},
+    {RPS3_ESTATE, "stage_out_of_order"},
+    {OUT_STATUS_NOT_COMPUTED, "not_computed"}};
 
 /* the warning bits of `warn` (enum rps3_warning) */
-static const struct {
-  int32_t mask;
-  const char *meaning;
-} warn_flags[] = {{RPS3_WARN_ILLCOND, "lambda_system_ill_conditioned"},
-                  {RPS3_WARN_ALPHA, "alpha_undefined"},
-                  {RPS3_WARN_MODE, "assembly_mode_changed"},
-                  {RPS3_WARN_TRANS, "transmission_above_warn"}};
+static const flag_word warn_flags[] = {
+    {RPS3_WARN_ILLCOND, "lambda_system_ill_conditioned"},
+    {RPS3_WARN_ALPHA, "alpha_undefined"},
+    {RPS3_WARN_MODE, "assembly_mode_changed"},
+    {RPS3_WARN_TRANS, "transmission_above_warn"}};
 
 #define NSTATUS (sizeof status_flags / sizeof status_flags[0])
 #define NWARN (sizeof warn_flags / sizeof warn_flags[0])
-#define NFLAG (NSTATUS > NWARN ? NSTATUS : NWARN)
 
 /* a 1-D int32 attribute */
 static int attr_i32(hid_t obj, const char *name, const int32_t *v, size_t n) {
@@ -114,7 +115,8 @@ int out_cf_long_name(hid_t ds, hid_t str, const char *long_name) {
 /* flag_values (a status) or flag_masks (the warning bits, the
    reachability flags), and flag_meanings */
 static int flags(hid_t ds, hid_t str, out_flags kind) {
-  int32_t v[NFLAG > RPS3_DESIGN_NFLAG ? NFLAG : RPS3_DESIGN_NFLAG];
+  const flag_word *tab = kind == OUT_FLAGS_STATUS ? status_flags : warn_flags;
+  int32_t v[NSTATUS + RPS3_DESIGN_NFLAG];
   char words[512];
   size_t k, len = 0,
             n = kind == OUT_FLAGS_STATUS ? NSTATUS
@@ -122,14 +124,11 @@ static int flags(hid_t ds, hid_t str, out_flags kind) {
                                          : RPS3_DESIGN_NFLAG;
   words[0] = '\0';
   for (k = 0; k < n && len < sizeof words; k++) {
-    const char *w = kind == OUT_FLAGS_STATUS ? status_flags[k].meaning
-                    : kind == OUT_FLAGS_WARN ? warn_flags[k].meaning
-                                             : rps3_design_flag_name((int)k);
-    v[k] = kind == OUT_FLAGS_STATUS ? status_flags[k].value
-           : kind == OUT_FLAGS_WARN ? warn_flags[k].mask
-                                    : (int32_t)1 << k;
-    len += (size_t)snprintf(words + len, sizeof words - len, "%s%s",
-                            k ? " " : "", w);
+    int reach = kind == OUT_FLAGS_REACH;
+    v[k] = reach ? (int32_t)1 << k : tab[k].value;
+    len += (size_t)snprintf(
+        words + len, sizeof words - len, "%s%s", k ? " " : "",
+        reach ? rps3_design_flag_name((int)k) : tab[k].meaning);
   }
   return attr_i32(ds, kind == OUT_FLAGS_STATUS ? "flag_values" : "flag_masks",
                   v, n) < 0 ||

@@ -163,8 +163,8 @@ static int make_scale(out_file *f, scales *sc, int ax) {
     snprintf(row_doc, sizeof row_doc,
              "%s number; row-major over the sweep keys in file order, the "
              "last key fastest",
-             sp->row);
-    snprintf(row_ln, sizeof row_ln, "%s number", sp->row);
+             f->row);
+    snprintf(row_ln, sizeof row_ln, "%s number", f->row);
     doc = row_doc;
     ln = row_ln;
   } else if (ax == OUT_AX_TIME && sp->grid_common) {
@@ -324,7 +324,7 @@ static out_file *file_open(const char *path, const scene *s, const out_spec *sp,
     return NULL;
   }
   f->files = sp->files;
-  f->row = sp->row;
+  f->row = sp->files & OUT_DES ? "design" : "case";
   f->file = f->str = f->case_time = f->dxpl = -1;
   for (i = 0; i < OUT_NFIELD; i++) f->ds[i] = -1;
   f->layout.ncase = s->ncase;
@@ -415,7 +415,6 @@ out_file *out_create(const char *path, const scene *s, const scene_case *first,
   out_spec sp;
   memset(&sp, 0, sizeof sp);
   sp.files = OUT_INV;
-  sp.row = "case";
   sp.title =
       "rps3: inverse dynamics of the Lee & Shah 3-RPS manipulator "
       "along a trajectory, per case of a sweep";

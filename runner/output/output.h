@@ -34,7 +34,7 @@ typedef struct {
 /* an open file (the writers' own: output.c, out_write.c) */
 typedef struct out_file {
   int files;       /* the rows of the schema it holds (out_spec) */
-  const char *row; /* what a case is (out_spec) */
+  const char *row; /* what a case is: "case", "design" */
   hid_t file;
   hid_t ds[OUT_NFIELD]; /* -1 for a field the file does not have */
   hid_t case_time;      /* [case, time] when the grid differs, else -1 */
@@ -50,7 +50,6 @@ hid_t out_field_type(const out_file *f, const out_field_info *fi);
 typedef struct {
   int files;            /* OUT_INV, OUT_SIM or the OUT_DESIGN bits of the
                            design's fields: the rows of the schema */
-  const char *row;      /* what a case is: "case", "design" */
   const char *title;    /* root attribute title */
   const char *content;  /* root attribute content, NULL for none */
   const char *time_doc; /* description of the common time axis */

@@ -51,7 +51,6 @@ out_file *sim_file_create(const char *path, const scene *s, size_t nt,
   out_meta meta;
   memset(&sp, 0, sizeof sp);
   sp.files = OUT_SIM;
-  sp.row = "case";
   sp.title =
       "rps3: closed-loop simulation of the Lee & Shah 3-RPS "
       "manipulator along a trajectory, per case of a sweep";
