@@ -90,13 +90,17 @@ typedef struct {
   "pose grid: the centre of each cell of design.alpha, design.beta or " \
   "design.z_c"
 
-/* units, long_name and description of the axes (those of case and time
-   depend on the file) */
+/* units, long_name and description of the axes (%s: what a case is; a
+   common time grid's time axis is the spec's) */
 static const struct {
   const char *units, *long_name, *doc;
 } axis_info[OUT_NAXIS] = {
-    {"1", NULL, NULL},
-    {NULL, NULL, NULL},
+    {"1", "%s number",
+     "%s number; row-major over the sweep keys in file order, the last key "
+     "fastest"},
+    {"1", "sample index",
+     "sample index: the time grid differs between cases, the time of each "
+     "sample is case_time"},
     {"1", "link number",
      "link (leg) number i; link i is pinned at angle 2 pi (i - 1) / 3 from "
      "X"},
@@ -147,9 +151,8 @@ static int scale_fill(hid_t ds, scales *sc) {
 static int make_scale(out_file *f, scales *sc, int ax) {
   const out_spec *sp = sc->sp;
   const char *names[RPS3_NEFFECT + RPS3_DESIGN_NFLAG];
-  const char *units = axis_info[ax].units, *ln = axis_info[ax].long_name;
-  const char *doc = axis_info[ax].doc;
-  char row_doc[128], row_ln[32];
+  char doc_buf[128], ln[64];
+  const char *units = axis_info[ax].units, *doc = doc_buf;
   int k, text = ax == OUT_AX_EFF || ax == OUT_AX_FLAG;
   hid_t type = ax == OUT_AX_CASE  ? H5T_NATIVE_INT64
                : ax <= OUT_AX_CON ? H5T_NATIVE_INT32
@@ -159,25 +162,13 @@ static int make_scale(out_file *f, scales *sc, int ax) {
     names[k] = rps3_effect_name(sp->effect[k]);
   for (k = 0; ax == OUT_AX_FLAG && k < RPS3_DESIGN_NFLAG; k++)
     names[k] = rps3_design_flag_name(k);
-  if (ax == OUT_AX_CASE) {
-    snprintf(row_doc, sizeof row_doc,
-             "%s number; row-major over the sweep keys in file order, the "
-             "last key fastest",
-             f->row);
-    snprintf(row_ln, sizeof row_ln, "%s number", f->row);
-    doc = row_doc;
-    ln = row_ln;
-  } else if (ax == OUT_AX_TIME && sp->grid_common) {
+  snprintf(ln, sizeof ln, axis_info[ax].long_name, f->row);
+  snprintf(doc_buf, sizeof doc_buf, axis_info[ax].doc, f->row);
+  if (ax == OUT_AX_TIME && sp->grid_common) {
     type = H5T_NATIVE_DOUBLE;
     units = OUT_CF_TIME_UNITS;
-    ln = "time";
+    snprintf(ln, sizeof ln, "time");
     doc = sp->time_doc;
-  } else if (ax == OUT_AX_TIME) {
-    units = "1";
-    ln = "sample index";
-    doc =
-        "sample index: the time grid differs between cases, the time of "
-        "each sample is case_time";
   }
   sc->ax = ax;
   sc->id[ax] =
