@@ -17,34 +17,30 @@
 
 #include "scene/scene.h"
 
-/* the axes of the files: case, time (or sample), link, constraint,
-   effect, reachability flag, and the pose grid of a design study */
+/* the axes of the files */
 typedef enum {
   OUT_AX_CASE,
-  OUT_AX_TIME,
+  OUT_AX_TIME, /* or sample, when the time grid differs between cases */
   OUT_AX_LINK,
-  OUT_AX_CON,
-  OUT_AX_EFF,
-  OUT_AX_FLAG,
-  OUT_AX_ALPHA,
+  OUT_AX_CON,   /* constraint */
+  OUT_AX_EFF,   /* physical effect */
+  OUT_AX_FLAG,  /* reachability flag */
+  OUT_AX_ALPHA, /* the pose grid of a design study */
   OUT_AX_BETA,
   OUT_AX_Z_C,
   OUT_NAXIS
 } out_axis;
 
-/* shapes, their axes in out_shape_axes: C [case], CT [case, time], CTL
-   [case, time, link], CTK [case, time, constraint], CTEL [case, time,
-   effect, link], CL [case, link], CF [case, flag], CP [case, z_c, beta,
-   alpha] */
+/* shapes, their axes in out_shape_axes */
 typedef enum {
-  OUT_C,
-  OUT_CT,
-  OUT_CTL,
-  OUT_CTK,
-  OUT_CTEL,
-  OUT_CL,
-  OUT_CF,
-  OUT_CP
+  OUT_C,    /* [case] */
+  OUT_CT,   /* [case, time] */
+  OUT_CTL,  /* [case, time, link] */
+  OUT_CTK,  /* [case, time, constraint] */
+  OUT_CTEL, /* [case, time, effect, link] */
+  OUT_CL,   /* [case, link] */
+  OUT_CF,   /* [case, flag] */
+  OUT_CP    /* [case, z_c, beta, alpha] */
 } out_shape;
 extern const int out_shape_axes[][5]; /* ending at -1 */
 extern const char *const out_axis_name[OUT_NAXIS];
@@ -56,25 +52,21 @@ int out_shape_has(out_shape sh, int ax);
    missing), string */
 typedef enum { OUT_F64, OUT_I32, OUT_I64, OUT_STR } out_type;
 
-/* the files a field is in: the inverse sweep's, the simulation's, every
-   design study's, a design study's with a trajectory (the task), with
-   design.per_pose */
-#define OUT_INV 1
-#define OUT_SIM 2
-#define OUT_BOTH 3
-#define OUT_DES 4
-#define OUT_TASK 8
-#define OUT_POSE 16
+/* the files a field is in */
+#define OUT_INV 1   /* the inverse sweep's */
+#define OUT_SIM 2   /* the simulation's */
+#define OUT_BOTH 3  /* both */
+#define OUT_DES 4   /* every design study's */
+#define OUT_TASK 8  /* a design study's with a trajectory (the task) */
+#define OUT_POSE 16 /* a design study's with design.per_pose */
 #define OUT_DESIGN (OUT_DES | OUT_TASK | OUT_POSE)
 
-/* the CF flag attributes of a field (out_cf.h): none, flag_values of a
-   status (every rps3_status and OUT_STATUS_NOT_COMPUTED), flag_masks of
-   the warning bits, flag_masks of the reachability flags */
+/* the CF flag attributes of a field (out_cf.h) */
 typedef enum {
   OUT_FLAGS_NONE,
-  OUT_FLAGS_STATUS,
-  OUT_FLAGS_WARN,
-  OUT_FLAGS_REACH
+  OUT_FLAGS_STATUS, /* flag_values: every rps3_status, not computed */
+  OUT_FLAGS_WARN,   /* flag_masks of the warning bits */
+  OUT_FLAGS_REACH   /* flag_masks of the reachability flags */
 } out_flags;
 
 /* the fill value of a status: a case not computed (by this shard, or not
