@@ -8,7 +8,6 @@
 #include <string.h>
 #include <time.h>
 
-#include "core/safeio.h"
 #include "estimate.h"
 #include "pool.h"
 
@@ -27,7 +26,6 @@ int design_plan_make(const scene *s, design_plan *p, scene_error *err) {
   /* every design is checked before anything is written */
   for (i = 0; i < s->ncase; i++) {
     if (design_case_build(s, i, &c, err)) return -1;
-    if (i == 0) p->nsample = p->task ? c.nt : 0;
     /* the task's samples: one grid for every design (the sweep may not
        change the trajectory's span) */
     if (p->task && c.nt > p->nsample) p->nsample = c.nt;
@@ -177,20 +175,21 @@ static worker_ws *worker_new(size_t npose) {
 /* the summaries of rps3_design_summary that are variables of their name,
    the task's per-link statistics of rps3_design_task (task_NAME), and the
    per-pose arrays of rps3_design_out (the variable's id) */
-#define SUM_FIELDS(X)                                                        \
-  X(reach_fraction)                                                          \
-  X(volume)                                                                  \
-  X(gti)                                                                     \
-  X(good_fraction) X(lti_min) X(cond_h_max) X(trans_max) X(xc_max) X(yc_max) \
-      X(spin_max) X(l_lo) X(l_hi)
+#define SUM_FIELDS(X)                                                   \
+  X(reach_fraction)                                                     \
+  X(volume)                                                             \
+  X(gti)                                                                \
+  X(good_fraction)                                                      \
+  X(lti_min) X(cond_h_max) X(trans_max) X(xc_max) X(yc_max) X(spin_max) \
+      X(l_lo) X(l_hi)
 #define TASK_LINK_FIELDS(X) \
   X(F_peak) X(F_rms) X(P_peak) X(v_peak) X(l_lo) X(l_hi)
-#define POSE_FIELDS(X)                                              \
-  X(lti, lti)                                                       \
-  X(oti, oti)                                                       \
-  X(cti, cti)                                                       \
-  X(cond_h, cond_h) X(transmission, des_transmission) X(spin, spin) \
-      X(clearance, clearance)
+#define POSE_FIELDS(X) \
+  X(lti, lti)          \
+  X(oti, oti)          \
+  X(cti, cti)          \
+  X(cond_h, cond_h)    \
+  X(transmission, des_transmission) X(spin, spin) X(clearance, clearance)
 
 /* design slot j failed with status rc: why */
 static void design_failed(design_tile *t, size_t j, int rc, const char *why) {
@@ -448,6 +447,9 @@ static double design_cost_measure(const scene *s, const design_plan *p) {
   return timed ? spent / (double)timed : -1;
 }
 
+/* the plural ending of n things */
+#define PL(n) ((n) == 1 ? "" : "s")
+
 int design_preflight(const char *scene_path, const scene *s,
                      const design_plan *p, size_t shard, size_t nshard,
                      int nrank, int nthread, int gzip, int check, int quiet,
@@ -467,41 +469,39 @@ int design_preflight(const char *scene_path, const scene *s,
             "unit%s (of up to %zu design%s), so at most %zu shard%s can "
             "have work: use --shard K/%zu or fewer (rps3-run SCENE --check "
             "counts the work units)\n",
-            shard, nshard, p->nunit, p->nunit == 1 ? "" : "s", p->unit,
-            p->unit == 1 ? "" : "s", p->nunit, p->nunit == 1 ? "" : "s",
-            p->nunit);
+            shard, nshard, p->nunit, PL(p->nunit), p->unit, PL(p->unit),
+            p->nunit, PL(p->nunit), p->nunit);
     return -1;
   }
   if (check) {
     printf(
         "%s: design study: %zu design%s x %zu poses%s; output about %s "
         "uncompressed\n",
-        scene_path, p->ncase, p->ncase == 1 ? "" : "s", p->npose,
+        scene_path, p->ncase, PL(p->ncase), p->npose,
         p->task ? " and the task" : "", est_human(bytes, e1, sizeof e1));
     if (per >= 0)
       printf(
           "run time about %s on %d thread%s (an estimate: %.3g ms a "
           "design, timed on a few designs)\n",
           est_human_time(per * (double)p->ncase / threads, tt, sizeof tt),
-          threads, threads == 1 ? "" : "s", 1e3 * per);
+          threads, PL(threads), 1e3 * per);
     printf(
         "%zu work unit%s of up to %zu design%s: at most %zu shard%s, "
         "rank%s or thread%s ha%s work\n",
-        p->nunit, p->nunit == 1 ? "" : "s", p->unit, p->unit == 1 ? "" : "s",
-        p->nunit, p->nunit == 1 ? "" : "s", p->nunit == 1 ? "" : "s",
-        p->nunit == 1 ? "" : "s", p->nunit == 1 ? "s" : "ve");
+        p->nunit, PL(p->nunit), p->unit, PL(p->unit), p->nunit, PL(p->nunit),
+        PL(p->nunit), PL(p->nunit), p->nunit == 1 ? "s" : "ve");
     return 0;
   }
   if (!quiet)
     fprintf(stderr,
             "rps3-run: design study: %zu design%s x %zu poses: %s about "
             "%s%s, run time about %s on %d thread%s\n",
-            cases, cases == 1 ? "" : "s", p->npose, out_path,
+            cases, PL(cases), p->npose, out_path,
             est_human(need, e1, sizeof e1), gzip ? " before compression" : "",
             per >= 0
                 ? est_human_time(per * (double)cases / threads, tt, sizeof tt)
                 : "unknown",
-            threads, threads == 1 ? "" : "s");
+            threads, PL(threads));
   /* the room (est_room's own line is this one's) */
   return est_room(out_path, "", cases, 0, need, gzip, 1, "");
 }
