@@ -189,7 +189,7 @@ static int make_scales(out_file *f, const scene *s, scales *sc, char *err,
                        size_t errsz) {
   const out_spec *sp = sc->sp;
   int ax, i, has;
-  design_grid(s, &sc->gr);
+  if (sp->files & OUT_POSE) design_grid(s, &sc->gr);
   sc->len[OUT_AX_CASE] = s->ncase;
   sc->len[OUT_AX_TIME] = sp->nt;
   sc->len[OUT_AX_LINK] = sc->len[OUT_AX_CON] = 3;
