@@ -1,10 +1,10 @@
 /*
  * out_cf.h - the CF conventions (cfconventions.org) on a runner file: a
  * long_name on every variable, units in UDUNITS-2 spelling, flag_values /
- * flag_meanings on status and flag_masks / flag_meanings on warn, and the
- * root attributes Conventions, history and git_revision.  output.c and
- * sim_output.c call these while they create a file; merge appends to
- * history (out_stamp).
+ * flag_meanings on a status and flag_masks / flag_meanings on the warning
+ * bits and the reachability flags, the swept keys' variables, and the
+ * root attributes Conventions, history and git_revision.  output.c calls
+ * these while it creates a file; merge appends to history (out_stamp).
  */
 #ifndef RPS3_RUNNER_OUT_CF_H
 #define RPS3_RUNNER_OUT_CF_H

@@ -1,8 +1,8 @@
 /*
  * out_h5.c - the HDF5 helpers of the runner's files (out_h5.h): datasets
- * with units and descriptions, dimension scales, rows of a [case]
- * dataset, the swept keys' values, the time now; errors with HDF5's
- * innermost cause.  The time stamp and history are CF's (out_cf.c).
+ * with units and descriptions, dimension scales, the hyperslab of a tile,
+ * the time now; errors with HDF5's innermost cause.  The time stamp and
+ * history are CF's (out_cf.c).
  */
 #include "out_h5.h"
 #include "core/h5err.h"

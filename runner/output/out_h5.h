@@ -1,7 +1,7 @@
 /*
  * out_h5.h - the HDF5 helpers of the runner's files (out_h5.c): datasets
- * with units and descriptions, dimension scales, rows of a [case] dataset,
- * the swept keys' values, the time now; errors with HDF5's message.
+ * with units and descriptions, dimension scales, the hyperslab of a tile,
+ * the time now; errors with HDF5's message.
  */
 #ifndef RPS3_RUNNER_OUT_H5_H
 #define RPS3_RUNNER_OUT_H5_H
