@@ -11,7 +11,6 @@
 #include "core/exit_codes.h"
 #include "core/safeio.h"
 #include "core/tmpout.h"
-#include "output/design_output.h"
 #include "output/sim_output.h"
 #include "scene/scene.h"
 
@@ -136,7 +135,7 @@ static int print_and_end(int row) {
   case O_KEYS: scene_keys_print(); return 1;
   case O_SCHEMA: out_schema_print(OUT_INV); return 1;
   case O_SIM_SCHEMA: out_schema_print(OUT_SIM); return 1;
-  case O_DESIGN_SCHEMA: design_schema_print(); return 1;
+  case O_DESIGN_SCHEMA: out_schema_print(OUT_DESIGN); return 1;
   default: return 0;
   }
 }

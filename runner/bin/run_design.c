@@ -14,7 +14,6 @@
 #include "core/exit_codes.h"
 #include "core/tmpout.h"
 #include "exec/design_run.h"
-#include "output/design_output.h"
 #include "scene/inputs.h"
 #include "shards/parts.h"
 
@@ -29,13 +28,12 @@ int run_design(scene *s, const run_args *a, const world *w, int argc,
                char **argv, ranks_join_fn join) {
   design_plan plan;
   design_stats st;
-  design_tile shape;
-  design_file *f;
+  out_file *f;
   scene_error serr;
   sweep_stats sst;
   progress pr;
   out_meta meta;
-  char err[512], *cmd = NULL, *inputs = NULL;
+  char err[512], fields[64], *cmd = NULL, *inputs = NULL;
   int code = EXIT_OK, nthread = a->nthread;
 
   if (a->fields != out_fields_all()) {
@@ -79,15 +77,12 @@ int run_design(scene *s, const run_args *a, const world *w, int argc,
     free(inputs);
     return code;
   }
-  memset(&shape, 0, sizeof shape);
-  shape.npose = plan.npose;
-  shape.task = plan.task;
-  shape.per_pose = plan.per_pose;
   /* a complete part of this study and these data is not computed again */
   if (a->resume) {
     size_t nfailed = 0, ncase = design_shard_cases(&plan, a->shard, a->nshard);
     if (parts_resume(a->out_path, a->shard, a->nshard, s->text,
-                     design_fields_text(&shape), inputs, &nfailed)) {
+                     out_fields_attr(plan.files, 0, fields, sizeof fields),
+                     inputs, &nfailed)) {
       if (!a->quiet)
         fprintf(stderr,
                 "rps3-run: %s is shard %zu/%zu of this scene, complete "
@@ -118,17 +113,16 @@ int run_design(scene *s, const run_args *a, const world *w, int argc,
   pr.njob = design_shard_units(&plan, a->shard, a->nshard);
   pr.npoint = pr.ncase * (plan.npose + plan.nsample);
   memset(&st, 0, sizeof st);
-  f = design_out_create(tmpout_path(), s, &shape, plan.unit, &meta, err,
-                        sizeof err);
+  f = design_file_open(tmpout_path(), s, &plan, &meta, err, sizeof err);
   if (!f) {
     fprintf(stderr, "rps3-run: %s: %s\n", a->out_path, err);
     code = EXIT_IO;
   } else if (design_run(s, &plan, f, a->shard, a->nshard, nthread, &pr, &st,
                         err, sizeof err)) {
     fprintf(stderr, "rps3-run: %s: %s\n", a->out_path, err);
-    design_out_close(f, NULL, 0);
+    out_close(f, NULL, 0);
     code = EXIT_IO;
-  } else if (design_out_close(f, err, sizeof err)) {
+  } else if (out_close(f, err, sizeof err)) {
     fprintf(stderr, "rps3-run: %s: %s\n", a->out_path, err);
     code = EXIT_IO;
   }

@@ -8,26 +8,24 @@
 #include <string.h>
 #include <time.h>
 
-#include "core/safeio.h"
 #include "estimate.h"
 #include "pool.h"
 
 /* ------------------------------------------------------------------ plan */
 
 int design_plan_make(const scene *s, design_plan *p, scene_error *err) {
-  rps3_design_grid gr;
   scene_case c;
   size_t i, per;
   memset(p, 0, sizeof *p);
   p->ncase = s->ncase;
-  design_grid(s, &gr);
-  p->npose = rps3_design_grid_size(&gr);
+  design_grid(s, &p->gr);
+  p->npose = rps3_design_grid_size(&p->gr);
   p->task = s->section[2].line > 0;
   p->per_pose = s->base.des.per_pose;
+  p->files = OUT_DES | (p->task ? OUT_TASK : 0) | (p->per_pose ? OUT_POSE : 0);
   /* every design is checked before anything is written */
   for (i = 0; i < s->ncase; i++) {
     if (design_case_build(s, i, &c, err)) return -1;
-    if (i == 0) p->nsample = p->task ? c.nt : 0;
     /* the task's samples: one grid for every design (the sweep may not
        change the trajectory's span) */
     if (p->task && c.nt > p->nsample) p->nsample = c.nt;
@@ -52,18 +50,90 @@ size_t design_shard_cases(const design_plan *p, size_t k, size_t n) {
   return c;
 }
 
-double design_file_bytes(const scene *s, const design_plan *p) {
-  design_tile t;
-  memset(&t, 0, sizeof t);
-  t.npose = p->npose;
-  t.task = p->task;
-  t.per_pose = p->per_pose;
-  /* the designs' variables, their scene_resolved (about the scene's
-     size), the swept keys, and HDF5's metadata (a bound) */
+/* a tile: the rows of up to `cap` designs of every field of the file, the
+   buffers of out_write_case (strings owned) */
+typedef struct {
+  size_t cap, npose;
+  void *buf[OUT_NFIELD];
+} design_tile;
+
+/* values per design of field i */
+static size_t inner(const design_tile *t, int i) {
+  return out_columns(out_field_table[i].shape, t->npose);
+}
+
+/* reset slot j: the fill values, no strings */
+static void tile_clear(design_tile *t, size_t j) {
+  int i;
+  for (i = 0; i < OUT_NFIELD; i++)
+    if (t->buf[i] && out_field_table[i].type == OUT_STR) {
+      free(((char **)t->buf[i])[j]);
+      ((char **)t->buf[i])[j] = NULL;
+    } else if (t->buf[i])
+      out_fill_n((char *)t->buf[i] +
+                     j * inner(t, i) * out_type_size(out_field_table[i].type),
+                 inner(t, i), i);
+}
+
+static void tile_free(design_tile *t) {
+  size_t j;
+  int i;
+  for (i = 0; i < OUT_NFIELD; i++)
+    if (t->buf[i] && out_field_table[i].type == OUT_STR)
+      for (j = 0; j < t->cap; j++) free(((char **)t->buf[i])[j]);
+  for (i = 0; i < OUT_NFIELD; i++) free(t->buf[i]);
+  memset(t, 0, sizeof *t);
+}
+
+/* 0, or -1 (out of memory; the tile then freed) */
+static int tile_alloc(design_tile *t, size_t cap, size_t npose, int files) {
+  size_t j;
+  int i;
+  memset(t, 0, sizeof *t);
+  t->cap = cap;
+  t->npose = npose;
+  for (i = 0; i < OUT_NFIELD; i++)
+    if ((out_field_table[i].files & files) &&
+        !(t->buf[i] = calloc(cap * inner(t, i),
+                             out_type_size(out_field_table[i].type)))) {
+      tile_free(t);
+      return -1;
+    }
+  for (j = 0; j < cap; j++) tile_clear(t, j);
+  return 0;
+}
+
+/* bytes of the file (uncompressed: an upper bound with --gzip) */
+static double design_file_bytes(const scene *s, const design_plan *p) {
+  double row = 0;
+  int i;
+  /* the designs' variables (a message about 64 bytes), their
+     scene_resolved (about the scene's size), the swept keys, and HDF5's
+     metadata (a bound) */
+  for (i = 0; i < OUT_NFIELD; i++)
+    if (out_field_table[i].files & p->files)
+      row += (double)out_columns(out_field_table[i].shape, p->npose) *
+             (out_field_table[i].type == OUT_STR
+                  ? 64.0
+                  : (double)out_type_size(out_field_table[i].type));
   return (double)p->ncase *
-             ((double)design_bytes_per_design(&t) + (double)s->text_len +
-              8.0 * (double)(s->naxis + 1)) +
+             (row + (double)s->text_len + 8.0 * (double)(s->naxis + 1)) +
          65536.0;
+}
+
+out_file *design_file_open(const char *path, const scene *s,
+                           const design_plan *p, const out_meta *meta,
+                           char *err, size_t errsz) {
+  out_spec sp;
+  memset(&sp, 0, sizeof sp);
+  sp.files = p->files;
+  sp.title =
+      "rps3: design study of the Lee & Shah 3-RPS manipulator, indices per "
+      "design over a grid of poses";
+  sp.content = "design";
+  sp.grid_common = 1;
+  sp.tile_cases = sp.case_chunk = p->unit < p->ncase ? p->unit : p->ncase;
+  return out_open(path, s, &sp, meta, err, errsz);
 }
 
 /* ------------------------------------------------------------- evaluate */
@@ -77,28 +147,24 @@ typedef struct {
 } worker_ws;
 
 static void worker_free(worker_ws *w) {
+  if (!w) return;
   rps3_design_ws_free(w->ws);
   free(w->flags);
   free(w->c);
   scene_text_free(&w->yaml);
-  memset(w, 0, sizeof *w);
+  free(w);
 }
 
-static int worker_alloc(worker_ws *w, size_t npose) {
-  memset(w, 0, sizeof *w);
-  w->flags = malloc(npose * sizeof *w->flags);
-  w->c = malloc(3 * npose * sizeof *w->c);
-  if (!w->flags || !w->c || rps3_design_ws_alloc(&w->ws) != RPS3_OK) {
+/* a worker for grids of up to npose poses; NULL when out of memory */
+static worker_ws *worker_new(size_t npose) {
+  worker_ws *w = calloc(1, sizeof *w);
+  if (w && (!(w->flags = malloc(npose * sizeof *w->flags)) ||
+            !(w->c = malloc(3 * npose * sizeof *w->c)) ||
+            rps3_design_ws_alloc(&w->ws) != RPS3_OK)) {
     worker_free(w);
-    return -1;
+    w = NULL;
   }
-  return 0;
-}
-
-static char *dup_text(const char *s) {
-  char *d = malloc(strlen(s) + 1);
-  if (d) strcpy(d, s);
-  return d;
+  return w;
 }
 
 #define F64(t, i) ((double *)(t)->buf[i])
@@ -106,102 +172,116 @@ static char *dup_text(const char *s) {
 #define I64(t, i) ((int64_t *)(t)->buf[i])
 #define STR(t, i) ((char **)(t)->buf[i])
 
+/* the summaries of rps3_design_summary that are variables of their name,
+   the task's per-link statistics of rps3_design_task (task_NAME), and the
+   per-pose arrays of rps3_design_out (the variable's id) */
+#define SUM_FIELDS(X)                                                   \
+  X(reach_fraction)                                                     \
+  X(volume)                                                             \
+  X(gti)                                                                \
+  X(good_fraction)                                                      \
+  X(lti_min) X(cond_h_max) X(trans_max) X(xc_max) X(yc_max) X(spin_max) \
+      X(l_lo) X(l_hi)
+#define TASK_LINK_FIELDS(X) \
+  X(F_peak) X(F_rms) X(P_peak) X(v_peak) X(l_lo) X(l_hi)
+#define POSE_FIELDS(X) \
+  X(lti, lti)          \
+  X(oti, oti)          \
+  X(cti, cti)          \
+  X(cond_h, cond_h)    \
+  X(transmission, des_transmission) X(spin, spin) X(clearance, clearance)
+
+/* design slot j failed with status rc: why */
+static void design_failed(design_tile *t, size_t j, int rc, const char *why) {
+  I32(t, OUT_des_status)[j] = rc;
+  STR(t, OUT_des_message)[j] = strdup(why);
+}
+
+/* the summary of a design's grid and its model into slot j */
+static void store_summary(design_tile *t, size_t j,
+                          const rps3_design_summary *sum,
+                          const rps3_model *model) {
+  size_t k;
+#define STORE(m) F64(t, OUT_##m)[j] = sum->m;
+  SUM_FIELDS(STORE)
+#undef STORE
+  I64(t, OUT_nreach)[j] = (int64_t)sum->nreach;
+  I32(t, OUT_flags_any)[j] = sum->flags_any;
+  for (k = 0; k < RPS3_DESIGN_NFLAG; k++)
+    I64(t, OUT_nflag)[j * RPS3_DESIGN_NFLAG + k] = (int64_t)sum->nflag[k];
+  F64(t, OUT_link_mass)[j] = model->m;
+  F64(t, OUT_link_d)[j] = model->d;
+  F64(t, OUT_link_Ic)[j] = model->link_Ic;
+  I32(t, OUT_des_status)[j] = 0;
+}
+
+/* the task of design d of case c into slot j; the samples evaluated */
+static size_t eval_task(worker_ws *w, const rps3_design *d,
+                        const rps3_design_opts *o, const scene_case *c,
+                        design_tile *t, size_t j) {
+  rps3_design_task res;
+  size_t k;
+  int rc = rps3_design_task_eval(w->ws, d, o, &c->traj, c->nt,
+                                 RPS3_DESIGN_LINK_MASS, &res);
+  if (rc != RPS3_OK && rc != RPS3_EREACH) {
+    /* a task this design cannot even be asked: the design failed */
+    design_failed(t, j, rc, w->ws->err.msg);
+    return 0;
+  }
+  I32(t, OUT_task_status)[j] = rc;
+  if (rc != RPS3_OK) STR(t, OUT_task_message)[j] = strdup(w->ws->err.msg);
+  F64(t, OUT_task_fail_time)[j] = res.fail_time;
+  I32(t, OUT_task_fail_flags)[j] = rc != RPS3_OK ? res.fail_flags : 0;
+  /* statistics of no sample (the task leaves the workspace at its start)
+     are not numbers: NaN, as the fill */
+  if (res.nsamples > 0) F64(t, OUT_task_lti_min)[j] = res.lti_min;
+  for (k = 0; k < 3 && res.nsamples > 0; k++) {
+#define STORE(m) F64(t, OUT_task_##m)[3 * j + k] = res.m[k];
+    TASK_LINK_FIELDS(STORE)
+#undef STORE
+  }
+  return res.nsamples;
+}
+
 /* design `index` into slot j of t; the poses and samples it evaluated */
 static size_t eval_design(const scene *s, const design_plan *p, size_t index,
                           worker_ws *w, design_tile *t, size_t j) {
-  rps3_design_grid gr;
   rps3_design_opts o;
   rps3_design_out out;
   rps3_design_summary sum;
   rps3_design d;
   scene_case c;
   scene_error err;
-  size_t n = p->npose, k, done = 0;
+  size_t n = p->npose, k, done = n;
   int rc;
-  design_tile_clear(t, j);
+  tile_clear(t, j);
   if (design_case_build(s, index, &c, &err)) {
     /* checked by design_plan_make: only a changed scene gets here */
-    I32(t, DO_status)[j] = RPS3_EINVAL;
-    STR(t, DO_message)[j] = dup_text(err.what);
+    design_failed(t, j, RPS3_EINVAL, err.what);
     return 0;
   }
-  design_grid(s, &gr);
   design_opts(s, &o);
   design_of_case(&c, &d);
   memset(&out, 0, sizeof out);
   out.flags =
-      p->per_pose ? (int *)(void *)(I32(t, DO_pose_flags) + j * n) : w->flags;
+      p->per_pose ? (int *)(void *)(I32(t, OUT_pose_flags) + j * n) : w->flags;
   out.c = w->c;
-  if (p->per_pose) {
-    out.lti = F64(t, DO_lti) + j * n;
-    out.oti = F64(t, DO_oti) + j * n;
-    out.cti = F64(t, DO_cti) + j * n;
-    out.cond_h = F64(t, DO_cond_h) + j * n;
-    out.transmission = F64(t, DO_transmission) + j * n;
-    out.spin = F64(t, DO_spin) + j * n;
-    out.clearance = F64(t, DO_clearance) + j * n;
-  }
-  rc = rps3_design_eval_grid(w->ws, &d, &o, &gr, &out, &sum);
+#define POSE(m, id) out.m = p->per_pose ? F64(t, OUT_##id) + j * n : NULL;
+  POSE_FIELDS(POSE)
+#undef POSE
+  rc = rps3_design_eval_grid(w->ws, &d, &o, &p->gr, &out, &sum);
   if (rc != RPS3_OK && rc != RPS3_EEMPTY) {
-    I32(t, DO_status)[j] = rc;
-    STR(t, DO_message)[j] = dup_text(w->ws->err.msg);
+    design_failed(t, j, rc, w->ws->err.msg);
     return 0;
   }
-  done += n;
-  if (p->per_pose)
-    for (k = 0; k < n; k++) {
-      F64(t, DO_x_c)[j * n + k] = w->c[k];
-      F64(t, DO_y_c)[j * n + k] = w->c[n + k];
-    }
-  I64(t, DO_nreach)[j] = (int64_t)sum.nreach;
-  F64(t, DO_reach_fraction)[j] = sum.reach_fraction;
-  F64(t, DO_volume)[j] = sum.volume;
-  F64(t, DO_gti)[j] = sum.gti;
-  F64(t, DO_good_fraction)[j] = sum.good_fraction;
-  F64(t, DO_lti_min)[j] = sum.lti_min;
-  F64(t, DO_cond_h_max)[j] = sum.cond_h_max;
-  F64(t, DO_trans_max)[j] = sum.trans_max;
-  F64(t, DO_xc_max)[j] = sum.xc_max;
-  F64(t, DO_yc_max)[j] = sum.yc_max;
-  F64(t, DO_spin_max)[j] = sum.spin_max;
-  F64(t, DO_l_lo)[j] = sum.l_lo;
-  F64(t, DO_l_hi)[j] = sum.l_hi;
-  I32(t, DO_flags_any)[j] = sum.flags_any;
-  for (k = 0; k < RPS3_DESIGN_NFLAG; k++)
-    I64(t, DO_nflag)[j * RPS3_DESIGN_NFLAG + k] = (int64_t)sum.nflag[k];
-  F64(t, DO_link_mass)[j] = w->ws->model.m;
-  F64(t, DO_link_d)[j] = w->ws->model.d;
-  F64(t, DO_link_Ic)[j] = w->ws->model.link_Ic;
-  I32(t, DO_status)[j] = 0;
-  if (p->task) {
-    rps3_design_task res;
-    rc = rps3_design_task_eval(w->ws, &d, &o, &c.traj, c.nt,
-                               RPS3_DESIGN_LINK_MASS, &res);
-    if (rc != RPS3_OK && rc != RPS3_EREACH) {
-      /* a task this design cannot even be asked: the design failed */
-      I32(t, DO_status)[j] = rc;
-      STR(t, DO_message)[j] = dup_text(w->ws->err.msg);
-    } else {
-      done += res.nsamples;
-      I32(t, DO_task_status)[j] = rc;
-      if (rc != RPS3_OK) STR(t, DO_task_message)[j] = dup_text(w->ws->err.msg);
-      F64(t, DO_task_fail_time)[j] = res.fail_time;
-      I32(t, DO_task_fail_flags)[j] = rc != RPS3_OK ? res.fail_flags : 0;
-      /* statistics of no sample (the task leaves the workspace at its
-         start) are not numbers: NaN, as the fill */
-      if (res.nsamples > 0) F64(t, DO_task_lti_min)[j] = res.lti_min;
-      for (k = 0; k < 3 && res.nsamples > 0; k++) {
-        F64(t, DO_task_F_peak)[3 * j + k] = res.F_peak[k];
-        F64(t, DO_task_F_rms)[3 * j + k] = res.F_rms[k];
-        F64(t, DO_task_P_peak)[3 * j + k] = res.P_peak[k];
-        F64(t, DO_task_v_peak)[3 * j + k] = res.v_peak[k];
-        F64(t, DO_task_l_lo)[3 * j + k] = res.l_lo[k];
-        F64(t, DO_task_l_hi)[3 * j + k] = res.l_hi[k];
-      }
-    }
+  for (k = 0; p->per_pose && k < n; k++) {
+    F64(t, OUT_des_x_c)[j * n + k] = w->c[k];
+    F64(t, OUT_des_y_c)[j * n + k] = w->c[n + k];
   }
+  store_summary(t, j, &sum, &w->ws->model);
+  if (p->task) done += eval_task(w, &d, &o, &c, t, j);
   if (scene_case_yaml(&c, &w->yaml) == 0)
-    STR(t, DO_scene_resolved)[j] = dup_text(w->yaml.s);
+    STR(t, OUT_des_scene_resolved)[j] = strdup(w->yaml.s);
   return done;
 }
 
@@ -210,7 +290,7 @@ static size_t eval_design(const scene *s, const design_plan *p, size_t index,
 typedef struct {
   const scene *s;
   const design_plan *p;
-  design_file *f;
+  out_file *f;
   progress *pr;
   design_stats *st;
 } design_job;
@@ -223,19 +303,12 @@ typedef struct {
 
 /* pool_job.worker_begin: a worker's workspace and pose arrays */
 static void *design_worker_begin(void *ctx) {
-  const design_job *J = ctx;
-  worker_ws *w = malloc(sizeof *w);
-  if (w && worker_alloc(w, J->p->npose)) {
-    free(w);
-    w = NULL;
-  }
-  return w;
+  return worker_new(((const design_job *)ctx)->p->npose);
 }
 
 static void design_worker_end(void *ctx, void *wctx) {
   (void)ctx;
-  if (wctx) worker_free(wctx);
-  free(wctx);
+  worker_free(wctx);
 }
 
 /* pool_job.run: work unit u on worker w, into its slot */
@@ -261,27 +334,26 @@ static int design_write(void *ctx, void *slot, const void *info, char *err,
   const unit_info *in = info;
   design_stats *st = J->st;
   size_t j;
-  if (design_out_write(J->f, t, in->c0, in->nc, err, errsz)) return -1;
-  for (j = 0; j < in->nc; j++) {
-    int32_t status = ((int32_t *)t->buf[DO_status])[j];
-    if (status != 0) {
+  if (out_write_case(J->f, (const void *const *)t->buf, in->c0, in->nc, err,
+                     errsz))
+    return -1;
+  for (j = 0; j < in->nc; j++)
+    if (I32(t, OUT_des_status)[j] != 0) {
       if (st->nfailed == 0)
-        progress_failure(J->pr, in->c0 + j, "",
-                         ((char **)t->buf[DO_message])[j]);
+        progress_failure(J->pr, in->c0 + j, "", STR(t, OUT_des_message)[j]);
       st->nfailed++;
-    } else if (((int64_t *)t->buf[DO_nreach])[j] == 0)
+    } else if (I64(t, OUT_nreach)[j] == 0)
       st->nempty++;
-  }
   st->cases_done += in->nc;
   st->points_done += in->points;
   progress_update(J->pr, st->cases_done, st->points_done);
   return 0;
 }
 
-int design_run(const scene *s, const design_plan *p, design_file *f,
-               size_t shard, size_t nshard, int nthread, progress *pr,
-               design_stats *st, char *err, size_t errsz) {
-  design_job J;
+int design_run(const scene *s, const design_plan *p, out_file *f, size_t shard,
+               size_t nshard, int nthread, progress *pr, design_stats *st,
+               char *err, size_t errsz) {
+  design_job J = {s, p, f, pr, st};
   pool_job job;
   design_tile *tiles;
   size_t i, nslot;
@@ -289,11 +361,6 @@ int design_run(const scene *s, const design_plan *p, design_file *f,
   memset(st, 0, sizeof *st);
   if (nthread < 1) nthread = 1;
   nslot = pool_nslot(nthread);
-  J.s = s;
-  J.p = p;
-  J.f = f;
-  J.pr = pr;
-  J.st = st;
   memset(&job, 0, sizeof job);
   job.ctx = &J;
   job.nitem = p->nunit;
@@ -309,12 +376,11 @@ int design_run(const scene *s, const design_plan *p, design_file *f,
   snprintf(err, errsz, "out of memory for the tiles of %d thread%s", nthread,
            nthread == 1 ? "" : "s");
   for (i = 0; tiles && job.slot && i < nslot; i++) {
-    if (design_tile_alloc(&tiles[i], p->unit, p->npose, p->task, p->per_pose))
-      break;
+    if (tile_alloc(&tiles[i], p->unit, p->npose, p->files)) break;
     job.slot[i] = &tiles[i];
   }
   if (tiles && job.slot && i == nslot) rc = pool_run(&job, nthread, err, errsz);
-  for (i = 0; tiles && i < nslot; i++) design_tile_free(&tiles[i]);
+  for (i = 0; tiles && i < nslot; i++) tile_free(&tiles[i]);
   free(tiles);
   free(job.slot);
   return rc;
@@ -331,85 +397,64 @@ static double cpu_now(void) {
 /* poses of the coarser grid that times a design of a large grid */
 #define DESIGN_TIMED_POSES 8192
 
-/* CPU seconds of design `index` of a grid larger than DESIGN_TIMED_POSES:
-   its evaluation on a coarser grid of the same box, scaled by the poses
-   (a pose costs the same wherever it is), plus its task; -1 on failure */
-static double time_coarse(const scene *s, const design_plan *p, size_t index,
-                          worker_ws *w) {
-  rps3_design_grid gr;
-  rps3_design_opts o;
-  rps3_design_out out;
-  rps3_design_summary sum;
-  rps3_design_task res;
-  rps3_design d;
-  scene_case c;
-  scene_error err;
-  double t0, spent;
-  size_t n;
-  int k, big;
-  if (design_case_build(s, index, &c, &err)) return -1;
-  design_grid(s, &gr);
-  design_opts(s, &o);
-  design_of_case(&c, &d);
-  /* halve the axis of most cells until the grid has at most
-     DESIGN_TIMED_POSES poses (w's arrays) */
-  while ((n = rps3_design_grid_size(&gr)) > DESIGN_TIMED_POSES) {
-    for (big = 0, k = 1; k < 3; k++)
-      if (gr.n[k] > gr.n[big]) big = k;
-    gr.n[big] = (gr.n[big] + 1) / 2;
-  }
-  memset(&out, 0, sizeof out);
-  out.flags = w->flags;
-  out.c = w->c;
-  t0 = cpu_now();
-  (void)rps3_design_eval_grid(w->ws, &d, &o, &gr, &out, &sum);
-  spent = (cpu_now() - t0) * (double)p->npose / (double)n;
-  if (p->task) {
-    t0 = cpu_now();
-    (void)rps3_design_task_eval(w->ws, &d, &o, &c.traj, c.nt,
-                                RPS3_DESIGN_LINK_MASS, &res);
-    spent += cpu_now() - t0;
-  }
-  return spent;
+/* CPU seconds of eval_design of design i on the plan q */
+static double timed_eval(const scene *s, const design_plan *q, size_t i,
+                         worker_ws *w, design_tile *t) {
+  double t0 = cpu_now();
+  (void)eval_design(s, q, i, w, t, 0);
+  return cpu_now() - t0;
 }
 
-double design_cost_measure(const scene *s, const design_plan *p) {
-  worker_ws w;
+/* CPU seconds of one design, timed on up to 8 designs spread over the
+   study (at most about 0.2 s of evaluation), or -1 when none could be
+   timed */
+static double design_cost_measure(const scene *s, const design_plan *p) {
+  design_plan q = *p, q1;
+  worker_ws *w;
   design_tile t;
   size_t i, timed = 0, step;
-  double t0, spent = 0, used = 0, one;
-  int coarse = p->npose > DESIGN_TIMED_POSES;
-  /* a large grid is timed on a coarser one: the estimate's own cost is
-     bounded whatever the grid */
-  if (worker_alloc(&w, coarse ? DESIGN_TIMED_POSES : p->npose)) return -1;
-  if (design_tile_alloc(&t, 1, coarse ? 1 : p->npose, p->task, p->per_pose)) {
-    worker_free(&w);
+  double spent = 0, used = 0, grid, task;
+  int k, big;
+  /* the grid on one of at most DESIGN_TIMED_POSES poses of the same box
+     (the axis of most cells halved), its time scaled by the poses (a pose
+     costs the same wherever it is), and the task on a grid of one pose:
+     the estimate's own cost is bounded whatever the grid */
+  while (rps3_design_grid_size(&q.gr) > DESIGN_TIMED_POSES) {
+    for (big = 0, k = 1; k < 3; k++)
+      if (q.gr.n[k] > q.gr.n[big]) big = k;
+    q.gr.n[big] = (q.gr.n[big] + 1) / 2;
+  }
+  q.npose = rps3_design_grid_size(&q.gr);
+  q.task = 0;
+  q1 = q;
+  q1.gr.n[0] = q1.gr.n[1] = q1.gr.n[2] = q1.npose = 1;
+  q1.task = p->task;
+  if (!(w = worker_new(q.npose))) return -1;
+  if (tile_alloc(&t, 1, q.npose, p->files)) {
+    worker_free(w);
     return -1;
   }
-  /* up to 8 designs spread over the study, at most about 0.2 s */
   step = p->ncase > 8 ? p->ncase / 8 : 1;
   for (i = 0; i < p->ncase && timed < 8 && used < 0.2; i += step) {
-    t0 = cpu_now();
-    if (coarse) {
-      if ((one = time_coarse(s, p, i, &w)) < 0) break;
-      spent += one;
-    } else {
-      (void)eval_design(s, p, i, &w, &t, 0);
-      spent += cpu_now() - t0;
-    }
-    used += cpu_now() - t0;
+    grid = timed_eval(s, &q, i, w, &t);
+    task = p->task ? timed_eval(s, &q1, i, w, &t) : 0;
+    spent += grid * (double)p->npose / (double)q.npose + task;
+    used += grid + task;
     timed++;
   }
-  design_tile_free(&t);
-  worker_free(&w);
+  tile_free(&t);
+  worker_free(w);
   return timed ? spent / (double)timed : -1;
 }
+
+/* the plural ending of n things */
+#define PL(n) ((n) == 1 ? "" : "s")
 
 int design_preflight(const char *scene_path, const scene *s,
                      const design_plan *p, size_t shard, size_t nshard,
                      int nrank, int nthread, int gzip, int check, int quiet,
                      const char *out_path) {
-  char e1[32], e2[32], tt[32];
+  char e1[32], tt[32];
   size_t cases = design_shard_cases(p, shard, nshard);
   size_t units = design_shard_units(p, shard, nshard);
   double bytes = design_file_bytes(s, p), per = design_cost_measure(s, p);
@@ -417,7 +462,6 @@ int design_preflight(const char *scene_path, const scene *s,
                     ? bytes
                     : bytes * (double)cases / (double)(p->ncase ? p->ncase : 1);
   int threads = (size_t)nthread < units ? nthread : (int)units;
-  double avail;
   if (threads < 1) threads = 1;
   if (nshard > p->nunit && nrank == 1) {
     fprintf(stderr,
@@ -425,49 +469,39 @@ int design_preflight(const char *scene_path, const scene *s,
             "unit%s (of up to %zu design%s), so at most %zu shard%s can "
             "have work: use --shard K/%zu or fewer (rps3-run SCENE --check "
             "counts the work units)\n",
-            shard, nshard, p->nunit, p->nunit == 1 ? "" : "s", p->unit,
-            p->unit == 1 ? "" : "s", p->nunit, p->nunit == 1 ? "" : "s",
-            p->nunit);
+            shard, nshard, p->nunit, PL(p->nunit), p->unit, PL(p->unit),
+            p->nunit, PL(p->nunit), p->nunit);
     return -1;
   }
   if (check) {
     printf(
         "%s: design study: %zu design%s x %zu poses%s; output about %s "
         "uncompressed\n",
-        scene_path, p->ncase, p->ncase == 1 ? "" : "s", p->npose,
+        scene_path, p->ncase, PL(p->ncase), p->npose,
         p->task ? " and the task" : "", est_human(bytes, e1, sizeof e1));
     if (per >= 0)
       printf(
           "run time about %s on %d thread%s (an estimate: %.3g ms a "
           "design, timed on a few designs)\n",
           est_human_time(per * (double)p->ncase / threads, tt, sizeof tt),
-          threads, threads == 1 ? "" : "s", 1e3 * per);
+          threads, PL(threads), 1e3 * per);
     printf(
         "%zu work unit%s of up to %zu design%s: at most %zu shard%s, "
         "rank%s or thread%s ha%s work\n",
-        p->nunit, p->nunit == 1 ? "" : "s", p->unit, p->unit == 1 ? "" : "s",
-        p->nunit, p->nunit == 1 ? "" : "s", p->nunit == 1 ? "" : "s",
-        p->nunit == 1 ? "" : "s", p->nunit == 1 ? "s" : "ve");
+        p->nunit, PL(p->nunit), p->unit, PL(p->unit), p->nunit, PL(p->nunit),
+        PL(p->nunit), PL(p->nunit), p->nunit == 1 ? "s" : "ve");
     return 0;
   }
   if (!quiet)
     fprintf(stderr,
             "rps3-run: design study: %zu design%s x %zu poses: %s about "
             "%s%s, run time about %s on %d thread%s\n",
-            cases, cases == 1 ? "" : "s", p->npose, out_path,
+            cases, PL(cases), p->npose, out_path,
             est_human(need, e1, sizeof e1), gzip ? " before compression" : "",
             per >= 0
                 ? est_human_time(per * (double)cases / threads, tt, sizeof tt)
                 : "unknown",
-            threads, threads == 1 ? "" : "s");
-  avail = disk_free(out_path);
-  if (avail >= 0 && need > avail && !gzip) {
-    fprintf(stderr,
-            "rps3-run: %s: the output needs about %s, the file system has "
-            "%s free: nothing written\n",
-            out_path, est_human(need, e1, sizeof e1),
-            est_human(avail, e2, sizeof e2));
-    return -1;
-  }
-  return 0;
+            threads, PL(threads));
+  /* the room (est_room's own line is this one's) */
+  return est_room(out_path, "", cases, 0, need, gzip, 1, "");
 }

@@ -1,10 +1,11 @@
 /*
  * design_run.h - running a design study (scene/design.h) into its file
- * (output/design_output.h): every design built and checked before
- * anything is written, then evaluated by the library (rps3_design_eval_grid
- * over the section's grid, rps3_design_task_eval along the trajectory when
- * the scene has one) in work units of whole designs, on -j threads (the
- * runner's worker pool, pool.h), for one shard or all.
+ * (the OUT_DESIGN rows of output/outblock.h, one row per design, the swept
+ * keys its coordinates, as a sweep's file): every design built and checked
+ * before anything is written, then evaluated by the library
+ * (rps3_design_eval_grid over the section's grid, rps3_design_task_eval along
+ * the trajectory when the scene has one) in work units of whole designs, on -j
+ * threads (the runner's worker pool, pool.h), for one shard or all.
  *
  * A work unit is one chunk row of every dataset: up to about
  * DESIGN_UNIT_POSES poses of evaluation, the units sharing the designs
@@ -18,20 +19,22 @@
 #include <stddef.h>
 
 #include "core/progress.h"
-#include "output/design_output.h"
+#include "output/output.h"
 #include "scene/design.h"
 
 /* poses of evaluation per work unit (a unit is at least one design) */
 #define DESIGN_UNIT_POSES 65536
 
 typedef struct {
-  size_t ncase;   /* designs */
-  size_t npose;   /* poses of the grid */
-  size_t unit;    /* designs per work unit */
-  size_t nunit;   /* work units */
-  int task;       /* the scene has a trajectory: the task is evaluated */
-  int per_pose;   /* the per-pose indices are written */
-  size_t nsample; /* samples of the task (its time grid) */
+  size_t ncase;        /* designs */
+  rps3_design_grid gr; /* the pose grid */
+  size_t npose;        /* its poses */
+  size_t unit;         /* designs per work unit */
+  size_t nunit;        /* work units */
+  int task;            /* the scene has a trajectory: the task is evaluated */
+  int per_pose;        /* the per-pose indices are written */
+  int files;           /* the OUT_DESIGN bits of the file's fields */
+  size_t nsample;      /* samples of the task (its time grid) */
 } design_plan;
 
 typedef struct {
@@ -54,16 +57,6 @@ size_t design_shard_cases(const design_plan *p, size_t k, size_t n);
 /* work units of shard k of n */
 size_t design_shard_units(const design_plan *p, size_t k, size_t n);
 
-/* bytes of the file (uncompressed: an upper bound with --gzip) */
-double design_file_bytes(const scene *s, const design_plan *p);
-
-/*
- * CPU seconds of one design, timed on up to 8 designs spread over the
- * study (at most about 0.2 s of evaluation), or -1 when none could be
- * timed.
- */
-double design_cost_measure(const scene *s, const design_plan *p);
-
 /*
  * What --check prints (stdout) and a run prints first (stderr, unless
  * quiet): designs, poses, size, estimated time, work units.  For a run,
@@ -76,6 +69,12 @@ int design_preflight(const char *scene_path, const scene *s,
                      int nrank, int nthread, int gzip, int check, int quiet,
                      const char *out_path);
 
+/* Create the file at `path` for the designs of s (out_open, chunks of a
+   work unit); NULL with a message in err.  Closed with out_close. */
+out_file *design_file_open(const char *path, const scene *s,
+                           const design_plan *p, const out_meta *meta,
+                           char *err, size_t errsz);
+
 /*
  * Evaluate the designs of shard `shard` of `nshard` into f on nthread
  * threads (the calling thread writes), progress on pr, counts in st.
@@ -83,8 +82,8 @@ int design_preflight(const char *scene_path, const scene *s,
  * failure of the run.  Returns 0, or -1 with err set (the file could not
  * be written, out of memory).
  */
-int design_run(const scene *s, const design_plan *p, design_file *f,
-               size_t shard, size_t nshard, int nthread, progress *pr,
-               design_stats *st, char *err, size_t errsz);
+int design_run(const scene *s, const design_plan *p, out_file *f, size_t shard,
+               size_t nshard, int nthread, progress *pr, design_stats *st,
+               char *err, size_t errsz);
 
 #endif /* RPS3_RUNNER_DESIGN_RUN_H */

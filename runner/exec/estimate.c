@@ -69,7 +69,7 @@ double est_file_bytes(const scene *s, const sweep_plan *p, out_mask fields) {
     if (p->first.model.opt.effects & (1 << e)) neff += 1;
 
 #define EST_FIELD(id, name, files, shape, type, ...)                    \
-  if (fields >> OUT_##id & 1) {                                         \
+  if (OUT_HAS(fields, OUT_##id)) {                                      \
     double cols = shape == OUT_CTEL                      ? 3 * neff     \
                   : shape == OUT_CTL || shape == OUT_CTK ? 3            \
                                                          : 1;           \

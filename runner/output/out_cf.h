@@ -1,10 +1,10 @@
 /*
  * out_cf.h - the CF conventions (cfconventions.org) on a runner file: a
  * long_name on every variable, units in UDUNITS-2 spelling, flag_values /
- * flag_meanings on status and flag_masks / flag_meanings on warn, and the
- * root attributes Conventions, history and git_revision.  output.c and
- * sim_output.c call these while they create a file; merge appends to
- * history (out_stamp).
+ * flag_meanings on a status and flag_masks / flag_meanings on the warning
+ * bits and the reachability flags, the swept keys' variables, and the
+ * root attributes Conventions, history and git_revision.  output.c calls
+ * these while it creates a file; merge appends to history (out_stamp).
  */
 #ifndef RPS3_RUNNER_OUT_CF_H
 #define RPS3_RUNNER_OUT_CF_H
@@ -29,13 +29,9 @@ int out_cf_root(hid_t file, hid_t str, const char *now,
 
 /* long_name of schema field i, and its flags (the flags column of the
    schema: flag_values and flag_meanings of a status, every rps3_status
-   and OUT_STATUS_NOT_COMPUTED; flag_masks of the warning bits); 0 or -1 */
+   and OUT_STATUS_NOT_COMPUTED; flag_masks of the warning bits or of the
+   reachability flags); 0 or -1 */
 int out_cf_field(hid_t ds, hid_t str, int i);
-
-/* flag_values and flag_meanings of a status variable outside the schema
-   (a design study's file): every rps3_status and OUT_STATUS_NOT_COMPUTED;
-   0 or -1 */
-int out_cf_status(hid_t ds, hid_t str);
 
 /* long_name of a coordinate or other variable; 0 or -1 */
 int out_cf_long_name(hid_t ds, hid_t str, const char *long_name);
@@ -58,21 +54,6 @@ int out_cf_time(hid_t ds, hid_t str);
    case_time the times; a dimension named time must be a time coordinate
    in CF) */
 #define OUT_CF_SAMPLE_DIM(grid_common) ((grid_common) ? "time" : "sample")
-
-/* the variable name of a swept scene key: CF names are made of letters,
-   digits and underscores (CF-1.10 section 2.3), so "." is written "__"
-   and "[k]" "_k" ("trajectory.amp[2]" -> "trajectory__amp_2"; the same
-   mapping in python/rps3/h5io.py, key_name); into buf */
-const char *out_cf_key_name(const char *key, char *buf, size_t sz);
-
-/* the attributes of a swept key's variable: long_name "swept scene key
-   KEY" and scene_key = KEY, the dotted key of the scene; 0 or -1 */
-int out_cf_swept_key(hid_t ds, hid_t str, const char *key);
-
-/* the UDUNITS-2 units of sweep axis a of s into buf: the component's unit
-   of a list key ("rad, rad, m"[2] -> "m"), "1" for dimensionless keys,
-   enums and bools */
-const char *out_cf_axis_units(const scene *s, size_t a, char *buf, size_t sz);
 
 /* the swept keys of s, [case], each a variable with the key's CF name on
    the case scale dcase (the key itself in scene_key, its values, units and

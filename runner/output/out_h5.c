@@ -1,8 +1,8 @@
 /*
  * out_h5.c - the HDF5 helpers of the runner's files (out_h5.h): datasets
- * with units and descriptions, dimension scales, rows of a [case]
- * dataset, the swept keys' values, the time now; errors with HDF5's
- * innermost cause.  The time stamp and history are CF's (out_cf.c).
+ * with units and descriptions, dimension scales, the hyperslab of a tile,
+ * the time now; errors with HDF5's innermost cause.  The time stamp and
+ * history are CF's (out_cf.c).
  */
 #include "out_h5.h"
 #include "core/h5err.h"
@@ -16,18 +16,14 @@
 #include <hdf5.h>
 #include <hdf5_hl.h>
 
-static void vfail(char *err, size_t errsz, const char *fmt, va_list ap) {
-  char h5[600], what[256];
-  h5_cause(h5, sizeof h5);
-  vsnprintf(what, sizeof what, fmt, ap);
-  snprintf(err, errsz, "%s%s%s", what, h5[0] ? ": HDF5: " : "", h5);
-}
-
 void out_fail(char *err, size_t errsz, const char *fmt, ...) {
+  char h5[600], what[256];
   va_list ap;
+  h5_cause(h5, sizeof h5);
   va_start(ap, fmt);
-  vfail(err, errsz, fmt, ap);
+  vsnprintf(what, sizeof what, fmt, ap);
   va_end(ap);
+  snprintf(err, errsz, "%s%s%s", what, h5[0] ? ": HDF5: " : "", h5);
 }
 
 int out_h5_attr(hid_t obj, hid_t str, const char *name, const char *value) {
@@ -46,9 +42,9 @@ int out_h5_attr(hid_t obj, hid_t str, const char *name, const char *value) {
 int out_h5_attrs(hid_t obj, hid_t str, const char *const (*kv)[2], size_t n) {
   size_t i;
   for (i = 0; i < n; i++)
-    if (kv[i][1] && ((H5Aexists(obj, kv[i][0]) > 0 &&
-                      H5Adelete(obj, kv[i][0]) < 0) ||
-                     out_h5_attr(obj, str, kv[i][0], kv[i][1]) < 0))
+    if (kv[i][1] &&
+        ((H5Aexists(obj, kv[i][0]) > 0 && H5Adelete(obj, kv[i][0]) < 0) ||
+         out_h5_attr(obj, str, kv[i][0], kv[i][1]) < 0))
       return -1;
   return 0;
 }
@@ -84,8 +80,6 @@ char *out_h5_read_text(hid_t loc, const char *name, int is_attr) {
   return copy;
 }
 
-/* a dataset with units and description attributes; chunk may be NULL
-   (contiguous) */
 hid_t out_h5_dataset(hid_t file, hid_t str, const char *name, hid_t type,
                      int rank, const hsize_t *dims, const hsize_t *chunk,
                      int gzip, const void *fill, const char *units,
@@ -122,27 +116,37 @@ done:
   return ds;
 }
 
-/* write all of a small dataset */
 int out_h5_write_all(hid_t ds, hid_t type, const void *data) {
   return H5Dwrite(ds, type, H5S_ALL, H5S_ALL, H5P_DEFAULT, data) < 0 ? -1 : 0;
 }
 
-/* write n elements from data into rows [c0, c0 + n) of a [case] dataset */
-int out_h5_rows(hid_t ds, hid_t type, size_t c0, size_t n, const void *data) {
-  hsize_t start = c0, count = n;
-  hid_t fs = H5Dget_space(ds), ms = H5Screate_simple(1, &count, NULL);
+int out_h5_tile(hid_t ds, hid_t dxpl, hid_t type, int timed, size_t cases,
+                size_t points, const void *buf, size_t c0, size_t nc, size_t k0,
+                size_t nk) {
+  hsize_t mdims[4], start[4] = {0, 0, 0, 0}, count[4], fstart[4] = {0, 0, 0, 0};
+  hid_t fs = H5Dget_space(ds), ms = -1;
+  int r, rank = fs < 0 ? -1 : H5Sget_simple_extent_dims(fs, count, NULL);
   int rc = -1;
-  if (fs >= 0 && ms >= 0 &&
-      H5Sselect_hyperslab(fs, H5S_SELECT_SET, &start, NULL, &count, NULL) >=
-          0 &&
-      H5Dwrite(ds, type, ms, fs, H5P_DEFAULT, data) >= 0)
+  for (r = 0; r < rank; r++) mdims[r] = count[r];
+  mdims[0] = cases;
+  count[0] = nc;
+  fstart[0] = c0;
+  if (timed) {
+    mdims[1] = points;
+    count[1] = nk;
+    fstart[1] = k0;
+  }
+  if (rank > 0) ms = H5Screate_simple(rank, mdims, NULL);
+  if (ms >= 0 &&
+      H5Sselect_hyperslab(ms, H5S_SELECT_SET, start, NULL, count, NULL) >= 0 &&
+      H5Sselect_hyperslab(fs, H5S_SELECT_SET, fstart, NULL, count, NULL) >= 0 &&
+      H5Dwrite(ds, type, ms, fs, dxpl, buf) >= 0)
     rc = 0;
   if (fs >= 0) H5Sclose(fs);
   if (ms >= 0) H5Sclose(ms);
   return rc;
 }
 
-/* a dimension scale: a 1-D dataset named after its dimension */
 hid_t out_h5_scale(hid_t file, hid_t str, const char *name, hid_t type,
                    size_t n, const void *data, const char *units,
                    const char *doc) {
@@ -158,37 +162,6 @@ hid_t out_h5_scale(hid_t file, hid_t str, const char *name, hid_t type,
   return ds;
 }
 
-/* the swept values of axis a, case by case, in runs of OUT_AXIS_RUN cases */
-int out_h5_axis(hid_t ds, hid_t str, const scene *s, size_t a) {
-  const scene_axis *ax = &s->axis[a];
-  const scene_key_info *ki = scene_key_get(ax->key);
-  size_t c0, i, n;
-  int rc = 0;
-  void *buf = malloc(OUT_AXIS_RUN * sizeof(double));
-  if (!buf) return -1;
-  for (c0 = 0; c0 < s->ncase && rc == 0; c0 += n) {
-    n = s->ncase - c0 < OUT_AXIS_RUN ? s->ncase - c0 : OUT_AXIS_RUN;
-    for (i = 0; i < n; i++) {
-      double x = ax->val[scene_case_coord(s, c0 + i, a)];
-      if (ki->type == KEY_REAL || ki->type == KEY_REAL3)
-        ((double *)buf)[i] = x;
-      else if (ki->type == KEY_ENUM)
-        ((const char **)buf)[i] = scene_enum_name(ax->key, (int)x);
-      else
-        ((int32_t *)buf)[i] = (int32_t)x;
-    }
-    rc = out_h5_rows(ds,
-                     (ki->type == KEY_REAL || ki->type == KEY_REAL3)
-                         ? H5T_NATIVE_DOUBLE
-                     : ki->type == KEY_ENUM ? str
-                                            : H5T_NATIVE_INT32,
-                     c0, n, buf);
-  }
-  free(buf);
-  return rc;
-}
-
-/* the time now, ISO 8601 in UTC */
 void out_utc_now(char now[32]) {
   time_t t = time(NULL);
   struct tm tm;

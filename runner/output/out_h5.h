@@ -1,7 +1,7 @@
 /*
  * out_h5.h - the HDF5 helpers of the runner's files (out_h5.c): datasets
- * with units and descriptions, dimension scales, rows of a [case] dataset,
- * the swept keys' values, the time now; errors with HDF5's message.
+ * with units and descriptions, dimension scales, the hyperslab of a tile,
+ * the time now; errors with HDF5's message.
  */
 #ifndef RPS3_RUNNER_OUT_H5_H
 #define RPS3_RUNNER_OUT_H5_H
@@ -43,8 +43,12 @@ hid_t out_h5_scale(hid_t file, hid_t str, const char *name, hid_t type,
                    size_t n, const void *data, const char *units,
                    const char *doc);
 
-/* n elements into rows [c0, c0 + n) of a 1-D dataset; 0 or -1 */
-int out_h5_rows(hid_t ds, hid_t type, size_t c0, size_t n, const void *data);
+/* rows [c0, c0 + nc) of a dataset from slots [0, nc) of a buffer
+   [cases][points][the other axes]: along axis 1 (timed 1) samples
+   [k0, k0 + nk) of `points`, the other axes whole; 0 or -1 */
+int out_h5_tile(hid_t ds, hid_t dxpl, hid_t type, int timed, size_t cases,
+                size_t points, const void *buf, size_t c0, size_t nc, size_t k0,
+                size_t nk);
 
 /* the case and time scales and the swept values are written in runs of
    this many values: memory does not grow with the sweep */
@@ -52,9 +56,5 @@ int out_h5_rows(hid_t ds, hid_t type, size_t c0, size_t n, const void *data);
 
 /* Write all of a small dataset: 0, or -1. */
 int out_h5_write_all(hid_t ds, hid_t type, const void *data);
-
-/* the values of sweep axis a of s, case by case, into a [case] dataset of
-   the key's type; 0 or -1 */
-int out_h5_axis(hid_t ds, hid_t str, const scene *s, size_t a);
 
 #endif /* RPS3_RUNNER_OUT_H5_H */

@@ -19,53 +19,90 @@ const out_field_info out_field_table[OUT_NFIELD] = {
     RPS3_OUTPUT_FIELDS(OUT_FIELD_ROW)};
 #undef OUT_FIELD_ROW
 
-size_t out_columns(out_shape shape, int neffect) {
-  switch (shape) {
-  case OUT_C:
-  case OUT_CT: return 1;
-  case OUT_CTL:
-  case OUT_CTK: return 3;
-  case OUT_CTEL: return 3 * (size_t)neffect;
-  }
-  return 1;
+const int out_shape_axes[][5] = {
+    {OUT_AX_CASE, -1},
+    {OUT_AX_CASE, OUT_AX_TIME, -1},
+    {OUT_AX_CASE, OUT_AX_TIME, OUT_AX_LINK, -1},
+    {OUT_AX_CASE, OUT_AX_TIME, OUT_AX_CON, -1},
+    {OUT_AX_CASE, OUT_AX_TIME, OUT_AX_EFF, OUT_AX_LINK, -1},
+    {OUT_AX_CASE, OUT_AX_LINK, -1},
+    {OUT_AX_CASE, OUT_AX_FLAG, -1},
+    {OUT_AX_CASE, OUT_AX_Z_C, OUT_AX_BETA, OUT_AX_ALPHA, -1}};
+
+const char *const out_axis_name[OUT_NAXIS] = {"case",       "time",   "link",
+                                              "constraint", "effect", "flag",
+                                              "alpha",      "beta",   "z_c"};
+
+/* the --fields bits (out_mask) hold every field of the inverse sweep */
+typedef char out_mask_fits[OUT_scene_resolved < 64 ? 1 : -1];
+
+int out_shape_has(out_shape sh, int ax) {
+  const int *a;
+  for (a = out_shape_axes[sh]; *a >= 0; a++)
+    if (*a == ax) return 1;
+  return 0;
 }
 
-static size_t type_size(out_type type) {
+size_t out_columns(out_shape shape, size_t n) {
+  switch (shape) {
+  case OUT_CTL:
+  case OUT_CTK:
+  case OUT_CL: return 3;
+  case OUT_CTEL: return 3 * n;
+  case OUT_CF: return RPS3_DESIGN_NFLAG;
+  case OUT_CP: return n;
+  default: return 1;
+  }
+}
+
+size_t out_type_size(out_type type) {
   return type == OUT_F64   ? sizeof(double)
          : type == OUT_I32 ? sizeof(int32_t)
          : type == OUT_I64 ? sizeof(int64_t)
                            : sizeof(char *);
 }
 
+const void *out_fill(int i) {
+  static const double fnan = (double)NAN;
+  static const int32_t fneg = -1, fnotrun = OUT_STATUS_NOT_COMPUTED;
+  static const int64_t fneg64 = -1;
+  const out_field_info *fi = &out_field_table[i];
+  return fi->type == OUT_F64             ? (const void *)&fnan
+         : fi->flags == OUT_FLAGS_STATUS ? (const void *)&fnotrun
+         : fi->type == OUT_I32           ? (const void *)&fneg
+         : fi->type == OUT_I64           ? (const void *)&fneg64
+                                         : NULL;
+}
+
+void out_fill_n(void *dst, size_t n, int i) {
+  size_t esz = out_type_size(out_field_table[i].type), k;
+  const void *v = out_fill(i);
+  /* memcpy: dst may be unaligned (a packed chunk); of a constant size, a
+     store */
+  for (k = 0; esz == 8 && k < n; k++) memcpy((char *)dst + k * 8, v, 8);
+  for (k = 0; esz == 4 && k < n; k++) memcpy((char *)dst + k * 4, v, 4);
+}
+
 /* 1 when field i is in the inverse sweep's file (a member of out_block) */
 static int inv(int i) { return (out_field_table[i].files & OUT_INV) != 0; }
 
-/* the buffer of field i of b */
-void *out_block_field(const out_block *b, int i) {
-  switch (i) {
-#define OUT_BLOCK_CASE(id, name, files, ...) OUT_CASE_##files(id)
-#define OUT_CASE_OUT_INV(id) \
-  case OUT_##id: return b->id;
-#define OUT_CASE_OUT_BOTH OUT_CASE_OUT_INV
-#define OUT_CASE_OUT_SIM(id)
-    RPS3_OUTPUT_FIELDS(OUT_BLOCK_CASE)
-  default: break;
-  }
-  return NULL;
+/* where field i's buffer is in out_block; 0: no member, a field of
+   another kind of file */
+#define OUT_OFF_OUT_INV(id) offsetof(out_block, id),
+#define OUT_OFF_OUT_BOTH OUT_OFF_OUT_INV
+#define OUT_OFF_OUT_SIM(id) 0,
+#define OUT_OFF_OUT_DES(id) 0,
+#define OUT_OFF_OUT_TASK(id) 0,
+#define OUT_OFF_OUT_POSE(id) 0,
+#define OUT_OFF(id, name, files, ...) OUT_OFF_##files(id)
+static const size_t member_off[OUT_NFIELD] = {RPS3_OUTPUT_FIELDS(OUT_OFF)};
+
+static void **member(const out_block *b, int i) {
+  return (void **)((const char *)b + member_off[i]);
 }
 
-static void block_field_set(out_block *b, int i, void *p) {
-  switch (i) {
-#undef OUT_CASE_OUT_INV
-#define OUT_CASE_OUT_INV(id) \
-  case OUT_##id: b->id = p; break;
-    RPS3_OUTPUT_FIELDS(OUT_BLOCK_CASE)
-#undef OUT_CASE_OUT_INV
-#undef OUT_CASE_OUT_BOTH
-#undef OUT_CASE_OUT_SIM
-#undef OUT_BLOCK_CASE
-  default: break;
-  }
+void *out_block_field(const out_block *b, int i) {
+  return member_off[i] ? *member(b, i) : NULL;
 }
 
 /* elements of field i per slot */
@@ -87,10 +124,10 @@ int out_block_alloc(out_block *b, size_t cases, size_t points, int effects) {
     void *p;
     if (!inv(i)) continue;
     p = calloc(
-        1, cases * slot_elems(b, i) * type_size(out_field_table[i].type) +
+        1, cases * slot_elems(b, i) * out_type_size(out_field_table[i].type) +
                OUT_SLACK);
     if (!p) goto fail;
-    block_field_set(b, i, p);
+    *member(b, i) = p;
   }
   b->t = calloc(1, cases * points * sizeof *b->t + OUT_SLACK);
   b->yaml = calloc(cases, sizeof *b->yaml);
@@ -130,45 +167,49 @@ void out_block_blank(out_block *b, size_t slot, size_t k) {
     size_t cols = out_columns(out_field_table[i].shape, b->neffect);
     size_t lo = (slot * b->points + k) * cols,
            hi = (slot + 1) * b->points * cols;
-    if (out_field_table[i].shape == OUT_C || !inv(i)) continue;
-    if (out_field_table[i].type == OUT_F64) {
-      double *p = out_block_field(b, i);
-      for (j = lo; j < hi; j++) p[j] = (double)NAN;
-    } else if (out_field_table[i].type == OUT_I32) {
-      int32_t *p = out_block_field(b, i);
-      for (j = lo; j < hi; j++) p[j] = -1;
-    }
+    if (out_field_table[i].shape != OUT_C && inv(i))
+      out_fill_n((char *)out_block_field(b, i) +
+                     lo * out_type_size(out_field_table[i].type),
+                 hi - lo, i);
   }
   for (j = slot * b->points + k; j < (slot + 1) * b->points; j++)
     b->t[j] = (double)NAN;
 }
 
 void out_schema_print(int files) {
-  static const char *const dims[] = {"case", "case, time", "case, time, link",
-                                     "case, time, constraint",
-                                     "case, time, effect, link"};
   static const char *const types[] = {"float64", "int32", "int64", "string"};
-  int i;
-  printf("| dataset | dimensions | type | units | description |\n");
-  printf("|---|---|---|---|---|\n");
-  for (i = 0; i < OUT_NFIELD; i++)
-    if (out_field_table[i].files & files)
-      printf("| `%s` | %s | %s | %s | %s |\n", out_field_table[i].name,
-             dims[out_field_table[i].shape], types[out_field_table[i].type],
-             out_field_table[i].units, out_field_table[i].doc);
+  static const char *const when[] = {"always", "with a trajectory",
+                                     "design.per_pose"};
+  int i, design = (files & OUT_DESIGN) != 0;
+  printf("| %s | dimensions | type | units |%s description |\n",
+         design ? "design variable" : "dataset", design ? " written |" : "");
+  printf("|---|---|---|---|%s---|\n", design ? "---|" : "");
+  for (i = 0; i < OUT_NFIELD; i++) {
+    const out_field_info *fi = &out_field_table[i];
+    const int *a;
+    if (!(fi->files & files)) continue;
+    printf("| `%s` | ", fi->name);
+    for (a = out_shape_axes[fi->shape]; *a >= 0; a++)
+      printf("%s%s", a == out_shape_axes[fi->shape] ? "" : ", ",
+             out_axis_name[*a]);
+    printf(" | %s | %s |", types[fi->type], fi->units);
+    if (design)
+      printf(" %s |", when[fi->files == OUT_TASK   ? 1
+                           : fi->files == OUT_POSE ? 2
+                                                   : 0]);
+    printf(" %s |\n", fi->doc);
+  }
 }
 
 /* ---------------------------------------------------------------- fields */
 
-out_mask out_fields_of(int files) {
+out_mask out_fields_all(void) {
   out_mask m = 0;
   int i;
   for (i = 0; i < OUT_NFIELD; i++)
-    if (out_field_table[i].files & files) m |= (out_mask)1 << i;
+    if (inv(i)) m |= (out_mask)1 << i;
   return m;
 }
-
-out_mask out_fields_all(void) { return out_fields_of(OUT_INV); }
 
 /* 1 when field i is per case and sample of the inverse sweep (a --fields
    choice), 0 when it is per case (always written: what a reader needs to
@@ -214,8 +255,15 @@ const char *out_fields_text(out_mask mask, char *buf, size_t sz) {
   int i;
   buf[0] = '\0';
   for (i = 0; i < OUT_NFIELD; i++)
-    if (per_point(i) && (mask >> i & 1) && n < sz)
+    if (per_point(i) && OUT_HAS(mask, i) && n < sz)
       n += (size_t)snprintf(buf + n, sz - n, "%s%s", n ? "," : "",
                             out_field_table[i].name);
+  return buf;
+}
+
+const char *out_fields_attr(int files, out_mask mask, char *buf, size_t sz) {
+  if (!(files & OUT_DES)) return out_fields_text(mask, buf, sz);
+  snprintf(buf, sz, "design%s%s", files & OUT_TASK ? " task" : "",
+           files & OUT_POSE ? " per_pose" : "");
   return buf;
 }

@@ -1,10 +1,11 @@
 /*
- * outblock.h - the schema of a sweep's file and its tiles in memory:
- * RPS3_OUTPUT_FIELDS, the one table of what a file holds per case and per
- * sample, drives the tile buffers (outblock.c), dataset creation, the
- * writes and the units/description attributes (output.c); the chunks of a
- * tile packed off the writing thread (outpack.c); the selection of fields
- * (--fields).  No HDF5 calls.
+ * outblock.h - the schema of every runner file and a sweep's tiles in
+ * memory: RPS3_OUTPUT_FIELDS, the one table of what the inverse sweep's,
+ * the simulation's and the design study's files hold, drives the tile
+ * buffers (outblock.c), dataset creation, the writes and the CF
+ * attributes (output.c), the chunks of a tile packed off the writing
+ * thread (outpack.c) and the selection of fields (--fields).  No HDF5
+ * calls.
  */
 #ifndef RPS3_RUNNER_OUTBLOCK_H
 #define RPS3_RUNNER_OUTBLOCK_H
@@ -16,38 +17,70 @@
 
 #include "scene/scene.h"
 
-/* shapes: C [case], CT [case, time], CTL [case, time, link],
-   CTK [case, time, constraint], CTEL [case, time, effect, link] */
-typedef enum { OUT_C, OUT_CT, OUT_CTL, OUT_CTK, OUT_CTEL } out_shape;
+/* the axes of the files */
+typedef enum {
+  OUT_AX_CASE,
+  OUT_AX_TIME, /* or sample, when the time grid differs between cases */
+  OUT_AX_LINK,
+  OUT_AX_CON,   /* constraint */
+  OUT_AX_EFF,   /* physical effect */
+  OUT_AX_FLAG,  /* reachability flag */
+  OUT_AX_ALPHA, /* the pose grid of a design study */
+  OUT_AX_BETA,
+  OUT_AX_Z_C,
+  OUT_NAXIS
+} out_axis;
+
+/* shapes, their axes in out_shape_axes */
+typedef enum {
+  OUT_C,    /* [case] */
+  OUT_CT,   /* [case, time] */
+  OUT_CTL,  /* [case, time, link] */
+  OUT_CTK,  /* [case, time, constraint] */
+  OUT_CTEL, /* [case, time, effect, link] */
+  OUT_CL,   /* [case, link] */
+  OUT_CF,   /* [case, flag] */
+  OUT_CP    /* [case, z_c, beta, alpha] */
+} out_shape;
+extern const int out_shape_axes[][5]; /* ending at -1 */
+extern const char *const out_axis_name[OUT_NAXIS];
+
+/* 1 when a field of shape sh has axis ax */
+int out_shape_has(out_shape sh, int ax);
 
 /* element types: double (NaN for missing), int32 and int64 (-1 for
    missing), string */
 typedef enum { OUT_F64, OUT_I32, OUT_I64, OUT_STR } out_type;
 
-/* the files a field is in: the inverse sweep's, the simulation's */
-#define OUT_INV 1
-#define OUT_SIM 2
-#define OUT_BOTH 3
+/* the files a field is in */
+#define OUT_INV 1   /* the inverse sweep's */
+#define OUT_SIM 2   /* the simulation's */
+#define OUT_BOTH 3  /* both */
+#define OUT_DES 4   /* every design study's */
+#define OUT_TASK 8  /* a design study's with a trajectory (the task) */
+#define OUT_POSE 16 /* a design study's with design.per_pose */
+#define OUT_DESIGN (OUT_DES | OUT_TASK | OUT_POSE)
 
-/* the CF flag attributes of a field (out_cf.h): none, flag_values of a
-   status (every rps3_status and OUT_STATUS_NOT_COMPUTED), flag_masks of
-   the warning bits */
-typedef enum { OUT_FLAGS_NONE, OUT_FLAGS_STATUS, OUT_FLAGS_WARN } out_flags;
+/* the CF flag attributes of a field (out_cf.h) */
+typedef enum {
+  OUT_FLAGS_NONE,
+  OUT_FLAGS_STATUS, /* flag_values: every rps3_status, not computed */
+  OUT_FLAGS_WARN,   /* flag_masks of the warning bits */
+  OUT_FLAGS_REACH   /* flag_masks of the reachability flags */
+} out_flags;
 
 /* the fill value of a status: a case not computed (by this shard, or not
    yet); distinct from every rps3_status, RPS3_EINVAL = -1 included */
 #define OUT_STATUS_NOT_COMPUTED (-1000)
 
 /*
- * The one table of what a runner file holds per case and per sample, in
- * the inverse sweep's files and the simulation's: X(id, name, files,
- * shape, type, flags, units (UDUNITS), long_name (CF), description).  id
- * names the field in the code (OUT_id), name the dataset; a name in both
- * kinds of file with another meaning has a row of each.  Another kind of
- * file is a new files bit, its rows, and an empty OUT_MEMBER_ of its bit
- * (its fields are no members of the sweep's out_block); output.h writes
- * its windows and per-case values (out_open, out_write_window,
- * out_write_case).
+ * The one table of what a runner file holds per case (per design) and per
+ * sample: X(id, name, files, shape, type, flags, units (UDUNITS),
+ * long_name (CF), description).  id names the field in the code (OUT_id),
+ * name the dataset; a name in several kinds of file with another meaning
+ * has a row of each.  Only the inverse sweep's fields are members of
+ * out_block (OUT_MEMBER_); its per-sample fields come before the 64th row
+ * (out_mask).
  */
 #define RPS3_OUTPUT_FIELDS(X)                                                  \
   X(force, force, OUT_INV, OUT_CTL, OUT_F64, OUT_FLAGS_NONE, "N",              \
@@ -198,6 +231,119 @@ typedef enum { OUT_FLAGS_NONE, OUT_FLAGS_STATUS, OUT_FLAGS_WARN } out_flags;
   X(scene_resolved, scene_resolved, OUT_BOTH, OUT_C, OUT_STR, OUT_FLAGS_NONE,  \
     "1", "resolved scene of the case",                                         \
     "the case's full scene as YAML (no sweep): rerun it alone with "           \
+    "rps3-run")                                                                \
+  X(des_status, status, OUT_DES, OUT_C, OUT_I32, OUT_FLAGS_STATUS, "1",        \
+    "status of the design",                                                    \
+    "0 = evaluated (an empty workspace included: nreach = 0), else the "       \
+    "rps3_status that stopped it; -1000 = not computed")                       \
+  X(des_message, message, OUT_DES, OUT_C, OUT_STR, OUT_FLAGS_NONE, "1",        \
+    "message", "why the design failed, empty if it did not")                   \
+  X(nreach, nreach, OUT_DES, OUT_C, OUT_I64, OUT_FLAGS_NONE, "1",              \
+    "reachable poses",                                                         \
+    "poses of the grid in the workspace (no flag set); 0: an empty workspace") \
+  X(reach_fraction, reach_fraction, OUT_DES, OUT_C, OUT_F64, OUT_FLAGS_NONE,   \
+    "1", "reachable fraction", "nreach over the poses of the grid")            \
+  X(volume, volume, OUT_DES, OUT_C, OUT_F64, OUT_FLAGS_NONE, "m rad^2",        \
+    "workspace volume",                                                        \
+    "nreach times the volume of a grid cell in (alpha, beta, z_c)")            \
+  X(gti, gti, OUT_DES, OUT_C, OUT_F64, OUT_FLAGS_NONE, "1",                    \
+    "global transmission index",                                               \
+    "mean local transmission index LTI over the reachable poses")              \
+  X(good_fraction, good_fraction, OUT_DES, OUT_C, OUT_F64, OUT_FLAGS_NONE,     \
+    "1", "good-transmission fraction",                                         \
+    "reachable poses with LTI >= design.good_lti, over nreach")                \
+  X(lti_min, lti_min, OUT_DES, OUT_C, OUT_F64, OUT_FLAGS_NONE, "1",            \
+    "least LTI", "least local transmission index over the reachable poses")    \
+  X(cond_h_max, cond_h_max, OUT_DES, OUT_C, OUT_F64, OUT_FLAGS_NONE, "1",      \
+    "largest homogeneous condition number",                                    \
+    "largest homogeneous condition number over the reachable poses")           \
+  X(trans_max, trans_max, OUT_DES, OUT_C, OUT_F64, OUT_FLAGS_NONE, "1",        \
+    "largest force transmission",                                              \
+    "largest force transmission (actuator force per unit platform load) over " \
+    "the reachable poses")                                                     \
+  X(xc_max, xc_max, OUT_DES, OUT_C, OUT_F64, OUT_FLAGS_NONE, "m",              \
+    "largest parasitic x_c",                                                   \
+    "largest abs(x_c), eq. (3), over the reachable poses")                     \
+  X(yc_max, yc_max, OUT_DES, OUT_C, OUT_F64, OUT_FLAGS_NONE, "m",              \
+    "largest parasitic y_c",                                                   \
+    "largest abs(y_c), eq. (4), over the reachable poses")                     \
+  X(spin_max, spin_max, OUT_DES, OUT_C, OUT_F64, OUT_FLAGS_NONE, "rad",        \
+    "largest parasitic spin",                                                  \
+    "largest abs(spin), the yaw of the platform about the vertical, over the " \
+    "reachable poses")                                                         \
+  X(l_lo, l_lo, OUT_DES, OUT_C, OUT_F64, OUT_FLAGS_NONE, "m",                  \
+    "shortest link used", "shortest link length over the reachable poses")     \
+  X(l_hi, l_hi, OUT_DES, OUT_C, OUT_F64, OUT_FLAGS_NONE, "m",                  \
+    "longest link used", "longest link length over the reachable poses")       \
+  X(flags_any, flags_any, OUT_DES, OUT_C, OUT_I32, OUT_FLAGS_REACH, "1",       \
+    "reasons for unreachable poses",                                           \
+    "OR of the reachability flags of every pose of the grid")                  \
+  X(nflag, nflag, OUT_DES, OUT_CF, OUT_I64, OUT_FLAGS_NONE, "1",               \
+    "unreachable poses by reason", "poses of the grid with each flag set")     \
+  X(link_mass, link_mass, OUT_DES, OUT_C, OUT_F64, OUT_FLAGS_NONE, "kg",       \
+    "link mass of the design",                                                 \
+    "m of the design's model: actuator body plus rod (rps3_design_model)")     \
+  X(link_d, link_d, OUT_DES, OUT_C, OUT_F64, OUT_FLAGS_NONE, "m",              \
+    "link centroid",                                                           \
+    "d of the design's model: pin joint to the link's centroid")               \
+  X(link_Ic, link_Ic, OUT_DES, OUT_C, OUT_F64, OUT_FLAGS_NONE, "kg m^2",       \
+    "link inertia of the design",                                              \
+    "link_Ic of the design's model, about the centroid and the pin axis")      \
+  X(task_status, task_status, OUT_TASK, OUT_C, OUT_I32, OUT_FLAGS_STATUS, "1", \
+    "status of the task",                                                      \
+    "0 = the design runs the whole trajectory; RPS3_EREACH = a sample is "     \
+    "outside its workspace (task_fail_time); -1000 = not computed")            \
+  X(task_message, task_message, OUT_TASK, OUT_C, OUT_STR, OUT_FLAGS_NONE, "1", \
+    "task message", "where and why the task left the workspace, else empty")   \
+  X(task_fail_time, task_fail_time, OUT_TASK, OUT_C, OUT_F64, OUT_FLAGS_NONE,  \
+    "s", "time the task left the workspace",                                   \
+    "time of the first sample outside the workspace, NaN if none")             \
+  X(task_fail_flags, task_fail_flags, OUT_TASK, OUT_C, OUT_I32,                \
+    OUT_FLAGS_REACH, "1", "why the task left the workspace",                   \
+    "reachability flags of that sample (0: none, or rps3_inverse failed)")     \
+  X(task_lti_min, task_lti_min, OUT_TASK, OUT_C, OUT_F64, OUT_FLAGS_NONE, "1", \
+    "least LTI along the task",                                                \
+    "least local transmission index over the samples before a failure")        \
+  X(task_F_peak, task_F_peak, OUT_TASK, OUT_CL, OUT_F64, OUT_FLAGS_NONE, "N",  \
+    "peak actuator force", "max over the samples of abs(F_i)")                 \
+  X(task_F_rms, task_F_rms, OUT_TASK, OUT_CL, OUT_F64, OUT_FLAGS_NONE, "N",    \
+    "RMS actuator force", "sqrt(mean over the samples of F_i^2)")              \
+  X(task_P_peak, task_P_peak, OUT_TASK, OUT_CL, OUT_F64, OUT_FLAGS_NONE, "W",  \
+    "peak actuator power", "max over the samples of abs(F_i dl_i/dt)")         \
+  X(task_v_peak, task_v_peak, OUT_TASK, OUT_CL, OUT_F64, OUT_FLAGS_NONE,       \
+    "m/s", "peak link rate", "max over the samples of abs(dl_i/dt)")           \
+  X(task_l_lo, task_l_lo, OUT_TASK, OUT_CL, OUT_F64, OUT_FLAGS_NONE, "m",      \
+    "shortest link along the task", "min over the samples of l_i")             \
+  X(task_l_hi, task_l_hi, OUT_TASK, OUT_CL, OUT_F64, OUT_FLAGS_NONE, "m",      \
+    "longest link along the task", "max over the samples of l_i")              \
+  X(pose_flags, pose_flags, OUT_POSE, OUT_CP, OUT_I32, OUT_FLAGS_REACH, "1",   \
+    "reachability flags of the pose", "0 when reachable, else the reasons")    \
+  X(lti, lti, OUT_POSE, OUT_CP, OUT_F64, OUT_FLAGS_NONE, "1",                  \
+    "local transmission index",                                                \
+    "min(OTI, CTI) at the pose; NaN where it does not assemble")               \
+  X(oti, oti, OUT_POSE, OUT_CP, OUT_F64, OUT_FLAGS_NONE, "1",                  \
+    "output transmission index",                                               \
+    "least cosine of the actuators' pressure angles")                          \
+  X(cti, cti, OUT_POSE, OUT_CP, OUT_F64, OUT_FLAGS_NONE, "1",                  \
+    "constraint transmission index",                                           \
+    "least cosine of the constraint wrenches' pressure angles")                \
+  X(cond_h, cond_h, OUT_POSE, OUT_CP, OUT_F64, OUT_FLAGS_NONE, "1",            \
+    "homogeneous condition number",                                            \
+    "2-norm condition number of the Jacobian with moments over design.length") \
+  X(des_transmission, transmission, OUT_POSE, OUT_CP, OUT_F64, OUT_FLAGS_NONE, \
+    "1", "force transmission", "actuator force per unit platform load")        \
+  X(des_x_c, x_c, OUT_POSE, OUT_CP, OUT_F64, OUT_FLAGS_NONE, "m",              \
+    "parasitic x_c", "platform centre x_c, eq. (3) times R")                   \
+  X(des_y_c, y_c, OUT_POSE, OUT_CP, OUT_F64, OUT_FLAGS_NONE, "m",              \
+    "parasitic y_c", "platform centre y_c, eq. (4) times R")                   \
+  X(spin, spin, OUT_POSE, OUT_CP, OUT_F64, OUT_FLAGS_NONE, "rad",              \
+    "parasitic spin", "yaw of the platform about the vertical")                \
+  X(clearance, clearance, OUT_POSE, OUT_CP, OUT_F64, OUT_FLAGS_NONE, "m",      \
+    "link clearance",                                                          \
+    "least distance between two link axes minus twice the link radius")        \
+  X(des_scene_resolved, scene_resolved, OUT_DES, OUT_C, OUT_STR,               \
+    OUT_FLAGS_NONE, "1", "resolved scene",                                     \
+    "the design's full scene as YAML (no sweep): rerun it alone with "         \
     "rps3-run")
 
 #define OUT_FIELD_ID(id, ...) OUT_##id,
@@ -207,7 +353,7 @@ typedef enum { RPS3_OUTPUT_FIELDS(OUT_FIELD_ID) OUT_NFIELD } out_field;
 /* a row of the schema, and the table (outblock.c) */
 typedef struct {
   const char *name;
-  int files; /* OUT_INV, OUT_SIM or both */
+  int files; /* the OUT_INV, OUT_SIM, ... bits */
   out_shape shape;
   out_type type;
   out_flags flags;
@@ -217,11 +363,11 @@ typedef struct {
 } out_field_info;
 extern const out_field_info out_field_table[OUT_NFIELD];
 
-/* a set of fields: bit i for field i (OUT_NFIELD < 64) */
+/* a set of the inverse sweep's fields: bit i for field i (i < 64) */
 typedef uint64_t out_mask;
 
-/* the fields of the files `files` (OUT_INV, OUT_SIM) */
-out_mask out_fields_of(int files);
+/* 1 when field i is in mask (0 from the 64th field on) */
+#define OUT_HAS(mask, i) ((i) < 64 && ((mask) >> ((i)&63) & 1))
 
 /* every field of the inverse sweep's file */
 out_mask out_fields_all(void);
@@ -238,10 +384,18 @@ int out_fields_parse(const char *list, out_mask *mask, char *err, size_t errsz);
    buf: the root attribute `fields` */
 const char *out_fields_text(out_mask mask, char *buf, size_t sz);
 
+/* the root attribute `fields` of a file of the kinds `files`: an inverse
+   sweep's, out_fields_text; a design study's, "design" and "task" and
+   "per_pose" when it has those fields; into buf */
+const char *out_fields_attr(int files, out_mask mask, char *buf, size_t sz);
+
 /* the members of out_block: a buffer per field of the inverse sweep */
 #define OUT_MEMBER_OUT_INV(id) void *id;
 #define OUT_MEMBER_OUT_BOTH(id) void *id;
 #define OUT_MEMBER_OUT_SIM(id)
+#define OUT_MEMBER_OUT_DES(id)
+#define OUT_MEMBER_OUT_TASK(id)
+#define OUT_MEMBER_OUT_POSE(id)
 
 /*
  * The buffers of one tile: up to `cases` cases of up to `points` samples.
@@ -323,8 +477,19 @@ typedef struct {
 int out_pack(const out_layout *L, out_block *b, size_t c0, size_t nc, size_t k0,
              size_t nk);
 
-/* columns of a shape per (case, sample) */
-size_t out_columns(out_shape shape, int neffect);
+/* values of a shape per (case, sample), or per case when it has no time
+   axis; n: the effects of CTEL, the poses of CP */
+size_t out_columns(out_shape shape, size_t n);
+
+/* bytes of an element of a type (a string: its pointer) */
+size_t out_type_size(out_type type);
+
+/* the fill value of field i: NaN, -1, OUT_STATUS_NOT_COMPUTED of a
+   status; NULL for a string (HDF5's, empty) */
+const void *out_fill(int i);
+
+/* n fill values of field i (not a string) at dst */
+void out_fill_n(void *dst, size_t n, int i);
 
 /* Allocate a block; returns 0, or -1 (out of memory, nothing leaks). */
 int out_block_alloc(out_block *b, size_t cases, size_t points, int effects);
@@ -338,8 +503,9 @@ void out_block_blank(out_block *b, size_t slot, size_t k);
 /* the buffer of field i of b */
 void *out_block_field(const out_block *b, int i);
 
-/* print the schema of the files `files` (OUT_INV, OUT_SIM) as markdown on
-   stdout: name, dimensions, type, units, description */
+/* print the schema of the files `files` (OUT_INV, OUT_SIM, OUT_DESIGN)
+   as markdown on stdout: name, dimensions, type, units, (for a design
+   study, in which files,) description */
 void out_schema_print(int files);
 
 #endif /* RPS3_RUNNER_OUTBLOCK_H */

@@ -88,33 +88,23 @@ static int reserve(unsigned char **buf, size_t *cap, size_t need) {
   return 0;
 }
 
-/* n elements of the fill value (NaN, or -1 for int32) at dst */
-static void fill(unsigned char *dst, size_t n, out_type type) {
-  size_t i;
-  if (type == OUT_F64) {
-    const double nan = (double)NAN;
-    for (i = 0; i < n; i++) memcpy(dst + i * sizeof nan, &nan, sizeof nan);
-  } else {
-    const int32_t neg = -1;
-    for (i = 0; i < n; i++) memcpy(dst + i * sizeof neg, &neg, sizeof neg);
-  }
-}
-
 /* the chunk (c0, kc) of a [cases][points][cols] buffer into dst: rows
    [0, nc) from the tile, samples up to the tile's end; the rest fill.
    dst may be the chunk's own place in src (rows contiguous there): then
    only the fill is written */
 static void gather(unsigned char *dst, const unsigned char *src,
                    const out_layout *L, const out_block *b, size_t esz,
-                   size_t cols, out_type type, size_t nc, size_t kk,
-                   size_t ns) {
+                   size_t cols, int field, size_t nc, size_t kk, size_t ns) {
   size_t r, row = L->q * cols * esz;
   for (r = 0; r < L->tc; r++) {
     unsigned char *d = dst + r * row;
     const unsigned char *from = src + (r * b->points + kk) * cols * esz;
     size_t have = r < nc ? ns : 0;
     if (have && d != from) memcpy(d, from, have * cols * esz);
-    if (have < L->q) fill(d + have * cols * esz, (L->q - have) * cols, type);
+    /* case_time's fill, NaN, is any float64 field's */
+    if (have < L->q)
+      out_fill_n(d + have * cols * esz, (L->q - have) * cols,
+                 field < OUT_NFIELD ? field : OUT_force);
   }
 }
 
@@ -164,12 +154,12 @@ static int pack_field(const out_layout *L, out_block *b, int field, size_t c0,
     if (!direct && L->gzip) {
       /* the deflate filter: compress2 at the level, zlib format */
       if (reserve(&b->pk_tmp, &b->pk_tmp_cap, raw)) return -1;
-      gather(b->pk_tmp, src, L, b, esz, cols, type, nc, kc - k0, ns);
+      gather(b->pk_tmp, src, L, b, esz, cols, field, nc, kc - k0, ns);
       if (compress2(out, &zlen, b->pk_tmp, (uLong)raw, L->gzip) != Z_OK)
         return -1;
       stored = zlen;
     } else
-      gather(out, src, L, b, esz, cols, type, nc, kc - k0, ns);
+      gather(out, src, L, b, esz, cols, field, nc, kc - k0, ns);
     /* the fletcher32 filter: the checksum after the bytes, little-endian */
     sum = fletcher32(out, stored);
     for (i = 0; i < 4; i++)
@@ -193,7 +183,7 @@ int out_pack(const out_layout *L, out_block *b, size_t c0, size_t nc, size_t k0,
   b->npk = 0;
   b->pk_len = 0;
   for (i = 0; i < OUT_NFIELD; i++)
-    if (out_field_table[i].shape != OUT_C && (L->fields >> i & 1) &&
+    if (out_field_table[i].shape != OUT_C && OUT_HAS(L->fields, i) &&
         pack_field(L, b, i, c0, nc, k0, nk))
       return -1;
   if (L->case_time && pack_field(L, b, OUT_NFIELD, c0, nc, k0, nk)) return -1;

@@ -1,10 +1,8 @@
 /*
- * output.h - the HDF5 file of a sweep: its schema and a streaming writer.
- *
- * RPS3_OUTPUT_FIELDS is the one table of what a file holds per case and per
- * sample.  It drives the tile buffers, dataset creation, the writes and the
- * units/description attributes.  The coordinates (case, time, link, effect,
- * constraint, the swept keys, case_time) are written by output.c itself.
+ * output.h - the HDF5 file of an inverse sweep, a simulation or a design
+ * study: the one writer of the schema RPS3_OUTPUT_FIELDS (outblock.h).
+ * The coordinates (the dimension scales, the swept keys, case_time) are
+ * written by output.c itself.
  *
  * The file is written in tiles: a tile is a run of whole cases, or one
  * window of samples of a single long case.  A tile is one hyperslab write
@@ -33,11 +31,25 @@ typedef struct {
                          (inputs.h): root attribute input_files */
 } out_meta;
 
-typedef struct out_file out_file;
+/* an open file (the writers' own: output.c, out_write.c) */
+typedef struct out_file {
+  int files;       /* the rows of the schema it holds (out_spec) */
+  const char *row; /* what a case is: "case", "design" */
+  hid_t file;
+  hid_t ds[OUT_NFIELD]; /* -1 for a field the file does not have */
+  hid_t case_time;      /* [case, time] when the grid differs, else -1 */
+  hid_t str;            /* variable-length UTF-8 string type */
+  hid_t dxpl;           /* the tiles' transfer properties */
+  out_layout layout;    /* for out_pack */
+} out_file;
+
+/* the HDF5 type of a schema field in f */
+hid_t out_field_type(const out_file *f, const out_field_info *fi);
 
 /* what a file holds and how it is chunked (out_open) */
 typedef struct {
-  int files;            /* OUT_INV or OUT_SIM: the rows of the schema */
+  int files;            /* OUT_INV, OUT_SIM or the OUT_DESIGN bits of the
+                           design's fields: the rows of the schema */
   const char *title;    /* root attribute title */
   const char *content;  /* root attribute content, NULL for none */
   const char *time_doc; /* description of the common time axis */
@@ -56,12 +68,11 @@ typedef struct {
 
 /*
  * Create the file at `path` (truncating it) for the cases of s and the
- * fields of meta->fields among sp->files: the root attributes, the scene
- * text, the dimension scales (case, time or sample, link; constraint and
- * effect in an inverse sweep's file), the swept keys, every field's
- * dataset with its units, description, CF attributes and fill value, and
- * case_time when the grid differs between cases.  Returns NULL with a
- * message in err.
+ * fields of sp->files (of an inverse sweep's, those of meta->fields): the
+ * root attributes, the scene text, the dimension scales of the axes of
+ * those fields, the swept keys, every field's dataset with its units,
+ * description, CF attributes and fill value, and case_time when the grid
+ * differs between cases.  Returns NULL with a message in err.
  */
 out_file *out_open(const char *path, const scene *s, const out_spec *sp,
                    const out_meta *meta, char *err, size_t errsz);
@@ -102,11 +113,11 @@ int out_write_window(out_file *f, void *const buf[], size_t points, size_t c,
                      size_t k0, size_t nk, const double *times, char *err,
                      size_t errsz);
 
-/* Write the per-case fields of case c: val[i] points at field i's value
-   (a const char * for a string) for every such field of the file.  0 or
-   -1 with err. */
-int out_write_case(out_file *f, const void *const val[], size_t c, char *err,
-                   size_t errsz);
+/* Write the fields without a time axis of cases c0 .. c0 + nc - 1: val[i]
+   points at nc rows of field i's values (const char * for a string, NULL
+   for an empty one) for every such field of the file.  0 or -1 with err. */
+int out_write_case(out_file *f, const void *const val[], size_t c0, size_t nc,
+                   char *err, size_t errsz);
 
 /* Flush and close the file; returns 0 or -1 with err set.  f is freed
    either way; NULL is accepted. */

@@ -17,16 +17,14 @@ static int sim_field(int i) {
    checksums) the whole chunk: small, with a chunk cache (output.c) */
 #define CASE_CHUNK 64
 
-static size_t columns(out_shape shape) { return shape == OUT_CTL ? 3 : 1; }
-
 int sim_window_alloc(sim_window *w, size_t points) {
   int i;
   memset(w, 0, sizeof *w);
   w->points = points;
   for (i = 0; i < OUT_NFIELD; i++) {
     if (out_field_table[i].shape == OUT_C || !sim_field(i)) continue;
-    w->buf[i] =
-        malloc(points * columns(out_field_table[i].shape) * sizeof(double));
+    w->buf[i] = malloc(points * out_columns(out_field_table[i].shape, 0) *
+                       sizeof(double));
     if (!w->buf[i]) {
       sim_window_free(w);
       return -1;
@@ -72,7 +70,6 @@ out_file *sim_file_create(const char *path, const scene *s, size_t nt,
   memset(&meta, 0, sizeof meta);
   meta.command_line = command_line;
   meta.gzip = gzip;
-  meta.fields = out_fields_of(OUT_SIM);
   return out_open(path, s, &sp, &meta, err, errsz);
 }
 
@@ -99,7 +96,7 @@ int sim_file_case(out_file *f, const sim_case_values *v, size_t c, char *err,
   val[OUT_nsat] = &v->nsat;
   val[OUT_message] = &msg;
   val[OUT_scene_resolved] = &v->scene_resolved;
-  return out_write_case(f, val, c, err, errsz);
+  return out_write_case(f, val, c, 1, err, errsz);
 }
 
 double sim_file_bytes(size_t ncase, size_t npoint) {
@@ -111,7 +108,7 @@ double sim_file_bytes(size_t ncase, size_t npoint) {
     else if (out_field_table[i].shape == OUT_C)
       per_case += out_field_table[i].type == OUT_STR ? 512.0 : 8.0;
     else
-      per_point += 8.0 * (double)columns(out_field_table[i].shape);
+      per_point += 8.0 * (double)out_columns(out_field_table[i].shape, 0);
   /* the scene, the scales and HDF5's metadata: a bound */
   return per_point * (double)npoint + per_case * (double)ncase + 65536.0;
 }
