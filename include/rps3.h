@@ -2031,6 +2031,86 @@ RPS3_API int rps3_ctrl_last(const rps3_ctrl *c, double *t, double l_des[3],
 RPS3_API const rps3_data *rps3_ctrl_desired(const rps3_ctrl *c);
 RPS3_API const rps3_data *rps3_ctrl_measured(const rps3_ctrl *c);
 
+/* ---------------------------------------------------------- identification */
+
+/*
+ * Identification of the inertia and friction parameters
+ * (docs/identification.md).  At a fixed geometry (R, rho, d, g and the
+ * friction's vreg) the library's forces are linear in the paper model's
+ * RPS3_NPAPER parameters pi, F = Y(q, q', q'') pi, in this order (the
+ * names of rps3.ident_paper.PAPER_NAMES):
+ *   0  M            platform mass, a uniform disc of radius r [kg]
+ *   1  md           each link's m d [kg m] (its weight about the pin)
+ *   2  Ipin         each link's m d^2 + link_Ic, about the pin [kg m^2]
+ *   3  payload.m    payload mass [kg]
+ *   4-6 payload.mcx, mcy, mcz   its first moment about the platform
+ *                  centre, platform axes [kg m]
+ *   7-9 payload.Ixx, Iyy, Izz   its inertia about the platform centre,
+ *                  platform axes [kg m^2]
+ *   10 pin.fv       pin viscous friction [N m s/rad]
+ *   11 pin.fc       pin Coulomb friction [N m]
+ * The payload of rps3_model (principal moments along the platform axes)
+ * has no products of inertia about the platform centre exactly when its
+ * centre of mass lies on a platform axis (two of com[] zero): only then
+ * is its load in the span of these columns (rps3_paper_params).  Columns
+ * 4-6 and 7-9 are linear combinations of M's with column 3 (the disc is
+ * a body of the payload's kind), so a fit of all twelve is rank
+ * deficient: leave M out when the payload is identified.
+ */
+#define RPS3_NPAPER 12
+
+/* Name ("M", "md", "Ipin", "payload.m", ..., "pin.fc") and UDUNITS unit
+   of parameter k (0 <= k < RPS3_NPAPER); NULL for k out of range. */
+RPS3_API const char *rps3_paper_name(int k);
+RPS3_API const char *rps3_paper_unit(int k);
+
+/*
+ * The paper parameters pi of model m (initialised): M, m d, Jlink, the
+ * payload's mass, mass com and inertia about the platform centre
+ * (inertia + mass (|com|^2 - com_k^2)), friction.viscous and coulomb,
+ * whatever effects are selected.  Returns RPS3_OK, or RPS3_EINVAL with a
+ * message in err (may be NULL; errsz its size): m NULL or not
+ * initialised, pi NULL, or a payload whose centre of mass is off the
+ * platform axes (it has products of inertia the parameters do not hold;
+ * pi is still written).
+ */
+RPS3_API int rps3_paper_params(const rps3_model *m, double pi[RPS3_NPAPER],
+                               char *err, size_t errsz);
+
+/*
+ * The regressor of m's inverse dynamics at the point of d: Y with
+ * F = Y pi for F of rps3_inverse and pi of rps3_paper_params, row i the
+ * actuator, column k the parameter [N per unit of parameter k].  Reads
+ * d->pose, dpose, ddpose as rps3_inverse does, and computes the
+ * positions (m->opt.theta route, the multiroot one warm-started), the
+ * rates and accelerations when a selected effect needs them, and the
+ * singularity checks of rps3_invdyn (cond, transmission, warn); then each
+ * column is the load of one unit parameter through the formulation of
+ * m->opt.method and its own lambda (or ball-joint force) solve, one
+ * factorization for all.  Columns of effects not selected in
+ * m->opt.effects are zero (M's column holds the selected of
+ * platform_gravity and platform_inertia).  d->F is not computed; d->stage
+ * holds the motion stages.  Allocates nothing.  Returns RPS3_OK, or the
+ * status rps3_inverse returns at this point (RPS3_EINVAL, RPS3_EREACH,
+ * RPS3_ESING, RPS3_ENOCONV, RPS3_EMODE, ...; RPS3_ERANGE for a column
+ * not finite) with d->err; Y is then NaN.
+ */
+RPS3_API int rps3_regressor(const rps3_model *m, rps3_data *d,
+                            double Y[3][RPS3_NPAPER]);
+
+/*
+ * rps3_regressor over in->n points (in->pose, dpose, ddpose as
+ * rps3_inverse_batch reads them), component-major: Y[(i * RPS3_NPAPER +
+ * k) * n + p] is row i (actuator), column k of point p.  out->status is
+ * required; warn, l, theta, c, dl, ddl, cond and transmission are written
+ * when not NULL; nfail, first_fail and d->err ("point P: ...") as
+ * rps3_inverse_batch.  A failed point has NaN in Y.  Returns RPS3_OK, or
+ * RPS3_EINVAL for an invalid call (as rps3_inverse_batch, and Y NULL).
+ */
+RPS3_API int rps3_regressor_batch(const rps3_model *m, rps3_data *d,
+                                  const rps3_batch_in *in, double *Y,
+                                  rps3_batch_out *out);
+
 #ifdef __cplusplus
 }
 #endif
