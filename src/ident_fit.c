@@ -174,7 +174,7 @@ static int lsq_alloc(lsq *L, size_t n, size_t p) {
 static void lsq_rank(const rps3_ident_data *dt, lsq *L, double tol,
                      double *cond, size_t *rank, int *flags) {
   size_t n = dt->n, p = dt->p, r, j, k;
-  double smax;
+  double smax, dmax;
   for (j = 0; j < p; j++) gsl_vector_set(L->D, j, 0.0);
   for (r = 0; r < n; r++) {
     double sw = sqrt(gsl_vector_get(L->w, r));
@@ -184,14 +184,21 @@ static void lsq_rank(const rps3_ident_data *dt, lsq *L, double tol,
       L->D->data[j * L->D->stride] += a * a;
     }
   }
+  /* a column below tol times the largest is rounding: zero, not scaled
+     up into a column of its own */
+  dmax = 0.0;
   for (j = 0; j < p; j++) {
     double s = sqrt(gsl_vector_get(L->D, j));
-    gsl_vector_set(L->D, j, s > 0.0 ? s : 1.0);
+    gsl_vector_set(L->D, j, s);
+    if (s > dmax) dmax = s;
   }
-  for (r = 0; r < n; r++)
-    for (j = 0; j < p; j++)
-      gsl_matrix_set(L->A, r, j,
-                     gsl_matrix_get(L->A, r, j) / gsl_vector_get(L->D, j));
+  for (j = 0; j < p; j++) {
+    double s = gsl_vector_get(L->D, j);
+    int zero = !(s > tol * dmax);
+    gsl_vector_set(L->D, j, zero ? 1.0 : s);
+    for (r = 0; r < n; r++)
+      gsl_matrix_set(L->A, r, j, zero ? 0.0 : gsl_matrix_get(L->A, r, j) / s);
+  }
   gsl_linalg_QR_decomp(L->A, L->tau);
   for (j = 0; j < p; j++)
     for (k = 0; k < p; k++)
@@ -554,13 +561,17 @@ static int check_layout(const rps3_ident_layout *lay, size_t p, int *owner,
 
 /*
  * The start: the minimum-norm least-squares pi (singular values of the
- * column-scaled R below rank_tol dropped), each body's pseudo-inertia of
+ * column-scaled R below START_TOL of the largest dropped: a start needs
+ * no more, and a near-dependence kept would throw it far), each body's pseudo-inertia of
  * it (its parameters not in pi 0) with its eigenvalues raised to at least
  * 1e-3 of the largest, factored J = U U^T (a Cholesky of the reversed
  * matrix); a >= 0 column, pi = exp(x), from the logarithm of its value
  * (1e-3 of its magnitude when it is negative).
  */
-static int start_point(const cfit *c, double tol, double *x) {
+#define START_TOL 1e-6
+static int start_point(const cfit *c, double *x) {
+  const double tol = START_TOL;
+  double dmax;
   size_t p = c->p, i, j, b;
   int status = RPS3_ENOMEM;
   gsl_matrix *A = gsl_matrix_alloc(p, p), *V = gsl_matrix_alloc(p, p);
@@ -570,11 +581,16 @@ static int start_point(const cfit *c, double tol, double *x) {
   gsl_matrix *E = gsl_matrix_alloc(4, 4), *Q = gsl_matrix_alloc(4, 4);
   gsl_vector *lam = gsl_vector_alloc(4);
   if (!A || !V || !S || !wk || !D || !pi || !ew || !E || !Q || !lam) goto out;
+  dmax = 0.0;
   for (j = 0; j < p; j++) {
     double s = 0.0;
     for (i = 0; i <= j; i++) s += c->R[i * (p + 1) + j] * c->R[i * (p + 1) + j];
-    gsl_vector_set(D, j, s > 0.0 ? sqrt(s) : 1.0);
+    gsl_vector_set(D, j, sqrt(s));
+    if (sqrt(s) > dmax) dmax = sqrt(s);
   }
+  /* a column below tol times the largest: left out (pi 0) */
+  for (j = 0; j < p; j++)
+    if (!(gsl_vector_get(D, j) > tol * dmax)) gsl_vector_set(D, j, HUGE_VAL);
   for (i = 0; i < p; i++)
     for (j = 0; j < p; j++)
       gsl_matrix_set(A, i, j,
@@ -746,7 +762,7 @@ int rps3_ident_consistent(const rps3_ident_data *dt,
   c.owner = owner;
   c.slot = slot;
   c.sreg = sqrt(o->reg);
-  status = start_point(&c, o->rank_tol, x0);
+  status = start_point(&c, x0);
   if (status != RPS3_OK) {
     status = fail(err, errsz, status,
                   status == RPS3_ENOMEM ? "consistent: out of memory"
