@@ -642,6 +642,105 @@ static void test_timing(void **state) {
   stack_free(&st);
 }
 
+/* ------------------------------------------------ no allocation per point */
+
+#ifndef RPS3_SANITIZE
+/* a malloc interposer (as tests/test_alloc_trajectory.c's; not under
+   ASan, whose allocator must not be interposed): glibc's allocator under
+   its internal names, counted while a window is open */
+extern void *__libc_malloc(size_t size);
+extern void *__libc_calloc(size_t n, size_t size);
+extern void *__libc_realloc(void *p, size_t size);
+static int counting;
+static long n_alloc;
+void *malloc(size_t size) {
+  if (counting) n_alloc++;
+  return __libc_malloc(size);
+}
+void *calloc(size_t n, size_t size) {
+  if (counting) n_alloc++;
+  return __libc_calloc(n, size);
+}
+void *realloc(void *p, size_t size) {
+  if (counting) n_alloc++;
+  return __libc_realloc(p, size);
+}
+
+/* the regressor, point by point (both theta routes) and in a batch,
+   allocates nothing; the estimators do (the counter sees them) */
+static void test_regressor_allocates_nothing(void **state) {
+  enum { N = 2000 };
+  rps3_model m;
+  rps3_data *d;
+  double Y[3][RPS3_NPAPER], *Yb, pose[3 * N], dpose[3 * N], ddpose[3 * N];
+  int status[N], route, i, c;
+  uint64_t s = 3;
+  rps3_batch_in in;
+  rps3_batch_out out;
+  stack st;
+  double th[5];
+  rps3_ident_data dt;
+  rps3_ident_result res;
+  (void)state;
+  for (route = 0; route < 2; route++) {
+    ident_model(&m, RPS3_LAGRANGE, 2, 0.01);
+    m.opt.theta = (rps3_theta_route)route;
+    assert_int_equal(rps3_data_alloc(&m, &d), RPS3_OK);
+    n_alloc = 0;
+    counting = 1;
+    for (i = 0; i < N; i++) {
+      random_state(d, &s);
+      rps3_regressor(&m, d, Y);
+    }
+    counting = 0;
+    assert_int_equal(n_alloc, 0);
+    rps3_data_free(d);
+  }
+  for (i = 0; i < N; i++) {
+    rps3_data tmp;
+    random_state(&tmp, &s);
+    for (c = 0; c < 3; c++) {
+      pose[c * N + i] = tmp.pose[c];
+      dpose[c * N + i] = tmp.dpose[c];
+      ddpose[c * N + i] = tmp.ddpose[c];
+    }
+  }
+  Yb = malloc(sizeof(double) * 3 * RPS3_NPAPER * N);
+  assert_non_null(Yb);
+  assert_int_equal(rps3_data_alloc(&m, &d), RPS3_OK);
+  memset(&in, 0, sizeof(in));
+  memset(&out, 0, sizeof(out));
+  in.n = N;
+  in.pose = pose;
+  in.dpose = dpose;
+  in.ddpose = ddpose;
+  out.status = status;
+  n_alloc = 0;
+  counting = 1;
+  assert_int_equal(rps3_regressor_batch(&m, d, &in, Yb, &out), RPS3_OK);
+  counting = 0;
+  assert_int_equal(n_alloc, 0);
+  free(Yb);
+  rps3_data_free(d);
+  /* the counter works: WLS allocates its GSL workspaces */
+  truth_model(&m, 0.0029);
+  make_stack(&m, 100, 0.05, 1.0, 3, SET_PLAIN, 5, &st);
+  memset(&dt, 0, sizeof(dt));
+  dt.n = st.n;
+  dt.p = 5;
+  dt.Y = st.Y;
+  dt.F = st.F;
+  memset(&res, 0, sizeof(res));
+  res.theta = th;
+  n_alloc = 0;
+  counting = 1;
+  assert_int_equal(rps3_ident_wls(&dt, NULL, &res, NULL, 0), RPS3_OK);
+  counting = 0;
+  assert_true(n_alloc > 0);
+  stack_free(&st);
+}
+#endif
+
 int main(void) {
   const struct CMUnitTest tests[] = {
       cmocka_unit_test(test_regressor_lagrange),
@@ -654,6 +753,9 @@ int main(void) {
       cmocka_unit_test(test_wls_rank_deficient),
       cmocka_unit_test(test_consistent),
       cmocka_unit_test(test_timing),
+#ifndef RPS3_SANITIZE
+      cmocka_unit_test(test_regressor_allocates_nothing),
+#endif
   };
   return cmocka_run_group_tests(tests, NULL, NULL);
 }
