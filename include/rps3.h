@@ -2089,8 +2089,9 @@ RPS3_API int rps3_paper_params(const rps3_model *m, double pi[RPS3_NPAPER],
  * m->opt.method and its own lambda (or ball-joint force) solve, one
  * factorization for all.  Columns of effects not selected in
  * m->opt.effects are zero (M's column holds the selected of
- * platform_gravity and platform_inertia).  d->F is not computed; d->stage
- * holds the motion stages.  Allocates nothing.  Returns RPS3_OK, or the
+ * platform_gravity and platform_inertia).  No force is computed: d->F,
+ * F_effect, lambda and the certificate are NaN; d->stage holds the motion
+ * stages.  Allocates nothing.  Returns RPS3_OK, or the
  * status rps3_inverse returns at this point (RPS3_EINVAL, RPS3_EREACH,
  * RPS3_ESING, RPS3_ENOCONV, RPS3_EMODE, ...; RPS3_ERANGE for a column
  * not finite) with d->err; Y is then NaN.

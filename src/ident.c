@@ -117,6 +117,14 @@ int rps3_regressor(const rps3_model *m, rps3_data *d,
   if (status != RPS3_OK) return status;
   status = rps3_loads_prepare(m, d, &J, &L);
   if (status != RPS3_OK) return status;
+  /* no force is computed here: none of another point's is left */
+  for (i = 0; i < 3; i++) {
+    d->F[i] = d->lambda[i] = (double)NAN;
+    for (k = 0; k < RPS3_NEFFECT; k++) d->F_effect[k][i] = (double)NAN;
+  }
+  d->has_lambda = 0;
+  d->power = d->dTdt = d->dPdt = d->friction_power = d->energy_residual =
+      d->energy_scale = (double)NAN;
 
   /* each column: one effect's load with its parameter 1 and the model's
      geometry; the disc's principal moments per unit mass (21) */

@@ -109,7 +109,10 @@ static void test_regressor_columns(void **state) {
   assert_int_equal(rps3_data_alloc(&m, &d1), RPS3_OK);
   random_state(d, &s);
   copy_motion(d1, d);
+  assert_int_equal(rps3_inverse(&m, d), RPS3_OK);
   assert_int_equal(rps3_regressor(&m, d, Y), RPS3_OK);
+  /* no force of the earlier call is left */
+  assert_true(isnan(d->F[0]) && isnan(d->F_effect[2][1]) && isnan(d->lambda[2]));
   /* pin friction alone */
   one = m;
   one.opt.effects = RPS3_EFF_PIN_FRICTION;
