@@ -616,6 +616,10 @@ static int start_point(const cfit *c, double *x) {
       s[k] = pj >= 0 ? gsl_vector_get(pi, (size_t)pj) : 0.0;
     }
     pseudo_of(s, J);
+    /* a start that overflowed: a unit body (the solver moves it) */
+    if (!rps3_all_finite(&J[0][0], 16))
+      for (k = 0; k < 4; k++)
+        for (q = 0; q < 4; q++) J[k][q] = k == q;
     for (k = 0; k < 4; k++)
       for (q = 0; q < 4; q++) gsl_matrix_set(E, k, q, J[k][q]);
     gsl_eigen_symmv(E, lam, Q, ew);
@@ -623,6 +627,9 @@ static int start_point(const cfit *c, double *x) {
     for (k = 0; k < 4; k++)
       if (gsl_vector_get(lam, k) > lmax) lmax = gsl_vector_get(lam, k);
     if (!(lmax > 0.0) || !isfinite(lmax)) lmax = 1.0;
+    /* raised to 1e-3 of the largest: positive definite with a condition
+       number of at most 1e3, so that the Cholesky factorization below
+       cannot fail (GSL would raise its error handler) */
     for (k = 0; k < 4; k++)
       if (!(gsl_vector_get(lam, k) >= 1e-3 * lmax))
         gsl_vector_set(lam, k, 1e-3 * lmax);
