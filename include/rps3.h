@@ -2265,7 +2265,8 @@ typedef struct {
  * RPS3_ENOMEM.  Limit: where the optimum lies on the boundary of the
  * consistent set (a pseudo-inertia that must be singular, a >= 0 column
  * at 0) the variables head for minus infinity and the solver may stop
- * short (docs/identification.md).  No covariance: the constraints make it
+ * short, its iterate consistent but possibly far from the optimum
+ * (docs/identification.md).  No covariance: the constraints make it
  * one-sided where they are active.
  */
 RPS3_API int rps3_ident_consistent(const rps3_ident_data *data,
