@@ -2036,6 +2036,250 @@ RPS3_API int rps3_ctrl_last(const rps3_ctrl *c, double *t, double l_des[3],
 RPS3_API const rps3_data *rps3_ctrl_desired(const rps3_ctrl *c);
 RPS3_API const rps3_data *rps3_ctrl_measured(const rps3_ctrl *c);
 
+/* ---------------------------------------------------------- identification */
+
+/*
+ * Identification of the inertia and friction parameters
+ * (docs/identification.md).  At a fixed geometry (R, rho, d, g and the
+ * friction's vreg) the library's forces are linear in the paper model's
+ * RPS3_NPAPER parameters pi, F = Y(q, q', q'') pi, in this order (the
+ * names of rps3.ident_paper.PAPER_NAMES):
+ *   0  M            platform mass, a uniform disc of radius r [kg]
+ *   1  md           each link's m d [kg m] (its weight about the pin)
+ *   2  Ipin         each link's m d^2 + link_Ic, about the pin [kg m^2]
+ *   3  payload.m    payload mass [kg]
+ *   4-6 payload.mcx, mcy, mcz   its first moment about the platform
+ *                  centre, platform axes [kg m]
+ *   7-9 payload.Ixx, Iyy, Izz   its inertia about the platform centre,
+ *                  platform axes [kg m^2]
+ *   10 pin.fv       pin viscous friction [N m s/rad]
+ *   11 pin.fc       pin Coulomb friction [N m]
+ * The payload of rps3_model (principal moments along the platform axes)
+ * has no products of inertia about the platform centre exactly when its
+ * centre of mass lies on a platform axis (two of com[] zero): only then
+ * is its load in the span of these columns (rps3_paper_params).  Columns
+ * 4-6 and 7-9 are linear combinations of M's with column 3 (the disc is
+ * a body of the payload's kind), so a fit of all twelve is rank
+ * deficient: leave M out when the payload is identified.
+ */
+#define RPS3_NPAPER 12
+
+/* Name ("M", "md", "Ipin", "payload.m", ..., "pin.fc") and UDUNITS unit
+   of parameter k (0 <= k < RPS3_NPAPER); NULL for k out of range. */
+RPS3_API const char *rps3_paper_name(int k);
+RPS3_API const char *rps3_paper_unit(int k);
+
+/*
+ * The paper parameters pi of model m (initialised): M, m d, Jlink, the
+ * payload's mass, mass com and inertia about the platform centre
+ * (inertia + mass (|com|^2 - com_k^2)), friction.viscous and coulomb,
+ * whatever effects are selected.  Returns RPS3_OK, or RPS3_EINVAL with a
+ * message in err (may be NULL; errsz its size): m NULL or not
+ * initialised, pi NULL, or a payload whose centre of mass is off the
+ * platform axes (it has products of inertia the parameters do not hold;
+ * pi is still written).
+ */
+RPS3_API int rps3_paper_params(const rps3_model *m, double pi[RPS3_NPAPER],
+                               char *err, size_t errsz);
+
+/*
+ * The regressor of m's inverse dynamics at the point of d: Y with
+ * F = Y pi for F of rps3_inverse and pi of rps3_paper_params, row i the
+ * actuator, column k the parameter [N per unit of parameter k].  Reads
+ * d->pose, dpose, ddpose as rps3_inverse does, and computes the
+ * positions (m->opt.theta route, the multiroot one warm-started), the
+ * rates and accelerations when a selected effect needs them, and the
+ * singularity checks of rps3_invdyn (cond, transmission, warn); then each
+ * column is the load of one unit parameter through the formulation of
+ * m->opt.method and its own lambda (or ball-joint force) solve, one
+ * factorization for all.  Columns of effects not selected in
+ * m->opt.effects are zero (M's column holds the selected of
+ * platform_gravity and platform_inertia).  No force is computed: d->F,
+ * F_effect, lambda and the certificate are NaN; d->stage holds the motion
+ * stages.  Allocates nothing.  Returns RPS3_OK, or the
+ * status rps3_inverse returns at this point (RPS3_EINVAL, RPS3_EREACH,
+ * RPS3_ESING, RPS3_ENOCONV, RPS3_EMODE, ...; RPS3_ERANGE for a column
+ * not finite) with d->err; Y is then NaN.
+ */
+RPS3_API int rps3_regressor(const rps3_model *m, rps3_data *d,
+                            double Y[3][RPS3_NPAPER]);
+
+/*
+ * rps3_regressor over in->n points (in->pose, dpose, ddpose as
+ * rps3_inverse_batch reads them), component-major: Y[(i * RPS3_NPAPER +
+ * k) * n + p] is row i (actuator), column k of point p.  out->status is
+ * required; warn, l, theta, c, dl, ddl, cond and transmission are written
+ * when not NULL; nfail, first_fail and d->err ("point P: ...") as
+ * rps3_inverse_batch.  A failed point has NaN in Y.  Returns RPS3_OK, or
+ * RPS3_EINVAL for an invalid call (as rps3_inverse_batch, and Y NULL).
+ */
+RPS3_API int rps3_regressor_batch(const rps3_model *m, rps3_data *d,
+                                  const rps3_batch_in *in, double *Y,
+                                  rps3_batch_out *out);
+
+/*
+ * Estimators on a stacked regressor: n rows (one per actuator and
+ * sample), p columns, F = Y theta + noise.  Unlike the per-point
+ * functions they allocate their GSL workspaces on each call (once per
+ * data set) and free them before returning: RPS3_ENOMEM when that fails.
+ * Every failure is a status with a message in err (may be NULL; errsz its
+ * size); they never reach GSL's error handler.
+ */
+typedef struct {
+  size_t n, p;               /* rows, columns; n > p */
+  const double *Y;           /* n x p row-major: row r, column j at
+                                [r * p + j] */
+  const double *F;           /* n forces [N] */
+  const int *actuator;       /* n actuator indices 0..2 of the rows (the
+                                noise groups of the two-pass WLS); NULL:
+                                row r is actuator r % 3 */
+  const double *weight;      /* n weights > 0, the inverse variance of each
+                                row [1/N^2]; NULL: rps3_ident_wls estimates
+                                them (two passes), rps3_ident_consistent
+                                takes 1 */
+  const char *const *names;  /* p column names for the messages; NULL:
+                                "column j" */
+} rps3_ident_data;
+
+typedef struct {
+  double rank_tol;  /* a singular value of the weighted regressor with
+                       unit-norm columns below rank_tol times the largest
+                       is zero: 1e-10, above the rounding of a regressor
+                       computed to 1e-13 and below any usable excitation */
+  double level;     /* confidence of the intervals, 0.95 */
+  double reg;       /* consistent fit: weight of the total pseudo-inertia
+                       trace sum_b (m_b + tr Sigma_b) [1/kg] against the
+                       squared residual over |F|^2 (the tie-break among
+                       bodies the data cannot tell apart; rps3.ident's
+                       LMI_REG), 1e-9 */
+  double xtol, gtol, ftol; /* consistent fit: GSL's convergence tests
+                       (gsl_multifit_nlinear_test), 1e-12, 1e-12, 0 */
+  int max_iter;     /* consistent fit: iteration limit, 2000 */
+  double eig_tol;   /* consistent fit: a pseudo-inertia eigenvalue down to
+                       -eig_tol times the body's largest counts as zero,
+                       1e-10 (rounding of U U^T) */
+} rps3_ident_opts;
+
+/* Fill o with the defaults above.  o NULL: does nothing. */
+RPS3_API void rps3_ident_opts_default(rps3_ident_opts *o);
+
+/* Results of rps3_ident_wls; the arrays are the caller's (NULL: not
+   written, theta required). */
+typedef struct {
+  double *theta;    /* p estimates */
+  double *cov;      /* p x p covariance of theta, row-major:
+                       s2 (Y^T W Y)^-1 */
+  double *ci;       /* p x 2: the level's intervals, theta -+ t(dof)
+                       std, t Student's quantile */
+  int *unident;     /* p flags: 1 for a column in a direction the data do
+                       not determine (a zero column, or a share >= 0.1 of
+                       the right singular vectors below rank_tol) */
+  double sigma[3];  /* each actuator's noise standard deviation [N]:
+                       sqrt(|r_a|^2 / (n_a - p n_a / n)) of the first
+                       pass (of the fit when the weights are given) */
+  double s2;        /* weighted residual variance factor chisq / dof
+                       (about 1 for right weights) */
+  double cond;      /* condition number of the weighted regressor with
+                       unit-norm columns */
+  size_t rank;      /* numerical rank by rank_tol */
+  size_t dof;       /* n - p */
+} rps3_ident_result;
+
+/*
+ * Weighted least squares, theta = argmin sum_r w_r (F_r - Y_r theta)^2,
+ * by gsl_multifit_wlinear on the column-scaled regressor.  Weights NULL:
+ * two passes: an ordinary least-squares fit, each actuator's residual
+ * variance sigma_a^2 (with a floor of 1e-24 times the mean square force,
+ * so that exact data give equal weights), then w = 1 / sigma_a^2.  The
+ * rank is decided before the fit by the singular values of the weighted
+ * regressor with unit-norm columns (QR then SVD of R).  Returns RPS3_OK;
+ * RPS3_ESING when the rank is below p: res->unident flags and err names
+ * the columns the data do not determine (theta, cov, ci NaN);
+ * RPS3_EINVAL (NULL, n <= p, p = 0, a value not finite, a weight <= 0,
+ * an actuator index outside 0..2 or an actuator with no row);
+ * RPS3_ENOMEM.
+ */
+RPS3_API int rps3_ident_wls(const rps3_ident_data *data,
+                            const rps3_ident_opts *o,
+                            rps3_ident_result *res, char *err,
+                            size_t errsz);
+
+/*
+ * Which columns of pi are the 10 standard parameters of which rigid body,
+ * for rps3_ident_consistent.  A body's standard parameters are, in its
+ * axes about its origin: mass m [kg], first moment m c (mcx, mcy, mcz)
+ * [kg m], inertia Ixx, Ixy, Ixz, Iyy, Iyz, Izz [kg m^2] (rps3.ident's
+ * INERTIAL order).  col[b][k] is the column of pi holding parameter k of
+ * body b, or -1 when pi does not hold it (the data do not see it; the fit
+ * gives it the value of the lightest consistent body, and reports it in
+ * fit->body).  A column belongs to at most one body.  kind[j] (NULL: all
+ * 0) says what a column of no body is: 0 free, 1 >= 0 (friction, or a
+ * body of fixed shape scaled by its mass, as the paper's disc M).
+ * rps3_ident_paper_layout gives the paper model's.
+ */
+typedef struct {
+  size_t nbody;
+  const int (*col)[10];
+  const int *kind;
+} rps3_ident_layout;
+#define RPS3_IDENT_FREE 0
+#define RPS3_IDENT_NONNEG 1
+
+/* The paper model's layout (columns as RPS3_NPAPER): body 0 a link in its
+   axes at the pin, x along the link, z the pin axis (md its mcx, Ipin its
+   Izz), body 1 the payload about the platform centre (its products of
+   inertia -1: not in pi); M, pin.fv, pin.fc >= 0.  Static, never NULL. */
+RPS3_API const rps3_ident_layout *rps3_ident_paper_layout(void);
+
+/* Results of rps3_ident_consistent; arrays the caller's (theta
+   required). */
+typedef struct {
+  double *theta;    /* p fitted parameters */
+  double *body;     /* 10 nbody: each body's standard parameters, those
+                       not in pi included */
+  double *eig;      /* 4 nbody: each body's pseudo-inertia eigenvalues,
+                       ascending */
+  double rss;       /* sum_r w_r (F_r - Y_r theta)^2 */
+  double cost;      /* rss / |F|_w^2 + reg sum_b tr J_b, minimised */
+  int niter;        /* iterations */
+  int consistent;   /* 1: theta's every pseudo-inertia eigenvalue checked
+                       >= -eig_tol times its body's largest, every >= 0
+                       column >= 0 (also after RPS3_ENOCONV) */
+} rps3_ident_fit;
+
+/*
+ * Physically consistent least squares: minimise
+ *   sum_r w_r (F_r - Y_r pi)^2 / |F|_w^2 + reg sum_b tr J_b
+ * over pi with every body's 4 x 4 pseudo-inertia J_b = [[Sigma, m c],
+ * [m c^T, m]] (Sigma = tr(I)/2 1 - I) positive semidefinite and the >= 0
+ * columns >= 0 (the objective of rps3.ident.consistent).  Each J_b is
+ * parametrised by its log-Cholesky factor, J = U U^T with U upper
+ * triangular and the logarithms of its diagonal as variables (Rucker &
+ * Wensing 2022), a >= 0 column as exp of its variable, and the problem
+ * (reduced to p rows by a QR of [W^1/2 Y, W^1/2 F]) solved by
+ * gsl_multifit_nlinear (trust region, Powell's dogleg, Levenberg's
+ * scaling) with the analytic Jacobian, from the minimum-norm
+ * least-squares solution made consistent.  After the fit every
+ * eigenvalue is checked, converged or not.  Returns RPS3_OK
+ * (fit->consistent 1); RPS3_ENOCONV when the solver did not meet xtol or
+ * gtol within max_iter iterations or stopped without progress (err says
+ * so; theta is the last iterate, fit->consistent 1 when its check
+ * passed), or when the check fails (fit->consistent 0, err names the
+ * body and eigenvalue); RPS3_EINVAL (bad data as rps3_ident_wls, a bad
+ * layout: a column out of range or in two places, a kind not 0 or 1);
+ * RPS3_ENOMEM.  Limit: where the optimum lies on the boundary of the
+ * consistent set (a pseudo-inertia that must be singular, a >= 0 column
+ * at 0) the variables head for minus infinity and the solver may stop
+ * short, its iterate consistent but possibly far from the optimum
+ * (docs/identification.md).  No covariance: the constraints make it
+ * one-sided where they are active.
+ */
+RPS3_API int rps3_ident_consistent(const rps3_ident_data *data,
+                                   const rps3_ident_layout *layout,
+                                   const rps3_ident_opts *o,
+                                   rps3_ident_fit *fit, char *err,
+                                   size_t errsz);
+
 #ifdef __cplusplus
 }
 #endif

@@ -474,3 +474,9 @@ int rps3_fk_batch(const rps3_model *m, rps3_data *d, const rps3_batch_in *in,
   run(&warm, d, BATCH_FK, in, out);
   return RPS3_OK;
 }
+
+/* the regressor's batch (src/ident.c) names its first failing point as
+   these do */
+void rps3_batch_name_point(rps3_data *d, int status, size_t i) {
+  name_point(d, status, i);
+}

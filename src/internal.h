@@ -214,6 +214,50 @@ static inline int rps3_need_rates(const rps3_model *m) {
 void rps3_outputs_clear(const rps3_model *m, rps3_data *d);
 /* rps3_invdyn with this point's Jacobian (NULL: built here) */
 int rps3_invdyn_with(const rps3_model *m, rps3_data *d, rps3_cjac *J);
+
+/* kinematic quantities of the Lagrange route at one point (invdyn.c) */
+typedef struct {
+  double bdd[3][3];                 /* ball joint accelerations */
+  double n[3], o[3];                /* frame columns (18)-(19) */
+  double cdd[3], ndd[3], odd[3], add[3]; /* second time derivatives */
+} rps3_lag_kin;
+
+/*
+ * The pieces of rps3_invdyn that the regressor (src/ident.c) pushes unit
+ * parameters through, so that its columns are the formulation's own
+ * loads and solve (invdyn.c).  rps3_loads_prepare runs rps3_invdyn's
+ * singularity checks at d's positions (J their Jacobian) and keeps what
+ * every load of the point reads: the Lagrange route's kinematics, or the
+ * Newton-Euler system factored.  rps3_loads_effect: the right-hand side
+ * of effect e (index, bit 1 << e) computed with the parameters of u, a
+ * model of m's geometry (its masses, payload and friction may differ);
+ * Lagrange: the loads on (l, theta), Newton-Euler: the system's
+ * right-hand side.  rps3_loads_solve: the forces of ncol <=
+ * RPS3_LOADS_MAXCOL right-hand sides (rhs overwritten) into F[i * ldf +
+ * col], i the actuator.
+ */
+#define RPS3_LOADS_MAXCOL 16
+typedef struct {
+  int method;                /* m->opt.method */
+  rps3_lag_kin k;            /* Lagrange */
+  double rho[3][3];          /* Newton-Euler: b_i - c */
+  double LU6[36];            /* Newton-Euler: the system, factored */
+  int perm6[6];
+  const rps3_cjac *J;        /* the point's Jacobian, factored */
+} rps3_loads;
+int rps3_loads_prepare(const rps3_model *m, rps3_data *d, rps3_cjac *J,
+                       rps3_loads *L);
+void rps3_loads_effect(const rps3_model *u, const rps3_data *d,
+                       const rps3_loads *L, int e, double rhs[6]);
+void rps3_loads_solve(const rps3_loads *L, int ncol, double (*rhs)[6],
+                      double *F, int ldf);
+/* prefix d->err.msg with "point I: " (batch.c), for a batch's first
+   failing point */
+void rps3_batch_name_point(rps3_data *d, int status, size_t i);
+/* rps3_inverse's positions and, when need_rates, rates and accelerations
+   (inverse.c), with the point's Jacobian into *J */
+int rps3_inverse_motion(const rps3_model *m, rps3_data *d, rps3_cjac *J,
+                        int need_rates);
 int rps3_velocity_with(const rps3_model *m, rps3_data *d,
                        const rps3_pose_trig *pt);
 /* the platform's frame (2)-(4) at height z, its twist (omega, vc) and the

@@ -42,12 +42,9 @@
 #include "internal.h"
 #include "linalg.h"
 
-/* kinematic quantities of the Lagrange route, per point (on the stack) */
-typedef struct {
-  double bdd[3][3];                 /* ball joint accelerations */
-  double n[3], o[3];                /* frame columns (18)-(19) */
-  double cdd[3], ndd[3], odd[3], add[3]; /* second time derivatives */
-} lag_kin;
+/* kinematic quantities of the Lagrange route, per point (on the stack;
+   internal.h, the regressor's loads hold one too) */
+typedef rps3_lag_kin lag_kin;
 
 static const double WN[3] = {2.0, -1.0, -1.0}; /* n = sum WN_i b_i / (3r) */
 static const double WO[3] = {0.0, 1.0, -1.0};  /* o = sum WO_i b_i/(sqrt3 r) */
@@ -320,39 +317,56 @@ static void ne_effect(const rps3_model *m, const rps3_data *d, int e,
   }
 }
 
-static int newton_euler(const rps3_model *m, rps3_data *d) {
-  double A[36], LU[36], rho[3][3], t[3], xsum[6] = {0, 0, 0, 0, 0, 0};
-  int perm[6], i, e, r;
-  int eff = m->opt.effects;
-  /* unknowns x = (F_1, F_2, F_3, tau_1, tau_2, tau_3): f_i = F_i phi_i +
-     s_i dphi_i + tau_i axis_i; rows: force (3), moment about c (3) */
+/* the Newton-Euler system, factored into LU, perm: unknowns x = (F_1,
+   F_2, F_3, tau_1, tau_2, tau_3), f_i = F_i phi_i + s_i dphi_i + tau_i
+   axis_i; rows: force (3), moment about c (3); rho_i = b_i - c.
+   Returns 0, or -1 for a singular system */
+static int ne_system(const rps3_model *m, const rps3_data *d, double LU[36],
+                     int perm[6], double rho[3][3]) {
+  double t[3];
+  int i, r;
   for (i = 0; i < 3; i++) {
     v3_sub(rho[i], d->b[i], d->c);
     for (r = 0; r < 3; r++) {
-      A[6 * r + i] = d->phi[i][r];
-      A[6 * r + 3 + i] = m->axis[i][r];
+      LU[6 * r + i] = d->phi[i][r];
+      LU[6 * r + 3 + i] = m->axis[i][r];
     }
     v3_cross(t, rho[i], d->phi[i]);
-    for (r = 0; r < 3; r++) A[6 * (3 + r) + i] = t[r];
+    for (r = 0; r < 3; r++) LU[6 * (3 + r) + i] = t[r];
     v3_cross(t, rho[i], m->axis[i]);
-    for (r = 0; r < 3; r++) A[6 * (3 + r) + 3 + i] = t[r];
+    for (r = 0; r < 3; r++) LU[6 * (3 + r) + 3 + i] = t[r];
   }
-  memcpy(LU, A, sizeof(A));
-  if (rps3_lu_factor(6, LU, perm) != 0)
+  return rps3_lu_factor(6, LU, perm);
+}
+
+/* the right-hand side x of the Newton-Euler system for effect e: the
+   wrench of ne_effect less the pin components s_i dphi_i it fixes */
+static void ne_rhs(const rps3_model *m, const rps3_data *d,
+                   const double rho[3][3], int e, double x[6]) {
+  double wf[3], wm[3], s[3], t[3];
+  int i, r;
+  ne_effect(m, d, e, wf, wm, s);
+  for (i = 0; i < 3; i++) {
+    v3_axpy(wf, wf, -s[i], d->dphi[i]);
+    v3_cross(t, rho[i], d->dphi[i]);
+    v3_axpy(wm, wm, -s[i], t);
+  }
+  for (r = 0; r < 3; r++) {
+    x[r] = wf[r];
+    x[3 + r] = wm[r];
+  }
+}
+
+static int newton_euler(const rps3_model *m, rps3_data *d) {
+  double LU[36], rho[3][3], xsum[6] = {0, 0, 0, 0, 0, 0};
+  int perm[6], i, e, r;
+  int eff = m->opt.effects;
+  if (ne_system(m, d, LU, perm, rho) != 0)
     RPS3_ERROR(d, RPS3_ESING, "Newton-Euler system is singular");
   for (e = 0; e < RPS3_NEFFECT; e++) {
-    double wf[3], wm[3], s[3], x[6];
+    double x[6];
     if (!(eff & (1 << e))) continue;
-    ne_effect(m, d, e, wf, wm, s);
-    for (i = 0; i < 3; i++) {
-      v3_axpy(wf, wf, -s[i], d->dphi[i]);
-      v3_cross(t, rho[i], d->dphi[i]);
-      v3_axpy(wm, wm, -s[i], t);
-    }
-    for (r = 0; r < 3; r++) {
-      x[r] = wf[r];
-      x[3 + r] = wm[r];
-    }
+    ne_rhs(m, d, M3C(rho), e, x);
     if (!(m->opt.outputs & RPS3_OUT_EFFECTS)) {
       /* the sum of the wrenches, solved once below: no shares */
       for (r = 0; r < 6; r++) xsum[r] += x[r];
@@ -485,6 +499,79 @@ static double transmission(const rps3_model *m, const rps3_data *d,
   return T;
 }
 
+/* the singularity checks of the inverse dynamics at d's positions, with
+   their Jacobian J (not yet factored, or factored): writes cond,
+   transmission and the warnings */
+static int invdyn_checks(const rps3_model *m, rps3_data *d, rps3_cjac *J) {
+  int status;
+  d->warn &= ~(RPS3_WARN_ILLCOND | RPS3_WARN_TRANS);
+  d->transmission = (double)NAN; /* not computed for a singular matrix */
+
+  /* the lambda system (df/dtheta)^T: its conditioning flags singular
+     configurations for both formulations.  rps3_inverse passes the one its
+     position stage built (perhaps factored by the own-root check) */
+  rps3_cjac_factor(J);
+  d->cond = J->sing ? HUGE_VAL : J->cond;
+  status = rps3_sing_check(m, d, RPS3_SING_LAMBDA, d->cond);
+  if (status != RPS3_OK) return status;
+
+  /* force transmission: the condition number measures lost digits, not
+     how much force a load takes; both limits are the caller's */
+  d->transmission = transmission(m, d, J);
+  return rps3_sing_check(m, d, RPS3_SING_TRANS, d->transmission);
+}
+
+/* ------------------------------------------- loads of unit parameters */
+
+int rps3_loads_prepare(const rps3_model *m, rps3_data *d, rps3_cjac *J,
+                       rps3_loads *L) {
+  int status = invdyn_checks(m, d, J), eff = m->opt.effects;
+  if (status != RPS3_OK) return status;
+  L->method = m->opt.method;
+  L->J = J;
+  if (L->method == RPS3_LAGRANGE) {
+    lagrange_kinematics(m, d, &L->k, (eff & RPS3_EFF_PAYLOAD) != 0,
+                        (eff & (RPS3_EFF_PLATFORM_INERTIA | RPS3_EFF_PAYLOAD)) != 0);
+    return RPS3_OK;
+  }
+  if (ne_system(m, d, L->LU6, L->perm6, L->rho) != 0)
+    RPS3_ERROR(d, RPS3_ESING, "Newton-Euler system is singular");
+  return RPS3_OK;
+}
+
+void rps3_loads_effect(const rps3_model *u, const rps3_data *d,
+                       const rps3_loads *L, int e, double rhs[6]) {
+  if (L->method == RPS3_LAGRANGE)
+    lagrange_effect(u, d, &L->k, e, rhs);
+  else
+    ne_rhs(u, d, M3C(L->rho), e, rhs);
+}
+
+void rps3_loads_solve(const rps3_loads *L, int ncol, double (*rhs)[6],
+                      double *F, int ldf) {
+  int n, i, q;
+  if (L->method == RPS3_LAGRANGE) {
+    /* as lagrange(): (df/dtheta)^T lambda = -w_theta, all columns at
+       once; F_i = w_l,i + sum_k lambda_k df_k/dl_i, (34) */
+    double lam[3][RPS3_LOADS_MAXCOL];
+    for (n = 0; n < ncol; n++)
+      for (i = 0; i < 3; i++) lam[i][n] = -rhs[n][3 + i];
+    rps3_lu3_solve_multi(L->J->LU, L->J->perm, &lam[0][0], RPS3_LOADS_MAXCOL,
+                         ncol);
+    for (n = 0; n < ncol; n++)
+      for (i = 0; i < 3; i++) {
+        double f = rhs[n][i];
+        for (q = 0; q < 3; q++) f += lam[q][n] * L->J->Jl[q][i];
+        F[i * ldf + n] = f;
+      }
+    return;
+  }
+  for (n = 0; n < ncol; n++) {
+    rps3_lu_solve(6, L->LU6, L->perm6, rhs[n]);
+    for (i = 0; i < 3; i++) F[i * ldf + n] = rhs[n][i];
+  }
+}
+
 int rps3_invdyn(const rps3_model *m, rps3_data *d) {
   return rps3_invdyn_with(m, d, NULL);
 }
@@ -505,25 +592,11 @@ int rps3_invdyn_with(const rps3_model *m, rps3_data *d, rps3_cjac *J) {
   memset(d->F, 0, sizeof(d->F));
   memset(d->F_effect, 0, sizeof(d->F_effect));
   memset(d->lambda, 0, sizeof(d->lambda));
-  d->warn &= ~(RPS3_WARN_ILLCOND | RPS3_WARN_TRANS);
-  d->transmission = (double)NAN; /* not computed for a singular matrix */
-
-  /* the lambda system (df/dtheta)^T: its conditioning flags singular
-     configurations for both formulations.  rps3_inverse passes the one its
-     position stage built (perhaps factored by the own-root check) */
   if (J == NULL) {
     J = &own;
     rps3_cjac_eval(d, J);
   }
-  rps3_cjac_factor(J);
-  d->cond = J->sing ? HUGE_VAL : J->cond;
-  status = rps3_sing_check(m, d, RPS3_SING_LAMBDA, d->cond);
-  if (status != RPS3_OK) return status;
-
-  /* force transmission: the condition number measures lost digits, not
-     how much force a load takes; both limits are the caller's */
-  d->transmission = transmission(m, d, J);
-  status = rps3_sing_check(m, d, RPS3_SING_TRANS, d->transmission);
+  status = invdyn_checks(m, d, J);
   if (status != RPS3_OK) return status;
 
   status = (m->opt.method == RPS3_LAGRANGE)

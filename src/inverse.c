@@ -99,11 +99,20 @@ int rps3_inverse(const rps3_model *m, rps3_data *d) {
 }
 
 int rps3_inverse_stages(const rps3_model *m, rps3_data *d) {
-  rps3_pose_trig trig; /* sines and cosines of the pose, for every stage */
   rps3_cjac J; /* the constraint Jacobian at this point's positions */
-  double c39[3], s39[3]; /* cos, sin of the pose's own theta (39) */
-  int status, need_rates, multiroot, i;
+  int status;
   if (m == NULL || d == NULL || !m->valid) return RPS3_EINVAL;
+  /* rates only when an effect (or the certificate) needs them */
+  status = rps3_inverse_motion(m, d, &J, rps3_need_rates(m));
+  if (status != RPS3_OK) return status;
+  return rps3_invdyn_with(m, d, &J);
+}
+
+int rps3_inverse_motion(const rps3_model *m, rps3_data *d, rps3_cjac *J,
+                        int need_rates) {
+  rps3_pose_trig trig; /* sines and cosines of the pose, for every stage */
+  double c39[3], s39[3]; /* cos, sin of the pose's own theta (39) */
+  int status, multiroot, i;
 
   /* positions: the closed form (39), or the multiroot solve of (8)-(10)
      from the link lengths, warm-started from this data's previous point */
@@ -112,7 +121,7 @@ int rps3_inverse_stages(const rps3_model *m, rps3_data *d) {
                         multiroot ? RPS3_IK_NO_THETA
                         : (m->opt.outputs & RPS3_OUT_THETA) ? RPS3_IK_THETA
                                                             : RPS3_IK_DIRS,
-                        &J);
+                        J);
   if (status != RPS3_OK) return status;
   if (multiroot) {
     /* ik left theta alone (no closed form leaks into the starting point):
@@ -126,20 +135,18 @@ int rps3_inverse_stages(const rps3_model *m, rps3_data *d) {
       s39[i] = v[2] / d->l[i];
     }
     if (m->opt.warm_start) rps3_root_predict(d, PREDICT_MAX);
-    status = rps3_theta_solve_with(m, d, &J);
+    status = rps3_theta_solve_with(m, d, J);
     if (status != RPS3_OK) return status;
-    status = check_own_root(m, d, &J, c39, s39);
+    status = check_own_root(m, d, J, c39, s39);
     if (status != RPS3_OK) return status;
-    rps3_root_keep(m, d, &J);
+    rps3_root_keep(m, d, J);
   }
 
-  /* rates only when an effect (or the certificate) needs them */
-  need_rates = rps3_need_rates(m);
   if (need_rates) {
     status = rps3_velocity_with(m, d, &trig);
     if (status != RPS3_OK) return status;
     status = rps3_acceleration_with(m, d, &trig);
     if (status != RPS3_OK) return status;
   }
-  return rps3_invdyn_with(m, d, &J);
+  return RPS3_OK;
 }

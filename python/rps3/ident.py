@@ -599,11 +599,19 @@ _CONSISTENT = ("BodyReport", "ConsistencyReport", "consistency_report", "Consist
                "consistent", "base_consistent", "EIG_TOL", "LMI_REG")
 
 
+#: the C library's regressor and fits, defined in rps3.ident_c
+_C = ("C_PAPER_NAMES", "paper_params", "regressor", "wls_c", "CLayout", "layout_of",
+      "paper_layout", "CFit", "consistent_c")
+
+
 def __getattr__(name: str) -> Any:
     # the consistent fit on first use: rps3.ident_consistent imports this module
     if name in _CONSISTENT:
         from rps3 import ident_consistent
         return getattr(ident_consistent, name)
+    if name in _C:
+        from rps3 import ident_c
+        return getattr(ident_c, name)
     raise AttributeError(f"module 'rps3.ident' has no attribute {name!r}")
 
 

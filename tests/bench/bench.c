@@ -83,6 +83,7 @@ typedef enum {
                  rps3_sim_advance called every period (a logging loop) */
   K_SIM_RUN,  /* the same periods, rps3_sim_advance called over the rest
                  of the helix at once (a run of it) */
+  K_REGRESSOR, /* rps3_regressor along the trajectory */
   K_DESIGN    /* rps3_design_eval_grid: Table II's design on its default
                  10 x 10 x 10 grid, every per-pose output and the summary */
 } case_kind;
@@ -292,6 +293,16 @@ static void run_batch(bench_case *c, const points *pt, long ncalls) {
       }
       c->tick++;
       rps3_sim_advance(c->sim, &ctl, (double)c->tick / RATE_HZ);
+    }
+    break;
+  case K_REGRESSOR:
+    for (i = 0; i < ncalls; i++) {
+      double Y[3][RPS3_NPAPER];
+      p = walk(c, pt->n);
+      copy3(d->pose, pt->pose[p]);
+      copy3(d->dpose, pt->dpose[p]);
+      copy3(d->ddpose, pt->ddpose[p]);
+      if (rps3_regressor(m, d, Y) != RPS3_OK) c->failures++;
     }
     break;
   case K_DESIGN:
@@ -555,6 +566,8 @@ static const struct {
     {"sim_helix_wrapped_computed_torque_1khz_rk4",
      "sim_helix_computed_torque_1khz_rk4",
      "sim period: library's law without the plant / with it"},
+    {"regressor_point", "pipeline_closed_lagrange_full_nocert",
+     "regressor / rps3_inverse's forces at the same point (goal <= 2)"},
 };
 #define NRATIO_MAX ((int)(sizeof(ratio_pairs) / sizeof(ratio_pairs[0])))
 
@@ -930,6 +943,10 @@ int main(int argc, char **argv) {
        "cond_h, transmission, centre, spin) and the summary; target 1 ms "
        "the grid", K_DESIGN, SCENE_PAPER, RPS3_LAGRANGE,
        RPS3_THETA_CLOSED_FORM, 1, 0, TARGET_DESIGN_NS, 0);
+  CASE("regressor_point", "rps3_regressor: the paper model's 3 x 12 "
+       "regressor at a point, closed-form theta, full scene, Lagrange",
+       K_REGRESSOR, SCENE_FULL, RPS3_LAGRANGE, RPS3_THETA_CLOSED_FORM, 1, 0,
+       BENCH_NONE, 0);
 #undef CASE
 
   /* -k: keep the matching cases only */

@@ -1,0 +1,764 @@
+/*
+ * test_ident.c - the regressor (src/ident.c) against the library's own
+ * forces, and the estimators (src/ident_fit.c) on synthetic data with
+ * known parameters.
+ */
+#include <stdlib.h>
+#include <time.h>
+
+#include "testutil.h"
+
+/* Y pi against rps3_inverse's F: the same loads and solve, summed in
+   another order (the columns, then the parameters' products): rounding
+   of ~20 terms times the lambda system's condition number (< 1e3 on
+   these states), ~1e-13 of the terms' scale; 1e-10 is the required
+   agreement */
+#define TOL_REGRESSOR 1e-10
+#define NSTATE 10000
+
+/* a model with every effect, the payload's centre of mass on platform
+   axis `axis` (off the axes it has products of inertia the paper
+   parameters do not hold) */
+static void ident_model(rps3_model *m, int method, int axis, double vreg) {
+  int k;
+  model_entropy(m);
+  for (k = 0; k < 3; k++)
+    if (k != axis) m->payload.com[k] = 0.0;
+  m->friction.vreg = vreg;
+  m->opt.method = (rps3_method)method;
+  assert_int_equal(rps3_model_init(m, NULL, 0), RPS3_OK);
+}
+
+static void random_state(rps3_data *d, uint64_t *s) {
+  d->pose[0] = rnd_uniform(s, -PI, PI);
+  d->pose[1] = rnd_uniform(s, 0.05, 0.45);
+  d->pose[2] = rnd_uniform(s, 0.18, 0.40);
+  d->dpose[0] = rnd_uniform(s, -2.0, 2.0);
+  d->dpose[1] = rnd_uniform(s, -0.6, 0.6);
+  d->dpose[2] = rnd_uniform(s, -0.2, 0.2);
+  d->ddpose[0] = rnd_uniform(s, -8.0, 8.0);
+  d->ddpose[1] = rnd_uniform(s, -3.0, 3.0);
+  d->ddpose[2] = rnd_uniform(s, -1.0, 1.0);
+}
+
+/* Y pi = F at NSTATE random states, for a method and a theta route */
+static void regressor_vs_forces(int method, int route) {
+  rps3_model m;
+  rps3_data *d, *d2;
+  uint64_t s = 0x1d3e7ull + (uint64_t)(2 * method + route);
+  double pi[RPS3_NPAPER], worst = 0.0;
+  int i, r, k, nok = 0;
+  ident_model(&m, method, method == 0 ? 2 : 0, route ? 0.0 : 0.05);
+  m.opt.theta = (rps3_theta_route)route;
+  assert_int_equal(rps3_data_alloc(&m, &d), RPS3_OK);
+  assert_int_equal(rps3_data_alloc(&m, &d2), RPS3_OK);
+  assert_int_equal(rps3_paper_params(&m, pi, NULL, 0), RPS3_OK);
+  for (i = 0; i < NSTATE; i++) {
+    double Y[3][RPS3_NPAPER];
+    int st1, st2;
+    random_state(d, &s);
+    copy_motion(d2, d);
+    st1 = rps3_inverse(&m, d);
+    st2 = rps3_regressor(&m, d2, Y);
+    assert_int_equal(st1, st2);
+    if (st1 != RPS3_OK) continue;
+    nok++;
+    for (r = 0; r < 3; r++) {
+      double f = 0.0, scale = 0.0, e;
+      for (k = 0; k < RPS3_NPAPER; k++) {
+        f += Y[r][k] * pi[k];
+        scale += fabs(Y[r][k] * pi[k]);
+      }
+      e = fabs(f - d->F[r]) / scale;
+      if (e > worst) worst = e;
+      CHECK_REL(f, d->F[r], TOL_REGRESSOR, scale,
+                "method %d route %d state %d row %d", method, route, i, r);
+    }
+  }
+  /* the states are inside the workspace: nearly all of them count */
+  assert_true(nok > NSTATE * 9 / 10);
+  print_message("method %d route %d: %d states, worst |Y pi - F| / scale "
+                "%.2g\n", method, route, nok, worst);
+  rps3_data_free(d);
+  rps3_data_free(d2);
+}
+
+static void test_regressor_lagrange(void **state) {
+  (void)state;
+  regressor_vs_forces(RPS3_LAGRANGE, RPS3_THETA_CLOSED_FORM);
+  regressor_vs_forces(RPS3_LAGRANGE, RPS3_THETA_MULTIROOT);
+}
+
+static void test_regressor_newton_euler(void **state) {
+  (void)state;
+  regressor_vs_forces(RPS3_NEWTON_EULER, RPS3_THETA_CLOSED_FORM);
+}
+
+/* each column is the force of its parameter alone: a model with only that
+   parameter nonzero (and its effect) has F = Y[:, k] pi_k; and columns of
+   effects not selected are zero */
+static void test_regressor_columns(void **state) {
+  rps3_model m, one;
+  rps3_data *d, *d1;
+  uint64_t s = 77;
+  double Y[3][RPS3_NPAPER], pi[RPS3_NPAPER];
+  int r, k;
+  (void)state;
+  ident_model(&m, RPS3_LAGRANGE, 1, 0.0);
+  assert_int_equal(rps3_data_alloc(&m, &d), RPS3_OK);
+  assert_int_equal(rps3_data_alloc(&m, &d1), RPS3_OK);
+  random_state(d, &s);
+  copy_motion(d1, d);
+  assert_int_equal(rps3_inverse(&m, d), RPS3_OK);
+  assert_int_equal(rps3_regressor(&m, d, Y), RPS3_OK);
+  /* no force of the earlier call is left */
+  assert_true(isnan(d->F[0]) && isnan(d->F_effect[2][1]) && isnan(d->lambda[2]));
+  /* pin friction alone */
+  one = m;
+  one.opt.effects = RPS3_EFF_PIN_FRICTION;
+  assert_int_equal(rps3_model_init(&one, NULL, 0), RPS3_OK);
+  assert_int_equal(rps3_inverse(&one, d1), RPS3_OK);
+  assert_int_equal(rps3_paper_params(&one, pi, NULL, 0), RPS3_OK);
+  for (r = 0; r < 3; r++)
+    CHECK_REL(Y[r][10] * pi[10] + Y[r][11] * pi[11], d1->F[r], TOL_EXACT,
+              1e-3, "friction row %d", r);
+  /* gravity only: the dynamic columns are zero, the others agree */
+  {
+    double Yg[3][RPS3_NPAPER];
+    one = m;
+    one.opt.effects = RPS3_EFF_PLATFORM_GRAVITY | RPS3_EFF_LINK_GRAVITY;
+    assert_int_equal(rps3_model_init(&one, NULL, 0), RPS3_OK);
+    copy_motion(d1, d);
+    assert_int_equal(rps3_regressor(&one, d1, Yg), RPS3_OK);
+    for (r = 0; r < 3; r++)
+      for (k = 2; k < RPS3_NPAPER; k++) assert_true(Yg[r][k] == 0.0);
+    for (r = 0; r < 3; r++) {
+      assert_true(Yg[r][1] == Y[r][1]);
+      assert_true(Yg[r][0] != Y[r][0]); /* inertia left out of M's */
+    }
+  }
+  rps3_data_free(d);
+  rps3_data_free(d1);
+}
+
+/* the batch is the loop of rps3_regressor, bit for bit; a failed point is
+   NaN, named in the message, and the others computed */
+static void test_regressor_batch(void **state) {
+  enum { N = 57 };
+  rps3_model m;
+  rps3_data *d, *d1;
+  double pose[3 * N], dpose[3 * N], ddpose[3 * N], *Y, theta[3 * N];
+  int status[N], i, c, k;
+  uint64_t s = 5;
+  rps3_batch_in in;
+  rps3_batch_out out;
+  (void)state;
+  ident_model(&m, RPS3_LAGRANGE, 0, 0.01);
+  assert_int_equal(rps3_data_alloc(&m, &d), RPS3_OK);
+  assert_int_equal(rps3_data_alloc(&m, &d1), RPS3_OK);
+  for (i = 0; i < N; i++) {
+    random_state(d, &s);
+    for (c = 0; c < 3; c++) {
+      pose[c * N + i] = d->pose[c];
+      dpose[c * N + i] = d->dpose[c];
+      ddpose[c * N + i] = d->ddpose[c];
+    }
+  }
+  pose[2 * N + 13] = -0.3; /* below the base: unreachable */
+  Y = malloc(sizeof(double) * 3 * RPS3_NPAPER * N);
+  assert_non_null(Y);
+  memset(&in, 0, sizeof(in));
+  memset(&out, 0, sizeof(out));
+  in.n = N;
+  in.pose = pose;
+  in.dpose = dpose;
+  in.ddpose = ddpose;
+  out.status = status;
+  out.theta = theta;
+  assert_int_equal(rps3_regressor_batch(&m, d, &in, Y, &out), RPS3_OK);
+  assert_int_equal(out.nfail, 1);
+  assert_int_equal(out.first_fail, 13);
+  assert_int_equal(status[13], RPS3_EREACH);
+  assert_non_null(strstr(d->err.msg, "point 13: "));
+  for (i = 0; i < N; i++) {
+    double Yp[3][RPS3_NPAPER];
+    int st;
+    for (c = 0; c < 3; c++) {
+      d1->pose[c] = pose[c * N + i];
+      d1->dpose[c] = dpose[c * N + i];
+      d1->ddpose[c] = ddpose[c * N + i];
+    }
+    st = rps3_regressor(&m, d1, Yp);
+    assert_int_equal(st, status[i]);
+    for (c = 0; c < 3; c++)
+      for (k = 0; k < RPS3_NPAPER; k++) {
+        double b = Y[(c * RPS3_NPAPER + k) * N + i];
+        if (st == RPS3_OK)
+          assert_memory_equal(&b, &Yp[c][k], sizeof(double));
+        else
+          assert_true(isnan(b) && isnan(Yp[c][k]));
+      }
+  }
+  /* invalid calls compute nothing */
+  assert_int_equal(rps3_regressor_batch(&m, d, &in, NULL, &out), RPS3_EINVAL);
+  assert_non_null(strstr(d->err.msg, "Y"));
+  in.dpose = NULL;
+  assert_int_equal(rps3_regressor_batch(&m, d, &in, Y, &out), RPS3_EINVAL);
+  assert_non_null(strstr(d->err.msg, "dpose"));
+  free(Y);
+  rps3_data_free(d);
+  rps3_data_free(d1);
+}
+
+static void test_regressor_errors(void **state) {
+  rps3_model m;
+  rps3_data *d;
+  double Y[3][RPS3_NPAPER], pi[RPS3_NPAPER];
+  char err[256];
+  (void)state;
+  ident_model(&m, RPS3_LAGRANGE, 2, 0.0);
+  assert_int_equal(rps3_data_alloc(&m, &d), RPS3_OK);
+  assert_int_equal(rps3_regressor(NULL, d, Y), RPS3_EINVAL);
+  assert_int_equal(rps3_regressor(&m, NULL, Y), RPS3_EINVAL);
+  assert_int_equal(rps3_regressor(&m, d, NULL), RPS3_EINVAL);
+  d->pose[0] = 0.3;
+  d->pose[1] = 0.2;
+  d->pose[2] = NAN;
+  assert_int_equal(rps3_regressor(&m, d, Y), RPS3_EINVAL);
+  assert_true(isnan(Y[1][4]));
+  /* the names and units of the Python package's PAPER_NAMES */
+  assert_string_equal(rps3_paper_name(2), "Ipin");
+  assert_string_equal(rps3_paper_name(11), "pin.fc");
+  assert_string_equal(rps3_paper_unit(7), "kg m^2");
+  assert_null(rps3_paper_name(12));
+  assert_null(rps3_paper_unit(-1));
+  /* a payload off the platform axes is refused by name */
+  m.payload.com[0] = 0.01;
+  m.payload.com[2] = 0.02;
+  assert_int_equal(rps3_paper_params(&m, pi, err, sizeof(err)), RPS3_EINVAL);
+  assert_non_null(strstr(err, "payload.com"));
+  rps3_data_free(d);
+}
+
+/* ------------------------------------------------------------ estimators */
+
+/* an exciting motion: three sines per pose coordinate (0.1-1 Hz) about a
+   mid-workspace pose, as tests/ident_oracle.py's exciting(), sampled
+   every dt; the regressor's rows of columns cols[0..p) stacked sample by
+   sample (row 3 s + actuator), and the forces of pi through them */
+typedef struct {
+  size_t n, p;
+  double *Y, *F, *F0;
+} stack;
+
+static void stack_free(stack *st) {
+  free(st->Y);
+  free(st->F);
+  free(st->F0);
+}
+
+static void make_stack(const rps3_model *m, size_t ns, double dt, double scale,
+                       uint64_t seed, const int *cols, size_t p, stack *st) {
+  static const double amp[3][3] = {
+      {1.2, 0.6, 0.3}, {0.12, 0.06, 0.04}, {0.04, 0.02, 0.01}};
+  double mean[3], fr[3][3], ph[3][3], pi[RPS3_NPAPER];
+  uint64_t s = seed;
+  rps3_data *d;
+  size_t i, j;
+  int c, h, r;
+  mean[0] = rnd_uniform(&s, -1.0, 1.0);
+  mean[1] = 0.25;
+  mean[2] = 0.29;
+  for (c = 0; c < 3; c++)
+    for (h = 0; h < 3; h++) {
+      fr[c][h] = rnd_uniform(&s, 0.1, 1.0);
+      ph[c][h] = rnd_uniform(&s, -PI, PI);
+    }
+  rps3_paper_params(m, pi, NULL, 0);
+  assert_int_equal(rps3_data_alloc(m, &d), RPS3_OK);
+  st->n = 3 * ns;
+  st->p = p;
+  st->Y = malloc(sizeof(double) * st->n * p);
+  st->F = malloc(sizeof(double) * st->n);
+  st->F0 = malloc(sizeof(double) * st->n);
+  assert_true(st->Y && st->F && st->F0);
+  for (i = 0; i < ns; i++) {
+    double t = (double)i * dt, Y[3][RPS3_NPAPER];
+    for (c = 0; c < 3; c++) {
+      d->pose[c] = mean[c];
+      d->dpose[c] = d->ddpose[c] = 0.0;
+      for (h = 0; h < 3; h++) {
+        double w = 2.0 * PI * fr[c][h], a = amp[c][h] * scale;
+        d->pose[c] += a * sin(w * t + ph[c][h]);
+        d->dpose[c] += a * w * cos(w * t + ph[c][h]);
+        d->ddpose[c] -= a * w * w * sin(w * t + ph[c][h]);
+      }
+    }
+    assert_int_equal(rps3_regressor(m, d, Y), RPS3_OK);
+    for (r = 0; r < 3; r++) {
+      double f = 0.0;
+      for (j = 0; j < p; j++) {
+        st->Y[(3 * i + (size_t)r) * p + j] = Y[r][cols[j]];
+        f += Y[r][cols[j]] * pi[cols[j]];
+      }
+      st->F[3 * i + (size_t)r] = st->F0[3 * i + (size_t)r] = f;
+    }
+  }
+  rps3_data_free(d);
+}
+
+/* a standard normal deviate (Box-Muller) */
+static double rnd_normal(uint64_t *s) {
+  double u = rnd_uniform(s, 1e-300, 1.0), v = rnd_uniform(s, 0.0, 2.0 * PI);
+  return sqrt(-2.0 * log(u)) * cos(v);
+}
+
+/* the paper model with friction and a payload on the platform's z axis */
+static void truth_model(rps3_model *m, double coulomb) {
+  rps3_model_default(m);
+  m->M = 0.2381;
+  m->m = 0.0917;
+  m->link_Ic = 3.17e-4;
+  m->payload.mass = 0.0713;
+  m->payload.com[2] = 0.0411;
+  m->payload.inertia[0] = 1.13e-4;
+  m->payload.inertia[1] = 1.71e-4;
+  m->payload.inertia[2] = 0.97e-4;
+  m->friction.viscous = 0.0137;
+  m->friction.coulomb = coulomb;
+  m->friction.vreg = 0.01;
+  m->opt.effects = RPS3_EFF_ALL;
+  assert_int_equal(rps3_model_init(m, NULL, 0), RPS3_OK);
+}
+
+/* the paper set without the payload (M, md, Ipin, fv, fc), and with it
+   (M left out: the payload's columns hold the disc) */
+static const int SET_PLAIN[5] = {0, 1, 2, 10, 11};
+static const int SET_PAYLOAD[11] = {1, 2, 3, 4, 5, 6, 7, 8, 9, 10, 11};
+
+/* exact data: WLS returns the truth to rounding times the condition
+   number (measured cond ~1e3 for the payload set: 1e-12 x 1e3 x 10) */
+#define TOL_EXACT_FIT 1e-8
+
+static void test_wls_exact(void **state) {
+  rps3_model m;
+  stack st;
+  double pi[RPS3_NPAPER], th[11], ci[22], cov[121];
+  rps3_ident_data dt;
+  rps3_ident_result res;
+  char err[512];
+  size_t j;
+  (void)state;
+  truth_model(&m, 0.0029);
+  rps3_paper_params(&m, pi, NULL, 0);
+  make_stack(&m, 1000, 0.02, 1.0, 3, SET_PAYLOAD, 11, &st);
+  memset(&dt, 0, sizeof(dt));
+  dt.n = st.n;
+  dt.p = 11;
+  dt.Y = st.Y;
+  dt.F = st.F;
+  memset(&res, 0, sizeof(res));
+  res.theta = th;
+  res.ci = ci;
+  res.cov = cov;
+  assert_int_equal(rps3_ident_wls(&dt, NULL, &res, err, sizeof(err)), RPS3_OK);
+  print_message("exact WLS: cond %.3g rank %lu\n", res.cond,
+                (unsigned long)res.rank);
+  for (j = 0; j < 11; j++)
+    CHECK_REL(th[j], pi[SET_PAYLOAD[j]], TOL_EXACT_FIT, 1e-6, "parameter %s",
+              rps3_paper_name(SET_PAYLOAD[j]));
+  assert_int_equal(res.rank, 11);
+  assert_int_equal(res.dof, st.n - 11);
+  stack_free(&st);
+}
+
+/* noisy data, each actuator its own noise level: a Monte Carlo of the
+   95 % intervals' coverage and of the two-pass weights' sigma */
+#define MC_DRAWS 60
+static void test_wls_monte_carlo(void **state) {
+  static const double sig[3] = {0.02, 0.05, 0.01}; /* [N] */
+  rps3_model m;
+  stack st;
+  double pi[RPS3_NPAPER], th[5], ci[10], cov[25], z2 = 0.0, sigm[3] = {0};
+  rps3_ident_data dt;
+  rps3_ident_result res;
+  uint64_t s = 99;
+  size_t j, r, cover = 0;
+  int k;
+  (void)state;
+  truth_model(&m, 0.0029);
+  rps3_paper_params(&m, pi, NULL, 0);
+  make_stack(&m, 1000, 0.02, 1.0, 11, SET_PLAIN, 5, &st);
+  memset(&dt, 0, sizeof(dt));
+  dt.n = st.n;
+  dt.p = 5;
+  dt.Y = st.Y;
+  dt.F = st.F;
+  memset(&res, 0, sizeof(res));
+  res.theta = th;
+  res.ci = ci;
+  res.cov = cov;
+  for (k = 0; k < MC_DRAWS; k++) {
+    for (r = 0; r < st.n; r++) st.F[r] = st.F0[r] + sig[r % 3] * rnd_normal(&s);
+    assert_int_equal(rps3_ident_wls(&dt, NULL, &res, NULL, 0), RPS3_OK);
+    for (j = 0; j < 5; j++) {
+      double e = th[j] - pi[SET_PLAIN[j]];
+      z2 += e * e / cov[j * 5 + j];
+      cover += ci[2 * j] <= pi[SET_PLAIN[j]] && pi[SET_PLAIN[j]] <= ci[2 * j + 1];
+    }
+    for (j = 0; j < 3; j++) sigm[j] += res.sigma[j] / MC_DRAWS;
+  }
+  z2 /= 5.0 * MC_DRAWS;
+  print_message("WLS Monte Carlo: coverage %.3f, mean z^2 %.3f, sigma %.4g "
+                "%.4g %.4g\n",
+                (double)cover / (5.0 * MC_DRAWS), z2, sigm[0], sigm[1],
+                sigm[2]);
+  /* 300 intervals: binomial sd of the coverage 1.3 %; z^2 a chi-square
+     mean of 300 terms (sd 0.08) */
+  assert_true((double)cover / (5.0 * MC_DRAWS) >= 0.90);
+  assert_true(z2 > 0.7 && z2 < 1.3);
+  /* sigma of 3000 residuals: 1.3 % sd each, 60 draws averaged */
+  for (j = 0; j < 3; j++) CHECK_REL(sigm[j], sig[j], 0.01, 0.0, "sigma %lu",
+                                    (unsigned long)j);
+  stack_free(&st);
+}
+
+/* all twelve columns: M's is a combination of the payload's, so the rank
+   is 11 and the message names them */
+static void test_wls_rank_deficient(void **state) {
+  static const int all[12] = {0, 1, 2, 3, 4, 5, 6, 7, 8, 9, 10, 11};
+  static const char *const names[12] = {
+      "M", "md", "Ipin", "payload.m", "payload.mcx", "payload.mcy",
+      "payload.mcz", "payload.Ixx", "payload.Iyy", "payload.Izz", "pin.fv",
+      "pin.fc"};
+  rps3_model m;
+  stack st;
+  double th[12];
+  int flags[12];
+  rps3_ident_data dt;
+  rps3_ident_result res;
+  char err[512];
+  (void)state;
+  truth_model(&m, 0.0029);
+  make_stack(&m, 300, 0.05, 1.0, 3, all, 12, &st);
+  memset(&dt, 0, sizeof(dt));
+  dt.n = st.n;
+  dt.p = 12;
+  dt.Y = st.Y;
+  dt.F = st.F;
+  dt.names = names;
+  memset(&res, 0, sizeof(res));
+  res.theta = th;
+  res.unident = flags;
+  assert_int_equal(rps3_ident_wls(&dt, NULL, &res, err, sizeof(err)),
+                   RPS3_ESING);
+  print_message("%s\n", err);
+  assert_int_equal(res.rank, 11);
+  /* the null vector M - payload.m - r^2 (Ixx + Iyy + 2 Izz) / 4 has its
+     weight on M and payload.m once the columns have unit norm */
+  assert_true(flags[0] && flags[3]);
+  assert_false(flags[1] || flags[2] || flags[10] || flags[11]);
+  assert_non_null(strstr(err, "rank 11 < 12"));
+  assert_non_null(strstr(err, " M "));
+  assert_non_null(strstr(err, "payload.m"));
+  assert_true(isnan(th[1]));
+  /* bad arguments, each named */
+  dt.names = NULL;
+  dt.p = 0;
+  assert_int_equal(rps3_ident_wls(&dt, NULL, &res, err, sizeof(err)),
+                   RPS3_EINVAL);
+  dt.p = 12;
+  st.F[7] = NAN;
+  assert_int_equal(rps3_ident_wls(&dt, NULL, &res, err, sizeof(err)),
+                   RPS3_EINVAL);
+  assert_non_null(strstr(err, "data.F[7]"));
+  stack_free(&st);
+}
+
+/* the consistent fit: on exact data it returns the truth but for the
+   tie-break's pull (reg = 1e-9 of the normalised squared residual), which
+   must stay far below what noise does: under 5 % of the standard
+   deviation of the WLS estimate at 1 % noise (rps3.ident's criterion for
+   its LMI fit); in a Monte Carlo of noisy data every fit is certified
+   consistent */
+#define TOL_CONSISTENT_BIAS 0.05
+static void test_consistent(void **state) {
+  rps3_model m;
+  stack st;
+  double pi[RPS3_NPAPER], th[11], body[20], eig[8], thw[11], cov[121];
+  rps3_ident_data dt;
+  rps3_ident_fit fit;
+  rps3_ident_result res;
+  const rps3_ident_layout *pl = rps3_ident_paper_layout();
+  /* the paper layout on the payload set: columns renumbered */
+  int col[2][10], kind[11], b, k;
+  rps3_ident_layout lay;
+  uint64_t s = 5;
+  char err[512];
+  size_t j, r, nwls_bad = 0, nconv = 0;
+  int st_c;
+  (void)state;
+  for (b = 0; b < 2; b++)
+    for (k = 0; k < 10; k++) {
+      int c = pl->col[b][k];
+      col[b][k] = c < 0 ? -1 : c - 1; /* SET_PAYLOAD drops column 0 */
+    }
+  for (j = 0; j < 11; j++) kind[j] = pl->kind[SET_PAYLOAD[j]];
+  lay.nbody = 2;
+  lay.col = (const int(*)[10])col;
+  lay.kind = kind;
+  truth_model(&m, 0.0);
+  rps3_paper_params(&m, pi, NULL, 0);
+  make_stack(&m, 1000, 0.02, 0.3, 21, SET_PAYLOAD, 11, &st);
+  memset(&dt, 0, sizeof(dt));
+  dt.n = st.n;
+  dt.p = 11;
+  dt.Y = st.Y;
+  dt.F = st.F;
+  memset(&fit, 0, sizeof(fit));
+  fit.theta = th;
+  fit.body = body;
+  fit.eig = eig;
+  k = rps3_ident_consistent(&dt, &lay, NULL, &fit, err, sizeof(err));
+  if (k != RPS3_OK) fail_msg("%s", err);
+  print_message("consistent exact: %d iterations, cost %.3g\n", fit.niter,
+                fit.cost);
+  assert_true(fit.consistent);
+  memset(&res, 0, sizeof(res));
+  res.theta = thw;
+  res.cov = cov;
+  {
+    double rms = 0.0;
+    for (r = 0; r < st.n; r++) rms += st.F0[r] * st.F0[r] / (double)st.n;
+    for (r = 0; r < st.n; r++)
+      st.F[r] = st.F0[r] + 0.01 * sqrt(rms) * rnd_normal(&s);
+    assert_int_equal(rps3_ident_wls(&dt, NULL, &res, NULL, 0), RPS3_OK);
+    for (j = 0; j < 11; j++) {
+      double sd = sqrt(cov[j * 11 + j]);
+      if (!(fabs(th[j] - pi[SET_PAYLOAD[j]]) <= TOL_CONSISTENT_BIAS * sd))
+        fail_msg("parameter %s: %.6g, truth %.6g, WLS sd at 1 %% noise %.3g",
+                 rps3_paper_name(SET_PAYLOAD[j]), th[j], pi[SET_PAYLOAD[j]],
+                 sd);
+    }
+  }
+  /* noisy: 20 draws, 1 % of the forces' RMS; every one consistent, and
+     WLS on the same data is not always (Coulomb 0 in truth) */
+  res.cov = NULL;
+  for (k = 0; k < 20; k++) {
+    double rms = 0.0;
+    for (r = 0; r < st.n; r++) rms += st.F0[r] * st.F0[r] / (double)st.n;
+    for (r = 0; r < st.n; r++)
+      st.F[r] = st.F0[r] + 0.01 * sqrt(rms) * rnd_normal(&s);
+    st_c = rps3_ident_consistent(&dt, &lay, NULL, &fit, err, sizeof(err));
+    if (st_c == RPS3_OK)
+      nconv++;
+    else if (st_c != RPS3_ENOCONV || strstr(err, "iterations") == NULL)
+      fail_msg("draw %d: %s", k, err);
+    /* converged or not, what is returned is checked consistent */
+    assert_true(fit.consistent);
+    for (b = 0; b < 2; b++)
+      assert_true(eig[4 * b] >= -1e-10 * fabs(eig[4 * b + 3]));
+    assert_true(th[9] >= 0.0 && th[10] >= 0.0);
+    assert_int_equal(rps3_ident_wls(&dt, NULL, &res, NULL, 0), RPS3_OK);
+    nwls_bad += thw[10] < 0.0;
+  }
+  print_message("WLS gave a negative Coulomb coefficient in %lu of 20; the "
+                "consistent fit converged in %lu of 20, consistent in 20\n",
+                (unsigned long)nwls_bad, (unsigned long)nconv);
+  assert_true(nwls_bad > 0);
+  /* bad layouts, each named */
+  col[1][3] = 1; /* column 1 is already the link's Ipin */
+  assert_int_equal(rps3_ident_consistent(&dt, &lay, NULL, &fit, err,
+                                         sizeof(err)),
+                   RPS3_EINVAL);
+  assert_non_null(strstr(err, "layout.col[1][3]"));
+  col[1][3] = 11;
+  assert_int_equal(rps3_ident_consistent(&dt, &lay, NULL, &fit, err,
+                                         sizeof(err)),
+                   RPS3_EINVAL);
+  col[1][3] = 5;
+  kind[4] = 3;
+  assert_int_equal(rps3_ident_consistent(&dt, &lay, NULL, &fit, err,
+                                         sizeof(err)),
+                   RPS3_EINVAL);
+  assert_non_null(strstr(err, "layout.kind[4]"));
+  kind[4] = 0;
+  /* an iteration limit too small: not converged, said so */
+  {
+    rps3_ident_opts o;
+    rps3_ident_opts_default(&o);
+    o.max_iter = 1;
+    assert_int_equal(rps3_ident_consistent(&dt, &lay, &o, &fit, err,
+                                           sizeof(err)),
+                     RPS3_ENOCONV);
+    assert_true(fit.consistent); /* the start, checked */
+    assert_non_null(strstr(err, "iterations"));
+  }
+  stack_free(&st);
+}
+
+/* the sizes of the targets, timed (reported, not asserted) */
+static void test_timing(void **state) {
+  rps3_model m;
+  stack st;
+  double th[11], body[20];
+  rps3_ident_data dt;
+  rps3_ident_result res;
+  rps3_ident_fit fit;
+  struct timespec t0, t1, t2;
+  const rps3_ident_layout *pl = rps3_ident_paper_layout();
+  int col[2][10], kind[11], b, k;
+  rps3_ident_layout lay;
+  size_t j;
+  (void)state;
+  for (b = 0; b < 2; b++)
+    for (k = 0; k < 10; k++)
+      col[b][k] = pl->col[b][k] < 0 ? -1 : pl->col[b][k] - 1;
+  for (j = 0; j < 11; j++) kind[j] = pl->kind[SET_PAYLOAD[j]];
+  lay.nbody = 2;
+  lay.col = (const int(*)[10])col;
+  lay.kind = kind;
+  truth_model(&m, 0.0029);
+  make_stack(&m, 10000, 0.005, 1.0, 8, SET_PAYLOAD, 11, &st);
+  memset(&dt, 0, sizeof(dt));
+  dt.n = st.n;
+  dt.p = 11;
+  dt.Y = st.Y;
+  dt.F = st.F;
+  memset(&res, 0, sizeof(res));
+  res.theta = th;
+  memset(&fit, 0, sizeof(fit));
+  fit.theta = th;
+  fit.body = body;
+  clock_gettime(CLOCK_MONOTONIC, &t0);
+  assert_int_equal(rps3_ident_wls(&dt, NULL, &res, NULL, 0), RPS3_OK);
+  clock_gettime(CLOCK_MONOTONIC, &t1);
+  assert_int_equal(rps3_ident_consistent(&dt, &lay, NULL, &fit, NULL, 0),
+                   RPS3_OK);
+  clock_gettime(CLOCK_MONOTONIC, &t2);
+  print_message("timing: WLS of %lu rows x 11 %.3f s (target 0.5 s), "
+                "consistent fit %.3f s (target 1 s, %d iterations)\n",
+                (unsigned long)st.n,
+                (double)(t1.tv_sec - t0.tv_sec) + 1e-9 * (double)(t1.tv_nsec - t0.tv_nsec),
+                (double)(t2.tv_sec - t1.tv_sec) + 1e-9 * (double)(t2.tv_nsec - t1.tv_nsec),
+                fit.niter);
+  stack_free(&st);
+}
+
+/* ------------------------------------------------ no allocation per point */
+
+#ifndef RPS3_SANITIZE
+/* a malloc interposer (as tests/test_alloc_trajectory.c's; not under
+   ASan, whose allocator must not be interposed): glibc's allocator under
+   its internal names, counted while a window is open */
+extern void *__libc_malloc(size_t size);
+extern void *__libc_calloc(size_t n, size_t size);
+extern void *__libc_realloc(void *p, size_t size);
+static int counting;
+static long n_alloc;
+void *malloc(size_t size) {
+  if (counting) n_alloc++;
+  return __libc_malloc(size);
+}
+void *calloc(size_t n, size_t size) {
+  if (counting) n_alloc++;
+  return __libc_calloc(n, size);
+}
+void *realloc(void *p, size_t size) {
+  if (counting) n_alloc++;
+  return __libc_realloc(p, size);
+}
+
+/* the regressor, point by point (both theta routes) and in a batch,
+   allocates nothing; the estimators do (the counter sees them) */
+static void test_regressor_allocates_nothing(void **state) {
+  enum { N = 2000 };
+  rps3_model m;
+  rps3_data *d;
+  double Y[3][RPS3_NPAPER], *Yb, pose[3 * N], dpose[3 * N], ddpose[3 * N];
+  int status[N], route, i, c;
+  uint64_t s = 3;
+  rps3_batch_in in;
+  rps3_batch_out out;
+  stack st;
+  double th[5];
+  rps3_ident_data dt;
+  rps3_ident_result res;
+  (void)state;
+  for (route = 0; route < 2; route++) {
+    ident_model(&m, RPS3_LAGRANGE, 2, 0.01);
+    m.opt.theta = (rps3_theta_route)route;
+    assert_int_equal(rps3_data_alloc(&m, &d), RPS3_OK);
+    n_alloc = 0;
+    counting = 1;
+    for (i = 0; i < N; i++) {
+      random_state(d, &s);
+      rps3_regressor(&m, d, Y);
+    }
+    counting = 0;
+    assert_int_equal(n_alloc, 0);
+    rps3_data_free(d);
+  }
+  for (i = 0; i < N; i++) {
+    rps3_data tmp;
+    random_state(&tmp, &s);
+    for (c = 0; c < 3; c++) {
+      pose[c * N + i] = tmp.pose[c];
+      dpose[c * N + i] = tmp.dpose[c];
+      ddpose[c * N + i] = tmp.ddpose[c];
+    }
+  }
+  Yb = malloc(sizeof(double) * 3 * RPS3_NPAPER * N);
+  assert_non_null(Yb);
+  assert_int_equal(rps3_data_alloc(&m, &d), RPS3_OK);
+  memset(&in, 0, sizeof(in));
+  memset(&out, 0, sizeof(out));
+  in.n = N;
+  in.pose = pose;
+  in.dpose = dpose;
+  in.ddpose = ddpose;
+  out.status = status;
+  n_alloc = 0;
+  counting = 1;
+  assert_int_equal(rps3_regressor_batch(&m, d, &in, Yb, &out), RPS3_OK);
+  counting = 0;
+  assert_int_equal(n_alloc, 0);
+  free(Yb);
+  rps3_data_free(d);
+  /* the counter works: WLS allocates its GSL workspaces */
+  truth_model(&m, 0.0029);
+  make_stack(&m, 100, 0.05, 1.0, 3, SET_PLAIN, 5, &st);
+  memset(&dt, 0, sizeof(dt));
+  dt.n = st.n;
+  dt.p = 5;
+  dt.Y = st.Y;
+  dt.F = st.F;
+  memset(&res, 0, sizeof(res));
+  res.theta = th;
+  n_alloc = 0;
+  counting = 1;
+  assert_int_equal(rps3_ident_wls(&dt, NULL, &res, NULL, 0), RPS3_OK);
+  counting = 0;
+  assert_true(n_alloc > 0);
+  stack_free(&st);
+}
+#endif
+
+int main(void) {
+  const struct CMUnitTest tests[] = {
+      cmocka_unit_test(test_regressor_lagrange),
+      cmocka_unit_test(test_regressor_newton_euler),
+      cmocka_unit_test(test_regressor_columns),
+      cmocka_unit_test(test_regressor_batch),
+      cmocka_unit_test(test_regressor_errors),
+      cmocka_unit_test(test_wls_exact),
+      cmocka_unit_test(test_wls_monte_carlo),
+      cmocka_unit_test(test_wls_rank_deficient),
+      cmocka_unit_test(test_consistent),
+      cmocka_unit_test(test_timing),
+#ifndef RPS3_SANITIZE
+      cmocka_unit_test(test_regressor_allocates_nothing),
+#endif
+  };
+  return cmocka_run_group_tests(tests, NULL, NULL);
+}
