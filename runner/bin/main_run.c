@@ -38,7 +38,6 @@
 #include "core/h5err.h"
 #include "core/progress.h"
 #include "core/safeio.h"
-#include "core/signals.h"
 #include "core/tmpout.h"
 #include "exec/preflight.h"
 #include "exec/simulate.h"
@@ -525,7 +524,7 @@ int main(int argc, char **argv) {
 
   /* process-wide policy: GSL returns its errors, HDF5's are captured
      (h5err.h); the signals that end a run remove its temporary file
-     (signals.h) */
+     (tmpout.h) */
   sig_init();
   gsl_set_error_handler_off();
   h5_errors_capture();

@@ -16,6 +16,8 @@
 
 #include <hdf5.h>
 
+#include "exit_codes.h"
+
 void proc_init(void) {
   int fd;
   for (fd = 0; fd <= 2; fd++)
@@ -32,12 +34,11 @@ void proc_init(void) {
 }
 
 int proc_exit(int code) {
-  if (code != SIG_EXIT_IO) H5close();
+  if (code != EXIT_IO) H5close();
   return code;
 }
 
-/* the directory part of path ("." when none) into dir */
-static int dir_of(const char *path, char *dir, size_t sz) {
+int path_dir(const char *path, char *dir, size_t sz) {
   const char *slash = strrchr(path, '/');
   size_t n;
   if (!slash) {
@@ -92,7 +93,7 @@ int out_path_check(const char *out, const char *const *in, size_t ninput,
     snprintf(err, errsz, "-o %s: %s", out, strerror(errno));
     return -1;
   }
-  if (dir_of(out, dir, sizeof dir)) {
+  if (path_dir(out, dir, sizeof dir)) {
     snprintf(err, errsz, "-o %s: path too long", out);
     return -1;
   }
@@ -196,7 +197,7 @@ size_t stale_report(const char *prog, const char *out) {
   struct dirent *e;
   size_t count = 0;
   DIR *d;
-  if (dir_of(out, dir, sizeof dir) || !(d = opendir(dir))) return 0;
+  if (path_dir(out, dir, sizeof dir) || !(d = opendir(dir))) return 0;
   while ((e = readdir(d)) != NULL) {
     long pid = tmp_pid(e->d_name, base);
     if (pid <= 0 || pid == (long)getpid()) continue;
@@ -215,37 +216,8 @@ size_t stale_report(const char *prog, const char *out) {
 double disk_free(const char *out) {
   char dir[4096];
   struct statvfs v;
-  if (dir_of(out, dir, sizeof dir) || statvfs(dir, &v) != 0) return -1;
+  if (path_dir(out, dir, sizeof dir) || statvfs(dir, &v) != 0) return -1;
   return (double)v.f_bavail * (double)v.f_frsize;
-}
-
-static int sync_fd_of(const char *path, int flags, char *err, size_t errsz) {
-  int fd = open(path, flags), rc = 0;
-  if (fd < 0) {
-    snprintf(err, errsz, "cannot open %s to sync it: %s", path,
-             strerror(errno));
-    return -1;
-  }
-  /* EINVAL: a file system without fsync on directories */
-  if (fsync(fd) != 0 && errno != EINVAL) {
-    snprintf(err, errsz, "cannot sync %s to disk: %s", path, strerror(errno));
-    rc = -1;
-  }
-  close(fd);
-  return rc;
-}
-
-int file_sync(const char *path, char *err, size_t errsz) {
-  return sync_fd_of(path, O_RDONLY, err, errsz);
-}
-
-int dir_sync(const char *path, char *err, size_t errsz) {
-  char dir[4096];
-  if (dir_of(path, dir, sizeof dir)) {
-    snprintf(err, errsz, "%s: path too long", path);
-    return -1;
-  }
-  return sync_fd_of(dir, O_RDONLY | O_DIRECTORY, err, errsz);
 }
 
 int parse_ulong(const char *a, unsigned long lo, unsigned long hi,

@@ -12,7 +12,7 @@
  * pool_run returns that first error.  A case that fails numerically is not
  * an error of the pool: the job records it in its slot (status, message)
  * and the other cases go on.  The workers block the signals, so that the
- * handlers of core/signals.h (remove the temporary file, die) run on the
+ * handlers of core/tmpout.h (remove the temporary file, die) run on the
  * calling thread.
  */
 #ifndef RPS3_RUNNER_POOL_H
