@@ -110,8 +110,7 @@ const char *est_human(double bytes, char *buf, size_t sz) {
   return buf;
 }
 
-/* this process's CPU time in s */
-static double cpu_now(void) {
+double est_cpu_now(void) {
   struct timespec t;
   if (clock_gettime(CLOCK_PROCESS_CPUTIME_ID, &t) != 0) return 0;
   return (double)t.tv_sec + 1e-9 * (double)t.tv_nsec;
@@ -126,23 +125,23 @@ static void time_case(const scene *s, size_t i, out_block *b, rps3_data **d,
   scene_error e;
   scene_text yaml = {0};
   size_t n, failed_at = 0;
-  double t0 = cpu_now(), t1;
+  double t0 = est_cpu_now(), t1;
   int rc;
   if (scene_case_build(s, i, &sc, &e) || scene_case_yaml(&sc, &yaml)) return;
   scene_text_free(&yaml);
-  t1 = cpu_now();
+  t1 = est_cpu_now();
   if (!*d || *solver != (int)sc.model.opt.solver) {
     rps3_data_free(*d);
     *d = NULL;
     if (rps3_data_alloc(&sc.model, d) != RPS3_OK) return;
     *solver = (int)sc.model.opt.solver;
-    t1 = cpu_now();
+    t1 = est_cpu_now();
   }
   c->per_case += t1 - t0;
   c->cases++;
   n = sc.nt < b->points ? sc.nt : b->points;
   rc = case_compute(&sc, *d, 0, n, b, 0, &failed_at);
-  c->sample += cpu_now() - t1;
+  c->sample += est_cpu_now() - t1;
   c->samples += rc == RPS3_OK ? n : failed_at + 1;
 }
 
@@ -200,23 +199,36 @@ const char *est_human_time(double seconds, char *buf, size_t sz) {
   return buf;
 }
 
+const char *est_when(const est_cost *c, double samples, double cases,
+                     int threads, char *buf, size_t sz) {
+  char t[32];
+  snprintf(buf, sz, "about %s on %d thread%s",
+           est_human_time(est_run_seconds(c, samples, cases, threads), t,
+                          sizeof t),
+           threads, threads == 1 ? "" : "s");
+  return buf;
+}
+
+int est_fits(const char *out_path, double need, int gzip) {
+  double avail = disk_free(out_path);
+  char e1[32], e2[32];
+  if (avail < 0 || need <= avail || gzip) return 0;
+  fprintf(stderr,
+          "rps3-run: %s: the output needs about %s, the file "
+          "system has %s free: nothing written\n",
+          out_path, est_human(need, e1, sizeof e1),
+          est_human(avail, e2, sizeof e2));
+  return -1;
+}
+
 int est_room(const char *out_path, const char *kind, size_t ncase,
              size_t npoint, double need, int gzip, int quiet,
              const char *when) {
-  double avail = disk_free(out_path);
-  char e1[32], e2[32];
+  char e1[32];
   if (!quiet)
     fprintf(stderr, "rps3-run: %zu %scase%s, %zu samples: %s about %s%s, %s\n",
             ncase, kind, ncase == 1 ? "" : "s", npoint, out_path,
             est_human(need, e1, sizeof e1), gzip ? " before compression" : "",
             when);
-  if (avail >= 0 && need > avail && !gzip) {
-    fprintf(stderr,
-            "rps3-run: %s: the output needs about %s, the file "
-            "system has %s free: nothing written\n",
-            out_path, est_human(need, e1, sizeof e1),
-            est_human(avail, e2, sizeof e2));
-    return -1;
-  }
-  return 0;
+  return est_fits(out_path, need, gzip);
 }

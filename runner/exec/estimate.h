@@ -56,12 +56,24 @@ double est_run_seconds(const est_cost *c, double samples, double cases,
 /* "3.2 s", "4.1 min", "2.5 h", "3.1 days" into buf */
 const char *est_human_time(double seconds, char *buf, size_t sz);
 
+/* "about 3.2 s on 2 threads" into buf: est_run_seconds on `threads` */
+const char *est_when(const est_cost *c, double samples, double cases,
+                     int threads, char *buf, size_t sz);
+
+/* This process's CPU time [s]. */
+double est_cpu_now(void);
+
+/*
+ * Refuse (returns -1, said on stderr) an output of `need` bytes larger
+ * than the free space of out_path's file system, unless it is deflated
+ * (gzip: need is then an upper bound).  Returns 0 or -1.
+ */
+int est_fits(const char *out_path, double need, int gzip);
+
 /*
  * Before a run: unless quiet, one line on stderr with the cases (`kind`:
  * "" or "simulated "), samples, the output's estimated size `need` and
- * the run time `when`; refuse (returns -1, said why) when need exceeds
- * the free space of out_path's file system and the output is not
- * deflated (gzip 0).  Returns 0 or -1.
+ * the run time `when`; then est_fits.  Returns 0 or -1.
  */
 int est_room(const char *out_path, const char *kind, size_t ncase,
              size_t npoint, double need, int gzip, int quiet,

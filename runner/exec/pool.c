@@ -11,6 +11,7 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <unistd.h>
 
 /* a worker holds no slot */
 #define NO_SLOT ((size_t)-1)
@@ -235,7 +236,8 @@ static int run_threads(pool *P, int nthread, char *err, size_t errsz) {
   return P->stop ? -1 : 0;
 }
 
-int pool_run(const pool_job *job, int nthread, char *err, size_t errsz) {
+/* pool_run with the job's slots */
+static int pool_start(const pool_job *job, int nthread, char *err, size_t errsz) {
   pool P;
   size_t i;
   int rc = -1;
@@ -270,4 +272,33 @@ int pool_run(const pool_job *job, int nthread, char *err, size_t errsz) {
   free(P.ready_ix);
   free(P.ready_info);
   return rc;
+}
+
+int pool_run(const pool_job *job, int nthread, char *err, size_t errsz) {
+  pool_job J = *job;
+  unsigned char *mem;
+  size_t i, n = pool_nslot(nthread);
+  int rc = -1;
+  if (job->slot) return pool_start(job, nthread, err, errsz);
+  J.slot = calloc(n, sizeof *J.slot);
+  mem = calloc(n, job->slot_size);
+  for (i = 0; J.slot && mem && i < n; i++) J.slot[i] = mem + i * job->slot_size;
+  for (i = 0; J.slot && mem && i < n; i++)
+    if (job->slot_make(job->ctx, J.slot[i], i)) break;
+  if (J.slot && mem && i == n) rc = pool_start(&J, nthread, err, errsz);
+  for (i = 0; J.slot && mem && i < n; i++) job->slot_free(job->ctx, J.slot[i], i);
+  free(mem);
+  free(J.slot);
+  return rc;
+}
+
+int pool_cores(int nthread, int say) {
+  long cores = sysconf(_SC_NPROCESSORS_ONLN);
+  if (cores < 1 || nthread <= cores) return nthread;
+  if (say)
+    fprintf(stderr,
+            "rps3-run: warning: -j %d on %ld core%s: computing on %ld "
+            "thread%s\n",
+            nthread, cores, cores == 1 ? "" : "s", cores, cores == 1 ? "" : "s");
+  return (int)cores;
 }

@@ -28,8 +28,14 @@ typedef struct {
   /* the items first, first + stride, ... below nitem (stride 1: all; a
      shard's items otherwise) */
   size_t nitem, first, stride;
-  /* the slots: pool_nslot(nthread) of them, allocated by the caller */
+  /* the slots: pool_nslot(nthread) of them, allocated by the caller; or,
+     when slot is NULL, by pool_run: slot_size bytes each, zeroed, each
+     made by slot_make (0, or -1: out of memory) and freed by slot_free
+     (made or not) */
   void **slot;
+  size_t slot_size;
+  int (*slot_make)(void *ctx, void *slot, size_t i);
+  void (*slot_free)(void *ctx, void *slot, size_t i);
   /* bytes of what describes a filled slot (pool_emit's info), copied with
      it to the writer; at most POOL_INFO_MAX */
   size_t info_size;
@@ -59,9 +65,15 @@ size_t pool_nslot(int nthread);
  * Run every item of job on nthread worker threads (1: on the calling
  * thread, each slot written as soon as it is emitted).  Returns 0, or -1
  * with err set to the first error (a callback's, or "cannot start a
- * thread", "out of memory").
+ * thread", "out of memory"; err as the caller set it when a slot cannot
+ * be made).
  */
 int pool_run(const pool_job *job, int nthread, char *err, size_t errsz);
+
+/* At most one thread per core: -j beyond them computes nothing faster,
+   and each thread holds a slot and a workspace (said on stderr when
+   `say`). */
+int pool_cores(int nthread, int say);
 
 /* The slot worker w fills now (inside job->run). */
 void *pool_slot(pool_worker *w);

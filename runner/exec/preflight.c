@@ -46,23 +46,17 @@ int pre_jobs(const scene *s, const sweep_plan *p, const sweep_opts *o,
    0, or -1 when nothing could be timed (out of memory; buf says so) */
 static int run_time(const scene *s, const sweep_plan *p, const sweep_opts *o,
                     const pre_opts *po, est_cost *c, char *buf, size_t sz) {
-  char t[32];
   size_t cases = sweep_shard_cases(s, p, o->shard, o->nshard);
   size_t jobs = sweep_shard_jobs(s, p, o->shard, o->nshard);
   double samples = (double)p->npoint * (double)cases / (double)s->ncase;
+  /* -j 1 computes and writes on one thread; -j N on N workers and a
+     writer */
   int threads = (size_t)o->nthread < jobs ? o->nthread : (int)jobs;
   if (est_cost_measure(s, p, po->fields, po->gzip, c)) {
     snprintf(buf, sz, "run time not estimated (out of memory)");
     return -1;
   }
-  if (threads < 1) threads = 1;
-  /* -j 1 computes and writes on one thread; -j N on N workers and a
-     writer */
-  snprintf(buf, sz, "about %s on %d thread%s",
-           est_human_time(est_run_seconds(c, samples, (double)cases,
-                                          o->nthread > 1 ? threads : 1),
-                          t, sizeof t),
-           threads, threads == 1 ? "" : "s");
+  est_when(c, samples, (double)cases, threads < 1 ? 1 : threads, buf, sz);
   return 0;
 }
 

@@ -235,23 +235,18 @@ void sweep_case_label(const scene *s, size_t c, char *buf, size_t sz) {
   }
 }
 
-/* count a written tile of block b and show the progress, and the reason
-   of the run's first failed case (also when quiet) */
-static void sweep_tile_count(const scene *s, const out_block *b, const tile *t,
-                             sweep_stats *st, progress *pr) {
-  st->cases_done += t->cases;
-  st->points_done += t->points;
-  st->nfailed += t->failed;
-  if (t->failed && !pr->failure_shown) {
-    size_t slot;
-    for (slot = 0; slot < t->nc; slot++)
-      if (((const int32_t *)b->status)[slot] != RPS3_OK) {
-        char what[512];
-        sweep_case_label(s, t->c0 + slot, what, sizeof what);
-        progress_failure(pr, t->c0 + slot, what, b->msg[slot]);
-        break;
-      }
-  }
+void sweep_failure(const scene *s, progress *pr, size_t c, const char *msg) {
+  char what[512];
+  if (pr->failure_shown) return;
+  sweep_case_label(s, c, what, sizeof what);
+  progress_failure(pr, c, what, msg);
+}
+
+void sweep_count(progress *pr, sweep_stats *st, size_t cases, size_t points,
+                 size_t failed) {
+  st->cases_done += cases;
+  st->points_done += points;
+  st->nfailed += failed;
   progress_update(pr, st->cases_done, st->points_done);
 }
 
@@ -290,6 +285,7 @@ typedef struct {
   const scene *s;
   const sweep_plan *p;
   out_file *f;
+  out_block *b;      /* the caller's block: slot 0 */
   out_layout layout; /* the file's chunks, for out_pack */
   sweep_stats *st;
   progress *pr;
@@ -400,11 +396,6 @@ static int job_windows(const sweep_job *J, size_t j, out_block **bp,
   return 0;
 }
 
-static void sweep_workspaces_free(rps3_data *ws[RPS3_NSOLVER]) {
-  int k;
-  for (k = 0; k < RPS3_NSOLVER; k++) rps3_data_free(ws[k]);
-}
-
 /* ------------------------------------------------------------------- run */
 
 /* pool_job.run: job j of the sweep on worker w (a tile of whole cases, or
@@ -418,12 +409,21 @@ static int sweep_item(void *ctx, void *wctx, size_t j, pool_worker *w,
                           : job_whole(J, j, &b, wctx, w, err, errsz);
 }
 
-/* pool_job.write: a filled block to the file, counted */
+/* pool_job.write: a filled block to the file, counted, its first failed
+   case said */
 static int sweep_write(void *ctx, void *slot, const void *info, char *err,
                        size_t errsz) {
   const sweep_job *J = ctx;
-  if (sweep_tile_write(J->f, slot, info, err, errsz)) return -1;
-  sweep_tile_count(J->s, slot, info, J->st, J->pr);
+  const out_block *b = slot;
+  const tile *t = info;
+  size_t k;
+  if (sweep_tile_write(J->f, b, t, err, errsz)) return -1;
+  for (k = 0; t->failed && k < t->nc; k++)
+    if (((const int32_t *)b->status)[k] != RPS3_OK) {
+      sweep_failure(J->s, J->pr, t->c0 + k, b->msg[k]);
+      break;
+    }
+  sweep_count(J->pr, J->st, t->cases, t->points, t->failed);
   return 0;
 }
 
@@ -434,9 +434,34 @@ static void *workspaces_begin(void *ctx) {
 }
 
 static void workspaces_end(void *ctx, void *wctx) {
+  int k;
   (void)ctx;
-  if (wctx) sweep_workspaces_free(wctx);
+  for (k = 0; wctx && k < RPS3_NSOLVER; k++) rps3_data_free(((rps3_data **)wctx)[k]);
   free(wctx);
+}
+
+/* pool_job.slot_make: slot 0 is the caller's block, lent for the run; the
+   others are allocated like it */
+static int block_make(void *ctx, void *slot, size_t i) {
+  const sweep_job *J = ctx;
+  out_block *b = slot;
+  if (i == 0) {
+    *b = *J->b;
+    return 0;
+  }
+  if (out_block_alloc(b, J->b->cases, J->b->points, J->p->first.model.opt.effects))
+    return -1;
+  b->fields = J->b->fields;
+  return 0;
+}
+
+/* pool_job.slot_free: the lent block back (with the buffers out_pack grew) */
+static void block_free(void *ctx, void *slot, size_t i) {
+  const sweep_job *J = ctx;
+  if (i == 0)
+    *J->b = *(out_block *)slot;
+  else
+    out_block_free(slot);
 }
 
 int sweep_run_opts(const scene *s, const sweep_plan *p, out_file *f,
@@ -444,9 +469,6 @@ int sweep_run_opts(const scene *s, const sweep_plan *p, out_file *f,
                    sweep_stats *st, char *err, size_t errsz) {
   sweep_job J;
   pool_job job;
-  size_t i, nslot;
-  out_block *blocks = NULL;
-  int rc = -1;
   memset(st, 0, sizeof *st);
   if (o->nshard < 1 || o->shard >= o->nshard || o->nthread < 1) {
     snprintf(err, errsz, "bad shard %zu/%zu or thread count %d", o->shard,
@@ -456,6 +478,7 @@ int sweep_run_opts(const scene *s, const sweep_plan *p, out_file *f,
   J.s = s;
   J.p = p;
   J.f = f;
+  J.b = b;
   out_file_layout(f, &J.layout);
   J.st = st;
   J.pr = pr;
@@ -465,29 +488,13 @@ int sweep_run_opts(const scene *s, const sweep_plan *p, out_file *f,
   job.first = o->shard;
   job.stride = o->nshard;
   job.info_size = sizeof(tile);
+  job.slot_size = sizeof(out_block);
+  job.slot_make = block_make;
+  job.slot_free = block_free;
   job.worker_begin = workspaces_begin;
   job.worker_end = workspaces_end;
   job.run = sweep_item;
   job.write = sweep_write;
-  /* slot 0 is the caller's block; the others are allocated like it */
-  nslot = pool_nslot(o->nthread);
-  job.slot = calloc(nslot, sizeof *job.slot);
-  blocks = calloc(nslot, sizeof *blocks);
   snprintf(err, errsz, "out of memory");
-  if (!job.slot || !blocks) goto done;
-  job.slot[0] = b;
-  for (i = 1; i < nslot; i++) {
-    if (out_block_alloc(&blocks[i], b->cases, b->points,
-                        p->first.model.opt.effects))
-      goto done;
-    blocks[i].fields = b->fields;
-    job.slot[i] = &blocks[i];
-  }
-  rc = pool_run(&job, o->nthread, err, errsz);
-done:
-  if (blocks)
-    for (i = 1; i < nslot; i++) out_block_free(&blocks[i]);
-  free(blocks);
-  free(job.slot);
-  return rc;
+  return pool_run(&job, o->nthread, err, errsz);
 }

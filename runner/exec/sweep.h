@@ -102,4 +102,12 @@ int sweep_run_opts(const scene *s, const sweep_plan *p, out_file *f,
    sweep: how messages name a case */
 void sweep_case_label(const scene *s, size_t c, char *buf, size_t sz);
 
+/* Print the reason of the run's first failed case c once, also when
+   quiet (progress_failure, the case named by sweep_case_label). */
+void sweep_failure(const scene *s, progress *pr, size_t c, const char *msg);
+
+/* Add what a written tile holds to st and show the progress. */
+void sweep_count(progress *pr, sweep_stats *st, size_t cases, size_t points,
+                 size_t failed);
+
 #endif /* RPS3_RUNNER_SWEEP_H */
