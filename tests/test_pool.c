@@ -199,6 +199,12 @@ static void slots_and_bad_jobs(void **state) {
   (void)state;
   assert_int_equal(pool_nslot(1), 1);
   assert_int_equal(pool_nslot(4), 6);
+  /* a shard's items: 5, 15, ..., 95; a stride that would wrap */
+  assert_int_equal(pool_count(NITEM, 5, 10), 10);
+  assert_int_equal(pool_count(NITEM, NITEM, 1), 0);
+  assert_int_equal(pool_count(NITEM, 3, SIZE_MAX), 1);
+  assert_int_equal(pool_next(3, 10, NITEM), 13);
+  assert_int_equal(pool_next(3, SIZE_MAX, NITEM), NITEM);
   job_init(&J);
   assert_int_equal(run_job(&J, 0, 0, 1, err, sizeof err), -1);
   assert_non_null(strstr(err, "0 threads"));

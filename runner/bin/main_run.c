@@ -39,7 +39,7 @@
 #include "core/progress.h"
 #include "core/safeio.h"
 #include "core/tmpout.h"
-#include "exec/preflight.h"
+#include "exec/estimate.h"
 #include "exec/simulate.h"
 #include "exec/sweep.h"
 #include "mpi/world.h"

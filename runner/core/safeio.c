@@ -144,8 +144,7 @@ int file_read_all(const char *path, size_t max, const char *kind_rule,
     return read_done(fd, buf, -1);
   }
   if ((unsigned long long)st.st_size > (unsigned long long)max) {
-    snprintf(why, whysz, "is %lld bytes: %s", (long long)st.st_size,
-             size_rule);
+    snprintf(why, whysz, "is %lld bytes: %s", (long long)st.st_size, size_rule);
     return read_done(fd, buf, -1);
   }
   /* one byte more than fstat said: a file that grew since is refused */

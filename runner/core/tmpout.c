@@ -90,9 +90,7 @@ void tmpout_prog(const char *name) { prog = name; }
 
 const char *tmpout_path(void) { return tmp_path; }
 
-void tmpout_arm(void) {
-  have_tmp = 1;
-}
+void tmpout_arm(void) { have_tmp = 1; }
 
 /* fsync the file or directory at path: 0, or -1 with err set */
 static int sync_path(const char *path, int flags, char *err, size_t errsz) {

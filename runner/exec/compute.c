@@ -2,7 +2,7 @@
  * compute.c - the per-sample pipeline of the runner: trajectory, inverse
  * dynamics, and the copy of the results into the output block.
  */
-#include "compute.h"
+#include "sweep.h"
 
 #include <math.h>
 #include <stdint.h>
@@ -67,8 +67,7 @@ static void store3(double *dst, const double *src, size_t n) {
    field at a time (each a sequential stream of writes), the fields the
    file gets; the batch wrote condition, transmission, the energy residual
    and scale and the solve residual into the block itself */
-static void store_batch(const scratch *x, size_t n,
-                        out_block *b, size_t j) {
+static void store_batch(const scratch *x, size_t n, out_block *b, size_t j) {
   /* the [3][n] outputs, and the one-column ones */
   const struct {
     int field;

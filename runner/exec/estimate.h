@@ -1,7 +1,10 @@
 /*
  * estimate.h - what a run will cost before it starts: the size of its
  * output file, from the plan alone (no allocation, nothing computed), and
- * its run time, from a few samples of a few cases computed and timed.
+ * its run time, from a few samples of a few cases computed and timed; and
+ * what rps3-run says and checks before a sweep starts: the jobs and who
+ * has work, and the refusals (exit 2, nothing written) of shards that
+ * cannot have work and of an output that cannot fit on its file system.
  */
 #ifndef RPS3_RUNNER_ESTIMATE_H
 #define RPS3_RUNNER_ESTIMATE_H
@@ -76,7 +79,42 @@ int est_fits(const char *out_path, double need, int gzip);
  * the run time `when`; then est_fits.  Returns 0 or -1.
  */
 int est_room(const char *out_path, const char *kind, size_t ncase,
-             size_t npoint, double need, int gzip, int quiet,
-             const char *when);
+             size_t npoint, double need, int gzip, int quiet, const char *when);
+
+/* --------------------------------------------- the sweep's preflight */
+
+/* who runs: this process's rank of nrank (0 of 1 without MPI) */
+typedef struct {
+  int rank;
+  int nrank;
+  int copy;        /* --copy under mpirun: rank 0 writes a merged copy */
+  int gzip;        /* deflate level, 0 for none */
+  int quiet;       /* no size and time line before the run */
+  out_mask fields; /* the fields written (--fields) */
+} pre_opts;
+
+/*
+ * The jobs against the shards, ranks and threads (rank 0 speaks, on
+ * stderr, even with --quiet).  --shard K/N with N above the number of jobs
+ * is refused (returns -1): shards K >= jobs would compute nothing.  Ranks
+ * above the jobs (mpirun -n N is set by the allocation) and -j above the
+ * jobs of the shard are warned about.  Returns 0 or -1.
+ */
+int pre_jobs(const scene *s, const sweep_plan *p, const sweep_opts *o,
+             const pre_opts *po);
+
+/* --check's report on stdout: cases, samples, size, run time, jobs */
+void pre_check_print(const char *scene_path, const scene *s,
+                     const sweep_plan *p, const sweep_opts *o,
+                     const pre_opts *po);
+
+/*
+ * Before a run (rank 0): one line with the cases, samples, estimated size
+ * and run time; refuse (returns -1) when the estimate exceeds the free
+ * space of out_path's file system: this process writes the cases of its
+ * shard; under mpirun the parts, and with --copy rank 0's merged copy too.
+ */
+int pre_room(const scene *s, const sweep_plan *p, const sweep_opts *o,
+             const pre_opts *po, const char *out_path);
 
 #endif /* RPS3_RUNNER_ESTIMATE_H */

@@ -48,10 +48,13 @@ void *pool_slot(pool_worker *w) { return w->P->job->slot[w->held]; }
 
 int pool_threaded(const pool_worker *w) { return w->P->threaded; }
 
-/* the item after i, without wrapping around (a stride as large as
-   SIZE_MAX would otherwise come back to item 0) */
-static size_t next_item(const pool_job *J, size_t i) {
-  return J->nitem - i > J->stride ? i + J->stride : J->nitem;
+size_t pool_next(size_t i, size_t stride, size_t nitem) {
+  return nitem - i > stride ? i + stride : nitem;
+}
+
+size_t pool_count(size_t nitem, size_t first, size_t stride) {
+  /* no sum that can wrap: stride may be as large as SIZE_MAX */
+  return nitem > first ? 1 + (nitem - first - 1) / stride : 0;
 }
 
 /* stop the run with this error (the first one wins); mu held */
@@ -114,7 +117,7 @@ static void *worker_main(void *arg) {
         size_t i = P->next;
         int rc;
         if (P->stop || i >= J->nitem) break;
-        P->next = next_item(J, i);
+        P->next = pool_next(i, J->stride, J->nitem);
         pthread_mutex_unlock(&P->mu);
         err[0] = '\0';
         rc = J->run(J->ctx, w->wctx, i, w, err, sizeof err);
@@ -181,7 +184,8 @@ static int run_serial(pool *P, char *err, size_t errsz) {
     snprintf(err, errsz, "out of memory");
     return -1;
   }
-  for (i = J->first; i < J->nitem && rc == 0; i = next_item(J, i))
+  for (i = J->first; i < J->nitem && rc == 0;
+       i = pool_next(i, J->stride, J->nitem))
     rc = J->run(J->ctx, w.wctx, i, &w, err, errsz);
   if (J->worker_end) J->worker_end(J->ctx, w.wctx);
   return rc;
@@ -237,7 +241,8 @@ static int run_threads(pool *P, int nthread, char *err, size_t errsz) {
 }
 
 /* pool_run with the job's slots */
-static int pool_start(const pool_job *job, int nthread, char *err, size_t errsz) {
+static int pool_start(const pool_job *job, int nthread, char *err,
+                      size_t errsz) {
   pool P;
   size_t i;
   int rc = -1;
@@ -286,7 +291,8 @@ int pool_run(const pool_job *job, int nthread, char *err, size_t errsz) {
   for (i = 0; J.slot && mem && i < n; i++)
     if (job->slot_make(job->ctx, J.slot[i], i)) break;
   if (J.slot && mem && i == n) rc = pool_start(&J, nthread, err, errsz);
-  for (i = 0; J.slot && mem && i < n; i++) job->slot_free(job->ctx, J.slot[i], i);
+  for (i = 0; J.slot && mem && i < n; i++)
+    job->slot_free(job->ctx, J.slot[i], i);
   free(mem);
   free(J.slot);
   return rc;
@@ -299,6 +305,7 @@ int pool_cores(int nthread, int say) {
     fprintf(stderr,
             "rps3-run: warning: -j %d on %ld core%s: computing on %ld "
             "thread%s\n",
-            nthread, cores, cores == 1 ? "" : "s", cores, cores == 1 ? "" : "s");
+            nthread, cores, cores == 1 ? "" : "s", cores,
+            cores == 1 ? "" : "s");
   return (int)cores;
 }

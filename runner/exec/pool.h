@@ -70,6 +70,14 @@ size_t pool_nslot(int nthread);
  */
 int pool_run(const pool_job *job, int nthread, char *err, size_t errsz);
 
+/* The item after i of nitem items, stride apart, or nitem when none:
+   without wrapping around (a stride as large as SIZE_MAX, --shard
+   1/18446744073709551615, would otherwise come back to item 0). */
+size_t pool_next(size_t i, size_t stride, size_t nitem);
+
+/* Items of nitem from `first`, stride apart: a shard's. */
+size_t pool_count(size_t nitem, size_t first, size_t stride);
+
 /* At most one thread per core: -j beyond them computes nothing faster,
    and each thread holds a slot and a workspace (said on stderr when
    `say`). */

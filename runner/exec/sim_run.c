@@ -9,10 +9,10 @@
 #include "core/exit_codes.h"
 #include "core/tmpout.h"
 #include "estimate.h"
+#include "output/sim_output.h"
 #include "pool.h"
 #include "simulate.h"
 #include "sweep.h"
-#include "output/sim_output.h"
 
 #include <math.h>
 #include <stdio.h>
@@ -118,17 +118,19 @@ static void failure(sim_case_values *w, const sim_work *wk, int st, size_t k,
   const char *why = meas && meas->err.code != RPS3_OK ? meas->err.msg
                     : des && des->err.code != RPS3_OK ? des->err.msg
                                                       : "";
-  double t = isnan(rps3_sim_now(sim)->failed_at) ? t_k : rps3_sim_now(sim)->failed_at;
+  double t =
+      isnan(rps3_sim_now(sim)->failed_at) ? t_k : rps3_sim_now(sim)->failed_at;
   w->status = st;
   w->failed_at = (int32_t)k;
   w->failed_time = t;
-  snprintf(w->message, sizeof w->message,
-           "t = %.9g s (before sample %zu): "
-           "%s: %s%s%s%s",
-           t, k, rps3_strerror(st), rps3_sim_data(sim)->err.msg,
-           why[0] && strstr(rps3_sim_data(sim)->err.msg, "controller") ? " (" : "",
-           why[0] && strstr(rps3_sim_data(sim)->err.msg, "controller") ? why : "",
-           why[0] && strstr(rps3_sim_data(sim)->err.msg, "controller") ? ")" : "");
+  snprintf(
+      w->message, sizeof w->message,
+      "t = %.9g s (before sample %zu): "
+      "%s: %s%s%s%s",
+      t, k, rps3_strerror(st), rps3_sim_data(sim)->err.msg,
+      why[0] && strstr(rps3_sim_data(sim)->err.msg, "controller") ? " (" : "",
+      why[0] && strstr(rps3_sim_data(sim)->err.msg, "controller") ? why : "",
+      why[0] && strstr(rps3_sim_data(sim)->err.msg, "controller") ? ")" : "");
 }
 
 /*
@@ -219,8 +221,8 @@ static sim_tile *flush(pool_worker *w, sim_tile *t, size_t c, size_t k0,
 
 /* pool_job.run: case i on worker w, window by window into its slots;
    0, or -1 when the pool stopped or memory ran out (err set) */
-static int sim_item(void *ctx, void *wctx, size_t i, pool_worker *w,
-                    char *err, size_t errsz) {
+static int sim_item(void *ctx, void *wctx, size_t i, pool_worker *w, char *err,
+                    size_t errsz) {
   const sim_job *J = ctx;
   sim_tile *t = pool_slot(w);
   scene_case c;
@@ -240,8 +242,8 @@ static int sim_item(void *ctx, void *wctx, size_t i, pool_worker *w,
     if (st == RPS3_OK && n > 0)
       /* a tick just behind the state (samples closer than the slack) is
          the state's time: the library refuses a t_end before it */
-      st = rps3_sim_advance(wk.sim, &ctl,
-                            fmax(tick_time(tn, sc.rate), rps3_sim_now(wk.sim)->t));
+      st = rps3_sim_advance(
+          wk.sim, &ctl, fmax(tick_time(tn, sc.rate), rps3_sim_now(wk.sim)->t));
     if (st == RPS3_OK) st = reference(&c, wk.ref, tn);
     if (st != RPS3_OK) {
       failure(&v, &wk, st, n, tn);
@@ -369,19 +371,19 @@ static void run_time(const scene *s, const sim_plan *p, int nthread, char *buf,
   /* est_run_seconds's unit of work: a simulated second */
   memset(&c, 0, sizeof c);
   c.sample = cpu / sim;
-  snprintf(buf, sz,
-           "run time %s (an estimate: %.3g s a simulated second, timed on "
-           "%.3g simulated s, %zu sample%s)",
-           est_when(&c, p->seconds, (double)s->ncase, nthread, when,
-                    sizeof when),
-           c.sample, sim, samples, samples == 1 ? "" : "s");
+  snprintf(
+      buf, sz,
+      "run time %s (an estimate: %.3g s a simulated second, timed on "
+      "%.3g simulated s, %zu sample%s)",
+      est_when(&c, p->seconds, (double)s->ncase, nthread, when, sizeof when),
+      c.sample, sim, samples, samples == 1 ? "" : "s");
 }
 
 /* every case into the file at tmpout_path() on nthread threads; *nfailed
    counts the cases with a status.  0, or -1 with err set. */
-static int sim_run_all(const scene *s, const sim_plan *p, int nthread,
-                       int gzip, const char *cmd, progress *pr,
-                       size_t *nfailed, char *err, size_t errsz) {
+static int sim_run_all(const scene *s, const sim_plan *p, int nthread, int gzip,
+                       const char *cmd, progress *pr, size_t *nfailed,
+                       char *err, size_t errsz) {
   sim_job J;
   pool_job job;
   double *times = NULL;

@@ -15,7 +15,6 @@
 #include <stdlib.h>
 #include <string.h>
 
-#include "compute.h"
 #include "pool.h"
 
 /* a filled block to write: slots [0, nc) are cases c0 .., samples
@@ -258,22 +257,13 @@ size_t sweep_njob(const scene *s, const sweep_plan *p) {
 
 size_t sweep_shard_jobs(const scene *s, const sweep_plan *p, size_t shard,
                         size_t nshard) {
-  size_t nj = sweep_njob(s, p);
-  /* no sum that can wrap: nshard may be as large as SIZE_MAX */
-  return nj > shard ? 1 + (nj - shard - 1) / nshard : 0;
-}
-
-/* the job after j of a shard of nshard, or nj when none: j + nshard
-   without wrapping around (--shard 1/18446744073709551615 would otherwise
-   come back to job 0) */
-static size_t sweep_next_job(size_t j, size_t nshard, size_t nj) {
-  return nj - j > nshard ? j + nshard : nj;
+  return pool_count(sweep_njob(s, p), shard, nshard);
 }
 
 size_t sweep_shard_cases(const scene *s, const sweep_plan *p, size_t shard,
                          size_t nshard) {
   size_t j, n = 0, nj = sweep_njob(s, p);
-  for (j = shard; j < nj; j = sweep_next_job(j, nshard, nj))
+  for (j = shard; j < nj; j = pool_next(j, nshard, nj))
     n += (j + 1) * p->tile_cases <= s->ncase ? p->tile_cases
                                              : s->ncase - j * p->tile_cases;
   return n;
@@ -436,7 +426,8 @@ static void *workspaces_begin(void *ctx) {
 static void workspaces_end(void *ctx, void *wctx) {
   int k;
   (void)ctx;
-  for (k = 0; wctx && k < RPS3_NSOLVER; k++) rps3_data_free(((rps3_data **)wctx)[k]);
+  for (k = 0; wctx && k < RPS3_NSOLVER; k++)
+    rps3_data_free(((rps3_data **)wctx)[k]);
   free(wctx);
 }
 
@@ -449,7 +440,8 @@ static int block_make(void *ctx, void *slot, size_t i) {
     *b = *J->b;
     return 0;
   }
-  if (out_block_alloc(b, J->b->cases, J->b->points, J->p->first.model.opt.effects))
+  if (out_block_alloc(b, J->b->cases, J->b->points,
+                      J->p->first.model.opt.effects))
     return -1;
   b->fields = J->b->fields;
   return 0;
