@@ -51,7 +51,14 @@ static size_t round_rows(size_t ncase, size_t tc) {
   return (ncase + tc - 1) / tc * tc;
 }
 
-double est_file_bytes(const scene *s, const sweep_plan *p, out_mask fields) {
+/* Bytes of the file rps3-run writes for the plan p of s, uncompressed (an
+   upper bound with --gzip): the fields of `fields` in every chunk the run
+   allocates (p->stored samples per sample field: a partial edge chunk
+   counts whole), the per-case strings, the swept keys and the
+   coordinates, plus a bound on HDF5's metadata.  A double: absurd sweeps
+   exceed any size_t. */
+static double est_file_bytes(const scene *s, const sweep_plan *p,
+                             out_mask fields) {
   double neff = 0;
   /* the chunks the plan allocates (sweep.h): per sample field, `stored`
      samples in chunks of tile_cases x chunk_points; per case, whole rows */
@@ -144,8 +151,14 @@ static void time_case(const scene *s, size_t i, out_block *b, rps3_data **d,
   c->samples += rc == RPS3_OK ? n : failed_at + 1;
 }
 
-int est_cost_measure(const scene *s, const sweep_plan *p, out_mask fields,
-                     int gzip, est_cost *c) {
+/* Time the computation: the first samples of up to EST_CASES cases spread
+   over the sweep, with the runner's own per-case code, on the process's
+   CPU clock (a few ms); writing and deflating at their measured cost per
+   byte times the file's bytes per sample.  A case that fails is timed up
+   to its failing sample (at least that one).  0, or -1 when nothing could
+   be timed (out of memory). */
+static int est_cost_measure(const scene *s, const sweep_plan *p,
+                            out_mask fields, int gzip, est_cost *c) {
   const size_t ncase = s->ncase < EST_CASES ? s->ncase : EST_CASES;
   out_block b;
   rps3_data *d = NULL;
@@ -172,8 +185,10 @@ int est_cost_measure(const scene *s, const sweep_plan *p, out_mask fields,
   return 0;
 }
 
-double est_run_seconds(const est_cost *c, double samples, double cases,
-                       int threads) {
+/* wall seconds of a run (est_when): workers compute and deflate in
+   parallel while the calling thread writes */
+static double est_run_seconds(const est_cost *c, double samples, double cases,
+                              int threads) {
   double work = samples * (c->sample + c->deflate) + cases * c->per_case;
   double write = samples * c->write;
   if (threads <= 1) return work + write;

@@ -11,17 +11,6 @@
 
 #include "sweep.h"
 
-/*
- * Bytes of the file rps3-run writes for the plan p of s, uncompressed:
- * the fields of `fields` (out_fields_parse) in every chunk that the run
- * allocates (p->stored samples per sample field; a partial edge chunk
- * counts whole), the per-case strings, the swept
- * keys and the coordinates, plus a bound on HDF5's metadata.  With --gzip
- * the file is smaller: this is then an upper bound.  A double, because
- * absurd sweeps exceed any size_t.
- */
-double est_file_bytes(const scene *s, const sweep_plan *p, out_mask fields);
-
 /* "12.3 MB" (powers of 1000) into buf */
 const char *est_human(double bytes, char *buf, size_t sz);
 
@@ -35,31 +24,12 @@ typedef struct {
   size_t samples;  /* samples timed */
 } est_cost;
 
-/*
- * Time the computation: the first samples of up to 16 cases spread over
- * the sweep (6000 samples in all at most), with the runner's own per-case
- * code, on the process's CPU clock (a few ms); the writing cost is the
- * documented cost
- * per byte (estimate.c) times the file's bytes per sample, by --gzip level.
- * A case that fails is timed up to its failing sample (at least that one).
- * Returns 0, or -1 when nothing could be timed (out of memory).
- */
-int est_cost_measure(const scene *s, const sweep_plan *p, out_mask fields,
-                     int gzip, est_cost *c);
-
-/*
- * Wall seconds of a run of `samples` samples and `cases` cases on
- * `threads` worker threads (1: the calling thread computes, deflates and
- * writes), at cost c: workers compute and deflate in parallel while the
- * calling thread writes.
- */
-double est_run_seconds(const est_cost *c, double samples, double cases,
-                       int threads);
-
 /* "3.2 s", "4.1 min", "2.5 h", "3.1 days" into buf */
 const char *est_human_time(double seconds, char *buf, size_t sz);
 
-/* "about 3.2 s on 2 threads" into buf: est_run_seconds on `threads` */
+/* "about 3.2 s on 2 threads" into buf: the wall time of a run of
+   `samples` samples and `cases` cases at cost c on `threads` worker
+   threads (1: the calling thread computes, deflates and writes) */
 const char *est_when(const est_cost *c, double samples, double cases,
                      int threads, char *buf, size_t sz);
 

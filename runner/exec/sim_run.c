@@ -368,7 +368,7 @@ static void run_time(const scene *s, const sim_plan *p, int nthread, char *buf,
              "run time not estimated (the cases timed stop at their start)");
     return;
   }
-  /* est_run_seconds's unit of work: a simulated second */
+  /* est_when's unit of work: a simulated second */
   memset(&c, 0, sizeof c);
   c.sample = cpu / sim;
   snprintf(

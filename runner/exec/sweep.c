@@ -17,6 +17,15 @@
 
 #include "pool.h"
 
+/* samples in one tile of output: bounds the memory of a run */
+#define SWEEP_TILE_POINTS 16384
+
+/* when the time grid differs between cases, a chunk holds at least this
+   many samples (cases x times; along time about a twentieth of the mean
+   case): the unwritten tail of a case's last chunk stays small, and so
+   does the chunk index (about 64 bytes a chunk) beside the data */
+#define SWEEP_CHUNK_MIN 128
+
 /* a filled block to write: slots [0, nc) are cases c0 .., samples
    [k0, k0 + nk); and what it adds to the run's counts */
 typedef struct {
@@ -215,7 +224,9 @@ static int sweep_tile_write(out_file *f, const out_block *b, const tile *t,
   return out_write(f, b, t->c0, t->nc, t->k0, t->nk, t->with_case, err, errsz);
 }
 
-void sweep_case_label(const scene *s, size_t c, char *buf, size_t sz) {
+/* "key = value, ..." of case c's swept keys (enums by name), "" without a
+   sweep: how messages name a case */
+static void sweep_case_label(const scene *s, size_t c, char *buf, size_t sz) {
   size_t a, n = 0;
   buf[0] = '\0';
   for (a = 0; a < s->naxis && n < sz; a++) {

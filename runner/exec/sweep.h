@@ -27,15 +27,6 @@
 #include "output/output.h"
 #include "scene/scene.h"
 
-/* samples in one tile of output: bounds the memory of a run */
-#define SWEEP_TILE_POINTS 16384
-
-/* when the time grid differs between cases, a chunk holds at least this
-   many samples (cases x times; along time about a twentieth of the mean
-   case): the unwritten tail of a case's last chunk stays small, and so
-   does the chunk index (about 64 bytes a chunk) beside the data */
-#define SWEEP_CHUNK_MIN 128
-
 typedef struct {
   size_t nt;           /* most samples of any case: the time axis */
   int grid_common;     /* 1 when every case has the time grid of case 0 */
@@ -112,12 +103,8 @@ int sweep_run_opts(const scene *s, const sweep_plan *p, out_file *f,
 int case_compute(const scene_case *c, rps3_data *d, size_t k0, size_t nk,
                  out_block *b, size_t slot, size_t *failed_at);
 
-/* "key = value, ..." of case c's swept keys (enums by name), "" without a
-   sweep: how messages name a case */
-void sweep_case_label(const scene *s, size_t c, char *buf, size_t sz);
-
 /* Print the reason of the run's first failed case c once, also when
-   quiet (progress_failure, the case named by sweep_case_label). */
+   quiet (progress_failure), the case named by its swept values. */
 void sweep_failure(const scene *s, progress *pr, size_t c, const char *msg);
 
 /* Add what a written tile holds to st and show the progress. */
