@@ -235,6 +235,17 @@ int est_fits(const char *out_path, double need, int gzip) {
   return -1;
 }
 
+void est_check_print(const char *path, const char *kind, size_t ncase,
+                     size_t npoint, size_t nt, int common, double bytes) {
+  char e[32];
+  printf(
+      "%s: %s%zu case%s, %zu samples (%zu per case at most)%s; output "
+      "about %s uncompressed\n",
+      path, kind, ncase, ncase == 1 ? "" : "s", npoint, nt,
+      common ? "" : ", time grid differs by case",
+      est_human(bytes, e, sizeof e));
+}
+
 int est_room(const char *out_path, const char *kind, size_t ncase,
              size_t npoint, double need, int gzip, int quiet,
              const char *when) {
@@ -306,14 +317,10 @@ void pre_check_print(const char *scene_path, const scene *s,
                      const sweep_plan *p, const sweep_opts *o,
                      const pre_opts *po) {
   size_t nj = sweep_njob(s, p);
-  char size[32], when[128];
+  char when[128];
   est_cost c;
-  printf(
-      "%s: %zu case%s, %zu samples (%zu per case at most)%s; output "
-      "about %s uncompressed\n",
-      scene_path, s->ncase, s->ncase == 1 ? "" : "s", p->npoint, p->nt,
-      p->grid_common ? "" : ", time grid differs by case",
-      est_human(est_file_bytes(s, p, po->fields), size, sizeof size));
+  est_check_print(scene_path, "", s->ncase, p->npoint, p->nt, p->grid_common,
+                  est_file_bytes(s, p, po->fields));
   if (run_time(s, p, o, po, &c, when, sizeof when) == 0) {
     printf(
         "run time %s (an estimate: %.3g us a sample computing, timed on "

@@ -43,6 +43,11 @@ double est_cpu_now(void);
  */
 int est_fits(const char *out_path, double need, int gzip);
 
+/* --check's first line on stdout: the cases (`kind`: "" or "simulated: "),
+   samples, nt per case at most (the grid common or not) and size */
+void est_check_print(const char *path, const char *kind, size_t ncase,
+                     size_t npoint, size_t nt, int common, double bytes);
+
 /*
  * Before a run: unless quiet, one line on stderr with the cases (`kind`:
  * "" or "simulated "), samples, the output's estimated size `need` and

@@ -225,15 +225,12 @@ static int run_threads(pool *P, int nthread, char *err, size_t errsz) {
   pool_worker *w = calloc((size_t)nthread, sizeof *w);
   pthread_t *tid = calloc((size_t)nthread, sizeof *tid);
   int started = 0, i;
-  if (!w || !tid) {
-    free(w);
-    free(tid);
-    snprintf(err, errsz, "out of memory");
-    return -1;
-  }
-  start_workers(P, w, tid, nthread, &started);
-  pool_write(P);
-  for (i = 0; i < started; i++) pthread_join(tid[i], NULL);
+  if (w && tid) {
+    start_workers(P, w, tid, nthread, &started);
+    pool_write(P);
+    for (i = 0; i < started; i++) pthread_join(tid[i], NULL);
+  } else
+    pool_fail(P, "out of memory");
   free(w);
   free(tid);
   if (P->stop) snprintf(err, errsz, "%s", P->err);
@@ -257,16 +254,16 @@ static int pool_start(const pool_job *job, int nthread, char *err,
   }
   if (!P.threaded) return run_serial(&P, err, errsz);
   P.nslot = pool_nslot(nthread);
-  P.free_ix = calloc(P.nslot, sizeof *P.free_ix);
-  P.ready_ix = calloc(P.nslot, sizeof *P.ready_ix);
-  P.ready_info = calloc(P.nslot, job->info_size ? job->info_size : 1);
-  if (!P.free_ix || !P.ready_ix || !P.ready_info)
+  /* the free stack, the ready ring and its infos in one block */
+  if (!(P.free_ix = calloc(P.nslot, 2 * sizeof(size_t) + job->info_size)))
     snprintf(err, errsz, "out of memory");
   else if (pthread_mutex_init(&P.mu, NULL) ||
            pthread_cond_init(&P.ready_cv, NULL) ||
            pthread_cond_init(&P.free_cv, NULL))
     snprintf(err, errsz, "cannot set up the threads");
   else {
+    P.ready_ix = P.free_ix + P.nslot;
+    P.ready_info = (unsigned char *)(P.ready_ix + P.nslot);
     for (i = 0; i < P.nslot; i++) P.free_ix[P.nfree++] = i;
     rc = run_threads(&P, nthread, err, errsz);
     pthread_cond_destroy(&P.free_cv);
@@ -274,8 +271,6 @@ static int pool_start(const pool_job *job, int nthread, char *err,
     pthread_mutex_destroy(&P.mu);
   }
   free(P.free_ix);
-  free(P.ready_ix);
-  free(P.ready_info);
   return rc;
 }
 

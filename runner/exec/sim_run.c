@@ -112,25 +112,21 @@ static void store(sim_window *w, sim_case_values *v, size_t j,
    the controller's own when it was the controller that failed */
 static void failure(sim_case_values *w, const sim_work *wk, int st, size_t k,
                     double t_k) {
-  const rps3_sim *sim = wk->sim;
   const rps3_data *meas = rps3_ctrl_measured(wk->ctrl);
   const rps3_data *des = rps3_ctrl_desired(wk->ctrl);
+  const char *msg = rps3_sim_data(wk->sim)->err.msg;
   const char *why = meas && meas->err.code != RPS3_OK ? meas->err.msg
                     : des && des->err.code != RPS3_OK ? des->err.msg
                                                       : "";
-  double t =
-      isnan(rps3_sim_now(sim)->failed_at) ? t_k : rps3_sim_now(sim)->failed_at;
+  double t = rps3_sim_now(wk->sim)->failed_at;
+  int ctrl = why[0] && strstr(msg, "controller");
   w->status = st;
   w->failed_at = (int32_t)k;
-  w->failed_time = t;
-  snprintf(
-      w->message, sizeof w->message,
-      "t = %.9g s (before sample %zu): "
-      "%s: %s%s%s%s",
-      t, k, rps3_strerror(st), rps3_sim_data(sim)->err.msg,
-      why[0] && strstr(rps3_sim_data(sim)->err.msg, "controller") ? " (" : "",
-      why[0] && strstr(rps3_sim_data(sim)->err.msg, "controller") ? why : "",
-      why[0] && strstr(rps3_sim_data(sim)->err.msg, "controller") ? ")" : "");
+  w->failed_time = t = isnan(t) ? t_k : t;
+  snprintf(w->message, sizeof w->message,
+           "t = %.9g s (before sample %zu): %s: %s%s%s%s", t, k,
+           rps3_strerror(st), msg, ctrl ? " (" : "", ctrl ? why : "",
+           ctrl ? ")" : "");
 }
 
 /*
@@ -450,7 +446,7 @@ int sim_main(const scene *s, const sim_args *a) {
   scene_error serr;
   double need;
   int nthread;
-  char e1[32], when[160] = "";
+  char when[160] = "";
   if (sim_plan_make(s, &p, &serr)) {
     scene_error_print(s->file, &serr);
     return EXIT_USAGE;
@@ -469,12 +465,9 @@ int sim_main(const scene *s, const sim_args *a) {
   if ((size_t)nthread > s->ncase) nthread = (int)s->ncase;
   if (a->check || !a->quiet) run_time(s, &p, nthread, when, sizeof when);
   if (a->check) {
-    printf(
-        "%s: simulated: %zu case%s, %zu samples (%zu per case at "
-        "most)%s; output about %s uncompressed\n%s\n",
-        s->file, s->ncase, s->ncase == 1 ? "" : "s", p.npoint, p.nt,
-        p.common ? "" : ", time grid differs by case",
-        est_human(need, e1, sizeof e1), when);
+    est_check_print(s->file, "simulated: ", s->ncase, p.npoint, p.nt, p.common,
+                    need);
+    printf("%s\n", when);
     return EXIT_OK;
   }
   if (est_room(a->out_path, "simulated ", s->ncase, p.npoint, need, a->gzip,

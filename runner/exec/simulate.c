@@ -253,21 +253,25 @@ static int same_grid(const scene_case *a, const sim_case *sa,
          a->by_dt == b->by_dt;
 }
 
+/* the first axis that sweeps a simulate key, or s->naxis */
+static size_t sim_axis(const scene *s) {
+  size_t a;
+  for (a = 0; a < s->naxis; a++)
+    if (scene_key_get(s->axis[a].key)->src == SRC_SIM) break;
+  return a;
+}
+
 /* a sweep of simulate.* keys in a scene without the section is refused */
 static int section_rule(const scene *s, scene_error *err) {
-  size_t a;
-  if (s->simulate.line > 0) return 0;
-  for (a = 0; a < s->naxis; a++)
-    if (scene_key_get(s->axis[a].key)->src == SRC_SIM) {
-      memset(err, 0, sizeof *err);
-      err->mark = s->axis[a].mark[0];
-      snprintf(err->path, sizeof err->path, "%s", s->axis[a].path);
-      snprintf(err->what, sizeof err->what,
-               "a simulate key, but the scene has no simulate section: add "
-               "`simulate: {}` to simulate with the defaults");
-      return -1;
-    }
-  return 0;
+  size_t a = sim_axis(s);
+  if (s->simulate.line > 0 || a == s->naxis) return 0;
+  memset(err, 0, sizeof *err);
+  err->mark = s->axis[a].mark[0];
+  snprintf(err->path, sizeof err->path, "%s", s->axis[a].path);
+  snprintf(err->what, sizeof err->what,
+           "a simulate key, but the scene has no simulate section: add "
+           "`simulate: {}` to simulate with the defaults");
+  return -1;
 }
 
 int sim_plan_make(const scene *s, sim_plan *p, scene_error *err) {
@@ -293,9 +297,5 @@ int sim_plan_make(const scene *s, sim_plan *p, scene_error *err) {
 }
 
 int sim_wanted(const scene *s) {
-  size_t a;
-  if (s->simulate.line > 0) return 1;
-  for (a = 0; a < s->naxis; a++)
-    if (scene_key_get(s->axis[a].key)->src == SRC_SIM) return 1;
-  return 0;
+  return s->simulate.line > 0 || sim_axis(s) < s->naxis;
 }
