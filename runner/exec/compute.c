@@ -2,7 +2,7 @@
  * compute.c - the per-sample pipeline of the runner: trajectory, inverse
  * dynamics, and the copy of the results into the output block.
  */
-#include "sweep.h"
+#include "compute.h"
 
 #include <math.h>
 #include <stdint.h>

@@ -8,6 +8,7 @@
 #include <string.h>
 #include <time.h>
 
+#include "compute.h"
 #include "core/safeio.h"
 #include "output/output.h"
 

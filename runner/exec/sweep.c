@@ -15,6 +15,7 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "compute.h"
 #include "pool.h"
 
 /* samples in one tile of output: bounds the memory of a run */

@@ -89,20 +89,6 @@ int sweep_run_opts(const scene *s, const sweep_plan *p, out_file *f,
                    out_block *b, const sweep_opts *o, progress *pr,
                    sweep_stats *st, char *err, size_t errsz);
 
-/*
- * Compute samples [k0, k0 + nk) of case c into slot `slot` of b, with the
- * workspace d (allocated for c's solver; compute.c).  Each sample
- * evaluates the trajectory (rps3_traj_eval) and runs the pipeline
- * (rps3_inverse).  k0 == 0 starts the case: rps3_data_reset(d), so that
- * no warm start leaks from the previous case.  Nothing is shared between
- * cases, so cases may run on as many threads as there are workspaces.
- * Returns RPS3_OK, or the status of the first failing sample with
- * *failed_at set to its time index and the reason in b->msg[slot]; the
- * samples after it are not computed.
- */
-int case_compute(const scene_case *c, rps3_data *d, size_t k0, size_t nk,
-                 out_block *b, size_t slot, size_t *failed_at);
-
 /* Print the reason of the run's first failed case c once, also when
    quiet (progress_failure), the case named by its swept values. */
 void sweep_failure(const scene *s, progress *pr, size_t c, const char *msg);
