@@ -1,19 +1,16 @@
 /*
  * pool.h - the runner's one worker pool.  A job is a set of items (the
- * inverse sweep's jobs of whole cases or windows, the simulation's cases,
- * ...) computed on worker threads into the job's slots (tile buffers); each
+ * inverse sweep's jobs, the simulation's cases, the design study's units)
+ * computed on worker threads into the job's slots (tile buffers); each
  * filled slot goes to the calling thread, the only one that writes (HDF5 is
  * not thread-safe), and comes back free.  The slots circulate, so memory is
  * bounded by them whatever the number of items; an item depends on nothing
  * but its index, so what is written does not depend on the threads.
  *
  * The pool stops at the first error a callback returns (out of memory, a
- * write that failed): the workers finish the slot they hold and end, and
- * pool_run returns that first error.  A case that fails numerically is not
- * an error of the pool: the job records it in its slot (status, message)
- * and the other cases go on.  The workers block the signals, so that the
- * handlers of core/tmpout.h (remove the temporary file, die) run on the
- * calling thread.
+ * failed write); a case that fails numerically is not one: the job records
+ * it in its slot and goes on.  The workers block the signals, so that the
+ * handlers of core/tmpout.h run on the calling thread.
  */
 #ifndef RPS3_RUNNER_POOL_H
 #define RPS3_RUNNER_POOL_H

@@ -1,12 +1,7 @@
 /*
  * sweep.c - see sweep.h.  Each case is computed by case_compute() with a
- * workspace of its own solver kind into its own slot of the block, so the
- * cases of a tile are independent of each other.
- *
- * A job (a tile of whole cases, or one long case in windows) turns into
- * one or more tiles to write, each handed to the worker pool (pool.h, the
- * run is a job of it), which writes the tile at once on one thread, or
- * queues it for the writing thread and gives back a free block.
+ * workspace of its own solver kind into its own slot of the block; a job
+ * turns into one or more tiles, each handed to the worker pool (pool.h).
  */
 #include "sweep.h"
 
