@@ -219,3 +219,22 @@ int case_compute(const scene_case *c, rps3_data *d, size_t k0, size_t nk,
   if (k0 == 0) rps3_data_reset(d);
   return compute_batch(c, d, k0, nk, b, slot, failed_at);
 }
+
+rps3_data *case_workspace(rps3_data *ws[RPS3_NSOLVER], const scene_case *c,
+                          char *err, size_t errsz) {
+  int k = (int)c->model.opt.solver;
+  if (!ws[k]) {
+    int rc = rps3_data_alloc(&c->model, &ws[k]);
+    if (rc != RPS3_OK) {
+      snprintf(err, errsz, "cannot allocate a workspace: %s",
+               rps3_strerror(rc));
+      return NULL;
+    }
+  }
+  return ws[k];
+}
+
+void case_workspaces_free(rps3_data *ws[RPS3_NSOLVER]) {
+  int k;
+  for (k = 0; k < RPS3_NSOLVER; k++) rps3_data_free(ws[k]);
+}

@@ -24,4 +24,10 @@
 int case_compute(const scene_case *c, rps3_data *d, size_t k0, size_t nk,
                  out_block *b, size_t slot, size_t *failed_at);
 
+/* The workspace for case c in ws, one per solver kind, allocated on first
+   use; NULL with err when it cannot be.  case_workspaces_free frees ws. */
+rps3_data *case_workspace(rps3_data *ws[RPS3_NSOLVER], const scene_case *c,
+                          char *err, size_t errsz);
+void case_workspaces_free(rps3_data *ws[RPS3_NSOLVER]);
+
 #endif /* RPS3_RUNNER_COMPUTE_H */

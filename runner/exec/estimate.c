@@ -123,31 +123,26 @@ double est_cpu_now(void) {
   return (double)t.tv_sec + 1e-9 * (double)t.tv_nsec;
 }
 
-/* compute the first samples of case i into b with workspace *d (allocated
-   for the case's solver on first use, or again for another solver); adds
-   to the CPU seconds and counts of c */
-static void time_case(const scene *s, size_t i, out_block *b, rps3_data **d,
-                      int *solver, est_cost *c) {
+/* compute the first samples of case i into b with its workspace of ws;
+   adds to the CPU seconds and counts of c */
+static void time_case(const scene *s, size_t i, out_block *b,
+                      rps3_data *ws[RPS3_NSOLVER], est_cost *c) {
   scene_case sc;
   scene_error e;
   scene_text yaml = {0};
   size_t n, failed_at = 0;
   double t0 = est_cpu_now(), t1;
+  rps3_data *d;
+  char err[128];
   int rc;
   if (scene_case_build(s, i, &sc, &e) || scene_case_yaml(&sc, &yaml)) return;
   scene_text_free(&yaml);
+  if (!(d = case_workspace(ws, &sc, err, sizeof err))) return;
   t1 = est_cpu_now();
-  if (!*d || *solver != (int)sc.model.opt.solver) {
-    rps3_data_free(*d);
-    *d = NULL;
-    if (rps3_data_alloc(&sc.model, d) != RPS3_OK) return;
-    *solver = (int)sc.model.opt.solver;
-    t1 = est_cpu_now();
-  }
   c->per_case += t1 - t0;
   c->cases++;
   n = sc.nt < b->points ? sc.nt : b->points;
-  rc = case_compute(&sc, *d, 0, n, b, 0, &failed_at);
+  rc = case_compute(&sc, d, 0, n, b, 0, &failed_at);
   c->sample += est_cpu_now() - t1;
   c->samples += rc == RPS3_OK ? n : failed_at + 1;
 }
@@ -162,8 +157,7 @@ static int est_cost_measure(const scene *s, const sweep_plan *p,
                             out_mask fields, int gzip, est_cost *c) {
   const size_t ncase = s->ncase < EST_CASES ? s->ncase : EST_CASES;
   out_block b;
-  rps3_data *d = NULL;
-  int solver = -1;
+  rps3_data *ws[RPS3_NSOLVER] = {NULL};
   size_t k;
   memset(c, 0, sizeof *c);
   if (out_block_alloc(&b, 1, EST_SAMPLES / ncase, p->first.model.opt.effects))
@@ -172,9 +166,8 @@ static int est_cost_measure(const scene *s, const sweep_plan *p,
      rps3_inverse_batch (compute.c) */
   b.fields = fields;
   for (k = 0; k < ncase; k++)
-    time_case(s, ncase > 1 ? k * (s->ncase - 1) / (ncase - 1) : 0, &b, &d,
-              &solver, c);
-  rps3_data_free(d);
+    time_case(s, ncase > 1 ? k * (s->ncase - 1) / (ncase - 1) : 0, &b, ws, c);
+  case_workspaces_free(ws);
   out_block_free(&b);
   if (c->cases) c->per_case /= (double)c->cases;
   c->write =

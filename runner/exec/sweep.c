@@ -160,21 +160,6 @@ int sweep_plan_make(const scene *s, sweep_plan *p, scene_error *err) {
   return 0;
 }
 
-/* the workspace for case c: one per solver kind, allocated on first use */
-static rps3_data *workspace(rps3_data *ws[RPS3_NSOLVER], const scene_case *c,
-                            char *err, size_t errsz) {
-  int k = (int)c->model.opt.solver;
-  if (!ws[k]) {
-    int rc = rps3_data_alloc(&c->model, &ws[k]);
-    if (rc != RPS3_OK) {
-      snprintf(err, errsz, "cannot allocate a workspace: %s",
-               rps3_strerror(rc));
-      return NULL;
-    }
-  }
-  return ws[k];
-}
-
 /* build case `index` */
 static int case_begin(const scene *s, size_t index, scene_case *c, char *err,
                       size_t errsz) {
@@ -334,7 +319,7 @@ static int job_whole(const sweep_job *J, size_t j, out_block **bp,
     int rc;
     if (case_begin(s, t.c0 + slot, &c, err, errsz) ||
         slot_begin(&c, b, slot, err, errsz) ||
-        !(d = workspace(ws, &c, err, errsz)))
+        !(d = case_workspace(ws, &c, err, errsz)))
       return -1;
     rc = case_compute(&c, d, 0, c.nt, b, slot, &failed_at);
     t.failed += slot_status(b, slot, rc, failed_at);
@@ -357,7 +342,7 @@ static int job_windows(const sweep_job *J, size_t j, out_block **bp,
   rps3_data *d;
   size_t k0, nk, end;
   if (case_begin(J->s, j, &c, err, errsz) ||
-      !(d = workspace(ws, &c, err, errsz)))
+      !(d = case_workspace(ws, &c, err, errsz)))
     return -1;
   /* windows past the case's last chunk are not written */
   end = plan_extent(J->p, c.nt);
@@ -431,10 +416,8 @@ static void *workspaces_begin(void *ctx) {
 }
 
 static void workspaces_end(void *ctx, void *wctx) {
-  int k;
   (void)ctx;
-  for (k = 0; wctx && k < RPS3_NSOLVER; k++)
-    rps3_data_free(((rps3_data **)wctx)[k]);
+  if (wctx) case_workspaces_free(wctx);
   free(wctx);
 }
 
