@@ -44,20 +44,6 @@ typedef struct {
   scene_text yaml; /* storage of v.scene_resolved */
 } sim_tile;
 
-/* the workspaces of one case */
-typedef struct {
-  rps3_sim *sim;
-  rps3_ctrl *ctrl;
-  rps3_data *ref; /* the reference motion, on the plant's geometry */
-} sim_work;
-
-static void work_free(sim_work *wk) {
-  rps3_sim_free(wk->sim);
-  rps3_ctrl_free(wk->ctrl);
-  rps3_data_free(wk->ref);
-  memset(wk, 0, sizeof *wk);
-}
-
 /* the reference at t: the trajectory, after its span its final pose at
    rest, through the closed-form inverse kinematics */
 static int reference(const scene_case *c, rps3_data *r, double t) {
@@ -179,20 +165,16 @@ static int start(const scene *s, size_t i, scene_case *c, sim_case *sc,
                  sim_work *wk, rps3_controller *ctl, int *st, char *err,
                  size_t errsz) {
   double pose[3], dpose[3];
-  char msg[320] = "out of memory";
   scene_error serr;
   int k;
   memset(wk, 0, sizeof *wk);
-  if (scene_case_build(s, i, c, &serr) || sim_case_build(s, c, sc, &serr)) {
+  if (scene_case_build(s, i, c, &serr) || sim_case_build(s, c, sc, wk, &serr)) {
     snprintf(err, errsz, "case %zu: %s", i, serr.what);
     return -1;
   }
-  if (rps3_sim_alloc(&c->model, &sc->opt, &wk->sim, msg, sizeof msg) ||
-      rps3_ctrl_alloc(sc->kind, sc->kp, sc->kd, &sc->ctrl_model, &c->traj,
-                      &wk->ctrl, msg, sizeof msg) ||
-      rps3_data_alloc(&c->model, &wk->ref)) {
-    snprintf(err, errsz, "case %zu: %s", c->index, msg);
-    work_free(wk);
+  if (rps3_data_alloc(&c->model, &wk->ref)) {
+    snprintf(err, errsz, "case %zu: out of memory", i);
+    sim_work_free(wk);
     return -1;
   }
   *ctl = rps3_ctrl_bind(wk->ctrl, sc->rate);
@@ -257,7 +239,7 @@ static int sim_item(void *ctx, void *wctx, size_t i, pool_worker *w, char *err,
   v.nevals = rps3_sim_now(wk.sim)->nevals;
   v.nticks = rps3_sim_now(wk.sim)->nticks;
   v.nsat = rps3_sim_now(wk.sim)->nsat;
-  work_free(&wk);
+  sim_work_free(&wk);
   /* the samples up to the end or the failure (those after a failure keep
      the fill, NaN), with the case's values and its resolved scene */
   if (t && scene_case_yaml(&c, &t->yaml)) {
@@ -333,7 +315,7 @@ static int pilot_case(const scene *s, size_t i, double *cpu, double *sim,
   }
   *sim += rps3_sim_now(wk.sim)->t;
   *cpu += est_cpu_now() - c0;
-  work_free(&wk);
+  sim_work_free(&wk);
   return 0;
 }
 

@@ -166,10 +166,18 @@ static void case_options(const scene_sim *v, sim_case *sc) {
   sc->opt.seed = (unsigned long)v->seed;
 }
 
+void sim_work_free(sim_work *wk) {
+  rps3_sim_free(wk->sim);
+  rps3_ctrl_free(wk->ctrl);
+  rps3_data_free(wk->ref);
+  memset(wk, 0, sizeof *wk);
+}
+
 /* the library's own checks of the options, the rate over the run and the
-   controller: a status, with msg */
-static int library_checks(const scene_case *c, const sim_case *sc, char *msg,
-                          size_t sz) {
+   controller: a status, with msg; the simulation and controller kept in
+   wk when it is not NULL and they pass */
+static int library_checks(const scene_case *c, const sim_case *sc, sim_work *wk,
+                          char *msg, size_t sz) {
   rps3_sim *sim = NULL;
   rps3_ctrl *ctrl = NULL;
   int st = rps3_sim_alloc(&c->model, &sc->opt, &sim, msg, sz);
@@ -191,6 +199,11 @@ static int library_checks(const scene_case *c, const sim_case *sc, char *msg,
   if (st == RPS3_OK)
     st = rps3_ctrl_alloc(sc->kind, sc->kp, sc->kd, &sc->ctrl_model, &c->traj,
                          &ctrl, msg, sz);
+  if (wk && st == RPS3_OK) {
+    wk->sim = sim;
+    wk->ctrl = ctrl;
+    return st;
+  }
   rps3_sim_free(sim);
   rps3_ctrl_free(ctrl);
   return st;
@@ -213,7 +226,7 @@ static void library_error(const scene *s, const scene_case *c, int st,
 }
 
 int sim_case_build(const scene *s, const scene_case *c, sim_case *sc,
-                   scene_error *err) {
+                   sim_work *wk, scene_error *err) {
   const int inertia =
       RPS3_EFF_PLATFORM_INERTIA | RPS3_EFF_LINK_INERTIA | RPS3_EFF_PAYLOAD;
   int st;
@@ -230,7 +243,7 @@ int sim_case_build(const scene *s, const scene_case *c, sim_case *sc,
   }
   case_options(&c->v.sim, sc);
   if (ctrl_model(s, c, sc, err) || grid(s, c, sc, err)) return -1;
-  st = library_checks(c, sc, msg, sizeof msg);
+  st = library_checks(c, sc, wk, msg, sizeof msg);
   if (st != RPS3_OK) {
     library_error(s, c, st, msg, err);
     return -1;
@@ -282,7 +295,8 @@ int sim_plan_make(const scene *s, sim_plan *p, scene_error *err) {
   p->common = 1;
   if (section_rule(s, err)) return -1;
   for (i = 0; i < s->ncase; i++) {
-    if (scene_case_build(s, i, &c, err) || sim_case_build(s, &c, &sc, err))
+    if (scene_case_build(s, i, &c, err) ||
+        sim_case_build(s, &c, &sc, NULL, err))
       return -1;
     if (i == 0) {
       p->first = c;

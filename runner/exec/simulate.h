@@ -29,12 +29,22 @@ typedef struct {
   size_t nt;       /* samples, both ends included */
 } sim_case;
 
+/* the workspaces of one simulated case */
+typedef struct {
+  rps3_sim *sim;
+  rps3_ctrl *ctrl;
+  rps3_data *ref; /* the reference motion, on the plant's geometry */
+} sim_work;
+
+void sim_work_free(sim_work *wk);
+
 /* The simulation of case c of s: controller model, options, gains and
    grid, each checked (the library's own checks, rps3_sim_alloc and
-   rps3_ctrl_alloc included).  Returns 0, or -1 with err at the key (or
-   the swept value) that is wrong. */
+   rps3_ctrl_alloc included).  With wk, the simulation and controller
+   those checks made are kept there for the run (else freed).  Returns 0,
+   or -1 with err at the key (or the swept value) that is wrong. */
 int sim_case_build(const scene *s, const scene_case *c, sim_case *sc,
-                   scene_error *err);
+                   sim_work *wk, scene_error *err);
 
 /* Time of sample k of a simulated case [s]. */
 double sim_case_time(const scene_case *c, const sim_case *sc, size_t k);
