@@ -29,9 +29,7 @@ typedef struct {
   int with_case;      /* write the per-case fields too */
   size_t blank_below; /* > 0: first write the (blank) block over the windows
                          [0, blank_below) of case c0: a late failure */
-  size_t cases;       /* cases this tile completes */
   size_t points;      /* samples computed */
-  size_t failed;      /* cases that failed */
 } tile;
 
 /* round n up to a multiple of q */
@@ -186,12 +184,11 @@ static int slot_begin(const scene_case *c, out_block *b, size_t slot, char *err,
   return 0;
 }
 
-/* record the outcome of a case in its slot; 1 if it failed */
-static size_t slot_status(out_block *b, size_t slot, int rc, size_t failed_at) {
+/* record the outcome of a case in its slot */
+static void slot_status(out_block *b, size_t slot, int rc, size_t failed_at) {
   ((int32_t *)b->status)[slot] = rc;
   ((int32_t *)b->failed_at)[slot] = rc ? (int32_t)failed_at : -1;
   if (rc) out_block_blank(b, slot, 0);
-  return rc ? 1 : 0;
 }
 
 /* ----------------------------------------------------------------- tiles */
@@ -311,7 +308,6 @@ static int job_whole(const sweep_job *J, size_t j, out_block **bp,
   t.c0 = j * b->cases;
   t.nc = s->ncase - t.c0 < b->cases ? s->ncase - t.c0 : b->cases;
   t.with_case = 1;
-  t.cases = t.nc;
   for (slot = 0; slot < t.nc; slot++) {
     scene_case c;
     rps3_data *d;
@@ -322,7 +318,7 @@ static int job_whole(const sweep_job *J, size_t j, out_block **bp,
         !(d = case_workspace(ws, &c, err, errsz)))
       return -1;
     rc = case_compute(&c, d, 0, c.nt, b, slot, &failed_at);
-    t.failed += slot_status(b, slot, rc, failed_at);
+    slot_status(b, slot, rc, failed_at);
     /* samples past the end of a shorter case */
     if (rc == RPS3_OK && c.nt < b->points) out_block_blank(b, slot, c.nt);
     t.points += rc ? failed_at : c.nt;
@@ -362,16 +358,14 @@ static int job_windows(const sweep_job *J, size_t j, out_block **bp,
     t.nk = nk;
     if (rc != RPS3_OK) {
       /* NaN over the windows already written, then stop the case */
-      t.failed = slot_status(b, 0, rc, failed_at);
+      slot_status(b, 0, rc, failed_at);
       t.blank_below = k0;
       t.with_case = 1;
-      t.cases = 1;
       t.points = failed_at - k0;
       return emit(J, w, bp, &t, err, errsz);
     }
     if (ncomp < nk) out_block_blank(b, 0, ncomp);
     t.with_case = k0 + nk >= end;
-    t.cases = (size_t)t.with_case;
     t.points = ncomp;
     if (emit(J, w, bp, &t, err, errsz)) return -1;
   }
@@ -398,14 +392,16 @@ static int sweep_write(void *ctx, void *slot, const void *info, char *err,
   const sweep_job *J = ctx;
   const out_block *b = slot;
   const tile *t = info;
-  size_t k;
+  size_t k, failed = 0;
   if (sweep_tile_write(J->f, b, t, err, errsz)) return -1;
-  for (k = 0; t->failed && k < t->nc; k++)
+  /* the cases a tile completes are those it writes the per-case fields
+     of; a window before a case's last has status ok */
+  for (k = 0; k < t->nc; k++)
     if (((const int32_t *)b->status)[k] != RPS3_OK) {
       sweep_failure(J->s, J->pr, t->c0 + k, b->msg[k]);
-      break;
+      failed++;
     }
-  sweep_count(J->pr, J->st, t->cases, t->points, t->failed);
+  sweep_count(J->pr, J->st, t->with_case ? t->nc : 0, t->points, failed);
   return 0;
 }
 
