@@ -336,37 +336,32 @@ static int job_windows(const sweep_job *J, size_t j, out_block **bp,
                        size_t errsz) {
   scene_case c;
   rps3_data *d;
-  size_t k0, nk, end;
+  size_t end;
+  int rc = RPS3_OK;
+  tile t;
   if (case_begin(J->s, j, &c, err, errsz) ||
       !(d = case_workspace(ws, &c, err, errsz)))
     return -1;
   /* windows past the case's last chunk are not written */
   end = plan_extent(J->p, c.nt);
-  for (k0 = 0; k0 < end; k0 += nk) {
+  memset(&t, 0, sizeof t);
+  t.c0 = j;
+  t.nc = 1;
+  for (t.k0 = 0; t.k0 < end && rc == RPS3_OK; t.k0 += t.nk) {
     out_block *b = *bp;
     size_t failed_at = 0, ncomp;
-    int rc = RPS3_OK;
-    tile t;
-    memset(&t, 0, sizeof t);
-    nk = end - k0 < b->points ? end - k0 : b->points;
-    ncomp = k0 >= c.nt ? 0 : (c.nt - k0 < nk ? c.nt - k0 : nk);
+    t.nk = end - t.k0 < b->points ? end - t.k0 : b->points;
+    ncomp = t.k0 >= c.nt ? 0 : (c.nt - t.k0 < t.nk ? c.nt - t.k0 : t.nk);
     if (slot_begin(&c, b, 0, err, errsz)) return -1;
-    if (ncomp > 0) rc = case_compute(&c, d, k0, ncomp, b, 0, &failed_at);
-    t.c0 = j;
-    t.nc = 1;
-    t.k0 = k0;
-    t.nk = nk;
-    if (rc != RPS3_OK) {
-      /* NaN over the windows already written, then stop the case */
+    if (ncomp > 0) rc = case_compute(&c, d, t.k0, ncomp, b, 0, &failed_at);
+    /* a failure: NaN over the windows already written, then stop */
+    if (rc != RPS3_OK)
       slot_status(b, 0, rc, failed_at);
-      t.blank_below = k0;
-      t.with_case = 1;
-      t.points = failed_at - k0;
-      return emit(J, w, bp, &t, err, errsz);
-    }
-    if (ncomp < nk) out_block_blank(b, 0, ncomp);
-    t.with_case = k0 + nk >= end;
-    t.points = ncomp;
+    else if (ncomp < t.nk)
+      out_block_blank(b, 0, ncomp);
+    t.blank_below = rc != RPS3_OK ? t.k0 : 0;
+    t.with_case = rc != RPS3_OK || t.k0 + t.nk >= end;
+    t.points = rc != RPS3_OK ? failed_at - t.k0 : ncomp;
     if (emit(J, w, bp, &t, err, errsz)) return -1;
   }
   return 0;
