@@ -158,13 +158,11 @@ static int batch_failed(const rps3_data *d, int rc, size_t k, size_t i,
   return rc;
 }
 
-/*
- * case_compute: the samples OUT_BATCH at a time through rps3_inverse_batch,
- * which runs the vectorised kernel where it applies (closed-form theta,
- * Lagrange, the paper's effects: the numbers agree with rps3_inverse to
- * rounding, docs/library.md) and the per-point loop elsewhere (bitwise).  A
- * case still stops at its first failing sample, with the same message.
- */
+/* case_compute: the samples OUT_BATCH at a time through rps3_inverse_batch,
+   which runs the vectorised kernel where it applies (closed-form theta,
+   Lagrange, the paper's effects: the numbers agree with rps3_inverse to
+   rounding, docs/library.md) and the per-point loop elsewhere (bitwise).  A
+   case still stops at its first failing sample, with the same message. */
 int case_compute(const scene_case *c, rps3_data *d, size_t k0, size_t nk,
                  out_block *b, size_t slot, size_t *failed_at) {
   size_t k, n;

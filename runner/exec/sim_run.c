@@ -115,13 +115,11 @@ static void failure(sim_case_values *w, const sim_work *wk, int st, size_t k,
            ctrl ? ")" : "");
 }
 
-/*
- * Where to advance for sample time t: the tick at t when t is one up to
- * rounding (k dt and k / rate differ in the last bit), so that the tick
- * at t is served by the next advance and the force stored with sample t
- * is the one held over the control period ending at t.  Within the
- * library's own slack (TICK_SLACK of src/sim.c, 1e-6 periods).
- */
+/* Where to advance for sample time t: the tick at t when t is one up to
+   rounding (k dt and k / rate differ in the last bit), so that the tick
+   at t is served by the next advance and the force stored with sample t
+   is the one held over the control period ending at t.  Within the
+   library's own slack (TICK_SLACK of src/sim.c, 1e-6 periods). */
 static double tick_time(double t, double rate) {
   double j;
   if (!(rate > 0)) return t;
@@ -279,12 +277,10 @@ static double work_rate(const sim_case *sc) {
   return sc->rate > steps ? sc->rate : steps;
 }
 
-/*
- * Case i simulated as the run does (its samples' references included) up
- * to the pilot's budget: adds the CPU seconds and the simulated seconds it
- * covered to *cpu and *sim, the samples to *samples.  -1 when the case
- * cannot be set up (memory).
- */
+/* Case i simulated as the run does (its samples' references included) up
+   to the pilot's budget: adds the CPU seconds and the simulated seconds it
+   covered to *cpu and *sim, the samples to *samples.  -1 when the case
+   cannot be set up (memory). */
 static int pilot_case(const scene *s, size_t i, double *cpu, double *sim,
                       size_t *samples) {
   scene_case c;
@@ -319,13 +315,11 @@ static int pilot_case(const scene *s, size_t i, double *cpu, double *sim,
   return 0;
 }
 
-/*
- * The run time of the plan on nthread threads into buf: the pilot's cases
- * (their controllers, integrators and steps differ), timed on the
- * process's CPU clock, and the CPU time a simulated second extrapolated
- * to the plan's simulated time, writing not counted (a simulated sample
- * costs some 100 times more than writing its 350 bytes).
- */
+/* The run time of the plan on nthread threads into buf: the pilot's cases
+   (their controllers, integrators and steps differ), timed on the
+   process's CPU clock, and the CPU time a simulated second extrapolated
+   to the plan's simulated time, writing not counted (a simulated sample
+   costs some 100 times more than writing its 350 bytes). */
 static void run_time(const scene *s, const sim_plan *p, int nthread, char *buf,
                      size_t sz) {
   est_cost c;

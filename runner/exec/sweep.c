@@ -87,15 +87,13 @@ static void layout_add(layout *l, size_t i, size_t nt, size_t ncase) {
   }
 }
 
-/*
- * The layout of a sweep whose cases differ in length.  A chunk row holds
- * tile_cases cases up to the longest of them, so cases of different
- * lengths in one tile store the difference: tiles of fewer cases (halving
- * down to 1) store less, and more chunks.  Each case is built again (the
- * cost of the plan once more, for such sweeps only) to count what each
- * layout stores; the first within 5 % of the data is taken, else the one
- * that stores least.  0, or -1 with err.
- */
+/* The layout of a sweep whose cases differ in length.  A chunk row holds
+   tile_cases cases up to the longest of them, so cases of different
+   lengths in one tile store the difference: tiles of fewer cases (halving
+   down to 1) store less, and more chunks.  Each case is built again (the
+   cost of the plan once more, for such sweeps only) to count what each
+   layout stores; the first within 5 % of the data is taken, else the one
+   that stores least.  0, or -1 with err. */
 static int plan_varied(const scene *s, sweep_plan *p, size_t most,
                        scene_error *err) {
   layout l[16];
