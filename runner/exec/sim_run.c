@@ -351,30 +351,35 @@ static void run_time(const scene *s, const sim_plan *p, int nthread, char *buf,
       c.sample, sim, samples, samples == 1 ? "" : "s");
 }
 
-/* every case into the file at tmpout_path() on nthread threads; *nfailed
-   counts the cases with a status.  0, or -1 with err set. */
-static int sim_run_all(const scene *s, const sim_plan *p, int nthread, int gzip,
-                       const char *cmd, progress *pr, size_t *nfailed,
-                       char *err, size_t errsz) {
+/* every case into the file under its temporary name on nthread threads,
+   renamed when complete: the exit code */
+static int sim_write_file(const scene *s, const sim_plan *p, const sim_args *a,
+                          int nthread) {
   sim_job J;
   pool_job job;
+  progress pr;
   double *times = NULL;
   size_t k;
-  int rc;
+  int rc = -1;
+  char err[768] = "out of memory";
+  tmpout_clean(a->out_path, 0, 1);
+  if (tmpout_name(a->out_path, 0)) return EXIT_USAGE;
+  tmpout_arm();
+  progress_start(&pr, s->ncase, a->quiet);
+  pr.npoint = p->npoint;
   memset(&J, 0, sizeof J);
   J.s = s;
   J.p = p;
-  J.pr = pr;
+  J.pr = &pr;
   J.points = p->nt < SIM_WINDOW ? p->nt : SIM_WINDOW;
   /* the common time axis, or none (the grid differs by case) */
-  snprintf(err, errsz, "out of memory");
-  if (p->common && !(times = malloc(p->nt * sizeof *times))) return -1;
-  for (k = 0; times && k < p->nt; k++)
-    times[k] = sim_case_time(&p->first, &p->sfirst, k);
-  J.f = sim_file_create(tmpout_path(), s, p->nt, times, J.points, gzip, cmd,
-                        err, errsz);
+  if (!p->common || (times = malloc(p->nt * sizeof *times))) {
+    for (k = 0; times && k < p->nt; k++)
+      times[k] = sim_case_time(&p->first, &p->sfirst, k);
+    J.f = sim_file_create(tmpout_path(), s, p->nt, times, J.points, a->gzip,
+                          a->command_line, err, sizeof err);
+  }
   free(times);
-  if (!J.f) return -1;
   memset(&job, 0, sizeof job);
   job.ctx = &J;
   job.nitem = s->ncase;
@@ -384,37 +389,18 @@ static int sim_run_all(const scene *s, const sim_plan *p, int nthread, int gzip,
   job.slot_free = tile_free;
   job.run = sim_item;
   job.write = sim_write;
-  snprintf(err, errsz, "out of memory");
-  rc = pool_run(&job, nthread, err, errsz);
-  if (out_close(J.f, rc ? NULL : err, errsz) && rc == 0) rc = -1;
-  *nfailed = J.st.nfailed;
-  return rc;
-}
-
-/* every case into the file under its temporary name, renamed when
-   complete: the exit code */
-static int sim_write_file(const scene *s, const sim_plan *p, const sim_args *a,
-                          int nthread) {
-  progress pr;
-  size_t nfailed = 0;
-  char err[768];
-  tmpout_clean(a->out_path, 0, 1);
-  if (tmpout_name(a->out_path, 0)) return EXIT_USAGE;
-  tmpout_arm();
-  progress_start(&pr, s->ncase, a->quiet);
-  pr.npoint = p->npoint;
-  if (sim_run_all(s, p, nthread, a->gzip, a->command_line, &pr, &nfailed, err,
-                  sizeof err)) {
-    fprintf(stderr, "rps3-run: %s: %s\n", a->out_path, err);
+  if (J.f) {
+    snprintf(err, sizeof err, "out of memory");
+    rc = pool_run(&job, nthread, err, sizeof err);
+    if (out_close(J.f, rc ? NULL : err, sizeof err) && rc == 0) rc = -1;
+  }
+  if (rc) fprintf(stderr, "rps3-run: %s: %s\n", a->out_path, err);
+  if (rc || tmpout_commit(a->out_path)) {
     tmpout_discard();
     return EXIT_IO;
   }
-  if (tmpout_commit(a->out_path)) {
-    tmpout_discard();
-    return EXIT_IO;
-  }
-  progress_finish(&pr, s->ncase, p->npoint, nfailed);
-  return nfailed ? EXIT_FAILED_CASES : EXIT_OK;
+  progress_finish(&pr, s->ncase, p->npoint, J.st.nfailed);
+  return J.st.nfailed ? EXIT_FAILED_CASES : EXIT_OK;
 }
 
 int sim_main(const scene *s, const sim_args *a) {
