@@ -109,40 +109,32 @@ static int sync_path(const char *path, int flags, char *err, size_t errsz) {
   return rc;
 }
 
-/* the commit of tmpout_commit: 0, or -1 with err set */
-static int commit(const char *out, char *err, size_t errsz) {
-  char dir[4096];
-  int rc = -1;
-  if (!have_tmp) {
-    snprintf(err, errsz, "no temporary file to rename");
-    return -1;
-  }
-  if (sync_path(tmp_path, O_RDONLY, err, errsz)) return -1;
-  sig_block(SIG_BLOCK);
-  if (rename(tmp_path, out) != 0)
-    snprintf(err, errsz, "cannot rename %s to %s: %s", tmp_path, out,
-             strerror(errno));
-  else {
-    have_tmp = 0;
-    committed = 1;
-    rc = 0;
-  }
-  sig_block(SIG_UNBLOCK);
-  if (rc) return rc;
-  /* OUT is complete and its data durable; only its name may not be yet */
-  if (path_dir(out, dir, sizeof dir))
-    fprintf(stderr, "rps3: warning: %s: path too long\n", out);
-  else if (sync_path(dir, O_RDONLY | O_DIRECTORY, err, errsz))
-    fprintf(stderr, "rps3: warning: %s\n", err);
-  return 0;
-}
-
 int tmpout_commit(const char *out_path) {
-  char err[2 * sizeof tmp_path + 128];
-  if (commit(out_path, err, sizeof err)) {
+  char err[2 * sizeof tmp_path + 128], dir[4096];
+  int rc = -1;
+  if (!have_tmp)
+    snprintf(err, sizeof err, "no temporary file to rename");
+  else if (sync_path(tmp_path, O_RDONLY, err, sizeof err) == 0) {
+    sig_block(SIG_BLOCK);
+    if (rename(tmp_path, out_path) != 0)
+      snprintf(err, sizeof err, "cannot rename %s to %s: %s", tmp_path,
+               out_path, strerror(errno));
+    else {
+      have_tmp = 0;
+      committed = 1;
+      rc = 0;
+    }
+    sig_block(SIG_UNBLOCK);
+  }
+  if (rc) {
     fprintf(stderr, "%s: %s\n", prog, err);
     return -1;
   }
+  /* OUT is complete and its data durable; only its name may not be yet */
+  if (path_dir(out_path, dir, sizeof dir))
+    fprintf(stderr, "rps3: warning: %s: path too long\n", out_path);
+  else if (sync_path(dir, O_RDONLY | O_DIRECTORY, err, sizeof err))
+    fprintf(stderr, "rps3: warning: %s\n", err);
   return 0;
 }
 

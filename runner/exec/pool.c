@@ -191,46 +191,34 @@ static int run_serial(pool *P, char *err, size_t errsz) {
   return rc;
 }
 
-/* start nthread workers with the signals blocked; 0, or -1 when one
-   could not start (the run is then stopped) */
-static int start_workers(pool *P, pool_worker *w, pthread_t *tid, int nthread,
-                         int *started) {
-  sigset_t all, old;
-  int rc = 0;
-  /* workers take no signals: the handlers run on the calling thread */
-  sigfillset(&all);
-  pthread_sigmask(SIG_BLOCK, &all, &old);
-  for (*started = 0; *started < nthread; ++*started) {
-    pool_worker *wk = &w[*started];
-    wk->P = P;
-    wk->held = NO_SLOT;
-    pthread_mutex_lock(&P->mu);
-    P->nactive++;
-    pthread_mutex_unlock(&P->mu);
-    if (pthread_create(&tid[*started], NULL, worker_main, wk)) {
-      pthread_mutex_lock(&P->mu);
-      P->nactive--;
-      pool_fail(P, "cannot start a thread");
-      pthread_mutex_unlock(&P->mu);
-      rc = -1;
-      break;
-    }
-  }
-  pthread_sigmask(SIG_SETMASK, &old, NULL);
-  return rc;
-}
-
-/* the workers, the writer on this thread, then the join */
+/* the workers (started with the signals blocked: the handlers run on the
+   calling thread), the writer on this thread, then the join */
 static int run_threads(pool *P, int nthread, char *err, size_t errsz) {
   pool_worker *w = calloc((size_t)nthread, sizeof *w);
   pthread_t *tid = calloc((size_t)nthread, sizeof *tid);
-  int started = 0, i;
-  if (w && tid) {
-    start_workers(P, w, tid, nthread, &started);
-    pool_write(P);
-    for (i = 0; i < started; i++) pthread_join(tid[i], NULL);
-  } else
-    pool_fail(P, "out of memory");
+  sigset_t all, old;
+  int started;
+  pthread_mutex_lock(&P->mu);
+  if (!w || !tid) pool_fail(P, "out of memory");
+  pthread_mutex_unlock(&P->mu);
+  sigfillset(&all);
+  pthread_sigmask(SIG_BLOCK, &all, &old);
+  for (started = 0; w && tid && started < nthread; started++) {
+    w[started].P = P;
+    w[started].held = NO_SLOT;
+    pthread_mutex_lock(&P->mu);
+    P->nactive++;
+    if (pthread_create(&tid[started], NULL, worker_main, &w[started])) {
+      P->nactive--;
+      pool_fail(P, "cannot start a thread");
+      pthread_mutex_unlock(&P->mu);
+      break;
+    }
+    pthread_mutex_unlock(&P->mu);
+  }
+  pthread_sigmask(SIG_SETMASK, &old, NULL);
+  pool_write(P);
+  while (started > 0) pthread_join(tid[--started], NULL);
   free(w);
   free(tid);
   if (P->stop) snprintf(err, errsz, "%s", P->err);
