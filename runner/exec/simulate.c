@@ -21,27 +21,23 @@
 static void key_error(const scene *s, size_t index, int k, const char *msg,
                       scene_error *err) {
   size_t a;
-  char what[sizeof err->what];
-  if (s->naxis > 0)
-    snprintf(what, sizeof what, "case %zu: %s", index, msg);
-  else
-    snprintf(what, sizeof what, "%s", msg);
   memset(err, 0, sizeof *err);
-  for (a = 0; k >= 0 && a < s->naxis; a++)
-    if (s->axis[a].key == k) {
-      err->mark = s->axis[a].mark[scene_case_coord(s, index, a)];
-      snprintf(err->path, sizeof err->path, "%s", s->axis[a].path);
-      snprintf(err->what, sizeof err->what, "%s", what);
-      return;
-    }
-  if (k >= 0 && s->given[k]) {
+  if (s->naxis > 0)
+    snprintf(err->what, sizeof err->what, "case %zu: %s", index, msg);
+  else
+    snprintf(err->what, sizeof err->what, "%s", msg);
+  for (a = 0; k >= 0 && a < s->naxis && s->axis[a].key != k; a++)
+    ;
+  if (k >= 0 && a < s->naxis) {
+    err->mark = s->axis[a].mark[scene_case_coord(s, index, a)];
+    snprintf(err->path, sizeof err->path, "%s", s->axis[a].path);
+  } else if (k >= 0 && s->given[k]) {
     err->mark = s->mark[k];
     snprintf(err->path, sizeof err->path, "%s", scene_key_get(k)->path);
   } else {
     err->mark = s->simulate;
     snprintf(err->path, sizeof err->path, "simulate");
   }
-  snprintf(err->what, sizeof err->what, "%s", what);
 }
 
 /* the key a library message "simulate.NAME = VALUE: why" is about */
