@@ -66,52 +66,39 @@ int out_path_check(const char *out, const char *const *in, size_t ninput,
                    char *err, size_t errsz) {
   struct stat so, si;
   char dir[4096];
-  size_t i, n = strlen(out);
-  if (n == 0) {
+  size_t i = 0, n = strlen(out);
+  int there = n > 0 && lstat(out, &so) == 0, e = errno;
+  /* the input that is the output itself, under any name */
+  while (there && i < ninput &&
+         !(stat(in[i], &si) == 0 && si.st_dev == so.st_dev &&
+           si.st_ino == so.st_ino))
+    i++;
+  if (n == 0)
     snprintf(err, errsz, "-o needs a file name, got ''");
-    return -1;
-  }
-  if (out[n - 1] == '/') {
+  else if (out[n - 1] == '/')
     snprintf(err, errsz, "-o %s names a directory: give a file name", out);
-    return -1;
-  }
-  if (lstat(out, &so) == 0) {
-    if (!S_ISREG(so.st_mode)) {
-      snprintf(err, errsz,
-               "-o %s is %s: the output must be a new or a regular file "
-               "(it is replaced when the run is complete)",
-               out, file_kind(so.st_mode));
-      return -1;
-    }
-    for (i = 0; i < ninput; i++)
-      if (stat(in[i], &si) == 0 && si.st_dev == so.st_dev &&
-          si.st_ino == so.st_ino) {
-        snprintf(err, errsz, "-o %s is the input %s itself", out, in[i]);
-        return -1;
-      }
-  } else if (errno != ENOENT) {
-    snprintf(err, errsz, "-o %s: %s", out, strerror(errno));
-    return -1;
-  }
-  if (path_dir(out, dir, sizeof dir)) {
+  else if (there && !S_ISREG(so.st_mode))
+    snprintf(err, errsz,
+             "-o %s is %s: the output must be a new or a regular file "
+             "(it is replaced when the run is complete)",
+             out, file_kind(so.st_mode));
+  else if (there && i < ninput)
+    snprintf(err, errsz, "-o %s is the input %s itself", out, in[i]);
+  else if (!there && e != ENOENT)
+    snprintf(err, errsz, "-o %s: %s", out, strerror(e));
+  else if (path_dir(out, dir, sizeof dir))
     snprintf(err, errsz, "-o %s: path too long", out);
-    return -1;
-  }
-  if (stat(dir, &si) != 0) {
+  else if (stat(dir, &si) != 0)
     snprintf(err, errsz, "-o %s: directory %s: %s", out, dir, strerror(errno));
-    return -1;
-  }
-  if (!S_ISDIR(si.st_mode)) {
+  else if (!S_ISDIR(si.st_mode))
     snprintf(err, errsz, "-o %s: %s is not a directory", out, dir);
-    return -1;
-  }
   /* EROFS for a read-only file system, EACCES without permission */
-  if (access(dir, W_OK | X_OK) != 0) {
+  else if (access(dir, W_OK | X_OK) != 0)
     snprintf(err, errsz, "-o %s: cannot create files in %s: %s", out, dir,
              strerror(errno));
-    return -1;
-  }
-  return 0;
+  else
+    return 0;
+  return -1;
 }
 
 /* the end of file_read_all: the file closed, the buffer freed on -1 */
