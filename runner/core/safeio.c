@@ -101,63 +101,53 @@ int out_path_check(const char *out, const char *const *in, size_t ninput,
   return -1;
 }
 
-/* the end of file_read_all: the file closed, the buffer freed on -1 */
-static int read_done(int fd, char *buf, int rc) {
-  close(fd);
-  if (rc) free(buf);
-  return rc;
+/* up to cap bytes of fd into buf: their number, or -1 (errno set) */
+static ssize_t read_upto(int fd, char *buf, size_t cap) {
+  size_t got = 0;
+  while (got < cap) {
+    ssize_t n = read(fd, buf + got, cap - got);
+    if (n < 0 && errno == EINTR) continue;
+    if (n < 0) return -1;
+    if (n == 0) break;
+    got += (size_t)n;
+  }
+  return (ssize_t)got;
 }
 
 int file_read_all(const char *path, size_t max, const char *kind_rule,
                   const char *size_rule, char **text, size_t *len, char *why,
                   size_t whysz) {
   struct stat st;
-  size_t got = 0, cap;
+  size_t cap = 0;
+  ssize_t got;
   char *buf = NULL;
   /* O_NONBLOCK: opening a FIFO must not wait for a writer */
   int fd = open(path, O_RDONLY | O_NONBLOCK);
   *text = NULL;
   *len = 0;
-  if (fd < 0) {
+  if (fd < 0)
     snprintf(why, whysz, "cannot open: %s", strerror(errno));
-    return -1;
-  }
-  if (fstat(fd, &st) != 0) {
+  else if (fstat(fd, &st) != 0)
     snprintf(why, whysz, "cannot read: %s", strerror(errno));
-    return read_done(fd, buf, -1);
-  }
-  if (!S_ISREG(st.st_mode)) {
+  else if (!S_ISREG(st.st_mode))
     snprintf(why, whysz, "is %s: %s", file_kind(st.st_mode), kind_rule);
-    return read_done(fd, buf, -1);
-  }
-  if ((unsigned long long)st.st_size > (unsigned long long)max) {
+  else if ((unsigned long long)st.st_size > (unsigned long long)max)
     snprintf(why, whysz, "is %lld bytes: %s", (long long)st.st_size, size_rule);
-    return read_done(fd, buf, -1);
-  }
   /* one byte more than fstat said: a file that grew since is refused */
-  cap = (size_t)st.st_size + 1;
-  if ((buf = malloc(cap + 1)) == NULL) {
+  else if (!(buf = malloc((cap = (size_t)st.st_size + 1) + 1)))
     snprintf(why, whysz, "out of memory");
-    return read_done(fd, buf, -1);
-  }
-  while (got < cap) {
-    ssize_t n = read(fd, buf + got, cap - got);
-    if (n < 0 && errno == EINTR) continue;
-    if (n < 0) {
-      snprintf(why, whysz, "cannot read: %s", strerror(errno));
-      return read_done(fd, buf, -1);
-    }
-    if (n == 0) break;
-    got += (size_t)n;
-  }
-  if (got == cap) {
+  else if ((got = read_upto(fd, buf, cap)) < 0)
+    snprintf(why, whysz, "cannot read: %s", strerror(errno));
+  else if ((size_t)got == cap)
     snprintf(why, whysz, "changed while it was read");
-    return read_done(fd, buf, -1);
+  else {
+    buf[got] = '\0';
+    *text = buf;
+    *len = (size_t)got;
   }
-  buf[got] = '\0';
-  *text = buf;
-  *len = got;
-  return read_done(fd, buf, 0);
+  if (fd >= 0) close(fd);
+  if (!*text) free(buf);
+  return *text ? 0 : -1;
 }
 
 /* the pid of NAME = BASE.tmp.PID or BASE.tmp.PID.partR; 0 if not one */
