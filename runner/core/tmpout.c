@@ -222,24 +222,12 @@ int tmpout_clean(const char *out_path, int force, int quiet) {
     return -1;
   }
   while ((e = readdir(d)) != NULL) {
-    long pid;
-    int mine, alive;
+    long pid = 0;
+    int known, mine, alive;
     if (strncmp(e->d_name, prefix, np) != 0) continue;
     snprintf(path, sizeof path, "%s/%s", dir, e->d_name);
-    if (owner_of(e->d_name + np, host, sizeof host, &pid) != 0) {
-      if (force && unlink(path) == 0)
-        fprintf(stderr, "%s: removed %s (owner unknown)\n", prog, path);
-      else if (!force) {
-        kept++;
-        if (!quiet)
-          fprintf(stderr,
-                  "%s: kept %s: owner unknown (--force "
-                  "removes it)\n",
-                  prog, path);
-      }
-      continue;
-    }
-    mine = strcmp(host, me) == 0;
+    known = owner_of(e->d_name + np, host, sizeof host, &pid) == 0;
+    mine = known && strcmp(host, me) == 0;
     /* kill(pid, 0) sends nothing: it says whether the process exists
        (EPERM: it does, another user's) */
     alive = mine && (kill((pid_t)pid, 0) == 0 || errno == EPERM);
@@ -247,17 +235,19 @@ int tmpout_clean(const char *out_path, int force, int quiet) {
       kept++;
       if (!quiet)
         fprintf(stderr, "%s: kept %s: %s\n", prog, path,
-                alive ? "its process is running"
-                      : "written on another host, not checked (--force "
-                        "removes it)");
-      continue;
-    }
-    if (unlink(path) == 0)
+                alive   ? "its process is running"
+                : known ? "written on another host, not checked (--force "
+                          "removes it)"
+                        : "owner unknown (--force removes it)");
+    } else if (unlink(path) != 0) {
+      if (known && !quiet)
+        fprintf(stderr, "%s: cannot remove %s: %s\n", prog, path,
+                strerror(errno));
+    } else if (!known)
+      fprintf(stderr, "%s: removed %s (owner unknown)\n", prog, path);
+    else
       fprintf(stderr, "%s: removed %s (process %ld on %s %s)\n", prog, path,
               pid, host, mine ? "is gone" : "not checked: --force");
-    else if (!quiet)
-      fprintf(stderr, "%s: cannot remove %s: %s\n", prog, path,
-              strerror(errno));
   }
   closedir(d);
   return kept;
