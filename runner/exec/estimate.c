@@ -311,7 +311,7 @@ void pre_check_print(const char *scene_path, const scene *s,
                      const sweep_plan *p, const sweep_opts *o,
                      const pre_opts *po) {
   size_t nj = sweep_njob(s, p);
-  char when[128];
+  char when[128], unit[96];
   est_cost c;
   est_check_print(scene_path, "", s->ncase, p->npoint, p->nt, p->grid_common,
                   est_file_bytes(s, p, po->fields));
@@ -326,15 +326,14 @@ void pre_check_print(const char *scene_path, const scene *s,
   } else
     printf("%s\n", when);
   if (p->tile_cases > 1 || p->nt <= p->tile_points)
-    printf(
-        "%zu work unit%s of up to %zu cases: at most %zu shards, ranks or "
-        "threads have work\n",
-        nj, nj == 1 ? "" : "s", p->tile_cases, nj);
+    snprintf(unit, sizeof unit, "up to %zu cases", p->tile_cases);
   else
-    printf(
-        "%zu work unit%s of one case each (in windows of %zu samples): at "
-        "most %zu shards, ranks or threads have work\n",
-        nj, nj == 1 ? "" : "s", p->tile_points, nj);
+    snprintf(unit, sizeof unit, "one case each (in windows of %zu samples)",
+             p->tile_points);
+  printf(
+      "%zu work unit%s of %s: at most %zu shards, ranks or threads have "
+      "work\n",
+      nj, nj == 1 ? "" : "s", unit, nj);
 }
 
 int pre_room(const scene *s, const sweep_plan *p, const sweep_opts *o,
