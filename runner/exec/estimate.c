@@ -47,11 +47,6 @@ static double gzip_s_per_byte(int level) {
   return 15.0e-9 + (24.0e-9 - 15.0e-9) * (level - 4) / 5.0;
 }
 
-/* rows of the per-case chunks: ncase rounded up to whole chunks */
-static size_t round_rows(size_t ncase, size_t tc) {
-  return (ncase + tc - 1) / tc * tc;
-}
-
 /* Bytes of the file rps3-run writes for the plan p of s, uncompressed (an
    upper bound with --gzip): the fields of `fields` in every chunk the run
    allocates (p->stored samples per sample field: a partial edge chunk
@@ -66,7 +61,9 @@ static double est_file_bytes(const scene *s, const sweep_plan *p,
   const double tc = (double)p->tile_cases, nt = (double)p->nt;
   const double stored = (double)p->stored;
   const double chunks = stored / (tc * (double)p->chunk_points);
-  const double rows = (double)round_rows(s->ncase, p->tile_cases);
+  /* rows of the per-case chunks: ncase rounded up to whole chunks */
+  const double rows =
+      (double)((s->ncase + p->tile_cases - 1) / p->tile_cases * p->tile_cases);
   double per_sample = 0, per_case = 0, nds = 0, yaml = 600, total;
   scene_text t = {0};
   size_t a;

@@ -191,15 +191,6 @@ static void slot_status(out_block *b, size_t slot, int rc, size_t failed_at) {
 
 /* ----------------------------------------------------------------- tiles */
 
-/* write tile t of block b to f */
-static int sweep_tile_write(out_file *f, const out_block *b, const tile *t,
-                            char *err, size_t errsz) {
-  size_t w;
-  for (w = 0; w < t->blank_below; w += b->points)
-    if (out_write(f, b, t->c0, 1, w, b->points, 0, err, errsz)) return -1;
-  return out_write(f, b, t->c0, t->nc, t->k0, t->nk, t->with_case, err, errsz);
-}
-
 /* "key = value, ..." of case c's swept keys (enums by name), "" without a
    sweep: how messages name a case */
 static void sweep_case_label(const scene *s, size_t c, char *buf, size_t sz) {
@@ -290,11 +281,6 @@ static int emit(const sweep_job *J, pool_worker *w, out_block **b,
   return *b ? 0 : -1;
 }
 
-/* 1 when jobs are long cases in windows, 0 when they are tiles of cases */
-static int in_windows(const sweep_plan *p) {
-  return p->tile_cases == 1 && p->nt > p->tile_points;
-}
-
 /* job j as a tile of whole cases */
 static int job_whole(const sweep_job *J, size_t j, out_block **bp,
                      rps3_data *ws[], pool_worker *w, char *err, size_t errsz) {
@@ -374,8 +360,9 @@ static int sweep_item(void *ctx, void *wctx, size_t j, pool_worker *w,
                       char *err, size_t errsz) {
   const sweep_job *J = ctx;
   out_block *b = pool_slot(w);
-  return in_windows(J->p) ? job_windows(J, j, &b, wctx, w, err, errsz)
-                          : job_whole(J, j, &b, wctx, w, err, errsz);
+  return J->p->tile_cases == 1 && J->p->nt > J->p->tile_points
+             ? job_windows(J, j, &b, wctx, w, err, errsz)
+             : job_whole(J, j, &b, wctx, w, err, errsz);
 }
 
 /* pool_job.write: a filled block to the file, counted, its first failed
@@ -386,7 +373,11 @@ static int sweep_write(void *ctx, void *slot, const void *info, char *err,
   const out_block *b = slot;
   const tile *t = info;
   size_t k, failed = 0;
-  if (sweep_tile_write(J->f, b, t, err, errsz)) return -1;
+  /* a late failure: first the blank block over the case's earlier windows */
+  for (k = 0; k < t->blank_below; k += b->points)
+    if (out_write(J->f, b, t->c0, 1, k, b->points, 0, err, errsz)) return -1;
+  if (out_write(J->f, b, t->c0, t->nc, t->k0, t->nk, t->with_case, err, errsz))
+    return -1;
   /* the cases a tile completes are those it writes the per-case fields
      of; a window before a case's last has status ok */
   for (k = 0; k < t->nc; k++)
