@@ -145,19 +145,20 @@ void tmpout_discard(void) {
   sig_block(SIG_UNBLOCK);
 }
 
+/* buf made safe for a file name: what is not a letter, a digit, '_' or a
+   character of keep becomes '_' */
+static void safe_name(char *buf, const char *keep) {
+  for (; *buf; buf++)
+    if (!isalnum((unsigned char)*buf) && *buf != '_' && !strchr(keep, *buf))
+      *buf = '_';
+}
+
 /* this machine's short host name, made safe for a file name */
 static void host_name(char *buf, size_t size) {
-  size_t i;
   if (gethostname(buf, size) != 0) buf[0] = '\0';
   buf[size - 1] = '\0';
-  for (i = 0; buf[i]; i++) {
-    if (buf[i] == '.') {
-      buf[i] = '\0';
-      break;
-    }
-    if (!isalnum((unsigned char)buf[i]) && buf[i] != '-' && buf[i] != '_')
-      buf[i] = '_';
-  }
+  buf[strcspn(buf, ".")] = '\0';
+  safe_name(buf, "-");
   if (!buf[0]) snprintf(buf, size, "unknown");
 }
 
@@ -166,13 +167,11 @@ static void host_name(char *buf, size_t size) {
 static void job_name(char *buf, size_t size) {
   const char *aj = getenv("SLURM_ARRAY_JOB_ID"),
              *at = getenv("SLURM_ARRAY_TASK_ID"), *j = getenv("SLURM_JOB_ID");
-  size_t i;
   if (aj && at && *aj && *at)
     snprintf(buf, size, "%s_%s", aj, at);
   else
     snprintf(buf, size, "%s", j && *j ? j : "none");
-  for (i = 0; buf[i]; i++)
-    if (!isalnum((unsigned char)buf[i]) && buf[i] != '_') buf[i] = '_';
+  safe_name(buf, "");
 }
 
 int tmpout_name(const char *out_path, int rank) {
