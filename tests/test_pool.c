@@ -199,10 +199,77 @@ static void slots_and_bad_jobs(void **state) {
   (void)state;
   assert_int_equal(pool_nslot(1), 1);
   assert_int_equal(pool_nslot(4), 6);
+  /* a shard's items: 5, 15, ..., 95; a stride that would wrap */
+  assert_int_equal(pool_count(NITEM, 5, 10), 10);
+  assert_int_equal(pool_count(NITEM, NITEM, 1), 0);
+  assert_int_equal(pool_count(NITEM, 3, SIZE_MAX), 1);
+  assert_int_equal(pool_next(3, 10, NITEM), 13);
+  assert_int_equal(pool_next(3, SIZE_MAX, NITEM), NITEM);
   job_init(&J);
   assert_int_equal(run_job(&J, 0, 0, 1, err, sizeof err), -1);
   assert_non_null(strstr(err, "0 threads"));
   pthread_mutex_destroy(&J.mu);
+}
+
+/* the slots pool_run makes (job.slot NULL): calls to make and free each */
+static int made[8], freed[8];
+static size_t make_fails; /* the slot whose make fails (8: none) */
+
+static int make_slot(void *ctx, void *slot, size_t i) {
+  (void)ctx;
+  assert_true(i < 8);
+  made[i]++;
+  /* zeroed when made */
+  assert_int_equal(((slot_t *)slot)->filling, 0);
+  return i == make_fails ? -1 : 0;
+}
+
+static void free_slot(void *ctx, void *slot, size_t i) {
+  (void)ctx;
+  (void)slot;
+  assert_true(i < 8);
+  freed[i]++;
+}
+
+/* each slot is made and freed once, and every item runs; a slot that
+   cannot be made stops the run before any item, with the caller's err,
+   and every slot is freed (made or not) */
+static void pool_made_slots(void **state) {
+  static const int threads[] = {1, 3};
+  size_t t, i;
+  (void)state;
+  for (t = 0; t < 4; t++) {
+    job_t J;
+    pool_job job;
+    char err[256] = "caller's";
+    size_t n = pool_nslot(threads[t % 2]);
+    job_init(&J);
+    memset(made, 0, sizeof made);
+    memset(freed, 0, sizeof freed);
+    make_fails = t < 2 ? 8 : n - 1;
+    memset(&job, 0, sizeof job);
+    job.ctx = &J;
+    job.nitem = NITEM;
+    job.stride = 1;
+    job.slot_size = sizeof(slot_t);
+    job.slot_make = make_slot;
+    job.slot_free = free_slot;
+    job.info_size = sizeof(info_t);
+    job.run = run;
+    job.write = write_slot;
+    J.writer = pthread_self();
+    assert_int_equal(pool_run(&job, threads[t % 2], err, sizeof err),
+                     t < 2 ? 0 : -1);
+    for (i = 0; i < 8; i++) {
+      assert_int_equal(made[i], i < n);
+      assert_int_equal(freed[i], i < n);
+    }
+    assert_int_equal(J.written[NITEM - 1][0], t < 2);
+    assert_int_equal(J.written[0][0], t < 2);
+    if (t >= 2) assert_string_equal(err, "caller's");
+    assert_false(J.clash);
+    pthread_mutex_destroy(&J.mu);
+  }
 }
 
 int main(void) {
@@ -210,6 +277,7 @@ int main(void) {
       cmocka_unit_test(every_item_once),
       cmocka_unit_test(first_error_stops),
       cmocka_unit_test(slots_and_bad_jobs),
+      cmocka_unit_test(pool_made_slots),
   };
   return cmocka_run_group_tests(tests, NULL, NULL);
 }

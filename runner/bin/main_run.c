@@ -38,9 +38,8 @@
 #include "core/h5err.h"
 #include "core/progress.h"
 #include "core/safeio.h"
-#include "core/signals.h"
 #include "core/tmpout.h"
-#include "exec/preflight.h"
+#include "exec/estimate.h"
 #include "exec/simulate.h"
 #include "exec/sweep.h"
 #include "mpi/world.h"
@@ -525,7 +524,7 @@ int main(int argc, char **argv) {
 
   /* process-wide policy: GSL returns its errors, HDF5's are captured
      (h5err.h); the signals that end a run remove its temporary file
-     (signals.h) */
+     (tmpout.h) */
   sig_init();
   gsl_set_error_handler_off();
   h5_errors_capture();

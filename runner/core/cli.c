@@ -134,15 +134,11 @@ void cli_help(FILE *out, const cli_opt *opt, int nopt) {
   int i;
   for (i = 0; i < nopt; i++) {
     const char *d = opt[i].doc, *nl;
-    char left[96];
+    char left[96], letter[8] = "";
     int n;
-    if (opt[i].letter)
-      n = snprintf(left, sizeof left, "  -%c, --%s%s%s", opt[i].letter,
-                   opt[i].name, opt[i].arg ? " " : "",
-                   opt[i].arg ? opt[i].arg : "");
-    else
-      n = snprintf(left, sizeof left, "  --%s%s%s", opt[i].name,
-                   opt[i].arg ? " " : "", opt[i].arg ? opt[i].arg : "");
+    if (opt[i].letter) snprintf(letter, sizeof letter, "-%c, ", opt[i].letter);
+    n = snprintf(left, sizeof left, "  %s--%s%s%s", letter, opt[i].name,
+                 opt[i].arg ? " " : "", opt[i].arg ? opt[i].arg : "");
     /* a long left part: the text starts on the next line */
     if (n >= HELP_COL - 1)
       fprintf(out, "%s\n%*s", left, HELP_COL, "");

@@ -42,6 +42,7 @@ static int errno_in(const char *d) {
   return p ? atoi(p + 8) : 0;
 }
 
+/* errno e in the words a user can act on */
 static const char *in_words(int e) {
   switch (e) {
   case EAGAIN:
@@ -55,7 +56,7 @@ static const char *in_words(int e) {
   case EPERM: return "permission denied";
   case EFBIG: return "file too large (ulimit -f?)";
   case EIO: return "input/output error of the device";
-  default: return NULL;
+  default: return strerror(e);
   }
 }
 
@@ -75,7 +76,6 @@ void h5_errors_capture(void) { H5Eset_auto2(H5E_DEFAULT, on_error, NULL); }
 void h5_cause(char *buf, size_t sz) {
   walk w = last;
   int e;
-  const char *words;
   buf[0] = '\0';
   /* a failure still on the stack (printing off, no call since) is the
      last one; else the capture's */
@@ -87,11 +87,8 @@ void h5_cause(char *buf, size_t sz) {
   memset(&last, 0, sizeof last);
   if (w.n == 0) return;
   e = errno_in(w.inner);
-  words = e ? in_words(e) : NULL;
-  if (words)
-    snprintf(buf, sz, "%s: %s", w.outer, words);
-  else if (e)
-    snprintf(buf, sz, "%s: %s", w.outer, strerror(e));
+  if (e)
+    snprintf(buf, sz, "%s: %s", w.outer, in_words(e));
   else if (w.filter[0] != '\0' && strcmp(w.filter, w.inner) != 0)
     snprintf(buf, sz, "%s: %s (%s)", w.outer, w.filter, w.inner);
   else if (w.n > 1 && strcmp(w.outer, w.inner) != 0)

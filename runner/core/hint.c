@@ -6,7 +6,10 @@
 #include <stdio.h>
 #include <string.h>
 
-int hint_distance(const char *a, const char *b) {
+/* optimal string alignment distance between a and b: insertions,
+   deletions, substitutions and transpositions of two adjacent characters
+   each count 1 */
+static int hint_distance(const char *a, const char *b) {
   /* three rows of the dynamic programme: the transposition reads two back */
   int d[3][HINT_MAX_LEN + 2];
   size_t la = strlen(a), lb = strlen(b), i, j;

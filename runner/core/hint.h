@@ -7,13 +7,8 @@
 
 #include <stddef.h>
 
-/*
- * Optimal string alignment distance between a and b: insertions,
- * deletions, substitutions and transpositions of two adjacent characters
- * each count 1.  Names longer than HINT_MAX_LEN count as far from all.
- */
+/* names longer than this count as far from all */
 #define HINT_MAX_LEN 127
-int hint_distance(const char *a, const char *b);
 
 /*
  * " (did you mean X?)" or " (did you mean X or Y?)" into buf: the names of

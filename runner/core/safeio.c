@@ -16,6 +16,8 @@
 
 #include <hdf5.h>
 
+#include "exit_codes.h"
+
 void proc_init(void) {
   int fd;
   for (fd = 0; fd <= 2; fd++)
@@ -32,12 +34,11 @@ void proc_init(void) {
 }
 
 int proc_exit(int code) {
-  if (code != SIG_EXIT_IO) H5close();
+  if (code != EXIT_IO) H5close();
   return code;
 }
 
-/* the directory part of path ("." when none) into dir */
-static int dir_of(const char *path, char *dir, size_t sz) {
+int path_dir(const char *path, char *dir, size_t sz) {
   const char *slash = strrchr(path, '/');
   size_t n;
   if (!slash) {
@@ -65,112 +66,88 @@ int out_path_check(const char *out, const char *const *in, size_t ninput,
                    char *err, size_t errsz) {
   struct stat so, si;
   char dir[4096];
-  size_t i, n = strlen(out);
-  if (n == 0) {
+  size_t i = 0, n = strlen(out);
+  int there = n > 0 && lstat(out, &so) == 0, e = errno;
+  /* the input that is the output itself, under any name */
+  while (there && i < ninput &&
+         !(stat(in[i], &si) == 0 && si.st_dev == so.st_dev &&
+           si.st_ino == so.st_ino))
+    i++;
+  if (n == 0)
     snprintf(err, errsz, "-o needs a file name, got ''");
-    return -1;
-  }
-  if (out[n - 1] == '/') {
+  else if (out[n - 1] == '/')
     snprintf(err, errsz, "-o %s names a directory: give a file name", out);
-    return -1;
-  }
-  if (lstat(out, &so) == 0) {
-    if (!S_ISREG(so.st_mode)) {
-      snprintf(err, errsz,
-               "-o %s is %s: the output must be a new or a regular file "
-               "(it is replaced when the run is complete)",
-               out, file_kind(so.st_mode));
-      return -1;
-    }
-    for (i = 0; i < ninput; i++)
-      if (stat(in[i], &si) == 0 && si.st_dev == so.st_dev &&
-          si.st_ino == so.st_ino) {
-        snprintf(err, errsz, "-o %s is the input %s itself", out, in[i]);
-        return -1;
-      }
-  } else if (errno != ENOENT) {
-    snprintf(err, errsz, "-o %s: %s", out, strerror(errno));
-    return -1;
-  }
-  if (dir_of(out, dir, sizeof dir)) {
+  else if (there && !S_ISREG(so.st_mode))
+    snprintf(err, errsz,
+             "-o %s is %s: the output must be a new or a regular file "
+             "(it is replaced when the run is complete)",
+             out, file_kind(so.st_mode));
+  else if (there && i < ninput)
+    snprintf(err, errsz, "-o %s is the input %s itself", out, in[i]);
+  else if (!there && e != ENOENT)
+    snprintf(err, errsz, "-o %s: %s", out, strerror(e));
+  else if (path_dir(out, dir, sizeof dir))
     snprintf(err, errsz, "-o %s: path too long", out);
-    return -1;
-  }
-  if (stat(dir, &si) != 0) {
+  else if (stat(dir, &si) != 0)
     snprintf(err, errsz, "-o %s: directory %s: %s", out, dir, strerror(errno));
-    return -1;
-  }
-  if (!S_ISDIR(si.st_mode)) {
+  else if (!S_ISDIR(si.st_mode))
     snprintf(err, errsz, "-o %s: %s is not a directory", out, dir);
-    return -1;
-  }
   /* EROFS for a read-only file system, EACCES without permission */
-  if (access(dir, W_OK | X_OK) != 0) {
+  else if (access(dir, W_OK | X_OK) != 0)
     snprintf(err, errsz, "-o %s: cannot create files in %s: %s", out, dir,
              strerror(errno));
-    return -1;
-  }
-  return 0;
+  else
+    return 0;
+  return -1;
 }
 
-/* the end of file_read_all: the file closed, the buffer freed on -1 */
-static int read_done(int fd, char *buf, int rc) {
-  close(fd);
-  if (rc) free(buf);
-  return rc;
+/* up to cap bytes of fd into buf: their number, or -1 (errno set) */
+static ssize_t read_upto(int fd, char *buf, size_t cap) {
+  size_t got = 0;
+  while (got < cap) {
+    ssize_t n = read(fd, buf + got, cap - got);
+    if (n < 0 && errno == EINTR) continue;
+    if (n < 0) return -1;
+    if (n == 0) break;
+    got += (size_t)n;
+  }
+  return (ssize_t)got;
 }
 
 int file_read_all(const char *path, size_t max, const char *kind_rule,
                   const char *size_rule, char **text, size_t *len, char *why,
                   size_t whysz) {
   struct stat st;
-  size_t got = 0, cap;
+  size_t cap = 0;
+  ssize_t got;
   char *buf = NULL;
   /* O_NONBLOCK: opening a FIFO must not wait for a writer */
   int fd = open(path, O_RDONLY | O_NONBLOCK);
   *text = NULL;
   *len = 0;
-  if (fd < 0) {
+  if (fd < 0)
     snprintf(why, whysz, "cannot open: %s", strerror(errno));
-    return -1;
-  }
-  if (fstat(fd, &st) != 0) {
+  else if (fstat(fd, &st) != 0)
     snprintf(why, whysz, "cannot read: %s", strerror(errno));
-    return read_done(fd, buf, -1);
-  }
-  if (!S_ISREG(st.st_mode)) {
+  else if (!S_ISREG(st.st_mode))
     snprintf(why, whysz, "is %s: %s", file_kind(st.st_mode), kind_rule);
-    return read_done(fd, buf, -1);
-  }
-  if ((unsigned long long)st.st_size > (unsigned long long)max) {
-    snprintf(why, whysz, "is %lld bytes: %s", (long long)st.st_size,
-             size_rule);
-    return read_done(fd, buf, -1);
-  }
+  else if ((unsigned long long)st.st_size > (unsigned long long)max)
+    snprintf(why, whysz, "is %lld bytes: %s", (long long)st.st_size, size_rule);
   /* one byte more than fstat said: a file that grew since is refused */
-  cap = (size_t)st.st_size + 1;
-  if ((buf = malloc(cap + 1)) == NULL) {
+  else if (!(buf = malloc((cap = (size_t)st.st_size + 1) + 1)))
     snprintf(why, whysz, "out of memory");
-    return read_done(fd, buf, -1);
-  }
-  while (got < cap) {
-    ssize_t n = read(fd, buf + got, cap - got);
-    if (n < 0 && errno == EINTR) continue;
-    if (n < 0) {
-      snprintf(why, whysz, "cannot read: %s", strerror(errno));
-      return read_done(fd, buf, -1);
-    }
-    if (n == 0) break;
-    got += (size_t)n;
-  }
-  if (got == cap) {
+  else if ((got = read_upto(fd, buf, cap)) < 0)
+    snprintf(why, whysz, "cannot read: %s", strerror(errno));
+  else if ((size_t)got == cap)
     snprintf(why, whysz, "changed while it was read");
-    return read_done(fd, buf, -1);
+  else {
+    buf[got] = '\0';
+    *text = buf;
+    *len = (size_t)got;
   }
-  buf[got] = '\0';
-  *text = buf;
-  *len = got;
-  return read_done(fd, buf, 0);
+  if (fd >= 0) close(fd);
+  if (!*text) free(buf);
+  return *text ? 0 : -1;
 }
 
 /* the pid of NAME = BASE.tmp.PID or BASE.tmp.PID.partR; 0 if not one */
@@ -196,7 +173,7 @@ size_t stale_report(const char *prog, const char *out) {
   struct dirent *e;
   size_t count = 0;
   DIR *d;
-  if (dir_of(out, dir, sizeof dir) || !(d = opendir(dir))) return 0;
+  if (path_dir(out, dir, sizeof dir) || !(d = opendir(dir))) return 0;
   while ((e = readdir(d)) != NULL) {
     long pid = tmp_pid(e->d_name, base);
     if (pid <= 0 || pid == (long)getpid()) continue;
@@ -215,37 +192,8 @@ size_t stale_report(const char *prog, const char *out) {
 double disk_free(const char *out) {
   char dir[4096];
   struct statvfs v;
-  if (dir_of(out, dir, sizeof dir) || statvfs(dir, &v) != 0) return -1;
+  if (path_dir(out, dir, sizeof dir) || statvfs(dir, &v) != 0) return -1;
   return (double)v.f_bavail * (double)v.f_frsize;
-}
-
-static int sync_fd_of(const char *path, int flags, char *err, size_t errsz) {
-  int fd = open(path, flags), rc = 0;
-  if (fd < 0) {
-    snprintf(err, errsz, "cannot open %s to sync it: %s", path,
-             strerror(errno));
-    return -1;
-  }
-  /* EINVAL: a file system without fsync on directories */
-  if (fsync(fd) != 0 && errno != EINVAL) {
-    snprintf(err, errsz, "cannot sync %s to disk: %s", path, strerror(errno));
-    rc = -1;
-  }
-  close(fd);
-  return rc;
-}
-
-int file_sync(const char *path, char *err, size_t errsz) {
-  return sync_fd_of(path, O_RDONLY, err, errsz);
-}
-
-int dir_sync(const char *path, char *err, size_t errsz) {
-  char dir[4096];
-  if (dir_of(path, dir, sizeof dir)) {
-    snprintf(err, errsz, "%s: path too long", path);
-    return -1;
-  }
-  return sync_fd_of(dir, O_RDONLY | O_DIRECTORY, err, errsz);
 }
 
 int parse_ulong(const char *a, unsigned long lo, unsigned long hi,

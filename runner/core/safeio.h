@@ -10,9 +10,6 @@
 #include <stddef.h>
 #include <sys/types.h>
 
-/* the exit code of a failed write (every program's EXIT_IO) */
-#define SIG_EXIT_IO 3
-
 /*
  * Call first in main(): reopen each of fds 0-2 that is closed on /dev/null
  * (else the first file opened would get fd 2, and progress lines would be
@@ -68,11 +65,9 @@ int file_read_all(const char *path, size_t max, const char *kind_rule,
    -1 when unknown. */
 double disk_free(const char *out);
 
-/* fsync the file at path.  Returns 0, or -1 with err set. */
-int file_sync(const char *path, char *err, size_t errsz);
-
-/* fsync the directory that holds path.  Returns 0, or -1 with err set. */
-int dir_sync(const char *path, char *err, size_t errsz);
+/* The directory part of path ("." when none) into dir: 0, or -1 when it
+   does not fit. */
+int path_dir(const char *path, char *dir, size_t sz);
 
 /*
  * Strict numbers for options: the whole of `a` is a decimal integer in

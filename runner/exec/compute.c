@@ -23,32 +23,6 @@ static int traj_failed(out_block *b, size_t slot, int rc, double t, size_t k,
   return rc;
 }
 
-/* the batch's scratch in b: OUT_BATCH points of each array */
-typedef struct {
-  double *t, *pose, *dpose, *ddpose, *l, *theta, *F, *lambda, *Fe, *dl, *ddl,
-      *c;
-  int *status, *warn, *niter;
-} scratch;
-
-static void scratch_of(out_block *b, scratch *x) {
-  double *p = b->bx;
-  x->t = p;
-  x->pose = p += OUT_BATCH;
-  x->dpose = p += 3 * OUT_BATCH;
-  x->ddpose = p += 3 * OUT_BATCH;
-  x->l = p += 3 * OUT_BATCH;
-  x->theta = p += 3 * OUT_BATCH;
-  x->F = p += 3 * OUT_BATCH;
-  x->lambda = p += 3 * OUT_BATCH;
-  x->Fe = p += 3 * OUT_BATCH;
-  x->dl = p += 3 * RPS3_NEFFECT * OUT_BATCH;
-  x->ddl = p += 3 * OUT_BATCH;
-  x->c = p + 3 * OUT_BATCH;
-  x->status = b->bi;
-  x->warn = b->bi + OUT_BATCH;
-  x->niter = b->bi + 2 * OUT_BATCH;
-}
-
 /* dst[3 i + c] = src[c n + i]: a [3][n] array of the batch into the
    block's [n][3] */
 static void store3(double *dst, const double *src, size_t n) {
@@ -67,8 +41,9 @@ static void store3(double *dst, const double *src, size_t n) {
    field at a time (each a sequential stream of writes), the fields the
    file gets; the batch wrote condition, transmission, the energy residual
    and scale and the solve residual into the block itself */
-static void store_batch(const scratch *x, size_t n,
+static void store_batch(const rps3_batch_in *in, const rps3_batch_out *x,
                         out_block *b, size_t j) {
+  const size_t n = in->n;
   /* the [3][n] outputs, and the one-column ones */
   const struct {
     int field;
@@ -76,9 +51,9 @@ static void store_batch(const scratch *x, size_t n,
   } three[] = {{OUT_force, x->F},        {OUT_length, x->l},
                {OUT_theta, x->theta},    {OUT_lambda, x->lambda},
                {OUT_length_rate, x->dl}, {OUT_length_accel, x->ddl}},
-    one[] = {{OUT_alpha, x->pose},
-             {OUT_beta, x->pose + n},
-             {OUT_z_c, x->pose + 2 * n},
+    one[] = {{OUT_alpha, in->pose},
+             {OUT_beta, in->pose + n},
+             {OUT_z_c, in->pose + 2 * n},
              {OUT_x_c, x->c},
              {OUT_y_c, x->c + n}};
   const size_t ne = (size_t)b->neffect;
@@ -96,99 +71,102 @@ static void store_batch(const scratch *x, size_t n,
              n * sizeof(double));
   for (i = 0; i < n && WANT(b, OUT_force_by_effect); i++)
     for (e = 0; e < ne; e++) {
-      const double *src = x->Fe + (size_t)b->effect[e] * 3 * n + i;
+      const double *src = x->F_effect + (size_t)b->effect[e] * 3 * n + i;
       fe[(i * ne + e) * 3] = src[0];
       fe[(i * ne + e) * 3 + 1] = src[n];
       fe[(i * ne + e) * 3 + 2] = src[2 * n];
     }
-  memcpy(b->t + j, x->t, n * sizeof(double));
+  memcpy(b->t + j, b->bx, n * sizeof(double));
   for (i = 0; i < n; i++) {
     niter[i] = x->niter[i];
     warn[i] = x->warn[i];
   }
 }
 
-/*
- * case_compute: the samples OUT_BATCH at a time through rps3_inverse_batch,
- * which runs the vectorised kernel where it applies (closed-form theta,
- * Lagrange, the paper's effects: the numbers agree with rps3_inverse to
- * rounding, docs/library.md) and the per-point loop elsewhere (bitwise).  A
- * case still stops at its first failing sample, with the same message.
- */
-/* the trajectory at samples k .. k + n - 1 into x, structure of arrays,
-   up to a sample it cannot give: returns the samples it gave (the batch,
-   packed to their number) and the status of the one after in *trc, its
-   pose and rates in p, dp, ddp */
-static size_t batch_traj(const scene_case *c, scratch *x, size_t k, size_t n,
+/* the batch's scratch in b->bx: the times, then OUT_BATCH points of each
+   array, structure of arrays */
+#define POSE(b) ((b)->bx + OUT_BATCH)
+#define DPOSE(b) (POSE(b) + 3 * OUT_BATCH)
+#define DDPOSE(b) (DPOSE(b) + 3 * OUT_BATCH)
+
+/* the trajectory at samples k .. k + n - 1 into b's scratch, up to a
+   sample it cannot give: returns the samples it gave (the batch, packed
+   to their number) and the status of the one after in *trc, its pose and
+   rates in p, dp, ddp */
+static size_t batch_traj(const scene_case *c, out_block *b, size_t k, size_t n,
                          int *trc, double p[3], double dp[3], double ddp[3]) {
+  double *t = b->bx, *pose = POSE(b), *dpose = DPOSE(b), *ddpose = DDPOSE(b);
   size_t i, q;
   *trc = RPS3_OK;
   for (i = 0; i < n; i++) {
-    x->t[i] = scene_case_time(c, k + i);
-    *trc = rps3_traj_eval(&c->model, &c->traj, x->t[i], p, dp, ddp);
+    t[i] = scene_case_time(c, k + i);
+    *trc = rps3_traj_eval(&c->model, &c->traj, t[i], p, dp, ddp);
     if (*trc != RPS3_OK) break;
     for (q = 0; q < 3; q++) {
-      x->pose[q * n + i] = p[q];
-      x->dpose[q * n + i] = dp[q];
-      x->ddpose[q * n + i] = ddp[q];
+      pose[q * n + i] = p[q];
+      dpose[q * n + i] = dp[q];
+      ddpose[q * n + i] = ddp[q];
     }
   }
   /* the i samples before a failure, packed to a batch of i */
   for (q = 1; i < n && q < 3; q++) {
-    memmove(x->pose + q * i, x->pose + q * n, i * sizeof(double));
-    memmove(x->dpose + q * i, x->dpose + q * n, i * sizeof(double));
-    memmove(x->ddpose + q * i, x->ddpose + q * n, i * sizeof(double));
+    memmove(pose + q * i, pose + q * n, i * sizeof(double));
+    memmove(dpose + q * i, dpose + q * n, i * sizeof(double));
+    memmove(ddpose + q * i, ddpose + q * n, i * sizeof(double));
   }
   return i;
 }
 
-/* the batch's inputs and outputs: the scratch, and the per-point values
-   of one column straight into the block at row j */
-static void batch_io(scratch *x, size_t n, out_block *b, size_t j,
-                     rps3_batch_in *in, rps3_batch_out *out) {
+/* the batch's inputs and outputs: the scratch after the poses, and the
+   per-point values of one column straight into the block at row j */
+static void batch_io(out_block *b, size_t n, size_t j, rps3_batch_in *in,
+                     rps3_batch_out *out) {
+  double *p = DDPOSE(b) + 3 * OUT_BATCH;
   memset(in, 0, sizeof *in);
   memset(out, 0, sizeof *out);
   in->n = n;
-  in->pose = x->pose;
-  in->dpose = x->dpose;
-  in->ddpose = x->ddpose;
-  out->status = x->status;
-  out->warn = x->warn;
-  out->l = x->l;
-  out->theta = x->theta;
-  out->niter = x->niter;
-  out->F = x->F;
-  out->F_effect = x->Fe;
-  out->lambda = x->lambda;
+  in->pose = POSE(b);
+  in->dpose = DPOSE(b);
+  in->ddpose = DDPOSE(b);
+  out->l = p;
+  out->theta = p += 3 * OUT_BATCH;
+  out->F = p += 3 * OUT_BATCH;
+  out->lambda = p += 3 * OUT_BATCH;
+  out->F_effect = p += 3 * OUT_BATCH;
+  out->dl = p += 3 * RPS3_NEFFECT * OUT_BATCH;
+  out->ddl = p += 3 * OUT_BATCH;
+  out->c = p + 3 * OUT_BATCH;
+  out->status = b->bi;
+  out->warn = b->bi + OUT_BATCH;
+  out->niter = b->bi + 2 * OUT_BATCH;
   out->cond = (double *)b->condition + j;
   out->energy_residual = (double *)b->energy_residual + j;
   out->transmission = (double *)b->transmission + j;
-  out->dl = x->dl;
-  out->ddl = x->ddl;
-  out->c = x->c;
   out->energy_scale = (double *)b->energy_scale + j;
   out->solve_resid = (double *)b->solve_resid + j;
 }
 
 /* the batch failed with rc at sample k + i: the case's message, without
    the batch's "point I: " */
-static int batch_failed(const rps3_data *d, int rc, const scratch *x, size_t k,
-                        size_t i, out_block *b, size_t slot,
-                        size_t *failed_at) {
+static int batch_failed(const rps3_data *d, int rc, size_t k, size_t i,
+                        out_block *b, size_t slot, size_t *failed_at) {
   const char *msg = d->err.msg, *colon = strstr(msg, ": ");
   if (strncmp(msg, "point ", 6) == 0 && colon) msg = colon + 2;
   *failed_at = k + i;
   snprintf(b->msg[slot], sizeof b->msg[slot], "t = %.9g s (sample %zu): %s: %s",
-           x->t[i], k + i, rps3_strerror(rc), msg);
+           b->bx[i], k + i, rps3_strerror(rc), msg);
   return rc;
 }
 
-static int compute_batch(const scene_case *c, rps3_data *d, size_t k0,
-                         size_t nk, out_block *b, size_t slot,
-                         size_t *failed_at) {
-  scratch x;
+/* case_compute: the samples OUT_BATCH at a time through rps3_inverse_batch,
+   which runs the vectorised kernel where it applies (closed-form theta,
+   Lagrange, the paper's effects: the numbers agree with rps3_inverse to
+   rounding, docs/library.md) and the per-point loop elsewhere (bitwise).  A
+   case still stops at its first failing sample, with the same message. */
+int case_compute(const scene_case *c, rps3_data *d, size_t k0, size_t nk,
+                 out_block *b, size_t slot, size_t *failed_at) {
   size_t k, n;
-  scratch_of(b, &x);
+  if (k0 == 0) rps3_data_reset(d);
   for (k = k0; k < k0 + nk; k += n) {
     rps3_batch_in in;
     rps3_batch_out out;
@@ -199,24 +177,37 @@ static int compute_batch(const scene_case *c, rps3_data *d, size_t k0,
        are computed first, and one of them failing is the case's first
        failure */
     n = k0 + nk - k < OUT_BATCH ? k0 + nk - k : OUT_BATCH;
-    n = batch_traj(c, &x, k, n, &trc, p, dp, ddp);
+    n = batch_traj(c, b, k, n, &trc, p, dp, ddp);
     if (n == 0)
-      return traj_failed(b, slot, trc, x.t[0], k, p, dp, ddp, failed_at);
-    batch_io(&x, n, b, j, &in, &out);
+      return traj_failed(b, slot, trc, b->bx[0], k, p, dp, ddp, failed_at);
+    batch_io(b, n, j, &in, &out);
     rc = rps3_inverse_batch(&c->model, d, &in, &out);
     if (rc == RPS3_OK && out.nfail) rc = out.status[out.first_fail];
     if (rc != RPS3_OK)
-      return batch_failed(d, rc, &x, k, out.nfail ? out.first_fail : 0, b, slot,
+      return batch_failed(d, rc, k, out.nfail ? out.first_fail : 0, b, slot,
                           failed_at);
     if (trc != RPS3_OK)
-      return traj_failed(b, slot, trc, x.t[n], k + n, p, dp, ddp, failed_at);
-    store_batch(&x, n, b, j);
+      return traj_failed(b, slot, trc, b->bx[n], k + n, p, dp, ddp, failed_at);
+    store_batch(&in, &out, b, j);
   }
   return RPS3_OK;
 }
 
-int case_compute(const scene_case *c, rps3_data *d, size_t k0, size_t nk,
-                 out_block *b, size_t slot, size_t *failed_at) {
-  if (k0 == 0) rps3_data_reset(d);
-  return compute_batch(c, d, k0, nk, b, slot, failed_at);
+rps3_data *case_workspace(rps3_data *ws[RPS3_NSOLVER], const scene_case *c,
+                          char *err, size_t errsz) {
+  int k = (int)c->model.opt.solver;
+  if (!ws[k]) {
+    int rc = rps3_data_alloc(&c->model, &ws[k]);
+    if (rc != RPS3_OK) {
+      snprintf(err, errsz, "cannot allocate a workspace: %s",
+               rps3_strerror(rc));
+      return NULL;
+    }
+  }
+  return ws[k];
+}
+
+void case_workspaces_free(rps3_data *ws[RPS3_NSOLVER]) {
+  int k;
+  for (k = 0; k < RPS3_NSOLVER; k++) rps3_data_free(ws[k]);
 }

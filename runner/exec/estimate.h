@@ -1,23 +1,15 @@
 /*
  * estimate.h - what a run will cost before it starts: the size of its
  * output file, from the plan alone (no allocation, nothing computed), and
- * its run time, from a few samples of a few cases computed and timed.
+ * its run time, from a few samples of a few cases computed and timed; and
+ * what rps3-run says and checks before a sweep starts: the jobs and who
+ * has work, and the refusals (exit 2, nothing written) of shards that
+ * cannot have work and of an output that cannot fit on its file system.
  */
 #ifndef RPS3_RUNNER_ESTIMATE_H
 #define RPS3_RUNNER_ESTIMATE_H
 
 #include "sweep.h"
-
-/*
- * Bytes of the file rps3-run writes for the plan p of s, uncompressed:
- * the fields of `fields` (out_fields_parse) in every chunk that the run
- * allocates (p->stored samples per sample field; a partial edge chunk
- * counts whole), the per-case strings, the swept
- * keys and the coordinates, plus a bound on HDF5's metadata.  With --gzip
- * the file is smaller: this is then an upper bound.  A double, because
- * absurd sweeps exceed any size_t.
- */
-double est_file_bytes(const scene *s, const sweep_plan *p, out_mask fields);
 
 /* "12.3 MB" (powers of 1000) into buf */
 const char *est_human(double bytes, char *buf, size_t sz);
@@ -32,39 +24,72 @@ typedef struct {
   size_t samples;  /* samples timed */
 } est_cost;
 
-/*
- * Time the computation: the first samples of up to 16 cases spread over
- * the sweep (6000 samples in all at most), with the runner's own per-case
- * code, on the process's CPU clock (a few ms); the writing cost is the
- * documented cost
- * per byte (estimate.c) times the file's bytes per sample, by --gzip level.
- * A case that fails is timed up to its failing sample (at least that one).
- * Returns 0, or -1 when nothing could be timed (out of memory).
- */
-int est_cost_measure(const scene *s, const sweep_plan *p, out_mask fields,
-                     int gzip, est_cost *c);
-
-/*
- * Wall seconds of a run of `samples` samples and `cases` cases on
- * `threads` worker threads (1: the calling thread computes, deflates and
- * writes), at cost c: workers compute and deflate in parallel while the
- * calling thread writes.
- */
-double est_run_seconds(const est_cost *c, double samples, double cases,
-                       int threads);
-
 /* "3.2 s", "4.1 min", "2.5 h", "3.1 days" into buf */
 const char *est_human_time(double seconds, char *buf, size_t sz);
+
+/* "about 3.2 s on 2 threads" into buf: the wall time of a run of
+   `samples` samples and `cases` cases at cost c on `threads` worker
+   threads (1: the calling thread computes, deflates and writes) */
+const char *est_when(const est_cost *c, double samples, double cases,
+                     int threads, char *buf, size_t sz);
+
+/* This process's CPU time [s]. */
+double est_cpu_now(void);
+
+/*
+ * Refuse (returns -1, said on stderr) an output of `need` bytes larger
+ * than the free space of out_path's file system, unless it is deflated
+ * (gzip: need is then an upper bound).  Returns 0 or -1.
+ */
+int est_fits(const char *out_path, double need, int gzip);
+
+/* --check's first line on stdout: the cases (`kind`: "" or "simulated: "),
+   samples, nt per case at most (the grid common or not) and size */
+void est_check_print(const char *path, const char *kind, size_t ncase,
+                     size_t npoint, size_t nt, int common, double bytes);
 
 /*
  * Before a run: unless quiet, one line on stderr with the cases (`kind`:
  * "" or "simulated "), samples, the output's estimated size `need` and
- * the run time `when`; refuse (returns -1, said why) when need exceeds
- * the free space of out_path's file system and the output is not
- * deflated (gzip 0).  Returns 0 or -1.
+ * the run time `when`; then est_fits.  Returns 0 or -1.
  */
 int est_room(const char *out_path, const char *kind, size_t ncase,
-             size_t npoint, double need, int gzip, int quiet,
-             const char *when);
+             size_t npoint, double need, int gzip, int quiet, const char *when);
+
+/* --------------------------------------------- the sweep's preflight */
+
+/* who runs: this process's rank of nrank (0 of 1 without MPI) */
+typedef struct {
+  int rank;
+  int nrank;
+  int copy;        /* --copy under mpirun: rank 0 writes a merged copy */
+  int gzip;        /* deflate level, 0 for none */
+  int quiet;       /* no size and time line before the run */
+  out_mask fields; /* the fields written (--fields) */
+} pre_opts;
+
+/*
+ * The jobs against the shards, ranks and threads (rank 0 speaks, on
+ * stderr, even with --quiet).  --shard K/N with N above the number of jobs
+ * is refused (returns -1): shards K >= jobs would compute nothing.  Ranks
+ * above the jobs (mpirun -n N is set by the allocation) and -j above the
+ * jobs of the shard are warned about.  Returns 0 or -1.
+ */
+int pre_jobs(const scene *s, const sweep_plan *p, const sweep_opts *o,
+             const pre_opts *po);
+
+/* --check's report on stdout: cases, samples, size, run time, jobs */
+void pre_check_print(const char *scene_path, const scene *s,
+                     const sweep_plan *p, const sweep_opts *o,
+                     const pre_opts *po);
+
+/*
+ * Before a run (rank 0): one line with the cases, samples, estimated size
+ * and run time; refuse (returns -1) when the estimate exceeds the free
+ * space of out_path's file system: this process writes the cases of its
+ * shard; under mpirun the parts, and with --copy rank 0's merged copy too.
+ */
+int pre_room(const scene *s, const sweep_plan *p, const sweep_opts *o,
+             const pre_opts *po, const char *out_path);
 
 #endif /* RPS3_RUNNER_ESTIMATE_H */

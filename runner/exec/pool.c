@@ -11,6 +11,7 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <unistd.h>
 
 /* a worker holds no slot */
 #define NO_SLOT ((size_t)-1)
@@ -47,10 +48,13 @@ void *pool_slot(pool_worker *w) { return w->P->job->slot[w->held]; }
 
 int pool_threaded(const pool_worker *w) { return w->P->threaded; }
 
-/* the item after i, without wrapping around (a stride as large as
-   SIZE_MAX would otherwise come back to item 0) */
-static size_t next_item(const pool_job *J, size_t i) {
-  return J->nitem - i > J->stride ? i + J->stride : J->nitem;
+size_t pool_next(size_t i, size_t stride, size_t nitem) {
+  return nitem - i > stride ? i + stride : nitem;
+}
+
+size_t pool_count(size_t nitem, size_t first, size_t stride) {
+  /* no sum that can wrap: stride may be as large as SIZE_MAX */
+  return nitem > first ? 1 + (nitem - first - 1) / stride : 0;
 }
 
 /* stop the run with this error (the first one wins); mu held */
@@ -113,7 +117,7 @@ static void *worker_main(void *arg) {
         size_t i = P->next;
         int rc;
         if (P->stop || i >= J->nitem) break;
-        P->next = next_item(J, i);
+        P->next = pool_next(i, J->stride, J->nitem);
         pthread_mutex_unlock(&P->mu);
         err[0] = '\0';
         rc = J->run(J->ctx, w->wctx, i, w, err, sizeof err);
@@ -180,62 +184,50 @@ static int run_serial(pool *P, char *err, size_t errsz) {
     snprintf(err, errsz, "out of memory");
     return -1;
   }
-  for (i = J->first; i < J->nitem && rc == 0; i = next_item(J, i))
+  for (i = J->first; i < J->nitem && rc == 0;
+       i = pool_next(i, J->stride, J->nitem))
     rc = J->run(J->ctx, w.wctx, i, &w, err, errsz);
   if (J->worker_end) J->worker_end(J->ctx, w.wctx);
   return rc;
 }
 
-/* start nthread workers with the signals blocked; 0, or -1 when one
-   could not start (the run is then stopped) */
-static int start_workers(pool *P, pool_worker *w, pthread_t *tid, int nthread,
-                         int *started) {
-  sigset_t all, old;
-  int rc = 0;
-  /* workers take no signals: the handlers run on the calling thread */
-  sigfillset(&all);
-  pthread_sigmask(SIG_BLOCK, &all, &old);
-  for (*started = 0; *started < nthread; ++*started) {
-    pool_worker *wk = &w[*started];
-    wk->P = P;
-    wk->held = NO_SLOT;
-    pthread_mutex_lock(&P->mu);
-    P->nactive++;
-    pthread_mutex_unlock(&P->mu);
-    if (pthread_create(&tid[*started], NULL, worker_main, wk)) {
-      pthread_mutex_lock(&P->mu);
-      P->nactive--;
-      pool_fail(P, "cannot start a thread");
-      pthread_mutex_unlock(&P->mu);
-      rc = -1;
-      break;
-    }
-  }
-  pthread_sigmask(SIG_SETMASK, &old, NULL);
-  return rc;
-}
-
-/* the workers, the writer on this thread, then the join */
+/* the workers (started with the signals blocked: the handlers run on the
+   calling thread), the writer on this thread, then the join */
 static int run_threads(pool *P, int nthread, char *err, size_t errsz) {
   pool_worker *w = calloc((size_t)nthread, sizeof *w);
   pthread_t *tid = calloc((size_t)nthread, sizeof *tid);
-  int started = 0, i;
-  if (!w || !tid) {
-    free(w);
-    free(tid);
-    snprintf(err, errsz, "out of memory");
-    return -1;
+  sigset_t all, old;
+  int started;
+  pthread_mutex_lock(&P->mu);
+  if (!w || !tid) pool_fail(P, "out of memory");
+  pthread_mutex_unlock(&P->mu);
+  sigfillset(&all);
+  pthread_sigmask(SIG_BLOCK, &all, &old);
+  for (started = 0; w && tid && started < nthread; started++) {
+    w[started].P = P;
+    w[started].held = NO_SLOT;
+    pthread_mutex_lock(&P->mu);
+    P->nactive++;
+    if (pthread_create(&tid[started], NULL, worker_main, &w[started])) {
+      P->nactive--;
+      pool_fail(P, "cannot start a thread");
+      pthread_mutex_unlock(&P->mu);
+      break;
+    }
+    pthread_mutex_unlock(&P->mu);
   }
-  start_workers(P, w, tid, nthread, &started);
+  pthread_sigmask(SIG_SETMASK, &old, NULL);
   pool_write(P);
-  for (i = 0; i < started; i++) pthread_join(tid[i], NULL);
+  while (started > 0) pthread_join(tid[--started], NULL);
   free(w);
   free(tid);
   if (P->stop) snprintf(err, errsz, "%s", P->err);
   return P->stop ? -1 : 0;
 }
 
-int pool_run(const pool_job *job, int nthread, char *err, size_t errsz) {
+/* pool_run with the job's slots */
+static int pool_start(const pool_job *job, int nthread, char *err,
+                      size_t errsz) {
   pool P;
   size_t i;
   int rc = -1;
@@ -250,16 +242,16 @@ int pool_run(const pool_job *job, int nthread, char *err, size_t errsz) {
   }
   if (!P.threaded) return run_serial(&P, err, errsz);
   P.nslot = pool_nslot(nthread);
-  P.free_ix = calloc(P.nslot, sizeof *P.free_ix);
-  P.ready_ix = calloc(P.nslot, sizeof *P.ready_ix);
-  P.ready_info = calloc(P.nslot, job->info_size ? job->info_size : 1);
-  if (!P.free_ix || !P.ready_ix || !P.ready_info)
+  /* the free stack, the ready ring and its infos in one block */
+  if (!(P.free_ix = calloc(P.nslot, 2 * sizeof(size_t) + job->info_size)))
     snprintf(err, errsz, "out of memory");
   else if (pthread_mutex_init(&P.mu, NULL) ||
            pthread_cond_init(&P.ready_cv, NULL) ||
            pthread_cond_init(&P.free_cv, NULL))
     snprintf(err, errsz, "cannot set up the threads");
   else {
+    P.ready_ix = P.free_ix + P.nslot;
+    P.ready_info = (unsigned char *)(P.ready_ix + P.nslot);
     for (i = 0; i < P.nslot; i++) P.free_ix[P.nfree++] = i;
     rc = run_threads(&P, nthread, err, errsz);
     pthread_cond_destroy(&P.free_cv);
@@ -267,7 +259,36 @@ int pool_run(const pool_job *job, int nthread, char *err, size_t errsz) {
     pthread_mutex_destroy(&P.mu);
   }
   free(P.free_ix);
-  free(P.ready_ix);
-  free(P.ready_info);
   return rc;
+}
+
+int pool_run(const pool_job *job, int nthread, char *err, size_t errsz) {
+  pool_job J = *job;
+  unsigned char *mem;
+  size_t i, n = pool_nslot(nthread);
+  int rc = -1;
+  if (job->slot) return pool_start(job, nthread, err, errsz);
+  J.slot = calloc(n, sizeof *J.slot);
+  mem = calloc(n, job->slot_size);
+  for (i = 0; J.slot && mem && i < n; i++) J.slot[i] = mem + i * job->slot_size;
+  for (i = 0; J.slot && mem && i < n; i++)
+    if (job->slot_make(job->ctx, J.slot[i], i)) break;
+  if (J.slot && mem && i == n) rc = pool_start(&J, nthread, err, errsz);
+  for (i = 0; J.slot && mem && i < n; i++)
+    job->slot_free(job->ctx, J.slot[i], i);
+  free(mem);
+  free(J.slot);
+  return rc;
+}
+
+int pool_cores(int nthread, int say) {
+  long cores = sysconf(_SC_NPROCESSORS_ONLN);
+  if (cores < 1 || nthread <= cores) return nthread;
+  if (say)
+    fprintf(stderr,
+            "rps3-run: warning: -j %d on %ld core%s: computing on %ld "
+            "thread%s\n",
+            nthread, cores, cores == 1 ? "" : "s", cores,
+            cores == 1 ? "" : "s");
+  return (int)cores;
 }

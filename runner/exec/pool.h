@@ -1,19 +1,16 @@
 /*
  * pool.h - the runner's one worker pool.  A job is a set of items (the
- * inverse sweep's jobs of whole cases or windows, the simulation's cases,
- * ...) computed on worker threads into the job's slots (tile buffers); each
+ * inverse sweep's jobs, the simulation's cases, the design study's units)
+ * computed on worker threads into the job's slots (tile buffers); each
  * filled slot goes to the calling thread, the only one that writes (HDF5 is
  * not thread-safe), and comes back free.  The slots circulate, so memory is
  * bounded by them whatever the number of items; an item depends on nothing
  * but its index, so what is written does not depend on the threads.
  *
  * The pool stops at the first error a callback returns (out of memory, a
- * write that failed): the workers finish the slot they hold and end, and
- * pool_run returns that first error.  A case that fails numerically is not
- * an error of the pool: the job records it in its slot (status, message)
- * and the other cases go on.  The workers block the signals, so that the
- * handlers of core/signals.h (remove the temporary file, die) run on the
- * calling thread.
+ * failed write); a case that fails numerically is not one: the job records
+ * it in its slot and goes on.  The workers block the signals, so that the
+ * handlers of core/tmpout.h run on the calling thread.
  */
 #ifndef RPS3_RUNNER_POOL_H
 #define RPS3_RUNNER_POOL_H
@@ -28,8 +25,14 @@ typedef struct {
   /* the items first, first + stride, ... below nitem (stride 1: all; a
      shard's items otherwise) */
   size_t nitem, first, stride;
-  /* the slots: pool_nslot(nthread) of them, allocated by the caller */
+  /* the slots: pool_nslot(nthread) of them, allocated by the caller; or,
+     when slot is NULL, by pool_run: slot_size bytes each, zeroed, each
+     made by slot_make (0, or -1: out of memory) and freed by slot_free
+     (made or not) */
   void **slot;
+  size_t slot_size;
+  int (*slot_make)(void *ctx, void *slot, size_t i);
+  void (*slot_free)(void *ctx, void *slot, size_t i);
   /* bytes of what describes a filled slot (pool_emit's info), copied with
      it to the writer; at most POOL_INFO_MAX */
   size_t info_size;
@@ -59,9 +62,23 @@ size_t pool_nslot(int nthread);
  * Run every item of job on nthread worker threads (1: on the calling
  * thread, each slot written as soon as it is emitted).  Returns 0, or -1
  * with err set to the first error (a callback's, or "cannot start a
- * thread", "out of memory").
+ * thread", "out of memory"; err as the caller set it when a slot cannot
+ * be made).
  */
 int pool_run(const pool_job *job, int nthread, char *err, size_t errsz);
+
+/* The item after i of nitem items, stride apart, or nitem when none:
+   without wrapping around (a stride as large as SIZE_MAX, --shard
+   1/18446744073709551615, would otherwise come back to item 0). */
+size_t pool_next(size_t i, size_t stride, size_t nitem);
+
+/* Items of nitem from `first`, stride apart: a shard's. */
+size_t pool_count(size_t nitem, size_t first, size_t stride);
+
+/* At most one thread per core: -j beyond them computes nothing faster,
+   and each thread holds a slot and a workspace (said on stderr when
+   `say`). */
+int pool_cores(int nthread, int say);
 
 /* The slot worker w fills now (inside job->run). */
 void *pool_slot(pool_worker *w);

@@ -1,35 +1,48 @@
 /*
- * sim_run.c - one simulated case (simulate.h), window by window into the
- * tiles of sim_run.h; the whole run is sim_main.c's, a job of the worker
- * pool (pool.h).
+ * sim_run.c - rps3-run on a simulated scene (simulate.h): check every
+ * case, then simulate them as a job of the worker pool (pool.h: its items
+ * the cases, its slots windows of samples, on this thread or on -j
+ * threads) into the file of sim_output.h, under a temporary name renamed
+ * when complete (tmpout.h).  Only the thread that created the file calls
+ * HDF5.
  */
-#include "sim_run.h"
 #include "core/exit_codes.h"
-#include "core/safeio.h"
 #include "core/tmpout.h"
 #include "estimate.h"
+#include "output/sim_output.h"
+#include "pool.h"
+#include "simulate.h"
 #include "sweep.h"
 
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
-#include <time.h>
-#include <unistd.h>
 
-/* the workspaces of one case */
+/* samples per window (and chunk) of a case: memory does not grow with the
+   length of a case */
+#define SIM_WINDOW 4096
+
+/* the estimate's pilot: up to PILOT_CASES cases spread over the sweep,
+   each simulated for PILOT_SAMPLES samples at most and within a budget of
+   PILOT_WORK control periods or steps and PILOT_CPU CPU seconds, whichever
+   ends first, so that the estimate's own work is bounded whatever the
+   rate, step and duration; advanced in chunks of PILOT_CHUNK of them */
+#define PILOT_SAMPLES 400
+#define PILOT_CASES 4
+#define PILOT_WORK 20000.0
+#define PILOT_CHUNK 256.0
+#define PILOT_CPU 0.2
+
+/* a window on its way to the file: a slot of the pool */
 typedef struct {
-  rps3_sim *sim;
-  rps3_ctrl *ctrl;
-  rps3_data *ref; /* the reference motion, on the plant's geometry */
-} sim_work;
-
-static void work_free(sim_work *wk) {
-  rps3_sim_free(wk->sim);
-  rps3_ctrl_free(wk->ctrl);
-  rps3_data_free(wk->ref);
-  memset(wk, 0, sizeof *wk);
-}
+  sim_window w;  /* samples [k0, k0 + nk) of case c */
+  double *times; /* their times [points] */
+  size_t c, k0, nk;
+  int last; /* 1: the case's last window; v holds its values */
+  sim_case_values v;
+  scene_text yaml; /* storage of v.scene_resolved */
+} sim_tile;
 
 /* the reference at t: the trajectory, after its span its final pose at
    rest, through the closed-form inverse kinematics */
@@ -85,32 +98,28 @@ static void store(sim_window *w, sim_case_values *v, size_t j,
    the controller's own when it was the controller that failed */
 static void failure(sim_case_values *w, const sim_work *wk, int st, size_t k,
                     double t_k) {
-  const rps3_sim *sim = wk->sim;
   const rps3_data *meas = rps3_ctrl_measured(wk->ctrl);
   const rps3_data *des = rps3_ctrl_desired(wk->ctrl);
+  const char *msg = rps3_sim_data(wk->sim)->err.msg;
   const char *why = meas && meas->err.code != RPS3_OK ? meas->err.msg
                     : des && des->err.code != RPS3_OK ? des->err.msg
                                                       : "";
-  double t = isnan(rps3_sim_now(sim)->failed_at) ? t_k : rps3_sim_now(sim)->failed_at;
+  double t = rps3_sim_now(wk->sim)->failed_at;
+  int ctrl = why[0] && strstr(msg, "controller");
   w->status = st;
   w->failed_at = (int32_t)k;
-  w->failed_time = t;
+  w->failed_time = t = isnan(t) ? t_k : t;
   snprintf(w->message, sizeof w->message,
-           "t = %.9g s (before sample %zu): "
-           "%s: %s%s%s%s",
-           t, k, rps3_strerror(st), rps3_sim_data(sim)->err.msg,
-           why[0] && strstr(rps3_sim_data(sim)->err.msg, "controller") ? " (" : "",
-           why[0] && strstr(rps3_sim_data(sim)->err.msg, "controller") ? why : "",
-           why[0] && strstr(rps3_sim_data(sim)->err.msg, "controller") ? ")" : "");
+           "t = %.9g s (before sample %zu): %s: %s%s%s%s", t, k,
+           rps3_strerror(st), msg, ctrl ? " (" : "", ctrl ? why : "",
+           ctrl ? ")" : "");
 }
 
-/*
- * Where to advance for sample time t: the tick at t when t is one up to
- * rounding (k dt and k / rate differ in the last bit), so that the tick
- * at t is served by the next advance and the force stored with sample t
- * is the one held over the control period ending at t.  Within the
- * library's own slack (TICK_SLACK of src/sim.c, 1e-6 periods).
- */
+/* Where to advance for sample time t: the tick at t when t is one up to
+   rounding (k dt and k / rate differ in the last bit), so that the tick
+   at t is served by the next advance and the force stored with sample t
+   is the one held over the control period ending at t.  Within the
+   library's own slack (TICK_SLACK of src/sim.c, 1e-6 periods). */
 static double tick_time(double t, double rate) {
   double j;
   if (!(rate > 0)) return t;
@@ -118,44 +127,58 @@ static double tick_time(double t, double rate) {
   return fabs(t - j / rate) <= 1e-6 / rate ? j / rate : t;
 }
 
-int sim_tile_alloc(sim_tile *t, size_t points) {
-  memset(t, 0, sizeof *t);
-  if (sim_window_alloc(&t->w, points) ||
-      !(t->times = malloc(points * sizeof *t->times))) {
-    sim_window_free(&t->w);
-    return -1;
-  }
-  return 0;
+/* a simulation as a job of the pool */
+typedef struct {
+  const scene *s;
+  const sim_plan *p;
+  out_file *f;
+  progress *pr;
+  size_t points; /* samples of a window */
+  sweep_stats st;
+} sim_job;
+
+/* pool_job.slot_make, slot_free: a window's buffers */
+static int tile_make(void *ctx, void *slot, size_t i) {
+  sim_tile *t = slot;
+  size_t n = ((const sim_job *)ctx)->points;
+  (void)i;
+  if (sim_window_alloc(&t->w, n)) return -1;
+  t->times = malloc(n * sizeof *t->times);
+  return t->times ? 0 : -1;
 }
 
-void sim_tile_free(sim_tile *t) {
+static void tile_free(void *ctx, void *slot, size_t i) {
+  sim_tile *t = slot;
+  (void)ctx;
+  (void)i;
   sim_window_free(&t->w);
   free(t->times);
   scene_text_free(&t->yaml);
-  memset(t, 0, sizeof *t);
 }
 
-/* the simulation of case c and its controller, started on the trajectory
-   (plus the start offset); 0, or -1 (memory: the plan built this case
-   already) */
-static int start(const scene_case *c, const sim_case *sc, sim_work *wk,
-                 rps3_controller *ctl, int *st, char *err, size_t errsz) {
+/* case i built and its simulation and controller started on the
+   trajectory (plus the start offset), *st the start's status; 0, or -1
+   (memory: the plan built this case already) */
+static int start(const scene *s, size_t i, scene_case *c, sim_case *sc,
+                 sim_work *wk, rps3_controller *ctl, int *st, char *err,
+                 size_t errsz) {
   double pose[3], dpose[3];
-  char msg[320] = "out of memory";
-  int i;
+  scene_error serr;
+  int k;
   memset(wk, 0, sizeof *wk);
-  if (rps3_sim_alloc(&c->model, &sc->opt, &wk->sim, msg, sizeof msg) ||
-      rps3_ctrl_alloc(sc->kind, sc->kp, sc->kd, &sc->ctrl_model, &c->traj,
-                      &wk->ctrl, msg, sizeof msg) ||
-      rps3_data_alloc(&c->model, &wk->ref)) {
-    snprintf(err, errsz, "case %zu: %s", c->index, msg);
-    work_free(wk);
+  if (scene_case_build(s, i, c, &serr) || sim_case_build(s, c, sc, wk, &serr)) {
+    snprintf(err, errsz, "case %zu: %s", i, serr.what);
+    return -1;
+  }
+  if (rps3_data_alloc(&c->model, &wk->ref)) {
+    snprintf(err, errsz, "case %zu: out of memory", i);
+    sim_work_free(wk);
     return -1;
   }
   *ctl = rps3_ctrl_bind(wk->ctrl, sc->rate);
   /* from the trajectory's start, at its rates */
   *st = rps3_traj_eval(&c->model, &c->traj, 0.0, pose, dpose, NULL);
-  for (i = 0; i < 3; i++) pose[i] += c->v.sim.start_offset[i];
+  for (k = 0; k < 3; k++) pose[k] += c->v.sim.start_offset[k];
   if (*st == RPS3_OK) *st = rps3_sim_start(wk->sim, 0.0, pose, dpose);
   return 0;
 }
@@ -172,22 +195,21 @@ static sim_tile *flush(pool_worker *w, sim_tile *t, size_t c, size_t k0,
   return pool_emit(w, NULL, err, errsz);
 }
 
-int sim_run_case(const scene *s, size_t i, pool_worker *w, char *err,
-                 size_t errsz) {
+/* pool_job.run: case i on worker w, window by window into its slots;
+   0, or -1 when the pool stopped or memory ran out (err set) */
+static int sim_item(void *ctx, void *wctx, size_t i, pool_worker *w, char *err,
+                    size_t errsz) {
+  const sim_job *J = ctx;
   sim_tile *t = pool_slot(w);
   scene_case c;
   sim_case sc;
-  scene_error serr;
   sim_work wk;
   rps3_controller ctl;
   sim_case_values v;
   size_t n, j = 0, k0 = 0;
   int st;
-  if (scene_case_build(s, i, &c, &serr) || sim_case_build(s, &c, &sc, &serr)) {
-    snprintf(err, errsz, "case %zu: %s", i, serr.what);
-    return -1;
-  }
-  if (start(&c, &sc, &wk, &ctl, &st, err, errsz)) return -1;
+  (void)wctx;
+  if (start(J->s, i, &c, &sc, &wk, &ctl, &st, err, errsz)) return -1;
   memset(&v, 0, sizeof v);
   v.failed_time = (double)NAN;
   v.failed_at = -1;
@@ -196,8 +218,8 @@ int sim_run_case(const scene *s, size_t i, pool_worker *w, char *err,
     if (st == RPS3_OK && n > 0)
       /* a tick just behind the state (samples closer than the slack) is
          the state's time: the library refuses a t_end before it */
-      st = rps3_sim_advance(wk.sim, &ctl,
-                            fmax(tick_time(tn, sc.rate), rps3_sim_now(wk.sim)->t));
+      st = rps3_sim_advance(
+          wk.sim, &ctl, fmax(tick_time(tn, sc.rate), rps3_sim_now(wk.sim)->t));
     if (st == RPS3_OK) st = reference(&c, wk.ref, tn);
     if (st != RPS3_OK) {
       failure(&v, &wk, st, n, tn);
@@ -215,7 +237,7 @@ int sim_run_case(const scene *s, size_t i, pool_worker *w, char *err,
   v.nevals = rps3_sim_now(wk.sim)->nevals;
   v.nticks = rps3_sim_now(wk.sim)->nticks;
   v.nsat = rps3_sim_now(wk.sim)->nsat;
-  work_free(&wk);
+  sim_work_free(&wk);
   /* the samples up to the end or the failure (those after a failure keep
      the fill, NaN), with the case's values and its resolved scene */
   if (t && scene_case_yaml(&c, &t->yaml)) {
@@ -229,18 +251,23 @@ int sim_run_case(const scene *s, size_t i, pool_worker *w, char *err,
   return t ? 0 : -1;
 }
 
-/* the first failed case's reason on stderr (progress_failure) */
-void sim_failure(const scene *s, progress *pr, const sim_tile *t) {
-  char what[512];
-  if (pr->failure_shown) return;
-  sweep_case_label(s, t->c, what, sizeof what);
-  progress_failure(pr, t->c, what, t->v.message);
-}
-
-static double cpu_seconds(void) {
-  struct timespec ts;
-  clock_gettime(CLOCK_PROCESS_CPUTIME_ID, &ts);
-  return (double)ts.tv_sec + 1e-9 * (double)ts.tv_nsec;
+/* pool_job.write: one window (and the case's values with its last one) to
+   the file, counted */
+static int sim_write(void *ctx, void *slot, const void *info, char *err,
+                     size_t errsz) {
+  sim_job *J = ctx;
+  const sim_tile *t = slot;
+  (void)info;
+  if ((t->nk > 0 &&
+       sim_file_window(J->f, &t->w, t->c, t->k0, t->nk,
+                       J->p->common ? NULL : t->times, err, errsz)) ||
+      (t->last && sim_file_case(J->f, &t->v, t->c, err, errsz)))
+    return -1;
+  J->st.points_done += t->nk;
+  if (t->last && t->v.status != RPS3_OK)
+    sweep_failure(J->s, J->pr, t->c, t->v.message);
+  if (t->last) sweep_count(J->pr, &J->st, 1, 0, t->v.status != RPS3_OK);
+  return 0;
 }
 
 /* control periods or integrator steps a simulated second of case sc (the
@@ -250,37 +277,32 @@ static double work_rate(const sim_case *sc) {
   return sc->rate > steps ? sc->rate : steps;
 }
 
-/*
- * Case i simulated as the run does (its samples' references included) up
- * to the pilot's budget: adds the CPU seconds and the simulated seconds it
- * covered to *cpu and *sim, the samples to *samples.  -1 when the case
- * cannot be set up (memory).
- */
-int sim_pilot_case(const scene *s, size_t i, double *cpu, double *sim,
-                   size_t *samples) {
+/* Case i simulated as the run does (its samples' references included) up
+   to the pilot's budget: adds the CPU seconds and the simulated seconds it
+   covered to *cpu and *sim, the samples to *samples.  -1 when the case
+   cannot be set up (memory). */
+static int pilot_case(const scene *s, size_t i, double *cpu, double *sim,
+                      size_t *samples) {
   scene_case c;
   sim_case sc;
-  scene_error serr;
   sim_work wk;
   rps3_controller ctl;
-  double c0 = cpu_seconds(), t_stop, chunk, t = 0.0;
+  double c0 = est_cpu_now(), t_stop, chunk, t = 0.0;
   size_t n, nrun;
   int st;
   char err[256];
-  if (scene_case_build(s, i, &c, &serr) || sim_case_build(s, &c, &sc, &serr))
-    return -1;
-  if (start(&c, &sc, &wk, &ctl, &st, err, sizeof err)) return -1;
+  if (start(s, i, &c, &sc, &wk, &ctl, &st, err, sizeof err)) return -1;
   nrun = sc.nt < PILOT_SAMPLES ? sc.nt : PILOT_SAMPLES;
   t_stop = PILOT_WORK / work_rate(&sc);
   chunk = PILOT_CHUNK / work_rate(&sc);
   for (n = 0; n < nrun && st == RPS3_OK; n++) {
-    double tn = sim_case_time(&c, &sc, n);
+    double tn = sim_case_time(&c, &sc, n), now;
     if (n > 0) tn = tick_time(tn, sc.rate);
     /* the sample's time in chunks, each against the budget */
-    while (st == RPS3_OK && rps3_sim_now(wk.sim)->t < tn) {
-      t = rps3_sim_now(wk.sim)->t + chunk < tn ? rps3_sim_now(wk.sim)->t + chunk : tn;
-      if (t > t_stop) t = t_stop > rps3_sim_now(wk.sim)->t ? t_stop : rps3_sim_now(wk.sim)->t;
-      if (t <= rps3_sim_now(wk.sim)->t || cpu_seconds() - c0 > PILOT_CPU) break;
+    while (st == RPS3_OK && (now = rps3_sim_now(wk.sim)->t) < tn) {
+      t = now + chunk < tn ? now + chunk : tn;
+      if (t > t_stop) t = t_stop > now ? t_stop : now;
+      if (t <= now || est_cpu_now() - c0 > PILOT_CPU) break;
       st = rps3_sim_advance(wk.sim, &ctl, t);
     }
     if (st != RPS3_OK || rps3_sim_now(wk.sim)->t < tn) break;
@@ -288,7 +310,130 @@ int sim_pilot_case(const scene *s, size_t i, double *cpu, double *sim,
     ++*samples;
   }
   *sim += rps3_sim_now(wk.sim)->t;
-  *cpu += cpu_seconds() - c0;
-  work_free(&wk);
+  *cpu += est_cpu_now() - c0;
+  sim_work_free(&wk);
   return 0;
+}
+
+/* The run time of the plan on nthread threads into buf: the pilot's cases
+   (their controllers, integrators and steps differ), timed on the
+   process's CPU clock, and the CPU time a simulated second extrapolated
+   to the plan's simulated time, writing not counted (a simulated sample
+   costs some 100 times more than writing its 350 bytes). */
+static void run_time(const scene *s, const sim_plan *p, int nthread, char *buf,
+                     size_t sz) {
+  est_cost c;
+  size_t q, last = (size_t)-1, samples = 0;
+  double cpu = 0.0, sim = 0.0;
+  char when[64];
+  for (q = 0; q < PILOT_CASES; q++) {
+    size_t i = (s->ncase - 1) * q / (PILOT_CASES - 1);
+    if (i == last) continue;
+    last = i;
+    if (pilot_case(s, i, &cpu, &sim, &samples)) {
+      snprintf(buf, sz, "run time not estimated (out of memory)");
+      return;
+    }
+  }
+  if (!(sim > 0.0)) {
+    snprintf(buf, sz,
+             "run time not estimated (the cases timed stop at their start)");
+    return;
+  }
+  /* est_when's unit of work: a simulated second */
+  memset(&c, 0, sizeof c);
+  c.sample = cpu / sim;
+  snprintf(
+      buf, sz,
+      "run time %s (an estimate: %.3g s a simulated second, timed on "
+      "%.3g simulated s, %zu sample%s)",
+      est_when(&c, p->seconds, (double)s->ncase, nthread, when, sizeof when),
+      c.sample, sim, samples, samples == 1 ? "" : "s");
+}
+
+/* every case into the file under its temporary name on nthread threads,
+   renamed when complete: the exit code */
+static int sim_write_file(const scene *s, const sim_plan *p, const sim_args *a,
+                          int nthread) {
+  sim_job J;
+  pool_job job;
+  progress pr;
+  double *times = NULL;
+  size_t k;
+  int rc = -1;
+  char err[768] = "out of memory";
+  tmpout_clean(a->out_path, 0, 1);
+  if (tmpout_name(a->out_path, 0)) return EXIT_USAGE;
+  tmpout_arm();
+  progress_start(&pr, s->ncase, a->quiet);
+  pr.npoint = p->npoint;
+  memset(&J, 0, sizeof J);
+  J.s = s;
+  J.p = p;
+  J.pr = &pr;
+  J.points = p->nt < SIM_WINDOW ? p->nt : SIM_WINDOW;
+  /* the common time axis, or none (the grid differs by case) */
+  if (!p->common || (times = malloc(p->nt * sizeof *times))) {
+    for (k = 0; times && k < p->nt; k++)
+      times[k] = sim_case_time(&p->first, &p->sfirst, k);
+    J.f = sim_file_create(tmpout_path(), s, p->nt, times, J.points, a->gzip,
+                          a->command_line, err, sizeof err);
+  }
+  free(times);
+  memset(&job, 0, sizeof job);
+  job.ctx = &J;
+  job.nitem = s->ncase;
+  job.stride = 1;
+  job.slot_size = sizeof(sim_tile);
+  job.slot_make = tile_make;
+  job.slot_free = tile_free;
+  job.run = sim_item;
+  job.write = sim_write;
+  if (J.f) {
+    snprintf(err, sizeof err, "out of memory");
+    rc = pool_run(&job, nthread, err, sizeof err);
+    if (out_close(J.f, rc ? NULL : err, sizeof err) && rc == 0) rc = -1;
+  }
+  if (rc) fprintf(stderr, "rps3-run: %s: %s\n", a->out_path, err);
+  if (rc || tmpout_commit(a->out_path)) {
+    tmpout_discard();
+    return EXIT_IO;
+  }
+  progress_finish(&pr, s->ncase, p->npoint, J.st.nfailed);
+  return J.st.nfailed ? EXIT_FAILED_CASES : EXIT_OK;
+}
+
+int sim_main(const scene *s, const sim_args *a) {
+  sim_plan p;
+  scene_error serr;
+  double need;
+  int nthread;
+  char when[160] = "";
+  if (sim_plan_make(s, &p, &serr)) {
+    scene_error_print(s->file, &serr);
+    return EXIT_USAGE;
+  }
+  need = sim_file_bytes(s->ncase, p.npoint);
+  if (a->sharded && !a->check) {
+    fprintf(stderr,
+            "rps3-run: %s: a simulated scene runs as one process: "
+            "--shard, --resume and rps3-run-mpi are not supported "
+            "(split the sweep into scenes instead)\n",
+            s->file);
+    return EXIT_USAGE;
+  }
+  /* -j beyond the cores or the cases computes nothing faster */
+  nthread = pool_cores(a->nthread, 1);
+  if ((size_t)nthread > s->ncase) nthread = (int)s->ncase;
+  if (a->check || !a->quiet) run_time(s, &p, nthread, when, sizeof when);
+  if (a->check) {
+    est_check_print(s->file, "simulated: ", s->ncase, p.npoint, p.nt, p.common,
+                    need);
+    printf("%s\n", when);
+    return EXIT_OK;
+  }
+  if (est_room(a->out_path, "simulated ", s->ncase, p.npoint, need, a->gzip,
+               a->quiet, when))
+    return EXIT_USAGE;
+  return sim_write_file(s, &p, a, nthread);
 }

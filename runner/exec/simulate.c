@@ -21,27 +21,23 @@
 static void key_error(const scene *s, size_t index, int k, const char *msg,
                       scene_error *err) {
   size_t a;
-  char what[sizeof err->what];
-  if (s->naxis > 0)
-    snprintf(what, sizeof what, "case %zu: %s", index, msg);
-  else
-    snprintf(what, sizeof what, "%s", msg);
   memset(err, 0, sizeof *err);
-  for (a = 0; k >= 0 && a < s->naxis; a++)
-    if (s->axis[a].key == k) {
-      err->mark = s->axis[a].mark[scene_case_coord(s, index, a)];
-      snprintf(err->path, sizeof err->path, "%s", s->axis[a].path);
-      snprintf(err->what, sizeof err->what, "%s", what);
-      return;
-    }
-  if (k >= 0 && s->given[k]) {
+  if (s->naxis > 0)
+    snprintf(err->what, sizeof err->what, "case %zu: %s", index, msg);
+  else
+    snprintf(err->what, sizeof err->what, "%s", msg);
+  for (a = 0; k >= 0 && a < s->naxis && s->axis[a].key != k; a++)
+    ;
+  if (k >= 0 && a < s->naxis) {
+    err->mark = s->axis[a].mark[scene_case_coord(s, index, a)];
+    snprintf(err->path, sizeof err->path, "%s", s->axis[a].path);
+  } else if (k >= 0 && s->given[k]) {
     err->mark = s->mark[k];
     snprintf(err->path, sizeof err->path, "%s", scene_key_get(k)->path);
   } else {
     err->mark = s->simulate;
     snprintf(err->path, sizeof err->path, "simulate");
   }
-  snprintf(err->what, sizeof err->what, "%s", what);
 }
 
 /* the key a library message "simulate.NAME = VALUE: why" is about */
@@ -166,10 +162,18 @@ static void case_options(const scene_sim *v, sim_case *sc) {
   sc->opt.seed = (unsigned long)v->seed;
 }
 
+void sim_work_free(sim_work *wk) {
+  rps3_sim_free(wk->sim);
+  rps3_ctrl_free(wk->ctrl);
+  rps3_data_free(wk->ref);
+  memset(wk, 0, sizeof *wk);
+}
+
 /* the library's own checks of the options, the rate over the run and the
-   controller: a status, with msg */
-static int library_checks(const scene_case *c, const sim_case *sc, char *msg,
-                          size_t sz) {
+   controller: a status, with msg; the simulation and controller kept in
+   wk when it is not NULL and they pass */
+static int library_checks(const scene_case *c, const sim_case *sc, sim_work *wk,
+                          char *msg, size_t sz) {
   rps3_sim *sim = NULL;
   rps3_ctrl *ctrl = NULL;
   int st = rps3_sim_alloc(&c->model, &sc->opt, &sim, msg, sz);
@@ -191,6 +195,11 @@ static int library_checks(const scene_case *c, const sim_case *sc, char *msg,
   if (st == RPS3_OK)
     st = rps3_ctrl_alloc(sc->kind, sc->kp, sc->kd, &sc->ctrl_model, &c->traj,
                          &ctrl, msg, sz);
+  if (wk && st == RPS3_OK) {
+    wk->sim = sim;
+    wk->ctrl = ctrl;
+    return st;
+  }
   rps3_sim_free(sim);
   rps3_ctrl_free(ctrl);
   return st;
@@ -213,7 +222,7 @@ static void library_error(const scene *s, const scene_case *c, int st,
 }
 
 int sim_case_build(const scene *s, const scene_case *c, sim_case *sc,
-                   scene_error *err) {
+                   sim_work *wk, scene_error *err) {
   const int inertia =
       RPS3_EFF_PLATFORM_INERTIA | RPS3_EFF_LINK_INERTIA | RPS3_EFF_PAYLOAD;
   int st;
@@ -230,7 +239,7 @@ int sim_case_build(const scene *s, const scene_case *c, sim_case *sc,
   }
   case_options(&c->v.sim, sc);
   if (ctrl_model(s, c, sc, err) || grid(s, c, sc, err)) return -1;
-  st = library_checks(c, sc, msg, sizeof msg);
+  st = library_checks(c, sc, wk, msg, sizeof msg);
   if (st != RPS3_OK) {
     library_error(s, c, st, msg, err);
     return -1;
@@ -253,21 +262,25 @@ static int same_grid(const scene_case *a, const sim_case *sa,
          a->by_dt == b->by_dt;
 }
 
+/* the first axis that sweeps a simulate key, or s->naxis */
+static size_t sim_axis(const scene *s) {
+  size_t a;
+  for (a = 0; a < s->naxis; a++)
+    if (scene_key_get(s->axis[a].key)->src == SRC_SIM) break;
+  return a;
+}
+
 /* a sweep of simulate.* keys in a scene without the section is refused */
 static int section_rule(const scene *s, scene_error *err) {
-  size_t a;
-  if (s->simulate.line > 0) return 0;
-  for (a = 0; a < s->naxis; a++)
-    if (scene_key_get(s->axis[a].key)->src == SRC_SIM) {
-      memset(err, 0, sizeof *err);
-      err->mark = s->axis[a].mark[0];
-      snprintf(err->path, sizeof err->path, "%s", s->axis[a].path);
-      snprintf(err->what, sizeof err->what,
-               "a simulate key, but the scene has no simulate section: add "
-               "`simulate: {}` to simulate with the defaults");
-      return -1;
-    }
-  return 0;
+  size_t a = sim_axis(s);
+  if (s->simulate.line > 0 || a == s->naxis) return 0;
+  memset(err, 0, sizeof *err);
+  err->mark = s->axis[a].mark[0];
+  snprintf(err->path, sizeof err->path, "%s", s->axis[a].path);
+  snprintf(err->what, sizeof err->what,
+           "a simulate key, but the scene has no simulate section: add "
+           "`simulate: {}` to simulate with the defaults");
+  return -1;
 }
 
 int sim_plan_make(const scene *s, sim_plan *p, scene_error *err) {
@@ -278,7 +291,8 @@ int sim_plan_make(const scene *s, sim_plan *p, scene_error *err) {
   p->common = 1;
   if (section_rule(s, err)) return -1;
   for (i = 0; i < s->ncase; i++) {
-    if (scene_case_build(s, i, &c, err) || sim_case_build(s, &c, &sc, err))
+    if (scene_case_build(s, i, &c, err) ||
+        sim_case_build(s, &c, &sc, NULL, err))
       return -1;
     if (i == 0) {
       p->first = c;
@@ -293,9 +307,5 @@ int sim_plan_make(const scene *s, sim_plan *p, scene_error *err) {
 }
 
 int sim_wanted(const scene *s) {
-  size_t a;
-  if (s->simulate.line > 0) return 1;
-  for (a = 0; a < s->naxis; a++)
-    if (scene_key_get(s->axis[a].key)->src == SRC_SIM) return 1;
-  return 0;
+  return s->simulate.line > 0 || sim_axis(s) < s->naxis;
 }

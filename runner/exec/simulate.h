@@ -29,14 +29,22 @@ typedef struct {
   size_t nt;       /* samples, both ends included */
 } sim_case;
 
-/*
- * The simulation of case c of s: controller model, options, gains and
- * grid, each checked (the library's own checks, rps3_sim_alloc and
- * rps3_ctrl_alloc included).  Returns 0, or -1 with err at the key (or
- * the swept value) that is wrong.
- */
+/* the workspaces of one simulated case */
+typedef struct {
+  rps3_sim *sim;
+  rps3_ctrl *ctrl;
+  rps3_data *ref; /* the reference motion, on the plant's geometry */
+} sim_work;
+
+void sim_work_free(sim_work *wk);
+
+/* The simulation of case c of s: controller model, options, gains and
+   grid, each checked (the library's own checks, rps3_sim_alloc and
+   rps3_ctrl_alloc included).  With wk, the simulation and controller
+   those checks made are kept there for the run (else freed).  Returns 0,
+   or -1 with err at the key (or the swept value) that is wrong. */
 int sim_case_build(const scene *s, const scene_case *c, sim_case *sc,
-                   scene_error *err);
+                   sim_work *wk, scene_error *err);
 
 /* Time of sample k of a simulated case [s]. */
 double sim_case_time(const scene_case *c, const sim_case *sc, size_t k);
@@ -51,11 +59,9 @@ typedef struct {
   sim_case sfirst;
 } sim_plan;
 
-/*
- * Build and check every case of s (scene_case_build, sim_case_build) and
- * find the time axis.  A sweep of simulate.* keys needs the section.
- * Returns 0, or -1 with err at the first wrong value.
- */
+/* Build and check every case of s (scene_case_build, sim_case_build) and
+   find the time axis.  A sweep of simulate.* keys needs the section.
+   Returns 0, or -1 with err at the first wrong value. */
 int sim_plan_make(const scene *s, sim_plan *p, scene_error *err);
 
 /* 1 when s is to be simulated: it has a simulate section, or sweeps a
@@ -68,18 +74,14 @@ typedef struct {
   int check;            /* --check: validate and say what would run */
   int quiet;
   int gzip;
-  int nthread; /* -j: simulation computes on one thread */
+  int nthread; /* -j: worker threads */
   int sharded; /* --shard, --resume or MPI ranks: refused */
   const char *command_line;
 } sim_args;
 
-/*
- * Check every case of s (the plan was made: the inverse-dynamics checks
- * passed) and simulate them into a->out_path, written under a temporary
- * name and renamed when complete.  Returns the exit code of rps3-run
- * (cmd.h): 0, 1 (some cases failed: status, failed_at, message), 2 (bad
- * scene or usage, nothing written), 3 (cannot write).
- */
+/* Check every case of s and simulate them into a->out_path, written
+   under a temporary name and renamed when complete (sim_run.c).  Returns
+   rps3-run's exit code (core/exit_codes.h). */
 int sim_main(const scene *s, const sim_args *a);
 
 #endif /* RPS3_RUNNER_SIMULATE_H */

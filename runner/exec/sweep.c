@@ -1,12 +1,7 @@
 /*
  * sweep.c - see sweep.h.  Each case is computed by case_compute() with a
- * workspace of its own solver kind into its own slot of the block, so the
- * cases of a tile are independent of each other.
- *
- * A job (a tile of whole cases, or one long case in windows) turns into
- * one or more tiles to write, each handed to the worker pool (pool.h, the
- * run is a job of it), which writes the tile at once on one thread, or
- * queues it for the writing thread and gives back a free block.
+ * workspace of its own solver kind into its own slot of the block; a job
+ * turns into one or more tiles, each handed to the worker pool (pool.h).
  */
 #include "sweep.h"
 
@@ -18,6 +13,15 @@
 #include "compute.h"
 #include "pool.h"
 
+/* samples in one tile of output: bounds the memory of a run */
+#define SWEEP_TILE_POINTS 16384
+
+/* when the time grid differs between cases, a chunk holds at least this
+   many samples (cases x times; along time about a twentieth of the mean
+   case): the unwritten tail of a case's last chunk stays small, and so
+   does the chunk index (about 64 bytes a chunk) beside the data */
+#define SWEEP_CHUNK_MIN 128
+
 /* a filled block to write: slots [0, nc) are cases c0 .., samples
    [k0, k0 + nk); and what it adds to the run's counts */
 typedef struct {
@@ -25,9 +29,7 @@ typedef struct {
   int with_case;      /* write the per-case fields too */
   size_t blank_below; /* > 0: first write the (blank) block over the windows
                          [0, blank_below) of case c0: a late failure */
-  size_t cases;       /* cases this tile completes */
   size_t points;      /* samples computed */
-  size_t failed;      /* cases that failed */
 } tile;
 
 /* round n up to a multiple of q */
@@ -85,15 +87,13 @@ static void layout_add(layout *l, size_t i, size_t nt, size_t ncase) {
   }
 }
 
-/*
- * The layout of a sweep whose cases differ in length.  A chunk row holds
- * tile_cases cases up to the longest of them, so cases of different
- * lengths in one tile store the difference: tiles of fewer cases (halving
- * down to 1) store less, and more chunks.  Each case is built again (the
- * cost of the plan once more, for such sweeps only) to count what each
- * layout stores; the first within 5 % of the data is taken, else the one
- * that stores least.  0, or -1 with err.
- */
+/* The layout of a sweep whose cases differ in length.  A chunk row holds
+   tile_cases cases up to the longest of them, so cases of different
+   lengths in one tile store the difference: tiles of fewer cases (halving
+   down to 1) store less, and more chunks.  Each case is built again (the
+   cost of the plan once more, for such sweeps only) to count what each
+   layout stores; the first within 5 % of the data is taken, else the one
+   that stores least.  0, or -1 with err. */
 static int plan_varied(const scene *s, sweep_plan *p, size_t most,
                        scene_error *err) {
   layout l[16];
@@ -156,21 +156,6 @@ int sweep_plan_make(const scene *s, sweep_plan *p, scene_error *err) {
   return 0;
 }
 
-/* the workspace for case c: one per solver kind, allocated on first use */
-static rps3_data *workspace(rps3_data *ws[RPS3_NSOLVER], const scene_case *c,
-                            char *err, size_t errsz) {
-  int k = (int)c->model.opt.solver;
-  if (!ws[k]) {
-    int rc = rps3_data_alloc(&c->model, &ws[k]);
-    if (rc != RPS3_OK) {
-      snprintf(err, errsz, "cannot allocate a workspace: %s",
-               rps3_strerror(rc));
-      return NULL;
-    }
-  }
-  return ws[k];
-}
-
 /* build case `index` */
 static int case_begin(const scene *s, size_t index, scene_case *c, char *err,
                       size_t errsz) {
@@ -197,26 +182,18 @@ static int slot_begin(const scene_case *c, out_block *b, size_t slot, char *err,
   return 0;
 }
 
-/* record the outcome of a case in its slot; 1 if it failed */
-static size_t slot_status(out_block *b, size_t slot, int rc, size_t failed_at) {
+/* record the outcome of a case in its slot */
+static void slot_status(out_block *b, size_t slot, int rc, size_t failed_at) {
   ((int32_t *)b->status)[slot] = rc;
   ((int32_t *)b->failed_at)[slot] = rc ? (int32_t)failed_at : -1;
   if (rc) out_block_blank(b, slot, 0);
-  return rc ? 1 : 0;
 }
 
 /* ----------------------------------------------------------------- tiles */
 
-/* write tile t of block b to f */
-static int sweep_tile_write(out_file *f, const out_block *b, const tile *t,
-                            char *err, size_t errsz) {
-  size_t w;
-  for (w = 0; w < t->blank_below; w += b->points)
-    if (out_write(f, b, t->c0, 1, w, b->points, 0, err, errsz)) return -1;
-  return out_write(f, b, t->c0, t->nc, t->k0, t->nk, t->with_case, err, errsz);
-}
-
-void sweep_case_label(const scene *s, size_t c, char *buf, size_t sz) {
+/* "key = value, ..." of case c's swept keys (enums by name), "" without a
+   sweep: how messages name a case */
+static void sweep_case_label(const scene *s, size_t c, char *buf, size_t sz) {
   size_t a, n = 0;
   buf[0] = '\0';
   for (a = 0; a < s->naxis && n < sz; a++) {
@@ -235,23 +212,18 @@ void sweep_case_label(const scene *s, size_t c, char *buf, size_t sz) {
   }
 }
 
-/* count a written tile of block b and show the progress, and the reason
-   of the run's first failed case (also when quiet) */
-static void sweep_tile_count(const scene *s, const out_block *b, const tile *t,
-                             sweep_stats *st, progress *pr) {
-  st->cases_done += t->cases;
-  st->points_done += t->points;
-  st->nfailed += t->failed;
-  if (t->failed && !pr->failure_shown) {
-    size_t slot;
-    for (slot = 0; slot < t->nc; slot++)
-      if (((const int32_t *)b->status)[slot] != RPS3_OK) {
-        char what[512];
-        sweep_case_label(s, t->c0 + slot, what, sizeof what);
-        progress_failure(pr, t->c0 + slot, what, b->msg[slot]);
-        break;
-      }
-  }
+void sweep_failure(const scene *s, progress *pr, size_t c, const char *msg) {
+  char what[512];
+  if (pr->failure_shown) return;
+  sweep_case_label(s, c, what, sizeof what);
+  progress_failure(pr, c, what, msg);
+}
+
+void sweep_count(progress *pr, sweep_stats *st, size_t cases, size_t points,
+                 size_t failed) {
+  st->cases_done += cases;
+  st->points_done += points;
+  st->nfailed += failed;
   progress_update(pr, st->cases_done, st->points_done);
 }
 
@@ -263,22 +235,13 @@ size_t sweep_njob(const scene *s, const sweep_plan *p) {
 
 size_t sweep_shard_jobs(const scene *s, const sweep_plan *p, size_t shard,
                         size_t nshard) {
-  size_t nj = sweep_njob(s, p);
-  /* no sum that can wrap: nshard may be as large as SIZE_MAX */
-  return nj > shard ? 1 + (nj - shard - 1) / nshard : 0;
-}
-
-/* the job after j of a shard of nshard, or nj when none: j + nshard
-   without wrapping around (--shard 1/18446744073709551615 would otherwise
-   come back to job 0) */
-static size_t sweep_next_job(size_t j, size_t nshard, size_t nj) {
-  return nj - j > nshard ? j + nshard : nj;
+  return pool_count(sweep_njob(s, p), shard, nshard);
 }
 
 size_t sweep_shard_cases(const scene *s, const sweep_plan *p, size_t shard,
                          size_t nshard) {
   size_t j, n = 0, nj = sweep_njob(s, p);
-  for (j = shard; j < nj; j = sweep_next_job(j, nshard, nj))
+  for (j = shard; j < nj; j = pool_next(j, nshard, nj))
     n += (j + 1) * p->tile_cases <= s->ncase ? p->tile_cases
                                              : s->ncase - j * p->tile_cases;
   return n;
@@ -290,6 +253,7 @@ typedef struct {
   const scene *s;
   const sweep_plan *p;
   out_file *f;
+  out_block *b;      /* the caller's block: slot 0 */
   out_layout layout; /* the file's chunks, for out_pack */
   sweep_stats *st;
   progress *pr;
@@ -317,11 +281,6 @@ static int emit(const sweep_job *J, pool_worker *w, out_block **b,
   return *b ? 0 : -1;
 }
 
-/* 1 when jobs are long cases in windows, 0 when they are tiles of cases */
-static int in_windows(const sweep_plan *p) {
-  return p->tile_cases == 1 && p->nt > p->tile_points;
-}
-
 /* job j as a tile of whole cases */
 static int job_whole(const sweep_job *J, size_t j, out_block **bp,
                      rps3_data *ws[], pool_worker *w, char *err, size_t errsz) {
@@ -333,7 +292,6 @@ static int job_whole(const sweep_job *J, size_t j, out_block **bp,
   t.c0 = j * b->cases;
   t.nc = s->ncase - t.c0 < b->cases ? s->ncase - t.c0 : b->cases;
   t.with_case = 1;
-  t.cases = t.nc;
   for (slot = 0; slot < t.nc; slot++) {
     scene_case c;
     rps3_data *d;
@@ -341,10 +299,10 @@ static int job_whole(const sweep_job *J, size_t j, out_block **bp,
     int rc;
     if (case_begin(s, t.c0 + slot, &c, err, errsz) ||
         slot_begin(&c, b, slot, err, errsz) ||
-        !(d = workspace(ws, &c, err, errsz)))
+        !(d = case_workspace(ws, &c, err, errsz)))
       return -1;
     rc = case_compute(&c, d, 0, c.nt, b, slot, &failed_at);
-    t.failed += slot_status(b, slot, rc, failed_at);
+    slot_status(b, slot, rc, failed_at);
     /* samples past the end of a shorter case */
     if (rc == RPS3_OK && c.nt < b->points) out_block_blank(b, slot, c.nt);
     t.points += rc ? failed_at : c.nt;
@@ -362,47 +320,35 @@ static int job_windows(const sweep_job *J, size_t j, out_block **bp,
                        size_t errsz) {
   scene_case c;
   rps3_data *d;
-  size_t k0, nk, end;
+  size_t end;
+  int rc = RPS3_OK;
+  tile t;
   if (case_begin(J->s, j, &c, err, errsz) ||
-      !(d = workspace(ws, &c, err, errsz)))
+      !(d = case_workspace(ws, &c, err, errsz)))
     return -1;
   /* windows past the case's last chunk are not written */
   end = plan_extent(J->p, c.nt);
-  for (k0 = 0; k0 < end; k0 += nk) {
+  memset(&t, 0, sizeof t);
+  t.c0 = j;
+  t.nc = 1;
+  for (t.k0 = 0; t.k0 < end && rc == RPS3_OK; t.k0 += t.nk) {
     out_block *b = *bp;
     size_t failed_at = 0, ncomp;
-    int rc = RPS3_OK;
-    tile t;
-    memset(&t, 0, sizeof t);
-    nk = end - k0 < b->points ? end - k0 : b->points;
-    ncomp = k0 >= c.nt ? 0 : (c.nt - k0 < nk ? c.nt - k0 : nk);
+    t.nk = end - t.k0 < b->points ? end - t.k0 : b->points;
+    ncomp = t.k0 >= c.nt ? 0 : (c.nt - t.k0 < t.nk ? c.nt - t.k0 : t.nk);
     if (slot_begin(&c, b, 0, err, errsz)) return -1;
-    if (ncomp > 0) rc = case_compute(&c, d, k0, ncomp, b, 0, &failed_at);
-    t.c0 = j;
-    t.nc = 1;
-    t.k0 = k0;
-    t.nk = nk;
-    if (rc != RPS3_OK) {
-      /* NaN over the windows already written, then stop the case */
-      t.failed = slot_status(b, 0, rc, failed_at);
-      t.blank_below = k0;
-      t.with_case = 1;
-      t.cases = 1;
-      t.points = failed_at - k0;
-      return emit(J, w, bp, &t, err, errsz);
-    }
-    if (ncomp < nk) out_block_blank(b, 0, ncomp);
-    t.with_case = k0 + nk >= end;
-    t.cases = (size_t)t.with_case;
-    t.points = ncomp;
+    if (ncomp > 0) rc = case_compute(&c, d, t.k0, ncomp, b, 0, &failed_at);
+    /* a failure: NaN over the windows already written, then stop */
+    if (rc != RPS3_OK)
+      slot_status(b, 0, rc, failed_at);
+    else if (ncomp < t.nk)
+      out_block_blank(b, 0, ncomp);
+    t.blank_below = rc != RPS3_OK ? t.k0 : 0;
+    t.with_case = rc != RPS3_OK || t.k0 + t.nk >= end;
+    t.points = rc != RPS3_OK ? failed_at - t.k0 : ncomp;
     if (emit(J, w, bp, &t, err, errsz)) return -1;
   }
   return 0;
-}
-
-static void sweep_workspaces_free(rps3_data *ws[RPS3_NSOLVER]) {
-  int k;
-  for (k = 0; k < RPS3_NSOLVER; k++) rps3_data_free(ws[k]);
 }
 
 /* ------------------------------------------------------------------- run */
@@ -414,16 +360,32 @@ static int sweep_item(void *ctx, void *wctx, size_t j, pool_worker *w,
                       char *err, size_t errsz) {
   const sweep_job *J = ctx;
   out_block *b = pool_slot(w);
-  return in_windows(J->p) ? job_windows(J, j, &b, wctx, w, err, errsz)
-                          : job_whole(J, j, &b, wctx, w, err, errsz);
+  return J->p->tile_cases == 1 && J->p->nt > J->p->tile_points
+             ? job_windows(J, j, &b, wctx, w, err, errsz)
+             : job_whole(J, j, &b, wctx, w, err, errsz);
 }
 
-/* pool_job.write: a filled block to the file, counted */
+/* pool_job.write: a filled block to the file, counted, its first failed
+   case said */
 static int sweep_write(void *ctx, void *slot, const void *info, char *err,
                        size_t errsz) {
   const sweep_job *J = ctx;
-  if (sweep_tile_write(J->f, slot, info, err, errsz)) return -1;
-  sweep_tile_count(J->s, slot, info, J->st, J->pr);
+  const out_block *b = slot;
+  const tile *t = info;
+  size_t k, failed = 0;
+  /* a late failure: first the blank block over the case's earlier windows */
+  for (k = 0; k < t->blank_below; k += b->points)
+    if (out_write(J->f, b, t->c0, 1, k, b->points, 0, err, errsz)) return -1;
+  if (out_write(J->f, b, t->c0, t->nc, t->k0, t->nk, t->with_case, err, errsz))
+    return -1;
+  /* the cases a tile completes are those it writes the per-case fields
+     of; a window before a case's last has status ok */
+  for (k = 0; k < t->nc; k++)
+    if (((const int32_t *)b->status)[k] != RPS3_OK) {
+      sweep_failure(J->s, J->pr, t->c0 + k, b->msg[k]);
+      failed++;
+    }
+  sweep_count(J->pr, J->st, t->with_case ? t->nc : 0, t->points, failed);
   return 0;
 }
 
@@ -435,8 +397,33 @@ static void *workspaces_begin(void *ctx) {
 
 static void workspaces_end(void *ctx, void *wctx) {
   (void)ctx;
-  if (wctx) sweep_workspaces_free(wctx);
+  if (wctx) case_workspaces_free(wctx);
   free(wctx);
+}
+
+/* pool_job.slot_make: slot 0 is the caller's block, lent for the run; the
+   others are allocated like it */
+static int block_make(void *ctx, void *slot, size_t i) {
+  const sweep_job *J = ctx;
+  out_block *b = slot;
+  if (i == 0) {
+    *b = *J->b;
+    return 0;
+  }
+  if (out_block_alloc(b, J->b->cases, J->b->points,
+                      J->p->first.model.opt.effects))
+    return -1;
+  b->fields = J->b->fields;
+  return 0;
+}
+
+/* pool_job.slot_free: the lent block back (with the buffers out_pack grew) */
+static void block_free(void *ctx, void *slot, size_t i) {
+  const sweep_job *J = ctx;
+  if (i == 0)
+    *J->b = *(out_block *)slot;
+  else
+    out_block_free(slot);
 }
 
 int sweep_run_opts(const scene *s, const sweep_plan *p, out_file *f,
@@ -444,9 +431,6 @@ int sweep_run_opts(const scene *s, const sweep_plan *p, out_file *f,
                    sweep_stats *st, char *err, size_t errsz) {
   sweep_job J;
   pool_job job;
-  size_t i, nslot;
-  out_block *blocks = NULL;
-  int rc = -1;
   memset(st, 0, sizeof *st);
   if (o->nshard < 1 || o->shard >= o->nshard || o->nthread < 1) {
     snprintf(err, errsz, "bad shard %zu/%zu or thread count %d", o->shard,
@@ -456,6 +440,7 @@ int sweep_run_opts(const scene *s, const sweep_plan *p, out_file *f,
   J.s = s;
   J.p = p;
   J.f = f;
+  J.b = b;
   out_file_layout(f, &J.layout);
   J.st = st;
   J.pr = pr;
@@ -465,29 +450,13 @@ int sweep_run_opts(const scene *s, const sweep_plan *p, out_file *f,
   job.first = o->shard;
   job.stride = o->nshard;
   job.info_size = sizeof(tile);
+  job.slot_size = sizeof(out_block);
+  job.slot_make = block_make;
+  job.slot_free = block_free;
   job.worker_begin = workspaces_begin;
   job.worker_end = workspaces_end;
   job.run = sweep_item;
   job.write = sweep_write;
-  /* slot 0 is the caller's block; the others are allocated like it */
-  nslot = pool_nslot(o->nthread);
-  job.slot = calloc(nslot, sizeof *job.slot);
-  blocks = calloc(nslot, sizeof *blocks);
   snprintf(err, errsz, "out of memory");
-  if (!job.slot || !blocks) goto done;
-  job.slot[0] = b;
-  for (i = 1; i < nslot; i++) {
-    if (out_block_alloc(&blocks[i], b->cases, b->points,
-                        p->first.model.opt.effects))
-      goto done;
-    blocks[i].fields = b->fields;
-    job.slot[i] = &blocks[i];
-  }
-  rc = pool_run(&job, o->nthread, err, errsz);
-done:
-  if (blocks)
-    for (i = 1; i < nslot; i++) out_block_free(&blocks[i]);
-  free(blocks);
-  free(job.slot);
-  return rc;
+  return pool_run(&job, o->nthread, err, errsz);
 }

@@ -1,22 +1,16 @@
 /*
- * sweep.h - run every case of a scene into an open output file.
+ * sweep.h - run every case of a scene into an open output file: first
+ * sweep_plan_make() builds and validates every case (nothing is written if
+ * one is invalid) and finds the time axis; then sweep_run_opts() computes
+ * the cases tile by tile and streams each tile to the file.
  *
- * First sweep_plan() builds and validates every case (nothing is written
- * if one is invalid) and finds the time axis; then sweep_run_opts()
- * computes the cases tile by tile and streams each tile to the file.
- *
- * The work is cut into jobs: job j is the cases [j tile_cases,
- * (j + 1) tile_cases), one tile and one chunk row of the file; when a case
- * is longer than a tile (tile_cases == 1) a job is that case, in windows.
- * Jobs share the cases, and windows the samples, evenly, and a tile writes
- * only the samples its cases have (rounded up to whole chunks): the chunks
- * the file allocates are those of the data (bytes per sample within a few
- * per cent of the raw size, docs/hdf5.md).
- * sweep_run_opts() spreads the jobs over threads (each with its own
- * workspaces and tile buffers; only the calling thread calls HDF5) and
- * computes only the jobs of one shard (j mod nshard == shard).  A case
- * depends on nothing but its scene, so the numbers do not depend on the
- * number of threads or shards.
+ * Job j is the cases [j tile_cases, (j + 1) tile_cases), one tile and one
+ * chunk row of the file; a case longer than a tile (tile_cases == 1) is a
+ * job of its own, in windows.  Jobs share the cases, and windows the
+ * samples, evenly, and a tile writes only the samples its cases have
+ * (rounded up to whole chunks): the file allocates the chunks of the data
+ * only (docs/hdf5.md).  A case depends on nothing but its scene, so the
+ * numbers do not depend on the threads or shards.
  */
 #ifndef RPS3_RUNNER_SWEEP_H
 #define RPS3_RUNNER_SWEEP_H
@@ -26,15 +20,6 @@
 #include "core/progress.h"
 #include "output/output.h"
 #include "scene/scene.h"
-
-/* samples in one tile of output: bounds the memory of a run */
-#define SWEEP_TILE_POINTS 16384
-
-/* when the time grid differs between cases, a chunk holds at least this
-   many samples (cases x times; along time about a twentieth of the mean
-   case): the unwritten tail of a case's last chunk stays small, and so
-   does the chunk index (about 64 bytes a chunk) beside the data */
-#define SWEEP_CHUNK_MIN 128
 
 typedef struct {
   size_t nt;           /* most samples of any case: the time axis */
@@ -63,10 +48,8 @@ typedef struct {
   size_t nfailed; /* cases with a non-zero status */
 } sweep_stats;
 
-/*
- * Build every case of s through the library's checks.  Returns 0, or -1
- * with err at the swept value or key of the first invalid case.
- */
+/* Build every case of s through the library's checks.  Returns 0, or -1
+   with err at the swept value or key of the first invalid case. */
 int sweep_plan_make(const scene *s, sweep_plan *p, scene_error *err);
 
 /* Number of jobs of a plan: ceil(ncase / tile_cases). */
@@ -81,25 +64,26 @@ size_t sweep_shard_cases(const scene *s, const sweep_plan *p, size_t shard,
                          size_t nshard);
 
 /*
- * Compute the cases of s of a shard into f, using block b (allocated for
- * the plan's tile), as a job of the worker pool (pool.h).  Failing cases
- * are recorded in status/message/failed_at with NaN rows, and the sweep
- * goes on.  With o->nthread > 1, o->nthread worker threads compute jobs
- * into o->nthread + 2 tiles (b and o->nthread + 1 more, allocated here):
- * memory is bounded by them whatever the sweep size.  The calling thread
- * writes each tile as it comes.  Tiles may reach the file in any order;
- * each hyperslab is written once (a failing long case rewrites its own
- * earlier windows, in order), so the datasets do not depend on the order.
- * Cases of other shards are not written: their chunks stay unallocated
- * (fill values: NaN, -1, "").  Returns 0, or -1 with err set when the file
+ * Compute the cases of s of a shard into f as a job of the worker pool
+ * (pool.h), in block b (allocated for the plan's tile) and, on threads,
+ * in o->nthread + 1 more.  Failing cases are recorded in
+ * status/message/failed_at with NaN rows, and the sweep goes on.  Tiles
+ * may reach the file in any order; each hyperslab is written once (a
+ * failing long case rewrites its own earlier windows, in order).  Cases
+ * of other shards are not written: their chunks stay unallocated (fill
+ * values: NaN, -1, "").  Returns 0, or -1 with err set when the file
  * cannot be written or memory runs out.
  */
 int sweep_run_opts(const scene *s, const sweep_plan *p, out_file *f,
                    out_block *b, const sweep_opts *o, progress *pr,
                    sweep_stats *st, char *err, size_t errsz);
 
-/* "key = value, ..." of case c's swept keys (enums by name), "" without a
-   sweep: how messages name a case */
-void sweep_case_label(const scene *s, size_t c, char *buf, size_t sz);
+/* Print the reason of the run's first failed case c once, also when
+   quiet (progress_failure), the case named by its swept values. */
+void sweep_failure(const scene *s, progress *pr, size_t c, const char *msg);
+
+/* Add what a written tile holds to st and show the progress. */
+void sweep_count(progress *pr, sweep_stats *st, size_t cases, size_t points,
+                 size_t failed);
 
 #endif /* RPS3_RUNNER_SWEEP_H */

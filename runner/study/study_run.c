@@ -12,14 +12,13 @@
 #include "core/cli.h"
 #include "core/h5err.h"
 #include "core/safeio.h"
-#include "core/signals.h"
 #include "core/tmpout.h"
 #include "study.h"
 
 int study_prog(const char *prog, int (*body)(int, char **), int argc,
                char **argv) {
   /* fds 0-2 open, HDF5 without atexit, then the signal policy of
-     signals.h: the temporary file is removed by a signal that ends us;
+     tmpout.h: the temporary file is removed by a signal that ends us;
      GSL's errors returned, HDF5's captured */
   proc_init();
   tmpout_prog(prog);
