@@ -62,10 +62,10 @@ extern "C" {
 
 /* ---------------------------------------------------------------- version */
 
-#define RPS3_VERSION_MAJOR 1
+#define RPS3_VERSION_MAJOR 2
 #define RPS3_VERSION_MINOR 0
 #define RPS3_VERSION_PATCH 0
-#define RPS3_VERSION_STRING "1.0.0"
+#define RPS3_VERSION_STRING "2.0.0"
 
 /* Version string of the compiled library; compare with RPS3_VERSION_STRING. */
 RPS3_API const char *rps3_version(void);
@@ -393,19 +393,39 @@ RPS3_API void rps3_model_default(rps3_model *m);
 RPS3_API void rps3_options_default(rps3_options *opt);
 
 /*
- * Validate m and compute its derived fields.  Returns RPS3_OK, or
- * RPS3_EINVAL with a message naming the offending field in err (err may be
- * NULL; errsz is its size in bytes).  The message always has the form
- * "FIELD = VALUE: reason", FIELD being the field's dotted name as in the
- * runner's scene keys (e.g. "rho", "payload.inertia[2]", "opt.tol"): a
- * caller may map it back to its own input by that prefix.  Rejected: non-finite values, R <= 0,
- * rho <= 0, negative masses, inertias or friction, d < 0, g < 0, payload
- * inertia violating the triangle inequality, unknown enum values,
- * tol <= 0, max_iter < 1, cond_warn < 1, cond_max < cond_warn, and masses
- * whose weight or inertia overflows (M g, M r^2, m g d, m d^2,
- * payload.mass g, payload.mass r^2 not finite, e.g. M = 1e308).
+ * What failed a validation (rps3_model_init, rps3_traj_check,
+ * rps3_design_model) or the set-up of an allocation (rps3_sim_alloc,
+ * rps3_sim_check_rate, rps3_ctrl_alloc): the field by identifier, for a
+ * program that maps it back to its own input, and the message.  Each of
+ * these functions clears *chk first and fills it when it refuses; chk may
+ * be NULL.
  */
-RPS3_API int rps3_model_init(rps3_model *m, char *err, size_t errsz);
+typedef struct {
+  int field;       /* the failing field: an rps3_field_id (RPS3_FIELDS),
+                      or for rps3_design_model an rps3_design_field_id;
+                      -1 when the failure is not about one field of the
+                      table (a NULL argument, a simulation option, running
+                      out of memory) */
+  int comp;        /* its component, 0 for a scalar field; the row of an
+                      array field (waypoints, table) */
+  int related[2];  /* other fields the failed rule reads (e.g. rho and R
+                      for the helix radius bound), -1 when unused */
+  char msg[256];   /* "NAME = VALUE: reason", NAME the field's dotted name
+                      (rps3_field_info.name), e.g. "rho", "payload.
+                      inertia[2]", "opt.tol"; empty after a success */
+} rps3_check;
+
+/*
+ * Validate m and compute its derived fields.  Returns RPS3_OK, or
+ * RPS3_EINVAL with the offending field in *chk (chk may be NULL).
+ * Rejected: non-finite values, R <= 0, rho <= 0, negative masses,
+ * inertias or friction, d < 0, g < 0, payload inertia violating the
+ * triangle inequality, unknown enum values, tol <= 0, max_iter < 1,
+ * cond_warn < 1, cond_max < cond_warn, and masses whose weight or inertia
+ * overflows (M g, M r^2, m g d, m d^2, payload.mass g, payload.mass r^2
+ * not finite, e.g. M = 1e308).
+ */
+RPS3_API int rps3_model_init(rps3_model *m, rps3_check *chk);
 
 /* ------------------------------------------------------------------- data */
 
@@ -1080,9 +1100,9 @@ RPS3_API int rps3_time_law_index(const char *name);
 RPS3_API void rps3_traj_default(rps3_traj *tr);
 
 /*
- * Validate tr for model m (initialised).  RPS3_OK or RPS3_EINVAL with a
- * message "FIELD = VALUE: reason", FIELD a dotted name such as
- * "trajectory.radius" (see rps3_model_init).  Besides each field's range
+ * Validate tr for model m (initialised).  RPS3_OK or RPS3_EINVAL with the
+ * offending field in *chk (chk may be NULL; its name a dotted one such as
+ * "trajectory.radius").  Besides each field's range
  * and each kind's rules, every kind must give what a run evaluates at
  * every sample: a span (rps3_traj_duration, stretched for waypoints) > 0
  * and at most RPS3_TRAJ_SPAN_MAX seconds, and rates whose squares (the
@@ -1096,8 +1116,8 @@ RPS3_API void rps3_traj_default(rps3_traj *tr);
  * rather than failing every sample of a run.
  */
 #define RPS3_TRAJ_SPAN_MAX 1000000000000
-RPS3_API int rps3_traj_check(const rps3_model *m, const rps3_traj *tr, char *err,
-                    size_t errsz);
+RPS3_API int rps3_traj_check(const rps3_model *m, const rps3_traj *tr,
+                             rps3_check *chk);
 
 /* Time span of the trajectory [s] (T* for the helix); 0 for tr NULL, an
    unknown kind, or waypoints without their arrays. */
@@ -1291,24 +1311,6 @@ typedef struct {
 
 /* Row of field id (0 <= id < RPS3_NFIELD), NULL otherwise. */
 RPS3_API const rps3_field_info *rps3_field(int id);
-
-/* What failed validation, by identifier. */
-typedef struct {
-  int field;       /* rps3_field_id of the failing field, -1 if none (a NULL
-                      argument) */
-  int comp;        /* its component, 0 for a scalar field; the row of an
-                      array field (waypoints, table) */
-  int related[2];  /* other fields the failed rule reads (e.g. rho and R
-                      for the helix radius bound), -1 when unused */
-  char msg[256];   /* "NAME = VALUE: reason", as in rps3_model_init() */
-} rps3_check;
-
-/* rps3_model_init() reporting the failing field in *chk (chk may be NULL). */
-RPS3_API int rps3_model_validate(rps3_model *m, rps3_check *chk);
-
-/* rps3_traj_check() reporting the failing field in *chk (chk may be NULL). */
-RPS3_API int rps3_traj_validate(const rps3_model *m, const rps3_traj *tr,
-                                rps3_check *chk);
 
 /* -------------------------------------------------------------- simulation */
 
@@ -1511,10 +1513,12 @@ RPS3_API const rps3_sim_options *rps3_sim_opts(const rps3_sim *s);
  * Allocate a simulation of the plant (initialised; its options choose the
  * effects and the theta solve) with options o (NULL: defaults): the plant
  * data and the GSL driver.  Returns RPS3_OK, RPS3_EINVAL with "FIELD =
- * VALUE: reason" in err (FIELD e.g. "simulate.h") or RPS3_ENOMEM.
+ * VALUE: reason" in chk->msg (FIELD e.g. "simulate.h"; chk->field -1: the
+ * options are not rows of RPS3_FIELDS) or RPS3_ENOMEM with what could not
+ * be allocated in chk->msg.  chk may be NULL.
  */
 RPS3_API int rps3_sim_alloc(const rps3_model *plant, const rps3_sim_options *o,
-                            rps3_sim **out, char *err, size_t errsz);
+                            rps3_sim **out, rps3_check *chk);
 
 /* Free a simulation; NULL is accepted. */
 RPS3_API void rps3_sim_free(rps3_sim *s);
@@ -1532,13 +1536,13 @@ RPS3_API void rps3_sim_free(rps3_sim *s);
  *     and a run holds at most 1e8 control periods (1 kHz: up to 1e5 s);
  *   - for rk4 and rk4imp, at most max_steps steps of h (ceil(P / h)).
  * o NULL: the defaults.  Returns RPS3_OK or RPS3_EINVAL with "FIELD =
- * VALUE: reason" in err (FIELD "simulate.rate" or "simulate.h", or a
- * field of the options as rps3_sim_alloc names it; err may be NULL).
+ * VALUE: reason" in chk->msg (FIELD "simulate.rate" or "simulate.h", or a
+ * field of the options as rps3_sim_alloc names it; chk may be NULL).
  */
 #define RPS3_SIM_RATE_H_MAX 1000
 #define RPS3_SIM_MAX_PERIODS 100000000
 RPS3_API int rps3_sim_check_rate(const rps3_sim_options *o, double rate,
-                                 double t_max, char *err, size_t errsz);
+                                 double t_max, rps3_check *chk);
 
 /*
  * Start (or restart) at time t0 from the pose (alpha, beta, z_c) and its
@@ -1625,13 +1629,16 @@ typedef struct rps3_ctrl rps3_ctrl;
 
 /*
  * Allocate a controller of this kind with gains kp, kd (finite, >= 0),
- * model (initialised) and trajectory (checked against model).  Returns
- * RPS3_OK, RPS3_EINVAL with "FIELD = VALUE: reason" in err, or
- * RPS3_ENOMEM.
+ * model (initialised) and trajectory (checked against model by
+ * rps3_traj_check).  Returns RPS3_OK, RPS3_EINVAL with the failure in
+ * *chk (a trajectory field by identifier; chk->field -1 for the kind and
+ * the gains, "simulate.controller", "simulate.kp", "simulate.kd"), or
+ * RPS3_ENOMEM with what could not be allocated in chk->msg.  chk may be
+ * NULL.
  */
 RPS3_API int rps3_ctrl_alloc(rps3_ctrl_kind kind, double kp, double kd,
                              const rps3_model *model, const rps3_traj *traj,
-                             rps3_ctrl **out, char *err, size_t errsz);
+                             rps3_ctrl **out, rps3_check *chk);
 
 /* Free a controller; NULL is accepted. */
 RPS3_API void rps3_ctrl_free(rps3_ctrl *c);
@@ -1774,14 +1781,14 @@ RPS3_API void rps3_design_default(rps3_design *ds);
  * above (m, d, link_Ic), g, the payload (mass and com (0, 0,
  * payload_height), no inertia; RPS3_EFF_PAYLOAD selected when payload > 0)
  * and the default options; m is then initialised (rps3_model_init).
- * Returns RPS3_OK or RPS3_EINVAL with "FIELD = VALUE: reason" in err (err
- * may be NULL; errsz its size), FIELD a design field's NAME (e.g. "l_min
- * = 0.5: must be < l_max = 0.4 (a stroke > 0)").  rps3_design_validate
- * reports the field by identifier (chk->field an rps3_design_field_id).
+ * Returns RPS3_OK or RPS3_EINVAL with the offending design field in *chk
+ * (chk may be NULL): chk->field an rps3_design_field_id, chk->msg "NAME =
+ * VALUE: reason" with the design field's NAME (e.g. "l_max = 0.4: must be
+ * > l_min = 0.5 ...").  It is the design's validation: a program that
+ * only validates passes a model of its own as scratch.
  */
 RPS3_API int rps3_design_model(const rps3_design *ds, rps3_model *m,
-                               char *err, size_t errsz);
-RPS3_API int rps3_design_validate(const rps3_design *ds, rps3_check *chk);
+                               rps3_check *chk);
 
 /* Reachability: why a pose is outside a design's workspace (bits of
    rps3_design_out.flags).  A pose is reachable when none is set. */

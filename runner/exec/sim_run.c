@@ -141,14 +141,18 @@ void sim_tile_free(sim_tile *t) {
 static int start(const scene_case *c, const sim_case *sc, sim_work *wk,
                  rps3_controller *ctl, int *st, char *err, size_t errsz) {
   double pose[3], dpose[3];
-  char msg[320] = "out of memory";
-  int i;
+  rps3_check chk;
+  int i, rc;
   memset(wk, 0, sizeof *wk);
-  if (rps3_sim_alloc(&c->model, &sc->opt, &wk->sim, msg, sizeof msg) ||
-      rps3_ctrl_alloc(sc->kind, sc->kp, sc->kd, &sc->ctrl_model, &c->traj,
-                      &wk->ctrl, msg, sizeof msg) ||
-      rps3_data_alloc(&c->model, &wk->ref)) {
-    snprintf(err, errsz, "case %zu: %s", c->index, msg);
+  rc = rps3_sim_alloc(&c->model, &sc->opt, &wk->sim, &chk);
+  if (rc == RPS3_OK)
+    rc = rps3_ctrl_alloc(sc->kind, sc->kp, sc->kd, &sc->ctrl_model, &c->traj,
+                         &wk->ctrl, &chk);
+  if (rc == RPS3_OK && rps3_data_alloc(&c->model, &wk->ref) != RPS3_OK)
+    rc = RPS3_ENOMEM;
+  if (rc != RPS3_OK) {
+    snprintf(err, errsz, "case %zu: %s", c->index,
+             rc == RPS3_ENOMEM ? "out of memory" : chk.msg);
     work_free(wk);
     return -1;
   }
