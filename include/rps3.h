@@ -49,9 +49,8 @@ extern "C" {
 
 /* ------------------------------------------------------------ visibility */
 
-/* RPS3_API marks the public functions: the library is built with
-   -fvisibility=hidden, so that only these are exported from librps3.so.
-   Every public function declared here, now and later, carries it. */
+/* RPS3_API marks the public functions, the only symbols librps3.so
+   exports (docs/library.md, "Exported symbols"). */
 #if defined(_WIN32)
 #define RPS3_API
 #elif defined(__GNUC__) && __GNUC__ >= 4
@@ -249,7 +248,7 @@ RPS3_API int rps3_solver_index(const char *name);
  *                          a static selection.
  *
  * The checks do not depend on the bits: status and warn are the same for
- * every subset (tests/test_outputs.c).  The lambda system's condition
+ * every subset.  The lambda system's condition
  * number is always computed (d->cond; RPS3_ESING above opt.cond_max,
  * RPS3_WARN_ILLCOND above opt.cond_warn), and so is the finiteness of
  * every quantity the point computes (RPS3_ERANGE).  Without
@@ -278,8 +277,8 @@ RPS3_API int rps3_solver_index(const char *name);
  * returns RPS3_ESTATE instead of reading them), and l, c, dl, ddl are
  * NaN.  Where the CPU has fused multiply-adds the pass uses them, so its
  * last bits differ between CPUs with and without FMA (F within 8 eps cond
- * of the point's force scale of the default's either way;
- * tests/test_batch_kernel.c).  rps3_inverse_batch runs the same pass
+ * of the point's force scale of the default's either way).
+ * rps3_inverse_batch runs the same pass
  * (bitwise the loop of rps3_inverse on one machine).
  */
 enum rps3_output {
@@ -692,9 +691,8 @@ RPS3_API int rps3_invdyn(const rps3_model *m, rps3_data *d);
  * With the closed-form theta, the Lagrange formulation and no effect
  * beyond the paper's four, the point is computed in one straight-line
  * pass, the batch kernel's (below) on one point: the stages' results, to
- * the kernel's tolerances (rounding: its own sine, cosine and atan2), in
- * about three quarters of the stages' time (half on the controller's
- * path).  A point the kernel does not certify
+ * the kernel's tolerances (docs/library.md, "Batches", gives them and
+ * the time).  A point the kernel does not certify
  * (non-finite, unreachable, overflowing, near or past a threshold) goes
  * through the stages, so status and warn are always theirs; d then holds
  * everything the stages leave.  With opt.outputs = RPS3_OUT_FORCES the
@@ -731,7 +729,7 @@ RPS3_API int rps3_inverse(const rps3_model *m, rps3_data *d);
  * energy_scale: RPS3_OUT_CERTIFY), and so are l, c, dl and ddl at the
  * points of the leanest pass.  rps3_inverse
  * runs the same loop body on its one point, so the batch and the loop of
- * rps3_inverse agree bit for bit (tests/test_batch_kernel.c).  Against
+ * rps3_inverse agree bit for bit.  Against
  * the per-point stages (the path of every other configuration) the
  * kernel agrees to rounding: l within 4 ulp, theta within 2 ulp of pi, F,
  * its shares and lambda R within 8 eps cond of the point's largest force
@@ -843,17 +841,12 @@ RPS3_API int rps3_fk_batch(const rps3_model *m, rps3_data *d,
  * equations (21)-(24), (34) eliminated to them read
  *   Mq(l) ddl + hq(l, dl) = F,
  * Mq the joint-space mass matrix and hq the bias forces of the selected
- * effects (m->opt.effects).  Both are assembled directly, by virtual power
- * (Kane): each body's velocity is a linear map of dl (the platform centre
- * and angular velocity through the constraint Jacobian of (8)-(10), theta'
- * = -(df/dtheta)^-1 (df/dl) l'), Mq = sum_bodies J^T (mass, inertia) J and
- * hq = sum_bodies J^T (the body's load at ddl = 0); the platform disc of
- * (21) enters as the points with its mass, centroid and inertia tensor
- * (M/2 at the centre, M/6 at each ball joint).  rps3_invdyn is another
- * formulation of the same equations; the tests check that one inverts the
- * other (Lagrange and Newton-Euler).  Forces F > 0 extend the links, as in
- * rps3_invdyn.  The controllers of rps3_ctrl_update apply their model's
- * inverse dynamics in this form, F = Mq ddl + hq.
+ * effects (m->opt.effects), by virtual power (docs/simulation.md gives how
+ * they are assembled).  rps3_invdyn is another formulation of the same
+ * equations (Lagrange and Newton-Euler): one inverts the other.  Forces
+ * F > 0 extend the links, as in rps3_invdyn.  The controllers of
+ * rps3_ctrl_update apply their model's inverse dynamics in this form,
+ * F = Mq ddl + hq.
  *
  * Reads d->l (lengths [m]), d->dl (rates [m/s]) and d->F (forces [N]);
  * theta is solved from l (Newton's method from d->theta when
@@ -1350,9 +1343,7 @@ RPS3_API const rps3_field_info *rps3_field(int id);
  */
 typedef enum {
   RPS3_INT_RK4 = 0,    /* classical Runge-Kutta 4, fixed step h, four
-                          evaluations a step: real time.  The library's
-                          own step (GSL's rk4 doubles each step to
-                          estimate its error: twelve evaluations) */
+                          evaluations a step: real time */
   RPS3_INT_RKF45 = 1,  /* Runge-Kutta-Fehlberg 4(5), adaptive */
   RPS3_INT_RK8PD = 2,  /* Runge-Kutta Prince-Dormand 8(9), adaptive */
   RPS3_INT_MSBDF = 3,  /* variable-order BDF, implicit, adaptive (stiff) */
@@ -1490,7 +1481,7 @@ typedef struct {
 } rps3_sim_report;
 
 /* A simulation: the plant (a copy), its options, its workspace, the
-   integrator and the report, opaque (src/sim.h); read it through
+   integrator and the report, opaque; read it through
    rps3_sim_now, rps3_sim_data, rps3_sim_plant and rps3_sim_opts. */
 typedef struct rps3_sim rps3_sim;
 
@@ -1623,7 +1614,7 @@ RPS3_API const char *rps3_ctrl_name(int kind);
 RPS3_API int rps3_ctrl_index(const char *name);
 
 /* A library controller: its kind, gains, model (a copy), trajectory (a
-   copy) and workspaces, opaque (src/control.h); what a caller reads is
+   copy) and workspaces, opaque; what a caller reads is
    read through the functions below. */
 typedef struct rps3_ctrl rps3_ctrl;
 
