@@ -409,9 +409,10 @@ typedef struct {
                       array field (waypoints, table) */
   int related[2];  /* other fields the failed rule reads (e.g. rho and R
                       for the helix radius bound), -1 when unused */
-  char msg[256];   /* "NAME = VALUE: reason", NAME the field's dotted name
-                      (rps3_field_info.name), e.g. "rho", "payload.
-                      inertia[2]", "opt.tol"; empty after a success */
+  char msg[256];   /* "NAME = VALUE: reason", NAME the field's dotted
+                      name (rps3_field_info.name) with its component,
+                      e.g. "rho", "payload.inertia[2]", "opt.tol";
+                      empty after a success */
 } rps3_check;
 
 /*
