@@ -49,9 +49,8 @@ extern "C" {
 
 /* ------------------------------------------------------------ visibility */
 
-/* RPS3_API marks the public functions: the library is built with
-   -fvisibility=hidden, so that only these are exported from librps3.so.
-   Every public function declared here, now and later, carries it. */
+/* RPS3_API marks the public functions, the only symbols librps3.so
+   exports (docs/library.md, "Exported symbols"). */
 #if defined(_WIN32)
 #define RPS3_API
 #elif defined(__GNUC__) && __GNUC__ >= 4
@@ -62,10 +61,10 @@ extern "C" {
 
 /* ---------------------------------------------------------------- version */
 
-#define RPS3_VERSION_MAJOR 1
+#define RPS3_VERSION_MAJOR 2
 #define RPS3_VERSION_MINOR 0
 #define RPS3_VERSION_PATCH 0
-#define RPS3_VERSION_STRING "1.0.0"
+#define RPS3_VERSION_STRING "2.0.0"
 
 /* Version string of the compiled library; compare with RPS3_VERSION_STRING. */
 RPS3_API const char *rps3_version(void);
@@ -249,7 +248,7 @@ RPS3_API int rps3_solver_index(const char *name);
  *                          a static selection.
  *
  * The checks do not depend on the bits: status and warn are the same for
- * every subset (tests/test_outputs.c).  The lambda system's condition
+ * every subset.  The lambda system's condition
  * number is always computed (d->cond; RPS3_ESING above opt.cond_max,
  * RPS3_WARN_ILLCOND above opt.cond_warn), and so is the finiteness of
  * every quantity the point computes (RPS3_ERANGE).  Without
@@ -278,8 +277,8 @@ RPS3_API int rps3_solver_index(const char *name);
  * returns RPS3_ESTATE instead of reading them), and l, c, dl, ddl are
  * NaN.  Where the CPU has fused multiply-adds the pass uses them, so its
  * last bits differ between CPUs with and without FMA (F within 8 eps cond
- * of the point's force scale of the default's either way;
- * tests/test_batch_kernel.c).  rps3_inverse_batch runs the same pass
+ * of the point's force scale of the default's either way).
+ * rps3_inverse_batch runs the same pass
  * (bitwise the loop of rps3_inverse on one machine).
  */
 enum rps3_output {
@@ -393,19 +392,40 @@ RPS3_API void rps3_model_default(rps3_model *m);
 RPS3_API void rps3_options_default(rps3_options *opt);
 
 /*
- * Validate m and compute its derived fields.  Returns RPS3_OK, or
- * RPS3_EINVAL with a message naming the offending field in err (err may be
- * NULL; errsz is its size in bytes).  The message always has the form
- * "FIELD = VALUE: reason", FIELD being the field's dotted name as in the
- * runner's scene keys (e.g. "rho", "payload.inertia[2]", "opt.tol"): a
- * caller may map it back to its own input by that prefix.  Rejected: non-finite values, R <= 0,
- * rho <= 0, negative masses, inertias or friction, d < 0, g < 0, payload
- * inertia violating the triangle inequality, unknown enum values,
- * tol <= 0, max_iter < 1, cond_warn < 1, cond_max < cond_warn, and masses
- * whose weight or inertia overflows (M g, M r^2, m g d, m d^2,
- * payload.mass g, payload.mass r^2 not finite, e.g. M = 1e308).
+ * What failed a validation (rps3_model_init, rps3_traj_check,
+ * rps3_design_model) or the set-up of an allocation (rps3_sim_alloc,
+ * rps3_sim_check_rate, rps3_ctrl_alloc): the field by identifier, for a
+ * program that maps it back to its own input, and the message.  Each of
+ * these functions clears *chk first and fills it when it refuses; chk may
+ * be NULL.
  */
-RPS3_API int rps3_model_init(rps3_model *m, char *err, size_t errsz);
+typedef struct {
+  int field;       /* the failing field: an rps3_field_id (RPS3_FIELDS),
+                      or for rps3_design_model an rps3_design_field_id;
+                      -1 when the failure is not about one field of the
+                      table (a NULL argument, a simulation option, running
+                      out of memory) */
+  int comp;        /* its component, 0 for a scalar field; the row of an
+                      array field (waypoints, table) */
+  int related[2];  /* other fields the failed rule reads (e.g. rho and R
+                      for the helix radius bound), -1 when unused */
+  char msg[256];   /* "NAME = VALUE: reason", NAME the field's dotted
+                      name (rps3_field_info.name) with its component,
+                      e.g. "rho", "payload.inertia[2]", "opt.tol";
+                      empty after a success */
+} rps3_check;
+
+/*
+ * Validate m and compute its derived fields.  Returns RPS3_OK, or
+ * RPS3_EINVAL with the offending field in *chk (chk may be NULL).
+ * Rejected: non-finite values, R <= 0, rho <= 0, negative masses,
+ * inertias or friction, d < 0, g < 0, payload inertia violating the
+ * triangle inequality, unknown enum values, tol <= 0, max_iter < 1,
+ * cond_warn < 1, cond_max < cond_warn, and masses whose weight or inertia
+ * overflows (M g, M r^2, m g d, m d^2, payload.mass g, payload.mass r^2
+ * not finite, e.g. M = 1e308).
+ */
+RPS3_API int rps3_model_init(rps3_model *m, rps3_check *chk);
 
 /* ------------------------------------------------------------------- data */
 
@@ -677,9 +697,8 @@ RPS3_API int rps3_invdyn(const rps3_model *m, rps3_data *d);
  * With the closed-form theta, the Lagrange formulation and no effect
  * beyond the paper's four, the point is computed in one straight-line
  * pass, the batch kernel's (below) on one point: the stages' results, to
- * the kernel's tolerances (rounding: its own sine, cosine and atan2), in
- * about three quarters of the stages' time (half on the controller's
- * path).  A point the kernel does not certify
+ * the kernel's tolerances (docs/library.md, "Batches", gives them and
+ * the time).  A point the kernel does not certify
  * (non-finite, unreachable, overflowing, near or past a threshold) goes
  * through the stages, so status and warn are always theirs; d then holds
  * everything the stages leave.  With opt.outputs = RPS3_OUT_FORCES the
@@ -716,7 +735,7 @@ RPS3_API int rps3_inverse(const rps3_model *m, rps3_data *d);
  * energy_scale: RPS3_OUT_CERTIFY), and so are l, c, dl and ddl at the
  * points of the leanest pass.  rps3_inverse
  * runs the same loop body on its one point, so the batch and the loop of
- * rps3_inverse agree bit for bit (tests/test_batch_kernel.c).  Against
+ * rps3_inverse agree bit for bit.  Against
  * the per-point stages (the path of every other configuration) the
  * kernel agrees to rounding: l within 4 ulp, theta within 2 ulp of pi, F,
  * its shares and lambda R within 8 eps cond of the point's largest force
@@ -828,17 +847,12 @@ RPS3_API int rps3_fk_batch(const rps3_model *m, rps3_data *d,
  * equations (21)-(24), (34) eliminated to them read
  *   Mq(l) ddl + hq(l, dl) = F,
  * Mq the joint-space mass matrix and hq the bias forces of the selected
- * effects (m->opt.effects).  Both are assembled directly, by virtual power
- * (Kane): each body's velocity is a linear map of dl (the platform centre
- * and angular velocity through the constraint Jacobian of (8)-(10), theta'
- * = -(df/dtheta)^-1 (df/dl) l'), Mq = sum_bodies J^T (mass, inertia) J and
- * hq = sum_bodies J^T (the body's load at ddl = 0); the platform disc of
- * (21) enters as the points with its mass, centroid and inertia tensor
- * (M/2 at the centre, M/6 at each ball joint).  rps3_invdyn is another
- * formulation of the same equations; the tests check that one inverts the
- * other (Lagrange and Newton-Euler).  Forces F > 0 extend the links, as in
- * rps3_invdyn.  The controllers of rps3_ctrl_update apply their model's
- * inverse dynamics in this form, F = Mq ddl + hq.
+ * effects (m->opt.effects), by virtual power (docs/simulation.md gives how
+ * they are assembled).  rps3_invdyn is another formulation of the same
+ * equations (Lagrange and Newton-Euler): one inverts the other.  Forces
+ * F > 0 extend the links, as in rps3_invdyn.  The controllers of
+ * rps3_ctrl_update apply their model's inverse dynamics in this form,
+ * F = Mq ddl + hq.
  *
  * Reads d->l (lengths [m]), d->dl (rates [m/s]) and d->F (forces [N]);
  * theta is solved from l (Newton's method from d->theta when
@@ -1085,9 +1099,9 @@ RPS3_API int rps3_time_law_index(const char *name);
 RPS3_API void rps3_traj_default(rps3_traj *tr);
 
 /*
- * Validate tr for model m (initialised).  RPS3_OK or RPS3_EINVAL with a
- * message "FIELD = VALUE: reason", FIELD a dotted name such as
- * "trajectory.radius" (see rps3_model_init).  Besides each field's range
+ * Validate tr for model m (initialised).  RPS3_OK or RPS3_EINVAL with the
+ * offending field in *chk (chk may be NULL; its name a dotted one such as
+ * "trajectory.radius").  Besides each field's range
  * and each kind's rules, every kind must give what a run evaluates at
  * every sample: a span (rps3_traj_duration, stretched for waypoints) > 0
  * and at most RPS3_TRAJ_SPAN_MAX seconds, and rates whose squares (the
@@ -1101,8 +1115,8 @@ RPS3_API void rps3_traj_default(rps3_traj *tr);
  * rather than failing every sample of a run.
  */
 #define RPS3_TRAJ_SPAN_MAX 1000000000000
-RPS3_API int rps3_traj_check(const rps3_model *m, const rps3_traj *tr, char *err,
-                    size_t errsz);
+RPS3_API int rps3_traj_check(const rps3_model *m, const rps3_traj *tr,
+                             rps3_check *chk);
 
 /* Time span of the trajectory [s] (T* for the helix); 0 for tr NULL, an
    unknown kind, or waypoints without their arrays. */
@@ -1297,24 +1311,6 @@ typedef struct {
 /* Row of field id (0 <= id < RPS3_NFIELD), NULL otherwise. */
 RPS3_API const rps3_field_info *rps3_field(int id);
 
-/* What failed validation, by identifier. */
-typedef struct {
-  int field;       /* rps3_field_id of the failing field, -1 if none (a NULL
-                      argument) */
-  int comp;        /* its component, 0 for a scalar field; the row of an
-                      array field (waypoints, table) */
-  int related[2];  /* other fields the failed rule reads (e.g. rho and R
-                      for the helix radius bound), -1 when unused */
-  char msg[256];   /* "NAME = VALUE: reason", as in rps3_model_init() */
-} rps3_check;
-
-/* rps3_model_init() reporting the failing field in *chk (chk may be NULL). */
-RPS3_API int rps3_model_validate(rps3_model *m, rps3_check *chk);
-
-/* rps3_traj_check() reporting the failing field in *chk (chk may be NULL). */
-RPS3_API int rps3_traj_validate(const rps3_model *m, const rps3_traj *tr,
-                                rps3_check *chk);
-
 /* -------------------------------------------------------------- simulation */
 
 /*
@@ -1353,9 +1349,7 @@ RPS3_API int rps3_traj_validate(const rps3_model *m, const rps3_traj *tr,
  */
 typedef enum {
   RPS3_INT_RK4 = 0,    /* classical Runge-Kutta 4, fixed step h, four
-                          evaluations a step: real time.  The library's
-                          own step (GSL's rk4 doubles each step to
-                          estimate its error: twelve evaluations) */
+                          evaluations a step: real time */
   RPS3_INT_RKF45 = 1,  /* Runge-Kutta-Fehlberg 4(5), adaptive */
   RPS3_INT_RK8PD = 2,  /* Runge-Kutta Prince-Dormand 8(9), adaptive */
   RPS3_INT_MSBDF = 3,  /* variable-order BDF, implicit, adaptive (stiff) */
@@ -1493,7 +1487,7 @@ typedef struct {
 } rps3_sim_report;
 
 /* A simulation: the plant (a copy), its options, its workspace, the
-   integrator and the report, opaque (src/sim.h); read it through
+   integrator and the report, opaque; read it through
    rps3_sim_now, rps3_sim_data, rps3_sim_plant and rps3_sim_opts. */
 typedef struct rps3_sim rps3_sim;
 
@@ -1516,10 +1510,12 @@ RPS3_API const rps3_sim_options *rps3_sim_opts(const rps3_sim *s);
  * Allocate a simulation of the plant (initialised; its options choose the
  * effects and the theta solve) with options o (NULL: defaults): the plant
  * data and the GSL driver.  Returns RPS3_OK, RPS3_EINVAL with "FIELD =
- * VALUE: reason" in err (FIELD e.g. "simulate.h") or RPS3_ENOMEM.
+ * VALUE: reason" in chk->msg (FIELD e.g. "simulate.h"; chk->field -1: the
+ * options are not rows of RPS3_FIELDS) or RPS3_ENOMEM with what could not
+ * be allocated in chk->msg.  chk may be NULL.
  */
 RPS3_API int rps3_sim_alloc(const rps3_model *plant, const rps3_sim_options *o,
-                            rps3_sim **out, char *err, size_t errsz);
+                            rps3_sim **out, rps3_check *chk);
 
 /* Free a simulation; NULL is accepted. */
 RPS3_API void rps3_sim_free(rps3_sim *s);
@@ -1537,13 +1533,13 @@ RPS3_API void rps3_sim_free(rps3_sim *s);
  *     and a run holds at most 1e8 control periods (1 kHz: up to 1e5 s);
  *   - for rk4 and rk4imp, at most max_steps steps of h (ceil(P / h)).
  * o NULL: the defaults.  Returns RPS3_OK or RPS3_EINVAL with "FIELD =
- * VALUE: reason" in err (FIELD "simulate.rate" or "simulate.h", or a
- * field of the options as rps3_sim_alloc names it; err may be NULL).
+ * VALUE: reason" in chk->msg (FIELD "simulate.rate" or "simulate.h", or a
+ * field of the options as rps3_sim_alloc names it; chk may be NULL).
  */
 #define RPS3_SIM_RATE_H_MAX 1000
 #define RPS3_SIM_MAX_PERIODS 100000000
 RPS3_API int rps3_sim_check_rate(const rps3_sim_options *o, double rate,
-                                 double t_max, char *err, size_t errsz);
+                                 double t_max, rps3_check *chk);
 
 /*
  * Start (or restart) at time t0 from the pose (alpha, beta, z_c) and its
@@ -1624,19 +1620,22 @@ RPS3_API const char *rps3_ctrl_name(int kind);
 RPS3_API int rps3_ctrl_index(const char *name);
 
 /* A library controller: its kind, gains, model (a copy), trajectory (a
-   copy) and workspaces, opaque (src/control.h); what a caller reads is
+   copy) and workspaces, opaque; what a caller reads is
    read through the functions below. */
 typedef struct rps3_ctrl rps3_ctrl;
 
 /*
  * Allocate a controller of this kind with gains kp, kd (finite, >= 0),
- * model (initialised) and trajectory (checked against model).  Returns
- * RPS3_OK, RPS3_EINVAL with "FIELD = VALUE: reason" in err, or
- * RPS3_ENOMEM.
+ * model (initialised) and trajectory (checked against model by
+ * rps3_traj_check).  Returns RPS3_OK, RPS3_EINVAL with the failure in
+ * *chk (a trajectory field by identifier; chk->field -1 for the kind and
+ * the gains, "simulate.controller", "simulate.kp", "simulate.kd"), or
+ * RPS3_ENOMEM with what could not be allocated in chk->msg.  chk may be
+ * NULL.
  */
 RPS3_API int rps3_ctrl_alloc(rps3_ctrl_kind kind, double kp, double kd,
                              const rps3_model *model, const rps3_traj *traj,
-                             rps3_ctrl **out, char *err, size_t errsz);
+                             rps3_ctrl **out, rps3_check *chk);
 
 /* Free a controller; NULL is accepted. */
 RPS3_API void rps3_ctrl_free(rps3_ctrl *c);
@@ -1779,14 +1778,14 @@ RPS3_API void rps3_design_default(rps3_design *ds);
  * above (m, d, link_Ic), g, the payload (mass and com (0, 0,
  * payload_height), no inertia; RPS3_EFF_PAYLOAD selected when payload > 0)
  * and the default options; m is then initialised (rps3_model_init).
- * Returns RPS3_OK or RPS3_EINVAL with "FIELD = VALUE: reason" in err (err
- * may be NULL; errsz its size), FIELD a design field's NAME (e.g. "l_min
- * = 0.5: must be < l_max = 0.4 (a stroke > 0)").  rps3_design_validate
- * reports the field by identifier (chk->field an rps3_design_field_id).
+ * Returns RPS3_OK or RPS3_EINVAL with the offending design field in *chk
+ * (chk may be NULL): chk->field an rps3_design_field_id, chk->msg "NAME =
+ * VALUE: reason" with the design field's NAME (e.g. "l_max = 0.4: must be
+ * > l_min = 0.5 ...").  It is the design's validation: a program that
+ * only validates passes a model of its own as scratch.
  */
 RPS3_API int rps3_design_model(const rps3_design *ds, rps3_model *m,
-                               char *err, size_t errsz);
-RPS3_API int rps3_design_validate(const rps3_design *ds, rps3_check *chk);
+                               rps3_check *chk);
 
 /* Reachability: why a pose is outside a design's workspace (bits of
    rps3_design_out.flags).  A pose is reachable when none is set. */
@@ -2074,13 +2073,13 @@ RPS3_API const char *rps3_paper_unit(int k);
  * payload's mass, mass com and inertia about the platform centre
  * (inertia + mass (|com|^2 - com_k^2)), friction.viscous and coulomb,
  * whatever effects are selected.  Returns RPS3_OK, or RPS3_EINVAL with a
- * message in err (may be NULL; errsz its size): m NULL or not
+ * message in chk->msg (chk may be NULL; field -1): m NULL or not
  * initialised, pi NULL, or a payload whose centre of mass is off the
  * platform axes (it has products of inertia the parameters do not hold;
  * pi is still written).
  */
 RPS3_API int rps3_paper_params(const rps3_model *m, double pi[RPS3_NPAPER],
-                               char *err, size_t errsz);
+                               rps3_check *chk);
 
 /*
  * The regressor of m's inverse dynamics at the point of d: Y with
@@ -2122,8 +2121,8 @@ RPS3_API int rps3_regressor_batch(const rps3_model *m, rps3_data *d,
  * sample), p columns, F = Y theta + noise.  Unlike the per-point
  * functions they allocate their GSL workspaces on each call (once per
  * data set) and free them before returning: RPS3_ENOMEM when that fails.
- * Every failure is a status with a message in err (may be NULL; errsz its
- * size); they never reach GSL's error handler.
+ * Every failure is a status with a message in chk->msg (chk may be NULL;
+ * its field is -1); they never reach GSL's error handler.
  */
 typedef struct {
   size_t n, p;               /* rows, columns; n > p */
@@ -2193,7 +2192,7 @@ typedef struct {
  * so that exact data give equal weights), then w = 1 / sigma_a^2.  The
  * rank is decided before the fit by the singular values of the weighted
  * regressor with unit-norm columns (QR then SVD of R).  Returns RPS3_OK;
- * RPS3_ESING when the rank is below p: res->unident flags and err names
+ * RPS3_ESING when the rank is below p: res->unident flags and chk->msg names
  * the columns the data do not determine (theta, cov, ci NaN);
  * RPS3_EINVAL (NULL, n <= p, p = 0, a value not finite, a weight <= 0,
  * an actuator index outside 0..2 or an actuator with no row);
@@ -2201,8 +2200,7 @@ typedef struct {
  */
 RPS3_API int rps3_ident_wls(const rps3_ident_data *data,
                             const rps3_ident_opts *o,
-                            rps3_ident_result *res, char *err,
-                            size_t errsz);
+                            rps3_ident_result *res, rps3_check *chk);
 
 /*
  * Which columns of pi are the 10 standard parameters of which rigid body,
@@ -2264,7 +2262,7 @@ typedef struct {
  * (fit->consistent 1); RPS3_ENOCONV when the solver did not meet xtol or
  * gtol within max_iter iterations or stopped without progress (err says
  * so; theta is the last iterate, fit->consistent 1 when its check
- * passed), or when the check fails (fit->consistent 0, err names the
+ * passed), or when the check fails (fit->consistent 0, chk->msg names the
  * body and eigenvalue); RPS3_EINVAL (bad data as rps3_ident_wls, a bad
  * layout: a column out of range or in two places, a kind not 0 or 1);
  * RPS3_ENOMEM.  Limit: where the optimum lies on the boundary of the
@@ -2277,8 +2275,7 @@ typedef struct {
 RPS3_API int rps3_ident_consistent(const rps3_ident_data *data,
                                    const rps3_ident_layout *layout,
                                    const rps3_ident_opts *o,
-                                   rps3_ident_fit *fit, char *err,
-                                   size_t errsz);
+                                   rps3_ident_fit *fit, rps3_check *chk);
 
 #ifdef __cplusplus
 }

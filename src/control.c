@@ -24,33 +24,44 @@ int rps3_ctrl_index(const char *name) {
 
 int rps3_ctrl_alloc(rps3_ctrl_kind kind, double kp, double kd,
                     const rps3_model *model, const rps3_traj *traj,
-                    rps3_ctrl **out, char *err, size_t errsz) {
+                    rps3_ctrl **out, rps3_check *chk) {
   rps3_ctrl *c;
   int st, k;
-  if (out == NULL) return RPS3_EINVAL;
-  *out = NULL;
-  if (model == NULL || !model->valid || traj == NULL) {
-    if (err != NULL && errsz > 0)
-      snprintf(err, errsz, "controller model not initialised, or no "
-                           "trajectory");
+  rps3_check_clear(chk);
+  if (out == NULL) {
+    if (chk != NULL) snprintf(chk->msg, sizeof chk->msg, "out is NULL");
     return RPS3_EINVAL;
   }
+  *out = NULL;
+  if (model == NULL || !model->valid || traj == NULL) {
+    if (chk != NULL)
+      snprintf(chk->msg, sizeof chk->msg,
+               "controller model not initialised, or no trajectory");
+    return RPS3_EINVAL;
+  }
+  /* the kind and the gains are not rows of RPS3_FIELDS: chk->field -1 */
   if ((int)kind < 0 || (int)kind >= RPS3_NCTRL) {
-    if (err != NULL && errsz > 0)
-      snprintf(err, errsz, "simulate.controller = %d: unknown kind", kind);
+    if (chk != NULL)
+      snprintf(chk->msg, sizeof chk->msg,
+               "simulate.controller = %d: unknown kind", kind);
     return RPS3_EINVAL;
   }
   if (!(isfinite(kp) && kp >= 0) || !(isfinite(kd) && kd >= 0)) {
-    if (err != NULL && errsz > 0)
-      snprintf(err, errsz, "%s = %.17g: must be finite and >= 0",
+    if (chk != NULL)
+      snprintf(chk->msg, sizeof chk->msg, "%s = %.17g: must be finite and >= 0",
                isfinite(kp) && kp >= 0 ? "simulate.kd" : "simulate.kp",
                isfinite(kp) && kp >= 0 ? kd : kp);
     return RPS3_EINVAL;
   }
-  st = rps3_traj_check(model, traj, err, errsz);
+  /* the trajectory's own check, its field by identifier */
+  st = rps3_traj_check(model, traj, chk);
   if (st != RPS3_OK) return st;
   c = (rps3_ctrl *)calloc(1, sizeof(*c));
-  if (c == NULL) return RPS3_ENOMEM;
+  if (c == NULL) {
+    if (chk != NULL)
+      snprintf(chk->msg, sizeof chk->msg, "out of memory: the controller");
+    return RPS3_ENOMEM;
+  }
   c->kind = kind;
   c->kp = kp;
   c->kd = kd;
@@ -64,6 +75,9 @@ int rps3_ctrl_alloc(rps3_ctrl_kind kind, double kp, double kd,
   if (c->fd == NULL || rps3_data_alloc(&c->model, &c->des) != RPS3_OK ||
       rps3_data_alloc(&c->model, &c->meas) != RPS3_OK) {
     rps3_ctrl_free(c);
+    if (chk != NULL)
+      snprintf(chk->msg, sizeof chk->msg,
+               "out of memory: the controller's workspaces");
     return RPS3_ENOMEM;
   }
   *out = c;

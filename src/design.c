@@ -10,7 +10,6 @@
 #include <stdlib.h>
 #include <string.h>
 
-#include "design_int.h"
 #include "internal.h"
 
 
@@ -91,7 +90,7 @@ void rps3_design_opts_default(rps3_design_opts *o) {
   o->cond_sing = 1e8;
 }
 
-/* the model fields rps3_model_validate may name, as design fields */
+/* the model fields rps3_model_init may name, as design fields */
 static int design_id_of_model(int f) {
   switch (f) {
   case RPS3_F_R: return RPS3_DF_R;
@@ -108,8 +107,7 @@ static int design_id_of_model(int f) {
 }
 
 /* validate ds and fill m (initialised) */
-int rps3_design_model_check(const rps3_design *ds, rps3_model *m,
-                            rps3_check *chk) {
+int rps3_design_model(const rps3_design *ds, rps3_model *m, rps3_check *chk) {
   rps3_check mchk;
   double lm, ld, lic;
   int id;
@@ -169,7 +167,7 @@ int rps3_design_model_check(const rps3_design *ds, rps3_model *m,
   m->payload.mass = ds->payload;
   m->payload.com[2] = ds->payload_height;
   if (ds->payload > 0.0) m->opt.effects |= RPS3_EFF_PAYLOAD;
-  if (rps3_model_validate(m, &mchk) != RPS3_OK) {
+  if (rps3_model_init(m, &mchk) != RPS3_OK) {
     /* a product that overflows (M g, m d^2, ...): name the design's
        field behind the model's */
     int did = design_id_of_model(mchk.field);
@@ -183,19 +181,6 @@ int rps3_design_model_check(const rps3_design *ds, rps3_model *m,
   return RPS3_OK;
 }
 
-int rps3_design_validate(const rps3_design *ds, rps3_check *chk) {
-  rps3_model m;
-  return rps3_design_model_check(ds, &m, chk);
-}
-
-int rps3_design_model(const rps3_design *ds, rps3_model *m, char *err,
-                      size_t errsz) {
-  rps3_check chk;
-  int rc = rps3_design_model_check(ds, m, &chk);
-  if (rc != RPS3_OK && err != NULL && errsz > 0)
-    snprintf(err, errsz, "%s", chk.msg);
-  return rc;
-}
 
 /* ------------------------------------------------------------------- grid */
 

@@ -11,7 +11,6 @@
 #include <stdlib.h>
 #include <string.h>
 
-#include "design_int.h"
 #include "internal.h"
 #include "linalg.h"
 
@@ -44,7 +43,7 @@ int rps3_design_ws_alloc(rps3_design_ws **out) {
   }
   /* the data serves every model with the default solver: every design's */
   rps3_model_default(&w->model);
-  if (rps3_model_init(&w->model, NULL, 0) != RPS3_OK) {
+  if (rps3_model_init(&w->model, NULL) != RPS3_OK) {
     free(w->scr);
     free(w);
     return RPS3_EINVAL;
@@ -73,7 +72,7 @@ static int ws_design(rps3_design_ws *w, const rps3_design *ds,
                      const rps3_design_opts *o) {
   rps3_check chk;
   rps3_model *s = &w->scr->stat;
-  if (rps3_design_model_check(ds, &w->model, &chk) != RPS3_OK) {
+  if (rps3_design_model(ds, &w->model, &chk) != RPS3_OK) {
     w->model.valid = 0;
     RPS3_ERROR(w, RPS3_EINVAL, "%.250s", chk.msg);
   }
@@ -93,7 +92,7 @@ static int ws_design(rps3_design_ws *w, const rps3_design *ds,
   s->opt.trans_max = 1e300;
   s->opt.trans_warn = 1e300;
   s->opt.cond_warn = 1e300;
-  if (rps3_model_init(s, NULL, 0) != RPS3_OK)
+  if (rps3_model_init(s, NULL) != RPS3_OK)
     RPS3_ERROR(w, RPS3_EINVAL, "design model: internal options refused");
   return RPS3_OK;
 }
@@ -460,7 +459,7 @@ int rps3_design_task_eval(rps3_design_ws *w, const rps3_design *ds,
   struct rps3_design_scratch *s;
   rps3_design_opts def;
   rps3_model *dm;
-  char err[256];
+  rps3_check chk;
   double T, L, sumsq[3] = {0, 0, 0};
   size_t k0;
   int st, j;
@@ -487,10 +486,10 @@ int rps3_design_task_eval(rps3_design_ws *w, const rps3_design *ds,
   if (!link_mass_on)
     dm->opt.effects &= ~(RPS3_EFF_LINK_GRAVITY | RPS3_EFF_LINK_INERTIA);
   dm->opt.outputs = RPS3_OUT_ALL & ~RPS3_OUT_CERTIFY;
-  if (rps3_model_init(dm, err, sizeof err) != RPS3_OK)
-    RPS3_ERROR(w, RPS3_EINVAL, "task model: %.200s", err);
-  if (rps3_traj_check(dm, tr, err, sizeof err) != RPS3_OK)
-    RPS3_ERROR(w, RPS3_EINVAL, "%.250s", err);
+  if (rps3_model_init(dm, &chk) != RPS3_OK)
+    RPS3_ERROR(w, RPS3_EINVAL, "task model: %.200s", chk.msg);
+  if (rps3_traj_check(dm, tr, &chk) != RPS3_OK)
+    RPS3_ERROR(w, RPS3_EINVAL, "%.250s", chk.msg);
   T = rps3_traj_duration(tr);
   L = o->length > 0.0 ? o->length : s->stat.r;
   for (j = 0; j < 3; j++) {

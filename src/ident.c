@@ -31,12 +31,14 @@ const char *rps3_paper_unit(int k) {
   return (k >= 0 && k < RPS3_NPAPER) ? paper_units[k] : NULL;
 }
 
-int rps3_paper_params(const rps3_model *m, double pi[RPS3_NPAPER], char *err,
-                      size_t errsz) {
+int rps3_paper_params(const rps3_model *m, double pi[RPS3_NPAPER],
+                      rps3_check *chk) {
+  char *err = chk != NULL ? chk->msg : NULL;
+  size_t errsz = chk != NULL ? sizeof chk->msg : 0;
   const rps3_payload *p;
   double cc;
   int k, off = 0;
-  if (err && errsz) err[0] = '\0';
+  rps3_check_clear(chk);
   if (m == NULL || !m->valid || pi == NULL) {
     if (err && errsz)
       snprintf(err, errsz, "%s", pi == NULL ? "pi is NULL"

@@ -280,13 +280,15 @@ static int rank_fail(const rps3_ident_data *dt, const int *flags, size_t rank,
 }
 
 int rps3_ident_wls(const rps3_ident_data *dt, const rps3_ident_opts *o,
-                   rps3_ident_result *res, char *err, size_t errsz) {
+                   rps3_ident_result *res, rps3_check *chk) {
+  char *err = chk != NULL ? chk->msg : NULL;
+  size_t errsz = chk != NULL ? sizeof chk->msg : 0;
   rps3_ident_opts def;
   lsq L;
   int status, *flags;
   size_t p, r, j, k, rank;
   double cond, chisq, var[3], t, msq = 0.0;
-  if (err && errsz) err[0] = '\0';
+  rps3_check_clear(chk);
   if (o == NULL) {
     rps3_ident_opts_default(&def);
     o = &def;
@@ -694,7 +696,9 @@ const rps3_ident_layout *rps3_ident_paper_layout(void) {
 int rps3_ident_consistent(const rps3_ident_data *dt,
                           const rps3_ident_layout *lay,
                           const rps3_ident_opts *o, rps3_ident_fit *fit,
-                          char *err, size_t errsz) {
+                          rps3_check *chk) {
+  char *err = chk != NULL ? chk->msg : NULL;
+  size_t errsz = chk != NULL ? sizeof chk->msg : 0;
   rps3_ident_opts def;
   cfit c;
   size_t n, p, i, j, b, nx = 0;
@@ -708,7 +712,7 @@ int rps3_ident_consistent(const rps3_ident_data *dt,
   gsl_eigen_symm_workspace *ew = NULL;
   gsl_matrix *E = NULL;
   gsl_vector *lam = NULL;
-  if (err && errsz) err[0] = '\0';
+  rps3_check_clear(chk);
   if (o == NULL) {
     rps3_ident_opts_default(&def);
     o = &def;

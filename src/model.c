@@ -36,15 +36,7 @@ void rps3_model_default(rps3_model *m) {
   rps3_options_default(&m->opt);
 }
 
-int rps3_model_init(rps3_model *m, char *err, size_t errsz) {
-  rps3_check chk;
-  int rc = rps3_model_validate(m, &chk);
-  if (rc != RPS3_OK && err != NULL && errsz > 0)
-    snprintf(err, errsz, "%s", chk.msg);
-  return rc;
-}
-
-int rps3_model_validate(rps3_model *m, rps3_check *chk) {
+int rps3_model_init(rps3_model *m, rps3_check *chk) {
   const rps3_payload *p;
   int i, k;
   rps3_check_clear(chk);

@@ -503,6 +503,7 @@ static int law_declared(const rps3_controller *c) {
 }
 
 int rps3_sim_advance(rps3_sim *s, const rps3_controller *c, double t_end) {
+  rps3_check chk;
   int st;
   if (s == NULL) return RPS3_EINVAL;
   if (!s->started) return RPS3_ESTATE;
@@ -524,11 +525,11 @@ int rps3_sim_advance(rps3_sim *s, const rps3_controller *c, double t_end) {
   }
   /* the rate's limits over the call's times (a few operations: the loop
      below counts on them to end) */
-  st = rps3_sim_check_rate(&s->opt, c->rate,
-                           fmax(fabs(s->t0), fabs(t_end)), s->d->err.msg,
-                           sizeof(s->d->err.msg));
+  st = rps3_sim_check_rate(&s->opt, c->rate, fmax(fabs(s->t0), fabs(t_end)),
+                           &chk);
   if (st != RPS3_OK) {
     s->d->err.code = st;
+    snprintf(s->d->err.msg, sizeof(s->d->err.msg), "%s", chk.msg);
     return st;
   }
   s->ctrl = c;

@@ -35,19 +35,28 @@ void rps3_sim_options_default(rps3_sim_options *o) {
   o->seed = 0x5eedUL;
 }
 
-static int bad(char *err, size_t errsz, const char *field, double value,
+/* a refused option: "FIELD = VALUE: why" in chk (the simulation's options
+   are not rows of RPS3_FIELDS: chk->field stays -1) */
+static int bad(rps3_check *chk, const char *field, double value,
                const char *why) {
-  if (err != NULL && errsz > 0)
-    snprintf(err, errsz, "%s = %.17g: %s", field, value, why);
+  if (chk != NULL)
+    snprintf(chk->msg, sizeof chk->msg, "%s = %.17g: %s", field, value, why);
   return RPS3_EINVAL;
+}
+
+/* an allocation that failed: RPS3_ENOMEM, with what in chk */
+static int nomem(rps3_check *chk, const char *what) {
+  if (chk != NULL)
+    snprintf(chk->msg, sizeof chk->msg, "out of memory: %s", what);
+  return RPS3_ENOMEM;
 }
 
 #define REQUIRE(cond, field, value, why)                                      \
   do {                                                                        \
-    if (!(cond)) return bad(err, errsz, field, (double)(value), why);         \
+    if (!(cond)) return bad(chk, field, (double)(value), why);         \
   } while (0)
 
-static int check_options(const rps3_sim_options *o, char *err, size_t errsz) {
+static int check_options(const rps3_sim_options *o, rps3_check *chk) {
   REQUIRE((int)o->integrator >= 0 && (int)o->integrator < RPS3_NINTEGRATOR,
           "simulate.integrator", o->integrator, "unknown integrator");
   REQUIRE(isfinite(o->h) && o->h > 0, "simulate.h", o->h,
@@ -87,19 +96,20 @@ static int check_options(const rps3_sim_options *o, char *err, size_t errsz) {
 }
 
 int rps3_sim_check_rate(const rps3_sim_options *o, double rate,
-                        double t_max, char *err, size_t errsz) {
+                        double t_max, rps3_check *chk) {
   rps3_sim_options def;
   double period, steps, step;
   int st, fixed;
+  rps3_check_clear(chk);
   if (o == NULL) {
     rps3_sim_options_default(&def);
     o = &def;
   }
-  st = check_options(o, err, errsz);
+  st = check_options(o, chk);
   if (st != RPS3_OK) return st;
   if (!(isfinite(t_max) && t_max >= 0.0)) {
-    if (err != NULL && errsz > 0)
-      snprintf(err, errsz, "t_max = %.17g s: must be finite and >= 0", t_max);
+    if (chk != NULL)
+      snprintf(chk->msg, sizeof chk->msg, "t_max = %.17g s: must be finite and >= 0", t_max);
     return RPS3_EINVAL;
   }
   REQUIRE(isfinite(rate) && rate >= 0.0, "simulate.rate", rate,
@@ -111,8 +121,8 @@ int rps3_sim_check_rate(const rps3_sim_options *o, double rate,
   fixed = o->integrator == RPS3_INT_RK4 || o->integrator == RPS3_INT_RK4IMP;
   step = fixed ? o->h : o->hmin;
   if (!(period >= step / (double)RPS3_SIM_RATE_H_MAX)) {
-    if (err != NULL && errsz > 0)
-      snprintf(err, errsz,
+    if (chk != NULL)
+      snprintf(chk->msg, sizeof chk->msg,
                "simulate.rate = %.17g: its period %.3g s is shorter than "
                "%s / %g = %.3g s (%s = %g s): at most %g control periods a "
                "step",
@@ -126,8 +136,8 @@ int rps3_sim_check_rate(const rps3_sim_options *o, double rate,
   /* k / rate and t0 + k / rate must tell the ticks apart far below the
      slack that merges times (TICK_SLACK of sim.c, 1e-6 periods) */
   if (!(period >= t_max / (double)RPS3_SIM_MAX_PERIODS)) {
-    if (err != NULL && errsz > 0)
-      snprintf(err, errsz,
+    if (chk != NULL)
+      snprintf(chk->msg, sizeof chk->msg,
                "simulate.rate = %.17g: its period %.3g s is below %g of the "
                "run's time %.6g s, where double precision does not tell "
                "its ticks apart: at most %g control periods a run",
@@ -139,8 +149,8 @@ int rps3_sim_check_rate(const rps3_sim_options *o, double rate,
     /* the fixed steps of one control period (integrate in sim.c) */
     steps = ceil(period / o->h - 1e-6);
     if (steps > (double)o->max_steps) {
-      if (err != NULL && errsz > 0)
-        snprintf(err, errsz,
+      if (chk != NULL)
+        snprintf(chk->msg, sizeof chk->msg,
                  "simulate.h = %.17g: a control period of %.6g s takes %.6g "
                  "steps of h, more than max_steps = %ld",
                  o->h, period, steps, o->max_steps);
@@ -167,25 +177,30 @@ static const gsl_odeiv2_step_type *step_type(rps3_integrator k) {
 }
 
 int rps3_sim_alloc(const rps3_model *plant, const rps3_sim_options *o,
-                   rps3_sim **out, char *err, size_t errsz) {
+                   rps3_sim **out, rps3_check *chk) {
   rps3_sim *s;
   rps3_sim_options def;
   int st;
-  if (out == NULL) return RPS3_EINVAL;
+  rps3_check_clear(chk);
+  if (out == NULL) {
+    if (chk != NULL) snprintf(chk->msg, sizeof chk->msg, "out is NULL");
+    return RPS3_EINVAL;
+  }
   *out = NULL;
   if (plant == NULL || !plant->valid) {
-    if (err != NULL && errsz > 0)
-      snprintf(err, errsz, "plant model is NULL or not initialised");
+    if (chk != NULL)
+      snprintf(chk->msg, sizeof chk->msg,
+               "plant model is NULL or not initialised");
     return RPS3_EINVAL;
   }
   if (o == NULL) {
     rps3_sim_options_default(&def);
     o = &def;
   }
-  st = check_options(o, err, errsz);
+  st = check_options(o, chk);
   if (st != RPS3_OK) return st;
   s = (rps3_sim *)calloc(1, sizeof(*s));
-  if (s == NULL) return RPS3_ENOMEM;
+  if (s == NULL) return nomem(chk, "the simulation");
   s->plant = *plant;
   s->opt = *o;
   s->now.status = RPS3_ESTATE;
@@ -193,7 +208,7 @@ int rps3_sim_alloc(const rps3_model *plant, const rps3_sim_options *o,
   s->gsl = (struct rps3_sim_gsl *)calloc(1, sizeof(*s->gsl));
   if (s->gsl == NULL || rps3_data_alloc(&s->plant, &s->d) != RPS3_OK) {
     rps3_sim_free(s);
-    return RPS3_ENOMEM;
+    return nomem(chk, "the plant's workspace");
   }
   s->gsl->sys.function = rps3_sim_rhs;
   s->gsl->sys.jacobian = rps3_sim_jac;
@@ -209,15 +224,16 @@ int rps3_sim_alloc(const rps3_model *plant, const rps3_sim_options *o,
       s->gsl->fixed ? 1e-6 : o->epsabs, s->gsl->fixed ? 0.0 : o->epsrel);
   if (s->gsl->drv == NULL) {
     rps3_sim_free(s);
-    return RPS3_ENOMEM;
+    return nomem(chk, "GSL's odeiv2 driver");
   }
   s->gsl->stp = s->gsl->drv->s;
   if (gsl_odeiv2_driver_set_hmin(s->gsl->drv, o->hmin) != GSL_SUCCESS ||
       gsl_odeiv2_driver_set_nmax(s->gsl->drv, (unsigned long)o->max_steps) !=
           GSL_SUCCESS) {
     rps3_sim_free(s);
-    if (err != NULL && errsz > 0)
-      snprintf(err, errsz, "simulate.hmin = %g: GSL refused it", o->hmin);
+    if (chk != NULL)
+      snprintf(chk->msg, sizeof chk->msg, "simulate.hmin = %g: GSL refused it",
+               o->hmin);
     return RPS3_EINVAL;
   }
   *out = s;

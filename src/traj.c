@@ -180,17 +180,8 @@ static int motion_scan(const rps3_model *m, const rps3_traj *tr,
   return RPS3_OK;
 }
 
-int rps3_traj_check(const rps3_model *m, const rps3_traj *tr, char *err,
-                    size_t errsz) {
-  rps3_check chk;
-  int rc = rps3_traj_validate(m, tr, &chk);
-  if (rc != RPS3_OK && err != NULL && errsz > 0)
-    snprintf(err, errsz, "%s", chk.msg);
-  return rc;
-}
-
-int rps3_traj_validate(const rps3_model *m, const rps3_traj *tr,
-                       rps3_check *chk) {
+int rps3_traj_check(const rps3_model *m, const rps3_traj *tr,
+                    rps3_check *chk) {
   rps3_check_clear(chk);
   if (m == NULL || tr == NULL || !m->valid) {
     if (chk != NULL)

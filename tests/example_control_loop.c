@@ -34,7 +34,7 @@ static long elapsed_ns(const struct timespec *a, const struct timespec *b) {
 int main(int argc, char **argv) {
   long ticks = (argc > 1) ? atol(argv[1]) : 300, k, overruns = 0;
   double sum = 0.0;
-  char err[256];
+  rps3_check chk;
   rps3_model m;
   rps3_data *d = NULL;
   rps3_traj tr;
@@ -46,8 +46,8 @@ int main(int argc, char **argv) {
   m.friction.viscous = 0.01;              /* N m s / rad at each pin */
   m.opt.theta = RPS3_THETA_CLOSED_FORM;   /* pose known: theta by (39) */
   m.opt.method = RPS3_LAGRANGE;
-  if (rps3_model_init(&m, err, sizeof(err)) != RPS3_OK) {
-    fprintf(stderr, "model: %s\n", err);
+  if (rps3_model_init(&m, &chk) != RPS3_OK) {
+    fprintf(stderr, "model: %s\n", chk.msg);
     return 1;
   }
   if (rps3_data_alloc(&m, &d) != RPS3_OK) return 1;

@@ -35,7 +35,7 @@ int main(int argc, char **argv) {
   rps3_sim *s = NULL;
   rps3_ctrl *c = NULL;
   rps3_controller ctl;
-  char err[256];
+  rps3_check chk;
   double seconds = 10.0, pose[3], dpose[3], emax = 0.0, c0, c1;
   int light = 0, realtime = 0, a, status = RPS3_OK;
   long k, ticks;
@@ -54,16 +54,16 @@ int main(int argc, char **argv) {
 
   /* set up once, outside the loop: every allocation happens here */
   rps3_model_default(&plant);               /* Table II, m/M = 0.5 */
-  if (rps3_model_init(&plant, err, sizeof(err)) != RPS3_OK) goto fail_err;
+  if (rps3_model_init(&plant, &chk) != RPS3_OK) goto fail_chk;
   cmodel = plant;                           /* the controller's own model */
   if (light) cmodel.m = 0.0;
-  if (rps3_model_init(&cmodel, err, sizeof(err)) != RPS3_OK) goto fail_err;
+  if (rps3_model_init(&cmodel, &chk) != RPS3_OK) goto fail_chk;
   rps3_traj_default(&tr);                   /* the paper's helix, 10 s */
   rps3_sim_options_default(&o);             /* RK4, h = 1 ms */
-  if (rps3_sim_alloc(&plant, &o, &s, err, sizeof(err)) != RPS3_OK ||
+  if (rps3_sim_alloc(&plant, &o, &s, &chk) != RPS3_OK ||
       rps3_ctrl_alloc(RPS3_CTRL_COMPUTED_TORQUE, 400.0, 40.0, &cmodel, &tr, &c,
-                      err, sizeof(err)) != RPS3_OK)
-    goto fail_err;
+                      &chk) != RPS3_OK)
+    goto fail_chk;
   /* the law, offered the plant's state at every tick */
   ctl = rps3_ctrl_bind(c, RATE_HZ);
   rps3_traj_eval(&plant, &tr, 0.0, pose, dpose, NULL);
@@ -109,8 +109,8 @@ int main(int argc, char **argv) {
     rps3_ctrl_free(c);
     c = NULL;
     if (rps3_ctrl_alloc(RPS3_CTRL_COMPUTED_TORQUE, 400.0, 40.0, &cmodel, &tr,
-                        &c, err, sizeof(err)) != RPS3_OK)
-      goto fail_err;
+                        &c, &chk) != RPS3_OK)
+      goto fail_chk;
     ctl.state = c;
     if (rps3_sim_start(s, 0.0, pose, dpose) != RPS3_OK) goto fail_sim;
     c0 = cpu_seconds();
@@ -131,8 +131,8 @@ fail_sim:
   rps3_ctrl_free(c);
   rps3_sim_free(s);
   return 1;
-fail_err:
-  fprintf(stderr, "setup: %s\n", err);
+fail_chk:
+  fprintf(stderr, "setup: %s\n", chk.msg);
   rps3_ctrl_free(c);
   rps3_sim_free(s);
   return 1;

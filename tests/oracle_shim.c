@@ -7,6 +7,7 @@
  *
  * par: shim_model.h.
  */
+#include <stdio.h>
 #include <string.h>
 
 #include "rps3.h"
@@ -27,14 +28,18 @@ int rps3_shim_forces(const double *par, int effects, int method, int theta,
                      const double *ddpose, double *F, double *F_effect,
                      int *status, char *err, int errsz) {
   rps3_model m;
+  rps3_check chk;
   rps3_data *d;
   int k, st;
   shim_model(&m, par, effects);
   m.opt.method = (rps3_method)method;
   m.opt.theta = (rps3_theta_route)theta;
   m.opt.warm_start = 1;
-  st = rps3_model_init(&m, err, (size_t)errsz);
-  if (st != RPS3_OK) return st;
+  st = rps3_model_init(&m, &chk);
+  if (st != RPS3_OK) {
+    if (err != NULL && errsz > 0) snprintf(err, (size_t)errsz, "%s", chk.msg);
+    return st;
+  }
   st = rps3_data_alloc(&m, &d);
   if (st != RPS3_OK) return st;
   for (k = 0; k < n; k++) {

@@ -6,6 +6,7 @@
  *
  * par: shim_model.h (RPS3_SHIM_NPAR numbers), + vreg last.
  */
+#include <stdio.h>
 #include <string.h>
 
 #include "rps3.h"
@@ -41,6 +42,7 @@ int rps3_shim_sim(const double *par, int effects, int integrator, double h,
                   int n, double dt, const double *F, double *l, double *T,
                   double *P, double *W, char *err, int errsz) {
   rps3_model m;
+  rps3_check chk;
   rps3_sim_options o;
   rps3_sim *s = NULL;
   rps3_controller c;
@@ -48,14 +50,20 @@ int rps3_shim_sim(const double *par, int effects, int integrator, double h,
   int k, st;
   shim_model(&m, par, effects);
   m.friction.vreg = par[RPS3_SHIM_NPAR];
-  st = rps3_model_init(&m, err, (size_t)errsz);
-  if (st != RPS3_OK) return st;
+  st = rps3_model_init(&m, &chk);
+  if (st != RPS3_OK) {
+    if (err != NULL && errsz > 0) snprintf(err, (size_t)errsz, "%s", chk.msg);
+    return st;
+  }
   rps3_sim_options_default(&o);
   o.integrator = (rps3_integrator)integrator;
   o.h = h;
   o.epsabs = o.epsrel = tol;
-  st = rps3_sim_alloc(&m, &o, &s, err, (size_t)errsz);
-  if (st != RPS3_OK) return st;
+  st = rps3_sim_alloc(&m, &o, &s, &chk);
+  if (st != RPS3_OK) {
+    if (err != NULL && errsz > 0) snprintf(err, (size_t)errsz, "%s", chk.msg);
+    return st;
+  }
   tb.F = F;
   tb.n = n;
   tb.dt = dt;

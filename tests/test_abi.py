@@ -77,3 +77,20 @@ def test_soname_carries_the_major_version():
     out = subprocess.run(["readelf", "-d", SHARED], capture_output=True,
                          text=True, check=True).stdout
     assert f"Library soname: [librps3.so.{major}]" in out
+
+
+def test_one_validation_path_through_rps3_check():
+    """Each object has one validation, and every function that validates
+    its arguments reports through rps3_check (the field by identifier and
+    the message), not through a caller's char buffer: no declaration takes
+    an `err, errsz` pair, none is a second `_validate` entry point, and
+    the validators and validating allocations end with `rps3_check *`."""
+    decls = declared_functions()
+    buffers = [n for n, s in decls.items()
+               if re.search(r"\bchar\s*\*\s*\w*err\w*\s*,\s*size_t", s)]
+    assert buffers == []
+    assert [n for n in decls if n.endswith("_validate")] == []
+    for name in ("rps3_model_init", "rps3_traj_check", "rps3_design_model",
+                 "rps3_sim_alloc", "rps3_sim_check_rate", "rps3_ctrl_alloc"):
+        assert re.search(r"rps3_check\s*\*\s*chk\s*\)$", decls[name]), \
+            decls[name]

@@ -97,7 +97,7 @@ static void interposer_sees_gsl_and_init(void **state) {
   (void)state;
   model_entropy(&m);
   m.opt.theta = RPS3_THETA_MULTIROOT;
-  assert_int_equal(rps3_model_init(&m, NULL, 0), RPS3_OK);
+  assert_int_equal(rps3_model_init(&m, NULL), RPS3_OK);
 
   count_start();
   v = gsl_vector_alloc(7); /* inside libgsl.so */
@@ -133,12 +133,12 @@ static void run_trajectory(rps3_theta_route theta, rps3_method method,
   m.opt.solver = RPS3_SOLVER_HYBRIDSJ;
   if (effects) m.opt.effects = effects;
   m.opt.outputs = outputs;
-  assert_int_equal(rps3_model_init(&m, NULL, 0), RPS3_OK);
+  assert_int_equal(rps3_model_init(&m, NULL), RPS3_OK);
   rps3_traj_default(&tr);
   /* the helix of Table II scaled to this model's platform (r* < r/2) */
   tr.helix.radius = 0.0031;
   tr.helix.z0 = 0.2713;
-  assert_int_equal(rps3_traj_check(&m, &tr, NULL, 0), RPS3_OK);
+  assert_int_equal(rps3_traj_check(&m, &tr, NULL), RPS3_OK);
   assert_int_equal(rps3_data_alloc(&m, &d), RPS3_OK);
   T = rps3_traj_duration(&tr);
 
@@ -221,7 +221,7 @@ static void table_kinds(void **state) {
   int i, j;
   (void)state;
   rps3_model_default(&m);
-  assert_int_equal(rps3_model_init(&m, NULL, 0), RPS3_OK);
+  assert_int_equal(rps3_model_init(&m, NULL), RPS3_OK);
   assert_int_equal(rps3_data_alloc(&m, &d), RPS3_OK);
   for (i = 0; i < NROWS; i++) {
     double t = 4.0 * i / (NROWS - 1), a = 0.7 + 1.9 * t;
@@ -251,7 +251,7 @@ static void table_kinds(void **state) {
     tb->time = time;
     tb->value = ROWS3(j ? centre : pose);
     tb->rate = ROWS3(j ? crate : rate);
-    assert_int_equal(rps3_traj_check(&m, &tr[j], NULL, 0), RPS3_OK);
+    assert_int_equal(rps3_traj_check(&m, &tr[j], NULL), RPS3_OK);
   }
   count_start();
   for (p = 0; p < 10000; p++) {
@@ -278,7 +278,7 @@ static void stages_and_errors(void **state) {
   long p, ok = 0, errors = 0;
   (void)state;
   model_entropy(&m);
-  assert_int_equal(rps3_model_init(&m, NULL, 0), RPS3_OK);
+  assert_int_equal(rps3_model_init(&m, NULL), RPS3_OK);
   assert_int_equal(rps3_data_alloc(&m, &d), RPS3_OK);
 
   count_start();
@@ -336,7 +336,7 @@ static void batches(void **state) {
   (void)state;
   model_entropy(&m);
   m.opt.theta = RPS3_THETA_MULTIROOT;
-  assert_int_equal(rps3_model_init(&m, NULL, 0), RPS3_OK);
+  assert_int_equal(rps3_model_init(&m, NULL), RPS3_OK);
   assert_int_equal(rps3_data_alloc(&m, &d), RPS3_OK);
   for (i = 0; i < NBATCH; i++) {
     double s = (double)i / NBATCH;
@@ -389,7 +389,7 @@ static void simulation_loop(void **state) {
   (void)state;
   model_entropy(&m);
   m.friction.vreg = 1e-3;
-  assert_int_equal(rps3_model_init(&m, NULL, 0), RPS3_OK);
+  assert_int_equal(rps3_model_init(&m, NULL), RPS3_OK);
   rps3_traj_default(&tr);
   tr.helix.radius = 0.0031;
   tr.helix.z0 = 0.2713;
@@ -403,9 +403,9 @@ static void simulation_loop(void **state) {
     o.integrator = integ[k];
     o.noise_l = 1e-6;
     o.h = (integ[k] == RPS3_INT_RK4IMP) ? 5e-4 : 1e-3;
-    assert_int_equal(rps3_sim_alloc(&m, &o, &s, NULL, 0), RPS3_OK);
+    assert_int_equal(rps3_sim_alloc(&m, &o, &s, NULL), RPS3_OK);
     assert_int_equal(rps3_ctrl_alloc(RPS3_CTRL_COMPUTED_TORQUE, 400.0, 40.0,
-                                     &m, &tr, &c, NULL, 0), RPS3_OK);
+                                     &m, &tr, &c, NULL), RPS3_OK);
     assert_int_equal(rps3_traj_eval(&m, &tr, 0.0, pose, dpose, NULL), RPS3_OK);
     count_start();
     {

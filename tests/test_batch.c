@@ -99,7 +99,7 @@ static void inverse_like_loop(rps3_theta_route theta, rps3_method method,
   m.opt.effects = effects;
   m.opt.outputs = (certify) ? (m.opt.outputs | RPS3_OUT_CERTIFY)
       : (m.opt.outputs & ~RPS3_OUT_CERTIFY);
-  assert_int_equal(rps3_model_init(&m, NULL, 0), RPS3_OK);
+  assert_int_equal(rps3_model_init(&m, NULL), RPS3_OK);
   assert_int_equal(rps3_data_alloc(&m, &db), RPS3_OK);
   assert_int_equal(rps3_data_alloc(&m, &dl), RPS3_OK);
   bad = make_points(&m, a, 0x5eed0 + (uint64_t)(theta * 2 + method));
@@ -208,7 +208,7 @@ static void static_without_rates(void **state) {
   model_entropy(&m);
   m.opt.effects = RPS3_EFF_PLATFORM_GRAVITY | RPS3_EFF_LINK_GRAVITY;
   m.opt.outputs &= ~RPS3_OUT_CERTIFY;
-  assert_int_equal(rps3_model_init(&m, NULL, 0), RPS3_OK);
+  assert_int_equal(rps3_model_init(&m, NULL), RPS3_OK);
   assert_int_equal(rps3_data_alloc(&m, &db), RPS3_OK);
   assert_int_equal(rps3_data_alloc(&m, &dl), RPS3_OK);
   make_points(&m, a, 0xab5);
@@ -243,7 +243,7 @@ static void ik_and_fk_like_loop(void **state) {
   assert_non_null(a);
   model_entropy(&m);
   m.opt.warm_start = 0; /* so that a guess must override the model */
-  assert_int_equal(rps3_model_init(&m, NULL, 0), RPS3_OK);
+  assert_int_equal(rps3_model_init(&m, NULL), RPS3_OK);
   warm = m;
   warm.opt.warm_start = 1;
   assert_int_equal(rps3_data_alloc(&m, &db), RPS3_OK);
@@ -330,7 +330,7 @@ static void call_errors(void **state) {
   rps3_batch_out out;
   (void)state;
   model_entropy(&m);
-  assert_int_equal(rps3_model_init(&m, NULL, 0), RPS3_OK);
+  assert_int_equal(rps3_model_init(&m, NULL), RPS3_OK);
   assert_int_equal(rps3_data_alloc(&m, &d), RPS3_OK);
   memset(&in, 0, sizeof(in));
   memset(&out, 0, sizeof(out));

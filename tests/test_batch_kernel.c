@@ -338,7 +338,7 @@ static void agrees(int table2, int effects, int certify, int forces_only,
     m.opt.outputs = OUT_ONLY | (certify ? RPS3_OUT_CERTIFY : 0);
   if (cond_warn > 0) m.opt.cond_warn = cond_warn;
   if (trans_warn > 0) m.opt.trans_warn = trans_warn;
-  assert_int_equal(rps3_model_init(&m, NULL, 0), RPS3_OK);
+  assert_int_equal(rps3_model_init(&m, NULL), RPS3_OK);
   assert_true(rps3_kernel_covers(&m));
   for (seed = 0; seed < 6; seed++) {
     make_points(&m, a, seed == 0 ? 0 : (scalar ? 0x5ca1 : 0x6e7) + seed);
@@ -592,7 +592,7 @@ static void batch_is_the_loop_bitwise(void **state) {
         if (cfg >= 12)
           m.opt.effects = RPS3_EFF_PLATFORM_GRAVITY | RPS3_EFF_LINK_GRAVITY;
       }
-      assert_int_equal(rps3_model_init(&m, NULL, 0), RPS3_OK);
+      assert_int_equal(rps3_model_init(&m, NULL), RPS3_OK);
       assert_int_equal(rps3_data_alloc(&m, &db), RPS3_OK);
       assert_int_equal(rps3_data_alloc(&m, &dl), RPS3_OK);
       make_points(&m, a, 0xb17 + (uint64_t)cfg);
@@ -706,7 +706,7 @@ static void transmission_by_virtual_power(void **state) {
   m.opt.effects = RPS3_EFF_DEFAULT;
   m.opt.trans_warn = 1e7; /* certify points far from the default's */
   m.opt.cond_warn = 1e7;
-  assert_int_equal(rps3_model_init(&m, NULL, 0), RPS3_OK);
+  assert_int_equal(rps3_model_init(&m, NULL), RPS3_OK);
   assert_int_equal(rps3_data_alloc(&m, &d), RPS3_OK);
   make_points(&m, a, 0x7a5);
   memset(&in, 0, sizeof(in));
@@ -761,7 +761,7 @@ static void hard_points_by_the_scalar_path(void **state) {
   rps3_batch_out out;
   (void)state;
   rps3_model_default(&m);
-  assert_int_equal(rps3_model_init(&m, NULL, 0), RPS3_OK);
+  assert_int_equal(rps3_model_init(&m, NULL), RPS3_OK);
   assert_int_equal(rps3_data_alloc(&m, &db), RPS3_OK);
   assert_int_equal(rps3_data_alloc(&m, &dl), RPS3_OK);
   for (i = 0; i < NH; i++)
@@ -802,7 +802,7 @@ static void hard_points_by_the_scalar_path(void **state) {
   /* the same points through rps3_inverse on the controller's path (the
      kernel first): the stages' status, point by point */
   m.opt.outputs = OUT_ONLY;
-  assert_int_equal(rps3_model_init(&m, NULL, 0), RPS3_OK);
+  assert_int_equal(rps3_model_init(&m, NULL), RPS3_OK);
   for (i = 0; i < NH; i++) {
     for (c = 0; c < 3; c++) {
       db->pose[c] = dl->pose[c] = pose[c * NH + i];
@@ -848,9 +848,9 @@ static void lean_setup(lean_bench *b, const rps3_model *m) {
   b->only.opt.outputs = OUT_ONLY;
   b->lean = b->def;
   b->lean.opt.outputs = RPS3_OUT_FORCES;
-  assert_int_equal(rps3_model_init(&b->def, NULL, 0), RPS3_OK);
-  assert_int_equal(rps3_model_init(&b->only, NULL, 0), RPS3_OK);
-  assert_int_equal(rps3_model_init(&b->lean, NULL, 0), RPS3_OK);
+  assert_int_equal(rps3_model_init(&b->def, NULL), RPS3_OK);
+  assert_int_equal(rps3_model_init(&b->only, NULL), RPS3_OK);
+  assert_int_equal(rps3_model_init(&b->lean, NULL), RPS3_OK);
   assert_true(rps3_kernel_covers(&b->lean));
   assert_int_equal(rps3_data_alloc(&b->def, &b->dd), RPS3_OK);
   assert_int_equal(rps3_data_alloc(&b->def, &b->df), RPS3_OK);
@@ -951,7 +951,7 @@ static void lean_forces_as_the_default(void **state) {
       else
         model_entropy(&m);
       m.opt.effects = eff[e];
-      assert_int_equal(rps3_model_init(&m, NULL, 0), RPS3_OK);
+      assert_int_equal(rps3_model_init(&m, NULL), RPS3_OK);
       lean_setup(&b, &m);
       for (seed = 0; seed < 4; seed++) {
         make_points(&m, a, seed == 0 ? 0 : 0x1ea0 + seed);
@@ -993,7 +993,7 @@ static void lean_hard_poses(void **state) {
   int k, st;
   (void)state;
   rps3_model_default(&m);
-  assert_int_equal(rps3_model_init(&m, NULL, 0), RPS3_OK);
+  assert_int_equal(rps3_model_init(&m, NULL), RPS3_OK);
   lean_setup(&b, &m);
   /* level and nearly level */
   {
@@ -1079,7 +1079,7 @@ static void lean_singular_is_an_error(void **state) {
     rps3_model_default(&m);
     m.opt.cond_warn = 1.05;
     m.opt.cond_max = pass == 0 ? 1.1 : 1e13;
-    assert_int_equal(rps3_model_init(&m, NULL, 0), RPS3_OK);
+    assert_int_equal(rps3_model_init(&m, NULL), RPS3_OK);
     lean_setup(&b, &m);
     make_points(&m, a, 0);
     for (i = 0; i < N; i += 7) {
@@ -1114,10 +1114,10 @@ static void lean_leaves_no_stale_stage(void **state) {
   (void)state;
   rps3_model_default(&m);
   m.opt.outputs &= ~RPS3_OUT_CERTIFY;
-  assert_int_equal(rps3_model_init(&m, NULL, 0), RPS3_OK);
+  assert_int_equal(rps3_model_init(&m, NULL), RPS3_OK);
   ml = m;
   ml.opt.outputs = RPS3_OUT_FORCES;
-  assert_int_equal(rps3_model_init(&ml, NULL, 0), RPS3_OK);
+  assert_int_equal(rps3_model_init(&ml, NULL), RPS3_OK);
   assert_int_equal(rps3_data_alloc(&m, &d), RPS3_OK);
   for (c = 0; c < 3; c++) {
     d->pose[c] = 0.1 * (c + 1) + 0.0213;
@@ -1182,7 +1182,7 @@ static void lean_bound_holds(void **state) {
     m.opt.effects = RPS3_EFF_DEFAULT;
     m.opt.trans_max = m.opt.trans_warn = 1e300; /* every transmission */
     m.opt.cond_max = m.opt.cond_warn = 1e300;
-    assert_int_equal(rps3_model_init(&m, NULL, 0), RPS3_OK);
+    assert_int_equal(rps3_model_init(&m, NULL), RPS3_OK);
     assert_int_equal(rps3_data_alloc(&m, &d), RPS3_OK);
     for (seed = 0; seed < 3; seed++) {
       make_points(&m, a, 0xb0d + seed);

@@ -38,12 +38,11 @@ static void pd_tracks_the_desired_rates(void **state) {
       /* fo: the runner's controllers, F alone (the leanest pass); else
          every output but the certificate (no rates for a static model) */
       cm.opt.outputs = fo ? RPS3_OUT_FORCES : RPS3_OUT_ALL & ~RPS3_OUT_CERTIFY;
-      assert_int_equal(rps3_model_init(&cm, NULL, 0), RPS3_OK);
+      assert_int_equal(rps3_model_init(&cm, NULL), RPS3_OK);
       rps3_model_default(&om);
-      assert_int_equal(rps3_model_init(&om, NULL, 0), RPS3_OK);
+      assert_int_equal(rps3_model_init(&om, NULL), RPS3_OK);
       assert_int_equal(rps3_data_alloc(&om, &od), RPS3_OK);
-      assert_int_equal(rps3_ctrl_alloc(RPS3_CTRL_PD, 0.0, 1.0, &cm, &tr, &c,
-                                       NULL, 0),
+      assert_int_equal(rps3_ctrl_alloc(RPS3_CTRL_PD, 0.0, 1.0, &cm, &tr, &c, NULL),
                        RPS3_OK);
       for (k = 0; k <= 20; k++) {
         double t = 0.5 * k, F[3], zero[3] = {0, 0, 0};
@@ -88,12 +87,12 @@ static void every_kind_logs_the_desired_motion(void **state) {
       cm.opt.effects = e ? RPS3_EFF_DEFAULT
                          : RPS3_EFF_PLATFORM_GRAVITY | RPS3_EFF_LINK_GRAVITY;
       cm.opt.outputs &= ~RPS3_OUT_CERTIFY;
-      assert_int_equal(rps3_model_init(&cm, NULL, 0), RPS3_OK);
+      assert_int_equal(rps3_model_init(&cm, NULL), RPS3_OK);
       rps3_model_default(&om);
-      assert_int_equal(rps3_model_init(&om, NULL, 0), RPS3_OK);
+      assert_int_equal(rps3_model_init(&om, NULL), RPS3_OK);
       assert_int_equal(rps3_data_alloc(&om, &od), RPS3_OK);
       assert_int_equal(rps3_ctrl_alloc((rps3_ctrl_kind)kind, 100.0, 10.0,
-                                       &cm, &tr, &c, NULL, 0),
+                                       &cm, &tr, &c, NULL),
                        RPS3_OK);
       for (k = 0; k <= 10; k++) {
         double t = 0.97 * k;
@@ -156,10 +155,9 @@ static void repeated_and_earlier_times(void **state) {
     rps3_traj tr;
     rps3_traj_default(&tr);
     rps3_model_default(&cm);
-    assert_int_equal(rps3_model_init(&cm, NULL, 0), RPS3_OK);
+    assert_int_equal(rps3_model_init(&cm, NULL), RPS3_OK);
     assert_int_equal(rps3_data_alloc(&cm, &od), RPS3_OK);
-    assert_int_equal(rps3_ctrl_alloc(kinds[q], 400.0, 40.0, &cm, &tr, &c,
-                                     NULL, 0),
+    assert_int_equal(rps3_ctrl_alloc(kinds[q], 400.0, 40.0, &cm, &tr, &c, NULL),
                      RPS3_OK);
     for (k = 0; k < 6; k++) {
       double t = times[k], F[3], G[3], l[3], dl[3];
@@ -167,7 +165,7 @@ static void repeated_and_earlier_times(void **state) {
       off_trajectory(&cm, &tr, t, od, 1e-3, 1e-2, 1.0, l, dl);
       assert_int_equal(rps3_ctrl_update(c, t, l, dl, F), RPS3_OK);
       assert_int_equal(rps3_ctrl_alloc(kinds[q], 400.0, 40.0, &cm, &tr,
-                                       &fresh, NULL, 0),
+                                       &fresh, NULL),
                        RPS3_OK);
       assert_int_equal(rps3_ctrl_update(fresh, t, l, dl, G), RPS3_OK);
       for (i = 0; i < 3; i++)
@@ -225,10 +223,9 @@ static void laws_are_the_model_inverse_dynamics(void **state) {
         cm.friction.viscous = 0.01;
         cm.friction.coulomb = 0.005;
         cm.friction.vreg = 1e-3;
-        assert_int_equal(rps3_model_init(&cm, NULL, 0), RPS3_OK);
+        assert_int_equal(rps3_model_init(&cm, NULL), RPS3_OK);
         assert_int_equal(rps3_data_alloc(&cm, &od), RPS3_OK);
-        assert_int_equal(rps3_ctrl_alloc(kinds[q], kp, kd, &cm, &tr, &c,
-                                         NULL, 0),
+        assert_int_equal(rps3_ctrl_alloc(kinds[q], kp, kd, &cm, &tr, &c, NULL),
                          RPS3_OK);
         for (k = 0; k < 80; k++) {
           double t = t0[k / 40] + 1e-3 * (k % 40), F[3], l[3], dl[3], a[3],
@@ -294,7 +291,7 @@ static void laws_keep_the_model_limits(void **state) {
       int want_st, want_warn, st;
       rps3_traj_default(&tr);
       rps3_model_default(&base);
-      assert_int_equal(rps3_model_init(&base, NULL, 0), RPS3_OK);
+      assert_int_equal(rps3_model_init(&base, NULL), RPS3_OK);
       assert_int_equal(rps3_data_alloc(&base, &od), RPS3_OK);
       /* the oracle's transmission and condition number at the state */
       off_trajectory(&base, &tr, t, od, 2e-3, 3e-2, 0.7, l, dl);
@@ -323,7 +320,7 @@ static void laws_keep_the_model_limits(void **state) {
         break;
       default: cm.opt.mode = RPS3_MODE_OTHER; break;
       }
-      assert_int_equal(rps3_model_init(&cm, NULL, 0), RPS3_OK);
+      assert_int_equal(rps3_model_init(&cm, NULL), RPS3_OK);
       /* the oracle with these limits */
       rps3_data_reset(od);
       off_trajectory(&cm, &tr, t, od, 2e-3, 3e-2, 0.7, l, dl);
@@ -340,8 +337,7 @@ static void laws_keep_the_model_limits(void **state) {
       assert_int_equal(want_st,
                        v == 1 || v == 3 ? RPS3_ESING
                                         : v == 4 ? RPS3_EMODE : RPS3_OK);
-      assert_int_equal(rps3_ctrl_alloc(kinds[q], 400.0, 40.0, &cm, &tr, &c,
-                                       NULL, 0),
+      assert_int_equal(rps3_ctrl_alloc(kinds[q], 400.0, 40.0, &cm, &tr, &c, NULL),
                        RPS3_OK);
       st = rps3_ctrl_update(c, t, l, dl, F);
       if (st != want_st)
@@ -378,10 +374,10 @@ static void non_finite_measurements(void **state) {
     int b, i, which, st;
     rps3_traj_default(&tr);
     rps3_model_default(&m);
-    assert_int_equal(rps3_model_init(&m, NULL, 0), RPS3_OK);
+    assert_int_equal(rps3_model_init(&m, NULL), RPS3_OK);
     assert_int_equal(rps3_data_alloc(&m, &d), RPS3_OK);
     assert_int_equal(rps3_ctrl_alloc((rps3_ctrl_kind)kind, 100.0, 10.0, &m,
-                                     &tr, &c, NULL, 0),
+                                     &tr, &c, NULL),
                      RPS3_OK);
     assert_int_equal(rps3_traj_eval(&m, &tr, 1.0, d->pose, d->dpose, NULL),
                      RPS3_OK);
@@ -420,7 +416,7 @@ static void non_finite_measurements(void **state) {
     /* finite inputs, gains that overflow the force: never OK with it */
     if (kind != RPS3_CTRL_OPEN_LOOP) {
       assert_int_equal(rps3_ctrl_alloc((rps3_ctrl_kind)kind, 1e308, 1e308,
-                                       &m, &tr, &big, NULL, 0),
+                                       &m, &tr, &big, NULL),
                        RPS3_OK);
       for (i = 0; i < 3; i++) {
         l[i] = d->l[i] - 10.0;
@@ -451,10 +447,9 @@ static void accessors_of_the_opaque_controller(void **state) {
   int i;
   (void)state;
   rps3_model_default(&m);
-  assert_int_equal(rps3_model_init(&m, NULL, 0), RPS3_OK);
+  assert_int_equal(rps3_model_init(&m, NULL), RPS3_OK);
   rps3_traj_default(&tr);
-  assert_int_equal(rps3_ctrl_alloc(RPS3_CTRL_OPEN_LOOP, 0.0, 0.0, &m, &tr, &c,
-                                   NULL, 0),
+  assert_int_equal(rps3_ctrl_alloc(RPS3_CTRL_OPEN_LOOP, 0.0, 0.0, &m, &tr, &c, NULL),
                    RPS3_OK);
   assert_int_equal(rps3_ctrl_last(c, &t, l, dl, ff), RPS3_OK);
   assert_true(isnan(t));

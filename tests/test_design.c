@@ -322,12 +322,14 @@ static rps3_design_ws *ws_new(void) {
 static void default_is_table2(void **state) {
   rps3_design ds;
   rps3_model m, p;
-  char err[256];
+  rps3_check chk;
   (void)state;
   rps3_design_default(&ds);
-  assert_int_equal(rps3_design_model(&ds, &m, err, sizeof err), RPS3_OK);
+  assert_int_equal(rps3_design_model(&ds, &m, &chk), RPS3_OK);
+  assert_int_equal(chk.field, -1);
+  assert_string_equal(chk.msg, "");
   rps3_model_default(&p);
-  assert_int_equal(rps3_model_init(&p, NULL, 0), RPS3_OK);
+  assert_int_equal(rps3_model_init(&p, NULL), RPS3_OK);
   assert_true(m.R == 0.2286 && m.R == p.R);
   assert_true(m.rho == 0.5 && m.rho == p.rho);
   assert_true(m.M == 0.18 && m.M == p.M);
@@ -355,7 +357,7 @@ static void mass_model_rule(void **state) {
   design_entropy(&ds);
   ds.payload = 0.0417;
   ds.payload_height = 0.0123;
-  assert_int_equal(rps3_design_model(&ds, &m, NULL, 0), RPS3_OK);
+  assert_int_equal(rps3_design_model(&ds, &m, NULL), RPS3_OK);
   h = ds.l_max / N;
   m0 = ds.actuator_mass;
   m1 = ds.actuator_mass * ds.actuator_d;
@@ -377,7 +379,7 @@ static void mass_model_rule(void **state) {
   /* massless links: d = 0, no NaN */
   ds.actuator_mass = 0.0;
   ds.link_density = 0.0;
-  assert_int_equal(rps3_design_model(&ds, &m, NULL, 0), RPS3_OK);
+  assert_int_equal(rps3_design_model(&ds, &m, NULL), RPS3_OK);
   assert_true(m.m == 0.0 && m.d == 0.0 && m.link_Ic == 0.0);
 }
 
@@ -390,7 +392,7 @@ static void bad_designs_named(void **state) {
   rps3_design ds;
   rps3_model m;
   rps3_check chk;
-  char err[256], want[64];
+  char want[64];
   int id;
   (void)state;
   for (id = 0; id < RPS3_NDESIGN_FIELD; id++) {
@@ -401,12 +403,11 @@ static void bad_designs_named(void **state) {
     for (pass = 0; pass < 2; pass++) {
       rps3_design_default(&ds);
       *(double *)((char *)&ds + f->offset) = pass ? bad[id] : (double)NAN;
-      assert_int_equal(rps3_design_model(&ds, &m, err, sizeof err),
-                       RPS3_EINVAL);
+      assert_int_equal(rps3_design_model(&ds, &m, NULL), RPS3_EINVAL);
+      assert_int_equal(rps3_design_model(&ds, &m, &chk), RPS3_EINVAL);
       snprintf(want, sizeof want, "%s = ", f->name);
-      if (strncmp(err, want, strlen(want)) != 0)
-        fail_msg("field %s: message \"%s\"", f->name, err);
-      assert_int_equal(rps3_design_validate(&ds, &chk), RPS3_EINVAL);
+      if (strncmp(chk.msg, want, strlen(want)) != 0)
+        fail_msg("field %s: message \"%s\"", f->name, chk.msg);
       assert_int_equal(chk.field, id);
     }
   }
@@ -416,32 +417,35 @@ static void bad_designs_named(void **state) {
   rps3_design_default(&ds);
   ds.l_min = 0.41;
   ds.l_max = 0.33;
-  assert_int_equal(rps3_design_model(&ds, &m, err, sizeof err), RPS3_EINVAL);
-  assert_true(strncmp(err, "l_max = 0.33: must be > l_min = 0.41", 36) == 0);
-  assert_non_null(strstr(err, "stroke"));
+  assert_int_equal(rps3_design_model(&ds, &m, &chk), RPS3_EINVAL);
+  assert_true(strncmp(chk.msg, "l_max = 0.33: must be > l_min = 0.41", 36) == 0);
+  assert_non_null(strstr(chk.msg, "stroke"));
   ds.l_max = ds.l_min;
-  assert_int_equal(rps3_design_validate(&ds, &chk), RPS3_EINVAL);
+  assert_int_equal(rps3_design_model(&ds, &m, &chk), RPS3_EINVAL);
   assert_int_equal(chk.field, RPS3_DF_L_MAX);
   assert_int_equal(chk.related[0], RPS3_DF_L_MIN);
   rps3_design_default(&ds);
   ds.theta_min = 1.3;
   ds.theta_max = 1.3;
-  assert_int_equal(rps3_design_validate(&ds, &chk), RPS3_EINVAL);
+  assert_int_equal(rps3_design_model(&ds, &m, &chk), RPS3_EINVAL);
   assert_int_equal(chk.field, RPS3_DF_THETA_MAX);
   assert_non_null(strstr(chk.msg, "theta_min"));
   /* products that overflow, named by the design's field */
   rps3_design_default(&ds);
   ds.link_density = 1e300;
   ds.l_max = 1e10;
-  assert_int_equal(rps3_design_validate(&ds, &chk), RPS3_EINVAL);
+  assert_int_equal(rps3_design_model(&ds, &m, &chk), RPS3_EINVAL);
   assert_int_equal(chk.field, RPS3_DF_LINK_DENSITY);
   rps3_design_default(&ds);
   ds.M = 1e308;
-  assert_int_equal(rps3_design_model(&ds, &m, err, sizeof err), RPS3_EINVAL);
-  assert_true(strncmp(err, "M = ", 4) == 0);
+  assert_int_equal(rps3_design_model(&ds, &m, &chk), RPS3_EINVAL);
+  assert_true(strncmp(chk.msg, "M = ", 4) == 0);
+  assert_int_equal(chk.field, RPS3_DF_M);
   /* NULLs */
-  assert_int_equal(rps3_design_model(NULL, &m, err, sizeof err), RPS3_EINVAL);
-  assert_int_equal(rps3_design_model(&ds, NULL, NULL, 0), RPS3_EINVAL);
+  assert_int_equal(rps3_design_model(NULL, &m, &chk), RPS3_EINVAL);
+  assert_int_equal(chk.field, -1);
+  assert_string_equal(chk.msg, "design is NULL");
+  assert_int_equal(rps3_design_model(&ds, NULL, NULL), RPS3_EINVAL);
 }
 
 /* a bad design, bad options or bad poses through the evaluations: the
@@ -537,11 +541,11 @@ static void brute_force_agrees(void **state) {
   assert_int_equal(n, 1287);
   assert_int_equal(rps3_design_eval_grid(w, &ds, NULL, &gr, &o->out, &s),
                    RPS3_OK);
-  assert_int_equal(rps3_design_model(&ds, &m, NULL, 0), RPS3_OK);
+  assert_int_equal(rps3_design_model(&ds, &m, NULL), RPS3_OK);
   m.opt.effects = RPS3_EFF_PLATFORM_GRAVITY;
   m.opt.outputs = RPS3_OUT_ALL & ~RPS3_OUT_CERTIFY;
   m.opt.trans_max = m.opt.trans_warn = m.opt.cond_max = m.opt.cond_warn = 1e300;
-  assert_int_equal(rps3_model_init(&m, NULL, 0), RPS3_OK);
+  assert_int_equal(rps3_model_init(&m, NULL), RPS3_OK);
   assert_int_equal(rps3_data_alloc(&m, &d), RPS3_OK);
   L = ds.rho * ds.R;
   for (i = 0; i < n; i++) {
@@ -847,7 +851,7 @@ static void singular_surface_lti_vanishes(void **state) {
   int k;
   (void)state;
   rps3_design_default(&ds);
-  assert_int_equal(rps3_design_model(&ds, &m, NULL, 0), RPS3_OK);
+  assert_int_equal(rps3_design_model(&ds, &m, NULL), RPS3_OK);
   assert_int_equal(rps3_data_alloc(&m, &d), RPS3_OK);
   d->pose[0] = 0.3;
   d->pose[2] = 0.2;
@@ -945,9 +949,9 @@ static void task_requirements(void **state) {
     assert_int_equal(t.nsamples, N);
     assert_int_equal(t.fail_index, N);
     assert_true(isnan(t.fail_time));
-    assert_int_equal(rps3_design_model(&ds, &m, NULL, 0), RPS3_OK);
+    assert_int_equal(rps3_design_model(&ds, &m, NULL), RPS3_OK);
     if (!lm) m.opt.effects &= ~(RPS3_EFF_LINK_GRAVITY | RPS3_EFF_LINK_INERTIA);
-    assert_int_equal(rps3_model_init(&m, NULL, 0), RPS3_OK);
+    assert_int_equal(rps3_model_init(&m, NULL), RPS3_OK);
     if (d == NULL) assert_int_equal(rps3_data_alloc(&m, &d), RPS3_OK);
     memset(Fpk, 0, sizeof Fpk);
     memset(ss, 0, sizeof ss);

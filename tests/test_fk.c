@@ -8,7 +8,7 @@
 static int setup_model(rps3_model *m, rps3_solver s) {
   model_entropy(m);
   m->opt.solver = s;
-  return rps3_model_init(m, NULL, 0);
+  return rps3_model_init(m, NULL);
 }
 
 /* IK -> lengths -> FK closes on random reachable poses (cold starts) */
@@ -157,8 +157,8 @@ static void predicted_start_is_third_order(void **state) {
   tight.opt.tol = 1e-14;
   loose = tight;
   loose.opt.tol = 1e-3;
-  assert_int_equal(rps3_model_init(&tight, NULL, 0), RPS3_OK);
-  assert_int_equal(rps3_model_init(&loose, NULL, 0), RPS3_OK);
+  assert_int_equal(rps3_model_init(&tight, NULL), RPS3_OK);
+  assert_int_equal(rps3_model_init(&loose, NULL), RPS3_OK);
   assert_int_equal(rps3_data_alloc(&tight, &d), RPS3_OK);
   assert_int_equal(rps3_data_alloc(&tight, &ref), RPS3_OK);
   for (n = 0; n < 3; n++) {
@@ -247,7 +247,7 @@ static void error_codes(void **state) {
   {
     rps3_model other = m;
     other.opt.solver = RPS3_SOLVER_NEWTON;
-    assert_int_equal(rps3_model_init(&other, NULL, 0), RPS3_OK);
+    assert_int_equal(rps3_model_init(&other, NULL), RPS3_OK);
     d->l[1] = 0.3;
     assert_int_equal(rps3_theta_solve(&other, d), RPS3_EINVAL);
     assert_non_null(strstr(d->err.msg, "allocated for solver hybridsj"));

@@ -63,7 +63,7 @@ static void inverts_inverse_dynamics(void **state) {
       model_entropy(&m);
       m.opt.effects = eff;
       m.opt.method = meth ? RPS3_NEWTON_EULER : RPS3_LAGRANGE;
-      assert_int_equal(rps3_model_init(&m, NULL, 0), RPS3_OK);
+      assert_int_equal(rps3_model_init(&m, NULL), RPS3_OK);
       assert_int_equal(rps3_data_alloc(&m, &inv), RPS3_OK);
       assert_int_equal(rps3_data_alloc(&m, &fd), RPS3_OK);
       for (n = 0; n < 20; n++) {
@@ -126,7 +126,7 @@ static void mass_matrix_from_unit_accelerations(void **state) {
     rps3_data *inv, *fd, *u;
     model_entropy(&m);
     m.opt.method = meth ? RPS3_NEWTON_EULER : RPS3_LAGRANGE;
-    assert_int_equal(rps3_model_init(&m, NULL, 0), RPS3_OK);
+    assert_int_equal(rps3_model_init(&m, NULL), RPS3_OK);
     assert_int_equal(rps3_data_alloc(&m, &inv), RPS3_OK);
     assert_int_equal(rps3_data_alloc(&m, &fd), RPS3_OK);
     assert_int_equal(rps3_data_alloc(&m, &u), RPS3_OK);
@@ -197,7 +197,7 @@ static void energy_rate_matches_power(void **state) {
   (void)state;
   model_entropy(&m);
   m.friction.vreg = 0.05;
-  assert_int_equal(rps3_model_init(&m, NULL, 0), RPS3_OK);
+  assert_int_equal(rps3_model_init(&m, NULL), RPS3_OK);
   assert_int_equal(rps3_data_alloc(&m, &d), RPS3_OK);
   for (n = 0; n < 20; n++) {
     double t, E[2], pw, fr, T, P;
@@ -235,7 +235,7 @@ static void singular_configuration_fails_cleanly(void **state) {
   (void)state;
   rps3_model_default(&m);
   m.opt.effects = RPS3_EFF_ALL & ~RPS3_EFF_PAYLOAD;
-  assert_int_equal(rps3_model_init(&m, NULL, 0), RPS3_OK);
+  assert_int_equal(rps3_model_init(&m, NULL), RPS3_OK);
   assert_int_equal(rps3_data_alloc(&m, &d), RPS3_OK);
   assert_int_equal(rps3_data_alloc(&m, &f), RPS3_OK);
   bs = singular_beta(&m, d, 0.12, 0.3, 1.5);
@@ -287,7 +287,7 @@ static void mass_condition_up_to_cond_max(void **state) {
   (void)state;
   rps3_model_default(&m);
   m.opt.effects = RPS3_EFF_ALL & ~RPS3_EFF_PAYLOAD;
-  assert_int_equal(rps3_model_init(&m, NULL, 0), RPS3_OK);
+  assert_int_equal(rps3_model_init(&m, NULL), RPS3_OK);
   assert_int_equal(rps3_data_alloc(&m, &d), RPS3_OK);
   assert_int_equal(rps3_data_alloc(&m, &f), RPS3_OK);
   bs = singular_beta(&m, d, 0.12, 0.3, 1.5);
@@ -356,7 +356,7 @@ static void regular_failures_keep_status(void **state) {
   (void)state;
   rps3_model_default(&m);
   m.opt.effects = RPS3_EFF_ALL & ~RPS3_EFF_PAYLOAD;
-  assert_int_equal(rps3_model_init(&m, NULL, 0), RPS3_OK);
+  assert_int_equal(rps3_model_init(&m, NULL), RPS3_OK);
   assert_int_equal(rps3_data_alloc(&m, &d), RPS3_OK);
   for (k = 0; k < sizeof(L) / sizeof(L[0]); k++) {
     int st;
@@ -385,7 +385,7 @@ static void errors(void **state) {
   (void)state;
   rps3_model_default(&m);
   m.opt.effects = RPS3_EFF_PLATFORM_GRAVITY | RPS3_EFF_LINK_GRAVITY;
-  assert_int_equal(rps3_model_init(&m, NULL, 0), RPS3_OK);
+  assert_int_equal(rps3_model_init(&m, NULL), RPS3_OK);
   assert_int_equal(rps3_data_alloc(&m, &d), RPS3_OK);
   d->pose[0] = 0.3;
   d->pose[1] = 0.2;
@@ -397,10 +397,10 @@ static void errors(void **state) {
   m.opt.effects = RPS3_EFF_DEFAULT;
   m.m = 0.0;
   m.M = 0.0;
-  assert_int_equal(rps3_model_init(&m, NULL, 0), RPS3_OK);
+  assert_int_equal(rps3_model_init(&m, NULL), RPS3_OK);
   assert_int_equal(rps3_fwddyn(&m, d), RPS3_EINVAL);
   m.M = 0.18;
-  assert_int_equal(rps3_model_init(&m, NULL, 0), RPS3_OK);
+  assert_int_equal(rps3_model_init(&m, NULL), RPS3_OK);
   d->F[1] = (double)NAN;
   assert_int_equal(rps3_fwddyn(&m, d), RPS3_EINVAL);
   assert_non_null(strstr(d->err.msg, "not finite"));
@@ -412,7 +412,7 @@ static void errors(void **state) {
   rps3_data_reset(d);
   assert_int_equal(rps3_energy(&m, d, NULL, NULL, NULL), RPS3_ESTATE);
   m.friction.vreg = -1.0;
-  assert_int_equal(rps3_model_init(&m, NULL, 0), RPS3_EINVAL);
+  assert_int_equal(rps3_model_init(&m, NULL), RPS3_EINVAL);
   rps3_data_free(d);
 }
 
@@ -425,7 +425,7 @@ static void massless_links_and_statics(void **state) {
   (void)state;
   rps3_model_default(&m);
   m.m = 0.0;
-  assert_int_equal(rps3_model_init(&m, NULL, 0), RPS3_OK);
+  assert_int_equal(rps3_model_init(&m, NULL), RPS3_OK);
   assert_int_equal(rps3_data_alloc(&m, &d), RPS3_OK);
   d->pose[0] = -0.71;
   d->pose[1] = 0.23;
@@ -459,7 +459,7 @@ static void warm_start_a_turn_away(void **state) {
   (void)state;
   model_entropy(&m);
   m.opt.effects = RPS3_EFF_ALL;
-  assert_int_equal(rps3_model_init(&m, NULL, 0), RPS3_OK);
+  assert_int_equal(rps3_model_init(&m, NULL), RPS3_OK);
   assert_int_equal(rps3_data_alloc(&m, &inv), RPS3_OK);
   assert_int_equal(rps3_data_alloc(&m, &a), RPS3_OK);
   assert_int_equal(rps3_data_alloc(&m, &b), RPS3_OK);
@@ -502,7 +502,7 @@ static void predicted_trig_path(void **state) {
   int n, i, moved = 0;
   (void)state;
   rps3_model_default(&m);
-  assert_int_equal(rps3_model_init(&m, NULL, 0), RPS3_OK);
+  assert_int_equal(rps3_model_init(&m, NULL), RPS3_OK);
   assert_int_equal(rps3_data_alloc(&m, &ref), RPS3_OK);
   assert_int_equal(rps3_data_alloc(&m, &d), RPS3_OK);
   rps3_traj_default(&tr);
@@ -558,7 +558,7 @@ static void predicted_start_second_order(void **state) {
   int n, i, steps = 0;
   (void)state;
   rps3_model_default(&m);
-  assert_int_equal(rps3_model_init(&m, NULL, 0), RPS3_OK);
+  assert_int_equal(rps3_model_init(&m, NULL), RPS3_OK);
   assert_int_equal(rps3_data_alloc(&m, &ref), RPS3_OK);
   assert_int_equal(rps3_data_alloc(&m, &mid), RPS3_OK);
   assert_int_equal(rps3_data_alloc(&m, &d), RPS3_OK);
@@ -624,7 +624,7 @@ static void shared_state_is_own_state(void **state) {
   int n, v, i, j, st;
   (void)state;
   rps3_model_default(&pm);
-  assert_int_equal(rps3_model_init(&pm, NULL, 0), RPS3_OK);
+  assert_int_equal(rps3_model_init(&pm, NULL), RPS3_OK);
   cm[0] = pm;
   cm[1] = pm;
   cm[1].m = 0.0;
@@ -634,7 +634,7 @@ static void shared_state_is_own_state(void **state) {
   cm[2].opt.effects |= RPS3_EFF_PIN_FRICTION;
   cm[2].friction.viscous = 0.3;
   for (v = 0; v < 3; v++)
-    assert_int_equal(rps3_model_init(&cm[v], NULL, 0), RPS3_OK);
+    assert_int_equal(rps3_model_init(&cm[v], NULL), RPS3_OK);
   assert_int_equal(rps3_data_alloc(&pm, &ref), RPS3_OK);
   assert_int_equal(rps3_data_alloc(&pm, &pd), RPS3_OK);
   assert_int_equal(rps3_data_alloc(&pm, &cd), RPS3_OK);
@@ -687,7 +687,7 @@ static void shared_state_is_own_state(void **state) {
   other.R *= 1.0 + 1e-12;
   other.rho = pm.r / other.R;
   for (i = 0; i < 64; i++) {
-    assert_int_equal(rps3_model_init(&other, NULL, 0), RPS3_OK);
+    assert_int_equal(rps3_model_init(&other, NULL), RPS3_OK);
     if (other.r == pm.r) break;
     other.rho = nextafter(other.rho, other.r < pm.r ? 1.0 : 0.0);
   }
@@ -696,18 +696,18 @@ static void shared_state_is_own_state(void **state) {
                    0);
   other = pm;
   other.rho *= 1.0 - 1e-12; /* r = rho R */
-  assert_int_equal(rps3_model_init(&other, NULL, 0), RPS3_OK);
+  assert_int_equal(rps3_model_init(&other, NULL), RPS3_OK);
   assert_int_equal(rps3_fwddyn_state_shared(&other, cd, &ck, &pm, &pk, &st),
                    0);
   other = pm;
   other.opt.effects |= RPS3_EFF_PAYLOAD;
   other.payload.mass = 0.1;
-  assert_int_equal(rps3_model_init(&other, NULL, 0), RPS3_OK);
+  assert_int_equal(rps3_model_init(&other, NULL), RPS3_OK);
   assert_int_equal(rps3_fwddyn_state_shared(&other, cd, &ck, &pm, &pk, &st),
                    0);
   other = pm;
   other.opt.tol = pm.opt.tol * 0.5;
-  assert_int_equal(rps3_model_init(&other, NULL, 0), RPS3_OK);
+  assert_int_equal(rps3_model_init(&other, NULL), RPS3_OK);
   assert_int_equal(rps3_fwddyn_state_shared(&other, cd, &ck, &pm, &pk, &st),
                    0);
   cd->dl[2] = nextafter(cd->dl[2], HUGE_VAL);
@@ -733,7 +733,7 @@ static void shared_state_is_own_state(void **state) {
   other = pm;
   other.opt.trans_max = 1e-3;
   other.opt.trans_warn = 1e-4;
-  assert_int_equal(rps3_model_init(&other, NULL, 0), RPS3_OK);
+  assert_int_equal(rps3_model_init(&other, NULL), RPS3_OK);
   load_state(cd, ref);
   assert_int_equal(rps3_fwddyn_state_shared(&other, cd, &ck, &pm, &pk, &st),
                    1);
@@ -743,7 +743,7 @@ static void shared_state_is_own_state(void **state) {
   other = pm;
   other.opt.cond_max = 1.5; /* below any condition number of a state */
   other.opt.cond_warn = 1.0;
-  assert_int_equal(rps3_model_init(&other, NULL, 0), RPS3_OK);
+  assert_int_equal(rps3_model_init(&other, NULL), RPS3_OK);
   load_state(cd, ref);
   assert_int_equal(rps3_fwddyn_state_shared(&other, cd, &ck, &pm, &pk, &st),
                    1);
@@ -751,7 +751,7 @@ static void shared_state_is_own_state(void **state) {
   assert_non_null(strstr(cd->err.msg, "condition number"));
   other = pm;
   other.opt.mode = -pd->mode;
-  assert_int_equal(rps3_model_init(&other, NULL, 0), RPS3_OK);
+  assert_int_equal(rps3_model_init(&other, NULL), RPS3_OK);
   load_state(cd, ref);
   assert_int_equal(rps3_fwddyn_state_shared(&other, cd, &ck, &pm, &pk, &st),
                    1);
@@ -780,7 +780,7 @@ static void scratch_mass_condition(void **state) {
      cond_max */
   rps3_model_default(&m);
   m.opt.effects = RPS3_EFF_LINK_INERTIA | RPS3_EFF_LINK_GRAVITY;
-  assert_int_equal(rps3_model_init(&m, NULL, 0), RPS3_OK);
+  assert_int_equal(rps3_model_init(&m, NULL), RPS3_OK);
   assert_int_equal(rps3_data_alloc(&m, &ref), RPS3_OK);
   assert_int_equal(rps3_data_alloc(&m, &d), RPS3_OK);
   for (n = 0; n < 40; n++) {
@@ -805,13 +805,13 @@ static void scratch_mass_condition(void **state) {
     t = m;
     t.opt.cond_warn = 1.0;
     t.opt.cond_max = c * (1.0 + 1e-9);
-    assert_int_equal(rps3_model_init(&t, NULL, 0), RPS3_OK);
+    assert_int_equal(rps3_model_init(&t, NULL), RPS3_OK);
     load_state(d, ref);
     st = rps3_fwddyn_state(&t, d, &k, RPS3_FD_LEAN | RPS3_FD_SCRATCH);
     if (st != RPS3_OK) fail_msg("n %d above: %s", n, d->err.msg);
     assert_true(d->Mcond == c || isnan(d->Mcond));
     t.opt.cond_max = c * (1.0 - 1e-9);
-    assert_int_equal(rps3_model_init(&t, NULL, 0), RPS3_OK);
+    assert_int_equal(rps3_model_init(&t, NULL), RPS3_OK);
     load_state(d, ref);
     assert_int_equal(rps3_fwddyn_state(&t, d, &k,
                                        RPS3_FD_LEAN | RPS3_FD_SCRATCH),
@@ -843,7 +843,7 @@ static void shared_dynamics_every_field(void **state) {
   pm.friction.viscous = 0.3;
   pm.friction.coulomb = 0.05;
   pm.friction.vreg = 0.02;
-  assert_int_equal(rps3_model_init(&pm, NULL, 0), RPS3_OK);
+  assert_int_equal(rps3_model_init(&pm, NULL), RPS3_OK);
   assert_int_equal(rps3_data_alloc(&pm, &ref), RPS3_OK);
   assert_int_equal(rps3_data_alloc(&pm, &pd), RPS3_OK);
   assert_int_equal(rps3_data_alloc(&pm, &cd), RPS3_OK);
@@ -863,7 +863,7 @@ static void shared_dynamics_every_field(void **state) {
         double *v = (double *)at;
         *v = (*v != 0.0) ? *v * (n ? 0.97 : 1.02) : (n ? 0.01 : 0.02);
       }
-      if (rps3_model_init(&cm, NULL, 0) != RPS3_OK) continue;
+      if (rps3_model_init(&cm, NULL) != RPS3_OK) continue;
       random_state(&pm, ref, &seed);
       plant_state(&pm, pd, &pk, ref);
       memset(&ck, 0, sizeof(ck));

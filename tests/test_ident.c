@@ -26,7 +26,7 @@ static void ident_model(rps3_model *m, int method, int axis, double vreg) {
     if (k != axis) m->payload.com[k] = 0.0;
   m->friction.vreg = vreg;
   m->opt.method = (rps3_method)method;
-  assert_int_equal(rps3_model_init(m, NULL, 0), RPS3_OK);
+  assert_int_equal(rps3_model_init(m, NULL), RPS3_OK);
 }
 
 static void random_state(rps3_data *d, uint64_t *s) {
@@ -52,7 +52,7 @@ static void regressor_vs_forces(int method, int route) {
   m.opt.theta = (rps3_theta_route)route;
   assert_int_equal(rps3_data_alloc(&m, &d), RPS3_OK);
   assert_int_equal(rps3_data_alloc(&m, &d2), RPS3_OK);
-  assert_int_equal(rps3_paper_params(&m, pi, NULL, 0), RPS3_OK);
+  assert_int_equal(rps3_paper_params(&m, pi, NULL), RPS3_OK);
   for (i = 0; i < NSTATE; i++) {
     double Y[3][RPS3_NPAPER];
     int st1, st2;
@@ -116,9 +116,9 @@ static void test_regressor_columns(void **state) {
   /* pin friction alone */
   one = m;
   one.opt.effects = RPS3_EFF_PIN_FRICTION;
-  assert_int_equal(rps3_model_init(&one, NULL, 0), RPS3_OK);
+  assert_int_equal(rps3_model_init(&one, NULL), RPS3_OK);
   assert_int_equal(rps3_inverse(&one, d1), RPS3_OK);
-  assert_int_equal(rps3_paper_params(&one, pi, NULL, 0), RPS3_OK);
+  assert_int_equal(rps3_paper_params(&one, pi, NULL), RPS3_OK);
   for (r = 0; r < 3; r++)
     CHECK_REL(Y[r][10] * pi[10] + Y[r][11] * pi[11], d1->F[r], TOL_EXACT,
               1e-3, "friction row %d", r);
@@ -127,7 +127,7 @@ static void test_regressor_columns(void **state) {
     double Yg[3][RPS3_NPAPER];
     one = m;
     one.opt.effects = RPS3_EFF_PLATFORM_GRAVITY | RPS3_EFF_LINK_GRAVITY;
-    assert_int_equal(rps3_model_init(&one, NULL, 0), RPS3_OK);
+    assert_int_equal(rps3_model_init(&one, NULL), RPS3_OK);
     copy_motion(d1, d);
     assert_int_equal(rps3_regressor(&one, d1, Yg), RPS3_OK);
     for (r = 0; r < 3; r++)
@@ -214,7 +214,7 @@ static void test_regressor_errors(void **state) {
   rps3_model m;
   rps3_data *d;
   double Y[3][RPS3_NPAPER], pi[RPS3_NPAPER];
-  char err[256];
+  rps3_check chk;
   (void)state;
   ident_model(&m, RPS3_LAGRANGE, 2, 0.0);
   assert_int_equal(rps3_data_alloc(&m, &d), RPS3_OK);
@@ -235,8 +235,8 @@ static void test_regressor_errors(void **state) {
   /* a payload off the platform axes is refused by name */
   m.payload.com[0] = 0.01;
   m.payload.com[2] = 0.02;
-  assert_int_equal(rps3_paper_params(&m, pi, err, sizeof(err)), RPS3_EINVAL);
-  assert_non_null(strstr(err, "payload.com"));
+  assert_int_equal(rps3_paper_params(&m, pi, &chk), RPS3_EINVAL);
+  assert_non_null(strstr(chk.msg, "payload.com"));
   rps3_data_free(d);
 }
 
@@ -274,7 +274,7 @@ static void make_stack(const rps3_model *m, size_t ns, double dt, double scale,
       fr[c][h] = rnd_uniform(&s, 0.1, 1.0);
       ph[c][h] = rnd_uniform(&s, -PI, PI);
     }
-  rps3_paper_params(m, pi, NULL, 0);
+  rps3_paper_params(m, pi, NULL);
   assert_int_equal(rps3_data_alloc(m, &d), RPS3_OK);
   st->n = 3 * ns;
   st->p = p;
@@ -328,7 +328,7 @@ static void truth_model(rps3_model *m, double coulomb) {
   m->friction.coulomb = coulomb;
   m->friction.vreg = 0.01;
   m->opt.effects = RPS3_EFF_ALL;
-  assert_int_equal(rps3_model_init(m, NULL, 0), RPS3_OK);
+  assert_int_equal(rps3_model_init(m, NULL), RPS3_OK);
 }
 
 /* the paper set without the payload (M, md, Ipin, fv, fc), and with it
@@ -346,11 +346,11 @@ static void test_wls_exact(void **state) {
   double pi[RPS3_NPAPER], th[11], ci[22], cov[121];
   rps3_ident_data dt;
   rps3_ident_result res;
-  char err[512];
+  rps3_check chk;
   size_t j;
   (void)state;
   truth_model(&m, 0.0029);
-  rps3_paper_params(&m, pi, NULL, 0);
+  rps3_paper_params(&m, pi, NULL);
   make_stack(&m, 1000, 0.02, 1.0, 3, SET_PAYLOAD, 11, &st);
   memset(&dt, 0, sizeof(dt));
   dt.n = st.n;
@@ -361,7 +361,7 @@ static void test_wls_exact(void **state) {
   res.theta = th;
   res.ci = ci;
   res.cov = cov;
-  assert_int_equal(rps3_ident_wls(&dt, NULL, &res, err, sizeof(err)), RPS3_OK);
+  assert_int_equal(rps3_ident_wls(&dt, NULL, &res, &chk), RPS3_OK);
   print_message("exact WLS: cond %.3g rank %lu\n", res.cond,
                 (unsigned long)res.rank);
   for (j = 0; j < 11; j++)
@@ -387,7 +387,7 @@ static void test_wls_monte_carlo(void **state) {
   int k;
   (void)state;
   truth_model(&m, 0.0029);
-  rps3_paper_params(&m, pi, NULL, 0);
+  rps3_paper_params(&m, pi, NULL);
   make_stack(&m, 1000, 0.02, 1.0, 11, SET_PLAIN, 5, &st);
   memset(&dt, 0, sizeof(dt));
   dt.n = st.n;
@@ -400,7 +400,7 @@ static void test_wls_monte_carlo(void **state) {
   res.cov = cov;
   for (k = 0; k < MC_DRAWS; k++) {
     for (r = 0; r < st.n; r++) st.F[r] = st.F0[r] + sig[r % 3] * rnd_normal(&s);
-    assert_int_equal(rps3_ident_wls(&dt, NULL, &res, NULL, 0), RPS3_OK);
+    assert_int_equal(rps3_ident_wls(&dt, NULL, &res, NULL), RPS3_OK);
     for (j = 0; j < 5; j++) {
       double e = th[j] - pi[SET_PLAIN[j]];
       z2 += e * e / cov[j * 5 + j];
@@ -437,7 +437,7 @@ static void test_wls_rank_deficient(void **state) {
   int flags[12];
   rps3_ident_data dt;
   rps3_ident_result res;
-  char err[512];
+  rps3_check chk;
   (void)state;
   truth_model(&m, 0.0029);
   make_stack(&m, 300, 0.05, 1.0, 3, all, 12, &st);
@@ -450,28 +450,28 @@ static void test_wls_rank_deficient(void **state) {
   memset(&res, 0, sizeof(res));
   res.theta = th;
   res.unident = flags;
-  assert_int_equal(rps3_ident_wls(&dt, NULL, &res, err, sizeof(err)),
+  assert_int_equal(rps3_ident_wls(&dt, NULL, &res, &chk),
                    RPS3_ESING);
-  print_message("%s\n", err);
+  print_message("%s\n", chk.msg);
   assert_int_equal(res.rank, 11);
   /* the null vector M - payload.m - r^2 (Ixx + Iyy + 2 Izz) / 4 has its
      weight on M and payload.m once the columns have unit norm */
   assert_true(flags[0] && flags[3]);
   assert_false(flags[1] || flags[2] || flags[10] || flags[11]);
-  assert_non_null(strstr(err, "rank 11 < 12"));
-  assert_non_null(strstr(err, " M "));
-  assert_non_null(strstr(err, "payload.m"));
+  assert_non_null(strstr(chk.msg, "rank 11 < 12"));
+  assert_non_null(strstr(chk.msg, " M "));
+  assert_non_null(strstr(chk.msg, "payload.m"));
   assert_true(isnan(th[1]));
   /* bad arguments, each named */
   dt.names = NULL;
   dt.p = 0;
-  assert_int_equal(rps3_ident_wls(&dt, NULL, &res, err, sizeof(err)),
+  assert_int_equal(rps3_ident_wls(&dt, NULL, &res, &chk),
                    RPS3_EINVAL);
   dt.p = 12;
   st.F[7] = NAN;
-  assert_int_equal(rps3_ident_wls(&dt, NULL, &res, err, sizeof(err)),
+  assert_int_equal(rps3_ident_wls(&dt, NULL, &res, &chk),
                    RPS3_EINVAL);
-  assert_non_null(strstr(err, "data.F[7]"));
+  assert_non_null(strstr(chk.msg, "data.F[7]"));
   stack_free(&st);
 }
 
@@ -494,7 +494,7 @@ static void test_consistent(void **state) {
   int col[2][10], kind[11], b, k;
   rps3_ident_layout lay;
   uint64_t s = 5;
-  char err[512];
+  rps3_check chk;
   size_t j, r, nwls_bad = 0, nconv = 0;
   int st_c;
   (void)state;
@@ -508,7 +508,7 @@ static void test_consistent(void **state) {
   lay.col = (const int(*)[10])col;
   lay.kind = kind;
   truth_model(&m, 0.0);
-  rps3_paper_params(&m, pi, NULL, 0);
+  rps3_paper_params(&m, pi, NULL);
   make_stack(&m, 1000, 0.02, 0.3, 21, SET_PAYLOAD, 11, &st);
   memset(&dt, 0, sizeof(dt));
   dt.n = st.n;
@@ -519,8 +519,8 @@ static void test_consistent(void **state) {
   fit.theta = th;
   fit.body = body;
   fit.eig = eig;
-  k = rps3_ident_consistent(&dt, &lay, NULL, &fit, err, sizeof(err));
-  if (k != RPS3_OK) fail_msg("%s", err);
+  k = rps3_ident_consistent(&dt, &lay, NULL, &fit, &chk);
+  if (k != RPS3_OK) fail_msg("%s", chk.msg);
   print_message("consistent exact: %d iterations, cost %.3g\n", fit.niter,
                 fit.cost);
   assert_true(fit.consistent);
@@ -532,7 +532,7 @@ static void test_consistent(void **state) {
     for (r = 0; r < st.n; r++) rms += st.F0[r] * st.F0[r] / (double)st.n;
     for (r = 0; r < st.n; r++)
       st.F[r] = st.F0[r] + 0.01 * sqrt(rms) * rnd_normal(&s);
-    assert_int_equal(rps3_ident_wls(&dt, NULL, &res, NULL, 0), RPS3_OK);
+    assert_int_equal(rps3_ident_wls(&dt, NULL, &res, NULL), RPS3_OK);
     for (j = 0; j < 11; j++) {
       double sd = sqrt(cov[j * 11 + j]);
       if (!(fabs(th[j] - pi[SET_PAYLOAD[j]]) <= TOL_CONSISTENT_BIAS * sd))
@@ -549,17 +549,17 @@ static void test_consistent(void **state) {
     for (r = 0; r < st.n; r++) rms += st.F0[r] * st.F0[r] / (double)st.n;
     for (r = 0; r < st.n; r++)
       st.F[r] = st.F0[r] + 0.01 * sqrt(rms) * rnd_normal(&s);
-    st_c = rps3_ident_consistent(&dt, &lay, NULL, &fit, err, sizeof(err));
+    st_c = rps3_ident_consistent(&dt, &lay, NULL, &fit, &chk);
     if (st_c == RPS3_OK)
       nconv++;
-    else if (st_c != RPS3_ENOCONV || strstr(err, "iterations") == NULL)
-      fail_msg("draw %d: %s", k, err);
+    else if (st_c != RPS3_ENOCONV || strstr(chk.msg, "iterations") == NULL)
+      fail_msg("draw %d: %s", k, chk.msg);
     /* converged or not, what is returned is checked consistent */
     assert_true(fit.consistent);
     for (b = 0; b < 2; b++)
       assert_true(eig[4 * b] >= -1e-10 * fabs(eig[4 * b + 3]));
     assert_true(th[9] >= 0.0 && th[10] >= 0.0);
-    assert_int_equal(rps3_ident_wls(&dt, NULL, &res, NULL, 0), RPS3_OK);
+    assert_int_equal(rps3_ident_wls(&dt, NULL, &res, NULL), RPS3_OK);
     nwls_bad += thw[10] < 0.0;
   }
   print_message("WLS gave a negative Coulomb coefficient in %lu of 20; the "
@@ -568,31 +568,27 @@ static void test_consistent(void **state) {
   assert_true(nwls_bad > 0);
   /* bad layouts, each named */
   col[1][3] = 1; /* column 1 is already the link's Ipin */
-  assert_int_equal(rps3_ident_consistent(&dt, &lay, NULL, &fit, err,
-                                         sizeof(err)),
+  assert_int_equal(rps3_ident_consistent(&dt, &lay, NULL, &fit, &chk),
                    RPS3_EINVAL);
-  assert_non_null(strstr(err, "layout.col[1][3]"));
+  assert_non_null(strstr(chk.msg, "layout.col[1][3]"));
   col[1][3] = 11;
-  assert_int_equal(rps3_ident_consistent(&dt, &lay, NULL, &fit, err,
-                                         sizeof(err)),
+  assert_int_equal(rps3_ident_consistent(&dt, &lay, NULL, &fit, &chk),
                    RPS3_EINVAL);
   col[1][3] = 5;
   kind[4] = 3;
-  assert_int_equal(rps3_ident_consistent(&dt, &lay, NULL, &fit, err,
-                                         sizeof(err)),
+  assert_int_equal(rps3_ident_consistent(&dt, &lay, NULL, &fit, &chk),
                    RPS3_EINVAL);
-  assert_non_null(strstr(err, "layout.kind[4]"));
+  assert_non_null(strstr(chk.msg, "layout.kind[4]"));
   kind[4] = 0;
   /* an iteration limit too small: not converged, said so */
   {
     rps3_ident_opts o;
     rps3_ident_opts_default(&o);
     o.max_iter = 1;
-    assert_int_equal(rps3_ident_consistent(&dt, &lay, &o, &fit, err,
-                                           sizeof(err)),
+    assert_int_equal(rps3_ident_consistent(&dt, &lay, &o, &fit, &chk),
                      RPS3_ENOCONV);
     assert_true(fit.consistent); /* the start, checked */
-    assert_non_null(strstr(err, "iterations"));
+    assert_non_null(strstr(chk.msg, "iterations"));
   }
   stack_free(&st);
 }
@@ -631,9 +627,9 @@ static void test_timing(void **state) {
   fit.theta = th;
   fit.body = body;
   clock_gettime(CLOCK_MONOTONIC, &t0);
-  assert_int_equal(rps3_ident_wls(&dt, NULL, &res, NULL, 0), RPS3_OK);
+  assert_int_equal(rps3_ident_wls(&dt, NULL, &res, NULL), RPS3_OK);
   clock_gettime(CLOCK_MONOTONIC, &t1);
-  assert_int_equal(rps3_ident_consistent(&dt, &lay, NULL, &fit, NULL, 0),
+  assert_int_equal(rps3_ident_consistent(&dt, &lay, NULL, &fit, NULL),
                    RPS3_OK);
   clock_gettime(CLOCK_MONOTONIC, &t2);
   print_message("timing: WLS of %lu rows x 11 %.3f s (target 0.5 s), "
@@ -737,7 +733,7 @@ static void test_regressor_allocates_nothing(void **state) {
   res.theta = th;
   n_alloc = 0;
   counting = 1;
-  assert_int_equal(rps3_ident_wls(&dt, NULL, &res, NULL, 0), RPS3_OK);
+  assert_int_equal(rps3_ident_wls(&dt, NULL, &res, NULL), RPS3_OK);
   counting = 0;
   assert_true(n_alloc > 0);
   stack_free(&st);

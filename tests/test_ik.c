@@ -37,7 +37,7 @@ static void lengths_match_paper(void **state) {
   int n, i, ok = 0;
   (void)state;
   model_entropy(&m);
-  assert_int_equal(rps3_model_init(&m, NULL, 0), RPS3_OK);
+  assert_int_equal(rps3_model_init(&m, NULL), RPS3_OK);
   assert_int_equal(rps3_data_alloc(&m, &d), RPS3_OK);
   for (n = 0; n < 2000; n++) {
     double L2[3];
@@ -66,7 +66,7 @@ static void geometry_holds(void **state) {
   int n, i, j, k;
   (void)state;
   model_entropy(&m);
-  assert_int_equal(rps3_model_init(&m, NULL, 0), RPS3_OK);
+  assert_int_equal(rps3_model_init(&m, NULL), RPS3_OK);
   assert_int_equal(rps3_data_alloc(&m, &d), RPS3_OK);
   for (n = 0; n < 500; n++) {
     random_pose(&seed, d->pose);
@@ -113,7 +113,7 @@ static void obtuse_branch(void **state) {
   (void)state;
   rps3_model_default(&m);
   m.rho = 1.6385;
-  assert_int_equal(rps3_model_init(&m, NULL, 0), RPS3_OK);
+  assert_int_equal(rps3_model_init(&m, NULL), RPS3_OK);
   assert_int_equal(rps3_data_alloc(&m, &d), RPS3_OK);
   d->pose[0] = 0.3;
   d->pose[1] = 0.05;
@@ -132,7 +132,7 @@ static void unreachable_and_invalid(void **state) {
   rps3_data *d;
   (void)state;
   rps3_model_default(&m);
-  assert_int_equal(rps3_model_init(&m, NULL, 0), RPS3_OK);
+  assert_int_equal(rps3_model_init(&m, NULL), RPS3_OK);
   assert_int_equal(rps3_data_alloc(&m, &d), RPS3_OK);
   d->pose[0] = 0.4;
   d->pose[1] = 0.1;

@@ -25,8 +25,8 @@ static void check_trajectory(const rps3_model *base, const rps3_traj *tr,
   int k, i, e;
   ml.opt.method = RPS3_LAGRANGE;
   mn.opt.method = RPS3_NEWTON_EULER;
-  assert_int_equal(rps3_model_init(&ml, NULL, 0), RPS3_OK);
-  assert_int_equal(rps3_model_init(&mn, NULL, 0), RPS3_OK);
+  assert_int_equal(rps3_model_init(&ml, NULL), RPS3_OK);
+  assert_int_equal(rps3_model_init(&mn, NULL), RPS3_OK);
   assert_int_equal(rps3_data_alloc(&ml, &dl), RPS3_OK);
   assert_int_equal(rps3_data_alloc(&mn, &dn), RPS3_OK);
   for (k = 0; k <= samples; k++) {
@@ -94,13 +94,13 @@ static void effects_separate(void **state) {
   int e, k, i;
   (void)state;
   model_entropy(&all);
-  assert_int_equal(rps3_model_init(&all, NULL, 0), RPS3_OK);
+  assert_int_equal(rps3_model_init(&all, NULL), RPS3_OK);
   assert_int_equal(rps3_data_alloc(&all, &da), RPS3_OK);
   traj_random(&tr, &seed);
   for (e = 0; e < RPS3_NEFFECT; e++) {
     one = all;
     one.opt.effects = 1 << e;
-    assert_int_equal(rps3_model_init(&one, NULL, 0), RPS3_OK);
+    assert_int_equal(rps3_model_init(&one, NULL), RPS3_OK);
     assert_int_equal(rps3_data_alloc(&one, &d1), RPS3_OK);
     for (k = 0; k <= 20; k++) {
       double t = 0.1 * k;
@@ -143,8 +143,8 @@ static void outputs_each_bit(void **state) {
         full.opt.theta = (rps3_theta_route)route;
         sub = full;
         sub.opt.outputs = bits;
-        assert_int_equal(rps3_model_init(&full, NULL, 0), RPS3_OK);
-        assert_int_equal(rps3_model_init(&sub, NULL, 0), RPS3_OK);
+        assert_int_equal(rps3_model_init(&full, NULL), RPS3_OK);
+        assert_int_equal(rps3_model_init(&sub, NULL), RPS3_OK);
         assert_int_equal(rps3_data_alloc(&full, &df), RPS3_OK);
         assert_int_equal(rps3_data_alloc(&sub, &ds), RPS3_OK);
         traj_random(&tr, &seed);
@@ -201,7 +201,7 @@ static void outputs_each_bit(void **state) {
       rps3_model_default(&sub);
       sub.opt.outputs = bits;
       sub.opt.theta = (rps3_theta_route)route;
-      assert_int_equal(rps3_model_init(&sub, NULL, 0), RPS3_OK);
+      assert_int_equal(rps3_model_init(&sub, NULL), RPS3_OK);
       assert_int_equal(rps3_data_alloc(&sub, &ds), RPS3_OK);
       bs = singular_beta(&sub, ds, 0.25, 0.6, 1.0);
       ds->pose[0] = 0.0;
@@ -214,7 +214,7 @@ static void outputs_each_bit(void **state) {
       /* a transmission of 2.4 above a warning threshold of 2 */
       sub.opt.trans_warn = 2.0;
       sub.opt.theta = RPS3_THETA_CLOSED_FORM;
-      assert_int_equal(rps3_model_init(&sub, NULL, 0), RPS3_OK);
+      assert_int_equal(rps3_model_init(&sub, NULL), RPS3_OK);
       assert_int_equal(rps3_data_alloc(&sub, &ds), RPS3_OK);
       ds->pose[0] = 0.3;
       ds->pose[1] = 0.0;
@@ -223,7 +223,7 @@ static void outputs_each_bit(void **state) {
       assert_true(ds->warn & RPS3_WARN_TRANS);
       /* and a trans_max below it: RPS3_ESING */
       sub.opt.trans_max = 2.1;
-      assert_int_equal(rps3_model_init(&sub, NULL, 0), RPS3_OK);
+      assert_int_equal(rps3_model_init(&sub, NULL), RPS3_OK);
       assert_int_equal(rps3_inverse(&sub, ds), RPS3_ESING);
       rps3_data_free(ds);
     }
@@ -252,8 +252,8 @@ static void summed_forces_match(void **state) {
       full.opt.outputs &= ~RPS3_OUT_CERTIFY;
       fo = full;
       fo.opt.outputs = RPS3_OUT_FORCES | RPS3_OUT_LAMBDA | RPS3_OUT_TRANSMISSION;
-      assert_int_equal(rps3_model_init(&full, NULL, 0), RPS3_OK);
-      assert_int_equal(rps3_model_init(&fo, NULL, 0), RPS3_OK);
+      assert_int_equal(rps3_model_init(&full, NULL), RPS3_OK);
+      assert_int_equal(rps3_model_init(&fo, NULL), RPS3_OK);
       assert_int_equal(rps3_data_alloc(&full, &df), RPS3_OK);
       assert_int_equal(rps3_data_alloc(&fo, &dfo), RPS3_OK);
       for (n = 0; n < 4; n++) {
@@ -332,8 +332,8 @@ static void shared_jacobian_never_stale(void **state) {
       m.opt.outputs |= RPS3_OUT_CERTIFY;
       mc = m;
       mc.opt.theta = RPS3_THETA_CLOSED_FORM;
-      assert_int_equal(rps3_model_init(&m, NULL, 0), RPS3_OK);
-      assert_int_equal(rps3_model_init(&mc, NULL, 0), RPS3_OK);
+      assert_int_equal(rps3_model_init(&m, NULL), RPS3_OK);
+      assert_int_equal(rps3_model_init(&mc, NULL), RPS3_OK);
       assert_int_equal(rps3_data_alloc(&m, &d), RPS3_OK);
       assert_int_equal(rps3_data_alloc(&m, &e), RPS3_OK);
       es = e->solver;
@@ -416,7 +416,7 @@ static void static_closed_form(void **state) {
       m.opt.outputs = (certify) ? (m.opt.outputs | RPS3_OUT_CERTIFY)
       : (m.opt.outputs & ~RPS3_OUT_CERTIFY);
       m.opt.effects = RPS3_EFF_ALL; /* inertia and friction vanish at rest */
-      assert_int_equal(rps3_model_init(&m, NULL, 0), RPS3_OK);
+      assert_int_equal(rps3_model_init(&m, NULL), RPS3_OK);
       assert_int_equal(rps3_data_alloc(&m, &d), RPS3_OK);
       d->pose[0] = 0.917; /* any alpha: a gauge at beta = 0 */
       d->pose[1] = 0.0;
@@ -446,7 +446,7 @@ static void static_scene_needs_no_rates(void **state) {
   rps3_model_default(&m);
   m.opt.effects = RPS3_EFF_PLATFORM_GRAVITY | RPS3_EFF_LINK_GRAVITY;
   m.opt.outputs &= ~RPS3_OUT_CERTIFY;
-  assert_int_equal(rps3_model_init(&m, NULL, 0), RPS3_OK);
+  assert_int_equal(rps3_model_init(&m, NULL), RPS3_OK);
   assert_int_equal(rps3_data_alloc(&m, &d), RPS3_OK);
   assert_int_equal(rps3_invdyn(&m, d), RPS3_ESTATE);
   d->pose[0] = 0.4;
@@ -458,7 +458,7 @@ static void static_scene_needs_no_rates(void **state) {
   assert_true(isfinite(d->F[0]) && d->F[0] > 0);
   /* a dynamic scene refuses to run on positions alone */
   m.opt.effects = RPS3_EFF_DEFAULT;
-  assert_int_equal(rps3_model_init(&m, NULL, 0), RPS3_OK);
+  assert_int_equal(rps3_model_init(&m, NULL), RPS3_OK);
   assert_int_equal(rps3_ik(&m, d), RPS3_OK);
   assert_int_equal(rps3_invdyn(&m, d), RPS3_ESTATE);
   assert_non_null(strstr(d->err.msg, "velocities"));
@@ -477,7 +477,7 @@ static void singular_configuration(void **state) {
   /* this test is about the condition number: the transmission limit,
      tested on its own, is moved out of the way */
   m.opt.trans_max = 1e300;
-  assert_int_equal(rps3_model_init(&m, NULL, 0), RPS3_OK);
+  assert_int_equal(rps3_model_init(&m, NULL), RPS3_OK);
   assert_int_equal(rps3_data_alloc(&m, &d), RPS3_OK);
   bs = singular_beta(&m, d, 0.25, 0.6, 1.0);
   assert_true(isfinite(bs));
@@ -510,7 +510,7 @@ static void friction_opposes_motion(void **state) {
   rps3_model_default(&m);
   m.opt.effects = RPS3_EFF_PIN_FRICTION;
   m.friction.coulomb = 0.0371;
-  assert_int_equal(rps3_model_init(&m, NULL, 0), RPS3_OK);
+  assert_int_equal(rps3_model_init(&m, NULL), RPS3_OK);
   assert_int_equal(rps3_data_alloc(&m, &d), RPS3_OK);
   d->pose[0] = 0.3;
   d->pose[1] = 0.15;

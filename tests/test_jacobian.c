@@ -105,7 +105,7 @@ static void theta_solve_jacobian(void **state) {
   int n, tried = 0, i, k, s;
   (void)state;
   model_entropy(&m);
-  assert_int_equal(rps3_model_init(&m, NULL, 0), RPS3_OK);
+  assert_int_equal(rps3_model_init(&m, NULL), RPS3_OK);
   assert_int_equal(rps3_data_alloc(&m, &d), RPS3_OK);
   geom_make(&g, m.R, m.rho);
   for (n = 0; n < 300; n++) {
@@ -154,7 +154,7 @@ static void cjac_forms_agree(void **state) {
   int n, tried = 0, i, k;
   (void)state;
   model_entropy(&m);
-  assert_int_equal(rps3_model_init(&m, NULL, 0), RPS3_OK);
+  assert_int_equal(rps3_model_init(&m, NULL), RPS3_OK);
   assert_int_equal(rps3_data_alloc(&m, &d), RPS3_OK);
   for (n = 0; n < 300; n++) {
     double Jl[3][3], Jt[3][3], h[3], Z[3], c[3], sn[3], sl, st;
@@ -197,7 +197,7 @@ static void constraint_jacobian(void **state) {
   int n, tried = 0, i, k, s;
   (void)state;
   model_entropy(&m);
-  assert_int_equal(rps3_model_init(&m, NULL, 0), RPS3_OK);
+  assert_int_equal(rps3_model_init(&m, NULL), RPS3_OK);
   assert_int_equal(rps3_data_alloc(&m, &d), RPS3_OK);
   geom_make(&g, m.R, m.rho);
   for (n = 0; n < 300; n++) {
@@ -332,7 +332,7 @@ static void velocity_map(void **state) {
   int n, tried = 0, i;
   (void)state;
   model_entropy(&m);
-  assert_int_equal(rps3_model_init(&m, NULL, 0), RPS3_OK);
+  assert_int_equal(rps3_model_init(&m, NULL), RPS3_OK);
   assert_int_equal(rps3_data_alloc(&m, &d), RPS3_OK);
   geom_make(&g, m.R, m.rho);
   for (n = 0; n < 200; n++) {

@@ -11,7 +11,7 @@ static rps3_data *make(rps3_model *m, int theta, int warm) {
   rps3_model_default(m);
   m->opt.theta = theta ? RPS3_THETA_MULTIROOT : RPS3_THETA_CLOSED_FORM;
   m->opt.warm_start = warm;
-  assert_int_equal(rps3_model_init(m, NULL, 0), RPS3_OK);
+  assert_int_equal(rps3_model_init(m, NULL), RPS3_OK);
   assert_int_equal(rps3_data_alloc(m, &d), RPS3_OK);
   return d;
 }
@@ -147,7 +147,7 @@ static void fk_reports_and_requires_mode(void **state) {
   for (i = 0; i < 3; i++) CHECK_REL(e->pose[i], p[i], 1e-8, 1.0, "pose%d", i);
   /* the same start, level mode required: refused with a message */
   m.opt.mode = RPS3_MODE_LEVEL;
-  assert_int_equal(rps3_model_init(&m, NULL, 0), RPS3_OK);
+  assert_int_equal(rps3_model_init(&m, NULL), RPS3_OK);
   memcpy(e->l, l, sizeof l);
   for (i = 0; i < 3; i++) e->theta[i] = th[i] + 1e-4;
   e->have_theta = 1;
@@ -155,21 +155,21 @@ static void fk_reports_and_requires_mode(void **state) {
   assert_non_null(strstr(e->err.msg, "assembly mode -1"));
   /* the other mode required: accepted */
   m.opt.mode = RPS3_MODE_OTHER;
-  assert_int_equal(rps3_model_init(&m, NULL, 0), RPS3_OK);
+  assert_int_equal(rps3_model_init(&m, NULL), RPS3_OK);
   for (i = 0; i < 3; i++) e->theta[i] = th[i] + 1e-4;
   e->have_theta = 1;
   assert_int_equal(rps3_fk(&m, e), RPS3_OK);
   /* cold from the level guess with level required: a level root or EMODE,
      never an OK in the other mode */
   m.opt.mode = RPS3_MODE_LEVEL;
-  assert_int_equal(rps3_model_init(&m, NULL, 0), RPS3_OK);
+  assert_int_equal(rps3_model_init(&m, NULL), RPS3_OK);
   rps3_data_reset(e);
   memcpy(e->l, l, sizeof l);
   st = rps3_fk(&m, e);
   assert_true(st != RPS3_OK || e->mode == RPS3_MODE_LEVEL);
   /* an out-of-range opt.mode is refused at init */
   m.opt.mode = 2;
-  assert_int_equal(rps3_model_init(&m, NULL, 0), RPS3_EINVAL);
+  assert_int_equal(rps3_model_init(&m, NULL), RPS3_EINVAL);
   rps3_data_free(e);
   rps3_data_free(d);
 }

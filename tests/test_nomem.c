@@ -60,7 +60,7 @@ static void every_failure_is_enomem(void **state) {
     int k, status, total;
     rps3_model_default(&m);
     m.opt.solver = (rps3_solver)s;
-    assert_int_equal(rps3_model_init(&m, NULL, 0), RPS3_OK);
+    assert_int_equal(rps3_model_init(&m, NULL), RPS3_OK);
     /* count the allocations of a successful call */
     armed = 1, fail_at = -1, n_alloc = 0, n_live = 0;
     status = rps3_data_alloc(&m, &d);

@@ -10,7 +10,7 @@
 
 static rps3_data *setup(rps3_model *m) {
   rps3_data *d = NULL;
-  assert_int_equal(rps3_model_init(m, NULL, 0), RPS3_OK);
+  assert_int_equal(rps3_model_init(m, NULL), RPS3_OK);
   assert_int_equal(rps3_data_alloc(m, &d), RPS3_OK);
   return d;
 }
@@ -39,23 +39,23 @@ static void strerror_has_erange(void **state) {
 static void model_overflow_at_init(void **state) {
   static const double big[3] = {1e308, 2.3e307, 1.7976931348623157e308};
   rps3_model m;
-  char err[256];
+  rps3_check chk;
   int k;
   (void)state;
   for (k = 0; k < 3; k++) {
     rps3_model_default(&m);
     m.M = big[k];
-    assert_int_equal(rps3_model_init(&m, err, sizeof err), RPS3_EINVAL);
-    assert_true(strncmp(err, "M = ", 4) == 0);
-    assert_non_null(strstr(err, "overflows"));
+    assert_int_equal(rps3_model_init(&m, &chk), RPS3_EINVAL);
+    assert_true(strncmp(chk.msg, "M = ", 4) == 0);
+    assert_non_null(strstr(chk.msg, "overflows"));
     rps3_model_default(&m);
     m.payload.mass = big[k];
-    assert_int_equal(rps3_model_init(&m, err, sizeof err), RPS3_EINVAL);
-    assert_true(strncmp(err, "payload.mass = ", 15) == 0);
+    assert_int_equal(rps3_model_init(&m, &chk), RPS3_EINVAL);
+    assert_true(strncmp(chk.msg, "payload.mass = ", 15) == 0);
     rps3_model_default(&m);
     m.m = big[k];
-    assert_int_equal(rps3_model_init(&m, err, sizeof err), RPS3_EINVAL);
-    assert_true(strncmp(err, "m = ", 4) == 0);
+    assert_int_equal(rps3_model_init(&m, &chk), RPS3_EINVAL);
+    assert_true(strncmp(chk.msg, "m = ", 4) == 0);
   }
 }
 
@@ -155,7 +155,7 @@ static void traj_overflow(void **state) {
   double p[3], dp[3], ddp[3];
   (void)state;
   rps3_model_default(&m);
-  assert_int_equal(rps3_model_init(&m, NULL, 0), RPS3_OK);
+  assert_int_equal(rps3_model_init(&m, NULL), RPS3_OK);
   memset(&tr, 0, sizeof tr);
   tr.kind = RPS3_TRAJ_SINE;
   tr.sine.mean[2] = 0.3;
@@ -163,7 +163,7 @@ static void traj_overflow(void **state) {
   tr.sine.freq[0] = 37.0;
   tr.sine.phase[0] = 0.5;
   tr.sine.duration = 1.0;
-  assert_int_equal(rps3_traj_check(&m, &tr, NULL, 0), RPS3_EINVAL);
+  assert_int_equal(rps3_traj_check(&m, &tr, NULL), RPS3_EINVAL);
   assert_int_equal(rps3_traj_eval(&m, &tr, 0.25, p, dp, ddp), RPS3_ERANGE);
   assert_false(isfinite(ddp[0]));
   /* amplitude 1e306 at zero frequency stays finite */

@@ -17,7 +17,7 @@ static void odd_limits(rps3_model *m) {
   m->opt.cond_max = 3.71e11;
   m->opt.trans_warn = 37.25;
   m->opt.trans_max = 4.13e6;
-  assert_int_equal(rps3_model_init(m, NULL, 0), RPS3_OK);
+  assert_int_equal(rps3_model_init(m, NULL), RPS3_OK);
 }
 
 /* one step of relative size 1e-12 above x: far above the rounding of
@@ -133,7 +133,7 @@ static void every_stage_the_same_decision(void **state) {
   rps3_batch_out out;
   (void)state;
   rps3_model_default(&m);
-  assert_int_equal(rps3_model_init(&m, NULL, 0), RPS3_OK);
+  assert_int_equal(rps3_model_init(&m, NULL), RPS3_OK);
   assert_int_equal(rps3_data_alloc(&m, &d), RPS3_OK);
   assert_int_equal(rps3_data_alloc(&m, &e), RPS3_OK);
   set_pose(d);
@@ -162,7 +162,7 @@ static void every_stage_the_same_decision(void **state) {
     /* the lambda system's condition number just above cond_max */
     m.opt.cond_warn = m.opt.cond_max = cond / ABOVE(1.0);
     m.opt.trans_warn = m.opt.trans_max = 1e8;
-    assert_int_equal(rps3_model_init(&m, NULL, 0), RPS3_OK);
+    assert_int_equal(rps3_model_init(&m, NULL), RPS3_OK);
     snprintf(want, sizeof(want),
              "singular configuration: condition number of the lambda "
              "system (df/dtheta)^T %.3g above cond_max %.3g",
@@ -174,7 +174,7 @@ static void every_stage_the_same_decision(void **state) {
     assert_non_null(strstr(e->err.msg, want));
     /* cond_max just above it: kept, with RPS3_WARN_ILLCOND */
     m.opt.cond_max = ABOVE(cond);
-    assert_int_equal(rps3_model_init(&m, NULL, 0), RPS3_OK);
+    assert_int_equal(rps3_model_init(&m, NULL), RPS3_OK);
     assert_int_equal(rps3_inverse(&m, d), RPS3_OK);
     assert_int_equal(d->warn & RPS3_WARN_ILLCOND, RPS3_WARN_ILLCOND);
     assert_int_equal(rps3_inverse_batch(&m, e, &in, &out), RPS3_OK);
@@ -185,7 +185,7 @@ static void every_stage_the_same_decision(void **state) {
     m.opt.cond_warn = 1e6;
     m.opt.cond_max = 1e13;
     m.opt.trans_warn = m.opt.trans_max = trans / ABOVE(1.0);
-    assert_int_equal(rps3_model_init(&m, NULL, 0), RPS3_OK);
+    assert_int_equal(rps3_model_init(&m, NULL), RPS3_OK);
     snprintf(want, sizeof(want),
              "singular configuration: force transmission %.3g above "
              "trans_max %.3g: an actuator would carry that many times the "
@@ -196,7 +196,7 @@ static void every_stage_the_same_decision(void **state) {
     assert_int_equal(status[0], RPS3_ESING);
     assert_non_null(strstr(e->err.msg, want));
     m.opt.trans_max = ABOVE(trans);
-    assert_int_equal(rps3_model_init(&m, NULL, 0), RPS3_OK);
+    assert_int_equal(rps3_model_init(&m, NULL), RPS3_OK);
     assert_int_equal(rps3_inverse(&m, d), RPS3_OK);
     assert_int_equal(d->warn & RPS3_WARN_TRANS, RPS3_WARN_TRANS);
     assert_int_equal(rps3_inverse_batch(&m, e, &in, &out), RPS3_OK);
@@ -210,7 +210,7 @@ static void every_stage_the_same_decision(void **state) {
   m.opt.trans_warn = 100.0;
   m.opt.trans_max = 1e8;
   m.opt.cond_warn = m.opt.cond_max = cond / 1.5;
-  assert_int_equal(rps3_model_init(&m, NULL, 0), RPS3_OK);
+  assert_int_equal(rps3_model_init(&m, NULL), RPS3_OK);
   e->pose[0] = d->pose[0];
   e->pose[1] = d->pose[1];
   e->pose[2] = d->pose[2];
@@ -236,7 +236,7 @@ static void forward_dynamics_the_same_decision(void **state) {
   int i;
   (void)state;
   rps3_model_default(&m);
-  assert_int_equal(rps3_model_init(&m, NULL, 0), RPS3_OK);
+  assert_int_equal(rps3_model_init(&m, NULL), RPS3_OK);
   assert_int_equal(rps3_data_alloc(&m, &d), RPS3_OK);
   assert_int_equal(rps3_data_alloc(&m, &f), RPS3_OK);
   set_pose(d);
@@ -253,7 +253,7 @@ static void forward_dynamics_the_same_decision(void **state) {
   assert_int_equal(f->warn & (RPS3_WARN_ILLCOND | RPS3_WARN_TRANS), 0);
 
   m.opt.cond_warn = m.opt.cond_max = cond / 1.5;
-  assert_int_equal(rps3_model_init(&m, NULL, 0), RPS3_OK);
+  assert_int_equal(rps3_model_init(&m, NULL), RPS3_OK);
   assert_int_equal(rps3_fwddyn(&m, f), RPS3_ESING);
   assert_true(STARTS(f->err.msg, "singular configuration: condition "
                                   "number of df/dtheta "));

@@ -71,20 +71,19 @@ static void round_trip(const rps3_traj *tr, int eff, double *worst) {
   rps3_sim *s;
   rps3_ctrl *c;
   rps3_data *w;
-  char err[256];
+  rps3_check chk;
   const double win = 0.05;
   int k;
   model_entropy(&m);
   m.opt.effects = eff;
-  assert_int_equal(rps3_model_init(&m, NULL, 0), RPS3_OK);
+  assert_int_equal(rps3_model_init(&m, NULL), RPS3_OK);
   rps3_sim_options_default(&o);
   o.integrator = RPS3_INT_RK8PD;
   o.epsabs = o.epsrel = 1e-10;
-  if (rps3_sim_alloc(&m, &o, &s, err, sizeof(err)) != RPS3_OK)
-    fail_msg("%s", err);
-  if (rps3_ctrl_alloc(RPS3_CTRL_OPEN_LOOP, 0, 0, &m, tr, &c, err,
-                      sizeof(err)) != RPS3_OK)
-    fail_msg("%s", err);
+  if (rps3_sim_alloc(&m, &o, &s, &chk) != RPS3_OK)
+    fail_msg("%s", chk.msg);
+  if (rps3_ctrl_alloc(RPS3_CTRL_OPEN_LOOP, 0, 0, &m, tr, &c, &chk) != RPS3_OK)
+    fail_msg("%s", chk.msg);
   assert_int_equal(rps3_data_alloc(&m, &w), RPS3_OK);
   {
     rps3_controller ctl = {rps3_ctrl_update, c, 0.0, 0u, NULL};
@@ -133,7 +132,7 @@ static void rk4_converges_at_order_4(void **state) {
   (void)state;
   model_entropy(&m);
   m.friction.vreg = 0.02; /* smooth, so that the order shows */
-  assert_int_equal(rps3_model_init(&m, NULL, 0), RPS3_OK);
+  assert_int_equal(rps3_model_init(&m, NULL), RPS3_OK);
   fast_sine(&tr);
   for (k = 0; k < 2; k++) {
     rps3_sim_options o;
@@ -142,9 +141,8 @@ static void rk4_converges_at_order_4(void **state) {
     rps3_data *w;
     rps3_sim_options_default(&o);
     o.h = k ? 2e-3 : 4e-3;
-    assert_int_equal(rps3_sim_alloc(&m, &o, &s, NULL, 0), RPS3_OK);
-    assert_int_equal(rps3_ctrl_alloc(RPS3_CTRL_OPEN_LOOP, 0, 0, &m, &tr, &c,
-                                     NULL, 0), RPS3_OK);
+    assert_int_equal(rps3_sim_alloc(&m, &o, &s, NULL), RPS3_OK);
+    assert_int_equal(rps3_ctrl_alloc(RPS3_CTRL_OPEN_LOOP, 0, 0, &m, &tr, &c, NULL), RPS3_OK);
     assert_int_equal(rps3_data_alloc(&m, &w), RPS3_OK);
     {
       rps3_controller ctl = {rps3_ctrl_update, c, 0.0, 0u, NULL};
@@ -195,14 +193,14 @@ static void energy_balance(void **state) {
       model_entropy(&m);
       m.opt.effects = RPS3_EFF_ALL & ~(fr ? 0 : RPS3_EFF_PIN_FRICTION);
       m.friction.vreg = 0.01;
-      assert_int_equal(rps3_model_init(&m, NULL, 0), RPS3_OK);
+      assert_int_equal(rps3_model_init(&m, NULL), RPS3_OK);
       helix_entropy(&tr);
       rps3_sim_options_default(&o);
       o.integrator = (rps3_integrator)integ;
       o.epsabs = o.epsrel = 1e-10;
-      assert_int_equal(rps3_sim_alloc(&m, &o, &s, NULL, 0), RPS3_OK);
+      assert_int_equal(rps3_sim_alloc(&m, &o, &s, NULL), RPS3_OK);
       assert_int_equal(rps3_ctrl_alloc(RPS3_CTRL_PD_GRAVITY, 800.0, 30.0, &m,
-                                       &tr, &c, NULL, 0), RPS3_OK);
+                                       &tr, &c, NULL), RPS3_OK);
       {
         rps3_controller free_motion = {zero_force, NULL, 0.0, 0u, NULL};
         rps3_controller pd = rps3_ctrl_bind(c, 1000.0);
@@ -244,8 +242,8 @@ static int closed_loop(const rps3_model *plant, const rps3_model *cm,
   rps3_data *w;
   double T = rps3_traj_duration(tr);
   int k, n = (int)(T * 1000.0 + 0.5), st = RPS3_OK;
-  assert_int_equal(rps3_sim_alloc(plant, o, &s, NULL, 0), RPS3_OK);
-  assert_int_equal(rps3_ctrl_alloc(kind, kp, kd, cm, tr, &c, NULL, 0), RPS3_OK);
+  assert_int_equal(rps3_sim_alloc(plant, o, &s, NULL), RPS3_OK);
+  assert_int_equal(rps3_ctrl_alloc(kind, kp, kd, cm, tr, &c, NULL), RPS3_OK);
   assert_int_equal(rps3_data_alloc(plant, &w), RPS3_OK);
   *emax = 0.0;
   {
@@ -270,10 +268,10 @@ static int closed_loop(const rps3_model *plant, const rps3_model *cm,
    (the paper's case 1) */
 static void plant_and_light(rps3_model *plant, rps3_model *light) {
   rps3_model_default(plant);
-  assert_int_equal(rps3_model_init(plant, NULL, 0), RPS3_OK);
+  assert_int_equal(rps3_model_init(plant, NULL), RPS3_OK);
   *light = *plant;
   light->m = 0.0;
-  assert_int_equal(rps3_model_init(light, NULL, 0), RPS3_OK);
+  assert_int_equal(rps3_model_init(light, NULL), RPS3_OK);
 }
 
 /*
@@ -311,7 +309,7 @@ static void controllers_track_the_helix(void **state) {
 static rps3_ctrl *computed_torque(const rps3_model *cm, const rps3_traj *tr) {
   rps3_ctrl *c;
   assert_int_equal(rps3_ctrl_alloc(RPS3_CTRL_COMPUTED_TORQUE, 400.0, 40.0, cm,
-                                   tr, &c, NULL, 0),
+                                   tr, &c, NULL),
                    RPS3_OK);
   return c;
 }
@@ -338,8 +336,8 @@ static void one_call_or_one_per_period(void **state) {
   for (v = 0; v < 2; v++) {
     const rps3_model *cm = v ? &light : &plant;
     rps3_controller ctl_a, ctl_b;
-    assert_int_equal(rps3_sim_alloc(&plant, NULL, &a, NULL, 0), RPS3_OK);
-    assert_int_equal(rps3_sim_alloc(&plant, NULL, &b, NULL, 0), RPS3_OK);
+    assert_int_equal(rps3_sim_alloc(&plant, NULL, &a, NULL), RPS3_OK);
+    assert_int_equal(rps3_sim_alloc(&plant, NULL, &b, NULL), RPS3_OK);
     ca = computed_torque(cm, &tr);
     cb = computed_torque(cm, &tr);
     ctl_a = rps3_ctrl_bind(ca, 1000.0);
@@ -382,7 +380,7 @@ static void one_call_or_one_per_period(void **state) {
        measured data's theta solve untouched (solve_niter stays -1) */
     rps3_sim_free(a);
     rps3_ctrl_free(ca);
-    assert_int_equal(rps3_sim_alloc(&plant, NULL, &a, NULL, 0), RPS3_OK);
+    assert_int_equal(rps3_sim_alloc(&plant, NULL, &a, NULL), RPS3_OK);
     ca = computed_torque(cm, &tr);
     cr = computed_torque(cm, &tr);
     ctl_a.state = ca;
@@ -437,8 +435,8 @@ static void report_where_the_run_stopped(void **state) {
   (void)state;
   plant_and_light(&plant, &light);
   rps3_traj_default(&tr);
-  assert_int_equal(rps3_sim_alloc(&plant, NULL, &a, NULL, 0), RPS3_OK);
-  assert_int_equal(rps3_sim_alloc(&plant, NULL, &b, NULL, 0), RPS3_OK);
+  assert_int_equal(rps3_sim_alloc(&plant, NULL, &a, NULL), RPS3_OK);
+  assert_int_equal(rps3_sim_alloc(&plant, NULL, &b, NULL), RPS3_OK);
   fa.c = computed_torque(&plant, &tr);
   fb.c = computed_torque(&plant, &tr);
   fa.t_fail = fb.t_fail = 0.5;
@@ -510,7 +508,7 @@ static void noise_and_quantisation(void **state) {
   int run;
   (void)state;
   rps3_model_default(&m);
-  assert_int_equal(rps3_model_init(&m, NULL, 0), RPS3_OK);
+  assert_int_equal(rps3_model_init(&m, NULL), RPS3_OK);
   rps3_traj_default(&tr);
   for (run = 0; run < 4; run++) {
     rps3_sim *s;
@@ -526,9 +524,9 @@ static void noise_and_quantisation(void **state) {
     memset(&p, 0, sizeof(p));
     p.on_grid = 1;
     p.q = o.quant_l;
-    assert_int_equal(rps3_sim_alloc(&m, &o, &s, NULL, 0), RPS3_OK);
+    assert_int_equal(rps3_sim_alloc(&m, &o, &s, NULL), RPS3_OK);
     assert_int_equal(rps3_ctrl_alloc(RPS3_CTRL_PD_GRAVITY, 2000.0, 40.0, &m,
-                                     &tr, &p.c, NULL, 0), RPS3_OK);
+                                     &tr, &p.c, NULL), RPS3_OK);
     p.s = s;
     {
       rps3_controller ctl = {probing, &p, 1000.0, 0u, NULL};
@@ -566,7 +564,7 @@ static void singular_surface_every_integrator(void **state) {
   (void)state;
   rps3_model_default(&m);
   m.opt.effects = RPS3_EFF_ALL & ~RPS3_EFF_PAYLOAD;
-  assert_int_equal(rps3_model_init(&m, NULL, 0), RPS3_OK);
+  assert_int_equal(rps3_model_init(&m, NULL), RPS3_OK);
   for (it = 0; it < 5; it++) {
     rps3_controller ctl = {zero_force, NULL, 0.0, 0u, NULL};
     double pose[3] = {0.4, 0.15, 0.25}, dpose[3] = {0, 0, -0.1};
@@ -579,7 +577,7 @@ static void singular_surface_every_integrator(void **state) {
        1 ms before the surface, short of it: RPS3_ENOCONV (the step's end
        is regular by the criterion); at 0.25 ms it reaches the surface */
     if (o.integrator == RPS3_INT_RK4IMP) o.h = 2.5e-4;
-    assert_int_equal(rps3_sim_alloc(&m, &o, &s, NULL, 0), RPS3_OK);
+    assert_int_equal(rps3_sim_alloc(&m, &o, &s, NULL), RPS3_OK);
     assert_int_equal(rps3_sim_start(s, 0.0, pose, dpose), RPS3_OK);
     st = rps3_sim_advance(s, &ctl, 1.0);
     msg = rps3_sim_data(s)->err.msg;
@@ -608,7 +606,7 @@ static void singular_surface_every_integrator(void **state) {
     rps3_sim_options_default(&o);
     o.integrator = RPS3_INT_RK4IMP;
     o.h = 1.5e-3;
-    assert_int_equal(rps3_sim_alloc(&m, &o, &s, NULL, 0), RPS3_OK);
+    assert_int_equal(rps3_sim_alloc(&m, &o, &s, NULL), RPS3_OK);
     assert_int_equal(rps3_sim_start(s, 0.0, pose, dpose), RPS3_OK);
     assert_int_equal(rps3_sim_advance(s, &ctl, 1.0), RPS3_ESING);
     print_message("rk4imp, h = 1.5 ms: %s\n", rps3_sim_data(s)->err.msg);
@@ -630,12 +628,12 @@ static void hard_cases(void **state) {
   (void)state;
   rps3_model_default(&m);
   m.opt.effects = RPS3_EFF_ALL & ~RPS3_EFF_PAYLOAD;
-  assert_int_equal(rps3_model_init(&m, NULL, 0), RPS3_OK);
+  assert_int_equal(rps3_model_init(&m, NULL), RPS3_OK);
   rps3_sim_options_default(&o);
 
   /* towards the base: no forces, the platform falls onto the singular
      surface, which stops the run (RPS3_ESING), with finite states */
-  assert_int_equal(rps3_sim_alloc(&m, &o, &s, NULL, 0), RPS3_OK);
+  assert_int_equal(rps3_sim_alloc(&m, &o, &s, NULL), RPS3_OK);
   {
     rps3_controller ctl = {zero_force, NULL, 0.0, 0u, NULL};
     double pose[3] = {0.4, 0.15, 0.25}, dpose[3] = {0, 0, -0.1};
@@ -699,7 +697,7 @@ static void hard_cases(void **state) {
   /* zero link mass in the plant (the paper's case 1) */
   m0 = m;
   m0.m = 0.0;
-  assert_int_equal(rps3_model_init(&m0, NULL, 0), RPS3_OK);
+  assert_int_equal(rps3_model_init(&m0, NULL), RPS3_OK);
   assert_int_equal(closed_loop(&m0, &m0, &tr, RPS3_CTRL_COMPUTED_TORQUE, 400.0,
                                40.0, &o, &e, NULL), RPS3_OK);
   assert_true(e < 1e-5);
@@ -738,7 +736,7 @@ static void stick_slip(void **state) {
     m.friction.coulomb = 0.05;
     m.friction.viscous = 0.002;
     m.friction.vreg = k ? 1e-3 : 0.0;
-    assert_int_equal(rps3_model_init(&m, NULL, 0), RPS3_OK);
+    assert_int_equal(rps3_model_init(&m, NULL), RPS3_OK);
     rps3_sim_options_default(&o);
     o.integrator = RPS3_INT_RKF45;
     o.epsabs = o.epsrel = 1e-8;
@@ -759,28 +757,31 @@ static void errors(void **state) {
   rps3_model m;
   rps3_sim_options o;
   rps3_sim *s = NULL;
-  char err[256];
+  rps3_check chk;
   (void)state;
   rps3_model_default(&m);
-  assert_int_equal(rps3_model_init(&m, NULL, 0), RPS3_OK);
+  assert_int_equal(rps3_model_init(&m, NULL), RPS3_OK);
   rps3_sim_options_default(&o);
   o.h = -1e-3;
-  assert_int_equal(rps3_sim_alloc(&m, &o, &s, err, sizeof(err)), RPS3_EINVAL);
-  assert_non_null(strstr(err, "simulate.h = "));
+  assert_int_equal(rps3_sim_alloc(&m, &o, &s, &chk), RPS3_EINVAL);
+  assert_non_null(strstr(chk.msg, "simulate.h = "));
   assert_null(s);
   rps3_sim_options_default(&o);
   o.integrator = RPS3_INT_RKF45;
   o.epsabs = o.epsrel = 0.0;
-  assert_int_equal(rps3_sim_alloc(&m, &o, &s, err, sizeof(err)), RPS3_EINVAL);
-  assert_non_null(strstr(err, "simulate.epsabs"));
+  assert_int_equal(rps3_sim_alloc(&m, &o, &s, &chk), RPS3_EINVAL);
+  assert_non_null(strstr(chk.msg, "simulate.epsabs"));
   rps3_sim_options_default(&o);
   o.l_max = o.l_min;
-  assert_int_equal(rps3_sim_alloc(&m, &o, &s, err, sizeof(err)), RPS3_EINVAL);
+  assert_int_equal(rps3_sim_alloc(&m, &o, &s, &chk), RPS3_EINVAL);
   o.l_max = HUGE_VAL;
   o.noise_l = (double)NAN;
-  assert_int_equal(rps3_sim_alloc(&m, &o, &s, err, sizeof(err)), RPS3_EINVAL);
-  assert_non_null(strstr(err, "simulate.noise_l"));
-  assert_int_equal(rps3_sim_alloc(&m, NULL, &s, err, sizeof(err)), RPS3_OK);
+  assert_int_equal(rps3_sim_alloc(&m, &o, &s, &chk), RPS3_EINVAL);
+  assert_non_null(strstr(chk.msg, "simulate.noise_l"));
+  assert_int_equal(chk.field, -1);
+  assert_int_equal(rps3_sim_alloc(&m, &o, &s, NULL), RPS3_EINVAL);
+  assert_int_equal(rps3_sim_alloc(&m, NULL, &s, &chk), RPS3_OK);
+  assert_string_equal(chk.msg, "");
   {
     rps3_controller ctl = {zero_force, NULL, -1.0, 0u, NULL};
     assert_int_equal(rps3_sim_advance(s, &ctl, 1.0), RPS3_ESTATE);
@@ -797,13 +798,28 @@ static void errors(void **state) {
     rps3_traj tr;
     rps3_ctrl *c = NULL;
     rps3_traj_default(&tr);
-    assert_int_equal(rps3_ctrl_alloc(RPS3_CTRL_PD, -1.0, 0.0, &m, &tr, &c, err,
-                                     sizeof(err)), RPS3_EINVAL);
-    assert_non_null(strstr(err, "simulate.kp"));
+    assert_int_equal(
+        rps3_ctrl_alloc(RPS3_CTRL_PD, -1.0, 0.0, &m, &tr, &c, &chk),
+        RPS3_EINVAL);
+    assert_non_null(strstr(chk.msg, "simulate.kp"));
+    assert_int_equal(chk.field, -1);
+    /* the trajectory's refusal names its field by identifier */
     tr.helix.period = -1.0;
-    assert_int_equal(rps3_ctrl_alloc(RPS3_CTRL_PD, 1.0, 0.0, &m, &tr, &c, err,
-                                     sizeof(err)), RPS3_EINVAL);
+    assert_int_equal(
+        rps3_ctrl_alloc(RPS3_CTRL_PD, 1.0, 0.0, &m, &tr, &c, &chk),
+        RPS3_EINVAL);
+    assert_int_equal(chk.field, RPS3_F_HELIX_PERIOD);
+    assert_true(strncmp(chk.msg, "trajectory.period = ", 20) == 0);
+    assert_int_equal(rps3_ctrl_alloc(RPS3_CTRL_PD, 1.0, 0.0, &m, &tr, &c, NULL),
+                     RPS3_EINVAL);
     assert_null(c);
+    /* a success clears chk */
+    rps3_traj_default(&tr);
+    assert_int_equal(
+        rps3_ctrl_alloc(RPS3_CTRL_PD, 1.0, 0.0, &m, &tr, &c, &chk), RPS3_OK);
+    assert_int_equal(chk.field, -1);
+    assert_string_equal(chk.msg, "");
+    rps3_ctrl_free(c);
   }
 }
 
@@ -821,22 +837,26 @@ static void bounded_calls(void **state) {
   rps3_traj tr;
   rps3_sim_options o;
   rps3_sim *s;
-  char err[256];
+  rps3_check chk;
   double y0[8];
   (void)state;
   rps3_model_default(&m);
-  assert_int_equal(rps3_model_init(&m, NULL, 0), RPS3_OK);
+  assert_int_equal(rps3_model_init(&m, NULL), RPS3_OK);
   rps3_traj_default(&tr);
   rps3_sim_options_default(NULL); /* does nothing, does not crash */
   rps3_sim_options_default(&o);
 #define RATE(rate_, tmax_, st_, field_)                                       \
   do {                                                                        \
-    err[0] = '\0';                                                            \
-    assert_int_equal(rps3_sim_check_rate(&o, (rate_), (tmax_), err,          \
-                                         sizeof err), (st_));                \
-    if ((st_) != RPS3_OK && strstr(err, (field_)) != err)                     \
+    snprintf(chk.msg, sizeof chk.msg, "stale");                               \
+    assert_int_equal(rps3_sim_check_rate(&o, (rate_), (tmax_), &chk), (st_)); \
+    if ((st_) == RPS3_OK && chk.msg[0] != '\0')                               \
+      fail_msg("rate %g, t_max %g: OK left \"%s\"", (double)(rate_),         \
+               (double)(tmax_), chk.msg);                                     \
+    if ((st_) != RPS3_OK && strstr(chk.msg, (field_)) != chk.msg)             \
       fail_msg("rate %g, t_max %g: %s", (double)(rate_), (double)(tmax_),   \
-               err);                                                          \
+               chk.msg);                                                      \
+    assert_int_equal(chk.field, -1);                                          \
+    assert_int_equal(rps3_sim_check_rate(&o, (rate_), (tmax_), NULL), (st_)); \
   } while (0)
   /* the step: at most RPS3_SIM_RATE_H_MAX periods a step h = 1 ms */
   RATE(1000.0, 10.0, RPS3_OK, "");
@@ -869,7 +889,7 @@ static void bounded_calls(void **state) {
   o.h = 1.0;
   RATE(1e4, 10.0, RPS3_OK, "");
   RATE(1e16, 1e-9, RPS3_EINVAL, "simulate.rate = ");
-  assert_non_null(strstr(err, "hmin"));
+  assert_non_null(strstr(chk.msg, "hmin"));
   rps3_sim_options_default(&o);
   o.h = (double)NAN; /* the options' own check first */
   RATE(1000.0, 10.0, RPS3_EINVAL, "simulate.h = ");
@@ -891,7 +911,7 @@ static void bounded_calls(void **state) {
   }
 
   /* rps3_sim_advance: refused at once, nothing moves, the run goes on */
-  assert_int_equal(rps3_sim_alloc(&m, NULL, &s, NULL, 0), RPS3_OK);
+  assert_int_equal(rps3_sim_alloc(&m, NULL, &s, NULL), RPS3_OK);
   start_on(s, &m, &tr, 0.0);
   assert_int_equal(rps3_sim_advance(
                        s, &(rps3_controller){zero_force, NULL, 1000.0, 0u, NULL}, 0.01),
@@ -942,7 +962,7 @@ static void implicit_integrators(void **state) {
   model_entropy(&m);
   m.friction.vreg = 1e-3;
   m.friction.coulomb = 0.02;
-  assert_int_equal(rps3_model_init(&m, NULL, 0), RPS3_OK);
+  assert_int_equal(rps3_model_init(&m, NULL), RPS3_OK);
   fast_sine(&tr);
   for (integ = RPS3_INT_MSBDF; integ <= RPS3_INT_RK4IMP; integ++) {
     rps3_sim_options o;
@@ -954,9 +974,8 @@ static void implicit_integrators(void **state) {
     o.integrator = (rps3_integrator)integ;
     o.epsabs = o.epsrel = 1e-10;
     o.h = 1e-4;
-    assert_int_equal(rps3_sim_alloc(&m, &o, &s, NULL, 0), RPS3_OK);
-    assert_int_equal(rps3_ctrl_alloc(RPS3_CTRL_OPEN_LOOP, 0, 0, &m, &tr, &c,
-                                     NULL, 0), RPS3_OK);
+    assert_int_equal(rps3_sim_alloc(&m, &o, &s, NULL), RPS3_OK);
+    assert_int_equal(rps3_ctrl_alloc(RPS3_CTRL_OPEN_LOOP, 0, 0, &m, &tr, &c, NULL), RPS3_OK);
     assert_int_equal(rps3_data_alloc(&m, &w), RPS3_OK);
     {
       rps3_controller ctl = {rps3_ctrl_update, c, 0.0, 0u, NULL};
@@ -990,22 +1009,22 @@ static void pure_relative_tolerance_refused(void **state) {
   size_t k;
   (void)state;
   rps3_model_default(&m);
-  assert_int_equal(rps3_model_init(&m, NULL, 0), RPS3_OK);
+  assert_int_equal(rps3_model_init(&m, NULL), RPS3_OK);
   fast_sine(&tr);
   for (k = 0; k < sizeof adaptive / sizeof adaptive[0]; k++) {
     rps3_sim_options o;
     rps3_sim *s = NULL;
-    char err[256] = "";
+    rps3_check chk;
     int st;
     rps3_sim_options_default(&o);
     o.integrator = adaptive[k];
     o.epsabs = 0.0;
     o.epsrel = 2.385e-7;
-    st = rps3_sim_alloc(&m, &o, &s, err, sizeof err);
+    st = rps3_sim_alloc(&m, &o, &s, &chk);
     if (st == RPS3_OK) {
       rps3_ctrl *c;
       assert_int_equal(rps3_ctrl_alloc(RPS3_CTRL_OPEN_LOOP, 0, 0, &m, &tr,
-                                       &c, NULL, 0), RPS3_OK);
+                                       &c, NULL), RPS3_OK);
       {
         rps3_controller ctl = {rps3_ctrl_update, c, 0.0, 0u, NULL};
         start_on(s, &m, &tr, 0.0);
@@ -1018,7 +1037,7 @@ static void pure_relative_tolerance_refused(void **state) {
     }
     assert_int_equal(st, RPS3_EINVAL);
     assert_null(s);
-    assert_non_null(strstr(err, "simulate.epsabs = 0"));
+    assert_non_null(strstr(chk.msg, "simulate.epsabs = 0"));
   }
 }
 
@@ -1045,11 +1064,11 @@ static void user_law_with_plant_is_library_law(void **state) {
   int k, i, n = 1500;
   (void)state;
   rps3_model_default(&plant);
-  assert_int_equal(rps3_model_init(&plant, NULL, 0), RPS3_OK);
+  assert_int_equal(rps3_model_init(&plant, NULL), RPS3_OK);
   rps3_traj_default(&tr);
-  assert_int_equal(rps3_sim_alloc(&plant, NULL, &a, NULL, 0), RPS3_OK);
-  assert_int_equal(rps3_sim_alloc(&plant, NULL, &b, NULL, 0), RPS3_OK);
-  assert_int_equal(rps3_sim_alloc(&plant, NULL, &c, NULL, 0), RPS3_OK);
+  assert_int_equal(rps3_sim_alloc(&plant, NULL, &a, NULL), RPS3_OK);
+  assert_int_equal(rps3_sim_alloc(&plant, NULL, &b, NULL), RPS3_OK);
+  assert_int_equal(rps3_sim_alloc(&plant, NULL, &c, NULL), RPS3_OK);
   ct = computed_torque(&plant, &tr);
   assert_int_equal(user_law_init(&ub, &plant, &tr, 400.0, 40.0, 1), RPS3_OK);
   assert_int_equal(user_law_init(&uc, &plant, &tr, 400.0, 40.0, 0), RPS3_OK);
@@ -1142,7 +1161,7 @@ static void plant_every_effect(rps3_model *m) {
   m->opt.effects = RPS3_EFF_ALL & ~RPS3_EFF_PAYLOAD;
   m->friction.viscous = 0.01;
   m->friction.coulomb = 0.005;
-  assert_int_equal(rps3_model_init(m, NULL, 0), RPS3_OK);
+  assert_int_equal(rps3_model_init(m, NULL), RPS3_OK);
 }
 
 /*
@@ -1169,7 +1188,7 @@ static void plant_state_is_the_plant(void **state) {
       plant_every_effect(&plant);
     else {
       rps3_model_default(&plant);
-      assert_int_equal(rps3_model_init(&plant, NULL, 0), RPS3_OK);
+      assert_int_equal(rps3_model_init(&plant, NULL), RPS3_OK);
     }
     rps3_sim_options_default(&o);
     if (v == 2) o.noise_l = 1e-9;
@@ -1177,7 +1196,7 @@ static void plant_state_is_the_plant(void **state) {
     if (v == 4) o.quant_l = 1e-12;
     if (v == 5) ctl.rate = 0.0;
     memset(&p, 0, sizeof(p));
-    assert_int_equal(rps3_sim_alloc(&plant, &o, &s, NULL, 0), RPS3_OK);
+    assert_int_equal(rps3_sim_alloc(&plant, &o, &s, NULL), RPS3_OK);
     assert_int_equal(rps3_data_alloc(&plant, &p.w), RPS3_OK);
     p.s = s;
     p.c = computed_torque(&plant, &tr);
@@ -1253,9 +1272,9 @@ static void law_without_capability(void **state) {
   rps3_controller c;
   (void)state;
   rps3_model_default(&m);
-  assert_int_equal(rps3_model_init(&m, NULL, 0), RPS3_OK);
+  assert_int_equal(rps3_model_init(&m, NULL), RPS3_OK);
   rps3_traj_default(&tr);
-  assert_int_equal(rps3_sim_alloc(&m, NULL, &s, NULL, 0), RPS3_OK);
+  assert_int_equal(rps3_sim_alloc(&m, NULL, &s, NULL), RPS3_OK);
   c = three_member_form(&n);
   assert_true(c.caps == 0 && c.fn_plant == NULL);
   start_on(s, &m, &tr, 0.0);
@@ -1284,10 +1303,10 @@ static void accessors_of_the_opaque_simulation(void **state) {
   const double pose[3] = {0.3, 0.2, 0.25}, zero[3] = {0.0, 0.0, 0.0};
   (void)state;
   rps3_model_default(&plant);
-  assert_int_equal(rps3_model_init(&plant, NULL, 0), RPS3_OK);
+  assert_int_equal(rps3_model_init(&plant, NULL), RPS3_OK);
   rps3_sim_options_default(&o);
   o.h = 5e-4;
-  assert_int_equal(rps3_sim_alloc(&plant, &o, &s, NULL, 0), RPS3_OK);
+  assert_int_equal(rps3_sim_alloc(&plant, &o, &s, NULL), RPS3_OK);
   assert_int_equal(rps3_sim_start(s, 0.125, pose, zero), RPS3_OK);
   assert_true(rps3_sim_now(s)->t == 0.125);
   assert_int_equal(rps3_sim_now(s)->status, RPS3_OK);

@@ -40,7 +40,7 @@ static void check_model(rps3_model *base, uint64_t *seed) {
   m[0].opt.method = RPS3_LAGRANGE;
   m[1].opt.method = RPS3_NEWTON_EULER;
   for (meth = 0; meth < 2; meth++) {
-    assert_int_equal(rps3_model_init(&m[meth], NULL, 0), RPS3_OK);
+    assert_int_equal(rps3_model_init(&m[meth], NULL), RPS3_OK);
     assert_int_equal(rps3_data_alloc(&m[meth], &d[meth]), RPS3_OK);
   }
   poisoned = m[0];
@@ -100,7 +100,7 @@ static void matches_library_paper(void **state) {
   (void)state;
   rps3_model_default(&m);
   rps3_traj_default(&tr);
-  assert_int_equal(rps3_model_init(&m, NULL, 0), RPS3_OK);
+  assert_int_equal(rps3_model_init(&m, NULL), RPS3_OK);
   assert_int_equal(rps3_data_alloc(&m, &d), RPS3_OK);
   for (k = 0; k <= 100; k++) {
     double t = rps3_traj_duration(&tr) * k / 100, F[3];
@@ -122,7 +122,7 @@ static void unreachable_refused(void **state) {
   double q[3] = {0.37, 0.21, -0.05}, z[3] = {0, 0, 0}, F[3];
   (void)state;
   model_entropy(&m);
-  assert_int_equal(rps3_model_init(&m, NULL, 0), RPS3_OK);
+  assert_int_equal(rps3_model_init(&m, NULL), RPS3_OK);
   assert_int_equal(study_ref_forces(&m, RPS3_EFF_ALL, q, z, z, F), -1);
   assert_int_equal(study_ref_forces_double(&m, RPS3_EFF_ALL, q, z, z, F), -1);
 }

@@ -13,7 +13,7 @@
 
 static void model_setup(rps3_model *m) {
   rps3_model_default(m);
-  assert_int_equal(rps3_model_init(m, NULL, 0), RPS3_OK);
+  assert_int_equal(rps3_model_init(m, NULL), RPS3_OK);
 }
 
 /* a reachable motion of Table II's manipulator, polynomial of degree deg
@@ -89,7 +89,7 @@ static void exact_for_polynomials(void **state) {
   for (c = 0; c < 3; c++) {
     double T;
     table_setup(&tr, &r, cases[c][0], cases[c][1]);
-    assert_int_equal(rps3_traj_check(&m, &tr, NULL, 0), RPS3_OK);
+    assert_int_equal(rps3_traj_check(&m, &tr, NULL), RPS3_OK);
     T = rps3_traj_duration(&tr);
     CHECK_REL(T, r.time[NROW - 1] - r.time[0], 0.0, 1.0, "span");
     for (n = 0; n < 300 + NROW; n++) {
@@ -143,7 +143,7 @@ static void derivatives_fd(void **state) {
                                          (const double(*)[3])r.value, r.rate,
                                          r.work),
                        RPS3_OK);
-    assert_int_equal(rps3_traj_check(&m, &tr, NULL, 0), RPS3_OK);
+    assert_int_equal(rps3_traj_check(&m, &tr, NULL), RPS3_OK);
     T = rps3_traj_duration(&tr);
     /* h as in test_traj_kinds: truncation and rounding below 1e-8 */
     h = 2e-6 * T;
@@ -330,7 +330,7 @@ static void refusals(void **state) {
       memcpy(r.value[i], r.value[0], sizeof r.value[i]);
       r.rate[i][0] = r.rate[i][1] = r.rate[i][2] = 0.0;
     }
-    assert_int_equal(rps3_traj_validate(&m, &tr, &chk), RPS3_EINVAL);
+    assert_int_equal(rps3_traj_check(&m, &tr, &chk), RPS3_EINVAL);
     assert_int_equal(chk.field, RPS3_F_TABLE_VALUE);
     assert_int_equal(chk.comp, 0);
     assert_non_null(strstr(chk.msg, "not finite between this row and the "
@@ -434,8 +434,8 @@ static void path_table_is_the_circle(void **state) {
   model_setup(&m);
   path_table_setup(&tr, &r, 2);
   circle_path(&circ);
-  assert_int_equal(rps3_traj_check(&m, &tr, NULL, 0), RPS3_OK);
-  assert_int_equal(rps3_traj_check(&m, &circ, NULL, 0), RPS3_OK);
+  assert_int_equal(rps3_traj_check(&m, &tr, NULL), RPS3_OK);
+  assert_int_equal(rps3_traj_check(&m, &circ, NULL), RPS3_OK);
   CHECK_REL(rps3_traj_duration(&tr), 4.0, 0.0, 1.0, "span");
   for (i = 0; i < NPATH; i++) {
     double a[3], da[3], dda[3], b[3], db[3], ddb[3];
@@ -474,7 +474,7 @@ static void path_table_derivatives(void **state) {
   (void)state;
   model_setup(&m);
   path_table_setup(&tr, &r, 0);
-  assert_int_equal(rps3_traj_check(&m, &tr, NULL, 0), RPS3_OK);
+  assert_int_equal(rps3_traj_check(&m, &tr, NULL), RPS3_OK);
   for (n = 0; n < 300; n++) {
     double t = rnd_uniform(&seed, 2 * h, 4.0 - 2 * h);
     double q[3], dq[3], ddq[3], qp[3], dqp[3], qm[3], dqm[3], dd[3];

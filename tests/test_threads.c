@@ -68,10 +68,10 @@ static void make_models(void) {
     models[k].opt.theta =
         (k & 2) ? RPS3_THETA_MULTIROOT : RPS3_THETA_CLOSED_FORM;
     models[k].opt.warm_start = 1;
-    assert_int_equal(rps3_model_init(&models[k], NULL, 0), RPS3_OK);
+    assert_int_equal(rps3_model_init(&models[k], NULL), RPS3_OK);
   }
   traj_random(&traj, &seed);
-  assert_int_equal(rps3_traj_check(&models[0], &traj, NULL, 0), RPS3_OK);
+  assert_int_equal(rps3_traj_check(&models[0], &traj, NULL), RPS3_OK);
 }
 
 /* the whole trajectory for every configuration, with a fresh data each;

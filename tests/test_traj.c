@@ -4,9 +4,9 @@
 
 static void setup(rps3_model *m, rps3_traj *tr) {
   rps3_model_default(m);
-  assert_int_equal(rps3_model_init(m, NULL, 0), RPS3_OK);
+  assert_int_equal(rps3_model_init(m, NULL), RPS3_OK);
   rps3_traj_default(tr);
-  assert_int_equal(rps3_traj_check(m, tr, NULL, 0), RPS3_OK);
+  assert_int_equal(rps3_traj_check(m, tr, NULL), RPS3_OK);
 }
 
 /* Table II: phi(T*) = 2 pi, peak rate 2 pi / 9 rad/s, beta ~ 5.5 degrees */
@@ -39,7 +39,7 @@ static void centre_traces_helix(void **state) {
   (void)state;
   setup(&m, &tr);
   tr.helix.radius = 0.0217; /* a wide helix shows phase errors */
-  assert_int_equal(rps3_traj_check(&m, &tr, NULL, 0), RPS3_OK);
+  assert_int_equal(rps3_traj_check(&m, &tr, NULL), RPS3_OK);
   assert_int_equal(rps3_data_alloc(&m, &d), RPS3_OK);
   for (k = 0; k <= 100; k++) {
     double t = 0.1 * k, phi;
@@ -108,7 +108,7 @@ static void blend_corners(void **state) {
 static void errors(void **state) {
   rps3_model m;
   rps3_traj tr;
-  char err[160];
+  rps3_check chk;
   double q[3];
   (void)state;
   setup(&m, &tr);
@@ -117,27 +117,42 @@ static void errors(void **state) {
   assert_int_equal(rps3_traj_eval(&m, &tr, (double)NAN, q, NULL, NULL), RPS3_EINVAL);
   assert_int_equal(rps3_traj_eval(&m, NULL, 1.0, q, NULL, NULL), RPS3_EINVAL);
   tr.helix.radius = 0.06; /* r/2 = 0.05715: beta would pass 90 degrees */
-  assert_int_equal(rps3_traj_check(&m, &tr, err, sizeof err), RPS3_EINVAL);
-  assert_non_null(strstr(err, "trajectory.radius"));
+  assert_int_equal(rps3_traj_check(&m, &tr, &chk), RPS3_EINVAL);
+  assert_non_null(strstr(chk.msg, "trajectory.radius"));
+  assert_int_equal(chk.field, RPS3_F_HELIX_RADIUS);
   rps3_traj_default(&tr);
   tr.helix.blend = 6.0;
-  assert_int_equal(rps3_traj_check(&m, &tr, err, sizeof err), RPS3_EINVAL);
-  assert_non_null(strstr(err, "trajectory.blend"));
+  assert_int_equal(rps3_traj_check(&m, &tr, &chk), RPS3_EINVAL);
+  assert_non_null(strstr(chk.msg, "trajectory.blend"));
+  assert_int_equal(chk.field, RPS3_F_HELIX_BLEND);
   rps3_traj_default(&tr);
   tr.helix.period = 0.0;
-  assert_int_equal(rps3_traj_check(&m, &tr, err, sizeof err), RPS3_EINVAL);
-  assert_non_null(strstr(err, "trajectory.period"));
+  assert_int_equal(rps3_traj_check(&m, &tr, &chk), RPS3_EINVAL);
+  assert_non_null(strstr(chk.msg, "trajectory.period"));
+  assert_int_equal(chk.field, RPS3_F_HELIX_PERIOD);
   rps3_traj_default(&tr);
   tr.helix.z0 = -0.1;
-  assert_int_equal(rps3_traj_check(&m, &tr, err, sizeof err), RPS3_EINVAL);
+  assert_int_equal(rps3_traj_check(&m, &tr, &chk), RPS3_EINVAL);
   tr.kind = RPS3_TRAJ_SINE;
   tr.sine.duration = 1.0;
   tr.sine.freq[1] = -2.0;
-  assert_int_equal(rps3_traj_check(&m, &tr, err, sizeof err), RPS3_EINVAL);
-  assert_non_null(strstr(err, "trajectory.freq[1]"));
+  assert_int_equal(rps3_traj_check(&m, &tr, &chk), RPS3_EINVAL);
+  assert_non_null(strstr(chk.msg, "trajectory.freq[1]"));
+  assert_int_equal(chk.field, RPS3_F_SINE_FREQ);
+  assert_int_equal(chk.comp, 1);
   tr.kind = (rps3_traj_kind)9;
-  assert_int_equal(rps3_traj_check(&m, &tr, err, sizeof err), RPS3_EINVAL);
+  assert_int_equal(rps3_traj_check(&m, &tr, &chk), RPS3_EINVAL);
+  assert_int_equal(chk.field, RPS3_F_KIND);
   assert_int_equal(rps3_traj_eval(&m, &tr, 0.0, q, NULL, NULL), RPS3_EINVAL);
+  /* without chk the same status; a success clears chk */
+  assert_int_equal(rps3_traj_check(&m, &tr, NULL), RPS3_EINVAL);
+  rps3_traj_default(&tr);
+  assert_int_equal(rps3_traj_check(&m, &tr, &chk), RPS3_OK);
+  assert_int_equal(chk.field, -1);
+  assert_string_equal(chk.msg, "");
+  assert_int_equal(rps3_traj_check(&m, NULL, &chk), RPS3_EINVAL);
+  assert_int_equal(chk.field, -1);
+  assert_non_null(strstr(chk.msg, "trajectory NULL"));
 }
 
 int main(void) {

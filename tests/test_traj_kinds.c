@@ -8,7 +8,7 @@
 
 static void model_setup(rps3_model *m) {
   rps3_model_default(m);
-  assert_int_equal(rps3_model_init(m, NULL, 0), RPS3_OK);
+  assert_int_equal(rps3_model_init(m, NULL), RPS3_OK);
 }
 
 /* the corners where a law's acceleration jumps: every sample within 4 h
@@ -92,7 +92,7 @@ static void waypoints_derivatives(void **state) {
   model_setup(&m);
   for (law = 0; law < 3; law++) {
     wp_setup(&tr, (rps3_time_law)law);
-    assert_int_equal(rps3_traj_check(&m, &tr, NULL, 0), RPS3_OK);
+    assert_int_equal(rps3_traj_check(&m, &tr, NULL), RPS3_OK);
     CHECK_REL(rps3_traj_duration(&tr), 3.0, 0.0, 1.0, "span = last time");
     check_fd(&m, &tr, c, wp_corners(&tr, c), scale, 7 + (uint64_t)law);
   }
@@ -145,7 +145,7 @@ static void waypoints_limits(void **state) {
     wp_setup(&tr, (rps3_time_law)law);
     tr.wp.vmax[0] = 0.1;  /* rad/s: stretches every alpha segment */
     tr.wp.amax[2] = 0.05; /* m/s^2 */
-    assert_int_equal(rps3_traj_check(&m, &tr, NULL, 0), RPS3_OK);
+    assert_int_equal(rps3_traj_check(&m, &tr, NULL), RPS3_OK);
     T = rps3_traj_duration(&tr);
     assert_true(T > 3.0);
     for (n = 0; n <= 200000; n++) {
@@ -216,7 +216,7 @@ static void path_derivatives(void **state) {
         tr.path.centre[1] = 0.01;
         tr.path.radius = 0.01;
       }
-      assert_int_equal(rps3_traj_check(&m, &tr, NULL, 0), RPS3_OK);
+      assert_int_equal(rps3_traj_check(&m, &tr, NULL), RPS3_OK);
       check_fd(&m, &tr, c, off ? 2 : 0, scale, 100 + (uint64_t)(shape * 3 + off));
     }
 }
@@ -268,7 +268,7 @@ static void helix_as_path(void **state) {
   rps3_traj_default(&h);
   rps3_traj_default(&p);
   p.kind = RPS3_TRAJ_PATH; /* the default path is Table II's helix */
-  assert_int_equal(rps3_traj_check(&m, &p, NULL, 0), RPS3_OK);
+  assert_int_equal(rps3_traj_check(&m, &p, NULL), RPS3_OK);
   CHECK_REL(rps3_traj_duration(&p), rps3_traj_duration(&h), 0.0, 1.0, "T*");
   for (n = 0; n <= 1000; n++) {
     double t = 10.0 * n / 1000.0, a[3], da[3], dda[3], b[3], db[3], ddb[3];
@@ -350,7 +350,7 @@ static void refusals(void **state) {
   tr.path.end[0] = 0.10;
   tr.path.end[1] = 0.01;
   tr.path.end[2] = 0.30;
-  assert_int_equal(rps3_traj_validate(&m, &tr, &chk), RPS3_EINVAL);
+  assert_int_equal(rps3_traj_check(&m, &tr, &chk), RPS3_EINVAL);
   assert_int_equal(chk.field, RPS3_F_PATH_END);
   {
     double xs = sqrt(0.25 * m.r * m.r - 1e-4), sw = (xs - 0.01) / 0.09;
@@ -381,7 +381,7 @@ static int run_would_fail(const rps3_model *m, const rps3_traj *tr) {
   int i, bad = 0;
   mc.opt.effects |= RPS3_EFF_PLATFORM_INERTIA | RPS3_EFF_LINK_INERTIA;
   mc.opt.outputs |= RPS3_OUT_CERTIFY;
-  assert_int_equal(rps3_model_init(&mc, NULL, 0), RPS3_OK);
+  assert_int_equal(rps3_model_init(&mc, NULL), RPS3_OK);
   assert_int_equal(rps3_data_alloc(&mc, &d), RPS3_OK);
   for (i = 0; i <= 4096 && !bad; i++) {
     double t = T * ((double)i / 4096.0);
@@ -399,7 +399,7 @@ static int run_would_fail(const rps3_model *m, const rps3_traj *tr) {
   do {                                                                        \
     rps3_check c_;                                                            \
     REFUSED(tr_, id_, comp_);                                                 \
-    rps3_traj_validate(&m, &(tr_), &c_);                                      \
+    rps3_traj_check(&m, &(tr_), &c_);                                      \
     if ((oracle_) && !run_would_fail(&m, &(tr_)))                             \
       fail_msg("refused, but the run's arithmetic holds: %s", c_.msg);        \
   } while (0)
@@ -430,7 +430,7 @@ static void overflow_refusals(void **state) {
   OVERFLOW_REFUSED(tr, RPS3_F_HELIX_PERIOD, 0, 1);
   tr.helix.period = 1e-3; /* fast, not absurd */
   tr.helix.blend = 4e-4;
-  assert_int_equal(rps3_traj_check(&m, &tr, NULL, 0), RPS3_OK);
+  assert_int_equal(rps3_traj_check(&m, &tr, NULL), RPS3_OK);
 
   /* sine: a span past the bound, rates that overflow the dynamics */
   rps3_traj_default(&tr);
@@ -442,7 +442,7 @@ static void overflow_refusals(void **state) {
   tr.sine.duration = 1e13;
   OVERFLOW_REFUSED(tr, RPS3_F_SINE_DURATION, 0, 0);
   tr.sine.duration = 1.0;
-  assert_int_equal(rps3_traj_check(&m, &tr, NULL, 0), RPS3_OK);
+  assert_int_equal(rps3_traj_check(&m, &tr, NULL), RPS3_OK);
   tr.sine.freq[0] = 1e150;
   REFUSED(tr, RPS3_F_SINE_FREQ, 0);
   {
@@ -451,7 +451,7 @@ static void overflow_refusals(void **state) {
     rps3_check c;
     tr.sine.freq[0] = 8e153;
     REFUSED(tr, RPS3_F_SINE_FREQ, 0);
-    rps3_traj_validate(&m, &tr, &c);
+    rps3_traj_check(&m, &tr, &c);
     assert_non_null(strstr(c.msg, "the rates overflow"));
   }
 
@@ -468,7 +468,7 @@ static void overflow_refusals(void **state) {
   tr.wp.amax[2] = 1e-300;
   OVERFLOW_REFUSED(tr, RPS3_F_WP_AMAX, 2, 0);
   tr.wp.amax[2] = 1e-3; /* a slow, sane stretch */
-  assert_int_equal(rps3_traj_check(&m, &tr, NULL, 0), RPS3_OK);
+  assert_int_equal(rps3_traj_check(&m, &tr, NULL), RPS3_OK);
   for (k = 0; k < 3; k++) {
     wp_setup(&tr, (rps3_time_law)k);
     tr.wp.time = t_short;
@@ -485,7 +485,7 @@ static void overflow_refusals(void **state) {
   tr.path.turns = 1e150;
   OVERFLOW_REFUSED(tr, RPS3_F_PATH_TURNS, 0, 1);
   tr.path.turns = 1e3;
-  assert_int_equal(rps3_traj_check(&m, &tr, NULL, 0), RPS3_OK);
+  assert_int_equal(rps3_traj_check(&m, &tr, NULL), RPS3_OK);
   path_setup(&tr, RPS3_PATH_LINE);
   tr.path.duration = 1e-300;
   OVERFLOW_REFUSED(tr, RPS3_F_PATH_DURATION, 0, 1);
@@ -522,7 +522,7 @@ static void overflow_refusals(void **state) {
     tr.table.value = (const double(*)[3])v_tbl;
   }
   tr.table.time = wp_time;
-  assert_int_equal(rps3_traj_check(&m, &tr, NULL, 0), RPS3_OK);
+  assert_int_equal(rps3_traj_check(&m, &tr, NULL), RPS3_OK);
   for (i = 0; i < 4; i++) {
     v_tbl[i][0] = 0.02 * cos(0.3 * i);
     v_tbl[i][1] = 0.02 * sin(0.3 * i);
@@ -537,7 +537,7 @@ static void overflow_refusals(void **state) {
   tr.path.table_psi = psi;
   OVERFLOW_REFUSED(tr, RPS3_F_PATH_TABLE_TIME, 1, 1);
   tr.path.table.time = wp_time;
-  assert_int_equal(rps3_traj_check(&m, &tr, NULL, 0), RPS3_OK);
+  assert_int_equal(rps3_traj_check(&m, &tr, NULL), RPS3_OK);
 }
 
 /*

@@ -13,7 +13,7 @@ static rps3_data *make(rps3_model *m, int effects, int method) {
   m->opt.effects = effects;
   m->opt.method = method;
   m->opt.outputs &= ~RPS3_OUT_CERTIFY;
-  assert_int_equal(rps3_model_init(m, NULL, 0), RPS3_OK);
+  assert_int_equal(rps3_model_init(m, NULL), RPS3_OK);
   assert_int_equal(rps3_data_alloc(m, &d), RPS3_OK);
   return d;
 }
@@ -124,7 +124,7 @@ static void scale_and_method_invariant(void **state) {
       d = make(&m, RPS3_EFF_PLATFORM_GRAVITY, method);
       m.R *= s[k];
       m.d *= s[k];
-      assert_int_equal(rps3_model_init(&m, NULL, 0), RPS3_OK);
+      assert_int_equal(rps3_model_init(&m, NULL), RPS3_OK);
       d->pose[0] = 0.7311;
       d->pose[1] = 0.4127;
       d->pose[2] = 0.9173 * m.R;
@@ -150,7 +150,7 @@ static void bound_on_holding_force(void **state) {
   m.payload.com[1] = -0.0271;
   m.payload.com[2] = 0.0317;
   m.payload.inertia[0] = m.payload.inertia[1] = m.payload.inertia[2] = 1e-4;
-  assert_int_equal(rps3_model_init(&m, NULL, 0), RPS3_OK);
+  assert_int_equal(rps3_model_init(&m, NULL), RPS3_OK);
   for (n = 0; n < 2000; n++) {
     double f, nm, load;
     int i;
@@ -298,7 +298,7 @@ static void transmission_from_inputs(void **state) {
   m.M = m.m = m.link_Ic = 0.0;
   m.opt.effects = RPS3_EFF_PAYLOAD;
   m.opt.outputs &= ~RPS3_OUT_CERTIFY;
-  assert_int_equal(rps3_model_init(&m, NULL, 0), RPS3_OK);
+  assert_int_equal(rps3_model_init(&m, NULL), RPS3_OK);
   assert_int_equal(rps3_data_alloc(&m, &d), RPS3_OK);
   for (n = 0; n < 2000; n++) {
     double B[3][6], w[6], rp[3], T, res[2] = {0.0, 0.0}, scale = 0.0;
@@ -340,17 +340,17 @@ static void transmission_from_inputs(void **state) {
 /* the limits are options: validated, and trans_max >= trans_warn */
 static void limits_are_options(void **state) {
   rps3_model m;
-  char err[256];
+  rps3_check chk;
   (void)state;
   rps3_model_default(&m);
   assert_true(m.opt.trans_warn == 100.0 && m.opt.trans_max == 1e8);
   m.opt.trans_warn = 0.0;
-  assert_int_equal(rps3_model_init(&m, err, sizeof err), RPS3_EINVAL);
-  assert_true(strncmp(err, "opt.trans_warn = ", 17) == 0);
+  assert_int_equal(rps3_model_init(&m, &chk), RPS3_EINVAL);
+  assert_true(strncmp(chk.msg, "opt.trans_warn = ", 17) == 0);
   rps3_model_default(&m);
   m.opt.trans_max = 50.0;
-  assert_int_equal(rps3_model_init(&m, err, sizeof err), RPS3_EINVAL);
-  assert_true(strncmp(err, "opt.trans_max = ", 16) == 0);
+  assert_int_equal(rps3_model_init(&m, &chk), RPS3_EINVAL);
+  assert_true(strncmp(chk.msg, "opt.trans_max = ", 16) == 0);
 }
 
 int main(void) {

@@ -50,7 +50,7 @@ static void velocity_is_derivative(void **state) {
   int n, k, i;
   (void)state;
   model_entropy(&m);
-  assert_int_equal(rps3_model_init(&m, NULL, 0), RPS3_OK);
+  assert_int_equal(rps3_model_init(&m, NULL), RPS3_OK);
   assert_int_equal(rps3_data_alloc(&m, &d), RPS3_OK);
   for (n = 0; n < 6; n++) {
     traj_random(&tr, &seed);
@@ -121,7 +121,7 @@ static void joint_route_agrees(void **state) {
   int n, k, i;
   (void)state;
   model_entropy(&m);
-  assert_int_equal(rps3_model_init(&m, NULL, 0), RPS3_OK);
+  assert_int_equal(rps3_model_init(&m, NULL), RPS3_OK);
   assert_int_equal(rps3_data_alloc(&m, &a), RPS3_OK);
   assert_int_equal(rps3_data_alloc(&m, &b), RPS3_OK);
   for (n = 0; n < 10; n++) {
@@ -169,7 +169,7 @@ static void stage_and_input_errors(void **state) {
   double bs;
   (void)state;
   model_entropy(&m);
-  assert_int_equal(rps3_model_init(&m, NULL, 0), RPS3_OK);
+  assert_int_equal(rps3_model_init(&m, NULL), RPS3_OK);
   assert_int_equal(rps3_data_alloc(&m, &d), RPS3_OK);
   assert_int_equal(rps3_velocity(&m, d), RPS3_ESTATE);
   assert_int_equal(rps3_joint_velocity(&m, d), RPS3_ESTATE);
@@ -215,7 +215,7 @@ static void link_motion_is_the_stages(void **state) {
   int n, i;
   (void)state;
   rps3_model_default(&m);
-  assert_int_equal(rps3_model_init(&m, NULL, 0), RPS3_OK);
+  assert_int_equal(rps3_model_init(&m, NULL), RPS3_OK);
   assert_int_equal(rps3_data_alloc(&m, &a), RPS3_OK);
   assert_int_equal(rps3_data_alloc(&m, &b), RPS3_OK);
   for (n = 0; n < 500; n++) {

@@ -49,12 +49,12 @@ static inline double rnd_uniform(uint64_t *s, double lo, double hi) {
   return lo + (hi - lo) * (double)(z >> 11) * (1.0 / 9007199254740992.0);
 }
 
-/* rps3_traj_validate refuses trajectory tr_ for model m_, naming field id_
+/* rps3_traj_check refuses trajectory tr_ for model m_, naming field id_
    and its component (or row) comp_, or the test fails with the message */
 #define TRAJ_REFUSED(m_, tr_, id_, comp_)                                     \
   do {                                                                        \
     rps3_check chk_;                                                          \
-    assert_int_equal(rps3_traj_validate(&(m_), &(tr_), &chk_), RPS3_EINVAL);  \
+    assert_int_equal(rps3_traj_check(&(m_), &(tr_), &chk_), RPS3_EINVAL);  \
     if (chk_.field != (id_) || chk_.comp != (comp_))                          \
       fail_msg("field %d[%d], want %d[%d]: %s", chk_.field, chk_.comp, id_,   \
                comp_, chk_.msg);                                              \

@@ -85,10 +85,10 @@ class Library(Controller):
         self.model = model
         self.trajectory = trajectory  # its arrays outlive the controller
         out = ffi.new("rps3_ctrl **")
-        err = ffi.new("char[256]")
+        chk = ffi.new("rps3_check *")
         st = lib.rps3_ctrl_alloc(k, self.kp, self.kd, model._c, spec.c, out,
-                                 err, 256)
-        check(st, err)
+                                 chk)
+        check(st, chk.msg)
         ctrl = ffi.gc(out[0], lib.rps3_ctrl_free)
         self._bind(lib.rps3py_ctrl_update_fn(), ctrl, rate)
         # the law with its capability: offered the plant's state

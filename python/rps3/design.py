@@ -107,7 +107,8 @@ class Design:
             object.__setattr__(self, name, real_number(
                 getattr(self, name), name, finite=False))
         chk = ffi.new("rps3_check *")
-        if lib.rps3_design_validate(self._c(), chk) != lib.RPS3_OK:
+        if lib.rps3_design_model(self._c(), ffi.new("rps3_model *"),
+                                 chk) != lib.RPS3_OK:
             raise ValueError(f"{_field_name(chk.field)}: {text(chk.msg)}")
 
     def _c(self) -> Any:
@@ -142,9 +143,9 @@ class Design:
 
     def _model_c(self) -> Any:
         m = ffi.new("rps3_model *")
-        err = ffi.new("char[]", 256)
-        if lib.rps3_design_model(self._c(), m, err, 256) != lib.RPS3_OK:
-            raise ValueError(text(err))
+        chk = ffi.new("rps3_check *")
+        if lib.rps3_design_model(self._c(), m, chk) != lib.RPS3_OK:
+            raise ValueError(text(chk.msg))
         return m
 
     def model(self, **options: Any) -> Model:

@@ -36,10 +36,10 @@ def paper_params(model: Model) -> np.ndarray:
             platform axes (products of inertia the parameters do not hold).
     """
     pi = np.empty(lib.RPS3_NPAPER)
-    err = ffi.new("char[256]")
-    status = lib.rps3_paper_params(model._c, buf(pi), err, 256)
+    err = ffi.new("rps3_check *")
+    status = lib.rps3_paper_params(model._c, buf(pi), err)
     if status != lib.RPS3_OK:
-        raise ValueError(f"model: {text(err)}")
+        raise ValueError(f"model: {text(err.msg)}")
     return pi
 
 
@@ -155,14 +155,14 @@ def wls_c(Y: ArrayLike, F: ArrayLike, *, weights: ArrayLike | None = None,
     res = ffi.new("rps3_ident_result *")
     res.theta, res.cov, res.ci = buf(theta), buf(cov), buf(ci)
     res.unident = ffi.from_buffer("int[]", flags)
-    err = ffi.new("char[2048]")
-    status = lib.rps3_ident_wls(dt, _opts(rank_tol, level), res, err, 2048)
+    err = ffi.new("rps3_check *")
+    status = lib.rps3_ident_wls(dt, _opts(rank_tol, level), res, err)
     del keep
     if status == lib.RPS3_ESING:
-        raise NotExcitingError(text(err), float(res.cond),
+        raise NotExcitingError(text(err.msg), float(res.cond),
                                [nm[j] for j in np.flatnonzero(flags)])
     if status != lib.RPS3_OK:
-        raise ValueError(text(err))
+        raise ValueError(text(err.msg))
     return Estimate(theta, nm, cov, ci, np.array(list(res.sigma)), Fa - Ya @ theta,
                     float(res.cond), int(res.dof), "wls_c")
 
@@ -250,11 +250,11 @@ def consistent_c(Y: ArrayLike, F: ArrayLike, layout: CLayout | Layout, *,
     theta, body, eig = np.empty(p), np.empty((max(nb, 1), 10)), np.empty((max(nb, 1), 4))
     fit = ffi.new("rps3_ident_fit *")
     fit.theta, fit.body, fit.eig = buf(theta), buf(body), buf(eig)
-    err = ffi.new("char[2048]")
+    err = ffi.new("rps3_check *")
     o = _opts(reg=reg, max_iter=max_iter, xtol=xtol, gtol=gtol)
-    status = lib.rps3_ident_consistent(dt, cl, o, fit, err, 2048)
+    status = lib.rps3_ident_consistent(dt, cl, o, fit, err)
     del keep
-    msg = text(err)
+    msg = text(err.msg)
     if status == lib.RPS3_ENOCONV and not fit.consistent:
         raise InconsistentFitError(f"consistent_c: {msg}")
     if status not in (lib.RPS3_OK, lib.RPS3_ENOCONV):

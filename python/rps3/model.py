@@ -262,7 +262,7 @@ class Model:
                     raise ValueError(f"{name}: expected an integer, got {ival!r}")
                 setattr(o, name, int(num))
         chk = ffi.new("rps3_check *")
-        if lib.rps3_model_validate(c, chk) != lib.RPS3_OK:
+        if lib.rps3_model_init(c, chk) != lib.RPS3_OK:
             raise check_error(chk, keyword)
         self._c = c
 

@@ -132,14 +132,14 @@ class Simulation:
         self.plant = plant
         self.integrator = INTEGRATORS[k]
         out = ffi.new("rps3_sim **")
-        err = ffi.new("char[256]")
-        st = lib.rps3_sim_alloc(plant._c, o, out, err, 256)
+        chk = ffi.new("rps3_check *")
+        st = lib.rps3_sim_alloc(plant._c, o, out, chk)
         if st == lib.RPS3_EINVAL:
-            msg = text(err)
+            msg = text(chk.msg)
             # the library names the option as the runner's key: simulate.h
             raise ValueError(msg.replace("simulate.", "", 1) if msg else
                              "invalid simulation options")
-        check(st, err)
+        check(st, chk.msg)
         self._s = ffi.gc(out[0], lib.rps3_sim_free)
         self._started = False
         self.last_result: SimResult | None = None

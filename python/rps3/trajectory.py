@@ -81,7 +81,7 @@ def _times(duration: float, samples: int | None, t: ArrayLike | None) -> FloatAr
 def _evaluate(model: Model, tr: Any, samples: int | None,
               t: ArrayLike | None, keep: tuple[Any, ...] = ()) -> Trajectory:
     chk = ffi.new("rps3_check *")
-    if lib.rps3_traj_validate(model._c, tr, chk) != lib.RPS3_OK:
+    if lib.rps3_traj_check(model._c, tr, chk) != lib.RPS3_OK:
         raise check_error(chk, _KEYWORD)
     times = _times(float(lib.rps3_traj_duration(tr)), samples, t)
     n = times.size

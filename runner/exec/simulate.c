@@ -91,9 +91,7 @@ static int ctrl_model(const scene *s, const scene_case *c, sim_case *sc,
   if (v->model_effects >= 0) cm->opt.effects = v->model_effects;
   /* a controller's path: F alone, every check (rps3.h, enum rps3_output) */
   cm->opt.outputs = RPS3_OUT_FORCES;
-  if (rps3_model_validate(cm, &chk) == RPS3_OK &&
-      rps3_model_init(cm, chk.msg, sizeof chk.msg) == RPS3_OK)
-    return 0;
+  if (rps3_model_init(cm, &chk) == RPS3_OK) return 0;
   k = model_key(chk.field);
   if (k < 0 || !s->given[k])
     for (k = K_SIM_MODEL_M; k <= K_SIM_MODEL_EFFECTS && !s->given[k]; k++)
@@ -176,10 +174,12 @@ static int library_checks(const scene_case *c, const sim_case *sc, sim_work *wk,
                           char *msg, size_t sz) {
   rps3_sim *sim = NULL;
   rps3_ctrl *ctrl = NULL;
-  int st = rps3_sim_alloc(&c->model, &sc->opt, &sim, msg, sz);
+  rps3_check chk;
+  int st = rps3_sim_alloc(&c->model, &sc->opt, &sim, &chk);
   /* the rate's limits over the run (rps3_sim_advance refuses the same) */
   if (st == RPS3_OK)
-    st = rps3_sim_check_rate(&sc->opt, sc->rate, sc->duration, msg, sz);
+    st = rps3_sim_check_rate(&sc->opt, sc->rate, sc->duration, &chk);
+  if (st != RPS3_OK) snprintf(msg, sz, "%s", chk.msg);
   if (st == RPS3_OK && sc->rate == 0.0 &&
       (sc->opt.integrator == RPS3_INT_RK4 ||
        sc->opt.integrator == RPS3_INT_RK4IMP) &&
@@ -192,9 +192,11 @@ static int library_checks(const scene_case *c, const sim_case *sc, sim_work *wk,
              sc->opt.max_steps);
     st = RPS3_EINVAL;
   }
-  if (st == RPS3_OK)
+  if (st == RPS3_OK) {
     st = rps3_ctrl_alloc(sc->kind, sc->kp, sc->kd, &sc->ctrl_model, &c->traj,
-                         &ctrl, msg, sz);
+                         &ctrl, &chk);
+    if (st != RPS3_OK) snprintf(msg, sz, "%s", chk.msg);
+  }
   if (wk && st == RPS3_OK) {
     wk->sim = sim;
     wk->ctrl = ctrl;

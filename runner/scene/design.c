@@ -235,6 +235,7 @@ void design_of_case(const scene_case *c, rps3_design *d) {
 int design_case_build(const scene *s, size_t index, scene_case *c,
                       scene_error *err) {
   rps3_design d;
+  rps3_model scratch; /* the design's model, not kept */
   rps3_check chk;
   const rps3_design *v;
   if (scene_case_build(s, index, c, err)) return -1;
@@ -246,7 +247,7 @@ int design_case_build(const scene *s, size_t index, scene_case *c,
                   v->theta_max, "the pin range", "rad", err))
     return -1;
   design_of_case(c, &d);
-  if (rps3_design_validate(&d, &chk) != RPS3_OK) {
+  if (rps3_design_model(&d, &scratch, &chk) != RPS3_OK) {
     int k = key_of_field(s, chk.field);
     if (chk.related[0] >= 0)
       k = blame_of(s, k, key_of_field(s, chk.related[0]));

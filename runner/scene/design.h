@@ -39,7 +39,7 @@ void design_of_case(const scene_case *c, rps3_design *d);
  * Build design `index` (< s->ncase): scene_case_build (the model checked
  * by the library, and the task trajectory when the scene has one), then
  * the design's own rules: a stroke with min < max, a pin
- * range with min < max, then rps3_design_validate; a failure is located at the
+ * range with min < max, then rps3_design_model; a failure is located at the
  * swept value or the key that makes the design invalid.  Returns 0, or -1 with
  * err set.
  */

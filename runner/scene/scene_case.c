@@ -190,9 +190,8 @@ int scene_case_build(const scene *s, size_t index, scene_case *c,
     c->traj.helix.blend = c->v.own.blend_ratio * c->traj.helix.period;
   if (effects_rule(s, index, c, err)) return -1;
 
-  if (rps3_model_validate(&c->model, &chk) != RPS3_OK ||
-      (!c->no_traj &&
-       rps3_traj_validate(&c->model, &c->traj, &chk) != RPS3_OK)) {
+  if (rps3_model_init(&c->model, &chk) != RPS3_OK ||
+      (!c->no_traj && rps3_traj_check(&c->model, &c->traj, &chk) != RPS3_OK)) {
     scene_case_error(s, index, chk.msg, &chk, -1, NULL, err);
     return -1;
   }

@@ -266,7 +266,7 @@ static int measure_times(study_runner *r, const study_config *cfg, int ncfg,
    the effects ladder has something to add; the other studies use the
    default effects (the paper's four).  0, or -1 with a message */
 static int accuracy_model(rps3_model *base) {
-  char err[256];
+  rps3_check chk;
   rps3_model_default(base);
   base->payload.mass = 0.05;
   base->payload.com[0] = 0.011;
@@ -275,8 +275,8 @@ static int accuracy_model(rps3_model *base) {
   base->payload.inertia[2] = 2.1e-5;
   base->friction.viscous = 0.011;
   base->friction.coulomb = 0.0023;
-  if (rps3_model_init(base, err, sizeof err) != RPS3_OK) {
-    fprintf(stderr, "rps3-study: %s\n", err);
+  if (rps3_model_init(base, &chk) != RPS3_OK) {
+    fprintf(stderr, "rps3-study: %s\n", chk.msg);
     return -1;
   }
   return 0;
@@ -288,12 +288,12 @@ static int measure_trajectory(const rps3_model *base, int t, size_t nsamp,
                               int repeats, const study_config *cfg, int ncfg,
                               study_runner *run, study_reference *ref,
                               study_result *res) {
-  char err[256];
+  rps3_check chk;
   int c;
   rps3_traj tr;
   study_traj_make(t, &tr);
-  if (rps3_traj_check(base, &tr, err, sizeof err) != RPS3_OK) {
-    fprintf(stderr, "rps3-study: %s: %s\n", study_traj_name[t], err);
+  if (rps3_traj_check(base, &tr, &chk) != RPS3_OK) {
+    fprintf(stderr, "rps3-study: %s: %s\n", study_traj_name[t], chk.msg);
     return -1;
   }
   if (reference_build(base, &tr, nsamp, ref) < 0) return -1;

@@ -284,12 +284,12 @@ static int spline_rows(study_runner *r) {
   r->table.table.time = time;
   r->table.table.value = (const double(*)[3])pose;
   r->table.table.rate = (const double(*)[3])rate;
-  return rps3_traj_check(&r->model, &r->table, NULL, 0) == RPS3_OK ? 0 : -1;
+  return rps3_traj_check(&r->model, &r->table, NULL) == RPS3_OK ? 0 : -1;
 }
 
 int study_runner_init(study_runner *r, const study_config *c,
                       const rps3_traj *tr, const rps3_model *base) {
-  char err[256];
+  rps3_check chk;
   r->model = *base;
   r->model.opt.theta = c->theta;
   r->model.opt.solver =
@@ -301,8 +301,8 @@ int study_runner_init(study_runner *r, const study_config *c,
   r->model.opt.outputs =
       c->study == S_DT ? RPS3_OUT_ALL : RPS3_OUT_ALL & ~RPS3_OUT_CERTIFY;
   r->model.opt.max_iter = 100;
-  if (rps3_model_init(&r->model, err, sizeof err) != RPS3_OK) {
-    fprintf(stderr, "rps3-study: %s: %s\n", c->label, err);
+  if (rps3_model_init(&r->model, &chk) != RPS3_OK) {
+    fprintf(stderr, "rps3-study: %s: %s\n", c->label, chk.msg);
     return -1;
   }
   r->tr = tr;

@@ -91,11 +91,11 @@ static int run(const rps3_model *plant, const rps3_model *cm,
   double pose[3], dpose[3], c0;
   long k, n = (long)(dur * RATE_HZ + 0.5);
   int st = RPS3_OK, i;
-  char err[256];
-  if (rps3_sim_alloc(plant, o, &s, err, sizeof(err)) != RPS3_OK ||
-      rps3_ctrl_alloc(kind, kp, kd, cm, tr, &c, err, sizeof(err)) != RPS3_OK ||
+  rps3_check chk;
+  if (rps3_sim_alloc(plant, o, &s, &chk) != RPS3_OK ||
+      rps3_ctrl_alloc(kind, kp, kd, cm, tr, &c, &chk) != RPS3_OK ||
       rps3_data_alloc(plant, &w) != RPS3_OK) {
-    fprintf(stderr, "rps3-simstudy: set-up: %s\n", err);
+    fprintf(stderr, "rps3-simstudy: set-up: %s\n", chk.msg);
     fail_run();
   }
   ctl = rps3_ctrl_bind(c, RATE_HZ);
@@ -166,10 +166,10 @@ static int tracking_path(hid_t gp, const rps3_traj *tr) {
   rps3_model plant, light;
   rps3_sim_options o;
   rps3_model_default(&plant);
-  rps3_model_init(&plant, NULL, 0);
+  rps3_model_init(&plant, NULL);
   light = plant;
   light.m = 0.0; /* the paper's case 1 */
-  rps3_model_init(&light, NULL, 0);
+  rps3_model_init(&light, NULL);
   rps3_sim_options_default(&o);
   for (k = 0; k < n; k++) t[k] = (double)k / RATE_HZ;
   for (a = 0; a < NCTRL; a++)
@@ -256,7 +256,7 @@ static void accuracy_reference(rps3_model *plant, const rps3_traj *tr,
   rps3_sim_options o;
   run_out ro;
   plant->opt.tol = 1e-13;
-  rps3_model_init(plant, NULL, 0);
+  rps3_model_init(plant, NULL);
   rps3_sim_options_default(&o);
   o.integrator = RPS3_INT_RK8PD;
   o.epsabs = o.epsrel = 1e-13;
@@ -290,7 +290,7 @@ static void accuracy_point(rps3_model *plant, const rps3_traj *tr, double dur,
   rps3_sim_options o;
   run_out ro;
   plant->opt.tol = THETA_TOL[j];
-  rps3_model_init(plant, NULL, 0);
+  rps3_model_init(plant, NULL);
   rps3_sim_options_default(&o);
   o.integrator = CFG[c].integ;
   if (CFG[c].integ == RPS3_INT_RK4)

@@ -127,14 +127,14 @@ static int grid_compute(ws_grid *g) {
   for (ir = 0; ir < g->nr; ir++) {
     rps3_model m;
     rps3_data *d = NULL;
-    char err[256];
+    rps3_check chk;
     rps3_model_default(&m);
     m.rho = rhos[ir];
     m.opt.effects = RPS3_EFF_PLATFORM_GRAVITY | RPS3_EFF_LINK_GRAVITY;
     m.opt.outputs = RPS3_OUT_ALL & ~RPS3_OUT_CERTIFY;
-    if (rps3_model_init(&m, err, sizeof err) != RPS3_OK ||
+    if (rps3_model_init(&m, &chk) != RPS3_OK ||
         rps3_data_alloc(&m, &d) != RPS3_OK) {
-      fprintf(stderr, "rps3-study: workspace model: %s\n", err);
+      fprintf(stderr, "rps3-study: workspace model: %s\n", chk.msg);
       return -1;
     }
     for (ia = 0; ia < g->na; ia++)

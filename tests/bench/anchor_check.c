@@ -135,7 +135,7 @@ int main(int argc, char **argv) {
   double tol = (argc > 1) ? atof(argv[1]) : 1e-13;
   double par[6], worst = 0.0, T;
   unsigned long long seed = 2385;
-  char err[256];
+  rps3_check chk;
   rps3_model m;
   rps3_traj tr;
   rps3_data *d = NULL;
@@ -149,9 +149,9 @@ int main(int argc, char **argv) {
   rps3_model_default(&m);
   m.opt.effects = RPS3_EFF_DEFAULT; /* the paper's four effects */
   m.opt.outputs &= ~RPS3_OUT_CERTIFY;
-  if (rps3_model_init(&m, err, sizeof(err)) != RPS3_OK ||
+  if (rps3_model_init(&m, &chk) != RPS3_OK ||
       rps3_data_alloc(&m, &d) != RPS3_OK) {
-    fprintf(stderr, "anchor-check: model: %s\n", err);
+    fprintf(stderr, "anchor-check: model: %s\n", chk.msg);
     return 2;
   }
   par[0] = m.R;

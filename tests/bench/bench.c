@@ -355,7 +355,7 @@ static const char *const scene_gravity_doc =
 /* the paper's mechanism (Table II) with a scene's effects */
 static void make_model(rps3_model *m, scene s, rps3_method method,
                        rps3_theta_route theta, int warm, int certify) {
-  char err[256];
+  rps3_check chk;
   rps3_model_default(m);
   if (s == SCENE_FULL) {
     m->opt.effects = RPS3_EFF_ALL;
@@ -378,8 +378,8 @@ static void make_model(rps3_model *m, scene s, rps3_method method,
   m->opt.warm_start = warm;
   m->opt.outputs = (certify) ? (m->opt.outputs | RPS3_OUT_CERTIFY)
       : (m->opt.outputs & ~RPS3_OUT_CERTIFY);
-  if (rps3_model_init(m, err, sizeof(err)) != RPS3_OK) {
-    fprintf(stderr, "rps3-bench: model: %s\n", err);
+  if (rps3_model_init(m, &chk) != RPS3_OK) {
+    fprintf(stderr, "rps3-bench: model: %s\n", chk.msg);
     exit(2);
   }
 }
@@ -993,9 +993,9 @@ int main(int argc, char **argv) {
     if (c->kind == K_SIM || c->kind == K_SIM_RUN) {
       rps3_traj tr;
       rps3_traj_default(&tr);
-      if (rps3_sim_alloc(&c->m, NULL, &c->sim, NULL, 0) != RPS3_OK ||
+      if (rps3_sim_alloc(&c->m, NULL, &c->sim, NULL) != RPS3_OK ||
           rps3_ctrl_alloc(RPS3_CTRL_COMPUTED_TORQUE, 400.0, 40.0, &c->m, &tr,
-                          &c->ctrl, NULL, 0) != RPS3_OK ||
+                          &c->ctrl, NULL) != RPS3_OK ||
           user_law_init(&c->user, &c->m, &tr, 400.0, 40.0, 1) != RPS3_OK ||
           rps3_sim_start(c->sim, 0.0, pt.pose[0], pt.dpose[0]) != RPS3_OK) {
         fprintf(stderr, "rps3-bench: %s: set-up failed\n", c->name);

@@ -112,6 +112,7 @@ int main(int argc, char **argv) {
   const char *xml = "build/rps3_mujoco.xml";
   int rounds = 51, i, k, r, n;
   char err[1024];
+  rps3_check chk;
   rps3_model rm;
   rps3_traj tr;
   rps3_data *rd = NULL;
@@ -137,9 +138,9 @@ int main(int argc, char **argv) {
   rps3_model_default(&rm);
   rm.opt.effects = RPS3_EFF_DEFAULT; /* the paper's four effects */
   rm.opt.outputs &= ~RPS3_OUT_CERTIFY;
-  if (rps3_model_init(&rm, err, sizeof(err)) != RPS3_OK ||
+  if (rps3_model_init(&rm, &chk) != RPS3_OK ||
       rps3_data_alloc(&rm, &rd) != RPS3_OK) {
-    fprintf(stderr, "rps3-mujoco-bench: %s\n", err);
+    fprintf(stderr, "rps3-mujoco-bench: %s\n", chk.msg);
     return 2;
   }
   if (write_mjcf(&rm, xml) != 0) {

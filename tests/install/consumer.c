@@ -13,7 +13,7 @@ int main(void) {
   rps3_model m;
   rps3_data *d = NULL;
   rps3_traj tr;
-  char err[256];
+  rps3_check chk;
   int k, status;
   /* the header this program was compiled with and the library it runs
      with must be the same version */
@@ -23,8 +23,8 @@ int main(void) {
     return 1;
   }
   rps3_model_default(&m);
-  if (rps3_model_init(&m, err, sizeof err) != RPS3_OK) {
-    fprintf(stderr, "model: %s\n", err);
+  if (rps3_model_init(&m, &chk) != RPS3_OK) {
+    fprintf(stderr, "model: %s\n", chk.msg);
     return 1;
   }
   if (rps3_data_alloc(&m, &d) != RPS3_OK) return 1;
