@@ -62,35 +62,46 @@ static void rank_part_name(char *buf, size_t size, const char *out_path, int r,
   snprintf(buf, size, "%s.part%dof%d", out_path, r, n);
 }
 
-/* rank 0: join the ranks' parts (renamed) into OUT.h5 by virtual datasets;
-   0 or -1 (message printed) */
-static int ranks_join_vds(const world *w, const char *out_path, const char *cmd,
-                          size_t *nfailed) {
+/* rank 0: the ranks' parts into OUT.h5 under a temporary name, joined by
+   virtual datasets over the parts renamed OUT.h5.part<r>of<N>, or with
+   `copy` merged into its own part (the parts by their temporary names);
+   the exit code (EXIT_IO on the other ranks) */
+static int ranks_merge(const world *w, int copy, const char *out_path,
+                       const char *cmd) {
   char(*paths)[4096] = calloc((size_t)w->size, sizeof *paths);
   const char **part = calloc((size_t)w->size, sizeof *part);
-  char err[768];
-  int r, rc = -1;
-  if (!paths || !part)
+  char err[768], me[4096];
+  size_t nfailed = 0;
+  int r, code = EXIT_IO;
+  if (!paths || !part) {
     fprintf(stderr, "rps3-run: out of memory\n");
-  else if (tmpout_name(out_path, 0) == 0) {
-    for (r = 0; r < w->size; r++) {
-      rank_part_name(paths[r], sizeof paths[r], out_path, r, w->size);
-      part[r] = paths[r];
-    }
+    world_abort(EXIT_IO);
+  }
+  for (r = 0; r < w->size; r++) {
+    rank_part_name(paths[r], sizeof paths[r], out_path, r, w->size);
+    part[r] = paths[r];
+  }
+  /* the ranks' temporary names, each with its own host and process */
+  snprintf(me, sizeof me, "%s", tmpout_path());
+  if (copy) world_gather(me, sizeof me, (char *)paths);
+  if (w->rank == 0 && (copy || tmpout_name(out_path, 0) == 0)) {
     tmpout_arm();
-    if (join_vds(tmpout_path(), part, (size_t)w->size, cmd, nfailed, err,
-                 sizeof err))
+    if (copy ? merge_parts(tmpout_path(), part, (size_t)w->size, cmd, &nfailed,
+                           err, sizeof err)
+             : join_vds(tmpout_path(), part, (size_t)w->size, cmd, &nfailed,
+                        err, sizeof err))
       fprintf(stderr,
-              "rps3-run: joining the ranks' parts: %s (the parts "
-              "%s.part*of%d are complete: join them with rps3-run "
-              "merge)\n",
+              copy ? "rps3-run: merging the ranks' parts: %s\n"
+                   : "rps3-run: joining the ranks' parts: %s (the parts "
+                     "%s.part*of%d are complete: join them with rps3-run "
+                     "merge)\n",
               err, out_path, w->size);
-    else
-      rc = tmpout_commit(out_path);
+    else if (tmpout_commit(out_path) == 0)
+      code = nfailed ? EXIT_FAILED_CASES : EXIT_OK;
   }
   free(paths);
   free(part);
-  return rc;
+  return code;
 }
 
 /*
@@ -105,55 +116,21 @@ static int ranks_join(const world *w, int code, int copy, const char *out_path,
                       const char *cmd, progress *pr, const sweep_stats *st,
                       size_t ncase) {
   unsigned long mine[3], sum[3];
-  int worst = code, result = code;
-  size_t nfailed = 0;
+  int worst = code;
   mine[0] = st->cases_done;
   mine[1] = st->points_done;
   mine[2] = st->nfailed;
   world_idle_barrier();
   world_max_int(&code, &worst, 1);
   world_sum_ulong(mine, sum, 3);
-  result = worst;
   if (worst < EXIT_USAGE && !copy) {
     char name[4096];
     rank_part_name(name, sizeof name, out_path, w->rank, w->size);
     code = tmpout_commit(name) ? EXIT_IO : code;
     world_max_int(&code, &worst, 1);
-    result = worst;
-    if (w->rank == 0 && worst < EXIT_USAGE)
-      result = ranks_join_vds(w, out_path, cmd, &nfailed) ? EXIT_IO
-               : nfailed                                  ? EXIT_FAILED_CASES
-                                                          : EXIT_OK;
-  } else if (worst < EXIT_USAGE) {
-    const char **src = calloc((size_t)w->size, sizeof *src);
-    size_t *ks = calloc((size_t)w->size, sizeof *ks);
-    char(*paths)[4096] = calloc((size_t)w->size, sizeof *paths);
-    char err[768], me[4096];
-    int r;
-    result = EXIT_IO;
-    if (!src || !ks || !paths) {
-      fprintf(stderr, "rps3-run: out of memory\n");
-      world_abort(EXIT_IO);
-    }
-    /* the ranks' temporary names, each with its own host and process */
-    snprintf(me, sizeof me, "%s", tmpout_path());
-    world_gather(me, sizeof me, (char *)paths);
-    if (w->rank == 0) {
-      for (r = 1; r < w->size; r++) {
-        src[r - 1] = paths[r];
-        ks[r - 1] = (size_t)r;
-      }
-      if (merge_parts(tmpout_path(), src, ks, (size_t)w->size - 1,
-                      (size_t)w->size, cmd, &nfailed, err, sizeof err))
-        fprintf(stderr, "rps3-run: merging the ranks' parts: %s\n", err);
-      else if (tmpout_commit(out_path) == 0)
-        result = nfailed ? EXIT_FAILED_CASES : EXIT_OK;
-    }
-    free(src);
-    free(ks);
-    free(paths);
   }
-  if (w->rank == 0 && result < EXIT_USAGE) {
+  if (worst < EXIT_USAGE) worst = ranks_merge(w, copy, out_path, cmd);
+  if (w->rank == 0 && worst < EXIT_USAGE) {
     pr->ncase = ncase;
     pr->njob = pr->njob_all;
     progress_finish(pr, sum[0], sum[1], sum[2]);
@@ -161,9 +138,9 @@ static int ranks_join(const world *w, int code, int copy, const char *out_path,
   /* the other ranks sleep through rank 0's join; then, with --copy, the
      parts are read and every rank removes its own */
   world_idle_barrier();
-  world_bcast_int(&result);
+  world_bcast_int(&worst);
   tmpout_discard();
-  return result;
+  return worst;
 }
 
 /*
@@ -491,15 +468,22 @@ static int launched_tasks(const char **by) {
   return v && atoi(v) > 1 ? atoi(v) : 1;
 }
 
+/* the subcommands that run as one process: --clean and merge, or NULL */
+static int (*one_process(int argc, char **argv))(int, char **) {
+  if (argc > 1 && strcmp(argv[1], "--clean") == 0) return clean_main;
+  if (argc > 1 && strcmp(argv[1], "merge") == 0) return merge_main;
+  return NULL;
+}
+
 int main(int argc, char **argv) {
   world w = {0, 1};
   const char *by;
-  char *cmd;
-  int code;
+  int code, (*sub)(int, char **);
 
   /* fds 0-2 open before anything opens a file; HDF5 without atexit */
   proc_init();
   world_init(&argc, &argv, &w);
+  sub = one_process(argc, argv);
   if (w.size == 1 && launched_tasks(&by) > 1) {
     if (world_has_mpi()) {
       /* srun without --mpi=pmix (or an MPI that srun cannot start): N
@@ -511,8 +495,7 @@ int main(int argc, char **argv) {
       world_finalize();
       return proc_exit(EXIT_USAGE);
     }
-    if (!(argc > 1 &&
-          (strcmp(argv[1], "merge") == 0 || strcmp(argv[1], "--clean") == 0))) {
+    if (!sub) {
       fprintf(stderr,
               "rps3-run: launched as %d tasks by %s, but built "
               "without MPI: every task would compute the whole "
@@ -533,26 +516,12 @@ int main(int argc, char **argv) {
     fprintf(stderr, "rps3-run: library %s does not match header %s\n",
             rps3_version(), RPS3_VERSION_STRING);
     code = EXIT_IO;
-  } else if (argc > 1 && strcmp(argv[1], "--clean") == 0) {
-    if (w.size > 1) {
-      if (w.rank == 0)
-        fprintf(stderr, "rps3-run: --clean runs as one process\n");
-      code = EXIT_USAGE;
-    } else
-      code = clean_main(argc - 1, argv + 1);
-  } else if (argc > 1 && strcmp(argv[1], "merge") == 0) {
-    if (w.size > 1) {
-      if (w.rank == 0) fprintf(stderr, "rps3-run: merge runs as one process\n");
-      code = EXIT_USAGE;
-    } else if (!(cmd = cli_command_line(argc, argv))) {
-      fprintf(stderr, "rps3-run: out of memory\n");
-      code = EXIT_IO;
-    } else {
-      code = merge_main(argc - 1, argv + 1, cmd);
-      free(cmd);
-    }
+  } else if (sub && w.size > 1) {
+    if (w.rank == 0)
+      fprintf(stderr, "rps3-run: %s runs as one process\n", argv[1]);
+    code = EXIT_USAGE;
   } else
-    code = run_main(argc, argv, &w);
+    code = sub ? sub(argc, argv) : run_main(argc, argv, &w);
 
   world_finalize();
   return proc_exit(code);

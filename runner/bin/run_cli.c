@@ -220,7 +220,7 @@ int clean_main(int argc, char **argv) {
   unsigned long v;
   char **op;
   int row, nop, force = 0;
-  cli_start(&c, "rps3-run --clean", CLEAN_OPTS, 1, argc, argv);
+  cli_start(&c, "rps3-run --clean", CLEAN_OPTS, 1, argc - 1, argv + 1);
   c.help_cmd = "rps3-run";
   while ((row = cli_next(&c, &arg, &v)) != CLI_END) {
     if (row == CLI_BAD) return EXIT_USAGE;

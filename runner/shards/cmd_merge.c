@@ -97,33 +97,24 @@ static int merge_parts_check(merge_run *m, int *bad) {
    merged file under a temporary name, renamed when complete: 0, or -1
    (said why) */
 static int merge_write(const merge_run *m, const char *cmd, size_t *nfailed) {
-  const char **src = calloc(m->n, sizeof *src);
-  size_t i, *ks = calloc(m->n, sizeof *ks);
   char err[768];
-  int rc = -1;
-  snprintf(err, sizeof err, "out of memory");
-  for (i = 0; src && ks && i < m->n; i++)
-    if (verify_file(m->byk[i], err, sizeof err)) break;
-  if (i < m->n || !src || !ks)
-    fprintf(stderr, "rps3-run merge: %s\n", err);
-  else if (tmpout_name(m->out_path, 0) == 0) {
-    tmpout_arm();
-    for (i = 1; i < m->n; i++) {
-      src[i - 1] = m->byk[i];
-      ks[i - 1] = i;
-    }
-    if (m->copy ? merge_copy_file(m->byk[0], tmpout_path(), err, sizeof err) ||
-                      merge_parts(tmpout_path(), src, ks, m->n - 1, m->n, cmd,
-                                  nfailed, err, sizeof err)
-                : join_vds(tmpout_path(), m->byk, m->n, cmd, nfailed, err,
-                           sizeof err))
+  size_t i;
+  for (i = 0; i < m->n; i++)
+    if (verify_file(m->byk[i], err, sizeof err)) {
       fprintf(stderr, "rps3-run merge: %s\n", err);
-    else
-      rc = tmpout_commit(m->out_path) ? -1 : 0;
+      return -1;
+    }
+  if (tmpout_name(m->out_path, 0)) return -1;
+  tmpout_arm();
+  if (m->copy ? merge_copy_file(m->byk[0], tmpout_path(), err, sizeof err) ||
+                    merge_parts(tmpout_path(), m->byk, m->n, cmd, nfailed, err,
+                                sizeof err)
+              : join_vds(tmpout_path(), m->byk, m->n, cmd, nfailed, err,
+                         sizeof err)) {
+    fprintf(stderr, "rps3-run merge: %s\n", err);
+    return -1;
   }
-  free(src);
-  free(ks);
-  return rc;
+  return tmpout_commit(m->out_path) ? -1 : 0;
 }
 
 /*
@@ -134,18 +125,20 @@ static int merge_write(const merge_run *m, const char *cmd, size_t *nfailed) {
  * and renamed when complete.  A missing or incomplete part is named, with
  * the command that makes it again (parts.h).
  */
-int merge_main(int argc, char **argv, const char *cmd) {
+int merge_main(int argc, char **argv) {
   merge_run m;
   size_t nfailed = 0;
   int code = EXIT_USAGE, *bad = NULL;
-  char err[768];
+  char err[768], *cmd = cli_command_line(argc, argv);
   memset(&m, 0, sizeof m);
   m.part = calloc((size_t)argc, sizeof *m.part);
-  if (!m.part) {
+  if (!m.part || !cmd) {
     fprintf(stderr, "rps3-run: out of memory\n");
+    free(cmd);
+    free(m.part);
     return EXIT_IO;
   }
-  if (merge_args(&m, argc, argv)) goto done;
+  if (merge_args(&m, argc - 1, argv + 1)) goto done;
   if (parts_by_shard(m.part, m.npart, &m.byk, &m.n, err, sizeof err)) {
     fprintf(stderr, "rps3-run merge: %s\n", err);
     goto done;
@@ -165,6 +158,7 @@ int merge_main(int argc, char **argv, const char *cmd) {
   code = nfailed && !m.failed_ok ? EXIT_FAILED_CASES : EXIT_OK;
 done:
   tmpout_discard();
+  free(cmd);
   free(m.part);
   free(m.byk);
   free(bad);
