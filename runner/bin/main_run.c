@@ -143,12 +143,9 @@ static int ranks_join(const world *w, int code, int copy, const char *out_path,
   return worst;
 }
 
-/*
- * The worst of the ranks' codes (this code without MPI); *first, when not
- * NULL, gets rank 0's.  Every rank calls it at the same points, so that
- * they all stop or all go on together.
- */
-static int agree(const world *w, int code, int *first) {
+/* every rank calls it at the same points, so that they all stop or all
+   go on together */
+int run_agree(const world *w, int code, int *first) {
   int mine[2], all[2];
   mine[0] = code;
   mine[1] = w->rank == 0 ? code : 0;
@@ -159,13 +156,17 @@ static int agree(const world *w, int code, int *first) {
   return all[0];
 }
 
-/* a usage error, said by rank 0: "rps3-run: MSG" and where --help is */
-static int usage_error(const world *w, const char *msg) {
+int run_usage_error(const world *w, const char *msg) {
   if (w->rank == 0) {
     fprintf(stderr, "rps3-run: %s\n", msg);
     cli_try("rps3-run");
   }
   return EXIT_USAGE;
+}
+
+int run_io(const run_args *a, const char *err) {
+  fprintf(stderr, "rps3-run: %s: %s\n", a->out_path, err);
+  return EXIT_IO;
 }
 
 /*
@@ -178,18 +179,18 @@ static int args_for_world(run_args *a, const world *w) {
   char err[512];
   if (w->size > 1) {
     if (a->shard_arg)
-      return usage_error(w,
-                         "--shard is for runs without mpirun; under "
-                         "mpirun the ranks are the shards");
+      return run_usage_error(w,
+                             "--shard is for runs without mpirun; under "
+                             "mpirun the ranks are the shards");
     a->shard = (size_t)w->rank;
     a->nshard = (size_t)w->size;
     /* each rank's file is a part like those of --shard */
     snprintf(a->shard_text, sizeof a->shard_text, "%d/%d", w->rank, w->size);
     a->shard_arg = a->shard_text;
   } else if (a->copy) {
-    return usage_error(w,
-                       "--copy is for rps3-run-mpi under mpirun and for "
-                       "merge; a run without them writes one whole file");
+    return run_usage_error(w,
+                           "--copy is for rps3-run-mpi under mpirun and for "
+                           "merge; a run without them writes one whole file");
   }
   /* where the output goes is checked before anything is computed */
   if (a->out_path && !a->check) {
@@ -202,9 +203,9 @@ static int args_for_world(run_args *a, const world *w) {
     if (w->rank == 0) stale_report("rps3-run", a->out_path);
   }
   if (a->resume && (!a->shard_arg || w->size > 1))
-    return usage_error(w,
-                       "--resume is for --shard K/N runs (it skips a part "
-                       "that is complete already)");
+    return run_usage_error(w,
+                           "--resume is for --shard K/N runs (it skips a part "
+                           "that is complete already)");
   return -1;
 }
 
@@ -233,10 +234,10 @@ static int run_simulated(scene *s, const run_args *a, const world *w, int argc,
   int code;
   char *cmd;
   if (a->fields != out_fields_all())
-    return usage_error(w,
-                       "--fields selects variables of the "
-                       "inverse-dynamics file; a scene with a simulate "
-                       "section writes the simulation file whole");
+    return run_usage_error(w,
+                           "--fields selects variables of the "
+                           "inverse-dynamics file; a scene with a simulate "
+                           "section writes the simulation file whole");
   sa.out_path = a->out_path;
   sa.check = a->check;
   sa.quiet = a->quiet;
@@ -268,7 +269,7 @@ static int run_load(const run_args *a, const world *w, scene *s,
     scene_free(s);
     code = EXIT_USAGE;
   }
-  worst = agree(w, code, &first);
+  worst = run_agree(w, code, &first);
   if (code && (w->rank == 0 || first == EXIT_OK))
     scene_error_print(a->scene_path, &serr);
   if (worst && !code) scene_free(s);
@@ -277,123 +278,65 @@ static int run_load(const run_args *a, const world *w, scene *s,
 
 /* 1 when OUT.h5 is already this shard's complete part of this scene and
    these data (--resume), not computed again; the exit code in *code */
-static int run_resumed(const run_args *a, const scene *s,
-                       const sweep_plan *plan, const sweep_opts *opts,
+static int run_resumed(const run_args *a, const scene *s, const run_job *j,
                        const char *inputs, int *code) {
-  size_t nfailed = 0,
-         ncase = sweep_shard_cases(s, plan, opts->shard, opts->nshard);
-  char names[1024];
-  if (!a->resume ||
-      !parts_resume(a->out_path, opts->shard, opts->nshard, s->text,
-                    out_fields_text(a->fields, names, sizeof names), inputs,
-                    &nfailed))
+  size_t nfailed = 0;
+  if (!a->resume || !parts_resume(a->out_path, a->shard, a->nshard, s->text,
+                                  j->fields, inputs, &nfailed))
     return 0;
   if (!a->quiet)
     fprintf(stderr,
             "rps3-run: %s is shard %zu/%zu of this scene, "
-            "complete (%zu case%s, %zu failed): not run again\n",
-            a->out_path, opts->shard, opts->nshard, ncase,
-            ncase == 1 ? "" : "s", nfailed);
+            "complete (%zu %s%s, %zu failed): not run again\n",
+            a->out_path, a->shard, a->nshard, j->ncase, j->noun,
+            j->ncase == 1 ? "" : "s", nfailed);
   *code = nfailed && !a->failed_ok ? EXIT_FAILED_CASES : EXIT_OK;
   return 1;
 }
 
-/* the progress of this rank's shard */
-static void run_progress(progress *pr, const run_args *a, const world *w,
-                         const scene *s, const sweep_plan *plan,
-                         const sweep_opts *opts) {
-  progress_start(pr, sweep_shard_cases(s, plan, opts->shard, opts->nshard),
-                 a->quiet || w->rank != 0);
-  pr->njob_all = sweep_njob(s, plan);
-  pr->njob = sweep_shard_jobs(s, plan, opts->shard, opts->nshard);
-  /* the shard's samples, in proportion to its cases (exact unsharded) */
-  pr->npoint = s->ncase ? (size_t)((double)plan->npoint * (double)pr->ncase /
-                                   (double)s->ncase)
-                        : 0;
-}
-
-/* the sweep computed into the file at tmpout_path(); the exit code */
-static int run_file(const run_args *a, const scene *s, const sweep_plan *plan,
-                    const sweep_opts *opts, out_block *block,
-                    const out_meta *meta, progress *pr, sweep_stats *st) {
-  char err[512];
-  out_file *f =
-      out_create(tmpout_path(), s, &plan->first, plan->nt, plan->grid_common,
-                 plan->chunk_points, block, meta, err, sizeof err);
-  memset(st, 0, sizeof *st);
-  if (!f) {
-    fprintf(stderr, "rps3-run: %s: %s\n", a->out_path, err);
-    return EXIT_IO;
-  }
-  if (sweep_run_opts(s, plan, f, block, opts, pr, st, err, sizeof err)) {
-    fprintf(stderr, "rps3-run: %s: %s\n", a->out_path, err);
-    out_close(f, NULL, 0);
-    return EXIT_IO;
-  }
-  if (out_close(f, err, sizeof err)) {
-    fprintf(stderr, "rps3-run: %s: %s\n", a->out_path, err);
-    return EXIT_IO;
-  }
-  return EXIT_OK;
-}
-
-/* the sweep written under a temporary name in the same directory and
-   renamed at the end (tmpout.h), or joined with the other ranks' parts;
-   the exit code */
+/* j's file under a temporary name in the same directory (tmpout.h),
+   renamed at the end or joined with the other ranks' parts; the exit
+   code */
 static int run_write(const run_args *a, const world *w, const scene *s,
-                     const sweep_plan *plan, const sweep_opts *opts,
-                     const char *inputs, int argc, char **argv) {
+                     run_job *j, const char *inputs, int argc, char **argv) {
   int code = EXIT_OK;
   char *cmd = cli_command_line(argc, argv);
-  out_block block;
   out_meta meta;
   progress pr;
   sweep_stats st;
-  memset(&block, 0, sizeof block);
   memset(&meta, 0, sizeof meta);
-  if (!cmd || out_block_alloc(&block, plan->tile_cases, plan->tile_points,
-                              plan->first.model.opt.effects)) {
+  memset(&st, 0, sizeof st);
+  if (!cmd) {
     fprintf(stderr, "rps3-run: out of memory\n");
     code = EXIT_IO;
   }
-  block.fields = a->fields;
   meta.command_line = cmd;
   meta.gzip = a->gzip;
   meta.shard = a->shard_arg;
   meta.fields = a->fields;
   meta.inputs = inputs;
   if (code == EXIT_OK && tmpout_name(a->out_path, w->rank)) code = EXIT_USAGE;
-  if ((code = agree(w, code, NULL)) == EXIT_OK) {
+  if ((code = run_agree(w, code, NULL)) == EXIT_OK) {
     tmpout_arm();
-    run_progress(&pr, a, w, s, plan, opts);
-    code = run_file(a, s, plan, opts, &block, &meta, &pr, &st);
+    code = j->write(j, &meta, &pr, &st);
     if (w->size > 1)
       code = ranks_join(w, code, a->copy, a->out_path, cmd, &pr, &st, s->ncase);
     else if (code != EXIT_OK || tmpout_commit(a->out_path))
       code = EXIT_IO;
     else {
       progress_finish(&pr, st.cases_done, st.points_done, st.nfailed);
+      if (!a->quiet && j->note[0]) fputs(j->note, stderr);
       code = st.nfailed ? EXIT_FAILED_CASES : EXIT_OK;
     }
   }
-  /* a complete file with failed cases, as a success (for schedulers) */
-  if (code == EXIT_FAILED_CASES && a->failed_ok) code = EXIT_OK;
   tmpout_discard();
-  out_block_free(&block);
   free(cmd);
   return code;
 }
 
-/* the inverse dynamics of a checked scene into OUT.h5: room, the input
-   files recorded, --resume, the leftovers of killed runs, the sweep; the
-   exit code */
-static int run_sweep(const run_args *a, const world *w, const scene *s,
-                     const sweep_plan *plan, const sweep_opts *opts,
-                     const pre_opts *pre, int argc, char **argv) {
-  int code = EXIT_OK;
+int run_output(const run_args *a, const world *w, const scene *s, int code,
+               run_job *j, int argc, char **argv) {
   char err[512], *inputs = NULL;
-  if (w->rank == 0 && pre_room(s, plan, opts, pre, a->out_path))
-    code = EXIT_USAGE;
   /* the files the scene read, by content (inputs.h): recorded in the
      file, compared by --resume and merge (each rank its own, before the
      ranks agree to go on) */
@@ -401,13 +344,84 @@ static int run_sweep(const run_args *a, const world *w, const scene *s,
     fprintf(stderr, "rps3-run: %s: %s\n", a->scene_path, err);
     code = EXIT_IO;
   }
-  if ((code = agree(w, code, NULL)) == EXIT_OK &&
-      !run_resumed(a, s, plan, opts, inputs, &code)) {
+  if ((code = run_agree(w, code, NULL)) == EXIT_OK &&
+      !run_resumed(a, s, j, inputs, &code)) {
     /* what killed runs of this output left on this host */
     if (w->rank == 0) tmpout_clean(a->out_path, 0, 1);
-    code = run_write(a, w, s, plan, opts, inputs, argc, argv);
+    code = run_write(a, w, s, j, inputs, argc, argv);
   }
+  /* a complete file with failed cases, as a success (for schedulers) */
+  if (code == EXIT_FAILED_CASES && a->failed_ok) code = EXIT_OK;
   free(inputs);
+  return code;
+}
+
+/* what a sweep's file needs */
+typedef struct {
+  const run_args *a;
+  const world *w;
+  const scene *s;
+  const sweep_plan *plan;
+  const sweep_opts *opts;
+  out_block block;
+} sweep_job;
+
+/* run_job's write of a sweep: the progress of this rank's shard, the
+   sweep computed into the file at tmpout_path() */
+static int sweep_write(run_job *j, const out_meta *meta, progress *pr,
+                       sweep_stats *st) {
+  sweep_job *sj = j->ctx;
+  const sweep_plan *plan = sj->plan;
+  const scene *s = sj->s;
+  char err[512];
+  out_file *f;
+  if (out_block_alloc(&sj->block, plan->tile_cases, plan->tile_points,
+                      plan->first.model.opt.effects)) {
+    fprintf(stderr, "rps3-run: out of memory\n");
+    return EXIT_IO;
+  }
+  sj->block.fields = sj->a->fields;
+  progress_start(pr, j->ncase, sj->a->quiet || sj->w->rank != 0);
+  pr->njob_all = sweep_njob(s, plan);
+  pr->njob = sweep_shard_jobs(s, plan, sj->opts->shard, sj->opts->nshard);
+  /* the shard's samples, in proportion to its cases (exact unsharded) */
+  pr->npoint = s->ncase ? (size_t)((double)plan->npoint * (double)pr->ncase /
+                                   (double)s->ncase)
+                        : 0;
+  f = out_create(tmpout_path(), s, &plan->first, plan->nt, plan->grid_common,
+                 plan->chunk_points, &sj->block, meta, err, sizeof err);
+  if (f && sweep_run_opts(s, plan, f, &sj->block, sj->opts, pr, st, err,
+                          sizeof err) == 0)
+    return out_close(f, err, sizeof err) ? run_io(sj->a, err) : EXIT_OK;
+  if (f) out_close(f, NULL, 0);
+  return run_io(sj->a, err);
+}
+
+/* the inverse dynamics of a checked scene into OUT.h5: its room, then the
+   steps of a run (run_output); the exit code */
+static int run_sweep(const run_args *a, const world *w, const scene *s,
+                     const sweep_plan *plan, const sweep_opts *opts,
+                     const pre_opts *pre, int argc, char **argv) {
+  char names[1024];
+  sweep_job sj;
+  run_job j;
+  int code;
+  memset(&sj, 0, sizeof sj);
+  memset(&j, 0, sizeof j);
+  sj.a = a;
+  sj.w = w;
+  sj.s = s;
+  sj.plan = plan;
+  sj.opts = opts;
+  j.fields = out_fields_text(a->fields, names, sizeof names);
+  j.noun = "case";
+  j.ncase = sweep_shard_cases(s, plan, opts->shard, opts->nshard);
+  j.write = sweep_write;
+  j.ctx = &sj;
+  code = w->rank == 0 && pre_room(s, plan, opts, pre, a->out_path) ? EXIT_USAGE
+                                                                   : EXIT_OK;
+  code = run_output(a, w, s, code, &j, argc, argv);
+  out_block_free(&sj.block);
   return code;
 }
 
@@ -435,7 +449,7 @@ static int run_main(int argc, char **argv, const world *w) {
   pre.quiet = a.quiet;
   pre.fields = a.fields;
   if (design_wanted(&s)) /* its designs into its own file (run_design.h) */
-    code = run_design(&s, &a, w, argc, argv, ranks_join);
+    code = run_design(&s, &a, w, argc, argv);
   else if (sim_wanted(&s)) /* simulated instead (simulate.h) */
     code = run_simulated(&s, &a, w, argc, argv);
   else if (pre_jobs(&s, &plan, &opts, &pre))
