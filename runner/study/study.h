@@ -5,7 +5,7 @@
  *
  *   main_study.c       rps3-study's command line
  *   main_simstudy.c    rps3-simstudy's command line
- *   study_run.c        both programs' set-up and output file
+ *   study_run.c        both programs' main: set-up, command line, file
  *   study_points.c     the trajectories, the configurations, one point
  *                      by a configuration's route, the energy
  *   study_accuracy.c   the reference, the passes, the accuracy file
@@ -22,6 +22,8 @@
 
 #include <hdf5.h>
 
+#include "core/cli.h"
+#include "core/exit_codes.h"
 #include "rps3.h"
 
 #define PI 3.14159265358979323846
@@ -36,9 +38,8 @@
 /* a quiet NaN as a double (DNAN is a float) */
 #define DNAN ((double)NAN)
 
-/* the exit codes; EXIT_RUN: rps3-simstudy, a run that must succeed
-   failed */
-enum { EXIT_OK = 0, EXIT_USAGE = 2, EXIT_IO = 3, EXIT_RUN = 4 };
+/* rps3-simstudy's exit code when a run that must succeed failed */
+enum { EXIT_RUN = 4 };
 
 /* ------------------------------------------------------ configurations */
 
@@ -128,6 +129,9 @@ extern const char *const study_traj_name[NTRAJ];
 extern const char *const study_traj_doc;
 void study_traj_make(int k, rps3_traj *tr);
 
+/* *tr = the sine trajectory `sine` */
+void study_traj_sine(rps3_traj *tr, const rps3_sine *sine);
+
 /* inverse kinematics in long double, independent of src/ik.c: the
    reference angles theta_i and lengths l_i of the pose */
 void study_ik_long(const rps3_model *m, const double pose[3],
@@ -170,23 +174,36 @@ int study_sim(const char *path, const char *cmdline, int quick);
 
 /* ------------------------------------------------ study_run.c */
 
-/* the process set-up of a study program named prog (fds, signals,
-   temporary file, GSL's and HDF5's errors), then body's exit code */
-int study_prog(const char *prog, int (*body)(int, char **), int argc,
-               char **argv);
+/* what a study program's command line asks: OUT.h5, the study named (NULL
+   when none), and row r's value of every other option in v[r]: a number's
+   value, 1 for a flag given (else as the program set it) */
+typedef struct {
+  const char *out, *study;
+  unsigned long v[CLI_MAX];
+} study_args;
 
-/* what writes a study's file at path, with the command line for its
-   attributes: an exit code */
-typedef int (*study_writer)(const char *path, const char *cmdline,
-                            const void *arg);
+/* a study program: its option table (row 0 -o, the last two --version and
+   --help: CLI_ROW_OUTPUT, CLI_ROW_VERSION, CLI_ROW_HELP), the top of its
+   --help, its studies (NULL: it takes no operand) and what writes its
+   file at path with the command line for its attributes (an exit code) */
+typedef struct {
+  const char *prog;
+  const cli_opt *opt;
+  int nopt;
+  const char *help;
+  const char *const *studies;
+  int (*write)(const char *path, const char *cmdline, const study_args *a);
+  int says_written; /* "wrote OUT.h5" on stdout when done */
+} study_prog;
 
 /*
- * OUT.h5 checked, the leftovers of killed runs of it reported and removed,
- * written by write(TMP, command line, arg) under a temporary name and
+ * A study program's main: the process set-up (fds, signals, temporary
+ * file, GSL's and HDF5's errors), its command line into a (whose v holds
+ * the defaults), then OUT.h5 checked, the leftovers of killed runs of it
+ * reported and removed, written by p->write under a temporary name and
  * renamed when complete; messages "PROG: ..." on stderr.  The exit code.
  */
-int study_output(const char *prog, const char *out, int argc, char **argv,
-                 study_writer write, const void *arg);
+int study_main(const study_prog *p, study_args *a, int argc, char **argv);
 
 /* ------------------------------------------------ study_h5.c */
 

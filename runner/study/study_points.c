@@ -37,20 +37,21 @@ const char *const study_traj_doc =
     "z_c = 0.28 + 0.03 sin(2 pi 1.7 t) m over 2 s: up to 20 rad/s, beta up to "
     "0.8 rad, condition number up to 4e2 near the singular surface";
 
-void study_traj_make(int k, rps3_traj *tr) {
-  rps3_traj_default(tr);
-  if (k == 0) return;
+/* sine_edge, as study_traj_doc says */
+static const rps3_sine SINE_EDGE = {
+    {0.0, 0.6, 0.28}, {PI, 0.2, 0.03}, {1.0, 2.3, 1.7}, {0.0, 0.0, 0.0}, 2.0};
+
+void study_traj_sine(rps3_traj *tr, const rps3_sine *sine) {
   memset(tr, 0, sizeof(*tr));
   tr->kind = RPS3_TRAJ_SINE;
-  tr->sine.mean[1] = 0.6;
-  tr->sine.mean[2] = 0.28;
-  tr->sine.amp[0] = PI;
-  tr->sine.amp[1] = 0.2;
-  tr->sine.amp[2] = 0.03;
-  tr->sine.freq[0] = 1.0;
-  tr->sine.freq[1] = 2.3;
-  tr->sine.freq[2] = 1.7;
-  tr->sine.duration = 2.0;
+  tr->sine = *sine;
+}
+
+void study_traj_make(int k, rps3_traj *tr) {
+  if (k == 0)
+    rps3_traj_default(tr);
+  else
+    study_traj_sine(tr, &SINE_EDGE);
 }
 
 /* ----------------------------------------------- long-double reference */

@@ -53,21 +53,11 @@ static double cpu_s(void) {
 
 /* a fast path within Table II's workspace: a turn of alpha per second,
    tilt and height at 2 and 3 Hz */
-static void fast_sine(rps3_traj *tr) {
-  memset(tr, 0, sizeof(*tr));
-  tr->kind = RPS3_TRAJ_SINE;
-  tr->sine.mean[0] = 0.31;
-  tr->sine.amp[0] = 1.03;
-  tr->sine.freq[0] = 1.07;
-  tr->sine.mean[1] = 0.21;
-  tr->sine.amp[1] = 0.083;
-  tr->sine.freq[1] = 2.03;
-  tr->sine.phase[1] = 0.4;
-  tr->sine.mean[2] = 0.30;
-  tr->sine.amp[2] = 0.029;
-  tr->sine.freq[2] = 3.01;
-  tr->sine.duration = 2.0;
-}
+static const rps3_sine FAST_SINE = {{0.31, 0.21, 0.30},
+                                    {1.03, 0.083, 0.029},
+                                    {1.07, 2.03, 3.01},
+                                    {0.0, 0.4, 0.0},
+                                    2.0};
 
 /* one closed-loop run from the start of tr to dur; per 1 ms sample the
    lengths into l[k] (NULL: not kept), the error against l_d into err[k]
@@ -116,7 +106,8 @@ static int run(const rps3_model *plant, const rps3_model *cm,
     if (out->err) {
       rps3_traj_eval(plant, tr, t, w->pose, NULL, NULL);
       rps3_ik(plant, w);
-      for (i = 0; i < 3; i++) e = fmax(e, fabs(rps3_sim_now(s)->y[i] - w->l[i]));
+      for (i = 0; i < 3; i++)
+        e = fmax(e, fabs(rps3_sim_now(s)->y[i] - w->l[i]));
       out->err[k] = e;
     }
     for (i = 0; i < 3; i++) {
@@ -218,7 +209,7 @@ static int tracking(hid_t f, int quick) {
         tr.helix.blend = 0.5;
       }
     } else {
-      fast_sine(&tr);
+      study_traj_sine(&tr, &FAST_SINE);
     }
     printf("tracking, %s:\n", p ? "fast sine" : "helix");
     gp = H5Gcreate2(g, p ? "fast_sine" : "helix", H5P_DEFAULT, H5P_DEFAULT,
@@ -243,11 +234,6 @@ static const struct {
     {RPS3_INT_RK8PD, 1e-10}, {RPS3_INT_RK8PD, 1e-12}, {RPS3_INT_MSBDF, 1e-6},
     {RPS3_INT_MSBDF, 1e-8}};
 static const double THETA_TOL[2] = {1e-12, 1e-8};
-
-static int cmp_d(const void *x, const void *y) {
-  double a = *(const double *)x, b = *(const double *)y;
-  return (a > b) - (a < b);
-}
 
 /* the reference of the accuracy study, lengths into lref: rk8pd at
    1e-13, theta to 1e-13 */
@@ -304,8 +290,7 @@ static void accuracy_point(rps3_model *plant, const rps3_traj *tr, double dur,
                       &o, dur, &ro);
     times[rep] = ro.cpu / dur;
   }
-  qsort(times, (size_t)nrep, sizeof(double), cmp_d);
-  a->cpu[c][j] = times[nrep / 2];
+  a->cpu[c][j] = study_median(times, nrep); /* nrep is odd */
   a->evals[c][j] = ro.nevals;
   a->err[c][j] = 0.0;
   for (k = 0; k < n; k++)
@@ -352,8 +337,9 @@ static int accuracy(hid_t f, int quick) {
   rps3_model plant;
   rps3_traj tr;
   rps3_model_default(&plant);
-  fast_sine(&tr); /* on the slow helix one RK4 step per period is exact to
-                     rounding: nothing to measure */
+  /* on the slow helix one RK4 step per period is exact to rounding:
+     nothing to measure */
+  study_traj_sine(&tr, &FAST_SINE);
   accuracy_reference(&plant, &tr, dur, lref);
   printf(
       "accuracy: computed torque on the fast sine, %.1f s, against rk8pd "
