@@ -14,8 +14,6 @@
 #include "study.h"
 #include "study_ref.h"
 
-/* ------------------------------------------------------ accuracy study */
-
 /*
  * The reference forces of `effects` at the n grid samples, by study_ref.c
  * (Kane's equations in long double, from the model's inputs: nothing of the
@@ -260,8 +258,6 @@ static int measure_times(study_runner *r, const study_config *cfg, int ncfg,
   return 0;
 }
 
-/* ------------------------------------------------------------- accuracy */
-
 /* the model of the study: Table II, plus a payload and pin friction so that
    the effects ladder has something to add; the other studies use the
    default effects (the paper's four).  0, or -1 with a message */
@@ -329,8 +325,6 @@ static int measure_trajectory(const rps3_model *base, int t, size_t nsamp,
 static int write_configs(study_h5 *o, const study_config *cfg, int ncfg) {
   int c, rc = 0;
   hsize_t dims[2] = {NTRAJ, (hsize_t)ncfg};
-  static const char *const s_traj[1] = {NULL};
-  static const char *const s_cfg[1] = {NULL};
   static const char *const s_cfgd[1] = {"config"};
   const char *sv[MAXCFG];
   int32_t iv[MAXCFG], idx[MAXCFG];
@@ -338,10 +332,10 @@ static int write_configs(study_h5 *o, const study_config *cfg, int ncfg) {
   hsize_t dt1 = NTRAJ;
   for (c = 0; c < ncfg; c++) idx[c] = c;
   rc |= study_h5_write(o, "trajectory", o->str, 1, &dt1, study_traj_name, "1",
-                       study_traj_doc, s_traj);
+                       study_traj_doc, NULL);
   rc |= study_h5_write(o, "config", H5T_NATIVE_INT32, 1, &dims[1], idx, "1",
                        "configuration index; see study, label and the knobs",
-                       s_cfg);
+                       NULL);
 #define CFG_STR(name, expr, doc)             \
   for (c = 0; c < ncfg; c++) sv[c] = (expr); \
   rc |= study_h5_write(o, name, o->str, 1, &dims[1], sv, "1", doc, s_cfgd);

@@ -123,8 +123,6 @@ static int run(const rps3_model *plant, const rps3_model *cm,
   return st;
 }
 
-/* ------------------------------------------------------------- output */
-
 static int write_ds(hid_t g, const char *name, int rank, const hsize_t *dims,
                     hid_t type, const void *data, const char *units,
                     const char *doc) {
@@ -220,8 +218,6 @@ static int tracking(hid_t f, int quick) {
   H5Gclose(g);
   return rc;
 }
-
-/* ------------------------------------------------------------ accuracy */
 
 #define NCFG 13
 static const struct {
