@@ -22,16 +22,12 @@
  * OUT.h5; killed by SIGINT/SIGTERM/SIGHUP: the temporary file is removed and
  * the process dies of that signal (shell status 128 + signal).
  */
-#include <errno.h>
-#include <signal.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
-#include <time.h>
 #include <unistd.h>
 
 #include <gsl/gsl_errno.h>
-#include <hdf5.h>
 
 #include "core/cli.h"
 #include "core/exit_codes.h"
@@ -45,7 +41,6 @@
 #include "exec/sweep.h"
 #include "mpi/world.h"
 #include "output/output.h"
-#include "output/sim_output.h"
 #include "run_cli.h"
 #include "run_design.h"
 #include "scene/design.h"

@@ -7,13 +7,12 @@
  * their own file: a second walk makes the same scales again
  * (H5DSset_scale) and attaches them to the same dimensions.
  */
-/* realpath() is XSI */
+/* realpath() and dirname() are XSI */
 #define _XOPEN_SOURCE 700
 
 #include "join.h"
 
-#include <limits.h>
-#include <stdint.h>
+#include <libgen.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -84,36 +83,22 @@ static int copy_attrs(hid_t from, hid_t to) {
    dir when below it, else absolute (malloc'd; NULL when it cannot be
    resolved) */
 static char *link_name(const char *path, const char *dir) {
-  char *p = realpath(path, NULL), *d = realpath(dir, NULL), *out = NULL;
-  size_t nd;
-  if (p && d) {
-    nd = strlen(d);
-    if (nd > 1 && strncmp(p, d, nd) == 0 && p[nd] == '/') {
-      out = malloc(strlen(p + nd + 1) + 1);
-      if (out) strcpy(out, p + nd + 1);
-    } else {
-      out = p;
-      p = NULL;
-    }
+  char *p = realpath(path, NULL), *d = realpath(dir, NULL);
+  size_t nd = d ? strlen(d) : 0;
+  if (p && !d) {
+    free(p);
+    p = NULL;
   }
-  free(p);
+  if (p && nd > 1 && strncmp(p, d, nd) == 0 && p[nd] == '/')
+    memmove(p, p + nd + 1, strlen(p + nd));
   free(d);
-  return out;
+  return p;
 }
 
 /* the directory of path, malloc'd: "." when it has none */
 static char *dir_of(const char *path) {
-  const char *slash = strrchr(path, '/');
-  char *dir = malloc(slash ? (size_t)(slash - path) + 2 : 2);
-  if (!dir) return NULL;
-  if (!slash)
-    strcpy(dir, ".");
-  else if (slash == path)
-    strcpy(dir, "/");
-  else {
-    memcpy(dir, path, (size_t)(slash - path));
-    dir[slash - path] = '\0';
-  }
+  char *copy = strdup(path), *dir = copy ? strdup(dirname(copy)) : NULL;
+  free(copy);
   return dir;
 }
 

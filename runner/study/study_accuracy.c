@@ -126,14 +126,37 @@ static int pass_grid(study_runner *r, const study_reference *ref,
   return 0;
 }
 
+/* sample k of n at interval dt with the rates differenced from the
+   samples (what a logger gives): central differences of the sampled
+   poses, one-sided and without acceleration at the ends; forces into
+   r->d, an rps3_status */
+static int sampled_rates(study_runner *r, size_t k, size_t n, double dt,
+                         double span) {
+  size_t at[3] = {k ? k - 1 : 0, k, k + 1 < n ? k + 1 : n - 1}, j;
+  double q[3][3], d = (double)(at[2] - at[0]) * dt;
+  int i, st;
+  for (j = 0; j < 3; j++)
+    if ((st = rps3_traj_eval(&r->model, r->tr,
+                             at[j] == n - 1 ? span : (double)at[j] * dt, q[j],
+                             NULL, NULL)) != RPS3_OK)
+      return st;
+  for (i = 0; i < 3; i++) {
+    r->d->pose[i] = q[1][i];
+    r->d->dpose[i] = (q[2][i] - q[0][i]) / d;
+    r->d->ddpose[i] = at[2] - at[0] == 2
+                          ? (q[2][i] - 2.0 * q[1][i] + q[0][i]) / (dt * dt)
+                          : 0.0;
+  }
+  return rps3_inverse(&r->model, r->d);
+}
+
 /*
  * The sample-interval study: samples t_k = k dt over the whole span.  The
  * peak |F| over the samples against the reference peak; and the work of the
  * actuators over each interval (trapezoid of the power sum F_i dl_i) against
  * the change of T + P.  With exact rates the residual is the trapezoid's
- * O(dt^2); with rates differenced from the samples (what a logger gives:
- * central differences of the sampled poses, one-sided at the ends) it also
- * carries their error.
+ * O(dt^2); with rates differenced from the samples it also carries their
+ * error.
  */
 static int pass_dt(study_runner *r, const study_reference *ref,
                    study_result *out) {
@@ -141,40 +164,12 @@ static int pass_dt(study_runner *r, const study_reference *ref,
   size_t n = (size_t)floor(span / dt + 0.5) + 1, k;
   double peak = 0.0, Wmax = 0.0, resmax = 0.0, Eprev = 0.0, Pprev = 0.0;
   double tprev = 0.0;
-  double q[3][3]; /* poses at k-1, k, k+1 */
   int i, st;
   rps3_data_reset(r->d);
   for (k = 0; k < n; k++) {
     double t = k == n - 1 ? span : (double)k * dt, E, P = 0.0;
-    if (r->c->deriv == D_EXACT) {
-      st = study_point(r, t, span);
-    } else {
-      /* rates from the samples themselves */
-      size_t j;
-      for (j = 0; j < 3; j++) {
-        long kk = (long)k - 1 + (long)j;
-        if (kk < 0) kk = 0;
-        if (kk > (long)n - 1) kk = (long)n - 1;
-        st = rps3_traj_eval(&r->model, r->tr,
-                            kk == (long)n - 1 ? span : (double)kk * dt, q[j],
-                            NULL, NULL);
-        if (st != RPS3_OK) return st;
-      }
-      for (i = 0; i < 3; i++) {
-        r->d->pose[i] = q[1][i];
-        if (k == 0) {
-          r->d->dpose[i] = (q[2][i] - q[1][i]) / dt;
-          r->d->ddpose[i] = 0.0;
-        } else if (k == n - 1) {
-          r->d->dpose[i] = (q[1][i] - q[0][i]) / dt;
-          r->d->ddpose[i] = 0.0;
-        } else {
-          r->d->dpose[i] = (q[2][i] - q[0][i]) / (2.0 * dt);
-          r->d->ddpose[i] = (q[2][i] - 2.0 * q[1][i] + q[0][i]) / (dt * dt);
-        }
-      }
-      st = rps3_inverse(&r->model, r->d);
-    }
+    st = r->c->deriv == D_EXACT ? study_point(r, t, span)
+                                : sampled_rates(r, k, n, dt, span);
     if (st != RPS3_OK) {
       if (out && out->nfail++ == 0) out->status = st;
       return 0;
