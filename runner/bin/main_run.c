@@ -1,11 +1,6 @@
 /*
- * main_run.c - rps3-run: run a scene (and its sweep) into an HDF5 file.
- *
- *   rps3-run SCENE.yaml -o OUT.h5 [--quiet] [--gzip LEVEL] [--check]
- *            [--fields LIST] [-j N] [--shard K/N [--resume]] [--failed-ok]
- *   rps3-run --clean OUT.h5 [--force]
- *   rps3-run merge OUT.h5 PART.h5 ... [--copy] [--quiet]
- *   mpirun -n N rps3-run-mpi SCENE.yaml -o OUT.h5 [--copy] [...]
+ * main_run.c - rps3-run: run a scene (and its sweep) into an HDF5 file;
+ * run_cli.c holds its options and --help, exit_codes.h its exit codes.
  *
  * -j N computes the cases on N threads (sweep.h); --shard K/N computes the
  * jobs of shard K only, into a part file that `merge` joins with the
@@ -15,12 +10,8 @@
  * OUT.h5.tmp.PID.part<r> next to OUT.h5, renamed OUT.h5.part<r>of<N>, and
  * rank 0 joins the parts into OUT.h5 (with --copy: merges them into its
  * own file, and the parts are removed): the same datasets as one process.
- *
- * Exit codes: 0 every case ok; 1 the file is complete but some cases failed
- * (see status/message/failed_at); 2 bad command line or scene, nothing
- * written; 3 the file could not be written (or an internal error), no
- * OUT.h5; killed by SIGINT/SIGTERM/SIGHUP: the temporary file is removed and
- * the process dies of that signal (shell status 128 + signal).
+ * Killed by SIGINT/SIGTERM/SIGHUP, the temporary file is removed and the
+ * process dies of that signal (shell status 128 + signal).
  */
 #include <stdio.h>
 #include <stdlib.h>
@@ -398,21 +389,11 @@ static int run_sweep(const run_args *a, const world *w, const scene *s,
                      const sweep_plan *plan, const sweep_opts *opts,
                      const pre_opts *pre, int argc, char **argv) {
   char names[1024];
-  sweep_job sj;
-  run_job j;
+  sweep_job sj = {a, w, s, plan, opts, {0}};
+  run_job j = {NULL, "case", 0, sweep_write, &sj, ""};
   int code;
-  memset(&sj, 0, sizeof sj);
-  memset(&j, 0, sizeof j);
-  sj.a = a;
-  sj.w = w;
-  sj.s = s;
-  sj.plan = plan;
-  sj.opts = opts;
   j.fields = out_fields_text(a->fields, names, sizeof names);
-  j.noun = "case";
   j.ncase = sweep_shard_cases(s, plan, opts->shard, opts->nshard);
-  j.write = sweep_write;
-  j.ctx = &sj;
   code = w->rank == 0 && pre_room(s, plan, opts, pre, a->out_path) ? EXIT_USAGE
                                                                    : EXIT_OK;
   code = run_output(a, w, s, code, &j, argc, argv);

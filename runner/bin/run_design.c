@@ -87,8 +87,8 @@ static int design_checks(scene *s, const run_args *a, const world *w,
 int run_design(scene *s, const run_args *a, const world *w, int argc,
                char **argv) {
   design_plan plan;
-  design_job d;
-  run_job j;
+  design_job d = {a, w, s, &plan, {0}};
+  run_job j = {NULL, "design", 0, design_write, &d, ""};
   int code;
   if (a->fields != out_fields_all())
     return run_usage_error(w,
@@ -97,20 +97,11 @@ int run_design(scene *s, const run_args *a, const world *w, int argc,
                            "file whole (design.per_pose adds the per-pose "
                            "indices)");
   if ((code = design_checks(s, a, w, &plan)) >= 0) return code;
-  memset(&d, 0, sizeof d);
-  memset(&j, 0, sizeof j);
-  d.a = a;
-  d.w = w;
-  d.s = s;
-  d.plan = &plan;
   d.shape.npose = plan.npose;
   d.shape.task = plan.task;
   d.shape.per_pose = plan.per_pose;
   j.fields = design_fields_text(&d.shape);
-  j.noun = "design";
   j.ncase = design_shard_cases(&plan, a->shard, a->nshard);
-  j.write = design_write;
-  j.ctx = &d;
   code = w->rank == 0 && design_preflight(a->scene_path, s, &plan, a->shard,
                                           a->nshard, w->size, a->nthread,
                                           a->gzip, 0, a->quiet, a->out_path)
