@@ -114,14 +114,11 @@ static void usage(FILE *out) {
 
 /* K/N into *k, *n, strictly (digits only, 0 <= K < N); 0 or -1 */
 static int parse_shard(const char *a, size_t *k, size_t *n) {
-  char kk[32];
-  const char *slash = strchr(a, '/');
+  char kk[32], nn[32], tail;
   unsigned long vk, vn;
-  if (!slash || (size_t)(slash - a) >= sizeof kk) return -1;
-  memcpy(kk, a, (size_t)(slash - a));
-  kk[slash - a] = '\0';
-  if (parse_ulong(kk, 0, (unsigned long)-1, &vk) ||
-      parse_ulong(slash + 1, 1, (unsigned long)-1, &vn) || vk >= vn)
+  if (sscanf(a, "%31[0-9]/%31[0-9]%c", kk, nn, &tail) != 2 ||
+      parse_ulong(kk, 0, (unsigned long)-1, &vk) ||
+      parse_ulong(nn, 1, (unsigned long)-1, &vn) || vk >= vn)
     return -1;
   *k = vk;
   *n = vn;

@@ -26,7 +26,7 @@ static const cli_opt MERGE_OPTS[3] = {
 
 /* what merge was asked, and the parts by shard */
 typedef struct {
-  const char *out_path, **part, **byk;
+  const char *out_path, *const *part, **byk;
   size_t npart, n; /* parts given, shards of the run */
   int quiet, copy, failed_ok;
 } merge_run;
@@ -37,7 +37,7 @@ static int merge_args(merge_run *m, int argc, char **argv) {
   const char *arg;
   unsigned long v;
   char **op;
-  int row, nop, i;
+  int row, nop;
   cli_start(&c, "rps3-run merge", MERGE_OPTS, 3, argc, argv);
   c.help_cmd = "rps3-run"; /* its --help lists merge's options */
   while ((row = cli_next(&c, &arg, &v)) != CLI_END) {
@@ -49,9 +49,11 @@ static int merge_args(merge_run *m, int argc, char **argv) {
     else
       m->quiet = 1;
   }
+  /* OUT.h5, then the parts: the operands as getopt_long left them */
   nop = cli_operands(&c, &op);
   if (nop > 0) m->out_path = op[0];
-  for (i = 1; i < nop; i++) m->part[m->npart++] = op[i];
+  m->part = (const char *const *)op + 1;
+  m->npart = nop > 1 ? (size_t)nop - 1 : 0;
   if (!m->out_path || m->npart == 0) {
     cli_usage_error(&c, "%s (rps3-run merge OUT.h5 PART.h5...)",
                     m->out_path ? "missing the part files"
@@ -130,11 +132,8 @@ int merge_main(int argc, char **argv) {
   int code = EXIT_USAGE, *bad = NULL;
   char err[768], *cmd = cli_command_line(argc, argv);
   memset(&m, 0, sizeof m);
-  m.part = calloc((size_t)argc, sizeof *m.part);
-  if (!m.part || !cmd) {
+  if (!cmd) {
     fprintf(stderr, "rps3-run: out of memory\n");
-    free(cmd);
-    free(m.part);
     return EXIT_IO;
   }
   if (merge_args(&m, argc - 1, argv + 1)) goto done;
@@ -158,7 +157,6 @@ int merge_main(int argc, char **argv) {
 done:
   tmpout_discard();
   free(cmd);
-  free(m.part);
   free(m.byk);
   free(bad);
   return code;

@@ -230,22 +230,17 @@ done:
   return rc < 0 ? -1 : 0;
 }
 
-/* the dimension of the dataset being attached, for attach_scale */
-typedef struct {
-  const walk *w;
-  hid_t dst_ds;
-} attach;
-
-/* H5DSiterate_scales: the same scale on the same dimension in dst */
+/* H5DSiterate_scales: the same scale on the same dimension of the joined
+   file's dataset, to[0] the joined file and to[1] the dataset */
 static herr_t attach_scale(hid_t ds, unsigned dim, hid_t scale, void *data) {
-  const attach *a = data;
+  const hid_t *to = data;
   char path[1024], sname[256];
   hid_t s = -1;
   herr_t rc = -1;
   ssize_t len;
   (void)ds;
   if (H5Iget_name(scale, path, sizeof path) <= 0 ||
-      (s = H5Dopen2(a->w->dst, path, H5P_DEFAULT)) < 0)
+      (s = H5Dopen2(to[0], path, H5P_DEFAULT)) < 0)
     return -1;
   if (H5DSis_scale(s) <= 0) {
     len = H5DSget_scale_name(scale, sname, sizeof sname);
@@ -253,7 +248,7 @@ static herr_t attach_scale(hid_t ds, unsigned dim, hid_t scale, void *data) {
         H5DSset_scale(s, len > 0 ? sname : NULL) < 0)
       goto done;
   }
-  rc = H5DSattach_scale(a->dst_ds, s, dim) < 0 ? -1 : 0;
+  rc = H5DSattach_scale(to[1], s, dim) < 0 ? -1 : 0;
 done:
   H5Dclose(s);
   return rc;
@@ -263,27 +258,22 @@ done:
 static herr_t make_scales(hid_t root, const char *name, const H5O_info_t *oi,
                           void *data) {
   const walk *w = data;
-  attach a;
-  hid_t ds = -1, sp = -1;
+  hid_t ds = -1, sp = -1, to[2] = {w->dst, -1};
   int rank = 0, dim, rc = 0;
   if (oi->type != H5O_TYPE_DATASET) return 0;
-  a.w = w;
-  a.dst_ds = -1;
   if ((ds = H5Dopen2(root, name, H5P_DEFAULT)) < 0 ||
       (sp = H5Dget_space(ds)) < 0 ||
       (rank = H5Sget_simple_extent_ndims(sp)) < 0 ||
-      (a.dst_ds = H5Dopen2(w->dst, name, H5P_DEFAULT)) < 0)
+      (to[1] = H5Dopen2(w->dst, name, H5P_DEFAULT)) < 0)
     rc = -1;
   for (dim = 0; rc == 0 && dim < rank; dim++)
     if (H5DSget_num_scales(ds, (unsigned)dim) > 0 &&
-        H5DSiterate_scales(ds, (unsigned)dim, NULL, attach_scale, &a) < 0)
+        H5DSiterate_scales(ds, (unsigned)dim, NULL, attach_scale, to) < 0)
       rc = -1;
   if (rc < 0)
     out_fail(w->err, w->errsz, "cannot attach the dimension scales of %s",
              name);
-  if (a.dst_ds >= 0) H5Dclose(a.dst_ds);
-  if (sp >= 0) H5Sclose(sp);
-  if (ds >= 0) H5Dclose(ds);
+  shard_h5_close(3, to[1], sp, ds);
   return rc;
 }
 

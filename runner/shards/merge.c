@@ -405,37 +405,29 @@ done:
 }
 
 int merge_copy_file(const char *from, const char *to, char *err, size_t errsz) {
-  enum { BUF = 1 << 20 };
-  FILE *in = fopen(from, "rb"), *out = NULL;
-  char *buf = malloc(BUF);
-  size_t got;
+  FILE *in = fopen(from, "rb"), *out = in ? fopen(to, "wb") : NULL;
+  char buf[1 << 16];
+  size_t got = 0;
   int rc = -1;
-  if (!in || !buf) {
-    snprintf(err, errsz, "%s: %s", from,
-             in ? "out of memory" : strerror(errno));
-    goto done;
-  }
-  out = fopen(to, "wb");
-  if (!out) {
+  if (!in)
+    snprintf(err, errsz, "%s: %s", from, strerror(errno));
+  else if (!out)
     snprintf(err, errsz, "cannot create %s: %s", to, strerror(errno));
-    goto done;
-  }
-  while ((got = fread(buf, 1, BUF, in)) > 0)
-    if (fwrite(buf, 1, got, out) != got) {
+  else {
+    while ((got = fread(buf, 1, sizeof buf, in)) > 0 &&
+           fwrite(buf, 1, got, out) == got)
+      continue;
+    if (got > 0)
       snprintf(err, errsz, "cannot write %s: %s", to, strerror(errno));
-      goto done;
-    }
-  if (ferror(in)) {
-    snprintf(err, errsz, "cannot read %s", from);
-    goto done;
+    else if (ferror(in))
+      snprintf(err, errsz, "cannot read %s", from);
+    else
+      rc = 0;
   }
-  rc = 0;
-done:
   if (out && fclose(out) != 0 && rc == 0) {
     snprintf(err, errsz, "cannot write %s: %s", to, strerror(errno));
     rc = -1;
   }
   if (in) fclose(in);
-  free(buf);
   return rc;
 }
