@@ -1,5 +1,5 @@
 /*
- * cmd_merge.c - `rps3-run merge`: see cmd.h.
+ * cmd_merge.c - `rps3-run merge`: see cmd_merge.h.
  */
 #include "cmd_merge.h"
 #include "core/exit_codes.h"

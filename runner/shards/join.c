@@ -151,9 +151,8 @@ static hid_t virtual_dcpl(hid_t ds) {
   return ok ? dcpl : -1;
 }
 
-/* merge_rows_fn of a join: the rows of shard k of the dataset into its
-   virtual map, two mappings: its whole chunk rows as one strided
-   hyperslab, and the last, shorter row when it is the part's */
+/* merge_rows_fn of a join: shard k's rows of the dataset into its virtual
+   map (join.h) */
 static int map_rows(void *ctx, const merge_rows *r, char *err, size_t errsz) {
   walk *w = ctx;
   hid_t ds = H5Dopen2(r->part, r->name, H5P_DEFAULT);

@@ -164,10 +164,7 @@ static int tracking_path(hid_t gp, const rps3_traj *tr) {
   for (a = 0; a < NCTRL; a++)
     for (b = 0; b < NMODEL; b++) {
       long off = (long)(a * NMODEL + b) * n;
-      run_out ro;
-      ro.l = NULL;
-      ro.err = err + off;
-      ro.F = (double(*)[3])(F + 3 * off);
+      run_out ro = {NULL, err + off, (double(*)[3])(F + 3 * off), 0, 0, 0};
       status[a][b] = run(&plant, b ? &light : &plant, tr, CTRL[a], KP[a], KD[a],
                          &o, rps3_traj_duration(tr), &ro);
       failed[a][b] = ro.failed_at;
@@ -236,14 +233,12 @@ static const double THETA_TOL[2] = {1e-12, 1e-8};
 static void accuracy_reference(rps3_model *plant, const rps3_traj *tr,
                                double dur, double (*lref)[3]) {
   rps3_sim_options o;
-  run_out ro;
+  run_out ro = {lref, NULL, NULL, 0, 0, 0};
   plant->opt.tol = 1e-13;
   rps3_model_init(plant, NULL, 0);
   rps3_sim_options_default(&o);
   o.integrator = RPS3_INT_RK8PD;
   o.epsabs = o.epsrel = 1e-13;
-  memset(&ro, 0, sizeof(ro));
-  ro.l = lref;
   if (run(plant, plant, tr, RPS3_CTRL_COMPUTED_TORQUE, KP[2], KD[2], &o, dur,
           &ro) != RPS3_OK) {
     fprintf(stderr, "rps3-simstudy: the reference run failed\n");
