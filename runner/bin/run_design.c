@@ -3,6 +3,7 @@
  * --check, the room, then the steps of a sweep's run (run_output).
  */
 #include "run_design.h"
+#include "run_steps.h"
 
 #include <stdio.h>
 #include <string.h>

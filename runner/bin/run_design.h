@@ -1,54 +1,17 @@
 /*
  * run_design.h - rps3-run on a design study (scene/design.h): the plan,
  * --check, the file of this process's designs (a whole file, a --shard
- * part, or under rps3-run-mpi a rank's part joined as a sweep's are); and
- * the steps of a run that main_run.c shares with it.
+ * part, or under rps3-run-mpi a rank's part joined as a sweep's are), by
+ * the steps of a sweep's run (run_steps.h).
  */
 #ifndef RPS3_RUNNER_RUN_DESIGN_H
 #define RPS3_RUNNER_RUN_DESIGN_H
 
 #include <stddef.h>
 
-#include "core/progress.h"
-#include "exec/sweep.h"
 #include "mpi/world.h"
 #include "run_cli.h"
 #include "scene/scene.h"
-
-/* what a sweep and a design study do differently around the steps of a
-   run that writes OUT.h5 (run_output) */
-typedef struct run_job {
-  const char *fields; /* the fields written: a part's root attribute */
-  const char *noun;   /* what the cases are: "case" or "design" */
-  size_t ncase;       /* this shard's cases */
-  /* the progress started and the file written at tmpout_path(); the exit
-     code */
-  int (*write)(struct run_job *j, const out_meta *meta, progress *pr,
-               sweep_stats *st);
-  void *ctx;
-  char note[256]; /* said after a whole file is written, unless --quiet */
-} run_job;
-
-/* The worst of the ranks' codes (this code without MPI); *first, when not
-   NULL, gets rank 0's. */
-int run_agree(const world *w, int code, int *first);
-
-/* A usage error, said by rank 0: "rps3-run: MSG" and where --help is;
-   EXIT_USAGE. */
-int run_usage_error(const world *w, const char *msg);
-
-/* "rps3-run: OUT.h5: err" on stderr; EXIT_IO. */
-int run_io(const run_args *a, const char *err);
-
-/*
- * The steps of a run that writes OUT.h5 after its own checks (`code`,
- * their outcome on this rank): the input files recorded, --resume, the
- * leftovers of killed runs, j's file under a temporary name, renamed when
- * complete or joined with the other ranks' parts.  The exit code, the same
- * on every rank.
- */
-int run_output(const run_args *a, const world *w, const scene *s, int code,
-               run_job *j, int argc, char **argv);
 
 /* Run the design study s as the command line a asks; the exit code. */
 int run_design(scene *s, const run_args *a, const world *w, int argc,
