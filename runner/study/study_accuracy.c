@@ -282,6 +282,7 @@ static int measure_trajectory(const rps3_model *base, int t, size_t nsamp,
   char err[256];
   int c;
   rps3_traj tr;
+  study_reference rall;
   study_traj_make(t, &tr);
   if (rps3_traj_check(base, &tr, err, sizeof err) != RPS3_OK) {
     fprintf(stderr, "rps3-study: %s: %s\n", study_traj_name[t], err);
@@ -294,19 +295,16 @@ static int measure_trajectory(const rps3_model *base, int t, size_t nsamp,
           "%.2g rad\n",
           study_traj_name[t], ref->fscale, ref->peak, ref->floor_ref,
           ref->floor_theta);
-  for (c = 0; c < ncfg; c++) {
-    /* the effects ladder's error is against the model with every effect */
-    study_reference *rf = ref, rall;
-    if (cfg[c].study == S_EFFECTS) {
-      rall = *ref;
-      rall.F = malloc(3 * nsamp * sizeof(double));
-      if (!rall.F || reference_forces(base, &tr, RPS3_EFF_ALL, &rall) < 0)
-        return -1;
-      rf = &rall;
-    }
-    if (measure_errors(&run[c], &cfg[c], &tr, base, rf, &res[c]) < 0) return -1;
-    if (rf != ref) free(rall.F);
-  }
+  /* the effects ladder's error is against the model with every effect */
+  rall = *ref;
+  rall.F = malloc(3 * nsamp * sizeof(double));
+  if (!rall.F || reference_forces(base, &tr, RPS3_EFF_ALL, &rall) < 0)
+    return -1;
+  for (c = 0; c < ncfg; c++)
+    if (measure_errors(&run[c], &cfg[c], &tr, base,
+                       cfg[c].study == S_EFFECTS ? &rall : ref, &res[c]) < 0)
+      return -1;
+  free(rall.F);
   if (measure_times(run, cfg, ncfg, ref, repeats, res) < 0) return -1;
   for (c = 0; c < ncfg; c++) {
     rps3_data_free(run[c].d);

@@ -228,22 +228,22 @@ static const struct {
     {RPS3_INT_MSBDF, 1e-8}};
 static const double THETA_TOL[2] = {1e-12, 1e-8};
 
-/* the reference of the accuracy study, lengths into lref: rk8pd at
-   1e-13, theta to 1e-13 */
-static void accuracy_reference(rps3_model *plant, const rps3_traj *tr,
-                               double dur, double (*lref)[3]) {
+/* computed torque on tr by integrator integ at step (rk4) or tolerance
+   h_or_tol, theta solved to tol; the status */
+static int accuracy_run(rps3_model *plant, const rps3_traj *tr, double dur,
+                        rps3_integrator integ, double h_or_tol, double tol,
+                        run_out *ro) {
   rps3_sim_options o;
-  run_out ro = {lref, NULL, NULL, 0, 0, 0};
-  plant->opt.tol = 1e-13;
+  plant->opt.tol = tol;
   rps3_model_init(plant, NULL, 0);
   rps3_sim_options_default(&o);
-  o.integrator = RPS3_INT_RK8PD;
-  o.epsabs = o.epsrel = 1e-13;
-  if (run(plant, plant, tr, RPS3_CTRL_COMPUTED_TORQUE, KP[2], KD[2], &o, dur,
-          &ro) != RPS3_OK) {
-    fprintf(stderr, "rps3-simstudy: the reference run failed\n");
-    fail_run();
-  }
+  o.integrator = integ;
+  if (integ == RPS3_INT_RK4)
+    o.h = h_or_tol;
+  else
+    o.epsabs = o.epsrel = h_or_tol;
+  return run(plant, plant, tr, RPS3_CTRL_COMPUTED_TORQUE, KP[2], KD[2], &o, dur,
+             ro);
 }
 
 /* the accuracy study's results, [configuration, theta tolerance] */
@@ -264,21 +264,12 @@ static void accuracy_point(rps3_model *plant, const rps3_traj *tr, double dur,
   double times[3];
   long k, n = (long)(dur * RATE_HZ + 0.5) + 1;
   int rep, i;
-  rps3_sim_options o;
   run_out ro;
-  plant->opt.tol = THETA_TOL[j];
-  rps3_model_init(plant, NULL, 0);
-  rps3_sim_options_default(&o);
-  o.integrator = CFG[c].integ;
-  if (CFG[c].integ == RPS3_INT_RK4)
-    o.h = CFG[c].h_or_tol;
-  else
-    o.epsabs = o.epsrel = CFG[c].h_or_tol;
   for (rep = 0; rep < nrep; rep++) {
     memset(&ro, 0, sizeof(ro));
     ro.l = l;
-    a->st[c][j] = run(plant, plant, tr, RPS3_CTRL_COMPUTED_TORQUE, KP[2], KD[2],
-                      &o, dur, &ro);
+    a->st[c][j] = accuracy_run(plant, tr, dur, CFG[c].integ, CFG[c].h_or_tol,
+                               THETA_TOL[j], &ro);
     times[rep] = ro.cpu / dur;
   }
   a->cpu[c][j] = study_median(times, nrep); /* nrep is odd */
@@ -325,13 +316,19 @@ static int accuracy(hid_t f, int quick) {
   static acc_table a;
   double dur = quick ? 0.5 : 2.0;
   int c, j, nrep = quick ? 1 : 3;
+  run_out ref = {lref, NULL, NULL, 0, 0, 0};
   rps3_model plant;
   rps3_traj tr;
   rps3_model_default(&plant);
   /* on the slow helix one RK4 step per period is exact to rounding:
      nothing to measure */
   study_traj_sine(&tr, &FAST_SINE);
-  accuracy_reference(&plant, &tr, dur, lref);
+  /* the reference: rk8pd at 1e-13, theta to 1e-13 */
+  if (accuracy_run(&plant, &tr, dur, RPS3_INT_RK8PD, 1e-13, 1e-13, &ref) !=
+      RPS3_OK) {
+    fprintf(stderr, "rps3-simstudy: the reference run failed\n");
+    fail_run();
+  }
   printf(
       "accuracy: computed torque on the fast sine, %.1f s, against rk8pd "
       "1e-13\n",
