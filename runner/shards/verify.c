@@ -182,11 +182,12 @@ int verify_same_versions(const char *const *path, size_t n, char *err,
   static const char *const attrs[] = {"rps3_version", "gsl_version",
                                       "hdf5_version", "yaml_version", "fields"};
   size_t a, i;
-  for (a = 0; a < sizeof attrs / sizeof attrs[0]; a++) {
+  int same = 1;
+  for (a = 0; same && a < sizeof attrs / sizeof attrs[0]; a++) {
     char *v0 = verify_root_attr(path[0], attrs[a]);
-    for (i = 1; i < n; i++) {
+    for (i = 1; same && i < n; i++) {
       char *v = verify_root_attr(path[i], attrs[a]);
-      int same = (!v0 && !v) || (v0 && v && strcmp(v0, v) == 0);
+      same = (!v0 && !v) || (v0 && v && strcmp(v0, v) == 0);
       if (!same)
         snprintf(err, errsz, "%s has %s %s, %s has %s %s: %s", path[0],
                  attrs[a], v0 ? v0 : "(none)", path[i], attrs[a],
@@ -197,14 +198,10 @@ int verify_same_versions(const char *const *path, size_t n, char *err,
                      : "parts written by different versions are not merged "
                        "(compute them with one build)");
       free(v);
-      if (!same) {
-        free(v0);
-        return -1;
-      }
     }
     free(v0);
   }
-  return 0;
+  return same ? 0 : -1;
 }
 
 /* a digest field for a message: "SHA-256 " and its first 16 digits, or

@@ -86,7 +86,7 @@ static int grid_alloc(ws_grid *g, int quick) {
 /* point p = (alpha[ia], beta[ib], zc[iz]) of model m */
 static void grid_point(const rps3_model *m, rps3_data *d, ws_grid *g, size_t p,
                        size_t ia, size_t ib, size_t iz) {
-  int st, i;
+  int st, i, reached;
   double home;
   /* the assembly mode of the level pose at this height */
   d->pose[0] = 0.0;
@@ -96,15 +96,12 @@ static void grid_point(const rps3_model *m, rps3_data *d, ws_grid *g, size_t p,
   d->pose[0] = g->alpha[ia];
   d->pose[1] = g->beta[ib];
   d->pose[2] = g->zc[iz];
-  st = rps3_inverse(m, d);
-  g->status[p] = st;
-  g->mode[p] = 0;
-  if (st == RPS3_OK || st == RPS3_ESING) {
-    double dj = det_jt(d);
-    g->mode[p] = (dj > 0) == (home > 0) ? 1 : -1;
-  }
-  g->cond[p] = (st == RPS3_OK || st == RPS3_ESING) ? d->cond : DNAN;
-  g->trans[p] = (st == RPS3_OK || st == RPS3_ESING) ? d->transmission : DNAN;
+  g->status[p] = st = rps3_inverse(m, d);
+  /* reached: singular points have a pose, a mode and a conditioning */
+  reached = st == RPS3_OK || st == RPS3_ESING;
+  g->mode[p] = !reached ? 0 : (det_jt(d) > 0) == (home > 0) ? 1 : -1;
+  g->cond[p] = reached ? d->cond : DNAN;
+  g->trans[p] = reached ? d->transmission : DNAN;
   g->fmax[p] = st == RPS3_OK ? 0.0 : DNAN;
   for (i = 0; i < 3; i++) {
     g->force[3 * p + (size_t)i] = st == RPS3_OK ? d->F[i] : DNAN;
