@@ -1,11 +1,6 @@
 /*
- * main_run.c - rps3-run: run a scene (and its sweep) into an HDF5 file.
- *
- *   rps3-run SCENE.yaml -o OUT.h5 [--quiet] [--gzip LEVEL] [--check]
- *            [--fields LIST] [-j N] [--shard K/N [--resume]] [--failed-ok]
- *   rps3-run --clean OUT.h5 [--force]
- *   rps3-run merge OUT.h5 PART.h5 ... [--copy] [--quiet]
- *   mpirun -n N rps3-run-mpi SCENE.yaml -o OUT.h5 [--copy] [...]
+ * main_run.c - rps3-run: run a scene (and its sweep) into an HDF5 file;
+ * run_cli.c holds its options and --help, exit_codes.h its exit codes.
  *
  * -j N computes the cases on N threads (sweep.h); --shard K/N computes the
  * jobs of shard K only, into a part file that `merge` joins with the
@@ -15,23 +10,15 @@
  * OUT.h5.tmp.PID.part<r> next to OUT.h5, renamed OUT.h5.part<r>of<N>, and
  * rank 0 joins the parts into OUT.h5 (with --copy: merges them into its
  * own file, and the parts are removed): the same datasets as one process.
- *
- * Exit codes: 0 every case ok; 1 the file is complete but some cases failed
- * (see status/message/failed_at); 2 bad command line or scene, nothing
- * written; 3 the file could not be written (or an internal error), no
- * OUT.h5; killed by SIGINT/SIGTERM/SIGHUP: the temporary file is removed and
- * the process dies of that signal (shell status 128 + signal).
+ * Killed by SIGINT/SIGTERM/SIGHUP, the temporary file is removed and the
+ * process dies of that signal (shell status 128 + signal).
  */
-#include <errno.h>
-#include <signal.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
-#include <time.h>
 #include <unistd.h>
 
 #include <gsl/gsl_errno.h>
-#include <hdf5.h>
 
 #include "core/cli.h"
 #include "core/exit_codes.h"
@@ -44,151 +31,12 @@
 #include "exec/sweep.h"
 #include "mpi/world.h"
 #include "output/output.h"
-#include "output/sim_output.h"
 #include "run_cli.h"
 #include "run_design.h"
+#include "run_steps.h"
 #include "scene/design.h"
-#include "scene/inputs.h"
 #include "scene/scene.h"
 #include "shards/cmd_merge.h"
-#include "shards/join.h"
-#include "shards/merge.h"
-#include "shards/parts.h"
-
-/* the name of rank r's part once complete: OUT.h5.part<r>of<N> */
-static void rank_part_name(char *buf, size_t size, const char *out_path, int r,
-                           int n) {
-  snprintf(buf, size, "%s.part%dof%d", out_path, r, n);
-}
-
-/* rank 0: join the ranks' parts (renamed) into OUT.h5 by virtual datasets;
-   0 or -1 (message printed) */
-static int ranks_join_vds(const world *w, const char *out_path, const char *cmd,
-                          size_t *nfailed) {
-  char(*paths)[4096] = calloc((size_t)w->size, sizeof *paths);
-  const char **part = calloc((size_t)w->size, sizeof *part);
-  char err[768];
-  int r, rc = -1;
-  if (!paths || !part)
-    fprintf(stderr, "rps3-run: out of memory\n");
-  else if (tmpout_name(out_path, 0) == 0) {
-    for (r = 0; r < w->size; r++) {
-      rank_part_name(paths[r], sizeof paths[r], out_path, r, w->size);
-      part[r] = paths[r];
-    }
-    tmpout_arm();
-    if (join_vds(tmpout_path(), part, (size_t)w->size, cmd, nfailed, err,
-                 sizeof err))
-      fprintf(stderr,
-              "rps3-run: joining the ranks' parts: %s (the parts "
-              "%s.part*of%d are complete: join them with rps3-run "
-              "merge)\n",
-              err, out_path, w->size);
-    else
-      rc = tmpout_commit(out_path);
-  }
-  free(paths);
-  free(part);
-  return rc;
-}
-
-/*
- * After every rank has written its part.  By default every rank renames
- * its part to OUT.h5.part<r>of<N> and rank 0 joins them by virtual
- * datasets (join.h); with `copy` rank 0 merges the parts of ranks 1.. into
- * its own file (merge.h) and every rank removes its part.  `code` is this
- * rank's outcome so far; returns the exit code of the run, the same on
- * every rank.
- */
-static int ranks_join(const world *w, int code, int copy, const char *out_path,
-                      const char *cmd, progress *pr, const sweep_stats *st,
-                      size_t ncase) {
-  unsigned long mine[3], sum[3];
-  int worst = code, result = code;
-  size_t nfailed = 0;
-  mine[0] = st->cases_done;
-  mine[1] = st->points_done;
-  mine[2] = st->nfailed;
-  world_idle_barrier();
-  world_max_int(&code, &worst, 1);
-  world_sum_ulong(mine, sum, 3);
-  result = worst;
-  if (worst < EXIT_USAGE && !copy) {
-    char name[4096];
-    rank_part_name(name, sizeof name, out_path, w->rank, w->size);
-    code = tmpout_commit(name) ? EXIT_IO : code;
-    world_max_int(&code, &worst, 1);
-    result = worst;
-    if (w->rank == 0 && worst < EXIT_USAGE)
-      result = ranks_join_vds(w, out_path, cmd, &nfailed) ? EXIT_IO
-               : nfailed                                  ? EXIT_FAILED_CASES
-                                                          : EXIT_OK;
-  } else if (worst < EXIT_USAGE) {
-    const char **src = calloc((size_t)w->size, sizeof *src);
-    size_t *ks = calloc((size_t)w->size, sizeof *ks);
-    char(*paths)[4096] = calloc((size_t)w->size, sizeof *paths);
-    char err[768], me[4096];
-    int r;
-    result = EXIT_IO;
-    if (!src || !ks || !paths) {
-      fprintf(stderr, "rps3-run: out of memory\n");
-      world_abort(EXIT_IO);
-    }
-    /* the ranks' temporary names, each with its own host and process */
-    snprintf(me, sizeof me, "%s", tmpout_path());
-    world_gather(me, sizeof me, (char *)paths);
-    if (w->rank == 0) {
-      for (r = 1; r < w->size; r++) {
-        src[r - 1] = paths[r];
-        ks[r - 1] = (size_t)r;
-      }
-      if (merge_parts(tmpout_path(), src, ks, (size_t)w->size - 1,
-                      (size_t)w->size, cmd, &nfailed, err, sizeof err))
-        fprintf(stderr, "rps3-run: merging the ranks' parts: %s\n", err);
-      else if (tmpout_commit(out_path) == 0)
-        result = nfailed ? EXIT_FAILED_CASES : EXIT_OK;
-    }
-    free(src);
-    free(ks);
-    free(paths);
-  }
-  if (w->rank == 0 && result < EXIT_USAGE) {
-    pr->ncase = ncase;
-    pr->njob = pr->njob_all;
-    progress_finish(pr, sum[0], sum[1], sum[2]);
-  }
-  /* the other ranks sleep through rank 0's join; then, with --copy, the
-     parts are read and every rank removes its own */
-  world_idle_barrier();
-  world_bcast_int(&result);
-  tmpout_discard();
-  return result;
-}
-
-/*
- * The worst of the ranks' codes (this code without MPI); *first, when not
- * NULL, gets rank 0's.  Every rank calls it at the same points, so that
- * they all stop or all go on together.
- */
-static int agree(const world *w, int code, int *first) {
-  int mine[2], all[2];
-  mine[0] = code;
-  mine[1] = w->rank == 0 ? code : 0;
-  all[0] = mine[0];
-  all[1] = mine[1];
-  if (w->size > 1) world_max_int(mine, all, 2);
-  if (first) *first = all[1];
-  return all[0];
-}
-
-/* a usage error, said by rank 0: "rps3-run: MSG" and where --help is */
-static int usage_error(const world *w, const char *msg) {
-  if (w->rank == 0) {
-    fprintf(stderr, "rps3-run: %s\n", msg);
-    cli_try("rps3-run");
-  }
-  return EXIT_USAGE;
-}
 
 /*
  * The command line against the launch: under mpirun the ranks are the
@@ -200,18 +48,18 @@ static int args_for_world(run_args *a, const world *w) {
   char err[512];
   if (w->size > 1) {
     if (a->shard_arg)
-      return usage_error(w,
-                         "--shard is for runs without mpirun; under "
-                         "mpirun the ranks are the shards");
+      return run_usage_error(w,
+                             "--shard is for runs without mpirun; under "
+                             "mpirun the ranks are the shards");
     a->shard = (size_t)w->rank;
     a->nshard = (size_t)w->size;
     /* each rank's file is a part like those of --shard */
     snprintf(a->shard_text, sizeof a->shard_text, "%d/%d", w->rank, w->size);
     a->shard_arg = a->shard_text;
   } else if (a->copy) {
-    return usage_error(w,
-                       "--copy is for rps3-run-mpi under mpirun and for "
-                       "merge; a run without them writes one whole file");
+    return run_usage_error(w,
+                           "--copy is for rps3-run-mpi under mpirun and for "
+                           "merge; a run without them writes one whole file");
   }
   /* where the output goes is checked before anything is computed */
   if (a->out_path && !a->check) {
@@ -224,9 +72,9 @@ static int args_for_world(run_args *a, const world *w) {
     if (w->rank == 0) stale_report("rps3-run", a->out_path);
   }
   if (a->resume && (!a->shard_arg || w->size > 1))
-    return usage_error(w,
-                       "--resume is for --shard K/N runs (it skips a part "
-                       "that is complete already)");
+    return run_usage_error(w,
+                           "--resume is for --shard K/N runs (it skips a part "
+                           "that is complete already)");
   return -1;
 }
 
@@ -255,10 +103,10 @@ static int run_simulated(scene *s, const run_args *a, const world *w, int argc,
   int code;
   char *cmd;
   if (a->fields != out_fields_all())
-    return usage_error(w,
-                       "--fields selects variables of the "
-                       "inverse-dynamics file; a scene with a simulate "
-                       "section writes the simulation file whole");
+    return run_usage_error(w,
+                           "--fields selects variables of the "
+                           "inverse-dynamics file; a scene with a simulate "
+                           "section writes the simulation file whole");
   sa.out_path = a->out_path;
   sa.check = a->check;
   sa.quiet = a->quiet;
@@ -290,146 +138,69 @@ static int run_load(const run_args *a, const world *w, scene *s,
     scene_free(s);
     code = EXIT_USAGE;
   }
-  worst = agree(w, code, &first);
+  worst = run_agree(w, code, &first);
   if (code && (w->rank == 0 || first == EXIT_OK))
     scene_error_print(a->scene_path, &serr);
   if (worst && !code) scene_free(s);
   return worst;
 }
 
-/* 1 when OUT.h5 is already this shard's complete part of this scene and
-   these data (--resume), not computed again; the exit code in *code */
-static int run_resumed(const run_args *a, const scene *s,
-                       const sweep_plan *plan, const sweep_opts *opts,
-                       const char *inputs, int *code) {
-  size_t nfailed = 0,
-         ncase = sweep_shard_cases(s, plan, opts->shard, opts->nshard);
-  char names[1024];
-  if (!a->resume ||
-      !parts_resume(a->out_path, opts->shard, opts->nshard, s->text,
-                    out_fields_text(a->fields, names, sizeof names), inputs,
-                    &nfailed))
-    return 0;
-  if (!a->quiet)
-    fprintf(stderr,
-            "rps3-run: %s is shard %zu/%zu of this scene, "
-            "complete (%zu case%s, %zu failed): not run again\n",
-            a->out_path, opts->shard, opts->nshard, ncase,
-            ncase == 1 ? "" : "s", nfailed);
-  *code = nfailed && !a->failed_ok ? EXIT_FAILED_CASES : EXIT_OK;
-  return 1;
-}
+/* what a sweep's file needs */
+typedef struct {
+  const run_args *a;
+  const world *w;
+  const scene *s;
+  const sweep_plan *plan;
+  const sweep_opts *opts;
+  out_block block;
+} sweep_job;
 
-/* the progress of this rank's shard */
-static void run_progress(progress *pr, const run_args *a, const world *w,
-                         const scene *s, const sweep_plan *plan,
-                         const sweep_opts *opts) {
-  progress_start(pr, sweep_shard_cases(s, plan, opts->shard, opts->nshard),
-                 a->quiet || w->rank != 0);
+/* run_job's write of a sweep: the progress of this rank's shard, the
+   sweep computed into the file at tmpout_path() */
+static int sweep_write(run_job *j, const out_meta *meta, progress *pr,
+                       sweep_stats *st) {
+  sweep_job *sj = j->ctx;
+  const sweep_plan *plan = sj->plan;
+  const scene *s = sj->s;
+  char err[512];
+  out_file *f;
+  if (out_block_alloc(&sj->block, plan->tile_cases, plan->tile_points,
+                      plan->first.model.opt.effects)) {
+    fprintf(stderr, "rps3-run: out of memory\n");
+    return EXIT_IO;
+  }
+  sj->block.fields = sj->a->fields;
+  progress_start(pr, j->ncase, sj->a->quiet || sj->w->rank != 0);
   pr->njob_all = sweep_njob(s, plan);
-  pr->njob = sweep_shard_jobs(s, plan, opts->shard, opts->nshard);
+  pr->njob = sweep_shard_jobs(s, plan, sj->opts->shard, sj->opts->nshard);
   /* the shard's samples, in proportion to its cases (exact unsharded) */
   pr->npoint = s->ncase ? (size_t)((double)plan->npoint * (double)pr->ncase /
                                    (double)s->ncase)
                         : 0;
+  f = out_create(tmpout_path(), s, &plan->first, plan->nt, plan->grid_common,
+                 plan->chunk_points, &sj->block, meta, err, sizeof err);
+  if (f && sweep_run_opts(s, plan, f, &sj->block, sj->opts, pr, st, err,
+                          sizeof err) == 0)
+    return out_close(f, err, sizeof err) ? run_io(sj->a, err) : EXIT_OK;
+  if (f) out_close(f, NULL, 0);
+  return run_io(sj->a, err);
 }
 
-/* the sweep computed into the file at tmpout_path(); the exit code */
-static int run_file(const run_args *a, const scene *s, const sweep_plan *plan,
-                    const sweep_opts *opts, out_block *block,
-                    const out_meta *meta, progress *pr, sweep_stats *st) {
-  char err[512];
-  out_file *f =
-      out_create(tmpout_path(), s, &plan->first, plan->nt, plan->grid_common,
-                 plan->chunk_points, block, meta, err, sizeof err);
-  memset(st, 0, sizeof *st);
-  if (!f) {
-    fprintf(stderr, "rps3-run: %s: %s\n", a->out_path, err);
-    return EXIT_IO;
-  }
-  if (sweep_run_opts(s, plan, f, block, opts, pr, st, err, sizeof err)) {
-    fprintf(stderr, "rps3-run: %s: %s\n", a->out_path, err);
-    out_close(f, NULL, 0);
-    return EXIT_IO;
-  }
-  if (out_close(f, err, sizeof err)) {
-    fprintf(stderr, "rps3-run: %s: %s\n", a->out_path, err);
-    return EXIT_IO;
-  }
-  return EXIT_OK;
-}
-
-/* the sweep written under a temporary name in the same directory and
-   renamed at the end (tmpout.h), or joined with the other ranks' parts;
-   the exit code */
-static int run_write(const run_args *a, const world *w, const scene *s,
-                     const sweep_plan *plan, const sweep_opts *opts,
-                     const char *inputs, int argc, char **argv) {
-  int code = EXIT_OK;
-  char *cmd = cli_command_line(argc, argv);
-  out_block block;
-  out_meta meta;
-  progress pr;
-  sweep_stats st;
-  memset(&block, 0, sizeof block);
-  memset(&meta, 0, sizeof meta);
-  if (!cmd || out_block_alloc(&block, plan->tile_cases, plan->tile_points,
-                              plan->first.model.opt.effects)) {
-    fprintf(stderr, "rps3-run: out of memory\n");
-    code = EXIT_IO;
-  }
-  block.fields = a->fields;
-  meta.command_line = cmd;
-  meta.gzip = a->gzip;
-  meta.shard = a->shard_arg;
-  meta.fields = a->fields;
-  meta.inputs = inputs;
-  if (code == EXIT_OK && tmpout_name(a->out_path, w->rank)) code = EXIT_USAGE;
-  if ((code = agree(w, code, NULL)) == EXIT_OK) {
-    tmpout_arm();
-    run_progress(&pr, a, w, s, plan, opts);
-    code = run_file(a, s, plan, opts, &block, &meta, &pr, &st);
-    if (w->size > 1)
-      code = ranks_join(w, code, a->copy, a->out_path, cmd, &pr, &st, s->ncase);
-    else if (code != EXIT_OK || tmpout_commit(a->out_path))
-      code = EXIT_IO;
-    else {
-      progress_finish(&pr, st.cases_done, st.points_done, st.nfailed);
-      code = st.nfailed ? EXIT_FAILED_CASES : EXIT_OK;
-    }
-  }
-  /* a complete file with failed cases, as a success (for schedulers) */
-  if (code == EXIT_FAILED_CASES && a->failed_ok) code = EXIT_OK;
-  tmpout_discard();
-  out_block_free(&block);
-  free(cmd);
-  return code;
-}
-
-/* the inverse dynamics of a checked scene into OUT.h5: room, the input
-   files recorded, --resume, the leftovers of killed runs, the sweep; the
-   exit code */
+/* the inverse dynamics of a checked scene into OUT.h5: its room, then the
+   steps of a run (run_output); the exit code */
 static int run_sweep(const run_args *a, const world *w, const scene *s,
                      const sweep_plan *plan, const sweep_opts *opts,
                      const pre_opts *pre, int argc, char **argv) {
-  int code = EXIT_OK;
-  char err[512], *inputs = NULL;
-  if (w->rank == 0 && pre_room(s, plan, opts, pre, a->out_path))
-    code = EXIT_USAGE;
-  /* the files the scene read, by content (inputs.h): recorded in the
-     file, compared by --resume and merge (each rank its own, before the
-     ranks agree to go on) */
-  if (code == EXIT_OK && !(inputs = inputs_record(s, err, sizeof err))) {
-    fprintf(stderr, "rps3-run: %s: %s\n", a->scene_path, err);
-    code = EXIT_IO;
-  }
-  if ((code = agree(w, code, NULL)) == EXIT_OK &&
-      !run_resumed(a, s, plan, opts, inputs, &code)) {
-    /* what killed runs of this output left on this host */
-    if (w->rank == 0) tmpout_clean(a->out_path, 0, 1);
-    code = run_write(a, w, s, plan, opts, inputs, argc, argv);
-  }
-  free(inputs);
+  char names[1024];
+  sweep_job sj = {a, w, s, plan, opts, {0}};
+  run_job j = {NULL, "case", 0, sweep_write, &sj, ""};
+  int code;
+  j.fields = out_fields_text(a->fields, names, sizeof names);
+  j.ncase = sweep_shard_cases(s, plan, opts->shard, opts->nshard);
+  code = w->rank == 0 && pre_room(s, plan, opts, pre, a->out_path) ? EXIT_USAGE
+                                                                   : EXIT_OK;
+  code = run_output(a, w, s, code, &j, argc, argv);
+  out_block_free(&sj.block);
   return code;
 }
 
@@ -457,7 +228,7 @@ static int run_main(int argc, char **argv, const world *w) {
   pre.quiet = a.quiet;
   pre.fields = a.fields;
   if (design_wanted(&s)) /* its designs into its own file (run_design.h) */
-    code = run_design(&s, &a, w, argc, argv, ranks_join);
+    code = run_design(&s, &a, w, argc, argv);
   else if (sim_wanted(&s)) /* simulated instead (simulate.h) */
     code = run_simulated(&s, &a, w, argc, argv);
   else if (pre_jobs(&s, &plan, &opts, &pre))
@@ -490,15 +261,22 @@ static int launched_tasks(const char **by) {
   return v && atoi(v) > 1 ? atoi(v) : 1;
 }
 
+/* the subcommands that run as one process: --clean and merge, or NULL */
+static int (*one_process(int argc, char **argv))(int, char **) {
+  if (argc > 1 && strcmp(argv[1], "--clean") == 0) return clean_main;
+  if (argc > 1 && strcmp(argv[1], "merge") == 0) return merge_main;
+  return NULL;
+}
+
 int main(int argc, char **argv) {
   world w = {0, 1};
   const char *by;
-  char *cmd;
-  int code;
+  int code, (*sub)(int, char **);
 
   /* fds 0-2 open before anything opens a file; HDF5 without atexit */
   proc_init();
   world_init(&argc, &argv, &w);
+  sub = one_process(argc, argv);
   if (w.size == 1 && launched_tasks(&by) > 1) {
     if (world_has_mpi()) {
       /* srun without --mpi=pmix (or an MPI that srun cannot start): N
@@ -510,8 +288,7 @@ int main(int argc, char **argv) {
       world_finalize();
       return proc_exit(EXIT_USAGE);
     }
-    if (!(argc > 1 &&
-          (strcmp(argv[1], "merge") == 0 || strcmp(argv[1], "--clean") == 0))) {
+    if (!sub) {
       fprintf(stderr,
               "rps3-run: launched as %d tasks by %s, but built "
               "without MPI: every task would compute the whole "
@@ -532,26 +309,12 @@ int main(int argc, char **argv) {
     fprintf(stderr, "rps3-run: library %s does not match header %s\n",
             rps3_version(), RPS3_VERSION_STRING);
     code = EXIT_IO;
-  } else if (argc > 1 && strcmp(argv[1], "--clean") == 0) {
-    if (w.size > 1) {
-      if (w.rank == 0)
-        fprintf(stderr, "rps3-run: --clean runs as one process\n");
-      code = EXIT_USAGE;
-    } else
-      code = clean_main(argc - 1, argv + 1);
-  } else if (argc > 1 && strcmp(argv[1], "merge") == 0) {
-    if (w.size > 1) {
-      if (w.rank == 0) fprintf(stderr, "rps3-run: merge runs as one process\n");
-      code = EXIT_USAGE;
-    } else if (!(cmd = cli_command_line(argc, argv))) {
-      fprintf(stderr, "rps3-run: out of memory\n");
-      code = EXIT_IO;
-    } else {
-      code = merge_main(argc - 1, argv + 1, cmd);
-      free(cmd);
-    }
+  } else if (sub && w.size > 1) {
+    if (w.rank == 0)
+      fprintf(stderr, "rps3-run: %s runs as one process\n", argv[1]);
+    code = EXIT_USAGE;
   } else
-    code = run_main(argc, argv, &w);
+    code = sub ? sub(argc, argv) : run_main(argc, argv, &w);
 
   world_finalize();
   return proc_exit(code);

@@ -113,14 +113,11 @@ static void usage(FILE *out) {
 
 /* K/N into *k, *n, strictly (digits only, 0 <= K < N); 0 or -1 */
 static int parse_shard(const char *a, size_t *k, size_t *n) {
-  char kk[32];
-  const char *slash = strchr(a, '/');
+  char kk[32], nn[32], tail;
   unsigned long vk, vn;
-  if (!slash || (size_t)(slash - a) >= sizeof kk) return -1;
-  memcpy(kk, a, (size_t)(slash - a));
-  kk[slash - a] = '\0';
-  if (parse_ulong(kk, 0, (unsigned long)-1, &vk) ||
-      parse_ulong(slash + 1, 1, (unsigned long)-1, &vn) || vk >= vn)
+  if (sscanf(a, "%31[0-9]/%31[0-9]%c", kk, nn, &tail) != 2 ||
+      parse_ulong(kk, 0, (unsigned long)-1, &vk) ||
+      parse_ulong(nn, 1, (unsigned long)-1, &vn) || vk >= vn)
     return -1;
   *k = vk;
   *n = vn;
@@ -219,7 +216,7 @@ int clean_main(int argc, char **argv) {
   unsigned long v;
   char **op;
   int row, nop, force = 0;
-  cli_start(&c, "rps3-run --clean", CLEAN_OPTS, 1, argc, argv);
+  cli_start(&c, "rps3-run --clean", CLEAN_OPTS, 1, argc - 1, argv + 1);
   c.help_cmd = "rps3-run";
   while ((row = cli_next(&c, &arg, &v)) != CLI_END) {
     if (row == CLI_BAD) return EXIT_USAGE;

@@ -30,7 +30,7 @@ typedef struct {
  */
 int run_args_parse(int argc, char **argv, run_args *a);
 
-/* rps3-run --clean OUT.h5 [--force] (argv[0] is "--clean"): the exit
+/* rps3-run --clean OUT.h5 [--force] (argv[1] is "--clean"): the exit
    code */
 int clean_main(int argc, char **argv);
 

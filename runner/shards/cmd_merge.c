@@ -1,5 +1,5 @@
 /*
- * cmd_merge.c - `rps3-run merge`: see cmd.h.
+ * cmd_merge.c - `rps3-run merge`: see cmd_merge.h.
  */
 #include "cmd_merge.h"
 #include "core/exit_codes.h"
@@ -7,7 +7,6 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
-#include <unistd.h>
 
 #include "core/cli.h"
 #include "core/safeio.h"
@@ -27,7 +26,7 @@ static const cli_opt MERGE_OPTS[3] = {
 
 /* what merge was asked, and the parts by shard */
 typedef struct {
-  const char *out_path, **part, **byk;
+  const char *out_path, *const *part, **byk;
   size_t npart, n; /* parts given, shards of the run */
   int quiet, copy, failed_ok;
 } merge_run;
@@ -38,7 +37,7 @@ static int merge_args(merge_run *m, int argc, char **argv) {
   const char *arg;
   unsigned long v;
   char **op;
-  int row, nop, i;
+  int row, nop;
   cli_start(&c, "rps3-run merge", MERGE_OPTS, 3, argc, argv);
   c.help_cmd = "rps3-run"; /* its --help lists merge's options */
   while ((row = cli_next(&c, &arg, &v)) != CLI_END) {
@@ -50,9 +49,11 @@ static int merge_args(merge_run *m, int argc, char **argv) {
     else
       m->quiet = 1;
   }
+  /* OUT.h5, then the parts: the operands as getopt_long left them */
   nop = cli_operands(&c, &op);
   if (nop > 0) m->out_path = op[0];
-  for (i = 1; i < nop; i++) m->part[m->npart++] = op[i];
+  m->part = (const char *const *)op + 1;
+  m->npart = nop > 1 ? (size_t)nop - 1 : 0;
   if (!m->out_path || m->npart == 0) {
     cli_usage_error(&c, "%s (rps3-run merge OUT.h5 PART.h5...)",
                     m->out_path ? "missing the part files"
@@ -97,33 +98,24 @@ static int merge_parts_check(merge_run *m, int *bad) {
    merged file under a temporary name, renamed when complete: 0, or -1
    (said why) */
 static int merge_write(const merge_run *m, const char *cmd, size_t *nfailed) {
-  const char **src = calloc(m->n, sizeof *src);
-  size_t i, *ks = calloc(m->n, sizeof *ks);
   char err[768];
-  int rc = -1;
-  snprintf(err, sizeof err, "out of memory");
-  for (i = 0; src && ks && i < m->n; i++)
-    if (verify_file(m->byk[i], err, sizeof err)) break;
-  if (i < m->n || !src || !ks)
-    fprintf(stderr, "rps3-run merge: %s\n", err);
-  else if (tmpout_name(m->out_path, 0) == 0) {
-    tmpout_arm();
-    for (i = 1; i < m->n; i++) {
-      src[i - 1] = m->byk[i];
-      ks[i - 1] = i;
-    }
-    if (m->copy ? merge_copy_file(m->byk[0], tmpout_path(), err, sizeof err) ||
-                      merge_parts(tmpout_path(), src, ks, m->n - 1, m->n, cmd,
-                                  nfailed, err, sizeof err)
-                : join_vds(tmpout_path(), m->byk, m->n, cmd, nfailed, err,
-                           sizeof err))
+  size_t i;
+  for (i = 0; i < m->n; i++)
+    if (verify_file(m->byk[i], err, sizeof err)) {
       fprintf(stderr, "rps3-run merge: %s\n", err);
-    else
-      rc = tmpout_commit(m->out_path) ? -1 : 0;
+      return -1;
+    }
+  if (tmpout_name(m->out_path, 0)) return -1;
+  tmpout_arm();
+  if (m->copy ? merge_copy_file(m->byk[0], tmpout_path(), err, sizeof err) ||
+                    merge_parts(tmpout_path(), m->byk, m->n, cmd, nfailed, err,
+                                sizeof err)
+              : join_vds(tmpout_path(), m->byk, m->n, cmd, nfailed, err,
+                         sizeof err)) {
+    fprintf(stderr, "rps3-run merge: %s\n", err);
+    return -1;
   }
-  free(src);
-  free(ks);
-  return rc;
+  return tmpout_commit(m->out_path) ? -1 : 0;
 }
 
 /*
@@ -134,18 +126,17 @@ static int merge_write(const merge_run *m, const char *cmd, size_t *nfailed) {
  * and renamed when complete.  A missing or incomplete part is named, with
  * the command that makes it again (parts.h).
  */
-int merge_main(int argc, char **argv, const char *cmd) {
+int merge_main(int argc, char **argv) {
   merge_run m;
   size_t nfailed = 0;
   int code = EXIT_USAGE, *bad = NULL;
-  char err[768];
+  char err[768], *cmd = cli_command_line(argc, argv);
   memset(&m, 0, sizeof m);
-  m.part = calloc((size_t)argc, sizeof *m.part);
-  if (!m.part) {
+  if (!cmd) {
     fprintf(stderr, "rps3-run: out of memory\n");
     return EXIT_IO;
   }
-  if (merge_args(&m, argc, argv)) goto done;
+  if (merge_args(&m, argc - 1, argv + 1)) goto done;
   if (parts_by_shard(m.part, m.npart, &m.byk, &m.n, err, sizeof err)) {
     fprintf(stderr, "rps3-run merge: %s\n", err);
     goto done;
@@ -165,7 +156,7 @@ int merge_main(int argc, char **argv, const char *cmd) {
   code = nfailed && !m.failed_ok ? EXIT_FAILED_CASES : EXIT_OK;
 done:
   tmpout_discard();
-  free(m.part);
+  free(cmd);
   free(m.byk);
   free(bad);
   return code;

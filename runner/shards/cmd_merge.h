@@ -4,11 +4,8 @@
 #ifndef RPS3_RUNNER_CMD_MERGE_H
 #define RPS3_RUNNER_CMD_MERGE_H
 
-/*
- * rps3-run merge OUT.h5 PART.h5 ... [--copy] [--quiet]: argv[0] is
- * "merge", cmd the whole command line (for the file's command_line).
- * Returns the exit code (exit_codes.h).
- */
-int merge_main(int argc, char **argv, const char *cmd);
+/* rps3-run merge OUT.h5 PART.h5 ... [--copy] [--quiet]: argv[1] is
+   "merge".  Returns the exit code (exit_codes.h). */
+int merge_main(int argc, char **argv);
 
 #endif /* RPS3_RUNNER_CMD_MERGE_H */

@@ -7,13 +7,12 @@
  * their own file: a second walk makes the same scales again
  * (H5DSset_scale) and attaches them to the same dimensions.
  */
-/* realpath() is XSI */
+/* realpath() and dirname() are XSI */
 #define _XOPEN_SOURCE 700
 
 #include "join.h"
 
-#include <limits.h>
-#include <stdint.h>
+#include <libgen.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -28,11 +27,13 @@
 
 /* what a walk over part 0 needs */
 typedef struct {
-  hid_t src;               /* part 0 */
-  hid_t dst;               /* the joined file */
-  const char *const *part; /* the part files, by shard */
-  const char *const *link; /* their names as stored in the virtual maps */
-  size_t n;                /* shards */
+  hid_t src;                     /* part 0 */
+  hid_t dst;                     /* the joined file */
+  const char *const *part;       /* the part files, by shard */
+  char **link;                   /* their names as stored in the virtual maps */
+  const char *link_dir;          /* the directory of dst */
+  merge_chunked list;            /* the chunked datasets */
+  hid_t dcpl[MERGE_MAX_CHUNKED]; /* their virtual maps, by list index */
   char *err;
   size_t errsz;
 } walk;
@@ -67,11 +68,7 @@ static herr_t copy_attr(hid_t from, const char *name, const H5A_info_t *ai,
     H5Dvlen_reclaim(mtype, sp, H5P_DEFAULT, buf);
 done:
   free(buf);
-  if (b >= 0) H5Aclose(b);
-  if (sp >= 0) H5Sclose(sp);
-  if (mtype >= 0) H5Tclose(mtype);
-  if (ftype >= 0) H5Tclose(ftype);
-  if (a >= 0) H5Aclose(a);
+  shard_h5_close(5, b, sp, mtype, ftype, a);
   return rc;
 }
 
@@ -82,113 +79,118 @@ static int copy_attrs(hid_t from, hid_t to) {
              : 0;
 }
 
-/* select rows [r0 * c0, ...) of a part: `count` blocks of c0 rows every
-   n * c0 rows, with block `last` rows long when count is 1 (the last,
-   shorter row); the other axes whole */
-static int select_rows(hid_t sp, int rank, const hsize_t *dims, hsize_t r0,
-                       hsize_t c0, hsize_t n, hsize_t count, hsize_t block) {
-  hsize_t start[H5S_MAX_RANK], stride[H5S_MAX_RANK], cnt[H5S_MAX_RANK],
-      blk[H5S_MAX_RANK];
-  int r;
-  for (r = 0; r < rank; r++) {
-    start[r] = 0;
-    stride[r] = 1;
-    cnt[r] = 1;
-    blk[r] = dims[r];
+/* the name of `path` as the joined file in `dir` stores it: relative to
+   dir when below it, else absolute (malloc'd; NULL when it cannot be
+   resolved) */
+static char *link_name(const char *path, const char *dir) {
+  char *p = realpath(path, NULL), *d = realpath(dir, NULL);
+  size_t nd = d ? strlen(d) : 0;
+  if (p && !d) {
+    free(p);
+    p = NULL;
   }
-  start[0] = r0 * c0;
-  stride[0] = n * c0;
+  if (p && nd > 1 && strncmp(p, d, nd) == 0 && p[nd] == '/')
+    memmove(p, p + nd + 1, strlen(p + nd));
+  free(d);
+  return p;
+}
+
+/* the directory of path, malloc'd: "." when it has none */
+static char *dir_of(const char *path) {
+  char *copy = strdup(path), *dir = copy ? strdup(dirname(copy)) : NULL;
+  free(copy);
+  return dir;
+}
+
+/* map rows [r0 c0, ...) of part k, `count` blocks of `block` rows every
+   n c0 rows and the other axes whole, to the same rows of the virtual
+   dataset */
+static int map_block(hid_t dcpl, hid_t vsp, hid_t ssp, const merge_rows *r,
+                     hsize_t r0, hsize_t count, hsize_t block, const walk *w) {
+  hsize_t start[H5S_MAX_RANK] = {0}, stride[H5S_MAX_RANK], cnt[H5S_MAX_RANK],
+          blk[H5S_MAX_RANK];
+  int d;
+  for (d = 0; d < r->rank; d++) {
+    stride[d] = 1;
+    cnt[d] = 1;
+    blk[d] = r->dims[d];
+  }
+  start[0] = r0 * r->chunk[0];
+  stride[0] = (hsize_t)r->n * r->chunk[0];
   cnt[0] = count;
   blk[0] = block;
-  return H5Sselect_hyperslab(sp, H5S_SELECT_SET, start, stride, cnt, blk) < 0
+  return H5Sselect_hyperslab(vsp, H5S_SELECT_SET, start, stride, cnt, blk) <
+                     0 ||
+                 H5Sselect_hyperslab(ssp, H5S_SELECT_SET, start, stride, cnt,
+                                     blk) < 0 ||
+                 H5Pset_virtual(dcpl, vsp, w->link[r->k], r->name, ssp) < 0
              ? -1
              : 0;
 }
 
-/* map the rows of shard k into the virtual dataset's dcpl */
-static int map_part(hid_t dcpl, hid_t vsp, hid_t ssp, int rank,
-                    const hsize_t *dims, hsize_t c0, const walk *w, size_t k,
-                    const char *name) {
-  hsize_t nrow = (dims[0] + c0 - 1) / c0, n = (hsize_t)w->n;
-  hsize_t tail = dims[0] - (nrow - 1) * c0; /* rows of the last chunk row */
-  hsize_t full = nrow - (tail < c0);        /* chunk rows of c0 rows */
-  hsize_t nfull = full > k ? (full - k + n - 1) / n : 0;
-  if (nfull > 0 && (select_rows(vsp, rank, dims, k, c0, n, nfull, c0) < 0 ||
-                    select_rows(ssp, rank, dims, k, c0, n, nfull, c0) < 0 ||
-                    H5Pset_virtual(dcpl, vsp, w->link[k], name, ssp) < 0))
-    return -1;
-  if (tail < c0 && (nrow - 1) % n == k &&
-      (select_rows(vsp, rank, dims, nrow - 1, c0, n, 1, tail) < 0 ||
-       select_rows(ssp, rank, dims, nrow - 1, c0, n, 1, tail) < 0 ||
-       H5Pset_virtual(dcpl, vsp, w->link[k], name, ssp) < 0))
-    return -1;
-  return 0;
-}
-
-/* 1 when every part has the chunked datasets of part 0 with its shapes
-   and chunks; each part opened once */
-static int parts_agree(const walk *w) {
-  merge_chunked list;
-  hsize_t dims[H5S_MAX_RANK], chunk[H5S_MAX_RANK];
-  size_t k;
-  int i, ok = merge_list_chunked(w->src, &list) == 0;
-  if (!ok)
-    out_fail(w->err, w->errsz, "%s: cannot list its datasets", w->part[0]);
-  for (k = 1; ok && k < w->n; k++) {
-    hid_t f = H5Fopen(w->part[k], H5F_ACC_RDONLY, H5P_DEFAULT);
-    for (i = 0; ok && i < list.n; i++)
-      ok = f >= 0 && merge_same_layout(w->src, f, list.name[i], dims, chunk,
-                                       w->part[k], w->err, w->errsz) > 0;
-    if (f >= 0) H5Fclose(f);
-  }
-  return ok;
-}
-
-/* the chunked dataset `name` of part 0 as a virtual dataset over the parts */
-static int make_virtual(const walk *w, hid_t sds, const char *name) {
-  hid_t type = H5Dget_type(sds), sp = H5Dget_space(sds), spl = -1, dcpl = -1;
-  hid_t ssp = -1, ds = -1, mtype = -1;
-  hsize_t dims[H5S_MAX_RANK], chunk[H5S_MAX_RANK];
+/* a virtual dataset's dcpl with the fill value of the part's dataset ds,
+   so that what no part holds reads as "not run" (there is none once every
+   part is checked); or -1 */
+static hid_t virtual_dcpl(hid_t ds) {
+  hid_t type = H5Dget_type(ds), spl = H5Dget_create_plist(ds), mtype = -1;
+  hid_t dcpl = H5Pcreate(H5P_DATASET_CREATE);
   H5D_fill_value_t fv;
   void *fill = NULL;
-  int rank, rc = -1;
-  size_t k;
-  if (type < 0 || sp < 0 || (spl = H5Dget_create_plist(sds)) < 0 ||
-      (rank = H5Sget_simple_extent_dims(sp, dims, NULL)) < 1 ||
-      H5Pget_chunk(spl, rank, chunk) != rank)
-    goto io;
-  if ((dcpl = H5Pcreate(H5P_DATASET_CREATE)) < 0 || (ssp = H5Scopy(sp)) < 0)
-    goto io;
-  /* the parts' fill value, so that what no part holds reads as "not run"
-     (there is none once every part is checked) */
-  if (H5Pfill_value_defined(spl, &fv) >= 0 &&
-      fv == H5D_FILL_VALUE_USER_DEFINED) {
-    if ((mtype = H5Tget_native_type(type, H5T_DIR_ASCEND)) < 0 ||
-        !(fill = calloc(1, H5Tget_size(mtype))) ||
-        H5Pget_fill_value(spl, mtype, fill) < 0 ||
-        H5Pset_fill_value(dcpl, mtype, fill) < 0)
-      goto io;
-  }
-  for (k = 0; k < w->n; k++)
-    if (map_part(dcpl, sp, ssp, rank, dims, chunk[0], w, k, name) < 0) goto io;
-  ds = H5Dcreate2(w->dst, name, type, sp, H5P_DEFAULT, dcpl, H5P_DEFAULT);
-  if (ds < 0) goto io;
-  rc = 0;
-  goto done;
-io:
-  out_fail(w->err, w->errsz, "cannot make the virtual dataset %s", name);
-done:
+  int ok = type >= 0 && spl >= 0 && dcpl >= 0;
+  if (ok && H5Pfill_value_defined(spl, &fv) >= 0 &&
+      fv == H5D_FILL_VALUE_USER_DEFINED)
+    ok = (mtype = H5Tget_native_type(type, H5T_DIR_ASCEND)) >= 0 &&
+         (fill = calloc(1, H5Tget_size(mtype))) != NULL &&
+         H5Pget_fill_value(spl, mtype, fill) >= 0 &&
+         H5Pset_fill_value(dcpl, mtype, fill) >= 0;
   if (fill && mtype >= 0 && H5Tis_variable_str(mtype) > 0)
     H5free_memory(*(char **)fill);
   free(fill);
-  if (mtype >= 0) H5Tclose(mtype);
-  if (ds >= 0) H5Dclose(ds);
-  if (ssp >= 0) H5Sclose(ssp);
-  if (dcpl >= 0) H5Pclose(dcpl);
-  if (spl >= 0) H5Pclose(spl);
-  if (sp >= 0) H5Sclose(sp);
-  if (type >= 0) H5Tclose(type);
+  shard_h5_close(3, mtype, spl, type);
+  if (!ok) shard_h5_close(1, dcpl);
+  return ok ? dcpl : -1;
+}
+
+/* merge_rows_fn of a join: shard k's rows of the dataset into its virtual
+   map (join.h) */
+static int map_rows(void *ctx, const merge_rows *r, char *err, size_t errsz) {
+  walk *w = ctx;
+  hid_t ds = H5Dopen2(r->part, r->name, H5P_DEFAULT);
+  hid_t vsp = ds >= 0 ? H5Dget_space(ds) : -1, ssp = H5Scopy(vsp);
+  hid_t *dcpl = &w->dcpl[r->j];
+  hsize_t c0 = r->chunk[0], n = (hsize_t)r->n, k = (hsize_t)r->k;
+  hsize_t nrow = (r->dims[0] + c0 - 1) / c0;
+  hsize_t tail = r->dims[0] - (nrow - 1) * c0; /* rows of the last one */
+  hsize_t full = nrow - (tail < c0);           /* chunk rows of c0 rows */
+  hsize_t nfull = full > k ? (full - k + n - 1) / n : 0;
+  int rc = -1;
+  if (r->j == 0 && !(w->link[k] = link_name(r->path, w->link_dir)))
+    snprintf(err, errsz, "%s: cannot resolve its path", r->path);
+  else if (ssp >= 0 && (*dcpl >= 0 || (*dcpl = virtual_dcpl(ds)) >= 0) &&
+           (nfull == 0 ||
+            map_block(*dcpl, vsp, ssp, r, k, nfull, c0, w) == 0) &&
+           (tail == c0 || (nrow - 1) % n != k ||
+            map_block(*dcpl, vsp, ssp, r, nrow - 1, 1, tail, w) == 0))
+    rc = 0;
+  else
+    out_fail(err, errsz, "cannot make the virtual dataset %s", r->name);
+  shard_h5_close(3, ssp, vsp, ds);
   return rc;
+}
+
+/* the chunked dataset o of part 0 as a virtual dataset over the parts, by
+   its map (map_rows); or -1 */
+static hid_t make_virtual(const walk *w, hid_t o, const char *name) {
+  hid_t type = H5Dget_type(o), sp = H5Dget_space(o), ds = -1;
+  int j = 0;
+  while (j < w->list.n && strcmp(w->list.name[j], name) != 0) j++;
+  if (j < w->list.n && type >= 0 && sp >= 0)
+    ds = H5Dcreate2(w->dst, name, type, sp, H5P_DEFAULT, w->dcpl[j],
+                    H5P_DEFAULT);
+  if (ds < 0)
+    out_fail(w->err, w->errsz, "cannot make the virtual dataset %s", name);
+  shard_h5_close(2, sp, type);
+  return ds;
 }
 
 /* first walk: every object of part 0 into the joined file (H5Ovisit) */
@@ -210,8 +212,7 @@ static herr_t make_object(hid_t root, const char *name, const H5O_info_t *oi,
     d = H5Gcreate2(w->dst, name, H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT);
   else if ((pl = H5Dget_create_plist(o)) >= 0 &&
            H5Pget_layout(pl) == H5D_CHUNKED) {
-    if (make_virtual(w, o, name) < 0) goto done;
-    d = H5Oopen(w->dst, name, H5P_DEFAULT);
+    if ((d = make_virtual(w, o, name)) < 0) goto done;
   } else {
     hid_t cp = H5Pcreate(H5P_OBJECT_COPY);
     if (cp >= 0 && H5Pset_copy_object(cp, H5O_COPY_WITHOUT_ATTR_FLAG) >= 0 &&
@@ -224,28 +225,21 @@ io:
   if (rc < 0)
     out_fail(w->err, w->errsz, "cannot copy %s of %s", name, w->part[0]);
 done:
-  if (pl >= 0) H5Pclose(pl);
-  if (d >= 0) H5Oclose(d);
-  if (o >= 0) H5Oclose(o);
+  shard_h5_close(3, pl, d, o);
   return rc < 0 ? -1 : 0;
 }
 
-/* the dimension of the dataset being attached, for attach_scale */
-typedef struct {
-  const walk *w;
-  hid_t dst_ds;
-} attach;
-
-/* H5DSiterate_scales: the same scale on the same dimension in dst */
+/* H5DSiterate_scales: the same scale on the same dimension of the joined
+   file's dataset, to[0] the joined file and to[1] the dataset */
 static herr_t attach_scale(hid_t ds, unsigned dim, hid_t scale, void *data) {
-  const attach *a = data;
+  const hid_t *to = data;
   char path[1024], sname[256];
   hid_t s = -1;
   herr_t rc = -1;
   ssize_t len;
   (void)ds;
   if (H5Iget_name(scale, path, sizeof path) <= 0 ||
-      (s = H5Dopen2(a->w->dst, path, H5P_DEFAULT)) < 0)
+      (s = H5Dopen2(to[0], path, H5P_DEFAULT)) < 0)
     return -1;
   if (H5DSis_scale(s) <= 0) {
     len = H5DSget_scale_name(scale, sname, sizeof sname);
@@ -253,7 +247,7 @@ static herr_t attach_scale(hid_t ds, unsigned dim, hid_t scale, void *data) {
         H5DSset_scale(s, len > 0 ? sname : NULL) < 0)
       goto done;
   }
-  rc = H5DSattach_scale(a->dst_ds, s, dim) < 0 ? -1 : 0;
+  rc = H5DSattach_scale(to[1], s, dim) < 0 ? -1 : 0;
 done:
   H5Dclose(s);
   return rc;
@@ -263,94 +257,22 @@ done:
 static herr_t make_scales(hid_t root, const char *name, const H5O_info_t *oi,
                           void *data) {
   const walk *w = data;
-  attach a;
-  hid_t ds = -1, sp = -1;
+  hid_t ds = -1, sp = -1, to[2] = {w->dst, -1};
   int rank = 0, dim, rc = 0;
   if (oi->type != H5O_TYPE_DATASET) return 0;
-  a.w = w;
-  a.dst_ds = -1;
   if ((ds = H5Dopen2(root, name, H5P_DEFAULT)) < 0 ||
       (sp = H5Dget_space(ds)) < 0 ||
       (rank = H5Sget_simple_extent_ndims(sp)) < 0 ||
-      (a.dst_ds = H5Dopen2(w->dst, name, H5P_DEFAULT)) < 0)
+      (to[1] = H5Dopen2(w->dst, name, H5P_DEFAULT)) < 0)
     rc = -1;
   for (dim = 0; rc == 0 && dim < rank; dim++)
     if (H5DSget_num_scales(ds, (unsigned)dim) > 0 &&
-        H5DSiterate_scales(ds, (unsigned)dim, NULL, attach_scale, &a) < 0)
+        H5DSiterate_scales(ds, (unsigned)dim, NULL, attach_scale, to) < 0)
       rc = -1;
   if (rc < 0)
     out_fail(w->err, w->errsz, "cannot attach the dimension scales of %s",
              name);
-  if (a.dst_ds >= 0) H5Dclose(a.dst_ds);
-  if (sp >= 0) H5Sclose(sp);
-  if (ds >= 0) H5Dclose(ds);
-  return rc;
-}
-
-/* the name of `path` as the joined file in `dir` stores it: relative to
-   dir when below it, else absolute (malloc'd; NULL when it cannot be
-   resolved) */
-static char *link_name(const char *path, const char *dir) {
-  char *p = realpath(path, NULL), *d = realpath(dir, NULL), *out = NULL;
-  size_t nd;
-  if (p && d) {
-    nd = strlen(d);
-    if (nd > 1 && strncmp(p, d, nd) == 0 && p[nd] == '/') {
-      out = malloc(strlen(p + nd + 1) + 1);
-      if (out) strcpy(out, p + nd + 1);
-    } else {
-      out = p;
-      p = NULL;
-    }
-  }
-  free(p);
-  free(d);
-  return out;
-}
-
-/* the directory of path, malloc'd: "." when it has none */
-static char *dir_of(const char *path) {
-  const char *slash = strrchr(path, '/');
-  char *dir = malloc(slash ? (size_t)(slash - path) + 2 : 2);
-  if (!dir) return NULL;
-  if (!slash)
-    strcpy(dir, ".");
-  else if (slash == path)
-    strcpy(dir, "/");
-  else {
-    memcpy(dir, path, (size_t)(slash - path));
-    dir[slash - path] = '\0';
-  }
-  return dir;
-}
-
-/* part 0 open in w->src; every part complete, of the scene and inputs of
-   part 0, and its name as dst's directory stores it into link[]: 0 or -1
-   with w->err */
-static int parts_open(walk *w, char **link, const char *link_dir) {
-  char *text0 = NULL, *inputs0 = NULL, is0[4200];
-  size_t k;
-  int rc = -1;
-  if ((w->src = H5Fopen(w->part[0], H5F_ACC_RDONLY, H5P_DEFAULT)) < 0 ||
-      !(text0 = out_h5_read_text(w->src, "scene", 0))) {
-    out_fail(w->err, w->errsz, "%s: not an rps3-run file", w->part[0]);
-    return -1;
-  }
-  inputs0 = out_h5_read_text(w->src, INPUTS_ATTR, 1);
-  snprintf(is0, sizeof is0, "%s read", w->part[0]);
-  for (k = 0; k < w->n; k++) {
-    if (merge_part_check(w->part[k], k, w->n, text0, w->err, w->errsz)) break;
-    /* the same content of every file the scene reads (inputs.h) */
-    if (k > 0 && verify_inputs_as(w->part[k], inputs0, is0, w->err, w->errsz))
-      break;
-    if (!(link[k] = link_name(w->part[k], link_dir))) {
-      snprintf(w->err, w->errsz, "%s: cannot resolve its path", w->part[k]);
-      break;
-    }
-  }
-  if (k == w->n) rc = 0;
-  free(text0);
-  free(inputs0);
+  shard_h5_close(3, to[1], sp, ds);
   return rc;
 }
 
@@ -368,8 +290,7 @@ static int joined_write(walk *w, const char *dst, const char *command_line) {
     out_fail(w->err, w->errsz, "cannot create %s", dst);
     return -1;
   }
-  if (!parts_agree(w) ||
-      H5Ovisit(w->src, H5_INDEX_NAME, H5_ITER_INC, make_object, w) < 0 ||
+  if (H5Ovisit(w->src, H5_INDEX_NAME, H5_ITER_INC, make_object, w) < 0 ||
       H5Ovisit(w->src, H5_INDEX_NAME, H5_ITER_INC, make_scales, w) < 0)
     return -1;
   if (copy_attrs(w->src, w->dst) < 0 || out_stamp(w->dst, command_line) < 0) {
@@ -405,25 +326,33 @@ int join_vds(const char *dst, const char *const *part, size_t n,
              const char *command_line, size_t *nfailed, char *err,
              size_t errsz) {
   walk w;
-  char **link = calloc(n, sizeof *link), *link_dir = dir_of(dst);
+  char *link_dir = dir_of(dst), is0[4200];
   size_t k;
-  int rc = -1;
+  int j, rc = -1;
+  memset(&w, 0, sizeof w);
   w.src = w.dst = -1;
+  for (j = 0; j < MERGE_MAX_CHUNKED; j++) w.dcpl[j] = -1;
   w.part = part;
-  w.n = n;
+  w.link = calloc(n, sizeof *w.link);
+  w.link_dir = link_dir;
   w.err = err;
   w.errsz = errsz;
-  w.link = (const char *const *)link;
-  if (!link || !link_dir)
+  snprintf(is0, sizeof is0, "%s read", part[0]);
+  if (!w.link || !link_dir)
     snprintf(err, errsz, "out of memory");
-  else if (parts_open(&w, link, link_dir) == 0 &&
+  else if ((w.src = H5Fopen(part[0], H5F_ACC_RDONLY, H5P_DEFAULT)) < 0)
+    out_fail(err, errsz, "%s: not an rps3-run file", part[0]);
+  /* every part checked and mapped, then the file */
+  else if (merge_each_part(w.src, part[0], is0, part, 0, n, &w.list, map_rows,
+                           &w, err, errsz) == 0 &&
            joined_write(&w, dst, command_line) == 0) {
     H5Fclose(w.src);
     w.src = -1;
     rc = joined_count(w.dst, dst, link_dir, nfailed, err, errsz);
   }
-  for (k = 0; link && k < n; k++) free(link[k]);
-  free(link);
+  for (k = 0; w.link && k < n; k++) free(w.link[k]);
+  for (j = 0; j < MERGE_MAX_CHUNKED; j++) shard_h5_close(1, w.dcpl[j]);
+  free(w.link);
   free(link_dir);
   if (w.src >= 0) H5Fclose(w.src);
   if (w.dst >= 0 && H5Fclose(w.dst) < 0 && rc == 0) {

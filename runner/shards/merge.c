@@ -36,58 +36,44 @@ static herr_t collect_chunked(hid_t root, const char *name,
     else
       strcpy(l->name[l->n++], name);
   }
-  if (dcpl >= 0) H5Pclose(dcpl);
-  H5Dclose(ds);
+  shard_h5_close(2, dcpl, ds);
   return rc;
-}
-
-int merge_list_chunked(hid_t file, merge_chunked *l) {
-  l->n = 0;
-  return H5Ovisit(file, H5_INDEX_NAME, H5_ITER_INC, collect_chunked, l) < 0
-             ? -1
-             : 0;
 }
 
 int merge_shard_of(const char *path, size_t *k, size_t *n, char *err,
                    size_t errsz) {
   hid_t f = H5Fopen(path, H5F_ACC_RDONLY, H5P_DEFAULT);
-  char *v, tail;
+  char *v, *content, tail;
   unsigned long kk, nn;
+  int rc = -1;
   if (f < 0) {
     out_fail(err, errsz, "%s: cannot open", path);
     return -1;
   }
   v = out_h5_read_text(f, MERGE_SHARD_ATTR, 1);
-  {
-    /* a simulation (sim_output.h) is never a part: say so by name */
-    char *content = out_h5_read_text(f, "content", 1);
-    int sim = content && strcmp(content, "simulation") == 0;
-    free(content);
-    if (sim) {
-      H5Fclose(f);
-      free(v);
-      snprintf(err, errsz,
-               "%s: a simulation file (its scene has a simulate "
-               "section): simulated scenes are not sharded, "
-               "there is nothing to merge",
-               path);
-      return -1;
-    }
-  }
+  content = out_h5_read_text(f, "content", 1);
   H5Fclose(f);
-  if (!v || sscanf(v, "%lu/%lu%c", &kk, &nn, &tail) != 2 || nn < 1 ||
-      kk >= nn) {
+  /* a simulation (sim_output.h) is never a part: say so by name */
+  if (content && strcmp(content, "simulation") == 0)
+    snprintf(err, errsz,
+             "%s: a simulation file (its scene has a simulate "
+             "section): simulated scenes are not sharded, "
+             "there is nothing to merge",
+             path);
+  else if (!v || sscanf(v, "%lu/%lu%c", &kk, &nn, &tail) != 2 || nn < 1 ||
+           kk >= nn)
     snprintf(err, errsz,
              "%s: not a part file (no root attribute %s = \"K/N\"; write "
              "parts with rps3-run --shard K/N)",
              path, MERGE_SHARD_ATTR);
-    free(v);
-    return -1;
+  else {
+    *k = kk;
+    *n = nn;
+    rc = 0;
   }
   free(v);
-  *k = kk;
-  *n = nn;
-  return 0;
+  free(content);
+  return rc;
 }
 
 /* shape and chunk shape of a dataset; rank or -1 */
@@ -99,14 +85,16 @@ static int shape_of(hid_t ds, hsize_t dims[H5S_MAX_RANK],
     rank = H5Sget_simple_extent_dims(sp, dims, NULL);
     if (rank < 1 || H5Pget_chunk(dcpl, rank, chunk) != rank) rank = -1;
   }
-  if (sp >= 0) H5Sclose(sp);
-  if (dcpl >= 0) H5Pclose(dcpl);
+  shard_h5_close(2, sp, dcpl);
   return rank;
 }
 
-int merge_same_layout(hid_t fa, hid_t fb, const char *name,
-                      hsize_t dims[H5S_MAX_RANK], hsize_t chunk[H5S_MAX_RANK],
-                      const char *b_path, char *err, size_t errsz) {
+/* The rank of dataset `name` of the open files fa and fb when both have it
+   with the same shape and chunks (*dims, *chunk: fa's), else -1 with err
+   saying that b_path (file fb) is not a part of the same run. */
+static int same_layout(hid_t fa, hid_t fb, const char *name,
+                       hsize_t dims[H5S_MAX_RANK], hsize_t chunk[H5S_MAX_RANK],
+                       const char *b_path, char *err, size_t errsz) {
   hid_t a = H5Dopen2(fa, name, H5P_DEFAULT), b = -1;
   hsize_t bdims[H5S_MAX_RANK], bchunk[H5S_MAX_RANK];
   int rank = -1;
@@ -125,39 +113,32 @@ int merge_same_layout(hid_t fa, hid_t fb, const char *name,
              "part of the same run",
              b_path, name);
   }
-  if (b >= 0) H5Dclose(b);
-  if (a >= 0) H5Dclose(a);
+  shard_h5_close(2, b, a);
   return rank;
 }
+
+/* the chunk buffer, grown as needed */
+typedef struct {
+  void *p;
+  size_t size;
+} chunk_buf;
 
 /* copy the region [off, off + count) by value: through the memory type,
    so across filters (a compressed part into a plain file) and for the
    variable-length strings, whose chunks hold heap addresses */
 static int copy_region(hid_t dst, hid_t src, int rank, const hsize_t *off,
-                       const hsize_t *count) {
-  hid_t ftype = H5Dget_type(src), type = -1, fs = H5Dget_space(src);
-  hid_t fd = H5Dget_space(dst), ms = H5Screate_simple(rank, count, NULL);
-  size_t n = 1, size = 0;
-  void *buf = NULL;
-  int r, rc = -1;
-  for (r = 0; r < rank; r++) n *= (size_t)count[r];
+                       const hsize_t *count, chunk_buf *cb) {
+  hid_t ftype = H5Dget_type(src), fd = H5Dget_space(dst), type = -1, ms = -1;
+  int rc = -1;
   if (ftype >= 0) type = H5Tget_native_type(ftype, H5T_DIR_ASCEND);
-  if (type >= 0) size = H5Tget_size(type);
-  if (size > 0) buf = calloc(n, size);
-  if (buf && fs >= 0 && fd >= 0 && ms >= 0 &&
-      H5Sselect_hyperslab(fs, H5S_SELECT_SET, off, NULL, count, NULL) >= 0 &&
-      H5Sselect_hyperslab(fd, H5S_SELECT_SET, off, NULL, count, NULL) >= 0 &&
-      H5Dread(src, type, ms, fs, H5P_DEFAULT, buf) >= 0) {
-    rc = H5Dwrite(dst, type, ms, fd, H5P_DEFAULT, buf) < 0 ? -1 : 0;
-    if (H5Tis_variable_str(type) > 0)
-      H5Dvlen_reclaim(type, ms, H5P_DEFAULT, buf);
-  }
-  free(buf);
-  if (type >= 0) H5Tclose(type);
-  if (ftype >= 0) H5Tclose(ftype);
-  if (fs >= 0) H5Sclose(fs);
-  if (fd >= 0) H5Sclose(fd);
-  if (ms >= 0) H5Sclose(ms);
+  if (type >= 0)
+    ms = verify_read_block(src, type, rank, off, count, &cb->p, &cb->size);
+  if (ms >= 0 && fd >= 0 &&
+      H5Sselect_hyperslab(fd, H5S_SELECT_SET, off, NULL, count, NULL) >= 0)
+    rc = H5Dwrite(dst, type, ms, fd, H5P_DEFAULT, cb->p) < 0 ? -1 : 0;
+  if (ms >= 0 && H5Tis_variable_str(type) > 0)
+    H5Dvlen_reclaim(type, ms, H5P_DEFAULT, cb->p);
+  shard_h5_close(4, type, ftype, fd, ms);
   return rc;
 }
 
@@ -179,34 +160,27 @@ static int same_filters(hid_t a, hid_t b) {
     same = ia >= 0 && ia == ib && na == nb && na <= 8 &&
            memcmp(va, vb, na * sizeof *va) == 0;
   }
-  if (pa >= 0) H5Pclose(pa);
-  if (pb >= 0) H5Pclose(pb);
+  shard_h5_close(2, pa, pb);
   return same;
 }
 
-/* the chunk buffer, grown as needed */
-typedef struct {
-  void *p;
-  size_t size;
-} chunk_buf;
-
 /* copy the chunk at `off` if src has it: as stored when `raw`, else by
    value */
-static int copy_chunk(hid_t dst, hid_t src, int rank, const hsize_t *off,
-                      const hsize_t *dims, const hsize_t *chunk, int raw,
-                      chunk_buf *cb) {
+static int copy_chunk(hid_t dst, hid_t src, const merge_rows *r,
+                      const hsize_t *off, int raw, chunk_buf *cb) {
   unsigned mask = 0;
   uint32_t filters = 0;
   haddr_t addr;
   hsize_t size = 0, count[H5S_MAX_RANK];
-  int r;
+  int d;
   if (H5Dget_chunk_info_by_coord(src, off, &mask, &addr, &size) < 0) return -1;
   if (size == 0) return 0;
   if (!raw) {
     /* the chunk's region, cut at the dataset's edge */
-    for (r = 0; r < rank; r++)
-      count[r] = dims[r] - off[r] < chunk[r] ? dims[r] - off[r] : chunk[r];
-    return copy_region(dst, src, rank, off, count);
+    for (d = 0; d < r->rank; d++)
+      count[d] =
+          r->dims[d] - off[d] < r->chunk[d] ? r->dims[d] - off[d] : r->chunk[d];
+    return copy_region(dst, src, r->rank, off, count, cb);
   }
   if ((size_t)size > cb->size) {
     void *p = realloc(cb->p, (size_t)size);
@@ -220,49 +194,49 @@ static int copy_chunk(hid_t dst, hid_t src, int rank, const hsize_t *off,
   return 0;
 }
 
-/* copy the chunk rows r % n == k of dataset `name` from src to dst */
-static int copy_dataset(hid_t fdst, hid_t fsrc, const char *name,
-                        const char *src_path, size_t k, size_t n, chunk_buf *cb,
-                        char *err, size_t errsz) {
-  hid_t dst = -1, src = -1, type = -1;
-  hsize_t ddims[H5S_MAX_RANK], dchunk[H5S_MAX_RANK], off[H5S_MAX_RANK];
-  hsize_t row, nrow;
-  int rank, r, raw, rc = -1;
-
-  rank = merge_same_layout(fdst, fsrc, name, ddims, dchunk, src_path, err,
-                           errsz);
-  if (rank < 1 || (dst = H5Dopen2(fdst, name, H5P_DEFAULT)) < 0 ||
-      (src = H5Dopen2(fsrc, name, H5P_DEFAULT)) < 0)
-    goto done;
-  /* chunks as stored when both encode them alike; strings by value */
-  type = H5Dget_type(src);
-  raw = type >= 0 && H5Tis_variable_str(type) == 0 && same_filters(dst, src);
-  nrow = (ddims[0] + dchunk[0] - 1) / dchunk[0];
-  for (row = k; row < nrow; row += n) {
-    off[0] = row * dchunk[0];
-    /* every chunk of the row: odometer over the other axes */
-    for (r = 1; r < rank; r++) off[r] = 0;
-    for (;;) {
-      /* windows after a failing sample are never written: they read as
-         the fill value */
-      if (copy_chunk(dst, src, rank, off, ddims, dchunk, raw, cb) < 0) {
-        out_fail(err, errsz, "%s: cannot copy a chunk of %s at case %llu",
-                 src_path, name, (unsigned long long)off[0]);
-        goto done;
-      }
-      for (r = rank - 1; r >= 1; r--) {
-        off[r] += dchunk[r];
-        if (off[r] < ddims[r]) break;
-        off[r] = 0;
-      }
-      if (r < 1) break;
-    }
+/* the next chunk of the row at off[0], an odometer over the other axes;
+   0 after the row's last */
+static int next_chunk(hsize_t *off, const merge_rows *r) {
+  int d;
+  for (d = r->rank - 1; d >= 1; d--) {
+    off[d] += r->chunk[d];
+    if (off[d] < r->dims[d]) return 1;
+    off[d] = 0;
   }
-  rc = 0;
-done:
-  if (type >= 0) H5Tclose(type);
-  if (src >= 0) H5Dclose(src);
-  if (dst >= 0) H5Dclose(dst);
+  return 0;
+}
+
+/* what a merge copies into */
+typedef struct {
+  hid_t dst;
+  chunk_buf cb;
+} copy_ctx;
+
+/* merge_rows_fn of a merge: the chunk rows r % n == k of the dataset, each
+   chunk of them, into dst */
+static int copy_rows(void *ctx, const merge_rows *r, char *err, size_t errsz) {
+  copy_ctx *c = ctx;
+  hid_t dst = H5Dopen2(c->dst, r->name, H5P_DEFAULT);
+  hid_t src = H5Dopen2(r->part, r->name, H5P_DEFAULT);
+  hid_t type = src >= 0 ? H5Dget_type(src) : -1;
+  hsize_t off[H5S_MAX_RANK] = {0}, row;
+  hsize_t nrow = (r->dims[0] + r->chunk[0] - 1) / r->chunk[0];
+  int rc = dst >= 0 && type >= 0 ? 0 : -1, raw;
+  /* chunks as stored when both encode them alike; strings by value */
+  raw = rc == 0 && H5Tis_variable_str(type) == 0 && same_filters(dst, src);
+  for (row = r->k; rc == 0 && row < nrow; row += r->n) {
+    off[0] = row * r->chunk[0];
+    /* windows after a failing sample are never written: they read as the
+       fill value */
+    do {
+      if (copy_chunk(dst, src, r, off, raw, &c->cb) < 0) {
+        out_fail(err, errsz, "%s: cannot copy a chunk of %s at case %llu",
+                 r->path, r->name, (unsigned long long)off[0]);
+        rc = -1;
+      }
+    } while (rc == 0 && next_chunk(off, r));
+  }
+  shard_h5_close(3, type, src, dst);
   return rc;
 }
 
@@ -347,65 +321,83 @@ int merge_part_check(const char *path, size_t k, size_t n, const char *text0,
   return rc;
 }
 
-int merge_parts(const char *dst, const char *const *src, const size_t *k,
-                size_t nsrc, size_t n, const char *command_line,
-                size_t *nfailed, char *err, size_t errsz) {
-  hid_t fd = H5Fopen(dst, H5F_ACC_RDWR, H5P_DEFAULT);
-  merge_chunked list;
-  chunk_buf cb = {NULL, 0};
-  char *text = NULL, *inputs0 = NULL;
-  size_t i, unset;
-  int j, rc = -1;
+int merge_each_part(hid_t ref, const char *ref_path, const char *rec_is,
+                    const char *const *part, size_t k0, size_t n,
+                    merge_chunked *list, merge_rows_fn fn, void *ctx, char *err,
+                    size_t errsz) {
+  char *text = out_h5_read_text(ref, "scene", 0);
+  char *inputs = out_h5_read_text(ref, INPUTS_ATTR, 1);
+  merge_rows r;
+  size_t k;
+  int rc = -1;
+  list->n = 0;
+  if (!text ||
+      H5Ovisit(ref, H5_INDEX_NAME, H5_ITER_INC, collect_chunked, list) < 0 ||
+      list->n == 0) {
+    out_fail(err, errsz, "%s: not an rps3-run file", ref_path);
+    goto done;
+  }
+  /* complete, of the same scene byte for byte and the same content of
+     every file it reads (inputs.h) */
+  for (k = k0; k < n; k++)
+    if (merge_part_check(part[k], k, n, text, err, errsz) ||
+        verify_inputs_as(part[k], inputs, rec_is, err, errsz))
+      goto done;
+  for (r.n = n, k = k0; k < n; k++) {
+    r.k = k;
+    r.path = part[k];
+    if ((r.part = H5Fopen(part[k], H5F_ACC_RDONLY, H5P_DEFAULT)) < 0) {
+      out_fail(err, errsz, "%s: cannot open", part[k]);
+      goto done;
+    }
+    for (r.j = 0; r.j < list->n; r.j++) {
+      r.name = list->name[r.j];
+      r.rank =
+          same_layout(ref, r.part, r.name, r.dims, r.chunk, r.path, err, errsz);
+      if (r.rank < 1 || fn(ctx, &r, err, errsz) < 0) break;
+    }
+    if (H5Fclose(r.part) < 0 && r.j == list->n) {
+      out_fail(err, errsz, "%s: cannot close", part[k]);
+      goto done;
+    }
+    if (r.j < list->n) goto done;
+  }
+  rc = 0;
+done:
+  free(text);
+  free(inputs);
+  return rc;
+}
 
-  if (fd < 0) {
+int merge_parts(const char *dst, const char *const *part, size_t n,
+                const char *command_line, size_t *nfailed, char *err,
+                size_t errsz) {
+  merge_chunked list;
+  copy_ctx c = {-1, {NULL, 0}};
+  size_t unset;
+  int rc = -1;
+  if ((c.dst = H5Fopen(dst, H5F_ACC_RDWR, H5P_DEFAULT)) < 0) {
     out_fail(err, errsz, "%s: cannot open", dst);
     return -1;
   }
-  text = out_h5_read_text(fd, "scene", 0);
-  inputs0 = out_h5_read_text(fd, INPUTS_ATTR, 1);
-  if (!text || merge_list_chunked(fd, &list) < 0 || list.n == 0) {
-    out_fail(err, errsz, "%s: not an rps3-run file", dst);
+  if (merge_each_part(c.dst, dst, "part 0 read", part, 1, n, &list, copy_rows,
+                      &c, err, errsz))
     goto done;
-  }
-  for (i = 0; i < nsrc; i++) {
-    hid_t fs;
-    /* complete, of the same scene byte for byte and the same content of
-       every file it reads (inputs.h) */
-    if (merge_part_check(src[i], k[i], n, text, err, errsz) ||
-        verify_inputs_as(src[i], inputs0, "part 0 read", err, errsz))
-      goto done;
-    if ((fs = H5Fopen(src[i], H5F_ACC_RDONLY, H5P_DEFAULT)) < 0) {
-      out_fail(err, errsz, "%s: cannot open", src[i]);
-      goto done;
-    }
-    for (j = 0; j < list.n; j++)
-      if (copy_dataset(fd, fs, list.name[j], src[i], k[i], n, &cb, err, errsz) <
-          0) {
-        H5Fclose(fs);
-        goto done;
-      }
-    if (H5Fclose(fs) < 0) {
-      out_fail(err, errsz, "%s: cannot close", src[i]);
-      goto done;
-    }
-  }
   /* a whole file now: not a part, made by this command */
-  if ((H5Aexists(fd, MERGE_SHARD_ATTR) > 0 &&
-       H5Adelete(fd, MERGE_SHARD_ATTR) < 0) ||
-      out_stamp(fd, command_line) < 0) {
+  if ((H5Aexists(c.dst, MERGE_SHARD_ATTR) > 0 &&
+       H5Adelete(c.dst, MERGE_SHARD_ATTR) < 0) ||
+      out_stamp(c.dst, command_line) < 0) {
     out_fail(err, errsz, "%s: cannot write the root attributes", dst);
     goto done;
   }
-  if (merge_count_failed(fd, 0, 1, nfailed, &unset, NULL) < 0) {
+  if (merge_count_failed(c.dst, 0, 1, nfailed, &unset, NULL) < 0) {
     out_fail(err, errsz, "%s: cannot read status", dst);
     goto done;
   }
   rc = 0;
 done:
-  free(cb.p);
-  free(text);
-  free(inputs0);
-  if (H5Fclose(fd) < 0 && rc == 0) {
+  free(c.cb.p);
+  if (H5Fclose(c.dst) < 0 && rc == 0) {
     out_fail(err, errsz, "%s: cannot close", dst);
     rc = -1;
   }
@@ -413,37 +405,29 @@ done:
 }
 
 int merge_copy_file(const char *from, const char *to, char *err, size_t errsz) {
-  enum { BUF = 1 << 20 };
-  FILE *in = fopen(from, "rb"), *out = NULL;
-  char *buf = malloc(BUF);
-  size_t got;
+  FILE *in = fopen(from, "rb"), *out = in ? fopen(to, "wb") : NULL;
+  char buf[1 << 16];
+  size_t got = 0;
   int rc = -1;
-  if (!in || !buf) {
-    snprintf(err, errsz, "%s: %s", from,
-             in ? "out of memory" : strerror(errno));
-    goto done;
-  }
-  out = fopen(to, "wb");
-  if (!out) {
+  if (!in)
+    snprintf(err, errsz, "%s: %s", from, strerror(errno));
+  else if (!out)
     snprintf(err, errsz, "cannot create %s: %s", to, strerror(errno));
-    goto done;
-  }
-  while ((got = fread(buf, 1, BUF, in)) > 0)
-    if (fwrite(buf, 1, got, out) != got) {
+  else {
+    while ((got = fread(buf, 1, sizeof buf, in)) > 0 &&
+           fwrite(buf, 1, got, out) == got)
+      continue;
+    if (got > 0)
       snprintf(err, errsz, "cannot write %s: %s", to, strerror(errno));
-      goto done;
-    }
-  if (ferror(in)) {
-    snprintf(err, errsz, "cannot read %s", from);
-    goto done;
+    else if (ferror(in))
+      snprintf(err, errsz, "cannot read %s", from);
+    else
+      rc = 0;
   }
-  rc = 0;
-done:
   if (out && fclose(out) != 0 && rc == 0) {
     snprintf(err, errsz, "cannot write %s: %s", to, strerror(errno));
     rc = -1;
   }
   if (in) fclose(in);
-  free(buf);
   return rc;
 }

@@ -20,36 +20,29 @@
 /* the root attribute that marks a part file: "K/N" */
 #define MERGE_SHARD_ATTR "shard"
 
-/*
- * Read the shard K/N of the part file at `path` into *k, *n.  Returns 0, or
- * -1 with err set (no such file, not an rps3-run file, not a part).
- */
+/* Read the shard K/N of the part file at `path` into *k, *n.  Returns 0, or
+   -1 with err set (no such file, not an rps3-run file, not a part). */
 int merge_shard_of(const char *path, size_t *k, size_t *n, char *err,
                    size_t errsz);
 
-/*
- * Check the part file at `path`: shard k of n (root attribute), the scene
- * text `scene` byte for byte when not NULL, and every case of the part has
- * its status (none left at the fill value -1: all its jobs were written).
- * Returns 0, or -1 with err set saying what is wrong.
- */
+/* Check the part file at `path`: shard k of n, the scene text text0 byte
+   for byte when not NULL, and every case of the part has its status (none
+   left at the fill value: all its jobs were written).  Returns 0, or -1
+   with err set saying what is wrong. */
 int merge_part_check(const char *path, size_t k, size_t n, const char *text0,
                      char *err, size_t errsz);
 
 /*
- * Copy into the file at `dst` (a complete rps3-run file of the same scene,
- * for instance part 0 itself) the cases of the nsrc part files src[i],
- * each holding shard k[i] of n.  Every chunked dataset of dst must be in
- * each part with the same shape and chunks, each part must be complete
- * (merge_part_check) and have dst's scene and record of input
- * files (inputs.h).  Then dst loses its shard attribute,
- * and gets `command_line` and `created_utc` of this merge; *nfailed is the
- * number of cases of dst whose status is not 0.  Returns 0, or -1 with err
- * set (dst is then incomplete: the caller removes it).
+ * Copy into the file at `dst` (part 0 itself, or a copy of it) the cases
+ * of the parts part[k], shard k of n, for k = 1 .. n-1 (merge_each_part).
+ * Then dst loses its shard attribute and gets `command_line` and
+ * `created_utc` of this merge; *nfailed is the number of cases of dst
+ * whose status is not 0.  Returns 0, or -1 with err set (dst is then
+ * incomplete: the caller removes it).
  */
-int merge_parts(const char *dst, const char *const *src, const size_t *k,
-                size_t nsrc, size_t n, const char *command_line,
-                size_t *nfailed, char *err, size_t errsz);
+int merge_parts(const char *dst, const char *const *part, size_t n,
+                const char *command_line, size_t *nfailed, char *err,
+                size_t errsz);
 
 /* the chunked datasets of a file by name: the per-case variables */
 #define MERGE_MAX_CHUNKED 64
@@ -58,22 +51,39 @@ typedef struct {
   int n;
 } merge_chunked;
 
-/* The chunked datasets of an open file, in every group.  Returns 0 or -1
-   (more than MERGE_MAX_CHUNKED, or a name too long). */
-int merge_list_chunked(hid_t file, merge_chunked *l);
+/* dataset `name` (list index j) of the open part file `part` (at path),
+   shard k of n, with its shape and chunks */
+typedef struct {
+  hid_t part;
+  const char *path, *name;
+  size_t k, n;
+  int j, rank;
+  hsize_t dims[H5S_MAX_RANK], chunk[H5S_MAX_RANK];
+} merge_rows;
 
-/* The rank of dataset `name` of the open files fa and fb when both have it
-   with the same shape and chunks (*dims, *chunk: fa's), else -1 with err
-   saying that b_path (file fb) is not a part of the same run. */
-int merge_same_layout(hid_t fa, hid_t fb, const char *name,
-                      hsize_t dims[H5S_MAX_RANK], hsize_t chunk[H5S_MAX_RANK],
-                      const char *b_path, char *err, size_t errsz);
+/* what a merge (copy the chunk rows) or a join (map them) does with a
+   part's dataset: 0, or -1 with err set */
+typedef int (*merge_rows_fn)(void *ctx, const merge_rows *r, char *err,
+                             size_t errsz);
+
+/*
+ * The one loop over the parts of a merge and of a join.  The open file
+ * `ref` (at ref_path) is part 0 or a copy of it; its chunked datasets go
+ * into *list.  Every part[k], k0 <= k < n, is checked first: shard k of n
+ * of ref's scene, complete (merge_part_check), with ref's record of input
+ * files (inputs.h; rec_is names it in messages).  Then for each part and
+ * each chunked dataset, of the same shape and chunks in both: fn(ctx, ...).
+ * Returns 0, or -1 with err set.
+ */
+int merge_each_part(hid_t ref, const char *ref_path, const char *rec_is,
+                    const char *const *part, size_t k0, size_t n,
+                    merge_chunked *list, merge_rows_fn fn, void *ctx, char *err,
+                    size_t errsz);
 
 /* Of the cases of the chunk rows r % n == k of an open rps3-run file (k 0,
    n 1: all), those whose status is not 0 (*nfailed) and of those the ones
-   never written (*nunset: status OUT_STATUS_NOT_COMPUTED, the fill
-   value), the first of them in *first_unset when not NULL.  Returns 0 or
-   -1. */
+   never written (*nunset: OUT_STATUS_NOT_COMPUTED, the fill value), the
+   first of them in *first_unset when not NULL.  Returns 0 or -1. */
 int merge_count_failed(hid_t file, size_t k, size_t n, size_t *nfailed,
                        size_t *nunset, size_t *first_unset);
 

@@ -50,30 +50,6 @@ fail:
   return -1;
 }
 
-/* a growing string */
-typedef struct {
-  char *s;
-  size_t len, cap;
-  int oom;
-} text;
-
-static void put(text *t, const char *s, size_t len) {
-  if (t->oom) return;
-  if (t->len + len + 1 > t->cap) {
-    size_t cap = 2 * (t->len + len + 1);
-    char *p = realloc(t->s, cap);
-    if (!p) {
-      t->oom = 1;
-      return;
-    }
-    t->s = p;
-    t->cap = cap;
-  }
-  memcpy(t->s + t->len, s, len);
-  t->len += len;
-  t->s[t->len] = '\0';
-}
-
 /* the end of the shell word at s (plain or single-quoted pieces, as
    main_run.c's command_line writes them) */
 static const char *word_end(const char *s) {
@@ -87,12 +63,11 @@ static const char *word_end(const char *s) {
   return s;
 }
 
-/* the output name of shard k: `was` (of shard k0) with its one number k0
-   replaced by k; PART_k.h5 when there is no such single number or the
+/* the output name of shard k on t: `was` (of shard k0) with its one number
+   k0 replaced by k; PART_k.h5 when there is no such single number or the
    name is quoted */
-static void put_part_name(text *t, const char *was, size_t len, size_t k0,
+static void put_part_name(FILE *t, const char *was, size_t len, size_t k0,
                           size_t k) {
-  char num[32];
   const char *p, *hit = NULL, *base = was;
   size_t nhit = 0, hitlen = 0;
   for (p = was; p < was + len; p++)
@@ -110,54 +85,43 @@ static void put_part_name(text *t, const char *was, size_t len, size_t k0,
     } else
       p++;
   }
-  if (nhit != 1 || memchr(was, '\'', len)) {
-    snprintf(num, sizeof num, "PART_%zu.h5", k);
-    put(t, num, strlen(num));
-    return;
-  }
-  snprintf(num, sizeof num, "%zu", k);
-  put(t, was, (size_t)(hit - was));
-  put(t, num, strlen(num));
-  put(t, hit + hitlen, len - (size_t)(hit - was) - hitlen);
+  if (nhit != 1 || memchr(was, '\'', len))
+    fprintf(t, "PART_%zu.h5", k);
+  else
+    fprintf(t, "%.*s%zu%.*s", (int)(hit - was), was, k,
+            (int)(len - (size_t)(hit - was) - hitlen), hit + hitlen);
 }
 
 /* the command that makes shard k again, from the command_line of a part
    `model` (malloc'd; NULL when out of memory or when `model` has none) */
 static char *rerun_command(const char *model, size_t k, size_t n) {
-  text t = {NULL, 0, 0, 0};
-  const char *p = model, *e;
-  size_t k0 = (size_t)-1;
-  char num[64];
-  const char *sh;
-  if (!model) return NULL;
+  const char *p = model, *e, *sh;
+  size_t k0 = (size_t)-1, len = 0;
+  char *out = NULL;
+  FILE *t;
+  if (!model || !(t = open_memstream(&out, &len))) return NULL;
   /* the model's own shard number, for its output name */
-  sh = strstr(model, " --shard ");
-  if (sh) k0 = strtoul(sh + 9, NULL, 10);
-  put(&t, "", 0);
+  if ((sh = strstr(model, " --shard ")) != NULL) k0 = strtoul(sh + 9, NULL, 10);
   while (*p) {
     e = word_end(p);
-    put(&t, p, (size_t)(e - p));
+    fwrite(p, 1, (size_t)(e - p), t);
     if ((e - p == 2 && strncmp(p, "-o", 2) == 0) ||
         (e - p == 7 && strncmp(p, "--shard", 7) == 0)) {
       int is_o = p[1] == 'o';
-      p = e;
-      while (*p == ' ') put(&t, p++, 1);
+      for (p = e; *p == ' '; p++) fputc(' ', t);
       e = word_end(p);
       if (is_o)
-        put_part_name(&t, p, (size_t)(e - p), k0, k);
-      else {
-        snprintf(num, sizeof num, "%zu/%zu", k, n);
-        put(&t, num, strlen(num));
-      }
+        put_part_name(t, p, (size_t)(e - p), k0, k);
+      else
+        fprintf(t, "%zu/%zu", k, n);
     }
-    p = e;
-    while (*p == ' ') put(&t, p++, 1);
+    for (p = e; *p == ' '; p++) fputc(' ', t);
   }
-  if (t.oom) {
-    free(t.s);
+  if (fclose(t) != 0) {
+    free(out);
     return NULL;
   }
-  return t.s;
+  return out;
 }
 
 size_t parts_report(FILE *out, const char *const *byk, const int *bad,
@@ -194,50 +158,42 @@ size_t parts_report(FILE *out, const char *const *byk, const int *bad,
   return nmiss;
 }
 
+/* the stderr line of a --resume that computes the part again: 0 */
+static int run_again(const char *why, size_t k, size_t n) {
+  fprintf(stderr, "rps3-run: --resume: %s: running shard %zu/%zu again\n", why,
+          k, n);
+  return 0;
+}
+
 int parts_resume(const char *path, size_t k, size_t n, const char *text0,
                  const char *fields, const char *inputs, size_t *nfailed) {
-  char err[768], *have;
+  char err[1024], *have;
   hid_t f;
-  int rc = -1, same;
+  int rc = -1;
   size_t unset = 0;
   if (access(path, F_OK) != 0) return 0;
-  if (merge_part_check(path, k, n, text0, err, sizeof err)) {
-    fprintf(stderr, "rps3-run: --resume: %s: running shard %zu/%zu again\n",
-            err, k, n);
-    return 0;
-  }
+  if (merge_part_check(path, k, n, text0, err, sizeof err))
+    return run_again(err, k, n);
   /* a part of other fields would not merge with this run's parts */
   have = verify_root_attr(path, "fields");
-  same = have && strcmp(have, fields) == 0;
-  if (!same)
-    fprintf(stderr,
-            "rps3-run: --resume: %s has the fields %s, this run "
-            "writes %s: running shard %zu/%zu again\n",
-            path, have ? have : "(none)", fields, k, n);
+  if (!have || strcmp(have, fields) != 0) {
+    snprintf(err, sizeof err, "%s has the fields %s, this run writes %s", path,
+             have ? have : "(none)", fields);
+    free(have);
+    return run_again(err, k, n);
+  }
   free(have);
-  if (!same) return 0;
   /* the same scene text over other data (a table measured again) is
      another run: its cases would not be this run's */
-  if (verify_inputs_as(path, inputs, "the file now has", err, sizeof err)) {
-    fprintf(stderr,
-            "rps3-run: --resume: %s: running shard %zu/%zu "
-            "again\n",
-            err, k, n);
-    return 0;
-  }
+  if (verify_inputs_as(path, inputs, "the file now has", err, sizeof err))
+    return run_again(err, k, n);
   f = H5Fopen(path, H5F_ACC_RDONLY, H5P_DEFAULT);
   if (f >= 0) {
     rc = merge_count_failed(f, k, n, nfailed, &unset, NULL);
     H5Fclose(f);
   }
-  if (rc < 0) {
-    fprintf(stderr,
-            "rps3-run: --resume: %s: cannot read status: running "
-            "shard %zu/%zu again\n",
-            path, k, n);
-    return 0;
-  }
+  snprintf(err, sizeof err, "%s: cannot read status", path);
   /* the cases of this shard only: the other shards' read as the fill
      value (not computed), no failure of this one */
-  return 1;
+  return rc < 0 ? run_again(err, k, n) : 1;
 }

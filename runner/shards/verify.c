@@ -3,11 +3,10 @@
  */
 #include "verify.h"
 
+#include <stdarg.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
-
-#include <hdf5.h>
 
 #include "core/h5err.h"
 #include "output/out_h5.h"
@@ -24,44 +23,76 @@ typedef struct {
   size_t cap;
 } verify_ctx;
 
+void shard_h5_close(int n, ...) {
+  va_list ap;
+  va_start(ap, n);
+  while (n-- > 0) {
+    hid_t id = va_arg(ap, hid_t);
+    /* H5Idec_ref closes an id of any kind once it is the last reference */
+    if (id >= 0) H5Idec_ref(id);
+  }
+  va_end(ap);
+}
+
+hid_t verify_read_block(hid_t ds, hid_t type, int rank, const hsize_t *off,
+                        const hsize_t *count, void **buf, size_t *cap) {
+  hid_t fs = H5Dget_space(ds), ms = H5Screate_simple(rank, count, NULL);
+  size_t n = H5Tget_size(type);
+  int r, ok;
+  for (r = 0; r < rank; r++) n *= (size_t)count[r];
+  if (n > *cap) {
+    void *p = realloc(*buf, n);
+    if (p) {
+      *buf = p;
+      *cap = n;
+    }
+  }
+  ok = n <= *cap && fs >= 0 && ms >= 0 &&
+       H5Sselect_hyperslab(fs, H5S_SELECT_SET, off, NULL, count, NULL) >= 0 &&
+       H5Dread(ds, type, ms, fs, H5P_DEFAULT, *buf) >= 0;
+  shard_h5_close(1, fs);
+  if (!ok) shard_h5_close(1, ms);
+  return ok ? ms : -1;
+}
+
 /* read rows [r0, r0 + nr) of ds (all of the other axes) into c->buf */
-static int read_rows(verify_ctx *c, hid_t ds, hid_t fs, int rank,
-                     const hsize_t *dims, hid_t type, size_t esize, hsize_t r0,
-                     hsize_t nr) {
+static int read_rows(verify_ctx *c, hid_t ds, int rank, const hsize_t *dims,
+                     hid_t type, hsize_t r0, hsize_t nr) {
   hsize_t start[H5S_MAX_RANK] = {0}, count[H5S_MAX_RANK];
-  size_t n = esize;
   hid_t ms;
-  int r, rc = -1;
-  for (r = 0; r < rank; r++) {
-    count[r] = r ? dims[r] : nr;
-    n *= (size_t)count[r];
-  }
+  int r;
+  for (r = 0; r < rank; r++) count[r] = r ? dims[r] : nr;
   start[0] = r0;
-  if (n > c->cap) {
-    void *p = realloc(c->buf, n);
-    if (!p) return -1;
-    c->buf = p;
-    c->cap = n;
-  }
-  ms = H5Screate_simple(rank, count, NULL);
-  if (ms >= 0 &&
-      H5Sselect_hyperslab(fs, H5S_SELECT_SET, start, NULL, count, NULL) >= 0 &&
-      H5Dread(ds, type, ms, fs, H5P_DEFAULT, c->buf) >= 0) {
-    rc = 0;
-    if (H5Tis_variable_str(type) > 0)
-      H5Dvlen_reclaim(type, ms, H5P_DEFAULT, c->buf);
-  }
-  if (ms >= 0) H5Sclose(ms);
-  return rc;
+  ms = verify_read_block(ds, type, rank, start, count, &c->buf, &c->cap);
+  if (ms < 0) return -1;
+  if (H5Tis_variable_str(type) > 0)
+    H5Dvlen_reclaim(type, ms, H5P_DEFAULT, c->buf);
+  H5Sclose(ms);
+  return 0;
+}
+
+/* the rows read at a time: a chunk row when chunked, else as many rows as
+   fit the block */
+static hsize_t step_of(hid_t dcpl, int rank, const hsize_t *dims,
+                       size_t esize) {
+  hsize_t chunk[H5S_MAX_RANK], step;
+  size_t row = 1;
+  int r;
+  if (H5Pget_layout(dcpl) == H5D_CHUNKED &&
+      H5Pget_chunk(dcpl, rank, chunk) == rank)
+    return chunk[0];
+  for (r = 1; r < rank; r++) row *= (size_t)dims[r];
+  step = BLOCK_BYTES / (row * esize);
+  return step < 1 ? 1 : step;
 }
 
 static int verify_dataset(verify_ctx *c, hid_t ds, const char *name) {
   hid_t fs = H5Dget_space(ds), ftype = H5Dget_type(ds), type = -1;
   hid_t dcpl = H5Dget_create_plist(ds);
-  hsize_t dims[H5S_MAX_RANK], chunk[H5S_MAX_RANK], r0, step = 1;
-  size_t esize = 0, row = 1;
-  int rank = -1, r, rc = -1;
-  if (fs >= 0) rank = H5Sget_simple_extent_ndims(fs);
+  hsize_t dims[H5S_MAX_RANK], r0, step;
+  size_t esize = 0;
+  int rank = -1, rc = -1;
+  if (fs >= 0) rank = H5Sget_simple_extent_dims(fs, dims, NULL);
   if (ftype >= 0) type = H5Tget_native_type(ftype, H5T_DIR_ASCEND);
   if (type >= 0) esize = H5Tget_size(type);
   if (rank < 0 || esize == 0 || dcpl < 0) goto done;
@@ -76,19 +107,10 @@ static int verify_dataset(verify_ctx *c, hid_t ds, const char *name) {
     }
     goto done;
   }
-  H5Sget_simple_extent_dims(fs, dims, NULL);
-  for (r = 1; r < rank; r++) row *= (size_t)dims[r];
-  /* a chunk row when chunked, else as many rows as fit the block */
-  if (H5Pget_layout(dcpl) == H5D_CHUNKED &&
-      H5Pget_chunk(dcpl, rank, chunk) == rank)
-    step = chunk[0];
-  else {
-    step = BLOCK_BYTES / (row * esize);
-    if (step < 1) step = 1;
-  }
+  step = step_of(dcpl, rank, dims, esize);
   for (r0 = 0; r0 < dims[0]; r0 += step) {
     hsize_t nr = dims[0] - r0 < step ? dims[0] - r0 : step;
-    if (read_rows(c, ds, fs, rank, dims, type, esize, r0, nr) < 0) {
+    if (read_rows(c, ds, rank, dims, type, r0, nr) < 0) {
       char cause[600];
       h5_cause(cause, sizeof cause);
       snprintf(c->err, c->errsz,
@@ -104,10 +126,7 @@ static int verify_dataset(verify_ctx *c, hid_t ds, const char *name) {
 done:
   if (rc < 0 && !c->err[0])
     snprintf(c->err, c->errsz, "%s: cannot read dataset %s", c->path, name);
-  if (type >= 0) H5Tclose(type);
-  if (ftype >= 0) H5Tclose(ftype);
-  if (fs >= 0) H5Sclose(fs);
-  if (dcpl >= 0) H5Pclose(dcpl);
+  shard_h5_close(4, type, ftype, fs, dcpl);
   return rc;
 }
 
@@ -163,11 +182,12 @@ int verify_same_versions(const char *const *path, size_t n, char *err,
   static const char *const attrs[] = {"rps3_version", "gsl_version",
                                       "hdf5_version", "yaml_version", "fields"};
   size_t a, i;
-  for (a = 0; a < sizeof attrs / sizeof attrs[0]; a++) {
+  int same = 1;
+  for (a = 0; same && a < sizeof attrs / sizeof attrs[0]; a++) {
     char *v0 = verify_root_attr(path[0], attrs[a]);
-    for (i = 1; i < n; i++) {
+    for (i = 1; same && i < n; i++) {
       char *v = verify_root_attr(path[i], attrs[a]);
-      int same = (!v0 && !v) || (v0 && v && strcmp(v0, v) == 0);
+      same = (!v0 && !v) || (v0 && v && strcmp(v0, v) == 0);
       if (!same)
         snprintf(err, errsz, "%s has %s %s, %s has %s %s: %s", path[0],
                  attrs[a], v0 ? v0 : "(none)", path[i], attrs[a],
@@ -178,14 +198,10 @@ int verify_same_versions(const char *const *path, size_t n, char *err,
                      : "parts written by different versions are not merged "
                        "(compute them with one build)");
       free(v);
-      if (!same) {
-        free(v0);
-        return -1;
-      }
     }
     free(v0);
   }
-  return 0;
+  return same ? 0 : -1;
 }
 
 /* a digest field for a message: "SHA-256 " and its first 16 digits, or
@@ -219,16 +235,24 @@ int verify_inputs_as(const char *path, const char *rec, const char *rec_is,
   return -1;
 }
 
+/* the digest of key in the record rec into d: "none" when the record
+   lacks the file, "not recorded" when there is no record */
+static const char *digest_of(const char *rec, const char *key, char *d,
+                             size_t sz) {
+  char p[8];
+  if (!inputs_find(rec, key, d, sz, p, sizeof p))
+    snprintf(d, sz, "%s", rec ? "none" : "not recorded");
+  return d;
+}
+
 /* the names of the parts i whose digest of the key is dig (at most 8,
    then how many more) on out */
 static void list_parts(FILE *out, const char *const *path, char **rec, size_t n,
                        const char *key, const char *dig) {
-  char d[80], p[8];
+  char d[80];
   size_t i, m = 0;
   for (i = 0; i < n; i++) {
-    if (!inputs_find(rec[i], key, d, sizeof d, p, sizeof p))
-      snprintf(d, sizeof d, "%s", rec[i] ? "none" : "not recorded");
-    if (strcmp(d, dig) != 0) continue;
+    if (strcmp(digest_of(rec[i], key, d, sizeof d), dig) != 0) continue;
     if (m < 8) fprintf(out, "%s%s", m ? ", " : "", path[i]);
     m++;
   }
@@ -239,9 +263,9 @@ int verify_parts_inputs(const char *const *path, size_t n, int *bad,
                         const char *who, FILE *out) {
   char **rec = calloc(n, sizeof *rec);
   char key[128], file[512], d0[80], di[80], now[80], hex[INPUTS_HEX];
-  char err[600], t[96], p[8];
+  char err[600], t[96];
   size_t i, j;
-  int rc = 0, now_ok = 0, matched = 0;
+  int rc = 0, matched = 0;
   if (!rec) {
     fprintf(out, "%s: out of memory\n", who);
     return -1;
@@ -259,31 +283,23 @@ int verify_parts_inputs(const char *const *path, size_t n, int *bad,
           who, key, file);
   /* one line a content: its digest and the parts that read it */
   for (i = 0; i < n; i++) {
-    if (!inputs_find(rec[i], key, di, sizeof di, p, sizeof p))
-      snprintf(di, sizeof di, "%s", rec[i] ? "none" : "not recorded");
-    for (j = 0; j < i; j++) {
-      if (!inputs_find(rec[j], key, d0, sizeof d0, p, sizeof p))
-        snprintf(d0, sizeof d0, "%s", rec[j] ? "none" : "not recorded");
-      if (strcmp(d0, di) == 0) break;
-    }
+    digest_of(rec[i], key, di, sizeof di);
+    for (j = 0; j < i; j++)
+      if (strcmp(digest_of(rec[j], key, d0, sizeof d0), di) == 0) break;
     if (j < i) continue;
     fprintf(out, "  %s: ", digest_text(di, t, sizeof t));
     list_parts(out, path, rec, n, key, di);
     fputc('\n', out);
   }
   /* the parts to compute again: those of another content than now */
-  if (file[0] && inputs_sha256(file, hex, err, sizeof err) == 0) {
-    snprintf(now, sizeof now, "sha256:%s", hex);
-    now_ok = 1;
-  }
-  if (!now_ok) {
+  if (!file[0] || inputs_sha256(file, hex, err, sizeof err) != 0) {
     fprintf(out, "  %s now: %s\n", file[0] ? file : key,
             file[0] ? err : "not recorded");
     goto done;
   }
+  snprintf(now, sizeof now, "sha256:%s", hex);
   for (i = 0; i < n; i++) {
-    if (!inputs_find(rec[i], key, di, sizeof di, p, sizeof p)) di[0] = '\0';
-    bad[i] = strcmp(di, now) != 0;
+    bad[i] = strcmp(digest_of(rec[i], key, di, sizeof di), now) != 0;
     matched |= !bad[i];
   }
   fprintf(out, "  the file now: %s%s\n", digest_text(now, t, sizeof t),

@@ -11,6 +11,8 @@
 #include <stddef.h>
 #include <stdio.h>
 
+#include <hdf5.h>
+
 /*
  * Read every dataset of the file at path, a block of rows at a time (one
  * chunk row for chunked datasets; memory stays at a few chunks), so that
@@ -52,4 +54,16 @@ int verify_inputs_as(const char *path, const char *rec, const char *rec_is,
  */
 int verify_parts_inputs(const char *const *path, size_t n, int *bad,
                         const char *who, FILE *out);
+
+/* Close the n HDF5 ids given, of any kind, those that are open (>= 0). */
+void shard_h5_close(int n, ...);
+
+/*
+ * The block [off, off + count) of dataset ds read in memory type `type`
+ * into *buf, grown to *cap bytes as needed.  Returns its memory space (the
+ * caller reclaims variable-length strings with it, then closes it), or -1.
+ */
+hid_t verify_read_block(hid_t ds, hid_t type, int rank, const hsize_t *off,
+                        const hsize_t *count, void **buf, size_t *cap);
+
 #endif /* RPS3_RUNNER_VERIFY_H */

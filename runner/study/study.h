@@ -1,18 +1,10 @@
 /*
- * study.h - what the files of rps3-study share: the configurations of the
- * accuracy study, the state of one configuration on one trajectory, the
- * reference it is graded against, and the HDF5 file both studies write.
- *
- *   main_study.c       rps3-study's command line
- *   main_simstudy.c    rps3-simstudy's command line
- *   study_run.c        both programs' set-up and output file
- *   study_points.c     the trajectories, the configurations, one point
- *                      by a configuration's route, the energy
- *   study_accuracy.c   the reference, the passes, the accuracy file
- *   study_workspace.c  the workspace grid and its file
- *   study_h5.c         root attributes, datasets with units and scales
- *   study_ref.c        the force reference (Kane's equations)
- *   study_sim.c        rps3-simstudy: tracking and simulation accuracy
+ * study.h - what the files of rps3-study and rps3-simstudy share: the
+ * configurations of the accuracy study, one configuration on one
+ * trajectory, the reference it is graded against, the programs' main
+ * (study_run.c) and the HDF5 helpers (study_h5.c).  study_points.c holds
+ * the trajectories, the configurations and one point by a configuration's
+ * route; study_ref.c the force reference (Kane's equations).
  */
 #ifndef RPS3_RUNNER_STUDY_H
 #define RPS3_RUNNER_STUDY_H
@@ -22,6 +14,8 @@
 
 #include <hdf5.h>
 
+#include "core/cli.h"
+#include "core/exit_codes.h"
 #include "rps3.h"
 
 #define PI 3.14159265358979323846
@@ -36,11 +30,8 @@
 /* a quiet NaN as a double (DNAN is a float) */
 #define DNAN ((double)NAN)
 
-/* the exit codes; EXIT_RUN: rps3-simstudy, a run that must succeed
-   failed */
-enum { EXIT_OK = 0, EXIT_USAGE = 2, EXIT_IO = 3, EXIT_RUN = 4 };
-
-/* ------------------------------------------------------ configurations */
+/* rps3-simstudy's exit code when a run that must succeed failed */
+enum { EXIT_RUN = 4 };
 
 typedef enum {
   S_THETA,
@@ -97,8 +88,6 @@ typedef struct {
   rps3_data *d;
   const rps3_traj *tr;
   const study_config *c;
-  double prev[3]; /* last theta solution, for the explicit warm start */
-  int have_prev;
   rps3_traj table; /* spline_pose: the trajectory's poses every h */
   double *rows;    /* its arrays (time, pose, rate, scratch), or NULL */
 } study_runner;
@@ -115,18 +104,17 @@ typedef struct {
   double peak;        /* reference peak |F| over NREF_PEAK samples */
 } study_reference;
 
-/* ------------------------------------------------ study_points.c */
-
-/* CLOCK_MONOTONIC in ns */
+/* CLOCK_MONOTONIC in ns; the median of v[0..n) (sorts v) */
 double study_now_ns(void);
-
-/* the median of v[0..n) (sorts v) */
 double study_median(double *v, int n);
 
 /* the two trajectories: names, one description, trajectory k */
 extern const char *const study_traj_name[NTRAJ];
 extern const char *const study_traj_doc;
 void study_traj_make(int k, rps3_traj *tr);
+
+/* *tr = the sine trajectory `sine` */
+void study_traj_sine(rps3_traj *tr, const rps3_sine *sine);
 
 /* inverse kinematics in long double, independent of src/ik.c: the
    reference angles theta_i and lengths l_i of the pose */
@@ -154,63 +142,62 @@ int study_runner_init(study_runner *r, const study_config *c,
    velocities (not by the library) */
 double study_energy(const rps3_model *m, const rps3_data *d);
 
-/* ------------------------------------------ the studies */
-
-/* the accuracy study into the HDF5 file path: an EXIT_* code */
+/* the studies into the HDF5 file at path: an exit code (study_sim exits
+   EXIT_RUN when a run that must succeed fails) */
 int study_accuracy(const char *path, const char *cmdline, size_t nsamp,
                    int repeats);
-
-/* the workspace study into the HDF5 file path: an EXIT_* code */
 int study_workspace(const char *path, const char *cmdline, int quick);
-
-/* rps3-simstudy's file at path: tracking and simulation accuracy
-   (study_sim.c); EXIT_OK or EXIT_IO, or exits EXIT_RUN when a run that
-   must succeed fails */
 int study_sim(const char *path, const char *cmdline, int quick);
 
-/* ------------------------------------------------ study_run.c */
+/* what a study program's command line asks: OUT.h5, the study named (NULL
+   when none), and row r's value of every other option in v[r]: a number's
+   value, 1 for a flag given (else as the program set it) */
+typedef struct {
+  const char *out, *study;
+  unsigned long v[CLI_MAX];
+} study_args;
 
-/* the process set-up of a study program named prog (fds, signals,
-   temporary file, GSL's and HDF5's errors), then body's exit code */
-int study_prog(const char *prog, int (*body)(int, char **), int argc,
-               char **argv);
-
-/* what writes a study's file at path, with the command line for its
-   attributes: an exit code */
-typedef int (*study_writer)(const char *path, const char *cmdline,
-                            const void *arg);
+/* a study program: its option table (row 0 -o, the last two --version and
+   --help: CLI_ROW_OUTPUT, CLI_ROW_VERSION, CLI_ROW_HELP), the top of its
+   --help, its studies (NULL: it takes no operand) and what writes its
+   file at path with the command line for its attributes (an exit code) */
+typedef struct {
+  const char *prog;
+  const cli_opt *opt;
+  int nopt;
+  const char *help;
+  const char *const *studies;
+  int (*write)(const char *path, const char *cmdline, const study_args *a);
+  int says_written; /* "wrote OUT.h5" on stdout when done */
+} study_prog;
 
 /*
- * OUT.h5 checked, the leftovers of killed runs of it reported and removed,
- * written by write(TMP, command line, arg) under a temporary name and
+ * A study program's main: the process set-up (fds, signals, temporary
+ * file, GSL's and HDF5's errors), its command line into a (whose v holds
+ * the defaults), then OUT.h5 checked, the leftovers of killed runs of it
+ * reported and removed, written by p->write under a temporary name and
  * renamed when complete; messages "PROG: ..." on stderr.  The exit code.
  */
-int study_output(const char *prog, const char *out, int argc, char **argv,
-                 study_writer write, const void *arg);
-
-/* ------------------------------------------------ study_h5.c */
+int study_main(const study_prog *p, study_args *a, int argc, char **argv);
 
 /* an open study file and its UTF-8 string type */
 typedef struct {
   hid_t file, str;
 } study_h5;
 
-/* create path with the root attributes rps3_version, created_utc,
-   command_line, gsl_version, hdf5_version and title; 0 or -1 (study_h5_close
-   then closes what was opened) */
+/* create path with the root attributes of the runner's files and title;
+   0 or -1 (study_h5_close then closes what was opened) */
 int study_h5_open(study_h5 *o, const char *path, const char *cmdline,
                   const char *title);
 
-/* close the file; 0 or -1 */
+/* close the file; a scalar double attribute: 0 or -1 */
 int study_h5_close(study_h5 *o);
-
-/* a scalar double attribute; 0 or -1 */
 int study_h5_attr_f64(hid_t obj, const char *name, double v);
 
 /*
  * Write a dataset of `rank` dims with its units and description, and attach
- * the named dimension scales (NULL entries: this dataset is itself the
- * scale of that name).  type is H5T_NATIVE_DOUBLE, H5T_NATIVE_INT32 or the
+ * the named dimension scales (scales NULL: this dataset is itself the scale
+ * of its name).  type is H5T_NATIVE_DOUBLE, H5T_NATIVE_INT32 or the
  * string type.  0 or -1.
  */
 int study_h5_write(study_h5 *o, const char *name, hid_t type, int rank,

@@ -14,8 +14,6 @@
 #include "study.h"
 #include "study_ref.h"
 
-/* ------------------------------------------------------ accuracy study */
-
 /*
  * The reference forces of `effects` at the n grid samples, by study_ref.c
  * (Kane's equations in long double, from the model's inputs: nothing of the
@@ -128,14 +126,37 @@ static int pass_grid(study_runner *r, const study_reference *ref,
   return 0;
 }
 
+/* sample k of n at interval dt with the rates differenced from the
+   samples (what a logger gives): central differences of the sampled
+   poses, one-sided and without acceleration at the ends; forces into
+   r->d, an rps3_status */
+static int sampled_rates(study_runner *r, size_t k, size_t n, double dt,
+                         double span) {
+  size_t at[3] = {k ? k - 1 : 0, k, k + 1 < n ? k + 1 : n - 1}, j;
+  double q[3][3], d = (double)(at[2] - at[0]) * dt;
+  int i, st;
+  for (j = 0; j < 3; j++)
+    if ((st = rps3_traj_eval(&r->model, r->tr,
+                             at[j] == n - 1 ? span : (double)at[j] * dt, q[j],
+                             NULL, NULL)) != RPS3_OK)
+      return st;
+  for (i = 0; i < 3; i++) {
+    r->d->pose[i] = q[1][i];
+    r->d->dpose[i] = (q[2][i] - q[0][i]) / d;
+    r->d->ddpose[i] = at[2] - at[0] == 2
+                          ? (q[2][i] - 2.0 * q[1][i] + q[0][i]) / (dt * dt)
+                          : 0.0;
+  }
+  return rps3_inverse(&r->model, r->d);
+}
+
 /*
  * The sample-interval study: samples t_k = k dt over the whole span.  The
  * peak |F| over the samples against the reference peak; and the work of the
  * actuators over each interval (trapezoid of the power sum F_i dl_i) against
  * the change of T + P.  With exact rates the residual is the trapezoid's
- * O(dt^2); with rates differenced from the samples (what a logger gives:
- * central differences of the sampled poses, one-sided at the ends) it also
- * carries their error.
+ * O(dt^2); with rates differenced from the samples it also carries their
+ * error.
  */
 static int pass_dt(study_runner *r, const study_reference *ref,
                    study_result *out) {
@@ -143,40 +164,12 @@ static int pass_dt(study_runner *r, const study_reference *ref,
   size_t n = (size_t)floor(span / dt + 0.5) + 1, k;
   double peak = 0.0, Wmax = 0.0, resmax = 0.0, Eprev = 0.0, Pprev = 0.0;
   double tprev = 0.0;
-  double q[3][3]; /* poses at k-1, k, k+1 */
   int i, st;
   rps3_data_reset(r->d);
   for (k = 0; k < n; k++) {
     double t = k == n - 1 ? span : (double)k * dt, E, P = 0.0;
-    if (r->c->deriv == D_EXACT) {
-      st = study_point(r, t, span);
-    } else {
-      /* rates from the samples themselves */
-      size_t j;
-      for (j = 0; j < 3; j++) {
-        long kk = (long)k - 1 + (long)j;
-        if (kk < 0) kk = 0;
-        if (kk > (long)n - 1) kk = (long)n - 1;
-        st = rps3_traj_eval(&r->model, r->tr,
-                            kk == (long)n - 1 ? span : (double)kk * dt, q[j],
-                            NULL, NULL);
-        if (st != RPS3_OK) return st;
-      }
-      for (i = 0; i < 3; i++) {
-        r->d->pose[i] = q[1][i];
-        if (k == 0) {
-          r->d->dpose[i] = (q[2][i] - q[1][i]) / dt;
-          r->d->ddpose[i] = 0.0;
-        } else if (k == n - 1) {
-          r->d->dpose[i] = (q[1][i] - q[0][i]) / dt;
-          r->d->ddpose[i] = 0.0;
-        } else {
-          r->d->dpose[i] = (q[2][i] - q[0][i]) / (2.0 * dt);
-          r->d->ddpose[i] = (q[2][i] - 2.0 * q[1][i] + q[0][i]) / (dt * dt);
-        }
-      }
-      st = rps3_inverse(&r->model, r->d);
-    }
+    st = r->c->deriv == D_EXACT ? study_point(r, t, span)
+                                : sampled_rates(r, k, n, dt, span);
     if (st != RPS3_OK) {
       if (out && out->nfail++ == 0) out->status = st;
       return 0;
@@ -260,8 +253,6 @@ static int measure_times(study_runner *r, const study_config *cfg, int ncfg,
   return 0;
 }
 
-/* ------------------------------------------------------------- accuracy */
-
 /* the model of the study: Table II, plus a payload and pin friction so that
    the effects ladder has something to add; the other studies use the
    default effects (the paper's four).  0, or -1 with a message */
@@ -291,6 +282,7 @@ static int measure_trajectory(const rps3_model *base, int t, size_t nsamp,
   rps3_check chk;
   int c;
   rps3_traj tr;
+  study_reference rall;
   study_traj_make(t, &tr);
   if (rps3_traj_check(base, &tr, &chk) != RPS3_OK) {
     fprintf(stderr, "rps3-study: %s: %s\n", study_traj_name[t], chk.msg);
@@ -303,19 +295,16 @@ static int measure_trajectory(const rps3_model *base, int t, size_t nsamp,
           "%.2g rad\n",
           study_traj_name[t], ref->fscale, ref->peak, ref->floor_ref,
           ref->floor_theta);
-  for (c = 0; c < ncfg; c++) {
-    /* the effects ladder's error is against the model with every effect */
-    study_reference *rf = ref, rall;
-    if (cfg[c].study == S_EFFECTS) {
-      rall = *ref;
-      rall.F = malloc(3 * nsamp * sizeof(double));
-      if (!rall.F || reference_forces(base, &tr, RPS3_EFF_ALL, &rall) < 0)
-        return -1;
-      rf = &rall;
-    }
-    if (measure_errors(&run[c], &cfg[c], &tr, base, rf, &res[c]) < 0) return -1;
-    if (rf != ref) free(rall.F);
-  }
+  /* the effects ladder's error is against the model with every effect */
+  rall = *ref;
+  rall.F = malloc(3 * nsamp * sizeof(double));
+  if (!rall.F || reference_forces(base, &tr, RPS3_EFF_ALL, &rall) < 0)
+    return -1;
+  for (c = 0; c < ncfg; c++)
+    if (measure_errors(&run[c], &cfg[c], &tr, base,
+                       cfg[c].study == S_EFFECTS ? &rall : ref, &res[c]) < 0)
+      return -1;
+  free(rall.F);
   if (measure_times(run, cfg, ncfg, ref, repeats, res) < 0) return -1;
   for (c = 0; c < ncfg; c++) {
     rps3_data_free(run[c].d);
@@ -329,8 +318,6 @@ static int measure_trajectory(const rps3_model *base, int t, size_t nsamp,
 static int write_configs(study_h5 *o, const study_config *cfg, int ncfg) {
   int c, rc = 0;
   hsize_t dims[2] = {NTRAJ, (hsize_t)ncfg};
-  static const char *const s_traj[1] = {NULL};
-  static const char *const s_cfg[1] = {NULL};
   static const char *const s_cfgd[1] = {"config"};
   const char *sv[MAXCFG];
   int32_t iv[MAXCFG], idx[MAXCFG];
@@ -338,10 +325,10 @@ static int write_configs(study_h5 *o, const study_config *cfg, int ncfg) {
   hsize_t dt1 = NTRAJ;
   for (c = 0; c < ncfg; c++) idx[c] = c;
   rc |= study_h5_write(o, "trajectory", o->str, 1, &dt1, study_traj_name, "1",
-                       study_traj_doc, s_traj);
+                       study_traj_doc, NULL);
   rc |= study_h5_write(o, "config", H5T_NATIVE_INT32, 1, &dims[1], idx, "1",
                        "configuration index; see study, label and the knobs",
-                       s_cfg);
+                       NULL);
 #define CFG_STR(name, expr, doc)             \
   for (c = 0; c < ncfg; c++) sv[c] = (expr); \
   rc |= study_h5_write(o, name, o->str, 1, &dims[1], sv, "1", doc, s_cfgd);

@@ -77,6 +77,12 @@ int study_h5_open(study_h5 *o, const char *path, const char *cmdline,
                   const char *title) {
   char now[32], h5v[32];
   unsigned maj, min, rel;
+  const char *const kv[][2] = {{"rps3_version", rps3_version()},
+                               {"created_utc", now},
+                               {"command_line", cmdline},
+                               {"gsl_version", gsl_version},
+                               {"hdf5_version", h5v},
+                               {"title", title}};
   o->str = -1;
   o->file = H5Fcreate(path, H5F_ACC_TRUNC, H5P_DEFAULT, H5P_DEFAULT);
   if (o->file < 0) return -1;
@@ -87,13 +93,8 @@ int study_h5_open(study_h5 *o, const char *path, const char *cmdline,
   out_utc_now(now);
   H5get_libversion(&maj, &min, &rel);
   snprintf(h5v, sizeof h5v, "%u.%u.%u", maj, min, rel);
-  return (out_h5_attr(o->file, o->str, "rps3_version", rps3_version()) < 0 ||
-          out_h5_attr(o->file, o->str, "created_utc", now) < 0 ||
-          out_h5_attr(o->file, o->str, "command_line", cmdline) < 0 ||
-          out_h5_attr(o->file, o->str, "gsl_version", gsl_version) < 0 ||
-          out_h5_attr(o->file, o->str, "hdf5_version", h5v) < 0 ||
-          out_h5_attr(o->file, o->str, "title", title) < 0 ||
-          out_cf_root(o->file, o->str, now, cmdline) < 0)
+  return out_h5_attrs(o->file, o->str, kv, 6) < 0 ||
+                 out_cf_root(o->file, o->str, now, cmdline) < 0
              ? -1
              : 0;
 }
@@ -121,15 +122,10 @@ int study_h5_attr_f64(hid_t obj, const char *name, double v) {
 /* attach the named scales to ds's dimensions (NULL: ds is that scale) */
 static int attach_scales(const study_h5 *o, hid_t ds, const char *name,
                          int rank, const char *const *scales) {
-  int k;
+  int k, bad;
+  if (!scales) return H5DSset_scale(ds, name) < 0 ? -1 : 0;
   for (k = 0; k < rank; k++) {
-    hid_t sc;
-    int bad;
-    if (scales[k] == NULL) {
-      if (H5DSset_scale(ds, name) < 0) return -1;
-      continue;
-    }
-    sc = H5Dopen2(o->file, scales[k], H5P_DEFAULT);
+    hid_t sc = H5Dopen2(o->file, scales[k], H5P_DEFAULT);
     if (sc < 0) return -1;
     bad = H5DSattach_scale(ds, sc, (unsigned)k) < 0;
     H5Dclose(sc);

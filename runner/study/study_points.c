@@ -3,14 +3,16 @@
  * point computed by a configuration's route (study.h).
  */
 #include <math.h>
+#include <stdarg.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 #include <time.h>
 
-#include "study.h"
+#include <gsl/gsl_sort.h>
+#include <gsl/gsl_statistics_double.h>
 
-/* ------------------------------------------------------------- timing */
+#include "study.h"
 
 double study_now_ns(void) {
   struct timespec ts;
@@ -18,17 +20,10 @@ double study_now_ns(void) {
   return 1e9 * (double)ts.tv_sec + (double)ts.tv_nsec;
 }
 
-static int cmp_double(const void *a, const void *b) {
-  double x = *(const double *)a, y = *(const double *)b;
-  return (x > y) - (x < y);
-}
-
 double study_median(double *v, int n) {
-  qsort(v, (size_t)n, sizeof(double), cmp_double);
-  return n % 2 ? v[n / 2] : 0.5 * (v[n / 2 - 1] + v[n / 2]);
+  gsl_sort(v, 1, (size_t)n);
+  return gsl_stats_median_from_sorted_data(v, 1, (size_t)n);
 }
-
-/* ------------------------------------------------ the two trajectories */
 
 const char *const study_traj_name[NTRAJ] = {"helix", "sine_edge"};
 const char *const study_traj_doc =
@@ -37,23 +32,22 @@ const char *const study_traj_doc =
     "z_c = 0.28 + 0.03 sin(2 pi 1.7 t) m over 2 s: up to 20 rad/s, beta up to "
     "0.8 rad, condition number up to 4e2 near the singular surface";
 
-void study_traj_make(int k, rps3_traj *tr) {
-  rps3_traj_default(tr);
-  if (k == 0) return;
+/* sine_edge, as study_traj_doc says */
+static const rps3_sine SINE_EDGE = {
+    {0.0, 0.6, 0.28}, {PI, 0.2, 0.03}, {1.0, 2.3, 1.7}, {0.0, 0.0, 0.0}, 2.0};
+
+void study_traj_sine(rps3_traj *tr, const rps3_sine *sine) {
   memset(tr, 0, sizeof(*tr));
   tr->kind = RPS3_TRAJ_SINE;
-  tr->sine.mean[1] = 0.6;
-  tr->sine.mean[2] = 0.28;
-  tr->sine.amp[0] = PI;
-  tr->sine.amp[1] = 0.2;
-  tr->sine.amp[2] = 0.03;
-  tr->sine.freq[0] = 1.0;
-  tr->sine.freq[1] = 2.3;
-  tr->sine.freq[2] = 1.7;
-  tr->sine.duration = 2.0;
+  tr->sine = *sine;
 }
 
-/* ----------------------------------------------- long-double reference */
+void study_traj_make(int k, rps3_traj *tr) {
+  if (k == 0)
+    rps3_traj_default(tr);
+  else
+    study_traj_sine(tr, &SINE_EDGE);
+}
 
 /*
  * Inverse kinematics (2)-(7), (39) in long double, written independently
@@ -99,8 +93,6 @@ void study_ik_long(const rps3_model *m, const double pose[3],
   }
 }
 
-/* ------------------------------------------------------ configurations */
-
 const char *const study_kind_name[S_NSTUDY] = {"theta", "derivative", "method",
                                                "effects", "dt"};
 const char *const study_deriv_name[5] = {"exact", "fd_pose", "fd_length",
@@ -135,74 +127,60 @@ void study_config_base(study_config *c, study_kind s) {
   c->effects = RPS3_EFF_DEFAULT;
 }
 
+/* the next configuration cfg[(*n)++]: of study s, every knob at its
+   default, labelled by the format */
+static study_config *add(study_config *cfg, int *n, study_kind s,
+                         const char *fmt, ...) {
+  study_config *c = &cfg[(*n)++];
+  va_list ap;
+  study_config_base(c, s);
+  va_start(ap, fmt);
+  vsnprintf(c->label, sizeof c->label, fmt, ap);
+  va_end(ap);
+  return c;
+}
+
 int study_configs_build(study_config *cfg) {
   int n = 0, s, t, w, k, e;
-  /* theta */
-  study_config_base(&cfg[n], S_THETA);
-  snprintf(cfg[n].label, sizeof cfg[n].label, "closed form (39)");
-  n++;
+  study_config *c;
+  add(cfg, &n, S_THETA, "closed form (39)");
   for (s = 0; s < RPS3_NSOLVER; s++)
     for (t = 0; t < 7; t++)
       for (w = 0; w < 2; w++) {
-        study_config_base(&cfg[n], S_THETA);
-        cfg[n].theta = RPS3_THETA_MULTIROOT;
-        cfg[n].solver = s;
-        cfg[n].tol = tols[t];
-        cfg[n].warm = w;
-        snprintf(cfg[n].label, sizeof cfg[n].label, "%s tol=%.0e %s",
-                 rps3_solver_name(s), tols[t], w ? "warm" : "cold");
-        n++;
+        c = add(cfg, &n, S_THETA, "%s tol=%.0e %s", rps3_solver_name(s),
+                tols[t], w ? "warm" : "cold");
+        c->theta = RPS3_THETA_MULTIROOT;
+        c->solver = s;
+        c->tol = tols[t];
+        c->warm = w;
       }
-  /* derivative route */
-  study_config_base(&cfg[n], S_DERIV);
-  snprintf(cfg[n].label, sizeof cfg[n].label, "exact rates");
-  n++;
-  for (k = D_FD_POSE; k <= D_FD_LENGTH; k++)
-    for (t = 0; t < 6; t++) {
-      study_config_base(&cfg[n], S_DERIV);
-      cfg[n].deriv = (deriv_kind)k;
-      cfg[n].h = steps[t];
-      snprintf(cfg[n].label, sizeof cfg[n].label, "%s h=%.0e s",
-               study_deriv_name[k], steps[t]);
-      n++;
+  add(cfg, &n, S_DERIV, "exact rates");
+  for (k = D_FD_POSE; k <= D_SPLINE; k++) {
+    /* the spline's row spacings, else the steps; fd_samples is the dt
+       study's */
+    const double *h = k == D_SPLINE ? spacings : steps;
+    int nh = k == D_SPLINE ? 3 : k == D_FD_SAMPLES ? 0 : 6;
+    for (t = 0; t < nh; t++) {
+      c = add(cfg, &n, S_DERIV, "%s h=%.0e s", study_deriv_name[k], h[t]);
+      c->deriv = (deriv_kind)k;
+      c->h = h[t];
     }
-  for (t = 0; t < 3; t++) {
-    study_config_base(&cfg[n], S_DERIV);
-    cfg[n].deriv = D_SPLINE;
-    cfg[n].h = spacings[t];
-    snprintf(cfg[n].label, sizeof cfg[n].label, "%s h=%.0e s",
-             study_deriv_name[D_SPLINE], spacings[t]);
-    n++;
   }
-  /* method */
-  for (k = 0; k < 2; k++) {
-    study_config_base(&cfg[n], S_METHOD);
-    cfg[n].method = k ? RPS3_NEWTON_EULER : RPS3_LAGRANGE;
-    snprintf(cfg[n].label, sizeof cfg[n].label, "%s",
-             k ? "newton_euler" : "lagrange");
-    n++;
-  }
-  /* effects */
-  for (e = 0; e < RPS3_NEFFECT; e++) {
-    study_config_base(&cfg[n], S_EFFECTS);
-    cfg[n].effects = ladder[e];
-    snprintf(cfg[n].label, sizeof cfg[n].label, "+%s", rps3_effect_name(e));
-    n++;
-  }
+  for (k = 0; k < 2; k++)
+    add(cfg, &n, S_METHOD, "%s", k ? "newton_euler" : "lagrange")->method =
+        k ? RPS3_NEWTON_EULER : RPS3_LAGRANGE;
+  for (e = 0; e < RPS3_NEFFECT; e++)
+    add(cfg, &n, S_EFFECTS, "+%s", rps3_effect_name(e))->effects = ladder[e];
   /* sample interval, exact rates and rates differenced from the samples */
   for (k = 0; k < 2; k++)
     for (t = 0; t < 9; t++) {
-      study_config_base(&cfg[n], S_DT);
-      cfg[n].dt_frac = dt_fracs[t];
-      cfg[n].deriv = k ? D_FD_SAMPLES : D_EXACT;
-      snprintf(cfg[n].label, sizeof cfg[n].label, "dt=T/%.0f %s",
-               1.0 / dt_fracs[t], k ? "rates from samples" : "exact rates");
-      n++;
+      c = add(cfg, &n, S_DT, "dt=T/%.0f %s", 1.0 / dt_fracs[t],
+              k ? "rates from samples" : "exact rates");
+      c->dt_frac = dt_fracs[t];
+      c->deriv = k ? D_FD_SAMPLES : D_EXACT;
     }
   return n;
 }
-
-/* ------------------------------------------------------------ one point */
 
 /*
  * Forces at time t by the configuration's route.  Exact: the trajectory's
@@ -213,8 +191,8 @@ int study_configs_build(study_config *cfg) {
 int study_point(study_runner *r, double t, double span) {
   rps3_data *d = r->d;
   const rps3_model *m = &r->model;
-  double h = r->c->h, p0[3], pm[3], pp[3], lm[3], lp[3];
-  int st, i;
+  double h = r->c->h, p[3][3], l[2][3]; /* at t - h, t + h, t */
+  int st, i, k;
   if (r->c->deriv == D_EXACT || r->c->deriv == D_FD_SAMPLES)
     return rps3_traj_eval(m, r->tr, t, d->pose, d->dpose, d->ddpose) ||
            rps3_inverse(m, d);
@@ -222,30 +200,27 @@ int study_point(study_runner *r, double t, double span) {
     return rps3_traj_eval(m, &r->table, t, d->pose, d->dpose, d->ddpose) ||
            rps3_inverse(m, d);
   (void)span;
-  if ((st = rps3_traj_eval(m, r->tr, t - h, pm, NULL, NULL)) != RPS3_OK ||
-      (st = rps3_traj_eval(m, r->tr, t + h, pp, NULL, NULL)) != RPS3_OK ||
-      (st = rps3_traj_eval(m, r->tr, t, p0, NULL, NULL)) != RPS3_OK)
+  if ((st = rps3_traj_eval(m, r->tr, t - h, p[0], NULL, NULL)) != RPS3_OK ||
+      (st = rps3_traj_eval(m, r->tr, t + h, p[1], NULL, NULL)) != RPS3_OK ||
+      (st = rps3_traj_eval(m, r->tr, t, p[2], NULL, NULL)) != RPS3_OK)
     return st;
   if (r->c->deriv == D_FD_POSE) {
     for (i = 0; i < 3; i++) {
-      d->pose[i] = p0[i];
-      d->dpose[i] = (pp[i] - pm[i]) / (2.0 * h);
-      d->ddpose[i] = (pp[i] - 2.0 * p0[i] + pm[i]) / (h * h);
+      d->pose[i] = p[2][i];
+      d->dpose[i] = (p[1][i] - p[0][i]) / (2.0 * h);
+      d->ddpose[i] = (p[1][i] - 2.0 * p[2][i] + p[0][i]) / (h * h);
     }
     return rps3_inverse(m, d);
   }
-  /* fd_length */
-  memcpy(d->pose, pm, sizeof(pm));
-  if ((st = rps3_ik(m, d)) != RPS3_OK) return st;
-  memcpy(lm, d->l, sizeof(lm));
-  memcpy(d->pose, pp, sizeof(pp));
-  if ((st = rps3_ik(m, d)) != RPS3_OK) return st;
-  memcpy(lp, d->l, sizeof(lp));
-  memcpy(d->pose, p0, sizeof(p0));
-  if ((st = rps3_ik(m, d)) != RPS3_OK) return st;
+  /* fd_length: the lengths at t - h and t + h, then d at t */
+  for (k = 0; k < 3; k++) {
+    memcpy(d->pose, p[k], sizeof(p[k]));
+    if ((st = rps3_ik(m, d)) != RPS3_OK) return st;
+    if (k < 2) memcpy(l[k], d->l, sizeof(l[k]));
+  }
   for (i = 0; i < 3; i++) {
-    d->dl[i] = (lp[i] - lm[i]) / (2.0 * h);
-    d->ddl[i] = (lp[i] - 2.0 * d->l[i] + lm[i]) / (h * h);
+    d->dl[i] = (l[1][i] - l[0][i]) / (2.0 * h);
+    d->ddl[i] = (l[1][i] - 2.0 * d->l[i] + l[0][i]) / (h * h);
   }
   if ((st = rps3_joint_velocity(m, d)) != RPS3_OK ||
       (st = rps3_joint_acceleration(m, d)) != RPS3_OK)
@@ -316,8 +291,6 @@ int study_runner_init(study_runner *r, const study_config *c,
   }
   return 0;
 }
-
-/* ------------------------------------------------------------ energy */
 
 /* kinetic and potential energy of the default effects at the data's
    current state, written here from vc, omega, dtheta (not by the library) */

@@ -237,6 +237,42 @@ static REAL S(dot)(const REAL a[3], const REAL b[3]) {
   return a[0] * b[0] + a[1] * b[1] + a[2] * b[2];
 }
 
+/* A x = rhs by Gaussian elimination with partial pivoting, x into rhs; 0,
+   or -1 when A is singular */
+static int S(solve3)(REAL A[3][3], REAL rhs[3]) {
+  int i, j, n;
+  for (n = 0; n < 3; n++) {
+    int piv = n;
+    for (i = n + 1; i < 3; i++)
+      if ((A[i][n] < 0 ? -A[i][n] : A[i][n]) >
+          (A[piv][n] < 0 ? -A[piv][n] : A[piv][n]))
+        piv = i;
+    if (A[piv][n] == 0) return -1;
+    if (piv != n) {
+      REAL t;
+      for (j = 0; j < 3; j++) {
+        t = A[n][j];
+        A[n][j] = A[piv][j];
+        A[piv][j] = t;
+      }
+      t = rhs[n];
+      rhs[n] = rhs[piv];
+      rhs[piv] = t;
+    }
+    for (i = n + 1; i < 3; i++) {
+      REAL f = A[i][n] / A[n][n];
+      for (j = n; j < 3; j++) A[i][j] -= f * A[n][j];
+      rhs[i] -= f * rhs[n];
+    }
+  }
+  for (n = 2; n >= 0; n--) {
+    REAL s = rhs[n];
+    for (j = n + 1; j < 3; j++) s -= A[n][j] * rhs[j];
+    rhs[n] = s / A[n][n];
+  }
+  return 0;
+}
+
 static int S(forces)(const rps3_model *m, int eff, const double pose[3],
                      const double dpose[3], const double ddpose[3],
                      double F[3]) {
@@ -306,36 +342,7 @@ static int S(forces)(const rps3_model *m, int eff, const double pose[3],
     }
     rhs[j] = s;
   }
-  /* Gaussian elimination with partial pivoting */
-  for (n = 0; n < 3; n++) {
-    int piv = n;
-    for (i = n + 1; i < 3; i++)
-      if ((A[i][n] < 0 ? -A[i][n] : A[i][n]) >
-          (A[piv][n] < 0 ? -A[piv][n] : A[piv][n]))
-        piv = i;
-    if (A[piv][n] == 0) return -1;
-    if (piv != n) {
-      REAL t;
-      for (j = 0; j < 3; j++) {
-        t = A[n][j];
-        A[n][j] = A[piv][j];
-        A[piv][j] = t;
-      }
-      t = rhs[n];
-      rhs[n] = rhs[piv];
-      rhs[piv] = t;
-    }
-    for (i = n + 1; i < 3; i++) {
-      REAL f = A[i][n] / A[n][n];
-      for (j = n; j < 3; j++) A[i][j] -= f * A[n][j];
-      rhs[i] -= f * rhs[n];
-    }
-  }
-  for (n = 2; n >= 0; n--) {
-    REAL s = rhs[n];
-    for (j = n + 1; j < 3; j++) s -= A[n][j] * rhs[j];
-    rhs[n] = s / A[n][n];
-  }
+  if (S(solve3)(A, rhs) != 0) return -1;
   for (i = 0; i < 3; i++) F[i] = (double)rhs[i];
   return 0;
 }

@@ -53,21 +53,11 @@ static double cpu_s(void) {
 
 /* a fast path within Table II's workspace: a turn of alpha per second,
    tilt and height at 2 and 3 Hz */
-static void fast_sine(rps3_traj *tr) {
-  memset(tr, 0, sizeof(*tr));
-  tr->kind = RPS3_TRAJ_SINE;
-  tr->sine.mean[0] = 0.31;
-  tr->sine.amp[0] = 1.03;
-  tr->sine.freq[0] = 1.07;
-  tr->sine.mean[1] = 0.21;
-  tr->sine.amp[1] = 0.083;
-  tr->sine.freq[1] = 2.03;
-  tr->sine.phase[1] = 0.4;
-  tr->sine.mean[2] = 0.30;
-  tr->sine.amp[2] = 0.029;
-  tr->sine.freq[2] = 3.01;
-  tr->sine.duration = 2.0;
-}
+static const rps3_sine FAST_SINE = {{0.31, 0.21, 0.30},
+                                    {1.03, 0.083, 0.029},
+                                    {1.07, 2.03, 3.01},
+                                    {0.0, 0.4, 0.0},
+                                    2.0};
 
 /* one closed-loop run from the start of tr to dur; per 1 ms sample the
    lengths into l[k] (NULL: not kept), the error against l_d into err[k]
@@ -116,7 +106,8 @@ static int run(const rps3_model *plant, const rps3_model *cm,
     if (out->err) {
       rps3_traj_eval(plant, tr, t, w->pose, NULL, NULL);
       rps3_ik(plant, w);
-      for (i = 0; i < 3; i++) e = fmax(e, fabs(rps3_sim_now(s)->y[i] - w->l[i]));
+      for (i = 0; i < 3; i++)
+        e = fmax(e, fabs(rps3_sim_now(s)->y[i] - w->l[i]));
       out->err[k] = e;
     }
     for (i = 0; i < 3; i++) {
@@ -131,8 +122,6 @@ static int run(const rps3_model *plant, const rps3_model *cm,
   rps3_sim_free(s);
   return st;
 }
-
-/* ------------------------------------------------------------- output */
 
 static int write_ds(hid_t g, const char *name, int rank, const hsize_t *dims,
                     hid_t type, const void *data, const char *units,
@@ -175,10 +164,7 @@ static int tracking_path(hid_t gp, const rps3_traj *tr) {
   for (a = 0; a < NCTRL; a++)
     for (b = 0; b < NMODEL; b++) {
       long off = (long)(a * NMODEL + b) * n;
-      run_out ro;
-      ro.l = NULL;
-      ro.err = err + off;
-      ro.F = (double(*)[3])(F + 3 * off);
+      run_out ro = {NULL, err + off, (double(*)[3])(F + 3 * off), 0, 0, 0};
       status[a][b] = run(&plant, b ? &light : &plant, tr, CTRL[a], KP[a], KD[a],
                          &o, rps3_traj_duration(tr), &ro);
       failed[a][b] = ro.failed_at;
@@ -218,7 +204,7 @@ static int tracking(hid_t f, int quick) {
         tr.helix.blend = 0.5;
       }
     } else {
-      fast_sine(&tr);
+      study_traj_sine(&tr, &FAST_SINE);
     }
     printf("tracking, %s:\n", p ? "fast sine" : "helix");
     gp = H5Gcreate2(g, p ? "fast_sine" : "helix", H5P_DEFAULT, H5P_DEFAULT,
@@ -229,8 +215,6 @@ static int tracking(hid_t f, int quick) {
   H5Gclose(g);
   return rc;
 }
-
-/* ------------------------------------------------------------ accuracy */
 
 #define NCFG 13
 static const struct {
@@ -244,29 +228,22 @@ static const struct {
     {RPS3_INT_MSBDF, 1e-8}};
 static const double THETA_TOL[2] = {1e-12, 1e-8};
 
-static int cmp_d(const void *x, const void *y) {
-  double a = *(const double *)x, b = *(const double *)y;
-  return (a > b) - (a < b);
-}
-
-/* the reference of the accuracy study, lengths into lref: rk8pd at
-   1e-13, theta to 1e-13 */
-static void accuracy_reference(rps3_model *plant, const rps3_traj *tr,
-                               double dur, double (*lref)[3]) {
+/* computed torque on tr by integrator integ at step (rk4) or tolerance
+   h_or_tol, theta solved to tol; the status */
+static int accuracy_run(rps3_model *plant, const rps3_traj *tr, double dur,
+                        rps3_integrator integ, double h_or_tol, double tol,
+                        run_out *ro) {
   rps3_sim_options o;
-  run_out ro;
-  plant->opt.tol = 1e-13;
+  plant->opt.tol = tol;
   rps3_model_init(plant, NULL);
   rps3_sim_options_default(&o);
-  o.integrator = RPS3_INT_RK8PD;
-  o.epsabs = o.epsrel = 1e-13;
-  memset(&ro, 0, sizeof(ro));
-  ro.l = lref;
-  if (run(plant, plant, tr, RPS3_CTRL_COMPUTED_TORQUE, KP[2], KD[2], &o, dur,
-          &ro) != RPS3_OK) {
-    fprintf(stderr, "rps3-simstudy: the reference run failed\n");
-    fail_run();
-  }
+  o.integrator = integ;
+  if (integ == RPS3_INT_RK4)
+    o.h = h_or_tol;
+  else
+    o.epsabs = o.epsrel = h_or_tol;
+  return run(plant, plant, tr, RPS3_CTRL_COMPUTED_TORQUE, KP[2], KD[2], &o, dur,
+             ro);
 }
 
 /* the accuracy study's results, [configuration, theta tolerance] */
@@ -287,25 +264,15 @@ static void accuracy_point(rps3_model *plant, const rps3_traj *tr, double dur,
   double times[3];
   long k, n = (long)(dur * RATE_HZ + 0.5) + 1;
   int rep, i;
-  rps3_sim_options o;
   run_out ro;
-  plant->opt.tol = THETA_TOL[j];
-  rps3_model_init(plant, NULL);
-  rps3_sim_options_default(&o);
-  o.integrator = CFG[c].integ;
-  if (CFG[c].integ == RPS3_INT_RK4)
-    o.h = CFG[c].h_or_tol;
-  else
-    o.epsabs = o.epsrel = CFG[c].h_or_tol;
   for (rep = 0; rep < nrep; rep++) {
     memset(&ro, 0, sizeof(ro));
     ro.l = l;
-    a->st[c][j] = run(plant, plant, tr, RPS3_CTRL_COMPUTED_TORQUE, KP[2], KD[2],
-                      &o, dur, &ro);
+    a->st[c][j] = accuracy_run(plant, tr, dur, CFG[c].integ, CFG[c].h_or_tol,
+                               THETA_TOL[j], &ro);
     times[rep] = ro.cpu / dur;
   }
-  qsort(times, (size_t)nrep, sizeof(double), cmp_d);
-  a->cpu[c][j] = times[nrep / 2];
+  a->cpu[c][j] = study_median(times, nrep); /* nrep is odd */
   a->evals[c][j] = ro.nevals;
   a->err[c][j] = 0.0;
   for (k = 0; k < n; k++)
@@ -349,12 +316,19 @@ static int accuracy(hid_t f, int quick) {
   static acc_table a;
   double dur = quick ? 0.5 : 2.0;
   int c, j, nrep = quick ? 1 : 3;
+  run_out ref = {lref, NULL, NULL, 0, 0, 0};
   rps3_model plant;
   rps3_traj tr;
   rps3_model_default(&plant);
-  fast_sine(&tr); /* on the slow helix one RK4 step per period is exact to
-                     rounding: nothing to measure */
-  accuracy_reference(&plant, &tr, dur, lref);
+  /* on the slow helix one RK4 step per period is exact to rounding:
+     nothing to measure */
+  study_traj_sine(&tr, &FAST_SINE);
+  /* the reference: rk8pd at 1e-13, theta to 1e-13 */
+  if (accuracy_run(&plant, &tr, dur, RPS3_INT_RK8PD, 1e-13, 1e-13, &ref) !=
+      RPS3_OK) {
+    fprintf(stderr, "rps3-simstudy: the reference run failed\n");
+    fail_run();
+  }
   printf(
       "accuracy: computed torque on the fast sine, %.1f s, against rk8pd "
       "1e-13\n",

@@ -52,18 +52,12 @@ static const double rhos[3] = {0.3, 0.5, 0.8};
 
 static void grid_free(ws_grid *g) {
   free(g->alpha);
-  free(g->beta);
-  free(g->zc);
-  free(g->cond);
-  free(g->trans);
-  free(g->fmax);
-  free(g->force);
   free(g->status);
-  free(g->mode);
 }
 
-/* the grid's sizes and arrays (quick: coarse); 0, or -1 (grid_free frees
-   what was allocated) */
+/* the grid's sizes and arrays (quick: coarse), the doubles in one block
+   and the int32s in another; 0, or -1 (grid_free frees what was
+   allocated) */
 static int grid_alloc(ws_grid *g, int quick) {
   size_t npt;
   g->nr = 3;
@@ -71,18 +65,16 @@ static int grid_alloc(ws_grid *g, int quick) {
   g->nb = quick ? 25 : 61;
   g->nz = quick ? 20 : 60;
   npt = g->nr * g->na * g->nb * g->nz;
-  g->alpha = malloc(g->na * sizeof(double));
-  g->beta = malloc(g->nb * sizeof(double));
-  g->zc = malloc(g->nz * sizeof(double));
-  g->cond = malloc(npt * sizeof(double));
-  g->trans = malloc(npt * sizeof(double));
-  g->fmax = malloc(npt * sizeof(double));
-  g->force = malloc(3 * npt * sizeof(double));
-  g->status = malloc(npt * sizeof(int32_t));
-  g->mode = malloc(npt * sizeof(int32_t));
-  if (!g->alpha || !g->beta || !g->zc || !g->cond || !g->trans || !g->fmax ||
-      !g->force || !g->status || !g->mode)
-    return -1;
+  g->alpha = malloc((g->na + g->nb + g->nz + 6 * npt) * sizeof(double));
+  g->status = malloc(2 * npt * sizeof(int32_t));
+  if (!g->alpha || !g->status) return -1;
+  g->beta = g->alpha + g->na;
+  g->zc = g->beta + g->nb;
+  g->cond = g->zc + g->nz;
+  g->trans = g->cond + npt;
+  g->fmax = g->trans + npt;
+  g->force = g->fmax + npt; /* 3 npt */
+  g->mode = g->status + npt;
   /* alpha over a full turn (the mechanism repeats every 2 pi / 3), beta to
      1.2 rad, z_c from 0.1 R to 3 R */
   linspace(g->alpha, g->na, -PI, PI);
@@ -94,7 +86,7 @@ static int grid_alloc(ws_grid *g, int quick) {
 /* point p = (alpha[ia], beta[ib], zc[iz]) of model m */
 static void grid_point(const rps3_model *m, rps3_data *d, ws_grid *g, size_t p,
                        size_t ia, size_t ib, size_t iz) {
-  int st, i;
+  int st, i, reached;
   double home;
   /* the assembly mode of the level pose at this height */
   d->pose[0] = 0.0;
@@ -104,15 +96,12 @@ static void grid_point(const rps3_model *m, rps3_data *d, ws_grid *g, size_t p,
   d->pose[0] = g->alpha[ia];
   d->pose[1] = g->beta[ib];
   d->pose[2] = g->zc[iz];
-  st = rps3_inverse(m, d);
-  g->status[p] = st;
-  g->mode[p] = 0;
-  if (st == RPS3_OK || st == RPS3_ESING) {
-    double dj = det_jt(d);
-    g->mode[p] = (dj > 0) == (home > 0) ? 1 : -1;
-  }
-  g->cond[p] = (st == RPS3_OK || st == RPS3_ESING) ? d->cond : DNAN;
-  g->trans[p] = (st == RPS3_OK || st == RPS3_ESING) ? d->transmission : DNAN;
+  g->status[p] = st = rps3_inverse(m, d);
+  /* reached: singular points have a pose, a mode and a conditioning */
+  reached = st == RPS3_OK || st == RPS3_ESING;
+  g->mode[p] = !reached ? 0 : (det_jt(d) > 0) == (home > 0) ? 1 : -1;
+  g->cond[p] = reached ? d->cond : DNAN;
+  g->trans[p] = reached ? d->transmission : DNAN;
   g->fmax[p] = st == RPS3_OK ? 0.0 : DNAN;
   for (i = 0; i < 3; i++) {
     g->force[3 * p + (size_t)i] = st == RPS3_OK ? d->F[i] : DNAN;
@@ -151,20 +140,19 @@ static int grid_compute(ws_grid *g) {
 static int grid_write(study_h5 *o, const ws_grid *g) {
   int32_t link[3] = {1, 2, 3};
   int rc = 0;
-  static const char *const self[1] = {NULL};
   static const char *const grid[4] = {"rho", "alpha", "beta", "z_c"};
   static const char *const gridl[5] = {"rho", "alpha", "beta", "z_c", "link"};
   hsize_t dims[5] = {g->nr, g->na, g->nb, g->nz, 3}, d3 = 3;
   rc |= study_h5_write(o, "rho", H5T_NATIVE_DOUBLE, 1, &dims[0], rhos, "1",
-                       "rho = r / R (R = 0.2286 m, Table II)", self);
+                       "rho = r / R (R = 0.2286 m, Table II)", NULL);
   rc |= study_h5_write(o, "alpha", H5T_NATIVE_DOUBLE, 1, &dims[1], g->alpha,
-                       "rad", "precession angle alpha", self);
+                       "rad", "precession angle alpha", NULL);
   rc |= study_h5_write(o, "beta", H5T_NATIVE_DOUBLE, 1, &dims[2], g->beta,
-                       "rad", "nutation angle beta (tilt)", self);
+                       "rad", "nutation angle beta (tilt)", NULL);
   rc |= study_h5_write(o, "z_c", H5T_NATIVE_DOUBLE, 1, &dims[3], g->zc, "m",
-                       "height of the platform centre", self);
+                       "height of the platform centre", NULL);
   rc |= study_h5_write(o, "link", H5T_NATIVE_INT32, 1, &d3, link, "1",
-                       "link number", self);
+                       "link number", NULL);
   rc |= study_h5_write(o, "status", H5T_NATIVE_INT32, 4, dims, g->status, "1",
                        "rps3_inverse status: 0 ok, 1 unreachable (EREACH), 4 "
                        "singular (ESING, condition above cond_max = 1e13 or "

@@ -1,0 +1,53 @@
+/*
+ * run_steps.h - the steps of an rps3-run that writes OUT.h5, the same for
+ * a sweep (main_run.c) and a design study (run_design.c): the input files
+ * recorded, --resume, the temporary file renamed when complete, and under
+ * rps3-run-mpi the ranks' parts joined or merged by rank 0.
+ */
+#ifndef RPS3_RUNNER_RUN_STEPS_H
+#define RPS3_RUNNER_RUN_STEPS_H
+
+#include <stddef.h>
+
+#include "core/progress.h"
+#include "exec/sweep.h"
+#include "mpi/world.h"
+#include "run_cli.h"
+#include "scene/scene.h"
+
+/* what a sweep and a design study do differently around the steps of a
+   run that writes OUT.h5 (run_output) */
+typedef struct run_job {
+  const char *fields; /* the fields written: a part's root attribute */
+  const char *noun;   /* what the cases are: "case" or "design" */
+  size_t ncase;       /* this shard's cases */
+  /* the progress started and the file written at tmpout_path(); the exit
+     code */
+  int (*write)(struct run_job *j, const out_meta *meta, progress *pr,
+               sweep_stats *st);
+  void *ctx;
+  char note[256]; /* said after a whole file is written, unless --quiet */
+} run_job;
+
+/* The worst of the ranks' codes (this code without MPI); *first, when not
+   NULL, gets rank 0's. */
+int run_agree(const world *w, int code, int *first);
+
+/* A usage error, said by rank 0: "rps3-run: MSG" and where --help is;
+   EXIT_USAGE. */
+int run_usage_error(const world *w, const char *msg);
+
+/* "rps3-run: OUT.h5: err" on stderr; EXIT_IO. */
+int run_io(const run_args *a, const char *err);
+
+/*
+ * The steps of a run that writes OUT.h5 after its own checks (`code`,
+ * their outcome on this rank): the input files recorded, --resume, the
+ * leftovers of killed runs, j's file under a temporary name, renamed when
+ * complete or joined with the other ranks' parts.  The exit code, the same
+ * on every rank.
+ */
+int run_output(const run_args *a, const world *w, const scene *s, int code,
+               run_job *j, int argc, char **argv);
+
+#endif /* RPS3_RUNNER_RUN_STEPS_H */
