@@ -14,6 +14,7 @@
 #include "core/exit_codes.h"
 #include "core/tmpout.h"
 #include "exec/design_run.h"
+#include "exec/pool.h"
 #include "scene/inputs.h"
 #include "shards/parts.h"
 
@@ -110,7 +111,7 @@ int run_design(scene *s, const run_args *a, const world *w, int argc,
   progress_start(&pr, design_shard_cases(&plan, a->shard, a->nshard),
                  a->quiet || w->rank != 0);
   pr.njob_all = plan.nunit;
-  pr.njob = design_shard_units(&plan, a->shard, a->nshard);
+  pr.njob = pool_count(plan.nunit, a->shard, a->nshard);
   pr.npoint = pr.ncase * (plan.npose + plan.nsample);
   memset(&st, 0, sizeof st);
   f = design_file_open(tmpout_path(), s, &plan, &meta, err, sizeof err);

@@ -6,7 +6,6 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
-#include <time.h>
 
 #include "estimate.h"
 #include "pool.h"
@@ -39,13 +38,9 @@ int design_plan_make(const scene *s, design_plan *p, scene_error *err) {
   return 0;
 }
 
-size_t design_shard_units(const design_plan *p, size_t k, size_t n) {
-  return k < p->nunit ? (p->nunit - k + n - 1) / n : 0;
-}
-
 size_t design_shard_cases(const design_plan *p, size_t k, size_t n) {
   size_t j, c = 0;
-  for (j = k; j < p->nunit; j += n)
+  for (j = k; j < p->nunit; j = pool_next(j, n, p->nunit))
     c += (j + 1) * p->unit < p->ncase ? p->unit : p->ncase - j * p->unit;
   return c;
 }
@@ -82,23 +77,19 @@ static void tile_free(design_tile *t) {
     if (t->buf[i] && out_field_table[i].type == OUT_STR)
       for (j = 0; j < t->cap; j++) free(((char **)t->buf[i])[j]);
   for (i = 0; i < OUT_NFIELD; i++) free(t->buf[i]);
-  memset(t, 0, sizeof *t);
 }
 
-/* 0, or -1 (out of memory; the tile then freed) */
+/* 0, or -1 (out of memory; tile_free frees what was made) */
 static int tile_alloc(design_tile *t, size_t cap, size_t npose, int files) {
   size_t j;
   int i;
-  memset(t, 0, sizeof *t);
   t->cap = cap;
   t->npose = npose;
   for (i = 0; i < OUT_NFIELD; i++)
     if ((out_field_table[i].files & files) &&
         !(t->buf[i] = calloc(cap * inner(t, i),
-                             out_type_size(out_field_table[i].type)))) {
-      tile_free(t);
+                             out_type_size(out_field_table[i].type))))
       return -1;
-    }
   for (j = 0; j < cap; j++) tile_clear(t, j);
   return 0;
 }
@@ -311,6 +302,19 @@ static void design_worker_end(void *ctx, void *wctx) {
   worker_free(wctx);
 }
 
+/* pool_job.slot_make, slot_free: a tile of one unit's designs */
+static int design_slot_make(void *ctx, void *slot, size_t i) {
+  const design_plan *p = ((const design_job *)ctx)->p;
+  (void)i;
+  return tile_alloc(slot, p->unit, p->npose, p->files);
+}
+
+static void design_slot_free(void *ctx, void *slot, size_t i) {
+  (void)ctx;
+  (void)i;
+  tile_free(slot);
+}
+
 /* pool_job.run: work unit u on worker w, into its slot */
 static int design_item(void *ctx, void *wctx, size_t u, pool_worker *w,
                        char *err, size_t errsz) {
@@ -355,12 +359,8 @@ int design_run(const scene *s, const design_plan *p, out_file *f, size_t shard,
                char *err, size_t errsz) {
   design_job J = {s, p, f, pr, st};
   pool_job job;
-  design_tile *tiles;
-  size_t i, nslot;
-  int rc = -1;
   memset(st, 0, sizeof *st);
   if (nthread < 1) nthread = 1;
-  nslot = pool_nslot(nthread);
   memset(&job, 0, sizeof job);
   job.ctx = &J;
   job.nitem = p->nunit;
@@ -371,28 +371,15 @@ int design_run(const scene *s, const design_plan *p, out_file *f, size_t shard,
   job.worker_end = design_worker_end;
   job.run = design_item;
   job.write = design_write;
-  tiles = calloc(nslot, sizeof *tiles);
-  job.slot = calloc(nslot, sizeof *job.slot);
+  job.slot_size = sizeof(design_tile);
+  job.slot_make = design_slot_make;
+  job.slot_free = design_slot_free;
   snprintf(err, errsz, "out of memory for the tiles of %d thread%s", nthread,
            nthread == 1 ? "" : "s");
-  for (i = 0; tiles && job.slot && i < nslot; i++) {
-    if (tile_alloc(&tiles[i], p->unit, p->npose, p->files)) break;
-    job.slot[i] = &tiles[i];
-  }
-  if (tiles && job.slot && i == nslot) rc = pool_run(&job, nthread, err, errsz);
-  for (i = 0; tiles && i < nslot; i++) tile_free(&tiles[i]);
-  free(tiles);
-  free(job.slot);
-  return rc;
+  return pool_run(&job, nthread, err, errsz);
 }
 
 /* ------------------------------------------------------------- estimate */
-
-static double cpu_now(void) {
-  struct timespec ts;
-  clock_gettime(CLOCK_PROCESS_CPUTIME_ID, &ts);
-  return (double)ts.tv_sec + 1e-9 * (double)ts.tv_nsec;
-}
 
 /* poses of the coarser grid that times a design of a large grid */
 #define DESIGN_TIMED_POSES 8192
@@ -400,9 +387,9 @@ static double cpu_now(void) {
 /* CPU seconds of eval_design of design i on the plan q */
 static double timed_eval(const scene *s, const design_plan *q, size_t i,
                          worker_ws *w, design_tile *t) {
-  double t0 = cpu_now();
+  double t0 = est_cpu_now();
   (void)eval_design(s, q, i, w, t, 0);
-  return cpu_now() - t0;
+  return est_cpu_now() - t0;
 }
 
 /* CPU seconds of one design, timed on up to 8 designs spread over the
@@ -429,8 +416,9 @@ static double design_cost_measure(const scene *s, const design_plan *p) {
   q1 = q;
   q1.gr.n[0] = q1.gr.n[1] = q1.gr.n[2] = q1.npose = 1;
   q1.task = p->task;
-  if (!(w = worker_new(q.npose))) return -1;
-  if (tile_alloc(&t, 1, q.npose, p->files)) {
+  memset(&t, 0, sizeof t);
+  if (!(w = worker_new(q.npose)) || tile_alloc(&t, 1, q.npose, p->files)) {
+    tile_free(&t);
     worker_free(w);
     return -1;
   }
@@ -456,7 +444,7 @@ int design_preflight(const char *scene_path, const scene *s,
                      const char *out_path) {
   char e1[32], tt[32];
   size_t cases = design_shard_cases(p, shard, nshard);
-  size_t units = design_shard_units(p, shard, nshard);
+  size_t units = pool_count(p->nunit, shard, nshard);
   double bytes = design_file_bytes(s, p), per = design_cost_measure(s, p);
   double need = nrank > 1
                     ? bytes
@@ -502,6 +490,5 @@ int design_preflight(const char *scene_path, const scene *s,
                 ? est_human_time(per * (double)cases / threads, tt, sizeof tt)
                 : "unknown",
             threads, PL(threads));
-  /* the room (est_room's own line is this one's) */
-  return est_room(out_path, "", cases, 0, need, gzip, 1, "");
+  return est_fits(out_path, need, gzip);
 }

@@ -54,9 +54,6 @@ int design_plan_make(const scene *s, design_plan *p, scene_error *err);
 /* designs of shard k of n (all for n = 1) */
 size_t design_shard_cases(const design_plan *p, size_t k, size_t n);
 
-/* work units of shard k of n */
-size_t design_shard_units(const design_plan *p, size_t k, size_t n);
-
 /*
  * What --check prints (stdout) and a run prints first (stderr, unless
  * quiet): designs, poses, size, estimated time, work units.  For a run,

@@ -1,7 +1,7 @@
 /*
  * simulate.c - see simulate.h: build each simulated case from the scene's
  * simulate section, check them all, and run them into the file of
- * sim_output.h, a window of samples at a time.
+ * output.h, a window of samples at a time.
  */
 #include "simulate.h"
 
@@ -22,10 +22,7 @@ static void key_error(const scene *s, size_t index, int k, const char *msg,
                       scene_error *err) {
   size_t a;
   memset(err, 0, sizeof *err);
-  if (s->naxis > 0)
-    snprintf(err->what, sizeof err->what, "case %zu: %s", index, msg);
-  else
-    snprintf(err->what, sizeof err->what, "%s", msg);
+  scene_case_what(s, index, msg, err->what, sizeof err->what);
   for (a = 0; k >= 0 && a < s->naxis && s->axis[a].key != k; a++)
     ;
   if (k >= 0 && a < s->naxis) {

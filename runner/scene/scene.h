@@ -582,6 +582,10 @@ int scene_case_build(const scene *s, size_t index, scene_case *c,
 /* Sweep value index of axis a in case `index`. */
 size_t scene_case_coord(const scene *s, size_t index, size_t a);
 
+/* msg into buf, as "case INDEX: msg" when the scene is swept */
+void scene_case_what(const scene *s, size_t index, const char *msg, char *buf,
+                     size_t sz);
+
 /* Time of sample k of case c [s]; the last sample is exactly the span. */
 double scene_case_time(const scene_case *c, size_t k);
 

@@ -59,7 +59,7 @@ int merge_shard_of(const char *path, size_t *k, size_t *n, char *err,
   }
   v = out_h5_read_text(f, MERGE_SHARD_ATTR, 1);
   {
-    /* a simulation (sim_output.h) is never a part: say so by name */
+    /* a simulation (output.h) is never a part: say so by name */
     char *content = out_h5_read_text(f, "content", 1);
     int sim = content && strcmp(content, "simulation") == 0;
     free(content);
