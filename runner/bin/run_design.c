@@ -28,14 +28,14 @@ static int agree_all(const world *w, int code) {
 int run_design(scene *s, const run_args *a, const world *w, int argc,
                char **argv, ranks_join_fn join) {
   design_plan plan;
-  design_stats st;
+  sweep_stats st;
   out_file *f;
   scene_error serr;
-  sweep_stats sst;
+  size_t nempty = 0;
   progress pr;
   out_meta meta;
   char err[512], fields[64], *cmd = NULL, *inputs = NULL;
-  int code = EXIT_OK, nthread = a->nthread;
+  int code = EXIT_OK, rc = -1, nthread = a->nthread;
 
   if (a->fields != out_fields_all()) {
     if (w->rank == 0) {
@@ -115,23 +115,16 @@ int run_design(scene *s, const run_args *a, const world *w, int argc,
   pr.npoint = pr.ncase * (plan.npose + plan.nsample);
   memset(&st, 0, sizeof st);
   f = design_file_open(tmpout_path(), s, &plan, &meta, err, sizeof err);
-  if (!f) {
-    fprintf(stderr, "rps3-run: %s: %s\n", a->out_path, err);
-    code = EXIT_IO;
-  } else if (design_run(s, &plan, f, a->shard, a->nshard, nthread, &pr, &st,
-                        err, sizeof err)) {
-    fprintf(stderr, "rps3-run: %s: %s\n", a->out_path, err);
-    out_close(f, NULL, 0);
-    code = EXIT_IO;
-  } else if (out_close(f, err, sizeof err)) {
+  if (f)
+    rc = design_run(s, &plan, f, a->shard, a->nshard, nthread, &pr, &st,
+                    &nempty, err, sizeof err);
+  if (f && out_close(f, rc ? NULL : err, sizeof err) && rc == 0) rc = -1;
+  if (rc) {
     fprintf(stderr, "rps3-run: %s: %s\n", a->out_path, err);
     code = EXIT_IO;
   }
-  sst.cases_done = st.cases_done;
-  sst.points_done = st.points_done;
-  sst.nfailed = st.nfailed;
   if (w->size > 1) {
-    code = join(w, code, a->copy, a->out_path, cmd, &pr, &sst, s->ncase);
+    code = join(w, code, a->copy, a->out_path, cmd, &pr, &st, s->ncase);
     goto done;
   }
   if (code != EXIT_OK || tmpout_commit(a->out_path)) {
@@ -139,11 +132,11 @@ int run_design(scene *s, const run_args *a, const world *w, int argc,
     goto done;
   }
   progress_finish(&pr, st.cases_done, st.points_done, st.nfailed);
-  if (!a->quiet && st.nempty)
+  if (!a->quiet && nempty)
     fprintf(stderr,
             "rps3-run: %zu design%s with an empty workspace (nreach = 0: a "
             "result, not a failure)\n",
-            st.nempty, st.nempty == 1 ? "" : "s");
+            nempty, nempty == 1 ? "" : "s");
   code = st.nfailed ? EXIT_FAILED_CASES : EXIT_OK;
 done:
   if (code == EXIT_FAILED_CASES && a->failed_ok) code = EXIT_OK;

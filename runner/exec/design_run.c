@@ -283,7 +283,8 @@ typedef struct {
   const design_plan *p;
   out_file *f;
   progress *pr;
-  design_stats *st;
+  sweep_stats *st;
+  size_t *nempty;
 } design_job;
 
 /* what describes a filled tile: its designs, the poses and samples
@@ -336,30 +337,27 @@ static int design_write(void *ctx, void *slot, const void *info, char *err,
   design_job *J = ctx;
   const design_tile *t = slot;
   const unit_info *in = info;
-  design_stats *st = J->st;
-  size_t j;
+  size_t j, failed = 0;
   if (out_write_case(J->f, (const void *const *)t->buf, in->c0, in->nc, err,
                      errsz))
     return -1;
   for (j = 0; j < in->nc; j++)
     if (I32(t, OUT_des_status)[j] != 0) {
-      if (st->nfailed == 0)
+      if (J->st->nfailed + failed++ == 0)
         progress_failure(J->pr, in->c0 + j, "", STR(t, OUT_des_message)[j]);
-      st->nfailed++;
     } else if (I64(t, OUT_nreach)[j] == 0)
-      st->nempty++;
-  st->cases_done += in->nc;
-  st->points_done += in->points;
-  progress_update(J->pr, st->cases_done, st->points_done);
+      (*J->nempty)++;
+  sweep_count(J->pr, J->st, in->nc, in->points, failed);
   return 0;
 }
 
 int design_run(const scene *s, const design_plan *p, out_file *f, size_t shard,
-               size_t nshard, int nthread, progress *pr, design_stats *st,
-               char *err, size_t errsz) {
-  design_job J = {s, p, f, pr, st};
+               size_t nshard, int nthread, progress *pr, sweep_stats *st,
+               size_t *nempty, char *err, size_t errsz) {
+  design_job J = {s, p, f, pr, st, nempty};
   pool_job job;
   memset(st, 0, sizeof *st);
+  *nempty = 0;
   if (nthread < 1) nthread = 1;
   memset(&job, 0, sizeof job);
   job.ctx = &J;

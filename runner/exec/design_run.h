@@ -21,6 +21,7 @@
 #include "core/progress.h"
 #include "output/output.h"
 #include "scene/design.h"
+#include "sweep.h"
 
 /* poses of evaluation per work unit (a unit is at least one design) */
 #define DESIGN_UNIT_POSES 65536
@@ -36,13 +37,6 @@ typedef struct {
   int files;           /* the OUT_DESIGN bits of the file's fields */
   size_t nsample;      /* samples of the task (its time grid) */
 } design_plan;
-
-typedef struct {
-  size_t cases_done;
-  size_t points_done; /* poses and task samples evaluated */
-  size_t nfailed;     /* designs with a non-zero status */
-  size_t nempty;      /* designs with an empty workspace */
-} design_stats;
 
 /*
  * Build and check every design of s (design_case_build) and lay out the
@@ -74,13 +68,15 @@ out_file *design_file_open(const char *path, const scene *s,
 
 /*
  * Evaluate the designs of shard `shard` of `nshard` into f on nthread
- * threads (the calling thread writes), progress on pr, counts in st.
+ * threads (the calling thread writes), progress on pr, counts in st (its
+ * points the poses and task samples evaluated) and *nempty (designs with
+ * an empty workspace).
  * A design that fails is a row of its file (status, message), not a
  * failure of the run.  Returns 0, or -1 with err set (the file could not
  * be written, out of memory).
  */
 int design_run(const scene *s, const design_plan *p, out_file *f, size_t shard,
-               size_t nshard, int nthread, progress *pr, design_stats *st,
-               char *err, size_t errsz);
+               size_t nshard, int nthread, progress *pr, sweep_stats *st,
+               size_t *nempty, char *err, size_t errsz);
 
 #endif /* RPS3_RUNNER_DESIGN_RUN_H */
