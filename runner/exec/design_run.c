@@ -237,7 +237,7 @@ static size_t eval_task(worker_ws *w, const rps3_design *d,
 /* design `index` into slot j of t; the poses and samples it evaluated */
 static size_t eval_design(const scene *s, const design_plan *p, size_t index,
                           worker_ws *w, design_tile *t, size_t j) {
-  rps3_design_opts o;
+  const rps3_design_opts *o = &s->base.des.opts;
   rps3_design_out out;
   rps3_design_summary sum;
   rps3_design d;
@@ -251,7 +251,6 @@ static size_t eval_design(const scene *s, const design_plan *p, size_t index,
     design_failed(t, j, RPS3_EINVAL, err.what);
     return 0;
   }
-  design_opts(s, &o);
   design_of_case(&c, &d);
   memset(&out, 0, sizeof out);
   out.flags =
@@ -260,7 +259,7 @@ static size_t eval_design(const scene *s, const design_plan *p, size_t index,
 #define POSE(m, id) out.m = p->per_pose ? F64(t, OUT_##id) + j * n : NULL;
   POSE_FIELDS(POSE)
 #undef POSE
-  rc = rps3_design_eval_grid(w->ws, &d, &o, &p->gr, &out, &sum);
+  rc = rps3_design_eval_grid(w->ws, &d, o, &p->gr, &out, &sum);
   if (rc != RPS3_OK && rc != RPS3_EEMPTY) {
     design_failed(t, j, rc, w->ws->err.msg);
     return 0;
@@ -270,7 +269,7 @@ static size_t eval_design(const scene *s, const design_plan *p, size_t index,
     F64(t, OUT_des_y_c)[j * n + k] = w->c[n + k];
   }
   store_summary(t, j, &sum, &w->ws->model);
-  if (p->task) done += eval_task(w, &d, &o, &c, t, j);
+  if (p->task) done += eval_task(w, &d, o, &c, t, j);
   if (scene_case_yaml(&c, &w->yaml) == 0)
     STR(t, OUT_des_scene_resolved)[j] = strdup(w->yaml.s);
   return done;
