@@ -123,21 +123,19 @@ int run_design(scene *s, const run_args *a, const world *w, int argc,
     fprintf(stderr, "rps3-run: %s: %s\n", a->out_path, err);
     code = EXIT_IO;
   }
-  if (w->size > 1) {
+  if (w->size > 1)
     code = join(w, code, a->copy, a->out_path, cmd, &pr, &st, s->ncase);
-    goto done;
-  }
-  if (code != EXIT_OK || tmpout_commit(a->out_path)) {
+  else if (code != EXIT_OK || tmpout_commit(a->out_path))
     code = EXIT_IO;
-    goto done;
+  else {
+    progress_finish(&pr, st.cases_done, st.points_done, st.nfailed);
+    if (!a->quiet && nempty)
+      fprintf(stderr,
+              "rps3-run: %zu design%s with an empty workspace (nreach = 0: "
+              "a result, not a failure)\n",
+              nempty, nempty == 1 ? "" : "s");
+    code = st.nfailed ? EXIT_FAILED_CASES : EXIT_OK;
   }
-  progress_finish(&pr, st.cases_done, st.points_done, st.nfailed);
-  if (!a->quiet && nempty)
-    fprintf(stderr,
-            "rps3-run: %zu design%s with an empty workspace (nreach = 0: a "
-            "result, not a failure)\n",
-            nempty, nempty == 1 ? "" : "s");
-  code = st.nfailed ? EXIT_FAILED_CASES : EXIT_OK;
 done:
   if (code == EXIT_FAILED_CASES && a->failed_ok) code = EXIT_OK;
   tmpout_discard();
