@@ -11,7 +11,7 @@
 #include "core/exit_codes.h"
 #include "core/safeio.h"
 #include "core/tmpout.h"
-#include "output/sim_output.h"
+#include "output/output.h"
 #include "scene/scene.h"
 
 /* most threads of -j */

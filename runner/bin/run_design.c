@@ -11,6 +11,7 @@
 #include "core/exit_codes.h"
 #include "core/tmpout.h"
 #include "exec/design_run.h"
+#include "exec/pool.h"
 #include "output/outblock.h"
 
 /* what a design study's file needs */
@@ -29,32 +30,28 @@ static int design_write(run_job *j, const out_meta *meta, progress *pr,
   design_job *d = j->ctx;
   const run_args *a = d->a;
   const design_plan *plan = d->plan;
-  design_stats st;
+  size_t nempty = 0;
   out_file *f;
   char err[512];
   int code = EXIT_OK;
   progress_start(pr, j->ncase, a->quiet || d->w->rank != 0);
   pr->njob_all = plan->nunit;
-  pr->njob = design_shard_units(plan, a->shard, a->nshard);
+  pr->njob = pool_count(plan->nunit, a->shard, a->nshard);
   pr->npoint = pr->ncase * (plan->npose + plan->nsample);
-  memset(&st, 0, sizeof st);
   f = design_file_open(tmpout_path(), d->s, plan, meta, err, sizeof err);
   if (!f)
     code = run_io(a, err);
-  else if (design_run(d->s, plan, f, a->shard, a->nshard, a->nthread, pr, &st,
-                      err, sizeof err)) {
+  else if (design_run(d->s, plan, f, a->shard, a->nshard, a->nthread, pr, sst,
+                      &nempty, err, sizeof err)) {
     out_close(f, NULL, 0);
     code = run_io(a, err);
   } else if (out_close(f, err, sizeof err))
     code = run_io(a, err);
-  sst->cases_done = st.cases_done;
-  sst->points_done = st.points_done;
-  sst->nfailed = st.nfailed;
-  if (st.nempty)
+  if (nempty)
     snprintf(j->note, sizeof j->note,
              "rps3-run: %zu design%s with an empty workspace (nreach = 0: a "
              "result, not a failure)\n",
-             st.nempty, st.nempty == 1 ? "" : "s");
+             nempty, nempty == 1 ? "" : "s");
   return code;
 }
 

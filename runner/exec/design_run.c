@@ -6,7 +6,6 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
-#include <time.h>
 
 #include "estimate.h"
 #include "pool.h"
@@ -39,13 +38,9 @@ int design_plan_make(const scene *s, design_plan *p, scene_error *err) {
   return 0;
 }
 
-size_t design_shard_units(const design_plan *p, size_t k, size_t n) {
-  return k < p->nunit ? (p->nunit - k + n - 1) / n : 0;
-}
-
 size_t design_shard_cases(const design_plan *p, size_t k, size_t n) {
   size_t j, c = 0;
-  for (j = k; j < p->nunit; j += n)
+  for (j = k; j < p->nunit; j = pool_next(j, n, p->nunit))
     c += (j + 1) * p->unit < p->ncase ? p->unit : p->ncase - j * p->unit;
   return c;
 }
@@ -82,23 +77,19 @@ static void tile_free(design_tile *t) {
     if (t->buf[i] && out_field_table[i].type == OUT_STR)
       for (j = 0; j < t->cap; j++) free(((char **)t->buf[i])[j]);
   for (i = 0; i < OUT_NFIELD; i++) free(t->buf[i]);
-  memset(t, 0, sizeof *t);
 }
 
-/* 0, or -1 (out of memory; the tile then freed) */
+/* 0, or -1 (out of memory; tile_free frees what was made) */
 static int tile_alloc(design_tile *t, size_t cap, size_t npose, int files) {
   size_t j;
   int i;
-  memset(t, 0, sizeof *t);
   t->cap = cap;
   t->npose = npose;
   for (i = 0; i < OUT_NFIELD; i++)
     if ((out_field_table[i].files & files) &&
         !(t->buf[i] = calloc(cap * inner(t, i),
-                             out_type_size(out_field_table[i].type)))) {
-      tile_free(t);
+                             out_type_size(out_field_table[i].type))))
       return -1;
-    }
   for (j = 0; j < cap; j++) tile_clear(t, j);
   return 0;
 }
@@ -246,7 +237,7 @@ static size_t eval_task(worker_ws *w, const rps3_design *d,
 /* design `index` into slot j of t; the poses and samples it evaluated */
 static size_t eval_design(const scene *s, const design_plan *p, size_t index,
                           worker_ws *w, design_tile *t, size_t j) {
-  rps3_design_opts o;
+  const rps3_design_opts *o = &s->base.des.opts;
   rps3_design_out out;
   rps3_design_summary sum;
   rps3_design d;
@@ -260,7 +251,6 @@ static size_t eval_design(const scene *s, const design_plan *p, size_t index,
     design_failed(t, j, RPS3_EINVAL, err.what);
     return 0;
   }
-  design_opts(s, &o);
   design_of_case(&c, &d);
   memset(&out, 0, sizeof out);
   out.flags =
@@ -269,7 +259,7 @@ static size_t eval_design(const scene *s, const design_plan *p, size_t index,
 #define POSE(m, id) out.m = p->per_pose ? F64(t, OUT_##id) + j * n : NULL;
   POSE_FIELDS(POSE)
 #undef POSE
-  rc = rps3_design_eval_grid(w->ws, &d, &o, &p->gr, &out, &sum);
+  rc = rps3_design_eval_grid(w->ws, &d, o, &p->gr, &out, &sum);
   if (rc != RPS3_OK && rc != RPS3_EEMPTY) {
     design_failed(t, j, rc, w->ws->err.msg);
     return 0;
@@ -279,7 +269,7 @@ static size_t eval_design(const scene *s, const design_plan *p, size_t index,
     F64(t, OUT_des_y_c)[j * n + k] = w->c[n + k];
   }
   store_summary(t, j, &sum, &w->ws->model);
-  if (p->task) done += eval_task(w, &d, &o, &c, t, j);
+  if (p->task) done += eval_task(w, &d, o, &c, t, j);
   if (scene_case_yaml(&c, &w->yaml) == 0)
     STR(t, OUT_des_scene_resolved)[j] = strdup(w->yaml.s);
   return done;
@@ -292,7 +282,8 @@ typedef struct {
   const design_plan *p;
   out_file *f;
   progress *pr;
-  design_stats *st;
+  sweep_stats *st;
+  size_t *nempty;
 } design_job;
 
 /* what describes a filled tile: its designs, the poses and samples
@@ -309,6 +300,19 @@ static void *design_worker_begin(void *ctx) {
 static void design_worker_end(void *ctx, void *wctx) {
   (void)ctx;
   worker_free(wctx);
+}
+
+/* pool_job.slot_make, slot_free: a tile of one unit's designs */
+static int design_slot_make(void *ctx, void *slot, size_t i) {
+  const design_plan *p = ((const design_job *)ctx)->p;
+  (void)i;
+  return tile_alloc(slot, p->unit, p->npose, p->files);
+}
+
+static void design_slot_free(void *ctx, void *slot, size_t i) {
+  (void)ctx;
+  (void)i;
+  tile_free(slot);
 }
 
 /* pool_job.run: work unit u on worker w, into its slot */
@@ -332,35 +336,28 @@ static int design_write(void *ctx, void *slot, const void *info, char *err,
   design_job *J = ctx;
   const design_tile *t = slot;
   const unit_info *in = info;
-  design_stats *st = J->st;
-  size_t j;
+  size_t j, failed = 0;
   if (out_write_case(J->f, (const void *const *)t->buf, in->c0, in->nc, err,
                      errsz))
     return -1;
   for (j = 0; j < in->nc; j++)
     if (I32(t, OUT_des_status)[j] != 0) {
-      if (st->nfailed == 0)
+      if (J->st->nfailed + failed++ == 0)
         progress_failure(J->pr, in->c0 + j, "", STR(t, OUT_des_message)[j]);
-      st->nfailed++;
     } else if (I64(t, OUT_nreach)[j] == 0)
-      st->nempty++;
-  st->cases_done += in->nc;
-  st->points_done += in->points;
-  progress_update(J->pr, st->cases_done, st->points_done);
+      (*J->nempty)++;
+  sweep_count(J->pr, J->st, in->nc, in->points, failed);
   return 0;
 }
 
 int design_run(const scene *s, const design_plan *p, out_file *f, size_t shard,
-               size_t nshard, int nthread, progress *pr, design_stats *st,
-               char *err, size_t errsz) {
-  design_job J = {s, p, f, pr, st};
+               size_t nshard, int nthread, progress *pr, sweep_stats *st,
+               size_t *nempty, char *err, size_t errsz) {
+  design_job J = {s, p, f, pr, st, nempty};
   pool_job job;
-  design_tile *tiles;
-  size_t i, nslot;
-  int rc = -1;
   memset(st, 0, sizeof *st);
+  *nempty = 0;
   if (nthread < 1) nthread = 1;
-  nslot = pool_nslot(nthread);
   memset(&job, 0, sizeof job);
   job.ctx = &J;
   job.nitem = p->nunit;
@@ -371,28 +368,15 @@ int design_run(const scene *s, const design_plan *p, out_file *f, size_t shard,
   job.worker_end = design_worker_end;
   job.run = design_item;
   job.write = design_write;
-  tiles = calloc(nslot, sizeof *tiles);
-  job.slot = calloc(nslot, sizeof *job.slot);
+  job.slot_size = sizeof(design_tile);
+  job.slot_make = design_slot_make;
+  job.slot_free = design_slot_free;
   snprintf(err, errsz, "out of memory for the tiles of %d thread%s", nthread,
            nthread == 1 ? "" : "s");
-  for (i = 0; tiles && job.slot && i < nslot; i++) {
-    if (tile_alloc(&tiles[i], p->unit, p->npose, p->files)) break;
-    job.slot[i] = &tiles[i];
-  }
-  if (tiles && job.slot && i == nslot) rc = pool_run(&job, nthread, err, errsz);
-  for (i = 0; tiles && i < nslot; i++) tile_free(&tiles[i]);
-  free(tiles);
-  free(job.slot);
-  return rc;
+  return pool_run(&job, nthread, err, errsz);
 }
 
 /* ------------------------------------------------------------- estimate */
-
-static double cpu_now(void) {
-  struct timespec ts;
-  clock_gettime(CLOCK_PROCESS_CPUTIME_ID, &ts);
-  return (double)ts.tv_sec + 1e-9 * (double)ts.tv_nsec;
-}
 
 /* poses of the coarser grid that times a design of a large grid */
 #define DESIGN_TIMED_POSES 8192
@@ -400,9 +384,9 @@ static double cpu_now(void) {
 /* CPU seconds of eval_design of design i on the plan q */
 static double timed_eval(const scene *s, const design_plan *q, size_t i,
                          worker_ws *w, design_tile *t) {
-  double t0 = cpu_now();
+  double t0 = est_cpu_now();
   (void)eval_design(s, q, i, w, t, 0);
-  return cpu_now() - t0;
+  return est_cpu_now() - t0;
 }
 
 /* CPU seconds of one design, timed on up to 8 designs spread over the
@@ -429,8 +413,9 @@ static double design_cost_measure(const scene *s, const design_plan *p) {
   q1 = q;
   q1.gr.n[0] = q1.gr.n[1] = q1.gr.n[2] = q1.npose = 1;
   q1.task = p->task;
-  if (!(w = worker_new(q.npose))) return -1;
-  if (tile_alloc(&t, 1, q.npose, p->files)) {
+  memset(&t, 0, sizeof t);
+  if (!(w = worker_new(q.npose)) || tile_alloc(&t, 1, q.npose, p->files)) {
+    tile_free(&t);
     worker_free(w);
     return -1;
   }
@@ -456,7 +441,7 @@ int design_preflight(const char *scene_path, const scene *s,
                      const char *out_path) {
   char e1[32], tt[32];
   size_t cases = design_shard_cases(p, shard, nshard);
-  size_t units = design_shard_units(p, shard, nshard);
+  size_t units = pool_count(p->nunit, shard, nshard);
   double bytes = design_file_bytes(s, p), per = design_cost_measure(s, p);
   double need = nrank > 1
                     ? bytes
@@ -502,6 +487,5 @@ int design_preflight(const char *scene_path, const scene *s,
                 ? est_human_time(per * (double)cases / threads, tt, sizeof tt)
                 : "unknown",
             threads, PL(threads));
-  /* the room (est_room's own line is this one's) */
-  return est_room(out_path, "", cases, 0, need, gzip, 1, "");
+  return est_fits(out_path, need, gzip);
 }

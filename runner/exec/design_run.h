@@ -21,6 +21,7 @@
 #include "core/progress.h"
 #include "output/output.h"
 #include "scene/design.h"
+#include "sweep.h"
 
 /* poses of evaluation per work unit (a unit is at least one design) */
 #define DESIGN_UNIT_POSES 65536
@@ -37,13 +38,6 @@ typedef struct {
   size_t nsample;      /* samples of the task (its time grid) */
 } design_plan;
 
-typedef struct {
-  size_t cases_done;
-  size_t points_done; /* poses and task samples evaluated */
-  size_t nfailed;     /* designs with a non-zero status */
-  size_t nempty;      /* designs with an empty workspace */
-} design_stats;
-
 /*
  * Build and check every design of s (design_case_build) and lay out the
  * work units.  Returns 0, or -1 with err at the swept value or key of the
@@ -53,9 +47,6 @@ int design_plan_make(const scene *s, design_plan *p, scene_error *err);
 
 /* designs of shard k of n (all for n = 1) */
 size_t design_shard_cases(const design_plan *p, size_t k, size_t n);
-
-/* work units of shard k of n */
-size_t design_shard_units(const design_plan *p, size_t k, size_t n);
 
 /*
  * What --check prints (stdout) and a run prints first (stderr, unless
@@ -77,13 +68,15 @@ out_file *design_file_open(const char *path, const scene *s,
 
 /*
  * Evaluate the designs of shard `shard` of `nshard` into f on nthread
- * threads (the calling thread writes), progress on pr, counts in st.
+ * threads (the calling thread writes), progress on pr, counts in st (its
+ * points the poses and task samples evaluated) and *nempty (designs with
+ * an empty workspace).
  * A design that fails is a row of its file (status, message), not a
  * failure of the run.  Returns 0, or -1 with err set (the file could not
  * be written, out of memory).
  */
 int design_run(const scene *s, const design_plan *p, out_file *f, size_t shard,
-               size_t nshard, int nthread, progress *pr, design_stats *st,
-               char *err, size_t errsz);
+               size_t nshard, int nthread, progress *pr, sweep_stats *st,
+               size_t *nempty, char *err, size_t errsz);
 
 #endif /* RPS3_RUNNER_DESIGN_RUN_H */

@@ -2,14 +2,14 @@
  * sim_run.c - rps3-run on a simulated scene (simulate.h): check every
  * case, then simulate them as a job of the worker pool (pool.h: its items
  * the cases, its slots windows of samples, on this thread or on -j
- * threads) into the file of sim_output.h, under a temporary name renamed
+ * threads) into the file of output.h, under a temporary name renamed
  * when complete (tmpout.h).  Only the thread that created the file calls
  * HDF5.
  */
 #include "core/exit_codes.h"
 #include "core/tmpout.h"
 #include "estimate.h"
-#include "output/sim_output.h"
+#include "output/output.h"
 #include "pool.h"
 #include "simulate.h"
 #include "sweep.h"

@@ -1,7 +1,7 @@
 /*
  * simulate.c - see simulate.h: build each simulated case from the scene's
  * simulate section, check them all, and run them into the file of
- * sim_output.h, a window of samples at a time.
+ * output.h, a window of samples at a time.
  */
 #include "simulate.h"
 
@@ -21,23 +21,17 @@
 static void key_error(const scene *s, size_t index, int k, const char *msg,
                       scene_error *err) {
   size_t a;
-  memset(err, 0, sizeof *err);
-  if (s->naxis > 0)
-    snprintf(err->what, sizeof err->what, "case %zu: %s", index, msg);
-  else
-    snprintf(err->what, sizeof err->what, "%s", msg);
+  char what[sizeof err->what];
+  scene_case_what(s, index, msg, what, sizeof what);
   for (a = 0; k >= 0 && a < s->naxis && s->axis[a].key != k; a++)
     ;
-  if (k >= 0 && a < s->naxis) {
-    err->mark = s->axis[a].mark[scene_case_coord(s, index, a)];
-    snprintf(err->path, sizeof err->path, "%s", s->axis[a].path);
-  } else if (k >= 0 && s->given[k]) {
-    err->mark = s->mark[k];
-    snprintf(err->path, sizeof err->path, "%s", scene_key_get(k)->path);
-  } else {
-    err->mark = s->simulate;
-    snprintf(err->path, sizeof err->path, "simulate");
-  }
+  if (k >= 0 && a < s->naxis)
+    scene_error_set(err, s->axis[a].mark[scene_case_coord(s, index, a)],
+                    s->axis[a].path, "%s", what);
+  else if (k >= 0 && s->given[k])
+    scene_error_set(err, s->mark[k], scene_key_get(k)->path, "%s", what);
+  else
+    scene_error_set(err, s->simulate, "simulate", "%s", what);
 }
 
 /* the key a library message "simulate.NAME = VALUE: why" is about */
@@ -231,12 +225,9 @@ int sim_case_build(const scene *s, const scene_case *c, sim_case *sc,
   char msg[320];
   memset(sc, 0, sizeof *sc);
   if (!(c->model.opt.effects & inertia)) {
-    memset(err, 0, sizeof *err);
-    err->mark = s->mark[K_EFFECTS];
-    snprintf(err->path, sizeof err->path, "effects");
-    snprintf(err->what, sizeof err->what,
-             "a simulated plant needs a mass to accelerate: list "
-             "platform_inertia, link_inertia or payload");
+    scene_error_set(err, s->mark[K_EFFECTS], "effects",
+                    "a simulated plant needs a mass to accelerate: list "
+                    "platform_inertia, link_inertia or payload");
     return -1;
   }
   case_options(&c->v.sim, sc);
@@ -276,12 +267,9 @@ static size_t sim_axis(const scene *s) {
 static int section_rule(const scene *s, scene_error *err) {
   size_t a = sim_axis(s);
   if (s->simulate.line > 0 || a == s->naxis) return 0;
-  memset(err, 0, sizeof *err);
-  err->mark = s->axis[a].mark[0];
-  snprintf(err->path, sizeof err->path, "%s", s->axis[a].path);
-  snprintf(err->what, sizeof err->what,
-           "a simulate key, but the scene has no simulate section: add "
-           "`simulate: {}` to simulate with the defaults");
+  scene_error_set(err, s->axis[a].mark[0], s->axis[a].path,
+                  "a simulate key, but the scene has no simulate section: add "
+                  "`simulate: {}` to simulate with the defaults");
   return -1;
 }
 

@@ -1,7 +1,7 @@
 /*
  * simulate.h - rps3-run on a scene with a `simulate:` section: each case is
  * simulated (rps3_sim) under the section's controller instead of running
- * the inverse dynamics, into a file of its own schema (sim_output.h).
+ * the inverse dynamics, into a file of its own schema (output.h).
  *
  * The plant is the case's manipulator with its effects (c->model); the
  * controller (rps3_ctrl) follows the case's trajectory with its own model:

@@ -1,8 +1,8 @@
 /*
- * sim_output.c - see sim_output.h: a simulation's file, the OUT_SIM rows
+ * sim_output.c - see output.h: a simulation's file, the OUT_SIM rows
  * of the schema written by output.c a window of one case at a time.
  */
-#include "sim_output.h"
+#include "output.h"
 
 #include <stdlib.h>
 #include <string.h>

@@ -23,8 +23,6 @@ void design_grid(const scene *s, rps3_design_grid *gr) {
   }
 }
 
-void design_opts(const scene *s, rps3_design_opts *o) { *o = s->base.des.opts; }
-
 /* grid key ax (alpha, beta, z_c): lo <= hi, cells a whole number >= 1,
    and the grid at most DESIGN_MAX_POSES poses */
 static int check_grid(const scene *s, int ax, double *poses, scene_error *err) {

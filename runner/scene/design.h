@@ -27,9 +27,6 @@ int design_key_unread(int k);
    centres, alpha fastest) */
 void design_grid(const scene *s, rps3_design_grid *gr);
 
-/* the evaluation options of the design section */
-void design_opts(const scene *s, rps3_design_opts *o);
-
 /* the rps3_design of a built case: the design keys, and R, rho, M, the
    link's actuator body m and d, the payload (mass, com[2]) and g of its
    model */

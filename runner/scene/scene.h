@@ -582,6 +582,10 @@ int scene_case_build(const scene *s, size_t index, scene_case *c,
 /* Sweep value index of axis a in case `index`. */
 size_t scene_case_coord(const scene *s, size_t index, size_t a);
 
+/* msg into buf, as "case INDEX: msg" when the scene is swept */
+void scene_case_what(const scene *s, size_t index, const char *msg, char *buf,
+                     size_t sz);
+
 /* Time of sample k of case c [s]; the last sample is exactly the span. */
 double scene_case_time(const scene_case *c, size_t k);
 
@@ -596,6 +600,10 @@ int scene_case_same_grid(const scene_case *a, const scene_case *b);
  * Once per key; nothing for a sane scene.
  */
 void scene_warnings_print(const scene *s, FILE *out);
+
+/* err = mark, path and the formatted message */
+void scene_error_set(scene_error *err, scene_mark mark, const char *path,
+                     const char *fmt, ...);
 
 /* Print err as FILE:LINE:COLUMN: path: what, one line, on stderr. */
 void scene_error_print(const char *file, const scene_error *err);

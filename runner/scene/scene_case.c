@@ -30,16 +30,21 @@ static int keys_filling(const scene *s, int id, int *out, int max) {
   return n;
 }
 
+void scene_case_what(const scene *s, size_t index, const char *msg, char *buf,
+                     size_t sz) {
+  if (s->naxis > 0)
+    snprintf(buf, sz, "case %zu: %s", index, msg);
+  else
+    snprintf(buf, sz, "%s", msg);
+}
+
 void scene_case_error(const scene *s, size_t index, const char *msg,
                       const rps3_check *chk, int first_key,
                       const scene_mark *at, scene_error *err) {
   int named[16], comp[16], n = 0, i, j, m;
   size_t a;
   char what[sizeof err->what];
-  if (s->naxis > 0)
-    snprintf(what, sizeof what, "case %zu: %s", index, msg);
-  else
-    snprintf(what, sizeof what, "%s", msg);
+  scene_case_what(s, index, msg, what, sizeof what);
   if (first_key >= 0) {
     comp[n] = -1;
     named[n++] = first_key;

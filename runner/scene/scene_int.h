@@ -34,10 +34,6 @@ void scene_enum_list(int k, char *buf, size_t sz);
 /* set key k (component comp of a KEY_REAL3) to x */
 void scene_value_set(scene_values *v, int k, int comp, double x);
 
-/* err = mark, path and the formatted message */
-void scene_error_set(scene_error *err, scene_mark mark, const char *path,
-                     const char *fmt, ...);
-
 /* libyaml's 0-based mark as the scene's 1-based line and column */
 scene_mark scene_mark_of(const yaml_mark_t *m);
 

@@ -53,7 +53,7 @@ int merge_shard_of(const char *path, size_t *k, size_t *n, char *err,
   v = out_h5_read_text(f, MERGE_SHARD_ATTR, 1);
   content = out_h5_read_text(f, "content", 1);
   H5Fclose(f);
-  /* a simulation (sim_output.h) is never a part: say so by name */
+  /* a simulation (output.h) is never a part: say so by name */
   if (content && strcmp(content, "simulation") == 0)
     snprintf(err, errsz,
              "%s: a simulation file (its scene has a simulate "
