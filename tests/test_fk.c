@@ -410,7 +410,7 @@ static void predictor_positions_oracle(void **state) {
   assert_int_equal(setup_model(&m, RPS3_SOLVER_HYBRIDSJ), RPS3_OK);
   m.opt.theta = RPS3_THETA_MULTIROOT;
   m.opt.effects = RPS3_EFF_PLATFORM_GRAVITY;
-  assert_int_equal(rps3_model_init(&m, NULL, 0), RPS3_OK);
+  assert_int_equal(rps3_model_init(&m, NULL), RPS3_OK);
   assert_int_equal(rps3_data_alloc(&m, &d), RPS3_OK);
   assert_int_equal(rps3_data_alloc(&m, &e), RPS3_OK);
   for (n = 0; n < 4; n++) {

@@ -908,7 +908,7 @@ static void theta_solve_is_the_solves(void **state) {
   int n, i, far, st, agree[2] = {0, 0};
   (void)state;
   model_entropy(&m);
-  assert_int_equal(rps3_model_init(&m, NULL, 0), RPS3_OK);
+  assert_int_equal(rps3_model_init(&m, NULL), RPS3_OK);
   assert_int_equal(rps3_data_alloc(&m, &inv), RPS3_OK);
   assert_int_equal(rps3_data_alloc(&m, &fd), RPS3_OK);
   assert_int_equal(rps3_data_alloc(&m, &ts), RPS3_OK);

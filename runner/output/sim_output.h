@@ -1,2 +1,0 @@
-/* sim_output.h - a simulation's file: declared in output.h */
-#include "output.h"
