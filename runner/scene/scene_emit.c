@@ -173,31 +173,27 @@ int scene_case_yaml(const scene_case *c, scene_text *out) {
   ok = ok && yaml_emitter_emit(&em, &ev);
   ok = ok && emit_open(&em, 0, 0);
   for (k = 0; k < SCENE_NKEY && ok; k++) {
-    const char *path = scene_key_get(k)->path, *p, *dot;
+    const char *p = scene_key_get(k)->path, *dot;
     int level = 0;
     if (!case_has_key(c, k)) continue;
-    /* close the sections this key is not in, open the ones it is in */
-    for (p = path; (dot = strchr(p, '.')) != NULL; p = dot + 1, level++) {
-      size_t len = (size_t)(dot - p);
-      if (level < depth && strlen(open[level]) == len &&
-          strncmp(open[level], p, len) == 0)
-        continue;
-      while (depth > level && ok) {
-        ok = emit_close(&em, 0);
-        depth--;
-      }
-      snprintf(open[depth], sizeof open[depth], "%.*s", (int)len, p);
-      ok = ok && emit_scalar(&em, open[depth]) && emit_open(&em, 0, 0);
-      depth++;
-    }
+    /* keep the sections this key is in, close the others, open the rest */
+    for (; level < depth && (dot = strchr(p, '.')) != NULL &&
+           strlen(open[level]) == (size_t)(dot - p) &&
+           strncmp(open[level], p, (size_t)(dot - p)) == 0;
+         level++)
+      p = dot + 1;
     while (depth > level && ok) {
       ok = emit_close(&em, 0);
       depth--;
     }
+    for (; ok && (dot = strchr(p, '.')) != NULL; p = dot + 1) {
+      snprintf(open[depth], sizeof open[depth], "%.*s", (int)(dot - p), p);
+      ok = emit_scalar(&em, open[depth++]) && emit_open(&em, 0, 0);
+    }
     ok = ok && emit_scalar(&em, p) && emit_value(&em, k, &c->v);
   }
-  while (depth-- > 0 && ok) ok = emit_close(&em, 0);
-  ok = ok && emit_close(&em, 0);
+  /* the sections, then the root */
+  while (depth-- >= 0 && ok) ok = emit_close(&em, 0);
   yaml_document_end_event_initialize(&ev, 1);
   ok = ok && yaml_emitter_emit(&em, &ev);
   yaml_stream_end_event_initialize(&ev);
