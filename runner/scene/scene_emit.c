@@ -1,12 +1,7 @@
 /*
- * scene_emit.c - a case written back as YAML (scene_case_yaml: the resolved
- * scene of every case, which reruns alone) and the key table as markdown
- * (scene_keys_print: `rps3-run --keys`, docs/runner.md), both row by row of
- * the key table of scene.h; and the values that look like a unit mistake
- * (scene_warnings_print): a length in millimetres, an angle in degrees.
- * The scene is SI (metres, radians); such a value is valid, so it is not
- * refused, but it is named on stderr with its place in the file, once per
- * key.
+ * scene_emit.c - the resolved YAML of a case and the `--keys` markdown,
+ * both row by row of SCENE_KEYS; and the values that look like a unit
+ * mistake: valid in SI, so not refused, but named with their place.
  */
 #include "design.h"
 #include "scene.h"
@@ -387,10 +382,9 @@ void scene_warnings_print(const scene *s, FILE *out) {
       char key[160];
       if (axis_warn(out, s, k, ki->type == KEY_REAL ? -1 : comp) || !why)
         continue;
-      if (ki->type == KEY_REAL)
-        snprintf(key, sizeof key, "%s", ki->path);
-      else
-        snprintf(key, sizeof key, "%s[%d]", ki->path, comp);
+      snprintf(key, sizeof key, "%s", ki->path);
+      if (ki->type != KEY_REAL)
+        snprintf(key + strlen(key), sizeof key - strlen(key), "[%d]", comp);
       warn(out, s, s->mark[k], key, "%.9g %s", x, why);
       break;
     }
