@@ -749,7 +749,6 @@ static int scene_parse_sweep(parse_ctx *c, const yaml_node_t *map) {
   scene *s = c->s;
   yaml_node_pair_t *pair;
   size_t npair;
-  double ncase = 1;
   if (map->type != YAML_MAPPING_NODE ||
       map->data.mapping.pairs.top == map->data.mapping.pairs.start) {
     scene_error_set(c->err, scene_mark_of(&map->start_mark), "sweep",
@@ -775,9 +774,8 @@ static int scene_parse_sweep(parse_ctx *c, const yaml_node_t *map) {
         sweep_key(c, ax, name, km) ||
         sweep_values(c, ax, scene_node_get(c, pair->value), km))
       return -1;
-    ncase *= (double)ax->n;
-    c->ncase = ncase;
-    if (ncase > MAX_CASES) {
+    c->ncase *= (double)ax->n;
+    if (c->ncase > MAX_CASES) {
       scene_error_set(c->err, km, name, "the sweep has more than %.0f cases",
                       MAX_CASES);
       return -1;
@@ -786,7 +784,7 @@ static int scene_parse_sweep(parse_ctx *c, const yaml_node_t *map) {
     s->given[ax->key] = 1;
     if (s->mark[ax->key].line == 0) s->mark[ax->key] = ax->mark[0];
   }
-  s->ncase = (size_t)ncase;
+  s->ncase = (size_t)c->ncase;
   return 0;
 }
 
