@@ -540,20 +540,16 @@ typedef struct {
   int no_traj;        /* 1: a design study without a trajectory section */
 } scene_case;
 
-/*
- * Read and parse the scene file `path` into s.  Returns 0, or -1 with the
- * first error in err (s is then empty; scene_free accepts it).
- */
+/* Read and parse the scene file `path` into s: 0, or -1 with the first
+   error in err (s is then empty; scene_free accepts it). */
 int scene_load(scene *s, const char *path, scene_error *err);
 
 /* Free what scene_load allocated; a zeroed or failed scene is accepted. */
 void scene_free(scene *s);
 
-/*
- * Build case `index` (< s->ncase): apply the sweep values, build and
- * initialise the model and the trajectory, and the time grid.  Returns 0, or
- * -1 with err located at the swept value or key that makes the case invalid.
- */
+/* Build case `index` (< s->ncase): its sweep values, model, trajectory and
+   time grid: 0, or -1 with err at the swept value or key that makes the case
+   invalid. */
 int scene_case_build(const scene *s, size_t index, scene_case *c,
                      scene_error *err);
 
@@ -566,13 +562,9 @@ double scene_case_time(const scene_case *c, size_t k);
 /* 1 when cases a and b have the same time grid. */
 int scene_case_same_grid(const scene_case *a, const scene_case *b);
 
-/*
- * Values that look like a unit mistake, one line each on out: "FILE:LINE:
- * COL: warning: key: VALUE m looks like millimetres (above 10 m) ..." for a
- * length above 10 m, and likewise beta above pi/2 rad or another angle
- * beyond 2 pi rad (degrees), in the file, a sweep or a table's rows
- * Once per key; nothing for a sane scene.
- */
+/* Values that look like a unit mistake (a length above 10 m, beta above
+   pi/2 rad, another angle beyond 2 pi rad) in the file, a sweep or a table,
+   once per key, as "FILE:LINE:COL: warning: key: ..." lines on out. */
 void scene_warnings_print(const scene *s, FILE *out);
 
 /* Print err as FILE:LINE:COLUMN: path: what, one line, on stderr. */
@@ -581,16 +573,12 @@ void scene_error_print(const char *file, const scene_error *err);
 /* A growable text buffer (scene_resolved); allocates only when it grows. */
 typedef struct {
   char *s;
-  size_t len;
-  size_t cap;
+  size_t len, cap;
   int oom; /* 1 after a failed allocation */
 } scene_text;
 
-/*
- * Write the full scene of case c as YAML into out (replacing its content):
- * every key with its value, no sweep, so that the case can be rerun alone.
- * Returns 0 or -1 (out of memory, or a libyaml emitter error).
- */
+/* The full scene of case c as YAML into out (replacing it): every key, no
+   sweep, so that the case reruns alone; 0 or -1 (out of memory, libyaml). */
 int scene_case_yaml(const scene_case *c, scene_text *out);
 
 /* Free a text buffer's storage. */
@@ -599,8 +587,7 @@ void scene_text_free(scene_text *t);
 /* Name of an enum value of key k (kind, theta, method, solver), or NULL. */
 const char *scene_enum_name(int k, int value);
 
-/* Print the key table (markdown) on stdout: path, type, unit, symbol,
-   default, meaning. */
+/* Print the key table (markdown) on stdout. */
 void scene_keys_print(void);
 
 #endif /* RPS3_RUNNER_SCENE_H */
