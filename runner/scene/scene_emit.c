@@ -141,10 +141,9 @@ static int case_has_key(const scene_case *c, int k) {
            : ki->type == KEY_REAL3 ? 1
                                    : *scene_int_at(w, k) >= 0;
   }
-  if (k == K_M_OVER_M || k == K_MASS)
-    return (k == K_M_OVER_M) == (c->by_ratio != 0);
-  if (k == K_SAMPLES || k == K_DT) return (k == K_DT) == (c->by_dt != 0);
-  if (k == K_BLEND || k == K_BLEND_RATIO)
+  if (ki->req == REQ_ONE_MASS) return (k == K_M_OVER_M) == (c->by_ratio != 0);
+  if (ki->req == REQ_ONE_GRID) return (k == K_DT) == (c->by_dt != 0);
+  if (ki->req == REQ_ONE_BLEND)
     return (k == K_BLEND_RATIO) == (c->by_blend_ratio != 0);
   if (scene_shape_mask(k) != 0)
     return (scene_shape_mask(k) & (1 << (int)c->v.traj.path.shape)) != 0;
@@ -243,14 +242,12 @@ void scene_keys_print(void) {
     }
     if (ki->deftext)
       snprintf(def, sizeof def, "%s", ki->deftext);
-    else if (ki->req == REQ_YES && SCENE_KEY_IS_DESIGN(ki))
-      snprintf(def, sizeof def, "required in a design study");
-    else if (ki->req == REQ_YES)
-      snprintf(def, sizeof def, "required");
-    else if (ki->req == REQ_SHAPE)
-      snprintf(def, sizeof def, "required by its shape");
     else if (ki->req != REQ_NO)
-      snprintf(def, sizeof def, "one of a pair");
+      snprintf(def, sizeof def, "%s",
+               ki->req == REQ_SHAPE      ? "required by its shape"
+               : ki->req != REQ_YES      ? "one of a pair"
+               : SCENE_KEY_IS_DESIGN(ki) ? "required in a design study"
+                                         : "required");
     else if (ki->type == KEY_REAL)
       snprintf(def, sizeof def, "%g", *scene_real_at(&v, k));
     else if (ki->type == KEY_REAL3)
