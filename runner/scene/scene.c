@@ -1,13 +1,6 @@
 /*
- * scene.c - the scene's key table, enum names and values, its errors, its
- * values by key, and scene_free.
- *
- * Parsing is table driven: SCENE_KEYS (scene.h) names every leaf key with
- * its type, range and unit.  Each error carries the libyaml mark of the node
- * it is about, so that the runner can print FILE:LINE:COLUMN: key: what.
- * scene_load.c reads a file with libyaml's document API; its nodes, sweep
- * and checks are scene_parse.c's, each case is built in scene_case.c and
- * written back as YAML in scene_emit.c.
+ * scene.c - the key table (each SCENE_KEYS row joined to its field's row),
+ * the names of enums and lists, values by key, errors, and scene_free.
  */
 #include "scene.h"
 #include "core/hint.h"
@@ -194,12 +187,7 @@ int *scene_int_at(scene_values *v, int k) {
 }
 
 double scene_value_real(const scene_values *v, int k, int comp) {
-  double x;
-  memcpy(&x,
-         value_at((scene_values *)(void *)v, k) +
-             (size_t)(comp < 0 ? 0 : comp) * sizeof x,
-         sizeof x);
-  return x;
+  return scene_real_at((scene_values *)(void *)v, k)[comp < 0 ? 0 : comp];
 }
 
 void scene_value_set(scene_values *v, int k, int comp, double x) {

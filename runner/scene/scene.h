@@ -69,32 +69,20 @@ typedef struct {
   double dt;          /* time step [s] */
 } scene_own;
 
-/*
- * The simulate section: the controller, its gains and its own model of the
- * mechanism, the control rate, the integrator, the duration, the
- * measurement and the actuators; the plant is the scene's manipulator.  A
- * default NaN (an int -1) means "not given": for the gains the controller
- * kind's default, for the duration the trajectory's span, for the
- * controller's model the plant's value.  The parser takes finite numbers
- * only, so the sentinel never collides with a value.
- */
+/* the simulate section (each field is the value of the simulate.* key of
+   its name, SCENE_KEYS); the plant is the scene's manipulator.  SIM_UNSET
+   (an int -1) means "not given": the gains are the controller kind's, the
+   duration the trajectory's span, the controller's model the plant's.  The
+   parser takes finite numbers only, so the sentinel never collides. */
 typedef struct {
-  int controller;           /* rps3_ctrl_kind */
-  double kp, kd;            /* gains (units by kind); NaN: the kind's */
-  double rate;              /* control rate [Hz]; 0: continuous */
-  int integrator;           /* rps3_integrator */
-  double h;                 /* fixed step / first step [s] */
-  double tolerance;         /* epsabs = epsrel of the adaptive methods */
-  int max_steps;            /* integrator steps per control period */
-  double duration;          /* simulated time [s]; NaN: the trajectory's */
-  double start_offset[3];   /* the plant's start pose minus the trajectory's
-                               [rad, rad, m] */
-  double fmax;              /* actuator saturation [N]; 0: none */
-  double l_min, l_max;      /* stroke [m]; l_max 0: none */
-  double noise_l, noise_dl; /* measurement noise, standard deviations */
-  double quant_l, quant_dl; /* measurement quanta; 0: none */
-  int seed;                 /* noise generator seed */
-  /* the controller's model: NaN (effects -1) = the plant's value */
+  int controller; /* rps3_ctrl_kind */
+  double kp, kd, rate;
+  int integrator; /* rps3_integrator */
+  double h, tolerance;
+  int max_steps;
+  double duration, start_offset[3], fmax, l_min, l_max;
+  double noise_l, noise_dl, quant_l, quant_dl;
+  int seed;
   double model_M, model_m_over_M, model_payload_mass, model_viscous,
       model_coulomb;
   int model_effects; /* RPS3_EFF_* bits */
@@ -110,18 +98,12 @@ typedef struct {
 /* the default of a value not given (NAN is a float) */
 #define SIM_UNSET ((double)NAN)
 
-/*
- * The design section of a design study (docs/runner.md, "Design
- * studies"): the grid of poses over alpha, beta and z_c, how the indices
- * are evaluated, and whether the per-pose indices are written.  The design
- * variables are the fields of the library's rps3_design: the manipulator
- * keys every scene has, and the stroke, joint ranges, link radius and rod
- * density keys (DES rows, whose range and unit are the library's).
- */
+/* the design section of a design study (docs/runner.md, "Design studies",
+   DSEC rows); the design variables are rps3_design's (DES rows) */
 typedef struct {
-  double grid[3][3];     /* alpha, beta, z_c: lo, hi, cells */
-  rps3_design_opts opts; /* lti_good, length, cond_sing */
-  int per_pose;          /* write the per-pose indices */
+  double grid[3][3]; /* alpha, beta, z_c: lo, hi, cells */
+  rps3_design_opts opts;
+  int per_pose;
 } scene_design;
 
 /* every value a scene can set: the library's structures, filled through
@@ -130,11 +112,10 @@ typedef struct {
   rps3_model model;
   rps3_traj traj;
   scene_own own;
-  const char *file[2]; /* the tables' files, absolute: [TABLE_POSE] the
-                          kind table, [TABLE_CENTRE] the path's */
-  scene_sim sim;       /* the simulate section */
-  rps3_design design;  /* a design study's design */
-  scene_design des;    /* its design section */
+  const char *file[2]; /* the tables' files, absolute (SCENE_TABLE_OF) */
+  scene_sim sim;
+  rps3_design design; /* a design study's design */
+  scene_design des;
 } scene_values;
 
 /* ranges of the runner's own values (LO, LO_OPEN, HI) */
@@ -475,23 +456,20 @@ enum { SRC_LIB = 0, SRC_OWN = 1, SRC_SIM = 2, SRC_DES = 3, SRC_DSEC = 4 };
    design section */
 #define SCENE_KEY_IS_DESIGN(ki) ((ki)->src == SRC_DES || (ki)->src == SRC_DSEC)
 
-/* one row of SCENE_KEYS, with its field's row */
+/* one row of SCENE_KEYS (its columns described there); f is its field's
+   row (offset in scene_values, range, unit, trajectory kind), own the row
+   of an OWN, SIM or DSEC key that f then points to */
 typedef struct {
   const char *path;
   key_type type;
-  int src; /* SRC_* */
-  int req; /* REQ_* */
-  const char *symbol;
-  const char *doc;
-  const rps3_field_info *f; /* its row: offset in scene_values, range, unit,
-                               trajectory kind (IN) */
-  int fills;                /* the library field it fills, directly or converted
-                               (-1: none) */
-  int dfield;               /* SRC_DES: its rps3_design_field_id, else -1 */
-  double def;               /* SRC_SIM: the default (SIM_UNSET: not given) */
-  const char *deftext;      /* SRC_SIM: the default as the key list says it
-                               (NULL: the value) */
-  rps3_field_info own;      /* the row of an OWN, SIM or DSEC key */
+  int src, req; /* SRC_*, REQ_* */
+  const char *symbol, *doc;
+  const rps3_field_info *f;
+  int fills;  /* the library field it fills, directly or converted (-1) */
+  int dfield; /* SRC_DES: its rps3_design_field_id, else -1 */
+  double def; /* SRC_SIM: DEFAULT */
+  const char *deftext;
+  rps3_field_info own;
 } scene_key_info;
 
 /* the row of key k (0 <= k < SCENE_NKEY) */
@@ -562,20 +540,16 @@ typedef struct {
   int no_traj;        /* 1: a design study without a trajectory section */
 } scene_case;
 
-/*
- * Read and parse the scene file `path` into s.  Returns 0, or -1 with the
- * first error in err (s is then empty; scene_free accepts it).
- */
+/* Read and parse the scene file `path` into s: 0, or -1 with the first
+   error in err (s is then empty; scene_free accepts it). */
 int scene_load(scene *s, const char *path, scene_error *err);
 
 /* Free what scene_load allocated; a zeroed or failed scene is accepted. */
 void scene_free(scene *s);
 
-/*
- * Build case `index` (< s->ncase): apply the sweep values, build and
- * initialise the model and the trajectory, and the time grid.  Returns 0, or
- * -1 with err located at the swept value or key that makes the case invalid.
- */
+/* Build case `index` (< s->ncase): its sweep values, model, trajectory and
+   time grid: 0, or -1 with err at the swept value or key that makes the case
+   invalid. */
 int scene_case_build(const scene *s, size_t index, scene_case *c,
                      scene_error *err);
 
@@ -592,13 +566,9 @@ double scene_case_time(const scene_case *c, size_t k);
 /* 1 when cases a and b have the same time grid. */
 int scene_case_same_grid(const scene_case *a, const scene_case *b);
 
-/*
- * Values that look like a unit mistake, one line each on out: "FILE:LINE:
- * COL: warning: key: VALUE m looks like millimetres (above 10 m) ..." for a
- * length above 10 m, and likewise beta above pi/2 rad or another angle
- * beyond 2 pi rad (degrees), in the file, a sweep or a table's rows
- * Once per key; nothing for a sane scene.
- */
+/* Values that look like a unit mistake (a length above 10 m, beta above
+   pi/2 rad, another angle beyond 2 pi rad) in the file, a sweep or a table,
+   once per key, as "FILE:LINE:COL: warning: key: ..." lines on out. */
 void scene_warnings_print(const scene *s, FILE *out);
 
 /* err = mark, path and the formatted message */
@@ -611,16 +581,12 @@ void scene_error_print(const char *file, const scene_error *err);
 /* A growable text buffer (scene_resolved); allocates only when it grows. */
 typedef struct {
   char *s;
-  size_t len;
-  size_t cap;
+  size_t len, cap;
   int oom; /* 1 after a failed allocation */
 } scene_text;
 
-/*
- * Write the full scene of case c as YAML into out (replacing its content):
- * every key with its value, no sweep, so that the case can be rerun alone.
- * Returns 0 or -1 (out of memory, or a libyaml emitter error).
- */
+/* The full scene of case c as YAML into out (replacing it): every key, no
+   sweep, so that the case reruns alone; 0 or -1 (out of memory, libyaml). */
 int scene_case_yaml(const scene_case *c, scene_text *out);
 
 /* Free a text buffer's storage. */
@@ -629,8 +595,7 @@ void scene_text_free(scene_text *t);
 /* Name of an enum value of key k (kind, theta, method, solver), or NULL. */
 const char *scene_enum_name(int k, int value);
 
-/* Print the key table (markdown) on stdout: path, type, unit, symbol,
-   default, meaning. */
+/* Print the key table (markdown) on stdout. */
 void scene_keys_print(void);
 
 #endif /* RPS3_RUNNER_SCENE_H */

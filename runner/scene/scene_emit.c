@@ -1,12 +1,7 @@
 /*
- * scene_emit.c - a case written back as YAML (scene_case_yaml: the resolved
- * scene of every case, which reruns alone) and the key table as markdown
- * (scene_keys_print: `rps3-run --keys`, docs/runner.md), both row by row of
- * the key table of scene.h; and the values that look like a unit mistake
- * (scene_warnings_print): a length in millimetres, an angle in degrees.
- * The scene is SI (metres, radians); such a value is valid, so it is not
- * refused, but it is named on stderr with its place in the file, once per
- * key.
+ * scene_emit.c - the resolved YAML of a case and the `--keys` markdown,
+ * both row by row of SCENE_KEYS; and the values that look like a unit
+ * mistake: valid in SI, so not refused, but named with their place.
  */
 #include "design.h"
 #include "scene.h"
@@ -146,10 +141,9 @@ static int case_has_key(const scene_case *c, int k) {
            : ki->type == KEY_REAL3 ? 1
                                    : *scene_int_at(w, k) >= 0;
   }
-  if (k == K_M_OVER_M || k == K_MASS)
-    return (k == K_M_OVER_M) == (c->by_ratio != 0);
-  if (k == K_SAMPLES || k == K_DT) return (k == K_DT) == (c->by_dt != 0);
-  if (k == K_BLEND || k == K_BLEND_RATIO)
+  if (ki->req == REQ_ONE_MASS) return (k == K_M_OVER_M) == (c->by_ratio != 0);
+  if (ki->req == REQ_ONE_GRID) return (k == K_DT) == (c->by_dt != 0);
+  if (ki->req == REQ_ONE_BLEND)
     return (k == K_BLEND_RATIO) == (c->by_blend_ratio != 0);
   if (scene_shape_mask(k) != 0)
     return (scene_shape_mask(k) & (1 << (int)c->v.traj.path.shape)) != 0;
@@ -173,31 +167,27 @@ int scene_case_yaml(const scene_case *c, scene_text *out) {
   ok = ok && yaml_emitter_emit(&em, &ev);
   ok = ok && emit_open(&em, 0, 0);
   for (k = 0; k < SCENE_NKEY && ok; k++) {
-    const char *path = scene_key_get(k)->path, *p, *dot;
+    const char *p = scene_key_get(k)->path, *dot;
     int level = 0;
     if (!case_has_key(c, k)) continue;
-    /* close the sections this key is not in, open the ones it is in */
-    for (p = path; (dot = strchr(p, '.')) != NULL; p = dot + 1, level++) {
-      size_t len = (size_t)(dot - p);
-      if (level < depth && strlen(open[level]) == len &&
-          strncmp(open[level], p, len) == 0)
-        continue;
-      while (depth > level && ok) {
-        ok = emit_close(&em, 0);
-        depth--;
-      }
-      snprintf(open[depth], sizeof open[depth], "%.*s", (int)len, p);
-      ok = ok && emit_scalar(&em, open[depth]) && emit_open(&em, 0, 0);
-      depth++;
-    }
+    /* keep the sections this key is in, close the others, open the rest */
+    for (; level < depth && (dot = strchr(p, '.')) != NULL &&
+           strlen(open[level]) == (size_t)(dot - p) &&
+           strncmp(open[level], p, (size_t)(dot - p)) == 0;
+         level++)
+      p = dot + 1;
     while (depth > level && ok) {
       ok = emit_close(&em, 0);
       depth--;
     }
+    for (; ok && (dot = strchr(p, '.')) != NULL; p = dot + 1) {
+      snprintf(open[depth], sizeof open[depth], "%.*s", (int)(dot - p), p);
+      ok = emit_scalar(&em, open[depth++]) && emit_open(&em, 0, 0);
+    }
     ok = ok && emit_scalar(&em, p) && emit_value(&em, k, &c->v);
   }
-  while (depth-- > 0 && ok) ok = emit_close(&em, 0);
-  ok = ok && emit_close(&em, 0);
+  /* the sections, then the root */
+  while (depth-- >= 0 && ok) ok = emit_close(&em, 0);
   yaml_document_end_event_initialize(&ev, 1);
   ok = ok && yaml_emitter_emit(&em, &ev);
   yaml_stream_end_event_initialize(&ev);
@@ -252,14 +242,12 @@ void scene_keys_print(void) {
     }
     if (ki->deftext)
       snprintf(def, sizeof def, "%s", ki->deftext);
-    else if (ki->req == REQ_YES && SCENE_KEY_IS_DESIGN(ki))
-      snprintf(def, sizeof def, "required in a design study");
-    else if (ki->req == REQ_YES)
-      snprintf(def, sizeof def, "required");
-    else if (ki->req == REQ_SHAPE)
-      snprintf(def, sizeof def, "required by its shape");
     else if (ki->req != REQ_NO)
-      snprintf(def, sizeof def, "one of a pair");
+      snprintf(def, sizeof def, "%s",
+               ki->req == REQ_SHAPE      ? "required by its shape"
+               : ki->req != REQ_YES      ? "one of a pair"
+               : SCENE_KEY_IS_DESIGN(ki) ? "required in a design study"
+                                         : "required");
     else if (ki->type == KEY_REAL)
       snprintf(def, sizeof def, "%g", *scene_real_at(&v, k));
     else if (ki->type == KEY_REAL3)
@@ -391,10 +379,9 @@ void scene_warnings_print(const scene *s, FILE *out) {
       char key[160];
       if (axis_warn(out, s, k, ki->type == KEY_REAL ? -1 : comp) || !why)
         continue;
-      if (ki->type == KEY_REAL)
-        snprintf(key, sizeof key, "%s", ki->path);
-      else
-        snprintf(key, sizeof key, "%s[%d]", ki->path, comp);
+      snprintf(key, sizeof key, "%s", ki->path);
+      if (ki->type != KEY_REAL)
+        snprintf(key + strlen(key), sizeof key - strlen(key), "[%d]", comp);
       warn(out, s, s->mark[k], key, "%.9g %s", x, why);
       break;
     }

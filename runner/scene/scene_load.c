@@ -173,6 +173,7 @@ static const char *tag_of(const yaml_event_t *e) {
 }
 
 static int check_events(const char *text, size_t len, scene_error *err) {
+  static const char core[] = "tag:yaml.org,2002:";
   yaml_parser_t p;
   frame st[SCENE_MAX_DEPTH];
   int d = 0, rc = 0, done = 0;
@@ -181,8 +182,10 @@ static int check_events(const char *text, size_t len, scene_error *err) {
   while (!done && rc == 0) {
     yaml_event_t e;
     char path[160];
+    const char *tag;
     /* a syntax error is scene_load's to report, with its own words */
     if (!yaml_parser_parse(&p, &e)) break;
+    tag = tag_of(&e);
     switch (e.type) {
     case YAML_STREAM_END_EVENT: done = 1; break;
     case YAML_SCALAR_EVENT:
@@ -196,22 +199,18 @@ static int check_events(const char *text, size_t len, scene_error *err) {
         else
           snprintf(st[d - 1].key, sizeof st[d - 1].key, "?");
       }
-      if (tag_of(&e) && !tag_allowed(&e)) {
+      if (tag && !tag_allowed(&e)) {
+        /* as written: !!str for tag:yaml.org,2002:str */
+        int is_core = strncmp(tag, core, sizeof core - 1) == 0;
         path_of(st, d, path, sizeof path);
         if (d > 0 && st[d - 1].is_map && st[d - 1].want_key)
           snprintf(path + strlen(path), sizeof path - strlen(path), "%s",
                    d > 1 ? " (a key)" : "(a key)");
-        {
-          /* as written: !!str for tag:yaml.org,2002:str */
-          static const char core[] = "tag:yaml.org,2002:";
-          const char *tag = tag_of(&e);
-          int is_core = strncmp(tag, core, sizeof core - 1) == 0;
-          scene_error_set(err, scene_mark_of(&e.start_mark), path,
-                          "YAML tag '%s%s' is not accepted: write the value "
-                          "plainly (only !!int and !!float may tag a number)",
-                          is_core ? "!!" : "",
-                          is_core ? tag + sizeof core - 1 : tag);
-        }
+        scene_error_set(err, scene_mark_of(&e.start_mark), path,
+                        "YAML tag '%s%s' is not accepted: write the value "
+                        "plainly (only !!int and !!float may tag a number)",
+                        is_core ? "!!" : "",
+                        is_core ? tag + sizeof core - 1 : tag);
         rc = -1;
         break;
       }
@@ -272,12 +271,11 @@ int scene_load(scene *s, const char *path, scene_error *err) {
   memset(err, 0, sizeof *err);
   scene_values_default(&s->base);
   s->ncase = 1;
-  s->file = malloc(strlen(path) + 1);
+  s->file = strdup(path);
   if (!s->file) {
     scene_error_set(err, s->section[0], "(file)", "out of memory");
     return -1;
   }
-  strcpy(s->file, path);
   if (read_guarded(path, &s->text, &s->text_len, err) ||
       text_guard(s->text, s->text_len, err))
     goto fail;

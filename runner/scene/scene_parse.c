@@ -309,14 +309,14 @@ static int parse_file(parse_ctx *c, int k, const yaml_node_t *n,
   int what = SCENE_TABLE_OF(k);
   table_data *t = &s->table[what];
   char msg[sizeof c->err->what];
+  scene_mark mk = scene_mark_of(&n->start_mark);
   if (n->type != YAML_SCALAR_NODE || is_null(n)) {
-    scene_error_set(c->err, scene_mark_of(&n->start_mark), scene_keys[k].path,
+    scene_error_set(c->err, mk, scene_keys[k].path,
                     "expected a file name, got %s", scene_node_kind(n));
     return -1;
   }
   if (table_read(t, s->file, scene_scalar_text(n), what, msg, sizeof msg)) {
-    scene_error_set(c->err, scene_mark_of(&n->start_mark), scene_keys[k].path,
-                    "%s", msg);
+    scene_error_set(c->err, mk, scene_keys[k].path, "%s", msg);
     return -1;
   }
   v->file[what] = t->abs;
@@ -327,8 +327,7 @@ static int parse_file(parse_ctx *c, int k, const yaml_node_t *n,
   /* a path: the polar angles of the rows, followed continuously */
   s->path_psi = malloc(t->n * sizeof *s->path_psi);
   if (!s->path_psi) {
-    scene_error_set(c->err, scene_mark_of(&n->start_mark), scene_keys[k].path,
-                    "out of memory");
+    scene_error_set(c->err, mk, scene_keys[k].path, "out of memory");
     return -1;
   }
   rps3_table_unwrap(t->n, (const double(*)[3])t->value, s->path_psi);
@@ -410,17 +409,14 @@ static int scene_mapping_key(parse_ctx *c, const yaml_node_t *map,
   const yaml_node_t *kn = scene_node_get(c, pair->key);
   const yaml_node_pair_t *q;
   scene_mark mk = scene_mark_of(&kn->start_mark);
-  if (kn->type != YAML_SCALAR_NODE || is_null(kn)) {
-    scene_error_set(c->err, mk, prefix[0] ? prefix : "(root)",
-                    "a key must be a name, got %s", scene_node_kind(kn));
-    return -1;
-  }
-  *name = scene_scalar_text(kn);
+  int named = kn->type == YAML_SCALAR_NODE && !is_null(kn);
+  *name = named ? scene_scalar_text(kn) : "";
   /* an empty name ("" or "? >") would leave the key path blank in the
      message, naming nothing: say what it is and where it stands */
   if ((*name)[0] == '\0') {
     scene_error_set(c->err, mk, prefix[0] ? prefix : "(root)",
-                    "a key must be a name, got an empty string");
+                    "a key must be a name, got %s",
+                    named ? "an empty string" : scene_node_kind(kn));
     return -1;
   }
   for (q = map->data.mapping.pairs.start; q < pair; q++) {
@@ -502,12 +498,12 @@ static int scene_walk_section(parse_ctx *c, const yaml_node_t *map,
 /* the nodes of a {from, to, num} or {from, to, step} mapping, by R_* */
 enum { R_FROM, R_TO, R_NUM, R_STEP };
 typedef const yaml_node_t *range_nodes[4];
+static const char *const range_names[4] = {"from", "to", "num", "step"};
 
 /* the nodes of range mapping map of axis ax: no other key (none twice:
    scene_mapping_key), from, to and one of num and step; 0 or -1 */
 static int range_read(parse_ctx *c, const scene_axis *ax,
                       const yaml_node_t *map, range_nodes r) {
-  static const char *const names[4] = {"from", "to", "num", "step"};
   yaml_node_pair_t *p;
   char sub[160];
   memset(r, 0, sizeof(range_nodes));
@@ -516,7 +512,7 @@ static int range_read(parse_ctx *c, const scene_axis *ax,
     const char *name;
     int k;
     if (scene_mapping_key(c, map, p, ax->path, &name)) return -1;
-    for (k = 0; k < 4 && strcmp(name, names[k]) != 0; k++)
+    for (k = 0; k < 4 && strcmp(name, range_names[k]) != 0; k++)
       ;
     if (k == 4) {
       snprintf(sub, sizeof sub, "%s.%s", ax->path, name);
@@ -535,13 +531,12 @@ static int range_read(parse_ctx *c, const scene_axis *ax,
   return 0;
 }
 
-/* entry `name` of axis ax's range, node n, as a number; 0 or -1 */
-static int range_number(parse_ctx *c, const scene_axis *ax,
-                        const yaml_node_t *n, const char *name, int integer,
-                        double *x) {
+/* entry R of axis ax's range r as a number; 0 or -1 */
+static int range_number(parse_ctx *c, const scene_axis *ax, range_nodes r,
+                        int R, int integer, double *x) {
   char sub[160];
-  snprintf(sub, sizeof sub, "%s.%s", ax->path, name);
-  return scene_parse_number(c, n, sub, integer, x);
+  snprintf(sub, sizeof sub, "%s.%s", ax->path, range_names[R]);
+  return scene_parse_number(c, r[R], sub, integer, x);
 }
 
 /* the number of values of range r from `from` to `to`, counted before
@@ -553,10 +548,11 @@ static int range_count(parse_ctx *c, const scene_axis *ax, range_nodes r,
   scene_mark mk = scene_mark_of(&nd->start_mark);
   double span = to - from, num, q;
   char sub[160];
-  snprintf(sub, sizeof sub, "%s.%s", ax->path, r[R_NUM] ? "num" : "step");
+  snprintf(sub, sizeof sub, "%s.%s", ax->path,
+           range_names[r[R_NUM] ? R_NUM : R_STEP]);
   *step = 0;
   if (r[R_NUM]) {
-    if (range_number(c, ax, nd, "num", 1, &num)) return -1;
+    if (scene_parse_number(c, nd, sub, 1, &num)) return -1;
     if (num < 1 || (num == 1 && from != to)) {
       scene_error_set(c->err, mk, sub,
                       "must be >= 2 (or 1 with from == to), got %.0f", num);
@@ -571,7 +567,7 @@ static int range_count(parse_ctx *c, const scene_axis *ax, range_nodes r,
     *n = (size_t)num;
     return 0;
   }
-  if (range_number(c, ax, nd, "step", integer, step)) return -1;
+  if (scene_parse_number(c, nd, sub, integer, step)) return -1;
   q = span / *step;
   if (*step == 0 || q < 0) {
     scene_error_set(c->err, mk, sub,
@@ -641,8 +637,8 @@ static int sweep_range(parse_ctx *c, scene_axis *ax, const yaml_node_t *map) {
     return -1;
   }
   if (range_read(c, ax, map, r) ||
-      range_number(c, ax, r[R_FROM], "from", integer, &from) ||
-      range_number(c, ax, r[R_TO], "to", integer, &to) ||
+      range_number(c, ax, r, R_FROM, integer, &from) ||
+      range_number(c, ax, r, R_TO, integer, &to) ||
       range_count(c, ax, r, integer, from, to, &step, &n) ||
       axis_alloc(c, ax, n, mk, "out of memory for %zu values"))
     return -1;
@@ -753,7 +749,6 @@ static int scene_parse_sweep(parse_ctx *c, const yaml_node_t *map) {
   scene *s = c->s;
   yaml_node_pair_t *pair;
   size_t npair;
-  double ncase = 1;
   if (map->type != YAML_MAPPING_NODE ||
       map->data.mapping.pairs.top == map->data.mapping.pairs.start) {
     scene_error_set(c->err, scene_mark_of(&map->start_mark), "sweep",
@@ -779,9 +774,8 @@ static int scene_parse_sweep(parse_ctx *c, const yaml_node_t *map) {
         sweep_key(c, ax, name, km) ||
         sweep_values(c, ax, scene_node_get(c, pair->value), km))
       return -1;
-    ncase *= (double)ax->n;
-    c->ncase = ncase;
-    if (ncase > MAX_CASES) {
+    c->ncase *= (double)ax->n;
+    if (c->ncase > MAX_CASES) {
       scene_error_set(c->err, km, name, "the sweep has more than %.0f cases",
                       MAX_CASES);
       return -1;
@@ -790,7 +784,7 @@ static int scene_parse_sweep(parse_ctx *c, const yaml_node_t *map) {
     s->given[ax->key] = 1;
     if (s->mark[ax->key].line == 0) s->mark[ax->key] = ax->mark[0];
   }
-  s->ncase = (size_t)ncase;
+  s->ncase = (size_t)c->ncase;
   return 0;
 }
 

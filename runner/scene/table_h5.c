@@ -59,20 +59,16 @@ static void h5_units(hid_t d, char *buf, size_t sz) {
     H5Tset_cset(mt, H5Tget_cset(ft));
     if (H5Tis_variable_str(ft) > 0) {
       char *v = NULL;
-      if (H5Tset_size(mt, H5T_VARIABLE) >= 0 && H5Aread(a, mt, &v) >= 0 && v)
-        snprintf(buf, sz, "%s", v);
-      else
-        snprintf(buf, sz, "(unreadable)");
+      int ok = H5Tset_size(mt, H5T_VARIABLE) >= 0 && H5Aread(a, mt, &v) >= 0;
+      snprintf(buf, sz, "%s", ok && v ? v : "(unreadable)");
       if (v) H5free_memory(v);
     } else {
       /* read whole, then cut to sz: a long units text is quoted (and so
          refused), never taken as no units */
       size_t n = H5Tget_size(ft);
       char *v = n < 65536 ? calloc(n + 1, 1) : NULL;
-      if (v && H5Tset_size(mt, n + 1) >= 0 && H5Aread(a, mt, v) >= 0)
-        snprintf(buf, sz, "%s", v);
-      else
-        snprintf(buf, sz, "(unreadable)");
+      int ok = v && H5Tset_size(mt, n + 1) >= 0 && H5Aread(a, mt, v) >= 0;
+      snprintf(buf, sz, "%s", ok ? v : "(unreadable)");
       free(v);
     }
     H5Tclose(mt);
