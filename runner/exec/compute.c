@@ -57,17 +57,16 @@ static void store_batch(const rps3_batch_in *in, const rps3_batch_out *x,
              {OUT_x_c, x->c},
              {OUT_y_c, x->c + n}};
   const size_t ne = (size_t)b->neffect;
-  double *fe = (double *)b->force_by_effect + j * ne * 3;
-  int32_t *niter = (int32_t *)b->solve_niter + j,
-          *warn = (int32_t *)b->warn + j;
+  double *fe = (double *)b->buf[OUT_force_by_effect] + j * ne * 3;
+  int32_t *niter = (int32_t *)b->buf[OUT_solve_niter] + j,
+          *warn = (int32_t *)b->buf[OUT_warn] + j;
   size_t i, e, f;
   for (f = 0; f < sizeof three / sizeof three[0]; f++)
     if (WANT(b, three[f].field))
-      store3((double *)out_block_field(b, three[f].field) + 3 * j, three[f].src,
-             n);
+      store3((double *)b->buf[three[f].field] + 3 * j, three[f].src, n);
   for (f = 0; f < sizeof one / sizeof one[0]; f++)
     if (WANT(b, one[f].field))
-      memcpy((double *)out_block_field(b, one[f].field) + j, one[f].src,
+      memcpy((double *)b->buf[one[f].field] + j, one[f].src,
              n * sizeof(double));
   for (i = 0; i < n && WANT(b, OUT_force_by_effect); i++)
     for (e = 0; e < ne; e++) {
@@ -139,11 +138,11 @@ static void batch_io(out_block *b, size_t n, size_t j, rps3_batch_in *in,
   out->status = b->bi;
   out->warn = b->bi + OUT_BATCH;
   out->niter = b->bi + 2 * OUT_BATCH;
-  out->cond = (double *)b->condition + j;
-  out->energy_residual = (double *)b->energy_residual + j;
-  out->transmission = (double *)b->transmission + j;
-  out->energy_scale = (double *)b->energy_scale + j;
-  out->solve_resid = (double *)b->solve_resid + j;
+  out->cond = (double *)b->buf[OUT_condition] + j;
+  out->energy_residual = (double *)b->buf[OUT_energy_residual] + j;
+  out->transmission = (double *)b->buf[OUT_transmission] + j;
+  out->energy_scale = (double *)b->buf[OUT_energy_scale] + j;
+  out->solve_resid = (double *)b->buf[OUT_solve_resid] + j;
 }
 
 /* the batch failed with rc at sample k + i: the case's message, without

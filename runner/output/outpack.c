@@ -118,8 +118,7 @@ static int pack_field(const out_layout *L, out_block *b, int field, size_t c0,
                          : 1;
   const size_t esz = type == OUT_F64 ? sizeof(double) : sizeof(int32_t);
   const size_t raw = L->tc * L->q * cols * esz;
-  unsigned char *src =
-      field < OUT_NFIELD ? out_block_field(b, field) : (void *)b->t;
+  unsigned char *src = field < OUT_NFIELD ? b->buf[field] : (void *)b->t;
   /* the buffer's bytes; its rows are contiguous in a chunk when a chunk
      row is a whole slot, or when there is one row */
   const size_t total = b->cases * b->points * cols * esz;
