@@ -23,19 +23,16 @@ static int traj_failed(out_block *b, size_t slot, int rc, double t, size_t k,
   return rc;
 }
 
-/* dst[3 i + c] = src[c n + i]: a [3][n] array of the batch into the
-   block's [n][3] */
-static void store3(double *dst, const double *src, size_t n) {
+/* dst[stride i + c] = src[c n + i]: a [3][n] array of the batch into
+   the block's rows of `stride` values */
+static void store3(double *dst, const double *src, size_t n, size_t stride) {
   size_t i;
   for (i = 0; i < n; i++) {
-    dst[3 * i] = src[i];
-    dst[3 * i + 1] = src[n + i];
-    dst[3 * i + 2] = src[2 * n + i];
+    dst[stride * i] = src[i];
+    dst[stride * i + 1] = src[n + i];
+    dst[stride * i + 2] = src[2 * n + i];
   }
 }
-
-/* 1 when the file gets field i (--fields) */
-#define WANT(b, i) ((b)->fields >> (i)&1)
 
 /* the batch of n points into samples j .. j + n - 1 of the block, one
    field at a time (each a sequential stream of writes), the fields the
@@ -62,19 +59,14 @@ static void store_batch(const rps3_batch_in *in, const rps3_batch_out *x,
           *warn = (int32_t *)b->buf[OUT_warn] + j;
   size_t i, e, f;
   for (f = 0; f < sizeof three / sizeof three[0]; f++)
-    if (WANT(b, three[f].field))
-      store3((double *)b->buf[three[f].field] + 3 * j, three[f].src, n);
+    if (OUT_HAS(b->fields, three[f].field))
+      store3((double *)b->buf[three[f].field] + 3 * j, three[f].src, n, 3);
   for (f = 0; f < sizeof one / sizeof one[0]; f++)
-    if (WANT(b, one[f].field))
+    if (OUT_HAS(b->fields, one[f].field))
       memcpy((double *)b->buf[one[f].field] + j, one[f].src,
              n * sizeof(double));
-  for (i = 0; i < n && WANT(b, OUT_force_by_effect); i++)
-    for (e = 0; e < ne; e++) {
-      const double *src = x->F_effect + (size_t)b->effect[e] * 3 * n + i;
-      fe[(i * ne + e) * 3] = src[0];
-      fe[(i * ne + e) * 3 + 1] = src[n];
-      fe[(i * ne + e) * 3 + 2] = src[2 * n];
-    }
+  for (e = 0; e < ne && OUT_HAS(b->fields, OUT_force_by_effect); e++)
+    store3(fe + 3 * e, x->F_effect + (size_t)b->effect[e] * 3 * n, n, 3 * ne);
   memcpy(b->t + j, b->bx, n * sizeof(double));
   for (i = 0; i < n; i++) {
     niter[i] = x->niter[i];

@@ -61,9 +61,7 @@ static int write_fields(out_file *f, const void *const buf[], const double *t,
     if (out_shape_has(fi->shape, OUT_AX_TIME) != timed || f->ds[i] < 0)
       continue;
     for (j = 0; v && fi->type == OUT_STR && j < nc; j++)
-      str[j] = ((const char *const *)buf[i])[j]
-                   ? ((const char *const *)buf[i])[j]
-                   : "";
+      str[j] = ((const char *const *)v)[j] ? ((const char *const *)v)[j] : "";
     if (v && fi->type == OUT_STR) v = str;
     if (!v || out_h5_tile(f->ds[i], f->dxpl, out_field_type(f, fi), timed,
                           cases, points, v, c0, nc, k0, nk) < 0) {
