@@ -1,12 +1,10 @@
 /*
- * outpack.c - a tile's chunks as the file stores them, made off the
- * writing thread (see out_pack in output.h).  HDF5's filter pipeline runs
- * in the one thread that calls HDF5 (Debian's HDF5 is not thread-safe), so
- * with -j N deflate and the checksums would be serial; here each worker
- * packs its own tiles, and the writer only writes bytes (H5Dwrite_chunk).
- * The bytes are those HDF5's own filters make: zlib's compress2 at the
- * level (the deflate filter) followed by the Fletcher-32 checksum of the
- * result, stored little-endian after it (the fletcher32 filter).
+ * outpack.c - out_pack (outblock.h).  HDF5's filter pipeline runs in the
+ * one thread that calls HDF5 (Debian's HDF5 is not thread-safe), so with
+ * -j N deflate and the checksums would be serial; here each worker packs
+ * its own tiles.  The bytes are those of HDF5's deflate filter (zlib's
+ * compress2 at the level) and fletcher32 filter (the checksum of the
+ * result, little-endian, after it).
  */
 #include "outblock.h"
 
