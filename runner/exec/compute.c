@@ -86,25 +86,23 @@ static void store_batch(const rps3_batch_in *in, const rps3_batch_out *x,
    rates in p, dp, ddp */
 static size_t batch_traj(const scene_case *c, out_block *b, size_t k, size_t n,
                          int *trc, double p[3], double dp[3], double ddp[3]) {
-  double *t = b->bx, *pose = POSE(b), *dpose = DPOSE(b), *ddpose = DDPOSE(b);
-  size_t i, q;
+  /* the pose, its rate and acceleration: [3][n] each, 3 OUT_BATCH apart */
+  double *t = b->bx, *pose = POSE(b);
+  const double *val[3] = {p, dp, ddp};
+  size_t i, q, a;
   *trc = RPS3_OK;
   for (i = 0; i < n; i++) {
     t[i] = scene_case_time(c, k + i);
     *trc = rps3_traj_eval(&c->model, &c->traj, t[i], p, dp, ddp);
     if (*trc != RPS3_OK) break;
-    for (q = 0; q < 3; q++) {
-      pose[q * n + i] = p[q];
-      dpose[q * n + i] = dp[q];
-      ddpose[q * n + i] = ddp[q];
-    }
+    for (a = 0; a < 3; a++)
+      for (q = 0; q < 3; q++) pose[3 * OUT_BATCH * a + q * n + i] = val[a][q];
   }
   /* the i samples before a failure, packed to a batch of i */
-  for (q = 1; i < n && q < 3; q++) {
-    memmove(pose + q * i, pose + q * n, i * sizeof(double));
-    memmove(dpose + q * i, dpose + q * n, i * sizeof(double));
-    memmove(ddpose + q * i, ddpose + q * n, i * sizeof(double));
-  }
+  for (a = 0; i < n && a < 3; a++)
+    for (q = 1; q < 3; q++)
+      memmove(pose + 3 * OUT_BATCH * a + q * i,
+              pose + 3 * OUT_BATCH * a + q * n, i * sizeof(double));
   return i;
 }
 
