@@ -23,19 +23,16 @@ static int traj_failed(out_block *b, size_t slot, int rc, double t, size_t k,
   return rc;
 }
 
-/* dst[3 i + c] = src[c n + i]: a [3][n] array of the batch into the
-   block's [n][3] */
-static void store3(double *dst, const double *src, size_t n) {
+/* dst[stride i + c] = src[c n + i]: a [3][n] array of the batch into
+   the block's rows of `stride` values */
+static void store3(double *dst, const double *src, size_t n, size_t stride) {
   size_t i;
   for (i = 0; i < n; i++) {
-    dst[3 * i] = src[i];
-    dst[3 * i + 1] = src[n + i];
-    dst[3 * i + 2] = src[2 * n + i];
+    dst[stride * i] = src[i];
+    dst[stride * i + 1] = src[n + i];
+    dst[stride * i + 2] = src[2 * n + i];
   }
 }
-
-/* 1 when the file gets field i (--fields) */
-#define WANT(b, i) ((b)->fields >> (i)&1)
 
 /* the batch of n points into samples j .. j + n - 1 of the block, one
    field at a time (each a sequential stream of writes), the fields the
@@ -57,25 +54,19 @@ static void store_batch(const rps3_batch_in *in, const rps3_batch_out *x,
              {OUT_x_c, x->c},
              {OUT_y_c, x->c + n}};
   const size_t ne = (size_t)b->neffect;
-  double *fe = (double *)b->force_by_effect + j * ne * 3;
-  int32_t *niter = (int32_t *)b->solve_niter + j,
-          *warn = (int32_t *)b->warn + j;
+  double *fe = (double *)b->buf[OUT_force_by_effect] + j * ne * 3;
+  int32_t *niter = (int32_t *)b->buf[OUT_solve_niter] + j,
+          *warn = (int32_t *)b->buf[OUT_warn] + j;
   size_t i, e, f;
   for (f = 0; f < sizeof three / sizeof three[0]; f++)
-    if (WANT(b, three[f].field))
-      store3((double *)out_block_field(b, three[f].field) + 3 * j, three[f].src,
-             n);
+    if (OUT_HAS(b->fields, three[f].field))
+      store3((double *)b->buf[three[f].field] + 3 * j, three[f].src, n, 3);
   for (f = 0; f < sizeof one / sizeof one[0]; f++)
-    if (WANT(b, one[f].field))
-      memcpy((double *)out_block_field(b, one[f].field) + j, one[f].src,
+    if (OUT_HAS(b->fields, one[f].field))
+      memcpy((double *)b->buf[one[f].field] + j, one[f].src,
              n * sizeof(double));
-  for (i = 0; i < n && WANT(b, OUT_force_by_effect); i++)
-    for (e = 0; e < ne; e++) {
-      const double *src = x->F_effect + (size_t)b->effect[e] * 3 * n + i;
-      fe[(i * ne + e) * 3] = src[0];
-      fe[(i * ne + e) * 3 + 1] = src[n];
-      fe[(i * ne + e) * 3 + 2] = src[2 * n];
-    }
+  for (e = 0; e < ne && OUT_HAS(b->fields, OUT_force_by_effect); e++)
+    store3(fe + 3 * e, x->F_effect + (size_t)b->effect[e] * 3 * n, n, 3 * ne);
   memcpy(b->t + j, b->bx, n * sizeof(double));
   for (i = 0; i < n; i++) {
     niter[i] = x->niter[i];
@@ -95,25 +86,23 @@ static void store_batch(const rps3_batch_in *in, const rps3_batch_out *x,
    rates in p, dp, ddp */
 static size_t batch_traj(const scene_case *c, out_block *b, size_t k, size_t n,
                          int *trc, double p[3], double dp[3], double ddp[3]) {
-  double *t = b->bx, *pose = POSE(b), *dpose = DPOSE(b), *ddpose = DDPOSE(b);
-  size_t i, q;
+  /* the pose, its rate and acceleration: [3][n] each, 3 OUT_BATCH apart */
+  double *t = b->bx, *pose = POSE(b);
+  const double *val[3] = {p, dp, ddp};
+  size_t i, q, a;
   *trc = RPS3_OK;
   for (i = 0; i < n; i++) {
     t[i] = scene_case_time(c, k + i);
     *trc = rps3_traj_eval(&c->model, &c->traj, t[i], p, dp, ddp);
     if (*trc != RPS3_OK) break;
-    for (q = 0; q < 3; q++) {
-      pose[q * n + i] = p[q];
-      dpose[q * n + i] = dp[q];
-      ddpose[q * n + i] = ddp[q];
-    }
+    for (a = 0; a < 3; a++)
+      for (q = 0; q < 3; q++) pose[3 * OUT_BATCH * a + q * n + i] = val[a][q];
   }
   /* the i samples before a failure, packed to a batch of i */
-  for (q = 1; i < n && q < 3; q++) {
-    memmove(pose + q * i, pose + q * n, i * sizeof(double));
-    memmove(dpose + q * i, dpose + q * n, i * sizeof(double));
-    memmove(ddpose + q * i, ddpose + q * n, i * sizeof(double));
-  }
+  for (a = 0; i < n && a < 3; a++)
+    for (q = 1; q < 3; q++)
+      memmove(pose + 3 * OUT_BATCH * a + q * i,
+              pose + 3 * OUT_BATCH * a + q * n, i * sizeof(double));
   return i;
 }
 
@@ -139,11 +128,11 @@ static void batch_io(out_block *b, size_t n, size_t j, rps3_batch_in *in,
   out->status = b->bi;
   out->warn = b->bi + OUT_BATCH;
   out->niter = b->bi + 2 * OUT_BATCH;
-  out->cond = (double *)b->condition + j;
-  out->energy_residual = (double *)b->energy_residual + j;
-  out->transmission = (double *)b->transmission + j;
-  out->energy_scale = (double *)b->energy_scale + j;
-  out->solve_resid = (double *)b->solve_resid + j;
+  out->cond = (double *)b->buf[OUT_condition] + j;
+  out->energy_residual = (double *)b->buf[OUT_energy_residual] + j;
+  out->transmission = (double *)b->buf[OUT_transmission] + j;
+  out->energy_scale = (double *)b->buf[OUT_energy_scale] + j;
+  out->solve_resid = (double *)b->buf[OUT_solve_resid] + j;
 }
 
 /* the batch failed with rc at sample k + i: the case's message, without

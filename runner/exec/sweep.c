@@ -167,6 +167,13 @@ static int case_begin(const scene *s, size_t index, scene_case *c, char *err,
   return 0;
 }
 
+/* record the outcome of a case in its slot */
+static void slot_status(out_block *b, size_t slot, int rc, size_t failed_at) {
+  ((int32_t *)b->buf[OUT_status])[slot] = rc;
+  ((int32_t *)b->buf[OUT_failed_at])[slot] = rc ? (int32_t)failed_at : -1;
+  if (rc) out_block_blank(b, slot, 0);
+}
+
 /* set up slot `slot` for case c: its YAML, an empty message, status ok */
 static int slot_begin(const scene_case *c, out_block *b, size_t slot, char *err,
                       size_t errsz) {
@@ -174,19 +181,11 @@ static int slot_begin(const scene_case *c, out_block *b, size_t slot, char *err,
     snprintf(err, errsz, "case %zu: cannot write its scene as YAML", c->index);
     return -1;
   }
-  ((const char **)b->scene_resolved)[slot] = b->yaml[slot].s;
-  ((const char **)b->message)[slot] = b->msg[slot];
+  ((const char **)b->buf[OUT_scene_resolved])[slot] = b->yaml[slot].s;
+  ((const char **)b->buf[OUT_message])[slot] = b->msg[slot];
   b->msg[slot][0] = '\0';
-  ((int32_t *)b->status)[slot] = RPS3_OK;
-  ((int32_t *)b->failed_at)[slot] = -1;
+  slot_status(b, slot, RPS3_OK, 0);
   return 0;
-}
-
-/* record the outcome of a case in its slot */
-static void slot_status(out_block *b, size_t slot, int rc, size_t failed_at) {
-  ((int32_t *)b->status)[slot] = rc;
-  ((int32_t *)b->failed_at)[slot] = rc ? (int32_t)failed_at : -1;
-  if (rc) out_block_blank(b, slot, 0);
 }
 
 /* ----------------------------------------------------------------- tiles */
@@ -381,7 +380,7 @@ static int sweep_write(void *ctx, void *slot, const void *info, char *err,
   /* the cases a tile completes are those it writes the per-case fields
      of; a window before a case's last has status ok */
   for (k = 0; k < t->nc; k++)
-    if (((const int32_t *)b->status)[k] != RPS3_OK) {
+    if (((const int32_t *)b->buf[OUT_status])[k] != RPS3_OK) {
       sweep_failure(J->s, J->pr, t->c0 + k, b->msg[k]);
       failed++;
     }

@@ -47,21 +47,6 @@ static const flag_word warn_flags[] = {
 #define NSTATUS (sizeof status_flags / sizeof status_flags[0])
 #define NWARN (sizeof warn_flags / sizeof warn_flags[0])
 
-/* a 1-D int32 attribute */
-static int attr_i32(hid_t obj, const char *name, const int32_t *v, size_t n) {
-  hsize_t dim = n;
-  hid_t sp = H5Screate_simple(1, &dim, NULL), a;
-  int rc = -1;
-  if (sp < 0) return -1;
-  a = H5Acreate2(obj, name, H5T_NATIVE_INT32, sp, H5P_DEFAULT, H5P_DEFAULT);
-  if (a >= 0) {
-    rc = H5Awrite(a, H5T_NATIVE_INT32, v) < 0 ? -1 : 0;
-    H5Aclose(a);
-  }
-  H5Sclose(sp);
-  return rc;
-}
-
 /* "NOW COMMAND (rps3 VERSION, git REVISION)" (malloc'd) */
 static char *history_line(const char *now, const char *command_line) {
   size_t len = strlen(now) + strlen(command_line) + strlen(rps3_version()) +
@@ -130,8 +115,9 @@ static int flags(hid_t ds, hid_t str, out_flags kind) {
         words + len, sizeof words - len, "%s%s", k ? " " : "",
         reach ? rps3_design_flag_name((int)k) : tab[k].meaning);
   }
-  return attr_i32(ds, kind == OUT_FLAGS_STATUS ? "flag_values" : "flag_masks",
-                  v, n) < 0 ||
+  return out_h5_attr_n(ds,
+                       kind == OUT_FLAGS_STATUS ? "flag_values" : "flag_masks",
+                       H5T_NATIVE_INT32, n, v) < 0 ||
                  out_h5_attr(ds, str, "flag_meanings", words) < 0
              ? -1
              : 0;

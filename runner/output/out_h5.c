@@ -26,17 +26,23 @@ void out_fail(char *err, size_t errsz, const char *fmt, ...) {
   snprintf(err, errsz, "%s%s%s", what, h5[0] ? ": HDF5: " : "", h5);
 }
 
-int out_h5_attr(hid_t obj, hid_t str, const char *name, const char *value) {
-  hid_t sp = H5Screate(H5S_SCALAR), a;
+int out_h5_attr_n(hid_t obj, const char *name, hid_t type, size_t n,
+                  const void *v) {
+  hsize_t dim = n;
+  hid_t sp = n ? H5Screate_simple(1, &dim, NULL) : H5Screate(H5S_SCALAR), a;
   int rc = -1;
   if (sp < 0) return -1;
-  a = H5Acreate2(obj, name, str, sp, H5P_DEFAULT, H5P_DEFAULT);
+  a = H5Acreate2(obj, name, type, sp, H5P_DEFAULT, H5P_DEFAULT);
   if (a >= 0) {
-    rc = H5Awrite(a, str, &value) < 0 ? -1 : 0;
+    rc = H5Awrite(a, type, v) < 0 ? -1 : 0;
     H5Aclose(a);
   }
   H5Sclose(sp);
   return rc;
+}
+
+int out_h5_attr(hid_t obj, hid_t str, const char *name, const char *value) {
+  return out_h5_attr_n(obj, name, str, 0, &value);
 }
 
 int out_h5_attrs(hid_t obj, hid_t str, const char *const (*kv)[2], size_t n) {

@@ -22,6 +22,10 @@ void out_utc_now(char now[32]);
 /* a scalar string attribute (str: the file's UTF-8 string type); 0 or -1 */
 int out_h5_attr(hid_t obj, hid_t str, const char *name, const char *value);
 
+/* an attribute of n values of type at v, 1-D (n 0: a scalar); 0 or -1 */
+int out_h5_attr_n(hid_t obj, const char *name, hid_t type, size_t n,
+                  const void *v);
+
 /* the n string attributes kv[i][0] = kv[i][1], in order, each replacing
    one of the same name; a NULL value writes none.  0 or -1 */
 int out_h5_attrs(hid_t obj, hid_t str, const char *const (*kv)[2], size_t n);

@@ -16,11 +16,10 @@ static int write_packed(out_file *f, const out_block *b, char *err,
   for (i = 0; i < b->npk; i++) {
     const out_chunk *ck = &b->pk[i];
     hid_t ds = ck->field < OUT_NFIELD ? f->ds[ck->field] : f->case_time;
-    const unsigned char *data =
-        !ck->direct ? b->pk_buf
-        : ck->field < OUT_NFIELD
-            ? (const unsigned char *)out_block_field(b, ck->field)
-            : (const unsigned char *)b->t;
+    const unsigned char *data = !ck->direct ? b->pk_buf
+                                : ck->field < OUT_NFIELD
+                                    ? (const unsigned char *)b->buf[ck->field]
+                                    : (const unsigned char *)b->t;
     hsize_t off[4] = {0, 0, 0, 0};
     off[0] = ck->c0;
     off[1] = ck->k0;
@@ -62,9 +61,7 @@ static int write_fields(out_file *f, const void *const buf[], const double *t,
     if (out_shape_has(fi->shape, OUT_AX_TIME) != timed || f->ds[i] < 0)
       continue;
     for (j = 0; v && fi->type == OUT_STR && j < nc; j++)
-      str[j] = ((const char *const *)buf[i])[j]
-                   ? ((const char *const *)buf[i])[j]
-                   : "";
+      str[j] = ((const char *const *)v)[j] ? ((const char *const *)v)[j] : "";
     if (v && fi->type == OUT_STR) v = str;
     if (!v || out_h5_tile(f->ds[i], f->dxpl, out_field_type(f, fi), timed,
                           cases, points, v, c0, nc, k0, nk) < 0) {
@@ -87,7 +84,7 @@ int out_write(out_file *f, const out_block *b, size_t c0, size_t nc, size_t k0,
               size_t nk, int with_case, char *err, size_t errsz) {
   const void *buf[OUT_NFIELD];
   int i;
-  for (i = 0; i < OUT_NFIELD; i++) buf[i] = out_block_field(b, i);
+  for (i = 0; i < OUT_NFIELD; i++) buf[i] = b->buf[i];
   return (b->packed && write_packed(f, b, err, errsz)) ||
                  (with_case && write_fields(f, buf, NULL, 0, b->cases, 1, c0,
                                             nc, 0, 1, err, errsz)) ||

@@ -86,25 +86,6 @@ void out_fill_n(void *dst, size_t n, int i) {
 /* 1 when field i is in the inverse sweep's file (a member of out_block) */
 static int inv(int i) { return (out_field_table[i].files & OUT_INV) != 0; }
 
-/* where field i's buffer is in out_block; 0: no member, a field of
-   another kind of file */
-#define OUT_OFF_OUT_INV(id) offsetof(out_block, id),
-#define OUT_OFF_OUT_BOTH OUT_OFF_OUT_INV
-#define OUT_OFF_OUT_SIM(id) 0,
-#define OUT_OFF_OUT_DES(id) 0,
-#define OUT_OFF_OUT_TASK(id) 0,
-#define OUT_OFF_OUT_POSE(id) 0,
-#define OUT_OFF(id, name, files, ...) OUT_OFF_##files(id)
-static const size_t member_off[OUT_NFIELD] = {RPS3_OUTPUT_FIELDS(OUT_OFF)};
-
-static void **member(const out_block *b, int i) {
-  return (void **)((const char *)b + member_off[i]);
-}
-
-void *out_block_field(const out_block *b, int i) {
-  return member_off[i] ? *member(b, i) : NULL;
-}
-
 /* elements of field i per slot */
 static size_t slot_elems(const out_block *b, int i) {
   return out_field_table[i].shape == OUT_C
@@ -121,13 +102,9 @@ int out_block_alloc(out_block *b, size_t cases, size_t points, int effects) {
     if (effects & (1 << e)) b->effect[b->neffect++] = e;
   /* the per-sample buffers with OUT_SLACK bytes more (out_pack) */
   for (i = 0; i < OUT_NFIELD; i++) {
-    void *p;
-    if (!inv(i)) continue;
-    p = calloc(
-        1, cases * slot_elems(b, i) * out_type_size(out_field_table[i].type) +
-               OUT_SLACK);
-    if (!p) goto fail;
-    *member(b, i) = p;
+    size_t n =
+        cases * slot_elems(b, i) * out_type_size(out_field_table[i].type);
+    if (inv(i) && !(b->buf[i] = calloc(1, n + OUT_SLACK))) goto fail;
   }
   b->t = calloc(1, cases * points * sizeof *b->t + OUT_SLACK);
   b->yaml = calloc(cases, sizeof *b->yaml);
@@ -146,7 +123,7 @@ void out_block_free(out_block *b) {
   size_t s;
   int i;
   if (!b) return;
-  for (i = 0; i < OUT_NFIELD; i++) free(out_block_field(b, i));
+  for (i = 0; i < OUT_NFIELD; i++) free(b->buf[i]);
   if (b->yaml)
     for (s = 0; s < b->cases; s++) scene_text_free(&b->yaml[s]);
   free(b->yaml);
@@ -168,9 +145,9 @@ void out_block_blank(out_block *b, size_t slot, size_t k) {
     size_t lo = (slot * b->points + k) * cols,
            hi = (slot + 1) * b->points * cols;
     if (out_field_table[i].shape != OUT_C && inv(i))
-      out_fill_n((char *)out_block_field(b, i) +
-                     lo * out_type_size(out_field_table[i].type),
-                 hi - lo, i);
+      out_fill_n(
+          (char *)b->buf[i] + lo * out_type_size(out_field_table[i].type),
+          hi - lo, i);
   }
   for (j = slot * b->points + k; j < (slot + 1) * b->points; j++)
     b->t[j] = (double)NAN;

@@ -389,29 +389,20 @@ const char *out_fields_text(out_mask mask, char *buf, size_t sz);
    "per_pose" when it has those fields; into buf */
 const char *out_fields_attr(int files, out_mask mask, char *buf, size_t sz);
 
-/* the members of out_block: a buffer per field of the inverse sweep */
-#define OUT_MEMBER_OUT_INV(id) void *id;
-#define OUT_MEMBER_OUT_BOTH(id) void *id;
-#define OUT_MEMBER_OUT_SIM(id)
-#define OUT_MEMBER_OUT_DES(id)
-#define OUT_MEMBER_OUT_TASK(id)
-#define OUT_MEMBER_OUT_POSE(id)
-
 /*
  * The buffers of one tile: up to `cases` cases of up to `points` samples.
- * Each field's buffer is [cases][points][columns] (C order, the layout of
- * the hyperslab), strings are one pointer per case.  Samples of slot s,
- * time index k (counted from the tile's first sample) and column j are at
- * field[(s * points + k) * columns + j].
+ * buf[i], field i's buffer (the inverse sweep's fields only, else NULL),
+ * is [cases][points][columns] (C order, the layout of the hyperslab),
+ * strings are one pointer per case.  Samples of slot s, time index k
+ * (counted from the tile's first sample) and column j are at
+ * buf[i][(s * points + k) * columns + j].
  */
 typedef struct {
   size_t cases;             /* case slots */
   size_t points;            /* samples per slot */
   int neffect;              /* effects in force_by_effect */
   int effect[RPS3_NEFFECT]; /* their effect indices, in file order */
-#define OUT_BLOCK_MEMBER(id, name, files, ...) OUT_MEMBER_##files(id)
-  RPS3_OUTPUT_FIELDS(OUT_BLOCK_MEMBER)
-#undef OUT_BLOCK_MEMBER
+  void *buf[OUT_NFIELD];
   double *t;        /* time of each sample [cases][points] */
   scene_text *yaml; /* per slot: scene_resolved's storage */
   char (*msg)[320]; /* per slot: message's storage */
@@ -499,9 +490,6 @@ void out_block_free(out_block *b);
 
 /* Fill slot s from sample k on with the missing values (NaN, -1). */
 void out_block_blank(out_block *b, size_t slot, size_t k);
-
-/* the buffer of field i of b */
-void *out_block_field(const out_block *b, int i);
 
 /* print the schema of the files `files` (OUT_INV, OUT_SIM, OUT_DESIGN)
    as markdown on stdout: name, dimensions, type, units, (for a design

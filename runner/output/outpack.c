@@ -1,12 +1,10 @@
 /*
- * outpack.c - a tile's chunks as the file stores them, made off the
- * writing thread (see out_pack in output.h).  HDF5's filter pipeline runs
- * in the one thread that calls HDF5 (Debian's HDF5 is not thread-safe), so
- * with -j N deflate and the checksums would be serial; here each worker
- * packs its own tiles, and the writer only writes bytes (H5Dwrite_chunk).
- * The bytes are those HDF5's own filters make: zlib's compress2 at the
- * level (the deflate filter) followed by the Fletcher-32 checksum of the
- * result, stored little-endian after it (the fletcher32 filter).
+ * outpack.c - out_pack (outblock.h).  HDF5's filter pipeline runs in the
+ * one thread that calls HDF5 (Debian's HDF5 is not thread-safe), so with
+ * -j N deflate and the checksums would be serial; here each worker packs
+ * its own tiles.  The bytes are those of HDF5's deflate filter (zlib's
+ * compress2 at the level) and fletcher32 filter (the checksum of the
+ * result, little-endian, after it).
  */
 #include "outblock.h"
 
@@ -118,8 +116,7 @@ static int pack_field(const out_layout *L, out_block *b, int field, size_t c0,
                          : 1;
   const size_t esz = type == OUT_F64 ? sizeof(double) : sizeof(int32_t);
   const size_t raw = L->tc * L->q * cols * esz;
-  unsigned char *src =
-      field < OUT_NFIELD ? out_block_field(b, field) : (void *)b->t;
+  unsigned char *src = field < OUT_NFIELD ? b->buf[field] : (void *)b->t;
   /* the buffer's bytes; its rows are contiguous in a chunk when a chunk
      row is a whole slot, or when there is one row */
   const size_t total = b->cases * b->points * cols * esz;
