@@ -177,8 +177,9 @@ static int sweep_write(run_job *j, const out_meta *meta, progress *pr,
   pr->npoint = s->ncase ? (size_t)((double)plan->npoint * (double)pr->ncase /
                                    (double)s->ncase)
                         : 0;
-  f = out_create(tmpout_path(), s, &plan->first, plan->nt, plan->grid_common,
-                 plan->chunk_points, &sj->block, meta, err, sizeof err);
+  f = out_create(tmpout_path(), s, OUT_INV, plan->nt,
+                 plan->grid_common ? &plan->first : NULL, plan->chunk_points,
+                 &sj->block, meta, err, sizeof err);
   if (f && sweep_run_opts(s, plan, f, &sj->block, sj->opts, pr, st, err,
                           sizeof err) == 0)
     return out_close(f, err, sizeof err) ? run_io(sj->a, err) : EXIT_OK;
