@@ -355,7 +355,8 @@ static void run_time(const scene *s, const sim_plan *p, int nthread, char *buf,
    renamed when complete: the exit code */
 static int sim_write_file(const scene *s, const sim_plan *p, const sim_args *a,
                           int nthread) {
-  sim_job J;
+  progress pr;
+  sim_job J = {s, p, NULL, &pr, p->nt < SIM_WINDOW ? p->nt : SIM_WINDOW, {0}};
   out_meta meta = {.command_line = a->command_line, .gzip = a->gzip};
   pool_job job = {.ctx = &J,
                   .nitem = s->ncase,
@@ -365,7 +366,6 @@ static int sim_write_file(const scene *s, const sim_plan *p, const sim_args *a,
                   .slot_free = tile_free,
                   .run = sim_item,
                   .write = sim_write};
-  progress pr;
   double *times = NULL;
   size_t k;
   int rc = -1;
@@ -375,11 +375,6 @@ static int sim_write_file(const scene *s, const sim_plan *p, const sim_args *a,
   tmpout_arm();
   progress_start(&pr, s->ncase, a->quiet);
   pr.npoint = p->npoint;
-  memset(&J, 0, sizeof J);
-  J.s = s;
-  J.p = p;
-  J.pr = &pr;
-  J.points = p->nt < SIM_WINDOW ? p->nt : SIM_WINDOW;
   /* the common time axis, or none (the grid differs by case) */
   if (!p->common || (times = malloc(p->nt * sizeof *times))) {
     for (k = 0; times && k < p->nt; k++)

@@ -428,7 +428,7 @@ static void block_free(void *ctx, void *slot, size_t i) {
 int sweep_run_opts(const scene *s, const sweep_plan *p, out_file *f,
                    out_block *b, const sweep_opts *o, progress *pr,
                    sweep_stats *st, char *err, size_t errsz) {
-  sweep_job J;
+  sweep_job J = {s, p, f, b, f->layout, st, pr};
   pool_job job = {.ctx = &J,
                   .nitem = sweep_njob(s, p),
                   .first = o->shard,
@@ -447,13 +447,6 @@ int sweep_run_opts(const scene *s, const sweep_plan *p, out_file *f,
              o->nshard, o->nthread);
     return -1;
   }
-  J.s = s;
-  J.p = p;
-  J.f = f;
-  J.b = b;
-  J.layout = f->layout;
-  J.st = st;
-  J.pr = pr;
   snprintf(err, errsz, "out of memory");
   return pool_run(&job, o->nthread, err, errsz);
 }
