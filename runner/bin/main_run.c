@@ -148,7 +148,6 @@ static int run_load(const run_args *a, const world *w, scene *s,
 /* what a sweep's file needs */
 typedef struct {
   const run_args *a;
-  const world *w;
   const scene *s;
   const sweep_plan *plan;
   const sweep_opts *opts;
@@ -170,15 +169,15 @@ static int sweep_write(run_job *j, const out_meta *meta, progress *pr,
     return EXIT_IO;
   }
   sj->block.fields = sj->a->fields;
-  progress_start(pr, j->ncase, sj->a->quiet || sj->w->rank != 0);
   pr->njob_all = sweep_njob(s, plan);
   pr->njob = sweep_shard_jobs(s, plan, sj->opts->shard, sj->opts->nshard);
   /* the shard's samples, in proportion to its cases (exact unsharded) */
   pr->npoint = s->ncase ? (size_t)((double)plan->npoint * (double)pr->ncase /
                                    (double)s->ncase)
                         : 0;
-  f = out_create(tmpout_path(), s, &plan->first, plan->nt, plan->grid_common,
-                 plan->chunk_points, &sj->block, meta, err, sizeof err);
+  f = out_create(tmpout_path(), s, OUT_INV, plan->nt,
+                 plan->grid_common ? &plan->first : NULL, plan->chunk_points,
+                 &sj->block, meta, err, sizeof err);
   if (f && sweep_run_opts(s, plan, f, &sj->block, sj->opts, pr, st, err,
                           sizeof err) == 0)
     return out_close(f, err, sizeof err) ? run_io(sj->a, err) : EXIT_OK;
@@ -192,7 +191,7 @@ static int run_sweep(const run_args *a, const world *w, const scene *s,
                      const sweep_plan *plan, const sweep_opts *opts,
                      const pre_opts *pre, int argc, char **argv) {
   char names[1024];
-  sweep_job sj = {a, w, s, plan, opts, {0}};
+  sweep_job sj = {a, s, plan, opts, {0}};
   run_job j = {NULL, "case", 0, sweep_write, &sj, ""};
   int code;
   j.fields = out_fields_text(a->fields, names, sizeof names);

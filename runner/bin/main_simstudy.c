@@ -8,8 +8,6 @@
  * The file, its temporary name and the exit codes are those of every study
  * program (study_run.c), and 4: a run that must succeed failed.
  */
-#include <string.h>
-
 #include "study/study.h"
 
 /* the options, in the order of SIMSTUDY_OPTS */
@@ -40,7 +38,6 @@ static const study_prog SIMSTUDY = {
     1};
 
 int main(int argc, char **argv) {
-  study_args a;
-  memset(&a, 0, sizeof a);
+  study_args a = {.out = NULL};
   return study_main(&SIMSTUDY, &a, argc, argv);
 }

@@ -62,9 +62,6 @@ static const study_prog STUDY = {
     0};
 
 int main(int argc, char **argv) {
-  study_args a;
-  memset(&a, 0, sizeof a);
-  a.v[O_SAMPLES] = 400;
-  a.v[O_REPEATS] = 9;
+  study_args a = {.v = {[O_SAMPLES] = 400, [O_REPEATS] = 9}};
   return study_main(&STUDY, &a, argc, argv);
 }

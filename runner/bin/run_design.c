@@ -17,7 +17,6 @@
 /* what a design study's file needs */
 typedef struct {
   const run_args *a;
-  const world *w;
   scene *s;
   const design_plan *plan;
   char fields[64]; /* the file kinds' fields, a part's root attribute */
@@ -33,20 +32,18 @@ static int design_write(run_job *j, const out_meta *meta, progress *pr,
   size_t nempty = 0;
   out_file *f;
   char err[512];
-  int code = EXIT_OK;
-  progress_start(pr, j->ncase, a->quiet || d->w->rank != 0);
+  int code;
   pr->njob_all = plan->nunit;
   pr->njob = pool_count(plan->nunit, a->shard, a->nshard);
   pr->npoint = pr->ncase * (plan->npose + plan->nsample);
   f = design_file_open(tmpout_path(), d->s, plan, meta, err, sizeof err);
-  if (!f)
+  if (f && design_run(d->s, plan, f, a->shard, a->nshard, a->nthread, pr, sst,
+                      &nempty, err, sizeof err) == 0)
+    code = out_close(f, err, sizeof err) ? run_io(a, err) : EXIT_OK;
+  else {
+    if (f) out_close(f, NULL, 0);
     code = run_io(a, err);
-  else if (design_run(d->s, plan, f, a->shard, a->nshard, a->nthread, pr, sst,
-                      &nempty, err, sizeof err)) {
-    out_close(f, NULL, 0);
-    code = run_io(a, err);
-  } else if (out_close(f, err, sizeof err))
-    code = run_io(a, err);
+  }
   if (nempty)
     snprintf(j->note, sizeof j->note,
              "rps3-run: %zu design%s with an empty workspace (nreach = 0: a "
@@ -84,7 +81,7 @@ static int design_checks(scene *s, const run_args *a, const world *w,
 int run_design(scene *s, const run_args *a, const world *w, int argc,
                char **argv) {
   design_plan plan;
-  design_job d = {a, w, s, &plan, ""};
+  design_job d = {a, s, &plan, ""};
   run_job j = {NULL, "design", 0, design_write, &d, ""};
   int code;
   if (a->fields != out_fields_all())

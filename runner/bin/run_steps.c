@@ -153,23 +153,22 @@ static int run_write(const run_args *a, const world *w, const scene *s,
                      run_job *j, const char *inputs, int argc, char **argv) {
   int code = EXIT_OK;
   char *cmd = cli_command_line(argc, argv);
-  out_meta meta;
+  out_meta meta = {.command_line = cmd,
+                   .gzip = a->gzip,
+                   .shard = a->shard_arg,
+                   .fields = a->fields,
+                   .inputs = inputs};
   progress pr;
   sweep_stats st;
-  memset(&meta, 0, sizeof meta);
   memset(&st, 0, sizeof st);
   if (!cmd) {
     fprintf(stderr, "rps3-run: out of memory\n");
     code = EXIT_IO;
   }
-  meta.command_line = cmd;
-  meta.gzip = a->gzip;
-  meta.shard = a->shard_arg;
-  meta.fields = a->fields;
-  meta.inputs = inputs;
   if (code == EXIT_OK && tmpout_name(a->out_path, w->rank)) code = EXIT_USAGE;
   if ((code = run_agree(w, code, NULL)) == EXIT_OK) {
     tmpout_arm();
+    progress_start(&pr, j->ncase, a->quiet || w->rank != 0);
     code = j->write(j, &meta, &pr, &st);
     if (w->size > 1)
       code = ranks_join(w, code, a->copy, a->out_path, cmd, &pr, &st, s->ncase);

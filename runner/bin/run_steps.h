@@ -21,8 +21,8 @@ typedef struct run_job {
   const char *fields; /* the fields written: a part's root attribute */
   const char *noun;   /* what the cases are: "case" or "design" */
   size_t ncase;       /* this shard's cases */
-  /* the progress started and the file written at tmpout_path(); the exit
-     code */
+  /* the progress's jobs and samples set and the file written at
+     tmpout_path(); the exit code */
   int (*write)(struct run_job *j, const out_meta *meta, progress *pr,
                sweep_stats *st);
   void *ctx;

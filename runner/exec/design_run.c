@@ -354,23 +354,21 @@ int design_run(const scene *s, const design_plan *p, out_file *f, size_t shard,
                size_t nshard, int nthread, progress *pr, sweep_stats *st,
                size_t *nempty, char *err, size_t errsz) {
   design_job J = {s, p, f, pr, st, nempty};
-  pool_job job;
+  pool_job job = {.ctx = &J,
+                  .nitem = p->nunit,
+                  .first = shard,
+                  .stride = nshard,
+                  .info_size = sizeof(unit_info),
+                  .slot_size = sizeof(design_tile),
+                  .slot_make = design_slot_make,
+                  .slot_free = design_slot_free,
+                  .worker_begin = design_worker_begin,
+                  .worker_end = design_worker_end,
+                  .run = design_item,
+                  .write = design_write};
   memset(st, 0, sizeof *st);
   *nempty = 0;
   if (nthread < 1) nthread = 1;
-  memset(&job, 0, sizeof job);
-  job.ctx = &J;
-  job.nitem = p->nunit;
-  job.first = shard;
-  job.stride = nshard;
-  job.info_size = sizeof(unit_info);
-  job.worker_begin = design_worker_begin;
-  job.worker_end = design_worker_end;
-  job.run = design_item;
-  job.write = design_write;
-  job.slot_size = sizeof(design_tile);
-  job.slot_make = design_slot_make;
-  job.slot_free = design_slot_free;
   snprintf(err, errsz, "out of memory for the tiles of %d thread%s", nthread,
            nthread == 1 ? "" : "s");
   return pool_run(&job, nthread, err, errsz);

@@ -355,9 +355,17 @@ static void run_time(const scene *s, const sim_plan *p, int nthread, char *buf,
    renamed when complete: the exit code */
 static int sim_write_file(const scene *s, const sim_plan *p, const sim_args *a,
                           int nthread) {
-  sim_job J;
-  pool_job job;
   progress pr;
+  sim_job J = {s, p, NULL, &pr, p->nt < SIM_WINDOW ? p->nt : SIM_WINDOW, {0}};
+  out_meta meta = {.command_line = a->command_line, .gzip = a->gzip};
+  pool_job job = {.ctx = &J,
+                  .nitem = s->ncase,
+                  .stride = 1,
+                  .slot_size = sizeof(sim_tile),
+                  .slot_make = tile_make,
+                  .slot_free = tile_free,
+                  .run = sim_item,
+                  .write = sim_write};
   double *times = NULL;
   size_t k;
   int rc = -1;
@@ -367,28 +375,14 @@ static int sim_write_file(const scene *s, const sim_plan *p, const sim_args *a,
   tmpout_arm();
   progress_start(&pr, s->ncase, a->quiet);
   pr.npoint = p->npoint;
-  memset(&J, 0, sizeof J);
-  J.s = s;
-  J.p = p;
-  J.pr = &pr;
-  J.points = p->nt < SIM_WINDOW ? p->nt : SIM_WINDOW;
   /* the common time axis, or none (the grid differs by case) */
   if (!p->common || (times = malloc(p->nt * sizeof *times))) {
     for (k = 0; times && k < p->nt; k++)
       times[k] = sim_case_time(&p->first, &p->sfirst, k);
-    J.f = sim_file_create(tmpout_path(), s, p->nt, times, J.points, a->gzip,
-                          a->command_line, err, sizeof err);
+    J.f = out_create(tmpout_path(), s, OUT_SIM, p->nt, times, J.points, NULL,
+                     &meta, err, sizeof err);
   }
   free(times);
-  memset(&job, 0, sizeof job);
-  job.ctx = &J;
-  job.nitem = s->ncase;
-  job.stride = 1;
-  job.slot_size = sizeof(sim_tile);
-  job.slot_make = tile_make;
-  job.slot_free = tile_free;
-  job.run = sim_item;
-  job.write = sim_write;
   if (J.f) {
     snprintf(err, sizeof err, "out of memory");
     rc = pool_run(&job, nthread, err, sizeof err);

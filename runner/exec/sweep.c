@@ -428,34 +428,25 @@ static void block_free(void *ctx, void *slot, size_t i) {
 int sweep_run_opts(const scene *s, const sweep_plan *p, out_file *f,
                    out_block *b, const sweep_opts *o, progress *pr,
                    sweep_stats *st, char *err, size_t errsz) {
-  sweep_job J;
-  pool_job job;
+  sweep_job J = {s, p, f, b, f->layout, st, pr};
+  pool_job job = {.ctx = &J,
+                  .nitem = sweep_njob(s, p),
+                  .first = o->shard,
+                  .stride = o->nshard,
+                  .info_size = sizeof(tile),
+                  .slot_size = sizeof(out_block),
+                  .slot_make = block_make,
+                  .slot_free = block_free,
+                  .worker_begin = workspaces_begin,
+                  .worker_end = workspaces_end,
+                  .run = sweep_item,
+                  .write = sweep_write};
   memset(st, 0, sizeof *st);
   if (o->nshard < 1 || o->shard >= o->nshard || o->nthread < 1) {
     snprintf(err, errsz, "bad shard %zu/%zu or thread count %d", o->shard,
              o->nshard, o->nthread);
     return -1;
   }
-  J.s = s;
-  J.p = p;
-  J.f = f;
-  J.b = b;
-  out_file_layout(f, &J.layout);
-  J.st = st;
-  J.pr = pr;
-  memset(&job, 0, sizeof job);
-  job.ctx = &J;
-  job.nitem = sweep_njob(s, p);
-  job.first = o->shard;
-  job.stride = o->nshard;
-  job.info_size = sizeof(tile);
-  job.slot_size = sizeof(out_block);
-  job.slot_make = block_make;
-  job.slot_free = block_free;
-  job.worker_begin = workspaces_begin;
-  job.worker_end = workspaces_end;
-  job.run = sweep_item;
-  job.write = sweep_write;
   snprintf(err, errsz, "out of memory");
   return pool_run(&job, o->nthread, err, errsz);
 }

@@ -7,8 +7,6 @@
 #include <stdio.h>
 #include <stdlib.h>
 
-void out_file_layout(const out_file *f, out_layout *L) { *L = f->layout; }
-
 /* write the chunks out_pack made, as they are */
 static int write_packed(out_file *f, const out_block *b, char *err,
                         size_t errsz) {

@@ -399,27 +399,45 @@ static double inv_time(const void *first, size_t k) {
   return scene_case_time(first, k);
 }
 
-out_file *out_create(const char *path, const scene *s, const scene_case *first,
-                     size_t nt, int grid_common, size_t chunk_points,
-                     const out_block *b, const out_meta *meta, char *err,
-                     size_t errsz) {
+/* the simulation's common time axis: times[k] */
+static double axis_time(const void *times, size_t k) {
+  return ((const double *)times)[k];
+}
+
+/* cases per chunk of a simulation's per-case datasets: each case's values
+   are written alone (the cases end in any order), and HDF5 rewrites (and
+   checksums) the whole chunk: small, with a chunk cache */
+#define CASE_CHUNK 64
+
+out_file *out_create(const char *path, const scene *s, int files, size_t nt,
+                     const void *axis, size_t chunk_points, const out_block *b,
+                     const out_meta *meta, char *err, size_t errsz) {
   out_spec sp;
+  int sim = files == OUT_SIM;
   memset(&sp, 0, sizeof sp);
-  sp.files = OUT_INV;
-  sp.title =
-      "rps3: inverse dynamics of the Lee & Shah 3-RPS manipulator "
-      "along a trajectory, per case of a sweep";
-  sp.time_doc =
-      "time since the start of the trajectory, in s (the "
-      "reference date of the units is nominal)";
+  sp.files = files;
+  sp.title = sim ? "rps3: closed-loop simulation of the Lee & Shah 3-RPS "
+                   "manipulator along a trajectory, per case of a sweep"
+                 : "rps3: inverse dynamics of the Lee & Shah 3-RPS manipulator "
+                   "along a trajectory, per case of a sweep";
+  sp.content = sim ? "simulation" : NULL;
+  sp.time_doc = sim ? "simulated time since the start of the trajectory, in s "
+                      "(the reference date of the units is nominal)"
+                    : "time since the start of the trajectory, in s (the "
+                      "reference date of the units is nominal)";
   sp.nt = nt;
-  sp.grid_common = grid_common;
-  sp.time = inv_time;
-  sp.time_ctx = first;
-  sp.tile_cases = sp.case_chunk = b->cases < s->ncase ? b->cases : s->ncase;
+  sp.grid_common = axis != NULL;
+  sp.time = sim ? axis_time : inv_time;
+  sp.time_ctx = axis;
+  /* a simulation writes a window of one case at a time */
+  sp.tile_cases = sim ? 1 : b->cases < s->ncase ? b->cases : s->ncase;
+  sp.case_chunk = !sim                    ? sp.tile_cases
+                  : s->ncase < CASE_CHUNK ? s->ncase
+                                          : CASE_CHUNK;
   sp.chunk_points = chunk_points;
-  sp.neffect = b->neffect;
-  sp.effect = b->effect;
+  sp.case_cache = sim;
+  sp.neffect = sim ? 0 : b->neffect;
+  sp.effect = sim ? NULL : b->effect;
   return out_open(path, s, &sp, meta, err, errsz);
 }
 

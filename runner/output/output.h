@@ -78,20 +78,20 @@ out_file *out_open(const char *path, const scene *s, const out_spec *sp,
                    const out_meta *meta, char *err, size_t errsz);
 
 /*
- * An inverse sweep's file (out_open): create the file at `path` (truncating it)
- * for the cases of s: all datasets, dimension scales, attributes, the scene
- * text, the swept keys and, when the grid is common to all cases (grid_common),
- * the time axis from `first`.  nt is the largest number of samples of any case;
- * chunks are [b->cases, chunk_points, ...] (a tile is a whole number of
- * chunks). Returns NULL with a message in err.
+ * A run's file (out_open): create the file at `path` (truncating it) for
+ * the cases of s, of an inverse sweep (files OUT_INV) or of a simulation
+ * (OUT_SIM): all datasets, dimension scales, attributes, the scene text,
+ * the swept keys and, when the grid is common to all cases, the time axis
+ * from `axis` (the sweep's first scene_case, the simulation's nt times), NULL
+ * when the grid differs by case (then `time` is a sample index and case_time
+ * holds the times).  nt is the largest number of samples of any case.  An
+ * inverse sweep's chunks are [b->cases, chunk_points, ...] (a tile is a
+ * whole number of chunks); a simulation's [1, chunk_points, (3)] (b NULL).
+ * Returns NULL with a message in err.
  */
-out_file *out_create(const char *path, const scene *s, const scene_case *first,
-                     size_t nt, int grid_common, size_t chunk_points,
-                     const out_block *b, const out_meta *meta, char *err,
-                     size_t errsz);
-
-/* the layout of an open file's chunks, for out_pack */
-void out_file_layout(const out_file *f, out_layout *L);
+out_file *out_create(const char *path, const scene *s, int files, size_t nt,
+                     const void *axis, size_t chunk_points, const out_block *b,
+                     const out_meta *meta, char *err, size_t errsz);
 
 /*
  * Write a tile: slots [0, nc) of b hold cases c0 .. c0 + nc - 1, samples
@@ -147,18 +147,6 @@ typedef struct {
 /* Allocate the window buffers for `points` samples: 0, or -1. */
 int sim_window_alloc(sim_window *w, size_t points);
 void sim_window_free(sim_window *w);
-
-/*
- * Create the file at path for the cases of s (out_open with the OUT_SIM
- * fields); nt the most samples of any case; times the common time axis
- * (nt values) or NULL when the grid differs by case (then `time` is a
- * sample index and case_time holds the times).  Chunks are [1, points,
- * (3)], Fletcher-32, deflate at gzip.  The file is closed with out_close.
- * Returns NULL with a message in err.
- */
-out_file *sim_file_create(const char *path, const scene *s, size_t nt,
-                          const double *times, size_t points, int gzip,
-                          const char *command_line, char *err, size_t errsz);
 
 /* Write samples [k0, k0 + nk) of case c from the window (out_write_window;
    times when the grid differs, else NULL).  0 or -1 with err set. */

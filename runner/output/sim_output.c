@@ -12,11 +12,6 @@ static int sim_field(int i) {
   return (out_field_table[i].files & OUT_SIM) != 0;
 }
 
-/* cases per chunk of the per-case datasets: each case's values are
-   written alone (the cases end in any order), and HDF5 rewrites (and
-   checksums) the whole chunk: small, with a chunk cache (output.c) */
-#define CASE_CHUNK 64
-
 int sim_window_alloc(sim_window *w, size_t points) {
   int i;
   memset(w, 0, sizeof *w);
@@ -37,40 +32,6 @@ void sim_window_free(sim_window *w) {
   int i;
   for (i = 0; i < OUT_NFIELD; i++) free(w->buf[i]);
   memset(w, 0, sizeof *w);
-}
-
-/* the common time axis: times[k] */
-static double axis_time(const void *times, size_t k) {
-  return ((const double *)times)[k];
-}
-
-out_file *sim_file_create(const char *path, const scene *s, size_t nt,
-                          const double *times, size_t points, int gzip,
-                          const char *command_line, char *err, size_t errsz) {
-  out_spec sp;
-  out_meta meta;
-  memset(&sp, 0, sizeof sp);
-  sp.files = OUT_SIM;
-  sp.title =
-      "rps3: closed-loop simulation of the Lee & Shah 3-RPS "
-      "manipulator along a trajectory, per case of a sweep";
-  sp.content = "simulation";
-  sp.time_doc =
-      "simulated time since the start of the trajectory, in s "
-      "(the reference date of the units is nominal)";
-  sp.nt = nt;
-  sp.grid_common = times != NULL;
-  sp.time = axis_time;
-  sp.time_ctx = times;
-  /* a window of one case at a time */
-  sp.tile_cases = 1;
-  sp.case_chunk = s->ncase < CASE_CHUNK ? s->ncase : CASE_CHUNK;
-  sp.chunk_points = points;
-  sp.case_cache = 1;
-  memset(&meta, 0, sizeof meta);
-  meta.command_line = command_line;
-  meta.gzip = gzip;
-  return out_open(path, s, &sp, &meta, err, errsz);
 }
 
 int sim_file_window(out_file *f, const sim_window *w, size_t c, size_t k0,

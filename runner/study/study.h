@@ -190,9 +190,8 @@ typedef struct {
 int study_h5_open(study_h5 *o, const char *path, const char *cmdline,
                   const char *title);
 
-/* close the file; a scalar double attribute: 0 or -1 */
+/* close the file: 0 or -1 */
 int study_h5_close(study_h5 *o);
-int study_h5_attr_f64(hid_t obj, const char *name, double v);
 
 /*
  * Write a dataset of `rank` dims with its units and description, and attach

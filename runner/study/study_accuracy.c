@@ -11,6 +11,7 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "output/out_h5.h"
 #include "study.h"
 #include "study_ref.h"
 
@@ -448,6 +449,7 @@ int study_accuracy(const char *path, const char *cmdline, size_t nsamp,
   int ncfg = study_configs_build(cfg), t, rc = 0;
   study_h5 o = {-1, -1};
   double t_start = study_now_ns();
+  const double counts[2] = {(double)nsamp, (double)repeats};
 
   /* the measurements, trajectory by trajectory */
   if (accuracy_model(&base) < 0) return EXIT_IO;
@@ -467,8 +469,8 @@ int study_accuracy(const char *path, const char *cmdline, size_t nsamp,
                     "trajectory") < 0 ||
       write_configs(&o, cfg, ncfg) < 0 ||
       write_results(&o, (const study_result(*)[MAXCFG])res, ref, ncfg) < 0 ||
-      study_h5_attr_f64(o.file, "samples", (double)nsamp) < 0 ||
-      study_h5_attr_f64(o.file, "repeats", (double)repeats) < 0)
+      out_h5_attr_n(o.file, "samples", H5T_NATIVE_DOUBLE, 0, &counts[0]) < 0 ||
+      out_h5_attr_n(o.file, "repeats", H5T_NATIVE_DOUBLE, 0, &counts[1]) < 0)
     rc = -1;
   if (study_h5_close(&o) < 0) rc = -1;
   for (t = 0; t < NTRAJ; t++) {

@@ -106,19 +106,6 @@ int study_h5_close(study_h5 *o) {
   return rc;
 }
 
-int study_h5_attr_f64(hid_t obj, const char *name, double v) {
-  hid_t sp = H5Screate(H5S_SCALAR), a;
-  int rc = -1;
-  if (sp < 0) return -1;
-  a = H5Acreate2(obj, name, H5T_NATIVE_DOUBLE, sp, H5P_DEFAULT, H5P_DEFAULT);
-  if (a >= 0) {
-    rc = H5Awrite(a, H5T_NATIVE_DOUBLE, &v) < 0 ? -1 : 0;
-    H5Aclose(a);
-  }
-  H5Sclose(sp);
-  return rc;
-}
-
 /* attach the named scales to ds's dimensions (NULL: ds is that scale) */
 static int attach_scales(const study_h5 *o, hid_t ds, const char *name,
                          int rank, const char *const *scales) {
