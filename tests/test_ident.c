@@ -307,6 +307,15 @@ static void make_stack(const rps3_model *m, size_t ns, double dt, double scale,
   rps3_data_free(d);
 }
 
+/* the estimators' view of the first p columns of st */
+static void stack_data(const stack *st, size_t p, rps3_ident_data *dt) {
+  memset(dt, 0, sizeof(*dt));
+  dt->n = st->n;
+  dt->p = p;
+  dt->Y = st->Y;
+  dt->F = st->F;
+}
+
 /* a standard normal deviate (Box-Muller) */
 static double rnd_normal(uint64_t *s) {
   double u = rnd_uniform(s, 1e-300, 1.0), v = rnd_uniform(s, 0.0, 2.0 * PI);
@@ -352,11 +361,7 @@ static void test_wls_exact(void **state) {
   truth_model(&m, 0.0029);
   rps3_paper_params(&m, pi, NULL);
   make_stack(&m, 1000, 0.02, 1.0, 3, SET_PAYLOAD, 11, &st);
-  memset(&dt, 0, sizeof(dt));
-  dt.n = st.n;
-  dt.p = 11;
-  dt.Y = st.Y;
-  dt.F = st.F;
+  stack_data(&st, 11, &dt);
   memset(&res, 0, sizeof(res));
   res.theta = th;
   res.ci = ci;
@@ -389,11 +394,7 @@ static void test_wls_monte_carlo(void **state) {
   truth_model(&m, 0.0029);
   rps3_paper_params(&m, pi, NULL);
   make_stack(&m, 1000, 0.02, 1.0, 11, SET_PLAIN, 5, &st);
-  memset(&dt, 0, sizeof(dt));
-  dt.n = st.n;
-  dt.p = 5;
-  dt.Y = st.Y;
-  dt.F = st.F;
+  stack_data(&st, 5, &dt);
   memset(&res, 0, sizeof(res));
   res.theta = th;
   res.ci = ci;
@@ -441,11 +442,7 @@ static void test_wls_rank_deficient(void **state) {
   (void)state;
   truth_model(&m, 0.0029);
   make_stack(&m, 300, 0.05, 1.0, 3, all, 12, &st);
-  memset(&dt, 0, sizeof(dt));
-  dt.n = st.n;
-  dt.p = 12;
-  dt.Y = st.Y;
-  dt.F = st.F;
+  stack_data(&st, 12, &dt);
   dt.names = names;
   memset(&res, 0, sizeof(res));
   res.theta = th;
@@ -510,11 +507,7 @@ static void test_consistent(void **state) {
   truth_model(&m, 0.0);
   rps3_paper_params(&m, pi, NULL);
   make_stack(&m, 1000, 0.02, 0.3, 21, SET_PAYLOAD, 11, &st);
-  memset(&dt, 0, sizeof(dt));
-  dt.n = st.n;
-  dt.p = 11;
-  dt.Y = st.Y;
-  dt.F = st.F;
+  stack_data(&st, 11, &dt);
   memset(&fit, 0, sizeof(fit));
   fit.theta = th;
   fit.body = body;
@@ -616,11 +609,7 @@ static void test_timing(void **state) {
   lay.kind = kind;
   truth_model(&m, 0.0029);
   make_stack(&m, 10000, 0.005, 1.0, 8, SET_PAYLOAD, 11, &st);
-  memset(&dt, 0, sizeof(dt));
-  dt.n = st.n;
-  dt.p = 11;
-  dt.Y = st.Y;
-  dt.F = st.F;
+  stack_data(&st, 11, &dt);
   memset(&res, 0, sizeof(res));
   res.theta = th;
   memset(&fit, 0, sizeof(fit));
@@ -724,11 +713,7 @@ static void test_regressor_allocates_nothing(void **state) {
   /* the counter works: WLS allocates its GSL workspaces */
   truth_model(&m, 0.0029);
   make_stack(&m, 100, 0.05, 1.0, 3, SET_PLAIN, 5, &st);
-  memset(&dt, 0, sizeof(dt));
-  dt.n = st.n;
-  dt.p = 5;
-  dt.Y = st.Y;
-  dt.F = st.F;
+  stack_data(&st, 5, &dt);
   memset(&res, 0, sizeof(res));
   res.theta = th;
   n_alloc = 0;
