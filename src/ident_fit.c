@@ -1,7 +1,7 @@
 /*
- * ident_fit.c - estimators on a stacked regressor: weighted least squares
- * with its covariance and intervals, and the physically consistent fit by
- * the log-Cholesky parametrisation of each body's pseudo-inertia.
+ * ident_fit.c - estimators on a stacked regressor: the checks of their
+ * data, and weighted least squares with its covariance and intervals
+ * (the physically consistent fit is in ident_consistent.c).
  *
  * They run once per data set, not per point: each call allocates its GSL
  * workspaces and frees them before returning.  Every argument is checked
@@ -16,11 +16,9 @@
 #include <gsl/gsl_linalg.h>
 #include <gsl/gsl_multifit.h>
 #include <gsl/gsl_multifit_nlinear.h>
-#include <gsl/gsl_sort_vector.h>
 
+#include "ident_int.h"
 #include "internal.h"
-
-#define M4C(A) ((const double(*)[4])(A))
 
 void rps3_ident_opts_default(rps3_ident_opts *o) {
   if (o == NULL) return;
@@ -35,7 +33,7 @@ void rps3_ident_opts_default(rps3_ident_opts *o) {
 }
 
 /* a message into err (may be NULL), and the status */
-static int fail(char *err, size_t errsz, int status, const char *fmt, ...) {
+int rps3_ident_fail(char *err, size_t errsz, int status, const char *fmt, ...) {
   if (err != NULL && errsz > 0) {
     va_list ap;
     va_start(ap, fmt);
@@ -60,55 +58,60 @@ static int actuator_of(const rps3_ident_data *dt, size_t r) {
 
 /* the checks of every estimator's data; need_act: each actuator must have
    rows (the two-pass weights) */
-static int check_data(const rps3_ident_data *dt, const rps3_ident_opts *o,
-                      int need_act, char *err, size_t errsz) {
+int rps3_ident_check_data(const rps3_ident_data *dt, const rps3_ident_opts *o,
+                          int need_act, char *err, size_t errsz) {
   size_t r, j, nact[3] = {0, 0, 0};
-  if (dt == NULL) return fail(err, errsz, RPS3_EINVAL, "data is NULL");
+  if (dt == NULL)
+    return rps3_ident_fail(err, errsz, RPS3_EINVAL, "data is NULL");
   if (dt->p == 0 || dt->n <= dt->p)
-    return fail(err, errsz, RPS3_EINVAL,
-                "data: %lu rows for %lu columns: need more rows than columns",
-                (unsigned long)dt->n, (unsigned long)dt->p);
+    return rps3_ident_fail(
+        err, errsz, RPS3_EINVAL,
+        "data: %lu rows for %lu columns: need more rows than columns",
+        (unsigned long)dt->n, (unsigned long)dt->p);
   if (dt->n > SIZE_MAX / sizeof(double) / (dt->p + 1))
-    return fail(err, errsz, RPS3_EINVAL, "data: %lu x %lu is too large",
-                (unsigned long)dt->n, (unsigned long)dt->p);
+    return rps3_ident_fail(err, errsz, RPS3_EINVAL,
+                           "data: %lu x %lu is too large", (unsigned long)dt->n,
+                           (unsigned long)dt->p);
   if (dt->Y == NULL || dt->F == NULL)
-    return fail(err, errsz, RPS3_EINVAL, "data.%s is NULL",
-                dt->Y == NULL ? "Y" : "F");
-  if (o != NULL &&
-      (!(o->rank_tol > 0.0 && o->rank_tol < 1.0) ||
-       !(o->level > 0.0 && o->level < 1.0) || !(o->reg >= 0.0) ||
-       !isfinite(o->reg) || !(o->xtol >= 0.0) || !(o->gtol >= 0.0) ||
-       !(o->ftol >= 0.0) || o->max_iter < 1 || !(o->eig_tol >= 0.0) ||
-       !(o->eig_tol < 1.0)))
-    return fail(err, errsz, RPS3_EINVAL,
-                "opts: rank_tol and level must be in (0, 1), reg, xtol, gtol, "
-                "ftol >= 0 and finite, max_iter >= 1, eig_tol in [0, 1)");
+    return rps3_ident_fail(err, errsz, RPS3_EINVAL, "data.%s is NULL",
+                           dt->Y == NULL ? "Y" : "F");
+  if (o != NULL && (!(o->rank_tol > 0.0 && o->rank_tol < 1.0) ||
+                    !(o->level > 0.0 && o->level < 1.0) || !(o->reg >= 0.0) ||
+                    !isfinite(o->reg) || !(o->xtol >= 0.0) ||
+                    !(o->gtol >= 0.0) || !(o->ftol >= 0.0) || o->max_iter < 1 ||
+                    !(o->eig_tol >= 0.0) || !(o->eig_tol < 1.0)))
+    return rps3_ident_fail(
+        err, errsz, RPS3_EINVAL,
+        "opts: rank_tol and level must be in (0, 1), reg, xtol, gtol, "
+        "ftol >= 0 and finite, max_iter >= 1, eig_tol in [0, 1)");
   for (r = 0; r < dt->n; r++) {
     int a = actuator_of(dt, r);
     for (j = 0; j < dt->p; j++)
       if (!isfinite(dt->Y[r * dt->p + j]))
-        return fail(err, errsz, RPS3_EINVAL,
-                    "data.Y[%lu][%lu] = %g is not finite", (unsigned long)r,
-                    (unsigned long)j, dt->Y[r * dt->p + j]);
+        return rps3_ident_fail(
+            err, errsz, RPS3_EINVAL, "data.Y[%lu][%lu] = %g is not finite",
+            (unsigned long)r, (unsigned long)j, dt->Y[r * dt->p + j]);
     if (!isfinite(dt->F[r]))
-      return fail(err, errsz, RPS3_EINVAL, "data.F[%lu] = %g is not finite",
-                  (unsigned long)r, dt->F[r]);
+      return rps3_ident_fail(err, errsz, RPS3_EINVAL,
+                             "data.F[%lu] = %g is not finite", (unsigned long)r,
+                             dt->F[r]);
     if (dt->weight != NULL &&
         !(dt->weight[r] > 0.0 && dt->weight[r] <= DBL_MAX))
-      return fail(err, errsz, RPS3_EINVAL,
-                  "data.weight[%lu] = %g: must be > 0 and finite",
-                  (unsigned long)r, dt->weight[r]);
+      return rps3_ident_fail(err, errsz, RPS3_EINVAL,
+                             "data.weight[%lu] = %g: must be > 0 and finite",
+                             (unsigned long)r, dt->weight[r]);
     if (a < 0 || a > 2)
-      return fail(err, errsz, RPS3_EINVAL,
-                  "data.actuator[%lu] = %d: must be 0, 1 or 2",
-                  (unsigned long)r, a);
+      return rps3_ident_fail(err, errsz, RPS3_EINVAL,
+                             "data.actuator[%lu] = %d: must be 0, 1 or 2",
+                             (unsigned long)r, a);
     nact[a]++;
   }
   for (j = 0; need_act && j < 3; j++)
     if (nact[j] == 0)
-      return fail(err, errsz, RPS3_EINVAL,
-                  "data: actuator %lu has no row, so no noise variance",
-                  (unsigned long)j);
+      return rps3_ident_fail(
+          err, errsz, RPS3_EINVAL,
+          "data: actuator %lu has no row, so no noise variance",
+          (unsigned long)j);
   return RPS3_OK;
 }
 
@@ -116,8 +119,8 @@ static int check_data(const rps3_ident_data *dt, const rps3_ident_opts *o,
 
 /* scratch of the least-squares fit, allocated once per call */
 typedef struct {
-  gsl_matrix *A;      /* n x p: the weighted, column-scaled regressor */
-  gsl_matrix *X;      /* n x p: the column-scaled regressor */
+  gsl_matrix *A; /* n x p: the weighted, column-scaled regressor */
+  gsl_matrix *X; /* n x p: the column-scaled regressor */
   gsl_vector *tau, *w, *y, *c, *D, *S, *sw, *r;
   gsl_matrix *R, *V, *cov;
   gsl_multifit_linear_workspace *ws;
@@ -156,8 +159,8 @@ static int lsq_alloc(lsq *L, size_t n, size_t p) {
   L->V = gsl_matrix_alloc(p, p);
   L->cov = gsl_matrix_alloc(p, p);
   L->ws = gsl_multifit_linear_alloc(n, p);
-  if (!L->A || !L->X || !L->tau || !L->w || !L->y || !L->c || !L->D ||
-      !L->S || !L->sw || !L->r || !L->R || !L->V || !L->cov || !L->ws) {
+  if (!L->A || !L->X || !L->tau || !L->w || !L->y || !L->c || !L->D || !L->S ||
+      !L->sw || !L->r || !L->R || !L->V || !L->cov || !L->ws) {
     lsq_free(L);
     return RPS3_ENOMEM;
   }
@@ -205,9 +208,8 @@ static void lsq_rank(const rps3_ident_data *dt, lsq *L, double tol,
       gsl_matrix_set(L->R, j, k, k >= j ? gsl_matrix_get(L->A, j, k) : 0.0);
   gsl_linalg_SV_decomp(L->R, L->V, L->S, L->sw);
   smax = gsl_vector_get(L->S, 0);
-  *cond = gsl_vector_get(L->S, p - 1) > 0.0
-              ? smax / gsl_vector_get(L->S, p - 1)
-              : HUGE_VAL;
+  *cond = gsl_vector_get(L->S, p - 1) > 0.0 ? smax / gsl_vector_get(L->S, p - 1)
+                                            : HUGE_VAL;
   *rank = 0;
   for (k = 0; k < p; k++)
     if (gsl_vector_get(L->S, k) > tol * smax) (*rank)++;
@@ -228,8 +230,7 @@ static void lsq_fit(const rps3_ident_data *dt, lsq *L, double *theta,
   size_t n = dt->n, p = dt->p, r, j, k;
   for (r = 0; r < n; r++) {
     for (j = 0; j < p; j++)
-      gsl_matrix_set(L->X, r, j,
-                     dt->Y[r * p + j] / gsl_vector_get(L->D, j));
+      gsl_matrix_set(L->X, r, j, dt->Y[r * p + j] / gsl_vector_get(L->D, j));
     gsl_vector_set(L->y, r, dt->F[r]);
   }
   gsl_multifit_wlinear(L->X, L->w, L->y, L->c, L->cov, chisq, L->ws);
@@ -265,7 +266,8 @@ static int rank_fail(const rps3_ident_data *dt, const int *flags, size_t rank,
                      double cond, double tol, char *err, size_t errsz) {
   char buf[32];
   size_t j, len;
-  if (err == NULL || errsz == 0) return fail(NULL, 0, RPS3_ESING, "");
+  if (err == NULL || errsz == 0)
+    return rps3_ident_fail(NULL, 0, RPS3_ESING, "%s", "");
   snprintf(err, errsz,
            "the regressor has rank %lu < %lu columns (condition number %.3g "
            "of its unit-norm columns, rank_tol %.3g): the data do not "
@@ -276,7 +278,7 @@ static int rank_fail(const rps3_ident_data *dt, const int *flags, size_t rank,
     len = strlen(err);
     snprintf(err + len, errsz - len, " %s", col_name(dt, j, buf, sizeof(buf)));
   }
-  return fail(NULL, 0, RPS3_ESING, "");
+  return rps3_ident_fail(NULL, 0, RPS3_ESING, "%s", "");
 }
 
 int rps3_ident_wls(const rps3_ident_data *dt, const rps3_ident_opts *o,
@@ -294,15 +296,18 @@ int rps3_ident_wls(const rps3_ident_data *dt, const rps3_ident_opts *o,
     o = &def;
   }
   if (res == NULL || res->theta == NULL)
-    return fail(err, errsz, RPS3_EINVAL, "res or res->theta is NULL");
-  status = check_data(dt, o, dt != NULL && dt->weight == NULL, err, errsz);
+    return rps3_ident_fail(err, errsz, RPS3_EINVAL,
+                           "res or res->theta is NULL");
+  status = rps3_ident_check_data(dt, o, dt != NULL && dt->weight == NULL, err,
+                                 errsz);
   if (status != RPS3_OK) return status;
   p = dt->p;
   flags = malloc(p * sizeof(int));
   if (flags == NULL || lsq_alloc(&L, dt->n, p) != RPS3_OK) {
     free(flags);
-    return fail(err, errsz, RPS3_ENOMEM, "wls: out of memory for %lu x %lu",
-                (unsigned long)dt->n, (unsigned long)p);
+    return rps3_ident_fail(err, errsz, RPS3_ENOMEM,
+                           "wls: out of memory for %lu x %lu",
+                           (unsigned long)dt->n, (unsigned long)p);
   }
   for (j = 0; j < p; j++) res->theta[j] = (double)NAN;
 
@@ -361,525 +366,7 @@ int rps3_ident_wls(const rps3_ident_data *dt, const rps3_ident_opts *o,
   free(flags);
   for (j = 0; j < p; j++)
     if (!isfinite(res->theta[j]))
-      return fail(err, errsz, RPS3_ERANGE, "wls: theta[%lu] is not finite",
-                  (unsigned long)j);
+      return rps3_ident_fail(err, errsz, RPS3_ERANGE,
+                             "wls: theta[%lu] is not finite", (unsigned long)j);
   return RPS3_OK;
-}
-
-/* ------------------------------------------------ consistent fit */
-
-/* the ten entries of a body's upper-triangular 4 x 4 factor U, in the
-   order of its variables; the diagonal ones are exp(variable) */
-static const int UA[10] = {0, 0, 0, 0, 1, 1, 1, 2, 2, 3};
-static const int UB[10] = {0, 1, 2, 3, 1, 2, 3, 2, 3, 3};
-
-/* the standard parameters (m, mcx, mcy, mcz, Ixx, Ixy, Ixz, Iyy, Iyz,
-   Izz) of a pseudo-inertia J = [[Sigma, h], [h^T, m]], I = tr(Sigma) 1 -
-   Sigma; linear, so also of a derivative of J */
-static void std_of(const double J[4][4], double s[10]) {
-  s[0] = J[3][3];
-  s[1] = J[0][3];
-  s[2] = J[1][3];
-  s[3] = J[2][3];
-  s[4] = J[1][1] + J[2][2];
-  s[5] = -J[0][1];
-  s[6] = -J[0][2];
-  s[7] = J[0][0] + J[2][2];
-  s[8] = -J[1][2];
-  s[9] = J[0][0] + J[1][1];
-}
-
-/* and back: Sigma = tr(I)/2 1 - I */
-static void pseudo_of(const double s[10], double J[4][4]) {
-  double tr = 0.5 * (s[4] + s[7] + s[9]);
-  J[0][0] = tr - s[4];
-  J[1][1] = tr - s[7];
-  J[2][2] = tr - s[9];
-  J[0][1] = J[1][0] = -s[5];
-  J[0][2] = J[2][0] = -s[6];
-  J[1][2] = J[2][1] = -s[8];
-  J[0][3] = J[3][0] = s[1];
-  J[1][3] = J[3][1] = s[2];
-  J[2][3] = J[3][2] = s[3];
-  J[3][3] = s[0];
-}
-
-static void factor_of(const double *x, double U[4][4]) {
-  int v;
-  memset(U, 0, 16 * sizeof(double));
-  for (v = 0; v < 10; v++)
-    U[UA[v]][UB[v]] = UA[v] == UB[v] ? exp(x[v]) : x[v];
-}
-
-/* the problem gsl_multifit_nlinear sees */
-typedef struct {
-  size_t p, nb, nx, nf;
-  const rps3_ident_layout *lay;
-  const double *R;     /* (p + 1) x (p + 1) R factor of [W^1/2 Y, W^1/2 F],
-                          row-major, divided by |W^1/2 F| */
-  int *owner;          /* p: body of column j, -1 none */
-  int *slot;           /* p: its parameter in the body, or its variable */
-  double sreg;         /* sqrt(reg) */
-} cfit;
-
-/* pi of the variables x */
-static void pi_of(const cfit *c, const double *x, double *pi,
-                  double *body) {
-  size_t b, j;
-  for (b = 0; b < c->nb; b++) {
-    double U[4][4], J[4][4], s[10];
-    int i, k, q;
-    factor_of(x + 10 * b, U);
-    for (i = 0; i < 4; i++)
-      for (k = 0; k < 4; k++) {
-        J[i][k] = 0.0;
-        for (q = 0; q < 4; q++) J[i][k] += U[i][q] * U[k][q];
-      }
-    std_of(M4C(J), s);
-    if (body) memcpy(body + 10 * b, s, sizeof(s));
-    for (k = 0; k < 10; k++)
-      if (c->lay->col[b][k] >= 0) pi[c->lay->col[b][k]] = s[k];
-  }
-  for (j = 0; j < c->p; j++) {
-    double v;
-    if (c->owner[j] >= 0) continue;
-    v = x[c->slot[j]];
-    pi[j] = (c->lay->kind && c->lay->kind[j] == RPS3_IDENT_NONNEG) ? exp(v) : v;
-  }
-}
-
-static int cfit_f(const gsl_vector *xv, void *params, gsl_vector *f) {
-  const cfit *c = params;
-  double pi[256], *pp = pi, *heap = NULL;
-  size_t i, j, b;
-  int v;
-  if (c->p > 256) {
-    heap = malloc(c->p * sizeof(double));
-    if (heap == NULL) return GSL_ENOMEM;
-    pp = heap;
-  }
-  pi_of(c, xv->data, pp, NULL);
-  if (!rps3_all_finite(pp, (int)c->p)) {
-    free(heap);
-    return GSL_EDOM; /* a step overflowed exp: the solver stops, ENOCONV */
-  }
-  for (i = 0; i < c->p; i++) {
-    double s = -c->R[i * (c->p + 1) + c->p];
-    for (j = i; j < c->p; j++) s += c->R[i * (c->p + 1) + j] * pp[j];
-    gsl_vector_set(f, i, s);
-  }
-  for (b = 0; b < c->nb; b++)
-    for (v = 0; v < 10; v++) {
-      double xb = gsl_vector_get(xv, 10 * b + (size_t)v);
-      gsl_vector_set(f, c->p + 10 * b + (size_t)v,
-                     c->sreg * (UA[v] == UB[v] ? exp(xb) : xb));
-    }
-  free(heap);
-  return GSL_SUCCESS;
-}
-
-static int cfit_df(const gsl_vector *xv, void *params, gsl_matrix *Jm) {
-  const cfit *c = params;
-  size_t i, j, b;
-  int v, k, q;
-  gsl_matrix_set_zero(Jm);
-  /* d pi / d x, one variable at a time, pushed through R */
-  for (b = 0; b < c->nb; b++) {
-    double U[4][4];
-    factor_of(xv->data + 10 * b, U);
-    for (v = 0; v < 10; v++) {
-      /* J = U U^T: dJ = E U^T + U E^T for E the unit entry (a, b) */
-      double dJ[4][4], ds[10], e = UA[v] == UB[v] ? U[UA[v]][UB[v]] : 1.0;
-      size_t col = 10 * b + (size_t)v;
-      for (k = 0; k < 4; k++)
-        for (q = 0; q < 4; q++)
-          dJ[k][q] = e * ((k == UA[v] ? U[q][UB[v]] : 0.0) +
-                          (q == UA[v] ? U[k][UB[v]] : 0.0));
-      std_of(M4C(dJ), ds);
-      for (k = 0; k < 10; k++) {
-        int pj = c->lay->col[b][k];
-        if (pj < 0 || ds[k] == 0.0) continue;
-        for (i = 0; i <= (size_t)pj; i++)
-          Jm->data[i * Jm->tda + col] += c->R[i * (c->p + 1) + pj] * ds[k];
-      }
-      gsl_matrix_set(Jm, c->p + col, col, c->sreg * e);
-    }
-  }
-  for (j = 0; j < c->p; j++) {
-    double dp;
-    size_t col;
-    if (c->owner[j] >= 0) continue;
-    col = (size_t)c->slot[j];
-    dp = (c->lay->kind && c->lay->kind[j] == RPS3_IDENT_NONNEG)
-             ? exp(gsl_vector_get(xv, col))
-             : 1.0;
-    for (i = 0; i <= j; i++)
-      gsl_matrix_set(Jm, i, col, c->R[i * (c->p + 1) + j] * dp);
-  }
-  return GSL_SUCCESS;
-}
-
-/* the layout's checks; owner and slot of every column */
-static int check_layout(const rps3_ident_layout *lay, size_t p, int *owner,
-                        int *slot, size_t *nx, char *err, size_t errsz) {
-  size_t b, j;
-  int k;
-  if (lay == NULL) return fail(err, errsz, RPS3_EINVAL, "layout is NULL");
-  if (lay->nbody > 0 && lay->col == NULL)
-    return fail(err, errsz, RPS3_EINVAL, "layout.col is NULL");
-  if (lay->nbody > p)
-    return fail(err, errsz, RPS3_EINVAL,
-                "layout: %lu bodies for %lu columns", (unsigned long)lay->nbody,
-                (unsigned long)p);
-  for (j = 0; j < p; j++) owner[j] = -1;
-  for (b = 0; b < lay->nbody; b++)
-    for (k = 0; k < 10; k++) {
-      int c = lay->col[b][k];
-      if (c < -1 || c >= (int)p)
-        return fail(err, errsz, RPS3_EINVAL,
-                    "layout.col[%lu][%d] = %d: not a column (0..%lu) or -1",
-                    (unsigned long)b, k, c, (unsigned long)p - 1);
-      if (c < 0) continue;
-      if (owner[c] >= 0)
-        return fail(err, errsz, RPS3_EINVAL,
-                    "layout.col[%lu][%d] = %d: column %d is already body "
-                    "%d's parameter %d",
-                    (unsigned long)b, k, c, c, owner[c], slot[c]);
-      owner[c] = (int)b;
-      slot[c] = k;
-    }
-  *nx = 10 * lay->nbody;
-  for (j = 0; j < p; j++) {
-    if (lay->kind && lay->kind[j] != RPS3_IDENT_FREE &&
-        lay->kind[j] != RPS3_IDENT_NONNEG)
-      return fail(err, errsz, RPS3_EINVAL,
-                  "layout.kind[%lu] = %d: must be 0 (free) or 1 (>= 0)",
-                  (unsigned long)j, lay->kind[j]);
-    if (owner[j] >= 0) continue;
-    slot[j] = (int)(*nx)++;
-  }
-  return RPS3_OK;
-}
-
-/*
- * The start: the minimum-norm least-squares pi (singular values of the
- * column-scaled R below START_TOL of the largest dropped: a start needs
- * no more, and a near-dependence kept would throw it far), each body's pseudo-inertia of
- * it (its parameters not in pi 0) with its eigenvalues raised to at least
- * 1e-3 of the largest, factored J = U U^T (a Cholesky of the reversed
- * matrix); a >= 0 column, pi = exp(x), from the logarithm of its value
- * (1e-3 of its magnitude when it is negative).
- */
-#define START_TOL 1e-6
-static int start_point(const cfit *c, double *x) {
-  const double tol = START_TOL;
-  double dmax;
-  size_t p = c->p, i, j, b;
-  int status = RPS3_ENOMEM;
-  gsl_matrix *A = gsl_matrix_alloc(p, p), *V = gsl_matrix_alloc(p, p);
-  gsl_vector *S = gsl_vector_alloc(p), *wk = gsl_vector_alloc(p);
-  gsl_vector *D = gsl_vector_alloc(p), *pi = gsl_vector_alloc(p);
-  gsl_eigen_symmv_workspace *ew = gsl_eigen_symmv_alloc(4);
-  gsl_matrix *E = gsl_matrix_alloc(4, 4), *Q = gsl_matrix_alloc(4, 4);
-  gsl_vector *lam = gsl_vector_alloc(4);
-  if (!A || !V || !S || !wk || !D || !pi || !ew || !E || !Q || !lam) goto out;
-  dmax = 0.0;
-  for (j = 0; j < p; j++) {
-    double s = 0.0;
-    for (i = 0; i <= j; i++) s += c->R[i * (p + 1) + j] * c->R[i * (p + 1) + j];
-    gsl_vector_set(D, j, sqrt(s));
-    if (sqrt(s) > dmax) dmax = sqrt(s);
-  }
-  /* a column below tol times the largest: left out (pi 0) */
-  for (j = 0; j < p; j++)
-    if (!(gsl_vector_get(D, j) > tol * dmax)) gsl_vector_set(D, j, HUGE_VAL);
-  for (i = 0; i < p; i++)
-    for (j = 0; j < p; j++)
-      gsl_matrix_set(A, i, j,
-                     j >= i ? c->R[i * (p + 1) + j] / gsl_vector_get(D, j)
-                            : 0.0);
-  gsl_linalg_SV_decomp(A, V, S, wk);
-  /* pi = D^-1 V S^+ U^T z */
-  for (j = 0; j < p; j++) gsl_vector_set(pi, j, 0.0);
-  for (i = 0; i < p; i++) {
-    double s = gsl_vector_get(S, i), u = 0.0;
-    if (!(s > tol * gsl_vector_get(S, 0))) continue;
-    for (j = 0; j < p; j++) u += gsl_matrix_get(A, j, i) * c->R[j * (p + 1) + p];
-    for (j = 0; j < p; j++)
-      pi->data[j] += gsl_matrix_get(V, j, i) * u / s;
-  }
-  for (j = 0; j < p; j++) pi->data[j] /= gsl_vector_get(D, j);
-
-  for (b = 0; b < c->nb; b++) {
-    double s[10], J[4][4], lmax, U[4][4];
-    int k, q, r;
-    for (k = 0; k < 10; k++) {
-      int pj = c->lay->col[b][k];
-      s[k] = pj >= 0 ? gsl_vector_get(pi, (size_t)pj) : 0.0;
-    }
-    pseudo_of(s, J);
-    /* a start that overflowed: a unit body (the solver moves it) */
-    if (!rps3_all_finite(&J[0][0], 16))
-      for (k = 0; k < 4; k++)
-        for (q = 0; q < 4; q++) J[k][q] = k == q;
-    for (k = 0; k < 4; k++)
-      for (q = 0; q < 4; q++) gsl_matrix_set(E, k, q, J[k][q]);
-    gsl_eigen_symmv(E, lam, Q, ew);
-    lmax = 0.0;
-    for (k = 0; k < 4; k++)
-      if (gsl_vector_get(lam, k) > lmax) lmax = gsl_vector_get(lam, k);
-    if (!(lmax > 0.0) || !isfinite(lmax)) lmax = 1.0;
-    /* raised to 1e-3 of the largest: positive definite with a condition
-       number of at most 1e3, so that the Cholesky factorization below
-       cannot fail (GSL would raise its error handler) */
-    for (k = 0; k < 4; k++)
-      if (!(gsl_vector_get(lam, k) >= 1e-3 * lmax))
-        gsl_vector_set(lam, k, 1e-3 * lmax);
-    /* the reversed matrix P J P, P the reversal, for a lower Cholesky
-       factor L: J = (P L P)(P L P)^T, P L P upper triangular */
-    for (k = 0; k < 4; k++)
-      for (q = 0; q < 4; q++) {
-        double v = 0.0;
-        for (r = 0; r < 4; r++)
-          v += gsl_matrix_get(Q, k, r) * gsl_vector_get(lam, r) *
-               gsl_matrix_get(Q, q, r);
-        gsl_matrix_set(E, 3 - k, 3 - q, v);
-      }
-    if (gsl_linalg_cholesky_decomp1(E) != GSL_SUCCESS) {
-      status = RPS3_ENOCONV;
-      goto out;
-    }
-    for (k = 0; k < 4; k++)
-      for (q = 0; q < 4; q++)
-        U[k][q] = q >= k ? gsl_matrix_get(E, 3 - k, 3 - q) : 0.0;
-    for (k = 0; k < 10; k++) {
-      double u = U[UA[k]][UB[k]];
-      x[10 * b + (size_t)k] = UA[k] == UB[k] ? log(fabs(u)) : u;
-    }
-  }
-  for (j = 0; j < p; j++) {
-    double v = gsl_vector_get(pi, j);
-    if (c->owner[j] >= 0) continue;
-    if (c->lay->kind && c->lay->kind[j] == RPS3_IDENT_NONNEG)
-      v = log(fmax(fmax(v, 1e-3 * fabs(v)), 1e-300));
-    x[c->slot[j]] = v;
-  }
-  status = RPS3_OK;
-out:
-  gsl_matrix_free(A);
-  gsl_matrix_free(V);
-  gsl_vector_free(S);
-  gsl_vector_free(wk);
-  gsl_vector_free(D);
-  gsl_vector_free(pi);
-  if (ew) gsl_eigen_symmv_free(ew);
-  gsl_matrix_free(E);
-  gsl_matrix_free(Q);
-  gsl_vector_free(lam);
-  return status;
-}
-
-static const int paper_col[2][10] = {
-    /* a link about its pin, x along the link, z the pin axis */
-    {-1, 1, -1, -1, -1, -1, -1, -1, -1, 2},
-    /* the payload about the platform centre, platform axes */
-    {3, 4, 5, 6, 7, -1, -1, 8, -1, 9}};
-static const int paper_kind[RPS3_NPAPER] = {
-    RPS3_IDENT_NONNEG, 0, 0, 0, 0, 0, 0, 0, 0, 0, RPS3_IDENT_NONNEG,
-    RPS3_IDENT_NONNEG};
-static const rps3_ident_layout paper_layout = {2, paper_col, paper_kind};
-
-const rps3_ident_layout *rps3_ident_paper_layout(void) {
-  return &paper_layout;
-}
-
-int rps3_ident_consistent(const rps3_ident_data *dt,
-                          const rps3_ident_layout *lay,
-                          const rps3_ident_opts *o, rps3_ident_fit *fit,
-                          rps3_check *chk) {
-  char *err = chk != NULL ? chk->msg : NULL;
-  size_t errsz = chk != NULL ? sizeof chk->msg : 0;
-  rps3_ident_opts def;
-  cfit c;
-  size_t n, p, i, j, b, nx = 0;
-  int status, info = 0, *owner = NULL, *slot = NULL, gst, eig_ok = 0;
-  double *R = NULL, *x0 = NULL, *body = NULL, scale, trsum = 0.0, rss;
-  gsl_matrix *A = NULL;
-  gsl_vector *tau = NULL, *xv = NULL;
-  gsl_multifit_nlinear_workspace *w = NULL;
-  gsl_multifit_nlinear_fdf fdf;
-  gsl_multifit_nlinear_parameters fp;
-  gsl_eigen_symm_workspace *ew = NULL;
-  gsl_matrix *E = NULL;
-  gsl_vector *lam = NULL;
-  rps3_check_clear(chk);
-  if (o == NULL) {
-    rps3_ident_opts_default(&def);
-    o = &def;
-  }
-  if (fit == NULL || fit->theta == NULL)
-    return fail(err, errsz, RPS3_EINVAL, "fit or fit->theta is NULL");
-  fit->consistent = 0;
-  fit->niter = 0;
-  status = check_data(dt, o, 0, err, errsz);
-  if (status != RPS3_OK) return status;
-  n = dt->n;
-  p = dt->p;
-  for (j = 0; j < p; j++) fit->theta[j] = (double)NAN;
-  owner = malloc(p * sizeof(int));
-  slot = malloc(p * sizeof(int));
-  if (owner == NULL || slot == NULL) {
-    status = fail(err, errsz, RPS3_ENOMEM, "consistent: out of memory");
-    goto out;
-  }
-  status = check_layout(lay, p, owner, slot, &nx, err, errsz);
-  if (status != RPS3_OK) goto out;
-
-  /* |W^1/2 (Y pi - F)|^2 = |R11 pi - r|^2 + rho^2 from the QR of
-     [W^1/2 Y, W^1/2 F]: p rows instead of n */
-  A = gsl_matrix_alloc(n, p + 1);
-  tau = gsl_vector_alloc(p + 1);
-  R = calloc((p + 1) * (p + 1), sizeof(double));
-  x0 = calloc(nx, sizeof(double));
-  body = calloc(10 * lay->nbody + 1, sizeof(double));
-  ew = gsl_eigen_symm_alloc(4);
-  E = gsl_matrix_alloc(4, 4);
-  lam = gsl_vector_alloc(4);
-  if (!A || !tau || !R || !x0 || !body || !ew || !E || !lam) {
-    status = fail(err, errsz, RPS3_ENOMEM, "consistent: out of memory");
-    goto out;
-  }
-  scale = 0.0;
-  for (i = 0; i < n; i++) {
-    double sw = sqrt(dt->weight ? dt->weight[i] : 1.0);
-    for (j = 0; j < p; j++) gsl_matrix_set(A, i, j, sw * dt->Y[i * p + j]);
-    gsl_matrix_set(A, i, p, sw * dt->F[i]);
-    scale += sw * dt->F[i] * sw * dt->F[i];
-  }
-  scale = sqrt(scale);
-  if (!(scale > 0.0)) scale = 1.0;
-  gsl_linalg_QR_decomp(A, tau);
-  for (i = 0; i <= p; i++)
-    for (j = i; j <= p; j++) R[i * (p + 1) + j] = gsl_matrix_get(A, i, j) / scale;
-  gsl_matrix_free(A);
-  A = NULL;
-
-  c.p = p;
-  c.nb = lay->nbody;
-  c.nx = nx;
-  c.nf = p + 10 * lay->nbody;
-  c.lay = lay;
-  c.R = R;
-  c.owner = owner;
-  c.slot = slot;
-  c.sreg = sqrt(o->reg);
-  status = start_point(&c, x0);
-  if (status != RPS3_OK) {
-    status = fail(err, errsz, status,
-                  status == RPS3_ENOMEM ? "consistent: out of memory"
-                                        : "consistent: no consistent start");
-    goto out;
-  }
-
-  /* the trust-region solver with the analytic Jacobian */
-  fp = gsl_multifit_nlinear_default_parameters();
-  /* Powell's dogleg: Levenberg-Marquardt's steps creep along a
-     log-Cholesky diagonal that heads for a singular pseudo-inertia (a
-     body the data see only in part), thousands of iterations where the
-     dogleg takes tens.  Levenberg's scaling (J^T J's diagonal at each
-     step) rather than More's (the largest seen): a variable whose
-     influence fades as it heads for a boundary (exp of it towards 0)
-     keeps a step it can still take */
-  fp.trs = gsl_multifit_nlinear_trs_dogleg;
-  fp.scale = gsl_multifit_nlinear_scale_levenberg;
-  fdf.f = cfit_f;
-  fdf.df = cfit_df;
-  fdf.fvv = NULL;
-  fdf.n = c.nf;
-  fdf.p = nx;
-  fdf.params = &c;
-  w = gsl_multifit_nlinear_alloc(gsl_multifit_nlinear_trust, &fp, c.nf, nx);
-  xv = gsl_vector_alloc(nx);
-  if (w == NULL || xv == NULL) {
-    status = fail(err, errsz, RPS3_ENOMEM, "consistent: out of memory");
-    goto out;
-  }
-  for (j = 0; j < nx; j++) gsl_vector_set(xv, j, x0[j]);
-  gst = gsl_multifit_nlinear_init(xv, &fdf, w);
-  if (gst == GSL_SUCCESS)
-    gst = gsl_multifit_nlinear_driver((size_t)o->max_iter, o->xtol, o->gtol,
-                                      o->ftol, NULL, NULL, &info, w);
-  fit->niter = (int)gsl_multifit_nlinear_niter(w);
-  pi_of(&c, gsl_multifit_nlinear_position(w)->data, fit->theta, body);
-
-  /* what was reached: the residual, the cost, and every pseudo-inertia's
-     eigenvalues, checked whatever the solver said */
-  rss = R[p * (p + 1) + p] * R[p * (p + 1) + p];
-  for (i = 0; i < p; i++) {
-    double s = -R[i * (p + 1) + p];
-    for (j = i; j < p; j++) s += R[i * (p + 1) + j] * fit->theta[j];
-    rss += s * s;
-  }
-  fit->rss = rss * scale * scale;
-  status = RPS3_OK;
-  eig_ok = 1;
-  for (b = 0; b < lay->nbody; b++) {
-    double J[4][4], lmax = 0.0;
-    int k, q;
-    pseudo_of(body + 10 * b, J);
-    trsum += J[0][0] + J[1][1] + J[2][2] + J[3][3];
-    for (k = 0; k < 4; k++)
-      for (q = 0; q < 4; q++) gsl_matrix_set(E, k, q, J[k][q]);
-    gsl_eigen_symm(E, lam, ew);
-    gsl_sort_vector(lam);
-    for (k = 0; k < 4; k++) {
-      if (fit->eig) fit->eig[4 * b + (size_t)k] = gsl_vector_get(lam, k);
-      if (fabs(gsl_vector_get(lam, k)) > lmax) lmax = fabs(gsl_vector_get(lam, k));
-    }
-    if (!(gsl_vector_get(lam, 0) >= -o->eig_tol * lmax)) eig_ok = 0;
-    if (status == RPS3_OK &&
-        !(gsl_vector_get(lam, 0) >= -o->eig_tol * lmax)) {
-      status = fail(err, errsz, RPS3_ENOCONV,
-                    "consistent: body %lu's pseudo-inertia has eigenvalue %.3g "
-                    "below -%.3g times its largest %.3g: not consistent",
-                    (unsigned long)b, gsl_vector_get(lam, 0), o->eig_tol, lmax);
-    }
-  }
-  if (fit->body) memcpy(fit->body, body, 10 * lay->nbody * sizeof(double));
-  fit->cost = rss + o->reg * trsum;
-  for (j = 0; j < p && status == RPS3_OK; j++) {
-    if (!isfinite(fit->theta[j]))
-      status = fail(err, errsz, RPS3_ENOCONV,
-                    "consistent: parameter %lu is not finite", (unsigned long)j);
-    else if (owner[j] < 0 && lay->kind && lay->kind[j] == RPS3_IDENT_NONNEG &&
-             fit->theta[j] < 0.0)
-      status = fail(err, errsz, RPS3_ENOCONV,
-                    "consistent: parameter %lu = %g < 0", (unsigned long)j,
-                    fit->theta[j]);
-  }
-  if (status == RPS3_OK && gst != GSL_SUCCESS)
-    status = fail(err, errsz, RPS3_ENOCONV,
-                  "consistent: the trust-region iteration stopped "
-                  "after %d iterations without meeting xtol = %g, gtol = %g, "
-                  "ftol = %g (GSL: %s); the last iterate is returned",
-                  fit->niter, o->xtol, o->gtol, o->ftol, gsl_strerror(gst));
-  /* consistent means checked, whether or not the solver converged: the
-     last iterate of a stopped solve is a consistent body set too */
-  fit->consistent = status == RPS3_OK ||
-                    (status == RPS3_ENOCONV && gst != GSL_SUCCESS &&
-                     eig_ok);
-out:
-  gsl_matrix_free(A);
-  gsl_vector_free(tau);
-  gsl_vector_free(xv);
-  if (w) gsl_multifit_nlinear_free(w);
-  if (ew) gsl_eigen_symm_free(ew);
-  gsl_matrix_free(E);
-  gsl_vector_free(lam);
-  free(R);
-  free(x0);
-  free(body);
-  free(owner);
-  free(slot);
-  return status;
 }
