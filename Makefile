@@ -407,6 +407,7 @@ FUZZ_FLAGS = -g -O1 -fsanitize=fuzzer,address,undefined -fno-sanitize-recover=al
 FUZZ_TIME ?= 20
 # the scene parser's sources: the fuzz target links these and the library
 FUZZ_SCENE_SRC = runner/scene/scene.c runner/scene/scene_load.c runner/scene/scene_parse.c \
+  runner/scene/scene_sweep.c \
   runner/scene/scene_case.c runner/scene/scene_emit.c \
   runner/scene/table.c runner/scene/table_read.c \
   runner/scene/table_h5.c runner/scene/design.c runner/core/hint.c runner/core/h5err.c \

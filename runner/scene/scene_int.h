@@ -1,8 +1,8 @@
 /*
  * scene_int.h - what the scene files share: scene.c (key table, names,
- * values, errors), scene_parse.c (YAML nodes, sweep, checks), scene_load.c,
- * scene_case.c (cases), scene_emit.c and design.c; not for the programs
- * (they use scene.h).
+ * values, errors), scene_parse.c (YAML nodes, checks), scene_sweep.c,
+ * scene_load.c, scene_case.c (cases), scene_emit.c and design.c; not for
+ * the programs (they use scene.h).
  */
 #ifndef RPS3_RUNNER_SCENE_INT_H
 #define RPS3_RUNNER_SCENE_INT_H
@@ -39,13 +39,72 @@ scene_mark scene_mark_of(const yaml_mark_t *m);
 
 /* ------------------------------------------------------ scene_parse.c */
 
+/* the parse of one scene file */
+typedef struct {
+  yaml_document_t *doc;
+  scene *s;
+  scene_error *err;
+  int sweep_node; /* node id of the sweep mapping, 0 if none */
+  double ncase;   /* cases of the sweep keys read so far */
+} scene_parse_ctx;
+
 /* "a mapping", "a list", "nothing", "a quoted string" or "a scalar" */
 const char *scene_node_kind(const yaml_node_t *n);
 
-/* the sections of document doc (its root mapping root) into s: their keys,
-   the sweep, then the checks of the keys given; 0 or -1 with err set */
-int scene_parse_doc(scene *s, yaml_document_t *doc, const yaml_node_t *root,
-                    scene_error *err);
+/* node id of the document; the text of scalar node n */
+yaml_node_t *scene_node_get(scene_parse_ctx *c, int id);
+const char *scene_scalar_text(const yaml_node_t *n);
+
+/* " (did you mean ...?)" for a mistyped dotted key: every key and section
+   is a candidate (a key in the wrong section included); sections only when
+   with_sections, shallow ones first */
+void scene_key_hint(char *buf, size_t sz, const char *word, int with_sections);
+
+/* plain scalar n (of key path) as a finite decimal number, a whole one
+   with integer; 0 or -1 with the error set */
+int scene_parse_number(scene_parse_ctx *c, const yaml_node_t *n,
+                       const char *path, int integer, double *out);
+
+/* x (at mk, path) within the bounds of key k's field; 0 or -1 */
+int scene_check_range(scene_parse_ctx *c, int k, double x, scene_mark mk,
+                      const char *path);
+
+/* one scalar value of key k as a number: the value itself (a number key,
+   or one item of a list of numbers), an integer, 0/1 for a bool, the enum
+   value for a name */
+int scene_parse_scalar(scene_parse_ctx *c, int k, const yaml_node_t *n,
+                       const char *path, double *out);
+
+/* the length of list node n when it holds min to max items, else -1 with
+   "expected WHAT, got OTHER" (OTHER for a list of another length, else the
+   node's kind) */
+long scene_list_len(scene_parse_ctx *c, const yaml_node_t *n, const char *path,
+                    long min, long max, const char *what, const char *other);
+
+/* item i of list node n */
+const yaml_node_t *scene_item_of(scene_parse_ctx *c, const yaml_node_t *n,
+                                 long i);
+
+/* the name of pair's key in mapping map (section prefix) into *name: a
+   non-empty name that map has not given before; 0 or -1 */
+int scene_mapping_key(scene_parse_ctx *c, const yaml_node_t *map,
+                      const yaml_node_pair_t *pair, const char *prefix,
+                      const char **name);
+
+/* the keys of section map (prefix "" the root) into c->s, its sections
+   walked in turn and the sweep's node kept for later; 0 or -1 */
+int scene_walk_section(scene_parse_ctx *c, const yaml_node_t *map,
+                       const char *prefix);
+
+/* the keys given, the sweep read: required ones there, each of the scene's
+   kind and shape, one of each pair; 0 or -1 */
+int scene_check_keys(scene_parse_ctx *c);
+
+/* ------------------------------------------------------ scene_sweep.c */
+
+/* the sweep mapping map: its axes into c->s and their cases counted into
+   c->ncase and c->s->ncase; 0 or -1 */
+int scene_parse_sweep(scene_parse_ctx *c, const yaml_node_t *map);
 
 /* ------------------------------------------- scene_values and emitting */
 

@@ -1,8 +1,8 @@
 /*
  * scene_load.c - scene_load (scene.h): the file checked before libyaml
  * sees it, then read with libyaml's document API, its sections walked, its
- * sweep read and its keys checked (scene_parse.c) against the key table
- * (scene.c).
+ * sweep read (scene_sweep.c) and its keys checked (scene_parse.c) against
+ * the key table (scene.c).
  *
  * The checks before parsing: a regular file of at most SCENE_MAX_BYTES,
  * UTF-8 text without NUL bytes, nested at most SCENE_MAX_DEPTH deep, with
@@ -259,6 +259,24 @@ static int text_guard(const char *text, size_t len, scene_error *err) {
   }
   if (check_bytes(t, len, err)) return -1;
   return check_events(text, len, err);
+}
+
+/* the sections of document doc (its root mapping root) into s: their keys,
+   the sweep, then the checks of the keys given; 0 or -1 with err set */
+static int scene_parse_doc(scene *s, yaml_document_t *doc,
+                           const yaml_node_t *root, scene_error *err) {
+  scene_parse_ctx c;
+  memset(&c, 0, sizeof c);
+  c.ncase = 1;
+  c.doc = doc;
+  c.s = s;
+  c.err = err;
+  if (scene_walk_section(&c, root, "") ||
+      (c.sweep_node != 0 &&
+       scene_parse_sweep(&c, scene_node_get(&c, c.sweep_node))) ||
+      scene_check_keys(&c))
+    return -1;
+  return 0;
 }
 
 int scene_load(scene *s, const char *path, scene_error *err) {
