@@ -408,6 +408,20 @@ MUTATIONS = [
      "(an + o.cond + o.tbound <= DBL_MAX) &",
      "lean pass: a point kept whatever its condition number"),
 
+    ("regressor-disc-column", "src/ident.c",
+     "u.Ip[2] = 0.5 * m->r * m->r;",
+     "u.Ip[2] = 0.505 * m->r * m->r;",
+     "identification: the regressor's disc column, its polar moment per"
+     " unit mass 1 % off"),
+    ("wls-covariance-scale", "src/ident_fit.c",
+     "res->cov[j * p + k] = res->s2 * gsl_matrix_get(L.cov, j, k);",
+     "res->cov[j * p + k] = gsl_matrix_get(L.cov, j, k);",
+     "identification: WLS covariance not scaled by the residual variance"),
+    ("consistent-pseudo-mass", "src/ident_consistent.c",
+     "J[3][3] = s[0];",
+     "J[3][3] = 1.01 * s[0];",
+     "identification: the consistent fit's pseudo-inertia mass entry 1 %"
+     " off"),
 ]
 
 

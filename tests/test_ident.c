@@ -6,6 +6,8 @@
 #include <stdlib.h>
 #include <time.h>
 
+#include <gsl/gsl_cdf.h>
+
 #include "testutil.h"
 
 /* Y pi against rps3_inverse's F: the same loads and solve, summed in
@@ -404,6 +406,12 @@ static void test_wls_monte_carlo(void **state) {
     assert_int_equal(rps3_ident_wls(&dt, NULL, &res, NULL), RPS3_OK);
     for (j = 0; j < 5; j++) {
       double e = th[j] - pi[SET_PLAIN[j]];
+      /* the intervals and the covariance are one estimate: half an
+         interval is t(dof) sqrt(cov_jj), t from GSL's Student t */
+      double half = 0.5 * (ci[2 * j + 1] - ci[2 * j]);
+      double t = gsl_cdf_tdist_Pinv(0.975, (double)res.dof);
+      CHECK_REL(half, t * sqrt(cov[j * 5 + j]), 1e-12, 0.0,
+                "interval %lu against the covariance", (unsigned long)j);
       z2 += e * e / cov[j * 5 + j];
       cover += ci[2 * j] <= pi[SET_PLAIN[j]] && pi[SET_PLAIN[j]] <= ci[2 * j + 1];
     }
@@ -552,6 +560,17 @@ static void test_consistent(void **state) {
     for (b = 0; b < 2; b++)
       assert_true(eig[4 * b] >= -1e-10 * fabs(eig[4 * b + 3]));
     assert_true(th[9] >= 0.0 && th[10] >= 0.0);
+    /* the eigenvalues are the returned bodies' own: their sum is the
+       trace of the pseudo-inertia [[tr(I)/2 1 - I, h], [h^T, m]],
+       tr(I)/2 + m, from the standard parameters (m, h, Ixx, Ixy, Ixz,
+       Iyy, Iyz, Izz) */
+    for (b = 0; b < 2; b++) {
+      const double *sb = body + 10 * b;
+      double tr = 0.5 * (sb[4] + sb[7] + sb[9]) + sb[0];
+      double es = eig[4 * b] + eig[4 * b + 1] + eig[4 * b + 2] + eig[4 * b + 3];
+      CHECK_REL(es, tr, 1e-9, 0.0, "body %lu: eigenvalues against the trace",
+                (unsigned long)b);
+    }
     assert_int_equal(rps3_ident_wls(&dt, NULL, &res, NULL), RPS3_OK);
     nwls_bad += thw[10] < 0.0;
   }
