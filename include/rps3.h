@@ -304,7 +304,10 @@ typedef struct {
   int effects;             /* selected effects, RPS3_EFF_* bits */
   rps3_method method;      /* formulation of the dynamics */
   rps3_theta_route theta;  /* closed form or multiroot in rps3_inverse */
-  rps3_solver solver;      /* multiroot solver */
+  rps3_solver solver;      /* multiroot solver: cold starts, and the
+                              fallback when a warm start's Newton path
+                              gives up (a warm start takes that path
+                              whatever the solver) */
   double tol;              /* theta solve stops when max_k |f_k| <= tol,
                               f_k the dimensionless (8)-(10) (lengths in
                               units of R).  Default 1e-12 */
