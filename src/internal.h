@@ -251,6 +251,20 @@ void rps3_loads_effect(const rps3_model *u, const rps3_data *d,
                        const rps3_loads *L, int e, double rhs[6]);
 void rps3_loads_solve(const rps3_loads *L, int ncol, double (*rhs)[6],
                       double *F, int ldf);
+/* Newton-Euler (invdyn_ne.c): the 6x6 system at d's point factored into
+   LU, perm with rho_i = b_i - c (0, or -1 when singular); effect e's
+   right-hand side; and the whole formulation's F into d */
+int rps3_ne_system(const rps3_model *m, const rps3_data *d, double LU[36],
+                   int perm[6], double rho[3][3]);
+void rps3_ne_rhs(const rps3_model *m, const rps3_data *d,
+                 const double rho[3][3], int e, double x[6]);
+int rps3_newton_euler(const rps3_model *m, rps3_data *d);
+/* rot diag(I) rot^T v, and the payload's centre of mass relative to c
+   with its velocity and acceleration (invdyn_ne.c; also the certificate's) */
+void rps3_inertia_apply(double res[3], const double rot[3][3],
+                        const double I[3], const double v[3]);
+void rps3_payload_kin(const rps3_model *m, const rps3_data *d, double rg[3],
+                      double vg[3], double ag[3]);
 /* prefix d->err.msg with "point I: " (batch.c), for a batch's first
    failing point */
 void rps3_batch_name_point(rps3_data *d, int status, size_t i);

@@ -35,7 +35,7 @@
  * component along the link, F_i = phi_i . f_i (massless piston).  The six
  * remaining unknowns (F_i and the component along the pin axis) come from
  * the platform's six equations.  It uses the Cartesian velocities (vc,
- * omega) where the Lagrange route uses the joint rates.
+ * omega) where the Lagrange route uses the joint rates (invdyn_ne.c).
  */
 #include <string.h>
 
@@ -100,9 +100,9 @@ static void lagrange_kinematics(const rps3_model *m, const rps3_data *d,
  *   G_i = C + WN_i cn (V_n + o x V_a) + WO_i co (V_o + V_a x n),
  *   C = (mb (c'' + g e_z) + E'' h) / 3.
  */
-static void body_load(const rps3_model *m, const rps3_data *d,
-                      const lag_kin *k, double mb, const double h[3],
-                      const double S[3][3], double g, double w[6]) {
+static void body_load(const rps3_model *m, const rps3_data *d, const lag_kin *k,
+                      double mb, const double h[3], const double S[3][3],
+                      double g, double w[6]) {
   const double *E2[3] = {k->ndd, k->odd, k->add};
   const double cn = 1.0 / (3.0 * m->r), co = 1.0 / (RPS3_SQRT3 * m->r);
   double cg[3], C[3], V[3][3], A[3], B[3], t[3];
@@ -139,7 +139,8 @@ static void payload_moments(const rps3_model *m, double h[3], double S[3][3]) {
   for (i = 0; i < 3; i++) {
     h[i] = p->mass * p->com[i];
     for (j = 0; j < 3; j++)
-      S[i][j] = p->mass * p->com[i] * p->com[j] + (i == j ? tr - p->inertia[i] : 0.0);
+      S[i][j] =
+          p->mass * p->com[i] * p->com[j] + (i == j ? tr - p->inertia[i] : 0.0);
   }
 }
 
@@ -190,8 +191,7 @@ static void lagrange_effect(const rps3_model *m, const rps3_data *d,
   case RPS3_EFF_PIN_FRICTION:
     for (i = 0; i < 3; i++) w[3 + i] = -friction_torque(m, d->dtheta[i]);
     break;
-  default:
-    break;
+  default: break;
   }
 }
 
@@ -201,8 +201,9 @@ static int lagrange(const rps3_model *m, rps3_data *d, const double Jl[3][3],
   double w[RPS3_NEFFECT][6], lam[3][RPS3_NEFFECT];
   int sel[RPS3_NEFFECT], ns = 0, n, e, i, q;
   int eff = m->opt.effects;
-  lagrange_kinematics(m, d, &k, (eff & RPS3_EFF_PAYLOAD) != 0,
-                      (eff & (RPS3_EFF_PLATFORM_INERTIA | RPS3_EFF_PAYLOAD)) != 0);
+  lagrange_kinematics(
+      m, d, &k, (eff & RPS3_EFF_PAYLOAD) != 0,
+      (eff & (RPS3_EFF_PLATFORM_INERTIA | RPS3_EFF_PAYLOAD)) != 0);
   /* the loads of each selected effect; the theta rows of (23),
      (df/dtheta)^T lambda = -w_theta, one column per effect */
   for (e = 0; e < RPS3_NEFFECT; e++) {
@@ -236,156 +237,6 @@ static int lagrange(const rps3_model *m, rps3_data *d, const double Jl[3][3],
   return RPS3_OK;
 }
 
-/* world inertia tensor rot diag(I) rot^T applied to v */
-static void inertia_world(double res[3], const double rot[3][3],
-                          const double I[3], const double v[3]) {
-  double t[3];
-  m3_mulvt(t, M3C(rot), v);
-  t[0] *= I[0];
-  t[1] *= I[1];
-  t[2] *= I[2];
-  m3_mulv(res, M3C(rot), t);
-}
-
-/* Euler: I w' + w x I w, world axes */
-static void euler_moment(double res[3], const double rot[3][3],
-                         const double I[3], const double w[3],
-                         const double dw[3]) {
-  double Iw[3], t[3];
-  inertia_world(res, rot, I, dw);
-  inertia_world(Iw, rot, I, w);
-  v3_cross(t, w, Iw);
-  v3_axpy(res, res, 1.0, t);
-}
-
-/* payload centre of mass offset (world) and its acceleration */
-static void payload_kin(const rps3_model *m, const rps3_data *d,
-                        double rg[3], double vg[3], double ag[3]) {
-  double t[3];
-  m3_mulv(rg, M3C(d->rot), m->payload.com);
-  v3_cross(t, d->omega, rg);
-  v3_axpy(vg, d->vc, 1.0, t);
-  v3_cross(ag, d->domega, rg);
-  v3_axpy(ag, ag, 1.0, d->ac);
-  v3_cross(t, d->omega, rg);
-  v3_cross(t, d->omega, t);
-  v3_axpy(ag, ag, 1.0, t);
-}
-
-/*
- * Newton-Euler loads of effect e: the wrench (force wf, moment wm about the
- * centre) the links must apply to the platform, and the component s_i of
- * each ball force along dphi_i fixed by link i's moment balance about its
- * pin:  Jlink theta'' = -l s - m g d cos(theta) + T_fric.
- */
-static void ne_effect(const rps3_model *m, const rps3_data *d, int e,
-                      double wf[3], double wm[3], double s[3]) {
-  double rg[3], vg[3], ag[3];
-  int i;
-  for (i = 0; i < 3; i++) wf[i] = wm[i] = s[i] = 0.0;
-  switch (1 << e) {
-  case RPS3_EFF_PLATFORM_GRAVITY:
-    wf[2] = m->M * m->g;
-    break;
-  case RPS3_EFF_PLATFORM_INERTIA:
-    v3_scale(wf, m->M, d->ac);
-    euler_moment(wm, M3C(d->rot), m->Ip, d->omega, d->domega);
-    break;
-  case RPS3_EFF_PAYLOAD:
-    payload_kin(m, d, rg, vg, ag);
-    v3_scale(wf, m->payload.mass, ag);
-    wf[2] += m->payload.mass * m->g;
-    v3_cross(wm, rg, wf);
-    {
-      double t[3];
-      euler_moment(t, M3C(d->rot), m->payload.inertia, d->omega, d->domega);
-      v3_axpy(wm, wm, 1.0, t);
-    }
-    break;
-  case RPS3_EFF_LINK_GRAVITY:
-    for (i = 0; i < 3; i++)
-      s[i] = -m->m * m->g * m->d * d->dphi[i][2] / d->l[i]; /* cos(theta) */
-    break;
-  case RPS3_EFF_LINK_INERTIA:
-    for (i = 0; i < 3; i++) s[i] = -m->Jlink * d->ddtheta[i] / d->l[i];
-    break;
-  case RPS3_EFF_PIN_FRICTION:
-    for (i = 0; i < 3; i++) s[i] = friction_torque(m, d->dtheta[i]) / d->l[i];
-    break;
-  default:
-    break;
-  }
-}
-
-/* the Newton-Euler system, factored into LU, perm: unknowns x = (F_1,
-   F_2, F_3, tau_1, tau_2, tau_3), f_i = F_i phi_i + s_i dphi_i + tau_i
-   axis_i; rows: force (3), moment about c (3); rho_i = b_i - c.
-   Returns 0, or -1 for a singular system */
-static int ne_system(const rps3_model *m, const rps3_data *d, double LU[36],
-                     int perm[6], double rho[3][3]) {
-  double t[3];
-  int i, r;
-  for (i = 0; i < 3; i++) {
-    v3_sub(rho[i], d->b[i], d->c);
-    for (r = 0; r < 3; r++) {
-      LU[6 * r + i] = d->phi[i][r];
-      LU[6 * r + 3 + i] = m->axis[i][r];
-    }
-    v3_cross(t, rho[i], d->phi[i]);
-    for (r = 0; r < 3; r++) LU[6 * (3 + r) + i] = t[r];
-    v3_cross(t, rho[i], m->axis[i]);
-    for (r = 0; r < 3; r++) LU[6 * (3 + r) + 3 + i] = t[r];
-  }
-  return rps3_lu_factor(6, LU, perm);
-}
-
-/* the right-hand side x of the Newton-Euler system for effect e: the
-   wrench of ne_effect less the pin components s_i dphi_i it fixes */
-static void ne_rhs(const rps3_model *m, const rps3_data *d,
-                   const double rho[3][3], int e, double x[6]) {
-  double wf[3], wm[3], s[3], t[3];
-  int i, r;
-  ne_effect(m, d, e, wf, wm, s);
-  for (i = 0; i < 3; i++) {
-    v3_axpy(wf, wf, -s[i], d->dphi[i]);
-    v3_cross(t, rho[i], d->dphi[i]);
-    v3_axpy(wm, wm, -s[i], t);
-  }
-  for (r = 0; r < 3; r++) {
-    x[r] = wf[r];
-    x[3 + r] = wm[r];
-  }
-}
-
-static int newton_euler(const rps3_model *m, rps3_data *d) {
-  double LU[36], rho[3][3], xsum[6] = {0, 0, 0, 0, 0, 0};
-  int perm[6], i, e, r;
-  int eff = m->opt.effects;
-  if (ne_system(m, d, LU, perm, rho) != 0)
-    RPS3_ERROR(d, RPS3_ESING, "Newton-Euler system is singular");
-  for (e = 0; e < RPS3_NEFFECT; e++) {
-    double x[6];
-    if (!(eff & (1 << e))) continue;
-    ne_rhs(m, d, M3C(rho), e, x);
-    if (!(m->opt.outputs & RPS3_OUT_EFFECTS)) {
-      /* the sum of the wrenches, solved once below: no shares */
-      for (r = 0; r < 6; r++) xsum[r] += x[r];
-      continue;
-    }
-    rps3_lu_solve(6, LU, perm, x);
-    for (i = 0; i < 3; i++) {
-      d->F_effect[e][i] = x[i];
-      d->F[i] += x[i];
-    }
-  }
-  if (!(m->opt.outputs & RPS3_OUT_EFFECTS)) {
-    rps3_lu_solve(6, LU, perm, xsum);
-    for (i = 0; i < 3; i++) d->F[i] = xsum[i];
-  }
-  d->has_lambda = 0;
-  return RPS3_OK;
-}
-
 /*
  * Energy-rate certificate: sum F_i l_i' + sum T_i theta_i' = d(T + P)/dt,
  * with T and P of the selected effects written from the Cartesian motion
@@ -406,16 +257,16 @@ static void certify(const rps3_model *m, rps3_data *d) {
   }
   if (eff & RPS3_EFF_PLATFORM_INERTIA) {
     double v1 = m->M * v3_dot(d->vc, d->ac), v2;
-    inertia_world(t, M3C(d->rot), m->Ip, d->domega);
+    rps3_inertia_apply(t, M3C(d->rot), m->Ip, d->domega);
     v2 = v3_dot(d->omega, t);
     dT += v1 + v2;
     scale += fabs(v1) + fabs(v2);
   }
   if (eff & RPS3_EFF_PAYLOAD) {
     double rg[3], vg[3], ag[3], v1, v2, v3;
-    payload_kin(m, d, rg, vg, ag);
+    rps3_payload_kin(m, d, rg, vg, ag);
     v1 = m->payload.mass * v3_dot(vg, ag);
-    inertia_world(t, M3C(d->rot), m->payload.inertia, d->domega);
+    rps3_inertia_apply(t, M3C(d->rot), m->payload.inertia, d->domega);
     v2 = v3_dot(d->omega, t);
     v3 = m->payload.mass * m->g * vg[2];
     dT += v1 + v2;
@@ -530,11 +381,12 @@ int rps3_loads_prepare(const rps3_model *m, rps3_data *d, rps3_cjac *J,
   L->method = m->opt.method;
   L->J = J;
   if (L->method == RPS3_LAGRANGE) {
-    lagrange_kinematics(m, d, &L->k, (eff & RPS3_EFF_PAYLOAD) != 0,
-                        (eff & (RPS3_EFF_PLATFORM_INERTIA | RPS3_EFF_PAYLOAD)) != 0);
+    lagrange_kinematics(
+        m, d, &L->k, (eff & RPS3_EFF_PAYLOAD) != 0,
+        (eff & (RPS3_EFF_PLATFORM_INERTIA | RPS3_EFF_PAYLOAD)) != 0);
     return RPS3_OK;
   }
-  if (ne_system(m, d, L->LU6, L->perm6, L->rho) != 0)
+  if (rps3_ne_system(m, d, L->LU6, L->perm6, L->rho) != 0)
     RPS3_ERROR(d, RPS3_ESING, "Newton-Euler system is singular");
   return RPS3_OK;
 }
@@ -544,7 +396,7 @@ void rps3_loads_effect(const rps3_model *u, const rps3_data *d,
   if (L->method == RPS3_LAGRANGE)
     lagrange_effect(u, d, &L->k, e, rhs);
   else
-    ne_rhs(u, d, M3C(L->rho), e, rhs);
+    rps3_ne_rhs(u, d, M3C(L->rho), e, rhs);
 }
 
 void rps3_loads_solve(const rps3_loads *L, int ncol, double (*rhs)[6],
@@ -601,7 +453,7 @@ int rps3_invdyn_with(const rps3_model *m, rps3_data *d, rps3_cjac *J) {
 
   status = (m->opt.method == RPS3_LAGRANGE)
                ? lagrange(m, d, M3C(J->Jl), J->LU, J->perm)
-                                            : newton_euler(m, d);
+               : rps3_newton_euler(m, d);
   if (status != RPS3_OK) return status;
   if (m->opt.outputs & RPS3_OUT_CERTIFY)
     certify(m, d);

@@ -1,0 +1,156 @@
+/*
+ * invdyn_ne.c - the inverse dynamics by Newton-Euler (opt.method
+ * RPS3_NEWTON_EULER), the formulation independent of the Lagrange route
+ * of invdyn.c: each link's and the platform's force and moment balance,
+ * a 6x6 system in the actuator forces F_i and the pin torques tau_i.
+ */
+#include "internal.h"
+#include "linalg.h"
+
+/* world inertia tensor rot diag(I) rot^T applied to v */
+void rps3_inertia_apply(double res[3], const double rot[3][3],
+                        const double I[3], const double v[3]) {
+  double t[3];
+  m3_mulvt(t, M3C(rot), v);
+  t[0] *= I[0];
+  t[1] *= I[1];
+  t[2] *= I[2];
+  m3_mulv(res, M3C(rot), t);
+}
+
+/* Euler: I w' + w x I w, world axes */
+static void euler_moment(double res[3], const double rot[3][3],
+                         const double I[3], const double w[3],
+                         const double dw[3]) {
+  double Iw[3], t[3];
+  rps3_inertia_apply(res, rot, I, dw);
+  rps3_inertia_apply(Iw, rot, I, w);
+  v3_cross(t, w, Iw);
+  v3_axpy(res, res, 1.0, t);
+}
+
+/* payload centre of mass offset (world) and its acceleration */
+void rps3_payload_kin(const rps3_model *m, const rps3_data *d, double rg[3],
+                      double vg[3], double ag[3]) {
+  double t[3];
+  m3_mulv(rg, M3C(d->rot), m->payload.com);
+  v3_cross(t, d->omega, rg);
+  v3_axpy(vg, d->vc, 1.0, t);
+  v3_cross(ag, d->domega, rg);
+  v3_axpy(ag, ag, 1.0, d->ac);
+  v3_cross(t, d->omega, rg);
+  v3_cross(t, d->omega, t);
+  v3_axpy(ag, ag, 1.0, t);
+}
+
+/*
+ * Newton-Euler loads of effect e: the wrench (force wf, moment wm about the
+ * centre) the links must apply to the platform, and the component s_i of
+ * each ball force along dphi_i fixed by link i's moment balance about its
+ * pin:  Jlink theta'' = -l s - m g d cos(theta) + T_fric.
+ */
+static void ne_effect(const rps3_model *m, const rps3_data *d, int e,
+                      double wf[3], double wm[3], double s[3]) {
+  double rg[3], vg[3], ag[3];
+  int i;
+  for (i = 0; i < 3; i++) wf[i] = wm[i] = s[i] = 0.0;
+  switch (1 << e) {
+  case RPS3_EFF_PLATFORM_GRAVITY: wf[2] = m->M * m->g; break;
+  case RPS3_EFF_PLATFORM_INERTIA:
+    v3_scale(wf, m->M, d->ac);
+    euler_moment(wm, M3C(d->rot), m->Ip, d->omega, d->domega);
+    break;
+  case RPS3_EFF_PAYLOAD:
+    rps3_payload_kin(m, d, rg, vg, ag);
+    v3_scale(wf, m->payload.mass, ag);
+    wf[2] += m->payload.mass * m->g;
+    v3_cross(wm, rg, wf);
+    {
+      double t[3];
+      euler_moment(t, M3C(d->rot), m->payload.inertia, d->omega, d->domega);
+      v3_axpy(wm, wm, 1.0, t);
+    }
+    break;
+  case RPS3_EFF_LINK_GRAVITY:
+    for (i = 0; i < 3; i++)
+      s[i] = -m->m * m->g * m->d * d->dphi[i][2] / d->l[i]; /* cos(theta) */
+    break;
+  case RPS3_EFF_LINK_INERTIA:
+    for (i = 0; i < 3; i++) s[i] = -m->Jlink * d->ddtheta[i] / d->l[i];
+    break;
+  case RPS3_EFF_PIN_FRICTION:
+    for (i = 0; i < 3; i++)
+      s[i] = rps3_friction_torque(m, d->dtheta[i]) / d->l[i];
+    break;
+  default: break;
+  }
+}
+
+/* the Newton-Euler system, factored into LU, perm: unknowns x = (F_1,
+   F_2, F_3, tau_1, tau_2, tau_3), f_i = F_i phi_i + s_i dphi_i + tau_i
+   axis_i; rows: force (3), moment about c (3); rho_i = b_i - c.
+   Returns 0, or -1 for a singular system */
+int rps3_ne_system(const rps3_model *m, const rps3_data *d, double LU[36],
+                   int perm[6], double rho[3][3]) {
+  double t[3];
+  int i, r;
+  for (i = 0; i < 3; i++) {
+    v3_sub(rho[i], d->b[i], d->c);
+    for (r = 0; r < 3; r++) {
+      LU[6 * r + i] = d->phi[i][r];
+      LU[6 * r + 3 + i] = m->axis[i][r];
+    }
+    v3_cross(t, rho[i], d->phi[i]);
+    for (r = 0; r < 3; r++) LU[6 * (3 + r) + i] = t[r];
+    v3_cross(t, rho[i], m->axis[i]);
+    for (r = 0; r < 3; r++) LU[6 * (3 + r) + 3 + i] = t[r];
+  }
+  return rps3_lu_factor(6, LU, perm);
+}
+
+/* the right-hand side x of the Newton-Euler system for effect e: the
+   wrench of ne_effect less the pin components s_i dphi_i it fixes */
+void rps3_ne_rhs(const rps3_model *m, const rps3_data *d,
+                 const double rho[3][3], int e, double x[6]) {
+  double wf[3], wm[3], s[3], t[3];
+  int i, r;
+  ne_effect(m, d, e, wf, wm, s);
+  for (i = 0; i < 3; i++) {
+    v3_axpy(wf, wf, -s[i], d->dphi[i]);
+    v3_cross(t, rho[i], d->dphi[i]);
+    v3_axpy(wm, wm, -s[i], t);
+  }
+  for (r = 0; r < 3; r++) {
+    x[r] = wf[r];
+    x[3 + r] = wm[r];
+  }
+}
+
+int rps3_newton_euler(const rps3_model *m, rps3_data *d) {
+  double LU[36], rho[3][3], xsum[6] = {0, 0, 0, 0, 0, 0};
+  int perm[6], i, e, r;
+  int eff = m->opt.effects;
+  if (rps3_ne_system(m, d, LU, perm, rho) != 0)
+    RPS3_ERROR(d, RPS3_ESING, "Newton-Euler system is singular");
+  for (e = 0; e < RPS3_NEFFECT; e++) {
+    double x[6];
+    if (!(eff & (1 << e))) continue;
+    rps3_ne_rhs(m, d, M3C(rho), e, x);
+    if (!(m->opt.outputs & RPS3_OUT_EFFECTS)) {
+      /* the sum of the wrenches, solved once below: no shares */
+      for (r = 0; r < 6; r++) xsum[r] += x[r];
+      continue;
+    }
+    rps3_lu_solve(6, LU, perm, x);
+    for (i = 0; i < 3; i++) {
+      d->F_effect[e][i] = x[i];
+      d->F[i] += x[i];
+    }
+  }
+  if (!(m->opt.outputs & RPS3_OUT_EFFECTS)) {
+    rps3_lu_solve(6, LU, perm, xsum);
+    for (i = 0; i < 3; i++) d->F[i] = xsum[i];
+  }
+  d->has_lambda = 0;
+  return RPS3_OK;
+}
