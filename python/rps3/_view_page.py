@@ -106,12 +106,16 @@ window.addEventListener("error", function (e) {
   document.body.dataset.inked = String(inked);
   document.body.dataset.frames = String(n);
   document.body.dataset.ready = "1";
-  var last = 0;
-  function tick(ts) {
-    if (running && ts - last >= 1000 / D.fps) { last = ts; k = (k + 1) % n; draw(); }
-    window.requestAnimationFrame(tick);
+  // a timer, not requestAnimationFrame: the page plays at the file's fps
+  // wherever it is shown, and a headless browser's virtual time runs timers
+  // deterministically where it may never paint a frame
+  var played = 0;
+  function tick() {
+    if (running) { k = (k + 1) % n; played++; draw(); }
+    document.body.dataset.played = String(played);
+    window.setTimeout(tick, 1000 / D.fps);
   }
-  window.requestAnimationFrame(tick);
+  window.setTimeout(tick, 1000 / D.fps);
 })();
 </script></body></html>
 """
