@@ -27,13 +27,10 @@ from rps3.design import (
     Options,
     _eval,
     _range,
-    _samples,
-    _spec,
-    _task_c,
-    _task_result,
     grid,
     summarise,
 )
+from rps3.design_task import _samples, _spec, _task_c, _task_result
 from rps3.errors import points3, real_number
 
 if TYPE_CHECKING:

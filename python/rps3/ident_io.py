@@ -18,6 +18,7 @@ import numpy as np
 
 from rps3 import ident as _id
 from rps3 import ident_consistent as _ic
+from rps3 import ident_filter as _if
 from rps3 import ident_paper as _ip
 
 #: the columns of a data table: name -> (units it must be in, the spellings
@@ -284,10 +285,10 @@ def states(data: Data, geometry: _ip.Geometry, cutoff: float = CUTOFF
                             "lengths needs uniform times (give the rates and "
                             "accelerations, or resample)")
         try:
-            lf, dlf, ddlf = _id.differentiate(t, l, cutoff)
+            lf, dlf, ddlf = _if.differentiate(t, l, cutoff)
         except ValueError as exc:      # too few rows for the filter, a cut-off
             raise DataError(f"{data.path}: differentiating the lengths: {exc}") from None
-        how = (f"differentiated: zero-phase Butterworth order {_id.FILTER_ORDER}, "
+        how = (f"differentiated: zero-phase Butterworth order {_if.FILTER_ORDER}, "
                f"cut-off {cutoff:g} Hz, central differences")
         if dl is None:
             dl, src["rates"] = dlf, how
@@ -341,8 +342,8 @@ def fit(data: Data, *, geometry: _ip.Geometry | None = None,
         # the same filter (Coulomb's steps smoothed alike), the ends'
         # transients dropped, then decimated so the noise is about white
         fs = 1.0 / float(np.mean(np.diff(t)))
-        F = _id.zero_phase_filter(F, fs, cutoff)
-        Y = _id.zero_phase_filter(Y, fs, cutoff)
+        F = _if.zero_phase_filter(F, fs, cutoff)
+        Y = _if.zero_phase_filter(Y, fs, cutoff)
         edge = EDGE_PERIODS / cutoff
         step = max(1, int(fs / (DECIMATE_RATIO * cutoff)))
         keep = np.flatnonzero((t >= t[0] + edge) & (t <= t[-1] - edge))[::step]
