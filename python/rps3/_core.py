@@ -97,6 +97,28 @@ def points(x: ArrayLike, name: str) -> tuple[FloatArray, bool]:
     return np.ascontiguousarray(a.T), single
 
 
+def motion_points(pose: ArrayLike, dpose: ArrayLike | None,
+                  ddpose: ArrayLike | None
+                  ) -> tuple[FloatArray, bool, dict[str, FloatArray]]:
+    """pose as :func:`points`, with the rates given (dpose, ddpose; None
+    leaves one out) in the same layout, keyed by name.
+
+    Raises:
+        ValueError: a shape is wrong, or a rate's differs from the pose's.
+    """
+    p, single = points(pose, "pose")
+    given: dict[str, FloatArray] = {}
+    for name, value in (("dpose", dpose), ("ddpose", ddpose)):
+        if value is None:
+            continue
+        v, _ = points(value, name)
+        if v.shape != p.shape:
+            raise ValueError(f"{name}: shape {np.shape(value)} differs from "
+                             f"that of pose {np.shape(pose)}")
+        given[name] = v
+    return p, single, given
+
+
 def results(n: int, shapes: dict[str, tuple[int, ...]],
             counters: tuple[str, ...]) -> dict[str, np.ndarray]:
     """The output arrays of a batch call over n points, component-major

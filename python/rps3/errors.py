@@ -177,14 +177,9 @@ def points3(x: ArrayLike, name: str, *, finite: bool = True
             ) -> tuple[FloatArray, bool]:
     """An (n, 3) or (3,) real array as the library's component-major (3, n)
     contiguous array, and whether it was one point."""
-    a = real_array(x, name, finite=finite)
-    single = a.ndim == 1
-    if single:
-        a = a[np.newaxis, :]
-    if a.ndim != 2 or a.shape[1] != 3:
-        raise ValueError(f"{name}: expected shape (n, 3) or (3,), got "
-                         f"{np.shape(x)}")
-    return np.ascontiguousarray(a.T), single
+    if finite:
+        real_array(x, name)
+    return _core.points(x, name)
 
 
 def same_shape(a: FloatArray, ref: FloatArray, name: str, ref_name: str,

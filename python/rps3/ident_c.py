@@ -17,7 +17,7 @@ from typing import Any
 import numpy as np
 from numpy.typing import ArrayLike
 
-from rps3._core import buf, points, text
+from rps3._core import buf, motion_points, text
 from rps3._rps3 import ffi, lib
 from rps3.ident import Estimate, InconsistentFitError, Layout, NotExcitingError, _stacked
 from rps3.model import Model
@@ -55,20 +55,14 @@ def regressor(model: Model, pose: ArrayLike, dpose: ArrayLike | None = None,
         ValueError: a shape is wrong, rates are needed and missing, or a
             point fails (its index and the library's message).
     """
-    p, single = points(pose, "pose")
+    p, single, given = motion_points(pose, dpose, ddpose)
     n = p.shape[1]
     keep: list[Any] = []
     cin = ffi.new("rps3_batch_in *")
     cin.n = n
     keep.append(buf(p))
     cin.pose = keep[-1]
-    for name, value in (("dpose", dpose), ("ddpose", ddpose)):
-        if value is None:
-            continue
-        v, _ = points(value, name)
-        if v.shape != p.shape:
-            raise ValueError(f"{name}: shape {np.shape(value)} differs from that of "
-                             f"pose {np.shape(pose)}")
+    for name, v in given.items():
         keep.append(buf(v))
         setattr(cin, name, keep[-1])
     needs = model._c.opt.effects & lib.RPS3_EFF_DYNAMIC

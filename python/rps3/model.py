@@ -17,6 +17,7 @@ from rps3._core import (
     IntArray,
     buf,
     check_error,
+    motion_points,
     per_point,
     points,
     real_array,
@@ -400,17 +401,9 @@ class Model:
         Raises:
             ValueError: a shape is wrong, or rates are needed and missing.
         """
-        p, single = points(pose, "pose")
+        p, single, given = motion_points(pose, dpose, ddpose)
         n = p.shape[1]
-        inputs: dict[str, Any] = {"pose": p}
-        for name, value in (("dpose", dpose), ("ddpose", ddpose)):
-            if value is None:
-                continue
-            v, _ = points(value, name)
-            if v.shape != p.shape:
-                raise ValueError(f"{name}: shape {np.shape(value)} differs from "
-                                 f"that of pose {np.shape(pose)}")
-            inputs[name] = v
+        inputs: dict[str, Any] = {"pose": p, **given}
         needs = ((self._c.opt.effects & lib.RPS3_EFF_DYNAMIC)
                  or (self._c.opt.outputs & lib.RPS3_OUT_CERTIFY))
         missing = [k for k in ("dpose", "ddpose") if k not in inputs]
