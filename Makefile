@@ -201,7 +201,7 @@ $(B)/obj/batch_kernel.o $(B)/pic/batch_kernel.o $(B)/san/batch_kernel.o: XFLAGS 
 # unrolling does not reorder any arithmetic, so the results are the same
 # bits
 SIM_FLAGS = -funroll-loops -fno-math-errno
-$(foreach f,fk fwddyn fwddyn_theta fwddyn_shared fwddyn_body fwddyn_singular sim sim_measure control velocity,$(B)/obj/$(f).o $(B)/pic/$(f).o): XFLAGS = $(SIM_FLAGS)
+$(foreach f,fk theta_gsl fwddyn fwddyn_theta fwddyn_shared fwddyn_body fwddyn_singular sim sim_measure control velocity,$(B)/obj/$(f).o $(B)/pic/$(f).o): XFLAGS = $(SIM_FLAGS)
 # the design's per-pose path: the 6x6 LU and inverse with their loops
 # unrolled (the same operations in the same order), 14 % fewer instructions
 $(foreach f,linalg design design_eval,$(B)/obj/$(f).o $(B)/pic/$(f).o): XFLAGS = -funroll-loops
