@@ -348,101 +348,48 @@ static const rps3_ident_layout paper_layout = {2, paper_col, paper_kind};
 
 const rps3_ident_layout *rps3_ident_paper_layout(void) { return &paper_layout; }
 
-int rps3_ident_consistent(const rps3_ident_data *dt,
-                          const rps3_ident_layout *lay,
-                          const rps3_ident_opts *o, rps3_ident_fit *fit,
-                          rps3_check *chk) {
-  char *err = chk != NULL ? chk->msg : NULL;
-  size_t errsz = chk != NULL ? sizeof chk->msg : 0;
-  rps3_ident_opts def;
-  cfit c;
-  size_t n, p, i, j, b, nx = 0;
-  int status, info = 0, *owner = NULL, *slot = NULL, gst, eig_ok = 0;
-  double *R = NULL, *x0 = NULL, *body = NULL, scale, trsum = 0.0, rss;
-  gsl_matrix *A = NULL;
-  gsl_vector *tau = NULL, *xv = NULL;
-  gsl_multifit_nlinear_workspace *w = NULL;
-  gsl_multifit_nlinear_fdf fdf;
-  gsl_multifit_nlinear_parameters fp;
-  gsl_eigen_symm_workspace *ew = NULL;
-  gsl_matrix *E = NULL;
-  gsl_vector *lam = NULL;
-  rps3_check_clear(chk);
-  if (o == NULL) {
-    rps3_ident_opts_default(&def);
-    o = &def;
-  }
-  if (fit == NULL || fit->theta == NULL)
-    return rps3_ident_fail(err, errsz, RPS3_EINVAL,
-                           "fit or fit->theta is NULL");
-  fit->consistent = 0;
-  fit->niter = 0;
-  status = rps3_ident_check_data(dt, o, 0, err, errsz);
-  if (status != RPS3_OK) return status;
-  n = dt->n;
-  p = dt->p;
-  for (j = 0; j < p; j++) fit->theta[j] = (double)NAN;
-  owner = malloc(p * sizeof(int));
-  slot = malloc(p * sizeof(int));
-  if (owner == NULL || slot == NULL) {
-    status =
-        rps3_ident_fail(err, errsz, RPS3_ENOMEM, "consistent: out of memory");
+/* R of the QR of [W^1/2 Y, W^1/2 F], (p + 1)^2 row-major, divided by
+   |W^1/2 F| (1 when F = 0): |W^1/2 (Y pi - F)|^2 = |R11 pi - r|^2 +
+   rho^2, p rows instead of n.  NULL: out of memory */
+static double *reduced(const rps3_ident_data *dt, double *scale) {
+  size_t n = dt->n, p = dt->p, i, j;
+  gsl_matrix *A = gsl_matrix_alloc(n, p + 1);
+  gsl_vector *tau = gsl_vector_alloc(p + 1);
+  double *R = calloc((p + 1) * (p + 1), sizeof(double)), sc = 0.0;
+  if (!A || !tau || !R) {
+    free(R);
+    R = NULL;
     goto out;
   }
-  status = check_layout(lay, p, owner, slot, &nx, err, errsz);
-  if (status != RPS3_OK) goto out;
-
-  /* |W^1/2 (Y pi - F)|^2 = |R11 pi - r|^2 + rho^2 from the QR of
-     [W^1/2 Y, W^1/2 F]: p rows instead of n */
-  A = gsl_matrix_alloc(n, p + 1);
-  tau = gsl_vector_alloc(p + 1);
-  R = calloc((p + 1) * (p + 1), sizeof(double));
-  x0 = calloc(nx, sizeof(double));
-  body = calloc(10 * lay->nbody + 1, sizeof(double));
-  ew = gsl_eigen_symm_alloc(4);
-  E = gsl_matrix_alloc(4, 4);
-  lam = gsl_vector_alloc(4);
-  if (!A || !tau || !R || !x0 || !body || !ew || !E || !lam) {
-    status =
-        rps3_ident_fail(err, errsz, RPS3_ENOMEM, "consistent: out of memory");
-    goto out;
-  }
-  scale = 0.0;
   for (i = 0; i < n; i++) {
     double sw = sqrt(dt->weight ? dt->weight[i] : 1.0);
     for (j = 0; j < p; j++) gsl_matrix_set(A, i, j, sw * dt->Y[i * p + j]);
     gsl_matrix_set(A, i, p, sw * dt->F[i]);
-    scale += sw * dt->F[i] * sw * dt->F[i];
+    sc += sw * dt->F[i] * sw * dt->F[i];
   }
-  scale = sqrt(scale);
-  if (!(scale > 0.0)) scale = 1.0;
+  sc = sqrt(sc);
+  if (!(sc > 0.0)) sc = 1.0;
   gsl_linalg_QR_decomp(A, tau);
   for (i = 0; i <= p; i++)
-    for (j = i; j <= p; j++)
-      R[i * (p + 1) + j] = gsl_matrix_get(A, i, j) / scale;
+    for (j = i; j <= p; j++) R[i * (p + 1) + j] = gsl_matrix_get(A, i, j) / sc;
+  *scale = sc;
+out:
   gsl_matrix_free(A);
-  A = NULL;
+  gsl_vector_free(tau);
+  return R;
+}
 
-  c.p = p;
-  c.nb = lay->nbody;
-  c.nx = nx;
-  c.nf = p + 10 * lay->nbody;
-  c.lay = lay;
-  c.R = R;
-  c.owner = owner;
-  c.slot = slot;
-  c.sreg = sqrt(o->reg);
-  status = start_point(&c, x0);
-  if (status != RPS3_OK) {
-    status = rps3_ident_fail(err, errsz, status,
-                             status == RPS3_ENOMEM
-                                 ? "consistent: out of memory"
-                                 : "consistent: no consistent start");
-    goto out;
-  }
-
-  /* the trust-region solver with the analytic Jacobian */
-  fp = gsl_multifit_nlinear_default_parameters();
+/* the trust-region solve from x0 with the analytic Jacobian: theta and
+   the bodies of its last iterate, GSL's status into *gst; RPS3_OK or
+   RPS3_ENOMEM */
+static int solve(cfit *c, const double *x0, const rps3_ident_opts *o,
+                 rps3_ident_fit *fit, double *body, int *gst) {
+  gsl_multifit_nlinear_fdf fdf;
+  gsl_multifit_nlinear_parameters fp = gsl_multifit_nlinear_default_parameters();
+  gsl_multifit_nlinear_workspace *w;
+  gsl_vector *xv;
+  size_t j;
+  int info = 0;
   /* Powell's dogleg: Levenberg-Marquardt's steps creep along a
      log-Cholesky diagonal that heads for a singular pseudo-inertia (a
      body the data see only in part), thousands of iterations where the
@@ -455,36 +402,56 @@ int rps3_ident_consistent(const rps3_ident_data *dt,
   fdf.f = cfit_f;
   fdf.df = cfit_df;
   fdf.fvv = NULL;
-  fdf.n = c.nf;
-  fdf.p = nx;
-  fdf.params = &c;
-  w = gsl_multifit_nlinear_alloc(gsl_multifit_nlinear_trust, &fp, c.nf, nx);
-  xv = gsl_vector_alloc(nx);
+  fdf.n = c->nf;
+  fdf.p = c->nx;
+  fdf.params = c;
+  w = gsl_multifit_nlinear_alloc(gsl_multifit_nlinear_trust, &fp, c->nf,
+                                 c->nx);
+  xv = gsl_vector_alloc(c->nx);
   if (w == NULL || xv == NULL) {
-    status =
-        rps3_ident_fail(err, errsz, RPS3_ENOMEM, "consistent: out of memory");
+    if (w) gsl_multifit_nlinear_free(w);
+    gsl_vector_free(xv);
+    return RPS3_ENOMEM;
+  }
+  for (j = 0; j < c->nx; j++) gsl_vector_set(xv, j, x0[j]);
+  *gst = gsl_multifit_nlinear_init(xv, &fdf, w);
+  if (*gst == GSL_SUCCESS)
+    *gst = gsl_multifit_nlinear_driver((size_t)o->max_iter, o->xtol, o->gtol,
+                                       o->ftol, NULL, NULL, &info, w);
+  fit->niter = (int)gsl_multifit_nlinear_niter(w);
+  pi_of(c, gsl_multifit_nlinear_position(w)->data, fit->theta, body);
+  gsl_multifit_nlinear_free(w);
+  gsl_vector_free(xv);
+  return RPS3_OK;
+}
+
+/* what was reached, checked whatever the solver said (gst): the residual,
+   the cost, every pseudo-inertia's eigenvalues and the >= 0 columns; the
+   status, and fit->consistent.  RPS3_ENOMEM when the eigen workspace
+   cannot be had */
+static int check_fit(const cfit *c, const rps3_ident_opts *o, double scale,
+                     const double *body, int gst, rps3_ident_fit *fit,
+                     char *err, size_t errsz) {
+  const size_t p = c->p;
+  const double *R = c->R;
+  gsl_eigen_symm_workspace *ew = gsl_eigen_symm_alloc(4);
+  gsl_matrix *E = gsl_matrix_alloc(4, 4);
+  gsl_vector *lam = gsl_vector_alloc(4);
+  double rss = R[p * (p + 1) + p] * R[p * (p + 1) + p], trsum = 0.0;
+  size_t i, j, b;
+  int status = RPS3_OK, eig_ok = 1;
+  if (!ew || !E || !lam) {
+    status = rps3_ident_fail(err, errsz, RPS3_ENOMEM,
+                             "consistent: out of memory");
     goto out;
   }
-  for (j = 0; j < nx; j++) gsl_vector_set(xv, j, x0[j]);
-  gst = gsl_multifit_nlinear_init(xv, &fdf, w);
-  if (gst == GSL_SUCCESS)
-    gst = gsl_multifit_nlinear_driver((size_t)o->max_iter, o->xtol, o->gtol,
-                                      o->ftol, NULL, NULL, &info, w);
-  fit->niter = (int)gsl_multifit_nlinear_niter(w);
-  pi_of(&c, gsl_multifit_nlinear_position(w)->data, fit->theta, body);
-
-  /* what was reached: the residual, the cost, and every pseudo-inertia's
-     eigenvalues, checked whatever the solver said */
-  rss = R[p * (p + 1) + p] * R[p * (p + 1) + p];
   for (i = 0; i < p; i++) {
     double s = -R[i * (p + 1) + p];
     for (j = i; j < p; j++) s += R[i * (p + 1) + j] * fit->theta[j];
     rss += s * s;
   }
   fit->rss = rss * scale * scale;
-  status = RPS3_OK;
-  eig_ok = 1;
-  for (b = 0; b < lay->nbody; b++) {
+  for (b = 0; b < c->nb; b++) {
     double J[4][4], lmax = 0.0;
     int k, q;
     pseudo_of(body + 10 * b, J);
@@ -498,24 +465,24 @@ int rps3_ident_consistent(const rps3_ident_data *dt,
       if (fabs(gsl_vector_get(lam, k)) > lmax)
         lmax = fabs(gsl_vector_get(lam, k));
     }
-    if (!(gsl_vector_get(lam, 0) >= -o->eig_tol * lmax)) eig_ok = 0;
-    if (status == RPS3_OK && !(gsl_vector_get(lam, 0) >= -o->eig_tol * lmax)) {
+    if (gsl_vector_get(lam, 0) >= -o->eig_tol * lmax) continue;
+    if (eig_ok)
       status = rps3_ident_fail(
           err, errsz, RPS3_ENOCONV,
           "consistent: body %lu's pseudo-inertia has eigenvalue %.3g "
           "below -%.3g times its largest %.3g: not consistent",
           (unsigned long)b, gsl_vector_get(lam, 0), o->eig_tol, lmax);
-    }
+    eig_ok = 0;
   }
-  if (fit->body) memcpy(fit->body, body, 10 * lay->nbody * sizeof(double));
+  if (fit->body) memcpy(fit->body, body, 10 * c->nb * sizeof(double));
   fit->cost = rss + o->reg * trsum;
   for (j = 0; j < p && status == RPS3_OK; j++) {
     if (!isfinite(fit->theta[j]))
       status = rps3_ident_fail(err, errsz, RPS3_ENOCONV,
                                "consistent: parameter %lu is not finite",
                                (unsigned long)j);
-    else if (owner[j] < 0 && lay->kind && lay->kind[j] == RPS3_IDENT_NONNEG &&
-             fit->theta[j] < 0.0)
+    else if (c->owner[j] < 0 && c->lay->kind &&
+             c->lay->kind[j] == RPS3_IDENT_NONNEG && fit->theta[j] < 0.0)
       status = rps3_ident_fail(err, errsz, RPS3_ENOCONV,
                                "consistent: parameter %lu = %g < 0",
                                (unsigned long)j, fit->theta[j]);
@@ -532,13 +499,74 @@ int rps3_ident_consistent(const rps3_ident_data *dt,
   fit->consistent = status == RPS3_OK ||
                     (status == RPS3_ENOCONV && gst != GSL_SUCCESS && eig_ok);
 out:
-  gsl_matrix_free(A);
-  gsl_vector_free(tau);
-  gsl_vector_free(xv);
-  if (w) gsl_multifit_nlinear_free(w);
   if (ew) gsl_eigen_symm_free(ew);
   gsl_matrix_free(E);
   gsl_vector_free(lam);
+  return status;
+}
+
+int rps3_ident_consistent(const rps3_ident_data *dt,
+                          const rps3_ident_layout *lay,
+                          const rps3_ident_opts *o, rps3_ident_fit *fit,
+                          rps3_check *chk) {
+  char *err = chk != NULL ? chk->msg : NULL;
+  size_t errsz = chk != NULL ? sizeof chk->msg : 0;
+  rps3_ident_opts def;
+  cfit c;
+  size_t p, j, nx = 0;
+  int status, *owner = NULL, *slot = NULL, gst = GSL_SUCCESS;
+  double *R = NULL, *x0 = NULL, *body = NULL, scale = 1.0;
+  rps3_check_clear(chk);
+  if (o == NULL) {
+    rps3_ident_opts_default(&def);
+    o = &def;
+  }
+  if (fit == NULL || fit->theta == NULL)
+    return rps3_ident_fail(err, errsz, RPS3_EINVAL,
+                           "fit or fit->theta is NULL");
+  fit->consistent = 0;
+  fit->niter = 0;
+  status = rps3_ident_check_data(dt, o, 0, err, errsz);
+  if (status != RPS3_OK) return status;
+  p = dt->p;
+  for (j = 0; j < p; j++) fit->theta[j] = (double)NAN;
+  owner = malloc(p * sizeof(int));
+  slot = malloc(p * sizeof(int));
+  if (owner == NULL || slot == NULL) {
+    status =
+        rps3_ident_fail(err, errsz, RPS3_ENOMEM, "consistent: out of memory");
+    goto out;
+  }
+  status = check_layout(lay, p, owner, slot, &nx, err, errsz);
+  if (status != RPS3_OK) goto out;
+  R = reduced(dt, &scale);
+  x0 = calloc(nx, sizeof(double));
+  body = calloc(10 * lay->nbody + 1, sizeof(double));
+  if (!R || !x0 || !body) {
+    status =
+        rps3_ident_fail(err, errsz, RPS3_ENOMEM, "consistent: out of memory");
+    goto out;
+  }
+  c.p = p;
+  c.nb = lay->nbody;
+  c.nx = nx;
+  c.nf = p + 10 * lay->nbody;
+  c.lay = lay;
+  c.R = R;
+  c.owner = owner;
+  c.slot = slot;
+  c.sreg = sqrt(o->reg);
+  status = start_point(&c, x0);
+  if (status == RPS3_OK) status = solve(&c, x0, o, fit, body, &gst);
+  if (status != RPS3_OK) {
+    status = rps3_ident_fail(err, errsz, status,
+                             status == RPS3_ENOMEM
+                                 ? "consistent: out of memory"
+                                 : "consistent: no consistent start");
+    goto out;
+  }
+  status = check_fit(&c, o, scale, body, gst, fit, err, errsz);
+out:
   free(R);
   free(x0);
   free(body);
