@@ -38,7 +38,7 @@ def load(f):
             raise ValueError(f"{name}: unexpected axes {h5io.dims(f[name])}")
     out = {k: f[k][()] for k in (
         "ns_per_point", "ns_per_second", "force_error", "theta_error",
-        "peak_force_error", "energy_residual", "failed_samples",
+        "peak_force_error", "energy_residual", "failed_samples", "status",
         "reference_floor_force", "fd_step", "tolerance", "warm_start",
         "dt_fraction")}
     for k in ("study", "label", "solver", "derivative", "method"):
@@ -154,6 +154,17 @@ def table(a, fronts):
     return "\n".join(rows)
 
 
+def report_failures(a):
+    """Say which configurations lost samples (left out of the plot and the
+    fronts), so that a failing setting cannot pass for a missing one."""
+    for t, traj in enumerate(a["trajectory"]):
+        for j in np.flatnonzero(a["failed_samples"][t] > 0):
+            print(f"warning: {traj}: {a['label'][j]}: "
+                  f"{int(a['failed_samples'][t][j])} samples failed "
+                  f"(first status {int(a['status'][t][j])}); left out",
+                  file=sys.stderr)
+
+
 def main(argv=None):
     p = argparse.ArgumentParser(description=__doc__.split("\n")[0])
     p.add_argument("h5")
@@ -174,6 +185,7 @@ def main(argv=None):
     out = plot.save(fig, plot.output_path(args.outdir, "accuracy_cost", args),
                     args.dpi)
     print(f"wrote {out}", file=sys.stderr)
+    report_failures(a)
     print(table(a, fronts))
     return 0
 

@@ -46,7 +46,7 @@ static inline double max3abs(const double v[3]) {
 }
 
 int rps3_theta_newton(const rps3_model *m, rps3_closure *q, int have_trig,
-                      int *niter, double *resid, int *exact) {
+                      int mode, int *niter, double *resid, int *exact) {
   /* the test of rps3_theta_solve, max |f_k| / R^2 <= tol, in q's unit */
   const double tol = m->opt.tol * q->R * q->R;
   const int max_it = m->opt.max_iter < NEWTON_MAX ? m->opt.max_iter
@@ -83,6 +83,15 @@ int rps3_theta_newton(const rps3_model *m, rps3_closure *q, int have_trig,
       trig3(th, c, sn);
       ex = 1;
     }
+  }
+  /* the root's assembly mode, the sign of det(df/dtheta), must be the
+     warm start's: near the singular surface the other mode's root lies
+     within a step, and a step across the fold finds it, which no motion
+     from the start reaches without passing the singularity */
+  if (mode != RPS3_MODE_ANY) {
+    const double *a = q->at, *b = q->bt;
+    const double det = a[0] * (a[1] * a[2]) + b[0] * (b[1] * b[2]);
+    if (!(mode > 0 ? det > 0.0 : det < 0.0)) return -1;
   }
   *niter = it;
   *resid = res / (q->R * q->R);
@@ -130,14 +139,14 @@ void rps3_root_keep(const rps3_model *m, rps3_data *d, const rps3_cjac *J) {
                           s->root_X[i][2] * J->Jl[2][k]);
 }
 
-void rps3_root_predict(rps3_data *d, double max_step) {
+int rps3_root_predict(rps3_data *d, double max_step) {
   struct rps3_solver_state *s = d->solver;
   const rps3_closure *q = &s->root;
   double dl[3], u[3], x[3], hd[3], Zd[3], hdd[3], Zdd[3], Hv[3];
   int ok = s->root_ok && d->have_theta &&
            memcmp(d->theta, q->th, sizeof(q->th)) == 0;
   s->root_ok = 0; /* one use */
-  if (!ok) return;
+  if (!ok) return 0;
   /* the second order along the chord itself (tau = 1): theta'' for l' =
      dl, (df/dtheta) theta'' = x, the velocity products of (8)-(10) */
   v3_sub(dl, d->l, q->l);
@@ -146,6 +155,7 @@ void rps3_root_predict(rps3_data *d, double max_step) {
   m3_mulv(Hv, M3C(s->root_X), x);
   rps3_theta_predict(d->theta, d->l, q->l, q->th, M3C(s->root_G), Hv, 1.0,
                      max_step);
+  return 1;
 }
 
 int rps3_theta_solve(const rps3_model *m, rps3_data *d) {
@@ -260,8 +270,8 @@ int rps3_theta_solve_with(const rps3_model *m, rps3_data *d, rps3_cjac *J) {
     rps3_closure q = s->p.q;
     int exact;
     v3_copy(q.th, d->theta);
-    if (rps3_theta_newton(m, &q, 0, &d->solve_niter, &d->solve_resid,
-                          &exact) >= 0) {
+    if (rps3_theta_newton(m, &q, 0, prev_mode, &d->solve_niter,
+                          &d->solve_resid, &exact) >= 0) {
       v3_copy(th, q.th);
       /* the root's libm trig, for the positions and the next evaluation
          there (a series-stepped one gives way to libm's below) */

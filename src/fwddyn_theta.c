@@ -45,7 +45,7 @@ int rps3_fd_theta_newton(const rps3_model *m, rps3_data *d, plane *p,
     q->l[i] = d->l[i];
     q->th[i] = d->theta[i];
   }
-  fold = rps3_theta_newton(m, q, have_trig, &d->solve_niter,
+  fold = rps3_theta_newton(m, q, have_trig, d->mode, &d->solve_niter,
                            &d->solve_resid, &exact);
   if (fold < 0) return -1;
   v3_copy(d->theta, q->th);

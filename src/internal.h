@@ -200,9 +200,9 @@ int rps3_theta_solve_with(const rps3_model *m, rps3_data *d, rps3_cjac *J);
    with its Jacobian J (factored) in d's solver state, and move the next
    point's start d->theta along the change of the lengths to d->l, to
    second order, when d->theta is still that root (the step no larger
-   than max_step rad; one use of what was kept) */
+   than max_step rad; one use of what was kept); 1 when it moved it */
 void rps3_root_keep(const rps3_model *m, rps3_data *d, const rps3_cjac *J);
-void rps3_root_predict(rps3_data *d, double max_step);
+int rps3_root_predict(rps3_data *d, double max_step);
 /* 1 when rps3_inverse and rps3_invdyn need the rates and accelerations:
    a dynamic effect is selected, or the certificate asked for */
 static inline int rps3_need_rates(const rps3_model *m) {

@@ -124,6 +124,8 @@ int rps3_inverse_motion(const rps3_model *m, rps3_data *d, rps3_cjac *J,
                         J);
   if (status != RPS3_OK) return status;
   if (multiroot) {
+    double th0[3];
+    int mode0 = d->mode, predicted = 0;
     /* ik left theta alone (no closed form leaks into the starting point):
        the solve starts from this data's previous solution.  Keep (39) of
        the pose's ball joints, the link direction as rps3_ik has it, to
@@ -134,8 +136,19 @@ int rps3_inverse_motion(const rps3_model *m, rps3_data *d, rps3_cjac *J,
       c39[i] = -v3_dot(v, m->radial[i]) / d->l[i];
       s39[i] = v[2] / d->l[i];
     }
-    if (m->opt.warm_start) rps3_root_predict(d, PREDICT_MAX);
+    v3_copy(th0, d->theta);
+    if (m->opt.warm_start) predicted = rps3_root_predict(d, PREDICT_MAX);
     status = rps3_theta_solve_with(m, d, J);
+    /* near the singular surface G = dtheta/dl grows and the predicted
+       start can land across the fold, where the solve finds the other
+       assembly mode's root (a few 1e-3 rad away): the solve again from
+       the last root itself, whose mode the motion keeps */
+    if (predicted && (status != RPS3_OK || (d->warn & RPS3_WARN_MODE))) {
+      v3_copy(d->theta, th0);
+      d->have_theta = 1;
+      d->mode = mode0;
+      status = rps3_theta_solve_with(m, d, J);
+    }
     if (status != RPS3_OK) return status;
     status = check_own_root(m, d, J, c39, s39);
     if (status != RPS3_OK) return status;

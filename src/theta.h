@@ -161,13 +161,15 @@ THETA_INLINE void rps3_trig_step(double c[3], double sn[3],
  * q->th, its cosines and sines in q->c, q->s, the pair terms there in q,
  * the steps in *niter, max |f_k| / R^2 in *resid, and *exact 1 when c, s
  * are libm's cos and sin of th (no series step since the last sincos).
- * Returns -1 otherwise (non-finite, singular, no convergence, or a root
- * outside (0, pi)): the caller falls back to the multiroot route, which
- * decides and reports.  The spun platform and the assembly mode are the
- * caller's to test, on its positions.
+ * Returns -1 otherwise (non-finite, singular, no convergence, a root
+ * outside (0, pi), or a root whose assembly mode, the sign of
+ * det(df/dtheta), is not `mode`, the warm start's: RPS3_MODE_ANY takes
+ * either): the caller falls back to the multiroot route, which decides
+ * and reports.  The spun platform is the caller's to test, on its
+ * positions.
  */
 int rps3_theta_newton(const rps3_model *m, rps3_closure *q, int have_trig,
-                      int *niter, double *resid, int *exact);
+                      int mode, int *niter, double *resid, int *exact);
 
 /*
  * The root predictor: the start of the next theta solve at the lengths l

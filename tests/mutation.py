@@ -87,6 +87,16 @@ MUTATIONS = [
      "x[1] = (b[1] * b[2] * f[0] + a[0] * a[2] * f[1] + a[0] * b[1] * f[2]) * id;",
      "the theta solve's warm Newton path (multiroot route and forward"
      " dynamics): one term of its adjugate step with the wrong sign"),
+    ("theta-newton-mode", "src/fk.c",
+     "if (!(mode > 0 ? det > 0.0 : det < 0.0)) return -1;",
+     "if (!(mode > 0 ? det > 0.0 : det < 0.0)) (void)0;",
+     "the theta solve's warm Newton path takes a root of the other"
+     " assembly mode"),
+    ("theta-refold-retry", "src/inverse.c",
+     "if (predicted && (status != RPS3_OK || (d->warn & RPS3_WARN_MODE))) {",
+     "if (predicted && status != RPS3_OK) {",
+     "the multiroot route keeps a root of another assembly mode found from"
+     " a predicted start"),
     ("jacobian-dl-row", "src/cjac.h",
      "(le) = -2.0 * DOT(D, phi_j);",
      "(le) = -2.002 * DOT(D, phi_j);",

@@ -351,7 +351,7 @@ static void warm_newton_path(void **state) {
       rps3_closure q = closure_at(&m, d->l, start, u);
       int niter = -1, exact = -1;
       double resid = -1.0;
-      if (rps3_theta_newton(&m, &q, 0, &niter, &resid, &exact) != 0)
+      if (rps3_theta_newton(&m, &q, 0, d->mode, &niter, &resid, &exact) != 0)
         fail_msg("pose %d (%s): the warm Newton path did not converge", n,
                  u ? "metres" : "units of R");
       assert_true(niter >= 1 && niter <= 3);
@@ -379,7 +379,8 @@ static void warm_newton_path(void **state) {
     memcpy(th, d->theta, sizeof th);
     for (i = 0; i < 3; i++) start[i] = th[i] + (i == 1 ? -0.3 : 0.3);
     q = closure_at(&m, d->l, start, 1);
-    assert_int_equal(rps3_theta_newton(&m, &q, 0, &niter, &resid, &exact),
+    assert_int_equal(rps3_theta_newton(&m, &q, 0, RPS3_MODE_ANY, &niter,
+                                       &resid, &exact),
                      -1);
     memcpy(d->theta, start, sizeof start);
     d->have_theta = 1;
@@ -387,6 +388,71 @@ static void warm_newton_path(void **state) {
     assert_true(d->solve_niter >= 2);
     for (i = 0; i < 3; i++)
       CHECK_REL(d->theta[i], th[i], 1e-10, 1.0, "multiroot theta%d", i);
+  }
+  rps3_data_free(d);
+}
+
+/*
+ * Near the singular surface the other assembly mode's root lies within a
+ * warm step: on sine_edge (rps3-study's trajectory that passes within a
+ * condition number of 4e2 of the surface) the two roots at t = 0.997 s
+ * are 8e-3 rad apart.  The warm Newton path keeps the start's mode: from
+ * the other mode's root itself it refuses for the start's mode and takes
+ * it for RPS3_MODE_ANY; and every warm-started multiroot solve along the
+ * trajectory's near-singular stretch is the pose's own root (EMODE, the
+ * check against the closed form (39), would say otherwise).
+ */
+static void warm_newton_keeps_the_mode(void **state) {
+  const rps3_sine edge = {
+      {0.0, 0.6, 0.28}, {RPS3_PI, 0.2, 0.03}, {1.0, 2.3, 1.7}, {0, 0, 0}, 2.0};
+  rps3_model m;
+  rps3_data *d;
+  rps3_traj tr;
+  double th[3], other[3];
+  int k, i, niter, exact, mode;
+  double resid;
+  (void)state;
+  rps3_model_default(&m);
+  m.opt.theta = RPS3_THETA_MULTIROOT;
+  m.opt.tol = 1e-14;
+  assert_int_equal(rps3_model_init(&m, NULL), RPS3_OK);
+  assert_int_equal(rps3_data_alloc(&m, &d), RPS3_OK);
+  memset(&tr, 0, sizeof tr);
+  tr.kind = RPS3_TRAJ_SINE;
+  tr.sine = edge;
+  /* the pose's root and the other mode's, at t = 0.997 s */
+  assert_int_equal(rps3_traj_eval(&m, &tr, 0.997, d->pose, NULL, NULL),
+                   RPS3_OK);
+  assert_int_equal(rps3_ik(&m, d), RPS3_OK);
+  memcpy(th, d->theta, sizeof th);
+  mode = d->mode;
+  assert_int_equal(mode, RPS3_MODE_LEVEL);
+  d->theta[0] = 0.7930;
+  d->theta[1] = 1.1923;
+  d->theta[2] = 1.2036;
+  d->have_theta = 1;
+  if (rps3_theta_solve(&m, d) != RPS3_OK) fail_msg("%s", d->err.msg);
+  assert_int_equal(d->mode, RPS3_MODE_OTHER);
+  memcpy(other, d->theta, sizeof other);
+  assert_true(fabs(other[0] - th[0]) > 1e-3);
+  {
+    rps3_closure q = closure_at(&m, d->l, other, 1);
+    assert_int_equal(
+        rps3_theta_newton(&m, &q, 0, mode, &niter, &resid, &exact), -1);
+    q = closure_at(&m, d->l, other, 1);
+    assert_int_equal(rps3_theta_newton(&m, &q, 0, RPS3_MODE_ANY, &niter,
+                                       &resid, &exact),
+                     0);
+    for (i = 0; i < 3; i++) CHECK_REL(q.th[i], other[i], 1e-12, 1.0, "theta%d", i);
+  }
+  /* warm along the stretch: every root the pose's own */
+  rps3_data_reset(d);
+  for (k = 480; k < 520; k++) {
+    double t = 2.0 * (k + 0.5) / 1000.0;
+    assert_int_equal(rps3_traj_eval(&m, &tr, t, d->pose, d->dpose, d->ddpose),
+                     RPS3_OK);
+    if (rps3_inverse(&m, d) != RPS3_OK)
+      fail_msg("t = %g s: %s", t, d->err.msg);
   }
   rps3_data_free(d);
 }
@@ -487,6 +553,7 @@ int main(void) {
       cmocka_unit_test(held_pose_is_its_own_root),
       cmocka_unit_test(predicted_start_is_third_order),
       cmocka_unit_test(warm_newton_path),
+      cmocka_unit_test(warm_newton_keeps_the_mode),
       cmocka_unit_test(predictor_positions_oracle),
       cmocka_unit_test(error_codes),
       cmocka_unit_test(level_platform),
