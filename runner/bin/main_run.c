@@ -163,7 +163,7 @@ static int sweep_write(run_job *j, const out_meta *meta, progress *pr,
   const scene *s = sj->s;
   char err[512];
   out_file *f;
-  if (out_block_alloc(&sj->block, plan->tile_cases, plan->tile_points,
+  if (out_block_alloc(&sj->block, OUT_INV, plan->tile_cases, plan->tile_points,
                       plan->first.model.opt.effects)) {
     fprintf(stderr, "rps3-run: out of memory\n");
     return EXIT_IO;

@@ -157,7 +157,7 @@ static int est_cost_measure(const scene *s, const sweep_plan *p,
   rps3_data *ws[RPS3_NSOLVER] = {NULL};
   size_t k;
   memset(c, 0, sizeof *c);
-  if (out_block_alloc(&b, 1, EST_SAMPLES / ncase, p->first.model.opt.effects))
+  if (out_block_alloc(&b, OUT_INV, 1, EST_SAMPLES / ncase, p->first.model.opt.effects))
     return -1;
   /* the path the run takes: a file of the batch's fields is computed by
      rps3_inverse_batch (compute.c) */

@@ -34,15 +34,19 @@
 #define PILOT_CHUNK 256.0
 #define PILOT_CPU 0.2
 
-/* a window on its way to the file: a slot of the pool */
+/* a window on its way to the file: a slot of the pool, a block of one
+   case (its times in b.t, its resolved scene in b.yaml[0]) */
 typedef struct {
-  sim_window w;  /* samples [k0, k0 + nk) of case c */
-  double *times; /* their times [points] */
-  size_t c, k0, nk;
-  int last; /* 1: the case's last window; v holds its values */
-  sim_case_values v;
-  scene_text yaml; /* storage of v.scene_resolved */
+  out_block b;
+  char message[640]; /* storage of the message */
 } sim_tile;
+
+/* what a filled window is: samples [k0, k0 + nk) of case c; last: the
+   case's last window, which holds its per-case values */
+typedef struct {
+  size_t c, k0, nk;
+  int last;
+} sim_info;
 
 /* the reference at t: the trajectory, after its span its final pose at
    rest, through the closed-form inverse kinematics */
@@ -56,47 +60,48 @@ static int reference(const scene_case *c, rps3_data *r, double t) {
   return st == RPS3_OK ? rps3_velocity(&c->model, r) : st;
 }
 
-/* sample j of the window: the plant's state, the reference, the forces */
-static void store(sim_window *w, sim_case_values *v, size_t j,
-                  const rps3_sim *sim, const rps3_data *r, int first) {
+/* sample j of the window: the plant's state, the reference, the forces;
+ *emax the largest tracking error so far */
+static void store(out_block *b, double *emax, size_t j, const rps3_sim *sim,
+                  const rps3_data *r, int first) {
   const rps3_data *d = rps3_sim_data(sim);
   const rps3_sim_report *now = rps3_sim_now(sim);
   double e;
   int i;
   for (i = 0; i < 3; i++) {
     size_t x = 3 * j + (size_t)i;
-    w->buf[OUT_sim_length][x] = now->y[i];
-    w->buf[OUT_sim_length_rate][x] = now->y[3 + i];
-    w->buf[OUT_length_ref][x] = r->l[i];
-    w->buf[OUT_length_rate_ref][x] = r->dl[i];
+    OUT_D(b, sim_length)[x] = now->y[i];
+    OUT_D(b, sim_length_rate)[x] = now->y[3 + i];
+    OUT_D(b, length_ref)[x] = r->l[i];
+    OUT_D(b, length_rate_ref)[x] = r->dl[i];
     e = r->l[i] - now->y[i];
-    w->buf[OUT_tracking_error][x] = e;
-    if (fabs(e) > v->tracking_error_max) v->tracking_error_max = fabs(e);
+    OUT_D(b, tracking_error)[x] = e;
+    if (fabs(e) > *emax) *emax = fabs(e);
     /* no force has acted yet at the start */
-    w->buf[OUT_force_cmd][x] = first ? (double)NAN : now->F_cmd[i];
-    w->buf[OUT_sim_force][x] = first ? (double)NAN : now->F[i];
-    w->buf[OUT_sim_theta][x] = d->theta[i];
+    OUT_D(b, force_cmd)[x] = first ? (double)NAN : now->F_cmd[i];
+    OUT_D(b, sim_force)[x] = first ? (double)NAN : now->F[i];
+    OUT_D(b, sim_theta)[x] = d->theta[i];
   }
-  w->buf[OUT_sim_alpha][j] = d->pose[0];
-  w->buf[OUT_beta][j] = d->pose[1];
-  w->buf[OUT_z_c][j] = d->pose[2];
-  w->buf[OUT_x_c][j] = d->c[0];
-  w->buf[OUT_y_c][j] = d->c[1];
-  w->buf[OUT_alpha_ref][j] = r->pose[0];
-  w->buf[OUT_beta_ref][j] = r->pose[1];
-  w->buf[OUT_z_c_ref][j] = r->pose[2];
-  w->buf[OUT_x_c_ref][j] = r->c[0];
-  w->buf[OUT_y_c_ref][j] = r->c[1];
-  w->buf[OUT_kinetic_energy][j] = now->T;
-  w->buf[OUT_potential_energy][j] = now->P;
-  w->buf[OUT_work_actuators][j] = now->y[6];
-  w->buf[OUT_work_friction][j] = now->y[7];
-  w->buf[OUT_sim_energy_residual][j] = now->energy_residual;
+  OUT_D(b, sim_alpha)[j] = d->pose[0];
+  OUT_D(b, beta)[j] = d->pose[1];
+  OUT_D(b, z_c)[j] = d->pose[2];
+  OUT_D(b, x_c)[j] = d->c[0];
+  OUT_D(b, y_c)[j] = d->c[1];
+  OUT_D(b, alpha_ref)[j] = r->pose[0];
+  OUT_D(b, beta_ref)[j] = r->pose[1];
+  OUT_D(b, z_c_ref)[j] = r->pose[2];
+  OUT_D(b, x_c_ref)[j] = r->c[0];
+  OUT_D(b, y_c_ref)[j] = r->c[1];
+  OUT_D(b, kinetic_energy)[j] = now->T;
+  OUT_D(b, potential_energy)[j] = now->P;
+  OUT_D(b, work_actuators)[j] = now->y[6];
+  OUT_D(b, work_friction)[j] = now->y[7];
+  OUT_D(b, sim_energy_residual)[j] = now->energy_residual;
 }
 
 /* the message of a failure at sample k (time t_k): the simulation's, and
    the controller's own when it was the controller that failed */
-static void failure(sim_case_values *w, const sim_work *wk, int st, size_t k,
+static void failure(sim_tile *w, const sim_work *wk, int st, size_t k,
                     double t_k) {
   const rps3_data *meas = rps3_ctrl_measured(wk->ctrl);
   const rps3_data *des = rps3_ctrl_desired(wk->ctrl);
@@ -106,9 +111,9 @@ static void failure(sim_case_values *w, const sim_work *wk, int st, size_t k,
                                                       : "";
   double t = rps3_sim_now(wk->sim)->failed_at;
   int ctrl = why[0] && strstr(msg, "controller");
-  w->status = st;
-  w->failed_at = (int32_t)k;
-  w->failed_time = t = isnan(t) ? t_k : t;
+  OUT_I(&w->b, sim_status)[0] = st;
+  OUT_I(&w->b, sim_failed_at)[0] = (int32_t)k;
+  OUT_D(&w->b, failed_time)[0] = t = isnan(t) ? t_k : t;
   snprintf(w->message, sizeof w->message,
            "t = %.9g s (before sample %zu): %s: %s%s%s%s", t, k,
            rps3_strerror(st), msg, ctrl ? " (" : "", ctrl ? why : "",
@@ -140,20 +145,17 @@ typedef struct {
 /* pool_job.slot_make, slot_free: a window's buffers */
 static int tile_make(void *ctx, void *slot, size_t i) {
   sim_tile *t = slot;
-  size_t n = ((const sim_job *)ctx)->points;
   (void)i;
-  if (sim_window_alloc(&t->w, n)) return -1;
-  t->times = malloc(n * sizeof *t->times);
-  return t->times ? 0 : -1;
+  if (out_block_alloc(&t->b, OUT_SIM, 1, ((const sim_job *)ctx)->points, 0))
+    return -1;
+  OUT_S(&t->b, message)[0] = t->message;
+  return 0;
 }
 
 static void tile_free(void *ctx, void *slot, size_t i) {
-  sim_tile *t = slot;
   (void)ctx;
   (void)i;
-  sim_window_free(&t->w);
-  free(t->times);
-  scene_text_free(&t->yaml);
+  out_block_free(&((sim_tile *)slot)->b);
 }
 
 /* case i built and its simulation and controller started on the
@@ -183,16 +185,30 @@ static int start(const scene *s, size_t i, scene_case *c, sim_case *sc,
   return 0;
 }
 
-/* hand the window of t over; the case's values with its last one */
-static sim_tile *flush(pool_worker *w, sim_tile *t, size_t c, size_t k0,
-                       size_t nk, const sim_case_values *v, int last, char *err,
-                       size_t errsz) {
-  t->c = c;
-  t->k0 = k0;
-  t->nk = nk;
-  t->last = last;
-  if (last) t->v = *v;
-  return pool_emit(w, NULL, err, errsz);
+/* hand the window over: samples [k0, k0 + nk) of case c */
+static sim_tile *flush(pool_worker *w, size_t c, size_t k0, size_t nk, int last,
+                       char *err, size_t errsz) {
+  sim_info in = {c, k0, nk, last};
+  return pool_emit(w, &in, err, errsz);
+}
+
+/* the per-case values of case c into its last window t: the outcome st
+   (failed before sample n, at time tn), the largest tracking error emax
+   and the simulation's counts */
+static void case_values(sim_tile *t, const sim_work *wk, int st, size_t n,
+                        double tn, double emax) {
+  const rps3_sim_report *now = rps3_sim_now(wk->sim);
+  out_block *b = &t->b;
+  OUT_I(b, sim_status)[0] = RPS3_OK;
+  OUT_I(b, sim_failed_at)[0] = -1;
+  OUT_D(b, failed_time)[0] = (double)NAN;
+  t->message[0] = '\0';
+  if (st != RPS3_OK) failure(t, wk, st, n, tn);
+  OUT_D(b, tracking_error_max)[0] = emax;
+  OUT_L(b, nsteps)[0] = (int64_t)now->nsteps;
+  OUT_L(b, nevals)[0] = (int64_t)now->nevals;
+  OUT_L(b, nticks)[0] = (int64_t)now->nticks;
+  OUT_L(b, nsat)[0] = (int64_t)now->nsat;
 }
 
 /* pool_job.run: case i on worker w, window by window into its slots;
@@ -205,48 +221,39 @@ static int sim_item(void *ctx, void *wctx, size_t i, pool_worker *w, char *err,
   sim_case sc;
   sim_work wk;
   rps3_controller ctl;
-  sim_case_values v;
+  double tn = 0.0, emax = 0.0;
   size_t n, j = 0, k0 = 0;
   int st;
   (void)wctx;
   if (start(J->s, i, &c, &sc, &wk, &ctl, &st, err, errsz)) return -1;
-  memset(&v, 0, sizeof v);
-  v.failed_time = (double)NAN;
-  v.failed_at = -1;
   for (n = 0; n < sc.nt && t; n++) {
-    double tn = sim_case_time(&c, &sc, n);
+    tn = sim_case_time(&c, &sc, n);
     if (st == RPS3_OK && n > 0)
       /* a tick just behind the state (samples closer than the slack) is
          the state's time: the library refuses a t_end before it */
       st = rps3_sim_advance(
           wk.sim, &ctl, fmax(tick_time(tn, sc.rate), rps3_sim_now(wk.sim)->t));
     if (st == RPS3_OK) st = reference(&c, wk.ref, tn);
-    if (st != RPS3_OK) {
-      failure(&v, &wk, st, n, tn);
-      break;
-    }
-    store(&t->w, &v, j, wk.sim, wk.ref, n == 0);
-    t->times[j] = tn;
-    if (++j == t->w.points && n + 1 < sc.nt) {
-      t = flush(w, t, i, k0, j, &v, 0, err, errsz);
+    if (st != RPS3_OK) break;
+    store(&t->b, &emax, j, wk.sim, wk.ref, n == 0);
+    t->b.t[j] = tn;
+    if (++j == t->b.points && n + 1 < sc.nt) {
+      t = flush(w, i, k0, j, 0, err, errsz);
       k0 += j;
       j = 0;
     }
   }
-  v.nsteps = rps3_sim_now(wk.sim)->nsteps;
-  v.nevals = rps3_sim_now(wk.sim)->nevals;
-  v.nticks = rps3_sim_now(wk.sim)->nticks;
-  v.nsat = rps3_sim_now(wk.sim)->nsat;
+  if (t) case_values(t, &wk, st, n, tn, emax);
   sim_work_free(&wk);
   /* the samples up to the end or the failure (those after a failure keep
      the fill, NaN), with the case's values and its resolved scene */
-  if (t && scene_case_yaml(&c, &t->yaml)) {
+  if (t && scene_case_yaml(&c, &t->b.yaml[0])) {
     snprintf(err, errsz, "case %zu: cannot write its scene", i);
     return -1;
   }
   if (t) {
-    v.scene_resolved = t->yaml.s;
-    t = flush(w, t, i, k0, j, &v, 1, err, errsz);
+    OUT_S(&t->b, scene_resolved)[0] = t->b.yaml[0].s;
+    t = flush(w, i, k0, j, 1, err, errsz);
   }
   return t ? 0 : -1;
 }
@@ -256,18 +263,31 @@ static int sim_item(void *ctx, void *wctx, size_t i, pool_worker *w, char *err,
 static int sim_write(void *ctx, void *slot, const void *info, char *err,
                      size_t errsz) {
   sim_job *J = ctx;
-  const sim_tile *t = slot;
-  (void)info;
-  if ((t->nk > 0 &&
-       sim_file_window(J->f, &t->w, t->c, t->k0, t->nk,
-                       J->p->common ? NULL : t->times, err, errsz)) ||
-      (t->last && sim_file_case(J->f, &t->v, t->c, err, errsz)))
+  const out_block *b = &((const sim_tile *)slot)->b;
+  const sim_info *in = info;
+  int failed = in->last && OUT_I(b, sim_status)[0] != RPS3_OK;
+  if (out_write(J->f, b, in->c, 1, in->k0, in->nk, in->last, err, errsz))
     return -1;
-  J->st.points_done += t->nk;
-  if (t->last && t->v.status != RPS3_OK)
-    sweep_failure(J->s, J->pr, t->c, t->v.message);
-  if (t->last) sweep_count(J->pr, &J->st, 1, 0, t->v.status != RPS3_OK);
+  J->st.points_done += in->nk;
+  if (failed) sweep_failure(J->s, J->pr, in->c, OUT_S(b, message)[0]);
+  if (in->last) sweep_count(J->pr, &J->st, 1, 0, failed);
   return 0;
+}
+
+/* Bytes of a file of ncase cases and npoint samples in all, uncompressed
+   (the per-case strings estimated): an estimate for the disk check. */
+static double sim_file_bytes(size_t ncase, size_t npoint) {
+  double per_point = 0, per_case = 0;
+  int i;
+  for (i = 0; i < OUT_NFIELD; i++)
+    if (!(out_field_table[i].files & OUT_SIM))
+      continue;
+    else if (out_field_table[i].shape == OUT_C)
+      per_case += out_field_table[i].type == OUT_STR ? 512.0 : 8.0;
+    else
+      per_point += 8.0 * (double)out_columns(out_field_table[i].shape, 0);
+  /* the scene, the scales and HDF5's metadata: a bound */
+  return per_point * (double)npoint + per_case * (double)ncase + 65536.0;
 }
 
 /* control periods or integrator steps a simulated second of case sc (the
@@ -361,6 +381,7 @@ static int sim_write_file(const scene *s, const sim_plan *p, const sim_args *a,
   pool_job job = {.ctx = &J,
                   .nitem = s->ncase,
                   .stride = 1,
+                  .info_size = sizeof(sim_info),
                   .slot_size = sizeof(sim_tile),
                   .slot_make = tile_make,
                   .slot_free = tile_free,

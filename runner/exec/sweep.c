@@ -409,7 +409,7 @@ static int block_make(void *ctx, void *slot, size_t i) {
     *b = *J->b;
     return 0;
   }
-  if (out_block_alloc(b, J->b->cases, J->b->points,
+  if (out_block_alloc(b, OUT_INV, J->b->cases, J->b->points,
                       J->p->first.model.opt.effects))
     return -1;
   b->fields = J->b->fields;

@@ -1,6 +1,6 @@
 /*
- * out_write.c - the writes of a runner file (output.h): a sweep's tiles,
- * a window of one case's samples, the per-case values of a run of cases.
+ * out_write.c - the writes of a runner file (output.h): a block's tiles,
+ * the per-case values of a run of cases.
  */
 #include "output.h"
 
@@ -86,18 +86,11 @@ int out_write(out_file *f, const out_block *b, size_t c0, size_t nc, size_t k0,
   return (b->packed && write_packed(f, b, err, errsz)) ||
                  (with_case && write_fields(f, buf, NULL, 0, b->cases, 1, c0,
                                             nc, 0, 1, err, errsz)) ||
-                 (!b->packed &&
+                 (!b->packed && nk > 0 &&
                   write_fields(f, buf, b->t, 1, b->cases, b->points, c0, nc, k0,
                                nk, err, errsz))
              ? -1
              : 0;
-}
-
-int out_write_window(out_file *f, void *const buf[], size_t points, size_t c,
-                     size_t k0, size_t nk, const double *times, char *err,
-                     size_t errsz) {
-  return write_fields(f, (const void *const *)buf, times, 1, 1, points, c, 1,
-                      k0, nk, err, errsz);
 }
 
 int out_write_case(out_file *f, const void *const val[], size_t c0, size_t nc,

@@ -88,12 +88,14 @@ static int inv(int i) { return (out_field_table[i].files & OUT_INV) != 0; }
 
 /* elements of field i per slot */
 static size_t slot_elems(const out_block *b, int i) {
-  return out_field_table[i].shape == OUT_C
-             ? 1
-             : b->points * out_columns(out_field_table[i].shape, b->neffect);
+  out_shape sh = out_field_table[i].shape;
+  return out_shape_has(sh, OUT_AX_TIME)
+             ? b->points * out_columns(sh, b->neffect)
+             : out_columns(sh, b->points);
 }
 
-int out_block_alloc(out_block *b, size_t cases, size_t points, int effects) {
+int out_block_alloc(out_block *b, int files, size_t cases, size_t points,
+                    int effects) {
   int i, e;
   memset(b, 0, sizeof *b);
   b->cases = cases;
@@ -104,7 +106,9 @@ int out_block_alloc(out_block *b, size_t cases, size_t points, int effects) {
   for (i = 0; i < OUT_NFIELD; i++) {
     size_t n =
         cases * slot_elems(b, i) * out_type_size(out_field_table[i].type);
-    if (inv(i) && !(b->buf[i] = calloc(1, n + OUT_SLACK))) goto fail;
+    if ((out_field_table[i].files & files) &&
+        !(b->buf[i] = calloc(1, n + OUT_SLACK)))
+      goto fail;
   }
   b->t = calloc(1, cases * points * sizeof *b->t + OUT_SLACK);
   b->yaml = calloc(cases, sizeof *b->yaml);
@@ -144,7 +148,7 @@ void out_block_blank(out_block *b, size_t slot, size_t k) {
     size_t cols = out_columns(out_field_table[i].shape, b->neffect);
     size_t lo = (slot * b->points + k) * cols,
            hi = (slot + 1) * b->points * cols;
-    if (out_field_table[i].shape != OUT_C && inv(i))
+    if (out_field_table[i].shape != OUT_C && b->buf[i])
       out_fill_n(
           (char *)b->buf[i] + lo * out_type_size(out_field_table[i].type),
           hi - lo, i);

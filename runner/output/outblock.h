@@ -391,11 +391,13 @@ const char *out_fields_attr(int files, out_mask mask, char *buf, size_t sz);
 
 /*
  * The buffers of one tile: up to `cases` cases of up to `points` samples.
- * buf[i], field i's buffer (the inverse sweep's fields only, else NULL),
- * is [cases][points][columns] (C order, the layout of the hyperslab),
- * strings are one pointer per case.  Samples of slot s, time index k
- * (counted from the tile's first sample) and column j are at
- * buf[i][(s * points + k) * columns + j].
+ * buf[i], field i's buffer (the fields of the files it was allocated for,
+ * else NULL), is [cases][points][columns] (C order, the layout of the
+ * hyperslab), strings are one pointer per case.  Samples of slot s, time
+ * index k (counted from the tile's first sample) and column j are at
+ * buf[i][(s * points + k) * columns + j].  A field without a time axis is
+ * [cases][columns]; of a design study's per-pose fields the columns are
+ * the poses, `points`.
  */
 typedef struct {
   size_t cases;             /* case slots */
@@ -421,6 +423,12 @@ typedef struct {
   unsigned char *pk_tmp; /* one chunk before deflate */
   size_t pk_tmp_cap;
 } out_block;
+
+/* the buffer of field OUT_id of block b, as its element type */
+#define OUT_D(b, id) ((double *)(b)->buf[OUT_##id])
+#define OUT_I(b, id) ((int32_t *)(b)->buf[OUT_##id])
+#define OUT_L(b, id) ((int64_t *)(b)->buf[OUT_##id])
+#define OUT_S(b, id) ((char **)(b)->buf[OUT_##id])
 
 /* points per call of rps3_inverse_batch in the runner, and the scratch
    they need: time, pose, rates, accelerations, lengths, theta, F, lambda,
@@ -482,8 +490,10 @@ const void *out_fill(int i);
 /* n fill values of field i (not a string) at dst */
 void out_fill_n(void *dst, size_t n, int i);
 
-/* Allocate a block; returns 0, or -1 (out of memory, nothing leaks). */
-int out_block_alloc(out_block *b, size_t cases, size_t points, int effects);
+/* Allocate a block for the fields of the files `files` (OUT_INV, ...);
+   returns 0, or -1 (out of memory, nothing leaks). */
+int out_block_alloc(out_block *b, int files, size_t cases, size_t points,
+                    int effects);
 
 /* Free a block's buffers; a zeroed block is accepted. */
 void out_block_free(out_block *b);

@@ -95,23 +95,13 @@ out_file *out_create(const char *path, const scene *s, int files, size_t nt,
 
 /*
  * Write a tile: slots [0, nc) of b hold cases c0 .. c0 + nc - 1, samples
- * [k0, k0 + nk).  Per-case fields (status, message, ...) are written only
- * when with_case is 1.  When b->packed, the per-sample fields are written
- * as the chunks out_pack made of this tile.  Returns 0 or -1 with err set.
+ * [k0, k0 + nk) (none when nk is 0).  Per-case fields (status, message,
+ * ...) are written only when with_case is 1.  When b->packed, the
+ * per-sample fields are written as the chunks out_pack made of this tile.
+ * Returns 0 or -1 with err set.
  */
 int out_write(out_file *f, const out_block *b, size_t c0, size_t nc, size_t k0,
               size_t nk, int with_case, char *err, size_t errsz);
-
-/*
- * Write samples [k0, k0 + nk) of case c from a window of that case alone:
- * buf[i] holds `points` rows of the columns of per-sample field i (of the
- * field's type) for every such field of the file; times the samples'
- * times, written to case_time when the grid differs (NULL otherwise).
- * 0 or -1 with err.
- */
-int out_write_window(out_file *f, void *const buf[], size_t points, size_t c,
-                     size_t k0, size_t nk, const double *times, char *err,
-                     size_t errsz);
 
 /* Write the fields without a time axis of cases c0 .. c0 + nc - 1: val[i]
    points at nc rows of field i's values (const char * for a string, NULL
@@ -122,44 +112,5 @@ int out_write_case(out_file *f, const void *const val[], size_t c0, size_t nc,
 /* Flush and close the file; returns 0 or -1 with err set.  f is freed
    either way; NULL is accepted. */
 int out_close(out_file *f, char *err, size_t errsz);
-
-/* ------------------------------------------------- a simulation's file */
-
-/*
- * The buffer of one window of one case: for each field of shape CT or CTL
- * `points` samples of 1 or 3 doubles, row k of field i at
- * buf[i] + k * columns (NULL for the per-case fields).
- */
-typedef struct {
-  size_t points;           /* samples per window */
-  double *buf[OUT_NFIELD]; /* OUT_SIM fields only */
-} sim_window;
-
-/* the per-case values of a case */
-typedef struct {
-  double tracking_error_max, failed_time;
-  int32_t status, failed_at;
-  int64_t nsteps, nevals, nticks, nsat;
-  char message[640];
-  const char *scene_resolved;
-} sim_case_values;
-
-/* Allocate the window buffers for `points` samples: 0, or -1. */
-int sim_window_alloc(sim_window *w, size_t points);
-void sim_window_free(sim_window *w);
-
-/* Write samples [k0, k0 + nk) of case c from the window (out_write_window;
-   times when the grid differs, else NULL).  0 or -1 with err set. */
-int sim_file_window(out_file *f, const sim_window *w, size_t c, size_t k0,
-                    size_t nk, const double *times, char *err, size_t errsz);
-
-/* Write the per-case values of case c (out_write_case).  0 or -1 with err
-   set. */
-int sim_file_case(out_file *f, const sim_case_values *v, size_t c, char *err,
-                  size_t errsz);
-
-/* Bytes of a file of ncase cases and npoint samples in all, uncompressed
-   (the per-case strings estimated): an estimate for the disk check. */
-double sim_file_bytes(size_t ncase, size_t npoint);
 
 #endif /* RPS3_RUNNER_OUTPUT_H */
