@@ -92,8 +92,3 @@ int out_write(out_file *f, const out_block *b, size_t c0, size_t nc, size_t k0,
              ? -1
              : 0;
 }
-
-int out_write_case(out_file *f, const void *const val[], size_t c0, size_t nc,
-                   char *err, size_t errsz) {
-  return write_fields(f, val, NULL, 0, nc, 1, c0, nc, 0, 1, err, errsz);
-}

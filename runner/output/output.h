@@ -103,12 +103,6 @@ out_file *out_create(const char *path, const scene *s, int files, size_t nt,
 int out_write(out_file *f, const out_block *b, size_t c0, size_t nc, size_t k0,
               size_t nk, int with_case, char *err, size_t errsz);
 
-/* Write the fields without a time axis of cases c0 .. c0 + nc - 1: val[i]
-   points at nc rows of field i's values (const char * for a string, NULL
-   for an empty one) for every such field of the file.  0 or -1 with err. */
-int out_write_case(out_file *f, const void *const val[], size_t c0, size_t nc,
-                   char *err, size_t errsz);
-
 /* Flush and close the file; returns 0 or -1 with err set.  f is freed
    either way; NULL is accepted. */
 int out_close(out_file *f, char *err, size_t errsz);
