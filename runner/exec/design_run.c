@@ -254,19 +254,10 @@ static size_t eval_design(const scene *s, const design_plan *p, size_t index,
 /* a design study as a job of the pool (pool.h): its items are this
    shard's work units, its slots tiles of one unit's designs */
 typedef struct {
-  const scene *s;
+  sweep_writer w; /* first: the ctx of sweep_write_tile */
   const design_plan *p;
-  out_file *f;
-  progress *pr;
-  sweep_stats *st;
   size_t *nempty;
 } design_job;
-
-/* what describes a filled tile: its designs, the poses and samples
-   evaluated */
-typedef struct {
-  size_t c0, nc, points;
-} unit_info;
 
 /* pool_job.worker_begin: a worker's workspace and pose arrays */
 static void *design_worker_begin(void *ctx) {
@@ -296,43 +287,41 @@ static int design_item(void *ctx, void *wctx, size_t u, pool_worker *w,
                        char *err, size_t errsz) {
   const design_job *J = ctx;
   out_block *t = pool_slot(w);
-  unit_info in;
+  out_tile in = {0};
   size_t j;
+  in.with_case = 1;
   in.c0 = u * J->p->unit;
   in.nc = in.c0 + J->p->unit <= J->p->ncase ? J->p->unit : J->p->ncase - in.c0;
-  in.points = 0;
   for (j = 0; j < in.nc; j++)
-    in.points += eval_design(J->s, J->p, in.c0 + j, wctx, t, j);
+    in.points += eval_design(J->w.s, J->p, in.c0 + j, wctx, t, j);
   return pool_emit(w, &in, err, errsz) ? 0 : -1;
 }
 
-/* pool_job.write: a unit's designs to the file, counted */
+/* pool_job.write: a unit's designs to the file, counted, the empty
+   workspaces too */
 static int design_write(void *ctx, void *slot, const void *info, char *err,
                         size_t errsz) {
   design_job *J = ctx;
   const out_block *t = slot;
-  const unit_info *in = info;
-  size_t j, failed = 0;
-  if (out_write(J->f, t, in->c0, in->nc, 0, 0, 1, err, errsz)) return -1;
+  const out_tile *in = info;
+  size_t j;
+  if (sweep_write_tile(ctx, slot, info, err, errsz)) return -1;
   for (j = 0; j < in->nc; j++)
-    if (OUT_I(t, des_status)[j] != 0) {
-      if (J->st->nfailed + failed++ == 0)
-        progress_failure(J->pr, in->c0 + j, "", OUT_S(t, des_message)[j]);
-    } else if (OUT_L(t, nreach)[j] == 0)
+    if (OUT_I(t, des_status)[j] == 0 && OUT_L(t, nreach)[j] == 0)
       (*J->nempty)++;
-  sweep_count(J->pr, J->st, in->nc, in->points, failed);
   return 0;
 }
 
 int design_run(const scene *s, const design_plan *p, out_file *f, size_t shard,
                size_t nshard, int nthread, progress *pr, sweep_stats *st,
                size_t *nempty, char *err, size_t errsz) {
-  design_job J = {s, p, f, pr, st, nempty};
+  design_job J = {
+      {s, f, pr, st, OUT_des_status, OUT_des_message, 0}, p, nempty};
   pool_job job = {.ctx = &J,
                   .nitem = p->nunit,
                   .first = shard,
                   .stride = nshard,
-                  .info_size = sizeof(unit_info),
+                  .info_size = sizeof(out_tile),
                   .slot_size = sizeof(out_block),
                   .slot_make = design_slot_make,
                   .slot_free = design_slot_free,

@@ -41,13 +41,6 @@ typedef struct {
   char message[640]; /* storage of the message */
 } sim_tile;
 
-/* what a filled window is: samples [k0, k0 + nk) of case c; last: the
-   case's last window, which holds its per-case values */
-typedef struct {
-  size_t c, k0, nk;
-  int last;
-} sim_info;
-
 /* the reference at t: the trajectory, after its span its final pose at
    rest, through the closed-form inverse kinematics */
 static int reference(const scene_case *c, rps3_data *r, double t) {
@@ -134,12 +127,8 @@ static double tick_time(double t, double rate) {
 
 /* a simulation as a job of the pool */
 typedef struct {
-  const scene *s;
-  const sim_plan *p;
-  out_file *f;
-  progress *pr;
-  size_t points; /* samples of a window */
-  sweep_stats st;
+  sweep_writer w; /* first: the ctx of sweep_write_tile */
+  size_t points;  /* samples of a window */
 } sim_job;
 
 /* pool_job.slot_make, slot_free: a window's buffers */
@@ -188,7 +177,12 @@ static int start(const scene *s, size_t i, scene_case *c, sim_case *sc,
 /* hand the window over: samples [k0, k0 + nk) of case c */
 static sim_tile *flush(pool_worker *w, size_t c, size_t k0, size_t nk, int last,
                        char *err, size_t errsz) {
-  sim_info in = {c, k0, nk, last};
+  out_tile in = {0};
+  in.c0 = c;
+  in.nc = 1;
+  in.k0 = k0;
+  in.nk = in.points = nk;
+  in.with_case = last;
   return pool_emit(w, &in, err, errsz);
 }
 
@@ -225,7 +219,7 @@ static int sim_item(void *ctx, void *wctx, size_t i, pool_worker *w, char *err,
   size_t n, j = 0, k0 = 0;
   int st;
   (void)wctx;
-  if (start(J->s, i, &c, &sc, &wk, &ctl, &st, err, errsz)) return -1;
+  if (start(J->w.s, i, &c, &sc, &wk, &ctl, &st, err, errsz)) return -1;
   for (n = 0; n < sc.nt && t; n++) {
     tn = sim_case_time(&c, &sc, n);
     if (st == RPS3_OK && n > 0)
@@ -256,22 +250,6 @@ static int sim_item(void *ctx, void *wctx, size_t i, pool_worker *w, char *err,
     t = flush(w, i, k0, j, 1, err, errsz);
   }
   return t ? 0 : -1;
-}
-
-/* pool_job.write: one window (and the case's values with its last one) to
-   the file, counted */
-static int sim_write(void *ctx, void *slot, const void *info, char *err,
-                     size_t errsz) {
-  sim_job *J = ctx;
-  const out_block *b = &((const sim_tile *)slot)->b;
-  const sim_info *in = info;
-  int failed = in->last && OUT_I(b, sim_status)[0] != RPS3_OK;
-  if (out_write(J->f, b, in->c, 1, in->k0, in->nk, in->last, err, errsz))
-    return -1;
-  J->st.points_done += in->nk;
-  if (failed) sweep_failure(J->s, J->pr, in->c, OUT_S(b, message)[0]);
-  if (in->last) sweep_count(J->pr, &J->st, 1, 0, failed);
-  return 0;
 }
 
 /* Bytes of a file of ncase cases and npoint samples in all, uncompressed
@@ -376,17 +354,19 @@ static void run_time(const scene *s, const sim_plan *p, int nthread, char *buf,
 static int sim_write_file(const scene *s, const sim_plan *p, const sim_args *a,
                           int nthread) {
   progress pr;
-  sim_job J = {s, p, NULL, &pr, p->nt < SIM_WINDOW ? p->nt : SIM_WINDOW, {0}};
+  sweep_stats st = {0};
+  sim_job J = {{s, NULL, &pr, &st, OUT_sim_status, OUT_message, 1},
+               p->nt < SIM_WINDOW ? p->nt : SIM_WINDOW};
   out_meta meta = {.command_line = a->command_line, .gzip = a->gzip};
   pool_job job = {.ctx = &J,
                   .nitem = s->ncase,
                   .stride = 1,
-                  .info_size = sizeof(sim_info),
+                  .info_size = sizeof(out_tile),
                   .slot_size = sizeof(sim_tile),
                   .slot_make = tile_make,
                   .slot_free = tile_free,
                   .run = sim_item,
-                  .write = sim_write};
+                  .write = sweep_write_tile};
   double *times = NULL;
   size_t k;
   int rc = -1;
@@ -400,22 +380,22 @@ static int sim_write_file(const scene *s, const sim_plan *p, const sim_args *a,
   if (!p->common || (times = malloc(p->nt * sizeof *times))) {
     for (k = 0; times && k < p->nt; k++)
       times[k] = sim_case_time(&p->first, &p->sfirst, k);
-    J.f = out_create(tmpout_path(), s, OUT_SIM, p->nt, times, J.points, NULL,
-                     &meta, err, sizeof err);
+    J.w.f = out_create(tmpout_path(), s, OUT_SIM, p->nt, times, J.points, NULL,
+                       &meta, err, sizeof err);
   }
   free(times);
-  if (J.f) {
+  if (J.w.f) {
     snprintf(err, sizeof err, "out of memory");
     rc = pool_run(&job, nthread, err, sizeof err);
-    if (out_close(J.f, rc ? NULL : err, sizeof err) && rc == 0) rc = -1;
+    if (out_close(J.w.f, rc ? NULL : err, sizeof err) && rc == 0) rc = -1;
   }
   if (rc) fprintf(stderr, "rps3-run: %s: %s\n", a->out_path, err);
   if (rc || tmpout_commit(a->out_path)) {
     tmpout_discard();
     return EXIT_IO;
   }
-  progress_finish(&pr, s->ncase, p->npoint, J.st.nfailed);
-  return J.st.nfailed ? EXIT_FAILED_CASES : EXIT_OK;
+  progress_finish(&pr, s->ncase, p->npoint, st.nfailed);
+  return st.nfailed ? EXIT_FAILED_CASES : EXIT_OK;
 }
 
 int sim_main(const scene *s, const sim_args *a) {

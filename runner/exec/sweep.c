@@ -22,16 +22,6 @@
    does the chunk index (about 64 bytes a chunk) beside the data */
 #define SWEEP_CHUNK_MIN 128
 
-/* a filled block to write: slots [0, nc) are cases c0 .., samples
-   [k0, k0 + nk); and what it adds to the run's counts */
-typedef struct {
-  size_t c0, nc, k0, nk;
-  int with_case;      /* write the per-case fields too */
-  size_t blank_below; /* > 0: first write the (blank) block over the windows
-                         [0, blank_below) of case c0: a late failure */
-  size_t points;      /* samples computed */
-} tile;
-
 /* round n up to a multiple of q */
 static size_t round_up(size_t n, size_t q) { return (n + q - 1) / q * q; }
 
@@ -211,15 +201,19 @@ static void sweep_case_label(const scene *s, size_t c, char *buf, size_t sz) {
   }
 }
 
-void sweep_failure(const scene *s, progress *pr, size_t c, const char *msg) {
+/* the reason of the run's first failed case c, the case named by its
+   swept values */
+static void sweep_failure(const scene *s, progress *pr, size_t c,
+                          const char *msg) {
   char what[512];
   if (pr->failure_shown) return;
   sweep_case_label(s, c, what, sizeof what);
   progress_failure(pr, c, what, msg);
 }
 
-void sweep_count(progress *pr, sweep_stats *st, size_t cases, size_t points,
-                 size_t failed) {
+/* what a written tile adds to st, and the progress */
+static void sweep_count(progress *pr, sweep_stats *st, size_t cases,
+                        size_t points, size_t failed) {
   st->cases_done += cases;
   st->points_done += points;
   st->nfailed += failed;
@@ -249,19 +243,16 @@ size_t sweep_shard_cases(const scene *s, const sweep_plan *p, size_t shard,
 /* a sweep as a job of the pool (pool.h): its items are the jobs of the
    shard, its slots tile blocks */
 typedef struct {
-  const scene *s;
+  sweep_writer w; /* first: the ctx of sweep_write_tile */
   const sweep_plan *p;
-  out_file *f;
   out_block *b;      /* the caller's block: slot 0 */
   out_layout layout; /* the file's chunks, for out_pack */
-  sweep_stats *st;
-  progress *pr;
 } sweep_job;
 
 /* hand the filled tile t of *b to the pool, and take the block to fill
    next into *b: 0, or -1 with err */
 static int emit(const sweep_job *J, pool_worker *w, out_block **b,
-                const tile *t, char *err, size_t errsz) {
+                const out_tile *t, char *err, size_t errsz) {
   /* on threads, deflate and checksum here, in parallel, not on the writing
      thread.  On one thread and uncompressed, the chunks as the file stores
      them (out_pack: the Fletcher-32 here, full chunks stored from the
@@ -283,9 +274,9 @@ static int emit(const sweep_job *J, pool_worker *w, out_block **b,
 /* job j as a tile of whole cases */
 static int job_whole(const sweep_job *J, size_t j, out_block **bp,
                      rps3_data *ws[], pool_worker *w, char *err, size_t errsz) {
-  const scene *s = J->s;
+  const scene *s = J->w.s;
   out_block *b = *bp;
-  tile t;
+  out_tile t;
   size_t slot;
   memset(&t, 0, sizeof t);
   t.c0 = j * b->cases;
@@ -321,8 +312,8 @@ static int job_windows(const sweep_job *J, size_t j, out_block **bp,
   rps3_data *d;
   size_t end;
   int rc = RPS3_OK;
-  tile t;
-  if (case_begin(J->s, j, &c, err, errsz) ||
+  out_tile t;
+  if (case_begin(J->w.s, j, &c, err, errsz) ||
       !(d = case_workspace(ws, &c, err, errsz)))
     return -1;
   /* windows past the case's last chunk are not written */
@@ -364,27 +355,25 @@ static int sweep_item(void *ctx, void *wctx, size_t j, pool_worker *w,
              : job_whole(J, j, &b, wctx, w, err, errsz);
 }
 
-/* pool_job.write: a filled block to the file, counted, its first failed
-   case said */
-static int sweep_write(void *ctx, void *slot, const void *info, char *err,
-                       size_t errsz) {
-  const sweep_job *J = ctx;
+int sweep_write_tile(void *ctx, void *slot, const void *info, char *err,
+                     size_t errsz) {
+  const sweep_writer *W = ctx;
   const out_block *b = slot;
-  const tile *t = info;
+  const out_tile *t = info;
   size_t k, failed = 0;
-  /* a late failure: first the blank block over the case's earlier windows */
-  for (k = 0; k < t->blank_below; k += b->points)
-    if (out_write(J->f, b, t->c0, 1, k, b->points, 0, err, errsz)) return -1;
-  if (out_write(J->f, b, t->c0, t->nc, t->k0, t->nk, t->with_case, err, errsz))
-    return -1;
+  if (out_write(W->f, b, t, err, errsz)) return -1;
   /* the cases a tile completes are those it writes the per-case fields
-     of; a window before a case's last has status ok */
-  for (k = 0; k < t->nc; k++)
-    if (((const int32_t *)b->buf[OUT_status])[k] != RPS3_OK) {
-      sweep_failure(J->s, J->pr, t->c0 + k, b->msg[k]);
+     of */
+  for (k = 0; t->with_case && k < t->nc; k++)
+    if (((const int32_t *)b->buf[W->status])[k] != RPS3_OK) {
+      const char *msg = ((char *const *)b->buf[W->message])[k];
+      if (W->label)
+        sweep_failure(W->s, W->pr, t->c0 + k, msg);
+      else
+        progress_failure(W->pr, t->c0 + k, "", msg);
       failed++;
     }
-  sweep_count(J->pr, J->st, t->with_case ? t->nc : 0, t->points, failed);
+  sweep_count(W->pr, W->st, t->with_case ? t->nc : 0, t->points, failed);
   return 0;
 }
 
@@ -428,19 +417,19 @@ static void block_free(void *ctx, void *slot, size_t i) {
 int sweep_run_opts(const scene *s, const sweep_plan *p, out_file *f,
                    out_block *b, const sweep_opts *o, progress *pr,
                    sweep_stats *st, char *err, size_t errsz) {
-  sweep_job J = {s, p, f, b, f->layout, st, pr};
+  sweep_job J = {{s, f, pr, st, OUT_status, OUT_message, 1}, p, b, f->layout};
   pool_job job = {.ctx = &J,
                   .nitem = sweep_njob(s, p),
                   .first = o->shard,
                   .stride = o->nshard,
-                  .info_size = sizeof(tile),
+                  .info_size = sizeof(out_tile),
                   .slot_size = sizeof(out_block),
                   .slot_make = block_make,
                   .slot_free = block_free,
                   .worker_begin = workspaces_begin,
                   .worker_end = workspaces_end,
                   .run = sweep_item,
-                  .write = sweep_write};
+                  .write = sweep_write_tile};
   memset(st, 0, sizeof *st);
   if (o->nshard < 1 || o->shard >= o->nshard || o->nthread < 1) {
     snprintf(err, errsz, "bad shard %zu/%zu or thread count %d", o->shard,

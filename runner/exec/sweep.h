@@ -78,12 +78,21 @@ int sweep_run_opts(const scene *s, const sweep_plan *p, out_file *f,
                    out_block *b, const sweep_opts *o, progress *pr,
                    sweep_stats *st, char *err, size_t errsz);
 
-/* Print the reason of the run's first failed case c once, also when
-   quiet (progress_failure), the case named by its swept values. */
-void sweep_failure(const scene *s, progress *pr, size_t c, const char *msg);
+/* what the write of a filled block needs: every job of the pool (pool.h)
+   writes through sweep_write_tile */
+typedef struct {
+  const scene *s;
+  out_file *f;
+  progress *pr;
+  sweep_stats *st;
+  int status, message; /* the fields of a case's outcome */
+  int label;           /* 1: a failed case is named by its swept values */
+} sweep_writer;
 
-/* Add what a written tile holds to st and show the progress. */
-void sweep_count(progress *pr, sweep_stats *st, size_t cases, size_t points,
-                 size_t failed);
+/* pool_job.write of every job (ctx its sweep_writer, slot an out_block,
+   info an out_tile): the tile written, counted, the run's first failed
+   case said (also when quiet: progress_failure).  0, or -1 with err. */
+int sweep_write_tile(void *ctx, void *slot, const void *info, char *err,
+                     size_t errsz);
 
 #endif /* RPS3_RUNNER_SWEEP_H */

@@ -78,17 +78,23 @@ static int write_fields(out_file *f, const void *const buf[], const double *t,
   return rc;
 }
 
-int out_write(out_file *f, const out_block *b, size_t c0, size_t nc, size_t k0,
-              size_t nk, int with_case, char *err, size_t errsz) {
+int out_write(out_file *f, const out_block *b, const out_tile *t, char *err,
+              size_t errsz) {
   const void *buf[OUT_NFIELD];
+  size_t k;
   int i;
   for (i = 0; i < OUT_NFIELD; i++) buf[i] = b->buf[i];
+  for (k = 0; k < t->blank_below; k += b->points)
+    if (write_fields(f, buf, b->t, 1, b->cases, b->points, t->c0, 1, k,
+                     b->points, err, errsz))
+      return -1;
   return (b->packed && write_packed(f, b, err, errsz)) ||
-                 (with_case && write_fields(f, buf, NULL, 0, b->cases, 1, c0,
-                                            nc, 0, 1, err, errsz)) ||
-                 (!b->packed && nk > 0 &&
-                  write_fields(f, buf, b->t, 1, b->cases, b->points, c0, nc, k0,
-                               nk, err, errsz))
+                 (t->with_case &&
+                  write_fields(f, buf, NULL, 0, b->cases, 1, t->c0, t->nc, 0, 1,
+                               err, errsz)) ||
+                 (!b->packed && t->nk > 0 &&
+                  write_fields(f, buf, b->t, 1, b->cases, b->points, t->c0,
+                               t->nc, t->k0, t->nk, err, errsz))
              ? -1
              : 0;
 }

@@ -93,15 +93,21 @@ out_file *out_create(const char *path, const scene *s, int files, size_t nt,
                      const void *axis, size_t chunk_points, const out_block *b,
                      const out_meta *meta, char *err, size_t errsz);
 
-/*
- * Write a tile: slots [0, nc) of b hold cases c0 .. c0 + nc - 1, samples
- * [k0, k0 + nk) (none when nk is 0).  Per-case fields (status, message,
- * ...) are written only when with_case is 1.  When b->packed, the
- * per-sample fields are written as the chunks out_pack made of this tile.
- * Returns 0 or -1 with err set.
- */
-int out_write(out_file *f, const out_block *b, size_t c0, size_t nc, size_t k0,
-              size_t nk, int with_case, char *err, size_t errsz);
+/* a filled block to write: slots [0, nc) hold cases c0 .., samples
+   [k0, k0 + nk) (none when nk is 0); with the per-case fields (status,
+   message, ...) when with_case; and what it adds to the run's counts */
+typedef struct {
+  size_t c0, nc, k0, nk;
+  int with_case;
+  size_t blank_below; /* > 0: first the (blank) block over the windows
+                         [0, blank_below) of case c0: a late failure */
+  size_t points;      /* samples computed */
+} out_tile;
+
+/* Write tile t of b; when b->packed, the per-sample fields as the chunks
+   out_pack made of it.  Returns 0 or -1 with err set. */
+int out_write(out_file *f, const out_block *b, const out_tile *t, char *err,
+              size_t errsz);
 
 /* Flush and close the file; returns 0 or -1 with err set.  f is freed
    either way; NULL is accepted. */
