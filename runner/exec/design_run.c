@@ -10,8 +10,6 @@
 #include "estimate.h"
 #include "pool.h"
 
-/* ------------------------------------------------------------------ plan */
-
 int design_plan_make(const scene *s, design_plan *p, scene_error *err) {
   scene_case c;
   size_t i, per;
@@ -107,8 +105,6 @@ out_file *design_file_open(const char *path, const scene *s,
   sp.tile_cases = sp.case_chunk = p->unit < p->ncase ? p->unit : p->ncase;
   return out_open(path, s, &sp, meta, err, errsz);
 }
-
-/* ------------------------------------------------------------- evaluate */
 
 /* what a worker needs: a workspace and the arrays of one design's poses */
 typedef struct {
@@ -336,8 +332,6 @@ int design_run(const scene *s, const design_plan *p, out_file *f, size_t shard,
            nthread == 1 ? "" : "s");
   return pool_run(&job, nthread, err, errsz);
 }
-
-/* ------------------------------------------------------------- estimate */
 
 /* poses of the coarser grid that times a design of a large grid */
 #define DESIGN_TIMED_POSES 8192

@@ -249,8 +249,6 @@ int est_room(const char *out_path, const char *kind, size_t ncase,
   return est_fits(out_path, need, gzip);
 }
 
-/* ------------------------------------------------------------ preflight */
-
 int pre_jobs(const scene *s, const sweep_plan *p, const sweep_opts *o,
              const pre_opts *po) {
   size_t nj = sweep_njob(s, p);

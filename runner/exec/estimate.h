@@ -56,8 +56,6 @@ void est_check_print(const char *path, const char *kind, size_t ncase,
 int est_room(const char *out_path, const char *kind, size_t ncase,
              size_t npoint, double need, int gzip, int quiet, const char *when);
 
-/* --------------------------------------------- the sweep's preflight */
-
 /* who runs: this process's rank of nrank (0 of 1 without MPI) */
 typedef struct {
   int rank;

@@ -14,8 +14,6 @@
    step (the rule of trajectory.dt, scene.c) */
 #define WHOLE_RTOL 1e-9
 
-/* ------------------------------------------------------------ errors */
-
 /* err at the value that set key k in case `index`: its swept value, the
    key in the file, or the simulate section */
 static void key_error(const scene *s, size_t index, int k, const char *msg,
@@ -65,8 +63,6 @@ static int model_key(int id) {
   default: return -1;
   }
 }
-
-/* ------------------------------------------------------------- cases */
 
 /* the controller's model: the plant's, with the given overrides */
 static int ctrl_model(const scene *s, const scene_case *c, sim_case *sc,
@@ -245,8 +241,6 @@ double sim_case_time(const scene_case *c, const sim_case *sc, size_t k) {
   if (k < c->nt) return scene_case_time(c, k);
   return (double)k * sc->step;
 }
-
-/* ------------------------------------------------------------- check */
 
 static int same_grid(const scene_case *a, const sim_case *sa,
                      const scene_case *b, const sim_case *sb) {

@@ -178,8 +178,6 @@ static int slot_begin(const scene_case *c, out_block *b, size_t slot, char *err,
   return 0;
 }
 
-/* ----------------------------------------------------------------- tiles */
-
 /* "key = value, ..." of case c's swept keys (enums by name), "" without a
    sweep: how messages name a case */
 static void sweep_case_label(const scene *s, size_t c, char *buf, size_t sz) {
@@ -219,8 +217,6 @@ static void sweep_count(progress *pr, sweep_stats *st, size_t cases,
   st->nfailed += failed;
   progress_update(pr, st->cases_done, st->points_done);
 }
-
-/* ------------------------------------------------------------------ jobs */
 
 size_t sweep_njob(const scene *s, const sweep_plan *p) {
   return (s->ncase + p->tile_cases - 1) / p->tile_cases;
@@ -340,8 +336,6 @@ static int job_windows(const sweep_job *J, size_t j, out_block **bp,
   }
   return 0;
 }
-
-/* ------------------------------------------------------------------- run */
 
 /* pool_job.run: job j of the sweep on worker w (a tile of whole cases, or
    one long case in windows); ws holds the workspaces, one per solver

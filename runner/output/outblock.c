@@ -10,8 +10,6 @@
 #include <stdlib.h>
 #include <string.h>
 
-/* ------------------------------------------------------------ the schema */
-
 #define OUT_FIELD_ROW(id, name, files, shape, type, flags, units, long_name, \
                       doc)                                                   \
   {#name, files, shape, type, flags, units, long_name, doc},
@@ -181,8 +179,6 @@ void out_schema_print(int files) {
     printf(" %s |\n", fi->doc);
   }
 }
-
-/* ---------------------------------------------------------------- fields */
 
 out_mask out_fields_all(void) {
   out_mask m = 0;

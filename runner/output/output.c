@@ -75,8 +75,6 @@ static int write_scene_text(out_file *f, const scene *s, char *err,
   return rc;
 }
 
-/* ----------------------------------------------------------- the scales */
-
 /* the file's dimension scales: a dataset (or -1) and extent per axis */
 typedef struct {
   hid_t id[OUT_NAXIS];
@@ -208,8 +206,6 @@ static int make_scales(out_file *f, const scene *s, scales *sc, char *err,
   return 0;
 }
 
-/* ----------------------------------------------------------- the fields */
-
 /*
  * The per-case datasets of a file written a case at a time (in whatever
  * order the cases end) are reopened with a chunk cache (CASE_CACHE bytes
@@ -302,8 +298,6 @@ static int make_case_time(out_file *f, const out_meta *meta, const scales *sc,
   }
   return 0;
 }
-
-/* ------------------------------------------------------------- the file */
 
 /* the file itself, its string type and root attributes; the layout */
 static out_file *file_open(const char *path, const scene *s, const out_spec *sp,
