@@ -170,7 +170,7 @@ static int sweep_write(run_job *j, const out_meta *meta, progress *pr,
   }
   sj->block.fields = sj->a->fields;
   pr->njob_all = sweep_njob(s, plan);
-  pr->njob = sweep_shard_jobs(s, plan, sj->opts->shard, sj->opts->nshard);
+  pr->njob = pool_count(pr->njob_all, sj->opts->shard, sj->opts->nshard);
   /* the shard's samples, in proportion to its cases (exact unsharded) */
   pr->npoint = s->ncase ? (size_t)((double)plan->npoint * (double)pr->ncase /
                                    (double)s->ncase)

@@ -1,7 +1,5 @@
-/*
- * compute.h - one case of a sweep, self-contained: a case, its own
- * workspace, its own slot of the output block.
- */
+/* compute.h - one case of a sweep, self-contained: its own workspace, its
+   own slot of the output block. */
 #ifndef RPS3_RUNNER_COMPUTE_H
 #define RPS3_RUNNER_COMPUTE_H
 
@@ -10,17 +8,12 @@
 #include "output/output.h"
 #include "scene/scene.h"
 
-/*
- * Compute samples [k0, k0 + nk) of case c into slot `slot` of b, with the
- * workspace d (allocated for c's solver).  Each sample
- * evaluates the trajectory (rps3_traj_eval) and runs the pipeline
- * (rps3_inverse).  k0 == 0 starts the case: rps3_data_reset(d), so that
- * no warm start leaks from the previous case.  Nothing is shared between
- * cases, so cases may run on as many threads as there are workspaces.
- * Returns RPS3_OK, or the status of the first failing sample with
- * *failed_at set to its time index and the reason in b->msg[slot]; the
- * samples after it are not computed.
- */
+/* Compute samples [k0, k0 + nk) of case c into slot `slot` of b with the
+   workspace d (allocated for c's solver): the trajectory, then the
+   pipeline.  k0 == 0 starts the case (rps3_data_reset: no warm start leaks
+   from the previous case).  Returns RPS3_OK, or the status of the first
+   failing sample with *failed_at its time index and the reason in
+   b->msg[slot]; the samples after it are not computed. */
 int case_compute(const scene_case *c, rps3_data *d, size_t k0, size_t nk,
                  out_block *b, size_t slot, size_t *failed_at);
 

@@ -8,7 +8,6 @@
 #include <string.h>
 
 #include "estimate.h"
-#include "pool.h"
 
 int design_plan_make(const scene *s, design_plan *p, scene_error *err) {
   scene_case c;

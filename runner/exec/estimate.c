@@ -252,7 +252,7 @@ int est_room(const char *out_path, const char *kind, size_t ncase,
 int pre_jobs(const scene *s, const sweep_plan *p, const sweep_opts *o,
              const pre_opts *po) {
   size_t nj = sweep_njob(s, p);
-  size_t mine = sweep_shard_jobs(s, p, o->shard, o->nshard);
+  size_t mine = pool_count(nj, o->shard, o->nshard);
   if (o->nshard > nj && po->nrank == 1) {
     /* a part that can hold nothing is a sizing mistake: the merge would
        need it all the same */
@@ -289,7 +289,7 @@ int pre_jobs(const scene *s, const sweep_plan *p, const sweep_opts *o,
 static int run_time(const scene *s, const sweep_plan *p, const sweep_opts *o,
                     const pre_opts *po, est_cost *c, char *buf, size_t sz) {
   size_t cases = sweep_shard_cases(s, p, o->shard, o->nshard);
-  size_t jobs = sweep_shard_jobs(s, p, o->shard, o->nshard);
+  size_t jobs = pool_count(sweep_njob(s, p), o->shard, o->nshard);
   double samples = (double)p->npoint * (double)cases / (double)s->ncase;
   /* -j 1 computes and writes on one thread; -j N on N workers and a
      writer */

@@ -10,7 +10,6 @@
 #include "core/tmpout.h"
 #include "estimate.h"
 #include "output/output.h"
-#include "pool.h"
 #include "simulate.h"
 #include "sweep.h"
 

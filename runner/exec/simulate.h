@@ -1,14 +1,10 @@
 /*
  * simulate.h - rps3-run on a scene with a `simulate:` section: each case is
- * simulated (rps3_sim) under the section's controller instead of running
- * the inverse dynamics, into a file of its own schema (output.h).
- *
- * The plant is the case's manipulator with its effects (c->model); the
- * controller (rps3_ctrl) follows the case's trajectory with its own model:
- * the plant's, with the simulate.model.* keys given overriding its values.
- * The run starts on the trajectory at t = 0 and lasts simulate.duration
- * (default: the trajectory's span); samples are the trajectory's time grid
- * (samples or dt), continued past the span with the same step.
+ * simulated (rps3_sim) under the section's controller, into a file of its
+ * own schema.  The controller follows the case's trajectory with the
+ * plant's model, the simulate.model.* keys given overriding it; the run
+ * starts on the trajectory at t = 0 and lasts simulate.duration (default:
+ * the span), sampled on the trajectory's grid continued past the span.
  */
 #ifndef RPS3_RUNNER_SIMULATE_H
 #define RPS3_RUNNER_SIMULATE_H

@@ -11,7 +11,6 @@
 #include <string.h>
 
 #include "compute.h"
-#include "pool.h"
 
 /* samples in one tile of output: bounds the memory of a run */
 #define SWEEP_TILE_POINTS 16384
@@ -146,7 +145,6 @@ int sweep_plan_make(const scene *s, sweep_plan *p, scene_error *err) {
   return 0;
 }
 
-/* build case `index` */
 static int case_begin(const scene *s, size_t index, scene_case *c, char *err,
                       size_t errsz) {
   scene_error e;
@@ -199,32 +197,8 @@ static void sweep_case_label(const scene *s, size_t c, char *buf, size_t sz) {
   }
 }
 
-/* the reason of the run's first failed case c, the case named by its
-   swept values */
-static void sweep_failure(const scene *s, progress *pr, size_t c,
-                          const char *msg) {
-  char what[512];
-  if (pr->failure_shown) return;
-  sweep_case_label(s, c, what, sizeof what);
-  progress_failure(pr, c, what, msg);
-}
-
-/* what a written tile adds to st, and the progress */
-static void sweep_count(progress *pr, sweep_stats *st, size_t cases,
-                        size_t points, size_t failed) {
-  st->cases_done += cases;
-  st->points_done += points;
-  st->nfailed += failed;
-  progress_update(pr, st->cases_done, st->points_done);
-}
-
 size_t sweep_njob(const scene *s, const sweep_plan *p) {
   return (s->ncase + p->tile_cases - 1) / p->tile_cases;
-}
-
-size_t sweep_shard_jobs(const scene *s, const sweep_plan *p, size_t shard,
-                        size_t nshard) {
-  return pool_count(sweep_njob(s, p), shard, nshard);
 }
 
 size_t sweep_shard_cases(const scene *s, const sweep_plan *p, size_t shard,
@@ -354,20 +328,22 @@ int sweep_write_tile(void *ctx, void *slot, const void *info, char *err,
   const sweep_writer *W = ctx;
   const out_block *b = slot;
   const out_tile *t = info;
-  size_t k, failed = 0;
+  size_t k;
+  char what[512] = "";
   if (out_write(W->f, b, t, err, errsz)) return -1;
   /* the cases a tile completes are those it writes the per-case fields
-     of */
+     of; the first failure is said once (its label made once) */
   for (k = 0; t->with_case && k < t->nc; k++)
     if (((const int32_t *)b->buf[W->status])[k] != RPS3_OK) {
-      const char *msg = ((char *const *)b->buf[W->message])[k];
-      if (W->label)
-        sweep_failure(W->s, W->pr, t->c0 + k, msg);
-      else
-        progress_failure(W->pr, t->c0 + k, "", msg);
-      failed++;
+      if (W->label && !W->pr->failure_shown)
+        sweep_case_label(W->s, t->c0 + k, what, sizeof what);
+      progress_failure(W->pr, t->c0 + k, what,
+                       ((char *const *)b->buf[W->message])[k]);
+      W->st->nfailed++;
     }
-  sweep_count(W->pr, W->st, t->with_case ? t->nc : 0, t->points, failed);
+  W->st->cases_done += t->with_case ? t->nc : 0;
+  W->st->points_done += t->points;
+  progress_update(W->pr, W->st->cases_done, W->st->points_done);
   return 0;
 }
 

@@ -19,6 +19,7 @@
 
 #include "core/progress.h"
 #include "output/output.h"
+#include "pool.h"
 #include "scene/scene.h"
 
 typedef struct {
@@ -55,25 +56,16 @@ int sweep_plan_make(const scene *s, sweep_plan *p, scene_error *err);
 /* Number of jobs of a plan: ceil(ncase / tile_cases). */
 size_t sweep_njob(const scene *s, const sweep_plan *p);
 
-/* Jobs of shard `shard` of `nshard`: those j with j % nshard == shard. */
-size_t sweep_shard_jobs(const scene *s, const sweep_plan *p, size_t shard,
-                        size_t nshard);
-
-/* Cases in the jobs of shard `shard` of `nshard`. */
+/* Cases in the jobs of shard `shard` of `nshard` (pool_count's jobs). */
 size_t sweep_shard_cases(const scene *s, const sweep_plan *p, size_t shard,
                          size_t nshard);
 
-/*
- * Compute the cases of s of a shard into f as a job of the worker pool
- * (pool.h), in block b (allocated for the plan's tile) and, on threads,
- * in o->nthread + 1 more.  Failing cases are recorded in
- * status/message/failed_at with NaN rows, and the sweep goes on.  Tiles
- * may reach the file in any order; each hyperslab is written once (a
- * failing long case rewrites its own earlier windows, in order).  Cases
- * of other shards are not written: their chunks stay unallocated (fill
- * values: NaN, -1, "").  Returns 0, or -1 with err set when the file
- * cannot be written or memory runs out.
- */
+/* Compute the cases of s of a shard into f on the worker pool, in block b
+   (allocated for the plan's tile) and copies of it.  A failing case is
+   recorded (status, message, failed_at, NaN rows) and the sweep goes on;
+   each hyperslab is written once (a failing long case rewrites its own
+   earlier windows).  Other shards' chunks stay unallocated (the fill
+   values).  Returns 0, or -1 with err (the file, memory). */
 int sweep_run_opts(const scene *s, const sweep_plan *p, out_file *f,
                    out_block *b, const sweep_opts *o, progress *pr,
                    sweep_stats *st, char *err, size_t errsz);

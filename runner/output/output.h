@@ -1,12 +1,8 @@
 /*
  * output.h - the HDF5 file of an inverse sweep, a simulation or a design
- * study: the one writer of the schema RPS3_OUTPUT_FIELDS (outblock.h).
- * The coordinates (the dimension scales, the swept keys, case_time) are
- * written by output.c itself.
- *
- * The file is written in tiles: a tile is a run of whole cases, or one
- * window of samples of a single long case.  A tile is one hyperslab write
- * per field, so memory is bounded by the tile size, whatever the sweep size.
+ * study, the one writer of the schema (outblock.h), in tiles (a run of
+ * whole cases, or a window of one long case): one hyperslab write per
+ * field, memory bounded by the tile whatever the sweep.
  */
 #ifndef RPS3_RUNNER_OUTPUT_H
 #define RPS3_RUNNER_OUTPUT_H
@@ -66,29 +62,19 @@ typedef struct {
   const int *effect;   /* ... their indices, in file order */
 } out_spec;
 
-/*
- * Create the file at `path` (truncating it) for the cases of s and the
- * fields of sp->files (of an inverse sweep's, those of meta->fields): the
- * root attributes, the scene text, the dimension scales of the axes of
- * those fields, the swept keys, every field's dataset with its units,
- * description, CF attributes and fill value, and case_time when the grid
- * differs between cases.  Returns NULL with a message in err.
- */
+/* Create the file at `path` (truncating it) for the cases of s and the
+   fields of sp->files (of an inverse sweep's, those of meta->fields): the
+   root attributes, the scene text, the scales, the swept keys, each
+   field's dataset with its attributes, and case_time when the grid
+   differs between cases.  Returns NULL with a message in err. */
 out_file *out_open(const char *path, const scene *s, const out_spec *sp,
                    const out_meta *meta, char *err, size_t errsz);
 
-/*
- * A run's file (out_open): create the file at `path` (truncating it) for
- * the cases of s, of an inverse sweep (files OUT_INV) or of a simulation
- * (OUT_SIM): all datasets, dimension scales, attributes, the scene text,
- * the swept keys and, when the grid is common to all cases, the time axis
- * from `axis` (the sweep's first scene_case, the simulation's nt times), NULL
- * when the grid differs by case (then `time` is a sample index and case_time
- * holds the times).  nt is the largest number of samples of any case.  An
- * inverse sweep's chunks are [b->cases, chunk_points, ...] (a tile is a
- * whole number of chunks); a simulation's [1, chunk_points, (3)] (b NULL).
- * Returns NULL with a message in err.
- */
+/* out_open for an inverse sweep (files OUT_INV) or a simulation (OUT_SIM):
+   its time axis from `axis` (the sweep's first scene_case, the simulation's
+   nt times) when the grid is common to all cases, else NULL (case_time
+   holds the times).  An inverse sweep's chunks are [b->cases,
+   chunk_points, ...]; a simulation's [1, chunk_points, (3)] (b NULL). */
 out_file *out_create(const char *path, const scene *s, int files, size_t nt,
                      const void *axis, size_t chunk_points, const out_block *b,
                      const out_meta *meta, char *err, size_t errsz);
