@@ -1,7 +1,5 @@
-/*
- * compute.c - the per-sample pipeline of the runner: trajectory, inverse
- * dynamics, and the copy of the results into the output block.
- */
+/* compute.c - the runner's per-sample pipeline: trajectory, inverse
+   dynamics, the results into the output block. */
 #include "compute.h"
 
 #include <math.h>

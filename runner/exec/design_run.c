@@ -1,6 +1,4 @@
-/*
- * design_run.c - see design_run.h.
- */
+/* design_run.c - see design_run.h. */
 #include "design_run.h"
 
 #include <stdio.h>

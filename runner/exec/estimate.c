@@ -1,6 +1,4 @@
-/*
- * estimate.c - see estimate.h.
- */
+/* estimate.c - see estimate.h. */
 #include "estimate.h"
 
 #include <stdint.h>
@@ -55,7 +53,6 @@ static double gzip_s_per_byte(int level) {
    exceed any size_t. */
 static double est_file_bytes(const scene *s, const sweep_plan *p,
                              out_mask fields) {
-  double neff = 0;
   /* the chunks the plan allocates (sweep.h): per sample field, `stored`
      samples in chunks of tile_cases x chunk_points; per case, whole rows */
   const double tc = (double)p->tile_cases, nt = (double)p->nt;
@@ -66,26 +63,21 @@ static double est_file_bytes(const scene *s, const sweep_plan *p,
       (double)((s->ncase + p->tile_cases - 1) / p->tile_cases * p->tile_cases);
   double per_sample = 0, per_case = 0, nds = 0, yaml = 600, total;
   scene_text t = {0};
-  size_t a;
-  int e;
-
-  for (e = 0; e < RPS3_NEFFECT; e++)
-    if (p->first.model.opt.effects & (1 << e)) neff += 1;
-
-#define EST_FIELD(id, name, files, shape, type, ...)                    \
-  if (OUT_HAS(fields, OUT_##id)) {                                      \
-    double cols = shape == OUT_CTEL                      ? 3 * neff     \
-                  : shape == OUT_CTL || shape == OUT_CTK ? 3            \
-                                                         : 1;           \
-    double size = type == OUT_F64 ? 8 : type == OUT_I32 ? 4 : VLEN_REF; \
-    if (shape == OUT_C)                                                 \
-      per_case += size;                                                 \
-    else                                                                \
-      per_sample += cols * size;                                        \
-    nds += 1;                                                           \
+  size_t a, neff = 0;
+  int i;
+  for (i = 0; i < RPS3_NEFFECT; i++)
+    if (p->first.model.opt.effects & (1 << i)) neff++;
+  for (i = 0; i < OUT_NFIELD; i++) {
+    const out_field_info *fi = &out_field_table[i];
+    double size =
+        fi->type == OUT_STR ? VLEN_REF : (double)out_type_size(fi->type);
+    if (!OUT_HAS(fields, i)) continue;
+    if (fi->shape == OUT_C)
+      per_case += size;
+    else
+      per_sample += (double)out_columns(fi->shape, neff) * size;
+    nds += 1;
   }
-  RPS3_OUTPUT_FIELDS(EST_FIELD)
-#undef EST_FIELD
   if (!p->grid_common) {
     per_sample += 8; /* case_time */
     nds += 1;
@@ -157,7 +149,8 @@ static int est_cost_measure(const scene *s, const sweep_plan *p,
   rps3_data *ws[RPS3_NSOLVER] = {NULL};
   size_t k;
   memset(c, 0, sizeof *c);
-  if (out_block_alloc(&b, OUT_INV, 1, EST_SAMPLES / ncase, p->first.model.opt.effects))
+  if (out_block_alloc(&b, OUT_INV, 1, EST_SAMPLES / ncase,
+                      p->first.model.opt.effects))
     return -1;
   /* the path the run takes: a file of the batch's fields is computed by
      rps3_inverse_batch (compute.c) */

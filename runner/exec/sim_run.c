@@ -1,10 +1,8 @@
 /*
  * sim_run.c - rps3-run on a simulated scene (simulate.h): check every
- * case, then simulate them as a job of the worker pool (pool.h: its items
- * the cases, its slots windows of samples, on this thread or on -j
- * threads) into the file of output.h, under a temporary name renamed
- * when complete (tmpout.h).  Only the thread that created the file calls
- * HDF5.
+ * case, then simulate them on the worker pool (its items the cases, its
+ * slots windows of samples) into a file under a temporary name, renamed
+ * when complete (tmpout.h).
  */
 #include "core/exit_codes.h"
 #include "core/tmpout.h"
@@ -176,12 +174,7 @@ static int start(const scene *s, size_t i, scene_case *c, sim_case *sc,
 /* hand the window over: samples [k0, k0 + nk) of case c */
 static sim_tile *flush(pool_worker *w, size_t c, size_t k0, size_t nk, int last,
                        char *err, size_t errsz) {
-  out_tile in = {0};
-  in.c0 = c;
-  in.nc = 1;
-  in.k0 = k0;
-  in.nk = in.points = nk;
-  in.with_case = last;
+  out_tile in = {c, 1, k0, nk, last, 0, nk};
   return pool_emit(w, &in, err, errsz);
 }
 

@@ -1,8 +1,5 @@
-/*
- * simulate.c - see simulate.h: build each simulated case from the scene's
- * simulate section, check them all, and run them into the file of
- * output.h, a window of samples at a time.
- */
+/* simulate.c - see simulate.h: each simulated case built from the
+   scene's simulate section and checked. */
 #include "simulate.h"
 
 #include <math.h>

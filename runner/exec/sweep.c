@@ -1,8 +1,6 @@
-/*
- * sweep.c - see sweep.h.  Each case is computed by case_compute() with a
- * workspace of its own solver kind into its own slot of the block; a job
- * turns into one or more tiles, each handed to the worker pool (pool.h).
- */
+/* sweep.c - see sweep.h: each case computed by case_compute() with a
+   workspace of its solver kind into its slot of a block; a job is one or
+   more tiles handed to the worker pool. */
 #include "sweep.h"
 
 #include <stdint.h>

@@ -1,6 +1,4 @@
-/*
- * out_cf.c - see out_cf.h.
- */
+/* out_cf.c - see out_cf.h. */
 #include "out_cf.h"
 
 #include <stdint.h>

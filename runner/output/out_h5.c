@@ -1,9 +1,5 @@
-/*
- * out_h5.c - the HDF5 helpers of the runner's files (out_h5.h): datasets
- * with units and descriptions, dimension scales, the hyperslab of a tile,
- * the time now; errors with HDF5's innermost cause.  The time stamp and
- * history are CF's (out_cf.c).
- */
+/* out_h5.c - see out_h5.h (the time stamp and history are CF's,
+   out_cf.c). */
 #include "out_h5.h"
 #include "core/h5err.h"
 

@@ -1,7 +1,4 @@
-/*
- * out_write.c - the writes of a runner file (output.h): a block's tiles,
- * the per-case values of a run of cases.
- */
+/* out_write.c - the writes of a runner file (output.h). */
 #include "output.h"
 
 #include <stdio.h>

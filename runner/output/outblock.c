@@ -1,8 +1,5 @@
-/*
- * outblock.c - the schema of the output (RPS3_OUTPUT_FIELDS as a table),
- * the tile buffers a sweep fills, and the selection of fields (--fields).
- * No HDF5 here: output.c writes what this describes.
- */
+/* outblock.c - the schema as a table, the tile buffers and the
+   selection of fields (--fields); no HDF5 (output.c writes). */
 #include "outblock.h"
 
 #include <math.h>

@@ -1,8 +1,7 @@
 /*
- * output.c - create a runner file (output.h) as a self-describing HDF5
- * file (netCDF-4 style: dimension scales on every axis, units and
- * description on every dataset), readable by h5py and by xarray through
- * h5netcdf.  The writes are in out_write.c.
+ * output.c - create a runner file (output.h), self-describing (netCDF-4
+ * style: dimension scales on every axis, units and description on every
+ * dataset), readable by h5py and by xarray through h5netcdf.
  */
 #include "output.h"
 #include "out_cf.h"
