@@ -6,7 +6,6 @@
 #include <string.h>
 #include <time.h>
 
-#include "compute.h"
 #include "core/safeio.h"
 #include "output/output.h"
 
@@ -153,7 +152,7 @@ static int est_cost_measure(const scene *s, const sweep_plan *p,
                       p->first.model.opt.effects))
     return -1;
   /* the path the run takes: a file of the batch's fields is computed by
-     rps3_inverse_batch (compute.c) */
+     rps3_inverse_batch (sweep.c) */
   b.fields = fields;
   for (k = 0; k < ncase; k++)
     time_case(s, ncase > 1 ? k * (s->ncase - 1) / (ncase - 1) : 0, &b, ws, c);

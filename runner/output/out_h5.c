@@ -118,10 +118,6 @@ done:
   return ds;
 }
 
-int out_h5_write_all(hid_t ds, hid_t type, const void *data) {
-  return H5Dwrite(ds, type, H5S_ALL, H5S_ALL, H5P_DEFAULT, data) < 0 ? -1 : 0;
-}
-
 int out_h5_tile(hid_t ds, hid_t dxpl, hid_t type, int timed, size_t cases,
                 size_t points, const void *buf, size_t c0, size_t nc, size_t k0,
                 size_t nk) {
@@ -156,7 +152,7 @@ hid_t out_h5_scale(hid_t file, hid_t str, const char *name, hid_t type,
   hid_t ds =
       out_h5_dataset(file, str, name, type, 1, &dim, NULL, 0, NULL, units, doc);
   if (ds < 0) return -1;
-  if ((data && out_h5_write_all(ds, type, data) < 0) ||
+  if ((data && H5Dwrite(ds, type, H5S_ALL, H5S_ALL, H5P_DEFAULT, data) < 0) ||
       H5DSset_scale(ds, name) < 0) {
     H5Dclose(ds);
     return -1;

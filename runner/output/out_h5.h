@@ -1,8 +1,5 @@
-/*
- * out_h5.h - the HDF5 helpers of the runner's files (out_h5.c): datasets
- * with units and descriptions, dimension scales, the hyperslab of a tile,
- * the time now; errors with HDF5's message.
- */
+/* out_h5.h - the HDF5 helpers of the runner's files: datasets with units
+   and descriptions, dimension scales, a tile's hyperslab, errors. */
 #ifndef RPS3_RUNNER_OUT_H5_H
 #define RPS3_RUNNER_OUT_H5_H
 
@@ -57,8 +54,5 @@ int out_h5_tile(hid_t ds, hid_t dxpl, hid_t type, int timed, size_t cases,
 /* the case and time scales and the swept values are written in runs of
    this many values: memory does not grow with the sweep */
 #define OUT_AXIS_RUN 65536
-
-/* Write all of a small dataset: 0, or -1. */
-int out_h5_write_all(hid_t ds, hid_t type, const void *data);
 
 #endif /* RPS3_RUNNER_OUT_H5_H */

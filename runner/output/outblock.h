@@ -397,7 +397,7 @@ typedef struct {
   scene_text *yaml; /* per slot: scene_resolved's storage */
   char (*msg)[320]; /* per slot: message's storage */
   out_mask fields;  /* the fields the file gets (--fields) */
-  /* scratch of the batch path (compute.c): OUT_BATCH points, structure of
+  /* scratch of the batch path (exec/sweep.c): OUT_BATCH points, structure of
      arrays, OUT_BATCH_DOUBLES and OUT_BATCH_INTS values a point */
   double *bx;
   int *bi;
@@ -419,7 +419,7 @@ typedef struct {
 #define OUT_S(b, id) ((char **)(b)->buf[OUT_##id])
 
 /* points per call of rps3_inverse_batch in the runner, and the scratch
-   they need (compute.c): time, pose and its rates, lengths, theta, F,
+   they need (exec/sweep.c): time, pose and its rates, lengths, theta, F,
    lambda, F_effect of every effect, link rates and accelerations, centre;
    status, warn, niter */
 #define OUT_BATCH 256

@@ -27,7 +27,7 @@ typedef struct {
                          (inputs.h): root attribute input_files */
 } out_meta;
 
-/* an open file (the writers' own: output.c, out_write.c) */
+/* an open file (output.c's own) */
 typedef struct out_file {
   int files;       /* the rows of the schema it holds (out_spec) */
   const char *row; /* what a case is: "case", "design" */
@@ -38,9 +38,6 @@ typedef struct out_file {
   hid_t dxpl;           /* the tiles' transfer properties */
   out_layout layout;    /* for out_pack */
 } out_file;
-
-/* the HDF5 type of a schema field in f */
-hid_t out_field_type(const out_file *f, const out_field_info *fi);
 
 /* what a file holds and how it is chunked (out_open) */
 typedef struct {
