@@ -10,8 +10,6 @@
 #ifndef RPS3_RUNNER_DESIGN_RUN_H
 #define RPS3_RUNNER_DESIGN_RUN_H
 
-#include <stddef.h>
-
 #include "scene/design.h"
 #include "sweep.h"
 

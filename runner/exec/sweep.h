@@ -15,12 +15,9 @@
 #ifndef RPS3_RUNNER_SWEEP_H
 #define RPS3_RUNNER_SWEEP_H
 
-#include <stddef.h>
-
 #include "core/progress.h"
 #include "output/output.h"
 #include "pool.h"
-#include "scene/scene.h"
 
 typedef struct {
   size_t nt;           /* most samples of any case: the time axis */

@@ -55,7 +55,7 @@ typedef enum { OUT_F64, OUT_I32, OUT_I64, OUT_STR } out_type;
 #define OUT_POSE 16 /* a design study's with design.per_pose */
 #define OUT_DESIGN (OUT_DES | OUT_TASK | OUT_POSE)
 
-/* the CF flag attributes of a field (out_cf.h) */
+/* the CF flag attributes of a field (out_h5.h) */
 typedef enum {
   OUT_FLAGS_NONE,
   OUT_FLAGS_STATUS, /* flag_values: every rps3_status, not computed */

@@ -5,7 +5,6 @@
  * writes.
  */
 #include "output.h"
-#include "out_cf.h"
 #include "scene/design.h"
 #include "scene/inputs.h"
 

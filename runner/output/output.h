@@ -7,15 +7,8 @@
 #ifndef RPS3_RUNNER_OUTPUT_H
 #define RPS3_RUNNER_OUTPUT_H
 
-#include <stddef.h>
-#include <stdint.h>
-
-#include <hdf5.h>
-
-#include "out_cf.h"
 #include "out_h5.h"
 #include "outblock.h"
-#include "scene/scene.h"
 
 /* what the file says about the run */
 typedef struct {
