@@ -40,6 +40,14 @@ size_t design_shard_cases(const design_plan *p, size_t k, size_t n) {
   return c;
 }
 
+/* a design study as a job of the pool (pool.h): its items are this
+   shard's work units, its slots tiles of one unit's designs */
+typedef struct {
+  sweep_writer w; /* first: the ctx of sweep_write_tile */
+  const design_plan *p;
+  size_t *nempty;
+} design_job;
+
 /* reset slot j of tile t: the fill values, no strings (a tile's strings
    are its own) */
 static void tile_clear(out_block *t, size_t j) {
@@ -56,18 +64,21 @@ static void tile_clear(out_block *t, size_t j) {
   }
 }
 
-static void tile_free(out_block *t) {
-  size_t j;
-  for (j = 0; t->yaml && j < t->cases; j++) tile_clear(t, j);
-  out_block_free(t);
+/* pool_job.slot_make, slot_free: a tile of one unit's designs (of
+   p->unit designs of p->npose poses) */
+static int tile_make(void *ctx, void *slot, size_t i) {
+  const design_plan *p = ((const design_job *)ctx)->p;
+  out_block *t = slot;
+  if (out_block_alloc(t, p->files, p->unit, p->npose, 0)) return -1;
+  for (i = 0; i < p->unit; i++) tile_clear(t, i);
+  return 0;
 }
 
-/* a tile of `cap` designs of npose poses: 0, or -1 (out of memory) */
-static int tile_alloc(out_block *t, size_t cap, size_t npose, int files) {
-  size_t j;
-  if (out_block_alloc(t, files, cap, npose, 0)) return -1;
-  for (j = 0; j < cap; j++) tile_clear(t, j);
-  return 0;
+static void tile_free(void *ctx, void *slot, size_t i) {
+  out_block *t = slot;
+  (void)ctx;
+  for (i = 0; t->yaml && i < t->cases; i++) tile_clear(t, i);
+  out_block_free(t);
 }
 
 /* bytes of the file (uncompressed: an upper bound with --gzip) */
@@ -111,7 +122,10 @@ typedef struct {
   scene_text yaml;
 } worker_ws;
 
-static void worker_free(worker_ws *w) {
+/* pool_job.worker_end, worker_begin */
+static void worker_free(void *ctx, void *wctx) {
+  worker_ws *w = wctx;
+  (void)ctx;
   if (!w) return;
   rps3_design_ws_free(w->ws);
   free(w->flags);
@@ -120,13 +134,13 @@ static void worker_free(worker_ws *w) {
   free(w);
 }
 
-/* a worker for grids of up to npose poses; NULL when out of memory */
-static worker_ws *worker_new(size_t npose) {
+static void *worker_new(void *ctx) {
+  size_t npose = ((const design_job *)ctx)->p->npose;
   worker_ws *w = calloc(1, sizeof *w);
   if (w && (!(w->flags = malloc(npose * sizeof *w->flags)) ||
             !(w->c = malloc(3 * npose * sizeof *w->c)) ||
             rps3_design_ws_alloc(&w->ws) != RPS3_OK)) {
-    worker_free(w);
+    worker_free(ctx, w);
     w = NULL;
   }
   return w;
@@ -244,37 +258,6 @@ static size_t eval_design(const scene *s, const design_plan *p, size_t index,
   return done;
 }
 
-/* a design study as a job of the pool (pool.h): its items are this
-   shard's work units, its slots tiles of one unit's designs */
-typedef struct {
-  sweep_writer w; /* first: the ctx of sweep_write_tile */
-  const design_plan *p;
-  size_t *nempty;
-} design_job;
-
-/* pool_job.worker_begin: a worker's workspace and pose arrays */
-static void *design_worker_begin(void *ctx) {
-  return worker_new(((const design_job *)ctx)->p->npose);
-}
-
-static void design_worker_end(void *ctx, void *wctx) {
-  (void)ctx;
-  worker_free(wctx);
-}
-
-/* pool_job.slot_make, slot_free: a tile of one unit's designs */
-static int design_slot_make(void *ctx, void *slot, size_t i) {
-  const design_plan *p = ((const design_job *)ctx)->p;
-  (void)i;
-  return tile_alloc(slot, p->unit, p->npose, p->files);
-}
-
-static void design_slot_free(void *ctx, void *slot, size_t i) {
-  (void)ctx;
-  (void)i;
-  tile_free(slot);
-}
-
 /* pool_job.run: work unit u on worker w, into its slot */
 static int design_item(void *ctx, void *wctx, size_t u, pool_worker *w,
                        char *err, size_t errsz) {
@@ -316,10 +299,10 @@ int design_run(const scene *s, const design_plan *p, out_file *f, size_t shard,
                   .stride = nshard,
                   .info_size = sizeof(out_tile),
                   .slot_size = sizeof(out_block),
-                  .slot_make = design_slot_make,
-                  .slot_free = design_slot_free,
-                  .worker_begin = design_worker_begin,
-                  .worker_end = design_worker_end,
+                  .slot_make = tile_make,
+                  .slot_free = tile_free,
+                  .worker_begin = worker_new,
+                  .worker_end = worker_free,
                   .run = design_item,
                   .write = design_write};
   memset(st, 0, sizeof *st);
@@ -346,6 +329,7 @@ static double timed_eval(const scene *s, const design_plan *q, size_t i,
    timed */
 static double design_cost_measure(const scene *s, const design_plan *p) {
   design_plan q = *p, q1;
+  design_job J = {{0}, &q, NULL};
   worker_ws *w;
   out_block t;
   size_t i, timed = 0, step;
@@ -362,13 +346,14 @@ static double design_cost_measure(const scene *s, const design_plan *p) {
   }
   q.npose = rps3_design_grid_size(&q.gr);
   q.task = 0;
+  q.unit = 1;
   q1 = q;
   q1.gr.n[0] = q1.gr.n[1] = q1.gr.n[2] = q1.npose = 1;
   q1.task = p->task;
   memset(&t, 0, sizeof t);
-  if (!(w = worker_new(q.npose)) || tile_alloc(&t, 1, q.npose, p->files)) {
-    tile_free(&t);
-    worker_free(w);
+  if (!(w = worker_new(&J)) || tile_make(&J, &t, 0)) {
+    tile_free(NULL, &t, 0);
+    worker_free(NULL, w);
     return -1;
   }
   step = p->ncase > 8 ? p->ncase / 8 : 1;
@@ -379,8 +364,8 @@ static double design_cost_measure(const scene *s, const design_plan *p) {
     used += grid + task;
     timed++;
   }
-  tile_free(&t);
-  worker_free(w);
+  tile_free(NULL, &t, 0);
+  worker_free(NULL, w);
   return timed ? spent / (double)timed : -1;
 }
 
