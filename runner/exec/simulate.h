@@ -76,8 +76,8 @@ typedef struct {
 } sim_args;
 
 /* Check every case of s and simulate them into a->out_path, written
-   under a temporary name and renamed when complete (sim_run.c).  Returns
-   rps3-run's exit code (core/exit_codes.h). */
+   under a temporary name and renamed when complete.  Returns rps3-run's
+   exit code (core/exit_codes.h). */
 int sim_main(const scene *s, const sim_args *a);
 
 #endif /* RPS3_RUNNER_SIMULATE_H */
