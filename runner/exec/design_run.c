@@ -369,7 +369,6 @@ static double design_cost_measure(const scene *s, const design_plan *p) {
   return timed ? spent / (double)timed : -1;
 }
 
-/* the plural ending of n things */
 #define PL(n) ((n) == 1 ? "" : "s")
 
 int design_preflight(const char *scene_path, const scene *s,

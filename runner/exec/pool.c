@@ -14,7 +14,6 @@
 #include <string.h>
 #include <unistd.h>
 
-/* a worker holds no slot */
 #define NO_SLOT ((size_t)-1)
 
 typedef struct {

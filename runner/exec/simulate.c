@@ -371,27 +371,6 @@ static void store(out_block *b, double *emax, size_t j, const rps3_sim *sim,
   OUT_D(b, sim_energy_residual)[j] = now->energy_residual;
 }
 
-/* the message of a failure at sample k (time t_k): the simulation's, and
-   the controller's own when it was the controller that failed */
-static void failure(sim_tile *w, const sim_work *wk, int st, size_t k,
-                    double t_k) {
-  const rps3_data *meas = rps3_ctrl_measured(wk->ctrl);
-  const rps3_data *des = rps3_ctrl_desired(wk->ctrl);
-  const char *msg = rps3_sim_data(wk->sim)->err.msg;
-  const char *why = meas && meas->err.code != RPS3_OK ? meas->err.msg
-                    : des && des->err.code != RPS3_OK ? des->err.msg
-                                                      : "";
-  double t = rps3_sim_now(wk->sim)->failed_at;
-  int ctrl = why[0] && strstr(msg, "controller");
-  OUT_I(&w->b, sim_status)[0] = st;
-  OUT_I(&w->b, sim_failed_at)[0] = (int32_t)k;
-  OUT_D(&w->b, failed_time)[0] = t = isnan(t) ? t_k : t;
-  snprintf(w->message, sizeof w->message,
-           "t = %.9g s (before sample %zu): %s: %s%s%s%s", t, k,
-           rps3_strerror(st), msg, ctrl ? " (" : "", ctrl ? why : "",
-           ctrl ? ")" : "");
-}
-
 /* Where to advance for sample time t: the tick at t when t is one up to
    rounding (k dt and k / rate differ in the last bit), so that the tick
    at t is served by the next advance and the force stored with sample t
@@ -460,18 +439,31 @@ static sim_tile *flush(pool_worker *w, size_t c, size_t k0, size_t nk, int last,
   return pool_emit(w, &in, err, errsz);
 }
 
-/* the per-case values of case c into its last window t: the outcome st
-   (failed before sample n, at time tn), the largest tracking error emax
-   and the simulation's counts */
-static void case_values(sim_tile *t, const sim_work *wk, int st, size_t n,
+/* the per-case values of case c into its last window w: the outcome st
+   (failed before sample n, at time tn: the message the simulation's, and
+   the controller's own when it was the controller that failed), the
+   largest tracking error emax and the simulation's counts */
+static void case_values(sim_tile *w, const sim_work *wk, int st, size_t n,
                         double tn, double emax) {
   const rps3_sim_report *now = rps3_sim_now(wk->sim);
-  out_block *b = &t->b;
-  OUT_I(b, sim_status)[0] = RPS3_OK;
-  OUT_I(b, sim_failed_at)[0] = -1;
-  OUT_D(b, failed_time)[0] = (double)NAN;
-  t->message[0] = '\0';
-  if (st != RPS3_OK) failure(t, wk, st, n, tn);
+  const rps3_data *meas = rps3_ctrl_measured(wk->ctrl);
+  const rps3_data *des = rps3_ctrl_desired(wk->ctrl);
+  const char *msg = rps3_sim_data(wk->sim)->err.msg;
+  const char *why = meas && meas->err.code != RPS3_OK ? meas->err.msg
+                    : des && des->err.code != RPS3_OK ? des->err.msg
+                                                      : "";
+  double t = isnan(now->failed_at) ? tn : now->failed_at;
+  int ctrl = why[0] && strstr(msg, "controller");
+  out_block *b = &w->b;
+  OUT_I(b, sim_status)[0] = st;
+  OUT_I(b, sim_failed_at)[0] = st != RPS3_OK ? (int32_t)n : -1;
+  OUT_D(b, failed_time)[0] = st != RPS3_OK ? t : (double)NAN;
+  w->message[0] = '\0';
+  if (st != RPS3_OK)
+    snprintf(w->message, sizeof w->message,
+             "t = %.9g s (before sample %zu): %s: %s%s%s%s", t, n,
+             rps3_strerror(st), msg, ctrl ? " (" : "", ctrl ? why : "",
+             ctrl ? ")" : "");
   OUT_D(b, tracking_error_max)[0] = emax;
   OUT_L(b, nsteps)[0] = (int64_t)now->nsteps;
   OUT_L(b, nevals)[0] = (int64_t)now->nevals;

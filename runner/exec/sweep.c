@@ -18,7 +18,6 @@
    does the chunk index (about 64 bytes a chunk) beside the data */
 #define SWEEP_CHUNK_MIN 128
 
-/* round n up to a multiple of q */
 static size_t round_up(size_t n, size_t q) { return (n + q - 1) / q * q; }
 
 /* Cases per job (the rows of a chunk) for at most `most` per job: the
@@ -344,7 +343,6 @@ static int case_begin(const scene *s, size_t index, scene_case *c, char *err,
   return 0;
 }
 
-/* record the outcome of a case in its slot */
 static void slot_status(out_block *b, size_t slot, int rc, size_t failed_at) {
   ((int32_t *)b->buf[OUT_status])[slot] = rc;
   ((int32_t *)b->buf[OUT_failed_at])[slot] = rc ? (int32_t)failed_at : -1;

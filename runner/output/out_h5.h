@@ -74,37 +74,30 @@ extern const char *const rps3_git_revision;
 int out_cf_root(hid_t file, hid_t str, const char *now,
                 const char *command_line);
 
-/* long_name of schema field i, and its flags (the flags column of the
-   schema: flag_values and flag_meanings of a status, every rps3_status
-   and OUT_STATUS_NOT_COMPUTED; flag_masks of the warning bits or of the
-   reachability flags); 0 or -1 */
+/* long_name of schema field i and the CF attributes of its flags column
+   (out_flags); 0 or -1 */
 int out_cf_field(hid_t ds, hid_t str, int i);
 
 /* long_name of a coordinate or other variable; 0 or -1 */
 int out_cf_long_name(hid_t ds, hid_t str, const char *long_name);
 
-/* the time axis of a file whose cases share one time grid: the seconds
-   since the start of the trajectory, as CF writes a time coordinate
-   (section 4.4: a unit since a reference time).  The trajectory has no
-   date: the reference is the nominal 1970-01-01, so that t = 0 is
-   1970-01-01T00:00:00 for a reader that decodes dates (xarray without
-   decode_times=False); the stored values are the seconds. */
+/* the units of a common time axis: seconds since the trajectory's start,
+   as CF writes a time coordinate (section 4.4); the trajectory has no
+   date, so the reference is the nominal 1970-01-01 (what a reader that
+   decodes dates shows for t = 0); the stored values are the seconds */
 #define OUT_CF_TIME_UNITS "s since 1970-01-01 00:00:00"
 
 /* standard_name time, calendar and axis T of the time axis (its units:
    OUT_CF_TIME_UNITS, set with the dataset); 0 or -1 */
 int out_cf_time(hid_t ds, hid_t str);
 
-/* the name of the dimension along the samples: "time" when the cases
-   share one time grid (its scale holds the times), "sample" when the grid
-   differs between cases (its scale holds the sample index 0, 1, ... and
-   case_time the times; a dimension named time must be a time coordinate
-   in CF) */
+/* the dimension along the samples: "time" when the cases share one time
+   grid, else "sample" (its scale the sample index, case_time the times: a
+   dimension named time must be a time coordinate in CF) */
 #define OUT_CF_SAMPLE_DIM(grid_common) ((grid_common) ? "time" : "sample")
 
-/* the swept keys of s, [case], each a variable with the key's CF name on
-   the case scale dcase (the key itself in scene_key, its values, units and
-   axis attributes), in file; 0, or -1 with *bad the axis that failed */
+/* the swept keys of s, [case], each a variable of the key's CF name on the
+   case scale dcase, in file; 0, or -1 with *bad the axis that failed */
 int out_cf_swept_keys(hid_t file, hid_t str, const scene *s, hid_t dcase,
                       size_t *bad);
 
@@ -112,10 +105,8 @@ int out_cf_swept_keys(hid_t file, hid_t str, const scene *s, hid_t dcase,
    an open file.  Returns 0 or -1. */
 int out_stamp(hid_t file, const char *command_line);
 
-/* "key1 key2 [case_time]": the coordinates attribute, the swept keys'
-   variables and, when with_case_time (a per-sample variable of a file
-   whose time grid differs between cases), case_time (malloc'd; NULL when
-   out of memory) */
+/* "key1 key2 [case_time]": the coordinates attribute, the swept keys and
+   case_time when with_case_time (malloc'd; NULL when out of memory) */
 char *out_h5_coordinates(const scene *s, int with_case_time);
 
 #endif /* RPS3_RUNNER_OUT_H5_H */

@@ -21,7 +21,6 @@
 /* bytes of HDF5's type conversion buffer per write */
 #define OUT_TCONV_BUF 65536
 
-/* the HDF5 type of a schema field in f */
 static hid_t out_field_type(const out_file *f, const out_field_info *fi) {
   return fi->type == OUT_F64   ? H5T_NATIVE_DOUBLE
          : fi->type == OUT_I32 ? H5T_NATIVE_INT32
@@ -388,12 +387,10 @@ out_file *out_open(const char *path, const scene *s, const out_spec *sp,
   return NULL;
 }
 
-/* the time of sample k of the inverse sweep's common grid */
 static double inv_time(const void *first, size_t k) {
   return scene_case_time(first, k);
 }
 
-/* the simulation's common time axis: times[k] */
 static double axis_time(const void *times, size_t k) {
   return ((const double *)times)[k];
 }
