@@ -81,13 +81,12 @@ static void tile_free(void *ctx, void *slot, size_t i) {
   out_block_free(t);
 }
 
-/* bytes of the file (uncompressed: an upper bound with --gzip) */
+/* bytes of the file, uncompressed (an upper bound with --gzip): the
+   designs' variables (a message about 64 bytes), their scene_resolved
+   (about the scene's size), the swept keys, HDF5's metadata (a bound) */
 static double design_file_bytes(const scene *s, const design_plan *p) {
   double row = 0;
   int i;
-  /* the designs' variables (a message about 64 bytes), their
-     scene_resolved (about the scene's size), the swept keys, and HDF5's
-     metadata (a bound) */
   for (i = 0; i < OUT_NFIELD; i++)
     if (out_field_table[i].files & p->files)
       row += (double)out_columns(out_field_table[i].shape, p->npose) *

@@ -168,18 +168,6 @@ static int est_cost_measure(const scene *s, const sweep_plan *p,
   return 0;
 }
 
-/* wall seconds of a run (est_when): workers compute and deflate in
-   parallel while the calling thread writes */
-static double est_run_seconds(const est_cost *c, double samples, double cases,
-                              int threads) {
-  double work = samples * (c->sample + c->deflate) + cases * c->per_case;
-  double write = samples * c->write;
-  if (threads <= 1) return work + write;
-  /* the workers compute and deflate while the calling thread writes */
-  work /= threads;
-  return work > write ? work : write;
-}
-
 const char *est_human_time(double seconds, char *buf, size_t sz) {
   if (seconds < 60)
     snprintf(buf, sz,
@@ -198,11 +186,18 @@ const char *est_human_time(double seconds, char *buf, size_t sz) {
 
 const char *est_when(const est_cost *c, double samples, double cases,
                      int threads, char *buf, size_t sz) {
+  double work = samples * (c->sample + c->deflate) + cases * c->per_case;
+  double write = samples * c->write;
   char t[32];
-  snprintf(
-      buf, sz, "about %s on %d thread%s",
-      est_human_time(est_run_seconds(c, samples, cases, threads), t, sizeof t),
-      threads, threads == 1 ? "" : "s");
+  /* on threads the workers compute and deflate while the calling thread
+     writes */
+  if (threads > 1) work /= threads;
+  snprintf(buf, sz, "about %s on %d thread%s",
+           est_human_time(threads <= 1   ? work + write
+                          : work > write ? work
+                                         : write,
+                          t, sizeof t),
+           threads, threads == 1 ? "" : "s");
   return buf;
 }
 

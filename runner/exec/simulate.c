@@ -18,6 +18,35 @@
    step (the rule of trajectory.dt, scene.c) */
 #define WHOLE_RTOL 1e-9
 
+/* one simulated case, ready to run */
+typedef struct {
+  rps3_model ctrl_model; /* the controller's model, initialised */
+  rps3_sim_options opt;
+  rps3_ctrl_kind kind;
+  double kp, kd;   /* the gains used (the kind's when not given) */
+  double rate;     /* control rate [Hz] */
+  double duration; /* simulated time [s] */
+  double step;     /* sample step [s] */
+  size_t nt;       /* samples, both ends included */
+} sim_case;
+
+/* the workspaces of one simulated case */
+typedef struct {
+  rps3_sim *sim;
+  rps3_ctrl *ctrl;
+  rps3_data *ref; /* the reference motion, on the plant's geometry */
+} sim_work;
+
+/* what the check of all cases found: the time axis */
+typedef struct {
+  size_t nt;      /* most samples of any case */
+  size_t npoint;  /* samples over all cases */
+  double seconds; /* simulated time over all cases [s] */
+  int common;     /* 1: every case has case 0's time grid */
+  scene_case first;
+  sim_case sfirst;
+} sim_plan;
+
 /* err at the value that set key k in case `index`: its swept value, the
    key in the file, or the simulate section */
 static void key_error(const scene *s, size_t index, int k, const char *msg,
@@ -154,7 +183,7 @@ static void case_options(const scene_sim *v, sim_case *sc) {
   sc->opt.seed = (unsigned long)v->seed;
 }
 
-void sim_work_free(sim_work *wk) {
+static void sim_work_free(sim_work *wk) {
   rps3_sim_free(wk->sim);
   rps3_ctrl_free(wk->ctrl);
   rps3_data_free(wk->ref);
@@ -217,8 +246,13 @@ static void library_error(const scene *s, const scene_case *c, int st,
     key_error(s, c->index, key_of_message(msg), msg, err);
 }
 
-int sim_case_build(const scene *s, const scene_case *c, sim_case *sc,
-                   sim_work *wk, scene_error *err) {
+/* The simulation of case c of s: controller model, options, gains and
+   grid, each checked (the library's own checks, rps3_sim_alloc and
+   rps3_ctrl_alloc included).  With wk, the simulation and controller
+   those checks made are kept there for the run (else freed).  Returns 0,
+   or -1 with err at the key (or the swept value) that is wrong. */
+static int sim_case_build(const scene *s, const scene_case *c, sim_case *sc,
+                          sim_work *wk, scene_error *err) {
   const int inertia =
       RPS3_EFF_PLATFORM_INERTIA | RPS3_EFF_LINK_INERTIA | RPS3_EFF_PAYLOAD;
   int st;
@@ -240,7 +274,8 @@ int sim_case_build(const scene *s, const scene_case *c, sim_case *sc,
   return 0;
 }
 
-double sim_case_time(const scene_case *c, const sim_case *sc, size_t k) {
+/* Time of sample k of a simulated case [s]. */
+static double sim_case_time(const scene_case *c, const sim_case *sc, size_t k) {
   if (k + 1 >= sc->nt) return sc->duration;
   if (k < c->nt) return scene_case_time(c, k);
   return (double)k * sc->step;
@@ -271,7 +306,10 @@ static int section_rule(const scene *s, scene_error *err) {
   return -1;
 }
 
-int sim_plan_make(const scene *s, sim_plan *p, scene_error *err) {
+/* Build and check every case of s (scene_case_build, sim_case_build) and
+   find the time axis.  A sweep of simulate.* keys needs the section.
+   Returns 0, or -1 with err at the first wrong value. */
+static int sim_plan_make(const scene *s, sim_plan *p, scene_error *err) {
   scene_case c;
   sim_case sc;
   size_t i;
@@ -383,7 +421,6 @@ static double tick_time(double t, double rate) {
   return fabs(t - j / rate) <= 1e-6 / rate ? j / rate : t;
 }
 
-/* a simulation as a job of the pool */
 typedef struct {
   sweep_writer w; /* first: the ctx of sweep_write_tile */
   size_t points;  /* samples of a window */

@@ -498,9 +498,8 @@ static int job_windows(const sweep_job *J, size_t j, out_block **bp,
   return 0;
 }
 
-/* pool_job.run: job j of the sweep on worker w (a tile of whole cases, or
-   one long case in windows); ws holds the workspaces, one per solver
-   kind, allocated on first use */
+/* pool_job.run: job j on worker w, a tile of whole cases or one long case
+   in windows (wctx: the workspaces, one per solver kind) */
 static int sweep_item(void *ctx, void *wctx, size_t j, pool_worker *w,
                       char *err, size_t errsz) {
   const sweep_job *J = ctx;

@@ -1,16 +1,12 @@
 /*
- * sweep.h - run every case of a scene into an open output file: first
- * sweep_plan_make() builds and validates every case (nothing is written if
- * one is invalid) and finds the time axis; then sweep_run_opts() computes
- * the cases tile by tile and streams each tile to the file.
- *
- * Job j is the cases [j tile_cases, (j + 1) tile_cases), one tile and one
- * chunk row of the file; a case longer than a tile (tile_cases == 1) is a
- * job of its own, in windows.  Jobs share the cases, and windows the
- * samples, evenly, and a tile writes only the samples its cases have
- * (rounded up to whole chunks): the file allocates the chunks of the data
- * only (docs/hdf5.md).  A case depends on nothing but its scene, so the
- * numbers do not depend on the threads or shards.
+ * sweep.h - every case of a scene into an open output file: the plan
+ * builds and checks every case first (nothing is written if one is
+ * invalid), then the jobs compute them.  Job j is the cases
+ * [j tile_cases, (j + 1) tile_cases), one tile and one chunk row of the
+ * file; a case longer than a tile is a job of its own, in windows.  Jobs
+ * share the cases, and windows the samples, evenly, and a tile writes only
+ * the samples its cases have (whole chunks): the file allocates the data's
+ * chunks only (docs/hdf5.md).  A case depends on nothing but its scene.
  */
 #ifndef RPS3_RUNNER_SWEEP_H
 #define RPS3_RUNNER_SWEEP_H
