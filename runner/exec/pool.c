@@ -41,6 +41,11 @@ struct pool_worker {
   void *wctx;  /* job->worker_begin's state */
 };
 
+/* slots of a run on nthread threads */
+static size_t pool_nslot(int nthread) {
+  return nthread > 1 ? (size_t)nthread + 2 : 1;
+}
+
 static void *slot_at(const pool *P, size_t i) {
   return P->mem + i * P->job->slot_size;
 }
@@ -218,7 +223,7 @@ static int pool_start(const pool_job *job, unsigned char *mem, int nthread,
   P.mem = mem;
   P.threaded = nthread > 1;
   P.next = job->first;
-  P.nslot = P.threaded ? (size_t)nthread + 2 : 1;
+  P.nslot = pool_nslot(nthread);
   /* the free stack, the ready ring and its infos in one block */
   if (!(P.free_ix = calloc(P.nslot, 2 * sizeof(size_t) + job->info_size)))
     snprintf(err, errsz, "out of memory");
@@ -247,7 +252,7 @@ static int pool_start(const pool_job *job, unsigned char *mem, int nthread,
 }
 
 int pool_run(const pool_job *job, int nthread, char *err, size_t errsz) {
-  size_t i, n = nthread > 1 ? (size_t)nthread + 2 : 1;
+  size_t i, n = pool_nslot(nthread);
   unsigned char *mem = calloc(n, job->slot_size);
   int rc = -1;
   if (job->info_size > POOL_INFO_MAX || nthread < 1) {
