@@ -443,9 +443,7 @@ typedef struct out_chunk {
 
 /* what out_pack needs of a file: plain numbers, read by any thread */
 typedef struct {
-  size_t ncase, nt; /* extents along case and time */
-  size_t tc, q;     /* chunk extents along case and time */
-  int neffect;
+  size_t tc, q;    /* chunk extents along case and time */
   int gzip;        /* deflate level, 0 for none */
   out_mask fields; /* the fields written */
   int case_time;   /* 1: case_time is written */

@@ -299,7 +299,7 @@ static int make_case_time(out_file *f, const out_meta *meta, const scales *sc,
 }
 
 /* the file itself, its string type and root attributes; the layout */
-static out_file *file_open(const char *path, const scene *s, const out_spec *sp,
+static out_file *file_open(const char *path, const out_spec *sp,
                            const out_meta *meta, char *err, size_t errsz) {
   out_file *f = calloc(1, sizeof *f);
   int i;
@@ -311,11 +311,8 @@ static out_file *file_open(const char *path, const scene *s, const out_spec *sp,
   f->row = sp->files & OUT_DES ? "design" : "case";
   f->file = f->str = f->case_time = f->dxpl = -1;
   for (i = 0; i < OUT_NFIELD; i++) f->ds[i] = -1;
-  f->layout.ncase = s->ncase;
-  f->layout.nt = sp->nt;
   f->layout.tc = sp->tile_cases;
   f->layout.q = sp->chunk_points < sp->nt ? sp->chunk_points : sp->nt;
-  f->layout.neffect = sp->neffect;
   f->layout.gzip = meta->gzip;
   f->layout.fields = meta->fields;
   f->layout.case_time = !sp->grid_common;
@@ -354,7 +351,7 @@ out_file *out_open(const char *path, const scene *s, const out_spec *sp,
   char *coords[2] = {NULL, NULL};
   size_t a = 0;
   int i, rc = -1;
-  out_file *f = file_open(path, s, sp, meta, err, errsz);
+  out_file *f = file_open(path, sp, meta, err, errsz);
   if (!f) return NULL;
   memset(&sc, 0, sizeof sc);
   for (i = 0; i < OUT_NAXIS; i++) sc.id[i] = -1;
