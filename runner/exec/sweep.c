@@ -411,12 +411,10 @@ typedef struct {
 static int emit(const sweep_job *J, pool_worker *w, out_block **b,
                 const out_tile *t, char *err, size_t errsz) {
   /* on threads, deflate and checksum here, in parallel, not on the writing
-     thread.  On one thread and uncompressed, the chunks as the file stores
-     them (out_pack: the Fletcher-32 here, full chunks stored from the
-     block's own buffers) cost less than HDF5's filter pipeline (a copy of
-     the tile into each chunk, another into the filter's buffer);
-     compressed, deflate is the cost either way, and -j 1 keeps HDF5's own
-     filters.  A late failure's blank windows go through HDF5 too. */
+     thread; on one thread and uncompressed, out_pack (full chunks stored
+     from the block's own buffers) costs less than HDF5's filters (two
+     copies of the tile); compressed, -j 1 keeps HDF5's filters, as do a
+     late failure's blank windows. */
   (*b)->packed = 0;
   if ((pool_threaded(w) || J->layout.gzip == 0) && t->blank_below == 0 &&
       out_pack(&J->layout, *b, t->c0, t->nc, t->k0, t->nk)) {
