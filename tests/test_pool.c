@@ -104,33 +104,39 @@ static int write_slot(void *ctx, void *slot, const void *info, char *err,
   return 0;
 }
 
+/* pool_job.slot_make, slot_free of a plain slot */
+static int plain_make(void *ctx, void *slot, size_t i) {
+  (void)ctx;
+  (void)slot;
+  (void)i;
+  return 0;
+}
+
+static void plain_free(void *ctx, void *slot, size_t i) {
+  (void)ctx;
+  (void)slot;
+  (void)i;
+}
+
 /* run a job of stride `stride` from `first` on nthread threads */
 static int run_job(job_t *J, int nthread, size_t first, size_t stride,
                    char *err, size_t errsz) {
-  size_t n = pool_nslot(nthread), k;
-  slot_t *slots = calloc(n, sizeof *slots);
-  void **slot = calloc(n, sizeof *slot);
   pool_job job;
-  int rc;
-  assert_non_null(slots);
-  assert_non_null(slot);
-  for (k = 0; k < n; k++) slot[k] = &slots[k];
   memset(&job, 0, sizeof job);
   job.ctx = J;
   job.nitem = NITEM;
   job.first = first;
   job.stride = stride;
-  job.slot = slot;
+  job.slot_size = sizeof(slot_t);
+  job.slot_make = plain_make;
+  job.slot_free = plain_free;
   job.info_size = sizeof(info_t);
   job.worker_begin = begin;
   job.worker_end = end;
   job.run = run;
   job.write = write_slot;
   J->writer = pthread_self();
-  rc = pool_run(&job, nthread, err, errsz);
-  free(slots);
-  free(slot);
-  return rc;
+  return pool_run(&job, nthread, err, errsz);
 }
 
 static void job_init(job_t *J) {
@@ -211,7 +217,7 @@ static void slots_and_bad_jobs(void **state) {
   pthread_mutex_destroy(&J.mu);
 }
 
-/* the slots pool_run makes (job.slot NULL): calls to make and free each */
+/* the slots pool_run makes: calls to make and free each */
 static int made[8], freed[8];
 static size_t make_fails; /* the slot whose make fails (8: none) */
 

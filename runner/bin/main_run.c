@@ -163,14 +163,14 @@ static int sweep_write(run_job *j, const out_meta *meta, progress *pr,
   const scene *s = sj->s;
   char err[512];
   out_file *f;
-  if (out_block_alloc(&sj->block, plan->tile_cases, plan->tile_points,
+  if (out_block_alloc(&sj->block, OUT_INV, plan->tile_cases, plan->tile_points,
                       plan->first.model.opt.effects)) {
     fprintf(stderr, "rps3-run: out of memory\n");
     return EXIT_IO;
   }
   sj->block.fields = sj->a->fields;
   pr->njob_all = sweep_njob(s, plan);
-  pr->njob = sweep_shard_jobs(s, plan, sj->opts->shard, sj->opts->nshard);
+  pr->njob = pool_count(pr->njob_all, sj->opts->shard, sj->opts->nshard);
   /* the shard's samples, in proportion to its cases (exact unsharded) */
   pr->npoint = s->ncase ? (size_t)((double)plan->npoint * (double)pr->ncase /
                                    (double)s->ncase)

@@ -1,6 +1,4 @@
-/*
- * design_run.c - see design_run.h.
- */
+/* design_run.c - see design_run.h. */
 #include "design_run.h"
 
 #include <stdio.h>
@@ -8,9 +6,6 @@
 #include <string.h>
 
 #include "estimate.h"
-#include "pool.h"
-
-/* ------------------------------------------------------------------ plan */
 
 int design_plan_make(const scene *s, design_plan *p, scene_error *err) {
   scene_case c;
@@ -45,62 +40,53 @@ size_t design_shard_cases(const design_plan *p, size_t k, size_t n) {
   return c;
 }
 
-/* a tile: the rows of up to `cap` designs of every field of the file, the
-   buffers of out_write_case (strings owned) */
+/* a design study as a job of the pool (pool.h): its items are this
+   shard's work units, its slots tiles of one unit's designs */
 typedef struct {
-  size_t cap, npose;
-  void *buf[OUT_NFIELD];
-} design_tile;
+  sweep_writer w; /* first: the ctx of sweep_write_tile */
+  const design_plan *p;
+  size_t *nempty;
+} design_job;
 
-/* values per design of field i */
-static size_t inner(const design_tile *t, int i) {
-  return out_columns(out_field_table[i].shape, t->npose);
-}
-
-/* reset slot j: the fill values, no strings */
-static void tile_clear(design_tile *t, size_t j) {
+/* reset slot j of tile t: the fill values, no strings (a tile's strings
+   are its own) */
+static void tile_clear(out_block *t, size_t j) {
   int i;
-  for (i = 0; i < OUT_NFIELD; i++)
+  for (i = 0; i < OUT_NFIELD; i++) {
+    size_t n = out_columns(out_field_table[i].shape, t->points);
     if (t->buf[i] && out_field_table[i].type == OUT_STR) {
       free(((char **)t->buf[i])[j]);
       ((char **)t->buf[i])[j] = NULL;
     } else if (t->buf[i])
-      out_fill_n((char *)t->buf[i] +
-                     j * inner(t, i) * out_type_size(out_field_table[i].type),
-                 inner(t, i), i);
+      out_fill_n(
+          (char *)t->buf[i] + j * n * out_type_size(out_field_table[i].type), n,
+          i);
+  }
 }
 
-static void tile_free(design_tile *t) {
-  size_t j;
-  int i;
-  for (i = 0; i < OUT_NFIELD; i++)
-    if (t->buf[i] && out_field_table[i].type == OUT_STR)
-      for (j = 0; j < t->cap; j++) free(((char **)t->buf[i])[j]);
-  for (i = 0; i < OUT_NFIELD; i++) free(t->buf[i]);
-}
-
-/* 0, or -1 (out of memory; tile_free frees what was made) */
-static int tile_alloc(design_tile *t, size_t cap, size_t npose, int files) {
-  size_t j;
-  int i;
-  t->cap = cap;
-  t->npose = npose;
-  for (i = 0; i < OUT_NFIELD; i++)
-    if ((out_field_table[i].files & files) &&
-        !(t->buf[i] = calloc(cap * inner(t, i),
-                             out_type_size(out_field_table[i].type))))
-      return -1;
-  for (j = 0; j < cap; j++) tile_clear(t, j);
+/* pool_job.slot_make, slot_free: a tile of one unit's designs (of
+   p->unit designs of p->npose poses) */
+static int tile_make(void *ctx, void *slot, size_t i) {
+  const design_plan *p = ((const design_job *)ctx)->p;
+  out_block *t = slot;
+  if (out_block_alloc(t, p->files, p->unit, p->npose, 0)) return -1;
+  for (i = 0; i < p->unit; i++) tile_clear(t, i);
   return 0;
 }
 
-/* bytes of the file (uncompressed: an upper bound with --gzip) */
+static void tile_free(void *ctx, void *slot, size_t i) {
+  out_block *t = slot;
+  (void)ctx;
+  for (i = 0; t->yaml && i < t->cases; i++) tile_clear(t, i);
+  out_block_free(t);
+}
+
+/* bytes of the file, uncompressed (an upper bound with --gzip): the
+   designs' variables (a message about 64 bytes), their scene_resolved
+   (about the scene's size), the swept keys, HDF5's metadata (a bound) */
 static double design_file_bytes(const scene *s, const design_plan *p) {
   double row = 0;
   int i;
-  /* the designs' variables (a message about 64 bytes), their
-     scene_resolved (about the scene's size), the swept keys, and HDF5's
-     metadata (a bound) */
   for (i = 0; i < OUT_NFIELD; i++)
     if (out_field_table[i].files & p->files)
       row += (double)out_columns(out_field_table[i].shape, p->npose) *
@@ -127,8 +113,6 @@ out_file *design_file_open(const char *path, const scene *s,
   return out_open(path, s, &sp, meta, err, errsz);
 }
 
-/* ------------------------------------------------------------- evaluate */
-
 /* what a worker needs: a workspace and the arrays of one design's poses */
 typedef struct {
   rps3_design_ws *ws;
@@ -137,7 +121,10 @@ typedef struct {
   scene_text yaml;
 } worker_ws;
 
-static void worker_free(worker_ws *w) {
+/* pool_job.worker_end, worker_begin */
+static void worker_free(void *ctx, void *wctx) {
+  worker_ws *w = wctx;
+  (void)ctx;
   if (!w) return;
   rps3_design_ws_free(w->ws);
   free(w->flags);
@@ -146,33 +133,28 @@ static void worker_free(worker_ws *w) {
   free(w);
 }
 
-/* a worker for grids of up to npose poses; NULL when out of memory */
-static worker_ws *worker_new(size_t npose) {
+static void *worker_new(void *ctx) {
+  size_t npose = ((const design_job *)ctx)->p->npose;
   worker_ws *w = calloc(1, sizeof *w);
   if (w && (!(w->flags = malloc(npose * sizeof *w->flags)) ||
             !(w->c = malloc(3 * npose * sizeof *w->c)) ||
             rps3_design_ws_alloc(&w->ws) != RPS3_OK)) {
-    worker_free(w);
+    worker_free(ctx, w);
     w = NULL;
   }
   return w;
 }
 
-#define F64(t, i) ((double *)(t)->buf[i])
-#define I32(t, i) ((int32_t *)(t)->buf[i])
-#define I64(t, i) ((int64_t *)(t)->buf[i])
-#define STR(t, i) ((char **)(t)->buf[i])
-
 /* the summaries of rps3_design_summary that are variables of their name,
    the task's per-link statistics of rps3_design_task (task_NAME), and the
    per-pose arrays of rps3_design_out (the variable's id) */
-#define SUM_FIELDS(X)                                                   \
-  X(reach_fraction)                                                     \
-  X(volume)                                                             \
-  X(gti)                                                                \
-  X(good_fraction)                                                      \
-  X(lti_min) X(cond_h_max) X(trans_max) X(xc_max) X(yc_max) X(spin_max) \
-      X(l_lo) X(l_hi)
+#define SUM_FIELDS(X) \
+  X(reach_fraction)   \
+  X(volume)           \
+  X(gti)              \
+  X(good_fraction)    \
+  X(lti_min)          \
+  X(cond_h_max) X(trans_max) X(xc_max) X(yc_max) X(spin_max) X(l_lo) X(l_hi)
 #define TASK_LINK_FIELDS(X) \
   X(F_peak) X(F_rms) X(P_peak) X(v_peak) X(l_lo) X(l_hi)
 #define POSE_FIELDS(X) \
@@ -183,33 +165,33 @@ static worker_ws *worker_new(size_t npose) {
   X(transmission, des_transmission) X(spin, spin) X(clearance, clearance)
 
 /* design slot j failed with status rc: why */
-static void design_failed(design_tile *t, size_t j, int rc, const char *why) {
-  I32(t, OUT_des_status)[j] = rc;
-  STR(t, OUT_des_message)[j] = strdup(why);
+static void design_failed(out_block *t, size_t j, int rc, const char *why) {
+  OUT_I(t, des_status)[j] = rc;
+  OUT_S(t, des_message)[j] = strdup(why);
 }
 
 /* the summary of a design's grid and its model into slot j */
-static void store_summary(design_tile *t, size_t j,
+static void store_summary(out_block *t, size_t j,
                           const rps3_design_summary *sum,
                           const rps3_model *model) {
   size_t k;
-#define STORE(m) F64(t, OUT_##m)[j] = sum->m;
+#define STORE(m) OUT_D(t, m)[j] = sum->m;
   SUM_FIELDS(STORE)
 #undef STORE
-  I64(t, OUT_nreach)[j] = (int64_t)sum->nreach;
-  I32(t, OUT_flags_any)[j] = sum->flags_any;
+  OUT_L(t, nreach)[j] = (int64_t)sum->nreach;
+  OUT_I(t, flags_any)[j] = sum->flags_any;
   for (k = 0; k < RPS3_DESIGN_NFLAG; k++)
-    I64(t, OUT_nflag)[j * RPS3_DESIGN_NFLAG + k] = (int64_t)sum->nflag[k];
-  F64(t, OUT_link_mass)[j] = model->m;
-  F64(t, OUT_link_d)[j] = model->d;
-  F64(t, OUT_link_Ic)[j] = model->link_Ic;
-  I32(t, OUT_des_status)[j] = 0;
+    OUT_L(t, nflag)[j * RPS3_DESIGN_NFLAG + k] = (int64_t)sum->nflag[k];
+  OUT_D(t, link_mass)[j] = model->m;
+  OUT_D(t, link_d)[j] = model->d;
+  OUT_D(t, link_Ic)[j] = model->link_Ic;
+  OUT_I(t, des_status)[j] = 0;
 }
 
 /* the task of design d of case c into slot j; the samples evaluated */
 static size_t eval_task(worker_ws *w, const rps3_design *d,
                         const rps3_design_opts *o, const scene_case *c,
-                        design_tile *t, size_t j) {
+                        out_block *t, size_t j) {
   rps3_design_task res;
   size_t k;
   int rc = rps3_design_task_eval(w->ws, d, o, &c->traj, c->nt,
@@ -219,15 +201,15 @@ static size_t eval_task(worker_ws *w, const rps3_design *d,
     design_failed(t, j, rc, w->ws->err.msg);
     return 0;
   }
-  I32(t, OUT_task_status)[j] = rc;
-  if (rc != RPS3_OK) STR(t, OUT_task_message)[j] = strdup(w->ws->err.msg);
-  F64(t, OUT_task_fail_time)[j] = res.fail_time;
-  I32(t, OUT_task_fail_flags)[j] = rc != RPS3_OK ? res.fail_flags : 0;
+  OUT_I(t, task_status)[j] = rc;
+  if (rc != RPS3_OK) OUT_S(t, task_message)[j] = strdup(w->ws->err.msg);
+  OUT_D(t, task_fail_time)[j] = res.fail_time;
+  OUT_I(t, task_fail_flags)[j] = rc != RPS3_OK ? res.fail_flags : 0;
   /* statistics of no sample (the task leaves the workspace at its start)
      are not numbers: NaN, as the fill */
-  if (res.nsamples > 0) F64(t, OUT_task_lti_min)[j] = res.lti_min;
+  if (res.nsamples > 0) OUT_D(t, task_lti_min)[j] = res.lti_min;
   for (k = 0; k < 3 && res.nsamples > 0; k++) {
-#define STORE(m) F64(t, OUT_task_##m)[3 * j + k] = res.m[k];
+#define STORE(m) OUT_D(t, task_##m)[3 * j + k] = res.m[k];
     TASK_LINK_FIELDS(STORE)
 #undef STORE
   }
@@ -236,7 +218,7 @@ static size_t eval_task(worker_ws *w, const rps3_design *d,
 
 /* design `index` into slot j of t; the poses and samples it evaluated */
 static size_t eval_design(const scene *s, const design_plan *p, size_t index,
-                          worker_ws *w, design_tile *t, size_t j) {
+                          worker_ws *w, out_block *t, size_t j) {
   const rps3_design_opts *o = &s->base.des.opts;
   rps3_design_out out;
   rps3_design_summary sum;
@@ -254,9 +236,9 @@ static size_t eval_design(const scene *s, const design_plan *p, size_t index,
   design_of_case(&c, &d);
   memset(&out, 0, sizeof out);
   out.flags =
-      p->per_pose ? (int *)(void *)(I32(t, OUT_pose_flags) + j * n) : w->flags;
+      p->per_pose ? (int *)(void *)(OUT_I(t, pose_flags) + j * n) : w->flags;
   out.c = w->c;
-#define POSE(m, id) out.m = p->per_pose ? F64(t, OUT_##id) + j * n : NULL;
+#define POSE(m, id) out.m = p->per_pose ? OUT_D(t, id) + j * n : NULL;
   POSE_FIELDS(POSE)
 #undef POSE
   rc = rps3_design_eval_grid(w->ws, &d, o, &p->gr, &out, &sum);
@@ -265,105 +247,61 @@ static size_t eval_design(const scene *s, const design_plan *p, size_t index,
     return 0;
   }
   for (k = 0; p->per_pose && k < n; k++) {
-    F64(t, OUT_des_x_c)[j * n + k] = w->c[k];
-    F64(t, OUT_des_y_c)[j * n + k] = w->c[n + k];
+    OUT_D(t, des_x_c)[j * n + k] = w->c[k];
+    OUT_D(t, des_y_c)[j * n + k] = w->c[n + k];
   }
   store_summary(t, j, &sum, &w->ws->model);
   if (p->task) done += eval_task(w, &d, o, &c, t, j);
   if (scene_case_yaml(&c, &w->yaml) == 0)
-    STR(t, OUT_des_scene_resolved)[j] = strdup(w->yaml.s);
+    OUT_S(t, des_scene_resolved)[j] = strdup(w->yaml.s);
   return done;
-}
-
-/* a design study as a job of the pool (pool.h): its items are this
-   shard's work units, its slots tiles of one unit's designs */
-typedef struct {
-  const scene *s;
-  const design_plan *p;
-  out_file *f;
-  progress *pr;
-  sweep_stats *st;
-  size_t *nempty;
-} design_job;
-
-/* what describes a filled tile: its designs, the poses and samples
-   evaluated */
-typedef struct {
-  size_t c0, nc, points;
-} unit_info;
-
-/* pool_job.worker_begin: a worker's workspace and pose arrays */
-static void *design_worker_begin(void *ctx) {
-  return worker_new(((const design_job *)ctx)->p->npose);
-}
-
-static void design_worker_end(void *ctx, void *wctx) {
-  (void)ctx;
-  worker_free(wctx);
-}
-
-/* pool_job.slot_make, slot_free: a tile of one unit's designs */
-static int design_slot_make(void *ctx, void *slot, size_t i) {
-  const design_plan *p = ((const design_job *)ctx)->p;
-  (void)i;
-  return tile_alloc(slot, p->unit, p->npose, p->files);
-}
-
-static void design_slot_free(void *ctx, void *slot, size_t i) {
-  (void)ctx;
-  (void)i;
-  tile_free(slot);
 }
 
 /* pool_job.run: work unit u on worker w, into its slot */
 static int design_item(void *ctx, void *wctx, size_t u, pool_worker *w,
                        char *err, size_t errsz) {
   const design_job *J = ctx;
-  design_tile *t = pool_slot(w);
-  unit_info in;
+  out_block *t = pool_slot(w);
+  out_tile in = {0};
   size_t j;
+  in.with_case = 1;
   in.c0 = u * J->p->unit;
   in.nc = in.c0 + J->p->unit <= J->p->ncase ? J->p->unit : J->p->ncase - in.c0;
-  in.points = 0;
   for (j = 0; j < in.nc; j++)
-    in.points += eval_design(J->s, J->p, in.c0 + j, wctx, t, j);
+    in.points += eval_design(J->w.s, J->p, in.c0 + j, wctx, t, j);
   return pool_emit(w, &in, err, errsz) ? 0 : -1;
 }
 
-/* pool_job.write: a unit's designs to the file, counted */
+/* pool_job.write: a unit's designs to the file, counted, the empty
+   workspaces too */
 static int design_write(void *ctx, void *slot, const void *info, char *err,
                         size_t errsz) {
   design_job *J = ctx;
-  const design_tile *t = slot;
-  const unit_info *in = info;
-  size_t j, failed = 0;
-  if (out_write_case(J->f, (const void *const *)t->buf, in->c0, in->nc, err,
-                     errsz))
-    return -1;
+  const out_block *t = slot;
+  const out_tile *in = info;
+  size_t j;
+  if (sweep_write_tile(ctx, slot, info, err, errsz)) return -1;
   for (j = 0; j < in->nc; j++)
-    if (I32(t, OUT_des_status)[j] != 0) {
-      if (J->st->nfailed + failed++ == 0)
-        progress_failure(J->pr, in->c0 + j, "", STR(t, OUT_des_message)[j]);
-    } else if (I64(t, OUT_nreach)[j] == 0)
+    if (OUT_I(t, des_status)[j] == 0 && OUT_L(t, nreach)[j] == 0)
       (*J->nempty)++;
-  sweep_count(J->pr, J->st, in->nc, in->points, failed);
   return 0;
 }
 
 int design_run(const scene *s, const design_plan *p, out_file *f, size_t shard,
                size_t nshard, int nthread, progress *pr, sweep_stats *st,
                size_t *nempty, char *err, size_t errsz) {
-  design_job J = {s, p, f, pr, st, nempty};
+  design_job J = {
+      {s, f, pr, st, OUT_des_status, OUT_des_message, 0}, p, nempty};
   pool_job job = {.ctx = &J,
                   .nitem = p->nunit,
                   .first = shard,
                   .stride = nshard,
-                  .info_size = sizeof(unit_info),
-                  .slot_size = sizeof(design_tile),
-                  .slot_make = design_slot_make,
-                  .slot_free = design_slot_free,
-                  .worker_begin = design_worker_begin,
-                  .worker_end = design_worker_end,
+                  .info_size = sizeof(out_tile),
+                  .slot_size = sizeof(out_block),
+                  .slot_make = tile_make,
+                  .slot_free = tile_free,
+                  .worker_begin = worker_new,
+                  .worker_end = worker_free,
                   .run = design_item,
                   .write = design_write};
   memset(st, 0, sizeof *st);
@@ -374,14 +312,12 @@ int design_run(const scene *s, const design_plan *p, out_file *f, size_t shard,
   return pool_run(&job, nthread, err, errsz);
 }
 
-/* ------------------------------------------------------------- estimate */
-
 /* poses of the coarser grid that times a design of a large grid */
 #define DESIGN_TIMED_POSES 8192
 
 /* CPU seconds of eval_design of design i on the plan q */
 static double timed_eval(const scene *s, const design_plan *q, size_t i,
-                         worker_ws *w, design_tile *t) {
+                         worker_ws *w, out_block *t) {
   double t0 = est_cpu_now();
   (void)eval_design(s, q, i, w, t, 0);
   return est_cpu_now() - t0;
@@ -392,8 +328,9 @@ static double timed_eval(const scene *s, const design_plan *q, size_t i,
    timed */
 static double design_cost_measure(const scene *s, const design_plan *p) {
   design_plan q = *p, q1;
+  design_job J = {{0}, &q, NULL};
   worker_ws *w;
-  design_tile t;
+  out_block t;
   size_t i, timed = 0, step;
   double spent = 0, used = 0, grid, task;
   int k, big;
@@ -408,13 +345,14 @@ static double design_cost_measure(const scene *s, const design_plan *p) {
   }
   q.npose = rps3_design_grid_size(&q.gr);
   q.task = 0;
+  q.unit = 1;
   q1 = q;
   q1.gr.n[0] = q1.gr.n[1] = q1.gr.n[2] = q1.npose = 1;
   q1.task = p->task;
   memset(&t, 0, sizeof t);
-  if (!(w = worker_new(q.npose)) || tile_alloc(&t, 1, q.npose, p->files)) {
-    tile_free(&t);
-    worker_free(w);
+  if (!(w = worker_new(&J)) || tile_make(&J, &t, 0)) {
+    tile_free(NULL, &t, 0);
+    worker_free(NULL, w);
     return -1;
   }
   step = p->ncase > 8 ? p->ncase / 8 : 1;
@@ -425,12 +363,11 @@ static double design_cost_measure(const scene *s, const design_plan *p) {
     used += grid + task;
     timed++;
   }
-  tile_free(&t);
-  worker_free(w);
+  tile_free(NULL, &t, 0);
+  worker_free(NULL, w);
   return timed ? spent / (double)timed : -1;
 }
 
-/* the plural ending of n things */
 #define PL(n) ((n) == 1 ? "" : "s")
 
 int design_preflight(const char *scene_path, const scene *s,

@@ -1,25 +1,15 @@
 /*
- * design_run.h - running a design study (scene/design.h) into its file
- * (the OUT_DESIGN rows of output/outblock.h, one row per design, the swept
- * keys its coordinates, as a sweep's file): every design built and checked
- * before anything is written, then evaluated by the library
- * (rps3_design_eval_grid over the section's grid, rps3_design_task_eval along
- * the trajectory when the scene has one) in work units of whole designs, on -j
- * threads (the runner's worker pool, pool.h), for one shard or all.
- *
- * A work unit is one chunk row of every dataset: up to about
- * DESIGN_UNIT_POSES poses of evaluation, the units sharing the designs
- * evenly, as a sweep's work units share its cases (docs/scale-out.md).
- * Shard K of N computes the units j with j mod N = K: its part merges and
- * joins with `rps3-run merge` as a sweep's part does.
+ * design_run.h - a design study (scene/design.h) into its file (the
+ * OUT_DESIGN rows of the schema, one row per design): every design checked
+ * before anything is written, then evaluated by the library over the
+ * section's grid (and along the trajectory, when the scene has one) in
+ * work units of whole designs on the worker pool.  A work unit is one
+ * chunk row of every dataset, about DESIGN_UNIT_POSES poses; shard K of N
+ * computes the units j with j mod N = K, its part merged as a sweep's.
  */
 #ifndef RPS3_RUNNER_DESIGN_RUN_H
 #define RPS3_RUNNER_DESIGN_RUN_H
 
-#include <stddef.h>
-
-#include "core/progress.h"
-#include "output/output.h"
 #include "scene/design.h"
 #include "sweep.h"
 
@@ -38,23 +28,17 @@ typedef struct {
   size_t nsample;      /* samples of the task (its time grid) */
 } design_plan;
 
-/*
- * Build and check every design of s (design_case_build) and lay out the
- * work units.  Returns 0, or -1 with err at the swept value or key of the
- * first invalid design.
- */
+/* Build and check every design of s and lay out the work units.  Returns
+   0, or -1 with err at the swept value or key of the first invalid one. */
 int design_plan_make(const scene *s, design_plan *p, scene_error *err);
 
 /* designs of shard k of n (all for n = 1) */
 size_t design_shard_cases(const design_plan *p, size_t k, size_t n);
 
-/*
- * What --check prints (stdout) and a run prints first (stderr, unless
- * quiet): designs, poses, size, estimated time, work units.  For a run,
- * refuses (returns -1, nothing written) an output larger than the free
- * space of out_path's file system (not with gzip: the size is then an
- * upper bound) and --shard K/N with N above the work units.
- */
+/* What --check prints (stdout) and a run first (stderr, unless quiet):
+   designs, poses, size, time, work units.  A run refuses (-1, nothing
+   written) an output above the free space (not with gzip: an upper bound)
+   and --shard K/N with N above the work units. */
 int design_preflight(const char *scene_path, const scene *s,
                      const design_plan *p, size_t shard, size_t nshard,
                      int nrank, int nthread, int gzip, int check, int quiet,
@@ -66,15 +50,11 @@ out_file *design_file_open(const char *path, const scene *s,
                            const design_plan *p, const out_meta *meta,
                            char *err, size_t errsz);
 
-/*
- * Evaluate the designs of shard `shard` of `nshard` into f on nthread
- * threads (the calling thread writes), progress on pr, counts in st (its
- * points the poses and task samples evaluated) and *nempty (designs with
- * an empty workspace).
- * A design that fails is a row of its file (status, message), not a
- * failure of the run.  Returns 0, or -1 with err set (the file could not
- * be written, out of memory).
- */
+/* Evaluate the designs of shard `shard` of `nshard` into f on nthread
+   threads, counts in st (its points the poses and task samples) and
+   *nempty (designs with an empty workspace).  A failed design is a row of
+   its file (status, message), not a failure of the run.  Returns 0, or -1
+   with err (the file, memory). */
 int design_run(const scene *s, const design_plan *p, out_file *f, size_t shard,
                size_t nshard, int nthread, progress *pr, sweep_stats *st,
                size_t *nempty, char *err, size_t errsz);

@@ -1,6 +1,4 @@
-/*
- * estimate.c - see estimate.h.
- */
+/* estimate.c - see estimate.h. */
 #include "estimate.h"
 
 #include <stdint.h>
@@ -8,7 +6,6 @@
 #include <string.h>
 #include <time.h>
 
-#include "compute.h"
 #include "core/safeio.h"
 #include "output/output.h"
 
@@ -55,7 +52,6 @@ static double gzip_s_per_byte(int level) {
    exceed any size_t. */
 static double est_file_bytes(const scene *s, const sweep_plan *p,
                              out_mask fields) {
-  double neff = 0;
   /* the chunks the plan allocates (sweep.h): per sample field, `stored`
      samples in chunks of tile_cases x chunk_points; per case, whole rows */
   const double tc = (double)p->tile_cases, nt = (double)p->nt;
@@ -66,26 +62,21 @@ static double est_file_bytes(const scene *s, const sweep_plan *p,
       (double)((s->ncase + p->tile_cases - 1) / p->tile_cases * p->tile_cases);
   double per_sample = 0, per_case = 0, nds = 0, yaml = 600, total;
   scene_text t = {0};
-  size_t a;
-  int e;
-
-  for (e = 0; e < RPS3_NEFFECT; e++)
-    if (p->first.model.opt.effects & (1 << e)) neff += 1;
-
-#define EST_FIELD(id, name, files, shape, type, ...)                    \
-  if (OUT_HAS(fields, OUT_##id)) {                                      \
-    double cols = shape == OUT_CTEL                      ? 3 * neff     \
-                  : shape == OUT_CTL || shape == OUT_CTK ? 3            \
-                                                         : 1;           \
-    double size = type == OUT_F64 ? 8 : type == OUT_I32 ? 4 : VLEN_REF; \
-    if (shape == OUT_C)                                                 \
-      per_case += size;                                                 \
-    else                                                                \
-      per_sample += cols * size;                                        \
-    nds += 1;                                                           \
+  size_t a, neff = 0;
+  int i;
+  for (i = 0; i < RPS3_NEFFECT; i++)
+    if (p->first.model.opt.effects & (1 << i)) neff++;
+  for (i = 0; i < OUT_NFIELD; i++) {
+    const out_field_info *fi = &out_field_table[i];
+    double size =
+        fi->type == OUT_STR ? VLEN_REF : (double)out_type_size(fi->type);
+    if (!OUT_HAS(fields, i)) continue;
+    if (fi->shape == OUT_C)
+      per_case += size;
+    else
+      per_sample += (double)out_columns(fi->shape, neff) * size;
+    nds += 1;
   }
-  RPS3_OUTPUT_FIELDS(EST_FIELD)
-#undef EST_FIELD
   if (!p->grid_common) {
     per_sample += 8; /* case_time */
     nds += 1;
@@ -157,10 +148,11 @@ static int est_cost_measure(const scene *s, const sweep_plan *p,
   rps3_data *ws[RPS3_NSOLVER] = {NULL};
   size_t k;
   memset(c, 0, sizeof *c);
-  if (out_block_alloc(&b, 1, EST_SAMPLES / ncase, p->first.model.opt.effects))
+  if (out_block_alloc(&b, OUT_INV, 1, EST_SAMPLES / ncase,
+                      p->first.model.opt.effects))
     return -1;
   /* the path the run takes: a file of the batch's fields is computed by
-     rps3_inverse_batch (compute.c) */
+     rps3_inverse_batch (sweep.c) */
   b.fields = fields;
   for (k = 0; k < ncase; k++)
     time_case(s, ncase > 1 ? k * (s->ncase - 1) / (ncase - 1) : 0, &b, ws, c);
@@ -174,18 +166,6 @@ static int est_cost_measure(const scene *s, const sweep_plan *p,
   if (c->samples == 0) return -1;
   c->sample /= (double)c->samples;
   return 0;
-}
-
-/* wall seconds of a run (est_when): workers compute and deflate in
-   parallel while the calling thread writes */
-static double est_run_seconds(const est_cost *c, double samples, double cases,
-                              int threads) {
-  double work = samples * (c->sample + c->deflate) + cases * c->per_case;
-  double write = samples * c->write;
-  if (threads <= 1) return work + write;
-  /* the workers compute and deflate while the calling thread writes */
-  work /= threads;
-  return work > write ? work : write;
 }
 
 const char *est_human_time(double seconds, char *buf, size_t sz) {
@@ -206,11 +186,18 @@ const char *est_human_time(double seconds, char *buf, size_t sz) {
 
 const char *est_when(const est_cost *c, double samples, double cases,
                      int threads, char *buf, size_t sz) {
+  double work = samples * (c->sample + c->deflate) + cases * c->per_case;
+  double write = samples * c->write;
   char t[32];
-  snprintf(
-      buf, sz, "about %s on %d thread%s",
-      est_human_time(est_run_seconds(c, samples, cases, threads), t, sizeof t),
-      threads, threads == 1 ? "" : "s");
+  /* on threads the workers compute and deflate while the calling thread
+     writes */
+  if (threads > 1) work /= threads;
+  snprintf(buf, sz, "about %s on %d thread%s",
+           est_human_time(threads <= 1   ? work + write
+                          : work > write ? work
+                                         : write,
+                          t, sizeof t),
+           threads, threads == 1 ? "" : "s");
   return buf;
 }
 
@@ -249,12 +236,10 @@ int est_room(const char *out_path, const char *kind, size_t ncase,
   return est_fits(out_path, need, gzip);
 }
 
-/* ------------------------------------------------------------ preflight */
-
 int pre_jobs(const scene *s, const sweep_plan *p, const sweep_opts *o,
              const pre_opts *po) {
   size_t nj = sweep_njob(s, p);
-  size_t mine = sweep_shard_jobs(s, p, o->shard, o->nshard);
+  size_t mine = pool_count(nj, o->shard, o->nshard);
   if (o->nshard > nj && po->nrank == 1) {
     /* a part that can hold nothing is a sizing mistake: the merge would
        need it all the same */
@@ -291,7 +276,7 @@ int pre_jobs(const scene *s, const sweep_plan *p, const sweep_opts *o,
 static int run_time(const scene *s, const sweep_plan *p, const sweep_opts *o,
                     const pre_opts *po, est_cost *c, char *buf, size_t sz) {
   size_t cases = sweep_shard_cases(s, p, o->shard, o->nshard);
-  size_t jobs = sweep_shard_jobs(s, p, o->shard, o->nshard);
+  size_t jobs = pool_count(sweep_njob(s, p), o->shard, o->nshard);
   double samples = (double)p->npoint * (double)cases / (double)s->ncase;
   /* -j 1 computes and writes on one thread; -j N on N workers and a
      writer */

@@ -1,10 +1,8 @@
 /*
- * estimate.h - what a run will cost before it starts: the size of its
- * output file, from the plan alone (no allocation, nothing computed), and
- * its run time, from a few samples of a few cases computed and timed; and
- * what rps3-run says and checks before a sweep starts: the jobs and who
- * has work, and the refusals (exit 2, nothing written) of shards that
- * cannot have work and of an output that cannot fit on its file system.
+ * estimate.h - what a run will cost before it starts (the size of its file
+ * from the plan alone, its run time from a few samples computed and timed)
+ * and what rps3-run says and refuses (exit 2, nothing written) before a
+ * sweep: shards that cannot have work, an output that cannot fit.
  */
 #ifndef RPS3_RUNNER_ESTIMATE_H
 #define RPS3_RUNNER_ESTIMATE_H
@@ -36,11 +34,9 @@ const char *est_when(const est_cost *c, double samples, double cases,
 /* This process's CPU time [s]. */
 double est_cpu_now(void);
 
-/*
- * Refuse (returns -1, said on stderr) an output of `need` bytes larger
- * than the free space of out_path's file system, unless it is deflated
- * (gzip: need is then an upper bound).  Returns 0 or -1.
- */
+/* Refuse (-1, said on stderr) an output of `need` bytes larger than the
+   free space of out_path's file system, unless deflated (gzip: need is
+   then an upper bound).  Returns 0 or -1. */
 int est_fits(const char *out_path, double need, int gzip);
 
 /* --check's first line on stdout: the cases (`kind`: "" or "simulated: "),
@@ -48,15 +44,11 @@ int est_fits(const char *out_path, double need, int gzip);
 void est_check_print(const char *path, const char *kind, size_t ncase,
                      size_t npoint, size_t nt, int common, double bytes);
 
-/*
- * Before a run: unless quiet, one line on stderr with the cases (`kind`:
- * "" or "simulated "), samples, the output's estimated size `need` and
- * the run time `when`; then est_fits.  Returns 0 or -1.
- */
+/* Before a run: unless quiet, one line on stderr with the cases (`kind`:
+   "" or "simulated "), samples, size `need` and run time `when`; then
+   est_fits.  Returns 0 or -1. */
 int est_room(const char *out_path, const char *kind, size_t ncase,
              size_t npoint, double need, int gzip, int quiet, const char *when);
-
-/* --------------------------------------------- the sweep's preflight */
 
 /* who runs: this process's rank of nrank (0 of 1 without MPI) */
 typedef struct {
@@ -68,13 +60,10 @@ typedef struct {
   out_mask fields; /* the fields written (--fields) */
 } pre_opts;
 
-/*
- * The jobs against the shards, ranks and threads (rank 0 speaks, on
- * stderr, even with --quiet).  --shard K/N with N above the number of jobs
- * is refused (returns -1): shards K >= jobs would compute nothing.  Ranks
- * above the jobs (mpirun -n N is set by the allocation) and -j above the
- * jobs of the shard are warned about.  Returns 0 or -1.
- */
+/* The jobs against the shards, ranks and threads (rank 0 speaks, even with
+   --quiet): --shard K/N with N above the jobs is refused (-1: shards
+   K >= jobs would compute nothing); ranks above the jobs (mpirun -n is set
+   by the allocation) and -j above the shard's jobs are warned about. */
 int pre_jobs(const scene *s, const sweep_plan *p, const sweep_opts *o,
              const pre_opts *po);
 
@@ -83,12 +72,10 @@ void pre_check_print(const char *scene_path, const scene *s,
                      const sweep_plan *p, const sweep_opts *o,
                      const pre_opts *po);
 
-/*
- * Before a run (rank 0): one line with the cases, samples, estimated size
- * and run time; refuse (returns -1) when the estimate exceeds the free
- * space of out_path's file system: this process writes the cases of its
- * shard; under mpirun the parts, and with --copy rank 0's merged copy too.
- */
+/* Before a run (rank 0): one line with the cases, samples, size and run
+   time; refuse (-1) an estimate above the free space of out_path's file
+   system: this process writes its shard's cases; under mpirun the parts,
+   and with --copy rank 0's merged copy too. */
 int pre_room(const scene *s, const sweep_plan *p, const sweep_opts *o,
              const pre_opts *po, const char *out_path);
 

@@ -1,8 +1,9 @@
 /*
  * pool.c - see pool.h.  The slots are each free, being filled by a worker,
- * queued for writing (first in, first out) or being written.  Each worker
- * holds one slot at a time, so with nthread + 2 slots the writer always
- * has one to give back and no one waits forever.
+ * queued for writing (first in, first out) or being written.  One thread
+ * has one slot (it computes and writes in turn); on more, each worker holds
+ * one slot at a time, so with nthread + 2 slots the writer always has one
+ * to give back and no one waits forever.
  */
 #include "pool.h"
 
@@ -13,12 +14,12 @@
 #include <string.h>
 #include <unistd.h>
 
-/* a worker holds no slot */
 #define NO_SLOT ((size_t)-1)
 
 typedef struct {
   const pool_job *job;
   int threaded;
+  unsigned char *mem; /* the slots, job->slot_size bytes each */
   pthread_mutex_t mu;
   pthread_cond_t ready_cv; /* a slot is ready, or a worker ended */
   pthread_cond_t free_cv;  /* a slot is free, or the run stops */
@@ -40,11 +41,16 @@ struct pool_worker {
   void *wctx;  /* job->worker_begin's state */
 };
 
-size_t pool_nslot(int nthread) {
-  return nthread <= 1 ? 1 : (size_t)nthread + 2;
+/* slots of a run on nthread threads */
+static size_t pool_nslot(int nthread) {
+  return nthread > 1 ? (size_t)nthread + 2 : 1;
 }
 
-void *pool_slot(pool_worker *w) { return w->P->job->slot[w->held]; }
+static void *slot_at(const pool *P, size_t i) {
+  return P->mem + i * P->job->slot_size;
+}
+
+void *pool_slot(pool_worker *w) { return slot_at(w->P, w->held); }
 
 int pool_threaded(const pool_worker *w) { return w->P->threaded; }
 
@@ -79,9 +85,9 @@ void *pool_emit(pool_worker *w, const void *info, char *err, size_t errsz) {
   size_t r;
   /* one thread: write it now and fill the same slot again */
   if (!P->threaded)
-    return J->write(J->ctx, J->slot[w->held], info, err, errsz)
+    return J->write(J->ctx, slot_at(P, w->held), info, err, errsz)
                ? NULL
-               : J->slot[w->held];
+               : slot_at(P, w->held);
   pthread_mutex_lock(&P->mu);
   r = (P->ready_head + P->nready) % P->nslot;
   P->ready_ix[r] = w->held;
@@ -96,10 +102,11 @@ void *pool_emit(pool_worker *w, const void *info, char *err, size_t errsz) {
     return NULL;
   }
   pthread_mutex_unlock(&P->mu);
-  return J->slot[w->held];
+  return slot_at(P, w->held);
 }
 
-/* a worker thread: items in turn until none is left or the run stops */
+/* a worker (or, on one thread, the calling thread): items in turn until
+   none is left or the run stops */
 static void *worker_main(void *arg) {
   pool_worker *w = arg;
   pool *P = w->P;
@@ -159,7 +166,7 @@ static void pool_write(pool *P) {
     P->nready--;
     pthread_mutex_unlock(&P->mu);
     err[0] = '\0';
-    rc = J->write(J->ctx, J->slot[ix], info, err, sizeof err);
+    rc = J->write(J->ctx, slot_at(P, ix), info, err, sizeof err);
     pthread_mutex_lock(&P->mu);
     if (rc) {
       pool_fail(P, err);
@@ -171,29 +178,9 @@ static void pool_write(pool *P) {
   pthread_mutex_unlock(&P->mu);
 }
 
-/* every item on the calling thread, each slot written as it is emitted */
-static int run_serial(pool *P, char *err, size_t errsz) {
-  const pool_job *J = P->job;
-  pool_worker w;
-  size_t i;
-  int rc = 0;
-  w.P = P;
-  w.held = 0;
-  w.wctx = NULL;
-  if (J->worker_begin && !(w.wctx = J->worker_begin(J->ctx))) {
-    snprintf(err, errsz, "out of memory");
-    return -1;
-  }
-  for (i = J->first; i < J->nitem && rc == 0;
-       i = pool_next(i, J->stride, J->nitem))
-    rc = J->run(J->ctx, w.wctx, i, &w, err, errsz);
-  if (J->worker_end) J->worker_end(J->ctx, w.wctx);
-  return rc;
-}
-
 /* the workers (started with the signals blocked: the handlers run on the
    calling thread), the writer on this thread, then the join */
-static int run_threads(pool *P, int nthread, char *err, size_t errsz) {
+static void run_threads(pool *P, int nthread) {
   pool_worker *w = calloc((size_t)nthread, sizeof *w);
   pthread_t *tid = calloc((size_t)nthread, sizeof *tid);
   sigset_t all, old;
@@ -221,26 +208,21 @@ static int run_threads(pool *P, int nthread, char *err, size_t errsz) {
   while (started > 0) pthread_join(tid[--started], NULL);
   free(w);
   free(tid);
-  if (P->stop) snprintf(err, errsz, "%s", P->err);
-  return P->stop ? -1 : 0;
 }
 
-/* pool_run with the job's slots */
-static int pool_start(const pool_job *job, int nthread, char *err,
-                      size_t errsz) {
+/* pool_run with the slots at mem: on this thread, or the workers and the
+   writer */
+static int pool_start(const pool_job *job, unsigned char *mem, int nthread,
+                      char *err, size_t errsz) {
   pool P;
+  pool_worker w = {NULL, NO_SLOT, NULL};
   size_t i;
   int rc = -1;
   memset(&P, 0, sizeof P);
   P.job = job;
+  P.mem = mem;
   P.threaded = nthread > 1;
   P.next = job->first;
-  if (job->info_size > POOL_INFO_MAX || nthread < 1) {
-    snprintf(err, errsz, "bad pool: %zu bytes of info, %d threads",
-             job->info_size, nthread);
-    return -1;
-  }
-  if (!P.threaded) return run_serial(&P, err, errsz);
   P.nslot = pool_nslot(nthread);
   /* the free stack, the ready ring and its infos in one block */
   if (!(P.free_ix = calloc(P.nslot, 2 * sizeof(size_t) + job->info_size)))
@@ -253,7 +235,14 @@ static int pool_start(const pool_job *job, int nthread, char *err,
     P.ready_ix = P.free_ix + P.nslot;
     P.ready_info = (unsigned char *)(P.ready_ix + P.nslot);
     for (i = 0; i < P.nslot; i++) P.free_ix[P.nfree++] = i;
-    rc = run_threads(&P, nthread, err, errsz);
+    w.P = &P;
+    P.nactive = !P.threaded;
+    if (P.threaded)
+      run_threads(&P, nthread);
+    else
+      worker_main(&w);
+    if (P.stop) snprintf(err, errsz, "%s", P.err);
+    rc = P.stop ? -1 : 0;
     pthread_cond_destroy(&P.free_cv);
     pthread_cond_destroy(&P.ready_cv);
     pthread_mutex_destroy(&P.mu);
@@ -263,21 +252,20 @@ static int pool_start(const pool_job *job, int nthread, char *err,
 }
 
 int pool_run(const pool_job *job, int nthread, char *err, size_t errsz) {
-  pool_job J = *job;
-  unsigned char *mem;
   size_t i, n = pool_nslot(nthread);
+  unsigned char *mem = calloc(n, job->slot_size);
   int rc = -1;
-  if (job->slot) return pool_start(job, nthread, err, errsz);
-  J.slot = calloc(n, sizeof *J.slot);
-  mem = calloc(n, job->slot_size);
-  for (i = 0; J.slot && mem && i < n; i++) J.slot[i] = mem + i * job->slot_size;
-  for (i = 0; J.slot && mem && i < n; i++)
-    if (job->slot_make(job->ctx, J.slot[i], i)) break;
-  if (J.slot && mem && i == n) rc = pool_start(&J, nthread, err, errsz);
-  for (i = 0; J.slot && mem && i < n; i++)
-    job->slot_free(job->ctx, J.slot[i], i);
+  if (job->info_size > POOL_INFO_MAX || nthread < 1) {
+    snprintf(err, errsz, "bad pool: %zu bytes of info, %d threads",
+             job->info_size, nthread);
+    n = 0;
+  }
+  for (i = 0; mem && i < n; i++)
+    if (job->slot_make(job->ctx, mem + i * job->slot_size, i)) break;
+  if (mem && n > 0 && i == n) rc = pool_start(job, mem, nthread, err, errsz);
+  for (i = 0; mem && i < n; i++)
+    job->slot_free(job->ctx, mem + i * job->slot_size, i);
   free(mem);
-  free(J.slot);
   return rc;
 }
 

@@ -1,16 +1,14 @@
 /*
- * pool.h - the runner's one worker pool.  A job is a set of items (the
- * inverse sweep's jobs, the simulation's cases, the design study's units)
- * computed on worker threads into the job's slots (tile buffers); each
- * filled slot goes to the calling thread, the only one that writes (HDF5 is
- * not thread-safe), and comes back free.  The slots circulate, so memory is
- * bounded by them whatever the number of items; an item depends on nothing
- * but its index, so what is written does not depend on the threads.
- *
- * The pool stops at the first error a callback returns (out of memory, a
- * failed write); a case that fails numerically is not one: the job records
- * it in its slot and goes on.  The workers block the signals, so that the
- * handlers of core/tmpout.h run on the calling thread.
+ * pool.h - the runner's one worker pool.  A job's items (the inverse
+ * sweep's jobs, the simulation's cases, the design study's units) are
+ * computed on worker threads into slots (out_block tiles); each filled slot
+ * goes to the calling thread, the only one that writes (HDF5 is not
+ * thread-safe), and comes back free: memory is bounded by the slots, and an
+ * item depends on nothing but its index, so what is written does not depend
+ * on the threads.  The pool stops at the first error a callback returns (a
+ * case that fails numerically is not one: the job records it in its slot).
+ * The workers block the signals: core/tmpout.h's handlers run on the
+ * calling thread.
  */
 #ifndef RPS3_RUNNER_POOL_H
 #define RPS3_RUNNER_POOL_H
@@ -22,30 +20,24 @@ typedef struct pool_worker pool_worker;
 /* what the pool runs: plain data and callbacks; ctx is the job's own */
 typedef struct {
   void *ctx;
-  /* the items first, first + stride, ... below nitem (stride 1: all; a
-     shard's items otherwise) */
+  /* the items first, first + stride, ... below nitem (a shard's) */
   size_t nitem, first, stride;
-  /* the slots: pool_nslot(nthread) of them, allocated by the caller; or,
-     when slot is NULL, by pool_run: slot_size bytes each, zeroed, each
-     made by slot_make (0, or -1: out of memory) and freed by slot_free
-     (made or not) */
-  void **slot;
+  /* the slots, slot_size bytes each, zeroed, made by slot_make (0, or -1:
+     out of memory) and freed by slot_free (made or not) */
   size_t slot_size;
   int (*slot_make)(void *ctx, void *slot, size_t i);
   void (*slot_free)(void *ctx, void *slot, size_t i);
-  /* bytes of what describes a filled slot (pool_emit's info), copied with
-     it to the writer; at most POOL_INFO_MAX */
+  /* bytes of pool_emit's info, copied with the slot to the writer */
   size_t info_size;
-  /* a worker's own state (workspaces), made when it starts and freed when
-     it ends; both NULL when the job has none */
+  /* a worker's own state (workspaces), or both NULL */
   void *(*worker_begin)(void *ctx);
   void (*worker_end)(void *ctx, void *wctx);
   /* Compute item i on a worker, filling pool_slot(w) and handing it over
      with pool_emit as often as needed.  0, or -1 with err: the run stops. */
   int (*run)(void *ctx, void *wctx, size_t i, pool_worker *w, char *err,
              size_t errsz);
-  /* Write a filled slot with its info, on the calling thread (count it,
-     show progress).  0, or -1 with err: the run stops. */
+  /* Write a filled slot with its info, on the calling thread.  0, or -1
+     with err: the run stops. */
   int (*write)(void *ctx, void *slot, const void *info, char *err,
                size_t errsz);
 } pool_job;
@@ -53,18 +45,11 @@ typedef struct {
 /* the largest info_size */
 #define POOL_INFO_MAX 128
 
-/* Slots a job needs on nthread threads: 1 on one thread (the calling one
-   computes and writes in turn), else nthread + 2 (a worker holds one at a
-   time: the writer always has one to give back). */
-size_t pool_nslot(int nthread);
-
-/*
- * Run every item of job on nthread worker threads (1: on the calling
- * thread, each slot written as soon as it is emitted).  Returns 0, or -1
- * with err set to the first error (a callback's, or "cannot start a
- * thread", "out of memory"; err as the caller set it when a slot cannot
- * be made).
- */
+/* Run every item of job on nthread worker threads (1: on the calling
+   thread, each slot written as soon as it is emitted).  Returns 0, or -1
+   with err set to the first error (a callback's, or "cannot start a
+   thread", "out of memory"; err as the caller set it when a slot cannot
+   be made). */
 int pool_run(const pool_job *job, int nthread, char *err, size_t errsz);
 
 /* The item after i of nitem items, stride apart, or nitem when none:

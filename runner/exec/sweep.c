@@ -1,17 +1,13 @@
-/*
- * sweep.c - see sweep.h.  Each case is computed by case_compute() with a
- * workspace of its own solver kind into its own slot of the block; a job
- * turns into one or more tiles, each handed to the worker pool (pool.h).
- */
+/* sweep.c - see sweep.h: the plan, the per-sample pipeline (a case into
+   its slot of a block with a workspace of its solver kind) and the jobs,
+   each one or more tiles handed to the worker pool. */
 #include "sweep.h"
 
+#include <math.h>
 #include <stdint.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
-
-#include "compute.h"
-#include "pool.h"
 
 /* samples in one tile of output: bounds the memory of a run */
 #define SWEEP_TILE_POINTS 16384
@@ -22,17 +18,6 @@
    does the chunk index (about 64 bytes a chunk) beside the data */
 #define SWEEP_CHUNK_MIN 128
 
-/* a filled block to write: slots [0, nc) are cases c0 .., samples
-   [k0, k0 + nk); and what it adds to the run's counts */
-typedef struct {
-  size_t c0, nc, k0, nk;
-  int with_case;      /* write the per-case fields too */
-  size_t blank_below; /* > 0: first write the (blank) block over the windows
-                         [0, blank_below) of case c0: a late failure */
-  size_t points;      /* samples computed */
-} tile;
-
-/* round n up to a multiple of q */
 static size_t round_up(size_t n, size_t q) { return (n + q - 1) / q * q; }
 
 /* Cases per job (the rows of a chunk) for at most `most` per job: the
@@ -156,7 +141,198 @@ int sweep_plan_make(const scene *s, sweep_plan *p, scene_error *err) {
   return 0;
 }
 
-/* build case `index` */
+/* the trajectory could not be evaluated at sample k (time t) */
+static int traj_failed(out_block *b, size_t slot, int rc, double t, size_t k,
+                       const double pose[3], const double dpose[3],
+                       const double ddpose[3], size_t *failed_at) {
+  /* rps3_traj_eval has no data to hold a message: name what failed */
+  *failed_at = k;
+  snprintf(b->msg[slot], sizeof b->msg[slot],
+           "t = %.9g s (sample %zu): %s: trajectory pose (%g, %g, %g), "
+           "rate (%g, %g, %g), acceleration (%g, %g, %g)",
+           t, k, rps3_strerror(rc), pose[0], pose[1], pose[2], dpose[0],
+           dpose[1], dpose[2], ddpose[0], ddpose[1], ddpose[2]);
+  return rc;
+}
+
+/* dst[stride i + c] = src[c n + i]: a [3][n] array of the batch into
+   the block's rows of `stride` values */
+static void store3(double *dst, const double *src, size_t n, size_t stride) {
+  size_t i;
+  for (i = 0; i < n; i++) {
+    dst[stride * i] = src[i];
+    dst[stride * i + 1] = src[n + i];
+    dst[stride * i + 2] = src[2 * n + i];
+  }
+}
+
+/* the batch of n points into samples j .. j + n - 1 of the block, one
+   field at a time (each a sequential stream of writes), the fields the
+   file gets; the batch wrote condition, transmission, the energy residual
+   and scale and the solve residual into the block itself */
+static void store_batch(const rps3_batch_in *in, const rps3_batch_out *x,
+                        out_block *b, size_t j) {
+  const size_t n = in->n;
+  /* the [3][n] outputs, and the one-column ones */
+  const struct {
+    int field;
+    const double *src;
+  } three[] = {{OUT_force, x->F},        {OUT_length, x->l},
+               {OUT_theta, x->theta},    {OUT_lambda, x->lambda},
+               {OUT_length_rate, x->dl}, {OUT_length_accel, x->ddl}},
+    one[] = {{OUT_alpha, in->pose},
+             {OUT_beta, in->pose + n},
+             {OUT_z_c, in->pose + 2 * n},
+             {OUT_x_c, x->c},
+             {OUT_y_c, x->c + n}};
+  const size_t ne = (size_t)b->neffect;
+  double *fe = (double *)b->buf[OUT_force_by_effect] + j * ne * 3;
+  int32_t *niter = (int32_t *)b->buf[OUT_solve_niter] + j,
+          *warn = (int32_t *)b->buf[OUT_warn] + j;
+  size_t i, e, f;
+  for (f = 0; f < sizeof three / sizeof three[0]; f++)
+    if (OUT_HAS(b->fields, three[f].field))
+      store3((double *)b->buf[three[f].field] + 3 * j, three[f].src, n, 3);
+  for (f = 0; f < sizeof one / sizeof one[0]; f++)
+    if (OUT_HAS(b->fields, one[f].field))
+      memcpy((double *)b->buf[one[f].field] + j, one[f].src,
+             n * sizeof(double));
+  for (e = 0; e < ne && OUT_HAS(b->fields, OUT_force_by_effect); e++)
+    store3(fe + 3 * e, x->F_effect + (size_t)b->effect[e] * 3 * n, n, 3 * ne);
+  memcpy(b->t + j, b->bx, n * sizeof(double));
+  for (i = 0; i < n; i++) {
+    niter[i] = x->niter[i];
+    warn[i] = x->warn[i];
+  }
+}
+
+/* the batch's scratch in b->bx: the times, then OUT_BATCH points of each
+   array, structure of arrays */
+#define POSE(b) ((b)->bx + OUT_BATCH)
+#define DPOSE(b) (POSE(b) + 3 * OUT_BATCH)
+#define DDPOSE(b) (DPOSE(b) + 3 * OUT_BATCH)
+
+/* the trajectory at samples k .. k + n - 1 into b's scratch, up to a
+   sample it cannot give: returns the samples it gave (the batch, packed
+   to their number) and the status of the one after in *trc, its pose and
+   rates in p, dp, ddp */
+static size_t batch_traj(const scene_case *c, out_block *b, size_t k, size_t n,
+                         int *trc, double p[3], double dp[3], double ddp[3]) {
+  /* the pose, its rate and acceleration: [3][n] each, 3 OUT_BATCH apart */
+  double *t = b->bx, *pose = POSE(b);
+  const double *val[3] = {p, dp, ddp};
+  size_t i, q, a;
+  *trc = RPS3_OK;
+  for (i = 0; i < n; i++) {
+    t[i] = scene_case_time(c, k + i);
+    *trc = rps3_traj_eval(&c->model, &c->traj, t[i], p, dp, ddp);
+    if (*trc != RPS3_OK) break;
+    for (a = 0; a < 3; a++)
+      for (q = 0; q < 3; q++) pose[3 * OUT_BATCH * a + q * n + i] = val[a][q];
+  }
+  /* the i samples before a failure, packed to a batch of i */
+  for (a = 0; i < n && a < 3; a++)
+    for (q = 1; q < 3; q++)
+      memmove(pose + 3 * OUT_BATCH * a + q * i,
+              pose + 3 * OUT_BATCH * a + q * n, i * sizeof(double));
+  return i;
+}
+
+/* the batch's inputs and outputs: the scratch after the poses, and the
+   per-point values of one column straight into the block at row j */
+static void batch_io(out_block *b, size_t n, size_t j, rps3_batch_in *in,
+                     rps3_batch_out *out) {
+  double *p = DDPOSE(b) + 3 * OUT_BATCH;
+  memset(in, 0, sizeof *in);
+  memset(out, 0, sizeof *out);
+  in->n = n;
+  in->pose = POSE(b);
+  in->dpose = DPOSE(b);
+  in->ddpose = DDPOSE(b);
+  out->l = p;
+  out->theta = p += 3 * OUT_BATCH;
+  out->F = p += 3 * OUT_BATCH;
+  out->lambda = p += 3 * OUT_BATCH;
+  out->F_effect = p += 3 * OUT_BATCH;
+  out->dl = p += 3 * RPS3_NEFFECT * OUT_BATCH;
+  out->ddl = p += 3 * OUT_BATCH;
+  out->c = p + 3 * OUT_BATCH;
+  out->status = b->bi;
+  out->warn = b->bi + OUT_BATCH;
+  out->niter = b->bi + 2 * OUT_BATCH;
+  out->cond = (double *)b->buf[OUT_condition] + j;
+  out->energy_residual = (double *)b->buf[OUT_energy_residual] + j;
+  out->transmission = (double *)b->buf[OUT_transmission] + j;
+  out->energy_scale = (double *)b->buf[OUT_energy_scale] + j;
+  out->solve_resid = (double *)b->buf[OUT_solve_resid] + j;
+}
+
+/* the batch failed with rc at sample k + i: the case's message, without
+   the batch's "point I: " */
+static int batch_failed(const rps3_data *d, int rc, size_t k, size_t i,
+                        out_block *b, size_t slot, size_t *failed_at) {
+  const char *msg = d->err.msg, *colon = strstr(msg, ": ");
+  if (strncmp(msg, "point ", 6) == 0 && colon) msg = colon + 2;
+  *failed_at = k + i;
+  snprintf(b->msg[slot], sizeof b->msg[slot], "t = %.9g s (sample %zu): %s: %s",
+           b->bx[i], k + i, rps3_strerror(rc), msg);
+  return rc;
+}
+
+/* case_compute: the samples OUT_BATCH at a time through rps3_inverse_batch,
+   which runs the vectorised kernel where it applies (closed-form theta,
+   Lagrange, the paper's effects: the numbers agree with rps3_inverse to
+   rounding, docs/library.md) and the per-point loop elsewhere (bitwise).  A
+   case still stops at its first failing sample, with the same message. */
+int case_compute(const scene_case *c, rps3_data *d, size_t k0, size_t nk,
+                 out_block *b, size_t slot, size_t *failed_at) {
+  size_t k, n;
+  if (k0 == 0) rps3_data_reset(d);
+  for (k = k0; k < k0 + nk; k += n) {
+    rps3_batch_in in;
+    rps3_batch_out out;
+    double p[3], dp[3], ddp[3];
+    const size_t j = slot * b->points + (k - k0);
+    int trc, rc;
+    /* the trajectory up to a sample it cannot give: the samples before it
+       are computed first, and one of them failing is the case's first
+       failure */
+    n = k0 + nk - k < OUT_BATCH ? k0 + nk - k : OUT_BATCH;
+    n = batch_traj(c, b, k, n, &trc, p, dp, ddp);
+    if (n == 0)
+      return traj_failed(b, slot, trc, b->bx[0], k, p, dp, ddp, failed_at);
+    batch_io(b, n, j, &in, &out);
+    rc = rps3_inverse_batch(&c->model, d, &in, &out);
+    if (rc == RPS3_OK && out.nfail) rc = out.status[out.first_fail];
+    if (rc != RPS3_OK)
+      return batch_failed(d, rc, k, out.nfail ? out.first_fail : 0, b, slot,
+                          failed_at);
+    if (trc != RPS3_OK)
+      return traj_failed(b, slot, trc, b->bx[n], k + n, p, dp, ddp, failed_at);
+    store_batch(&in, &out, b, j);
+  }
+  return RPS3_OK;
+}
+
+rps3_data *case_workspace(rps3_data *ws[RPS3_NSOLVER], const scene_case *c,
+                          char *err, size_t errsz) {
+  int k = (int)c->model.opt.solver;
+  if (!ws[k]) {
+    int rc = rps3_data_alloc(&c->model, &ws[k]);
+    if (rc != RPS3_OK) {
+      snprintf(err, errsz, "cannot allocate a workspace: %s",
+               rps3_strerror(rc));
+      return NULL;
+    }
+  }
+  return ws[k];
+}
+
+void case_workspaces_free(rps3_data *ws[RPS3_NSOLVER]) {
+  int k;
+  for (k = 0; k < RPS3_NSOLVER; k++) rps3_data_free(ws[k]);
+}
+
 static int case_begin(const scene *s, size_t index, scene_case *c, char *err,
                       size_t errsz) {
   scene_error e;
@@ -167,7 +343,6 @@ static int case_begin(const scene *s, size_t index, scene_case *c, char *err,
   return 0;
 }
 
-/* record the outcome of a case in its slot */
 static void slot_status(out_block *b, size_t slot, int rc, size_t failed_at) {
   ((int32_t *)b->buf[OUT_status])[slot] = rc;
   ((int32_t *)b->buf[OUT_failed_at])[slot] = rc ? (int32_t)failed_at : -1;
@@ -187,8 +362,6 @@ static int slot_begin(const scene_case *c, out_block *b, size_t slot, char *err,
   slot_status(b, slot, RPS3_OK, 0);
   return 0;
 }
-
-/* ----------------------------------------------------------------- tiles */
 
 /* "key = value, ..." of case c's swept keys (enums by name), "" without a
    sweep: how messages name a case */
@@ -211,30 +384,8 @@ static void sweep_case_label(const scene *s, size_t c, char *buf, size_t sz) {
   }
 }
 
-void sweep_failure(const scene *s, progress *pr, size_t c, const char *msg) {
-  char what[512];
-  if (pr->failure_shown) return;
-  sweep_case_label(s, c, what, sizeof what);
-  progress_failure(pr, c, what, msg);
-}
-
-void sweep_count(progress *pr, sweep_stats *st, size_t cases, size_t points,
-                 size_t failed) {
-  st->cases_done += cases;
-  st->points_done += points;
-  st->nfailed += failed;
-  progress_update(pr, st->cases_done, st->points_done);
-}
-
-/* ------------------------------------------------------------------ jobs */
-
 size_t sweep_njob(const scene *s, const sweep_plan *p) {
   return (s->ncase + p->tile_cases - 1) / p->tile_cases;
-}
-
-size_t sweep_shard_jobs(const scene *s, const sweep_plan *p, size_t shard,
-                        size_t nshard) {
-  return pool_count(sweep_njob(s, p), shard, nshard);
 }
 
 size_t sweep_shard_cases(const scene *s, const sweep_plan *p, size_t shard,
@@ -249,26 +400,21 @@ size_t sweep_shard_cases(const scene *s, const sweep_plan *p, size_t shard,
 /* a sweep as a job of the pool (pool.h): its items are the jobs of the
    shard, its slots tile blocks */
 typedef struct {
-  const scene *s;
+  sweep_writer w; /* first: the ctx of sweep_write_tile */
   const sweep_plan *p;
-  out_file *f;
   out_block *b;      /* the caller's block: slot 0 */
   out_layout layout; /* the file's chunks, for out_pack */
-  sweep_stats *st;
-  progress *pr;
 } sweep_job;
 
 /* hand the filled tile t of *b to the pool, and take the block to fill
    next into *b: 0, or -1 with err */
 static int emit(const sweep_job *J, pool_worker *w, out_block **b,
-                const tile *t, char *err, size_t errsz) {
+                const out_tile *t, char *err, size_t errsz) {
   /* on threads, deflate and checksum here, in parallel, not on the writing
-     thread.  On one thread and uncompressed, the chunks as the file stores
-     them (out_pack: the Fletcher-32 here, full chunks stored from the
-     block's own buffers) cost less than HDF5's filter pipeline (a copy of
-     the tile into each chunk, another into the filter's buffer);
-     compressed, deflate is the cost either way, and -j 1 keeps HDF5's own
-     filters.  A late failure's blank windows go through HDF5 too. */
+     thread; on one thread and uncompressed, out_pack (full chunks stored
+     from the block's own buffers) costs less than HDF5's filters (two
+     copies of the tile); compressed, -j 1 keeps HDF5's filters, as do a
+     late failure's blank windows. */
   (*b)->packed = 0;
   if ((pool_threaded(w) || J->layout.gzip == 0) && t->blank_below == 0 &&
       out_pack(&J->layout, *b, t->c0, t->nc, t->k0, t->nk)) {
@@ -283,9 +429,9 @@ static int emit(const sweep_job *J, pool_worker *w, out_block **b,
 /* job j as a tile of whole cases */
 static int job_whole(const sweep_job *J, size_t j, out_block **bp,
                      rps3_data *ws[], pool_worker *w, char *err, size_t errsz) {
-  const scene *s = J->s;
+  const scene *s = J->w.s;
   out_block *b = *bp;
-  tile t;
+  out_tile t;
   size_t slot;
   memset(&t, 0, sizeof t);
   t.c0 = j * b->cases;
@@ -321,8 +467,8 @@ static int job_windows(const sweep_job *J, size_t j, out_block **bp,
   rps3_data *d;
   size_t end;
   int rc = RPS3_OK;
-  tile t;
-  if (case_begin(J->s, j, &c, err, errsz) ||
+  out_tile t;
+  if (case_begin(J->w.s, j, &c, err, errsz) ||
       !(d = case_workspace(ws, &c, err, errsz)))
     return -1;
   /* windows past the case's last chunk are not written */
@@ -350,11 +496,8 @@ static int job_windows(const sweep_job *J, size_t j, out_block **bp,
   return 0;
 }
 
-/* ------------------------------------------------------------------- run */
-
-/* pool_job.run: job j of the sweep on worker w (a tile of whole cases, or
-   one long case in windows); ws holds the workspaces, one per solver
-   kind, allocated on first use */
+/* pool_job.run: job j on worker w, a tile of whole cases or one long case
+   in windows (wctx: the workspaces, one per solver kind) */
 static int sweep_item(void *ctx, void *wctx, size_t j, pool_worker *w,
                       char *err, size_t errsz) {
   const sweep_job *J = ctx;
@@ -364,27 +507,27 @@ static int sweep_item(void *ctx, void *wctx, size_t j, pool_worker *w,
              : job_whole(J, j, &b, wctx, w, err, errsz);
 }
 
-/* pool_job.write: a filled block to the file, counted, its first failed
-   case said */
-static int sweep_write(void *ctx, void *slot, const void *info, char *err,
-                       size_t errsz) {
-  const sweep_job *J = ctx;
+int sweep_write_tile(void *ctx, void *slot, const void *info, char *err,
+                     size_t errsz) {
+  const sweep_writer *W = ctx;
   const out_block *b = slot;
-  const tile *t = info;
-  size_t k, failed = 0;
-  /* a late failure: first the blank block over the case's earlier windows */
-  for (k = 0; k < t->blank_below; k += b->points)
-    if (out_write(J->f, b, t->c0, 1, k, b->points, 0, err, errsz)) return -1;
-  if (out_write(J->f, b, t->c0, t->nc, t->k0, t->nk, t->with_case, err, errsz))
-    return -1;
+  const out_tile *t = info;
+  size_t k;
+  char what[512] = "";
+  if (out_write(W->f, b, t, err, errsz)) return -1;
   /* the cases a tile completes are those it writes the per-case fields
-     of; a window before a case's last has status ok */
-  for (k = 0; k < t->nc; k++)
-    if (((const int32_t *)b->buf[OUT_status])[k] != RPS3_OK) {
-      sweep_failure(J->s, J->pr, t->c0 + k, b->msg[k]);
-      failed++;
+     of; the first failure is said once (its label made once) */
+  for (k = 0; t->with_case && k < t->nc; k++)
+    if (((const int32_t *)b->buf[W->status])[k] != RPS3_OK) {
+      if (W->label && !W->pr->failure_shown)
+        sweep_case_label(W->s, t->c0 + k, what, sizeof what);
+      progress_failure(W->pr, t->c0 + k, what,
+                       ((char *const *)b->buf[W->message])[k]);
+      W->st->nfailed++;
     }
-  sweep_count(J->pr, J->st, t->with_case ? t->nc : 0, t->points, failed);
+  W->st->cases_done += t->with_case ? t->nc : 0;
+  W->st->points_done += t->points;
+  progress_update(W->pr, W->st->cases_done, W->st->points_done);
   return 0;
 }
 
@@ -409,7 +552,7 @@ static int block_make(void *ctx, void *slot, size_t i) {
     *b = *J->b;
     return 0;
   }
-  if (out_block_alloc(b, J->b->cases, J->b->points,
+  if (out_block_alloc(b, OUT_INV, J->b->cases, J->b->points,
                       J->p->first.model.opt.effects))
     return -1;
   b->fields = J->b->fields;
@@ -428,19 +571,19 @@ static void block_free(void *ctx, void *slot, size_t i) {
 int sweep_run_opts(const scene *s, const sweep_plan *p, out_file *f,
                    out_block *b, const sweep_opts *o, progress *pr,
                    sweep_stats *st, char *err, size_t errsz) {
-  sweep_job J = {s, p, f, b, f->layout, st, pr};
+  sweep_job J = {{s, f, pr, st, OUT_status, OUT_message, 1}, p, b, f->layout};
   pool_job job = {.ctx = &J,
                   .nitem = sweep_njob(s, p),
                   .first = o->shard,
                   .stride = o->nshard,
-                  .info_size = sizeof(tile),
+                  .info_size = sizeof(out_tile),
                   .slot_size = sizeof(out_block),
                   .slot_make = block_make,
                   .slot_free = block_free,
                   .worker_begin = workspaces_begin,
                   .worker_end = workspaces_end,
                   .run = sweep_item,
-                  .write = sweep_write};
+                  .write = sweep_write_tile};
   memset(st, 0, sizeof *st);
   if (o->nshard < 1 || o->shard >= o->nshard || o->nthread < 1) {
     snprintf(err, errsz, "bad shard %zu/%zu or thread count %d", o->shard,

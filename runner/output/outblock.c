@@ -1,16 +1,11 @@
-/*
- * outblock.c - the schema of the output (RPS3_OUTPUT_FIELDS as a table),
- * the tile buffers a sweep fills, and the selection of fields (--fields).
- * No HDF5 here: output.c writes what this describes.
- */
+/* outblock.c - the schema as a table, the tile buffers and the
+   selection of fields (--fields); no HDF5 (output.c writes). */
 #include "outblock.h"
 
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
-
-/* ------------------------------------------------------------ the schema */
 
 #define OUT_FIELD_ROW(id, name, files, shape, type, flags, units, long_name, \
                       doc)                                                   \
@@ -88,12 +83,14 @@ static int inv(int i) { return (out_field_table[i].files & OUT_INV) != 0; }
 
 /* elements of field i per slot */
 static size_t slot_elems(const out_block *b, int i) {
-  return out_field_table[i].shape == OUT_C
-             ? 1
-             : b->points * out_columns(out_field_table[i].shape, b->neffect);
+  out_shape sh = out_field_table[i].shape;
+  return out_shape_has(sh, OUT_AX_TIME)
+             ? b->points * out_columns(sh, b->neffect)
+             : out_columns(sh, b->points);
 }
 
-int out_block_alloc(out_block *b, size_t cases, size_t points, int effects) {
+int out_block_alloc(out_block *b, int files, size_t cases, size_t points,
+                    int effects) {
   int i, e;
   memset(b, 0, sizeof *b);
   b->cases = cases;
@@ -104,7 +101,9 @@ int out_block_alloc(out_block *b, size_t cases, size_t points, int effects) {
   for (i = 0; i < OUT_NFIELD; i++) {
     size_t n =
         cases * slot_elems(b, i) * out_type_size(out_field_table[i].type);
-    if (inv(i) && !(b->buf[i] = calloc(1, n + OUT_SLACK))) goto fail;
+    if ((out_field_table[i].files & files) &&
+        !(b->buf[i] = calloc(1, n + OUT_SLACK)))
+      goto fail;
   }
   b->t = calloc(1, cases * points * sizeof *b->t + OUT_SLACK);
   b->yaml = calloc(cases, sizeof *b->yaml);
@@ -144,7 +143,7 @@ void out_block_blank(out_block *b, size_t slot, size_t k) {
     size_t cols = out_columns(out_field_table[i].shape, b->neffect);
     size_t lo = (slot * b->points + k) * cols,
            hi = (slot + 1) * b->points * cols;
-    if (out_field_table[i].shape != OUT_C && inv(i))
+    if (out_field_table[i].shape != OUT_C && b->buf[i])
       out_fill_n(
           (char *)b->buf[i] + lo * out_type_size(out_field_table[i].type),
           hi - lo, i);
@@ -177,8 +176,6 @@ void out_schema_print(int files) {
     printf(" %s |\n", fi->doc);
   }
 }
-
-/* ---------------------------------------------------------------- fields */
 
 out_mask out_fields_all(void) {
   out_mask m = 0;

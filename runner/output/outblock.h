@@ -1,19 +1,13 @@
 /*
- * outblock.h - the schema of every runner file and a sweep's tiles in
- * memory: RPS3_OUTPUT_FIELDS, the one table of what the inverse sweep's,
- * the simulation's and the design study's files hold, drives the tile
- * buffers (outblock.c), dataset creation, the writes and the CF
- * attributes (output.c), the chunks of a tile packed off the writing
- * thread (outpack.c) and the selection of fields (--fields).  No HDF5
- * calls.
+ * outblock.h - the schema of every runner file (RPS3_OUTPUT_FIELDS: what
+ * the inverse sweep's, the simulation's and the design study's files hold)
+ * and a tile of it in memory, the out_block every job fills.  No HDF5.
  */
 #ifndef RPS3_RUNNER_OUTBLOCK_H
 #define RPS3_RUNNER_OUTBLOCK_H
 
 #include <stddef.h>
 #include <stdint.h>
-
-#include <hdf5.h>
 
 #include "scene/scene.h"
 
@@ -61,7 +55,7 @@ typedef enum { OUT_F64, OUT_I32, OUT_I64, OUT_STR } out_type;
 #define OUT_POSE 16 /* a design study's with design.per_pose */
 #define OUT_DESIGN (OUT_DES | OUT_TASK | OUT_POSE)
 
-/* the CF flag attributes of a field (out_cf.h) */
+/* the CF flag attributes of a field (out_h5.h) */
 typedef enum {
   OUT_FLAGS_NONE,
   OUT_FLAGS_STATUS, /* flag_values: every rps3_status, not computed */
@@ -77,10 +71,9 @@ typedef enum {
  * The one table of what a runner file holds per case (per design) and per
  * sample: X(id, name, files, shape, type, flags, units (UDUNITS),
  * long_name (CF), description).  id names the field in the code (OUT_id),
- * name the dataset; a name in several kinds of file with another meaning
- * has a row of each.  Only the inverse sweep's fields are members of
- * out_block (OUT_MEMBER_); its per-sample fields come before the 64th row
- * (out_mask).
+ * name the dataset (a name in several kinds of file with another meaning
+ * has a row of each).  The inverse sweep's fields come before the 64th
+ * row (out_mask).
  */
 #define RPS3_OUTPUT_FIELDS(X)                                                  \
   X(force, force, OUT_INV, OUT_CTL, OUT_F64, OUT_FLAGS_NONE, "N",              \
@@ -372,12 +365,9 @@ typedef uint64_t out_mask;
 /* every field of the inverse sweep's file */
 out_mask out_fields_all(void);
 
-/*
- * --fields: a comma-separated list of per-sample fields ("force,length")
- * into *mask, with every per-case field (status, failed_at, message,
- * scene_resolved: what a reader needs).  Returns 0, or -1 with err naming
- * the unknown name and listing the valid ones.
- */
+/* --fields: a comma-separated list of per-sample fields ("force,length")
+   into *mask, with every per-case field (what a reader needs).  Returns 0,
+   or -1 with err naming the unknown name and listing the valid ones. */
 int out_fields_parse(const char *list, out_mask *mask, char *err, size_t errsz);
 
 /* the per-sample fields of mask, comma-separated, in schema order, into
@@ -391,11 +381,11 @@ const char *out_fields_attr(int files, out_mask mask, char *buf, size_t sz);
 
 /*
  * The buffers of one tile: up to `cases` cases of up to `points` samples.
- * buf[i], field i's buffer (the inverse sweep's fields only, else NULL),
+ * buf[i], field i's buffer (NULL when the block's files lack the field),
  * is [cases][points][columns] (C order, the layout of the hyperslab),
- * strings are one pointer per case.  Samples of slot s, time index k
- * (counted from the tile's first sample) and column j are at
- * buf[i][(s * points + k) * columns + j].
+ * strings one pointer per case.  A field without a time axis is
+ * [cases][columns]; of a design study's per-pose fields the columns are
+ * the poses, `points`.
  */
 typedef struct {
   size_t cases;             /* case slots */
@@ -407,7 +397,7 @@ typedef struct {
   scene_text *yaml; /* per slot: scene_resolved's storage */
   char (*msg)[320]; /* per slot: message's storage */
   out_mask fields;  /* the fields the file gets (--fields) */
-  /* scratch of the batch path (compute.c): OUT_BATCH points, structure of
+  /* scratch of the batch path (exec/sweep.c): OUT_BATCH points, structure of
      arrays, OUT_BATCH_DOUBLES and OUT_BATCH_INTS values a point */
   double *bx;
   int *bi;
@@ -422,11 +412,16 @@ typedef struct {
   size_t pk_tmp_cap;
 } out_block;
 
+/* the buffer of field OUT_id of block b, as its element type */
+#define OUT_D(b, id) ((double *)(b)->buf[OUT_##id])
+#define OUT_I(b, id) ((int32_t *)(b)->buf[OUT_##id])
+#define OUT_L(b, id) ((int64_t *)(b)->buf[OUT_##id])
+#define OUT_S(b, id) ((char **)(b)->buf[OUT_##id])
+
 /* points per call of rps3_inverse_batch in the runner, and the scratch
-   they need: time, pose, rates, accelerations, lengths, theta, F, lambda,
-   F_effect of every effect, link rates and accelerations, centre; status,
-   warn, niter (the per-point values of one column go to the block
-   itself) */
+   they need (exec/sweep.c): time, pose and its rates, lengths, theta, F,
+   lambda, F_effect of every effect, link rates and accelerations, centre;
+   status, warn, niter */
 #define OUT_BATCH 256
 #define OUT_BATCH_DOUBLES (1 + 9 + 12 + 3 * RPS3_NEFFECT + 9)
 #define OUT_BATCH_INTS 3
@@ -448,9 +443,7 @@ typedef struct out_chunk {
 
 /* what out_pack needs of a file: plain numbers, read by any thread */
 typedef struct {
-  size_t ncase, nt; /* extents along case and time */
-  size_t tc, q;     /* chunk extents along case and time */
-  int neffect;
+  size_t tc, q;    /* chunk extents along case and time */
   int gzip;        /* deflate level, 0 for none */
   out_mask fields; /* the fields written */
   int case_time;   /* 1: case_time is written */
@@ -458,12 +451,11 @@ typedef struct {
 
 /*
  * Pack the per-sample fields (and case_time) of a tile -- slots [0, nc) of
- * b, cases c0 .., samples [k0, k0 + nk), k0 and c0 on chunk boundaries --
- * into whole chunks as HDF5 stores them with the file's filters: deflate at
- * L->gzip, then the Fletcher-32 checksum (padding past the tile with the
- * fill values).  Calls no HDF5 function, so worker threads pack while the
- * writing thread writes; out_write then writes the chunks as they are
- * (H5Dwrite_chunk).  Returns 0, or -1 (out of memory, or zlib failed).
+ * b, cases c0 .., samples [k0, k0 + nk), on chunk boundaries -- into whole
+ * chunks as HDF5 stores them: deflate at L->gzip, then the Fletcher-32
+ * checksum, the chunk past the tile filled.  No HDF5 call, so worker
+ * threads pack while the writing thread writes (H5Dwrite_chunk).  Returns
+ * 0, or -1 (out of memory, or zlib failed).
  */
 int out_pack(const out_layout *L, out_block *b, size_t c0, size_t nc, size_t k0,
              size_t nk);
@@ -482,8 +474,10 @@ const void *out_fill(int i);
 /* n fill values of field i (not a string) at dst */
 void out_fill_n(void *dst, size_t n, int i);
 
-/* Allocate a block; returns 0, or -1 (out of memory, nothing leaks). */
-int out_block_alloc(out_block *b, size_t cases, size_t points, int effects);
+/* Allocate a block for the fields of the files `files` (OUT_INV, ...);
+   returns 0, or -1 (out of memory, nothing leaks). */
+int out_block_alloc(out_block *b, int files, size_t cases, size_t points,
+                    int effects);
 
 /* Free a block's buffers; a zeroed block is accepted. */
 void out_block_free(out_block *b);
@@ -491,9 +485,9 @@ void out_block_free(out_block *b);
 /* Fill slot s from sample k on with the missing values (NaN, -1). */
 void out_block_blank(out_block *b, size_t slot, size_t k);
 
-/* print the schema of the files `files` (OUT_INV, OUT_SIM, OUT_DESIGN)
-   as markdown on stdout: name, dimensions, type, units, (for a design
-   study, in which files,) description */
+/* print the schema of the files `files` as markdown on stdout: name,
+   dimensions, type, units, (of a design study, in which files,)
+   description */
 void out_schema_print(int files);
 
 #endif /* RPS3_RUNNER_OUTBLOCK_H */

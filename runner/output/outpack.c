@@ -1,10 +1,8 @@
 /*
- * outpack.c - out_pack (outblock.h).  HDF5's filter pipeline runs in the
- * one thread that calls HDF5 (Debian's HDF5 is not thread-safe), so with
- * -j N deflate and the checksums would be serial; here each worker packs
- * its own tiles.  The bytes are those of HDF5's deflate filter (zlib's
- * compress2 at the level) and fletcher32 filter (the checksum of the
- * result, little-endian, after it).
+ * outpack.c - out_pack (outblock.h): HDF5's filters run in the one thread
+ * that calls HDF5, so each worker packs its own tiles instead, into the
+ * bytes of HDF5's deflate filter (zlib's compress2 at the level) and
+ * fletcher32 filter (the checksum of the result, little-endian, after it).
  */
 #include "outblock.h"
 
@@ -16,20 +14,15 @@
 #include <zlib.h>
 
 /*
- * Fletcher-32 of HDF5's fletcher32 filter: sum1 = the sum of the
- * big-endian 16-bit words (an odd last byte as the high byte of a word),
- * sum2 = the sum of sum1 after each word, each folded to 16 bits; sum2
- * high, sum1 low.  HDF5 folds (s & 0xffff) + (s >> 16) every 360 words;
- * a fold keeps the value modulo 65535 and keeps it positive, and the last
- * two folds leave it at most 0xffff, so its result is a function of the
- * exact sums S: 0 when S = 0 (only when every byte is zero), else the
- * residue of S modulo 65535 in [1, 65535].  That is what is computed here,
- * faster: each byte lane k of a round of FL_LANES bytes accumulates its
- * bytes (a[k]) and, after each round, a[k] again (c[k]), in 32-bit lanes
- * the compiler vectorises; the word sums follow from them (a high byte
- * counts 256 times, a word j of a round of m rounds weighs
- * FL_LANES / 2 (m - r) - j in sum2).  FL_ROUNDS keeps c[k] below 2^32:
- * 255 m (m + 1) / 2 < 2^32 for m = 4096.
+ * Fletcher-32 of HDF5's fletcher32 filter: sum1 = the sum of the big-endian
+ * 16-bit words (an odd last byte as a word's high byte), sum2 = the sum of
+ * sum1 after each word; sum2 high, sum1 low.  HDF5's folds keep each sum
+ * modulo 65535 and positive, so the result is 0 when every byte is zero,
+ * else the residue of the exact sum modulo 65535 in [1, 65535]: computed
+ * here per byte lane of FL_LANES bytes (a[k] its bytes, c[k] a[k] after
+ * each round, 32-bit lanes the compiler vectorises; a high byte counts 256
+ * times, word j of round r of m weighs FL_LANES / 2 (m - r) - j in sum2).
+ * FL_ROUNDS keeps c[k] below 2^32: 255 m (m + 1) / 2 < 2^32, m = 4096.
  */
 #define FL_LANES 16
 #define FL_ROUNDS 4096
@@ -136,11 +129,9 @@ static int pack_field(const out_layout *L, out_block *b, int field, size_t c0,
       b->pk = p;
       b->pk_max = n;
     }
-    /* a chunk that ends where the buffer ends is the buffer's own bytes
-       (the rows past the tile's cases and the samples past its end set
-       to the fill values in place: nothing reads them after this): stored
-       from there, its checksum in the buffer's slack (out_block_alloc),
-       no copy */
+    /* a chunk that ends where the buffer ends is stored from the buffer
+       itself (its fill set in place: nothing reads it after this), its
+       checksum in the buffer's slack: no copy */
     direct = !L->gzip && rows_contiguous && start + raw == total;
     if (direct)
       out = src + start;

@@ -1,11 +1,10 @@
 /*
- * output.c - create a runner file (output.h) as a self-describing HDF5
- * file (netCDF-4 style: dimension scales on every axis, units and
- * description on every dataset), readable by h5py and by xarray through
- * h5netcdf.  The writes are in out_write.c.
+ * output.c - create a runner file (output.h), self-describing (netCDF-4
+ * style: dimension scales on every axis, units and description on every
+ * dataset), readable by h5py and by xarray through h5netcdf; and its
+ * writes.
  */
 #include "output.h"
-#include "out_cf.h"
 #include "scene/design.h"
 #include "scene/inputs.h"
 
@@ -22,7 +21,7 @@
 /* bytes of HDF5's type conversion buffer per write */
 #define OUT_TCONV_BUF 65536
 
-hid_t out_field_type(const out_file *f, const out_field_info *fi) {
+static hid_t out_field_type(const out_file *f, const out_field_info *fi) {
   return fi->type == OUT_F64   ? H5T_NATIVE_DOUBLE
          : fi->type == OUT_I32 ? H5T_NATIVE_INT32
          : fi->type == OUT_I64 ? H5T_NATIVE_INT64
@@ -67,15 +66,13 @@ static int write_scene_text(out_file *f, const scene *s, char *err,
   const char *text = s->text;
   int rc = 0;
   if (ds < 0 || out_cf_long_name(ds, f->str, "scene file") < 0 ||
-      out_h5_write_all(ds, f->str, &text) < 0) {
+      H5Dwrite(ds, f->str, H5S_ALL, H5S_ALL, H5P_DEFAULT, &text) < 0) {
     out_fail(err, errsz, "cannot write the scene text");
     rc = -1;
   }
   if (ds >= 0) H5Dclose(ds);
   return rc;
 }
-
-/* ----------------------------------------------------------- the scales */
 
 /* the file's dimension scales: a dataset (or -1) and extent per axis */
 typedef struct {
@@ -208,15 +205,10 @@ static int make_scales(out_file *f, const scene *s, scales *sc, char *err,
   return 0;
 }
 
-/* ----------------------------------------------------------- the fields */
-
-/*
- * The per-case datasets of a file written a case at a time (in whatever
- * order the cases end) are reopened with a chunk cache (CASE_CACHE bytes
- * each), so that a chunk is read, checksummed and written once per flush
- * rather than at every case (out_h5_dataset gives none).  A simulated
- * sweep of 3000 cases of 11 samples: 8.9 s without, 4.9 s with.
- */
+/* the per-case datasets of a file written a case at a time (in any order)
+   get a chunk cache (CASE_CACHE bytes each): a chunk is checksummed and
+   written once per flush, not at every case (3000 simulated cases of 11
+   samples: 8.9 s without, 4.9 s with) */
 #define CASE_CACHE (1 << 20)
 
 static int reopen_cached(out_file *f, int i) {
@@ -303,10 +295,8 @@ static int make_case_time(out_file *f, const out_meta *meta, const scales *sc,
   return 0;
 }
 
-/* ------------------------------------------------------------- the file */
-
 /* the file itself, its string type and root attributes; the layout */
-static out_file *file_open(const char *path, const scene *s, const out_spec *sp,
+static out_file *file_open(const char *path, const out_spec *sp,
                            const out_meta *meta, char *err, size_t errsz) {
   out_file *f = calloc(1, sizeof *f);
   int i;
@@ -318,11 +308,8 @@ static out_file *file_open(const char *path, const scene *s, const out_spec *sp,
   f->row = sp->files & OUT_DES ? "design" : "case";
   f->file = f->str = f->case_time = f->dxpl = -1;
   for (i = 0; i < OUT_NFIELD; i++) f->ds[i] = -1;
-  f->layout.ncase = s->ncase;
-  f->layout.nt = sp->nt;
   f->layout.tc = sp->tile_cases;
   f->layout.q = sp->chunk_points < sp->nt ? sp->chunk_points : sp->nt;
-  f->layout.neffect = sp->neffect;
   f->layout.gzip = meta->gzip;
   f->layout.fields = meta->fields;
   f->layout.case_time = !sp->grid_common;
@@ -361,7 +348,7 @@ out_file *out_open(const char *path, const scene *s, const out_spec *sp,
   char *coords[2] = {NULL, NULL};
   size_t a = 0;
   int i, rc = -1;
-  out_file *f = file_open(path, s, sp, meta, err, errsz);
+  out_file *f = file_open(path, sp, meta, err, errsz);
   if (!f) return NULL;
   memset(&sc, 0, sizeof sc);
   for (i = 0; i < OUT_NAXIS; i++) sc.id[i] = -1;
@@ -394,12 +381,10 @@ out_file *out_open(const char *path, const scene *s, const out_spec *sp,
   return NULL;
 }
 
-/* the time of sample k of the inverse sweep's common grid */
 static double inv_time(const void *first, size_t k) {
   return scene_case_time(first, k);
 }
 
-/* the simulation's common time axis: times[k] */
 static double axis_time(const void *times, size_t k) {
   return ((const double *)times)[k];
 }
@@ -439,6 +424,98 @@ out_file *out_create(const char *path, const scene *s, int files, size_t nt,
   sp.neffect = sim ? 0 : b->neffect;
   sp.effect = sim ? NULL : b->effect;
   return out_open(path, s, &sp, meta, err, errsz);
+}
+
+/* write the chunks out_pack made, as they are */
+static int write_packed(out_file *f, const out_block *b, char *err,
+                        size_t errsz) {
+  size_t i;
+  for (i = 0; i < b->npk; i++) {
+    const out_chunk *ck = &b->pk[i];
+    hid_t ds = ck->field < OUT_NFIELD ? f->ds[ck->field] : f->case_time;
+    const unsigned char *data = !ck->direct ? b->pk_buf
+                                : ck->field < OUT_NFIELD
+                                    ? (const unsigned char *)b->buf[ck->field]
+                                    : (const unsigned char *)b->t;
+    hsize_t off[4] = {0, 0, 0, 0};
+    off[0] = ck->c0;
+    off[1] = ck->k0;
+    if (H5Dwrite_chunk(ds, H5P_DEFAULT, 0, off, ck->size, data + ck->off) < 0) {
+      out_fail(err, errsz, "cannot write %s of cases %zu-",
+               ck->field < OUT_NFIELD ? out_field_table[ck->field].name
+                                      : "case_time",
+               ck->c0);
+      return -1;
+    }
+  }
+  return 0;
+}
+
+/* a write of field `name` failed: of which cases */
+static void rows_fail(const out_file *f, const char *name, size_t c0, size_t nc,
+                      char *err, size_t errsz) {
+  if (nc == 1)
+    out_fail(err, errsz, "cannot write %s of %s %zu", name, f->row, c0);
+  else
+    out_fail(err, errsz, "cannot write %s of %ss %zu-%zu", name, f->row, c0,
+             c0 + nc - 1);
+}
+
+/* the fields of f with a time axis (timed 1) or those without (0) from
+   buf[i], [cases][points][the other axes] (a NULL string written empty),
+   into cases c0 .. c0 + nc - 1, samples k0 .. k0 + nk - 1; and case_time
+   from t, when the file has it and t is not NULL */
+static int write_fields(out_file *f, const void *const buf[], const double *t,
+                        int timed, size_t cases, size_t points, size_t c0,
+                        size_t nc, size_t k0, size_t nk, char *err,
+                        size_t errsz) {
+  const char **str = timed ? NULL : malloc(cases * sizeof *str);
+  size_t j;
+  int i, rc = timed || str ? 0 : -1;
+  for (i = 0; rc == 0 && i < OUT_NFIELD; i++) {
+    const out_field_info *fi = &out_field_table[i];
+    const void *v = buf[i];
+    if (out_shape_has(fi->shape, OUT_AX_TIME) != timed || f->ds[i] < 0)
+      continue;
+    for (j = 0; v && fi->type == OUT_STR && j < nc; j++)
+      str[j] = ((const char *const *)v)[j] ? ((const char *const *)v)[j] : "";
+    if (v && fi->type == OUT_STR) v = str;
+    if (!v || out_h5_tile(f->ds[i], f->dxpl, out_field_type(f, fi), timed,
+                          cases, points, v, c0, nc, k0, nk) < 0) {
+      rows_fail(f, fi->name, c0, nc, err, errsz);
+      rc = -1;
+    }
+  }
+  if (rc == 0 && f->case_time >= 0 && t &&
+      out_h5_tile(f->case_time, f->dxpl, H5T_NATIVE_DOUBLE, 1, cases, points, t,
+                  c0, nc, k0, nk) < 0) {
+    rows_fail(f, "case_time", c0, nc, err, errsz);
+    rc = -1;
+  }
+  if (!timed && !str) snprintf(err, errsz, "out of memory");
+  free(str);
+  return rc;
+}
+
+int out_write(out_file *f, const out_block *b, const out_tile *t, char *err,
+              size_t errsz) {
+  const void *buf[OUT_NFIELD];
+  size_t k;
+  int i;
+  for (i = 0; i < OUT_NFIELD; i++) buf[i] = b->buf[i];
+  for (k = 0; k < t->blank_below; k += b->points)
+    if (write_fields(f, buf, b->t, 1, b->cases, b->points, t->c0, 1, k,
+                     b->points, err, errsz))
+      return -1;
+  return (b->packed && write_packed(f, b, err, errsz)) ||
+                 (t->with_case &&
+                  write_fields(f, buf, NULL, 0, b->cases, 1, t->c0, t->nc, 0, 1,
+                               err, errsz)) ||
+                 (!b->packed && t->nk > 0 &&
+                  write_fields(f, buf, b->t, 1, b->cases, b->points, t->c0,
+                               t->nc, t->k0, t->nk, err, errsz))
+             ? -1
+             : 0;
 }
 
 int out_close(out_file *f, char *err, size_t errsz) {

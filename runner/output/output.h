@@ -1,25 +1,14 @@
 /*
  * output.h - the HDF5 file of an inverse sweep, a simulation or a design
- * study: the one writer of the schema RPS3_OUTPUT_FIELDS (outblock.h).
- * The coordinates (the dimension scales, the swept keys, case_time) are
- * written by output.c itself.
- *
- * The file is written in tiles: a tile is a run of whole cases, or one
- * window of samples of a single long case.  A tile is one hyperslab write
- * per field, so memory is bounded by the tile size, whatever the sweep size.
+ * study, the one writer of the schema (outblock.h), in tiles (a run of
+ * whole cases, or a window of one long case): one hyperslab write per
+ * field, memory bounded by the tile whatever the sweep.
  */
 #ifndef RPS3_RUNNER_OUTPUT_H
 #define RPS3_RUNNER_OUTPUT_H
 
-#include <stddef.h>
-#include <stdint.h>
-
-#include <hdf5.h>
-
-#include "out_cf.h"
 #include "out_h5.h"
 #include "outblock.h"
-#include "scene/scene.h"
 
 /* what the file says about the run */
 typedef struct {
@@ -31,7 +20,7 @@ typedef struct {
                          (inputs.h): root attribute input_files */
 } out_meta;
 
-/* an open file (the writers' own: output.c, out_write.c) */
+/* an open file (output.c's own) */
 typedef struct out_file {
   int files;       /* the rows of the schema it holds (out_spec) */
   const char *row; /* what a case is: "case", "design" */
@@ -42,9 +31,6 @@ typedef struct out_file {
   hid_t dxpl;           /* the tiles' transfer properties */
   out_layout layout;    /* for out_pack */
 } out_file;
-
-/* the HDF5 type of a schema field in f */
-hid_t out_field_type(const out_file *f, const out_field_info *fi);
 
 /* what a file holds and how it is chunked (out_open) */
 typedef struct {
@@ -66,100 +52,41 @@ typedef struct {
   const int *effect;   /* ... their indices, in file order */
 } out_spec;
 
-/*
- * Create the file at `path` (truncating it) for the cases of s and the
- * fields of sp->files (of an inverse sweep's, those of meta->fields): the
- * root attributes, the scene text, the dimension scales of the axes of
- * those fields, the swept keys, every field's dataset with its units,
- * description, CF attributes and fill value, and case_time when the grid
- * differs between cases.  Returns NULL with a message in err.
- */
+/* Create the file at `path` (truncating it) for the cases of s and the
+   fields of sp->files (of an inverse sweep's, those of meta->fields): the
+   root attributes, the scene text, the scales, the swept keys, each
+   field's dataset with its attributes, and case_time when the grid
+   differs between cases.  Returns NULL with a message in err. */
 out_file *out_open(const char *path, const scene *s, const out_spec *sp,
                    const out_meta *meta, char *err, size_t errsz);
 
-/*
- * A run's file (out_open): create the file at `path` (truncating it) for
- * the cases of s, of an inverse sweep (files OUT_INV) or of a simulation
- * (OUT_SIM): all datasets, dimension scales, attributes, the scene text,
- * the swept keys and, when the grid is common to all cases, the time axis
- * from `axis` (the sweep's first scene_case, the simulation's nt times), NULL
- * when the grid differs by case (then `time` is a sample index and case_time
- * holds the times).  nt is the largest number of samples of any case.  An
- * inverse sweep's chunks are [b->cases, chunk_points, ...] (a tile is a
- * whole number of chunks); a simulation's [1, chunk_points, (3)] (b NULL).
- * Returns NULL with a message in err.
- */
+/* out_open for an inverse sweep (files OUT_INV) or a simulation (OUT_SIM):
+   its time axis from `axis` (the sweep's first scene_case, the simulation's
+   nt times) when the grid is common to all cases, else NULL (case_time
+   holds the times).  An inverse sweep's chunks are [b->cases,
+   chunk_points, ...]; a simulation's [1, chunk_points, (3)] (b NULL). */
 out_file *out_create(const char *path, const scene *s, int files, size_t nt,
                      const void *axis, size_t chunk_points, const out_block *b,
                      const out_meta *meta, char *err, size_t errsz);
 
-/*
- * Write a tile: slots [0, nc) of b hold cases c0 .. c0 + nc - 1, samples
- * [k0, k0 + nk).  Per-case fields (status, message, ...) are written only
- * when with_case is 1.  When b->packed, the per-sample fields are written
- * as the chunks out_pack made of this tile.  Returns 0 or -1 with err set.
- */
-int out_write(out_file *f, const out_block *b, size_t c0, size_t nc, size_t k0,
-              size_t nk, int with_case, char *err, size_t errsz);
+/* a filled block to write: slots [0, nc) hold cases c0 .., samples
+   [k0, k0 + nk) (none when nk is 0); with the per-case fields (status,
+   message, ...) when with_case; and what it adds to the run's counts */
+typedef struct {
+  size_t c0, nc, k0, nk;
+  int with_case;
+  size_t blank_below; /* > 0: first the (blank) block over the windows
+                         [0, blank_below) of case c0: a late failure */
+  size_t points;      /* samples computed */
+} out_tile;
 
-/*
- * Write samples [k0, k0 + nk) of case c from a window of that case alone:
- * buf[i] holds `points` rows of the columns of per-sample field i (of the
- * field's type) for every such field of the file; times the samples'
- * times, written to case_time when the grid differs (NULL otherwise).
- * 0 or -1 with err.
- */
-int out_write_window(out_file *f, void *const buf[], size_t points, size_t c,
-                     size_t k0, size_t nk, const double *times, char *err,
-                     size_t errsz);
-
-/* Write the fields without a time axis of cases c0 .. c0 + nc - 1: val[i]
-   points at nc rows of field i's values (const char * for a string, NULL
-   for an empty one) for every such field of the file.  0 or -1 with err. */
-int out_write_case(out_file *f, const void *const val[], size_t c0, size_t nc,
-                   char *err, size_t errsz);
+/* Write tile t of b; when b->packed, the per-sample fields as the chunks
+   out_pack made of it.  Returns 0 or -1 with err set. */
+int out_write(out_file *f, const out_block *b, const out_tile *t, char *err,
+              size_t errsz);
 
 /* Flush and close the file; returns 0 or -1 with err set.  f is freed
    either way; NULL is accepted. */
 int out_close(out_file *f, char *err, size_t errsz);
-
-/* ------------------------------------------------- a simulation's file */
-
-/*
- * The buffer of one window of one case: for each field of shape CT or CTL
- * `points` samples of 1 or 3 doubles, row k of field i at
- * buf[i] + k * columns (NULL for the per-case fields).
- */
-typedef struct {
-  size_t points;           /* samples per window */
-  double *buf[OUT_NFIELD]; /* OUT_SIM fields only */
-} sim_window;
-
-/* the per-case values of a case */
-typedef struct {
-  double tracking_error_max, failed_time;
-  int32_t status, failed_at;
-  int64_t nsteps, nevals, nticks, nsat;
-  char message[640];
-  const char *scene_resolved;
-} sim_case_values;
-
-/* Allocate the window buffers for `points` samples: 0, or -1. */
-int sim_window_alloc(sim_window *w, size_t points);
-void sim_window_free(sim_window *w);
-
-/* Write samples [k0, k0 + nk) of case c from the window (out_write_window;
-   times when the grid differs, else NULL).  0 or -1 with err set. */
-int sim_file_window(out_file *f, const sim_window *w, size_t c, size_t k0,
-                    size_t nk, const double *times, char *err, size_t errsz);
-
-/* Write the per-case values of case c (out_write_case).  0 or -1 with err
-   set. */
-int sim_file_case(out_file *f, const sim_case_values *v, size_t c, char *err,
-                  size_t errsz);
-
-/* Bytes of a file of ncase cases and npoint samples in all, uncompressed
-   (the per-case strings estimated): an estimate for the disk check. */
-double sim_file_bytes(size_t ncase, size_t npoint);
 
 #endif /* RPS3_RUNNER_OUTPUT_H */

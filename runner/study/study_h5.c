@@ -4,7 +4,7 @@
  * dimension scales on every axis, Fletcher-32 on every chunk, and the root
  * attributes rps3_version, created_utc, command_line, gsl_version,
  * hdf5_version and title; CF's long_name on every dataset (long_names
- * below) and the root Conventions, history and git_revision (out_cf.h).
+ * below) and the root Conventions, history and git_revision (out_h5.h).
  */
 #include <stdio.h>
 #include <string.h>
@@ -12,7 +12,6 @@
 #include <gsl/gsl_version.h>
 #include <hdf5_hl.h>
 
-#include "output/out_cf.h"
 #include "output/output.h"
 #include "study.h"
 
