@@ -1,8 +1,8 @@
 /*
  * study_ref_impl.h - the body of study_ref.c, included once per precision
- * with REAL (the floating type), S(name) (a suffixed name) and the math
- * functions RSIN, RCOS, RSQRT, RATAN2, RTANH defined.  No include guard: it is
- * meant to be included twice.
+ * with REAL (the floating type), S(name) (a suffixed name), RF(f) (the
+ * math function f of REAL) and REF_FORCES (the public name) defined.  No
+ * include guard: it is meant to be included twice.
  *
  * Kane's equations in the pose coordinates q = (alpha, beta, z_c): the
  * actuators do virtual work F_i dl_i, so for every j
@@ -19,38 +19,29 @@ typedef struct {
 } S(jet);
 
 static S(jet) S(jk)(REAL v) {
-  S(jet) r;
-  r.v = v;
-  r.d = r.dd = 0;
+  S(jet) r = {v, 0, 0};
   return r;
 }
 
 static S(jet) S(jadd)(S(jet) a, S(jet) b) {
-  a.v += b.v;
-  a.d += b.d;
-  a.dd += b.dd;
-  return a;
+  S(jet) r = {a.v + b.v, a.d + b.d, a.dd + b.dd};
+  return r;
 }
 
 static S(jet) S(jsub)(S(jet) a, S(jet) b) {
-  a.v -= b.v;
-  a.d -= b.d;
-  a.dd -= b.dd;
-  return a;
+  S(jet) r = {a.v - b.v, a.d - b.d, a.dd - b.dd};
+  return r;
 }
 
 static S(jet) S(jscale)(REAL s, S(jet) a) {
-  a.v *= s;
-  a.d *= s;
-  a.dd *= s;
-  return a;
+  S(jet) r = {s * a.v, s * a.d, s * a.dd};
+  return r;
 }
 
 static S(jet) S(jmul)(S(jet) a, S(jet) b) {
-  S(jet) r;
-  r.v = a.v * b.v;
-  r.d = a.d * b.v + a.v * b.d;
-  r.dd = a.dd * b.v + 2 * a.d * b.d + a.v * b.dd;
+  S(jet)
+  r = {a.v * b.v, a.d * b.v + a.v * b.d,
+       a.dd * b.v + 2 * a.d * b.d + a.v * b.dd};
   return r;
 }
 
@@ -63,40 +54,28 @@ static S(jet) S(jdiv)(S(jet) a, S(jet) b) {
 }
 
 static S(jet) S(jsin)(S(jet) a) {
-  S(jet) r;
-  REAL s = RSIN(a.v), c = RCOS(a.v);
-  r.v = s;
-  r.d = c * a.d;
-  r.dd = c * a.dd - s * a.d * a.d;
+  REAL s = RF(sin)(a.v), c = RF(cos)(a.v);
+  S(jet) r = {s, c * a.d, c * a.dd - s * a.d * a.d};
   return r;
 }
 
 static S(jet) S(jcos)(S(jet) a) {
-  S(jet) r;
-  REAL s = RSIN(a.v), c = RCOS(a.v);
-  r.v = c;
-  r.d = -s * a.d;
-  r.dd = -s * a.dd - c * a.d * a.d;
+  REAL s = RF(sin)(a.v), c = RF(cos)(a.v);
+  S(jet) r = {c, -s * a.d, -s * a.dd - c * a.d * a.d};
   return r;
 }
 
 static S(jet) S(jsqrt)(S(jet) a) {
-  S(jet) r;
-  REAL s = RSQRT(a.v);
-  r.v = s;
-  r.d = a.d / (2 * s);
-  r.dd = a.dd / (2 * s) - a.d * a.d / (4 * s * s * s);
+  REAL s = RF(sqrt)(a.v);
+  S(jet) r = {s, a.d / (2 * s), a.dd / (2 * s) - a.d * a.d / (4 * s * s * s)};
   return r;
 }
 
 /* atan2(y, x): d = (x y' - y x') / (x^2 + y^2) */
 static S(jet) S(jatan2)(S(jet) y, S(jet) x) {
-  S(jet) r;
   REAL D = x.v * x.v + y.v * y.v, N = x.v * y.d - y.v * x.d;
   REAL Nd = x.v * y.dd - y.v * x.dd, Dd = 2 * (x.v * x.d + y.v * y.d);
-  r.v = RATAN2(y.v, x.v);
-  r.d = N / D;
-  r.dd = (Nd * D - N * Dd) / (D * D);
+  S(jet) r = {RF(atan2)(y.v, x.v), N / D, (Nd * D - N * Dd) / (D * D)};
   return r;
 }
 
@@ -112,21 +91,21 @@ typedef struct {
 
 static int S(kinematics)(const rps3_model *m, const S(jet) q[3], S(kin) * k) {
   REAL R = (REAL)m->R, r = (REAL)m->rho * R, d = (REAL)m->d;
-  REAL pi = RATAN2(0, -1), cp[3], sp[3];
+  REAL pi = RF(atan2)(0, -1), cp[3], sp[3];
   S(jet) T[3][3], w[3][3], rhs[2];
   S(jet) ca = S(jcos)(q[0]), sa = S(jsin)(q[0]);
   S(jet) cb = S(jcos)(q[1]), sb = S(jsin)(q[1]);
   S(jet) zero = S(jk)(0), one = S(jk)(1);
   /* rot = Rz(alpha) Ry(beta) Rz(-alpha), the spin gamma = -alpha of (2) */
-  S(jet) A[3][3] = {{ca, S(jscale)(-1, sa), zero}, {sa, ca, zero},
-                    {zero, zero, one}};
-  S(jet) B[3][3] = {{cb, zero, sb}, {zero, one, zero},
-                    {S(jscale)(-1, sb), zero, cb}};
+  S(jet)
+  A[3][3] = {{ca, S(jscale)(-1, sa), zero}, {sa, ca, zero}, {zero, zero, one}};
+  S(jet)
+  B[3][3] = {{cb, zero, sb}, {zero, one, zero}, {S(jscale)(-1, sb), zero, cb}};
   REAL det;
   int i, j, n;
   for (i = 0; i < 3; i++) {
-    cp[i] = RCOS(2 * pi * (REAL)i / 3);
-    sp[i] = RSIN(2 * pi * (REAL)i / 3);
+    cp[i] = RF(cos)(2 * pi * (REAL)i / 3);
+    sp[i] = RF(sin)(2 * pi * (REAL)i / 3);
   }
   for (i = 0; i < 3; i++)
     for (j = 0; j < 3; j++) {
@@ -244,9 +223,7 @@ static int S(solve3)(REAL A[3][3], REAL rhs[3]) {
   for (n = 0; n < 3; n++) {
     int piv = n;
     for (i = n + 1; i < 3; i++)
-      if ((A[i][n] < 0 ? -A[i][n] : A[i][n]) >
-          (A[piv][n] < 0 ? -A[piv][n] : A[piv][n]))
-        piv = i;
+      if (RF(fabs)(A[i][n]) > RF(fabs)(A[piv][n])) piv = i;
     if (A[piv][n] == 0) return -1;
     if (piv != n) {
       REAL t;
@@ -273,9 +250,8 @@ static int S(solve3)(REAL A[3][3], REAL rhs[3]) {
   return 0;
 }
 
-static int S(forces)(const rps3_model *m, int eff, const double pose[3],
-                     const double dpose[3], const double ddpose[3],
-                     double F[3]) {
+int REF_FORCES(const rps3_model *m, int eff, const double pose[3],
+               const double dpose[3], const double ddpose[3], double F[3]) {
   S(kin) kt, kp[3];
   S(jet) q[3];
   REAL w[3], dw[3], pw[3][3], A[3][3], rhs[3], g = (REAL)m->g;
@@ -333,7 +309,7 @@ static int S(forces)(const rps3_model *m, int eff, const double pose[3],
         /* the pin friction law of rps3.h: sign, or tanh(rate / vreg) */
         REAL vreg = (REAL)m->friction.vreg;
         REAL sg =
-            vreg > 0 ? RTANH(rate / vreg) : (REAL)((rate > 0) - (rate < 0));
+            vreg > 0 ? RF(tanh)(rate / vreg) : (REAL)((rate > 0) - (rate < 0));
         REAL tau = -((REAL)m->friction.viscous * rate +
                      (REAL)m->friction.coulomb * sg);
         s -= tau * dth;
