@@ -46,8 +46,8 @@ static const cli_opt RUN_OPTS[O_N] = {
     {"fields", 0, "LIST", 0, 0, 0,
      "write only these per-sample fields (force,length,...)"},
     {"check", 0, NULL, 0, 0, 0,
-     "validate the scene and every case, print the\nestimated output size "
-     "and run time, write nothing"},
+     "validate the scene and every case, print the\nestimated output size and "
+     "run time, write nothing"},
     {"jobs", 'j', "N", 1, 1, MAX_THREADS,
      "compute on N threads (default 1); same output"},
     {"shard", 0, "K/N", 0, 0, 0,
@@ -68,47 +68,43 @@ static const cli_opt RUN_OPTS[O_N] = {
     CLI_ROW_HELP,
 };
 
+static const char USAGE[] =
+    "usage: rps3-run SCENE.yaml -o OUT.h5 [OPTION]...\n"
+    "       rps3-run SCENE.yaml --check [OPTION]...\n"
+    "       rps3-run merge OUT.h5 PART.h5... [--copy] [--failed-ok] "
+    "[--quiet]\n"
+    "       mpirun -n N rps3-run-mpi SCENE.yaml -o OUT.h5 [OPTION]...\n"
+    "       rps3-run --clean OUT.h5 [--force]\n"
+    "       rps3-run --keys | --schema | --sim-schema | --design-schema\n"
+    "       rps3-run --version | --help\n"
+    "\n"
+    "Run the scenes of the Lee & Shah 3-RPS manipulator into HDF5 files.\n"
+    "\n"
+    "Computes the inverse dynamics along the scene's trajectory, for every\n"
+    "case of its sweep, into OUT.h5; a scene with a simulate section is\n"
+    "simulated in closed loop instead (docs/runner.md, \"Simulation\").\n"
+    "\n"
+    "Options:\n";
+
+static const char COMMANDS[] =
+    "\n"
+    "Commands:\n"
+    "  merge                 join the part files of shards 0..N-1 into "
+    "OUT.h5\n"
+    "                        (virtual datasets over the parts; --copy: one\n"
+    "                        self-contained file)\n"
+    "  --clean               remove the temporaries of OUT.h5 left by dead\n"
+    "                        processes (--force: those of other hosts too)\n"
+    "\n"
+    "Options take their value as --gzip=4, --gzip 4, -j2 or -j 2.\n"
+    "\n"
+    "Exit status: 0 ok, 1 some cases failed, 2 bad scene or usage, 3 cannot\n"
+    "write.\n";
+
 static void usage(FILE *out) {
-  fprintf(out,
-          "usage: rps3-run SCENE.yaml -o OUT.h5 [OPTION]...\n"
-          "       rps3-run SCENE.yaml --check [OPTION]...\n"
-          "       rps3-run merge OUT.h5 PART.h5... [--copy] [--failed-ok] "
-          "[--quiet]\n"
-          "       mpirun -n N rps3-run-mpi SCENE.yaml -o OUT.h5 [OPTION]...\n"
-          "       rps3-run --clean OUT.h5 [--force]\n"
-          "       rps3-run --keys | --schema | --sim-schema | --design-schema\n"
-          "       rps3-run --version | --help\n"
-          "\n"
-          "Run the scenes of the Lee & Shah 3-RPS manipulator into HDF5 "
-          "files.\n"
-          "\n"
-          "Computes the inverse dynamics along the scene's trajectory, for "
-          "every\n"
-          "case of its sweep, into OUT.h5; a scene with a simulate section "
-          "is\n"
-          "simulated in closed loop instead (docs/runner.md, "
-          "\"Simulation\").\n"
-          "\n"
-          "Options:\n");
+  fputs(USAGE, out);
   cli_help(out, RUN_OPTS, O_N);
-  fprintf(out,
-          "\n"
-          "Commands:\n"
-          "  merge                 join the part files of shards 0..N-1 "
-          "into OUT.h5\n"
-          "                        (virtual datasets over the parts; "
-          "--copy: one\n"
-          "                        self-contained file)\n"
-          "  --clean               remove the temporaries of OUT.h5 left by "
-          "dead\n"
-          "                        processes (--force: those of other hosts "
-          "too)\n"
-          "\n"
-          "Options take their value as --gzip=4, --gzip 4, -j2 or -j 2.\n"
-          "\n"
-          "Exit status: 0 ok, 1 some cases failed, 2 bad scene or usage, 3 "
-          "cannot\n"
-          "write.\n");
+  fputs(COMMANDS, out);
 }
 
 /* K/N into *k, *n, strictly (digits only, 0 <= K < N); 0 or -1 */
@@ -192,14 +188,11 @@ int run_args_parse(int argc, char **argv, run_args *a) {
   a->scene_path = nop ? op[0] : NULL;
   if (!a->scene_path) {
     cli_usage_error(&c,
-                    "missing the scene file (rps3-run SCENE.yaml -o "
-                    "OUT.h5)");
+                    "missing the scene file (rps3-run SCENE.yaml -o OUT.h5)");
     return EXIT_USAGE;
   }
   if (!a->out_path && !a->check) {
-    cli_usage_error(&c,
-                    "missing -o OUT.h5 (or --check, which writes "
-                    "nothing)");
+    cli_usage_error(&c, "missing -o OUT.h5 (or --check, which writes nothing)");
     return EXIT_USAGE;
   }
   return -1;
@@ -225,9 +218,7 @@ int clean_main(int argc, char **argv) {
   nop = cli_operands(&c, &op);
   if (nop != 1) {
     if (nop == 0)
-      cli_usage_error(&c,
-                      "missing OUT.h5 (rps3-run --clean OUT.h5 "
-                      "[--force])");
+      cli_usage_error(&c, "missing OUT.h5 (rps3-run --clean OUT.h5 [--force])");
     else
       cli_usage_error(&c, "one OUT.h5 at a time ('%s' and '%s')", op[0], op[1]);
     return EXIT_USAGE;

@@ -86,10 +86,9 @@ int run_design(scene *s, const run_args *a, const world *w, int argc,
   int code;
   if (a->fields != out_fields_all())
     return run_usage_error(w,
-                           "--fields selects variables of the "
-                           "inverse-dynamics file; a design study writes its "
-                           "file whole (design.per_pose adds the per-pose "
-                           "indices)");
+                           "--fields selects variables of the inverse-dynamics "
+                           "file; a design study writes its file whole "
+                           "(design.per_pose adds the per-pose indices)");
   if ((code = design_checks(s, a, w, &plan)) >= 0) return code;
   j.fields = out_fields_attr(plan.files, 0, d.fields, sizeof d.fields);
   j.ncase = design_shard_cases(&plan, a->shard, a->nshard);

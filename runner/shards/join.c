@@ -27,15 +27,15 @@
 
 /* what a walk over part 0 needs */
 typedef struct {
-  hid_t src;                     /* part 0 */
-  hid_t dst;                     /* the joined file */
-  const char *const *part;       /* the part files, by shard */
-  char **link;                   /* their names as stored in the virtual maps */
-  const char *link_dir;          /* the directory of dst */
-  merge_chunked list;            /* the chunked datasets */
-  hid_t dcpl[MERGE_MAX_CHUNKED]; /* their virtual maps, by list index */
+  hid_t src;               /* part 0 */
+  hid_t dst;               /* the joined file */
+  const char *const *part; /* the part files, by shard */
+  char **link;             /* their names as stored in the virtual maps */
+  const char *link_dir;    /* the directory of dst */
   char *err;
   size_t errsz;
+  merge_chunked list;            /* the chunked datasets */
+  hid_t dcpl[MERGE_MAX_CHUNKED]; /* their virtual maps, by list index */
 } walk;
 
 static int skipped_attr(const char *name) {
@@ -201,9 +201,7 @@ static herr_t make_object(hid_t root, const char *name, const H5O_info_t *oi,
   int rc = -1;
   if (strcmp(name, ".") == 0) return 0;
   if (oi->type != H5O_TYPE_GROUP && oi->type != H5O_TYPE_DATASET) {
-    snprintf(w->err, w->errsz,
-             "%s: object %s is neither a group nor a "
-             "dataset",
+    snprintf(w->err, w->errsz, "%s: object %s is neither a group nor a dataset",
              w->part[0], name);
     return -1;
   }
@@ -325,18 +323,12 @@ static int joined_count(hid_t file, const char *dst, const char *link_dir,
 int join_vds(const char *dst, const char *const *part, size_t n,
              const char *command_line, size_t *nfailed, char *err,
              size_t errsz) {
-  walk w;
   char *link_dir = dir_of(dst), is0[4200];
+  walk w = {-1, -1, part, NULL, link_dir, err, errsz, {{""}, 0}, {0}};
   size_t k;
   int j, rc = -1;
-  memset(&w, 0, sizeof w);
-  w.src = w.dst = -1;
-  for (j = 0; j < MERGE_MAX_CHUNKED; j++) w.dcpl[j] = -1;
-  w.part = part;
   w.link = calloc(n, sizeof *w.link);
-  w.link_dir = link_dir;
-  w.err = err;
-  w.errsz = errsz;
+  for (j = 0; j < MERGE_MAX_CHUNKED; j++) w.dcpl[j] = -1;
   snprintf(is0, sizeof is0, "%s read", part[0]);
   if (!w.link || !link_dir)
     snprintf(err, errsz, "out of memory");

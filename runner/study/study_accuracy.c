@@ -290,12 +290,12 @@ static int measure_trajectory(const rps3_model *base, int t, size_t nsamp,
     return -1;
   }
   if (reference_build(base, &tr, nsamp, ref) < 0) return -1;
-  fprintf(stderr,
-          "rps3-study: %s: reference |F|max %.4g N, peak %.6g N, floors: "
-          "reference (long double) %.2g, theta closed form - long double "
-          "%.2g rad\n",
-          study_traj_name[t], ref->fscale, ref->peak, ref->floor_ref,
-          ref->floor_theta);
+  fprintf(
+      stderr,
+      "rps3-study: %s: reference |F|max %.4g N, peak %.6g N, floors: reference "
+      "(long double) %.2g, theta closed form - long double %.2g rad\n",
+      study_traj_name[t], ref->fscale, ref->peak, ref->floor_ref,
+      ref->floor_theta);
   /* the effects ladder's error is against the model with every effect */
   rall = *ref;
   rall.F = malloc(3 * nsamp * sizeof(double));
@@ -355,13 +355,13 @@ static int write_configs(study_h5 *o, const study_config *cfg, int ncfg) {
   CFG_I32("warm_start", cfg[c].warm,
           "1: theta solve starts from the previous sample; 0: cold")
   CFG_STR("derivative", study_deriv_name[cfg[c].deriv],
-          "rates: exact (the trajectory's), central differences of the "
-          "pose (fd_pose) or of the link lengths (fd_length) with step h, "
-          "of the samples at interval dt (fd_samples), or the not-a-knot "
-          "spline of the pose sampled every h (spline_pose)")
+          "rates: exact (the trajectory's), central differences of the pose "
+          "(fd_pose) or of the link lengths (fd_length) with step h, of the "
+          "samples at interval dt (fd_samples), or the not-a-knot spline of "
+          "the pose sampled every h (spline_pose)")
   CFG_F64("fd_step", cfg[c].h > 0 ? cfg[c].h : DNAN, "s",
-          "finite-difference step, or the spline's row spacing, h (NaN "
-          "for exact rates)")
+          "finite-difference step, or the spline's row spacing, h (NaN for "
+          "exact rates)")
   CFG_STR("method",
           cfg[c].method == RPS3_LAGRANGE ? "lagrange" : "newton_euler",
           "formulation of the dynamics")
@@ -396,17 +396,17 @@ static int write_results(study_h5 *o, const study_result res[][MAXCFG],
           "time to compute one second of the trajectory: ns_per_point x "
           "samples / duration (the cost axis of the dt study)")
   RES_F64("force_error", force_err, "1",
-          "max over samples and links of |F - F_ref| / max |F_ref| (for "
-          "the effects ladder: against the model with every effect)")
+          "max over samples and links of |F - F_ref| / max |F_ref| (for the "
+          "effects ladder: against the model with every effect)")
   RES_F64("theta_error", theta_err, "rad",
-          "max over samples and links of |theta - theta_ref|, theta_ref "
-          "from inverse kinematics in long double")
+          "max over samples and links of |theta - theta_ref|, theta_ref from "
+          "inverse kinematics in long double")
   RES_F64("peak_force_error", peak_err, "1",
           "dt study: (peak_ref - max sampled |F|) / peak_ref, peak_ref from "
           "200001 samples")
   RES_F64("energy_residual", energy_err, "1",
-          "dt study: max over intervals |W_k - (E_k+1 - E_k)| / max |W_k|, "
-          "W_k the trapezoid of the power sum F_i dl_i, E = T + P")
+          "dt study: max over intervals |W_k - (E_k+1 - E_k)| / max |W_k|, W_k "
+          "the trapezoid of the power sum F_i dl_i, E = T + P")
   RES_F64("mean_iterations", mean_iter, "1",
           "theta solve iterations per sample")
 #define RES_I32(name, field, doc)                                   \
@@ -414,8 +414,8 @@ static int write_results(study_h5 *o, const study_result res[][MAXCFG],
     for (c = 0; c < ncfg; c++) tiv[t * ncfg + c] = res[t][c].field; \
   rc |= study_h5_write(o, name, H5T_NATIVE_INT32, 2, dims, tiv, "1", doc, s_tc);
   RES_I32("failed_samples", nfail,
-          "samples whose pipeline returned an error "
-          "(errors are measured over the others)")
+          "samples whose pipeline returned an error (errors are measured over "
+          "the others)")
   RES_I32("status", status,
           "rps3_status of the first failing sample, 0 if none")
 #define REF_F64(name, field, units, doc)                                    \
@@ -423,12 +423,10 @@ static int write_results(study_h5 *o, const study_result res[][MAXCFG],
   rc |= study_h5_write(o, name, H5T_NATIVE_DOUBLE, 1, &dt1, fl, units, doc, \
                        s_t);
   REF_F64("reference_floor_force", floor_ref, "1",
-          "the reference's own rounding error / max |F_ref|: "
-          "its double twin's distance from it x LDBL_EPSILON / "
-          "DBL_EPSILON")
+          "the reference's own rounding error / max |F_ref|: its double twin's "
+          "distance from it x LDBL_EPSILON / DBL_EPSILON")
   REF_F64("reference_floor_theta", floor_theta, "rad",
-          "max |theta_closed_form - theta_long_double| on the "
-          "grid")
+          "max |theta_closed_form - theta_long_double| on the grid")
   REF_F64("reference_force_max", fscale, "N",
           "max |F_ref| over the grid: the force_error scale")
   REF_F64("reference_peak_force", peak, "N",
@@ -457,16 +455,16 @@ int study_accuracy(const char *path, const char *cmdline, size_t nsamp,
     if (measure_trajectory(&base, t, nsamp, repeats, cfg, ncfg, run, &ref[t],
                            res[t]) < 0)
       return EXIT_IO;
-  fprintf(stderr,
-          "rps3-study: accuracy: %d configurations x %d trajectories "
-          "in %.1f s\n",
-          ncfg, NTRAJ, 1e-9 * (study_now_ns() - t_start));
+  fprintf(
+      stderr,
+      "rps3-study: accuracy: %d configurations x %d trajectories in %.1f s\n",
+      ncfg, NTRAJ, 1e-9 * (study_now_ns() - t_start));
 
   /* the file */
-  if (study_h5_open(&o, path, cmdline,
-                    "rps3-study accuracy: error against a precise reference "
-                    "and median time per point, per configuration and "
-                    "trajectory") < 0 ||
+  if (study_h5_open(
+          &o, path, cmdline,
+          "rps3-study accuracy: error against a precise reference and median "
+          "time per point, per configuration and trajectory") < 0 ||
       write_configs(&o, cfg, ncfg) < 0 ||
       write_results(&o, (const study_result(*)[MAXCFG])res, ref, ncfg) < 0 ||
       out_h5_attr_n(o.file, "samples", H5T_NATIVE_DOUBLE, 0, &counts[0]) < 0 ||
