@@ -32,7 +32,6 @@
 #include "mpi/world.h"
 #include "output/output.h"
 #include "run_cli.h"
-#include "run_design.h"
 #include "run_steps.h"
 #include "scene/design.h"
 #include "scene/scene.h"
@@ -226,7 +225,7 @@ static int run_main(int argc, char **argv, const world *w) {
   pre.gzip = a.gzip;
   pre.quiet = a.quiet;
   pre.fields = a.fields;
-  if (design_wanted(&s)) /* its designs into its own file (run_design.h) */
+  if (design_wanted(&s)) /* its designs into its own file (run_steps.h) */
     code = run_design(&s, &a, w, argc, argv);
   else if (sim_wanted(&s)) /* simulated instead (simulate.h) */
     code = run_simulated(&s, &a, w, argc, argv);

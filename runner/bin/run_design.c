@@ -1,8 +1,8 @@
 /*
- * run_design.c - see run_design.h.  The designs checked by every rank,
- * --check, the room, then the steps of a sweep's run (run_output).
+ * run_design.c - rps3-run on a design study (run_steps.h): the designs
+ * checked by every rank, --check, the room, then the steps of a sweep's
+ * run (run_output).
  */
-#include "run_design.h"
 #include "run_steps.h"
 
 #include <stdio.h>

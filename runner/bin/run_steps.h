@@ -50,4 +50,11 @@ int run_io(const run_args *a, const char *err);
 int run_output(const run_args *a, const world *w, const scene *s, int code,
                run_job *j, int argc, char **argv);
 
+/* rps3-run on the design study s (scene/design.h, run_design.c): the
+   plan, --check, then the file of this process's designs (a whole file, a
+   --shard part, or a rank's part joined as a sweep's are) by run_output;
+   the exit code. */
+int run_design(scene *s, const run_args *a, const world *w, int argc,
+               char **argv);
+
 #endif /* RPS3_RUNNER_RUN_STEPS_H */
