@@ -22,7 +22,6 @@
 
 #include "merge.h"
 #include "output/output.h"
-#include "scene/inputs.h"
 #include "verify.h"
 
 /* what a walk over part 0 needs */

@@ -10,7 +10,6 @@
 
 #include <hdf5.h>
 
-#include "join.h"
 #include "merge.h"
 #include "output/out_h5.h"
 #include "verify.h"

@@ -117,9 +117,9 @@ void study_traj_make(int k, rps3_traj *tr);
 void study_traj_sine(rps3_traj *tr, const rps3_sine *sine);
 
 /* inverse kinematics in long double, independent of src/ik.c: the
-   reference angles theta_i and lengths l_i of the pose */
+   reference angles theta_i of the pose */
 void study_ik_long(const rps3_model *m, const double pose[3],
-                   long double theta[3], long double len[3]);
+                   long double theta[3]);
 
 /* a configuration of study s with every other knob at its default */
 void study_config_base(study_config *c, study_kind s);
@@ -128,7 +128,7 @@ void study_config_base(study_config *c, study_kind s);
 int study_configs_build(study_config *cfg);
 
 /* forces at time t by r's configuration; an rps3_status */
-int study_point(study_runner *r, double t, double span);
+int study_point(study_runner *r, double t);
 
 /* the time of sample k of n of the span, inside the margins */
 double study_sample_time(size_t k, size_t n, double span);
@@ -138,8 +138,8 @@ double study_sample_time(size_t k, size_t n, double span);
 int study_runner_init(study_runner *r, const study_config *c,
                       const rps3_traj *tr, const rps3_model *base);
 
-/* T + P of the default effects at the data's state, from the data's
-   velocities (not by the library) */
+/* T + P of the default effects at the data's state, written here from
+   vc, omega and dtheta (not by the library) */
 double study_energy(const rps3_model *m, const rps3_data *d);
 
 /* the studies into the HDF5 file at path: an exit code (study_sim exits

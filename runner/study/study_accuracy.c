@@ -67,13 +67,12 @@ static int reference_build(const rps3_model *base, const rps3_traj *tr,
   ref->floor_theta = ref->peak = 0.0;
   for (k = 0; k < n; k++) {
     double t = study_sample_time(k, n, ref->span);
-    long double len[3];
-    if (study_point(&r, t, ref->span) != RPS3_OK) {
+    if (study_point(&r, t) != RPS3_OK) {
       fprintf(stderr, "rps3-study: closed form fails at t = %g: %s\n", t,
               r.d->err.msg);
       return -1;
     }
-    study_ik_long(&r.model, r.d->pose, &ref->theta[3 * k], len);
+    study_ik_long(&r.model, r.d->pose, &ref->theta[3 * k]);
     for (i = 0; i < 3; i++) {
       double dth = fabs(r.d->theta[i] - (double)ref->theta[3 * k + i]);
       if (dth > ref->floor_theta) ref->floor_theta = dth;
@@ -101,7 +100,7 @@ static int pass_grid(study_runner *r, const study_reference *ref,
   double ferr = 0.0, terr = 0.0, iters = 0.0;
   rps3_data_reset(r->d);
   for (k = 0; k < ref->n; k++) {
-    st = study_point(r, study_sample_time(k, ref->n, ref->span), ref->span);
+    st = study_point(r, study_sample_time(k, ref->n, ref->span));
     if (st != RPS3_OK) {
       if (!out) continue;
       if (out->nfail++ == 0) out->status = st;
@@ -169,7 +168,7 @@ static int pass_dt(study_runner *r, const study_reference *ref,
   rps3_data_reset(r->d);
   for (k = 0; k < n; k++) {
     double t = k == n - 1 ? span : (double)k * dt, E, P = 0.0;
-    st = r->c->deriv == D_EXACT ? study_point(r, t, span)
+    st = r->c->deriv == D_EXACT ? study_point(r, t)
                                 : sampled_rates(r, k, n, dt, span);
     if (st != RPS3_OK) {
       if (out && out->nfail++ == 0) out->status = st;

@@ -49,13 +49,10 @@ void study_traj_make(int k, rps3_traj *tr) {
     study_traj_sine(tr, &SINE_EDGE);
 }
 
-/*
- * Inverse kinematics (2)-(7), (39) in long double, written independently
- * of src/ik.c from the rotation Rz(a) Ry(b) Rz(-a), the centre (3)-(4) and
- * b_i = c + rot r_i: the reference angles theta_i and lengths l_i.
- */
+/* (2)-(7), (39) from the rotation Rz(a) Ry(b) Rz(-a), the centre (3)-(4)
+   and b_i = c + rot r_i */
 void study_ik_long(const rps3_model *m, const double pose[3],
-                   long double theta[3], long double len[3]) {
+                   long double theta[3]) {
   long double a = (long double)pose[0], b = (long double)pose[1];
   long double z = (long double)pose[2];
   long double ca = cosl(a), sa = sinl(a), cb = cosl(b), sb = sinl(b);
@@ -88,7 +85,6 @@ void study_ik_long(const rps3_model *m, const double pose[3],
     v[0] = bb[0] - R * cp;
     v[1] = bb[1] - R * sp;
     v[2] = bb[2];
-    len[i] = sqrtl(v[0] * v[0] + v[1] * v[1] + v[2] * v[2]);
     theta[i] = atan2l(v[2], -(v[0] * cp + v[1] * sp));
   }
 }
@@ -188,7 +184,7 @@ int study_configs_build(study_config *cfg) {
  * at t +- h.  fd_length: inverse kinematics at t +- h, central differences
  * of the link lengths, then the joint-rate route (25)-(30).
  */
-int study_point(study_runner *r, double t, double span) {
+int study_point(study_runner *r, double t) {
   rps3_data *d = r->d;
   const rps3_model *m = &r->model;
   double h = r->c->h, p[3][3], l[2][3]; /* at t - h, t + h, t */
@@ -199,7 +195,6 @@ int study_point(study_runner *r, double t, double span) {
   if (r->c->deriv == D_SPLINE)
     return rps3_traj_eval(m, &r->table, t, d->pose, d->dpose, d->ddpose) ||
            rps3_inverse(m, d);
-  (void)span;
   if ((st = rps3_traj_eval(m, r->tr, t - h, p[0], NULL, NULL)) != RPS3_OK ||
       (st = rps3_traj_eval(m, r->tr, t + h, p[1], NULL, NULL)) != RPS3_OK ||
       (st = rps3_traj_eval(m, r->tr, t, p[2], NULL, NULL)) != RPS3_OK)
@@ -292,8 +287,6 @@ int study_runner_init(study_runner *r, const study_config *c,
   return 0;
 }
 
-/* kinetic and potential energy of the default effects at the data's
-   current state, written here from vc, omega, dtheta (not by the library) */
 double study_energy(const rps3_model *m, const rps3_data *d) {
   double T, P, wb[3] = {0, 0, 0};
   int i, k;
