@@ -60,11 +60,8 @@ static int args_for_world(run_args *a, const world *w) {
                            "--copy is for rps3-run-mpi under mpirun and for "
                            "merge; a run without them writes one whole file");
   }
-  /* where the output goes is checked before anything is computed */
   if (a->out_path && !a->check) {
-    const char *in[1];
-    in[0] = a->scene_path;
-    if (out_path_check(a->out_path, in, 1, err, sizeof err)) {
+    if (out_path_check(a->out_path, &a->scene_path, 1, err, sizeof err)) {
       if (w->rank == 0) fprintf(stderr, "rps3-run: %s\n", err);
       return EXIT_USAGE;
     }

@@ -74,11 +74,9 @@ static int ranks_merge(const world *w, int copy, const char *out_path,
 static int ranks_join(const world *w, int code, int copy, const char *out_path,
                       const char *cmd, progress *pr, const sweep_stats *st,
                       size_t ncase) {
-  unsigned long mine[3], sum[3];
+  unsigned long mine[3] = {st->cases_done, st->points_done, st->nfailed};
+  unsigned long sum[3];
   int worst = code;
-  mine[0] = st->cases_done;
-  mine[1] = st->points_done;
-  mine[2] = st->nfailed;
   world_idle_barrier();
   world_max_int(&code, &worst, 1);
   world_sum_ulong(mine, sum, 3);
@@ -106,10 +104,8 @@ static int ranks_join(const world *w, int code, int copy, const char *out_path,
    go on together */
 int run_agree(const world *w, int code, int *first) {
   int mine[2], all[2];
-  mine[0] = code;
-  mine[1] = w->rank == 0 ? code : 0;
-  all[0] = mine[0];
-  all[1] = mine[1];
+  mine[0] = all[0] = code;
+  mine[1] = all[1] = w->rank == 0 ? code : 0;
   if (w->size > 1) world_max_int(mine, all, 2);
   if (first) *first = all[1];
   return all[0];

@@ -37,17 +37,13 @@ static int merge_args(merge_run *m, int argc, char **argv) {
   const char *arg;
   unsigned long v;
   char **op;
-  int row, nop;
+  /* what each row of MERGE_OPTS sets */
+  int row, nop, *flag[3] = {&m->copy, &m->failed_ok, &m->quiet};
   cli_start(&c, "rps3-run merge", MERGE_OPTS, 3, argc, argv);
   c.help_cmd = "rps3-run"; /* its --help lists merge's options */
   while ((row = cli_next(&c, &arg, &v)) != CLI_END) {
     if (row == CLI_BAD) return -1;
-    if (row == 0)
-      m->copy = 1;
-    else if (row == 1)
-      m->failed_ok = 1;
-    else
-      m->quiet = 1;
+    *flag[row] = 1;
   }
   /* OUT.h5, then the parts: the operands as getopt_long left them */
   nop = cli_operands(&c, &op);

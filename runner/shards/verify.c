@@ -147,13 +147,9 @@ static herr_t verify_cb(hid_t root, const char *name, const H5L_info_t *li,
 }
 
 int verify_file(const char *path, char *err, size_t errsz) {
-  verify_ctx c;
+  verify_ctx c = {err, errsz, path, NULL, 0};
   hid_t f = H5Fopen(path, H5F_ACC_RDONLY, H5P_DEFAULT);
   int rc;
-  memset(&c, 0, sizeof c);
-  c.err = err;
-  c.errsz = errsz;
-  c.path = path;
   err[0] = '\0';
   if (f < 0) {
     char cause[600];

@@ -185,30 +185,23 @@ static int grid_write(study_h5 *o, const ws_grid *g) {
 }
 
 int study_workspace(const char *path, const char *cmdline, int quick) {
-  ws_grid g;
+  ws_grid g = {0};
   study_h5 o = {-1, -1};
-  int rc = 0;
+  int rc = -1;
   double t_start = study_now_ns();
-  memset(&g, 0, sizeof g);
   if (grid_alloc(&g, quick) < 0) {
     fprintf(stderr, "rps3-study: out of memory\n");
-    grid_free(&g);
-    return EXIT_IO;
+  } else if (grid_compute(&g) == 0) {
+    fprintf(stderr, "rps3-study: workspace: %zu points in %.1f s\n",
+            g.nr * g.na * g.nb * g.nz, 1e-9 * (study_now_ns() - t_start));
+    if (study_h5_open(&o, path, cmdline,
+                      "rps3-study workspace: reachability, condition number "
+                      "and the static force holding the platform over (rho, "
+                      "alpha, beta, z_c)") == 0 &&
+        grid_write(&o, &g) == 0)
+      rc = 0;
+    if (study_h5_close(&o) < 0) rc = -1;
   }
-  if (grid_compute(&g) < 0) {
-    grid_free(&g);
-    return EXIT_IO;
-  }
-  fprintf(stderr, "rps3-study: workspace: %zu points in %.1f s\n",
-          g.nr * g.na * g.nb * g.nz, 1e-9 * (study_now_ns() - t_start));
-
-  if (study_h5_open(&o, path, cmdline,
-                    "rps3-study workspace: reachability, condition number and "
-                    "the static force holding the platform over (rho, alpha, "
-                    "beta, z_c)") < 0 ||
-      grid_write(&o, &g) < 0)
-    rc = -1;
-  if (study_h5_close(&o) < 0) rc = -1;
   grid_free(&g);
   return rc ? EXIT_IO : EXIT_OK;
 }
