@@ -2,13 +2,17 @@
  * study_run.c - what rps3-study and rps3-simstudy share around their
  * studies: the process set-up, the command line (cli.h, from each one's
  * option table) and the output file, written under a temporary name next
- * to OUT.h5 (tmpout.h, as rps3-run's) and renamed when complete.
+ * to OUT.h5 (tmpout.h, as rps3-run's) and renamed when complete; and the
+ * clock, the median and the sine trajectories of the studies.
  */
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <time.h>
 
 #include <gsl/gsl_errno.h>
+#include <gsl/gsl_sort.h>
+#include <gsl/gsl_statistics_double.h>
 
 #include "core/h5err.h"
 #include "core/safeio.h"
@@ -128,4 +132,21 @@ int study_main(const study_prog *p, study_args *a, int argc, char **argv) {
     if (rc == EXIT_OK && p->says_written) printf("wrote %s\n", a->out);
   }
   return proc_exit(rc);
+}
+
+double study_now_ns(void) {
+  struct timespec ts;
+  clock_gettime(CLOCK_MONOTONIC, &ts);
+  return 1e9 * (double)ts.tv_sec + (double)ts.tv_nsec;
+}
+
+double study_median(double *v, int n) {
+  gsl_sort(v, 1, (size_t)n);
+  return gsl_stats_median_from_sorted_data(v, 1, (size_t)n);
+}
+
+void study_traj_sine(rps3_traj *tr, const rps3_sine *sine) {
+  memset(tr, 0, sizeof(*tr));
+  tr->kind = RPS3_TRAJ_SINE;
+  tr->sine = *sine;
 }
