@@ -4,7 +4,7 @@
  *
  * -j N computes the cases on N threads (sweep.h); --shard K/N computes the
  * jobs of shard K only, into a part file that `merge` joins with the
- * others (cmd_merge.c: by virtual datasets, join.h, or with --copy by
+ * others (cmd_merge.c: by virtual datasets, join.c, or with --copy by
  * copying chunks, merge.h).  Linked with MPI (rps3-run-mpi, mpi/world.h) and
  * launched by mpirun, rank r computes shard r of the ranks into
  * OUT.h5.tmp.PID.part<r> next to OUT.h5, renamed OUT.h5.part<r>of<N>, and
@@ -35,7 +35,7 @@
 #include "run_steps.h"
 #include "scene/design.h"
 #include "scene/scene.h"
-#include "shards/cmd_merge.h"
+#include "shards/merge.h"
 
 /*
  * The command line against the launch: under mpirun the ranks are the

@@ -11,7 +11,6 @@
 #include "core/exit_codes.h"
 #include "core/tmpout.h"
 #include "scene/inputs.h"
-#include "shards/join.h"
 #include "shards/merge.h"
 #include "shards/parts.h"
 
@@ -66,7 +65,7 @@ static int ranks_merge(const world *w, int copy, const char *out_path,
 /*
  * After every rank has written its part.  By default every rank renames
  * its part to OUT.h5.part<r>of<N> and rank 0 joins them by virtual
- * datasets (join.h); with `copy` rank 0 merges the parts of ranks 1.. into
+ * datasets (join.c); with `copy` rank 0 merges the parts of ranks 1.. into
  * its own file (merge.h) and every rank removes its part.  `code` is this
  * rank's outcome so far; returns the exit code of the run, the same on
  * every rank.

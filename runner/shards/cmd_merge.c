@@ -1,7 +1,6 @@
 /*
- * cmd_merge.c - `rps3-run merge`: see cmd_merge.h.
+ * cmd_merge.c - `rps3-run merge` (merge.h).
  */
-#include "cmd_merge.h"
 #include "core/exit_codes.h"
 
 #include <stdio.h>
@@ -11,7 +10,6 @@
 #include "core/cli.h"
 #include "core/safeio.h"
 #include "core/tmpout.h"
-#include "join.h"
 #include "merge.h"
 #include "parts.h"
 #include "verify.h"
@@ -117,7 +115,7 @@ static int merge_write(const merge_run *m, const char *cmd, size_t *nfailed) {
 /*
  * rps3-run merge OUT.h5 PART.h5 ...: the parts of shards 0..N-1, in any
  * order.  By default OUT.h5 is a file of virtual datasets over the parts
- * (join.h); with --copy it is a copy of part 0 into which the other parts'
+ * (join.c); with --copy it is a copy of part 0 into which the other parts'
  * chunks are copied (merge.h).  Either is written under a temporary name
  * and renamed when complete.  A missing or incomplete part is named, with
  * the command that makes it again (parts.h).

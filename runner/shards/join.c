@@ -1,6 +1,6 @@
 /*
- * join.c - see join.h.  The objects of part 0 are walked once: groups are
- * made again, datasets without chunks are copied (H5Ocopy, without their
+ * join.c - join_vds (merge.h).  The objects of part 0 are walked once: groups
+ * are made again, datasets without chunks are copied (H5Ocopy, without their
  * attributes), chunked ones become virtual; then every attribute is copied
  * but the dimension-scale bookkeeping (CLASS, NAME, DIMENSION_LIST,
  * REFERENCE_LIST), whose object references only mean something inside
@@ -9,8 +9,6 @@
  */
 /* realpath() and dirname() are XSI */
 #define _XOPEN_SOURCE 700
-
-#include "join.h"
 
 #include <libgen.h>
 #include <stdio.h>
@@ -151,7 +149,7 @@ static hid_t virtual_dcpl(hid_t ds) {
 }
 
 /* merge_rows_fn of a join: shard k's rows of the dataset into its virtual
-   map (join.h) */
+   map (merge.h) */
 static int map_rows(void *ctx, const merge_rows *r, char *err, size_t errsz) {
   walk *w = ctx;
   hid_t ds = H5Dopen2(r->part, r->name, H5P_DEFAULT);

@@ -1,14 +1,27 @@
 /*
- * merge.h - join the part files of a sharded run into one file.
+ * merge.h - join the part files of a sharded run into one file:
+ * `rps3-run merge` (merge_main, cmd_merge.c).
  *
  * `rps3-run --shard K/N` computes the jobs j with j % N == K (sweep.h) into
  * a file of the full layout, written by out_create like any run: the cases
  * of the other shards are there but unwritten (unallocated chunks, read as
  * the fill values NaN, -1 and "").  A job is one chunk row of every per-case
- * dataset, so a part owns whole chunks, and merging is copying chunks: the
- * chunk rows r with r % N == K of every chunked dataset, as stored (no
- * decompression), strings by value.  The result equals, dataset for
- * dataset, the file of a run without shards.
+ * dataset, so a part owns whole chunks, and merging (--copy) is copying
+ * chunks: the chunk rows r with r % N == K of every chunked dataset, as
+ * stored (no decompression), strings by value.  The result equals, dataset
+ * for dataset, the file of a run without shards.
+ *
+ * Joining (join.c, the default) writes no sample: each chunked dataset of
+ * part 0 becomes a virtual dataset of the same type and shape whose chunk
+ * rows map to the same rows of the part that computed them (two mappings
+ * per part: its whole rows as one strided hyperslab, and the last, shorter
+ * row when it is the part's).  Everything else (the scene, the axes, the
+ * dimension scales, every attribute) is copied from part 0.  Reading it
+ * reads the parts, which must stay where they are (a part's name is stored
+ * relative to the directory of the joined file when it lies below it, so
+ * the directory may move as a whole).  The file is written with the HDF5
+ * 1.10 file format (libver bounds V110..V110), so that HDF5 1.10 readers
+ * open it whatever library wrote it.
  */
 #ifndef RPS3_RUNNER_MERGE_H
 #define RPS3_RUNNER_MERGE_H
@@ -43,6 +56,25 @@ int merge_part_check(const char *path, size_t k, size_t n, const char *text0,
 int merge_parts(const char *dst, const char *const *part, size_t n,
                 const char *command_line, size_t *nfailed, char *err,
                 size_t errsz);
+
+/*
+ * Create the file `dst` (truncated if it exists) joining the n parts
+ * part[k] (part[k] is shard k of n) by virtual datasets, each checked with
+ * merge_part_check against part 0's scene, with the same record of input
+ * files (inputs.h) and the same shapes and chunks as part 0.  The names of the
+ * parts are stored relative to the directory of dst when below it (dst is
+ * renamed within it).  The root attributes are part 0's without `shard`, with
+ * `command_line` and `created_utc` of this join; *nfailed is the number of
+ * cases whose status is not 0.  Returns 0, or -1 with err set (dst is then
+ * incomplete: the caller removes it).
+ */
+int join_vds(const char *dst, const char *const *part, size_t n,
+             const char *command_line, size_t *nfailed, char *err,
+             size_t errsz);
+
+/* rps3-run merge OUT.h5 PART.h5 ... [--copy] [--quiet]: argv[1] is
+   "merge".  Returns the exit code (exit_codes.h). */
+int merge_main(int argc, char **argv);
 
 /* the chunked datasets of a file by name: the per-case variables */
 #define MERGE_MAX_CHUNKED 64
