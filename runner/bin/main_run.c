@@ -4,12 +4,9 @@
  *
  * -j N computes the cases on N threads (sweep.h); --shard K/N computes the
  * jobs of shard K only, into a part file that `merge` joins with the
- * others (cmd_merge.c: by virtual datasets, join.c, or with --copy by
- * copying chunks, merge.h).  Linked with MPI (rps3-run-mpi, mpi/world.h) and
- * launched by mpirun, rank r computes shard r of the ranks into
- * OUT.h5.tmp.PID.part<r> next to OUT.h5, renamed OUT.h5.part<r>of<N>, and
- * rank 0 joins the parts into OUT.h5 (with --copy: merges them into its
- * own file, and the parts are removed): the same datasets as one process.
+ * others (merge.h).  Linked with MPI (rps3-run-mpi, mpi/world.h) and
+ * launched by mpirun, rank r computes shard r of the ranks and rank 0
+ * joins the parts (run_steps.c): the same datasets as one process.
  * Killed by SIGINT/SIGTERM/SIGHUP, the temporary file is removed and the
  * process dies of that signal (shell status 128 + signal).
  */
