@@ -1,7 +1,7 @@
 /*
  * run_steps.h - the steps of an rps3-run that writes OUT.h5, the same for
- * a sweep (main_run.c) and a design study (run_design.c): the input files
- * recorded, --resume, the temporary file renamed when complete, and under
+ * a sweep and a design study (main_run.c): the input files recorded,
+ * --resume, the temporary file renamed when complete, and under
  * rps3-run-mpi the ranks' parts joined or merged by rank 0.
  */
 #ifndef RPS3_RUNNER_RUN_STEPS_H
@@ -49,12 +49,5 @@ int run_io(const run_args *a, const char *err);
  */
 int run_output(const run_args *a, const world *w, const scene *s, int code,
                run_job *j, int argc, char **argv);
-
-/* rps3-run on the design study s (scene/design.h, run_design.c): the
-   plan, --check, then the file of this process's designs (a whole file, a
-   --shard part, or a rank's part joined as a sweep's are) by run_output;
-   the exit code. */
-int run_design(scene *s, const run_args *a, const world *w, int argc,
-               char **argv);
 
 #endif /* RPS3_RUNNER_RUN_STEPS_H */
