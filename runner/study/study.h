@@ -1,9 +1,9 @@
 /*
  * study.h - what the files of rps3-study and rps3-simstudy share: the
- * programs' main with the clock, the median and the sine trajectories
- * (study_run.c), the HDF5 helpers (study_h5.c) and the studies, a file
- * each: study_accuracy.c (its force reference in study_ref.c, Kane's
- * equations), study_workspace.c and study_sim.c.
+ * programs' main, the clock, the median, the sine trajectories and the
+ * HDF5 helpers (study_run.c), and the studies, a file each:
+ * study_accuracy.c (its force reference in study_ref.c, Kane's equations),
+ * study_workspace.c and study_sim.c.
  */
 #ifndef RPS3_RUNNER_STUDY_H
 #define RPS3_RUNNER_STUDY_H
