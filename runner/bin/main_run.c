@@ -32,7 +32,6 @@
 #include "mpi/world.h"
 #include "output/outblock.h"
 #include "output/output.h"
-#include "run_cli.h"
 #include "run_steps.h"
 #include "scene/design.h"
 #include "scene/scene.h"
@@ -299,7 +298,7 @@ static int run_main(int argc, char **argv, const world *w) {
   sweep_opts opts = {1, 0, 1};
   pre_opts pre;
 
-  /* the command line (run_cli.h) */
+  /* the command line (run_cli.c) */
   if ((code = run_args_parse(argc, argv, &a)) >= 0) return code;
   if ((code = args_for_world(&a, w)) >= 0) return code;
   opts.nthread = a.nthread;

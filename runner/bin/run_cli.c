@@ -1,8 +1,7 @@
 /*
- * run_cli.c - see run_cli.h.  The options of a run are the rows of
- * RUN_OPTS: getopt_long reads them (cli.h) and --help prints them.
+ * run_cli.c - rps3-run's command lines (run_steps.h).
  */
-#include "run_cli.h"
+#include "run_steps.h"
 
 #include <stdio.h>
 #include <string.h>
@@ -59,8 +58,7 @@ static const cli_opt RUN_OPTS[O_N] = {RUN_OPTIONS(ROW_OPT)};
 static const char USAGE[] =
     "usage: rps3-run SCENE.yaml -o OUT.h5 [OPTION]...\n"
     "       rps3-run SCENE.yaml --check [OPTION]...\n"
-    "       rps3-run merge OUT.h5 PART.h5... [--copy] [--failed-ok] "
-    "[--quiet]\n"
+    "       rps3-run merge OUT.h5 PART.h5... [--copy] [--failed-ok] [--quiet]\n"
     "       mpirun -n N rps3-run-mpi SCENE.yaml -o OUT.h5 [OPTION]...\n"
     "       rps3-run --clean OUT.h5 [--force]\n"
     "       rps3-run --keys | --schema | --sim-schema | --design-schema\n"
@@ -77,8 +75,7 @@ static const char USAGE[] =
 static const char COMMANDS[] =
     "\n"
     "Commands:\n"
-    "  merge                 join the part files of shards 0..N-1 into "
-    "OUT.h5\n"
+    "  merge                 join the part files of shards 0..N-1 into OUT.h5\n"
     "                        (virtual datasets over the parts; --copy: one\n"
     "                        self-contained file)\n"
     "  --clean               remove the temporaries of OUT.h5 left by dead\n"

@@ -12,7 +12,6 @@
 #include "core/tmpout.h"
 #include "scene/inputs.h"
 #include "shards/merge.h"
-#include "shards/parts.h"
 
 /* the name of rank r's part once complete: OUT.h5.part<r>of<N> */
 static void rank_part_name(char *buf, size_t size, const char *out_path, int r,

@@ -11,7 +11,6 @@
 #include "core/safeio.h"
 #include "core/tmpout.h"
 #include "merge.h"
-#include "parts.h"
 #include "verify.h"
 
 /* the options of merge */
@@ -118,7 +117,7 @@ static int merge_write(const merge_run *m, const char *cmd, size_t *nfailed) {
  * (join.c); with --copy it is a copy of part 0 into which the other parts'
  * chunks are copied (merge.h).  Either is written under a temporary name
  * and renamed when complete.  A missing or incomplete part is named, with
- * the command that makes it again (parts.h).
+ * the command that makes it again (merge.h).
  */
 int merge_main(int argc, char **argv) {
   merge_run m;

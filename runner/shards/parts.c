@@ -1,8 +1,7 @@
 /*
- * parts.c - see parts.h.
+ * parts.c - the part files by shard, and what to do about missing ones
+ * (merge.h).
  */
-#include "parts.h"
-
 #include <ctype.h>
 #include <stdlib.h>
 #include <string.h>
