@@ -111,14 +111,6 @@ static int merge_write(const merge_run *m, const char *cmd, size_t *nfailed) {
   return tmpout_commit(m->out_path) ? -1 : 0;
 }
 
-/*
- * rps3-run merge OUT.h5 PART.h5 ...: the parts of shards 0..N-1, in any
- * order.  By default OUT.h5 is a file of virtual datasets over the parts
- * (join.c); with --copy it is a copy of part 0 into which the other parts'
- * chunks are copied (merge.h).  Either is written under a temporary name
- * and renamed when complete.  A missing or incomplete part is named, with
- * the command that makes it again (merge.h).
- */
 int merge_main(int argc, char **argv) {
   merge_run m;
   size_t nfailed = 0;

@@ -40,16 +40,21 @@ static herr_t collect_chunked(hid_t root, const char *name,
   return rc;
 }
 
+/* the file at path opened with flags, or -1 with err set */
+static hid_t open_file(const char *path, unsigned flags, char *err,
+                       size_t errsz) {
+  hid_t f = H5Fopen(path, flags, H5P_DEFAULT);
+  if (f < 0) out_fail(err, errsz, "%s: cannot open", path);
+  return f;
+}
+
 int merge_shard_of(const char *path, size_t *k, size_t *n, char *err,
                    size_t errsz) {
-  hid_t f = H5Fopen(path, H5F_ACC_RDONLY, H5P_DEFAULT);
+  hid_t f = open_file(path, H5F_ACC_RDONLY, err, errsz);
   char *v, *content, tail;
   unsigned long kk, nn;
   int rc = -1;
-  if (f < 0) {
-    out_fail(err, errsz, "%s: cannot open", path);
-    return -1;
-  }
+  if (f < 0) return -1;
   v = out_h5_read_text(f, MERGE_SHARD_ATTR, 1);
   content = out_h5_read_text(f, "content", 1);
   H5Fclose(f);
@@ -286,10 +291,7 @@ int merge_part_check(const char *path, size_t k, size_t n, const char *text0,
              n);
     return -1;
   }
-  if ((f = H5Fopen(path, H5F_ACC_RDONLY, H5P_DEFAULT)) < 0) {
-    out_fail(err, errsz, "%s: cannot open", path);
-    return -1;
-  }
+  if ((f = open_file(path, H5F_ACC_RDONLY, err, errsz)) < 0) return -1;
   if (text0 &&
       (!(text = out_h5_read_text(f, "scene", 0)) || strcmp(text, text0) != 0))
     snprintf(err, errsz, "%s: not a part of the same scene", path);
@@ -333,10 +335,8 @@ int merge_each_part(hid_t ref, const char *ref_path, const char *rec_is,
   for (r.n = n, k = k0; k < n; k++) {
     r.k = k;
     r.path = part[k];
-    if ((r.part = H5Fopen(part[k], H5F_ACC_RDONLY, H5P_DEFAULT)) < 0) {
-      out_fail(err, errsz, "%s: cannot open", part[k]);
+    if ((r.part = open_file(part[k], H5F_ACC_RDONLY, err, errsz)) < 0)
       goto done;
-    }
     for (r.j = 0; r.j < list->n; r.j++) {
       r.name = list->name[r.j];
       r.rank =
@@ -363,10 +363,7 @@ int merge_parts(const char *dst, const char *const *part, size_t n,
   copy_ctx c = {-1, NULL, 0};
   size_t unset;
   int rc = -1;
-  if ((c.dst = H5Fopen(dst, H5F_ACC_RDWR, H5P_DEFAULT)) < 0) {
-    out_fail(err, errsz, "%s: cannot open", dst);
-    return -1;
-  }
+  if ((c.dst = open_file(dst, H5F_ACC_RDWR, err, errsz)) < 0) return -1;
   if (merge_each_part(c.dst, dst, "part 0 read", part, 1, n, &list, copy_rows,
                       &c, err, errsz))
     goto done;

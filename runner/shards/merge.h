@@ -73,8 +73,15 @@ int join_vds(const char *dst, const char *const *part, size_t n,
              const char *command_line, size_t *nfailed, char *err,
              size_t errsz);
 
-/* rps3-run merge OUT.h5 PART.h5 ... [--copy] [--quiet]: argv[1] is
-   "merge".  Returns the exit code (exit_codes.h). */
+/*
+ * rps3-run merge OUT.h5 PART.h5 ... [--copy] [--quiet] (argv[1] is
+ * "merge"): the parts of shards 0..N-1, in any order.  By default OUT.h5
+ * is a file of virtual datasets over the parts (join_vds); with --copy it
+ * is a copy of part 0 into which the other parts' chunks are copied
+ * (merge_parts).  Either is written under a temporary name and renamed
+ * when complete.  A missing or incomplete part is named, with the command
+ * that makes it again (parts_report).  Returns the exit code.
+ */
 int merge_main(int argc, char **argv);
 
 /* the chunked datasets of a file by name: the per-case variables */

@@ -216,36 +216,29 @@ static REAL S(dot)(const REAL a[3], const REAL b[3]) {
   return a[0] * b[0] + a[1] * b[1] + a[2] * b[2];
 }
 
-/* A x = rhs by Gaussian elimination with partial pivoting, x into rhs; 0,
-   or -1 when A is singular */
-static int S(solve3)(REAL A[3][3], REAL rhs[3]) {
+/* A x = b for the augmented [A | b] by Gaussian elimination with partial
+   pivoting, x into column 3; 0, or -1 when A is singular */
+static int S(solve3)(REAL A[3][4]) {
   int i, j, n;
   for (n = 0; n < 3; n++) {
     int piv = n;
     for (i = n + 1; i < 3; i++)
       if (RF(fabs)(A[i][n]) > RF(fabs)(A[piv][n])) piv = i;
     if (A[piv][n] == 0) return -1;
-    if (piv != n) {
-      REAL t;
-      for (j = 0; j < 3; j++) {
-        t = A[n][j];
-        A[n][j] = A[piv][j];
-        A[piv][j] = t;
-      }
-      t = rhs[n];
-      rhs[n] = rhs[piv];
-      rhs[piv] = t;
+    for (j = 0; piv != n && j < 4; j++) {
+      REAL t = A[n][j];
+      A[n][j] = A[piv][j];
+      A[piv][j] = t;
     }
     for (i = n + 1; i < 3; i++) {
       REAL f = A[i][n] / A[n][n];
-      for (j = n; j < 3; j++) A[i][j] -= f * A[n][j];
-      rhs[i] -= f * rhs[n];
+      for (j = n; j < 4; j++) A[i][j] -= f * A[n][j];
     }
   }
   for (n = 2; n >= 0; n--) {
-    REAL s = rhs[n];
-    for (j = n + 1; j < 3; j++) s -= A[n][j] * rhs[j];
-    rhs[n] = s / A[n][n];
+    REAL s = A[n][3];
+    for (j = n + 1; j < 3; j++) s -= A[n][j] * A[j][3];
+    A[n][3] = s / A[n][n];
   }
   return 0;
 }
@@ -254,7 +247,7 @@ int REF_FORCES(const rps3_model *m, int eff, const double pose[3],
                const double dpose[3], const double ddpose[3], double F[3]) {
   S(kin) kt, kp[3];
   S(jet) q[3];
-  REAL w[3], dw[3], pw[3][3], A[3][3], rhs[3], g = (REAL)m->g;
+  REAL w[3], dw[3], pw[3][3], A[3][4], g = (REAL)m->g;
   REAL M = (REAL)m->M, ml = (REAL)m->m, r = (REAL)m->rho * (REAL)m->R;
   REAL Ip[3], Ipl[3], ep[3], epl[3];
   int i, j, n;
@@ -316,9 +309,9 @@ int REF_FORCES(const rps3_model *m, int eff, const double pose[3],
       }
       A[j][i] = kp[j].l[i].d; /* virtual work of F_i: dl_i / dq_j */
     }
-    rhs[j] = s;
+    A[j][3] = s;
   }
-  if (S(solve3)(A, rhs) != 0) return -1;
-  for (i = 0; i < 3; i++) F[i] = (double)rhs[i];
+  if (S(solve3)(A) != 0) return -1;
+  for (i = 0; i < 3; i++) F[i] = (double)A[i][3];
   return 0;
 }
