@@ -98,11 +98,6 @@ static int run_simulated(scene *s, const run_args *a, const world *w, int argc,
   sim_args sa;
   int code;
   char *cmd;
-  if (a->fields != out_fields_all())
-    return run_usage_error(w,
-                           "--fields selects variables of the "
-                           "inverse-dynamics file; a scene with a simulate "
-                           "section writes the simulation file whole");
   sa.out_path = a->out_path;
   sa.check = a->check;
   sa.quiet = a->quiet;
@@ -272,11 +267,6 @@ static int run_design(scene *s, const run_args *a, const world *w, int argc,
   design_job d = {a, s, &plan, ""};
   run_job j = {NULL, "design", 0, design_write, &d, ""};
   int code;
-  if (a->fields != out_fields_all())
-    return run_usage_error(w,
-                           "--fields selects variables of the inverse-dynamics "
-                           "file; a design study writes its file whole "
-                           "(design.per_pose adds the per-pose indices)");
   if ((code = design_checks(s, a, w, &plan)) >= 0) return code;
   j.fields = out_fields_attr(plan.files, 0, d.fields, sizeof d.fields);
   j.ncase = design_shard_cases(&plan, a->shard, a->nshard);
@@ -311,7 +301,16 @@ static int run_main(int argc, char **argv, const world *w) {
   pre.gzip = a.gzip;
   pre.quiet = a.quiet;
   pre.fields = a.fields;
-  if (design_wanted(&s)) /* its designs into its own file */
+  if (a.fields != out_fields_all() && (design_wanted(&s) || sim_wanted(&s)))
+    code = run_usage_error(
+        w, design_wanted(&s)
+               ? "--fields selects variables of the inverse-dynamics file; a "
+                 "design study writes its file whole (design.per_pose adds "
+                 "the per-pose indices)"
+               : "--fields selects variables of the inverse-dynamics file; a "
+                 "scene with a simulate section writes the simulation file "
+                 "whole");
+  else if (design_wanted(&s)) /* its designs into its own file */
     code = run_design(&s, &a, w, argc, argv);
   else if (sim_wanted(&s)) /* simulated instead (simulate.h) */
     code = run_simulated(&s, &a, w, argc, argv);
