@@ -39,9 +39,8 @@ static S(jet) S(jscale)(REAL s, S(jet) a) {
 }
 
 static S(jet) S(jmul)(S(jet) a, S(jet) b) {
-  S(jet)
-  r = {a.v * b.v, a.d * b.v + a.v * b.d,
-       a.dd * b.v + 2 * a.d * b.d + a.v * b.dd};
+  S(jet) r = {a.v * b.v, a.d * b.v + a.v * b.d,
+              a.dd * b.v + 2 * a.d * b.d + a.v * b.dd};
   return r;
 }
 
@@ -97,10 +96,10 @@ static int S(kinematics)(const rps3_model *m, const S(jet) q[3], S(kin) * k) {
   S(jet) cb = S(jcos)(q[1]), sb = S(jsin)(q[1]);
   S(jet) zero = S(jk)(0), one = S(jk)(1);
   /* rot = Rz(alpha) Ry(beta) Rz(-alpha), the spin gamma = -alpha of (2) */
-  S(jet)
-  A[3][3] = {{ca, S(jscale)(-1, sa), zero}, {sa, ca, zero}, {zero, zero, one}};
-  S(jet)
-  B[3][3] = {{cb, zero, sb}, {zero, one, zero}, {S(jscale)(-1, sb), zero, cb}};
+  S(jet) A[3][3] = {{ca, S(jscale)(-1, sa), zero}, {sa, ca, zero},
+                    {zero, zero, one}};
+  S(jet) B[3][3] = {{cb, zero, sb}, {zero, one, zero},
+                    {S(jscale)(-1, sb), zero, cb}};
   REAL det;
   int i, j, n;
   for (i = 0; i < 3; i++) {
