@@ -344,13 +344,6 @@ static int launched_tasks(const char **by) {
   return v && atoi(v) > 1 ? atoi(v) : 1;
 }
 
-/* the subcommands that run as one process: --clean and merge, or NULL */
-static int (*one_process(int argc, char **argv))(int, char **) {
-  if (argc > 1 && strcmp(argv[1], "--clean") == 0) return clean_main;
-  if (argc > 1 && strcmp(argv[1], "merge") == 0) return merge_main;
-  return NULL;
-}
-
 int main(int argc, char **argv) {
   world w = {0, 1};
   const char *by;
@@ -359,7 +352,11 @@ int main(int argc, char **argv) {
   /* fds 0-2 open before anything opens a file; HDF5 without atexit */
   proc_init();
   world_init(&argc, &argv, &w);
-  sub = one_process(argc, argv);
+  /* the subcommands that run as one process: --clean and merge */
+  sub = argc < 2                          ? NULL
+        : strcmp(argv[1], "--clean") == 0 ? clean_main
+        : strcmp(argv[1], "merge") == 0   ? merge_main
+                                          : NULL;
   if (w.size == 1 && launched_tasks(&by) > 1) {
     if (world_has_mpi()) {
       /* srun without --mpi=pmix (or an MPI that srun cannot start): N

@@ -14,10 +14,7 @@
 #include "shards/merge.h"
 
 /* the name of rank r's part once complete: OUT.h5.part<r>of<N> */
-static void rank_part_name(char *buf, size_t size, const char *out_path, int r,
-                           int n) {
-  snprintf(buf, size, "%s.part%dof%d", out_path, r, n);
-}
+#define RANK_PART "%s.part%dof%d"
 
 /* rank 0: the ranks' parts into OUT.h5 under a temporary name, joined by
    virtual datasets over the parts renamed OUT.h5.part<r>of<N>, or with
@@ -35,7 +32,7 @@ static int ranks_merge(const world *w, int copy, const char *out_path,
     world_abort(EXIT_IO);
   }
   for (r = 0; r < w->size; r++) {
-    rank_part_name(paths[r], sizeof paths[r], out_path, r, w->size);
+    snprintf(paths[r], sizeof paths[r], RANK_PART, out_path, r, w->size);
     part[r] = paths[r];
   }
   /* the ranks' temporary names, each with its own host and process */
@@ -80,7 +77,7 @@ static int ranks_join(const world *w, int code, int copy, const char *out_path,
   world_sum_ulong(mine, sum, 3);
   if (worst < EXIT_USAGE && !copy) {
     char name[4096];
-    rank_part_name(name, sizeof name, out_path, w->rank, w->size);
+    snprintf(name, sizeof name, RANK_PART, out_path, w->rank, w->size);
     code = tmpout_commit(name) ? EXIT_IO : code;
     world_max_int(&code, &worst, 1);
   }

@@ -570,18 +570,6 @@ static void pass(study_runner *r, const study_reference *ref,
     pass_grid(r, ref, res);
 }
 
-/* the first, untimed pass: the errors of configuration c against ref */
-static int measure_errors(study_runner *r, const study_config *c,
-                          const rps3_traj *tr, const rps3_model *base,
-                          const study_reference *ref, study_result *res) {
-  memset(res, 0, sizeof(*res));
-  res->peak_err = res->energy_err = DNAN;
-  if (study_runner_init(r, c, tr, base) < 0) return -1;
-  pass(r, ref, res);
-  if (c->study == S_DT) res->force_err = res->theta_err = res->mean_iter = DNAN;
-  return 0;
-}
-
 /*
  * The timed passes, round-robin over the configurations (repeat k of every
  * configuration before repeat k + 1 of any), so that a burst of load from
@@ -660,10 +648,15 @@ static int measure_trajectory(const rps3_model *base, int t, size_t nsamp,
   rall.F = malloc(3 * nsamp * sizeof(double));
   if (!rall.F || reference_forces(base, &tr, RPS3_EFF_ALL, &rall) < 0)
     return -1;
-  for (c = 0; c < ncfg; c++)
-    if (measure_errors(&run[c], &cfg[c], &tr, base,
-                       cfg[c].study == S_EFFECTS ? &rall : ref, &res[c]) < 0)
-      return -1;
+  /* the first, untimed pass: each configuration's errors */
+  for (c = 0; c < ncfg; c++) {
+    study_result *e = &res[c];
+    memset(e, 0, sizeof(*e));
+    e->peak_err = e->energy_err = DNAN;
+    if (study_runner_init(&run[c], &cfg[c], &tr, base) < 0) return -1;
+    pass(&run[c], cfg[c].study == S_EFFECTS ? &rall : ref, e);
+    if (cfg[c].study == S_DT) e->force_err = e->theta_err = e->mean_iter = DNAN;
+  }
   free(rall.F);
   if (measure_times(run, cfg, ncfg, ref, repeats, res) < 0) return -1;
   for (c = 0; c < ncfg; c++) {

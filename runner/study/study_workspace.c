@@ -50,14 +50,8 @@ typedef struct {
 /* the values of rho = r / R */
 static const double rhos[3] = {0.3, 0.5, 0.8};
 
-static void grid_free(ws_grid *g) {
-  free(g->alpha);
-  free(g->status);
-}
-
 /* the grid's sizes and arrays (quick: coarse), the doubles in one block
-   and the int32s in another; 0, or -1 (grid_free frees what was
-   allocated) */
+   (g->alpha) and the int32s in another (g->status); 0 or -1 */
 static int grid_alloc(ws_grid *g, int quick) {
   size_t npt;
   g->nr = 3;
@@ -202,6 +196,7 @@ int study_workspace(const char *path, const char *cmdline, int quick) {
       rc = 0;
     if (study_h5_close(&o) < 0) rc = -1;
   }
-  grid_free(&g);
+  free(g.alpha);
+  free(g.status);
   return rc ? EXIT_IO : EXIT_OK;
 }
