@@ -35,13 +35,6 @@ typedef struct {
   hid_t dcpl[MERGE_MAX_CHUNKED]; /* their virtual maps, by list index */
 } walk;
 
-static int skipped_attr(const char *name) {
-  return strcmp(name, "CLASS") == 0 || strcmp(name, "NAME") == 0 ||
-         strcmp(name, "DIMENSION_LIST") == 0 ||
-         strcmp(name, "REFERENCE_LIST") == 0 ||
-         strcmp(name, MERGE_SHARD_ATTR) == 0;
-}
-
 /* copy attribute `name` of object `from` to object `to` (H5Aiterate) */
 static herr_t copy_attr(hid_t from, const char *name, const H5A_info_t *ai,
                         void *to) {
@@ -50,7 +43,11 @@ static herr_t copy_attr(hid_t from, const char *name, const H5A_info_t *ai,
   void *buf = NULL;
   herr_t rc = -1;
   (void)ai;
-  if (skipped_attr(name)) return 0;
+  if (strcmp(name, "CLASS") == 0 || strcmp(name, "NAME") == 0 ||
+      strcmp(name, "DIMENSION_LIST") == 0 ||
+      strcmp(name, "REFERENCE_LIST") == 0 ||
+      strcmp(name, MERGE_SHARD_ATTR) == 0)
+    return 0;
   if ((a = H5Aopen(from, name, H5P_DEFAULT)) < 0 ||
       (ftype = H5Aget_type(a)) < 0 ||
       (mtype = H5Tget_native_type(ftype, H5T_DIR_ASCEND)) < 0 ||

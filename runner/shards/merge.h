@@ -47,28 +47,21 @@ int merge_part_check(const char *path, size_t k, size_t n, const char *text0,
                      char *err, size_t errsz);
 
 /*
- * Copy into the file at `dst` (part 0 itself, or a copy of it) the cases
- * of the parts part[k], shard k of n, for k = 1 .. n-1 (merge_each_part).
- * Then dst loses its shard attribute and gets `command_line` and
- * `created_utc` of this merge; *nfailed is the number of cases of dst
- * whose status is not 0.  Returns 0, or -1 with err set (dst is then
- * incomplete: the caller removes it).
+ * The n parts part[k] (shard k of n) into the file `dst`, each checked
+ * with merge_part_check against part 0's scene, with the same record of
+ * input files (inputs.h) and the same shapes and chunks as part 0.  The
+ * root attributes are part 0's without `shard`, with `command_line` and
+ * `created_utc` of this merge; *nfailed is the number of cases whose
+ * status is not 0.  Returns 0, or -1 with err set (dst is then incomplete:
+ * the caller removes it).  merge_parts copies the cases of parts 1 .. n-1
+ * into dst, part 0 itself or a copy of it (merge_each_part); join_vds
+ * creates dst (truncated if it exists) of virtual datasets over the parts,
+ * whose names are stored relative to the directory of dst when below it
+ * (dst is renamed within it).
  */
 int merge_parts(const char *dst, const char *const *part, size_t n,
                 const char *command_line, size_t *nfailed, char *err,
                 size_t errsz);
-
-/*
- * Create the file `dst` (truncated if it exists) joining the n parts
- * part[k] (part[k] is shard k of n) by virtual datasets, each checked with
- * merge_part_check against part 0's scene, with the same record of input
- * files (inputs.h) and the same shapes and chunks as part 0.  The names of the
- * parts are stored relative to the directory of dst when below it (dst is
- * renamed within it).  The root attributes are part 0's without `shard`, with
- * `command_line` and `created_utc` of this join; *nfailed is the number of
- * cases whose status is not 0.  Returns 0, or -1 with err set (dst is then
- * incomplete: the caller removes it).
- */
 int join_vds(const char *dst, const char *const *part, size_t n,
              const char *command_line, size_t *nfailed, char *err,
              size_t errsz);

@@ -75,12 +75,10 @@ typedef struct {
   hid_t file, str;
 } study_h5;
 
-/* create path with the root attributes of the runner's files and title;
-   0 or -1 (study_h5_close then closes what was opened) */
+/* create path with the root attributes of the runner's files and title,
+   and close it (what was opened, even when open failed): 0 or -1 each */
 int study_h5_open(study_h5 *o, const char *path, const char *cmdline,
                   const char *title);
-
-/* close the file: 0 or -1 */
 int study_h5_close(study_h5 *o);
 
 /*

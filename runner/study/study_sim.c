@@ -95,23 +95,19 @@ static int run(const rps3_model *plant, const rps3_model *cm,
   for (k = 0; k <= n; k++) {
     double t = (double)k / RATE_HZ, e = 0.0;
     if (st == RPS3_OK && k > 0) st = rps3_sim_advance(s, &ctl, t);
-    if (st != RPS3_OK) {
-      if (isnan(out->failed_at)) out->failed_at = rps3_sim_now(s)->failed_at;
-      if (out->err) out->err[k] = (double)NAN;
-      if (out->l) out->l[k][0] = out->l[k][1] = out->l[k][2] = (double)NAN;
-      if (out->F) out->F[k][0] = out->F[k][1] = out->F[k][2] = (double)NAN;
-      continue;
-    }
-    if (out->err) {
+    /* after a failure every sample is NaN */
+    if (st != RPS3_OK && isnan(out->failed_at))
+      out->failed_at = rps3_sim_now(s)->failed_at;
+    if (out->err && st == RPS3_OK) {
       rps3_traj_eval(plant, tr, t, w->pose, NULL, NULL);
       rps3_ik(plant, w);
       for (i = 0; i < 3; i++)
         e = fmax(e, fabs(rps3_sim_now(s)->y[i] - w->l[i]));
-      out->err[k] = e;
     }
+    if (out->err) out->err[k] = st == RPS3_OK ? e : (double)NAN;
     for (i = 0; i < 3; i++) {
-      if (out->l) out->l[k][i] = rps3_sim_now(s)->y[i];
-      if (out->F) out->F[k][i] = rps3_sim_now(s)->F[i];
+      if (out->l) out->l[k][i] = st ? (double)NAN : rps3_sim_now(s)->y[i];
+      if (out->F) out->F[k][i] = st ? (double)NAN : rps3_sim_now(s)->F[i];
     }
   }
   out->cpu = cpu_s() - c0;
