@@ -1,6 +1,6 @@
 /*
  * merge.h - join the part files of a sharded run into one file:
- * `rps3-run merge` (merge_main, cmd_merge.c).
+ * `rps3-run merge` (merge_main, parts.c).
  *
  * `rps3-run --shard K/N` computes the jobs j with j % N == K (sweep.h) into
  * a file of the full layout, written by out_create like any run: the cases
