@@ -128,9 +128,7 @@ typedef struct {
   size_t size;
 } copy_ctx;
 
-/* copy the region [off, off + count) by value: through the memory type,
-   so across filters (a compressed part into a plain file) and for the
-   variable-length strings, whose chunks hold heap addresses */
+/* copy the region [off, off + count) by value (see the top) */
 static int copy_region(hid_t dst, hid_t src, int rank, const hsize_t *off,
                        const hsize_t *count, copy_ctx *cb) {
   hid_t ftype = H5Dget_type(src), fd = H5Dget_space(dst), type = -1, ms = -1;

@@ -200,7 +200,6 @@ int parts_resume(const char *path, size_t k, size_t n, const char *text0,
   return rc < 0 ? run_again(err, k, n) : 1;
 }
 
-/* the options of merge */
 static const cli_opt MERGE_OPTS[3] = {
     {"copy", 0, NULL, 0, 0, 0,
      "one self-contained file: the parts' chunks copied\n(default: virtual "

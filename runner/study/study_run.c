@@ -48,8 +48,7 @@ static int study_operands(const study_prog *p, const cli *c, study_args *a) {
       cli_usage_error(c, "one study at a time ('%s' and '%s')", op[0], op[1]);
     return -1;
   }
-  i = 0;
-  while (p->studies[i] && strcmp(p->studies[i], op[0]) != 0) i++;
+  for (i = 0; p->studies[i] && strcmp(p->studies[i], op[0]) != 0; i++) continue;
   if (!p->studies[i]) {
     cli_usage_error(c, "unknown study '%s' (%s or %s)", op[0], p->studies[0],
                     p->studies[1]);

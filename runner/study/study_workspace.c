@@ -83,8 +83,7 @@ static void grid_point(const rps3_model *m, rps3_data *d, ws_grid *g, size_t p,
   int st, i, reached;
   double home;
   /* the assembly mode of the level pose at this height */
-  d->pose[0] = 0.0;
-  d->pose[1] = 0.0;
+  d->pose[0] = d->pose[1] = 0.0;
   d->pose[2] = g->zc[iz];
   home = rps3_ik(m, d) == RPS3_OK ? det_jt(d) : DNAN;
   d->pose[0] = g->alpha[ia];
@@ -134,9 +133,9 @@ static int grid_compute(ws_grid *g) {
 static int grid_write(study_h5 *o, const ws_grid *g) {
   int32_t link[3] = {1, 2, 3};
   int rc = 0;
-  static const char *const grid[4] = {"rho", "alpha", "beta", "z_c"};
-  static const char *const gridl[5] = {"rho", "alpha", "beta", "z_c", "link"};
-  hsize_t dims[5] = {g->nr, g->na, g->nb, g->nz, 3}, d3 = 3;
+  /* the maps' axes, the first 4 of those with a link axis */
+  static const char *const grid[5] = {"rho", "alpha", "beta", "z_c", "link"};
+  hsize_t dims[5] = {g->nr, g->na, g->nb, g->nz, 3};
   rc |= study_h5_write(o, "rho", H5T_NATIVE_DOUBLE, 1, &dims[0], rhos, "1",
                        "rho = r / R (R = 0.2286 m, Table II)", NULL);
   rc |= study_h5_write(o, "alpha", H5T_NATIVE_DOUBLE, 1, &dims[1], g->alpha,
@@ -145,7 +144,7 @@ static int grid_write(study_h5 *o, const ws_grid *g) {
                        "rad", "nutation angle beta (tilt)", NULL);
   rc |= study_h5_write(o, "z_c", H5T_NATIVE_DOUBLE, 1, &dims[3], g->zc, "m",
                        "height of the platform centre", NULL);
-  rc |= study_h5_write(o, "link", H5T_NATIVE_INT32, 1, &d3, link, "1",
+  rc |= study_h5_write(o, "link", H5T_NATIVE_INT32, 1, &dims[4], link, "1",
                        "link number", NULL);
   rc |= study_h5_write(o, "status", H5T_NATIVE_INT32, 4, dims, g->status, "1",
                        "rps3_inverse status: 0 ok, 1 unreachable (EREACH), 4 "
@@ -172,7 +171,7 @@ static int grid_write(study_h5 *o, const ws_grid *g) {
                        "static actuating force holding the platform: "
                        "platform and link gravity (M = 0.18 kg, m = 0.09 kg, "
                        "d = 0.1524 m), positive extends the link",
-                       gridl);
+                       grid);
   rc |= study_h5_write(o, "max_force", H5T_NATIVE_DOUBLE, 4, dims, g->fmax, "N",
                        "max_i |force_i|", grid);
   return rc ? -1 : 0;
