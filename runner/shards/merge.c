@@ -128,23 +128,6 @@ typedef struct {
   size_t size;
 } copy_ctx;
 
-/* copy the region [off, off + count) by value (see the top) */
-static int copy_region(hid_t dst, hid_t src, int rank, const hsize_t *off,
-                       const hsize_t *count, copy_ctx *cb) {
-  hid_t ftype = H5Dget_type(src), fd = H5Dget_space(dst), type = -1, ms = -1;
-  int rc = -1;
-  if (ftype >= 0) type = H5Tget_native_type(ftype, H5T_DIR_ASCEND);
-  if (type >= 0)
-    ms = verify_read_block(src, type, rank, off, count, &cb->p, &cb->size);
-  if (ms >= 0 && fd >= 0 &&
-      H5Sselect_hyperslab(fd, H5S_SELECT_SET, off, NULL, count, NULL) >= 0)
-    rc = H5Dwrite(dst, type, ms, fd, H5P_DEFAULT, cb->p) < 0 ? -1 : 0;
-  if (ms >= 0 && H5Tis_variable_str(type) > 0)
-    H5Dvlen_reclaim(type, ms, H5P_DEFAULT, cb->p);
-  shard_h5_close(4, type, ftype, fd, ms);
-  return rc;
-}
-
 /* 1 when two datasets have the same filters (the same chunk encoding) */
 static int same_filters(hid_t a, hid_t b) {
   hid_t pa = H5Dget_create_plist(a), pb = H5Dget_create_plist(b);
@@ -179,11 +162,22 @@ static int copy_chunk(hid_t dst, hid_t src, const merge_rows *r,
   if (H5Dget_chunk_info_by_coord(src, off, &mask, &addr, &size) < 0) return -1;
   if (size == 0) return 0;
   if (!raw) {
-    /* the chunk's region, cut at the dataset's edge */
+    /* by value (see the top): the chunk's region, cut at the dataset's edge */
+    hid_t ftype = H5Dget_type(src), fd = H5Dget_space(dst), type = -1, ms = -1;
+    int rc = -1;
     for (d = 0; d < r->rank; d++)
       count[d] =
           r->dims[d] - off[d] < r->chunk[d] ? r->dims[d] - off[d] : r->chunk[d];
-    return copy_region(dst, src, r->rank, off, count, cb);
+    if (ftype >= 0) type = H5Tget_native_type(ftype, H5T_DIR_ASCEND);
+    if (type >= 0)
+      ms = verify_read_block(src, type, r->rank, off, count, &cb->p, &cb->size);
+    if (ms >= 0 && fd >= 0 &&
+        H5Sselect_hyperslab(fd, H5S_SELECT_SET, off, NULL, count, NULL) >= 0)
+      rc = H5Dwrite(dst, type, ms, fd, H5P_DEFAULT, cb->p) < 0 ? -1 : 0;
+    if (ms >= 0 && H5Tis_variable_str(type) > 0)
+      H5Dvlen_reclaim(type, ms, H5P_DEFAULT, cb->p);
+    shard_h5_close(4, type, ftype, fd, ms);
+    return rc;
   }
   if ((size_t)size > cb->size) {
     void *p = realloc(cb->p, (size_t)size);

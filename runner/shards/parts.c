@@ -298,11 +298,10 @@ static int merge_write(const merge_run *m, const char *cmd, size_t *nfailed) {
 }
 
 int merge_main(int argc, char **argv) {
-  merge_run m;
+  merge_run m = {0};
   size_t nfailed = 0;
   int code = EXIT_USAGE, *bad = NULL;
   char err[768], *cmd = cli_command_line(argc, argv);
-  memset(&m, 0, sizeof m);
   if (!cmd) {
     fprintf(stderr, "rps3-run: out of memory\n");
     return EXIT_IO;

@@ -783,9 +783,6 @@ static int write_results(study_h5 *o, const study_result res[][MAXCFG],
           "max |F_ref| over the grid: the force_error scale")
   REF_F64("reference_peak_force", peak, "N",
           "peak |F| over 200001 samples of the span")
-#undef RES_F64
-#undef RES_I32
-#undef REF_F64
   return rc ? -1 : 0;
 }
 
