@@ -286,7 +286,6 @@ static int run_main(int argc, char **argv, const world *w) {
   sweep_plan plan;
   sweep_opts opts = {1, 0, 1};
   pre_opts pre;
-
   /* the command line (run_cli.c) */
   if ((code = run_args_parse(argc, argv, &a)) >= 0) return code;
   if ((code = args_for_world(&a, w)) >= 0) return code;
@@ -347,7 +346,6 @@ int main(int argc, char **argv) {
   world w = {0, 1};
   const char *by;
   int code, (*sub)(int, char **);
-
   /* fds 0-2 open before anything opens a file; HDF5 without atexit */
   proc_init();
   world_init(&argc, &argv, &w);
@@ -377,7 +375,6 @@ int main(int argc, char **argv) {
       return proc_exit(EXIT_USAGE);
     }
   }
-
   /* process-wide policy: GSL returns its errors, HDF5's are captured
      (h5err.h); the signals that end a run remove its temporary file
      (tmpout.h) */
@@ -394,7 +391,6 @@ int main(int argc, char **argv) {
     code = EXIT_USAGE;
   } else
     code = sub ? sub(argc, argv) : run_main(argc, argv, &w);
-
   world_finalize();
   return proc_exit(code);
 }

@@ -150,8 +150,7 @@ static int run_write(const run_args *a, const world *w, const scene *s,
                    .fields = a->fields,
                    .inputs = inputs};
   progress pr;
-  sweep_stats st;
-  memset(&st, 0, sizeof st);
+  sweep_stats st = {0};
   if (!cmd) {
     fprintf(stderr, "rps3-run: out of memory\n");
     code = EXIT_IO;

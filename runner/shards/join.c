@@ -89,13 +89,6 @@ static char *link_name(const char *path, const char *dir) {
   return p;
 }
 
-/* the directory of path, malloc'd: "." when it has none */
-static char *dir_of(const char *path) {
-  char *copy = strdup(path), *dir = copy ? strdup(dirname(copy)) : NULL;
-  free(copy);
-  return dir;
-}
-
 /* map rows [r0 c0, ...) of part k, `count` blocks of `block` rows every
    n c0 rows and the other axes whole, to the same rows of the virtual
    dataset */
@@ -317,7 +310,9 @@ static int joined_count(hid_t file, const char *dst, const char *link_dir,
 int join_vds(const char *dst, const char *const *part, size_t n,
              const char *command_line, size_t *nfailed, char *err,
              size_t errsz) {
-  char *link_dir = dir_of(dst), is0[4200];
+  /* the directory of dst ("." when it has none) */
+  char *copy = strdup(dst), *link_dir = copy ? strdup(dirname(copy)) : NULL;
+  char is0[4200];
   walk w = {-1, -1, part, NULL, link_dir, err, errsz, {{""}, 0}, {0}};
   size_t k;
   int j, rc = -1;
@@ -340,6 +335,7 @@ int join_vds(const char *dst, const char *const *part, size_t n,
   for (j = 0; j < MERGE_MAX_CHUNKED; j++) shard_h5_close(1, w.dcpl[j]);
   free(w.link);
   free(link_dir);
+  free(copy);
   if (w.src >= 0) H5Fclose(w.src);
   if (w.dst >= 0 && H5Fclose(w.dst) < 0 && rc == 0) {
     out_fail(err, errsz, "%s: cannot close", dst);

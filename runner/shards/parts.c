@@ -26,8 +26,7 @@ int parts_by_shard(const char *const *part, size_t npart, const char ***byk,
     if (merge_shard_of(part[i], &k, &nn, err, errsz)) goto fail;
     if (i == 0) {
       n0 = nn;
-      by = calloc(nn, sizeof *by);
-      if (!by) {
+      if (!(by = calloc(nn, sizeof *by))) {
         snprintf(err, errsz, "out of memory");
         return -1;
       }

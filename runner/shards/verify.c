@@ -124,16 +124,14 @@ done:
 
 static herr_t verify_cb(hid_t root, const char *name, const H5L_info_t *li,
                         void *data) {
-  verify_ctx *c = data;
   H5O_info_t oi;
   hid_t ds;
   int rc;
   (void)li;
   if (H5Oget_info_by_name(root, name, &oi, H5P_DEFAULT) < 0) return -1;
   if (oi.type != H5O_TYPE_DATASET) return 0;
-  ds = H5Dopen2(root, name, H5P_DEFAULT);
-  if (ds < 0) return -1;
-  rc = verify_dataset(c, ds, name);
+  if ((ds = H5Dopen2(root, name, H5P_DEFAULT)) < 0) return -1;
+  rc = verify_dataset(data, ds, name);
   H5Dclose(ds);
   return rc < 0 ? -1 : 0;
 }

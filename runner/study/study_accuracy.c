@@ -797,7 +797,6 @@ int study_accuracy(const char *path, const char *cmdline, size_t nsamp,
   study_h5 o = {-1, -1};
   double t_start = study_now_ns();
   const double counts[2] = {(double)nsamp, (double)repeats};
-
   /* the measurements, trajectory by trajectory */
   if (accuracy_model(&base) < 0) return EXIT_IO;
   for (t = 0; t < NTRAJ; t++)
@@ -808,7 +807,6 @@ int study_accuracy(const char *path, const char *cmdline, size_t nsamp,
       stderr,
       "rps3-study: accuracy: %d configurations x %d trajectories in %.1f s\n",
       ncfg, NTRAJ, 1e-9 * (study_now_ns() - t_start));
-
   /* the file */
   if (study_h5_open(
           &o, path, cmdline,
