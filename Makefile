@@ -73,10 +73,9 @@ RUN_SRC = $(foreach d,$(RUN_DIRS),$(wildcard runner/$(d)/*.c))
 WORLD_STUB = $(B)/runner/mpi/world_stub.o
 WORLD_MPI = $(B)/runner-mpi/mpi/world_mpi.o
 RUN_MAINS = runner/bin/main_run.c runner/bin/main_study.c runner/bin/main_simstudy.c
-# rps3-run's design studies and the steps of a run (run_steps.c) that
-# sweeps and design studies share
-RUN_MAINS += runner/bin/run_design.c runner/bin/run_steps.c
-RUN_DESIGN_OBJ = $(B)/runner/bin/run_design.o $(B)/runner/bin/run_steps.o
+# the steps of a run (run_steps.c) that sweeps and design studies share
+RUN_MAINS += runner/bin/run_steps.c
+RUN_DESIGN_OBJ = $(B)/runner/bin/run_steps.o
 # rps3-study's own files (study.h); the rest is every program's
 STUDY_SRC = $(wildcard runner/study/*.c)
 STUDY_OBJ = $(STUDY_SRC:runner/%.c=$(B)/runner/%.o)

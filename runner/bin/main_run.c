@@ -1,15 +1,13 @@
 /*
- * main_run.c - rps3-run: run a scene (and its sweep) into an HDF5 file;
- * run_cli.c holds its options and --help, exit_codes.h its exit codes.
+ * main_run.c - rps3-run: run a scene (its sweep, its design study or its
+ * simulation) into an HDF5 file; run_cli.c holds its options and --help,
+ * exit_codes.h its exit codes.
  *
  * -j N computes the cases on N threads (sweep.h); --shard K/N computes the
  * jobs of shard K only, into a part file that `merge` joins with the
- * others (cmd_merge.c: by virtual datasets, join.h, or with --copy by
- * copying chunks, merge.h).  Linked with MPI (rps3-run-mpi, mpi/world.h) and
- * launched by mpirun, rank r computes shard r of the ranks into
- * OUT.h5.tmp.PID.part<r> next to OUT.h5, renamed OUT.h5.part<r>of<N>, and
- * rank 0 joins the parts into OUT.h5 (with --copy: merges them into its
- * own file, and the parts are removed): the same datasets as one process.
+ * others (merge.h).  Linked with MPI (rps3-run-mpi, mpi/world.h) and
+ * launched by mpirun, rank r computes shard r of the ranks and rank 0
+ * joins the parts (run_steps.c): the same datasets as one process.
  * Killed by SIGINT/SIGTERM/SIGHUP, the temporary file is removed and the
  * process dies of that signal (shell status 128 + signal).
  */
@@ -26,17 +24,18 @@
 #include "core/progress.h"
 #include "core/safeio.h"
 #include "core/tmpout.h"
+#include "exec/design_run.h"
 #include "exec/estimate.h"
+#include "exec/pool.h"
 #include "exec/simulate.h"
 #include "exec/sweep.h"
 #include "mpi/world.h"
+#include "output/outblock.h"
 #include "output/output.h"
-#include "run_cli.h"
-#include "run_design.h"
 #include "run_steps.h"
 #include "scene/design.h"
 #include "scene/scene.h"
-#include "shards/cmd_merge.h"
+#include "shards/merge.h"
 
 /*
  * The command line against the launch: under mpirun the ranks are the
@@ -61,11 +60,8 @@ static int args_for_world(run_args *a, const world *w) {
                            "--copy is for rps3-run-mpi under mpirun and for "
                            "merge; a run without them writes one whole file");
   }
-  /* where the output goes is checked before anything is computed */
   if (a->out_path && !a->check) {
-    const char *in[1];
-    in[0] = a->scene_path;
-    if (out_path_check(a->out_path, in, 1, err, sizeof err)) {
+    if (out_path_check(a->out_path, &a->scene_path, 1, err, sizeof err)) {
       if (w->rank == 0) fprintf(stderr, "rps3-run: %s\n", err);
       return EXIT_USAGE;
     }
@@ -78,11 +74,10 @@ static int args_for_world(run_args *a, const world *w) {
   return -1;
 }
 
-/* at most one thread per core (-j beyond them: said by rank 0) */
+/* at most one thread per core (-j beyond them: said by rank 0): threads
+   beyond the cores compute nothing faster and each holds a tile and a
+   workspace (-j 1024 on 2 cores took 4.3 GB) */
 static void use_the_cores(sweep_opts *opts, const world *w) {
-  /* threads beyond the cores compute nothing faster and each holds a
-     tile and a workspace (-j 1024 on 2 cores took 4.3 GB): use the
-     cores */
   long cores = sysconf(_SC_NPROCESSORS_ONLN);
   if (cores >= 1 && opts->nthread > cores) {
     if (w->rank == 0)
@@ -102,11 +97,6 @@ static int run_simulated(scene *s, const run_args *a, const world *w, int argc,
   sim_args sa;
   int code;
   char *cmd;
-  if (a->fields != out_fields_all())
-    return run_usage_error(w,
-                           "--fields selects variables of the "
-                           "inverse-dynamics file; a scene with a simulate "
-                           "section writes the simulation file whole");
   sa.out_path = a->out_path;
   sa.check = a->check;
   sa.quiet = a->quiet;
@@ -203,6 +193,90 @@ static int run_sweep(const run_args *a, const world *w, const scene *s,
   return code;
 }
 
+/* what a design study's file needs */
+typedef struct {
+  const run_args *a;
+  scene *s;
+  const design_plan *plan;
+  char fields[64]; /* the file kinds' fields, a part's root attribute */
+} design_job;
+
+/* run_job's write of a design study: the progress of this rank's designs,
+   then they are computed into the file at tmpout_path() */
+static int design_write(run_job *j, const out_meta *meta, progress *pr,
+                        sweep_stats *sst) {
+  design_job *d = j->ctx;
+  const run_args *a = d->a;
+  const design_plan *plan = d->plan;
+  size_t nempty = 0;
+  out_file *f;
+  char err[512];
+  int code;
+  pr->njob_all = plan->nunit;
+  pr->njob = pool_count(plan->nunit, a->shard, a->nshard);
+  pr->npoint = pr->ncase * (plan->npose + plan->nsample);
+  f = design_file_open(tmpout_path(), d->s, plan, meta, err, sizeof err);
+  if (f && design_run(d->s, plan, f, a->shard, a->nshard, a->nthread, pr, sst,
+                      &nempty, err, sizeof err) == 0)
+    code = out_close(f, err, sizeof err) ? run_io(a, err) : EXIT_OK;
+  else {
+    if (f) out_close(f, NULL, 0);
+    code = run_io(a, err);
+  }
+  if (nempty)
+    snprintf(j->note, sizeof j->note,
+             "rps3-run: %zu design%s with an empty workspace (nreach = 0: a "
+             "result, not a failure)\n",
+             nempty, nempty == 1 ? "" : "s");
+  return code;
+}
+
+/* every design checked before anything is written (every rank), and the
+   room; --check says what it would do.  -1 to go on, else the exit code */
+static int design_checks(scene *s, const run_args *a, const world *w,
+                         design_plan *plan) {
+  scene_error serr;
+  int code = EXIT_OK;
+  if (design_plan_make(s, plan, &serr)) {
+    if (w->rank == 0) scene_error_print(a->scene_path, &serr);
+    code = EXIT_USAGE;
+  }
+  if ((code = run_agree(w, code, NULL)) != EXIT_OK) return code;
+  if (a->check) {
+    if (w->rank == 0)
+      (void)design_preflight(a->scene_path, s, plan, 0, 1, 1, a->nthread,
+                             a->gzip, 1, a->quiet, NULL);
+    return EXIT_OK;
+  }
+  if (w->rank == 0 && w->size > 1 && (size_t)w->size > plan->nunit)
+    fprintf(stderr,
+            "rps3-run: warning: %d ranks but the design study has %zu work "
+            "unit%s: ranks %zu-%d compute nothing; use at most %zu\n",
+            w->size, plan->nunit, plan->nunit == 1 ? "" : "s", plan->nunit,
+            w->size - 1, plan->nunit);
+  return -1;
+}
+
+/* rps3-run on the design study s (scene/design.h): the plan, --check,
+   then the file of this process's designs (a whole file, a --shard part,
+   or a rank's part joined as a sweep's are) by run_output; the exit code */
+static int run_design(scene *s, const run_args *a, const world *w, int argc,
+                      char **argv) {
+  design_plan plan;
+  design_job d = {a, s, &plan, ""};
+  run_job j = {NULL, "design", 0, design_write, &d, ""};
+  int code;
+  if ((code = design_checks(s, a, w, &plan)) >= 0) return code;
+  j.fields = out_fields_attr(plan.files, 0, d.fields, sizeof d.fields);
+  j.ncase = design_shard_cases(&plan, a->shard, a->nshard);
+  code = w->rank == 0 && design_preflight(a->scene_path, s, &plan, a->shard,
+                                          a->nshard, w->size, a->nthread,
+                                          a->gzip, 0, a->quiet, a->out_path)
+             ? EXIT_USAGE
+             : EXIT_OK;
+  return run_output(a, w, s, code, &j, argc, argv);
+}
+
 /* rps3-run SCENE.yaml: parse, check, then simulate, check only or run the
    sweep; the exit code */
 static int run_main(int argc, char **argv, const world *w) {
@@ -212,8 +286,7 @@ static int run_main(int argc, char **argv, const world *w) {
   sweep_plan plan;
   sweep_opts opts = {1, 0, 1};
   pre_opts pre;
-
-  /* the command line (run_cli.h) */
+  /* the command line (run_cli.c) */
   if ((code = run_args_parse(argc, argv, &a)) >= 0) return code;
   if ((code = args_for_world(&a, w)) >= 0) return code;
   opts.nthread = a.nthread;
@@ -226,7 +299,16 @@ static int run_main(int argc, char **argv, const world *w) {
   pre.gzip = a.gzip;
   pre.quiet = a.quiet;
   pre.fields = a.fields;
-  if (design_wanted(&s)) /* its designs into its own file (run_design.h) */
+  if (a.fields != out_fields_all() && (design_wanted(&s) || sim_wanted(&s)))
+    code = run_usage_error(
+        w, design_wanted(&s)
+               ? "--fields selects variables of the inverse-dynamics file; a "
+                 "design study writes its file whole (design.per_pose adds "
+                 "the per-pose indices)"
+               : "--fields selects variables of the inverse-dynamics file; a "
+                 "scene with a simulate section writes the simulation file "
+                 "whole");
+  else if (design_wanted(&s)) /* its designs into its own file */
     code = run_design(&s, &a, w, argc, argv);
   else if (sim_wanted(&s)) /* simulated instead (simulate.h) */
     code = run_simulated(&s, &a, w, argc, argv);
@@ -260,22 +342,18 @@ static int launched_tasks(const char **by) {
   return v && atoi(v) > 1 ? atoi(v) : 1;
 }
 
-/* the subcommands that run as one process: --clean and merge, or NULL */
-static int (*one_process(int argc, char **argv))(int, char **) {
-  if (argc > 1 && strcmp(argv[1], "--clean") == 0) return clean_main;
-  if (argc > 1 && strcmp(argv[1], "merge") == 0) return merge_main;
-  return NULL;
-}
-
 int main(int argc, char **argv) {
   world w = {0, 1};
   const char *by;
   int code, (*sub)(int, char **);
-
   /* fds 0-2 open before anything opens a file; HDF5 without atexit */
   proc_init();
   world_init(&argc, &argv, &w);
-  sub = one_process(argc, argv);
+  /* the subcommands that run as one process: --clean and merge */
+  sub = argc < 2                          ? NULL
+        : strcmp(argv[1], "--clean") == 0 ? clean_main
+        : strcmp(argv[1], "merge") == 0   ? merge_main
+                                          : NULL;
   if (w.size == 1 && launched_tasks(&by) > 1) {
     if (world_has_mpi()) {
       /* srun without --mpi=pmix (or an MPI that srun cannot start): N
@@ -297,7 +375,6 @@ int main(int argc, char **argv) {
       return proc_exit(EXIT_USAGE);
     }
   }
-
   /* process-wide policy: GSL returns its errors, HDF5's are captured
      (h5err.h); the signals that end a run remove its temporary file
      (tmpout.h) */
@@ -314,7 +391,6 @@ int main(int argc, char **argv) {
     code = EXIT_USAGE;
   } else
     code = sub ? sub(argc, argv) : run_main(argc, argv, &w);
-
   world_finalize();
   return proc_exit(code);
 }

@@ -1,12 +1,9 @@
 /*
  * main_simstudy.c - rps3-simstudy: closed-loop tracking of the shipped
  * controllers, and what simulation accuracy costs in time (study_sim.c says
- * what is run and written).
- *
- *   rps3-simstudy -o OUT.h5 [--quick]
- *
- * The file, its temporary name and the exit codes are those of every study
- * program (study_run.c), and 4: a run that must succeed failed.
+ * what is run and written).  The file, its temporary name and the exit
+ * codes are those of every study program (study_run.c), and 4: a run that
+ * must succeed failed.
  */
 #include "study/study.h"
 

@@ -1,17 +1,8 @@
 /*
- * main_study.c - rps3-study: what accuracy costs in time, and the workspace
- * (docs/accuracy.md says what is measured and how).
- *
- *   rps3-study accuracy  -o OUT.h5 [--samples N] [--repeats R]
- *   rps3-study workspace -o OUT.h5 [--quick]
- *
- * accuracy: on the paper's helix (Table II) and a fast, strongly tilted
- * sine near the singular surface, every knob that trades accuracy for time
- * (theta route and tolerance, rates, method, effects, sample interval)
- * against a reference of its own (study_ref.h), and the median time of R
- * timed passes (study_accuracy.c).  workspace: a grid over (rho, alpha,
- * beta, z_c) (study_workspace.c).  The file, its temporary name and the
- * exit codes are those of every study program (study_run.c).
+ * main_study.c - rps3-study: what accuracy costs in time (study_accuracy.c),
+ * and the workspace (study_workspace.c); docs/accuracy.md says what is
+ * measured and how.  The file, its temporary name and the exit codes are
+ * those of every study program (study_run.c).
  */
 #include <string.h>
 

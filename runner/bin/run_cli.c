@@ -1,8 +1,7 @@
 /*
- * run_cli.c - see run_cli.h.  The options of a run are the rows of
- * RUN_OPTS: getopt_long reads them (cli.h) and --help prints them.
+ * run_cli.c - rps3-run's command lines (run_steps.h).
  */
-#include "run_cli.h"
+#include "run_steps.h"
 
 #include <stdio.h>
 #include <string.h>
@@ -17,98 +16,80 @@
 /* most threads of -j */
 #define MAX_THREADS 1024
 
-/* the rows of RUN_OPTS, in order */
-enum {
-  O_OUTPUT,
-  O_QUIET,
-  O_GZIP,
-  O_FIELDS,
-  O_CHECK,
-  O_JOBS,
-  O_SHARD,
-  O_RESUME,
-  O_FAILED_OK,
-  O_COPY,
-  O_KEYS,
-  O_SCHEMA,
-  O_SIM_SCHEMA,
-  O_DESIGN_SCHEMA,
-  O_VERSION,
-  O_HELP,
-  O_N
-};
+/* the options of a run, one row each: X(its enum, its cli_opt row); one
+   table for getopt_long and --help (cli.h) */
+#define RUN_OPTIONS(X)                                                        \
+  X(O_OUTPUT, CLI_ROW_OUTPUT)                                                 \
+  X(O_QUIET, {"quiet", 'q', NULL, 0, 0, 0, "no progress on stderr"})          \
+  X(O_GZIP, {"gzip", 0, "LEVEL", 1, 0, 9,                                     \
+             "deflate the datasets at LEVEL (default 0: not\ndeflated)"})     \
+  X(O_FIELDS, {"fields", 0, "LIST", 0, 0, 0,                                  \
+               "write only these per-sample fields (force,length,...)"})      \
+  X(O_CHECK, {"check", 0, NULL, 0, 0, 0,                                      \
+              "validate the scene and every case, print the\nestimated "      \
+              "output size and run time, write nothing"})                     \
+  X(O_JOBS, {"jobs", 'j', "N", 1, 1, MAX_THREADS,                             \
+             "compute on N threads (default 1); same output"})                \
+  X(O_SHARD, {"shard", 0, "K/N", 0, 0, 0,                                     \
+              "compute shard K of N (0 <= K < N <= work units)\ninto a part " \
+              "file"})                                                        \
+  X(O_RESUME, {"resume", 0, NULL, 0, 0, 0,                                    \
+               "keep OUT.h5 when it is that part, complete"})                 \
+  X(O_FAILED_OK, {"failed-ok", 0, NULL, 0, 0, 0,                              \
+                  "exit 0, not 1, when the file is complete but some\ncases " \
+                  "failed"})                                                  \
+  X(O_COPY, {"copy", 0, NULL, 0, 0, 0,                                        \
+             "rps3-run-mpi under mpirun: rank 0 merges the parts\ninto one "  \
+             "self-contained file (default: joins them)"})                    \
+  X(O_KEYS, {"keys", 0, NULL, 0, 0, 0, "print the scene keys (markdown)"})    \
+  X(O_SCHEMA,                                                                 \
+    {"schema", 0, NULL, 0, 0, 0, "print the datasets of OUT.h5 (markdown)"})  \
+  X(O_SIM_SCHEMA, {"sim-schema", 0, NULL, 0, 0, 0,                            \
+                   "... of OUT.h5 of a scene with a simulate section"})       \
+  X(O_DESIGN_SCHEMA, {"design-schema", 0, NULL, 0, 0, 0,                      \
+                      "... of OUT.h5 of a scene with a design section"})      \
+  X(O_VERSION, CLI_ROW_VERSION)                                               \
+  X(O_HELP, CLI_ROW_HELP)
+#define ROW_ENUM(o, ...) o,
+#define ROW_OPT(o, ...) __VA_ARGS__,
+enum { RUN_OPTIONS(ROW_ENUM) O_N };
+static const cli_opt RUN_OPTS[O_N] = {RUN_OPTIONS(ROW_OPT)};
 
-static const cli_opt RUN_OPTS[O_N] = {
-    CLI_ROW_OUTPUT,
-    {"quiet", 'q', NULL, 0, 0, 0, "no progress on stderr"},
-    {"gzip", 0, "LEVEL", 1, 0, 9,
-     "deflate the datasets at LEVEL (default 0: not\ndeflated)"},
-    {"fields", 0, "LIST", 0, 0, 0,
-     "write only these per-sample fields (force,length,...)"},
-    {"check", 0, NULL, 0, 0, 0,
-     "validate the scene and every case, print the\nestimated output size "
-     "and run time, write nothing"},
-    {"jobs", 'j', "N", 1, 1, MAX_THREADS,
-     "compute on N threads (default 1); same output"},
-    {"shard", 0, "K/N", 0, 0, 0,
-     "compute shard K of N (0 <= K < N <= work units)\ninto a part file"},
-    {"resume", 0, NULL, 0, 0, 0, "keep OUT.h5 when it is that part, complete"},
-    {"failed-ok", 0, NULL, 0, 0, 0,
-     "exit 0, not 1, when the file is complete but some\ncases failed"},
-    {"copy", 0, NULL, 0, 0, 0,
-     "rps3-run-mpi under mpirun: rank 0 merges the parts\ninto one "
-     "self-contained file (default: joins them)"},
-    {"keys", 0, NULL, 0, 0, 0, "print the scene keys (markdown)"},
-    {"schema", 0, NULL, 0, 0, 0, "print the datasets of OUT.h5 (markdown)"},
-    {"sim-schema", 0, NULL, 0, 0, 0,
-     "... of OUT.h5 of a scene with a simulate section"},
-    {"design-schema", 0, NULL, 0, 0, 0,
-     "... of OUT.h5 of a scene with a design section"},
-    CLI_ROW_VERSION,
-    CLI_ROW_HELP,
-};
+static const char USAGE[] =
+    "usage: rps3-run SCENE.yaml -o OUT.h5 [OPTION]...\n"
+    "       rps3-run SCENE.yaml --check [OPTION]...\n"
+    "       rps3-run merge OUT.h5 PART.h5... [--copy] [--failed-ok] [--quiet]\n"
+    "       mpirun -n N rps3-run-mpi SCENE.yaml -o OUT.h5 [OPTION]...\n"
+    "       rps3-run --clean OUT.h5 [--force]\n"
+    "       rps3-run --keys | --schema | --sim-schema | --design-schema\n"
+    "       rps3-run --version | --help\n"
+    "\n"
+    "Run the scenes of the Lee & Shah 3-RPS manipulator into HDF5 files.\n"
+    "\n"
+    "Computes the inverse dynamics along the scene's trajectory, for every\n"
+    "case of its sweep, into OUT.h5; a scene with a simulate section is\n"
+    "simulated in closed loop instead (docs/runner.md, \"Simulation\").\n"
+    "\n"
+    "Options:\n";
+
+static const char COMMANDS[] =
+    "\n"
+    "Commands:\n"
+    "  merge                 join the part files of shards 0..N-1 into OUT.h5\n"
+    "                        (virtual datasets over the parts; --copy: one\n"
+    "                        self-contained file)\n"
+    "  --clean               remove the temporaries of OUT.h5 left by dead\n"
+    "                        processes (--force: those of other hosts too)\n"
+    "\n"
+    "Options take their value as --gzip=4, --gzip 4, -j2 or -j 2.\n"
+    "\n"
+    "Exit status: 0 ok, 1 some cases failed, 2 bad scene or usage, 3 cannot\n"
+    "write.\n";
 
 static void usage(FILE *out) {
-  fprintf(out,
-          "usage: rps3-run SCENE.yaml -o OUT.h5 [OPTION]...\n"
-          "       rps3-run SCENE.yaml --check [OPTION]...\n"
-          "       rps3-run merge OUT.h5 PART.h5... [--copy] [--failed-ok] "
-          "[--quiet]\n"
-          "       mpirun -n N rps3-run-mpi SCENE.yaml -o OUT.h5 [OPTION]...\n"
-          "       rps3-run --clean OUT.h5 [--force]\n"
-          "       rps3-run --keys | --schema | --sim-schema | --design-schema\n"
-          "       rps3-run --version | --help\n"
-          "\n"
-          "Run the scenes of the Lee & Shah 3-RPS manipulator into HDF5 "
-          "files.\n"
-          "\n"
-          "Computes the inverse dynamics along the scene's trajectory, for "
-          "every\n"
-          "case of its sweep, into OUT.h5; a scene with a simulate section "
-          "is\n"
-          "simulated in closed loop instead (docs/runner.md, "
-          "\"Simulation\").\n"
-          "\n"
-          "Options:\n");
+  fputs(USAGE, out);
   cli_help(out, RUN_OPTS, O_N);
-  fprintf(out,
-          "\n"
-          "Commands:\n"
-          "  merge                 join the part files of shards 0..N-1 "
-          "into OUT.h5\n"
-          "                        (virtual datasets over the parts; "
-          "--copy: one\n"
-          "                        self-contained file)\n"
-          "  --clean               remove the temporaries of OUT.h5 left by "
-          "dead\n"
-          "                        processes (--force: those of other hosts "
-          "too)\n"
-          "\n"
-          "Options take their value as --gzip=4, --gzip 4, -j2 or -j 2.\n"
-          "\n"
-          "Exit status: 0 ok, 1 some cases failed, 2 bad scene or usage, 3 "
-          "cannot\n"
-          "write.\n");
+  fputs(COMMANDS, out);
 }
 
 /* K/N into *k, *n, strictly (digits only, 0 <= K < N); 0 or -1 */
@@ -192,14 +173,11 @@ int run_args_parse(int argc, char **argv, run_args *a) {
   a->scene_path = nop ? op[0] : NULL;
   if (!a->scene_path) {
     cli_usage_error(&c,
-                    "missing the scene file (rps3-run SCENE.yaml -o "
-                    "OUT.h5)");
+                    "missing the scene file (rps3-run SCENE.yaml -o OUT.h5)");
     return EXIT_USAGE;
   }
   if (!a->out_path && !a->check) {
-    cli_usage_error(&c,
-                    "missing -o OUT.h5 (or --check, which writes "
-                    "nothing)");
+    cli_usage_error(&c, "missing -o OUT.h5 (or --check, which writes nothing)");
     return EXIT_USAGE;
   }
   return -1;
@@ -225,9 +203,7 @@ int clean_main(int argc, char **argv) {
   nop = cli_operands(&c, &op);
   if (nop != 1) {
     if (nop == 0)
-      cli_usage_error(&c,
-                      "missing OUT.h5 (rps3-run --clean OUT.h5 "
-                      "[--force])");
+      cli_usage_error(&c, "missing OUT.h5 (rps3-run --clean OUT.h5 [--force])");
     else
       cli_usage_error(&c, "one OUT.h5 at a time ('%s' and '%s')", op[0], op[1]);
     return EXIT_USAGE;

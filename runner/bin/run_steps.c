@@ -11,15 +11,10 @@
 #include "core/exit_codes.h"
 #include "core/tmpout.h"
 #include "scene/inputs.h"
-#include "shards/join.h"
 #include "shards/merge.h"
-#include "shards/parts.h"
 
 /* the name of rank r's part once complete: OUT.h5.part<r>of<N> */
-static void rank_part_name(char *buf, size_t size, const char *out_path, int r,
-                           int n) {
-  snprintf(buf, size, "%s.part%dof%d", out_path, r, n);
-}
+#define RANK_PART "%s.part%dof%d"
 
 /* rank 0: the ranks' parts into OUT.h5 under a temporary name, joined by
    virtual datasets over the parts renamed OUT.h5.part<r>of<N>, or with
@@ -37,7 +32,7 @@ static int ranks_merge(const world *w, int copy, const char *out_path,
     world_abort(EXIT_IO);
   }
   for (r = 0; r < w->size; r++) {
-    rank_part_name(paths[r], sizeof paths[r], out_path, r, w->size);
+    snprintf(paths[r], sizeof paths[r], RANK_PART, out_path, r, w->size);
     part[r] = paths[r];
   }
   /* the ranks' temporary names, each with its own host and process */
@@ -66,7 +61,7 @@ static int ranks_merge(const world *w, int copy, const char *out_path,
 /*
  * After every rank has written its part.  By default every rank renames
  * its part to OUT.h5.part<r>of<N> and rank 0 joins them by virtual
- * datasets (join.h); with `copy` rank 0 merges the parts of ranks 1.. into
+ * datasets (join.c); with `copy` rank 0 merges the parts of ranks 1.. into
  * its own file (merge.h) and every rank removes its part.  `code` is this
  * rank's outcome so far; returns the exit code of the run, the same on
  * every rank.
@@ -74,17 +69,15 @@ static int ranks_merge(const world *w, int copy, const char *out_path,
 static int ranks_join(const world *w, int code, int copy, const char *out_path,
                       const char *cmd, progress *pr, const sweep_stats *st,
                       size_t ncase) {
-  unsigned long mine[3], sum[3];
+  unsigned long mine[3] = {st->cases_done, st->points_done, st->nfailed};
+  unsigned long sum[3];
   int worst = code;
-  mine[0] = st->cases_done;
-  mine[1] = st->points_done;
-  mine[2] = st->nfailed;
   world_idle_barrier();
   world_max_int(&code, &worst, 1);
   world_sum_ulong(mine, sum, 3);
   if (worst < EXIT_USAGE && !copy) {
     char name[4096];
-    rank_part_name(name, sizeof name, out_path, w->rank, w->size);
+    snprintf(name, sizeof name, RANK_PART, out_path, w->rank, w->size);
     code = tmpout_commit(name) ? EXIT_IO : code;
     world_max_int(&code, &worst, 1);
   }
@@ -106,10 +99,8 @@ static int ranks_join(const world *w, int code, int copy, const char *out_path,
    go on together */
 int run_agree(const world *w, int code, int *first) {
   int mine[2], all[2];
-  mine[0] = code;
-  mine[1] = w->rank == 0 ? code : 0;
-  all[0] = mine[0];
-  all[1] = mine[1];
+  mine[0] = all[0] = code;
+  mine[1] = all[1] = w->rank == 0 ? code : 0;
   if (w->size > 1) world_max_int(mine, all, 2);
   if (first) *first = all[1];
   return all[0];
@@ -159,8 +150,7 @@ static int run_write(const run_args *a, const world *w, const scene *s,
                    .fields = a->fields,
                    .inputs = inputs};
   progress pr;
-  sweep_stats st;
-  memset(&st, 0, sizeof st);
+  sweep_stats st = {0};
   if (!cmd) {
     fprintf(stderr, "rps3-run: out of memory\n");
     code = EXIT_IO;

@@ -1,8 +1,10 @@
 /*
- * run_steps.h - the steps of an rps3-run that writes OUT.h5, the same for
- * a sweep (main_run.c) and a design study (run_design.c): the input files
- * recorded, --resume, the temporary file renamed when complete, and under
- * rps3-run-mpi the ranks' parts joined or merged by rank 0.
+ * run_steps.h - rps3-run's command lines (run_cli.c: the option table of a
+ * run, its --help, and `rps3-run --clean`), and the steps of an rps3-run
+ * that writes OUT.h5, the same for a sweep and a design study (main_run.c):
+ * the input files recorded, --resume, the temporary file renamed when
+ * complete, and under rps3-run-mpi the ranks' parts joined or merged by
+ * rank 0.
  */
 #ifndef RPS3_RUNNER_RUN_STEPS_H
 #define RPS3_RUNNER_RUN_STEPS_H
@@ -12,8 +14,33 @@
 #include "core/progress.h"
 #include "exec/sweep.h"
 #include "mpi/world.h"
-#include "run_cli.h"
+#include "output/output.h"
 #include "scene/scene.h"
+
+/* what the command line of a run asks */
+typedef struct {
+  const char *scene_path;
+  const char *out_path;  /* NULL with --check */
+  const char *shard_arg; /* "K/N" as given, or NULL */
+  size_t shard, nshard;  /* --shard K/N (0/1 without) */
+  int nthread;           /* -j */
+  int quiet, check, copy, resume, failed_ok;
+  int gzip;            /* --gzip level, 0: none */
+  out_mask fields;     /* --fields */
+  char shard_text[64]; /* under mpirun: "rank/size", shard_arg's text */
+} run_args;
+
+/*
+ * Parse a run's command line into a.  Returns -1 to go on with the run;
+ * else the exit code: EXIT_OK after an option that prints and ends
+ * (--help, --version, --keys, --schema, --sim-schema), EXIT_USAGE after a
+ * message on stderr.
+ */
+int run_args_parse(int argc, char **argv, run_args *a);
+
+/* rps3-run --clean OUT.h5 [--force] (argv[1] is "--clean"): the exit
+   code */
+int clean_main(int argc, char **argv);
 
 /* what a sweep and a design study do differently around the steps of a
    run that writes OUT.h5 (run_output) */

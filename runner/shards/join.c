@@ -1,6 +1,6 @@
 /*
- * join.c - see join.h.  The objects of part 0 are walked once: groups are
- * made again, datasets without chunks are copied (H5Ocopy, without their
+ * join.c - join_vds (merge.h).  The objects of part 0 are walked once: groups
+ * are made again, datasets without chunks are copied (H5Ocopy, without their
  * attributes), chunked ones become virtual; then every attribute is copied
  * but the dimension-scale bookkeeping (CLASS, NAME, DIMENSION_LIST,
  * REFERENCE_LIST), whose object references only mean something inside
@@ -9,8 +9,6 @@
  */
 /* realpath() and dirname() are XSI */
 #define _XOPEN_SOURCE 700
-
-#include "join.h"
 
 #include <libgen.h>
 #include <stdio.h>
@@ -22,28 +20,20 @@
 
 #include "merge.h"
 #include "output/output.h"
-#include "scene/inputs.h"
 #include "verify.h"
 
 /* what a walk over part 0 needs */
 typedef struct {
-  hid_t src;                     /* part 0 */
-  hid_t dst;                     /* the joined file */
-  const char *const *part;       /* the part files, by shard */
-  char **link;                   /* their names as stored in the virtual maps */
-  const char *link_dir;          /* the directory of dst */
-  merge_chunked list;            /* the chunked datasets */
-  hid_t dcpl[MERGE_MAX_CHUNKED]; /* their virtual maps, by list index */
+  hid_t src;               /* part 0 */
+  hid_t dst;               /* the joined file */
+  const char *const *part; /* the part files, by shard */
+  char **link;             /* their names as stored in the virtual maps */
+  const char *link_dir;    /* the directory of dst */
   char *err;
   size_t errsz;
+  merge_chunked list;            /* the chunked datasets */
+  hid_t dcpl[MERGE_MAX_CHUNKED]; /* their virtual maps, by list index */
 } walk;
-
-static int skipped_attr(const char *name) {
-  return strcmp(name, "CLASS") == 0 || strcmp(name, "NAME") == 0 ||
-         strcmp(name, "DIMENSION_LIST") == 0 ||
-         strcmp(name, "REFERENCE_LIST") == 0 ||
-         strcmp(name, MERGE_SHARD_ATTR) == 0;
-}
 
 /* copy attribute `name` of object `from` to object `to` (H5Aiterate) */
 static herr_t copy_attr(hid_t from, const char *name, const H5A_info_t *ai,
@@ -53,7 +43,11 @@ static herr_t copy_attr(hid_t from, const char *name, const H5A_info_t *ai,
   void *buf = NULL;
   herr_t rc = -1;
   (void)ai;
-  if (skipped_attr(name)) return 0;
+  if (strcmp(name, "CLASS") == 0 || strcmp(name, "NAME") == 0 ||
+      strcmp(name, "DIMENSION_LIST") == 0 ||
+      strcmp(name, "REFERENCE_LIST") == 0 ||
+      strcmp(name, MERGE_SHARD_ATTR) == 0)
+    return 0;
   if ((a = H5Aopen(from, name, H5P_DEFAULT)) < 0 ||
       (ftype = H5Aget_type(a)) < 0 ||
       (mtype = H5Tget_native_type(ftype, H5T_DIR_ASCEND)) < 0 ||
@@ -93,13 +87,6 @@ static char *link_name(const char *path, const char *dir) {
     memmove(p, p + nd + 1, strlen(p + nd));
   free(d);
   return p;
-}
-
-/* the directory of path, malloc'd: "." when it has none */
-static char *dir_of(const char *path) {
-  char *copy = strdup(path), *dir = copy ? strdup(dirname(copy)) : NULL;
-  free(copy);
-  return dir;
 }
 
 /* map rows [r0 c0, ...) of part k, `count` blocks of `block` rows every
@@ -152,7 +139,7 @@ static hid_t virtual_dcpl(hid_t ds) {
 }
 
 /* merge_rows_fn of a join: shard k's rows of the dataset into its virtual
-   map (join.h) */
+   map (merge.h) */
 static int map_rows(void *ctx, const merge_rows *r, char *err, size_t errsz) {
   walk *w = ctx;
   hid_t ds = H5Dopen2(r->part, r->name, H5P_DEFAULT);
@@ -201,9 +188,7 @@ static herr_t make_object(hid_t root, const char *name, const H5O_info_t *oi,
   int rc = -1;
   if (strcmp(name, ".") == 0) return 0;
   if (oi->type != H5O_TYPE_GROUP && oi->type != H5O_TYPE_DATASET) {
-    snprintf(w->err, w->errsz,
-             "%s: object %s is neither a group nor a "
-             "dataset",
+    snprintf(w->err, w->errsz, "%s: object %s is neither a group nor a dataset",
              w->part[0], name);
     return -1;
   }
@@ -325,18 +310,14 @@ static int joined_count(hid_t file, const char *dst, const char *link_dir,
 int join_vds(const char *dst, const char *const *part, size_t n,
              const char *command_line, size_t *nfailed, char *err,
              size_t errsz) {
-  walk w;
-  char *link_dir = dir_of(dst), is0[4200];
+  /* the directory of dst ("." when it has none) */
+  char *copy = strdup(dst), *link_dir = copy ? strdup(dirname(copy)) : NULL;
+  char is0[4200];
+  walk w = {-1, -1, part, NULL, link_dir, err, errsz, {{""}, 0}, {0}};
   size_t k;
   int j, rc = -1;
-  memset(&w, 0, sizeof w);
-  w.src = w.dst = -1;
-  for (j = 0; j < MERGE_MAX_CHUNKED; j++) w.dcpl[j] = -1;
-  w.part = part;
   w.link = calloc(n, sizeof *w.link);
-  w.link_dir = link_dir;
-  w.err = err;
-  w.errsz = errsz;
+  for (j = 0; j < MERGE_MAX_CHUNKED; j++) w.dcpl[j] = -1;
   snprintf(is0, sizeof is0, "%s read", part[0]);
   if (!w.link || !link_dir)
     snprintf(err, errsz, "out of memory");
@@ -354,6 +335,7 @@ int join_vds(const char *dst, const char *const *part, size_t n,
   for (j = 0; j < MERGE_MAX_CHUNKED; j++) shard_h5_close(1, w.dcpl[j]);
   free(w.link);
   free(link_dir);
+  free(copy);
   if (w.src >= 0) H5Fclose(w.src);
   if (w.dst >= 0 && H5Fclose(w.dst) < 0 && rc == 0) {
     out_fail(err, errsz, "%s: cannot close", dst);

@@ -40,31 +40,35 @@ static herr_t collect_chunked(hid_t root, const char *name,
   return rc;
 }
 
+/* the file at path opened with flags, or -1 with err set */
+static hid_t open_file(const char *path, unsigned flags, char *err,
+                       size_t errsz) {
+  hid_t f = H5Fopen(path, flags, H5P_DEFAULT);
+  if (f < 0) out_fail(err, errsz, "%s: cannot open", path);
+  return f;
+}
+
 int merge_shard_of(const char *path, size_t *k, size_t *n, char *err,
                    size_t errsz) {
-  hid_t f = H5Fopen(path, H5F_ACC_RDONLY, H5P_DEFAULT);
+  hid_t f = open_file(path, H5F_ACC_RDONLY, err, errsz);
   char *v, *content, tail;
   unsigned long kk, nn;
   int rc = -1;
-  if (f < 0) {
-    out_fail(err, errsz, "%s: cannot open", path);
-    return -1;
-  }
+  if (f < 0) return -1;
   v = out_h5_read_text(f, MERGE_SHARD_ATTR, 1);
   content = out_h5_read_text(f, "content", 1);
   H5Fclose(f);
   /* a simulation (output.h) is never a part: say so by name */
   if (content && strcmp(content, "simulation") == 0)
     snprintf(err, errsz,
-             "%s: a simulation file (its scene has a simulate "
-             "section): simulated scenes are not sharded, "
-             "there is nothing to merge",
+             "%s: a simulation file (its scene has a simulate section): "
+             "simulated scenes are not sharded, there is nothing to merge",
              path);
   else if (!v || sscanf(v, "%lu/%lu%c", &kk, &nn, &tail) != 2 || nn < 1 ||
            kk >= nn)
     snprintf(err, errsz,
-             "%s: not a part file (no root attribute %s = \"K/N\"; write "
-             "parts with rps3-run --shard K/N)",
+             "%s: not a part file (no root attribute %s = \"K/N\"; write parts "
+             "with rps3-run --shard K/N)",
              path, MERGE_SHARD_ATTR);
   else {
     *k = kk;
@@ -109,38 +113,20 @@ static int same_layout(hid_t fa, hid_t fb, const char *name,
   if (rank < 0) {
     H5Eclear2(H5E_DEFAULT);
     snprintf(err, errsz,
-             "%s: dataset %s missing or of another shape or chunks: not a "
-             "part of the same run",
+             "%s: dataset %s missing or of another shape or chunks: not a part "
+             "of the same run",
              b_path, name);
   }
   shard_h5_close(2, b, a);
   return rank;
 }
 
-/* the chunk buffer, grown as needed */
+/* what a merge copies into, and the chunk buffer, grown as needed */
 typedef struct {
+  hid_t dst;
   void *p;
   size_t size;
-} chunk_buf;
-
-/* copy the region [off, off + count) by value: through the memory type,
-   so across filters (a compressed part into a plain file) and for the
-   variable-length strings, whose chunks hold heap addresses */
-static int copy_region(hid_t dst, hid_t src, int rank, const hsize_t *off,
-                       const hsize_t *count, chunk_buf *cb) {
-  hid_t ftype = H5Dget_type(src), fd = H5Dget_space(dst), type = -1, ms = -1;
-  int rc = -1;
-  if (ftype >= 0) type = H5Tget_native_type(ftype, H5T_DIR_ASCEND);
-  if (type >= 0)
-    ms = verify_read_block(src, type, rank, off, count, &cb->p, &cb->size);
-  if (ms >= 0 && fd >= 0 &&
-      H5Sselect_hyperslab(fd, H5S_SELECT_SET, off, NULL, count, NULL) >= 0)
-    rc = H5Dwrite(dst, type, ms, fd, H5P_DEFAULT, cb->p) < 0 ? -1 : 0;
-  if (ms >= 0 && H5Tis_variable_str(type) > 0)
-    H5Dvlen_reclaim(type, ms, H5P_DEFAULT, cb->p);
-  shard_h5_close(4, type, ftype, fd, ms);
-  return rc;
-}
+} copy_ctx;
 
 /* 1 when two datasets have the same filters (the same chunk encoding) */
 static int same_filters(hid_t a, hid_t b) {
@@ -167,7 +153,7 @@ static int same_filters(hid_t a, hid_t b) {
 /* copy the chunk at `off` if src has it: as stored when `raw`, else by
    value */
 static int copy_chunk(hid_t dst, hid_t src, const merge_rows *r,
-                      const hsize_t *off, int raw, chunk_buf *cb) {
+                      const hsize_t *off, int raw, copy_ctx *cb) {
   unsigned mask = 0;
   uint32_t filters = 0;
   haddr_t addr;
@@ -176,11 +162,22 @@ static int copy_chunk(hid_t dst, hid_t src, const merge_rows *r,
   if (H5Dget_chunk_info_by_coord(src, off, &mask, &addr, &size) < 0) return -1;
   if (size == 0) return 0;
   if (!raw) {
-    /* the chunk's region, cut at the dataset's edge */
+    /* by value (see the top): the chunk's region, cut at the dataset's edge */
+    hid_t ftype = H5Dget_type(src), fd = H5Dget_space(dst), type = -1, ms = -1;
+    int rc = -1;
     for (d = 0; d < r->rank; d++)
       count[d] =
           r->dims[d] - off[d] < r->chunk[d] ? r->dims[d] - off[d] : r->chunk[d];
-    return copy_region(dst, src, r->rank, off, count, cb);
+    if (ftype >= 0) type = H5Tget_native_type(ftype, H5T_DIR_ASCEND);
+    if (type >= 0)
+      ms = verify_read_block(src, type, r->rank, off, count, &cb->p, &cb->size);
+    if (ms >= 0 && fd >= 0 &&
+        H5Sselect_hyperslab(fd, H5S_SELECT_SET, off, NULL, count, NULL) >= 0)
+      rc = H5Dwrite(dst, type, ms, fd, H5P_DEFAULT, cb->p) < 0 ? -1 : 0;
+    if (ms >= 0 && H5Tis_variable_str(type) > 0)
+      H5Dvlen_reclaim(type, ms, H5P_DEFAULT, cb->p);
+    shard_h5_close(4, type, ftype, fd, ms);
+    return rc;
   }
   if ((size_t)size > cb->size) {
     void *p = realloc(cb->p, (size_t)size);
@@ -206,12 +203,6 @@ static int next_chunk(hsize_t *off, const merge_rows *r) {
   return 0;
 }
 
-/* what a merge copies into */
-typedef struct {
-  hid_t dst;
-  chunk_buf cb;
-} copy_ctx;
-
 /* merge_rows_fn of a merge: the chunk rows r % n == k of the dataset, each
    chunk of them, into dst */
 static int copy_rows(void *ctx, const merge_rows *r, char *err, size_t errsz) {
@@ -229,7 +220,7 @@ static int copy_rows(void *ctx, const merge_rows *r, char *err, size_t errsz) {
     /* windows after a failing sample are never written: they read as the
        fill value */
     do {
-      if (copy_chunk(dst, src, r, off, raw, &c->cb) < 0) {
+      if (copy_chunk(dst, src, r, off, raw, c) < 0) {
         out_fail(err, errsz, "%s: cannot copy a chunk of %s at case %llu",
                  r->path, r->name, (unsigned long long)off[0]);
         rc = -1;
@@ -245,11 +236,11 @@ static int copy_rows(void *ctx, const merge_rows *r, char *err, size_t errsz) {
 int merge_count_failed(hid_t file, size_t k, size_t n, size_t *nfailed,
                        size_t *nunset, size_t *first_unset) {
   enum { RUN_ROWS = 65536 };
-  hid_t ds = H5Dopen2(file, "status", H5P_DEFAULT), fs = -1, pl = -1, ms = -1;
+  hid_t ds = H5Dopen2(file, "status", H5P_DEFAULT), fs = -1, pl = -1, ms;
   hsize_t dims = 0, c0 = 0, span, start, count;
-  int32_t *buf = NULL;
+  void *buf = NULL;
+  size_t cap = 0, i;
   int rc = -1;
-  size_t i;
   *nfailed = *nunset = 0;
   if (ds < 0 || (fs = H5Dget_space(ds)) < 0 ||
       (pl = H5Dget_create_plist(ds)) < 0 ||
@@ -261,29 +252,22 @@ int merge_count_failed(hid_t file, size_t k, size_t n, size_t *nfailed,
   else if (H5Pget_chunk(pl, 1, &c0) != 1 || c0 < 1)
     goto done;
   span = n > 1 || c0 >= RUN_ROWS ? c0 : c0 * (RUN_ROWS / c0);
-  if (!(buf = malloc((size_t)span * sizeof *buf))) goto done;
   for (start = k * c0; start < dims; start += n * span) {
+    const int32_t *st;
     count = dims - start < span ? dims - start : span;
-    if ((ms = H5Screate_simple(1, &count, NULL)) < 0 ||
-        H5Sselect_hyperslab(fs, H5S_SELECT_SET, &start, NULL, &count, NULL) <
-            0 ||
-        H5Dread(ds, H5T_NATIVE_INT32, ms, fs, H5P_DEFAULT, buf) < 0)
-      goto done;
+    ms = verify_read_block(ds, H5T_NATIVE_INT32, 1, &start, &count, &buf, &cap);
+    if (ms < 0) goto done;
     H5Sclose(ms);
-    ms = -1;
-    for (i = 0; i < (size_t)count; i++) {
-      *nfailed += buf[i] != 0;
-      if (buf[i] == OUT_STATUS_NOT_COMPUTED && (*nunset)++ == 0 && first_unset)
+    for (st = buf, i = 0; i < (size_t)count; i++) {
+      *nfailed += st[i] != 0;
+      if (st[i] == OUT_STATUS_NOT_COMPUTED && (*nunset)++ == 0 && first_unset)
         *first_unset = (size_t)start + i;
     }
   }
   rc = 0;
 done:
   free(buf);
-  if (ms >= 0) H5Sclose(ms);
-  if (pl >= 0) H5Pclose(pl);
-  if (fs >= 0) H5Sclose(fs);
-  if (ds >= 0) H5Dclose(ds);
+  shard_h5_close(3, pl, fs, ds);
   return rc;
 }
 
@@ -299,10 +283,7 @@ int merge_part_check(const char *path, size_t k, size_t n, const char *text0,
              n);
     return -1;
   }
-  if ((f = H5Fopen(path, H5F_ACC_RDONLY, H5P_DEFAULT)) < 0) {
-    out_fail(err, errsz, "%s: cannot open", path);
-    return -1;
-  }
+  if ((f = open_file(path, H5F_ACC_RDONLY, err, errsz)) < 0) return -1;
   if (text0 &&
       (!(text = out_h5_read_text(f, "scene", 0)) || strcmp(text, text0) != 0))
     snprintf(err, errsz, "%s: not a part of the same scene", path);
@@ -346,10 +327,8 @@ int merge_each_part(hid_t ref, const char *ref_path, const char *rec_is,
   for (r.n = n, k = k0; k < n; k++) {
     r.k = k;
     r.path = part[k];
-    if ((r.part = H5Fopen(part[k], H5F_ACC_RDONLY, H5P_DEFAULT)) < 0) {
-      out_fail(err, errsz, "%s: cannot open", part[k]);
+    if ((r.part = open_file(part[k], H5F_ACC_RDONLY, err, errsz)) < 0)
       goto done;
-    }
     for (r.j = 0; r.j < list->n; r.j++) {
       r.name = list->name[r.j];
       r.rank =
@@ -373,13 +352,10 @@ int merge_parts(const char *dst, const char *const *part, size_t n,
                 const char *command_line, size_t *nfailed, char *err,
                 size_t errsz) {
   merge_chunked list;
-  copy_ctx c = {-1, {NULL, 0}};
+  copy_ctx c = {-1, NULL, 0};
   size_t unset;
   int rc = -1;
-  if ((c.dst = H5Fopen(dst, H5F_ACC_RDWR, H5P_DEFAULT)) < 0) {
-    out_fail(err, errsz, "%s: cannot open", dst);
-    return -1;
-  }
+  if ((c.dst = open_file(dst, H5F_ACC_RDWR, err, errsz)) < 0) return -1;
   if (merge_each_part(c.dst, dst, "part 0 read", part, 1, n, &list, copy_rows,
                       &c, err, errsz))
     goto done;
@@ -396,7 +372,7 @@ int merge_parts(const char *dst, const char *const *part, size_t n,
   }
   rc = 0;
 done:
-  free(c.cb.p);
+  free(c.p);
   if (H5Fclose(c.dst) < 0 && rc == 0) {
     out_fail(err, errsz, "%s: cannot close", dst);
     rc = -1;

@@ -55,22 +55,6 @@ hid_t verify_read_block(hid_t ds, hid_t type, int rank, const hsize_t *off,
   return ok ? ms : -1;
 }
 
-/* read rows [r0, r0 + nr) of ds (all of the other axes) into c->buf */
-static int read_rows(verify_ctx *c, hid_t ds, int rank, const hsize_t *dims,
-                     hid_t type, hsize_t r0, hsize_t nr) {
-  hsize_t start[H5S_MAX_RANK] = {0}, count[H5S_MAX_RANK];
-  hid_t ms;
-  int r;
-  for (r = 0; r < rank; r++) count[r] = r ? dims[r] : nr;
-  start[0] = r0;
-  ms = verify_read_block(ds, type, rank, start, count, &c->buf, &c->cap);
-  if (ms < 0) return -1;
-  if (H5Tis_variable_str(type) > 0)
-    H5Dvlen_reclaim(type, ms, H5P_DEFAULT, c->buf);
-  H5Sclose(ms);
-  return 0;
-}
-
 /* the rows read at a time: a chunk row when chunked, else as many rows as
    fit the block */
 static hsize_t step_of(hid_t dcpl, int rank, const hsize_t *dims,
@@ -89,9 +73,10 @@ static hsize_t step_of(hid_t dcpl, int rank, const hsize_t *dims,
 static int verify_dataset(verify_ctx *c, hid_t ds, const char *name) {
   hid_t fs = H5Dget_space(ds), ftype = H5Dget_type(ds), type = -1;
   hid_t dcpl = H5Dget_create_plist(ds);
-  hsize_t dims[H5S_MAX_RANK], r0, step;
+  hsize_t dims[H5S_MAX_RANK], start[H5S_MAX_RANK] = {0}, count[H5S_MAX_RANK];
+  hsize_t step;
   size_t esize = 0;
-  int rank = -1, rc = -1;
+  int rank = -1, rc = -1, r;
   if (fs >= 0) rank = H5Sget_simple_extent_dims(fs, dims, NULL);
   if (ftype >= 0) type = H5Tget_native_type(ftype, H5T_DIR_ASCEND);
   if (type >= 0) esize = H5Tget_size(type);
@@ -108,16 +93,23 @@ static int verify_dataset(verify_ctx *c, hid_t ds, const char *name) {
     goto done;
   }
   step = step_of(dcpl, rank, dims, esize);
-  for (r0 = 0; r0 < dims[0]; r0 += step) {
-    hsize_t nr = dims[0] - r0 < step ? dims[0] - r0 : step;
-    if (read_rows(c, ds, rank, dims, type, r0, nr) < 0) {
+  for (r = 0; r < rank; r++) count[r] = dims[r];
+  for (start[0] = 0; start[0] < dims[0]; start[0] += step) {
+    hsize_t r0 = start[0];
+    hid_t ms;
+    count[0] = dims[0] - r0 < step ? dims[0] - r0 : step;
+    ms = verify_read_block(ds, type, rank, start, count, &c->buf, &c->cap);
+    if (ms >= 0 && H5Tis_variable_str(type) > 0)
+      H5Dvlen_reclaim(type, ms, H5P_DEFAULT, c->buf);
+    shard_h5_close(1, ms);
+    if (ms < 0) {
       char cause[600];
       h5_cause(cause, sizeof cause);
       snprintf(c->err, c->errsz,
                "%s: dataset %s is damaged at rows %llu-%llu (%s): the part "
                "cannot be trusted; compute that shard again",
                c->path, name, (unsigned long long)r0,
-               (unsigned long long)(r0 + nr - 1),
+               (unsigned long long)(r0 + count[0] - 1),
                cause[0] ? cause : "cannot be read");
       goto done;
     }
@@ -132,28 +124,22 @@ done:
 
 static herr_t verify_cb(hid_t root, const char *name, const H5L_info_t *li,
                         void *data) {
-  verify_ctx *c = data;
   H5O_info_t oi;
   hid_t ds;
   int rc;
   (void)li;
   if (H5Oget_info_by_name(root, name, &oi, H5P_DEFAULT) < 0) return -1;
   if (oi.type != H5O_TYPE_DATASET) return 0;
-  ds = H5Dopen2(root, name, H5P_DEFAULT);
-  if (ds < 0) return -1;
-  rc = verify_dataset(c, ds, name);
+  if ((ds = H5Dopen2(root, name, H5P_DEFAULT)) < 0) return -1;
+  rc = verify_dataset(data, ds, name);
   H5Dclose(ds);
   return rc < 0 ? -1 : 0;
 }
 
 int verify_file(const char *path, char *err, size_t errsz) {
-  verify_ctx c;
+  verify_ctx c = {err, errsz, path, NULL, 0};
   hid_t f = H5Fopen(path, H5F_ACC_RDONLY, H5P_DEFAULT);
   int rc;
-  memset(&c, 0, sizeof c);
-  c.err = err;
-  c.errsz = errsz;
-  c.path = path;
   err[0] = '\0';
   if (f < 0) {
     char cause[600];

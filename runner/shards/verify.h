@@ -1,9 +1,6 @@
 /*
- * verify.h - that part files can be trusted before they are merged: every
- * stored chunk decodes (the runner writes a Fletcher-32 checksum with each
- * chunk, so damaged bytes are found whether compressed or not), and every
- * part was written by the same versions of rps3, GSL, HDF5 and libyaml,
- * with the same fields (--fields).
+ * verify.h - that part files can be trusted before they are merged, and
+ * the HDF5 helpers of shards/.
  */
 #ifndef RPS3_RUNNER_VERIFY_H
 #define RPS3_RUNNER_VERIFY_H
@@ -16,8 +13,10 @@
 /*
  * Read every dataset of the file at path, a block of rows at a time (one
  * chunk row for chunked datasets; memory stays at a few chunks), so that
- * HDF5 checks each chunk's checksum and decompresses it.  Returns 0, or -1
- * with err naming the dataset and the first case of the damaged block.
+ * HDF5 checks each chunk's checksum and decompresses it: the runner writes
+ * a Fletcher-32 checksum with each chunk, so damaged bytes are found
+ * whether compressed or not.  Returns 0, or -1 with err naming the dataset
+ * and the first case of the damaged block.
  */
 int verify_file(const char *path, char *err, size_t errsz);
 

@@ -1,11 +1,14 @@
 /*
  * study_accuracy.c - rps3-study accuracy: what accuracy costs in time.
- * Every configuration (study_points.c) on both trajectories: its errors
- * against a precise reference in one untimed pass, then the median time of
- * R timed passes; the file of both (main_study.c says what it holds).
+ * The two trajectories, every configuration (a knob turned from the
+ * defaults) and one point by a configuration's route; each configuration
+ * on both trajectories: its errors against a precise reference in one
+ * untimed pass, then the median time of R timed passes; the file of both
+ * (main_study.c says what it holds).
  */
 #include <float.h>
 #include <math.h>
+#include <stdarg.h>
 #include <stdint.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -14,6 +17,363 @@
 #include "output/out_h5.h"
 #include "study.h"
 #include "study_ref.h"
+
+#define NTRAJ 2
+#define MAXCFG 256
+#define NREF_PEAK 200001
+
+/* the largest finite-difference step: samples keep this margin from the
+   trajectory's ends */
+#define FD_MARGIN 1e-2
+
+typedef enum {
+  S_THETA,
+  S_DERIV,
+  S_METHOD,
+  S_EFFECTS,
+  S_DT,
+  S_NSTUDY
+} study_kind;
+
+typedef enum {
+  D_EXACT,
+  D_FD_POSE,
+  D_FD_LENGTH,
+  D_FD_SAMPLES,
+  D_SPLINE
+} deriv_kind;
+
+typedef struct {
+  study_kind study;
+  char label[64];
+  rps3_theta_route theta;
+  int solver; /* rps3_solver, -1 for closed form */
+  double tol;
+  int warm;
+  deriv_kind deriv;
+  double h; /* finite-difference step, or the spline's row spacing
+               [s]; 0 for exact */
+  rps3_method method;
+  int effects;
+  double dt_frac; /* dt study: sample interval / duration; 0 otherwise */
+} study_config;
+
+/* results of one configuration on one trajectory */
+typedef struct {
+  double ns_point;     /* median ns per sample */
+  double ns_q1, ns_q3; /* quartiles of the passes */
+  double ns_second;    /* ns per second of trajectory */
+  double force_err;    /* max |F - F_ref| / max |F_ref| */
+  double theta_err;    /* max |theta - theta_ld| [rad] */
+  double peak_err;     /* dt: (peak_ref - peak) / peak_ref */
+  double energy_err;   /* dt: max |W_k - dE_k| / max |W_k| */
+  double mean_iter;    /* theta solve iterations per sample */
+  int nfail;           /* samples that failed */
+  int status;          /* first failing status, 0 if none */
+} study_result;
+
+/* one configuration on one trajectory: its model, data and tables */
+typedef struct {
+  rps3_model model; /* the configuration's model */
+  rps3_data *d;
+  const rps3_traj *tr;
+  const study_config *c;
+  rps3_traj table; /* spline_pose: the trajectory's poses every h */
+  double *rows;    /* its arrays (time, pose, rate, scratch), or NULL */
+} study_runner;
+
+/* the precise reference of one trajectory */
+typedef struct {
+  size_t n; /* samples of the fixed grid */
+  double span;
+  double *F;          /* reference forces [n][3] */
+  long double *theta; /* long-double theta [n][3] */
+  double fscale;      /* max |F_ref| */
+  double floor_ref;   /* estimated rounding error of F_ref / fscale */
+  double floor_theta; /* max |theta_closed - theta_ld| */
+  double peak;        /* reference peak |F| over NREF_PEAK samples */
+} study_reference;
+
+/* the two trajectories: names, one description, trajectory k */
+static const char *const study_traj_name[NTRAJ] = {"helix", "sine_edge"};
+static const char *const study_traj_doc =
+    "helix: Table II (r* = 0.266 mm, h = 30.48 mm, T* = 10 s, t_a = 1 s); "
+    "sine_edge: alpha = pi sin(2 pi t), beta = 0.6 + 0.2 sin(2 pi 2.3 t), "
+    "z_c = 0.28 + 0.03 sin(2 pi 1.7 t) m over 2 s: up to 20 rad/s, beta up to "
+    "0.8 rad, condition number up to 4e2 near the singular surface";
+
+/* sine_edge, as study_traj_doc says */
+static const rps3_sine SINE_EDGE = {
+    {0.0, 0.6, 0.28}, {PI, 0.2, 0.03}, {1.0, 2.3, 1.7}, {0.0, 0.0, 0.0}, 2.0};
+
+static void study_traj_make(int k, rps3_traj *tr) {
+  if (k == 0)
+    rps3_traj_default(tr);
+  else
+    study_traj_sine(tr, &SINE_EDGE);
+}
+
+/* inverse kinematics in long double, independent of src/ik.c: the
+   reference angles theta_i of the pose, by (2)-(7), (39) from the rotation
+   Rz(a) Ry(b) Rz(-a), the centre (3)-(4) and b_i = c + rot r_i */
+static void study_ik_long(const rps3_model *m, const double pose[3],
+                          long double theta[3]) {
+  long double a = (long double)pose[0], b = (long double)pose[1];
+  long double z = (long double)pose[2];
+  long double ca = cosl(a), sa = sinl(a), cb = cosl(b), sb = sinl(b);
+  long double r = (long double)m->rho * (long double)m->R;
+  long double R = (long double)m->R;
+  long double rot[3][3], c[3];
+  long double s3 = sqrtl(3.0L);
+  int i;
+  /* Rz(a) Ry(b) Rz(-a) */
+  rot[0][0] = ca * ca * cb + sa * sa;
+  rot[0][1] = ca * sa * cb - ca * sa;
+  rot[0][2] = ca * sb;
+  rot[1][0] = sa * ca * cb - sa * ca;
+  rot[1][1] = sa * sa * cb + ca * ca;
+  rot[1][2] = sa * sb;
+  rot[2][0] = -sb * ca;
+  rot[2][1] = -sb * sa;
+  rot[2][2] = cb;
+  /* (3)-(4) */
+  c[0] = -0.5L * r * (1.0L - cb) * cosl(2.0L * a);
+  c[1] = 0.5L * r * (1.0L - cb) * sinl(2.0L * a);
+  c[2] = z;
+  for (i = 0; i < 3; i++) {
+    long double cp = i == 0 ? 1.0L : -0.5L;
+    long double sp = i == 0 ? 0.0L : (i == 1 ? 0.5L : -0.5L) * s3;
+    long double bb[3], v[3];
+    int k;
+    for (k = 0; k < 3; k++)
+      bb[k] = c[k] + rot[k][0] * r * cp + rot[k][1] * r * sp;
+    v[0] = bb[0] - R * cp;
+    v[1] = bb[1] - R * sp;
+    v[2] = bb[2];
+    theta[i] = atan2l(v[2], -(v[0] * cp + v[1] * sp));
+  }
+}
+
+static const char *const study_kind_name[S_NSTUDY] = {
+    "theta", "derivative", "method", "effects", "dt"};
+static const char *const study_deriv_name[5] = {"exact", "fd_pose", "fd_length",
+                                                "fd_samples", "spline_pose"};
+
+static const double tols[7] = {1e-2, 1e-4, 1e-6, 1e-8, 1e-10, 1e-12, 1e-14};
+static const double steps[6] = {FD_MARGIN, 1e-3, 1e-4, 1e-5, 1e-6, 1e-7};
+/* row spacings of the spline of the pose: 100 Hz is a motion-capture rate,
+   1 kHz an encoder's */
+static const double spacings[3] = {1e-1, 1e-2, 1e-3};
+static const double dt_fracs[9] = {5e-2, 2e-2, 1e-2, 5e-3, 2e-3,
+                                   1e-3, 5e-4, 2e-4, 1e-4};
+/* the effects ladder: gravity only -> every effect */
+static const int ladder[RPS3_NEFFECT] = {
+    RPS3_EFF_PLATFORM_GRAVITY,
+    RPS3_EFF_PLATFORM_GRAVITY | RPS3_EFF_LINK_GRAVITY,
+    RPS3_EFF_PLATFORM_GRAVITY | RPS3_EFF_LINK_GRAVITY |
+        RPS3_EFF_PLATFORM_INERTIA,
+    RPS3_EFF_DEFAULT,
+    RPS3_EFF_DEFAULT | RPS3_EFF_PAYLOAD,
+    RPS3_EFF_ALL};
+
+/* a configuration of study s with every other knob at its default */
+static void study_config_base(study_config *c, study_kind s) {
+  memset(c, 0, sizeof(*c));
+  c->study = s;
+  c->theta = RPS3_THETA_CLOSED_FORM;
+  c->solver = -1;
+  c->tol = 1e-12;
+  c->warm = 1;
+  c->deriv = D_EXACT;
+  c->method = RPS3_LAGRANGE;
+  c->effects = RPS3_EFF_DEFAULT;
+}
+
+/* the next configuration cfg[(*n)++]: of study s, every knob at its
+   default, labelled by the format */
+static study_config *add(study_config *cfg, int *n, study_kind s,
+                         const char *fmt, ...) {
+  study_config *c = &cfg[(*n)++];
+  va_list ap;
+  study_config_base(c, s);
+  va_start(ap, fmt);
+  vsnprintf(c->label, sizeof c->label, fmt, ap);
+  va_end(ap);
+  return c;
+}
+
+/* every configuration into cfg[MAXCFG]; their number */
+static int study_configs_build(study_config *cfg) {
+  int n = 0, s, t, w, k, e;
+  study_config *c;
+  add(cfg, &n, S_THETA, "closed form (39)");
+  for (s = 0; s < RPS3_NSOLVER; s++)
+    for (t = 0; t < 7; t++)
+      for (w = 0; w < 2; w++) {
+        c = add(cfg, &n, S_THETA, "%s tol=%.0e %s", rps3_solver_name(s),
+                tols[t], w ? "warm" : "cold");
+        c->theta = RPS3_THETA_MULTIROOT;
+        c->solver = s;
+        c->tol = tols[t];
+        c->warm = w;
+      }
+  add(cfg, &n, S_DERIV, "exact rates");
+  for (k = D_FD_POSE; k <= D_SPLINE; k++) {
+    /* the spline's row spacings, else the steps; fd_samples is the dt
+       study's */
+    const double *h = k == D_SPLINE ? spacings : steps;
+    int nh = k == D_SPLINE ? 3 : k == D_FD_SAMPLES ? 0 : 6;
+    for (t = 0; t < nh; t++) {
+      c = add(cfg, &n, S_DERIV, "%s h=%.0e s", study_deriv_name[k], h[t]);
+      c->deriv = (deriv_kind)k;
+      c->h = h[t];
+    }
+  }
+  for (k = 0; k < 2; k++)
+    add(cfg, &n, S_METHOD, "%s", k ? "newton_euler" : "lagrange")->method =
+        k ? RPS3_NEWTON_EULER : RPS3_LAGRANGE;
+  for (e = 0; e < RPS3_NEFFECT; e++)
+    add(cfg, &n, S_EFFECTS, "+%s", rps3_effect_name(e))->effects = ladder[e];
+  /* sample interval, exact rates and rates differenced from the samples */
+  for (k = 0; k < 2; k++)
+    for (t = 0; t < 9; t++) {
+      c = add(cfg, &n, S_DT, "dt=T/%.0f %s", 1.0 / dt_fracs[t],
+              k ? "rates from samples" : "exact rates");
+      c->dt_frac = dt_fracs[t];
+      c->deriv = k ? D_FD_SAMPLES : D_EXACT;
+    }
+  return n;
+}
+
+/*
+ * Forces at time t by the configuration's route (an rps3_status).  Exact: the
+ * trajectory's derivatives and rps3_inverse.  fd_pose: central differences of
+ * the pose at t +- h.  fd_length: inverse kinematics at t +- h, central
+ * differences of the link lengths, then the joint-rate route (25)-(30).
+ */
+static int study_point(study_runner *r, double t) {
+  rps3_data *d = r->d;
+  const rps3_model *m = &r->model;
+  double h = r->c->h, p[3][3], l[2][3]; /* at t - h, t + h, t */
+  int st, i, k;
+  if (r->c->deriv == D_EXACT || r->c->deriv == D_FD_SAMPLES ||
+      r->c->deriv == D_SPLINE)
+    return rps3_traj_eval(m, r->c->deriv == D_SPLINE ? &r->table : r->tr, t,
+                          d->pose, d->dpose, d->ddpose) ||
+           rps3_inverse(m, d);
+  if ((st = rps3_traj_eval(m, r->tr, t - h, p[0], NULL, NULL)) != RPS3_OK ||
+      (st = rps3_traj_eval(m, r->tr, t + h, p[1], NULL, NULL)) != RPS3_OK ||
+      (st = rps3_traj_eval(m, r->tr, t, p[2], NULL, NULL)) != RPS3_OK)
+    return st;
+  if (r->c->deriv == D_FD_POSE) {
+    for (i = 0; i < 3; i++) {
+      d->pose[i] = p[2][i];
+      d->dpose[i] = (p[1][i] - p[0][i]) / (2.0 * h);
+      d->ddpose[i] = (p[1][i] - 2.0 * p[2][i] + p[0][i]) / (h * h);
+    }
+    return rps3_inverse(m, d);
+  }
+  /* fd_length: the lengths at t - h and t + h, then d at t */
+  for (k = 0; k < 3; k++) {
+    memcpy(d->pose, p[k], sizeof(p[k]));
+    if ((st = rps3_ik(m, d)) != RPS3_OK) return st;
+    if (k < 2) memcpy(l[k], d->l, sizeof(l[k]));
+  }
+  for (i = 0; i < 3; i++) {
+    d->dl[i] = (l[1][i] - l[0][i]) / (2.0 * h);
+    d->ddl[i] = (l[1][i] - 2.0 * d->l[i] + l[0][i]) / (h * h);
+  }
+  if ((st = rps3_joint_velocity(m, d)) != RPS3_OK ||
+      (st = rps3_joint_acceleration(m, d)) != RPS3_OK)
+    return st;
+  return rps3_invdyn(m, d);
+}
+
+/* the time of sample k of n: interior points (k + 1/2) / n of the span
+   less the margins, so that no sample sits on a helix corner */
+static double study_sample_time(size_t k, size_t n, double span) {
+  return FD_MARGIN + (span - 2.0 * FD_MARGIN) * ((double)k + 0.5) / (double)n;
+}
+
+/* spline_pose: the trajectory's poses every h (the last row at the span),
+   the rates from rps3_table_spline, as rps3-run reads a table */
+static int spline_rows(study_runner *r) {
+  double span = rps3_traj_duration(r->tr), *time, (*pose)[3], (*rate)[3];
+  size_t n = (size_t)floor(span / r->c->h + 0.5) + 1, i;
+  r->rows = malloc(8 * n * sizeof(double));
+  if (!r->rows) return -1;
+  time = r->rows;
+  pose = (double(*)[3])(void *)(r->rows + n);
+  rate = (double(*)[3])(void *)(r->rows + 4 * n);
+  for (i = 0; i < n; i++) {
+    time[i] = i + 1 == n ? span : (double)i * r->c->h;
+    if (rps3_traj_eval(&r->model, r->tr, time[i], pose[i], NULL, NULL) !=
+        RPS3_OK)
+      return -1;
+  }
+  if (rps3_table_spline(n, time, (const double(*)[3])pose, rate,
+                        r->rows + 7 * n) != RPS3_OK)
+    return -1;
+  rps3_traj_default(&r->table);
+  r->table.kind = RPS3_TRAJ_TABLE;
+  r->table.table.n = n;
+  r->table.table.time = time;
+  r->table.table.value = (const double(*)[3])pose;
+  r->table.table.rate = (const double(*)[3])rate;
+  return rps3_traj_check(&r->model, &r->table, NULL) == RPS3_OK ? 0 : -1;
+}
+
+/* r for configuration c on tr from the model base; 0, or -1 with a
+   message on stderr */
+static int study_runner_init(study_runner *r, const study_config *c,
+                             const rps3_traj *tr, const rps3_model *base) {
+  rps3_check chk;
+  r->model = *base;
+  r->model.opt.theta = c->theta;
+  r->model.opt.solver =
+      c->solver < 0 ? RPS3_SOLVER_HYBRIDSJ : (rps3_solver)c->solver;
+  r->model.opt.tol = c->tol;
+  r->model.opt.warm_start = c->warm;
+  r->model.opt.method = c->method;
+  r->model.opt.effects = c->effects;
+  r->model.opt.outputs =
+      c->study == S_DT ? RPS3_OUT_ALL : RPS3_OUT_ALL & ~RPS3_OUT_CERTIFY;
+  r->model.opt.max_iter = 100;
+  if (rps3_model_init(&r->model, &chk) != RPS3_OK) {
+    fprintf(stderr, "rps3-study: %s: %s\n", c->label, chk.msg);
+    return -1;
+  }
+  r->tr = tr;
+  r->c = c;
+  r->d = NULL;
+  r->rows = NULL;
+  if (rps3_data_alloc(&r->model, &r->d) != RPS3_OK ||
+      (c->deriv == D_SPLINE && spline_rows(r) < 0)) {
+    fprintf(stderr, "rps3-study: %s: out of memory\n", c->label);
+    return -1;
+  }
+  return 0;
+}
+
+/* T + P of the default effects at the data's state, written here from
+   vc, omega and dtheta (not by the library) */
+static double study_energy(const rps3_model *m, const rps3_data *d) {
+  double T, P, wb[3] = {0, 0, 0};
+  int i, k;
+  /* omega in platform axes: rot^T omega */
+  for (k = 0; k < 3; k++)
+    for (i = 0; i < 3; i++) wb[k] += d->rot[i][k] * d->omega[i];
+  T = 0.5 * m->M *
+          (d->vc[0] * d->vc[0] + d->vc[1] * d->vc[1] + d->vc[2] * d->vc[2]) +
+      0.5 * (m->Ip[0] * wb[0] * wb[0] + m->Ip[1] * wb[1] * wb[1] +
+             m->Ip[2] * wb[2] * wb[2]);
+  P = m->M * m->g * d->c[2];
+  for (i = 0; i < 3; i++) {
+    T += 0.5 * m->Jlink * d->dtheta[i] * d->dtheta[i];
+    P += m->m * m->g * m->d * sin(d->theta[i]); /* (22) */
+  }
+  return T + P;
+}
 
 /*
  * The reference forces of `effects` at the n grid samples, by study_ref.c
@@ -67,13 +427,12 @@ static int reference_build(const rps3_model *base, const rps3_traj *tr,
   ref->floor_theta = ref->peak = 0.0;
   for (k = 0; k < n; k++) {
     double t = study_sample_time(k, n, ref->span);
-    long double len[3];
-    if (study_point(&r, t, ref->span) != RPS3_OK) {
+    if (study_point(&r, t) != RPS3_OK) {
       fprintf(stderr, "rps3-study: closed form fails at t = %g: %s\n", t,
               r.d->err.msg);
       return -1;
     }
-    study_ik_long(&r.model, r.d->pose, &ref->theta[3 * k], len);
+    study_ik_long(&r.model, r.d->pose, &ref->theta[3 * k]);
     for (i = 0; i < 3; i++) {
       double dth = fabs(r.d->theta[i] - (double)ref->theta[3 * k + i]);
       if (dth > ref->floor_theta) ref->floor_theta = dth;
@@ -101,7 +460,7 @@ static int pass_grid(study_runner *r, const study_reference *ref,
   double ferr = 0.0, terr = 0.0, iters = 0.0;
   rps3_data_reset(r->d);
   for (k = 0; k < ref->n; k++) {
-    st = study_point(r, study_sample_time(k, ref->n, ref->span), ref->span);
+    st = study_point(r, study_sample_time(k, ref->n, ref->span));
     if (st != RPS3_OK) {
       if (!out) continue;
       if (out->nfail++ == 0) out->status = st;
@@ -169,7 +528,7 @@ static int pass_dt(study_runner *r, const study_reference *ref,
   rps3_data_reset(r->d);
   for (k = 0; k < n; k++) {
     double t = k == n - 1 ? span : (double)k * dt, E, P = 0.0;
-    st = r->c->deriv == D_EXACT ? study_point(r, t, span)
+    st = r->c->deriv == D_EXACT ? study_point(r, t)
                                 : sampled_rates(r, k, n, dt, span);
     if (st != RPS3_OK) {
       if (out && out->nfail++ == 0) out->status = st;
@@ -209,18 +568,6 @@ static void pass(study_runner *r, const study_reference *ref,
     pass_dt(r, ref, res);
   else
     pass_grid(r, ref, res);
-}
-
-/* the first, untimed pass: the errors of configuration c against ref */
-static int measure_errors(study_runner *r, const study_config *c,
-                          const rps3_traj *tr, const rps3_model *base,
-                          const study_reference *ref, study_result *res) {
-  memset(res, 0, sizeof(*res));
-  res->peak_err = res->energy_err = DNAN;
-  if (study_runner_init(r, c, tr, base) < 0) return -1;
-  pass(r, ref, res);
-  if (c->study == S_DT) res->force_err = res->theta_err = res->mean_iter = DNAN;
-  return 0;
 }
 
 /*
@@ -290,21 +637,26 @@ static int measure_trajectory(const rps3_model *base, int t, size_t nsamp,
     return -1;
   }
   if (reference_build(base, &tr, nsamp, ref) < 0) return -1;
-  fprintf(stderr,
-          "rps3-study: %s: reference |F|max %.4g N, peak %.6g N, floors: "
-          "reference (long double) %.2g, theta closed form - long double "
-          "%.2g rad\n",
-          study_traj_name[t], ref->fscale, ref->peak, ref->floor_ref,
-          ref->floor_theta);
+  fprintf(
+      stderr,
+      "rps3-study: %s: reference |F|max %.4g N, peak %.6g N, floors: reference "
+      "(long double) %.2g, theta closed form - long double %.2g rad\n",
+      study_traj_name[t], ref->fscale, ref->peak, ref->floor_ref,
+      ref->floor_theta);
   /* the effects ladder's error is against the model with every effect */
   rall = *ref;
   rall.F = malloc(3 * nsamp * sizeof(double));
   if (!rall.F || reference_forces(base, &tr, RPS3_EFF_ALL, &rall) < 0)
     return -1;
-  for (c = 0; c < ncfg; c++)
-    if (measure_errors(&run[c], &cfg[c], &tr, base,
-                       cfg[c].study == S_EFFECTS ? &rall : ref, &res[c]) < 0)
-      return -1;
+  /* the first, untimed pass: each configuration's errors */
+  for (c = 0; c < ncfg; c++) {
+    study_result *e = &res[c];
+    memset(e, 0, sizeof(*e));
+    e->peak_err = e->energy_err = DNAN;
+    if (study_runner_init(&run[c], &cfg[c], &tr, base) < 0) return -1;
+    pass(&run[c], cfg[c].study == S_EFFECTS ? &rall : ref, e);
+    if (cfg[c].study == S_DT) e->force_err = e->theta_err = e->mean_iter = DNAN;
+  }
   free(rall.F);
   if (measure_times(run, cfg, ncfg, ref, repeats, res) < 0) return -1;
   for (c = 0; c < ncfg; c++) {
@@ -355,13 +707,13 @@ static int write_configs(study_h5 *o, const study_config *cfg, int ncfg) {
   CFG_I32("warm_start", cfg[c].warm,
           "1: theta solve starts from the previous sample; 0: cold")
   CFG_STR("derivative", study_deriv_name[cfg[c].deriv],
-          "rates: exact (the trajectory's), central differences of the "
-          "pose (fd_pose) or of the link lengths (fd_length) with step h, "
-          "of the samples at interval dt (fd_samples), or the not-a-knot "
-          "spline of the pose sampled every h (spline_pose)")
+          "rates: exact (the trajectory's), central differences of the pose "
+          "(fd_pose) or of the link lengths (fd_length) with step h, of the "
+          "samples at interval dt (fd_samples), or the not-a-knot spline of "
+          "the pose sampled every h (spline_pose)")
   CFG_F64("fd_step", cfg[c].h > 0 ? cfg[c].h : DNAN, "s",
-          "finite-difference step, or the spline's row spacing, h (NaN "
-          "for exact rates)")
+          "finite-difference step, or the spline's row spacing, h (NaN for "
+          "exact rates)")
   CFG_STR("method",
           cfg[c].method == RPS3_LAGRANGE ? "lagrange" : "newton_euler",
           "formulation of the dynamics")
@@ -396,17 +748,17 @@ static int write_results(study_h5 *o, const study_result res[][MAXCFG],
           "time to compute one second of the trajectory: ns_per_point x "
           "samples / duration (the cost axis of the dt study)")
   RES_F64("force_error", force_err, "1",
-          "max over samples and links of |F - F_ref| / max |F_ref| (for "
-          "the effects ladder: against the model with every effect)")
+          "max over samples and links of |F - F_ref| / max |F_ref| (for the "
+          "effects ladder: against the model with every effect)")
   RES_F64("theta_error", theta_err, "rad",
-          "max over samples and links of |theta - theta_ref|, theta_ref "
-          "from inverse kinematics in long double")
+          "max over samples and links of |theta - theta_ref|, theta_ref from "
+          "inverse kinematics in long double")
   RES_F64("peak_force_error", peak_err, "1",
           "dt study: (peak_ref - max sampled |F|) / peak_ref, peak_ref from "
           "200001 samples")
   RES_F64("energy_residual", energy_err, "1",
-          "dt study: max over intervals |W_k - (E_k+1 - E_k)| / max |W_k|, "
-          "W_k the trapezoid of the power sum F_i dl_i, E = T + P")
+          "dt study: max over intervals |W_k - (E_k+1 - E_k)| / max |W_k|, W_k "
+          "the trapezoid of the power sum F_i dl_i, E = T + P")
   RES_F64("mean_iterations", mean_iter, "1",
           "theta solve iterations per sample")
 #define RES_I32(name, field, doc)                                   \
@@ -414,8 +766,8 @@ static int write_results(study_h5 *o, const study_result res[][MAXCFG],
     for (c = 0; c < ncfg; c++) tiv[t * ncfg + c] = res[t][c].field; \
   rc |= study_h5_write(o, name, H5T_NATIVE_INT32, 2, dims, tiv, "1", doc, s_tc);
   RES_I32("failed_samples", nfail,
-          "samples whose pipeline returned an error "
-          "(errors are measured over the others)")
+          "samples whose pipeline returned an error (errors are measured over "
+          "the others)")
   RES_I32("status", status,
           "rps3_status of the first failing sample, 0 if none")
 #define REF_F64(name, field, units, doc)                                    \
@@ -423,19 +775,14 @@ static int write_results(study_h5 *o, const study_result res[][MAXCFG],
   rc |= study_h5_write(o, name, H5T_NATIVE_DOUBLE, 1, &dt1, fl, units, doc, \
                        s_t);
   REF_F64("reference_floor_force", floor_ref, "1",
-          "the reference's own rounding error / max |F_ref|: "
-          "its double twin's distance from it x LDBL_EPSILON / "
-          "DBL_EPSILON")
+          "the reference's own rounding error / max |F_ref|: its double twin's "
+          "distance from it x LDBL_EPSILON / DBL_EPSILON")
   REF_F64("reference_floor_theta", floor_theta, "rad",
-          "max |theta_closed_form - theta_long_double| on the "
-          "grid")
+          "max |theta_closed_form - theta_long_double| on the grid")
   REF_F64("reference_force_max", fscale, "N",
           "max |F_ref| over the grid: the force_error scale")
   REF_F64("reference_peak_force", peak, "N",
           "peak |F| over 200001 samples of the span")
-#undef RES_F64
-#undef RES_I32
-#undef REF_F64
   return rc ? -1 : 0;
 }
 
@@ -450,23 +797,21 @@ int study_accuracy(const char *path, const char *cmdline, size_t nsamp,
   study_h5 o = {-1, -1};
   double t_start = study_now_ns();
   const double counts[2] = {(double)nsamp, (double)repeats};
-
   /* the measurements, trajectory by trajectory */
   if (accuracy_model(&base) < 0) return EXIT_IO;
   for (t = 0; t < NTRAJ; t++)
     if (measure_trajectory(&base, t, nsamp, repeats, cfg, ncfg, run, &ref[t],
                            res[t]) < 0)
       return EXIT_IO;
-  fprintf(stderr,
-          "rps3-study: accuracy: %d configurations x %d trajectories "
-          "in %.1f s\n",
-          ncfg, NTRAJ, 1e-9 * (study_now_ns() - t_start));
-
+  fprintf(
+      stderr,
+      "rps3-study: accuracy: %d configurations x %d trajectories in %.1f s\n",
+      ncfg, NTRAJ, 1e-9 * (study_now_ns() - t_start));
   /* the file */
-  if (study_h5_open(&o, path, cmdline,
-                    "rps3-study accuracy: error against a precise reference "
-                    "and median time per point, per configuration and "
-                    "trajectory") < 0 ||
+  if (study_h5_open(
+          &o, path, cmdline,
+          "rps3-study accuracy: error against a precise reference and median "
+          "time per point, per configuration and trajectory") < 0 ||
       write_configs(&o, cfg, ncfg) < 0 ||
       write_results(&o, (const study_result(*)[MAXCFG])res, ref, ncfg) < 0 ||
       out_h5_attr_n(o.file, "samples", H5T_NATIVE_DOUBLE, 0, &counts[0]) < 0 ||

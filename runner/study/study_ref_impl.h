@@ -1,8 +1,8 @@
 /*
  * study_ref_impl.h - the body of study_ref.c, included once per precision
- * with REAL (the floating type), S(name) (a suffixed name) and the math
- * functions RSIN, RCOS, RSQRT, RATAN2, RTANH defined.  No include guard: it is
- * meant to be included twice.
+ * with REAL (the floating type), S(name) (a suffixed name), RF(f) (the
+ * math function f of REAL) and REF_FORCES (the public name) defined.  No
+ * include guard: it is meant to be included twice.
  *
  * Kane's equations in the pose coordinates q = (alpha, beta, z_c): the
  * actuators do virtual work F_i dl_i, so for every j
@@ -19,38 +19,28 @@ typedef struct {
 } S(jet);
 
 static S(jet) S(jk)(REAL v) {
-  S(jet) r;
-  r.v = v;
-  r.d = r.dd = 0;
+  S(jet) r = {v, 0, 0};
   return r;
 }
 
 static S(jet) S(jadd)(S(jet) a, S(jet) b) {
-  a.v += b.v;
-  a.d += b.d;
-  a.dd += b.dd;
-  return a;
+  S(jet) r = {a.v + b.v, a.d + b.d, a.dd + b.dd};
+  return r;
 }
 
 static S(jet) S(jsub)(S(jet) a, S(jet) b) {
-  a.v -= b.v;
-  a.d -= b.d;
-  a.dd -= b.dd;
-  return a;
+  S(jet) r = {a.v - b.v, a.d - b.d, a.dd - b.dd};
+  return r;
 }
 
 static S(jet) S(jscale)(REAL s, S(jet) a) {
-  a.v *= s;
-  a.d *= s;
-  a.dd *= s;
-  return a;
+  S(jet) r = {s * a.v, s * a.d, s * a.dd};
+  return r;
 }
 
 static S(jet) S(jmul)(S(jet) a, S(jet) b) {
-  S(jet) r;
-  r.v = a.v * b.v;
-  r.d = a.d * b.v + a.v * b.d;
-  r.dd = a.dd * b.v + 2 * a.d * b.d + a.v * b.dd;
+  S(jet) r = {a.v * b.v, a.d * b.v + a.v * b.d,
+              a.dd * b.v + 2 * a.d * b.d + a.v * b.dd};
   return r;
 }
 
@@ -63,40 +53,28 @@ static S(jet) S(jdiv)(S(jet) a, S(jet) b) {
 }
 
 static S(jet) S(jsin)(S(jet) a) {
-  S(jet) r;
-  REAL s = RSIN(a.v), c = RCOS(a.v);
-  r.v = s;
-  r.d = c * a.d;
-  r.dd = c * a.dd - s * a.d * a.d;
+  REAL s = RF(sin)(a.v), c = RF(cos)(a.v);
+  S(jet) r = {s, c * a.d, c * a.dd - s * a.d * a.d};
   return r;
 }
 
 static S(jet) S(jcos)(S(jet) a) {
-  S(jet) r;
-  REAL s = RSIN(a.v), c = RCOS(a.v);
-  r.v = c;
-  r.d = -s * a.d;
-  r.dd = -s * a.dd - c * a.d * a.d;
+  REAL s = RF(sin)(a.v), c = RF(cos)(a.v);
+  S(jet) r = {c, -s * a.d, -s * a.dd - c * a.d * a.d};
   return r;
 }
 
 static S(jet) S(jsqrt)(S(jet) a) {
-  S(jet) r;
-  REAL s = RSQRT(a.v);
-  r.v = s;
-  r.d = a.d / (2 * s);
-  r.dd = a.dd / (2 * s) - a.d * a.d / (4 * s * s * s);
+  REAL s = RF(sqrt)(a.v);
+  S(jet) r = {s, a.d / (2 * s), a.dd / (2 * s) - a.d * a.d / (4 * s * s * s)};
   return r;
 }
 
 /* atan2(y, x): d = (x y' - y x') / (x^2 + y^2) */
 static S(jet) S(jatan2)(S(jet) y, S(jet) x) {
-  S(jet) r;
   REAL D = x.v * x.v + y.v * y.v, N = x.v * y.d - y.v * x.d;
   REAL Nd = x.v * y.dd - y.v * x.dd, Dd = 2 * (x.v * x.d + y.v * y.d);
-  r.v = RATAN2(y.v, x.v);
-  r.d = N / D;
-  r.dd = (Nd * D - N * Dd) / (D * D);
+  S(jet) r = {RF(atan2)(y.v, x.v), N / D, (Nd * D - N * Dd) / (D * D)};
   return r;
 }
 
@@ -112,7 +90,7 @@ typedef struct {
 
 static int S(kinematics)(const rps3_model *m, const S(jet) q[3], S(kin) * k) {
   REAL R = (REAL)m->R, r = (REAL)m->rho * R, d = (REAL)m->d;
-  REAL pi = RATAN2(0, -1), cp[3], sp[3];
+  REAL pi = RF(atan2)(0, -1), cp[3], sp[3];
   S(jet) T[3][3], w[3][3], rhs[2];
   S(jet) ca = S(jcos)(q[0]), sa = S(jsin)(q[0]);
   S(jet) cb = S(jcos)(q[1]), sb = S(jsin)(q[1]);
@@ -125,8 +103,8 @@ static int S(kinematics)(const rps3_model *m, const S(jet) q[3], S(kin) * k) {
   REAL det;
   int i, j, n;
   for (i = 0; i < 3; i++) {
-    cp[i] = RCOS(2 * pi * (REAL)i / 3);
-    sp[i] = RSIN(2 * pi * (REAL)i / 3);
+    cp[i] = RF(cos)(2 * pi * (REAL)i / 3);
+    sp[i] = RF(sin)(2 * pi * (REAL)i / 3);
   }
   for (i = 0; i < 3; i++)
     for (j = 0; j < 3; j++) {
@@ -237,48 +215,38 @@ static REAL S(dot)(const REAL a[3], const REAL b[3]) {
   return a[0] * b[0] + a[1] * b[1] + a[2] * b[2];
 }
 
-/* A x = rhs by Gaussian elimination with partial pivoting, x into rhs; 0,
-   or -1 when A is singular */
-static int S(solve3)(REAL A[3][3], REAL rhs[3]) {
+/* A x = b for the augmented [A | b] by Gaussian elimination with partial
+   pivoting, x into column 3; 0, or -1 when A is singular */
+static int S(solve3)(REAL A[3][4]) {
   int i, j, n;
   for (n = 0; n < 3; n++) {
     int piv = n;
     for (i = n + 1; i < 3; i++)
-      if ((A[i][n] < 0 ? -A[i][n] : A[i][n]) >
-          (A[piv][n] < 0 ? -A[piv][n] : A[piv][n]))
-        piv = i;
+      if (RF(fabs)(A[i][n]) > RF(fabs)(A[piv][n])) piv = i;
     if (A[piv][n] == 0) return -1;
-    if (piv != n) {
-      REAL t;
-      for (j = 0; j < 3; j++) {
-        t = A[n][j];
-        A[n][j] = A[piv][j];
-        A[piv][j] = t;
-      }
-      t = rhs[n];
-      rhs[n] = rhs[piv];
-      rhs[piv] = t;
+    for (j = 0; piv != n && j < 4; j++) {
+      REAL t = A[n][j];
+      A[n][j] = A[piv][j];
+      A[piv][j] = t;
     }
     for (i = n + 1; i < 3; i++) {
       REAL f = A[i][n] / A[n][n];
-      for (j = n; j < 3; j++) A[i][j] -= f * A[n][j];
-      rhs[i] -= f * rhs[n];
+      for (j = n; j < 4; j++) A[i][j] -= f * A[n][j];
     }
   }
   for (n = 2; n >= 0; n--) {
-    REAL s = rhs[n];
-    for (j = n + 1; j < 3; j++) s -= A[n][j] * rhs[j];
-    rhs[n] = s / A[n][n];
+    REAL s = A[n][3];
+    for (j = n + 1; j < 3; j++) s -= A[n][j] * A[j][3];
+    A[n][3] = s / A[n][n];
   }
   return 0;
 }
 
-static int S(forces)(const rps3_model *m, int eff, const double pose[3],
-                     const double dpose[3], const double ddpose[3],
-                     double F[3]) {
+int REF_FORCES(const rps3_model *m, int eff, const double pose[3],
+               const double dpose[3], const double ddpose[3], double F[3]) {
   S(kin) kt, kp[3];
   S(jet) q[3];
-  REAL w[3], dw[3], pw[3][3], A[3][3], rhs[3], g = (REAL)m->g;
+  REAL w[3], dw[3], pw[3][3], A[3][4], g = (REAL)m->g;
   REAL M = (REAL)m->M, ml = (REAL)m->m, r = (REAL)m->rho * (REAL)m->R;
   REAL Ip[3], Ipl[3], ep[3], epl[3];
   int i, j, n;
@@ -333,16 +301,16 @@ static int S(forces)(const rps3_model *m, int eff, const double pose[3],
         /* the pin friction law of rps3.h: sign, or tanh(rate / vreg) */
         REAL vreg = (REAL)m->friction.vreg;
         REAL sg =
-            vreg > 0 ? RTANH(rate / vreg) : (REAL)((rate > 0) - (rate < 0));
+            vreg > 0 ? RF(tanh)(rate / vreg) : (REAL)((rate > 0) - (rate < 0));
         REAL tau = -((REAL)m->friction.viscous * rate +
                      (REAL)m->friction.coulomb * sg);
         s -= tau * dth;
       }
       A[j][i] = kp[j].l[i].d; /* virtual work of F_i: dl_i / dq_j */
     }
-    rhs[j] = s;
+    A[j][3] = s;
   }
-  if (S(solve3)(A, rhs) != 0) return -1;
-  for (i = 0; i < 3; i++) F[i] = (double)rhs[i];
+  if (S(solve3)(A) != 0) return -1;
+  for (i = 0; i < 3; i++) F[i] = (double)A[i][3];
   return 0;
 }

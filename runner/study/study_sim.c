@@ -66,8 +66,7 @@ typedef struct {
   double (*l)[3];
   double *err;
   double (*F)[3];
-  double failed_at;
-  double cpu;
+  double failed_at, cpu;
   long nevals;
 } run_out;
 
@@ -96,23 +95,19 @@ static int run(const rps3_model *plant, const rps3_model *cm,
   for (k = 0; k <= n; k++) {
     double t = (double)k / RATE_HZ, e = 0.0;
     if (st == RPS3_OK && k > 0) st = rps3_sim_advance(s, &ctl, t);
-    if (st != RPS3_OK) {
-      if (isnan(out->failed_at)) out->failed_at = rps3_sim_now(s)->failed_at;
-      if (out->err) out->err[k] = (double)NAN;
-      if (out->l) out->l[k][0] = out->l[k][1] = out->l[k][2] = (double)NAN;
-      if (out->F) out->F[k][0] = out->F[k][1] = out->F[k][2] = (double)NAN;
-      continue;
-    }
-    if (out->err) {
+    /* after a failure every sample is NaN */
+    if (st != RPS3_OK && isnan(out->failed_at))
+      out->failed_at = rps3_sim_now(s)->failed_at;
+    if (out->err && st == RPS3_OK) {
       rps3_traj_eval(plant, tr, t, w->pose, NULL, NULL);
       rps3_ik(plant, w);
       for (i = 0; i < 3; i++)
         e = fmax(e, fabs(rps3_sim_now(s)->y[i] - w->l[i]));
-      out->err[k] = e;
     }
+    if (out->err) out->err[k] = st == RPS3_OK ? e : (double)NAN;
     for (i = 0; i < 3; i++) {
-      if (out->l) out->l[k][i] = rps3_sim_now(s)->y[i];
-      if (out->F) out->F[k][i] = rps3_sim_now(s)->F[i];
+      if (out->l) out->l[k][i] = st ? (double)NAN : rps3_sim_now(s)->y[i];
+      if (out->F) out->F[k][i] = st ? (double)NAN : rps3_sim_now(s)->F[i];
     }
   }
   out->cpu = cpu_s() - c0;
@@ -149,9 +144,8 @@ static int tracking_path(hid_t gp, const rps3_traj *tr) {
   int status[NCTRL][NMODEL], a, b, rc = 0;
   double failed[NCTRL][NMODEL];
   long n = (long)(rps3_traj_duration(tr) * RATE_HZ + 0.5) + 1, k;
-  hsize_t d1[1] = {(hsize_t)n}, d2[2] = {NCTRL, NMODEL};
-  hsize_t d3[3] = {NCTRL, NMODEL, (hsize_t)n};
-  hsize_t d4[4] = {NCTRL, NMODEL, (hsize_t)n, 3};
+  /* [controller, model, time, link]; the time axis alone at d + 2 */
+  hsize_t d[4] = {NCTRL, NMODEL, (hsize_t)n, 3};
   rps3_model plant, light;
   rps3_sim_options o;
   rps3_model_default(&plant);
@@ -172,16 +166,16 @@ static int tracking_path(hid_t gp, const rps3_traj *tr) {
              rps3_ctrl_name(CTRL[a]), b ? "no link mass" : "exact model",
              rps3_strerror(status[a][b]), nanmax(ro.err, n));
     }
-  rc |= write_ds(gp, "time", 1, d1, H5T_NATIVE_DOUBLE, t, "s",
+  rc |= write_ds(gp, "time", 1, d + 2, H5T_NATIVE_DOUBLE, t, "s",
                  "sample times, 1 kHz");
-  rc |= write_ds(gp, "error", 3, d3, H5T_NATIVE_DOUBLE, err, "m",
+  rc |= write_ds(gp, "error", 3, d, H5T_NATIVE_DOUBLE, err, "m",
                  "max_i |l_i - l_d,i| [controller, model, time]; NaN after "
                  "a failure");
-  rc |= write_ds(gp, "force", 4, d4, H5T_NATIVE_DOUBLE, F, "N",
+  rc |= write_ds(gp, "force", 4, d, H5T_NATIVE_DOUBLE, F, "N",
                  "applied forces [controller, model, time, link]");
-  rc |= write_ds(gp, "status", 2, d2, H5T_NATIVE_INT, status, "1",
+  rc |= write_ds(gp, "status", 2, d, H5T_NATIVE_INT, status, "1",
                  "rps3_status of each run [controller, model]");
-  rc |= write_ds(gp, "failed_at", 2, d2, H5T_NATIVE_DOUBLE, failed, "s",
+  rc |= write_ds(gp, "failed_at", 2, d, H5T_NATIVE_DOUBLE, failed, "s",
                  "time of the failure, NaN if none");
   rc |= H5LTset_attribute_string(gp, ".", "controllers", names) < 0;
   rc |= H5LTset_attribute_string(gp, ".", "models", "exact, no_link_mass") < 0;
@@ -264,10 +258,8 @@ static void accuracy_point(rps3_model *plant, const rps3_traj *tr, double dur,
   double times[3];
   long k, n = (long)(dur * RATE_HZ + 0.5) + 1;
   int rep, i;
-  run_out ro;
+  run_out ro = {l, NULL, NULL, 0, 0, 0};
   for (rep = 0; rep < nrep; rep++) {
-    memset(&ro, 0, sizeof(ro));
-    ro.l = l;
     a->st[c][j] = accuracy_run(plant, tr, dur, CFG[c].integ, CFG[c].h_or_tol,
                                THETA_TOL[j], &ro);
     times[rep] = ro.cpu / dur;

@@ -50,14 +50,8 @@ typedef struct {
 /* the values of rho = r / R */
 static const double rhos[3] = {0.3, 0.5, 0.8};
 
-static void grid_free(ws_grid *g) {
-  free(g->alpha);
-  free(g->status);
-}
-
 /* the grid's sizes and arrays (quick: coarse), the doubles in one block
-   and the int32s in another; 0, or -1 (grid_free frees what was
-   allocated) */
+   (g->alpha) and the int32s in another (g->status); 0 or -1 */
 static int grid_alloc(ws_grid *g, int quick) {
   size_t npt;
   g->nr = 3;
@@ -89,8 +83,7 @@ static void grid_point(const rps3_model *m, rps3_data *d, ws_grid *g, size_t p,
   int st, i, reached;
   double home;
   /* the assembly mode of the level pose at this height */
-  d->pose[0] = 0.0;
-  d->pose[1] = 0.0;
+  d->pose[0] = d->pose[1] = 0.0;
   d->pose[2] = g->zc[iz];
   home = rps3_ik(m, d) == RPS3_OK ? det_jt(d) : DNAN;
   d->pose[0] = g->alpha[ia];
@@ -140,9 +133,9 @@ static int grid_compute(ws_grid *g) {
 static int grid_write(study_h5 *o, const ws_grid *g) {
   int32_t link[3] = {1, 2, 3};
   int rc = 0;
-  static const char *const grid[4] = {"rho", "alpha", "beta", "z_c"};
-  static const char *const gridl[5] = {"rho", "alpha", "beta", "z_c", "link"};
-  hsize_t dims[5] = {g->nr, g->na, g->nb, g->nz, 3}, d3 = 3;
+  /* the maps' axes, the first 4 of those with a link axis */
+  static const char *const grid[5] = {"rho", "alpha", "beta", "z_c", "link"};
+  hsize_t dims[5] = {g->nr, g->na, g->nb, g->nz, 3};
   rc |= study_h5_write(o, "rho", H5T_NATIVE_DOUBLE, 1, &dims[0], rhos, "1",
                        "rho = r / R (R = 0.2286 m, Table II)", NULL);
   rc |= study_h5_write(o, "alpha", H5T_NATIVE_DOUBLE, 1, &dims[1], g->alpha,
@@ -151,7 +144,7 @@ static int grid_write(study_h5 *o, const ws_grid *g) {
                        "rad", "nutation angle beta (tilt)", NULL);
   rc |= study_h5_write(o, "z_c", H5T_NATIVE_DOUBLE, 1, &dims[3], g->zc, "m",
                        "height of the platform centre", NULL);
-  rc |= study_h5_write(o, "link", H5T_NATIVE_INT32, 1, &d3, link, "1",
+  rc |= study_h5_write(o, "link", H5T_NATIVE_INT32, 1, &dims[4], link, "1",
                        "link number", NULL);
   rc |= study_h5_write(o, "status", H5T_NATIVE_INT32, 4, dims, g->status, "1",
                        "rps3_inverse status: 0 ok, 1 unreachable (EREACH), 4 "
@@ -178,37 +171,31 @@ static int grid_write(study_h5 *o, const ws_grid *g) {
                        "static actuating force holding the platform: "
                        "platform and link gravity (M = 0.18 kg, m = 0.09 kg, "
                        "d = 0.1524 m), positive extends the link",
-                       gridl);
+                       grid);
   rc |= study_h5_write(o, "max_force", H5T_NATIVE_DOUBLE, 4, dims, g->fmax, "N",
                        "max_i |force_i|", grid);
   return rc ? -1 : 0;
 }
 
 int study_workspace(const char *path, const char *cmdline, int quick) {
-  ws_grid g;
+  ws_grid g = {0};
   study_h5 o = {-1, -1};
-  int rc = 0;
+  int rc = -1;
   double t_start = study_now_ns();
-  memset(&g, 0, sizeof g);
   if (grid_alloc(&g, quick) < 0) {
     fprintf(stderr, "rps3-study: out of memory\n");
-    grid_free(&g);
-    return EXIT_IO;
+  } else if (grid_compute(&g) == 0) {
+    fprintf(stderr, "rps3-study: workspace: %zu points in %.1f s\n",
+            g.nr * g.na * g.nb * g.nz, 1e-9 * (study_now_ns() - t_start));
+    if (study_h5_open(&o, path, cmdline,
+                      "rps3-study workspace: reachability, condition number "
+                      "and the static force holding the platform over (rho, "
+                      "alpha, beta, z_c)") == 0 &&
+        grid_write(&o, &g) == 0)
+      rc = 0;
+    if (study_h5_close(&o) < 0) rc = -1;
   }
-  if (grid_compute(&g) < 0) {
-    grid_free(&g);
-    return EXIT_IO;
-  }
-  fprintf(stderr, "rps3-study: workspace: %zu points in %.1f s\n",
-          g.nr * g.na * g.nb * g.nz, 1e-9 * (study_now_ns() - t_start));
-
-  if (study_h5_open(&o, path, cmdline,
-                    "rps3-study workspace: reachability, condition number and "
-                    "the static force holding the platform over (rho, alpha, "
-                    "beta, z_c)") < 0 ||
-      grid_write(&o, &g) < 0)
-    rc = -1;
-  if (study_h5_close(&o) < 0) rc = -1;
-  grid_free(&g);
+  free(g.alpha);
+  free(g.status);
   return rc ? EXIT_IO : EXIT_OK;
 }
