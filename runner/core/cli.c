@@ -1,6 +1,4 @@
-/*
- * cli.c - see cli.h.
- */
+/* cli.c - see cli.h. */
 #include "cli.h"
 
 #include <stdarg.h>

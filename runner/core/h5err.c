@@ -1,6 +1,4 @@
-/*
- * h5err.c - see h5err.h.
- */
+/* h5err.c - see h5err.h. */
 #include "h5err.h"
 
 #include <errno.h>

@@ -1,6 +1,4 @@
-/*
- * hint.c - "did you mean": the closest names by edit distance (hint.h).
- */
+/* hint.c - "did you mean": the closest names by edit distance (hint.h). */
 #include "hint.h"
 
 #include <stdio.h>

@@ -1,6 +1,4 @@
-/*
- * progress.c - see progress.h.
- */
+/* progress.c - see progress.h. */
 #include "progress.h"
 
 #include <stdio.h>
@@ -38,12 +36,9 @@ void progress_start(progress *p, size_t ncase, int quiet) {
   p->shown = p->t0;
   p->npoint = 0;
   p->failure_shown = 0;
-  if (quiet)
-    p->mode = PROGRESS_QUIET;
-  else if (isatty(STDERR_FILENO))
-    p->mode = PROGRESS_BAR;
-  else
-    p->mode = PROGRESS_LINES;
+  p->mode = quiet                   ? PROGRESS_QUIET
+            : isatty(STDERR_FILENO) ? PROGRESS_BAR
+                                    : PROGRESS_LINES;
   p->interval = p->mode == PROGRESS_BAR ? BAR_INTERVAL : LINE_INTERVAL;
 }
 

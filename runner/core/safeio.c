@@ -1,6 +1,4 @@
-/*
- * safeio.c - see safeio.h.
- */
+/* safeio.c - see safeio.h. */
 #include "safeio.h"
 
 #include <dirent.h>

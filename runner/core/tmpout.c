@@ -1,6 +1,4 @@
-/*
- * tmpout.c - see tmpout.h.
- */
+/* tmpout.c - see tmpout.h. */
 #include "tmpout.h"
 
 #include <ctype.h>

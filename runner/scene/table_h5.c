@@ -79,10 +79,9 @@ static void h5_units(hid_t d, char *buf, size_t sz) {
 
 /* err = "FILE: dataset /NAME" and the formatted rest (": what", or
    ", row R: what") */
-static void col_err(char *err, size_t errsz, const char *path, const char *name,
-                    const char *fmt, ...) __attribute__((format(printf, 5, 6)));
-static void col_err(char *err, size_t errsz, const char *path, const char *name,
-                    const char *fmt, ...) {
+__attribute__((format(printf, 5, 6))) static void col_err(
+    char *err, size_t errsz, const char *path, const char *name,
+    const char *fmt, ...) {
   va_list ap;
   int n = snprintf(err, errsz, "%s: dataset /%s", path, name);
   va_start(ap, fmt);

@@ -8,6 +8,7 @@
  */
 #define _XOPEN_SOURCE 700 /* realpath */
 
+#include "scene_int.h"
 #include "table.h"
 #include "table_int.h"
 
@@ -25,15 +26,9 @@ static void col_label(const table_data *t, int what, int c, char *buf,
            table_col_names[what][c]);
 }
 
-/* x in the fewest significant digits (15 to 17) that read back as x,
-   as the file most likely wrote it */
+/* x as the file most likely wrote it (scene_format_real) */
 static const char *num(char buf[32], double x) {
-  int p;
-  for (p = 15; p < 17; p++) {
-    snprintf(buf, 32, "%.*g", p, x);
-    if (strtod(buf, NULL) == x) return buf;
-  }
-  snprintf(buf, 32, "%.17g", x);
+  scene_format_real(buf, 32, x);
   return buf;
 }
 
