@@ -226,14 +226,15 @@ void scene_format_real(char *buf, size_t sz, double x) {
 
 /* ---------------------------------------------------------------- errors */
 
-void scene_error_set(scene_error *err, scene_mark mark, const char *path,
-                     const char *fmt, ...) {
+int scene_error_set(scene_error *err, scene_mark mark, const char *path,
+                    const char *fmt, ...) {
   va_list ap;
   err->mark = mark;
   snprintf(err->path, sizeof err->path, "%s", path);
   va_start(ap, fmt);
   vsnprintf(err->what, sizeof err->what, fmt, ap);
   va_end(ap);
+  return -1;
 }
 
 void scene_error_print(const char *file, const scene_error *err) {
