@@ -183,9 +183,8 @@ static int check_range(const scene *s, size_t index, int klo, int khi,
   snprintf(what, sizeof what,
            "%s [min, max] = [%s, %s] %s is %s: needs min < max", name, a, b,
            unit, lo == hi ? "empty" : "inverted");
-  scene_case_error(s, index, what, NULL, blame_of(s, klo, khi), &s->design,
-                   err);
-  return -1;
+  return scene_case_error(s, index, what, NULL, blame_of(s, klo, khi),
+                          &s->design, err);
 }
 
 /* the scene key that sets design field id in scene s: its design key, or
@@ -234,8 +233,7 @@ int design_case_build(const scene *s, size_t index, scene_case *c,
     int k = key_of_field(s, chk.field);
     if (chk.related[0] >= 0)
       k = blame_of(s, k, key_of_field(s, chk.related[0]));
-    scene_case_error(s, index, chk.msg, NULL, k, &s->design, err);
-    return -1;
+    return scene_case_error(s, index, chk.msg, NULL, k, &s->design, err);
   }
   return 0;
 }

@@ -119,10 +119,10 @@ void scene_format_real(char *buf, size_t sz, double x);
    first, then the failing field, then the related ones; a list key's axis
    when it is the failing component or the whole key): its swept value,
    else the key given in the file, else at (path first_key's); without at,
-   the first swept value, else the manipulator section */
-void scene_case_error(const scene *s, size_t index, const char *msg,
-                      const rps3_check *chk, int first_key,
-                      const scene_mark *at, scene_error *err);
+   the first swept value, else the manipulator section; -1 */
+int scene_case_error(const scene *s, size_t index, const char *msg,
+                     const rps3_check *chk, int first_key, const scene_mark *at,
+                     scene_error *err);
 
 /* the design keys against the design section: given (or swept) only in a
    scene that has one, its required keys there, no simulate section beside

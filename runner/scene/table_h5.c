@@ -312,12 +312,11 @@ static int h5_open_column(hid_t f, const char *path, const char *name, int what,
   if (d < 0) return h5_fail(err, errsz, path, name, "be opened");
   kind = H5Iget_type(d);
   if (kind != H5I_DATASET) {
-    col_err(err, errsz, path, name, ": a %s, not a dataset",
-            kind == H5I_GROUP      ? "group"
-            : kind == H5I_DATATYPE ? "named datatype"
-                                   : "object of another kind");
     H5Oclose(d);
-    return -1;
+    return col_err(err, errsz, path, name, ": a %s, not a dataset",
+                   kind == H5I_GROUP      ? "group"
+                   : kind == H5I_DATATYPE ? "named datatype"
+                                          : "object of another kind");
   }
   if (h5_storage_check(f, d, path, name, err, errsz) ||
       h5_column_type(d, path, name, &el, err, errsz) ||
@@ -328,12 +327,11 @@ static int h5_open_column(hid_t f, const char *path, const char *name, int what,
   }
   *bytes = (double)*rows * (double)(el > sizeof(double) ? el : sizeof(double));
   if (*bytes > TABLE_MAX_BYTES) {
-    col_err(err, errsz, path, name,
-            ": declares %llu rows of %zu-byte numbers, %.3g GB as read: above "
-            "the table limit of 1 GiB",
-            (unsigned long long)*rows, el, *bytes / 1e9);
     H5Oclose(d);
-    return -1;
+    return col_err(err, errsz, path, name,
+                   ": declares %llu rows of %zu-byte numbers, %.3g GB as read: "
+                   "above the table limit of 1 GiB",
+                   (unsigned long long)*rows, el, *bytes / 1e9);
   }
   *out = d;
   return 0;
