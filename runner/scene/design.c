@@ -162,13 +162,10 @@ static int swept(const scene *s, int k) {
 /* the key to point at among a and b: a swept one, else the later in the
    file */
 static int blame_of(const scene *s, int a, int b) {
-  scene_mark ma = s->mark[a], mb = s->mark[b];
   if (swept(s, a) != swept(s, b)) return swept(s, a) ? a : b;
   if (!s->given[a]) return b;
   if (!s->given[b]) return a;
-  return (ma.line > mb.line || (ma.line == mb.line && ma.column > mb.column))
-             ? a
-             : b;
+  return scene_mark_after(s->mark[a], s->mark[b]) ? a : b;
 }
 
 /* a range [lo, hi] (keys klo, khi) that must have lo < hi: 0, or -1 with

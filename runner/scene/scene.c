@@ -252,6 +252,10 @@ scene_mark scene_mark_of(const yaml_mark_t *m) {
   return r;
 }
 
+int scene_mark_after(scene_mark a, scene_mark b) {
+  return a.line > b.line || (a.line == b.line && a.column > b.column);
+}
+
 void scene_free(scene *s) {
   size_t a;
   if (!s) return;

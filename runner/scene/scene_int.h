@@ -35,6 +35,9 @@ void scene_value_set(scene_values *v, int k, int comp, double x);
 /* libyaml's 0-based mark as the scene's 1-based line and column */
 scene_mark scene_mark_of(const yaml_mark_t *m);
 
+/* 1 when a stands later in the file than b */
+int scene_mark_after(scene_mark a, scene_mark b);
+
 /* the parse of one scene file */
 typedef struct {
   yaml_document_t *doc;

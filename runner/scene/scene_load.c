@@ -201,12 +201,11 @@ static int check_events(const char *text, size_t len, scene_error *err) {
         if (d > 0 && st[d - 1].is_map && st[d - 1].want_key)
           snprintf(path + strlen(path), sizeof path - strlen(path), "%s",
                    d > 1 ? " (a key)" : "(a key)");
-        scene_error_set(err, scene_mark_of(&e.start_mark), path,
-                        "YAML tag '%s%s' is not accepted: write the value "
-                        "plainly (only !!int and !!float may tag a number)",
-                        is_core ? "!!" : "",
-                        is_core ? tag + sizeof core - 1 : tag);
-        rc = -1;
+        rc = scene_error_set(
+            err, scene_mark_of(&e.start_mark), path,
+            "YAML tag '%s%s' is not accepted: write the value "
+            "plainly (only !!int and !!float may tag a number)",
+            is_core ? "!!" : "", is_core ? tag + sizeof core - 1 : tag);
         break;
       }
       if (e.type == YAML_SCALAR_EVENT) {
@@ -215,10 +214,9 @@ static int check_events(const char *text, size_t len, scene_error *err) {
       }
       if (d == SCENE_MAX_DEPTH) {
         path_of(st, d, path, sizeof path);
-        scene_error_set(err, scene_mark_of(&e.start_mark), path,
-                        "nested more than %d levels deep: a scene needs 3",
-                        SCENE_MAX_DEPTH);
-        rc = -1;
+        rc = scene_error_set(err, scene_mark_of(&e.start_mark), path,
+                             "nested more than %d levels deep: a scene needs 3",
+                             SCENE_MAX_DEPTH);
         break;
       }
       memset(&st[d], 0, sizeof st[d]);

@@ -521,11 +521,7 @@ int scene_check_keys(scene_parse_ctx *c) {
                              leaf(scene_keys[a].path),
                              leaf(scene_keys[b].path));
     if (s->given[a] && s->given[b]) {
-      int later = (s->mark[a].line > s->mark[b].line ||
-                   (s->mark[a].line == s->mark[b].line &&
-                    s->mark[a].column > s->mark[b].column))
-                      ? a
-                      : b;
+      int later = scene_mark_after(s->mark[a], s->mark[b]) ? a : b;
       int other = later == a ? b : a;
       return scene_error_set(c->err, s->mark[later], scene_keys[later].path,
                              "give either %s or %s, not both (%s is at %d:%d)",
