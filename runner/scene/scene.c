@@ -173,21 +173,17 @@ void scene_enum_hint(char *buf, size_t sz, int k, const char *word) {
 
 /* -------------------------------------------------------------- values */
 
-/* where key k's value is stored in v */
-static char *value_at(scene_values *v, int k) {
-  return (char *)v + scene_keys[k].f->offset;
+/* where key k's value is stored in v (writable when v is, as strchr) */
+static char *value_at(const scene_values *v, int k) {
+  return (char *)(void *)v + scene_keys[k].f->offset;
 }
 
-double *scene_real_at(scene_values *v, int k) {
+double *scene_real_at(const scene_values *v, int k) {
   return (double *)(void *)value_at(v, k);
 }
 
-int *scene_int_at(scene_values *v, int k) {
+int *scene_int_at(const scene_values *v, int k) {
   return (int *)(void *)value_at(v, k);
-}
-
-double scene_value_real(const scene_values *v, int k, int comp) {
-  return scene_real_at((scene_values *)(void *)v, k)[comp < 0 ? 0 : comp];
 }
 
 void scene_value_set(scene_values *v, int k, int comp, double x) {

@@ -481,10 +481,6 @@ int scene_key_kind(const scene_key_info *ki);
 /* 1 when key row ki applies to trajectory kind `kind` */
 int scene_key_applies(const scene_key_info *ki, int kind);
 
-/* component comp (0 for a scalar) of number key k (KEY_REAL, KEY_REAL3)
-   in v */
-double scene_value_real(const scene_values *v, int k, int comp);
-
 /* the key with this dotted path, or -1 */
 int scene_key_find(const char *path);
 

@@ -108,8 +108,8 @@ int scene_parse_sweep(scene_parse_ctx *c, const yaml_node_t *map);
 int scene_shape_mask(int k);
 
 /* where number or int key k's value is stored in v */
-double *scene_real_at(scene_values *v, int k);
-int *scene_int_at(scene_values *v, int k);
+double *scene_real_at(const scene_values *v, int k);
+int *scene_int_at(const scene_values *v, int k);
 
 /* the defaults: the library's Table II model, options and helix */
 void scene_values_default(scene_values *v);
