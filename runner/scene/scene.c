@@ -211,7 +211,6 @@ void scene_values_default(scene_values *v) {
   v->own.blend_ratio = v->traj.helix.blend / v->traj.helix.period;
 }
 
-/* the shortest %g form of x that reads back as x */
 void scene_format_real(char *buf, size_t sz, double x) {
   int prec;
   for (prec = 15; prec <= 17; prec++) {

@@ -442,12 +442,6 @@ int scene_walk_section(scene_parse_ctx *c, const yaml_node_t *map,
 
 /* ---------------------------------------------------------------- checks */
 
-/* last component of a dotted path */
-static const char *leaf(const char *path) {
-  const char *p = strrchr(path, '.');
-  return p ? p + 1 : path;
-}
-
 /* a waypoints scene has as many poses as times */
 static int check_waypoints(scene_parse_ctx *c) {
   scene *s = c->s;
@@ -518,14 +512,15 @@ int scene_check_keys(scene_parse_ctx *c) {
     if (!s->given[a] && !s->given[b])
       return scene_error_set(c->err, s->section[pair ? 2 : 1],
                              scene_keys[a].path, "missing: give %s or %s",
-                             leaf(scene_keys[a].path),
-                             leaf(scene_keys[b].path));
+                             hint_last_part(scene_keys[a].path),
+                             hint_last_part(scene_keys[b].path));
     if (s->given[a] && s->given[b]) {
       int later = scene_mark_after(s->mark[a], s->mark[b]) ? a : b;
       int other = later == a ? b : a;
       return scene_error_set(c->err, s->mark[later], scene_keys[later].path,
                              "give either %s or %s, not both (%s is at %d:%d)",
-                             leaf(scene_keys[a].path), leaf(scene_keys[b].path),
+                             hint_last_part(scene_keys[a].path),
+                             hint_last_part(scene_keys[b].path),
                              scene_keys[other].path, s->mark[other].line,
                              s->mark[other].column);
     }

@@ -132,6 +132,9 @@ static const char *class_name(H5T_class_t c) {
                                                             : "an unknown";
 }
 
+/* the rule a column stored elsewhere breaks, after what it is */
+#define IN_FILE ": a table's columns must be stored in the table file itself"
+
 /* the link of a column: a hard link, or a soft link to an object of this
    file; an external link (another file) or a user-defined one is refused */
 static int h5_link_check(hid_t f, const char *path, const char *name, char *err,
@@ -169,13 +172,10 @@ static int h5_link_check(hid_t f, const char *path, const char *name, char *err,
   } else if (H5Lunpack_elink_val(val, li.u.val_size, &flags, &file, &obj) >=
              0) {
     col_err(err, errsz, path, name,
-            ": an external link to %.200s:%.200s: a table's columns must be "
-            "stored in the table file itself",
-            file, obj);
+            ": an external link to %.200s:%.200s" IN_FILE, file, obj);
   } else {
     col_err(err, errsz, path, name,
-            ": an external link (to another file): a table's columns must be "
-            "stored in the table file itself");
+            ": an external link (to another file)" IN_FILE);
   }
   free(val);
   return rc;
@@ -219,15 +219,13 @@ static int h5_storage_check(hid_t f, hid_t d, const char *path,
         H5Pget_virtual_dsetname(p, 0, dset, sizeof dset) >= 0) {
       file[sizeof file - 1] = dset[sizeof dset - 1] = '\0';
       col_err(err, errsz, path, name,
-              ": a virtual dataset, its rows in %.200s:%.200s%s%s: a table's "
-              "columns must be stored in the table file itself",
+              ": a virtual dataset, its rows in %.200s:%.200s%s%s" IN_FILE,
               file, dset,
               h5_source_exists(f, path, file, dset) ? "" : ", which is missing",
               nsrc > 1 ? " and other sources" : "");
     } else {
       col_err(err, errsz, path, name,
-              ": a virtual dataset (its rows in other datasets): a table's "
-              "columns must be stored in the table file itself");
+              ": a virtual dataset (its rows in other datasets)" IN_FILE);
     }
     H5Eclear2(H5E_DEFAULT);
   } else if (next != 0) {
@@ -240,9 +238,8 @@ static int h5_storage_check(hid_t f, hid_t d, const char *path,
       snprintf(file, sizeof file, "?");
     H5Eclear2(H5E_DEFAULT);
     col_err(err, errsz, path, name,
-            ": stored in the external raw file '%.200s'%s: a table's columns "
-            "must be stored in the table file itself",
-            file, next > 1 ? " and others" : "");
+            ": stored in the external raw file '%.200s'%s" IN_FILE, file,
+            next > 1 ? " and others" : "");
   } else {
     rc = 0;
   }
