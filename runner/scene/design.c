@@ -86,16 +86,15 @@ int scene_design_check_keys(const scene *s, scene_error *err) {
       if (SCENE_KEY_IS_DESIGN(&scene_keys[k]) && s->given[k])
         return scene_error_set(
             err, s->mark[k], scene_keys[k].path,
-            "only a design study reads this key: add a design "
-            "section (docs/runner.md, \"Design studies\")");
+            "only a design study reads this key: add a design section "
+            "(docs/runner.md, \"Design studies\")");
     return 0;
   }
   if (s->simulate.line > 0)
-    return scene_error_set(
-        err, s->design, "design",
-        "a scene is a design study or a simulation, not both "
-        "(simulate section at %d:%d)",
-        s->simulate.line, s->simulate.column);
+    return scene_error_set(err, s->design, "design",
+                           "a scene is a design study or a simulation, not "
+                           "both (simulate section at %d:%d)",
+                           s->simulate.line, s->simulate.column);
   for (k = 0; k < SCENE_NKEY; k++)
     if (s->given[k] && design_key_unread(k))
       return scene_error_set(
@@ -118,16 +117,14 @@ int scene_design_check_keys(const scene *s, scene_error *err) {
   for (a = 0; a < s->naxis; a++) {
     k = s->axis[a].key;
     if ((k >= K_DES_ALPHA && k <= K_DES_Z_C) || k == K_DES_PER_POSE)
-      return scene_error_set(
-          err, s->axis[a].mark[0], s->axis[a].path,
-          "cannot be swept (it decides the shape of the file); "
-          "write one scene per value");
+      return scene_error_set(err, s->axis[a].mark[0], s->axis[a].path,
+                             "cannot be swept (it decides the shape of the "
+                             "file); write one scene per value");
     if (s->section[2].line == 0 &&
         strncmp(scene_keys[k].path, "trajectory.", 11) == 0)
-      return scene_error_set(
-          err, s->axis[a].mark[0], s->axis[a].path,
-          "the design study has no trajectory section (no task): "
-          "nothing reads this key");
+      return scene_error_set(err, s->axis[a].mark[0], s->axis[a].path,
+                             "the design study has no trajectory section (no "
+                             "task): nothing reads this key");
   }
   for (ax = 0; ax < 3; ax++)
     if (check_grid(s, ax, &poses, err)) return -1;
@@ -145,10 +142,9 @@ int scene_design_check_keys(const scene *s, scene_error *err) {
   }
   return 0;
 off_axis:
-  return scene_error_set(
-      err, s->mark[K_PAY_COM], scene_keys[K_PAY_COM].path,
-      "a design's payload is a point on the platform normal: give "
-      "[0, 0, height] (and sweep only [2])");
+  return scene_error_set(err, s->mark[K_PAY_COM], scene_keys[K_PAY_COM].path,
+                         "a design's payload is a point on the platform "
+                         "normal: give [0, 0, height] (and sweep only [2])");
 }
 
 /* 1 when key k is swept */

@@ -203,8 +203,8 @@ static int check_events(const char *text, size_t len, scene_error *err) {
                    d > 1 ? " (a key)" : "(a key)");
         rc = scene_error_set(
             err, scene_mark_of(&e.start_mark), path,
-            "YAML tag '%s%s' is not accepted: write the value "
-            "plainly (only !!int and !!float may tag a number)",
+            "YAML tag '%s%s' is not accepted: write the value plainly (only "
+            "!!int and !!float may tag a number)",
             is_core ? "!!" : "", is_core ? tag + sizeof core - 1 : tag);
         break;
       }

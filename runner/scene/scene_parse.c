@@ -223,11 +223,11 @@ static int parse_rows(scene_parse_ctx *c, int k, const yaml_node_t *n,
   int poses = scene_keys[k].type == KEY_POSES;
   scene *s = c->s;
   long i, j,
-      rows = scene_list_len(c, n, path, 2, LONG_MAX,
-                            poses ? "a list of at least 2 poses [alpha, beta, "
-                                    "z_c]"
-                                  : "a list of at least 2 numbers",
-                            "a shorter list");
+      rows =
+          scene_list_len(c, n, path, 2, LONG_MAX,
+                         poses ? "a list of at least 2 poses [alpha, beta, z_c]"
+                               : "a list of at least 2 numbers",
+                         "a shorter list");
   double *dst;
   scene_mark *marks;
   char sub[160];
@@ -449,8 +449,8 @@ static int check_waypoints(scene_parse_ctx *c) {
   if (s->wp_ntime != s->wp_npose)
     return scene_error_set(
         c->err, s->mark[K_WP_POSES], scene_keys[K_WP_POSES].path,
-        "%zu poses for %zu times (trajectory.waypoints.times at "
-        "%d:%d); give one pose per time",
+        "%zu poses for %zu times (trajectory.waypoints.times at %d:%d); give "
+        "one pose per time",
         s->wp_npose, s->wp_ntime, s->mark[K_WP_TIMES].line,
         s->mark[K_WP_TIMES].column);
   s->base.traj.wp.n = s->wp_ntime;

@@ -212,10 +212,9 @@ static int sweep_key(scene_parse_ctx *c, scene_axis *ax, const char *name,
   if (ki->type == KEY_EFFECTS || ki->type == KEY_OUTPUTS ||
       ki->type == KEY_TIMES || ki->type == KEY_POSES || ki->type == KEY_FILE ||
       ax->key == K_KIND || ax->key == K_PATH_SHAPE)
-    return scene_error_set(
-        c->err, km, name,
-        "cannot be swept (it decides what a case computes); write "
-        "one scene per value");
+    return scene_error_set(c->err, km, name,
+                           "cannot be swept (it decides what a case computes); "
+                           "write one scene per value");
   if (!scene_key_applies(ki, s->base.traj.kind))
     return scene_error_set(c->err, km, name, "not a key of a %s trajectory",
                            scene_enum_name(K_KIND, (int)s->base.traj.kind));

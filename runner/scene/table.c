@@ -74,11 +74,10 @@ int table_alloc_rows(table_data *t, size_t n, int with_acc, int with_line,
   double row = sizeof(double) * (8.0 + (with_acc ? 3.0 : 0.0)) +
                (with_line ? (double)sizeof(int) : 0.0);
   if ((double)n * row > TABLE_MAX_BYTES)
-    return table_err(
-        err, errsz,
-        "%s: %zu rows need %.3g GB in memory (%.0f bytes a row): above "
-        "the table limit of 1 GiB",
-        t->path, n, (double)n * row / 1e9, row);
+    return table_err(err, errsz,
+                     "%s: %zu rows need %.3g GB in memory (%.0f bytes a row): "
+                     "above the table limit of 1 GiB",
+                     t->path, n, (double)n * row / 1e9, row);
   t->n = n;
   t->time = malloc(m * sizeof *t->time);
   t->value = malloc(m * sizeof *t->value);

@@ -148,11 +148,10 @@ static int h5_link_check(hid_t f, const char *path, const char *name, char *err,
     return h5_fail(err, errsz, path, name, "read its link");
   if (li.type == H5L_TYPE_HARD) return 0;
   if (li.type != H5L_TYPE_SOFT && li.type != H5L_TYPE_EXTERNAL)
-    return col_err(
-        err, errsz, path, name,
-        ": a user-defined link (type %d): a table's columns are datasets "
-        "of the file itself",
-        (int)li.type);
+    return col_err(err, errsz, path, name,
+                   ": a user-defined link (type %d): a table's columns are "
+                   "datasets of the file itself",
+                   (int)li.type);
   /* the link's value: a path (soft), or a file and a path (external) */
   if (li.u.val_size > 65536 || (val = calloc(li.u.val_size + 1, 1)) == NULL)
     return col_err(err, errsz, path, name, ": a %s link of %zu bytes",

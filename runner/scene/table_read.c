@@ -78,9 +78,9 @@ static int table_step_time(const table_data *t, int what, size_t r,
   if (h * h < DBL_MIN)
     return table_err(
         err, errsz,
-        "%s: %s: %s after %s: the rows are %.3g s apart, a spacing too "
-        "small for a double: the interpolant's acceleration divides by "
-        "the step squared, which underflows below 1.5e-154 s",
+        "%s: %s: %s after %s: the rows are %.3g s apart, a spacing too small "
+        "for a double: the interpolant's acceleration divides by the step "
+        "squared, which underflows below 1.5e-154 s",
         where, lt, n1, n2, h);
   return 0;
 }
@@ -107,13 +107,12 @@ static int table_step_value(const table_data *t, int what, size_t r, int k,
   ma = t->acc != NULL ? fabs(t->acc[r][k]) + fabs(t->acc[r - 1][k]) : 0.0;
   if (mv + mr + ma < DERIV_MAX) return 0;
   if (mv >= mr && mv >= ma)
-    return table_err(
-        err, errsz,
-        "%s: %s: changes by %.3g in %.3g s from the previous row: the "
-        "spacing of the rows is too small for so large a change, the "
-        "interpolant's rate and acceleration across the step (of order "
-        "change / step^2) overflow a double",
-        where, lc, dv, h);
+    return table_err(err, errsz,
+                     "%s: %s: changes by %.3g in %.3g s from the previous row: "
+                     "the spacing of the rows is too small for so large a "
+                     "change, the interpolant's rate and acceleration across "
+                     "the step (of order change / step^2) overflow a double",
+                     where, lc, dv, h);
   col_label(t, what, mr >= ma ? 4 + k : 7 + k, lr, sizeof lr);
   return table_err(
       err, errsz,
@@ -147,10 +146,9 @@ static int table_finish(table_data *t, int what, char *err, size_t errsz) {
   if (t->n < (size_t)min)
     return table_err(err, errsz, "%s: %zu rows; a table needs at least %d%s",
                      t->path, t->n, min,
-                     t->rates_given
-                         ? ""
-                         : " without rate columns (the not-a-knot spline "
-                           "that gives the rates)");
+                     t->rates_given ? ""
+                                    : " without rate columns (the not-a-knot "
+                                      "spline that gives the rates)");
   if (table_steps(t, what, err, errsz)) return -1;
   if (t->rates_given) return 0;
   work = malloc(t->n * sizeof *work);
@@ -170,8 +168,8 @@ static int table_finish(table_data *t, int what, char *err, size_t errsz) {
         col_label(t, what, 1 + k, lc, sizeof lc);
         return table_err(
             err, errsz,
-            "%s: %s: the spline's rate at this row overflows a double "
-            "(the values change too fast for the spacing of the rows)",
+            "%s: %s: the spline's rate at this row overflows a double (the "
+            "values change too fast for the spacing of the rows)",
             where, lc);
       }
   return table_err(err, errsz, "%s: the spline of the rows failed (%s)",
