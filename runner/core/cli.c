@@ -1,6 +1,4 @@
-/*
- * cli.c - see cli.h.
- */
+/* cli.c - see cli.h. */
 #include "cli.h"
 
 #include <stdarg.h>
@@ -112,17 +110,16 @@ void cli_try(const char *help_cmd) {
 }
 
 void cli_version(FILE *out, const char *prog) {
-  fprintf(out,
-          "%s (rps3) %s\n"
-          "Copyright (C) 2026 the rps3 authors.\n"
-          "License BSD-3-Clause <https://opensource.org/licenses/"
-          "BSD-3-Clause>.\n"
-          "Linked with GSL: GNU GPL version 3 or later "
-          "<https://gnu.org/licenses/gpl.html>.\n"
-          "This is free software: you are free to change and redistribute "
-          "it.\n"
-          "There is NO WARRANTY, to the extent permitted by law.\n",
-          prog, rps3_version());
+  fprintf(
+      out,
+      "%s (rps3) %s\n"
+      "Copyright (C) 2026 the rps3 authors.\n"
+      "License BSD-3-Clause <https://opensource.org/licenses/BSD-3-Clause>.\n"
+      "Linked with GSL: GNU GPL version 3 or later "
+      "<https://gnu.org/licenses/gpl.html>.\n"
+      "This is free software: you are free to change and redistribute it.\n"
+      "There is NO WARRANTY, to the extent permitted by law.\n",
+      prog, rps3_version());
 }
 
 int cli_operands(const cli *c, char ***first) {

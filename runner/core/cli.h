@@ -83,10 +83,7 @@ void cli_help(FILE *out, const cli_opt *opt, int nopt);
  * where the rest is).  cli_next reports its own errors this way.
  */
 void cli_usage_error(const cli *c, const char *fmt, ...)
-#if defined(__GNUC__)
-    __attribute__((format(printf, 2, 3)))
-#endif
-    ;
+    __attribute__((format(printf, 2, 3)));
 
 /* The second line of a usage error: "Try 'HELP_CMD --help' for more
    information." on stderr. */

@@ -1,6 +1,4 @@
-/*
- * h5err.c - see h5err.h.
- */
+/* h5err.c - see h5err.h. */
 #include "h5err.h"
 
 #include <errno.h>
@@ -46,8 +44,8 @@ static int errno_in(const char *d) {
 static const char *in_words(int e) {
   switch (e) {
   case EAGAIN:
-    return "the file is locked by another process (an rps3-run or "
-           "h5py that has it open?)";
+    return "the file is locked by another process (an rps3-run or h5py that "
+           "has it open?)";
   case ENOSPC: return "no space left on the device";
   case EDQUOT: return "disk quota exceeded";
   case EROFS: return "read-only file system";

@@ -1,6 +1,4 @@
-/*
- * hint.c - "did you mean": the closest names by edit distance (hint.h).
- */
+/* hint.c - "did you mean": the closest names by edit distance (hint.h). */
 #include "hint.h"
 
 #include <stdio.h>
@@ -32,8 +30,7 @@ static int hint_distance(const char *a, const char *b) {
   return d[la % 3][lb];
 }
 
-/* the last part of a dotted name */
-static const char *last_part(const char *s) {
+const char *hint_last_part(const char *s) {
   const char *p = strrchr(s, '.');
   return p ? p + 1 : s;
 }
@@ -42,14 +39,14 @@ static const char *last_part(const char *s) {
 static int hint_cost(const char *word, const char *cand) {
   int d = hint_distance(word, cand);
   if (d > 1 && strchr(cand, '.') &&
-      strcmp(last_part(word), last_part(cand)) == 0)
+      strcmp(hint_last_part(word), hint_last_part(cand)) == 0)
     d = 1;
   return d;
 }
 
 void hint_text(char *buf, size_t sz, const char *word, const char *const *cand,
                size_t n) {
-  size_t len = strlen(last_part(word)), i, best_i = n, tie_i = n;
+  size_t len = strlen(hint_last_part(word)), i, best_i = n, tie_i = n;
   /* how far a typo goes, by the length of the name's last part (the part
      a user types): one edit in a short name, up to three in a long one */
   int limit = len <= 4 ? 1 : len <= 9 ? 2 : 3, best = limit + 1;

@@ -21,4 +21,7 @@
 void hint_text(char *buf, size_t sz, const char *word, const char *const *cand,
                size_t n);
 
+/* the last part of a dotted name ("c" of "a.b.c") */
+const char *hint_last_part(const char *s);
+
 #endif /* RPS3_RUNNER_HINT_H */

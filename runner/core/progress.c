@@ -1,6 +1,4 @@
-/*
- * progress.c - see progress.h.
- */
+/* progress.c - see progress.h. */
 #include "progress.h"
 
 #include <stdio.h>
@@ -38,12 +36,9 @@ void progress_start(progress *p, size_t ncase, int quiet) {
   p->shown = p->t0;
   p->npoint = 0;
   p->failure_shown = 0;
-  if (quiet)
-    p->mode = PROGRESS_QUIET;
-  else if (isatty(STDERR_FILENO))
-    p->mode = PROGRESS_BAR;
-  else
-    p->mode = PROGRESS_LINES;
+  p->mode = quiet                   ? PROGRESS_QUIET
+            : isatty(STDERR_FILENO) ? PROGRESS_BAR
+                                    : PROGRESS_LINES;
   p->interval = p->mode == PROGRESS_BAR ? BAR_INTERVAL : LINE_INTERVAL;
 }
 
@@ -78,9 +73,8 @@ static void draw_bar(const progress *p, double f, size_t cases_done,
   char text[160], line[512];
   int width = term_width() - 1, bar, i, n;
   snprintf(text, sizeof text,
-           " %zu/%zu cases  %.3g cases/s  %.3g samples/s"
-           "  ETA %s",
-           cases_done, p->ncase, rate, srate, eta);
+           " %zu/%zu cases  %.3g cases/s  %.3g samples/s  ETA %s", cases_done,
+           p->ncase, rate, srate, eta);
   bar = width - (int)strlen(text) - 2;
   if (bar < 10) { /* a narrow terminal: the bar before the rates */
     snprintf(text, sizeof text, " %zu/%zu cases  ETA %s", cases_done, p->ncase,
@@ -144,8 +138,8 @@ void progress_finish(progress *p, size_t cases_done, size_t points_done,
   if (p->mode == PROGRESS_BAR)
     fputs("\r\033[K", stderr); /* the bar gives way to the summary */
   fprintf(stderr,
-          "rps3-run: %zu/%zu cases (%zu failed), %zu samples in %s "
-          "(%.3g samples/s)",
+          "rps3-run: %zu/%zu cases (%zu failed), %zu samples in %s (%.3g "
+          "samples/s)",
           cases_done, p->ncase, nfailed, points_done, e1,
           el > 0 ? (double)points_done / el : 0);
   if (p->njob && p->njob != p->njob_all)

@@ -1,6 +1,4 @@
-/*
- * safeio.c - see safeio.h.
- */
+/* safeio.c - see safeio.h. */
 #include "safeio.h"
 
 #include <dirent.h>
@@ -79,8 +77,8 @@ int out_path_check(const char *out, const char *const *in, size_t ninput,
     snprintf(err, errsz, "-o %s names a directory: give a file name", out);
   else if (there && !S_ISREG(so.st_mode))
     snprintf(err, errsz,
-             "-o %s is %s: the output must be a new or a regular file "
-             "(it is replaced when the run is complete)",
+             "-o %s is %s: the output must be a new or a regular file (it is "
+             "replaced when the run is complete)",
              out, file_kind(so.st_mode));
   else if (there && i < ninput)
     snprintf(err, errsz, "-o %s is the input %s itself", out, in[i]);
@@ -179,9 +177,9 @@ size_t stale_report(const char *prog, const char *out) {
     if (pid <= 0 || pid == (long)getpid()) continue;
     if (kill((pid_t)pid, 0) == 0 || errno != ESRCH) continue;
     fprintf(stderr,
-            "%s: warning: %s%s%s is the temporary file of process %ld, "
-            "which no longer runs on this machine (killed?): it is not "
-            "a complete output; remove it\n",
+            "%s: warning: %s%s%s is the temporary file of process %ld, which "
+            "no longer runs on this machine (killed?): it is not a complete "
+            "output; remove it\n",
             prog, slash ? dir : "", slash ? "/" : "", e->d_name, pid);
     count++;
   }

@@ -1,6 +1,4 @@
-/*
- * tmpout.c - see tmpout.h.
- */
+/* tmpout.c - see tmpout.h. */
 #include "tmpout.h"
 
 #include <ctype.h>
@@ -47,8 +45,7 @@ static void on_signal(int sig) {
   if (sig == SIGPIPE && have_tmp) {
     /* the reader of stdout or stderr is gone: a write error, exit 3 */
     static const char msg[] =
-        "rps3: output pipe closed (SIGPIPE): stopped, temporary file "
-        "removed\n";
+        "rps3: output pipe closed (SIGPIPE): stopped, temporary file removed\n";
     ssize_t w = write(STDERR_FILENO, msg, sizeof msg - 1);
     (void)w;
     _exit(EXIT_IO);

@@ -1,6 +1,4 @@
-/*
- * world_mpi.c - world.h over Open MPI, on MPI_COMM_WORLD (rps3-run-mpi).
- */
+/* world_mpi.c - world.h over Open MPI, on MPI_COMM_WORLD (rps3-run-mpi). */
 #include "world.h"
 
 #include <time.h>

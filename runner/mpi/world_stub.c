@@ -1,7 +1,5 @@
-/*
- * world_stub.c - world.h without MPI (rps3-run): a world of one process,
- * rank 0 of 1, whose collectives copy their input.
- */
+/* world_stub.c - world.h without MPI (rps3-run): a world of one process,
+   rank 0 of 1, whose collectives copy their input. */
 #include "world.h"
 
 #include <stdlib.h>

@@ -32,25 +32,20 @@ static int check_grid(const scene *s, int ax, double *poses, scene_error *err) {
   char a[32], b[32];
   scene_format_real(a, sizeof a, g[0]);
   scene_format_real(b, sizeof b, g[1]);
-  if (g[2] != floor(g[2]) || g[2] < 1) {
-    scene_error_set(
+  if (g[2] != floor(g[2]) || g[2] < 1)
+    return scene_error_set(
         err, s->mark[k], path,
         "cells = %g: [lo, hi, cells] needs a whole number of cells >= 1", g[2]);
-    return -1;
-  }
-  if (!(g[0] <= g[1])) {
-    scene_error_set(
+  if (!(g[0] <= g[1]))
+    return scene_error_set(
         err, s->mark[k], path,
         "lo = %s is above hi = %s: the range [lo, hi, cells] is inverted", a,
         b);
-    return -1;
-  }
   *poses *= g[2];
-  if (*poses > DESIGN_MAX_POSES) {
-    scene_error_set(err, s->mark[k], path, "the grid has more than %.0f poses",
-                    DESIGN_MAX_POSES);
-    return -1;
-  }
+  if (*poses > DESIGN_MAX_POSES)
+    return scene_error_set(err, s->mark[k], path,
+                           "the grid has more than %.0f poses",
+                           DESIGN_MAX_POSES);
   return 0;
 }
 
@@ -88,30 +83,25 @@ int scene_design_check_keys(const scene *s, scene_error *err) {
   if (!design_wanted(s)) {
     /* a design key in a scene that computes no design would be ignored */
     for (k = 0; k < SCENE_NKEY; k++)
-      if (SCENE_KEY_IS_DESIGN(&scene_keys[k]) && s->given[k]) {
-        scene_error_set(err, s->mark[k], scene_keys[k].path,
-                        "only a design study reads this key: add a design "
-                        "section (docs/runner.md, \"Design studies\")");
-        return -1;
-      }
+      if (SCENE_KEY_IS_DESIGN(&scene_keys[k]) && s->given[k])
+        return scene_error_set(
+            err, s->mark[k], scene_keys[k].path,
+            "only a design study reads this key: add a design section "
+            "(docs/runner.md, \"Design studies\")");
     return 0;
   }
-  if (s->simulate.line > 0) {
-    scene_error_set(err, s->design, "design",
-                    "a scene is a design study or a simulation, not both "
-                    "(simulate section at %d:%d)",
-                    s->simulate.line, s->simulate.column);
-    return -1;
-  }
+  if (s->simulate.line > 0)
+    return scene_error_set(err, s->design, "design",
+                           "a scene is a design study or a simulation, not "
+                           "both (simulate section at %d:%d)",
+                           s->simulate.line, s->simulate.column);
   for (k = 0; k < SCENE_NKEY; k++)
-    if (s->given[k] && design_key_unread(k)) {
-      scene_error_set(
+    if (s->given[k] && design_key_unread(k))
+      return scene_error_set(
           err, s->mark[k], scene_keys[k].path,
           "a design study does not read this key: its model is "
           "rps3_design_model's (the link inertia from the mass model, the "
           "default effects and solver; docs/runner.md, \"Design studies\")");
-      return -1;
-    }
   /* the design's payload is a point on the platform normal */
   if (s->given[K_PAY_COM] &&
       (s->base.model.payload.com[0] != 0 || s->base.model.payload.com[1] != 0))
@@ -120,27 +110,21 @@ int scene_design_check_keys(const scene *s, scene_error *err) {
     if (s->axis[a].key == K_PAY_COM && s->axis[a].comp != 2) goto off_axis;
   for (k = 0; k < SCENE_NKEY; k++)
     if (SCENE_KEY_IS_DESIGN(&scene_keys[k]) && scene_keys[k].req == REQ_YES &&
-        !s->given[k]) {
-      scene_error_set(
+        !s->given[k])
+      return scene_error_set(
           err, scene_keys[k].src == SRC_DES ? s->section[1] : s->design,
           scene_keys[k].path, "missing required key of a design study");
-      return -1;
-    }
   for (a = 0; a < s->naxis; a++) {
     k = s->axis[a].key;
-    if ((k >= K_DES_ALPHA && k <= K_DES_Z_C) || k == K_DES_PER_POSE) {
-      scene_error_set(err, s->axis[a].mark[0], s->axis[a].path,
-                      "cannot be swept (it decides the shape of the file); "
-                      "write one scene per value");
-      return -1;
-    }
+    if ((k >= K_DES_ALPHA && k <= K_DES_Z_C) || k == K_DES_PER_POSE)
+      return scene_error_set(err, s->axis[a].mark[0], s->axis[a].path,
+                             "cannot be swept (it decides the shape of the "
+                             "file); write one scene per value");
     if (s->section[2].line == 0 &&
-        strncmp(scene_keys[k].path, "trajectory.", 11) == 0) {
-      scene_error_set(err, s->axis[a].mark[0], s->axis[a].path,
-                      "the design study has no trajectory section (no task): "
-                      "nothing reads this key");
-      return -1;
-    }
+        strncmp(scene_keys[k].path, "trajectory.", 11) == 0)
+      return scene_error_set(err, s->axis[a].mark[0], s->axis[a].path,
+                             "the design study has no trajectory section (no "
+                             "task): nothing reads this key");
   }
   for (ax = 0; ax < 3; ax++)
     if (check_grid(s, ax, &poses, err)) return -1;
@@ -150,20 +134,17 @@ int scene_design_check_keys(const scene *s, scene_error *err) {
     rps3_design_grid gr;
     double v = 0;
     design_grid(s, &gr);
-    if (rps3_design_grid_cell(&gr, &v) != RPS3_OK || !isfinite(v)) {
-      scene_error_set(
+    if (rps3_design_grid_cell(&gr, &v) != RPS3_OK || !isfinite(v))
+      return scene_error_set(
           err, s->design, "design",
           "the volume of a grid cell, (hi - lo) / cells of alpha, beta and z_c "
           "multiplied, is not a finite number: not a grid of poses");
-      return -1;
-    }
   }
   return 0;
 off_axis:
-  scene_error_set(err, s->mark[K_PAY_COM], scene_keys[K_PAY_COM].path,
-                  "a design's payload is a point on the platform normal: give "
-                  "[0, 0, height] (and sweep only [2])");
-  return -1;
+  return scene_error_set(err, s->mark[K_PAY_COM], scene_keys[K_PAY_COM].path,
+                         "a design's payload is a point on the platform "
+                         "normal: give [0, 0, height] (and sweep only [2])");
 }
 
 /* 1 when key k is swept */
@@ -177,13 +158,10 @@ static int swept(const scene *s, int k) {
 /* the key to point at among a and b: a swept one, else the later in the
    file */
 static int blame_of(const scene *s, int a, int b) {
-  scene_mark ma = s->mark[a], mb = s->mark[b];
   if (swept(s, a) != swept(s, b)) return swept(s, a) ? a : b;
   if (!s->given[a]) return b;
   if (!s->given[b]) return a;
-  return (ma.line > mb.line || (ma.line == mb.line && ma.column > mb.column))
-             ? a
-             : b;
+  return scene_mark_after(s->mark[a], s->mark[b]) ? a : b;
 }
 
 /* a range [lo, hi] (keys klo, khi) that must have lo < hi: 0, or -1 with
@@ -198,9 +176,8 @@ static int check_range(const scene *s, size_t index, int klo, int khi,
   snprintf(what, sizeof what,
            "%s [min, max] = [%s, %s] %s is %s: needs min < max", name, a, b,
            unit, lo == hi ? "empty" : "inverted");
-  scene_case_error(s, index, what, NULL, blame_of(s, klo, khi), &s->design,
-                   err);
-  return -1;
+  return scene_case_error(s, index, what, NULL, blame_of(s, klo, khi),
+                          &s->design, err);
 }
 
 /* the scene key that sets design field id in scene s: its design key, or
@@ -249,8 +226,7 @@ int design_case_build(const scene *s, size_t index, scene_case *c,
     int k = key_of_field(s, chk.field);
     if (chk.related[0] >= 0)
       k = blame_of(s, k, key_of_field(s, chk.related[0]));
-    scene_case_error(s, index, chk.msg, NULL, k, &s->design, err);
-    return -1;
+    return scene_case_error(s, index, chk.msg, NULL, k, &s->design, err);
   }
   return 0;
 }

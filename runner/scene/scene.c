@@ -173,21 +173,17 @@ void scene_enum_hint(char *buf, size_t sz, int k, const char *word) {
 
 /* -------------------------------------------------------------- values */
 
-/* where key k's value is stored in v */
-static char *value_at(scene_values *v, int k) {
-  return (char *)v + scene_keys[k].f->offset;
+/* where key k's value is stored in v (writable when v is, as strchr) */
+static char *value_at(const scene_values *v, int k) {
+  return (char *)(void *)v + scene_keys[k].f->offset;
 }
 
-double *scene_real_at(scene_values *v, int k) {
+double *scene_real_at(const scene_values *v, int k) {
   return (double *)(void *)value_at(v, k);
 }
 
-int *scene_int_at(scene_values *v, int k) {
+int *scene_int_at(const scene_values *v, int k) {
   return (int *)(void *)value_at(v, k);
-}
-
-double scene_value_real(const scene_values *v, int k, int comp) {
-  return scene_real_at((scene_values *)(void *)v, k)[comp < 0 ? 0 : comp];
 }
 
 void scene_value_set(scene_values *v, int k, int comp, double x) {
@@ -215,7 +211,6 @@ void scene_values_default(scene_values *v) {
   v->own.blend_ratio = v->traj.helix.blend / v->traj.helix.period;
 }
 
-/* the shortest %g form of x that reads back as x */
 void scene_format_real(char *buf, size_t sz, double x) {
   int prec;
   for (prec = 15; prec <= 17; prec++) {
@@ -226,14 +221,15 @@ void scene_format_real(char *buf, size_t sz, double x) {
 
 /* ---------------------------------------------------------------- errors */
 
-void scene_error_set(scene_error *err, scene_mark mark, const char *path,
-                     const char *fmt, ...) {
+int scene_error_set(scene_error *err, scene_mark mark, const char *path,
+                    const char *fmt, ...) {
   va_list ap;
   err->mark = mark;
   snprintf(err->path, sizeof err->path, "%s", path);
   va_start(ap, fmt);
   vsnprintf(err->what, sizeof err->what, fmt, ap);
   va_end(ap);
+  return -1;
 }
 
 void scene_error_print(const char *file, const scene_error *err) {
@@ -249,6 +245,10 @@ scene_mark scene_mark_of(const yaml_mark_t *m) {
   r.line = (int)m->line + 1;
   r.column = (int)m->column + 1;
   return r;
+}
+
+int scene_mark_after(scene_mark a, scene_mark b) {
+  return a.line > b.line || (a.line == b.line && a.column > b.column);
 }
 
 void scene_free(scene *s) {

@@ -481,10 +481,6 @@ int scene_key_kind(const scene_key_info *ki);
 /* 1 when key row ki applies to trajectory kind `kind` */
 int scene_key_applies(const scene_key_info *ki, int kind);
 
-/* component comp (0 for a scalar) of number key k (KEY_REAL, KEY_REAL3)
-   in v */
-double scene_value_real(const scene_values *v, int k, int comp);
-
 /* the key with this dotted path, or -1 */
 int scene_key_find(const char *path);
 
@@ -571,9 +567,10 @@ int scene_case_same_grid(const scene_case *a, const scene_case *b);
    once per key, as "FILE:LINE:COL: warning: key: ..." lines on out. */
 void scene_warnings_print(const scene *s, FILE *out);
 
-/* err = mark, path and the formatted message */
-void scene_error_set(scene_error *err, scene_mark mark, const char *path,
-                     const char *fmt, ...);
+/* err = mark, path and the formatted message; returns -1, so that a check
+   fails with `return scene_error_set(...)` (as Lua's luaL_error) */
+int scene_error_set(scene_error *err, scene_mark mark, const char *path,
+                    const char *fmt, ...);
 
 /* Print err as FILE:LINE:COLUMN: path: what, one line, on stderr. */
 void scene_error_print(const char *file, const scene_error *err);

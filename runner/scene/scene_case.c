@@ -38,9 +38,9 @@ void scene_case_what(const scene *s, size_t index, const char *msg, char *buf,
     snprintf(buf, sz, "%s", msg);
 }
 
-void scene_case_error(const scene *s, size_t index, const char *msg,
-                      const rps3_check *chk, int first_key,
-                      const scene_mark *at, scene_error *err) {
+int scene_case_error(const scene *s, size_t index, const char *msg,
+                     const rps3_check *chk, int first_key, const scene_mark *at,
+                     scene_error *err) {
   int named[16], comp[16], n = 0, i, j, m;
   size_t a;
   char what[sizeof err->what];
@@ -50,10 +50,7 @@ void scene_case_error(const scene *s, size_t index, const char *msg,
     named[n++] = first_key;
   }
   if (chk != NULL) {
-    int ids[3];
-    ids[0] = chk->field;
-    ids[1] = chk->related[0];
-    ids[2] = chk->related[1];
+    int ids[3] = {chk->field, chk->related[0], chk->related[1]};
     for (j = 0; j < 3; j++) {
       m = keys_filling(s, ids[j], named + n, 16 - n);
       for (i = n; i < n + m; i++) comp[i] = j == 0 ? chk->comp : -1;
@@ -67,11 +64,11 @@ void scene_case_error(const scene *s, size_t index, const char *msg,
     int key = chk->field == RPS3_F_WP_TIME ? K_WP_TIMES : K_WP_POSES;
     char row[96];
     snprintf(row, sizeof row, "%s[%d]", scene_keys[key].path, chk->comp);
-    scene_error_set(err,
-                    chk->field == RPS3_F_WP_TIME ? s->wp_time_mark[chk->comp]
-                                                 : s->wp_pose_mark[chk->comp],
-                    row, "%s", what);
-    return;
+    return scene_error_set(err,
+                           chk->field == RPS3_F_WP_TIME
+                               ? s->wp_time_mark[chk->comp]
+                               : s->wp_pose_mark[chk->comp],
+                           row, "%s", what);
   }
   /* a table row: point at the file key, and name the file's line */
   for (j = 0; j < 2 && chk != NULL && chk->comp >= 0; j++) {
@@ -82,31 +79,26 @@ void scene_case_error(const scene *s, size_t index, const char *msg,
     if (chk->field < lo || chk->field > lo + 3 || (size_t)chk->comp >= t->n)
       continue;
     table_where(t, (size_t)chk->comp, where, sizeof where);
-    scene_error_set(err, s->mark[key], scene_keys[key].path, "%s: %s", where,
-                    what);
-    return;
+    return scene_error_set(err, s->mark[key], scene_keys[key].path, "%s: %s",
+                           where, what);
   }
   for (i = 0; i < n; i++)
     for (a = 0; a < s->naxis; a++)
       if (s->axis[a].key == named[i] &&
-          (s->axis[a].comp < 0 || comp[i] < 0 || s->axis[a].comp == comp[i])) {
-        scene_error_set(err, s->axis[a].mark[scene_case_coord(s, index, a)],
-                        s->axis[a].path, "%s", what);
-        return;
-      }
+          (s->axis[a].comp < 0 || comp[i] < 0 || s->axis[a].comp == comp[i]))
+        return scene_error_set(err,
+                               s->axis[a].mark[scene_case_coord(s, index, a)],
+                               s->axis[a].path, "%s", what);
   for (i = 0; i < n; i++)
-    if (s->given[named[i]]) {
-      scene_error_set(err, s->mark[named[i]], scene_keys[named[i]].path, "%s",
-                      what);
-      return;
-    }
+    if (s->given[named[i]])
+      return scene_error_set(err, s->mark[named[i]], scene_keys[named[i]].path,
+                             "%s", what);
   if (at != NULL)
-    scene_error_set(err, *at, scene_keys[first_key].path, "%s", what);
-  else if (s->naxis > 0)
-    scene_error_set(err, s->axis[0].mark[scene_case_coord(s, index, 0)],
-                    s->axis[0].path, "%s", what);
-  else
-    scene_error_set(err, s->section[1], "manipulator", "%s", what);
+    return scene_error_set(err, *at, scene_keys[first_key].path, "%s", what);
+  if (s->naxis > 0)
+    return scene_error_set(err, s->axis[0].mark[scene_case_coord(s, index, 0)],
+                           s->axis[0].path, "%s", what);
+  return scene_error_set(err, s->section[1], "manipulator", "%s", what);
 }
 
 /*
@@ -144,16 +136,15 @@ static int effects_rule(const scene *s, size_t index, scene_case *c,
              j ? "pin_friction" : "payload", scene_keys[k].path,
              s->mark[k].line, s->mark[k].column, j ? "pin_friction" : "payload",
              j ? "friction" : "payload");
-    scene_case_error(s, index, msg, NULL, K_EFFECTS, NULL, err);
-    return -1;
+    return scene_case_error(s, index, msg, NULL, K_EFFECTS, NULL, err);
   }
   return 0;
 }
 
 /* err for a dt that does not fit the span of case `index`: q = span / dt
    steps, too many for one case or not a whole number of them */
-static void dt_error(const scene *s, size_t index, const scene_case *c,
-                     double q, scene_error *err) {
+static int dt_error(const scene *s, size_t index, const scene_case *c, double q,
+                    scene_error *err) {
   char msg[256], sa[32], sb[32];
   scene_format_real(sa, sizeof sa, c->span);
   scene_format_real(sb, sizeof sb, c->v.own.dt);
@@ -167,7 +158,7 @@ static void dt_error(const scene *s, size_t index, const scene_case *c,
         msg, sizeof msg,
         "the span %s s is not a whole number of steps dt = %s s (%.6g steps)",
         sa, sb, q);
-  scene_case_error(s, index, msg, NULL, K_DT, NULL, err);
+  return scene_case_error(s, index, msg, NULL, K_DT, NULL, err);
 }
 
 int scene_case_build(const scene *s, size_t index, scene_case *c,
@@ -196,10 +187,8 @@ int scene_case_build(const scene *s, size_t index, scene_case *c,
   if (effects_rule(s, index, c, err)) return -1;
 
   if (rps3_model_init(&c->model, &chk) != RPS3_OK ||
-      (!c->no_traj && rps3_traj_check(&c->model, &c->traj, &chk) != RPS3_OK)) {
-    scene_case_error(s, index, chk.msg, &chk, -1, NULL, err);
-    return -1;
-  }
+      (!c->no_traj && rps3_traj_check(&c->model, &c->traj, &chk) != RPS3_OK))
+    return scene_case_error(s, index, chk.msg, &chk, -1, NULL, err);
   /* a design study without a task: no trajectory, no time grid */
   if (c->no_traj) return 0;
   c->span = rps3_traj_duration(&c->traj);
@@ -209,10 +198,8 @@ int scene_case_build(const scene *s, size_t index, scene_case *c,
   } else {
     double q = c->span / c->v.own.dt, n = floor(q + 0.5);
     if (q >= 2147483646.0 || fabs(q - n) > SCENE_WHOLE_RTOL * (q > 1 ? q : 1) ||
-        n < 1) {
-      dt_error(s, index, c, q, err);
-      return -1;
-    }
+        n < 1)
+      return dt_error(s, index, c, q, err);
     c->nt = (size_t)n + 1;
     c->step = c->v.own.dt;
   }

@@ -89,26 +89,25 @@ static int emit_reals(yaml_emitter_t *em, const double *x, size_t n) {
 /* the value of key k of v, as YAML events */
 static int emit_value(yaml_emitter_t *em, int k, const scene_values *v) {
   char buf[64];
-  scene_values *w = (scene_values *)(void *)v; /* read only */
   const char *file;
   int i, ok = 1;
   size_t r;
   switch (scene_key_get(k)->type) {
   case KEY_REAL:
-    scene_format_real(buf, sizeof buf, *scene_real_at(w, k));
+    scene_format_real(buf, sizeof buf, *scene_real_at(v, k));
     return emit_scalar(em, buf);
-  case KEY_REAL3: return emit_reals(em, scene_real_at(w, k), 3);
+  case KEY_REAL3: return emit_reals(em, scene_real_at(v, k), 3);
   case KEY_INT:
-    snprintf(buf, sizeof buf, "%d", *scene_int_at(w, k));
+    snprintf(buf, sizeof buf, "%d", *scene_int_at(v, k));
     return emit_scalar(em, buf);
-  case KEY_BOOL: return emit_scalar(em, *scene_int_at(w, k) ? "true" : "false");
+  case KEY_BOOL: return emit_scalar(em, *scene_int_at(v, k) ? "true" : "false");
   case KEY_ENUM:
-    return emit_scalar(em, scene_enum_name(k, *scene_int_at(w, k)));
+    return emit_scalar(em, scene_enum_name(k, *scene_int_at(v, k)));
   case KEY_EFFECTS:
   case KEY_OUTPUTS:
     ok = emit_open(em, 1, 1);
     for (i = 0; scene_enum_name(k, i) && ok; i++)
-      if (*scene_int_at(w, k) & (1 << i))
+      if (*scene_int_at(v, k) & (1 << i))
         ok = emit_scalar(em, scene_enum_name(k, i));
     return ok && emit_close(em, 1);
   case KEY_TIMES: return emit_reals(em, v->traj.wp.time, v->traj.wp.n);
@@ -135,11 +134,10 @@ static int case_has_key(const scene_case *c, int k) {
   if (c->no_traj && strncmp(ki->path, "trajectory.", 11) == 0) return 0;
   if (ki->src == SRC_SIM) {
     /* written when simulated; "not given" (NaN, -1) is not a value */
-    scene_values *w = (scene_values *)(void *)&c->v; /* read only */
     if (!c->simulate) return 0;
-    return ki->type == KEY_REAL    ? !isnan(*scene_real_at(w, k))
+    return ki->type == KEY_REAL    ? !isnan(*scene_real_at(&c->v, k))
            : ki->type == KEY_REAL3 ? 1
-                                   : *scene_int_at(w, k) >= 0;
+                                   : *scene_int_at(&c->v, k) >= 0;
   }
   if (ki->req == REQ_ONE_MASS) return (k == K_M_OVER_M) == (c->by_ratio != 0);
   if (ki->req == REQ_ONE_GRID) return (k == K_DT) == (c->by_dt != 0);
@@ -374,7 +372,7 @@ void scene_warnings_print(const scene *s, FILE *out) {
     if (!s->given[k] || !scene_key_applies(ki, s->base.traj.kind)) continue;
     for (comp = 0; comp < (ki->type == KEY_REAL3 ? 3 : ki->type == KEY_REAL);
          comp++) {
-      double x = scene_value_real(&s->base, k, comp);
+      double x = scene_real_at(&s->base, k)[comp];
       const char *why = suspect(quantity(ki, comp), x);
       char key[160];
       if (axis_warn(out, s, k, ki->type == KEY_REAL ? -1 : comp) || !why)

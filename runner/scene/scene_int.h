@@ -17,8 +17,6 @@
    size: used for the range expansion and for span / dt */
 #define SCENE_WHOLE_RTOL 1e-9
 
-/* ------------------------------------------------------ scene.c: keys */
-
 /* the rows of SCENE_KEYS with their field's row */
 extern const scene_key_info scene_keys[SCENE_NKEY];
 
@@ -37,7 +35,8 @@ void scene_value_set(scene_values *v, int k, int comp, double x);
 /* libyaml's 0-based mark as the scene's 1-based line and column */
 scene_mark scene_mark_of(const yaml_mark_t *m);
 
-/* ------------------------------------------------------ scene_parse.c */
+/* 1 when a stands later in the file than b */
+int scene_mark_after(scene_mark a, scene_mark b);
 
 /* the parse of one scene file */
 typedef struct {
@@ -100,21 +99,17 @@ int scene_walk_section(scene_parse_ctx *c, const yaml_node_t *map,
    kind and shape, one of each pair; 0 or -1 */
 int scene_check_keys(scene_parse_ctx *c);
 
-/* ------------------------------------------------------ scene_sweep.c */
-
 /* the sweep mapping map: its axes into c->s and their cases counted into
    c->ncase and c->s->ncase; 0 or -1 */
 int scene_parse_sweep(scene_parse_ctx *c, const yaml_node_t *map);
-
-/* ------------------------------------------- scene_values and emitting */
 
 /* the path shapes (bits 1 << rps3_path_shape) that use key k, for the
    keys that belong to some shapes only; 0 for any other key */
 int scene_shape_mask(int k);
 
 /* where number or int key k's value is stored in v */
-double *scene_real_at(scene_values *v, int k);
-int *scene_int_at(scene_values *v, int k);
+double *scene_real_at(const scene_values *v, int k);
+int *scene_int_at(const scene_values *v, int k);
 
 /* the defaults: the library's Table II model, options and helix */
 void scene_values_default(scene_values *v);
@@ -122,19 +117,15 @@ void scene_values_default(scene_values *v);
 /* x as the scene's files write it: shortest text that reads back equal */
 void scene_format_real(char *buf, size_t sz, double x);
 
-/* ----------------------------------------------------- scene_case.c */
-
 /* err = msg ("case N: msg" in a sweep) at the value case `index` takes of
    a key that sets one of the fields the failed rule chk reads (first_key
    first, then the failing field, then the related ones; a list key's axis
    when it is the failing component or the whole key): its swept value,
    else the key given in the file, else at (path first_key's); without at,
-   the first swept value, else the manipulator section */
-void scene_case_error(const scene *s, size_t index, const char *msg,
-                      const rps3_check *chk, int first_key,
-                      const scene_mark *at, scene_error *err);
-
-/* ------------------------------------------------- design.c: design keys */
+   the first swept value, else the manipulator section; -1 */
+int scene_case_error(const scene *s, size_t index, const char *msg,
+                     const rps3_check *chk, int first_key, const scene_mark *at,
+                     scene_error *err);
 
 /* the design keys against the design section: given (or swept) only in a
    scene that has one, its required keys there, no simulate section beside

@@ -44,8 +44,7 @@ static int read_guarded(const char *path, char **text, size_t *len,
                     "a scene is a regular file (YAML text)", size_rule, text,
                     len, why, sizeof why) == 0)
     return 0;
-  scene_error_set(err, nowhere, "(file)", "%s", why);
-  return -1;
+  return scene_error_set(err, nowhere, "(file)", "%s", why);
 }
 
 /* the UTF-16 or UTF-32 encoding of a text, from its BOM or its NUL bytes
@@ -93,18 +92,14 @@ static int check_bytes(const unsigned char *t, size_t n, scene_error *err) {
   scene_mark at = {1, 1};
   while (i < n) {
     size_t k;
-    if (t[i] == 0) {
-      scene_error_set(err, at, "(file)",
-                      "a NUL byte (byte %zu): not a text file", i);
-      return -1;
-    }
+    if (t[i] == 0)
+      return scene_error_set(err, at, "(file)",
+                             "a NUL byte (byte %zu): not a text file", i);
     k = utf8_len(t + i, n - i);
-    if (k == 0) {
-      scene_error_set(
+    if (k == 0)
+      return scene_error_set(
           err, at, "(file)",
           "invalid UTF-8 (byte %zu is 0x%02X): a scene is UTF-8 text", i, t[i]);
-      return -1;
-    }
     if (t[i] == '\n' || (t[i] == '\r' && (i + 1 == n || t[i + 1] != '\n'))) {
       at.line++;
       at.column = 1;
@@ -206,12 +201,11 @@ static int check_events(const char *text, size_t len, scene_error *err) {
         if (d > 0 && st[d - 1].is_map && st[d - 1].want_key)
           snprintf(path + strlen(path), sizeof path - strlen(path), "%s",
                    d > 1 ? " (a key)" : "(a key)");
-        scene_error_set(err, scene_mark_of(&e.start_mark), path,
-                        "YAML tag '%s%s' is not accepted: write the value "
-                        "plainly (only !!int and !!float may tag a number)",
-                        is_core ? "!!" : "",
-                        is_core ? tag + sizeof core - 1 : tag);
-        rc = -1;
+        rc = scene_error_set(
+            err, scene_mark_of(&e.start_mark), path,
+            "YAML tag '%s%s' is not accepted: write the value plainly (only "
+            "!!int and !!float may tag a number)",
+            is_core ? "!!" : "", is_core ? tag + sizeof core - 1 : tag);
         break;
       }
       if (e.type == YAML_SCALAR_EVENT) {
@@ -220,10 +214,9 @@ static int check_events(const char *text, size_t len, scene_error *err) {
       }
       if (d == SCENE_MAX_DEPTH) {
         path_of(st, d, path, sizeof path);
-        scene_error_set(err, scene_mark_of(&e.start_mark), path,
-                        "nested more than %d levels deep: a scene needs 3",
-                        SCENE_MAX_DEPTH);
-        rc = -1;
+        rc = scene_error_set(err, scene_mark_of(&e.start_mark), path,
+                             "nested more than %d levels deep: a scene needs 3",
+                             SCENE_MAX_DEPTH);
         break;
       }
       memset(&st[d], 0, sizeof st[d]);
@@ -250,13 +243,11 @@ static int check_events(const char *text, size_t len, scene_error *err) {
 static int text_guard(const char *text, size_t len, scene_error *err) {
   const unsigned char *t = (const unsigned char *)text;
   const char *wide = wide_encoding(t, len);
-  if (wide) {
-    scene_error_set(
+  if (wide)
+    return scene_error_set(
         err, nowhere, "(file)",
         "is %s text: save the scene as UTF-8 (e.g. iconv -f UTF-16 -t UTF-8)",
         wide);
-    return -1;
-  }
   if (check_bytes(t, len, err)) return -1;
   return check_events(text, len, err);
 }
@@ -290,10 +281,8 @@ int scene_load(scene *s, const char *path, scene_error *err) {
   scene_values_default(&s->base);
   s->ncase = 1;
   s->file = strdup(path);
-  if (!s->file) {
-    scene_error_set(err, s->section[0], "(file)", "out of memory");
-    return -1;
-  }
+  if (!s->file)
+    return scene_error_set(err, s->section[0], "(file)", "out of memory");
   if (read_guarded(path, &s->text, &s->text_len, err) ||
       text_guard(s->text, s->text_len, err))
     goto fail;

@@ -122,31 +122,24 @@ int scene_parse_number(scene_parse_ctx *c, const yaml_node_t *n,
   char *end;
   scene_mark mk = scene_mark_of(&n->start_mark);
   if (n->type != YAML_SCALAR_NODE || is_null(n) ||
-      n->data.scalar.style != YAML_PLAIN_SCALAR_STYLE) {
-    scene_error_set(c->err, mk, path, "expected %s, got %s",
-                    integer ? "an integer" : "a number", scene_node_kind(n));
-    return -1;
-  }
+      n->data.scalar.style != YAML_PLAIN_SCALAR_STYLE)
+    return scene_error_set(c->err, mk, path, "expected %s, got %s",
+                           integer ? "an integer" : "a number",
+                           scene_node_kind(n));
   t = scene_scalar_text(n);
   /* only decimal notation: strtod would also take hex, inf and nan */
   for (p = t; *p; p++)
     if (!(isdigit((unsigned char)*p) || *p == '+' || *p == '-' ||
-          (!integer && (*p == '.' || *p == 'e' || *p == 'E')))) {
-      scene_error_set(c->err, mk, path, "expected %s, got '%s'",
-                      integer ? "an integer" : "a finite number", t);
-      return -1;
-    }
+          (!integer && (*p == '.' || *p == 'e' || *p == 'E'))))
+      return scene_error_set(c->err, mk, path, "expected %s, got '%s'",
+                             integer ? "an integer" : "a finite number", t);
   errno = 0;
   *out = integer ? (double)strtol(t, &end, 10) : strtod(t, &end);
-  if (end == t || *end != '\0') {
-    scene_error_set(c->err, mk, path, "expected %s, got '%s'",
-                    integer ? "an integer" : "a number", t);
-    return -1;
-  }
-  if (errno == ERANGE || !isfinite(*out)) {
-    scene_error_set(c->err, mk, path, "'%s' is out of range", t);
-    return -1;
-  }
+  if (end == t || *end != '\0')
+    return scene_error_set(c->err, mk, path, "expected %s, got '%s'",
+                           integer ? "an integer" : "a number", t);
+  if (errno == ERANGE || !isfinite(*out))
+    return scene_error_set(c->err, mk, path, "'%s' is out of range", t);
   return 0;
 }
 
@@ -157,15 +150,11 @@ int scene_check_range(scene_parse_ctx *c, int k, double x, scene_mark mk,
   scene_format_real(lo, sizeof lo, f->lo);
   scene_format_real(hi, sizeof hi, f->hi);
   scene_format_real(got, sizeof got, x);
-  if (f->lo_open ? !(x > f->lo) : !(x >= f->lo)) {
-    scene_error_set(c->err, mk, path, "must be %s %s, got %s",
-                    f->lo_open ? ">" : ">=", lo, got);
-    return -1;
-  }
-  if (!(x <= f->hi)) {
-    scene_error_set(c->err, mk, path, "must be <= %s, got %s", hi, got);
-    return -1;
-  }
+  if (f->lo_open ? !(x > f->lo) : !(x >= f->lo))
+    return scene_error_set(c->err, mk, path, "must be %s %s, got %s",
+                           f->lo_open ? ">" : ">=", lo, got);
+  if (!(x <= f->hi))
+    return scene_error_set(c->err, mk, path, "must be <= %s, got %s", hi, got);
   return 0;
 }
 
@@ -189,22 +178,19 @@ int scene_parse_scalar(scene_parse_ctx *c, int k, const yaml_node_t *n,
       *out = t[0] == 't';
       return 0;
     }
-    scene_error_set(c->err, mk, path, "expected true or false, got %s%s%s",
-                    scalar ? "'" : "", t, scalar ? "'" : "");
-    return -1;
+    return scene_error_set(c->err, mk, path,
+                           "expected true or false, got %s%s%s",
+                           scalar ? "'" : "", t, scalar ? "'" : "");
   case KEY_ENUM:
     scene_enum_list(k, list, sizeof list);
-    if (!scalar || is_null(n)) {
-      scene_error_set(c->err, mk, path, "expected one of %s, got %s", list,
-                      scene_node_kind(n));
-      return -1;
-    }
+    if (!scalar || is_null(n))
+      return scene_error_set(c->err, mk, path, "expected one of %s, got %s",
+                             list, scene_node_kind(n));
     v = scene_enum_find(k, t);
     if (v < 0) {
       scene_enum_hint(hint, sizeof hint, k, t);
-      scene_error_set(c->err, mk, path, "unknown value '%s'%s; expected %s", t,
-                      hint, list);
-      return -1;
+      return scene_error_set(
+          c->err, mk, path, "unknown value '%s'%s; expected %s", t, hint, list);
     }
     *out = v;
     return 0;
@@ -219,10 +205,9 @@ long scene_list_len(scene_parse_ctx *c, const yaml_node_t *n, const char *path,
           ? -1
           : (long)(n->data.sequence.items.top - n->data.sequence.items.start);
   if (len >= min && len <= max) return len;
-  scene_error_set(c->err, scene_mark_of(&n->start_mark), path,
-                  "expected %s, got %s", what,
-                  len >= 0 ? other : scene_node_kind(n));
-  return -1;
+  return scene_error_set(c->err, scene_mark_of(&n->start_mark), path,
+                         "expected %s, got %s", what,
+                         len >= 0 ? other : scene_node_kind(n));
 }
 
 const yaml_node_t *scene_item_of(scene_parse_ctx *c, const yaml_node_t *n,
@@ -238,11 +223,11 @@ static int parse_rows(scene_parse_ctx *c, int k, const yaml_node_t *n,
   int poses = scene_keys[k].type == KEY_POSES;
   scene *s = c->s;
   long i, j,
-      rows = scene_list_len(c, n, path, 2, LONG_MAX,
-                            poses ? "a list of at least 2 poses [alpha, beta, "
-                                    "z_c]"
-                                  : "a list of at least 2 numbers",
-                            "a shorter list");
+      rows =
+          scene_list_len(c, n, path, 2, LONG_MAX,
+                         poses ? "a list of at least 2 poses [alpha, beta, z_c]"
+                               : "a list of at least 2 numbers",
+                         "a shorter list");
   double *dst;
   scene_mark *marks;
   char sub[160];
@@ -252,9 +237,8 @@ static int parse_rows(scene_parse_ctx *c, int k, const yaml_node_t *n,
   if (!dst || !marks) {
     free(dst);
     free(marks);
-    scene_error_set(c->err, scene_mark_of(&n->start_mark), path,
-                    "out of memory");
-    return -1;
+    return scene_error_set(c->err, scene_mark_of(&n->start_mark), path,
+                           "out of memory");
   }
   if (poses) {
     s->wp_pose = (double(*)[3])(void *)dst;
@@ -291,15 +275,11 @@ static int parse_file(scene_parse_ctx *c, int k, const yaml_node_t *n,
   table_data *t = &s->table[what];
   char msg[sizeof c->err->what];
   scene_mark mk = scene_mark_of(&n->start_mark);
-  if (n->type != YAML_SCALAR_NODE || is_null(n)) {
-    scene_error_set(c->err, mk, scene_keys[k].path,
-                    "expected a file name, got %s", scene_node_kind(n));
-    return -1;
-  }
-  if (table_read(t, s->file, scene_scalar_text(n), what, msg, sizeof msg)) {
-    scene_error_set(c->err, mk, scene_keys[k].path, "%s", msg);
-    return -1;
-  }
+  if (n->type != YAML_SCALAR_NODE || is_null(n))
+    return scene_error_set(c->err, mk, scene_keys[k].path,
+                           "expected a file name, got %s", scene_node_kind(n));
+  if (table_read(t, s->file, scene_scalar_text(n), what, msg, sizeof msg))
+    return scene_error_set(c->err, mk, scene_keys[k].path, "%s", msg);
   v->file[what] = t->abs;
   if (what == TABLE_POSE) {
     v->traj.table = table_view(t);
@@ -307,10 +287,8 @@ static int parse_file(scene_parse_ctx *c, int k, const yaml_node_t *n,
   }
   /* a path: the polar angles of the rows, followed continuously */
   s->path_psi = malloc(t->n * sizeof *s->path_psi);
-  if (!s->path_psi) {
-    scene_error_set(c->err, mk, scene_keys[k].path, "out of memory");
-    return -1;
-  }
+  if (!s->path_psi)
+    return scene_error_set(c->err, mk, scene_keys[k].path, "out of memory");
   rps3_table_unwrap(t->n, (const double(*)[3])t->value, s->path_psi);
   v->traj.path.table = table_view(t);
   v->traj.path.table_psi = s->path_psi;
@@ -337,16 +315,13 @@ static int parse_names(scene_parse_ctx *c, int k, const yaml_node_t *n,
     e = scalar && !is_null(item) ? scene_enum_find(k, t) : -1;
     if (e < 0) {
       if (scalar) scene_enum_hint(hint, sizeof hint, k, t);
-      scene_error_set(c->err, im, path, "unknown %s %s%s%s%s; expected %s",
-                      what, scalar ? "'" : "", t, scalar ? "'" : "", hint,
-                      list);
-      return -1;
+      return scene_error_set(
+          c->err, im, path, "unknown %s %s%s%s%s; expected %s", what,
+          scalar ? "'" : "", t, scalar ? "'" : "", hint, list);
     }
-    if (bits & (1 << e)) {
-      scene_error_set(c->err, im, path, "%s '%s' listed twice", what,
-                      scene_enum_name(k, e));
-      return -1;
-    }
+    if (bits & (1 << e))
+      return scene_error_set(c->err, im, path, "%s '%s' listed twice", what,
+                             scene_enum_name(k, e));
     bits |= 1 << e;
   }
   *scene_int_at(v, k) = bits;
@@ -394,12 +369,10 @@ int scene_mapping_key(scene_parse_ctx *c, const yaml_node_t *map,
   *name = named ? scene_scalar_text(kn) : "";
   /* an empty name ("" or "? >") would leave the key path blank in the
      message, naming nothing: say what it is and where it stands */
-  if ((*name)[0] == '\0') {
-    scene_error_set(c->err, mk, prefix[0] ? prefix : "(root)",
-                    "a key must be a name, got %s",
-                    named ? "an empty string" : scene_node_kind(kn));
-    return -1;
-  }
+  if ((*name)[0] == '\0')
+    return scene_error_set(c->err, mk, prefix[0] ? prefix : "(root)",
+                           "a key must be a name, got %s",
+                           named ? "an empty string" : scene_node_kind(kn));
   for (q = map->data.mapping.pairs.start; q < pair; q++) {
     const yaml_node_t *other = scene_node_get(c, q->key);
     if (other->type == YAML_SCALAR_NODE &&
@@ -408,9 +381,9 @@ int scene_mapping_key(scene_parse_ctx *c, const yaml_node_t *map,
       char full[160];
       snprintf(full, sizeof full, "%s%s%s", prefix, prefix[0] ? "." : "",
                *name);
-      scene_error_set(c->err, mk, full, "duplicate key (first given at %d:%d)",
-                      om.line, om.column);
-      return -1;
+      return scene_error_set(c->err, mk, full,
+                             "duplicate key (first given at %d:%d)", om.line,
+                             om.column);
     }
   }
   return 0;
@@ -437,12 +410,10 @@ int scene_walk_section(scene_parse_ctx *c, const yaml_node_t *map,
       continue;
     }
     if (is_section(full)) {
-      if (val->type != YAML_MAPPING_NODE) {
-        scene_error_set(c->err, scene_mark_of(&val->start_mark), full,
-                        "expected a mapping of keys, got %s",
-                        scene_node_kind(val));
-        return -1;
-      }
+      if (val->type != YAML_MAPPING_NODE)
+        return scene_error_set(c->err, scene_mark_of(&val->start_mark), full,
+                               "expected a mapping of keys, got %s",
+                               scene_node_kind(val));
       for (sec = 1; sec < 4; sec++)
         if (strcmp(full, top_sections[sec]) == 0)
           s->section[sec] = scene_mark_of(&val->start_mark);
@@ -458,10 +429,9 @@ int scene_walk_section(scene_parse_ctx *c, const yaml_node_t *map,
       char hint[200];
       scene_key_hint(hint, sizeof hint, full, 1);
       keys_under(prefix, list, sizeof list);
-      scene_error_set(c->err,
-                      scene_mark_of(&scene_node_get(c, pair->key)->start_mark),
-                      full, "unknown key%s; expected one of %s", hint, list);
-      return -1;
+      return scene_error_set(
+          c->err, scene_mark_of(&scene_node_get(c, pair->key)->start_mark),
+          full, "unknown key%s; expected one of %s", hint, list);
     }
     if (parse_value(c, k, val, &s->base)) return -1;
     s->given[k] = 1;
@@ -472,24 +442,17 @@ int scene_walk_section(scene_parse_ctx *c, const yaml_node_t *map,
 
 /* ---------------------------------------------------------------- checks */
 
-/* last component of a dotted path */
-static const char *leaf(const char *path) {
-  const char *p = strrchr(path, '.');
-  return p ? p + 1 : path;
-}
-
 /* a waypoints scene has as many poses as times */
 static int check_waypoints(scene_parse_ctx *c) {
   scene *s = c->s;
   if (s->base.traj.kind != RPS3_TRAJ_WAYPOINTS) return 0;
-  if (s->wp_ntime != s->wp_npose) {
-    scene_error_set(c->err, s->mark[K_WP_POSES], scene_keys[K_WP_POSES].path,
-                    "%zu poses for %zu times (trajectory.waypoints.times at "
-                    "%d:%d); give one pose per time",
-                    s->wp_npose, s->wp_ntime, s->mark[K_WP_TIMES].line,
-                    s->mark[K_WP_TIMES].column);
-    return -1;
-  }
+  if (s->wp_ntime != s->wp_npose)
+    return scene_error_set(
+        c->err, s->mark[K_WP_POSES], scene_keys[K_WP_POSES].path,
+        "%zu poses for %zu times (trajectory.waypoints.times at %d:%d); give "
+        "one pose per time",
+        s->wp_npose, s->wp_ntime, s->mark[K_WP_TIMES].line,
+        s->mark[K_WP_TIMES].column);
   s->base.traj.wp.n = s->wp_ntime;
   return 0;
 }
@@ -502,19 +465,14 @@ static int check_shape(scene_parse_ctx *c) {
   for (k = 0; k < SCENE_NKEY; k++) {
     int mask = scene_shape_mask(k);
     if (mask == 0) continue;
-    if (s->given[k] && !(mask & (1 << shape))) {
-      scene_error_set(c->err, s->mark[k], scene_keys[k].path,
-                      "not a key of a %s path",
-                      scene_enum_name(K_PATH_SHAPE, shape));
-      return -1;
-    }
-    if (!s->given[k] && scene_keys[k].req == REQ_SHAPE &&
-        (mask & (1 << shape))) {
-      scene_error_set(c->err, s->mark[K_PATH_SHAPE], scene_keys[k].path,
-                      "missing required key of a %s path",
-                      scene_enum_name(K_PATH_SHAPE, shape));
-      return -1;
-    }
+    if (s->given[k] && !(mask & (1 << shape)))
+      return scene_error_set(c->err, s->mark[k], scene_keys[k].path,
+                             "not a key of a %s path",
+                             scene_enum_name(K_PATH_SHAPE, shape));
+    if (!s->given[k] && scene_keys[k].req == REQ_SHAPE && (mask & (1 << shape)))
+      return scene_error_set(c->err, s->mark[K_PATH_SHAPE], scene_keys[k].path,
+                             "missing required key of a %s path",
+                             scene_enum_name(K_PATH_SHAPE, shape));
   }
   return 0;
 }
@@ -524,29 +482,24 @@ int scene_check_keys(scene_parse_ctx *c) {
   int k, pair;
   /* a design study needs no trajectory (it is the optional task) */
   int design = s->design.line > 0, no_traj = design && s->section[2].line == 0;
-  if (s->section[1].line == 0 || (s->section[2].line == 0 && !design)) {
-    scene_error_set(c->err, s->section[0],
-                    s->section[1].line == 0 ? "manipulator" : "trajectory",
-                    "missing required section");
-    return -1;
-  }
+  if (s->section[1].line == 0 || (s->section[2].line == 0 && !design))
+    return scene_error_set(
+        c->err, s->section[0],
+        s->section[1].line == 0 ? "manipulator" : "trajectory",
+        "missing required section");
   if (scene_design_check_keys(s, c->err)) return -1;
   for (k = 0; k < SCENE_NKEY; k++) {
     const scene_key_info *ki = &scene_keys[k];
     int applies = scene_key_applies(ki, s->base.traj.kind);
     int sec = strncmp(ki->path, "manipulator", 11) == 0 ? 1 : 2;
     if (SCENE_KEY_IS_DESIGN(ki) || (no_traj && sec == 2)) continue;
-    if (!applies && s->given[k]) {
-      scene_error_set(c->err, s->mark[k], ki->path,
-                      "not a key of a %s trajectory",
-                      scene_enum_name(K_KIND, (int)s->base.traj.kind));
-      return -1;
-    }
-    if (applies && ki->req == REQ_YES && !s->given[k]) {
-      scene_error_set(c->err, s->section[sec], ki->path,
-                      "missing required key");
-      return -1;
-    }
+    if (!applies && s->given[k])
+      return scene_error_set(c->err, s->mark[k], ki->path,
+                             "not a key of a %s trajectory",
+                             scene_enum_name(K_KIND, (int)s->base.traj.kind));
+    if (applies && ki->req == REQ_YES && !s->given[k])
+      return scene_error_set(c->err, s->section[sec], ki->path,
+                             "missing required key");
   }
   if (check_waypoints(c) || check_shape(c)) return -1;
   for (pair = 0; pair < 3; pair++) {
@@ -556,25 +509,20 @@ int scene_check_keys(scene_parse_ctx *c) {
     if (!scene_key_applies(&scene_keys[a], s->base.traj.kind) ||
         (no_traj && pair > 0))
       continue;
-    if (!s->given[a] && !s->given[b]) {
-      scene_error_set(c->err, s->section[pair ? 2 : 1], scene_keys[a].path,
-                      "missing: give %s or %s", leaf(scene_keys[a].path),
-                      leaf(scene_keys[b].path));
-      return -1;
-    }
+    if (!s->given[a] && !s->given[b])
+      return scene_error_set(c->err, s->section[pair ? 2 : 1],
+                             scene_keys[a].path, "missing: give %s or %s",
+                             hint_last_part(scene_keys[a].path),
+                             hint_last_part(scene_keys[b].path));
     if (s->given[a] && s->given[b]) {
-      int later = (s->mark[a].line > s->mark[b].line ||
-                   (s->mark[a].line == s->mark[b].line &&
-                    s->mark[a].column > s->mark[b].column))
-                      ? a
-                      : b;
+      int later = scene_mark_after(s->mark[a], s->mark[b]) ? a : b;
       int other = later == a ? b : a;
-      scene_error_set(c->err, s->mark[later], scene_keys[later].path,
-                      "give either %s or %s, not both (%s is at %d:%d)",
-                      leaf(scene_keys[a].path), leaf(scene_keys[b].path),
-                      scene_keys[other].path, s->mark[other].line,
-                      s->mark[other].column);
-      return -1;
+      return scene_error_set(c->err, s->mark[later], scene_keys[later].path,
+                             "give either %s or %s, not both (%s is at %d:%d)",
+                             hint_last_part(scene_keys[a].path),
+                             hint_last_part(scene_keys[b].path),
+                             scene_keys[other].path, s->mark[other].line,
+                             s->mark[other].column);
     }
   }
   return 0;

@@ -42,18 +42,16 @@ static int range_read(scene_parse_ctx *c, const scene_axis *ax,
       ;
     if (k == 4) {
       snprintf(sub, sizeof sub, "%s.%s", ax->path, name);
-      scene_error_set(c->err,
-                      scene_mark_of(&scene_node_get(c, p->key)->start_mark),
-                      sub, "unknown key; expected from, to and num or step");
-      return -1;
+      return scene_error_set(
+          c->err, scene_mark_of(&scene_node_get(c, p->key)->start_mark), sub,
+          "unknown key; expected from, to and num or step");
     }
     r[k] = scene_node_get(c, p->value);
   }
-  if (!r[R_FROM] || !r[R_TO] || (!r[R_NUM] == !r[R_STEP])) {
-    scene_error_set(c->err, scene_mark_of(&map->start_mark), ax->path,
-                    "a range needs from, to and exactly one of num and step");
-    return -1;
-  }
+  if (!r[R_FROM] || !r[R_TO] || (!r[R_NUM] == !r[R_STEP]))
+    return scene_error_set(
+        c->err, scene_mark_of(&map->start_mark), ax->path,
+        "a range needs from, to and exactly one of num and step");
   return 0;
 }
 
@@ -79,41 +77,33 @@ static int range_count(scene_parse_ctx *c, const scene_axis *ax, range_nodes r,
   *step = 0;
   if (r[R_NUM]) {
     if (scene_parse_number(c, nd, sub, 1, &num)) return -1;
-    if (num < 1 || (num == 1 && from != to)) {
-      scene_error_set(c->err, mk, sub,
-                      "must be >= 2 (or 1 with from == to), got %.0f", num);
-      return -1;
-    }
-    if (num * c->ncase > MAX_CASES) {
-      scene_error_set(c->err, mk, sub,
-                      "%.0f values make the sweep more than %.0f cases", num,
-                      MAX_CASES);
-      return -1;
-    }
+    if (num < 1 || (num == 1 && from != to))
+      return scene_error_set(c->err, mk, sub,
+                             "must be >= 2 (or 1 with from == to), got %.0f",
+                             num);
+    if (num * c->ncase > MAX_CASES)
+      return scene_error_set(c->err, mk, sub,
+                             "%.0f values make the sweep more than %.0f cases",
+                             num, MAX_CASES);
     *n = (size_t)num;
     return 0;
   }
   if (scene_parse_number(c, nd, sub, integer, step)) return -1;
   q = span / *step;
-  if (*step == 0 || q < 0) {
-    scene_error_set(c->err, mk, sub,
-                    "must be non-zero with the sign of to - from, got %s",
-                    scene_scalar_text(nd));
-    return -1;
-  }
-  if (!(span - span == 0)) {
-    scene_error_set(c->err, mk, sub,
-                    "to - from overflows (%s to %s): not a range of numbers",
-                    scene_scalar_text(r[R_FROM]), scene_scalar_text(r[R_TO]));
-    return -1;
-  }
-  if ((q + 1) * c->ncase > MAX_CASES) {
-    scene_error_set(
+  if (*step == 0 || q < 0)
+    return scene_error_set(
+        c->err, mk, sub, "must be non-zero with the sign of to - from, got %s",
+        scene_scalar_text(nd));
+  if (!(span - span == 0))
+    return scene_error_set(
+        c->err, mk, sub,
+        "to - from overflows (%s to %s): not a range of numbers",
+        scene_scalar_text(r[R_FROM]), scene_scalar_text(r[R_TO]));
+  if ((q + 1) * c->ncase > MAX_CASES)
+    return scene_error_set(
         c->err, mk, sub,
         "gives %.3g values: the sweep would have more than %.0f cases", q + 1,
         MAX_CASES);
-    return -1;
-  }
   *n = (size_t)floor(q + SCENE_WHOLE_RTOL) + 1;
   return 0;
 }
@@ -142,10 +132,8 @@ static int axis_alloc(scene_parse_ctx *c, scene_axis *ax, size_t n,
   ax->n = n;
   ax->val = malloc(n * sizeof *ax->val);
   ax->mark = malloc(n * sizeof *ax->mark);
-  if (!ax->val || !ax->mark) {
-    scene_error_set(c->err, mk, ax->path, what, n);
-    return -1;
-  }
+  if (!ax->val || !ax->mark)
+    return scene_error_set(c->err, mk, ax->path, what, n);
   return 0;
 }
 
@@ -157,12 +145,11 @@ static int sweep_range(scene_parse_ctx *c, scene_axis *ax,
   range_nodes r;
   double from, to, step;
   int integer = ki->type == KEY_INT;
-  size_t i, n;
-  if (ki->type != KEY_REAL && ki->type != KEY_REAL3 && !integer) {
-    scene_error_set(c->err, mk, ax->path,
-                    "a range needs a numeric key; give a list of values");
-    return -1;
-  }
+  size_t i, n = 0;
+  if (ki->type != KEY_REAL && ki->type != KEY_REAL3 && !integer)
+    return scene_error_set(
+        c->err, mk, ax->path,
+        "a range needs a numeric key; give a list of values");
   if (range_read(c, ax, map, r) ||
       range_number(c, ax, r, R_FROM, integer, &from) ||
       range_number(c, ax, r, R_TO, integer, &to) ||
@@ -171,11 +158,10 @@ static int sweep_range(scene_parse_ctx *c, scene_axis *ax,
     return -1;
   for (i = 0; i < n; i++) {
     double x = range_value(i, n, from, to, step);
-    if (integer && x != floor(x)) {
-      scene_error_set(c->err, mk, ax->path,
-                      "value %zu of the range, %g, is not an integer", i, x);
-      return -1;
-    }
+    if (integer && x != floor(x))
+      return scene_error_set(c->err, mk, ax->path,
+                             "value %zu of the range, %g, is not an integer", i,
+                             x);
     if (scene_check_range(c, ax->key, x, mk, ax->path)) return -1;
     ax->val[i] = x;
     ax->mark[i] = mk;
@@ -193,10 +179,9 @@ static int sweep_key(scene_parse_ctx *c, scene_axis *ax, const char *name,
   const char *br;
   char base[80];
   size_t a;
-  if (strlen(name) >= sizeof ax->path) {
-    scene_error_set(c->err, km, "sweep", "key '%.40s...' is too long", name);
-    return -1;
-  }
+  if (strlen(name) >= sizeof ax->path)
+    return scene_error_set(c->err, km, "sweep", "key '%.40s...' is too long",
+                           name);
   snprintf(ax->path, sizeof ax->path, "%s", name);
   ax->comp = -1;
   /* "key[k]" picks component k of a list key */
@@ -207,46 +192,36 @@ static int sweep_key(scene_parse_ctx *c, scene_axis *ax, const char *name,
   if (ax->key < 0) {
     char hint[200];
     scene_key_hint(hint, sizeof hint, base, 0);
-    scene_error_set(c->err, km, name, "not a scene key%s; see rps3-run --keys",
-                    hint);
-    return -1;
+    return scene_error_set(c->err, km, name,
+                           "not a scene key%s; see rps3-run --keys", hint);
   }
   ki = &scene_keys[ax->key];
   if (br) {
     if (ki->type != KEY_REAL3 || !(br[1] >= '0' && br[1] <= '2') ||
-        strcmp(br + 2, "]") != 0) {
-      scene_error_set(c->err, km, name,
-                      ki->type == KEY_REAL3
-                          ? "component must be [0], [1] or [2]"
-                          : "only a list key takes a component [k]");
-      return -1;
-    }
+        strcmp(br + 2, "]") != 0)
+      return scene_error_set(c->err, km, name,
+                             ki->type == KEY_REAL3
+                                 ? "component must be [0], [1] or [2]"
+                                 : "only a list key takes a component [k]");
     ax->comp = br[1] - '0';
   } else if (ki->type == KEY_REAL3) {
-    scene_error_set(c->err, km, name,
-                    "a list key: sweep one component, as %s[0], [1] or [2]",
-                    name);
-    return -1;
+    return scene_error_set(
+        c->err, km, name,
+        "a list key: sweep one component, as %s[0], [1] or [2]", name);
   }
   if (ki->type == KEY_EFFECTS || ki->type == KEY_OUTPUTS ||
       ki->type == KEY_TIMES || ki->type == KEY_POSES || ki->type == KEY_FILE ||
-      ax->key == K_KIND || ax->key == K_PATH_SHAPE) {
-    scene_error_set(c->err, km, name,
-                    "cannot be swept (it decides what a case computes); write "
-                    "one scene per value");
-    return -1;
-  }
-  if (!scene_key_applies(ki, s->base.traj.kind)) {
-    scene_error_set(c->err, km, name, "not a key of a %s trajectory",
-                    scene_enum_name(K_KIND, (int)s->base.traj.kind));
-    return -1;
-  }
+      ax->key == K_KIND || ax->key == K_PATH_SHAPE)
+    return scene_error_set(c->err, km, name,
+                           "cannot be swept (it decides what a case computes); "
+                           "write one scene per value");
+  if (!scene_key_applies(ki, s->base.traj.kind))
+    return scene_error_set(c->err, km, name, "not a key of a %s trajectory",
+                           scene_enum_name(K_KIND, (int)s->base.traj.kind));
   for (a = 0; a + 1 < s->naxis; a++)
-    if (s->axis[a].key == ax->key && s->axis[a].comp == ax->comp) {
-      scene_error_set(c->err, km, name, "swept twice (also as %s)",
-                      s->axis[a].path);
-      return -1;
-    }
+    if (s->axis[a].key == ax->key && s->axis[a].comp == ax->comp)
+      return scene_error_set(c->err, km, name, "swept twice (also as %s)",
+                             s->axis[a].path);
   return 0;
 }
 
@@ -256,11 +231,9 @@ static int sweep_values(scene_parse_ctx *c, scene_axis *ax,
   long i, n;
   if (val->type == YAML_MAPPING_NODE) return sweep_range(c, ax, val);
   if (val->type == YAML_SEQUENCE_NODE &&
-      val->data.sequence.items.top == val->data.sequence.items.start) {
-    scene_error_set(c->err, scene_mark_of(&val->start_mark), ax->path,
-                    "empty list of values");
-    return -1;
-  }
+      val->data.sequence.items.top == val->data.sequence.items.start)
+    return scene_error_set(c->err, scene_mark_of(&val->start_mark), ax->path,
+                           "empty list of values");
   n = scene_list_len(c, val, ax->path, 1, LONG_MAX,
                      "a list of values, {from, to, num} or {from, to, step}",
                      "");
@@ -278,20 +251,17 @@ int scene_parse_sweep(scene_parse_ctx *c, const yaml_node_t *map) {
   yaml_node_pair_t *pair;
   size_t npair;
   if (map->type != YAML_MAPPING_NODE ||
-      map->data.mapping.pairs.top == map->data.mapping.pairs.start) {
-    scene_error_set(c->err, scene_mark_of(&map->start_mark), "sweep",
-                    "expected a mapping of dotted keys to values, got %s",
-                    map->type == YAML_MAPPING_NODE ? "an empty mapping"
-                                                   : scene_node_kind(map));
-    return -1;
-  }
+      map->data.mapping.pairs.top == map->data.mapping.pairs.start)
+    return scene_error_set(
+        c->err, scene_mark_of(&map->start_mark), "sweep",
+        "expected a mapping of dotted keys to values, got %s",
+        map->type == YAML_MAPPING_NODE ? "an empty mapping"
+                                       : scene_node_kind(map));
   npair = (size_t)(map->data.mapping.pairs.top - map->data.mapping.pairs.start);
   s->axis = calloc(npair, sizeof *s->axis);
-  if (!s->axis) {
-    scene_error_set(c->err, scene_mark_of(&map->start_mark), "sweep",
-                    "out of memory");
-    return -1;
-  }
+  if (!s->axis)
+    return scene_error_set(c->err, scene_mark_of(&map->start_mark), "sweep",
+                           "out of memory");
   for (pair = map->data.mapping.pairs.start; pair < map->data.mapping.pairs.top;
        pair++) {
     scene_mark km = scene_mark_of(&scene_node_get(c, pair->key)->start_mark);
@@ -303,11 +273,9 @@ int scene_parse_sweep(scene_parse_ctx *c, const yaml_node_t *map) {
         sweep_values(c, ax, scene_node_get(c, pair->value), km))
       return -1;
     c->ncase *= (double)ax->n;
-    if (c->ncase > MAX_CASES) {
-      scene_error_set(c->err, km, name, "the sweep has more than %.0f cases",
-                      MAX_CASES);
-      return -1;
-    }
+    if (c->ncase > MAX_CASES)
+      return scene_error_set(c->err, km, name,
+                             "the sweep has more than %.0f cases", MAX_CASES);
     /* a swept key counts as given; its mark is its first value */
     s->given[ax->key] = 1;
     if (s->mark[ax->key].line == 0) s->mark[ax->key] = ax->mark[0];

@@ -28,11 +28,12 @@ const char *const table_col_names[2][TABLE_NCOL] = {
     {"t", "x", "y", "z", "x_dot", "y_dot", "z_dot", "x_ddot", "y_ddot",
      "z_ddot"}};
 
-void table_err(char *err, size_t errsz, const char *fmt, ...) {
+int table_err(char *err, size_t errsz, const char *fmt, ...) {
   va_list ap;
   va_start(ap, fmt);
   vsnprintf(err, errsz, fmt, ap);
   va_end(ap);
+  return -1;
 }
 
 void table_free(table_data *t) {
@@ -72,13 +73,11 @@ int table_alloc_rows(table_data *t, size_t n, int with_acc, int with_line,
      spline's), the accelerations, the spline's work, the CSV line */
   double row = sizeof(double) * (8.0 + (with_acc ? 3.0 : 0.0)) +
                (with_line ? (double)sizeof(int) : 0.0);
-  if ((double)n * row > TABLE_MAX_BYTES) {
-    table_err(err, errsz,
-              "%s: %zu rows need %.3g GB in memory (%.0f bytes a row): above "
-              "the table limit of 1 GiB",
-              t->path, n, (double)n * row / 1e9, row);
-    return -1;
-  }
+  if ((double)n * row > TABLE_MAX_BYTES)
+    return table_err(err, errsz,
+                     "%s: %zu rows need %.3g GB in memory (%.0f bytes a row): "
+                     "above the table limit of 1 GiB",
+                     t->path, n, (double)n * row / 1e9, row);
   t->n = n;
   t->time = malloc(m * sizeof *t->time);
   t->value = malloc(m * sizeof *t->value);
@@ -88,8 +87,7 @@ int table_alloc_rows(table_data *t, size_t n, int with_acc, int with_line,
   if (t->time && t->value && t->rate && (t->acc || !with_acc) &&
       (t->line || !with_line))
     return 0;
-  table_err(err, errsz, "%s: out of memory for %zu rows", t->path, n);
-  return -1;
+  return table_err(err, errsz, "%s: out of memory for %zu rows", t->path, n);
 }
 
 double *table_cell(table_data *t, size_t r, int c) {
@@ -113,27 +111,24 @@ int table_columns_check(const int have[TABLE_NCOL], int what, int hdf5,
   const char *kind = hdf5 ? "dataset /" : "column ";
   const char *const *n = table_col_names[what];
   for (c = 0; c < 4; c++)
-    if (!have[c]) {
-      table_err(err, errsz, "%s: missing %s%s (a table has %s, %s, %s, %s)",
-                file, kind, n[c], n[0], n[1], n[2], n[3]);
-      return -1;
-    }
+    if (!have[c])
+      return table_err(err, errsz,
+                       "%s: missing %s%s (a table has %s, %s, %s, %s)", file,
+                       kind, n[c], n[0], n[1], n[2], n[3]);
   for (g = 4; g < TABLE_NCOL; g += 3)
     if (have[g] + have[g + 1] + have[g + 2] != 0 &&
         have[g] + have[g + 1] + have[g + 2] != 3) {
       for (c = g; have[c]; c++)
         ;
-      table_err(err, errsz, "%s: missing %s%s (give the three %s or none)",
-                file, kind, n[c], g == 4 ? "rates" : "accelerations");
-      return -1;
+      return table_err(err, errsz,
+                       "%s: missing %s%s (give the three %s or none)", file,
+                       kind, n[c], g == 4 ? "rates" : "accelerations");
     }
-  if (have[7] && !have[4]) {
-    table_err(
+  if (have[7] && !have[4])
+    return table_err(
         err, errsz,
         "%s: accelerations (%s%s, ...) need the rates (%s%s, ...) as well",
         file, kind, n[7], kind, n[4]);
-    return -1;
-  }
   return 0;
 }
 
@@ -148,11 +143,9 @@ static int parse_field(char *s, char *e, double *x, const char *file, int line,
   while (s < e && (*s == ' ' || *s == '\t')) s++;
   while (e > s && (e[-1] == ' ' || e[-1] == '\t')) e--;
   col = (int)(s - start) + 1; /* of the number itself, blanks skipped */
-  if (e == s) {
-    table_err(err, errsz, "%s:%d:%d: column %s: empty field", file, line, col,
-              name);
-    return -1;
-  }
+  if (e == s)
+    return table_err(err, errsz, "%s:%d:%d: column %s: empty field", file, line,
+                     col, name);
   /* the field as quoted in a message: its first 40 bytes */
   snprintf(q, sizeof q, "'%.*s'%s", e - s > 40 ? 40 : (int)(e - s), s,
            e - s > 40 ? "..." : "");
@@ -174,8 +167,8 @@ static int parse_field(char *s, char *e, double *x, const char *file, int line,
              q);
   *e = keep;
   if (why[0] == '\0') return 0;
-  table_err(err, errsz, "%s:%d:%d: column %s: %s", file, line, col, name, why);
-  return -1;
+  return table_err(err, errsz, "%s:%d:%d: column %s: %s", file, line, col, name,
+                   why);
 }
 
 /* the header line [s, e): column c of the file is col[c] (0..TABLE_NCOL-1) */
@@ -206,10 +199,10 @@ static int csv_header(const char *s, const char *e, int what, int *col,
       snprintf(name, sizeof name, "%.*s", (int)(b - a), a);
       if (c == TABLE_NCOL)
         hint_text(hint, sizeof hint, name, table_col_names[what], TABLE_NCOL);
-      table_err(err, errsz, "%s:%d:%d: column '%s': %s%s; expected %s", file,
-                line, (int)(a - s) + 1, name,
-                c < TABLE_NCOL ? "given twice" : "unknown column", hint, list);
-      return -1;
+      return table_err(err, errsz, "%s:%d:%d: column '%s': %s%s; expected %s",
+                       file, line, (int)(a - s) + 1, name,
+                       c < TABLE_NCOL ? "given twice" : "unknown column", hint,
+                       list);
     }
     have[c] = 1;
     col[(*ncol)++] = c;
@@ -226,10 +219,8 @@ static const char kind_rule[] = "a table is a regular file of at most 1 GiB";
 
 int table_regular_file(const char *path, char *err, size_t errsz) {
   struct stat st;
-  if (stat(path, &st) != 0) {
-    table_err(err, errsz, "%s: cannot open: %s", path, strerror(errno));
-    return -1;
-  }
+  if (stat(path, &st) != 0)
+    return table_err(err, errsz, "%s: cannot open: %s", path, strerror(errno));
   if (!S_ISREG(st.st_mode))
     table_err(err, errsz, "%s: is %s: %s", path, file_kind(st.st_mode),
               kind_rule);

@@ -78,29 +78,32 @@ static void h5_units(hid_t d, char *buf, size_t sz) {
 }
 
 /* err = "FILE: dataset /NAME" and the formatted rest (": what", or
-   ", row R: what") */
-static void col_err(char *err, size_t errsz, const char *path, const char *name,
-                    const char *fmt, ...) __attribute__((format(printf, 5, 6)));
-static void col_err(char *err, size_t errsz, const char *path, const char *name,
-                    const char *fmt, ...) {
+   ", row R: what"); -1 */
+__attribute__((format(printf, 5, 6))) static int col_err(char *err,
+                                                         size_t errsz,
+                                                         const char *path,
+                                                         const char *name,
+                                                         const char *fmt, ...) {
   va_list ap;
   int n = snprintf(err, errsz, "%s: dataset /%s", path, name);
   va_start(ap, fmt);
   if (n >= 0 && (size_t)n < errsz)
     vsnprintf(err + n, errsz - (size_t)n, fmt, ap);
   va_end(ap);
+  return -1;
 }
 
 /* "FILE: dataset /NAME: cannot WHAT: CAUSE" for the HDF5 call that just
    failed (printing is off while a table is read; h5err.h), the cause a
-   plain sentence when HDF5 recorded none; NAME NULL for the file itself */
-static void h5_fail(char *err, size_t errsz, const char *path, const char *name,
-                    const char *what) {
+   plain sentence when HDF5 recorded none; NAME NULL for the file itself;
+   -1 */
+static int h5_fail(char *err, size_t errsz, const char *path, const char *name,
+                   const char *what) {
   char why[400];
   h5_cause(why, sizeof why);
-  table_err(err, errsz, "%s: %s%s%scannot %s: %s", path,
-            name ? "dataset /" : "", name ? name : "", name ? ": " : "", what,
-            why[0] ? why : "the HDF5 library gave no cause");
+  return table_err(err, errsz, "%s: %s%s%scannot %s: %s", path,
+                   name ? "dataset /" : "", name ? name : "", name ? ": " : "",
+                   what, why[0] ? why : "the HDF5 library gave no cause");
 }
 
 /* a units attribute must name the column's SI unit: a column in degrees
@@ -114,10 +117,9 @@ static int h5_units_check(hid_t d, const char *path, const char *name, int what,
   if (units[0] == '\0') return 0;
   for (i = 0; ok[i][0] != '\0'; i++)
     if (strcmp(units, ok[i]) == 0) return 0;
-  col_err(err, errsz, path, name,
-          ": units '%s', but the table is in %s: convert the column", units,
-          ok[0]);
-  return -1;
+  return col_err(err, errsz, path, name,
+                 ": units '%s', but the table is in %s: convert the column",
+                 units, ok[0]);
 }
 
 /* the type classes that are not numbers, as a message names them */
@@ -130,6 +132,9 @@ static const char *class_name(H5T_class_t c) {
                                                             : "an unknown";
 }
 
+/* the rule a column stored elsewhere breaks, after what it is */
+#define IN_FILE ": a table's columns must be stored in the table file itself"
+
 /* the link of a column: a hard link, or a soft link to an object of this
    file; an external link (another file) or a user-defined one is refused */
 static int h5_link_check(hid_t f, const char *path, const char *name, char *err,
@@ -139,24 +144,19 @@ static int h5_link_check(hid_t f, const char *path, const char *name, char *err,
   const char *file = NULL, *obj = NULL;
   unsigned flags;
   int rc = -1;
-  if (H5Lget_info(f, name, &li, H5P_DEFAULT) < 0) {
-    h5_fail(err, errsz, path, name, "read its link");
-    return -1;
-  }
+  if (H5Lget_info(f, name, &li, H5P_DEFAULT) < 0)
+    return h5_fail(err, errsz, path, name, "read its link");
   if (li.type == H5L_TYPE_HARD) return 0;
-  if (li.type != H5L_TYPE_SOFT && li.type != H5L_TYPE_EXTERNAL) {
-    col_err(err, errsz, path, name,
-            ": a user-defined link (type %d): a table's columns are datasets "
-            "of the file itself",
-            (int)li.type);
-    return -1;
-  }
+  if (li.type != H5L_TYPE_SOFT && li.type != H5L_TYPE_EXTERNAL)
+    return col_err(err, errsz, path, name,
+                   ": a user-defined link (type %d): a table's columns are "
+                   "datasets of the file itself",
+                   (int)li.type);
   /* the link's value: a path (soft), or a file and a path (external) */
-  if (li.u.val_size > 65536 || (val = calloc(li.u.val_size + 1, 1)) == NULL) {
-    col_err(err, errsz, path, name, ": a %s link of %zu bytes",
-            li.type == H5L_TYPE_SOFT ? "soft" : "external", li.u.val_size);
-    return -1;
-  }
+  if (li.u.val_size > 65536 || (val = calloc(li.u.val_size + 1, 1)) == NULL)
+    return col_err(err, errsz, path, name, ": a %s link of %zu bytes",
+                   li.type == H5L_TYPE_SOFT ? "soft" : "external",
+                   li.u.val_size);
   if (H5Lget_val(f, name, val, li.u.val_size, H5P_DEFAULT) < 0) {
     h5_fail(err, errsz, path, name, "read its link");
   } else if (li.type == H5L_TYPE_SOFT) {
@@ -171,13 +171,10 @@ static int h5_link_check(hid_t f, const char *path, const char *name, char *err,
   } else if (H5Lunpack_elink_val(val, li.u.val_size, &flags, &file, &obj) >=
              0) {
     col_err(err, errsz, path, name,
-            ": an external link to %.200s:%.200s: a table's columns must be "
-            "stored in the table file itself",
-            file, obj);
+            ": an external link to %.200s:%.200s" IN_FILE, file, obj);
   } else {
     col_err(err, errsz, path, name,
-            ": an external link (to another file): a table's columns must be "
-            "stored in the table file itself");
+            ": an external link (to another file)" IN_FILE);
   }
   free(val);
   return rc;
@@ -211,10 +208,7 @@ static int h5_storage_check(hid_t f, hid_t d, const char *path,
                             const char *name, char *err, size_t errsz) {
   hid_t p = H5Dget_create_plist(d);
   int rc = -1, next;
-  if (p < 0) {
-    h5_fail(err, errsz, path, name, "read how it is stored");
-    return -1;
-  }
+  if (p < 0) return h5_fail(err, errsz, path, name, "read how it is stored");
   next = H5Pget_external_count(p);
   if (H5Pget_layout(p) == H5D_VIRTUAL) {
     size_t nsrc = 0;
@@ -224,15 +218,13 @@ static int h5_storage_check(hid_t f, hid_t d, const char *path,
         H5Pget_virtual_dsetname(p, 0, dset, sizeof dset) >= 0) {
       file[sizeof file - 1] = dset[sizeof dset - 1] = '\0';
       col_err(err, errsz, path, name,
-              ": a virtual dataset, its rows in %.200s:%.200s%s%s: a table's "
-              "columns must be stored in the table file itself",
+              ": a virtual dataset, its rows in %.200s:%.200s%s%s" IN_FILE,
               file, dset,
               h5_source_exists(f, path, file, dset) ? "" : ", which is missing",
               nsrc > 1 ? " and other sources" : "");
     } else {
       col_err(err, errsz, path, name,
-              ": a virtual dataset (its rows in other datasets): a table's "
-              "columns must be stored in the table file itself");
+              ": a virtual dataset (its rows in other datasets)" IN_FILE);
     }
     H5Eclear2(H5E_DEFAULT);
   } else if (next != 0) {
@@ -245,9 +237,8 @@ static int h5_storage_check(hid_t f, hid_t d, const char *path,
       snprintf(file, sizeof file, "?");
     H5Eclear2(H5E_DEFAULT);
     col_err(err, errsz, path, name,
-            ": stored in the external raw file '%.200s'%s: a table's columns "
-            "must be stored in the table file itself",
-            file, next > 1 ? " and others" : "");
+            ": stored in the external raw file '%.200s'%s" IN_FILE, file,
+            next > 1 ? " and others" : "");
   } else {
     rc = 0;
   }
@@ -268,13 +259,11 @@ static int h5_column_type(hid_t d, const char *path, const char *name,
   }
   *el = H5Tget_size(ty);
   H5Tclose(ty);
-  if (cls != H5T_INTEGER && cls != H5T_FLOAT) {
-    col_err(err, errsz, path, name,
-            ": of %s type, not numbers (a column holds integers or "
-            "floating-point numbers)",
-            class_name(cls));
-    return -1;
-  }
+  if (cls != H5T_INTEGER && cls != H5T_FLOAT)
+    return col_err(err, errsz, path, name,
+                   ": of %s type, not numbers (a column holds integers or "
+                   "floating-point numbers)",
+                   class_name(cls));
   return 0;
 }
 
@@ -284,10 +273,7 @@ static int h5_column_rows(hid_t d, const char *path, const char *name,
   hid_t sp = H5Dget_space(d);
   int nd;
   H5S_class_t type;
-  if (sp < 0) {
-    h5_fail(err, errsz, path, name, "read its shape");
-    return -1;
-  }
+  if (sp < 0) return h5_fail(err, errsz, path, name, "read its shape");
   nd = H5Sget_simple_extent_ndims(sp);
   type = H5Sget_simple_extent_type(sp);
   if (type == H5S_SIMPLE && nd == 1 &&
@@ -319,18 +305,14 @@ static int h5_open_column(hid_t f, const char *path, const char *name, int what,
   H5I_type_t kind;
   if (h5_link_check(f, path, name, err, errsz)) return -1;
   d = H5Oopen(f, name, H5P_DEFAULT);
-  if (d < 0) {
-    h5_fail(err, errsz, path, name, "be opened");
-    return -1;
-  }
+  if (d < 0) return h5_fail(err, errsz, path, name, "be opened");
   kind = H5Iget_type(d);
   if (kind != H5I_DATASET) {
-    col_err(err, errsz, path, name, ": a %s, not a dataset",
-            kind == H5I_GROUP      ? "group"
-            : kind == H5I_DATATYPE ? "named datatype"
-                                   : "object of another kind");
     H5Oclose(d);
-    return -1;
+    return col_err(err, errsz, path, name, ": a %s, not a dataset",
+                   kind == H5I_GROUP      ? "group"
+                   : kind == H5I_DATATYPE ? "named datatype"
+                                          : "object of another kind");
   }
   if (h5_storage_check(f, d, path, name, err, errsz) ||
       h5_column_type(d, path, name, &el, err, errsz) ||
@@ -341,12 +323,11 @@ static int h5_open_column(hid_t f, const char *path, const char *name, int what,
   }
   *bytes = (double)*rows * (double)(el > sizeof(double) ? el : sizeof(double));
   if (*bytes > TABLE_MAX_BYTES) {
-    col_err(err, errsz, path, name,
-            ": declares %llu rows of %zu-byte numbers, %.3g GB as read: above "
-            "the table limit of 1 GiB",
-            (unsigned long long)*rows, el, *bytes / 1e9);
     H5Oclose(d);
-    return -1;
+    return col_err(err, errsz, path, name,
+                   ": declares %llu rows of %zu-byte numbers, %.3g GB as read: "
+                   "above the table limit of 1 GiB",
+                   (unsigned long long)*rows, el, *bytes / 1e9);
   }
   *out = d;
   return 0;
@@ -381,11 +362,9 @@ static int h5_read_column(hid_t d, table_data *t, const char *name, int c,
   if (x < 0) return -1;
   for (r = 0; r < t->n; r++) {
     double v = *table_cell(t, r, c);
-    if (table_bad_number(v)) {
-      col_err(err, errsz, t->path, name, ", row %zu: %g %s", r, v,
-              table_bad_number(v));
-      return -1;
-    }
+    if (table_bad_number(v))
+      return col_err(err, errsz, t->path, name, ", row %zu: %g %s", r, v,
+                     table_bad_number(v));
   }
   return 0;
 }
@@ -394,8 +373,8 @@ int table_h5_read(table_data *t, int what, char *err, size_t errsz) {
   H5E_auto2_t fn;
   void *data;
   hid_t f, d[TABLE_NCOL];
-  hsize_t rows;
-  double bytes, sum = 0.0;
+  hsize_t rows = 0;
+  double bytes = 0.0, sum = 0.0;
   int have[TABLE_NCOL] = {0}, c, rc = -1;
   const char *const *names = table_col_names[what];
   for (c = 0; c < TABLE_NCOL; c++) d[c] = -1;

@@ -9,7 +9,8 @@
 
 #include "table.h"
 
-void table_err(char *err, size_t errsz, const char *fmt, ...)
+/* err = the formatted message; returns -1 (`return table_err(...)`) */
+int table_err(char *err, size_t errsz, const char *fmt, ...)
     __attribute__((format(printf, 3, 4)));
 
 /* the largest table: its file (stat) and what it declares and holds in

@@ -8,6 +8,7 @@
  */
 #define _XOPEN_SOURCE 700 /* realpath */
 
+#include "scene_int.h"
 #include "table.h"
 #include "table_int.h"
 
@@ -25,15 +26,9 @@ static void col_label(const table_data *t, int what, int c, char *buf,
            table_col_names[what][c]);
 }
 
-/* x in the fewest significant digits (15 to 17) that read back as x,
-   as the file most likely wrote it */
+/* x as the file most likely wrote it (scene_format_real) */
 static const char *num(char buf[32], double x) {
-  int p;
-  for (p = 15; p < 17; p++) {
-    snprintf(buf, 32, "%.*g", p, x);
-    if (strtod(buf, NULL) == x) return buf;
-  }
-  snprintf(buf, 32, "%.17g", x);
+  scene_format_real(buf, 32, x);
   return buf;
 }
 
@@ -62,37 +57,31 @@ static int table_step_time(const table_data *t, int what, size_t r,
   col_label(t, what, 0, lt, sizeof lt);
   num(n1, t->time[r]);
   num(n2, t->time[r - 1]);
-  if (!(t->time[r] > t->time[r - 1])) {
-    table_err(err, errsz, "%s: %s: %s after %s: times must increase strictly",
-              where, lt, n1, n2);
-    return -1;
-  }
-  if (!isfinite(t->time[r] - t->time[0])) {
-    table_err(
+  if (!(t->time[r] > t->time[r - 1]))
+    return table_err(err, errsz,
+                     "%s: %s: %s after %s: times must increase strictly", where,
+                     lt, n1, n2);
+  if (!isfinite(t->time[r] - t->time[0]))
+    return table_err(
         err, errsz,
         "%s: %s: %s is more than 1.8e308 s after the first row's %s: the time "
         "range overflows a double (the times must span less than 1.8e308 s)",
         where, lt, n1, num(n2, t->time[0]));
-    return -1;
-  }
-  if (h < scale * TIME_RESOLUTION) {
-    table_err(
+  if (h < scale * TIME_RESOLUTION)
+    return table_err(
         err, errsz,
         "%s: %s: %s after %s: the rows are %.3g s apart, too close relative to "
         "the time scale %.3g s (the largest |t|): a step must be at least "
         "1.5e-11 of it, or the time within the step rounds by more than 1.5e-5 "
         "of the step; subtract an offset from the times or thin the rows",
         where, lt, n1, n2, h, scale);
-    return -1;
-  }
-  if (h * h < DBL_MIN) {
-    table_err(err, errsz,
-              "%s: %s: %s after %s: the rows are %.3g s apart, a spacing too "
-              "small for a double: the interpolant's acceleration divides by "
-              "the step squared, which underflows below 1.5e-154 s",
-              where, lt, n1, n2, h);
-    return -1;
-  }
+  if (h * h < DBL_MIN)
+    return table_err(
+        err, errsz,
+        "%s: %s: %s after %s: the rows are %.3g s apart, a spacing too small "
+        "for a double: the interpolant's acceleration divides by the step "
+        "squared, which underflows below 1.5e-154 s",
+        where, lt, n1, n2, h);
   return 0;
 }
 
@@ -105,13 +94,11 @@ static int table_step_value(const table_data *t, int what, size_t r, int k,
   double h = t->time[r] - t->time[r - 1];
   double dv = t->value[r][k] - t->value[r - 1][k], mv, mr, ma;
   col_label(t, what, 1 + k, lc, sizeof lc);
-  if (!isfinite(dv)) {
-    table_err(
+  if (!isfinite(dv))
+    return table_err(
         err, errsz,
         "%s: %s: %s after %s: the change between the rows overflows a double",
         where, lc, num(n1, t->value[r][k]), num(n2, t->value[r - 1][k]));
-    return -1;
-  }
   /* the interpolant's acceleration: change / h^2, and with the file's
      rates rate / h, with its accelerations their own */
   mv = fabs(dv) / h / h;
@@ -119,23 +106,21 @@ static int table_step_value(const table_data *t, int what, size_t r, int k,
                       : 0.0;
   ma = t->acc != NULL ? fabs(t->acc[r][k]) + fabs(t->acc[r - 1][k]) : 0.0;
   if (mv + mr + ma < DERIV_MAX) return 0;
-  if (mv >= mr && mv >= ma) {
-    table_err(err, errsz,
-              "%s: %s: changes by %.3g in %.3g s from the previous row: the "
-              "spacing of the rows is too small for so large a change, the "
-              "interpolant's rate and acceleration across the step (of order "
-              "change / step^2) overflow a double",
-              where, lc, dv, h);
-    return -1;
-  }
+  if (mv >= mr && mv >= ma)
+    return table_err(err, errsz,
+                     "%s: %s: changes by %.3g in %.3g s from the previous row: "
+                     "the spacing of the rows is too small for so large a "
+                     "change, the interpolant's rate and acceleration across "
+                     "the step (of order change / step^2) overflow a double",
+                     where, lc, dv, h);
   col_label(t, what, mr >= ma ? 4 + k : 7 + k, lr, sizeof lr);
-  table_err(err, errsz,
-            "%s: %s: %.3g and %.3g across a step of %.3g s: the interpolant's "
-            "acceleration there (of order %s) overflows a double",
-            where, lr, mr >= ma ? t->rate[r - 1][k] : t->acc[r - 1][k],
-            mr >= ma ? t->rate[r][k] : t->acc[r][k], h,
-            mr >= ma ? "rate / step" : "the accelerations themselves");
-  return -1;
+  return table_err(
+      err, errsz,
+      "%s: %s: %.3g and %.3g across a step of %.3g s: the interpolant's "
+      "acceleration there (of order %s) overflows a double",
+      where, lr, mr >= ma ? t->rate[r - 1][k] : t->acc[r - 1][k],
+      mr >= ma ? t->rate[r][k] : t->acc[r][k], h,
+      mr >= ma ? "rate / step" : "the accelerations themselves");
 }
 
 static int table_steps(table_data *t, int what, char *err, size_t errsz) {
@@ -158,22 +143,18 @@ static int table_finish(table_data *t, int what, char *err, size_t errsz) {
   char where[300];
   double *work;
   int min = t->rates_given ? 2 : 4, k, x;
-  if (t->n < (size_t)min) {
-    table_err(err, errsz, "%s: %zu rows; a table needs at least %d%s", t->path,
-              t->n, min,
-              t->rates_given ? ""
-                             : " without rate columns (the not-a-knot spline "
-                               "that gives the rates)");
-    return -1;
-  }
+  if (t->n < (size_t)min)
+    return table_err(err, errsz, "%s: %zu rows; a table needs at least %d%s",
+                     t->path, t->n, min,
+                     t->rates_given ? ""
+                                    : " without rate columns (the not-a-knot "
+                                      "spline that gives the rates)");
   if (table_steps(t, what, err, errsz)) return -1;
   if (t->rates_given) return 0;
   work = malloc(t->n * sizeof *work);
-  if (!work) {
-    table_err(err, errsz, "%s: out of memory for the spline of %zu rows",
-              t->path, t->n);
-    return -1;
-  }
+  if (!work)
+    return table_err(err, errsz, "%s: out of memory for the spline of %zu rows",
+                     t->path, t->n);
   x = rps3_table_spline(t->n, t->time, (const double(*)[3])t->value, t->rate,
                         work);
   free(work);
@@ -185,15 +166,14 @@ static int table_finish(table_data *t, int what, char *err, size_t errsz) {
         char lc[40];
         table_where(t, r, where, sizeof where);
         col_label(t, what, 1 + k, lc, sizeof lc);
-        table_err(err, errsz,
-                  "%s: %s: the spline's rate at this row overflows a double "
-                  "(the values change too fast for the spacing of the rows)",
-                  where, lc);
-        return -1;
+        return table_err(
+            err, errsz,
+            "%s: %s: the spline's rate at this row overflows a double (the "
+            "values change too fast for the spacing of the rows)",
+            where, lc);
       }
-  table_err(err, errsz, "%s: the spline of the rows failed (%s)", t->path,
-            rps3_strerror(x));
-  return -1;
+  return table_err(err, errsz, "%s: the spline of the rows failed (%s)",
+                   t->path, rps3_strerror(x));
 }
 
 /* the path of name relative to the directory of scene_file */
@@ -255,15 +235,9 @@ int table_read(table_data *t, const char *scene_file, const char *name,
   char *abs;
   memset(t, 0, sizeof *t);
   if (errsz > 0) err[0] = '\0';
-  if (name[0] == '\0') {
-    table_err(err, errsz, "an empty file name");
-    return -1;
-  }
+  if (name[0] == '\0') return table_err(err, errsz, "an empty file name");
   t->path = path_join(scene_file, name);
-  if (!t->path) {
-    table_err(err, errsz, "out of memory");
-    return -1;
-  }
+  if (!t->path) return table_err(err, errsz, "out of memory");
   t->hdf5 = ends_with(name, ".h5") || ends_with(name, ".hdf5");
   if ((t->hdf5 ? table_h5_read(t, what, err, errsz)
                : table_csv_read(t, what, err, errsz)) != 0 ||
