@@ -258,9 +258,10 @@ static int study_point(study_runner *r, double t) {
   int st, i, k;
   if (r->c->deriv == D_EXACT || r->c->deriv == D_FD_SAMPLES ||
       r->c->deriv == D_SPLINE)
-    return rps3_traj_eval(m, r->c->deriv == D_SPLINE ? &r->table : r->tr, t,
-                          d->pose, d->dpose, d->ddpose) ||
-           rps3_inverse(m, d);
+    return (st = rps3_traj_eval(m, r->c->deriv == D_SPLINE ? &r->table : r->tr,
+                                t, d->pose, d->dpose, d->ddpose)) != RPS3_OK
+               ? st
+               : rps3_inverse(m, d);
   if ((st = rps3_traj_eval(m, r->tr, t - h, p[0], NULL, NULL)) != RPS3_OK ||
       (st = rps3_traj_eval(m, r->tr, t + h, p[1], NULL, NULL)) != RPS3_OK ||
       (st = rps3_traj_eval(m, r->tr, t, p[2], NULL, NULL)) != RPS3_OK)
