@@ -88,7 +88,7 @@ typedef struct {
   S(jet) x[3][3];   /* link centroids */
 } S(kin);
 
-static int S(kinematics)(const rps3_model *m, const S(jet) q[3], S(kin) * k) {
+static int S(kinematics)(const rps3_model *m, const S(jet) q[3], S(kin) *k) {
   REAL R = (REAL)m->R, r = (REAL)m->rho * R, d = (REAL)m->d;
   REAL pi = RF(atan2)(0, -1), cp[3], sp[3];
   S(jet) T[3][3], w[3][3], rhs[2];
@@ -96,10 +96,10 @@ static int S(kinematics)(const rps3_model *m, const S(jet) q[3], S(kin) * k) {
   S(jet) cb = S(jcos)(q[1]), sb = S(jsin)(q[1]);
   S(jet) zero = S(jk)(0), one = S(jk)(1);
   /* rot = Rz(alpha) Ry(beta) Rz(-alpha), the spin gamma = -alpha of (2) */
-  S(jet) A[3][3] = {{ca, S(jscale)(-1, sa), zero}, {sa, ca, zero},
-                    {zero, zero, one}};
-  S(jet) B[3][3] = {{cb, zero, sb}, {zero, one, zero},
-                    {S(jscale)(-1, sb), zero, cb}};
+  S(jet) A[3][3] = {
+      {ca, S(jscale)(-1, sa), zero}, {sa, ca, zero}, {zero, zero, one}};
+  S(jet) B[3][3] = {
+      {cb, zero, sb}, {zero, one, zero}, {S(jscale)(-1, sb), zero, cb}};
   REAL det;
   int i, j, n;
   for (i = 0; i < 3; i++) {
