@@ -37,7 +37,7 @@ sweep:
 """
 
 
-# a simulated sweep (runner/output/sim_output.c) with the same kinds of
+# a simulated sweep (runner/exec/simulate.c) with the same kinds of
 # coordinates: amp 0.4 drives z_c below reach, so that those cases fail
 SIM_SCENE = """\
 manipulator: {R: 0.2286, rho: 0.5, M: 0.18, m_over_M: 0.5, d: 0.1524}

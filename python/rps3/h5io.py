@@ -41,7 +41,7 @@ def key_name(key):
     """The variable name of a swept scene key in a file: CF names are made
     of letters, digits and underscores, so '.' is written '__' and '[k]'
     '_k' (``trajectory.amp[2]`` -> ``trajectory__amp_2``); the variable's
-    ``scene_key`` attribute holds the dotted key (runner/output/out_cf.h)."""
+    ``scene_key`` attribute holds the dotted key (runner/output/out_h5.h)."""
     return key.replace(".", "__").replace("[", "_").replace("]", "")
 
 
