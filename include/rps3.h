@@ -40,7 +40,7 @@
 #ifndef RPS3_H
 #define RPS3_H
 
-#include <math.h>   /* HUGE_VAL in RPS3_FIELDS */
+#include <math.h> /* HUGE_VAL in RPS3_FIELDS */
 #include <stddef.h>
 
 #ifdef __cplusplus
@@ -80,35 +80,35 @@ RPS3_API const char *rps3_version(void);
  * non-NULL output, as said at each).
  */
 enum rps3_status {
-  RPS3_OK = 0,       /* success */
-  RPS3_EREACH = 1,   /* pose unreachable: a link length <= 0 or a ball joint
-                        not above the base plane (theta outside (0, pi)) */
-  RPS3_ENOCONV = 2,  /* theta solve did not converge within max_iter, or the
-                        solver stopped making progress */
-  RPS3_EBRANCH = 3,  /* theta solve converged outside 0 < theta < pi, or
-                        to the spun-platform roots of (8)-(10) that no
-                        pose describes */
-  RPS3_ESING = 4,    /* singular configuration: the constraint Jacobian
-                        d f / d theta (the lambda system) has condition number
-                        above opt.cond_max, or a zero pivot; or (rps3_invdyn)
-                        the force transmission is above opt.trans_max */
-  RPS3_EDOMAIN = 5,  /* a trajectory was evaluated outside its time span */
-  RPS3_ERANGE = 6,   /* a result is not finite: the inputs were finite but a
-                        reported quantity overflowed (e.g. M = 1e300, rates
-                        of 1e300); the message names the quantity.  Every
-                        status-returning function checks what it reports */
-  RPS3_EMODE = 7,    /* wrong assembly mode: the theta solve converged to a
-                        physical root of (8)-(10), but not the one asked
-                        for -- in rps3_inverse (multiroot) a root other than
-                        the pose's own (closed form (39)); in rps3_fk and
-                        rps3_theta_solve a mode other than opt.mode */
-  RPS3_EEMPTY = 8,   /* empty workspace: no pose of the set a design is
-                        evaluated on is reachable (rps3_design_eval); its
-                        summary is still filled (zeros, never NaN) */
-  RPS3_EINVAL = -1,  /* invalid argument: non-finite or out-of-range value,
-                        NULL pointer, unknown enum value */
-  RPS3_ENOMEM = -2,  /* allocation failed (the _alloc functions only) */
-  RPS3_ESTATE = -4   /* a stage was called before the stage it reads from */
+  RPS3_OK = 0,      /* success */
+  RPS3_EREACH = 1,  /* pose unreachable: a link length <= 0 or a ball joint
+                       not above the base plane (theta outside (0, pi)) */
+  RPS3_ENOCONV = 2, /* theta solve did not converge within max_iter, or the
+                       solver stopped making progress */
+  RPS3_EBRANCH = 3, /* theta solve converged outside 0 < theta < pi, or
+                       to the spun-platform roots of (8)-(10) that no
+                       pose describes */
+  RPS3_ESING = 4,   /* singular configuration: the constraint Jacobian
+                       d f / d theta (the lambda system) has condition number
+                       above opt.cond_max, or a zero pivot; or (rps3_invdyn)
+                       the force transmission is above opt.trans_max */
+  RPS3_EDOMAIN = 5, /* a trajectory was evaluated outside its time span */
+  RPS3_ERANGE = 6,  /* a result is not finite: the inputs were finite but a
+                       reported quantity overflowed (e.g. M = 1e300, rates
+                       of 1e300); the message names the quantity.  Every
+                       status-returning function checks what it reports */
+  RPS3_EMODE = 7,   /* wrong assembly mode: the theta solve converged to a
+                       physical root of (8)-(10), but not the one asked
+                       for -- in rps3_inverse (multiroot) a root other than
+                       the pose's own (closed form (39)); in rps3_fk and
+                       rps3_theta_solve a mode other than opt.mode */
+  RPS3_EEMPTY = 8,  /* empty workspace: no pose of the set a design is
+                       evaluated on is reachable (rps3_design_eval); its
+                       summary is still filled (zeros, never NaN) */
+  RPS3_EINVAL = -1, /* invalid argument: non-finite or out-of-range value,
+                       NULL pointer, unknown enum value */
+  RPS3_ENOMEM = -2, /* allocation failed (the _alloc functions only) */
+  RPS3_ESTATE = -4  /* a stage was called before the stage it reads from */
 };
 
 /* Short static description of a status code (never NULL; "unknown status"
@@ -117,16 +117,16 @@ RPS3_API const char *rps3_strerror(int status);
 
 /* Warning bits in rps3_data.warn: the result is returned, but look at it. */
 enum rps3_warning {
-  RPS3_WARN_ILLCOND = 1,    /* cond of the lambda system > opt.cond_warn */
-  RPS3_WARN_ALPHA = 2,      /* forward kinematics: beta ~ 0, so alpha is not
-                               defined; alpha was set to 0 */
-  RPS3_WARN_MODE = 4,       /* a warm-started theta solve returned another
-                               assembly mode (rps3_data.mode) than the
-                               previous sample's: the sequence crossed the
-                               singular surface, or jumped to another root */
-  RPS3_WARN_TRANS = 8       /* force transmission (rps3_data.transmission)
-                               above opt.trans_warn: the actuators carry
-                               many times the load on the platform */
+  RPS3_WARN_ILLCOND = 1, /* cond of the lambda system > opt.cond_warn */
+  RPS3_WARN_ALPHA = 2,   /* forward kinematics: beta ~ 0, so alpha is not
+                            defined; alpha was set to 0 */
+  RPS3_WARN_MODE = 4,    /* a warm-started theta solve returned another
+                            assembly mode (rps3_data.mode) than the
+                            previous sample's: the sequence crossed the
+                            singular surface, or jumped to another root */
+  RPS3_WARN_TRANS = 8    /* force transmission (rps3_data.transmission)
+                            above opt.trans_warn: the actuators carry
+                            many times the load on the platform */
 };
 
 /*
@@ -142,9 +142,9 @@ enum rps3_warning {
  * shows them.
  */
 enum rps3_mode {
-  RPS3_MODE_OTHER = -1,     /* det(df/dtheta) < 0 */
-  RPS3_MODE_ANY = 0,        /* opt.mode: accept any; data.mode: singular */
-  RPS3_MODE_LEVEL = 1       /* det(df/dtheta) > 0, the level platform's */
+  RPS3_MODE_OTHER = -1, /* det(df/dtheta) < 0 */
+  RPS3_MODE_ANY = 0,    /* opt.mode: accept any; data.mode: singular */
+  RPS3_MODE_LEVEL = 1   /* det(df/dtheta) > 0, the level platform's */
 };
 
 /* ---------------------------------------------------------------- effects */
@@ -168,12 +168,12 @@ enum rps3_effect {
 #define RPS3_NEFFECT 6
 #define RPS3_EFF_ALL ((1 << RPS3_NEFFECT) - 1)
 /* default selection: all but payload and friction, as in the paper */
-#define RPS3_EFF_DEFAULT                                                      \
-  (RPS3_EFF_PLATFORM_GRAVITY | RPS3_EFF_LINK_GRAVITY |                        \
+#define RPS3_EFF_DEFAULT                               \
+  (RPS3_EFF_PLATFORM_GRAVITY | RPS3_EFF_LINK_GRAVITY | \
    RPS3_EFF_PLATFORM_INERTIA | RPS3_EFF_LINK_INERTIA)
 /* effects that need velocities and accelerations */
-#define RPS3_EFF_DYNAMIC                                                      \
-  (RPS3_EFF_PLATFORM_INERTIA | RPS3_EFF_LINK_INERTIA | RPS3_EFF_PAYLOAD |     \
+#define RPS3_EFF_DYNAMIC                                                  \
+  (RPS3_EFF_PLATFORM_INERTIA | RPS3_EFF_LINK_INERTIA | RPS3_EFF_PAYLOAD | \
    RPS3_EFF_PIN_FRICTION)
 
 /* Name of effect index k (0 <= k < RPS3_NEFFECT), e.g. "platform_gravity";
@@ -193,10 +193,10 @@ typedef enum {
 
 /* Formulation of the inverse dynamics. */
 typedef enum {
-  RPS3_LAGRANGE = 0,     /* the paper's: coordinates (l_i, theta_i),
-                            multipliers lambda, eqs. (21)-(24), (34) */
-  RPS3_NEWTON_EULER = 1  /* platform and links as free bodies, ball-joint
-                            forces solved directly; independent check */
+  RPS3_LAGRANGE = 0,    /* the paper's: coordinates (l_i, theta_i),
+                           multipliers lambda, eqs. (21)-(24), (34) */
+  RPS3_NEWTON_EULER = 1 /* platform and links as free bodies, ball-joint
+                           forces solved directly; independent check */
 } rps3_method;
 
 /* GSL multiroot solver for the theta solve.  The first four use the
@@ -301,35 +301,35 @@ RPS3_API const char *rps3_output_name(int k);
 RPS3_API int rps3_output_index(const char *name);
 
 typedef struct {
-  int effects;             /* selected effects, RPS3_EFF_* bits */
-  rps3_method method;      /* formulation of the dynamics */
-  rps3_theta_route theta;  /* closed form or multiroot in rps3_inverse */
-  rps3_solver solver;      /* multiroot solver: cold starts, and the
-                              fallback when a warm start's Newton path
-                              gives up (a warm start takes that path
-                              whatever the solver) */
-  double tol;              /* theta solve stops when max_k |f_k| <= tol,
-                              f_k the dimensionless (8)-(10) (lengths in
-                              units of R).  Default 1e-12 */
-  int max_iter;            /* theta solve iteration limit, default 50 */
-  int warm_start;          /* 1: theta solve starts from the data's last
-                              solution when it has one (rps3_inverse's
-                              multiroot route: moved along the change of
-                              the lengths, rps3_inverse); 0: always cold */
-  int outputs;             /* what rps3_inverse and rps3_invdyn report:
-                              RPS3_OUT_* bits (enum rps3_output), default
-                              RPS3_OUT_ALL; the checks do not depend on
-                              them */
-  double cond_warn;        /* set RPS3_WARN_ILLCOND above this 1-norm
-                              condition number of the lambda system (1e6) */
-  double cond_max;         /* RPS3_ESING above this (1e13) */
-  double trans_warn;       /* set RPS3_WARN_TRANS above this force
-                              transmission (rps3_data.transmission), 100 */
-  double trans_max;        /* RPS3_ESING above this transmission (1e8) */
-  int mode;                /* assembly mode rps3_theta_solve and rps3_fk
-                              must return (enum rps3_mode): RPS3_MODE_ANY
-                              (default), RPS3_MODE_LEVEL or RPS3_MODE_OTHER;
-                              another one is RPS3_EMODE */
+  int effects;            /* selected effects, RPS3_EFF_* bits */
+  rps3_method method;     /* formulation of the dynamics */
+  rps3_theta_route theta; /* closed form or multiroot in rps3_inverse */
+  rps3_solver solver;     /* multiroot solver: cold starts, and the
+                             fallback when a warm start's Newton path
+                             gives up (a warm start takes that path
+                             whatever the solver) */
+  double tol;             /* theta solve stops when max_k |f_k| <= tol,
+                             f_k the dimensionless (8)-(10) (lengths in
+                             units of R).  Default 1e-12 */
+  int max_iter;           /* theta solve iteration limit, default 50 */
+  int warm_start;         /* 1: theta solve starts from the data's last
+                             solution when it has one (rps3_inverse's
+                             multiroot route: moved along the change of
+                             the lengths, rps3_inverse); 0: always cold */
+  int outputs;            /* what rps3_inverse and rps3_invdyn report:
+                             RPS3_OUT_* bits (enum rps3_output), default
+                             RPS3_OUT_ALL; the checks do not depend on
+                             them */
+  double cond_warn;       /* set RPS3_WARN_ILLCOND above this 1-norm
+                             condition number of the lambda system (1e6) */
+  double cond_max;        /* RPS3_ESING above this (1e13) */
+  double trans_warn;      /* set RPS3_WARN_TRANS above this force
+                             transmission (rps3_data.transmission), 100 */
+  double trans_max;       /* RPS3_ESING above this transmission (1e8) */
+  int mode;               /* assembly mode rps3_theta_solve and rps3_fk
+                             must return (enum rps3_mode): RPS3_MODE_ANY
+                             (default), RPS3_MODE_LEVEL or RPS3_MODE_OTHER;
+                             another one is RPS3_EMODE */
 } rps3_options;
 
 /* ------------------------------------------------------------------ model */
@@ -353,36 +353,36 @@ typedef struct {
    on it); vreg > 0 makes them smooth at the cost of a creep velocity of
    order vreg under a load below the Coulomb level (docs/simulation.md). */
 typedef struct {
-  double viscous;    /* [N m s / rad] */
-  double coulomb;    /* [N m] */
-  double vreg;       /* regularisation velocity [rad/s], 0 = exact sign */
+  double viscous; /* [N m s / rad] */
+  double coulomb; /* [N m] */
+  double vreg;    /* regularisation velocity [rad/s], 0 = exact sign */
 } rps3_friction;
 
 typedef struct {
   /* mechanism, Table II */
-  double R;          /* base radius: centre to pin joints [m] */
-  double rho;        /* r / R, r the platform radius to the ball joints [-] */
-  double M;          /* platform mass, a uniform disc of radius r [kg] */
-  double m;          /* mass of each link [kg] */
-  double d;          /* pin joint to link centroid, constant [m] */
-  double link_Ic;    /* moment of inertia of a link about its centroid, about
-                        the pin direction [kg m^2]; 0 in the paper (point
-                        mass) */
-  double g;          /* gravitational acceleration, along -Z [m/s^2] */
+  double R;       /* base radius: centre to pin joints [m] */
+  double rho;     /* r / R, r the platform radius to the ball joints [-] */
+  double M;       /* platform mass, a uniform disc of radius r [kg] */
+  double m;       /* mass of each link [kg] */
+  double d;       /* pin joint to link centroid, constant [m] */
+  double link_Ic; /* moment of inertia of a link about its centroid, about
+                     the pin direction [kg m^2]; 0 in the paper (point
+                     mass) */
+  double g;       /* gravitational acceleration, along -Z [m/s^2] */
   rps3_payload payload;   /* used when RPS3_EFF_PAYLOAD is selected */
   rps3_friction friction; /* used when RPS3_EFF_PIN_FRICTION is selected */
   rps3_options opt;
 
   /* derived by rps3_model_init(); do not set */
-  double r;          /* platform radius rho R [m] */
-  double Ip[3];      /* platform principal moments (21): Mr^2/4, Mr^2/4,
-                        Mr^2/2 [kg m^2] */
-  double Jlink;      /* m d^2 + link_Ic [kg m^2] */
-  double pin[3][3];  /* pin joint positions P_i [m] */
+  double r;            /* platform radius rho R [m] */
+  double Ip[3];        /* platform principal moments (21): Mr^2/4, Mr^2/4,
+                          Mr^2/2 [kg m^2] */
+  double Jlink;        /* m d^2 + link_Ic [kg m^2] */
+  double pin[3][3];    /* pin joint positions P_i [m] */
   double radial[3][3]; /* unit radial direction of pin i, (cos, sin, 0) */
-  double axis[3][3]; /* pin axes phi_zi, eq. (30), unit */
-  double body[3][3]; /* ball joints in platform axes, r_i of (27) [m] */
-  int valid;         /* 1 after a successful rps3_model_init() */
+  double axis[3][3];   /* pin axes phi_zi, eq. (30), unit */
+  double body[3][3];   /* ball joints in platform axes, r_i of (27) [m] */
+  int valid;           /* 1 after a successful rps3_model_init() */
 } rps3_model;
 
 /* Fill m with the paper's Table II (R = 0.2286 m, rho = 0.5, M = 0.18 kg,
@@ -403,19 +403,19 @@ RPS3_API void rps3_options_default(rps3_options *opt);
  * be NULL.
  */
 typedef struct {
-  int field;       /* the failing field: an rps3_field_id (RPS3_FIELDS),
-                      or for rps3_design_model an rps3_design_field_id;
-                      -1 when the failure is not about one field of the
-                      table (a NULL argument, a simulation option, running
-                      out of memory) */
-  int comp;        /* its component, 0 for a scalar field; the row of an
-                      array field (waypoints, table) */
-  int related[2];  /* other fields the failed rule reads (e.g. rho and R
-                      for the helix radius bound), -1 when unused */
-  char msg[256];   /* "NAME = VALUE: reason", NAME the field's dotted
-                      name (rps3_field_info.name) with its component,
-                      e.g. "rho", "payload.inertia[2]", "opt.tol";
-                      empty after a success */
+  int field;      /* the failing field: an rps3_field_id (RPS3_FIELDS),
+                     or for rps3_design_model an rps3_design_field_id;
+                     -1 when the failure is not about one field of the
+                     table (a NULL argument, a simulation option, running
+                     out of memory) */
+  int comp;       /* its component, 0 for a scalar field; the row of an
+                     array field (waypoints, table) */
+  int related[2]; /* other fields the failed rule reads (e.g. rho and R
+                     for the helix radius bound), -1 when unused */
+  char msg[256];  /* "NAME = VALUE: reason", NAME the field's dotted
+                     name (rps3_field_info.name) with its component,
+                     e.g. "rho", "payload.inertia[2]", "opt.tol";
+                     empty after a success */
 } rps3_check;
 
 /*
@@ -434,61 +434,61 @@ RPS3_API int rps3_model_init(rps3_model *m, rps3_check *chk);
 
 /* Where the last error was raised (per data, so thread-safe). */
 typedef struct {
-  int code;          /* rps3_status */
-  const char *func;  /* function that raised it */
+  int code;         /* rps3_status */
+  const char *func; /* function that raised it */
   const char *file;
   int line;
-  char msg[256];     /* what went wrong, with the values involved */
+  char msg[256]; /* what went wrong, with the values involved */
 } rps3_error;
 
 struct rps3_solver_state; /* internal: GSL solver and its vectors */
 
 /* stages completed for the current point (rps3_data.stage bits) */
 enum rps3_stage {
-  RPS3_STAGE_POS = 1,  /* positions: rps3_ik, rps3_fk or rps3_theta_solve */
-  RPS3_STAGE_VEL = 2,  /* rps3_velocity or rps3_joint_velocity */
-  RPS3_STAGE_ACC = 4,  /* rps3_acceleration or rps3_joint_acceleration */
-  RPS3_STAGE_DYN = 8   /* rps3_invdyn */
+  RPS3_STAGE_POS = 1, /* positions: rps3_ik, rps3_fk or rps3_theta_solve */
+  RPS3_STAGE_VEL = 2, /* rps3_velocity or rps3_joint_velocity */
+  RPS3_STAGE_ACC = 4, /* rps3_acceleration or rps3_joint_acceleration */
+  RPS3_STAGE_DYN = 8  /* rps3_invdyn */
 };
 
 typedef struct {
   /* inputs of a point, set by the caller */
-  double pose[3];      /* (alpha, beta, z_c) [rad, rad, m] */
-  double dpose[3];     /* time derivative [rad/s, rad/s, m/s] */
-  double ddpose[3];    /* second derivative [rad/s^2, rad/s^2, m/s^2] */
+  double pose[3];   /* (alpha, beta, z_c) [rad, rad, m] */
+  double dpose[3];  /* time derivative [rad/s, rad/s, m/s] */
+  double ddpose[3]; /* second derivative [rad/s^2, rad/s^2, m/s^2] */
 
   /* positions; set by rps3_ik (from pose) or rps3_fk (from l) */
-  double c[3];         /* platform centre (x_c, y_c, z_c), (3)-(4), (11) [m] */
-  double rot[3][3];    /* platform orientation, columns n, o, a of (1) */
-  double b[3][3];      /* ball joints b_i, (12)-(17) [m] */
-  double l[3];         /* link lengths, (5)-(7) [m]; input of rps3_fk */
-  double theta[3];     /* link angles, (39) or (8)-(10) [rad] */
-  double phi[3][3];    /* unit vector along link i, (29) */
-  double dphi[3][3];   /* d phi_i / d theta_i, unit, normal to the link */
-  int solve_niter;     /* iterations of the last theta solve */
-  double solve_resid;  /* max |f_k| after the last theta solve [-] */
-  int have_theta;      /* theta holds a solution usable as a warm start */
-  int mode;            /* assembly mode of theta (enum rps3_mode): sign of
-                          det(df/dtheta), +1 the level platform's side, -1
-                          the other, 0 exactly singular; it changes only
-                          through a singular configuration; set by rps3_ik,
-                          rps3_theta_solve (so rps3_fk) and rps3_fwddyn */
+  double c[3];        /* platform centre (x_c, y_c, z_c), (3)-(4), (11) [m] */
+  double rot[3][3];   /* platform orientation, columns n, o, a of (1) */
+  double b[3][3];     /* ball joints b_i, (12)-(17) [m] */
+  double l[3];        /* link lengths, (5)-(7) [m]; input of rps3_fk */
+  double theta[3];    /* link angles, (39) or (8)-(10) [rad] */
+  double phi[3][3];   /* unit vector along link i, (29) */
+  double dphi[3][3];  /* d phi_i / d theta_i, unit, normal to the link */
+  int solve_niter;    /* iterations of the last theta solve */
+  double solve_resid; /* max |f_k| after the last theta solve [-] */
+  int have_theta;     /* theta holds a solution usable as a warm start */
+  int mode;           /* assembly mode of theta (enum rps3_mode): sign of
+                         det(df/dtheta), +1 the level platform's side, -1
+                         the other, 0 exactly singular; it changes only
+                         through a singular configuration; set by rps3_ik,
+                         rps3_theta_solve (so rps3_fk) and rps3_fwddyn */
 
   /* velocities; rps3_velocity (from dpose) or rps3_joint_velocity (dl) */
-  double dl[3];        /* link extension rates [m/s]; input of
-                          rps3_joint_velocity */
-  double dtheta[3];    /* [rad/s] */
-  double vc[3];        /* platform centre velocity, (25) [m/s] */
-  double omega[3];     /* platform angular velocity, base axes [rad/s] */
+  double dl[3];     /* link extension rates [m/s]; input of
+                       rps3_joint_velocity */
+  double dtheta[3]; /* [rad/s] */
+  double vc[3];     /* platform centre velocity, (25) [m/s] */
+  double omega[3];  /* platform angular velocity, base axes [rad/s] */
 
   /* accelerations; rps3_acceleration or rps3_joint_acceleration */
-  double ddl[3];       /* [m/s^2]; input of rps3_joint_acceleration */
-  double ddtheta[3];   /* [rad/s^2] */
-  double ac[3];        /* platform centre acceleration [m/s^2] */
-  double domega[3];    /* angular acceleration, base axes [rad/s^2] */
+  double ddl[3];     /* [m/s^2]; input of rps3_joint_acceleration */
+  double ddtheta[3]; /* [rad/s^2] */
+  double ac[3];      /* platform centre acceleration [m/s^2] */
+  double domega[3];  /* angular acceleration, base axes [rad/s^2] */
 
   /* dynamics; rps3_invdyn */
-  double F[3];         /* actuating forces, (34) [N], > 0 extends */
+  double F[3]; /* actuating forces, (34) [N], > 0 extends */
   double F_effect[RPS3_NEFFECT][3]; /* share of effect k in F [N]; zero for
                                        effects not selected */
   double lambda[3];    /* multipliers of (8)-(10) written in metres,
@@ -509,25 +509,25 @@ typedef struct {
   double power;        /* actuator power sum F_i dl_i [W]; this and the
                           certificate's terms below: RPS3_OUT_CERTIFY */
   double dTdt;         /* rate of kinetic energy of the selected effects [W] */
-  double dPdt;         /* rate of potential energy of the selected effects [W] */
-  double friction_power; /* power of the pin friction torques (<= 0) [W] */
+  double dPdt; /* rate of potential energy of the selected effects [W] */
+  double friction_power;  /* power of the pin friction torques (<= 0) [W] */
   double energy_residual; /* power + friction_power - dTdt - dPdt [W]; zero
                              up to rounding when the forces are right;
                              finite whenever the status is RPS3_OK; NaN
                              without RPS3_OUT_CERTIFY */
-  double energy_scale; /* sum of the magnitudes of the terms above [W], to
-                          make the residual relative */
+  double energy_scale;    /* sum of the magnitudes of the terms above [W], to
+                             make the residual relative */
 
   /* forward dynamics; rps3_fwddyn (reads l, dl, F) */
-  double Mq[3][3];     /* joint-space mass matrix of the selected effects,
-                          symmetric positive definite [kg] */
-  double hq[3];        /* bias forces (velocity products, gravity, pin
-                          friction): F = Mq ddl + hq [N] */
-  double Mcond;        /* 1-norm condition number of Mq [-] */
+  double Mq[3][3]; /* joint-space mass matrix of the selected effects,
+                      symmetric positive definite [kg] */
+  double hq[3];    /* bias forces (velocity products, gravity, pin
+                      friction): F = Mq ddl + hq [N] */
+  double Mcond;    /* 1-norm condition number of Mq [-] */
 
-  int warn;            /* RPS3_WARN_* bits of the last point */
-  int stage;           /* RPS3_STAGE_* bits completed for this point */
-  rps3_error err;      /* last error */
+  int warn;       /* RPS3_WARN_* bits of the last point */
+  int stage;      /* RPS3_STAGE_* bits completed for this point */
+  rps3_error err; /* last error */
   struct rps3_solver_state *solver; /* internal */
 } rps3_data;
 
@@ -535,9 +535,10 @@ typedef struct {
  * Allocate a workspace for model m (which must have passed rps3_model_init)
  * into *out.  The workspace serves any model with the same opt.solver (the
  * GSL solver is built for it); rps3_theta_solve refuses a model that names
- * another solver with RPS3_EINVAL.  This is the only allocation of the library: the GSL multiroot
- * solver of m->opt.solver and its vectors.  Returns RPS3_OK, RPS3_EINVAL
- * (m NULL or not initialised, out NULL) or RPS3_ENOMEM (nothing leaks).
+ * another solver with RPS3_EINVAL.  This is the only allocation of the library:
+ * the GSL multiroot solver of m->opt.solver and its vectors.  Returns RPS3_OK,
+ * RPS3_EINVAL (m NULL or not initialised, out NULL) or RPS3_ENOMEM (nothing
+ * leaks).
  */
 RPS3_API int rps3_data_alloc(const rps3_model *m, rps3_data **out);
 
@@ -657,7 +658,7 @@ RPS3_API int rps3_joint_acceleration(const rps3_model *m, rps3_data *d);
  * nothing; m or d NULL (or m not initialised): omega_body is NaN.
  */
 RPS3_API void rps3_omega_paper(const rps3_model *m, const rps3_data *d,
-                      double omega_body[3]);
+                               double omega_body[3]);
 
 /* ---------------------------------------------------------------- dynamics */
 
@@ -726,11 +727,11 @@ RPS3_API int rps3_inverse(const rps3_model *m, rps3_data *d);
  *
  * Vectorised kernel.  rps3_inverse_batch with the closed-form theta, the
  * Lagrange formulation and no effect beyond the paper's four (payload and
- * pin friction not selected) -- whatever opt.outputs -- computes blocks of points in one straight-line loop the
- * compiler vectorises (AVX2 or AVX-512 where the CPU has them), more than
- * ten times the points per second of the per-point loop
- * (docs/performance.md); with out->theta NULL and without the certificate
- * it leaves theta and the certificate out as well; with outputs =
+ * pin friction not selected) -- whatever opt.outputs -- computes blocks of
+ * points in one straight-line loop the compiler vectorises (AVX2 or AVX-512
+ * where the CPU has them), more than ten times the points per second of the
+ * per-point loop (docs/performance.md); with out->theta NULL and without the
+ * certificate it leaves theta and the certificate out as well; with outputs =
  * RPS3_OUT_FORCES it runs the leanest pass (enum rps3_output).  The
  * arrays of outputs left out of opt.outputs are NaN at the points
  * computed (F_effect: RPS3_OUT_EFFECTS; theta: RPS3_OUT_THETA on the
@@ -767,55 +768,55 @@ RPS3_API int rps3_inverse(const rps3_model *m, rps3_data *d);
 
 /* Inputs of the batch functions; each reads only the arrays it names. */
 typedef struct {
-  size_t n;              /* number of points */
-  const double *pose;    /* 3 n: alpha, beta, z_c [rad, rad, m] (inverse,
-                            ik) */
-  const double *dpose;   /* 3 n: pose rates [rad/s, rad/s, m/s] (inverse,
-                            required when a selected effect or
-                            RPS3_OUT_CERTIFY needs rates, else may be
-                            NULL) */
-  const double *ddpose;  /* 3 n: pose accelerations [rad/s^2, rad/s^2,
-                            m/s^2] (inverse, same rule as dpose) */
-  const double *l;       /* 3 n: link lengths [m] (fk) */
-  const double *guess;   /* 3 n: starting theta of each point's solve [rad]
-                            (fk; may be NULL) */
+  size_t n;             /* number of points */
+  const double *pose;   /* 3 n: alpha, beta, z_c [rad, rad, m] (inverse,
+                           ik) */
+  const double *dpose;  /* 3 n: pose rates [rad/s, rad/s, m/s] (inverse,
+                           required when a selected effect or
+                           RPS3_OUT_CERTIFY needs rates, else may be
+                           NULL) */
+  const double *ddpose; /* 3 n: pose accelerations [rad/s^2, rad/s^2,
+                           m/s^2] (inverse, same rule as dpose) */
+  const double *l;      /* 3 n: link lengths [m] (fk) */
+  const double *guess;  /* 3 n: starting theta of each point's solve [rad]
+                           (fk; may be NULL) */
 } rps3_batch_in;
 
 /* Outputs of the batch functions; each writes the arrays it computes that
    are not NULL (zero the structure, then set the arrays wanted); status is
    required. */
 typedef struct {
-  int *status;           /* n: rps3_status of each point */
-  int *warn;             /* n: RPS3_WARN_* bits of each point */
-  double *pose;          /* 3 n: poses (fk) [rad, rad, m] */
-  double *c;             /* 3 n: platform centre x_c, y_c, z_c (inverse, ik,
-                            fk) [m], eqs. (3)-(4) */
-  double *l;             /* 3 n: link lengths (ik, inverse) [m] */
-  double *dl;            /* 3 n: link rates (inverse) [m/s]; NaN when no
-                            selected effect nor the certificate needs rates */
-  double *ddl;           /* 3 n: link accelerations (inverse) [m/s^2]; NaN
-                            as dl */
-  double *theta;         /* 3 n: link angles (all) [rad] */
-  int *niter;            /* n: iterations of the theta solve (fk; inverse
-                            with the multiroot route), 0 in closed form */
-  double *solve_resid;   /* n: max |f_k| after the theta solve (inverse,
-                            fk) [-]; 0 in closed form */
-  double *F;             /* 3 n: actuating forces (inverse) [N] */
-  double *F_effect;      /* RPS3_NEFFECT 3 n: share of effect k in F_j of
-                            point i at [(k * 3 + j) * n + i] (inverse) [N] */
-  double *lambda;        /* 3 n: multipliers (inverse) [N/m]; NaN where
-                            not computed (Newton-Euler: has_lambda 0) */
-  double *cond;          /* n: condition number of the lambda system
-                            (inverse) [-] */
-  double *transmission;  /* n: force transmission (inverse) [-], as
-                            d->transmission */
+  int *status;             /* n: rps3_status of each point */
+  int *warn;               /* n: RPS3_WARN_* bits of each point */
+  double *pose;            /* 3 n: poses (fk) [rad, rad, m] */
+  double *c;               /* 3 n: platform centre x_c, y_c, z_c (inverse, ik,
+                              fk) [m], eqs. (3)-(4) */
+  double *l;               /* 3 n: link lengths (ik, inverse) [m] */
+  double *dl;              /* 3 n: link rates (inverse) [m/s]; NaN when no
+                              selected effect nor the certificate needs rates */
+  double *ddl;             /* 3 n: link accelerations (inverse) [m/s^2]; NaN
+                              as dl */
+  double *theta;           /* 3 n: link angles (all) [rad] */
+  int *niter;              /* n: iterations of the theta solve (fk; inverse
+                              with the multiroot route), 0 in closed form */
+  double *solve_resid;     /* n: max |f_k| after the theta solve (inverse,
+                              fk) [-]; 0 in closed form */
+  double *F;               /* 3 n: actuating forces (inverse) [N] */
+  double *F_effect;        /* RPS3_NEFFECT 3 n: share of effect k in F_j of
+                              point i at [(k * 3 + j) * n + i] (inverse) [N] */
+  double *lambda;          /* 3 n: multipliers (inverse) [N/m]; NaN where
+                              not computed (Newton-Euler: has_lambda 0) */
+  double *cond;            /* n: condition number of the lambda system
+                              (inverse) [-] */
+  double *transmission;    /* n: force transmission (inverse) [-], as
+                              d->transmission */
   double *energy_residual; /* n: energy-rate residual (inverse) [W]; NaN
                               without RPS3_OUT_CERTIFY */
-  double *energy_scale;  /* n: scale of the energy-rate residual (inverse)
-                            [W]; NaN without RPS3_OUT_CERTIFY */
-  size_t nfail;          /* written: number of points whose status is not
-                            RPS3_OK */
-  size_t first_fail;     /* written: index of the first of them (n if none) */
+  double *energy_scale;    /* n: scale of the energy-rate residual (inverse)
+                              [W]; NaN without RPS3_OUT_CERTIFY */
+  size_t nfail;            /* written: number of points whose status is not
+                              RPS3_OK */
+  size_t first_fail;       /* written: index of the first of them (n if none) */
 } rps3_batch_out;
 
 /*
@@ -836,8 +837,8 @@ RPS3_API int rps3_ik_batch(const rps3_model *m, rps3_data *d,
 /*
  * rps3_fk over in->n points: reads l and guess; writes status, warn, pose,
  * theta, niter, solve_resid, c.  With guess the solve of point i starts
- * from guess i, whatever opt.warm_start; without it, as rps3_fk starts: from the previous
- * point of d when opt.warm_start, else from rps3_theta_guess.
+ * from guess i, whatever opt.warm_start; without it, as rps3_fk starts: from
+ * the previous point of d when opt.warm_start, else from rps3_theta_guess.
  */
 RPS3_API int rps3_fk_batch(const rps3_model *m, rps3_data *d,
                            const rps3_batch_in *in, rps3_batch_out *out);
@@ -861,8 +862,8 @@ RPS3_API int rps3_fk_batch(const rps3_model *m, rps3_data *d,
  * theta is solved from l (Newton's method from d->theta when
  * m->opt.warm_start and d->have_theta, falling back to rps3_fk: keep one
  * data per simulated plant so that the solve tracks its assembly mode; a
- * root in another mode than opt.mode asks for is RPS3_EMODE).  Writes the positions
- * and d->pose (as rps3_fk), dtheta, vc, omega, dpose (as
+ * root in another mode than opt.mode asks for is RPS3_EMODE).  Writes the
+ * positions and d->pose (as rps3_fk), dtheta, vc, omega, dpose (as
  * rps3_joint_velocity), ddl, ddtheta, ac, domega, and Mq, hq, Mcond, mode.
  * d->ddpose is not written.  Allocates nothing.
  *
@@ -877,10 +878,10 @@ RPS3_API int rps3_fk_batch(const rps3_model *m, rps3_data *d,
  * positive definite (decided by its Cholesky factor, never by rounding
  * below cond_max), a failed theta solve whose doubled Newton step from
  * the warm start, of at most 0.05 rad, crosses det df/dtheta = 0 (the
- * lengths lie past the fold), or an acceleration not finite (no acceleration is returned then,
- * d->ddl is set to NaN so that it cannot be mistaken for one); RPS3_ERANGE when another result overflows (ddtheta, ac, domega,
- * hq, Mq; e.g. rates of 1e200).  With pin friction of exact sign
- * (friction.vreg = 0) the
+ * lengths lie past the fold), or an acceleration not finite (no acceleration is
+ * returned then, d->ddl is set to NaN so that it cannot be mistaken for one);
+ * RPS3_ERANGE when another result overflows (ddtheta, ac, domega, hq, Mq; e.g.
+ * rates of 1e200).  With pin friction of exact sign (friction.vreg = 0) the
  * acceleration is discontinuous where a dtheta_i changes sign.
  */
 RPS3_API int rps3_fwddyn(const rps3_model *m, rps3_data *d);
@@ -915,21 +916,21 @@ typedef enum {
    2 pi / (T* - t_a) so that phi(T*) = 2 pi; alpha = -phi/2 + pi/2 (36),
    cos beta = 1 - 2 r* / r (37, errata), z_c = z_i + h t / T*. */
 typedef struct {
-  double radius;  /* r* [m], 0 <= r* < r/2 */
-  double pitch;   /* h [m] */
-  double z0;      /* z_i [m] */
-  double period;  /* T* [s] */
-  double blend;   /* t_a [s], 0 < t_a <= T* / 2; t_b = T* - t_a */
+  double radius; /* r* [m], 0 <= r* < r/2 */
+  double pitch;  /* h [m] */
+  double z0;     /* z_i [m] */
+  double period; /* T* [s] */
+  double blend;  /* t_a [s], 0 < t_a <= T* / 2; t_b = T* - t_a */
 } rps3_helix;
 
 /* pose_k(t) = mean_k + amp_k sin(2 pi freq_k t + phase_k), k = alpha, beta,
    z_c, for 0 <= t <= duration. */
 typedef struct {
-  double mean[3];   /* [rad, rad, m] */
-  double amp[3];    /* [rad, rad, m] */
-  double freq[3];   /* [Hz] */
-  double phase[3];  /* [rad] */
-  double duration;  /* [s] */
+  double mean[3];  /* [rad, rad, m] */
+  double amp[3];   /* [rad, rad, m] */
+  double freq[3];  /* [Hz] */
+  double phase[3]; /* [rad] */
+  double duration; /* [s] */
 } rps3_sine;
 
 /*
@@ -972,11 +973,11 @@ typedef struct {
   const double *time;      /* n times [s]: time[0] = 0, strictly increasing */
   const double (*pose)[3]; /* n poses (alpha, beta, z_c) [rad, rad, m] */
   rps3_time_law law;
-  double blend;            /* LSPB: blend fraction f of each segment,
-                              0 < f <= 1/2 */
-  double vmax[3];          /* rate limits [rad/s, rad/s, m/s], 0: none */
-  double amax[3];          /* acceleration limits [rad/s^2, rad/s^2, m/s^2],
-                              0: none */
+  double blend;   /* LSPB: blend fraction f of each segment,
+                     0 < f <= 1/2 */
+  double vmax[3]; /* rate limits [rad/s, rad/s, m/s], 0: none */
+  double amax[3]; /* acceleration limits [rad/s^2, rad/s^2, m/s^2],
+                     0: none */
 } rps3_waypoints;
 
 /*
@@ -1086,11 +1087,11 @@ RPS3_API int rps3_table_unwrap(size_t n, const double (*centre)[3],
 
 typedef struct {
   rps3_traj_kind kind;
-  rps3_helix helix;   /* used when kind == RPS3_TRAJ_HELIX */
-  rps3_sine sine;     /* used when kind == RPS3_TRAJ_SINE */
-  rps3_waypoints wp;  /* used when kind == RPS3_TRAJ_WAYPOINTS */
-  rps3_path path;     /* used when kind == RPS3_TRAJ_PATH */
-  rps3_table table;   /* used when kind == RPS3_TRAJ_TABLE: the pose */
+  rps3_helix helix;  /* used when kind == RPS3_TRAJ_HELIX */
+  rps3_sine sine;    /* used when kind == RPS3_TRAJ_SINE */
+  rps3_waypoints wp; /* used when kind == RPS3_TRAJ_WAYPOINTS */
+  rps3_path path;    /* used when kind == RPS3_TRAJ_PATH */
+  rps3_table table;  /* used when kind == RPS3_TRAJ_TABLE: the pose */
 } rps3_traj;
 
 /* Name of a time law ("lspb", "minimum_jerk", "quintic"), NULL if out of
@@ -1113,9 +1114,9 @@ RPS3_API void rps3_traj_default(rps3_traj *tr);
  * each waypoint segment, each table segment, the centre's peaks of a
  * line, circle or helix path), and by evaluating the
  * trajectory at 65 times over its span (with the inverse dynamics'
- * closed-form stages where a rate passes 1e6 or an acceleration 1e12).  A short segment (1e-300 s), a
- * tiny limit (vmax 1e-308) or a huge count (turns 1e300) is refused here
- * rather than failing every sample of a run.
+ * closed-form stages where a rate passes 1e6 or an acceleration 1e12).  A short
+ * segment (1e-300 s), a tiny limit (vmax 1e-308) or a huge count (turns 1e300)
+ * is refused here rather than failing every sample of a run.
  */
 #define RPS3_TRAJ_SPAN_MAX 1000000000000
 RPS3_API int rps3_traj_check(const rps3_model *m, const rps3_traj *tr,
@@ -1145,7 +1146,7 @@ RPS3_API double rps3_traj_duration(const rps3_traj *tr);
  * failure the outputs given are NaN.
  */
 RPS3_API int rps3_traj_eval(const rps3_model *m, const rps3_traj *tr, double t,
-                   double pose[3], double dpose[3], double ddpose[3]);
+                            double pose[3], double dpose[3], double ddpose[3]);
 
 /* ------------------------------------------------------------ input fields */
 
@@ -1166,127 +1167,127 @@ RPS3_API int rps3_traj_eval(const rps3_model *m, const rps3_traj *tr, double t,
  * from its own input (a scene file) maps a failure back to its input by ID,
  * and may read the ranges here instead of repeating them.
  */
-#define RPS3_FIELDS(X)                                                        \
-  X(RPS3_F_R, RPS3_IN_MODEL, R, 1, 0, 0, 1, HUGE_VAL, "m", "R")               \
-  X(RPS3_F_RHO, RPS3_IN_MODEL, rho, 1, 0, 0, 1, HUGE_VAL, "1", "rho")         \
-  X(RPS3_F_PLATFORM_MASS, RPS3_IN_MODEL, M, 1, 0, 0, 0, HUGE_VAL, "kg", "M")  \
-  X(RPS3_F_LINK_MASS, RPS3_IN_MODEL, m, 1, 0, 0, 0, HUGE_VAL, "kg", "m")      \
-  X(RPS3_F_D, RPS3_IN_MODEL, d, 1, 0, 0, 0, HUGE_VAL, "m", "d")               \
+#define RPS3_FIELDS(X)                                                         \
+  X(RPS3_F_R, RPS3_IN_MODEL, R, 1, 0, 0, 1, HUGE_VAL, "m", "R")                \
+  X(RPS3_F_RHO, RPS3_IN_MODEL, rho, 1, 0, 0, 1, HUGE_VAL, "1", "rho")          \
+  X(RPS3_F_PLATFORM_MASS, RPS3_IN_MODEL, M, 1, 0, 0, 0, HUGE_VAL, "kg", "M")   \
+  X(RPS3_F_LINK_MASS, RPS3_IN_MODEL, m, 1, 0, 0, 0, HUGE_VAL, "kg", "m")       \
+  X(RPS3_F_D, RPS3_IN_MODEL, d, 1, 0, 0, 0, HUGE_VAL, "m", "d")                \
   X(RPS3_F_LINK_IC, RPS3_IN_MODEL, link_Ic, 1, 0, 0, 0, HUGE_VAL, "kg m^2",    \
-    "link_Ic")                                                                \
-  X(RPS3_F_G, RPS3_IN_MODEL, g, 1, 0, 0, 0, HUGE_VAL, "m/s^2", "g")           \
-  X(RPS3_F_PAYLOAD_MASS, RPS3_IN_MODEL, payload.mass, 1, 0, 0, 0, HUGE_VAL,   \
-    "kg", "payload.mass")                                                     \
-  X(RPS3_F_PAYLOAD_COM, RPS3_IN_MODEL, payload.com, 3, 0, -HUGE_VAL, 0,       \
-    HUGE_VAL, "m", "payload.com")                                             \
-  X(RPS3_F_PAYLOAD_INERTIA, RPS3_IN_MODEL, payload.inertia, 3, 0, 0, 0,       \
-    HUGE_VAL, "kg m^2", "payload.inertia")                                    \
-  X(RPS3_F_VISCOUS, RPS3_IN_MODEL, friction.viscous, 1, 0, 0, 0, HUGE_VAL,    \
-    "N m s/rad", "pin_friction.viscous")                                      \
-  X(RPS3_F_COULOMB, RPS3_IN_MODEL, friction.coulomb, 1, 0, 0, 0, HUGE_VAL,    \
-    "N m", "pin_friction.coulomb")                                            \
-  X(RPS3_F_VREG, RPS3_IN_MODEL, friction.vreg, 1, 0, 0, 0, HUGE_VAL,          \
-    "rad/s", "pin_friction.vreg")                                             \
-  X(RPS3_F_EFFECTS, RPS3_IN_MODEL, opt.effects, 1, 1, 0, 0, RPS3_EFF_ALL,     \
-    "-", "opt.effects")                                                       \
-  X(RPS3_F_METHOD, RPS3_IN_MODEL, opt.method, 1, 1, 0, 0, 1, "-",             \
-    "opt.method")                                                             \
-  X(RPS3_F_THETA, RPS3_IN_MODEL, opt.theta, 1, 1, 0, 0, 1, "-", "opt.theta")  \
-  X(RPS3_F_SOLVER, RPS3_IN_MODEL, opt.solver, 1, 1, 0, 0, RPS3_NSOLVER - 1,   \
-    "-", "opt.solver")                                                        \
-  X(RPS3_F_TOL, RPS3_IN_MODEL, opt.tol, 1, 0, 0, 1, HUGE_VAL, "1", "opt.tol") \
-  X(RPS3_F_MAX_ITER, RPS3_IN_MODEL, opt.max_iter, 1, 1, 1, 0, 2147483647.0,   \
-    "1", "opt.max_iter")                                                      \
-  X(RPS3_F_WARM_START, RPS3_IN_MODEL, opt.warm_start, 1, 1, 0, 0, 1, "-",     \
-    "opt.warm_start")                                                         \
-  X(RPS3_F_OUTPUTS, RPS3_IN_MODEL, opt.outputs, 1, 1, 0, 0, RPS3_OUT_ALL,    \
-    "-", "opt.outputs")                                                       \
-  X(RPS3_F_COND_WARN, RPS3_IN_MODEL, opt.cond_warn, 1, 0, 1, 0, HUGE_VAL,     \
-    "1", "opt.cond_warn")                                                     \
-  X(RPS3_F_COND_MAX, RPS3_IN_MODEL, opt.cond_max, 1, 0, 1, 0, HUGE_VAL, "1",  \
-    "opt.cond_max")                                                           \
-  X(RPS3_F_TRANS_WARN, RPS3_IN_MODEL, opt.trans_warn, 1, 0, 0, 1, HUGE_VAL,   \
-    "1", "opt.trans_warn")                                                    \
-  X(RPS3_F_TRANS_MAX, RPS3_IN_MODEL, opt.trans_max, 1, 0, 0, 1, HUGE_VAL,     \
-    "1", "opt.trans_max")                                                     \
-  X(RPS3_F_MODE, RPS3_IN_MODEL, opt.mode, 1, 1, -1, 0, 1, "-", "opt.mode")    \
-  X(RPS3_F_KIND, RPS3_IN_TRAJ, kind, 1, 1, RPS3_TRAJ_HELIX, 0,                \
+    "link_Ic")                                                                 \
+  X(RPS3_F_G, RPS3_IN_MODEL, g, 1, 0, 0, 0, HUGE_VAL, "m/s^2", "g")            \
+  X(RPS3_F_PAYLOAD_MASS, RPS3_IN_MODEL, payload.mass, 1, 0, 0, 0, HUGE_VAL,    \
+    "kg", "payload.mass")                                                      \
+  X(RPS3_F_PAYLOAD_COM, RPS3_IN_MODEL, payload.com, 3, 0, -HUGE_VAL, 0,        \
+    HUGE_VAL, "m", "payload.com")                                              \
+  X(RPS3_F_PAYLOAD_INERTIA, RPS3_IN_MODEL, payload.inertia, 3, 0, 0, 0,        \
+    HUGE_VAL, "kg m^2", "payload.inertia")                                     \
+  X(RPS3_F_VISCOUS, RPS3_IN_MODEL, friction.viscous, 1, 0, 0, 0, HUGE_VAL,     \
+    "N m s/rad", "pin_friction.viscous")                                       \
+  X(RPS3_F_COULOMB, RPS3_IN_MODEL, friction.coulomb, 1, 0, 0, 0, HUGE_VAL,     \
+    "N m", "pin_friction.coulomb")                                             \
+  X(RPS3_F_VREG, RPS3_IN_MODEL, friction.vreg, 1, 0, 0, 0, HUGE_VAL, "rad/s",  \
+    "pin_friction.vreg")                                                       \
+  X(RPS3_F_EFFECTS, RPS3_IN_MODEL, opt.effects, 1, 1, 0, 0, RPS3_EFF_ALL, "-", \
+    "opt.effects")                                                             \
+  X(RPS3_F_METHOD, RPS3_IN_MODEL, opt.method, 1, 1, 0, 0, 1, "-",              \
+    "opt.method")                                                              \
+  X(RPS3_F_THETA, RPS3_IN_MODEL, opt.theta, 1, 1, 0, 0, 1, "-", "opt.theta")   \
+  X(RPS3_F_SOLVER, RPS3_IN_MODEL, opt.solver, 1, 1, 0, 0, RPS3_NSOLVER - 1,    \
+    "-", "opt.solver")                                                         \
+  X(RPS3_F_TOL, RPS3_IN_MODEL, opt.tol, 1, 0, 0, 1, HUGE_VAL, "1", "opt.tol")  \
+  X(RPS3_F_MAX_ITER, RPS3_IN_MODEL, opt.max_iter, 1, 1, 1, 0, 2147483647.0,    \
+    "1", "opt.max_iter")                                                       \
+  X(RPS3_F_WARM_START, RPS3_IN_MODEL, opt.warm_start, 1, 1, 0, 0, 1, "-",      \
+    "opt.warm_start")                                                          \
+  X(RPS3_F_OUTPUTS, RPS3_IN_MODEL, opt.outputs, 1, 1, 0, 0, RPS3_OUT_ALL, "-", \
+    "opt.outputs")                                                             \
+  X(RPS3_F_COND_WARN, RPS3_IN_MODEL, opt.cond_warn, 1, 0, 1, 0, HUGE_VAL, "1", \
+    "opt.cond_warn")                                                           \
+  X(RPS3_F_COND_MAX, RPS3_IN_MODEL, opt.cond_max, 1, 0, 1, 0, HUGE_VAL, "1",   \
+    "opt.cond_max")                                                            \
+  X(RPS3_F_TRANS_WARN, RPS3_IN_MODEL, opt.trans_warn, 1, 0, 0, 1, HUGE_VAL,    \
+    "1", "opt.trans_warn")                                                     \
+  X(RPS3_F_TRANS_MAX, RPS3_IN_MODEL, opt.trans_max, 1, 0, 0, 1, HUGE_VAL, "1", \
+    "opt.trans_max")                                                           \
+  X(RPS3_F_MODE, RPS3_IN_MODEL, opt.mode, 1, 1, -1, 0, 1, "-", "opt.mode")     \
+  X(RPS3_F_KIND, RPS3_IN_TRAJ, kind, 1, 1, RPS3_TRAJ_HELIX, 0,                 \
     RPS3_TRAJ_TABLE, "-", "trajectory.kind")                                   \
-  X(RPS3_F_HELIX_RADIUS, RPS3_IN_HELIX, helix.radius, 1, 0, 0, 0, HUGE_VAL,   \
-    "m", "trajectory.radius")                                                 \
-  X(RPS3_F_HELIX_PITCH, RPS3_IN_HELIX, helix.pitch, 1, 0, -HUGE_VAL, 0,       \
-    HUGE_VAL, "m", "trajectory.pitch")                                        \
-  X(RPS3_F_HELIX_Z0, RPS3_IN_HELIX, helix.z0, 1, 0, 0, 1, HUGE_VAL, "m",      \
-    "trajectory.z0")                                                          \
-  X(RPS3_F_HELIX_PERIOD, RPS3_IN_HELIX, helix.period, 1, 0, 0, 1, HUGE_VAL,   \
-    "s", "trajectory.period")                                                 \
-  X(RPS3_F_HELIX_BLEND, RPS3_IN_HELIX, helix.blend, 1, 0, 0, 1, HUGE_VAL,     \
-    "s", "trajectory.blend")                                                  \
-  X(RPS3_F_SINE_MEAN, RPS3_IN_SINE, sine.mean, 3, 0, -HUGE_VAL, 0, HUGE_VAL,  \
-    "rad, rad, m", "trajectory.mean")                                         \
-  X(RPS3_F_SINE_AMP, RPS3_IN_SINE, sine.amp, 3, 0, -HUGE_VAL, 0, HUGE_VAL,    \
-    "rad, rad, m", "trajectory.amp")                                          \
-  X(RPS3_F_SINE_FREQ, RPS3_IN_SINE, sine.freq, 3, 0, 0, 0, HUGE_VAL, "Hz",    \
-    "trajectory.freq")                                                        \
-  X(RPS3_F_SINE_PHASE, RPS3_IN_SINE, sine.phase, 3, 0, -HUGE_VAL, 0,          \
-    HUGE_VAL, "rad", "trajectory.phase")                                      \
-  X(RPS3_F_SINE_DURATION, RPS3_IN_SINE, sine.duration, 1, 0, 0, 1, HUGE_VAL,  \
-    "s", "trajectory.duration")                                               \
-  X(RPS3_F_WP_TIME, RPS3_IN_WAYPOINTS, wp.time, 0, 0, 0, 0, HUGE_VAL, "s",    \
-    "trajectory.waypoints.times")                                             \
-  X(RPS3_F_WP_POSE, RPS3_IN_WAYPOINTS, wp.pose, 0, 0, -HUGE_VAL, 0, HUGE_VAL, \
-    "rad, rad, m", "trajectory.waypoints.poses")                              \
-  X(RPS3_F_WP_LAW, RPS3_IN_WAYPOINTS, wp.law, 1, 1, 0, 0, 2, "-",             \
-    "trajectory.waypoints.law")                                               \
-  X(RPS3_F_WP_BLEND, RPS3_IN_WAYPOINTS, wp.blend, 1, 0, 0, 1, 0.5, "1",       \
-    "trajectory.waypoints.blend_ratio")                                       \
-  X(RPS3_F_WP_VMAX, RPS3_IN_WAYPOINTS, wp.vmax, 3, 0, 0, 0, HUGE_VAL,         \
-    "rad/s, rad/s, m/s", "trajectory.waypoints.vmax")                         \
-  X(RPS3_F_WP_AMAX, RPS3_IN_WAYPOINTS, wp.amax, 3, 0, 0, 0, HUGE_VAL,         \
-    "rad/s^2, rad/s^2, m/s^2", "trajectory.waypoints.amax")                   \
-  X(RPS3_F_PATH_SHAPE, RPS3_IN_PATH, path.shape, 1, 1, 0, 0, 3, "-",          \
-    "trajectory.path.shape")                                                  \
-  X(RPS3_F_PATH_START, RPS3_IN_PATH, path.start, 3, 0, -HUGE_VAL, 0,          \
-    HUGE_VAL, "m", "trajectory.path.start")                                   \
-  X(RPS3_F_PATH_END, RPS3_IN_PATH, path.end, 3, 0, -HUGE_VAL, 0, HUGE_VAL,    \
-    "m", "trajectory.path.end")                                               \
-  X(RPS3_F_PATH_CENTRE, RPS3_IN_PATH, path.centre, 3, 0, -HUGE_VAL, 0,        \
-    HUGE_VAL, "m", "trajectory.path.centre")                                  \
-  X(RPS3_F_PATH_RADIUS, RPS3_IN_PATH, path.radius, 1, 0, 0, 0, HUGE_VAL, "m", \
-    "trajectory.path.radius")                                                 \
-  X(RPS3_F_PATH_ANGLE0, RPS3_IN_PATH, path.angle0, 1, 0, -HUGE_VAL, 0,        \
-    HUGE_VAL, "rad", "trajectory.path.angle0")                                \
-  X(RPS3_F_PATH_TURNS, RPS3_IN_PATH, path.turns, 1, 0, -HUGE_VAL, 0,          \
-    HUGE_VAL, "1", "trajectory.path.turns")                                   \
-  X(RPS3_F_PATH_PITCH, RPS3_IN_PATH, path.pitch, 1, 0, -HUGE_VAL, 0,          \
-    HUGE_VAL, "m", "trajectory.path.pitch")                                   \
-  X(RPS3_F_PATH_DURATION, RPS3_IN_PATH, path.duration, 1, 0, 0, 1, HUGE_VAL,  \
-    "s", "trajectory.path.duration")                                          \
-  X(RPS3_F_PATH_LAW, RPS3_IN_PATH, path.law, 1, 1, 0, 0, 2, "-",              \
-    "trajectory.path.law")                                                    \
-  X(RPS3_F_PATH_BLEND, RPS3_IN_PATH, path.blend, 1, 0, 0, 1, 0.5, "1",        \
-    "trajectory.path.blend_ratio")                                            \
-  X(RPS3_F_PATH_TABLE_TIME, RPS3_IN_PATH, path.table.time, 0, 0, -HUGE_VAL,   \
-    0, HUGE_VAL, "s", "trajectory.path.table.t")                              \
-  X(RPS3_F_PATH_TABLE_VALUE, RPS3_IN_PATH, path.table.value, 0, 0, -HUGE_VAL, \
-    0, HUGE_VAL, "m", "trajectory.path.table.centre")                         \
-  X(RPS3_F_PATH_TABLE_RATE, RPS3_IN_PATH, path.table.rate, 0, 0, -HUGE_VAL,   \
-    0, HUGE_VAL, "m/s", "trajectory.path.table.rate")                         \
-  X(RPS3_F_PATH_TABLE_ACC, RPS3_IN_PATH, path.table.acc, 0, 0, -HUGE_VAL, 0,  \
-    HUGE_VAL, "m/s^2", "trajectory.path.table.acc")                           \
-  X(RPS3_F_TABLE_TIME, RPS3_IN_TABLE, table.time, 0, 0, -HUGE_VAL, 0,         \
-    HUGE_VAL, "s", "trajectory.table.t")                                      \
-  X(RPS3_F_TABLE_VALUE, RPS3_IN_TABLE, table.value, 0, 0, -HUGE_VAL, 0,       \
-    HUGE_VAL, "rad, rad, m", "trajectory.table.pose")                         \
-  X(RPS3_F_TABLE_RATE, RPS3_IN_TABLE, table.rate, 0, 0, -HUGE_VAL, 0,         \
-    HUGE_VAL, "rad/s, rad/s, m/s", "trajectory.table.rate")                   \
-  X(RPS3_F_TABLE_ACC, RPS3_IN_TABLE, table.acc, 0, 0, -HUGE_VAL, 0, HUGE_VAL, \
+  X(RPS3_F_HELIX_RADIUS, RPS3_IN_HELIX, helix.radius, 1, 0, 0, 0, HUGE_VAL,    \
+    "m", "trajectory.radius")                                                  \
+  X(RPS3_F_HELIX_PITCH, RPS3_IN_HELIX, helix.pitch, 1, 0, -HUGE_VAL, 0,        \
+    HUGE_VAL, "m", "trajectory.pitch")                                         \
+  X(RPS3_F_HELIX_Z0, RPS3_IN_HELIX, helix.z0, 1, 0, 0, 1, HUGE_VAL, "m",       \
+    "trajectory.z0")                                                           \
+  X(RPS3_F_HELIX_PERIOD, RPS3_IN_HELIX, helix.period, 1, 0, 0, 1, HUGE_VAL,    \
+    "s", "trajectory.period")                                                  \
+  X(RPS3_F_HELIX_BLEND, RPS3_IN_HELIX, helix.blend, 1, 0, 0, 1, HUGE_VAL, "s", \
+    "trajectory.blend")                                                        \
+  X(RPS3_F_SINE_MEAN, RPS3_IN_SINE, sine.mean, 3, 0, -HUGE_VAL, 0, HUGE_VAL,   \
+    "rad, rad, m", "trajectory.mean")                                          \
+  X(RPS3_F_SINE_AMP, RPS3_IN_SINE, sine.amp, 3, 0, -HUGE_VAL, 0, HUGE_VAL,     \
+    "rad, rad, m", "trajectory.amp")                                           \
+  X(RPS3_F_SINE_FREQ, RPS3_IN_SINE, sine.freq, 3, 0, 0, 0, HUGE_VAL, "Hz",     \
+    "trajectory.freq")                                                         \
+  X(RPS3_F_SINE_PHASE, RPS3_IN_SINE, sine.phase, 3, 0, -HUGE_VAL, 0, HUGE_VAL, \
+    "rad", "trajectory.phase")                                                 \
+  X(RPS3_F_SINE_DURATION, RPS3_IN_SINE, sine.duration, 1, 0, 0, 1, HUGE_VAL,   \
+    "s", "trajectory.duration")                                                \
+  X(RPS3_F_WP_TIME, RPS3_IN_WAYPOINTS, wp.time, 0, 0, 0, 0, HUGE_VAL, "s",     \
+    "trajectory.waypoints.times")                                              \
+  X(RPS3_F_WP_POSE, RPS3_IN_WAYPOINTS, wp.pose, 0, 0, -HUGE_VAL, 0, HUGE_VAL,  \
+    "rad, rad, m", "trajectory.waypoints.poses")                               \
+  X(RPS3_F_WP_LAW, RPS3_IN_WAYPOINTS, wp.law, 1, 1, 0, 0, 2, "-",              \
+    "trajectory.waypoints.law")                                                \
+  X(RPS3_F_WP_BLEND, RPS3_IN_WAYPOINTS, wp.blend, 1, 0, 0, 1, 0.5, "1",        \
+    "trajectory.waypoints.blend_ratio")                                        \
+  X(RPS3_F_WP_VMAX, RPS3_IN_WAYPOINTS, wp.vmax, 3, 0, 0, 0, HUGE_VAL,          \
+    "rad/s, rad/s, m/s", "trajectory.waypoints.vmax")                          \
+  X(RPS3_F_WP_AMAX, RPS3_IN_WAYPOINTS, wp.amax, 3, 0, 0, 0, HUGE_VAL,          \
+    "rad/s^2, rad/s^2, m/s^2", "trajectory.waypoints.amax")                    \
+  X(RPS3_F_PATH_SHAPE, RPS3_IN_PATH, path.shape, 1, 1, 0, 0, 3, "-",           \
+    "trajectory.path.shape")                                                   \
+  X(RPS3_F_PATH_START, RPS3_IN_PATH, path.start, 3, 0, -HUGE_VAL, 0, HUGE_VAL, \
+    "m", "trajectory.path.start")                                              \
+  X(RPS3_F_PATH_END, RPS3_IN_PATH, path.end, 3, 0, -HUGE_VAL, 0, HUGE_VAL,     \
+    "m", "trajectory.path.end")                                                \
+  X(RPS3_F_PATH_CENTRE, RPS3_IN_PATH, path.centre, 3, 0, -HUGE_VAL, 0,         \
+    HUGE_VAL, "m", "trajectory.path.centre")                                   \
+  X(RPS3_F_PATH_RADIUS, RPS3_IN_PATH, path.radius, 1, 0, 0, 0, HUGE_VAL, "m",  \
+    "trajectory.path.radius")                                                  \
+  X(RPS3_F_PATH_ANGLE0, RPS3_IN_PATH, path.angle0, 1, 0, -HUGE_VAL, 0,         \
+    HUGE_VAL, "rad", "trajectory.path.angle0")                                 \
+  X(RPS3_F_PATH_TURNS, RPS3_IN_PATH, path.turns, 1, 0, -HUGE_VAL, 0, HUGE_VAL, \
+    "1", "trajectory.path.turns")                                              \
+  X(RPS3_F_PATH_PITCH, RPS3_IN_PATH, path.pitch, 1, 0, -HUGE_VAL, 0, HUGE_VAL, \
+    "m", "trajectory.path.pitch")                                              \
+  X(RPS3_F_PATH_DURATION, RPS3_IN_PATH, path.duration, 1, 0, 0, 1, HUGE_VAL,   \
+    "s", "trajectory.path.duration")                                           \
+  X(RPS3_F_PATH_LAW, RPS3_IN_PATH, path.law, 1, 1, 0, 0, 2, "-",               \
+    "trajectory.path.law")                                                     \
+  X(RPS3_F_PATH_BLEND, RPS3_IN_PATH, path.blend, 1, 0, 0, 1, 0.5, "1",         \
+    "trajectory.path.blend_ratio")                                             \
+  X(RPS3_F_PATH_TABLE_TIME, RPS3_IN_PATH, path.table.time, 0, 0, -HUGE_VAL, 0, \
+    HUGE_VAL, "s", "trajectory.path.table.t")                                  \
+  X(RPS3_F_PATH_TABLE_VALUE, RPS3_IN_PATH, path.table.value, 0, 0, -HUGE_VAL,  \
+    0, HUGE_VAL, "m", "trajectory.path.table.centre")                          \
+  X(RPS3_F_PATH_TABLE_RATE, RPS3_IN_PATH, path.table.rate, 0, 0, -HUGE_VAL, 0, \
+    HUGE_VAL, "m/s", "trajectory.path.table.rate")                             \
+  X(RPS3_F_PATH_TABLE_ACC, RPS3_IN_PATH, path.table.acc, 0, 0, -HUGE_VAL, 0,   \
+    HUGE_VAL, "m/s^2", "trajectory.path.table.acc")                            \
+  X(RPS3_F_TABLE_TIME, RPS3_IN_TABLE, table.time, 0, 0, -HUGE_VAL, 0,          \
+    HUGE_VAL, "s", "trajectory.table.t")                                       \
+  X(RPS3_F_TABLE_VALUE, RPS3_IN_TABLE, table.value, 0, 0, -HUGE_VAL, 0,        \
+    HUGE_VAL, "rad, rad, m", "trajectory.table.pose")                          \
+  X(RPS3_F_TABLE_RATE, RPS3_IN_TABLE, table.rate, 0, 0, -HUGE_VAL, 0,          \
+    HUGE_VAL, "rad/s, rad/s, m/s", "trajectory.table.rate")                    \
+  X(RPS3_F_TABLE_ACC, RPS3_IN_TABLE, table.acc, 0, 0, -HUGE_VAL, 0, HUGE_VAL,  \
     "rad/s^2, rad/s^2, m/s^2", "trajectory.table.acc")
 
 /* where a field lives: the model, or the trajectory (of one kind) */
 enum rps3_field_in {
   RPS3_IN_MODEL = 0,
-  RPS3_IN_TRAJ = 1,                  /* rps3_traj, any kind */
+  RPS3_IN_TRAJ = 1,                    /* rps3_traj, any kind */
   RPS3_IN_HELIX = 1 + RPS3_TRAJ_HELIX, /* rps3_traj, kind helix */
   RPS3_IN_SINE = 1 + RPS3_TRAJ_SINE,   /* rps3_traj, kind sine */
   RPS3_IN_WAYPOINTS = 1 + RPS3_TRAJ_WAYPOINTS,
@@ -1300,15 +1301,15 @@ typedef enum { RPS3_FIELDS(RPS3_FIELD_ID_) RPS3_NFIELD } rps3_field_id;
 
 /* one row of RPS3_FIELDS */
 typedef struct {
-  const char *name;  /* dotted name, as in the messages */
-  int in;            /* enum rps3_field_in */
-  size_t offset;     /* offsetof(rps3_model or rps3_traj, MEMBER) */
-  int n;             /* components */
-  int is_int;        /* 1: int components, 0: double */
-  double lo;         /* range of each component: [lo, hi], */
-  int lo_open;       /* lo excluded when 1 */
+  const char *name; /* dotted name, as in the messages */
+  int in;           /* enum rps3_field_in */
+  size_t offset;    /* offsetof(rps3_model or rps3_traj, MEMBER) */
+  int n;            /* components */
+  int is_int;       /* 1: int components, 0: double */
+  double lo;        /* range of each component: [lo, hi], */
+  int lo_open;      /* lo excluded when 1 */
   double hi;
-  const char *unit;  /* UDUNITS spelling */
+  const char *unit; /* UDUNITS spelling */
 } rps3_field_info;
 
 /* Row of field id (0 <= id < RPS3_NFIELD), NULL otherwise. */
@@ -1351,14 +1352,14 @@ RPS3_API const rps3_field_info *rps3_field(int id);
  * implicit steppers).  Integrators other than rk4 are GSL odeiv2's.
  */
 typedef enum {
-  RPS3_INT_RK4 = 0,    /* classical Runge-Kutta 4, fixed step h, four
-                          evaluations a step: real time */
-  RPS3_INT_RKF45 = 1,  /* Runge-Kutta-Fehlberg 4(5), adaptive */
-  RPS3_INT_RK8PD = 2,  /* Runge-Kutta Prince-Dormand 8(9), adaptive */
-  RPS3_INT_MSBDF = 3,  /* variable-order BDF, implicit, adaptive (stiff) */
-  RPS3_INT_RK4IMP = 4  /* implicit Gauss-Legendre 4, fixed step h (stiff).
-                          GSL 2.7's implicit steppers (msbdf, rk4imp)
-                          allocate inside their steps: offline use only */
+  RPS3_INT_RK4 = 0,   /* classical Runge-Kutta 4, fixed step h, four
+                         evaluations a step: real time */
+  RPS3_INT_RKF45 = 1, /* Runge-Kutta-Fehlberg 4(5), adaptive */
+  RPS3_INT_RK8PD = 2, /* Runge-Kutta Prince-Dormand 8(9), adaptive */
+  RPS3_INT_MSBDF = 3, /* variable-order BDF, implicit, adaptive (stiff) */
+  RPS3_INT_RK4IMP = 4 /* implicit Gauss-Legendre 4, fixed step h (stiff).
+                         GSL 2.7's implicit steppers (msbdf, rk4imp)
+                         allocate inside their steps: offline use only */
 } rps3_integrator;
 #define RPS3_NINTEGRATOR 5
 
@@ -1369,24 +1370,24 @@ RPS3_API int rps3_integrator_index(const char *name);
 
 typedef struct {
   rps3_integrator integrator;
-  double h;          /* fixed step of rk4 and rk4imp, the largest that
-                        divides each control period evenly is used; first
-                        step of the adaptive ones [s].  Default 1e-3 */
-  double epsabs;     /* adaptive error control on y = (l, dl, W_F, W_f):
-                        |err_i| <= epsabs + epsrel |y_i|; epsabs > 0
-                        for rkf45, rk8pd, msbdf.  Default 1e-9 */
-  double epsrel;     /* default 1e-9 */
-  double hmin;       /* adaptive steps below this fail the run [s], 1e-12 */
-  long max_steps;    /* integrator steps per control period (or per call of
-                        rps3_sim_advance with a continuous controller),
-                        default 100000 */
-  double fmax;       /* actuator saturation |F_i| <= fmax [N]; 0 = none */
-  double l_min;      /* workspace: stroke of the links [m], default 0 */
-  double l_max;      /* default +inf (HUGE_VAL) */
-  double noise_l;    /* standard deviation of the measured lengths [m] */
-  double noise_dl;   /* ... of the measured rates [m/s] */
-  double quant_l;    /* quantum of the measured lengths [m], 0 = none */
-  double quant_dl;   /* quantum of the measured rates [m/s], 0 = none */
+  double h;           /* fixed step of rk4 and rk4imp, the largest that
+                         divides each control period evenly is used; first
+                         step of the adaptive ones [s].  Default 1e-3 */
+  double epsabs;      /* adaptive error control on y = (l, dl, W_F, W_f):
+                         |err_i| <= epsabs + epsrel |y_i|; epsabs > 0
+                         for rkf45, rk8pd, msbdf.  Default 1e-9 */
+  double epsrel;      /* default 1e-9 */
+  double hmin;        /* adaptive steps below this fail the run [s], 1e-12 */
+  long max_steps;     /* integrator steps per control period (or per call of
+                         rps3_sim_advance with a continuous controller),
+                         default 100000 */
+  double fmax;        /* actuator saturation |F_i| <= fmax [N]; 0 = none */
+  double l_min;       /* workspace: stroke of the links [m], default 0 */
+  double l_max;       /* default +inf (HUGE_VAL) */
+  double noise_l;     /* standard deviation of the measured lengths [m] */
+  double noise_dl;    /* ... of the measured rates [m/s] */
+  double quant_l;     /* quantum of the measured lengths [m], 0 = none */
+  double quant_dl;    /* quantum of the measured rates [m/s], 0 = none */
   unsigned long seed; /* seed of the noise generator */
 } rps3_sim_options;
 
@@ -1414,23 +1415,23 @@ struct rps3_fd_state; /* internal: a forward-dynamics state */
  * controller with rate > 0 whose measurement is exact (no noise, no
  * quantisation: then l, dl below are the measured ones bit for bit); NULL
  * otherwise (noise or quantisation on, a continuous controller).  The
- * state is a lean one: no pose, no positions (rps3_sim_data holds them after the
- * call of rps3_sim_advance).  What the controller may take is its own
+ * state is a lean one: no pose, no positions (rps3_sim_data holds them after
+ * the call of rps3_sim_advance).  What the controller may take is its own
  * decision: e.g. theta and its rates when its model has the plant's R and
  * rho, Mq and hq only when its masses and effects are the plant's too.
  */
 typedef struct {
-  const rps3_model *model;   /* the plant's model (the simulation's copy) */
-  double t;                  /* the tick's time [s] */
-  double l[3], dl[3];        /* link lengths [m] and rates [m/s] */
-  double theta[3];           /* link angles, the theta solve's root [rad] */
-  double dtheta[3];          /* their rates [rad/s] */
-  double Mq[9];              /* the plant's inverse dynamics in the link
-                                coordinates, F = Mq ddl + hq ((23) in joint
-                                space): Mq row-major [kg], */
-  double hq[3];              /* hq [N] (gravity, velocity products and
-                                friction of the plant's effects) */
-  int mode;                  /* assembly mode (rps3_data.mode) */
+  const rps3_model *model; /* the plant's model (the simulation's copy) */
+  double t;                /* the tick's time [s] */
+  double l[3], dl[3];      /* link lengths [m] and rates [m/s] */
+  double theta[3];         /* link angles, the theta solve's root [rad] */
+  double dtheta[3];        /* their rates [rad/s] */
+  double Mq[9];            /* the plant's inverse dynamics in the link
+                              coordinates, F = Mq ddl + hq ((23) in joint
+                              space): Mq row-major [kg], */
+  double hq[3];            /* hq [N] (gravity, velocity products and
+                              friction of the plant's effects) */
+  int mode;                /* assembly mode (rps3_data.mode) */
   const struct rps3_fd_state *fd; /* internal: the plant's kept state, whose
                                 kinematics rps3_ctrl_update_plant takes
                                 (NULL in a view built by hand: then it
@@ -1438,14 +1439,15 @@ typedef struct {
 } rps3_plant_state;
 
 /* rps3_controller.caps: what a controller declares it can use */
-#define RPS3_CTRL_USES_PLANT 1u /* call fn_plant (not fn) with the plant's
-                                   state at the tick, or NULL */
+#define RPS3_CTRL_USES_PLANT                    \
+  1u /* call fn_plant (not fn) with the plant's \
+        state at the tick, or NULL */
 #define RPS3_CTRL_CAPS_ALL RPS3_CTRL_USES_PLANT
 
 /* The force law of a controller with RPS3_CTRL_USES_PLANT: fn's arguments
    and the plant's state at the tick (NULL when not offered, above). */
-typedef int (*rps3_control_plant_fn)(void *state, double t,
-                                     const double l[3], const double dl[3],
+typedef int (*rps3_control_plant_fn)(void *state, double t, const double l[3],
+                                     const double dl[3],
                                      const rps3_plant_state *plant,
                                      double F[3]);
 
@@ -1459,34 +1461,34 @@ typedef int (*rps3_control_plant_fn)(void *state, double t,
  *                        my_plant_law};
  */
 typedef struct {
-  rps3_control_fn fn;   /* the law (caps without RPS3_CTRL_USES_PLANT) */
-  void *state;          /* passed to fn or fn_plant */
-  double rate;          /* control rate [Hz], zero-order hold; 0:
-                           continuous */
-  unsigned caps;        /* RPS3_CTRL_* bits; others are refused
-                           (RPS3_EINVAL) */
+  rps3_control_fn fn; /* the law (caps without RPS3_CTRL_USES_PLANT) */
+  void *state;        /* passed to fn or fn_plant */
+  double rate;        /* control rate [Hz], zero-order hold; 0:
+                         continuous */
+  unsigned caps;      /* RPS3_CTRL_* bits; others are refused
+                         (RPS3_EINVAL) */
   rps3_control_plant_fn fn_plant; /* the law with RPS3_CTRL_USES_PLANT */
 } rps3_controller;
 
 /* What a simulation reports of its state (rps3_sim_now): the state at
    s's time after rps3_sim_advance, or where the run stopped. */
 typedef struct {
-  double t;                /* simulated time [s] */
-  double y[8];             /* l [m], dl [m/s], W_F, W_f [J] */
-  double F_cmd[3];         /* last commanded forces [N] */
-  double F[3];             /* forces applied (saturated) [N] */
-  double l_meas[3];        /* last measured lengths [m] */
-  double dl_meas[3];       /* last measured rates [m/s] */
-  double T, P;             /* kinetic, potential energy at t [J] */
-  double E0;               /* T + P at the start [J] */
-  double energy_residual;  /* T + P - E0 - W_F - W_f [J] */
-  int mode;                /* tracked assembly mode (rps3_data.mode) */
-  int status;              /* RPS3_OK, or why the run stopped */
-  double failed_at;        /* time of the failure [s], NaN while running */
-  long nsteps;             /* integrator steps taken */
-  long nevals;             /* forward dynamics evaluations */
-  long nticks;             /* controller calls at the control rate */
-  long nsat;               /* ticks with a saturated actuator */
+  double t;               /* simulated time [s] */
+  double y[8];            /* l [m], dl [m/s], W_F, W_f [J] */
+  double F_cmd[3];        /* last commanded forces [N] */
+  double F[3];            /* forces applied (saturated) [N] */
+  double l_meas[3];       /* last measured lengths [m] */
+  double dl_meas[3];      /* last measured rates [m/s] */
+  double T, P;            /* kinetic, potential energy at t [J] */
+  double E0;              /* T + P at the start [J] */
+  double energy_residual; /* T + P - E0 - W_F - W_f [J] */
+  int mode;               /* tracked assembly mode (rps3_data.mode) */
+  int status;             /* RPS3_OK, or why the run stopped */
+  double failed_at;       /* time of the failure [s], NaN while running */
+  long nsteps;            /* integrator steps taken */
+  long nevals;            /* forward dynamics evaluations */
+  long nticks;            /* controller calls at the control rate */
+  long nsat;              /* ticks with a saturated actuator */
 } rps3_sim_report;
 
 /* A simulation: the plant (a copy), its options, its workspace, the
@@ -1549,8 +1551,9 @@ RPS3_API int rps3_sim_check_rate(const rps3_sim_options *o, double rate,
  * rates: the closed-form inverse kinematics fixes l, dl and the assembly
  * mode.  Clears the work, the counters, the status, reseeds the noise.
  * Returns RPS3_OK or the status of rps3_ik / rps3_velocity / rps3_fwddyn
- * (with zero forces) at the start, also stored in the report's status (rps3_sim_now); RPS3_EINVAL
- * (nothing changed) for s, pose or dpose NULL or t0 not finite.
+ * (with zero forces) at the start, also stored in the report's status
+ * (rps3_sim_now); RPS3_EINVAL (nothing changed) for s, pose or dpose NULL or t0
+ * not finite.
  */
 RPS3_API int rps3_sim_start(rps3_sim *s, double t0, const double pose[3],
                             const double dpose[3]);
@@ -1561,20 +1564,20 @@ RPS3_API int rps3_sim_start(rps3_sim *s, double t0, const double pose[3],
  * [t, t_end) (or at every evaluation when rate is 0).  On return the
  * report's t = t_end and the report (rps3_sim_now) and the workspace
  * (rps3_sim_data) describe that state; or the run stopped: the report's
- * status != RPS3_OK, failed_at the time, the workspace's err the message, and the state the last good
- * one (RPS3_ESING at the singular surface for every integrator, "singular
- * configuration at t = T s: " and its measure: see the section's
- * comment).  Returns the report's status; after a failure it returns that status again
- * without integrating.  An invalid call changes nothing and returns
- * RPS3_EINVAL with d->err's message: c or c->fn NULL, t_end not finite or
- * before the report's t (t_end = t does nothing), or a rate outside
- * rps3_sim_check_rate's limits; RPS3_ESTATE before rps3_sim_start.  Allocates nothing.  The state is reported (d's
- * positions, pose and rates; T, P, the energy residual) at the call's end
- * only, or where the run stopped: one call over many control periods
- * costs less than one call a period, and gives the same run bit for bit
- * when t_end is a tick (k / rate).  At a t_end just past a tick (within
- * rounding) that tick has been served: d's accelerations are those of its
- * new force.
+ * status != RPS3_OK, failed_at the time, the workspace's err the message, and
+ * the state the last good one (RPS3_ESING at the singular surface for every
+ * integrator, "singular configuration at t = T s: " and its measure: see the
+ * section's comment).  Returns the report's status; after a failure it returns
+ * that status again without integrating.  An invalid call changes nothing and
+ * returns RPS3_EINVAL with d->err's message: c or c->fn NULL, t_end not finite
+ * or before the report's t (t_end = t does nothing), or a rate outside
+ * rps3_sim_check_rate's limits; RPS3_ESTATE before rps3_sim_start.  Allocates
+ * nothing.  The state is reported (d's positions, pose and rates; T, P, the
+ * energy residual) at the call's end only, or where the run stopped: one call
+ * over many control periods costs less than one call a period, and gives the
+ * same run bit for bit when t_end is a tick (k / rate).  At a t_end just past a
+ * tick (within rounding) that tick has been served: d's accelerations are those
+ * of its new force.
  */
 RPS3_API int rps3_sim_advance(rps3_sim *s, const rps3_controller *c,
                               double t_end);
@@ -1666,8 +1669,7 @@ RPS3_API int rps3_ctrl_update(void *state, double t, const double l[3],
  */
 RPS3_API int rps3_ctrl_update_plant(void *state, double t, const double l[3],
                                     const double dl[3],
-                                    const rps3_plant_state *plant,
-                                    double F[3]);
+                                    const rps3_plant_state *plant, double F[3]);
 
 /* The controller of c at rate [Hz]: {rps3_ctrl_update, c, rate,
    RPS3_CTRL_USES_PLANT, rps3_ctrl_update_plant}. */
@@ -1704,26 +1706,26 @@ RPS3_API rps3_controller rps3_ctrl_bind(rps3_ctrl *c, double rate);
  * link_density 0), d = 0.1524, link_Ic = 0.
  */
 typedef struct {
-  double R;             /* base radius, centre to pin joints [m] */
-  double rho;           /* r / R, r the platform radius [-] */
-  double l_min, l_max;  /* link stroke: shortest, longest length [m] */
+  double R;                    /* base radius, centre to pin joints [m] */
+  double rho;                  /* r / R, r the platform radius [-] */
+  double l_min, l_max;         /* link stroke: shortest, longest length [m] */
   double theta_min, theta_max; /* pin joint range: link angle to the base
                                   plane, theta of (39) [rad], within
                                   [0, pi] */
-  double ball_max;      /* ball joint cone half-angle [rad]: the largest
-                           angle between a link and the platform normal
-                           (the socket's axis), in (0, pi] */
-  double link_radius;   /* radius of a link's capsule for interference
-                           between links [m]; 0: not checked */
-  double M;             /* platform mass, a uniform disc of radius r [kg] */
-  double payload;       /* payload mass, a point on the platform normal
-                           through its centre [kg] */
+  double ball_max;             /* ball joint cone half-angle [rad]: the largest
+                                  angle between a link and the platform normal
+                                  (the socket's axis), in (0, pi] */
+  double link_radius;          /* radius of a link's capsule for interference
+                                  between links [m]; 0: not checked */
+  double M;              /* platform mass, a uniform disc of radius r [kg] */
+  double payload;        /* payload mass, a point on the platform normal
+                            through its centre [kg] */
   double payload_height; /* payload above the platform centre, along the
                            platform normal [m] */
-  double actuator_mass; /* mass of a link's actuator body [kg] */
-  double actuator_d;    /* its distance from the pin [m] */
-  double link_density;  /* mass per unit length of a link's rod [kg/m] */
-  double g;             /* gravitational acceleration [m/s^2] */
+  double actuator_mass;  /* mass of a link's actuator body [kg] */
+  double actuator_d;     /* its distance from the pin [m] */
+  double link_density;   /* mass per unit length of a link's rod [kg/m] */
+  double g;              /* gravitational acceleration [m/s^2] */
 } rps3_design;
 
 /*
@@ -1734,27 +1736,27 @@ typedef struct {
  * theta_max > theta_min, and a link mass model whose m, d, link_Ic are
  * finite.
  */
-#define RPS3_DESIGN_FIELDS(X)                                                 \
-  X(RPS3_DF_R, R, 0, 1, HUGE_VAL, "m", "R")                                   \
-  X(RPS3_DF_RHO, rho, 0, 1, HUGE_VAL, "1", "rho")                             \
-  X(RPS3_DF_L_MIN, l_min, 0, 0, HUGE_VAL, "m", "l_min")                       \
-  X(RPS3_DF_L_MAX, l_max, 0, 1, HUGE_VAL, "m", "l_max")                       \
-  X(RPS3_DF_THETA_MIN, theta_min, 0, 0, 3.14159265358979323846, "rad",        \
-    "theta_min")                                                              \
-  X(RPS3_DF_THETA_MAX, theta_max, 0, 0, 3.14159265358979323846, "rad",        \
-    "theta_max")                                                              \
-  X(RPS3_DF_BALL_MAX, ball_max, 0, 1, 3.14159265358979323846, "rad",          \
-    "ball_max")                                                               \
-  X(RPS3_DF_LINK_RADIUS, link_radius, 0, 0, HUGE_VAL, "m", "link_radius")     \
-  X(RPS3_DF_M, M, 0, 0, HUGE_VAL, "kg", "M")                                  \
-  X(RPS3_DF_PAYLOAD, payload, 0, 0, HUGE_VAL, "kg", "payload")                \
-  X(RPS3_DF_PAYLOAD_HEIGHT, payload_height, -HUGE_VAL, 0, HUGE_VAL, "m",      \
-    "payload_height")                                                         \
-  X(RPS3_DF_ACTUATOR_MASS, actuator_mass, 0, 0, HUGE_VAL, "kg",               \
-    "actuator_mass")                                                          \
-  X(RPS3_DF_ACTUATOR_D, actuator_d, 0, 0, HUGE_VAL, "m", "actuator_d")        \
-  X(RPS3_DF_LINK_DENSITY, link_density, 0, 0, HUGE_VAL, "kg/m",               \
-    "link_density")                                                           \
+#define RPS3_DESIGN_FIELDS(X)                                             \
+  X(RPS3_DF_R, R, 0, 1, HUGE_VAL, "m", "R")                               \
+  X(RPS3_DF_RHO, rho, 0, 1, HUGE_VAL, "1", "rho")                         \
+  X(RPS3_DF_L_MIN, l_min, 0, 0, HUGE_VAL, "m", "l_min")                   \
+  X(RPS3_DF_L_MAX, l_max, 0, 1, HUGE_VAL, "m", "l_max")                   \
+  X(RPS3_DF_THETA_MIN, theta_min, 0, 0, 3.14159265358979323846, "rad",    \
+    "theta_min")                                                          \
+  X(RPS3_DF_THETA_MAX, theta_max, 0, 0, 3.14159265358979323846, "rad",    \
+    "theta_max")                                                          \
+  X(RPS3_DF_BALL_MAX, ball_max, 0, 1, 3.14159265358979323846, "rad",      \
+    "ball_max")                                                           \
+  X(RPS3_DF_LINK_RADIUS, link_radius, 0, 0, HUGE_VAL, "m", "link_radius") \
+  X(RPS3_DF_M, M, 0, 0, HUGE_VAL, "kg", "M")                              \
+  X(RPS3_DF_PAYLOAD, payload, 0, 0, HUGE_VAL, "kg", "payload")            \
+  X(RPS3_DF_PAYLOAD_HEIGHT, payload_height, -HUGE_VAL, 0, HUGE_VAL, "m",  \
+    "payload_height")                                                     \
+  X(RPS3_DF_ACTUATOR_MASS, actuator_mass, 0, 0, HUGE_VAL, "kg",           \
+    "actuator_mass")                                                      \
+  X(RPS3_DF_ACTUATOR_D, actuator_d, 0, 0, HUGE_VAL, "m", "actuator_d")    \
+  X(RPS3_DF_LINK_DENSITY, link_density, 0, 0, HUGE_VAL, "kg/m",           \
+    "link_density")                                                       \
   X(RPS3_DF_G, g, 0, 0, HUGE_VAL, "m/s^2", "g")
 
 #define RPS3_DESIGN_FIELD_ID_(ID, ...) ID,
@@ -1793,20 +1795,20 @@ RPS3_API int rps3_design_model(const rps3_design *ds, rps3_model *m,
 /* Reachability: why a pose is outside a design's workspace (bits of
    rps3_design_out.flags).  A pose is reachable when none is set. */
 enum rps3_design_flag {
-  RPS3_DESIGN_STROKE = 1,     /* a link length outside [l_min, l_max] */
-  RPS3_DESIGN_PIN = 2,        /* a link angle theta outside [theta_min,
-                                 theta_max] */
-  RPS3_DESIGN_BALL = 4,       /* a ball joint bent past ball_max */
-  RPS3_DESIGN_INTERFERE = 8,  /* two link capsules (segment pin - ball,
-                                 radius link_radius) intersect */
-  RPS3_DESIGN_ASSEMBLY = 16,  /* no assembly: rps3_inverse refused the pose
-                                 (RPS3_EREACH: a ball joint not above the
-                                 base plane, or a link of zero length;
-                                 RPS3_EINVAL, RPS3_ERANGE); the other
-                                 outputs of the pose are NaN */
-  RPS3_DESIGN_SINGULAR = 32   /* singular: the homogeneous condition number
-                                 above opts.cond_sing, or rps3_inverse's
-                                 RPS3_ESING */
+  RPS3_DESIGN_STROKE = 1,    /* a link length outside [l_min, l_max] */
+  RPS3_DESIGN_PIN = 2,       /* a link angle theta outside [theta_min,
+                                theta_max] */
+  RPS3_DESIGN_BALL = 4,      /* a ball joint bent past ball_max */
+  RPS3_DESIGN_INTERFERE = 8, /* two link capsules (segment pin - ball,
+                                radius link_radius) intersect */
+  RPS3_DESIGN_ASSEMBLY = 16, /* no assembly: rps3_inverse refused the pose
+                                (RPS3_EREACH: a ball joint not above the
+                                base plane, or a link of zero length;
+                                RPS3_EINVAL, RPS3_ERANGE); the other
+                                outputs of the pose are NaN */
+  RPS3_DESIGN_SINGULAR = 32  /* singular: the homogeneous condition number
+                                above opts.cond_sing, or rps3_inverse's
+                                RPS3_ESING */
 };
 #define RPS3_DESIGN_NFLAG 6
 
@@ -1816,11 +1818,11 @@ RPS3_API const char *rps3_design_flag_name(int k);
 
 /* How the indices are evaluated. */
 typedef struct {
-  double lti_good;   /* good transmission: LTI >= lti_good, 0.7 [-] */
-  double length;     /* characteristic length L of the homogeneous
-                        condition number [m]; 0: the platform radius r */
-  double cond_sing;  /* RPS3_DESIGN_SINGULAR above this homogeneous
-                        condition number, 1e8 [-] */
+  double lti_good;  /* good transmission: LTI >= lti_good, 0.7 [-] */
+  double length;    /* characteristic length L of the homogeneous
+                       condition number [m]; 0: the platform radius r */
+  double cond_sing; /* RPS3_DESIGN_SINGULAR above this homogeneous
+                       condition number, 1e8 [-] */
 } rps3_design_opts;
 
 /* Fill o with the defaults above.  o NULL: does nothing. */
@@ -1864,21 +1866,21 @@ RPS3_API void rps3_design_opts_default(rps3_design_opts *o);
  * unchanged.
  */
 typedef struct {
-  int *flags;            /* n: RPS3_DESIGN_* bits, 0 when reachable */
-  double *l;             /* 3 n: link lengths (5)-(7) [m] */
-  double *theta;         /* 3 n: link angles (39) [rad] */
-  double *ball;          /* 3 n: ball joint angles: between link i and
-                            the platform normal [rad] */
-  double *clearance;     /* n: least distance between two link axes
-                            (segments pin - ball) minus 2 link_radius [m] */
-  double *lti;           /* n: local transmission index [-] */
-  double *oti;           /* n: output transmission index [-] */
-  double *cti;           /* n: constraint transmission index [-] */
-  double *cond_h;        /* n: homogeneous condition number [-] */
-  double *transmission;  /* n: rps3_data.transmission [-] */
-  double *c;             /* 3 n: platform centre (x_c, y_c, z_c), (3)-(4)
-                            and the pose's z_c [m] */
-  double *spin;          /* n: parasitic spin [rad], below */
+  int *flags;           /* n: RPS3_DESIGN_* bits, 0 when reachable */
+  double *l;            /* 3 n: link lengths (5)-(7) [m] */
+  double *theta;        /* 3 n: link angles (39) [rad] */
+  double *ball;         /* 3 n: ball joint angles: between link i and
+                           the platform normal [rad] */
+  double *clearance;    /* n: least distance between two link axes
+                           (segments pin - ball) minus 2 link_radius [m] */
+  double *lti;          /* n: local transmission index [-] */
+  double *oti;          /* n: output transmission index [-] */
+  double *cti;          /* n: constraint transmission index [-] */
+  double *cond_h;       /* n: homogeneous condition number [-] */
+  double *transmission; /* n: rps3_data.transmission [-] */
+  double *c;            /* 3 n: platform centre (x_c, y_c, z_c), (3)-(4)
+                           and the pose's z_c [m] */
+  double *spin;         /* n: parasitic spin [rad], below */
 } rps3_design_out;
 
 /*
@@ -1915,8 +1917,8 @@ typedef struct {
    lo[k] + (j + 1/2) (hi[k] - lo[k]) / n[k]; pose index i0 + n0 (i1 + n1
    i2), alpha fastest.  Cell volume prod_k (hi[k] - lo[k]) / n[k]. */
 typedef struct {
-  double lo[3], hi[3];  /* alpha, beta [rad], z_c [m] */
-  size_t n[3];          /* nodes per coordinate, >= 1 */
+  double lo[3], hi[3]; /* alpha, beta [rad], z_c [m] */
+  size_t n[3];         /* nodes per coordinate, >= 1 */
 } rps3_design_grid;
 
 /* Fill gr for design ds: alpha in [-pi, pi], beta in [0, pi/3], z_c in
@@ -1933,17 +1935,16 @@ RPS3_API size_t rps3_design_grid_size(const rps3_design_grid *gr);
    hi < lo, n[k] = 0). */
 RPS3_API int rps3_design_grid_pose(const rps3_design_grid *gr, size_t i,
                                    double pose[3]);
-RPS3_API int rps3_design_grid_cell(const rps3_design_grid *gr,
-                                   double *volume);
+RPS3_API int rps3_design_grid_cell(const rps3_design_grid *gr, double *volume);
 
 struct rps3_design_scratch; /* internal: GSL SVD and task blocks */
 
 /* The workspace of the design functions: allocated once, serves any
    design; one per thread.  err holds the message of the last failure. */
 typedef struct {
-  rps3_model model;      /* the model of the last design evaluated */
-  rps3_data *d;          /* its data */
-  rps3_error err;        /* last error */
+  rps3_model model;                /* the model of the last design evaluated */
+  rps3_data *d;                    /* its data */
+  rps3_error err;                  /* last error */
   struct rps3_design_scratch *scr; /* internal */
 } rps3_design_ws;
 
@@ -1966,8 +1967,7 @@ RPS3_API void rps3_design_ws_free(rps3_design_ws *w);
 RPS3_API int rps3_design_eval(rps3_design_ws *w, const rps3_design *ds,
                               const rps3_design_opts *o, size_t n,
                               const double *pose, double cell_volume,
-                              rps3_design_out *out,
-                              rps3_design_summary *sum);
+                              rps3_design_out *out, rps3_design_summary *sum);
 
 /* The same over the poses of grid gr (out's arrays hold its
    rps3_design_grid_size poses in its order), cell volume from gr. */
@@ -1979,20 +1979,20 @@ RPS3_API int rps3_design_eval_grid(rps3_design_ws *w, const rps3_design *ds,
 
 /* Task requirements of rps3_design_task. */
 typedef struct {
-  size_t nsamples;       /* samples evaluated (before a failure) */
-  double F_peak[3];      /* max_t |F_i| [N] */
-  double F_rms[3];       /* sqrt(mean_t F_i^2) [N] */
-  double P_peak[3];      /* max_t |F_i l_i'| [W] */
-  double v_peak[3];      /* max_t |l_i'| [m/s] */
+  size_t nsamples;         /* samples evaluated (before a failure) */
+  double F_peak[3];        /* max_t |F_i| [N] */
+  double F_rms[3];         /* sqrt(mean_t F_i^2) [N] */
+  double P_peak[3];        /* max_t |F_i l_i'| [W] */
+  double v_peak[3];        /* max_t |l_i'| [m/s] */
   double l_lo[3], l_hi[3]; /* link length range [m] */
-  double lti_min;        /* least LTI along the task [-] */
-  size_t fail_index;     /* first sample outside the workspace, nsamples
-                            requested if none */
-  double fail_time;      /* its time [s]; NaN if none */
-  int fail_flags;        /* its RPS3_DESIGN_* bits (0: rps3_inverse
-                            failed, fail_status) */
-  int fail_status;       /* rps3_inverse's status there (RPS3_OK if it
-                            was the design's limits) */
+  double lti_min;          /* least LTI along the task [-] */
+  size_t fail_index;       /* first sample outside the workspace, nsamples
+                              requested if none */
+  double fail_time;        /* its time [s]; NaN if none */
+  int fail_flags;          /* its RPS3_DESIGN_* bits (0: rps3_inverse
+                              failed, fail_status) */
+  int fail_status;         /* rps3_inverse's status there (RPS3_OK if it
+                              was the design's limits) */
 } rps3_design_task;
 
 /* link_mass argument of rps3_design_task */
@@ -2128,38 +2128,38 @@ RPS3_API int rps3_regressor_batch(const rps3_model *m, rps3_data *d,
  * its field is -1); they never reach GSL's error handler.
  */
 typedef struct {
-  size_t n, p;               /* rows, columns; n > p */
-  const double *Y;           /* n x p row-major: row r, column j at
-                                [r * p + j] */
-  const double *F;           /* n forces [N] */
-  const int *actuator;       /* n actuator indices 0..2 of the rows (the
-                                noise groups of the two-pass WLS); NULL:
-                                row r is actuator r % 3 */
-  const double *weight;      /* n weights > 0, the inverse variance of each
-                                row [1/N^2]; NULL: rps3_ident_wls estimates
-                                them (two passes), rps3_ident_consistent
-                                takes 1 */
-  const char *const *names;  /* p column names for the messages; NULL:
-                                "column j" */
+  size_t n, p;              /* rows, columns; n > p */
+  const double *Y;          /* n x p row-major: row r, column j at
+                               [r * p + j] */
+  const double *F;          /* n forces [N] */
+  const int *actuator;      /* n actuator indices 0..2 of the rows (the
+                               noise groups of the two-pass WLS); NULL:
+                               row r is actuator r % 3 */
+  const double *weight;     /* n weights > 0, the inverse variance of each
+                               row [1/N^2]; NULL: rps3_ident_wls estimates
+                               them (two passes), rps3_ident_consistent
+                               takes 1 */
+  const char *const *names; /* p column names for the messages; NULL:
+                               "column j" */
 } rps3_ident_data;
 
 typedef struct {
-  double rank_tol;  /* a singular value of the weighted regressor with
-                       unit-norm columns below rank_tol times the largest
-                       is zero: 1e-10, above the rounding of a regressor
-                       computed to 1e-13 and below any usable excitation */
-  double level;     /* confidence of the intervals, 0.95 */
-  double reg;       /* consistent fit: weight of the total pseudo-inertia
-                       trace sum_b (m_b + tr Sigma_b) [1/kg] against the
-                       squared residual over |F|^2 (the tie-break among
-                       bodies the data cannot tell apart; rps3.ident's
-                       LMI_REG), 1e-9 */
+  double rank_tol;         /* a singular value of the weighted regressor with
+                              unit-norm columns below rank_tol times the largest
+                              is zero: 1e-10, above the rounding of a regressor
+                              computed to 1e-13 and below any usable excitation */
+  double level;            /* confidence of the intervals, 0.95 */
+  double reg;              /* consistent fit: weight of the total pseudo-inertia
+                              trace sum_b (m_b + tr Sigma_b) [1/kg] against the
+                              squared residual over |F|^2 (the tie-break among
+                              bodies the data cannot tell apart; rps3.ident's
+                              LMI_REG), 1e-9 */
   double xtol, gtol, ftol; /* consistent fit: GSL's convergence tests
                        (gsl_multifit_nlinear_test), 1e-12, 1e-12, 0 */
-  int max_iter;     /* consistent fit: iteration limit, 2000 */
-  double eig_tol;   /* consistent fit: a pseudo-inertia eigenvalue down to
-                       -eig_tol times the body's largest counts as zero,
-                       1e-10 (rounding of U U^T) */
+  int max_iter;            /* consistent fit: iteration limit, 2000 */
+  double eig_tol; /* consistent fit: a pseudo-inertia eigenvalue down to
+                     -eig_tol times the body's largest counts as zero,
+                     1e-10 (rounding of U U^T) */
 } rps3_ident_opts;
 
 /* Fill o with the defaults above.  o NULL: does nothing. */
@@ -2168,23 +2168,23 @@ RPS3_API void rps3_ident_opts_default(rps3_ident_opts *o);
 /* Results of rps3_ident_wls; the arrays are the caller's (NULL: not
    written, theta required). */
 typedef struct {
-  double *theta;    /* p estimates */
-  double *cov;      /* p x p covariance of theta, row-major:
-                       s2 (Y^T W Y)^-1 */
-  double *ci;       /* p x 2: the level's intervals, theta -+ t(dof)
-                       std, t Student's quantile */
-  int *unident;     /* p flags: 1 for a column in a direction the data do
-                       not determine (a zero column, or a share >= 0.1 of
-                       the right singular vectors below rank_tol) */
-  double sigma[3];  /* each actuator's noise standard deviation [N]:
-                       sqrt(|r_a|^2 / (n_a - p n_a / n)) of the first
-                       pass (of the fit when the weights are given) */
-  double s2;        /* weighted residual variance factor chisq / dof
-                       (about 1 for right weights) */
-  double cond;      /* condition number of the weighted regressor with
-                       unit-norm columns */
-  size_t rank;      /* numerical rank by rank_tol */
-  size_t dof;       /* n - p */
+  double *theta;   /* p estimates */
+  double *cov;     /* p x p covariance of theta, row-major:
+                      s2 (Y^T W Y)^-1 */
+  double *ci;      /* p x 2: the level's intervals, theta -+ t(dof)
+                      std, t Student's quantile */
+  int *unident;    /* p flags: 1 for a column in a direction the data do
+                      not determine (a zero column, or a share >= 0.1 of
+                      the right singular vectors below rank_tol) */
+  double sigma[3]; /* each actuator's noise standard deviation [N]:
+                      sqrt(|r_a|^2 / (n_a - p n_a / n)) of the first
+                      pass (of the fit when the weights are given) */
+  double s2;       /* weighted residual variance factor chisq / dof
+                      (about 1 for right weights) */
+  double cond;     /* condition number of the weighted regressor with
+                      unit-norm columns */
+  size_t rank;     /* numerical rank by rank_tol */
+  size_t dof;      /* n - p */
 } rps3_ident_result;
 
 /*
@@ -2202,8 +2202,8 @@ typedef struct {
  * RPS3_ENOMEM.
  */
 RPS3_API int rps3_ident_wls(const rps3_ident_data *data,
-                            const rps3_ident_opts *o,
-                            rps3_ident_result *res, rps3_check *chk);
+                            const rps3_ident_opts *o, rps3_ident_result *res,
+                            rps3_check *chk);
 
 /*
  * Which columns of pi are the 10 standard parameters of which rigid body,
@@ -2235,17 +2235,17 @@ RPS3_API const rps3_ident_layout *rps3_ident_paper_layout(void);
 /* Results of rps3_ident_consistent; arrays the caller's (theta
    required). */
 typedef struct {
-  double *theta;    /* p fitted parameters */
-  double *body;     /* 10 nbody: each body's standard parameters, those
-                       not in pi included */
-  double *eig;      /* 4 nbody: each body's pseudo-inertia eigenvalues,
-                       ascending */
-  double rss;       /* sum_r w_r (F_r - Y_r theta)^2 */
-  double cost;      /* rss / |F|_w^2 + reg sum_b tr J_b, minimised */
-  int niter;        /* iterations */
-  int consistent;   /* 1: theta's every pseudo-inertia eigenvalue checked
-                       >= -eig_tol times its body's largest, every >= 0
-                       column >= 0 (also after RPS3_ENOCONV) */
+  double *theta;  /* p fitted parameters */
+  double *body;   /* 10 nbody: each body's standard parameters, those
+                     not in pi included */
+  double *eig;    /* 4 nbody: each body's pseudo-inertia eigenvalues,
+                     ascending */
+  double rss;     /* sum_r w_r (F_r - Y_r theta)^2 */
+  double cost;    /* rss / |F|_w^2 + reg sum_b tr J_b, minimised */
+  int niter;      /* iterations */
+  int consistent; /* 1: theta's every pseudo-inertia eigenvalue checked
+                     >= -eig_tol times its body's largest, every >= 0
+                     column >= 0 (also after RPS3_ENOCONV) */
 } rps3_ident_fit;
 
 /*

@@ -80,7 +80,8 @@ static void store(const rps3_data *d, batch_kind kind, rps3_batch_out *out,
   }
   for (c = 0; c < 3; c++)
     if (out->c) AT(out->c, c, i, n) = d->c[c];
-  if (kind != BATCH_IK && out->solve_resid) out->solve_resid[i] = d->solve_resid;
+  if (kind != BATCH_IK && out->solve_resid)
+    out->solve_resid[i] = d->solve_resid;
   if (kind == BATCH_INVERSE) {
     /* the rates as the stages left them: NaN when they did not run */
     const double nan = (double)NAN;
@@ -138,7 +139,8 @@ static void name_point(rps3_data *d, int status, size_t i) {
   }
   /* shift the message right and write the prefix before it, cutting the
      end of a message that no longer fits */
-  np = (size_t)snprintf(prefix, sizeof(prefix), "point %lu: ", (unsigned long)i);
+  np =
+      (size_t)snprintf(prefix, sizeof(prefix), "point %lu: ", (unsigned long)i);
   len = strlen(d->err.msg);
   if (np + len > cap) len = cap - np;
   memmove(d->err.msg + np, d->err.msg, len);
@@ -147,7 +149,7 @@ static void name_point(rps3_data *d, int status, size_t i) {
 }
 
 /* point i by the scalar stage; the first failure's message is kept in
-   *first */
+ *first */
 static void point(const rps3_model *m, rps3_data *d, batch_kind kind,
                   const rps3_batch_in *in, rps3_batch_out *out, size_t i,
                   rps3_error *first) {
@@ -181,7 +183,6 @@ static void point(const rps3_model *m, rps3_data *d, batch_kind kind,
 static double *dst(double *user, int c, size_t i0, size_t n, double *scratch) {
   return user ? user + (size_t)c * n + i0 : scratch;
 }
-
 
 /* the statuses of a block the kernel computed: a point it did not certify
    goes through the scalar path (its status, warnings and outputs), a
@@ -303,15 +304,13 @@ static void kernel_block(const rps3_model *m, rps3_data *d,
   clear_block(m, out, i0, nb, n);
 }
 
-
 /* outputs = RPS3_OUT_FORCES: the points i0 .. i0 + nb - 1 through the
    leanest pass, F and cond into the caller's arrays, the points it does
    not keep by the scalar path; then, as rps3_inverse leaves nothing else
    for them, NaN into every other output of the points computed */
 static void lean_block(const rps3_model *m, rps3_data *d,
-                       const rps3_batch_in *in, rps3_batch_out *out,
-                       size_t i0, int nb, int rates, rps3_kblock *kb,
-                       rps3_error *first) {
+                       const rps3_batch_in *in, rps3_batch_out *out, size_t i0,
+                       int nb, int rates, rps3_kblock *kb, rps3_error *first) {
   const double nan = (double)NAN;
   size_t n = in->n;
   double *F[3];
@@ -323,8 +322,8 @@ static void lean_block(const rps3_model *m, rps3_data *d,
   clear_block(m, out, i0, nb, n);
   /* the pass's own points have no kinematics (rps3_inverse leaves l, c,
      dl, ddl NaN for them); the stages' points keep theirs */
-  for (p = 0; p < nb && (out->l || out->dl || out->ddl || out->c ||
-                         out->solve_resid);
+  for (p = 0;
+       p < nb && (out->l || out->dl || out->ddl || out->c || out->solve_resid);
        p++) {
     size_t i = i0 + (size_t)p;
     if (kb->ok[p] == 0.0) continue;
@@ -372,8 +371,8 @@ int rps3_inverse_kernel_point(const rps3_model *m, rps3_data *d) {
   o.mode = &mode;
   o.ok = &ok;
   o.d = d;
-  rps3_kernel_block(m, &in, 0, 1, need_rates,
-                    lean ? RPS3_KFORCES : RPS3_KDATA, &o);
+  rps3_kernel_block(m, &in, 0, 1, need_rates, lean ? RPS3_KFORCES : RPS3_KDATA,
+                    &o);
   if (ok == 0.0) return 0;
   d->c[2] = d->pose[2];
   for (c = 0; c < 3; c++) {

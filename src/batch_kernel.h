@@ -21,21 +21,21 @@
 /* the outputs of one block, component-major [c][i]: scratch for the
    outputs a caller does not ask for, and the tests' view of a block */
 typedef struct {
-  double l[3][RPS3_KBLOCK];       /* link lengths [m] */
-  double theta[3][RPS3_KBLOCK];   /* (39) [rad] */
-  double F[3][RPS3_KBLOCK];       /* forces [N] */
+  double l[3][RPS3_KBLOCK];              /* link lengths [m] */
+  double theta[3][RPS3_KBLOCK];          /* (39) [rad] */
+  double F[3][RPS3_KBLOCK];              /* forces [N] */
   double Fe[RPS3_KNEFF][3][RPS3_KBLOCK]; /* share of effect k [N] */
-  double lambda[3][RPS3_KBLOCK];  /* multipliers [N/m] */
-  double cond[RPS3_KBLOCK];       /* 1-norm condition of the lambda system */
-  double trans[RPS3_KBLOCK];      /* force transmission [-] */
-  double eres[RPS3_KBLOCK];       /* energy-rate residual [W] */
-  double scale[RPS3_KBLOCK];      /* its scale (energy_scale) [W] */
-  double dl[3][RPS3_KBLOCK];      /* link rates [m/s] */
-  double ddl[3][RPS3_KBLOCK];     /* link accelerations [m/s^2] */
-  double c[2][RPS3_KBLOCK];       /* platform centre x, y (3)-(4) [m] */
-  double mode[RPS3_KBLOCK];       /* assembly mode, sign of det(df/dtheta) */
-  double ok[RPS3_KBLOCK];         /* 1: certified; 0: the scalar path's
-                                     (a double: no int in the loop) */
+  double lambda[3][RPS3_KBLOCK];         /* multipliers [N/m] */
+  double cond[RPS3_KBLOCK];   /* 1-norm condition of the lambda system */
+  double trans[RPS3_KBLOCK];  /* force transmission [-] */
+  double eres[RPS3_KBLOCK];   /* energy-rate residual [W] */
+  double scale[RPS3_KBLOCK];  /* its scale (energy_scale) [W] */
+  double dl[3][RPS3_KBLOCK];  /* link rates [m/s] */
+  double ddl[3][RPS3_KBLOCK]; /* link accelerations [m/s^2] */
+  double c[2][RPS3_KBLOCK];   /* platform centre x, y (3)-(4) [m] */
+  double mode[RPS3_KBLOCK];   /* assembly mode, sign of det(df/dtheta) */
+  double ok[RPS3_KBLOCK];     /* 1: certified; 0: the scalar path's
+                                 (a double: no int in the loop) */
 } rps3_kblock;
 
 /* where the kernel writes a block's results: component c of the block's
@@ -52,10 +52,10 @@ typedef enum {
   RPS3_KFORCES, /* as RPS3_KLEAN, and no shares: the summed load solved
                    once (o->Fe is not written); with o->d, one point and
                    the stages' positions and rates into it */
-  RPS3_KLEAN, /* neither theta nor the certificate (F alone is asked for) */
-  RPS3_KFULL, /* every output */
-  RPS3_KDATA  /* one point, every output and the stages' positions, rates
-                 and certificate terms into o->d (rps3_inverse) */
+  RPS3_KLEAN,   /* neither theta nor the certificate (F alone is asked for) */
+  RPS3_KFULL,   /* every output */
+  RPS3_KDATA    /* one point, every output and the stages' positions, rates
+                   and certificate terms into o->d (rps3_inverse) */
 } rps3_kkind;
 
 /* o pointing into every array of kb */
@@ -82,9 +82,8 @@ static inline int rps3_kernel_summed(const rps3_model *m) {
    RPS3_KLEAN computes neither theta nor the certificate (o->theta is then
    not written, and the residual is 0: for a model without the
    certificate) */
-void rps3_kernel_block(const rps3_model *m, const rps3_batch_in *in,
-                       size_t i0, int nb, int rates, rps3_kkind kind,
-                       const rps3_kout *o);
+void rps3_kernel_block(const rps3_model *m, const rps3_batch_in *in, size_t i0,
+                       int nb, int rates, rps3_kkind kind, const rps3_kout *o);
 
 /* rps3_inverse on the kernel's configurations: the point d->pose (rates
    d->dpose, d->ddpose) by the kernel.  Returns 1 when the kernel certified
@@ -95,8 +94,8 @@ void rps3_kernel_block(const rps3_model *m, const rps3_batch_in *in,
    solved once) */
 int rps3_inverse_kernel_point(const rps3_model *m, rps3_data *d);
 
-/* outputs = RPS3_OUT_FORCES: the leanest pass over points i0 .. i0 + nb - 1 of the
-   batch: F (into F[c][p]), cond and ok (1: the pass's point, 0: the
+/* outputs = RPS3_OUT_FORCES: the leanest pass over points i0 .. i0 + nb - 1 of
+   the batch: F (into F[c][p]), cond and ok (1: the pass's point, 0: the
    stages'); the rates read when rates is 1, else taken as zero */
 void rps3_kernel_block_bare(const rps3_model *m, const rps3_batch_in *in,
                             size_t i0, int nb, int rates, double *const F[3],

@@ -70,8 +70,8 @@ KINLINE ksc ksincos(double x, int fu) {
       kmaf(r4, kmaf(r2, 1.0 / 362880.0, -1.0 / 5040.0, fu),
            kmaf(r2, 1.0 / 120.0, -1.0 / 6.0, fu), fu) +
           r8 * kmaf(r4,
-                    kmaf(r2, 1.0 / 355687428096000.0,
-                         -1.0 / 1307674368000.0, fu),
+                    kmaf(r2, 1.0 / 355687428096000.0, -1.0 / 1307674368000.0,
+                         fu),
                     kmaf(r2, 1.0 / 6227020800.0, -1.0 / 39916800.0, fu), fu),
       r, fu);
   double pc = kmaf(
@@ -79,8 +79,7 @@ KINLINE ksc ksincos(double x, int fu) {
       kmaf(r4, kmaf(r2, -1.0 / 3628800.0, 1.0 / 40320.0, fu),
            kmaf(r2, -1.0 / 720.0, 1.0 / 24.0, fu), fu) +
           r8 * kmaf(r4, 1.0 / 20922789888000.0,
-                    kmaf(r2, -1.0 / 87178291200.0, 1.0 / 479001600.0, fu),
-                    fu),
+                    kmaf(r2, -1.0 / 87178291200.0, 1.0 / 479001600.0, fu), fu),
       1.0 - 0.5 * r2, fu);
   /* the quadrant k mod 4 as q = k - 4 round(k / 4) in {-2, ..., 2}, in
      floating point: no conversion to an integer (undefined for a NaN) */
@@ -109,19 +108,23 @@ KINLINE double katan2(double y, double x) {
   c = 0.25 * j;
   u = (num - c * den) / (den + c * num);
   u2 = u * u;
-  at = u + u * u2 *
-               (-1.0 / 3.0 +
-                u2 * (1.0 / 5.0 +
-                      u2 * (-1.0 / 7.0 +
-                            u2 * (1.0 / 9.0 +
-                                  u2 * (-1.0 / 11.0 +
-                                        u2 * (1.0 / 13.0 +
-                                              u2 * (-1.0 / 15.0 +
-                                                    u2 * (1.0 / 17.0 +
-                                                          u2 * (-1.0 / 19.0)))))))));
-  off = j == 1.0 ? ATAN_1_4
-                 : j == 2.0 ? ATAN_2_4
-                            : j == 3.0 ? ATAN_3_4 : j == 4.0 ? ATAN_4_4 : 0.0;
+  at =
+      u +
+      u * u2 *
+          (-1.0 / 3.0 +
+           u2 * (1.0 / 5.0 +
+                 u2 * (-1.0 / 7.0 +
+                       u2 * (1.0 / 9.0 +
+                             u2 * (-1.0 / 11.0 +
+                                   u2 * (1.0 / 13.0 +
+                                         u2 * (-1.0 / 15.0 +
+                                               u2 * (1.0 / 17.0 +
+                                                     u2 * (-1.0 / 19.0)))))))));
+  off = j == 1.0   ? ATAN_1_4
+        : j == 2.0 ? ATAN_2_4
+        : j == 3.0 ? ATAN_3_4
+        : j == 4.0 ? ATAN_4_4
+                   : 0.0;
   at = off + at;
   /* from the x axis when |x| > y, else from the y axis; then x < 0 */
   at = ax > y ? at : (PIO2_HI - at) + PIO2_LO;

@@ -35,6 +35,8 @@
 /* row k of the constraint Jacobian from D = b_i - b_j and links i, j
    (phi, dphi, l): lc = df_k/dl_i, le = df_k/dl_j, ta = df_k/dtheta_i,
    tb = df_k/dtheta_j; DOT(a, b) is the dot product of the vector type */
+/* clang-format would take (l_i) * DOT(...) for a cast */
+/* clang-format off */
 #define RPS3_CJAC_ROW(DOT, D, phi_i, dphi_i, l_i, phi_j, dphi_j, l_j, lc,   \
                       le, ta, tb)                                           \
   do {                                                                      \
@@ -43,6 +45,7 @@
     (ta) = 2.0 * (l_i) * DOT(D, dphi_i);                                    \
     (tb) = -2.0 * (l_j) * DOT(D, dphi_j);                                   \
   } while (0)
+/* clang-format on */
 
 /* pair k in the links' planes: f_k, A, B, E and the two entries of its
    row of df/dtheta (at = df_k/dtheta_i, bt = df_k/dtheta_j), from h, Z,
@@ -53,8 +56,8 @@ typedef struct {
 } rps3_plane_pair;
 
 static inline rps3_plane_pair rps3_plane_pair_eval(
-    double hi, double hj, double Zi, double Zj, double li, double lj,
-    double ci, double si, double cj, double sj, double r3) {
+    double hi, double hj, double Zi, double Zj, double li, double lj, double ci,
+    double si, double cj, double sj, double r3) {
   rps3_plane_pair q;
   q.A = 2.0 * hi + hj;
   q.B = 2.0 * hj + hi;

@@ -69,8 +69,7 @@ int rps3_ctrl_alloc(rps3_ctrl_kind kind, double kp, double kd,
   c->traj = *traj;
   c->t = (double)NAN;
   c->t_meas = (double)NAN;
-  for (k = 0; k < 3; k++)
-    c->l_des[k] = c->dl_des[k] = c->F_ff[k] = (double)NAN;
+  for (k = 0; k < 3; k++) c->l_des[k] = c->dl_des[k] = c->F_ff[k] = (double)NAN;
   c->fd = (rps3_fd_state *)calloc(1, sizeof(*c->fd));
   if (c->fd == NULL || rps3_data_alloc(&c->model, &c->des) != RPS3_OK ||
       rps3_data_alloc(&c->model, &c->meas) != RPS3_OK) {
@@ -101,8 +100,8 @@ static int desired(rps3_ctrl *c, double t) {
   rps3_pose_trig trig;
   double T = rps3_traj_duration(&c->traj);
   int st, rest = t > T;
-  st = rps3_traj_eval(&c->model, &c->traj, rest ? T : (t < 0 ? 0 : t),
-                      d->pose, d->dpose, d->ddpose);
+  st = rps3_traj_eval(&c->model, &c->traj, rest ? T : (t < 0 ? 0 : t), d->pose,
+                      d->dpose, d->ddpose);
   if (st != RPS3_OK) return st;
   if (rest) {
     memset(d->dpose, 0, sizeof(d->dpose));
@@ -194,18 +193,17 @@ static int invdyn_at(rps3_ctrl *c, double t, const double l[3],
   /* in a simulation whose plant has this model's geometry, at the
      plant's state (an exact measurement): the plant's kinematics, this
      model's masses, effects and limits */
-  if (plant == NULL ||
-      !rps3_fwddyn_state_shared(&c->model, d, c->fd, plant->model, plant->fd,
-                                &st)) {
+  if (plant == NULL || !rps3_fwddyn_state_shared(
+                           &c->model, d, c->fd, plant->model, plant->fd, &st)) {
     if (!d->have_theta) {
       v3_copy(d->theta, c->des->theta);
       d->have_theta = 1;
     } else if (had) {
       predict_theta(c, l, t);
     }
-    st = rps3_fwddyn_state(&c->model, d, c->fd,
-                           RPS3_FD_LEAN | RPS3_FD_NOFACTOR |
-                               (had ? RPS3_FD_TRIG : 0));
+    st = rps3_fwddyn_state(
+        &c->model, d, c->fd,
+        RPS3_FD_LEAN | RPS3_FD_NOFACTOR | (had ? RPS3_FD_TRIG : 0));
   }
   if (st != RPS3_OK) return st;
   if (mode0 != RPS3_MODE_ANY && d->mode != mode0) d->warn |= RPS3_WARN_MODE;
@@ -214,8 +212,7 @@ static int invdyn_at(rps3_ctrl *c, double t, const double l[3],
   if (!v3_finite(x)) {
     d->err.code = RPS3_ERANGE;
     snprintf(d->err.msg, sizeof(d->err.msg),
-             "controller force (%g, %g, %g) N is not finite", x[0], x[1],
-             x[2]);
+             "controller force (%g, %g, %g) N is not finite", x[0], x[1], x[2]);
     return RPS3_ERANGE;
   }
   for (i = 0; i < 3; i++) {
@@ -299,9 +296,7 @@ int rps3_ctrl_update_plant(void *state, double t, const double l[3],
     de[i] = c->dl_des[i] - dl[i];
   }
   switch (c->kind) {
-  case RPS3_CTRL_OPEN_LOOP:
-    v3_copy(F, c->F_ff);
-    break;
+  case RPS3_CTRL_OPEN_LOOP: v3_copy(F, c->F_ff); break;
   case RPS3_CTRL_PD:
     for (i = 0; i < 3; i++) F[i] = c->kp * e[i] + c->kd * de[i];
     break;

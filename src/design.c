@@ -12,7 +12,6 @@
 
 #include "internal.h"
 
-
 /* ------------------------------------------------------------------ fields */
 
 #define DROW(ID, MEMBER, LO, LO_OPEN, HI, UNIT, NAME)                          \
@@ -180,7 +179,6 @@ int rps3_design_model(const rps3_design *ds, rps3_model *m, rps3_check *chk) {
   }
   return RPS3_OK;
 }
-
 
 /* ------------------------------------------------------------------- grid */
 

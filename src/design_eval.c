@@ -335,7 +335,8 @@ static int sum_end(rps3_design_ws *w, rps3_design_summary *s,
       for (k = 0; k < RPS3_DESIGN_NFLAG && len + 32 < sizeof why; k++)
         if (nf[k] > 0)
           len += (size_t)snprintf(why + len, sizeof why - len, "%s%s %zu",
-                                  len ? ", " : "", rps3_design_flag_name(k), nf[k]);
+                                  len ? ", " : "", rps3_design_flag_name(k),
+                                  nf[k]);
       RPS3_ERROR(w, RPS3_EEMPTY,
                  "empty workspace: none of the %zu poses is reachable "
                  "(poses failing each check: %s)",
@@ -454,8 +455,8 @@ static double sample_time(double T, size_t k, size_t n) {
 
 /* the task's model into the scratch (the design's, links' mass left out
    when asked), checked with the trajectory */
-static int task_model(rps3_design_ws *w, const rps3_traj *tr,
-                      size_t nsamples, int link_mass_on) {
+static int task_model(rps3_design_ws *w, const rps3_traj *tr, size_t nsamples,
+                      int link_mass_on) {
   rps3_model *dm = &w->scr->dyn;
   rps3_check chk;
   if (tr == NULL) RPS3_ERROR(w, RPS3_EINVAL, "trajectory is NULL");
@@ -518,8 +519,8 @@ static int task_block(rps3_design_ws *w, const rps3_traj *tr, double T,
    its inverse dynamics fail, the result up to it and RPS3_EREACH; else
    its requirements added to res (sumsq: the squared forces) */
 static int task_sample(rps3_design_ws *w, const rps3_design *ds,
-                       const rps3_design_opts *o, double L, double t,
-                       size_t k, size_t i, size_t nb, double sumsq[3],
+                       const rps3_design_opts *o, double L, double t, size_t k,
+                       size_t i, size_t nb, double sumsq[3],
                        rps3_design_task *res) {
   struct rps3_design_scratch *s = w->scr;
   double q[3];
@@ -598,8 +599,8 @@ int rps3_design_task_eval(rps3_design_ws *w, const rps3_design *ds,
     if (st != RPS3_OK) return st;
     /* each sample in order: the workspace, then its forces */
     for (i = 0; i < nb; i++) {
-      st = task_sample(w, ds, o, L, sample_time(T, k0 + i, nsamples), k0 + i,
-                       i, nb, sumsq, res);
+      st = task_sample(w, ds, o, L, sample_time(T, k0 + i, nsamples), k0 + i, i,
+                       nb, sumsq, res);
       if (st != RPS3_OK) return st;
     }
   }

@@ -27,7 +27,7 @@ typedef char rps3_enum_is_int_[(sizeof(rps3_method) == sizeof(int) &&
 #define OFF_RPS3_IN_PATH(MEMBER) offsetof(rps3_traj, MEMBER)
 #define OFF_RPS3_IN_TABLE(MEMBER) offsetof(rps3_traj, MEMBER)
 
-#define ROW(ID, IN, MEMBER, N, IS_INT, LO, LO_OPEN, HI, UNIT, NAME)           \
+#define ROW(ID, IN, MEMBER, N, IS_INT, LO, LO_OPEN, HI, UNIT, NAME) \
   {NAME, IN, OFF_##IN(MEMBER), N, IS_INT, LO, LO_OPEN, HI, UNIT},
 static const rps3_field_info fields[RPS3_NFIELD] = {RPS3_FIELDS(ROW)};
 #undef ROW
@@ -67,8 +67,8 @@ static void range_text(const rps3_field_info *f, char *buf, size_t sz) {
   if (f->lo == -HUGE_VAL && f->hi == HUGE_VAL)
     snprintf(buf, sz, "must be finite");
   else if (f->hi == HUGE_VAL)
-    snprintf(buf, sz, "must be finite and %s %.17g", f->lo_open ? ">" : ">=",
-             f->lo);
+    snprintf(buf, sz, "must be finite and %s %.17g",
+             f->lo_open ? ">" : ">=", f->lo);
   else
     snprintf(buf, sz, "must be %sin %c%.17g, %.17g]",
              f->is_int ? "an integer " : "", f->lo_open ? '(' : '[', f->lo,

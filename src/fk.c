@@ -49,8 +49,8 @@ int rps3_theta_newton(const rps3_model *m, rps3_closure *q, int have_trig,
                       int mode, int *niter, double *resid, int *exact) {
   /* the test of rps3_theta_solve, max |f_k| / R^2 <= tol, in q's unit */
   const double tol = m->opt.tol * q->R * q->R;
-  const int max_it = m->opt.max_iter < NEWTON_MAX ? m->opt.max_iter
-                                                  : NEWTON_MAX;
+  const int max_it =
+      m->opt.max_iter < NEWTON_MAX ? m->opt.max_iter : NEWTON_MAX;
   double *th = q->th, *c = q->c, *sn = q->s, f[3], res;
   int it, i, fold = 0, ex = !have_trig;
   if (!have_trig) trig3(th, c, sn);
@@ -134,9 +134,9 @@ void rps3_root_keep(const rps3_model *m, rps3_data *d, const rps3_cjac *J) {
     for (k = 0; k < 3; k++) s->root_X[i][k] = J->Ainv[3 * k + i];
   for (i = 0; i < 3; i++)
     for (k = 0; k < 3; k++)
-      s->root_G[i][k] = -(s->root_X[i][0] * J->Jl[0][k] +
-                          s->root_X[i][1] * J->Jl[1][k] +
-                          s->root_X[i][2] * J->Jl[2][k]);
+      s->root_G[i][k] =
+          -(s->root_X[i][0] * J->Jl[0][k] + s->root_X[i][1] * J->Jl[1][k] +
+            s->root_X[i][2] * J->Jl[2][k]);
 }
 
 int rps3_root_predict(rps3_data *d, double max_step) {
@@ -218,8 +218,8 @@ static int accept_root(const rps3_model *m, rps3_data *d, const double th[3],
     RPS3_ERROR(d, RPS3_EMODE,
                "root theta = (%.6g, %.6g, %.6g) is in assembly mode %d "
                "(sign of det df/dtheta; +1 the level platform's), opt.mode "
-               "asks for %d", d->theta[0], d->theta[1], d->theta[2], d->mode,
-               m->opt.mode);
+               "asks for %d",
+               d->theta[0], d->theta[1], d->theta[2], d->mode, m->opt.mode);
   }
   d->have_theta = 1;
   d->stage = RPS3_STAGE_POS;
@@ -270,8 +270,8 @@ int rps3_theta_solve_with(const rps3_model *m, rps3_data *d, rps3_cjac *J) {
     rps3_closure q = s->p.q;
     int exact;
     v3_copy(q.th, d->theta);
-    if (rps3_theta_newton(m, &q, 0, prev_mode, &d->solve_niter,
-                          &d->solve_resid, &exact) >= 0) {
+    if (rps3_theta_newton(m, &q, 0, prev_mode, &d->solve_niter, &d->solve_resid,
+                          &exact) >= 0) {
       v3_copy(th, q.th);
       /* the root's libm trig, for the positions and the next evaluation
          there (a series-stepped one gives way to libm's below) */

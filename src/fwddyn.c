@@ -102,7 +102,8 @@ static int state_eval(const rps3_model *m, rps3_data *d, rps3_fd_state *k,
       d->omega[q] = om[q];
     }
   } else if (!(flags & RPS3_FD_SCRATCH)) {
-    for (q = 0; q < 3; q++) d->vc[q] = d->omega[q] = (double)NAN; /* as positions */
+    for (q = 0; q < 3; q++)
+      d->vc[q] = d->omega[q] = (double)NAN; /* as positions */
   }
   memcpy(k->G, p->G, sizeof(p->G));
   memcpy(k->Jc, p->Jc, sizeof(p->Jc));
@@ -150,8 +151,7 @@ static int mass_inverse(const double A[3][3], double Ai[3][3]) {
   /* det(D^-1/2 A D^-1/2), D = diag(A), at least MASS_ADJ_DET: the
      determinant's rounding, a few eps A00 A11 A22, is then negligible */
   if (!(A[0][0] > 0.0 && c22 > 0.0 &&
-        det > MASS_ADJ_DET * (A[0][0] * A[1][1] * A[2][2]) &&
-        det < HUGE_VAL))
+        det > MASS_ADJ_DET * (A[0][0] * A[1][1] * A[2][2]) && det < HUGE_VAL))
     return -1;
   id = 1.0 / det;
   if (!(id < HUGE_VAL)) return -1; /* a subnormal det: no inverse */
@@ -304,9 +304,8 @@ int rps3_fwddyn_state(const rps3_model *m, rps3_data *d, rps3_fd_state *k,
     if ((flags & RPS3_FD_PREDICT) && m->opt.warm_start && d->have_theta) {
       double dlen[3];
       v3_sub(dlen, d->l, k->l);
-      rps3_theta_predict(d->theta, d->l, k->l, d->theta, M3C(k->G),
-                         k->ddth_b, v3_dot(dlen, k->dl) * k->idl2,
-                         RPS3_FD_PREDICT_MAX);
+      rps3_theta_predict(d->theta, d->l, k->l, d->theta, M3C(k->G), k->ddth_b,
+                         v3_dot(dlen, k->dl) * k->idl2, RPS3_FD_PREDICT_MAX);
     }
     /* a state started near the last root moves that root's cosines and
        sines by the change of theta (exact: the two are within a factor of
@@ -342,7 +341,8 @@ int rps3_fwddyn_state(const rps3_model *m, rps3_data *d, rps3_fd_state *k,
           const rps3_error err = d->err;
           if (rps3_fd_solve_failed_singular(m, d, th0, mode0) == RPS3_OK)
             d->err = err;
-          else status = RPS3_ESING;
+          else
+            status = RPS3_ESING;
         }
         poison(d);
         return status;
@@ -419,8 +419,7 @@ int rps3_fwddyn_state(const rps3_model *m, rps3_data *d, rps3_fd_state *k,
      |A|_2, lambda_max <= tr), with 1e-12 for its rounding (Mcond NaN:
      the number was not needed) */
   pd = (mass_inverse(M3C(d->Mq), k->Minv) == 0);
-  bound = pd ? 3.0 * (1.0 + 1e-12) *
-                   (d->Mq[0][0] + d->Mq[1][1] + d->Mq[2][2]) *
+  bound = pd ? 3.0 * (1.0 + 1e-12) * (d->Mq[0][0] + d->Mq[1][1] + d->Mq[2][2]) *
                    (k->Minv[0][0] + k->Minv[1][1] + k->Minv[2][2])
              : HUGE_VAL;
   if (!pd) {
@@ -474,7 +473,8 @@ int rps3_fwddyn_accel(const rps3_model *m, rps3_data *d,
       RPS3_CHECK_FINITE(d, d->hq, 3, "hq");
     }
     RPS3_ERROR(d, RPS3_ESING,
-               RPS3_SING_PREFIX "acceleration ddl = Mq^-1 (F - hq) not "
+               RPS3_SING_PREFIX
+               "acceleration ddl = Mq^-1 (F - hq) not "
                "finite");
   }
   v3_copy(d->ddl, x);

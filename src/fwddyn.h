@@ -36,17 +36,17 @@
  * inputs as far as the compiler knows.  Its steps are in fwddyn_plane.h.
  */
 typedef struct {
-  rps3_closure q;                 /* lengths, theta, its cos and sin, and
-                                     A, B, E, at, bt of pair k, in metres */
-  double dl[3];                   /* rates */
-  double al[3], bl[3];            /* df_k/dl_k, df_k/dl_(k+1) */
-  double X[3][3];                 /* (df/dtheta)^-1 */
-  double G[3][3];                 /* dtheta'/dl' = -X df/dl */
-  double Jc[3][3];                /* dvc/dl' */
-  double dth[3], ddb[3];          /* theta', theta'' at l'' = 0 */
-  double hd[3], Zd[3];            /* h_i', Z_i' */
-  double hdd[3], Zdd[3];          /* h_i'', Z_i'' at l'' = 0 */
-  double acb[3];                  /* centre acceleration at l'' = 0 */
+  rps3_closure q;        /* lengths, theta, its cos and sin, and
+                            A, B, E, at, bt of pair k, in metres */
+  double dl[3];          /* rates */
+  double al[3], bl[3];   /* df_k/dl_k, df_k/dl_(k+1) */
+  double X[3][3];        /* (df/dtheta)^-1 */
+  double G[3][3];        /* dtheta'/dl' = -X df/dl */
+  double Jc[3][3];       /* dvc/dl' */
+  double dth[3], ddb[3]; /* theta', theta'' at l'' = 0 */
+  double hd[3], Zd[3];   /* h_i', Z_i' */
+  double hdd[3], Zdd[3]; /* h_i'', Z_i'' at l'' = 0 */
+  double acb[3];         /* centre acceleration at l'' = 0 */
 } plane;
 
 /* what rps3_fwddyn_accel needs of a state: theta' = G l', vc = Jc l',
@@ -55,7 +55,7 @@ typedef struct {
 typedef struct rps3_fd_state {
   double G[3][3];
   double Jc[3][3];
-  double Jw[3][3];     /* set with dw_b only when have_w */
+  double Jw[3][3]; /* set with dw_b only when have_w */
   int have_w;
   double ddth_b[3];   /* theta'' at l'' = 0 */
   double ac_b[3];     /* centre acceleration at l'' = 0 */
@@ -65,44 +65,44 @@ typedef struct rps3_fd_state {
   double idl2;        /* 1 / |dl|^2 (0 at rest) */
   double th[3];       /* its theta, and their cosines and sines */
   double c[3], s[3];
-  int have_trig;      /* th, c, s are the last state's root */
-  int nrot;           /* states since c, s were last from sincos */
-  int mode;           /* assembly mode of the last successful state, 0
-                         before one */
+  int have_trig; /* th, c, s are the last state's root */
+  int nrot;      /* states since c, s were last from sincos */
+  int mode;      /* assembly mode of the last successful state, 0
+                    before one */
   /* RPS3_FD_KEEP: that state's kinematics (Jw formed too), for a model
      with the same geometry at the same (l, dl): rps3_fwddyn_state_shared */
   plane kin;
   double Mq[3][3], hq[3]; /* and its Mq, hq */
   int have_kin;
-  int scratch;        /* RPS3_FD_SCRATCH: rps3_fwddyn_accel forms ddl alone */
+  int scratch; /* RPS3_FD_SCRATCH: rps3_fwddyn_accel forms ddl alone */
 } rps3_fd_state;
 
 /* flags of rps3_fwddyn_state */
 enum {
-  RPS3_FD_PREDICT = 1, /* *k holds the last state this d was evaluated at,
-                          successfully (d->theta its root): the theta solve
-                          starts from the root predictor's start
-                          (rps3_theta_predict) */
-  RPS3_FD_LEAN = 2,    /* an integrator's stage, which reads the
-                          accelerations and theta' only: the positions
-                          (ball joints, link directions, frame), the pose,
-                          vc, omega, the pose rates and the angular
-                          acceleration are left out (NaN; a payload keeps
-                          the positions and the platform's motion) */
+  RPS3_FD_PREDICT = 1,  /* *k holds the last state this d was evaluated at,
+                           successfully (d->theta its root): the theta solve
+                           starts from the root predictor's start
+                           (rps3_theta_predict) */
+  RPS3_FD_LEAN = 2,     /* an integrator's stage, which reads the
+                           accelerations and theta' only: the positions
+                           (ball joints, link directions, frame), the pose,
+                           vc, omega, the pose rates and the angular
+                           acceleration are left out (NaN; a payload keeps
+                           the positions and the platform's motion) */
   RPS3_FD_NOFACTOR = 4, /* Mq and hq only, for a model's inverse dynamics
                           F = Mq ddl + hq (a controller): no inertia
                           needed, Mq not factored (Minv, Mcond unset) */
-  RPS3_FD_TRIG = 8,    /* *k holds the last root of this d (have_trig):
-                          a state whose start is within a predicted step
-                          of it takes its cosines and sines from it by
-                          their series instead of sincos */
-  RPS3_FD_KEEP = 16,   /* keep the state's kinematics in k->kin, with Jw
-                          (a simulation's state at a controller's tick) */
-  RPS3_FD_SCRATCH = 32 /* with RPS3_FD_LEAN: d is the caller's scratch,
-                          which it reads nothing of but the accelerations:
-                          what a lean state leaves out is left as it was
-                          instead of NaN (its stage bits 0 say so), and
-                          rps3_fwddyn_accel forms ddl alone */
+  RPS3_FD_TRIG = 8,     /* *k holds the last root of this d (have_trig):
+                           a state whose start is within a predicted step
+                           of it takes its cosines and sines from it by
+                           their series instead of sincos */
+  RPS3_FD_KEEP = 16,    /* keep the state's kinematics in k->kin, with Jw
+                           (a simulation's state at a controller's tick) */
+  RPS3_FD_SCRATCH = 32  /* with RPS3_FD_LEAN: d is the caller's scratch,
+                           which it reads nothing of but the accelerations:
+                           what a lean state leaves out is left as it was
+                           instead of NaN (its stage bits 0 say so), and
+                           rps3_fwddyn_accel forms ddl alone */
 };
 
 /* a lean state's positions: none (NaN), so that no earlier state's can be

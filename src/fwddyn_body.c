@@ -54,8 +54,8 @@ void rps3_fd_add_body(const rps3_fd_state *k, const rps3_data *d, double mb,
   }
 }
 
-int rps3_energy(const rps3_model *m, const rps3_data *d, double *T,
-                double *P, double *fric) {
+int rps3_energy(const rps3_model *m, const rps3_data *d, double *T, double *P,
+                double *fric) {
   const int eff = (m != NULL) ? m->opt.effects : 0;
   double t = 0.0, p = 0.0, f = 0.0, Iw[3][3], w[3], s[3], v[3];
   int i;

@@ -21,8 +21,7 @@ static int same_dynamics(const rps3_model *a, const rps3_model *b) {
 
 /* the state part of rps3_fwddyn_state_shared, once it applies */
 static int state_shared(const rps3_model *m, rps3_data *d, rps3_fd_state *k,
-                        const rps3_model *src_model,
-                        const rps3_fd_state *src) {
+                        const rps3_model *src_model, const rps3_fd_state *src) {
   const plane *p = &src->kin;
   double cond;
   int st;

@@ -54,8 +54,7 @@ int rps3_fd_solve_failed_singular(const rps3_model *m, rps3_data *d,
   det0 = det_at(m, &p, d->l, th0, f);
   /* the model about th0 holds where the new lengths leave df/dtheta on
      the last root's side */
-  if (!((det0 > 0.0) == (mode > 0) && fabs(det0) < HUGE_VAL))
-    return RPS3_OK;
+  if (!((det0 > 0.0) == (mode > 0) && fabs(det0) < HUGE_VAL)) return RPS3_OK;
   {
     plane_inverse(&p, det0);
     cond = plane_cond1(&p);
@@ -73,8 +72,9 @@ int rps3_fd_solve_failed_singular(const rps3_model *m, rps3_data *d,
     if (j > SING_SAMPLES) return RPS3_OK;
   }
   RPS3_ERROR(d, RPS3_ESING,
-             RPS3_SING_PREFIX "no theta near the last root, twice "
+             RPS3_SING_PREFIX
+             "no theta near the last root, twice "
              "its Newton step crosses det df/dtheta = 0 (from %.3g to %.3g; "
-             "condition number of df/dtheta %.3g at the root)", det0, det,
-             cond);
+             "condition number of df/dtheta %.3g at the root)",
+             det0, det, cond);
 }

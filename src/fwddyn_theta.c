@@ -31,8 +31,7 @@ void rps3_fd_positions_unset(rps3_data *d) {
  * written unless `positions` is 0, and the pose when `pose`.
  */
 int rps3_fd_theta_newton(const rps3_model *m, rps3_data *d, plane *p,
-                         int have_trig, int positions, int pose,
-                         int unset) {
+                         int have_trig, int positions, int pose, int unset) {
   rps3_closure *q = &p->q;
   const double *c = q->c, *sn = q->s;
   int i, fold, exact;

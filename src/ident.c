@@ -20,8 +20,8 @@ static const char *const paper_names[RPS3_NPAPER] = {
     "payload.mcx", "payload.mcy", "payload.mcz", "payload.Ixx",
     "payload.Iyy", "payload.Izz", "pin.fv",      "pin.fc"};
 static const char *const paper_units[RPS3_NPAPER] = {
-    "kg",     "kg m",   "kg m^2", "kg",          "kg m", "kg m",
-    "kg m",   "kg m^2", "kg m^2", "kg m^2", "N m s/rad", "N m"};
+    "kg",   "kg m",   "kg m^2", "kg",     "kg m",      "kg m",
+    "kg m", "kg m^2", "kg m^2", "kg m^2", "N m s/rad", "N m"};
 
 const char *rps3_paper_name(int k) {
   return (k >= 0 && k < RPS3_NPAPER) ? paper_names[k] : NULL;
@@ -41,8 +41,8 @@ int rps3_paper_params(const rps3_model *m, double pi[RPS3_NPAPER],
   rps3_check_clear(chk);
   if (m == NULL || !m->valid || pi == NULL) {
     if (err && errsz)
-      snprintf(err, errsz, "%s", pi == NULL ? "pi is NULL"
-                                            : "model is NULL or not initialised");
+      snprintf(err, errsz, "%s",
+               pi == NULL ? "pi is NULL" : "model is NULL or not initialised");
     return RPS3_EINVAL;
   }
   p = &m->payload;
@@ -78,9 +78,8 @@ int rps3_paper_params(const rps3_model *m, double pi[RPS3_NPAPER],
 
 /* the right-hand side of column j: the selected effects among `effects`
    computed with u */
-static void column(const rps3_model *m, const rps3_model *u,
-                   const rps3_data *d, const rps3_loads *L, int effects,
-                   double rhs[6]) {
+static void column(const rps3_model *m, const rps3_model *u, const rps3_data *d,
+                   const rps3_loads *L, int effects, double rhs[6]) {
   double w[6];
   int e, r, any = 0;
   memset(rhs, 0, 6 * sizeof(double));
@@ -103,9 +102,9 @@ static void set_payload(rps3_model *u, double mass, int axis, double h,
 
 int rps3_regressor(const rps3_model *m, rps3_data *d,
                    double Y[3][RPS3_NPAPER]) {
-  rps3_cjac J;      /* the point's constraint Jacobian */
-  rps3_loads L;     /* its kinematics and factored system */
-  rps3_model u;     /* m with unit parameters, one column at a time */
+  rps3_cjac J;  /* the point's constraint Jacobian */
+  rps3_loads L; /* its kinematics and factored system */
+  rps3_model u; /* m with unit parameters, one column at a time */
   double rhs[RPS3_LOADS_MAXCOL][6];
   int status, i, k;
   if (Y != NULL)
@@ -197,7 +196,9 @@ int rps3_regressor_batch(const rps3_model *m, rps3_data *d,
   rates = rps3_need_rates(m);
   if (n > 0 && (Y == NULL || out->status == NULL || in->pose == NULL))
     RPS3_ERROR(d, RPS3_EINVAL, "batch %s is NULL",
-               Y == NULL ? "Y" : out->status == NULL ? "out.status" : "in.pose");
+               Y == NULL             ? "Y"
+               : out->status == NULL ? "out.status"
+                                     : "in.pose");
   if (n > 0 && rates && (in->dpose == NULL || in->ddpose == NULL))
     RPS3_ERROR(d, RPS3_EINVAL,
                "batch in.%s is NULL, and the selected effects need rates and "

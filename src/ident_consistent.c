@@ -385,7 +385,8 @@ out:
 static int solve(cfit *c, const double *x0, const rps3_ident_opts *o,
                  rps3_ident_fit *fit, double *body, int *gst) {
   gsl_multifit_nlinear_fdf fdf;
-  gsl_multifit_nlinear_parameters fp = gsl_multifit_nlinear_default_parameters();
+  gsl_multifit_nlinear_parameters fp =
+      gsl_multifit_nlinear_default_parameters();
   gsl_multifit_nlinear_workspace *w;
   gsl_vector *xv;
   size_t j;
@@ -405,8 +406,7 @@ static int solve(cfit *c, const double *x0, const rps3_ident_opts *o,
   fdf.n = c->nf;
   fdf.p = c->nx;
   fdf.params = c;
-  w = gsl_multifit_nlinear_alloc(gsl_multifit_nlinear_trust, &fp, c->nf,
-                                 c->nx);
+  w = gsl_multifit_nlinear_alloc(gsl_multifit_nlinear_trust, &fp, c->nf, c->nx);
   xv = gsl_vector_alloc(c->nx);
   if (w == NULL || xv == NULL) {
     if (w) gsl_multifit_nlinear_free(w);
@@ -441,8 +441,8 @@ static int check_fit(const cfit *c, const rps3_ident_opts *o, double scale,
   size_t i, j, b;
   int status = RPS3_OK, eig_ok = 1;
   if (!ew || !E || !lam) {
-    status = rps3_ident_fail(err, errsz, RPS3_ENOMEM,
-                             "consistent: out of memory");
+    status =
+        rps3_ident_fail(err, errsz, RPS3_ENOMEM, "consistent: out of memory");
     goto out;
   }
   for (i = 0; i < p; i++) {

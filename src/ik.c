@@ -102,11 +102,12 @@ void rps3_link_dirs(const rps3_model *m, rps3_data *d) {
 void rps3_links_from_joints(const rps3_model *m, rps3_data *d) {
   int i;
   rps3_link_dirs(m, d);
-  for (i = 0; i < 3; i++) v3_axpy(d->b[i], m->pin[i], d->l[i], d->phi[i]); /* (12)-(14) */
+  for (i = 0; i < 3; i++)
+    v3_axpy(d->b[i], m->pin[i], d->l[i], d->phi[i]); /* (12)-(14) */
 }
 
-void rps3_links_from_trig(const rps3_model *m, rps3_data *d,
-                          const double c[3], const double s[3]) {
+void rps3_links_from_trig(const rps3_model *m, rps3_data *d, const double c[3],
+                          const double s[3]) {
   int i;
   for (i = 0; i < 3; i++) {
     set_link_dir(d, i, m->radial[i], c[i], s[i]);
@@ -142,8 +143,7 @@ void rps3_constraint_jacobian(const rps3_data *d, double Jl[3][3],
     v3_sub(D, d->b[i], d->b[j]);
     for (q = 0; q < 3; q++) Jl[k][q] = Jt[k][q] = 0.0;
     RPS3_CJAC_ROW(v3_dot, D, d->phi[i], d->dphi[i], d->l[i], d->phi[j],
-                  d->dphi[j], d->l[j], Jl[k][i], Jl[k][j], Jt[k][i],
-                  Jt[k][j]);
+                  d->dphi[j], d->l[j], Jl[k][i], Jl[k][j], Jt[k][i], Jt[k][j]);
   }
 }
 

@@ -9,9 +9,9 @@
 #include <stdio.h>
 #include <string.h>
 
-#include "rps3.h"
-#include "policy.h"
 #include "cjac.h"
+#include "policy.h"
+#include "rps3.h"
 
 #define RPS3_SQRT3 1.7320508075688772935
 #define RPS3_PI 3.14159265358979323846
@@ -23,15 +23,15 @@
  * Record an error in d->err and return its code from the calling function.
  * snprintf writes into the fixed buffer of the data: no allocation, no I/O.
  */
-#define RPS3_ERROR(d, code_, ...)                                             \
-  do {                                                                        \
-    (d)->err.code = (code_);                                                  \
-    (d)->err.func = __func__;                                                 \
-    (d)->err.file = __FILE__;                                                 \
-    (d)->err.line = __LINE__;                                                 \
-    snprintf((d)->err.msg, sizeof((d)->err.msg), __VA_ARGS__);                \
-    rps3_error_hook((d)->err.code);                                           \
-    return (code_);                                                           \
+#define RPS3_ERROR(d, code_, ...)                              \
+  do {                                                         \
+    (d)->err.code = (code_);                                   \
+    (d)->err.func = __func__;                                  \
+    (d)->err.file = __FILE__;                                  \
+    (d)->err.line = __LINE__;                                  \
+    snprintf((d)->err.msg, sizeof((d)->err.msg), __VA_ARGS__); \
+    rps3_error_hook((d)->err.code);                            \
+    return (code_);                                            \
   } while (0)
 
 /*
@@ -40,15 +40,15 @@
  * first non-finite component.  The inputs were checked finite on entry, so
  * a non-finite result is an overflow of finite inputs.
  */
-#define RPS3_CHECK_FINITE(d, a, n, name)                                      \
-  do {                                                                        \
-    if (!rps3_all_finite((const double *)(a), (n))) {                         \
-      int k_ = rps3_first_nonfinite((const double *)(a), (n));                \
-      RPS3_ERROR(d, RPS3_ERANGE,                                              \
-                 "%s[%d] = %g is not finite: finite inputs overflowed "       \
-                 "(a mass, length or rate too large)", (name), k_,            \
-                 ((const double *)(a))[k_]);                                  \
-    }                                                                         \
+#define RPS3_CHECK_FINITE(d, a, n, name)                                \
+  do {                                                                  \
+    if (!rps3_all_finite((const double *)(a), (n))) {                   \
+      int k_ = rps3_first_nonfinite((const double *)(a), (n));          \
+      RPS3_ERROR(d, RPS3_ERANGE,                                        \
+                 "%s[%d] = %g is not finite: finite inputs overflowed " \
+                 "(a mass, length or rate too large)",                  \
+                 (name), k_, ((const double *)(a))[k_]);                \
+    }                                                                   \
   } while (0)
 
 /* index of the first non-finite of the n values at a, -1 if all finite */
@@ -116,8 +116,8 @@ double rps3_path_duration(const rps3_path *p);
 double rps3_table_duration(const rps3_table *tb);
 size_t rps3_table_eval(const rps3_table *tb, double t, double q[3],
                        double dq[3], double ddq[3]); /* returns the segment */
-int rps3_table_check(const rps3_model *m, const rps3_table *tb,
-                     const int id[4], int pose, rps3_check *chk);
+int rps3_table_check(const rps3_model *m, const rps3_table *tb, const int id[4],
+                     int pose, rps3_check *chk);
 
 /* internal state of the theta solve, owned by rps3_data */
 struct rps3_solver_state;
@@ -128,14 +128,14 @@ void rps3_solver_free(struct rps3_solver_state *s);
    shared by the stages of rps3_inverse; cb is left out (NaN) when with_cb
    is 0, for rps3_velocity alone, which does not read it */
 typedef struct {
-  double ca, sa;   /* cos, sin alpha */
-  double sb, cb;   /* sin, cos beta */
-  double vb;       /* 1 - cos beta as 2 sin^2(beta/2) */
-  double C, S;     /* cos 2 alpha, sin 2 alpha */
+  double ca, sa; /* cos, sin alpha */
+  double sb, cb; /* sin, cos beta */
+  double vb;     /* 1 - cos beta as 2 sin^2(beta/2) */
+  double C, S;   /* cos 2 alpha, sin 2 alpha */
 } rps3_pose_trig;
 
-static inline void rps3_pose_trig_eval(rps3_pose_trig *t,
-                                       const double pose[3], int with_cb) {
+static inline void rps3_pose_trig_eval(rps3_pose_trig *t, const double pose[3],
+                                       int with_cb) {
   /* locals first: stores through t could alias pose, and would keep the
      compiler from pairing sin and cos into one sincos call */
   double alpha = pose[0], beta = pose[1];
@@ -156,7 +156,7 @@ enum {
   RPS3_IK_NO_THETA = 0, /* neither theta (39) nor the link directions: the
                            multiroot route computes them from the lengths */
   RPS3_IK_THETA = 1,    /* theta by (39) and the link directions */
-  RPS3_IK_DIRS = 2      /* the link directions only, theta NaN (no RPS3_OUT_THETA) */
+  RPS3_IK_DIRS = 2 /* the link directions only, theta NaN (no RPS3_OUT_THETA) */
 };
 
 /*
@@ -174,12 +174,12 @@ enum {
  */
 typedef struct {
   double Jl[3][3], Jt[3][3]; /* Jl[k][i] = d f_k / d l_i, Jt: d / d theta_i */
-  int factored;        /* the members below are set (rps3_cjac_factor) */
-  int sing;            /* a zero or non-finite pivot: LU unusable */
-  double A[9], LU[9];  /* A = Jt^T row-major, and its LU with rows perm */
+  int factored;              /* the members below are set (rps3_cjac_factor) */
+  int sing;                  /* a zero or non-finite pivot: LU unusable */
+  double A[9], LU[9];        /* A = Jt^T row-major, and its LU with rows perm */
   int perm[3];
-  double Ainv[9];      /* A^-1 row-major: (df/dtheta)^-1 = Ainv^T */
-  double cond;         /* 1-norm condition number of A; HUGE_VAL if sing */
+  double Ainv[9]; /* A^-1 row-major: (df/dtheta)^-1 = Ainv^T */
+  double cond;    /* 1-norm condition number of A; HUGE_VAL if sing */
 } rps3_cjac;
 
 /* Jl and Jt at d's positions (rps3_constraint_jacobian), not factored */
@@ -217,8 +217,8 @@ int rps3_invdyn_with(const rps3_model *m, rps3_data *d, rps3_cjac *J);
 
 /* kinematic quantities of the Lagrange route at one point (invdyn.c) */
 typedef struct {
-  double bdd[3][3];                 /* ball joint accelerations */
-  double n[3], o[3];                /* frame columns (18)-(19) */
+  double bdd[3][3];                      /* ball joint accelerations */
+  double n[3], o[3];                     /* frame columns (18)-(19) */
   double cdd[3], ndd[3], odd[3], add[3]; /* second time derivatives */
 } rps3_lag_kin;
 
@@ -238,12 +238,12 @@ typedef struct {
  */
 #define RPS3_LOADS_MAXCOL 16
 typedef struct {
-  int method;                /* m->opt.method */
-  rps3_lag_kin k;            /* Lagrange */
-  double rho[3][3];          /* Newton-Euler: b_i - c */
-  double LU6[36];            /* Newton-Euler: the system, factored */
+  int method;       /* m->opt.method */
+  rps3_lag_kin k;   /* Lagrange */
+  double rho[3][3]; /* Newton-Euler: b_i - c */
+  double LU6[36];   /* Newton-Euler: the system, factored */
   int perm6[6];
-  const rps3_cjac *J;        /* the point's Jacobian, factored */
+  const rps3_cjac *J; /* the point's Jacobian, factored */
 } rps3_loads;
 int rps3_loads_prepare(const rps3_model *m, rps3_data *d, rps3_cjac *J,
                        rps3_loads *L);
@@ -292,8 +292,8 @@ int rps3_acceleration_with(const rps3_model *m, rps3_data *d,
 void rps3_link_dirs(const rps3_model *m, rps3_data *d);
 void rps3_links_from_joints(const rps3_model *m, rps3_data *d);
 /* the same with cos and sin of d->theta given (c[i], s[i]) */
-void rps3_links_from_trig(const rps3_model *m, rps3_data *d,
-                          const double c[3], const double s[3]);
+void rps3_links_from_trig(const rps3_model *m, rps3_data *d, const double c[3],
+                          const double s[3]);
 void rps3_frame_from_balls(const rps3_model *m, rps3_data *d);
 
 /* the theta solve's (8)-(10) in units of R, f_k(theta) for lengths L = l / R,
@@ -400,8 +400,7 @@ static inline void v3_scale(double res[3], double s, const double a[3]) {
   res[2] = s * a[2];
 }
 
-static inline void v3_sub(double res[3], const double a[3],
-                          const double b[3]) {
+static inline void v3_sub(double res[3], const double a[3], const double b[3]) {
   res[0] = a[0] - b[0];
   res[1] = a[1] - b[1];
   res[2] = a[2] - b[2];
@@ -413,9 +412,7 @@ static inline void v3_copy(double res[3], const double a[3]) {
   res[2] = a[2];
 }
 
-static inline double v3_norm(const double a[3]) {
-  return sqrt(v3_dot(a, a));
-}
+static inline double v3_norm(const double a[3]) { return sqrt(v3_dot(a, a)); }
 
 /* res = A v */
 static inline void m3_mulv(double res[3], const double A[3][3],

@@ -44,8 +44,8 @@ static int check_own_root(const rps3_model *m, rps3_data *d, rps3_cjac *J,
   if (J->sing || !(anorm > 0.0))
     bound = 1e-9;
   else
-    bound = 30.0 * J->cond / anorm *
-                (m->opt.tol > 1e-15 ? m->opt.tol : 1e-15) * m->R * m->R +
+    bound = 30.0 * J->cond / anorm * (m->opt.tol > 1e-15 ? m->opt.tol : 1e-15) *
+                m->R * m->R +
             1e-12;
   if (!(err <= bound)) {
     d->have_theta = 0;
@@ -93,8 +93,7 @@ int rps3_inverse(const rps3_model *m, rps3_data *d) {
      effects) the point in the kernel's one straight-line pass, which
      shares every sine and the constraint Jacobian between the stages; a
      point it does not certify goes through the stages */
-  if (rps3_kernel_covers(m) && rps3_inverse_kernel_point(m, d))
-    return RPS3_OK;
+  if (rps3_kernel_covers(m) && rps3_inverse_kernel_point(m, d)) return RPS3_OK;
   return rps3_inverse_stages(m, d);
 }
 
@@ -110,7 +109,7 @@ int rps3_inverse_stages(const rps3_model *m, rps3_data *d) {
 
 int rps3_inverse_motion(const rps3_model *m, rps3_data *d, rps3_cjac *J,
                         int need_rates) {
-  rps3_pose_trig trig; /* sines and cosines of the pose, for every stage */
+  rps3_pose_trig trig;   /* sines and cosines of the pose, for every stage */
   double c39[3], s39[3]; /* cos, sin of the pose's own theta (39) */
   int status, multiroot, i;
 
@@ -118,7 +117,7 @@ int rps3_inverse_motion(const rps3_model *m, rps3_data *d, rps3_cjac *J,
      from the link lengths, warm-started from this data's previous point */
   multiroot = (m->opt.theta == RPS3_THETA_MULTIROOT);
   status = rps3_ik_with(m, d, &trig,
-                        multiroot ? RPS3_IK_NO_THETA
+                        multiroot                           ? RPS3_IK_NO_THETA
                         : (m->opt.outputs & RPS3_OUT_THETA) ? RPS3_IK_THETA
                                                             : RPS3_IK_DIRS,
                         J);

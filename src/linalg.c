@@ -33,9 +33,15 @@ static int lu_factor3(double *A, int *perm) {
   p = 0;
   big = fabs(A[0]);
   v = fabs(A[3]);
-  if (v > big) { big = v; p = 1; }
+  if (v > big) {
+    big = v;
+    p = 1;
+  }
   v = fabs(A[6]);
-  if (v > big) { big = v; p = 2; }
+  if (v > big) {
+    big = v;
+    p = 2;
+  }
   perm[0] = p;
   if (!(big > 0.0)) return -1;
   if (p != 0) swap3(A, A + 3 * p);
@@ -51,7 +57,10 @@ static int lu_factor3(double *A, int *perm) {
   p = 1;
   big = fabs(A[4]);
   v = fabs(A[7]);
-  if (v > big) { big = v; p = 2; }
+  if (v > big) {
+    big = v;
+    p = 2;
+  }
   perm[1] = p;
   if (!(big > 0.0)) return -1;
   if (p != 1) swap3(A + 3, A + 6);
@@ -88,8 +97,8 @@ static void lu_solve3(const double *LU, const int *perm, double *x) {
   x[2] = x2;
 }
 
-void rps3_lu3_solve_multi(const double *LU, const int *perm, double *X,
-                          int ldx, int nrhs) {
+void rps3_lu3_solve_multi(const double *LU, const int *perm, double *X, int ldx,
+                          int nrhs) {
   double *x0 = X, *x1 = X + ldx, *x2 = X + 2 * ldx;
   /* one division per pivot, then products: the columns share them */
   const double r0 = 1.0 / LU[0], r4 = 1.0 / LU[4], r8 = 1.0 / LU[8];
@@ -128,7 +137,10 @@ static inline int lu_factor_n(int n, double *A, int *perm) {
     double big = fabs(A[k * n + k]);
     for (i = k + 1; i < n; i++) {
       double v = fabs(A[i * n + k]);
-      if (v > big) { big = v; p = i; }
+      if (v > big) {
+        big = v;
+        p = i;
+      }
     }
     perm[k] = p;
     if (!(big > 0.0)) return -1; /* zero (or NaN) pivot: singular */

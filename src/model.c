@@ -54,7 +54,8 @@ int rps3_model_init(rps3_model *m, rps3_check *chk) {
     /* principal moments of a real body: each at most the sum of the other
        two (the second moments are non-negative); relative slack for
        rounding in user data */
-    double a = p->inertia[k], s = p->inertia[(k + 1) % 3] + p->inertia[(k + 2) % 3];
+    double a = p->inertia[k],
+           s = p->inertia[(k + 1) % 3] + p->inertia[(k + 2) % 3];
     if (!(a <= s * (1 + 1e-12)))
       /* the rule reads the other two components: the field itself is
          related too */
@@ -83,8 +84,8 @@ int rps3_model_init(rps3_model *m, rps3_check *chk) {
     return rps3_check_fail(chk, RPS3_F_PLATFORM_MASS, 0, m->M, RPS3_F_G,
                            RPS3_F_RHO, "M g or M r^2 overflows");
   if (!(isfinite(m->m * m->g * m->d) && isfinite(m->m * m->d * m->d)))
-    return rps3_check_fail(chk, RPS3_F_LINK_MASS, 0, m->m, RPS3_F_G,
-                           RPS3_F_D, "m g d or m d^2 overflows");
+    return rps3_check_fail(chk, RPS3_F_LINK_MASS, 0, m->m, RPS3_F_G, RPS3_F_D,
+                           "m g d or m d^2 overflows");
   if (!(isfinite(p->mass * m->g) && isfinite(p->mass * m->r * m->r)))
     return rps3_check_fail(chk, RPS3_F_PAYLOAD_MASS, 0, p->mass, RPS3_F_G,
                            RPS3_F_RHO,

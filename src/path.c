@@ -13,16 +13,16 @@
 
 /* the centre c, c', c'' at time t, and a reference angle psi such that psi
    is continuous along the path (the polar angle unwrapped) */
-static void centre_eval(const rps3_path *p, double t, double c[3],
-                        double dc[3], double ddc[3], double *psi) {
+static void centre_eval(const rps3_path *p, double t, double c[3], double dc[3],
+                        double ddc[3], double *psi) {
   double s[3], T = p->duration;
   int k;
   if (p->shape == RPS3_PATH_TABLE) {
     /* the row's unwrapped angle, plus the turn from its centre to c */
     size_t i = rps3_table_eval(&p->table, t, c, dc, ddc);
     const double *a = p->table.value[i];
-    *psi = p->table_psi[i] + atan2(a[0] * c[1] - a[1] * c[0],
-                                   a[0] * c[0] + a[1] * c[1]);
+    *psi = p->table_psi[i] +
+           atan2(a[0] * c[1] - a[1] * c[0], a[0] * c[0] + a[1] * c[1]);
     return;
   }
   rps3_law_eval(p->law == RPS3_LAW_LSPB ? RPS3_LAW_LSPB : RPS3_LAW_MINJERK,
@@ -39,8 +39,7 @@ static void centre_eval(const rps3_path *p, double t, double c[3],
     }
     /* a line that misses the axis turns by less than pi as seen from it:
        the angle from the start point is continuous */
-    *psi = atan2(y0, x0) +
-           atan2(x0 * c[1] - y0 * c[0], x0 * c[0] + y0 * c[1]);
+    *psi = atan2(y0, x0) + atan2(x0 * c[1] - y0 * c[0], x0 * c[0] + y0 * c[1]);
   } else {
     double w = 2.0 * RPS3_PI * p->turns, a = p->radius;
     double phi = p->angle0 + w * s[0], dphi = w * s[1], ddphi = w * s[2];
@@ -64,8 +63,8 @@ static void centre_eval(const rps3_path *p, double t, double c[3],
     if (a > cn) /* the circle winds about the axis: psi follows phi */
       *psi = phi + atan2(cp * cy - sp * cx, a + cp * cx + sp * cy);
     else /* it does not: psi stays within pi/2 of the centre's angle */
-      *psi = atan2(cy, cx) +
-             atan2(cx * c[1] - cy * c[0], cx * c[0] + cy * c[1]);
+      *psi =
+          atan2(cy, cx) + atan2(cx * c[1] - cy * c[0], cx * c[0] + cy * c[1]);
   }
 }
 
@@ -85,7 +84,8 @@ int rps3_path_eval(const rps3_model *m, const rps3_path *p, double t,
   centre_eval(p, t, c, dc, ddc, &psi);
   rho = centre_rho(p, c);
   if (!(rho > 0.0 && rho < 0.5 * m->r)) return RPS3_EREACH;
-  /* rho' = (x x' + y y') / rho, rho'' from (rho^2)'' = 2 (rho'^2 + rho rho'') */
+  /* rho' = (x x' + y y') / rho, rho'' from (rho^2)'' = 2 (rho'^2 + rho rho'')
+   */
   drho = (c[0] * dc[0] + c[1] * dc[1]) / rho;
   ddrho = (dc[0] * dc[0] + dc[1] * dc[1] + c[0] * ddc[0] + c[1] * ddc[1] -
            drho * drho) /
@@ -156,8 +156,7 @@ static int table_rows_check(const rps3_model *m, const rps3_path *p,
       return rps3_check_fail(chk, RPS3_F_PATH_TABLE_VALUE, (int)i,
                              tb->value[i][0], -1, -1, why);
     }
-    if (i > 0 && !(fabs(p->table_psi[i] - p->table_psi[i - 1]) <
-                   0.5 * RPS3_PI))
+    if (i > 0 && !(fabs(p->table_psi[i] - p->table_psi[i - 1]) < 0.5 * RPS3_PI))
       return rps3_check_fail(
           chk, RPS3_F_PATH_TABLE_VALUE, (int)i, tb->value[i][0], -1, -1,
           "the centre turns by pi/2 or more about the axis from the "
@@ -189,8 +188,7 @@ static int peaks_check(const rps3_path *p, rps3_check *chk) {
     double w = 2.0 * RPS3_PI * fabs(p->turns);
     v = p->radius * w * vp;
     a = p->radius * (w * ap + (w * vp) * (w * vp));
-    if (p->shape == RPS3_PATH_HELIX)
-      v = fmax(v, fabs(p->pitch * p->turns) / T);
+    if (p->shape == RPS3_PATH_HELIX) v = fmax(v, fabs(p->pitch * p->turns) / T);
     if (!(T * T > 0.0)) v = a = (double)INFINITY;
   }
   if (isfinite(v * v) && isfinite(a)) return RPS3_OK;
@@ -201,11 +199,10 @@ static int peaks_check(const rps3_path *p, rps3_check *chk) {
              "the centre's peak rate %.3g m/s or acceleration %.3g m/s^2 "
              "(its square or value) is not finite",
              v, a);
-    return rps3_check_fail(chk, turns ? RPS3_F_PATH_TURNS
-                                      : RPS3_F_PATH_DURATION,
-                           0, turns ? p->turns : p->duration,
-                           turns ? RPS3_F_PATH_DURATION : RPS3_F_PATH_LAW,
-                           -1, why);
+    return rps3_check_fail(
+        chk, turns ? RPS3_F_PATH_TURNS : RPS3_F_PATH_DURATION, 0,
+        turns ? p->turns : p->duration,
+        turns ? RPS3_F_PATH_DURATION : RPS3_F_PATH_LAW, -1, why);
   }
 }
 
@@ -249,9 +246,9 @@ int rps3_path_check(const rps3_model *m, const rps3_path *p, rps3_check *chk) {
             "the line passes through the axis x = y = 0, where alpha is not "
             "defined");
     } else if (hypot(x0, y0) <= 1e-12 * m->r) {
-      return rps3_check_fail(chk, RPS3_F_PATH_START, 0, x0, RPS3_F_PATH_END,
-                             -1, "the point is on the axis x = y = 0, where "
-                                 "alpha is not defined");
+      return rps3_check_fail(chk, RPS3_F_PATH_START, 0, x0, RPS3_F_PATH_END, -1,
+                             "the point is on the axis x = y = 0, where "
+                             "alpha is not defined");
     }
   }
   /* scan for the first unreachable time, then bisect to locate it */
@@ -263,8 +260,10 @@ int rps3_path_check(const rps3_model *m, const rps3_path *p, rps3_check *chk) {
       if (i > 0)
         for (b = 0; b < PATH_BISECT; b++) {
           double mid = 0.5 * (lo + hi);
-          if (path_ok(m, p, mid)) lo = mid;
-          else hi = mid;
+          if (path_ok(m, p, mid))
+            lo = mid;
+          else
+            hi = mid;
         }
       tbad = hi;
       break;
@@ -289,13 +288,11 @@ int rps3_path_check(const rps3_model *m, const rps3_path *p, rps3_check *chk) {
              "must keep 0 < sqrt(x^2 + y^2) < r/2 = %.6g m and every link "
              "reachable)",
              tbad, 0.5 * m->r);
-    return rps3_check_fail(chk, p->shape == RPS3_PATH_LINE ? RPS3_F_PATH_END
-                                                           : RPS3_F_PATH_RADIUS,
-                           0,
-                           p->shape == RPS3_PATH_LINE ? p->end[0] : p->radius,
-                           p->shape == RPS3_PATH_LINE ? RPS3_F_PATH_START
-                                                      : RPS3_F_PATH_CENTRE,
-                           RPS3_F_PATH_DURATION, why);
+    return rps3_check_fail(
+        chk, p->shape == RPS3_PATH_LINE ? RPS3_F_PATH_END : RPS3_F_PATH_RADIUS,
+        0, p->shape == RPS3_PATH_LINE ? p->end[0] : p->radius,
+        p->shape == RPS3_PATH_LINE ? RPS3_F_PATH_START : RPS3_F_PATH_CENTRE,
+        RPS3_F_PATH_DURATION, why);
   }
   return RPS3_OK;
 }

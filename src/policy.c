@@ -36,10 +36,11 @@ int rps3_sing_decide(const rps3_model *m, rps3_data *d, int measure,
   }
   if (measures[measure].matrix != NULL && value == HUGE_VAL)
     RPS3_ERROR(d, RPS3_ESING,
-               RPS3_SING_PREFIX "%s is singular (condition number inf) at "
+               RPS3_SING_PREFIX
+               "%s is singular (condition number inf) at "
                "theta = "
-               "(%.6g, %.6g, %.6g)", measures[measure].matrix, d->theta[0],
-               d->theta[1], d->theta[2]);
+               "(%.6g, %.6g, %.6g)",
+               measures[measure].matrix, d->theta[0], d->theta[1], d->theta[2]);
   RPS3_ERROR(d, RPS3_ESING, RPS3_SING_PREFIX "%s %.3g above %s %.3g%s",
              measures[measure].what, value, measures[measure].max_name, max,
              measures[measure].why);
@@ -48,7 +49,9 @@ int rps3_sing_decide(const rps3_model *m, rps3_data *d, int measure,
 int rps3_sing_mass_indefinite(rps3_data *d, int pivot, double ratio,
                               double cond) {
   RPS3_ERROR(d, RPS3_ESING,
-             RPS3_SING_PREFIX "Mq not positive definite: pivot %d of its "
+             RPS3_SING_PREFIX
+             "Mq not positive definite: pivot %d of its "
              "Cholesky factor %.3g times its diagonal entry (condition "
-             "number %.3g)", pivot, ratio, cond);
+             "number %.3g)",
+             pivot, ratio, cond);
 }

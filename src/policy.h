@@ -71,8 +71,8 @@ static inline int rps3_sing_check(const rps3_model *m, rps3_data *d,
  * rounding differs from the scalar stages'), where the policy would be
  * silent; every other point goes to the scalar stages and the policy.
  */
-static inline void rps3_sing_certify_limits(const rps3_model *m,
-                                            double margin, double *cond_lim,
+static inline void rps3_sing_certify_limits(const rps3_model *m, double margin,
+                                            double *cond_lim,
                                             double *trans_lim) {
   const double c = rps3_sing_quiet(m, RPS3_SING_LAMBDA);
   const double t = rps3_sing_quiet(m, RPS3_SING_TRANS);

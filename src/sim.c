@@ -113,9 +113,10 @@ static int evaluate(rps3_sim *s, double t, const double y[], int lean,
     d->ddl[0] = d->ddl[1] = d->ddl[2] = (double)NAN;
     d->err.code = RPS3_ESING;
     snprintf(d->err.msg, sizeof(d->err.msg),
-             RPS3_SING_PREFIX "det df/dtheta changed sign, assembly "
-             "mode %+d to %+d (theta = %.6g, %.6g, %.6g)", s->now.mode, d->mode,
-             d->theta[0], d->theta[1], d->theta[2]);
+             RPS3_SING_PREFIX
+             "det df/dtheta changed sign, assembly "
+             "mode %+d to %+d (theta = %.6g, %.6g, %.6g)",
+             s->now.mode, d->mode, d->theta[0], d->theta[1], d->theta[2]);
     return RPS3_ESING;
   }
   return RPS3_OK;
@@ -187,7 +188,8 @@ int rps3_sim_jac(double t, const double y[], double *dfdy, double dfdt[],
 /* T and P of the state at s->now.t (the plant data was just evaluated there) */
 static void update_energy(rps3_sim *s) {
   rps3_energy(&s->plant, s->d, &s->now.T, &s->now.P, NULL);
-  s->now.energy_residual = s->now.T + s->now.P - s->now.E0 - s->now.y[6] - s->now.y[7];
+  s->now.energy_residual =
+      s->now.T + s->now.P - s->now.E0 - s->now.y[6] - s->now.y[7];
 }
 
 static int fail(rps3_sim *s, int status, double t) {
@@ -274,28 +276,31 @@ static int tick(rps3_sim *s, const rps3_controller *c) {
   const rps3_plant_state *plant = NULL;
   int st, i;
   for (i = 0; i < 3; i++) {
-    s->now.l_meas[i] = rps3_sim_measure(s, s->now.y[i], s->opt.noise_l, s->opt.quant_l);
-    s->now.dl_meas[i] = rps3_sim_measure(s, s->now.y[3 + i], s->opt.noise_dl, s->opt.quant_dl);
+    s->now.l_meas[i] =
+        rps3_sim_measure(s, s->now.y[i], s->opt.noise_l, s->opt.quant_l);
+    s->now.dl_meas[i] =
+        rps3_sim_measure(s, s->now.y[3 + i], s->opt.noise_dl, s->opt.quant_dl);
   }
   if (c->caps & RPS3_CTRL_USES_PLANT) {
     plant = offer_plant(s, &view, &st);
     if (st != RPS3_OK) return fail(s, st, s->now.t);
   }
-  st = call_law(c, s->now.t, s->now.l_meas, s->now.dl_meas, plant, s->now.F_cmd);
+  st =
+      call_law(c, s->now.t, s->now.l_meas, s->now.dl_meas, plant, s->now.F_cmd);
   s->now.nticks++;
   if (st != RPS3_OK) {
     s->d->err.code = st;
     snprintf(s->d->err.msg, sizeof(s->d->err.msg),
-             "controller returned %d (%s) at t = %.9g s", st,
-             rps3_strerror(st), s->now.t);
+             "controller returned %d (%s) at t = %.9g s", st, rps3_strerror(st),
+             s->now.t);
     return fail(s, st, s->now.t);
   }
   for (i = 0; i < 3; i++)
     if (!isfinite(s->now.F_cmd[i])) {
       s->d->err.code = RPS3_EINVAL;
       snprintf(s->d->err.msg, sizeof(s->d->err.msg),
-               "controller force F%d = %g at t = %.9g s", i + 1, s->now.F_cmd[i],
-               s->now.t);
+               "controller force F%d = %g at t = %.9g s", i + 1,
+               s->now.F_cmd[i], s->now.t);
       return fail(s, RPS3_EINVAL, s->now.t);
     }
   s->now.nsat += rps3_sim_saturate(s, s->now.F_cmd, s->now.F);
@@ -320,8 +325,9 @@ static int rk4_step(rps3_sim *s, double t, double h) {
   }
   if (st != GSL_SUCCESS) return st;
   for (i = 0; i < NY; i++)
-    s->now.y[i] += h / 6.0 *
-               (g->k[0][i] + 2.0 * g->k[1][i] + 2.0 * g->k[2][i] + g->k[3][i]);
+    s->now.y[i] +=
+        h / 6.0 *
+        (g->k[0][i] + 2.0 * g->k[1][i] + 2.0 * g->k[2][i] + g->k[3][i]);
   return GSL_SUCCESS;
 }
 
@@ -413,8 +419,8 @@ static int integrate(rps3_sim *s, double t1) {
     e->code = RPS3_ESING;
     snprintf(e->msg, sizeof(e->msg),
              "singular configuration at t = %.9g s (%s stopped a step of "
-             "%g s short): %.160s", t,
-             rps3_integrator_name(s->opt.integrator), s->opt.h, rest);
+             "%g s short): %.160s",
+             t, rps3_integrator_name(s->opt.integrator), s->opt.h, rest);
     s->now.status = RPS3_ESING;
     s->now.failed_at = t;
     return RPS3_ESING;
@@ -443,7 +449,8 @@ static int settle(rps3_sim *s, int report) {
       s->d->err.code = RPS3_EREACH;
       snprintf(s->d->err.msg, sizeof(s->d->err.msg),
                "link %d length %.9g m left the stroke [%g, %g] m at t = "
-               "%.9g s", i + 1, s->now.y[i], s->opt.l_min, s->opt.l_max, s->now.t);
+               "%.9g s",
+               i + 1, s->now.y[i], s->opt.l_min, s->opt.l_max, s->now.t);
       return fail(s, RPS3_EREACH, s->now.t);
     }
   st = evaluate(s, s->now.t, s->now.y, !report, keeps_plant(s));
@@ -498,8 +505,7 @@ static int report_end(rps3_sim *s) {
 /* 1: c declares known capabilities and has the law they call */
 static int law_declared(const rps3_controller *c) {
   if (c->caps & ~(unsigned)RPS3_CTRL_CAPS_ALL) return 0;
-  return (c->caps & RPS3_CTRL_USES_PLANT) ? c->fn_plant != NULL
-                                          : c->fn != NULL;
+  return (c->caps & RPS3_CTRL_USES_PLANT) ? c->fn_plant != NULL : c->fn != NULL;
 }
 
 int rps3_sim_advance(rps3_sim *s, const rps3_controller *c, double t_end) {

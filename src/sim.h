@@ -15,36 +15,36 @@
 
 struct rps3_sim_gsl {
   gsl_odeiv2_system sys;
-  gsl_odeiv2_driver *drv;   /* adaptive methods: stepper, control, evolve */
-  gsl_odeiv2_step *stp;     /* the driver's stepper, which fixed-step
-                               methods call alone (the driver would reject
-                               steps on their error estimate) */
-  double yerr[NY];          /* the fixed stepper's error estimate, unused */
-  double k[4][NY], ys[NY];  /* stages of the classical RK4 */
-  int fixed;                /* 1: fixed-step method */
+  gsl_odeiv2_driver *drv;  /* adaptive methods: stepper, control, evolve */
+  gsl_odeiv2_step *stp;    /* the driver's stepper, which fixed-step
+                              methods call alone (the driver would reject
+                              steps on their error estimate) */
+  double yerr[NY];         /* the fixed stepper's error estimate, unused */
+  double k[4][NY], ys[NY]; /* stages of the classical RK4 */
+  int fixed;               /* 1: fixed-step method */
   /* the plant's state part (Mq, hq, maps) at (l, dl) = ky, valid while
      have_k: an evaluation at the same state with another force (the
      next period's first stage after settle) only solves with Mq */
   rps3_fd_state fd;
   double ky[6];
   int have_k;
-  int lean_k;               /* 1: that state has no pose, no pose rates */
-  int reported;             /* 1: d, T, P and the energy residual describe
-                               the state at s->t (settle, report_end) */
+  int lean_k;   /* 1: that state has no pose, no pose rates */
+  int reported; /* 1: d, T, P and the energy residual describe
+                   the state at s->t (settle, report_end) */
 };
 
 /* the simulation (opaque in rps3.h): the report the caller reads, the
    plant and its workspace, the run's own state */
 struct rps3_sim {
-  rps3_sim_report now;     /* rps3_sim_now */
-  rps3_model plant;        /* the simulated mechanism (a copy) */
+  rps3_sim_report now; /* rps3_sim_now */
+  rps3_model plant;    /* the simulated mechanism (a copy) */
   rps3_sim_options opt;
-  rps3_data *d;            /* plant workspace (rps3_sim_data) */
+  rps3_data *d;                /* plant workspace (rps3_sim_data) */
   const rps3_controller *ctrl; /* during rps3_sim_advance */
-  double t0;               /* start time [s] */
-  long last_tick;          /* index of the last tick served, -1 before */
-  unsigned long long rng;  /* noise generator state */
-  double spare;            /* second normal deviate of Box-Muller, or NaN */
+  double t0;                   /* start time [s] */
+  long last_tick;              /* index of the last tick served, -1 before */
+  unsigned long long rng;      /* noise generator state */
+  double spare;                /* second normal deviate of Box-Muller, or NaN */
   int started;
   struct rps3_sim_gsl *gsl;
 };

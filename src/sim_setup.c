@@ -51,9 +51,9 @@ static int nomem(rps3_check *chk, const char *what) {
   return RPS3_ENOMEM;
 }
 
-#define REQUIRE(cond, field, value, why)                                      \
-  do {                                                                        \
-    if (!(cond)) return bad(chk, field, (double)(value), why);         \
+#define REQUIRE(cond, field, value, why)                       \
+  do {                                                         \
+    if (!(cond)) return bad(chk, field, (double)(value), why); \
   } while (0)
 
 static int check_options(const rps3_sim_options *o, rps3_check *chk) {
@@ -74,8 +74,8 @@ static int check_options(const rps3_sim_options *o, rps3_check *chk) {
               o->integrator == RPS3_INT_RK4IMP,
           "simulate.epsabs", o->epsabs,
           "must be > 0 for an adaptive integrator");
-  REQUIRE(isfinite(o->hmin) && o->hmin > 0 && o->hmin <= o->h,
-          "simulate.hmin", o->hmin, "must be finite, > 0 and <= h");
+  REQUIRE(isfinite(o->hmin) && o->hmin > 0 && o->hmin <= o->h, "simulate.hmin",
+          o->hmin, "must be finite, > 0 and <= h");
   REQUIRE(o->max_steps >= 1, "simulate.max_steps", o->max_steps,
           "must be >= 1");
   REQUIRE(isfinite(o->fmax) && o->fmax >= 0, "simulate.fmax", o->fmax,
@@ -95,8 +95,8 @@ static int check_options(const rps3_sim_options *o, rps3_check *chk) {
   return RPS3_OK;
 }
 
-int rps3_sim_check_rate(const rps3_sim_options *o, double rate,
-                        double t_max, rps3_check *chk) {
+int rps3_sim_check_rate(const rps3_sim_options *o, double rate, double t_max,
+                        rps3_check *chk) {
   rps3_sim_options def;
   double period, steps, step;
   int st, fixed;
@@ -109,7 +109,8 @@ int rps3_sim_check_rate(const rps3_sim_options *o, double rate,
   if (st != RPS3_OK) return st;
   if (!(isfinite(t_max) && t_max >= 0.0)) {
     if (chk != NULL)
-      snprintf(chk->msg, sizeof chk->msg, "t_max = %.17g s: must be finite and >= 0", t_max);
+      snprintf(chk->msg, sizeof chk->msg,
+               "t_max = %.17g s: must be finite and >= 0", t_max);
     return RPS3_EINVAL;
   }
   REQUIRE(isfinite(rate) && rate >= 0.0, "simulate.rate", rate,
@@ -126,8 +127,7 @@ int rps3_sim_check_rate(const rps3_sim_options *o, double rate,
                "simulate.rate = %.17g: its period %.3g s is shorter than "
                "%s / %g = %.3g s (%s = %g s): at most %g control periods a "
                "step",
-               rate, period, fixed ? "h" : "hmin",
-               (double)RPS3_SIM_RATE_H_MAX,
+               rate, period, fixed ? "h" : "hmin", (double)RPS3_SIM_RATE_H_MAX,
                step / (double)RPS3_SIM_RATE_H_MAX,
                fixed ? "simulate.h" : "hmin", step,
                (double)RPS3_SIM_RATE_H_MAX);
@@ -162,17 +162,12 @@ int rps3_sim_check_rate(const rps3_sim_options *o, double rate,
 
 static const gsl_odeiv2_step_type *step_type(rps3_integrator k) {
   switch (k) {
-  case RPS3_INT_RKF45:
-    return gsl_odeiv2_step_rkf45;
-  case RPS3_INT_RK8PD:
-    return gsl_odeiv2_step_rk8pd;
-  case RPS3_INT_MSBDF:
-    return gsl_odeiv2_step_msbdf;
-  case RPS3_INT_RK4IMP:
-    return gsl_odeiv2_step_rk4imp;
+  case RPS3_INT_RKF45: return gsl_odeiv2_step_rkf45;
+  case RPS3_INT_RK8PD: return gsl_odeiv2_step_rk8pd;
+  case RPS3_INT_MSBDF: return gsl_odeiv2_step_msbdf;
+  case RPS3_INT_RK4IMP: return gsl_odeiv2_step_rk4imp;
   case RPS3_INT_RK4:
-  default:
-    return gsl_odeiv2_step_rk4;
+  default: return gsl_odeiv2_step_rk4;
   }
 }
 
@@ -214,8 +209,8 @@ int rps3_sim_alloc(const rps3_model *plant, const rps3_sim_options *o,
   s->gsl->sys.jacobian = rps3_sim_jac;
   s->gsl->sys.dimension = NY;
   s->gsl->sys.params = s;
-  s->gsl->fixed = (o->integrator == RPS3_INT_RK4 ||
-                   o->integrator == RPS3_INT_RK4IMP);
+  s->gsl->fixed =
+      (o->integrator == RPS3_INT_RK4 || o->integrator == RPS3_INT_RK4IMP);
   /* the implicit steppers reach their Newton solver's settings through a
      driver, so every method gets one; a fixed-step method then steps with
      the driver's stepper alone (its tolerance is not used) */
@@ -242,7 +237,8 @@ int rps3_sim_alloc(const rps3_model *plant, const rps3_sim_options *o,
 
 void rps3_sim_free(rps3_sim *s) {
   if (s == NULL) return;
-  if (s->gsl != NULL && s->gsl->drv != NULL) gsl_odeiv2_driver_free(s->gsl->drv);
+  if (s->gsl != NULL && s->gsl->drv != NULL)
+    gsl_odeiv2_driver_free(s->gsl->drv);
   free(s->gsl);
   rps3_data_free(s->d);
   free(s);

@@ -89,8 +89,10 @@ static size_t segment_find(const rps3_table *tb, double ta) {
   size_t lo = 0, hi = tb->n - 1;
   while (hi - lo > 1) {
     size_t mid = lo + (hi - lo) / 2;
-    if (ta >= tb->time[mid]) lo = mid;
-    else hi = mid;
+    if (ta >= tb->time[mid])
+      lo = mid;
+    else
+      hi = mid;
   }
   return lo;
 }
@@ -123,10 +125,11 @@ size_t rps3_table_eval(const rps3_table *tb, double t, double q[3],
       c3 = 2.0 * (y0 - y1) + v0 + v1;
     }
     q[k] = y0 + u * (v0 + u * (c2 + u * (c3 + u * (c4 + u * c5))));
-    dq[k] = (v0 + u * (2.0 * c2 + u * (3.0 * c3 + u * (4.0 * c4 +
-                                                       u * 5.0 * c5)))) / h;
-    ddq[k] = (2.0 * c2 + u * (6.0 * c3 + u * (12.0 * c4 + u * 20.0 * c5))) /
-             (h * h);
+    dq[k] =
+        (v0 + u * (2.0 * c2 + u * (3.0 * c3 + u * (4.0 * c4 + u * 5.0 * c5)))) /
+        h;
+    ddq[k] =
+        (2.0 * c2 + u * (6.0 * c3 + u * (12.0 * c4 + u * 20.0 * c5))) / (h * h);
   }
   return i;
 }
@@ -145,8 +148,8 @@ int rps3_table_unwrap(size_t n, const double (*centre)[3], double *psi) {
   return RPS3_OK;
 }
 
-int rps3_table_check(const rps3_model *m, const rps3_table *tb,
-                     const int id[4], int pose, rps3_check *chk) {
+int rps3_table_check(const rps3_model *m, const rps3_table *tb, const int id[4],
+                     int pose, rps3_check *chk) {
   size_t i;
   int k;
   if (tb->n < 2 || tb->time == NULL || tb->value == NULL)
@@ -190,15 +193,14 @@ int rps3_table_check(const rps3_model *m, const rps3_table *tb,
       char why[200];
       if (tb->acc != NULL)
         sum += h * (fabs(tb->acc[i][k]) + fabs(tb->acc[i + 1][k]));
-      if (isfinite(8.0 * sum * 8.0 * sum) && isfinite(32.0 * sum / h))
-        continue;
+      if (isfinite(8.0 * sum * 8.0 * sum) && isfinite(32.0 * sum / h)) continue;
       snprintf(why, sizeof why,
                "the interpolant's rate or acceleration to the next row "
                "(%.3g s later) overflows: rows too close for their values "
                "and rates (value is the time)",
                h);
-      return rps3_check_fail(chk, id[0], (int)i + 1, tb->time[i + 1], id[1],
-                             -1, why);
+      return rps3_check_fail(chk, id[0], (int)i + 1, tb->time[i + 1], id[1], -1,
+                             why);
     }
   }
   /* the interpolant between the rows: its midpoints, where an overshoot
@@ -215,16 +217,14 @@ int rps3_table_check(const rps3_model *m, const rps3_table *tb,
                "between this row and the next (%.3g s apart: too close for "
                "their change, or below 1.5e-154 s, whose square underflows)",
                tb->time[i + 1] - tb->time[i]);
-      return rps3_check_fail(chk, id[1], (int)i, tb->value[i][2], -1, -1,
-                             why);
+      return rps3_check_fail(chk, id[1], (int)i, tb->value[i][2], -1, -1, why);
     }
     if (!rps3_pose_reachable(m, q)) {
       snprintf(why, sizeof why,
                "the interpolant leaves the reachable set between this row "
                "and the next, at t = %.9g s (z_c there %.6g m)",
                t, q[2]);
-      return rps3_check_fail(chk, id[1], (int)i, tb->value[i][2], -1, -1,
-                             why);
+      return rps3_check_fail(chk, id[1], (int)i, tb->value[i][2], -1, -1, why);
     }
   }
   return RPS3_OK;

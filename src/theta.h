@@ -49,12 +49,12 @@
 /* (8)-(10) at one theta: the lengths, theta, its cosines and sines, and
    each pair's terms there (rps3_plane_pair), in one unit of length */
 typedef struct {
-  double R, r3;         /* R and 3 r^2 in the unit of length */
-  double l[3];          /* link lengths */
-  double th[3];         /* theta [rad] */
-  double c[3], s[3];    /* cos and sin theta */
+  double R, r3;            /* R and 3 r^2 in the unit of length */
+  double l[3];             /* link lengths */
+  double th[3];            /* theta [rad] */
+  double c[3], s[3];       /* cos and sin theta */
   double A[3], B[3], E[3]; /* of pair k (src/cjac.h) */
-  double at[3], bt[3];  /* df_k/dtheta_k, df_k/dtheta_(k+1) */
+  double at[3], bt[3];     /* df_k/dtheta_k, df_k/dtheta_(k+1) */
 } rps3_closure;
 
 /* the pairs of (8)-(10) at q's l, c, s: f_k into f and A, B, E, at, bt
@@ -69,8 +69,8 @@ THETA_INLINE void rps3_closure_eval(rps3_closure *q, double f[3]) {
   for (k = 0; k < 3; k++) {
     const int j = (k + 1) % 3;
     const rps3_plane_pair pk =
-        rps3_plane_pair_eval(h[k], h[j], Z[k], Z[j], q->l[k], q->l[j],
-                             q->c[k], q->s[k], q->c[j], q->s[j], q->r3);
+        rps3_plane_pair_eval(h[k], h[j], Z[k], Z[j], q->l[k], q->l[j], q->c[k],
+                             q->s[k], q->c[j], q->s[j], q->r3);
     q->A[k] = pk.A;
     q->B[k] = pk.B;
     q->E[k] = pk.E;
@@ -89,10 +89,10 @@ THETA_INLINE void rps3_closure_eval(rps3_closure *q, double f[3]) {
  * l'' = 0), and the rates h', Z' and the accelerations h''0, Z''0 of the
  * ball joints in their planes.
  */
-THETA_INLINE void rps3_closure_bias(const rps3_closure *q,
-                                     const double dl[3], const double dth[3],
-                                     double x[3], double hd[3], double Zd[3],
-                                     double hdd[3], double Zdd[3]) {
+THETA_INLINE void rps3_closure_bias(const rps3_closure *q, const double dl[3],
+                                    const double dth[3], double x[3],
+                                    double hd[3], double Zd[3], double hdd[3],
+                                    double Zdd[3]) {
   int i, k;
   for (i = 0; i < 3; i++) {
     const double lth = q->l[i] * dth[i], v = 2.0 * dl[i] * dth[i];
@@ -104,10 +104,8 @@ THETA_INLINE void rps3_closure_bias(const rps3_closure *q,
   for (k = 0; k < 3; k++) {
     const int j = (k + 1) % 3;
     const double dz = Zd[k] - Zd[j];
-    x[k] = -(2.0 * (hd[k] * hd[k] + hd[j] * hd[j] + hd[k] * hd[j] +
-                    dz * dz) +
-             q->A[k] * hdd[k] + q->B[k] * hdd[j] + q->E[k] * (Zdd[k] -
-                                                               Zdd[j]));
+    x[k] = -(2.0 * (hd[k] * hd[k] + hd[j] * hd[j] + hd[k] * hd[j] + dz * dz) +
+             q->A[k] * hdd[k] + q->B[k] * hdd[j] + q->E[k] * (Zdd[k] - Zdd[j]));
   }
 }
 
@@ -123,8 +121,7 @@ THETA_INLINE void rps3_closure_bias(const rps3_closure *q,
  * small change of one: a sincos of theta costs more than the rest of a
  * Newton step.
  */
-THETA_INLINE void rps3_trig_step(double c[3], double sn[3],
-                                  const double e[3]) {
+THETA_INLINE void rps3_trig_step(double c[3], double sn[3], const double e[3]) {
   const double a0 = fabs(e[0]), a1 = fabs(e[1]), a2 = fabs(e[2]);
   const double m01 = a0 > a1 ? a0 : a1, big = m01 > a2 ? m01 : a2;
   int i;
@@ -136,8 +133,8 @@ THETA_INLINE void rps3_trig_step(double c[3], double sn[3],
       se = x - x * x2 * (1.0 / 6.0);
     } else {
       ce = 1.0 - x2 * (0.5 - x2 * (1.0 / 24.0 - x2 * (1.0 / 720.0)));
-      se = x * (1.0 - x2 * (1.0 / 6.0 -
-                            x2 * (1.0 / 120.0 - x2 * (1.0 / 5040.0))));
+      se = x *
+           (1.0 - x2 * (1.0 / 6.0 - x2 * (1.0 / 120.0 - x2 * (1.0 / 5040.0))));
     }
     cn = c[i] * ce + sn[i] * se;
     snn = sn[i] * ce - c[i] * se;

@@ -31,8 +31,8 @@ static void closure_jac(const rps3_closure *q, double J[3][3]) {
 
 /* (8)-(10) and their analytic Jacobian (f or J may be NULL) at theta th for
    the lengths of q0, in q0's unit */
-static void constraints(const rps3_closure *q0, const double th[3],
-                        double f[3], double J[3][3]) {
+static void constraints(const rps3_closure *q0, const double th[3], double f[3],
+                        double J[3][3]) {
   rps3_closure q = *q0;
   double fv[3];
   trig3(th, q.c, q.s);
@@ -130,7 +130,8 @@ static int gsl_fdf(const gsl_vector *x, void *params, gsl_vector *f,
   for (k = 0; k < 3; k++) {
     if (f != NULL) GV(f, k) = fv[k];
     if (J != NULL)
-      for (q = 0; q < 3; q++) J->data[(size_t)k * J->tda + (size_t)q] = Jv[k][q];
+      for (q = 0; q < 3; q++)
+        J->data[(size_t)k * J->tda + (size_t)q] = Jv[k][q];
   }
   return GSL_SUCCESS;
 }
@@ -276,8 +277,10 @@ int rps3_theta_multiroot(const rps3_model *m, rps3_data *d, double th[3]) {
   int i, iter, status;
   unsafe = step_unsafe(m, &s->p, d->theta);
   if (unsafe != NULL)
-    RPS3_ERROR(d, RPS3_ENOCONV, "%s at the starting point theta = (%.6g, "
-               "%.6g, %.6g)", unsafe, d->theta[0], d->theta[1], d->theta[2]);
+    RPS3_ERROR(d, RPS3_ENOCONV,
+               "%s at the starting point theta = (%.6g, "
+               "%.6g, %.6g)",
+               unsafe, d->theta[0], d->theta[1], d->theta[2]);
 
   /* GSL's hybrid solvers ignore the status of the first evaluation in
      _set, so a starting point where (8)-(10) overflow would look converged
@@ -290,7 +293,8 @@ int rps3_theta_multiroot(const rps3_model *m, rps3_data *d, double th[3]) {
   if (!v3_finite(f))
     RPS3_ERROR(d, RPS3_EINVAL,
                "constraints (8)-(10) do not evaluate at the starting point "
-               "(lengths %g, %g, %g m)", d->l[0], d->l[1], d->l[2]);
+               "(lengths %g, %g, %g m)",
+               d->l[0], d->l[1], d->l[2]);
 
   /* a start within the tolerance already (a warm start predicted along the
      motion) is the root: the solver is not set up for it */
@@ -309,8 +313,8 @@ int rps3_theta_multiroot(const rps3_model *m, rps3_data *d, double th[3]) {
   if (status == GSL_EBADFUNC)
     RPS3_ERROR(d, RPS3_EINVAL,
                "constraints (8)-(10) do not evaluate at the starting point "
-               "(lengths %g, %g, %g m): %s", d->l[0], d->l[1], d->l[2],
-               gsl_strerror(status));
+               "(lengths %g, %g, %g m): %s",
+               d->l[0], d->l[1], d->l[2], gsl_strerror(status));
   /* the derivative-free solvers difference a Jacobian in _set: at a start
      where it is singular (e.g. theta = 0) GSL stops with GSL_ESING, a
      point-level failure of this start, not a caller error */
@@ -355,8 +359,8 @@ int rps3_theta_multiroot(const rps3_model *m, rps3_data *d, double th[3]) {
       if (s->p.stalled)
         RPS3_ERROR(d, RPS3_ENOCONV,
                    "solver stalled after %d iterations: a step left the "
-                   "residual %.3g > tol %.3g unchanged", iter, resid,
-                   m->opt.tol);
+                   "residual %.3g > tol %.3g unchanged",
+                   iter, resid, m->opt.tol);
       RPS3_ERROR(d, RPS3_ENOCONV, "solver stopped after %d iterations: %s",
                  iter, gsl_strerror(status));
     }

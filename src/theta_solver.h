@@ -37,11 +37,11 @@ typedef struct {
 } theta_params;
 
 struct rps3_solver_state {
-  rps3_solver kind;                 /* the solver this state was built for */
-  int fdf;                          /* 1: fdfsolver (analytic Jacobian) */
+  rps3_solver kind; /* the solver this state was built for */
+  int fdf;          /* 1: fdfsolver (analytic Jacobian) */
   gsl_multiroot_fdfsolver *sfdf;
   gsl_multiroot_fsolver *sf;
-  gsl_vector *x;                    /* starting point */
+  gsl_vector *x; /* starting point */
   gsl_multiroot_function_fdf fn_fdf;
   gsl_multiroot_function fn_f;
   theta_params p;

@@ -181,8 +181,9 @@ static int segments_check(const rps3_waypoints *w, rps3_check *chk) {
                "than %g s%s",
                i, id == RPS3_F_WP_TIME ? "" : ", stretched to the limits,",
                total, (double)RPS3_TRAJ_SPAN_MAX,
-               id == RPS3_F_WP_TIME ? "" : " (a limit too small for the "
-                                           "motion)");
+               id == RPS3_F_WP_TIME ? ""
+                                    : " (a limit too small for the "
+                                      "motion)");
       return rps3_check_fail(chk, id, kk, val, RPS3_F_WP_TIME, -1, why);
     }
     for (k = 0; k < 3; k++) {
@@ -208,8 +209,8 @@ static int segments_check(const rps3_waypoints *w, rps3_check *chk) {
                  "coordinate %d moving %.3g) needs a rate %.3g or an "
                  "acceleration %.3g whose square or value is not finite",
                  T, k, D, v, a);
-        return rps3_check_fail(chk, RPS3_F_WP_TIME, (int)i + 1,
-                               w->time[i + 1], RPS3_F_WP_POSE, -1, why);
+        return rps3_check_fail(chk, RPS3_F_WP_TIME, (int)i + 1, w->time[i + 1],
+                               RPS3_F_WP_POSE, -1, why);
       }
     }
   }
@@ -243,8 +244,7 @@ int rps3_waypoints_check(const rps3_model *m, const rps3_waypoints *w,
         return rps3_check_fail(chk, RPS3_F_WP_POSE, (int)i, w->pose[i][k], -1,
                                -1, "must be finite");
     if (!rps3_pose_reachable(m, w->pose[i]))
-      return rps3_check_fail(chk, RPS3_F_WP_POSE, (int)i, w->pose[i][2], -1,
-                             -1,
+      return rps3_check_fail(chk, RPS3_F_WP_POSE, (int)i, w->pose[i][2], -1, -1,
                              "pose unreachable (a link of zero length or a "
                              "ball joint not above the base plane); value "
                              "is z_c");

@@ -43,39 +43,30 @@ void rps3_traj_default(rps3_traj *tr) {
    time scale */
 static int scale_field(const rps3_traj *tr) {
   switch (tr->kind) {
-  case RPS3_TRAJ_HELIX:
-    return RPS3_F_HELIX_PERIOD;
-  case RPS3_TRAJ_SINE:
-    return RPS3_F_SINE_DURATION;
-  case RPS3_TRAJ_WAYPOINTS:
-    return RPS3_F_WP_TIME;
+  case RPS3_TRAJ_HELIX: return RPS3_F_HELIX_PERIOD;
+  case RPS3_TRAJ_SINE: return RPS3_F_SINE_DURATION;
+  case RPS3_TRAJ_WAYPOINTS: return RPS3_F_WP_TIME;
   case RPS3_TRAJ_PATH:
     if (tr->path.shape == RPS3_PATH_TABLE) return RPS3_F_PATH_TABLE_TIME;
     /* a circle's rates scale with turns / duration: the one off scale */
     return tr->path.shape != RPS3_PATH_LINE && fabs(tr->path.turns) > 1.0
                ? RPS3_F_PATH_TURNS
                : RPS3_F_PATH_DURATION;
-  default:
-    return RPS3_F_TABLE_TIME;
+  default: return RPS3_F_TABLE_TIME;
   }
 }
 
 static double scale_value(const rps3_traj *tr, double T) {
   switch (tr->kind) {
-  case RPS3_TRAJ_WAYPOINTS:
-    return tr->wp.time[tr->wp.n - 1];
-  case RPS3_TRAJ_HELIX:
-    return tr->helix.period;
-  case RPS3_TRAJ_SINE:
-    return tr->sine.duration;
+  case RPS3_TRAJ_WAYPOINTS: return tr->wp.time[tr->wp.n - 1];
+  case RPS3_TRAJ_HELIX: return tr->helix.period;
+  case RPS3_TRAJ_SINE: return tr->sine.duration;
   case RPS3_TRAJ_PATH:
-    return tr->path.shape == RPS3_PATH_TABLE ? tr->path.table.time[0]
+    return tr->path.shape == RPS3_PATH_TABLE      ? tr->path.table.time[0]
            : scale_field(tr) == RPS3_F_PATH_TURNS ? tr->path.turns
                                                   : tr->path.duration;
-  case RPS3_TRAJ_TABLE:
-    return tr->table.time[0];
-  default:
-    return T;
+  case RPS3_TRAJ_TABLE: return tr->table.time[0];
+  default: return T;
   }
 }
 
@@ -138,11 +129,10 @@ static int motion_scan(const rps3_model *m, const rps3_traj *tr,
   mc.opt.theta = RPS3_THETA_CLOSED_FORM; /* the stages without a solver */
   if (!(T > 0.0 && T <= (double)RPS3_TRAJ_SPAN_MAX)) {
     char why[160];
-    snprintf(why, sizeof why,
-             "the span %g s must be > 0 and at most %g s", T,
+    snprintf(why, sizeof why, "the span %g s must be > 0 and at most %g s", T,
              (double)RPS3_TRAJ_SPAN_MAX);
-    return rps3_check_fail(chk, scale_field(tr), comp, scale_value(tr, T),
-                           -1, -1, why);
+    return rps3_check_fail(chk, scale_field(tr), comp, scale_value(tr, T), -1,
+                           -1, why);
   }
   value = scale_value(tr, T);
   if (tr->kind == RPS3_TRAJ_SINE) {
@@ -180,8 +170,7 @@ static int motion_scan(const rps3_model *m, const rps3_traj *tr,
   return RPS3_OK;
 }
 
-int rps3_traj_check(const rps3_model *m, const rps3_traj *tr,
-                    rps3_check *chk) {
+int rps3_traj_check(const rps3_model *m, const rps3_traj *tr, rps3_check *chk) {
   rps3_check_clear(chk);
   if (m == NULL || tr == NULL || !m->valid) {
     if (chk != NULL)
@@ -313,8 +302,7 @@ static int evaluable(const rps3_traj *tr) {
   case RPS3_TRAJ_HELIX:
     return tr->helix.period > 0.0 && tr->helix.blend > 0.0 &&
            tr->helix.blend <= 0.5 * tr->helix.period;
-  case RPS3_TRAJ_SINE:
-    return 1;
+  case RPS3_TRAJ_SINE: return 1;
   case RPS3_TRAJ_WAYPOINTS:
     return tr->wp.n >= 2 && tr->wp.time != NULL && tr->wp.pose != NULL &&
            law_ok(tr->wp.law, tr->wp.blend);
@@ -328,8 +316,7 @@ static int evaluable(const rps3_traj *tr) {
   case RPS3_TRAJ_TABLE:
     return tr->table.n >= 2 && tr->table.time != NULL &&
            tr->table.value != NULL && tr->table.rate != NULL;
-  default:
-    return 0;
+  default: return 0;
   }
 }
 
@@ -349,7 +336,8 @@ int rps3_traj_eval(const rps3_model *m, const rps3_traj *tr, double t,
     q[0] = -0.5 * phi[0] + 0.5 * RPS3_PI;
     dq[0] = -0.5 * phi[1];
     ddq[0] = -0.5 * phi[2];
-    /* (37) corrected: 1 - cos(beta) = 2 r* / r, i.e. sin(beta/2) = sqrt(r* / r) */
+    /* (37) corrected: 1 - cos(beta) = 2 r* / r, i.e. sin(beta/2) = sqrt(r* / r)
+     */
     q[1] = 2.0 * asin(sqrt(h->radius / m->r));
     dq[1] = ddq[1] = 0.0;
     q[2] = h->z0 + h->pitch * t / h->period;

@@ -15,8 +15,7 @@
  * which inverts in closed form.  This is (26)-(28) solved for omega.
  */
 void rps3_omega_from_balls(double omega[3], const double rho[3][3],
-                           const double u[3][3], const double a[3],
-                           double r) {
+                           const double u[3][3], const double a[3], double r) {
   double w[3] = {0, 0, 0}, t[3], s;
   int i;
   for (i = 0; i < 3; i++) {
@@ -38,7 +37,7 @@ int rps3_jt_factor(const rps3_model *m, rps3_data *d, const double Jt[3][3],
   for (i = 0; i < 3; i++)
     for (k = 0; k < 3; k++) A[3 * i + k] = LU[3 * i + k] = Jt[i][k];
   cond = rps3_lu_factor(3, LU, perm) != 0 ? HUGE_VAL
-                                           : rps3_lu_cond1(3, A, LU, perm);
+                                          : rps3_lu_cond1(3, A, LU, perm);
   return rps3_sing_check(m, d, RPS3_SING_JT, cond);
 }
 
@@ -169,8 +168,8 @@ int rps3_velocity_with(const rps3_model *m, rps3_data *d,
   if (!(d->stage & RPS3_STAGE_POS))
     RPS3_ERROR(d, RPS3_ESTATE, "velocity needs positions (rps3_ik or rps3_fk)");
   if (!v3_finite(d->dpose))
-    RPS3_ERROR(d, RPS3_EINVAL, "dpose (%g, %g, %g) is not finite",
-               d->dpose[0], d->dpose[1], d->dpose[2]);
+    RPS3_ERROR(d, RPS3_EINVAL, "dpose (%g, %g, %g) is not finite", d->dpose[0],
+               d->dpose[1], d->dpose[2]);
   d->stage &= RPS3_STAGE_POS;
   if (pt == NULL) {
     rps3_pose_trig_eval(&own, d->pose, 0);
@@ -214,8 +213,7 @@ int rps3_acceleration_with(const rps3_model *m, rps3_data *d,
     rps3_pose_trig_eval(&own, d->pose, 1);
     pt = &own;
   }
-  rps3_pose_twist_rate(m, pt, d->dpose, d->ddpose, d->omega, d->domega,
-                       d->ac);
+  rps3_pose_twist_rate(m, pt, d->dpose, d->ddpose, d->omega, d->domega, d->ac);
 
   /* ball joints, then joint accelerations: b'' = (l'' - l th'^2) phi +
      (2 l' th' + l th'') dphi */
@@ -319,8 +317,7 @@ void rps3_constraint_acc_rhs(const double D[3][3], const double phi[3][3],
     double th = dth[i];
     v3_scale(bd[i], dl[i], phi[i]);
     v3_axpy(bd[i], bd[i], l[i] * th, dphi[i]);
-    v3_scale(known[i], (ddl != NULL ? ddl[i] : 0.0) - l[i] * th * th,
-             phi[i]);
+    v3_scale(known[i], (ddl != NULL ? ddl[i] : 0.0) - l[i] * th * th, phi[i]);
     v3_axpy(known[i], known[i], 2.0 * dl[i] * th, dphi[i]);
   }
   for (k = 0; k < 3; k++) {
@@ -332,8 +329,7 @@ void rps3_constraint_acc_rhs(const double D[3][3], const double phi[3][3],
   }
 }
 
-void rps3_joint_acc_rhs(const rps3_data *d, double known[3][3],
-                        double x[3]) {
+void rps3_joint_acc_rhs(const rps3_data *d, double known[3][3], double x[3]) {
   double D[3][3];
   int k;
   for (k = 0; k < 3; k++) v3_sub(D[k], d->b[k], d->b[(k + 1) % 3]);
@@ -344,7 +340,7 @@ void rps3_joint_acc_rhs(const rps3_data *d, double known[3][3],
 /* from ddtheta and known (rps3_joint_acc_rhs): the centre's acceleration
    and the platform's angular acceleration; the stage */
 int rps3_joint_acc_from(const rps3_model *m, rps3_data *d,
-                         const double known[3][3]) {
+                        const double known[3][3]) {
   double bdd[3][3], rho[3][3], u[3][3], a[3], t[3];
   int i;
   d->ac[0] = d->ac[1] = d->ac[2] = 0.0;
