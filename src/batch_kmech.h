@@ -68,9 +68,9 @@ typedef struct {
 } klink;
 
 /* link i from the platform frame (columns rx, ry) and centre c: (15)-(17),
-   (5)-(7), (39) and (29), as rps3_ik_with */
+   (5)-(7), (39) (theta 0 leaves it 0) and (29), as rps3_ik_with */
 KINLINE klink link_pos(const kconst *K, int i, kv3 rx, kv3 ry, kv3 c,
-                       int full) {
+                       int theta) {
   klink L;
   double radial, ct, st;
   kv3 v;
@@ -82,7 +82,7 @@ KINLINE klink link_pos(const kconst *K, int i, kv3 rx, kv3 ry, kv3 c,
   L.ok = ((L.l > 0.0) & (v.z > 0.0)) ? 1.0 : 0.0;
   /* select, then divide: a division under a condition is a branch */
   L.il = 1.0 / (L.l > 0.0 ? L.l : 1.0);
-  L.th = full > 0 ? katan2(v.z > 0.0 ? v.z : 1.0, -radial) : 0.0;
+  L.th = theta ? katan2(v.z > 0.0 ? v.z : 1.0, -radial) : 0.0;
   ct = -radial * L.il;
   st = v.z * L.il;
   L.phi = kv(-ct * K->u[i][0], -ct * K->u[i][1], st);
