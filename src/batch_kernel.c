@@ -107,7 +107,7 @@ KINLINE void kpoint(const kconst *K, const double *restrict pa,
     double pw, sc, dT, dP, v1, v2, v3, g1, i1, eres;
     kv3 rx, ry, rz, c, w, vc, dw, ac, cdd, lc, le, ta, tb, r0, r1, r2;
     kv3 wl[RPS3_KNEFF], wt[RPS3_KNEFF], lam[RPS3_KNEFF], Fe[RPS3_KNEFF];
-    kv3 F, lamt, g6, t;
+    kv3 F, lamt, t;
     klink L0, L1, L2;
     krow j0, j1, j2;
     /* the frame, its twist and the twist's rate; an angle the
@@ -186,27 +186,33 @@ KINLINE void kpoint(const kconst *K, const double *restrict pa,
       trans = t2 > trans ? t2 : trans;
     }
 
-    /* loads of the four effects, wl on l_i and wt on theta_i
-       (lagrange_effect of invdyn.c), times the selection */
-    wl[0] = kscale(K->sel[0] * K->Mg3, kv(L0.phi.z, L1.phi.z, L2.phi.z));
-    wt[0] = kscale(K->sel[0],
-                   kv(K->Mg3 * L0.l * L0.dphi.z, K->Mg3 * L1.l * L1.dphi.z,
-                      K->Mg3 * L2.l * L2.dphi.z));
+    /* loads of the four effects, wl on l_i and wt on theta_i: each
+       link's of src/loads.h (as lagrange_effect of invdyn.c), times the
+       selection */
+    RPS3_LOAD_PLATFORM_GRAVITY(K->Mg3, L0.phi.z, L0.dphi.z, L0.l, wl[0].x,
+                               wt[0].x);
+    RPS3_LOAD_PLATFORM_GRAVITY(K->Mg3, L1.phi.z, L1.dphi.z, L1.l, wl[0].y,
+                               wt[0].y);
+    RPS3_LOAD_PLATFORM_GRAVITY(K->Mg3, L2.phi.z, L2.dphi.z, L2.l, wl[0].z,
+                               wt[0].z);
+    wl[0] = kscale(K->sel[0], wl[0]);
+    wt[0] = kscale(K->sel[0], wt[0]);
     wl[1] = kv(0.0, 0.0, 0.0);
-    wt[1] = kscale(K->sel[1] * K->mgd, kv(L0.dphi.z, L1.dphi.z, L2.dphi.z));
-    g6 = kscale(K->M6, kadd(cdd, L0.bdd));
-    wl[2].x = kdot(L0.phi, g6);
-    wt[2].x = L0.l * kdot(L0.dphi, g6);
-    g6 = kscale(K->M6, kadd(cdd, L1.bdd));
-    wl[2].y = kdot(L1.phi, g6);
-    wt[2].y = L1.l * kdot(L1.dphi, g6);
-    g6 = kscale(K->M6, kadd(cdd, L2.bdd));
-    wl[2].z = kdot(L2.phi, g6);
-    wt[2].z = L2.l * kdot(L2.dphi, g6);
+    RPS3_LOAD_LINK_GRAVITY(K->sel[1] * K->mgd, L0.dphi.z, wt[1].x);
+    RPS3_LOAD_LINK_GRAVITY(K->sel[1] * K->mgd, L1.dphi.z, wt[1].y);
+    RPS3_LOAD_LINK_GRAVITY(K->sel[1] * K->mgd, L2.dphi.z, wt[1].z);
+    RPS3_LOAD_PLATFORM_INERTIA(KC, K->M6, cdd, L0.bdd, L0.phi, L0.dphi, L0.l,
+                               wl[2].x, wt[2].x);
+    RPS3_LOAD_PLATFORM_INERTIA(KC, K->M6, cdd, L1.bdd, L1.phi, L1.dphi, L1.l,
+                               wl[2].y, wt[2].y);
+    RPS3_LOAD_PLATFORM_INERTIA(KC, K->M6, cdd, L2.bdd, L2.phi, L2.dphi, L2.l,
+                               wl[2].z, wt[2].z);
     wl[2] = kscale(K->sel[2], wl[2]);
     wt[2] = kscale(K->sel[2], wt[2]);
     wl[3] = kv(0.0, 0.0, 0.0);
-    wt[3] = kscale(K->sel[3] * K->Jlink, kv(L0.ddth, L1.ddth, L2.ddth));
+    RPS3_LOAD_LINK_INERTIA(K->sel[3] * K->Jlink, L0.ddth, wt[3].x);
+    RPS3_LOAD_LINK_INERTIA(K->sel[3] * K->Jlink, L1.ddth, wt[3].y);
+    RPS3_LOAD_LINK_INERTIA(K->sel[3] * K->Jlink, L2.ddth, wt[3].z);
 
     /* (df/dtheta)^T lambda = -wt per effect, then (34); F and lambda
        are the sums of the effects' (without shares the scalar path
@@ -355,9 +361,9 @@ void rps3_kernel_block(const rps3_model *m, const rps3_batch_in *in,
   K.R = m->R;
   K.M = m->M;
   K.g = m->g;
-  K.Mg3 = m->M * m->g / 3.0;
-  K.M6 = m->M / 6.0;
-  K.mgd = m->m * m->g * m->d;
+  K.Mg3 = RPS3_PLATFORM_BALL_WEIGHT(m->M, m->g);
+  K.M6 = RPS3_DISC_BALL_MASS(m->M);
+  K.mgd = RPS3_LINK_WEIGHT_MOMENT(m->m, m->g, m->d);
   K.Jlink = m->Jlink;
   K.w_scale = 2.0 / (3.0 * m->r * m->r);
   for (i = 0; i < 3; i++) {

@@ -13,6 +13,7 @@
 
 #include "batch_kernel.h"
 #include "batch_trig.h"
+#include "loads.h"
 
 /* the model's constants the loop reads, hoisted out of it */
 typedef struct {
@@ -41,6 +42,12 @@ typedef struct {
 typedef struct {
   double x, y, z;
 } kv3;
+
+/* component k (the literal 0, 1 or 2) of a kv3: the C of src/loads.h */
+#define KC(v, k) KC_##k(v)
+#define KC_0(v) ((v).x)
+#define KC_1(v) ((v).y)
+#define KC_2(v) ((v).z)
 
 KINLINE kv3 kv(double x, double y, double z) {
   kv3 r;
@@ -315,9 +322,12 @@ KINLINE void kbconst_set(kbconst *K, const rps3_model *m, double margin) {
   K->u = m->radial;
   K->body = m->body;
   K->r = m->r;
-  K->g3 = (e & RPS3_EFF_PLATFORM_GRAVITY) ? m->M * m->g * (1.0 / 3.0) : 0.0;
-  K->m6 = (e & RPS3_EFF_PLATFORM_INERTIA) ? m->M * (1.0 / 6.0) : 0.0;
-  K->mgd = (e & RPS3_EFF_LINK_GRAVITY) ? m->m * m->g * m->d : 0.0;
+  K->g3 = (e & RPS3_EFF_PLATFORM_GRAVITY) ? RPS3_PLATFORM_BALL_WEIGHT(m->M, m->g)
+                                          : 0.0;
+  K->m6 = (e & RPS3_EFF_PLATFORM_INERTIA) ? RPS3_DISC_BALL_MASS(m->M) : 0.0;
+  K->mgd = (e & RPS3_EFF_LINK_GRAVITY)
+               ? RPS3_LINK_WEIGHT_MOMENT(m->m, m->g, m->d)
+               : 0.0;
   K->jl = (e & RPS3_EFF_LINK_INERTIA) ? m->Jlink : 0.0;
   rps3_sing_certify_limits(m, margin, &K->cond_lim, &K->trans_lim);
   K->tb0 = RPS3_SQRT3 / 3.0 * (1.0 + 4.0 / m->rho);
