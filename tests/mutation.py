@@ -197,6 +197,10 @@ MUTATIONS = [
      "((wt) = (mgd) * (cos_theta))", "((wt) = -(mgd) * (cos_theta))",
      "sign of the links' weight (22) (the loads' one copy: Lagrange route,"
      " batch kernel, forward dynamics)"),
+    ("loads-ball-weight-theta", "src/loads.h",
+     "(wt) = (W) * (l) * (dphi_z);", "(wt) = 1.001 * (W) * (l) * (dphi_z);",
+     "the platform's weight M g / 3 on a ball joint, its load on theta_i"
+     " 0.1 % off (the loads' one copy: Lagrange route, batch kernel)"),
     ("platform-gravity-ne", "src/invdyn_ne.c",
      "wf[2] = m->M * m->g;", "wf[2] = -m->M * m->g;",
      "sign of the platform's weight (Newton-Euler route)"),
