@@ -81,15 +81,25 @@ void rps3_kout_of_block(rps3_kout *o, rps3_kblock *kb) {
 }
 
 
-/* point p of the block: the loop body.  full = 0 leaves out theta (39)
-   and the certificate, which the forces do not need: the two kernels
-   below are this body with full a constant */
+/* what an instance of the loop body computes besides l, F, lambda, the
+   rates, cond, trans, mode and ok: each bit one thing, a constant of
+   each instance below (KLOOP, KONE), so that what is left out is not
+   compiled in */
+#define KF_THETA 1   /* theta (39) into o->theta */
+#define KF_CERTIFY 2 /* the energy-rate certificate (power, scale) */
+#define KF_SHARES 4  /* each effect's load solved on its own, F_effect into
+                        o->Fe; without it the summed load is solved once,
+                        as the scalar path does without RPS3_OUT_EFFECTS */
+#define KF_DATA 8    /* the stages' positions, rates and the certificate's
+                        terms into o->d (the one-point instances) */
+
+/* point p of the block: the loop body, with flags a constant (KF_*) */
 KINLINE void kpoint(const kconst *K, const double *restrict pa,
                     const double *restrict pb, const double *restrict pz,
                     const double *restrict va, const double *restrict vb,
                     const double *restrict vz, const double *restrict aa,
                     const double *restrict ab, const double *restrict az,
-                    int p, const rps3_kout *restrict o, int full) {
+                    int p, const rps3_kout *restrict o, int flags) {
   {
     double alpha = pa[p], beta = pb[p];
     double da = va[p], db = vb[p], dda = aa[p], ddb = ab[p];
@@ -97,7 +107,7 @@ KINLINE void kpoint(const kconst *K, const double *restrict pa,
     double pw, sc, dT, dP, v1, v2, v3, g1, i1, eres;
     kv3 rx, ry, rz, c, w, vc, dw, ac, cdd, lc, le, ta, tb, r0, r1, r2;
     kv3 wl[RPS3_KNEFF], wt[RPS3_KNEFF], lam[RPS3_KNEFF], Fe[RPS3_KNEFF];
-    kv3 F, lamt, g6, t;
+    kv3 F, lamt, t;
     klink L0, L1, L2;
     krow j0, j1, j2;
     /* the frame, its twist and the twist's rate; an angle the
@@ -114,16 +124,16 @@ KINLINE void kpoint(const kconst *K, const double *restrict pa,
     vc = P.vc;
     dw = P.dw;
     ac = P.ac;
-    L0 = link_pos(K, 0, rx, ry, c, full);
-    L1 = link_pos(K, 1, rx, ry, c, full);
-    L2 = link_pos(K, 2, rx, ry, c, full);
+    L0 = link_pos(K, 0, rx, ry, c, (flags & KF_THETA) != 0);
+    L1 = link_pos(K, 1, rx, ry, c, (flags & KF_THETA) != 0);
+    L2 = link_pos(K, 2, rx, ry, c, (flags & KF_THETA) != 0);
 
     L0 = link_rates(L0, w, vc, dw, ac);
     L1 = link_rates(L1, w, vc, dw, ac);
     L2 = link_rates(L2, w, vc, dw, ac);
     /* the one-point instances: the stages' positions and rates into the
        data now, while they are at hand */
-    if (full == 2 || full == -2)
+    if (flags & KF_DATA)
       kdata(o->d, rx, ry, rz, L0, L1, L2, w, vc, dw, ac, K->rates != 0.0);
     cdd = kadd(kadd(kscale(1.0 / 3.0, L0.bdd), kscale(1.0 / 3.0, L1.bdd)),
                kscale(1.0 / 3.0, L2.bdd));
@@ -176,32 +186,38 @@ KINLINE void kpoint(const kconst *K, const double *restrict pa,
       trans = t2 > trans ? t2 : trans;
     }
 
-    /* loads of the four effects, wl on l_i and wt on theta_i
-       (lagrange_effect of invdyn.c), times the selection */
-    wl[0] = kscale(K->sel[0] * K->Mg3, kv(L0.phi.z, L1.phi.z, L2.phi.z));
-    wt[0] = kscale(K->sel[0],
-                   kv(K->Mg3 * L0.l * L0.dphi.z, K->Mg3 * L1.l * L1.dphi.z,
-                      K->Mg3 * L2.l * L2.dphi.z));
+    /* loads of the four effects, wl on l_i and wt on theta_i: each
+       link's of src/loads.h (as lagrange_effect of invdyn.c), times the
+       selection */
+    RPS3_LOAD_PLATFORM_GRAVITY(K->Mg3, L0.phi.z, L0.dphi.z, L0.l, wl[0].x,
+                               wt[0].x);
+    RPS3_LOAD_PLATFORM_GRAVITY(K->Mg3, L1.phi.z, L1.dphi.z, L1.l, wl[0].y,
+                               wt[0].y);
+    RPS3_LOAD_PLATFORM_GRAVITY(K->Mg3, L2.phi.z, L2.dphi.z, L2.l, wl[0].z,
+                               wt[0].z);
+    wl[0] = kscale(K->sel[0], wl[0]);
+    wt[0] = kscale(K->sel[0], wt[0]);
     wl[1] = kv(0.0, 0.0, 0.0);
-    wt[1] = kscale(K->sel[1] * K->mgd, kv(L0.dphi.z, L1.dphi.z, L2.dphi.z));
-    g6 = kscale(K->M6, kadd(cdd, L0.bdd));
-    wl[2].x = kdot(L0.phi, g6);
-    wt[2].x = L0.l * kdot(L0.dphi, g6);
-    g6 = kscale(K->M6, kadd(cdd, L1.bdd));
-    wl[2].y = kdot(L1.phi, g6);
-    wt[2].y = L1.l * kdot(L1.dphi, g6);
-    g6 = kscale(K->M6, kadd(cdd, L2.bdd));
-    wl[2].z = kdot(L2.phi, g6);
-    wt[2].z = L2.l * kdot(L2.dphi, g6);
+    RPS3_LOAD_LINK_GRAVITY(K->sel[1] * K->mgd, L0.dphi.z, wt[1].x);
+    RPS3_LOAD_LINK_GRAVITY(K->sel[1] * K->mgd, L1.dphi.z, wt[1].y);
+    RPS3_LOAD_LINK_GRAVITY(K->sel[1] * K->mgd, L2.dphi.z, wt[1].z);
+    RPS3_LOAD_PLATFORM_INERTIA(KC, K->M6, cdd, L0.bdd, L0.phi, L0.dphi, L0.l,
+                               wl[2].x, wt[2].x);
+    RPS3_LOAD_PLATFORM_INERTIA(KC, K->M6, cdd, L1.bdd, L1.phi, L1.dphi, L1.l,
+                               wl[2].y, wt[2].y);
+    RPS3_LOAD_PLATFORM_INERTIA(KC, K->M6, cdd, L2.bdd, L2.phi, L2.dphi, L2.l,
+                               wl[2].z, wt[2].z);
     wl[2] = kscale(K->sel[2], wl[2]);
     wt[2] = kscale(K->sel[2], wt[2]);
     wl[3] = kv(0.0, 0.0, 0.0);
-    wt[3] = kscale(K->sel[3] * K->Jlink, kv(L0.ddth, L1.ddth, L2.ddth));
+    RPS3_LOAD_LINK_INERTIA(K->sel[3] * K->Jlink, L0.ddth, wt[3].x);
+    RPS3_LOAD_LINK_INERTIA(K->sel[3] * K->Jlink, L1.ddth, wt[3].y);
+    RPS3_LOAD_LINK_INERTIA(K->sel[3] * K->Jlink, L2.ddth, wt[3].z);
 
     /* (df/dtheta)^T lambda = -wt per effect, then (34); F and lambda
        are the sums of the effects' (without shares the scalar path
        solves the summed load once: the same to rounding) */
-    if (full < 0) {
+    if (!(flags & KF_SHARES)) {
       /* no shares asked for: the summed load solved once, as the
          scalar path does without RPS3_OUT_EFFECTS */
       lamt = klambda(r0, r1, r2,
@@ -224,7 +240,7 @@ KINLINE void kpoint(const kconst *K, const double *restrict pa,
     /* energy-rate certificate (certify of invdyn.c): power = dT/dt +
        dP/dt, with omega . rot diag(Ip) rot^T domega */
     pw = sc = dT = dP = 0.0;
-    if (full > 0) {
+    if (flags & KF_CERTIFY) {
     pw = F.x * L0.dl + F.y * L1.dl + F.z * L2.dl;
     sc = fabs(F.x * L0.dl) + fabs(F.y * L1.dl) + fabs(F.z * L2.dl);
     v1 = K->sel[0] * K->M * K->g * vc.z;
@@ -253,10 +269,10 @@ KINLINE void kpoint(const kconst *K, const double *restrict pa,
     /* the outputs, and whether the point is the kernel's: finite, in
        reach, below the thresholds */
     kst(o->l, p, kv(L0.l, L1.l, L2.l));
-    if (full > 0) kst(o->theta, p, kv(L0.th, L1.th, L2.th));
+    if (flags & KF_THETA) kst(o->theta, p, kv(L0.th, L1.th, L2.th));
     kst(o->F, p, F);
     kst(o->lambda, p, lamt);
-    if (full >= 0) {
+    if (flags & KF_SHARES) {
       kst(o->Fe[0], p, Fe[0]);
       kst(o->Fe[1], p, Fe[1]);
       kst(o->Fe[2], p, Fe[2]);
@@ -283,7 +299,7 @@ KINLINE void kpoint(const kconst *K, const double *restrict pa,
                 (cond <= K->cond_lim) & (trans <= K->trans_lim))
                    ? 1.0
                    : 0.0;
-    if (full == 2 || full == -2) {
+    if (flags & KF_DATA) {
       /* the certificate's terms, zero without it (rps3_invdyn) */
       o->d->power = K->certify != 0.0 ? pw : 0.0;
       o->d->dTdt = K->certify != 0.0 ? dT : 0.0;
@@ -293,9 +309,9 @@ KINLINE void kpoint(const kconst *K, const double *restrict pa,
   }
 }
 
-/* the kernels: every output, or the forces alone (no theta, no
-   certificate) */
-#define KLOOP(name, full)                                                     \
+/* the block kernels: every output; the shares without theta and the
+   certificate; the forces alone */
+#define KLOOP(name, flags)                                                     \
   KCLONES                                                                     \
   static void name(const kconst *K, const double *restrict pa,                \
                    const double *restrict pb, const double *restrict pz,      \
@@ -306,26 +322,25 @@ KINLINE void kpoint(const kconst *K, const double *restrict pa,
     int p;                                                                    \
     _Pragma("omp simd")                                                       \
     for (p = 0; p < nb; p++)                                                  \
-      kpoint(K, pa, pb, pz, va, vb, vz, aa, ab, az, p, o, full);              \
+      kpoint(K, pa, pb, pz, va, vb, vz, aa, ab, az, p, o, flags);             \
   }
-KLOOP(kloop_full, 1)
-KLOOP(kloop_lean, 0)
-KLOOP(kloop_forces, -1)
+KLOOP(kloop_full, KF_THETA | KF_CERTIFY | KF_SHARES)
+KLOOP(kloop_lean, KF_SHARES)
+KLOOP(kloop_forces, 0)
 
 /* one point and the stages' data, scalar code for rps3_inverse: every
-   output (full = 2), or F without shares on the controller's path
-   (full = -2) */
-#define KONE(name, full)                                                      \
+   output, or F without shares on the controller's path */
+#define KONE(name, flags)                                                      \
   KCLONES                                                                     \
   static void name(const kconst *K, const double *pa, const double *pb,       \
                    const double *pz, const double *va, const double *vb,      \
                    const double *vz, const double *aa, const double *ab,      \
                    const double *az, int nb, const rps3_kout *o) {            \
     (void)nb;                                                                 \
-    kpoint(K, pa, pb, pz, va, vb, vz, aa, ab, az, 0, o, full);                \
+    kpoint(K, pa, pb, pz, va, vb, vz, aa, ab, az, 0, o, flags);               \
   }
-KONE(kone_data, 2)
-KONE(kone_forces_data, -2)
+KONE(kone_data, KF_THETA | KF_CERTIFY | KF_SHARES | KF_DATA)
+KONE(kone_forces_data, KF_DATA)
 
 void rps3_kernel_block(const rps3_model *m, const rps3_batch_in *in,
                        size_t i0, int nb, int rates, rps3_kkind kind,
@@ -346,9 +361,9 @@ void rps3_kernel_block(const rps3_model *m, const rps3_batch_in *in,
   K.R = m->R;
   K.M = m->M;
   K.g = m->g;
-  K.Mg3 = m->M * m->g / 3.0;
-  K.M6 = m->M / 6.0;
-  K.mgd = m->m * m->g * m->d;
+  K.Mg3 = RPS3_PLATFORM_BALL_WEIGHT(m->M, m->g);
+  K.M6 = RPS3_DISC_BALL_MASS(m->M);
+  K.mgd = RPS3_LINK_WEIGHT_MOMENT(m->m, m->g, m->d);
   K.Jlink = m->Jlink;
   K.w_scale = 2.0 / (3.0 * m->r * m->r);
   for (i = 0; i < 3; i++) {

@@ -13,6 +13,7 @@
 
 #include "batch_kernel.h"
 #include "batch_trig.h"
+#include "loads.h"
 
 /* the model's constants the loop reads, hoisted out of it */
 typedef struct {
@@ -42,6 +43,12 @@ typedef struct {
   double x, y, z;
 } kv3;
 
+/* component k (the literal 0, 1 or 2) of a kv3: the C of src/loads.h */
+#define KC(v, k) KC_##k(v)
+#define KC_0(v) ((v).x)
+#define KC_1(v) ((v).y)
+#define KC_2(v) ((v).z)
+
 KINLINE kv3 kv(double x, double y, double z) {
   kv3 r;
   r.x = x;
@@ -68,9 +75,9 @@ typedef struct {
 } klink;
 
 /* link i from the platform frame (columns rx, ry) and centre c: (15)-(17),
-   (5)-(7), (39) and (29), as rps3_ik_with */
+   (5)-(7), (39) (theta 0 leaves it 0) and (29), as rps3_ik_with */
 KINLINE klink link_pos(const kconst *K, int i, kv3 rx, kv3 ry, kv3 c,
-                       int full) {
+                       int theta) {
   klink L;
   double radial, ct, st;
   kv3 v;
@@ -82,7 +89,7 @@ KINLINE klink link_pos(const kconst *K, int i, kv3 rx, kv3 ry, kv3 c,
   L.ok = ((L.l > 0.0) & (v.z > 0.0)) ? 1.0 : 0.0;
   /* select, then divide: a division under a condition is a branch */
   L.il = 1.0 / (L.l > 0.0 ? L.l : 1.0);
-  L.th = full > 0 ? katan2(v.z > 0.0 ? v.z : 1.0, -radial) : 0.0;
+  L.th = theta ? katan2(v.z > 0.0 ? v.z : 1.0, -radial) : 0.0;
   ct = -radial * L.il;
   st = v.z * L.il;
   L.phi = kv(-ct * K->u[i][0], -ct * K->u[i][1], st);
@@ -315,9 +322,12 @@ KINLINE void kbconst_set(kbconst *K, const rps3_model *m, double margin) {
   K->u = m->radial;
   K->body = m->body;
   K->r = m->r;
-  K->g3 = (e & RPS3_EFF_PLATFORM_GRAVITY) ? m->M * m->g * (1.0 / 3.0) : 0.0;
-  K->m6 = (e & RPS3_EFF_PLATFORM_INERTIA) ? m->M * (1.0 / 6.0) : 0.0;
-  K->mgd = (e & RPS3_EFF_LINK_GRAVITY) ? m->m * m->g * m->d : 0.0;
+  K->g3 = (e & RPS3_EFF_PLATFORM_GRAVITY) ? RPS3_PLATFORM_BALL_WEIGHT(m->M, m->g)
+                                          : 0.0;
+  K->m6 = (e & RPS3_EFF_PLATFORM_INERTIA) ? RPS3_DISC_BALL_MASS(m->M) : 0.0;
+  K->mgd = (e & RPS3_EFF_LINK_GRAVITY)
+               ? RPS3_LINK_WEIGHT_MOMENT(m->m, m->g, m->d)
+               : 0.0;
   K->jl = (e & RPS3_EFF_LINK_INERTIA) ? m->Jlink : 0.0;
   rps3_sing_certify_limits(m, margin, &K->cond_lim, &K->trans_lim);
   K->tb0 = RPS3_SQRT3 / 3.0 * (1.0 + 4.0 / m->rho);

@@ -10,6 +10,7 @@
 #define RPS3_FWDDYN_PLANE_H
 
 #include "fwddyn.h"
+#include "loads.h"
 
 /* omega from sum_i rho_i x u_i for the ball motions u_i = omega x rho_i
    (rps3_omega_from_balls: (26)-(28) in closed form); wk = 2 / (3 r^2) */
@@ -267,7 +268,8 @@ void rps3_fd_add_body(const rps3_fd_state *k, const rps3_data *d, double mb,
 FD_INLINE void assemble(const rps3_model *m, rps3_data *d,
                      const rps3_fd_state *k, const plane *p) {
   const int eff = m->opt.effects;
-  const double mb = (eff & RPS3_EFF_PLATFORM_INERTIA) ? m->M / 6.0 : 0.0;
+  const double mb =
+      (eff & RPS3_EFF_PLATFORM_INERTIA) ? RPS3_DISC_BALL_MASS(m->M) : 0.0;
   const double mc = 3.0 * mb; /* M / 2 at the centre */
   const double gz = (eff & RPS3_EFF_PLATFORM_GRAVITY) ? m->M * m->g : 0.0;
   double Jp[3], tau[3], sig[3], Mq[3][3], hq[3];
@@ -279,10 +281,19 @@ FD_INLINE void assemble(const rps3_model *m, rps3_data *d,
     sig[i] = -mbl * p->dth[i] * p->dth[i];
     if (eff & RPS3_EFF_LINK_INERTIA) Jp[i] += m->Jlink;
     tau[i] += Jp[i] * p->ddb[i];
-    /* (22): d/dtheta of m g d sin(theta) */
-    if (eff & RPS3_EFF_LINK_GRAVITY) tau[i] += m->m * m->g * m->d * p->q.c[i];
-    if (eff & RPS3_EFF_PIN_FRICTION)
-      tau[i] -= rps3_friction_torque(m, p->dth[i]);
+    /* the pin torques, loads of src/loads.h as the inverse dynamics':
+       (22), d/dtheta of m g d sin(theta), and friction */
+    if (eff & RPS3_EFF_LINK_GRAVITY) {
+      double w;
+      RPS3_LOAD_LINK_GRAVITY(RPS3_LINK_WEIGHT_MOMENT(m->m, m->g, m->d),
+                             p->q.c[i], w);
+      tau[i] += w;
+    }
+    if (eff & RPS3_EFF_PIN_FRICTION) {
+      double w;
+      RPS3_LOAD_PIN_FRICTION(rps3_friction_torque(m, p->dth[i]), w);
+      tau[i] += w;
+    }
   }
   for (j = 0; j < 3; j++) {
     for (q = j; q < 3; q++)

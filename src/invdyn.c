@@ -41,6 +41,7 @@
 
 #include "internal.h"
 #include "linalg.h"
+#include "loads.h"
 
 /* kinematic quantities of the Lagrange route, per point (on the stack;
    internal.h, the regressor's loads hold one too) */
@@ -150,7 +151,8 @@ static void payload_moments(const rps3_model *m, double h[3], double S[3][3]) {
 
 /*
  * The loads of effect e as the left-hand side of (23): w[0..2] on l_i,
- * w[3..5] on theta_i (generalized applied torques enter with a minus sign).
+ * w[3..5] on theta_i (generalized applied torques enter with a minus sign);
+ * each link's load of src/loads.h, which the batch kernel compiles too.
  */
 static void lagrange_effect(const rps3_model *m, const rps3_data *d,
                             const lag_kin *k, int e, double w[6]) {
@@ -159,21 +161,18 @@ static void lagrange_effect(const rps3_model *m, const rps3_data *d,
   memset(w, 0, 6 * sizeof(double));
   switch (1 << e) {
   case RPS3_EFF_PLATFORM_GRAVITY:
-    /* (22): M g z_c, with dc = db_i / 3 */
-    for (i = 0; i < 3; i++) {
-      w[i] = m->M * m->g / 3.0 * d->phi[i][2];
-      w[3 + i] = m->M * m->g / 3.0 * d->l[i] * d->dphi[i][2];
-    }
+    /* (22): M g z_c, with dc = db_i / 3 (src/loads.h) */
+    for (i = 0; i < 3; i++)
+      RPS3_LOAD_PLATFORM_GRAVITY(RPS3_PLATFORM_BALL_WEIGHT(m->M, m->g),
+                                 d->phi[i][2], d->dphi[i][2], d->l[i], w[i],
+                                 w[3 + i]);
     break;
   case RPS3_EFF_PLATFORM_INERTIA:
     /* (21): the disc as M/2 at c and M/6 at each b_i (see the top) */
-    for (i = 0; i < 3; i++) {
-      double g6[3];
-      v3_axpy(g6, k->cdd, 1.0, k->bdd[i]);
-      v3_scale(g6, m->M / 6.0, g6);
-      w[i] = v3_dot(d->phi[i], g6);
-      w[3 + i] = d->l[i] * v3_dot(d->dphi[i], g6);
-    }
+    for (i = 0; i < 3; i++)
+      RPS3_LOAD_PLATFORM_INERTIA(RPS3_V3C, RPS3_DISC_BALL_MASS(m->M), k->cdd,
+                                 k->bdd[i], d->phi[i], d->dphi[i], d->l[i],
+                                 w[i], w[3 + i]);
     break;
   case RPS3_EFF_PAYLOAD:
     payload_moments(m, h, S);
@@ -182,14 +181,18 @@ static void lagrange_effect(const rps3_model *m, const rps3_data *d,
   case RPS3_EFF_LINK_GRAVITY:
     /* (22): m g d sin(theta_i); cos(theta_i) is dphi_i's Z component, set
        by the position stage (rps3_link_dirs) */
-    for (i = 0; i < 3; i++) w[3 + i] = m->m * m->g * m->d * d->dphi[i][2];
+    for (i = 0; i < 3; i++)
+      RPS3_LOAD_LINK_GRAVITY(RPS3_LINK_WEIGHT_MOMENT(m->m, m->g, m->d),
+                             d->dphi[i][2], w[3 + i]);
     break;
   case RPS3_EFF_LINK_INERTIA:
     /* (21): (m d^2 + I_c) theta'' */
-    for (i = 0; i < 3; i++) w[3 + i] = m->Jlink * d->ddtheta[i];
+    for (i = 0; i < 3; i++)
+      RPS3_LOAD_LINK_INERTIA(m->Jlink, d->ddtheta[i], w[3 + i]);
     break;
   case RPS3_EFF_PIN_FRICTION:
-    for (i = 0; i < 3; i++) w[3 + i] = -friction_torque(m, d->dtheta[i]);
+    for (i = 0; i < 3; i++)
+      RPS3_LOAD_PIN_FRICTION(friction_torque(m, d->dtheta[i]), w[3 + i]);
     break;
   default: break;
   }

@@ -197,13 +197,20 @@ MUTATIONS = [
     ("ctrl-bias", "src/control.c",
      "v3_axpy(x, x, 1.0, d->hq);", "v3_axpy(x, x, 1.001, d->hq);",
      "controllers: their model's bias forces hq, 0.1 % off"),
-    ("platform-sixth", "src/invdyn.c",
-     "v3_scale(g6, m->M / 6.0, g6);", "v3_scale(g6, m->M / 6.006, g6);",
-     "the disc as point masses M/6 (Lagrange route), 0.1 % off"),
-    ("link-gravity-sign", "src/invdyn.c",
-     "for (i = 0; i < 3; i++) w[3 + i] = m->m * m->g * m->d * d->dphi[i][2];",
-     "for (i = 0; i < 3; i++) w[3 + i] = -m->m * m->g * m->d * d->dphi[i][2];",
-     "sign of the links' weight (22) (Lagrange route)"),
+    ("platform-sixth", "src/loads.h",
+     "#define RPS3_DISC_BALL_MASS(M) ((M) / 6.0)",
+     "#define RPS3_DISC_BALL_MASS(M) ((M) / 6.006)",
+     "the disc as point masses, M/6 at each ball joint (the loads' one"
+     " copy: Lagrange route, batch kernel, lean pass, forward dynamics),"
+     " 0.1 % off"),
+    ("link-gravity-sign", "src/loads.h",
+     "((wt) = (mgd) * (cos_theta))", "((wt) = -(mgd) * (cos_theta))",
+     "sign of the links' weight (22) (the loads' one copy: Lagrange route,"
+     " batch kernel, forward dynamics)"),
+    ("loads-ball-weight-theta", "src/loads.h",
+     "(wt) = (W) * (l) * (dphi_z);", "(wt) = 1.001 * (W) * (l) * (dphi_z);",
+     "the platform's weight M g / 3 on a ball joint, its load on theta_i"
+     " 0.1 % off (the loads' one copy: Lagrange route, batch kernel)"),
     ("platform-gravity-ne", "src/invdyn_ne.c",
      "wf[2] = m->M * m->g;", "wf[2] = -m->M * m->g;",
      "sign of the platform's weight (Newton-Euler route)"),
