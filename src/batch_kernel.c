@@ -12,8 +12,9 @@
  * Lagrange loads and the energy-rate certificate as in invdyn.c.  What
  * differs, all at the level of rounding:
  *   - sin and cos of alpha and beta / 2 by the polynomial ksincos
- *     (batch_trig.h, the lean pass's too; within 3 ulp of libm), sin and cos of beta from
- *     the half angle; theta by katan2 (within 4 ulp of libm's atan2);
+ *     (batch_trig.h, the lean pass's too; within 3 ulp of libm), sin and
+ *     cos of beta from the half angle; theta by katan2 (within 4 ulp of
+ *     libm's atan2);
  *   - the lambda system (df/dtheta)^T solved by its adjugate (the matrix
  *     has two non-zeros a row), and its 1-norm condition number from the
  *     same inverse;
@@ -80,26 +81,27 @@ void rps3_kout_of_block(rps3_kout *o, rps3_kblock *kb) {
   o->d = NULL;
 }
 
-
 /* what an instance of the loop body computes besides l, F, lambda, the
    rates, cond, trans, mode and ok: each bit one thing, a constant of
    each instance below (KLOOP, KONE), so that what is left out is not
    compiled in */
 #define KF_THETA 1   /* theta (39) into o->theta */
 #define KF_CERTIFY 2 /* the energy-rate certificate (power, scale) */
-#define KF_SHARES 4  /* each effect's load solved on its own, F_effect into
-                        o->Fe; without it the summed load is solved once,
-                        as the scalar path does without RPS3_OUT_EFFECTS */
-#define KF_DATA 8    /* the stages' positions, rates and the certificate's
-                        terms into o->d (the one-point instances) */
+/* each effect's load solved on its own, F_effect into o->Fe; without it
+   the summed load is solved once, as the scalar path does without
+   RPS3_OUT_EFFECTS */
+#define KF_SHARES 4
+/* the stages' positions, rates and the certificate's terms into o->d (the
+   one-point instances) */
+#define KF_DATA 8
 
 /* point p of the block: the loop body, with flags a constant (KF_*) */
 KINLINE void kpoint(const kconst *K, const double *restrict pa,
                     const double *restrict pb, const double *restrict pz,
                     const double *restrict va, const double *restrict vb,
                     const double *restrict vz, const double *restrict aa,
-                    const double *restrict ab, const double *restrict az,
-                    int p, const rps3_kout *restrict o, int flags) {
+                    const double *restrict ab, const double *restrict az, int p,
+                    const rps3_kout *restrict o, int flags) {
   {
     double alpha = pa[p], beta = pb[p];
     double da = va[p], db = vb[p], dda = aa[p], ddb = ab[p];
@@ -113,8 +115,8 @@ KINLINE void kpoint(const kconst *K, const double *restrict pa,
     /* the frame, its twist and the twist's rate; an angle the
        reduction does not serve is no point of the kernel's: it is left
        to the scalar path */
-    const kpose P = kpose_eval(K->r, alpha, beta, pz[p], da, db, vz[p], dda,
-                               ddb, az[p], 0);
+    const kpose P =
+        kpose_eval(K->r, alpha, beta, pz[p], da, db, vz[p], dda, ddb, az[p], 0);
     const double in_range = P.in_range;
     rx = P.rx;
     ry = P.ry;
@@ -220,10 +222,8 @@ KINLINE void kpoint(const kconst *K, const double *restrict pa,
     if (!(flags & KF_SHARES)) {
       /* no shares asked for: the summed load solved once, as the
          scalar path does without RPS3_OUT_EFFECTS */
-      lamt = klambda(r0, r1, r2,
-                     kadd(kadd(kadd(wt[0], wt[1]), wt[2]), wt[3]));
-      F = kforces(kadd(kadd(kadd(wl[0], wl[1]), wl[2]), wl[3]), lamt, lc,
-                  le);
+      lamt = klambda(r0, r1, r2, kadd(kadd(kadd(wt[0], wt[1]), wt[2]), wt[3]));
+      F = kforces(kadd(kadd(kadd(wl[0], wl[1]), wl[2]), wl[3]), lamt, lc, le);
     } else {
       lam[0] = klambda(r0, r1, r2, wt[0]);
       lam[1] = klambda(r0, r1, r2, wt[1]);
@@ -241,29 +241,29 @@ KINLINE void kpoint(const kconst *K, const double *restrict pa,
        dP/dt, with omega . rot diag(Ip) rot^T domega */
     pw = sc = dT = dP = 0.0;
     if (flags & KF_CERTIFY) {
-    pw = F.x * L0.dl + F.y * L1.dl + F.z * L2.dl;
-    sc = fabs(F.x * L0.dl) + fabs(F.y * L1.dl) + fabs(F.z * L2.dl);
-    v1 = K->sel[0] * K->M * K->g * vc.z;
-    t = kv(K->Ip[0] * kdot(rx, dw), K->Ip[1] * kdot(ry, dw),
-           K->Ip[2] * kdot(rz, dw));
-    t = kadd(kadd(kscale(t.x, rx), kscale(t.y, ry)), kscale(t.z, rz));
-    v2 = K->sel[2] * K->M * kdot(vc, ac);
-    v3 = K->sel[2] * kdot(w, t);
-    g1 = K->sel[1] * K->mgd *
-         (L0.dphi.z * L0.dth + L1.dphi.z * L1.dth + L2.dphi.z * L2.dth);
-    i1 = K->sel[3] * K->Jlink *
-         (L0.dth * L0.ddth + L1.dth * L1.ddth + L2.dth * L2.ddth);
-    dP = v1 + g1;
-    dT = v2 + v3 + i1;
-    /* the scale sums magnitudes term by term as invdyn.c does: each
-       link's gravity and inertia power on its own */
-    sc += fabs(v1) + fabs(v2) + fabs(v3) +
-          K->sel[1] * fabs(K->mgd) *
-              (fabs(L0.dphi.z * L0.dth) + fabs(L1.dphi.z * L1.dth) +
-               fabs(L2.dphi.z * L2.dth)) +
-          K->sel[3] * K->Jlink *
-              (fabs(L0.dth * L0.ddth) + fabs(L1.dth * L1.ddth) +
-               fabs(L2.dth * L2.ddth));
+      pw = F.x * L0.dl + F.y * L1.dl + F.z * L2.dl;
+      sc = fabs(F.x * L0.dl) + fabs(F.y * L1.dl) + fabs(F.z * L2.dl);
+      v1 = K->sel[0] * K->M * K->g * vc.z;
+      t = kv(K->Ip[0] * kdot(rx, dw), K->Ip[1] * kdot(ry, dw),
+             K->Ip[2] * kdot(rz, dw));
+      t = kadd(kadd(kscale(t.x, rx), kscale(t.y, ry)), kscale(t.z, rz));
+      v2 = K->sel[2] * K->M * kdot(vc, ac);
+      v3 = K->sel[2] * kdot(w, t);
+      g1 = K->sel[1] * K->mgd *
+           (L0.dphi.z * L0.dth + L1.dphi.z * L1.dth + L2.dphi.z * L2.dth);
+      i1 = K->sel[3] * K->Jlink *
+           (L0.dth * L0.ddth + L1.dth * L1.ddth + L2.dth * L2.ddth);
+      dP = v1 + g1;
+      dT = v2 + v3 + i1;
+      /* the scale sums magnitudes term by term as invdyn.c does: each
+         link's gravity and inertia power on its own */
+      sc += fabs(v1) + fabs(v2) + fabs(v3) +
+            K->sel[1] * fabs(K->mgd) *
+                (fabs(L0.dphi.z * L0.dth) + fabs(L1.dphi.z * L1.dth) +
+                 fabs(L2.dphi.z * L2.dth)) +
+            K->sel[3] * K->Jlink *
+                (fabs(L0.dth * L0.ddth) + fabs(L1.dth * L1.ddth) +
+                 fabs(L2.dth * L2.ddth));
     }
 
     /* the outputs, and whether the point is the kernel's: finite, in
@@ -292,8 +292,8 @@ KINLINE void kpoint(const kconst *K, const double *restrict pa,
        lambda or the certificate here (the loads of unselected effects
        are multiplied by 0, which keeps a NaN, and nothing divides by a
        rate), and a non-finite input makes them non-finite */
-    fin = sc + fabs(eres) + knorm1(F) + knorm1(lamt) + L0.l + L1.l + L2.l +
-          trans;
+    fin =
+        sc + fabs(eres) + knorm1(F) + knorm1(lamt) + L0.l + L1.l + L2.l + trans;
     /* & rather than &&: no branch in the loop body */
     o->ok[p] = ((in_range * L0.ok * L1.ok * L2.ok != 0.0) & (fin <= DBL_MAX) &
                 (cond <= K->cond_lim) & (trans <= K->trans_lim))
@@ -311,18 +311,17 @@ KINLINE void kpoint(const kconst *K, const double *restrict pa,
 
 /* the block kernels: every output; the shares without theta and the
    certificate; the forces alone */
-#define KLOOP(name, flags)                                                     \
-  KCLONES                                                                     \
-  static void name(const kconst *K, const double *restrict pa,                \
-                   const double *restrict pb, const double *restrict pz,      \
-                   const double *restrict va, const double *restrict vb,      \
-                   const double *restrict vz, const double *restrict aa,      \
-                   const double *restrict ab, const double *restrict az,      \
-                   int nb, const rps3_kout *restrict o) {                     \
-    int p;                                                                    \
-    _Pragma("omp simd")                                                       \
-    for (p = 0; p < nb; p++)                                                  \
-      kpoint(K, pa, pb, pz, va, vb, vz, aa, ab, az, p, o, flags);             \
+#define KLOOP(name, flags)                                               \
+  KCLONES                                                                \
+  static void name(const kconst *K, const double *restrict pa,           \
+                   const double *restrict pb, const double *restrict pz, \
+                   const double *restrict va, const double *restrict vb, \
+                   const double *restrict vz, const double *restrict aa, \
+                   const double *restrict ab, const double *restrict az, \
+                   int nb, const rps3_kout *restrict o) {                \
+    int p;                                                               \
+    _Pragma("omp simd") for (p = 0; p < nb; p++)                         \
+        kpoint(K, pa, pb, pz, va, vb, vz, aa, ab, az, p, o, flags);      \
   }
 KLOOP(kloop_full, KF_THETA | KF_CERTIFY | KF_SHARES)
 KLOOP(kloop_lean, KF_SHARES)
@@ -330,28 +329,27 @@ KLOOP(kloop_forces, 0)
 
 /* one point and the stages' data, scalar code for rps3_inverse: every
    output, or F without shares on the controller's path */
-#define KONE(name, flags)                                                      \
-  KCLONES                                                                     \
-  static void name(const kconst *K, const double *pa, const double *pb,       \
-                   const double *pz, const double *va, const double *vb,      \
-                   const double *vz, const double *aa, const double *ab,      \
-                   const double *az, int nb, const rps3_kout *o) {            \
-    (void)nb;                                                                 \
-    kpoint(K, pa, pb, pz, va, vb, vz, aa, ab, az, 0, o, flags);               \
+#define KONE(name, flags)                                                \
+  KCLONES                                                                \
+  static void name(const kconst *K, const double *pa, const double *pb,  \
+                   const double *pz, const double *va, const double *vb, \
+                   const double *vz, const double *aa, const double *ab, \
+                   const double *az, int nb, const rps3_kout *o) {       \
+    (void)nb;                                                            \
+    kpoint(K, pa, pb, pz, va, vb, vz, aa, ab, az, 0, o, flags);          \
   }
 KONE(kone_data, KF_THETA | KF_CERTIFY | KF_SHARES | KF_DATA)
 KONE(kone_forces_data, KF_DATA)
 
-void rps3_kernel_block(const rps3_model *m, const rps3_batch_in *in,
-                       size_t i0, int nb, int rates, rps3_kkind kind,
-                       const rps3_kout *o) {
-  void (*kloop)(const kconst *, const double *, const double *,
-                const double *, const double *, const double *,
-                const double *, const double *, const double *,
-                const double *, int, const rps3_kout *) =
+void rps3_kernel_block(const rps3_model *m, const rps3_batch_in *in, size_t i0,
+                       int nb, int rates, rps3_kkind kind, const rps3_kout *o) {
+  void (*kloop)(const kconst *, const double *, const double *, const double *,
+                const double *, const double *, const double *, const double *,
+                const double *, const double *, int, const rps3_kout *) =
       kind == RPS3_KFORCES ? (o->d != NULL ? kone_forces_data : kloop_forces)
       : kind == RPS3_KLEAN ? kloop_lean
-      : kind == RPS3_KFULL ? kloop_full : kone_data;
+      : kind == RPS3_KFULL ? kloop_full
+                           : kone_data;
   static const double zero[RPS3_KBLOCK];
   const size_t n = in->n;
   const double *pose = in->pose + i0;
@@ -381,16 +379,16 @@ void rps3_kernel_block(const rps3_model *m, const rps3_batch_in *in,
   K.rates = rates ? 1.0 : 0.0;
   rps3_sing_certify_limits(m, KMARGIN, &K.cond_lim, &K.trans_lim);
   if (rates)
-    kloop(&K, pose, pose + n, pose + 2 * n, in->dpose + i0,
-          in->dpose + n + i0, in->dpose + 2 * n + i0, in->ddpose + i0,
-          in->ddpose + n + i0, in->ddpose + 2 * n + i0, nb, o);
+    kloop(&K, pose, pose + n, pose + 2 * n, in->dpose + i0, in->dpose + n + i0,
+          in->dpose + 2 * n + i0, in->ddpose + i0, in->ddpose + n + i0,
+          in->ddpose + 2 * n + i0, nb, o);
   else
-    kloop(&K, pose, pose + n, pose + 2 * n, zero, zero, zero, zero, zero,
-          zero, nb, o);
+    kloop(&K, pose, pose + n, pose + 2 * n, zero, zero, zero, zero, zero, zero,
+          nb, o);
 }
 
-/* The leanest pass (outputs = RPS3_OUT_FORCES) fuses the multiply-adds of its dot
-   and cross products (kma) where the CPU has FMA: about a fifth fewer
+/* The leanest pass (outputs = RPS3_OUT_FORCES) fuses the multiply-adds of its
+   dot and cross products (kma) where the CPU has FMA: about a fifth fewer
    instructions.  The choice is made once a call, by the CPU, for the
    block loop and the one-point function alike, so that the batch is the
    loop of rps3_inverse bit for bit on one machine; on a CPU without FMA
@@ -430,8 +428,7 @@ static void kloop_bare(const rps3_model *m, const double *restrict pa,
   int p;
   kbconst_set(&K, m, KMARGIN);
   if (KFMA()) {
-    _Pragma("omp simd")
-    for (p = 0; p < nb; p++) {
+    _Pragma("omp simd") for (p = 0; p < nb; p++) {
       kbout r = kbare(&K, pa[p], pb[p], pz[p], va[p], vb[p], vz[p], aa[p],
                       ab[p], az[p], 1);
       F0[p] = r.F.x;
@@ -441,8 +438,7 @@ static void kloop_bare(const rps3_model *m, const double *restrict pa,
       ok[p] = r.ok;
     }
   } else {
-    _Pragma("omp simd")
-    for (p = 0; p < nb; p++) {
+    _Pragma("omp simd") for (p = 0; p < nb; p++) {
       kbout r = kbare(&K, pa[p], pb[p], pz[p], va[p], vb[p], vz[p], aa[p],
                       ab[p], az[p], 0);
       F0[p] = r.F.x;

@@ -19,18 +19,18 @@
 typedef struct {
   double r, R, M, g, Mg3, M6, mgd, Jlink, Ip[3];
   double pin[3][2], u[3][2], body[3][2]; /* z components are zero */
-  double sel[RPS3_KNEFF];  /* 1 when effect k is selected, else 0 */
+  double sel[RPS3_KNEFF]; /* 1 when effect k is selected, else 0 */
   double certify, cond_lim, trans_lim;
-  double rates;            /* 1 when the rates are the caller's, 0 zero */
-  double w_scale;          /* 2 / (3 r^2), rps3_omega_from_balls */
+  double rates;   /* 1 when the rates are the caller's, 0 zero */
+  double w_scale; /* 2 / (3 r^2), rps3_omega_from_balls */
 } kconst;
 
 /* with GCC or clang on x86-64 (ifunc), the loop also for AVX2 + FMA and
    AVX-512: the same operations on wider vectors (no contraction into
    FMA: -ffp-contract=off), hence the same results on every CPU */
-#if defined(__x86_64__) && defined(__linux__) &&                              \
+#if defined(__x86_64__) && defined(__linux__) && \
     (defined(__clang__) ? __clang_major__ >= 14 : __GNUC__ >= 12)
-#define KCLONES                                                               \
+#define KCLONES \
   __attribute__((target_clones("arch=x86-64-v4", "arch=x86-64-v3", "default")))
 #else
 #define KCLONES
@@ -68,10 +68,10 @@ KINLINE kv3 kcross(kv3 a, kv3 b) {
 
 /* one link of one point */
 typedef struct {
-  kv3 b, rho, phi, dphi; /* ball joint, b - c, directions (29) */
-  double l, il, th, ok;  /* length, 1 / l, theta (39), reachable (1/0) */
+  kv3 b, rho, phi, dphi;     /* ball joint, b - c, directions (29) */
+  double l, il, th, ok;      /* length, 1 / l, theta (39), reachable (1/0) */
   double dl, dth, ddl, ddth; /* joint rates and accelerations */
-  kv3 bdd;               /* ball-joint acceleration from those (invdyn.c) */
+  kv3 bdd;                   /* ball-joint acceleration from those (invdyn.c) */
 } klink;
 
 /* link i from the platform frame (columns rx, ry) and centre c: (15)-(17),
@@ -138,8 +138,8 @@ KINLINE kv3 kforces(kv3 wl, kv3 lam, kv3 lc, kv3 le) {
 
 /* lambda = -(Jt^-1)^T wt for Jt^-1 with rows r0, r1, r2 */
 KINLINE kv3 klambda(kv3 r0, kv3 r1, kv3 r2, kv3 wt) {
-  return kscale(-1.0, kadd(kadd(kscale(wt.x, r0), kscale(wt.y, r1)),
-                           kscale(wt.z, r2)));
+  return kscale(
+      -1.0, kadd(kadd(kscale(wt.x, r0), kscale(wt.y, r1)), kscale(wt.z, r2)));
 }
 
 /* the transmission row of link e: the platform twist (vc, omega) for a
@@ -148,14 +148,13 @@ KINLINE kv3 klambda(kv3 r0, kv3 r1, kv3 r2, kv3 wt) {
    rps3_omega_from_balls (the vc part drops: sum rho_i = 0), with
    rho_i x dphi_i in Q_i and rho_i x phi_e in P; returns |vc|_1 + R
    |omega|_1 */
-KINLINE double trans_row(const kconst *K, klink L0, klink L1, klink L2,
-                         kv3 Q0, kv3 Q1, kv3 Q2, kv3 x, kv3 phi, kv3 P,
-                         kv3 a) {
+KINLINE double trans_row(const kconst *K, klink L0, klink L1, klink L2, kv3 Q0,
+                         kv3 Q1, kv3 Q2, kv3 x, kv3 phi, kv3 P, kv3 a) {
   double s0 = L0.l * x.x, s1 = L1.l * x.y, s2 = L2.l * x.z, sd;
-  kv3 v = kadd(kadd(kadd(kscale(s0, L0.dphi), kscale(s1, L1.dphi)),
-                    kscale(s2, L2.dphi)), phi);
-  kv3 ws = kadd(kadd(kadd(kscale(s0, Q0), kscale(s1, Q1)), kscale(s2, Q2)),
-                P);
+  kv3 v = kadd(
+      kadd(kadd(kscale(s0, L0.dphi), kscale(s1, L1.dphi)), kscale(s2, L2.dphi)),
+      phi);
+  kv3 ws = kadd(kadd(kadd(kscale(s0, Q0), kscale(s1, Q1)), kscale(s2, Q2)), P);
   v = kscale(1.0 / 3.0, v);
   ws = kscale(K->w_scale, ws);
   sd = 0.5 * kdot(a, ws);
@@ -173,9 +172,8 @@ KINLINE void kput(double dst[3], kv3 v, int rates) {
    as rps3_ik_with, rps3_velocity_with, rps3_acceleration_with and
    rps3_invdyn leave them (the one-point instance below; the block loops
    never reach it) */
-KINLINE void kdata(rps3_data *d, kv3 rx, kv3 ry, kv3 rz, klink L0,
-                   klink L1, klink L2, kv3 w, kv3 vc, kv3 dw, kv3 ac,
-                   int rates) {
+KINLINE void kdata(rps3_data *d, kv3 rx, kv3 ry, kv3 rz, klink L0, klink L1,
+                   klink L2, kv3 w, kv3 vc, kv3 dw, kv3 ac, int rates) {
   const klink *L[3];
   int i;
   L[0] = &L0;
@@ -254,10 +252,10 @@ KINLINE kpose kpose_eval(double r, double alpha, double beta, double z,
   kpose P;
   double ca, sa, hs, hc, sb, cb, vb2, C, S;
   ksc tr = ksincos(alpha, fu);
-  P.in_range = ((fabs(alpha) <= RPS3_KANGLE_MAX) &
-                (fabs(beta) <= RPS3_KANGLE_MAX))
-                   ? 1.0
-                   : 0.0;
+  P.in_range =
+      ((fabs(alpha) <= RPS3_KANGLE_MAX) & (fabs(beta) <= RPS3_KANGLE_MAX))
+          ? 1.0
+          : 0.0;
   sa = tr.s;
   ca = tr.c;
   tr = ksincos(0.5 * beta, fu);
@@ -322,8 +320,9 @@ KINLINE void kbconst_set(kbconst *K, const rps3_model *m, double margin) {
   K->u = m->radial;
   K->body = m->body;
   K->r = m->r;
-  K->g3 = (e & RPS3_EFF_PLATFORM_GRAVITY) ? RPS3_PLATFORM_BALL_WEIGHT(m->M, m->g)
-                                          : 0.0;
+  K->g3 = (e & RPS3_EFF_PLATFORM_GRAVITY)
+              ? RPS3_PLATFORM_BALL_WEIGHT(m->M, m->g)
+              : 0.0;
   K->m6 = (e & RPS3_EFF_PLATFORM_INERTIA) ? RPS3_DISC_BALL_MASS(m->M) : 0.0;
   K->mgd = (e & RPS3_EFF_LINK_GRAVITY)
                ? RPS3_LINK_WEIGHT_MOMENT(m->m, m->g, m->d)
@@ -341,7 +340,7 @@ KINLINE void kbconst_set(kbconst *K, const rps3_model *m, double margin) {
 typedef struct {
   kv3 rho, v, q;
   double l, il, il2, ok; /* l, 1 / l, 1 / l^2, reachable (1/0) */
-  double wl, wt, s;   /* l wl_i, wt_i of invdyn.c, the load's size [N] */
+  double wl, wt, s;      /* l wl_i, wt_i of invdyn.c, the load's size [N] */
 } kblink;
 
 /* link i at the platform frame's columns rx, ry and centre c: (15)-(17),
@@ -376,8 +375,8 @@ KINLINE kblink kblink_pos(const kbconst *K, int i, kv3 rx, kv3 ry, kv3 c,
    from b'' and b' = l' phi + l theta' dphi (velocity.c).  Kept: l wl =
    v . f, wt = q . f + tau, and s = (|v . f| + |q . f| + |tau|) / l, the
    load in the link's plane */
-KINLINE kblink kblink_load(const kbconst *K, kblink L, kv3 w, kv3 vc,
-                           kv3 dw, kv3 ac, int fu) {
+KINLINE kblink kblink_load(const kbconst *K, kblink L, kv3 w, kv3 vc, kv3 dw,
+                           kv3 ac, int fu) {
   kv3 wr = kcrossf(w, L.rho, fu);
   kv3 bd = kadd(wr, vc);
   kv3 bb = kadd(kadd(kcrossf(dw, L.rho, fu), kcrossf(w, wr, fu)), ac);
@@ -424,8 +423,8 @@ KINLINE kbout kbare(const kbconst *K, double alpha, double beta, double z,
   kv3 rx, ry, c, w, vc, dw, ac, D;
   kv3 a0, a1, a2; /* rows of the adjugate of Jt */
   kblink L0, L1, L2;
-  const kpose P = kpose_eval(K->r, alpha, beta, z, da, db, dz, dda, ddb,
-                             ddz, fu);
+  const kpose P =
+      kpose_eval(K->r, alpha, beta, z, da, db, dz, dda, ddb, ddz, fu);
   const double in_range = P.in_range;
   rx = P.rx;
   ry = P.ry;

@@ -45,8 +45,7 @@ static inline double max2(double a, double b) { return a > b ? a : b; }
    iteration's evaluation, whose last is the state's (plane_jacobian reads
    it); the series step of theta's cosines and sines is rps3_trig_step
    (src/theta.h) */
-FD_INLINE void plane_constraints(const rps3_model *m, plane *p,
-                                 double f[3]) {
+FD_INLINE void plane_constraints(const rps3_model *m, plane *p, double f[3]) {
   p->q.R = m->R;
   p->q.r3 = 3.0 * m->r * m->r;
   rps3_closure_eval(&p->q, f);
@@ -90,8 +89,7 @@ static inline double plane_cond1(const plane *p) {
    rps3_mode_of_jac groups it), (df/dtheta)^-1 and its 1-norm condition
    number (RPS3_ESING past opt.cond_max); column i of df/dtheta holds
    at[i] and bt[i - 1] */
-static inline int plane_jacobian(const rps3_model *m, rps3_data *d,
-                                 plane *p) {
+static inline int plane_jacobian(const rps3_model *m, rps3_data *d, plane *p) {
   double det, cond;
   int q;
   for (q = 0; q < 3; q++) {
@@ -129,8 +127,8 @@ static inline void plane_rates(plane *p, const double u[3][2]) {
       p->G[i][j] = -(p->X[i][j] * p->al[j] + p->X[i][k] * p->bl[k]);
   }
   for (i = 0; i < 3; i++)
-    p->dth[i] = p->G[i][0] * p->dl[0] + p->G[i][1] * p->dl[1] +
-                p->G[i][2] * p->dl[2];
+    p->dth[i] =
+        p->G[i][0] * p->dl[0] + p->G[i][1] * p->dl[1] + p->G[i][2] * p->dl[2];
   rps3_closure_bias(&p->q, p->dl, p->dth, x, p->hd, p->Zd, p->hdd, p->Zdd);
   for (i = 0; i < 3; i++) {
     p->ddb[i] = p->X[i][0] * x[0] + p->X[i][1] * x[1] + p->X[i][2] * x[2];
@@ -138,8 +136,9 @@ static inline void plane_rates(plane *p, const double u[3][2]) {
     p->Zdd[i] += p->q.l[i] * p->q.c[i] * p->ddb[i];
   }
   for (q = 0; q < 2; q++)
-    p->acb[q] = (p->hdd[0] * u[0][q] + p->hdd[1] * u[1][q] +
-                 p->hdd[2] * u[2][q]) * third;
+    p->acb[q] =
+        (p->hdd[0] * u[0][q] + p->hdd[1] * u[1][q] + p->hdd[2] * u[2][q]) *
+        third;
   p->acb[2] = (p->Zdd[0] + p->Zdd[1] + p->Zdd[2]) * third;
   for (j = 0; j < 3; j++) {
     /* dh_i/dl_j' = l_i sin_i G_ij - cos_j [i = j], dZ_i/dl_j' = l_i cos_i
@@ -211,8 +210,8 @@ static inline void platform_motion(const rps3_model *m, const plane *p,
   }
   if (!motion) return;
   for (q = 0; q < 2; q++)
-    vc[q] = (p->hd[0] * u[0][q] + p->hd[1] * u[1][q] + p->hd[2] * u[2][q]) *
-            third;
+    vc[q] =
+        (p->hd[0] * u[0][q] + p->hd[1] * u[1][q] + p->hd[2] * u[2][q]) * third;
   vc[2] = (p->Zd[0] + p->Zd[1] + p->Zd[2]) * third;
   w[0] = w[1] = w[2] = 0.0;
   for (i = 0; i < 3; i++)
@@ -266,7 +265,7 @@ void rps3_fd_add_body(const rps3_fd_state *k, const rps3_data *d, double mb,
    and on l (sigma), the centre's mass through Jc, a payload as a rigid
    body; the upper triangle is Mq, symmetric to the bit */
 FD_INLINE void assemble(const rps3_model *m, rps3_data *d,
-                     const rps3_fd_state *k, const plane *p) {
+                        const rps3_fd_state *k, const plane *p) {
   const int eff = m->opt.effects;
   const double mb =
       (eff & RPS3_EFF_PLATFORM_INERTIA) ? RPS3_DISC_BALL_MASS(m->M) : 0.0;
@@ -324,7 +323,8 @@ FD_INLINE void assemble(const rps3_model *m, rps3_data *d,
 
 /* a root in another assembly mode than opt.mode asks for is refused, as
    rps3_theta_solve refuses it (the fall-back rps3_fk did already) */
-static inline int mode_refused(const rps3_model *m, rps3_data *d, rps3_fd_state *k) {
+static inline int mode_refused(const rps3_model *m, rps3_data *d,
+                               rps3_fd_state *k) {
   if (m->opt.mode == RPS3_MODE_ANY || d->mode == m->opt.mode) return RPS3_OK;
   d->have_theta = 0;
   k->have_trig = 0;

@@ -44,21 +44,21 @@
 
 /* platform gravity on link i: W = RPS3_PLATFORM_BALL_WEIGHT on the ball,
    phi_z and dphi_z the links' Z components, l its length */
-#define RPS3_LOAD_PLATFORM_GRAVITY(W, phi_z, dphi_z, l, wl, wt)              \
-  do {                                                                      \
-    (wl) = (W) * (phi_z);                                                   \
-    (wt) = (W) * (l) * (dphi_z);                                            \
+#define RPS3_LOAD_PLATFORM_GRAVITY(W, phi_z, dphi_z, l, wl, wt) \
+  do {                                                          \
+    (wl) = (W) * (phi_z);                                       \
+    (wt) = (W) * (l) * (dphi_z);                                \
   } while (0)
 
 /* platform inertia on link i: the ball's share m6 = RPS3_DISC_BALL_MASS
    at the acceleration c'' + b_i'' (cdd, bdd), on phi and l dphi */
-#define RPS3_LOAD_PLATFORM_INERTIA(C, m6, cdd, bdd, phi, dphi, l, wl, wt)    \
-  do {                                                                      \
-    const double f0_ = (m6) * (C(cdd, 0) + C(bdd, 0));                      \
-    const double f1_ = (m6) * (C(cdd, 1) + C(bdd, 1));                      \
-    const double f2_ = (m6) * (C(cdd, 2) + C(bdd, 2));                      \
-    (wl) = C(phi, 0) * f0_ + C(phi, 1) * f1_ + C(phi, 2) * f2_;             \
-    (wt) = (l) * (C(dphi, 0) * f0_ + C(dphi, 1) * f1_ + C(dphi, 2) * f2_);  \
+#define RPS3_LOAD_PLATFORM_INERTIA(C, m6, cdd, bdd, phi, dphi, l, wl, wt)  \
+  do {                                                                     \
+    const double f0_ = (m6) * (C(cdd, 0) + C(bdd, 0));                     \
+    const double f1_ = (m6) * (C(cdd, 1) + C(bdd, 1));                     \
+    const double f2_ = (m6) * (C(cdd, 2) + C(bdd, 2));                     \
+    (wl) = C(phi, 0) * f0_ + C(phi, 1) * f1_ + C(phi, 2) * f2_;            \
+    (wt) = (l) * (C(dphi, 0) * f0_ + C(dphi, 1) * f1_ + C(dphi, 2) * f2_); \
   } while (0)
 
 /* link gravity on theta_i: mgd = RPS3_LINK_WEIGHT_MOMENT times
