@@ -203,7 +203,7 @@ SIM_FLAGS = -funroll-loops -fno-math-errno
 $(foreach f,fk theta_gsl fwddyn fwddyn_theta fwddyn_shared fwddyn_body fwddyn_singular sim sim_measure control velocity,$(B)/obj/$(f).o $(B)/pic/$(f).o): XFLAGS = $(SIM_FLAGS)
 # the design's per-pose path: the 6x6 LU and inverse with their loops
 # unrolled (the same operations in the same order), 14 % fewer instructions
-$(foreach f,linalg design design_eval,$(B)/obj/$(f).o $(B)/pic/$(f).o): XFLAGS = -funroll-loops
+$(foreach f,linalg design design_eval design_task,$(B)/obj/$(f).o $(B)/pic/$(f).o): XFLAGS = -funroll-loops
 
 $(B)/obj/%.o: src/%.c $(FLAGS_STAMP) | $(DEPS)
 	@mkdir -p $(@D)

@@ -1,9 +1,9 @@
 /*
  * design.c - a design (geometry, joint limits, mass model), its field
  * table, its validation and model, and the grids of poses it is rated on;
- * design_eval.c rates it: reachability, force transmission (LTI),
- * homogeneous conditioning, parasitic motion over a set of poses, actuator
- * force and power along a task.  The positions are
+ * design_eval.c rates it over a set of poses (reachability, force
+ * transmission (LTI), homogeneous conditioning, parasitic motion) and
+ * design_task.c along a task (actuator force and power).  The positions are
  * rps3_inverse's (one formula of each quantity in the library); this file
  * adds only what it measures on them.  docs/design.md has the definitions.
  */
