@@ -9,13 +9,7 @@
 #ifndef RPS3_RUNNER_SIMULATE_H
 #define RPS3_RUNNER_SIMULATE_H
 
-#include <stddef.h>
-
-#include "scene/scene.h"
-
-/* 1 when s is to be simulated: it has a simulate section, or sweeps a
-   simulate key (which sim_plan_make then refuses) */
-int sim_wanted(const scene *s);
+#include "sim_case.h"
 
 /* how rps3-run was asked to run */
 typedef struct {
