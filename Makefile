@@ -268,13 +268,13 @@ $(B)/rps3-run-mpi: $(B)/runner/bin/main_run.o $(RUN_DESIGN_OBJ) $(RUN_OBJ) $(WOR
 	$(CC) -o $@ $^ $(HDF5_LIBS) $(YAML_LIBS) $(GSL_LIBS) $(MPI_LIBS) $(CRYPTO_LIBS) -lz -lpthread -lm
 
 # ------------------------------------------------------------------- tests
-$(B)/tests/%: tests/%.c $(B)/librps3.a tests/testutil.h $(FLAGS_STAMP) | $(DEPS)
+$(B)/tests/%: tests/%.c $(B)/librps3.a tests/testutil.h tests/alloc_count.h $(FLAGS_STAMP) | $(DEPS)
 	@mkdir -p $(@D)
 	$(CC) $(CPPFLAGS_ALL) -Itests $(GSL_CFLAGS) $(WARN) $(OPT) -g $< -o $@ \
 	  $(B)/librps3.a $(CMOCKA_LIBS) $(GSL_LIBS)
 # test_pool compiles the runner's worker pool in
 $(B)/tests/test_pool $(B)/tests-san/test_pool: runner/exec/pool.c runner/exec/pool.h
-$(B)/tests-san/%: tests/%.c $(B)/librps3-san.a tests/testutil.h $(FLAGS_STAMP) | $(DEPS)
+$(B)/tests-san/%: tests/%.c $(B)/librps3-san.a tests/testutil.h tests/alloc_count.h $(FLAGS_STAMP) | $(DEPS)
 	@mkdir -p $(@D)
 	$(CC) $(CPPFLAGS_ALL) -Itests -DRPS3_SANITIZE $(GSL_CFLAGS) $(WARN) -O1 -g $(SAN) $< -o $@ \
 	  $(B)/librps3-san.a $(CMOCKA_LIBS) $(GSL_LIBS)

@@ -652,26 +652,7 @@ static void test_timing(void **state) {
 /* ------------------------------------------------ no allocation per point */
 
 #ifndef RPS3_SANITIZE
-/* a malloc interposer (as tests/test_alloc_trajectory.c's; not under
-   ASan, whose allocator must not be interposed): glibc's allocator under
-   its internal names, counted while a window is open */
-extern void *__libc_malloc(size_t size);
-extern void *__libc_calloc(size_t n, size_t size);
-extern void *__libc_realloc(void *p, size_t size);
-static int counting;
-static long n_alloc;
-void *malloc(size_t size) {
-  if (counting) n_alloc++;
-  return __libc_malloc(size);
-}
-void *calloc(size_t n, size_t size) {
-  if (counting) n_alloc++;
-  return __libc_calloc(n, size);
-}
-void *realloc(void *p, size_t size) {
-  if (counting) n_alloc++;
-  return __libc_realloc(p, size);
-}
+#include "alloc_count.h"
 
 /* the regressor, point by point (both theta routes) and in a batch,
    allocates nothing; the estimators do (the counter sees them) */
@@ -693,13 +674,12 @@ static void test_regressor_allocates_nothing(void **state) {
     ident_model(&m, RPS3_LAGRANGE, 2, 0.01);
     m.opt.theta = (rps3_theta_route)route;
     assert_int_equal(rps3_data_alloc(&m, &d), RPS3_OK);
-    n_alloc = 0;
-    counting = 1;
+    count_start();
     for (i = 0; i < N; i++) {
       random_state(d, &s);
       rps3_regressor(&m, d, Y);
     }
-    counting = 0;
+    count_stop();
     assert_int_equal(n_alloc, 0);
     rps3_data_free(d);
   }
@@ -722,10 +702,9 @@ static void test_regressor_allocates_nothing(void **state) {
   in.dpose = dpose;
   in.ddpose = ddpose;
   out.status = status;
-  n_alloc = 0;
-  counting = 1;
+  count_start();
   assert_int_equal(rps3_regressor_batch(&m, d, &in, Yb, &out), RPS3_OK);
-  counting = 0;
+  count_stop();
   assert_int_equal(n_alloc, 0);
   free(Yb);
   rps3_data_free(d);
@@ -735,10 +714,9 @@ static void test_regressor_allocates_nothing(void **state) {
   stack_data(&st, 5, &dt);
   memset(&res, 0, sizeof(res));
   res.theta = th;
-  n_alloc = 0;
-  counting = 1;
+  count_start();
   assert_int_equal(rps3_ident_wls(&dt, NULL, &res, NULL), RPS3_OK);
-  counting = 0;
+  count_stop();
   assert_true(n_alloc > 0);
   stack_free(&st);
 }
