@@ -106,10 +106,10 @@ KINLINE void kpoint(const kconst *K, const double *restrict pa,
     double alpha = pa[p], beta = pb[p];
     double da = va[p], db = vb[p], dda = aa[p], ddb = ab[p];
     double det, idet, cond, trans, fin;
-    double pw, sc, dT, dP, v1, v2, v3, g1, i1, eres;
+    double pw, sc, dT, dP, v1, v2, g1, i1, s1, s2, s3, s4, eres;
     kv3 rx, ry, rz, c, w, vc, dw, ac, cdd, lc, le, ta, tb, r0, r1, r2;
     kv3 wl[RPS3_KNEFF], wt[RPS3_KNEFF], lam[RPS3_KNEFF], Fe[RPS3_KNEFF];
-    kv3 F, lamt, t;
+    kv3 F, lamt;
     klink L0, L1, L2;
     krow j0, j1, j2;
     /* the frame, its twist and the twist's rate; an angle the
@@ -238,32 +238,22 @@ KINLINE void kpoint(const kconst *K, const double *restrict pa,
     }
 
     /* energy-rate certificate (certify of invdyn.c): power = dT/dt +
-       dP/dt, with omega . rot diag(Ip) rot^T domega */
+       dP/dt, each effect's term and its share of the scale those of
+       src/power.h, the selection folded into their coefficients */
     pw = sc = dT = dP = 0.0;
     if (flags & KF_CERTIFY) {
-      pw = F.x * L0.dl + F.y * L1.dl + F.z * L2.dl;
-      sc = fabs(F.x * L0.dl) + fabs(F.y * L1.dl) + fabs(F.z * L2.dl);
-      v1 = K->sel[0] * K->M * K->g * vc.z;
-      t = kv(K->Ip[0] * kdot(rx, dw), K->Ip[1] * kdot(ry, dw),
-             K->Ip[2] * kdot(rz, dw));
-      t = kadd(kadd(kscale(t.x, rx), kscale(t.y, ry)), kscale(t.z, rz));
-      v2 = K->sel[2] * K->M * kdot(vc, ac);
-      v3 = K->sel[2] * kdot(w, t);
-      g1 = K->sel[1] * K->mgd *
-           (L0.dphi.z * L0.dth + L1.dphi.z * L1.dth + L2.dphi.z * L2.dth);
-      i1 = K->sel[3] * K->Jlink *
-           (L0.dth * L0.ddth + L1.dth * L1.ddth + L2.dth * L2.ddth);
+      const kv3 cz = kv(L0.dphi.z, L1.dphi.z, L2.dphi.z);
+      const kv3 dth = kv(L0.dth, L1.dth, L2.dth);
+      const kv3 ddth = kv(L0.ddth, L1.ddth, L2.ddth);
+      RPS3_POWER_ACTUATORS(KC, F, kv(L0.dl, L1.dl, L2.dl), pw, sc);
+      RPS3_POWER_BODY_GRAVITY(K->sel[0] * K->M * K->g, vc.z, v1, s1);
+      RPS3_POWER_BODY_INERTIA(KC, K->sel[2] * K->M, K->sel[2], K->Ip, rx, ry,
+                              rz, vc, ac, w, dw, v2, s2);
+      RPS3_POWER_LINK_GRAVITY(KC, K->sel[1] * K->mgd, cz, dth, g1, s3);
+      RPS3_POWER_LINK_INERTIA(KC, K->sel[3] * K->Jlink, dth, ddth, i1, s4);
       dP = v1 + g1;
-      dT = v2 + v3 + i1;
-      /* the scale sums magnitudes term by term as invdyn.c does: each
-         link's gravity and inertia power on its own */
-      sc += fabs(v1) + fabs(v2) + fabs(v3) +
-            K->sel[1] * fabs(K->mgd) *
-                (fabs(L0.dphi.z * L0.dth) + fabs(L1.dphi.z * L1.dth) +
-                 fabs(L2.dphi.z * L2.dth)) +
-            K->sel[3] * K->Jlink *
-                (fabs(L0.dth * L0.ddth) + fabs(L1.dth * L1.ddth) +
-                 fabs(L2.dth * L2.ddth));
+      dT = v2 + i1;
+      sc += s1 + s2 + s3 + s4;
     }
 
     /* the outputs, and whether the point is the kernel's: finite, in
@@ -285,7 +275,7 @@ KINLINE void kpoint(const kconst *K, const double *restrict pa,
     o->cond[p] = cond;
     o->trans[p] = trans;
     o->mode[p] = (det > 0.0) ? 1.0 : (det < 0.0) ? -1.0 : 0.0;
-    eres = K->certify != 0.0 ? pw - dT - dP : 0.0;
+    eres = K->certify != 0.0 ? RPS3_POWER_RESIDUAL(pw, dT, dP) : 0.0;
     o->eres[p] = eres;
     o->scale[p] = K->certify != 0.0 ? sc : 0.0;
     /* every quantity the scalar path checks for overflow reaches F,

@@ -14,6 +14,7 @@
 #include "batch_kernel.h"
 #include "batch_trig.h"
 #include "loads.h"
+#include "power.h"
 
 /* the model's constants the loop reads, hoisted out of it */
 typedef struct {
@@ -144,21 +145,16 @@ KINLINE kv3 klambda(kv3 r0, kv3 r1, kv3 r2, kv3 wt) {
 
 /* the transmission row of link e: the platform twist (vc, omega) for a
    unit rate of link e, theta' = x = -Jt^-1 Jl e_e; ball i moves
-   [i == e] phi_i + l_i x_i dphi_i, and omega follows from the balls as in
-   rps3_omega_from_balls (the vc part drops: sum rho_i = 0), with
-   rho_i x dphi_i in Q_i and rho_i x phi_e in P; returns |vc|_1 + R
-   |omega|_1 */
+   [i == e] phi_i + l_i x_i dphi_i, omega from the balls (the vc part
+   drops: sum rho_i = 0), with rho_i x dphi_i in Q_i and rho_i x phi_e in
+   P; returns |vc|_1 + R |omega|_1.  The twist and its measure are
+   src/power.h's, as the stages' transmission of invdyn.c */
 KINLINE double trans_row(const kconst *K, klink L0, klink L1, klink L2, kv3 Q0,
                          kv3 Q1, kv3 Q2, kv3 x, kv3 phi, kv3 P, kv3 a) {
-  double s0 = L0.l * x.x, s1 = L1.l * x.y, s2 = L2.l * x.z, sd;
-  kv3 v = kadd(
-      kadd(kadd(kscale(s0, L0.dphi), kscale(s1, L1.dphi)), kscale(s2, L2.dphi)),
-      phi);
-  kv3 ws = kadd(kadd(kadd(kscale(s0, Q0), kscale(s1, Q1)), kscale(s2, Q2)), P);
-  v = kscale(1.0 / 3.0, v);
-  ws = kscale(K->w_scale, ws);
-  sd = 0.5 * kdot(a, ws);
-  return knorm1(v) + K->R * knorm1(ksub(ws, kscale(sd, a)));
+  kv3 v, om;
+  RPS3_TRANS_TWIST(KC, K->w_scale, L0.l * x.x, L1.l * x.y, L2.l * x.z, L0.dphi,
+                   L1.dphi, L2.dphi, Q0, Q1, Q2, phi, P, a, v, om);
+  return RPS3_TRANS_MEASURE(KC, K->R, v, om);
 }
 
 /* a rate of the data: v, or NaN when the rates were not computed */

@@ -11,14 +11,14 @@
 
 #include "fwddyn.h"
 #include "loads.h"
+#include "power.h"
 
 /* omega from sum_i rho_i x u_i for the ball motions u_i = omega x rho_i
-   (rps3_omega_from_balls: (26)-(28) in closed form); wk = 2 / (3 r^2) */
+   ((26)-(28) in closed form, src/power.h's RPS3_OMEGA_OF_SUM, as
+   rps3_omega_from_balls); wk = 2 / (3 r^2) */
 static inline void omega_of_sum(double omega[3], const double w[3],
                                 const double a[3], double wk) {
-  double s = 0.5 * wk * v3_dot(a, w);
-  int q;
-  for (q = 0; q < 3; q++) omega[q] = wk * w[q] - s * a[q];
+  RPS3_OMEGA_OF_SUM(RPS3_V3C, wk, w[0], w[1], w[2], a, omega);
 }
 
 /* the steps below are meant to compile into their callers' one
@@ -231,18 +231,21 @@ static inline void platform_motion(const rps3_model *m, const plane *p,
    lambda system (df/dtheta)^T's condition number (its 1-norm, the
    infinity norm of df/dtheta: rows hold at[q], bt[q]) and the force
    transmission, max over l_j' = 1 of |vc|_1 + R |omega|_1 (the rows of
-   dF/d(f, n) by virtual power, rps3_invdyn's transmission()) */
+   dF/d(f, n) by virtual power, rps3_invdyn's transmission()): the
+   twist of column q is (Jc, Jw)'s, which the dynamics forms anyway, its
+   omega by omega_of_sum; the measure and the largest row src/power.h's */
 static inline int invdyn_limits(const rps3_model *m, rps3_data *d,
                                 const plane *p, const rps3_fd_state *k) {
   double nr = 0.0, nx = 0.0, T = 0.0;
   int q, st;
   for (q = 0; q < 3; q++) {
-    const double sj =
-        fabs(p->Jc[0][q]) + fabs(p->Jc[1][q]) + fabs(p->Jc[2][q]) +
-        m->R * (fabs(k->Jw[0][q]) + fabs(k->Jw[1][q]) + fabs(k->Jw[2][q]));
+/* component c of column q of a 3 x 3 map */
+#define FD_COLC(M, c) ((M)[c][q])
+    const double sj = RPS3_TRANS_MEASURE(FD_COLC, m->R, p->Jc, k->Jw);
+#undef FD_COLC
     nr = max2(nr, fabs(p->q.at[q]) + fabs(p->q.bt[q]));
     nx = max2(nx, fabs(p->X[q][0]) + fabs(p->X[q][1]) + fabs(p->X[q][2]));
-    if (sj > T || !isfinite(sj)) T = sj;
+    RPS3_TRANS_MAX(T, sj);
   }
   d->cond = nr * nx;
   d->transmission = T;

@@ -42,6 +42,7 @@
 #include "internal.h"
 #include "linalg.h"
 #include "loads.h"
+#include "power.h"
 
 /* kinematic quantities of the Lagrange route, per point (on the stack;
    internal.h, the regressor's loads hold one too) */
@@ -244,60 +245,64 @@ static int lagrange(const rps3_model *m, rps3_data *d, const double Jl[3][3],
  * Energy-rate certificate: sum F_i l_i' + sum T_i theta_i' = d(T + P)/dt,
  * with T and P of the selected effects written from the Cartesian motion
  * (vc, omega, their derivatives) and the link rates, independently of the
- * force computation.
+ * force computation.  Each effect's term and its share of the scale are
+ * the macros of src/power.h, which the batch kernel compiles too.
  */
 static void certify(const rps3_model *m, rps3_data *d) {
-  int eff = m->opt.effects, i;
-  double dT = 0.0, dP = 0.0, fp = 0.0, pw = 0.0, scale = 0.0, t[3];
+  const int eff = m->opt.effects;
+  double dT = 0.0, dP = 0.0, fp = 0.0, pw, scale, p, s, ax[3][3], cz[3];
+  int i, k;
+  /* the platform's axes r_k (the columns of rot) and cos theta_i */
   for (i = 0; i < 3; i++) {
-    pw += d->F[i] * d->dl[i];
-    scale += fabs(d->F[i] * d->dl[i]);
+    for (k = 0; k < 3; k++) ax[k][i] = d->rot[i][k];
+    cz[i] = d->dphi[i][2];
   }
+  RPS3_POWER_ACTUATORS(RPS3_V3C, d->F, d->dl, pw, scale);
   if (eff & RPS3_EFF_PLATFORM_GRAVITY) {
-    double v = m->M * m->g * d->vc[2];
-    dP += v;
-    scale += fabs(v);
+    RPS3_POWER_BODY_GRAVITY(m->M * m->g, d->vc[2], p, s);
+    dP += p;
+    scale += s;
   }
   if (eff & RPS3_EFF_PLATFORM_INERTIA) {
-    double v1 = m->M * v3_dot(d->vc, d->ac), v2;
-    rps3_inertia_apply(t, M3C(d->rot), m->Ip, d->domega);
-    v2 = v3_dot(d->omega, t);
-    dT += v1 + v2;
-    scale += fabs(v1) + fabs(v2);
+    RPS3_POWER_BODY_INERTIA(RPS3_V3C, m->M, 1.0, m->Ip, ax[0], ax[1], ax[2],
+                            d->vc, d->ac, d->omega, d->domega, p, s);
+    dT += p;
+    scale += s;
   }
   if (eff & RPS3_EFF_PAYLOAD) {
-    double rg[3], vg[3], ag[3], v1, v2, v3;
+    double rg[3], vg[3], ag[3];
     rps3_payload_kin(m, d, rg, vg, ag);
-    v1 = m->payload.mass * v3_dot(vg, ag);
-    rps3_inertia_apply(t, M3C(d->rot), m->payload.inertia, d->domega);
-    v2 = v3_dot(d->omega, t);
-    v3 = m->payload.mass * m->g * vg[2];
-    dT += v1 + v2;
-    dP += v3;
-    scale += fabs(v1) + fabs(v2) + fabs(v3);
+    RPS3_POWER_BODY_INERTIA(RPS3_V3C, m->payload.mass, 1.0, m->payload.inertia,
+                            ax[0], ax[1], ax[2], vg, ag, d->omega, d->domega, p,
+                            s);
+    dT += p;
+    scale += s;
+    RPS3_POWER_BODY_GRAVITY(m->payload.mass * m->g, vg[2], p, s);
+    dP += p;
+    scale += s;
   }
-  for (i = 0; i < 3; i++) {
-    if (eff & RPS3_EFF_LINK_GRAVITY) {
-      double v = m->m * m->g * m->d * d->dphi[i][2] * d->dtheta[i];
-      dP += v;
-      scale += fabs(v);
-    }
-    if (eff & RPS3_EFF_LINK_INERTIA) {
-      double v = m->Jlink * d->dtheta[i] * d->ddtheta[i];
-      dT += v;
-      scale += fabs(v);
-    }
-    if (eff & RPS3_EFF_PIN_FRICTION) {
-      double v = friction_torque(m, d->dtheta[i]) * d->dtheta[i];
-      fp += v;
-      scale += fabs(v);
-    }
+  if (eff & RPS3_EFF_LINK_GRAVITY) {
+    RPS3_POWER_LINK_GRAVITY(RPS3_V3C, RPS3_LINK_WEIGHT_MOMENT(m->m, m->g, m->d),
+                            cz, d->dtheta, p, s);
+    dP += p;
+    scale += s;
+  }
+  if (eff & RPS3_EFF_LINK_INERTIA) {
+    RPS3_POWER_LINK_INERTIA(RPS3_V3C, m->Jlink, d->dtheta, d->ddtheta, p, s);
+    dT += p;
+    scale += s;
+  }
+  if (eff & RPS3_EFF_PIN_FRICTION) {
+    double Tf[3];
+    for (i = 0; i < 3; i++) Tf[i] = friction_torque(m, d->dtheta[i]);
+    RPS3_POWER_PIN_FRICTION(RPS3_V3C, Tf, d->dtheta, fp, s);
+    scale += s;
   }
   d->power = pw;
   d->dTdt = dT;
   d->dPdt = dP;
   d->friction_power = fp;
-  d->energy_residual = pw + fp - dT - dP;
+  d->energy_residual = RPS3_POWER_RESIDUAL(pw + fp, dT, dP);
   d->energy_scale = scale;
 }
 
@@ -318,37 +323,36 @@ static void certify(const rps3_model *m, rps3_data *d) {
  * motions the links allow (a ball joint moves in its pin's plane), so
  * F . l' = f . vc + n . omega for every such motion, and row i is the
  * platform twist (vc, omega) for l' = e_i: theta' = G e_i with
- * G = -(df/dtheta)^-1 df/dl, ball j moving [j == i] phi_j + l_j G_ji dphi_j,
- * vc their mean and omega from the balls.  Rows of the inverse of the 6 x 6
- * ball-joint system of the Newton-Euler formulation, from a 3 x 3 LU
- * (test_trans.c holds it to an oracle of its own).  (df/dtheta)^-1 is the
- * transpose of the lambda system's inverse, which its condition number
- * computed (J factored, not singular).
+ * G = -(df/dtheta)^-1 df/dl, the twist and its measure those of
+ * src/power.h (RPS3_TRANS_TWIST, RPS3_TRANS_MEASURE), which the batch
+ * kernel compiles too.  Rows of the inverse of the 6 x 6 ball-joint system
+ * of the Newton-Euler formulation, from a 3 x 3 LU (test_trans.c holds it
+ * to an oracle of its own).  (df/dtheta)^-1 is the transpose of the lambda
+ * system's inverse, which its condition number computed (J factored, not
+ * singular).
  */
 static double transmission(const rps3_model *m, const rps3_data *d,
                            const rps3_cjac *J) {
-  double rho[3][3], a[3], T = 0.0;
+  const double wk = 2.0 / (3.0 * m->r * m->r);
+  double rho[3][3], Q[3][3], a[3], T = 0.0;
   int i, j, q;
   for (j = 0; j < 3; j++) {
     v3_sub(rho[j], d->b[j], d->c);
+    v3_cross(Q[j], rho[j], d->dphi[j]);
     a[j] = d->rot[j][2];
   }
   for (i = 0; i < 3; i++) {
-    double x[3], bd[3][3], u[3][3], vc[3] = {0, 0, 0}, w[3], s;
+    double x[3], P[3], vc[3], w[3], s;
     /* x = G e_i = -(df/dtheta)^-1 df/dl e_i, (df/dtheta)^-1 = Ainv^T */
     for (q = 0; q < 3; q++)
       x[q] = -(J->Ainv[q] * J->Jl[0][i] + J->Ainv[3 + q] * J->Jl[1][i] +
                J->Ainv[6 + q] * J->Jl[2][i]);
-    for (j = 0; j < 3; j++) {
-      v3_scale(bd[j], d->l[j] * x[j], d->dphi[j]);
-      if (j == i) v3_axpy(bd[j], bd[j], 1.0, d->phi[j]);
-      v3_axpy(vc, vc, 1.0 / 3.0, bd[j]);
-    }
-    for (j = 0; j < 3; j++) v3_sub(u[j], bd[j], vc);
-    rps3_omega_from_balls(w, M3C(rho), M3C(u), a, m->r);
-    s = fabs(vc[0]) + fabs(vc[1]) + fabs(vc[2]) +
-        m->R * (fabs(w[0]) + fabs(w[1]) + fabs(w[2]));
-    if (s > T || !isfinite(s)) T = s;
+    v3_cross(P, rho[i], d->phi[i]);
+    RPS3_TRANS_TWIST(RPS3_V3C, wk, d->l[0] * x[0], d->l[1] * x[1],
+                     d->l[2] * x[2], d->dphi[0], d->dphi[1], d->dphi[2], Q[0],
+                     Q[1], Q[2], d->phi[i], P, a, vc, w);
+    s = RPS3_TRANS_MEASURE(RPS3_V3C, m->R, vc, w);
+    RPS3_TRANS_MAX(T, s);
   }
   return T;
 }

@@ -6,6 +6,7 @@
  */
 #include "internal.h"
 #include "linalg.h"
+#include "power.h"
 
 /*
  * Angular velocity (or acceleration) of the platform from the motion of its
@@ -16,15 +17,13 @@
  */
 void rps3_omega_from_balls(double omega[3], const double rho[3][3],
                            const double u[3][3], const double a[3], double r) {
-  double w[3] = {0, 0, 0}, t[3], s;
+  double w[3] = {0, 0, 0}, t[3];
   int i;
   for (i = 0; i < 3; i++) {
     v3_cross(t, rho[i], u[i]);
     v3_axpy(w, w, 1.0, t);
   }
-  v3_scale(w, 2.0 / (3.0 * r * r), w);
-  s = 0.5 * v3_dot(a, w);
-  v3_axpy(omega, w, -s, a);
+  RPS3_OMEGA_OF_SUM(RPS3_V3C, 2.0 / (3.0 * r * r), w[0], w[1], w[2], a, omega);
 }
 
 /* factor df/dtheta for the rate stages: RPS3_ESING when singular or

@@ -7,6 +7,8 @@
  */
 #include "testutil.h"
 
+#include "fwddyn.h" /* the forward dynamics' state, its limits */
+
 static rps3_data *make(rps3_model *m, int effects, int method) {
   rps3_data *d = NULL;
   rps3_model_default(m);
@@ -103,8 +105,10 @@ static void tilted_approach_warns_early(void **state) {
     if (f_trans < 0 && (d->warn & RPS3_WARN_TRANS)) f_trans = fmax3(d->F) / W;
     if (f_ill < 0 && (d->warn & RPS3_WARN_ILLCOND)) f_ill = fmax3(d->F) / W;
   }
-  print_message("tilted approach: first transmission warning at %.3g x the "
-                "weight, first condition warning at %.3g x\n", f_trans, f_ill);
+  print_message(
+      "tilted approach: first transmission warning at %.3g x the "
+      "weight, first condition warning at %.3g x\n",
+      f_trans, f_ill);
   assert_true(f_trans > 0.0 && f_trans < 100.0);
   assert_true(f_ill < 0.0 || f_ill > 100.0 * f_trans);
   rps3_data_free(d);
@@ -217,7 +221,8 @@ static double oracle_transmission(double R, double rho, const double q[3],
   /* ball joint i relative to the centre: w_i = r rot (cos, sin, 0); the
      pin planes (c + w_i) . (-sin psi_i, cos psi_i, 0) = 0, i = 0, 1 */
   for (i = 0; i < 3; i++)
-    for (k = 0; k < 3; k++) b[i][k] = r * (rot[k][0] * cp[i] + rot[k][1] * sp[i]);
+    for (k = 0; k < 3; k++)
+      b[i][k] = r * (rot[k][0] * cp[i] + rot[k][1] * sp[i]);
   a1 = sp[0] * b[0][0] - cp[0] * b[0][1];
   a2 = sp[1] * b[1][0] - cp[1] * b[1][1];
   c[0] = (cp[1] * a1 - cp[0] * a2) / (cp[0] * sp[1] - sp[0] * cp[1]);
@@ -337,6 +342,54 @@ static void transmission_from_inputs(void **state) {
   rps3_data_free(d);
 }
 
+/*
+ * The forward dynamics' limits (src/fwddyn_plane.h, invdyn_limits) are
+ * rps3_inverse's: the transmission from the twist columns Jc, Jw the
+ * dynamics forms in the links' planes (from l, cos theta, sin theta, no
+ * positions), and the condition number from its inverse of df/dtheta,
+ * equal the stages' (from the positions, src/invdyn.c) over random poses
+ * and rates of a high-entropy geometry.  TOL_PHYS: the state solves theta
+ * again, to opt.tol, from the inverse's root.
+ */
+static void forward_dynamics_limits(void **state) {
+  rps3_model m;
+  rps3_data *d, *f;
+  rps3_fd_state k;
+  uint64_t seed = 0x7a3c1;
+  int n, i, ok = 0;
+  (void)state;
+  model_entropy(&m);
+  assert_int_equal(rps3_model_init(&m, NULL), RPS3_OK);
+  assert_int_equal(rps3_data_alloc(&m, &d), RPS3_OK);
+  assert_int_equal(rps3_data_alloc(&m, &f), RPS3_OK);
+  for (n = 0; n < 500; n++) {
+    d->pose[0] = rnd_uniform(&seed, -PI, PI);
+    d->pose[1] = rnd_uniform(&seed, 0.0, 0.7);
+    d->pose[2] = rnd_uniform(&seed, 0.2, 2.5) * m.R;
+    for (i = 0; i < 3; i++) {
+      d->dpose[i] = rnd_uniform(&seed, -1.0, 1.0);
+      d->ddpose[i] = rnd_uniform(&seed, -1.0, 1.0);
+    }
+    if (rps3_inverse(&m, d) != RPS3_OK) continue;
+    rps3_data_reset(f);
+    memcpy(f->l, d->l, sizeof(f->l));
+    memcpy(f->dl, d->dl, sizeof(f->dl));
+    memcpy(f->theta, d->theta, sizeof(f->theta));
+    f->have_theta = 1;
+    memset(&k, 0, sizeof(k));
+    if (rps3_fwddyn_state(&m, f, &k, RPS3_FD_LEAN | RPS3_FD_NOFACTOR) !=
+        RPS3_OK)
+      fail_msg("pose %d: forward dynamics: %s", n, f->err.msg);
+    CHECK_REL(f->transmission, d->transmission, TOL_PHYS, 0.0,
+              "transmission at pose %d", n);
+    CHECK_REL(f->cond, d->cond, TOL_PHYS, 0.0, "cond at pose %d", n);
+    ok++;
+  }
+  assert_true(ok > 250);
+  rps3_data_free(d);
+  rps3_data_free(f);
+}
+
 /* the limits are options: validated, and trans_max >= trans_warn */
 static void limits_are_options(void **state) {
   rps3_model m;
@@ -360,6 +413,7 @@ int main(void) {
       cmocka_unit_test(scale_and_method_invariant),
       cmocka_unit_test(bound_on_holding_force),
       cmocka_unit_test(transmission_from_inputs),
+      cmocka_unit_test(forward_dynamics_limits),
       cmocka_unit_test(limits_are_options),
   };
   return cmocka_run_group_tests(tests, NULL, NULL);
