@@ -8,9 +8,10 @@
  * time).
  *
  * The formulas are those of the scalar stages, in the same order where it
- * matters: (2)-(7) and (39) as in ik.c, the rates as in velocity.c, the
- * Lagrange loads and the energy-rate certificate as in invdyn.c.  What
- * differs, all at the level of rounding:
+ * matters: (2)-(7) and (39) as in ik.c, the rates as in velocity.c; the
+ * Lagrange loads (src/loads.h), the energy-rate certificate and the force
+ * transmission (src/power.h) are the stages' own text.  What differs, all
+ * at the level of rounding:
  *   - sin and cos of alpha and beta / 2 by the polynomial ksincos
  *     (batch_trig.h, the lean pass's too; within 3 ulp of libm), sin and
  *     cos of beta from the half angle; theta by katan2 (within 4 ulp of
@@ -18,9 +19,8 @@
  *   - the lambda system (df/dtheta)^T solved by its adjugate (the matrix
  *     has two non-zeros a row), and its 1-norm condition number from the
  *     same inverse;
- *   - the force transmission from the platform twist per unit link rate,
- *     F = J^T (f, n) by virtual power (the pin-axis forces do no work on
- *     the motions the links allow), instead of the 6 x 6 system.
+ *   - the force transmission's link rates per unit link rate from that
+ *     inverse (the stages' from the LU of the lambda system).
  * Without theta asked for and without the certificate, a second instance
  * of the loop leaves both out (the forces need the link directions only).
  * A point is certified (ok) only when everything it reports is finite, its

@@ -151,9 +151,10 @@ KINLINE kv3 klambda(kv3 r0, kv3 r1, kv3 r2, kv3 wt) {
    src/power.h's, as the stages' transmission of invdyn.c */
 KINLINE double trans_row(const kconst *K, klink L0, klink L1, klink L2, kv3 Q0,
                          kv3 Q1, kv3 Q2, kv3 x, kv3 phi, kv3 P, kv3 a) {
+  const double s0 = L0.l * x.x, s1 = L1.l * x.y, s2 = L2.l * x.z;
   kv3 v, om;
-  RPS3_TRANS_TWIST(KC, K->w_scale, L0.l * x.x, L1.l * x.y, L2.l * x.z, L0.dphi,
-                   L1.dphi, L2.dphi, Q0, Q1, Q2, phi, P, a, v, om);
+  RPS3_TRANS_TWIST(KC, K->w_scale, s0, s1, s2, L0.dphi, L1.dphi, L2.dphi, Q0,
+                   Q1, Q2, phi, P, a, v, om);
   return RPS3_TRANS_MEASURE(KC, K->R, v, om);
 }
 

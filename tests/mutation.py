@@ -113,13 +113,18 @@ MUTATIONS = [
      "c[0] = -0.5 * m->r * vb * t->C;",
      "c[0] = -0.505 * m->r * vb * t->C;",
      "x of the platform centre (39), 1 % off"),
-    ("omega-balls", "src/velocity.c",
-     "s = 0.5 * v3_dot(a, w);", "s = 0.505 * v3_dot(a, w);",
-     "normal component removed from omega (26)-(28)"),
-    ("omega-scale", "src/velocity.c",
-     "v3_scale(w, 2.0 / (3.0 * r * r), w);",
-     "v3_scale(w, 2.002 / (3.0 * r * r), w);",
-     "scale of omega from the ball joints (26)-(28), 0.1 % off"),
+    ("omega-balls", "src/power.h",
+     "const double h_ = 0.5 * (C(a, 0) * w0_ + C(a, 1) * w1_ + C(a, 2) * w2_);",
+     "const double h_ = 0.505 * (C(a, 0) * w0_ + C(a, 1) * w1_"
+     " + C(a, 2) * w2_);",
+     "normal component removed from omega (26)-(28) (the one copy: rate"
+     " stages, transmission, forward dynamics)"),
+    ("omega-scale", "src/power.h",
+     "const double w0_ = (wk) * (S0), w1_ = (wk) * (S1), w2_ = (wk) * (S2);",
+     "const double w0_ = 1.001 * (wk) * (S0), w1_ = 1.001 * (wk) * (S1),"
+     " w2_ = 1.001 * (wk) * (S2);",
+     "scale of omega from the ball joints (26)-(28), 0.1 % off (the one"
+     " copy: rate stages, transmission, forward dynamics)"),
     ("alpha-rate", "src/velocity.c",
      "d->dpose[0] = v3_dot(d->omega, ez_a) / (2.0 * vb);",
      "d->dpose[0] = v3_dot(d->omega, ez_a) / (2.002 * vb);",
@@ -230,14 +235,36 @@ MUTATIONS = [
      "return -(1.01 * m->friction.viscous * dtheta"
      " + m->friction.coulomb * s);",
      "viscous pin friction 1 % too strong"),
-    ("transmission-moment", "src/invdyn.c",
-     "m->R * (fabs(w[0]) + fabs(w[1]) + fabs(w[2]));",
-     "1.01 * m->R * (fabs(w[0]) + fabs(w[1]) + fabs(w[2]));",
-     "moment scale R of the force transmission, 1 % off"),
-    ("transmission-rows", "src/invdyn.c",
-     "if (j == i) v3_axpy(bd[j], bd[j], 1.0, d->phi[j]);",
-     "if (j == i) v3_axpy(bd[j], bd[j], 1.01, d->phi[j]);",
-     "the link's own rate in the transmission's twist, 1 % off"),
+    ("transmission-moment", "src/power.h",
+     "(R) * (fabs(C(om, 0)) + fabs(C(om, 1)) + fabs(C(om, 2))))",
+     "1.01 * (R) * (fabs(C(om, 0)) + fabs(C(om, 1)) + fabs(C(om, 2))))",
+     "moment scale R of the force transmission, 1 % off (the measure's one"
+     " copy: stages, batch kernel, forward dynamics)"),
+    ("transmission-rows", "src/power.h",
+     "((s0) * C(X0, k) + (s1) * C(X1, k) + (s2) * C(X2, k) + C(Y, k))",
+     "((s0) * C(X0, k) + (s1) * C(X1, k) + (s2) * C(X2, k)"
+     " + 1.01 * C(Y, k))",
+     "the link's own rate in the transmission's twist, 1 % off (the"
+     " twist's one copy: stages, batch kernel)"),
+    ("transmission-centre", "src/power.h",
+     "(1.0 / 3.0) * RPS3_TRANS_SUM_(C, 0, s0, s1, s2, d0, d1, d2, phi);",
+     "(1.01 / 3.0) * RPS3_TRANS_SUM_(C, 0, s0, s1, s2, d0, d1, d2, phi);",
+     "x of the centre's velocity in the transmission's twist, 1 % off (the"
+     " twist's one copy: stages, batch kernel)"),
+    ("power-link-inertia", "src/power.h",
+     "RPS3_POWER_LINKS_(C, Jlink, dtheta, ddtheta, p, s)",
+     "RPS3_POWER_LINKS_(C, 1.001 * (Jlink), dtheta, ddtheta, p, s)",
+     "the certificate's link inertia power Jlink theta' theta'', 0.1 % off"
+     " (the one copy: stages, batch kernel)"),
+    ("power-body-rotation", "src/power.h",
+     "((Ik) * (C(rk, 0) * C(dw, 0) + C(rk, 1) * C(dw, 1)",
+     "(1.001 * (Ik) * (C(rk, 0) * C(dw, 0) + C(rk, 1) * C(dw, 1)",
+     "the certificate's rotational power omega . I_world omega', 0.1 % off"
+     " (the one copy: platform and payload, stages and batch kernel)"),
+    ("power-body-gravity", "src/power.h",
+     "(p) = (mg) * (vz);", "(p) = 1.001 * (mg) * (vz);",
+     "the certificate's weight power m g v_z, 0.1 % off (the one copy:"
+     " platform and payload, stages and batch kernel)"),
     ("ctrl-time-finite", "src/control.c",
      "  if (!isfinite(t)) {\n    c->meas->err.code = RPS3_EINVAL;",
      "  if (isnan(t)) {\n    c->meas->err.code = RPS3_EINVAL;",
