@@ -2160,6 +2160,9 @@ typedef struct {
   double eig_tol; /* consistent fit: a pseudo-inertia eigenvalue down to
                      -eig_tol times the body's largest counts as zero,
                      1e-10 (rounding of U U^T) */
+  double opt_tol; /* consistent fit: converged when the optimality
+                     measure fit->gap is at most opt_tol times fit->cost,
+                     1e-6 */
 } rps3_ident_opts;
 
 /* Fill o with the defaults above.  o NULL: does nothing. */
@@ -2246,6 +2249,9 @@ typedef struct {
   int consistent; /* 1: theta's every pseudo-inertia eigenvalue checked
                      >= -eig_tol times its body's largest, every >= 0
                      column >= 0 (also after RPS3_ENOCONV) */
+  double gap;     /* optimality measure: how far cost may be above the
+                     optimum's, from the KKT conditions (the duality gap
+                     plus the decrease a violated dual condition offers) */
 } rps3_ident_fit;
 
 /*
