@@ -1,9 +1,12 @@
 /*
  * ident_consistent.c - the physically consistent fit on a stacked
- * regressor: each body's pseudo-inertia by its log-Cholesky factor
- * (Rucker & Wensing 2022), friction by its logarithm, solved with GSL's
- * nonlinear least squares and an analytic Jacobian; the eigenvalues are
- * checked after the fit.
+ * regressor: each body's pseudo-inertia by its Cholesky factor, first
+ * log-Cholesky (Rucker & Wensing 2022: the logarithms of the diagonal,
+ * friction by its logarithm), then plain (the diagonal itself, friction
+ * by its square root), which reaches an optimum on the boundary of the
+ * cone; solved with GSL's nonlinear least squares and an analytic
+ * Jacobian to a KKT optimality test; the eigenvalues are checked after
+ * the fit.
  *
  * Run once per data set, not per point: it allocates its GSL workspaces
  * and frees them before returning.
