@@ -2155,11 +2155,15 @@ typedef struct {
                               bodies the data cannot tell apart; rps3.ident's
                               LMI_REG), 1e-9 */
   double xtol, gtol, ftol; /* consistent fit: GSL's convergence tests
-                       (gsl_multifit_nlinear_test), 1e-12, 1e-12, 0 */
+                       (gsl_multifit_nlinear_test) of its log-Cholesky
+                       stage, 1e-12, 1e-12, 0 */
   int max_iter;            /* consistent fit: iteration limit, 2000 */
   double eig_tol; /* consistent fit: a pseudo-inertia eigenvalue down to
                      -eig_tol times the body's largest counts as zero,
                      1e-10 (rounding of U U^T) */
+  double opt_tol; /* consistent fit: converged when the optimality
+                     measure fit->gap is at most opt_tol times fit->cost,
+                     1e-6 */
 } rps3_ident_opts;
 
 /* Fill o with the defaults above.  o NULL: does nothing. */
@@ -2246,6 +2250,9 @@ typedef struct {
   int consistent; /* 1: theta's every pseudo-inertia eigenvalue checked
                      >= -eig_tol times its body's largest, every >= 0
                      column >= 0 (also after RPS3_ENOCONV) */
+  double gap;     /* optimality measure: how far cost may be above the
+                     optimum's, from the KKT conditions (the duality gap
+                     plus the decrease a violated dual condition offers) */
 } rps3_ident_fit;
 
 /*
@@ -2254,26 +2261,29 @@ typedef struct {
  * over pi with every body's 4 x 4 pseudo-inertia J_b = [[Sigma, m c],
  * [m c^T, m]] (Sigma = tr(I)/2 1 - I) positive semidefinite and the >= 0
  * columns >= 0 (the objective of rps3.ident.consistent).  Each J_b is
- * parametrised by its log-Cholesky factor, J = U U^T with U upper
- * triangular and the logarithms of its diagonal as variables (Rucker &
- * Wensing 2022), a >= 0 column as exp of its variable, and the problem
- * (reduced to p rows by a QR of [W^1/2 Y, W^1/2 F]) solved by
- * gsl_multifit_nlinear (trust region, Powell's dogleg, Levenberg's
- * scaling) with the analytic Jacobian, from the minimum-norm
- * least-squares solution made consistent.  After the fit every
- * eigenvalue is checked, converged or not.  Returns RPS3_OK
- * (fit->consistent 1); RPS3_ENOCONV when the solver did not meet xtol or
- * gtol within max_iter iterations or stopped without progress (err says
- * so; theta is the last iterate, fit->consistent 1 when its check
- * passed), or when the check fails (fit->consistent 0, chk->msg names the
- * body and eigenvalue); RPS3_EINVAL (bad data as rps3_ident_wls, a bad
- * layout: a column out of range or in two places, a kind not 0 or 1);
- * RPS3_ENOMEM.  Limit: where the optimum lies on the boundary of the
- * consistent set (a pseudo-inertia that must be singular, a >= 0 column
- * at 0) the variables head for minus infinity and the solver may stop
- * short, its iterate consistent but possibly far from the optimum
- * (docs/identification.md).  No covariance: the constraints make it
- * one-sided where they are active.
+ * parametrised by a Cholesky factor, J = U U^T with U upper triangular,
+ * a >= 0 column by a square, and the problem (reduced to p rows by a QR
+ * of [W^1/2 Y, W^1/2 F]) solved by gsl_multifit_nlinear (trust region,
+ * Powell's dogleg, Levenberg's scaling) with the analytic Jacobian, from
+ * the minimum-norm least-squares solution made consistent: a few
+ * iterations with the logarithms of U's diagonal as variables
+ * (log-Cholesky, Rucker & Wensing 2022), then U itself, which reaches a
+ * singular J_b at finite values, with Jacobian rows that carry the
+ * second-order term Gauss-Newton leaves out (Newton's model near the
+ * optimum) and, at a stationary point that is not optimal, a step along
+ * the convex problem's best descent direction.  Converged means the
+ * KKT optimality measure fit->gap (the duality gap plus the decrease a
+ * violated dual condition offers) is at most opt_tol times fit->cost
+ * (or 1e-14, its rounding floor).  After the fit every eigenvalue is
+ * checked, converged or not.  Returns RPS3_OK (fit->consistent 1);
+ * RPS3_ENOCONV when the optimality test is not met within max_iter
+ * iterations or the solver stopped without progress (err says so and
+ * gives the measure; theta is the last iterate, fit->consistent 1 when
+ * its check passed), or when the check fails (fit->consistent 0,
+ * chk->msg names the body and eigenvalue); RPS3_EINVAL (bad data as
+ * rps3_ident_wls, a bad layout: a column out of range or in two places,
+ * a kind not 0 or 1); RPS3_ENOMEM.  No covariance: the constraints make
+ * it one-sided where they are active.
  */
 RPS3_API int rps3_ident_consistent(const rps3_ident_data *data,
                                    const rps3_ident_layout *layout,

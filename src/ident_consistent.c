@@ -1,9 +1,12 @@
 /*
  * ident_consistent.c - the physically consistent fit on a stacked
- * regressor: each body's pseudo-inertia by its log-Cholesky factor
- * (Rucker & Wensing 2022), friction by its logarithm, solved with GSL's
- * nonlinear least squares and an analytic Jacobian; the eigenvalues are
- * checked after the fit.
+ * regressor: each body's pseudo-inertia by its Cholesky factor, first
+ * log-Cholesky (Rucker & Wensing 2022: the logarithms of the diagonal,
+ * friction by its logarithm), then plain (the diagonal itself, friction
+ * by its square root), which reaches an optimum on the boundary of the
+ * cone; solved with GSL's nonlinear least squares and an analytic
+ * Jacobian to a KKT optimality test; the eigenvalues are checked after
+ * the fit.
  *
  * Run once per data set, not per point: it allocates its GSL workspaces
  * and frees them before returning.
@@ -12,6 +15,7 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include <gsl/gsl_blas.h>
 #include <gsl/gsl_eigen.h>
 #include <gsl/gsl_linalg.h>
 #include <gsl/gsl_multifit_nlinear.h>
@@ -60,10 +64,20 @@ static void pseudo_of(const double s[10], double J[4][4]) {
   J[3][3] = s[0];
 }
 
-static void factor_of(const double *x, double U[4][4]) {
-  int v;
-  memset(U, 0, 16 * sizeof(double));
-  for (v = 0; v < 10; v++) U[UA[v]][UB[v]] = UA[v] == UB[v] ? exp(x[v]) : x[v];
+/* the gradient G = d phi / d J of phi through the standard parameters s
+   = std_of(J) (g their gradient): the adjoint of std_of, <G, dJ> = g .
+   std_of(dJ) for every symmetric dJ */
+static void grad_of(const double g[10], double G[4][4]) {
+  G[3][3] = g[0];
+  G[0][3] = G[3][0] = 0.5 * g[1];
+  G[1][3] = G[3][1] = 0.5 * g[2];
+  G[2][3] = G[3][2] = 0.5 * g[3];
+  G[0][0] = g[7] + g[9];
+  G[1][1] = g[4] + g[9];
+  G[2][2] = g[4] + g[7];
+  G[0][1] = G[1][0] = -0.5 * g[5];
+  G[0][2] = G[2][0] = -0.5 * g[6];
+  G[1][2] = G[2][1] = -0.5 * g[8];
 }
 
 /* the problem gsl_multifit_nlinear sees */
@@ -75,7 +89,38 @@ typedef struct {
   int *owner;      /* p: body of column j, -1 none */
   int *slot;       /* p: its parameter in the body, or its variable */
   double sreg;     /* sqrt(reg) */
+  int plain;       /* the variables: 0 log-Cholesky (U's diagonal and a
+                      >= 0 column exp of theirs), 1 plain Cholesky (the
+                      diagonal itself, free in sign; a >= 0 column s^2) */
+  size_t ncurv;    /* plain: the curvature rows after the p + 10 nb */
+  double *work;    /* 2 p scratch for the curvature rows */
+  gsl_eigen_symmv_workspace *ew; /* and their 4 x 4 eigenproblem */
+  gsl_matrix *E, *Q;
+  gsl_vector *lam;
 } cfit;
+
+/* a diagonal entry of U of its variable, and its derivative */
+static double diag_of(const cfit *c, double v) { return c->plain ? v : exp(v); }
+static double ddiag(const cfit *c, double v) { return c->plain ? 1.0 : exp(v); }
+
+/* a >= 0 column of its variable, and its derivative */
+static double nonneg_of(const cfit *c, double v) {
+  return c->plain ? v * v : exp(v);
+}
+static double dnonneg(const cfit *c, double v) {
+  return c->plain ? 2.0 * v : exp(v);
+}
+
+static int is_nonneg(const cfit *c, size_t j) {
+  return c->lay->kind && c->lay->kind[j] == RPS3_IDENT_NONNEG;
+}
+
+static void factor_of(const cfit *c, const double *x, double U[4][4]) {
+  int v;
+  memset(U, 0, 16 * sizeof(double));
+  for (v = 0; v < 10; v++)
+    U[UA[v]][UB[v]] = UA[v] == UB[v] ? diag_of(c, x[v]) : x[v];
+}
 
 /* pi of the variables x */
 static void pi_of(const cfit *c, const double *x, double *pi, double *body) {
@@ -83,7 +128,7 @@ static void pi_of(const cfit *c, const double *x, double *pi, double *body) {
   for (b = 0; b < c->nb; b++) {
     double U[4][4], J[4][4], s[10];
     int i, k, q;
-    factor_of(x + 10 * b, U);
+    factor_of(c, x + 10 * b, U);
     for (i = 0; i < 4; i++)
       for (k = 0; k < 4; k++) {
         J[i][k] = 0.0;
@@ -98,7 +143,7 @@ static void pi_of(const cfit *c, const double *x, double *pi, double *body) {
     double v;
     if (c->owner[j] >= 0) continue;
     v = x[c->slot[j]];
-    pi[j] = (c->lay->kind && c->lay->kind[j] == RPS3_IDENT_NONNEG) ? exp(v) : v;
+    pi[j] = is_nonneg(c, j) ? nonneg_of(c, v) : v;
   }
 }
 
@@ -126,10 +171,64 @@ static int cfit_f(const gsl_vector *xv, void *params, gsl_vector *f) {
     for (v = 0; v < 10; v++) {
       double xb = gsl_vector_get(xv, 10 * b + (size_t)v);
       gsl_vector_set(f, c->p + 10 * b + (size_t)v,
-                     c->sreg * (UA[v] == UB[v] ? exp(xb) : xb));
+                     c->sreg * (UA[v] == UB[v] ? diag_of(c, xb) : xb));
     }
+  /* the curvature rows: 0 here, their Jacobian in cfit_df */
+  for (i = c->p + 10 * c->nb; i < c->nf; i++) gsl_vector_set(f, i, 0.0);
   free(heap);
   return GSL_SUCCESS;
+}
+
+/*
+ * The plain Cholesky variables' second-order term that Gauss-Newton
+ * leaves out, as rows of the Jacobian whose residuals are 0.  With f the
+ * p reduced residuals, 1/2 |f|^2 has, beyond 1/2 |J s|^2, the curvature
+ * f^T R11 pi(D D^T) = tr(D^T G D) along a step D of a body's U (G =
+ * grad_of(R11^T f), the gradient of 1/2 |f|^2 in J_b), and g_j ds^2 along
+ * a >= 0 column's s (g = R11^T f).  Near the boundary of the cone this
+ * is the whole curvature of a vanishing diagonal (J U_ii^2 terms vanish
+ * with U_ii) and Gauss-Newton without it overshoots and crawls; with the
+ * rows sqrt(2 lambda) q^T D[:, k] for each eigenpair of G's positive part
+ * (and sqrt(2 g_j) for a >= 0 column with g_j > 0) the trust region's
+ * model is Newton's wherever the gradient is dual feasible (G positive
+ * semidefinite, g_j >= 0: near the optimum).
+ */
+static void curvature_rows(const cfit *c, const double *x, gsl_matrix *Jm) {
+  const size_t p = c->p, P1 = c->p + 1, base = c->p + 10 * c->nb;
+  double *pi = c->work, *gr = c->work + p;
+  size_t i, j, b, row = base + 16 * c->nb;
+  pi_of(c, x, pi, NULL);
+  for (j = 0; j < p; j++) gr[j] = 0.0;
+  for (i = 0; i < p; i++) {
+    double f = -c->R[i * P1 + p];
+    for (j = i; j < p; j++) f += c->R[i * P1 + j] * pi[j];
+    for (j = i; j < p; j++) gr[j] += c->R[i * P1 + j] * f;
+  }
+  for (b = 0; b < c->nb; b++) {
+    double gs[10], G[4][4];
+    int k, q, m, v;
+    for (k = 0; k < 10; k++)
+      gs[k] = c->lay->col[b][k] >= 0 ? gr[c->lay->col[b][k]] : 0.0;
+    grad_of(gs, G);
+    for (k = 0; k < 4; k++)
+      for (q = 0; q < 4; q++) gsl_matrix_set(c->E, k, q, G[k][q]);
+    gsl_eigen_symmv(c->E, c->lam, c->Q, c->ew);
+    for (m = 0; m < 4; m++) {
+      double l = gsl_vector_get(c->lam, m), w;
+      if (!(l > 0.0)) continue;
+      w = sqrt(2.0 * l);
+      for (v = 0; v < 10; v++)
+        gsl_matrix_set(Jm, base + 16 * b + 4 * (size_t)m + (size_t)UB[v],
+                       10 * b + (size_t)v,
+                       w * gsl_matrix_get(c->Q, UA[v], m));
+    }
+  }
+  for (j = 0; j < p; j++)
+    if (c->owner[j] < 0 && is_nonneg(c, j)) {
+      if (gr[j] > 0.0)
+        gsl_matrix_set(Jm, row, (size_t)c->slot[j], sqrt(2.0 * gr[j]));
+      row++;
+    }
 }
 
 static int cfit_df(const gsl_vector *xv, void *params, gsl_matrix *Jm) {
@@ -140,10 +239,12 @@ static int cfit_df(const gsl_vector *xv, void *params, gsl_matrix *Jm) {
   /* d pi / d x, one variable at a time, pushed through R */
   for (b = 0; b < c->nb; b++) {
     double U[4][4];
-    factor_of(xv->data + 10 * b, U);
+    factor_of(c, xv->data + 10 * b, U);
     for (v = 0; v < 10; v++) {
-      /* J = U U^T: dJ = E U^T + U E^T for E the unit entry (a, b) */
-      double dJ[4][4], ds[10], e = UA[v] == UB[v] ? U[UA[v]][UB[v]] : 1.0;
+      /* J = U U^T: dJ = e (E U^T + U E^T) for E the unit entry (a, b), e
+         the derivative of U_ab by its variable */
+      double dJ[4][4], ds[10],
+          e = UA[v] == UB[v] ? ddiag(c, xv->data[10 * b + (size_t)v]) : 1.0;
       size_t col = 10 * b + (size_t)v;
       for (k = 0; k < 4; k++)
         for (q = 0; q < 4; q++)
@@ -164,12 +265,11 @@ static int cfit_df(const gsl_vector *xv, void *params, gsl_matrix *Jm) {
     size_t col;
     if (c->owner[j] >= 0) continue;
     col = (size_t)c->slot[j];
-    dp = (c->lay->kind && c->lay->kind[j] == RPS3_IDENT_NONNEG)
-             ? exp(gsl_vector_get(xv, col))
-             : 1.0;
+    dp = is_nonneg(c, j) ? dnonneg(c, gsl_vector_get(xv, col)) : 1.0;
     for (i = 0; i <= j; i++)
       gsl_matrix_set(Jm, i, col, c->R[i * (c->p + 1) + j] * dp);
   }
+  if (c->plain) curvature_rows(c, xv->data, Jm);
   return GSL_SUCCESS;
 }
 
@@ -379,18 +479,199 @@ out:
   return R;
 }
 
-/* the trust-region solve from x0 with the analytic Jacobian: theta and
-   the bodies of its last iterate, GSL's status into *gst; RPS3_OK or
-   RPS3_ENOMEM */
-static int solve(cfit *c, const double *x0, const rps3_ident_opts *o,
-                 rps3_ident_fit *fit, double *body, int *gst) {
+/*
+ * How far theta (its bodies in body) may be from the optimum, in units
+ * of the normalised objective phi.  phi is convex; its KKT conditions,
+ * with g = 2 R11^T (R11 pi - r) the residual term's gradient and G_b =
+ * d phi / d J_b (grad_of, plus reg 1 from the trace), are: every G_b
+ * positive semidefinite, <G_b, J_b> = 0, g_j = 0 on a free column, g_j
+ * >= 0 and g_j pi_j = 0 on a >= 0 one.  The measure adds the
+ * complementarity terms |<G_b, J_b>| and |g_j pi_j| (together the duality
+ * gap <grad phi, pi> when the gradient is dual feasible) and, for each
+ * violated dual condition, the decrease of phi's quadratic model along
+ * the step it points to, e^2 / (4 h): e the violation (-lambda_min(G_b),
+ * step u u^T along its eigenvector u; |g_j| or -g_j, step along column j)
+ * and h = |R11 d|^2 the curvature of the step d in pi.  Scratch: c's.
+ */
+typedef struct {
+  double dec;  /* the quadratic model's decrease along the step */
+  long b, j;   /* the step's body or column (-1 none) */
+  double t;    /* its length: J_b += t u u^T, or pi_j += t */
+  double u[4];
+} descent;
+
+static double optimality(const cfit *c, const double *theta,
+                         const double *body, double reg, descent *best) {
+  const size_t p = c->p, P1 = c->p + 1;
+  const double *R = c->R;
+  double *g = c->work, *d = c->work + p, est = 0.0;
+  gsl_matrix *E = c->E, *Q = c->Q;
+  gsl_vector *lam = c->lam;
+  size_t i, j, b;
+  if (best) {
+    best->dec = 0.0;
+    best->b = best->j = -1;
+  }
+  for (j = 0; j < p; j++) g[j] = 0.0;
+  for (i = 0; i < p; i++) {
+    double s = -R[i * P1 + p];
+    for (j = i; j < p; j++) s += R[i * P1 + j] * theta[j];
+    for (j = i; j < p; j++) g[j] += 2.0 * R[i * P1 + j] * s;
+  }
+  for (b = 0; b < c->nb; b++) {
+    double gs[10], G[4][4], J[4][4], U[4][4], ds[10], e, h = 0.0, cg = 0.0,
+        dec;
+    int k, q;
+    for (k = 0; k < 10; k++)
+      gs[k] = c->lay->col[b][k] >= 0 ? g[c->lay->col[b][k]] : 0.0;
+    grad_of(gs, G);
+    pseudo_of(body + 10 * b, J);
+    for (k = 0; k < 4; k++) {
+      G[k][k] += reg;
+      for (q = 0; q < 4; q++) {
+        cg += G[k][q] * J[k][q];
+        gsl_matrix_set(E, k, q, G[k][q]);
+      }
+    }
+    est += fabs(cg);
+    gsl_eigen_symmv(E, lam, Q, c->ew);
+    gsl_eigen_symmv_sort(lam, Q, GSL_EIGEN_SORT_VAL_ASC);
+    e = -gsl_vector_get(lam, 0);
+    if (!(e > 0.0)) continue;
+    /* the step u u^T in pi, and its curvature */
+    for (k = 0; k < 4; k++)
+      for (q = 0; q < 4; q++)
+        U[k][q] = gsl_matrix_get(Q, k, 0) * gsl_matrix_get(Q, q, 0);
+    std_of(M4C(U), ds);
+    for (j = 0; j < p; j++) d[j] = 0.0;
+    for (k = 0; k < 10; k++)
+      if (c->lay->col[b][k] >= 0) d[c->lay->col[b][k]] = ds[k];
+    for (i = 0; i < p; i++) {
+      double s = 0.0;
+      for (j = i; j < p; j++) s += R[i * P1 + j] * d[j];
+      h += s * s;
+    }
+    dec = h > 0.0 ? e * e / (4.0 * h) : HUGE_VAL;
+    est += dec;
+    if (best && h > 0.0 && dec > best->dec) {
+      best->dec = dec;
+      best->b = (long)b;
+      best->j = -1;
+      best->t = e / (2.0 * h);
+      for (k = 0; k < 4; k++) best->u[k] = gsl_matrix_get(Q, k, 0);
+    }
+  }
+  for (j = 0; j < p; j++) {
+    double e, h = 0.0, dec;
+    if (c->owner[j] >= 0) continue;
+    est += fabs(g[j] * theta[j]);
+    e = is_nonneg(c, j) ? -g[j] : fabs(g[j]);
+    if (!(e > 0.0)) continue;
+    for (i = 0; i <= j; i++) h += R[i * P1 + j] * R[i * P1 + j];
+    dec = h > 0.0 ? e * e / (4.0 * h) : HUGE_VAL;
+    est += dec;
+    if (best && h > 0.0 && dec > best->dec) {
+      best->dec = dec;
+      best->b = -1;
+      best->j = (long)j;
+      best->t = -g[j] / (2.0 * h);
+    }
+  }
+  return est;
+}
+
+/* upper triangular U with U U^T = J for a positive semidefinite J (the
+   Cholesky factor of the reversed matrix; a pivot at or below 1e-14 of
+   the largest diagonal entry: its column 0) */
+static void psd_factor(const double J[4][4], double U[4][4]) {
+  double tol = 0.0;
+  int i, k, q;
+  for (k = 0; k < 4; k++) tol = fmax(tol, J[k][k]);
+  tol *= 1e-14;
+  memset(U, 0, 16 * sizeof(double));
+  for (k = 3; k >= 0; k--) {
+    double d = J[k][k];
+    for (q = k + 1; q < 4; q++) d -= U[k][q] * U[k][q];
+    if (!(d > tol)) continue;
+    U[k][k] = sqrt(d);
+    for (i = 0; i < k; i++) {
+      double s = J[i][k];
+      for (q = k + 1; q < 4; q++) s -= U[i][q] * U[k][q];
+      U[i][k] = s / U[k][k];
+    }
+  }
+}
+
+/*
+ * The step out of a stationary point of the plain variables that is not
+ * the optimum: U_ii = 0 (or s_j = 0) with the gradient asking for more
+ * (a negative eigenvalue of G_b, g_j < 0), where the gradient in U is 0
+ * and no trust-region step sees the way.  The step is optimality()'s
+ * best, taken in pi: J_b + t u u^T refactored, or pi_j + t.  0 when
+ * there is none.
+ */
+static int escape(const cfit *c, double *x, const descent *d,
+                  const double *body) {
+  if (d->b >= 0) {
+    double J[4][4], U[4][4];
+    int k, q;
+    pseudo_of(body + 10 * d->b, J);
+    for (k = 0; k < 4; k++)
+      for (q = 0; q < 4; q++) J[k][q] += d->t * d->u[k] * d->u[q];
+    psd_factor(M4C(J), U);
+    for (k = 0; k < 10; k++) x[10 * d->b + k] = U[UA[k]][UB[k]];
+    return 1;
+  }
+  if (d->j >= 0) {
+    size_t sl = (size_t)c->slot[d->j];
+    if (is_nonneg(c, (size_t)d->j))
+      x[sl] = sqrt(fmax(x[sl] * x[sl] + d->t, 0.0));
+    else
+      x[sl] += d->t;
+    return 1;
+  }
+  return 0;
+}
+
+/* the optimality measure's floor, in units of |W^1/2 F|^2: its terms
+   are products of the gradient 2 R11^T (R11 pi - r), formed from numbers
+   near 1 to about 1e-16, with the bodies; 1e-14 is above that rounding
+   and far below what any noise gives (1 % noise: a cost of 1e-4) */
+#define GAP_FLOOR 1e-14
+
+/* converged: the measure within opt_tol of the cost, or at its floor */
+static int optimal(double gap, double cost, const rps3_ident_opts *o) {
+  return gap <= o->opt_tol * cost + GAP_FLOOR;
+}
+
+/* the log-Cholesky stage's iterations: it reaches an interior optimum's
+   neighbourhood in a few (the paper model's fits take 6 to 10) and only
+   crawls towards a boundary one after; the plain stage takes over */
+#define LOG_ITER 30
+
+/*
+ * The trust-region solve in c's variables from x with the analytic
+ * Jacobian, at most max_iter iterations (added to *niter), its last
+ * iterate back into x and GSL's status into *gst; RPS3_OK or
+ * RPS3_ENOMEM.  theta NULL: GSL's driver and its tests (xtol, gtol,
+ * ftol).  Otherwise the iterations are ours and stop on optimality: the
+ * measure *gap (of theta and body, the last iterate's) at most opt_tol
+ * times the cost.  GSL's gtol test is scaled by max(|f|^2, 1), and the
+ * normalised cost is below 1: on nearly exact data, where the cost is the
+ * reg term's 1e-10, it stops while the bodies the data do not see are
+ * still far from their lightest.
+ */
+static int solve(cfit *c, double *x, const rps3_ident_opts *o, size_t max_iter,
+                 int *niter, int *gst, double *theta, double *body,
+                 double *gap) {
+  const double rho2 = c->R[c->p * (c->p + 1) + c->p] * c->R[c->p * (c->p + 1) + c->p];
   gsl_multifit_nlinear_fdf fdf;
   gsl_multifit_nlinear_parameters fp =
       gsl_multifit_nlinear_default_parameters();
   gsl_multifit_nlinear_workspace *w;
-  gsl_vector *xv;
-  size_t j;
+  gsl_vector_view xv = gsl_vector_view_array(x, c->nx);
   int info = 0;
+  size_t it;
   /* Powell's dogleg: Levenberg-Marquardt's steps creep along a
      log-Cholesky diagonal that heads for a singular pseudo-inertia (a
      body the data see only in part), thousands of iterations where the
@@ -407,28 +688,54 @@ static int solve(cfit *c, const double *x0, const rps3_ident_opts *o,
   fdf.p = c->nx;
   fdf.params = c;
   w = gsl_multifit_nlinear_alloc(gsl_multifit_nlinear_trust, &fp, c->nf, c->nx);
-  xv = gsl_vector_alloc(c->nx);
-  if (w == NULL || xv == NULL) {
-    if (w) gsl_multifit_nlinear_free(w);
-    gsl_vector_free(xv);
-    return RPS3_ENOMEM;
+  if (w == NULL) return RPS3_ENOMEM;
+  *gst = gsl_multifit_nlinear_init(&xv.vector, &fdf, w);
+  if (*gst == GSL_SUCCESS && theta == NULL && max_iter > 0)
+    *gst = gsl_multifit_nlinear_driver(max_iter, o->xtol, o->gtol, o->ftol,
+                                       NULL, NULL, &info, w);
+  for (it = 0; theta != NULL && *gst == GSL_SUCCESS; it++) {
+    double fn = gsl_blas_dnrm2(gsl_multifit_nlinear_residual(w));
+    pi_of(c, gsl_multifit_nlinear_position(w)->data, theta, body);
+    *gap = optimality(c, theta, body, c->sreg * c->sreg, NULL);
+    if (optimal(*gap, rho2 + fn * fn, o)) break;
+    if (it == max_iter) {
+      *gst = GSL_EMAXITER;
+      break;
+    }
+    *gst = gsl_multifit_nlinear_iterate(w);
   }
-  for (j = 0; j < c->nx; j++) gsl_vector_set(xv, j, x0[j]);
-  *gst = gsl_multifit_nlinear_init(xv, &fdf, w);
-  if (*gst == GSL_SUCCESS)
-    *gst = gsl_multifit_nlinear_driver((size_t)o->max_iter, o->xtol, o->gtol,
-                                       o->ftol, NULL, NULL, &info, w);
-  fit->niter = (int)gsl_multifit_nlinear_niter(w);
-  pi_of(c, gsl_multifit_nlinear_position(w)->data, fit->theta, body);
+  *niter += (int)gsl_multifit_nlinear_niter(w);
+  memcpy(x, gsl_multifit_nlinear_position(w)->data, c->nx * sizeof(double));
+  if (theta != NULL) {
+    pi_of(c, x, theta, body);
+    *gap = optimality(c, theta, body, c->sreg * c->sreg, NULL);
+  }
   gsl_multifit_nlinear_free(w);
-  gsl_vector_free(xv);
   return RPS3_OK;
 }
 
-/* what was reached, checked whatever the solver said (gst): the residual,
-   the cost, every pseudo-inertia's eigenvalues and the >= 0 columns; the
-   status, and fit->consistent.  RPS3_ENOMEM when the eigen workspace
-   cannot be had */
+/* the log-Cholesky iterate x in the plain Cholesky variables: the same
+   J_b and pi */
+static void to_plain(cfit *c, double *x) {
+  size_t b, j;
+  int v;
+  for (b = 0; b < c->nb; b++)
+    for (v = 0; v < 10; v++)
+      if (UA[v] == UB[v]) x[10 * b + (size_t)v] = exp(x[10 * b + (size_t)v]);
+  for (j = 0; j < c->p; j++)
+    if (c->owner[j] < 0 && is_nonneg(c, j))
+      x[c->slot[j]] = exp(0.5 * x[c->slot[j]]);
+  c->plain = 1;
+  c->ncurv = 16 * c->nb;
+  for (j = 0; j < c->p; j++) c->ncurv += c->owner[j] < 0 && is_nonneg(c, j);
+  c->nf = c->p + 10 * c->nb + c->ncurv;
+}
+
+/* what was reached, checked whatever the solver said (gst, reported):
+   the residual, the cost, every pseudo-inertia's eigenvalues and the >= 0
+   columns (fit->consistent), then the optimality measure fit->gap against
+   opt_tol; the status.  RPS3_ENOMEM when the eigen workspace cannot be
+   had */
 static int check_fit(const cfit *c, const rps3_ident_opts *o, double scale,
                      const double *body, int gst, rps3_ident_fit *fit,
                      char *err, size_t errsz) {
@@ -487,17 +794,19 @@ static int check_fit(const cfit *c, const rps3_ident_opts *o, double scale,
                                "consistent: parameter %lu = %g < 0",
                                (unsigned long)j, fit->theta[j]);
   }
-  if (status == RPS3_OK && gst != GSL_SUCCESS)
+  /* consistent means checked, converged or not: the last iterate of a
+     stopped solve is a consistent body set too */
+  fit->consistent = status == RPS3_OK;
+  /* converged means optimal: the KKT measure, whatever GSL's tests said
+     (they stop on a small step, which a stalled iterate also takes) */
+  if (status == RPS3_OK && !optimal(fit->gap, fit->cost, o))
     status = rps3_ident_fail(
         err, errsz, RPS3_ENOCONV,
-        "consistent: the trust-region iteration stopped "
-        "after %d iterations without meeting xtol = %g, gtol = %g, "
-        "ftol = %g (GSL: %s); the last iterate is returned",
-        fit->niter, o->xtol, o->gtol, o->ftol, gsl_strerror(gst));
-  /* consistent means checked, whether or not the solver converged: the
-     last iterate of a stopped solve is a consistent body set too */
-  fit->consistent = status == RPS3_OK ||
-                    (status == RPS3_ENOCONV && gst != GSL_SUCCESS && eig_ok);
+        "consistent: not converged after %d iterations (GSL: %s): the "
+        "optimality measure %.3g is above opt_tol = %g times the cost "
+        "%.6g (+ %g); the last iterate is returned",
+        fit->niter, gsl_strerror(gst), fit->gap, o->opt_tol, fit->cost,
+        GAP_FLOOR);
 out:
   if (ew) gsl_eigen_symm_free(ew);
   gsl_matrix_free(E);
@@ -517,6 +826,7 @@ int rps3_ident_consistent(const rps3_ident_data *dt,
   int status, *owner = NULL, *slot = NULL, gst = GSL_SUCCESS;
   double *R = NULL, *x0 = NULL, *body = NULL, scale = 1.0;
   rps3_check_clear(chk);
+  memset(&c, 0, sizeof c);
   if (o == NULL) {
     rps3_ident_opts_default(&def);
     o = &def;
@@ -526,6 +836,7 @@ int rps3_ident_consistent(const rps3_ident_data *dt,
                            "fit or fit->theta is NULL");
   fit->consistent = 0;
   fit->niter = 0;
+  fit->gap = (double)NAN;
   status = rps3_ident_check_data(dt, o, 0, err, errsz);
   if (status != RPS3_OK) return status;
   p = dt->p;
@@ -556,8 +867,43 @@ int rps3_ident_consistent(const rps3_ident_data *dt,
   c.owner = owner;
   c.slot = slot;
   c.sreg = sqrt(o->reg);
+  c.plain = 0;
+  c.ncurv = 0;
+  c.work = malloc(2 * p * sizeof(double));
+  c.ew = gsl_eigen_symmv_alloc(4);
+  c.E = gsl_matrix_alloc(4, 4);
+  c.Q = gsl_matrix_alloc(4, 4);
+  c.lam = gsl_vector_alloc(4);
+  if (!c.work || !c.ew || !c.E || !c.Q || !c.lam) {
+    status =
+        rps3_ident_fail(err, errsz, RPS3_ENOMEM, "consistent: out of memory");
+    goto out;
+  }
   status = start_point(&c, x0);
-  if (status == RPS3_OK) status = solve(&c, x0, o, fit, body, &gst);
+  if (status == RPS3_OK) {
+    /* from the interior in the log-Cholesky variables, where Gauss-Newton
+       is at its best, then on in the plain ones, which reach the boundary
+       of the cone at finite values, with the curvature rows, to the
+       optimality test */
+    size_t budget = (size_t)o->max_iter;
+    status = solve(&c, x0, o, budget < LOG_ITER ? budget : LOG_ITER,
+                   &fit->niter, &gst, NULL, NULL, NULL);
+    if (status == RPS3_OK) to_plain(&c, x0);
+    while (status == RPS3_OK) {
+      descent d;
+      status = solve(&c, x0, o, budget - (size_t)fit->niter, &fit->niter,
+                     &gst, fit->theta, body, &fit->gap);
+      if (status != RPS3_OK || gst == GSL_SUCCESS || gst == GSL_EMAXITER ||
+          fit->niter >= o->max_iter)
+        break;
+      /* stopped short of optimality: out of the stationary point along
+         the best descent step of the convex problem, and on (an
+         iteration of the budget, so that this ends) */
+      optimality(&c, fit->theta, body, o->reg, &d);
+      if (!escape(&c, x0, &d, body)) break;
+      fit->niter++;
+    }
+  }
   if (status != RPS3_OK) {
     status = rps3_ident_fail(err, errsz, status,
                              status == RPS3_ENOMEM
@@ -567,6 +913,11 @@ int rps3_ident_consistent(const rps3_ident_data *dt,
   }
   status = check_fit(&c, o, scale, body, gst, fit, err, errsz);
 out:
+  free(c.work);
+  if (c.ew) gsl_eigen_symmv_free(c.ew);
+  gsl_matrix_free(c.E);
+  gsl_matrix_free(c.Q);
+  gsl_vector_free(c.lam);
   free(R);
   free(x0);
   free(body);

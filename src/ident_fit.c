@@ -30,6 +30,7 @@ void rps3_ident_opts_default(rps3_ident_opts *o) {
   o->ftol = 0.0;
   o->max_iter = 2000;
   o->eig_tol = 1e-10;
+  o->opt_tol = 1e-6;
 }
 
 /* a message into err (may be NULL), and the status */
@@ -79,11 +80,12 @@ int rps3_ident_check_data(const rps3_ident_data *dt, const rps3_ident_opts *o,
                     !(o->level > 0.0 && o->level < 1.0) || !(o->reg >= 0.0) ||
                     !isfinite(o->reg) || !(o->xtol >= 0.0) ||
                     !(o->gtol >= 0.0) || !(o->ftol >= 0.0) || o->max_iter < 1 ||
-                    !(o->eig_tol >= 0.0) || !(o->eig_tol < 1.0)))
+                    !(o->eig_tol >= 0.0) || !(o->eig_tol < 1.0) ||
+                    !(o->opt_tol >= 0.0) || !isfinite(o->opt_tol)))
     return rps3_ident_fail(
         err, errsz, RPS3_EINVAL,
         "opts: rank_tol and level must be in (0, 1), reg, xtol, gtol, "
-        "ftol >= 0 and finite, max_iter >= 1, eig_tol in [0, 1)");
+        "ftol, opt_tol >= 0 and finite, max_iter >= 1, eig_tol in [0, 1)");
   for (r = 0; r < dt->n; r++) {
     int a = actuator_of(dt, r);
     for (j = 0; j < dt->p; j++)

@@ -7,6 +7,7 @@
 #include <time.h>
 
 #include <gsl/gsl_cdf.h>
+#include <gsl/gsl_linalg.h>
 
 #include "testutil.h"
 
@@ -225,7 +226,7 @@ static void test_regressor_errors(void **state) {
   assert_int_equal(rps3_regressor(&m, d, NULL), RPS3_EINVAL);
   d->pose[0] = 0.3;
   d->pose[1] = 0.2;
-  d->pose[2] = NAN;
+  d->pose[2] = (double)NAN;
   assert_int_equal(rps3_regressor(&m, d, Y), RPS3_EINVAL);
   assert_true(isnan(Y[1][4]));
   /* the names and units of the Python package's PAPER_NAMES */
@@ -473,7 +474,7 @@ static void test_wls_rank_deficient(void **state) {
   assert_int_equal(rps3_ident_wls(&dt, NULL, &res, &chk),
                    RPS3_EINVAL);
   dt.p = 12;
-  st.F[7] = NAN;
+  st.F[7] = (double)NAN;
   assert_int_equal(rps3_ident_wls(&dt, NULL, &res, &chk),
                    RPS3_EINVAL);
   assert_non_null(strstr(chk.msg, "data.F[7]"));
@@ -542,8 +543,9 @@ static void test_consistent(void **state) {
                  sd);
     }
   }
-  /* noisy: 20 draws, 1 % of the forces' RMS; every one consistent, and
-     WLS on the same data is not always (Coulomb 0 in truth) */
+  /* noisy: 20 draws, 1 % of the forces' RMS; every one converged and
+     consistent, and WLS on the same data is not always (Coulomb 0 in
+     truth: the optimum has it at 0, on the boundary, in about half) */
   res.cov = NULL;
   for (k = 0; k < 20; k++) {
     double rms = 0.0;
@@ -551,11 +553,11 @@ static void test_consistent(void **state) {
     for (r = 0; r < st.n; r++)
       st.F[r] = st.F0[r] + 0.01 * sqrt(rms) * rnd_normal(&s);
     st_c = rps3_ident_consistent(&dt, &lay, NULL, &fit, &chk);
-    if (st_c == RPS3_OK)
-      nconv++;
-    else if (st_c != RPS3_ENOCONV || strstr(chk.msg, "iterations") == NULL)
-      fail_msg("draw %d: %s", k, chk.msg);
-    /* converged or not, what is returned is checked consistent */
+    if (st_c != RPS3_OK) fail_msg("draw %d: %s", k, chk.msg);
+    nconv++;
+    /* converged: the optimality measure within opt_tol (1e-6) of the cost
+       (or at its 1e-14 floor) */
+    assert_true(fit.gap <= 1e-6 * fit.cost + 1e-14);
     assert_true(fit.consistent);
     for (b = 0; b < 2; b++)
       assert_true(eig[4 * b] >= -1e-10 * fabs(eig[4 * b + 3]));
@@ -578,6 +580,7 @@ static void test_consistent(void **state) {
                 "consistent fit converged in %lu of 20, consistent in 20\n",
                 (unsigned long)nwls_bad, (unsigned long)nconv);
   assert_true(nwls_bad > 0);
+  assert_int_equal(nconv, 20);
   /* bad layouts, each named */
   col[1][3] = 1; /* column 1 is already the link's Ipin */
   assert_int_equal(rps3_ident_consistent(&dt, &lay, NULL, &fit, &chk),
@@ -601,8 +604,230 @@ static void test_consistent(void **state) {
                      RPS3_ENOCONV);
     assert_true(fit.consistent); /* the start, checked */
     assert_non_null(strstr(chk.msg, "iterations"));
+    assert_non_null(strstr(chk.msg, "optimality measure"));
+    assert_true(fit.gap > o.opt_tol * fit.cost);
+    /* a bad opt_tol, named */
+    o.max_iter = 2000;
+    o.opt_tol = -1.0;
+    assert_int_equal(rps3_ident_consistent(&dt, &lay, &o, &fit, &chk),
+                     RPS3_EINVAL);
+    assert_non_null(strstr(chk.msg, "opt_tol"));
   }
   stack_free(&st);
+}
+
+/* ------------------------------------------ a boundary optimum by KKT */
+
+/* the standard parameters (m, mcx, mcy, mcz, Ixx, Ixy, Ixz, Iyy, Iyz,
+   Izz) of a pseudo-inertia J = [[Sigma, h], [h^T, m]], I = tr(Sigma) 1 -
+   Sigma (include/rps3.h), and the gradient g_k = <M, dJ/ds_k> of a
+   function of J whose gradient in J is M */
+static void std_of_J(const double J[4][4], double *s) {
+  s[0] = J[3][3];
+  s[1] = J[0][3];
+  s[2] = J[1][3];
+  s[3] = J[2][3];
+  s[4] = J[1][1] + J[2][2];
+  s[5] = -J[0][1];
+  s[6] = -J[0][2];
+  s[7] = J[0][0] + J[2][2];
+  s[8] = -J[1][2];
+  s[9] = J[0][0] + J[1][1];
+}
+static void grad_in_std(const double M[4][4], double *g) {
+  g[0] = M[3][3];
+  g[1] = 2.0 * M[0][3];
+  g[2] = 2.0 * M[1][3];
+  g[3] = 2.0 * M[2][3];
+  g[4] = 0.5 * (-M[0][0] + M[1][1] + M[2][2]);
+  g[5] = -2.0 * M[0][1];
+  g[6] = -2.0 * M[0][2];
+  g[7] = 0.5 * (M[0][0] - M[1][1] + M[2][2]);
+  g[8] = -2.0 * M[1][2];
+  g[9] = 0.5 * (M[0][0] + M[1][1] - M[2][2]);
+}
+
+/* the objective of rps3_ident_consistent from the rows: |F - Y pi|^2 /
+   |F|^2 + reg sum_b tr J_b, the bodies' 10 parameters in pi's first 10
+   nb columns */
+static double kkt_objective(const double *Y, const double *F, size_t n,
+                            size_t p, size_t nb, const double *pi,
+                            double reg) {
+  double rss = 0.0, ff = 0.0, tr = 0.0;
+  size_t r, j, b;
+  for (r = 0; r < n; r++) {
+    double e = F[r];
+    for (j = 0; j < p; j++) e -= Y[r * p + j] * pi[j];
+    rss += e * e;
+    ff += F[r] * F[r];
+  }
+  for (b = 0; b < nb; b++) {
+    const double *s = pi + 10 * b;
+    tr += s[0] + 0.5 * (s[4] + s[7] + s[9]);
+  }
+  return rss / ff + reg * tr;
+}
+
+/*
+ * Data built so that the optimum is known and lies on the boundary of the
+ * cone: J_0 of rank 3, J_1 of rank 2, a >= 0 column at 0 with a positive
+ * gradient, another >= 0 column and a free one inside.  With the gradient
+ * the KKT conditions ask for (G_b = gamma times the projector on J_b's
+ * null space, positive semidefinite with G_b J_b = 0; g_j > 0 at the
+ * column at 0, 0 elsewhere) the residual r = Y (Y^T Y)^-1 w with w = g
+ * |F|^2 / 2 gives exactly that gradient at pi*, and a part of F
+ * orthogonal to Y's columns sets |F|^2 without changing it.  Y has full
+ * column rank, so pi* is the only optimum.  Required: the C fit's
+ * objective within TOL_KKT_OBJ of pi*'s (relative; opt_tol's 1e-6),
+ * |Y (theta - pi*)|^2 / |F|^2 at most twice that excess (strict
+ * convexity in Y pi), the column at 0 and the null-space eigenvalues
+ * back at 0 to the same order.
+ */
+#define TOL_KKT_OBJ 1e-6
+static void test_consistent_boundary_kkt(void **state) {
+  enum { N = 400, P = 23, NB = 2 };
+  static const double lam[NB][4] = {{0.0, 0.0213, 0.0371, 0.1937},
+                                    {0.0, 0.0, 0.0587, 0.1429}};
+  static const double gam[NB][4] = {{0.0347, 0.0, 0.0, 0.0},
+                                    {0.0291, 0.0533, 0.0, 0.0}};
+  static const double gcol[3] = {0.0173, 0.0, 0.0}; /* columns 20..22 */
+  static const double picol[3] = {0.0, 0.0419, -0.0277};
+  double *Y = malloc(sizeof(double) * N * P), *F = malloc(sizeof(double) * N);
+  double *q = malloc(sizeof(double) * N), pi[P], g[P], w[P], th[P],
+         body[10 * NB], eig[4 * NB], S, f0 = 0.0, qq = 0.0, phi_s, phi_c,
+         dev = 0.0, ff = 0.0;
+  const double reg = 1e-9;
+  gsl_matrix *A = gsl_matrix_alloc(P, P);
+  gsl_vector *x = gsl_vector_alloc(P), *bv = gsl_vector_alloc(P);
+  int col[NB][10], kind[P], st, b, i, k, l;
+  size_t r, j;
+  uint64_t s = 17;
+  rps3_ident_layout lay;
+  rps3_ident_data dt;
+  rps3_ident_fit fit;
+  rps3_check chk;
+  (void)state;
+  assert_non_null(Y);
+  assert_non_null(F);
+  assert_non_null(q);
+  for (r = 0; r < N; r++)
+    for (j = 0; j < P; j++)
+      Y[r * P + j] = rnd_normal(&s) * (0.37 + 0.11 * (double)(j % 7));
+  /* each body: a random orthonormal basis Q (Gram-Schmidt), J* = Q diag
+     lam Q^T, G* = Q diag gam Q^T */
+  for (b = 0; b < NB; b++) {
+    double Q[4][4], J[4][4], M[4][4];
+    for (k = 0; k < 4; k++) {
+      for (i = 0; i < 4; i++) Q[i][k] = rnd_normal(&s);
+      for (l = 0; l < k; l++) {
+        double d = 0.0;
+        for (i = 0; i < 4; i++) d += Q[i][k] * Q[i][l];
+        for (i = 0; i < 4; i++) Q[i][k] -= d * Q[i][l];
+      }
+      {
+        double nn = 0.0;
+        for (i = 0; i < 4; i++) nn += Q[i][k] * Q[i][k];
+        for (i = 0; i < 4; i++) Q[i][k] /= sqrt(nn);
+      }
+    }
+    for (i = 0; i < 4; i++)
+      for (l = 0; l < 4; l++) {
+        J[i][l] = M[i][l] = 0.0;
+        for (k = 0; k < 4; k++) {
+          J[i][l] += Q[i][k] * lam[b][k] * Q[l][k];
+          M[i][l] += Q[i][k] * gam[b][k] * Q[l][k];
+        }
+      }
+    /* the residual's share of G is G* minus the trace term's reg 1 */
+    for (i = 0; i < 4; i++) M[i][i] -= reg;
+    std_of_J((const double(*)[4])J, pi + 10 * b);
+    grad_in_std((const double(*)[4])M, g + 10 * b);
+    for (k = 0; k < 10; k++) col[b][k] = 10 * b + k;
+  }
+  for (k = 0; k < 3; k++) {
+    pi[20 + k] = picol[k];
+    g[20 + k] = gcol[k];
+  }
+  for (j = 0; j < P; j++) kind[j] = j == 20 || j == 21;
+  /* |F|^2 = S: r = Y A^-1 w, w = g S / 2, F = Y pi* - r + q, q orthogonal
+     to Y's columns */
+  for (r = 0; r < N; r++) {
+    double e = 0.0;
+    for (j = 0; j < P; j++) e += Y[r * P + j] * pi[j];
+    f0 += e * e;
+  }
+  S = 4.0 * f0;
+  for (i = 0; i < P; i++)
+    for (l = 0; l < P; l++) {
+      double a = 0.0;
+      for (r = 0; r < N; r++) a += Y[r * P + (size_t)i] * Y[r * P + (size_t)l];
+      gsl_matrix_set(A, (size_t)i, (size_t)l, a);
+    }
+  assert_int_equal(gsl_linalg_cholesky_decomp1(A), GSL_SUCCESS);
+  for (j = 0; j < P; j++) gsl_vector_set(bv, j, w[j] = 0.5 * g[j] * S);
+  gsl_linalg_cholesky_solve(A, bv, x);
+  for (r = 0; r < N; r++) {
+    double e = 0.0;
+    for (j = 0; j < P; j++) e += Y[r * P + j] * (pi[j] - gsl_vector_get(x, j));
+    F[r] = e;
+    q[r] = rnd_normal(&s);
+  }
+  /* q minus its projection on Y's columns */
+  for (j = 0; j < P; j++) {
+    double a = 0.0;
+    for (r = 0; r < N; r++) a += Y[r * P + j] * q[r];
+    gsl_vector_set(bv, j, a);
+  }
+  gsl_linalg_cholesky_solve(A, bv, x);
+  for (r = 0; r < N; r++) {
+    for (j = 0; j < P; j++) q[r] -= Y[r * P + j] * gsl_vector_get(x, j);
+    qq += q[r] * q[r];
+    ff += F[r] * F[r];
+  }
+  assert_true(ff < S);
+  for (r = 0; r < N; r++) F[r] += q[r] * sqrt((S - ff) / qq);
+  memset(&dt, 0, sizeof(dt));
+  dt.n = N;
+  dt.p = P;
+  dt.Y = Y;
+  dt.F = F;
+  lay.nbody = NB;
+  lay.col = (const int(*)[10])col;
+  lay.kind = kind;
+  memset(&fit, 0, sizeof(fit));
+  fit.theta = th;
+  fit.body = body;
+  fit.eig = eig;
+  st = rps3_ident_consistent(&dt, &lay, NULL, &fit, &chk);
+  if (st != RPS3_OK) fail_msg("%s", chk.msg);
+  phi_s = kkt_objective(Y, F, N, P, NB, pi, reg);
+  phi_c = kkt_objective(Y, F, N, P, NB, th, reg);
+  for (r = 0; r < N; r++) {
+    double e = 0.0;
+    for (j = 0; j < P; j++) e += Y[r * P + j] * (th[j] - pi[j]);
+    dev += e * e / S;
+  }
+  print_message("boundary by KKT: %d iterations, objective C / optimum - 1 = "
+                "%.2e, |Y dpi|^2 / |F|^2 %.2e, column at 0: %.2e, "
+                "null eigenvalues %.2e %.2e %.2e\n",
+                fit.niter, phi_c / phi_s - 1.0, dev, th[20], eig[0], eig[4],
+                eig[5]);
+  assert_true(fabs(phi_c - phi_s) <= TOL_KKT_OBJ * phi_s);
+  assert_true(dev <= 2.0 * TOL_KKT_OBJ * phi_s);
+  assert_true(fit.consistent);
+  /* at the boundary: the column at 0 and the eigenvalues of the null
+     spaces (ascending: one of body 0, two of body 1) are small against
+     the bodies' largest */
+  assert_true(th[20] >= 0.0 && th[20] <= sqrt(TOL_KKT_OBJ) * picol[1]);
+  assert_true(fabs(eig[0]) <= sqrt(TOL_KKT_OBJ) * eig[3]);
+  assert_true(fabs(eig[4]) <= sqrt(TOL_KKT_OBJ) * eig[7]);
+  assert_true(fabs(eig[5]) <= sqrt(TOL_KKT_OBJ) * eig[7]);
+  gsl_matrix_free(A);
+  gsl_vector_free(x);
+  gsl_vector_free(bv);
+  free(Y);
+  free(F);
+  free(q);
 }
 
 /* the sizes of the targets, timed (reported, not asserted) */
@@ -637,8 +862,11 @@ static void test_timing(void **state) {
   clock_gettime(CLOCK_MONOTONIC, &t0);
   assert_int_equal(rps3_ident_wls(&dt, NULL, &res, NULL), RPS3_OK);
   clock_gettime(CLOCK_MONOTONIC, &t1);
-  assert_int_equal(rps3_ident_consistent(&dt, &lay, NULL, &fit, NULL),
-                   RPS3_OK);
+  {
+    rps3_check chk;
+    int st_c = rps3_ident_consistent(&dt, &lay, NULL, &fit, &chk);
+    if (st_c != RPS3_OK) fail_msg("%s", chk.msg);
+  }
   clock_gettime(CLOCK_MONOTONIC, &t2);
   print_message("timing: WLS of %lu rows x 11 %.3f s (target 0.5 s), "
                 "consistent fit %.3f s (target 1 s, %d iterations)\n",
@@ -733,6 +961,7 @@ int main(void) {
       cmocka_unit_test(test_wls_monte_carlo),
       cmocka_unit_test(test_wls_rank_deficient),
       cmocka_unit_test(test_consistent),
+      cmocka_unit_test(test_consistent_boundary_kkt),
       cmocka_unit_test(test_timing),
 #ifndef RPS3_SANITIZE
       cmocka_unit_test(test_regressor_allocates_nothing),

@@ -203,23 +203,26 @@ class CFit:
     names: tuple[str, ...]
     body: np.ndarray          #: each body's 10 standard parameters, (nbody, 10)
     eig: np.ndarray           #: each body's pseudo-inertia eigenvalues, (nbody, 4)
-    converged: bool           #: the solver met xtol or gtol
+    converged: bool           #: the optimality test met (gap <= opt_tol cost)
     consistent: bool          #: the eigenvalues (and >= 0 columns) checked
     niter: int
     rss: float                #: weighted residual sum of squares [N^2]
     cost: float               #: the objective minimised
     message: str              #: the library's message when not converged
     residual: np.ndarray      #: F - Y pi [N]
+    gap: float = float("nan")  #: optimality measure: how far cost may be above the optimum
 
 
 def consistent_c(Y: ArrayLike, F: ArrayLike, layout: CLayout | Layout, *,
                  weights: ArrayLike | None = None, names: tuple[str, ...] | None = None,
                  reg: float | None = None, max_iter: int | None = None,
-                 xtol: float | None = None, gtol: float | None = None) -> CFit:
+                 xtol: float | None = None, gtol: float | None = None,
+                 opt_tol: float | None = None) -> CFit:
     """The physically consistent fit in C (rps3_ident_consistent): the
     objective of :func:`rps3.ident.consistent` (reg its LMI_REG), every
-    body's pseudo-inertia by its log-Cholesky factor, solved by GSL's
-    trust-region least squares.  weights: inverse variances [1/N^2] per
+    body's pseudo-inertia by its Cholesky factor (log-Cholesky, then
+    plain), solved by GSL's trust-region least squares to the optimality
+    test (gap <= opt_tol cost).  weights: inverse variances [1/N^2] per
     row or per actuator (3,) (rps3.ident.consistent's are their square
     roots).  A fit that stops short of convergence is returned with
     converged False (and a RuntimeWarning); its parameters are checked.
@@ -245,7 +248,7 @@ def consistent_c(Y: ArrayLike, F: ArrayLike, layout: CLayout | Layout, *,
     fit = ffi.new("rps3_ident_fit *")
     fit.theta, fit.body, fit.eig = buf(theta), buf(body), buf(eig)
     err = ffi.new("rps3_check *")
-    o = _opts(reg=reg, max_iter=max_iter, xtol=xtol, gtol=gtol)
+    o = _opts(reg=reg, max_iter=max_iter, xtol=xtol, gtol=gtol, opt_tol=opt_tol)
     status = lib.rps3_ident_consistent(dt, cl, o, fit, err)
     del keep
     msg = text(err.msg)
@@ -258,4 +261,5 @@ def consistent_c(Y: ArrayLike, F: ArrayLike, layout: CLayout | Layout, *,
 
         warnings.warn(f"consistent_c: {msg}", RuntimeWarning, stacklevel=2)
     return CFit(theta, nm, body[:nb], eig[:nb], status == lib.RPS3_OK, bool(fit.consistent),
-                int(fit.niter), float(fit.rss), float(fit.cost), msg, Fa - Ya @ theta)
+                int(fit.niter), float(fit.rss), float(fit.cost), msg, Fa - Ya @ theta,
+                float(fit.gap))
