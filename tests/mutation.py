@@ -138,9 +138,10 @@ MUTATIONS = [
      "theta solve and forward dynamics: d f_k / d theta_i in the links'"
      " planes, 0.1 % off"),
     ("fd-centre-mass", "src/fwddyn_plane.h",
-     "const double mc = 3.0 * mb; /* M / 2 at the centre */",
-     "const double mc = 3.003 * mb;",
-     "forward dynamics: the disc's M/2 at its centre, 0.1 % off"),
+     "const double mc = 3.0 * K->m6; /* M / 2 at the centre */",
+     "const double mc = 3.003 * K->m6;",
+     "forward dynamics: the disc's M/2 at its centre in Mq's Gram form,"
+     " 0.1 % off"),
     ("fd-centripetal", "src/theta.h",
      "Zdd[i] = q->c[i] * v - q->s[i] * lth * dth[i];",
      "Zdd[i] = q->c[i] * v - 1.001 * q->s[i] * lth * dth[i];",
