@@ -284,18 +284,19 @@ FD_INLINE fd_coef fd_coef_of(const rps3_model *m) {
   return K;
 }
 
-/* a vector in link i's plane in the components the loads read: h along
-   the pin's radial unit vector u_i, z vertical.  phi_i = (-cos_i, sin_i)
-   and dphi_i = (sin_i, cos_i) lie in the plane, so the loads phi_i . f
-   and l_i dphi_i . f of a ball force f do not see its component normal
-   to it: the C of src/loads.h over this type has a third component 0 */
+/* a vector in link i's frame (u_i, e_z x u_i, e_z), the world turned
+   about e_z onto the pin's radial unit vector u_i, as the loads read it:
+   h along u_i, z vertical.  phi_i = (-cos_i, 0, sin_i) and dphi_i =
+   (sin_i, 0, cos_i) lie in the link's plane, so the loads phi_i . f and
+   l_i dphi_i . f of a ball force f do not see its component along e_z x
+   u_i: the C of src/loads.h over this type has that component 0 */
 typedef struct {
   double h, z;
 } fd_pv;
 #define FD_PC(v, k) FD_PC_##k(v)
 #define FD_PC_0(v) ((v).h)
-#define FD_PC_1(v) ((v).z)
-#define FD_PC_2(v) 0.0
+#define FD_PC_1(v) 0.0
+#define FD_PC_2(v) ((v).z)
 
 /* the platform's loads on link i (src/loads.h) at the centre's
    acceleration c'' (cxy its horizontal components) and the ball's

@@ -211,7 +211,14 @@ MUTATIONS = [
     ("loads-ball-weight-theta", "src/loads.h",
      "(wt) = (W) * (l) * (dphi_z);", "(wt) = 1.001 * (W) * (l) * (dphi_z);",
      "the platform's weight M g / 3 on a ball joint, its load on theta_i"
-     " 0.1 % off (the loads' one copy: Lagrange route, batch kernel)"),
+     " 0.1 % off (the loads' one copy: Lagrange route, batch kernel,"
+     " forward dynamics' hq)"),
+    ("loads-centre-acc", "src/loads.h",
+     "const double f2_ = (m6) * (C(cdd, 2) + C(bdd, 2));",
+     "const double f2_ = (m6) * (C(bdd, 2));",
+     "the platform's inertia on a ball joint without the centre's vertical"
+     " acceleration c''_z (the loads' one copy: Lagrange route, batch"
+     " kernel, forward dynamics' hq)"),
     ("platform-gravity-ne", "src/invdyn_ne.c",
      "wf[2] = m->M * m->g;", "wf[2] = -m->M * m->g;",
      "sign of the platform's weight (Newton-Euler route)"),
