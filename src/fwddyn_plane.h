@@ -298,9 +298,9 @@ typedef struct {
 #define FD_PC_1(v) 0.0
 #define FD_PC_2(v) ((v).z)
 
-/* the platform's loads on link i (src/loads.h) at the centre's
-   acceleration c'' (cxy its horizontal components) and the ball's
-   in-plane acceleration bdd */
+/* the platform's inertia load on link i (src/loads.h) at the centre's
+   acceleration c'' = (cx, cy, cz), world axes, and the ball's
+   acceleration bdd in the link's frame */
 FD_INLINE void platform_load(const rps3_model *m, const plane *p,
                              const fd_coef *K, int i, double cx, double cy,
                              double cz, fd_pv bdd, double *wl, double *wt) {
