@@ -1,12 +1,15 @@
 /* test_fd_loads.c - the forward dynamics' Mq and hq (assemble,
-   src/fwddyn_plane.h, in its Gram form) against the same quantities formed
-   from the loads of src/loads.h, the inverse dynamics' own pieces, by
-   virtual power (tests/fd_loads_columns.h): a change of a load that the
-   inverse dynamics sees, the forward dynamics' check sees too. */
+   src/fwddyn_plane.h: hq from the loads of src/loads.h in each link's
+   frame, Mq in the Gram form of their columns) against the same
+   quantities formed from those loads in world axes by virtual power
+   (tests/fd_loads_columns.h), and against the hand-written form they
+   replaced (tests/fd_gram_oracle.h): a change of a load that the inverse
+   dynamics sees, the forward dynamics' check sees too. */
 #include <stdlib.h>
 
 #include "testutil.h"
 
+#include "fd_gram_oracle.h"
 #include "fd_loads_columns.h"
 
 /* a random point of a random smooth trajectory through rps3_inverse, as
@@ -33,7 +36,9 @@ static void random_fd_state(const rps3_model *m, rps3_data *inv, rps3_data *fd,
    selection) within TOL_EXACT of the loads' columns at the kinematics
    kept by a state of all effects (the same l, dl, start: the same root),
    entry by entry against the sum of the absolute values of its terms
-   (the payload's shared rps3_fd_add_body terms against the entry) */
+   (the payload's shared rps3_fd_add_body terms against the entry); and
+   the replaced hand-written form: the same Mq bit for bit (the library's
+   is still that Gram form), hq within the same bound */
 static void mass_and_bias_are_the_loads(void **state) {
   uint64_t s = 0xfd10ad5ull;
   int sets[RPS3_NEFFECT + 2], nset = 0, c, n, e, j, q;
@@ -58,7 +63,7 @@ static void mass_and_bias_are_the_loads(void **state) {
     assert_int_equal(rps3_model_init(&m, NULL), RPS3_OK);
     assert_int_equal(rps3_data_alloc(&m, &fd), RPS3_OK);
     for (n = 0; n < 40; n++) {
-      double Mq[3][3], hq[3], sM[3][3], sh[3];
+      double Mq[3][3], hq[3], sM[3][3], sh[3], Mg[3][3], hg[3];
       random_fd_state(&ma, inv, fa, &s);
       for (j = 0; j < 3; j++) fa->dl[j] *= (n % 2) ? 1.0 : 20.0;
       rps3_data_reset(fd);
@@ -74,10 +79,15 @@ static void mass_and_bias_are_the_loads(void **state) {
       if (rps3_fwddyn_state(&m, fd, kc, RPS3_FD_NOFACTOR) != RPS3_OK)
         fail_msg("effects %#x: %s", sets[c], fd->err.msg);
       fd_loads_columns(&m, fa, k, &k->kin, Mq, hq, sM, sh);
+      fd_gram_oracle(&m, fa, k, &k->kin, Mg, hg);
+      assert_memory_equal(fd->Mq, Mg, sizeof(Mg));
       for (j = 0; j < 3; j++) {
         if (!(fabs(fd->hq[j] - hq[j]) <= TOL_EXACT * (sh[j] + fabs(hq[j]))))
           fail_msg("effects %#x, hq[%d] = %.17g, the loads' %.17g", sets[c], j,
                    fd->hq[j], hq[j]);
+        if (!(fabs(fd->hq[j] - hg[j]) <= TOL_EXACT * (sh[j] + fabs(hg[j]))))
+          fail_msg("effects %#x, hq[%d] = %.17g, the Gram form's %.17g",
+                   sets[c], j, fd->hq[j], hg[j]);
         for (q = 0; q < 3; q++)
           if (!(fabs(fd->Mq[j][q] - Mq[j][q]) <=
                 TOL_EXACT * (sM[j][q] + fabs(Mq[j][q]))))
