@@ -14,24 +14,34 @@
  *   vc     = Jc l' = (b_1' + b_2' + b_3') / 3          ((11), (25))
  *   omega  = Jw l'  from the ball joints               ((26)-(28))
  * and every acceleration is that map applied to l'' plus its value at
- * l'' = 0 (the velocity-product "bias").  The platform, the uniform disc
- * of (21), has the mass, centroid and inertia tensor of M/2 at its centre
- * and M/6 at each ball joint, so its kinetic energy is that of these
- * points; a ball joint's speed is |b_i'|^2 = l_i'^2 + l_i^2 theta_i'^2.
- * With the links' inertia Jlink about their pins:
+ * l'' = 0 (the velocity-product "bias").  The inverse dynamics' forces
+ * are F = wl + G^T wt for the loads (wl, wt) of src/loads.h on each
+ * link's l_i and theta_i ((23), (34): (df/dtheta)^T lambda = -wt), and F
+ * is linear in l'', so
+ *   hq = F at the bias accelerations: the loads of every selected effect
+ *        at c'' = ac_bias, b_i'' = (h_i'', Z_i'')_bias, theta'' =
+ *        theta''_bias, the links' rates (friction) and weights,
+ *   Mq e_j = F of the inertia loads at l'' = e_j, rates zero: c'' = Jc
+ *        e_j, b_i'' = [i = j] phi_i + l_i G_ij dphi_i, theta'' = G e_j.
+ * hq instantiates the loads of src/loads.h themselves (bias_force, in each
+ * link's frame); Mq is their columns in Gram form: the platform, the
+ * uniform disc of (21), is M/2 at its centre and M/6 at each ball joint,
+ * and with phi.phi = dphi.dphi = 1, phi.dphi = 0
  *   Mq = (M/6) I + G^T diag(Jlink + (M/6) l_i^2) G + (M/2) Jc^T Jc,
- *   hq = sigma + G^T tau + (M/2) Jc^T ac_bias + M g Jc^T e_z,
- *   sigma_i = -(M/6) l_i theta_i'^2,
- *   tau_i   = (Jlink + (M/6) l_i^2) theta_i''_bias + 2 (M/6) l_i l_i'
- *             theta_i' + m g d cos(theta_i) - T_friction,i.
+ * half the flops of the columns themselves (tests/test_fd_loads.c holds
+ * it to them, docs/library.md says why).
  * A payload, a rigid body of mass mb, centre of mass offset s and world
  * inertia Iw about it, with Jg = Jc - [s]x Jw its centre of mass's map:
  *   Mq += mb Jg^T Jg + Jw^T Iw Jw,
- *   hq += Jg^T mb (a_g,bias + g e_z) + Jw^T (Iw dw_bias + w x Iw w).
- * rps3_invdyn's Lagrange route writes the platform as the same points;
- * its Newton-Euler route (a rigid body and six ball-joint forces) and the
- * kinetic energy of rps3_energy (src/fwddyn_body.c, the disc's inertia
- * tensor) share nothing with Mq, and the tests hold it to both.  The
+ *   hq += Jg^T mb (a_g,bias + g e_z) + Jw^T (Iw dw_bias + w x Iw w),
+ * in its own form (rps3_fd_add_body), not the inverse dynamics' body_load
+ * (a load through the frame's second derivatives, several times dearer:
+ * docs/library.md, "The formulation").
+ * rps3_invdyn's Lagrange route writes the platform as the same points,
+ * with the same loads; its Newton-Euler route (a rigid body and six
+ * ball-joint forces) and the kinetic energy of rps3_energy
+ * (src/fwddyn_body.c, the disc's inertia tensor) share nothing with Mq
+ * and hq, and the tests hold them to both.  The
  * steps of a state are in src/fwddyn_plane.h, its theta solve in
  * src/fwddyn_theta.c, another model's state at a kept one in
  * src/fwddyn_shared.c, the test of a failed solve at the singular surface

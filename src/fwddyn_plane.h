@@ -263,54 +263,128 @@ void rps3_fd_add_body(const rps3_fd_state *k, const rps3_data *d, double mb,
                       const double s[3], const double Iw[3][3], double g,
                       double Mq[3][3], double hq[3]);
 
-/* Mq and hq of the selected effects (src/fwddyn.c's header): the links and
-   the platform's ball-joint masses as generalized loads on theta (tau)
-   and on l (sigma), the centre's mass through Jc, a payload as a rigid
-   body; the upper triangle is Mq, symmetric to the bit */
-FD_INLINE void assemble(const rps3_model *m, rps3_data *d,
-                        const rps3_fd_state *k, const plane *p) {
+/* the coefficients of the loads (src/loads.h) with the selection of
+   their effects folded in, as the batch kernel folds it: an effect left
+   out is a zero coefficient; friction and the payload are branches */
+typedef struct {
+  double m6;  /* RPS3_DISC_BALL_MASS, platform inertia */
+  double W;   /* RPS3_PLATFORM_BALL_WEIGHT, platform gravity */
+  double Jl;  /* Jlink, link inertia */
+  double mgd; /* RPS3_LINK_WEIGHT_MOMENT, link gravity */
+} fd_coef;
+
+FD_INLINE fd_coef fd_coef_of(const rps3_model *m) {
   const int eff = m->opt.effects;
-  const double mb =
-      (eff & RPS3_EFF_PLATFORM_INERTIA) ? RPS3_DISC_BALL_MASS(m->M) : 0.0;
-  const double mc = 3.0 * mb; /* M / 2 at the centre */
-  const double gz = (eff & RPS3_EFF_PLATFORM_GRAVITY) ? m->M * m->g : 0.0;
-  double Jp[3], tau[3], sig[3], Mq[3][3], hq[3];
-  int i, j, q;
+  fd_coef K;
+  K.m6 = (eff & RPS3_EFF_PLATFORM_INERTIA) ? RPS3_DISC_BALL_MASS(m->M) : 0.0;
+  K.W = (eff & RPS3_EFF_PLATFORM_GRAVITY)
+            ? RPS3_PLATFORM_BALL_WEIGHT(m->M, m->g)
+            : 0.0;
+  K.Jl = (eff & RPS3_EFF_LINK_INERTIA) ? m->Jlink : 0.0;
+  K.mgd = (eff & RPS3_EFF_LINK_GRAVITY)
+              ? RPS3_LINK_WEIGHT_MOMENT(m->m, m->g, m->d)
+              : 0.0;
+  return K;
+}
+
+/* a vector in link i's frame (u_i, e_z x u_i, e_z), the world turned
+   about e_z onto the pin's radial unit vector u_i, as the loads read it:
+   h along u_i, z vertical.  phi_i = (-cos_i, 0, sin_i) and dphi_i =
+   (sin_i, 0, cos_i) lie in the link's plane, so the loads phi_i . f and
+   l_i dphi_i . f of a ball force f do not see its component along e_z x
+   u_i: the C of src/loads.h over this type has that component 0 */
+typedef struct {
+  double h, z;
+} fd_pv;
+#define FD_PC(v, k) FD_PC_##k(v)
+#define FD_PC_0(v) ((v).h)
+#define FD_PC_1(v) 0.0
+#define FD_PC_2(v) ((v).z)
+
+/* the platform's inertia load on link i (src/loads.h) at the centre's
+   acceleration c'' = (cx, cy, cz), world axes, and the ball's
+   acceleration bdd in the link's frame */
+FD_INLINE void platform_load(const rps3_model *m, const plane *p,
+                             const fd_coef *K, int i, double cx, double cy,
+                             double cz, fd_pv bdd, double *wl, double *wt) {
+  fd_pv phi, dphi, cdd;
+  phi.h = -p->q.c[i];
+  phi.z = p->q.s[i];
+  dphi.h = p->q.s[i];
+  dphi.z = p->q.c[i];
+  cdd.h = cx * m->radial[i][0] + cy * m->radial[i][1];
+  cdd.z = cz;
+  RPS3_LOAD_PLATFORM_INERTIA(FD_PC, K->m6, cdd, bdd, phi, dphi, p->q.l[i], *wl,
+                             *wt);
+}
+
+/* hq: the generalized force of the selected effects' loads at the bias
+   accelerations (l'' = 0): c'' = ac_bias, b_i'' = (h_i'', Z_i'') of
+   plane_rates, theta'' = theta''_bias; as the inverse dynamics' (34), F =
+   wl + (df/dl)^T lambda with (df/dtheta)^T lambda = -wt, F = wl + G^T wt */
+FD_INLINE void bias_force(const rps3_model *m, const plane *p, const fd_coef *K,
+                          double hq[3]) {
+  const int fric = (m->opt.effects & RPS3_EFF_PIN_FRICTION) != 0;
+  double wl[3], wt[3];
+  int i, j;
   for (i = 0; i < 3; i++) {
-    const double mbl = mb * p->q.l[i];
-    Jp[i] = mbl * p->q.l[i];
-    tau[i] = 2.0 * mbl * p->dl[i] * p->dth[i];
-    sig[i] = -mbl * p->dth[i] * p->dth[i];
-    if (eff & RPS3_EFF_LINK_INERTIA) Jp[i] += m->Jlink;
-    tau[i] += Jp[i] * p->ddb[i];
-    /* the pin torques, loads of src/loads.h as the inverse dynamics':
-       (22), d/dtheta of m g d sin(theta), and friction */
-    if (eff & RPS3_EFF_LINK_GRAVITY) {
-      double w;
-      RPS3_LOAD_LINK_GRAVITY(RPS3_LINK_WEIGHT_MOMENT(m->m, m->g, m->d),
-                             p->q.c[i], w);
-      tau[i] += w;
-    }
-    if (eff & RPS3_EFF_PIN_FRICTION) {
-      double w;
+    double w, v;
+    fd_pv bdd;
+    bdd.h = p->hdd[i];
+    bdd.z = p->Zdd[i];
+    platform_load(m, p, K, i, p->acb[0], p->acb[1], p->acb[2], bdd, &wl[i],
+                  &wt[i]);
+    RPS3_LOAD_PLATFORM_GRAVITY(K->W, p->q.s[i], p->q.c[i], p->q.l[i], w, v);
+    wl[i] += w;
+    wt[i] += v;
+    RPS3_LOAD_LINK_GRAVITY(K->mgd, p->q.c[i], w);
+    wt[i] += w;
+    RPS3_LOAD_LINK_INERTIA(K->Jl, p->ddb[i], w);
+    wt[i] += w;
+    if (fric) {
       RPS3_LOAD_PIN_FRICTION(rps3_friction_torque(m, p->dth[i]), w);
-      tau[i] += w;
+      wt[i] += w;
     }
   }
-  for (j = 0; j < 3; j++) {
+  for (j = 0; j < 3; j++)
+    hq[j] =
+        wl[j] + p->G[0][j] * wt[0] + p->G[1][j] * wt[1] + p->G[2][j] * wt[2];
+}
+
+/* Mq's upper triangle, column j the generalized force of the inertia
+   loads at the unit acceleration l'' = e_j with the rates zero (c'' = Jc
+   e_j, b_i'' = [i = j] phi_i + l_i G_ij dphi_i, theta'' = G e_j), in its
+   Gram form: with phi.phi = dphi.dphi = 1, phi.dphi = 0 and the centre's
+   M/2 reaching each link as M/6 (src/loads.h), Mq = (M/6) I + G^T
+   diag(Jlink + (M/6) l_i^2) G + (M/2) Jc^T Jc.  The loads' columns
+   themselves cost twice its flops (docs/library.md, "The formulation");
+   tests/test_fd_loads.c holds it to them */
+FD_INLINE void mass_gram(const plane *p, const fd_coef *K, double Mq[3][3]) {
+  const double mc = 3.0 * K->m6; /* M / 2 at the centre */
+  double Jp[3];
+  int i, j, q;
+  for (i = 0; i < 3; i++) Jp[i] = K->m6 * p->q.l[i] * p->q.l[i] + K->Jl;
+  for (j = 0; j < 3; j++)
     for (q = j; q < 3; q++)
-      Mq[j][q] = (q == j ? mb : 0.0) + Jp[0] * p->G[0][j] * p->G[0][q] +
+      Mq[j][q] = (q == j ? K->m6 : 0.0) + Jp[0] * p->G[0][j] * p->G[0][q] +
                  Jp[1] * p->G[1][j] * p->G[1][q] +
                  Jp[2] * p->G[2][j] * p->G[2][q] +
                  mc * (p->Jc[0][j] * p->Jc[0][q] + p->Jc[1][j] * p->Jc[1][q] +
                        p->Jc[2][j] * p->Jc[2][q]);
-    hq[j] = sig[j] + p->G[0][j] * tau[0] + p->G[1][j] * tau[1] +
-            p->G[2][j] * tau[2] +
-            mc * (p->Jc[0][j] * p->acb[0] + p->Jc[1][j] * p->acb[1] +
-                  p->Jc[2][j] * p->acb[2]) +
-            gz * p->Jc[2][j];
-  }
-  if (eff & RPS3_EFF_PAYLOAD) {
+}
+
+/* Mq and hq of the selected effects (src/fwddyn.c's header): hq the
+   generalized force of the inverse dynamics' loads (src/loads.h) at the
+   bias accelerations, Mq the Gram form of their columns, a payload as a
+   rigid body; Mq symmetric to the bit (its upper triangle) */
+FD_INLINE void assemble(const rps3_model *m, rps3_data *d,
+                        const rps3_fd_state *k, const plane *p) {
+  const fd_coef K = fd_coef_of(m);
+  double Mq[3][3], hq[3];
+  int j, q;
+  bias_force(m, p, &K, hq);
+  mass_gram(p, &K, Mq);
+  if (m->opt.effects & RPS3_EFF_PAYLOAD) {
     double sp[3], Iw[3][3];
     for (j = 0; j < 3; j++)
       for (q = 0; q < j; q++) Mq[j][q] = Mq[q][j];

@@ -143,9 +143,10 @@ MUTATIONS = [
      "theta solve and forward dynamics: d f_k / d theta_i in the links'"
      " planes, 0.1 % off"),
     ("fd-centre-mass", "src/fwddyn_plane.h",
-     "const double mc = 3.0 * mb; /* M / 2 at the centre */",
-     "const double mc = 3.003 * mb;",
-     "forward dynamics: the disc's M/2 at its centre, 0.1 % off"),
+     "const double mc = 3.0 * K->m6; /* M / 2 at the centre */",
+     "const double mc = 3.003 * K->m6;",
+     "forward dynamics: the disc's M/2 at its centre in Mq's Gram form,"
+     " 0.1 % off"),
     ("fd-centripetal", "src/theta.h",
      "Zdd[i] = q->c[i] * v - q->s[i] * lth * dth[i];",
      "Zdd[i] = q->c[i] * v - 1.001 * q->s[i] * lth * dth[i];",
@@ -215,7 +216,14 @@ MUTATIONS = [
     ("loads-ball-weight-theta", "src/loads.h",
      "(wt) = (W) * (l) * (dphi_z);", "(wt) = 1.001 * (W) * (l) * (dphi_z);",
      "the platform's weight M g / 3 on a ball joint, its load on theta_i"
-     " 0.1 % off (the loads' one copy: Lagrange route, batch kernel)"),
+     " 0.1 % off (the loads' one copy: Lagrange route, batch kernel,"
+     " forward dynamics' hq)"),
+    ("loads-centre-acc", "src/loads.h",
+     "const double f2_ = (m6) * (C(cdd, 2) + C(bdd, 2));",
+     "const double f2_ = (m6) * (C(bdd, 2));",
+     "the platform's inertia on a ball joint without the centre's vertical"
+     " acceleration c''_z (the loads' one copy: Lagrange route, batch"
+     " kernel, forward dynamics' hq)"),
     ("platform-gravity-ne", "src/invdyn_ne.c",
      "wf[2] = m->M * m->g;", "wf[2] = -m->M * m->g;",
      "sign of the platform's weight (Newton-Euler route)"),
