@@ -383,17 +383,23 @@ KINLINE kblink kblink_pos(const kbconst *K, int i, kv3 rx, kv3 ry, kv3 c,
 KINLINE kblink kblink_load(const kbconst *K, kblink L, kv3 w, kv3 vc, kv3 dw,
                            kv3 ac, int fu) {
   kv3 wr, bd, bb, f;
-  double vbd, dth, ddth, tau, qf;
+  double vbd, dth, ddth, tau, taug, taui, qf;
   RPS3_BALL_VEL(KC, KMS_FU, w, L.rho, vc, wr, bd);
   RPS3_BALL_ACC(KC, KMS_FU, w, dw, L.rho, wr, ac, bb);
   /* vbd = l l', dth = theta' */
   RPS3_LINK_VEL(KDOT_FU, L.v, L.q, L.il2, bd, vbd, dth);
   RPS3_LINK_ACC_THETA(KDOT_FU, L.q, L.il2, bb, vbd, dth, ddth);
+  /* the platform's two loads summed into one ball force, fused (docs/
+     library.md, "Left in their own form on purpose"; the loads of
+     src/loads.h are its oracle in tests/test_batch_kernel.c) */
   f = kv(K->m6 * (ac.x + bb.x), K->m6 * (ac.y + bb.y),
          kma(K->m6, ac.z + bb.z, K->g3, fu));
-  tau = kma(K->mgd * L.q.z, L.il, K->jl * ddth, fu);
   qf = kdotf(L.q, f, fu);
   L.wl = kdotf(L.v, f, fu);
+  /* the link's: cos theta = q_z / l */
+  RPS3_LOAD_LINK_GRAVITY(K->mgd, L.q.z * L.il, taug);
+  RPS3_LOAD_LINK_INERTIA(K->jl, ddth, taui);
+  tau = taug + taui;
   L.wt = qf + tau;
   L.s = (fabs(L.wl) + fabs(qf) + fabs(tau)) * L.il;
   return L;

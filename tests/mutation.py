@@ -424,6 +424,31 @@ MUTATIONS = [
      "(an + o.cond + o.tbound <= DBL_MAX) & (o.cond <= K->cond_lim) &",
      "(an + o.cond + o.tbound <= DBL_MAX) &",
      "lean pass: a point kept whatever its condition number"),
+    ("links-ball-vel", "src/links.h",
+     "C(bd, 1) = C(wr, 1) + C(vc, 1);",
+     "C(bd, 1) = C(wr, 1) + 1.001 * C(vc, 1);",
+     "a ball joint's velocity (26): y of the centre's part, 0.1 % off"
+     " (staged route, kernel and lean pass)"),
+    ("links-ball-acc-centripetal", "src/links.h",
+     "MS(C(w, 2), C(wr, 0), C(w, 0), C(wr, 2)) + C(ac, 1);",
+     "1.001 * MS(C(w, 2), C(wr, 0), C(w, 0), C(wr, 2)) + C(ac, 1);",
+     "a ball joint's acceleration: y of omega x (omega x rho), 0.1 % off"
+     " (staged route, kernel and lean pass)"),
+    ("links-theta-acc", "src/links.h",
+     "- 2.0 * (dl) * (dth)) * (il))",
+     "- 2.002 * (dl) * (dth)) * (il))",
+     "theta'' from the ball's acceleration: the 2 l' theta' term, 0.1 %"
+     " off (staged route, kernel and lean pass)"),
+    ("links-ball-acc-joints", "src/links.h",
+     "(ddl) - (l) * (dth) * (dth);",
+     "(ddl) - 1.001 * (l) * (dth) * (dth);",
+     "b'' from the joint rates: the l theta'^2 term, 0.1 % off (the"
+     " Lagrange route's c'', kernel and stages)"),
+    ("links-dphi", "src/links.h",
+     "C(dphi, 0) = (st) * (ux);",
+     "C(dphi, 0) = 1.001 * (st) * (ux);",
+     "the direction dphi (29): its x component, 0.1 % off (staged route,"
+     " kernel and lean pass)"),
 
     ("regressor-disc-column", "src/ident.c",
      "u.Ip[2] = 0.5 * m->r * m->r;",
