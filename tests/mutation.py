@@ -449,6 +449,10 @@ MUTATIONS = [
      "C(dphi, 0) = 1.001 * (st) * (ux);",
      "the direction dphi (29): its x component, 0.1 % off (staged route,"
      " kernel and lean pass)"),
+    ("lean-ball-weight", "src/batch_kmech.h",
+     "kma(K->m6, ac.z + bb.z, K->g3, fu));",
+     "kma(K->m6, ac.z + bb.z, 1.001 * K->g3, fu));",
+     "lean pass: the platform's weight in its summed ball force, 0.1 % off"),
 
     ("regressor-disc-column", "src/ident.c",
      "u.Ip[2] = 0.5 * m->r * m->r;",
