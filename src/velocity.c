@@ -112,18 +112,22 @@ int rps3_link_motion(const rps3_model *m, rps3_data *d, int acc) {
   rps3_pose_twist(m, &t, d->dpose, w, vc);
   if (acc) rps3_pose_twist_rate(m, &t, d->dpose, d->ddpose, w, dw, ac);
   for (i = 0; i < 3; i++) {
-    double rho[3], v[3], wr[3], bd[3], l, il, dl;
+    double rx[3], ry[3], b[3], rho[3], v[3], wr[3], bd[3], l2, l, il, dl;
+    double radial;
     int q;
-    /* the ball joint and the pin lie in their frames' xy planes (the
-       model's body[i][2] = pin[i][2] = 0) */
+    /* the ball joint and the link vector (src/links.h; the ball joint and
+       the pin lie in their frames' xy planes, the model's body[i][2] =
+       pin[i][2] = 0) */
     for (q = 0; q < 3; q++) {
-      rho[q] = rot[q][0] * m->body[i][0] + rot[q][1] * m->body[i][1];
-      v[q] = c[q] + rho[q];
+      rx[q] = rot[q][0];
+      ry[q] = rot[q][1];
     }
-    v[0] -= m->pin[i][0];
-    v[1] -= m->pin[i][1];
-    l = v3_norm(v);
-    if (!(l > 0.0) || !(v[2] > 0.0))
+    RPS3_LINK_BALL(RPS3_V3C, RPS3_MA, m->body[i][0], m->body[i][1], rx, ry, c,
+                   rho, b);
+    RPS3_LINK_VEC(RPS3_V3C, v3_dot, RPS3_MA, b, m->pin[i][0], m->pin[i][1],
+                  m->radial[i][0], m->radial[i][1], v, l2, l, radial);
+    (void)radial; /* no directions here */
+    if (!RPS3_LINK_REACHABLE(l, v[2]))
       RPS3_ERROR(d, RPS3_EREACH,
                  "link %d: length %.6g m, ball joint height %.6g m (needs "
                  "length > 0 and height > 0) at pose (%.6g, %.6g, %.6g)",
