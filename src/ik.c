@@ -107,8 +107,8 @@ void rps3_link_dirs(const rps3_model *m, rps3_data *d) {
 void rps3_links_from_joints(const rps3_model *m, rps3_data *d) {
   int i;
   rps3_link_dirs(m, d);
-  for (i = 0; i < 3; i++)
-    v3_axpy(d->b[i], m->pin[i], d->l[i], d->phi[i]); /* (12)-(14) */
+  for (i = 0; i < 3; i++) /* (12)-(14) */
+    RPS3_BALL_AT(RPS3_V3C, m->pin[i], d->l[i], d->phi[i], d->b[i]);
 }
 
 void rps3_links_from_trig(const rps3_model *m, rps3_data *d, const double c[3],
@@ -116,7 +116,7 @@ void rps3_links_from_trig(const rps3_model *m, rps3_data *d, const double c[3],
   int i;
   for (i = 0; i < 3; i++) {
     set_link_dir(d, i, m->radial[i], c[i], s[i]);
-    v3_axpy(d->b[i], m->pin[i], d->l[i], d->phi[i]); /* (12)-(14) */
+    RPS3_BALL_AT(RPS3_V3C, m->pin[i], d->l[i], d->phi[i], d->b[i]);
   }
 }
 

@@ -19,8 +19,9 @@
  *   joint rates (28)       l' = phi . b',  theta' = dphi . b' / l,
  *                          l'' = phi . b'' + l theta'^2,
  *                          theta'' = (dphi . b'' - 2 l' theta') / l,
- * and back, the ball's motion from the joint rates ((12)-(14) twice
- * differentiated):
+ * and back, the ball joint and its motion from the joint coordinates
+ * and rates ((12)-(14) and its derivatives):
+ *   b = P + l phi,
  *   b' = l' phi + l theta' dphi,
  *   b'' = (l'' - l theta'^2) phi + (2 l' theta' + l theta'') dphi.
  *
@@ -152,6 +153,15 @@
 #define RPS3_LINK_ACC_THETA(DOT, dphi, il, bb, dl, dth, ddth) \
   ((ddth) = (DOT(dphi, bb) - 2.0 * (dl) * (dth)) * (il))
 /* clang-format on */
+
+/* the ball joint from the joint coordinates (12)-(14): b = P + l phi, P
+   the pin */
+#define RPS3_BALL_AT(C, pin, l, phi, b)  \
+  do {                                   \
+    C(b, 0) = C(pin, 0) + (l)*C(phi, 0); \
+    C(b, 1) = C(pin, 1) + (l)*C(phi, 1); \
+    C(b, 2) = C(pin, 2) + (l)*C(phi, 2); \
+  } while (0)
 
 /* the ball's velocity from the joint rates: bd = l' phi + l theta' dphi */
 #define RPS3_BALL_VEL_JOINTS(C, phi, dphi, l, dl, dth, bd) \
