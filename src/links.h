@@ -55,16 +55,19 @@
 
 /* the ball joint (15)-(17) at (bx, by) in the platform's plane: its
    offset rho from the centre c and b = c + rho, rx and ry the frame's
-   first two columns */
-#define RPS3_LINK_BALL(C, MA, bx, by, rx, ry, c, rho, b) \
-  do {                                                   \
-    C(rho, 0) = MA((bx), C(rx, 0), (by)*C(ry, 0));       \
-    C(rho, 1) = MA((bx), C(rx, 1), (by)*C(ry, 1));       \
-    C(rho, 2) = MA((bx), C(rx, 2), (by)*C(ry, 2));       \
-    C(b, 0) = C(c, 0) + C(rho, 0);                       \
-    C(b, 1) = C(c, 1) + C(rho, 1);                       \
-    C(b, 2) = C(c, 2) + C(rho, 2);                       \
+   first two columns; clang-format would take (by) * C(...) for a cast,
+   here and below */
+/* clang-format off */
+#define RPS3_LINK_BALL(C, MA, bx, by, rx, ry, c, rho, b)  \
+  do {                                                    \
+    C(rho, 0) = MA((bx), C(rx, 0), (by) * C(ry, 0));      \
+    C(rho, 1) = MA((bx), C(rx, 1), (by) * C(ry, 1));      \
+    C(rho, 2) = MA((bx), C(rx, 2), (by) * C(ry, 2));      \
+    C(b, 0) = C(c, 0) + C(rho, 0);                        \
+    C(b, 1) = C(c, 1) + C(rho, 1);                        \
+    C(b, 2) = C(c, 2) + C(rho, 2);                        \
   } while (0)
+/* clang-format on */
 
 /* the link vector v = b - P (5)-(7) of the pin (px, py, 0), its squared
    length l2, length l and radial component v . u = -l cos theta of the
@@ -156,21 +159,25 @@
 
 /* the ball joint from the joint coordinates (12)-(14): b = P + l phi, P
    the pin */
-#define RPS3_BALL_AT(C, pin, l, phi, b)  \
-  do {                                   \
-    C(b, 0) = C(pin, 0) + (l)*C(phi, 0); \
-    C(b, 1) = C(pin, 1) + (l)*C(phi, 1); \
-    C(b, 2) = C(pin, 2) + (l)*C(phi, 2); \
+/* clang-format off */
+#define RPS3_BALL_AT(C, pin, l, phi, b)     \
+  do {                                      \
+    C(b, 0) = C(pin, 0) + (l) * C(phi, 0);  \
+    C(b, 1) = C(pin, 1) + (l) * C(phi, 1);  \
+    C(b, 2) = C(pin, 2) + (l) * C(phi, 2);  \
   } while (0)
+/* clang-format on */
 
 /* the ball's velocity from the joint rates: bd = l' phi + l theta' dphi */
-#define RPS3_BALL_VEL_JOINTS(C, phi, dphi, l, dl, dth, bd) \
-  do {                                                     \
-    const double s_ = (l) * (dth);                         \
-    C(bd, 0) = (dl)*C(phi, 0) + s_ * C(dphi, 0);           \
-    C(bd, 1) = (dl)*C(phi, 1) + s_ * C(dphi, 1);           \
-    C(bd, 2) = (dl)*C(phi, 2) + s_ * C(dphi, 2);           \
+/* clang-format off */
+#define RPS3_BALL_VEL_JOINTS(C, phi, dphi, l, dl, dth, bd)  \
+  do {                                                      \
+    const double s_ = (l) * (dth);                          \
+    C(bd, 0) = (dl) * C(phi, 0) + s_ * C(dphi, 0);          \
+    C(bd, 1) = (dl) * C(phi, 1) + s_ * C(dphi, 1);          \
+    C(bd, 2) = (dl) * C(phi, 2) + s_ * C(dphi, 2);          \
   } while (0)
+/* clang-format on */
 
 /* the ball's acceleration from the joint rates: bdd = (l'' - l theta'^2)
    phi + (2 l' theta' + l theta'') dphi */
