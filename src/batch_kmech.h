@@ -13,6 +13,7 @@
 
 #include "batch_kernel.h"
 #include "batch_trig.h"
+#include "links.h"
 #include "loads.h"
 #include "power.h"
 
@@ -76,41 +77,41 @@ typedef struct {
 } klink;
 
 /* link i from the platform frame (columns rx, ry) and centre c: (15)-(17),
-   (5)-(7), (39) (theta 0 leaves it 0) and (29), as rps3_ik_with */
+   (5)-(7), (39) (theta 0 leaves it 0) and (29), as rps3_ik_with; the
+   formulas are src/links.h's */
 KINLINE klink link_pos(const kconst *K, int i, kv3 rx, kv3 ry, kv3 c,
                        int theta) {
   klink L;
-  double radial, ct, st;
-  kv3 v;
-  L.b = kadd(c, kadd(kscale(K->body[i][0], rx), kscale(K->body[i][1], ry)));
+  double l2, radial, ct, st;
+  kv3 s, v;
+  RPS3_LINK_BALL(KC, RPS3_MA, K->body[i][0], K->body[i][1], rx, ry, c, s, L.b);
+  /* the offset as the stages hold it, from b (rps3_velocity_with) */
   L.rho = ksub(L.b, c);
-  v = kv(L.b.x - K->pin[i][0], L.b.y - K->pin[i][1], L.b.z);
-  L.l = sqrt(kdot(v, v));
-  radial = v.x * K->u[i][0] + v.y * K->u[i][1];
-  L.ok = ((L.l > 0.0) & (v.z > 0.0)) ? 1.0 : 0.0;
+  RPS3_LINK_VEC(KC, kdot, RPS3_MA, L.b, K->pin[i][0], K->pin[i][1], K->u[i][0],
+                K->u[i][1], v, l2, L.l, radial);
+  (void)l2;
+  L.ok = RPS3_LINK_REACHABLE(L.l, v.z) ? 1.0 : 0.0;
   /* select, then divide: a division under a condition is a branch */
   L.il = 1.0 / (L.l > 0.0 ? L.l : 1.0);
-  L.th = theta ? katan2(v.z > 0.0 ? v.z : 1.0, -radial) : 0.0;
-  ct = -radial * L.il;
-  st = v.z * L.il;
-  L.phi = kv(-ct * K->u[i][0], -ct * K->u[i][1], st);
-  L.dphi = kv(st * K->u[i][0], st * K->u[i][1], ct);
+  L.th = theta ? RPS3_LINK_THETA(katan2, radial, v.z > 0.0 ? v.z : 1.0) : 0.0;
+  RPS3_LINK_COS_SIN(radial, v.z, L.il, ct, st);
+  RPS3_LINK_PHI(KC, K->u[i][0], K->u[i][1], ct, st, L.phi);
+  RPS3_LINK_DPHI(KC, K->u[i][0], K->u[i][1], ct, st, L.dphi);
   return L;
 }
 
 /* joint rates and accelerations of link L (rps3_velocity_with,
-   rps3_acceleration_with), then b'' from them (lagrange_kinematics) */
+   rps3_acceleration_with), then b'' from them (lagrange_kinematics);
+   src/links.h's formulas */
 KINLINE klink link_rates(klink L, kv3 w, kv3 vc, kv3 dw, kv3 ac) {
-  kv3 bd = kadd(kcross(w, L.rho), vc);
-  kv3 bb = kadd(kadd(kcross(dw, L.rho), kcross(w, kcross(w, L.rho))), ac);
-  double s1, s2;
-  L.dl = kdot(L.phi, bd);
-  L.dth = kdot(L.dphi, bd) * L.il;
-  L.ddl = kdot(L.phi, bb) + L.l * L.dth * L.dth;
-  L.ddth = (kdot(L.dphi, bb) - 2.0 * L.dl * L.dth) * L.il;
-  s1 = L.ddl - L.l * L.dth * L.dth;
-  s2 = 2.0 * L.dl * L.dth + L.l * L.ddth;
-  L.bdd = kadd(kscale(s1, L.phi), kscale(s2, L.dphi));
+  kv3 wr, bd, bb;
+  RPS3_BALL_VEL(KC, RPS3_MS, w, L.rho, vc, wr, bd);
+  RPS3_BALL_ACC(KC, RPS3_MS, w, dw, L.rho, wr, ac, bb);
+  RPS3_LINK_VEL(kdot, L.phi, L.dphi, L.il, bd, L.dl, L.dth);
+  RPS3_LINK_ACC_L(kdot, L.phi, L.l, bb, L.dth, L.ddl);
+  RPS3_LINK_ACC_THETA(kdot, L.dphi, L.il, bb, L.dl, L.dth, L.ddth);
+  RPS3_BALL_ACC_JOINTS(KC, L.phi, L.dphi, L.l, L.dl, L.dth, L.ddl, L.ddth,
+                       L.bdd);
   return L;
 }
 
@@ -340,27 +341,31 @@ typedef struct {
   double wl, wt, s;      /* l wl_i, wt_i of invdyn.c, the load's size [N] */
 } kblink;
 
+/* the fused operators of src/links.h for the lean pass: a b + c,
+   a b - c d and the dot product, each fused when fu is 1 (fu is the
+   instance's constant, in scope where they are used) */
+#define KMA_FU(a, b, c) kma(a, b, c, fu)
+#define KMS_FU(a, b, c, d) kma(a, b, -((c) * (d)), fu)
+#define KDOT_FU(a, b) kdotf(a, b, fu)
+
 /* link i at the platform frame's columns rx, ry and centre c: (15)-(17),
-   (5)-(7); phi = v / l, dphi = q / l (29) are never formed */
+   (5)-(7), src/links.h with the fused operators; q = l dphi is (29) at
+   (l cos theta, l sin theta), and phi = v / l, dphi = q / l are never
+   formed */
 KINLINE kblink kblink_pos(const kbconst *K, int i, kv3 rx, kv3 ry, kv3 c,
                           int fu) {
   kblink L;
-  double l2, l, radial;
-  L.rho = kv(kma(K->body[i][0], rx.x, K->body[i][1] * ry.x, fu),
-             kma(K->body[i][0], rx.y, K->body[i][1] * ry.y, fu),
-             kma(K->body[i][0], rx.z, K->body[i][1] * ry.z, fu));
-  L.v = kv(c.x + L.rho.x - K->pin[i][0], c.y + L.rho.y - K->pin[i][1],
-           c.z + L.rho.z);
-  l2 = kdotf(L.v, L.v, fu);
-  l = sqrt(l2);
-  L.l = l;
-  radial = kma(L.v.x, K->u[i][0], L.v.y * K->u[i][1], fu); /* -l cos th */
-  L.q = kv(L.v.z * K->u[i][0], L.v.z * K->u[i][1], -radial);
-  L.ok = ((l2 > 0.0) & (L.v.z > 0.0)) ? 1.0 : 0.0;
+  double l2, radial;
+  kv3 b;
+  RPS3_LINK_BALL(KC, KMA_FU, K->body[i][0], K->body[i][1], rx, ry, c, L.rho, b);
+  RPS3_LINK_VEC(KC, KDOT_FU, KMA_FU, b, K->pin[i][0], K->pin[i][1], K->u[i][0],
+                K->u[i][1], L.v, l2, L.l, radial);
+  RPS3_LINK_DPHI(KC, K->u[i][0], K->u[i][1], -radial, L.v.z, L.q);
+  L.ok = RPS3_LINK_REACHABLE(l2, L.v.z) ? 1.0 : 0.0;
   /* 1 / l^2 by a division beside the square root, 1 / l from both: no
      division waits for the root */
   L.il2 = 1.0 / (l2 > 0.0 ? l2 : 1.0);
-  L.il = l * L.il2;
+  L.il = L.l * L.il2;
   return L;
 }
 
@@ -369,23 +374,29 @@ KINLINE kblink kblink_pos(const kbconst *K, int i, kv3 rx, kv3 ry, kv3 c,
    + b'') + M g / 3 e_z with b'' the rigid platform's acceleration at the
    ball (in the pin's plane, so the projection invdyn.c takes is the same
    load); on the link, tau = m g d cos theta + Jlink theta'' with theta''
-   from b'' and b' = l' phi + l theta' dphi (velocity.c).  Kept: l wl =
-   v . f, wt = q . f + tau, and s = (|v . f| + |q . f| + |tau|) / l, the
-   load in the link's plane */
+   of src/links.h at (v, q, 1 / l^2) in place of (phi, dphi, 1 / l).
+   Kept: l wl = v . f, wt = q . f + tau, and s = (|v . f| + |q . f| +
+   |tau|) / l, the load in the link's plane */
 KINLINE kblink kblink_load(const kbconst *K, kblink L, kv3 w, kv3 vc, kv3 dw,
                            kv3 ac, int fu) {
-  kv3 wr = kcrossf(w, L.rho, fu);
-  kv3 bd = kadd(wr, vc);
-  kv3 bb = kadd(kadd(kcrossf(dw, L.rho, fu), kcrossf(w, wr, fu)), ac);
-  /* l^2 theta'' = q.b'' - 2 (v.b')(q.b') / l^2 */
-  double ddth = (kdotf(L.q, bb, fu) -
-                 2.0 * kdotf(L.v, bd, fu) * kdotf(L.q, bd, fu) * L.il2) *
-                L.il2;
-  kv3 f = kv(K->m6 * (ac.x + bb.x), K->m6 * (ac.y + bb.y),
-             kma(K->m6, ac.z + bb.z, K->g3, fu));
-  double tau = kma(K->mgd * L.q.z, L.il, K->jl * ddth, fu);
-  double qf = kdotf(L.q, f, fu);
+  kv3 wr, bd, bb, f;
+  double vbd, dth, ddth, tau, taug, taui, qf;
+  RPS3_BALL_VEL(KC, KMS_FU, w, L.rho, vc, wr, bd);
+  RPS3_BALL_ACC(KC, KMS_FU, w, dw, L.rho, wr, ac, bb);
+  /* vbd = l l', dth = theta' */
+  RPS3_LINK_VEL(KDOT_FU, L.v, L.q, L.il2, bd, vbd, dth);
+  RPS3_LINK_ACC_THETA(KDOT_FU, L.q, L.il2, bb, vbd, dth, ddth);
+  /* the platform's two loads summed into one ball force, fused (docs/
+     library.md, "Left in their own form on purpose"; the loads of
+     src/loads.h are its oracle in tests/test_batch_kernel.c) */
+  f = kv(K->m6 * (ac.x + bb.x), K->m6 * (ac.y + bb.y),
+         kma(K->m6, ac.z + bb.z, K->g3, fu));
+  qf = kdotf(L.q, f, fu);
   L.wl = kdotf(L.v, f, fu);
+  /* the link's: cos theta = q_z / l */
+  RPS3_LOAD_LINK_GRAVITY(K->mgd, L.q.z * L.il, taug);
+  RPS3_LOAD_LINK_INERTIA(K->jl, ddth, taui);
+  tau = taug + taui;
   L.wt = qf + tau;
   L.s = (fabs(L.wl) + fabs(qf) + fabs(tau)) * L.il;
   return L;

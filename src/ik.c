@@ -6,17 +6,14 @@
  */
 #include "internal.h"
 #include "linalg.h"
+#include "links.h"
 
-/* (29): phi_l = -cos(theta) u_i + sin(theta) K and dphi = axis x phi, from
-   cos and sin of theta_i and the radial unit vector u of pin i */
+/* (29): the directions of link i from cos and sin of theta_i and the
+   radial unit vector u of pin i (src/links.h) */
 static void set_link_dir(rps3_data *d, int i, const double u[3], double ct,
                          double st) {
-  d->phi[i][0] = -ct * u[0];
-  d->phi[i][1] = -ct * u[1];
-  d->phi[i][2] = st;
-  d->dphi[i][0] = st * u[0];
-  d->dphi[i][1] = st * u[1];
-  d->dphi[i][2] = ct;
+  RPS3_LINK_PHI(RPS3_V3C, u[0], u[1], ct, st, d->phi[i]);
+  RPS3_LINK_DPHI(RPS3_V3C, u[0], u[1], ct, st, d->dphi[i]);
 }
 
 void rps3_pose_frame(const rps3_model *m, const rps3_pose_trig *t, double z,
@@ -56,16 +53,22 @@ int rps3_ik_with(const rps3_model *m, rps3_data *d, rps3_pose_trig *t,
   rps3_pose_trig_eval(t, d->pose, 1);
   rps3_pose_frame(m, t, d->pose[2], d->rot, d->c);
 
-  /* ball joints (15)-(17), link lengths (5)-(7) and angles (39) */
+  /* ball joints (15)-(17), link lengths (5)-(7) and angles (39), the
+     formulas of src/links.h; the model's body[i][2] = pin[i][2] = 0 */
   for (i = 0; i < 3; i++) {
-    double v[3], radial, vz;
-    m3_mulv(d->b[i], M3C(d->rot), m->body[i]);
-    v3_axpy(d->b[i], d->c, 1.0, d->b[i]);
-    v3_sub(v, d->b[i], m->pin[i]);
-    d->l[i] = v3_norm(v);
-    radial = v3_dot(v, m->radial[i]);
+    double rx[3], ry[3], rho[3], v[3], l2, radial, vz, ct, st;
+    int q;
+    for (q = 0; q < 3; q++) {
+      rx[q] = d->rot[q][0];
+      ry[q] = d->rot[q][1];
+    }
+    RPS3_LINK_BALL(RPS3_V3C, RPS3_MA, m->body[i][0], m->body[i][1], rx, ry,
+                   d->c, rho, d->b[i]);
+    RPS3_LINK_VEC(RPS3_V3C, v3_dot, RPS3_MA, d->b[i], m->pin[i][0],
+                  m->pin[i][1], m->radial[i][0], m->radial[i][1], v, l2,
+                  d->l[i], radial);
     vz = v[2];
-    if (!(d->l[i] > 0.0) || !(vz > 0.0))
+    if (!RPS3_LINK_REACHABLE(d->l[i], vz))
       RPS3_ERROR(d, RPS3_EREACH,
                  "link %d: length %.6g m, ball joint height %.6g m (needs "
                  "length > 0 and height > 0) at pose (%.6g, %.6g, %.6g)",
@@ -74,8 +77,10 @@ int rps3_ik_with(const rps3_model *m, rps3_data *d, rps3_pose_trig *t,
     /* (39) with atan2, so that theta > pi/2 is found too; the link
        directions (29) from the same two components, without more trig.
        The forces need only the directions: without RPS3_OUT_THETA, no atan2 */
-    d->theta[i] = (theta == RPS3_IK_THETA) ? atan2(vz, -radial) : (double)NAN;
-    set_link_dir(d, i, m->radial[i], -radial / d->l[i], vz / d->l[i]);
+    d->theta[i] = (theta == RPS3_IK_THETA) ? RPS3_LINK_THETA(atan2, radial, vz)
+                                           : (double)NAN;
+    RPS3_LINK_COS_SIN(radial, vz, 1.0 / d->l[i], ct, st);
+    set_link_dir(d, i, m->radial[i], ct, st);
   }
   /* finite pose, yet a height of 1e200 m overflows |b_i - P_i| */
   RPS3_CHECK_FINITE(d, d->c, 3, "c");
@@ -102,8 +107,8 @@ void rps3_link_dirs(const rps3_model *m, rps3_data *d) {
 void rps3_links_from_joints(const rps3_model *m, rps3_data *d) {
   int i;
   rps3_link_dirs(m, d);
-  for (i = 0; i < 3; i++)
-    v3_axpy(d->b[i], m->pin[i], d->l[i], d->phi[i]); /* (12)-(14) */
+  for (i = 0; i < 3; i++) /* (12)-(14) */
+    RPS3_BALL_AT(RPS3_V3C, m->pin[i], d->l[i], d->phi[i], d->b[i]);
 }
 
 void rps3_links_from_trig(const rps3_model *m, rps3_data *d, const double c[3],
@@ -111,7 +116,7 @@ void rps3_links_from_trig(const rps3_model *m, rps3_data *d, const double c[3],
   int i;
   for (i = 0; i < 3; i++) {
     set_link_dir(d, i, m->radial[i], c[i], s[i]);
-    v3_axpy(d->b[i], m->pin[i], d->l[i], d->phi[i]); /* (12)-(14) */
+    RPS3_BALL_AT(RPS3_V3C, m->pin[i], d->l[i], d->phi[i], d->b[i]);
   }
 }
 

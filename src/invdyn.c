@@ -41,6 +41,7 @@
 
 #include "internal.h"
 #include "linalg.h"
+#include "links.h"
 #include "loads.h"
 #include "power.h"
 
@@ -67,15 +68,12 @@ static void lagrange_kinematics(const rps3_model *m, const rps3_data *d,
   if (!need_acc) return;
   for (i = 0; i < 3; i++) {
     double l = d->l[i], ld = d->dl[i], th = d->dtheta[i];
-    /* b'' = (l'' - l th'^2) phi + (2 l' th' + l th'') dphi, from (12)-(14) */
-    v3_scale(k->bdd[i], d->ddl[i] - l * th * th, d->phi[i]);
-    v3_axpy(k->bdd[i], k->bdd[i], 2.0 * ld * th + l * d->ddtheta[i],
-            d->dphi[i]);
+    /* b'' and b' from the joint rates, (12)-(14) (src/links.h) */
+    RPS3_BALL_ACC_JOINTS(RPS3_V3C, d->phi[i], d->dphi[i], l, ld, th, d->ddl[i],
+                         d->ddtheta[i], k->bdd[i]);
     v3_axpy(k->cdd, k->cdd, 1.0 / 3.0, k->bdd[i]);
     if (!need_frame) continue;
-    /* b' = l' phi + l th' dphi */
-    v3_scale(bd, ld, d->phi[i]);
-    v3_axpy(bd, bd, l * th, d->dphi[i]);
+    RPS3_BALL_VEL_JOINTS(RPS3_V3C, d->phi[i], d->dphi[i], l, ld, th, bd);
     v3_axpy(k->ndd, k->ndd, WN[i] * cn, k->bdd[i]);
     v3_axpy(k->odd, k->odd, WO[i] * co, k->bdd[i]);
     v3_axpy(nd, nd, WN[i] * cn, bd);

@@ -6,6 +6,7 @@
  */
 #include "internal.h"
 #include "linalg.h"
+#include "links.h"
 #include "power.h"
 
 /*
@@ -110,26 +111,30 @@ int rps3_link_motion(const rps3_model *m, rps3_data *d, int acc) {
   rps3_pose_twist(m, &t, d->dpose, w, vc);
   if (acc) rps3_pose_twist_rate(m, &t, d->dpose, d->ddpose, w, dw, ac);
   for (i = 0; i < 3; i++) {
-    double rho[3], v[3], bd[3], l, il, dl;
+    double rx[3], ry[3], b[3], rho[3], v[3], wr[3], bd[3], l2, l, il, dl;
+    double radial;
     int q;
-    /* the ball joint and the pin lie in their frames' xy planes (the
-       model's body[i][2] = pin[i][2] = 0) */
+    /* the ball joint and the link vector (src/links.h; the ball joint and
+       the pin lie in their frames' xy planes, the model's body[i][2] =
+       pin[i][2] = 0) */
     for (q = 0; q < 3; q++) {
-      rho[q] = rot[q][0] * m->body[i][0] + rot[q][1] * m->body[i][1];
-      v[q] = c[q] + rho[q];
+      rx[q] = rot[q][0];
+      ry[q] = rot[q][1];
     }
-    v[0] -= m->pin[i][0];
-    v[1] -= m->pin[i][1];
-    l = v3_norm(v);
-    if (!(l > 0.0) || !(v[2] > 0.0))
+    RPS3_LINK_BALL(RPS3_V3C, RPS3_MA, m->body[i][0], m->body[i][1], rx, ry, c,
+                   rho, b);
+    RPS3_LINK_VEC(RPS3_V3C, v3_dot, RPS3_MA, b, m->pin[i][0], m->pin[i][1],
+                  m->radial[i][0], m->radial[i][1], v, l2, l, radial);
+    (void)radial; /* no directions here */
+    if (!RPS3_LINK_REACHABLE(l, v[2]))
       RPS3_ERROR(d, RPS3_EREACH,
                  "link %d: length %.6g m, ball joint height %.6g m (needs "
                  "length > 0 and height > 0) at pose (%.6g, %.6g, %.6g)",
                  i + 1, l, v[2], d->pose[0], d->pose[1], d->pose[2]);
     il = 1.0 / l;
-    /* the ball joint's velocity (26), l' = n . b' */
-    v3_cross(bd, w, rho);
-    v3_axpy(bd, bd, 1.0, vc);
+    /* the ball joint's velocity (26), l' = n . b' (src/links.h at v in
+       place of phi, n = v / l) */
+    RPS3_BALL_VEL(RPS3_V3C, RPS3_MS, w, rho, vc, wr, bd);
     dl = v3_dot(v, bd) * il;
     d->l[i] = l;
     d->dl[i] = dl;
@@ -137,11 +142,8 @@ int rps3_link_motion(const rps3_model *m, rps3_data *d, int acc) {
     if (acc) {
       /* l l'' = |b'|^2 - l'^2 + (b - P) . b'',  b'' = ac + dw x rho + w x
          (w x rho) */
-      double bdd[3], u[3];
-      v3_cross(bdd, dw, rho);
-      v3_cross(u, w, rho);
-      v3_cross(u, w, u);
-      for (q = 0; q < 3; q++) bdd[q] += u[q] + ac[q];
+      double bdd[3];
+      RPS3_BALL_ACC(RPS3_V3C, RPS3_MS, w, dw, rho, wr, ac, bdd);
       d->ddl[i] = (v3_dot(bd, bd) - dl * dl + v3_dot(v, bdd)) * il;
       chk += fabs(d->ddl[i]);
     }
@@ -161,7 +163,7 @@ int rps3_velocity(const rps3_model *m, rps3_data *d) {
 int rps3_velocity_with(const rps3_model *m, rps3_data *d,
                        const rps3_pose_trig *pt) {
   rps3_pose_trig own;
-  double rho[3], bd[3];
+  double rho[3], wr[3], bd[3];
   int i;
   if (m == NULL || d == NULL || !m->valid) return RPS3_EINVAL;
   if (!(d->stage & RPS3_STAGE_POS))
@@ -176,13 +178,12 @@ int rps3_velocity_with(const rps3_model *m, rps3_data *d,
   }
   rps3_pose_twist(m, pt, d->dpose, d->omega, d->vc);
 
-  /* ball joints (26), then the joint rates from (28) */
+  /* ball joints (26), then the joint rates from (28) (src/links.h) */
   for (i = 0; i < 3; i++) {
     v3_sub(rho, d->b[i], d->c);
-    v3_cross(bd, d->omega, rho);
-    v3_axpy(bd, bd, 1.0, d->vc);
-    d->dl[i] = v3_dot(d->phi[i], bd);
-    d->dtheta[i] = v3_dot(d->dphi[i], bd) / d->l[i];
+    RPS3_BALL_VEL(RPS3_V3C, RPS3_MS, d->omega, rho, d->vc, wr, bd);
+    RPS3_LINK_VEL(v3_dot, d->phi[i], d->dphi[i], 1.0 / d->l[i], bd, d->dl[i],
+                  d->dtheta[i]);
   }
   RPS3_CHECK_FINITE(d, d->omega, 3, "omega");
   RPS3_CHECK_FINITE(d, d->vc, 3, "vc");
@@ -199,7 +200,7 @@ int rps3_acceleration(const rps3_model *m, rps3_data *d) {
 int rps3_acceleration_with(const rps3_model *m, rps3_data *d,
                            const rps3_pose_trig *pt) {
   rps3_pose_trig own;
-  double t[3], rho[3], bdd[3];
+  double wr[3], rho[3], bdd[3];
   int i;
   if (m == NULL || d == NULL || !m->valid) return RPS3_EINVAL;
   if (!(d->stage & RPS3_STAGE_VEL))
@@ -214,18 +215,15 @@ int rps3_acceleration_with(const rps3_model *m, rps3_data *d,
   }
   rps3_pose_twist_rate(m, pt, d->dpose, d->ddpose, d->omega, d->domega, d->ac);
 
-  /* ball joints, then joint accelerations: b'' = (l'' - l th'^2) phi +
-     (2 l' th' + l th'') dphi */
+  /* ball joints, then joint accelerations (src/links.h) */
   for (i = 0; i < 3; i++) {
+    const double il = 1.0 / d->l[i];
     v3_sub(rho, d->b[i], d->c);
-    v3_cross(bdd, d->domega, rho);
-    v3_cross(t, d->omega, rho);
-    v3_cross(t, d->omega, t);
-    v3_axpy(bdd, bdd, 1.0, t);
-    v3_axpy(bdd, bdd, 1.0, d->ac);
-    d->ddl[i] = v3_dot(d->phi[i], bdd) + d->l[i] * d->dtheta[i] * d->dtheta[i];
-    d->ddtheta[i] =
-        (v3_dot(d->dphi[i], bdd) - 2.0 * d->dl[i] * d->dtheta[i]) / d->l[i];
+    RPS3_BALL_VEL(RPS3_V3C, RPS3_MS, d->omega, rho, d->vc, wr, bdd);
+    RPS3_BALL_ACC(RPS3_V3C, RPS3_MS, d->omega, d->domega, rho, wr, d->ac, bdd);
+    RPS3_LINK_ACC_L(v3_dot, d->phi[i], d->l[i], bdd, d->dtheta[i], d->ddl[i]);
+    RPS3_LINK_ACC_THETA(v3_dot, d->dphi[i], il, bdd, d->dl[i], d->dtheta[i],
+                        d->ddtheta[i]);
   }
   RPS3_CHECK_FINITE(d, d->domega, 3, "domega");
   RPS3_CHECK_FINITE(d, d->ac, 3, "ac");
@@ -258,8 +256,8 @@ int rps3_joint_velocity_from(const rps3_model *m, rps3_data *d, int dpose) {
   int i;
   d->vc[0] = d->vc[1] = d->vc[2] = 0.0;
   for (i = 0; i < 3; i++) {
-    v3_scale(bd[i], d->dl[i], d->phi[i]);
-    v3_axpy(bd[i], bd[i], d->l[i] * d->dtheta[i], d->dphi[i]);
+    RPS3_BALL_VEL_JOINTS(RPS3_V3C, d->phi[i], d->dphi[i], d->l[i], d->dl[i],
+                         d->dtheta[i], bd[i]);
     v3_axpy(d->vc, d->vc, 1.0 / 3.0, bd[i]);
   }
   for (i = 0; i < 3; i++) {
@@ -313,11 +311,10 @@ void rps3_constraint_acc_rhs(const double D[3][3], const double phi[3][3],
   double bd[3][3];
   int i, k;
   for (i = 0; i < 3; i++) {
-    double th = dth[i];
-    v3_scale(bd[i], dl[i], phi[i]);
-    v3_axpy(bd[i], bd[i], l[i] * th, dphi[i]);
-    v3_scale(known[i], (ddl != NULL ? ddl[i] : 0.0) - l[i] * th * th, phi[i]);
-    v3_axpy(known[i], known[i], 2.0 * dl[i] * th, dphi[i]);
+    /* b_i' and b_i'' at theta_i'' = 0 (src/links.h) */
+    RPS3_BALL_VEL_JOINTS(RPS3_V3C, phi[i], dphi[i], l[i], dl[i], dth[i], bd[i]);
+    RPS3_BALL_ACC_JOINTS(RPS3_V3C, phi[i], dphi[i], l[i], dl[i], dth[i],
+                         ddl != NULL ? ddl[i] : 0.0, 0.0, known[i]);
   }
   for (k = 0; k < 3; k++) {
     int q = (k + 1) % 3;
