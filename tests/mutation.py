@@ -538,7 +538,7 @@ MUTATIONS = [
      "res->cov[j * p + k] = res->s2 * gsl_matrix_get(L.cov, j, k);",
      "res->cov[j * p + k] = gsl_matrix_get(L.cov, j, k);",
      "identification: WLS covariance not scaled by the residual variance"),
-    ("consistent-pseudo-mass", "src/ident_consistent.c",
+    ("consistent-pseudo-mass", "src/ident_cfit.c",
      "J[3][3] = s[0];",
      "J[3][3] = 1.01 * s[0];",
      "identification: the consistent fit's pseudo-inertia mass entry 1 %"

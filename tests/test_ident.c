@@ -80,8 +80,10 @@ static void regressor_vs_forces(int method, int route) {
   }
   /* the states are inside the workspace: nearly all of them count */
   assert_true(nok > NSTATE * 9 / 10);
-  print_message("method %d route %d: %d states, worst |Y pi - F| / scale "
-                "%.2g\n", method, route, nok, worst);
+  print_message(
+      "method %d route %d: %d states, worst |Y pi - F| / scale "
+      "%.2g\n",
+      method, route, nok, worst);
   rps3_data_free(d);
   rps3_data_free(d2);
 }
@@ -115,7 +117,8 @@ static void test_regressor_columns(void **state) {
   assert_int_equal(rps3_inverse(&m, d), RPS3_OK);
   assert_int_equal(rps3_regressor(&m, d, Y), RPS3_OK);
   /* no force of the earlier call is left */
-  assert_true(isnan(d->F[0]) && isnan(d->F_effect[2][1]) && isnan(d->lambda[2]));
+  assert_true(isnan(d->F[0]) && isnan(d->F_effect[2][1]) &&
+              isnan(d->lambda[2]));
   /* pin friction alone */
   one = m;
   one.opt.effects = RPS3_EFF_PIN_FRICTION;
@@ -123,8 +126,8 @@ static void test_regressor_columns(void **state) {
   assert_int_equal(rps3_inverse(&one, d1), RPS3_OK);
   assert_int_equal(rps3_paper_params(&one, pi, NULL), RPS3_OK);
   for (r = 0; r < 3; r++)
-    CHECK_REL(Y[r][10] * pi[10] + Y[r][11] * pi[11], d1->F[r], TOL_EXACT,
-              1e-3, "friction row %d", r);
+    CHECK_REL(Y[r][10] * pi[10] + Y[r][11] * pi[11], d1->F[r], TOL_EXACT, 1e-3,
+              "friction row %d", r);
   /* gravity only: the dynamic columns are zero, the others agree */
   {
     double Yg[3][RPS3_NPAPER];
@@ -414,22 +417,23 @@ static void test_wls_monte_carlo(void **state) {
       CHECK_REL(half, t * sqrt(cov[j * 5 + j]), 1e-12, 0.0,
                 "interval %lu against the covariance", (unsigned long)j);
       z2 += e * e / cov[j * 5 + j];
-      cover += ci[2 * j] <= pi[SET_PLAIN[j]] && pi[SET_PLAIN[j]] <= ci[2 * j + 1];
+      cover +=
+          ci[2 * j] <= pi[SET_PLAIN[j]] && pi[SET_PLAIN[j]] <= ci[2 * j + 1];
     }
     for (j = 0; j < 3; j++) sigm[j] += res.sigma[j] / MC_DRAWS;
   }
   z2 /= 5.0 * MC_DRAWS;
-  print_message("WLS Monte Carlo: coverage %.3f, mean z^2 %.3f, sigma %.4g "
-                "%.4g %.4g\n",
-                (double)cover / (5.0 * MC_DRAWS), z2, sigm[0], sigm[1],
-                sigm[2]);
+  print_message(
+      "WLS Monte Carlo: coverage %.3f, mean z^2 %.3f, sigma %.4g "
+      "%.4g %.4g\n",
+      (double)cover / (5.0 * MC_DRAWS), z2, sigm[0], sigm[1], sigm[2]);
   /* 300 intervals: binomial sd of the coverage 1.3 %; z^2 a chi-square
      mean of 300 terms (sd 0.08) */
   assert_true((double)cover / (5.0 * MC_DRAWS) >= 0.90);
   assert_true(z2 > 0.7 && z2 < 1.3);
   /* sigma of 3000 residuals: 1.3 % sd each, 60 draws averaged */
-  for (j = 0; j < 3; j++) CHECK_REL(sigm[j], sig[j], 0.01, 0.0, "sigma %lu",
-                                    (unsigned long)j);
+  for (j = 0; j < 3; j++)
+    CHECK_REL(sigm[j], sig[j], 0.01, 0.0, "sigma %lu", (unsigned long)j);
   stack_free(&st);
 }
 
@@ -438,9 +442,9 @@ static void test_wls_monte_carlo(void **state) {
 static void test_wls_rank_deficient(void **state) {
   static const int all[12] = {0, 1, 2, 3, 4, 5, 6, 7, 8, 9, 10, 11};
   static const char *const names[12] = {
-      "M", "md", "Ipin", "payload.m", "payload.mcx", "payload.mcy",
-      "payload.mcz", "payload.Ixx", "payload.Iyy", "payload.Izz", "pin.fv",
-      "pin.fc"};
+      "M",           "md",          "Ipin",        "payload.m",
+      "payload.mcx", "payload.mcy", "payload.mcz", "payload.Ixx",
+      "payload.Iyy", "payload.Izz", "pin.fv",      "pin.fc"};
   rps3_model m;
   stack st;
   double th[12];
@@ -456,8 +460,7 @@ static void test_wls_rank_deficient(void **state) {
   memset(&res, 0, sizeof(res));
   res.theta = th;
   res.unident = flags;
-  assert_int_equal(rps3_ident_wls(&dt, NULL, &res, &chk),
-                   RPS3_ESING);
+  assert_int_equal(rps3_ident_wls(&dt, NULL, &res, &chk), RPS3_ESING);
   print_message("%s\n", chk.msg);
   assert_int_equal(res.rank, 11);
   /* the null vector M - payload.m - r^2 (Ixx + Iyy + 2 Izz) / 4 has its
@@ -471,12 +474,10 @@ static void test_wls_rank_deficient(void **state) {
   /* bad arguments, each named */
   dt.names = NULL;
   dt.p = 0;
-  assert_int_equal(rps3_ident_wls(&dt, NULL, &res, &chk),
-                   RPS3_EINVAL);
+  assert_int_equal(rps3_ident_wls(&dt, NULL, &res, &chk), RPS3_EINVAL);
   dt.p = 12;
   st.F[7] = (double)NAN;
-  assert_int_equal(rps3_ident_wls(&dt, NULL, &res, &chk),
-                   RPS3_EINVAL);
+  assert_int_equal(rps3_ident_wls(&dt, NULL, &res, &chk), RPS3_EINVAL);
   assert_non_null(strstr(chk.msg, "data.F[7]"));
   stack_free(&st);
 }
@@ -576,9 +577,10 @@ static void test_consistent(void **state) {
     assert_int_equal(rps3_ident_wls(&dt, NULL, &res, NULL), RPS3_OK);
     nwls_bad += thw[10] < 0.0;
   }
-  print_message("WLS gave a negative Coulomb coefficient in %lu of 20; the "
-                "consistent fit converged in %lu of 20, consistent in 20\n",
-                (unsigned long)nwls_bad, (unsigned long)nconv);
+  print_message(
+      "WLS gave a negative Coulomb coefficient in %lu of 20; the "
+      "consistent fit converged in %lu of 20, consistent in 20\n",
+      (unsigned long)nwls_bad, (unsigned long)nconv);
   assert_true(nwls_bad > 0);
   assert_int_equal(nconv, 20);
   /* bad layouts, each named */
@@ -623,16 +625,15 @@ static void test_consistent(void **state) {
    Sigma (include/rps3.h), and the gradient g_k = <M, dJ/ds_k> of a
    function of J whose gradient in J is M */
 static void std_of_J(const double J[4][4], double *s) {
+  /* from the definition: m = J_44, m c = J_{1:3,4}, I = tr(Sigma) 1 -
+     Sigma, in the order m, mcx, mcy, mcz, Ixx, Ixy, Ixz, Iyy, Iyz, Izz */
+  static const int row[6] = {0, 0, 0, 1, 1, 2}, col[6] = {0, 1, 2, 1, 2, 2};
+  const double tr = J[0][0] + J[1][1] + J[2][2];
+  int k;
   s[0] = J[3][3];
-  s[1] = J[0][3];
-  s[2] = J[1][3];
-  s[3] = J[2][3];
-  s[4] = J[1][1] + J[2][2];
-  s[5] = -J[0][1];
-  s[6] = -J[0][2];
-  s[7] = J[0][0] + J[2][2];
-  s[8] = -J[1][2];
-  s[9] = J[0][0] + J[1][1];
+  for (k = 0; k < 3; k++) s[1 + k] = J[k][3];
+  for (k = 0; k < 6; k++)
+    s[4 + k] = (row[k] == col[k] ? tr : 0.0) - J[row[k]][col[k]];
 }
 static void grad_in_std(const double M[4][4], double *g) {
   g[0] = M[3][3];
@@ -651,8 +652,7 @@ static void grad_in_std(const double M[4][4], double *g) {
    |F|^2 + reg sum_b tr J_b, the bodies' 10 parameters in pi's first 10
    nb columns */
 static double kkt_objective(const double *Y, const double *F, size_t n,
-                            size_t p, size_t nb, const double *pi,
-                            double reg) {
+                            size_t p, size_t nb, const double *pi, double reg) {
   double rss = 0.0, ff = 0.0, tr = 0.0;
   size_t r, j, b;
   for (r = 0; r < n; r++) {
@@ -807,11 +807,11 @@ static void test_consistent_boundary_kkt(void **state) {
     for (j = 0; j < P; j++) e += Y[r * P + j] * (th[j] - pi[j]);
     dev += e * e / S;
   }
-  print_message("boundary by KKT: %d iterations, objective C / optimum - 1 = "
-                "%.2e, |Y dpi|^2 / |F|^2 %.2e, column at 0: %.2e, "
-                "null eigenvalues %.2e %.2e %.2e\n",
-                fit.niter, phi_c / phi_s - 1.0, dev, th[20], eig[0], eig[4],
-                eig[5]);
+  print_message(
+      "boundary by KKT: %d iterations, objective C / optimum - 1 = "
+      "%.2e, |Y dpi|^2 / |F|^2 %.2e, column at 0: %.2e, "
+      "null eigenvalues %.2e %.2e %.2e\n",
+      fit.niter, phi_c / phi_s - 1.0, dev, th[20], eig[0], eig[4], eig[5]);
   assert_true(fabs(phi_c - phi_s) <= TOL_KKT_OBJ * phi_s);
   assert_true(dev <= 2.0 * TOL_KKT_OBJ * phi_s);
   assert_true(fit.consistent);
@@ -868,12 +868,15 @@ static void test_timing(void **state) {
     if (st_c != RPS3_OK) fail_msg("%s", chk.msg);
   }
   clock_gettime(CLOCK_MONOTONIC, &t2);
-  print_message("timing: WLS of %lu rows x 11 %.3f s (target 0.5 s), "
-                "consistent fit %.3f s (target 1 s, %d iterations)\n",
-                (unsigned long)st.n,
-                (double)(t1.tv_sec - t0.tv_sec) + 1e-9 * (double)(t1.tv_nsec - t0.tv_nsec),
-                (double)(t2.tv_sec - t1.tv_sec) + 1e-9 * (double)(t2.tv_nsec - t1.tv_nsec),
-                fit.niter);
+  print_message(
+      "timing: WLS of %lu rows x 11 %.3f s (target 0.5 s), "
+      "consistent fit %.3f s (target 1 s, %d iterations)\n",
+      (unsigned long)st.n,
+      (double)(t1.tv_sec - t0.tv_sec) +
+          1e-9 * (double)(t1.tv_nsec - t0.tv_nsec),
+      (double)(t2.tv_sec - t1.tv_sec) +
+          1e-9 * (double)(t2.tv_nsec - t1.tv_nsec),
+      fit.niter);
   stack_free(&st);
 }
 

@@ -1,0 +1,80 @@
+/*
+ * ident_cfit.h - the consistent fit's problem (src/ident_cfit.c: the
+ * Cholesky variables, the residual and its Jacobian, the optimality
+ * measure and the step out of a false stationary point) as its driver
+ * (src/ident_consistent.c) uses it.  Not installed.
+ */
+#ifndef RPS3_IDENT_CFIT_H
+#define RPS3_IDENT_CFIT_H
+
+#include <stddef.h>
+
+#include <gsl/gsl_eigen.h>
+#include <gsl/gsl_matrix.h>
+#include <gsl/gsl_vector.h>
+
+#include "rps3.h"
+
+#define M4C(A) ((const double(*)[4])(A))
+
+/* the ten entries of a body's upper-triangular 4 x 4 factor U, in the
+   order of its variables */
+extern const int rps3_cfit_UA[10], rps3_cfit_UB[10];
+
+/* the problem gsl_multifit_nlinear sees */
+typedef struct {
+  size_t p, nb, nx, nf;
+  const rps3_ident_layout *lay;
+  const double *R; /* (p + 1) x (p + 1) R factor of [W^1/2 Y, W^1/2 F],
+                      row-major, divided by |W^1/2 F| */
+  int *owner;      /* p: body of column j, -1 none */
+  int *slot;       /* p: its parameter in the body, or its variable */
+  double sreg;     /* sqrt(reg) */
+  int plain;       /* the variables: 0 log-Cholesky (U's diagonal and a
+                      >= 0 column exp of theirs), 1 plain Cholesky (the
+                      diagonal itself, free in sign; a >= 0 column s^2) */
+  size_t ncurv;    /* plain: the curvature rows after the p + 10 nb */
+  double *work;    /* 2 p scratch for the curvature rows */
+  gsl_eigen_symmv_workspace *ew; /* and their 4 x 4 eigenproblem */
+  gsl_matrix *E, *Q;
+  gsl_vector *lam;
+} cfit;
+
+/*
+ * How far theta (its bodies in body) may be from the optimum, in units
+ * of the normalised objective phi.  phi is convex; its KKT conditions,
+ * with g = 2 R11^T (R11 pi - r) the residual term's gradient and G_b =
+ * d phi / d J_b (grad_of, plus reg 1 from the trace), are: every G_b
+ * positive semidefinite, <G_b, J_b> = 0, g_j = 0 on a free column, g_j
+ * >= 0 and g_j pi_j = 0 on a >= 0 one.  The measure adds the
+ * complementarity terms |<G_b, J_b>| and |g_j pi_j| (together the duality
+ * gap <grad phi, pi> when the gradient is dual feasible) and, for each
+ * violated dual condition, the decrease of phi's quadratic model along
+ * the step it points to, e^2 / (4 h): e the violation (-lambda_min(G_b),
+ * step u u^T along its eigenvector u; |g_j| or -g_j, step along column j)
+ * and h = |R11 d|^2 the curvature of the step d in pi.  Scratch: c's.
+ */
+typedef struct {
+  double dec; /* the quadratic model's decrease along the step */
+  long b, j;  /* the step's body or column (-1 none) */
+  double t;   /* its length: J_b += t u u^T, or pi_j += t */
+  double u[4];
+} descent;
+
+/* a body's 4 x 4 pseudo-inertia of its ten standard parameters */
+void rps3_cfit_pseudo_of(const double s[10], double J[4][4]);
+/* column j is >= 0 in the layout */
+int rps3_cfit_is_nonneg(const cfit *c, size_t j);
+/* pi (p) and the bodies' ten parameters (10 nb) of the variables x */
+void rps3_cfit_pi_of(const cfit *c, const double *x, double *pi, double *body);
+/* the residual and its Jacobian, for gsl_multifit_nlinear */
+int rps3_cfit_f(const gsl_vector *xv, void *params, gsl_vector *f);
+int rps3_cfit_df(const gsl_vector *xv, void *params, gsl_matrix *Jm);
+/* the optimality measure of theta (best: the step it points to) */
+double rps3_cfit_optimality(const cfit *c, const double *theta,
+                            const double *body, double reg, descent *best);
+/* the step out of a false stationary point into x; 0 when none */
+int rps3_cfit_escape(const cfit *c, double *x, const descent *d,
+                     const double *body);
+
+#endif /* RPS3_IDENT_CFIT_H */
