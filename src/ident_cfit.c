@@ -9,7 +9,6 @@
 #include <math.h>
 #include <string.h>
 
-#include <gsl/gsl_blas.h>
 #include <gsl/gsl_eigen.h>
 #include <gsl/gsl_multifit_nlinear.h>
 
@@ -17,10 +16,9 @@
 #include "ident_int.h"
 #include "internal.h"
 
-/* ------------------------------------------------ consistent fit */
-
 /* the ten entries of a body's upper-triangular 4 x 4 factor U, in the
-   order of its variables; the diagonal ones are exp(variable) */
+   order of its variables; a diagonal one is exp(variable) in the
+   log-Cholesky stage, the variable itself in the plain one (diag_of) */
 const int rps3_cfit_UA[10] = {0, 0, 0, 0, 1, 1, 1, 2, 2, 3};
 const int rps3_cfit_UB[10] = {0, 1, 2, 3, 1, 2, 3, 2, 3, 3};
 
@@ -122,17 +120,11 @@ void rps3_cfit_pi_of(const cfit *c, const double *x, double *pi, double *body) {
 
 int rps3_cfit_f(const gsl_vector *xv, void *params, gsl_vector *f) {
   const cfit *c = params;
-  double pi[256], *pp = pi, *heap = NULL;
+  double *pp = c->work + 2 * c->p; /* scratch: no allocation an iteration */
   size_t i, j, b;
   int v;
-  if (c->p > 256) {
-    heap = malloc(c->p * sizeof(double));
-    if (heap == NULL) return GSL_ENOMEM;
-    pp = heap;
-  }
   rps3_cfit_pi_of(c, xv->data, pp, NULL);
   if (!rps3_all_finite(pp, (int)c->p)) {
-    free(heap);
     return GSL_EDOM; /* a step overflowed exp: the solver stops, ENOCONV */
   }
   for (i = 0; i < c->p; i++) {
@@ -149,7 +141,6 @@ int rps3_cfit_f(const gsl_vector *xv, void *params, gsl_vector *f) {
     }
   /* the curvature rows: 0 here, their Jacobian in cfit_df */
   for (i = c->p + 10 * c->nb; i < c->nf; i++) gsl_vector_set(f, i, 0.0);
-  free(heap);
   return GSL_SUCCESS;
 }
 

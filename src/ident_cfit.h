@@ -34,7 +34,8 @@ typedef struct {
                       >= 0 column exp of theirs), 1 plain Cholesky (the
                       diagonal itself, free in sign; a >= 0 column s^2) */
   size_t ncurv;    /* plain: the curvature rows after the p + 10 nb */
-  double *work;    /* 2 p scratch for the curvature rows */
+  double *work;    /* 3 p scratch: the curvature rows and the
+                      optimality measure (2 p), the residual's pi (p) */
   gsl_eigen_symmv_workspace *ew; /* and their 4 x 4 eigenproblem */
   gsl_matrix *E, *Q;
   gsl_vector *lam;

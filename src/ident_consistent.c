@@ -473,7 +473,7 @@ int rps3_ident_consistent(const rps3_ident_data *dt,
   c.sreg = sqrt(o->reg);
   c.plain = 0;
   c.ncurv = 0;
-  c.work = malloc(2 * p * sizeof(double));
+  c.work = malloc(3 * p * sizeof(double));
   c.ew = gsl_eigen_symmv_alloc(4);
   c.E = gsl_matrix_alloc(4, 4);
   c.Q = gsl_matrix_alloc(4, 4);

@@ -72,7 +72,9 @@
    torque enters (23) with a minus sign */
 #define RPS3_LOAD_PIN_FRICTION(Tf, wt) ((wt) = -(Tf))
 
-/* C(v, k) of a double[3] */
+/* C(v, k) of a double[3] (src/links.h defines it too) */
+#ifndef RPS3_V3C
 #define RPS3_V3C(v, k) ((v)[k])
+#endif
 
 #endif /* RPS3_LOADS_H */

@@ -1,16 +1,15 @@
 /*
- * fd_gram_oracle.h - the forward dynamics' Mq and hq as the library formed
- * them before hq was instantiated from the loads of src/loads.h: Kane's
- * form written by hand in the links' planes,
+ * fd_gram_oracle.h - the forward dynamics' Mq and hq in Kane's form
+ * written by hand in the links' planes,
  *   Mq = (M/6) I + G^T diag(Jlink + (M/6) l_i^2) G + (M/2) Jc^T Jc,
  *   hq = sigma + G^T tau + (M/2) Jc^T ac_bias + M g Jc^T e_z,
  *   sigma_i = -(M/6) l_i theta_i'^2,
  *   tau_i   = (Jlink + (M/6) l_i^2) theta_i''_bias + 2 (M/6) l_i l_i'
  *             theta_i' + m g d cos(theta_i) - T_friction,i,
  * with phi.phi = dphi.dphi = 1 and phi.dphi = 0 used by hand, the
- * coefficients and the pin torques from src/loads.h.  A replaced
- * implementation kept as a test oracle (tests/test_fd_loads.c): the
- * library's Mq is still this Gram form (bit for bit), its hq the loads'.
+ * coefficients and the pin torques from src/loads.h.  A
+ * hand-written implementation as a test oracle (tests/test_fd_loads.c): the
+ * library's Mq is this Gram form (bit for bit), its hq the loads'.
  */
 #ifndef RPS3_FD_GRAM_ORACLE_H
 #define RPS3_FD_GRAM_ORACLE_H

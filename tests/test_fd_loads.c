@@ -2,8 +2,8 @@
    src/fwddyn_plane.h: hq from the loads of src/loads.h in each link's
    frame, Mq in the Gram form of their columns) against the same
    quantities formed from those loads in world axes by virtual power
-   (tests/fd_loads_columns.h), and against the hand-written form they
-   replaced (tests/fd_gram_oracle.h): a change of a load that the inverse
+   (tests/fd_loads_columns.h), and against Kane's form written by hand
+   (tests/fd_gram_oracle.h): a change of a load that the inverse
    dynamics sees, the forward dynamics' check sees too. */
 #include <stdlib.h>
 
@@ -37,8 +37,8 @@ static void random_fd_state(const rps3_model *m, rps3_data *inv, rps3_data *fd,
    kept by a state of all effects (the same l, dl, start: the same root),
    entry by entry against the sum of the absolute values of its terms
    (the payload's shared rps3_fd_add_body terms against the entry); and
-   the replaced hand-written form: the same Mq bit for bit (the library's
-   is still that Gram form), hq within the same bound */
+   the hand-written Kane form: the same Mq bit for bit (the library's
+   is that Gram form), hq within the same bound */
 static void mass_and_bias_are_the_loads(void **state) {
   uint64_t s = 0xfd10ad5ull;
   int sets[RPS3_NEFFECT + 2], nset = 0, c, n, e, j, q;

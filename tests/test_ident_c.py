@@ -308,8 +308,8 @@ BOUNDARY_CASES = {
 def test_consistent_c_reaches_the_boundary_optimum(case):
     """Weakly exciting data, general-body layouts, rods in truth, Coulomb
     friction 0 in truth: the optimum is on the boundary of the cone (checked
-    on the reference), where the log-Cholesky iterate alone stalled up to
-    1.5 times above it.  The C fit's objective within TOL_OBJ of the
+    on the reference), where a log-Cholesky iterate alone stalls (its
+    diagonal heads for minus infinity).  The C fit's objective within TOL_OBJ of the
     reference's, its fitted forces the reference's (the objective is
     strictly convex in Y pi: |Y (pi - pi*)|^2 / |F|^2 is at most the
     objective's excess), every pseudo-inertia positive semidefinite, the

@@ -1,8 +1,8 @@
 """The library's C identification (include/rps3.h, "identification";
 docs/identification.md, "The C library's regressor and fits"): the paper
-model's regressor of a Model, weighted least squares and the log-Cholesky
-physically consistent fit, numpy in and out.  rps3.ident re-exports every
-public name.
+model's regressor of a Model, weighted least squares and the physically
+consistent fit (log-Cholesky, then plain Cholesky factors), numpy in and
+out.  rps3.ident re-exports every public name.
 
     Y = rps3.ident.regressor(model, pose, dpose, ddpose)   # (n, 3, 12)
     est = rps3.ident.wls_c(Y[..., cols], F)                # an Estimate

@@ -14,95 +14,17 @@
 #include <stdlib.h>
 #include <string.h>
 
-#include "output/out_h5.h"
 #include "study.h"
+#include "study_accuracy_h5.h"
 #include "study_ref.h"
 
-#define NTRAJ 2
-#define MAXCFG 256
 #define NREF_PEAK 200001
 
 /* the largest finite-difference step: samples keep this margin from the
    trajectory's ends */
 #define FD_MARGIN 1e-2
 
-typedef enum {
-  S_THETA,
-  S_DERIV,
-  S_METHOD,
-  S_EFFECTS,
-  S_DT,
-  S_NSTUDY
-} study_kind;
-
-typedef enum {
-  D_EXACT,
-  D_FD_POSE,
-  D_FD_LENGTH,
-  D_FD_SAMPLES,
-  D_SPLINE
-} deriv_kind;
-
-typedef struct {
-  study_kind study;
-  char label[64];
-  rps3_theta_route theta;
-  int solver; /* rps3_solver, -1 for closed form */
-  double tol;
-  int warm;
-  deriv_kind deriv;
-  double h; /* finite-difference step, or the spline's row spacing
-               [s]; 0 for exact */
-  rps3_method method;
-  int effects;
-  double dt_frac; /* dt study: sample interval / duration; 0 otherwise */
-} study_config;
-
-/* results of one configuration on one trajectory */
-typedef struct {
-  double ns_point;     /* median ns per sample */
-  double ns_q1, ns_q3; /* quartiles of the passes */
-  double ns_second;    /* ns per second of trajectory */
-  double force_err;    /* max |F - F_ref| / max |F_ref| */
-  double theta_err;    /* max |theta - theta_ld| [rad] */
-  double peak_err;     /* dt: (peak_ref - peak) / peak_ref */
-  double energy_err;   /* dt: max |W_k - dE_k| / max |W_k| */
-  double mean_iter;    /* theta solve iterations per sample */
-  int nfail;           /* samples that failed */
-  int status;          /* first failing status, 0 if none */
-} study_result;
-
-/* one configuration on one trajectory: its model, data and tables */
-typedef struct {
-  rps3_model model; /* the configuration's model */
-  rps3_data *d;
-  const rps3_traj *tr;
-  const study_config *c;
-  rps3_traj table; /* spline_pose: the trajectory's poses every h */
-  double *rows;    /* its arrays (time, pose, rate, scratch), or NULL */
-} study_runner;
-
-/* the precise reference of one trajectory */
-typedef struct {
-  size_t n; /* samples of the fixed grid */
-  double span;
-  double *F;          /* reference forces [n][3] */
-  long double *theta; /* long-double theta [n][3] */
-  double fscale;      /* max |F_ref| */
-  double floor_ref;   /* estimated rounding error of F_ref / fscale */
-  double floor_theta; /* max |theta_closed - theta_ld| */
-  double peak;        /* reference peak |F| over NREF_PEAK samples */
-} study_reference;
-
-/* the two trajectories: names, one description, trajectory k */
-static const char *const study_traj_name[NTRAJ] = {"helix", "sine_edge"};
-static const char *const study_traj_doc =
-    "helix: Table II (r* = 0.266 mm, h = 30.48 mm, T* = 10 s, t_a = 1 s); "
-    "sine_edge: alpha = pi sin(2 pi t), beta = 0.6 + 0.2 sin(2 pi 2.3 t), "
-    "z_c = 0.28 + 0.03 sin(2 pi 1.7 t) m over 2 s: up to 20 rad/s, beta up to "
-    "0.8 rad, condition number up to 4e2 near the singular surface";
-
-/* sine_edge, as study_traj_doc says */
+/* sine_edge, as study_traj_doc (study_accuracy_h5.c) says */
 static const rps3_sine SINE_EDGE = {
     {0.0, 0.6, 0.28}, {PI, 0.2, 0.03}, {1.0, 2.3, 1.7}, {0.0, 0.0, 0.0}, 2.0};
 
@@ -153,11 +75,6 @@ static void study_ik_long(const rps3_model *m, const double pose[3],
     theta[i] = atan2l(v[2], -(v[0] * cp + v[1] * sp));
   }
 }
-
-static const char *const study_kind_name[S_NSTUDY] = {
-    "theta", "derivative", "method", "effects", "dt"};
-static const char *const study_deriv_name[5] = {"exact", "fd_pose", "fd_length",
-                                                "fd_samples", "spline_pose"};
 
 static const double tols[7] = {1e-2, 1e-4, 1e-6, 1e-8, 1e-10, 1e-12, 1e-14};
 static const double steps[6] = {FD_MARGIN, 1e-3, 1e-4, 1e-5, 1e-6, 1e-7};
@@ -667,126 +584,6 @@ static int measure_trajectory(const rps3_model *base, int t, size_t nsamp,
   return 0;
 }
 
-/* the trajectory and config scales and the knobs of every configuration;
-   0 or -1 */
-static int write_configs(study_h5 *o, const study_config *cfg, int ncfg) {
-  int c, rc = 0;
-  hsize_t dims[2] = {NTRAJ, (hsize_t)ncfg};
-  static const char *const s_cfgd[1] = {"config"};
-  const char *sv[MAXCFG];
-  int32_t iv[MAXCFG], idx[MAXCFG];
-  double dv[MAXCFG];
-  hsize_t dt1 = NTRAJ;
-  for (c = 0; c < ncfg; c++) idx[c] = c;
-  rc |= study_h5_write(o, "trajectory", o->str, 1, &dt1, study_traj_name, "1",
-                       study_traj_doc, NULL);
-  rc |= study_h5_write(o, "config", H5T_NATIVE_INT32, 1, &dims[1], idx, "1",
-                       "configuration index; see study, label and the knobs",
-                       NULL);
-#define CFG_STR(name, expr, doc)             \
-  for (c = 0; c < ncfg; c++) sv[c] = (expr); \
-  rc |= study_h5_write(o, name, o->str, 1, &dims[1], sv, "1", doc, s_cfgd);
-#define CFG_F64(name, expr, units, doc)                                    \
-  for (c = 0; c < ncfg; c++) dv[c] = (expr);                               \
-  rc |= study_h5_write(o, name, H5T_NATIVE_DOUBLE, 1, &dims[1], dv, units, \
-                       doc, s_cfgd);
-#define CFG_I32(name, expr, doc)                                             \
-  for (c = 0; c < ncfg; c++) iv[c] = (int32_t)(expr);                        \
-  rc |= study_h5_write(o, name, H5T_NATIVE_INT32, 1, &dims[1], iv, "1", doc, \
-                       s_cfgd);
-  CFG_STR("study", study_kind_name[cfg[c].study],
-          "which knob the configuration turns: theta, derivative, method, "
-          "effects or dt")
-  CFG_STR("label", cfg[c].label, "short name of the configuration")
-  CFG_STR("theta_route",
-          cfg[c].theta == RPS3_THETA_MULTIROOT ? "multiroot" : "closed_form",
-          "closed form (39) or GSL multiroot solve of (8)-(10)")
-  CFG_STR("solver", cfg[c].solver < 0 ? "" : rps3_solver_name(cfg[c].solver),
-          "GSL multiroot solver (empty for the closed form)")
-  CFG_F64("tolerance", cfg[c].theta == RPS3_THETA_MULTIROOT ? cfg[c].tol : DNAN,
-          "1", "theta solve tolerance on max |f_k| (lengths in units of R)")
-  CFG_I32("warm_start", cfg[c].warm,
-          "1: theta solve starts from the previous sample; 0: cold")
-  CFG_STR("derivative", study_deriv_name[cfg[c].deriv],
-          "rates: exact (the trajectory's), central differences of the pose "
-          "(fd_pose) or of the link lengths (fd_length) with step h, of the "
-          "samples at interval dt (fd_samples), or the not-a-knot spline of "
-          "the pose sampled every h (spline_pose)")
-  CFG_F64("fd_step", cfg[c].h > 0 ? cfg[c].h : DNAN, "s",
-          "finite-difference step, or the spline's row spacing, h (NaN for "
-          "exact rates)")
-  CFG_STR("method",
-          cfg[c].method == RPS3_LAGRANGE ? "lagrange" : "newton_euler",
-          "formulation of the dynamics")
-  CFG_I32("effects", cfg[c].effects, "selected effects, RPS3_EFF_* bits")
-  CFG_F64("dt_fraction", cfg[c].dt_frac > 0 ? cfg[c].dt_frac : DNAN, "1",
-          "dt study: sample interval over the trajectory's duration")
-  return rc ? -1 : 0;
-}
-
-/* the [trajectory, config] results and the references' own numbers; 0 or
-   -1 */
-static int write_results(study_h5 *o, const study_result res[][MAXCFG],
-                         const study_reference *ref, int ncfg) {
-  hsize_t dims[2] = {NTRAJ, (hsize_t)ncfg}, dt1 = NTRAJ;
-  static const char *const s_tc[2] = {"trajectory", "config"};
-  static const char *const s_t[1] = {"trajectory"};
-  /* [trajectory, config] tables, packed with row length ncfg */
-  double tv[NTRAJ * MAXCFG], fl[NTRAJ];
-  int32_t tiv[NTRAJ * MAXCFG];
-  int t, c, rc = 0;
-#define RES_F64(name, field, units, doc)                                    \
-  for (t = 0; t < NTRAJ; t++)                                               \
-    for (c = 0; c < ncfg; c++) tv[t * ncfg + c] = res[t][c].field;          \
-  rc |= study_h5_write(o, name, H5T_NATIVE_DOUBLE, 2, dims, tv, units, doc, \
-                       s_tc);
-  RES_F64("ns_per_point", ns_point, "ns",
-          "median over the timed passes of the time per sample (trajectory "
-          "evaluation included), CLOCK_MONOTONIC, one process")
-  RES_F64("ns_per_point_q1", ns_q1, "ns", "first quartile of the passes")
-  RES_F64("ns_per_point_q3", ns_q3, "ns", "third quartile of the passes")
-  RES_F64("ns_per_second", ns_second, "ns",
-          "time to compute one second of the trajectory: ns_per_point x "
-          "samples / duration (the cost axis of the dt study)")
-  RES_F64("force_error", force_err, "1",
-          "max over samples and links of |F - F_ref| / max |F_ref| (for the "
-          "effects ladder: against the model with every effect)")
-  RES_F64("theta_error", theta_err, "rad",
-          "max over samples and links of |theta - theta_ref|, theta_ref from "
-          "inverse kinematics in long double")
-  RES_F64("peak_force_error", peak_err, "1",
-          "dt study: (peak_ref - max sampled |F|) / peak_ref, peak_ref from "
-          "200001 samples")
-  RES_F64("energy_residual", energy_err, "1",
-          "dt study: max over intervals |W_k - (E_k+1 - E_k)| / max |W_k|, W_k "
-          "the trapezoid of the power sum F_i dl_i, E = T + P")
-  RES_F64("mean_iterations", mean_iter, "1",
-          "theta solve iterations per sample")
-#define RES_I32(name, field, doc)                                   \
-  for (t = 0; t < NTRAJ; t++)                                       \
-    for (c = 0; c < ncfg; c++) tiv[t * ncfg + c] = res[t][c].field; \
-  rc |= study_h5_write(o, name, H5T_NATIVE_INT32, 2, dims, tiv, "1", doc, s_tc);
-  RES_I32("failed_samples", nfail,
-          "samples whose pipeline returned an error (errors are measured over "
-          "the others)")
-  RES_I32("status", status,
-          "rps3_status of the first failing sample, 0 if none")
-#define REF_F64(name, field, units, doc)                                    \
-  for (t = 0; t < NTRAJ; t++) fl[t] = ref[t].field;                         \
-  rc |= study_h5_write(o, name, H5T_NATIVE_DOUBLE, 1, &dt1, fl, units, doc, \
-                       s_t);
-  REF_F64("reference_floor_force", floor_ref, "1",
-          "the reference's own rounding error / max |F_ref|: its double twin's "
-          "distance from it x LDBL_EPSILON / DBL_EPSILON")
-  REF_F64("reference_floor_theta", floor_theta, "rad",
-          "max |theta_closed_form - theta_long_double| on the grid")
-  REF_F64("reference_force_max", fscale, "N",
-          "max |F_ref| over the grid: the force_error scale")
-  REF_F64("reference_peak_force", peak, "N",
-          "peak |F| over 200001 samples of the span")
-  return rc ? -1 : 0;
-}
-
 int study_accuracy(const char *path, const char *cmdline, size_t nsamp,
                    int repeats) {
   static study_config cfg[MAXCFG];
@@ -795,9 +592,7 @@ int study_accuracy(const char *path, const char *cmdline, size_t nsamp,
   study_reference ref[NTRAJ];
   rps3_model base;
   int ncfg = study_configs_build(cfg), t, rc = 0;
-  study_h5 o = {-1, -1};
   double t_start = study_now_ns();
-  const double counts[2] = {(double)nsamp, (double)repeats};
   /* the measurements, trajectory by trajectory */
   if (accuracy_model(&base) < 0) return EXIT_IO;
   for (t = 0; t < NTRAJ; t++)
@@ -809,16 +604,10 @@ int study_accuracy(const char *path, const char *cmdline, size_t nsamp,
       "rps3-study: accuracy: %d configurations x %d trajectories in %.1f s\n",
       ncfg, NTRAJ, 1e-9 * (study_now_ns() - t_start));
   /* the file */
-  if (study_h5_open(
-          &o, path, cmdline,
-          "rps3-study accuracy: error against a precise reference and median "
-          "time per point, per configuration and trajectory") < 0 ||
-      write_configs(&o, cfg, ncfg) < 0 ||
-      write_results(&o, (const study_result(*)[MAXCFG])res, ref, ncfg) < 0 ||
-      out_h5_attr_n(o.file, "samples", H5T_NATIVE_DOUBLE, 0, &counts[0]) < 0 ||
-      out_h5_attr_n(o.file, "repeats", H5T_NATIVE_DOUBLE, 0, &counts[1]) < 0)
+  if (study_accuracy_write(path, cmdline, cfg, ncfg,
+                           (const study_result(*)[MAXCFG])res, ref, nsamp,
+                           repeats) < 0)
     rc = -1;
-  if (study_h5_close(&o) < 0) rc = -1;
   for (t = 0; t < NTRAJ; t++) {
     free(ref[t].F);
     free(ref[t].theta);
