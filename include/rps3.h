@@ -162,10 +162,12 @@ enum rps3_effect {
   RPS3_EFF_LINK_INERTIA = 1 << 3,     /* links swinging about their pins (21) */
   RPS3_EFF_PAYLOAD = 1 << 4,          /* payload rigidly fixed to the platform:
                                          its weight and its inertia */
-  RPS3_EFF_PIN_FRICTION = 1 << 5      /* viscous + Coulomb torque at the pins,
+  RPS3_EFF_PIN_FRICTION = 1 << 5,     /* viscous + Coulomb torque at the pins,
                                          the T_{i-3} of (23) (zero in paper) */
+  RPS3_EFF_PRISMATIC_FRICTION = 1 << 6 /* viscous + Coulomb force in the
+                                          prismatic joints, rps3_leg */
 };
-#define RPS3_NEFFECT 6
+#define RPS3_NEFFECT 7
 #define RPS3_EFF_ALL ((1 << RPS3_NEFFECT) - 1)
 /* default selection: all but payload and friction, as in the paper */
 #define RPS3_EFF_DEFAULT                               \
@@ -174,7 +176,7 @@ enum rps3_effect {
 /* effects that need velocities and accelerations */
 #define RPS3_EFF_DYNAMIC                                                  \
   (RPS3_EFF_PLATFORM_INERTIA | RPS3_EFF_LINK_INERTIA | RPS3_EFF_PAYLOAD | \
-   RPS3_EFF_PIN_FRICTION)
+   RPS3_EFF_PIN_FRICTION | RPS3_EFF_PRISMATIC_FRICTION)
 
 /* Name of effect index k (0 <= k < RPS3_NEFFECT), e.g. "platform_gravity";
    index k is the bit 1 << k.  NULL for k out of range. */
@@ -353,10 +355,59 @@ typedef struct {
    on it); vreg > 0 makes them smooth at the cost of a creep velocity of
    order vreg under a load below the Coulomb level (docs/simulation.md). */
 typedef struct {
-  double viscous; /* [N m s / rad] */
-  double coulomb; /* [N m] */
-  double vreg;    /* regularisation velocity [rad/s], 0 = exact sign */
+  double viscous; /* [N m s / rad]; in a prismatic joint [N s/m] */
+  double coulomb; /* [N m]; in a prismatic joint [N] */
+  double vreg;    /* regularisation velocity [rad/s], 0 = exact sign; in
+                     a prismatic joint [m/s] */
 } rps3_friction;
+
+/*
+ * A rigid body of the general model (docs/identification.md, "The
+ * model"), in its own frame: the platform's is the platform centre with
+ * the platform axes of (1); a cylinder's is its pin P_i with the axes
+ * e1 = phi_i (along the link, to the platform), e2 = the pin axis (30),
+ * e3 = e1 x e2; a piston's is the ball joint b_i with its cylinder's axes.
+ */
+typedef struct {
+  double mass;       /* [kg] */
+  double com[3];     /* centre of mass from the frame's origin, body axes
+                        [m] */
+  double inertia[6]; /* inertia tensor about the centre of mass, body axes:
+                        Ixx, Ixy, Ixz, Iyy, Iyz, Izz [kg m^2]; positive
+                        semidefinite, its principal moments obeying the
+                        triangle inequality */
+} rps3_body;
+
+/* Leg i of the general model: the cylinder turns with the link about its
+   pin, the piston slides in it (a prismatic joint: it does not turn in
+   the cylinder); massless pistons and point-mass links are the paper's
+   special case. */
+typedef struct {
+  rps3_body cylinder;
+  rps3_body piston;
+  rps3_friction pin;       /* at the pin, RPS3_EFF_PIN_FRICTION, with
+                              RPS3_BODIES_GENERAL (the paper's bodies
+                              share rps3_model.friction) */
+  rps3_friction prismatic; /* in the prismatic joint, the force the
+                              actuator overcomes, f = viscous l' + coulomb
+                              s(l') (s as for the pins);
+                              RPS3_EFF_PRISMATIC_FRICTION, either bodies */
+} rps3_leg;
+
+/* The bodies a model describes (rps3_model.bodies). */
+enum rps3_bodies {
+  RPS3_BODIES_PAPER = 0,  /* the paper's: a uniform disc platform of mass
+                             M, links m at d plus link_Ic, massless pistons */
+  RPS3_BODIES_GENERAL = 1 /* rps3_model.platform and rps3_model.leg */
+};
+
+/* Standard parameters of the general model (rps3_model.std): ten per
+   body, platform, cylinder 1, piston 1, cylinder 2, ..., piston 3, each
+   (m, m c_x, m c_y, m c_z, I_xx, I_xy, I_xz, I_yy, I_yz, I_zz) in its
+   frame, I about the frame's origin; then the prismatic joints' (viscous,
+   Coulomb) and the pins' (viscous, Coulomb), leg by leg: 82. */
+#define RPS3_NBODY 7
+#define RPS3_NSTD 82
 
 typedef struct {
   /* mechanism, Table II */
@@ -371,6 +422,15 @@ typedef struct {
   double g;       /* gravitational acceleration, along -Z [m/s^2] */
   rps3_payload payload;   /* used when RPS3_EFF_PAYLOAD is selected */
   rps3_friction friction; /* used when RPS3_EFF_PIN_FRICTION is selected */
+  int bodies;             /* enum rps3_bodies: RPS3_BODIES_PAPER (default)
+                             reads M, m, d, link_Ic and friction;
+                             RPS3_BODIES_GENERAL reads platform and leg
+                             instead (R, rho, g, the payload and the
+                             options either way) */
+  rps3_body platform;     /* RPS3_BODIES_GENERAL: the platform */
+  rps3_leg leg[3];        /* the legs' bodies and pin friction
+                             (RPS3_BODIES_GENERAL), their prismatic
+                             friction (either) */
   rps3_options opt;
 
   /* derived by rps3_model_init(); do not set */
@@ -382,6 +442,12 @@ typedef struct {
   double radial[3][3]; /* unit radial direction of pin i, (cos, sin, 0) */
   double axis[3][3];   /* pin axes phi_zi, eq. (30), unit */
   double body[3][3];   /* ball joints in platform axes, r_i of (27) [m] */
+  double std[RPS3_NBODY][10]; /* RPS3_BODIES_GENERAL: each body's standard
+                                 parameters (RPS3_NSTD's order); the
+                                 dynamics read these, not platform and
+                                 leg */
+  rps3_friction pinf[3];      /* each pin's friction law: friction, or
+                                 leg[i].pin for RPS3_BODIES_GENERAL */
   int valid;           /* 1 after a successful rps3_model_init() */
 } rps3_model;
 
@@ -426,7 +492,12 @@ typedef struct {
  * triangle inequality, unknown enum values, tol <= 0, max_iter < 1,
  * cond_warn < 1, cond_max < cond_warn, and masses whose weight or inertia
  * overflows (M g, M r^2, m g d, m d^2, payload.mass g, payload.mass r^2
- * not finite, e.g. M = 1e308).
+ * not finite, e.g. M = 1e308); a general body (checked whatever
+ * m->bodies) whose inertia about its centre of mass is not a real body's
+ * (its second moment tr(I)/2 1 - I not positive semidefinite, to 1e-12
+ * of its trace: a principal moment above the sum of the other two, or
+ * products of inertia too large) or whose standard parameters or weight
+ * overflow.
  */
 RPS3_API int rps3_model_init(rps3_model *m, rps3_check *chk);
 
@@ -1167,6 +1238,34 @@ RPS3_API int rps3_traj_eval(const rps3_model *m, const rps3_traj *tr, double t,
  * from its own input (a scene file) maps a failure back to its input by ID,
  * and may read the ranges here instead of repeating them.
  */
+/* the rows of a general body (rps3_body) and of a friction law
+   (rps3_friction), and those of leg K (1-3) of rps3_model.leg: e.g.
+   RPS3_F_LEG2_PISTON_MASS, "leg2.piston.mass" */
+#define RPS3_BODY_FIELDS(X, ID, MEMBER, NAME)                               \
+  X(ID##_MASS, RPS3_IN_MODEL, MEMBER.mass, 1, 0, 0, 0, HUGE_VAL, "kg",      \
+    NAME ".mass")                                                           \
+  X(ID##_COM, RPS3_IN_MODEL, MEMBER.com, 3, 0, -HUGE_VAL, 0, HUGE_VAL, "m", \
+    NAME ".com")                                                            \
+  X(ID##_INERTIA, RPS3_IN_MODEL, MEMBER.inertia, 6, 0, -HUGE_VAL, 0,        \
+    HUGE_VAL, "kg m^2", NAME ".inertia")
+#define RPS3_FRICTION_FIELDS(X, ID, MEMBER, NAME, UV, UC, UR)               \
+  X(ID##_VISCOUS, RPS3_IN_MODEL, MEMBER.viscous, 1, 0, 0, 0, HUGE_VAL, UV,  \
+    NAME ".viscous")                                                        \
+  X(ID##_COULOMB, RPS3_IN_MODEL, MEMBER.coulomb, 1, 0, 0, 0, HUGE_VAL, UC,  \
+    NAME ".coulomb")                                                        \
+  X(ID##_VREG, RPS3_IN_MODEL, MEMBER.vreg, 1, 0, 0, 0, HUGE_VAL, UR,        \
+    NAME ".vreg")
+#define RPS3_LEG_FIELDS(X, K)                                               \
+  RPS3_BODY_FIELDS(X, RPS3_F_LEG##K##_CYLINDER, leg[K - 1].cylinder,        \
+                   "leg" #K ".cylinder")                                    \
+  RPS3_BODY_FIELDS(X, RPS3_F_LEG##K##_PISTON, leg[K - 1].piston,            \
+                   "leg" #K ".piston")                                      \
+  RPS3_FRICTION_FIELDS(X, RPS3_F_LEG##K##_PIN, leg[K - 1].pin,              \
+                       "leg" #K ".pin_friction", "N m s/rad", "N m",        \
+                       "rad/s")                                             \
+  RPS3_FRICTION_FIELDS(X, RPS3_F_LEG##K##_PRISMATIC, leg[K - 1].prismatic,  \
+                       "leg" #K ".prismatic_friction", "N s/m", "N", "m/s")
+
 #define RPS3_FIELDS(X)                                                         \
   X(RPS3_F_R, RPS3_IN_MODEL, R, 1, 0, 0, 1, HUGE_VAL, "m", "R")                \
   X(RPS3_F_RHO, RPS3_IN_MODEL, rho, 1, 0, 0, 1, HUGE_VAL, "1", "rho")          \
@@ -1188,6 +1287,11 @@ RPS3_API int rps3_traj_eval(const rps3_model *m, const rps3_traj *tr, double t,
     "N m", "pin_friction.coulomb")                                             \
   X(RPS3_F_VREG, RPS3_IN_MODEL, friction.vreg, 1, 0, 0, 0, HUGE_VAL, "rad/s",  \
     "pin_friction.vreg")                                                       \
+  X(RPS3_F_BODIES, RPS3_IN_MODEL, bodies, 1, 1, 0, 0, 1, "-", "bodies")        \
+  RPS3_BODY_FIELDS(X, RPS3_F_PLATFORM_BODY, platform, "platform")              \
+  RPS3_LEG_FIELDS(X, 1)                                                        \
+  RPS3_LEG_FIELDS(X, 2)                                                        \
+  RPS3_LEG_FIELDS(X, 3)                                                        \
   X(RPS3_F_EFFECTS, RPS3_IN_MODEL, opt.effects, 1, 1, 0, 0, RPS3_EFF_ALL, "-", \
     "opt.effects")                                                             \
   X(RPS3_F_METHOD, RPS3_IN_MODEL, opt.method, 1, 1, 0, 0, 1, "-",              \
@@ -2118,6 +2222,46 @@ RPS3_API int rps3_regressor(const rps3_model *m, rps3_data *d,
 RPS3_API int rps3_regressor_batch(const rps3_model *m, rps3_data *d,
                                   const rps3_batch_in *in, double *Y,
                                   rps3_batch_out *out);
+
+/*
+ * The regressor of the general model's standard parameters (RPS3_NSTD,
+ * docs/identification.md "The model"): Y (3 x RPS3_NSTD) at the point of
+ * d, with F = Y pi for rps3_inverse's F and pi of rps3_std_params(m),
+ * whatever m's bodies (the paper's are a special case of the general
+ * ones).  Built as rps3_regressor is: each column the loads of one unit
+ * standard parameter (a copy of m with the general bodies, every other
+ * parameter zero) through the selected method's own solve; columns of
+ * effects m does not select are zero (a platform column holds the
+ * platform's gravity and inertia, a cylinder's or piston's the links').
+ * Names "platform.m", "platform.mcx", ..., "piston3.Izz",
+ * "prismatic1.fv", ..., "pin3.fc" and units by rps3_std_name(k),
+ * rps3_std_unit(k).  Returns as rps3_regressor; allocates nothing.
+ */
+RPS3_API int rps3_regressor_std(const rps3_model *m, rps3_data *d,
+                                double Y[3][RPS3_NSTD]);
+
+/* rps3_regressor_std over the points of in, as rps3_regressor_batch:
+   Y[(i * RPS3_NSTD + k) * n + p]. */
+RPS3_API int rps3_regressor_std_batch(const rps3_model *m, rps3_data *d,
+                                      const rps3_batch_in *in, double *Y,
+                                      rps3_batch_out *out);
+
+/* Name and UDUNITS unit of standard parameter k (0 <= k < RPS3_NSTD),
+   NULL out of range. */
+RPS3_API const char *rps3_std_name(int k);
+RPS3_API const char *rps3_std_unit(int k);
+
+/*
+ * The standard parameters of model m (initialised) into pi (RPS3_NSTD):
+ * its general bodies' (m->std), or for the paper's bodies the uniform
+ * disc (21), each cylinder a point mass m at (d, 0, 0) with link_Ic about
+ * its e2 and e3 axes, massless pistons; a selected payload added to the
+ * platform's (parallel axes: F = Y pi then holds when the platform's
+ * effects are selected with it); the prismatic friction of leg[i] and the
+ * pin friction (friction, or leg[i].pin).  RPS3_OK, or RPS3_EINVAL (m not
+ * initialised, pi NULL).
+ */
+RPS3_API int rps3_std_params(const rps3_model *m, double pi[RPS3_NSTD]);
 
 /*
  * Estimators on a stacked regressor: n rows (one per actuator and

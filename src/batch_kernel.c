@@ -401,8 +401,8 @@ static const double kzero3[3] = {0.0, 0.0, 0.0};
 /* the results the leanest pass does not compute (F_effect's size) */
 #define KNAN ((double)NAN)
 static const double knan[RPS3_NEFFECT * 3] = {
-    KNAN, KNAN, KNAN, KNAN, KNAN, KNAN, KNAN, KNAN, KNAN,
-    KNAN, KNAN, KNAN, KNAN, KNAN, KNAN, KNAN, KNAN, KNAN};
+    KNAN, KNAN, KNAN, KNAN, KNAN, KNAN, KNAN, KNAN, KNAN, KNAN, KNAN,
+    KNAN, KNAN, KNAN, KNAN, KNAN, KNAN, KNAN, KNAN, KNAN, KNAN};
 
 /* the lean pass over a block: F, cond and ok only */
 KCLONES

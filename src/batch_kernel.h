@@ -61,11 +61,11 @@ typedef enum {
 /* o pointing into every array of kb */
 void rps3_kout_of_block(rps3_kout *o, rps3_kblock *kb);
 
-/* 1 when the kernel serves model m: closed-form theta, Lagrange, only the
-   paper's four effects */
+/* 1 when the kernel serves model m: closed-form theta, Lagrange, the
+   paper's bodies and only the paper's four effects */
 static inline int rps3_kernel_covers(const rps3_model *m) {
   return m->opt.theta == RPS3_THETA_CLOSED_FORM &&
-         m->opt.method == RPS3_LAGRANGE &&
+         m->opt.method == RPS3_LAGRANGE && m->bodies == RPS3_BODIES_PAPER &&
          (m->opt.effects & ~RPS3_EFF_DEFAULT) == 0;
 }
 

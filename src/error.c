@@ -31,7 +31,8 @@ const char *rps3_strerror(int status) {
 /* index k is bit 1 << k of enum rps3_effect */
 static const char *const effect_names[RPS3_NEFFECT] = {
     "platform_gravity", "link_gravity", "platform_inertia",
-    "link_inertia",     "payload",      "pin_friction"};
+    "link_inertia",     "payload",      "pin_friction",
+    "prismatic_friction"};
 
 const char *rps3_effect_name(int k) {
   return (k >= 0 && k < RPS3_NEFFECT) ? effect_names[k] : NULL;

@@ -285,6 +285,12 @@ int rps3_fwddyn_state(const rps3_model *m, rps3_data *d, rps3_fd_state *k,
     RPS3_ERROR(d, RPS3_EINVAL, "dl (%g, %g, %g) m/s is not finite", d->dl[0],
                d->dl[1], d->dl[2]);
   }
+  if (m->bodies != RPS3_BODIES_PAPER) {
+    poison(d);
+    RPS3_ERROR(d, RPS3_EINVAL,
+               "the forward dynamics take the paper's bodies "
+               "(RPS3_BODIES_PAPER) only");
+  }
   if (!(flags & RPS3_FD_NOFACTOR) && !has_mass(m)) {
     poison(d);
     RPS3_ERROR(d, RPS3_EINVAL,

@@ -84,7 +84,9 @@ int rps3_energy(const rps3_model *m, const rps3_data *d, double *T, double *P,
     /* sin theta_i is phi_i's Z component (29) */
     if (eff & RPS3_EFF_LINK_GRAVITY) p += m->m * m->g * m->d * d->phi[i][2];
     if (eff & RPS3_EFF_PIN_FRICTION)
-      f += rps3_friction_torque(m, d->dtheta[i]) * d->dtheta[i];
+      f += rps3_friction_torque(m, i, d->dtheta[i]) * d->dtheta[i];
+    if (eff & RPS3_EFF_PRISMATIC_FRICTION)
+      f -= rps3_friction_law(&m->leg[i].prismatic, d->dl[i]) * d->dl[i];
   }
   if (T != NULL) *T = t;
   if (P != NULL) *P = p;

@@ -325,6 +325,7 @@ FD_INLINE void platform_load(const rps3_model *m, const plane *p,
 FD_INLINE void bias_force(const rps3_model *m, const plane *p, const fd_coef *K,
                           double hq[3]) {
   const int fric = (m->opt.effects & RPS3_EFF_PIN_FRICTION) != 0;
+  const int pfric = (m->opt.effects & RPS3_EFF_PRISMATIC_FRICTION) != 0;
   double wl[3], wt[3];
   int i, j;
   for (i = 0; i < 3; i++) {
@@ -342,9 +343,11 @@ FD_INLINE void bias_force(const rps3_model *m, const plane *p, const fd_coef *K,
     RPS3_LOAD_LINK_INERTIA(K->Jl, p->ddb[i], w);
     wt[i] += w;
     if (fric) {
-      RPS3_LOAD_PIN_FRICTION(rps3_friction_torque(m, p->dth[i]), w);
+      RPS3_LOAD_PIN_FRICTION(rps3_friction_torque(m, i, p->dth[i]), w);
       wt[i] += w;
     }
+    /* the prismatic joint's friction, on l_i alone (invdyn.c) */
+    if (pfric) wl[i] += rps3_friction_law(&m->leg[i].prismatic, p->dl[i]);
   }
   for (j = 0; j < 3; j++)
     hq[j] =

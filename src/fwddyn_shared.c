@@ -14,9 +14,10 @@
 static int same_dynamics(const rps3_model *a, const rps3_model *b) {
   return a->opt.effects == b->opt.effects && a->M == b->M && a->m == b->m &&
          a->d == b->d && a->g == b->g && a->Jlink == b->Jlink &&
-         a->friction.viscous == b->friction.viscous &&
-         a->friction.coulomb == b->friction.coulomb &&
-         a->friction.vreg == b->friction.vreg;
+         a->bodies == b->bodies &&
+         memcmp(a->pinf, b->pinf, sizeof a->pinf) == 0 &&
+         memcmp(a->std, b->std, sizeof a->std) == 0 &&
+         memcmp(a->leg, b->leg, sizeof a->leg) == 0;
 }
 
 /* the state part of rps3_fwddyn_state_shared, once it applies */

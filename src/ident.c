@@ -130,6 +130,7 @@ int rps3_regressor(const rps3_model *m, rps3_data *d,
   /* each column: one effect's load with its parameter 1 and the model's
      geometry; the disc's principal moments per unit mass (21) */
   u = *m;
+  u.bodies = RPS3_BODIES_PAPER; /* the paper model's parameters */
   u.M = 1.0;
   u.Ip[0] = u.Ip[1] = 0.25 * m->r * m->r;
   u.Ip[2] = 0.5 * m->r * m->r;
@@ -154,11 +155,16 @@ int rps3_regressor(const rps3_model *m, rps3_data *d,
     set_payload(&u, 0.0, -1, 0.0, k);
     column(m, &u, d, &L, RPS3_EFF_PAYLOAD, rhs[7 + k]);
   }
-  u.friction.viscous = 1.0;
-  u.friction.coulomb = 0.0;
+  for (i = 0; i < 3; i++) {
+    u.pinf[i] = m->friction;
+    u.pinf[i].viscous = 1.0;
+    u.pinf[i].coulomb = 0.0;
+  }
   column(m, &u, d, &L, RPS3_EFF_PIN_FRICTION, rhs[10]);
-  u.friction.viscous = 0.0;
-  u.friction.coulomb = 1.0;
+  for (i = 0; i < 3; i++) {
+    u.pinf[i].viscous = 0.0;
+    u.pinf[i].coulomb = 1.0;
+  }
   column(m, &u, d, &L, RPS3_EFF_PIN_FRICTION, rhs[11]);
 
   /* one factorization, every column */
@@ -178,10 +184,23 @@ int rps3_regressor(const rps3_model *m, rps3_data *d,
 /* component c of point i in a component-major array of n points */
 #define AT(a, c, i, n) ((a)[(size_t)(c) * (n) + (i)])
 
-int rps3_regressor_batch(const rps3_model *m, rps3_data *d,
-                         const rps3_batch_in *in, double *Y,
-                         rps3_batch_out *out) {
-  double Yp[3][RPS3_NPAPER];
+/* a regressor of ncol columns at one point, into Y (3 x ncol, row
+   major) */
+typedef int (*regressor_fn)(const rps3_model *m, rps3_data *d, double *Y);
+
+static int paper_point(const rps3_model *m, rps3_data *d, double *Y) {
+  return rps3_regressor(m, d, (double(*)[RPS3_NPAPER])Y);
+}
+
+static int std_point(const rps3_model *m, rps3_data *d, double *Y) {
+  return rps3_regressor_std(m, d, (double(*)[RPS3_NSTD])Y);
+}
+
+/* the batch of either regressor: point's columns over in's points */
+static int regressor_batch(const rps3_model *m, rps3_data *d,
+                           const rps3_batch_in *in, double *Y,
+                           rps3_batch_out *out, int ncol, regressor_fn point,
+                           double *Yp) {
   rps3_error first;
   size_t i, n;
   int c, k, rates;
@@ -191,7 +210,7 @@ int rps3_regressor_batch(const rps3_model *m, rps3_data *d,
   if (in == NULL || out == NULL)
     RPS3_ERROR(d, RPS3_EINVAL, "batch %s is NULL", in == NULL ? "in" : "out");
   n = in->n;
-  if (n > SIZE_MAX / (3 * RPS3_NPAPER))
+  if (n > SIZE_MAX / (size_t)(3 * ncol))
     RPS3_ERROR(d, RPS3_EINVAL, "batch n = %lu is too large", (unsigned long)n);
   rates = rps3_need_rates(m);
   if (n > 0 && (Y == NULL || out->status == NULL || in->pose == NULL))
@@ -214,12 +233,11 @@ int rps3_regressor_batch(const rps3_model *m, rps3_data *d,
       d->dpose[c] = rates ? AT(in->dpose, c, i, n) : 0.0;
       d->ddpose[c] = rates ? AT(in->ddpose, c, i, n) : 0.0;
     }
-    status = rps3_regressor(m, d, Yp);
+    status = point(m, d, Yp);
     out->status[i] = status;
     if (out->warn) out->warn[i] = d->warn;
     for (c = 0; c < 3; c++)
-      for (k = 0; k < RPS3_NPAPER; k++)
-        AT(Y, c * RPS3_NPAPER + k, i, n) = Yp[c][k];
+      for (k = 0; k < ncol; k++) AT(Y, c * ncol + k, i, n) = Yp[c * ncol + k];
     for (c = 0; c < 3; c++) {
       int ok = status == RPS3_OK;
       if (out->l) AT(out->l, c, i, n) = ok ? d->l[c] : (double)NAN;
@@ -240,4 +258,18 @@ int rps3_regressor_batch(const rps3_model *m, rps3_data *d,
   }
   if (out->nfail > 0) d->err = first;
   return RPS3_OK;
+}
+
+int rps3_regressor_batch(const rps3_model *m, rps3_data *d,
+                         const rps3_batch_in *in, double *Y,
+                         rps3_batch_out *out) {
+  double Yp[3 * RPS3_NPAPER];
+  return regressor_batch(m, d, in, Y, out, RPS3_NPAPER, paper_point, Yp);
+}
+
+int rps3_regressor_std_batch(const rps3_model *m, rps3_data *d,
+                             const rps3_batch_in *in, double *Y,
+                             rps3_batch_out *out) {
+  double Yp[3 * RPS3_NSTD];
+  return regressor_batch(m, d, in, Y, out, RPS3_NSTD, std_point, Yp);
 }

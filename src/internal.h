@@ -215,6 +215,35 @@ void rps3_outputs_clear(const rps3_model *m, rps3_data *d);
 /* rps3_invdyn with this point's Jacobian (NULL: built here) */
 int rps3_invdyn_with(const rps3_model *m, rps3_data *d, rps3_cjac *J);
 
+/* the ten standard parameters of body b in its frame (RPS3_NSTD's
+   order; model.c) */
+void rps3_body_std(const rps3_body *b, double p[10]);
+
+/* the Newton-Euler wrench about its origin O (force f, moment n, base
+   frame) of a body of standard parameters p (body axes e: e[k] axis k in
+   the base frame) turning at omega, omega', O accelerating at a less
+   gravity (a = a_O + g e_z): f = m a + omega' x h + omega x (omega x h),
+   n = I omega' + omega x I omega + h x a (bodies.c) */
+void rps3_body_wrench(const double p[10], const double e[3][3],
+                      const double om[3], const double dom[3],
+                      const double a[3], double f[3], double n[3]);
+
+/* the certificate's dT/dt (*pT) and dP/dt (*pP) of a general body whose
+   origin moves at vO, aO, turning at omega, omega' (bodies.c); *s the
+   magnitude of their terms */
+void rps3_body_power(const double p[10], const double e[3][3],
+                     const double vO[3], const double aO[3],
+                     const double om[3], const double dom[3], double g,
+                     double *pT, double *pP, double *s);
+
+/* the loads of leg i's general bodies (bodies.c) on (l_i, theta_i): its
+   weight (g, bdd NULL, the rates 0) or its inertia (g 0, bdd the ball
+   joint's acceleration b_i'', the link's theta' and theta''), from the
+   standard parameters m->std of its cylinder and piston */
+void rps3_leg_loads(const rps3_model *m, int i, const double phi[3],
+                    const double dphi[3], double l, double dth, double ddth,
+                    const double bdd[3], double g, double *wl, double *wt);
+
 /* kinematic quantities of the Lagrange route at one point (invdyn.c) */
 typedef struct {
   double bdd[3][3];                      /* ball joint accelerations */
@@ -236,7 +265,7 @@ typedef struct {
  * RPS3_LOADS_MAXCOL right-hand sides (rhs overwritten) into F[i * ldf +
  * col], i the actuator.
  */
-#define RPS3_LOADS_MAXCOL 16
+#define RPS3_LOADS_MAXCOL RPS3_NSTD
 typedef struct {
   int method;       /* m->opt.method */
   rps3_lag_kin k;   /* Lagrange */
@@ -318,15 +347,24 @@ int rps3_mode_of(const rps3_data *d);
 void rps3_constraint_jacobian(const rps3_data *d, double Jl[3][3],
                               double Jt[3][3]);
 
-/* pin friction torque opposing theta-dot, the law of rps3_friction: exact
-   sign (sign(0) = 0) or, with vreg > 0, the smooth tanh(dtheta / vreg) */
-static inline double rps3_friction_torque(const rps3_model *m, double dtheta) {
+/* the friction law of rps3_friction, the force (or torque) that opposes
+   the rate v, with the sign of v: viscous v + coulomb s(v), s the exact
+   sign (sign(0) = 0) or, with vreg > 0, the smooth tanh(v / vreg).  Pins
+   and prismatic joints share it */
+static inline double rps3_friction_law(const rps3_friction *f, double v) {
   double s;
-  if (m->friction.vreg > 0.0)
-    s = tanh(dtheta / m->friction.vreg);
+  if (f->vreg > 0.0)
+    s = tanh(v / f->vreg);
   else
-    s = (double)((dtheta > 0) - (dtheta < 0));
-  return -(m->friction.viscous * dtheta + m->friction.coulomb * s);
+    s = (double)((v > 0) - (v < 0));
+  return f->viscous * v + f->coulomb * s;
+}
+
+/* pin friction torque on link i, opposing theta-dot: the law of its pin
+   (rps3_model.pinf) */
+static inline double rps3_friction_torque(const rps3_model *m, int i,
+                                          double dtheta) {
+  return -rps3_friction_law(&m->pinf[i], dtheta);
 }
 
 /* angular velocity (or acceleration) of the platform from the motion u_i

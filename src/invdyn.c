@@ -102,20 +102,21 @@ static void lagrange_kinematics(const rps3_model *m, const rps3_data *d,
  */
 static void body_load(const rps3_model *m, const rps3_data *d, const lag_kin *k,
                       double mb, const double h[3], const double S[3][3],
-                      double g, double w[6]) {
+                      double g, int inertia, double w[6]) {
   const double *E2[3] = {k->ndd, k->odd, k->add};
   const double cn = 1.0 / (3.0 * m->r), co = 1.0 / (RPS3_SQRT3 * m->r);
-  double cg[3], C[3], V[3][3], A[3], B[3], t[3];
+  double cg[3] = {0.0, 0.0, 0.0}, C[3], V[3][3], A[3], B[3], t[3];
   int i, p, q;
-  /* c'' + g e_z: inertia and weight enter together */
-  v3_copy(cg, k->cdd);
+  /* c'' + g e_z: inertia and weight enter together (the weight alone
+     without inertia: the accelerations read as zero) */
+  if (inertia) v3_copy(cg, k->cdd);
   cg[2] += g;
   v3_scale(C, mb, cg);
   for (p = 0; p < 3; p++) {
-    v3_axpy(C, C, h[p], E2[p]);
+    if (inertia) v3_axpy(C, C, h[p], E2[p]);
     v3_scale(V[p], h[p], cg);
     for (q = 0; q < 3; q++)
-      if (S[p][q] != 0.0) v3_axpy(V[p], V[p], S[p][q], E2[q]);
+      if (inertia && S[p][q] != 0.0) v3_axpy(V[p], V[p], S[p][q], E2[q]);
   }
   v3_scale(C, 1.0 / 3.0, C);
   v3_cross(t, k->o, V[2]);
@@ -144,6 +145,34 @@ static void payload_moments(const rps3_model *m, double h[3], double S[3][3]) {
   }
 }
 
+/* the general platform's first and second moments about its centre,
+   platform axes, from its standard parameters: h = m c, S = tr(I)/2 1 - I
+   (I about the centre) */
+static void platform_moments(const rps3_model *m, double h[3],
+                             double S[3][3]) {
+  const double *p = m->std[0];
+  const double I[3][3] = {
+      {p[4], p[5], p[6]}, {p[5], p[7], p[8]}, {p[6], p[8], p[9]}};
+  double tr = 0.5 * (p[4] + p[7] + p[9]);
+  int i, j;
+  for (i = 0; i < 3; i++) {
+    h[i] = p[1 + i];
+    for (j = 0; j < 3; j++) S[i][j] = (i == j ? tr : 0.0) - I[i][j];
+  }
+}
+
+/* the general legs' loads (bodies.c): their weight, or their inertia at
+   the ball joints' accelerations of k */
+static void legs_load(const rps3_model *m, const rps3_data *d, const lag_kin *k,
+                      int inertia, double w[6]) {
+  int i;
+  for (i = 0; i < 3; i++)
+    rps3_leg_loads(m, i, d->phi[i], d->dphi[i], d->l[i],
+                   inertia ? d->dtheta[i] : 0.0, inertia ? d->ddtheta[i] : 0.0,
+                   inertia ? k->bdd[i] : NULL, inertia ? 0.0 : m->g, &w[i],
+                   &w[3 + i]);
+}
+
 /* friction torque about pin axis i, opposing theta-dot (T_{i-3} of (23)):
    the law shared with the forward dynamics, internal.h */
 #define friction_torque rps3_friction_torque
@@ -158,6 +187,21 @@ static void lagrange_effect(const rps3_model *m, const rps3_data *d,
   double S[3][3], h[3]; /* set by payload_moments, for the payload only */
   int i;
   memset(w, 0, 6 * sizeof(double));
+  if (m->bodies == RPS3_BODIES_GENERAL) switch (1 << e) {
+    case RPS3_EFF_PLATFORM_GRAVITY:
+    case RPS3_EFF_PLATFORM_INERTIA:
+      /* the platform, a general body (body_load) */
+      platform_moments(m, h, S);
+      body_load(m, d, k, m->std[0][0], h, M3C(S),
+                (1 << e) == RPS3_EFF_PLATFORM_GRAVITY ? m->g : 0.0,
+                (1 << e) == RPS3_EFF_PLATFORM_INERTIA, w);
+      return;
+    case RPS3_EFF_LINK_GRAVITY:
+    case RPS3_EFF_LINK_INERTIA:
+      legs_load(m, d, k, (1 << e) == RPS3_EFF_LINK_INERTIA, w);
+      return;
+    default: break;
+    }
   switch (1 << e) {
   case RPS3_EFF_PLATFORM_GRAVITY:
     /* (22): M g z_c, with dc = db_i / 3 (src/loads.h) */
@@ -175,7 +219,7 @@ static void lagrange_effect(const rps3_model *m, const rps3_data *d,
     break;
   case RPS3_EFF_PAYLOAD:
     payload_moments(m, h, S);
-    body_load(m, d, k, m->payload.mass, h, M3C(S), m->g, w);
+    body_load(m, d, k, m->payload.mass, h, M3C(S), m->g, 1, w);
     break;
   case RPS3_EFF_LINK_GRAVITY:
     /* (22): m g d sin(theta_i); cos(theta_i) is dphi_i's Z component, set
@@ -191,10 +235,30 @@ static void lagrange_effect(const rps3_model *m, const rps3_data *d,
     break;
   case RPS3_EFF_PIN_FRICTION:
     for (i = 0; i < 3; i++)
-      RPS3_LOAD_PIN_FRICTION(friction_torque(m, d->dtheta[i]), w[3 + i]);
+      RPS3_LOAD_PIN_FRICTION(friction_torque(m, i, d->dtheta[i]), w[3 + i]);
+    break;
+  case RPS3_EFF_PRISMATIC_FRICTION:
+    /* the force the actuator overcomes, on l_i alone */
+    for (i = 0; i < 3; i++)
+      w[i] = rps3_friction_law(&m->leg[i].prismatic, d->dl[i]);
     break;
   default: break;
   }
+}
+
+/* what lagrange_kinematics must compute for m's effects: the frame's
+   accelerations for a general body on the platform (the payload, a
+   general platform's inertia), the balls' for any inertia at the balls */
+static int need_frame(const rps3_model *m) {
+  const int eff = m->opt.effects;
+  return (eff & RPS3_EFF_PAYLOAD) ||
+         (m->bodies == RPS3_BODIES_GENERAL && (eff & RPS3_EFF_PLATFORM_INERTIA));
+}
+
+static int need_balls(const rps3_model *m) {
+  const int eff = m->opt.effects;
+  return (eff & (RPS3_EFF_PLATFORM_INERTIA | RPS3_EFF_PAYLOAD)) ||
+         (m->bodies == RPS3_BODIES_GENERAL && (eff & RPS3_EFF_LINK_INERTIA));
 }
 
 static int lagrange(const rps3_model *m, rps3_data *d, const double Jl[3][3],
@@ -203,9 +267,7 @@ static int lagrange(const rps3_model *m, rps3_data *d, const double Jl[3][3],
   double w[RPS3_NEFFECT][6], lam[3][RPS3_NEFFECT];
   int sel[RPS3_NEFFECT], ns = 0, n, e, i, q;
   int eff = m->opt.effects;
-  lagrange_kinematics(
-      m, d, &k, (eff & RPS3_EFF_PAYLOAD) != 0,
-      (eff & (RPS3_EFF_PLATFORM_INERTIA | RPS3_EFF_PAYLOAD)) != 0);
+  lagrange_kinematics(m, d, &k, need_frame(m), need_balls(m));
   /* the loads of each selected effect; the theta rows of (23),
      (df/dtheta)^T lambda = -w_theta, one column per effect */
   for (e = 0; e < RPS3_NEFFECT; e++) {
@@ -246,6 +308,53 @@ static int lagrange(const rps3_model *m, rps3_data *d, const double Jl[3][3],
  * force computation.  Each effect's term and its share of the scale are
  * the macros of src/power.h, which the batch kernel compiles too.
  */
+/* the general bodies' terms of the certificate (bodies.c): the platform
+   about its centre, each leg's cylinder about its pin and piston about
+   its ball joint, whose motion is the platform's (b' = vc + omega x rho) */
+static void certify_general(const rps3_model *m, const rps3_data *d,
+                            double *dT, double *dP, double *scale) {
+  const int eff = m->opt.effects;
+  const int sel[2] = {(eff & RPS3_EFF_PLATFORM_INERTIA) != 0,
+                      (eff & RPS3_EFF_LINK_INERTIA) != 0};
+  const int gsel[2] = {(eff & RPS3_EFF_PLATFORM_GRAVITY) != 0,
+                       (eff & RPS3_EFF_LINK_GRAVITY) != 0};
+  const double zero[3] = {0.0, 0.0, 0.0};
+  double e[3][3], pT, pP, s, rho[3], vb[3], ab[3], om[3], dom[3], t[3];
+  int i, k;
+  for (k = 0; k < 3; k++)
+    for (i = 0; i < 3; i++) e[k][i] = d->rot[i][k];
+  rps3_body_power(m->std[0], M3C(e), d->vc, d->ac, d->omega, d->domega, m->g,
+                  &pT, &pP, &s);
+  *dT += sel[0] ? pT : 0.0;
+  *dP += gsel[0] ? pP : 0.0;
+  *scale += (sel[0] || gsel[0]) ? s : 0.0;
+  if (!sel[1] && !gsel[1]) return;
+  for (i = 0; i < 3; i++) {
+    v3_copy(e[0], d->phi[i]);
+    v3_copy(e[1], m->axis[i]);
+    v3_cross(e[2], d->phi[i], m->axis[i]);
+    v3_scale(om, d->dtheta[i], m->axis[i]);
+    v3_scale(dom, d->ddtheta[i], m->axis[i]);
+    rps3_body_power(m->std[1 + 2 * i], M3C(e), zero, zero, om, dom, m->g, &pT,
+                    &pP, &s);
+    *dT += sel[1] ? pT : 0.0;
+    *dP += gsel[1] ? pP : 0.0;
+    *scale += s;
+    v3_sub(rho, d->b[i], d->c);
+    v3_cross(t, d->omega, rho);
+    v3_axpy(vb, d->vc, 1.0, t);
+    v3_cross(ab, d->domega, rho);
+    v3_axpy(ab, ab, 1.0, d->ac);
+    v3_cross(t, d->omega, t);
+    v3_axpy(ab, ab, 1.0, t);
+    rps3_body_power(m->std[2 + 2 * i], M3C(e), vb, ab, om, dom, m->g, &pT, &pP,
+                    &s);
+    *dT += sel[1] ? pT : 0.0;
+    *dP += gsel[1] ? pP : 0.0;
+    *scale += s;
+  }
+}
+
 static void certify(const rps3_model *m, rps3_data *d) {
   const int eff = m->opt.effects;
   double dT = 0.0, dP = 0.0, fp = 0.0, pw, scale, p, s, ax[3][3], cz[3];
@@ -256,12 +365,14 @@ static void certify(const rps3_model *m, rps3_data *d) {
     cz[i] = d->dphi[i][2];
   }
   RPS3_POWER_ACTUATORS(RPS3_V3C, d->F, d->dl, pw, scale);
-  if (eff & RPS3_EFF_PLATFORM_GRAVITY) {
+  if (m->bodies == RPS3_BODIES_GENERAL)
+    certify_general(m, d, &dT, &dP, &scale);
+  if (m->bodies == RPS3_BODIES_PAPER && (eff & RPS3_EFF_PLATFORM_GRAVITY)) {
     RPS3_POWER_BODY_GRAVITY(m->M * m->g, d->vc[2], p, s);
     dP += p;
     scale += s;
   }
-  if (eff & RPS3_EFF_PLATFORM_INERTIA) {
+  if (m->bodies == RPS3_BODIES_PAPER && (eff & RPS3_EFF_PLATFORM_INERTIA)) {
     RPS3_POWER_BODY_INERTIA(RPS3_V3C, m->M, 1.0, m->Ip, ax[0], ax[1], ax[2],
                             d->vc, d->ac, d->omega, d->domega, p, s);
     dT += p;
@@ -279,23 +390,30 @@ static void certify(const rps3_model *m, rps3_data *d) {
     dP += p;
     scale += s;
   }
-  if (eff & RPS3_EFF_LINK_GRAVITY) {
+  if (m->bodies == RPS3_BODIES_PAPER && (eff & RPS3_EFF_LINK_GRAVITY)) {
     RPS3_POWER_LINK_GRAVITY(RPS3_V3C, RPS3_LINK_WEIGHT_MOMENT(m->m, m->g, m->d),
                             cz, d->dtheta, p, s);
     dP += p;
     scale += s;
   }
-  if (eff & RPS3_EFF_LINK_INERTIA) {
+  if (m->bodies == RPS3_BODIES_PAPER && (eff & RPS3_EFF_LINK_INERTIA)) {
     RPS3_POWER_LINK_INERTIA(RPS3_V3C, m->Jlink, d->dtheta, d->ddtheta, p, s);
     dT += p;
     scale += s;
   }
   if (eff & RPS3_EFF_PIN_FRICTION) {
     double Tf[3];
-    for (i = 0; i < 3; i++) Tf[i] = friction_torque(m, d->dtheta[i]);
+    for (i = 0; i < 3; i++) Tf[i] = friction_torque(m, i, d->dtheta[i]);
     RPS3_POWER_PIN_FRICTION(RPS3_V3C, Tf, d->dtheta, fp, s);
     scale += s;
   }
+  if (eff & RPS3_EFF_PRISMATIC_FRICTION)
+    /* the force the actuators overcome: power they put in and lose */
+    for (i = 0; i < 3; i++) {
+      p = -rps3_friction_law(&m->leg[i].prismatic, d->dl[i]) * d->dl[i];
+      fp += p;
+      scale += fabs(p);
+    }
   d->power = pw;
   d->dTdt = dT;
   d->dPdt = dP;
@@ -381,14 +499,12 @@ static int invdyn_checks(const rps3_model *m, rps3_data *d, rps3_cjac *J) {
 
 int rps3_loads_prepare(const rps3_model *m, rps3_data *d, rps3_cjac *J,
                        rps3_loads *L) {
-  int status = invdyn_checks(m, d, J), eff = m->opt.effects;
+  int status = invdyn_checks(m, d, J);
   if (status != RPS3_OK) return status;
   L->method = m->opt.method;
   L->J = J;
   if (L->method == RPS3_LAGRANGE) {
-    lagrange_kinematics(
-        m, d, &L->k, (eff & RPS3_EFF_PAYLOAD) != 0,
-        (eff & (RPS3_EFF_PLATFORM_INERTIA | RPS3_EFF_PAYLOAD)) != 0);
+    lagrange_kinematics(m, d, &L->k, need_frame(m), need_balls(m));
     return RPS3_OK;
   }
   if (rps3_ne_system(m, d, L->LU6, L->perm6, L->rho) != 0)

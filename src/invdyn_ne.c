@@ -43,17 +43,72 @@ void rps3_payload_kin(const rps3_model *m, const rps3_data *d, double rg[3],
   v3_axpy(ag, ag, 1.0, t);
 }
 
+/* a general platform's wrench about its centre (bodies.c), its weight
+   alone or its inertia alone */
+static void platform_wrench(const rps3_model *m, const rps3_data *d,
+                            int inertia, double wf[3], double wm[3]) {
+  const double zero[3] = {0.0, 0.0, 0.0};
+  double e[3][3], a[3];
+  int k;
+  for (k = 0; k < 3; k++) {
+    e[0][k] = d->rot[k][0];
+    e[1][k] = d->rot[k][1];
+    e[2][k] = d->rot[k][2];
+  }
+  if (inertia) v3_copy(a, d->ac);
+  else
+    a[0] = a[1] = 0.0, a[2] = m->g;
+  rps3_body_wrench(m->std[0], M3C(e), inertia ? d->omega : zero,
+                   inertia ? d->domega : zero, a, wf, wm);
+}
+
+/* the general legs' loads (bodies.c), each ball joint's acceleration
+   from the platform's motion: the actuator's direct share p_i (its
+   piston along the link) and the ball force's component s_i along dphi_i
+   that the leg's moment balance about its pin fixes, l s = -wt */
+static void legs_ne(const rps3_model *m, const rps3_data *d, int inertia,
+                    double p[3], double s[3]) {
+  double rho[3], bdd[3], t[3], wt;
+  int i;
+  for (i = 0; i < 3; i++) {
+    v3_sub(rho, d->b[i], d->c);
+    /* b'' = ac + omega' x rho + omega x (omega x rho) */
+    v3_cross(bdd, d->domega, rho);
+    v3_axpy(bdd, bdd, 1.0, d->ac);
+    v3_cross(t, d->omega, rho);
+    v3_cross(t, d->omega, t);
+    v3_axpy(bdd, bdd, 1.0, t);
+    rps3_leg_loads(m, i, d->phi[i], d->dphi[i], d->l[i],
+                   inertia ? d->dtheta[i] : 0.0, inertia ? d->ddtheta[i] : 0.0,
+                   inertia ? bdd : NULL, inertia ? 0.0 : m->g, &p[i], &wt);
+    s[i] = -wt / d->l[i];
+  }
+}
+
 /*
  * Newton-Euler loads of effect e: the wrench (force wf, moment wm about the
- * centre) the links must apply to the platform, and the component s_i of
+ * centre) the links must apply to the platform, the component s_i of
  * each ball force along dphi_i fixed by link i's moment balance about its
- * pin:  Jlink theta'' = -l s - m g d cos(theta) + T_fric.
+ * pin:  Jlink theta'' = -l s - m g d cos(theta) + T_fric, and the share p_i
+ * of actuator i that does not reach the ball (a piston's load along the
+ * link, the prismatic joint's friction): F_i = phi_i . f_i + p_i.
  */
 static void ne_effect(const rps3_model *m, const rps3_data *d, int e,
-                      double wf[3], double wm[3], double s[3]) {
+                      double wf[3], double wm[3], double s[3], double p[3]) {
   double rg[3], vg[3], ag[3];
   int i;
-  for (i = 0; i < 3; i++) wf[i] = wm[i] = s[i] = 0.0;
+  for (i = 0; i < 3; i++) wf[i] = wm[i] = s[i] = p[i] = 0.0;
+  if (m->bodies == RPS3_BODIES_GENERAL) switch (1 << e) {
+    case RPS3_EFF_PLATFORM_GRAVITY:
+    case RPS3_EFF_PLATFORM_INERTIA:
+      platform_wrench(m, d, (1 << e) == RPS3_EFF_PLATFORM_INERTIA, wf, wm);
+      return;
+    case RPS3_EFF_LINK_GRAVITY:
+    case RPS3_EFF_LINK_INERTIA:
+      legs_ne(m, d, (1 << e) == RPS3_EFF_LINK_INERTIA, p, s);
+      return;
+    default: break;
+    }
   switch (1 << e) {
   case RPS3_EFF_PLATFORM_GRAVITY: wf[2] = m->M * m->g; break;
   case RPS3_EFF_PLATFORM_INERTIA:
@@ -80,7 +135,11 @@ static void ne_effect(const rps3_model *m, const rps3_data *d, int e,
     break;
   case RPS3_EFF_PIN_FRICTION:
     for (i = 0; i < 3; i++)
-      s[i] = rps3_friction_torque(m, d->dtheta[i]) / d->l[i];
+      s[i] = rps3_friction_torque(m, i, d->dtheta[i]) / d->l[i];
+    break;
+  case RPS3_EFF_PRISMATIC_FRICTION:
+    for (i = 0; i < 3; i++)
+      p[i] = rps3_friction_law(&m->leg[i].prismatic, d->dl[i]);
     break;
   default: break;
   }
@@ -109,16 +168,21 @@ int rps3_ne_system(const rps3_model *m, const rps3_data *d, double LU[36],
 }
 
 /* the right-hand side x of the Newton-Euler system for effect e: the
-   wrench of ne_effect less the pin components s_i dphi_i it fixes */
+   wrench of ne_effect less the ball forces' known parts k_i = s_i dphi_i
+   - p_i phi_i (f_i = (F_i - p_i) phi_i + s_i dphi_i + tau_i axis_i) */
 void rps3_ne_rhs(const rps3_model *m, const rps3_data *d,
                  const double rho[3][3], int e, double x[6]) {
-  double wf[3], wm[3], s[3], t[3];
+  double wf[3], wm[3], s[3], p[3], t[3];
   int i, r;
-  ne_effect(m, d, e, wf, wm, s);
+  ne_effect(m, d, e, wf, wm, s, p);
   for (i = 0; i < 3; i++) {
     v3_axpy(wf, wf, -s[i], d->dphi[i]);
     v3_cross(t, rho[i], d->dphi[i]);
     v3_axpy(wm, wm, -s[i], t);
+    if (p[i] == 0.0) continue;
+    v3_axpy(wf, wf, p[i], d->phi[i]);
+    v3_cross(t, rho[i], d->phi[i]);
+    v3_axpy(wm, wm, p[i], t);
   }
   for (r = 0; r < 3; r++) {
     x[r] = wf[r];

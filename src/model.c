@@ -36,6 +36,84 @@ void rps3_model_default(rps3_model *m) {
   rps3_options_default(&m->opt);
 }
 
+/* a body's inertia about its centre of mass is that of some mass
+   distribution when its second moment Sigma = tr(I)/2 1 - I is positive
+   semidefinite (the principal moments then obey the triangle inequality):
+   every principal minor of Sigma >= 0, to a rounding slack relative to
+   its trace.  The first failing rule, or NULL */
+static const char *body_inertia_rule(const double in[6]) {
+  const double I[3][3] = {{in[0], in[1], in[2]},
+                          {in[1], in[3], in[4]},
+                          {in[2], in[4], in[5]}};
+  double S[3][3], tr = 0.5 * (in[0] + in[3] + in[5]), s, det;
+  int i, j;
+  for (i = 0; i < 3; i++)
+    for (j = 0; j < 3; j++) S[i][j] = (i == j ? tr : 0.0) - I[i][j];
+  s = S[0][0] + S[1][1] + S[2][2];
+  if (!(s >= 0.0)) return "has a negative trace";
+  for (i = 0; i < 3; i++)
+    if (S[i][i] < -1e-12 * s)
+      return "violates the triangle inequality of its moments";
+  for (i = 0; i < 3; i++) {
+    j = (i + 1) % 3;
+    if (S[i][i] * S[j][j] - S[i][j] * S[i][j] < -1e-12 * s * s)
+      return "is not positive semidefinite (products of inertia too large)";
+  }
+  det = S[0][0] * (S[1][1] * S[2][2] - S[1][2] * S[1][2]) -
+        S[0][1] * (S[0][1] * S[2][2] - S[1][2] * S[0][2]) +
+        S[0][2] * (S[0][1] * S[1][2] - S[1][1] * S[0][2]);
+  if (det < -1e-12 * s * s * s)
+    return "is not positive semidefinite (products of inertia too large)";
+  return NULL;
+}
+
+/* the ten standard parameters of b in its frame: m, m c, and the inertia
+   about the frame's origin by the parallel-axis theorem (RPS3_NSTD) */
+void rps3_body_std(const rps3_body *b, double p[10]) {
+  const double *c = b->com, m = b->mass;
+  const double cc = c[0] * c[0] + c[1] * c[1] + c[2] * c[2];
+  p[0] = m;
+  p[1] = m * c[0];
+  p[2] = m * c[1];
+  p[3] = m * c[2];
+  p[4] = b->inertia[0] + m * (cc - c[0] * c[0]);
+  p[5] = b->inertia[1] - m * c[0] * c[1];
+  p[6] = b->inertia[2] - m * c[0] * c[2];
+  p[7] = b->inertia[3] + m * (cc - c[1] * c[1]);
+  p[8] = b->inertia[4] - m * c[1] * c[2];
+  p[9] = b->inertia[5] + m * (cc - c[2] * c[2]);
+}
+
+/* the general bodies: each a real body whose parameters and weight are
+   finite; their standard parameters into m->std */
+static int bodies_init(rps3_model *m, rps3_check *chk) {
+  static const int field[RPS3_NBODY] = {
+      RPS3_F_PLATFORM_BODY_MASS, RPS3_F_LEG1_CYLINDER_MASS,
+      RPS3_F_LEG1_PISTON_MASS,   RPS3_F_LEG2_CYLINDER_MASS,
+      RPS3_F_LEG2_PISTON_MASS,   RPS3_F_LEG3_CYLINDER_MASS,
+      RPS3_F_LEG3_PISTON_MASS};
+  int b, k;
+  for (b = 0; b < RPS3_NBODY; b++) {
+    const rps3_body *body = b == 0        ? &m->platform
+                            : (b - 1) % 2 ? &m->leg[(b - 1) / 2].piston
+                                          : &m->leg[(b - 1) / 2].cylinder;
+    /* a body's rows are MASS, COM, INERTIA in that order */
+    const char *why = body_inertia_rule(body->inertia);
+    if (why != NULL)
+      return rps3_check_fail(chk, field[b] + 2, 0, body->inertia[0],
+                             field[b] + 2, -1, why);
+    rps3_body_std(body, m->std[b]);
+    for (k = 0; k < 10; k++)
+      if (!isfinite(m->std[b][k]))
+        return rps3_check_fail(chk, field[b], 0, body->mass, field[b] + 1, -1,
+                               "its standard parameters overflow");
+    if (!isfinite(body->mass * m->g))
+      return rps3_check_fail(chk, field[b], 0, body->mass, RPS3_F_G, -1,
+                             "its weight overflows");
+  }
+  return RPS3_OK;
+}
+
 int rps3_model_init(rps3_model *m, rps3_check *chk) {
   const rps3_payload *p;
   int i, k;
@@ -90,6 +168,9 @@ int rps3_model_init(rps3_model *m, rps3_check *chk) {
     return rps3_check_fail(chk, RPS3_F_PAYLOAD_MASS, 0, p->mass, RPS3_F_G,
                            RPS3_F_RHO,
                            "payload.mass g or payload.mass r^2 overflows");
+  if (bodies_init(m, chk) != RPS3_OK) return RPS3_EINVAL;
+  for (i = 0; i < 3; i++)
+    m->pinf[i] = m->bodies == RPS3_BODIES_GENERAL ? m->leg[i].pin : m->friction;
   m->Ip[0] = m->Ip[1] = 0.25 * m->M * m->r * m->r;
   m->Ip[2] = 0.5 * m->M * m->r * m->r;
   m->Jlink = m->m * m->d * m->d + m->link_Ic;

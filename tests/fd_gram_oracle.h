@@ -43,7 +43,7 @@ static void fd_gram_oracle(const rps3_model *m, const rps3_data *d,
     }
     if (eff & RPS3_EFF_PIN_FRICTION) {
       double w;
-      RPS3_LOAD_PIN_FRICTION(rps3_friction_torque(m, p->dth[i]), w);
+      RPS3_LOAD_PIN_FRICTION(rps3_friction_torque(m, i, p->dth[i]), w);
       tau[i] += w;
     }
   }

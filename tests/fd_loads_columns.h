@@ -91,7 +91,7 @@ static void fdl_link(const rps3_model *m, const plane *p, int i,
     b += w;
   }
   if (gravity && (eff & RPS3_EFF_PIN_FRICTION)) {
-    RPS3_LOAD_PIN_FRICTION(rps3_friction_torque(m, p->dth[i]), w);
+    RPS3_LOAD_PIN_FRICTION(rps3_friction_torque(m, i, p->dth[i]), w);
     b += w;
   }
   *wl = a;
