@@ -26,12 +26,15 @@
  *
  * The weight (g) and the inertia (a_O, theta', theta'') are separate
  * calls, the shares of RPS3_EFF_LINK_GRAVITY and RPS3_EFF_LINK_INERTIA.
+ * Each is linear in the standard parameters and written as its rows (the
+ * load of each unit parameter): the forces multiply them by the
+ * parameters, the regressor (ident_std.c) takes them as its columns.
  */
 #include "internal.h"
 #include "linalg.h"
 
 /* the body's inertia about its origin as a 3 x 3 in body axes, from its
-   standard parameters */
+   standard parameters (the certificate's) */
 static void inertia_of(const double p[10], double I[3][3]) {
   I[0][0] = p[4];
   I[0][1] = I[1][0] = p[5];
@@ -47,58 +50,111 @@ static void to_base(const double e[3][3], const double v[3], double x[3]) {
   for (k = 0; k < 3; k++) x[k] = e[0][k] * v[0] + e[1][k] * v[1] + e[2][k] * v[2];
 }
 
+/* the pairs (j, k) of the inertia's six parameters Ixx, Ixy, Ixz, Iyy,
+   Iyz, Izz */
+static const int IJ[6][2] = {{0, 0}, {0, 1}, {0, 2}, {1, 1}, {1, 2}, {2, 2}};
+
+void rps3_body_wrench_rows(const double e[3][3], const double om[3],
+                           const double dom[3], const double a[3],
+                           double Wf[3][10], double Wn[3][10]) {
+  double t[3], u[3], x[3], y[3];
+  int j, k, r;
+  for (r = 0; r < 3; r++) {
+    /* the mass: f = m a */
+    Wf[r][0] = a[r];
+    Wn[r][0] = 0.0;
+  }
+  for (j = 0; j < 3; j++) {
+    /* h = E hb: f = omega' x h + omega x (omega x h), n = h x a */
+    v3_cross(t, dom, e[j]);
+    v3_cross(u, om, e[j]);
+    v3_cross(x, om, u);
+    v3_cross(y, e[j], a);
+    for (r = 0; r < 3; r++) {
+      Wf[r][1 + j] = t[r] + x[r];
+      Wn[r][1 + j] = y[r];
+    }
+  }
+  for (k = 0; k < 6; k++) {
+    /* I_w = E I E^T: a parameter at (p, q) and (q, p) puts e_p (e_q . x)
+       + e_q (e_p . x) into I_w x; n = I_w omega' + omega x I_w omega */
+    const int p = IJ[k][0], q = IJ[k][1];
+    double Io[3], Id[3];
+    v3_scale(Io, v3_dot(e[q], om), e[p]);
+    v3_scale(Id, v3_dot(e[q], dom), e[p]);
+    if (p != q) {
+      v3_axpy(Io, Io, v3_dot(e[p], om), e[q]);
+      v3_axpy(Id, Id, v3_dot(e[p], dom), e[q]);
+    }
+    v3_cross(t, om, Io);
+    for (r = 0; r < 3; r++) {
+      Wf[r][4 + k] = 0.0;
+      Wn[r][4 + k] = Id[r] + t[r];
+    }
+  }
+}
+
 void rps3_body_wrench(const double p[10], const double e[3][3],
                       const double om[3], const double dom[3],
                       const double a[3], double f[3], double n[3]) {
-  double I[3][3], hb[3] = {p[1], p[2], p[3]}, h[3], v[3], Iv[3], Iom[3],
-                  Idom[3], t[3], u[3];
-  int k;
-  inertia_of(p, I);
-  to_base(e, hb, h);
-  /* I_w x = E I E^T x, for x = omega and omega' */
-  for (k = 0; k < 3; k++) v[k] = v3_dot(e[k], om);
-  for (k = 0; k < 3; k++) Iv[k] = I[k][0] * v[0] + I[k][1] * v[1] + I[k][2] * v[2];
-  to_base(e, Iv, Iom);
-  for (k = 0; k < 3; k++) v[k] = v3_dot(e[k], dom);
-  for (k = 0; k < 3; k++) Iv[k] = I[k][0] * v[0] + I[k][1] * v[1] + I[k][2] * v[2];
-  to_base(e, Iv, Idom);
-  /* f = m a + omega' x h + omega x (omega x h) */
-  v3_scale(f, p[0], a);
-  v3_cross(t, dom, h);
-  v3_axpy(f, f, 1.0, t);
-  v3_cross(t, om, h);
-  v3_cross(u, om, t);
-  v3_axpy(f, f, 1.0, u);
-  /* n = I_w omega' + omega x I_w omega + h x a */
-  v3_cross(t, om, Iom);
-  v3_axpy(n, Idom, 1.0, t);
-  v3_cross(t, h, a);
-  v3_axpy(n, n, 1.0, t);
+  double Wf[3][10], Wn[3][10];
+  int r, k;
+  rps3_body_wrench_rows(e, om, dom, a, Wf, Wn);
+  for (r = 0; r < 3; r++) {
+    f[r] = n[r] = 0.0;
+    for (k = 0; k < 10; k++) {
+      f[r] += Wf[r][k] * p[k];
+      n[r] += Wn[r][k] * p[k];
+    }
+  }
 }
 
-void rps3_leg_loads(const rps3_model *m, int i, const double phi[3],
-                    const double dphi[3], double l, double dth, double ddth,
-                    const double bdd[3], double g, double *wl, double *wt) {
+void rps3_leg_rows(const rps3_model *m, int i, const double phi[3],
+                   const double dphi[3], double l, double dth, double ddth,
+                   const double bdd[3], double g, double WL[20],
+                   double WT[20]) {
   const double *w = m->axis[i];
-  double e[3][3], a[3], om[3], dom[3], f[3], n[3];
+  double e[3][3], a[3], om[3], dom[3], Wf[3][10], Wn[3][10];
+  int k;
   v3_copy(e[0], phi);
   v3_copy(e[1], w);
   v3_cross(e[2], phi, w);
   v3_scale(om, dth, w);
   v3_scale(dom, ddth, w);
-  /* the cylinder: origin the pin, at rest */
+  /* the cylinder: origin the pin, at rest; wt = w . n alone */
   a[0] = a[1] = 0.0;
   a[2] = g;
-  rps3_body_wrench(m->std[1 + 2 * i], M3C(e), om, dom, a, f, n);
-  *wt = v3_dot(w, n);
-  /* the piston: origin the ball joint */
+  rps3_body_wrench_rows(M3C(e), om, dom, a, Wf, Wn);
+  for (k = 0; k < 10; k++) {
+    WL[k] = 0.0;
+    WT[k] = w[0] * Wn[0][k] + w[1] * Wn[1][k] + w[2] * Wn[2][k];
+  }
+  /* the piston: origin the ball joint, moved by phi and l dphi */
   if (bdd != NULL) v3_copy(a, bdd);
   else
     a[0] = a[1] = a[2] = 0.0;
   a[2] += g;
-  rps3_body_wrench(m->std[2 + 2 * i], M3C(e), om, dom, a, f, n);
-  *wl = v3_dot(phi, f);
-  *wt += l * v3_dot(dphi, f) + v3_dot(w, n);
+  rps3_body_wrench_rows(M3C(e), om, dom, a, Wf, Wn);
+  for (k = 0; k < 10; k++) {
+    const double fk[3] = {Wf[0][k], Wf[1][k], Wf[2][k]};
+    WL[10 + k] = v3_dot(phi, fk);
+    WT[10 + k] = l * v3_dot(dphi, fk) + w[0] * Wn[0][k] + w[1] * Wn[1][k] +
+                 w[2] * Wn[2][k];
+  }
+}
+
+void rps3_leg_loads(const rps3_model *m, int i, const double phi[3],
+                    const double dphi[3], double l, double dth, double ddth,
+                    const double bdd[3], double g, double *wl, double *wt) {
+  const double *pc = m->std[1 + 2 * i], *pp = m->std[2 + 2 * i];
+  double WL[20], WT[20];
+  int k;
+  rps3_leg_rows(m, i, phi, dphi, l, dth, ddth, bdd, g, WL, WT);
+  *wl = *wt = 0.0;
+  for (k = 0; k < 10; k++) {
+    *wl += WL[10 + k] * pp[k];
+    *wt += WT[k] * pc[k] + WT[10 + k] * pp[k];
+  }
 }
 
 /*

@@ -15,6 +15,7 @@
 #include <string.h>
 
 #include "internal.h"
+#include "links.h"
 
 static const char *const param_units[10] = {
     "kg",     "kg m",   "kg m",   "kg m",   "kg m^2",
@@ -127,13 +128,69 @@ static void zero_params(const rps3_model *m, rps3_model *u) {
   }
 }
 
+/* a unit friction law: viscous (k = 0) or Coulomb (k = 1), f's
+   regularisation */
+static double unit_law(const rps3_friction *f, int k, double v) {
+  rps3_friction u = *f;
+  u.viscous = k == 0 ? 1.0 : 0.0;
+  u.coulomb = k == 1 ? 1.0 : 0.0;
+  return rps3_friction_law(&u, v);
+}
+
+/* the columns of leg i's bodies and friction: its loads per unit
+   parameter (bodies.c, the forces' own rows), through the forces of unit
+   leg loads Fb */
+static void leg_columns(const rps3_model *m, const rps3_data *d, int i,
+                        const double Fb[3][6], double Y[3][RPS3_NSTD]) {
+  const int eff = m->opt.effects;
+  double WL[20], WT[20], wl[20], wt[20], bdd[3];
+  int k, r, col;
+  for (k = 0; k < 20; k++) wl[k] = wt[k] = 0.0;
+  if (eff & RPS3_EFF_LINK_GRAVITY) {
+    rps3_leg_rows(m, i, d->phi[i], d->dphi[i], d->l[i], 0.0, 0.0, NULL, m->g,
+                  WL, WT);
+    for (k = 0; k < 20; k++) {
+      wl[k] += WL[k];
+      wt[k] += WT[k];
+    }
+  }
+  if (eff & RPS3_EFF_LINK_INERTIA) {
+    RPS3_BALL_ACC_JOINTS(RPS3_V3C, d->phi[i], d->dphi[i], d->l[i], d->dl[i],
+                         d->dtheta[i], d->ddl[i], d->ddtheta[i], bdd);
+    rps3_leg_rows(m, i, d->phi[i], d->dphi[i], d->l[i], d->dtheta[i],
+                  d->ddtheta[i], bdd, 0.0, WL, WT);
+    for (k = 0; k < 20; k++) {
+      wl[k] += WL[k];
+      wt[k] += WT[k];
+    }
+  }
+  for (k = 0; k < 20; k++) {
+    col = 10 * (1 + 2 * i) + k; /* cylinder i, then piston i */
+    for (r = 0; r < 3; r++)
+      Y[r][col] = Fb[r][i] * wl[k] + Fb[r][3 + i] * wt[k];
+  }
+  for (k = 0; k < 2; k++) {
+    /* prismatic friction on l_i, pin friction on theta_i (-T, src/loads.h) */
+    const double fp = (eff & RPS3_EFF_PRISMATIC_FRICTION)
+                          ? unit_law(&m->leg[i].prismatic, k, d->dl[i])
+                          : 0.0;
+    const double ft = (eff & RPS3_EFF_PIN_FRICTION)
+                          ? unit_law(&m->pinf[i], k, d->dtheta[i])
+                          : 0.0;
+    for (r = 0; r < 3; r++) {
+      Y[r][NBODYCOL + 2 * i + k] = Fb[r][i] * fp;
+      Y[r][NBODYCOL + 6 + 2 * i + k] = Fb[r][3 + i] * ft;
+    }
+  }
+}
+
 int rps3_regressor_std(const rps3_model *m, rps3_data *d,
                        double Y[3][RPS3_NSTD]) {
   rps3_cjac J;
   rps3_loads L;
   rps3_model u;
-  double rhs[RPS3_NSTD][6];
-  int status, i, k, b;
+  double rhs[10][6], Fp[3][10], Fb[3][6];
+  int status, i, k;
   if (Y != NULL)
     for (i = 0; i < 3; i++)
       for (k = 0; k < RPS3_NSTD; k++) Y[i][k] = (double)NAN;
@@ -141,8 +198,8 @@ int rps3_regressor_std(const rps3_model *m, rps3_data *d,
   if (Y == NULL) RPS3_ERROR(d, RPS3_EINVAL, "regressor: Y is NULL");
   status = rps3_inverse_motion(m, d, &J, rps3_need_rates(m));
   if (status != RPS3_OK) return status;
-  /* the general bodies' loads need the frame's and the balls'
-     accelerations whatever m's bodies: prepare with them */
+  /* the general platform's loads need the frame's accelerations whatever
+     m's bodies: prepare with a general copy */
   zero_params(m, &u);
   status = rps3_loads_prepare(&u, d, &J, &L);
   if (status != RPS3_OK) return status;
@@ -154,28 +211,20 @@ int rps3_regressor_std(const rps3_model *m, rps3_data *d,
   d->power = d->dTdt = d->dPdt = d->friction_power = d->energy_residual =
       d->energy_scale = (double)NAN;
 
-  for (b = 0; b < RPS3_NBODY; b++) {
-    const int eff = b == 0 ? RPS3_EFF_PLATFORM_GRAVITY | RPS3_EFF_PLATFORM_INERTIA
-                           : RPS3_EFF_LINK_GRAVITY | RPS3_EFF_LINK_INERTIA;
-    for (k = 0; k < 10; k++) {
-      u.std[b][k] = 1.0;
-      column(m, &u, d, &L, eff, rhs[10 * b + k]);
-      u.std[b][k] = 0.0;
-    }
+  /* the platform: its loads with one unit parameter, solved together */
+  for (k = 0; k < 10; k++) {
+    u.std[0][k] = 1.0;
+    column(m, &u, d, &L, RPS3_EFF_PLATFORM_GRAVITY | RPS3_EFF_PLATFORM_INERTIA,
+           rhs[k]);
+    u.std[0][k] = 0.0;
   }
+  rps3_loads_solve(&L, 10, rhs, &Fp[0][0], 10);
   for (i = 0; i < 3; i++)
-    for (k = 0; k < 2; k++) {
-      rps3_friction *pr = &u.leg[i].prismatic, *pn = &u.pinf[i];
-      *(k ? &pr->coulomb : &pr->viscous) = 1.0;
-      column(m, &u, d, &L, RPS3_EFF_PRISMATIC_FRICTION,
-             rhs[NBODYCOL + 2 * i + k]);
-      *(k ? &pr->coulomb : &pr->viscous) = 0.0;
-      *(k ? &pn->coulomb : &pn->viscous) = 1.0;
-      column(m, &u, d, &L, RPS3_EFF_PIN_FRICTION,
-             rhs[NBODYCOL + 6 + 2 * i + k]);
-      *(k ? &pn->coulomb : &pn->viscous) = 0.0;
-    }
-  rps3_loads_solve(&L, RPS3_NSTD, rhs, &Y[0][0], RPS3_NSTD);
+    for (k = 0; k < 10; k++) Y[i][k] = Fp[i][k];
+  /* the legs: each column a load on one leg's (l_i, theta_i) */
+  rps3_loads_leg_basis(d, &L, Fb);
+  for (i = 0; i < 3; i++)
+    leg_columns(m, d, i, (const double(*)[6])Fb, Y);
   if (!rps3_all_finite(&Y[0][0], 3 * RPS3_NSTD)) {
     int bad = rps3_first_nonfinite(&Y[0][0], 3 * RPS3_NSTD);
     for (i = 0; i < 3; i++)

@@ -227,6 +227,17 @@ void rps3_body_std(const rps3_body *b, double p[10]);
 void rps3_body_wrench(const double p[10], const double e[3][3],
                       const double om[3], const double dom[3],
                       const double a[3], double f[3], double n[3]);
+/* its rows: f = Wf p, n = Wn p */
+void rps3_body_wrench_rows(const double e[3][3], const double om[3],
+                           const double dom[3], const double a[3],
+                           double Wf[3][10], double Wn[3][10]);
+/* leg i's loads per unit standard parameter, its cylinder's (0-9) and
+   piston's (10-19): wl = WL . p, wt = WT . p (arguments as
+   rps3_leg_loads) */
+void rps3_leg_rows(const rps3_model *m, int i, const double phi[3],
+                   const double dphi[3], double l, double dth, double ddth,
+                   const double bdd[3], double g, double WL[20],
+                   double WT[20]);
 
 /* the certificate's dT/dt (*pT) and dP/dt (*pP) of a general body whose
    origin moves at vO, aO, turning at omega, omega' (bodies.c); *s the
@@ -280,6 +291,10 @@ void rps3_loads_effect(const rps3_model *u, const rps3_data *d,
                        const rps3_loads *L, int e, double rhs[6]);
 void rps3_loads_solve(const rps3_loads *L, int ncol, double (*rhs)[6],
                       double *F, int ldf);
+/* Fb: the forces of unit leg loads, column j the load 1 on l_j (j < 3) or
+   on theta_{j-3}, through L's method */
+void rps3_loads_leg_basis(const rps3_data *d, const rps3_loads *L,
+                          double Fb[3][6]);
 /* Newton-Euler (invdyn_ne.c): the 6x6 system at d's point factored into
    LU, perm with rho_i = b_i - c (0, or -1 when singular); effect e's
    right-hand side; and the whole formulation's F into d */
@@ -287,6 +302,11 @@ int rps3_ne_system(const rps3_model *m, const rps3_data *d, double LU[36],
                    int perm[6], double rho[3][3]);
 void rps3_ne_rhs(const rps3_model *m, const rps3_data *d,
                  const double rho[3][3], int e, double x[6]);
+/* the right-hand side of leg loads w alone (w[i] on l_i, w[3 + i] on
+   theta_i, as the Lagrange route's): the piston's share on F_i, the ball
+   force's dphi_i component s_i = -w[3 + i] / l_i */
+void rps3_ne_rhs_legs(const rps3_data *d, const double rho[3][3],
+                      const double w[6], double x[6]);
 int rps3_newton_euler(const rps3_model *m, rps3_data *d);
 /* rot diag(I) rot^T v, and the payload's centre of mass relative to c
    with its velocity and acceleration (invdyn_ne.c; also the certificate's) */

@@ -545,6 +545,21 @@ void rps3_loads_solve(const rps3_loads *L, int ncol, double (*rhs)[6],
   }
 }
 
+void rps3_loads_leg_basis(const rps3_data *d, const rps3_loads *L,
+                          double Fb[3][6]) {
+  double rhs[6][6];
+  int j, r;
+  for (j = 0; j < 6; j++) {
+    double w[6] = {0.0, 0.0, 0.0, 0.0, 0.0, 0.0};
+    w[j] = 1.0;
+    if (L->method == RPS3_LAGRANGE)
+      for (r = 0; r < 6; r++) rhs[j][r] = w[r];
+    else
+      rps3_ne_rhs_legs(d, M3C(L->rho), w, rhs[j]);
+  }
+  rps3_loads_solve(L, 6, rhs, &Fb[0][0], 6);
+}
+
 int rps3_invdyn(const rps3_model *m, rps3_data *d) {
   return rps3_invdyn_with(m, d, NULL);
 }

@@ -170,11 +170,11 @@ int rps3_ne_system(const rps3_model *m, const rps3_data *d, double LU[36],
 /* the right-hand side x of the Newton-Euler system for effect e: the
    wrench of ne_effect less the ball forces' known parts k_i = s_i dphi_i
    - p_i phi_i (f_i = (F_i - p_i) phi_i + s_i dphi_i + tau_i axis_i) */
-void rps3_ne_rhs(const rps3_model *m, const rps3_data *d,
-                 const double rho[3][3], int e, double x[6]) {
-  double wf[3], wm[3], s[3], p[3], t[3];
+static void ne_rhs_of(const rps3_data *d, const double rho[3][3],
+                      double wf[3], double wm[3], const double s[3],
+                      const double p[3], double x[6]) {
+  double t[3];
   int i, r;
-  ne_effect(m, d, e, wf, wm, s, p);
   for (i = 0; i < 3; i++) {
     v3_axpy(wf, wf, -s[i], d->dphi[i]);
     v3_cross(t, rho[i], d->dphi[i]);
@@ -188,6 +188,24 @@ void rps3_ne_rhs(const rps3_model *m, const rps3_data *d,
     x[r] = wf[r];
     x[3 + r] = wm[r];
   }
+}
+
+void rps3_ne_rhs(const rps3_model *m, const rps3_data *d,
+                 const double rho[3][3], int e, double x[6]) {
+  double wf[3], wm[3], s[3], p[3];
+  ne_effect(m, d, e, wf, wm, s, p);
+  ne_rhs_of(d, rho, wf, wm, s, p, x);
+}
+
+void rps3_ne_rhs_legs(const rps3_data *d, const double rho[3][3],
+                      const double w[6], double x[6]) {
+  double wf[3] = {0.0, 0.0, 0.0}, wm[3] = {0.0, 0.0, 0.0}, s[3], p[3];
+  int i;
+  for (i = 0; i < 3; i++) {
+    p[i] = w[i];
+    s[i] = -w[3 + i] / d->l[i];
+  }
+  ne_rhs_of(d, rho, wf, wm, s, p, x);
 }
 
 int rps3_newton_euler(const rps3_model *m, rps3_data *d) {
