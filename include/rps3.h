@@ -2181,9 +2181,11 @@ RPS3_API const char *rps3_paper_unit(int k);
  * (inertia + mass (|com|^2 - com_k^2)), friction.viscous and coulomb,
  * whatever effects are selected.  Returns RPS3_OK, or RPS3_EINVAL with a
  * message in chk->msg (chk may be NULL; field -1): m NULL or not
- * initialised, pi NULL, or a payload whose centre of mass is off the
+ * initialised, pi NULL, a payload whose centre of mass is off the
  * platform axes (it has products of inertia the parameters do not hold;
- * pi is still written).
+ * pi is still written), general bodies (RPS3_BODIES_GENERAL) or a
+ * selected prismatic friction that is not zero: outside these twelve
+ * parameters, rps3_regressor_std and rps3_std_params hold them.
  */
 RPS3_API int rps3_paper_params(const rps3_model *m, double pi[RPS3_NPAPER],
                                rps3_check *chk);

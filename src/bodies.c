@@ -47,7 +47,8 @@ static void inertia_of(const double p[10], double I[3][3]) {
 /* x = E v (body axes to the base frame), E's columns e[0..2] */
 static void to_base(const double e[3][3], const double v[3], double x[3]) {
   int k;
-  for (k = 0; k < 3; k++) x[k] = e[0][k] * v[0] + e[1][k] * v[1] + e[2][k] * v[2];
+  for (k = 0; k < 3; k++)
+    x[k] = e[0][k] * v[0] + e[1][k] * v[1] + e[2][k] * v[2];
 }
 
 /* the pairs (j, k) of the inertia's six parameters Ixx, Ixy, Ixz, Iyy,

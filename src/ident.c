@@ -31,6 +31,16 @@ const char *rps3_paper_unit(int k) {
   return (k >= 0 && k < RPS3_NPAPER) ? paper_units[k] : NULL;
 }
 
+/* 1 when a prismatic joint of m has friction */
+static int has_prismatic(const rps3_model *m) {
+  int i;
+  for (i = 0; i < 3; i++)
+    if (m->leg[i].prismatic.viscous != 0.0 ||
+        m->leg[i].prismatic.coulomb != 0.0)
+      return 1;
+  return 0;
+}
+
 int rps3_paper_params(const rps3_model *m, double pi[RPS3_NPAPER],
                       rps3_check *chk) {
   char *err = chk != NULL ? chk->msg : NULL;
@@ -43,6 +53,17 @@ int rps3_paper_params(const rps3_model *m, double pi[RPS3_NPAPER],
     if (err && errsz)
       snprintf(err, errsz, "%s",
                pi == NULL ? "pi is NULL" : "model is NULL or not initialised");
+    return RPS3_EINVAL;
+  }
+  if (m->bodies != RPS3_BODIES_PAPER ||
+      ((m->opt.effects & RPS3_EFF_PRISMATIC_FRICTION) && has_prismatic(m))) {
+    memset(pi, 0, RPS3_NPAPER * sizeof(double));
+    if (err && errsz)
+      snprintf(err, errsz,
+               "%s: outside the paper model's twelve parameters (use "
+               "rps3_regressor_std and rps3_std_params)",
+               m->bodies != RPS3_BODIES_PAPER ? "general bodies"
+                                              : "prismatic friction");
     return RPS3_EINVAL;
   }
   p = &m->payload;

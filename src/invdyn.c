@@ -252,7 +252,8 @@ static void lagrange_effect(const rps3_model *m, const rps3_data *d,
 static int need_frame(const rps3_model *m) {
   const int eff = m->opt.effects;
   return (eff & RPS3_EFF_PAYLOAD) ||
-         (m->bodies == RPS3_BODIES_GENERAL && (eff & RPS3_EFF_PLATFORM_INERTIA));
+         (m->bodies == RPS3_BODIES_GENERAL &&
+          (eff & RPS3_EFF_PLATFORM_INERTIA));
 }
 
 static int need_balls(const rps3_model *m) {

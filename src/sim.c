@@ -155,7 +155,8 @@ int rps3_sim_rhs(double t, const double y[], double dydt[], void *params) {
       fric += rps3_friction_torque(&s->plant, i, d->dtheta[i]) * d->dtheta[i];
   if (s->plant.opt.effects & RPS3_EFF_PRISMATIC_FRICTION)
     for (i = 0; i < 3; i++)
-      fric -= rps3_friction_law(&s->plant.leg[i].prismatic, y[3 + i]) * y[3 + i];
+      fric -= rps3_friction_law(&s->plant.leg[i].prismatic, y[3 + i]) *
+              y[3 + i];
   for (i = 0; i < 3; i++) {
     dydt[i] = y[3 + i];
     dydt[3 + i] = d->ddl[i];

@@ -269,6 +269,22 @@ static void refuses_unreal_bodies(void **state) {
   m.leg[0].prismatic.coulomb = -1.0;
   assert_int_equal(rps3_model_init(&m, &chk), RPS3_EINVAL);
   assert_int_equal(chk.field, RPS3_F_LEG1_PRISMATIC_COULOMB);
+  /* the paper parameters do not hold general bodies or prismatic
+     friction */
+  {
+    double pi[RPS3_NPAPER];
+    rps3_model_default(&m);
+    m.bodies = RPS3_BODIES_GENERAL;
+    assert_int_equal(rps3_model_init(&m, NULL), RPS3_OK);
+    assert_int_equal(rps3_paper_params(&m, pi, &chk), RPS3_EINVAL);
+    assert_non_null(strstr(chk.msg, "general bodies"));
+    rps3_model_default(&m);
+    m.opt.effects |= RPS3_EFF_PRISMATIC_FRICTION;
+    m.leg[2].prismatic.coulomb = 0.1;
+    assert_int_equal(rps3_model_init(&m, NULL), RPS3_OK);
+    assert_int_equal(rps3_paper_params(&m, pi, &chk), RPS3_EINVAL);
+    assert_non_null(strstr(chk.msg, "prismatic friction"));
+  }
   rps3_model_default(&m);
   m.bodies = 2;
   assert_int_equal(rps3_model_init(&m, &chk), RPS3_EINVAL);

@@ -63,6 +63,10 @@ static void inverts_inverse_dynamics(void **state) {
       model_entropy(&m);
       m.opt.effects = eff;
       m.opt.method = meth ? RPS3_NEWTON_EULER : RPS3_LAGRANGE;
+      for (n = 0; n < 3; n++) {
+        m.leg[n].prismatic.viscous = 0.21 + 0.03 * n;
+        m.leg[n].prismatic.coulomb = 0.047;
+      }
       assert_int_equal(rps3_model_init(&m, NULL), RPS3_OK);
       assert_int_equal(rps3_data_alloc(&m, &inv), RPS3_OK);
       assert_int_equal(rps3_data_alloc(&m, &fd), RPS3_OK);

@@ -191,8 +191,16 @@ static void energy_balance(void **state) {
       double scale, prev = 0.0, worst_step = 0.0;
       int k;
       model_entropy(&m);
-      m.opt.effects = RPS3_EFF_ALL & ~(fr ? 0 : RPS3_EFF_PIN_FRICTION);
+      m.opt.effects =
+          RPS3_EFF_ALL &
+          ~(fr ? 0 : RPS3_EFF_PIN_FRICTION | RPS3_EFF_PRISMATIC_FRICTION);
       m.friction.vreg = 0.01;
+      for (k = 0; k < 3; k++) {
+        /* friction in the prismatic joints too: their power is lost */
+        m.leg[k].prismatic.viscous = 0.21 + 0.03 * k;
+        m.leg[k].prismatic.coulomb = 0.047;
+        m.leg[k].prismatic.vreg = 1e-3;
+      }
       assert_int_equal(rps3_model_init(&m, NULL), RPS3_OK);
       helix_entropy(&tr);
       rps3_sim_options_default(&o);
