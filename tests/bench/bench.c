@@ -84,6 +84,7 @@ typedef enum {
   K_SIM_RUN,  /* the same periods, rps3_sim_advance called over the rest
                  of the helix at once (a run of it) */
   K_REGRESSOR, /* rps3_regressor along the trajectory */
+  K_REGRESSOR_STD, /* rps3_regressor_std along the trajectory */
   K_DESIGN    /* rps3_design_eval_grid: Table II's design on its default
                  10 x 10 x 10 grid, every per-pose output and the summary */
 } case_kind;
@@ -305,6 +306,16 @@ static void run_batch(bench_case *c, const points *pt, long ncalls) {
       if (rps3_regressor(m, d, Y) != RPS3_OK) c->failures++;
     }
     break;
+  case K_REGRESSOR_STD:
+    for (i = 0; i < ncalls; i++) {
+      double Y[3][RPS3_NSTD];
+      p = walk(c, pt->n);
+      copy3(d->pose, pt->pose[p]);
+      copy3(d->dpose, pt->dpose[p]);
+      copy3(d->ddpose, pt->ddpose[p]);
+      if (rps3_regressor_std(m, d, Y) != RPS3_OK) c->failures++;
+    }
+    break;
   case K_DESIGN:
     /* ncalls poses, one grid of BATCH_N a call */
     for (i = 0; i < ncalls; i += BATCH_N) {
@@ -342,13 +353,19 @@ static void run_batch(bench_case *c, const points *pt, long ncalls) {
 
 /* ---------------------------------------------------------------- scenes */
 
-typedef enum { SCENE_FULL, SCENE_GRAVITY, SCENE_PAPER } scene;
+typedef enum { SCENE_FULL, SCENE_GRAVITY, SCENE_PAPER, SCENE_GENERAL } scene;
 
 static const char *const scene_full_doc =
-    "all six effects: platform and link gravity and inertia, a payload "
+    "every effect: platform and link gravity and inertia, a payload "
     "(0.05 kg at (0.01, -0.02, 0.03) m, moments (2e-5, 3e-5, 4e-5) kg m^2), "
-    "pin friction (viscous 0.01 N m s, Coulomb 0.005 N m); certify on "
-    "(the default) unless the row says otherwise";
+    "pin friction (viscous 0.01 N m s, Coulomb 0.005 N m), prismatic "
+    "friction selected with zero coefficients; certify on (the default) "
+    "unless the row says otherwise";
+static const char *const scene_general_doc =
+    "general bodies (a platform of Table II's mass with its centre of mass "
+    "off its centre and products of inertia, cylinders and pistons with "
+    "full inertia tensors), every effect, friction in every pin and "
+    "prismatic joint, no payload";
 static const char *const scene_gravity_doc =
     "platform_gravity + link_gravity, certify off: a static scene, no rates";
 
@@ -368,6 +385,25 @@ static void make_model(rps3_model *m, scene s, rps3_method method,
     m->payload.inertia[2] = 4e-5;
     m->friction.viscous = 0.01;
     m->friction.coulomb = 0.005;
+  } else if (s == SCENE_GENERAL) {
+    static const rps3_body plat = {0.18, {0.004, -0.003, 0.012},
+                                   {1.2e-3, 1e-5, -2e-5, 1.1e-3, 3e-5, 2.2e-3}};
+    static const rps3_body cyl = {0.07, {0.09, 0.002, -0.004},
+                                  {2e-5, 0.0, 1e-6, 6e-4, 0.0, 6e-4}};
+    static const rps3_body pis = {0.03, {-0.05, 0.0, 0.001},
+                                  {5e-6, 0.0, 0.0, 8e-5, 0.0, 8e-5}};
+    int i;
+    m->opt.effects = RPS3_EFF_ALL & ~RPS3_EFF_PAYLOAD;
+    m->bodies = RPS3_BODIES_GENERAL;
+    m->platform = plat;
+    for (i = 0; i < 3; i++) {
+      m->leg[i].cylinder = cyl;
+      m->leg[i].piston = pis;
+      m->leg[i].pin.viscous = 0.01;
+      m->leg[i].pin.coulomb = 0.005;
+      m->leg[i].prismatic.viscous = 0.5;
+      m->leg[i].prismatic.coulomb = 0.05;
+    }
   } else if (s == SCENE_PAPER) {
     m->opt.effects = RPS3_EFF_DEFAULT; /* the paper's: gravity and inertia */
   } else {
@@ -568,6 +604,8 @@ static const struct {
      "sim period: library's law without the plant / with it"},
     {"regressor_point", "pipeline_closed_lagrange_full_nocert",
      "regressor / rps3_inverse's forces at the same point (goal <= 2)"},
+    {"regressor_std_point", "pipeline_closed_lagrange_general_nocert",
+     "standard regressor / the general forces at the same point (goal <= 2)"},
 };
 #define NRATIO_MAX ((int)(sizeof(ratio_pairs) / sizeof(ratio_pairs[0])))
 
@@ -723,7 +761,7 @@ static void print_ratios(const bench_ratio *rat, int n, long batches) {
 
 /* ------------------------------------------------------------------ main */
 
-#define NCASE_MAX 40
+#define NCASE_MAX 48
 
 static void usage(void) {
   fprintf(stderr,
@@ -943,6 +981,15 @@ int main(int argc, char **argv) {
        "cond_h, transmission, centre, spin) and the summary; target 1 ms "
        "the grid", K_DESIGN, SCENE_PAPER, RPS3_LAGRANGE,
        RPS3_THETA_CLOSED_FORM, 1, 0, TARGET_DESIGN_NS, 0);
+  CASE("pipeline_closed_lagrange_general_nocert", "rps3_inverse, "
+       "closed-form theta, general bodies, Lagrange, certify off",
+       K_INVERSE, SCENE_GENERAL, RPS3_LAGRANGE, RPS3_THETA_CLOSED_FORM, 1, 0,
+       BENCH_NONE, 0);
+  CASE("regressor_std_point", "rps3_regressor_std: the 3 x 82 regressor of "
+       "the standard parameters at a point, closed-form theta, general "
+       "bodies, Lagrange",
+       K_REGRESSOR_STD, SCENE_GENERAL, RPS3_LAGRANGE, RPS3_THETA_CLOSED_FORM,
+       1, 0, BENCH_NONE, 0);
   CASE("regressor_point", "rps3_regressor: the paper model's 3 x 12 "
        "regressor at a point, closed-form theta, full scene, Lagrange",
        K_REGRESSOR, SCENE_FULL, RPS3_LAGRANGE, RPS3_THETA_CLOSED_FORM, 1, 0,
@@ -1108,6 +1155,7 @@ int main(int argc, char **argv) {
   info.trajectory = trajdoc;
   info.scene_full = scene_full_doc;
   info.scene_gravity = scene_gravity_doc;
+  info.scene_general = scene_general_doc;
   info.clock = "clock_gettime(CLOCK_MONOTONIC) (wall) and "
                "CLOCK_THREAD_CPUTIME_ID (cpu) around each batch";
   if (strcmp(out, "-") != 0) {

@@ -33,6 +33,7 @@ typedef struct {
   const char *trajectory;  /* the points the cases loop over */
   const char *scene_full;  /* the full scene */
   const char *scene_gravity; /* the gravity-only scene */
+  const char *scene_general; /* the general bodies' scene */
   const char *clock;       /* timer used */
 } bench_info;
 

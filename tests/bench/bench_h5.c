@@ -171,6 +171,7 @@ int bench_write_h5(const char *path, const bench_info *info,
          attr_str(file, "trajectory", info->trajectory) == 0 &&
          attr_str(file, "scene_full", info->scene_full) == 0 &&
          attr_str(file, "scene_gravity", info->scene_gravity) == 0 &&
+         attr_str(file, "scene_general", info->scene_general) == 0 &&
          attr_str(file, "clock", info->clock) == 0 &&
          attr_str(file, "created", when) == 0;
 
