@@ -123,6 +123,13 @@ def actuator_forces(model, data, qpos, qvel, qacc, p):
     for i in range(3):
         dof = model.joint(f"pin_{i}").dofadr[0]
         need[dof] += p["friction"]["coulomb"] * np.sign(qvel[dof])
+    # the prismatic joints' friction, a known force opposing each slide's
+    # rate (the exported model has none)
+    pr = p.get("prismatic", dict(viscous=0.0, coulomb=0.0))
+    for i in range(3):
+        dof = model.joint(f"leg_{i}").dofadr[0]
+        need[dof] += (pr["viscous"] * qvel[dof] +
+                      pr["coulomb"] * np.sign(qvel[dof]))
     # ball-joint reactions: Jacobian of (platform site - link site)
     cols = []
     jp = np.zeros((3, model.nv))

@@ -34,9 +34,9 @@ ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
 
 # effect k is the bit 1 << k of rps3_options.effects
 EFFECTS = ("platform_gravity", "link_gravity", "platform_inertia",
-           "link_inertia", "payload", "pin_friction")
-EFF_DEFAULT = 0b001111
-EFF_ALL = 0b111111
+           "link_inertia", "payload", "pin_friction", "prismatic_friction")
+EFF_DEFAULT = 0b0001111
+EFF_ALL = 0b1111111
 
 # Table II (the paper's case)
 PAPER = dict(R=0.2286, rho=0.5, M=0.18, m=0.09, d=0.1524, link_Ic=0.0,
@@ -50,18 +50,22 @@ ENTROPY = dict(R=0.2385, rho=0.4387, M=0.2381, m=0.0917, d=0.1383,
                payload=dict(mass=0.0713, com=(0.0127, -0.0083, 0.0411),
                             inertia=(1.13e-4, 1.71e-4, 0.97e-4)),
                friction=dict(viscous=0.0137, coulomb=0.0029))
+# and friction in the prismatic joints (the exported MJCF has none)
+ENTROPY_PRISMATIC = dict(ENTROPY, prismatic=dict(viscous=0.213, coulomb=0.047))
 
 PARAM_NAMES = ("R", "rho", "M", "m", "d", "link_Ic", "g", "payload_mass",
                "com_x", "com_y", "com_z", "I_x", "I_y", "I_z", "viscous",
-               "coulomb")
+               "coulomb", "prismatic_viscous", "prismatic_coulomb")
 
 
 def param_vector(p):
     """The model parameters in the order of PARAM_NAMES (and the shim)."""
     pl, fr = p["payload"], p["friction"]
+    pr = p.get("prismatic", dict(viscous=0.0, coulomb=0.0))
     return np.array([p["R"], p["rho"], p["M"], p["m"], p["d"], p["link_Ic"],
                      p["g"], pl["mass"], *pl["com"], *pl["inertia"],
-                     fr["viscous"], fr["coulomb"]], float)
+                     fr["viscous"], fr["coulomb"], pr["viscous"],
+                     pr["coulomb"]], float)
 
 
 # ------------------------------------------------------------ trajectories
@@ -151,7 +155,7 @@ def build_sim_shim(outdir):
 
 
 def library_forces(lib, p, effects, states, method=0, theta=0):
-    """F (n, 3), F_effect (n, 6, 3) and status (n,) from rps3_inverse."""
+    """F (n, 3), F_effect (n, 7, 3) and status (n,) from rps3_inverse."""
     pose, dpose, ddpose = (np.ascontiguousarray(s, float) for s in states)
     n = len(pose)
     F = np.zeros((n, 3))
@@ -193,7 +197,7 @@ class Symbolic:
     def __init__(self):
         q = sp.symbols("alpha beta z_c", real=True)
         par = sp.symbols(" ".join(PARAM_NAMES), real=True)
-        (R, rho, _, _, d, _, _, _, sx, sy, sz, _, _, _, _, _) = par
+        (R, rho, _, _, d, _, _, _, sx, sy, sz, *_) = par
         a, b, z = q
 
         def Rz(x):
@@ -275,7 +279,7 @@ class Symbolic:
         return out
 
     def forces(self, p, effects, pose, dpose, ddpose):
-        """F (3,) and the share of each effect (6, 3) at one state."""
+        """F (3,) and the share of each effect (7, 3) at one state."""
         g = self._geometry(p, pose)
         qd, qdd = np.asarray(dpose, float), np.asarray(ddpose, float)
         grav, pl = p["g"], p["payload"]
@@ -325,6 +329,11 @@ class Symbolic:
         fr = p["friction"]
         tau = -(fr["viscous"] * thd + fr["coulomb"] * np.sign(thd))
         rows[5] = -(Jt.T @ tau)  # the friction torques' generalized force
+        # the prismatic joints' friction: a force on each actuator's own
+        # coordinate, J_l^T f in the pose's
+        pr = p.get("prismatic", dict(viscous=0.0, coulomb=0.0))
+        ld = Jl @ qd
+        rows[6] = Jl.T @ (pr["viscous"] * ld + pr["coulomb"] * np.sign(ld))
         Fe = np.linalg.solve(Jl.T, rows.T).T  # J_l^T F = the loads
         for k in range(len(EFFECTS)):
             if not effects & (1 << k):

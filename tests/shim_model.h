@@ -3,14 +3,15 @@
  * from a flat vector of its input parameters, so that the Python side never
  * mirrors a struct layout:
  *   par = (R, rho, M, m, d, link_Ic, g, payload mass, com x3, inertia x3,
- *          viscous, coulomb): RPS3_SHIM_NPAR numbers.
+ *          viscous, coulomb, prismatic viscous, prismatic coulomb):
+ *   RPS3_SHIM_NPAR numbers.
  */
 #ifndef RPS3_TESTS_SHIM_MODEL_H
 #define RPS3_TESTS_SHIM_MODEL_H
 
 #include "rps3.h"
 
-#define RPS3_SHIM_NPAR 16
+#define RPS3_SHIM_NPAR 18
 
 /* Table II with par's values and the effects; not initialised */
 static void shim_model(rps3_model *m, const double *par, int effects) {
@@ -30,6 +31,10 @@ static void shim_model(rps3_model *m, const double *par, int effects) {
   }
   m->friction.viscous = par[14];
   m->friction.coulomb = par[15];
+  for (k = 0; k < 3; k++) {
+    m->leg[k].prismatic.viscous = par[16];
+    m->leg[k].prismatic.coulomb = par[17];
+  }
   m->opt.effects = effects;
 }
 

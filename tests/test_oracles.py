@@ -61,7 +61,7 @@ CASES = [
     # the paper: Table II, its four effects
     ("paper-helix", oracle.PAPER, oracle.EFF_DEFAULT, helix),
     # every effect, high-entropy parameters, through the workspace
-    ("entropy-sines", oracle.ENTROPY, oracle.EFF_ALL, sines),
+    ("entropy-sines", oracle.ENTROPY_PRISMATIC, oracle.EFF_ALL, sines),
 ]
 
 
