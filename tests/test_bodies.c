@@ -255,6 +255,14 @@ static void refuses_unreal_bodies(void **state) {
   assert_int_equal(rps3_model_init(&m, &chk), RPS3_EINVAL);
   assert_int_equal(chk.field, RPS3_F_LEG2_PISTON_INERTIA);
   assert_non_null(strstr(chk.msg, "leg2.piston.inertia"));
+  /* 2 % above the sum of the other two: the triangle inequality, named */
+  m.leg[1].piston.inertia[0] = 1.02 * 2e-4;
+  assert_int_equal(rps3_model_init(&m, &chk), RPS3_EINVAL);
+  assert_int_equal(chk.field, RPS3_F_LEG2_PISTON_INERTIA);
+  assert_non_null(strstr(chk.msg, "triangle inequality"));
+  /* at the limit (a rod's moments): a real body */
+  m.leg[1].piston.inertia[0] = 2e-4;
+  assert_int_equal(rps3_model_init(&m, &chk), RPS3_OK);
   rps3_model_default(&m);
   m.platform.inertia[0] = m.platform.inertia[3] = m.platform.inertia[5] = 1.0;
   m.platform.inertia[1] = 2.0; /* products too large */
