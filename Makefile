@@ -74,8 +74,8 @@ WORLD_STUB = $(B)/runner/mpi/world_stub.o
 WORLD_MPI = $(B)/runner-mpi/mpi/world_mpi.o
 RUN_MAINS = runner/bin/main_run.c runner/bin/main_study.c runner/bin/main_simstudy.c
 # the steps of a run (run_steps.c) that sweeps and design studies share
-RUN_MAINS += runner/bin/run_steps.c
-RUN_DESIGN_OBJ = $(B)/runner/bin/run_steps.o
+RUN_MAINS += runner/bin/run_steps.c runner/bin/run_ident.c
+RUN_DESIGN_OBJ = $(B)/runner/bin/run_steps.o $(B)/runner/bin/run_ident.o
 # rps3-study's own files (study.h); the rest is every program's
 STUDY_SRC = $(wildcard runner/study/*.c)
 STUDY_OBJ = $(STUDY_SRC:runner/%.c=$(B)/runner/%.o)
@@ -409,7 +409,7 @@ FUZZ_SCENE_SRC = runner/scene/scene.c runner/scene/scene_load.c runner/scene/sce
   runner/scene/scene_sweep.c \
   runner/scene/scene_case.c runner/scene/scene_emit.c \
   runner/scene/table.c runner/scene/table_read.c \
-  runner/scene/table_h5.c runner/scene/design.c runner/core/hint.c runner/core/h5err.c \
+  runner/scene/table_h5.c runner/scene/design.c runner/scene/identify.c runner/core/hint.c runner/core/h5err.c \
   runner/core/safeio.c
 $(B)/fuzz_scene: tests/fuzz/fuzz_scene.c $(FUZZ_SCENE_SRC) $(wildcard runner/scene/*.h) runner/core/hint.h runner/core/h5err.h runner/core/safeio.h $(LIB_SRC) | $(DEPS)
 	@mkdir -p $(@D)

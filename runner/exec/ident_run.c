@@ -1,0 +1,206 @@
+/* ident_run.c - see ident_run.h: the plan and one fit. */
+#include "ident_run.h"
+
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+/* the columns to fit: the given parameters, each one whose column the
+   effects fill, else the default set of the effects; 0 or -1 */
+static int plan_columns(const scene *s, ident_plan *p, scene_error *err) {
+  int eff = p->c.model.opt.effects, have = ident_effect_params(eff);
+  int want = s->base.ids.params >= 0 ? s->base.ids.params
+                                     : ident_default_params(eff);
+  int k;
+  char names[256];
+  size_t len = 0;
+  names[0] = '\0';
+  for (k = 0; k < RPS3_NPAPER; k++)
+    if (have & (1 << k))
+      len += (size_t)snprintf(names + len, sizeof names - len, "%s%s",
+                              len ? ", " : "", rps3_paper_name(k));
+  for (k = 0; k < RPS3_NPAPER; k++) {
+    if (!(want & (1 << k))) continue;
+    if (!(have & (1 << k)))
+      return scene_error_set(
+          err, s->mark[K_ID_PARAMS], scene_key_get(K_ID_PARAMS)->path,
+          "parameter '%s': the scene's effects leave its column at zero (the "
+          "effects fill %s)",
+          rps3_paper_name(k), names);
+    p->col[p->p] = k;
+    p->names[p->p++] = rps3_paper_name(k);
+  }
+  if (p->p == 0)
+    return scene_error_set(err, s->identify, "identify",
+                           "no parameter to fit: the effects fill none");
+  return 0;
+}
+
+/* row block k of Y and F0: the trajectory at sample k, its inverse
+   dynamics and regressor; 0 or the failing status with d->err */
+static int plan_sample(ident_plan *p, rps3_data *d, size_t k, double *t) {
+  const rps3_model *m = &p->c.model;
+  double Yk[3][RPS3_NPAPER];
+  size_t i, j;
+  int rc;
+  *t = scene_case_time(&p->c, k);
+  rc = rps3_traj_eval(m, &p->c.traj, *t, d->pose, d->dpose, d->ddpose);
+  if (rc != RPS3_OK) {
+    snprintf(d->err.msg, sizeof d->err.msg, "the trajectory: %s",
+             rps3_strerror(rc));
+    return rc;
+  }
+  if ((rc = rps3_inverse(m, d)) != RPS3_OK) return rc;
+  for (i = 0; i < 3; i++) p->F0[3 * k + i] = d->F[i];
+  if ((rc = rps3_regressor(m, d, Yk)) != RPS3_OK) return rc;
+  for (i = 0; i < 3; i++)
+    for (j = 0; j < p->p; j++) p->Y[(3 * k + i) * p->p + j] = Yk[i][p->col[j]];
+  return RPS3_OK;
+}
+
+/* each actuator's RMS force and each column's share of the RMS force */
+static void plan_shares(ident_plan *p) {
+  double all = 0, col;
+  size_t r, j;
+  int i;
+  for (i = 0; i < 3; i++) p->rms[i] = 0;
+  for (r = 0; r < p->n; r++) p->rms[r % 3] += p->F0[r] * p->F0[r];
+  for (i = 0; i < 3; i++) {
+    all += p->rms[i];
+    p->rms[i] = sqrt(p->rms[i] / (double)p->ns);
+  }
+  all = sqrt(all / (double)p->n);
+  for (j = 0; j < p->p; j++) {
+    for (col = 0, r = 0; r < p->n; r++) {
+      double y = p->Y[r * p->p + j] * p->truth[j];
+      col += y * y;
+    }
+    p->share[j] = all > 0 ? sqrt(col / (double)p->n) / all : (double)NAN;
+  }
+}
+
+int ident_plan_make(const scene *s, ident_plan *p, scene_error *err) {
+  rps3_data *d = NULL;
+  double pi[RPS3_NPAPER], t = 0;
+  size_t k, j;
+  int rc = RPS3_OK;
+  memset(p, 0, sizeof *p);
+  if (scene_case_build(s, 0, &p->c, err) || plan_columns(s, p, err)) return -1;
+  p->ids = s->base.ids;
+  rps3_ident_opts_default(&p->opts);
+  p->opts.level = p->ids.level;
+  p->ns = p->c.nt;
+  p->n = 3 * p->ns;
+  if (p->n <= p->p)
+    return scene_error_set(err, s->section[2], "trajectory",
+                           "%zu samples give %zu force rows: more than the %zu "
+                           "parameters are needed",
+                           p->ns, p->n, p->p);
+  p->Y = malloc(p->n * p->p * sizeof *p->Y);
+  p->F0 = malloc(p->n * sizeof *p->F0);
+  p->ones = malloc(p->n * sizeof *p->ones);
+  if (!p->Y || !p->F0 || !p->ones || rps3_data_alloc(&p->c.model, &d)) {
+    rps3_data_free(d);
+    return scene_error_set(err, s->identify, "identify", "out of memory");
+  }
+  for (k = 0; k < p->n; k++) p->ones[k] = 1.0;
+  for (k = 0; k < p->ns && rc == RPS3_OK; k++) rc = plan_sample(p, d, k, &t);
+  if (rc != RPS3_OK) {
+    scene_error_set(err, s->section[2], "trajectory",
+                    "sample %zu (t = %g s): the inverse dynamics fails: %s",
+                    k - 1, t, d->err.msg);
+    rps3_data_free(d);
+    return -1;
+  }
+  rps3_data_free(d);
+  /* the truth: an off-axis payload's products of inertia are not in pi
+     (the fit cannot recover them; said, not refused) */
+  rps3_paper_params(&p->c.model, pi, NULL);
+  for (j = 0; j < p->p; j++) p->truth[j] = pi[p->col[j]];
+  plan_shares(p);
+  p->nunit = ((size_t)p->ids.runs + IDENT_UNIT - 1) / IDENT_UNIT;
+  return 0;
+}
+
+void ident_plan_free(ident_plan *p) {
+  if (!p) return;
+  free(p->Y);
+  free(p->F0);
+  free(p->ones);
+  memset(p, 0, sizeof *p);
+}
+
+size_t ident_shard_draws(const ident_plan *p, size_t k, size_t n) {
+  size_t j, c = 0, runs = (size_t)p->ids.runs;
+  for (j = k; j < p->nunit; j = pool_next(j, n, p->nunit))
+    c += (j + 1) * IDENT_UNIT < runs ? IDENT_UNIT : runs - j * IDENT_UNIT;
+  return c;
+}
+
+/* the consistent fit of the chosen columns: the paper layout restricted to
+   them and renumbered (python/rps3/ident_c.py paper_layout) */
+static void fit_consistent(const ident_plan *p, const rps3_ident_data *data,
+                           ident_fit *r) {
+  const rps3_ident_layout *pl = rps3_ident_paper_layout();
+  int col[2][10], kind[RPS3_NPAPER], where[RPS3_NPAPER];
+  rps3_ident_layout lay;
+  rps3_ident_fit fit;
+  rps3_check chk;
+  size_t b, j;
+  int k;
+  for (k = 0; k < RPS3_NPAPER; k++) where[k] = -1;
+  for (j = 0; j < p->p; j++) {
+    where[p->col[j]] = (int)j;
+    kind[j] = pl->kind ? pl->kind[p->col[j]] : RPS3_IDENT_FREE;
+  }
+  for (b = 0; b < 2 && b < pl->nbody; b++)
+    for (k = 0; k < 10; k++)
+      col[b][k] = pl->col[b][k] >= 0 ? where[pl->col[b][k]] : -1;
+  lay.nbody = pl->nbody < 2 ? pl->nbody : 2;
+  lay.col = (const int(*)[10])col;
+  lay.kind = kind;
+  memset(&fit, 0, sizeof fit);
+  fit.theta = r->ctheta;
+  fit.body = &r->body[0][0];
+  fit.eig = &r->eig[0][0];
+  r->cstatus = rps3_ident_consistent(data, &lay, &p->opts, &fit, &chk);
+  r->consistent = fit.consistent;
+  r->crss = fit.rss;
+  r->gap = fit.gap;
+  r->niter = fit.niter;
+  snprintf(r->cmsg, sizeof r->cmsg, "%s",
+           r->cstatus == RPS3_OK ? "" : chk.msg);
+}
+
+void ident_fit_run(const ident_plan *p, const double *F, int consistent,
+                   ident_fit *r) {
+  rps3_ident_data data = {p->n, p->p, p->Y, F, NULL, NULL, p->names};
+  rps3_ident_result res;
+  rps3_check chk;
+  size_t i, j;
+  double ss = 0;
+  memset(r, 0, sizeof *r);
+  r->cstatus = -1;
+  data.weight = p->ids.method == IDENT_OLS ? p->ones : NULL;
+  memset(&res, 0, sizeof res);
+  res.theta = r->theta;
+  res.cov = r->cov;
+  res.ci = &r->ci[0][0];
+  res.unident = r->unident;
+  r->status = rps3_ident_wls(&data, &p->opts, &res, &chk);
+  snprintf(r->msg, sizeof r->msg, "%s", r->status == RPS3_OK ? "" : chk.msg);
+  for (i = 0; i < 3; i++) r->sigma[i] = res.sigma[i];
+  r->s2 = res.s2;
+  r->cond = res.cond;
+  r->rank = res.rank;
+  r->dof = res.dof;
+  for (j = 0; j < p->p; j++) r->std[j] = sqrt(r->cov[j * p->p + j]);
+  for (i = 0; i < p->n; i++) {
+    double e = F[i];
+    for (j = 0; j < p->p; j++) e -= p->Y[i * p->p + j] * r->theta[j];
+    ss += e * e;
+  }
+  r->resid_rms = sqrt(ss / (double)p->n);
+  if (consistent && r->status == RPS3_OK) fit_consistent(p, &data, r);
+}
