@@ -59,6 +59,117 @@ static int plan_sample(ident_plan *p, rps3_data *d, size_t k, double *t) {
   return RPS3_OK;
 }
 
+/* x solving the 3 x 3 system A x = b by Gaussian elimination with partial
+   pivoting; 0, or -1 when A is singular */
+static int solve3(double A[3][3], double b[3], double x[3]) {
+  int i, j, k, piv;
+  for (k = 0; k < 3; k++) {
+    for (piv = k, i = k + 1; i < 3; i++)
+      if (fabs(A[i][k]) > fabs(A[piv][k])) piv = i;
+    if (A[piv][k] == 0) return -1;
+    for (j = 0; j < 3; j++) {
+      double tmp = A[k][j];
+      A[k][j] = A[piv][j];
+      A[piv][j] = tmp;
+    }
+    {
+      double tmp = b[k];
+      b[k] = b[piv];
+      b[piv] = tmp;
+    }
+    for (i = k + 1; i < 3; i++) {
+      double f = A[i][k] / A[k][k];
+      for (j = k; j < 3; j++) A[i][j] -= f * A[k][j];
+      b[i] -= f * b[k];
+    }
+  }
+  for (k = 2; k >= 0; k--) {
+    x[k] = b[k];
+    for (j = k + 1; j < 3; j++) x[k] -= A[k][j] * x[j];
+    x[k] /= A[k][k];
+  }
+  return 0;
+}
+
+/* the pose accelerations of measured link accelerations ddl at d's pose
+   and rates: ddl = J ddpose + bias(pose, dpose), J and the bias by the
+   link motion of unit rates and of no acceleration (rps3_link_motion, in
+   the scratch d2) */
+static int pose_accel(const rps3_model *m, rps3_data *d, rps3_data *d2,
+                      const double ddl[3]) {
+  double J[3][3], b[3];
+  int i, k, rc;
+  for (k = 0; k < 3; k++) {
+    memcpy(d2->pose, d->pose, sizeof d2->pose);
+    for (i = 0; i < 3; i++) d2->dpose[i] = i == k;
+    if ((rc = rps3_link_motion(m, d2, 0)) != RPS3_OK) return rc;
+    for (i = 0; i < 3; i++) J[i][k] = d2->dl[i];
+  }
+  memcpy(d2->dpose, d->dpose, sizeof d2->dpose);
+  for (i = 0; i < 3; i++) d2->ddpose[i] = 0;
+  if ((rc = rps3_link_motion(m, d2, 1)) != RPS3_OK) return rc;
+  for (i = 0; i < 3; i++) b[i] = ddl[i] - d2->ddl[i];
+  if (solve3(J, b, d->ddpose)) {
+    snprintf(d->err.msg, sizeof d->err.msg,
+             "the lengths' Jacobian is singular at this pose");
+    return RPS3_ESING;
+  }
+  return RPS3_OK;
+}
+
+/* row block k of Y and F0 from measured row k: the pose by the forward
+   kinematics of the lengths, its rates by the joint-rate route
+   (rps3_fk, rps3_joint_velocity), its accelerations by pose_accel; 0 or
+   the failing status with d->err */
+static int plan_row(ident_plan *p, rps3_data *d, rps3_data *d2,
+                    const table_data *t, size_t k) {
+  const rps3_model *m = &p->c.model;
+  double Yk[3][RPS3_NPAPER];
+  size_t i, j;
+  int rc;
+  memcpy(d->l, t->value[k], sizeof d->l);
+  if ((rc = rps3_fk(m, d)) != RPS3_OK) return rc;
+  memcpy(d->dl, t->rate[k], sizeof d->dl);
+  if ((rc = rps3_joint_velocity(m, d)) != RPS3_OK ||
+      (rc = pose_accel(m, d, d2, t->acc[k])) != RPS3_OK ||
+      (rc = rps3_regressor(m, d, Yk)) != RPS3_OK)
+    return rc;
+  for (i = 0; i < 3; i++) {
+    p->F0[3 * k + i] = t->force[k][i];
+    for (j = 0; j < p->p; j++) p->Y[(3 * k + i) * p->p + j] = Yk[i][p->col[j]];
+  }
+  return RPS3_OK;
+}
+
+/* Y and F0 at every sample (of the trajectory, or the data's rows); 0 or
+   -1 with err at the row or sample that fails */
+static int plan_rows(const scene *s, ident_plan *p, scene_error *err) {
+  const table_data *t = &s->table[TABLE_MEASURED];
+  rps3_data *d = NULL, *d2 = NULL;
+  double time = 0;
+  size_t k;
+  int rc = RPS3_OK;
+  if (rps3_data_alloc(&p->c.model, &d) || rps3_data_alloc(&p->c.model, &d2)) {
+    rps3_data_free(d);
+    return scene_error_set(err, s->identify, "identify", "out of memory");
+  }
+  for (k = 0; k < p->ns && rc == RPS3_OK; k++)
+    rc = p->measured ? plan_row(p, d, d2, t, k) : plan_sample(p, d, k, &time);
+  if (rc != RPS3_OK && p->measured) {
+    char where[300];
+    table_where(t, k - 1, where, sizeof where);
+    scene_error_set(err, s->mark[K_ID_DATA], "identify.data",
+                    "%s: the pose of the lengths fails: %s", where,
+                    d->err.msg);
+  } else if (rc != RPS3_OK)
+    scene_error_set(err, s->section[2], "trajectory",
+                    "sample %zu (t = %g s): the inverse dynamics fails: %s",
+                    k - 1, time, d->err.msg);
+  rps3_data_free(d);
+  rps3_data_free(d2);
+  return rc == RPS3_OK ? 0 : -1;
+}
+
 /* each actuator's RMS force and each column's share of the RMS force */
 static void plan_shares(ident_plan *p) {
   double all = 0, col;
@@ -81,41 +192,36 @@ static void plan_shares(ident_plan *p) {
 }
 
 int ident_plan_make(const scene *s, ident_plan *p, scene_error *err) {
-  rps3_data *d = NULL;
-  double pi[RPS3_NPAPER], t = 0;
+  double pi[RPS3_NPAPER];
   size_t k, j;
-  int rc = RPS3_OK;
   memset(p, 0, sizeof *p);
   if (scene_case_build(s, 0, &p->c, err) || plan_columns(s, p, err)) return -1;
   p->ids = s->base.ids;
+  p->measured = s->given[K_ID_DATA];
+  if (p->measured && p->ids.runs > 0)
+    return scene_error_set(err, s->mark[K_ID_RUNS], "identify.monte_carlo.runs",
+                           "the Monte Carlo draws noise on the noise-free "
+                           "forces of a trajectory: not with identify.data");
   rps3_ident_opts_default(&p->opts);
   p->opts.level = p->ids.level;
-  p->ns = p->c.nt;
+  p->ns = p->measured ? s->table[TABLE_MEASURED].n : p->c.nt;
   p->n = 3 * p->ns;
   if (p->n <= p->p)
-    return scene_error_set(err, s->section[2], "trajectory",
+    return scene_error_set(err, p->measured ? s->mark[K_ID_DATA] : s->section[2],
+                           p->measured ? "identify.data" : "trajectory",
                            "%zu samples give %zu force rows: more than the %zu "
                            "parameters are needed",
                            p->ns, p->n, p->p);
   p->Y = malloc(p->n * p->p * sizeof *p->Y);
   p->F0 = malloc(p->n * sizeof *p->F0);
   p->ones = malloc(p->n * sizeof *p->ones);
-  if (!p->Y || !p->F0 || !p->ones || rps3_data_alloc(&p->c.model, &d)) {
-    rps3_data_free(d);
+  if (!p->Y || !p->F0 || !p->ones)
     return scene_error_set(err, s->identify, "identify", "out of memory");
-  }
   for (k = 0; k < p->n; k++) p->ones[k] = 1.0;
-  for (k = 0; k < p->ns && rc == RPS3_OK; k++) rc = plan_sample(p, d, k, &t);
-  if (rc != RPS3_OK) {
-    scene_error_set(err, s->section[2], "trajectory",
-                    "sample %zu (t = %g s): the inverse dynamics fails: %s",
-                    k - 1, t, d->err.msg);
-    rps3_data_free(d);
-    return -1;
-  }
-  rps3_data_free(d);
-  /* the truth: an off-axis payload's products of inertia are not in pi
-     (the fit cannot recover them; said, not refused) */
+  if (plan_rows(s, p, err)) return -1;
+  /* the truth: the scene's values (nominal ones for measured data); an
+     off-axis payload's products of inertia are not in pi (the fit cannot
+     recover them; said, not refused) */
   rps3_paper_params(&p->c.model, pi, NULL);
   for (j = 0; j < p->p; j++) p->truth[j] = pi[p->col[j]];
   plan_shares(p);

@@ -41,7 +41,10 @@ typedef struct {
                                      actuator i */
   double *F0;                     /* n forces of the inverse dynamics [N] */
   double *ones;                   /* n unit weights (method ols) */
-  double truth[RPS3_NPAPER];      /* the model's values (rps3_paper_params) */
+  int measured;                   /* 1: rows of identify.data, else of the
+                                     trajectory */
+  double truth[RPS3_NPAPER];      /* the model's values (rps3_paper_params):
+                                     nominal ones with measured data */
   double rms[3];                  /* each actuator's RMS force [N] */
   double share[RPS3_NPAPER];      /* |Y_j truth_j| RMS / RMS force */
   scene_ident ids;                /* the identify section */

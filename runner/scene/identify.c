@@ -7,6 +7,10 @@
 
 int ident_wanted(const scene *s) { return s->identify.line > 0; }
 
+int ident_data_only(const scene *s) {
+  return ident_wanted(s) && s->given[K_ID_DATA];
+}
+
 /* the paper columns (rps3_paper_name order) of each effect */
 #define P_PAYLOAD (((1 << 7) - 1) << 3) /* payload.m .. payload.Izz */
 #define P_FRICTION (3 << 10)            /* pin.fv, pin.fc */
@@ -44,6 +48,12 @@ int scene_ident_check_keys(const scene *s, scene_error *err) {
                            "a scene is an identification or a design study, "
                            "not both (design section at %d:%d)",
                            s->design.line, s->design.column);
+  if (s->given[K_ID_DATA] && s->section[2].line > 0)
+    return scene_error_set(err, s->mark[K_ID_DATA], "identify.data",
+                           "the data are the motion: remove the trajectory "
+                           "section (at %d:%d), or this key to fit the "
+                           "trajectory's inverse dynamics",
+                           s->section[2].line, s->section[2].column);
   if (s->naxis > 0)
     return scene_error_set(err, s->axis[0].mark[0], s->axis[0].path,
                            "an identification fits one scene: no sweep "

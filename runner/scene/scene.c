@@ -273,6 +273,7 @@ void scene_free(scene *s) {
   free(s->wp_pose_mark);
   table_free(&s->table[TABLE_POSE]);
   table_free(&s->table[TABLE_CENTRE]);
+  table_free(&s->table[TABLE_MEASURED]);
   free(s->path_psi);
   free(s->text);
   free(s->file);

@@ -130,7 +130,7 @@ typedef struct {
   rps3_model model;
   rps3_traj traj;
   scene_own own;
-  const char *file[2]; /* the tables' files, absolute (SCENE_TABLE_OF) */
+  const char *file[3]; /* the tables' files, absolute (SCENE_TABLE_OF) */
   scene_sim sim;
   rps3_design design; /* a design study's design */
   scene_design des;
@@ -483,6 +483,11 @@ typedef struct {
   X(K_ID_LEVEL, "identify.level", KEY_REAL, IDS,                               \
     (ids.level, 0, 1, 0.9999, "1", 0.95, NULL), REQ_NO, "-",                   \
     "confidence level of the intervals (Student's t)")                         \
+  X(K_ID_DATA, "identify.data", KEY_FILE, IDS,                               \
+    (file[TABLE_MEASURED], 0, 0, 0, "-", 0, "the trajectory's"), REQ_NO, "-",  \
+    "measured table (CSV or HDF5, relative to the scene) of t, l1, l2, l3, "   \
+    "l1_dot.., l1_ddot.., F1, F2, F3 [s, m, m/s, m/s^2, N]; without it the "   \
+    "forces are the inverse dynamics along the trajectory")                    \
   X(K_ID_RUNS, "identify.monte_carlo.runs", KEY_INT, IDS,                      \
     (ids.runs, 0, 0, 10000000.0, "1", 0, NULL), REQ_NO, "-",                   \
     "Monte Carlo draws of force noise, each fitted; 0: none")                  \
@@ -540,8 +545,12 @@ int scene_key_applies(const scene_key_info *ki, int kind);
 /* the key with this dotted path, or -1 */
 int scene_key_find(const char *path);
 
-/* the table (TABLE_POSE or TABLE_CENTRE) file key k reads */
-#define SCENE_TABLE_OF(k) ((k) == K_PATH_FILE ? TABLE_CENTRE : TABLE_POSE)
+/* the table (TABLE_POSE, TABLE_CENTRE or TABLE_MEASURED) file key k
+   reads */
+#define SCENE_TABLE_OF(k)               \
+  ((k) == K_PATH_FILE ? TABLE_CENTRE    \
+   : (k) == K_ID_DATA ? TABLE_MEASURED \
+                      : TABLE_POSE)
 
 /* one sweep axis: a key (or one component of a KEY_REAL3) and its values */
 typedef struct {
@@ -572,7 +581,8 @@ typedef struct {
   double (*wp_pose)[3];
   size_t wp_ntime, wp_npose;
   scene_mark *wp_time_mark, *wp_pose_mark; /* where each row is */
-  table_data table[2]; /* the tables (SCENE_TABLE_OF); base.traj views them */
+  table_data table[3]; /* the tables (SCENE_TABLE_OF); base.traj views the
+                          first two */
   double *path_psi;    /* the path's: its polar angles, unwrapped */
 } scene;
 

@@ -137,4 +137,8 @@ int scene_design_check_keys(const scene *s, scene_error *err);
    parameters columns of its effects; 0 or -1 with the error set */
 int scene_ident_check_keys(const scene *s, scene_error *err);
 
+/* 1 when the scene is an identification of a data file: it needs no
+   trajectory */
+int ident_data_only(const scene *s);
+
 #endif /* RPS3_RUNNER_SCENE_INT_H */

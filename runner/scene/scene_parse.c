@@ -281,6 +281,7 @@ static int parse_file(scene_parse_ctx *c, int k, const yaml_node_t *n,
   if (table_read(t, s->file, scene_scalar_text(n), what, msg, sizeof msg))
     return scene_error_set(c->err, mk, scene_keys[k].path, "%s", msg);
   v->file[what] = t->abs;
+  if (what == TABLE_MEASURED) return 0; /* an identification's data */
   if (what == TABLE_POSE) {
     v->traj.table = table_view(t);
     return 0;
@@ -486,7 +487,8 @@ int scene_check_keys(scene_parse_ctx *c) {
   scene *s = c->s;
   int k, pair;
   /* a design study needs no trajectory (it is the optional task) */
-  int design = s->design.line > 0, no_traj = design && s->section[2].line == 0;
+  int design = s->design.line > 0 || ident_data_only(s),
+      no_traj = design && s->section[2].line == 0;
   if (s->section[1].line == 0 || (s->section[2].line == 0 && !design))
     return scene_error_set(
         c->err, s->section[0],
