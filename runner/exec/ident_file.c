@@ -67,7 +67,6 @@ static int make_scales(const out_file *f, const ident_plan *p, hid_t *sc) {
   static const char *const body[2] = {"link", "payload"};
   size_t k, runs = (size_t)p->ids.runs;
   int64_t *draw;
-  int rc = 0;
   sc[SC_PAR] =
       out_h5_scale(f->file, f->str, "parameter", f->str, p->p, p->names, "1",
                    "the paper model's parameter (rps3_paper_name)");
@@ -75,13 +74,14 @@ static int make_scales(const out_file *f, const ident_plan *p, hid_t *sc) {
                               bound, "1", "0: lower, 1: upper bound");
   sc[SC_ACT] = out_h5_scale(f->file, f->str, "actuator", H5T_NATIVE_INT32, 3,
                             act, "1", "actuator (link) number i");
-  sc[SC_BODY] = out_h5_scale(f->file, f->str, "body", f->str, 2, body, "1",
-                             "body of the consistent fit's layout "
-                             "(rps3_ident_paper_layout)");
-  if (runs == 0) return sc[SC_PAR] < 0 || sc[SC_BOUND] < 0 || sc[SC_ACT] < 0 ||
-                        sc[SC_BODY] < 0
-                            ? -1
-                            : 0;
+  if (p->ids.consistent)
+    sc[SC_BODY] = out_h5_scale(f->file, f->str, "body", f->str, 2, body, "1",
+                               "body of the consistent fit's layout "
+                               "(rps3_ident_paper_layout)");
+  if (sc[SC_PAR] < 0 || sc[SC_BOUND] < 0 || sc[SC_ACT] < 0 ||
+      (p->ids.consistent && sc[SC_BODY] < 0))
+    return -1;
+  if (runs == 0) return 0;
   if (!(draw = malloc(runs * sizeof *draw))) return -1;
   for (k = 0; k < runs; k++) draw[k] = (int64_t)k;
   sc[SC_DRAW] = out_h5_scale(f->file, f->str, "draw", H5T_NATIVE_INT64, runs,
@@ -89,8 +89,7 @@ static int make_scales(const out_file *f, const ident_plan *p, hid_t *sc) {
                              "Monte Carlo draw i: its noise is seeded by "
                              "(identify.monte_carlo.seed, i)");
   free(draw);
-  for (k = 0; k < NSC; k++) rc |= sc[k] < 0 ? -1 : 0;
-  return rc;
+  return sc[SC_DRAW] < 0 ? -1 : 0;
 }
 
 /* each parameter alone, in its own units (CF readers that take one unit

@@ -205,12 +205,15 @@ static int csv_header(const char *s, const char *e, int what, int *col,
     for (b = q; b > a && (b[-1] == ' ' || b[-1] == '\t'); b--)
       ;
     /* "NAME [UNITS]": the units must be the column's */
-    for (u = b; u > a && b[-1] == ']' && u[-1] != '['; u--)
-      ;
-    ue = u > a ? b - 1 : b;
-    if (u > a)
+    u = ue = NULL;
+    if (b > a && b[-1] == ']')
+      for (ue = b - 1, u = ue; u > a && u[-1] != '['; u--)
+        ;
+    if (u && u > a)
       for (b = u - 1; b > a && (b[-1] == ' ' || b[-1] == '\t'); b--)
         ;
+    else
+      u = NULL;
     for (c = 0; c < nc; c++)
       if ((size_t)(b - a) == strlen(table_col_names[what][c]) &&
           strncmp(a, table_col_names[what][c], (size_t)(b - a)) == 0)
@@ -229,7 +232,7 @@ static int csv_header(const char *s, const char *e, int what, int *col,
                        file, line, (int)(a - s) + 1, name,
                        c < nc ? "given twice" : "unknown column", hint, list);
     }
-    if (u > a) {
+    if (u) {
       char units[64];
       snprintf(units, sizeof units, "%.*s", (int)(ue - u), u);
       if (!table_unit_ok(what, c, units))
