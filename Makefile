@@ -577,6 +577,19 @@ ident: venv-check
 	@mkdir -p out
 	$(VPY) -m rps3.ident study --runs 200 --out out
 
+# the identification Monte Carlo through the runner (docs/identification.md,
+# "Through the runner"): 1000 draws of 1 % force noise on 10 s of an
+# exciting trajectory at 1 kHz, on 2 threads; the summary in
+# out/ident_mc.txt, the draws in out/ident_mc.h5.  Not part of `make check`
+# (tests/test_ident_runner.py runs 200 draws of a shorter trajectory)
+.PHONY: ident-mc
+ident-mc: $(B)/rps3-run
+	@mkdir -p out
+	@start=$$(date +%s); \
+	$(B)/rps3-run configs/ident_mc.yaml -o out/ident_mc.h5 -j 2 > out/ident_mc.txt && \
+	echo "run time: $$(( $$(date +%s) - start )) s (-j 2)" >> out/ident_mc.txt; \
+	status=$$?; cat out/ident_mc.txt; exit $$status
+
 # ------------------------------------------------------------------- docs
 # the key table of docs/runner.md is `rps3-run --keys`, its table of a
 # simulated scene's datasets `rps3-run --sim-schema`; tests/test_docs.py

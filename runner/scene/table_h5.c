@@ -29,37 +29,6 @@
 
 #include "core/h5err.h"
 
-/* the units a column may be in, in the spellings a units attribute may
-   use for them (UDUNITS symbols and names); "" ends a list */
-static const char *const unit_spellings[8][6] = {
-    {"s", "second", "seconds", ""},
-    {"rad", "radian", "radians", ""},
-    {"m", "meter", "metre", "meters", "metres", ""},
-    {"rad/s", "rad s-1", ""},
-    {"m/s", "m s-1", ""},
-    {"rad/s^2", "rad/s2", "rad s-2", ""},
-    {"m/s^2", "m/s2", "m s-2", ""},
-    {"N", "newton", "newtons", ""}};
-
-/* the units of each column (a row of unit_spellings) for TABLE_POSE,
-   TABLE_CENTRE and TABLE_MEASURED */
-static const int col_units[3][TABLE_NCOL] = {
-    {0, 1, 1, 2, 3, 3, 4, 5, 5, 6},
-    {0, 2, 2, 2, 4, 4, 4, 6, 6, 6},
-    {0, 2, 2, 2, 4, 4, 4, 6, 6, 6, 7, 7, 7}};
-
-int table_unit_ok(int what, int c, const char *units) {
-  const char *const *ok = unit_spellings[col_units[what][c]];
-  int i;
-  if (units[0] == '\0') return 1;
-  for (i = 0; ok[i][0] != '\0'; i++)
-    if (strcmp(units, ok[i]) == 0) return 1;
-  return 0;
-}
-
-const char *table_unit_name(int what, int c) {
-  return unit_spellings[col_units[what][c]][0];
-}
 
 /* the dataset's units attribute into buf, cut to sz ("" when it has none
    or it is not a string): fixed-length and variable-length strings alike */

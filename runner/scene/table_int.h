@@ -38,7 +38,7 @@ int table_columns_check(const int have[TABLE_NCOL], int what, int hdf5,
                         const char *file, char *err, size_t errsz);
 
 /* 1 when units (a CSV header's [UNITS], an HDF5 units attribute) name
-   column c's SI unit in one of its spellings, or are empty (table_h5.c);
+   column c's SI unit in one of its spellings, or are empty;
    the unit's symbol */
 int table_unit_ok(int what, int c, const char *units);
 const char *table_unit_name(int what, int c);
