@@ -303,9 +303,10 @@ static int run_main(int argc, char **argv, const world *w) {
   pre.quiet = a.quiet;
   pre.fields = a.fields;
   if (a.fields != out_fields_all() && ident_wanted(&s))
-    code = run_usage_error(w, "--fields selects variables of the "
-                              "inverse-dynamics file; an identification "
-                              "writes its file whole");
+    code = run_usage_error(w,
+                           "--fields selects variables of the "
+                           "inverse-dynamics file; an identification "
+                           "writes its file whole");
   else if (a.fields != out_fields_all() &&
            (design_wanted(&s) || sim_wanted(&s)))
     code = run_usage_error(

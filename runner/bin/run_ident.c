@@ -85,9 +85,10 @@ static int ident_checks(const scene *s, const run_args *a, ident_plan *p,
     return EXIT_USAGE;
   }
   if (a->shard_arg && p->ids.runs == 0) {
-    fprintf(stderr, "rps3-run: --shard K/N splits the Monte Carlo's draws; "
-                    "this identification has none (identify.monte_carlo.runs "
-                    "0)\n");
+    fprintf(stderr,
+            "rps3-run: --shard K/N splits the Monte Carlo's draws; "
+            "this identification has none (identify.monte_carlo.runs "
+            "0)\n");
     return EXIT_USAGE;
   }
   if (a->nshard > 1 && a->nshard > p->nunit) {
@@ -110,8 +111,9 @@ int run_identify(scene *s, const run_args *a, const world *w, int argc,
   int code;
   if (w->size > 1) {
     if (w->rank == 0)
-      fprintf(stderr, "rps3-run: an identification runs as one process; "
-                      "split its Monte Carlo with --shard K/N\n");
+      fprintf(stderr,
+              "rps3-run: an identification runs as one process; "
+              "split its Monte Carlo with --shard K/N\n");
     return EXIT_USAGE;
   }
   if ((code = ident_checks(s, a, &p, &fit)) >= 0) {
@@ -120,9 +122,10 @@ int run_identify(scene *s, const run_args *a, const world *w, int argc,
   }
   if (!a->quiet || a->check) fit_print(a->check ? stdout : stderr, &p, &fit);
   if (a->check) {
-    printf("%s: %zu samples, %zu parameters, %d Monte Carlo draws in %zu "
-           "work units\n",
-           a->scene_path, p.ns, p.p, p.ids.runs, p.nunit);
+    printf(
+        "%s: %zu samples, %zu parameters, %d Monte Carlo draws in %zu "
+        "work units\n",
+        a->scene_path, p.ns, p.p, p.ids.runs, p.nunit);
     ident_plan_free(&p);
     return EXIT_OK;
   }

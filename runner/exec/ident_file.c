@@ -84,10 +84,10 @@ static int make_scales(const out_file *f, const ident_plan *p, hid_t *sc) {
   if (runs == 0) return 0;
   if (!(draw = malloc(runs * sizeof *draw))) return -1;
   for (k = 0; k < runs; k++) draw[k] = (int64_t)k;
-  sc[SC_DRAW] = out_h5_scale(f->file, f->str, "draw", H5T_NATIVE_INT64, runs,
-                             draw, "1",
-                             "Monte Carlo draw i: its noise is seeded by "
-                             "(identify.monte_carlo.seed, i)");
+  sc[SC_DRAW] =
+      out_h5_scale(f->file, f->str, "draw", H5T_NATIVE_INT64, runs, draw, "1",
+                   "Monte Carlo draw i: its noise is seeded by "
+                   "(identify.monte_carlo.seed, i)");
   free(draw);
   return sc[SC_DRAW] < 0 ? -1 : 0;
 }
@@ -96,8 +96,8 @@ static int make_scales(const out_file *f, const ident_plan *p, hid_t *sc) {
    per variable) */
 static int put_alone(const out_file *f, const ident_plan *p,
                      const ident_fit *r) {
-  hid_t g = H5Gcreate2(f->file, "parameters", H5P_DEFAULT, H5P_DEFAULT,
-                       H5P_DEFAULT);
+  hid_t g =
+      H5Gcreate2(f->file, "parameters", H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT);
   size_t j;
   int rc = g < 0 ? -1 : 0;
   for (j = 0; rc == 0 && j < p->p; j++) {
@@ -134,8 +134,8 @@ static int put_fit(const out_file *f, const hid_t *sc, const ident_plan *p,
   for (j = 0; j < p->p; j++) units[j] = rps3_paper_unit(p->col[j]);
   return put1(f, sc, "parameter_units", f->str, par, units, "1",
               "units of the parameter", "UDUNITS units of each parameter") ||
-                 put1(f, sc, "theta", H5T_NATIVE_DOUBLE, par, r->theta,
-                      VARIOUS, "estimate", "the fitted parameters") ||
+                 put1(f, sc, "theta", H5T_NATIVE_DOUBLE, par, r->theta, VARIOUS,
+                      "estimate", "the fitted parameters") ||
                  put1(f, sc, "std", H5T_NATIVE_DOUBLE, par, r->std, VARIOUS,
                       "standard deviation",
                       "standard deviation of the estimate, sqrt(diag cov)") ||
@@ -149,8 +149,8 @@ static int put_fit(const out_file *f, const hid_t *sc, const ident_plan *p,
                  put1(f, sc, "unidentifiable", H5T_NATIVE_INT32, par,
                       r->unident, "1", "not determined by the data",
                       "1 for a column the data do not determine") ||
-                 put1(f, sc, "truth", H5T_NATIVE_DOUBLE, par, p->truth,
-                      VARIOUS, "the model's value",
+                 put1(f, sc, "truth", H5T_NATIVE_DOUBLE, par, p->truth, VARIOUS,
+                      "the model's value",
                       "the scene's parameters (rps3_paper_params), whose "
                       "inverse dynamics are the fitted forces") ||
                  put1(f, sc, "share", H5T_NATIVE_DOUBLE, par, p->share, "1",
@@ -164,8 +164,8 @@ static int put_fit(const out_file *f, const hid_t *sc, const ident_plan *p,
                  put0(f, "condition_number", H5T_NATIVE_DOUBLE, &r->cond, "1",
                       "condition number",
                       "of the weighted regressor with unit-norm columns") ||
-                 put0(f, "rank", H5T_NATIVE_INT64, &rank, "1",
-                      "numerical rank", "of the regressor (rank_tol 1e-10)") ||
+                 put0(f, "rank", H5T_NATIVE_INT64, &rank, "1", "numerical rank",
+                      "of the regressor (rank_tol 1e-10)") ||
                  put0(f, "dof", H5T_NATIVE_INT64, &dof, "1",
                       "degrees of freedom", "rows minus parameters") ||
                  put0(f, "residual_rms", H5T_NATIVE_DOUBLE, &r->resid_rms, "N",
@@ -198,8 +198,7 @@ static int put_consistent(const out_file *f, const hid_t *sc,
                        "each body's pseudo-inertia eigenvalues, ascending "
                        "(kg for its mass direction)");
   rc = eig < 0 ||
-               out_cf_long_name(eig, f->str, "pseudo-inertia eigenvalue") <
-                   0 ||
+               out_cf_long_name(eig, f->str, "pseudo-inertia eigenvalue") < 0 ||
                H5Dwrite(eig, H5T_NATIVE_DOUBLE, H5S_ALL, H5S_ALL, H5P_DEFAULT,
                         r->eig) < 0 ||
                H5DSattach_scale(eig, sc[SC_BODY], 0) < 0 ||
@@ -229,14 +228,14 @@ static int put_draws(const out_file *f, const hid_t *sc, const ident_plan *p) {
   ds[2] = put(f, sc, "mc_std", H5T_NATIVE_DOUBLE, dp, cp, &fnan, NULL, VARIOUS,
               "standard deviation of the draw's estimate",
               "sqrt(diag cov) of the draw's fit");
-  ds[3] = put(f, sc, "mc_ci", H5T_NATIVE_DOUBLE, dpb, cpb, &fnan, NULL,
-              VARIOUS, "confidence interval of the draw",
+  ds[3] = put(f, sc, "mc_ci", H5T_NATIVE_DOUBLE, dpb, cpb, &fnan, NULL, VARIOUS,
+              "confidence interval of the draw",
               "the draw's interval at identify.level");
   ds[4] = put(f, sc, "mc_sigma", H5T_NATIVE_DOUBLE, da, ca, &fnan, NULL, "N",
               "noise standard deviation of the draw",
               "each actuator's residual standard deviation in the draw");
-  ds[5] = put(f, sc, "mc_median_rel_error", H5T_NATIVE_DOUBLE, par, NULL,
-              &fnan, NULL, "1", "median relative error",
+  ds[5] = put(f, sc, "mc_median_rel_error", H5T_NATIVE_DOUBLE, par, NULL, &fnan,
+              NULL, "1", "median relative error",
               "median over the draws of abs(estimate - truth) / abs(truth) "
               "(NaN in a part: computed when merged)");
   ds[6] = put(f, sc, "mc_rel_bias", H5T_NATIVE_DOUBLE, par, NULL, &fnan, NULL,
@@ -250,31 +249,32 @@ static int put_draws(const out_file *f, const hid_t *sc, const ident_plan *p) {
               "1: share >= 0.01, the summary is a test of it; -1 not yet "
               "computed");
   for (i = 0; i < 9; i++) {
-    if (ds[i] < 0) rc = -1;
+    if (ds[i] < 0)
+      rc = -1;
     else
       H5Dclose(ds[i]);
   }
   return rc;
 }
 
-out_file *ident_file_open(const char *path, const scene *s,
-                          const ident_plan *p, const ident_fit *r,
-                          const out_meta *meta, char *err, size_t errsz) {
+out_file *ident_file_open(const char *path, const scene *s, const ident_plan *p,
+                          const ident_fit *r, const out_meta *meta, char *err,
+                          size_t errsz) {
   out_spec sp;
   out_file *f;
   hid_t sc[NSC] = {-1, -1, -1, -1, -1};
   int k, rc;
   memset(&sp, 0, sizeof sp);
   sp.files = OUT_IDENT;
-  sp.title = "rps3: identification of the Lee & Shah 3-RPS manipulator's "
-             "paper-model parameters";
+  sp.title =
+      "rps3: identification of the Lee & Shah 3-RPS manipulator's "
+      "paper-model parameters";
   sp.content = "identification";
   sp.grid_common = 1;
   sp.tile_cases = sp.case_chunk = 1;
   if (!(f = out_open(path, s, &sp, meta, err, errsz))) return NULL;
   rc = make_scales(f, p, sc) || put_fit(f, sc, p, r) ||
-       (p->ids.consistent && r->cstatus != -1 &&
-        put_consistent(f, sc, p, r)) ||
+       (p->ids.consistent && r->cstatus != -1 && put_consistent(f, sc, p, r)) ||
        (p->ids.runs > 0 && put_draws(f, sc, p)) ||
        out_h5_attr(f->file, f->str, "method",
                    p->ids.method == IDENT_OLS ? "ols" : "wls") < 0 ||

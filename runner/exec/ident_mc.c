@@ -77,8 +77,8 @@ static unsigned long draw_seed(int seed, size_t i) {
 
 /* draw i: the noise-free forces plus force_noise times each actuator's RMS
    force of Gaussian noise, fitted, into slot row j */
-static void one_draw(const ident_plan *p, mc_worker *w, size_t i,
-                     unit_slot *u, size_t j) {
+static void one_draw(const ident_plan *p, mc_worker *w, size_t i, unit_slot *u,
+                     size_t j) {
   ident_fit r;
   size_t k;
   gsl_rng_set(w->rng, draw_seed(p->ids.seed, i));
@@ -153,16 +153,15 @@ static int unit_write(void *ctx, void *slot, const void *info, char *err,
   const unit_slot *u = slot;
   const unit_info *in = info;
   size_t p = m->p->p, j;
-  int rc = write_rows(m->ds[0], H5T_NATIVE_INT32, u->status, in->d0, in->nd, 1,
-                      1) ||
-           write_rows(m->ds[1], H5T_NATIVE_DOUBLE, u->theta, in->d0, in->nd,
-                      RPS3_NPAPER, p) ||
-           write_rows(m->ds[2], H5T_NATIVE_DOUBLE, u->std, in->d0, in->nd,
-                      RPS3_NPAPER, p) ||
-           write_rows(m->ds[3], H5T_NATIVE_DOUBLE, u->ci, in->d0, in->nd,
-                      RPS3_NPAPER, p) ||
-           write_rows(m->ds[4], H5T_NATIVE_DOUBLE, u->sigma, in->d0, in->nd, 3,
-                      3);
+  int rc =
+      write_rows(m->ds[0], H5T_NATIVE_INT32, u->status, in->d0, in->nd, 1, 1) ||
+      write_rows(m->ds[1], H5T_NATIVE_DOUBLE, u->theta, in->d0, in->nd,
+                 RPS3_NPAPER, p) ||
+      write_rows(m->ds[2], H5T_NATIVE_DOUBLE, u->std, in->d0, in->nd,
+                 RPS3_NPAPER, p) ||
+      write_rows(m->ds[3], H5T_NATIVE_DOUBLE, u->ci, in->d0, in->nd,
+                 RPS3_NPAPER, p) ||
+      write_rows(m->ds[4], H5T_NATIVE_DOUBLE, u->sigma, in->d0, in->nd, 3, 3);
   if (rc) {
     out_fail(err, errsz, "cannot write draws %zu to %zu", in->d0,
              in->d0 + in->nd - 1);
@@ -302,8 +301,7 @@ int ident_summary(hid_t file, FILE *out, char *err, size_t errsz) {
   char *content = out_h5_read_text(file, "content", 1);
   size_t runs = 0, p = 0, j, nok = 0, i;
   int32_t *status = NULL, counted[RPS3_NPAPER];
-  double *theta = NULL, *ci = NULL, *truth = NULL, *share = NULL,
-         *work = NULL;
+  double *theta = NULL, *ci = NULL, *truth = NULL, *share = NULL, *work = NULL;
   double med[RPS3_NPAPER], bias[RPS3_NPAPER], cov[RPS3_NPAPER];
   char **names = NULL;
   hid_t str = H5Tcopy(H5T_C_S1);

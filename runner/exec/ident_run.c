@@ -10,8 +10,8 @@
    effects fill, else the default set of the effects; 0 or -1 */
 static int plan_columns(const scene *s, ident_plan *p, scene_error *err) {
   int eff = p->c.model.opt.effects, have = ident_effect_params(eff);
-  int want = s->base.ids.params >= 0 ? s->base.ids.params
-                                     : ident_default_params(eff);
+  int want =
+      s->base.ids.params >= 0 ? s->base.ids.params : ident_default_params(eff);
   int k;
   char names[256];
   size_t len = 0;
@@ -159,8 +159,7 @@ static int plan_rows(const scene *s, ident_plan *p, scene_error *err) {
     char where[300];
     table_where(t, k - 1, where, sizeof where);
     scene_error_set(err, s->mark[K_ID_DATA], "identify.data",
-                    "%s: the pose of the lengths fails: %s", where,
-                    d->err.msg);
+                    "%s: the pose of the lengths fails: %s", where, d->err.msg);
   } else if (rc != RPS3_OK)
     scene_error_set(err, s->section[2], "trajectory",
                     "sample %zu (t = %g s): the inverse dynamics fails: %s",
@@ -207,7 +206,8 @@ int ident_plan_make(const scene *s, ident_plan *p, scene_error *err) {
   p->ns = p->measured ? s->table[TABLE_MEASURED].n : p->c.nt;
   p->n = 3 * p->ns;
   if (p->n <= p->p)
-    return scene_error_set(err, p->measured ? s->mark[K_ID_DATA] : s->section[2],
+    return scene_error_set(err,
+                           p->measured ? s->mark[K_ID_DATA] : s->section[2],
                            p->measured ? "identify.data" : "trajectory",
                            "%zu samples give %zu force rows: more than the %zu "
                            "parameters are needed",
@@ -275,8 +275,7 @@ static void fit_consistent(const ident_plan *p, const rps3_ident_data *data,
   r->crss = fit.rss;
   r->gap = fit.gap;
   r->niter = fit.niter;
-  snprintf(r->cmsg, sizeof r->cmsg, "%s",
-           r->cstatus == RPS3_OK ? "" : chk.msg);
+  snprintf(r->cmsg, sizeof r->cmsg, "%s", r->cstatus == RPS3_OK ? "" : chk.msg);
 }
 
 void ident_fit_run(const ident_plan *p, const double *F, int consistent,

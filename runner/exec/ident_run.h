@@ -87,9 +87,9 @@ size_t ident_shard_draws(const ident_plan *p, size_t k, size_t n);
 /* Create the file at path: root attributes and scene (out_open), the fit
    r of the noise-free forces, and the per-draw datasets when the plan has
    draws; NULL with err.  Closed by out_close. */
-out_file *ident_file_open(const char *path, const scene *s,
-                          const ident_plan *p, const ident_fit *r,
-                          const out_meta *meta, char *err, size_t errsz);
+out_file *ident_file_open(const char *path, const scene *s, const ident_plan *p,
+                          const ident_fit *r, const out_meta *meta, char *err,
+                          size_t errsz);
 
 /* The draws of shard `shard` of `nshard` into f on nthread threads,
    counts in st.  Returns 0, or -1 with err. */

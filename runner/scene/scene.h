@@ -152,8 +152,8 @@ typedef struct {
  *  - DES: a field of a design study's rps3_design, FIELD its id
  *    (rps3_design_field_id), whose row of RPS3_DESIGN_FIELDS gives the
  *    range and the unit; "required" means in a design study;
- *  - OWN, SIM, DSEC, IDS: a value only the runner has, FIELD the row shaped like
- *    the library's: MEMBER of scene_values, the range (LO, LO_OPEN, HI) and
+ *  - OWN, SIM, DSEC, IDS: a value only the runner has, FIELD the row shaped
+ * like the library's: MEMBER of scene_values, the range (LO, LO_OPEN, HI) and
  *    the UNIT; an OWN value (scene_own) also has the trajectory kind IN and
  *    FILLS, the library field it is turned into (-1: none); a SIM value
  *    (scene_sim) its DEFAULT and DEFTEXT, the key list's text when DEFAULT
@@ -468,7 +468,7 @@ typedef struct {
     (ids.params, 0, 0, RPS3_NPAPER - 1, "-", -1,                               \
      "by the effects: M, md, Ipin, pin.*, payload.*"),                         \
     REQ_NO, "pi",                                                              \
-    "the paper model's parameters to fit, by name; default those the "        \
+    "the paper model's parameters to fit, by name; default those the "         \
     "effects fill: M (without payload), md (link_gravity), Ipin "              \
     "(link_inertia), pin.fv, pin.fc (pin_friction), payload.m, .mcx, .mcy, "   \
     ".mcz, .Ixx, .Iyy, .Izz (payload)")                                        \
@@ -483,7 +483,7 @@ typedef struct {
   X(K_ID_LEVEL, "identify.level", KEY_REAL, IDS,                               \
     (ids.level, 0, 1, 0.9999, "1", 0.95, NULL), REQ_NO, "-",                   \
     "confidence level of the intervals (Student's t)")                         \
-  X(K_ID_DATA, "identify.data", KEY_FILE, IDS,                               \
+  X(K_ID_DATA, "identify.data", KEY_FILE, IDS,                                 \
     (file[TABLE_MEASURED], 0, 0, 0, "-", 0, "the trajectory's"), REQ_NO, "-",  \
     "measured table (CSV or HDF5, relative to the scene) of t, l1, l2, l3, "   \
     "l1_dot.., l1_ddot.., F1, F2, F3 [s, m, m/s, m/s^2, N]; without it the "   \
@@ -547,8 +547,8 @@ int scene_key_find(const char *path);
 
 /* the table (TABLE_POSE, TABLE_CENTRE or TABLE_MEASURED) file key k
    reads */
-#define SCENE_TABLE_OF(k)               \
-  ((k) == K_PATH_FILE ? TABLE_CENTRE    \
+#define SCENE_TABLE_OF(k)              \
+  ((k) == K_PATH_FILE ? TABLE_CENTRE   \
    : (k) == K_ID_DATA ? TABLE_MEASURED \
                       : TABLE_POSE)
 

@@ -300,7 +300,7 @@ static int parse_file(scene_parse_ctx *c, int k, const yaml_node_t *n,
 static int parse_names(scene_parse_ctx *c, int k, const yaml_node_t *n,
                        scene_values *v) {
   const char *path = scene_keys[k].path;
-  const char *what = scene_keys[k].type == KEY_OUTPUTS   ? "output"
+  const char *what = scene_keys[k].type == KEY_OUTPUTS  ? "output"
                      : scene_keys[k].type == KEY_PARAMS ? "parameter"
                                                         : "effect";
   char list[256], expected[300];

@@ -109,9 +109,9 @@ int table_alloc_rows(table_data *t, size_t n, int with_acc, int with_line,
   /* a row in memory: the time, values and rates (the file's or the
      spline's), the accelerations, the spline's work, the CSV line */
   int forces = t->what == TABLE_MEASURED;
-  double row = sizeof(double) *
-                   (8.0 + (with_acc ? 3.0 : 0.0) + (forces ? 3.0 : 0.0)) +
-               (with_line ? (double)sizeof(int) : 0.0);
+  double row =
+      sizeof(double) * (8.0 + (with_acc ? 3.0 : 0.0) + (forces ? 3.0 : 0.0)) +
+      (with_line ? (double)sizeof(int) : 0.0);
   if ((double)n * row > TABLE_MAX_BYTES)
     return table_err(err, errsz,
                      "%s: %zu rows need %.3g GB in memory (%.0f bytes a row): "

@@ -60,11 +60,11 @@ int table_ncol(int what);
 /*
  * Read the table `name` (relative to the directory of scene_file unless
  * absolute; HDF5 when it ends in .h5 or .hdf5, else CSV) with the columns
- * of `what` (TABLE_POSE, TABLE_CENTRE or TABLE_MEASURED) into t.  Returns 0, or -1 with
- * "FILE:LINE:COL: column NAME: what is wrong" ("FILE: dataset /NAME: ..."
- * or "FILE, row R: dataset /NAME: ..." for HDF5) in err, printable text
- * (a quoted control character or non-UTF-8 byte as \xNN); t is then
- * empty (table_free accepts it).
+ * of `what` (TABLE_POSE, TABLE_CENTRE or TABLE_MEASURED) into t.  Returns 0, or
+ * -1 with "FILE:LINE:COL: column NAME: what is wrong" ("FILE: dataset /NAME:
+ * ..." or "FILE, row R: dataset /NAME: ..." for HDF5) in err, printable text (a
+ * quoted control character or non-UTF-8 byte as \xNN); t is then empty
+ * (table_free accepts it).
  */
 int table_read(table_data *t, const char *scene_file, const char *name,
                int what, char *err, size_t errsz);

@@ -29,7 +29,6 @@
 
 #include "core/h5err.h"
 
-
 /* the dataset's units attribute into buf, cut to sz ("" when it has none
    or it is not a string): fixed-length and variable-length strings alike */
 static void h5_units(hid_t d, char *buf, size_t sz) {

@@ -287,8 +287,8 @@ static int merge_write(const merge_run *m, const char *cmd, size_t *nfailed) {
   if (tmpout_name(m->out_path, 0)) return -1;
   tmpout_arm();
   if ((m->copy ? merge_copy_file(m->byk[0], tmpout_path(), err, sizeof err) ||
-                     merge_parts(tmpout_path(), m->byk, m->n, cmd, nfailed,
-                                 err, sizeof err)
+                     merge_parts(tmpout_path(), m->byk, m->n, cmd, nfailed, err,
+                                 sizeof err)
                : join_vds(tmpout_path(), m->byk, m->n, cmd, nfailed, err,
                           sizeof err)) ||
       /* an identification's summary of the draws (ident_run.h) */
