@@ -272,7 +272,7 @@ def test_not_exciting_data_are_refused(tmp_path):
     are not determined; the message names them and the condition number."""
     still = SINE.replace("amp: [1.0, 0.05, 0.03]", "amp: [0.0, 0.0, 0.0]")
     refused(scene(tmp_path, "  parameters: [M, md, Ipin]\n", traj=still), tmp_path,
-            "does not excite", "condition number", "Ipin")
+            "the trajectory does not excite", "condition number", "Ipin")
 
 
 def test_scene_kinds_that_do_not_mix(tmp_path):
@@ -324,4 +324,20 @@ def test_constant_pose_data_do_not_excite(tmp_path):
     rows += [f"{0.01 * k}, 0.30, 0.31, 0.32, 0, 0, 0, 0, 0, 0, 1, 1, 1" for k in range(50)]
     (tmp_path / "rest.csv").write_text("\n".join(rows) + "\n")
     s = write_scene(tmp_path / "s.yaml", DATA_MANIP + "identify:\n  data: rest.csv\n")
-    refused(s, tmp_path, "does not excite", "condition number", "Ipin", "pin.fv")
+    refused(s, tmp_path, "the data (identify.data) do not excite", "condition number",
+            "Ipin", "pin.fv")
+
+
+def test_off_axis_payload_is_a_warning(tmp_path):
+    """A payload off the platform axes has products of inertia the paper
+    parameters do not hold: the run says so (also with -q) and the file
+    carries the warning."""
+    manip = MANIP.replace("  pin_friction", "  payload: {mass: 0.3, com: [0.01, 0.02, 0.03], "
+                          "inertia: [0.001, 0.001, 0.001]}\n  pin_friction")
+    out = tmp_path / "pay.h5"
+    proc = run(scene(tmp_path, "  method: ols\n", manip=manip), out, "-q")
+    assert proc.returncode == 0, proc.stderr
+    assert "warning" in proc.stderr and "products of inertia" in proc.stderr
+    with h5py.File(out, "r") as f:
+        assert "products of inertia" in f.attrs["warning"]
+        assert "M" not in names(f) and "payload.m" in names(f)

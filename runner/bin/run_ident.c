@@ -79,9 +79,11 @@ static int ident_checks(const scene *s, const run_args *a, ident_plan *p,
   ident_fit_run(p, p->F0, p->ids.consistent, fit);
   if (fit->status != RPS3_OK) {
     fprintf(stderr,
-            "%s: identify: the trajectory does not excite the parameters "
-            "(condition number %.3g): %s\n",
-            a->scene_path, fit->cond, fit->msg);
+            "%s: identify: %s not excite the parameters (condition number "
+            "%.3g): %s\n",
+            a->scene_path,
+            p->measured ? "the data (identify.data) do" : "the trajectory does",
+            fit->cond, fit->msg);
     return EXIT_USAGE;
   }
   if (a->shard_arg && p->ids.runs == 0) {
@@ -120,6 +122,12 @@ int run_identify(scene *s, const run_args *a, const world *w, int argc,
     ident_plan_free(&p);
     return code;
   }
+  /* said even when quiet: a result that may be wrong */
+  if (p.warning[0])
+    fprintf(stderr, "rps3-run: warning: %s: %s\n", a->scene_path, p.warning);
+  if (fit.cstatus > 0)
+    fprintf(stderr, "rps3-run: warning: %s: the consistent fit: %s\n",
+            a->scene_path, fit.cmsg);
   if (!a->quiet || a->check) fit_print(a->check ? stdout : stderr, &p, &fit);
   if (a->check) {
     printf(

@@ -281,7 +281,9 @@ out_file *ident_file_open(const char *path, const scene *s, const ident_plan *p,
        out_h5_attr_n(f->file, "level", H5T_NATIVE_DOUBLE, 0, &p->ids.level) <
            0 ||
        out_h5_attr_n(f->file, "force_noise", H5T_NATIVE_DOUBLE, 0,
-                     &p->ids.force_noise) < 0;
+                     &p->ids.force_noise) < 0 ||
+       (p->warning[0] &&
+        out_h5_attr(f->file, f->str, "warning", p->warning) < 0);
   for (k = 0; k < NSC; k++)
     if (sc[k] >= 0) H5Dclose(sc[k]);
   if (rc == 0) return f;

@@ -192,6 +192,7 @@ static void plan_shares(ident_plan *p) {
 
 int ident_plan_make(const scene *s, ident_plan *p, scene_error *err) {
   double pi[RPS3_NPAPER];
+  rps3_check chk;
   size_t k, j;
   memset(p, 0, sizeof *p);
   if (scene_case_build(s, 0, &p->c, err) || plan_columns(s, p, err)) return -1;
@@ -222,7 +223,9 @@ int ident_plan_make(const scene *s, ident_plan *p, scene_error *err) {
   /* the truth: the scene's values (nominal ones for measured data); an
      off-axis payload's products of inertia are not in pi (the fit cannot
      recover them; said, not refused) */
-  rps3_paper_params(&p->c.model, pi, NULL);
+  if (rps3_paper_params(&p->c.model, pi, &chk) != RPS3_OK)
+    snprintf(p->warning, sizeof p->warning, "the truth is not the model's: %s",
+             chk.msg);
   for (j = 0; j < p->p; j++) p->truth[j] = pi[p->col[j]];
   plan_shares(p);
   p->nunit = ((size_t)p->ids.runs + IDENT_UNIT - 1) / IDENT_UNIT;

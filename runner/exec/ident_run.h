@@ -50,6 +50,7 @@ typedef struct {
   scene_ident ids;                /* the identify section */
   rps3_ident_opts opts;           /* the library's defaults, ids.level */
   size_t nunit;                   /* work units of the draws */
+  char warning[320];              /* why a result may be wrong, or "" */
 } ident_plan;
 
 /* one fit: rps3_ident_result's values, the consistent fit's */
