@@ -14,6 +14,7 @@ import h5py
 import numpy as np
 import pytest
 from conftest import RUNNER, run, write_scene
+from test_cf import offline  # noqa: F401
 from test_scale import assert_same_content
 
 pytest.importorskip("scipy")
@@ -341,3 +342,35 @@ def test_off_axis_payload_is_a_warning(tmp_path):
     with h5py.File(out, "r") as f:
         assert "products of inertia" in f.attrs["warning"]
         assert "M" not in names(f) and "payload.m" in names(f)
+
+
+#: the one deviation from CF the identification file keeps (as
+#: rps3.ident_io's file): the variables over the parameter dimension hold
+#: values of several units, named by parameter_units; each parameter alone,
+#: in its UDUNITS units, is parameters/NAME
+MIXED_UNITS = ("various: see parameter_units", "various: products of parameter_units")
+
+
+def test_compliance_checker_cf_1_10(tmp_path, offline):
+    """A whole file with the consistent fit and draws, and its shards
+    joined: no CF error but the mixed units of the parameter variables."""
+    from test_cf import ALLOWED_EXCEPTIONS, ALLOWED_WARNINGS, compliance
+    s = scene(tmp_path, f"""\
+  parameters: [{', '.join(PARAMS)}]
+  consistent: true
+  monte_carlo: {{runs: 16, seed: 3}}
+""")
+    one = tmp_path / "one.nc"
+    assert run(s, one, "-q").returncode == 0
+    parts = [tmp_path / f"p{k}.nc" for k in range(2)]
+    for k, part in enumerate(parts):
+        assert run(s, part, "-q", "--shard", f"{k}/2").returncode == 0
+    joined = tmp_path / "joined.nc"
+    proc = subprocess.run([RUNNER, "merge", str(joined), *map(str, parts), "-q"],
+                          capture_output=True, text=True, timeout=120)
+    assert proc.returncode == 0, proc.stderr
+    for path in (one, joined):
+        errors, warnings, exceptions = compliance(path, tmp_path)
+        assert [e for e in errors if not any(u in e for u in MIXED_UNITS)] == [], errors
+        assert all(w.startswith(ALLOWED_WARNINGS) for w in warnings), warnings
+        assert all(any(a in e for a in ALLOWED_EXCEPTIONS) for e in exceptions), exceptions

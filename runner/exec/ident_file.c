@@ -16,8 +16,9 @@
 /* the units of a variable over the parameter dimension */
 #define VARIOUS "various: see parameter_units"
 
-/* the scales: parameter, bound, actuator, body, draw (-1: none) */
-enum { SC_PAR, SC_BOUND, SC_ACT, SC_BODY, SC_DRAW, NSC };
+/* the scales: parameter (and again for cov's columns), bound, actuator,
+   body, eigenvalue, draw (-1: none) */
+enum { SC_PAR, SC_PAR2, SC_BOUND, SC_ACT, SC_BODY, SC_EIG, SC_DRAW, NSC };
 
 /* a dataset of rank dims over the scales ax (-1 ended), written from v
    when not NULL; chunk and fill as out_h5_dataset; the handle or -1 */
@@ -61,33 +62,52 @@ static int put0(const out_file *f, const char *name, hid_t type, const void *v,
   return put1(f, NULL, name, type, none, v, units, long_name, doc);
 }
 
+/* a scale with its long_name; the handle or -1 */
+static hid_t scale(const out_file *f, const char *name, hid_t type, size_t n,
+                   const void *v, const char *long_name, const char *doc) {
+  hid_t ds = out_h5_scale(f->file, f->str, name, type, n, v, "1", doc);
+  if (ds >= 0 && out_cf_long_name(ds, f->str, long_name) < 0) {
+    H5Dclose(ds);
+    ds = -1;
+  }
+  return ds;
+}
+
 /* the scales of the file */
 static int make_scales(const out_file *f, const ident_plan *p, hid_t *sc) {
-  static const int32_t bound[2] = {0, 1}, act[3] = {1, 2, 3};
+  static const int32_t bound[2] = {0, 1}, act[3] = {1, 2, 3},
+                       eig[4] = {1, 2, 3, 4};
   static const char *const body[2] = {"link", "payload"};
   size_t k, runs = (size_t)p->ids.runs;
   int64_t *draw;
-  sc[SC_PAR] =
-      out_h5_scale(f->file, f->str, "parameter", f->str, p->p, p->names, "1",
-                   "the paper model's parameter (rps3_paper_name)");
-  sc[SC_BOUND] = out_h5_scale(f->file, f->str, "bound", H5T_NATIVE_INT32, 2,
-                              bound, "1", "0: lower, 1: upper bound");
-  sc[SC_ACT] = out_h5_scale(f->file, f->str, "actuator", H5T_NATIVE_INT32, 3,
-                            act, "1", "actuator (link) number i");
-  if (p->ids.consistent)
-    sc[SC_BODY] = out_h5_scale(f->file, f->str, "body", f->str, 2, body, "1",
-                               "body of the consistent fit's layout "
-                               "(rps3_ident_paper_layout)");
-  if (sc[SC_PAR] < 0 || sc[SC_BOUND] < 0 || sc[SC_ACT] < 0 ||
-      (p->ids.consistent && sc[SC_BODY] < 0))
+  sc[SC_PAR] = scale(f, "parameter", f->str, p->p, p->names, "parameter",
+                     "the paper model's parameter (rps3_paper_name)");
+  /* CF: a variable's dimensions differ, so cov's columns have their own */
+  sc[SC_PAR2] = scale(f, "parameter_column", f->str, p->p, p->names,
+                      "parameter of the covariance's column",
+                      "the paper model's parameter, as parameter");
+  sc[SC_BOUND] = scale(f, "bound", H5T_NATIVE_INT32, 2, bound,
+                       "bound of the interval", "0: lower, 1: upper bound");
+  sc[SC_ACT] = scale(f, "actuator", H5T_NATIVE_INT32, 3, act, "actuator number",
+                     "actuator (link) number i");
+  if (p->ids.consistent) {
+    sc[SC_BODY] = scale(f, "body", f->str, 2, body, "body",
+                        "body of the consistent fit's layout "
+                        "(rps3_ident_paper_layout)");
+    sc[SC_EIG] =
+        scale(f, "eigenvalue", H5T_NATIVE_INT32, 4, eig, "eigenvalue number",
+              "pseudo-inertia eigenvalue k, ascending");
+  }
+  if (sc[SC_PAR] < 0 || sc[SC_PAR2] < 0 || sc[SC_BOUND] < 0 || sc[SC_ACT] < 0 ||
+      (p->ids.consistent && (sc[SC_BODY] < 0 || sc[SC_EIG] < 0)))
     return -1;
   if (runs == 0) return 0;
   if (!(draw = malloc(runs * sizeof *draw))) return -1;
   for (k = 0; k < runs; k++) draw[k] = (int64_t)k;
   sc[SC_DRAW] =
-      out_h5_scale(f->file, f->str, "draw", H5T_NATIVE_INT64, runs, draw, "1",
-                   "Monte Carlo draw i: its noise is seeded by "
-                   "(identify.monte_carlo.seed, i)");
+      scale(f, "draw", H5T_NATIVE_INT64, runs, draw, "Monte Carlo draw number",
+            "Monte Carlo draw i: its noise is seeded by "
+            "(identify.monte_carlo.seed, i)");
   free(draw);
   return sc[SC_DRAW] < 0 ? -1 : 0;
 }
@@ -127,7 +147,7 @@ static int put_alone(const out_file *f, const ident_plan *p,
 static int put_fit(const out_file *f, const hid_t *sc, const ident_plan *p,
                    const ident_fit *r) {
   static const int par[] = {SC_PAR, -1}, pb[] = {SC_PAR, SC_BOUND, -1},
-                   pp[] = {SC_PAR, SC_PAR, -1}, act[] = {SC_ACT, -1};
+                   pp[] = {SC_PAR, SC_PAR2, -1}, act[] = {SC_ACT, -1};
   const char *units[RPS3_NPAPER];
   int64_t rank = (int64_t)r->rank, dof = (int64_t)r->dof;
   size_t j;
@@ -202,6 +222,7 @@ static int put_consistent(const out_file *f, const hid_t *sc,
                H5Dwrite(eig, H5T_NATIVE_DOUBLE, H5S_ALL, H5S_ALL, H5P_DEFAULT,
                         r->eig) < 0 ||
                H5DSattach_scale(eig, sc[SC_BODY], 0) < 0 ||
+               H5DSattach_scale(eig, sc[SC_EIG], 1) < 0 ||
                out_h5_attr(eig, f->str, "message", r->cmsg) < 0
            ? -1
            : 0;
@@ -262,7 +283,7 @@ out_file *ident_file_open(const char *path, const scene *s, const ident_plan *p,
                           size_t errsz) {
   out_spec sp;
   out_file *f;
-  hid_t sc[NSC] = {-1, -1, -1, -1, -1};
+  hid_t sc[NSC] = {-1, -1, -1, -1, -1, -1, -1};
   int k, rc;
   memset(&sp, 0, sizeof sp);
   sp.files = OUT_IDENT;
