@@ -187,6 +187,12 @@ def test_threads_and_shards_give_the_file_of_one_run(tmp_path):
     # the draws are few: more shards than work units are refused
     proc = run(s, tmp_path / "p.h5", "--shard", "0/9")
     assert proc.returncode == 2 and "at most 8 shards" in proc.stderr
+    # a part already complete is kept by --resume; --check writes nothing
+    proc = run(s, parts[1], "--shard", "1/3", "--resume")
+    assert proc.returncode == 0 and "not run again" in proc.stderr
+    proc = run(s, None, "--check")
+    assert proc.returncode == 0, proc.stderr
+    assert "2001 samples, 5 parameters, 60 Monte Carlo draws in 8 work units" in proc.stdout
 
 
 # ------------------------------------------------------------ measured data
