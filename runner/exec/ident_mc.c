@@ -356,8 +356,14 @@ done:
 }
 
 int ident_summary_path(const char *path, FILE *out, char *err, size_t errsz) {
-  hid_t f = H5Fopen(path, H5F_ACC_RDWR, H5P_DEFAULT);
-  int rc;
+  hid_t f = H5Fopen(path, H5F_ACC_RDONLY, H5P_DEFAULT);
+  char *content = f < 0 ? NULL : out_h5_read_text(f, "content", 1);
+  int rc, is = content && strcmp(content, "identification") == 0;
+  free(content);
+  /* another kind of file is left as it is, not even opened to write */
+  if (f >= 0) H5Fclose(f);
+  if (f >= 0 && !is) return 0;
+  f = f < 0 ? -1 : H5Fopen(path, H5F_ACC_RDWR, H5P_DEFAULT);
   if (f < 0) {
     out_fail(err, errsz, "%s: cannot open", path);
     return -1;
