@@ -380,3 +380,16 @@ def test_compliance_checker_cf_1_10(tmp_path, offline):
         assert [e for e in errors if not any(u in e for u in MIXED_UNITS)] == [], errors
         assert all(w.startswith(ALLOWED_WARNINGS) for w in warnings), warnings
         assert all(any(a in e for a in ALLOWED_EXCEPTIONS) for e in exceptions), exceptions
+
+
+def test_hdf5_data_in_other_units_refused(tmp_path, measured):
+    """An HDF5 table whose forces are in kN: the file and the dataset are
+    named, nothing is written."""
+    bad = tmp_path / "kN.h5"
+    with h5py.File(measured / "meas.h5", "r") as f, h5py.File(bad, "w") as g:
+        for k in f:
+            g[k] = f[k][()]
+            g[k].attrs["units"] = f[k].attrs["units"]
+        g["F2"].attrs["units"] = "kN"
+    s = write_scene(tmp_path / "s.yaml", DATA_MANIP + "identify:\n  data: kN.h5\n")
+    refused(s, tmp_path, "kN.h5: dataset /F2", "units 'kN'", "in N")
