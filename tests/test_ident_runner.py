@@ -357,7 +357,8 @@ def test_off_axis_payload_is_a_warning(tmp_path):
 MIXED_UNITS = ("various: see parameter_units", "various: products of parameter_units")
 
 
-def test_compliance_checker_cf_1_10(tmp_path, offline):
+@pytest.mark.usefixtures("offline")
+def test_compliance_checker_cf_1_10(tmp_path):
     """A whole file with the consistent fit and draws, and its shards
     joined: no CF error but the mixed units of the parameter variables."""
     from test_cf import ALLOWED_EXCEPTIONS, ALLOWED_WARNINGS, compliance
