@@ -74,8 +74,8 @@ WORLD_STUB = $(B)/runner/mpi/world_stub.o
 WORLD_MPI = $(B)/runner-mpi/mpi/world_mpi.o
 RUN_MAINS = runner/bin/main_run.c runner/bin/main_study.c runner/bin/main_simstudy.c
 # the steps of a run (run_steps.c) that sweeps and design studies share
-RUN_MAINS += runner/bin/run_steps.c
-RUN_DESIGN_OBJ = $(B)/runner/bin/run_steps.o
+RUN_MAINS += runner/bin/run_steps.c runner/bin/run_ident.c
+RUN_DESIGN_OBJ = $(B)/runner/bin/run_steps.o $(B)/runner/bin/run_ident.o
 # rps3-study's own files (study.h); the rest is every program's
 STUDY_SRC = $(wildcard runner/study/*.c)
 STUDY_OBJ = $(STUDY_SRC:runner/%.c=$(B)/runner/%.o)
@@ -409,7 +409,7 @@ FUZZ_SCENE_SRC = runner/scene/scene.c runner/scene/scene_load.c runner/scene/sce
   runner/scene/scene_sweep.c \
   runner/scene/scene_case.c runner/scene/scene_emit.c \
   runner/scene/table.c runner/scene/table_read.c \
-  runner/scene/table_h5.c runner/scene/design.c runner/core/hint.c runner/core/h5err.c \
+  runner/scene/table_h5.c runner/scene/design.c runner/scene/identify.c runner/core/hint.c runner/core/h5err.c \
   runner/core/safeio.c
 $(B)/fuzz_scene: tests/fuzz/fuzz_scene.c $(FUZZ_SCENE_SRC) $(wildcard runner/scene/*.h) runner/core/hint.h runner/core/h5err.h runner/core/safeio.h $(LIB_SRC) | $(DEPS)
 	@mkdir -p $(@D)
@@ -576,6 +576,19 @@ trajectories: runner venv
 ident: venv-check
 	@mkdir -p out
 	$(VPY) -m rps3.ident study --runs 200 --out out
+
+# the identification Monte Carlo through the runner (docs/identification.md,
+# "Through the runner"): 1000 draws of 1 % force noise on 10 s of an
+# exciting trajectory at 1 kHz, on 2 threads; the summary in
+# out/ident_mc.txt, the draws in out/ident_mc.h5.  Not part of `make check`
+# (tests/test_ident_runner.py runs 200 draws of a shorter trajectory)
+.PHONY: ident-mc
+ident-mc: $(B)/rps3-run
+	@mkdir -p out
+	@start=$$(date +%s); \
+	$(B)/rps3-run configs/ident_mc.yaml -o out/ident_mc.h5 -j 2 > out/ident_mc.txt && \
+	echo "run time: $$(( $$(date +%s) - start )) s (-j 2)" >> out/ident_mc.txt; \
+	status=$$?; cat out/ident_mc.txt; exit $$status
 
 # ------------------------------------------------------------------- docs
 # the key table of docs/runner.md is `rps3-run --keys`, its table of a

@@ -32,8 +32,10 @@
 #include "mpi/world.h"
 #include "output/outblock.h"
 #include "output/output.h"
+#include "run_ident.h"
 #include "run_steps.h"
 #include "scene/design.h"
+#include "scene/identify.h"
 #include "scene/scene.h"
 #include "shards/merge.h"
 
@@ -124,7 +126,8 @@ static int run_load(const run_args *a, const world *w, scene *s,
        fails because of them), not refused */
     scene_warnings_print(s, stderr);
   /* a design study is planned by run_design (exec/design_run.h) */
-  if (code == EXIT_OK && !design_wanted(s) && sweep_plan_make(s, plan, &serr)) {
+  if (code == EXIT_OK && !design_wanted(s) && !ident_wanted(s) &&
+      sweep_plan_make(s, plan, &serr)) {
     scene_free(s);
     code = EXIT_USAGE;
   }
@@ -299,7 +302,13 @@ static int run_main(int argc, char **argv, const world *w) {
   pre.gzip = a.gzip;
   pre.quiet = a.quiet;
   pre.fields = a.fields;
-  if (a.fields != out_fields_all() && (design_wanted(&s) || sim_wanted(&s)))
+  if (a.fields != out_fields_all() && ident_wanted(&s))
+    code = run_usage_error(w,
+                           "--fields selects variables of the "
+                           "inverse-dynamics file; an identification "
+                           "writes its file whole");
+  else if (a.fields != out_fields_all() &&
+           (design_wanted(&s) || sim_wanted(&s)))
     code = run_usage_error(
         w, design_wanted(&s)
                ? "--fields selects variables of the inverse-dynamics file; a "
@@ -308,6 +317,8 @@ static int run_main(int argc, char **argv, const world *w) {
                : "--fields selects variables of the inverse-dynamics file; a "
                  "scene with a simulate section writes the simulation file "
                  "whole");
+  else if (ident_wanted(&s)) /* its fit and draws (run_ident.h) */
+    code = run_identify(&s, &a, w, argc, argv);
   else if (design_wanted(&s)) /* its designs into its own file */
     code = run_design(&s, &a, w, argc, argv);
   else if (sim_wanted(&s)) /* simulated instead (simulate.h) */

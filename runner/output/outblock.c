@@ -236,6 +236,10 @@ const char *out_fields_text(out_mask mask, char *buf, size_t sz) {
 }
 
 const char *out_fields_attr(int files, out_mask mask, char *buf, size_t sz) {
+  if (files & OUT_IDENT) {
+    snprintf(buf, sz, "identification");
+    return buf;
+  }
   if (!(files & OUT_DES)) return out_fields_text(mask, buf, sz);
   snprintf(buf, sz, "design%s%s", files & OUT_TASK ? " task" : "",
            files & OUT_POSE ? " per_pose" : "");

@@ -54,6 +54,9 @@ typedef enum { OUT_F64, OUT_I32, OUT_I64, OUT_STR } out_type;
 #define OUT_TASK 8  /* a design study's with a trajectory (the task) */
 #define OUT_POSE 16 /* a design study's with design.per_pose */
 #define OUT_DESIGN (OUT_DES | OUT_TASK | OUT_POSE)
+#define OUT_IDENT                                     \
+  32 /* an identification's: no schema field, its own \
+        datasets (exec/ident_run.h) */
 
 /* the CF flag attributes of a field (out_h5.h) */
 typedef enum {

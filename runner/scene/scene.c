@@ -51,6 +51,7 @@ static const rps3_field_info design_fields[RPS3_NDESIGN_FIELD] = {
   ROW_OWN(K, T, M, IN, LO, LO_OPEN, HI, UNIT, FILLS, 0, NULL)
 #define INFO_SIM(K, T, M, LO, LO_OPEN, HI, UNIT, DEF, DEFTEXT) \
   ROW_OWN(K, T, M, RPS3_IN_MODEL, LO, LO_OPEN, HI, UNIT, -1, DEF, DEFTEXT)
+#define INFO_IDS INFO_SIM
 #define INFO_DSEC(K, T, M, LO, LO_OPEN, HI, UNIT) \
   ROW_OWN(K, T, M, RPS3_IN_MODEL, LO, LO_OPEN, HI, UNIT, -1, 0, NULL)
 #define APPLY(M, ...) M(__VA_ARGS__)
@@ -60,6 +61,7 @@ static const rps3_field_info design_fields[RPS3_NDESIGN_FIELD] = {
 #define UNPACK_OWN(FIELD) ARGS FIELD
 #define UNPACK_SIM(FIELD) ARGS FIELD
 #define UNPACK_DSEC(FIELD) ARGS FIELD
+#define UNPACK_IDS(FIELD) ARGS FIELD
 #define KEY_ROW(ID, PATH, TYPE, SRC, FIELD, REQ, SYM, DOC) \
   ROW(PATH, TYPE, SRC_##SRC, REQ, SYM, DOC,                \
       APPLY(INFO_##SRC, ID, TYPE, UNPACK_##SRC(FIELD))),
@@ -110,6 +112,7 @@ static const char *const kind_names[] = {NULL,        "helix", "sine",
 static const char *const shape_names[] = {"line", "circle", "helix", "table"};
 static const char *const theta_names[] = {"closed_form", "multiroot"};
 static const char *const method_names[] = {"lagrange", "newton_euler"};
+static const char *const ident_method_names[] = {"ols", "wls"};
 
 /* the values of key k that have names: [*lo, *hi] (an enum: the library's
    range of the field; a list: its bits) */
@@ -117,6 +120,7 @@ static void name_range(int k, int *lo, int *hi) {
   *lo = scene_keys[k].type == KEY_ENUM ? (int)scene_keys[k].f->lo : 0;
   *hi = scene_keys[k].type == KEY_EFFECTS   ? RPS3_NEFFECT - 1
         : scene_keys[k].type == KEY_OUTPUTS ? RPS3_NOUTPUT - 1
+        : scene_keys[k].type == KEY_PARAMS  ? RPS3_NPAPER - 1
                                             : (int)scene_keys[k].f->hi;
 }
 
@@ -126,6 +130,7 @@ const char *scene_enum_name(int k, int value) {
   if (value < lo || value > hi) return NULL;
   if (scene_keys[k].type == KEY_EFFECTS) return rps3_effect_name(value);
   if (scene_keys[k].type == KEY_OUTPUTS) return rps3_output_name(value);
+  if (scene_keys[k].type == KEY_PARAMS) return rps3_paper_name(value);
   switch (k) {
   case K_KIND: return kind_names[value];
   case K_THETA: return theta_names[value];
@@ -136,6 +141,7 @@ const char *scene_enum_name(int k, int value) {
   case K_PATH_SHAPE: return shape_names[value];
   case K_SIM_CONTROLLER: return rps3_ctrl_name(value);
   case K_SIM_INTEGRATOR: return rps3_integrator_name(value);
+  case K_ID_METHOD: return ident_method_names[value];
   default: return NULL;
   }
 }
@@ -198,11 +204,13 @@ void scene_value_set(scene_values *v, int k, int comp, double x) {
 void scene_values_default(scene_values *v) {
   int k;
   memset(v, 0, sizeof *v);
-  for (k = 0; k < SCENE_NKEY; k++)
-    if (scene_keys[k].src == SRC_SIM && scene_keys[k].f->is_int)
+  for (k = 0; k < SCENE_NKEY; k++) {
+    int src = scene_keys[k].src;
+    if ((src == SRC_SIM || src == SRC_IDS) && scene_keys[k].f->is_int)
       *scene_int_at(v, k) = (int)scene_keys[k].def;
-    else if (scene_keys[k].src == SRC_SIM) /* a list: 0, the rest too */
+    else if (src == SRC_SIM || src == SRC_IDS) /* a list: 0, the rest too */
       *scene_real_at(v, k) = scene_keys[k].def;
+  }
   rps3_design_opts_default(&v->des.opts);
   rps3_design_default(&v->design);
   rps3_model_default(&v->model);
@@ -265,6 +273,7 @@ void scene_free(scene *s) {
   free(s->wp_pose_mark);
   table_free(&s->table[TABLE_POSE]);
   table_free(&s->table[TABLE_CENTRE]);
+  table_free(&s->table[TABLE_MEASURED]);
   free(s->path_psi);
   free(s->text);
   free(s->file);

@@ -43,7 +43,9 @@ typedef enum {
   KEY_OUTPUTS, /* list of output names, stored as RPS3_OUT_* bits */
   KEY_TIMES,   /* list of at least 2 numbers (waypoint times) */
   KEY_POSES,   /* list of lists of 3 numbers (waypoint poses) */
-  KEY_FILE     /* a file name, relative to the scene (a table) */
+  KEY_FILE,    /* a file name, relative to the scene (a table) */
+  KEY_PARAMS   /* list of paper parameter names, stored as bits 1 << k of
+                  rps3_paper_name(k) */
 } key_type;
 
 /* the trajectory kind of a key that belongs to every kind (scene_key_kind:
@@ -106,16 +108,33 @@ typedef struct {
   int per_pose;
 } scene_design;
 
+/* the identify section (docs/identification.md, "Through the runner"):
+   the paper model's parameters fitted to the scene's data, and the Monte
+   Carlo of force noise on them */
+typedef struct {
+  int params;         /* bits 1 << k of rps3_paper_name(k); -1: by effects */
+  int method;         /* IDENT_OLS or IDENT_WLS */
+  int consistent;     /* 1: also the physically consistent fit */
+  double level;       /* confidence of the intervals */
+  int runs;           /* Monte Carlo draws; 0: none */
+  double force_noise; /* noise standard deviation / actuator RMS force */
+  int seed;           /* of the draws' noise */
+} scene_ident;
+
+/* identify.method */
+enum { IDENT_OLS = 0, IDENT_WLS = 1 };
+
 /* every value a scene can set: the library's structures, filled through
    the offsets of RPS3_FIELDS, and the runner's own */
 typedef struct {
   rps3_model model;
   rps3_traj traj;
   scene_own own;
-  const char *file[2]; /* the tables' files, absolute (SCENE_TABLE_OF) */
+  const char *file[3]; /* the tables' files, absolute (SCENE_TABLE_OF) */
   scene_sim sim;
   rps3_design design; /* a design study's design */
   scene_design des;
+  scene_ident ids; /* an identification's */
 } scene_values;
 
 /* ranges of the runner's own values (LO, LO_OPEN, HI) */
@@ -133,12 +152,13 @@ typedef struct {
  *  - DES: a field of a design study's rps3_design, FIELD its id
  *    (rps3_design_field_id), whose row of RPS3_DESIGN_FIELDS gives the
  *    range and the unit; "required" means in a design study;
- *  - OWN, SIM, DSEC: a value only the runner has, FIELD the row shaped like
- *    the library's: MEMBER of scene_values, the range (LO, LO_OPEN, HI) and
+ *  - OWN, SIM, DSEC, IDS: a value only the runner has, FIELD the row shaped
+ * like the library's: MEMBER of scene_values, the range (LO, LO_OPEN, HI) and
  *    the UNIT; an OWN value (scene_own) also has the trajectory kind IN and
  *    FILLS, the library field it is turned into (-1: none); a SIM value
  *    (scene_sim) its DEFAULT and DEFTEXT, the key list's text when DEFAULT
- *    is SIM_UNSET (NULL: the value); a DSEC value (scene_design) takes the
+ *    is SIM_UNSET (NULL: the value), and so an IDS value (scene_ident, the
+ *    identify section); a DSEC value (scene_design) takes the
  *    defaults of rps3_design_opts_default.
  * The rules that involve several fields are the library's, run when a case
  * is built; a failure comes back as a field id and is mapped to the key (or
@@ -443,14 +463,55 @@ typedef struct {
   X(K_DES_PER_POSE, "design.per_pose", KEY_BOOL, DSEC,                         \
     (des.per_pose, 0, 0, 1, "-"), REQ_NO, "-",                                 \
     "also write the indices of every pose ([case, z_c, beta, alpha] "          \
-    "datasets)")
+    "datasets)")                                                               \
+  X(K_ID_PARAMS, "identify.parameters", KEY_PARAMS, IDS,                       \
+    (ids.params, 0, 0, RPS3_NPAPER - 1, "-", -1,                               \
+     "by the effects: M, md, Ipin, pin.*, payload.*"),                         \
+    REQ_NO, "pi",                                                              \
+    "the paper model's parameters to fit, by name; default those the "         \
+    "effects fill: M (without payload), md (link_gravity), Ipin "              \
+    "(link_inertia), pin.fv, pin.fc (pin_friction), payload.m, .mcx, .mcy, "   \
+    ".mcz, .Ixx, .Iyy, .Izz (payload)")                                        \
+  X(K_ID_METHOD, "identify.method", KEY_ENUM, IDS,                             \
+    (ids.method, 0, 0, 1, "-", IDENT_WLS, NULL), REQ_NO, "-",                  \
+    "ols (equal weights) or wls (each actuator weighted by its residual "      \
+    "variance, two passes)")                                                   \
+  X(K_ID_CONSISTENT, "identify.consistent", KEY_BOOL, IDS,                     \
+    (ids.consistent, 0, 0, 1, "-", 0, NULL), REQ_NO, "-",                      \
+    "also the physically consistent fit (pseudo-inertias positive "            \
+    "semidefinite, M and the friction >= 0)")                                  \
+  X(K_ID_LEVEL, "identify.level", KEY_REAL, IDS,                               \
+    (ids.level, 0, 1, 0.9999, "1", 0.95, NULL), REQ_NO, "-",                   \
+    "confidence level of the intervals (Student's t)")                         \
+  X(K_ID_DATA, "identify.data", KEY_FILE, IDS,                                 \
+    (file[TABLE_MEASURED], 0, 0, 0, "-", 0, "the trajectory's"), REQ_NO, "-",  \
+    "measured table (CSV or HDF5, relative to the scene) of t, l1, l2, l3, "   \
+    "l1_dot.., l1_ddot.., F1, F2, F3 [s, m, m/s, m/s^2, N]; without it the "   \
+    "forces are the inverse dynamics along the trajectory")                    \
+  X(K_ID_RUNS, "identify.monte_carlo.runs", KEY_INT, IDS,                      \
+    (ids.runs, 0, 0, 10000000.0, "1", 0, NULL), REQ_NO, "-",                   \
+    "Monte Carlo draws of force noise, each fitted; 0: none")                  \
+  X(K_ID_NOISE, "identify.monte_carlo.force_noise", KEY_REAL, IDS,             \
+    (ids.force_noise, GE0, "1", 0.01, NULL), REQ_NO, "-",                      \
+    "standard deviation of the Gaussian force noise as a fraction of each "    \
+    "actuator's RMS force")                                                    \
+  X(K_ID_SEED, "identify.monte_carlo.seed", KEY_INT, IDS,                      \
+    (ids.seed, 0, 0, 2147483647.0, "1", 1, NULL), REQ_NO, "-",                 \
+    "seed of the draws: draw i's noise depends on (seed, i) only")
 
 #define SCENE_KEY_ID(ID, ...) ID,
 typedef enum { SCENE_KEYS(SCENE_KEY_ID) SCENE_NKEY } scene_key;
 #undef SCENE_KEY_ID
 
 /* where a key's value is stored */
-enum { SRC_LIB = 0, SRC_OWN = 1, SRC_SIM = 2, SRC_DES = 3, SRC_DSEC = 4 };
+enum {
+  SRC_LIB = 0,
+  SRC_OWN = 1,
+  SRC_SIM = 2,
+  SRC_DES = 3,
+  SRC_DSEC = 4,
+  SRC_IDS = 5
+};
 
 /* a key of a design study: a field of the library's rps3_design, or of the
    design section */
@@ -467,7 +528,7 @@ typedef struct {
   const rps3_field_info *f;
   int fills;  /* the library field it fills, directly or converted (-1) */
   int dfield; /* SRC_DES: its rps3_design_field_id, else -1 */
-  double def; /* SRC_SIM: DEFAULT */
+  double def; /* SRC_SIM, SRC_IDS: DEFAULT */
   const char *deftext;
   rps3_field_info own;
 } scene_key_info;
@@ -484,8 +545,12 @@ int scene_key_applies(const scene_key_info *ki, int kind);
 /* the key with this dotted path, or -1 */
 int scene_key_find(const char *path);
 
-/* the table (TABLE_POSE or TABLE_CENTRE) file key k reads */
-#define SCENE_TABLE_OF(k) ((k) == K_PATH_FILE ? TABLE_CENTRE : TABLE_POSE)
+/* the table (TABLE_POSE, TABLE_CENTRE or TABLE_MEASURED) file key k
+   reads */
+#define SCENE_TABLE_OF(k)              \
+  ((k) == K_PATH_FILE ? TABLE_CENTRE   \
+   : (k) == K_ID_DATA ? TABLE_MEASURED \
+                      : TABLE_POSE)
 
 /* one sweep axis: a key (or one component of a KEY_REAL3) and its values */
 typedef struct {
@@ -507,6 +572,7 @@ typedef struct {
   scene_mark section[4];           /* root, manipulator, trajectory, solver */
   scene_mark simulate;             /* the simulate section; line 0: none */
   scene_mark design;               /* the design section; line 0: none */
+  scene_mark identify;             /* the identify section; line 0: none */
   size_t naxis;
   scene_axis *axis; /* the sweep, in file order */
   size_t ncase;     /* product of the axis lengths (1: no sweep) */
@@ -515,7 +581,8 @@ typedef struct {
   double (*wp_pose)[3];
   size_t wp_ntime, wp_npose;
   scene_mark *wp_time_mark, *wp_pose_mark; /* where each row is */
-  table_data table[2]; /* the tables (SCENE_TABLE_OF); base.traj views them */
+  table_data table[3]; /* the tables (SCENE_TABLE_OF); base.traj views the
+                          first two */
   double *path_psi;    /* the path's: its polar angles, unwrapped */
 } scene;
 

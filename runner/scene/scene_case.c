@@ -172,7 +172,7 @@ int scene_case_build(const scene *s, size_t index, scene_case *c,
   c->by_blend_ratio = s->given[K_BLEND_RATIO];
   c->simulate = s->simulate.line > 0;
   c->design = s->design.line > 0;
-  c->no_traj = c->design && s->section[2].line == 0;
+  c->no_traj = (c->design || ident_data_only(s)) && s->section[2].line == 0;
   c->v = s->base;
   for (a = 0; a < s->naxis; a++)
     scene_value_set(&c->v, s->axis[a].key, s->axis[a].comp,

@@ -105,6 +105,7 @@ static int emit_value(yaml_emitter_t *em, int k, const scene_values *v) {
     return emit_scalar(em, scene_enum_name(k, *scene_int_at(v, k)));
   case KEY_EFFECTS:
   case KEY_OUTPUTS:
+  case KEY_PARAMS:
     ok = emit_open(em, 1, 1);
     for (i = 0; scene_enum_name(k, i) && ok; i++)
       if (*scene_int_at(v, k) & (1 << i))
@@ -132,6 +133,8 @@ static int case_has_key(const scene_case *c, int k) {
   if (SCENE_KEY_IS_DESIGN(ki)) return c->design;
   if (c->design && design_key_unread(k)) return 0;
   if (c->no_traj && strncmp(ki->path, "trajectory.", 11) == 0) return 0;
+  /* an identification is not swept: its cases are not rerun alone */
+  if (ki->src == SRC_IDS) return 0;
   if (ki->src == SRC_SIM) {
     /* written when simulated; "not given" (NaN, -1) is not a value */
     if (!c->simulate) return 0;
@@ -221,7 +224,8 @@ static const char *const type_text[] = {[KEY_REAL] = "number",
                                         [KEY_OUTPUTS] = "[output names]",
                                         [KEY_TIMES] = "[numbers]",
                                         [KEY_POSES] = "[[3 numbers], ...]",
-                                        [KEY_FILE] = "file name"};
+                                        [KEY_FILE] = "file name",
+                                        [KEY_PARAMS] = "[parameter names]"};
 
 void scene_keys_print(void) {
   scene_values v;

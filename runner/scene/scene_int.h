@@ -132,4 +132,13 @@ int scene_case_error(const scene *s, size_t index, const char *msg,
    it, its grid not swept; 0 or -1 with the error set */
 int scene_design_check_keys(const scene *s, scene_error *err);
 
+/* the identify keys against the scene (identify.c): the section alone
+   with a trajectory (no simulate or design section, no sweep), its
+   parameters columns of its effects; 0 or -1 with the error set */
+int scene_ident_check_keys(const scene *s, scene_error *err);
+
+/* 1 when the scene is an identification of a data file: it needs no
+   trajectory */
+int ident_data_only(const scene *s);
+
 #endif /* RPS3_RUNNER_SCENE_INT_H */

@@ -281,6 +281,7 @@ static int parse_file(scene_parse_ctx *c, int k, const yaml_node_t *n,
   if (table_read(t, s->file, scene_scalar_text(n), what, msg, sizeof msg))
     return scene_error_set(c->err, mk, scene_keys[k].path, "%s", msg);
   v->file[what] = t->abs;
+  if (what == TABLE_MEASURED) return 0; /* an identification's data */
   if (what == TABLE_POSE) {
     v->traj.table = table_view(t);
     return 0;
@@ -299,7 +300,9 @@ static int parse_file(scene_parse_ctx *c, int k, const yaml_node_t *n,
 static int parse_names(scene_parse_ctx *c, int k, const yaml_node_t *n,
                        scene_values *v) {
   const char *path = scene_keys[k].path;
-  const char *what = scene_keys[k].type == KEY_OUTPUTS ? "output" : "effect";
+  const char *what = scene_keys[k].type == KEY_OUTPUTS  ? "output"
+                     : scene_keys[k].type == KEY_PARAMS ? "parameter"
+                                                        : "effect";
   char list[256], expected[300];
   long i, len;
   int e, bits = 0;
@@ -351,7 +354,8 @@ static int parse_value(scene_parse_ctx *c, int k, const yaml_node_t *n,
   case KEY_POSES: return parse_rows(c, k, n, v);
   case KEY_FILE: return parse_file(c, k, n, v);
   case KEY_EFFECTS:
-  case KEY_OUTPUTS: return parse_names(c, k, n, v);
+  case KEY_OUTPUTS:
+  case KEY_PARAMS: return parse_names(c, k, n, v);
   default:
     if (scene_parse_scalar(c, k, n, path, &x)) return -1;
     scene_value_set(v, k, -1, x);
@@ -421,6 +425,8 @@ int scene_walk_section(scene_parse_ctx *c, const yaml_node_t *map,
         s->simulate = scene_mark_of(&val->start_mark);
       if (strcmp(full, "design") == 0)
         s->design = scene_mark_of(&val->start_mark);
+      if (strcmp(full, "identify") == 0)
+        s->identify = scene_mark_of(&val->start_mark);
       if (scene_walk_section(c, val, full)) return -1;
       continue;
     }
@@ -481,13 +487,15 @@ int scene_check_keys(scene_parse_ctx *c) {
   scene *s = c->s;
   int k, pair;
   /* a design study needs no trajectory (it is the optional task) */
-  int design = s->design.line > 0, no_traj = design && s->section[2].line == 0;
+  int design = s->design.line > 0 || ident_data_only(s),
+      no_traj = design && s->section[2].line == 0;
   if (s->section[1].line == 0 || (s->section[2].line == 0 && !design))
     return scene_error_set(
         c->err, s->section[0],
         s->section[1].line == 0 ? "manipulator" : "trajectory",
         "missing required section");
-  if (scene_design_check_keys(s, c->err)) return -1;
+  if (scene_design_check_keys(s, c->err) || scene_ident_check_keys(s, c->err))
+    return -1;
   for (k = 0; k < SCENE_NKEY; k++) {
     const scene_key_info *ki = &scene_keys[k];
     int applies = scene_key_applies(ki, s->base.traj.kind);

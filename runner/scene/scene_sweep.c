@@ -210,8 +210,8 @@ static int sweep_key(scene_parse_ctx *c, scene_axis *ax, const char *name,
         "a list key: sweep one component, as %s[0], [1] or [2]", name);
   }
   if (ki->type == KEY_EFFECTS || ki->type == KEY_OUTPUTS ||
-      ki->type == KEY_TIMES || ki->type == KEY_POSES || ki->type == KEY_FILE ||
-      ax->key == K_KIND || ax->key == K_PATH_SHAPE)
+      ki->src == SRC_IDS || ki->type == KEY_TIMES || ki->type == KEY_POSES ||
+      ki->type == KEY_FILE || ax->key == K_KIND || ax->key == K_PATH_SHAPE)
     return scene_error_set(c->err, km, name,
                            "cannot be swept (it decides what a case computes); "
                            "write one scene per value");

@@ -22,11 +22,47 @@
 #include <string.h>
 #include <sys/stat.h>
 
-const char *const table_col_names[2][TABLE_NCOL] = {
+const char *const table_col_names[3][TABLE_NCOL] = {
     {"t", "alpha", "beta", "z_c", "alpha_dot", "beta_dot", "z_c_dot",
      "alpha_ddot", "beta_ddot", "z_c_ddot"},
     {"t", "x", "y", "z", "x_dot", "y_dot", "z_dot", "x_ddot", "y_ddot",
-     "z_ddot"}};
+     "z_ddot"},
+    {"t", "l1", "l2", "l3", "l1_dot", "l2_dot", "l3_dot", "l1_ddot", "l2_ddot",
+     "l3_ddot", "F1", "F2", "F3"}};
+
+int table_ncol(int what) { return what == TABLE_MEASURED ? 13 : 10; }
+
+/* the units a column may be in, in the spellings a units attribute may
+   use for them (UDUNITS symbols and names); "" ends a list */
+static const char *const unit_spellings[8][6] = {
+    {"s", "second", "seconds", ""},
+    {"rad", "radian", "radians", ""},
+    {"m", "meter", "metre", "meters", "metres", ""},
+    {"rad/s", "rad s-1", ""},
+    {"m/s", "m s-1", ""},
+    {"rad/s^2", "rad/s2", "rad s-2", ""},
+    {"m/s^2", "m/s2", "m s-2", ""},
+    {"N", "newton", "newtons", ""}};
+
+/* the units of each column (a row of unit_spellings) for TABLE_POSE,
+   TABLE_CENTRE and TABLE_MEASURED */
+static const int col_units[3][TABLE_NCOL] = {
+    {0, 1, 1, 2, 3, 3, 4, 5, 5, 6},
+    {0, 2, 2, 2, 4, 4, 4, 6, 6, 6},
+    {0, 2, 2, 2, 4, 4, 4, 6, 6, 6, 7, 7, 7}};
+
+int table_unit_ok(int what, int c, const char *units) {
+  const char *const *ok = unit_spellings[col_units[what][c]];
+  int i;
+  if (units[0] == '\0') return 1;
+  for (i = 0; ok[i][0] != '\0'; i++)
+    if (strcmp(units, ok[i]) == 0) return 1;
+  return 0;
+}
+
+const char *table_unit_name(int what, int c) {
+  return unit_spellings[col_units[what][c]][0];
+}
 
 int table_err(char *err, size_t errsz, const char *fmt, ...) {
   va_list ap;
@@ -45,6 +81,7 @@ void table_free(table_data *t) {
   free(t->rate);
   free(t->acc);
   free(t->line);
+  free(t->force);
   memset(t, 0, sizeof *t);
 }
 
@@ -71,8 +108,10 @@ int table_alloc_rows(table_data *t, size_t n, int with_acc, int with_line,
   size_t m = n ? n : 1; /* a table of no rows is refused later */
   /* a row in memory: the time, values and rates (the file's or the
      spline's), the accelerations, the spline's work, the CSV line */
-  double row = sizeof(double) * (8.0 + (with_acc ? 3.0 : 0.0)) +
-               (with_line ? (double)sizeof(int) : 0.0);
+  int forces = t->what == TABLE_MEASURED;
+  double row =
+      sizeof(double) * (8.0 + (with_acc ? 3.0 : 0.0) + (forces ? 3.0 : 0.0)) +
+      (with_line ? (double)sizeof(int) : 0.0);
   if ((double)n * row > TABLE_MAX_BYTES)
     return table_err(err, errsz,
                      "%s: %zu rows need %.3g GB in memory (%.0f bytes a row): "
@@ -84,8 +123,9 @@ int table_alloc_rows(table_data *t, size_t n, int with_acc, int with_line,
   t->rate = malloc(m * sizeof *t->rate);
   t->acc = with_acc ? malloc(m * sizeof *t->acc) : NULL;
   t->line = with_line ? malloc(m * sizeof *t->line) : NULL;
+  t->force = forces ? malloc(m * sizeof *t->force) : NULL;
   if (t->time && t->value && t->rate && (t->acc || !with_acc) &&
-      (t->line || !with_line))
+      (t->line || !with_line) && (t->force || !forces))
     return 0;
   return table_err(err, errsz, "%s: out of memory for %zu rows", t->path, n);
 }
@@ -94,7 +134,8 @@ double *table_cell(table_data *t, size_t r, int c) {
   if (c == 0) return &t->time[r];
   if (c < 4) return &t->value[r][c - 1];
   if (c < 7) return &t->rate[r][c - 4];
-  return &t->acc[r][c - 7];
+  if (c < 10) return &t->acc[r][c - 7];
+  return &t->force[r][c - 10];
 }
 
 const char *table_bad_number(double x) {
@@ -115,7 +156,16 @@ int table_columns_check(const int have[TABLE_NCOL], int what, int hdf5,
       return table_err(err, errsz,
                        "%s: missing %s%s (a table has %s, %s, %s, %s)", file,
                        kind, n[c], n[0], n[1], n[2], n[3]);
-  for (g = 4; g < TABLE_NCOL; g += 3)
+  /* an identification's data: every column (the C fit uses the measured
+     rates and accelerations, it does not differentiate) */
+  for (c = 4; what == TABLE_MEASURED && c < TABLE_NCOL; c++)
+    if (!have[c])
+      return table_err(err, errsz,
+                       "%s: missing %s%s: an identification's data need the "
+                       "measured rates l1_dot, l2_dot, l3_dot, accelerations "
+                       "l1_ddot, l2_ddot, l3_ddot and forces F1, F2, F3",
+                       file, kind, n[c]);
+  for (g = 4; g < table_ncol(what); g += 3)
     if (have[g] + have[g + 1] + have[g + 2] != 0 &&
         have[g] + have[g + 1] + have[g + 2] != 3) {
       for (c = g; have[c]; c++)
@@ -176,33 +226,53 @@ static int csv_header(const char *s, const char *e, int what, int *col,
                       int *ncol, int have[TABLE_NCOL], const char *file,
                       int line, char *err, size_t errsz) {
   const char *p = s;
+  int nc = table_ncol(what);
   *ncol = 0;
   for (;;) {
-    const char *q = p, *a, *b;
+    const char *q = p, *a, *b, *u, *ue;
     int c;
     while (q < e && *q != ',') q++;
     for (a = p; a < q && (*a == ' ' || *a == '\t'); a++)
       ;
     for (b = q; b > a && (b[-1] == ' ' || b[-1] == '\t'); b--)
       ;
-    for (c = 0; c < TABLE_NCOL; c++)
+    /* "NAME [UNITS]": the units must be the column's */
+    u = ue = NULL;
+    if (b > a && b[-1] == ']')
+      for (ue = b - 1, u = ue; u > a && u[-1] != '['; u--)
+        ;
+    if (u && u > a)
+      for (b = u - 1; b > a && (b[-1] == ' ' || b[-1] == '\t'); b--)
+        ;
+    else
+      u = NULL;
+    for (c = 0; c < nc; c++)
       if ((size_t)(b - a) == strlen(table_col_names[what][c]) &&
           strncmp(a, table_col_names[what][c], (size_t)(b - a)) == 0)
         break;
-    if (c == TABLE_NCOL || have[c] || *ncol == TABLE_NCOL) {
+    if (c == nc || have[c] || *ncol == nc) {
       char list[200], name[HINT_MAX_LEN + 1], hint[120] = "";
       int k;
       size_t len = 0;
-      for (k = 0; k < TABLE_NCOL; k++)
+      for (k = 0; k < nc; k++)
         len += (size_t)snprintf(list + len, sizeof list - len, "%s%s",
                                 k ? ", " : "", table_col_names[what][k]);
       snprintf(name, sizeof name, "%.*s", (int)(b - a), a);
-      if (c == TABLE_NCOL)
-        hint_text(hint, sizeof hint, name, table_col_names[what], TABLE_NCOL);
+      if (c == nc)
+        hint_text(hint, sizeof hint, name, table_col_names[what], (size_t)nc);
       return table_err(err, errsz, "%s:%d:%d: column '%s': %s%s; expected %s",
                        file, line, (int)(a - s) + 1, name,
-                       c < TABLE_NCOL ? "given twice" : "unknown column", hint,
-                       list);
+                       c < nc ? "given twice" : "unknown column", hint, list);
+    }
+    if (u) {
+      char units[64];
+      snprintf(units, sizeof units, "%.*s", (int)(ue - u), u);
+      if (!table_unit_ok(what, c, units))
+        return table_err(err, errsz,
+                         "%s:%d:%d: column %s: units '%s', but the table is in "
+                         "%s: convert the column",
+                         file, line, (int)(u - s) + 1, table_col_names[what][c],
+                         units, table_unit_name(what, c));
     }
     have[c] = 1;
     col[(*ncol)++] = c;

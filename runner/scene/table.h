@@ -16,7 +16,12 @@
  *   pose    t, alpha, beta, z_c   [s, rad, rad, m]
  *   centre  t, x, y, z            [s, m, m, m]
  * optionally the rates NAME_dot of the three (all or none) and, with them,
- * the accelerations NAME_ddot.
+ * the accelerations NAME_ddot.  A measured table (an identification's
+ * data, scene/identify.h) has t, l1, l2, l3 [s, m], the rates l1_dot ..
+ * [m/s], the accelerations l1_ddot .. [m/s^2] and the forces F1, F2, F3
+ * [N], all required.  A CSV header may give a column's units in brackets
+ * (l1 [m]), an HDF5 dataset a units attribute: either must name the
+ * column's SI unit.
  */
 #ifndef RPS3_RUNNER_TABLE_H
 #define RPS3_RUNNER_TABLE_H
@@ -36,24 +41,30 @@ typedef struct {
   double (*acc)[3];   /* n accelerations, or NULL */
   int rates_given;    /* 1: the rates are the file's */
   int *line;          /* CSV: the line of each row; NULL for HDF5 */
+  int what;           /* TABLE_POSE, TABLE_CENTRE or TABLE_MEASURED */
+  double (*force)[3]; /* a measured table's n forces [N], else NULL */
 } table_data;
 
 /* which columns a table holds */
-enum { TABLE_POSE = 0, TABLE_CENTRE = 1 };
+enum { TABLE_POSE = 0, TABLE_CENTRE = 1, TABLE_MEASURED = 2 };
 
-/* the columns: 0 time, 1-3 values, 4-6 rates, 7-9 accelerations; their
-   names for TABLE_POSE and TABLE_CENTRE */
-#define TABLE_NCOL 10
-extern const char *const table_col_names[2][TABLE_NCOL];
+/* the columns: 0 time, 1-3 values, 4-6 rates, 7-9 accelerations, 10-12 a
+   measured table's forces; their names for TABLE_POSE, TABLE_CENTRE and
+   TABLE_MEASURED (the first table_ncol(what)) */
+#define TABLE_NCOL 13
+extern const char *const table_col_names[3][TABLE_NCOL];
+
+/* the columns of a table of `what`: 13 measured, else 10 */
+int table_ncol(int what);
 
 /*
  * Read the table `name` (relative to the directory of scene_file unless
  * absolute; HDF5 when it ends in .h5 or .hdf5, else CSV) with the columns
- * of `what` (TABLE_POSE or TABLE_CENTRE) into t.  Returns 0, or -1 with
- * "FILE:LINE:COL: column NAME: what is wrong" ("FILE: dataset /NAME: ..."
- * or "FILE, row R: dataset /NAME: ..." for HDF5) in err, printable text
- * (a quoted control character or non-UTF-8 byte as \xNN); t is then
- * empty (table_free accepts it).
+ * of `what` (TABLE_POSE, TABLE_CENTRE or TABLE_MEASURED) into t.  Returns 0, or
+ * -1 with "FILE:LINE:COL: column NAME: what is wrong" ("FILE: dataset /NAME:
+ * ..." or "FILE, row R: dataset /NAME: ..." for HDF5) in err, printable text (a
+ * quoted control character or non-UTF-8 byte as \xNN); t is then empty
+ * (table_free accepts it).
  */
 int table_read(table_data *t, const char *scene_file, const char *name,
                int what, char *err, size_t errsz);

@@ -29,22 +29,6 @@
 
 #include "core/h5err.h"
 
-/* the units a column may be in, in the spellings a units attribute may
-   use for them (UDUNITS symbols and names); "" ends a list */
-static const char *const unit_spellings[7][6] = {
-    {"s", "second", "seconds", ""},
-    {"rad", "radian", "radians", ""},
-    {"m", "meter", "metre", "meters", "metres", ""},
-    {"rad/s", "rad s-1", ""},
-    {"m/s", "m s-1", ""},
-    {"rad/s^2", "rad/s2", "rad s-2", ""},
-    {"m/s^2", "m/s2", "m s-2", ""}};
-
-/* the units of each column (a row of unit_spellings) for TABLE_POSE and
-   TABLE_CENTRE */
-static const int col_units[2][TABLE_NCOL] = {{0, 1, 1, 2, 3, 3, 4, 5, 5, 6},
-                                             {0, 2, 2, 2, 4, 4, 4, 6, 6, 6}};
-
 /* the dataset's units attribute into buf, cut to sz ("" when it has none
    or it is not a string): fixed-length and variable-length strings alike */
 static void h5_units(hid_t d, char *buf, size_t sz) {
@@ -110,16 +94,12 @@ static int h5_fail(char *err, size_t errsz, const char *path, const char *name,
    or millimetres is refused rather than misread */
 static int h5_units_check(hid_t d, const char *path, const char *name, int what,
                           int c, char *err, size_t errsz) {
-  const char *const *ok = unit_spellings[col_units[what][c]];
   char units[64];
-  int i;
   h5_units(d, units, sizeof units);
-  if (units[0] == '\0') return 0;
-  for (i = 0; ok[i][0] != '\0'; i++)
-    if (strcmp(units, ok[i]) == 0) return 0;
+  if (table_unit_ok(what, c, units)) return 0;
   return col_err(err, errsz, path, name,
                  ": units '%s', but the table is in %s: convert the column",
-                 units, ok[0]);
+                 units, table_unit_name(what, c));
 }
 
 /* the type classes that are not numbers, as a message names them */
@@ -352,10 +332,11 @@ static int h5_read_column(hid_t d, table_data *t, const char *name, int c,
           : H5Sselect_hyperslab(ms, H5S_SELECT_SET, start, NULL, count, NULL);
   if (x >= 0)
     x = H5Dread(d, H5T_NATIVE_DOUBLE, ms, H5S_ALL, H5P_DEFAULT,
-                c == 0  ? t->time
-                : c < 4 ? t->value[0]
-                : c < 7 ? t->rate[0]
-                        : t->acc[0]);
+                c == 0   ? t->time
+                : c < 4  ? t->value[0]
+                : c < 7  ? t->rate[0]
+                : c < 10 ? t->acc[0]
+                         : t->force[0]);
   /* the cause first: a successful call clears HDF5's error stack */
   if (x < 0) h5_fail(err, errsz, t->path, name, "read it as numbers");
   if (ms >= 0) H5Sclose(ms);
@@ -377,6 +358,7 @@ int table_h5_read(table_data *t, int what, char *err, size_t errsz) {
   double bytes = 0.0, sum = 0.0;
   int have[TABLE_NCOL] = {0}, c, rc = -1;
   const char *const *names = table_col_names[what];
+  int nc = table_ncol(what);
   for (c = 0; c < TABLE_NCOL; c++) d[c] = -1;
   if (table_regular_file(t->path, err, errsz)) return -1;
   H5Eget_auto2(H5E_DEFAULT, &fn, &data);
@@ -388,7 +370,7 @@ int table_h5_read(table_data *t, int what, char *err, size_t errsz) {
     H5Eset_auto2(H5E_DEFAULT, fn, data);
     return -1;
   }
-  for (c = 0; c < TABLE_NCOL; c++) {
+  for (c = 0; c < nc; c++) {
     htri_t x = H5Lexists(f, names[c], H5P_DEFAULT);
     if (x < 0) {
       /* not absent: the file's root cannot be read (a damaged file) */
@@ -401,7 +383,7 @@ int table_h5_read(table_data *t, int what, char *err, size_t errsz) {
   if (table_columns_check(have, what, 1, t->path, err, errsz)) goto done;
   /* every column opened and checked, its declared size with them, before
      anything is allocated: the time first, it gives the rows */
-  for (c = 0; c < TABLE_NCOL; c++) {
+  for (c = 0; c < nc; c++) {
     if (!have[c]) continue;
     if (h5_open_column(f, t->path, names[c], what, c, &d[c], &rows, &bytes, err,
                        errsz))
@@ -423,7 +405,7 @@ int table_h5_read(table_data *t, int what, char *err, size_t errsz) {
     }
   }
   if (table_alloc_rows(t, t->n, have[7], 0, err, errsz)) goto done;
-  for (c = 0; c < TABLE_NCOL; c++)
+  for (c = 0; c < nc; c++)
     if (have[c] && h5_read_column(d[c], t, names[c], c, err, errsz)) goto done;
   t->rates_given = have[4];
   rc = 0;

@@ -37,6 +37,12 @@ double *table_cell(table_data *t, size_t r, int c);
 int table_columns_check(const int have[TABLE_NCOL], int what, int hdf5,
                         const char *file, char *err, size_t errsz);
 
+/* 1 when units (a CSV header's [UNITS], an HDF5 units attribute) name
+   column c's SI unit in one of its spellings, or are empty;
+   the unit's symbol */
+int table_unit_ok(int what, int c, const char *units);
+const char *table_unit_name(int what, int c);
+
 /* path is a regular file of at most 1 GiB, checked by stat() before
    anything opens it: 0, or -1 with err set */
 int table_regular_file(const char *path, char *err, size_t errsz);

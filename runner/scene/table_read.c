@@ -239,6 +239,7 @@ int table_read(table_data *t, const char *scene_file, const char *name,
   t->path = path_join(scene_file, name);
   if (!t->path) return table_err(err, errsz, "out of memory");
   t->hdf5 = ends_with(name, ".h5") || ends_with(name, ".hdf5");
+  t->what = what;
   if ((t->hdf5 ? table_h5_read(t, what, err, errsz)
                : table_csv_read(t, what, err, errsz)) != 0 ||
       table_finish(t, what, err, errsz) != 0) {

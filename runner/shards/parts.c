@@ -13,6 +13,7 @@
 #include "core/exit_codes.h"
 #include "core/safeio.h"
 #include "core/tmpout.h"
+#include "exec/ident_run.h"
 #include "merge.h"
 #include "output/out_h5.h"
 #include "verify.h"
@@ -285,10 +286,13 @@ static int merge_write(const merge_run *m, const char *cmd, size_t *nfailed) {
     }
   if (tmpout_name(m->out_path, 0)) return -1;
   tmpout_arm();
-  if (m->copy ? merge_copy_file(m->byk[0], tmpout_path(), err, sizeof err) ||
-                    merge_parts(tmpout_path(), m->byk, m->n, cmd, nfailed, err,
-                                sizeof err)
-              : join_vds(tmpout_path(), m->byk, m->n, cmd, nfailed, err,
+  if ((m->copy ? merge_copy_file(m->byk[0], tmpout_path(), err, sizeof err) ||
+                     merge_parts(tmpout_path(), m->byk, m->n, cmd, nfailed, err,
+                                 sizeof err)
+               : join_vds(tmpout_path(), m->byk, m->n, cmd, nfailed, err,
+                          sizeof err)) ||
+      /* an identification's summary of the draws (ident_run.h) */
+      ident_summary_path(tmpout_path(), m->quiet ? NULL : stdout, err,
                          sizeof err)) {
     fprintf(stderr, "rps3-run merge: %s\n", err);
     return -1;

@@ -1,0 +1,144 @@
+/* run_ident.c - see run_ident.h. */
+#include "run_ident.h"
+
+#include <stdio.h>
+#include <string.h>
+
+#include "core/exit_codes.h"
+#include "core/tmpout.h"
+#include "exec/ident_run.h"
+#include "exec/pool.h"
+
+/* what the file of an identification needs */
+typedef struct {
+  const run_args *a;
+  const scene *s;
+  const ident_plan *p;
+  const ident_fit *fit;
+} ident_job;
+
+/* the fit of the noise-free forces as a table on out */
+static void fit_print(FILE *out, const ident_plan *p, const ident_fit *r) {
+  size_t j;
+  fprintf(out,
+          "identification (%s, %zu samples): condition number %.4g, rank "
+          "%zu, residual RMS %.3g N\n%-12s %14s %12s %14s %10s  %s\n",
+          p->ids.method == IDENT_OLS ? "ols" : "wls", p->ns, r->cond, r->rank,
+          r->resid_rms, "parameter", "estimate", "std", "truth", "share",
+          "unit");
+  for (j = 0; j < p->p; j++)
+    fprintf(out, "%-12s %14.8g %12.3g %14.8g %9.3f%%  %s\n", p->names[j],
+            r->theta[j], r->std[j], p->truth[j], 100 * p->share[j],
+            rps3_paper_unit(p->col[j]));
+  if (r->cstatus >= 0)
+    fprintf(out, "consistent fit: %s%s%s\n",
+            r->consistent ? "physically consistent" : "not consistent",
+            r->cmsg[0] ? ": " : "", r->cmsg);
+}
+
+/* run_job's write: the fit, then the draws of this shard, then (a whole
+   file) their summary */
+static int ident_write(run_job *j, const out_meta *meta, progress *pr,
+                       sweep_stats *st) {
+  ident_job *ij = j->ctx;
+  const run_args *a = ij->a;
+  const ident_plan *p = ij->p;
+  char err[512];
+  out_file *f;
+  int rc = 0;
+  pr->njob_all = p->nunit ? p->nunit : 1;
+  pr->njob = p->nunit ? pool_count(p->nunit, a->shard, a->nshard) : 1;
+  pr->npoint = j->ncase * p->ns;
+  f = ident_file_open(tmpout_path(), ij->s, p, ij->fit, meta, err, sizeof err);
+  if (!f) return run_io(a, err);
+  if (p->ids.runs > 0)
+    rc = ident_mc_run(p, f, a->shard, a->nshard, a->nthread, pr, st, err,
+                      sizeof err);
+  else {
+    st->cases_done = 1;
+    st->points_done = p->ns;
+  }
+  /* a part's summary is its merge's */
+  if (rc == 0 && p->ids.runs > 0 && a->nshard == 1)
+    rc = ident_summary(f->file, a->quiet ? NULL : stdout, err, sizeof err);
+  if (rc) {
+    out_close(f, NULL, 0);
+    return run_io(a, err);
+  }
+  return out_close(f, err, sizeof err) ? run_io(a, err) : EXIT_OK;
+}
+
+/* the plan and the noise-free fit, or the exit code after the message */
+static int ident_checks(const scene *s, const run_args *a, ident_plan *p,
+                        ident_fit *fit) {
+  scene_error serr;
+  if (ident_plan_make(s, p, &serr)) {
+    scene_error_print(a->scene_path, &serr);
+    return EXIT_USAGE;
+  }
+  ident_fit_run(p, p->F0, p->ids.consistent, fit);
+  if (fit->status != RPS3_OK) {
+    fprintf(stderr,
+            "%s: identify: %s not excite the parameters (condition number "
+            "%.3g): %s\n",
+            a->scene_path,
+            p->measured ? "the data (identify.data) do" : "the trajectory does",
+            fit->cond, fit->msg);
+    return EXIT_USAGE;
+  }
+  if (a->shard_arg && p->ids.runs == 0) {
+    fprintf(stderr,
+            "rps3-run: --shard K/N splits the Monte Carlo's draws; "
+            "this identification has none (identify.monte_carlo.runs "
+            "0)\n");
+    return EXIT_USAGE;
+  }
+  if (a->nshard > 1 && a->nshard > p->nunit) {
+    fprintf(stderr,
+            "rps3-run: --shard %s: the Monte Carlo has %zu work unit%s of %d "
+            "draws: use at most %zu shards\n",
+            a->shard_arg, p->nunit, p->nunit == 1 ? "" : "s", IDENT_UNIT,
+            p->nunit);
+    return EXIT_USAGE;
+  }
+  return -1;
+}
+
+int run_identify(scene *s, const run_args *a, const world *w, int argc,
+                 char **argv) {
+  ident_plan p;
+  ident_fit fit;
+  ident_job ij = {a, s, &p, &fit};
+  run_job j = {"identification", "draw", 0, ident_write, &ij, ""};
+  int code;
+  if (w->size > 1) {
+    if (w->rank == 0)
+      fprintf(stderr,
+              "rps3-run: an identification runs as one process; "
+              "split its Monte Carlo with --shard K/N\n");
+    return EXIT_USAGE;
+  }
+  if ((code = ident_checks(s, a, &p, &fit)) >= 0) {
+    ident_plan_free(&p);
+    return code;
+  }
+  /* said even when quiet: a result that may be wrong */
+  if (p.warning[0])
+    fprintf(stderr, "rps3-run: warning: %s: %s\n", a->scene_path, p.warning);
+  if (fit.cstatus > 0)
+    fprintf(stderr, "rps3-run: warning: %s: the consistent fit: %s\n",
+            a->scene_path, fit.cmsg);
+  if (!a->quiet || a->check) fit_print(a->check ? stdout : stderr, &p, &fit);
+  if (a->check) {
+    printf(
+        "%s: %zu samples, %zu parameters, %d Monte Carlo draws in %zu "
+        "work units\n",
+        a->scene_path, p.ns, p.p, p.ids.runs, p.nunit);
+    ident_plan_free(&p);
+    return EXIT_OK;
+  }
+  j.ncase = p.ids.runs > 0 ? ident_shard_draws(&p, a->shard, a->nshard) : 1;
+  code = run_output(a, w, s, EXIT_OK, &j, argc, argv);
+  ident_plan_free(&p);
+  return code;
+}
