@@ -573,6 +573,74 @@ static void no_inertia_refused(void **state) {
   rps3_data_free(d);
 }
 
+#ifndef RPS3_SANITIZE
+#include "alloc_count.h" /* not with ASan's allocator */
+
+/* the general path allocates nothing either: rps3_fwddyn, rps3_energy and
+   a closed-loop simulation (RK4 and rkf45, a controller with another
+   general model, which forms its own Mq and hq at the plant's kept state)
+   between the allocations of rps3_sim_alloc and rps3_ctrl_alloc */
+static void allocates_nothing(void **state) {
+  static const rps3_integrator integ[2] = {RPS3_INT_RK4, RPS3_INT_RKF45};
+  uint64_t seed = 0xa110cull;
+  rps3_model m, cm;
+  rps3_data *inv, *d;
+  rps3_traj tr;
+  int k, j, ok = 0;
+  (void)state;
+  random_general(&m, &seed, RPS3_LAGRANGE);
+  smooth_friction(&m);
+  random_general(&cm, &seed, RPS3_LAGRANGE);
+  smooth_friction(&cm);
+  assert_int_equal(rps3_data_alloc(&m, &inv), RPS3_OK);
+  assert_int_equal(rps3_data_alloc(&m, &d), RPS3_OK);
+  random_state(&m, inv, &seed);
+  count_start();
+  for (j = 0; j < 100; j++) {
+    load_state(d, inv);
+    d->dl[j % 3] *= 1.0 + 0.01 * j;
+    if (rps3_fwddyn(&m, d) == RPS3_OK &&
+        rps3_energy(&m, d, NULL, NULL, NULL) == RPS3_OK)
+      ok++;
+  }
+  count_stop();
+  assert_int_equal(ok, 100);
+  assert_int_equal(n_alloc, 0);
+  assert_int_equal(n_free, 0);
+  rps3_data_free(inv);
+  rps3_data_free(d);
+  helix_entropy(&tr);
+  for (k = 0; k < 2; k++) {
+    rps3_sim_options o;
+    rps3_sim *s = NULL;
+    rps3_ctrl *c = NULL;
+    double pose[3], dpose[3];
+    int st = RPS3_OK;
+    rps3_sim_options_default(&o);
+    o.integrator = integ[k];
+    assert_int_equal(rps3_sim_alloc(&m, &o, &s, NULL), RPS3_OK);
+    assert_int_equal(rps3_ctrl_alloc(RPS3_CTRL_COMPUTED_TORQUE, 400.0, 40.0,
+                                     &cm, &tr, &c, NULL),
+                     RPS3_OK);
+    assert_int_equal(rps3_traj_eval(&m, &tr, 0.0, pose, dpose, NULL),
+                     RPS3_OK);
+    count_start();
+    {
+      rps3_controller ctl = rps3_ctrl_bind(c, 1000.0);
+      if (rps3_sim_start(s, 0.0, pose, dpose) != RPS3_OK) st = -100;
+      for (j = 1; j <= 100 && st == RPS3_OK; j++)
+        st = rps3_sim_advance(s, &ctl, 1e-3 * j);
+    }
+    count_stop();
+    if (st != RPS3_OK) fail_msg("%s", rps3_sim_data(s)->err.msg);
+    assert_int_equal(n_alloc, 0);
+    assert_int_equal(n_free, 0);
+    rps3_ctrl_free(c);
+    rps3_sim_free(s);
+  }
+}
+#endif
+
 int main(void) {
   const struct CMUnitTest tests[] = {
       cmocka_unit_test(inverts_inverse_dynamics),
@@ -583,6 +651,9 @@ int main(void) {
       cmocka_unit_test(computed_torque_tracks),
       cmocka_unit_test(shared_state_is_own_state),
       cmocka_unit_test(no_inertia_refused),
+#ifndef RPS3_SANITIZE
+      cmocka_unit_test(allocates_nothing),
+#endif
   };
   return cmocka_run_group_tests(tests, NULL, NULL);
 }
