@@ -14,8 +14,8 @@
  *            theta''_bias and the state's rates (weights, friction),
  * F = wl + G^T wt.  The payload keeps its rigid-body terms
  * (rps3_fd_add_body) as for the paper's bodies.  Four evaluations of the
- * loads a state, about ten times the paper's Gram form (docs/simulation.md
- * has the timings).
+ * loads a state make rps3_fwddyn about 4.5 times the paper bodies' call
+ * (docs/simulation.md has the timings).
  *
  * The point is built from the plane alone (the lengths, theta's cosines
  * and sines): the library's position code writes the links' directions,
