@@ -2,7 +2,7 @@
  * bodies_random.h - general bodies for the C tests (rps3_model.bodies =
  * RPS3_BODIES_GENERAL): the paper's bodies written as general ones, and
  * random real bodies with friction in every joint (test_bodies.c,
- * test_fd_bodies.c).
+ * test_fd_bodies.c, test_sim_bodies.c).
  */
 #ifndef RPS3_BODIES_RANDOM_H
 #define RPS3_BODIES_RANDOM_H
