@@ -354,17 +354,23 @@ static void shared_state_is_own_state(void **state) {
 }
 
 /* general bodies without a mass where an inertia effect is selected:
-   RPS3_EINVAL with the message, no acceleration */
+   RPS3_EINVAL with the message, no acceleration; rates whose squares
+   overflow in the bodies' loads: a status, never a number */
 static void no_inertia_refused(void **state) {
   uint64_t seed = 0x0a55ull;
   rps3_model m;
   rps3_data *d, *inv;
-  int i;
+  int i, st;
   (void)state;
   random_general(&m, &seed, RPS3_LAGRANGE);
   assert_int_equal(rps3_data_alloc(&m, &inv), RPS3_OK);
   assert_int_equal(rps3_data_alloc(&m, &d), RPS3_OK);
   random_state(&m, inv, &seed);
+  load_state(d, inv);
+  for (i = 0; i < 3; i++) d->dl[i] *= 1e200;
+  st = rps3_fwddyn(&m, d);
+  assert_true(st == RPS3_ERANGE || st == RPS3_ESING);
+  for (i = 0; i < 3; i++) assert_true(isnan(d->ddl[i]));
   /* the platform's inertia alone, of a massless platform */
   memset(&m.platform, 0, sizeof(m.platform));
   m.opt.effects = RPS3_EFF_PLATFORM_INERTIA | RPS3_EFF_PLATFORM_GRAVITY;
