@@ -922,7 +922,8 @@ RPS3_API int rps3_fk_batch(const rps3_model *m, rps3_data *d,
  * equations (21)-(24), (34) eliminated to them read
  *   Mq(l) ddl + hq(l, dl) = F,
  * Mq the joint-space mass matrix and hq the bias forces of the selected
- * effects (m->opt.effects), by virtual power (docs/simulation.md gives how
+ * effects (m->opt.effects) and the model's bodies (m->bodies, the paper's
+ * or the general ones), by virtual power (docs/simulation.md gives how
  * they are assembled).  rps3_invdyn is another formulation of the same
  * equations (Lagrange and Newton-Euler): one inverts the other.  Forces
  * F > 0 extend the links, as in rps3_invdyn.  The controllers of
@@ -963,7 +964,9 @@ RPS3_API int rps3_fwddyn(const rps3_model *m, rps3_data *d);
  * or rps3_ik and rps3_velocity), written from the Cartesian motion (vc,
  * omega) of every body, independently of Mq: platform (1/2) M |vc|^2 +
  * (1/2) omega . I omega and M g z_c, links (1/2) Jlink dtheta^2 and
- * m g d sin(theta), payload likewise.  The zero of P is the base plane.
+ * m g d sin(theta), payload likewise; general bodies (m->bodies) from
+ * their standard parameters m->std and their frames' motion.  The zero of
+ * P is the base plane.
  * *fric receives the power of the pin friction torques [W] (<= 0); any
  * output may be NULL.  Returns RPS3_OK, RPS3_EINVAL, RPS3_ESTATE
  * (positions or velocities missing) or RPS3_ERANGE (an energy or power not

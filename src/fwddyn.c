@@ -37,6 +37,8 @@
  * in its own form (rps3_fd_add_body), not the inverse dynamics' body_load
  * (a load through the frame's second derivatives, several times dearer:
  * docs/library.md, "The formulation").
+ * The general bodies (RPS3_BODIES_GENERAL) have no such Gram form: their
+ * Mq and hq are the loads' columns themselves, src/fwddyn_general.c.
  * rps3_invdyn's Lagrange route writes the platform as the same points,
  * with the same loads; its Newton-Euler route (a rigid body and six
  * ball-joint forces) and the kinetic energy of rps3_energy
@@ -52,12 +54,23 @@
 #include "fwddyn_plane.h"
 #include "linalg.h"
 
+/* general body b has a mass, or an inertia about its frame's origin */
+static int body_has_mass(const rps3_model *m, int b) {
+  const double *p = m->std[b];
+  return p[0] > 0.0 || p[4] + p[7] + p[9] > 0.0;
+}
+
 /* a selected inertia effect with a non-zero mass: without one Mq = 0 */
 static int has_mass(const rps3_model *m) {
   const int eff = m->opt.effects;
-  return ((eff & RPS3_EFF_PLATFORM_INERTIA) && m->M > 0.0) ||
-         ((eff & RPS3_EFF_LINK_INERTIA) && m->Jlink > 0.0) ||
-         ((eff & RPS3_EFF_PAYLOAD) && m->payload.mass > 0.0);
+  int b, legs = 0;
+  if ((eff & RPS3_EFF_PAYLOAD) && m->payload.mass > 0.0) return 1;
+  if (m->bodies != RPS3_BODIES_GENERAL)
+    return ((eff & RPS3_EFF_PLATFORM_INERTIA) && m->M > 0.0) ||
+           ((eff & RPS3_EFF_LINK_INERTIA) && m->Jlink > 0.0);
+  for (b = 1; b < RPS3_NBODY; b++) legs |= body_has_mass(m, b);
+  return ((eff & RPS3_EFF_PLATFORM_INERTIA) && body_has_mass(m, 0)) ||
+         ((eff & RPS3_EFF_LINK_INERTIA) && legs);
 }
 
 /* the rates and the bias accelerations a state gave, by name */
@@ -284,12 +297,6 @@ int rps3_fwddyn_state(const rps3_model *m, rps3_data *d, rps3_fd_state *k,
     poison(d);
     RPS3_ERROR(d, RPS3_EINVAL, "dl (%g, %g, %g) m/s is not finite", d->dl[0],
                d->dl[1], d->dl[2]);
-  }
-  if (m->bodies != RPS3_BODIES_PAPER) {
-    poison(d);
-    RPS3_ERROR(d, RPS3_EINVAL,
-               "the forward dynamics take the paper's bodies "
-               "(RPS3_BODIES_PAPER) only");
   }
   if (!(flags & RPS3_FD_NOFACTOR) && !has_mass(m)) {
     poison(d);

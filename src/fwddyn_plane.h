@@ -318,6 +318,16 @@ FD_INLINE void platform_load(const rps3_model *m, const plane *p,
                              *wt);
 }
 
+/* the generalized force F = wl + G^T wt of the loads (wl, wt) on the
+   links' (l_i, theta_i), the inverse dynamics' (34): F = wl + (df/dl)^T
+   lambda with (df/dtheta)^T lambda = -wt */
+FD_INLINE void fd_force(const plane *p, const double wl[3], const double wt[3],
+                        double F[3]) {
+  int j;
+  for (j = 0; j < 3; j++)
+    F[j] = wl[j] + p->G[0][j] * wt[0] + p->G[1][j] * wt[1] + p->G[2][j] * wt[2];
+}
+
 /* hq: the generalized force of the selected effects' loads at the bias
    accelerations (l'' = 0): c'' = ac_bias, b_i'' = (h_i'', Z_i'') of
    plane_rates, theta'' = theta''_bias; as the inverse dynamics' (34), F =
@@ -327,7 +337,7 @@ FD_INLINE void bias_force(const rps3_model *m, const plane *p, const fd_coef *K,
   const int fric = (m->opt.effects & RPS3_EFF_PIN_FRICTION) != 0;
   const int pfric = (m->opt.effects & RPS3_EFF_PRISMATIC_FRICTION) != 0;
   double wl[3], wt[3];
-  int i, j;
+  int i;
   for (i = 0; i < 3; i++) {
     double w, v;
     fd_pv bdd;
@@ -349,9 +359,7 @@ FD_INLINE void bias_force(const rps3_model *m, const plane *p, const fd_coef *K,
     /* the prismatic joint's friction, on l_i alone (invdyn.c) */
     if (pfric) wl[i] += rps3_friction_law(&m->leg[i].prismatic, p->dl[i]);
   }
-  for (j = 0; j < 3; j++)
-    hq[j] =
-        wl[j] + p->G[0][j] * wt[0] + p->G[1][j] * wt[1] + p->G[2][j] * wt[2];
+  fd_force(p, wl, wt, hq);
 }
 
 /* Mq's upper triangle, column j the generalized force of the inertia
@@ -376,17 +384,27 @@ FD_INLINE void mass_gram(const plane *p, const fd_coef *K, double Mq[3][3]) {
                        p->Jc[2][j] * p->Jc[2][q]);
 }
 
+/* fwddyn_general.c: Mq (symmetric, both triangles) and hq of the general
+   bodies, the payload aside, from the inverse dynamics' loads' columns */
+void rps3_fd_general(const rps3_model *m, const plane *p, double Mq[3][3],
+                     double hq[3]);
+
 /* Mq and hq of the selected effects (src/fwddyn.c's header): hq the
    generalized force of the inverse dynamics' loads (src/loads.h) at the
-   bias accelerations, Mq the Gram form of their columns, a payload as a
+   bias accelerations, Mq the Gram form of their columns (the general
+   bodies': the columns themselves, rps3_fd_general), a payload as a
    rigid body; Mq symmetric to the bit (its upper triangle) */
 FD_INLINE void assemble(const rps3_model *m, rps3_data *d,
                         const rps3_fd_state *k, const plane *p) {
-  const fd_coef K = fd_coef_of(m);
   double Mq[3][3], hq[3];
   int j, q;
-  bias_force(m, p, &K, hq);
-  mass_gram(p, &K, Mq);
+  if (m->bodies == RPS3_BODIES_GENERAL) {
+    rps3_fd_general(m, p, Mq, hq);
+  } else {
+    const fd_coef K = fd_coef_of(m);
+    bias_force(m, p, &K, hq);
+    mass_gram(p, &K, Mq);
+  }
   if (m->opt.effects & RPS3_EFF_PAYLOAD) {
     double sp[3], Iw[3][3];
     for (j = 0; j < 3; j++)

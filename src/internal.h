@@ -295,6 +295,12 @@ void rps3_loads_solve(const rps3_loads *L, int ncol, double (*rhs)[6],
    on theta_{j-3}, through L's method */
 void rps3_loads_leg_basis(const rps3_data *d, const rps3_loads *L,
                           double Fb[3][6]);
+/* the Lagrange route's loads (the left-hand side of (23): w[0..2] on l,
+   w[3..5] on theta) of the effects `effects` (RPS3_EFF_* bits), summed,
+   at the point t: reads its l, phi, dphi, the frame's n and o (rot's
+   first two columns), dl, dtheta, ddl and ddtheta (invdyn.c) */
+void rps3_lagrange_loads(const rps3_model *m, const rps3_data *t, int effects,
+                         double w[6]);
 /* Newton-Euler (invdyn_ne.c): the 6x6 system at d's point factored into
    LU, perm with rho_i = b_i - c (0, or -1 when singular); effect e's
    right-hand side; and the whole formulation's F into d */

@@ -262,6 +262,24 @@ static int need_balls(const rps3_model *m) {
          (m->bodies == RPS3_BODIES_GENERAL && (eff & RPS3_EFF_LINK_INERTIA));
 }
 
+/* the loads of the effects `effects` (bits, summed) at the point t as the
+   Lagrange route forms them (lagrange_kinematics, lagrange_effect): the
+   forward dynamics' Mq and hq of the general bodies are these at unit
+   and bias accelerations (src/fwddyn_general.c) */
+void rps3_lagrange_loads(const rps3_model *m, const rps3_data *t, int effects,
+                         double w[6]) {
+  lag_kin k;
+  double we[6];
+  int e, i;
+  lagrange_kinematics(m, t, &k, need_frame(m), need_balls(m));
+  memset(w, 0, 6 * sizeof(double));
+  for (e = 0; e < RPS3_NEFFECT; e++) {
+    if (!(effects & (1 << e))) continue;
+    lagrange_effect(m, t, &k, e, we);
+    for (i = 0; i < 6; i++) w[i] += we[i];
+  }
+}
+
 static int lagrange(const rps3_model *m, rps3_data *d, const double Jl[3][3],
                     const double LU[9], const int perm[3]) {
   lag_kin k;

@@ -147,6 +147,31 @@ MUTATIONS = [
      "const double mc = 3.003 * K->m6;",
      "forward dynamics: the disc's M/2 at its centre in Mq's Gram form,"
      " 0.1 % off"),
+    ("fd-general-bias", "src/fwddyn_general.c",
+     "t.ddtheta[i] = p->ddb[i];",
+     "t.ddtheta[i] = 0.0;",
+     "forward dynamics of the general bodies: hq's loads without the bias"
+     " theta''"),
+    ("fd-general-column", "src/fwddyn_general.c",
+     "t.ddtheta[i] = p->G[i][j];",
+     "t.ddtheta[i] = 1.001 * p->G[i][j];",
+     "forward dynamics of the general bodies: Mq's columns at theta'' ="
+     " G e_j, 0.1 % off"),
+    ("fd-general-no-mass", "src/fwddyn.c",
+     "return p[0] > 0.0 || p[4] + p[7] + p[9] > 0.0;",
+     "return p[0] >= 0.0;",
+     "forward dynamics of the general bodies: a massless body taken for"
+     " inertia (Mq singular, not refused)"),
+    ("energy-general-kinetic", "src/fwddyn_body.c",
+     "*T = 0.5 * p[0] * v3_dot(vO, vO) + v3_dot(vO, t) +",
+     "*T = 0.5 * p[0] * v3_dot(vO, vO) + 1.001 * v3_dot(vO, t) +",
+     "rps3_energy of the general bodies: the kinetic energy's cross term"
+     " v_O . (omega x m c), 0.1 % off"),
+    ("energy-general-potential", "src/fwddyn_body.c",
+     "*P = g * (p[0] * zO + hw[2]);",
+     "*P = g * (p[0] * zO + 1.001 * hw[2]);",
+     "rps3_energy of the general bodies: a body's centre of mass height in"
+     " its weight's energy, 0.1 % off"),
     ("fd-centripetal", "src/theta.h",
      "Zdd[i] = q->c[i] * v - q->s[i] * lth * dth[i];",
      "Zdd[i] = q->c[i] * v - 1.001 * q->s[i] * lth * dth[i];",

@@ -159,13 +159,15 @@ def library_forces(lib, p, effects, states, method=0, theta=0):
     pose, dpose, ddpose = (np.ascontiguousarray(s, float) for s in states)
     n = len(pose)
     F = np.zeros((n, 3))
-    Fe = np.zeros((n, len(EFFECTS), 3))
+    # the shim writes every effect of the library (RPS3_NEFFECT), EFFECTS
+    # and those the oracle has not (the prismatic joints' friction)
+    Fe = np.zeros((n, lib.rps3_shim_neffect(), 3))
     st = np.zeros(n, np.int32)
     err = ctypes.create_string_buffer(256)
     rc = lib.rps3_shim_forces(param_vector(p), effects, method, theta, n,
                               pose, dpose, ddpose, F, Fe, st, err, 256)
     assert rc == 0, err.value.decode()
-    return F, Fe, st
+    return F, Fe[:, :len(EFFECTS)], st
 
 
 # ---------------------------------------------------------------- symbolic

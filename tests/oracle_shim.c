@@ -14,12 +14,16 @@
 #include "shim_model.h"
 
 int rps3_shim_npar(void);
+int rps3_shim_neffect(void);
 int rps3_shim_forces(const double *par, int effects, int method, int theta,
                      int n, const double *pose, const double *dpose,
                      const double *ddpose, double *F, double *F_effect,
                      int *status, char *err, int errsz);
 
 int rps3_shim_npar(void) { return RPS3_SHIM_NPAR; }
+
+/* the effects' shares a point of rps3_shim_forces writes */
+int rps3_shim_neffect(void) { return RPS3_NEFFECT; }
 
 /* F: n x 3; F_effect: n x RPS3_NEFFECT x 3; status: n.  Returns 0, or the
    status of model or workspace setup (message in err). */
