@@ -85,7 +85,8 @@ def test_case_equals_open_loop_replay_through_rps3_sim(runner, shim,
     phase = np.array([0, 0.4, 0])
     dpose0 = amp * 2 * np.pi * freq * np.cos(phase)
     p = np.array([PLANT["R"], PLANT["rho"], PLANT["M"], 0.09, PLANT["d"], 0,
-                  PLANT["g"], 0, 0, 0, 0, 0, 0, 0, 0.0137, 0.0029, 0.001])
+                  PLANT["g"], 0, 0, 0, 0, 0, 0, 0, 0.0137, 0.0029, 0, 0,
+                  0.001])  # shim_model.h's order, then vreg
     effects = 0b101111  # the paper's four and pin friction
     lr = np.zeros((n + 1, 3))
     Tr, Pr, Wr = (np.zeros(n + 1) for _ in range(3))

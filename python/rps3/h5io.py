@@ -58,6 +58,8 @@ def sweep_keys(f):
     """Swept keys (dotted, as in the scene) in file order: the variables of
     the ``coordinates`` attribute of the per-case ``status`` (written
     whatever ``--fields`` selects)."""
+    if "status" not in f:
+        return []  # an identification's file: no cases
     coords = text(f["status"].attrs.get("coordinates", ""))
     return [text(f[c].attrs.get("scene_key", c)) for c in coords.split()
             if c != "case_time" and c in f]
@@ -142,6 +144,13 @@ def check_file(f, path=None):
     if "rps3_version" not in f.attrs:
         raise ValueError(f"{path}: not an rps3 file: it has no root attribute "
                          "rps3_version (rps3-run writes it; docs/hdf5.md)")
+    # an identification's file (content "identification") is over its
+    # parameters, not over cases (docs/identification.md)
+    if text(f.attrs.get("content", "")) == "identification":
+        if "theta" not in f or "scene" not in f:
+            raise ValueError(f"{path}: an identification file without its "
+                             "theta or scene")
+        return
     # the samples' dimension: time, or sample where the cases' time grids
     # differ (case_time then holds the seconds)
     missing = [k for k in ("scene", "status", "case") if k not in f]
