@@ -640,6 +640,9 @@ def _number_arguments():
                  {"payload": {"inertia": [1e-4, 1e-4, 1e-4]}}, "payload", "inertia"))
     rows.append(("Model", rps3.Model, {"friction": {"viscous": 0.01}}, "friction", "viscous"))
     rows.append(("Model", rps3.Model, {"friction": {"coulomb": 0.01}}, "friction", "coulomb"))
+    for key in ("viscous", "coulomb", "vreg"):
+        rows.append(("Model", rps3.Model, {"prismatic_friction": {key: 0.01}},
+                     "prismatic_friction", key))
     rows.append(("ik", model.ik, {"pose": tr.pose}, "pose", True))
     rows.append(("fk", model.fk, {"lengths": k.l, "guess": k.theta}, "lengths", True))
     rows.append(("fk", model.fk, {"lengths": k.l, "guess": k.theta}, "guess", True))
@@ -669,8 +672,9 @@ def test_number_arguments_cover_every_parameter():
     """The table above names every parameter of the public functions
     that takes numbers: a new one must be added to it."""
     import inspect
+    # bodies: rps3.Body objects (tests/test_ident_std.py checks their numbers)
     words = {"effects", "method", "theta", "solver", "outputs", "warm_start",
-             "model", "samples", "self"}
+             "model", "samples", "self", "bodies"}
     covered = {(f, a) for f, _, _, a, _ in NUMBER_ARGUMENTS}
     for fname, fn in (("Model", rps3.Model.__init__), ("ik", rps3.Model.ik),
                       ("fk", rps3.Model.fk), ("inverse", rps3.Model.inverse),

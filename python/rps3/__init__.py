@@ -17,7 +17,16 @@ from rps3._rps3 import ffi as _ffi
 from rps3._rps3 import lib as _lib
 from rps3.errors import Rps3Error
 from rps3.io import open_dataset
-from rps3.model import DEFAULT_EFFECTS, EFFECTS, OUTPUTS, Dynamics, Kinematics, Model, Pose
+from rps3.model import (
+    DEFAULT_EFFECTS,
+    EFFECTS,
+    OUTPUTS,
+    Body,
+    Dynamics,
+    Kinematics,
+    Model,
+    Pose,
+)
 
 __version__: str = _ffi.string(_lib.rps3_version()).decode()
 
@@ -26,8 +35,8 @@ __version__: str = _ffi.string(_lib.rps3_version()).decode()
 if __version__ != _ffi.string(_lib.rps3py_header_version()).decode():
     raise ImportError(f"rps3: library {__version__} does not match its header")
 
-__all__ = ["DEFAULT_EFFECTS", "EFFECTS", "OUTPUTS", "Dynamics", "Kinematics", "Model", "h5io",
-           "Pose", "open_dataset", "strerror", "trajectory",
+__all__ = ["DEFAULT_EFFECTS", "EFFECTS", "OUTPUTS", "Body", "Dynamics", "Kinematics", "Model",
+           "h5io", "Pose", "open_dataset", "strerror", "trajectory",
            "Rps3Error", "control", "dynamics", "errors", "scene", "sim", "velocity",
            "export", "design", "ident", "plot", "view"]
 

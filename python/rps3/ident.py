@@ -560,7 +560,8 @@ _CONSISTENT = ("BodyReport", "ConsistencyReport", "consistency_report", "Consist
 
 
 #: the C library's regressor and fits, defined in rps3.ident_c
-_C = ("C_PAPER_NAMES", "paper_params", "regressor", "wls_c", "CLayout", "layout_of",
+_C = ("C_PAPER_NAMES", "C_STD_NAMES", "C_STD_UNITS", "paper_params", "std_params",
+      "regressor", "regressor_std", "wls_c", "CLayout", "layout_of",
       "paper_layout", "CFit", "consistent_c")
 
 

@@ -1,10 +1,12 @@
 """The library's C identification (include/rps3.h, "identification";
 docs/identification.md, "The C library's regressor and fits"): the paper
-model's regressor of a Model, weighted least squares and the physically
+model's regressor of a Model, the general model's regressor of its 82
+standard parameters, weighted least squares and the physically
 consistent fit (log-Cholesky, then plain Cholesky factors), numpy in and
 out.  rps3.ident re-exports every public name.
 
     Y = rps3.ident.regressor(model, pose, dpose, ddpose)   # (n, 3, 12)
+    Ys = rps3.ident.regressor_std(model, pose, dpose, ddpose)  # (n, 3, 82)
     est = rps3.ident.wls_c(Y[..., cols], F)                # an Estimate
     fit = rps3.ident.consistent_c(Y[..., cols], F, rps3.ident.paper_layout(cols))
 """
@@ -43,6 +45,28 @@ def paper_params(model: Model) -> np.ndarray:
     return pi
 
 
+#: the general model's standard parameters, in the C regressor's order
+#: (rps3_std_name; the names of rps3.ident.STANDARD_NAMES)
+C_STD_NAMES: tuple[str, ...] = tuple(text(lib.rps3_std_name(k))
+                                     for k in range(lib.RPS3_NSTD))
+#: their units (rps3_std_unit, UDUNITS)
+C_STD_UNITS: tuple[str, ...] = tuple(text(lib.rps3_std_unit(k))
+                                     for k in range(lib.RPS3_NSTD))
+
+
+def std_params(model: Model) -> np.ndarray:
+    """The model's 82 standard parameters pi, F = Y pi for Y of
+    :func:`regressor_std` (rps3_std_params): its general bodies', or the
+    paper's bodies as general ones (the disc, point-mass links, massless
+    pistons), a selected payload added to the platform's, the prismatic
+    and pin friction coefficients."""
+    pi = np.empty(lib.RPS3_NSTD)
+    status = lib.rps3_std_params(model._c, buf(pi))
+    if status != lib.RPS3_OK:          # an initialised Model never fails
+        raise ValueError(f"model: rps3_std_params failed with status {status}")
+    return pi
+
+
 def regressor(model: Model, pose: ArrayLike, dpose: ArrayLike | None = None,
               ddpose: ArrayLike | None = None) -> np.ndarray:
     """The C regressor (rps3_regressor_batch) of the model at the poses,
@@ -55,6 +79,29 @@ def regressor(model: Model, pose: ArrayLike, dpose: ArrayLike | None = None,
         ValueError: a shape is wrong, rates are needed and missing, or a
             point fails (its index and the library's message).
     """
+    return _batch(lib.rps3_regressor_batch, lib.RPS3_NPAPER, model, pose, dpose, ddpose)
+
+
+def regressor_std(model: Model, pose: ArrayLike, dpose: ArrayLike | None = None,
+                  ddpose: ArrayLike | None = None) -> np.ndarray:
+    """The C regressor of the general model's standard parameters
+    (rps3_regressor_std_batch) at the poses, rates and accelerations
+    (n, 3) or (3,): Y (n, 3, 82) [N per unit parameter, the order of
+    :data:`rps3.ident.STANDARD_NAMES`] with F = Y pi for F of
+    ``model.inverse`` and pi of :func:`std_params`, whatever the model's
+    bodies; the model's geometry, method (Lagrange or Newton-Euler), theta
+    route and friction laws' vreg; columns of effects the model does not
+    select are zero.  ``Layout.regressor(Y)`` gives a layout's columns.
+
+    Raises:
+        ValueError: a shape is wrong, rates are needed and missing, or a
+            point fails (its index and the library's message).
+    """
+    return _batch(lib.rps3_regressor_std_batch, lib.RPS3_NSTD, model, pose, dpose, ddpose)
+
+
+def _batch(fn: Any, ncol: int, model: Model, pose: ArrayLike, dpose: ArrayLike | None,
+           ddpose: ArrayLike | None) -> np.ndarray:
     p, single, given = motion_points(pose, dpose, ddpose)
     n = p.shape[1]
     keep: list[Any] = []
@@ -69,17 +116,17 @@ def regressor(model: Model, pose: ArrayLike, dpose: ArrayLike | None = None,
     if needs and n > 0 and (dpose is None or ddpose is None):
         raise ValueError(f"{'dpose' if dpose is None else 'ddpose'}: needed by the "
                          f"effects {list(model.effects)}, and not given")
-    Y = np.empty((3 * lib.RPS3_NPAPER, n))
+    Y = np.empty((3 * ncol, n))
     status = np.empty(n, np.int32)
     cout = ffi.new("rps3_batch_out *")
     cout.status = ffi.from_buffer("int[]", status)
     d = model._workspace()
-    rc = lib.rps3_regressor_batch(model._c, d, cin, buf(Y), cout)
+    rc = fn(model._c, d, cin, buf(Y), cout)
     if rc != lib.RPS3_OK:
         raise ValueError(text(d.err.msg))
     if cout.nfail:
         raise ValueError(f"pose: {text(d.err.msg)} (status {int(status[cout.first_fail])})")
-    out = np.moveaxis(Y.reshape(3, lib.RPS3_NPAPER, n), -1, 0)
+    out = np.moveaxis(Y.reshape(3, ncol, n), -1, 0)
     return out[0] if single else out
 
 

@@ -1,6 +1,7 @@
 """The paper model's regressor from the library's inverse dynamics, and
-exciting trajectories for it (docs/identification.md, "The paper model's
-parameters" and "Exciting trajectories").
+exciting trajectories for it or for a general layout's base parameters
+(docs/identification.md, "The paper model's parameters" and "Exciting
+trajectories").
 
 The library's forces are linear in the paper model's inertia and friction
 parameters at a fixed geometry (R, rho, d, g): each column of the
@@ -305,6 +306,7 @@ class Excitation:
     geometry: Geometry
     limits: Limits
     margins: dict[str, float] = field(default_factory=dict)  #: limit - peak
+    layout: _id.Layout | None = None  #: the general layout designed for, or None
 
 
 def _criteria(Yb: np.ndarray) -> tuple[float, float]:
@@ -330,6 +332,66 @@ def structural_base(geometry: Geometry | None = None, pset: PaperSet | None = No
     Y = paper_regressor(q, dq, ddq, geometry, ps)
     # a payload in the set: its parameters first, so M regroups into them
     return _id.base_parameters(Y, ps.names)
+
+
+#: the body effects of the general model's regressor (its friction kinds
+#: are the layout's)
+_BODY_EFFECTS = ("platform_gravity", "link_gravity", "platform_inertia", "link_inertia")
+
+
+def layout_regressor(pose: ArrayLike, dpose: ArrayLike, ddpose: ArrayLike,
+                     geometry: Geometry | None = None,
+                     layout: _id.Layout | None = None) -> np.ndarray:
+    """Y (n, 3, layout.n) of a general layout's parameters at the poses,
+    rates and accelerations (n, 3): the library's regressor of the 82
+    standard parameters (rps3.ident.regressor_std, the geometry's R, rho,
+    g, and vreg for both friction kinds) times ``layout.matrix``.
+
+    Raises:
+        ValueError: a point fails in the library (its message).
+    """
+    from rps3 import ident_c
+
+    geo = geometry or Geometry()
+    lay = layout or _id.Layout()
+    fr = {"vreg": geo.vreg}
+    m = Model(R=geo.R, rho=geo.rho, g=geo.g, friction=fr, prismatic_friction=fr,
+              effects=list(_BODY_EFFECTS) + [f"{k}_friction" for k in lay.friction])
+    return lay.regressor(ident_c.regressor_std(m, pose, dpose, ddpose))
+
+
+@functools.lru_cache(maxsize=16)
+def layout_base(geometry: Geometry | None = None, layout: _id.Layout | None = None,
+                samples: int = 300, seed: int = 7) -> _id.Base:
+    """The structural base parameters of a general layout at random states
+    inside the workspace (as :func:`structural_base`)."""
+    rng = np.random.default_rng(seed)
+    n = samples
+    q = np.column_stack([rng.uniform(-np.pi, np.pi, n), rng.uniform(0.05, 0.45, n),
+                         rng.uniform(0.27, 0.36, n)])
+    dq = rng.normal(size=(n, 3)) * [1.0, 0.5, 0.05]
+    ddq = rng.normal(size=(n, 3)) * [5.0, 2.0, 0.3]
+    lay = layout or _id.Layout()
+    return _id.base_parameters(layout_regressor(q, dq, ddq, geometry, lay), lay.names)
+
+
+def condition(fourier: Fourier, *, geometry: Geometry | None = None,
+              pset: PaperSet | None = None, layout: _id.Layout | None = None,
+              samples: int = 120) -> float:
+    """The condition number of the column-scaled base regressor over one
+    period of the series (``samples`` points): :func:`design`'s criterion
+    "cond", of the paper set ``pset`` or of the general ``layout``."""
+    geo = geometry or Geometry()
+    t = np.linspace(0.0, fourier.period, samples, endpoint=False)
+    q, dq, ddq = fourier.eval(t)
+    if layout is not None:
+        base = layout_base(geo, layout)
+        Y = layout_regressor(q, dq, ddq, geo, layout)
+    else:
+        ps = pset or PaperSet()
+        base = structural_base(geo, ps)
+        Y = paper_regressor(q, dq, ddq, geo, ps)
+    return _criteria(base.reduce(Y))[0]
 
 
 def peaks(fourier: Fourier, geometry: Geometry, nominal: dict[str, Any],
@@ -400,12 +462,16 @@ def design(*, geometry: Geometry | None = None, pset: PaperSet | None = None,
            limits: Limits | None = None, nominal: dict[str, Any] | None = None,
            q0: ArrayLike = (0.0, 0.25, 0.31), amplitude: ArrayLike = (1.5, 0.12, 0.03),
            f0: float = 0.1, harmonics: int = 4, criterion: str = "cond",
-           samples: int = 120, seed: int = 1, maxiter: int = 100) -> Excitation:
+           samples: int = 120, seed: int = 1, maxiter: int = 100,
+           layout: _id.Layout | None = None, restarts: int = 0) -> Excitation:
     """An exciting trajectory: the Fourier coefficients (``harmonics`` per
     coordinate, base frequency f0 [Hz], about the pose q0) that minimise
     the condition number (``criterion="cond"``, as log cond) or maximise
     log det of the column-scaled base regressor over one period
-    (``samples`` points), subject to :class:`Limits` (under the ``nominal``
+    (``samples`` points) of the paper model's set ``pset``, or with
+    ``layout`` of a general layout's base parameters (the library's
+    regressor of the standard parameters, :func:`layout_regressor`),
+    subject to :class:`Limits` (under the ``nominal``
     Model arguments, default Table II), by COBYLA (scipy.optimize,
     derivative-free: the limits are peaks over the samples) from a
     seeded random start scaled to ``amplitude``.  A start outside the
@@ -415,17 +481,19 @@ def design(*, geometry: Geometry | None = None, pset: PaperSet | None = None,
     optimiser did not converge.
 
     Raises:
-        ValueError: no feasible start (q0 outside the limits), or an
-            unknown criterion.
+        ValueError: no feasible start (q0 outside the limits), an unknown
+            criterion, or both pset and layout given.
     """
     if criterion not in ("cond", "logdet"):
         raise ValueError(f"criterion: expected 'cond' or 'logdet', got {criterion!r}")
+    if layout is not None and pset is not None:
+        raise ValueError("layout: give a paper set (pset) or a general layout, not both")
     opt = _id._need("scipy.optimize")
     geo = geometry or Geometry()
     ps = pset or PaperSet()
     lim = limits or Limits()
     nom = dict(nominal or {})
-    base = structural_base(geo, ps)
+    base = structural_base(geo, ps) if layout is None else layout_base(geo, layout)
     start = random_fourier(q0, amplitude, f0, harmonics, seed)
     sc = _margin_scale(lim)
     for _ in range(30):
@@ -440,7 +508,8 @@ def design(*, geometry: Geometry | None = None, pset: PaperSet | None = None,
     def crit(fo: Fourier) -> tuple[float, float]:
         q, dq, ddq = fo.eval(t)
         try:
-            Y = paper_regressor(q, dq, ddq, geo, ps)
+            Y = (paper_regressor(q, dq, ddq, geo, ps) if layout is None
+                 else layout_regressor(q, dq, ddq, geo, layout))
         except ValueError:
             return math.inf, -math.inf
         return _criteria(base.reduce(Y))
@@ -460,10 +529,18 @@ def design(*, geometry: Geometry | None = None, pset: PaperSet | None = None,
     c0, ld0 = crit(start)
     # derivative-free: the limits are peaks over the samples (not smooth)
     x0 = start.vector()
-    res = opt.minimize(objective, x0, method="COBYLA",
-                       constraints=[{"type": "ineq", "fun": constraint}],
-                       options={"maxiter": maxiter, "rhobeg": 0.2 * float(np.abs(x0).mean()),
-                                "tol": 1e-4})
+    nfev = 0
+    for _ in range(1 + restarts):
+        # a restart begins a new trust region at the last point: COBYLA's
+        # shrinks to tol about the first local optimum it meets
+        res = opt.minimize(objective, x0, method="COBYLA",
+                           constraints=[{"type": "ineq", "fun": constraint}],
+                           options={"maxiter": maxiter, "tol": 1e-4,
+                                    "rhobeg": 0.2 * float(np.abs(x0).mean())})
+        nfev += int(res.nfev)
+        if min(constraint(res.x)) < 0:
+            break
+        x0 = res.x
     best = start.with_vector(res.x)
     mg = _margins(peaks(best, geo, nom, 4 * samples), lim)
     if min(mg.values()) < 0:
@@ -485,7 +562,24 @@ def design(*, geometry: Geometry | None = None, pset: PaperSet | None = None,
         warnings.warn(f"design: the optimiser did not converge ({res.message}); "
                       f"condition number {c:.3g} from {c0:.3g}", RuntimeWarning, stacklevel=2)
     return Excitation(best, criterion, c, ld, c0, ld0, bool(res.success), str(res.message),
-                      seed, int(res.nfev), feasible, base.base_names, ps, geo, lim, mg)
+                      seed, nfev, feasible, base.base_names, ps, geo, lim, mg,
+                      layout)
+
+
+def unoptimised(ex: Excitation, seeds: Any = range(10, 20),
+                amplitude: ArrayLike | None = None, samples: int = 120) -> np.ndarray:
+    """The condition numbers (:func:`condition`, of ex's set or layout) of
+    random, unoptimised Fourier series (:func:`random_fourier`) with ex's
+    q0, f0 and harmonics, one per seed, each coordinate's peak excursion
+    ``amplitude`` (default: the optimised series' own): the reference the
+    optimised ``ex.cond`` is compared with."""
+    fo = ex.fourier
+    amp = excursion(fo) if amplitude is None else np.asarray(amplitude, float)
+    kw: dict[str, Any] = ({"layout": ex.layout} if ex.layout is not None
+                          else {"pset": ex.pset})
+    return np.array([condition(random_fourier(fo.q0, amp, fo.f0, fo.harmonics, s),
+                               geometry=ex.geometry, samples=samples, **kw)
+                     for s in seeds])
 
 
 def write_table(path: str, fourier: Fourier, *, periods: int = 1, dt: float = 0.01,

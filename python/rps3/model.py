@@ -49,6 +49,92 @@ _KEYWORD = {"payload.mass": "payload", "payload.com": "payload",
             "payload.inertia": "payload", "pin_friction.viscous": "friction",
             "pin_friction.coulomb": "friction",
             "pin_friction.vreg": "friction"}
+_KEYWORD.update({f"{b}.{k}": "bodies" for b in
+                 ("platform", "leg1.cylinder", "leg1.piston", "leg2.cylinder",
+                  "leg2.piston", "leg3.cylinder", "leg3.piston")
+                 for k in ("mass", "com", "inertia")})
+_KEYWORD.update({f"leg{i}.{kind}.{k}": arg for i in (1, 2, 3)
+                 for kind, arg in (("pin_friction", "friction"),
+                                   ("prismatic_friction", "prismatic_friction"))
+                 for k in ("viscous", "coulomb", "vreg")})
+#: the Model arguments of the paper's bodies, which general bodies replace
+_PAPER_BODY_ARGS = ("M", "m_over_M", "m", "d", "link_Ic")
+#: a body's inertia as the library holds it: the tensor's Ixx, Ixy, Ixz,
+#: Iyy, Iyz, Izz (rps3_body.inertia)
+_TENSOR = ((0, 0), (0, 1), (0, 2), (1, 1), (1, 2), (2, 2))
+
+
+@dataclass(frozen=True, eq=False)
+class Body:
+    """A rigid body of the general model (include/rps3.h rps3_body), in
+    its own frame (docs/identification.md, "The model"): the platform's
+    is the platform centre with the platform axes; a cylinder's its pin
+    with e1 along the link to the platform, e2 the pin axis, e3 = e1 x e2;
+    a piston's its ball joint with the cylinder's axes.
+
+    Args:
+        mass: [kg].
+        com: centre of mass from the frame's origin, body axes (3,) [m].
+        inertia: inertia tensor about the centre of mass, body axes
+            [kg m^2]: a symmetric (3, 3) array, its six elements (Ixx,
+            Ixy, Ixz, Iyy, Iyz, Izz) (tensor elements: Ixy is the
+            tensor's, minus the product of inertia), or three principal
+            moments along the body axes (3,).  The library checks that
+            some mass distribution has it (positive semidefinite second
+            moment, the triangle inequality).
+    """
+
+    mass: float = 0.0
+    com: Any = (0.0, 0.0, 0.0)
+    inertia: Any = (0.0, 0.0, 0.0)
+
+    def __post_init__(self) -> None:
+        object.__setattr__(self, "mass", _number(self.mass, "mass"))
+        object.__setattr__(self, "com", np.array(_vector(self.com, "com")))
+        object.__setattr__(self, "inertia", _tensor(self.inertia, "inertia"))
+
+    @classmethod
+    def from_parameters(cls, p10: ArrayLike) -> Body:
+        """The body of ten standard parameters (m, m c, inertia about the
+        frame's origin: rps3.ident.STANDARD_NAMES' order), by the
+        parallel-axis theorem.
+
+        Raises:
+            ValueError: a mass <= 0 with a first moment not zero."""
+        p = real_array(p10, "p10").reshape(-1)
+        if p.size != 10:
+            raise ValueError(f"p10: expected 10 standard parameters, got {p.size}")
+        mass, h = float(p[0]), p[1:4]
+        if mass <= 0:
+            if np.any(h != 0):
+                raise ValueError(f"p10: mass {mass} with first moment {h.tolist()}")
+            c = np.zeros(3)
+        else:
+            c = h / mass
+        I0 = np.array([[p[4], p[5], p[6]], [p[5], p[7], p[8]], [p[6], p[8], p[9]]])
+        return cls(mass, c, I0 - mass * (c @ c * np.eye(3) - np.outer(c, c)))
+
+    @property
+    def parameters(self) -> FloatArray:
+        """The ten standard parameters (m, m c, inertia about the frame's
+        origin, tensor elements), as rps3_std_params orders them."""
+        c, m = self.com, self.mass
+        I0 = self.inertia + m * (c @ c * np.eye(3) - np.outer(c, c))
+        return np.array([m, *(m * c), *(I0[i, j] for i, j in _TENSOR)])
+
+    def _set(self, cb: Any) -> None:
+        cb.mass = self.mass
+        for k in range(3):
+            cb.com[k] = float(self.com[k])
+        for k, (i, j) in enumerate(_TENSOR):
+            cb.inertia[k] = float(self.inertia[i, j])
+
+    @classmethod
+    def _get(cls, cb: Any) -> Body:
+        I = np.zeros((3, 3))
+        for k, (i, j) in enumerate(_TENSOR):
+            I[i, j] = I[j, i] = cb.inertia[k]
+        return cls(float(cb.mass), [float(x) for x in cb.com], I)
 
 
 @dataclass(frozen=True)
@@ -146,6 +232,51 @@ def _vector(value: Any, name: str) -> list[float]:
     return [float(x) for x in v]
 
 
+def _tensor(value: Any, name: str) -> FloatArray:
+    """A symmetric 3 x 3 inertia from a (3, 3) array, its six elements or
+    three principal moments."""
+    a = real_array(value, name)
+    if a.shape == (3,):
+        return np.diag(a)
+    if a.shape == (6,):
+        I = np.zeros((3, 3))
+        for k, (i, j) in enumerate(_TENSOR):
+            I[i, j] = I[j, i] = a[k]
+        return I
+    if a.shape == (3, 3):
+        if not np.all(np.abs(a - a.T) <= 1e-12 * np.abs(a).max()):
+            raise ValueError(f"{name}: the (3, 3) inertia is not symmetric")
+        return 0.5 * (a + a.T)
+    raise ValueError(f"{name}: expected a (3, 3) tensor, its 6 elements "
+                     f"(Ixx, Ixy, Ixz, Iyy, Iyz, Izz) or 3 principal moments, "
+                     f"got shape {a.shape}")
+
+
+def _as_body(value: Any, name: str) -> Body:
+    if isinstance(value, Body):
+        return value
+    if isinstance(value, dict):
+        unknown = set(value) - {"mass", "com", "inertia"}
+        if unknown:
+            raise ValueError(f"{name}: unknown keys {sorted(unknown)}")
+        try:
+            return Body(**value)
+        except (TypeError, ValueError) as e:
+            raise type(e)(f"{name}.{e}") from None
+    raise TypeError(f"{name}: expected an rps3.Body or a dict of mass, com, "
+                    f"inertia, got {value!r}")
+
+
+def _per_leg(value: Any, name: str) -> list[Any]:
+    """One value for the three legs, or a sequence of three."""
+    if isinstance(value, (list, tuple)):
+        if len(value) != 3:
+            raise ValueError(f"{name}: expected one value for every leg or a "
+                             f"list of three, got {len(value)}")
+        return list(value)
+    return [value] * 3
+
+
 class Model:
     """The manipulator of Lee & Shah (1988), validated once, then read-only.
 
@@ -168,7 +299,21 @@ class Model:
             rigid payload on the platform (select the ``payload`` effect).
         friction: ``{"viscous": N m s/rad, "coulomb": N m, "vreg": rad/s}``
             at the pins (select the ``pin_friction`` effect; vreg > 0
-            regularises the Coulomb sign, include/rps3.h rps3_friction).
+            regularises the Coulomb sign, include/rps3.h rps3_friction);
+            with general bodies also a list of three, one per leg.
+        prismatic_friction: ``{"viscous": N s/m, "coulomb": N, "vreg":
+            m/s}`` in the prismatic joints, the force each actuator
+            overcomes (select the ``prismatic_friction`` effect), or a
+            list of three, one per leg; either bodies.
+        bodies: ``"paper"`` (default: the disc platform M, links m at d
+            with link_Ic, massless pistons) or the general bodies, a dict
+            of :class:`Body` (or dicts of mass, com, inertia):
+            ``platform``, and either ``cylinder`` and ``piston`` (three
+            identical legs, each in its own axes) or ``legs``, a list of
+            three dicts of ``cylinder`` and ``piston`` (a key a leg leaves
+            out takes the top-level one); a body left out is massless.
+            General bodies replace M, m (m_over_M), d and link_Ic, which
+            must then be left out.
         effects: names of the effects to compute, from ``rps3.EFFECTS``.
         method: ``"lagrange"`` (the paper's) or ``"newton_euler"``.
         theta: ``"closed_form"`` (39) or ``"multiroot"`` (8)-(10) in
@@ -208,7 +353,10 @@ class Model:
                  m: float | None = None, d: float | None = None,
                  link_Ic: float | None = None, g: float | None = None,
                  payload: dict[str, Any] | None = None,
-                 friction: dict[str, Any] | None = None,
+                 friction: dict[str, Any] | Sequence[dict[str, Any]] | None = None,
+                 prismatic_friction: dict[str, Any] | Sequence[dict[str, Any]]
+                 | None = None,
+                 bodies: str | dict[str, Any] | None = None,
                  effects: Sequence[str] | None = None,
                  method: str | None = None, theta: str | None = None,
                  solver: str | None = None, tol: float | None = None,
@@ -219,6 +367,15 @@ class Model:
         c = ffi.new("rps3_model *")
         lib.rps3_model_default(c)
         keyword = dict(_KEYWORD)
+        general = bodies is not None and not (isinstance(bodies, str)
+                                              and bodies == "paper")
+        if general:
+            given = dict(M=M, m_over_M=m_over_M, m=m, d=d, link_Ic=link_Ic)
+            for name in _PAPER_BODY_ARGS:
+                if given[name] is not None:
+                    raise ValueError(f"{name}: the paper's bodies' parameter, "
+                                     "with general bodies: give it in bodies")
+            self._bodies(c, bodies)
         default_ratio = c.m / c.M  # Table II's m/M
         for name, value in (("R", R), ("rho", rho), ("M", M), ("d", d),
                             ("link_Ic", link_Ic), ("g", g)):
@@ -237,7 +394,18 @@ class Model:
         if payload is not None:
             self._payload(c, payload)
         if friction is not None:
-            self._friction(c, friction)
+            laws = _per_leg(friction, "friction")
+            if not general and isinstance(friction, (list, tuple)):
+                raise ValueError("friction: one law per leg needs general bodies "
+                                 "(the paper's legs share one)")
+            if general:
+                for i, law in enumerate(laws):
+                    self._friction(c.leg[i].pin, law, "friction")
+            else:
+                self._friction(c.friction, laws[0], "friction")
+        if prismatic_friction is not None:
+            for i, law in enumerate(_per_leg(prismatic_friction, "prismatic_friction")):
+                self._friction(c.leg[i].prismatic, law, "prismatic_friction")
         o = c.opt
         if effects is not None:
             o.effects = _effect_bits(effects)
@@ -280,13 +448,41 @@ class Model:
                     getattr(c.payload, key)[i] = x
 
     @staticmethod
-    def _friction(c: Any, friction: dict[str, Any]) -> None:
+    def _friction(law: Any, friction: dict[str, Any], arg: str) -> None:
+        if not isinstance(friction, dict):
+            raise TypeError(f"{arg}: expected a dict of viscous, coulomb, vreg, "
+                            f"got {friction!r}")
         unknown = set(friction) - {"viscous", "coulomb", "vreg"}
         if unknown:
-            raise ValueError(f"friction: unknown keys {sorted(unknown)}")
+            raise ValueError(f"{arg}: unknown keys {sorted(unknown)}")
         for key in ("viscous", "coulomb", "vreg"):
             if key in friction:
-                setattr(c.friction, key, _number(friction[key], "friction"))
+                setattr(law, key, _number(friction[key], arg))
+
+    @staticmethod
+    def _bodies(c: Any, bodies: Any) -> None:
+        if not isinstance(bodies, dict):
+            raise (ValueError if isinstance(bodies, str) else TypeError)(
+                f"bodies: expected 'paper' or a dict of bodies, got {bodies!r}")
+        unknown = set(bodies) - {"platform", "cylinder", "piston", "legs"}
+        if unknown:
+            raise ValueError(f"bodies: unknown keys {sorted(unknown)}; known: "
+                             "platform, cylinder, piston, legs")
+        c.bodies = lib.RPS3_BODIES_GENERAL
+        _as_body(bodies.get("platform", Body()), "bodies.platform")._set(c.platform)
+        legs = bodies.get("legs")
+        if legs is None:
+            legs = [{}] * 3
+        if not isinstance(legs, (list, tuple)) or len(legs) != 3:
+            raise ValueError(f"bodies.legs: expected a list of three dicts, got {legs!r}")
+        for i, leg in enumerate(legs):
+            if not isinstance(leg, dict) or set(leg) - {"cylinder", "piston"}:
+                raise ValueError(f"bodies.legs[{i}]: expected a dict of cylinder "
+                                 f"and piston, got {leg!r}")
+            for part in ("cylinder", "piston"):
+                where = f"bodies.legs[{i}].{part}" if part in leg else f"bodies.{part}"
+                b = _as_body(leg.get(part, bodies.get(part, Body())), where)
+                b._set(getattr(c.leg[i], part))
 
     # ------------------------------------------------------------ reading
 
@@ -302,6 +498,18 @@ class Model:
         return tuple(n for k, n in enumerate(OUTPUTS)
                      if self._c.opt.outputs & (1 << k))
 
+    @property
+    def bodies(self) -> str | dict[str, Any]:
+        """``"paper"``, or the general bodies as read back from the
+        library: ``{"platform": Body, "legs": [{"cylinder": Body,
+        "piston": Body}, ...]}``."""
+        c = self._c
+        if c.bodies != lib.RPS3_BODIES_GENERAL:
+            return "paper"
+        return {"platform": Body._get(c.platform),
+                "legs": [{"cylinder": Body._get(c.leg[i].cylinder),
+                          "piston": Body._get(c.leg[i].piston)} for i in range(3)]}
+
     def __getattr__(self, name: str) -> float:
         # the model's numbers, read from the validated C structure
         if name in ("R", "rho", "M", "m", "d", "link_Ic", "g", "r"):
@@ -309,6 +517,9 @@ class Model:
         raise AttributeError(name)
 
     def __repr__(self) -> str:
+        if self._c.bodies == lib.RPS3_BODIES_GENERAL:
+            return (f"rps3.Model(R={self.R!r}, rho={self.rho!r}, bodies='general', "
+                    f"effects={list(self.effects)!r})")
         return (f"rps3.Model(R={self.R!r}, rho={self.rho!r}, M={self.M!r}, "
                 f"m={self.m!r}, d={self.d!r}, effects={list(self.effects)!r})")
 
