@@ -56,7 +56,8 @@ def model_of(p):
     """The rps3.Model of the parameters p (every input, nothing derived)."""
     return rps3.Model(R=p["R"], rho=p["rho"], M=p["M"], m=p["m"], d=p["d"],
                       link_Ic=p["link_Ic"], g=p["g"], payload=p["payload"],
-                      friction=p["friction"])
+                      friction=p["friction"],
+                      prismatic_friction=p.get("prismatic"))
 
 
 def mujoco_xml(p):
@@ -123,13 +124,12 @@ def actuator_forces(model, data, qpos, qvel, qacc, p):
     for i in range(3):
         dof = model.joint(f"pin_{i}").dofadr[0]
         need[dof] += p["friction"]["coulomb"] * np.sign(qvel[dof])
-    # the prismatic joints' friction, a known force opposing each slide's
-    # rate (the exported model has none)
+    # the prismatic joints' Coulomb friction, a known force opposing each
+    # slide's rate (the viscous part is the exported slide's damping)
     pr = p.get("prismatic", dict(viscous=0.0, coulomb=0.0))
     for i in range(3):
         dof = model.joint(f"leg_{i}").dofadr[0]
-        need[dof] += (pr["viscous"] * qvel[dof] +
-                      pr["coulomb"] * np.sign(qvel[dof]))
+        need[dof] += pr["coulomb"] * np.sign(qvel[dof])
     # ball-joint reactions: Jacobian of (platform site - link site)
     cols = []
     jp = np.zeros((3, model.nv))

@@ -166,6 +166,45 @@ def test_mjcf_kinematics_and_inverse_dynamics_are_rps3s(name, p, states):
     assert rel(out.force, Fm) <= TOL, (name, out.force, Fm)
 
 
+def general_model():
+    """General bodies (an offset platform with products of inertia, each
+    leg's cylinder and piston its own), friction in every joint (the pins'
+    Coulomb shared: the MuJoCo oracle adds one), every effect."""
+    B = rps3.Body
+    legs = [dict(cylinder=B(0.07 + 0.01 * i, (0.09, 0.002 * i, -0.004),
+                            [[2e-5, 0, 1e-6], [0, 6e-4, 0], [1e-6, 0, 6e-4]]),
+                 piston=B(0.03, (-0.05, 0.0, 0.001 * i), (5e-6, 8e-5, 8e-5)))
+            for i in range(3)]
+    plat = B(0.2, (0.004, -0.003, 0.012),
+             [[1.2e-3, 1e-5, -2e-5], [1e-5, 1.1e-3, 3e-5], [-2e-5, 3e-5, 2.2e-3]])
+    fr = [dict(viscous=0.01 + 0.004 * i, coulomb=0.003) for i in range(3)]
+    return rps3.Model(R=0.2385, rho=0.4387, bodies=dict(platform=plat, legs=legs),
+                      friction=fr,
+                      prismatic_friction=dict(viscous=0.4, coulomb=0.05),
+                      effects=EFF_ALL)
+
+
+def test_mjcf_of_general_bodies_is_rps3s():
+    """The exported bodies and joint friction of a general model: MuJoCo's
+    inverse dynamics of the MJCF give rps3's forces (TOL)."""
+    model = general_model()
+    mj = mujoco.MjModel.from_xml_string(export.mjcf(model))
+    data = mujoco.MjData(mj)
+    st = sines()
+    out = model.inverse(*st)
+    assert out.ok.all()
+    p = dict(friction=dict(coulomb=0.003), prismatic=dict(viscous=0.4, coulomb=0.05))
+    Fm = np.zeros_like(out.force)
+    for k in range(len(Fm)):
+        q = export.joint_values(model, st[0][k], st[1][k], st[2][k])
+        qpos, qvel, qacc = mj_state(mj, q)
+        Fm[k] = mujoco_model.actuator_forces(mj, data, qpos, qvel, qacc, p)
+    assert rel(out.force, Fm) <= TOL, (out.force, Fm)
+    # the paper's bodies give other forces: the bodies were exported
+    paper = rps3.Model(R=0.2385, rho=0.4387, effects=EFF_ALL)
+    assert rel(paper.inverse(*st).force, Fm) > 1e-3
+
+
 # ------------------------------------------------------------------ URDF
 
 def pin_model(model):
@@ -413,3 +452,33 @@ def test_mujoco_renders_the_mechanism(tmp_path):
     links = np.sum((b > 60) & (b > r + 30))
     assert platform > 500, platform
     assert links > 300, links
+
+
+def test_urdf_of_general_bodies():
+    """The URDF's inertias of a general model, read by Pinocchio: each
+    body's mass, centre of mass and inertia about it in its frame, the
+    legs' in the link frame at theta = 0 (E = [-u_i, axis_i, -u_i x
+    axis_i]); the prismatic joints' friction as damping and rps3 elements."""
+    model = general_model()
+    text = export.urdf(model)
+    pm = pin_model(model)
+    b = model.bodies
+    plat = pm.inertias[pm.getJointId("platform_free")]
+    assert plat.mass == pytest.approx(b["platform"].mass, rel=1e-15)
+    assert np.allclose(plat.lever, b["platform"].com, rtol=0, atol=1e-15)
+    assert np.allclose(plat.inertia, b["platform"].inertia, rtol=1e-12, atol=1e-18)
+    for i in range(3):
+        psi = 2 * np.pi * i / 3
+        u = np.array([np.cos(psi), np.sin(psi), 0.0])
+        ax = np.array([-np.sin(psi), np.cos(psi), 0.0])
+        E = np.column_stack([-u, ax, np.cross(-u, ax)])
+        for joint, part in ((f"pin_{i}", "cylinder"), (f"leg_{i}", "piston")):
+            body = b["legs"][i][part]
+            Y = pm.inertias[pm.getJointId(joint)]
+            assert Y.mass == pytest.approx(body.mass, rel=1e-12), (joint, part)
+            assert np.allclose(Y.lever, E @ body.com, rtol=0, atol=1e-15)
+            want = E @ body.inertia @ E.T
+            got = Y.inertia - (np.eye(3) * export.EPS_INERTIA if part == "piston" else 0)
+            assert np.allclose(got, want, rtol=1e-12, atol=1e-15), (joint, part)
+        assert f'<rps3:prismatic_friction leg="{i}" viscous="0.40000000000000002"' in text
+

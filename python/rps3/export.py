@@ -30,11 +30,20 @@ base frame (Z up, X towards pin 1):
   parsers skip and a Pinocchio user turns into RigidConstraintModels
   (docs/visualisation.md shows how).
 
+A model of general bodies (``Model(bodies=...)``) is exported with its
+bodies: the platform's inertial (centre of mass and full inertia tensor)
+in its frame, each cylinder's in its link's frame and each piston's in
+its own (the legs' axes at theta = 0 are E = [-u_i, axis_i, -u_i x
+axis_i]), each pin's and prismatic joint's viscous friction as the joint's
+damping.
+
 What the formats cannot hold: rps3's effect selection (the exports are the
 whole physical mechanism: compare them with every effect selected), and the
-Coulomb pin friction (MuJoCo's frictionloss is a soft constraint, not the
-library's torque): it is written as the custom number ``rps3_pin_coulomb``
-in MJCF and as the ``coulomb`` attribute of ``<rps3:pin_friction>`` in URDF.
+Coulomb friction (MuJoCo's frictionloss is a soft constraint, not the
+library's law): the pins' is written as the custom number
+``rps3_pin_coulomb`` (three numbers where the legs differ) in MJCF and as
+the ``coulomb`` attribute of ``<rps3:pin_friction>`` in URDF, the prismatic
+joints' as ``rps3_prismatic_coulomb`` and ``<rps3:prismatic_friction>``.
 The viscous part is the joints' damping.  Masses: MuJoCo refuses moving
 bodies without mass and Pinocchio's forward dynamics needs a positive
 definite mass matrix, so the pistons (and in MJCF massless links or
@@ -81,12 +90,64 @@ def _params(model: Model, barrel: float | None) -> dict[str, Any]:
     b = R if barrel is None else float(barrel)
     if not (math.isfinite(b) and b > 0):
         raise ValueError(f"barrel: expected a length > 0 m, got {barrel!r}")
-    return {"R": R, "r": float(c.rho) * R, "M": float(c.M), "m": float(c.m),
-            "d": float(c.d), "Ic": float(c.link_Ic), "g": float(c.g),
-            "pl_mass": float(c.payload.mass), "pl_com": list(c.payload.com),
-            "pl_inertia": list(c.payload.inertia),
-            "viscous": float(c.friction.viscous), "coulomb": float(c.friction.coulomb),
-            "barrel": b}
+    p = {"R": R, "r": float(c.rho) * R, "M": float(c.M), "m": float(c.m),
+         "d": float(c.d), "Ic": float(c.link_Ic), "g": float(c.g),
+         "pl_mass": float(c.payload.mass), "pl_com": list(c.payload.com),
+         "pl_inertia": list(c.payload.inertia),
+         "viscous": float(c.friction.viscous), "coulomb": float(c.friction.coulomb),
+         "barrel": b, "general": int(c.bodies) == int(lib.RPS3_BODIES_GENERAL)}
+    # each joint's friction: the pins' law (one for the paper's bodies),
+    # the prismatic joints'
+    p["pin"] = [(float(c.pinf[i].viscous), float(c.pinf[i].coulomb)) for i in range(3)]
+    p["prismatic"] = [(float(c.leg[i].prismatic.viscous), float(c.leg[i].prismatic.coulomb))
+                      for i in range(3)]
+    p["bodies"] = _bodies(c, p)
+    return p
+
+
+def _body(b: Any) -> tuple[float, FloatArray, FloatArray]:
+    """An rps3_body's mass, centre of mass and 3 x 3 inertia about it."""
+    I = np.array([[b.inertia[0], b.inertia[1], b.inertia[2]],
+                  [b.inertia[1], b.inertia[3], b.inertia[4]],
+                  [b.inertia[2], b.inertia[4], b.inertia[5]]], float)
+    return float(b.mass), np.array(list(b.com), float), I
+
+
+def _bodies(c: Any, p: dict[str, Any]) -> dict[str, Any]:
+    """The inertials in the exported frames (mass, centre of mass, 3 x 3
+    inertia about it): the platform's (its own axes), and per leg the
+    link's and the piston's, in the link's frame at theta = 0 (world axes:
+    the link along -u_i), where the leg's axes are E = [-u_i, axis_i,
+    -u_i x axis_i] (docs/identification.md, "The model")."""
+    r = p["r"]
+    if not p["general"]:
+        M, m, Ic = p["M"], p["m"], p["Ic"]
+        out: dict[str, Any] = {
+            "platform": (M, np.zeros(3), np.diag([M * r * r / 4, M * r * r / 4, M * r * r / 2])),
+            "link": [], "piston": []}
+        for i in range(3):
+            u, _ = _dirs(i)
+            out["link"].append((m, -p["d"] * u, np.eye(3) * Ic))
+            out["piston"].append((0.0, np.zeros(3), np.zeros((3, 3))))
+        return out
+    out = {"platform": _body(c.platform), "link": [], "piston": []}
+    for i in range(3):
+        u, ax = _dirs(i)
+        E = np.column_stack([-u, ax, np.cross(-u, ax)])
+        for key, b in (("link", c.leg[i].cylinder), ("piston", c.leg[i].piston)):
+            mass, com, I = _body(b)
+            out[key].append((mass, E @ com, E @ I @ E.T))
+    return out
+
+
+def _mj_inertial(spec: tuple[float, FloatArray, FloatArray], indent: str) -> str:
+    """An MJCF inertial of (mass, centre of mass, inertia about it), made
+    positive where MuJoCo needs it (EPS_MASS, EPS_INERTIA)."""
+    mass, com, I = spec
+    I = I + np.eye(3) * EPS_INERTIA * (np.trace(I) <= 3 * EPS_INERTIA)
+    full = [I[0, 0], I[1, 1], I[2, 2], I[0, 1], I[0, 2], I[1, 2]]
+    return (f'{indent}<inertial pos="{_fmt(com)}" mass="{max(mass, EPS_MASS):.17g}" '
+            f'fullinertia="{_fmt(full)}"/>')
 
 
 def _dirs(i: int) -> tuple[FloatArray, FloatArray]:
@@ -115,18 +176,29 @@ def mjcf(model: Model, *, barrel: float | None = None, timestep: float = 1e-4) -
     p = _params(model, barrel)
     R, r, bl = p["R"], p["r"], p["barrel"]
     Ic = max(p["Ic"], EPS_INERTIA)
+    bd = p["bodies"]
     links, sites, eqs, acts, shafts = [], [], [], [], []
     for i in range(3):
         u, ax = _dirs(i)
+        if p["general"]:
+            link_in = _mj_inertial(bd["link"][i], "      ")
+            piston_in = _mj_inertial(bd["piston"][i], "        ")
+        else:
+            link_in = (f'      <inertial pos="{_fmt(-p["d"] * u)}" '
+                       f'mass="{max(p["m"], EPS_MASS):.17g}"\n'
+                       f'                diaginertia="{_fmt([Ic] * 3)}"/>')
+            piston_in = (f'        <inertial pos="0 0 0" mass="{EPS_MASS}" '
+                         f'diaginertia="{_fmt([EPS_INERTIA] * 3)}"/>')
+        slide_damp = (f' damping="{p["prismatic"][i][0]:.17g}"'
+                      if p["prismatic"][i][0] else "")
         links.append(f"""
     <body name="link_{i}" pos="{_fmt(R * u)}">
-      <joint name="pin_{i}" type="hinge" axis="{_fmt(ax)}" damping="{p['viscous']:.17g}"/>
-      <inertial pos="{_fmt(-p['d'] * u)}" mass="{max(p['m'], EPS_MASS):.17g}"
-                diaginertia="{_fmt([Ic] * 3)}"/>
+      <joint name="pin_{i}" type="hinge" axis="{_fmt(ax)}" damping="{p['pin'][i][0]:.17g}"/>
+{link_in}
       <geom name="barrel_{i}" class="barrel" fromto="0 0 0 {_fmt(-bl * u)}"/>
       <body name="piston_{i}">
-        <joint name="leg_{i}" type="slide" axis="{_fmt(-u)}"/>
-        <inertial pos="0 0 0" mass="{EPS_MASS}" diaginertia="{_fmt([EPS_INERTIA] * 3)}"/>
+        <joint name="leg_{i}" type="slide" axis="{_fmt(-u)}"{slide_damp}/>
+{piston_in}
         <geom name="piston_{i}" class="piston" fromto="0 0 0 {_fmt(bl * u)}"/>
         <geom name="ball_{i}_link" class="ball" pos="0 0 0"/>
         <site name="ball_{i}_link" pos="0 0 0"/>
@@ -160,6 +232,17 @@ def mjcf(model: Model, *, barrel: float | None = None, timestep: float = 1e-4) -
             ("payload", "sphere", f' size="{0.04 * R:.6g}"', "0.4 0.6 0.3 1")))
     M = p["M"]
     Ip = np.maximum([M * r * r / 4, M * r * r / 4, M * r * r / 2], EPS_INERTIA)
+    platform_in = (_mj_inertial(bd["platform"], "      ") if p["general"] else
+                   f'      <inertial pos="0 0 0" mass="{max(M, EPS_MASS):.17g}" '
+                   f'diaginertia="{_fmt(Ip)}"/>')
+    pin_c = sorted({c for _, c in p["pin"]})
+    coulomb = (f'    <numeric name="rps3_pin_coulomb" data="{p["pin"][0][1]:.17g}"/>'
+               if len(pin_c) == 1 else
+               f'    <numeric name="rps3_pin_coulomb" data="{_fmt([c for _, c in p["pin"]])}"/>')
+    if any(c for _, c in p["prismatic"]):
+        coulomb += ('\n    <!-- Coulomb friction force in each prismatic joint [N] -->\n'
+                    f'    <numeric name="rps3_prismatic_coulomb" '
+                    f'data="{_fmt([c for _, c in p["prismatic"]])}"/>')
     return f"""<mujoco model="rps3">
   <!-- rps3 {_version()}: the 3-RPS manipulator of Lee & Shah (1988); SI units.
        Geoms are drawings only (no mass: inertias are explicit; no contacts). -->
@@ -167,8 +250,9 @@ def mjcf(model: Model, *, barrel: float | None = None, timestep: float = 1e-4) -
   <option gravity="0 0 {-p['g']:.17g}" integrator="RK4" timestep="{timestep:.17g}"/>
   <visual><headlight ambient="0.35 0.35 0.35" diffuse="0.6 0.6 0.6"/></visual>
   <custom>
-    <!-- Coulomb pin friction torque [N m], not modelled by MuJoCo here -->
-    <numeric name="rps3_pin_coulomb" data="{p['coulomb']:.17g}"/>
+    <!-- Coulomb pin friction torque [N m] (each pin's where they differ),
+         not modelled by MuJoCo here -->
+{coulomb}
   </custom>
   <default>
     <geom contype="0" conaffinity="0" group="1"/>
@@ -179,7 +263,7 @@ def mjcf(model: Model, *, barrel: float | None = None, timestep: float = 1e-4) -
 {chr(10).join(shafts)}{''.join(links)}
     <body name="platform">
       <freejoint name="platform"/>
-      <inertial pos="0 0 0" mass="{max(M, EPS_MASS):.17g}" diaginertia="{_fmt(Ip)}"/>
+{platform_in}
       <geom name="platform" class="platform" size="{r:.17g} {0.01 * R:.6g}"/>
 {chr(10).join(sites)}{payload}
     </body>
@@ -205,9 +289,11 @@ def _rpy_along(v: FloatArray) -> str:
 
 
 def _inertial(mass: float, pos: Any, diag: Any) -> str:
+    I = np.asarray(diag, float)
+    I = np.diag(I) if I.shape == (3,) else I
     return (f'    <inertial><origin xyz="{_fmt(pos)}"/><mass value="{mass:.17g}"/>'
-            f'<inertia ixx="{diag[0]:.17g}" ixy="0" ixz="0" iyy="{diag[1]:.17g}" '
-            f'iyz="0" izz="{diag[2]:.17g}"/></inertial>')
+            f'<inertia ixx="{I[0, 0]:.17g}" ixy="{I[0, 1]:.17g}" ixz="{I[0, 2]:.17g}" '
+            f'iyy="{I[1, 1]:.17g}" iyz="{I[1, 2]:.17g}" izz="{I[2, 2]:.17g}"/></inertial>')
 
 
 def urdf(model: Model, *, barrel: float | None = None) -> str:
@@ -251,7 +337,8 @@ def urdf(model: Model, *, barrel: float | None = None) -> str:
         u, ax = _dirs(i)
         out += [
             f'  <link name="link_{i}">',
-            _inertial(p["m"], -p["d"] * u, [p["Ic"]] * 3),
+            (_inertial(*p["bodies"]["link"][i]) if p["general"] else
+             _inertial(p["m"], -p["d"] * u, [p["Ic"]] * 3)),
             f'    <visual><origin xyz="{_fmt(-bl / 2 * u)}" rpy="{_rpy_along(-u)}"/>'
             f'<geometry><cylinder radius="{0.035 * R:.6g}" length="{bl:.17g}"/></geometry>'
             f'<material name="barrel"/></visual>',
@@ -260,10 +347,13 @@ def urdf(model: Model, *, barrel: float | None = None) -> str:
             f'    <parent link="base"/><child link="link_{i}"/>',
             f'    <origin xyz="{_fmt(R * u)}" rpy="0 0 0"/><axis xyz="{_fmt(ax)}"/>',
             f'    <limit lower="0" upper="{np.pi:.17g}" effort="0" velocity="0"/>',
-            f'    <dynamics damping="{p["viscous"]:.17g}"/>',
+            f'    <dynamics damping="{p["pin"][i][0]:.17g}"/>',
             '  </joint>',
             f'  <link name="piston_{i}">',
-            _inertial(EPS_MASS, [0, 0, 0], [EPS_INERTIA] * 3),
+            (_inertial(max(p["bodies"]["piston"][i][0], EPS_MASS),
+                       p["bodies"]["piston"][i][1],
+                       p["bodies"]["piston"][i][2] + np.eye(3) * EPS_INERTIA)
+             if p["general"] else _inertial(EPS_MASS, [0, 0, 0], [EPS_INERTIA] * 3)),
             f'    <visual><origin xyz="{_fmt(bl / 2 * u)}" rpy="{_rpy_along(u)}"/>'
             f'<geometry><cylinder radius="{0.018 * R:.6g}" length="{bl:.17g}"/></geometry>'
             f'<material name="piston"/></visual>',
@@ -272,6 +362,8 @@ def urdf(model: Model, *, barrel: float | None = None) -> str:
             f'    <parent link="link_{i}"/><child link="piston_{i}"/>',
             f'    <origin xyz="0 0 0"/><axis xyz="{_fmt(-u)}"/>',
             f'    <limit lower="0" upper="{10 * R:.17g}" effort="0" velocity="0"/>',
+            *([f'    <dynamics damping="{p["prismatic"][i][0]:.17g}"/>']
+              if p["prismatic"][i][0] else []),
             '  </joint>',
             f'  <link name="ball_{i}_link"><visual>{ball}</visual></link>',
             f'  <joint name="ball_{i}_link_fixed" type="fixed">',
@@ -279,7 +371,8 @@ def urdf(model: Model, *, barrel: float | None = None) -> str:
             '  </joint>']
     M = p["M"]
     out += ['  <link name="platform">',
-            _inertial(M, [0, 0, 0], [M * r * r / 4, M * r * r / 4, M * r * r / 2]),
+            (_inertial(*p["bodies"]["platform"]) if p["general"] else
+             _inertial(M, [0, 0, 0], [M * r * r / 4, M * r * r / 4, M * r * r / 2])),
             f'    <visual><geometry><cylinder radius="{r:.17g}" length="{0.02 * R:.6g}"/>'
             f'</geometry><material name="platform"/></visual>',
             '  </link>',
@@ -304,8 +397,15 @@ def urdf(model: Model, *, barrel: float | None = None) -> str:
     out += ['  <!-- loop closures: the origins of frame1 and frame2 coincide (ball joints) -->']
     out += [f'  <rps3:loop name="ball_{i}" type="ball" frame1="ball_{i}" frame2="ball_{i}_link"/>'
             for i in range(3)]
-    out += [f'  <rps3:pin_friction viscous="{p["viscous"]:.17g}" coulomb="{p["coulomb"]:.17g}"/>',
-            '</robot>', '']
+    if len(set(p["pin"])) == 1:
+        out += [f'  <rps3:pin_friction viscous="{p["pin"][0][0]:.17g}" '
+                f'coulomb="{p["pin"][0][1]:.17g}"/>']
+    else:
+        out += [f'  <rps3:pin_friction leg="{i}" viscous="{v:.17g}" coulomb="{c:.17g}"/>'
+                for i, (v, c) in enumerate(p["pin"])]
+    out += [f'  <rps3:prismatic_friction leg="{i}" viscous="{v:.17g}" coulomb="{c:.17g}"/>'
+            for i, (v, c) in enumerate(p["prismatic"]) if v or c]
+    out += ['</robot>', '']
     return "\n".join(out)
 
 
