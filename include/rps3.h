@@ -2269,6 +2269,28 @@ RPS3_API const char *rps3_std_unit(int k);
 RPS3_API int rps3_std_params(const rps3_model *m, double pi[RPS3_NSTD]);
 
 /*
+ * The base parameters of a regressor Y (n x p, row major) stacked over
+ * exciting states: the independent columns, and how the others regroup
+ * into them (docs/identification.md, "Base parameters").  The columns,
+ * scaled to unit norm, are taken in their order: one is kept when its
+ * part orthogonal to those kept before it is above tol (tol 1e-7, the
+ * Python package's RANK_TOL, sits in the wide gap of the spectra
+ * measured); a column of norm at most tol times the largest acts on
+ * nothing.  Writes *nbase, the kept columns' indices in independent[0 ..
+ * nbase - 1] (increasing) and K (nbase x p, row major): base = K pi, and
+ * Y pi = Y[:, independent] base.  The number kept is checked against the
+ * rank of the singular values (above tol times the largest): where they
+ * differ tol is in no gap, RPS3_ESING.  Returns RPS3_OK, RPS3_EINVAL (NULL
+ * arguments, n or p zero, p > 4096, tol outside (0, 1), a value of Y not
+ * finite: named), RPS3_ESING (Y all zero, or the rank above) or
+ * RPS3_ENOMEM, with the message in chk->msg (chk may be NULL).  Arrays
+ * the caller's: independent of p, K of p x p.  Allocates its workspace.
+ */
+RPS3_API int rps3_ident_base(const double *Y, size_t n, size_t p, double tol,
+                             int *independent, double *K, int *nbase,
+                             rps3_check *chk);
+
+/*
  * Estimators on a stacked regressor: n rows (one per actuator and
  * sample), p columns, F = Y theta + noise.  Unlike the per-point
  * functions they allocate their GSL workspaces on each call (once per

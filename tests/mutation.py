@@ -679,6 +679,15 @@ MUTATIONS = [
      "fric -= rps3_friction_law(&s->plant.leg[i].prismatic, y[3 + i]) *",
      "fric -= 1.001 * rps3_friction_law(&s->plant.leg[i].prismatic, y[3 + i]) *",
      "simulation: the prismatic joints' friction work, 0.1 % off"),
+    ("base-grouping", "src/ident_base.c",
+     "for (r = 0; r < (size_t)nb; r++) K[r * p + j] = gsl_vector_get(x, r);",
+     "for (r = 0; r < (size_t)nb; r++) K[r * p + j] = 1.001 * gsl_vector_get(x, r);",
+     "base parameters: a dependent column's grouping coefficients, 0.1 % off"),
+    ("base-zero-columns", "src/ident_base.c",
+     "zero[j] = !(s > tol * cmax);",
+     "zero[j] = !(s > 1e-3 * cmax);",
+     "base parameters: weak columns (below 1e-3 of the largest) dropped as"
+     " acting on nothing"),
 ]
 
 

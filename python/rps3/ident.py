@@ -561,7 +561,7 @@ _CONSISTENT = ("BodyReport", "ConsistencyReport", "consistency_report", "Consist
 
 #: the C library's regressor and fits, defined in rps3.ident_c
 _C = ("C_PAPER_NAMES", "C_STD_NAMES", "C_STD_UNITS", "paper_params", "std_params",
-      "regressor", "regressor_std", "wls_c", "CLayout", "layout_of",
+      "regressor", "regressor_std", "base_c", "wls_c", "CLayout", "layout_of",
       "paper_layout", "CFit", "consistent_c")
 
 

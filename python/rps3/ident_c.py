@@ -21,7 +21,7 @@ from numpy.typing import ArrayLike
 
 from rps3._core import buf, motion_points, text
 from rps3._rps3 import ffi, lib
-from rps3.ident import Estimate, InconsistentFitError, Layout, NotExcitingError, _stacked
+from rps3.ident import Base, Estimate, InconsistentFitError, Layout, NotExcitingError, _stacked
 from rps3.model import Model
 
 #: the C regressor's columns, in its order (rps3_paper_name; the names of
@@ -173,6 +173,43 @@ def _data(Y: ArrayLike, F: ArrayLike, weights: ArrayLike | None,
     keep += [cnames, arr]
     dt.names = arr
     return dt, keep, Ya, Fa, act, nm
+
+
+def base_c(Y: ArrayLike, names: tuple[str, ...] | list[str] | None = None,
+           tol: float = 1e-7) -> Base:
+    """The base parameters of a stacked regressor by the library
+    (rps3_ident_base): Y (n, 3, p) or (N, p); names default to the
+    standard ones for 82 columns.  The same choice as
+    ``rps3.ident.base_parameters`` (columns kept greedily in their order,
+    grouping by least squares); ``rdiag`` is empty (the library checks the
+    rank by the singular values instead).
+
+    Raises:
+        NotExcitingError: the rank is ambiguous at tol or Y is all zero.
+        ValueError: bad arguments (Y not finite, named).
+    """
+    Ya = np.ascontiguousarray(_stacked(Y)[0], float)
+    n, p = Ya.shape
+    if names is None:
+        if p != len(C_STD_NAMES):
+            raise ValueError(f"names: needed for {p} columns")
+        names = C_STD_NAMES
+    if len(names) != p:
+        raise ValueError(f"names: {len(names)} names for {p} columns")
+    ind = np.zeros(p, np.intc)
+    K = np.zeros((p, p))
+    nb = ffi.new("int *")
+    chk = ffi.new("rps3_check *")
+    st = lib.rps3_ident_base(buf(Ya), n, p, tol, buf(ind, "int[]"), buf(K), nb, chk)
+    msg = text(chk.msg)
+    if st == lib.RPS3_ESING:
+        raise NotExcitingError(msg, float("inf"), [])
+    if st != lib.RPS3_OK:
+        raise ValueError(msg)
+    r = int(nb[0])
+    Kr = K.reshape(-1)[:r * p].reshape(r, p).copy()
+    unid = tuple(names[j] for j in range(p) if np.all(np.abs(Kr[:, j]) < 1e-12))
+    return Base(tuple(names), ind[:r].astype(int), Kr, np.zeros(0), tol, unid)
 
 
 def wls_c(Y: ArrayLike, F: ArrayLike, *, weights: ArrayLike | None = None,

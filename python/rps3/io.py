@@ -73,7 +73,8 @@ def open_dataset(path: str | os.PathLike[str], **kwargs: Any) -> xr.Dataset:
     from ranges), and ``case_index`` keeps each case's number.  A file
     without a sweep keeps ``case``.  Files of simulated scenes open the
     same way; an identification's file (a scene with an ``identify``
-    section) opens over its ``parameter`` dimension.  Units are the ``units`` attributes of the file (SI);
+    section) opens over its ``parameter`` dimension.  Units are the
+    ``units`` attributes of the file (SI);
     ``time`` is in seconds since the start of the trajectory
     (``decode_times=False`` by default: its CF units name a nominal
     reference date).
