@@ -97,22 +97,6 @@ int rps3_paper_params(const rps3_model *m, double pi[RPS3_NPAPER],
    half the difference of +e_k and -e_k is the linear part alone) */
 #define NCOL (RPS3_NPAPER + 3)
 
-/* the right-hand side of column j: the selected effects among `effects`
-   computed with u */
-static void column(const rps3_model *m, const rps3_model *u, const rps3_data *d,
-                   const rps3_loads *L, int effects, double rhs[6]) {
-  double w[6];
-  int e, r, any = 0;
-  memset(rhs, 0, 6 * sizeof(double));
-  for (e = 0; e < RPS3_NEFFECT; e++) {
-    if (!(effects & m->opt.effects & (1 << e))) continue;
-    rps3_loads_effect(u, d, L, e, any ? w : rhs);
-    if (any)
-      for (r = 0; r < 6; r++) rhs[r] += w[r];
-    any = 1;
-  }
-}
-
 static void set_payload(rps3_model *u, double mass, int axis, double h,
                         int inertia_axis) {
   memset(&u->payload, 0, sizeof(u->payload));
@@ -158,35 +142,36 @@ int rps3_regressor(const rps3_model *m, rps3_data *d,
   u.m = 1.0;
   u.d = 1.0; /* link gravity m g d: unit m d */
   u.Jlink = 1.0;
-  column(m, &u, d, &L, RPS3_EFF_PLATFORM_GRAVITY | RPS3_EFF_PLATFORM_INERTIA,
-         rhs[0]);
-  column(m, &u, d, &L, RPS3_EFF_LINK_GRAVITY, rhs[1]);
-  column(m, &u, d, &L, RPS3_EFF_LINK_INERTIA, rhs[2]);
+  rps3_loads_column(m, &u, d, &L,
+                    RPS3_EFF_PLATFORM_GRAVITY | RPS3_EFF_PLATFORM_INERTIA,
+                    rhs[0]);
+  rps3_loads_column(m, &u, d, &L, RPS3_EFF_LINK_GRAVITY, rhs[1]);
+  rps3_loads_column(m, &u, d, &L, RPS3_EFF_LINK_INERTIA, rhs[2]);
   set_payload(&u, 1.0, -1, 0.0, -1);
-  column(m, &u, d, &L, RPS3_EFF_PAYLOAD, rhs[3]);
+  rps3_loads_column(m, &u, d, &L, RPS3_EFF_PAYLOAD, rhs[3]);
   for (k = 0; k < 3; k++) {
     double minus[6];
     int r;
     set_payload(&u, 1.0, k, 1.0, -1);
-    column(m, &u, d, &L, RPS3_EFF_PAYLOAD, rhs[4 + k]);
+    rps3_loads_column(m, &u, d, &L, RPS3_EFF_PAYLOAD, rhs[4 + k]);
     set_payload(&u, 1.0, k, -1.0, -1);
-    column(m, &u, d, &L, RPS3_EFF_PAYLOAD, minus);
+    rps3_loads_column(m, &u, d, &L, RPS3_EFF_PAYLOAD, minus);
     for (r = 0; r < 6; r++) rhs[4 + k][r] = 0.5 * (rhs[4 + k][r] - minus[r]);
     /* inertia about the centre: a massless payload's principal moment */
     set_payload(&u, 0.0, -1, 0.0, k);
-    column(m, &u, d, &L, RPS3_EFF_PAYLOAD, rhs[7 + k]);
+    rps3_loads_column(m, &u, d, &L, RPS3_EFF_PAYLOAD, rhs[7 + k]);
   }
   for (i = 0; i < 3; i++) {
     u.pinf[i] = m->friction;
     u.pinf[i].viscous = 1.0;
     u.pinf[i].coulomb = 0.0;
   }
-  column(m, &u, d, &L, RPS3_EFF_PIN_FRICTION, rhs[10]);
+  rps3_loads_column(m, &u, d, &L, RPS3_EFF_PIN_FRICTION, rhs[10]);
   for (i = 0; i < 3; i++) {
     u.pinf[i].viscous = 0.0;
     u.pinf[i].coulomb = 1.0;
   }
-  column(m, &u, d, &L, RPS3_EFF_PIN_FRICTION, rhs[11]);
+  rps3_loads_column(m, &u, d, &L, RPS3_EFF_PIN_FRICTION, rhs[11]);
 
   /* one factorization, every column */
   rps3_loads_solve(&L, RPS3_NPAPER, rhs, &Y[0][0], RPS3_NPAPER);

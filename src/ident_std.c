@@ -100,20 +100,6 @@ int rps3_std_params(const rps3_model *m, double pi[RPS3_NSTD]) {
   return RPS3_OK;
 }
 
-/* the right-hand side of a column: the effects among `effects` that m
-   selects, computed with u */
-static void column(const rps3_model *m, const rps3_model *u, const rps3_data *d,
-                   const rps3_loads *L, int effects, double rhs[6]) {
-  double w[6];
-  int e, r;
-  memset(rhs, 0, 6 * sizeof(double));
-  for (e = 0; e < RPS3_NEFFECT; e++) {
-    if (!(effects & m->opt.effects & (1 << e))) continue;
-    rps3_loads_effect(u, d, L, e, w);
-    for (r = 0; r < 6; r++) rhs[r] += w[r];
-  }
-}
-
 /* u: m's geometry and options with every parameter zero (general bodies,
    no payload, no friction), the friction laws' regularisation kept */
 static void zero_params(const rps3_model *m, rps3_model *u) {
@@ -214,8 +200,9 @@ int rps3_regressor_std(const rps3_model *m, rps3_data *d,
   /* the platform: its loads with one unit parameter, solved together */
   for (k = 0; k < 10; k++) {
     u.std[0][k] = 1.0;
-    column(m, &u, d, &L, RPS3_EFF_PLATFORM_GRAVITY | RPS3_EFF_PLATFORM_INERTIA,
-           rhs[k]);
+    rps3_loads_column(m, &u, d, &L,
+                      RPS3_EFF_PLATFORM_GRAVITY | RPS3_EFF_PLATFORM_INERTIA,
+                      rhs[k]);
     u.std[0][k] = 0.0;
   }
   rps3_loads_solve(&L, 10, rhs, &Fp[0][0], 10);

@@ -289,6 +289,11 @@ int rps3_loads_prepare(const rps3_model *m, rps3_data *d, rps3_cjac *J,
                        rps3_loads *L);
 void rps3_loads_effect(const rps3_model *u, const rps3_data *d,
                        const rps3_loads *L, int e, double rhs[6]);
+/* a regressor column's right-hand side: the loads of the effects among
+   `effects` that m selects, computed with u's parameters, summed */
+void rps3_loads_column(const rps3_model *m, const rps3_model *u,
+                       const rps3_data *d, const rps3_loads *L, int effects,
+                       double rhs[6]);
 void rps3_loads_solve(const rps3_loads *L, int ncol, double (*rhs)[6],
                       double *F, int ldf);
 /* Fb: the forces of unit leg loads, column j the load 1 on l_j (j < 3) or

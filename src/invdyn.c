@@ -539,6 +539,19 @@ void rps3_loads_effect(const rps3_model *u, const rps3_data *d,
     rps3_ne_rhs(u, d, M3C(L->rho), e, rhs);
 }
 
+void rps3_loads_column(const rps3_model *m, const rps3_model *u,
+                       const rps3_data *d, const rps3_loads *L, int effects,
+                       double rhs[6]) {
+  double w[6];
+  int e, r;
+  memset(rhs, 0, 6 * sizeof(double));
+  for (e = 0; e < RPS3_NEFFECT; e++) {
+    if (!(effects & m->opt.effects & (1 << e))) continue;
+    rps3_loads_effect(u, d, L, e, w);
+    for (r = 0; r < 6; r++) rhs[r] += w[r];
+  }
+}
+
 void rps3_loads_solve(const rps3_loads *L, int ncol, double (*rhs)[6],
                       double *F, int ldf) {
   int n, i, q;
