@@ -17,6 +17,7 @@
 #include <stdio.h>
 
 #include "rps3.h"
+#include "scene_bodies.h"
 #include "table.h"
 
 /* a position in the scene file, both 1-based; 0:0 when not known */
@@ -39,6 +40,7 @@ typedef enum {
   KEY_BOOL,    /* true | false */
   KEY_ENUM,    /* one of a list of names, stored as the library's enum */
   KEY_REAL3,   /* list of three finite doubles; a sweep picks one: key[k] */
+  KEY_REAL6,   /* list of six (an inertia tensor), as KEY_REAL3 */
   KEY_EFFECTS, /* list of effect names, stored as RPS3_EFF_* bits */
   KEY_OUTPUTS, /* list of output names, stored as RPS3_OUT_* bits */
   KEY_TIMES,   /* list of at least 2 numbers (waypoint times) */
@@ -58,7 +60,9 @@ enum {
   REQ_ONE_MASS = 2,  /* m_over_M | m */
   REQ_ONE_GRID = 3,  /* samples | dt */
   REQ_ONE_BLEND = 4, /* blend | blend_ratio */
-  REQ_SHAPE = 5      /* required by some path shapes (scene_shape_mask) */
+  REQ_SHAPE = 5,     /* required by some path shapes (scene_shape_mask) */
+  REQ_PAPER = 6,     /* required with manipulator.bodies: paper */
+  REQ_GENERAL = 7    /* required with manipulator.bodies: general */
 };
 
 /* the values only the runner has; a case turns them into library fields */
@@ -67,6 +71,7 @@ typedef struct {
   double blend_ratio; /* t_a / T*: traj.helix.blend = blend_ratio * period */
   int samples;        /* number of time samples, ends included */
   double dt;          /* time step [s] */
+  rps3_leg legs;      /* manipulator.legs: the values of every leg */
 } scene_own;
 
 /* the simulate section (each field is the value of the simulate.* key of
@@ -133,6 +138,8 @@ typedef struct {
  *  - DES: a field of a design study's rps3_design, FIELD its id
  *    (rps3_design_field_id), whose row of RPS3_DESIGN_FIELDS gives the
  *    range and the unit; "required" means in a design study;
+ *  - LEGS: a value of all three legs (scene_bodies.h), FIELD leg 1's
+ *    library field (RPS3_F_LEG1_*), whose row gives the range and unit;
  *  - OWN, SIM, DSEC: a value only the runner has, FIELD the row shaped like
  *    the library's: MEMBER of scene_values, the range (LO, LO_OPEN, HI) and
  *    the UNIT; an OWN value (scene_own) also has the trajectory kind IN and
@@ -151,14 +158,14 @@ typedef struct {
     "base radius, centre to the pin joints")                                   \
   X(K_RHO, "manipulator.rho", KEY_REAL, LIB, RPS3_F_RHO, REQ_YES, "rho = r/R", \
     "platform radius r (centre to the ball joints) over R")                    \
-  X(K_M, "manipulator.M", KEY_REAL, LIB, RPS3_F_PLATFORM_MASS, REQ_YES, "M",   \
+  X(K_M, "manipulator.M", KEY_REAL, LIB, RPS3_F_PLATFORM_MASS, REQ_PAPER, "M", \
     "platform mass, a uniform disc of radius r")                               \
   X(K_M_OVER_M, "manipulator.m_over_M", KEY_REAL, OWN,                         \
     (own.m_over_M, RPS3_IN_MODEL, GE0, "1", RPS3_F_LINK_MASS), REQ_ONE_MASS,   \
     "m/M", "mass of each link over M; give this or manipulator.m")             \
   X(K_MASS, "manipulator.m", KEY_REAL, LIB, RPS3_F_LINK_MASS, REQ_ONE_MASS,    \
     "m", "mass of each link; give this or m_over_M")                           \
-  X(K_D, "manipulator.d", KEY_REAL, LIB, RPS3_F_D, REQ_YES, "d_i",             \
+  X(K_D, "manipulator.d", KEY_REAL, LIB, RPS3_F_D, REQ_PAPER, "d_i",           \
     "pin joint to link centroid, constant")                                    \
   X(K_G, "manipulator.g", KEY_REAL, LIB, RPS3_F_G, REQ_NO, "g",                \
     "gravitational acceleration, along -Z")                                    \
@@ -182,6 +189,7 @@ typedef struct {
   X(K_VREG, "manipulator.pin_friction.vreg", KEY_REAL, LIB, RPS3_F_VREG,       \
     REQ_NO, "-",                                                               \
     "Coulomb law tanh(dtheta / vreg) instead of sign(dtheta); 0 = sign")       \
+  SCENE_BODY_KEYS(X)                                                           \
   X(K_DES_STROKE_MIN, "manipulator.stroke.min", KEY_REAL, DES, RPS3_DF_L_MIN,  \
     REQ_YES, "l_min",                                                          \
     "design: shortest link length l_i (the actuator retracted)")               \
@@ -298,8 +306,9 @@ typedef struct {
     (own.dt, RPS3_IN_TRAJ, GT0, "s", -1), REQ_ONE_GRID, "-",                   \
     "time step; the span must be a whole number of steps; or give samples")    \
   X(K_EFFECTS, "effects", KEY_EFFECTS, LIB, RPS3_F_EFFECTS, REQ_NO, "-",       \
-    "effects to compute (default: the paper's four, plus payload and "         \
-    "pin_friction when configured; a list must name every configured one)")    \
+    "effects to compute (default: the paper's four, plus payload, "            \
+    "pin_friction and prismatic_friction when configured; a list must name "   \
+    "every configured one)")                                                   \
   X(K_THETA, "solver.theta", KEY_ENUM, LIB, RPS3_F_THETA, REQ_NO, "theta_i",   \
     "closed_form (eq. 39) or multiroot (eqs. 8-10, GSL)")                      \
   X(K_METHOD, "solver.method", KEY_ENUM, LIB, RPS3_F_METHOD, REQ_NO, "-",      \
@@ -450,7 +459,7 @@ typedef enum { SCENE_KEYS(SCENE_KEY_ID) SCENE_NKEY } scene_key;
 #undef SCENE_KEY_ID
 
 /* where a key's value is stored */
-enum { SRC_LIB = 0, SRC_OWN = 1, SRC_SIM = 2, SRC_DES = 3, SRC_DSEC = 4 };
+enum { SRC_LIB, SRC_OWN, SRC_SIM, SRC_DES, SRC_DSEC, SRC_LEGS };
 
 /* a key of a design study: a field of the library's rps3_design, or of the
    design section */
@@ -484,14 +493,17 @@ int scene_key_applies(const scene_key_info *ki, int kind);
 /* the key with this dotted path, or -1 */
 int scene_key_find(const char *path);
 
+/* the numbers of a list key (KEY_REAL3: 3, KEY_REAL6: 6), else 0 */
+int scene_key_ncomp(const scene_key_info *ki);
+
 /* the table (TABLE_POSE or TABLE_CENTRE) file key k reads */
 #define SCENE_TABLE_OF(k) ((k) == K_PATH_FILE ? TABLE_CENTRE : TABLE_POSE)
 
-/* one sweep axis: a key (or one component of a KEY_REAL3) and its values */
+/* one sweep axis: a key (or one component of a list key) and its values */
 typedef struct {
   char path[80];    /* as written, e.g. "trajectory.amp[2]" */
   int key;          /* scene_key */
-  int comp;         /* component of a KEY_REAL3, else -1 */
+  int comp;         /* component of a list key, else -1 */
   size_t n;         /* number of values */
   double *val;      /* values; ints, bools and enums as whole numbers */
   scene_mark *mark; /* where each value comes from */
@@ -517,6 +529,9 @@ typedef struct {
   scene_mark *wp_time_mark, *wp_pose_mark; /* where each row is */
   table_data table[2]; /* the tables (SCENE_TABLE_OF); base.traj views them */
   double *path_psi;    /* the path's: its polar angles, unwrapped */
+
+  /* 1: key k is in the file itself (a sweep sets given[k] too) */
+  unsigned char in_file[SCENE_NKEY];
 } scene;
 
 /* one case, ready to compute */
