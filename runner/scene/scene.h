@@ -17,7 +17,7 @@
 #include <stdio.h>
 
 #include "rps3.h"
-#include "scene_bodies.h"
+#include "scene_body_rows.h"
 #include "table.h"
 
 /* a position in the scene file, both 1-based; 0:0 when not known */
@@ -138,7 +138,7 @@ typedef struct {
  *  - DES: a field of a design study's rps3_design, FIELD its id
  *    (rps3_design_field_id), whose row of RPS3_DESIGN_FIELDS gives the
  *    range and the unit; "required" means in a design study;
- *  - LEGS: a value of all three legs (scene_bodies.h), FIELD leg 1's
+ *  - LEGS: a value of all three legs (scene_body_rows.h), FIELD leg 1's
  *    library field (RPS3_F_LEG1_*), whose row gives the range and unit;
  *  - OWN, SIM, DSEC: a value only the runner has, FIELD the row shaped like
  *    the library's: MEMBER of scene_values, the range (LO, LO_OPEN, HI) and

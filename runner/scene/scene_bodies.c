@@ -1,5 +1,5 @@
 /*
- * scene_bodies.c - the keys of the bodies (scene_bodies.h) against the
+ * scene_bodies.c - the keys of the bodies (scene_body_rows.h) against the
  * scene: which keys the paper's and the general bodies read, the keys of
  * every leg filled into each leg, and the key that sets a leg's field.
  */

@@ -1,5 +1,5 @@
 /*
- * scene_bodies.h - the rows of SCENE_KEYS (scene.h) for the bodies of the
+ * scene_body_rows.h - the rows of SCENE_KEYS (scene.h) for the bodies of the
  * general model (rps3_model.bodies, platform, leg; docs/runner.md,
  * "General bodies"), written once per body and friction law as
  * RPS3_LEG_FIELDS writes the library's.  Leg K's keys are LIB rows of
@@ -7,8 +7,8 @@
  * for the three legs (scene_own.legs), each filling that field of every
  * leg whose own key is not in the file (scene_legs_fill).
  */
-#ifndef RPS3_RUNNER_SCENE_BODIES_H
-#define RPS3_RUNNER_SCENE_BODIES_H
+#ifndef RPS3_RUNNER_SCENE_BODY_ROWS_H
+#define RPS3_RUNNER_SCENE_BODY_ROWS_H
 
 /* the rows of a body: ID##_MASS, _COM, _INERTIA at PATH.mass, .com,
    .inertia, library fields FID##_MASS ...; ORIGIN names its frame */
@@ -68,4 +68,4 @@
 /* the fields of one leg in RPS3_FIELDS (and the keys of one leg) */
 #define SCENE_LEG_NFIELD (RPS3_F_LEG2_CYLINDER_MASS - RPS3_F_LEG1_CYLINDER_MASS)
 
-#endif /* RPS3_RUNNER_SCENE_BODIES_H */
+#endif /* RPS3_RUNNER_SCENE_BODY_ROWS_H */
