@@ -90,11 +90,14 @@ int scene_bodies_check_keys(const scene *s, scene_error *err) {
 }
 
 int scene_key_sets(const scene *s, int k, int id) {
-  int part = leg_part(id);
+  int part = leg_part(id), own;
   if (scene_keys[k].src != SRC_LEGS) return scene_keys[k].fills == id;
-  /* a key of every leg sets the legs whose own is not in the file */
-  return part >= 0 && scene_keys[k].fills == RPS3_F_LEG1_CYLINDER_MASS + part &&
-         !s->in_file[K_LEG1_CYL_MASS + (id - RPS3_F_LEG1_CYLINDER_MASS)];
+  if (part < 0 || scene_keys[k].fills != RPS3_F_LEG1_CYLINDER_MASS + part)
+    return 0;
+  /* a key of every leg sets the legs whose own is not in the file, but
+     for the components their own sweep sets: all of a number */
+  own = K_LEG1_CYL_MASS + (id - RPS3_F_LEG1_CYLINDER_MASS);
+  return !s->in_file[own] && !(s->given[own] && scene_keys[own].f->n == 1);
 }
 
 int scene_leg_key(const scene *s, int id) {
