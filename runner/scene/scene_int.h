@@ -96,7 +96,7 @@ int scene_walk_section(scene_parse_ctx *c, const yaml_node_t *map,
                        const char *prefix);
 
 /* the keys given, the sweep read: required ones there, each of the scene's
-   kind and shape, one of each pair; 0 or -1 */
+   kind, shape and bodies, one of each pair; 0 or -1 */
 int scene_check_keys(scene_parse_ctx *c);
 
 /* the sweep mapping map: its axes into c->s and their cases counted into

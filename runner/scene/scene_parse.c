@@ -3,7 +3,7 @@
  * key's value against its row of the key table (scene.c), with the libyaml
  * mark of the node an error is about; and the checks, after the whole file
  * and its sweep (scene_sweep.c) are read, of the keys it gives (required, of
- * its kind and shape, one of a pair).
+ * its kind, shape and bodies, one of a pair).
  */
 #include "core/hint.h"
 #include "scene.h"
@@ -485,14 +485,14 @@ int scene_check_keys(scene_parse_ctx *c) {
   int k, pair;
   /* a design study needs no trajectory (it is the optional task) */
   int design = s->design.line > 0, no_traj = design && s->section[2].line == 0;
+  /* the bodies decide which of M, d and the platform's keys are required */
+  int general = s->base.model.bodies == RPS3_BODIES_GENERAL;
+  int req_bodies = general ? REQ_GENERAL : REQ_PAPER;
   if (s->section[1].line == 0 || (s->section[2].line == 0 && !design))
     return scene_error_set(
         c->err, s->section[0],
         s->section[1].line == 0 ? "manipulator" : "trajectory",
         "missing required section");
-  /* the bodies decide which of M, d and the platform's keys are required */
-  int general = s->base.model.bodies == RPS3_BODIES_GENERAL;
-  int req_bodies = general ? REQ_GENERAL : REQ_PAPER;
   if (scene_design_check_keys(s, c->err) || scene_bodies_check_keys(s, c->err))
     return -1;
   for (k = 0; k < SCENE_NKEY; k++) {
