@@ -411,6 +411,7 @@ FUZZ_SCENE_SRC = runner/scene/scene.c runner/scene/scene_load.c runner/scene/sce
   runner/scene/table.c runner/scene/table_read.c \
   runner/scene/table_h5.c runner/scene/design.c runner/scene/identify.c runner/core/hint.c runner/core/h5err.c \
   runner/core/safeio.c
+FUZZ_SCENE_SRC += runner/scene/scene_bodies.c
 $(B)/fuzz_scene: tests/fuzz/fuzz_scene.c $(FUZZ_SCENE_SRC) $(wildcard runner/scene/*.h) runner/core/hint.h runner/core/h5err.h runner/core/safeio.h $(LIB_SRC) | $(DEPS)
 	@mkdir -p $(@D)
 	$(FUZZ_CC) $(CPPFLAGS_ALL) -Irunner $(GSL_CFLAGS) $(HDF5_CFLAGS) $(WARN) $(FUZZ_FLAGS) $(KERNEL_FLAGS) \

@@ -424,7 +424,7 @@ int out_cf_swept_keys(hid_t file, hid_t str, const scene *s, hid_t dcase,
     const char *const kv[][2] = {{"long_name", long_name},
                                  {"scene_key", s->axis[a].path}};
     hsize_t nc = s->ncase;
-    hid_t type = (ki->type == KEY_REAL || ki->type == KEY_REAL3)
+    hid_t type = (ki->type == KEY_REAL || scene_key_ncomp(ki))
                      ? H5T_NATIVE_DOUBLE
                  : ki->type == KEY_ENUM ? str
                                         : H5T_NATIVE_INT32;

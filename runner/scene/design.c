@@ -68,7 +68,7 @@ static const int model_field[][2] = {
 int design_key_unread(int k) {
   const scene_key_info *ki = &scene_keys[k];
   size_t i;
-  if ((ki->src != SRC_LIB && ki->src != SRC_OWN) ||
+  if ((ki->src != SRC_LIB && ki->src != SRC_OWN && ki->src != SRC_LEGS) ||
       strncmp(ki->path, "trajectory.", 11) == 0)
     return 0;
   for (i = 0; i < NMODEL_FIELD; i++)

@@ -36,17 +36,28 @@ static const rps3_field_info lib_fields[RPS3_NFIELD] = {RPS3_FIELDS(LIB_ROW)};
       LO_OPEN, HI, UNIT),
 static const rps3_field_info design_fields[RPS3_NDESIGN_FIELD] = {
     RPS3_DESIGN_FIELDS(DES_ROW)};
+/* leg 1's rows relocated into scene_own.legs, for the keys of every leg */
+#define LEGS_ROW(ID, IN, MEMBER, N, IS_INT, LO, LO_OPEN, HI, UNIT, NAME) \
+  ROW(NULL, IN,                                                          \
+      offsetof(scene_values, own.legs) + offsetof(rps3_model, MEMBER) -  \
+          offsetof(rps3_model, leg),                                     \
+      N, IS_INT, LO, LO_OPEN, HI, UNIT),
+static const rps3_field_info legs_fields[SCENE_LEG_NFIELD] = {
+    RPS3_LEG_FIELDS(LEGS_ROW, 1)};
 
 /* each SRC's FIELD as the tail of a scene_key_info: f, fills, dfield, def,
    deftext, and the own row (MEMBER, IN, LO, LO_OPEN, HI, UNIT; an int
    unless a number key) */
-#define ROW_OWN(K, T, M, IN, LO, LO_OPEN, HI, UNIT, FILLS, DEF, DEFTEXT) \
-  &scene_keys[K].own, FILLS, -1, DEF, DEFTEXT,                           \
-      ROW(NULL, IN, offsetof(scene_values, M), 1,                        \
-          T != KEY_REAL && T != KEY_REAL3, LO, LO_OPEN, HI, UNIT)
+#define ROW_OWN(K, T, M, IN, LO, LO_OPEN, HI, UNIT, FILLS, DEF, DEFTEXT)      \
+  &scene_keys[K].own, FILLS, -1, DEF, DEFTEXT,                                \
+      ROW(NULL, IN, offsetof(scene_values, M), 1,                             \
+          T != KEY_REAL && T != KEY_REAL3 && T != KEY_REAL6, LO, LO_OPEN, HI, \
+          UNIT)
 #define NO_ROW ROW(NULL, 0, 0, 0, 0, 0, 0, 0, NULL)
 #define INFO_LIB(K, T, ID) &lib_fields[ID], ID, -1, 0, NULL, NO_ROW
 #define INFO_DES(K, T, ID) &design_fields[ID], -1, ID, 0, NULL, NO_ROW
+#define INFO_LEGS(K, T, ID) \
+  &legs_fields[ID - RPS3_F_LEG1_CYLINDER_MASS], ID, -1, 0, NULL, NO_ROW
 #define INFO_OWN(K, T, M, IN, LO, LO_OPEN, HI, UNIT, FILLS) \
   ROW_OWN(K, T, M, IN, LO, LO_OPEN, HI, UNIT, FILLS, 0, NULL)
 #define INFO_SIM(K, T, M, LO, LO_OPEN, HI, UNIT, DEF, DEFTEXT) \
@@ -58,6 +69,7 @@ static const rps3_field_info design_fields[RPS3_NDESIGN_FIELD] = {
 #define ARGS(...) __VA_ARGS__
 #define UNPACK_LIB(FIELD) FIELD
 #define UNPACK_DES(FIELD) FIELD
+#define UNPACK_LEGS(FIELD) FIELD
 #define UNPACK_OWN(FIELD) ARGS FIELD
 #define UNPACK_SIM(FIELD) ARGS FIELD
 #define UNPACK_DSEC(FIELD) ARGS FIELD
@@ -98,6 +110,10 @@ int scene_key_applies(const scene_key_info *ki, int kind) {
   return scene_key_kind(ki) == FOR_ALL || scene_key_kind(ki) == kind;
 }
 
+int scene_key_ncomp(const scene_key_info *ki) {
+  return ki->type == KEY_REAL3 ? 3 : ki->type == KEY_REAL6 ? 6 : 0;
+}
+
 int scene_key_find(const char *path) {
   int k;
   for (k = 0; k < SCENE_NKEY; k++)
@@ -113,6 +129,7 @@ static const char *const shape_names[] = {"line", "circle", "helix", "table"};
 static const char *const theta_names[] = {"closed_form", "multiroot"};
 static const char *const method_names[] = {"lagrange", "newton_euler"};
 static const char *const ident_method_names[] = {"ols", "wls"};
+static const char *const bodies_names[] = {"paper", "general"};
 
 /* the values of key k that have names: [*lo, *hi] (an enum: the library's
    range of the field; a list: its bits) */
@@ -135,6 +152,7 @@ const char *scene_enum_name(int k, int value) {
   case K_KIND: return kind_names[value];
   case K_THETA: return theta_names[value];
   case K_METHOD: return method_names[value];
+  case K_BODIES: return bodies_names[value];
   case K_SOLVER: return rps3_solver_name(value);
   case K_WP_LAW:
   case K_PATH_LAW: return rps3_time_law_name(value);
@@ -195,7 +213,8 @@ int *scene_int_at(const scene_values *v, int k) {
 void scene_value_set(scene_values *v, int k, int comp, double x) {
   switch (scene_keys[k].type) {
   case KEY_REAL: *scene_real_at(v, k) = x; break;
-  case KEY_REAL3: scene_real_at(v, k)[comp] = x; break;
+  case KEY_REAL3:
+  case KEY_REAL6: scene_real_at(v, k)[comp] = x; break;
   default: *scene_int_at(v, k) = (int)x; break;
   }
 }

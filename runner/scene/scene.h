@@ -17,6 +17,7 @@
 #include <stdio.h>
 
 #include "rps3.h"
+#include "scene_body_rows.h"
 #include "table.h"
 
 /* a position in the scene file, both 1-based; 0:0 when not known */
@@ -39,6 +40,7 @@ typedef enum {
   KEY_BOOL,    /* true | false */
   KEY_ENUM,    /* one of a list of names, stored as the library's enum */
   KEY_REAL3,   /* list of three finite doubles; a sweep picks one: key[k] */
+  KEY_REAL6,   /* list of six (an inertia tensor), as KEY_REAL3 */
   KEY_EFFECTS, /* list of effect names, stored as RPS3_EFF_* bits */
   KEY_OUTPUTS, /* list of output names, stored as RPS3_OUT_* bits */
   KEY_TIMES,   /* list of at least 2 numbers (waypoint times) */
@@ -60,7 +62,9 @@ enum {
   REQ_ONE_MASS = 2,  /* m_over_M | m */
   REQ_ONE_GRID = 3,  /* samples | dt */
   REQ_ONE_BLEND = 4, /* blend | blend_ratio */
-  REQ_SHAPE = 5      /* required by some path shapes (scene_shape_mask) */
+  REQ_SHAPE = 5,     /* required by some path shapes (scene_shape_mask) */
+  REQ_PAPER = 6,     /* required with manipulator.bodies: paper */
+  REQ_GENERAL = 7    /* required with manipulator.bodies: general */
 };
 
 /* the values only the runner has; a case turns them into library fields */
@@ -69,6 +73,7 @@ typedef struct {
   double blend_ratio; /* t_a / T*: traj.helix.blend = blend_ratio * period */
   int samples;        /* number of time samples, ends included */
   double dt;          /* time step [s] */
+  rps3_leg legs;      /* manipulator.legs: the values of every leg */
 } scene_own;
 
 /* the simulate section (each field is the value of the simulate.* key of
@@ -152,6 +157,8 @@ typedef struct {
  *  - DES: a field of a design study's rps3_design, FIELD its id
  *    (rps3_design_field_id), whose row of RPS3_DESIGN_FIELDS gives the
  *    range and the unit; "required" means in a design study;
+ *  - LEGS: a value of all three legs (scene_body_rows.h), FIELD leg 1's
+ *    library field (RPS3_F_LEG1_*), whose row gives the range and unit;
  *  - OWN, SIM, DSEC, IDS: a value only the runner has, FIELD the row shaped
  * like the library's: MEMBER of scene_values, the range (LO, LO_OPEN, HI) and
  *    the UNIT; an OWN value (scene_own) also has the trajectory kind IN and
@@ -171,14 +178,14 @@ typedef struct {
     "base radius, centre to the pin joints")                                   \
   X(K_RHO, "manipulator.rho", KEY_REAL, LIB, RPS3_F_RHO, REQ_YES, "rho = r/R", \
     "platform radius r (centre to the ball joints) over R")                    \
-  X(K_M, "manipulator.M", KEY_REAL, LIB, RPS3_F_PLATFORM_MASS, REQ_YES, "M",   \
+  X(K_M, "manipulator.M", KEY_REAL, LIB, RPS3_F_PLATFORM_MASS, REQ_PAPER, "M", \
     "platform mass, a uniform disc of radius r")                               \
   X(K_M_OVER_M, "manipulator.m_over_M", KEY_REAL, OWN,                         \
     (own.m_over_M, RPS3_IN_MODEL, GE0, "1", RPS3_F_LINK_MASS), REQ_ONE_MASS,   \
     "m/M", "mass of each link over M; give this or manipulator.m")             \
   X(K_MASS, "manipulator.m", KEY_REAL, LIB, RPS3_F_LINK_MASS, REQ_ONE_MASS,    \
     "m", "mass of each link; give this or m_over_M")                           \
-  X(K_D, "manipulator.d", KEY_REAL, LIB, RPS3_F_D, REQ_YES, "d_i",             \
+  X(K_D, "manipulator.d", KEY_REAL, LIB, RPS3_F_D, REQ_PAPER, "d_i",           \
     "pin joint to link centroid, constant")                                    \
   X(K_G, "manipulator.g", KEY_REAL, LIB, RPS3_F_G, REQ_NO, "g",                \
     "gravitational acceleration, along -Z")                                    \
@@ -202,6 +209,7 @@ typedef struct {
   X(K_VREG, "manipulator.pin_friction.vreg", KEY_REAL, LIB, RPS3_F_VREG,       \
     REQ_NO, "-",                                                               \
     "Coulomb law tanh(dtheta / vreg) instead of sign(dtheta); 0 = sign")       \
+  SCENE_BODY_KEYS(X)                                                           \
   X(K_DES_STROKE_MIN, "manipulator.stroke.min", KEY_REAL, DES, RPS3_DF_L_MIN,  \
     REQ_YES, "l_min",                                                          \
     "design: shortest link length l_i (the actuator retracted)")               \
@@ -318,8 +326,9 @@ typedef struct {
     (own.dt, RPS3_IN_TRAJ, GT0, "s", -1), REQ_ONE_GRID, "-",                   \
     "time step; the span must be a whole number of steps; or give samples")    \
   X(K_EFFECTS, "effects", KEY_EFFECTS, LIB, RPS3_F_EFFECTS, REQ_NO, "-",       \
-    "effects to compute (default: the paper's four, plus payload and "         \
-    "pin_friction when configured; a list must name every configured one)")    \
+    "effects to compute (default: the paper's four, plus payload, "            \
+    "pin_friction and prismatic_friction when configured; a list must name "   \
+    "every configured one)")                                                   \
   X(K_THETA, "solver.theta", KEY_ENUM, LIB, RPS3_F_THETA, REQ_NO, "theta_i",   \
     "closed_form (eq. 39) or multiroot (eqs. 8-10, GSL)")                      \
   X(K_METHOD, "solver.method", KEY_ENUM, LIB, RPS3_F_METHOD, REQ_NO, "-",      \
@@ -510,7 +519,8 @@ enum {
   SRC_SIM = 2,
   SRC_DES = 3,
   SRC_DSEC = 4,
-  SRC_IDS = 5
+  SRC_IDS = 5,
+  SRC_LEGS = 6
 };
 
 /* a key of a design study: a field of the library's rps3_design, or of the
@@ -545,6 +555,9 @@ int scene_key_applies(const scene_key_info *ki, int kind);
 /* the key with this dotted path, or -1 */
 int scene_key_find(const char *path);
 
+/* the numbers of a list key (KEY_REAL3: 3, KEY_REAL6: 6), else 0 */
+int scene_key_ncomp(const scene_key_info *ki);
+
 /* the table (TABLE_POSE, TABLE_CENTRE or TABLE_MEASURED) file key k
    reads */
 #define SCENE_TABLE_OF(k)              \
@@ -552,11 +565,11 @@ int scene_key_find(const char *path);
    : (k) == K_ID_DATA ? TABLE_MEASURED \
                       : TABLE_POSE)
 
-/* one sweep axis: a key (or one component of a KEY_REAL3) and its values */
+/* one sweep axis: a key (or one component of a list key) and its values */
 typedef struct {
   char path[80];    /* as written, e.g. "trajectory.amp[2]" */
   int key;          /* scene_key */
-  int comp;         /* component of a KEY_REAL3, else -1 */
+  int comp;         /* component of a list key, else -1 */
   size_t n;         /* number of values */
   double *val;      /* values; ints, bools and enums as whole numbers */
   scene_mark *mark; /* where each value comes from */
@@ -584,6 +597,9 @@ typedef struct {
   table_data table[3]; /* the tables (SCENE_TABLE_OF); base.traj views the
                           first two */
   double *path_psi;    /* the path's: its polar angles, unwrapped */
+
+  /* 1: key k is in the file itself (a sweep sets given[k] too) */
+  unsigned char in_file[SCENE_NKEY];
 } scene;
 
 /* one case, ready to compute */

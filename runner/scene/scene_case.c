@@ -22,11 +22,12 @@ size_t scene_case_coord(const scene *s, size_t index, size_t a) {
 }
 
 /* the keys that set library field id in scene s (a converted key such as
-   m_over_M when the scene gave it): up to max into out */
+   m_over_M when the scene gave it, a key of every leg): up to max into
+   out */
 static int keys_filling(const scene *s, int id, int *out, int max) {
   int k, n = 0;
   for (k = 0; k < SCENE_NKEY && n < max; k++)
-    if (id >= 0 && scene_keys[k].fills == id && s->given[k]) out[n++] = k;
+    if (id >= 0 && s->given[k] && scene_key_sets(s, k, id)) out[n++] = k;
   return n;
 }
 
@@ -51,9 +52,12 @@ int scene_case_error(const scene *s, size_t index, const char *msg,
   }
   if (chk != NULL) {
     int ids[3] = {chk->field, chk->related[0], chk->related[1]};
+    /* the rules of an inertia tensor read all of it: any component */
+    const rps3_field_info *f = rps3_field(chk->field);
+    int fcomp = f != NULL && f->n == 6 ? -1 : chk->comp;
     for (j = 0; j < 3; j++) {
       m = keys_filling(s, ids[j], named + n, 16 - n);
-      for (i = n; i < n + m; i++) comp[i] = j == 0 ? chk->comp : -1;
+      for (i = n; i < n + m; i++) comp[i] = j == 0 ? fcomp : -1;
       n += m;
     }
   }
@@ -101,41 +105,73 @@ int scene_case_error(const scene *s, size_t index, const char *msg,
   return scene_error_set(err, s->section[1], "manipulator", "%s", what);
 }
 
+/* the effects the manipulator section configures */
+#define CONFIGURABLE \
+  (RPS3_EFF_PAYLOAD | RPS3_EFF_PIN_FRICTION | RPS3_EFF_PRISMATIC_FRICTION)
+
+/* the key that configures friction law f of leg i, viscous the leg 1
+   field of its viscous coefficient (coulomb follows it), or -1 */
+static int leg_friction_key(const scene *s, const rps3_friction *f, int i,
+                            int viscous) {
+  int id = viscous + i * SCENE_LEG_NFIELD, k;
+  if (!(f->viscous > 0 || f->coulomb > 0)) return -1;
+  k = scene_leg_key(s, f->viscous > 0 ? id : id + 1);
+  return k >= 0 ? k : K_LEGS_CYL_MASS + (viscous - RPS3_F_LEG1_CYLINDER_MASS);
+}
+
+/* the key that configures effect `bit` (CONFIGURABLE) in model m: one
+   whose value is above 0 (every default is 0, so it is given), or -1 */
+static int configured_by(const scene *s, const rps3_model *m, int bit) {
+  int i, k = -1;
+  if (bit == RPS3_EFF_PAYLOAD)
+    return m->payload.mass > 0 ? K_PAY_MASS
+           : m->payload.inertia[0] > 0 || m->payload.inertia[1] > 0 ||
+                   m->payload.inertia[2] > 0
+               ? K_PAY_INERTIA
+               : -1;
+  if (bit == RPS3_EFF_PIN_FRICTION && m->bodies != RPS3_BODIES_GENERAL)
+    return m->friction.viscous > 0   ? K_VISCOUS
+           : m->friction.coulomb > 0 ? K_COULOMB
+                                     : -1;
+  for (i = 0; i < 3 && k < 0; i++)
+    k = bit == RPS3_EFF_PIN_FRICTION
+            ? leg_friction_key(s, &m->leg[i].pin, i, RPS3_F_LEG1_PIN_VISCOUS)
+            : leg_friction_key(s, &m->leg[i].prismatic, i,
+                               RPS3_F_LEG1_PRISMATIC_VISCOUS);
+  return k;
+}
+
 /*
  * The rule for configured effects.  A payload (mass or a moment of inertia
- * above 0) or pin friction (a coefficient above 0) is configured in the
- * manipulator section; the effects list selects what is computed.  An
- * omitted list selects the paper's four effects plus whatever is
- * configured.  An explicit list that leaves out a configured payload or
- * friction would silently drop it: refused, naming both keys.  Returns 0,
+ * above 0), pin friction or prismatic friction (a coefficient above 0) is
+ * configured in the manipulator section; the effects list selects what is
+ * computed.  An omitted list selects the paper's four effects plus
+ * whatever is configured.  An explicit list that leaves out a configured
+ * effect would silently drop it: refused, naming both keys.  Returns 0,
  * or -1 with err set.
  */
 static int effects_rule(const scene *s, size_t index, scene_case *c,
                         scene_error *err) {
-  const rps3_model *m = &c->model;
-  int pay = m->payload.mass > 0 || m->payload.inertia[0] > 0 ||
-            m->payload.inertia[1] > 0 || m->payload.inertia[2] > 0;
-  int fric = m->friction.viscous > 0 || m->friction.coulomb > 0;
-  int eff = m->opt.effects, j;
-  char msg[256];
+  int eff = c->model.opt.effects, e, k;
+  char msg[320];
   if (!s->given[K_EFFECTS]) {
-    eff = RPS3_EFF_DEFAULT | (pay ? RPS3_EFF_PAYLOAD : 0) |
-          (fric ? RPS3_EFF_PIN_FRICTION : 0);
+    eff = RPS3_EFF_DEFAULT;
+    for (e = 0; e < RPS3_NEFFECT; e++)
+      if (((1 << e) & CONFIGURABLE) && configured_by(s, &c->model, 1 << e) >= 0)
+        eff |= 1 << e;
     c->model.opt.effects = c->v.model.opt.effects = eff;
     return 0;
   }
-  for (j = 0; j < 2; j++) {
-    int bit = j ? RPS3_EFF_PIN_FRICTION : RPS3_EFF_PAYLOAD;
-    /* the key that configures it (every default is 0, so it is given) */
-    int k = j ? (m->friction.viscous > 0 ? K_VISCOUS : K_COULOMB)
-              : (m->payload.mass > 0 ? K_PAY_MASS : K_PAY_INERTIA);
-    if (!(j ? fric : pay) || (eff & bit)) continue;
+  for (e = 0; e < RPS3_NEFFECT; e++) {
+    const char *name = rps3_effect_name(e);
+    if (!((1 << e) & CONFIGURABLE) || (eff & (1 << e))) continue;
+    k = configured_by(s, &c->model, 1 << e);
+    if (k < 0) continue;
     snprintf(msg, sizeof msg,
              "leaves out %s, but %s is configured (%d:%d); add %s to the list, "
              "or remove the %s",
-             j ? "pin_friction" : "payload", scene_keys[k].path,
-             s->mark[k].line, s->mark[k].column, j ? "pin_friction" : "payload",
-             j ? "friction" : "payload");
+             name, scene_keys[k].path, s->mark[k].line, s->mark[k].column, name,
+             (1 << e) == RPS3_EFF_PAYLOAD ? "payload" : "friction");
     return scene_case_error(s, index, msg, NULL, K_EFFECTS, NULL, err);
   }
   return 0;
@@ -161,10 +197,17 @@ static int dt_error(const scene *s, size_t index, const scene_case *c, double q,
   return scene_case_error(s, index, msg, NULL, K_DT, NULL, err);
 }
 
+/* the values case `index` takes of the swept keys into v */
+static void sweep_apply(const scene *s, size_t index, scene_values *v) {
+  size_t a;
+  for (a = 0; a < s->naxis; a++)
+    scene_value_set(v, s->axis[a].key, s->axis[a].comp,
+                    s->axis[a].val[scene_case_coord(s, index, a)]);
+}
+
 int scene_case_build(const scene *s, size_t index, scene_case *c,
                      scene_error *err) {
   rps3_check chk;
-  size_t a;
   memset(c, 0, sizeof *c);
   c->index = index;
   c->by_ratio = s->given[K_M_OVER_M];
@@ -174,9 +217,10 @@ int scene_case_build(const scene *s, size_t index, scene_case *c,
   c->design = s->design.line > 0;
   c->no_traj = (c->design || ident_data_only(s)) && s->section[2].line == 0;
   c->v = s->base;
-  for (a = 0; a < s->naxis; a++)
-    scene_value_set(&c->v, s->axis[a].key, s->axis[a].comp,
-                    s->axis[a].val[scene_case_coord(s, index, a)]);
+  sweep_apply(s, index, &c->v);
+  /* the values of every leg into each leg, then the sweep again: a swept
+     component of a leg's own key stays */
+  if (scene_legs_fill(s, &c->v) > 0) sweep_apply(s, index, &c->v);
   /* the values are the library's structures; only the runner's own keys
      are converted */
   c->model = c->v.model;

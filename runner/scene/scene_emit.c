@@ -96,7 +96,10 @@ static int emit_value(yaml_emitter_t *em, int k, const scene_values *v) {
   case KEY_REAL:
     scene_format_real(buf, sizeof buf, *scene_real_at(v, k));
     return emit_scalar(em, buf);
-  case KEY_REAL3: return emit_reals(em, scene_real_at(v, k), 3);
+  case KEY_REAL3:
+  case KEY_REAL6:
+    return emit_reals(em, scene_real_at(v, k),
+                      (size_t)scene_key_ncomp(scene_key_get(k)));
   case KEY_INT:
     snprintf(buf, sizeof buf, "%d", *scene_int_at(v, k));
     return emit_scalar(em, buf);
@@ -135,12 +138,15 @@ static int case_has_key(const scene_case *c, int k) {
   if (c->no_traj && strncmp(ki->path, "trajectory.", 11) == 0) return 0;
   /* an identification is not swept: its cases are not rerun alone */
   if (ki->src == SRC_IDS) return 0;
+  /* the legs' values are written leg by leg; only the keys the bodies
+     read */
+  if (ki->src == SRC_LEGS || !scene_bodies_read(k, c->v.model.bodies)) return 0;
   if (ki->src == SRC_SIM) {
     /* written when simulated; "not given" (NaN, -1) is not a value */
     if (!c->simulate) return 0;
-    return ki->type == KEY_REAL    ? !isnan(*scene_real_at(&c->v, k))
-           : ki->type == KEY_REAL3 ? 1
-                                   : *scene_int_at(&c->v, k) >= 0;
+    return ki->type == KEY_REAL  ? !isnan(*scene_real_at(&c->v, k))
+           : scene_key_ncomp(ki) ? 1
+                                 : *scene_int_at(&c->v, k) >= 0;
   }
   if (ki->req == REQ_ONE_MASS) return (k == K_M_OVER_M) == (c->by_ratio != 0);
   if (ki->req == REQ_ONE_GRID) return (k == K_DT) == (c->by_dt != 0);
@@ -220,12 +226,22 @@ static const char *const type_text[] = {[KEY_REAL] = "number",
                                         [KEY_INT] = "integer",
                                         [KEY_BOOL] = "bool",
                                         [KEY_REAL3] = "[3 numbers]",
+                                        [KEY_REAL6] = "[6 numbers]",
                                         [KEY_EFFECTS] = "[effect names]",
                                         [KEY_OUTPUTS] = "[output names]",
                                         [KEY_TIMES] = "[numbers]",
                                         [KEY_POSES] = "[[3 numbers], ...]",
                                         [KEY_FILE] = "file name",
                                         [KEY_PARAMS] = "[parameter names]"};
+
+/* x[0..n) as "[a, b, c]" */
+static void list_text(char *buf, size_t sz, const double *x, int n) {
+  size_t len = 0;
+  int i;
+  for (i = 0; i < n && len < sz; i++)
+    len += (size_t)snprintf(buf + len, sz - len, "%s%g", i ? ", " : "[", x[i]);
+  if (len < sz) snprintf(buf + len, sz - len, "]");
+}
 
 void scene_keys_print(void) {
   scene_values v;
@@ -247,14 +263,15 @@ void scene_keys_print(void) {
     else if (ki->req != REQ_NO)
       snprintf(def, sizeof def, "%s",
                ki->req == REQ_SHAPE      ? "required by its shape"
+               : ki->req == REQ_PAPER    ? "required with bodies: paper"
+               : ki->req == REQ_GENERAL  ? "required with bodies: general"
                : ki->req != REQ_YES      ? "one of a pair"
                : SCENE_KEY_IS_DESIGN(ki) ? "required in a design study"
                                          : "required");
     else if (ki->type == KEY_REAL)
       snprintf(def, sizeof def, "%g", *scene_real_at(&v, k));
-    else if (ki->type == KEY_REAL3)
-      snprintf(def, sizeof def, "[%g, %g, %g]", scene_real_at(&v, k)[0],
-               scene_real_at(&v, k)[1], scene_real_at(&v, k)[2]);
+    else if (scene_key_ncomp(ki))
+      list_text(def, sizeof def, scene_real_at(&v, k), scene_key_ncomp(ki));
     else if (ki->type == KEY_INT)
       snprintf(def, sizeof def, "%d", *scene_int_at(&v, k));
     else if (ki->type == KEY_BOOL)
@@ -264,15 +281,14 @@ void scene_keys_print(void) {
     else
       snprintf(def, sizeof def, "see meaning");
     range_text(ki->f, range, sizeof range);
-    printf(
-        "| `%s`%s%s%s | %s | %s | %s | %s | %s | %s |\n", ki->path,
-        kind != FOR_ALL ? " (" : "",
-        kind != FOR_ALL ? scene_enum_name(K_KIND, kind) : "",
-        kind != FOR_ALL ? ")" : "", type, ki->f->unit,
-        (ki->type == KEY_REAL || ki->type == KEY_REAL3 || ki->type == KEY_INT)
-            ? range
-            : "-",
-        ki->symbol, def, ki->doc);
+    printf("| `%s`%s%s%s | %s | %s | %s | %s | %s | %s |\n", ki->path,
+           kind != FOR_ALL ? " (" : "",
+           kind != FOR_ALL ? scene_enum_name(K_KIND, kind) : "",
+           kind != FOR_ALL ? ")" : "", type, ki->f->unit,
+           (ki->type == KEY_REAL || scene_key_ncomp(ki) || ki->type == KEY_INT)
+               ? range
+               : "-",
+           ki->symbol, def, ki->doc);
   }
 }
 
@@ -374,7 +390,7 @@ void scene_warnings_print(const scene *s, FILE *out) {
   for (k = 0; k < SCENE_NKEY; k++) {
     const scene_key_info *ki = scene_key_get(k);
     if (!s->given[k] || !scene_key_applies(ki, s->base.traj.kind)) continue;
-    for (comp = 0; comp < (ki->type == KEY_REAL3 ? 3 : ki->type == KEY_REAL);
+    for (comp = 0; comp < (ki->type == KEY_REAL ? 1 : scene_key_ncomp(ki));
          comp++) {
       double x = scene_real_at(&s->base, k)[comp];
       const char *why = suspect(quantity(ki, comp), x);

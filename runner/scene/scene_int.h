@@ -96,7 +96,7 @@ int scene_walk_section(scene_parse_ctx *c, const yaml_node_t *map,
                        const char *prefix);
 
 /* the keys given, the sweep read: required ones there, each of the scene's
-   kind and shape, one of each pair; 0 or -1 */
+   kind, shape and bodies, one of each pair; 0 or -1 */
 int scene_check_keys(scene_parse_ctx *c);
 
 /* the sweep mapping map: its axes into c->s and their cases counted into
@@ -140,5 +140,31 @@ int scene_ident_check_keys(const scene *s, scene_error *err);
 /* 1 when the scene is an identification of a data file: it needs no
    trajectory */
 int ident_data_only(const scene *s);
+
+/* the bodies (scene_bodies.c): 1 when a model of bodies `bodies`
+   (rps3_bodies) reads key k: the paper's do not read the general bodies'
+   keys, the general ones not M, m, m_over_M, d, link_Ic, the pins' common
+   friction and the controller's overrides of them */
+int scene_bodies_read(int k, int bodies);
+
+/* no key given (or swept) that the scene's bodies do not read; 0 or -1
+   with the error set */
+int scene_bodies_check_keys(const scene *s, scene_error *err);
+
+/* 1 when key k, given, sets library field id in the cases of s: the key
+   that fills it, or the key of every leg when the leg's own is not in the
+   file */
+int scene_key_sets(const scene *s, int k, int id);
+
+/* the key given that sets leg field id (RPS3_F_LEGk_*): the leg's own
+   (in the file or swept), else the key of every leg; -1 when neither is
+   given */
+int scene_leg_key(const scene *s, int id);
+
+/* the values of the keys of every leg into each leg of v whose own key is
+   not in the file (a sweep of the leg's own key, applied after, then
+   replaces the value or the component it sweeps); the number of keys
+   filled */
+int scene_legs_fill(const scene *s, scene_values *v);
 
 #endif /* RPS3_RUNNER_SCENE_INT_H */

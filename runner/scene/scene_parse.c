@@ -3,7 +3,7 @@
  * key's value against its row of the key table (scene.c), with the libyaml
  * mark of the node an error is about; and the checks, after the whole file
  * and its sweep (scene_sweep.c) are read, of the keys it gives (required, of
- * its kind and shape, one of a pair).
+ * its kind, shape and bodies, one of a pair).
  */
 #include "core/hint.h"
 #include "scene.h"
@@ -167,6 +167,7 @@ int scene_parse_scalar(scene_parse_ctx *c, int k, const yaml_node_t *n,
   switch (scene_keys[k].type) {
   case KEY_REAL:
   case KEY_REAL3:
+  case KEY_REAL6:
   case KEY_TIMES:
   case KEY_INT:
     if (scene_parse_number(c, n, path, scene_keys[k].type == KEY_INT, out))
@@ -335,15 +336,17 @@ static int parse_names(scene_parse_ctx *c, int k, const yaml_node_t *n,
 static int parse_value(scene_parse_ctx *c, int k, const yaml_node_t *n,
                        scene_values *v) {
   const char *path = scene_keys[k].path;
-  char sub[160];
+  char sub[160], what[32];
   double x;
-  int i;
+  int i, nc = scene_key_ncomp(&scene_keys[k]);
   switch (scene_keys[k].type) {
   case KEY_REAL3:
-    if (scene_list_len(c, n, path, 3, 3, "a list of 3 numbers",
-                       "a list of another length") < 0)
+  case KEY_REAL6:
+    snprintf(what, sizeof what, "a list of %d numbers", nc);
+    if (scene_list_len(c, n, path, nc, nc, what, "a list of another length") <
+        0)
       return -1;
-    for (i = 0; i < 3; i++) {
+    for (i = 0; i < nc; i++) {
       snprintf(sub, sizeof sub, "%s[%d]", path, i);
       if (scene_parse_scalar(c, k, scene_item_of(c, n, i), sub,
                              &scene_real_at(v, k)[i]))
@@ -440,7 +443,7 @@ int scene_walk_section(scene_parse_ctx *c, const yaml_node_t *map,
           full, "unknown key%s; expected one of %s", hint, list);
     }
     if (parse_value(c, k, val, &s->base)) return -1;
-    s->given[k] = 1;
+    s->given[k] = s->in_file[k] = 1;
     s->mark[k] = scene_mark_of(&val->start_mark);
   }
   return 0;
@@ -489,12 +492,16 @@ int scene_check_keys(scene_parse_ctx *c) {
   /* a design study needs no trajectory (it is the optional task) */
   int design = s->design.line > 0 || ident_data_only(s),
       no_traj = design && s->section[2].line == 0;
+  /* the bodies decide which of M, d and the platform's keys are required */
+  int general = s->base.model.bodies == RPS3_BODIES_GENERAL;
+  int req_bodies = general ? REQ_GENERAL : REQ_PAPER;
   if (s->section[1].line == 0 || (s->section[2].line == 0 && !design))
     return scene_error_set(
         c->err, s->section[0],
         s->section[1].line == 0 ? "manipulator" : "trajectory",
         "missing required section");
-  if (scene_design_check_keys(s, c->err) || scene_ident_check_keys(s, c->err))
+  if (scene_design_check_keys(s, c->err) || scene_ident_check_keys(s, c->err) ||
+      scene_bodies_check_keys(s, c->err))
     return -1;
   for (k = 0; k < SCENE_NKEY; k++) {
     const scene_key_info *ki = &scene_keys[k];
@@ -505,9 +512,11 @@ int scene_check_keys(scene_parse_ctx *c) {
       return scene_error_set(c->err, s->mark[k], ki->path,
                              "not a key of a %s trajectory",
                              scene_enum_name(K_KIND, (int)s->base.traj.kind));
-    if (applies && ki->req == REQ_YES && !s->given[k])
-      return scene_error_set(c->err, s->section[sec], ki->path,
-                             "missing required key");
+    if (applies && (ki->req == REQ_YES || ki->req == req_bodies) &&
+        !s->given[k])
+      return scene_error_set(
+          c->err, s->section[sec], ki->path, "missing required key%s",
+          ki->req == REQ_GENERAL ? " with manipulator.bodies: general" : "");
   }
   if (check_waypoints(c) || check_shape(c)) return -1;
   for (pair = 0; pair < 3; pair++) {
@@ -515,7 +524,7 @@ int scene_check_keys(scene_parse_ctx *c) {
         {K_M_OVER_M, K_MASS}, {K_SAMPLES, K_DT}, {K_BLEND, K_BLEND_RATIO}};
     int a = one_of[pair][0], b = one_of[pair][1];
     if (!scene_key_applies(&scene_keys[a], s->base.traj.kind) ||
-        (no_traj && pair > 0))
+        (no_traj && pair > 0) || (general && pair == 0))
       continue;
     if (!s->given[a] && !s->given[b])
       return scene_error_set(c->err, s->section[pair ? 2 : 1],

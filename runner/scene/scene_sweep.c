@@ -146,7 +146,7 @@ static int sweep_range(scene_parse_ctx *c, scene_axis *ax,
   double from, to, step;
   int integer = ki->type == KEY_INT;
   size_t i, n = 0;
-  if (ki->type != KEY_REAL && ki->type != KEY_REAL3 && !integer)
+  if (ki->type != KEY_REAL && scene_key_ncomp(ki) == 0 && !integer)
     return scene_error_set(
         c->err, mk, ax->path,
         "a range needs a numeric key; give a list of values");
@@ -177,8 +177,9 @@ static int sweep_key(scene_parse_ctx *c, scene_axis *ax, const char *name,
   scene *s = c->s;
   const scene_key_info *ki;
   const char *br;
-  char base[80];
+  char base[80], comps[40];
   size_t a;
+  int nc;
   if (strlen(name) >= sizeof ax->path)
     return scene_error_set(c->err, km, "sweep", "key '%.40s...' is too long",
                            name);
@@ -196,22 +197,26 @@ static int sweep_key(scene_parse_ctx *c, scene_axis *ax, const char *name,
                            "not a scene key%s; see rps3-run --keys", hint);
   }
   ki = &scene_keys[ax->key];
+  nc = scene_key_ncomp(ki);
+  snprintf(comps, sizeof comps, nc == 3 ? "[0], [1] or [2]" : "[0] to [%d]",
+           nc - 1);
   if (br) {
-    if (ki->type != KEY_REAL3 || !(br[1] >= '0' && br[1] <= '2') ||
+    if (nc == 0 || !(br[1] >= '0' && br[1] < '0' + nc) ||
         strcmp(br + 2, "]") != 0)
-      return scene_error_set(c->err, km, name,
-                             ki->type == KEY_REAL3
-                                 ? "component must be [0], [1] or [2]"
-                                 : "only a list key takes a component [k]");
+      return scene_error_set(
+          c->err, km, name,
+          nc ? "component must be %s" : "only a list key takes a component [k]",
+          comps);
     ax->comp = br[1] - '0';
-  } else if (ki->type == KEY_REAL3) {
-    return scene_error_set(
-        c->err, km, name,
-        "a list key: sweep one component, as %s[0], [1] or [2]", name);
+  } else if (nc) {
+    return scene_error_set(c->err, km, name,
+                           "a list key: sweep one component, as %s[0], %s",
+                           name, nc == 3 ? "[1] or [2]" : "[1] ... [5]");
   }
   if (ki->type == KEY_EFFECTS || ki->type == KEY_OUTPUTS ||
       ki->src == SRC_IDS || ki->type == KEY_TIMES || ki->type == KEY_POSES ||
-      ki->type == KEY_FILE || ax->key == K_KIND || ax->key == K_PATH_SHAPE)
+      ki->type == KEY_FILE || ax->key == K_KIND || ax->key == K_PATH_SHAPE ||
+      ax->key == K_BODIES)
     return scene_error_set(c->err, km, name,
                            "cannot be swept (it decides what a case computes); "
                            "write one scene per value");

@@ -91,6 +91,7 @@ static const int ladder[RPS3_NEFFECT] = {
         RPS3_EFF_PLATFORM_INERTIA,
     RPS3_EFF_DEFAULT,
     RPS3_EFF_DEFAULT | RPS3_EFF_PAYLOAD,
+    RPS3_EFF_DEFAULT | RPS3_EFF_PAYLOAD | RPS3_EFF_PIN_FRICTION,
     RPS3_EFF_ALL};
 
 /* a configuration of study s with every other knob at its default */
