@@ -61,10 +61,10 @@ extern "C" {
 
 /* ---------------------------------------------------------------- version */
 
-#define RPS3_VERSION_MAJOR 2
+#define RPS3_VERSION_MAJOR 3
 #define RPS3_VERSION_MINOR 0
 #define RPS3_VERSION_PATCH 0
-#define RPS3_VERSION_STRING "2.0.0"
+#define RPS3_VERSION_STRING "3.0.0"
 
 /* Version string of the compiled library; compare with RPS3_VERSION_STRING. */
 RPS3_API const char *rps3_version(void);
