@@ -212,6 +212,9 @@ static inline int rps3_need_rates(const rps3_model *m) {
 /* NaN into d's results of the outputs left out of m->opt.outputs (theta
    aside: the position stage's), has_lambda 0 without lambda (invdyn.c) */
 void rps3_outputs_clear(const rps3_model *m, rps3_data *d);
+/* the energy-rate certificate of d's point into d (power, dTdt, dPdt,
+   friction_power, energy_residual, energy_scale; invdyn_certify.c) */
+void rps3_certify(const rps3_model *m, rps3_data *d);
 /* rps3_invdyn with this point's Jacobian (NULL: built here) */
 int rps3_invdyn_with(const rps3_model *m, rps3_data *d, rps3_cjac *J);
 

@@ -609,7 +609,7 @@ MUTATIONS = [
      "S[i][j] = (i == j ? tr : 0.0) - I[i][j];",
      "S[i][j] = (i == j ? tr : 0.0) - 1.001 * I[i][j];",
      "Lagrange: the general platform's second moment, 0.1 % off"),
-    ("bodies-certify-ball", "src/invdyn.c",
+    ("bodies-certify-ball", "src/invdyn_certify.c",
      "v3_axpy(vb, d->vc, 1.0, t);",
      "v3_axpy(vb, d->vc, 1.001, t);",
      "the certificate: a piston's origin velocity, 0.1 % off"),
@@ -617,7 +617,7 @@ MUTATIONS = [
      "w[i] = rps3_friction_law(&m->leg[i].prismatic, d->dl[i]);",
      "w[i] = 1.001 * rps3_friction_law(&m->leg[i].prismatic, d->dl[i]);",
      "Lagrange: the prismatic joints' friction, 0.1 % off"),
-    ("prismatic-certify", "src/invdyn.c",
+    ("prismatic-certify", "src/invdyn_certify.c",
      "p = -rps3_friction_law(&m->leg[i].prismatic, d->dl[i]) * d->dl[i];",
      "p = -1.001 * rps3_friction_law(&m->leg[i].prismatic, d->dl[i]) * "
      "d->dl[i];",
