@@ -440,6 +440,9 @@ class Estimate:
     cond: float              #: condition number of the column-scaled regressor
     dof: int                 #: rows minus parameters
     method: str
+    #: "iid" (cov from independent residuals) or "filtered" (the sandwich
+    #: of the noise's known correlation over the samples: filtered data)
+    cov_kind: str = "iid"
 
     @property
     def std(self) -> np.ndarray:
@@ -467,28 +470,59 @@ def _tquant(dof: int) -> float:
     return float(_need("scipy.stats").t.ppf(0.975, dof))
 
 
-def _finish(theta, cov, Ya, Fa, act, nm, cond, method, sigma=None):
+def _corr_cov(Yw: np.ndarray, Fw: np.ndarray, theta: np.ndarray, act: np.ndarray,
+              corr: np.ndarray) -> np.ndarray:
+    """Covariance of the least-squares theta of the (weighted) rows Yw, Fw
+    stacked time-major, three a sample, when each actuator's noise is
+    correlated over the samples as ``corr`` (n, n) (the noise of unit
+    variance before filtering, after it) and independent across the
+    actuators: B^-1 (sum_a c_a Y_a^T corr Y_a) B^-1, B = Yw^T Yw, Y_a the
+    actuator's rows, c_a its unfiltered noise variance from the
+    residuals, |r_a|^2 / (tr(corr) (1 - p / N))."""
+    N, p = Yw.shape
+    r = Fw - Yw @ theta
+    d = _column_scale(Yw)
+    Ys = Yw / d
+    S = np.zeros((p, p))
+    tr = float(np.trace(corr))
+    for a in range(3):
+        Ya = Ys[act == a]
+        ra = r[act == a]
+        S += (ra @ ra) / (tr * (1.0 - p / N)) * (Ya.T @ corr @ Ya)
+    Bi = np.linalg.inv(Ys.T @ Ys)
+    return (Bi @ S @ Bi) / np.outer(d, d)
+
+
+def _finish(theta, cov, Ya, Fa, act, nm, cond, method, sigma=None, cov_kind="iid"):
     r = Fa - Ya @ theta
     dof = Ya.shape[0] - Ya.shape[1]
     if sigma is None:
         sigma = np.array([np.sqrt(np.mean(r[act == a] ** 2)) for a in range(3)])
     half = _tquant(dof) * np.sqrt(np.diag(cov))
     return Estimate(theta, nm, cov, np.column_stack([theta - half, theta + half]),
-                    sigma, r, cond, dof, method)
+                    sigma, r, cond, dof, method, cov_kind)
 
 
 def ols(Y: ArrayLike, F: ArrayLike, *, base: Base | None = None,
-        names: tuple[str, ...] | None = None, cond_max: float = COND_MAX) -> Estimate:
+        names: tuple[str, ...] | None = None, cond_max: float = COND_MAX,
+        noise_corr: np.ndarray | None = None) -> Estimate:
     """Ordinary least squares, theta = argmin |F - Y theta|^2, on the base
     regressor (``base`` given) or on Y as it is.  cov = s^2 (Y^T Y)^-1,
     s^2 = |r|^2 / (N - p); 95 % intervals theta +- t(0.975, N - p) std.
+    With ``noise_corr`` (n, n) (rows time-major, three a sample, each
+    actuator's noise correlated over the samples as given, as after
+    filtering and decimation) cov is the sandwich of that correlation
+    instead (``cov_kind`` "filtered").
 
     Raises:
         NotExcitingError: the data do not determine the parameters.
     """
     Ya, Fa, act, nm, cond = _prepare(Y, F, base, names, cond_max)
     theta, cov = _lsq(Ya, Fa)
-    return _finish(theta, cov, Ya, Fa, act, nm, cond, "ols")
+    kind = "iid"
+    if noise_corr is not None:
+        cov, kind = _corr_cov(Ya, Fa, theta, act, noise_corr), "filtered"
+    return _finish(theta, cov, Ya, Fa, act, nm, cond, "ols", cov_kind=kind)
 
 
 def _lsq(Ya: np.ndarray, Fa: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
@@ -506,12 +540,14 @@ def _lsq(Ya: np.ndarray, Fa: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
 
 
 def wls(Y: ArrayLike, F: ArrayLike, *, base: Base | None = None,
-        names: tuple[str, ...] | None = None, cond_max: float = COND_MAX) -> Estimate:
+        names: tuple[str, ...] | None = None, cond_max: float = COND_MAX,
+        noise_corr: np.ndarray | None = None) -> Estimate:
     """Weighted least squares with each actuator's noise variance
     estimated from an OLS fit's residuals, sigma_a^2 = |r_a|^2 / (N_a -
     p N_a / N) (the rows' share of the degrees of freedom); rows weighted
     by 1 / sigma_a.  cov = (Y^T W Y)^-1 s_w^2, s_w^2 the weighted residual
-    variance (about 1)."""
+    variance (about 1); with ``noise_corr`` the sandwich of that
+    correlation over the weighted rows instead (see :func:`ols`)."""
     Ya, Fa, act, nm, cond = _prepare(Y, F, base, names, cond_max)
     theta0, _ = _lsq(Ya, Fa)
     r0 = Fa - Ya @ theta0
@@ -526,7 +562,10 @@ def wls(Y: ArrayLike, F: ArrayLike, *, base: Base | None = None,
     w = 1.0 / sig[act]
     Yw, Fw = Ya * w[:, None], Fa * w
     theta, cov = _lsq(Yw, Fw)
-    return _finish(theta, cov, Ya, Fa, act, nm, cond, "wls", sigma=sig)
+    kind = "iid"
+    if noise_corr is not None:
+        cov, kind = _corr_cov(Yw, Fw, theta, act, noise_corr), "filtered"
+    return _finish(theta, cov, Ya, Fa, act, nm, cond, "wls", sigma=sig, cov_kind=kind)
 
 
 def iv(Y: ArrayLike, F: ArrayLike, Z: ArrayLike, *, base: Base | None = None,

@@ -347,11 +347,20 @@ def fit(data: Data, *, geometry: _ip.Geometry | None = None,
         edge = EDGE_PERIODS / cutoff
         step = max(1, int(fs / (DECIMATE_RATIO * cutoff)))
         keep = np.flatnonzero((t >= t[0] + edge) & (t <= t[-1] - edge))[::step]
+        # white noise comes out of the filter correlated over its impulse
+        # response: the kept samples' correlation, the filter applied to
+        # unit impulses, enters the estimate's covariance
+        Hk = _if.zero_phase_filter(np.eye(len(Y)), fs, cutoff)[keep]
+        corr = Hk @ Hk.T
         t, F, Y = t[keep], F[keep], Y[keep]
         src["forces"] = (f"filtered alike, {edge:g} s dropped at each end, "
                          f"every {step}th sample kept")
+        src["covariance"] = "the filtered noise's correlation over the kept samples"
+    else:
+        corr = None
     base = _ip.structural_base(geo, ps)
-    est = {"ols": _id.ols, "wls": _id.wls}[method](Y, F, base=base, cond_max=cond_max)
+    est = {"ols": _id.ols, "wls": _id.wls}[method](Y, F, base=base, cond_max=cond_max,
+                                                   noise_corr=corr)
     theta = None
     args, why, rep, ok = None, "", "", False
     if base.rank == len(ps.names):
