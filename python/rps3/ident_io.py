@@ -317,6 +317,25 @@ UNIFORM_TOL = 1e-6
 DECIMATE_RATIO = 2.5
 
 
+def _filtered_noise_corr(keep: np.ndarray, fs: float, cutoff: float) -> np.ndarray:
+    """The correlation over the kept samples (indices keep) of unit white
+    noise through the zero-phase filter: C[p, q] = (g * g)(keep[p] -
+    keep[q]), the autocorrelation of the filter's impulse response g,
+    which dies out within a few periods of the cut-off (taken here over
+    eight times the ends dropped, EDGE_PERIODS).  Exact away from the
+    ends, which fit drops; the memory is that of C alone."""
+    m = int(np.ceil(8 * EDGE_PERIODS * fs / cutoff))
+    impulse = np.zeros(2 * m + 1)
+    impulse[m] = 1.0
+    g = _if.zero_phase_filter(impulse, fs, cutoff)
+    a = np.correlate(g, g, mode="full")          # lags -2m .. 2m
+    lag = keep[:, None] - keep[None, :]
+    C = np.zeros(lag.shape)
+    inside = np.abs(lag) <= 2 * m
+    C[inside] = a[2 * m + lag[inside]]
+    return C
+
+
 def fit(data: Data, *, geometry: _ip.Geometry | None = None,
         pset: _ip.PaperSet | None = None, M: float = 0.18, method: str = "ols",
         cutoff: float = CUTOFF, cond_max: float = _id.COND_MAX) -> Fit:
@@ -348,10 +367,9 @@ def fit(data: Data, *, geometry: _ip.Geometry | None = None,
         step = max(1, int(fs / (DECIMATE_RATIO * cutoff)))
         keep = np.flatnonzero((t >= t[0] + edge) & (t <= t[-1] - edge))[::step]
         # white noise comes out of the filter correlated over its impulse
-        # response: the kept samples' correlation, the filter applied to
-        # unit impulses, enters the estimate's covariance
-        Hk = _if.zero_phase_filter(np.eye(len(Y)), fs, cutoff)[keep]
-        corr = Hk @ Hk.T
+        # response: the kept samples' correlation enters the estimate's
+        # covariance
+        corr = _filtered_noise_corr(keep, fs, cutoff)
         t, F, Y = t[keep], F[keep], Y[keep]
         src["forces"] = (f"filtered alike, {edge:g} s dropped at each end, "
                          f"every {step}th sample kept")
@@ -424,6 +442,7 @@ def _write(tmp: str, result: Fit, data: Data, units: list[str]) -> None:
         f.attrs["input_sha256"] = data.sha256
         f.attrs["rps3_version"] = _version()
         f.attrs["method"] = est.method
+        f.attrs["covariance"] = est.cov_kind
         f.attrs["condition_number"] = est.cond
         f.attrs["dof"] = est.dof
         f.attrs["consistency_report"] = result.consistency
