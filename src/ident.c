@@ -13,6 +13,7 @@
 #include <stdint.h>
 #include <string.h>
 
+#include "ident_int.h"
 #include "internal.h"
 
 static const char *const paper_names[RPS3_NPAPER] = {
@@ -105,6 +106,31 @@ static void set_payload(rps3_model *u, double mass, int axis, double h,
   if (inertia_axis >= 0) u->payload.inertia[inertia_axis] = 1.0;
 }
 
+/* no force is computed by a regressor: none of another point's is left
+   in d */
+void rps3_regressor_unset(rps3_data *d) {
+  int i, k;
+  for (i = 0; i < 3; i++) {
+    d->F[i] = d->lambda[i] = (double)NAN;
+    for (k = 0; k < RPS3_NEFFECT; k++) d->F_effect[k][i] = (double)NAN;
+  }
+  d->has_lambda = 0;
+  d->power = d->dTdt = d->dPdt = d->friction_power = d->energy_residual =
+      d->energy_scale = (double)NAN;
+}
+
+int rps3_regressor_finite(rps3_data *d, double *Y, int ncol,
+                          const char *(*name)(int)) {
+  int bad, k;
+  if (rps3_all_finite(Y, 3 * ncol)) return RPS3_OK;
+  bad = rps3_first_nonfinite(Y, 3 * ncol);
+  for (k = 0; k < 3 * ncol; k++) Y[k] = (double)NAN;
+  RPS3_ERROR(d, RPS3_ERANGE,
+             "regressor column %s (row %d) is not finite: finite inputs "
+             "overflowed (a length or rate too large)",
+             name(bad % ncol), bad / ncol);
+}
+
 int rps3_regressor(const rps3_model *m, rps3_data *d,
                    double Y[3][RPS3_NPAPER]) {
   rps3_cjac J;  /* the point's constraint Jacobian */
@@ -123,14 +149,7 @@ int rps3_regressor(const rps3_model *m, rps3_data *d,
   if (status != RPS3_OK) return status;
   status = rps3_loads_prepare(m, d, &J, &L);
   if (status != RPS3_OK) return status;
-  /* no force is computed here: none of another point's is left */
-  for (i = 0; i < 3; i++) {
-    d->F[i] = d->lambda[i] = (double)NAN;
-    for (k = 0; k < RPS3_NEFFECT; k++) d->F_effect[k][i] = (double)NAN;
-  }
-  d->has_lambda = 0;
-  d->power = d->dTdt = d->dPdt = d->friction_power = d->energy_residual =
-      d->energy_scale = (double)NAN;
+  rps3_regressor_unset(d);
 
   /* each column: one effect's load with its parameter 1 and the model's
      geometry; the disc's principal moments per unit mass (21) */
@@ -175,16 +194,7 @@ int rps3_regressor(const rps3_model *m, rps3_data *d,
 
   /* one factorization, every column */
   rps3_loads_solve(&L, RPS3_NPAPER, rhs, &Y[0][0], RPS3_NPAPER);
-  if (!rps3_all_finite(&Y[0][0], 3 * RPS3_NPAPER)) {
-    int bad = rps3_first_nonfinite(&Y[0][0], 3 * RPS3_NPAPER);
-    for (i = 0; i < 3; i++)
-      for (k = 0; k < RPS3_NPAPER; k++) Y[i][k] = (double)NAN;
-    RPS3_ERROR(d, RPS3_ERANGE,
-               "regressor column %s (row %d) is not finite: finite inputs "
-               "overflowed (a length or rate too large)",
-               paper_names[bad % RPS3_NPAPER], bad / RPS3_NPAPER);
-  }
-  return RPS3_OK;
+  return rps3_regressor_finite(d, &Y[0][0], RPS3_NPAPER, rps3_paper_name);
 }
 
 /* component c of point i in a component-major array of n points */

@@ -21,4 +21,11 @@ int rps3_ident_fail(char *err, size_t errsz, int status, const char *fmt, ...)
 int rps3_ident_check_data(const rps3_ident_data *dt, const rps3_ident_opts *o,
                           int need_act, char *err, size_t errsz);
 
+/* the two regressors' start and end (ident.c): d's forces unset (none is
+   computed), and Y (3 x ncol) checked finite, else NaN and RPS3_ERANGE
+   naming the column by name() */
+void rps3_regressor_unset(rps3_data *d);
+int rps3_regressor_finite(rps3_data *d, double *Y, int ncol,
+                          const char *(*name)(int));
+
 #endif /* RPS3_IDENT_INT_H */

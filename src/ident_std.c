@@ -14,6 +14,7 @@
 #include <stdint.h>
 #include <string.h>
 
+#include "ident_int.h"
 #include "internal.h"
 #include "links.h"
 
@@ -189,13 +190,7 @@ int rps3_regressor_std(const rps3_model *m, rps3_data *d,
   zero_params(m, &u);
   status = rps3_loads_prepare(&u, d, &J, &L);
   if (status != RPS3_OK) return status;
-  for (i = 0; i < 3; i++) {
-    d->F[i] = d->lambda[i] = (double)NAN;
-    for (k = 0; k < RPS3_NEFFECT; k++) d->F_effect[k][i] = (double)NAN;
-  }
-  d->has_lambda = 0;
-  d->power = d->dTdt = d->dPdt = d->friction_power = d->energy_residual =
-      d->energy_scale = (double)NAN;
+  rps3_regressor_unset(d);
 
   /* the platform: its loads with one unit parameter, solved together */
   for (k = 0; k < 10; k++) {
@@ -212,14 +207,5 @@ int rps3_regressor_std(const rps3_model *m, rps3_data *d,
   rps3_loads_leg_basis(d, &L, Fb);
   for (i = 0; i < 3; i++)
     leg_columns(m, d, i, (const double(*)[6])Fb, Y);
-  if (!rps3_all_finite(&Y[0][0], 3 * RPS3_NSTD)) {
-    int bad = rps3_first_nonfinite(&Y[0][0], 3 * RPS3_NSTD);
-    for (i = 0; i < 3; i++)
-      for (k = 0; k < RPS3_NSTD; k++) Y[i][k] = (double)NAN;
-    RPS3_ERROR(d, RPS3_ERANGE,
-               "regressor column %s (row %d) is not finite: finite inputs "
-               "overflowed (a length or rate too large)",
-               rps3_std_name(bad % RPS3_NSTD), bad / RPS3_NSTD);
-  }
-  return RPS3_OK;
+  return rps3_regressor_finite(d, &Y[0][0], RPS3_NSTD, rps3_std_name);
 }

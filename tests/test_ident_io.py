@@ -12,7 +12,7 @@ import yaml
 from conftest import run, write_scene
 
 pytest.importorskip("scipy")
-from rps3 import ident_io, ident_paper, ident_plot, ident_sim  # noqa: E402
+from rps3 import ident_cli, ident_io, ident_paper, ident_plot, ident_sim  # noqa: E402
 
 #: the regressor's columns come from the same library calls as the forces:
 #: Y theta and the forces agree to rounding, relative to the largest force
@@ -309,7 +309,7 @@ def test_cli_fit_writes_results_and_a_scene_section(runner, data_file, tmp_path)
     provenance; a manipulator section a scene runs with, whose forces are
     those of the truth to the estimate's precision."""
     out, yml = tmp_path / "p.h5", tmp_path / "m.yaml"
-    rc = ident_io.main(["fit", str(data_file), "-o", str(out), "--yaml", str(yml),
+    rc = ident_cli.main(["fit", str(data_file), "-o", str(out), "--yaml", str(yml),
                         "--vreg", "0.01"])
     assert rc == 0
     import hashlib
@@ -353,15 +353,15 @@ def test_cli_exit_codes(data_file, tmp_path, capsys):
     not excite the parameters (a platform at rest)."""
     out = tmp_path / "p.h5"
     bad = write(tmp_path / "bad.csv", GOOD.replace("0.02, 0.3", "0.01, 0.3"))
-    assert ident_io.main(["fit", bad, "-o", str(out)]) == 2
+    assert ident_cli.main(["fit", bad, "-o", str(out)]) == 2
     assert "bad.csv:4: column t" in capsys.readouterr().err
-    assert ident_io.main(["fit", str(data_file)]) == 2
-    assert ident_io.main(["fit", str(data_file), "-o", str(out), "--method", "x"]) == 2
+    assert ident_cli.main(["fit", str(data_file)]) == 2
+    assert ident_cli.main(["fit", str(data_file), "-o", str(out), "--method", "x"]) == 2
     rest = tmp_path / "rest.h5"
     t = 0.01 * np.arange(200)
     l = np.tile(rps3.Model().ik([0.3, 0.2, 0.3]).l, (200, 1))
     ident_io.save_data(str(rest), t, l, np.ones((200, 3)), dl=0 * l, ddl=0 * l)
-    assert ident_io.main(["fit", str(rest), "-o", str(out)]) == 1
+    assert ident_cli.main(["fit", str(rest), "-o", str(out)]) == 1
     assert "do not excite" in capsys.readouterr().err
     assert not out.exists() and not (tmp_path / "p.h5.part").exists()
 
@@ -410,13 +410,13 @@ def test_fit_that_does_not_map_says_why(data_file, tmp_path, capsys):
     out, yml = tmp_path / "p.h5", tmp_path / "m.yaml"
     argv = ["fit", str(data_file), "-o", str(out), "--payload", "--vreg", "0.01",
             "--yaml", str(yml)]
-    assert ident_io.main(argv) == 0
+    assert ident_cli.main(argv) == 0
     assert yml.read_text().startswith("# the fit does not map onto the manipulator section: ")
     assert "warning" in capsys.readouterr().err
     with h5py.File(out, "r") as f:
         assert int(f.attrs["maps_onto_model"]) == 0 and int(f.attrs["consistent"]) == 0
         assert len(f["theta"]) == 11
-    assert ident_io.main([*argv, "--strict"]) == 1
+    assert ident_cli.main([*argv, "--strict"]) == 1
 
 
 def test_fit_refusals_name_the_file(tmp_path):

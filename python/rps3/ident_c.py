@@ -21,7 +21,8 @@ from numpy.typing import ArrayLike
 
 from rps3._core import buf, motion_points, text
 from rps3._rps3 import ffi, lib
-from rps3.ident import Base, Estimate, InconsistentFitError, Layout, NotExcitingError, _stacked
+from rps3.ident import Base, InconsistentFitError, Layout, NotExcitingError, _stacked
+from rps3.ident_estimate import Estimate
 from rps3.model import Model
 
 #: the C regressor's columns, in its order (rps3_paper_name; the names of

@@ -7,10 +7,8 @@ and ``manipulator_yaml`` write them, ``main`` is the command line
 
 from __future__ import annotations
 
-import argparse
 import hashlib
 import os
-import sys
 from dataclasses import dataclass, field
 from typing import Any
 
@@ -18,6 +16,7 @@ import numpy as np
 
 from rps3 import ident as _id
 from rps3 import ident_consistent as _ic
+from rps3 import ident_estimate as _ie
 from rps3 import ident_filter as _if
 from rps3 import ident_paper as _ip
 
@@ -249,7 +248,7 @@ class Fit:
     """An identification: the estimate of the base parameters, the set's
     parameters, the consistency and where the states came from."""
 
-    estimate: _id.Estimate
+    estimate: _ie.Estimate
     pset: _ip.PaperSet
     geometry: _ip.Geometry
     base: _id.Base
@@ -377,7 +376,7 @@ def fit(data: Data, *, geometry: _ip.Geometry | None = None,
     else:
         corr = None
     base = _ip.structural_base(geo, ps)
-    est = {"ols": _id.ols, "wls": _id.wls}[method](Y, F, base=base, cond_max=cond_max,
+    est = {"ols": _ie.ols, "wls": _ie.wls}[method](Y, F, base=base, cond_max=cond_max,
                                                    noise_corr=corr)
     theta = None
     args, why, rep, ok = None, "", "", False
@@ -523,87 +522,3 @@ def manipulator_yaml(result: Fit) -> str:
         if result.geometry.vreg > 0:
             lines.append(f"    vreg: {num(result.geometry.vreg)}")
     return "\n".join(lines) + "\n"
-
-
-# ----------------------------------------------------------- command line
-
-def _parser() -> argparse.ArgumentParser:
-    ap = argparse.ArgumentParser(
-        prog="python -m rps3.ident",
-        description="Identify the paper model's parameters from measured data "
-                    "(docs/identification.md).  Exit codes: 0 done, 1 the fit "
-                    "failed (data not exciting, or not consistent with --strict), "
-                    "2 bad arguments or a refused data file.")
-    sub = ap.add_subparsers(dest="command", required=True)
-    f = sub.add_parser("fit", help="fit parameters to a data table")
-    f.add_argument("data", help="CSV or HDF5 table: t, l1..l3, [l1_dot.., l1_ddot..], F1..F3")
-    f.add_argument("-o", "--output", required=True, help="results, HDF5")
-    f.add_argument("--yaml", help="also write a manipulator: section here")
-    f.add_argument("--payload", action="store_true", help="identify a payload")
-    f.add_argument("--no-friction", action="store_true", help="no pin friction")
-    f.add_argument("--method", choices=("ols", "wls"), default="ols")
-    f.add_argument("--cutoff", type=float, default=CUTOFF,
-                   help=f"filter cut-off for differentiated rates [Hz] (default {CUTOFF:g})")
-    for k, v in (("R", 0.2286), ("rho", 0.5), ("d", 0.1524), ("g", 9.80665),
-                 ("M", 0.18), ("vreg", 0.0)):
-        f.add_argument(f"--{k}", type=float, default=v, help=f"(default {v:g})")
-    f.add_argument("--strict", action="store_true",
-                   help="exit 1 when the fit is not physically consistent")
-    st = sub.add_parser("study", help="the Monte Carlo study on simulated data")
-    st.add_argument("--runs", type=int, default=200, help="fits per case (default 200)")
-    st.add_argument("--seed", type=int, default=1, help="(default 1)")
-    st.add_argument("--out", default="out", help="directory of the summary and figure")
-    return ap
-
-
-def main(argv: list[str] | None = None) -> int:
-    """``python -m rps3.ident fit DATA -o OUT.h5``: 0 done, 1 the fit
-    failed, 2 bad arguments or data; ``python -m rps3.ident study``: the
-    Monte Carlo study (``make ident``)."""
-    try:
-        args = _parser().parse_args(argv)
-    except SystemExit as exc:
-        return 0 if exc.code == 0 else 2
-    if args.command == "study":
-        from rps3 import ident_sim
-
-        if args.runs < 2:
-            print("rps3.ident: --runs: expected at least 2", file=sys.stderr)
-            return 2
-        print(ident_sim.study(args.runs, args.seed, args.out), end="")
-        return 0
-    try:
-        geo = _ip.Geometry(R=args.R, rho=args.rho, d=args.d, g=args.g, vreg=args.vreg)
-        geo.model()
-        data = load(args.data)
-    except (DataError, ValueError, OSError) as exc:
-        print(f"rps3.ident: {exc}", file=sys.stderr)
-        return 2
-    try:
-        res = fit(data, geometry=geo, pset=_ip.PaperSet(payload=args.payload,
-                                                        friction=not args.no_friction),
-                  M=args.M, method=args.method, cutoff=args.cutoff)
-    except DataError as exc:
-        print(f"rps3.ident: {exc}", file=sys.stderr)
-        return 2
-    except (_id.NotExcitingError, ValueError) as exc:
-        print(f"rps3.ident: {args.data}: {exc}", file=sys.stderr)
-        return 1
-    write_results(args.output, res, data)
-    if args.yaml:
-        with open(args.yaml, "w", encoding="utf-8") as fh:
-            fh.write(manipulator_yaml(res))
-    est = res.estimate
-    for n, th, ci in zip(est.names, est.theta, est.ci95):
-        print(f"{n:12s} {th: .6g} +- {(ci[1] - ci[0]) / 2:.3g} {_ip.PAPER_UNITS.get(n, '')}")
-    print(res.consistency)
-    if not res.consistent:
-        print(f"rps3.ident: warning: {res.mapping or 'not physically consistent'}",
-              file=sys.stderr)
-        if args.strict:
-            return 1
-    return 0
-
-
-if __name__ == "__main__":
-    sys.exit(main())

@@ -11,14 +11,14 @@ import os
 import numpy as np
 from numpy.typing import ArrayLike
 
-from rps3 import ident as _id
+from rps3 import ident_estimate as _ie
 from rps3 import ident_paper as _ip
 from rps3 import plot
 
 _POSE = (("alpha", "rad"), ("beta", "rad"), ("z_c", "m"))
 
 
-def estimates(path: str | os.PathLike[str], est: _id.Estimate,
+def estimates(path: str | os.PathLike[str], est: _ie.Estimate,
               truth: ArrayLike | None = None) -> str:
     """Each base parameter's estimate with its 95 % interval, relative to
     the truth (or to the estimate itself without one): 1 is exact."""
@@ -39,7 +39,7 @@ def estimates(path: str | os.PathLike[str], est: _id.Estimate,
     return plot.save(fig, path)
 
 
-def residuals(path: str | os.PathLike[str], t: ArrayLike, est: _id.Estimate) -> str:
+def residuals(path: str | os.PathLike[str], t: ArrayLike, est: _ie.Estimate) -> str:
     """The residuals F - Y theta [N] per actuator over time, with each
     actuator's noise level +-2 sigma."""
     tt = np.asarray(t, float)

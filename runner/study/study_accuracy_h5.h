@@ -85,6 +85,17 @@ typedef struct {
 extern const char *const study_traj_name[NTRAJ];
 extern const char *const study_deriv_name[5];
 
+/* the largest finite-difference step: samples keep this margin from the
+   trajectory's ends */
+#define FD_MARGIN 1e-2
+
+/* a configuration of study s with every other knob at its default */
+void study_config_base(study_config *c, study_kind s);
+
+/* every configuration into cfg[MAXCFG] (study_accuracy_cfg.c); their
+   number */
+int study_configs_build(study_config *cfg);
+
 /* the study's file at path: the configurations, the [trajectory, config]
    results and the references' numbers, with the samples and repeats
    counts; 0 or -1 (reported) */
