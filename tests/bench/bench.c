@@ -85,6 +85,9 @@ typedef enum {
                  of the helix at once (a run of it) */
   K_REGRESSOR, /* rps3_regressor along the trajectory */
   K_REGRESSOR_STD, /* rps3_regressor_std along the trajectory */
+  K_REGRESSOR_BATCH, /* rps3_regressor_batch over BATCH_N points a call,
+                        the chunks of K_BATCH */
+  K_REGRESSOR_STD_BATCH, /* rps3_regressor_std_batch, the same */
   K_DESIGN    /* rps3_design_eval_grid: Table II's design on its default
                  10 x 10 x 10 grid, every per-pose output and the summary */
 } case_kind;
@@ -108,6 +111,7 @@ typedef struct {
   /* rps3_inverse_batch buffers */
   int *b_status, *b_warn, *b_niter;
   double *b_F, *b_Fe, *b_l, *b_theta, *b_lambda, *b_cond, *b_eres;
+  double *b_Y;             /* K_REGRESSOR*_BATCH: 3 RPS3_NSTD BATCH_N */
   rps3_sim *sim;           /* K_SIM: the plant ... */
   rps3_ctrl *ctrl;         /* ... its computed-torque controller */
   long tick;               /* ... and the control period it is in */
@@ -314,6 +318,28 @@ static void run_batch(bench_case *c, const points *pt, long ncalls) {
       copy3(d->dpose, pt->dpose[p]);
       copy3(d->ddpose, pt->ddpose[p]);
       if (rps3_regressor_std(m, d, Y) != RPS3_OK) c->failures++;
+    }
+    break;
+  case K_REGRESSOR_BATCH:
+  case K_REGRESSOR_STD_BATCH:
+    /* as K_BATCH: ncalls points, BATCH_N a call, the same chunks */
+    for (i = 0; i < ncalls; i += BATCH_N) {
+      rps3_batch_in in;
+      rps3_batch_out out;
+      size_t k0 = (size_t)(c->cursor++ % pt->nchunk) * 3 * BATCH_N;
+      int rc;
+      memset(&in, 0, sizeof(in));
+      memset(&out, 0, sizeof(out));
+      in.n = BATCH_N;
+      in.pose = pt->soa_pose + k0;
+      in.dpose = pt->soa_dpose + k0;
+      in.ddpose = pt->soa_ddpose + k0;
+      out.status = c->b_status;
+      rc = c->kind == K_REGRESSOR_BATCH
+               ? rps3_regressor_batch(m, d, &in, c->b_Y, &out)
+               : rps3_regressor_std_batch(m, d, &in, c->b_Y, &out);
+      if (rc != RPS3_OK) c->failures += (long)in.n;
+      c->failures += (long)out.nfail;
     }
     break;
   case K_DESIGN:
@@ -606,6 +632,10 @@ static const struct {
      "regressor / rps3_inverse's forces at the same point (goal <= 2)"},
     {"regressor_std_point", "pipeline_closed_lagrange_general_nocert",
      "standard regressor / the general forces at the same point (goal <= 2)"},
+    {"regressor_batch", "batch_closed_lagrange_full_nocert",
+     "batched regressor / the batched forces of the same points (goal <= 2)"},
+    {"regressor_std_batch", "batch_closed_lagrange_general_nocert",
+     "batched standard regressor / the batched general forces (goal <= 2)"},
 };
 #define NRATIO_MAX ((int)(sizeof(ratio_pairs) / sizeof(ratio_pairs[0])))
 
@@ -994,6 +1024,24 @@ int main(int argc, char **argv) {
        "regressor at a point, closed-form theta, full scene, Lagrange",
        K_REGRESSOR, SCENE_FULL, RPS3_LAGRANGE, RPS3_THETA_CLOSED_FORM, 1, 0,
        BENCH_NONE, 0);
+  CASE("batch_closed_lagrange_full_nocert", "rps3_inverse_batch, 1000 "
+       "points a call (time per point), closed-form theta, full scene, "
+       "Lagrange, certify off, F only", K_BATCH, SCENE_FULL, RPS3_LAGRANGE,
+       RPS3_THETA_CLOSED_FORM, 1, 0, BENCH_NONE, 0);
+  CASE("regressor_batch", "rps3_regressor_batch, 1000 points a call (time "
+       "per point): the paper model's regressor of "
+       "batch_closed_lagrange_full_nocert's points", K_REGRESSOR_BATCH,
+       SCENE_FULL, RPS3_LAGRANGE, RPS3_THETA_CLOSED_FORM, 1, 0, BENCH_NONE,
+       0);
+  CASE("batch_closed_lagrange_general_nocert", "rps3_inverse_batch, 1000 "
+       "points a call (time per point), closed-form theta, general bodies, "
+       "Lagrange, certify off, F only", K_BATCH, SCENE_GENERAL, RPS3_LAGRANGE,
+       RPS3_THETA_CLOSED_FORM, 1, 0, BENCH_NONE, 0);
+  CASE("regressor_std_batch", "rps3_regressor_std_batch, 1000 points a "
+       "call (time per point): the 3 x 82 regressor of "
+       "batch_closed_lagrange_general_nocert's points", K_REGRESSOR_STD_BATCH,
+       SCENE_GENERAL, RPS3_LAGRANGE, RPS3_THETA_CLOSED_FORM, 1, 0, BENCH_NONE,
+       0);
 #undef CASE
 
   /* -k: keep the matching cases only */
@@ -1027,10 +1075,15 @@ int main(int argc, char **argv) {
     c->b_lambda = malloc(3 * BATCH_N * sizeof(double));
     c->b_cond = malloc(BATCH_N * sizeof(double));
     c->b_eres = malloc(BATCH_N * sizeof(double));
+    c->b_Y = c->kind == K_REGRESSOR_BATCH || c->kind == K_REGRESSOR_STD_BATCH
+                 ? malloc(3 * RPS3_NSTD * BATCH_N * sizeof(double))
+                 : NULL;
     if (c->per_call == NULL || c->cpu_call == NULL || c->b_status == NULL ||
         c->b_warn == NULL || c->b_niter == NULL || c->b_F == NULL ||
         c->b_Fe == NULL || c->b_l == NULL || c->b_theta == NULL ||
         c->b_lambda == NULL || c->b_cond == NULL || c->b_eres == NULL ||
+        ((c->kind == K_REGRESSOR_BATCH || c->kind == K_REGRESSOR_STD_BATCH) &&
+         c->b_Y == NULL) ||
         rps3_data_alloc(&c->m, &c->d) != RPS3_OK) {
       fprintf(stderr, "rps3-bench: out of memory\n");
       return 2;
@@ -1176,6 +1229,7 @@ int main(int argc, char **argv) {
     free(cases[i].b_warn);
     free(cases[i].b_niter);
     free(cases[i].b_F);
+    free(cases[i].b_Y);
     free(cases[i].b_Fe);
     free(cases[i].b_l);
     free(cases[i].b_theta);
