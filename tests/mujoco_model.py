@@ -11,7 +11,10 @@ solved from MuJoCo's own dynamics.
 
 `params` is a dict with the keys of rps3_model (R, rho, M, m, d, link_Ic, g,
 payload {mass, com, inertia}, friction {viscous, coulomb}); see
-tests/oracle.py for the paper's and a high-entropy set.
+tests/oracle.py for the paper's and a high-entropy set.  With a key
+"bodies" (rps3.Model's general bodies) it is the general model: R, rho, g,
+bodies, friction and prismatic, each friction law shared by the legs or a
+list of three (tests/test_ident_mujoco_general.py).
 
 The mechanism, as MuJoCo bodies (world frame: Z up, X towards pin 1):
 - link_i: a body at pin P_i = R (cos psi_i, sin psi_i, 0), psi_i = 0,
@@ -53,7 +56,13 @@ EPS_INERTIA = rps3.export.EPS_INERTIA
 
 
 def model_of(p):
-    """The rps3.Model of the parameters p (every input, nothing derived)."""
+    """The rps3.Model of the parameters p (every input, nothing derived);
+    with a key "bodies", the general model of those bodies (rps3.Model's
+    bodies argument: M, m, d, link_Ic and payload are then not read)."""
+    if "bodies" in p:
+        return rps3.Model(R=p["R"], rho=p["rho"], g=p["g"], bodies=p["bodies"],
+                          friction=p["friction"],
+                          prismatic_friction=p.get("prismatic"))
     return rps3.Model(R=p["R"], rho=p["rho"], M=p["M"], m=p["m"], d=p["d"],
                       link_Ic=p["link_Ic"], g=p["g"], payload=p["payload"],
                       friction=p["friction"],
@@ -106,6 +115,11 @@ def closure_residual(model, data):
                for i in range(3))
 
 
+def _leg(law, i):
+    """Leg i's friction law of a law shared by the legs or a list of three."""
+    return law if isinstance(law, dict) else law[i]
+
+
 def actuator_forces(model, data, qpos, qvel, qacc, p):
     """Actuator forces [N] that produce the motion (qpos, qvel, qacc), with
     the nine ball-joint reactions solved exactly alongside (no softness)."""
@@ -123,13 +137,13 @@ def actuator_forces(model, data, qpos, qvel, qacc, p):
     # Coulomb pin friction, a known torque opposing each pin's rate
     for i in range(3):
         dof = model.joint(f"pin_{i}").dofadr[0]
-        need[dof] += p["friction"]["coulomb"] * np.sign(qvel[dof])
+        need[dof] += _leg(p["friction"], i)["coulomb"] * np.sign(qvel[dof])
     # the prismatic joints' Coulomb friction, a known force opposing each
     # slide's rate (the viscous part is the exported slide's damping)
     pr = p.get("prismatic", dict(viscous=0.0, coulomb=0.0))
     for i in range(3):
         dof = model.joint(f"leg_{i}").dofadr[0]
-        need[dof] += pr["coulomb"] * np.sign(qvel[dof])
+        need[dof] += _leg(pr, i)["coulomb"] * np.sign(qvel[dof])
     # ball-joint reactions: Jacobian of (platform site - link site)
     cols = []
     jp = np.zeros((3, model.nv))
