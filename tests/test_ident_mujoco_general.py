@@ -300,7 +300,7 @@ def test_least_squares_recovers_mujoco_truth(case, method):
     est = getattr(ident, method)(Yb, F, names=names)
     rel, share, err = errors(Yb, F, est.theta, truth)
     big = share >= SHARE_MIN
-    assert big.sum() >= 10, dict(zip(names, share))
+    assert big.sum() >= 10, dict(zip(names, share))   # 13 legs each, 10 identical
     for k in np.flatnonzero(big):
         assert abs(rel[k]) <= REL_TOL, (names[k], truth[k], est.theta[k])
     assert err.max() <= ERR_FORCE, dict(zip(names, err))
