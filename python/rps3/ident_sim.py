@@ -10,6 +10,7 @@ from typing import Any
 
 import numpy as np
 
+from rps3 import ident as _id
 from rps3 import ident_io as _io
 from rps3 import ident_paper as _ip
 
@@ -74,6 +75,74 @@ def simulate(fourier: _ip.Fourier, truth: dict[str, Any], *, periods: float = 1.
 
 
 @dataclass(frozen=True)
+class SimulatedGeneral:
+    """A general model's motion: times t (n,) [s], lengths l, rates dl
+    [m/s], accelerations ddl [m/s^2], the forces F [N] of the library's
+    inverse dynamics, all (n, 3); the layout fitted, the truth's layout
+    parameters (``theta_true``, layout.matrix @ theta_true = its 82
+    standard parameters) and the geometry."""
+
+    t: np.ndarray
+    l: np.ndarray
+    dl: np.ndarray
+    ddl: np.ndarray
+    F: np.ndarray
+    theta_true: np.ndarray
+    layout: _id.Layout
+    geometry: _ip.Geometry
+
+
+#: Y theta_true against the truth model's forces in simulate_general:
+#: one formulation summed two ways (rounding, measured ~1e-15 of the
+#: forces); above it the truth is not of the layout or the geometry
+TRUTH_TOL = 1e-9
+
+
+def simulate_general(model: Any, fourier: _ip.Fourier, layout: _id.Layout, *,
+                     periods: float = 1.0, dt: float = 0.001,
+                     geometry: _ip.Geometry | None = None) -> SimulatedGeneral:
+    """The forces of ``model`` (an rps3.Model, general bodies and friction,
+    its effects those of the layout: the paper's four and the layout's
+    friction kinds) by the library's inverse dynamics along the Fourier
+    series, sampled every dt [s] over ``periods`` periods, with the exact
+    lengths, rates and accelerations (rps3.velocity.pose_rates).  The
+    geometry (default the model's R, rho, g, vreg 0) is the fit's: its
+    vreg must be the model's friction laws'.
+
+    Raises:
+        ValueError: the model's parameters are not of the layout (e.g.
+            legs that differ for an identical layout), or its forces are
+            not the layout's regressor times them (other effects, another
+            geometry or vreg).
+    """
+    from rps3 import ident_c as _c
+    from rps3 import ident_excite as _ix
+    from rps3 import velocity
+
+    geo = geometry or _ip.Geometry(R=model.R, rho=model.rho, g=model.g)
+    std = _c.std_params(model)
+    theta = np.linalg.lstsq(layout.matrix, std, rcond=None)[0]
+    off = np.abs(layout.matrix @ theta - std)
+    if off.max() > TRUTH_TOL * max(np.abs(std).max(), 1e-300):
+        j = int(np.argmax(off))
+        raise ValueError(f"model: its {_id.STANDARD_NAMES[j]} is not of the layout "
+                         f"(legs={layout.legs}, friction={layout.friction}, "
+                         f"per leg {layout.per_leg})")
+    t = np.arange(int(round(periods * fourier.period / dt)) + 1) * dt
+    q, dq, ddq = fourier.eval(t)
+    F = np.asarray(model.inverse(q, dq, ddq).force)
+    Y = _ix.layout_regressor(q, dq, ddq, geo, layout)
+    if np.abs(Y @ theta - F).max() > TRUTH_TOL * np.abs(F).max():
+        raise ValueError("model: its forces are not the layout's regressor times its "
+                         "parameters: effects other than the paper's four and the "
+                         "layout's friction, or a geometry (R, rho, g, vreg) other "
+                         "than the fit's")
+    mot = velocity.pose_rates(model, q, dq, ddq)
+    return SimulatedGeneral(t, np.asarray(mot.l), np.asarray(mot.dl), np.asarray(mot.ddl),
+                            F, theta, layout, geo)
+
+
+@dataclass(frozen=True)
 class Study:
     """The statistics of a Monte Carlo study."""
 
@@ -101,7 +170,7 @@ class Study:
         return "\n".join(lines)
 
 
-def monte_carlo(s: Simulated, *, runs: int, force_noise: float = 0.01,
+def monte_carlo(s: Simulated | SimulatedGeneral, *, runs: int, force_noise: float = 0.01,
                 stroke_noise: float | None = None, seed: int = 0,
                 cutoff: float = _io.CUTOFF, method: str = "wls") -> Study:
     """``runs`` fits of the simulated data with Gaussian force noise of
@@ -110,11 +179,21 @@ def monte_carlo(s: Simulated, *, runs: int, force_noise: float = 0.01,
     assume one level and cover less); with
     ``stroke_noise`` [m], lengths with that noise and no rates or
     accelerations (the fit differentiates them with the cut-off [Hz]),
-    else the simulation's exact states."""
+    else the simulation's exact states.  For a general model
+    (:func:`simulate_general`) the layout's base parameters are fitted
+    (no consistent fit: the statistics are the estimate's)."""
     rng = np.random.default_rng(seed)
     rmsF = np.sqrt(np.mean(s.F**2, axis=0))
     ests, cis = [], []
-    base = _ip.structural_base(s.geometry, s.pset)
+    model: dict[str, Any]
+    if isinstance(s, SimulatedGeneral):
+        from rps3 import ident_excite as _ix
+
+        base = _ix.layout_base(s.geometry, s.layout)
+        model = dict(layout=s.layout, consistent=False)
+    else:
+        base = _ip.structural_base(s.geometry, s.pset)
+        model = dict(pset=s.pset)
     truth = base.of(s.theta_true)
     src: dict[str, str] = {}
     contribution = np.zeros(len(truth))
@@ -127,7 +206,7 @@ def monte_carlo(s: Simulated, *, runs: int, force_noise: float = 0.01,
             ln = s.l + rng.normal(size=s.l.shape) * stroke_noise
             d = _io.Data("simulated", s.t, ln, None, None, F, "",
                          {"rates": "none", "accelerations": "none"})
-        res = _io.fit(d, geometry=s.geometry, pset=s.pset, method=method, cutoff=cutoff)
+        res = _io.fit(d, geometry=s.geometry, method=method, cutoff=cutoff, **model)
         ests.append(res.estimate.theta)
         cis.append(res.estimate.ci95)
         src = res.source
