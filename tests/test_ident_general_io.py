@@ -8,7 +8,7 @@ runner plays; the command line with --layout; a small Monte Carlo."""
 import numpy as np
 import pytest
 import rps3
-from conftest import run, write_scene
+from conftest import write_scene
 
 pytest.importorskip("scipy")
 import h5py  # noqa: E402
@@ -192,7 +192,7 @@ def test_not_exciting_names_the_combinations(tmp_path):
 
 # ------------------------------------------------------------ the scene
 
-def test_scene_section_plays_in_the_runner(case, tmp_path):
+def test_scene_section_plays_in_the_runner(runner, case, tmp_path):
     """manipulator_yaml's section with a table trajectory appended runs in
     rps3-run; its forces are those of the fitted standard parameters
     through the library's regressor (independent of the section's
@@ -218,7 +218,7 @@ trajectory:
   table: {{file: {table.name}}}
   samples: {n}
 """)
-    ds = rps3.scene.run(scene)
+    ds = rps3.scene.run(scene, runner=runner)
     F = np.squeeze(ds.force.values)
     t = np.squeeze(ds.time.values)
     q, dq, ddq = fo.eval(t)

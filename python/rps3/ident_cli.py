@@ -60,6 +60,9 @@ def _parser() -> argparse.ArgumentParser:
     st.add_argument("--runs", type=int, default=200, help="fits per case (default 200)")
     st.add_argument("--seed", type=int, default=1, help="(default 1)")
     st.add_argument("--out", default="out", help="directory of the summary and figure")
+    st.add_argument("--layout", choices=("each", "identical"),
+                    help="the general layout's study instead (rps3.ident_sim."
+                         "study_general: 10 s at 1 kHz; the summary on stdout)")
     return ap
 
 
@@ -110,6 +113,9 @@ def main(argv: list[str] | None = None) -> int:
         if args.runs < 2:
             print("rps3.ident: --runs: expected at least 2", file=sys.stderr)
             return 2
+        if args.layout is not None:
+            print(ident_sim.study_general(args.runs, args.seed, args.layout), end="")
+            return 0
         print(ident_sim.study(args.runs, args.seed, args.out), end="")
         return 0
     try:
