@@ -37,6 +37,11 @@ TOL_RUNNER = 1e-9
 #: that is consistent: rounding (measured ~5e-18)
 TOL_MOVED = 1e-12
 
+#: base estimates from differentiated, filtered states of exact data:
+#: the zero-phase filter's distortion of the regressor's nonlinear
+#: columns, each error's force over the RMS force (measured 2e-3)
+TOL_FILTER = 1e-2
+
 GEO = ident_paper.Geometry(vreg=0.01)
 DT = 0.005                      # 200 Hz
 SPAN = 10.0                     # s: two periods of the 0.2 Hz series
@@ -285,7 +290,7 @@ def test_boundary_bodies_are_written_acceptably():
     assert sb.mass == 0 and np.allclose(sb.inertia, [1e-4, 0, 0, 2e-4, 0, 2.5e-4], rtol=1e-15)
 
 
-def test_inconsistent_fit_writes_no_section(case):
+def test_inconsistent_fit_writes_no_section(case, tmp_path):
     """A fit without a consistent fit (asked not to, or failed) gives a
     YAML comment, not a section."""
     _, _, _, path, _ = case
@@ -294,6 +299,11 @@ def test_inconsistent_fit_writes_no_section(case):
     text = ident_io.manipulator_yaml(res)
     assert text.startswith("# the fit has no physically consistent bodies to write")
     assert "manipulator:" not in text
+    out = tmp_path / "p.h5"
+    ident_io.write_results(str(out), res, ident_io.load(path))
+    with h5py.File(out, "r") as f:
+        assert "base_matrix" in f and "consistent_theta" not in f
+        assert int(f.attrs["consistent"]) == 0
 
 
 # ------------------------------------------------------------ the files
@@ -442,3 +452,25 @@ def test_monte_carlo_general_small():
         ident_sim.simulate_general(truth_model(15, "each"), fo, lay, geometry=GEO)
     with pytest.raises(ValueError, match="geometry"):
         ident_sim.simulate_general(model, fo, lay, geometry=ident_paper.Geometry(vreg=0.02))
+
+
+def test_differentiated_states(case):
+    """A table of lengths and forces alone: the rates and accelerations
+    differentiated, the forces and the layout's regressor filtered alike;
+    the filtered covariance; the base estimates near the truth (the
+    filter's distortion of the nonlinear regressor, no noise)."""
+    lay, _, truth, path, _ = case
+    if lay.legs != "identical":
+        pytest.skip("the filtering is the paper path's: one layout is enough")
+    d = ident_io.load(path)
+    d = ident_io.Data(d.path, d.t, d.l, None, None, d.F, d.sha256,
+                      {"rates": "none", "accelerations": "none"})
+    res = ident_io.fit(d, geometry=GEO, layout=lay, method="wls")
+    assert "differentiated" in res.source["rates"] and "forces" in res.source
+    assert res.estimate.cov_kind == "filtered"
+    Yb = res.Y.reshape(-1, res.base.rank)
+    share = (np.abs(res.estimate.theta - res.base.of(truth))
+             * np.sqrt(np.mean(Yb**2, axis=0)) / np.sqrt(np.mean(res.F**2)))
+    print(f"\ndifferentiated: largest base error's force {share.max():.2g} of the RMS force")
+    assert share.max() <= TOL_FILTER
+    assert res.consistent
