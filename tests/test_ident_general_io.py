@@ -400,6 +400,7 @@ def test_cli_layout(case, tmp_path, capsys):
     (["--layout", "each", "--M", "0.2"], "--M: the paper model's option"),
     (["--layout", "each", "--friction", "sliding"], "--friction: friction: unknown kind"),
     (["--layout", "each", "--friction", ","], "--friction: expected kinds"),
+    (["--layout", "each", "--friction", "pin,pin"], "--friction: a kind given twice"),
     (["--friction", "pin"], "--friction: a general layout's option"),
     (["--friction-per-leg", "no"], "--friction-per-leg: a general layout's option"),
 ])

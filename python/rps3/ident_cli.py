@@ -37,7 +37,7 @@ def _parser() -> argparse.ArgumentParser:
     f.add_argument("--layout", choices=("each", "identical"),
                    help="fit a general layout's bodies (legs each their own, or "
                         "identical) instead of the paper model's parameters")
-    f.add_argument("--friction", default="prismatic,pin",
+    f.add_argument("--friction", default=None,
                    help="with --layout: the friction kinds, comma separated, or none "
                         "(default prismatic,pin)")
     f.add_argument("--friction-per-leg", choices=("yes", "no"),
@@ -70,7 +70,7 @@ def _model_arguments(args: argparse.Namespace) -> dict[str, Any]:
     """fit's model arguments: the paper set, or with --layout the general
     layout (the paper set's options refused with it)."""
     if args.layout is None:
-        for opt, given in (("--friction", args.friction != "prismatic,pin"),
+        for opt, given in (("--friction", args.friction is not None),
                            ("--friction-per-leg", args.friction_per_leg is not None)):
             if given:
                 raise ValueError(f"{opt}: a general layout's option; give --layout "
@@ -83,19 +83,20 @@ def _model_arguments(args: argparse.Namespace) -> dict[str, Any]:
             raise ValueError(f"{opt}: the paper model's option, not read with --layout "
                              "(a general layout's platform holds any payload; "
                              "--friction none for no friction)")
-    kinds = tuple(k.strip() for k in args.friction.split(",") if k.strip())
+    text = "prismatic,pin" if args.friction is None else args.friction
+    kinds = tuple(k.strip() for k in text.split(",") if k.strip())
     if kinds == ("none",):
         kinds = ()
-    if not kinds and args.friction.strip() != "none":
+    elif not kinds:
         raise ValueError(f"--friction: expected kinds (prismatic, pin) or none, "
-                         f"got {args.friction!r}")
+                         f"got {text!r}")
     per_leg = None if args.friction_per_leg is None else args.friction_per_leg == "yes"
     try:
         lay = _id.Layout(legs=args.layout, friction=kinds, friction_per_leg=per_leg)
     except ValueError as exc:
         raise ValueError(f"--friction: {exc}") from None
     if len(set(kinds)) != len(kinds):
-        raise ValueError(f"--friction: a kind given twice in {args.friction!r}")
+        raise ValueError(f"--friction: a kind given twice in {text!r}")
     return dict(layout=lay)
 
 
