@@ -475,3 +475,31 @@ def test_differentiated_states(case):
     print(f"\ndifferentiated: largest base error's force {share.max():.2g} of the RMS force")
     assert share.max() <= TOL_FILTER
     assert res.consistent
+
+
+@pytest.mark.parametrize("lay", [ident.Layout(legs="each", friction_per_leg=False),
+                                 ident.Layout(legs="identical", friction_per_leg=True),
+                                 ident.Layout(legs="identical", friction=("pin",))],
+                         ids=["each-shared-friction", "identical-per-leg", "identical-pin"])
+def test_scene_section_of_every_form(runner, case, tmp_path, lay):
+    """The section's other forms (friction shared under legs: with legs
+    each, per leg under leg1..3 with identical legs, one friction kind),
+    fitted to the legs-each data: the runner plays each as its standard
+    parameters (the fits need not be good, only written right)."""
+    legs, _, _, path, _ = case
+    if legs.legs != "each":
+        pytest.skip("one data set is enough")
+    res = ident_io.fit(ident_io.load(path), geometry=GEO, layout=lay)
+    assert res.consistent
+    fo = ident_excite.random_fourier(Q0, (1.0, 0.1, 0.02), 0.25, 4, seed=8)
+    ident_excite.write_table(str(tmp_path / "motion.h5"), fo, dt=0.02)
+    n = int(round(fo.period / 0.02)) + 1
+    scene = write_scene(tmp_path / "s.yaml", ident_io.manipulator_yaml(res) + f"""\
+trajectory: {{kind: table, table: {{file: motion.h5}}, samples: {n}}}
+""")
+    ds = rps3.scene.run(scene, runner=runner)
+    F, t = np.squeeze(ds.force.values), np.squeeze(ds.time.values)
+    ref = rps3.Model(friction=dict(vreg=GEO.vreg), prismatic_friction=dict(vreg=GEO.vreg),
+                     effects=[*rps3.DEFAULT_EFFECTS, *(f"{k}_friction" for k in lay.friction)])
+    Fstd = ident.regressor_std(ref, *fo.eval(t)) @ res.standard
+    assert np.abs(F - Fstd).max() <= TOL_RUNNER * np.abs(Fstd).max()
