@@ -503,3 +503,21 @@ trajectory: {{kind: table, table: {{file: motion.h5}}, samples: {n}}}
                      effects=[*rps3.DEFAULT_EFFECTS, *(f"{k}_friction" for k in lay.friction)])
     Fstd = ident.regressor_std(ref, *fo.eval(t)) @ res.standard
     assert np.abs(F - Fstd).max() <= TOL_RUNNER * np.abs(Fstd).max()
+
+
+def test_paper_fit_file_opens_too(case, tmp_path):
+    """The paper model's fit writes the same kind of file (content
+    "identification", cov over parameter x parameter_column): rps3.
+    open_dataset reads it over its parameters."""
+    legs, _, _, path, _ = case
+    if legs.legs != "identical":
+        pytest.skip("one data set is enough")
+    d = ident_io.load(path)
+    res = ident_io.fit(d, geometry=GEO)
+    out = tmp_path / "paper.h5"
+    ident_io.write_results(str(out), res, d)
+    with rps3.open_dataset(out) as ds:
+        assert ds.theta.dims == ("parameter",)
+        assert ds.cov.dims == ("parameter", "parameter_column")
+        assert list(ds.parameter.values) == ["M", "md", "Ipin", "pin.fv", "pin.fc"]
+        assert "base_matrix" not in ds
