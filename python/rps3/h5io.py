@@ -146,10 +146,11 @@ def check_file(f, path=None):
                          "rps3_version (rps3-run writes it; docs/hdf5.md)")
     # an identification's file (content "identification") is over its
     # parameters, not over cases (docs/identification.md)
+    # (rps3-run's with its scene, rps3.ident fit's with its input file)
     if text(f.attrs.get("content", "")) == "identification":
-        if "theta" not in f or "scene" not in f:
+        if "theta" not in f or ("scene" not in f and "input_sha256" not in f.attrs):
             raise ValueError(f"{path}: an identification file without its "
-                             "theta or scene")
+                             "theta or scene (or input file)")
         return
     # the samples' dimension: time, or sample where the cases' time grids
     # differ (case_time then holds the seconds)

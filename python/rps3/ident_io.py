@@ -246,10 +246,13 @@ EDGE_PERIODS = 3.0
 @dataclass
 class Fit:
     """An identification: the estimate of the base parameters, the set's
-    parameters, the consistency and where the states came from."""
+    parameters, the consistency and where the states came from.  A fit of
+    a general layout (``layout`` given) has no paper set (``pset`` None,
+    ``theta`` and ``model_arguments`` None) and holds the consistent fit
+    of all the layout's parameters instead."""
 
     estimate: _ie.Estimate
-    pset: _ip.PaperSet
+    pset: _ip.PaperSet | None
     geometry: _ip.Geometry
     base: _id.Base
     theta: np.ndarray | None         #: the set's parameters (base = set: full rank)
@@ -261,6 +264,15 @@ class Fit:
     t: np.ndarray                    #: the times used [s]
     F: np.ndarray                    #: forces used (n, 3) [N]
     Y: np.ndarray                    #: base regressor used (n, 3, r)
+    #: the general layout fitted, or None (the paper model)
+    layout: _id.Layout | None = None
+    #: the consistent fit of the layout's parameters (rps3.ident.consistent_c),
+    #: None when it failed (``consistency`` says why) or was not asked for
+    consistent_fit: Any = None
+    #: the 82 standard parameters of the consistent fit, layout.matrix @ pi
+    standard: np.ndarray | None = None
+    #: the consistent fit's report per body (rps3.ident.consistency_report)
+    report: Any = None
 
 
 def states(data: Data, geometry: _ip.Geometry, cutoff: float = CUTOFF
@@ -335,49 +347,79 @@ def _filtered_noise_corr(keep: np.ndarray, fs: float, cutoff: float) -> np.ndarr
     return C
 
 
+def _filtered(t: np.ndarray, F: np.ndarray, Y: np.ndarray, src: dict[str, str],
+              cutoff: float) -> tuple[np.ndarray, np.ndarray, np.ndarray,
+                                      np.ndarray | None]:
+    """(t, F, Y, noise correlation) the estimate uses: as they are for
+    measured states; for differentiated ones the forces and the
+    regressor's columns filtered alike, the ends dropped, decimated, and
+    the filtered noise's correlation over the kept samples (src says so)."""
+    if "differentiated" not in src.get("rates", "") + src.get("accelerations", ""):
+        return t, F, Y, None
+    # parallel filtering: the forces and the regressor's columns with
+    # the same filter (Coulomb's steps smoothed alike), the ends'
+    # transients dropped, then decimated so the noise is about white
+    fs = 1.0 / float(np.mean(np.diff(t)))
+    F = _if.zero_phase_filter(F, fs, cutoff)
+    Y = _if.zero_phase_filter(Y, fs, cutoff)
+    edge = EDGE_PERIODS / cutoff
+    step = max(1, int(fs / (DECIMATE_RATIO * cutoff)))
+    keep = np.flatnonzero((t >= t[0] + edge) & (t <= t[-1] - edge))[::step]
+    # white noise comes out of the filter correlated over its impulse
+    # response: the kept samples' correlation enters the estimate's
+    # covariance
+    corr = _filtered_noise_corr(keep, fs, cutoff)
+    src["forces"] = (f"filtered alike, {edge:g} s dropped at each end, "
+                     f"every {step}th sample kept")
+    src["covariance"] = "the filtered noise's correlation over the kept samples"
+    return t[keep], F[keep], Y[keep], corr
+
+
 def fit(data: Data, *, geometry: _ip.Geometry | None = None,
-        pset: _ip.PaperSet | None = None, M: float = 0.18, method: str = "ols",
-        cutoff: float = CUTOFF, cond_max: float = _id.COND_MAX) -> Fit:
-    """The paper model's parameters (``pset``) from measured data: states
+        pset: _ip.PaperSet | None = None, layout: _id.Layout | None = None,
+        M: float = 0.18, method: str = "ols", cutoff: float = CUTOFF,
+        cond_max: float = _id.COND_MAX, consistent: bool = True,
+        reg: float | None = None) -> Fit:
+    """The paper model's parameters (``pset``) or a general layout's
+    (``layout``, rps3.ident.Layout; not both) from measured data: states
     (:func:`states`), the regressor from the library
-    (rps3.ident_paper.paper_regressor), its structural base parameters,
-    ``method`` "ols" or "wls"; the result mapped onto Model's arguments
-    when it can be (M the given one when a payload is identified).
+    (rps3.ident_paper.paper_regressor, or the layout's
+    rps3.ident_excite.layout_regressor), its structural base parameters,
+    ``method`` "ols" or "wls".  The paper set's result is mapped onto
+    Model's arguments when it can be (M the given one when a payload is
+    identified); a layout's is followed, with ``consistent``, by the
+    physically consistent fit of all its parameters
+    (rps3.ident.consistent_c, weighted as the estimate: each actuator by
+    its inverse WLS variance, or equally for OLS; ``reg`` its
+    regularisation, default the library's) and its consistency report.
 
     Raises:
         DataError: the data have no forces.
         NotExcitingError: the data do not determine the parameters.
+        ValueError: both pset and layout, or an unknown method.
     """
+    if pset is not None and layout is not None:
+        raise ValueError("pset, layout: give one (the paper model's set or a general "
+                         "layout), not both")
+    if method not in _ESTIMATORS:
+        raise ValueError(f"method: expected 'ols' or 'wls', got {method!r}")
     if data.F is None:
         raise DataError(f"{data.path}: column F1: missing (forces are needed to fit)")
     geo = geometry or _ip.Geometry()
-    ps = pset or _ip.PaperSet()
     t, q, dq, ddq, src = states(data, geo, cutoff)
-    F = data.F
-    Y = _ip.paper_regressor(q, dq, ddq, geo, ps)
-    if "differentiated" in src.get("rates", "") + src.get("accelerations", ""):
-        # parallel filtering: the forces and the regressor's columns with
-        # the same filter (Coulomb's steps smoothed alike), the ends'
-        # transients dropped, then decimated so the noise is about white
-        fs = 1.0 / float(np.mean(np.diff(t)))
-        F = _if.zero_phase_filter(F, fs, cutoff)
-        Y = _if.zero_phase_filter(Y, fs, cutoff)
-        edge = EDGE_PERIODS / cutoff
-        step = max(1, int(fs / (DECIMATE_RATIO * cutoff)))
-        keep = np.flatnonzero((t >= t[0] + edge) & (t <= t[-1] - edge))[::step]
-        # white noise comes out of the filter correlated over its impulse
-        # response: the kept samples' correlation enters the estimate's
-        # covariance
-        corr = _filtered_noise_corr(keep, fs, cutoff)
-        t, F, Y = t[keep], F[keep], Y[keep]
-        src["forces"] = (f"filtered alike, {edge:g} s dropped at each end, "
-                         f"every {step}th sample kept")
-        src["covariance"] = "the filtered noise's correlation over the kept samples"
+    if layout is not None:
+        from rps3 import ident_excite as _ix
+
+        Y = _ix.layout_regressor(q, dq, ddq, geo, layout)
+        base = _ix.layout_base(geo, layout)
     else:
-        corr = None
-    base = _ip.structural_base(geo, ps)
-    est = {"ols": _ie.ols, "wls": _ie.wls}[method](Y, F, base=base, cond_max=cond_max,
-                                                   noise_corr=corr)
+        ps = pset or _ip.PaperSet()
+        Y = _ip.paper_regressor(q, dq, ddq, geo, ps)
+        base = _ip.structural_base(geo, ps)
+    t, F, Y, corr = _filtered(t, data.F, Y, src, cutoff)
+    est = _ESTIMATORS[method](Y, F, base=base, cond_max=cond_max, noise_corr=corr)
+    if layout is not None:
+        return _general(est, geo, base, layout, src, t, F, Y, consistent, reg)
     theta = None
     args, why, rep, ok = None, "", "", False
     if base.rank == len(ps.names):
@@ -397,6 +439,72 @@ def fit(data: Data, *, geometry: _ip.Geometry | None = None,
     return Fit(est, ps, geo, base, theta, args, why, rep, ok, src, t, F, base.reduce(Y))
 
 
+_ESTIMATORS = {"ols": _ie.ols, "wls": _ie.wls}
+
+
+def _general(est: _ie.Estimate, geo: _ip.Geometry, base: _id.Base, layout: _id.Layout,
+             src: dict[str, str], t: np.ndarray, F: np.ndarray, Y: np.ndarray,
+             consistent: bool, reg: float | None) -> Fit:
+    """A general layout's fit: the estimate, then the consistent fit of
+    all the layout's parameters with the estimate's weights."""
+    import warnings
+
+    from rps3 import ident_c as _c
+
+    if not consistent:
+        return Fit(est, None, geo, base, None, None, "", "not checked: no consistent fit "
+                   "asked for", False, src, t, F, base.reduce(Y), layout)
+    weights = 1.0 / est.sigma**2 if est.method == "wls" else None
+    try:
+        with warnings.catch_warnings():
+            # a fit short of its optimality test is returned and said so
+            # below (converged, message), not warned about per call
+            warnings.simplefilter("ignore", RuntimeWarning)
+            cf = _c.consistent_c(Y, F, _c.layout_of(layout), weights=weights,
+                                 names=layout.names, reg=reg)
+    except _id.InconsistentFitError as exc:
+        rep = f"not physically consistent: {exc}"
+        return Fit(est, None, geo, base, None, None, str(exc), rep, False, src, t, F,
+                   base.reduce(Y), layout)
+    report = _ic.consistency_report(cf.pi, layout)
+    ok = bool(cf.consistent and report.ok)
+    solver = (f"consistent fit: converged in {cf.niter} iterations" if cf.converged
+              else f"consistent fit: {cf.message}")
+    return Fit(est, None, geo, base, None, None, "" if ok else "not physically consistent",
+               f"{report}\n{solver}", ok, src, t, F, base.reduce(Y), layout, cf,
+               layout.matrix @ cf.pi, report)
+
+
+def predict(result: Fit, data: Data, *, which: str = "consistent",
+            cutoff: float = CUTOFF) -> tuple[np.ndarray, np.ndarray]:
+    """(t, F) [s], [N] (n, 3): the forces the fit predicts along the
+    motion of ``data`` (its forces, if any, unused: a held-out check), at
+    every row, from the states of :func:`states` (rates and accelerations
+    differentiated with the cut-off [Hz] when the table has none).
+    ``which`` "consistent" (a general layout's consistent fit; the paper
+    set's estimate, which is its parameters) or "estimate" (the base
+    parameters' estimate).
+
+    Raises:
+        ValueError: "consistent" for a fit without a consistent fit.
+    """
+    if which not in ("consistent", "estimate"):
+        raise ValueError(f"which: expected 'consistent' or 'estimate', got {which!r}")
+    t, q, dq, ddq, _ = states(data, result.geometry, cutoff)
+    if result.layout is None:
+        Y = _ip.paper_regressor(q, dq, ddq, result.geometry, result.pset)
+        return t, result.base.reduce(Y) @ result.estimate.theta
+    from rps3 import ident_excite as _ix
+
+    Y = _ix.layout_regressor(q, dq, ddq, result.geometry, result.layout)
+    if which == "estimate":
+        return t, result.base.reduce(Y) @ result.estimate.theta
+    if result.consistent_fit is None:
+        raise ValueError("which: the fit has no consistent fit ("
+                         f"{result.consistency.splitlines()[0]})")
+    return t, Y @ result.consistent_fit.pi
+
+
 # ----------------------------------------------------------------- output
 
 def _version() -> str:
@@ -408,20 +516,42 @@ def _version() -> str:
         return "unknown"
 
 
-def write_results(path: str, result: Fit, data: Data) -> None:
-    """The fit as HDF5 (CF-1.10): ``theta``, ``std``, ``ci95``, ``cov``
-    over the ``parameter`` dimension (names in ``parameter``, units per
-    parameter in ``parameter_units``), ``sigma`` per actuator, the
-    residuals over ``time``; attributes: the consistency report, the
-    mapping onto Model's arguments (or why not), where the rates came
-    from, the rps3 version and the input file's SHA-256.  Written to a
-    temporary name and renamed, so no partial file looks complete."""
+def layout_units(layout: _id.Layout) -> list[str]:
+    """Each layout parameter's units (UDUNITS): those of the standard
+    parameters it stands for (rps3.ident.C_STD_UNITS)."""
+    from rps3 import ident_c as _c
 
-    est = result.estimate
-    units = [_ip.PAPER_UNITS.get(n, "1") for n in est.names]
+    S = layout.matrix
+    return [_c.C_STD_UNITS[int(np.flatnonzero(S[:, j])[0])] for j in range(layout.n)]
+
+
+def parameter_units(result: Fit) -> list[str]:
+    """The units of each estimated (base) parameter of the fit."""
+    if result.layout is None:
+        return [_ip.PAPER_UNITS.get(n, "1") for n in result.estimate.names]
+    u = layout_units(result.layout)
+    return [u[int(j)] for j in result.base.independent]
+
+
+def write_results(path: str, result: Fit, data: Data) -> None:
+    """The fit as HDF5 (CF-1.10, root attribute ``content``
+    "identification", which rps3.open_dataset reads over the parameter
+    dimension): ``theta``, ``std``, ``ci95``, ``cov`` over the
+    ``parameter`` dimension (names in ``parameter``, units per parameter
+    in ``parameter_units``), ``sigma`` per actuator, the residuals over
+    ``time``; attributes: the consistency report, the mapping onto Model's
+    arguments (or why not), where the rates came from, the rps3 version
+    and the input file's SHA-256.  A general layout's fit adds the
+    grouping (``base_matrix``, ``relation``), the layout
+    (``layout_matrix``) and the consistent fit (``consistent_theta`` over
+    ``layout_parameter``, ``consistent_standard`` over
+    ``standard_parameter``, ``consistent_eigenvalues`` per body,
+    ``consistent``, ``consistent_status``).  Written to a temporary name
+    and renamed, so no partial file looks complete."""
+
     tmp = path + ".part"
     try:
-        _write(tmp, result, data, units)
+        _write(tmp, result, data, parameter_units(result))
     except BaseException:
         if os.path.exists(tmp):
             os.remove(tmp)
@@ -436,6 +566,7 @@ def _write(tmp: str, result: Fit, data: Data, units: list[str]) -> None:
     with h5py.File(tmp, "w") as f:
         f.attrs["Conventions"] = "CF-1.10"
         f.attrs["title"] = "rps3 identified parameters"
+        f.attrs["content"] = "identification"
         f.attrs["source"] = f"rps3 {_version()} rps3.ident fit"
         f.attrs["input_file"] = os.path.basename(data.path)
         f.attrs["input_sha256"] = data.sha256
@@ -447,39 +578,59 @@ def _write(tmp: str, result: Fit, data: Data, units: list[str]) -> None:
         f.attrs["consistency_report"] = result.consistency
         f.attrs["consistent"] = int(result.consistent)
         f.attrs["maps_onto_model"] = int(result.model_arguments is not None)
-        f.attrs["mapping"] = result.mapping or "maps onto the manipulator section"
+        f.attrs["mapping"] = (result.mapping or "maps onto the manipulator section"
+                              if result.layout is None else
+                              "general bodies: manipulator_yaml writes them"
+                              if result.consistent else
+                              "general bodies: " + (result.mapping or "no consistent fit"))
         for k, v in result.source.items():
             f.attrs[f"{k}_source"] = v
         for gk, gv in (("R", result.geometry.R), ("rho", result.geometry.rho),
-                       ("d", result.geometry.d), ("g", result.geometry.g)):
+                       ("d", result.geometry.d), ("g", result.geometry.g),
+                       ("vreg", result.geometry.vreg)):
             f.attrs[f"geometry_{gk}"] = gv
-        pdim = f.create_dataset("parameter", data=np.array(est.names, dtype=h5py.string_dtype()))
-        pdim.make_scale("parameter")
-        pdim.attrs["units"] = "1"
-        pdim.attrs["long_name"] = "base parameter"
-        f.create_dataset("parameter_units", data=np.array(units, dtype=h5py.string_dtype()),
-                         ).attrs["units"] = "1"
-        bnd = f.create_dataset("bound", data=np.array([0, 1]))
-        bnd.attrs["units"] = "1"
-        bnd.make_scale("bound")
-        act = f.create_dataset("actuator", data=np.array([1, 2, 3]))
-        act.attrs["units"] = "1"
-        act.make_scale("actuator")
-        tt = f.create_dataset("time", data=result.t)
-        tt.attrs["units"] = "s"
-        tt.make_scale("time")
 
-        def put(name: str, v: Any, unit: str, axes: tuple[Any, ...], long: str) -> None:
-            ds = f.create_dataset(name, data=np.asarray(v))
+        def scale(name: str, values: Any, long: str) -> Any:
+            data = np.asarray(values)
+            if data.dtype.kind in "US":
+                data = np.array([str(v) for v in values], dtype=h5py.string_dtype())
+            ds = f.create_dataset(name, data=data)
+            ds.make_scale(name)
+            ds.attrs["units"] = "1"
+            ds.attrs["long_name"] = long
+            return ds
+
+        def put(name: str, v: Any, unit: str, axes: tuple[Any, ...], long: str) -> Any:
+            data = np.asarray(v)
+            if data.dtype.kind in "US":
+                data = np.array([str(x) for x in np.ravel(v)], dtype=h5py.string_dtype())
+            ds = f.create_dataset(name, data=data)
             ds.attrs["units"] = unit
             ds.attrs["long_name"] = long
             for k, ax in enumerate(axes):
                 ds.dims[k].attach_scale(ax)
+            return ds
+
+        pdim = scale("parameter", est.names, "base parameter")
+        # CF: a variable's dimensions differ, so cov's columns have their own
+        pcol = scale("parameter_column", est.names, "base parameter of the covariance's column")
+        put("parameter_units", units, "1", (pdim,), "units of the base parameter")
+        bnd = scale("bound", [0, 1], "bound of the interval (0 lower, 1 upper)")
+        act = scale("actuator", [1, 2, 3], "actuator number")
+        tt = f.create_dataset("time", data=result.t)
+        # the table's t [s]; CF's time units name a reference date: a
+        # nominal one, as rps3-run's files (docs/hdf5.md)
+        tt.attrs["units"] = "s since 1970-01-01 00:00:00"
+        tt.attrs["calendar"] = "proleptic_gregorian"
+        tt.attrs["standard_name"] = "time"
+        tt.attrs["axis"] = "T"
+        tt.attrs["long_name"] = "the data table's t, in s (nominal reference date)"
+        tt.make_scale("time")
 
         put("theta", est.theta, "various: see parameter_units", (pdim,), "estimate")
         put("std", est.std, "various: see parameter_units", (pdim,), "standard deviation")
         put("ci95", est.ci95, "various: see parameter_units", (pdim, bnd), "95 % interval")
-        put("cov", est.cov, "various: products of parameter_units", (pdim, pdim), "covariance")
+        put("cov", est.cov, "various: products of parameter_units", (pdim, pcol), "covariance")
         put("sigma", est.sigma, "N", (act,), "noise standard deviation per actuator")
         put("residual", est.residual.reshape(-1, 3), "N", (tt, act), "F - Y theta")
         put("force", result.F, "N", (tt, act), "forces fitted")
@@ -491,21 +642,69 @@ def _write(tmp: str, result: Fit, data: Data, units: list[str]) -> None:
             ds.attrs["units"] = u
             ds.attrs["std"] = est.std[j]
             ds.attrs["ci95"] = est.ci95[j]
+        if result.layout is not None:
+            _write_general(f, result, scale, put, pdim)
+
+
+def _write_general(f: Any, result: Fit, scale: Any, put: Any, pdim: Any) -> None:
+    """A general layout's grouping, layout and consistent fit."""
+    from rps3 import ident_c as _c
+    from rps3._rps3 import lib
+
+    lay = result.layout
+    assert lay is not None
+    lunits = layout_units(lay)
+    f.attrs["layout_legs"] = lay.legs
+    f.attrs["layout_friction"] = ",".join(lay.friction) or "none"
+    f.attrs["layout_friction_per_leg"] = int(lay.per_leg)
+    ldim = scale("layout_parameter", lay.names, "the layout's parameter (rps3.ident.Layout)")
+    sdim = scale("standard_parameter", _id.STANDARD_NAMES,
+                 "standard parameter (rps3.ident.STANDARD_NAMES)")
+    put("layout_parameter_units", lunits, "1", (ldim,), "units of the layout's parameter")
+    put("standard_parameter_units", _c.C_STD_UNITS, "1", (sdim,),
+        "units of the standard parameter")
+    put("base_matrix", result.base.K, "various: parameter_units / layout_parameter_units",
+        (pdim, ldim), "grouping K: base parameters = K layout parameters")
+    put("relation", [f"{n} = {r}" for n, r in result.base.relations()], "1", (pdim,),
+        "the base parameter's grouping of layout parameters")
+    put("layout_matrix", lay.matrix, "1", (sdim, ldim),
+        "standard parameters = layout_matrix layout parameters")
+    cf = result.consistent_fit
+    if cf is None:
+        return
+    put("consistent_theta", cf.pi, "various: see layout_parameter_units", (ldim,),
+        "physically consistent estimate of the layout's parameters")
+    put("consistent_standard", result.standard, "various: see standard_parameter_units",
+        (sdim,), "the consistent fit's standard parameters")
+    body = scale("body", lay.bodies, "body of the layout")
+    eig = scale("eigenvalue", [1, 2, 3, 4], "pseudo-inertia eigenvalue number, ascending")
+    e = put("consistent_eigenvalues", np.array([b.eig for b in result.report.bodies]),
+            "kg m^2", (body, eig), "each body's pseudo-inertia eigenvalues, ascending "
+            "(kg for its mass direction)")
+    e.attrs["message"] = cf.message or "converged"
+    put("consistent", np.int32(result.consistent), "1", (),
+        "1: the consistent fit's eigenvalues and friction signs checked")
+    st = put("consistent_status", np.int32(lib.RPS3_OK if cf.converged else lib.RPS3_ENOCONV),
+             "1", (), "status of the consistent fit (rps3_status, 0: converged)")
+    st.attrs["message"] = cf.message or f"converged in {cf.niter} iterations"
+    put("consistent_residual_rms", float(np.sqrt(np.mean(cf.residual**2))), "N", (),
+        "RMS of F - Y pi of the consistent fit")
 
 
 def manipulator_yaml(result: Fit) -> str:
     """A ``manipulator:`` section with the fitted M, m, d, link_Ic,
     payload, friction (and the geometry's R, rho, g) that a scene can use
     as it is; or, when the fit does not map onto them, a YAML comment
-    saying why and no section."""
+    saying why and no section.  A general layout's fit: the general
+    bodies of its consistent fit (:func:`scene_bodies`)."""
+    if result.layout is not None:
+        return _general_yaml(result)
     a = result.model_arguments
     if a is None:
         return f"# the fit does not map onto the manipulator section: {result.mapping}\n"
     g = result.geometry
 
-    def num(x: float) -> str:
-        return repr(float(x))
-
+    num = _num
     lines = ["# identified by rps3.ident (docs/identification.md)", "manipulator:",
              f"  R: {num(g.R)}", f"  rho: {num(g.rho)}", f"  M: {num(a['M'])}",
              f"  m: {num(a['m'])}", f"  d: {num(a['d'])}", f"  link_Ic: {num(a['link_Ic'])}",
@@ -522,3 +721,175 @@ def manipulator_yaml(result: Fit) -> str:
         if result.geometry.vreg > 0:
             lines.append(f"    vreg: {num(result.geometry.vreg)}")
     return "\n".join(lines) + "\n"
+
+
+def _num(x: float) -> str:
+    """A float as YAML reads it back exactly (repr), with a decimal point
+    in the mantissa (YAML 1.1 readers take 1e-05 for a string)."""
+    r = repr(float(x))
+    if "e" in r and "." not in r:
+        m, _, e = r.partition("e")
+        r = f"{m}.0e{e}"
+    return r
+
+
+#: a body's mass at or below this fraction of its pseudo-inertia's largest
+#: eigenvalue is written massless: its centre of mass, first moment over
+#: mass, is then rounding over rounding
+MASS_REL = 1e-12
+
+
+@dataclass(frozen=True)
+class SceneBody:
+    """A body as a scene's ``manipulator:`` section gives it: mass [kg],
+    com [m] (3,), inertia [Ixx, Ixy, Ixz, Iyy, Iyz, Izz] about the com
+    [kg m^2] (6,); ``moved``: how far its standard parameters are from
+    those it was made from, relative to its pseudo-inertia's largest
+    eigenvalue (the projection onto a real body's, see
+    :func:`scene_body`)."""
+
+    mass: float
+    com: np.ndarray
+    inertia: np.ndarray
+    moved: float
+
+
+def scene_body(p10: Any) -> SceneBody:
+    """The body of ten standard parameters (m, m c, inertia about the
+    frame's origin) in a scene's terms, made acceptable to the library's
+    check (rps3_model_init: the second moment about the centre of mass,
+    Sigma_c = tr(I_c)/2 1 - I_c, positive semidefinite to 1e-12 of its
+    trace).  A consistent fit's pseudo-inertia is positive semidefinite
+    only to its eigenvalue tolerance, and its bodies often lie on the
+    cone's boundary (a point mass or a rod: Sigma_c singular), where the
+    parallel-axis theorem's cancellation, m |c|^2 against I_o, leaves
+    Sigma_c's zero eigenvalues a rounding below zero: they are set to
+    zero (Sigma_c's eigenvalues clipped at 0) and ``moved`` says by how
+    much the standard parameters changed.  A mass <= 0, or at most
+    MASS_REL of the pseudo-inertia's scale, is written as a massless body
+    (com [0, 0, 0], the inertia about the origin)."""
+    p = np.asarray(p10, float)
+    J = _id.pseudo_inertia(p)
+    big = max(float(np.abs(np.linalg.eigvalsh(J)).max()), 1e-300)
+    Io = _id.inertia_matrix(p)
+    if p[0] <= MASS_REL * big:
+        mass, c, Ic = 0.0, np.zeros(3), Io
+    else:
+        mass = float(p[0])
+        c = p[1:4] / mass
+        Ic = Io - mass * (c @ c * np.eye(3) - np.outer(c, c))
+    Sig = 0.5 * np.trace(Ic) * np.eye(3) - Ic
+    w, V = np.linalg.eigh(0.5 * (Sig + Sig.T))
+    Sig = (V * np.clip(w, 0.0, None)) @ V.T
+    Ic = np.trace(Sig) * np.eye(3) - Sig
+    six = np.array([Ic[0, 0], Ic[0, 1], Ic[0, 2], Ic[1, 1], Ic[1, 2], Ic[2, 2]])
+    back = _id.body_parameters(mass, c, Ic)
+    return SceneBody(mass, c, six, float(np.abs(back - p).max() / big))
+
+
+def scene_bodies(result: Fit) -> dict[str, SceneBody]:
+    """The layout's bodies (rps3.ident.Layout.bodies' names) of a general
+    fit's consistent fit, as :func:`scene_body` writes them."""
+    if result.layout is None or result.consistent_fit is None:
+        raise ValueError("result: not a general layout's fit with a consistent fit")
+    pi = result.consistent_fit.pi
+    return {b: scene_body(pi[10 * k:10 * k + 10])
+            for k, b in enumerate(result.layout.bodies)}
+
+
+def _friction(result: Fit) -> dict[str, list[tuple[float, float]]]:
+    """Per friction kind of the layout, (viscous, coulomb) per leg."""
+    lay = result.layout
+    assert lay is not None and result.standard is not None
+    std = result.standard
+    out = {}
+    for k, kind in enumerate(_id.FRICTION_KINDS):
+        if kind in lay.friction:
+            j = _id.N_BODY_PARAMETERS + 6 * k
+            # >= 0 columns of the fit: a square, exact; clipped anyway
+            out[kind] = [(max(float(std[j + 2 * i]), 0.0), max(float(std[j + 2 * i + 1]), 0.0))
+                         for i in range(3)]
+    return out
+
+
+def fitted_model(result: Fit, **kw: Any) -> Any:
+    """An rps3.Model of the general fit's consistent bodies and friction
+    as :func:`manipulator_yaml` writes them (the geometry's R, rho, g, the
+    friction laws' vreg), the effects of the layout (the paper's four and
+    its friction kinds) unless ``effects`` is given; kw passed on."""
+    from rps3.body import Body
+    from rps3.model import DEFAULT_EFFECTS, Model
+
+    bodies = scene_bodies(result)
+    lay = result.layout
+    assert lay is not None
+    B = {k: Body(b.mass, b.com, b.inertia) for k, b in bodies.items()}
+    if lay.legs == "each":
+        bd: dict[str, Any] = dict(platform=B["platform"], legs=[
+            dict(cylinder=B[f"cylinder{i}"], piston=B[f"piston{i}"]) for i in (1, 2, 3)])
+    else:
+        bd = dict(platform=B["platform"], cylinder=B["cylinder"], piston=B["piston"])
+    geo = result.geometry
+    fr = {kind: [dict(viscous=v, coulomb=c, vreg=geo.vreg) for v, c in laws]
+          for kind, laws in _friction(result).items()}
+    effects = kw.pop("effects", [*DEFAULT_EFFECTS, *(f"{k}_friction" for k in fr)])
+    return Model(R=geo.R, rho=geo.rho, g=geo.g, bodies=bd, friction=fr.get("pin"),
+                 prismatic_friction=fr.get("prismatic"), effects=effects, **kw)
+
+
+def _general_yaml(result: Fit) -> str:
+    lay = result.layout
+    assert lay is not None
+    if result.consistent_fit is None or not result.consistent:
+        why = result.consistency.splitlines()[0] if result.consistency else "no consistent fit"
+        return f"# the fit has no physically consistent bodies to write: {why}\n"
+    bodies = scene_bodies(result)
+    geo = result.geometry
+    fr = _friction(result)
+    num = _num
+
+    def vec(v: Any) -> str:
+        return "[" + ", ".join(num(x) for x in v) + "]"
+
+    def body(name: str, b: SceneBody, ind: str) -> list[str]:
+        return [f"{ind}{name}: {{mass: {num(b.mass)}, com: {vec(b.com)}, "
+                f"inertia: {vec(b.inertia)}}}"]
+
+    def friction(kind: str, law: tuple[float, float], ind: str) -> list[str]:
+        return [f"{ind}{kind}_friction: {{viscous: {num(law[0])}, coulomb: {num(law[1])}, "
+                f"vreg: {num(geo.vreg)}}}"]
+
+    moved = max(b.moved for b in bodies.values())
+    lines = ["# identified by rps3.ident (docs/identification.md): general bodies of the",
+             f"# consistent fit of the layout legs={lay.legs}, friction="
+             f"{','.join(lay.friction) or 'none'}; inertia about each body's centre of",
+             "# mass; the bodies rounded onto real ones moved the standard parameters by",
+             f"# at most {moved:.2g} of a body's pseudo-inertia scale",
+             "manipulator:", f"  R: {num(geo.R)}", f"  rho: {num(geo.rho)}",
+             f"  g: {num(geo.g)}", "  bodies: general"]
+    lines += body("platform", bodies["platform"], "  ")
+    shared = [k for k in fr if not lay.per_leg]
+    if lay.legs == "identical" or shared:
+        lines.append("  legs:")
+        if lay.legs == "identical":
+            lines += body("cylinder", bodies["cylinder"], "    ")
+            lines += body("piston", bodies["piston"], "    ")
+        for k in shared:
+            lines += friction(k, fr[k][0], "    ")
+    for i in (1, 2, 3):
+        own = [k for k in fr if lay.per_leg]
+        if lay.legs == "each" or own:
+            lines.append(f"  leg{i}:")
+        if lay.legs == "each":
+            lines += body("cylinder", bodies[f"cylinder{i}"], "    ")
+            lines += body("piston", bodies[f"piston{i}"], "    ")
+        for k in own:
+            lines += friction(k, fr[k][i - 1], "    ")
+    text = "\n".join(lines) + "\n"
+    # the library's own check, which the runner runs (rps3_model_init), on
+    # the very numbers written (repr reads back exactly)
+    try:
+        fitted_model(result)
+    except ValueError as exc:       # not expected: scene_body projects onto it
+        return f"# the fitted bodies are refused by the library: {exc}\n"
+    return text

@@ -10,9 +10,13 @@ from typing import Any
 
 import numpy as np
 
+from rps3 import ident as _id
 from rps3 import ident_io as _io
 from rps3 import ident_paper as _ip
 
+#: a base parameter whose true value carries at most this share of the
+#: RMS force is taken as zero (rounding of a zero sum): no relative error
+ZERO_SHARE = 1e-12
 #: a base parameter counts in the error statistics when its columns carry
 #: at least this share of the RMS force (smaller ones are within the noise)
 CONTRIBUTION_MIN = 0.01
@@ -74,6 +78,74 @@ def simulate(fourier: _ip.Fourier, truth: dict[str, Any], *, periods: float = 1.
 
 
 @dataclass(frozen=True)
+class SimulatedGeneral:
+    """A general model's motion: times t (n,) [s], lengths l, rates dl
+    [m/s], accelerations ddl [m/s^2], the forces F [N] of the library's
+    inverse dynamics, all (n, 3); the layout fitted, the truth's layout
+    parameters (``theta_true``, layout.matrix @ theta_true = its 82
+    standard parameters) and the geometry."""
+
+    t: np.ndarray
+    l: np.ndarray
+    dl: np.ndarray
+    ddl: np.ndarray
+    F: np.ndarray
+    theta_true: np.ndarray
+    layout: _id.Layout
+    geometry: _ip.Geometry
+
+
+#: Y theta_true against the truth model's forces in simulate_general:
+#: one formulation summed two ways (rounding, measured ~1e-15 of the
+#: forces); above it the truth is not of the layout or the geometry
+TRUTH_TOL = 1e-9
+
+
+def simulate_general(model: Any, fourier: _ip.Fourier, layout: _id.Layout, *,
+                     periods: float = 1.0, dt: float = 0.001,
+                     geometry: _ip.Geometry | None = None) -> SimulatedGeneral:
+    """The forces of ``model`` (an rps3.Model, general bodies and friction,
+    its effects those of the layout: the paper's four and the layout's
+    friction kinds) by the library's inverse dynamics along the Fourier
+    series, sampled every dt [s] over ``periods`` periods, with the exact
+    lengths, rates and accelerations (rps3.velocity.pose_rates).  The
+    geometry (default the model's R, rho, g, vreg 0) is the fit's: its
+    vreg must be the model's friction laws'.
+
+    Raises:
+        ValueError: the model's parameters are not of the layout (e.g.
+            legs that differ for an identical layout), or its forces are
+            not the layout's regressor times them (other effects, another
+            geometry or vreg).
+    """
+    from rps3 import ident_c as _c
+    from rps3 import ident_excite as _ix
+    from rps3 import velocity
+
+    geo = geometry or _ip.Geometry(R=model.R, rho=model.rho, g=model.g)
+    std = _c.std_params(model)
+    theta = np.linalg.lstsq(layout.matrix, std, rcond=None)[0]
+    off = np.abs(layout.matrix @ theta - std)
+    if off.max() > TRUTH_TOL * max(np.abs(std).max(), 1e-300):
+        j = int(np.argmax(off))
+        raise ValueError(f"model: its {_id.STANDARD_NAMES[j]} is not of the layout "
+                         f"(legs={layout.legs}, friction={layout.friction}, "
+                         f"per leg {layout.per_leg})")
+    t = np.arange(int(round(periods * fourier.period / dt)) + 1) * dt
+    q, dq, ddq = fourier.eval(t)
+    F = np.asarray(model.inverse(q, dq, ddq).force)
+    Y = _ix.layout_regressor(q, dq, ddq, geo, layout)
+    if np.abs(Y @ theta - F).max() > TRUTH_TOL * np.abs(F).max():
+        raise ValueError("model: its forces are not the layout's regressor times its "
+                         "parameters: effects other than the paper's four and the "
+                         "layout's friction, or a geometry (R, rho, g, vreg) other "
+                         "than the fit's")
+    mot = velocity.pose_rates(model, q, dq, ddq)
+    return SimulatedGeneral(t, np.asarray(mot.l), np.asarray(mot.dl), np.asarray(mot.ddl),
+                            F, theta, layout, geo)
+
+
+@dataclass(frozen=True)
 class Study:
     """The statistics of a Monte Carlo study."""
 
@@ -82,7 +154,7 @@ class Study:
     truth: np.ndarray                #: their true values
     contribution: np.ndarray         #: RMS force share of each (truth)
     counted: np.ndarray              #: contribution >= CONTRIBUTION_MIN
-    median_rel_error: np.ndarray     #: per parameter, |theta - truth| / |truth|
+    median_rel_error: np.ndarray     #: per parameter, |theta - truth| / |truth| (NaN: truth 0)
     bias: np.ndarray                 #: mean (theta - truth) / |truth|
     coverage: np.ndarray             #: share of runs whose 95 % interval holds the truth
     source: dict[str, str]
@@ -94,14 +166,16 @@ class Study:
             lines.append(f"{n:12s} share {self.contribution[k]:7.2%}  median |err| "
                          f"{self.median_rel_error[k]:9.3%}  bias {self.bias[k]:+9.3%}  "
                          f"coverage {self.coverage[k]:6.1%}"
-                         + ("" if self.counted[k] else "  (below 1 %: not counted)"))
+                         + ("" if self.counted[k] else
+                            "  (truth 0: not counted)" if np.isnan(self.bias[k]) else
+                            "  (below 1 %: not counted)"))
         c = self.counted
         lines.append(f"counted: median relative error {np.median(self.median_rel_error[c]):.3%}, "
                      f"coverage {np.mean(self.coverage[c]):.1%}")
         return "\n".join(lines)
 
 
-def monte_carlo(s: Simulated, *, runs: int, force_noise: float = 0.01,
+def monte_carlo(s: Simulated | SimulatedGeneral, *, runs: int, force_noise: float = 0.01,
                 stroke_noise: float | None = None, seed: int = 0,
                 cutoff: float = _io.CUTOFF, method: str = "wls") -> Study:
     """``runs`` fits of the simulated data with Gaussian force noise of
@@ -110,11 +184,21 @@ def monte_carlo(s: Simulated, *, runs: int, force_noise: float = 0.01,
     assume one level and cover less); with
     ``stroke_noise`` [m], lengths with that noise and no rates or
     accelerations (the fit differentiates them with the cut-off [Hz]),
-    else the simulation's exact states."""
+    else the simulation's exact states.  For a general model
+    (:func:`simulate_general`) the layout's base parameters are fitted
+    (no consistent fit: the statistics are the estimate's)."""
     rng = np.random.default_rng(seed)
     rmsF = np.sqrt(np.mean(s.F**2, axis=0))
     ests, cis = [], []
-    base = _ip.structural_base(s.geometry, s.pset)
+    model: dict[str, Any]
+    if isinstance(s, SimulatedGeneral):
+        from rps3 import ident_excite as _ix
+
+        base = _ix.layout_base(s.geometry, s.layout)
+        model = dict(layout=s.layout, consistent=False)
+    else:
+        base = _ip.structural_base(s.geometry, s.pset)
+        model = dict(pset=s.pset)
     truth = base.of(s.theta_true)
     src: dict[str, str] = {}
     contribution = np.zeros(len(truth))
@@ -127,7 +211,7 @@ def monte_carlo(s: Simulated, *, runs: int, force_noise: float = 0.01,
             ln = s.l + rng.normal(size=s.l.shape) * stroke_noise
             d = _io.Data("simulated", s.t, ln, None, None, F, "",
                          {"rates": "none", "accelerations": "none"})
-        res = _io.fit(d, geometry=s.geometry, pset=s.pset, method=method, cutoff=cutoff)
+        res = _io.fit(d, geometry=s.geometry, method=method, cutoff=cutoff, **model)
         ests.append(res.estimate.theta)
         cis.append(res.estimate.ci95)
         src = res.source
@@ -137,7 +221,9 @@ def monte_carlo(s: Simulated, *, runs: int, force_noise: float = 0.01,
             contribution = np.sqrt(np.mean((Yb * truth) ** 2, axis=0)) / rms
     E = np.array(ests)
     C = np.array(cis)
-    scale = np.abs(truth).clip(1e-300)
+    # a base parameter whose truth carries no force (zero, as a symmetric
+    # body's products of inertia, up to rounding) has no relative error
+    scale = np.where(contribution > ZERO_SHARE, np.abs(truth), np.nan)
     rel = (E - truth) / scale
     cover = np.mean((C[:, :, 0] <= truth) & (truth <= C[:, :, 1]), axis=0)
     return Study(runs, base.base_names, truth, contribution,
@@ -176,3 +262,43 @@ def study(runs: int = 200, seed: int = 1, out: str | None = None) -> str:
         with open(os.path.join(out, "ident_study.txt"), "w", encoding="utf-8") as fh:
             fh.write(text)
     return text
+
+
+def general_truth(legs: str = "identical", vreg: float = 0.01) -> Any:
+    """The general model of configs/general_bodies.yaml (a plate with a
+    bracket, tubes and rods, friction in pins and prismatic joints; both
+    laws' vreg ``vreg``), as an rps3.Model with the paper's four effects
+    and both friction kinds: with ``legs`` "each", leg 3's stiffer seal
+    (Coulomb 0.6 N); "identical", the three legs alike."""
+    from rps3.body import Body
+    from rps3.model import DEFAULT_EFFECTS, Model
+
+    platform = Body(0.25, [0.004, 0.0, -0.006], [0.00085, 0.00002, 0.0, 0.00088, 0.0, 0.0017])
+    cylinder = Body(0.12, [0.08, 0.0, 0.0], [0.0000135, 0.0, 0.0, 0.000256, 0.0, 0.000256])
+    piston = Body(0.08, [-0.06, 0.0, 0.0], [0.0000014, 0.0, 0.0, 0.000096, 0.0, 0.000096])
+    pin = dict(viscous=0.002, coulomb=0.001, vreg=vreg)
+    prism = [dict(viscous=3.0, coulomb=0.4 if i < 2 or legs != "each" else 0.6, vreg=vreg)
+             for i in range(3)]
+    return Model(bodies=dict(platform=platform, cylinder=cylinder, piston=piston),
+                 friction=pin, prismatic_friction=prism if legs == "each" else prism[0],
+                 effects=[*DEFAULT_EFFECTS, "pin_friction", "prismatic_friction"])
+
+
+def study_general(runs: int = 200, seed: int = 1, legs: str = "identical",
+                  dt: float = 0.001, periods: float = 2.0) -> str:
+    """The Monte Carlo of a general layout (legs ``legs``, both friction
+    kinds, the layout's default per-leg choice) on :func:`general_truth`:
+    a random Fourier series (0.2 Hz, 6 harmonics, peak excursion (1.5,
+    0.12, 0.03) about (0, 0.25, 0.31)), ``periods`` periods sampled every
+    dt [s], ``runs`` WLS fits of 1 % force noise with measured states;
+    the summary."""
+    from rps3 import ident_excite as _ix
+
+    geo = _ip.Geometry(vreg=0.01)
+    lay = _id.Layout(legs=legs)
+    fo = _ix.random_fourier((0.0, 0.25, 0.31), (1.5, 0.12, 0.03), 0.2, 6, seed=3)
+    s = simulate_general(general_truth(legs, geo.vreg), fo, lay, periods=periods, dt=dt,
+                         geometry=geo)
+    st = monte_carlo(s, runs=runs, seed=seed)
+    return (f"layout legs={legs}, friction prismatic,pin: {len(st.names)} base "
+            f"parameters, {len(s.t)} samples every {dt:g} s\n{st.summary()}\n")
