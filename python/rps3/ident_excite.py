@@ -270,9 +270,9 @@ def design(*, geometry: Geometry | None = None, pset: PaperSet | None = None,
     SLSQP, finite-difference gradients, every limit a constraint at each
     of ``2 samples`` points with 1 % of its range kept as slack: the
     criterion and the per-sample limits are smooth in the coefficients,
-    their peaks are not; ``maxiter`` iterations, default 200, and up to
-    ``restarts`` further runs from the last point while SLSQP reports a
-    failure, default 2) or ``"cobyla"`` (the default for a paper set;
+    their peaks are not; ``maxiter`` iterations, default 200, and, while
+    SLSQP reports a failure, up to ``restarts`` further runs from the
+    best iterate inside the limits so far, default 2) or ``"cobyla"`` (the default for a paper set;
     derivative-free on the limits' peaks over the samples; ``maxiter``
     evaluations, default 100, and ``restarts`` further runs, default 0).
     A final point outside the limits on a grid four times finer is shrunk
@@ -334,7 +334,7 @@ def design(*, geometry: Geometry | None = None, pset: PaperSet | None = None,
         success, message, nfev, best = _slsqp(
             start, objective, geo, nom, lim, samples, amplitude,
             200 if maxiter is None else maxiter, 2 if restarts is None else restarts)
-        shrink = 0.99
+        shrink, tries = 0.99, 60
     else:
         # derivative-free: the limits are peaks over the samples (not smooth)
         x0 = start.vector()
@@ -352,13 +352,14 @@ def design(*, geometry: Geometry | None = None, pset: PaperSet | None = None,
                 break
             x0 = res.x
         best = start.with_vector(res.x)
-        success, message, shrink = bool(res.success), str(res.message), 0.97
+        success, message = bool(res.success), str(res.message)
+        shrink, tries = 0.97, 20
     mg = _margins(peaks(best, geo, nom, 4 * samples), lim)
     if min(mg.values()) < 0:
         # the optimiser ends at a point its model of the limits allowed,
         # on its own samples: shrink towards q0 until it is inside on the
         # fine grid
-        for _ in range(20 if shrink < 0.98 else 60):
+        for _ in range(tries):
             best = Fourier(best.q0, shrink * best.a, shrink * best.b, f0)
             mg = _margins(peaks(best, geo, nom, 4 * samples), lim)
             if min(mg.values()) >= 0:
@@ -384,8 +385,9 @@ def sample_margins(fourier: Fourier, geometry: Geometry, nominal: dict[str, Any]
     scale of :func:`_margin_scale` (1 at a limit's range): link strokes,
     rates, accelerations and forces per leg, the rates, accelerations and
     forces on both sides (smooth in the coefficients, unlike their
-    absolute values), the transmission, beta's range; an unreachable
-    pose's margins are -1."""
+    absolute values), the transmission, beta's range, in that order,
+    each block sample by sample; a pose the library cannot solve has
+    margins -1."""
     q, dq, ddq = fourier.eval(t)
     mdl = geometry.model(**nominal)
     res = mdl.inverse(q, dq, ddq)
@@ -393,15 +395,16 @@ def sample_margins(fourier: Fourier, geometry: Geometry, nominal: dict[str, Any]
 
     mot = velocity.pose_rates(mdl, q, dq, ddq, check_status=False)
     lim, sc = limits, _margin_scale(limits)
-    g = np.concatenate([
-        np.ravel(mot.l - lim.l_min) / sc["l_min"], np.ravel(lim.l_max - mot.l) / sc["l_max"],
-        np.ravel(lim.dl_max - mot.dl) / sc["dl_max"], np.ravel(lim.dl_max + mot.dl) / sc["dl_max"],
-        np.ravel(lim.ddl_max - mot.ddl) / sc["ddl_max"],
-        np.ravel(lim.ddl_max + mot.ddl) / sc["ddl_max"],
-        np.ravel(lim.F_max - res.force) / sc["F_max"],
-        np.ravel(lim.F_max + res.force) / sc["F_max"],
-        np.ravel(lim.transmission_max - res.transmission) / sc["transmission_max"],
-        (q[:, 1] - lim.beta_min) / sc["beta_min"], (lim.beta_max - q[:, 1]) / sc["beta_max"]])
+    beta = q[:, 1:2]
+    blocks = [(mot.l - lim.l_min) / sc["l_min"], (lim.l_max - mot.l) / sc["l_max"],
+              (lim.dl_max - mot.dl) / sc["dl_max"], (lim.dl_max + mot.dl) / sc["dl_max"],
+              (lim.ddl_max - mot.ddl) / sc["ddl_max"], (lim.ddl_max + mot.ddl) / sc["ddl_max"],
+              (lim.F_max - res.force) / sc["F_max"], (lim.F_max + res.force) / sc["F_max"],
+              (lim.transmission_max - np.reshape(res.transmission, (-1, 1)))
+              / sc["transmission_max"],
+              (beta - lim.beta_min) / sc["beta_min"], (lim.beta_max - beta) / sc["beta_max"]]
+    ok = np.asarray(res.ok, bool) & mot.ok
+    g = np.concatenate([np.where(ok[:, None], b, -1.0).ravel() for b in blocks])
     return np.where(np.isfinite(g), g, -1.0)
 
 
