@@ -333,7 +333,10 @@ def design(*, geometry: Geometry | None = None, pset: PaperSet | None = None,
     if meth == "slsqp":
         success, message, nfev, best = _slsqp(
             start, objective, geo, nom, lim, samples, amplitude,
-            200 if maxiter is None else maxiter, 2 if restarts is None else restarts)
+            200 if maxiter is None else maxiter, 2 if restarts is None else restarts,
+            # log det per base parameter: the mean log eigenvalue, of
+            # log cond's size (its gradient, SLSQP's first step, too)
+            1.0 if criterion == "cond" else float(base.rank))
         shrink, tries = 0.99, 60
     else:
         # derivative-free: the limits are peaks over the samples (not smooth)
@@ -412,9 +415,10 @@ def sample_margins(fourier: Fourier, geometry: Geometry, nominal: dict[str, Any]
 #: last iterate may violate its linearised constraints slightly, and the
 #: peaks between its samples exceed theirs
 _SLACK = 0.01
-#: SLSQP's stopping tolerance on the criterion (log cond or -log det): a
-#: relative change of 1e-4 in the condition number; tighter, its line
-#: search fails where the smallest singular values meet (log cond is not
+#: SLSQP's stopping tolerance on the criterion (log cond, or -log det per
+#: base parameter): a relative change of 1e-4 in the condition number (in
+#: the geometric mean of the eigenvalues); tighter, its line search fails
+#: where the smallest singular values meet (log cond is not
 #: differentiable there) instead of stopping
 _FTOL = 1e-4
 #: the floor of SLSQP's scaled margins (10 ranges outside a limit)
@@ -422,15 +426,15 @@ _FLOOR = 10.0
 
 
 def _slsqp(start: Fourier, objective: Any, geo: Geometry, nom: dict[str, Any], lim: Limits,
-           samples: int, amplitude: ArrayLike, maxiter: int,
-           restarts: int) -> tuple[bool, str, int, Fourier]:
+           samples: int, amplitude: ArrayLike, maxiter: int, restarts: int,
+           per: float) -> tuple[bool, str, int, Fourier]:
     """design's SLSQP: the coefficients scaled so that each is about the
     excursion it makes over the amplitude asked for (coordinate k's
-    harmonic j moves q_k by a_kj / (w j)), the limits at 2 samples points
-    as constraints; while SLSQP reports a failure (its line search or its
-    linearised constraints, which a new run's fresh quasi-Newton matrix
-    often passes), up to ``restarts`` further runs from the best point so
-    far.  Returns the last run's
+    harmonic j moves q_k by a_kj / (w j)), the criterion divided by
+    ``per``, the limits at 2 samples points as constraints; while SLSQP
+    reports a failure (its line search or its linearised constraints,
+    which a new run's fresh quasi-Newton matrix often passes), up to
+    ``restarts`` further runs from the best point so far.  Returns the last run's
     success flag and message, the number of criterion evaluations (finite
     differences included) and the best iterate whose sampled limits hold
     (within half the slack), else the start."""
@@ -447,7 +451,7 @@ def _slsqp(start: Fourier, objective: Any, geo: Geometry, nom: dict[str, Any], l
 
     def fun(u: np.ndarray) -> float:
         count[0] += 1
-        return float(objective(u * s))
+        return float(objective(u * s)) / per
 
     def cons(u: np.ndarray) -> np.ndarray:
         g = sample_margins(start.with_vector(u * s), geo, nom, lim, tc) - _SLACK
