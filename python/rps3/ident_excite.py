@@ -272,9 +272,10 @@ def design(*, geometry: Geometry | None = None, pset: PaperSet | None = None,
     criterion and the per-sample limits are smooth in the coefficients,
     their peaks are not; ``maxiter`` iterations, default 200, and, while
     SLSQP reports a failure, up to ``restarts`` further runs from the
-    best iterate inside the limits so far, default 2) or ``"cobyla"`` (the default for a paper set;
-    derivative-free on the limits' peaks over the samples; ``maxiter``
-    evaluations, default 100, and ``restarts`` further runs, default 0).
+    best iterate inside the limits so far, default 2) or ``"cobyla"``
+    (the default for a paper set; derivative-free on the limits' peaks
+    over the samples; ``maxiter`` evaluations, default 100, and
+    ``restarts`` further runs, default 0).
     A final point outside the limits on a grid four times finer is shrunk
     towards q0 until inside.  The result says whether the optimiser
     converged and whether the limits hold on that grid; it is returned
