@@ -591,6 +591,16 @@ ident-mc: $(B)/rps3-run
 	echo "run time: $$(( $$(date +%s) - start )) s (-j 2)" >> out/ident_mc.txt; \
 	status=$$?; cat out/ident_mc.txt; exit $$status
 
+# the exciting trajectories of two general layouts (docs/identification.md,
+# "A general layout"): rps3.ident_paper.design's defaults, seeds 1-5 of each
+# against random Fourier series; the table in out/ident_excite.md (exit 1
+# when a design misses the factor 5).  One BLAS thread: the matrices are
+# small, and the times are per core
+.PHONY: ident-excite
+ident-excite: venv-check
+	@mkdir -p out
+	OMP_NUM_THREADS=1 OPENBLAS_NUM_THREADS=1 $(VPY) analysis/ident_excite.py --out out/ident_excite.md
+
 # ------------------------------------------------------------------- docs
 # the key table of docs/runner.md is `rps3-run --keys`, its table of a
 # simulated scene's datasets `rps3-run --sim-schema`; tests/test_docs.py

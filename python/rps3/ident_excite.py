@@ -251,8 +251,9 @@ def design(*, geometry: Geometry | None = None, pset: PaperSet | None = None,
            limits: Limits | None = None, nominal: dict[str, Any] | None = None,
            q0: ArrayLike = (0.0, 0.25, 0.31), amplitude: ArrayLike = (1.5, 0.12, 0.03),
            f0: float = 0.1, harmonics: int = 4, criterion: str = "cond",
-           samples: int = 120, seed: int = 1, maxiter: int = 100,
-           layout: _id.Layout | None = None, restarts: int = 0) -> Excitation:
+           samples: int = 120, seed: int = 1, maxiter: int | None = None,
+           layout: _id.Layout | None = None, restarts: int | None = None,
+           method: str | None = None) -> Excitation:
     """An exciting trajectory: the Fourier coefficients (``harmonics`` per
     coordinate, base frequency f0 [Hz], about the pose q0) that minimise
     the condition number (``criterion="cond"``, as log cond) or maximise
@@ -261,22 +262,36 @@ def design(*, geometry: Geometry | None = None, pset: PaperSet | None = None,
     ``layout`` of a general layout's base parameters (the library's
     regressor of the standard parameters, :func:`layout_regressor`),
     subject to :class:`Limits` (under the ``nominal``
-    Model arguments, default Table II), by COBYLA (scipy.optimize,
-    derivative-free: the limits are peaks over the samples) from a
-    seeded random start scaled to ``amplitude``.  A start outside the
-    limits is shrunk towards q0 until inside.  The result says whether the
-    optimiser converged and whether the limits hold on a grid four times
-    finer; it is returned either way, with a RuntimeWarning when the
-    optimiser did not converge.
+    Model arguments, default Table II) from a seeded random start scaled
+    to ``amplitude``.  A start outside the limits is shrunk towards q0
+    until inside.
+
+    ``method``: ``"slsqp"`` (the default with a layout; scipy.optimize's
+    SLSQP, finite-difference gradients, every limit a constraint at each
+    of ``2 samples`` points with 1 % of its range kept as slack: the
+    criterion and the per-sample limits are smooth in the coefficients,
+    their peaks are not; ``maxiter`` iterations, default 200, and, while
+    SLSQP reports a failure, up to ``restarts`` further runs from the
+    best iterate inside the limits so far, default 2) or ``"cobyla"``
+    (the default for a paper set; derivative-free on the limits' peaks
+    over the samples; ``maxiter`` evaluations, default 100, and
+    ``restarts`` further runs, default 0).
+    A final point outside the limits on a grid four times finer is shrunk
+    towards q0 until inside.  The result says whether the optimiser
+    converged and whether the limits hold on that grid; it is returned
+    either way, with a RuntimeWarning when the optimiser did not converge.
 
     Raises:
         ValueError: no feasible start (q0 outside the limits), an unknown
-            criterion, or both pset and layout given.
+            criterion or method, or both pset and layout given.
     """
     if criterion not in ("cond", "logdet"):
         raise ValueError(f"criterion: expected 'cond' or 'logdet', got {criterion!r}")
     if layout is not None and pset is not None:
         raise ValueError("layout: give a paper set (pset) or a general layout, not both")
+    meth = method if method is not None else ("cobyla" if layout is None else "slsqp")
+    if meth not in ("cobyla", "slsqp"):
+        raise ValueError(f"method: expected 'cobyla' or 'slsqp', got {method!r}")
     opt = _id._need("scipy.optimize")
     geo = geometry or Geometry()
     ps = pset or PaperSet()
@@ -316,27 +331,40 @@ def design(*, geometry: Geometry | None = None, pset: PaperSet | None = None,
         return np.array([m.get(k, -1.0) / sc[k] for k in names])
 
     c0, ld0 = crit(start)
-    # derivative-free: the limits are peaks over the samples (not smooth)
-    x0 = start.vector()
-    nfev = 0
-    for _ in range(1 + restarts):
-        # a restart begins a new trust region at the last point: COBYLA's
-        # shrinks to tol about the first local optimum it meets
-        res = opt.minimize(objective, x0, method="COBYLA",
-                           constraints=[{"type": "ineq", "fun": constraint}],
-                           options={"maxiter": maxiter, "tol": 1e-4,
-                                    "rhobeg": 0.2 * float(np.abs(x0).mean())})
-        nfev += int(res.nfev)
-        if min(constraint(res.x)) < 0:
-            break
-        x0 = res.x
-    best = start.with_vector(res.x)
+    if meth == "slsqp":
+        success, message, nfev, best = _slsqp(
+            start, objective, geo, nom, lim, samples, amplitude,
+            200 if maxiter is None else maxiter, 2 if restarts is None else restarts,
+            # log det per base parameter: the mean log eigenvalue, of
+            # log cond's size (its gradient, SLSQP's first step, too)
+            1.0 if criterion == "cond" else float(base.rank))
+        shrink, tries = 0.99, 60
+    else:
+        # derivative-free: the limits are peaks over the samples (not smooth)
+        x0 = start.vector()
+        nfev = 0
+        for _ in range(1 + (restarts or 0)):
+            # a restart begins a new trust region at the last point: COBYLA's
+            # shrinks to tol about the first local optimum it meets
+            res = opt.minimize(objective, x0, method="COBYLA",
+                               constraints=[{"type": "ineq", "fun": constraint}],
+                               options={"maxiter": 100 if maxiter is None else maxiter,
+                                        "tol": 1e-4,
+                                        "rhobeg": 0.2 * float(np.abs(x0).mean())})
+            nfev += int(res.nfev)
+            if min(constraint(res.x)) < 0:
+                break
+            x0 = res.x
+        best = start.with_vector(res.x)
+        success, message = bool(res.success), str(res.message)
+        shrink, tries = 0.97, 20
     mg = _margins(peaks(best, geo, nom, 4 * samples), lim)
     if min(mg.values()) < 0:
-        # COBYLA ends at a point its linear model of the limits allowed:
-        # shrink towards q0 until it is inside on the fine grid
-        for _ in range(20):
-            best = Fourier(best.q0, 0.97 * best.a, 0.97 * best.b, f0)
+        # the optimiser ends at a point its model of the limits allowed,
+        # on its own samples: shrink towards q0 until it is inside on the
+        # fine grid
+        for _ in range(tries):
+            best = Fourier(best.q0, shrink * best.a, shrink * best.b, f0)
             mg = _margins(peaks(best, geo, nom, 4 * samples), lim)
             if min(mg.values()) >= 0:
                 break
@@ -345,14 +373,113 @@ def design(*, geometry: Geometry | None = None, pset: PaperSet | None = None,
         best, feasible = start, True          # keep the feasible start
         mg = _margins(peaks(best, geo, nom, 4 * samples), lim)
     c, ld = crit(best)
-    if not res.success:
+    if not success:
         import warnings
 
-        warnings.warn(f"design: the optimiser did not converge ({res.message}); "
+        warnings.warn(f"design: the optimiser did not converge ({message}); "
                       f"condition number {c:.3g} from {c0:.3g}", RuntimeWarning, stacklevel=2)
-    return Excitation(best, criterion, c, ld, c0, ld0, bool(res.success), str(res.message),
+    return Excitation(best, criterion, c, ld, c0, ld0, success, message,
                       seed, nfev, feasible, base.base_names, ps, geo, lim, mg,
                       layout)
+
+
+def sample_margins(fourier: Fourier, geometry: Geometry, nominal: dict[str, Any],
+                   limits: Limits, t: ArrayLike) -> np.ndarray:
+    """Every limit's margin at every time t (flat), each divided by the
+    scale of :func:`_margin_scale` (1 at a limit's range): link strokes,
+    rates, accelerations and forces per leg, the rates, accelerations and
+    forces on both sides (smooth in the coefficients, unlike their
+    absolute values), the transmission, beta's range, in that order,
+    each block sample by sample; a pose the library cannot solve has
+    margins -1."""
+    q, dq, ddq = fourier.eval(t)
+    mdl = geometry.model(**nominal)
+    res = mdl.inverse(q, dq, ddq)
+    from rps3 import velocity
+
+    mot = velocity.pose_rates(mdl, q, dq, ddq, check_status=False)
+    lim, sc = limits, _margin_scale(limits)
+    beta = q[:, 1:2]
+    blocks = [(mot.l - lim.l_min) / sc["l_min"], (lim.l_max - mot.l) / sc["l_max"],
+              (lim.dl_max - mot.dl) / sc["dl_max"], (lim.dl_max + mot.dl) / sc["dl_max"],
+              (lim.ddl_max - mot.ddl) / sc["ddl_max"], (lim.ddl_max + mot.ddl) / sc["ddl_max"],
+              (lim.F_max - res.force) / sc["F_max"], (lim.F_max + res.force) / sc["F_max"],
+              (lim.transmission_max - np.reshape(res.transmission, (-1, 1)))
+              / sc["transmission_max"],
+              (beta - lim.beta_min) / sc["beta_min"], (lim.beta_max - beta) / sc["beta_max"]]
+    ok = np.asarray(res.ok, bool) & mot.ok
+    g = np.concatenate([np.where(ok[:, None], b, -1.0).ravel() for b in blocks])
+    return np.where(np.isfinite(g), g, -1.0)
+
+
+#: the slack SLSQP keeps from every limit (a fraction of its range): its
+#: last iterate may violate its linearised constraints slightly, and the
+#: peaks between its samples exceed theirs
+_SLACK = 0.01
+#: SLSQP's stopping tolerance on the criterion (log cond, or -log det per
+#: base parameter): a relative change of 1e-4 in the condition number (in
+#: the geometric mean of the eigenvalues); tighter, its line search fails
+#: where the smallest singular values meet (log cond is not
+#: differentiable there) instead of stopping
+_FTOL = 1e-4
+#: the floor of SLSQP's scaled margins (10 ranges outside a limit)
+_FLOOR = 10.0
+
+
+def _slsqp(start: Fourier, objective: Any, geo: Geometry, nom: dict[str, Any], lim: Limits,
+           samples: int, amplitude: ArrayLike, maxiter: int, restarts: int,
+           per: float) -> tuple[bool, str, int, Fourier]:
+    """design's SLSQP: the coefficients scaled so that each is about the
+    excursion it makes over the amplitude asked for (coordinate k's
+    harmonic j moves q_k by a_kj / (w j)), the criterion divided by
+    ``per``, the limits at 2 samples points as constraints; while SLSQP
+    reports a failure (its line search or its linearised constraints,
+    which a new run's fresh quasi-Newton matrix often passes), up to
+    ``restarts`` further runs from the best point so far.  Returns the last run's
+    success flag and message, the number of criterion evaluations (finite
+    differences included) and the best iterate whose sampled limits hold
+    (within half the slack), else the start."""
+    opt = _id._need("scipy.optimize")
+    H = start.harmonics
+    w = 2 * np.pi * start.f0 * np.arange(1, H + 1)
+    # a coordinate asked not to move still gets a scale: a tenth of its range
+    dflt = np.array([1.0, 0.1 * (lim.beta_max - lim.beta_min), 0.1 * (lim.l_max - lim.l_min)])
+    amp = np.abs(np.asarray(amplitude, float))
+    amp = np.where(amp > 0, amp, dflt)
+    s = np.tile((amp[:, None] * w[None, :]).ravel(), 2)
+    tc = np.linspace(0.0, start.period, 2 * samples, endpoint=False)
+    count = [0]
+
+    def fun(u: np.ndarray) -> float:
+        count[0] += 1
+        return float(objective(u * s)) / per
+
+    def cons(u: np.ndarray) -> np.ndarray:
+        g = sample_margins(start.with_vector(u * s), geo, nom, lim, tc) - _SLACK
+        # near a singular pose the transmission and forces grow without
+        # bound: a floor keeps SLSQP's linearisation of a wild step sane
+        return np.maximum(g, -_FLOOR)
+
+    best_u, best_f = start.vector() / s, math.inf
+
+    def keep(u: np.ndarray) -> None:
+        # SLSQP returns its last iterate, which a failed line search may
+        # leave far outside the limits: keep the best one inside
+        nonlocal best_u, best_f
+        f = fun(u)
+        if f < best_f and float(np.min(cons(u))) >= -0.5 * _SLACK:
+            best_u, best_f = np.array(u, copy=True), f
+
+    success, message = False, ""
+    for _ in range(1 + max(restarts, 0)):
+        res = opt.minimize(fun, best_u, method="SLSQP",
+                           constraints=[{"type": "ineq", "fun": cons}], callback=keep,
+                           options={"maxiter": maxiter, "ftol": _FTOL})
+        success, message = bool(res.success), str(res.message)
+        keep(res.x)
+        if success:
+            break
+    return success, message, count[0], start.with_vector(best_u * s)
 
 
 def unoptimised(ex: Excitation, seeds: Any = range(10, 20),

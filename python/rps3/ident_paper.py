@@ -230,8 +230,8 @@ def standard_of(theta: ArrayLike, pset: PaperSet, *, d: float, M: float = 0.18,
 #: this module's geometry and parameter sets)
 _EXCITE = ("Excitation", "Fourier", "Limits", "_BODY_EFFECTS", "_criteria",
            "_margin_scale", "_margins", "condition", "design", "excursion",
-           "layout_base", "layout_regressor", "peaks", "random_fourier", "scale_to",
-           "structural_base", "unoptimised", "write_table")
+           "layout_base", "layout_regressor", "peaks", "random_fourier", "sample_margins",
+           "scale_to", "structural_base", "unoptimised", "write_table")
 
 
 def __getattr__(name: str) -> Any:
