@@ -22,8 +22,8 @@ static const char *const draw_sets[] = {"status", "mc_theta", "mc_std", "mc_ci",
 /* one work unit's results */
 typedef struct {
   int32_t status[IDENT_UNIT];
-  double theta[IDENT_UNIT][RPS3_NPAPER], std[IDENT_UNIT][RPS3_NPAPER];
-  double ci[IDENT_UNIT][RPS3_NPAPER][2], sigma[IDENT_UNIT][3];
+  double theta[IDENT_UNIT][IDENT_PMAX], std[IDENT_UNIT][IDENT_PMAX];
+  double ci[IDENT_UNIT][IDENT_PMAX][2], sigma[IDENT_UNIT][3];
 } unit_slot;
 
 /* which draws a filled slot holds */
@@ -91,6 +91,7 @@ static void one_draw(const ident_plan *p, mc_worker *w, size_t i, unit_slot *u,
   memcpy(u->std[j], r.std, sizeof u->std[j]);
   memcpy(u->ci[j], r.ci, sizeof u->ci[j]);
   memcpy(u->sigma[j], r.sigma, sizeof u->sigma[j]);
+  ident_fit_free(&r);
 }
 
 /* pool_job.slot_make, slot_free: a slot is plain data */
@@ -130,7 +131,7 @@ static int write_rows(hid_t ds, hid_t type, const void *buf, size_t d0,
   int r, rank = fs < 0 ? -1 : H5Sget_simple_extent_dims(fs, fdims, NULL), rc;
   for (r = 0; r < rank; r++) count[r] = mdims[r] = fdims[r];
   count[0] = mdims[0] = nd;
-  /* the slot's rows are wider than the file's (RPS3_NPAPER columns) */
+  /* the slot's rows are wider than the file's (IDENT_PMAX columns) */
   if (rank > 1 && used < row) mdims[1] = fdims[1] * row / used;
   ms = rank > 0 ? H5Screate_simple(rank, mdims, NULL) : -1;
   rc = ms >= 0 &&
@@ -156,11 +157,11 @@ static int unit_write(void *ctx, void *slot, const void *info, char *err,
   int rc =
       write_rows(m->ds[0], H5T_NATIVE_INT32, u->status, in->d0, in->nd, 1, 1) ||
       write_rows(m->ds[1], H5T_NATIVE_DOUBLE, u->theta, in->d0, in->nd,
-                 RPS3_NPAPER, p) ||
+                 IDENT_PMAX, p) ||
       write_rows(m->ds[2], H5T_NATIVE_DOUBLE, u->std, in->d0, in->nd,
-                 RPS3_NPAPER, p) ||
+                 IDENT_PMAX, p) ||
       write_rows(m->ds[3], H5T_NATIVE_DOUBLE, u->ci, in->d0, in->nd,
-                 RPS3_NPAPER, p) ||
+                 IDENT_PMAX, p) ||
       write_rows(m->ds[4], H5T_NATIVE_DOUBLE, u->sigma, in->d0, in->nd, 3, 3);
   if (rc) {
     out_fail(err, errsz, "cannot write draws %zu to %zu", in->d0,
@@ -300,9 +301,9 @@ static void summary_print(FILE *out, char **names, const double *share,
 int ident_summary(hid_t file, FILE *out, char *err, size_t errsz) {
   char *content = out_h5_read_text(file, "content", 1);
   size_t runs = 0, p = 0, j, nok = 0, i;
-  int32_t *status = NULL, counted[RPS3_NPAPER];
+  int32_t *status = NULL, counted[IDENT_PMAX];
   double *theta = NULL, *ci = NULL, *truth = NULL, *share = NULL, *work = NULL;
-  double med[RPS3_NPAPER], bias[RPS3_NPAPER], cov[RPS3_NPAPER];
+  double med[IDENT_PMAX], bias[IDENT_PMAX], cov[IDENT_PMAX];
   char **names = NULL;
   hid_t str = H5Tcopy(H5T_C_S1);
   int rc = -1, is = content && strcmp(content, "identification") == 0;
@@ -320,7 +321,7 @@ int ident_summary(hid_t file, FILE *out, char *err, size_t errsz) {
   share = read_all(file, "share", H5T_NATIVE_DOUBLE, NULL);
   work = malloc((runs ? runs : 1) * sizeof *work);
   if (!status || !names || !theta || !ci || !truth || !share || !work ||
-      p > RPS3_NPAPER) {
+      p > IDENT_PMAX) {
     out_fail(err, errsz, "cannot read the draws");
     goto done;
   }

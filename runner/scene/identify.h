@@ -13,6 +13,10 @@
 /* 1 when the scene is an identification (it has an identify section) */
 int ident_wanted(const scene *s);
 
+/* the model an identification fits: identify.model, or by default the
+   scene's manipulator.bodies (RPS3_BODIES_PAPER or RPS3_BODIES_GENERAL) */
+int ident_model(const scene *s);
+
 /* the paper parameters (bits 1 << k) the effects make identifiable: M
    with a platform effect and no payload, md with link gravity, Ipin with
    link inertia, the payload's seven with a payload, pin.fv and pin.fc
