@@ -408,6 +408,11 @@ int ident_plan_make(const scene *s, ident_plan *p, scene_error *err) {
                            "forces of a trajectory: not with identify.data");
   rps3_ident_opts_default(&p->opts);
   p->opts.level = p->ids.level;
+  /* the general model: a base combination the data excite less than the
+     structural base's tolerance is not excited (the helix's, at a
+     condition number of 5e7, would be fitted on noise-free forces and
+     be noise with any other) */
+  if (p->general) p->opts.rank_tol = IDENT_BASE_TOL;
   p->ns = p->measured ? s->table[TABLE_MEASURED].n : p->c.nt;
   p->n = 3 * p->ns;
   if (p->n <= p->p || (p->general && p->n <= p->nlay))
