@@ -14,6 +14,7 @@ import h5py
 import numpy as np
 import pytest
 from conftest import RUNNER, run, write_scene
+from test_cf import offline  # noqa: F401
 
 pytest.importorskip("scipy")
 from rps3 import ident, ident_excite, ident_paper  # noqa: E402
@@ -276,3 +277,20 @@ manipulator:
     with h5py.File(ref, "r") as f, h5py.File(back, "r") as g:
         F0, F1 = f["force"][()], g["force"][()]
     assert np.abs(F1 - F0).max() <= 1e-9 * np.sqrt(np.mean(F0**2))
+
+
+@pytest.mark.usefixtures("offline")
+def test_compliance_checker_cf_1_10(fitted, tmp_path):
+    """The general file: no CF error but the mixed units of the variables
+    over the parameter dimensions (as the paper model's file)."""
+    from test_cf import ALLOWED_EXCEPTIONS, ALLOWED_WARNINGS, compliance
+    from test_ident_runner import MIXED_UNITS
+    mixed = MIXED_UNITS + ("various: see standard_parameter_units",
+                           "various: parameter_units over standard_parameter_units")
+    import shutil
+    out = tmp_path / "fit.nc"           # the checker wants the .nc name
+    shutil.copy(fitted[2], out)
+    errors, warnings, exceptions = compliance(out, tmp_path)
+    assert [e for e in errors if not any(u in e for u in mixed)] == [], errors
+    assert all(w.startswith(ALLOWED_WARNINGS) for w in warnings), warnings
+    assert all(any(a in e for a in ALLOWED_EXCEPTIONS) for e in exceptions), exceptions
