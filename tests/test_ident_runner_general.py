@@ -11,6 +11,7 @@ through rps3-run."""
 import os
 
 import h5py
+import yaml
 import numpy as np
 import pytest
 from conftest import RUNNER, run, write_scene
@@ -110,10 +111,10 @@ def fitted(request, tmp_path_factory):
     its section written back."""
     tmp = tmp_path_factory.mktemp(request.param)
     s = scene(tmp, f"  model: general\n  legs: {request.param}\n  consistent: true\n")
-    out, yaml = tmp / "fit.h5", tmp / "manip.yaml"
-    proc = run(s, out, "-q", "--manipulator", yaml)
+    out, ypath = tmp / "fit.h5", tmp / "manip.yaml"
+    proc = run(s, out, "-q", "--manipulator", ypath)
     assert proc.returncode == 0, proc.stderr
-    return request.param, tmp, out, yaml
+    return request.param, tmp, out, ypath
 
 
 def test_noise_free_fit_is_K_pi(fitted):
@@ -164,8 +165,8 @@ def test_written_section_reproduces_the_forces(fitted, tmp_path):
     its inverse dynamics are the identification's data (the original
     scene's forces) to TOL_ROUND_TRIP of the RMS force; the file holds the
     same text."""
-    legs, tmp, out, yaml = fitted
-    text = yaml.read_text()
+    legs, tmp, out, ypath = fitted
+    text = ypath.read_text()
     with h5py.File(out, "r") as f:
         assert f.attrs["manipulator_yaml"] == text
     assert text.startswith("manipulator:\n") and "bodies: general" in text
@@ -204,6 +205,26 @@ def test_monte_carlo_coverage(tmp_path):
         sig = f["mc_sigma"][()].mean(axis=0) / f["force_rms"][()]
         np.testing.assert_allclose(sig, 0.01, rtol=0.1)
         assert np.isfinite(th).all()
+        # no consistent fit: no section, and why
+        assert "manipulator_yaml" not in f.attrs
+        assert "identify.consistent: true" in f.attrs["manipulator_yaml_missing"]
+
+
+def test_identical_legs_of_different_legs_warn(tmp_path):
+    """identify.legs: identical on legs that differ (leg 3's seal): the
+    truth is the legs' mean, said on stderr and in the file."""
+    manip = MANIP + "  leg3:\n    prismatic_friction: {coulomb: 0.6}\n"
+    s = scene(tmp_path, "  legs: identical\n", manip=manip)
+    out = tmp_path / "w.h5"
+    proc = run(s, out, "-q")
+    assert proc.returncode == 0, proc.stderr
+    assert "warning" in proc.stderr and "legs differ (prismatic.fc from 0.4 to 0.6)" \
+        in proc.stderr
+    with h5py.File(out, "r") as f:
+        assert "legs differ" in f.attrs["warning"]
+        names = strs(f["standard_parameter"])
+        assert f["standard_truth"][names.index("prismatic.fc")] == pytest.approx(
+            (0.4 + 0.4 + 0.6) / 3, rel=1e-14)
 
 
 # ---------------------------------------------------------------- refusals
@@ -265,11 +286,18 @@ manipulator:
   pin_friction: {viscous: 0.002, coulomb: 0.001, vreg: 0.05}
 """
     s = scene(tmp_path, "  parameters: [M, md, Ipin, pin.fv, pin.fc]\n", manip=paper)
-    yaml = tmp_path / "p.yaml"
-    proc = run(s, tmp_path / "p.h5", "-q", "--manipulator", yaml)
+    ypath = tmp_path / "p.yaml"
+    proc = run(s, tmp_path / "p.h5", "-q", "--manipulator", ypath)
     assert proc.returncode == 0, proc.stderr
-    text = yaml.read_text()
-    assert "M: 0.18" in text.replace("0.18000000000000", "0.18")[:200] or "M: 0.1" in text
+    text = ypath.read_text()
+    man = yaml.safe_load(text)["manipulator"]
+    # the fit of noise-free forces is the scene's values: M, m = md / d,
+    # link_Ic = Ipin - m d^2, the friction (vreg as the scene's)
+    for key, want in (("M", 0.18), ("m", 0.09), ("d", 0.1524), ("link_Ic", 2e-4)):
+        assert man[key] == pytest.approx(want, rel=1e-8), (key, text)
+    assert man["pin_friction"]["viscous"] == pytest.approx(0.002, rel=1e-8)
+    assert man["pin_friction"]["coulomb"] == pytest.approx(0.001, rel=1e-8)
+    assert man["pin_friction"]["vreg"] == 0.05
     ref, back = tmp_path / "ref.h5", tmp_path / "back.h5"
     assert run(write_scene(tmp_path / "r.yaml", paper + TRAJ), ref, "-q").returncode == 0
     proc = run(write_scene(tmp_path / "b.yaml", text + TRAJ), back, "-q")

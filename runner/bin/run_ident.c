@@ -27,14 +27,17 @@ typedef struct {
 /* the fit of the noise-free forces as a table on out */
 static void fit_print(FILE *out, const ident_plan *p, const ident_fit *r) {
   size_t j;
+  int w = 12; /* the paper's names; the general model's are longer */
+  for (j = 0; j < p->p; j++)
+    if ((int)strlen(p->names[j]) > w) w = (int)strlen(p->names[j]);
   fprintf(out,
           "identification (%s, %zu samples): condition number %.4g, rank "
-          "%zu, residual RMS %.3g N\n%-12s %14s %12s %14s %10s  %s\n",
+          "%zu, residual RMS %.3g N\n%-*s %14s %12s %14s %10s  %s\n",
           p->ids.method == IDENT_OLS ? "ols" : "wls", p->ns, r->cond, r->rank,
-          r->resid_rms, "parameter", "estimate", "std", "truth", "share",
+          r->resid_rms, w, "parameter", "estimate", "std", "truth", "share",
           "unit");
   for (j = 0; j < p->p; j++)
-    fprintf(out, "%-12s %14.8g %12.3g %14.8g %9.3f%%  %s\n", p->names[j],
+    fprintf(out, "%-*s %14.8g %12.3g %14.8g %9.3f%%  %s\n", w, p->names[j],
             r->theta[j], r->std[j], p->truth[j], 100 * p->share[j],
             p->general ? rps3_std_unit(p->lay_std[p->col[j]][0])
                        : rps3_paper_unit(p->col[j]));

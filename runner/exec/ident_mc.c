@@ -287,13 +287,16 @@ static void summary_print(FILE *out, char **names, const double *share,
                           const double *cov, const int32_t *counted, size_t p,
                           size_t nok, size_t runs) {
   size_t j;
+  int w = 12; /* the paper's names; the general model's are longer */
+  for (j = 0; j < p; j++)
+    if ((int)strlen(names[j]) > w) w = (int)strlen(names[j]);
   fprintf(out,
           "identification Monte Carlo: %zu of %zu draws fitted\n"
-          "%-12s %9s %12s %11s %9s  %s\n",
-          nok, runs, "parameter", "share", "median |err|", "bias", "coverage",
-          "counted");
+          "%-*s %9s %12s %11s %9s  %s\n",
+          nok, runs, w, "parameter", "share", "median |err|", "bias",
+          "coverage", "counted");
   for (j = 0; j < p; j++)
-    fprintf(out, "%-12s %8.3f%% %11.4f%% %+10.4f%% %8.1f%%  %s\n", names[j],
+    fprintf(out, "%-*s %8.3f%% %11.4f%% %+10.4f%% %8.1f%%  %s\n", w, names[j],
             100 * share[j], 100 * med[j], 100 * bias[j], 100 * cov[j],
             counted[j] ? "yes" : "no (share < 1 %)");
 }
