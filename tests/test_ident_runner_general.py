@@ -322,3 +322,60 @@ def test_compliance_checker_cf_1_10(fitted, tmp_path):
     assert [e for e in errors if not any(u in e for u in mixed)] == [], errors
     assert all(w.startswith(ALLOWED_WARNINGS) for w in warnings), warnings
     assert all(any(a in e for a in ALLOWED_EXCEPTIONS) for e in exceptions), exceptions
+
+
+#: measured rows: the pose from the lengths by the forward kinematics and
+#: the rates and accelerations back through the Jacobian (rounding 1e-12
+#: of the states) before the regressor: the estimate to 1e-7 of the largest
+TOL_MEASURED = 1e-7
+
+
+def test_measured_table_recovers_K_pi(tmp_path):
+    """identify.data with the general model: lengths, their rates and
+    accelerations and forces of the inverse dynamics (the runner's own file
+    of the same scene, written as a table by rps3.ident_io.save_data): the
+    base estimate is K pi, as along the trajectory."""
+    from rps3 import ident_io
+    ref = tmp_path / "ref.h5"
+    assert run(write_scene(tmp_path / "ref.yaml", MANIP + TRAJ), ref, "-q").returncode == 0
+    with h5py.File(ref, "r") as f:
+        t = f["time"][()]
+        l, dl, ddl = (f[k][0] for k in ("length", "length_rate", "length_accel"))
+        F = f["force"][0]
+    ident_io.save_data(str(tmp_path / "m.csv"), t, l, F, dl, ddl)
+    s = write_scene(tmp_path / "m.yaml", MANIP + "identify:\n  data: m.csv\n")
+    out = tmp_path / "m.h5"
+    proc = run(s, out, "-q")
+    assert proc.returncode == 0, proc.stderr
+    with h5py.File(out, "r") as f, h5py.File(fitted_base(tmp_path), "r") as g:
+        assert strs(f["parameter"]) == strs(g["parameter"])
+        truth = f["truth"][()]
+        np.testing.assert_array_equal(truth, g["truth"][()])
+        np.testing.assert_allclose(f["theta"][()], truth, rtol=TOL_MEASURED,
+                                   atol=TOL_MEASURED * np.abs(truth).max())
+
+
+def fitted_base(tmp_path):
+    """The trajectory's fit of MANIP (legs each), for its names and truth."""
+    out = tmp_path / "traj.h5"
+    assert run(scene(tmp_path, "  model: general\n", name="t.yaml"), out, "-q").returncode == 0
+    return out
+
+
+def test_shards_merge_to_the_file_of_one_run(tmp_path):
+    """The general model's draws (37 base parameters, wider than the paper
+    model's 12) split in 2 shards and merged: the file of one run."""
+    import subprocess
+    from test_scale import assert_same_content
+    s = scene(tmp_path, "  model: general\n  monte_carlo: {runs: 16, seed: 4}\n")
+    one = tmp_path / "one.h5"
+    assert run(s, one, "-q", "-j", "2").returncode == 0
+    parts = [tmp_path / f"p{k}.h5" for k in range(2)]
+    for k, part in enumerate(parts):
+        assert run(s, part, "-q", "--shard", f"{k}/2").returncode == 0
+    out = tmp_path / "merged.h5"
+    proc = subprocess.run([RUNNER, "merge", str(out), *map(str, parts)],
+                          capture_output=True, text=True, timeout=120)
+    assert proc.returncode == 0, proc.stderr
+    assert "identification Monte Carlo: 16 of 16" in proc.stdout
+    assert_same_content(one, out)
