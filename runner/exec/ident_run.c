@@ -415,13 +415,15 @@ int ident_plan_make(const scene *s, ident_plan *p, scene_error *err) {
   if (p->general) p->opts.rank_tol = IDENT_BASE_TOL;
   p->ns = p->measured ? s->table[TABLE_MEASURED].n : p->c.nt;
   p->n = 3 * p->ns;
-  if (p->n <= p->p || (p->general && p->n <= p->nlay))
+  /* the consistent fit of the general model fits every layout column */
+  if (p->n <= p->p || (p->general && p->ids.consistent && p->n <= p->nlay))
     return scene_error_set(err,
                            p->measured ? s->mark[K_ID_DATA] : s->section[2],
                            p->measured ? "identify.data" : "trajectory",
                            "%zu samples give %zu force rows: more than the %zu "
                            "parameters are needed",
-                           p->ns, p->n, p->general ? p->nlay : p->p);
+                           p->ns, p->n,
+                           p->general && p->ids.consistent ? p->nlay : p->p);
   p->Y = malloc(p->n * p->p * sizeof *p->Y);
   p->F0 = malloc(p->n * sizeof *p->F0);
   p->ones = malloc(p->n * sizeof *p->ones);

@@ -1,6 +1,8 @@
 /*
  * ident_run.h - an identification (scene/identify.h): the regressor of the
- * paper model (rps3_regressor) and the forces of the inverse dynamics
+ * paper model (rps3_regressor), or of the general model's layout
+ * (rps3_regressor_std) reduced to its structural base parameters
+ * (rps3_ident_base), and the forces of the inverse dynamics
  * (rps3_inverse) at every sample of the scene's trajectory, the fit of
  * the identify section's parameters (rps3_ident_wls, and with
  * identify.consistent rps3_ident_consistent), and its Monte Carlo: draw i

@@ -1,6 +1,7 @@
 /*
  * identify.h - a scene with an `identify:` section is an identification:
- * the paper model's parameters (include/rps3.h, "identification") fitted
+ * the paper model's parameters (include/rps3.h, "identification"), or the
+ * general model's base parameters (identify.model), fitted
  * to the forces along the scene's trajectory, and optionally a Monte Carlo
  * of force noise on that fit (docs/identification.md, "Through the
  * runner").
