@@ -379,3 +379,40 @@ def test_shards_merge_to_the_file_of_one_run(tmp_path):
     assert proc.returncode == 0, proc.stderr
     assert "identification Monte Carlo: 16 of 16" in proc.stdout
     assert_same_content(one, out)
+
+
+def test_paper_payload_write_back_leaves_the_disc_out(tmp_path):
+    """A payload fitted without M (their columns are not separable): the
+    payload's estimate holds the platform's disc as well; the section keeps
+    the scene's M and writes the payload alone (mass, com, principal
+    inertia about its com), so that run back its forces are the
+    identification's (to the consistent fit's regularisation, 1e-6)."""
+    paper = """\
+manipulator:
+  R: 0.2286
+  rho: 0.5
+  M: 0.18
+  m: 0.09
+  d: 0.1524
+  payload: {mass: 0.3, com: [0, 0, 0.02], inertia: [0.001, 0.001, 0.0015]}
+effects: [platform_gravity, platform_inertia, link_gravity, link_inertia, payload]
+"""
+    s = scene(tmp_path, "  consistent: true\n", manip=paper)
+    ypath = tmp_path / "p.yaml"
+    proc = run(s, tmp_path / "p.h5", "-q", "--manipulator", ypath)
+    assert proc.returncode == 0, proc.stderr
+    text = ypath.read_text()
+    man = yaml.safe_load(text)["manipulator"]
+    assert man["M"] == 0.18 and "pin_friction" not in man
+    assert man["payload"]["mass"] == pytest.approx(0.3, rel=1e-6)
+    np.testing.assert_allclose(man["payload"]["com"], [0, 0, 0.02], atol=1e-7)
+    np.testing.assert_allclose(man["payload"]["inertia"], [0.001, 0.001, 0.0015],
+                               rtol=1e-4)
+    effects = paper.splitlines()[-1] + "\n"
+    ref, back = tmp_path / "ref.h5", tmp_path / "back.h5"
+    assert run(write_scene(tmp_path / "r.yaml", paper + TRAJ), ref, "-q").returncode == 0
+    proc = run(write_scene(tmp_path / "b.yaml", text + effects + TRAJ), back, "-q")
+    assert proc.returncode == 0, proc.stderr + text
+    with h5py.File(ref, "r") as f, h5py.File(back, "r") as g:
+        F0, F1 = f["force"][()], g["force"][()]
+    assert np.abs(F1 - F0).max() <= 1e-6 * np.sqrt(np.mean(F0**2))

@@ -218,10 +218,16 @@ static char *general_yaml(const ident_plan *p, const ident_fit *r, char *why,
     for (q = 0; q < 2; q++)
       if (add_body(&t, "    ", part[q], pi + 10 * (1 + 2 * i + q), tiny))
         goto fail;
-    add_friction(&t, "pin_friction", pi[76 + 2 * i], pi[77 + 2 * i],
-                 m->pinf[i].vreg);
-    add_friction(&t, "prismatic_friction", pi[70 + 2 * i], pi[71 + 2 * i],
-                 m->leg[i].prismatic.vreg);
+    /* a friction law where the effects select it or it is not zero (a
+       zero law of an unselected kind is no information) */
+    if ((m->opt.effects & RPS3_EFF_PIN_FRICTION) || pi[76 + 2 * i] != 0 ||
+        pi[77 + 2 * i] != 0)
+      add_friction(&t, "pin_friction", pi[76 + 2 * i], pi[77 + 2 * i],
+                   m->pinf[i].vreg);
+    if ((m->opt.effects & RPS3_EFF_PRISMATIC_FRICTION) ||
+        pi[70 + 2 * i] != 0 || pi[71 + 2 * i] != 0)
+      add_friction(&t, "prismatic_friction", pi[70 + 2 * i], pi[71 + 2 * i],
+                   m->leg[i].prismatic.vreg);
   }
   return finish(&t, why, whysz);
 fail:
@@ -253,7 +259,8 @@ static char *paper_yaml(const ident_plan *p, const ident_fit *r, char *why,
   const rps3_model *mo = &p->c.model;
   const double *th = r->cstatus >= 0 && r->consistent ? r->ctheta : r->theta;
   double pi[RPS3_NPAPER], m, lic, pm, c[3] = {0, 0, 0}, in[3], fv, fc;
-  int payload = mo->payload.mass > 0, i, prism = 0;
+  int payload = mo->payload.mass > 0, i, prism = 0, fitted_m = 0;
+  int pinf = (mo->opt.effects & RPS3_EFF_PIN_FRICTION) != 0;
   text t = {NULL, 0, 0, 0};
   rps3_check chk;
   size_t j;
@@ -267,6 +274,19 @@ static char *paper_yaml(const ident_plan *p, const ident_fit *r, char *why,
   for (j = 0; j < p->p; j++) {
     pi[p->col[j]] = th[j];
     payload |= p->col[j] >= 3 && p->col[j] <= 9;
+    fitted_m |= p->col[j] == 0;
+  }
+  /* without M the payload's columns hold the platform's disc as well (the
+     disc is a body of the payload's kind, include/rps3.h): M keeps the
+     scene's value and its disc leaves the payload's estimate */
+  if (payload && !fitted_m &&
+      (mo->opt.effects &
+       (RPS3_EFF_PLATFORM_GRAVITY | RPS3_EFF_PLATFORM_INERTIA))) {
+    for (j = 0; j < p->p; j++) {
+      int k = p->col[j];
+      if (k == 3) pi[3] -= mo->M;
+      if (k >= 7 && k <= 9) pi[k] -= mo->Ip[k - 7];
+    }
   }
   m = mo->d > 0 ? pi[1] / mo->d : mo->m;
   lic = pi[2] - m * mo->d * mo->d;
@@ -312,13 +332,15 @@ static char *paper_yaml(const ident_plan *p, const ident_fit *r, char *why,
     add_list(&t, "inertia", in, 3);
     add(&t, "\n");
   }
-  add(&t, "  pin_friction:\n    ");
-  add_num(&t, "viscous", fv);
-  add(&t, "\n    ");
-  add_num(&t, "coulomb", fc);
-  add(&t, "\n    ");
-  add_num(&t, "vreg", mo->friction.vreg);
-  add(&t, "\n");
+  if (pinf || fv != 0 || fc != 0) {
+    add(&t, "  pin_friction:\n    ");
+    add_num(&t, "viscous", fv);
+    add(&t, "\n    ");
+    add_num(&t, "coulomb", fc);
+    add(&t, "\n    ");
+    add_num(&t, "vreg", mo->friction.vreg);
+    add(&t, "\n");
+  }
   for (i = 0; i < 3; i++)
     prism |= mo->leg[i].prismatic.viscous != 0 ||
              mo->leg[i].prismatic.coulomb != 0;
