@@ -581,15 +581,22 @@ ident: venv-check
 # the identification Monte Carlo through the runner (docs/identification.md,
 # "Through the runner"): 1000 draws of 1 % force noise on 10 s of an
 # exciting trajectory at 1 kHz, on 2 threads; the summary in
-# out/ident_mc.txt, the draws in out/ident_mc.h5.  Not part of `make check`
-# (tests/test_ident_runner.py runs 200 draws of a shorter trajectory)
+# out/ident_mc.txt, the draws in out/ident_mc.h5; then the general model's
+# (configs/ident_general_mc.yaml, 1000 draws at 500 Hz) into
+# out/ident_general_mc.txt and .h5.  Not part of `make check`
+# (tests/test_ident_runner.py runs 200 draws of a shorter trajectory,
+# tests/test_ident_runner_general.py 40 of the general model)
 .PHONY: ident-mc
 ident-mc: $(B)/rps3-run
 	@mkdir -p out
 	@start=$$(date +%s); \
 	$(B)/rps3-run configs/ident_mc.yaml -o out/ident_mc.h5 -j 2 > out/ident_mc.txt && \
 	echo "run time: $$(( $$(date +%s) - start )) s (-j 2)" >> out/ident_mc.txt; \
-	status=$$?; cat out/ident_mc.txt; exit $$status
+	status=$$?; cat out/ident_mc.txt; [ $$status -eq 0 ] || exit $$status; \
+	start=$$(date +%s); \
+	$(B)/rps3-run configs/ident_general_mc.yaml -o out/ident_general_mc.h5 -j 2 > out/ident_general_mc.txt && \
+	echo "run time: $$(( $$(date +%s) - start )) s (-j 2)" >> out/ident_general_mc.txt; \
+	status=$$?; cat out/ident_general_mc.txt; exit $$status
 
 # the exciting trajectories of two general layouts (docs/identification.md,
 # "A general layout"): rps3.ident_paper.design's defaults, seeds 1-5 of each

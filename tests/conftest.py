@@ -44,7 +44,7 @@ def runner():
 
 #: configs that are a study behind a make target (make ident-mc), too long
 #: for the tests: not run by config_runs (their small versions are tested)
-STUDY_CONFIGS = {"ident_mc.yaml"}
+STUDY_CONFIGS = {"ident_mc.yaml", "ident_general_mc.yaml"}
 
 
 @pytest.fixture(scope="session")

@@ -302,7 +302,12 @@ static int run_main(int argc, char **argv, const world *w) {
   pre.gzip = a.gzip;
   pre.quiet = a.quiet;
   pre.fields = a.fields;
-  if (a.fields != out_fields_all() && ident_wanted(&s))
+  if (a.manip_path && !ident_wanted(&s))
+    code = run_usage_error(w,
+                           "--manipulator writes the manipulator section an "
+                           "identification fits; this scene has no identify "
+                           "section");
+  else if (a.fields != out_fields_all() && ident_wanted(&s))
     code = run_usage_error(w,
                            "--fields selects variables of the "
                            "inverse-dynamics file; an identification "

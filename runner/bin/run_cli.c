@@ -41,6 +41,9 @@
   X(O_COPY, {"copy", 0, NULL, 0, 0, 0,                                        \
              "rps3-run-mpi under mpirun: rank 0 merges the parts\ninto one "  \
              "self-contained file (default: joins them)"})                    \
+  X(O_MANIPULATOR, {"manipulator", 0, "FILE", 0, 0, 0,                       \
+                    "identification: write the fitted manipulator:\n"       \
+                    "section (YAML) to FILE"})                                \
   X(O_KEYS, {"keys", 0, NULL, 0, 0, 0, "print the scene keys (markdown)"})    \
   X(O_SCHEMA,                                                                 \
     {"schema", 0, NULL, 0, 0, 0, "print the datasets of OUT.h5 (markdown)"})  \
@@ -131,6 +134,7 @@ static int run_option(const cli *c, run_args *a, int row, const char *arg,
   case O_RESUME: a->resume = 1; break;
   case O_FAILED_OK: a->failed_ok = 1; break;
   case O_COPY: a->copy = 1; break;
+  case O_MANIPULATOR: a->manip_path = arg; break;
   case O_FIELDS:
     if (out_fields_parse(arg, &a->fields, err, sizeof err)) {
       cli_usage_error(c, "%s", err);

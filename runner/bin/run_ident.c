@@ -1,10 +1,15 @@
 /* run_ident.c - see run_ident.h. */
 #include "run_ident.h"
 
+#include <errno.h>
+#include <fcntl.h>
 #include <stdio.h>
+#include <stdlib.h>
 #include <string.h>
+#include <unistd.h>
 
 #include "core/exit_codes.h"
+#include "core/safeio.h"
 #include "core/tmpout.h"
 #include "exec/ident_run.h"
 #include "exec/pool.h"
@@ -15,21 +20,27 @@ typedef struct {
   const scene *s;
   const ident_plan *p;
   const ident_fit *fit;
+  const char *yaml; /* the manipulator section, or NULL: */
+  const char *why;  /* why not */
 } ident_job;
 
 /* the fit of the noise-free forces as a table on out */
 static void fit_print(FILE *out, const ident_plan *p, const ident_fit *r) {
   size_t j;
+  int w = 12; /* the paper's names; the general model's are longer */
+  for (j = 0; j < p->p; j++)
+    if ((int)strlen(p->names[j]) > w) w = (int)strlen(p->names[j]);
   fprintf(out,
           "identification (%s, %zu samples): condition number %.4g, rank "
-          "%zu, residual RMS %.3g N\n%-12s %14s %12s %14s %10s  %s\n",
+          "%zu, residual RMS %.3g N\n%-*s %14s %12s %14s %10s  %s\n",
           p->ids.method == IDENT_OLS ? "ols" : "wls", p->ns, r->cond, r->rank,
-          r->resid_rms, "parameter", "estimate", "std", "truth", "share",
+          r->resid_rms, w, "parameter", "estimate", "std", "truth", "share",
           "unit");
   for (j = 0; j < p->p; j++)
-    fprintf(out, "%-12s %14.8g %12.3g %14.8g %9.3f%%  %s\n", p->names[j],
+    fprintf(out, "%-*s %14.8g %12.3g %14.8g %9.3f%%  %s\n", w, p->names[j],
             r->theta[j], r->std[j], p->truth[j], 100 * p->share[j],
-            rps3_paper_unit(p->col[j]));
+            p->general ? rps3_std_unit(p->lay_std[p->col[j]][0])
+                       : rps3_paper_unit(p->col[j]));
   if (r->cstatus >= 0)
     fprintf(out, "consistent fit: %s%s%s\n",
             r->consistent ? "physically consistent" : "not consistent",
@@ -49,7 +60,8 @@ static int ident_write(run_job *j, const out_meta *meta, progress *pr,
   pr->njob_all = p->nunit ? p->nunit : 1;
   pr->njob = p->nunit ? pool_count(p->nunit, a->shard, a->nshard) : 1;
   pr->npoint = j->ncase * p->ns;
-  f = ident_file_open(tmpout_path(), ij->s, p, ij->fit, meta, err, sizeof err);
+  f = ident_file_open(tmpout_path(), ij->s, p, ij->fit, ij->yaml, ij->why,
+                      meta, err, sizeof err);
   if (!f) return run_io(a, err);
   if (p->ids.runs > 0)
     rc = ident_mc_run(p, f, a->shard, a->nshard, a->nthread, pr, st, err,
@@ -66,6 +78,49 @@ static int ident_write(run_job *j, const out_meta *meta, progress *pr,
     return run_io(a, err);
   }
   return out_close(f, err, sizeof err) ? run_io(a, err) : EXIT_OK;
+}
+
+/* text into path atomically: a temporary file next to it, fsync'd and
+   renamed, then the directory fsync'd (as tmpout_commit does for the
+   HDF5 file); 0 or -1 with a message on stderr */
+static int write_atomic(const char *path, const char *textv) {
+  char tmp[4096], dir[4096];
+  size_t len = strlen(textv), off = 0;
+  int fd, rc = -1;
+  if (snprintf(tmp, sizeof tmp, "%s.tmp.%ld", path, (long)getpid()) >=
+          (int)sizeof tmp ||
+      path_dir(path, dir, sizeof dir)) {
+    fprintf(stderr, "rps3-run: %s: the name is too long\n", path);
+    return -1;
+  }
+  if ((fd = open(tmp, O_WRONLY | O_CREAT | O_TRUNC, 0666)) < 0) {
+    fprintf(stderr, "rps3-run: %s: cannot write: %s\n", tmp, strerror(errno));
+    return -1;
+  }
+  while (off < len) {
+    ssize_t n = write(fd, textv + off, len - off);
+    if (n < 0 && errno == EINTR) continue;
+    if (n <= 0) break;
+    off += (size_t)n;
+  }
+  if (off == len && fsync(fd) == 0 && close(fd) == 0) {
+    fd = -1;
+    if (rename(tmp, path) == 0) {
+      int dfd = open(dir, O_RDONLY);
+      rc = 0;
+      if (dfd >= 0) {
+        fsync(dfd);
+        close(dfd);
+      }
+    }
+  }
+  if (rc) {
+    fprintf(stderr, "rps3-run: %s: cannot write: %s\n", path,
+            strerror(errno));
+    if (fd >= 0) close(fd);
+    remove(tmp);
+  }
+  return rc;
 }
 
 /* the plan and the noise-free fit, or the exit code after the message */
@@ -108,9 +163,11 @@ int run_identify(scene *s, const run_args *a, const world *w, int argc,
                  char **argv) {
   ident_plan p;
   ident_fit fit;
-  ident_job ij = {a, s, &p, &fit};
+  ident_job ij = {a, s, &p, &fit, NULL, NULL};
   run_job j = {"identification", "draw", 0, ident_write, &ij, ""};
   int code;
+  char why[512] = "";
+  char *yaml = NULL;
   if (w->size > 1) {
     if (w->rank == 0)
       fprintf(stderr,
@@ -118,9 +175,35 @@ int run_identify(scene *s, const run_args *a, const world *w, int argc,
               "split its Monte Carlo with --shard K/N\n");
     return EXIT_USAGE;
   }
+  memset(&fit, 0, sizeof fit);
+  if (a->manip_path && a->out_path && strcmp(a->manip_path, a->out_path) == 0) {
+    fprintf(stderr, "rps3-run: --manipulator %s: the output file's name\n",
+            a->manip_path);
+    return EXIT_USAGE;
+  }
+  if (a->manip_path) {
+    const char *in[2] = {a->scene_path, a->out_path};
+    char err[600];
+    if (out_path_check(a->manip_path, in, a->out_path ? 2 : 1, err,
+                       sizeof err)) {
+      fprintf(stderr, "rps3-run: --manipulator %s: %s\n", a->manip_path, err);
+      return EXIT_USAGE;
+    }
+  }
   if ((code = ident_checks(s, a, &p, &fit)) >= 0) {
+    ident_fit_free(&fit);
     ident_plan_free(&p);
     return code;
+  }
+  yaml = ident_manipulator_yaml(&p, &fit, why, sizeof why);
+  ij.yaml = yaml;
+  ij.why = why;
+  if (a->manip_path && !yaml) {
+    fprintf(stderr, "rps3-run: --manipulator %s: %s: %s\n", a->manip_path,
+            a->scene_path, why);
+    ident_fit_free(&fit);
+    ident_plan_free(&p);
+    return EXIT_USAGE;
   }
   /* said even when quiet: a result that may be wrong */
   if (p.warning[0])
@@ -134,11 +217,19 @@ int run_identify(scene *s, const run_args *a, const world *w, int argc,
         "%s: %zu samples, %zu parameters, %d Monte Carlo draws in %zu "
         "work units\n",
         a->scene_path, p.ns, p.p, p.ids.runs, p.nunit);
+    free(yaml);
+    ident_fit_free(&fit);
     ident_plan_free(&p);
     return EXIT_OK;
   }
   j.ncase = p.ids.runs > 0 ? ident_shard_draws(&p, a->shard, a->nshard) : 1;
   code = run_output(a, w, s, EXIT_OK, &j, argc, argv);
+  /* the section once the file is complete */
+  if ((code == EXIT_OK || code == EXIT_FAILED_CASES) && a->manip_path &&
+      write_atomic(a->manip_path, yaml))
+    code = EXIT_IO;
+  free(yaml);
+  ident_fit_free(&fit);
   ident_plan_free(&p);
   return code;
 }

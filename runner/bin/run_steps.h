@@ -28,6 +28,7 @@ typedef struct {
   int gzip;            /* --gzip level, 0: none */
   out_mask fields;     /* --fields */
   char shard_text[64]; /* under mpirun: "rank/size", shard_arg's text */
+  const char *manip_path; /* --manipulator FILE, or NULL */
 } run_args;
 
 /*

@@ -18,7 +18,23 @@
 
 /* the scales: parameter (and again for cov's columns), bound, actuator,
    body, eigenvalue, draw (-1: none) */
-enum { SC_PAR, SC_PAR2, SC_BOUND, SC_ACT, SC_BODY, SC_EIG, SC_DRAW, NSC };
+enum {
+  SC_PAR,
+  SC_PAR2,
+  SC_BOUND,
+  SC_ACT,
+  SC_BODY,
+  SC_EIG,
+  SC_DRAW,
+  SC_STD,
+  NSC
+};
+
+/* the unit of fitted column j (general: of its layout column) */
+static const char *par_unit(const ident_plan *p, size_t j) {
+  return p->general ? rps3_std_unit(p->lay_std[p->col[j]][0])
+                    : rps3_paper_unit(p->col[j]);
+}
 
 /* a dataset of rank dims over the scales ax (-1 ended), written from v
    when not NULL; chunk and fill as out_h5_dataset; the handle or -1 */
@@ -81,7 +97,11 @@ static int make_scales(const out_file *f, const ident_plan *p, hid_t *sc) {
   size_t k, runs = (size_t)p->ids.runs;
   int64_t *draw;
   sc[SC_PAR] = scale(f, "parameter", f->str, p->p, p->names, "parameter",
-                     "the paper model's parameter (rps3_paper_name)");
+                     p->general
+                         ? "the general model's base parameter: the layout's "
+                           "standard parameter it is named after, with those "
+                           "that regroup into it (base_matrix)"
+                         : "the paper model's parameter (rps3_paper_name)");
   /* CF: a variable's dimensions differ, so cov's columns have their own */
   sc[SC_PAR2] = scale(f, "parameter_column", f->str, p->p, p->names,
                       "parameter of the covariance's column",
@@ -90,7 +110,24 @@ static int make_scales(const out_file *f, const ident_plan *p, hid_t *sc) {
                        "bound of the interval", "0: lower, 1: upper bound");
   sc[SC_ACT] = scale(f, "actuator", H5T_NATIVE_INT32, 3, act, "actuator number",
                      "actuator (link) number i");
-  if (p->ids.consistent) {
+  if (p->general) {
+    sc[SC_STD] = scale(f, "standard_parameter", f->str, p->nlay, p->lay_names,
+                       "parameter of the layout",
+                       "the general model's standard parameter of the "
+                       "layout (identify.legs; python/rps3/ident.py "
+                       "Layout.names): body.m, .mcx, .mcy, .mcz [kg, kg m] "
+                       "and .Ixx ... .Izz about the body's origin [kg m^2], "
+                       "friction fv, fc");
+    if (sc[SC_STD] < 0) return -1;
+  }
+  if (p->ids.consistent && p->general) {
+    sc[SC_BODY] = scale(f, "body", f->str, p->nbody, p->body_names, "body",
+                        "body of the consistent fit's layout: its frame's "
+                        "origin as docs/runner.md \"General bodies\"");
+    sc[SC_EIG] =
+        scale(f, "eigenvalue", H5T_NATIVE_INT32, 4, eig, "eigenvalue number",
+              "pseudo-inertia eigenvalue k, ascending");
+  } else if (p->ids.consistent) {
     sc[SC_BODY] = scale(f, "body", f->str, 2, body, "body",
                         "body of the consistent fit's layout "
                         "(rps3_ident_paper_layout)");
@@ -121,7 +158,7 @@ static int put_alone(const out_file *f, const ident_plan *p,
   size_t j;
   int rc = g < 0 ? -1 : 0;
   for (j = 0; rc == 0 && j < p->p; j++) {
-    const char *u = rps3_paper_unit(p->col[j]);
+    const char *u = par_unit(p, j);
     char doc[160];
     hsize_t one = 1;
     hid_t ds;
@@ -148,10 +185,10 @@ static int put_fit(const out_file *f, const hid_t *sc, const ident_plan *p,
                    const ident_fit *r) {
   static const int par[] = {SC_PAR, -1}, pb[] = {SC_PAR, SC_BOUND, -1},
                    pp[] = {SC_PAR, SC_PAR2, -1}, act[] = {SC_ACT, -1};
-  const char *units[RPS3_NPAPER];
+  const char *units[IDENT_PMAX];
   int64_t rank = (int64_t)r->rank, dof = (int64_t)r->dof;
   size_t j;
-  for (j = 0; j < p->p; j++) units[j] = rps3_paper_unit(p->col[j]);
+  for (j = 0; j < p->p; j++) units[j] = par_unit(p, j);
   return put1(f, sc, "parameter_units", f->str, par, units, "1",
               "units of the parameter", "UDUNITS units of each parameter") ||
                  put1(f, sc, "theta", H5T_NATIVE_DOUBLE, par, r->theta, VARIOUS,
@@ -195,19 +232,50 @@ static int put_fit(const out_file *f, const hid_t *sc, const ident_plan *p,
              : 0;
 }
 
+/* the general model's layout: its units, the scene's values, and the
+   grouping of its parameters into the base ones */
+static int put_layout(const out_file *f, const hid_t *sc, const ident_plan *p) {
+  static const int lay[] = {SC_STD, -1}, ps[] = {SC_PAR, SC_STD, -1};
+  const char *units[IDENT_PMAX];
+  size_t j;
+  for (j = 0; j < p->nlay; j++) units[j] = rps3_std_unit(p->lay_std[j][0]);
+  return put1(f, sc, "standard_parameter_units", f->str, lay, units, "1",
+              "units of the layout's parameter",
+              "UDUNITS units of each standard parameter of the layout") ||
+                 put1(f, sc, "standard_truth", H5T_NATIVE_DOUBLE, lay,
+                      p->lay_truth, "various: see standard_parameter_units",
+                      "the model's layout parameters",
+                      "the scene's standard parameters (rps3_std_params) "
+                      "of the layout; identical legs: the legs' mean") ||
+                 put1(f, sc, "base_matrix", H5T_NATIVE_DOUBLE, ps, p->K,
+                      "various: parameter_units over standard_parameter_units",
+                      "grouping of the base parameters",
+                      "K: base parameter = K times the layout's standard "
+                      "parameters, from the structural base at random "
+                      "states (docs/identification.md)")
+             ? -1
+             : 0;
+}
+
 /* the consistent fit */
 static int put_consistent(const out_file *f, const hid_t *sc,
                           const ident_plan *p, const ident_fit *r) {
-  static const int par[] = {SC_PAR, -1};
+  static const int par[] = {SC_PAR, -1}, lay[] = {SC_STD, -1};
   int32_t ok = r->consistent, st = r->cstatus;
   hid_t eig;
   hsize_t dims[2] = {2, 4};
   int rc;
-  (void)p;
-  if (put1(f, sc, "consistent_theta", H5T_NATIVE_DOUBLE, par, r->ctheta,
-           VARIOUS, "physically consistent estimate",
-           "rps3_ident_consistent: every pseudo-inertia positive "
-           "semidefinite, M and the friction >= 0") ||
+  dims[0] = p->general ? p->nbody : 2;
+  if (put1(f, sc, "consistent_theta", H5T_NATIVE_DOUBLE,
+           p->general ? lay : par, r->ctheta,
+           p->general ? "various: see standard_parameter_units" : VARIOUS,
+           "physically consistent estimate",
+           p->general
+               ? "rps3_ident_consistent of the layout's parameters: every "
+                 "body's pseudo-inertia positive semidefinite, the friction "
+                 ">= 0"
+               : "rps3_ident_consistent: every pseudo-inertia positive "
+                 "semidefinite, M and the friction >= 0") ||
       put0(f, "consistent", H5T_NATIVE_INT32, &ok, "1", "consistency flag",
            "1: the consistent fit's eigenvalues checked >= 0") ||
       put0(f, "consistent_status", H5T_NATIVE_INT32, &st, "1",
@@ -279,22 +347,25 @@ static int put_draws(const out_file *f, const hid_t *sc, const ident_plan *p) {
 }
 
 out_file *ident_file_open(const char *path, const scene *s, const ident_plan *p,
-                          const ident_fit *r, const out_meta *meta, char *err,
-                          size_t errsz) {
+                          const ident_fit *r, const char *yaml,
+                          const char *yaml_why, const out_meta *meta,
+                          char *err, size_t errsz) {
   out_spec sp;
   out_file *f;
-  hid_t sc[NSC] = {-1, -1, -1, -1, -1, -1, -1};
+  hid_t sc[NSC] = {-1, -1, -1, -1, -1, -1, -1, -1};
   int k, rc;
   memset(&sp, 0, sizeof sp);
   sp.files = OUT_IDENT;
-  sp.title =
-      "rps3: identification of the Lee & Shah 3-RPS manipulator's "
-      "paper-model parameters";
+  sp.title = p->general ? "rps3: identification of the Lee & Shah 3-RPS "
+                          "manipulator's general-model base parameters"
+                        : "rps3: identification of the Lee & Shah 3-RPS "
+                          "manipulator's paper-model parameters";
   sp.content = "identification";
   sp.grid_common = 1;
   sp.tile_cases = sp.case_chunk = 1;
   if (!(f = out_open(path, s, &sp, meta, err, errsz))) return NULL;
   rc = make_scales(f, p, sc) || put_fit(f, sc, p, r) ||
+       (p->general && put_layout(f, sc, p)) ||
        (p->ids.consistent && r->cstatus != -1 && put_consistent(f, sc, p, r)) ||
        (p->ids.runs > 0 && put_draws(f, sc, p)) ||
        out_h5_attr(f->file, f->str, "method",
@@ -304,7 +375,17 @@ out_file *ident_file_open(const char *path, const scene *s, const ident_plan *p,
        out_h5_attr_n(f->file, "force_noise", H5T_NATIVE_DOUBLE, 0,
                      &p->ids.force_noise) < 0 ||
        (p->warning[0] &&
-        out_h5_attr(f->file, f->str, "warning", p->warning) < 0);
+        out_h5_attr(f->file, f->str, "warning", p->warning) < 0) ||
+       (p->general &&
+        out_h5_attr(f->file, f->str, "model", "general") < 0) ||
+       (p->general &&
+        out_h5_attr(f->file, f->str, "legs",
+                    p->ids.legs == IDENT_LEGS_IDENTICAL ? "identical"
+                                                        : "each") < 0) ||
+       (yaml && out_h5_attr(f->file, f->str, "manipulator_yaml", yaml) < 0) ||
+       (!yaml && yaml_why &&
+        out_h5_attr(f->file, f->str, "manipulator_yaml_missing", yaml_why) <
+            0);
   for (k = 0; k < NSC; k++)
     if (sc[k] >= 0) H5Dclose(sc[k]);
   if (rc == 0) return f;

@@ -22,8 +22,8 @@ static const char *const draw_sets[] = {"status", "mc_theta", "mc_std", "mc_ci",
 /* one work unit's results */
 typedef struct {
   int32_t status[IDENT_UNIT];
-  double theta[IDENT_UNIT][RPS3_NPAPER], std[IDENT_UNIT][RPS3_NPAPER];
-  double ci[IDENT_UNIT][RPS3_NPAPER][2], sigma[IDENT_UNIT][3];
+  double theta[IDENT_UNIT][IDENT_PMAX], std[IDENT_UNIT][IDENT_PMAX];
+  double ci[IDENT_UNIT][IDENT_PMAX][2], sigma[IDENT_UNIT][3];
 } unit_slot;
 
 /* which draws a filled slot holds */
@@ -91,6 +91,7 @@ static void one_draw(const ident_plan *p, mc_worker *w, size_t i, unit_slot *u,
   memcpy(u->std[j], r.std, sizeof u->std[j]);
   memcpy(u->ci[j], r.ci, sizeof u->ci[j]);
   memcpy(u->sigma[j], r.sigma, sizeof u->sigma[j]);
+  ident_fit_free(&r);
 }
 
 /* pool_job.slot_make, slot_free: a slot is plain data */
@@ -130,7 +131,7 @@ static int write_rows(hid_t ds, hid_t type, const void *buf, size_t d0,
   int r, rank = fs < 0 ? -1 : H5Sget_simple_extent_dims(fs, fdims, NULL), rc;
   for (r = 0; r < rank; r++) count[r] = mdims[r] = fdims[r];
   count[0] = mdims[0] = nd;
-  /* the slot's rows are wider than the file's (RPS3_NPAPER columns) */
+  /* the slot's rows are wider than the file's (IDENT_PMAX columns) */
   if (rank > 1 && used < row) mdims[1] = fdims[1] * row / used;
   ms = rank > 0 ? H5Screate_simple(rank, mdims, NULL) : -1;
   rc = ms >= 0 &&
@@ -156,11 +157,11 @@ static int unit_write(void *ctx, void *slot, const void *info, char *err,
   int rc =
       write_rows(m->ds[0], H5T_NATIVE_INT32, u->status, in->d0, in->nd, 1, 1) ||
       write_rows(m->ds[1], H5T_NATIVE_DOUBLE, u->theta, in->d0, in->nd,
-                 RPS3_NPAPER, p) ||
+                 IDENT_PMAX, p) ||
       write_rows(m->ds[2], H5T_NATIVE_DOUBLE, u->std, in->d0, in->nd,
-                 RPS3_NPAPER, p) ||
+                 IDENT_PMAX, p) ||
       write_rows(m->ds[3], H5T_NATIVE_DOUBLE, u->ci, in->d0, in->nd,
-                 RPS3_NPAPER, p) ||
+                 IDENT_PMAX, p) ||
       write_rows(m->ds[4], H5T_NATIVE_DOUBLE, u->sigma, in->d0, in->nd, 3, 3);
   if (rc) {
     out_fail(err, errsz, "cannot write draws %zu to %zu", in->d0,
@@ -286,13 +287,16 @@ static void summary_print(FILE *out, char **names, const double *share,
                           const double *cov, const int32_t *counted, size_t p,
                           size_t nok, size_t runs) {
   size_t j;
+  int w = 12; /* the paper's names; the general model's are longer */
+  for (j = 0; j < p; j++)
+    if ((int)strlen(names[j]) > w) w = (int)strlen(names[j]);
   fprintf(out,
           "identification Monte Carlo: %zu of %zu draws fitted\n"
-          "%-12s %9s %12s %11s %9s  %s\n",
-          nok, runs, "parameter", "share", "median |err|", "bias", "coverage",
-          "counted");
+          "%-*s %9s %12s %11s %9s  %s\n",
+          nok, runs, w, "parameter", "share", "median |err|", "bias",
+          "coverage", "counted");
   for (j = 0; j < p; j++)
-    fprintf(out, "%-12s %8.3f%% %11.4f%% %+10.4f%% %8.1f%%  %s\n", names[j],
+    fprintf(out, "%-*s %8.3f%% %11.4f%% %+10.4f%% %8.1f%%  %s\n", w, names[j],
             100 * share[j], 100 * med[j], 100 * bias[j], 100 * cov[j],
             counted[j] ? "yes" : "no (share < 1 %)");
 }
@@ -300,9 +304,9 @@ static void summary_print(FILE *out, char **names, const double *share,
 int ident_summary(hid_t file, FILE *out, char *err, size_t errsz) {
   char *content = out_h5_read_text(file, "content", 1);
   size_t runs = 0, p = 0, j, nok = 0, i;
-  int32_t *status = NULL, counted[RPS3_NPAPER];
+  int32_t *status = NULL, counted[IDENT_PMAX];
   double *theta = NULL, *ci = NULL, *truth = NULL, *share = NULL, *work = NULL;
-  double med[RPS3_NPAPER], bias[RPS3_NPAPER], cov[RPS3_NPAPER];
+  double med[IDENT_PMAX], bias[IDENT_PMAX], cov[IDENT_PMAX];
   char **names = NULL;
   hid_t str = H5Tcopy(H5T_C_S1);
   int rc = -1, is = content && strcmp(content, "identification") == 0;
@@ -320,7 +324,7 @@ int ident_summary(hid_t file, FILE *out, char *err, size_t errsz) {
   share = read_all(file, "share", H5T_NATIVE_DOUBLE, NULL);
   work = malloc((runs ? runs : 1) * sizeof *work);
   if (!status || !names || !theta || !ci || !truth || !share || !work ||
-      p > RPS3_NPAPER) {
+      p > IDENT_PMAX) {
     out_fail(err, errsz, "cannot read the draws");
     goto done;
   }

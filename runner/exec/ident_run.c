@@ -6,6 +6,11 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include <gsl/gsl_randist.h>
+#include <gsl/gsl_rng.h>
+
+#define IDENT_PI 3.14159265358979323846
+
 /* the columns to fit: the given parameters, each one whose column the
    effects fill, else the default set of the effects; 0 or -1 */
 static int plan_columns(const scene *s, ident_plan *p, scene_error *err) {
@@ -37,12 +42,47 @@ static int plan_columns(const scene *s, ident_plan *p, scene_error *err) {
   return 0;
 }
 
+/* the layout's row of a standard regressor row ys: each layout column
+   the sum of its standard columns */
+static void lay_row(const ident_plan *p, const double *ys, double *out) {
+  size_t j;
+  int q;
+  for (j = 0; j < p->nlay; j++) {
+    out[j] = 0;
+    for (q = 0; q < 3 && p->lay_std[j][q] >= 0; q++)
+      out[j] += ys[p->lay_std[j][q]];
+  }
+}
+
+/* row block k of Y (general: and of Ylay) at the point of d (its pose,
+   rates and accelerations); 0 or the failing status with d->err */
+static int plan_regress(ident_plan *p, rps3_data *d, size_t k) {
+  const rps3_model *m = &p->c.model;
+  size_t i, j;
+  int rc;
+  if (!p->general) {
+    double Yk[3][RPS3_NPAPER];
+    if ((rc = rps3_regressor(m, d, Yk)) != RPS3_OK) return rc;
+    for (i = 0; i < 3; i++)
+      for (j = 0; j < p->p; j++)
+        p->Y[(3 * k + i) * p->p + j] = Yk[i][p->col[j]];
+  } else {
+    double Yk[3][RPS3_NSTD];
+    if ((rc = rps3_regressor_std(m, d, Yk)) != RPS3_OK) return rc;
+    for (i = 0; i < 3; i++) {
+      double *row = p->Ylay + (3 * k + i) * p->nlay;
+      lay_row(p, Yk[i], row);
+      for (j = 0; j < p->p; j++) p->Y[(3 * k + i) * p->p + j] = row[p->col[j]];
+    }
+  }
+  return RPS3_OK;
+}
+
 /* row block k of Y and F0: the trajectory at sample k, its inverse
    dynamics and regressor; 0 or the failing status with d->err */
 static int plan_sample(ident_plan *p, rps3_data *d, size_t k, double *t) {
   const rps3_model *m = &p->c.model;
-  double Yk[3][RPS3_NPAPER];
-  size_t i, j;
+  size_t i;
   int rc;
   *t = scene_case_time(&p->c, k);
   rc = rps3_traj_eval(m, &p->c.traj, *t, d->pose, d->dpose, d->ddpose);
@@ -53,10 +93,7 @@ static int plan_sample(ident_plan *p, rps3_data *d, size_t k, double *t) {
   }
   if ((rc = rps3_inverse(m, d)) != RPS3_OK) return rc;
   for (i = 0; i < 3; i++) p->F0[3 * k + i] = d->F[i];
-  if ((rc = rps3_regressor(m, d, Yk)) != RPS3_OK) return rc;
-  for (i = 0; i < 3; i++)
-    for (j = 0; j < p->p; j++) p->Y[(3 * k + i) * p->p + j] = Yk[i][p->col[j]];
-  return RPS3_OK;
+  return plan_regress(p, d, k);
 }
 
 /* x solving the 3 x 3 system A x = b by Gaussian elimination with partial
@@ -124,20 +161,16 @@ static int pose_accel(const rps3_model *m, rps3_data *d, rps3_data *d2,
 static int plan_row(ident_plan *p, rps3_data *d, rps3_data *d2,
                     const table_data *t, size_t k) {
   const rps3_model *m = &p->c.model;
-  double Yk[3][RPS3_NPAPER];
-  size_t i, j;
+  size_t i;
   int rc;
   memcpy(d->l, t->value[k], sizeof d->l);
   if ((rc = rps3_fk(m, d)) != RPS3_OK) return rc;
   memcpy(d->dl, t->rate[k], sizeof d->dl);
   if ((rc = rps3_joint_velocity(m, d)) != RPS3_OK ||
       (rc = pose_accel(m, d, d2, t->acc[k])) != RPS3_OK ||
-      (rc = rps3_regressor(m, d, Yk)) != RPS3_OK)
+      (rc = plan_regress(p, d, k)) != RPS3_OK)
     return rc;
-  for (i = 0; i < 3; i++) {
-    p->F0[3 * k + i] = t->force[k][i];
-    for (j = 0; j < p->p; j++) p->Y[(3 * k + i) * p->p + j] = Yk[i][p->col[j]];
-  }
+  for (i = 0; i < 3; i++) p->F0[3 * k + i] = t->force[k][i];
   return RPS3_OK;
 }
 
@@ -169,6 +202,173 @@ static int plan_rows(const scene *s, ident_plan *p, scene_error *err) {
   return rc == RPS3_OK ? 0 : -1;
 }
 
+/* ---------------------------------------------------- general model */
+
+/* the layout (python/rps3/ident.py Layout) of the bodies and friction the
+   effects fill: the platform with a platform effect, the cylinders and
+   pistons with a link effect (each leg's, or one of each for identical
+   legs, whose columns sum the three legs'), then the friction kinds
+   selected, per leg for "each" and shared for "identical"; 0 or -1 */
+static int plan_layout(const scene *s, ident_plan *p, scene_error *err) {
+  static const char *const inertial[10] = {"m",   "mcx", "mcy", "mcz", "Ixx",
+                                           "Ixy", "Ixz", "Iyy", "Iyz", "Izz"};
+  static const char *const part[2] = {"cylinder", "piston"};
+  static const char *const kind[2] = {"prismatic", "pin"};
+  static const int kind_eff[2] = {RPS3_EFF_PRISMATIC_FRICTION,
+                                  RPS3_EFF_PIN_FRICTION};
+  int eff = p->c.model.opt.effects, same = p->ids.legs == IDENT_LEGS_IDENTICAL;
+  int b, k, i, q, f;
+  size_t j;
+  p->nlay = p->nbody = 0;
+  for (b = 0; b < RPS3_NBODY; b++) {
+    /* body b of the standard order: 0 the platform, 1 + 2 i + q leg i's
+       cylinder (q 0) or piston (q 1) */
+    int leg = b == 0 ? -1 : (b - 1) / 2, pq = b == 0 ? 0 : (b - 1) % 2;
+    int filled = b == 0 ? (eff & (RPS3_EFF_PLATFORM_GRAVITY |
+                                  RPS3_EFF_PLATFORM_INERTIA)) != 0
+                        : (eff & (RPS3_EFF_LINK_GRAVITY |
+                                  RPS3_EFF_LINK_INERTIA)) != 0;
+    size_t nb = p->nbody;
+    if (!filled || (same && leg > 0)) continue;
+    if (b == 0)
+      snprintf(p->body_name[nb], sizeof p->body_name[nb], "platform");
+    else if (same)
+      snprintf(p->body_name[nb], sizeof p->body_name[nb], "%s", part[pq]);
+    else
+      snprintf(p->body_name[nb], sizeof p->body_name[nb], "%s%d", part[pq],
+               leg + 1);
+    p->body_names[nb] = p->body_name[nb];
+    for (k = 0; k < 10; k++) {
+      j = p->nlay++;
+      snprintf(p->lay_name[j], sizeof p->lay_name[j], "%s.%s", p->body_name[nb],
+               inertial[k]);
+      p->lay_kind[j] = RPS3_IDENT_FREE;
+      p->body_col[nb][k] = (int)j;
+      for (q = 0; q < 3; q++) p->lay_std[j][q] = -1;
+      if (b == 0 || !same)
+        p->lay_std[j][0] = 10 * b + k;
+      else
+        for (i = 0; i < 3; i++) p->lay_std[j][i] = 10 * (1 + 2 * i + pq) + k;
+    }
+    p->nbody++;
+  }
+  for (f = 0; f < 2; f++) {
+    if (!(eff & kind_eff[f])) continue;
+    for (i = 0; i < (same ? 1 : 3); i++)
+      for (k = 0; k < 2; k++) {
+        j = p->nlay++;
+        if (same)
+          snprintf(p->lay_name[j], sizeof p->lay_name[j], "%s.%s", kind[f],
+                   k ? "fc" : "fv");
+        else
+          snprintf(p->lay_name[j], sizeof p->lay_name[j], "%s%d.%s", kind[f],
+                   i + 1, k ? "fc" : "fv");
+        p->lay_kind[j] = RPS3_IDENT_NONNEG;
+        for (q = 0; q < 3; q++)
+          p->lay_std[j][q] =
+              same || q == 0 ? 70 + 6 * f + 2 * (same ? q : i) + k : -1;
+      }
+  }
+  for (j = 0; j < p->nlay; j++) p->lay_names[j] = p->lay_name[j];
+  if (p->nlay == 0)
+    return scene_error_set(err, s->identify, "identify",
+                           "no parameter to fit: the effects fill no body "
+                           "and select no friction");
+  return 0;
+}
+
+/* the structural base parameters (IDENT_BASE_STATES): the fitted columns
+   are the base columns of the layout; 0 or -1 */
+static int plan_base(const scene *s, ident_plan *p, scene_error *err) {
+  const rps3_model *m = &p->c.model;
+  const size_t ns = IDENT_BASE_STATES, nl = p->nlay;
+  const double sc = m->R / 0.2286;
+  double *Ys = malloc(3 * ns * nl * sizeof *Ys), Yk[3][RPS3_NSTD];
+  gsl_rng *rng = gsl_rng_alloc(gsl_rng_mt19937);
+  rps3_data *d = NULL;
+  size_t got = 0, tries = 0, j;
+  int indep[IDENT_PMAX], nbase = 0, i, rc = -1;
+  rps3_check chk;
+  p->K = malloc(nl * nl * sizeof *p->K);
+  if (!Ys || !rng || !p->K || rps3_data_alloc(m, &d)) {
+    scene_error_set(err, s->identify, "identify", "out of memory");
+    goto done;
+  }
+  gsl_rng_set(rng, IDENT_BASE_SEED);
+  /* a state the library refuses (out of reach, singular) is drawn again */
+  for (; got < ns && tries < 20 * ns; tries++) {
+    d->pose[0] = -IDENT_PI + 2 * IDENT_PI * gsl_rng_uniform(rng);
+    d->pose[1] = 0.05 + 0.4 * gsl_rng_uniform(rng);
+    d->pose[2] = sc * (0.27 + 0.09 * gsl_rng_uniform(rng));
+    d->dpose[0] = gsl_ran_gaussian(rng, 1.0);
+    d->dpose[1] = gsl_ran_gaussian(rng, 0.5);
+    d->dpose[2] = gsl_ran_gaussian(rng, 0.05 * sc);
+    d->ddpose[0] = gsl_ran_gaussian(rng, 5.0);
+    d->ddpose[1] = gsl_ran_gaussian(rng, 2.0);
+    d->ddpose[2] = gsl_ran_gaussian(rng, 0.3 * sc);
+    if (rps3_regressor_std(m, d, Yk) != RPS3_OK) continue;
+    for (i = 0; i < 3; i++) lay_row(p, Yk[i], Ys + (3 * got + i) * nl);
+    got++;
+  }
+  if (got < ns) {
+    scene_error_set(err, s->identify, "identify",
+                    "the structural base parameters need %zu random states "
+                    "of the workspace (z_c in [%g, %g] m): %zu of %zu "
+                    "reached",
+                    ns, 0.27 * sc, 0.36 * sc, got, tries);
+    goto done;
+  }
+  if (rps3_ident_base(Ys, 3 * ns, nl, IDENT_BASE_TOL, indep, p->K, &nbase,
+                      &chk) != RPS3_OK) {
+    scene_error_set(err, s->identify, "identify",
+                    "the structural base parameters: %s", chk.msg);
+    goto done;
+  }
+  p->p = (size_t)nbase;
+  for (j = 0; j < p->p; j++) {
+    p->col[j] = indep[j];
+    p->names[j] = p->lay_names[indep[j]];
+  }
+  rc = 0;
+done:
+  free(Ys);
+  if (rng) gsl_rng_free(rng);
+  rps3_data_free(d);
+  return rc;
+}
+
+/* the truth of the general model: the scene's standard parameters, the
+   layout's (identical legs: the legs' mean, said when they differ), K
+   times them */
+static void plan_truth_general(ident_plan *p) {
+  size_t j, k;
+  int q, differ = 0;
+  rps3_std_params(&p->c.model, p->std_truth);
+  for (j = 0; j < p->nlay; j++) {
+    double sum = 0, lo = HUGE_VAL, hi = -HUGE_VAL;
+    for (q = 0; q < 3 && p->lay_std[j][q] >= 0; q++) {
+      double v = p->std_truth[p->lay_std[j][q]];
+      sum += v;
+      lo = v < lo ? v : lo;
+      hi = v > hi ? v : hi;
+    }
+    p->lay_truth[j] = sum / q;
+    if (hi - lo > 1e-12 * (fabs(hi) + fabs(lo)) && !differ) {
+      differ = 1;
+      snprintf(p->warning, sizeof p->warning,
+               "identify.legs: identical, but the scene's legs differ (%s "
+               "from %g to %g): the truth is the legs' mean, and the data "
+               "are not of the layout",
+               p->lay_names[j], lo, hi);
+    }
+  }
+  for (j = 0; j < p->p; j++) {
+    double t = 0;
+    for (k = 0; k < p->nlay; k++) t += p->K[j * p->nlay + k] * p->lay_truth[k];
+    p->truth[j] = t;
+  }
+}
+
 /* each actuator's RMS force and each column's share of the RMS force */
 static void plan_shares(ident_plan *p) {
   double all = 0, col;
@@ -195,8 +395,12 @@ int ident_plan_make(const scene *s, ident_plan *p, scene_error *err) {
   rps3_check chk;
   size_t k, j;
   memset(p, 0, sizeof *p);
-  if (scene_case_build(s, 0, &p->c, err) || plan_columns(s, p, err)) return -1;
+  if (scene_case_build(s, 0, &p->c, err)) return -1;
   p->ids = s->base.ids;
+  p->general = ident_model(s) == RPS3_BODIES_GENERAL;
+  if (p->general ? plan_layout(s, p, err) || plan_base(s, p, err)
+                 : plan_columns(s, p, err))
+    return -1;
   p->measured = s->given[K_ID_DATA];
   if (p->measured && p->ids.runs > 0)
     return scene_error_set(err, s->mark[K_ID_RUNS], "identify.monte_carlo.runs",
@@ -204,29 +408,41 @@ int ident_plan_make(const scene *s, ident_plan *p, scene_error *err) {
                            "forces of a trajectory: not with identify.data");
   rps3_ident_opts_default(&p->opts);
   p->opts.level = p->ids.level;
+  /* the general model: a base combination the data excite less than the
+     structural base's tolerance is not excited (the helix's, at a
+     condition number of 5e7, would be fitted on noise-free forces and
+     be noise with any other) */
+  if (p->general) p->opts.rank_tol = IDENT_BASE_TOL;
   p->ns = p->measured ? s->table[TABLE_MEASURED].n : p->c.nt;
   p->n = 3 * p->ns;
-  if (p->n <= p->p)
+  /* the consistent fit of the general model fits every layout column */
+  if (p->n <= p->p || (p->general && p->ids.consistent && p->n <= p->nlay))
     return scene_error_set(err,
                            p->measured ? s->mark[K_ID_DATA] : s->section[2],
                            p->measured ? "identify.data" : "trajectory",
                            "%zu samples give %zu force rows: more than the %zu "
                            "parameters are needed",
-                           p->ns, p->n, p->p);
+                           p->ns, p->n,
+                           p->general && p->ids.consistent ? p->nlay : p->p);
   p->Y = malloc(p->n * p->p * sizeof *p->Y);
   p->F0 = malloc(p->n * sizeof *p->F0);
   p->ones = malloc(p->n * sizeof *p->ones);
-  if (!p->Y || !p->F0 || !p->ones)
+  if (p->general) p->Ylay = malloc(p->n * p->nlay * sizeof *p->Ylay);
+  if (!p->Y || !p->F0 || !p->ones || (p->general && !p->Ylay))
     return scene_error_set(err, s->identify, "identify", "out of memory");
   for (k = 0; k < p->n; k++) p->ones[k] = 1.0;
   if (plan_rows(s, p, err)) return -1;
-  /* the truth: the scene's values (nominal ones for measured data); an
-     off-axis payload's products of inertia are not in pi (the fit cannot
-     recover them; said, not refused) */
-  if (rps3_paper_params(&p->c.model, pi, &chk) != RPS3_OK)
-    snprintf(p->warning, sizeof p->warning, "the truth is not the model's: %s",
-             chk.msg);
-  for (j = 0; j < p->p; j++) p->truth[j] = pi[p->col[j]];
+  if (p->general)
+    plan_truth_general(p);
+  else {
+    /* the truth: the scene's values (nominal ones for measured data); an
+       off-axis payload's products of inertia are not in pi (the fit
+       cannot recover them; said, not refused) */
+    if (rps3_paper_params(&p->c.model, pi, &chk) != RPS3_OK)
+      snprintf(p->warning, sizeof p->warning,
+               "the truth is not the model's: %s", chk.msg);
+    for (j = 0; j < p->p; j++) p->truth[j] = pi[p->col[j]];
+  }
   plan_shares(p);
   p->nunit = ((size_t)p->ids.runs + IDENT_UNIT - 1) / IDENT_UNIT;
   return 0;
@@ -237,6 +453,8 @@ void ident_plan_free(ident_plan *p) {
   free(p->Y);
   free(p->F0);
   free(p->ones);
+  free(p->K);
+  free(p->Ylay);
   memset(p, 0, sizeof *p);
 }
 
@@ -281,6 +499,38 @@ static void fit_consistent(const ident_plan *p, const rps3_ident_data *data,
   snprintf(r->cmsg, sizeof r->cmsg, "%s", r->cstatus == RPS3_OK ? "" : chk.msg);
 }
 
+/* the general model's consistent fit: every layout column, its bodies'
+   pseudo-inertias positive semidefinite, the friction >= 0 */
+static void fit_consistent_general(const ident_plan *p,
+                                   const rps3_ident_data *base, ident_fit *r) {
+  rps3_ident_data data = *base;
+  rps3_ident_layout lay;
+  rps3_ident_fit fit;
+  rps3_check chk;
+  data.p = p->nlay;
+  data.Y = p->Ylay;
+  data.names = p->lay_names;
+  lay.nbody = p->nbody;
+  lay.col = (const int(*)[10])p->body_col;
+  lay.kind = p->lay_kind;
+  memset(&fit, 0, sizeof fit);
+  fit.theta = r->ctheta;
+  fit.body = &r->body[0][0];
+  fit.eig = &r->eig[0][0];
+  r->cstatus = rps3_ident_consistent(&data, &lay, &p->opts, &fit, &chk);
+  r->consistent = fit.consistent;
+  r->crss = fit.rss;
+  r->gap = fit.gap;
+  r->niter = fit.niter;
+  snprintf(r->cmsg, sizeof r->cmsg, "%s", r->cstatus == RPS3_OK ? "" : chk.msg);
+}
+
+void ident_fit_free(ident_fit *r) {
+  if (!r) return;
+  free(r->cov);
+  r->cov = NULL;
+}
+
 void ident_fit_run(const ident_plan *p, const double *F, int consistent,
                    ident_fit *r) {
   rps3_ident_data data = {p->n, p->p, p->Y, F, NULL, NULL, p->names};
@@ -292,6 +542,11 @@ void ident_fit_run(const ident_plan *p, const double *F, int consistent,
   r->cstatus = -1;
   data.weight = p->ids.method == IDENT_OLS ? p->ones : NULL;
   memset(&res, 0, sizeof res);
+  if (!(r->cov = malloc(p->p * p->p * sizeof *r->cov))) {
+    r->status = RPS3_ENOMEM;
+    snprintf(r->msg, sizeof r->msg, "out of memory");
+    return;
+  }
   res.theta = r->theta;
   res.cov = r->cov;
   res.ci = &r->ci[0][0];
@@ -310,5 +565,10 @@ void ident_fit_run(const ident_plan *p, const double *F, int consistent,
     ss += e * e;
   }
   r->resid_rms = sqrt(ss / (double)p->n);
-  if (consistent && r->status == RPS3_OK) fit_consistent(p, &data, r);
+  if (consistent && r->status == RPS3_OK) {
+    if (p->general)
+      fit_consistent_general(p, &data, r);
+    else
+      fit_consistent(p, &data, r);
+  }
 }

@@ -5,6 +5,8 @@
 #include "identify.h"
 #include "scene_int.h"
 
+#include <stdio.h>
+
 int ident_wanted(const scene *s) { return s->identify.line > 0; }
 
 int ident_data_only(const scene *s) {
@@ -34,8 +36,42 @@ int ident_default_params(int effects) {
   return p;
 }
 
+int ident_model(const scene *s) {
+  return s->base.ids.model >= 0 ? s->base.ids.model : s->base.model.bodies;
+}
+
+/* where the model comes from, for the messages */
+static void model_origin(const scene *s, char *buf, size_t sz) {
+  if (s->given[K_ID_MODEL])
+    snprintf(buf, sz, "identify.model at %d:%d", s->mark[K_ID_MODEL].line,
+             s->mark[K_ID_MODEL].column);
+  else if (s->given[K_BODIES])
+    snprintf(buf, sz, "manipulator.bodies at %d:%d", s->mark[K_BODIES].line,
+             s->mark[K_BODIES].column);
+  else
+    snprintf(buf, sz, "the default manipulator.bodies");
+}
+
 int scene_ident_check_keys(const scene *s, scene_error *err) {
+  char from[96];
   if (!ident_wanted(s)) return 0;
+  model_origin(s, from, sizeof from);
+  if (ident_model(s) == RPS3_BODIES_GENERAL && s->given[K_ID_PARAMS])
+    return scene_error_set(
+        err, s->mark[K_ID_PARAMS], "identify.parameters",
+        "the paper model's parameters, but the model is general (%s): it "
+        "fits the base parameters of the standard parameters (mass, first "
+        "moment, inertia about the origin) of the bodies the effects fill, "
+        "the platform and the legs' cylinders and pistons, and the friction "
+        "they select (identify.legs: each or identical); remove this key, "
+        "or set identify.model: paper",
+        from);
+  if (ident_model(s) == RPS3_BODIES_PAPER && s->given[K_ID_LEGS])
+    return scene_error_set(
+        err, s->mark[K_ID_LEGS], "identify.legs",
+        "read only with identify.model: general, but the model is paper "
+        "(%s): its links are identical by construction (md, Ipin)",
+        from);
   if (s->simulate.line > 0)
     return scene_error_set(err, s->identify, "identify",
                            "a scene is an identification or a simulation, not "

@@ -1,6 +1,7 @@
 /*
  * identify.h - a scene with an `identify:` section is an identification:
- * the paper model's parameters (include/rps3.h, "identification") fitted
+ * the paper model's parameters (include/rps3.h, "identification"), or the
+ * general model's base parameters (identify.model), fitted
  * to the forces along the scene's trajectory, and optionally a Monte Carlo
  * of force noise on that fit (docs/identification.md, "Through the
  * runner").
@@ -12,6 +13,10 @@
 
 /* 1 when the scene is an identification (it has an identify section) */
 int ident_wanted(const scene *s);
+
+/* the model an identification fits: identify.model, or by default the
+   scene's manipulator.bodies (RPS3_BODIES_PAPER or RPS3_BODIES_GENERAL) */
+int ident_model(const scene *s);
 
 /* the paper parameters (bits 1 << k) the effects make identifiable: M
    with a platform effect and no payload, md with link gravity, Ipin with

@@ -130,6 +130,7 @@ static const char *const theta_names[] = {"closed_form", "multiroot"};
 static const char *const method_names[] = {"lagrange", "newton_euler"};
 static const char *const ident_method_names[] = {"ols", "wls"};
 static const char *const bodies_names[] = {"paper", "general"};
+static const char *const ident_legs_names[] = {"each", "identical"};
 
 /* the values of key k that have names: [*lo, *hi] (an enum: the library's
    range of the field; a list: its bits) */
@@ -160,6 +161,8 @@ const char *scene_enum_name(int k, int value) {
   case K_SIM_CONTROLLER: return rps3_ctrl_name(value);
   case K_SIM_INTEGRATOR: return rps3_integrator_name(value);
   case K_ID_METHOD: return ident_method_names[value];
+  case K_ID_MODEL: return bodies_names[value];
+  case K_ID_LEGS: return ident_legs_names[value];
   default: return NULL;
   }
 }

@@ -119,6 +119,9 @@ typedef struct {
    Carlo of force noise on them */
 typedef struct {
   int params;         /* bits 1 << k of rps3_paper_name(k); -1: by effects */
+  int model;          /* RPS3_BODIES_PAPER or _GENERAL; -1: the scene's
+                         manipulator.bodies */
+  int legs;           /* IDENT_LEGS_EACH or IDENT_LEGS_IDENTICAL */
   int method;         /* IDENT_OLS or IDENT_WLS */
   int consistent;     /* 1: also the physically consistent fit */
   double level;       /* confidence of the intervals */
@@ -129,6 +132,9 @@ typedef struct {
 
 /* identify.method */
 enum { IDENT_OLS = 0, IDENT_WLS = 1 };
+
+/* identify.legs (model general) */
+enum { IDENT_LEGS_EACH = 0, IDENT_LEGS_IDENTICAL = 1 };
 
 /* every value a scene can set: the library's structures, filled through
    the offsets of RPS3_FIELDS, and the runner's own */

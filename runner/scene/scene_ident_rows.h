@@ -16,6 +16,15 @@
     "effects fill: M (without payload), md (link_gravity), Ipin "              \
     "(link_inertia), pin.fv, pin.fc (pin_friction), payload.m, .mcx, .mcy, "   \
     ".mcz, .Ixx, .Iyy, .Izz (payload)")                                        \
+  X(K_ID_MODEL, "identify.model", KEY_ENUM, IDS,                              \
+    (ids.model, 0, 0, 1, "-", -1, "manipulator.bodies"), REQ_NO, "-",          \
+    "paper (the 12 parameters of identify.parameters) or general (the "       \
+    "standard parameters of the bodies and friction the effects fill, as "    \
+    "base parameters)")                                                        \
+  X(K_ID_LEGS, "identify.legs", KEY_ENUM, IDS,                                 \
+    (ids.legs, 0, 0, 1, "-", IDENT_LEGS_EACH, NULL), REQ_NO, "-",              \
+    "model general: each (every leg its own cylinder, piston and friction) "  \
+    "or identical (one cylinder, piston and friction for the three legs)")    \
   X(K_ID_METHOD, "identify.method", KEY_ENUM, IDS,                             \
     (ids.method, 0, 0, 1, "-", IDENT_WLS, NULL), REQ_NO, "-",                  \
     "ols (equal weights) or wls (each actuator weighted by its residual "      \
