@@ -401,6 +401,20 @@ effects: [platform_gravity, platform_inertia, link_gravity, link_inertia, payloa
     ypath = tmp_path / "p.yaml"
     proc = run(s, tmp_path / "p.h5", "-q", "--manipulator", ypath)
     assert proc.returncode == 0, proc.stderr
+    # the file's truth is what the payload's columns hold, payload and
+    # disc (M r^2/4, M r^2/4, M r^2/2 about the centre), and so is the
+    # noise-free estimate
+    r = 0.5 * 0.2286
+    with h5py.File(tmp_path / "p.h5", "r") as f:
+        names = [n.decode() for n in f["parameter"][()]]
+        truth = dict(zip(names, f["truth"][()]))
+        theta = dict(zip(names, f["theta"][()]))
+    want = {"payload.m": 0.3 + 0.18, "payload.mcz": 0.3 * 0.02,
+            "payload.Ixx": 0.001 + 0.3 * 0.02**2 + 0.18 * r**2 / 4,
+            "payload.Izz": 0.0015 + 0.18 * r**2 / 2}
+    for k, v in want.items():
+        assert truth[k] == pytest.approx(v, rel=1e-12), k
+        assert theta[k] == pytest.approx(v, rel=1e-6), k
     text = ypath.read_text()
     man = yaml.safe_load(text)["manipulator"]
     assert man["M"] == 0.18 and "pin_friction" not in man

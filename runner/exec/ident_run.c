@@ -337,6 +337,29 @@ done:
   return rc;
 }
 
+/* without M the payload's columns hold the platform's disc as well (the
+   disc is a body of the payload's kind, include/rps3.h): the payload's
+   truth is then the payload with the disc, what its estimate converges
+   to (the write-back takes the disc out again, ident_yaml.c) */
+static void plan_truth_disc(ident_plan *p) {
+  const rps3_model *mo = &p->c.model;
+  size_t j;
+  int payload = 0, fitted_m = 0;
+  for (j = 0; j < p->p; j++) {
+    payload |= p->col[j] >= 3 && p->col[j] <= 9;
+    fitted_m |= p->col[j] == 0;
+  }
+  if (!payload || fitted_m ||
+      !(mo->opt.effects &
+        (RPS3_EFF_PLATFORM_GRAVITY | RPS3_EFF_PLATFORM_INERTIA)))
+    return;
+  for (j = 0; j < p->p; j++) {
+    int k = p->col[j];
+    if (k == 3) p->truth[j] += mo->M;
+    if (k >= 7 && k <= 9) p->truth[j] += mo->Ip[k - 7];
+  }
+}
+
 /* the truth of the general model: the scene's standard parameters, the
    layout's (identical legs: the legs' mean, said when they differ), K
    times them */
@@ -442,6 +465,7 @@ int ident_plan_make(const scene *s, ident_plan *p, scene_error *err) {
       snprintf(p->warning, sizeof p->warning,
                "the truth is not the model's: %s", chk.msg);
     for (j = 0; j < p->p; j++) p->truth[j] = pi[p->col[j]];
+    plan_truth_disc(p);
   }
   plan_shares(p);
   p->nunit = ((size_t)p->ids.runs + IDENT_UNIT - 1) / IDENT_UNIT;
