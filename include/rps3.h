@@ -2371,7 +2371,8 @@ typedef struct {
  * rank is decided before the fit by the singular values of the weighted
  * regressor with unit-norm columns (QR then SVD of R).  Returns RPS3_OK;
  * RPS3_ESING when the rank is below p: res->unident flags and chk->msg names
- * the columns the data do not determine (theta, cov, ci NaN);
+ * the columns the data do not determine (as many as it holds, then "and N
+ * more"; theta, cov, ci NaN);
  * RPS3_EINVAL (NULL, n <= p, p = 0, a value not finite, a weight <= 0,
  * an actuator index outside 0..2 or an actuator with no row);
  * RPS3_ENOMEM.

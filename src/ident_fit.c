@@ -263,11 +263,15 @@ static void actuator_sigma(const rps3_ident_data *dt, const double *theta,
   }
 }
 
-/* the message naming the columns flagged */
+/* room kept at the message's end for " and 4096 more" */
+#define RANK_FAIL_TAIL 16
+
+/* the message naming the columns flagged: as many as the message holds,
+   then how many more (res->unident flags every one) */
 static int rank_fail(const rps3_ident_data *dt, const int *flags, size_t rank,
                      double cond, double tol, char *err, size_t errsz) {
   char buf[32];
-  size_t j, len;
+  size_t j, len, left = 0;
   if (err == NULL || errsz == 0)
     return rps3_ident_fail(NULL, 0, RPS3_ESING, "%s", "");
   snprintf(err, errsz,
@@ -276,9 +280,18 @@ static int rank_fail(const rps3_ident_data *dt, const int *flags, size_t rank,
            "determine",
            (unsigned long)rank, (unsigned long)dt->p, cond, tol);
   for (j = 0; j < dt->p; j++) {
+    const char *name;
     if (!flags[j]) continue;
+    name = col_name(dt, j, buf, sizeof(buf));
     len = strlen(err);
-    snprintf(err + len, errsz - len, " %s", col_name(dt, j, buf, sizeof(buf)));
+    if (left > 0 || len + 1 + strlen(name) + RANK_FAIL_TAIL >= errsz)
+      left++;
+    else
+      snprintf(err + len, errsz - len, " %s", name);
+  }
+  if (left > 0) {
+    len = strlen(err);
+    snprintf(err + len, errsz - len, " and %lu more", (unsigned long)left);
   }
   return rps3_ident_fail(NULL, 0, RPS3_ESING, "%s", "");
 }

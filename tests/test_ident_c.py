@@ -132,6 +132,24 @@ def test_wls_c_names_what_is_not_identifiable(paper_data):
         ident.wls_c(d["Y"], d["F"], weights=[1.0, -1.0, 1.0])
 
 
+def test_wls_c_message_counts_what_it_cannot_name():
+    """Many undetermined columns with long names: the message names as
+    many as it holds and counts the rest; unidentifiable lists them all."""
+    rng = np.random.default_rng(5)
+    p = 60
+    Y = np.zeros((400, p))
+    Y[:, :4] = rng.normal(size=(400, 4))
+    F = Y[:, :4] @ np.ones(4)
+    names = tuple(f"a_rather_long_parameter_name_{k:02d}" for k in range(p))
+    with pytest.raises(ident.NotExcitingError) as e:
+        ident.wls_c(Y, F, names=names)
+    msg = str(e.value)
+    named = [n for n in names[4:] if n in msg]
+    assert 0 < len(named) < p - 4
+    assert msg.endswith(f" and {p - 4 - len(named)} more")
+    assert len(e.value.unidentifiable) == p - 4
+
+
 LAYOUT = ident.Layout("each", ("prismatic",))
 
 
