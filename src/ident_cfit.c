@@ -25,7 +25,7 @@ const int rps3_cfit_UB[10] = {0, 1, 2, 3, 1, 2, 3, 2, 3, 3};
 /* the standard parameters (m, mcx, mcy, mcz, Ixx, Ixy, Ixz, Iyy, Iyz,
    Izz) of a pseudo-inertia J = [[Sigma, h], [h^T, m]], I = tr(Sigma) 1 -
    Sigma; linear, so also of a derivative of J */
-static void std_of(const double J[4][4], double s[10]) {
+void rps3_cfit_std_of(const double J[4][4], double s[10]) {
   s[0] = J[3][3];
   s[1] = J[0][3];
   s[2] = J[1][3];
@@ -105,7 +105,7 @@ void rps3_cfit_pi_of(const cfit *c, const double *x, double *pi, double *body) {
         J[i][k] = 0.0;
         for (q = 0; q < 4; q++) J[i][k] += U[i][q] * U[k][q];
       }
-    std_of(M4C(J), s);
+    rps3_cfit_std_of(M4C(J), s);
     if (body) memcpy(body + 10 * b, s, sizeof(s));
     for (k = 0; k < 10; k++)
       if (c->lay->col[b][k] >= 0) pi[c->lay->col[b][k]] = s[k];
@@ -217,7 +217,7 @@ int rps3_cfit_df(const gsl_vector *xv, void *params, gsl_matrix *Jm) {
         for (q = 0; q < 4; q++)
           dJ[k][q] = e * ((k == rps3_cfit_UA[v] ? U[q][rps3_cfit_UB[v]] : 0.0) +
                           (q == rps3_cfit_UA[v] ? U[k][rps3_cfit_UB[v]] : 0.0));
-      std_of(M4C(dJ), ds);
+      rps3_cfit_std_of(M4C(dJ), ds);
       for (k = 0; k < 10; k++) {
         int pj = c->lay->col[b][k];
         if (pj < 0 || ds[k] == 0.0) continue;
@@ -281,7 +281,7 @@ double rps3_cfit_optimality(const cfit *c, const double *theta,
     for (k = 0; k < 4; k++)
       for (q = 0; q < 4; q++)
         U[k][q] = gsl_matrix_get(Q, k, 0) * gsl_matrix_get(Q, q, 0);
-    std_of(M4C(U), ds);
+    rps3_cfit_std_of(M4C(U), ds);
     for (j = 0; j < p; j++) d[j] = 0.0;
     for (k = 0; k < 10; k++)
       if (c->lay->col[b][k] >= 0) d[c->lay->col[b][k]] = ds[k];
@@ -339,6 +339,23 @@ static void psd_factor(const double J[4][4], double U[4][4]) {
       U[i][k] = s / U[k][k];
     }
   }
+}
+
+void rps3_cfit_plain_of(const cfit *c, const double *body, const double *pi,
+                        double *x) {
+  size_t b, j;
+  for (b = 0; b < c->nb; b++) {
+    double J[4][4], U[4][4];
+    int k;
+    rps3_cfit_pseudo_of(body + 10 * b, J);
+    psd_factor(M4C(J), U);
+    for (k = 0; k < 10; k++)
+      x[10 * b + (size_t)k] = U[rps3_cfit_UA[k]][rps3_cfit_UB[k]];
+  }
+  for (j = 0; j < c->p; j++)
+    if (c->owner[j] < 0)
+      x[c->slot[j]] =
+          rps3_cfit_is_nonneg(c, j) ? sqrt(fmax(pi[j], 0.0)) : pi[j];
 }
 
 /*
