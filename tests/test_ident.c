@@ -618,6 +618,95 @@ static void test_consistent(void **state) {
   stack_free(&st);
 }
 
+/*
+ * reg 0 and a body the data do not see.  Its pseudo-inertia costs
+ * nothing anywhere in the cone, so the fit's other parameters are those
+ * of the fit without it and the optimality measure must stay finite: a
+ * direction of no curvature (h = 0) with a dual violation at rounding
+ * level would make the measure's decrease e^2 / (4 h) infinite and the
+ * fit never converge.  Three bodies of that kind: none of its parameters
+ * a column; its ten columns all zero in Y; and one seen only through a
+ * sum (its m and Izz columns equal, a fresh column of the data's scale:
+ * their difference's curvature is rounding).  Each converged within
+ * opt_tol, consistent, its cost that of the fit without the body (within
+ * twice opt_tol, both fits within opt_tol of one optimum) where the body
+ * is not seen at all.
+ */
+#define NX_UNSEEN 10
+static void test_consistent_unseen_reg0(void **state) {
+  rps3_model m;
+  stack st;
+  const rps3_ident_layout *pl = rps3_ident_paper_layout();
+  const size_t P0 = 11, P = P0 + NX_UNSEEN;
+  int col[3][10], kind[11 + NX_UNSEEN], b, k, v;
+  double th[11 + NX_UNSEEN], body[30], eig[12], cost0 = 0.0, rms = 0.0;
+  double *Y;
+  rps3_ident_layout lay;
+  rps3_ident_data dt;
+  rps3_ident_fit fit;
+  rps3_ident_opts o;
+  rps3_check chk;
+  uint64_t s = 17;
+  size_t j, r;
+  (void)state;
+  for (b = 0; b < 2; b++)
+    for (k = 0; k < 10; k++)
+      col[b][k] = pl->col[b][k] < 0 ? -1 : pl->col[b][k] - 1;
+  for (j = 0; j < P; j++) kind[j] = j < P0 ? pl->kind[SET_PAYLOAD[j]] : 0;
+  truth_model(&m, 0.0);
+  make_stack(&m, 1000, 0.02, 0.3, 21, SET_PAYLOAD, P0, &st);
+  for (r = 0; r < st.n; r++) rms += st.F0[r] * st.F0[r] / (double)st.n;
+  for (r = 0; r < st.n; r++)
+    st.F[r] = st.F0[r] + 0.01 * sqrt(rms) * rnd_normal(&s);
+  Y = malloc(st.n * P * sizeof(double));
+  assert_non_null(Y);
+  rps3_ident_opts_default(&o);
+  o.reg = 0.0;
+  memset(&fit, 0, sizeof(fit));
+  fit.theta = th;
+  fit.body = body;
+  fit.eig = eig;
+  lay.col = (const int(*)[10])col;
+  lay.kind = kind;
+  for (v = 0; v < 4; v++) {
+    int st_c;
+    /* 0: the fit without the body; 1: a body of no column; 2: its
+       columns zero; 3: seen through m + Izz only */
+    lay.nbody = v == 0 ? 2 : 3;
+    for (k = 0; k < 10; k++)
+      col[2][k] = v == 2 ? (int)P0 + k : -1;
+    if (v == 3) {
+      col[2][0] = (int)P0;
+      col[2][9] = (int)P0 + 1;
+    }
+    memset(&dt, 0, sizeof(dt));
+    dt.n = st.n;
+    dt.p = v >= 2 ? (v == 2 ? P : P0 + 2) : P0;
+    dt.F = st.F;
+    dt.Y = Y;
+    for (r = 0; r < st.n; r++) {
+      double z = st.Y[r * P0] * rnd_uniform(&s, -1.0, 1.0);
+      for (j = 0; j < dt.p; j++)
+        Y[r * dt.p + j] = j < P0 ? st.Y[r * P0 + j] : v == 3 ? z : 0.0;
+    }
+    st_c = rps3_ident_consistent(&dt, &lay, &o, &fit, &chk);
+    print_message("unseen body %d, reg 0: status %d, %d iterations, gap / "
+                  "cost %.2g\n",
+                  v, st_c, fit.niter, fit.gap / fit.cost);
+    if (st_c != RPS3_OK) fail_msg("case %d: %s", v, chk.msg);
+    assert_true(fit.consistent);
+    assert_true(fit.gap <= o.opt_tol * fit.cost + 1e-14);
+    for (b = 0; b < (int)lay.nbody; b++)
+      assert_true(eig[4 * b] >= -o.eig_tol * fabs(eig[4 * b + 3]));
+    if (v == 0) cost0 = fit.cost;
+    if (v == 1 || v == 2)
+      CHECK_REL(fit.cost, cost0, 2.0 * o.opt_tol, 0.0,
+                "case %d: the cost against the fit without the body", v);
+  }
+  free(Y);
+  stack_free(&st);
+}
+
 /* ------------------------------------------ a boundary optimum by KKT */
 
 /* the standard parameters (m, mcx, mcy, mcz, Ixx, Ixy, Ixz, Iyy, Iyz,
@@ -964,6 +1053,7 @@ int main(void) {
       cmocka_unit_test(test_wls_monte_carlo),
       cmocka_unit_test(test_wls_rank_deficient),
       cmocka_unit_test(test_consistent),
+      cmocka_unit_test(test_consistent_unseen_reg0),
       cmocka_unit_test(test_consistent_boundary_kkt),
       cmocka_unit_test(test_timing),
 #ifndef RPS3_SANITIZE
