@@ -113,6 +113,8 @@ typedef struct {
   gsl_permutation *perm;  /* nx: the factor's pivots */
   double *res;            /* p: R11 pi - r */
   double *Ji;             /* 16 nb: the inverse pseudo-inertias */
+  double *cw;             /* nb + p: the barrier's linear terms, a body's
+                             on its trace, a >= 0 column's on it */
 } cbar;
 
 /* the workspace for c (its p, nb, nx); RPS3_OK or RPS3_ENOMEM (then
