@@ -321,6 +321,38 @@ static void plain_mode(cfit *c) {
   c->nf = c->p + 10 * c->nb + c->ncurv;
 }
 
+/* the plain stage's first iterations, before the barrier stage: where
+   the log-Cholesky stage ended near the optimum it converges in a few
+   (the paper model's fits: 0 to 10); on a face of the cone it would crawl
+   for hundreds */
+#define PLAIN_TRY 20
+
+/* the plain Cholesky variables from x until the optimality test (*gst
+   GSL_SUCCESS) or fit->niter reaches until (or the budget); theta, body
+   and fit->gap of the last iterate; RPS3_OK or RPS3_ENOMEM */
+static int plain_stage(cfit *c, double *x, const rps3_ident_opts *o,
+                       size_t until, rps3_ident_fit *fit, double *body,
+                       int *gst) {
+  int status = RPS3_OK;
+  if (until > (size_t)o->max_iter) until = (size_t)o->max_iter;
+  for (;;) {
+    descent d;
+    status = solve(c, x, o,
+                   until > (size_t)fit->niter ? until - (size_t)fit->niter : 0,
+                   &fit->niter, gst, fit->theta, body, &fit->gap);
+    if (status != RPS3_OK || *gst == GSL_SUCCESS || *gst == GSL_EMAXITER ||
+        (size_t)fit->niter >= until)
+      break;
+    /* stopped short of optimality: out of the stationary point along
+       the best descent step of the convex problem, and on (an
+       iteration of the budget, so that this ends) */
+    rps3_cfit_optimality(c, fit->theta, body, o->reg, &d);
+    if (!rps3_cfit_escape(c, x, &d, body)) break;
+    fit->niter++;
+  }
+  return status;
+}
+
 /* what was reached, checked whatever the solver said (gst, reported):
    the residual, the cost, every pseudo-inertia's eigenvalues and the >= 0
    columns (fit->consistent), then the optimality measure fit->gap against
@@ -476,17 +508,26 @@ int rps3_ident_consistent(const rps3_ident_data *dt,
   if (status == RPS3_OK) status = rps3_cbar_alloc(&bw, &c);
   if (status == RPS3_OK) {
     /* from the interior in the log-Cholesky variables, where Gauss-Newton
-       is at its best; then the convex problem itself by the barrier
-       method from there; where that stops short (reg 0, a stalled step),
-       on in the plain Cholesky variables, which reach the boundary of the
-       cone at finite values, with the curvature rows, to the optimality
-       test */
-    size_t budget = (size_t)o->max_iter, j2;
+       is at its best; a few iterations in the plain Cholesky ones, which
+       reach the boundary of the cone at finite values and finish where
+       the log-Cholesky stage ended near the optimum (the paper model's
+       fits); else the convex problem itself by the barrier method from
+       there, and where that stops short (a stalled step), on in the plain
+       variables to the optimality test */
+    const size_t budget = (size_t)o->max_iter;
+    size_t j2;
     double cost;
     status = solve(&c, x0, o, budget < LOG_ITER ? budget : LOG_ITER,
                    &fit->niter, &gst, NULL, NULL, NULL);
     if (status == RPS3_OK) {
       rps3_cfit_pi_of(&c, x0, fit->theta, body);
+      plain_mode(&c);
+      rps3_cfit_plain_of(&c, body, fit->theta, x0);
+      status = plain_stage(&c, x0, o, (size_t)fit->niter + PLAIN_TRY, fit, body,
+                           &gst);
+    }
+    if (status == RPS3_OK && gst != GSL_SUCCESS &&
+        (size_t)fit->niter < budget) {
       memcpy(y, body, 10 * c.nb * sizeof(double));
       for (j2 = 0; j2 < p; j2++)
         if (owner[j2] < 0) y[slot[j2]] = fit->theta[j2];
@@ -495,21 +536,7 @@ int rps3_ident_consistent(const rps3_ident_data *dt,
                           body, &fit->gap, &cost))
         goto check;
       rps3_cfit_plain_of(&c, body, fit->theta, x0);
-      plain_mode(&c);
-    }
-    while (status == RPS3_OK) {
-      descent d;
-      status = solve(&c, x0, o, budget - (size_t)fit->niter, &fit->niter, &gst,
-                     fit->theta, body, &fit->gap);
-      if (status != RPS3_OK || gst == GSL_SUCCESS || gst == GSL_EMAXITER ||
-          fit->niter >= o->max_iter)
-        break;
-      /* stopped short of optimality: out of the stationary point along
-         the best descent step of the convex problem, and on (an
-         iteration of the budget, so that this ends) */
-      rps3_cfit_optimality(&c, fit->theta, body, o->reg, &d);
-      if (!rps3_cfit_escape(&c, x0, &d, body)) break;
-      fit->niter++;
+      status = plain_stage(&c, x0, o, budget, fit, body, &gst);
     }
   }
   if (status != RPS3_OK) {

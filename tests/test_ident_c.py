@@ -230,10 +230,10 @@ TOL_EIG = 1e-10
 # its body's largest, or a >= 0 column below 1e-6 of the largest friction
 # coefficient (interior points are many orders above: 1e-3 and up)
 TOL_BOUNDARY = 1e-6
-# the fit's iterations on these cases: the log-Cholesky stage's 30, then
-# the barrier stage's Newton steps (measured 70 to 95 in all; the plain
-# Cholesky trust region alone took 185 to 1,300): a bound that a slower
-# second stage fails
+# the fit's iterations on these cases: the log-Cholesky stage's 30, the
+# plain Cholesky stage's first 20, then the barrier stage's Newton steps
+# (measured 86 to 110 in all; the plain stage alone took 185 to 1,300):
+# a bound that a slower last stage fails
 MAX_ITER_BOUNDARY = 150
 CLARABEL_TIGHT = dict(tol_gap_abs=1e-12, tol_gap_rel=1e-12, tol_feas=1e-12,
                       max_iter=500)
