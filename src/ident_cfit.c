@@ -10,7 +10,7 @@
 #include <string.h>
 
 #include <gsl/gsl_eigen.h>
-#include <gsl/gsl_multifit_nlinear.h>
+#include <gsl/gsl_errno.h>
 
 #include "ident_cfit.h"
 #include "ident_int.h"

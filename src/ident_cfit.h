@@ -1,8 +1,9 @@
 /*
  * ident_cfit.h - the consistent fit's problem (src/ident_cfit.c: the
  * Cholesky variables, the residual and its Jacobian, the optimality
- * measure and the step out of a false stationary point) as its driver
- * (src/ident_consistent.c) uses it.  Not installed.
+ * measure and the step out of a false stationary point; src/ident_cbar.c:
+ * the barrier stage) as its driver (src/ident_consistent.c) uses it.  Not
+ * installed.
  */
 #ifndef RPS3_IDENT_CFIT_H
 #define RPS3_IDENT_CFIT_H

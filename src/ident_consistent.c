@@ -5,10 +5,12 @@
  * friction by its logarithm), then plain (the diagonal itself, friction
  * by its square root), which reaches an optimum on the boundary of the
  * cone; solved with GSL's nonlinear least squares and an analytic
- * Jacobian to a KKT optimality test; the eigenvalues are checked after
- * the fit.  The variables, the residual and the optimality measure are
- * src/ident_cfit.c's; this file checks the layout, starts, drives the
- * stages and checks what they reached.
+ * Jacobian; where the plain stage does not finish in a few iterations
+ * (an optimum inside a face of the cone), the convex problem itself by
+ * the barrier method (src/ident_cbar.c); all to a KKT optimality test,
+ * the eigenvalues checked after the fit.  The variables, the residual
+ * and the optimality measure are src/ident_cfit.c's; this file checks
+ * the layout, starts, drives the stages and checks what they reached.
  *
  * Run once per data set, not per point: it allocates its GSL workspaces
  * and frees them before returning.
