@@ -1152,7 +1152,7 @@ int main(int argc, char **argv) {
        "friction) from 30,000 rows, 10 s of a sine trajectory at 1 kHz, "
        "1 % noise, the full scene's bodies (point-mass links, massless "
        "pistons: the optimum on the boundary of the consistent set); "
-       "target 1 s", K_CONSISTENT, SCENE_FULL, RPS3_LAGRANGE,
+       "iter: the fit's iterations; target 1 s", K_CONSISTENT, SCENE_FULL, RPS3_LAGRANGE,
        RPS3_THETA_CLOSED_FORM, 1, 0, TARGET_CFIT_NS, 1);
   CASE("pipeline_closed_lagrange_general_nocert", "rps3_inverse, "
        "closed-form theta, general bodies, Lagrange, certify off",
