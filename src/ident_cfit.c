@@ -6,11 +6,12 @@
  * variables' curvature rows, the KKT optimality measure and the step out
  * of a false stationary point.  The driver is src/ident_consistent.c.
  */
+#include <float.h>
 #include <math.h>
 #include <string.h>
 
 #include <gsl/gsl_eigen.h>
-#include <gsl/gsl_multifit_nlinear.h>
+#include <gsl/gsl_errno.h>
 
 #include "ident_cfit.h"
 #include "ident_int.h"
@@ -25,7 +26,7 @@ const int rps3_cfit_UB[10] = {0, 1, 2, 3, 1, 2, 3, 2, 3, 3};
 /* the standard parameters (m, mcx, mcy, mcz, Ixx, Ixy, Ixz, Iyy, Iyz,
    Izz) of a pseudo-inertia J = [[Sigma, h], [h^T, m]], I = tr(Sigma) 1 -
    Sigma; linear, so also of a derivative of J */
-static void std_of(const double J[4][4], double s[10]) {
+void rps3_cfit_std_of(const double J[4][4], double s[10]) {
   s[0] = J[3][3];
   s[1] = J[0][3];
   s[2] = J[1][3];
@@ -105,7 +106,7 @@ void rps3_cfit_pi_of(const cfit *c, const double *x, double *pi, double *body) {
         J[i][k] = 0.0;
         for (q = 0; q < 4; q++) J[i][k] += U[i][q] * U[k][q];
       }
-    std_of(M4C(J), s);
+    rps3_cfit_std_of(M4C(J), s);
     if (body) memcpy(body + 10 * b, s, sizeof(s));
     for (k = 0; k < 10; k++)
       if (c->lay->col[b][k] >= 0) pi[c->lay->col[b][k]] = s[k];
@@ -217,7 +218,7 @@ int rps3_cfit_df(const gsl_vector *xv, void *params, gsl_matrix *Jm) {
         for (q = 0; q < 4; q++)
           dJ[k][q] = e * ((k == rps3_cfit_UA[v] ? U[q][rps3_cfit_UB[v]] : 0.0) +
                           (q == rps3_cfit_UA[v] ? U[k][rps3_cfit_UB[v]] : 0.0));
-      std_of(M4C(dJ), ds);
+      rps3_cfit_std_of(M4C(dJ), ds);
       for (k = 0; k < 10; k++) {
         int pj = c->lay->col[b][k];
         if (pj < 0 || ds[k] == 0.0) continue;
@@ -240,11 +241,22 @@ int rps3_cfit_df(const gsl_vector *xv, void *params, gsl_matrix *Jm) {
   return GSL_SUCCESS;
 }
 
+/* a dual violation at the rounding of the gradient: each g_j is a sum of
+   products of R's entries with the residual's terms, formed to within a
+   few eps (p <= 82 terms a sum) of the sum of their magnitudes; a
+   violation below OPT_ROUND times that magnitude along its step is not a
+   direction to descend.  Along a direction the data see only at rounding
+   level (columns that cancel), h is rounding too and e^2 / (4 h), the
+   step e / (2 h), would be anything up to infinite: a measure that never
+   meets the test at reg 0, an escape step of 1e13 */
+#define OPT_ROUND (64.0 * DBL_EPSILON)
+
 double rps3_cfit_optimality(const cfit *c, const double *theta,
                             const double *body, double reg, descent *best) {
   const size_t p = c->p, P1 = c->p + 1;
   const double *R = c->R;
-  double *g = c->work, *d = c->work + p, est = 0.0;
+  /* scratch: g, the step d, and ga, the magnitude of g's terms */
+  double *g = c->work, *d = c->work + p, *ga = c->work + 2 * p, est = 0.0;
   gsl_matrix *E = c->E, *Q = c->Q;
   gsl_vector *lam = c->lam;
   size_t i, j, b;
@@ -252,14 +264,21 @@ double rps3_cfit_optimality(const cfit *c, const double *theta,
     best->dec = 0.0;
     best->b = best->j = -1;
   }
-  for (j = 0; j < p; j++) g[j] = 0.0;
+  for (j = 0; j < p; j++) g[j] = ga[j] = 0.0;
   for (i = 0; i < p; i++) {
-    double s = -R[i * P1 + p];
-    for (j = i; j < p; j++) s += R[i * P1 + j] * theta[j];
-    for (j = i; j < p; j++) g[j] += 2.0 * R[i * P1 + j] * s;
+    double s = -R[i * P1 + p], sa = fabs(R[i * P1 + p]);
+    for (j = i; j < p; j++) {
+      s += R[i * P1 + j] * theta[j];
+      sa += fabs(R[i * P1 + j] * theta[j]);
+    }
+    for (j = i; j < p; j++) {
+      g[j] += 2.0 * R[i * P1 + j] * s;
+      ga[j] += 2.0 * fabs(R[i * P1 + j]) * sa;
+    }
   }
   for (b = 0; b < c->nb; b++) {
-    double gs[10], G[4][4], J[4][4], U[4][4], ds[10], e, h = 0.0, cg = 0.0, dec;
+    double gs[10], G[4][4], J[4][4], U[4][4], ds[10];
+    double e, h = 0.0, cg = 0.0, dec, gn = 0.0, er;
     int k, q;
     for (k = 0; k < 10; k++)
       gs[k] = c->lay->col[b][k] >= 0 ? g[c->lay->col[b][k]] : 0.0;
@@ -269,6 +288,7 @@ double rps3_cfit_optimality(const cfit *c, const double *theta,
       G[k][k] += reg;
       for (q = 0; q < 4; q++) {
         cg += G[k][q] * J[k][q];
+        gn += G[k][q] * G[k][q];
         gsl_matrix_set(E, k, q, G[k][q]);
       }
     }
@@ -281,10 +301,17 @@ double rps3_cfit_optimality(const cfit *c, const double *theta,
     for (k = 0; k < 4; k++)
       for (q = 0; q < 4; q++)
         U[k][q] = gsl_matrix_get(Q, k, 0) * gsl_matrix_get(Q, q, 0);
-    std_of(M4C(U), ds);
+    rps3_cfit_std_of(M4C(U), ds);
     for (j = 0; j < p; j++) d[j] = 0.0;
+    /* the rounding of e: of g along the step, and of the eigensolver */
+    er = sqrt(gn);
     for (k = 0; k < 10; k++)
-      if (c->lay->col[b][k] >= 0) d[c->lay->col[b][k]] = ds[k];
+      if (c->lay->col[b][k] >= 0) {
+        d[c->lay->col[b][k]] = ds[k];
+        er += fabs(ds[k]) * ga[c->lay->col[b][k]];
+      }
+    e -= OPT_ROUND * er;
+    if (!(e > 0.0)) continue;
     for (i = 0; i < p; i++) {
       double s = 0.0;
       for (j = i; j < p; j++) s += R[i * P1 + j] * d[j];
@@ -304,7 +331,7 @@ double rps3_cfit_optimality(const cfit *c, const double *theta,
     double e, h = 0.0, dec;
     if (c->owner[j] >= 0) continue;
     est += fabs(g[j] * theta[j]);
-    e = rps3_cfit_is_nonneg(c, j) ? -g[j] : fabs(g[j]);
+    e = (rps3_cfit_is_nonneg(c, j) ? -g[j] : fabs(g[j])) - OPT_ROUND * ga[j];
     if (!(e > 0.0)) continue;
     for (i = 0; i <= j; i++) h += R[i * P1 + j] * R[i * P1 + j];
     dec = h > 0.0 ? e * e / (4.0 * h) : HUGE_VAL;
@@ -313,7 +340,7 @@ double rps3_cfit_optimality(const cfit *c, const double *theta,
       best->dec = dec;
       best->b = -1;
       best->j = (long)j;
-      best->t = -g[j] / (2.0 * h);
+      best->t = (g[j] > 0.0 ? -e : e) / (2.0 * h);
     }
   }
   return est;
@@ -339,6 +366,23 @@ static void psd_factor(const double J[4][4], double U[4][4]) {
       U[i][k] = s / U[k][k];
     }
   }
+}
+
+void rps3_cfit_plain_of(const cfit *c, const double *body, const double *pi,
+                        double *x) {
+  size_t b, j;
+  for (b = 0; b < c->nb; b++) {
+    double J[4][4], U[4][4];
+    int k;
+    rps3_cfit_pseudo_of(body + 10 * b, J);
+    psd_factor(M4C(J), U);
+    for (k = 0; k < 10; k++)
+      x[10 * b + (size_t)k] = U[rps3_cfit_UA[k]][rps3_cfit_UB[k]];
+  }
+  for (j = 0; j < c->p; j++)
+    if (c->owner[j] < 0)
+      x[c->slot[j]] =
+          rps3_cfit_is_nonneg(c, j) ? sqrt(fmax(pi[j], 0.0)) : pi[j];
 }
 
 /*

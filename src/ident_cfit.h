@@ -1,8 +1,9 @@
 /*
  * ident_cfit.h - the consistent fit's problem (src/ident_cfit.c: the
  * Cholesky variables, the residual and its Jacobian, the optimality
- * measure and the step out of a false stationary point) as its driver
- * (src/ident_consistent.c) uses it.  Not installed.
+ * measure and the step out of a false stationary point; src/ident_cbar.c:
+ * the barrier stage) as its driver (src/ident_consistent.c) uses it.  Not
+ * installed.
  */
 #ifndef RPS3_IDENT_CFIT_H
 #define RPS3_IDENT_CFIT_H
@@ -11,6 +12,7 @@
 
 #include <gsl/gsl_eigen.h>
 #include <gsl/gsl_matrix.h>
+#include <gsl/gsl_permutation.h>
 #include <gsl/gsl_vector.h>
 
 #include "rps3.h"
@@ -62,8 +64,21 @@ typedef struct {
   double u[4];
 } descent;
 
-/* a body's 4 x 4 pseudo-inertia of its ten standard parameters */
+/* the optimality measure's floor, in units of |W^1/2 F|^2: its terms
+   are products of the gradient 2 R11^T (R11 pi - r), formed from numbers
+   near 1 to about 1e-16, with the bodies; 1e-14 is above that rounding
+   and far below what any noise gives (1 % noise: a cost of 1e-4) */
+#define RPS3_CFIT_GAP_FLOOR 1e-14
+
+/* converged: the measure within opt_tol of the cost, or at its floor */
+static inline int rps3_cfit_optimal(double gap, double cost, double opt_tol) {
+  return gap <= opt_tol * cost + RPS3_CFIT_GAP_FLOOR;
+}
+
+/* a body's 4 x 4 pseudo-inertia of its ten standard parameters, and
+   back */
 void rps3_cfit_pseudo_of(const double s[10], double J[4][4]);
+void rps3_cfit_std_of(const double J[4][4], double s[10]);
 /* column j is >= 0 in the layout */
 int rps3_cfit_is_nonneg(const cfit *c, size_t j);
 /* pi (p) and the bodies' ten parameters (10 nb) of the variables x */
@@ -77,5 +92,48 @@ double rps3_cfit_optimality(const cfit *c, const double *theta,
 /* the step out of a false stationary point into x; 0 when none */
 int rps3_cfit_escape(const cfit *c, double *x, const descent *d,
                      const double *body);
+
+/* the plain Cholesky variables x of the bodies' standard parameters
+   (body, 10 nb, each pseudo-inertia positive semidefinite) and pi (the
+   columns of no body, a >= 0 one >= 0) */
+void rps3_cfit_plain_of(const cfit *c, const double *body, const double *pi,
+                        double *x);
+
+/*
+ * The barrier stage (src/ident_cbar.c): the convex problem in the
+ * bodies' standard parameters and the columns of no body, y (nx; body
+ * b's ten at 10 b, column j at slot[j] as the Cholesky variables),
+ * minimised with the log-barrier of the constraints by Newton's method
+ * on a decreasing path.  Its workspace, allocated once a fit.
+ */
+typedef struct {
+  gsl_matrix *M;          /* p x p: R11^T R11 */
+  gsl_matrix *H;          /* nx x nx: the Newton matrix, then its factor */
+  gsl_vector *g, *dy, *D; /* nx: gradient, step, the scaling of H */
+  gsl_vector *yt;         /* nx: a trial point */
+  gsl_permutation *perm;  /* nx: the factor's pivots */
+  double *res;            /* p: R11 pi - r */
+  double *Ji;             /* 16 nb: the inverse pseudo-inertias */
+  double *cw;             /* nb + p: the barrier's linear terms, a body's
+                             on its trace, a >= 0 column's on it */
+} cbar;
+
+/* the workspace for c (its p, nb, nx); RPS3_OK or RPS3_ENOMEM (then
+   partly allocated: free it) */
+int rps3_cbar_alloc(cbar *w, const cfit *c);
+void rps3_cbar_free(cbar *w);
+
+/*
+ * From y (moved inside first where it is not: every pseudo-inertia
+ * positive definite, a >= 0 column > 0), at most max_iter Newton steps
+ * (added to *niter); theta, body, *gap (the optimality measure) and
+ * *cost (of theta, rho^2 = R's last diagonal squared included) of the
+ * last iterate, y.  1 when the optimality test with opt_tol is met; 0
+ * when not: the budget is spent, reg is 0 (the barrier's minimiser need
+ * not exist: no step is taken), or Newton's step stalled.
+ */
+int rps3_cbar_solve(const cfit *c, cbar *w, double *y, double reg,
+                    double opt_tol, size_t max_iter, int *niter, double *theta,
+                    double *body, double *gap, double *cost);
 
 #endif /* RPS3_IDENT_CFIT_H */

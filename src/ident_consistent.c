@@ -5,10 +5,12 @@
  * friction by its logarithm), then plain (the diagonal itself, friction
  * by its square root), which reaches an optimum on the boundary of the
  * cone; solved with GSL's nonlinear least squares and an analytic
- * Jacobian to a KKT optimality test; the eigenvalues are checked after
- * the fit.  The variables, the residual and the optimality measure are
- * src/ident_cfit.c's; this file checks the layout, starts, drives the
- * stages and checks what they reached.
+ * Jacobian; where the plain stage does not finish in a few iterations
+ * (an optimum inside a face of the cone), the convex problem itself by
+ * the barrier method (src/ident_cbar.c); all to a KKT optimality test,
+ * the eigenvalues checked after the fit.  The variables, the residual
+ * and the optimality measure are src/ident_cfit.c's; this file checks
+ * the layout, starts, drives the stages and checks what they reached.
  *
  * Run once per data set, not per point: it allocates its GSL workspaces
  * and frees them before returning.
@@ -234,15 +236,9 @@ out:
   return R;
 }
 
-/* the optimality measure's floor, in units of |W^1/2 F|^2: its terms
-   are products of the gradient 2 R11^T (R11 pi - r), formed from numbers
-   near 1 to about 1e-16, with the bodies; 1e-14 is above that rounding
-   and far below what any noise gives (1 % noise: a cost of 1e-4) */
-#define GAP_FLOOR 1e-14
-
 /* converged: the measure within opt_tol of the cost, or at its floor */
 static int optimal(double gap, double cost, const rps3_ident_opts *o) {
-  return gap <= o->opt_tol * cost + GAP_FLOOR;
+  return rps3_cfit_optimal(gap, cost, o->opt_tol);
 }
 
 /* the log-Cholesky stage's iterations: it reaches an interior optimum's
@@ -316,23 +312,47 @@ static int solve(cfit *c, double *x, const rps3_ident_opts *o, size_t max_iter,
   return RPS3_OK;
 }
 
-/* the log-Cholesky iterate x in the plain Cholesky variables: the same
-   J_b and pi */
-static void to_plain(cfit *c, double *x) {
-  size_t b, j;
-  int v;
-  for (b = 0; b < c->nb; b++)
-    for (v = 0; v < 10; v++)
-      if (rps3_cfit_UA[v] == rps3_cfit_UB[v])
-        x[10 * b + (size_t)v] = exp(x[10 * b + (size_t)v]);
-  for (j = 0; j < c->p; j++)
-    if (c->owner[j] < 0 && rps3_cfit_is_nonneg(c, j))
-      x[c->slot[j]] = exp(0.5 * x[c->slot[j]]);
+/* the plain Cholesky variables' problem: the curvature rows after the
+   residual's and the bodies' trace rows */
+static void plain_mode(cfit *c) {
+  size_t j;
   c->plain = 1;
   c->ncurv = 16 * c->nb;
   for (j = 0; j < c->p; j++)
     c->ncurv += c->owner[j] < 0 && rps3_cfit_is_nonneg(c, j);
   c->nf = c->p + 10 * c->nb + c->ncurv;
+}
+
+/* the plain stage's first iterations, before the barrier stage: where
+   the log-Cholesky stage ended near the optimum it converges in a few
+   (the paper model's fits: 0 to 10); on a face of the cone it would crawl
+   for hundreds */
+#define PLAIN_TRY 20
+
+/* the plain Cholesky variables from x until the optimality test (*gst
+   GSL_SUCCESS) or fit->niter reaches until (or the budget); theta, body
+   and fit->gap of the last iterate; RPS3_OK or RPS3_ENOMEM */
+static int plain_stage(cfit *c, double *x, const rps3_ident_opts *o,
+                       size_t until, rps3_ident_fit *fit, double *body,
+                       int *gst) {
+  int status = RPS3_OK;
+  if (until > (size_t)o->max_iter) until = (size_t)o->max_iter;
+  for (;;) {
+    descent d;
+    status = solve(c, x, o,
+                   until > (size_t)fit->niter ? until - (size_t)fit->niter : 0,
+                   &fit->niter, gst, fit->theta, body, &fit->gap);
+    if (status != RPS3_OK || *gst == GSL_SUCCESS || *gst == GSL_EMAXITER ||
+        (size_t)fit->niter >= until)
+      break;
+    /* stopped short of optimality: out of the stationary point along
+       the best descent step of the convex problem, and on (an
+       iteration of the budget, so that this ends) */
+    rps3_cfit_optimality(c, fit->theta, body, o->reg, &d);
+    if (!rps3_cfit_escape(c, x, &d, body)) break;
+    fit->niter++;
+  }
+  return status;
 }
 
 /* what was reached, checked whatever the solver said (gst, reported):
@@ -410,7 +430,7 @@ static int check_fit(const cfit *c, const rps3_ident_opts *o, double scale,
         "optimality measure %.3g is above opt_tol = %g times the cost "
         "%.6g (+ %g); the last iterate is returned",
         fit->niter, gsl_strerror(gst), fit->gap, o->opt_tol, fit->cost,
-        GAP_FLOOR);
+        RPS3_CFIT_GAP_FLOOR);
 out:
   if (ew) gsl_eigen_symm_free(ew);
   gsl_matrix_free(E);
@@ -428,9 +448,11 @@ int rps3_ident_consistent(const rps3_ident_data *dt,
   cfit c;
   size_t p, j, nx = 0;
   int status, *owner = NULL, *slot = NULL, gst = GSL_SUCCESS;
-  double *R = NULL, *x0 = NULL, *body = NULL, scale = 1.0;
+  double *R = NULL, *x0 = NULL, *y = NULL, *body = NULL, scale = 1.0;
+  cbar bw;
   rps3_check_clear(chk);
   memset(&c, 0, sizeof c);
+  memset(&bw, 0, sizeof bw);
   if (o == NULL) {
     rps3_ident_opts_default(&def);
     o = &def;
@@ -456,8 +478,9 @@ int rps3_ident_consistent(const rps3_ident_data *dt,
   if (status != RPS3_OK) goto out;
   R = reduced(dt, &scale);
   x0 = calloc(nx, sizeof(double));
+  y = calloc(nx, sizeof(double));
   body = calloc(10 * lay->nbody + 1, sizeof(double));
-  if (!R || !x0 || !body) {
+  if (!R || !x0 || !y || !body) {
     status =
         rps3_ident_fail(err, errsz, RPS3_ENOMEM, "consistent: out of memory");
     goto out;
@@ -484,28 +507,38 @@ int rps3_ident_consistent(const rps3_ident_data *dt,
     goto out;
   }
   status = start_point(&c, x0);
+  if (status == RPS3_OK) status = rps3_cbar_alloc(&bw, &c);
   if (status == RPS3_OK) {
     /* from the interior in the log-Cholesky variables, where Gauss-Newton
-       is at its best, then on in the plain ones, which reach the boundary
-       of the cone at finite values, with the curvature rows, to the
-       optimality test */
-    size_t budget = (size_t)o->max_iter;
+       is at its best; a few iterations in the plain Cholesky ones, which
+       reach the boundary of the cone at finite values and finish where
+       the log-Cholesky stage ended near the optimum (the paper model's
+       fits); else the convex problem itself by the barrier method from
+       there, and where that stops short (a stalled step), on in the plain
+       variables to the optimality test */
+    const size_t budget = (size_t)o->max_iter;
+    size_t j2;
+    double cost;
     status = solve(&c, x0, o, budget < LOG_ITER ? budget : LOG_ITER,
                    &fit->niter, &gst, NULL, NULL, NULL);
-    if (status == RPS3_OK) to_plain(&c, x0);
-    while (status == RPS3_OK) {
-      descent d;
-      status = solve(&c, x0, o, budget - (size_t)fit->niter, &fit->niter, &gst,
-                     fit->theta, body, &fit->gap);
-      if (status != RPS3_OK || gst == GSL_SUCCESS || gst == GSL_EMAXITER ||
-          fit->niter >= o->max_iter)
-        break;
-      /* stopped short of optimality: out of the stationary point along
-         the best descent step of the convex problem, and on (an
-         iteration of the budget, so that this ends) */
-      rps3_cfit_optimality(&c, fit->theta, body, o->reg, &d);
-      if (!rps3_cfit_escape(&c, x0, &d, body)) break;
-      fit->niter++;
+    if (status == RPS3_OK) {
+      rps3_cfit_pi_of(&c, x0, fit->theta, body);
+      plain_mode(&c);
+      rps3_cfit_plain_of(&c, body, fit->theta, x0);
+      status = plain_stage(&c, x0, o, (size_t)fit->niter + PLAIN_TRY, fit, body,
+                           &gst);
+    }
+    if (status == RPS3_OK && gst != GSL_SUCCESS &&
+        (size_t)fit->niter < budget) {
+      memcpy(y, body, 10 * c.nb * sizeof(double));
+      for (j2 = 0; j2 < p; j2++)
+        if (owner[j2] < 0) y[slot[j2]] = fit->theta[j2];
+      if (rps3_cbar_solve(&c, &bw, y, o->reg, o->opt_tol,
+                          budget - (size_t)fit->niter, &fit->niter, fit->theta,
+                          body, &fit->gap, &cost))
+        goto check;
+      rps3_cfit_plain_of(&c, body, fit->theta, x0);
+      status = plain_stage(&c, x0, o, budget, fit, body, &gst);
     }
   }
   if (status != RPS3_OK) {
@@ -515,8 +548,10 @@ int rps3_ident_consistent(const rps3_ident_data *dt,
                                  : "consistent: no consistent start");
     goto out;
   }
+check:
   status = check_fit(&c, o, scale, body, gst, fit, err, errsz);
 out:
+  rps3_cbar_free(&bw);
   free(c.work);
   if (c.ew) gsl_eigen_symmv_free(c.ew);
   gsl_matrix_free(c.E);
@@ -524,6 +559,7 @@ out:
   gsl_vector_free(c.lam);
   free(R);
   free(x0);
+  free(y);
   free(body);
   free(owner);
   free(slot);

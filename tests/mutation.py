@@ -567,6 +567,12 @@ MUTATIONS = [
      "J[3][3] = 1.01 * s[0];",
      "identification: the consistent fit's pseudo-inertia mass entry 1 %"
      " off"),
+    ("consistent-barrier-logdet", "src/ident_cbar.c",
+     "s -= log(gsl_vector_get(c->lam, k));",
+     "s -= 0.5 * log(gsl_vector_get(c->lam, k));",
+     "identification: the consistent fit's barrier stage, -log det J_b"
+     " halved in the line search's value (its gradient and Hessian as"
+     " they are)"),
     # the general bodies (src/bodies.c, their loads in both formulations,
     # the certificate, the regressor of the standard parameters)
     ("bodies-mass", "src/bodies.c",

@@ -618,6 +618,95 @@ static void test_consistent(void **state) {
   stack_free(&st);
 }
 
+/*
+ * reg 0 and a body the data do not see.  Its pseudo-inertia costs
+ * nothing anywhere in the cone, so the fit's other parameters are those
+ * of the fit without it and the optimality measure must stay finite: a
+ * direction of no curvature (h = 0) with a dual violation at rounding
+ * level would make the measure's decrease e^2 / (4 h) infinite and the
+ * fit never converge.  Three bodies of that kind: none of its parameters
+ * a column; its ten columns all zero in Y; and one seen only through a
+ * sum (its m and Izz columns equal, a fresh column of the data's scale:
+ * their difference's curvature is rounding).  Each converged within
+ * opt_tol, consistent, its cost that of the fit without the body (within
+ * twice opt_tol, both fits within opt_tol of one optimum) where the body
+ * is not seen at all.
+ */
+#define NX_UNSEEN 10
+static void test_consistent_unseen_reg0(void **state) {
+  rps3_model m;
+  stack st;
+  const rps3_ident_layout *pl = rps3_ident_paper_layout();
+  const size_t P0 = 11, P = P0 + NX_UNSEEN;
+  int col[3][10], kind[11 + NX_UNSEEN], b, k, v;
+  double th[11 + NX_UNSEEN], body[30], eig[12], cost0 = 0.0, rms = 0.0;
+  double *Y;
+  rps3_ident_layout lay;
+  rps3_ident_data dt;
+  rps3_ident_fit fit;
+  rps3_ident_opts o;
+  rps3_check chk;
+  uint64_t s = 17;
+  size_t j, r;
+  (void)state;
+  for (b = 0; b < 2; b++)
+    for (k = 0; k < 10; k++)
+      col[b][k] = pl->col[b][k] < 0 ? -1 : pl->col[b][k] - 1;
+  for (j = 0; j < P; j++) kind[j] = j < P0 ? pl->kind[SET_PAYLOAD[j]] : 0;
+  truth_model(&m, 0.0);
+  make_stack(&m, 1000, 0.02, 0.3, 21, SET_PAYLOAD, P0, &st);
+  for (r = 0; r < st.n; r++) rms += st.F0[r] * st.F0[r] / (double)st.n;
+  for (r = 0; r < st.n; r++)
+    st.F[r] = st.F0[r] + 0.01 * sqrt(rms) * rnd_normal(&s);
+  Y = malloc(st.n * P * sizeof(double));
+  assert_non_null(Y);
+  rps3_ident_opts_default(&o);
+  o.reg = 0.0;
+  memset(&fit, 0, sizeof(fit));
+  fit.theta = th;
+  fit.body = body;
+  fit.eig = eig;
+  lay.col = (const int(*)[10])col;
+  lay.kind = kind;
+  for (v = 0; v < 4; v++) {
+    int st_c;
+    /* 0: the fit without the body; 1: a body of no column; 2: its
+       columns zero; 3: seen through m + Izz only */
+    lay.nbody = v == 0 ? 2 : 3;
+    for (k = 0; k < 10; k++)
+      col[2][k] = v == 2 ? (int)P0 + k : -1;
+    if (v == 3) {
+      col[2][0] = (int)P0;
+      col[2][9] = (int)P0 + 1;
+    }
+    memset(&dt, 0, sizeof(dt));
+    dt.n = st.n;
+    dt.p = v >= 2 ? (v == 2 ? P : P0 + 2) : P0;
+    dt.F = st.F;
+    dt.Y = Y;
+    for (r = 0; r < st.n; r++) {
+      double z = st.Y[r * P0] * rnd_uniform(&s, -1.0, 1.0);
+      for (j = 0; j < dt.p; j++)
+        Y[r * dt.p + j] = j < P0 ? st.Y[r * P0 + j] : v == 3 ? z : 0.0;
+    }
+    st_c = rps3_ident_consistent(&dt, &lay, &o, &fit, &chk);
+    print_message("unseen body %d, reg 0: status %d, %d iterations, gap / "
+                  "cost %.2g\n",
+                  v, st_c, fit.niter, fit.gap / fit.cost);
+    if (st_c != RPS3_OK) fail_msg("case %d: %s", v, chk.msg);
+    assert_true(fit.consistent);
+    assert_true(fit.gap <= o.opt_tol * fit.cost + 1e-14);
+    for (b = 0; b < (int)lay.nbody; b++)
+      assert_true(eig[4 * b] >= -o.eig_tol * fabs(eig[4 * b + 3]));
+    if (v == 0) cost0 = fit.cost;
+    if (v == 1 || v == 2)
+      CHECK_REL(fit.cost, cost0, 2.0 * o.opt_tol, 0.0,
+                "case %d: the cost against the fit without the body", v);
+  }
+  free(Y);
+  stack_free(&st);
+}
+
 /* ------------------------------------------ a boundary optimum by KKT */
 
 /* the standard parameters (m, mcx, mcy, mcz, Ixx, Ixy, Ixz, Iyy, Iyz,
@@ -830,6 +919,98 @@ static void test_consistent_boundary_kkt(void **state) {
   free(q);
 }
 
+/*
+ * The general model's 76 parameters (the seven bodies' standard ones and
+ * the pins' friction) of the paper's bodies written as general ones: the
+ * links rods (a pseudo-inertia of rank 2), the pistons massless (0), the
+ * pins' Coulomb coefficient 0, so the optimum lies on the boundary of the
+ * consistent set, where the plain Cholesky stage alone crawls along a
+ * face (here: not converged in 2,000 iterations) and the barrier stage
+ * takes tens.  2 s of a sine trajectory at 1 kHz, 1 % noise.  Required:
+ * converged within opt_tol, consistent, within GENERAL_MAX_ITER
+ * iterations (measured 99 in all), and its objective (from the rows) at
+ * most the truth's, a consistent point the optimum cannot be above.
+ */
+#define GENERAL_MAX_ITER 150
+#define GENERAL_P 76
+static void test_consistent_general_boundary(void **state) {
+  rps3_model m;
+  rps3_data *d;
+  rps3_traj tr;
+  rps3_ident_layout lay;
+  rps3_ident_data dt;
+  rps3_ident_fit fit;
+  rps3_check chk;
+  const size_t npt = 2000, n = 3 * npt;
+  double *Y = malloc(n * GENERAL_P * sizeof(double));
+  double *F = malloc(n * sizeof(double)), pi[RPS3_NSTD], th[GENERAL_P],
+         body[10 * RPS3_NBODY], eig[4 * RPS3_NBODY], truth[GENERAL_P],
+         rms = 0.0, phi_t, phi_c;
+  int col[RPS3_NBODY][10], kind[GENERAL_P], b, k, st_c;
+  uint64_t s = 29;
+  size_t i, j, r;
+  (void)state;
+  assert_non_null(Y);
+  assert_non_null(F);
+  truth_model(&m, 0.0);
+  assert_int_equal(rps3_std_params(&m, pi), RPS3_OK);
+  assert_int_equal(rps3_data_alloc(&m, &d), RPS3_OK);
+  traj_random(&tr, &s);
+  /* columns: the bodies' 70, then the pins' 6 (standard 76..81) */
+  for (j = 0; j < GENERAL_P; j++) {
+    truth[j] = pi[j < 70 ? j : j + 6];
+    kind[j] = j < 70 ? RPS3_IDENT_FREE : RPS3_IDENT_NONNEG;
+  }
+  for (i = 0; i < npt; i++) {
+    double Ys[3][RPS3_NSTD];
+    assert_int_equal(rps3_traj_eval(&m, &tr, 1e-3 * (double)i, d->pose,
+                                     d->dpose, d->ddpose),
+                     RPS3_OK);
+    assert_int_equal(rps3_regressor_std(&m, d, Ys), RPS3_OK);
+    for (r = 0; r < 3; r++) {
+      double f = 0.0;
+      for (j = 0; j < GENERAL_P; j++) {
+        Y[(3 * i + r) * GENERAL_P + j] = Ys[r][j < 70 ? j : j + 6];
+        f += Ys[r][j < 70 ? j : j + 6] * truth[j];
+      }
+      F[3 * i + r] = f;
+      rms += f * f / (double)n;
+    }
+  }
+  for (r = 0; r < n; r++) F[r] += 0.01 * sqrt(rms) * rnd_normal(&s);
+  for (b = 0; b < RPS3_NBODY; b++)
+    for (k = 0; k < 10; k++) col[b][k] = 10 * b + k;
+  lay.nbody = RPS3_NBODY;
+  lay.col = (const int(*)[10])col;
+  lay.kind = kind;
+  memset(&dt, 0, sizeof(dt));
+  dt.n = n;
+  dt.p = GENERAL_P;
+  dt.Y = Y;
+  dt.F = F;
+  memset(&fit, 0, sizeof(fit));
+  fit.theta = th;
+  fit.body = body;
+  fit.eig = eig;
+  st_c = rps3_ident_consistent(&dt, &lay, NULL, &fit, &chk);
+  phi_t = kkt_objective(Y, F, n, GENERAL_P, RPS3_NBODY, truth, 1e-9);
+  phi_c = kkt_objective(Y, F, n, GENERAL_P, RPS3_NBODY, th, 1e-9);
+  print_message("general boundary: %d iterations, gap / cost %.2g, "
+                "objective C / truth's - 1 = %.3g\n",
+                fit.niter, fit.gap / fit.cost, phi_c / phi_t - 1.0);
+  if (st_c != RPS3_OK) fail_msg("%s", chk.msg);
+  assert_true(fit.consistent);
+  assert_true(fit.gap <= 1e-6 * fit.cost + 1e-14);
+  assert_true(fit.niter <= GENERAL_MAX_ITER);
+  assert_true(phi_c <= phi_t);
+  for (b = 0; b < RPS3_NBODY; b++)
+    assert_true(eig[4 * b] >= -1e-10 * fabs(eig[4 * b + 3]));
+  for (j = 70; j < GENERAL_P; j++) assert_true(th[j] >= 0.0);
+  rps3_data_free(d);
+  free(Y);
+  free(F);
+}
+
 /* the sizes of the targets, timed (reported, not asserted) */
 static void test_timing(void **state) {
   rps3_model m;
@@ -964,7 +1145,9 @@ int main(void) {
       cmocka_unit_test(test_wls_monte_carlo),
       cmocka_unit_test(test_wls_rank_deficient),
       cmocka_unit_test(test_consistent),
+      cmocka_unit_test(test_consistent_unseen_reg0),
       cmocka_unit_test(test_consistent_boundary_kkt),
+      cmocka_unit_test(test_consistent_general_boundary),
       cmocka_unit_test(test_timing),
 #ifndef RPS3_SANITIZE
       cmocka_unit_test(test_regressor_allocates_nothing),

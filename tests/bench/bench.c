@@ -20,6 +20,7 @@
  * asserted: the numbers are what the machine did.
  */
 #include <math.h>
+#include <stdint.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -74,6 +75,8 @@ typedef enum {
   K_ANCHOR,   /* the SymPy-generated forces along the trajectory */
   K_ANCHOR_BATCH, /* the same generated code in a vectorised loop over
                      BATCH_N points at a time (rps3_anchor_forces_batch) */
+  K_CONSISTENT, /* rps3_ident_consistent: one fit a batch (time per fit)
+                   of CFIT_N points' standard regressor (cfit_make) */
   K_BATCH,    /* rps3_inverse_batch over BATCH_N points at a time, F */
   K_BATCH_ALL, /* the same with every output the batch has (status, warn,
                   l, theta, niter, F, F_effect, lambda, cond, residual:
@@ -119,6 +122,7 @@ typedef struct {
   user_law user;           /* ... the user's law (LAW_USER_PLANT) */
   rps3_design_ws *dws;     /* K_DESIGN: the workspace, */
   rps3_design_out dout;    /* ... its outputs (BATCH_N poses) */
+  struct cfit_bench *cf;   /* K_CONSISTENT: its data and fit */
 } bench_case;
 
 static double clock_ns(clockid_t id) {
@@ -163,6 +167,165 @@ static rps3_controller sim_law(bench_case *c) {
   return ctl;
 }
 
+/* ------------------------------------------------------ consistent fit */
+
+/* K_CONSISTENT: the general model's 76 parameters (the seven bodies' 70
+   standard parameters and the pins' viscous and Coulomb coefficients)
+   identified from 10 s of a sine trajectory at 1 kHz (CFIT_N points,
+   30,000 rows) of the full scene's model written as general bodies: its
+   links point masses (a pseudo-inertia of rank 1), its pistons massless
+   (0), so the optimum lies on the boundary of the consistent set; the
+   prismatic joints' friction, 0 in that scene, is left out.  The forces
+   Y pi plus 1 % of their RMS of Gaussian noise, fixed seed. */
+#define CFIT_N 10000
+#define CFIT_P 76
+#define TARGET_CFIT_NS 1e9 /* docs/identification.md: <= 1 s on one core */
+
+typedef struct cfit_bench {
+  double *Y, *F, theta[CFIT_P], body[10 * RPS3_NBODY];
+  int col[RPS3_NBODY][10], kind[CFIT_P];
+  rps3_ident_layout lay;
+  rps3_ident_data dt;
+} cfit_bench;
+
+/* standard column of fit column j: the bodies', then the pins' */
+static int cfit_std_col(int j) {
+  return j < 10 * RPS3_NBODY ? j : j + 6;
+}
+
+/* a standard normal deviate of the xorshift64 state s (Box-Muller) */
+static double cfit_normal(uint64_t *s) {
+  double u[2];
+  int k;
+  for (k = 0; k < 2; k++) {
+    *s ^= *s << 13;
+    *s ^= *s >> 7;
+    *s ^= *s << 17;
+    u[k] = ((double)(*s >> 11) + 0.5) / 9007199254740992.0;
+  }
+  return sqrt(-2.0 * log(u[0])) * cos(6.283185307179586 * u[1]);
+}
+
+/* the case's data from c->m; 0, or -1 with a message */
+static int cfit_make(bench_case *c) {
+  cfit_bench *cf = calloc(1, sizeof(*cf));
+  double *pose = malloc(3 * BATCH_N * sizeof(double));
+  double *dpose = malloc(3 * BATCH_N * sizeof(double));
+  double *ddpose = malloc(3 * BATCH_N * sizeof(double));
+  double *Ys = malloc(3 * RPS3_NSTD * BATCH_N * sizeof(double));
+  double pi[RPS3_NSTD], rms = 0.0;
+  rps3_traj tr;
+  uint64_t seed = 0x9e3779b97f4a7c15ull;
+  size_t n = 3 * (size_t)CFIT_N, i, j, k0;
+  int b, k, rc = -1;
+  c->cf = cf;
+  if (cf) {
+    cf->Y = malloc(n * CFIT_P * sizeof(double));
+    cf->F = malloc(n * sizeof(double));
+  }
+  if (!cf || !cf->Y || !cf->F || !pose || !dpose || !ddpose || !Ys) {
+    fprintf(stderr, "rps3-bench: %s: out of memory\n", c->name);
+    goto out;
+  }
+  memset(&tr, 0, sizeof(tr));
+  tr.kind = RPS3_TRAJ_SINE;
+  {
+    static const double mean[3] = {0.0, 0.2, 0.29}, amp[3] = {1.2, 0.08, 0.04},
+                        freq[3] = {0.37, 0.83, 1.31}, ph[3] = {0.0, 1.0, 2.0};
+    for (k = 0; k < 3; k++) {
+      tr.sine.mean[k] = mean[k];
+      tr.sine.amp[k] = amp[k];
+      tr.sine.freq[k] = freq[k];
+      tr.sine.phase[k] = ph[k];
+    }
+    tr.sine.duration = (double)CFIT_N / RATE_HZ;
+  }
+  if (rps3_std_params(&c->m, pi) != RPS3_OK) goto out;
+  for (k0 = 0; k0 < CFIT_N; k0 += BATCH_N) {
+    rps3_batch_in in;
+    rps3_batch_out bo;
+    size_t p;
+    for (p = 0; p < BATCH_N; p++) {
+      double q[3], dq[3], ddq[3];
+      if (rps3_traj_eval(&c->m, &tr, (double)(k0 + p) / RATE_HZ, q, dq,
+                         ddq) != RPS3_OK)
+        goto fail;
+      for (k = 0; k < 3; k++) {
+        pose[k * BATCH_N + p] = q[k];
+        dpose[k * BATCH_N + p] = dq[k];
+        ddpose[k * BATCH_N + p] = ddq[k];
+      }
+    }
+    memset(&in, 0, sizeof(in));
+    memset(&bo, 0, sizeof(bo));
+    in.n = BATCH_N;
+    in.pose = pose;
+    in.dpose = dpose;
+    in.ddpose = ddpose;
+    bo.status = c->b_status;
+    if (rps3_regressor_std_batch(&c->m, c->d, &in, Ys, &bo) != RPS3_OK ||
+        bo.nfail != 0)
+      goto fail;
+    /* row 3 (k0 + p) + a, column j: Y[(a RPS3_NSTD + k) n + p] */
+    for (p = 0; p < BATCH_N; p++)
+      for (i = 0; i < 3; i++) {
+        size_t r = 3 * (k0 + p) + i;
+        double f = 0.0;
+        for (j = 0; j < CFIT_P; j++) {
+          int sk = cfit_std_col((int)j);
+          double y = Ys[(i * RPS3_NSTD + (size_t)sk) * BATCH_N + p];
+          cf->Y[r * CFIT_P + j] = y;
+          f += y * pi[sk];
+        }
+        cf->F[r] = f;
+        rms += f * f / (double)n;
+      }
+  }
+  for (i = 0; i < n; i++) cf->F[i] += 0.01 * sqrt(rms) * cfit_normal(&seed);
+  for (b = 0; b < RPS3_NBODY; b++)
+    for (k = 0; k < 10; k++) cf->col[b][k] = 10 * b + k;
+  for (j = 0; j < CFIT_P; j++)
+    cf->kind[j] = j < 10 * RPS3_NBODY ? RPS3_IDENT_FREE : RPS3_IDENT_NONNEG;
+  cf->lay.nbody = RPS3_NBODY;
+  cf->lay.col = (const int(*)[10])cf->col;
+  cf->lay.kind = cf->kind;
+  cf->dt.n = n;
+  cf->dt.p = CFIT_P;
+  cf->dt.Y = cf->Y;
+  cf->dt.F = cf->F;
+  rc = 0;
+  goto out;
+fail:
+  fprintf(stderr, "rps3-bench: %s: the regressor of the sine trajectory "
+          "failed\n", c->name);
+out:
+  free(pose);
+  free(dpose);
+  free(ddpose);
+  free(Ys);
+  return rc;
+}
+
+static void cfit_free(cfit_bench *cf) {
+  if (cf == NULL) return;
+  free(cf->Y);
+  free(cf->F);
+  free(cf);
+}
+
+/* one fit: its iterations counted, a status other than RPS3_OK a failure */
+static void cfit_run(bench_case *c) {
+  rps3_ident_fit fit;
+  memset(&fit, 0, sizeof(fit));
+  fit.theta = c->cf->theta;
+  fit.body = c->cf->body;
+  if (rps3_ident_consistent(&c->cf->dt, &c->cf->lay, NULL, &fit, NULL) !=
+      RPS3_OK)
+    c->failures++;
+  c->iter += fit.niter;
+  c->solves++;
+}
+
 /* one batch of ncalls calls; the loop of each kind is kept tight */
 static void run_batch(bench_case *c, const points *pt, long ncalls) {
   const rps3_model *m = &c->m;
@@ -170,6 +333,9 @@ static void run_batch(bench_case *c, const points *pt, long ncalls) {
   long i;
   int p;
   switch (c->kind) {
+  case K_CONSISTENT:
+    cfit_run(c); /* one fit, whatever ncalls: main times it alone */
+    break;
   case K_IK:
     for (i = 0; i < ncalls; i++) {
       p = walk(c, pt->n);
@@ -558,7 +724,7 @@ static void summarize(bench_case *c, long calls, long batches, bench_row *r) {
   r->mean_iter = (c->count_iter && c->solves > 0)
                      ? (double)c->iter / (double)c->solves
                      : BENCH_NONE;
-  r->calls = calls;
+  r->calls = c->kind == K_CONSISTENT ? 1 : calls;
   r->batches = batches;
   r->failures = c->failures;
 }
@@ -1011,6 +1177,13 @@ int main(int argc, char **argv) {
        "cond_h, transmission, centre, spin) and the summary; target 1 ms "
        "the grid", K_DESIGN, SCENE_PAPER, RPS3_LAGRANGE,
        RPS3_THETA_CLOSED_FORM, 1, 0, TARGET_DESIGN_NS, 0);
+  CASE("consistent_fit_general_76", "rps3_ident_consistent (time per "
+       "fit): the general model's 76 parameters (7 bodies, the pins' "
+       "friction) from 30,000 rows, 10 s of a sine trajectory at 1 kHz, "
+       "1 % noise, the full scene's bodies (point-mass links, massless "
+       "pistons: the optimum on the boundary of the consistent set); "
+       "iter: the fit's iterations; target 1 s", K_CONSISTENT, SCENE_FULL, RPS3_LAGRANGE,
+       RPS3_THETA_CLOSED_FORM, 1, 0, TARGET_CFIT_NS, 1);
   CASE("pipeline_closed_lagrange_general_nocert", "rps3_inverse, "
        "closed-form theta, general bodies, Lagrange, certify off",
        K_INVERSE, SCENE_GENERAL, RPS3_LAGRANGE, RPS3_THETA_CLOSED_FORM, 1, 0,
@@ -1124,6 +1297,7 @@ int main(int argc, char **argv) {
         return 2;
       }
     }
+    if (c->kind == K_CONSISTENT && cfit_make(c) != 0) return 2;
     /* warm-up batch: caches, branch predictors, the walk's warm start */
     run_batch(c, &pt, calls);
     c->iter = c->solves = c->failures = 0;
@@ -1132,13 +1306,15 @@ int main(int argc, char **argv) {
   /* timed batches, round-robin over the cases */
   for (b = 0; b < batches; b++)
     for (i = 0; i < ncase; i++) {
+      /* K_CONSISTENT: one fit a batch, timed as one call */
+      double nc = cases[i].kind == K_CONSISTENT ? 1.0 : (double)calls;
       double t0 = clock_ns(CLOCK_MONOTONIC), t1, c0, c1;
       c0 = clock_ns(CLOCK_THREAD_CPUTIME_ID);
       run_batch(&cases[i], &pt, calls);
       c1 = clock_ns(CLOCK_THREAD_CPUTIME_ID);
       t1 = clock_ns(CLOCK_MONOTONIC);
-      cases[i].per_call[b] = (t1 - t0) / (double)calls;
-      cases[i].cpu_call[b] = (c1 - c0) / (double)calls;
+      cases[i].per_call[b] = (t1 - t0) / nc;
+      cases[i].cpu_call[b] = (c1 - c0) / nc;
     }
   /* ratios batch by batch (the same round of the interleaving), before
      the per-case sort */
@@ -1223,6 +1399,7 @@ int main(int argc, char **argv) {
     rps3_sim_free(cases[i].sim);
     rps3_ctrl_free(cases[i].ctrl);
     user_law_free(&cases[i].user);
+    cfit_free(cases[i].cf);
     free(cases[i].per_call);
     free(cases[i].cpu_call);
     free(cases[i].b_status);
