@@ -2443,7 +2443,11 @@ typedef struct {
  * singular J_b at finite values, with Jacobian rows that carry the
  * second-order term Gauss-Newton leaves out (Newton's model near the
  * optimum) and, at a stationary point that is not optimal, a step along
- * the convex problem's best descent direction.  Converged means the
+ * the convex problem's best descent direction; where that plain stage
+ * does not finish within 20 iterations, the convex problem itself by the
+ * barrier method (Newton's method in pi with the exact Hessian of
+ * -log det J_b, GSL's modified Cholesky; a stalled step hands back to
+ * the plain stage).  Converged means the
  * KKT optimality measure fit->gap (the duality gap plus the decrease a
  * violated dual condition offers) is at most opt_tol times fit->cost
  * (or 1e-14, its rounding floor).  After the fit every eigenvalue is

@@ -306,8 +306,9 @@ def consistent_c(Y: ArrayLike, F: ArrayLike, layout: CLayout | Layout, *,
     """The physically consistent fit in C (rps3_ident_consistent): the
     objective of :func:`rps3.ident.consistent` (reg its LMI_REG), every
     body's pseudo-inertia by its Cholesky factor (log-Cholesky, then
-    plain), solved by GSL's trust-region least squares to the optimality
-    test (gap <= opt_tol cost).  weights: inverse variances [1/N^2] per
+    plain) solved by GSL's trust-region least squares, then where needed
+    the convex problem by the barrier method (Newton, exact Hessian), to
+    the optimality test (gap <= opt_tol cost).  weights: inverse variances [1/N^2] per
     row or per actuator (3,) (rps3.ident.consistent's are their square
     roots).  A fit that stops short of convergence is returned with
     converged False (and a RuntimeWarning); its parameters are checked.
