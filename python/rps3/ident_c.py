@@ -2,7 +2,7 @@
 docs/identification.md, "The C library's regressor and fits"): the paper
 model's regressor of a Model, the general model's regressor of its 82
 standard parameters, weighted least squares and the physically
-consistent fit (log-Cholesky, then plain Cholesky factors), numpy in and
+consistent fit (Cholesky factors, then a barrier stage), numpy in and
 out.  rps3.ident re-exports every public name.
 
     Y = rps3.ident.regressor(model, pose, dpose, ddpose)   # (n, 3, 12)
