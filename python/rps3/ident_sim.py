@@ -265,6 +265,9 @@ def monte_carlo(s: Simulated | SimulatedGeneral, *, runs: int, force_noise: floa
     exact states: the estimate's Y_base theta and the consistent fit's
     Y pi, as RMS(predicted - measured) / RMS(measured) (NRMSE)."""
     rng = np.random.default_rng(seed)
+    # the held-out noise from a stream of its own: the fitted draws are
+    # those of the same seed without a held-out motion
+    rng_h = np.random.default_rng((seed, 1))
     rmsF = np.sqrt(np.mean(s.F**2, axis=0))
     ests, cis = [], []
     model: dict[str, Any]
@@ -309,7 +312,7 @@ def monte_carlo(s: Simulated | SimulatedGeneral, *, runs: int, force_noise: floa
             pi = None if cf is None else cf.pi
         if holdout is not None:
             assert Yh is not None and rmsH is not None
-            Fh = holdout.F + rng.normal(size=holdout.F.shape) * force_noise * rmsH
+            Fh = holdout.F + rng_h.normal(size=holdout.F.shape) * force_noise * rmsH
             e_wls.append(_nrmse(base.reduce(Yh) @ res.estimate.theta, Fh))
             if consistent:
                 e_con.append(np.nan if pi is None else _nrmse(Yh @ pi, Fh))
