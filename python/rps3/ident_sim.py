@@ -263,7 +263,13 @@ def monte_carlo(s: Simulated | SimulatedGeneral, *, runs: int, force_noise: floa
     forces with noise of ``force_noise`` times each of its actuators' RMS
     force, drawn anew per draw, against each fit's prediction at its
     exact states: the estimate's Y_base theta and the consistent fit's
-    Y pi, as RMS(predicted - measured) / RMS(measured) (NRMSE)."""
+    Y pi, as RMS(predicted - measured) / RMS(measured) (NRMSE).
+
+    Raises:
+        ValueError: a held-out motion of another kind, set, layout or
+            geometry; ``consistent`` for a paper set the data do not
+            determine (rps3.ident_io.paper_consistent).
+    """
     rng = np.random.default_rng(seed)
     # the held-out noise from a stream of its own: the fitted draws are
     # those of the same seed without a held-out motion
