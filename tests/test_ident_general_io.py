@@ -521,3 +521,45 @@ def test_paper_fit_file_opens_too(case, tmp_path):
         assert ds.cov.dims == ("parameter", "parameter_column")
         assert list(ds.parameter.values) == ["M", "md", "Ipin", "pin.fv", "pin.fc"]
         assert "base_matrix" not in ds
+
+
+#: the held-out NRMSE of an unbiased prediction over the force noise level
+#: s: sqrt((1 + q) / (1 + s^2)), q the prediction's own error share, about
+#: p / N (19 base parameters, 3003 rows: 0.6 %, so sqrt(1 + q) - 1 is
+#: 0.3 %), and the noise's sample RMS over the N_h = 2403 held-out rows
+#: varies by 1 / sqrt(2 N_h) = 1.4 %: four of those and q bound every draw
+NRMSE_BAND_GENERAL = 0.06
+#: the requirement: the consistent fit's held-out NRMSE within 2 % of WLS's
+RATIO_MAX = 1.02
+
+
+def test_monte_carlo_consistent_held_out_general():
+    """15 draws of 1 % force noise on a general model (identical legs,
+    both friction kinds, 100 Hz over 10 s) with the consistent fit of all
+    the layout's parameters and a held-out motion (held_out's series)
+    with its own noise: every draw's consistent fit is physically
+    consistent, its held-out NRMSE within 2 % of WLS's, WLS's at the
+    noise level; a held-out motion of another layout is refused."""
+    model = truth_model(14, "identical")
+    lay = ident.Layout(legs="identical")
+    fo = ident_excite.random_fourier(Q0, AMP, 0.2, 6, seed=3)
+    s = ident_sim.simulate_general(model, fo, lay, periods=2.0, dt=0.01, geometry=GEO)
+    fh = ident_excite.random_fourier(Q0, (1.2, 0.1, 0.025), 0.25, 5, seed=9)
+    h = ident_sim.simulate_general(model, fh, lay, periods=2.0, dt=0.01, geometry=GEO)
+    assert 3 * len(h.t) == 2403
+    st = ident_sim.monte_carlo(s, runs=15, seed=4, consistent=True, holdout=h)
+    print("\n" + st.summary())
+    assert len(st.consistent) == len(st.nrmse_consistent) == 15 and len(st.maps) == 0
+    assert st.consistent.all()
+    assert np.all(np.abs(st.nrmse_wls / 0.01 - 1) < NRMSE_BAND_GENERAL)
+    assert np.all(np.isfinite(st.ratio)) and st.ratio.max() <= RATIO_MAX
+    # without the consistent fit the draws are the same (the held-out
+    # noise has its own stream) and only WLS is scored
+    st2 = ident_sim.monte_carlo(s, runs=3, seed=4, holdout=h)
+    assert np.array_equal(st2.nrmse_wls, st.nrmse_wls[:3])
+    assert len(st2.consistent) == len(st2.nrmse_consistent) == 0
+    with pytest.raises(ValueError, match="layout"):
+        other = ident.Layout(legs="identical", friction=("prismatic",))
+        model2 = truth_model(14, "identical", friction=("prismatic",))
+        h2 = ident_sim.simulate_general(model2, fh, other, periods=1.0, dt=0.01, geometry=GEO)
+        ident_sim.monte_carlo(s, runs=1, holdout=h2)

@@ -433,3 +433,44 @@ def test_fit_refusals_name_the_file(tmp_path):
     ident_io.save_data(str(short), t[:6], l[:6], np.ones((6, 3)))
     with pytest.raises(ident_io.DataError, match=r"short.csv: differentiating the lengths"):
         ident_io.fit(ident_io.load(short))
+
+
+#: the held-out NRMSE of an unbiased prediction over the force noise level
+#: s: the measured forces' noise (s times each actuator's RMS force) over
+#: their RMS, sqrt((1 + q) / (1 + s^2)), q the prediction's own error,
+#: about p / N (5 parameters, 12000 rows: 4e-4); the noise's sample RMS
+#: over N_h = 4800 held-out rows varies by 1 / sqrt(2 N_h) = 1.0 %: four
+#: of those bound every draw.  A base parameter wrong by 1 % (M: 91 % of
+#: the force) would give 1.4 times s
+NRMSE_BAND = 0.04
+#: the requirement: the consistent fit's held-out NRMSE within 2 % of WLS's
+RATIO_MAX = 1.02
+
+
+def test_monte_carlo_consistent_held_out(simulated):
+    """15 draws with the paper set's consistent fit (rps3.ident_io.
+    paper_consistent) and a held-out motion (another series, 0.25 Hz over
+    8 s) with its own noise: every draw's consistent fit is consistent
+    and converged, its held-out NRMSE within 2 % of WLS's, WLS's at the
+    noise level; a held-out motion of another set is refused."""
+    from rps3 import ident_excite
+
+    fo = ident_excite.random_fourier((0.0, 0.25, 0.31), (0.7, 0.08, 0.015), 0.25, 4, seed=9)
+    h = ident_sim.simulate(fo, TRUTH, periods=2, geometry=GEO)
+    assert 3 * len(h.t) == 4800
+    st = ident_sim.monte_carlo(simulated, runs=15, seed=5, consistent=True, holdout=h)
+    print("\n" + st.summary())
+    assert len(st.consistent) == len(st.nrmse_wls) == len(st.maps) == 15
+    assert st.consistent.all() and st.converged.all()
+    assert np.all(np.abs(st.nrmse_wls / 0.01 - 1) < NRMSE_BAND)
+    assert np.all(np.isfinite(st.ratio)) and st.ratio.max() <= RATIO_MAX
+    assert "physically consistent in 15/15" in st.summary()
+    assert "consistent / WLS" in st.summary()
+    # a biased fit is seen: the held-out forces of a plant 5 % heavier
+    heavy = ident_sim.simulate(fo, {**TRUTH, "M": 0.189}, periods=2, geometry=GEO)
+    bad = ident_sim.monte_carlo(simulated, runs=2, seed=5, holdout=heavy)
+    assert np.all(bad.nrmse_wls / 0.01 - 1 > NRMSE_BAND)
+    with pytest.raises(ValueError, match="paper set"):
+        h2 = ident_sim.simulate(fo, TRUTH, periods=2, geometry=GEO,
+                                pset=ident_paper.PaperSet(friction=False))
+        ident_sim.monte_carlo(simulated, runs=1, holdout=h2)

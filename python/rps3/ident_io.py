@@ -447,21 +447,13 @@ def _general(est: _ie.Estimate, geo: _ip.Geometry, base: _id.Base, layout: _id.L
              consistent: bool, reg: float | None) -> Fit:
     """A general layout's fit: the estimate, then the consistent fit of
     all the layout's parameters with the estimate's weights."""
-    import warnings
-
     from rps3 import ident_c as _c
 
     if not consistent:
         return Fit(est, None, geo, base, None, None, "", "not checked: no consistent fit "
                    "asked for", False, src, t, F, base.reduce(Y), layout)
-    weights = 1.0 / est.sigma**2 if est.method == "wls" else None
     try:
-        with warnings.catch_warnings():
-            # a fit short of its optimality test is returned and said so
-            # below (converged, message), not warned about per call
-            warnings.simplefilter("ignore", RuntimeWarning)
-            cf = _c.consistent_c(Y, F, _c.layout_of(layout), weights=weights,
-                                 names=layout.names, reg=reg)
+        cf = _consistent(Y, F, est, _c.layout_of(layout), layout.names, reg)
     except _id.InconsistentFitError as exc:
         rep = f"not physically consistent: {exc}"
         return Fit(est, None, geo, base, None, None, str(exc), rep, False, src, t, F,
@@ -473,6 +465,55 @@ def _general(est: _ie.Estimate, geo: _ip.Geometry, base: _id.Base, layout: _id.L
     return Fit(est, None, geo, base, None, None, "" if ok else "not physically consistent",
                f"{report}\n{solver}", ok, src, t, F, base.reduce(Y), layout, cf,
                layout.matrix @ cf.pi, report)
+
+
+def _consistent(Y: np.ndarray, F: np.ndarray, est: _ie.Estimate, layout: Any,
+                names: tuple[str, ...], reg: float | None) -> Any:
+    """The physically consistent fit (rps3.ident.consistent_c) of the
+    regressor Y's parameters (C layout ``layout``), weighted as the
+    estimate: each actuator by its inverse WLS variance, or equally for
+    OLS.  A fit short of its optimality test is returned (converged False,
+    its message), not warned about per call.
+
+    Raises:
+        InconsistentFitError: the fit's eigenvalue check failed.
+    """
+    import warnings
+
+    from rps3 import ident_c as _c
+
+    weights = 1.0 / est.sigma**2 if est.method == "wls" else None
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore", RuntimeWarning)
+        return _c.consistent_c(Y, F, layout, weights=weights, names=names, reg=reg)
+
+
+def paper_consistent(result: Fit, reg: float | None = None) -> Any:
+    """The physically consistent fit of a paper fit's set (a CFit over
+    ``result.pset.names``): rps3.ident.consistent_c with
+    rps3.ident.paper_layout of the set's columns (a link about its pin,
+    the payload about the platform centre, M and the friction >= 0),
+    weighted as the estimate, on the forces and regressor the estimate
+    used.  ``fit`` does not run it: the paper set's estimate is its
+    parameters, checked by ``consistency``.
+
+    Raises:
+        ValueError: a general layout's fit, or a set the data do not
+            determine (its base parameters are not the set's).
+        InconsistentFitError: the fit's eigenvalue check failed.
+    """
+    from rps3 import ident_c as _c
+
+    if result.layout is not None or result.pset is None:
+        raise ValueError("result: a general layout's fit (its consistent fit is "
+                         "result.consistent_fit)")
+    names = result.pset.names
+    if result.theta is None:
+        raise ValueError(f"result: {result.mapping}")
+    # base = set: the base regressor is the set's, in its order
+    assert np.array_equal(result.base.independent, np.arange(len(names)))
+    cols = [_c.C_PAPER_NAMES.index(n) for n in names]
+    return _consistent(result.Y, result.F, result.estimate, _c.paper_layout(cols), names, reg)
 
 
 def predict(result: Fit, data: Data, *, which: str = "consistent",

@@ -5,7 +5,7 @@ tracks an exciting trajectory, force noise added, the fit repeated.
 
 from __future__ import annotations
 
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 from typing import Any
 
 import numpy as np
@@ -147,7 +147,10 @@ def simulate_general(model: Any, fourier: _ip.Fourier, layout: _id.Layout, *,
 
 @dataclass(frozen=True)
 class Study:
-    """The statistics of a Monte Carlo study."""
+    """The statistics of a Monte Carlo study; with ``consistent`` or a
+    held-out motion, per draw (arrays of ``runs``, empty when not asked):
+    the consistent fit's flags and the held-out forces' NRMSE of each
+    fit."""
 
     runs: int
     names: tuple[str, ...]           #: base parameters
@@ -158,6 +161,23 @@ class Study:
     bias: np.ndarray                 #: mean (theta - truth) / |truth|
     coverage: np.ndarray             #: share of runs whose 95 % interval holds the truth
     source: dict[str, str]
+    #: the consistent fit physically consistent (False: it failed)
+    consistent: np.ndarray = field(default_factory=lambda: np.zeros(0, bool))
+    #: the consistent fit met its optimality test
+    converged: np.ndarray = field(default_factory=lambda: np.zeros(0, bool))
+    #: held-out NRMSE of the estimate (Y_base theta) ...
+    nrmse_wls: np.ndarray = field(default_factory=lambda: np.zeros(0))
+    #: ... and of the consistent fit (Y pi; NaN: no consistent fit)
+    nrmse_consistent: np.ndarray = field(default_factory=lambda: np.zeros(0))
+    #: the paper set's consistent fit maps onto Model's arguments (empty
+    #: for a layout): see _consistent_of
+    maps: np.ndarray = field(default_factory=lambda: np.zeros(0, bool))
+
+    @property
+    def ratio(self) -> np.ndarray:
+        """Per draw, the held-out NRMSE of the consistent fit over the
+        estimate's."""
+        return self.nrmse_consistent / self.nrmse_wls
 
     def summary(self) -> str:
         lines = [f"{self.runs} runs; rates and accelerations: "
@@ -172,12 +192,60 @@ class Study:
         c = self.counted
         lines.append(f"counted: median relative error {np.median(self.median_rel_error[c]):.3%}, "
                      f"coverage {np.mean(self.coverage[c]):.1%}")
+        runs = self.runs
+        if len(self.consistent):
+            lines.append(f"consistent fit: physically consistent in {self.consistent.sum()}/{runs} "
+                         f"draws ({np.mean(self.consistent):.1%}), converged "
+                         f"{self.converged.sum()}/{runs} ({np.mean(self.converged):.1%})")
+        if len(self.maps):
+            lines.append(f"consistent fit maps onto Model's arguments (link_Ic >= 0 at the "
+                         f"geometry's d, not constrained) in {self.maps.sum()}/{runs} draws")
+        if len(self.nrmse_wls):
+            line = f"held-out NRMSE: WLS median {np.median(self.nrmse_wls):.4%}"
+            r = self.ratio[np.isfinite(self.ratio)]
+            if len(self.nrmse_consistent):
+                line += (f", consistent median {np.nanmedian(self.nrmse_consistent):.4%}"
+                         if len(r) else ", consistent: no fit")
+            lines.append(line)
+            if len(r):
+                lines.append(f"held-out NRMSE consistent / WLS: median {np.median(r):.4f}, "
+                             f"max {r.max():.4f} (over {len(r)} fits)")
         return "\n".join(lines)
+
+
+def _nrmse(pred: np.ndarray, meas: np.ndarray) -> float:
+    """RMS(pred - meas) / RMS(meas), over every sample and actuator."""
+    return float(np.sqrt(np.mean((pred - meas) ** 2) / np.mean(meas**2)))
+
+
+def _holdout_regressor(s: Simulated | SimulatedGeneral,
+                       h: Simulated | SimulatedGeneral) -> np.ndarray:
+    """The fitted parameters' regressor (n, 3, p: the layout's, or the
+    paper set's) along the held-out motion ``h`` at its exact states,
+    which must be of the same kind, set or layout and geometry as s."""
+    if type(h) is not type(s) or h.geometry != s.geometry:
+        raise ValueError("holdout: another kind of simulation or another geometry "
+                         "than the fitted one's")
+    d = _io.Data("held-out", h.t, h.l, h.dl, h.ddl, None, "",
+                 {"rates": "measured", "accelerations": "measured"})
+    _, q, dq, ddq, _ = _io.states(d, s.geometry)
+    if isinstance(s, SimulatedGeneral):
+        from rps3 import ident_excite as _ix
+
+        assert isinstance(h, SimulatedGeneral)
+        if h.layout != s.layout:
+            raise ValueError("holdout: another layout than the fitted one's")
+        return _ix.layout_regressor(q, dq, ddq, s.geometry, s.layout)
+    assert isinstance(h, Simulated)
+    if h.pset != s.pset:
+        raise ValueError("holdout: another paper set than the fitted one's")
+    return _ip.paper_regressor(q, dq, ddq, s.geometry, s.pset)
 
 
 def monte_carlo(s: Simulated | SimulatedGeneral, *, runs: int, force_noise: float = 0.01,
                 stroke_noise: float | None = None, seed: int = 0,
-                cutoff: float = _io.CUTOFF, method: str = "wls") -> Study:
+                cutoff: float = _io.CUTOFF, method: str = "wls", consistent: bool = False,
+                holdout: Simulated | SimulatedGeneral | None = None) -> Study:
     """``runs`` fits of the simulated data with Gaussian force noise of
     ``force_noise`` times each actuator's RMS force (different levels per
     actuator: ``wls`` by default, whose intervals assume them; OLS's
@@ -185,9 +253,27 @@ def monte_carlo(s: Simulated | SimulatedGeneral, *, runs: int, force_noise: floa
     ``stroke_noise`` [m], lengths with that noise and no rates or
     accelerations (the fit differentiates them with the cut-off [Hz]),
     else the simulation's exact states.  For a general model
-    (:func:`simulate_general`) the layout's base parameters are fitted
-    (no consistent fit: the statistics are the estimate's)."""
+    (:func:`simulate_general`) the layout's base parameters are fitted.
+
+    With ``consistent``, each draw's physically consistent fit too: a
+    general layout's of all its parameters (``fit(consistent=True)``),
+    the paper set's by :func:`rps3.ident_io.paper_consistent`.  With
+    ``holdout`` (another motion of the same truth, set or layout and
+    geometry: a second :func:`simulate` or :func:`simulate_general`), its
+    forces with noise of ``force_noise`` times each of its actuators' RMS
+    force, drawn anew per draw, against each fit's prediction at its
+    exact states: the estimate's Y_base theta and the consistent fit's
+    Y pi, as RMS(predicted - measured) / RMS(measured) (NRMSE).
+
+    Raises:
+        ValueError: a held-out motion of another kind, set, layout or
+            geometry; ``consistent`` for a paper set the data do not
+            determine (rps3.ident_io.paper_consistent).
+    """
     rng = np.random.default_rng(seed)
+    # the held-out noise from a stream of its own: the fitted draws are
+    # those of the same seed without a held-out motion
+    rng_h = np.random.default_rng((seed, 1))
     rmsF = np.sqrt(np.mean(s.F**2, axis=0))
     ests, cis = [], []
     model: dict[str, Any]
@@ -195,11 +281,14 @@ def monte_carlo(s: Simulated | SimulatedGeneral, *, runs: int, force_noise: floa
         from rps3 import ident_excite as _ix
 
         base = _ix.layout_base(s.geometry, s.layout)
-        model = dict(layout=s.layout, consistent=False)
+        model = dict(layout=s.layout, consistent=consistent)
     else:
         base = _ip.structural_base(s.geometry, s.pset)
         model = dict(pset=s.pset)
     truth = base.of(s.theta_true)
+    Yh = None if holdout is None else _holdout_regressor(s, holdout)
+    rmsH = None if holdout is None else np.sqrt(np.mean(holdout.F**2, axis=0))
+    ok, conv, maps, e_wls, e_con = [], [], [], [], []
     src: dict[str, str] = {}
     contribution = np.zeros(len(truth))
     for k in range(runs):
@@ -219,6 +308,20 @@ def monte_carlo(s: Simulated | SimulatedGeneral, *, runs: int, force_noise: floa
             Yb = res.Y.reshape(-1, len(truth))
             rms = np.sqrt(np.mean(res.F**2))
             contribution = np.sqrt(np.mean((Yb * truth) ** 2, axis=0)) / rms
+        pi = None
+        if consistent:
+            good, cf, mp = _consistent_of(res)
+            ok.append(good)
+            if mp is not None:
+                maps.append(mp)
+            conv.append(cf is not None and cf.converged)
+            pi = None if cf is None else cf.pi
+        if holdout is not None:
+            assert Yh is not None and rmsH is not None
+            Fh = holdout.F + rng_h.normal(size=holdout.F.shape) * force_noise * rmsH
+            e_wls.append(_nrmse(base.reduce(Yh) @ res.estimate.theta, Fh))
+            if consistent:
+                e_con.append(np.nan if pi is None else _nrmse(Yh @ pi, Fh))
     E = np.array(ests)
     C = np.array(cis)
     # a base parameter whose truth carries no force (zero, as a symmetric
@@ -228,7 +331,40 @@ def monte_carlo(s: Simulated | SimulatedGeneral, *, runs: int, force_noise: floa
     cover = np.mean((C[:, :, 0] <= truth) & (truth <= C[:, :, 1]), axis=0)
     return Study(runs, base.base_names, truth, contribution,
                  contribution >= CONTRIBUTION_MIN, np.median(np.abs(rel), axis=0),
-                 rel.mean(axis=0), cover, src)
+                 rel.mean(axis=0), cover, src, np.array(ok, bool), np.array(conv, bool),
+                 np.array(e_wls, float), np.array(e_con, float), np.array(maps, bool))
+
+
+def _consistent_of(res: _io.Fit) -> tuple[bool, Any, bool | None]:
+    """(physically consistent, the CFit or None, maps) of a draw's fit.
+    A general layout's from ``fit``: its flag, the C fit's check and the
+    consistency report of its parameters.  The paper set's by
+    :func:`rps3.ident_io.paper_consistent`: the C fit's check and, again
+    here, its bodies' pseudo-inertia eigenvalues and its >= 0 columns, as
+    the fit constrains them (rps3.ident.paper_layout: the link's mass and
+    centre free); ``maps``: whether its parameters map onto Model's
+    arguments too (a link of mass md / d and link_Ic >= 0 at the
+    geometry's d, which the fit does not constrain), None for a layout."""
+    from rps3 import ident_c as _c
+    from rps3 import ident_consistent as _ic
+
+    if res.layout is not None:
+        return bool(res.consistent), res.consistent_fit, None
+    try:
+        cf = _io.paper_consistent(res)
+    except _id.InconsistentFitError:
+        return False, None, False
+    assert res.pset is not None
+    ok = bool(cf.consistent)
+    for body in cf.body:
+        eig = np.linalg.eigvalsh(_id.pseudo_inertia(body))
+        ok &= bool(eig.min() >= -_ic.EIG_TOL * max(np.abs(eig).max(), 1e-300))
+    nonneg = cf.pi[_c.paper_layout([_c.C_PAPER_NAMES.index(n)
+                                    for n in res.pset.names]).kind == 1]
+    ok &= bool(np.all(nonneg >= -_ic.EIG_TOL * max(np.abs(nonneg).max(initial=0.0), 1e-300)))
+    geo = res.geometry
+    std = _ip.standard_of(cf.pi, res.pset, d=geo.d, R=geo.R, rho=geo.rho)
+    return ok, cf, bool(std is not None and _ic.consistency_report(std[0], std[1]).ok)
 
 
 #: the plant of the studies: Table II with a link inertia and pin friction
@@ -236,17 +372,30 @@ TRUTH: dict[str, Any] = {"M": 0.18, "m": 0.09, "d": 0.1524, "link_Ic": 2.0e-4,
                          "friction": {"viscous": 0.02, "coulomb": 0.01}}
 
 
+#: the held-out motions of the studies: a random series (seed SEED_HOLDOUT)
+#: about the excitations' centre, another base frequency and harmonics
+SEED_HOLDOUT = 9
+
+
 def study(runs: int = 200, seed: int = 1, out: str | None = None) -> str:
     """The full study (``make ident``): an optimised excitation, the
     simulated run over two periods, ``runs`` fits with measured states and
-    ``runs`` with differentiated ones; the summaries (and figures into the
+    ``runs`` with differentiated ones, each with the paper set's
+    consistent fit and both fits' NRMSE on a held-out motion (a random
+    series of 0.25 Hz, 4 harmonics, peak excursion (0.7, 0.08, 0.015),
+    simulated alike over 8 s); the summaries (and figures into the
     directory ``out``)."""
+    from rps3 import ident_excite as _ix
+
     geo = _ip.Geometry(vreg=0.01)
     ex = _ip.design(geometry=geo, seed=seed, f0=0.2, harmonics=5,
                     amplitude=(0.8, 0.1, 0.02), maxiter=2000)
     s = simulate(ex.fourier, TRUTH, periods=2.0, geometry=geo)
-    a = monte_carlo(s, runs=runs, seed=seed)
-    b = monte_carlo(s, runs=runs, seed=seed + 1, stroke_noise=1e-5)
+    fo = _ix.random_fourier(ex.fourier.q0, (0.7, 0.08, 0.015), 0.25, 4, seed=SEED_HOLDOUT)
+    h = simulate(fo, TRUTH, periods=2.0, geometry=geo)
+    a = monte_carlo(s, runs=runs, seed=seed, consistent=True, holdout=h)
+    b = monte_carlo(s, runs=runs, seed=seed + 1, stroke_noise=1e-5, consistent=True,
+                    holdout=h)
     text = (f"excitation: cond {ex.cond:.3g} (start {ex.cond_start:.3g}), converged "
             f"{ex.converged} ({ex.message}), seed {ex.seed}\n"
             f"--- force noise 1 % of RMS, measured states\n{a.summary()}\n"
@@ -290,15 +439,21 @@ def study_general(runs: int = 200, seed: int = 1, legs: str = "identical",
     kinds, the layout's default per-leg choice) on :func:`general_truth`:
     a random Fourier series (0.2 Hz, 6 harmonics, peak excursion (1.5,
     0.12, 0.03) about (0, 0.25, 0.31)), ``periods`` periods sampled every
-    dt [s], ``runs`` WLS fits of 1 % force noise with measured states;
+    dt [s], ``runs`` WLS fits of 1 % force noise with measured states,
+    each with the consistent fit of all the layout's parameters and both
+    fits' NRMSE on a held-out motion (a random series of 0.25 Hz, 5
+    harmonics, peak excursion (1.2, 0.1, 0.025), 8 s at the same dt);
     the summary."""
     from rps3 import ident_excite as _ix
 
     geo = _ip.Geometry(vreg=0.01)
     lay = _id.Layout(legs=legs)
+    truth = general_truth(legs, geo.vreg)
     fo = _ix.random_fourier((0.0, 0.25, 0.31), (1.5, 0.12, 0.03), 0.2, 6, seed=3)
-    s = simulate_general(general_truth(legs, geo.vreg), fo, lay, periods=periods, dt=dt,
-                         geometry=geo)
-    st = monte_carlo(s, runs=runs, seed=seed)
+    s = simulate_general(truth, fo, lay, periods=periods, dt=dt, geometry=geo)
+    fh = _ix.random_fourier((0.0, 0.25, 0.31), (1.2, 0.1, 0.025), 0.25, 5,
+                            seed=SEED_HOLDOUT)
+    h = simulate_general(truth, fh, lay, periods=2.0, dt=dt, geometry=geo)
+    st = monte_carlo(s, runs=runs, seed=seed, consistent=True, holdout=h)
     return (f"layout legs={legs}, friction prismatic,pin: {len(st.names)} base "
             f"parameters, {len(s.t)} samples every {dt:g} s\n{st.summary()}\n")
