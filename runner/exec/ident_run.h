@@ -84,6 +84,9 @@ typedef struct {
   scene_ident ids;              /* the identify section */
   rps3_ident_opts opts;         /* the library's defaults, ids.level */
   size_t nunit;                 /* work units of the draws */
+  size_t nfit;                  /* rows the draws fit: the first of the
+                                   samples, 1 - identify.monte_carlo.holdout
+                                   of them; the rest are predicted */
   char warning[640];            /* why a result may be wrong, or "" */
 } ident_plan;
 
@@ -117,6 +120,18 @@ void ident_plan_free(ident_plan *p);
    per-point path. */
 void ident_fit_run(const ident_plan *p, const double *F, int consistent,
                    ident_fit *r);
+
+/* ident_fit_run on the first n rows of the plan (Y, Ylay) and F */
+void ident_fit_rows(const ident_plan *p, const double *F, size_t n,
+                    int consistent, ident_fit *r);
+
+/* The held-out NRMSE of fit r on rows [p->nfit, p->n) of forces F: the
+   RMS of the prediction minus F over the RMS of F, the prediction Y theta
+   (wls) and that of the consistent fit (general: Ylay times its layout
+   parameters) in cons; NaN for a fit that failed, none held out, or a
+   consistent fit not run. */
+void ident_holdout_nrmse(const ident_plan *p, const double *F,
+                         const ident_fit *r, double *wls, double *cons);
 
 /* free what ident_fit_run allocated (r may be zeroed) */
 void ident_fit_free(ident_fit *r);
