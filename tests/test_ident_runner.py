@@ -464,8 +464,14 @@ def test_consistent_draws_predict_held_out_forces(tmp_path):
         assert f["mc_consistent_holdout_nrmse_median"][()] == np.median(nc)
         assert f["mc_holdout_ratio_median"][()] == np.median(ratio)
         assert f["mc_holdout_ratio_max"][()] == ratio.max()
-        # the noise-free fit (the file's) is on every sample
+        # the noise-free fit (the file's) is on every sample, the draws' on
+        # the first ns - nhold: their intervals are theta -+ t(dof) std at
+        # those rows' degrees of freedom
         assert f["dof"][()] == 3 * ns - p
+        th, sd, ci = f["mc_theta"][()], f["mc_std"][()], f["mc_ci"][()]
+        t_draw = stats.t.ppf(0.975, 3 * (ns - nhold) - p)
+        assert abs(t_draw / stats.t.ppf(0.975, 3 * ns - p) - 1) > 1e-5
+        np.testing.assert_allclose((ci[..., 1] - th) / sd, t_draw, rtol=1e-9)
 
 
 def test_no_holdout_and_no_consistent_fit(tmp_path):
