@@ -7,7 +7,9 @@
  * the identify section's parameters (rps3_ident_wls, and with
  * identify.consistent rps3_ident_consistent), and its Monte Carlo: draw i
  * adds Gaussian noise of force_noise times each actuator's RMS force,
- * seeded by (seed, i) alone, and is fitted.  The draws are computed in
+ * seeded by (seed, i) alone, and its first 1 - holdout of the samples
+ * are fitted (and with identify.consistent by the consistent fit too), the
+ * rest predicted (held-out NRMSE).  The draws are computed in
  * work units of IDENT_UNIT draws on the worker pool (pool.h), shard K of N
  * the units j with j mod N = K; a unit is one chunk row of every per-draw
  * dataset, so a part merges as a sweep's (shards/merge.h).  The file's
@@ -170,8 +172,10 @@ int ident_mc_run(const ident_plan *p, out_file *f, size_t shard, size_t nshard,
 /*
  * The Monte Carlo's summary of the open file (read-write): per parameter
  * its median relative error, relative bias and the coverage of its
- * intervals over the draws whose status is 0, written to the mc_*
- * summary datasets and, when out is not NULL, printed as a table.
+ * intervals over the draws whose status is 0, and of the draws' held-out
+ * NRMSEs and consistent fits (the fractions consistent and converged, the
+ * NRMSE ratio consistent / WLS), written to the mc_* summary datasets
+ * and, when out is not NULL, printed.
  * A file that is not an identification with draws: nothing, 0.  Returns
  * 0 or -1 with err.
  */
