@@ -580,12 +580,14 @@ ident: venv-check
 
 # the identification Monte Carlo through the runner (docs/identification.md,
 # "Through the runner"): 1000 draws of 1 % force noise on 10 s of an
-# exciting trajectory at 1 kHz, on 2 threads; the summary in
+# exciting trajectory at 1 kHz, each fitted by WLS and the consistent fit
+# with 20 % of the samples held out, on 2 threads; the summary in
 # out/ident_mc.txt, the draws in out/ident_mc.h5; then the general model's
-# (configs/ident_general_mc.yaml, 1000 draws at 500 Hz) into
-# out/ident_general_mc.txt and .h5.  Not part of `make check`
-# (tests/test_ident_runner.py runs 200 draws of a shorter trajectory,
-# tests/test_ident_runner_general.py 40 of the general model)
+# (configs/ident_general_mc.yaml, 400 draws at 500 Hz: its consistent fit
+# costs about 1 s a draw) into out/ident_general_mc.txt and .h5.  Not part
+# of `make check` (tests/test_ident_runner.py runs 200 draws of a shorter
+# trajectory and 20 with the consistent fit, tests/test_ident_runner_general.py
+# 40 and 16 of the general model)
 .PHONY: ident-mc
 ident-mc: $(B)/rps3-run
 	@mkdir -p out

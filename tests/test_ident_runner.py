@@ -120,12 +120,13 @@ def test_default_parameters_follow_the_effects(tmp_path):
             assert f.attrs["method"] == "ols"
 
 
-def monte_carlo(tmp_path, runs, name="mc.yaml"):
+def monte_carlo(tmp_path, runs, name="mc.yaml", extra=""):
     """runs draws along the sine sampled at 1 kHz (2001 samples: Ipin, 1.6 %
-    of the RMS force, is then found to better than 1 %)."""
+    of the RMS force, is then found to better than 1 %); extra: more keys
+    of the identify section."""
     return scene(tmp_path, f"""\
   parameters: [{', '.join(PARAMS)}]
-  monte_carlo: {{runs: {runs}, force_noise: 0.01, seed: 11}}
+{extra}  monte_carlo: {{runs: {runs}, force_noise: 0.01, seed: 11}}
 """, name=name, traj=SINE.replace("dt: 0.002", "dt: 0.001"))
 
 
@@ -161,8 +162,9 @@ def test_monte_carlo_recovers_counted_parameters(tmp_path):
 def test_threads_and_shards_give_the_file_of_one_run(tmp_path):
     """-j 2, and 3 shards joined or copied by merge: every dataset equal,
     bit for bit, to a single-threaded run's (the summary computed by the
-    merge); a part alone has no summary."""
-    s = monte_carlo(tmp_path, 60)
+    merge); a part alone has no summary.  The draws run the consistent fit
+    and predict the held-out samples (their datasets merge as the rest)."""
+    s = monte_carlo(tmp_path, 60, extra="  consistent: true\n")
     one, two = tmp_path / "one.h5", tmp_path / "two.h5"
     assert run(s, one, "-q", "-j", "1").returncode == 0
     assert run(s, two, "-q", "-j", "2").returncode == 0
@@ -176,6 +178,8 @@ def test_threads_and_shards_give_the_file_of_one_run(tmp_path):
             st = f["status"][()]
             assert (st == -1000).any() and (st == 0).any()
             assert np.isnan(f["mc_coverage"][()]).all()
+            assert np.isnan(f["mc_holdout_ratio_max"][()])
+            assert ((f["mc_consistent_status"][()] == -1000) == (st == -1000)).all()
         parts.append(str(part))
     for extra in ([], ["--copy"]):
         out = tmp_path / f"merged{len(extra)}.h5"
@@ -183,6 +187,7 @@ def test_threads_and_shards_give_the_file_of_one_run(tmp_path):
                               capture_output=True, text=True, timeout=120)
         assert proc.returncode == 0, proc.stderr
         assert "identification Monte Carlo: 60 of 60" in proc.stdout
+        assert "consistent fit: 60 of 60 draws (100.0 %)" in proc.stdout
         assert_same_content(one, out)
     # the draws are few: more shards than work units are refused
     proc = run(s, tmp_path / "p.h5", "--shard", "0/9")
@@ -394,3 +399,92 @@ def test_hdf5_data_in_other_units_refused(tmp_path, measured):
         g["F2"].attrs["units"] = "kN"
     s = write_scene(tmp_path / "s.yaml", DATA_MANIP + "identify:\n  data: kN.h5\n")
     refused(s, tmp_path, "kN.h5: dataset /F2", "units 'kN'", "in N")
+
+
+# ----------------------------------- consistent draws, held-out prediction
+
+#: the held-out share of test_consistent_draws_predict_held_out_forces
+HOLD = 0.25
+#: the median over 20 draws of the WLS fit's held-out NRMSE against its
+#: expectation: one draw's NRMSE over ~1500 held-out rows has a relative
+#: spread of 1 / sqrt(2 * 1500) = 1.8 %, the median of 20 about 0.5 %; 3 %
+#: is six of those
+TOL_NRMSE_MEDIAN = 0.03
+#: one draw's against the same expectation: 5.5 spreads
+TOL_NRMSE_DRAW = 0.10
+#: the requirement: the consistent fit predicts held-out forces within 2 %
+#: of the unconstrained WLS fit
+RATIO_MAX = 1.02
+
+
+def test_consistent_draws_predict_held_out_forces(tmp_path):
+    """20 draws with the consistent fit and the last quarter of the samples
+    held out: every draw's consistent fit is physically consistent and
+    converged, its held-out NRMSE within 2 % of the WLS fit's, and the WLS
+    fit's at the noise level: the noise standard deviation over the RMS of
+    the held-out forces (from the inverse dynamics of the same scene
+    without the identify section, a plain run), times sqrt(1 + p / n) of
+    the fit's own error.  The summary is the draws' (recomputed here)."""
+    runs, p = 20, len(PARAMS)
+    traj = SINE.replace("dt: 0.002", "dt: 0.001")
+    s = scene(tmp_path, f"""\
+  parameters: [{', '.join(PARAMS)}]
+  consistent: true
+  monte_carlo: {{runs: {runs}, force_noise: 0.01, seed: 3, holdout: {HOLD}}}
+""", traj=traj)
+    out = tmp_path / "mc.h5"
+    proc = run(s, out, "-j", "2")
+    assert proc.returncode == 0, proc.stderr
+    assert f"consistent fit: {runs} of {runs} draws (100.0 %) physically consistent" in proc.stdout
+    # the oracle: the forces of the inverse dynamics along the trajectory
+    plain = tmp_path / "plain.h5"
+    assert run(write_scene(tmp_path / "plain.yaml", MANIP + traj), plain, "-q").returncode == 0
+    with h5py.File(plain, "r") as f:
+        F0 = f["force"][0]
+    ns = len(F0)
+    nhold = int(np.floor(HOLD * ns))
+    sig = 0.01 * np.sqrt(np.mean(F0 ** 2, axis=0))
+    held = F0[ns - nhold:]
+    want = np.sqrt(nhold * np.sum(sig ** 2) / np.sum(held ** 2 + sig ** 2))
+    want *= np.sqrt(1 + p / (3 * (ns - nhold)))
+    with h5py.File(out, "r") as f:
+        np.testing.assert_allclose(f["force_rms"][()], sig / 0.01, rtol=1e-12)
+        assert f.attrs["holdout"] == HOLD
+        assert (f["status"][()] == 0).all()
+        assert (f["mc_consistent"][()] == 1).all()
+        assert (f["mc_consistent_status"][()] == 0).all()
+        assert f["mc_consistent_fraction"][()] == 1.0
+        assert f["mc_converged_fraction"][()] == 1.0
+        nw, nc = f["mc_holdout_nrmse"][()], f["mc_consistent_holdout_nrmse"][()]
+        ratio = nc / nw
+        assert ratio.max() <= RATIO_MAX, ratio
+        assert np.median(nw) == pytest.approx(want, rel=TOL_NRMSE_MEDIAN)
+        np.testing.assert_allclose(nw, want, rtol=TOL_NRMSE_DRAW)
+        assert f["mc_holdout_nrmse_median"][()] == np.median(nw)
+        assert f["mc_consistent_holdout_nrmse_median"][()] == np.median(nc)
+        assert f["mc_holdout_ratio_median"][()] == np.median(ratio)
+        assert f["mc_holdout_ratio_max"][()] == ratio.max()
+        # the noise-free fit (the file's) is on every sample, the draws' on
+        # the first ns - nhold: their intervals are theta -+ t(dof) std at
+        # those rows' degrees of freedom
+        assert f["dof"][()] == 3 * ns - p
+        th, sd, ci = f["mc_theta"][()], f["mc_std"][()], f["mc_ci"][()]
+        t_draw = stats.t.ppf(0.975, 3 * (ns - nhold) - p)
+        assert abs(t_draw / stats.t.ppf(0.975, 3 * ns - p) - 1) > 1e-5
+        np.testing.assert_allclose((ci[..., 1] - th) / sd, t_draw, rtol=1e-9)
+
+
+def test_no_holdout_and_no_consistent_fit(tmp_path):
+    """holdout 0: no held-out datasets; without identify.consistent no
+    consistent ones; the draws' fits are then of every sample."""
+    s = monte_carlo(tmp_path, 8).read_text().replace(
+        "seed: 11}", "seed: 11, holdout: 0}")
+    path = write_scene(tmp_path / "h0.yaml", s)
+    out = tmp_path / "h0.h5"
+    proc = run(path, out, "-q")
+    assert proc.returncode == 0, proc.stderr
+    with h5py.File(out, "r") as f:
+        for name in ("mc_holdout_nrmse", "mc_consistent", "mc_consistent_status",
+                     "mc_consistent_holdout_nrmse", "mc_holdout_ratio_max"):
+            assert name not in f, name
+        assert f.attrs["holdout"] == 0

@@ -430,3 +430,48 @@ effects: [platform_gravity, platform_inertia, link_gravity, link_inertia, payloa
     with h5py.File(ref, "r") as f, h5py.File(back, "r") as g:
         F0, F1 = f["force"][()], g["force"][()]
     assert np.abs(F1 - F0).max() <= 1e-6 * np.sqrt(np.mean(F0**2))
+
+
+#: the requirement: the consistent fit predicts held-out forces within 2 %
+#: of the unconstrained WLS fit
+RATIO_MAX = 1.02
+#: the median over 16 draws of the WLS fit's held-out NRMSE against its
+#: expectation: one draw's over 3 x 100 held-out rows spreads by 1 /
+#: sqrt(600) = 4 %, the median of 16 by about 1.3 %; 6 % is 4.5 of those
+TOL_NRMSE_MEDIAN = 0.06
+
+
+def test_consistent_draws_predict_held_out_forces(tmp_path):
+    """16 draws of the general model with its consistent fit of the 82
+    layout parameters and the last 20 % of the samples held out: every
+    draw's consistent fit is consistent and converged, its held-out NRMSE
+    (the prediction Ylay pi) within 2 % of the base WLS fit's (Y_base
+    theta), and the WLS fit's at the noise level over the held-out forces'
+    RMS (the inverse dynamics of a plain run of the scene), times sqrt(1 +
+    p / n)."""
+    runs, hold = 16, 0.2
+    s = scene(tmp_path, f"  model: general\n  consistent: true\n  monte_carlo: "
+              f"{{runs: {runs}, force_noise: 0.01, seed: 9, holdout: {hold}}}\n")
+    out = tmp_path / "mc.h5"
+    proc = run(s, out, "-j", "2", timeout=120)
+    assert proc.returncode == 0, proc.stderr
+    plain = tmp_path / "plain.h5"
+    assert run(write_scene(tmp_path / "plain.yaml", MANIP + TRAJ), plain, "-q").returncode == 0
+    with h5py.File(plain, "r") as f:
+        F0 = f["force"][0]
+    ns = len(F0)
+    nhold = int(np.floor(hold * ns))
+    sig = 0.01 * np.sqrt(np.mean(F0 ** 2, axis=0))
+    held = F0[ns - nhold:]
+    with h5py.File(out, "r") as f:
+        p = len(f["parameter"])
+        want = np.sqrt(nhold * np.sum(sig ** 2) / np.sum(held ** 2 + sig ** 2))
+        want *= np.sqrt(1 + p / (3 * (ns - nhold)))
+        assert (f["mc_consistent"][()] == 1).all()
+        assert (f["mc_consistent_status"][()] == 0).all()
+        assert f["mc_consistent_fraction"][()] == 1.0
+        nw, nc = f["mc_holdout_nrmse"][()], f["mc_consistent_holdout_nrmse"][()]
+        ratio = nc / nw
+        assert ratio.max() <= RATIO_MAX, ratio
+        assert f["mc_holdout_ratio_max"][()] == ratio.max()
+        assert np.median(nw) == pytest.approx(want, rel=TOL_NRMSE_MEDIAN)

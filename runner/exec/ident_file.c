@@ -298,6 +298,78 @@ static int put_consistent(const out_file *f, const hid_t *sc,
   return rc;
 }
 
+/* a per-draw dataset (chunked by work unit as the others, so that parts
+   merge) or, without ax, a scalar of the summary; NaN or `fill` until
+   written; 0 or -1 */
+static int put_draw(const out_file *f, const hid_t *sc, const char *name,
+                    hid_t type, int per_draw, const void *fill,
+                    const char *units, const char *long_name, const char *doc) {
+  static const int d1[] = {SC_DRAW, -1}, none[] = {-1};
+  hsize_t c1[1] = {IDENT_UNIT};
+  hid_t ds = put(f, sc, name, type, per_draw ? d1 : none,
+                 per_draw ? c1 : NULL, fill, NULL, units, long_name, doc);
+  return ds < 0 ? -1 : H5Dclose(ds) < 0 ? -1 : 0;
+}
+
+/* the per-draw datasets of the held-out samples (a holdout) and of the
+   consistent fit (identify.consistent), and their summary's */
+static int put_draws_holdout(const out_file *f, const hid_t *sc,
+                             const ident_plan *p) {
+  const int32_t unset = OUT_STATUS_NOT_COMPUTED, none = 0;
+  const double fnan = (double)NAN;
+  int hold = p->nfit < p->n, cons = p->ids.consistent != 0;
+  int rc = 0;
+  if (hold)
+    rc = put_draw(f, sc, "mc_holdout_nrmse", H5T_NATIVE_DOUBLE, 1, &fnan, "1",
+                  "held-out force NRMSE of the draw's fit",
+                  "RMS of Y theta - F over the RMS of F on the held-out "
+                  "samples (identify.monte_carlo.holdout, the last ones; F "
+                  "with the draw's noise), theta the draw's fit of the "
+                  "others") ||
+         put_draw(f, sc, "mc_holdout_nrmse_median", H5T_NATIVE_DOUBLE, 0,
+                  &fnan, "1", "median held-out force NRMSE",
+                  "median over the draws of mc_holdout_nrmse (NaN in a "
+                  "part: computed when merged)");
+  if (rc == 0 && cons)
+    rc = put_draw(f, sc, "mc_consistent_status", H5T_NATIVE_INT32, 1, &unset,
+                  "1", "status of the draw's consistent fit",
+                  "rps3_status of the draw's rps3_ident_consistent (0: "
+                  "converged); -1: not run (the draw's fit failed); -1000: "
+                  "not computed") ||
+         put_draw(f, sc, "mc_consistent", H5T_NATIVE_INT32, 1, &none, "1",
+                  "consistency flag of the draw",
+                  "1: the draw's consistent fit's eigenvalues checked >= 0") ||
+         put_draw(f, sc, "mc_consistent_fraction", H5T_NATIVE_DOUBLE, 0, &fnan,
+                  "1", "fraction of consistent draws",
+                  "fraction of the draws whose consistent fit is physically "
+                  "consistent (mc_consistent 1)") ||
+         put_draw(f, sc, "mc_converged_fraction", H5T_NATIVE_DOUBLE, 0, &fnan,
+                  "1", "fraction of converged draws",
+                  "fraction of the draws whose consistent fit converged "
+                  "(mc_consistent_status 0)");
+  if (rc == 0 && cons && hold)
+    rc = put_draw(f, sc, "mc_consistent_holdout_nrmse", H5T_NATIVE_DOUBLE, 1,
+                  &fnan, "1", "held-out force NRMSE of the consistent fit",
+                  p->general
+                      ? "as mc_holdout_nrmse, the prediction Ylay pi of the "
+                        "draw's consistent fit of the layout's parameters"
+                      : "as mc_holdout_nrmse, the prediction Y theta of the "
+                        "draw's consistent fit") ||
+         put_draw(f, sc, "mc_consistent_holdout_nrmse_median",
+                  H5T_NATIVE_DOUBLE, 0, &fnan, "1",
+                  "median held-out force NRMSE of the consistent fit",
+                  "median over the draws of mc_consistent_holdout_nrmse") ||
+         put_draw(f, sc, "mc_holdout_ratio_median", H5T_NATIVE_DOUBLE, 0, &fnan,
+                  "1", "median ratio of the held-out NRMSEs",
+                  "median over the draws of mc_consistent_holdout_nrmse / "
+                  "mc_holdout_nrmse") ||
+         put_draw(f, sc, "mc_holdout_ratio_max", H5T_NATIVE_DOUBLE, 0, &fnan,
+                  "1", "largest ratio of the held-out NRMSEs",
+                  "maximum over the draws of mc_consistent_holdout_nrmse / "
+                  "mc_holdout_nrmse");
+  return rc;
+}
+
 /* the per-draw datasets, chunked by work unit, and the summary's */
 static int put_draws(const out_file *f, const hid_t *sc, const ident_plan *p) {
   static const int d1[] = {SC_DRAW, -1}, dp[] = {SC_DRAW, SC_PAR, -1},
@@ -343,7 +415,7 @@ static int put_draws(const out_file *f, const hid_t *sc, const ident_plan *p) {
     else
       H5Dclose(ds[i]);
   }
-  return rc;
+  return rc ? rc : put_draws_holdout(f, sc, p);
 }
 
 out_file *ident_file_open(const char *path, const scene *s, const ident_plan *p,
@@ -374,6 +446,9 @@ out_file *ident_file_open(const char *path, const scene *s, const ident_plan *p,
            0 ||
        out_h5_attr_n(f->file, "force_noise", H5T_NATIVE_DOUBLE, 0,
                      &p->ids.force_noise) < 0 ||
+       (p->ids.runs > 0 &&
+        out_h5_attr_n(f->file, "holdout", H5T_NATIVE_DOUBLE, 0,
+                      &p->ids.holdout) < 0) ||
        (p->warning[0] &&
         out_h5_attr(f->file, f->str, "warning", p->warning) < 0) ||
        (p->general &&

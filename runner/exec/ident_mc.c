@@ -15,15 +15,33 @@
 #include <gsl/gsl_rng.h>
 
 /* the per-draw datasets, in the order of a slot's arrays */
-static const char *const draw_sets[] = {"status", "mc_theta", "mc_std", "mc_ci",
-                                        "mc_sigma"};
-#define NDRAW_SET 5
+static const char *const draw_sets[] = {"status",
+                                        "mc_theta",
+                                        "mc_std",
+                                        "mc_ci",
+                                        "mc_sigma",
+                                        "mc_holdout_nrmse",
+                                        "mc_consistent_status",
+                                        "mc_consistent",
+                                        "mc_consistent_holdout_nrmse"};
+#define NDRAW_SET 9
+
+/* 1 when the plan's file has per-draw dataset k of draw_sets: the
+   held-out ones with a holdout, the consistent ones with
+   identify.consistent */
+static int draw_set_wanted(const ident_plan *p, int k) {
+  int hold = p->nfit < p->n, cons = p->ids.consistent != 0;
+  return k < 5 || (k == 5 && hold) || ((k == 6 || k == 7) && cons) ||
+         (k == 8 && hold && cons);
+}
 
 /* one work unit's results */
 typedef struct {
   int32_t status[IDENT_UNIT];
   double theta[IDENT_UNIT][IDENT_PMAX], std[IDENT_UNIT][IDENT_PMAX];
   double ci[IDENT_UNIT][IDENT_PMAX][2], sigma[IDENT_UNIT][3];
+  double nrmse[IDENT_UNIT], cnrmse[IDENT_UNIT];
+  int32_t cstatus[IDENT_UNIT], consistent[IDENT_UNIT];
 } unit_slot;
 
 /* which draws a filled slot holds */
@@ -76,7 +94,8 @@ static unsigned long draw_seed(int seed, size_t i) {
 }
 
 /* draw i: the noise-free forces plus force_noise times each actuator's RMS
-   force of Gaussian noise, fitted, into slot row j */
+   force of Gaussian noise, its first nfit rows fitted (and the consistent
+   fit with identify.consistent), the rest predicted, into slot row j */
 static void one_draw(const ident_plan *p, mc_worker *w, size_t i, unit_slot *u,
                      size_t j) {
   ident_fit r;
@@ -85,7 +104,10 @@ static void one_draw(const ident_plan *p, mc_worker *w, size_t i, unit_slot *u,
   for (k = 0; k < p->n; k++)
     w->F[k] = p->F0[k] + gsl_ran_gaussian_ziggurat(
                              w->rng, p->ids.force_noise * p->rms[k % 3]);
-  ident_fit_run(p, w->F, 0, &r);
+  ident_fit_rows(p, w->F, p->nfit, p->ids.consistent, &r);
+  ident_holdout_nrmse(p, w->F, &r, &u->nrmse[j], &u->cnrmse[j]);
+  u->cstatus[j] = r.cstatus;
+  u->consistent[j] = r.consistent;
   u->status[j] = r.status;
   memcpy(u->theta[j], r.theta, sizeof u->theta[j]);
   memcpy(u->std[j], r.std, sizeof u->std[j]);
@@ -162,7 +184,16 @@ static int unit_write(void *ctx, void *slot, const void *info, char *err,
                  IDENT_PMAX, p) ||
       write_rows(m->ds[3], H5T_NATIVE_DOUBLE, u->ci, in->d0, in->nd,
                  IDENT_PMAX, p) ||
-      write_rows(m->ds[4], H5T_NATIVE_DOUBLE, u->sigma, in->d0, in->nd, 3, 3);
+      write_rows(m->ds[4], H5T_NATIVE_DOUBLE, u->sigma, in->d0, in->nd, 3,
+                 3) ||
+      (m->ds[5] >= 0 && write_rows(m->ds[5], H5T_NATIVE_DOUBLE, u->nrmse,
+                                   in->d0, in->nd, 1, 1)) ||
+      (m->ds[6] >= 0 && write_rows(m->ds[6], H5T_NATIVE_INT32, u->cstatus,
+                                   in->d0, in->nd, 1, 1)) ||
+      (m->ds[7] >= 0 && write_rows(m->ds[7], H5T_NATIVE_INT32, u->consistent,
+                                   in->d0, in->nd, 1, 1)) ||
+      (m->ds[8] >= 0 && write_rows(m->ds[8], H5T_NATIVE_DOUBLE, u->cnrmse,
+                                   in->d0, in->nd, 1, 1));
   if (rc) {
     out_fail(err, errsz, "cannot write draws %zu to %zu", in->d0,
              in->d0 + in->nd - 1);
@@ -193,7 +224,8 @@ int ident_mc_run(const ident_plan *p, out_file *f, size_t shard, size_t nshard,
   m.st = st;
   for (i = 0; i < NDRAW_SET; i++) m.ds[i] = -1;
   for (i = 0, rc = 0; i < NDRAW_SET && rc == 0; i++)
-    if ((m.ds[i] = H5Dopen2(f->file, draw_sets[i], H5P_DEFAULT)) < 0) {
+    if (draw_set_wanted(p, i) &&
+        (m.ds[i] = H5Dopen2(f->file, draw_sets[i], H5P_DEFAULT)) < 0) {
       out_fail(err, errsz, "cannot open dataset %s", draw_sets[i]);
       rc = -1;
     }
@@ -301,6 +333,84 @@ static void summary_print(FILE *out, char **names, const double *share,
             counted[j] ? "yes" : "no (share < 1 %)");
 }
 
+/* the median of the n values v (sorted in place); NaN for none */
+static double median_of(double *v, size_t n) {
+  if (n == 0) return (double)NAN;
+  qsort(v, n, sizeof *v, by_value);
+  return n % 2 ? v[n / 2] : 0.5 * (v[n / 2 - 1] + v[n / 2]);
+}
+
+/* the summary of the held-out prediction and of the draws' consistent
+   fits, over the runs draws (datasets the file does not have: not
+   summarised): the fractions of draws whose consistent fit is consistent
+   and converged, the median held-out NRMSE of each fit, and the median
+   and maximum of their ratio over the draws where both are finite;
+   written to the mc_* scalars and printed on out; 0 or -1 */
+static int summary_holdout(hid_t file, FILE *out, size_t runs) {
+  int32_t *cst = read_all(file, "mc_consistent_status", H5T_NATIVE_INT32, NULL);
+  int32_t *cok = read_all(file, "mc_consistent", H5T_NATIVE_INT32, NULL);
+  double *nw = read_all(file, "mc_holdout_nrmse", H5T_NATIVE_DOUBLE, NULL);
+  double *nc =
+      read_all(file, "mc_consistent_holdout_nrmse", H5T_NATIVE_DOUBLE, NULL);
+  double *work = malloc((runs ? runs : 1) * sizeof *work);
+  double fcons = (double)NAN, fconv = (double)NAN, medw = (double)NAN,
+         medc = (double)NAN, rmed = (double)NAN, rmax = (double)NAN;
+  size_t i, n, nconsistent = 0, nconverged = 0, nratio = 0;
+  int rc = work ? 0 : -1;
+  if (rc == 0 && cst && cok) {
+    for (i = 0; i < runs; i++) {
+      nconsistent += cok[i] == 1;
+      nconverged += cst[i] == 0;
+    }
+    fcons = (double)nconsistent / (double)runs;
+    fconv = (double)nconverged / (double)runs;
+    rc = write_all(file, "mc_consistent_fraction", H5T_NATIVE_DOUBLE,
+                   &fcons) ||
+         write_all(file, "mc_converged_fraction", H5T_NATIVE_DOUBLE, &fconv);
+  }
+  if (rc == 0 && nw) {
+    for (i = n = 0; i < runs; i++)
+      if (isfinite(nw[i])) work[n++] = nw[i];
+    medw = median_of(work, n);
+    rc = write_all(file, "mc_holdout_nrmse_median", H5T_NATIVE_DOUBLE, &medw);
+  }
+  if (rc == 0 && nw && nc) {
+    for (i = n = 0; i < runs; i++)
+      if (isfinite(nc[i])) work[n++] = nc[i];
+    medc = median_of(work, n);
+    for (i = 0; i < runs; i++)
+      if (isfinite(nc[i]) && isfinite(nw[i]) && nw[i] > 0) {
+        work[nratio] = nc[i] / nw[i];
+        rmax = nratio == 0 || work[nratio] > rmax ? work[nratio] : rmax;
+        nratio++;
+      }
+    rmed = median_of(work, nratio);
+    rc = write_all(file, "mc_consistent_holdout_nrmse_median",
+                   H5T_NATIVE_DOUBLE, &medc) ||
+         write_all(file, "mc_holdout_ratio_median", H5T_NATIVE_DOUBLE,
+                   &rmed) ||
+         write_all(file, "mc_holdout_ratio_max", H5T_NATIVE_DOUBLE, &rmax);
+  }
+  if (rc == 0 && out && cst && cok)
+    fprintf(out,
+            "consistent fit: %zu of %zu draws (%.1f %%) physically "
+            "consistent, %zu (%.1f %%) converged\n",
+            nconsistent, runs, 100 * fcons, nconverged, 100 * fconv);
+  if (rc == 0 && out && nw)
+    fprintf(out, "held-out force NRMSE, median: WLS %.4f %%\n", 100 * medw);
+  if (rc == 0 && out && nw && nc)
+    fprintf(out,
+            "held-out force NRMSE, median: consistent %.4f %%; consistent / "
+            "WLS over %zu draws: median %.5f, max %.5f\n",
+            100 * medc, nratio, rmed, rmax);
+  free(cst);
+  free(cok);
+  free(nw);
+  free(nc);
+  free(work);
+  return rc;
+}
+
 int ident_summary(hid_t file, FILE *out, char *err, size_t errsz) {
   char *content = out_h5_read_text(file, "content", 1);
   size_t runs = 0, p = 0, j, nok = 0, i;
@@ -345,6 +455,10 @@ int ident_summary(hid_t file, FILE *out, char *err, size_t errsz) {
   }
   if (out)
     summary_print(out, names, share, med, bias, cov, counted, p, nok, runs);
+  if (summary_holdout(file, out, runs)) {
+    out_fail(err, errsz, "cannot write the summary of the held-out samples");
+    goto done;
+  }
   rc = 0;
 done:
   for (j = 0; names && j < p; j++) H5free_memory(names[j]);

@@ -413,6 +413,48 @@ static void plan_shares(ident_plan *p) {
   }
 }
 
+/* the rows the draws fit (p->nfit), the first 1 - holdout of the
+   samples: enough rows, and as exciting as the whole (a WLS of the
+   noise-free forces on them succeeds when one on every row does: else
+   the holdout takes what makes the data exciting); 0 or -1 with err at
+   the key */
+static int plan_holdout(const scene *s, ident_plan *p, scene_error *err) {
+  scene_mark at = s->given[K_ID_HOLDOUT] ? s->mark[K_ID_HOLDOUT]
+                                         : s->mark[K_ID_RUNS];
+  const char *key = scene_key_get(K_ID_HOLDOUT)->path;
+  size_t need = p->general && p->ids.consistent ? p->nlay : p->p, nhold;
+  ident_fit part, all;
+  int rc = 0;
+  p->nfit = p->n;
+  if (p->ids.runs == 0 || p->ids.holdout <= 0) return 0;
+  nhold = (size_t)floor(p->ids.holdout * (double)p->ns);
+  p->nfit = 3 * (p->ns - nhold);
+  if (nhold == 0)
+    return scene_error_set(err, at, key,
+                           "%g of %zu samples holds none out: use 0 for no "
+                           "held-out samples, or more samples",
+                           p->ids.holdout, p->ns);
+  if (p->nfit <= need)
+    return scene_error_set(err, at, key,
+                           "%g of %zu samples leaves %zu to fit, %zu force "
+                           "rows: more than the %zu parameters are needed",
+                           p->ids.holdout, p->ns, p->ns - nhold, p->nfit,
+                           need);
+  ident_fit_rows(p, p->F0, p->nfit, 0, &part);
+  if (part.status != RPS3_OK) {
+    ident_fit_run(p, p->F0, 0, &all);
+    if (all.status == RPS3_OK)
+      rc = scene_error_set(err, at, key,
+                           "the first %zu of %zu samples the draws fit do "
+                           "not excite the parameters (condition number "
+                           "%.3g), all of them do: hold out less: %s",
+                           p->ns - nhold, p->ns, part.cond, part.msg);
+    ident_fit_free(&all);
+  }
+  ident_fit_free(&part);
+  return rc;
+}
+
 int ident_plan_make(const scene *s, ident_plan *p, scene_error *err) {
   double pi[RPS3_NPAPER];
   rps3_check chk;
@@ -469,7 +511,7 @@ int ident_plan_make(const scene *s, ident_plan *p, scene_error *err) {
   }
   plan_shares(p);
   p->nunit = ((size_t)p->ids.runs + IDENT_UNIT - 1) / IDENT_UNIT;
-  return 0;
+  return plan_holdout(s, p, err);
 }
 
 void ident_plan_free(ident_plan *p) {
@@ -557,7 +599,12 @@ void ident_fit_free(ident_fit *r) {
 
 void ident_fit_run(const ident_plan *p, const double *F, int consistent,
                    ident_fit *r) {
-  rps3_ident_data data = {p->n, p->p, p->Y, F, NULL, NULL, p->names};
+  ident_fit_rows(p, F, p->n, consistent, r);
+}
+
+void ident_fit_rows(const ident_plan *p, const double *F, size_t n,
+                    int consistent, ident_fit *r) {
+  rps3_ident_data data = {n, p->p, p->Y, F, NULL, NULL, p->names};
   rps3_ident_result res;
   rps3_check chk;
   size_t i, j;
@@ -583,16 +630,43 @@ void ident_fit_run(const ident_plan *p, const double *F, int consistent,
   r->rank = res.rank;
   r->dof = res.dof;
   for (j = 0; j < p->p; j++) r->std[j] = sqrt(r->cov[j * p->p + j]);
-  for (i = 0; i < p->n; i++) {
+  for (i = 0; i < n; i++) {
     double e = F[i];
     for (j = 0; j < p->p; j++) e -= p->Y[i * p->p + j] * r->theta[j];
     ss += e * e;
   }
-  r->resid_rms = sqrt(ss / (double)p->n);
+  r->resid_rms = sqrt(ss / (double)n);
   if (consistent && r->status == RPS3_OK) {
     if (p->general)
       fit_consistent_general(p, &data, r);
     else
       fit_consistent(p, &data, r);
   }
+}
+
+/* the NRMSE of the prediction of F's rows [p->nfit, p->n) by the columns
+   Y (ncol wide) times theta */
+static double nrmse(const ident_plan *p, const double *Y, size_t ncol,
+                    const double *theta, const double *F) {
+  double se = 0, sf = 0;
+  size_t i, j;
+  for (i = p->nfit; i < p->n; i++) {
+    double e = -F[i];
+    for (j = 0; j < ncol; j++) e += Y[i * ncol + j] * theta[j];
+    se += e * e;
+    sf += F[i] * F[i];
+  }
+  return sf > 0 ? sqrt(se / sf) : (double)NAN;
+}
+
+void ident_holdout_nrmse(const ident_plan *p, const double *F,
+                         const ident_fit *r, double *wls, double *cons) {
+  *wls = *cons = (double)NAN;
+  if (p->nfit >= p->n || r->status != RPS3_OK) return;
+  *wls = nrmse(p, p->Y, p->p, r->theta, F);
+  /* a consistent fit that did not converge still has its estimate: its
+     prediction is said with its status */
+  if (r->cstatus == RPS3_OK || r->cstatus == RPS3_ENOCONV)
+    *cons = p->general ? nrmse(p, p->Ylay, p->nlay, r->ctheta, F)
+                       : nrmse(p, p->Y, p->p, r->ctheta, F);
 }

@@ -7,7 +7,9 @@
  * the identify section's parameters (rps3_ident_wls, and with
  * identify.consistent rps3_ident_consistent), and its Monte Carlo: draw i
  * adds Gaussian noise of force_noise times each actuator's RMS force,
- * seeded by (seed, i) alone, and is fitted.  The draws are computed in
+ * seeded by (seed, i) alone, and its first 1 - holdout of the samples
+ * are fitted (and with identify.consistent by the consistent fit too), the
+ * rest predicted (held-out NRMSE).  The draws are computed in
  * work units of IDENT_UNIT draws on the worker pool (pool.h), shard K of N
  * the units j with j mod N = K; a unit is one chunk row of every per-draw
  * dataset, so a part merges as a sweep's (shards/merge.h).  The file's
@@ -84,6 +86,9 @@ typedef struct {
   scene_ident ids;              /* the identify section */
   rps3_ident_opts opts;         /* the library's defaults, ids.level */
   size_t nunit;                 /* work units of the draws */
+  size_t nfit;                  /* rows the draws fit: the first of the
+                                   samples, 1 - identify.monte_carlo.holdout
+                                   of them; the rest are predicted */
   char warning[640];            /* why a result may be wrong, or "" */
 } ident_plan;
 
@@ -117,6 +122,18 @@ void ident_plan_free(ident_plan *p);
    per-point path. */
 void ident_fit_run(const ident_plan *p, const double *F, int consistent,
                    ident_fit *r);
+
+/* ident_fit_run on the first n rows of the plan (Y, Ylay) and F */
+void ident_fit_rows(const ident_plan *p, const double *F, size_t n,
+                    int consistent, ident_fit *r);
+
+/* The held-out NRMSE of fit r on rows [p->nfit, p->n) of forces F: the
+   RMS of the prediction minus F over the RMS of F, the prediction Y theta
+   (wls) and that of the consistent fit (general: Ylay times its layout
+   parameters) in cons; NaN for a fit that failed, none held out, or a
+   consistent fit not run. */
+void ident_holdout_nrmse(const ident_plan *p, const double *F,
+                         const ident_fit *r, double *wls, double *cons);
 
 /* free what ident_fit_run allocated (r may be zeroed) */
 void ident_fit_free(ident_fit *r);
@@ -155,8 +172,10 @@ int ident_mc_run(const ident_plan *p, out_file *f, size_t shard, size_t nshard,
 /*
  * The Monte Carlo's summary of the open file (read-write): per parameter
  * its median relative error, relative bias and the coverage of its
- * intervals over the draws whose status is 0, written to the mc_*
- * summary datasets and, when out is not NULL, printed as a table.
+ * intervals over the draws whose status is 0, and of the draws' held-out
+ * NRMSEs and consistent fits (the fractions consistent and converged, the
+ * NRMSE ratio consistent / WLS), written to the mc_* summary datasets
+ * and, when out is not NULL, printed.
  * A file that is not an identification with draws: nothing, 0.  Returns
  * 0 or -1 with err.
  */

@@ -128,6 +128,7 @@ typedef struct {
   int runs;           /* Monte Carlo draws; 0: none */
   double force_noise; /* noise standard deviation / actuator RMS force */
   int seed;           /* of the draws' noise */
+  double holdout;     /* fraction of the samples the draws hold out */
 } scene_ident;
 
 /* identify.method */

@@ -50,6 +50,10 @@
     "actuator's RMS force")                                                    \
   X(K_ID_SEED, "identify.monte_carlo.seed", KEY_INT, IDS,                      \
     (ids.seed, 0, 0, 2147483647.0, "1", 1, NULL), REQ_NO, "-",                 \
-    "seed of the draws: draw i's noise depends on (seed, i) only")
+    "seed of the draws: draw i's noise depends on (seed, i) only")          \
+  X(K_ID_HOLDOUT, "identify.monte_carlo.holdout", KEY_REAL, IDS,               \
+    (ids.holdout, 0, 0, 0.5, "1", 0.2, NULL), REQ_NO, "-",                     \
+    "fraction of the samples (the last ones) the draws' fits leave out and "  \
+    "predict (held-out NRMSE); 0: none")
 
 #endif /* RPS3_RUNNER_SCENE_IDENT_ROWS_H */
