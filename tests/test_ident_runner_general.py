@@ -9,6 +9,7 @@ states and QR), and the inverse dynamics of the written section run back
 through rps3-run."""
 
 import os
+import re
 
 import h5py
 import yaml
@@ -205,6 +206,19 @@ def test_monte_carlo_coverage(tmp_path):
         sig = f["mc_sigma"][()].mean(axis=0) / f["force_rms"][()]
         np.testing.assert_allclose(sig, 0.01, rtol=0.1)
         assert np.isfinite(th).all()
+        # a parameter zero in truth (its column carries no force: the
+        # platform's mcy, the legs' mcz at the rounding of their sums) has
+        # no relative error; the others' median is the draws'
+        share = f["share"][()]
+        zero = share < 1e-9
+        names = [n.decode() for n in f["parameter"][()]]
+        assert {"platform.mcy", "cylinder1.mcz"} <= {n for n, z in zip(names, zero) if z}
+        med = f["mc_median_rel_error"][()]
+        assert np.isnan(med[zero]).all() and np.isnan(f["mc_rel_bias"][()][zero]).all()
+        err = np.abs(th - truth) / np.abs(truth)
+        np.testing.assert_allclose(med[~zero], np.median(err, axis=0)[~zero], rtol=1e-12)
+        for n in np.array(names)[zero]:
+            assert re.search(rf"^{re.escape(n)} .* no \(truth 0\)$", proc.stdout, re.M), n
         # no consistent fit: no section, and why
         assert "manipulator_yaml" not in f.attrs
         assert "identify.consistent: true" in f.attrs["manipulator_yaml_missing"]

@@ -328,9 +328,13 @@ static void summary_print(FILE *out, char **names, const double *share,
           nok, runs, w, "parameter", "share", "median |err|", "bias",
           "coverage", "counted");
   for (j = 0; j < p; j++)
-    fprintf(out, "%-*s %8.3f%% %11.4f%% %+10.4f%% %8.1f%%  %s\n", w, names[j],
-            100 * share[j], 100 * med[j], 100 * bias[j], 100 * cov[j],
-            counted[j] ? "yes" : "no (share < 1 %)");
+    if (isnan(med[j])) /* zero in truth: no relative error */
+      fprintf(out, "%-*s %8.3f%% %12s %11s %8.1f%%  %s\n", w, names[j],
+              100 * share[j], "-", "-", 100 * cov[j], "no (truth 0)");
+    else
+      fprintf(out, "%-*s %8.3f%% %11.4f%% %+10.4f%% %8.1f%%  %s\n", w,
+              names[j], 100 * share[j], 100 * med[j], 100 * bias[j],
+              100 * cov[j], counted[j] ? "yes" : "no (share < 1 %)");
 }
 
 /* the median of the n values v (sorted in place); NaN for none */
@@ -441,8 +445,8 @@ int ident_summary(hid_t file, FILE *out, char *err, size_t errsz) {
   for (i = 0; i < runs; i++) nok += status[i] == 0;
   for (j = 0; j < p; j++) {
     par_summary s = summarise(status, theta, ci, runs, p, j, truth[j], work);
-    med[j] = s.median;
-    bias[j] = s.bias;
+    med[j] = share[j] >= IDENT_SHARE_ZERO ? s.median : (double)NAN;
+    bias[j] = share[j] >= IDENT_SHARE_ZERO ? s.bias : (double)NAN;
     cov[j] = s.coverage;
     counted[j] = share[j] >= IDENT_SHARE_MIN;
   }

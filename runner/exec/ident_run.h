@@ -35,6 +35,12 @@
    it the data say little about it and its relative error is no test */
 #define IDENT_SHARE_MIN 0.01
 
+/* a parameter whose truth's column carries less than this share of the
+   RMS force is zero in truth (a general body's product of inertia, at
+   the rounding of its parallel-axis sum): its relative error is not
+   defined, and the summary gives none */
+#define IDENT_SHARE_ZERO 1e-9
+
 /* the most columns a fit has: the general model's standard parameters */
 #define IDENT_PMAX RPS3_NSTD
 
