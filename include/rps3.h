@@ -31,7 +31,9 @@
  *   status, so it never reaches GSL's (process-global, by default aborting)
  *   error handler and never changes it: a program needs no GSL call.  The
  *   exceptions (docs/library.md): an allocation failure inside GSL's own
- *   allocators (rps3_data_alloc, rps3_sim_alloc), which GSL reports only
+ *   allocators (rps3_data_alloc, rps3_sim_alloc, and the identification's
+ *   estimators rps3_ident_base, rps3_ident_wls, rps3_ident_consistent,
+ *   which allocate their workspaces per call), which GSL reports only
  *   through that handler, and an exactly zero pivot in the LU of the
  *   implicit integrators' iteration matrix.  A program that must survive
  *   running out of memory there calls gsl_set_error_handler_off() once,
@@ -2294,9 +2296,11 @@ RPS3_API int rps3_ident_base(const double *Y, size_t n, size_t p, double tol,
  * Estimators on a stacked regressor: n rows (one per actuator and
  * sample), p columns, F = Y theta + noise.  Unlike the per-point
  * functions they allocate their GSL workspaces on each call (once per
- * data set) and free them before returning: RPS3_ENOMEM when that fails.
- * Every failure is a status with a message in chk->msg (chk may be NULL;
- * its field is -1); they never reach GSL's error handler.
+ * data set) and free them before returning: RPS3_ENOMEM when that fails
+ * (GSL's allocators report a failure through its error handler first: a
+ * program that must survive running out of memory here turns it off, see
+ * "GSL" at the top).  Every other failure is a status with a message in
+ * chk->msg (chk may be NULL; its field is -1), never GSL's handler.
  */
 typedef struct {
   size_t n, p;              /* rows, columns; n > p */

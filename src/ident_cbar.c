@@ -21,6 +21,7 @@
 #include <string.h>
 
 #include <gsl/gsl_eigen.h>
+#include <gsl/gsl_errno.h>
 #include <gsl/gsl_linalg.h>
 
 #include "ident_cfit.h"
@@ -315,8 +316,9 @@ static int newton_step(const cfit *c, cbar *w) {
     w->dy->data[i] = -w->D->data[i] * w->g->data[i];
   }
   if (!rps3_all_finite(w->H->data, (int)(n * n))) return 0;
-  gsl_linalg_mcholesky_decomp(w->H, w->perm, NULL);
-  gsl_linalg_mcholesky_svx(w->H, w->perm, w->dy);
+  if (gsl_linalg_mcholesky_decomp(w->H, w->perm, NULL) != GSL_SUCCESS ||
+      gsl_linalg_mcholesky_svx(w->H, w->perm, w->dy) != GSL_SUCCESS)
+    return 0;
   for (i = 0; i < n; i++) w->dy->data[i] *= w->D->data[i];
   return rps3_all_finite(w->dy->data, (int)n);
 }
