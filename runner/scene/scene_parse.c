@@ -297,6 +297,22 @@ static int parse_file(scene_parse_ctx *c, int k, const yaml_node_t *n,
   return 0;
 }
 
+/* 1 when t names a standard parameter of the general model (rps3_std_name,
+   or a layout's shared name: the leg's digit left out, "cylinder.m") */
+static int general_param_name(const char *t) {
+  int k;
+  for (k = 0; k < RPS3_NSTD; k++) {
+    const char *n = rps3_std_name(k), *dot = strchr(n, '.');
+    size_t head = dot ? (size_t)(dot - n) : 0;
+    if (strcmp(n, t) == 0) return 1;
+    /* "cylinder1.m" -> "cylinder.m" */
+    if (head > 1 && n[head - 1] >= '1' && n[head - 1] <= '3' &&
+        strncmp(n, t, head - 1) == 0 && strcmp(t + head - 1, dot) == 0)
+      return 1;
+  }
+  return 0;
+}
+
 /* a list of names, each one bit: the effects, or the outputs */
 static int parse_names(scene_parse_ctx *c, int k, const yaml_node_t *n,
                        scene_values *v) {
@@ -318,6 +334,15 @@ static int parse_names(scene_parse_ctx *c, int k, const yaml_node_t *n,
     char hint[160] = "";
     e = scalar && !is_null(item) ? scene_enum_find(k, t) : -1;
     if (e < 0) {
+      if (scalar && scene_keys[k].type == KEY_PARAMS &&
+          general_param_name(t))
+        return scene_error_set(
+            c->err, im, path,
+            "'%s' is a parameter of the general model, which takes no "
+            "names: identify.model: general fits every parameter its "
+            "effects fill; identify.parameters lists the paper model's "
+            "(%s)",
+            t, list);
       if (scalar) scene_enum_hint(hint, sizeof hint, k, t);
       return scene_error_set(
           c->err, im, path, "unknown %s %s%s%s%s; expected %s", what,
