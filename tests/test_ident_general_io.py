@@ -306,6 +306,27 @@ def test_inconsistent_fit_writes_no_section(case, tmp_path):
         assert int(f.attrs["consistent"]) == 0
 
 
+def test_unconverged_fit_section_says_so(case):
+    """A consistent fit that stopped short of its optimality test (here
+    the converged fit marked so) still writes its consistent bodies, with a
+    warning comment carrying the library's message; the YAML is the same
+    otherwise."""
+    import dataclasses
+
+    import yaml
+
+    res = case[4]
+    assert res.consistent_fit.converged
+    short = dataclasses.replace(res, consistent_fit=dataclasses.replace(
+        res.consistent_fit, converged=False, message="no optimality after\n2000 iterations"))
+    text, base = ident_io.manipulator_yaml(short), ident_io.manipulator_yaml(res)
+    warn = [ln for ln in text.splitlines() if ln.startswith("# warning:")]
+    assert warn == ["# warning: the consistent fit stopped short of its optimality test "
+                    "(consistent, maybe not optimal): no optimality after 2000 iterations"]
+    assert "# warning:" not in base
+    assert yaml.safe_load(text) == yaml.safe_load(base)
+
+
 # ------------------------------------------------------------ the files
 
 MIXED = ("various: see parameter_units", "various: products of parameter_units",

@@ -489,3 +489,29 @@ def test_consistent_draws_predict_held_out_forces(tmp_path):
         assert ratio.max() <= RATIO_MAX, ratio
         assert f["mc_holdout_ratio_max"][()] == ratio.max()
         assert np.median(nw) == pytest.approx(want, rel=TOL_NRMSE_MEDIAN)
+
+
+def test_unconverged_consistent_fit_is_written_with_a_warning(tmp_path):
+    """identify.max_iter too small for the consistent fit: exit 0 (the
+    iterate is consistent and kept), a warning on stderr, the file's
+    consistent_status RPS3_ENOCONV, and the section written with a warning
+    comment carrying the library's message; with the default limit the
+    same scene converges and its section has no such comment."""
+    ypath = tmp_path / "short.yaml"
+    s = scene(tmp_path, "  model: general\n  consistent: true\n  max_iter: 3\n")
+    proc = run(s, tmp_path / "short.h5", "-q", "--manipulator", ypath)
+    assert proc.returncode == 0, proc.stderr
+    assert "warning" in proc.stderr and "not converged after 3 iterations" in proc.stderr
+    with h5py.File(tmp_path / "short.h5", "r") as f:
+        assert int(f["consistent_status"][()]) == 2           # RPS3_ENOCONV
+        assert int(f["consistent"][()]) == 1
+    text = ypath.read_text()
+    head = text.splitlines()[0]
+    assert head.startswith("# warning: the consistent fit stopped short of its "
+                           "optimality test") and "after 3 iterations" in head
+    assert yaml.safe_load(text)["manipulator"]["bodies"] == "general"
+    full = tmp_path / "full.yaml"
+    s = scene(tmp_path, "  model: general\n  consistent: true\n", name="f.yaml")
+    proc = run(s, tmp_path / "full.h5", "-q", "--manipulator", full)
+    assert proc.returncode == 0 and "warning" not in proc.stderr, proc.stderr
+    assert "# warning" not in full.read_text()

@@ -905,8 +905,12 @@ def _general_yaml(result: Fit) -> str:
              f"# consistent fit of the layout legs={lay.legs}, friction="
              f"{','.join(lay.friction) or 'none'}; inertia about each body's centre of",
              "# mass; the bodies rounded onto real ones moved the standard parameters by",
-             f"# at most {moved:.2g} of a body's pseudo-inertia scale",
-             "manipulator:", f"  R: {num(geo.R)}", f"  rho: {num(geo.rho)}",
+             f"# at most {moved:.2g} of a body's pseudo-inertia scale"]
+    if not result.consistent_fit.converged:
+        lines.append("# warning: the consistent fit stopped short of its optimality test "
+                     "(consistent, maybe not optimal): "
+                     + " ".join(result.consistent_fit.message.split()))
+    lines += ["manipulator:", f"  R: {num(geo.R)}", f"  rho: {num(geo.rho)}",
              f"  g: {num(geo.g)}", "  bodies: general"]
     lines += body("platform", bodies["platform"], "  ")
     shared = [k for k in fr if not lay.per_leg]

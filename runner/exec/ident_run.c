@@ -473,6 +473,7 @@ int ident_plan_make(const scene *s, ident_plan *p, scene_error *err) {
                            "forces of a trajectory: not with identify.data");
   rps3_ident_opts_default(&p->opts);
   p->opts.level = p->ids.level;
+  p->opts.max_iter = p->ids.max_iter;
   /* the general model: a base combination the data excite less than the
      structural base's tolerance is not excited (the helix's, at a
      condition number of 5e7, would be fitted on noise-free forces and

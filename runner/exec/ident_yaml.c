@@ -166,7 +166,15 @@ static void add_friction(text *t, const char *name, double fv, double fc,
   add(t, "}\n");
 }
 
-static void add_geometry(text *t, const rps3_model *m) {
+/* the section's head: a warning comment when the consistent fit it
+   comes from stopped short of its optimality test (its parameters are
+   consistent, maybe not the optimum), then the geometry */
+static void add_geometry(text *t, const rps3_model *m, const ident_fit *r) {
+  if (r->cstatus > 0)
+    add(t,
+        "# warning: the consistent fit stopped short of its optimality "
+        "test (consistent, maybe not optimal): %s\n",
+        r->cmsg);
   add(t, "manipulator:\n  ");
   add_num(t, "R", m->R);
   add(t, "\n  ");
@@ -210,7 +218,7 @@ static char *general_yaml(const ident_plan *p, const ident_fit *r, char *why,
       pi[p->lay_std[j][q]] = r->ctheta[j];
   for (b = 0; b < RPS3_NBODY; b++) tiny += fabs(pi[10 * b]);
   tiny *= 1e-12;
-  add_geometry(&t, m);
+  add_geometry(&t, m, r);
   add(&t, "  bodies: general\n");
   if (add_body(&t, "  ", "platform", pi, tiny)) goto fail;
   for (i = 0; i < 3; i++) {
@@ -313,7 +321,7 @@ static char *paper_yaml(const ident_plan *p, const ident_fit *r, char *why,
     for (i = 0; i < 3; i++) s[i] = fmax(sum - in[i], 0.0);
     for (i = 0; i < 3; i++) in[i] = fmax(s[0] + s[1] + s[2] - s[i], 0.0);
   }
-  add_geometry(&t, mo);
+  add_geometry(&t, mo, r);
   add(&t, "  ");
   add_num(&t, "M", pi[0]);
   add(&t, "\n  ");

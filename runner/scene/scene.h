@@ -124,6 +124,7 @@ typedef struct {
   int legs;           /* IDENT_LEGS_EACH or IDENT_LEGS_IDENTICAL */
   int method;         /* IDENT_OLS or IDENT_WLS */
   int consistent;     /* 1: also the physically consistent fit */
+  int max_iter;       /* its iteration limit */
   double level;       /* confidence of the intervals */
   int runs;           /* Monte Carlo draws; 0: none */
   double force_noise; /* noise standard deviation / actuator RMS force */

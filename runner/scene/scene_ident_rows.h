@@ -33,6 +33,10 @@
     (ids.consistent, 0, 0, 1, "-", 0, NULL), REQ_NO, "-",                      \
     "also the physically consistent fit (pseudo-inertias positive "            \
     "semidefinite, M and the friction >= 0)")                                  \
+  X(K_ID_MAX_ITER, "identify.max_iter", KEY_INT, IDS,                         \
+    (ids.max_iter, 0, 1, 1000000.0, "1", 2000, NULL), REQ_NO, "-",             \
+    "the consistent fit's iteration limit (rps3_ident_opts.max_iter); a fit "  \
+    "that reaches it is kept, consistent, with a warning")                     \
   X(K_ID_LEVEL, "identify.level", KEY_REAL, IDS,                               \
     (ids.level, 0, 1, 0.9999, "1", 0.95, NULL), REQ_NO, "-",                   \
     "confidence level of the intervals (Student's t)")                         \
