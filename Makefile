@@ -583,8 +583,8 @@ ident: venv-check
 # exciting trajectory at 1 kHz, each fitted by WLS and the consistent fit
 # with 20 % of the samples held out, on 2 threads; the summary in
 # out/ident_mc.txt, the draws in out/ident_mc.h5; then the general model's
-# (configs/ident_general_mc.yaml, 400 draws at 500 Hz: its consistent fit
-# costs about 1 s a draw) into out/ident_general_mc.txt and .h5.  Not part
+# (configs/ident_general_mc.yaml, 1000 draws at 1 kHz on its own exciting
+# table, about 4 min) into out/ident_general_mc.txt and .h5.  Not part
 # of `make check` (tests/test_ident_runner.py runs 200 draws of a shorter
 # trajectory and 20 with the consistent fit, tests/test_ident_runner_general.py
 # 40 and 16 of the general model)
