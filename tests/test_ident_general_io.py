@@ -424,6 +424,7 @@ def test_cli_layout(case, tmp_path, capsys):
     (["--layout", "each", "--friction", "pin,pin"], "--friction: a kind given twice"),
     (["--friction", "pin"], "--friction: a general layout's option"),
     (["--friction-per-leg", "no"], "--friction-per-leg: a general layout's option"),
+    (["--vreg-prismatic", "0.01"], "--vreg-prismatic: a general layout's option"),
 ])
 def test_cli_layout_bad_arguments(case, tmp_path, capsys, extra, words):
     """Bad or mixed options: exit 2, the option named, nothing written."""

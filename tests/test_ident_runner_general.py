@@ -367,6 +367,26 @@ def test_measured_table_recovers_K_pi(tmp_path):
         np.testing.assert_array_equal(truth, g["truth"][()])
         np.testing.assert_allclose(f["theta"][()], truth, rtol=TOL_MEASURED,
                                    atol=TOL_MEASURED * np.abs(truth).max())
+    # the same table through the Python command line, each friction
+    # kind's vreg the scene's (pin 0.01 rad/s, prismatic 0.002 m/s): the
+    # same base parameters and estimates; one vreg for both is a wrong model
+    # (its residual far above rounding)
+    from rps3 import ident_cli
+    py = tmp_path / "py.h5"
+    assert ident_cli.main(["fit", str(tmp_path / "m.csv"), "-o", str(py), "--layout", "each",
+                           "--method", "wls", "--vreg", "0.01",
+                           "--vreg-prismatic", "0.002"]) == 0
+    with h5py.File(py, "r") as f:
+        names, theta = strs(f["parameter"]), f["theta"][()]
+        assert f.attrs["geometry_vreg_prismatic"] == 0.002
+    order = [names.index(n) for n in strs(h5py.File(out, "r")["parameter"])]
+    np.testing.assert_allclose(theta[order], truth, rtol=TOL_MEASURED,
+                               atol=TOL_MEASURED * np.abs(truth).max())
+    one = tmp_path / "one.h5"
+    ident_cli.main(["fit", str(tmp_path / "m.csv"), "-o", str(one), "--layout", "each",
+                    "--method", "wls", "--vreg", "0.01"])
+    with h5py.File(one, "r") as f:
+        assert np.sqrt(np.mean(f["residual"][()] ** 2)) > 1e3 * TOL_MEASURED * np.abs(F).max()
 
 
 def fitted_base(tmp_path):

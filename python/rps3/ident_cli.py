@@ -51,6 +51,9 @@ def _parser() -> argparse.ArgumentParser:
     for k, v in (("R", 0.2286), ("rho", 0.5), ("d", 0.1524), ("g", 9.80665),
                  ("vreg", 0.0)):
         f.add_argument(f"--{k}", type=float, default=v, help=f"(default {v:g})")
+    f.add_argument("--vreg-prismatic", type=float, default=None,
+                   help="the prismatic friction's Coulomb regularisation [m/s] (general "
+                        "layouts; default --vreg)")
     f.add_argument("--M", type=float, default=None,
                    help="platform mass kept when a payload is identified (paper model; "
                         "default 0.18)")
@@ -74,7 +77,8 @@ def _model_arguments(args: argparse.Namespace) -> dict[str, Any]:
     layout (the paper set's options refused with it)."""
     if args.layout is None:
         for opt, given in (("--friction", args.friction is not None),
-                           ("--friction-per-leg", args.friction_per_leg is not None)):
+                           ("--friction-per-leg", args.friction_per_leg is not None),
+                           ("--vreg-prismatic", args.vreg_prismatic is not None)):
             if given:
                 raise ValueError(f"{opt}: a general layout's option; give --layout "
                                  "each|identical")
@@ -123,7 +127,8 @@ def main(argv: list[str] | None = None) -> int:
         print(ident_sim.study(args.runs, args.seed, args.out), end="")
         return 0
     try:
-        geo = _ip.Geometry(R=args.R, rho=args.rho, d=args.d, g=args.g, vreg=args.vreg)
+        geo = _ip.Geometry(R=args.R, rho=args.rho, d=args.d, g=args.g, vreg=args.vreg,
+                           vreg_prismatic=args.vreg_prismatic)
         geo.model()
         model = _model_arguments(args)
         data = load(args.data)

@@ -134,7 +134,8 @@ def layout_regressor(pose: ArrayLike, dpose: ArrayLike, ddpose: ArrayLike,
     """Y (n, 3, layout.n) of a general layout's parameters at the poses,
     rates and accelerations (n, 3): the library's regressor of the 82
     standard parameters (rps3.ident.regressor_std, the geometry's R, rho,
-    g, and vreg for both friction kinds) times ``layout.matrix``.
+    g, and each friction kind's vreg, Geometry.vreg_of) times
+    ``layout.matrix``.
 
     Raises:
         ValueError: a point fails in the library (its message).
@@ -143,8 +144,8 @@ def layout_regressor(pose: ArrayLike, dpose: ArrayLike, ddpose: ArrayLike,
 
     geo = geometry or Geometry()
     lay = layout or _id.Layout()
-    fr = {"vreg": geo.vreg}
-    m = Model(R=geo.R, rho=geo.rho, g=geo.g, friction=fr, prismatic_friction=fr,
+    m = Model(R=geo.R, rho=geo.rho, g=geo.g, friction={"vreg": geo.vreg_of("pin")},
+              prismatic_friction={"vreg": geo.vreg_of("prismatic")},
               effects=list(_BODY_EFFECTS) + [f"{k}_friction" for k in lay.friction])
     return lay.regressor(ident_c.regressor_std(m, pose, dpose, ddpose))
 

@@ -628,7 +628,8 @@ def _write(tmp: str, result: Fit, data: Data, units: list[str]) -> None:
             f.attrs[f"{k}_source"] = v
         for gk, gv in (("R", result.geometry.R), ("rho", result.geometry.rho),
                        ("d", result.geometry.d), ("g", result.geometry.g),
-                       ("vreg", result.geometry.vreg)):
+                       ("vreg", result.geometry.vreg),
+                       ("vreg_prismatic", result.geometry.vreg_of("prismatic"))):
             f.attrs[f"geometry_{gk}"] = gv
 
         def scale(name: str, values: Any, long: str) -> Any:
@@ -871,7 +872,7 @@ def fitted_model(result: Fit, **kw: Any) -> Any:
     else:
         bd = dict(platform=B["platform"], cylinder=B["cylinder"], piston=B["piston"])
     geo = result.geometry
-    fr = {kind: [dict(viscous=v, coulomb=c, vreg=geo.vreg) for v, c in laws]
+    fr = {kind: [dict(viscous=v, coulomb=c, vreg=geo.vreg_of(kind)) for v, c in laws]
           for kind, laws in _friction(result).items()}
     effects = kw.pop("effects", [*DEFAULT_EFFECTS, *(f"{k}_friction" for k in fr)])
     return Model(R=geo.R, rho=geo.rho, g=geo.g, bodies=bd, friction=fr.get("pin"),
@@ -898,7 +899,7 @@ def _general_yaml(result: Fit) -> str:
 
     def friction(kind: str, law: tuple[float, float], ind: str) -> list[str]:
         return [f"{ind}{kind}_friction: {{viscous: {num(law[0])}, coulomb: {num(law[1])}, "
-                f"vreg: {num(geo.vreg)}}}"]
+                f"vreg: {num(geo.vreg_of(kind))}}}"]
 
     moved = max(b.moved for b in bodies.values())
     lines = ["# identified by rps3.ident (docs/identification.md): general bodies of the",

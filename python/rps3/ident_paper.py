@@ -41,13 +41,22 @@ PAPER_UNITS: dict[str, str] = {
 @dataclass(frozen=True)
 class Geometry:
     """What the regressor takes as known: R [m], rho [-], d [m], g
-    [m/s^2], the Coulomb regularisation vreg [rad/s] (0: the exact sign)."""
+    [m/s^2], the Coulomb regularisation vreg (0: the exact sign) of the
+    pin friction [rad/s] and, unless ``vreg_prismatic`` [m/s] is given,
+    of the prismatic friction (a general layout's) too."""
 
     R: float = 0.2286
     rho: float = 0.5
     d: float = 0.1524
     g: float = 9.80665
     vreg: float = 0.0
+    vreg_prismatic: float | None = None
+
+    def vreg_of(self, kind: str) -> float:
+        """The regularisation of friction ``kind`` ("pin", "prismatic")."""
+        if kind == "prismatic" and self.vreg_prismatic is not None:
+            return self.vreg_prismatic
+        return self.vreg
 
     def model(self, **kw: Any) -> Model:
         return Model(R=self.R, rho=self.rho, d=self.d, g=self.g, **kw)
