@@ -158,12 +158,20 @@ int rps3_model_init(rps3_model *m, rps3_check *chk) {
                            "rho R overflows");
   /* products the dynamics forms from the inputs: a finite mass can still
      make a weight that overflows (M = 1e308) */
-  if (!(isfinite(m->M * m->g) && isfinite(m->M * m->r * m->r)))
+  if (m->bodies == RPS3_BODIES_GENERAL) {
+    /* M, m and d are not read: the general platform's second moment
+       about the centre reaches the ball joints at r */
+    if (!isfinite(m->platform.mass * m->r * m->r))
+      return rps3_check_fail(chk, RPS3_F_PLATFORM_BODY_MASS, 0,
+                             m->platform.mass, RPS3_F_RHO, RPS3_F_R,
+                             "platform.mass r^2 overflows");
+  } else if (!(isfinite(m->M * m->g) && isfinite(m->M * m->r * m->r))) {
     return rps3_check_fail(chk, RPS3_F_PLATFORM_MASS, 0, m->M, RPS3_F_G,
                            RPS3_F_RHO, "M g or M r^2 overflows");
-  if (!(isfinite(m->m * m->g * m->d) && isfinite(m->m * m->d * m->d)))
+  } else if (!(isfinite(m->m * m->g * m->d) && isfinite(m->m * m->d * m->d))) {
     return rps3_check_fail(chk, RPS3_F_LINK_MASS, 0, m->m, RPS3_F_G, RPS3_F_D,
                            "m g d or m d^2 overflows");
+  }
   if (!(isfinite(p->mass * m->g) && isfinite(p->mass * m->r * m->r)))
     return rps3_check_fail(chk, RPS3_F_PAYLOAD_MASS, 0, p->mass, RPS3_F_G,
                            RPS3_F_RHO,

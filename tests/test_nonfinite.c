@@ -57,6 +57,18 @@ static void model_overflow_at_init(void **state) {
     assert_int_equal(rps3_model_init(&m, &chk), RPS3_EINVAL);
     assert_true(strncmp(chk.msg, "m = ", 4) == 0);
   }
+  /* general bodies do not read M and m: a huge M is no error there, a
+     platform whose second moment r^2 overflows is, named by its field */
+  rps3_model_default(&m);
+  m.bodies = RPS3_BODIES_GENERAL;
+  m.M = big[0];
+  m.m = big[0];
+  assert_int_equal(rps3_model_init(&m, &chk), RPS3_OK);
+  m.platform.mass = 1.0;
+  m.R = 1e200;
+  assert_int_equal(rps3_model_init(&m, &chk), RPS3_EINVAL);
+  assert_true(strncmp(chk.msg, "platform.mass = ", 16) == 0);
+  assert_non_null(strstr(chk.msg, "r^2 overflows"));
 }
 
 /*
