@@ -10,15 +10,9 @@ from typing import Any
 
 from rps3 import ident as _id
 from rps3 import ident_paper as _ip
-from rps3.ident_io import (
-    CUTOFF,
-    DataError,
-    fit,
-    load,
-    manipulator_yaml,
-    parameter_units,
-    write_results,
-)
+from rps3.ident_io import CUTOFF, DataError, fit, load
+from rps3.ident_scene import manipulator_yaml
+from rps3.ident_write import parameter_units, write_results
 
 
 def _parser() -> argparse.ArgumentParser:
